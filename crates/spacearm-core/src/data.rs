@@ -1,0 +1,80 @@
+//! Preallocated workspace and results for one [`Model`] (Pinocchio's Model/Data split).
+//!
+//! Every algorithm fills the fields it documents; vectors are indexed by body (0 = base).
+//! Spatial quantities use world (𝒥) axes and the base CM at the current instant as reference
+//! point (see [`crate::spatial`]).
+
+use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
+
+use crate::model::Model;
+
+/// Workspace and results of the algorithms for one model.
+#[derive(Debug, Clone)]
+pub struct Data {
+    /// Base CM position `r0` in 𝒥 (filled by forward kinematics).
+    pub base_position: Vector3<f64>,
+    /// Rotation of each body frame to 𝒥 (`R0` for the base).
+    pub body_to_world: Vec<Matrix3<f64>>,
+    /// CM position `rᵢ` of each body in 𝒥.
+    pub com_in_world: Vec<Vector3<f64>>,
+    /// Position `pᵢ` in 𝒥 of the joint moving each body (the base entry is `r0`).
+    pub joint_position_in_world: Vec<Vector3<f64>>,
+    /// Unit axis `kᵢ` in 𝒥 of the joint moving each body (zero for the base).
+    pub joint_axis_in_world: Vec<Vector3<f64>>,
+    /// Motion subspace `Sᵢ` of each joint at the base CM (zero for the base and fixed joints):
+    /// `[(pᵢ − r0) × kᵢ; kᵢ]` revolute, `[kᵢ; 0]` prismatic.
+    pub motion_subspace: Vec<Vector6<f64>>,
+    /// Inertia of each body about its CM in 𝒥 axes, `Rᵢ Iᵢ Rᵢᵀ`.
+    pub inertia_in_world: Vec<Matrix3<f64>>,
+    /// Spatial inertia of each body at the base CM (𝒥 axes).
+    pub spatial_inertia: Vec<Matrix6<f64>>,
+    /// Spatial velocity of each body at the base CM.
+    pub body_velocity: Vec<Vector6<f64>>,
+    /// Spatial acceleration of each body at the base CM.
+    pub body_acceleration: Vec<Vector6<f64>>,
+    /// Velocity-product acceleration `Vᵢ ×ₘ Sᵢ q̇ᵢ` of each joint.
+    pub velocity_product: Vec<Vector6<f64>>,
+    /// Spatial force transmitted across each joint (RNEA) or articulated bias force (ABA).
+    pub body_force: Vec<Vector6<f64>>,
+    /// Composite (CRBA) or articulated (ABA) inertia of each subtree.
+    pub subtree_inertia: Vec<Matrix6<f64>>,
+    /// ABA: `Uᵢ = Iᴬᵢ Sᵢ`.
+    pub(crate) aba_u: Vec<Vector6<f64>>,
+    /// ABA: `Dᵢ = Sᵢᵀ Uᵢ` and `uᵢ = τᵢ − Sᵢᵀ pᴬᵢ`.
+    pub(crate) aba_d: Vec<f64>,
+    pub(crate) aba_small_u: Vec<f64>,
+    /// Joint-space mass matrix `H` (6+N square), filled by CRBA or the paper form.
+    pub mass_matrix: DMatrix<f64>,
+    /// Generalized force or acceleration result (6+N), filled by RNEA / ABA.
+    pub tau: DVector<f64>,
+    pub accel: DVector<f64>,
+}
+
+impl Data {
+    /// Allocate a workspace for `model`.
+    pub fn new(model: &Model) -> Self {
+        let nb = model.n_bodies();
+        let nu = model.nu();
+        Data {
+            base_position: Vector3::zeros(),
+            body_to_world: vec![Matrix3::identity(); nb],
+            com_in_world: vec![Vector3::zeros(); nb],
+            joint_position_in_world: vec![Vector3::zeros(); nb],
+            joint_axis_in_world: vec![Vector3::zeros(); nb],
+            motion_subspace: vec![Vector6::zeros(); nb],
+            inertia_in_world: vec![Matrix3::zeros(); nb],
+            spatial_inertia: vec![Matrix6::zeros(); nb],
+            body_velocity: vec![Vector6::zeros(); nb],
+            body_acceleration: vec![Vector6::zeros(); nb],
+            velocity_product: vec![Vector6::zeros(); nb],
+            body_force: vec![Vector6::zeros(); nb],
+            subtree_inertia: vec![Matrix6::zeros(); nb],
+            aba_u: vec![Vector6::zeros(); nb],
+            aba_d: vec![0.0; nb],
+            aba_small_u: vec![0.0; nb],
+            mass_matrix: DMatrix::zeros(nu, nu),
+            tau: DVector::zeros(nu),
+            accel: DVector::zeros(nu),
+        }
+    }
+}

@@ -1,0 +1,167 @@
+//! Forward kinematics, point positions and point/link Jacobians (paper §2–3, eqs. 104–108).
+
+use nalgebra::{DMatrix, Matrix3, Matrix6, Rotation3, UnitQuaternion, Vector3, Vector6};
+
+use crate::data::Data;
+use crate::error::{check_finite, Result, SpacearmError};
+use crate::joint::JointType;
+use crate::model::{Model, QUATERNION_TOLERANCE};
+use crate::spatial::{point_twist_transform, spatial, spatial_inertia};
+
+/// The configuration `x = [r0 (3), quat0 (4, [x, y, z, w]), q (N)]` split into its parts,
+/// validated (length, finite values, unit quaternion within [`QUATERNION_TOLERANCE`]); the
+/// quaternion is normalized exactly before use.
+pub fn split_configuration<'a>(model: &Model, x: &'a [f64]) -> Result<(Vector3<f64>, UnitQuaternion<f64>, &'a [f64])> {
+    let n = model.n_dof();
+    if x.len() != 7 + n {
+        return Err(SpacearmError::Dimension {
+            what: "x".into(),
+            expected: format!("7+N = {}", 7 + n),
+            got: x.len(),
+        });
+    }
+    check_finite("x", x)?;
+    let quat = nalgebra::Quaternion::new(x[6], x[3], x[4], x[5]);
+    let norm = quat.norm();
+    if (norm - 1.0).abs() > QUATERNION_TOLERANCE {
+        return Err(SpacearmError::NotUnitQuaternion {
+            what: "the base quaternion x[3:7]".into(),
+            norm,
+            tolerance: QUATERNION_TOLERANCE,
+        });
+    }
+    Ok((Vector3::new(x[0], x[1], x[2]), UnitQuaternion::from_quaternion(quat), &x[7..]))
+}
+
+/// Check a generalized velocity `u = [v0, ω0, q̇]` (length `6+N`, finite).
+pub fn check_velocity(model: &Model, what: &str, u: &[f64]) -> Result<()> {
+    if u.len() != model.nu() {
+        return Err(SpacearmError::Dimension {
+            what: what.into(),
+            expected: format!("6+N = {}", model.nu()),
+            got: u.len(),
+        });
+    }
+    check_finite(what, u)
+}
+
+/// Check a joint-space vector (length `N`, finite).
+pub fn check_joint_vector(model: &Model, what: &str, v: &[f64]) -> Result<()> {
+    if v.len() != model.n_dof() {
+        return Err(SpacearmError::Dimension { what: what.into(), expected: format!("N = {}", model.n_dof()), got: v.len() });
+    }
+    check_finite(what, v)
+}
+
+/// Forward kinematics: fills the poses, joint positions and axes, motion subspaces and world
+/// inertias of `data` (paper §2.2: `rᵢ`, `pᵢ`, `kᵢ`, `Rᵢ`).
+pub fn forward_kinematics(model: &Model, data: &mut Data, x: &[f64]) -> Result<()> {
+    let (r0, quat0, q) = split_configuration(model, x)?;
+    let r0_mat = quat0.to_rotation_matrix().into_inner();
+    data.base_position = r0;
+    data.body_to_world[0] = r0_mat;
+    data.com_in_world[0] = r0;
+    data.joint_position_in_world[0] = r0;
+    data.joint_axis_in_world[0] = Vector3::zeros();
+    data.motion_subspace[0] = Vector6::zeros();
+    let base = &model.base;
+    data.inertia_in_world[0] = r0_mat * base.inertia * r0_mat.transpose();
+    data.spatial_inertia[0] = spatial_inertia(base.mass, &Vector3::zeros(), &data.inertia_in_world[0]);
+
+    for (k, link) in model.links.iter().enumerate() {
+        let b = k + 1;
+        let p = link.parent;
+        let parent_rot = data.body_to_world[p];
+        let joint = &link.joint;
+        let joint_pos = data.com_in_world[p] + parent_rot * joint.origin_in_parent;
+        let joint_rot = parent_rot * joint.rotation_in_parent.to_rotation_matrix().into_inner();
+        let axis_world = joint_rot * joint.axis.into_inner();
+        let (rot, com_local) = match joint.kind {
+            JointType::Revolute => {
+                let angle = q[model.dof_of_body(b).expect("revolute joint has a dof")];
+                (joint_rot * Rotation3::from_axis_angle(&joint.axis, angle).into_inner(), link.com_from_joint)
+            }
+            JointType::Prismatic => {
+                let d = q[model.dof_of_body(b).expect("prismatic joint has a dof")];
+                (joint_rot, link.com_from_joint + joint.axis.into_inner() * d)
+            }
+            JointType::Fixed => (joint_rot, link.com_from_joint),
+        };
+        let com = joint_pos + rot * com_local;
+        data.body_to_world[b] = rot;
+        data.com_in_world[b] = com;
+        data.joint_position_in_world[b] = joint_pos;
+        data.joint_axis_in_world[b] = if joint.kind == JointType::Fixed { Vector3::zeros() } else { axis_world };
+        data.motion_subspace[b] = match joint.kind {
+            JointType::Revolute => spatial(&(joint_pos - r0).cross(&axis_world), &axis_world),
+            JointType::Prismatic => spatial(&axis_world, &Vector3::zeros()),
+            JointType::Fixed => Vector6::zeros(),
+        };
+        let inertia_world = rot * link.mass.inertia * rot.transpose();
+        data.inertia_in_world[b] = inertia_world;
+        data.spatial_inertia[b] = spatial_inertia(link.mass.mass, &(com - r0), &inertia_world);
+    }
+    Ok(())
+}
+
+/// Position in 𝒥 of a point fixed to `body` at `offset` (body frame, from its CM). Requires
+/// forward kinematics.
+pub fn point_position(data: &Data, body: usize, offset: &Vector3<f64>) -> Vector3<f64> {
+    data.com_in_world[body] + data.body_to_world[body] * offset
+}
+
+/// Check a body index against the model.
+pub fn check_body(model: &Model, body: usize) -> Result<()> {
+    if body >= model.n_bodies() {
+        return Err(SpacearmError::NotFound(format!(
+            "body index {body} does not exist (the model has bodies 0..={})",
+            model.n_bodies() - 1
+        )));
+    }
+    Ok(())
+}
+
+/// Joint-side point Jacobian `J_mX` (6×N, paper eq. 106) of the point at world position
+/// `point` fixed to `body`: column `j` is `[kⱼ × (x − pⱼ); kⱼ]` (revolute) or `[kⱼ; 0]`
+/// (prismatic) for every joint on the path from the base to `body`, zero elsewhere.
+/// Requires forward kinematics.
+pub fn joint_jacobian_of_point(model: &Model, data: &Data, body: usize, point: &Vector3<f64>) -> DMatrix<f64> {
+    let mut jm = DMatrix::zeros(6, model.n_dof());
+    let mut b = body;
+    while b != 0 {
+        if let Some(d) = model.dof_of_body(b) {
+            let k = data.joint_axis_in_world[b];
+            let lin = match model.links[b - 1].joint.kind {
+                JointType::Revolute => k.cross(&(point - data.joint_position_in_world[b])),
+                _ => k,
+            };
+            let ang = if model.links[b - 1].joint.kind == JointType::Revolute { k } else { Vector3::zeros() };
+            jm.fixed_view_mut::<3, 1>(0, d).copy_from(&lin);
+            jm.fixed_view_mut::<3, 1>(3, d).copy_from(&ang);
+        }
+        b = model.links[b - 1].parent;
+    }
+    jm
+}
+
+/// Both point Jacobians of a point fixed to `body` at `offset` (paper eqs. 104–108):
+/// `J_0X = [[E, −r̃_0X], [0, E]]` (6×6) and `J_mX` (6×N), so that the point's twist
+/// `[v_X; ω]` is `J_0X ẋ0 + J_mX q̇`. Requires forward kinematics.
+pub fn point_jacobians(model: &Model, data: &Data, body: usize, offset: &Vector3<f64>) -> Result<(Matrix6<f64>, DMatrix<f64>)> {
+    check_body(model, body)?;
+    let x = point_position(data, body, offset);
+    let j0 = point_twist_transform(&(x - data.base_position));
+    Ok((j0, joint_jacobian_of_point(model, data, body, &x)))
+}
+
+/// Translational and rotational Jacobians `J_Ti`, `J_Ri` (3×N each) of the CM of `body`
+/// (paper eqs. 20–21). Requires forward kinematics.
+pub fn link_jacobians(model: &Model, data: &Data, body: usize) -> (DMatrix<f64>, DMatrix<f64>) {
+    let jm = joint_jacobian_of_point(model, data, body, &data.com_in_world[body]);
+    (jm.rows(0, 3).into_owned(), jm.rows(3, 3).into_owned())
+}
+
+/// Pose of every body's CM frame: rotation to 𝒥 and CM position. Requires forward kinematics.
+pub fn body_poses(data: &Data) -> Vec<(Matrix3<f64>, Vector3<f64>)> {
+    data.body_to_world.iter().copied().zip(data.com_in_world.iter().copied()).collect()
+}

@@ -1,0 +1,79 @@
+//! Momentum, kinetic energy and the system centre of mass, summed body by body from the body
+//! velocities (independent of the mass matrix, which the tests compare against:
+//! `[P; L_base] = H0 ẋ0 + H0m q̇`, `T = ½ uᵀ H u`, paper eqs. 27 and 42).
+
+use nalgebra::Vector3;
+
+use crate::data::Data;
+use crate::error::Result;
+use crate::kinematics::{check_velocity, forward_kinematics};
+use crate::model::Model;
+use crate::rnea::velocity_pass;
+use crate::spatial::{angular, linear};
+
+/// Linear momentum and angular momentum about three points (DESIGN.md §1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Momentum {
+    /// `P = Σ mᵢ vᵢ`, N·s.
+    pub linear: Vector3<f64>,
+    /// Angular momentum about the origin of 𝒥 (conserved with no external wrench).
+    pub angular_about_origin: Vector3<f64>,
+    /// Angular momentum about the base CM (the lower half of `H0 ẋ0 + H0m q̇`).
+    pub angular_about_base: Vector3<f64>,
+    /// Angular momentum about the system CM.
+    pub angular_about_com: Vector3<f64>,
+}
+
+/// System centre of mass `r_g` in 𝒥. Requires forward kinematics.
+pub fn center_of_mass_from_data(model: &Model, data: &Data) -> Vector3<f64> {
+    let mut first = Vector3::zeros();
+    for b in 0..model.n_bodies() {
+        first += model.mass_properties(b).mass * data.com_in_world[b];
+    }
+    first / model.total_mass()
+}
+
+/// System centre of mass `r_g` in 𝒥 at configuration `x`.
+pub fn center_of_mass(model: &Model, data: &mut Data, x: &[f64]) -> Result<Vector3<f64>> {
+    forward_kinematics(model, data, x)?;
+    Ok(center_of_mass_from_data(model, data))
+}
+
+/// Momentum of the system at `(x, u)`.
+pub fn momentum(model: &Model, data: &mut Data, x: &[f64], u: &[f64]) -> Result<Momentum> {
+    forward_kinematics(model, data, x)?;
+    check_velocity(model, "u", u)?;
+    velocity_pass(model, data, u);
+    let mut total = nalgebra::Vector6::zeros();
+    for b in 0..model.n_bodies() {
+        total += data.spatial_inertia[b] * data.body_velocity[b];
+    }
+    let p = linear(&total);
+    let l_base = angular(&total);
+    let r0 = data.base_position;
+    let rg = center_of_mass_from_data(model, data);
+    Ok(Momentum {
+        linear: p,
+        angular_about_origin: l_base + r0.cross(&p),
+        angular_about_base: l_base,
+        angular_about_com: l_base + (r0 - rg).cross(&p),
+    })
+}
+
+/// Kinetic energy `T = ½ Σ (mᵢ |vᵢ|² + ωᵢᵀ Iᵢ ωᵢ)` at `(x, u)`, J.
+pub fn kinetic_energy(model: &Model, data: &mut Data, x: &[f64], u: &[f64]) -> Result<f64> {
+    forward_kinematics(model, data, x)?;
+    check_velocity(model, "u", u)?;
+    velocity_pass(model, data, u);
+    let r0 = data.base_position;
+    let mut t = 0.0;
+    for b in 0..model.n_bodies() {
+        let v = data.body_velocity[b];
+        let w = angular(&v);
+        // Velocity of the body CM from the twist at the base CM.
+        let v_com = linear(&v) + w.cross(&(data.com_in_world[b] - r0));
+        let m = model.mass_properties(b).mass;
+        t += 0.5 * (m * v_com.norm_squared() + w.dot(&(data.inertia_in_world[b] * w)));
+    }
+    Ok(t)
+}

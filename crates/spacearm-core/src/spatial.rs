@@ -1,0 +1,114 @@
+//! 3-vectors, cross-product matrices and spatial (6-D) vectors and inertias.
+//!
+//! Spatial vectors are ordered `[linear (3), angular (3)]`, linear first, as in the paper
+//! (DESIGN.md §1). The recursive algorithms (Featherstone, *Rigid Body Dynamics Algorithms*,
+//! 2008, ch. 2) work with spatial vectors whose axes are those of the inertial frame 𝒥 and whose
+//! reference point is the base centre of mass `r0` at the current instant. With that choice the
+//! base's spatial velocity is exactly the paper's `ẋ0 = [v0; ω0]` and a spatial force on the
+//! base is exactly `[F0; N0]`, so no convention transform is ever needed for the base.
+
+use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
+
+/// Cross-product matrix `ã` with `ã b = a × b` (the paper's `a^×`).
+#[inline]
+pub fn skew(a: &Vector3<f64>) -> Matrix3<f64> {
+    Matrix3::new(0.0, -a.z, a.y, a.z, 0.0, -a.x, -a.y, a.x, 0.0)
+}
+
+/// Linear part `[0..3]` of a spatial vector.
+#[inline]
+pub fn linear(v: &Vector6<f64>) -> Vector3<f64> {
+    v.fixed_rows::<3>(0).into_owned()
+}
+
+/// Angular part `[3..6]` of a spatial vector.
+#[inline]
+pub fn angular(v: &Vector6<f64>) -> Vector3<f64> {
+    v.fixed_rows::<3>(3).into_owned()
+}
+
+/// Build a spatial vector from its linear and angular parts.
+#[inline]
+pub fn spatial(lin: &Vector3<f64>, ang: &Vector3<f64>) -> Vector6<f64> {
+    Vector6::new(lin.x, lin.y, lin.z, ang.x, ang.y, ang.z)
+}
+
+/// Motion cross product `v ×ₘ m` (Featherstone eq. 2.31, reordered linear-first):
+/// `[ω × m_lin + v × m_ang; ω × m_ang]` for `v = [v; ω]`.
+#[inline]
+pub fn cross_motion(v: &Vector6<f64>, m: &Vector6<f64>) -> Vector6<f64> {
+    let (lin, ang) = (linear(v), angular(v));
+    let (m_lin, m_ang) = (linear(m), angular(m));
+    spatial(&(ang.cross(&m_lin) + lin.cross(&m_ang)), &ang.cross(&m_ang))
+}
+
+/// Force cross product `v ×* f` (Featherstone eq. 2.32, reordered linear-first):
+/// `[ω × f_lin; ω × f_ang + v × f_lin]` for `v = [v; ω]`, `f = [f_lin; f_ang]`.
+#[inline]
+pub fn cross_force(v: &Vector6<f64>, f: &Vector6<f64>) -> Vector6<f64> {
+    let (lin, ang) = (linear(v), angular(v));
+    let (f_lin, f_ang) = (linear(f), angular(f));
+    spatial(&ang.cross(&f_lin), &(ang.cross(&f_ang) + lin.cross(&f_lin)))
+}
+
+/// Spatial inertia of a body of mass `m`, centre of mass at `c` from the reference point and
+/// inertia `inertia_about_com` about its CM (all in the same axes):
+/// `[[m E, −m c̃], [m c̃, I_c + m c̃ᵀ c̃]]` (paper eq. 29's per-link term; Featherstone eq. 2.63).
+pub fn spatial_inertia(m: f64, c: &Vector3<f64>, inertia_about_com: &Matrix3<f64>) -> Matrix6<f64> {
+    let cx = skew(c);
+    let mut out = Matrix6::zeros();
+    out.fixed_view_mut::<3, 3>(0, 0).copy_from(&(Matrix3::identity() * m));
+    out.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-m * cx));
+    out.fixed_view_mut::<3, 3>(3, 0).copy_from(&(m * cx));
+    out.fixed_view_mut::<3, 3>(3, 3)
+        .copy_from(&(inertia_about_com + m * cx.transpose() * cx));
+    out
+}
+
+/// Twist transform of a point offset `d` from the reference point: `[[E, −d̃], [0, E]]`, the
+/// paper's `J_0X` (eq. 105) — maps `[v_ref; ω]` to `[v_point; ω]`.
+pub fn point_twist_transform(d: &Vector3<f64>) -> Matrix6<f64> {
+    let mut out = Matrix6::identity();
+    out.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-skew(d)));
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn skew_is_cross_product() {
+        let a = Vector3::new(0.3, -1.2, 2.0);
+        let b = Vector3::new(-0.7, 0.1, 0.4);
+        assert!((skew(&a) * b - a.cross(&b)).norm() < 1e-15);
+    }
+
+    #[test]
+    fn force_cross_is_dual_of_motion_cross() {
+        // Featherstone eq. 2.34: (v×*) = −(v×ₘ)ᵀ, checked through ⟨v ×ₘ m, f⟩ = −⟨m, v ×* f⟩.
+        let v = Vector6::new(0.1, -0.4, 0.3, 1.2, -0.5, 0.7);
+        let m = Vector6::new(-0.2, 0.8, 0.6, -0.3, 0.9, 0.4);
+        let f = Vector6::new(0.5, 0.2, -1.1, 0.3, -0.6, 0.8);
+        let lhs = cross_motion(&v, &m).dot(&f);
+        let rhs = -m.dot(&cross_force(&v, &f));
+        assert!((lhs - rhs).abs() < 1e-14);
+        assert!(lhs.abs() > 1e-3);
+    }
+
+    #[test]
+    fn spatial_inertia_gives_momentum_of_rigid_body() {
+        // Momentum of a body moving with twist [v_ref; ω] computed from point-mass sums.
+        let m = 2.5;
+        let c = Vector3::new(0.3, -0.2, 0.5);
+        let ic = Matrix3::new(0.4, 0.01, 0.02, 0.01, 0.5, -0.03, 0.02, -0.03, 0.6);
+        let v_ref = Vector3::new(0.2, 0.1, -0.4);
+        let w = Vector3::new(0.5, -0.7, 0.3);
+        let h = spatial_inertia(m, &c, &ic) * spatial(&v_ref, &w);
+        let v_com = v_ref + w.cross(&c);
+        let p = m * v_com;
+        let l = c.cross(&p) + ic * w;
+        assert!((linear(&h) - p).norm() < 1e-14);
+        assert!((angular(&h) - l).norm() < 1e-14);
+    }
+}
