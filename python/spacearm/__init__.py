@@ -1,0 +1,41 @@
+"""spacearm — equations of motion of spacecraft-manipulator systems.
+
+The generalized inertia matrix ``H*`` and the Generalized Jacobian Matrix ``J*`` (Umetani &
+Yoshida 1989; Wilde et al. 2018) and every quantity behind them, computed by a Rust core and
+checked against Pinocchio and MuJoCo. Start with :class:`Robot` and :mod:`spacearm.presets`;
+conventions are in ``docs/conventions.md``.
+"""
+
+from . import presets
+from ._core import __version__
+from .builder import RobotBuilder
+from .errors import (
+    ModelError,
+    ModelFileError,
+    NonFiniteError,
+    NotFoundError,
+    QuaternionError,
+    ShapeError,
+    SingularError,
+    SpacearmError,
+)
+from .robot import ExternalWrench, InertiaBlocks, Kinematics, Momentum, Robot
+
+__all__ = [
+    "Robot",
+    "RobotBuilder",
+    "ExternalWrench",
+    "Kinematics",
+    "Momentum",
+    "InertiaBlocks",
+    "presets",
+    "SpacearmError",
+    "ModelError",
+    "ModelFileError",
+    "ShapeError",
+    "NonFiniteError",
+    "QuaternionError",
+    "NotFoundError",
+    "SingularError",
+    "__version__",
+]

@@ -1,0 +1,354 @@
+"""The :class:`Robot`: a validated spacecraft-manipulator model and every quantity of the
+Generalized Jacobian Matrix formulation.
+
+Conventions (DESIGN.md §1, see ``docs/conventions.md``): SI units; vectors in the inertial frame
+𝒥 unless a name says otherwise; configuration ``x = [r0 (3), quat0 (4, [x, y, z, w]), q (N)]``
+with ``r0`` the base CM; generalized velocity ``u = [v0 (3), w0 (3), qd (N)]`` with ``v0`` the
+base CM velocity and ``w0`` the base angular velocity, both in 𝒥; generalized force
+``f = [F0 (3), N0 (3), tau (N)]`` (force at the base CM, torque about it, in 𝒥; joint torques).
+EOM: ``H(x) du + c(x, u) = f + J^T w_ext``. Equation numbers refer to Wilde, Kwok Choon,
+Grompone & Romano (2018), Front. Robot. AI 5:41 ("the paper").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple, Sequence, Union
+
+import numpy as np
+
+from . import _core
+from ._arrays import vector, vector3
+from .errors import NotFoundError, ShapeError
+
+__all__ = ["Robot", "ExternalWrench", "Kinematics", "Momentum", "InertiaBlocks"]
+
+PointLike = Union[str, tuple, None]
+
+
+@dataclass(frozen=True)
+class ExternalWrench:
+    """A force and torque, both in 𝒥, applied at a point fixed to a body.
+
+    ``body`` is a body name or index (0 = base); ``offset`` is the application point in that
+    body's frame (from its CM). Its generalized force is ``J_X^T [force; torque]``.
+    """
+
+    body: Union[str, int]
+    force: Sequence[float] = (0.0, 0.0, 0.0)
+    torque: Sequence[float] = (0.0, 0.0, 0.0)
+    offset: Sequence[float] = (0.0, 0.0, 0.0)
+
+
+class Kinematics(NamedTuple):
+    """Forward kinematics, one row per body (row 0 = base)."""
+
+    body_to_world: np.ndarray  #: (n_bodies, 3, 3) rotation of each body frame to 𝒥
+    com_in_world: np.ndarray  #: (n_bodies, 3) CM positions r_i
+    joint_position_in_world: np.ndarray  #: (n_bodies, 3) joint positions p_i (row 0: r0)
+    joint_axis_in_world: np.ndarray  #: (n_bodies, 3) unit joint axes k_i (zero: base, fixed)
+
+
+class Momentum(NamedTuple):
+    """Linear momentum and angular momentum about three points (DESIGN.md §1)."""
+
+    P: np.ndarray  #: linear momentum, N·s
+    L_origin: np.ndarray  #: about the origin of 𝒥 (conserved with no external wrench)
+    L_base: np.ndarray  #: about the base CM (lower half of H0 xd0 + H0m qd, eq. 42)
+    L_com: np.ndarray  #: about the system CM
+
+
+class InertiaBlocks(NamedTuple):
+    """The paper's inertia blocks (eqs. 27–36), in 𝒥 about the base CM."""
+
+    M: float  #: total mass
+    r_0g: np.ndarray  #: base CM to system CM
+    H_S: np.ndarray  #: 3×3, eq. 29
+    J_TS: np.ndarray  #: 3×N, eq. 32
+    H_Sq: np.ndarray  #: 3×N, eq. 33
+    H0: np.ndarray  #: 6×6 base inertia, eq. 30
+    H0m: np.ndarray  #: 6×N coupling inertia, eq. 31
+    Hm: np.ndarray  #: N×N manipulator inertia, eq. 34
+    H: np.ndarray  #: (6+N)² full mass matrix, eq. 36
+
+
+class Robot:
+    """A spacecraft base carrying a tree of links (one or more arms).
+
+    Build one with :meth:`Robot.builder`, :meth:`Robot.from_toml`, :meth:`Robot.from_dh` or a
+    preset from :mod:`spacearm.presets`. A ``Robot`` is immutable; its methods are functions of
+    the state passed in.
+    """
+
+    def __init__(self, core_model: "_core.Model"):
+        if not isinstance(core_model, _core.Model):
+            raise TypeError("Robot is built with Robot.builder(), Robot.from_toml(), Robot.from_dh() or spacearm.presets")
+        self._m = core_model
+
+    # ---- construction -------------------------------------------------------------------
+    @staticmethod
+    def builder(name: str, base_mass: float, base_inertia, base_name: str = "base"):
+        """Start building a model: see :class:`spacearm.builder.RobotBuilder`."""
+        from .builder import RobotBuilder
+
+        return RobotBuilder(name, base_mass, base_inertia, base_name=base_name)
+
+    @classmethod
+    def from_toml(cls, path) -> "Robot":
+        """Load a model file (schema: ``docs/model-format.md``)."""
+        from .model_file import load_toml
+
+        return load_toml(path)
+
+    @classmethod
+    def from_toml_string(cls, text: str, source: str = "<string>") -> "Robot":
+        """Parse a model from TOML text (schema: ``docs/model-format.md``)."""
+        from .model_file import loads_toml
+
+        return loads_toml(text, source=source)
+
+    @classmethod
+    def from_dh(cls, *args, **kwargs) -> "Robot":
+        """Build a model from a Denavit–Hartenberg table: see :func:`spacearm.dh.robot_from_dh`."""
+        from .dh import robot_from_dh
+
+        return robot_from_dh(*args, **kwargs)
+
+    # ---- description --------------------------------------------------------------------
+    @property
+    def name(self) -> str:
+        return self._m.name
+
+    @property
+    def n_dof(self) -> int:
+        """Number of joint degrees of freedom ``N``."""
+        return self._m.n_dof
+
+    @property
+    def n_bodies(self) -> int:
+        """Number of bodies including the base."""
+        return self._m.n_bodies
+
+    @property
+    def nx(self) -> int:
+        """Length of the configuration ``x``: ``7 + N``."""
+        return 7 + self._m.n_dof
+
+    @property
+    def nu(self) -> int:
+        """Length of the generalized velocity ``u``: ``6 + N``."""
+        return 6 + self._m.n_dof
+
+    @property
+    def total_mass(self) -> float:
+        return self._m.total_mass
+
+    @property
+    def body_names(self) -> list:
+        return list(self._m.body_names)
+
+    @property
+    def point_names(self) -> list:
+        return list(self._m.point_names)
+
+    @property
+    def end_effector(self):
+        """Name of the end-effector point, or ``None``."""
+        return self._m.end_effector
+
+    @property
+    def initial_q(self) -> np.ndarray:
+        return self._m.initial_q
+
+    @property
+    def joint_types(self) -> list:
+        """Joint type of each link, in link order."""
+        return list(self._m.joint_types())
+
+    @property
+    def body_of_dof(self) -> list:
+        """Body index moved by each degree of freedom."""
+        return list(self._m.body_of_dof)
+
+    def describe(self) -> dict:
+        """The model as plain Python data (base, links in tree order, points)."""
+        return self._m.describe()
+
+    def body_index(self, body: Union[str, int]) -> int:
+        """Index of a body given by name or index (0 = base)."""
+        if isinstance(body, (int, np.integer)):
+            if not 0 <= int(body) < self.n_bodies:
+                raise NotFoundError(f"body index {body} does not exist (the model has bodies 0..{self.n_bodies - 1})")
+            return int(body)
+        return self._m.body_index(str(body))
+
+    def _point(self, point: PointLike):
+        """Resolve a point: ``None`` (end effector), a point name, or ``(body, offset)``."""
+        if point is None:
+            if self.end_effector is None:
+                raise NotFoundError("the model has no end effector; pass a point name or (body, offset)")
+            point = self.end_effector
+        if isinstance(point, str):
+            if point in self._m.point_names:
+                body, off = self._m.point(point)
+                return body, np.asarray(off, dtype=float)
+            return self.body_index(point), np.zeros(3)
+        if isinstance(point, (tuple, list)) and len(point) == 2:
+            return self.body_index(point[0]), vector3(point[1], "point offset")
+        raise ShapeError(f"a point is a point name, a body name, or (body, offset), got {point!r}")
+
+    def __repr__(self) -> str:
+        return f"<Robot '{self.name}': {self.n_bodies} bodies, N = {self.n_dof}, total mass {self.total_mass:.6g} kg>"
+
+    # ---- states ---------------------------------------------------------------------------
+    def neutral_configuration(self, q=None, r0=(0.0, 0.0, 0.0), quat0=(0.0, 0.0, 0.0, 1.0)) -> np.ndarray:
+        """Configuration ``x = [r0, quat0, q]``; ``q`` defaults to the model's initial angles."""
+        qv = self.initial_q if q is None else vector(q, "q", self.n_dof)
+        return np.concatenate([vector(r0, "r0", 3), vector(quat0, "quat0", 4), qv])
+
+    def zero_velocity(self) -> np.ndarray:
+        """``u = 0`` (length ``6 + N``)."""
+        return np.zeros(self.nu)
+
+    def _x(self, x):
+        return vector(x, "x")
+
+    def _u(self, u, name="u"):
+        return vector(u, name)
+
+    # ---- kinematics ----------------------------------------------------------------------
+    def forward_kinematics(self, x) -> Kinematics:
+        """Poses of every body CM frame, joint positions and joint axes in 𝒥 (paper §2)."""
+        return Kinematics(*self._m.forward_kinematics(self._x(x)))
+
+    def point_position(self, x, point: PointLike = None) -> np.ndarray:
+        """Position in 𝒥 of a point (default: the end effector)."""
+        body, off = self._point(point)
+        return self._m.point_position(self._x(x), body, off)
+
+    def point_jacobian(self, x, point: PointLike = None):
+        """Point Jacobians ``(J_0X, J_mX)`` (6×6, 6×N; eqs. 104–108) of a point: its twist
+        ``[v_X; w]`` in 𝒥 is ``J_0X xd0 + J_mX qd``."""
+        body, off = self._point(point)
+        return self._m.point_jacobians(self._x(x), body, off)
+
+    def link_jacobians(self, x, body):
+        """``(J_Ti, J_Ri)`` (3×N each; eqs. 20–21) of the CM of ``body``."""
+        return self._m.link_jacobians(self._x(x), self.body_index(body))
+
+    # ---- inertia ---------------------------------------------------------------------------
+    def inertia_blocks(self, x) -> InertiaBlocks:
+        """``H0``, ``H0m``, ``Hm`` and their parts by the paper's Jacobian sums (eqs. 27–36)."""
+        d = self._m.inertia_blocks(self._x(x))
+        return InertiaBlocks(**d)
+
+    def mass_matrix(self, x, method: str = "crba") -> np.ndarray:
+        """Generalized mass matrix ``H(x)`` ((6+N)², eq. 36).
+
+        ``method="crba"`` (composite-rigid-body algorithm, Featherstone §6.2) or ``"paper"``
+        (the Jacobian sums of eqs. 27–36); the two are independent computations.
+        """
+        if method == "crba":
+            return self._m.mass_matrix_crba(self._x(x))
+        if method == "paper":
+            return self._m.inertia_blocks(self._x(x))["H"]
+        raise ValueError(f"method must be 'crba' or 'paper', got {method!r}")
+
+    def base_inertia_inverse(self, x) -> np.ndarray:
+        """``H0⁻¹`` by the closed-form Schur complement (eqs. 52–61)."""
+        return self._m.base_inertia_inverse(self._x(x))
+
+    # ---- dynamics --------------------------------------------------------------------------
+    def bias_forces(self, x, u) -> np.ndarray:
+        """Bias vector ``c(x, u)`` (velocity-product terms; no gravity in orbit) by RNEA."""
+        return self._m.bias_forces(self._x(x), self._u(u))
+
+    def _wrenches(self, wrenches):
+        if not wrenches:
+            return None
+        out = []
+        for w in wrenches:
+            if not isinstance(w, ExternalWrench):
+                raise TypeError(f"wrenches must be spacearm.ExternalWrench objects, got {type(w).__name__}")
+            out.append((
+                self.body_index(w.body),
+                list(vector3(w.offset, "wrench offset")),
+                list(vector3(w.force, "wrench force")),
+                list(vector3(w.torque, "wrench torque")),
+            ))
+        return out
+
+    def inverse_dynamics(self, x, u, du, wrenches=None) -> np.ndarray:
+        """Generalized force ``f = H du + c - J^T w_ext`` producing ``du`` (RNEA, Featherstone §5.3)."""
+        return self._m.inverse_dynamics(self._x(x), self._u(u), self._u(du, "du"), self._wrenches(wrenches))
+
+    def forward_dynamics(self, x, u, f=None, *, tau=None, base_wrench=None, wrenches=None, method: str = "aba") -> np.ndarray:
+        """State derivative ``du = [dv0, dw0, qdd]`` under generalized force ``f``.
+
+        Give either ``f = [F0, N0, tau]`` or ``tau`` (joint torques) and optionally
+        ``base_wrench = [F0, N0]`` (zero: free-floating). ``method``: ``"aba"`` (O(N)
+        articulated-body algorithm), ``"mass_matrix"`` (``H⁻¹(f + J^T w - c)``) or
+        ``"reduced"`` (``qdd = H*⁻¹(tau - c* - H0m^T H0⁻¹ F_b)``, DESIGN.md §2; no external
+        wrenches).
+        """
+        if f is None:
+            t = np.zeros(self.n_dof) if tau is None else vector(tau, "tau", self.n_dof)
+            b = np.zeros(6) if base_wrench is None else vector(base_wrench, "base_wrench", 6)
+            f = np.concatenate([b, t])
+        elif tau is not None or base_wrench is not None:
+            raise ValueError("give either f or tau/base_wrench, not both")
+        f = self._u(f, "f")
+        if method == "aba":
+            return self._m.forward_dynamics_aba(self._x(x), self._u(u), f, self._wrenches(wrenches))
+        if method == "mass_matrix":
+            return self._m.forward_dynamics_mass_matrix(self._x(x), self._u(u), f, self._wrenches(wrenches))
+        if method == "reduced":
+            if wrenches:
+                raise ValueError("method='reduced' takes no external wrenches; use 'aba' or 'mass_matrix'")
+            if f.shape[0] != self.nu:
+                raise ShapeError(f"f must have length 6+N = {self.nu}, got {f.shape[0]}")
+            return self._m.reduced_forward_dynamics(self._x(x), self._u(u), np.ascontiguousarray(f[6:]), np.ascontiguousarray(f[:6]))
+        raise ValueError(f"method must be 'aba', 'mass_matrix' or 'reduced', got {method!r}")
+
+    # ---- generalized (reduced) quantities ------------------------------------------------
+    def generalized_inertia(self, x) -> np.ndarray:
+        """Generalized inertia matrix ``H* = Hm - H0m^T H0⁻¹ H0m`` (N×N, eq. 45)."""
+        return self._m.generalized_inertia(self._x(x))
+
+    def generalized_bias(self, x, u) -> np.ndarray:
+        """Generalized bias ``c* = c_m - H0m^T H0⁻¹ c0`` (N) at the state ``(x, u)``."""
+        return self._m.generalized_bias(self._x(x), self._u(u))
+
+    def generalized_jacobian(self, x, point: PointLike = None) -> np.ndarray:
+        """Generalized Jacobian ``J* = J_mX - J_0X H0⁻¹ H0m`` (6×N, eq. 110) of a point
+        (default: the end effector). With zero momentum the point twist is ``J* qd``."""
+        body, off = self._point(point)
+        return self._m.generalized_jacobian(self._x(x), body, off)
+
+    def point_twist(self, x, qd, point: PointLike = None, P=(0.0, 0.0, 0.0), L=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """Twist ``[v_X; w]`` of a point when the joints move at ``qd`` and the system has
+        linear momentum ``P`` and angular momentum ``L`` about the origin of 𝒥:
+        ``J* qd + J_0X H0⁻¹ M0`` (the non-zero-momentum GJM)."""
+        body, off = self._point(point)
+        xv = self._x(x)
+        jstar = self._m.generalized_jacobian(xv, body, off)
+        offset = self._m.momentum_twist(xv, body, off, vector3(P, "P"), vector3(L, "L"))
+        return jstar @ vector(qd, "qd", self.n_dof) + offset
+
+    def base_velocity_from_momentum(self, x, qd, P=(0.0, 0.0, 0.0), L=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """Base velocity ``[v0; w0] = H0⁻¹ (M0 - H0m qd)`` (eqs. 43, 109) that gives the system
+        linear momentum ``P`` and angular momentum ``L`` about the origin of 𝒥."""
+        return self._m.base_velocity_from_momentum(self._x(x), vector(qd, "qd"), vector3(P, "P"), vector3(L, "L"))
+
+    # ---- momentum, energy, CM ------------------------------------------------------------
+    def momentum(self, x, u) -> Momentum:
+        """Linear momentum and angular momentum about the origin, base CM and system CM."""
+        return Momentum(*self._m.momentum(self._x(x), self._u(u)))
+
+    def kinetic_energy(self, x, u) -> float:
+        """``T = ½ Σ (m_i |v_i|² + w_i^T I_i w_i)`` (equal to ``½ u^T H u``, eq. 27)."""
+        return self._m.kinetic_energy(self._x(x), self._u(u))
+
+    def center_of_mass(self, x) -> np.ndarray:
+        """System CM ``r_g`` in 𝒥."""
+        return self._m.center_of_mass(self._x(x))
