@@ -27,6 +27,7 @@ pub mod joint;
 pub mod kinematics;
 pub mod model;
 pub mod momentum;
+pub mod presets;
 pub mod rnea;
 pub mod spatial;
 pub mod wrench;

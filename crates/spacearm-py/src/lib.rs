@@ -10,10 +10,26 @@ mod model_py;
 
 use pyo3::prelude::*;
 
+/// A preset model by name (`planar4`, `spatial6`).
+#[pyfunction]
+fn preset(py: Python<'_>, name: &str) -> PyResult<model_py::PyModel> {
+    match spacearm_core::presets::by_name(name) {
+        Some(m) => Ok(model_py::PyModel::new(m)),
+        None => Err(convert::to_py_err(
+            py,
+            spacearm_core::SpacearmError::NotFound(format!(
+                "no preset named '{name}'; presets are {:?}",
+                spacearm_core::presets::NAMES
+            )),
+        )),
+    }
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model_py::PyModel>()?;
     m.add_class::<builder_py::PyModelBuilder>()?;
+    m.add_function(wrap_pyfunction!(preset, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

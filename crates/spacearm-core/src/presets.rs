@@ -1,0 +1,136 @@
+//! The two models of the paper's case studies (Wilde et al. 2018, §6) with the parameters of
+//! the project's issue #2. The Python presets (`spacearm.presets`) are these same models.
+//!
+//! Both follow the paper's link convention: every link frame aligns with the base frame at
+//! `q = 0`, links extend along their x axis with the CM at mid-length, and joint `i+1` sits at
+//! the tip of link `i`; the end effector is the tip of the last link.
+
+use std::f64::consts::FRAC_PI_4;
+
+use crate::body::MassProperties;
+use crate::error::Result;
+use crate::joint::{JointLimits, JointType};
+use crate::model::{LinkSpec, Model, ModelBuilder};
+
+/// Names of the presets, as accepted by [`by_name`].
+pub const NAMES: [&str; 2] = ["planar4", "spatial6"];
+
+/// Inertia of a square bar of length `l` along x and side `w`: `Ixx = m w²/6`,
+/// `Iyy = Izz = m (l² + w²)/12`.
+fn bar_inertia(m: f64, l: f64, w: f64) -> [[f64; 3]; 3] {
+    let iyy = m * (l * l + w * w) / 12.0;
+    [[m * w * w / 6.0, 0.0, 0.0], [0.0, iyy, 0.0], [0.0, 0.0, iyy]]
+}
+
+struct SerialArm<'a> {
+    name: &'a str,
+    base_mass: f64,
+    base_inertia: [f64; 3],
+    first_joint: [f64; 3],
+    axes: &'a [[f64; 3]],
+    lengths: &'a [f64],
+    masses: &'a [f64],
+    width: f64,
+    initial_q: Vec<f64>,
+}
+
+fn serial_arm(spec: SerialArm<'_>) -> Result<Model> {
+    let [ixx, iyy, izz] = spec.base_inertia;
+    let mut b = ModelBuilder::new(spec.name, "base", spec.base_mass, [[ixx, 0.0, 0.0], [0.0, iyy, 0.0], [0.0, 0.0, izz]])?;
+    let mut parent = "base".to_string();
+    let mut origin = spec.first_joint;
+    for (i, ((axis, &l), &m)) in spec.axes.iter().zip(spec.lengths).zip(spec.masses).enumerate() {
+        let name = format!("link{}", i + 1);
+        b.add_link(LinkSpec {
+            name: name.clone(),
+            parent: parent.clone(),
+            joint_name: Some(format!("joint{}", i + 1)),
+            kind: JointType::Revolute,
+            origin_in_parent: origin,
+            rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
+            axis: *axis,
+            com_from_joint: [l / 2.0, 0.0, 0.0],
+            mass: m,
+            inertia: bar_inertia(m, l, spec.width),
+            limits: JointLimits::unlimited(),
+        })?;
+        parent = name;
+        // The next joint is at this link's tip, half a length beyond its CM.
+        origin = [l / 2.0, 0.0, 0.0];
+    }
+    b.add_point("end_effector", &parent, origin)?;
+    b.set_end_effector("end_effector");
+    b.set_initial_q(spec.initial_q);
+    b.build()
+}
+
+/// Planar 4-link arm on a 100 kg, 0.5 m cube (paper case study 1).
+pub fn planar4() -> Model {
+    serial_arm(SerialArm {
+        name: "planar4",
+        base_mass: 100.0,
+        base_inertia: [4.1667; 3],
+        first_joint: [0.25, 0.0, 0.0],
+        axes: &[[0.0, 0.0, 1.0]; 4],
+        lengths: &[1.0; 4],
+        masses: &[10.0; 4],
+        width: 0.05,
+        initial_q: vec![FRAC_PI_4, -FRAC_PI_4, -FRAC_PI_4, FRAC_PI_4],
+    })
+    .expect("the planar4 preset is a valid model")
+}
+
+/// Spatial 6-link arm on a 500 kg, 1.2 × 1.0 × 0.8 m box (paper case study 2, after Yoshida
+/// & Umetani 1993).
+pub fn spatial6() -> Model {
+    let (x, y) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+    serial_arm(SerialArm {
+        name: "spatial6",
+        base_mass: 500.0,
+        base_inertia: [68.33, 86.67, 101.67],
+        first_joint: [0.6, 0.0, 0.0],
+        axes: &[x, y, y, x, y, x],
+        lengths: &[0.2, 1.0, 1.0, 0.15, 0.15, 0.2],
+        masses: &[8.0, 15.0, 12.0, 4.0, 3.0, 3.0],
+        width: 0.1,
+        initial_q: vec![0.0, FRAC_PI_4, -2.0 * FRAC_PI_4, 0.0, FRAC_PI_4, 0.0],
+    })
+    .expect("the spatial6 preset is a valid model")
+}
+
+/// A preset by name (see [`NAMES`]).
+pub fn by_name(name: &str) -> Option<Model> {
+    match name {
+        "planar4" => Some(planar4()),
+        "spatial6" => Some(spatial6()),
+        _ => None,
+    }
+}
+
+/// Configuration `x` with the base at the origin, aligned with 𝒥, and the model's initial
+/// joint angles.
+pub fn initial_configuration(model: &Model) -> Vec<f64> {
+    let mut x = vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
+    x.extend_from_slice(&model.initial_q);
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn presets_have_the_issue_parameters() {
+        let p = planar4();
+        assert_eq!(p.n_dof(), 4);
+        assert!((p.total_mass() - 140.0).abs() < 1e-12);
+        let s = spatial6();
+        assert_eq!(s.n_dof(), 6);
+        assert!((s.total_mass() - 545.0).abs() < 1e-12);
+        // Link 2 of spatial6: 15 kg, 1.0 m, 0.1 m bar.
+        let l2 = &s.links[1].mass;
+        assert!((l2.inertia[(0, 0)] - 15.0 * 0.01 / 6.0).abs() < 1e-15);
+        assert!((l2.inertia[(1, 1)] - 15.0 * 1.01 / 12.0).abs() < 1e-15);
+        let _ = MassProperties::solid_box(1.0, 1.0, 1.0, 1.0);
+    }
+}
