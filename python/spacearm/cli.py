@@ -1,0 +1,120 @@
+"""The ``spacearm`` command line.
+
+``spacearm inspect MODEL [--q Q1,Q2,...]`` prints the model summary (bodies, joints, total
+mass) and, at the given or initial configuration, ``H0``, ``H*`` and the end-effector ``J*``
+with their conditioning. ``MODEL`` is a preset name (``planar4``, ``spatial6``) or a TOML
+model file (``docs/model-format.md``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+import numpy as np
+
+from . import __version__, presets
+from .errors import SpacearmError
+from .robot import Robot
+
+__all__ = ["main", "load_model"]
+
+
+def load_model(spec: str) -> Robot:
+    """A preset by name, or a model file by path."""
+    if spec in presets.NAMES:
+        return presets.get(spec)
+    if os.path.exists(spec):
+        if spec.lower().endswith(".toml"):
+            return Robot.from_toml(spec)
+        raise SpacearmError(f"cannot read '{spec}': model files must end in .toml")
+    raise SpacearmError(f"'{spec}' is neither a preset ({', '.join(presets.NAMES)}) nor an existing model file")
+
+
+def _parse_q(text: str, n: int) -> np.ndarray:
+    try:
+        q = np.array([float(v) for v in text.replace(" ", "").split(",") if v != ""])
+    except ValueError:
+        raise SpacearmError(f"--q must be {n} comma-separated numbers (rad or m), got '{text}'") from None
+    if q.shape[0] != n:
+        raise SpacearmError(f"--q must have N = {n} values, got {q.shape[0]}")
+    return q
+
+
+def _matrix(name: str, m: np.ndarray, unit: str) -> str:
+    rows = [f"{name}  [{unit}]  ({m.shape[0]}x{m.shape[1]})"]
+    for row in m:
+        # Adding 0.0 turns IEEE negative zeros into plain zeros for display.
+        rows.append("  " + " ".join(f"{v + 0.0:11.4g}" for v in row))
+    return "\n".join(rows)
+
+
+def _conditioning(name: str, m: np.ndarray) -> str:
+    s = np.linalg.svd(m, compute_uv=False)
+    cond = s[0] / s[-1] if s[-1] > 0 else np.inf
+    return f"  {name}: singular values [{', '.join(f'{v:.4g}' for v in s)}], condition number {cond:.4g}"
+
+
+def inspect(robot: Robot, q=None, out=sys.stdout) -> None:
+    """Print the model summary and the GJM quantities at ``q`` (default: initial angles)."""
+    d = robot.describe()
+    w = out.write
+    w(f"model '{robot.name}': {robot.n_bodies} bodies, N = {robot.n_dof} joint DOF, total mass {robot.total_mass:.6g} kg\n\n")
+    w(f"{'body':<16}{'parent':<16}{'joint':<16}{'type':<10}{'axis (link frame)':<26}{'mass kg':>9}\n")
+    b = d["base"]
+    w(f"{b['name']:<16}{'-':<16}{'-':<16}{'free':<10}{'-':<26}{b['mass']:>9.4g}\n")
+    for link in d["links"]:
+        axis = "-" if link["type"] == "fixed" else "[" + ", ".join(f"{v:.3g}" for v in link["axis"]) + "]"
+        w(f"{link['name']:<16}{link['parent']:<16}{link['joint']:<16}{link['type']:<10}{axis:<26}{link['mass']:>9.4g}\n")
+    if d["points"]:
+        w("\npoints: " + ", ".join(f"{n} on {b} at [{', '.join(f'{v:.4g}' for v in o)}]" for n, b, o in d["points"]))
+        w(f"   (end effector: {robot.end_effector})\n")
+    x = robot.neutral_configuration(q)
+    qs = ", ".join(f"{v:.4g}" for v in x[7:])
+    w(f"\nconfiguration: base at the origin aligned with the inertial frame, q = [{qs}]\n\n")
+    np.set_printoptions(linewidth=160)
+    h0 = robot.inertia_blocks(x).H0
+    w(_matrix("H0 (base inertia, eq. 30)", h0, "kg | kg m | kg m^2 blocks") + "\n\n")
+    if robot.n_dof > 0:
+        hs = robot.generalized_inertia(x)
+        w(_matrix("H* (generalized inertia, eq. 45)", hs, "kg m^2 between revolute joints") + "\n\n")
+    if robot.end_effector is not None and robot.n_dof > 0:
+        js = robot.generalized_jacobian(x)
+        w(_matrix(f"J* of '{robot.end_effector}' (generalized Jacobian, eq. 110)", js, "linear rows m/rad, angular rows 1") + "\n")
+        p = robot.point_position(x)
+        w(f"  end-effector position: [{', '.join(f'{v:.6g}' for v in p)}] m\n\n")
+    w("conditioning:\n")
+    w(_conditioning("H0", h0) + "\n")
+    if robot.n_dof > 0:
+        w(_conditioning("H*", hs) + "\n")
+        if robot.end_effector is not None:
+            w(_conditioning("J*", js) + "\n")
+            _, jm = robot.point_jacobian(x)
+            w(_conditioning("J_m (fixed-base Jacobian, for comparison)", jm) + "\n")
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="spacearm",
+        description="Equations of motion of spacecraft-manipulator systems (GJM formulation).",
+    )
+    parser.add_argument("--version", action="version", version=f"spacearm {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True)
+    p_inspect = sub.add_parser("inspect", help="print a model summary and H0, H*, J* at a configuration")
+    p_inspect.add_argument("model", help=f"a preset ({', '.join(presets.NAMES)}) or a .toml model file")
+    p_inspect.add_argument("--q", help="joint coordinates, comma-separated (default: the model's initial q)")
+    args = parser.parse_args(argv)
+    try:
+        if args.command == "inspect":
+            robot = load_model(args.model)
+            q = None if args.q is None else _parse_q(args.q, robot.n_dof)
+            inspect(robot, q)
+    except SpacearmError as exc:
+        print(f"spacearm: error: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
