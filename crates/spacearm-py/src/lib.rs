@@ -6,6 +6,7 @@
 
 mod builder_py;
 mod convert;
+mod model_io_py;
 mod model_py;
 
 use pyo3::prelude::*;
@@ -30,6 +31,10 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model_py::PyModel>()?;
     m.add_class::<builder_py::PyModelBuilder>()?;
     m.add_function(wrap_pyfunction!(preset, m)?)?;
+    m.add_function(wrap_pyfunction!(model_io_py::model_from_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(model_io_py::model_to_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(model_io_py::model_from_classic_dh, m)?)?;
+    m.add_function(wrap_pyfunction!(model_io_py::model_from_paper_dh, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

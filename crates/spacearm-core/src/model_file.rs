@@ -1,0 +1,1114 @@
+//! TOML model files: [`model_from_toml_str`] reads one, [`model_to_toml`] writes one (the
+//! round trip is exact: `model_from_toml_str(&model_to_toml(&m), ..) == m`). Schema, units,
+//! frames and every validation rule: `docs/model-format.md`.
+//!
+//! ```toml
+//! [model]
+//! name = "demo"
+//! end_effector = "tip"           # optional, names a [[point]]
+//! initial_q = [0.3]              # optional, length N (default zeros)
+//!
+//! [base]
+//! mass = 100.0                   # kg, > 0
+//! inertia = [10.0, 10.0, 10.0]   # about the base CM: [ixx, iyy, izz], 3x3, or {ixx = .., ixy = ..}
+//!
+//! [[link]]
+//! name = "arm"
+//! parent = "base"
+//! com = [0.5, 0.0, 0.0]          # CM from the joint, in the link frame
+//! mass = 5.0
+//! inertia = [0.01, 0.4, 0.4]     # about the link CM, link axes
+//! joint = { type = "revolute", origin = [0.5, 0.0, 0.0], axis = [0.0, 0.0, 1.0] }
+//!
+//! [[point]]
+//! name = "tip"
+//! body = "arm"
+//! offset = [0.5, 0.0, 0.0]       # from the body CM, body frame
+//! ```
+//!
+//! A `[dh]` section with `[[dh.link]]` rows builds a serial arm on the base from a
+//! Denavit–Hartenberg table ([`crate::dh`], `docs/dh.md`).
+//!
+//! Every error is [`SpacearmError::Parse`] and starts with `source:line:column:`; the
+//! structural ones (syntax, unknown key, wrong type, missing field) come from the TOML parser,
+//! the semantic ones (unknown parent, negative mass, ...) name the link, joint or point and
+//! point at the offending value. No input makes this module panic.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::ops::Range;
+
+use nalgebra::{Matrix3, Quaternion, Unit, UnitQuaternion, Vector3};
+use serde::Deserialize;
+use toml::{Spanned, Value};
+
+use crate::body::MassProperties;
+use crate::dh::{check_inertia_magnitude, ClassicDhLink, DhArm, DhTable, PaperDhLink};
+use crate::error::{Result, SpacearmError};
+use crate::joint::{Joint, JointLimits, JointType};
+use crate::model::{unit_quaternion_from_xyzw, Link, LinkSpec, Model, Point};
+
+/// The file format version written by [`model_to_toml`] and accepted by the reader
+/// (`[model] format_version`, optional).
+pub const FORMAT_VERSION: i64 = 1;
+
+type Span = Range<usize>;
+
+// ---- the document, as serde sees it --------------------------------------------------------
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileDoc {
+    model: Spanned<ModelDoc>,
+    base: Spanned<BaseDoc>,
+    #[serde(default)]
+    link: Vec<Spanned<LinkDoc>>,
+    #[serde(default)]
+    point: Vec<Spanned<PointDoc>>,
+    dh: Option<Spanned<DhDoc>>,
+    end_effector: Option<Spanned<String>>,
+    initial_q: Option<Spanned<Vec<f64>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ModelDoc {
+    name: Spanned<String>,
+    format_version: Option<Spanned<i64>>,
+    end_effector: Option<Spanned<String>>,
+    initial_q: Option<Spanned<Vec<f64>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BaseDoc {
+    name: Option<Spanned<String>>,
+    mass: Spanned<f64>,
+    inertia: Spanned<Value>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LinkDoc {
+    name: Spanned<String>,
+    parent: Spanned<String>,
+    joint: Spanned<JointDoc>,
+    com: Spanned<[f64; 3]>,
+    mass: Spanned<f64>,
+    inertia: Spanned<Value>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct JointDoc {
+    #[serde(rename = "type")]
+    kind: Spanned<JointType>,
+    name: Option<Spanned<String>>,
+    origin: Spanned<[f64; 3]>,
+    rotation: Option<Spanned<[f64; 4]>>,
+    rpy: Option<Spanned<[f64; 3]>>,
+    axis: Option<Spanned<[f64; 3]>>,
+    limits: Option<Spanned<LimitsDoc>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LimitsDoc {
+    lower: Option<f64>,
+    upper: Option<f64>,
+    velocity: Option<f64>,
+    effort: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PointDoc {
+    name: Spanned<String>,
+    body: Spanned<String>,
+    offset: Spanned<[f64; 3]>,
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq)]
+#[serde(rename_all = "lowercase")]
+enum Convention {
+    Classic,
+    Paper,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DhDoc {
+    convention: Spanned<Convention>,
+    joint1_origin: Option<Spanned<[f64; 3]>>,
+    joint1_rotation: Option<Spanned<[f64; 4]>>,
+    joint1_rpy: Option<Spanned<[f64; 3]>>,
+    tool_offset: Option<Spanned<[f64; 3]>>,
+    tip_point: Option<Spanned<String>>,
+    #[serde(default)]
+    link: Vec<Spanned<DhLinkDoc>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DhLinkDoc {
+    name: Option<Spanned<String>>,
+    joint_name: Option<Spanned<String>>,
+    #[serde(rename = "type")]
+    kind: Option<Spanned<JointType>>,
+    d: Option<Spanned<f64>>,
+    theta: Option<Spanned<f64>>,
+    a: Option<Spanned<f64>>,
+    alpha: Option<Spanned<f64>>,
+    com: Option<Spanned<[f64; 3]>>,
+    joint_to_com: Option<Spanned<[f64; 3]>>,
+    com_to_next: Option<Spanned<[f64; 3]>>,
+    mass: Spanned<f64>,
+    inertia: Spanned<Value>,
+    limits: Option<Spanned<LimitsDoc>>,
+}
+
+// ---- locating errors -----------------------------------------------------------------------
+
+/// 1-based line and column (in characters) of byte `offset` of `text`.
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let mut offset = offset.min(text.len());
+    while offset > 0 && !text.is_char_boundary(offset) {
+        offset -= 1;
+    }
+    let before = &text[..offset];
+    let line = before.matches('\n').count() + 1;
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    let col = before[line_start..].chars().count() + 1;
+    (line, col)
+}
+
+struct Ctx<'a> {
+    text: &'a str,
+    source: &'a str,
+}
+
+impl Ctx<'_> {
+    /// `source:line:col: message`, then the offending line with a caret under the column.
+    fn at(&self, span: Option<Span>, message: impl std::fmt::Display) -> SpacearmError {
+        let Some(span) = span else {
+            return SpacearmError::Parse(format!("{}: {message}", self.source));
+        };
+        let (line, col) = line_col(self.text, span.start);
+        let mut out = format!("{}:{line}:{col}: {message}", self.source);
+        if let Some(content) = self.text.split('\n').nth(line - 1) {
+            let content = content.trim_end_matches('\r');
+            if content.chars().count() <= 200 {
+                let gutter = line.to_string().len();
+                let _ = write!(out, "\n {line} | {content}\n {:gutter$} | {:>col$}", "", "^");
+            }
+        }
+        SpacearmError::Parse(out)
+    }
+
+    fn err(&self, span: &Span, message: impl std::fmt::Display) -> SpacearmError {
+        self.at(Some(span.clone()), message)
+    }
+}
+
+fn sp<T>(s: &Spanned<T>) -> Span {
+    s.span()
+}
+
+// ---- value conversion ----------------------------------------------------------------------
+
+fn number(v: &Value) -> Option<f64> {
+    match v {
+        Value::Float(f) => Some(*f),
+        Value::Integer(i) => Some(*i as f64),
+        _ => None,
+    }
+}
+
+const INERTIA_FORMS: &str =
+    "[ixx, iyy, izz], a 3x3 array [[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]], or a table {ixx, iyy, izz, ixy, ixz, iyz}";
+
+/// An inertia tensor from its three accepted forms.
+fn inertia_from_value(v: &Value) -> std::result::Result<[[f64; 3]; 3], String> {
+    let bad = || format!("inertia must be {INERTIA_FORMS}, got {}", describe_value(v));
+    match v {
+        Value::Array(items) if items.len() == 3 && items.iter().all(|x| number(x).is_some()) => {
+            let d: Vec<f64> = items.iter().filter_map(number).collect();
+            Ok([[d[0], 0.0, 0.0], [0.0, d[1], 0.0], [0.0, 0.0, d[2]]])
+        }
+        Value::Array(rows) if rows.len() == 3 => {
+            let mut m = [[0.0; 3]; 3];
+            for (i, row) in rows.iter().enumerate() {
+                match row {
+                    Value::Array(r) if r.len() == 3 => {
+                        for (j, x) in r.iter().enumerate() {
+                            m[i][j] = number(x).ok_or_else(bad)?;
+                        }
+                    }
+                    _ => return Err(bad()),
+                }
+            }
+            Ok(m)
+        }
+        Value::Table(t) => {
+            for k in t.keys() {
+                if !["ixx", "iyy", "izz", "ixy", "ixz", "iyz"].contains(&k.as_str()) {
+                    return Err(format!("unknown inertia key `{k}`, expected ixx, iyy, izz, ixy, ixz, iyz"));
+                }
+            }
+            let get = |k: &str, required: bool| -> std::result::Result<f64, String> {
+                match t.get(k) {
+                    None if required => Err(format!("inertia table is missing `{k}` (ixx, iyy and izz are required)")),
+                    None => Ok(0.0),
+                    Some(x) => number(x).ok_or_else(|| format!("inertia `{k}` must be a number, got {}", describe_value(x))),
+                }
+            };
+            let (ixx, iyy, izz) = (get("ixx", true)?, get("iyy", true)?, get("izz", true)?);
+            let (ixy, ixz, iyz) = (get("ixy", false)?, get("ixz", false)?, get("iyz", false)?);
+            Ok([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+        }
+        _ => Err(bad()),
+    }
+}
+
+fn describe_value(v: &Value) -> String {
+    match v {
+        Value::Array(a) => format!("an array of {} item(s)", a.len()),
+        Value::Table(_) => "a table with other keys".into(),
+        other => format!("{} {}", other.type_str(), other),
+    }
+}
+
+fn limits(doc: &Option<Spanned<LimitsDoc>>) -> JointLimits {
+    let u = JointLimits::unlimited();
+    match doc {
+        None => u,
+        Some(l) => {
+            let l = l.get_ref();
+            JointLimits {
+                lower: l.lower.unwrap_or(u.lower),
+                upper: l.upper.unwrap_or(u.upper),
+                velocity: l.velocity.unwrap_or(u.velocity),
+                effort: l.effort.unwrap_or(u.effort),
+            }
+        }
+    }
+}
+
+fn check_limits(who: &str, l: &JointLimits) -> std::result::Result<(), String> {
+    if l.lower.is_nan() || l.upper.is_nan() || l.lower > l.upper {
+        return Err(format!("{who}: position limits must satisfy lower <= upper, got [{}, {}]", l.lower, l.upper));
+    }
+    if l.velocity.is_nan() || l.effort.is_nan() || l.velocity < 0.0 || l.effort < 0.0 {
+        return Err(format!("{who}: velocity and effort limits must be >= 0, got {} and {}", l.velocity, l.effort));
+    }
+    Ok(())
+}
+
+/// `[x, y, z, w]` from `rotation` or `rpy` (URDF roll-pitch-yaw, `Rz(yaw) Ry(pitch) Rx(roll)`).
+fn rotation_xyzw(
+    ctx: &Ctx<'_>,
+    who: &str,
+    rotation: &Option<Spanned<[f64; 4]>>,
+    rpy: &Option<Spanned<[f64; 3]>>,
+    names: (&str, &str),
+) -> Result<[f64; 4]> {
+    match (rotation, rpy) {
+        (Some(r), Some(_)) => Err(ctx.err(&sp(r), format!("{who}: give `{}` or `{}`, not both", names.0, names.1))),
+        (Some(r), None) => Ok(*r.get_ref()),
+        (None, Some(e)) => {
+            let [r, p, y] = *e.get_ref();
+            if ![r, p, y].iter().all(|v| v.is_finite()) {
+                return Err(ctx.err(&sp(e), format!("{who}: `{}` must be finite, got {:?}", names.1, e.get_ref())));
+            }
+            let q = UnitQuaternion::from_euler_angles(r, p, y);
+            Ok([q.i, q.j, q.k, q.w])
+        }
+        (None, None) => Ok([0.0, 0.0, 0.0, 1.0]),
+    }
+}
+
+/// Which part of a link an error is about (to point at it).
+enum Field {
+    Axis,
+    Rotation,
+    Mass,
+    Inertia,
+    Com,
+    Origin,
+    Limits,
+}
+
+/// A model `Link` from a spec whose parent is resolved: the checks of
+/// `ModelBuilder::add_link`, except that a quaternion or axis already of unit norm to machine
+/// precision is kept exactly (so that writing and reading a model is exact).
+fn link_from_spec(spec: LinkSpec, parent: usize) -> std::result::Result<Link, (Field, SpacearmError)> {
+    let who = format!("link '{}'", spec.name);
+    let model_err = |f: Field, m: String| (f, SpacearmError::InvalidModel(m));
+    for (f, what, v) in [(Field::Origin, "joint origin", &spec.origin_in_parent), (Field::Com, "com", &spec.com_from_joint)] {
+        if v.iter().any(|x| !x.is_finite()) {
+            return Err(model_err(f, format!("{who}: {what} must be finite, got {v:?}")));
+        }
+    }
+    let axis_v = Vector3::from(spec.axis);
+    if axis_v.iter().any(|x| !x.is_finite()) {
+        return Err(model_err(Field::Axis, format!("{who}: joint axis must be finite, got {:?}", spec.axis)));
+    }
+    // Scale first so that huge components cannot overflow the norm (|a|² > f64::MAX).
+    let scale = axis_v.amax();
+    let axis_v = if scale > 1e100 { axis_v / scale } else { axis_v };
+    let n = axis_v.norm();
+    let axis = if spec.kind == JointType::Fixed && n <= 1e-9 {
+        Vector3::z_axis()
+    } else if n <= 1e-9 {
+        return Err(model_err(
+            Field::Axis,
+            format!("{who}: joint axis must be a non-zero vector (it is normalized), got {:?}", spec.axis),
+        ));
+    } else if (n - 1.0).abs() <= 4.0 * f64::EPSILON {
+        Unit::new_unchecked(axis_v)
+    } else {
+        Unit::new_normalize(axis_v)
+    };
+    let rotation = unit_quaternion_from_xyzw(&format!("{who}: joint rotation"), &spec.rotation_in_parent)
+        .map_err(|e| (Field::Rotation, SpacearmError::InvalidModel(e.to_string())))?;
+    let [x, y, z, w] = spec.rotation_in_parent;
+    let raw = Quaternion::new(w, x, y, z);
+    let rotation = if (raw.norm() - 1.0).abs() <= 4.0 * f64::EPSILON { UnitQuaternion::new_unchecked(raw) } else { rotation };
+    check_inertia_magnitude(&who, &spec.inertia).map_err(|e| (Field::Inertia, e))?;
+    let inertia = Matrix3::from_fn(|i, j| spec.inertia[i][j]);
+    let mass = MassProperties::new(&who, spec.mass, inertia, false).map_err(|e| {
+        let field = if e.to_string().contains("mass must") { Field::Mass } else { Field::Inertia };
+        (field, e)
+    })?;
+    let joint_name = spec.joint_name.clone().unwrap_or_else(|| format!("{}_joint", spec.name));
+    Ok(Link {
+        name: spec.name,
+        parent,
+        joint: Joint {
+            name: joint_name,
+            kind: spec.kind,
+            origin_in_parent: Vector3::from(spec.origin_in_parent),
+            rotation_in_parent: rotation,
+            axis,
+            limits: spec.limits,
+        },
+        com_from_joint: Vector3::from(spec.com_from_joint),
+        mass,
+    })
+}
+
+// ---- reading -------------------------------------------------------------------------------
+
+/// Parse a model from TOML text. `source` names the text in error messages (a file name, or
+/// `"<string>"`). See the module docs and `docs/model-format.md`.
+pub fn model_from_toml_str(text: &str, source: &str) -> Result<Model> {
+    let ctx = Ctx { text, source };
+    let doc: FileDoc = toml::from_str(text).map_err(|e| ctx.at(e.span(), e.message()))?;
+    build(&ctx, doc)
+}
+
+/// Read a model file (UTF-8 TOML). I/O and decoding errors are [`SpacearmError::Parse`] too.
+pub fn model_from_toml_file(path: &std::path::Path) -> Result<Model> {
+    let bytes = std::fs::read(path).map_err(|e| SpacearmError::Parse(format!("{}: cannot read the model file: {e}", path.display())))?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        SpacearmError::Parse(format!("{}: the model file is not valid UTF-8 (byte {})", path.display(), e.utf8_error().valid_up_to()))
+    })?;
+    model_from_toml_str(&text, &path.display().to_string())
+}
+
+/// Bodies defined so far: name → (index, span of the name).
+struct Bodies {
+    index: HashMap<String, (usize, Span)>,
+    order: Vec<String>,
+}
+
+impl Bodies {
+    fn known(&self) -> String {
+        format!("{:?}", self.order)
+    }
+}
+
+fn build(ctx: &Ctx<'_>, doc: FileDoc) -> Result<Model> {
+    let model_doc = doc.model.get_ref();
+    if let Some(v) = &model_doc.format_version {
+        if *v.get_ref() != FORMAT_VERSION {
+            return Err(ctx.err(
+                &sp(v),
+                format!("format_version {} is not supported; this version of spacearm reads format_version = {FORMAT_VERSION}", v.get_ref()),
+            ));
+        }
+    }
+    let end_effector = match (&model_doc.end_effector, &doc.end_effector) {
+        (Some(_), Some(b)) => return Err(ctx.err(&sp(b), "end_effector is given both in [model] and at the top level; keep one")),
+        (a, b) => a.as_ref().or(b.as_ref()),
+    };
+    let initial_q = match (&model_doc.initial_q, &doc.initial_q) {
+        (Some(_), Some(b)) => return Err(ctx.err(&sp(b), "initial_q is given both in [model] and at the top level; keep one")),
+        (a, b) => a.as_ref().or(b.as_ref()),
+    };
+
+    // Base.
+    let base_doc = doc.base.get_ref();
+    let base_name = base_doc.name.as_ref().map_or_else(|| "base".to_string(), |n| n.get_ref().clone());
+    let base_name_span = base_doc.name.as_ref().map_or_else(|| sp(&doc.base), sp);
+    if base_name.is_empty() {
+        return Err(ctx.err(&base_name_span, "base name must not be empty"));
+    }
+    let base_inertia = inertia_from_value(base_doc.inertia.get_ref()).map_err(|m| ctx.err(&sp(&base_doc.inertia), format!("base '{base_name}': {m}")))?;
+    check_inertia_magnitude(&format!("base '{base_name}'"), &base_inertia).map_err(|e| ctx.err(&sp(&base_doc.inertia), e))?;
+    let base = MassProperties::new(&format!("base '{base_name}'"), *base_doc.mass.get_ref(), Matrix3::from_fn(|i, j| base_inertia[i][j]), true)
+        .map_err(|e| {
+            let span = if e.to_string().contains("mass must") { sp(&base_doc.mass) } else { sp(&base_doc.inertia) };
+            ctx.err(&span, e)
+        })?;
+
+    let mut bodies = Bodies { index: HashMap::new(), order: vec![base_name.clone()] };
+    bodies.index.insert(base_name.clone(), (0, base_name_span));
+    let mut joint_names: HashMap<String, Span> = HashMap::new();
+    let mut links: Vec<Link> = Vec::new();
+    let mut points: Vec<Point> = Vec::new();
+    let mut point_spans: Vec<Span> = Vec::new();
+
+    let mut add_link = |spec: LinkSpec, spans: &dyn Fn(Field) -> Span, name_span: Span, joint_span: Span, links: &mut Vec<Link>, bodies: &mut Bodies| -> Result<()> {
+        if let Some((_, first)) = bodies.index.get(&spec.name) {
+            let (l, _) = line_col(ctx.text, first.start);
+            return Err(ctx.err(&name_span, format!("body name '{}' is used twice (first on line {l})", spec.name)));
+        }
+        if spec.name.is_empty() {
+            return Err(ctx.err(&name_span, "link name must not be empty"));
+        }
+        let jname = spec.joint_name.clone().unwrap_or_else(|| format!("{}_joint", spec.name));
+        if let Some(first) = joint_names.get(&jname) {
+            let (l, _) = line_col(ctx.text, first.start);
+            return Err(ctx.err(&joint_span, format!("link '{}': joint name '{jname}' is used twice (first on line {l})", spec.name)));
+        }
+        let who = format!("joint '{jname}' of link '{}'", spec.name);
+        check_limits(&who, &spec.limits).map_err(|m| ctx.err(&spans(Field::Limits), SpacearmError::InvalidModel(m)))?;
+        let parent = bodies.index.get(&spec.parent).map(|(i, _)| *i).unwrap_or(0);
+        let name = spec.name.clone();
+        let link = link_from_spec(spec, parent).map_err(|(f, e)| ctx.err(&spans(f), e))?;
+        joint_names.insert(jname, joint_span);
+        bodies.index.insert(name.clone(), (links.len() + 1, name_span));
+        bodies.order.push(name);
+        links.push(link);
+        Ok(())
+    };
+
+    // A DH arm first (its links can carry further [[link]]s and [[point]]s).
+    let mut dh_tip: Option<String> = None;
+    if let Some(dh) = &doc.dh {
+        let (arm, row_spans) = dh_arm(ctx, dh, &base_name)?;
+        let converted = arm.convert().map_err(|e| {
+            let msg = e.to_string();
+            let span = row_spans.iter().enumerate().find(|(k, _)| msg.contains(&format!("DH link {} (", k + 1))).map_or_else(|| sp(dh), |(_, s)| s.clone());
+            ctx.err(&span, e)
+        })?;
+        for (spec, rs) in converted.links.into_iter().zip(&row_spans) {
+            let f = |_: Field| rs.clone();
+            add_link(spec, &f, rs.clone(), rs.clone(), &mut links, &mut bodies)?;
+        }
+        if let Some((name, body, offset)) = converted.tip {
+            let span = dh.get_ref().tip_point.as_ref().map_or_else(|| sp(dh), sp);
+            let b = bodies.index.get(&body).map(|(i, _)| *i).unwrap_or(0);
+            if bodies.index.contains_key(&name) {
+                return Err(ctx.err(&span, format!("tip point name '{name}' is already used by a body")));
+            }
+            points.push(Point { name: name.clone(), body: b, offset: Vector3::from(offset) });
+            point_spans.push(span);
+            dh_tip = Some(name);
+        }
+    }
+
+    // [[link]]s, parents first.
+    let all_links: HashMap<&str, (usize, &str)> =
+        doc.link.iter().enumerate().map(|(k, l)| (l.get_ref().name.get_ref().as_str(), (k, l.get_ref().parent.get_ref().as_str()))).collect();
+    for (k, ld) in doc.link.iter().enumerate() {
+        let l = ld.get_ref();
+        let name = l.name.get_ref();
+        let parent = l.parent.get_ref();
+        if !bodies.index.contains_key(parent) {
+            let msg = if parent == name {
+                format!("link '{name}' cannot be its own parent")
+            } else if let Some(&(later, _)) = all_links.get(parent.as_str()).filter(|(j, _)| *j > k) {
+                // Is it a cycle? Follow the parents from `parent`.
+                let mut chain = vec![name.as_str(), parent.as_str()];
+                let mut cur = parent.as_str();
+                let mut cycle = false;
+                for _ in 0..all_links.len() {
+                    match all_links.get(cur) {
+                        Some(&(_, p)) if p == name => {
+                            chain.push(name);
+                            cycle = true;
+                            break;
+                        }
+                        Some(&(_, p)) if all_links.contains_key(p) && !chain.contains(&p) => {
+                            chain.push(p);
+                            cur = p;
+                        }
+                        _ => break,
+                    }
+                }
+                if cycle {
+                    let c: Vec<String> = chain.iter().map(|s| format!("'{s}'")).collect();
+                    format!("link '{name}': the parents form a cycle {}; a model is a tree rooted at the base", c.join(" -> "))
+                } else {
+                    let (line, _) = line_col(ctx.text, doc.link[later].span().start);
+                    format!("link '{name}': parent '{parent}' is defined later in the file (line {line}); list every link after its parent")
+                }
+            } else {
+                format!("link '{name}': parent '{parent}' is not a body of the model; bodies defined so far: {}", bodies.known())
+            };
+            return Err(ctx.err(&sp(&l.parent), msg));
+        }
+        let j = l.joint.get_ref();
+        let kind = *j.kind.get_ref();
+        let who = format!("link '{name}'");
+        let axis = match (&j.axis, kind) {
+            (Some(a), _) => *a.get_ref(),
+            (None, JointType::Fixed) => [0.0, 0.0, 1.0],
+            (None, _) => {
+                return Err(ctx.err(&sp(&l.joint), format!("{who}: a {} joint needs an `axis` (in the link frame)", kind.as_str())));
+            }
+        };
+        let rotation = rotation_xyzw(ctx, &who, &j.rotation, &j.rpy, ("rotation", "rpy"))?;
+        let inertia = inertia_from_value(l.inertia.get_ref()).map_err(|m| ctx.err(&sp(&l.inertia), format!("{who}: {m}")))?;
+        let spec = LinkSpec {
+            name: name.clone(),
+            parent: parent.clone(),
+            joint_name: j.name.as_ref().map(|n| n.get_ref().clone()),
+            kind,
+            origin_in_parent: *j.origin.get_ref(),
+            rotation_in_parent: rotation,
+            axis,
+            com_from_joint: *l.com.get_ref(),
+            mass: *l.mass.get_ref(),
+            inertia,
+            limits: limits(&j.limits),
+        };
+        if let Some(n) = &j.name {
+            if n.get_ref().is_empty() {
+                return Err(ctx.err(&sp(n), format!("{who}: joint name must not be empty")));
+            }
+        }
+        let spans = |f: Field| match f {
+            Field::Axis => j.axis.as_ref().map_or_else(|| sp(&l.joint), sp),
+            Field::Rotation => j.rotation.as_ref().map(sp).or_else(|| j.rpy.as_ref().map(sp)).unwrap_or_else(|| sp(&l.joint)),
+            Field::Mass => sp(&l.mass),
+            Field::Inertia => sp(&l.inertia),
+            Field::Com => sp(&l.com),
+            Field::Origin => sp(&j.origin),
+            Field::Limits => j.limits.as_ref().map_or_else(|| sp(&l.joint), sp),
+        };
+        let joint_span = j.name.as_ref().map_or_else(|| sp(&l.joint), sp);
+        add_link(spec, &spans, sp(&l.name), joint_span, &mut links, &mut bodies)?;
+    }
+
+    // [[point]]s.
+    for pd in &doc.point {
+        let p = pd.get_ref();
+        let name = p.name.get_ref();
+        if name.is_empty() {
+            return Err(ctx.err(&sp(&p.name), "point name must not be empty"));
+        }
+        if bodies.index.contains_key(name) || points.iter().any(|q| &q.name == name) {
+            return Err(ctx.err(&sp(&p.name), format!("point name '{name}' is already used by a body or point")));
+        }
+        let Some(&(body, _)) = bodies.index.get(p.body.get_ref()) else {
+            return Err(ctx.err(
+                &sp(&p.body),
+                format!("point '{name}': body '{}' is not a body of the model; bodies: {}", p.body.get_ref(), bodies.known()),
+            ));
+        };
+        let offset = *p.offset.get_ref();
+        if offset.iter().any(|x| !x.is_finite()) {
+            return Err(ctx.err(&sp(&p.offset), SpacearmError::InvalidModel(format!("point '{name}': offset must be finite, got {offset:?}"))));
+        }
+        points.push(Point { name: name.clone(), body, offset: Vector3::from(offset) });
+        point_spans.push(sp(&p.name));
+    }
+
+    // End effector and initial q.
+    let ee = match end_effector {
+        Some(e) => match points.iter().position(|p| &p.name == e.get_ref()) {
+            Some(i) => Some(i),
+            None => {
+                let names: Vec<&str> = points.iter().map(|p| p.name.as_str()).collect();
+                return Err(ctx.err(&sp(e), format!("end_effector '{}' is not a defined point; points: {names:?}", e.get_ref())));
+            }
+        },
+        None => dh_tip.and_then(|t| points.iter().position(|p| p.name == t)),
+    };
+    let n_dof = links.iter().filter(|l| l.joint.kind != JointType::Fixed).count();
+    if let Some(q) = initial_q {
+        let v = q.get_ref();
+        if v.len() != n_dof {
+            return Err(ctx.err(&sp(q), format!("initial_q must have N = {n_dof} entries (one per moving joint), got {}", v.len())));
+        }
+        if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+            return Err(ctx.err(&sp(q), format!("initial_q must be finite, got {x}")));
+        }
+    }
+
+    let name = doc.model.get_ref().name.get_ref().clone();
+    Model::new(name, base_name, base, links.clone(), points.clone(), ee, initial_q.map(|q| q.get_ref().clone())).map_err(|e| {
+        // Point at the first link, joint or point the message names.
+        let msg = e.to_string();
+        let named = |n: &str| msg.contains(&format!("'{n}'"));
+        let span = links
+            .iter()
+            .zip(bodies.order.iter().skip(1))
+            .find(|(l, _)| named(&l.name) || named(&l.joint.name))
+            .and_then(|(_, n)| bodies.index.get(n).map(|(_, s)| s.clone()))
+            .or_else(|| points.iter().zip(&point_spans).find(|(p, _)| named(&p.name)).map(|(_, s)| s.clone()))
+            .unwrap_or_else(|| sp(&doc.model));
+        ctx.err(&span, e)
+    })
+}
+
+/// The `[dh]` section as a [`DhArm`] on the base, with the span of each row.
+fn dh_arm(ctx: &Ctx<'_>, dh: &Spanned<DhDoc>, base_name: &str) -> Result<(DhArm, Vec<Span>)> {
+    let d = dh.get_ref();
+    let convention = *d.convention.get_ref();
+    let rotation = rotation_xyzw(ctx, "[dh]", &d.joint1_rotation, &d.joint1_rpy, ("joint1_rotation", "joint1_rpy"))?;
+    let mut classic = Vec::new();
+    let mut paper = Vec::new();
+    let mut spans = Vec::new();
+    for (k, rd) in d.link.iter().enumerate() {
+        let r = rd.get_ref();
+        let who = format!("DH link {}", k + 1);
+        let span = sp(rd);
+        let kind = r.kind.as_ref().map_or(JointType::Revolute, |t| *t.get_ref());
+        let inertia = inertia_from_value(r.inertia.get_ref()).map_err(|m| ctx.err(&sp(&r.inertia), format!("{who}: {m}")))?;
+        let (own, other): (&[(&str, bool)], &str) = match convention {
+            Convention::Classic => (
+                &[("joint_to_com", r.joint_to_com.is_some()), ("com_to_next", r.com_to_next.is_some())],
+                "the classic convention uses d, theta, a, alpha and com",
+            ),
+            Convention::Paper => (
+                &[("d", r.d.is_some()), ("a", r.a.is_some()), ("com", r.com.is_some())],
+                "the paper convention uses theta, alpha, joint_to_com and com_to_next",
+            ),
+        };
+        if let Some((key, _)) = own.iter().find(|(_, present)| *present) {
+            return Err(ctx.err(&span, format!("{who}: `{key}` does not belong to a {} DH table; {other}", convention_name(convention))));
+        }
+        let need = |v: Option<&Spanned<f64>>, key: &str| -> Result<f64> {
+            v.map(|s| *s.get_ref()).ok_or_else(|| ctx.err(&span, format!("{who}: missing `{key}` ({other})")))
+        };
+        let need3 = |v: Option<&Spanned<[f64; 3]>>, key: &str| -> Result<[f64; 3]> {
+            v.map(|s| *s.get_ref()).ok_or_else(|| ctx.err(&span, format!("{who}: missing `{key}` ({other})")))
+        };
+        let name = r.name.as_ref().map(|n| n.get_ref().clone());
+        let joint_name = r.joint_name.as_ref().map(|n| n.get_ref().clone());
+        match convention {
+            Convention::Classic => classic.push(ClassicDhLink {
+                name,
+                joint_name,
+                kind,
+                d: need(r.d.as_ref(), "d")?,
+                theta: need(r.theta.as_ref(), "theta")?,
+                a: need(r.a.as_ref(), "a")?,
+                alpha: need(r.alpha.as_ref(), "alpha")?,
+                com: need3(r.com.as_ref(), "com")?,
+                mass: *r.mass.get_ref(),
+                inertia,
+                limits: limits(&r.limits),
+            }),
+            Convention::Paper => paper.push(PaperDhLink {
+                name,
+                joint_name,
+                kind,
+                theta: r.theta.as_ref().map_or(0.0, |s| *s.get_ref()),
+                alpha: r.alpha.as_ref().map_or(0.0, |s| *s.get_ref()),
+                joint_to_com: need3(r.joint_to_com.as_ref(), "joint_to_com")?,
+                com_to_next: need3(r.com_to_next.as_ref(), "com_to_next")?,
+                mass: *r.mass.get_ref(),
+                inertia,
+                limits: limits(&r.limits),
+            }),
+        }
+        spans.push(span);
+    }
+    let table = match convention {
+        Convention::Classic => DhTable::Classic(classic),
+        Convention::Paper => DhTable::Paper(paper),
+    };
+    let arm = DhArm {
+        table,
+        parent: base_name.to_string(),
+        joint1_origin: d.joint1_origin.as_ref().map_or([0.0; 3], |s| *s.get_ref()),
+        joint1_rotation: rotation,
+        tool_offset: d.tool_offset.as_ref().map_or([0.0; 3], |s| *s.get_ref()),
+        tip_point: Some(d.tip_point.as_ref().map_or_else(|| "end_effector".to_string(), |s| s.get_ref().clone())),
+    };
+    Ok((arm, spans))
+}
+
+fn convention_name(c: Convention) -> &'static str {
+    match c {
+        Convention::Classic => "classic",
+        Convention::Paper => "paper",
+    }
+}
+
+// ---- writing -------------------------------------------------------------------------------
+
+/// A float as TOML: Rust's shortest round-trip representation (`1.0`, `0.1`, `1e-7`, `inf`).
+fn num(x: f64) -> String {
+    if x.is_nan() {
+        "nan".into()
+    } else {
+        format!("{x:?}")
+    }
+}
+
+fn vec_str(v: &[f64]) -> String {
+    let items: Vec<String> = v.iter().map(|&x| num(x)).collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// A TOML basic string.
+fn string(s: &str) -> String {
+    let mut out = String::with_capacity(s.len() + 2);
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\t' => out.push_str("\\t"),
+            '\r' => out.push_str("\\r"),
+            c if (c as u32) < 0x20 || c as u32 == 0x7f => {
+                let _ = write!(out, "\\u{:04X}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+fn inertia_str(m: &Matrix3<f64>) -> String {
+    if m[(0, 1)] == 0.0 && m[(0, 2)] == 0.0 && m[(1, 2)] == 0.0 && m[(1, 0)] == 0.0 && m[(2, 0)] == 0.0 && m[(2, 1)] == 0.0 {
+        vec_str(&[m[(0, 0)], m[(1, 1)], m[(2, 2)]])
+    } else {
+        let rows: Vec<String> = (0..3).map(|i| vec_str(&[m[(i, 0)], m[(i, 1)], m[(i, 2)]])).collect();
+        format!("[{}]", rows.join(", "))
+    }
+}
+
+/// Write a model as a TOML model file (format [`FORMAT_VERSION`]). Reading the text back with
+/// [`model_from_toml_str`] gives a model equal to `model` (every number is written in its
+/// shortest exact form).
+pub fn model_to_toml(model: &Model) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# spacearm model file. Schema: docs/model-format.md");
+    let _ = writeln!(s, "# SI units (m, kg, kg·m², rad). Every body frame has its origin at the body's centre of mass;");
+    let _ = writeln!(s, "# a joint's origin is given in its parent's frame, com/axis/inertia in the link's own frame.");
+    let _ = writeln!(s, "\n[model]");
+    let _ = writeln!(s, "name = {}", string(&model.name));
+    let _ = writeln!(s, "format_version = {FORMAT_VERSION}");
+    if let Some(e) = model.end_effector {
+        let _ = writeln!(s, "end_effector = {}", string(&model.points[e].name));
+    }
+    let _ = writeln!(s, "initial_q = {}", vec_str(&model.initial_q));
+    let _ = writeln!(s, "\n[base]");
+    let _ = writeln!(s, "name = {}", string(&model.base_name));
+    let _ = writeln!(s, "mass = {}", num(model.base.mass));
+    let _ = writeln!(s, "inertia = {}", inertia_str(&model.base.inertia));
+    for l in &model.links {
+        let j = &l.joint;
+        let _ = writeln!(s, "\n[[link]]");
+        let _ = writeln!(s, "name = {}", string(&l.name));
+        let _ = writeln!(s, "parent = {}", string(model.body_name(l.parent)));
+        let _ = writeln!(s, "com = {}", vec_str(l.com_from_joint.as_slice()));
+        let _ = writeln!(s, "mass = {}", num(l.mass.mass));
+        let _ = writeln!(s, "inertia = {}", inertia_str(&l.mass.inertia));
+        let _ = writeln!(s, "[link.joint]");
+        let _ = writeln!(s, "name = {}", string(&j.name));
+        let _ = writeln!(s, "type = {}", string(j.kind.as_str()));
+        let _ = writeln!(s, "origin = {}", vec_str(j.origin_in_parent.as_slice()));
+        let q = j.rotation_in_parent;
+        if !(q.i == 0.0 && q.j == 0.0 && q.k == 0.0 && q.w == 1.0) {
+            let _ = writeln!(s, "rotation = {}", vec_str(&[q.i, q.j, q.k, q.w]));
+        }
+        let _ = writeln!(s, "axis = {}", vec_str(j.axis.as_slice()));
+        let lim = j.limits;
+        let u = JointLimits::unlimited();
+        let mut parts = Vec::new();
+        for (key, v, d) in [("lower", lim.lower, u.lower), ("upper", lim.upper, u.upper), ("velocity", lim.velocity, u.velocity), ("effort", lim.effort, u.effort)] {
+            if v != d {
+                parts.push(format!("{key} = {}", num(v)));
+            }
+        }
+        if !parts.is_empty() {
+            let _ = writeln!(s, "limits = {{ {} }}", parts.join(", "));
+        }
+    }
+    for p in &model.points {
+        let _ = writeln!(s, "\n[[point]]");
+        let _ = writeln!(s, "name = {}", string(&p.name));
+        let _ = writeln!(s, "body = {}", string(model.body_name(p.body)));
+        let _ = writeln!(s, "offset = {}", vec_str(p.offset.as_slice()));
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::presets;
+
+    const DEMO: &str = r#"
+[model]
+name = "demo"
+end_effector = "tip"
+initial_q = [0.3, 0.1]
+
+[base]
+mass = 100
+inertia = { ixx = 10, iyy = 12, izz = 14, ixy = 0.5 }
+
+[[link]]
+name = "arm"
+parent = "base"
+com = [0.5, 0.0, 0.0]
+mass = 5.0
+inertia = [0.01, 0.4, 0.4]
+joint = { type = "revolute", origin = [0.5, 0.0, 0.0], axis = [0.0, 0.0, 2.0], limits = { lower = -1.0, upper = 1.0 } }
+
+[[link]]
+name = "slider"
+parent = "arm"
+com = [0.1, 0.0, 0.0]
+mass = 1.0
+inertia = [[0.01, 0.0, 0.0], [0.0, 0.02, 0.0], [0.0, 0.0, 0.02]]
+[link.joint]
+type = "prismatic"
+name = "slide"
+origin = [0.5, 0.0, 0.0]
+rpy = [0.0, 0.0, 1.5707963267948966]
+axis = [1.0, 0.0, 0.0]
+
+[[point]]
+name = "tip"
+body = "slider"
+offset = [0.2, 0.0, 0.0]
+"#;
+
+    fn err(text: &str) -> String {
+        match model_from_toml_str(text, "test.toml") {
+            Ok(_) => panic!("expected an error for:\n{text}"),
+            Err(e) => {
+                assert!(matches!(e, SpacearmError::Parse(_)), "{e:?}");
+                e.to_string()
+            }
+        }
+    }
+
+    #[test]
+    fn reads_a_valid_document() {
+        let m = model_from_toml_str(DEMO, "demo.toml").unwrap();
+        assert_eq!(m.name, "demo");
+        assert_eq!(m.n_dof(), 2);
+        assert_eq!(m.base.inertia[(0, 1)], 0.5);
+        assert_eq!(m.links[0].joint.name, "arm_joint");
+        assert_eq!(m.links[0].joint.axis.into_inner(), Vector3::z());
+        assert_eq!(m.links[0].joint.limits.upper, 1.0);
+        assert_eq!(m.links[0].joint.limits.effort, f64::INFINITY);
+        assert_eq!(m.links[1].joint.kind, JointType::Prismatic);
+        assert!((m.links[1].joint.rotation_in_parent.angle() - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        assert_eq!(m.points[m.end_effector.unwrap()].name, "tip");
+        assert_eq!(m.initial_q, vec![0.3, 0.1]);
+    }
+
+    #[test]
+    fn round_trip_is_exact() {
+        for m in [presets::planar4(), presets::spatial6(), model_from_toml_str(DEMO, "demo.toml").unwrap()] {
+            let text = model_to_toml(&m);
+            let back = model_from_toml_str(&text, "round.toml").unwrap();
+            assert_eq!(back, m, "{text}");
+            assert_eq!(model_to_toml(&back), text);
+        }
+    }
+
+    #[test]
+    fn round_trip_of_awkward_values() {
+        let mut m = model_from_toml_str(DEMO, "demo.toml").unwrap();
+        m.name = "we\"ird\\ name\n\u{1}é".into();
+        m.links[0].com_from_joint = Vector3::new(1e-300, -0.1, 1.0 / 3.0);
+        m.links[0].joint.limits.velocity = 7.5;
+        let q = UnitQuaternion::from_euler_angles(0.1, 0.2, 0.3);
+        m.links[0].joint.rotation_in_parent = q;
+        let text = model_to_toml(&m);
+        assert_eq!(model_from_toml_str(&text, "x").unwrap(), m, "{text}");
+    }
+
+    #[test]
+    fn syntax_errors_carry_line_and_column() {
+        let e = err("[model]\nname = \"x\"\n\n[base]\nmass = = 3\n");
+        assert!(e.starts_with("test.toml:5:"), "{e}");
+        assert!(e.contains("mass = = 3"), "{e}");
+        let e = err("[model\nname = 1");
+        assert!(e.starts_with("test.toml:1:"), "{e}");
+    }
+
+    #[test]
+    fn unknown_keys_are_named() {
+        let e = err(&DEMO.replace("mass = 5.0", "mas = 5.0"));
+        assert!(e.contains("unknown field `mas`"), "{e}");
+        assert!(e.starts_with("test.toml:15:"), "{e}");
+        let e = err(&DEMO.replace("[[point]]", "[[points]]"));
+        assert!(e.contains("unknown field `points`"), "{e}");
+    }
+
+    #[test]
+    fn wrong_types_and_missing_fields() {
+        let e = err(&DEMO.replace("mass = 5.0", "mass = \"five\""));
+        assert!(e.starts_with("test.toml:15:") && e.contains("invalid type"), "{e}");
+        let e = err(&DEMO.replace("com = [0.5, 0.0, 0.0]\n", ""));
+        assert!(e.contains("missing field `com`"), "{e}");
+        assert!(e.starts_with("test.toml:"), "{e}");
+        let e = err(&DEMO.replace("offset = [0.2, 0.0, 0.0]", "offset = [0.2, 0.0]"));
+        assert!(e.contains("test.toml:35:") && e.contains("length 3"), "{e}");
+        let e = err(&DEMO.replace("type = \"prismatic\"", "type = \"hinge\""));
+        assert!(e.contains("hinge") && e.contains("revolute"), "{e}");
+        let e = err(&DEMO.replace("inertia = [0.01, 0.4, 0.4]", "inertia = [0.01, 0.4]"));
+        assert!(e.contains("link 'arm': inertia must be [ixx, iyy, izz]"), "{e}");
+    }
+
+    #[test]
+    fn semantic_errors_name_the_link_and_line() {
+        let e = err(&DEMO.replace("mass = 5.0", "mass = -5.0"));
+        assert!(e.starts_with("test.toml:15:8:") && e.contains("link 'arm'") && e.contains(">= 0"), "{e}");
+        let e = err(&DEMO.replace("inertia = [0.01, 0.4, 0.4]", "inertia = [0.01, 0.4, 1.4]"));
+        assert!(e.contains("link 'arm'") && e.contains("triangle"), "{e}");
+        let e = err(&DEMO.replace("axis = [0.0, 0.0, 2.0]", "axis = [0.0, 0.0, 0.0]"));
+        assert!(e.contains("link 'arm'") && e.contains("non-zero"), "{e}");
+        let e = err(&DEMO.replace("rpy = [0.0, 0.0, 1.5707963267948966]", "rotation = [0.0, 0.0, 0.0, 2.0]"));
+        assert!(e.contains("link 'slider'") && e.contains("unit quaternion") && e.starts_with("test.toml:29:"), "{e}");
+        let e = err(&DEMO.replace("parent = \"arm\"", "parent = \"nope\""));
+        assert!(e.contains("parent 'nope'") && e.contains("\"base\", \"arm\""), "{e}");
+        let e = err(&DEMO.replace("parent = \"base\"", "parent = \"slider\""));
+        assert!(e.contains("cycle 'arm' -> 'slider' -> 'arm'"), "{e}");
+        let e = err(&DEMO.replace("parent = \"base\"", "parent = \"arm\""));
+        assert!(e.contains("its own parent"), "{e}");
+        let e = err(&DEMO.replace("initial_q = [0.3, 0.1]", "initial_q = [0.3]"));
+        assert!(e.contains("N = 2") && e.starts_with("test.toml:5:"), "{e}");
+        let e = err(&DEMO.replace("body = \"slider\"", "body = \"hand\""));
+        assert!(e.contains("point 'tip'") && e.contains("'hand'"), "{e}");
+        let e = err(&DEMO.replace("end_effector = \"tip\"", "end_effector = \"hand\""));
+        assert!(e.contains("end_effector 'hand'"), "{e}");
+        let e = err(&DEMO.replace("limits = { lower = -1.0, upper = 1.0 }", "limits = { lower = 1.0, upper = -1.0 }"));
+        assert!(e.contains("lower <= upper") && e.contains("arm_joint"), "{e}");
+        let e = err(&DEMO.replace("name = \"slider\"", "name = \"arm\""));
+        assert!(e.contains("'arm' is used twice"), "{e}");
+        let e = err(&DEMO.replace("[base]\nmass = 100", "[base]\nmass = 0"));
+        assert!(e.contains("base 'base'") && e.contains("> 0"), "{e}");
+    }
+
+    #[test]
+    fn forward_reference_is_explained() {
+        let text = r#"
+[model]
+name = "f"
+[base]
+mass = 1
+inertia = [1, 1, 1]
+[[link]]
+name = "b"
+parent = "a"
+com = [0, 0, 0]
+mass = 1
+inertia = [1, 1, 1]
+joint = { type = "revolute", origin = [0, 0, 0], axis = [0, 0, 1] }
+[[link]]
+name = "a"
+parent = "base"
+com = [0, 0, 0]
+mass = 1
+inertia = [1, 1, 1]
+joint = { type = "revolute", origin = [0, 0, 0], axis = [0, 0, 1] }
+"#;
+        let e = err(text);
+        assert!(e.starts_with("test.toml:9:") && e.contains("defined later in the file (line 14)"), "{e}");
+    }
+
+    #[test]
+    fn dh_section_builds_the_planar4_preset() {
+        let q0 = presets::planar4().initial_q;
+        let text = format!(
+            r#"
+[model]
+name = "planar4"
+initial_q = {}
+[base]
+mass = 100.0
+inertia = [4.1667, 4.1667, 4.1667]
+[dh]
+convention = "classic"
+joint1_origin = [0.25, 0.0, 0.0]
+{}"#,
+            vec_str(&q0),
+            (0..4)
+                .map(|_| "[[dh.link]]\nd = 0.0\ntheta = 0.0\na = 1.0\nalpha = 0.0\ncom = [-0.5, 0.0, 0.0]\nmass = 10.0\n\
+                          inertia = [0.004166666666666667, 0.8354166666666667, 0.8354166666666667]\n")
+                .collect::<String>()
+        );
+        let m = model_from_toml_str(&text, "dh.toml").unwrap();
+        let p = presets::planar4();
+        assert_eq!(m.n_dof(), 4);
+        assert_eq!(m.points[m.end_effector.unwrap()].name, "end_effector");
+        for (a, b) in m.links.iter().zip(&p.links) {
+            assert!((a.joint.origin_in_parent - b.joint.origin_in_parent).norm() < 1e-15);
+            assert!((a.com_from_joint - b.com_from_joint).norm() < 1e-15);
+            assert!((a.mass.inertia - b.mass.inertia).abs().max() < 1e-15);
+        }
+        let e = err(&text.replace("a = 1.0\n", "a = 1.0\ncom_to_next = [1.0, 0.0, 0.0]\n"));
+        assert!(e.contains("DH link 1") && e.contains("`com_to_next` does not belong to a classic"), "{e}");
+        let e = err(&text.replacen("alpha = 0.0\n", "", 1));
+        assert!(e.contains("DH link 1: missing `alpha`"), "{e}");
+        let e = err(&text.replacen("mass = 10.0", "mass = -1.0", 1));
+        assert!(e.contains("link 'link1'") && e.starts_with("test.toml:11:1:"), "{e}");
+    }
+
+    #[test]
+    fn mutated_documents_never_panic() {
+        use rand::{Rng, SeedableRng};
+        let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let base = model_to_toml(&presets::spatial6());
+        let pieces = ["", "0", "-1", "1e400", "nan", "\"", "[", "]", "{", "}", "=", "\n", "[[link]]", "inf", "1e308", ",", "\u{e9}", "#"];
+        for _ in 0..3000 {
+            let mut t: Vec<char> = base.chars().collect();
+            for _ in 0..r.random_range(1..4) {
+                let pos = r.random_range(0..=t.len());
+                match r.random_range(0..3) {
+                    0 if pos < t.len() => {
+                        t.remove(pos);
+                    }
+                    1 => {
+                        let p = pieces[r.random_range(0..pieces.len())];
+                        for (k, c) in p.chars().enumerate() {
+                            t.insert(pos + k, c);
+                        }
+                    }
+                    _ => {
+                        let end = (pos + r.random_range(0..40)).min(t.len());
+                        t.drain(pos..end);
+                    }
+                }
+            }
+            let text: String = t.into_iter().collect();
+            if let Err(e) = model_from_toml_str(&text, "fuzz") {
+                assert!(matches!(e, SpacearmError::Parse(_)));
+                assert!(e.to_string().starts_with("fuzz"));
+            }
+        }
+    }
+
+    #[test]
+    fn huge_inertias_are_rejected_not_panicking() {
+        let e = err(&DEMO.replace("inertia = [0.01, 0.4, 0.4]", "inertia = [[1e308, 1e308, 1e308], [1e308, 1e308, 1e308], [1e308, 1e308, 1e308]]"));
+        assert!(e.contains("link 'arm'"), "{e}");
+    }
+}

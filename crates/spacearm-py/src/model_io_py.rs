@@ -1,0 +1,128 @@
+//! Model input and output: TOML model files (`spacearm-core::model_file`) and
+//! Denavit–Hartenberg tables (`spacearm-core::dh`). Wrapped by `spacearm.model_file` and
+//! `spacearm.dh`, which normalize the arguments.
+
+use pyo3::prelude::*;
+use spacearm_core::dh::{ClassicDhLink, DhArm, DhTable, PaperDhLink};
+use spacearm_core::{JointLimits, JointType, SpacearmError};
+
+use crate::convert::*;
+use crate::model_py::PyModel;
+
+/// Parse a model from TOML text; `source` names it in error messages.
+#[pyfunction]
+#[pyo3(signature = (text, source = "<string>"))]
+pub fn model_from_toml(py: Python<'_>, text: &str, source: &str) -> PyResult<PyModel> {
+    let model = py.detach(|| spacearm_core::model_file::model_from_toml_str(text, source));
+    model.map(PyModel::new).or_raise(py)
+}
+
+/// The model as TOML text (exact round trip).
+#[pyfunction]
+pub fn model_to_toml(model: PyRef<'_, PyModel>) -> String {
+    spacearm_core::model_file::model_to_toml(&model.model)
+}
+
+fn joint_type(s: &str) -> spacearm_core::Result<JointType> {
+    match s {
+        "revolute" => Ok(JointType::Revolute),
+        "prismatic" => Ok(JointType::Prismatic),
+        "fixed" => Ok(JointType::Fixed),
+        other => Err(SpacearmError::InvalidModel(format!("joint type must be 'revolute', 'prismatic' or 'fixed', got '{other}'"))),
+    }
+}
+
+fn limits(l: Option<[f64; 4]>) -> JointLimits {
+    match l {
+        None => JointLimits::unlimited(),
+        Some([lower, upper, velocity, effort]) => JointLimits { lower, upper, velocity, effort },
+    }
+}
+
+/// One classic DH row: `(name, joint_name, type, d, theta, a, alpha, com, mass, inertia,
+/// limits)`.
+type ClassicRow = (Option<String>, Option<String>, String, f64, f64, f64, f64, [f64; 3], f64, [[f64; 3]; 3], Option<[f64; 4]>);
+
+/// One paper-convention row: `(name, joint_name, type, theta, alpha, joint_to_com,
+/// com_to_next, mass, inertia, limits)`.
+type PaperRow = (Option<String>, Option<String>, String, f64, f64, [f64; 3], [f64; 3], f64, [[f64; 3]; 3], Option<[f64; 4]>);
+
+#[allow(clippy::too_many_arguments)]
+fn build(
+    name: &str,
+    base_name: &str,
+    base_mass: f64,
+    base_inertia: [[f64; 3]; 3],
+    table: DhTable,
+    joint1_origin: [f64; 3],
+    joint1_rotation: [f64; 4],
+    tool_offset: [f64; 3],
+    tip_point: Option<String>,
+    initial_q: Option<Vec<f64>>,
+) -> spacearm_core::Result<spacearm_core::Model> {
+    let arm = DhArm { table, parent: base_name.to_string(), joint1_origin, joint1_rotation, tool_offset, tip_point };
+    spacearm_core::dh::model_from_dh(name, base_name, base_mass, base_inertia, &arm, initial_q)
+}
+
+/// A model whose arm is given by a classic (distal) DH table (see `docs/dh.md`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (name, base_name, base_mass, base_inertia, rows, joint1_origin, joint1_rotation, tool_offset, tip_point, initial_q=None))]
+pub fn model_from_classic_dh(
+    py: Python<'_>,
+    name: &str,
+    base_name: &str,
+    base_mass: f64,
+    base_inertia: [[f64; 3]; 3],
+    rows: Vec<ClassicRow>,
+    joint1_origin: [f64; 3],
+    joint1_rotation: [f64; 4],
+    tool_offset: [f64; 3],
+    tip_point: Option<String>,
+    initial_q: Option<Vec<f64>>,
+) -> PyResult<PyModel> {
+    let mut table = Vec::with_capacity(rows.len());
+    for (name, joint_name, kind, d, theta, a, alpha, com, mass, inertia, lim) in rows {
+        table.push(ClassicDhLink { name, joint_name, kind: joint_type(&kind).or_raise(py)?, d, theta, a, alpha, com, mass, inertia, limits: limits(lim) });
+    }
+    build(name, base_name, base_mass, base_inertia, DhTable::Classic(table), joint1_origin, joint1_rotation, tool_offset, tip_point, initial_q)
+        .map(PyModel::new)
+        .or_raise(py)
+}
+
+/// A model whose arm is given in the convention of Wilde et al. (2018) §2 (see `docs/dh.md`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (name, base_name, base_mass, base_inertia, rows, joint1_origin, joint1_rotation, tool_offset, tip_point, initial_q=None))]
+pub fn model_from_paper_dh(
+    py: Python<'_>,
+    name: &str,
+    base_name: &str,
+    base_mass: f64,
+    base_inertia: [[f64; 3]; 3],
+    rows: Vec<PaperRow>,
+    joint1_origin: [f64; 3],
+    joint1_rotation: [f64; 4],
+    tool_offset: [f64; 3],
+    tip_point: Option<String>,
+    initial_q: Option<Vec<f64>>,
+) -> PyResult<PyModel> {
+    let mut table = Vec::with_capacity(rows.len());
+    for (name, joint_name, kind, theta, alpha, joint_to_com, com_to_next, mass, inertia, lim) in rows {
+        table.push(PaperDhLink {
+            name,
+            joint_name,
+            kind: joint_type(&kind).or_raise(py)?,
+            theta,
+            alpha,
+            joint_to_com,
+            com_to_next,
+            mass,
+            inertia,
+            limits: limits(lim),
+        });
+    }
+    build(name, base_name, base_mass, base_inertia, DhTable::Paper(table), joint1_origin, joint1_rotation, tool_offset, tip_point, initial_q)
+        .map(PyModel::new)
+        .or_raise(py)
+}
