@@ -8,7 +8,7 @@ use crate::error::{Result, SpacearmError};
 use crate::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
 use crate::rnea::velocity_pass;
-use crate::spatial::{angular, cross_force, linear};
+use crate::spatial::{add6_assign, angular, cross_force, dot6, linear, mul6};
 use crate::wrench::ExternalWrench;
 
 /// Forward dynamics by ABA: the state derivative `u̇ = [v̇0; ω̇0; q̈]` produced by the generalized
@@ -28,6 +28,14 @@ pub fn aba<'d>(
     for w in external {
         w.check(model)?;
     }
+    aba_passes_1_2(model, data, u, f, external)?;
+    aba_pass_3(model, data, u, f)?;
+    Ok(&data.accel)
+}
+
+/// ABA passes 1 and 2 on the kinematics already in `data`, inputs checked: body velocities,
+/// articulated inertias and bias forces folded down to the base.
+fn aba_passes_1_2(model: &Model, data: &mut Data, u: &[f64], f: &[f64], external: &[ExternalWrench]) -> Result<()> {
     velocity_pass(model, data, u);
     let nb = model.n_bodies();
     // Pass 1: articulated inertias start as rigid-body inertias, bias forces as gyroscopic
@@ -36,7 +44,7 @@ pub fn aba<'d>(
         let inertia = data.spatial_inertia[b];
         let v = data.body_velocity[b];
         data.subtree_inertia[b] = inertia;
-        data.body_force[b] = cross_force(&v, &(inertia * v));
+        data.body_force[b] = cross_force(&v, &mul6(&inertia, &v));
     }
     for w in external {
         let fw = w.at_base_com(data);
@@ -50,29 +58,44 @@ pub fn aba<'d>(
         match model.dof_of_body(b) {
             Some(d) => {
                 let s = data.motion_subspace[b];
-                let u_vec = ia * s;
-                let d_scalar = s.dot(&u_vec);
-                if !(d_scalar > 1e-12 * ia.abs().max().max(1e-300)) {
+                let u_vec = mul6(&ia, &s);
+                let d_scalar = dot6(&s, &u_vec);
+                let scale = ia.as_slice().iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+                if !(d_scalar > 1e-12 * scale.max(1e-300)) {
                     return Err(SpacearmError::Singular(format!(
                         "the articulated inertia about joint '{}' (D = {d_scalar:e})",
                         model.links[b - 1].joint.name
                     )));
                 }
-                let small_u = f[6 + d] - s.dot(&pa);
+                let small_u = f[6 + d] - dot6(&s, &pa);
                 data.aba_u[b] = u_vec;
                 data.aba_d[b] = d_scalar;
                 data.aba_small_u[b] = small_u;
-                let ia_reduced = ia - u_vec * u_vec.transpose() / d_scalar;
-                let pa_reduced = pa + ia_reduced * data.velocity_product[b] + u_vec * (small_u / d_scalar);
-                data.subtree_inertia[p] += ia_reduced;
+                // Iᴬ − U Uᵀ / D, column by column; (Uᵢ Uⱼ) / D keeps it exactly symmetric.
+                let inv_d = 1.0 / d_scalar;
+                let mut ia_reduced = ia;
+                for (j, col) in ia_reduced.as_mut_slice().chunks_exact_mut(6).enumerate() {
+                    let uj = u_vec[j];
+                    for (e, ui) in col.iter_mut().zip(u_vec.iter()) {
+                        *e -= (ui * uj) * inv_d;
+                    }
+                }
+                let pa_reduced = pa + mul6(&ia_reduced, &data.velocity_product[b]) + u_vec * (small_u / d_scalar);
+                add6_assign(&mut data.subtree_inertia[p], &ia_reduced);
                 data.body_force[p] += pa_reduced;
             }
             None => {
-                data.subtree_inertia[p] += ia;
+                add6_assign(&mut data.subtree_inertia[p], &ia);
                 data.body_force[p] += pa;
             }
         }
     }
+    Ok(())
+}
+
+/// ABA pass 3: base acceleration, then joint accelerations outwards; fills `data.accel`.
+fn aba_pass_3(model: &Model, data: &mut Data, u: &[f64], f: &[f64]) -> Result<()> {
+    let nb = model.n_bodies();
     // Base: I^A_0 a0 = f_b − p^A_0.
     let rhs = Vector6::from_column_slice(&f[0..6]) - data.body_force[0];
     let a0 = data.subtree_inertia[0]
@@ -85,7 +108,7 @@ pub fn aba<'d>(
         let p = model.links[b - 1].parent;
         let mut a = data.body_acceleration[p] + data.velocity_product[b];
         if let Some(d) = model.dof_of_body(b) {
-            let qdd = (data.aba_small_u[b] - data.aba_u[b].dot(&a)) / data.aba_d[b];
+            let qdd = (data.aba_small_u[b] - dot6(&data.aba_u[b], &a)) / data.aba_d[b];
             data.accel[6 + d] = qdd;
             a += data.motion_subspace[b] * qdd;
         }
@@ -97,5 +120,5 @@ pub fn aba<'d>(
     let ang = angular(&a0);
     data.accel.fixed_rows_mut::<3>(0).copy_from(&lin);
     data.accel.fixed_rows_mut::<3>(3).copy_from(&ang);
-    Ok(&data.accel)
+    Ok(())
 }

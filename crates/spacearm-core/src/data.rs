@@ -43,11 +43,31 @@ pub struct Data {
     /// ABA: `Dᵢ = Sᵢᵀ Uᵢ` and `uᵢ = τᵢ − Sᵢᵀ pᴬᵢ`.
     pub(crate) aba_d: Vec<f64>,
     pub(crate) aba_small_u: Vec<f64>,
-    /// Joint-space mass matrix `H` (6+N square), filled by CRBA or the paper form.
+    /// Joint-space mass matrix `H` (6+N square), filled by CRBA. The routines that need only
+    /// the base rows (`J*`, `c*`, the momentum map) refresh `[H0, H0m]` and leave `H_m` stale.
     pub mass_matrix: DMatrix<f64>,
     /// Generalized force or acceleration result (6+N), filled by RNEA / ABA.
     pub tau: DVector<f64>,
+    /// Generalized acceleration `u̇` (6+N), filled by the forward-dynamics routines.
     pub accel: DVector<f64>,
+    /// Generalized inertia matrix `H*` (N×N), filled by [`crate::gjm::compute_generalized_inertia`].
+    pub generalized_inertia: DMatrix<f64>,
+    /// Generalized Jacobian `J*` (6×N), filled by [`crate::gjm::compute_generalized_jacobian`].
+    pub generalized_jacobian: DMatrix<f64>,
+    /// Generalized bias `c*` (N), filled by [`crate::gjm::compute_generalized_bias`].
+    pub generalized_bias: DVector<f64>,
+    /// Scratch: a (6+N)² or N² matrix factorized in place by the dense forward-dynamics routes.
+    pub(crate) factor: DMatrix<f64>,
+    /// Scratch: an N-vector.
+    pub(crate) work_n: DVector<f64>,
+    /// Scratch: per-dof 3-vectors (joint-side columns, reduction intermediates).
+    pub(crate) work_lin: Vec<Vector3<f64>>,
+    pub(crate) work_ang: Vec<Vector3<f64>>,
+    pub(crate) work_y: Vec<Vector3<f64>>,
+    /// Scratch: degree-of-freedom indices along a path to the base.
+    pub(crate) work_dofs: Vec<usize>,
+    /// Scratch: an N² matrix factorized in place by the reduced dynamics.
+    pub(crate) factor_n: DMatrix<f64>,
 }
 
 impl Data {
@@ -75,6 +95,16 @@ impl Data {
             mass_matrix: DMatrix::zeros(nu, nu),
             tau: DVector::zeros(nu),
             accel: DVector::zeros(nu),
+            generalized_inertia: DMatrix::zeros(nu - 6, nu - 6),
+            generalized_jacobian: DMatrix::zeros(6, nu - 6),
+            generalized_bias: DVector::zeros(nu - 6),
+            factor: DMatrix::zeros(nu, nu),
+            work_n: DVector::zeros(nu - 6),
+            work_lin: vec![Vector3::zeros(); nu - 6],
+            work_ang: vec![Vector3::zeros(); nu - 6],
+            work_y: vec![Vector3::zeros(); nu - 6],
+            work_dofs: Vec::with_capacity(nu - 6),
+            factor_n: DMatrix::zeros(nu - 6, nu - 6),
         }
     }
 }

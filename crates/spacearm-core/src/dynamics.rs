@@ -1,15 +1,50 @@
 //! Forward dynamics through the mass matrix, `u̇ = H⁻¹ (f + Jᵀ w_ext − c)` (the O(N³) route,
 //! independent of the articulated-body recursion in [`crate::aba`]).
 
-use nalgebra::DVector;
+use nalgebra::{DMatrix, DVector};
 
-use crate::crba::crba;
+use crate::crba::crba_after_kinematics;
 use crate::data::Data;
 use crate::error::{Result, SpacearmError};
-use crate::kinematics::check_velocity;
+use crate::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
-use crate::rnea::rnea;
+use crate::rnea::rnea_after_kinematics;
 use crate::wrench::ExternalWrench;
+
+/// Forward dynamics by CRBA + RNEA + Cholesky: the state derivative `u̇` for the generalized
+/// force `f = [F0; N0; τ]` and external wrenches, left in `data.accel` (no allocation: the
+/// factorization reuses a workspace matrix of `data`).
+pub fn compute_forward_dynamics_via_mass_matrix<'d>(
+    model: &Model,
+    data: &'d mut Data,
+    x: &[f64],
+    u: &[f64],
+    f: &[f64],
+    external: &[ExternalWrench],
+) -> Result<&'d DVector<f64>> {
+    check_velocity(model, "f", f)?;
+    forward_kinematics(model, data, x)?;
+    check_velocity(model, "u", u)?;
+    for w in external {
+        w.check(model)?;
+    }
+    // c − Jᵀ w_ext is the inverse dynamics at zero acceleration (left in data.tau).
+    rnea_after_kinematics(model, data, u, None, external);
+    crba_after_kinematics(model, data, true);
+    let nu = model.nu();
+    let mut factor = std::mem::take(&mut data.factor);
+    factor.copy_from(&data.mass_matrix);
+    let Some(chol) = factor.cholesky() else {
+        data.factor = DMatrix::zeros(nu, nu);
+        return Err(SpacearmError::Singular("the mass matrix H".into()));
+    };
+    for i in 0..nu {
+        data.accel[i] = f[i] - data.tau[i];
+    }
+    chol.solve_mut(&mut data.accel);
+    data.factor = chol.unpack_dirty();
+    Ok(&data.accel)
+}
 
 /// Forward dynamics by CRBA + RNEA + Cholesky: the state derivative `u̇` for the generalized
 /// force `f = [F0; N0; τ]` and external wrenches.
@@ -21,11 +56,5 @@ pub fn forward_dynamics_via_mass_matrix(
     f: &[f64],
     external: &[ExternalWrench],
 ) -> Result<DVector<f64>> {
-    check_velocity(model, "f", f)?;
-    let zeros = vec![0.0; model.nu()];
-    // c − Jᵀ w_ext is the inverse dynamics at zero acceleration.
-    let bias = rnea(model, data, x, u, &zeros, external)?.clone();
-    let h = crba(model, data, x)?.clone();
-    let chol = h.cholesky().ok_or_else(|| SpacearmError::Singular("the mass matrix H".into()))?;
-    Ok(chol.solve(&(DVector::from_column_slice(f) - bias)))
+    Ok(compute_forward_dynamics_via_mass_matrix(model, data, x, u, f, external)?.clone())
 }

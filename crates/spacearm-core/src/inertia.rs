@@ -3,13 +3,15 @@
 //!
 //! This is the first of the two independent computations of `H`; [`crate::crba`] is the
 //! second. Nothing here uses spatial recursions: every block is a sum over links of products of
-//! the link Jacobians `J_Ti`, `J_Ri` of [`crate::kinematics::link_jacobians`].
+//! the link Jacobians `J_Ti`, `J_Ri` of [`crate::kinematics::link_jacobians`] (their non-zero
+//! columns, formed in place).
 
-use nalgebra::{DMatrix, Matrix3, Matrix6, Vector3};
+use nalgebra::{DMatrix, Matrix3, Matrix6, Vector3, Vector6};
 
 use crate::data::Data;
 use crate::error::{Result, SpacearmError};
-use crate::kinematics::{forward_kinematics, link_jacobians};
+use crate::joint::JointType;
+use crate::kinematics::forward_kinematics;
 use crate::model::Model;
 use crate::spatial::skew;
 
@@ -48,6 +50,9 @@ impl InertiaBlocks {
 }
 
 /// Compute every inertia block by the paper's Jacobian sums at configuration `x`.
+///
+/// The sums run only over the non-zero columns of each link's Jacobians (the joints on the path
+/// from the base to the link, eqs. 20–21); nothing is allocated but the returned blocks.
 pub fn inertia_blocks(model: &Model, data: &mut Data, x: &[f64]) -> Result<InertiaBlocks> {
     forward_kinematics(model, data, x)?;
     let n = model.n_dof();
@@ -61,14 +66,44 @@ pub fn inertia_blocks(model: &Model, data: &mut Data, x: &[f64]) -> Result<Inert
     for b in 1..model.n_bodies() {
         let m = model.mass_properties(b).mass;
         let inertia = data.inertia_in_world[b];
-        let r_0i = data.com_in_world[b] - r0;
+        let r_i = data.com_in_world[b];
+        let r_0i = r_i - r0;
         let r_0i_x = skew(&r_0i);
         first_moment += m * r_0i;
         h_s += inertia + m * r_0i_x.transpose() * r_0i_x;
-        let (j_t, j_r) = link_jacobians(model, data, b);
-        j_ts += m * &j_t;
-        h_sq += inertia * &j_r + m * r_0i_x * &j_t;
-        hm += j_r.transpose() * inertia * &j_r + m * j_t.transpose() * &j_t;
+        // Non-zero columns of J_Ti and J_Ri: the joints on the path to this link.
+        data.work_dofs.clear();
+        let mut a = b;
+        while a != 0 {
+            if let Some(d) = model.dof_of_body(a) {
+                let k = data.joint_axis_in_world[a];
+                let (t, r) = match model.links[a - 1].joint.kind {
+                    JointType::Revolute => (k.cross(&(r_i - data.joint_position_in_world[a])), k),
+                    _ => (k, Vector3::zeros()),
+                };
+                data.work_lin[data.work_dofs.len()] = t;
+                data.work_ang[data.work_dofs.len()] = r;
+                data.work_dofs.push(d);
+            }
+            a = model.links[a - 1].parent;
+        }
+        for (p, &j) in data.work_dofs.iter().enumerate() {
+            let (t_j, r_j) = (data.work_lin[p], data.work_ang[p]);
+            let ts = m * t_j;
+            let sq = inertia * r_j + m * r_0i.cross(&t_j);
+            for row in 0..3 {
+                j_ts[(row, j)] += ts[row];
+                h_sq[(row, j)] += sq[row];
+            }
+            let i_r_j = inertia * r_j;
+            for (q, &k) in data.work_dofs.iter().enumerate().skip(p) {
+                let v = data.work_ang[q].dot(&i_r_j) + m * data.work_lin[q].dot(&t_j);
+                hm[(j, k)] += v;
+                if j != k {
+                    hm[(k, j)] += v;
+                }
+            }
+        }
     }
     let base_to_com = first_moment / total_mass;
     let rg_x = skew(&base_to_com);
@@ -121,6 +156,57 @@ pub fn base_inertia_inverse(h0: &Matrix6<f64>) -> Result<Matrix6<f64>> {
     out.fixed_view_mut::<3, 3>(3, 0).copy_from(&(-s_inv * rg_x));
     out.fixed_view_mut::<3, 3>(3, 3).copy_from(&s_inv);
     Ok(out)
+}
+
+/// The closed-form inverse of `H0` kept in factored form (paper eqs. 52–61): total mass `M`,
+/// base-to-system-CM vector `r_0g` and `S⁻¹` with `S = H_S + M r̃_0g r̃_0g`. Applying it to a
+/// 6-vector costs two cross products and one 3×3 product; see [`BaseInverse::apply`].
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct BaseInverse {
+    pub total_mass: f64,
+    pub base_to_com: Vector3<f64>,
+    pub schur_inverse: Matrix3<f64>,
+}
+
+impl BaseInverse {
+    /// Factor `h0` (structure of eq. 30); the same checks and errors as [`base_inertia_inverse`].
+    pub fn new(h0: &Matrix6<f64>) -> Result<Self> {
+        let m = h0[(0, 0)];
+        if !(m > 0.0) {
+            return Err(SpacearmError::Singular(format!("the base inertia H0 (total mass {m})")));
+        }
+        // Lower-left block M r̃_0g.
+        let r = Vector3::new(h0[(5, 1)], h0[(3, 2)], h0[(4, 0)]) / m;
+        let rr = r.norm_squared();
+        let h_s: Matrix3<f64> = h0.fixed_view::<3, 3>(3, 3).into_owned();
+        // M r̃ r̃ = M (r rᵀ − |r|² E), symmetric.
+        let mut schur = h_s;
+        for i in 0..3 {
+            for j in 0..3 {
+                let v = m * (r[i] * r[j] - if i == j { rr } else { 0.0 });
+                schur[(i, j)] += v;
+            }
+        }
+        let schur_inverse =
+            symmetric3_inverse(&schur).ok_or_else(|| SpacearmError::Singular("the Schur complement S of H0".into()))?;
+        Ok(BaseInverse { total_mass: m, base_to_com: r, schur_inverse })
+    }
+
+    /// `y = S⁻¹ (w_ang − r_0g × w_lin)`, the angular half of `H0⁻¹ w` and the building block
+    /// of every reduction.
+    #[inline]
+    pub fn angular(&self, w_lin: &Vector3<f64>, w_ang: &Vector3<f64>) -> Vector3<f64> {
+        self.schur_inverse * (w_ang - self.base_to_com.cross(w_lin))
+    }
+
+    /// `H0⁻¹ w = [w_lin / M + r_0g × y; y]` with `y` from [`BaseInverse::angular`].
+    #[inline]
+    pub fn apply(&self, w: &Vector6<f64>) -> Vector6<f64> {
+        let (w_lin, w_ang) = (w.fixed_rows::<3>(0).into_owned(), w.fixed_rows::<3>(3).into_owned());
+        let y = self.angular(&w_lin, &w_ang);
+        let top = w_lin / self.total_mass + self.base_to_com.cross(&y);
+        Vector6::new(top.x, top.y, top.z, y.x, y.y, y.z)
+    }
 }
 
 #[cfg(test)]

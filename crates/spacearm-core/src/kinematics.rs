@@ -6,7 +6,7 @@ use crate::data::Data;
 use crate::error::{check_finite, Result, SpacearmError};
 use crate::joint::JointType;
 use crate::model::{Model, QUATERNION_TOLERANCE};
-use crate::spatial::{point_twist_transform, spatial, spatial_inertia};
+use crate::spatial::{point_twist_transform, rotate_symmetric, spatial, spatial_inertia};
 
 /// The configuration `x = [r0 (3), quat0 (4, [x, y, z, w]), q (N)]` split into its parts,
 /// validated (length, finite values, unit quaternion within [`QUATERNION_TOLERANCE`]); the
@@ -65,8 +65,9 @@ pub fn forward_kinematics(model: &Model, data: &mut Data, x: &[f64]) -> Result<(
     data.joint_axis_in_world[0] = Vector3::zeros();
     data.motion_subspace[0] = Vector6::zeros();
     let base = &model.base;
-    data.inertia_in_world[0] = r0_mat * base.inertia * r0_mat.transpose();
-    data.spatial_inertia[0] = spatial_inertia(base.mass, &Vector3::zeros(), &data.inertia_in_world[0]);
+    let base_inertia = rotate_symmetric(&r0_mat, &base.inertia);
+    data.inertia_in_world[0] = base_inertia;
+    data.spatial_inertia[0] = spatial_inertia(base.mass, &Vector3::zeros(), &base_inertia);
 
     for (k, link) in model.links.iter().enumerate() {
         let b = k + 1;
@@ -74,30 +75,33 @@ pub fn forward_kinematics(model: &Model, data: &mut Data, x: &[f64]) -> Result<(
         let parent_rot = data.body_to_world[p];
         let joint = &link.joint;
         let joint_pos = data.com_in_world[p] + parent_rot * joint.origin_in_parent;
-        let joint_rot = parent_rot * joint.rotation_in_parent.to_rotation_matrix().into_inner();
+        let rq = &joint.rotation_in_parent;
+        // Most models attach joints without a fixed rotation: skip the product then.
+        let joint_rot = if rq.i == 0.0 && rq.j == 0.0 && rq.k == 0.0 {
+            parent_rot
+        } else {
+            parent_rot * rq.to_rotation_matrix().into_inner()
+        };
         let axis_world = joint_rot * joint.axis.into_inner();
-        let (rot, com_local) = match joint.kind {
+        let (rot, com_local, axis_out, subspace) = match joint.kind {
             JointType::Revolute => {
                 let angle = q[model.dof_of_body(b).expect("revolute joint has a dof")];
-                (joint_rot * Rotation3::from_axis_angle(&joint.axis, angle).into_inner(), link.com_from_joint)
+                let rot = joint_rot * Rotation3::from_axis_angle(&joint.axis, angle).into_inner();
+                (rot, link.com_from_joint, axis_world, spatial(&(joint_pos - r0).cross(&axis_world), &axis_world))
             }
             JointType::Prismatic => {
                 let d = q[model.dof_of_body(b).expect("prismatic joint has a dof")];
-                (joint_rot, link.com_from_joint + joint.axis.into_inner() * d)
+                (joint_rot, link.com_from_joint + joint.axis.into_inner() * d, axis_world, spatial(&axis_world, &Vector3::zeros()))
             }
-            JointType::Fixed => (joint_rot, link.com_from_joint),
+            JointType::Fixed => (joint_rot, link.com_from_joint, Vector3::zeros(), Vector6::zeros()),
         };
         let com = joint_pos + rot * com_local;
         data.body_to_world[b] = rot;
         data.com_in_world[b] = com;
         data.joint_position_in_world[b] = joint_pos;
-        data.joint_axis_in_world[b] = if joint.kind == JointType::Fixed { Vector3::zeros() } else { axis_world };
-        data.motion_subspace[b] = match joint.kind {
-            JointType::Revolute => spatial(&(joint_pos - r0).cross(&axis_world), &axis_world),
-            JointType::Prismatic => spatial(&axis_world, &Vector3::zeros()),
-            JointType::Fixed => Vector6::zeros(),
-        };
-        let inertia_world = rot * link.mass.inertia * rot.transpose();
+        data.joint_axis_in_world[b] = axis_out;
+        data.motion_subspace[b] = subspace;
+        let inertia_world = rotate_symmetric(&rot, &link.mass.inertia);
         data.inertia_in_world[b] = inertia_world;
         data.spatial_inertia[b] = spatial_inertia(link.mass.mass, &(com - r0), &inertia_world);
     }

@@ -11,7 +11,7 @@ use crate::data::Data;
 use crate::error::Result;
 use crate::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
-use crate::spatial::{angular, cross_force, cross_motion, linear, spatial};
+use crate::spatial::{angular, cross_force, cross_motion, dot6, linear, mul6, spatial};
 use crate::wrench::ExternalWrench;
 
 /// Forward pass of body velocities `Vᵢ = V_λ(i) + Sᵢ q̇ᵢ` and velocity-product accelerations
@@ -59,13 +59,23 @@ pub fn rnea<'d>(
     for w in external {
         w.check(model)?;
     }
+    rnea_after_kinematics(model, data, u, Some(du), external);
+    Ok(&data.tau)
+}
+
+/// RNEA on the kinematics already in `data`, with checked inputs; `du = None` means `u̇ = 0`
+/// (the bias vector). Fills `data.tau`.
+pub(crate) fn rnea_after_kinematics(model: &Model, data: &mut Data, u: &[f64], du: Option<&[f64]>, external: &[ExternalWrench]) {
     velocity_pass(model, data, u);
     let nb = model.n_bodies();
-    data.body_acceleration[0] = base_spatial_acceleration(u, du);
+    data.body_acceleration[0] = match du {
+        Some(du) => base_spatial_acceleration(u, du),
+        None => base_spatial_acceleration(u, &[0.0; 6]),
+    };
     for b in 1..nb {
         let p = model.links[b - 1].parent;
         let mut a = data.body_acceleration[p] + data.velocity_product[b];
-        if let Some(d) = model.dof_of_body(b) {
+        if let (Some(d), Some(du)) = (model.dof_of_body(b), du) {
             a += data.motion_subspace[b] * du[6 + d];
         }
         data.body_acceleration[b] = a;
@@ -73,7 +83,7 @@ pub fn rnea<'d>(
     for b in 0..nb {
         let inertia = &data.spatial_inertia[b];
         let v = data.body_velocity[b];
-        data.body_force[b] = inertia * data.body_acceleration[b] + cross_force(&v, &(inertia * v));
+        data.body_force[b] = mul6(inertia, &data.body_acceleration[b]) + cross_force(&v, &mul6(inertia, &v));
     }
     for w in external {
         let f = w.at_base_com(data);
@@ -82,19 +92,20 @@ pub fn rnea<'d>(
     for b in (1..nb).rev() {
         let p = model.links[b - 1].parent;
         if let Some(d) = model.dof_of_body(b) {
-            data.tau[6 + d] = data.motion_subspace[b].dot(&data.body_force[b]);
+            data.tau[6 + d] = dot6(&data.motion_subspace[b], &data.body_force[b]);
         }
         let f = data.body_force[b];
         data.body_force[p] += f;
     }
     let f0 = data.body_force[0];
     data.tau.fixed_rows_mut::<6>(0).copy_from(&f0);
-    Ok(&data.tau)
 }
 
 /// Bias vector `c(x, u)` (Coriolis and centrifugal terms; no gravity in orbit): the inverse
 /// dynamics at `u̇ = 0` with no external wrench.
 pub fn bias_forces<'d>(model: &Model, data: &'d mut Data, x: &[f64], u: &[f64]) -> Result<&'d DVector<f64>> {
-    let zeros = vec![0.0; model.nu()];
-    rnea(model, data, x, u, &zeros, &[])
+    forward_kinematics(model, data, x)?;
+    check_velocity(model, "u", u)?;
+    rnea_after_kinematics(model, data, u, None, &[]);
+    Ok(&data.tau)
 }

@@ -53,16 +53,69 @@ pub fn cross_force(v: &Vector6<f64>, f: &Vector6<f64>) -> Vector6<f64> {
 
 /// Spatial inertia of a body of mass `m`, centre of mass at `c` from the reference point and
 /// inertia `inertia_about_com` about its CM (all in the same axes):
-/// `[[m E, −m c̃], [m c̃, I_c + m c̃ᵀ c̃]]` (paper eq. 29's per-link term; Featherstone eq. 2.63).
+/// `[[m E, −m c̃], [m c̃, I_c + m c̃ᵀ c̃]]` (paper eq. 29's per-link term; Featherstone eq. 2.63),
+/// with `c̃ᵀ c̃ = |c|² E − c cᵀ`. The rotational block is symmetrized from its upper triangle.
+#[inline]
 pub fn spatial_inertia(m: f64, c: &Vector3<f64>, inertia_about_com: &Matrix3<f64>) -> Matrix6<f64> {
-    let cx = skew(c);
-    let mut out = Matrix6::zeros();
-    out.fixed_view_mut::<3, 3>(0, 0).copy_from(&(Matrix3::identity() * m));
-    out.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-m * cx));
-    out.fixed_view_mut::<3, 3>(3, 0).copy_from(&(m * cx));
-    out.fixed_view_mut::<3, 3>(3, 3)
-        .copy_from(&(inertia_about_com + m * cx.transpose() * cx));
+    let (x, y, z) = (c.x, c.y, c.z);
+    let (mx, my, mz) = (m * x, m * y, m * z);
+    let ic = inertia_about_com;
+    let i00 = ic[(0, 0)] + (my * y + mz * z);
+    let i11 = ic[(1, 1)] + (mx * x + mz * z);
+    let i22 = ic[(2, 2)] + (mx * x + my * y);
+    let i01 = ic[(0, 1)] - mx * y;
+    let i02 = ic[(0, 2)] - mx * z;
+    let i12 = ic[(1, 2)] - my * z;
+    #[rustfmt::skip]
+    let out = Matrix6::new(
+        m,   0.0, 0.0, 0.0, mz,  -my,
+        0.0, m,   0.0, -mz, 0.0, mx,
+        0.0, 0.0, m,   my,  -mx, 0.0,
+        0.0, -mz, my,  i00, i01, i02,
+        mz,  0.0, -mx, i01, i11, i12,
+        -my, mx,  0.0, i02, i12, i22,
+    );
     out
+}
+
+/// `R A Rᵀ` for a symmetric 3×3 `A` (an inertia tensor changing axes), computed from its upper
+/// triangle so that the result is exactly symmetric.
+#[inline]
+pub fn rotate_symmetric(r: &Matrix3<f64>, a: &Matrix3<f64>) -> Matrix3<f64> {
+    let ra = r * a;
+    let e = |i: usize, j: usize| ra[(i, 0)] * r[(j, 0)] + ra[(i, 1)] * r[(j, 1)] + ra[(i, 2)] * r[(j, 2)];
+    let (a00, a01, a02, a11, a12, a22) = (e(0, 0), e(0, 1), e(0, 2), e(1, 1), e(1, 2), e(2, 2));
+    Matrix3::new(a00, a01, a02, a01, a11, a12, a02, a12, a22)
+}
+
+/// `m v` for a 6×6 matrix, column by column (the small fixed-size product, written out so that
+/// it compiles to straight-line code in the recursions).
+#[inline(always)]
+pub fn mul6(m: &Matrix6<f64>, v: &Vector6<f64>) -> Vector6<f64> {
+    let a = m.as_slice();
+    let mut out = [0.0; 6];
+    for j in 0..6 {
+        let vj = v[j];
+        let col = &a[6 * j..6 * j + 6];
+        for i in 0..6 {
+            out[i] += col[i] * vj;
+        }
+    }
+    Vector6::from(out)
+}
+
+/// `a · b` for spatial vectors.
+#[inline(always)]
+pub fn dot6(a: &Vector6<f64>, b: &Vector6<f64>) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5]
+}
+
+/// `dst += src` for 6×6 matrices.
+#[inline(always)]
+pub fn add6_assign(dst: &mut Matrix6<f64>, src: &Matrix6<f64>) {
+    for (d, s) in dst.as_mut_slice().iter_mut().zip(src.as_slice()) {
+        *d += *s;
+    }
 }
 
 /// Twist transform of a point offset `d` from the reference point: `[[E, −d̃], [0, E]]`, the
@@ -110,5 +163,22 @@ mod tests {
         let l = c.cross(&p) + ic * w;
         assert!((linear(&h) - p).norm() < 1e-14);
         assert!((angular(&h) - l).norm() < 1e-14);
+        // Same as the block formula with explicit cross-product matrices.
+        let cx = skew(&c);
+        let mut blocks = Matrix6::zeros();
+        blocks.fixed_view_mut::<3, 3>(0, 0).copy_from(&(Matrix3::identity() * m));
+        blocks.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-m * cx));
+        blocks.fixed_view_mut::<3, 3>(3, 0).copy_from(&(m * cx));
+        blocks.fixed_view_mut::<3, 3>(3, 3).copy_from(&(ic + m * cx.transpose() * cx));
+        assert!((spatial_inertia(m, &c, &ic) - blocks).abs().max() < 1e-14);
+    }
+
+    #[test]
+    fn rotate_symmetric_is_r_a_rt() {
+        let a = Matrix3::new(0.4, 0.01, 0.02, 0.01, 0.5, -0.03, 0.02, -0.03, 0.6);
+        let r = nalgebra::Rotation3::from_euler_angles(0.3, -1.1, 2.0).into_inner();
+        let out = rotate_symmetric(&r, &a);
+        assert!((out - r * a * r.transpose()).abs().max() < 1e-15);
+        assert_eq!(out, out.transpose());
     }
 }
