@@ -389,3 +389,51 @@ def test_any_number_anywhere_raises_only_spacearm_errors(value, site):
     literal = re.search(r"-?\d+(\.\d+)?", site).group(0)
     text = DEMO.replace(site, site.replace(literal, repr(value), 1), 1)
     check_only_spacearm_errors(text)
+
+
+# ---- the documentation's examples -------------------------------------------------------------------------
+
+
+def doc_blocks(name, lang):
+    """The fenced code blocks of a doc whose info string is ``lang``."""
+    blocks, current, info = [], None, None
+    for line in (ROOT / "docs" / name).read_text(encoding="utf-8").splitlines(keepends=True):
+        if line.startswith("```"):
+            if current is None:
+                current, info = [], line[3:].strip()
+            else:
+                if info == lang:
+                    blocks.append("".join(current))
+                current = None
+        elif current is not None:
+            current.append(line)
+    return blocks
+
+
+@pytest.mark.parametrize("name", ["model-format.md", "dh.md"])
+def test_documented_model_files_load(name):
+    blocks = doc_blocks(name, "toml")
+    assert blocks
+    for block in blocks:
+        robot = loads_toml(block, name)
+        assert loads_toml(dumps_toml(robot)).describe() == robot.describe()
+
+
+def test_documented_worked_example():
+    (block,) = doc_blocks("model-format.md", "toml")
+    robot = loads_toml(block)
+    assert robot.n_dof == 3 and robot.body_names == ["bus", "upper_arm", "forearm", "tool", "mast"]
+    assert robot.end_effector == "grasp" and robot.point_names == ["grasp", "camera"]
+    assert robot.joint_types == ["revolute", "revolute", "prismatic", "fixed"]
+
+
+def test_documented_error_messages():
+    blocks = [b.rstrip("\n") for b in doc_blocks("model-format.md", "") if re.match(r"\w+\.toml:\d+:\d+: ", b)]
+    produced = []
+    for source, text in [("arm.toml", DEMO.replace("mass = 5.0", "mass = -5.0")),
+                         ("arm.toml", DEMO.replace("mass = 5.0", "mas = 5.0")),
+                         ("order.toml", DEMO.replace('parent = "base"', 'parent = "slider"').replace('parent = "arm"', 'parent = "base"'))]:
+        with pytest.raises(spacearm.ModelFileError) as info:
+            loads_toml(text, source)
+        produced.append(str(info.value))
+    assert blocks == produced

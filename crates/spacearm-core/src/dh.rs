@@ -174,10 +174,19 @@ fn xyzw(q: &UnitQuaternion<f64>) -> [f64; 4] {
     [q.i, q.j, q.k, q.w]
 }
 
-/// Rotation `P · Rot_z(θ) · Rot_x(α)` and child-frame axis `(0, sin α, cos α)`.
+/// `(sin α, cos α)` with rounding residue below 1e-15 set to zero, so that a twist of
+/// `π/2` (not exactly representable) gives exactly `(1, 0)`.
+fn sin_cos(alpha: f64) -> (f64, f64) {
+    let (s, c) = alpha.sin_cos();
+    let snap = |v: f64| if v.abs() < 1e-15 { 0.0 } else { v };
+    (snap(s), snap(c))
+}
+
+/// Rotation `P · Rot_z(θ) · Rot_x(α)` and child-frame axis `Rot_x(α)ᵀ ẑ = (0, sin α, cos α)`.
 fn dh_rotation(p: &UnitQuaternion<f64>, theta: f64, alpha: f64) -> ([f64; 4], [f64; 3]) {
     let r = p * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), theta) * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), alpha);
-    (xyzw(&r), [0.0, alpha.sin(), alpha.cos()])
+    let (s, c) = sin_cos(alpha);
+    (xyzw(&r), [0.0, s, c])
 }
 
 impl DhArm {
@@ -207,7 +216,7 @@ impl DhArm {
                     check_inertia_magnitude(&format!("link '{name}'"), &row.inertia)?;
                     let p = if k == 0 { &p1 } else { &identity };
                     let (rotation, axis) = dh_rotation(p, row.theta, row.alpha);
-                    let (s, c) = row.alpha.sin_cos();
+                    let (s, c) = sin_cos(row.alpha);
                     let joint_to_origin = Vector3::new(row.a, row.d * s, row.d * c);
                     let com = Vector3::from(row.com);
                     links.push(LinkSpec {
@@ -224,7 +233,7 @@ impl DhArm {
                         limits: row.limits,
                     });
                     // Joint i+1 sits at DH origin i, i.e. at -c_i from the CM.
-                    to_next = -com;
+                    to_next = Vector3::zeros() - com;
                     origin = to_next;
                     parent = name;
                 }
