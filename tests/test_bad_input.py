@@ -255,3 +255,13 @@ def test_inverted_limits():
 def test_robot_cannot_be_built_from_arbitrary_objects():
     with pytest.raises(TypeError):
         spacearm.Robot(object())
+
+
+def test_huge_axis_is_normalized_not_overflowed():
+    robot = one_link(axis=(1.34e154, 0, 1))
+    assert np.allclose(robot.describe()["links"][0]["axis"], [1.0, 0.0, 0.0], rtol=0, atol=1e-15)
+
+
+def test_overflowing_inertia_is_rejected():
+    with pytest.raises(ModelError, match="inertia"):
+        one_link(inertia=[[1e308, 1e308, 0], [1e308, 1e308, 0], [0, 0, 1e308]])

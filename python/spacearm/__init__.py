@@ -6,7 +6,7 @@ checked against Pinocchio and MuJoCo. Start with :class:`Robot` and :mod:`spacea
 conventions are in ``docs/conventions.md``.
 """
 
-from . import presets
+from . import dh, model_file, presets
 from ._core import __version__
 from .builder import RobotBuilder
 from .errors import (
@@ -29,6 +29,8 @@ __all__ = [
     "Momentum",
     "InertiaBlocks",
     "presets",
+    "dh",
+    "model_file",
     "SpacearmError",
     "ModelError",
     "ModelFileError",

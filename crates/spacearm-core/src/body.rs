@@ -44,7 +44,13 @@ impl MassProperties {
         }
         let sym = (inertia + inertia.transpose()) * 0.5;
         let mut moments = SymmetricEigen::new(sym).eigenvalues;
-        moments.as_mut_slice().sort_by(|a, b| a.partial_cmp(b).unwrap());
+        // Entries near f64::MAX overflow the eigen-decomposition: refuse rather than compare NaNs.
+        if moments.iter().any(|m| !m.is_finite()) {
+            return Err(SpacearmError::model(format!(
+                "{who}: inertia tensor entries are too large to analyse (largest |entry| {scale:e} kg·m²)"
+            )));
+        }
+        moments.as_mut_slice().sort_by(|a, b| a.total_cmp(b));
         let (a, b, c) = (moments[0], moments[1], moments[2]);
         let tol = INERTIA_TOLERANCE * c.abs().max(f64::MIN_POSITIVE);
         if a < -tol {
@@ -91,6 +97,8 @@ mod tests {
         assert!(MassProperties::new("b", 2.0, asym, true).unwrap_err().to_string().contains("symmetric"));
         let tri = Matrix3::from_diagonal(&nalgebra::Vector3::new(1.0, 1.0, 3.0));
         assert!(MassProperties::new("b", 2.0, tri, true).unwrap_err().to_string().contains("triangle"));
+        let huge = Matrix3::from_diagonal(&nalgebra::Vector3::new(1e308, 1e308, 1e308)) + Matrix3::from_element(1e308);
+        assert!(MassProperties::new("b", 1.0, huge, false).is_err());
         let neg = Matrix3::from_diagonal(&nalgebra::Vector3::new(-1.0, 1.0, 1.0));
         assert!(MassProperties::new("b", 2.0, neg, false).unwrap_err().to_string().contains("semi-definite"));
         assert!(MassProperties::new("base", 0.0, ok, true).unwrap_err().to_string().contains("> 0"));

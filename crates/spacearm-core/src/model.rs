@@ -390,14 +390,16 @@ impl ModelBuilder {
         let axis = if spec.kind == JointType::Fixed {
             Unit::new_normalize(if axis_v.norm() > 0.0 { axis_v } else { Vector3::z() })
         } else {
-            let n = axis_v.norm();
-            if !(n > 1e-9) {
+            // Scale by the largest component first so that the norm cannot overflow
+            // (an axis like [1e154, 0, 1] must become [1, 0, 0], not NaN or zero).
+            let largest = axis_v.amax();
+            if !(largest > 1e-9) {
                 return Err(SpacearmError::model(format!(
                     "{who}: joint axis must be a non-zero vector (it is normalized), got {:?}",
                     spec.axis
                 )));
             }
-            Unit::new_normalize(axis_v)
+            Unit::new_normalize(axis_v / largest)
         };
         let rotation = unit_quaternion_from_xyzw(&format!("{who}: joint rotation"), &spec.rotation_in_parent)
             .map_err(|e| SpacearmError::model(e.to_string()))?;

@@ -7,7 +7,6 @@
 
 use std::f64::consts::FRAC_PI_4;
 
-use crate::body::MassProperties;
 use crate::error::Result;
 use crate::joint::{JointLimits, JointType};
 use crate::model::{LinkSpec, Model, ModelBuilder};
@@ -131,6 +130,5 @@ mod tests {
         let l2 = &s.links[1].mass;
         assert!((l2.inertia[(0, 0)] - 15.0 * 0.01 / 6.0).abs() < 1e-15);
         assert!((l2.inertia[(1, 1)] - 15.0 * 1.01 / 12.0).abs() < 1e-15);
-        let _ = MassProperties::solid_box(1.0, 1.0, 1.0, 1.0);
     }
 }
