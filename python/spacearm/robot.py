@@ -72,6 +72,11 @@ class InertiaBlocks(NamedTuple):
     H: np.ndarray  #: (6+N)² full mass matrix, eq. 36
 
 
+def _frozen(a: np.ndarray) -> np.ndarray:
+    a.setflags(write=False)
+    return a
+
+
 class Robot:
     """A spacecraft base carrying a tree of links (one or more arms).
 
@@ -84,6 +89,8 @@ class Robot:
         if not isinstance(core_model, _core.Model):
             raise TypeError("Robot is built with Robot.builder(), Robot.from_toml(), Robot.from_dh() or spacearm.presets")
         self._m = core_model
+        # Named points resolved once (the model is immutable): name or None -> (body, offset).
+        self._points = {}
 
     # ---- construction -------------------------------------------------------------------
     @staticmethod
@@ -184,6 +191,14 @@ class Robot:
 
     def _point(self, point: PointLike):
         """Resolve a point: ``None`` (end effector), a point name, or ``(body, offset)``."""
+        if point is None or type(point) is str:
+            cached = self._points.get(point)
+            if cached is None:
+                cached = self._points[point] = self._resolve_point(point)
+            return cached
+        return self._resolve_point(point)
+
+    def _resolve_point(self, point: PointLike):
         if point is None:
             if self.end_effector is None:
                 raise NotFoundError("the model has no end effector; pass a point name or (body, offset)")
@@ -191,8 +206,8 @@ class Robot:
         if isinstance(point, str):
             if point in self._m.point_names:
                 body, off = self._m.point(point)
-                return body, np.asarray(off, dtype=float)
-            return self.body_index(point), np.zeros(3)
+                return body, _frozen(np.asarray(off, dtype=float))
+            return self.body_index(point), _frozen(np.zeros(3))
         if isinstance(point, (tuple, list)) and len(point) == 2:
             return self.body_index(point[0]), vector3(point[1], "point offset")
         raise ShapeError(f"a point is a point name, a body name, or (body, offset), got {point!r}")
@@ -210,6 +225,9 @@ class Robot:
         """``u = 0`` (length ``6 + N``)."""
         return np.zeros(self.nu)
 
+    # Vector arguments (x, u, du, f, qd) may go to the extension unconverted: it uses a 1-D
+    # contiguous float64 array in place and converts anything else with ``_arrays.vector`` under
+    # the same name, so messages and their order are those of ``_x``/``_u``.
     def _x(self, x):
         return vector(x, "x")
 
@@ -219,18 +237,18 @@ class Robot:
     # ---- kinematics ----------------------------------------------------------------------
     def forward_kinematics(self, x) -> Kinematics:
         """Poses of every body CM frame, joint positions and joint axes in 𝒥 (paper §2)."""
-        return Kinematics(*self._m.forward_kinematics(self._x(x)))
+        return Kinematics(*self._m.forward_kinematics(x))
 
     def point_position(self, x, point: PointLike = None) -> np.ndarray:
         """Position in 𝒥 of a point (default: the end effector)."""
         body, off = self._point(point)
-        return self._m.point_position(self._x(x), body, off)
+        return self._m.point_position(x, body, off)
 
     def point_jacobian(self, x, point: PointLike = None):
         """Point Jacobians ``(J_0X, J_mX)`` (6×6, 6×N; eqs. 104–108) of a point: its twist
         ``[v_X; w]`` in 𝒥 is ``J_0X xd0 + J_mX qd``."""
         body, off = self._point(point)
-        return self._m.point_jacobians(self._x(x), body, off)
+        return self._m.point_jacobians(x, body, off)
 
     def link_jacobians(self, x, body):
         """``(J_Ti, J_Ri)`` (3×N each; eqs. 20–21) of the CM of ``body``."""
@@ -239,7 +257,7 @@ class Robot:
     # ---- inertia ---------------------------------------------------------------------------
     def inertia_blocks(self, x) -> InertiaBlocks:
         """``H0``, ``H0m``, ``Hm`` and their parts by the paper's Jacobian sums (eqs. 27–36)."""
-        d = self._m.inertia_blocks(self._x(x))
+        d = self._m.inertia_blocks(x)
         return InertiaBlocks(**d)
 
     def mass_matrix(self, x, method: str = "crba") -> np.ndarray:
@@ -249,19 +267,19 @@ class Robot:
         (the Jacobian sums of eqs. 27–36); the two are independent computations.
         """
         if method == "crba":
-            return self._m.mass_matrix_crba(self._x(x))
+            return self._m.mass_matrix_crba(x)
         if method == "paper":
-            return self._m.inertia_blocks(self._x(x))["H"]
+            return self._m.mass_matrix_paper(x)
         raise ValueError(f"method must be 'crba' or 'paper', got {method!r}")
 
     def base_inertia_inverse(self, x) -> np.ndarray:
         """``H0⁻¹`` by the closed-form Schur complement (eqs. 52–61)."""
-        return self._m.base_inertia_inverse(self._x(x))
+        return self._m.base_inertia_inverse(x)
 
     # ---- dynamics --------------------------------------------------------------------------
     def bias_forces(self, x, u) -> np.ndarray:
         """Bias vector ``c(x, u)`` (velocity-product terms; no gravity in orbit) by RNEA."""
-        return self._m.bias_forces(self._x(x), self._u(u))
+        return self._m.bias_forces(x, u)
 
     def _wrenches(self, wrenches):
         if not wrenches:
@@ -280,6 +298,8 @@ class Robot:
 
     def inverse_dynamics(self, x, u, du, wrenches=None) -> np.ndarray:
         """Generalized force ``f = H du + c - J^T w_ext`` producing ``du`` (RNEA, Featherstone §5.3)."""
+        if wrenches is None:
+            return self._m.inverse_dynamics(x, u, du)
         return self._m.inverse_dynamics(self._x(x), self._u(u), self._u(du, "du"), self._wrenches(wrenches))
 
     def forward_dynamics(self, x, u, f=None, *, tau=None, base_wrench=None, wrenches=None, method: str = "aba") -> np.ndarray:
@@ -297,6 +317,14 @@ class Robot:
             f = np.concatenate([b, t])
         elif tau is not None or base_wrench is not None:
             raise ValueError("give either f or tau/base_wrench, not both")
+        if wrenches is None:
+            # The extension converts f, then x, then u (the order of the general path below).
+            if method == "aba":
+                return self._m.forward_dynamics_aba(x, u, f)
+            if method == "mass_matrix":
+                return self._m.forward_dynamics_mass_matrix(x, u, f)
+            if method == "reduced":
+                return self._m.reduced_forward_dynamics_f(x, u, f)
         f = self._u(f, "f")
         if method == "aba":
             return self._m.forward_dynamics_aba(self._x(x), self._u(u), f, self._wrenches(wrenches))
@@ -313,17 +341,17 @@ class Robot:
     # ---- generalized (reduced) quantities ------------------------------------------------
     def generalized_inertia(self, x) -> np.ndarray:
         """Generalized inertia matrix ``H* = Hm - H0m^T H0⁻¹ H0m`` (N×N, eq. 45)."""
-        return self._m.generalized_inertia(self._x(x))
+        return self._m.generalized_inertia(x)
 
     def generalized_bias(self, x, u) -> np.ndarray:
         """Generalized bias ``c* = c_m - H0m^T H0⁻¹ c0`` (N) at the state ``(x, u)``."""
-        return self._m.generalized_bias(self._x(x), self._u(u))
+        return self._m.generalized_bias(x, u)
 
     def generalized_jacobian(self, x, point: PointLike = None) -> np.ndarray:
         """Generalized Jacobian ``J* = J_mX - J_0X H0⁻¹ H0m`` (6×N, eq. 110) of a point
         (default: the end effector). With zero momentum the point twist is ``J* qd``."""
         body, off = self._point(point)
-        return self._m.generalized_jacobian(self._x(x), body, off)
+        return self._m.generalized_jacobian(x, body, off)
 
     def point_twist(self, x, qd, point: PointLike = None, P=(0.0, 0.0, 0.0), L=(0.0, 0.0, 0.0)) -> np.ndarray:
         """Twist ``[v_X; w]`` of a point when the joints move at ``qd`` and the system has
@@ -343,12 +371,12 @@ class Robot:
     # ---- momentum, energy, CM ------------------------------------------------------------
     def momentum(self, x, u) -> Momentum:
         """Linear momentum and angular momentum about the origin, base CM and system CM."""
-        return Momentum(*self._m.momentum(self._x(x), self._u(u)))
+        return Momentum(*self._m.momentum(x, u))
 
     def kinetic_energy(self, x, u) -> float:
         """``T = ½ Σ (m_i |v_i|² + w_i^T I_i w_i)`` (equal to ``½ u^T H u``, eq. 27)."""
-        return self._m.kinetic_energy(self._x(x), self._u(u))
+        return self._m.kinetic_energy(x, u)
 
     def center_of_mass(self, x) -> np.ndarray:
         """System CM ``r_g`` in 𝒥."""
-        return self._m.center_of_mass(self._x(x))
+        return self._m.center_of_mass(x)

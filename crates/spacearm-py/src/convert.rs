@@ -1,10 +1,14 @@
 //! Conversions between numpy arrays / Python values and the core's types, and the mapping of
 //! core errors onto the Python exception classes defined in `spacearm.errors`.
 
-use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
-use numpy::ndarray::{Array2, Array3};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1};
+use nalgebra::{DMatrix, DVector, Dim, Matrix, Matrix3, Matrix6, RawStorage, Vector3, Vector6};
+use std::os::raw::c_int;
+
+use numpy::npyffi::flags::{NPY_ARRAY_ALIGNED, NPY_ARRAY_C_CONTIGUOUS};
+use numpy::npyffi::NPY_TYPES;
+use numpy::{PyArray1, PyArray2, PyArray3, PyArrayDescrMethods, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
 use spacearm_core::SpacearmError;
 
 /// Raise the `spacearm.errors` class that corresponds to a core error.
@@ -36,27 +40,83 @@ impl<T> OrRaise<T> for spacearm_core::Result<T> {
     }
 }
 
-/// Borrow a 1-D float64 array as a slice (the Python layer makes arrays contiguous).
-pub fn slice<'a>(py: Python<'_>, what: &str, a: &'a PyReadonlyArray1<'_, f64>) -> PyResult<&'a [f64]> {
-    a.as_slice().map_err(|_| {
-        to_py_err(py, SpacearmError::Dimension { what: format!("{what} (as a contiguous 1-D float array)"), expected: "contiguous".into(), got: 0 })
-    })
+/// A float64 vector argument of a binding. An argument that already is a 1-D, C-contiguous,
+/// aligned, native float64 numpy array is used in place (no copy, no borrow bookkeeping: the
+/// call holds the GIL throughout and runs no Python code between taking the slice and
+/// returning); anything else goes through `spacearm._arrays.vector`, the Python layer's own
+/// converter, so that conversion errors read exactly as they do there.
+pub struct VecArg<'py>(Bound<'py, PyArray1<f64>>);
+
+impl VecArg<'_> {
+    /// The values. Take slices only after every argument of the call has been converted (the
+    /// fallback conversion runs Python code).
+    pub fn as_slice(&self) -> &[f64] {
+        // SAFETY: contiguity and alignment were checked on construction; the array is kept
+        // alive by `self`, and no Python code runs while the slice is in use (see above).
+        unsafe { self.0.as_slice().unwrap_or(&[]) }
+    }
 }
 
-pub fn vec3(py: Python<'_>, what: &str, a: &PyReadonlyArray1<'_, f64>) -> PyResult<Vector3<f64>> {
-    let s = slice(py, what, a)?;
-    if s.len() != 3 {
-        return Err(to_py_err(py, SpacearmError::Dimension { what: what.into(), expected: "3".into(), got: s.len() }));
+fn usable_in_place<'py>(obj: &Bound<'py, PyAny>) -> Option<Bound<'py, PyArray1<f64>>> {
+    // Cheaper than `cast::<PyArray1<f64>>()`, whose dtype test goes through numpy's casting
+    // tables: an ndarray (or subclass), 1-D, dtype float64 in native byte order, C-contiguous
+    // and aligned.
+    let arr = obj.cast::<PyUntypedArray>().ok()?;
+    if arr.ndim() != 1 {
+        return None;
     }
-    Ok(Vector3::from_column_slice(s))
+    let dtype = arr.dtype();
+    let native = matches!(dtype.byteorder(), b'=' | b'|') || (cfg!(target_endian = "little") && dtype.byteorder() == b'<');
+    if dtype.num() != NPY_TYPES::NPY_DOUBLE as c_int || !native {
+        return None;
+    }
+    // SAFETY: `arr` is a live numpy array; reading its flags field is what PyArray_FLAGS does.
+    let flags = unsafe { (*arr.as_array_ptr()).flags };
+    let wanted = NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED;
+    if flags & wanted != wanted {
+        return None;
+    }
+    // SAFETY: dimensionality and element type were checked above.
+    Some(unsafe { arr.cast_unchecked::<PyArray1<f64>>() }.clone())
 }
 
-pub fn vec6(py: Python<'_>, what: &str, a: &PyReadonlyArray1<'_, f64>) -> PyResult<Vector6<f64>> {
-    let s = slice(py, what, a)?;
-    if s.len() != 6 {
-        return Err(to_py_err(py, SpacearmError::Dimension { what: what.into(), expected: "6".into(), got: s.len() }));
+/// Convert a vector argument named `what` (see [`VecArg`]).
+pub fn vec_arg<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<VecArg<'py>> {
+    if let Some(arr) = usable_in_place(obj) {
+        return Ok(VecArg(arr));
     }
-    Ok(Vector6::from_column_slice(s))
+    static VECTOR: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+    let py = obj.py();
+    let convert = VECTOR.get_or_try_init(py, || py.import("spacearm._arrays")?.getattr("vector").map(Bound::unbind))?;
+    let converted = convert.bind(py).call1((obj, what))?;
+    if let Some(arr) = usable_in_place(&converted) {
+        return Ok(VecArg(arr));
+    }
+    // `vector` returns contiguous float64; a misaligned buffer still needs a fresh copy.
+    let arr = converted.cast_into::<PyArray1<f64>>().map_err(PyErr::from)?;
+    let copy = PyArray1::from_vec(py, arr.to_vec().map_err(PyErr::from)?);
+    Ok(VecArg(copy))
+}
+
+/// A fixed-length argument (`offset`, momenta): [`vec_arg`] plus a length check that raises
+/// `ShapeError` naming `what`.
+pub fn vec_arg_n<'py>(obj: &Bound<'py, PyAny>, what: &str, n: usize) -> PyResult<VecArg<'py>> {
+    let v = vec_arg(obj, what)?;
+    let len = v.0.len();
+    if len != n {
+        return Err(to_py_err(obj.py(), SpacearmError::Dimension { what: what.into(), expected: n.to_string(), got: len }));
+    }
+    Ok(v)
+}
+
+/// A 3-vector argument (length checked, `ShapeError` naming `what`).
+pub fn vec3(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vector3<f64>> {
+    Ok(Vector3::from_column_slice(vec_arg_n(obj, what, 3)?.as_slice()))
+}
+
+/// A 6-vector argument (length checked, `ShapeError` naming `what`).
+pub fn vec6(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vector6<f64>> {
+    Ok(Vector6::from_column_slice(vec_arg_n(obj, what, 6)?.as_slice()))
 }
 
 pub fn array1<'py>(py: Python<'py>, v: &[f64]) -> Bound<'py, PyArray1<f64>> {
@@ -67,24 +127,54 @@ pub fn dvec<'py>(py: Python<'py>, v: &DVector<f64>) -> Bound<'py, PyArray1<f64>>
     PyArray1::from_slice(py, v.as_slice())
 }
 
+/// Any nalgebra matrix as a new C-ordered numpy array (filled in place, no intermediate).
+pub fn matrix<'py, R: Dim, C: Dim, S: RawStorage<f64, R, C>>(py: Python<'py>, m: &Matrix<f64, R, C, S>) -> Bound<'py, PyArray2<f64>> {
+    let (rows, cols) = m.shape();
+    // SAFETY: a fresh array owned by nobody else; every element is written below.
+    let out = unsafe { PyArray2::<f64>::new(py, [rows, cols], false) };
+    let dst = unsafe { out.as_slice_mut().expect("a new array is contiguous") };
+    for j in 0..cols {
+        for i in 0..rows {
+            dst[i * cols + j] = m[(i, j)];
+        }
+    }
+    out
+}
+
 pub fn dmat<'py>(py: Python<'py>, m: &DMatrix<f64>) -> Bound<'py, PyArray2<f64>> {
-    Array2::from_shape_fn((m.nrows(), m.ncols()), |(i, j)| m[(i, j)]).into_pyarray(py)
+    matrix(py, m)
 }
 
 pub fn mat6<'py>(py: Python<'py>, m: &Matrix6<f64>) -> Bound<'py, PyArray2<f64>> {
-    Array2::from_shape_fn((6, 6), |(i, j)| m[(i, j)]).into_pyarray(py)
+    matrix(py, m)
 }
 
 pub fn mat3<'py>(py: Python<'py>, m: &Matrix3<f64>) -> Bound<'py, PyArray2<f64>> {
-    Array2::from_shape_fn((3, 3), |(i, j)| m[(i, j)]).into_pyarray(py)
+    matrix(py, m)
 }
 
 pub fn stack_mat3<'py>(py: Python<'py>, ms: &[Matrix3<f64>]) -> Bound<'py, PyArray3<f64>> {
-    Array3::from_shape_fn((ms.len(), 3, 3), |(k, i, j)| ms[k][(i, j)]).into_pyarray(py)
+    // SAFETY: a fresh array owned by nobody else; every element is written below.
+    let out = unsafe { PyArray3::<f64>::new(py, [ms.len(), 3, 3], false) };
+    let dst = unsafe { out.as_slice_mut().expect("a new array is contiguous") };
+    for (k, m) in ms.iter().enumerate() {
+        for i in 0..3 {
+            for j in 0..3 {
+                dst[9 * k + 3 * i + j] = m[(i, j)];
+            }
+        }
+    }
+    out
 }
 
 pub fn stack_vec3<'py>(py: Python<'py>, vs: &[Vector3<f64>]) -> Bound<'py, PyArray2<f64>> {
-    Array2::from_shape_fn((vs.len(), 3), |(k, i)| vs[k][i]).into_pyarray(py)
+    // SAFETY: a fresh array owned by nobody else; every element is written below.
+    let out = unsafe { PyArray2::<f64>::new(py, [vs.len(), 3], false) };
+    let dst = unsafe { out.as_slice_mut().expect("a new array is contiguous") };
+    for (k, v) in vs.iter().enumerate() {
+        dst[3 * k..3 * k + 3].copy_from_slice(v.as_slice());
+    }
+    out
 }
 
 pub fn rows3(m: &Matrix3<f64>) -> [[f64; 3]; 3] {

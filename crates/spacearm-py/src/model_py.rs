@@ -2,7 +2,7 @@
 //! function. Argument checking beyond numpy conversion happens in the core.
 
 use nalgebra::Vector3;
-use numpy::{PyArray1, PyArray2, PyArray3, PyReadonlyArray1};
+use numpy::{PyArray1, PyArray2, PyArray3};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use spacearm_core as core;
@@ -141,9 +141,10 @@ impl PyModel {
     fn forward_kinematics<'py>(
         &mut self,
         py: Python<'py>,
-        x: PyReadonlyArray1<'py, f64>,
+        x: &Bound<'py, PyAny>,
     ) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
-        core::kinematics::forward_kinematics(&self.model, &mut self.data, slice(py, "x", &x)?).or_raise(py)?;
+        let x = vec_arg(x, "x")?;
+        core::kinematics::forward_kinematics(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
         let d = &self.data;
         Ok((
             stack_mat3(py, &d.body_to_world),
@@ -153,30 +154,34 @@ impl PyModel {
         ))
     }
 
-    fn point_position<'py>(&mut self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>, body: usize, offset: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let off = vec3(py, "offset", &offset)?;
-        core::kinematics::forward_kinematics(&self.model, &mut self.data, slice(py, "x", &x)?).or_raise(py)?;
+    fn point_position<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let off = vec3(offset, "offset")?;
+        let x = vec_arg(x, "x")?;
+        core::kinematics::forward_kinematics(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
         core::kinematics::check_body(&self.model, body).or_raise(py)?;
         Ok(array1(py, core::kinematics::point_position(&self.data, body, &off).as_slice()))
     }
 
-    fn point_jacobians<'py>(&mut self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>, body: usize, offset: PyReadonlyArray1<'py, f64>) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
-        let off = vec3(py, "offset", &offset)?;
-        core::kinematics::forward_kinematics(&self.model, &mut self.data, slice(py, "x", &x)?).or_raise(py)?;
+    fn point_jacobians<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+        let off = vec3(offset, "offset")?;
+        let x = vec_arg(x, "x")?;
+        core::kinematics::forward_kinematics(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
         let (j0, jm) = core::kinematics::point_jacobians(&self.model, &self.data, body, &off).or_raise(py)?;
         Ok((mat6(py, &j0), dmat(py, &jm)))
     }
 
-    fn link_jacobians<'py>(&mut self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>, body: usize) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
-        core::kinematics::forward_kinematics(&self.model, &mut self.data, slice(py, "x", &x)?).or_raise(py)?;
+    fn link_jacobians<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+        let x = vec_arg(x, "x")?;
+        core::kinematics::forward_kinematics(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
         core::kinematics::check_body(&self.model, body).or_raise(py)?;
         let (jt, jr) = core::kinematics::link_jacobians(&self.model, &self.data, body);
         Ok((dmat(py, &jt), dmat(py, &jr)))
     }
 
     /// The paper's inertia blocks (eqs. 27–36) as a dict.
-    fn inertia_blocks<'py>(&mut self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyDict>> {
-        let b = core::inertia::inertia_blocks(&self.model, &mut self.data, slice(py, "x", &x)?).or_raise(py)?;
+    fn inertia_blocks<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+        let x = vec_arg(x, "x")?;
+        let b = core::inertia::inertia_blocks(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
         let d = PyDict::new(py);
         d.set_item("M", b.total_mass)?;
         d.set_item("r_0g", array1(py, b.base_to_com.as_slice()))?;
@@ -190,19 +195,29 @@ impl PyModel {
         Ok(d)
     }
 
-    fn mass_matrix_crba<'py>(&mut self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let h = core::crba::crba(&self.model, &mut self.data, slice(py, "x", &x)?).or_raise(py)?;
+    /// The mass matrix `H` by the paper's Jacobian sums (eqs. 27–36) alone.
+    fn mass_matrix_paper<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let x = vec_arg(x, "x")?;
+        let b = core::inertia::inertia_blocks(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
+        Ok(dmat(py, &b.mass_matrix()))
+    }
+
+    fn mass_matrix_crba<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let x = vec_arg(x, "x")?;
+        let h = core::crba::crba(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
         Ok(dmat(py, h))
     }
 
-    fn base_inertia_inverse<'py>(&mut self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let h = core::crba::crba(&self.model, &mut self.data, slice(py, "x", &x)?).or_raise(py)?;
-        let (h0, _, _) = core::gjm::split_mass_matrix(h);
+    fn base_inertia_inverse<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let x = vec_arg(x, "x")?;
+        let h = core::crba::crba(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
+        let h0 = h.fixed_view::<6, 6>(0, 0).into_owned();
         Ok(mat6(py, &core::inertia::base_inertia_inverse(&h0).or_raise(py)?))
     }
 
-    fn bias_forces<'py>(&mut self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>, u: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let c = core::rnea::bias_forces(&self.model, &mut self.data, slice(py, "x", &x)?, slice(py, "u", &u)?).or_raise(py)?;
+    fn bias_forces<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
+        let c = core::rnea::bias_forces(&self.model, &mut self.data, x.as_slice(), u.as_slice()).or_raise(py)?;
         Ok(dvec(py, c))
     }
 
@@ -210,27 +225,31 @@ impl PyModel {
     fn inverse_dynamics<'py>(
         &mut self,
         py: Python<'py>,
-        x: PyReadonlyArray1<'py, f64>,
-        u: PyReadonlyArray1<'py, f64>,
-        du: PyReadonlyArray1<'py, f64>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+        du: &Bound<'py, PyAny>,
         wrenches: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let (x, u, du) = (vec_arg(x, "x")?, vec_arg(u, "u")?, vec_arg(du, "du")?);
         let ext = self::wrenches(py, wrenches)?;
-        let f = core::rnea::rnea(&self.model, &mut self.data, slice(py, "x", &x)?, slice(py, "u", &u)?, slice(py, "du", &du)?, &ext).or_raise(py)?;
+        let f = core::rnea::rnea(&self.model, &mut self.data, x.as_slice(), u.as_slice(), du.as_slice(), &ext).or_raise(py)?;
         Ok(dvec(py, f))
     }
 
+    /// `f` is converted before `x` and `u`, in the order `Robot.forward_dynamics` always used.
     #[pyo3(signature = (x, u, f, wrenches=None))]
     fn forward_dynamics_aba<'py>(
         &mut self,
         py: Python<'py>,
-        x: PyReadonlyArray1<'py, f64>,
-        u: PyReadonlyArray1<'py, f64>,
-        f: PyReadonlyArray1<'py, f64>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+        f: &Bound<'py, PyAny>,
         wrenches: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let f = vec_arg(f, "f")?;
+        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
         let ext = self::wrenches(py, wrenches)?;
-        let a = core::aba::aba(&self.model, &mut self.data, slice(py, "x", &x)?, slice(py, "u", &u)?, slice(py, "f", &f)?, &ext).or_raise(py)?;
+        let a = core::aba::aba(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f.as_slice(), &ext).or_raise(py)?;
         Ok(dvec(py, a))
     }
 
@@ -238,73 +257,97 @@ impl PyModel {
     fn forward_dynamics_mass_matrix<'py>(
         &mut self,
         py: Python<'py>,
-        x: PyReadonlyArray1<'py, f64>,
-        u: PyReadonlyArray1<'py, f64>,
-        f: PyReadonlyArray1<'py, f64>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+        f: &Bound<'py, PyAny>,
         wrenches: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let f = vec_arg(f, "f")?;
+        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
         let ext = self::wrenches(py, wrenches)?;
-        let a = core::dynamics::forward_dynamics_via_mass_matrix(&self.model, &mut self.data, slice(py, "x", &x)?, slice(py, "u", &u)?, slice(py, "f", &f)?, &ext)
+        let a = core::dynamics::compute_forward_dynamics_via_mass_matrix(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f.as_slice(), &ext)
             .or_raise(py)?;
-        Ok(dvec(py, &a))
+        Ok(dvec(py, a))
     }
 
     fn reduced_forward_dynamics<'py>(
         &mut self,
         py: Python<'py>,
-        x: PyReadonlyArray1<'py, f64>,
-        u: PyReadonlyArray1<'py, f64>,
-        tau: PyReadonlyArray1<'py, f64>,
-        base_wrench: PyReadonlyArray1<'py, f64>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+        tau: &Bound<'py, PyAny>,
+        base_wrench: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let fb = vec6(py, "base_wrench", &base_wrench)?;
-        let a = core::gjm::reduced_forward_dynamics(&self.model, &mut self.data, slice(py, "x", &x)?, slice(py, "u", &u)?, slice(py, "tau", &tau)?, &fb).or_raise(py)?;
-        Ok(dvec(py, &a))
+        let fb = vec6(base_wrench, "base_wrench")?;
+        let (x, u, tau) = (vec_arg(x, "x")?, vec_arg(u, "u")?, vec_arg(tau, "tau")?);
+        let a = core::gjm::compute_reduced_forward_dynamics(&self.model, &mut self.data, x.as_slice(), u.as_slice(), tau.as_slice(), &fb).or_raise(py)?;
+        Ok(dvec(py, a))
     }
 
-    fn generalized_inertia<'py>(&mut self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let h = core::gjm::generalized_inertia(&self.model, &mut self.data, slice(py, "x", &x)?).or_raise(py)?;
-        Ok(dmat(py, &h))
+    /// Reduced forward dynamics from the full generalized force `f = [F_b; τ]` (what
+    /// `Robot.forward_dynamics(method="reduced")` passes), without splitting it in Python.
+    fn reduced_forward_dynamics_f<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>, f: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let f = vec_arg(f, "f")?;
+        let nu = self.model.nu();
+        let n_f = f.as_slice().len();
+        if n_f != nu {
+            return Err(to_py_err(py, core::SpacearmError::Dimension { what: "f".into(), expected: format!("6+N = {nu}"), got: n_f }));
+        }
+        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
+        let fs = f.as_slice();
+        let fb = nalgebra::Vector6::from_column_slice(&fs[..6]);
+        let a = core::gjm::compute_reduced_forward_dynamics(&self.model, &mut self.data, x.as_slice(), u.as_slice(), &fs[6..], &fb).or_raise(py)?;
+        Ok(dvec(py, a))
     }
 
-    fn generalized_bias<'py>(&mut self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>, u: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let c = core::gjm::generalized_bias(&self.model, &mut self.data, slice(py, "x", &x)?, slice(py, "u", &u)?).or_raise(py)?;
-        Ok(dvec(py, &c))
+    fn generalized_inertia<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let x = vec_arg(x, "x")?;
+        let h = core::gjm::compute_generalized_inertia(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
+        Ok(dmat(py, h))
     }
 
-    fn generalized_jacobian<'py>(&mut self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>, body: usize, offset: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let off = vec3(py, "offset", &offset)?;
-        let j = core::gjm::generalized_jacobian(&self.model, &mut self.data, slice(py, "x", &x)?, body, &off).or_raise(py)?;
-        Ok(dmat(py, &j))
+    fn generalized_bias<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
+        let c = core::gjm::compute_generalized_bias(&self.model, &mut self.data, x.as_slice(), u.as_slice()).or_raise(py)?;
+        Ok(dvec(py, c))
+    }
+
+    fn generalized_jacobian<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let off = vec3(offset, "offset")?;
+        let x = vec_arg(x, "x")?;
+        let j = core::gjm::compute_generalized_jacobian(&self.model, &mut self.data, x.as_slice(), body, &off).or_raise(py)?;
+        Ok(dmat(py, j))
     }
 
     fn momentum_twist<'py>(
         &mut self,
         py: Python<'py>,
-        x: PyReadonlyArray1<'py, f64>,
+        x: &Bound<'py, PyAny>,
         body: usize,
-        offset: PyReadonlyArray1<'py, f64>,
-        linear: PyReadonlyArray1<'py, f64>,
-        angular_origin: PyReadonlyArray1<'py, f64>,
+        offset: &Bound<'py, PyAny>,
+        linear: &Bound<'py, PyAny>,
+        angular_origin: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let off = vec3(py, "offset", &offset)?;
-        let p = vec3(py, "linear momentum", &linear)?;
-        let l = vec3(py, "angular momentum", &angular_origin)?;
-        let t = core::gjm::momentum_twist(&self.model, &mut self.data, slice(py, "x", &x)?, body, &off, &p, &l).or_raise(py)?;
+        let off = vec3(offset, "offset")?;
+        let p = vec3(linear, "linear momentum")?;
+        let l = vec3(angular_origin, "angular momentum")?;
+        let x = vec_arg(x, "x")?;
+        let t = core::gjm::momentum_twist(&self.model, &mut self.data, x.as_slice(), body, &off, &p, &l).or_raise(py)?;
         Ok(array1(py, t.as_slice()))
     }
 
     fn base_velocity_from_momentum<'py>(
         &mut self,
         py: Python<'py>,
-        x: PyReadonlyArray1<'py, f64>,
-        qd: PyReadonlyArray1<'py, f64>,
-        linear: PyReadonlyArray1<'py, f64>,
-        angular_origin: PyReadonlyArray1<'py, f64>,
+        x: &Bound<'py, PyAny>,
+        qd: &Bound<'py, PyAny>,
+        linear: &Bound<'py, PyAny>,
+        angular_origin: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let p = vec3(py, "linear momentum", &linear)?;
-        let l = vec3(py, "angular momentum", &angular_origin)?;
-        let v = core::gjm::base_velocity_from_momentum(&self.model, &mut self.data, slice(py, "x", &x)?, slice(py, "qd", &qd)?, &p, &l).or_raise(py)?;
+        let p = vec3(linear, "linear momentum")?;
+        let l = vec3(angular_origin, "angular momentum")?;
+        let (x, qd) = (vec_arg(x, "x")?, vec_arg(qd, "qd")?);
+        let v = core::gjm::base_velocity_from_momentum(&self.model, &mut self.data, x.as_slice(), qd.as_slice(), &p, &l).or_raise(py)?;
         Ok(array1(py, v.as_slice()))
     }
 
@@ -313,10 +356,11 @@ impl PyModel {
     fn momentum<'py>(
         &mut self,
         py: Python<'py>,
-        x: PyReadonlyArray1<'py, f64>,
-        u: PyReadonlyArray1<'py, f64>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
     ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
-        let m = core::momentum::momentum(&self.model, &mut self.data, slice(py, "x", &x)?, slice(py, "u", &u)?).or_raise(py)?;
+        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
+        let m = core::momentum::momentum(&self.model, &mut self.data, x.as_slice(), u.as_slice()).or_raise(py)?;
         Ok((
             array1(py, m.linear.as_slice()),
             array1(py, m.angular_about_origin.as_slice()),
@@ -325,12 +369,14 @@ impl PyModel {
         ))
     }
 
-    fn kinetic_energy(&mut self, py: Python<'_>, x: PyReadonlyArray1<'_, f64>, u: PyReadonlyArray1<'_, f64>) -> PyResult<f64> {
-        core::momentum::kinetic_energy(&self.model, &mut self.data, slice(py, "x", &x)?, slice(py, "u", &u)?).or_raise(py)
+    fn kinetic_energy<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<f64> {
+        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
+        core::momentum::kinetic_energy(&self.model, &mut self.data, x.as_slice(), u.as_slice()).or_raise(py)
     }
 
-    fn center_of_mass<'py>(&mut self, py: Python<'py>, x: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let c = core::momentum::center_of_mass(&self.model, &mut self.data, slice(py, "x", &x)?).or_raise(py)?;
+    fn center_of_mass<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let x = vec_arg(x, "x")?;
+        let c = core::momentum::center_of_mass(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
         Ok(array1(py, c.as_slice()))
     }
 
