@@ -20,7 +20,6 @@ to the root body (``appendBodyToJoint``), so it too comes from urdfdom, not from
 
 from __future__ import annotations
 
-import functools
 import os
 import site
 
@@ -33,6 +32,7 @@ import spacearm  # noqa: E402
 from spacearm.rotations import quat_from_matrix, quat_from_rpy, quat_to_matrix  # noqa: E402
 from spacearm.urdf import load_urdf  # noqa: E402
 from random_models import assert_rel_close  # noqa: E402
+from random_urdf import random_urdf  # noqa: E402
 
 RTOL = 1e-10
 
@@ -58,7 +58,8 @@ ROBOTS = {
 BUS_MASS = 900.0
 BUS_INERTIA = np.array([[320.0, 4.0, -2.0], [4.0, 280.0, 3.0], [-2.0, 3.0, 350.0]])
 MOUNT_AT = (0.8, -0.1, 0.5, 0.3, -0.2, 0.4)
-CASES = [(r, m) for r in ROBOTS for m in ("free", "mounted")]
+RANDOM_SEEDS = range(6)  # random trees (random_urdf.py): prismatic joints, rotated inertials, fixed links
+CASES = [(r, m) for r in list(ROBOTS) + [f"random{s}" for s in RANDOM_SEEDS] for m in ("free", "mounted")]
 
 
 def skew(a):
@@ -70,9 +71,14 @@ def bus() -> spacearm.Robot:
 
 
 class Case:
-    def __init__(self, robot_name: str, mode: str):
-        rel, opts = ROBOTS[robot_name]
-        path = os.path.join(robots_dir(), rel)
+    def __init__(self, robot_name: str, mode: str, tmp_dir: str):
+        if robot_name.startswith("random"):
+            path, opts = os.path.join(tmp_dir, f"{robot_name}.urdf"), {}
+            with open(path, "w") as fh:
+                fh.write(random_urdf(int(robot_name[6:])))
+        else:
+            rel, opts = ROBOTS[robot_name]
+            path = os.path.join(robots_dir(), rel)
         if mode == "free":
             self.robot = load_urdf(path, **opts)
         else:
@@ -148,20 +154,28 @@ class Case:
         return J[:, self.perm] - J[:, :6] @ mbb_inv_mbj
 
 
-@functools.lru_cache(maxsize=None)
-def case(robot_name: str, mode: str) -> Case:
-    return Case(robot_name, mode)
+_CASES = {}
+
+
+@pytest.fixture
+def case(tmp_path_factory):
+    def get(robot_name: str, mode: str) -> Case:
+        if (robot_name, mode) not in _CASES:
+            _CASES[robot_name, mode] = Case(robot_name, mode, str(tmp_path_factory.mktemp("urdf")))
+        return _CASES[robot_name, mode]
+
+    return get
 
 
 @pytest.mark.parametrize("robot_name,mode", CASES)
-def test_mass_matrix(robot_name, mode):
+def test_mass_matrix(case, robot_name, mode):
     c = case(robot_name, mode)
     H = c.T.T @ c.mass_matrix_pin() @ c.T
     assert_rel_close(c.robot.mass_matrix(c.x), H, f"urdf {robot_name} {mode} H")
 
 
 @pytest.mark.parametrize("robot_name,mode", CASES)
-def test_bias(robot_name, mode):
+def test_bias(case, robot_name, mode):
     c = case(robot_name, mode)
     nle = pin.nonLinearEffects(c.model, c.data, c.q, c.v)
     ref = c.T.T @ (nle + c.mass_matrix_pin() @ c.tdot_u)
@@ -169,7 +183,7 @@ def test_bias(robot_name, mode):
 
 
 @pytest.mark.parametrize("robot_name,mode", CASES)
-def test_forward_dynamics(robot_name, mode):
+def test_forward_dynamics(case, robot_name, mode):
     c = case(robot_name, mode)
     tau = np.linalg.solve(c.T.T, c.f)  # f = Tᵀ τ_pin
     a = pin.aba(c.model, c.data, c.q, c.v, tau)
@@ -178,19 +192,20 @@ def test_forward_dynamics(robot_name, mode):
 
 
 @pytest.mark.parametrize("robot_name,mode", CASES)
-def test_generalized_inertia(robot_name, mode):
+def test_generalized_inertia(case, robot_name, mode):
     c = case(robot_name, mode)
     ref, _ = c.reduced_pin(c.mass_matrix_pin())
     assert_rel_close(c.robot.generalized_inertia(c.x), ref, f"urdf {robot_name} {mode} H*")
 
 
 @pytest.mark.parametrize("robot_name,mode", CASES)
-def test_generalized_jacobians(robot_name, mode):
+def test_generalized_jacobians(case, robot_name, mode):
     c = case(robot_name, mode)
     r = c.robot
     # every merged URDF link is a point of spacearm and a frame of Pinocchio
     points = [p for p in r.point_names if not p.endswith("_frame")]
-    assert points, "the URDF should have fixed-joint links (end-effector frames)"
+    if not robot_name.startswith("random"):
+        assert points, "the URDF should have fixed-joint links (end-effector frames)"
     for p in points:
         ref = c.gjm_pin(p)
         if np.linalg.norm(ref) < 1e-6:  # a frame on the base does not move with the joints
