@@ -2,8 +2,9 @@
 
 ``spacearm inspect MODEL [--q Q1,Q2,...]`` prints the model summary (bodies, joints, total
 mass) and, at the given or initial configuration, ``H0``, ``H*`` and the end-effector ``J*``
-with their conditioning. ``MODEL`` is a preset name (``planar4``, ``spatial6``) or a TOML
-model file (``docs/model-format.md``).
+with their conditioning. ``MODEL`` is a preset name (``planar4``, ``spatial6``), a TOML
+model file (``docs/model-format.md``) or a URDF file (``docs/urdf.md``; ``--mount-on SPACECRAFT
+--at x,y,z,roll,pitch,yaw`` mounts it on a spacecraft base).
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from typing import Optional
 
 import numpy as np
 
@@ -21,15 +23,42 @@ from .robot import Robot
 __all__ = ["main", "load_model"]
 
 
-def load_model(spec: str) -> Robot:
-    """A preset by name, or a model file by path."""
+def load_model(spec: str, mount_on: Optional[str] = None, at: Optional[str] = None, **urdf_options) -> Robot:
+    """A preset by name, or a model file (``.toml``, ``.urdf``) by path.
+
+    ``mount_on`` (a preset or ``.toml`` file, the spacecraft) and ``at`` (``"x,y,z,roll,pitch,yaw"``,
+    m and rad, the URDF base link frame in the spacecraft base frame, from its CM) mount a URDF
+    arm on a spacecraft instead of making its root link the free-flying base (docs/urdf.md).
+    ``urdf_options`` (``prefix``, ``mimic``, ...) go to :func:`spacearm.urdf.load_urdf`.
+    """
+    if spec.lower().endswith(".urdf") and os.path.exists(spec):
+        from .urdf import load_urdf
+
+        if mount_on is None:
+            if at is not None:
+                raise SpacearmError("--at needs --mount-on (the spacecraft to mount the URDF on)")
+            return load_urdf(spec, **urdf_options)
+        pose = _parse_numbers("--at", at, 6, "x,y,z,roll,pitch,yaw (m, rad)") if at is not None else None
+        return load_urdf(spec, mount_on=load_model(mount_on), at=pose, **urdf_options)
+    if mount_on is not None or at is not None or any(v is not None for v in urdf_options.values()):
+        raise SpacearmError("--mount-on, --at, --prefix and --mimic apply to URDF models (.urdf) only")
     if spec in presets.NAMES:
         return presets.get(spec)
     if os.path.exists(spec):
         if spec.lower().endswith(".toml"):
             return Robot.from_toml(spec)
-        raise SpacearmError(f"cannot read '{spec}': model files must end in .toml")
+        raise SpacearmError(f"cannot read '{spec}': model files must end in .toml or .urdf")
     raise SpacearmError(f"'{spec}' is neither a preset ({', '.join(presets.NAMES)}) nor an existing model file")
+
+
+def _parse_numbers(option: str, text: str, n: int, meaning: str) -> np.ndarray:
+    try:
+        values = np.array([float(v) for v in text.replace(" ", "").split(",") if v != ""])
+    except ValueError:
+        raise SpacearmError(f"{option} must be {n} comma-separated numbers {meaning}, got '{text}'") from None
+    if values.shape[0] != n or not np.all(np.isfinite(values)):
+        raise SpacearmError(f"{option} must be {n} finite comma-separated numbers {meaning}, got '{text}'")
+    return values
 
 
 def _parse_q(text: str, n: int) -> np.ndarray:
@@ -102,12 +131,20 @@ def main(argv=None) -> int:
     parser.add_argument("--version", action="version", version=f"spacearm {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     p_inspect = sub.add_parser("inspect", help="print a model summary and H0, H*, J* at a configuration")
-    p_inspect.add_argument("model", help=f"a preset ({', '.join(presets.NAMES)}) or a .toml model file")
+    p_inspect.add_argument("model", help=f"a preset ({', '.join(presets.NAMES)}), a .toml model file or a .urdf file")
+    p_inspect.add_argument("--mount-on", help="mount the URDF on this spacecraft (a preset or .toml file) instead of "
+                                              "making its root link the free-flying base")
+    p_inspect.add_argument("--at", help="with --mount-on: x,y,z,roll,pitch,yaw of the URDF base link in the spacecraft "
+                                        "base frame, from its CM (m, rad; default 0)")
+    p_inspect.add_argument("--prefix", help="URDF only: prefix for the URDF's link, joint and point names")
+    p_inspect.add_argument("--mimic", choices=("error", "independent"),
+                           help="URDF only: refuse <mimic> joints (default) or load them as independent joints")
     p_inspect.add_argument("--q", help="joint coordinates, comma-separated (default: the model's initial q)")
     args = parser.parse_args(argv)
     try:
         if args.command == "inspect":
-            robot = load_model(args.model)
+            options = {k: v for k, v in (("prefix", args.prefix), ("mimic", args.mimic)) if v is not None}
+            robot = load_model(args.model, mount_on=args.mount_on, at=args.at, **options)
             q = None if args.q is None else _parse_q(args.q, robot.n_dof)
             inspect(robot, q)
     except SpacearmError as exc:

@@ -200,34 +200,39 @@ class _Importer:
             carried[b.parent] += carried[k]
 
     # ---- model --------------------------------------------------------------------------
-    def _limits(self, j: UrdfJoint) -> dict:
-        return dict(j.limits)
-
-    def build(self, name: str, mount_on: Optional[Robot], mount_body: Optional[str], at, end_effector: Optional[str]) -> Robot:
+    def build(self, name: str, mount_on: Optional[Robot], mount_body: Optional[str], at, end_effector: Optional[str],
+              prefix: str = "") -> Robot:
+        p = prefix
         base = self.bodies[0]
         base_line = self.urdf.links[self.base_link].line
         if mount_on is None:
             try:
-                builder = RobotBuilder(name, base.mass, base.inertia, base_name=base.name)
+                builder = RobotBuilder(name, base.mass, base.inertia, base_name=p + base.name)
             except SpacearmError as exc:
                 raise self.fail(base_line, f"link '{base.name}' is the free-flying base (with the links welded to it by "
                                            f"fixed joints) but {exc}; name another base_link or mount the robot on a "
                                            "spacecraft base (mount_on=...)") from None
         else:
             builder = _copy_of(mount_on, name)
+            taken = set(mount_on.body_names) | set(mount_on.point_names)
+            clash = sorted(taken & {p + link for link in self.body_of_link})
+            if clash:
+                raise ModelFileError(f"{self.urdf.source}: URDF link names {clash[:5]} are already bodies or points of the "
+                                     "spacecraft it is mounted on; pass a prefix (prefix='arm_', CLI --prefix) to rename "
+                                     "the URDF's links and joints")
             pose = np.asarray(at if at is not None else np.zeros(6), dtype=float)
             if pose.shape != (6,) or not np.all(np.isfinite(pose)):
                 raise ValueError(f"at must be 6 finite numbers (x, y, z, roll, pitch, yaw), got {at!r}")
             parent = mount_body if mount_body is not None else mount_on.body_names[0]
-            self._add(builder, base_line, base.name, parent=parent, joint="fixed", origin=pose[:3],
+            self._add(builder, base_line, p + base.name, parent=parent, joint="fixed", origin=pose[:3],
                       rotation=quat_from_rpy(*pose[3:]), com=base.com, mass=base.mass, inertia=base.inertia,
-                      joint_name=f"{base.name}_mount")
+                      joint_name=f"{p}{base.name}_mount")
         for b in self.bodies[1:]:
             parent = self.bodies[b.parent]
-            self._add(builder, b.joint.line, b.name, parent=parent.name,
+            self._add(builder, b.joint.line, p + b.name, parent=p + parent.name,
                       joint="prismatic" if b.joint.kind == "prismatic" else "revolute",
                       axis=b.axis, origin=b.joint_in_parent.t - parent.com, rotation=quat_from_matrix(b.joint_in_parent.R),
-                      com=b.com, mass=b.mass, inertia=b.inertia, joint_name=b.joint.name, limits=self._limits(b.joint))
+                      com=b.com, mass=b.mass, inertia=b.inertia, joint_name=p + b.joint.name, limits=dict(b.joint.limits))
         points = {}
         for link, body in self.body_of_link.items():
             if self.bodies[body].name != link:
@@ -245,11 +250,11 @@ class _Importer:
         for point, (body, link) in points.items():
             b = self.bodies[body]
             try:
-                builder.add_point(point, body=b.name, offset=self.pose_of_link[link].t - b.com)
+                builder.add_point(p + point, body=p + b.name, offset=self.pose_of_link[link].t - b.com)
             except SpacearmError as exc:
                 raise self.fail(self.urdf.links[link].line, f"link '{link}': {exc}") from None
         if ee_point is not None:
-            builder.set_end_effector(ee_point)
+            builder.set_end_effector(p + ee_point)
         try:
             return builder.build()
         except SpacearmError as exc:
@@ -290,11 +295,12 @@ def loads_urdf(
     end_effector: Optional[str] = None,
     mimic: str = "error",
     name: Optional[str] = None,
+    prefix: str = "",
 ) -> Robot:
     """Build a :class:`~spacearm.Robot` from URDF text (``str`` or ``bytes``); see :func:`load_urdf`."""
     urdf = parse_urdf(text, source, mimic=mimic)
     importer = _Importer(urdf, base_link)
-    return importer.build(name or urdf.name, mount_on, mount_body, at, end_effector)
+    return importer.build(name or urdf.name, mount_on, mount_body, at, end_effector, str(prefix))
 
 
 def load_urdf(path, **kwargs) -> Robot:
@@ -307,6 +313,9 @@ def load_urdf(path, **kwargs) -> Robot:
     its CM; m and rad, URDF's ``R = Rz(yaw) Ry(pitch) Rx(roll)``). ``end_effector``: a URDF link
     name (default: the only leaf link, if there is exactly one). ``mimic``: ``"error"`` (default)
     or ``"independent"`` (load ``<mimic>`` joints as ordinary joints, as Pinocchio does).
+    ``prefix``: prepended to every URDF link, joint and point name (for mounting two arms, or an
+    arm whose link names clash with the spacecraft's). ``name``: the model name (default: the
+    ``<robot name>``).
 
     Raises :class:`~spacearm.ModelFileError` with ``file:line:`` for every problem in the file,
     and ``OSError`` if it cannot be read.
