@@ -9,7 +9,9 @@ Why this parser: the XML is read by the standard library's expat parser through
 untrusted XML). With ``forbid_entities`` and ``forbid_external`` it refuses every entity
 declaration and every external DTD or entity reference before anything is expanded, so a
 "billion laughs" document or an ``<!ENTITY x SYSTEM "file:///etc/passwd">`` is a
-:class:`~spacearm.ModelFileError`, never an expansion. expat also reports the line and column
+:class:`~spacearm.ModelFileError`, never an expansion. ``forbid_dtd`` refuses any
+``<!DOCTYPE>`` as well: URDF has no DTD, and with an external DTD subset expat would otherwise
+silently skip undefined entity references (nothing is fetched, but a name could become empty). expat also reports the line and column
 of each element, which the error messages cite. A Rust crate (``urdf-rs``, ``roxmltree``)
 would have meant a second XML stack in the core and a rebuild for every change; the model
 itself is still validated by the Rust core when it is built.
@@ -104,7 +106,7 @@ class _LineRecorder(ET.TreeBuilder):
 
 def _xml_tree(text, source: str) -> Tuple[ET.Element, Dict[int, int]]:
     target = _LineRecorder()
-    parser = DefusedXMLParser(target=target, forbid_dtd=False, forbid_entities=True, forbid_external=True)
+    parser = DefusedXMLParser(target=target, forbid_dtd=True, forbid_entities=True, forbid_external=True)
     target.parser = parser
     try:
         parser.feed(text)
@@ -190,8 +192,8 @@ class _Reader:
         if m_el is None:
             raise self.fail(el, f"{who}: <inertial> needs a <mass value=...>")
         mass = self.number(m_el, "value", who)
-        if not math.isfinite(mass):
-            raise self.fail(m_el, f"{who}: mass must be finite, got {mass}")
+        if not (math.isfinite(mass) and mass >= 0):
+            raise self.fail(m_el, f"{who}: mass must be finite and >= 0 kg, got {mass}")
         i_el = self.single(el, "inertia", who)
         if i_el is None:
             raise self.fail(el, f"{who}: <inertial> needs an <inertia ixx=... iyy=... izz=...>")
@@ -202,6 +204,17 @@ class _Reader:
         # URDF's ixy, ixz, iyz are the off-diagonal entries of the inertia matrix (not products
         # of inertia with the opposite sign), as in spacearm's TOML format.
         inertia = np.array([[v["ixx"], v["ixy"], v["ixz"]], [v["ixy"], v["iyy"], v["iyz"]], [v["ixz"], v["iyz"], v["izz"]]])
+        # Positive semi-definiteness is checked here, per link, because merging fixed links
+        # could hide a negative moment inside a good total (tolerance: 1e-9 of the largest entry,
+        # plus 1e-15 kg m^2 for inertias that are zero up to rounding). The triangle inequality
+        # is left to the merged body (checked when the model is built): published URDFs often
+        # give massless sensor frames rod-like inertias that violate it and vanish in the merge.
+        scale = float(np.abs(inertia).max())
+        if scale > 1e100:
+            raise self.fail(i_el, f"{who}: inertia entries beyond 1e100 kg m^2 (a units mistake?)")
+        moments = np.linalg.eigvalsh(inertia)
+        if moments[0] < -(1e-9 * scale + 1e-15):
+            raise self.fail(i_el, f"{who}: inertia must be positive semi-definite, principal moments {moments.tolist()} kg m^2")
         return UrdfInertial(mass, origin, rotation, inertia, self.line(el))
 
     def link(self, el: ET.Element) -> UrdfLink:
