@@ -34,6 +34,8 @@ class RobotBuilder:
 
     def __init__(self, name: str, base_mass: float, base_inertia, base_name: str = "base"):
         self._b = _core.ModelBuilder(str(name), str(base_name), float(base_mass), matrix3(base_inertia, "base_inertia"))
+        self._base_name = str(base_name)
+        self._n_wheels = 0
 
     def add_link(
         self,
@@ -92,6 +94,50 @@ class RobotBuilder:
             lim,
         )
         return self
+
+    def add_reaction_wheel(
+        self,
+        axis: Sequence[float],
+        rotor_inertia: float,
+        position: Sequence[float] = (0.0, 0.0, 0.0),
+        max_torque: float = np.inf,
+        max_speed: float = np.inf,
+        *,
+        name: Optional[str] = None,
+        mass: float = 0.0,
+        transverse_inertia: Optional[float] = None,
+    ) -> "RobotBuilder":
+        """Add a reaction wheel: a symmetric rotor on a revolute joint of the base (DESIGN §2).
+
+        The wheel is an ordinary link (``wheel1``, ``wheel2``, … unless ``name`` is given; joint
+        ``<name>_joint``) whose coordinate is the rotor angle, so its torque is an internal
+        joint torque and the momentum bookkeeping stays exact. ``axis``: spin axis in the base
+        frame (normalized); ``rotor_inertia``: spin-axis moment, kg·m²; ``position``: rotor CM
+        from the base CM in the base frame, m; ``max_torque`` (N·m) and ``max_speed`` (rad/s)
+        are kept as the joint's effort and velocity limits. ``mass`` (kg, default 0: the wheel's
+        mass counted in the base) and ``transverse_inertia`` (default ``0.6 · rotor_inertia``: a
+        disc 0.77 radii thick; 0.5 is the thin-disc limit, where the triangle inequality of
+        the inertia is an equality that MuJoCo rejects) complete the rotor; its inertia ``I_t E + (I_s − I_t) k kᵀ`` is symmetric
+        about the axis, so it does not change as the rotor spins.
+        """
+        k = vector(axis, "reaction wheel axis", 3)
+        norm = float(np.linalg.norm(k))
+        if not np.isfinite(norm) or norm <= 1e-9:
+            raise ValueError(f"reaction wheel axis must be a finite non-zero vector, got {list(k)}")
+        k = k / norm
+        i_s = float(rotor_inertia)
+        if not (np.isfinite(i_s) and i_s > 0):
+            raise ValueError(f"reaction wheel rotor_inertia must be > 0 kg m^2, got {rotor_inertia}")
+        i_t = 0.6 * i_s if transverse_inertia is None else float(transverse_inertia)
+        for what, v in (("max_torque", max_torque), ("max_speed", max_speed)):
+            if not float(v) > 0:
+                raise ValueError(f"reaction wheel {what} must be > 0, got {v}")
+        self._n_wheels += 1
+        name = f"wheel{self._n_wheels}" if name is None else str(name)
+        inertia = i_t * np.eye(3) + (i_s - i_t) * np.outer(k, k)
+        return self.add_link(name, parent=self._base_name, joint="revolute", axis=k, origin=position,
+                             com=(0.0, 0.0, 0.0), mass=mass, inertia=inertia, joint_name=f"{name}_joint",
+                             limits={"velocity": float(max_speed), "effort": float(max_torque)})
 
     def add_point(self, name: str, *, body: str, offset: Sequence[float] = (0.0, 0.0, 0.0)) -> "RobotBuilder":
         """Add a named point fixed to ``body`` at ``offset`` (body frame, from its CM)."""

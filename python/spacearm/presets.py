@@ -1,5 +1,6 @@
 """The two models of the paper's case studies (Wilde et al. 2018, §6), with exactly the
-parameters of the project's issue #2 (defined once, in the Rust core's ``presets`` module).
+parameters of the project's issue #2, and a dual-arm servicer (defined once, in the Rust core's
+``presets`` module).
 
 Both follow the paper's link convention: every link frame aligns with the base frame at
 ``q = 0``, links extend along their x axis with the CM at mid-length, joint ``i+1`` sits at the
@@ -11,10 +12,10 @@ from __future__ import annotations
 from . import _core
 from .robot import Robot
 
-__all__ = ["planar4", "spatial6", "NAMES", "get"]
+__all__ = ["planar4", "spatial6", "dual_arm", "NAMES", "get"]
 
 #: Preset names, as accepted by :func:`get` and the CLI.
-NAMES = ("planar4", "spatial6")
+NAMES = ("planar4", "spatial6", "dual_arm")
 
 
 def planar4() -> Robot:
@@ -36,6 +37,18 @@ def spatial6() -> Robot:
     15, 12, 4, 3, 3 kg; 0.1 m square bars; initial angles [0, π/4, −π/2, 0, π/4, 0].
     """
     return Robot(_core.preset("spatial6"))
+
+
+def dual_arm() -> Robot:
+    """Dual-arm servicer: two 6-DOF arms on a 600 kg, 1.2 × 1.0 × 1.0 m box (a branched tree).
+
+    Base: Ixx 100, Iyy = Izz 122 kg·m². First joints at (0.6, ±0.35, 0) m; axes z, y, y, x, y, x;
+    lengths 0.2, 0.8, 0.8, 0.15, 0.15, 0.2 m; masses 6, 10, 8, 2, 1.5, 1.5 kg; 0.08 m square
+    bars. ``q[0:6]`` moves the left arm (``left_joint1..6``), ``q[6:12]`` the right one; points
+    ``left_tool`` (the end effector) and ``right_tool`` at the tips: pass either to
+    :meth:`~spacearm.Robot.generalized_jacobian`.
+    """
+    return Robot(_core.preset("dual_arm"))
 
 
 def get(name: str) -> Robot:

@@ -1,5 +1,6 @@
 //! The two models of the paper's case studies (Wilde et al. 2018, §6) with the parameters of
-//! the project's issue #2. The Python presets (`spacearm.presets`) are these same models.
+//! the project's issue #2, and a dual-arm servicer (issue #3). The Python presets
+//! (`spacearm.presets`) are these same models.
 //!
 //! Both follow the paper's link convention: every link frame aligns with the base frame at
 //! `q = 0`, links extend along their x axis with the CM at mid-length, and joint `i+1` sits at
@@ -12,7 +13,7 @@ use crate::joint::{JointLimits, JointType};
 use crate::model::{LinkSpec, Model, ModelBuilder};
 
 /// Names of the presets, as accepted by [`by_name`].
-pub const NAMES: [&str; 2] = ["planar4", "spatial6"];
+pub const NAMES: [&str; 3] = ["planar4", "spatial6", "dual_arm"];
 
 /// Inertia of a square bar of length `l` along x and side `w`: `Ixx = m w²/6`,
 /// `Iyy = Izz = m (l² + w²)/12`.
@@ -33,17 +34,17 @@ struct SerialArm<'a> {
     initial_q: Vec<f64>,
 }
 
-fn serial_arm(spec: SerialArm<'_>) -> Result<Model> {
-    let [ixx, iyy, izz] = spec.base_inertia;
-    let mut b = ModelBuilder::new(spec.name, "base", spec.base_mass, [[ixx, 0.0, 0.0], [0.0, iyy, 0.0], [0.0, 0.0, izz]])?;
+/// Add a chain of bars on the base (links `{prefix}link1..`, joints `{prefix}joint1..`) and
+/// return the last link's name with the tip's offset from its CM.
+fn add_chain(b: &mut ModelBuilder, prefix: &str, spec: &SerialArm<'_>) -> Result<(String, [f64; 3])> {
     let mut parent = "base".to_string();
     let mut origin = spec.first_joint;
     for (i, ((axis, &l), &m)) in spec.axes.iter().zip(spec.lengths).zip(spec.masses).enumerate() {
-        let name = format!("link{}", i + 1);
+        let name = format!("{prefix}link{}", i + 1);
         b.add_link(LinkSpec {
             name: name.clone(),
             parent: parent.clone(),
-            joint_name: Some(format!("joint{}", i + 1)),
+            joint_name: Some(format!("{prefix}joint{}", i + 1)),
             kind: JointType::Revolute,
             origin_in_parent: origin,
             rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
@@ -57,6 +58,13 @@ fn serial_arm(spec: SerialArm<'_>) -> Result<Model> {
         // The next joint is at this link's tip, half a length beyond its CM.
         origin = [l / 2.0, 0.0, 0.0];
     }
+    Ok((parent, origin))
+}
+
+fn serial_arm(spec: SerialArm<'_>) -> Result<Model> {
+    let [ixx, iyy, izz] = spec.base_inertia;
+    let mut b = ModelBuilder::new(spec.name, "base", spec.base_mass, [[ixx, 0.0, 0.0], [0.0, iyy, 0.0], [0.0, 0.0, izz]])?;
+    let (parent, origin) = add_chain(&mut b, "", &spec)?;
     b.add_point("end_effector", &parent, origin)?;
     b.set_end_effector("end_effector");
     b.set_initial_q(spec.initial_q);
@@ -97,11 +105,48 @@ pub fn spatial6() -> Model {
     .expect("the spatial6 preset is a valid model")
 }
 
+/// Dual-arm servicer: two 6-DOF arms on a 600 kg, 1.2 × 1.0 × 1.0 m box.
+///
+/// Base inertia `m (b² + c²)/12`: Ixx 100, Iyy = Izz 122 kg·m². The arms' first joints are at
+/// (0.6, ±0.35, 0) m from the base CM; axes z, y, y, x, y, x (yaw, shoulder, elbow, wrist
+/// roll-pitch-roll); lengths 0.2, 0.8, 0.8, 0.15, 0.15, 0.2 m; masses 6, 10, 8, 2, 1.5, 1.5 kg;
+/// 0.08 m square bars. Links `left_link1..6` / `right_link1..6`, joints `left_joint1..6` /
+/// `right_joint1..6` (q[0..6] left, q[6..12] right), points `left_tool` and `right_tool` at the
+/// tips; the end effector is `left_tool`. Initial angles: elbows bent, arms mirror images.
+pub fn dual_arm() -> Model {
+    let (x, y, z) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]);
+    let build = || -> Result<Model> {
+        let mut b = ModelBuilder::new("dual_arm", "base", 600.0, [[100.0, 0.0, 0.0], [0.0, 122.0, 0.0], [0.0, 0.0, 122.0]])?;
+        let mut initial_q = Vec::new();
+        for (side, sign) in [("left", 1.0), ("right", -1.0)] {
+            let arm = SerialArm {
+                name: "dual_arm",
+                base_mass: 600.0,
+                base_inertia: [100.0, 122.0, 122.0],
+                first_joint: [0.6, 0.35 * sign, 0.0],
+                axes: &[z, y, y, x, y, x],
+                lengths: &[0.2, 0.8, 0.8, 0.15, 0.15, 0.2],
+                masses: &[6.0, 10.0, 8.0, 2.0, 1.5, 1.5],
+                width: 0.08,
+                initial_q: Vec::new(),
+            };
+            let (tip_link, tip) = add_chain(&mut b, &format!("{side}_"), &arm)?;
+            b.add_point(&format!("{side}_tool"), &tip_link, tip)?;
+            initial_q.extend([0.3 * sign, FRAC_PI_4, -2.0 * FRAC_PI_4, 0.0, FRAC_PI_4, 0.0]);
+        }
+        b.set_end_effector("left_tool");
+        b.set_initial_q(initial_q);
+        b.build()
+    };
+    build().expect("the dual_arm preset is a valid model")
+}
+
 /// A preset by name (see [`NAMES`]).
 pub fn by_name(name: &str) -> Option<Model> {
     match name {
         "planar4" => Some(planar4()),
         "spatial6" => Some(spatial6()),
+        "dual_arm" => Some(dual_arm()),
         _ => None,
     }
 }
@@ -130,5 +175,10 @@ mod tests {
         let l2 = &s.links[1].mass;
         assert!((l2.inertia[(0, 0)] - 15.0 * 0.01 / 6.0).abs() < 1e-15);
         assert!((l2.inertia[(1, 1)] - 15.0 * 1.01 / 12.0).abs() < 1e-15);
+        let d = dual_arm();
+        assert_eq!(d.n_dof(), 12);
+        assert!((d.total_mass() - 658.0).abs() < 1e-12);
+        // the right arm hangs off the base, not off the left arm
+        assert_eq!(d.links[6].parent, 0);
     }
 }
