@@ -74,7 +74,7 @@ class _Body:
 
     name: str
     parent: int  # body index, -1 for the base
-    joint: Optional[UrdfJoint]
+    joint: Optional[UrdfJoint]  # a fixed one only when fixed links are kept as bodies
     joint_in_parent: _Pose  # joint frame in the parent's J frame, at q = 0
     axis: np.ndarray
     parts: List[tuple] = field(default_factory=list)  # (mass, com in J, inertia about com in J axes)
@@ -95,7 +95,10 @@ class _Body:
 
 
 class _Importer:
-    def __init__(self, urdf: UrdfRobot, base_link: Optional[str]):
+    def __init__(self, urdf: UrdfRobot, base_link: Optional[str], fixed: str = "merge"):
+        if fixed not in ("merge", "keep"):
+            raise ValueError(f"fixed must be 'merge' or 'keep', got {fixed!r}")
+        self.keep_fixed = fixed == "keep"
         self.urdf = urdf
         self.fail = urdf.error
         self._check_tree()
@@ -177,7 +180,9 @@ class _Importer:
         body = self.body_of_link[link]
         here = self.pose_of_link[link]
         origin = _Pose(j.rotation, j.origin)  # URDF child frame in the parent frame at q = 0
-        if j.kind == "fixed":
+        # With fixed="keep", a fixed link with an <inertial> stays a (fixed) body; frames
+        # without one are always merged into points.
+        if j.kind == "fixed" and not (self.keep_fixed and self.urdf.links[other].inertial is not None):
             self._visit(other, body, here.then(origin if forward else origin.inverse()))
             return
         if forward:
@@ -193,7 +198,7 @@ class _Importer:
         carried = [b.mass + np.trace(b.inertia) for b in self.bodies]
         for k in range(len(self.bodies) - 1, 0, -1):
             b = self.bodies[k]
-            if carried[k] == 0.0:
+            if carried[k] == 0.0 and b.joint.kind != "fixed":
                 raise self.fail(b.joint.line, f"joint '{b.joint.name}' ({b.joint.kind}) moves link '{b.name}', but neither "
                                               "it nor anything attached beyond it has an <inertial> with mass or inertia: "
                                               "its acceleration would be undetermined (add inertials or make it fixed)")
@@ -230,7 +235,7 @@ class _Importer:
         for b in self.bodies[1:]:
             parent = self.bodies[b.parent]
             self._add(builder, b.joint.line, p + b.name, parent=p + parent.name,
-                      joint="prismatic" if b.joint.kind == "prismatic" else "revolute",
+                      joint={"prismatic": "prismatic", "fixed": "fixed"}.get(b.joint.kind, "revolute"),
                       axis=b.axis, origin=b.joint_in_parent.t - parent.com, rotation=quat_from_matrix(b.joint_in_parent.R),
                       com=b.com, mass=b.mass, inertia=b.inertia, joint_name=p + b.joint.name, limits=dict(b.joint.limits))
         points = {}
@@ -296,10 +301,11 @@ def loads_urdf(
     mimic: str = "error",
     name: Optional[str] = None,
     prefix: str = "",
+    fixed: str = "merge",
 ) -> Robot:
     """Build a :class:`~spacearm.Robot` from URDF text (``str`` or ``bytes``); see :func:`load_urdf`."""
     urdf = parse_urdf(text, source, mimic=mimic)
-    importer = _Importer(urdf, base_link)
+    importer = _Importer(urdf, base_link, fixed)
     return importer.build(name or urdf.name, mount_on, mount_body, at, end_effector, str(prefix))
 
 
@@ -313,6 +319,10 @@ def load_urdf(path, **kwargs) -> Robot:
     its CM; m and rad, URDF's ``R = Rz(yaw) Ry(pitch) Rx(roll)``). ``end_effector``: a URDF link
     name (default: the only leaf link, if there is exactly one). ``mimic``: ``"error"`` (default)
     or ``"independent"`` (load ``<mimic>`` joints as ordinary joints, as Pinocchio does).
+    ``fixed``: ``"merge"`` (default) welds links on fixed joints into their moving parent;
+    ``"keep"`` keeps those with an ``<inertial>`` as fixed bodies (massless frames still become
+    points), which keeps the base CM where a spacearm model exported by
+    :func:`spacearm.urdf_export.to_urdf` had it.
     ``prefix``: prepended to every URDF link, joint and point name (for mounting two arms, or an
     arm whose link names clash with the spacecraft's). ``name``: the model name (default: the
     ``<robot name>``).
