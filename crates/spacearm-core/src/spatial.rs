@@ -82,10 +82,11 @@ pub fn spatial_inertia(m: f64, c: &Vector3<f64>, inertia_about_com: &Matrix3<f64
 /// triangle so that the result is exactly symmetric.
 #[inline]
 pub fn rotate_symmetric(r: &Matrix3<f64>, a: &Matrix3<f64>) -> Matrix3<f64> {
-    let ra = r * a;
-    let e = |i: usize, j: usize| ra[(i, 0)] * r[(j, 0)] + ra[(i, 1)] * r[(j, 1)] + ra[(i, 2)] * r[(j, 2)];
-    let (a00, a01, a02, a11, a12, a22) = (e(0, 0), e(0, 1), e(0, 2), e(1, 1), e(1, 2), e(2, 2));
-    Matrix3::new(a00, a01, a02, a01, a11, a12, a02, a12, a22)
+    let mut out = r * a * r.transpose();
+    out[(1, 0)] = out[(0, 1)];
+    out[(2, 0)] = out[(0, 2)];
+    out[(2, 1)] = out[(1, 2)];
+    out
 }
 
 /// `m v` for a 6×6 matrix, column by column (the small fixed-size product, written out so that
