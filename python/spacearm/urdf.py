@@ -113,7 +113,11 @@ class _Importer:
         self.leaves: List[str] = []
         self._walk()
         for b in self.bodies:
-            b.combine()
+            with np.errstate(all="ignore"):  # overflow is reported below, by body and line
+                b.combine()
+            if not (np.isfinite(b.mass) and np.all(np.isfinite(b.com)) and np.all(np.isfinite(b.inertia))):
+                raise self.fail(self.urdf.links[b.name].line, f"link '{b.name}': combined mass properties of the links "
+                                                              "welded to it overflow (values near 1e308: a units mistake?)")
         self._check_moving_subtrees()
 
     # ---- topology -----------------------------------------------------------------------
