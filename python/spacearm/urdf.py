@@ -195,7 +195,7 @@ class _Importer:
         else:
             # Reversed: parent = child · motion(−axis, q) · origin⁻¹, same coordinate q.
             joint_pose, axis, link_in_body = here, -j.axis, origin.inverse()
-        self.bodies.append(_Body(other, body, j, joint_pose, axis / np.linalg.norm(axis)))
+        self.bodies.append(_Body(other, body, j, joint_pose, axis))  # unit: normalized by the parser
         self._visit(other, len(self.bodies) - 1, link_in_body)
 
     def _check_moving_subtrees(self) -> None:

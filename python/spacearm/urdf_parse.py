@@ -247,8 +247,11 @@ class _Reader:
         origin, rotation = self.pose(el, who)
         axis_el = self.single(el, "axis", who)
         axis = np.array([1.0, 0.0, 0.0]) if axis_el is None else self.numbers(axis_el, "xyz", 3, [1.0, 0.0, 0.0], who)
-        if kind != "fixed" and not np.linalg.norm(axis) > 1e-9:
+        if kind != "fixed" and not np.abs(axis).max() > 1e-9:
             raise self.fail(axis_el, f"{who}: the joint axis must be a non-zero vector, got {axis.tolist()}")
+        if kind != "fixed":
+            axis = axis / np.abs(axis).max()  # scale first so that the norm cannot overflow
+            axis = axis / np.linalg.norm(axis)
         limits: Dict[str, float] = {}
         limit_el = self.single(el, "limit", who)
         if limit_el is not None and kind != "fixed":
