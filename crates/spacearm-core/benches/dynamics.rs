@@ -6,7 +6,9 @@
 //! Filter with a substring, e.g. `... -- spatial6/ --warm-up-time 1 --measurement-time 2`.
 //!
 //! Every entry point here is the public core function a user calls: each one runs forward
-//! kinematics from the configuration `x` and validates its inputs, exactly as in Python.
+//! kinematics from the configuration `x` and validates its inputs, exactly as in Python. The
+//! functions returning owned matrices include that copy; `*_in_data` are the allocation-free
+//! `compute_*` variants that leave the result in `Data` (what the Python bindings call).
 
 use std::hint::black_box;
 
@@ -66,7 +68,13 @@ fn bench_model(c: &mut Criterion, name: &str, model: Model) {
     g.bench_function("J_star", |b| {
         b.iter(|| black_box(gjm::generalized_jacobian(&model, &mut data, black_box(&x), ee_body, &ee_offset).unwrap()))
     });
+    g.bench_function("J_star_in_data", |b| {
+        b.iter(|| black_box(gjm::compute_generalized_jacobian(&model, &mut data, black_box(&x), ee_body, &ee_offset).unwrap()[(0, 0)]))
+    });
     g.bench_function("H_star", |b| b.iter(|| black_box(gjm::generalized_inertia(&model, &mut data, black_box(&x)).unwrap())));
+    g.bench_function("H_star_in_data", |b| {
+        b.iter(|| black_box(gjm::compute_generalized_inertia(&model, &mut data, black_box(&x)).unwrap()[(0, 0)]))
+    });
     g.bench_function("c_star", |b| {
         b.iter(|| black_box(gjm::generalized_bias(&model, &mut data, black_box(&x), black_box(&u)).unwrap()))
     });
