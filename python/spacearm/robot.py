@@ -121,6 +121,14 @@ class Robot:
 
         return robot_from_dh(*args, **kwargs)
 
+    @classmethod
+    def from_urdf(cls, path, **kwargs) -> "Robot":
+        """Load a URDF file (root link = free-flying base, or mounted on a spacecraft): see
+        :func:`spacearm.urdf.load_urdf` for the options and ``docs/urdf.md`` for the frames."""
+        from .urdf import load_urdf
+
+        return load_urdf(path, **kwargs)
+
     # ---- description --------------------------------------------------------------------
     @property
     def name(self) -> str:
