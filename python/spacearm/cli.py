@@ -140,6 +140,9 @@ def main(argv=None) -> int:
     p_inspect.add_argument("--mimic", choices=("error", "independent"),
                            help="URDF only: refuse <mimic> joints (default) or load them as independent joints")
     p_inspect.add_argument("--q", help="joint coordinates, comma-separated (default: the model's initial q)")
+    from .symbolic.command import add_parser as _add_derive  # noqa: E402 (issue #5)
+
+    _add_derive(sub)
     args = parser.parse_args(argv)
     try:
         if args.command == "inspect":
@@ -147,6 +150,10 @@ def main(argv=None) -> int:
             robot = load_model(args.model, mount_on=args.mount_on, at=args.at, **options)
             q = None if args.q is None else _parse_q(args.q, robot.n_dof)
             inspect(robot, q)
+        elif args.command == "derive":
+            from .symbolic.command import run as _derive
+
+            _derive(args, load_model)
     except SpacearmError as exc:
         print(f"spacearm: error: {exc}", file=sys.stderr)
         return 2
