@@ -1,7 +1,7 @@
 //! Conversions between numpy arrays / Python values and the core's types, and the mapping of
 //! core errors onto the Python exception classes defined in `spacearm.errors`.
 
-use nalgebra::{DMatrix, DVector, Dim, Matrix, Matrix3, Matrix6, RawStorage, Vector3, Vector6};
+use nalgebra::{DMatrix, DVector, Dim, IsContiguous, Matrix, Matrix3, Matrix6, RawStorage, Vector3, Vector6};
 use std::os::raw::c_int;
 
 use numpy::npyffi::flags::{NPY_ARRAY_ALIGNED, NPY_ARRAY_C_CONTIGUOUS};
@@ -127,18 +127,35 @@ pub fn dvec<'py>(py: Python<'py>, v: &DVector<f64>) -> Bound<'py, PyArray1<f64>>
     PyArray1::from_slice(py, v.as_slice())
 }
 
-/// Any nalgebra matrix as a new C-ordered numpy array (filled in place, no intermediate).
-pub fn matrix<'py, R: Dim, C: Dim, S: RawStorage<f64, R, C>>(py: Python<'py>, m: &Matrix<f64, R, C, S>) -> Bound<'py, PyArray2<f64>> {
-    let (rows, cols) = m.shape();
+/// A column-major `rows × cols` buffer as a new C-ordered numpy array (filled in place, no
+/// intermediate).
+fn column_major_to_py<'py>(py: Python<'py>, src: &[f64], rows: usize, cols: usize) -> Bound<'py, PyArray2<f64>> {
+    assert_eq!(src.len(), rows * cols, "column-major buffer of the stated shape");
     // SAFETY: a fresh array owned by nobody else; every element is written below.
     let out = unsafe { PyArray2::<f64>::new(py, [rows, cols], false) };
     let dst = unsafe { out.as_slice_mut().expect("a new array is contiguous") };
-    for j in 0..cols {
-        for i in 0..rows {
-            dst[i * cols + j] = m[(i, j)];
+    assert_eq!(dst.len(), rows * cols);
+    // Walk the output in order, reading the source with a stride of `rows`.
+    let (mut d, s0) = (dst.as_mut_ptr(), src.as_ptr());
+    for i in 0..rows {
+        // SAFETY: element (i, j) is at i + j·rows < rows·cols in `src`; `d` advances through
+        // the rows·cols elements of `dst` exactly once.
+        unsafe {
+            let mut s = s0.add(i);
+            for _ in 0..cols {
+                *d = *s;
+                d = d.add(1);
+                s = s.wrapping_add(rows);
+            }
         }
     }
     out
+}
+
+/// Any nalgebra matrix with contiguous storage as a new C-ordered numpy array.
+pub fn matrix<'py, R: Dim, C: Dim, S: RawStorage<f64, R, C> + IsContiguous>(py: Python<'py>, m: &Matrix<f64, R, C, S>) -> Bound<'py, PyArray2<f64>> {
+    let (rows, cols) = m.shape();
+    column_major_to_py(py, m.as_slice(), rows, cols)
 }
 
 pub fn dmat<'py>(py: Python<'py>, m: &DMatrix<f64>) -> Bound<'py, PyArray2<f64>> {
