@@ -390,6 +390,8 @@ def meta(args, engines, overhead_s):
         "batch_seconds": args.batch,
         "harness_overhead_s": overhead_s,
         "blas_threads": os.environ.get("OPENBLAS_NUM_THREADS"),
+        # Other work on the machine inflates every figure; ratios suffer less (interleaving).
+        "load_average_1_5_15min": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
     }
 
 
@@ -425,6 +427,9 @@ def main(argv=None) -> int:
     print_notes(engines)
     print(f"\nHarness overhead (an empty call), included in every figure: {overhead * 1e9:.0f} ns. "
           f"{args.repeat} rounds of {args.batch * 1e3:.0f} ms batches per candidate.")
+    if hasattr(os, "getloadavg"):
+        print(f"Load average at the end (1 min): {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs "
+              "(other work inflates absolute figures; compare ratios).")
     bad = [r for r in all_rows if r["check"] > 1e-9]
     if bad:
         print("\nWARNING: results differ (check > 1e-9):", file=sys.stderr)
