@@ -16,7 +16,9 @@ from .derivation import Derivation
 __all__ = ["latex_document", "TIDY_OPS"]
 
 #: Entries with at most this many operations are simplified for printing.
-TIDY_OPS = 3000
+TIDY_OPS = 1500
+#: ... and whose expanded polynomial has at most this many terms (the reduction is costly).
+TIDY_TERMS = 120
 
 
 def _names(d: Derivation) -> Dict[sp.Symbol, str]:
@@ -38,7 +40,7 @@ def tidy(e: sp.Expr, q) -> sp.Expr:
     ``cos q_k = c_k``, ``sin q_k = s_k``, expand, reduce modulo ``c_k² + s_k² − 1`` (these
     polynomials form a Gröbner basis already), substitute back and combine with ``trigsimp``
     (``cos q2 + cos(q2 + q3)`` rather than products of sines and cosines). Entries with more
-    than ``TIDY_OPS`` operations, and rational functions, are returned unchanged."""
+    than ``TIDY_OPS`` operations or ``TIDY_TERMS`` expanded terms, and rational functions, are returned unchanged."""
     if e.is_number or sp.count_ops(e) > TIDY_OPS:
         return e
     try:
@@ -52,7 +54,7 @@ def tidy(e: sp.Expr, q) -> sp.Expr:
         gens = [g for pair in zip(cs, ss) for g in pair]
         if not (p.free_symbols & set(gens)):
             return p
-        if not p.is_polynomial(*gens):
+        if not p.is_polynomial(*gens) or (p.is_Add and len(p.args) > TIDY_TERMS):
             return e
         _, r = sp.reduced(p, [c**2 + s**2 - 1 for c, s in zip(cs, ss)], *gens, order="lex")
         return sp.trigsimp(r.xreplace(back))
@@ -72,14 +74,14 @@ class _Writer:
     def w(self, text: str = "") -> None:
         self.out.append(text)
 
-    def matrix(self, title: str, symbol: str, M: sp.Matrix, note: str = "") -> None:
+    def matrix(self, title: str, symbol: str, M: sp.Matrix, note: str = "", simplify: bool = True) -> None:
         M = sp.Matrix(M)
         self.w(f"\\subsection*{{{title}}}")
         if note:
             self.w(note + "\n")
         rows, cols = M.shape
         sym = rows == cols and rows > 1 and all(M[i, j] == M[j, i] for i in range(rows) for j in range(i))
-        T = M.applyfunc(lambda e: tidy(e, self.d.q))
+        T = M.applyfunc(lambda e: tidy(e, self.d.q)) if simplify else M
         if max(sp.count_ops(e) for e in T) > 60:
             reps, (red,) = sp.cse(T, symbols=sp.numbered_symbols("t"), order="none")
         else:
@@ -97,7 +99,8 @@ class _Writer:
         for i in range(rows):
             for j in range(i if sym else 0, cols):
                 if T[i, j] != 0:
-                    self.w(f"\\begin{{dmath*}}{symbol}_{{{i + 1},{j + 1}}} = {self.tex(T[i, j])}\\end{{dmath*}}")
+                    idx = f"{i + 1}" if cols == 1 else f"{i + 1},{j + 1}"
+                    self.w(f"\\begin{{dmath*}}\\left({symbol}\\right)_{{{idx}}} = {self.tex(T[i, j])}\\end{{dmath*}}")
 
 
 def latex_document(d: Derivation, include_bias: bool = False) -> str:
@@ -152,21 +155,21 @@ def latex_document(d: Derivation, include_bias: bool = False) -> str:
     w(r"\section*{Closed-form inverse of $H_0$ (eqs. 52--61)}")
     w(r"$S = H_S + M \tilde r_{0g} \tilde r_{0g}$, $S^{-1} = \mathrm{adj}(S)/\det S$, "
       r"$H_0^{-1} = \begin{pmatrix} E/M - \tilde r_{0g} S^{-1} \tilde r_{0g} & \tilde r_{0g} S^{-1} \\ -S^{-1}\tilde r_{0g} & S^{-1}\end{pmatrix}$.")
-    W.matrix("Schur complement (eq. 53)", "S", d.schur.S)
-    W.matrix("Its determinant", r"\det S", sp.Matrix([[d.schur.det_S]]))
+    W.matrix("Schur complement (eq. 53)", "S", d.schur.S, simplify=False)
+    W.matrix("Its determinant", r"\det S", sp.Matrix([[d.schur.det_S]]), simplify=False)
     if d.n_dof:
         w(r"\section*{Generalized inertia matrix (eq. 45)}")
         w(r"With $G = H_{Sq} - \tilde r_{0g} J_{TS}$: $H^* = H_m - H_{0m}^\top H_0^{-1} H_{0m} = H_m - J_{TS}^\top J_{TS}/M - G^\top S^{-1} G$.")
         W.matrix("Coupling through the base", "G", d.H_Sq - _skew(d.r_0g) * d.J_TS)
-        W.matrix("Adjugate of S", r"\mathrm{adj}\,S", d.schur.adj_S)
+        W.matrix("Adjugate of S", r"\mathrm{adj}\,S", d.schur.adj_S, simplify=False)
         if d.n_dof <= 4:
-            W.matrix("Generalized inertia", "H^*", d.H_star)
+            W.matrix("Generalized inertia", "H^*", d.H_star, simplify=False)
         if d.description["end_effector"] is not None:
             w(r"\section*{Generalized Jacobian of the end effector (eq. 110)}")
-            W.matrix(r"$J^* = J_{mX} - J_{0X} H_0^{-1} H_{0m}$", "J^*", d.J_star())
+            W.matrix(r"$J^* = J_{mX} - J_{0X} H_0^{-1} H_{0m}$", "J^*", d.J_star(), simplify=False)
         if include_bias:
             w(r"\section*{Generalized bias}")
-            W.matrix(r"$c^* = c_m - H_{0m}^\top H_0^{-1} c_0$ (base velocities $v, \omega$ in base axes)", "c^*", d.c_star)
+            W.matrix(r"$c^* = c_m - H_{0m}^\top H_0^{-1} c_0$ (base velocities $v, \omega$ in base axes)", "c^*", d.c_star, simplify=False)
     w(r"\end{document}")
     return "\n".join(W.out) + "\n"
 
