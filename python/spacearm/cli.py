@@ -85,8 +85,10 @@ def _conditioning(name: str, m: np.ndarray) -> str:
     return f"  {name}: singular values [{', '.join(f'{v:.4g}' for v in s)}], condition number {cond:.4g}"
 
 
-def inspect(robot: Robot, q=None, out=sys.stdout) -> None:
+def inspect(robot: Robot, q=None, out=None) -> None:
     """Print the model summary and the GJM quantities at ``q`` (default: initial angles)."""
+    # Resolve the stream at call time, not at import time, so redirections of sys.stdout count.
+    out = sys.stdout if out is None else out
     d = robot.describe()
     w = out.write
     w(f"model '{robot.name}': {robot.n_bodies} bodies, N = {robot.n_dof} joint DOF, total mass {robot.total_mass:.6g} kg\n\n")
