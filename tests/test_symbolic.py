@@ -39,7 +39,7 @@ def small_seeds(max_dof, count, max_bodies=99):
 #: 3-dof tree) and seed 93 (4 dof).
 RANDOM4 = small_seeds(4, 1, 4) + [s for s in range(200) if random_model(s).robot.n_dof == 4 and random_model(s).robot.n_bodies <= 5][:1]
 #: Smaller random models for the velocity terms (dH/dq, c) and code generation.
-RANDOM3 = small_seeds(3, 2, 5)
+RANDOM3 = small_seeds(3, 1, 4) + small_seeds(1, 1, 4)
 
 
 def model(name):
@@ -73,19 +73,28 @@ def states(robot, n=3, seed=0):
 CONFIG_MODELS = ["planar4", "spatial6"] + [f"random{s}" for s in RANDOM4]
 
 
+def r0g_tolerance(x):
+    """The core computes r_0g as r_g − r0, which loses the digits of |r0| (up to 5 km in the
+    random states); the symbolic r_0g = Σ m_i r_0i / M does not. Scale the tolerance."""
+    return RTOL * max(1.0, float(np.linalg.norm(x[0:3])))
+
+
 @pytest.mark.parametrize("name", CONFIG_MODELS)
 def test_inertia_matrices_equal_core(name):
     d = derivation(name)
     robot = d.robot
+    names = ["r_0g", "H_S", "J_TS", "H_Sq", "H0", "H0m", "Hm", "H", "H0_inv", "H_star"] + [f"J_star_{p}" for p in d.points]
     for x, _ in states(robot):
+        val = dict(zip(names, d.evaluate_many(names, x)))
         b = robot.inertia_blocks(x)
-        for q in ("r_0g", "H_S", "J_TS", "H_Sq", "H0", "H0m", "Hm"):
-            rel_close(d.evaluate(q, x), getattr(b, q), f"{name} {q}")
-        rel_close(d.evaluate("H", x), robot.mass_matrix(x, method="crba"), f"{name} H vs CRBA")
-        rel_close(d.evaluate("H0_inv", x), robot.base_inertia_inverse(x), f"{name} H0^-1")
-        rel_close(d.evaluate("H_star", x), robot.generalized_inertia(x), f"{name} H*")
+        rel_close(val["r_0g"], b.r_0g, f"{name} r_0g", rtol=r0g_tolerance(x))
+        for q in ("H_S", "J_TS", "H_Sq", "H0", "H0m", "Hm"):
+            rel_close(val[q], getattr(b, q), f"{name} {q}")
+        rel_close(val["H"], robot.mass_matrix(x, method="crba"), f"{name} H vs CRBA")
+        rel_close(val["H0_inv"], robot.base_inertia_inverse(x), f"{name} H0^-1")
+        rel_close(val["H_star"], robot.generalized_inertia(x), f"{name} H*")
         for point in d.points:
-            rel_close(d.evaluate(f"J_star_{point}", x), robot.generalized_jacobian(x, point), f"{name} J* {point}")
+            rel_close(val[f"J_star_{point}"], robot.generalized_jacobian(x, point), f"{name} J* {point}")
 
 
 @pytest.mark.parametrize("name", ["planar4", f"random{RANDOM4[0]}"])
@@ -150,8 +159,9 @@ def test_lagrangian_bias_equals_rnea(name):
     d = derivation(name)
     robot = d.robot
     for x, u in states(robot, 3, seed=5):
-        rel_close(d.evaluate("c", x, u), robot.bias_forces(x, u), f"{name} c (Lagrangian) vs RNEA", rtol=1e-11)
-        rel_close(d.evaluate("c_star", x, u), robot.generalized_bias(x, u), f"{name} c*", rtol=1e-11)
+        c, cs = d.evaluate_many(["c", "c_star"], x, u)
+        rel_close(c, robot.bias_forces(x, u), f"{name} c (Lagrangian) vs RNEA", rtol=1e-11)
+        rel_close(cs, robot.generalized_bias(x, u), f"{name} c*", rtol=1e-11)
 
 
 def _rotvec_matrix(w, t):
@@ -186,7 +196,7 @@ def test_time_and_joint_derivatives_against_finite_differences(name):
             e = np.zeros_like(x)
             e[7 + k] = h
             fdk = (robot.mass_matrix(x + e) - robot.mass_matrix(x - e)) / (2 * h)
-            dk = d.evaluate(f"dH_dq{k + 1}", x)
+            dk = d.evaluate_many([f"dH_dq{k + 1}" for k in range(robot.n_dof)], x)[k]
             if np.linalg.norm(fdk) > 1e-8:
                 rel_close(dk, fdk, f"{name} dH/dq{k + 1}", rtol=1e-6)
             else:
