@@ -24,7 +24,9 @@ def add_parser(sub) -> None:
                    help="comma-separated quantity groups for --python/--c (default all: blocks, jacobians, H0_inv, H_star, J_star, dH_dq, H_dot, c, c_star)")
 
 
-def run(args, load_model, out=sys.stdout) -> None:
+def run(args, load_model, out=None) -> None:
+    # Resolve the stream at call time so that redirections of sys.stdout (pytest, callers) count.
+    out = sys.stdout if out is None else out
     from ..errors import SpacearmError
     from .codegen import write_atomic
     from .derivation import derive
