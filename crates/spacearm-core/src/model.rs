@@ -32,6 +32,29 @@ pub struct Link {
     pub mass: MassProperties,
 }
 
+impl Link {
+    /// Assemble a link from its description once the parent index, the normalized rotation and
+    /// axis and the validated mass properties are known (shared by the builder and the model
+    /// file reader). The joint name defaults to `<link>_joint`.
+    pub(crate) fn from_spec(spec: LinkSpec, parent: usize, rotation: UnitQuaternion<f64>, axis: nalgebra::UnitVector3<f64>, mass: MassProperties) -> Link {
+        let joint_name = spec.joint_name.clone().unwrap_or_else(|| format!("{}_joint", spec.name));
+        Link {
+            name: spec.name,
+            parent,
+            joint: Joint {
+                name: joint_name,
+                kind: spec.kind,
+                origin_in_parent: Vector3::from(spec.origin_in_parent),
+                rotation_in_parent: rotation,
+                axis,
+                limits: spec.limits,
+            },
+            com_from_joint: Vector3::from(spec.com_from_joint),
+            mass,
+        }
+    }
+}
+
 /// A named point fixed to a body (an end effector, a grasp point, a sensor).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Point {
@@ -404,21 +427,7 @@ impl ModelBuilder {
         let rotation = unit_quaternion_from_xyzw(&format!("{who}: joint rotation"), &spec.rotation_in_parent)
             .map_err(|e| SpacearmError::model(e.to_string()))?;
         let mass = MassProperties::new(&who, spec.mass, matrix3(&spec.inertia), false)?;
-        let joint_name = spec.joint_name.clone().unwrap_or_else(|| format!("{}_joint", spec.name));
-        self.links.push(Link {
-            name: spec.name,
-            parent,
-            joint: Joint {
-                name: joint_name,
-                kind: spec.kind,
-                origin_in_parent: Vector3::from(spec.origin_in_parent),
-                rotation_in_parent: rotation,
-                axis,
-                limits: spec.limits,
-            },
-            com_from_joint: Vector3::from(spec.com_from_joint),
-            mass,
-        });
+        self.links.push(Link::from_spec(spec, parent, rotation, axis, mass));
         Ok(self)
     }
 

@@ -45,7 +45,7 @@ use toml::{Spanned, Value};
 use crate::body::MassProperties;
 use crate::dh::{check_inertia_magnitude, ClassicDhLink, DhArm, DhTable, PaperDhLink};
 use crate::error::{Result, SpacearmError};
-use crate::joint::{Joint, JointLimits, JointType};
+use crate::joint::{JointLimits, JointType};
 use crate::model::{unit_quaternion_from_xyzw, Link, LinkSpec, Model, Point};
 
 /// The file format version written by [`model_to_toml`] and accepted by the reader
@@ -380,21 +380,7 @@ fn link_from_spec(spec: LinkSpec, parent: usize) -> std::result::Result<Link, (F
         let field = if e.to_string().contains("mass must") { Field::Mass } else { Field::Inertia };
         (field, e)
     })?;
-    let joint_name = spec.joint_name.clone().unwrap_or_else(|| format!("{}_joint", spec.name));
-    Ok(Link {
-        name: spec.name,
-        parent,
-        joint: Joint {
-            name: joint_name,
-            kind: spec.kind,
-            origin_in_parent: Vector3::from(spec.origin_in_parent),
-            rotation_in_parent: rotation,
-            axis,
-            limits: spec.limits,
-        },
-        com_from_joint: Vector3::from(spec.com_from_joint),
-        mass,
-    })
+    Ok(Link::from_spec(spec, parent, rotation, axis, mass))
 }
 
 // ---- reading -------------------------------------------------------------------------------
