@@ -13,7 +13,7 @@
 
 pub mod free_floating_kinematics;
 pub mod reaction_null_space;
-// pub mod redundancy;
+pub mod redundancy;
 pub mod scan;
 pub mod singularity;
 // pub mod workspace;
