@@ -16,7 +16,7 @@ pub mod reaction_null_space;
 pub mod redundancy;
 pub mod scan;
 pub mod singularity;
-// pub mod workspace;
+pub mod workspace;
 
 use nalgebra::{DMatrix, DVector};
 
