@@ -89,7 +89,7 @@ where
 
 fn check_step(dt: f64) -> Result<()> {
     if !(dt.is_finite() && dt > 0.0) {
-        return Err(SpacearmError::InvalidModel(format!("the time step must be finite and > 0, got {dt}")));
+        return Err(SpacearmError::InvalidArgument(format!("the time step must be finite and > 0, got {dt}")));
     }
     Ok(())
 }
@@ -124,7 +124,7 @@ pub fn integrate_prescribed(
     crate::error::check_finite("prescribed joint rates", qd_half)?;
     let mismatch = x0[7..].iter().zip(&q_half[..n]).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
     if mismatch > 1e-9 * (1.0 + x0[7..].iter().map(|v| v.abs()).fold(0.0, f64::max)) {
-        return Err(SpacearmError::InvalidModel(format!("x0's joint coordinates must equal the first prescribed q (largest difference {mismatch:e})")));
+        return Err(SpacearmError::InvalidArgument(format!("x0's joint coordinates must equal the first prescribed q (largest difference {mismatch:e})")));
     }
     let steps = (q_half.len() / n - 1) / 2;
     let nx = 7 + n;

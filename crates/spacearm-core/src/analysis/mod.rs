@@ -112,8 +112,19 @@ impl Svd {
         order.sort_by(|&i, &j| s[j].partial_cmp(&s[i]).unwrap_or(std::cmp::Ordering::Equal));
         let keep = m.min(n);
         let singular_values = DVector::from_fn(keep, |i, _| s[order[i]]);
-        let u_sorted = DMatrix::from_fn(m, keep, |r, c| u[(r, order[c])]);
         let v = DMatrix::from_fn(n, n, |r, c| if c < k { v_t[(order[c], r)] } else { 0.0 });
+        // Left vectors: nalgebra's are inaccurate for (near-)zero singular values of small
+        // matrices, so rebuild them as uᵢ = A vᵢ / σᵢ where σᵢ is well above round-off, and
+        // complete an orthonormal set (modified Gram–Schmidt, twice) for the rest.
+        let mut u_sorted = DMatrix::from_fn(m, keep, |r, c| u[(r, order[c])]);
+        let floor = 1e-8 * singular_values[0];
+        for c in 0..keep {
+            if singular_values[c] > floor {
+                let col = a * v.column(c) / singular_values[c];
+                u_sorted.set_column(c, &col);
+            }
+        }
+        orthonormalize_columns(&mut u_sorted);
         Ok(Svd { singular_values, u: u_sorted, v })
     }
 
@@ -137,6 +148,34 @@ impl Svd {
     pub fn rank(&self, relative_tolerance: f64) -> usize {
         let cut = relative_tolerance * self.sigma_max();
         self.singular_values.iter().filter(|&&s| s > cut && s > 0.0).count()
+    }
+}
+
+/// Make the columns of `u` orthonormal in order (modified Gram–Schmidt applied twice); a column
+/// that is (nearly) dependent on the previous ones is replaced by the first coordinate axis that
+/// is not.
+fn orthonormalize_columns(u: &mut DMatrix<f64>) {
+    let (m, k) = u.shape();
+    for c in 0..k {
+        let mut candidates = std::iter::once(u.column(c).into_owned()).chain((0..m).map(|i| {
+            let mut e = DVector::zeros(m);
+            e[i] = 1.0;
+            e
+        }));
+        loop {
+            let Some(mut col) = candidates.next() else { break };
+            for _ in 0..2 {
+                for p in 0..c {
+                    let prev = u.column(p).into_owned();
+                    col -= prev.dot(&col) * prev;
+                }
+            }
+            let norm = col.norm();
+            if norm > 1e-6 {
+                u.set_column(c, &(col / norm));
+                break;
+            }
+        }
     }
 }
 

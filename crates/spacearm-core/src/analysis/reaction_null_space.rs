@@ -60,7 +60,7 @@ pub fn reaction_null_space(model: &Model, data: &mut Data, x: &[f64], which: Bas
         return Err(SpacearmError::InvalidModel(format!("model '{}' has no joints: no reaction null space", model.name)));
     }
     if !(relative_tolerance.is_finite() && relative_tolerance > 0.0 && relative_tolerance < 1.0) {
-        return Err(SpacearmError::InvalidModel(format!("the rank tolerance must be in (0, 1), got {relative_tolerance}")));
+        return Err(SpacearmError::InvalidArgument(format!("the rank tolerance must be in (0, 1), got {relative_tolerance}")));
     }
     let full = base_twist_map(model, data, x)?;
     let map = match which {

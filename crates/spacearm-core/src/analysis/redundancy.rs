@@ -68,7 +68,7 @@ impl RmrcOptions {
     fn check(&self) -> Result<()> {
         for (what, v) in [("feedback gain", self.feedback_gain), ("manipulability gain", self.manipulability_gain), ("joint-limit gain", self.joint_limit_gain)] {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(SpacearmError::InvalidModel(format!("the {what} must be finite and >= 0, got {v}")));
+                return Err(SpacearmError::InvalidArgument(format!("the {what} must be finite and >= 0, got {v}")));
             }
         }
         Ok(())
@@ -223,15 +223,15 @@ pub fn move_to(
     }
     for (what, v) in [("duration", duration), ("time step", dt)] {
         if !(v.is_finite() && v > 0.0) {
-            return Err(SpacearmError::InvalidModel(format!("the {what} must be finite and > 0, got {v}")));
+            return Err(SpacearmError::InvalidArgument(format!("the {what} must be finite and > 0, got {v}")));
         }
     }
     if !(settle.is_finite() && settle >= 0.0) {
-        return Err(SpacearmError::InvalidModel(format!("the settling time must be finite and >= 0, got {settle}")));
+        return Err(SpacearmError::InvalidArgument(format!("the settling time must be finite and >= 0, got {settle}")));
     }
     let steps = ((duration + settle) / dt).round() as usize;
     if steps == 0 || steps > 10_000_000 {
-        return Err(SpacearmError::InvalidModel(format!("(duration + settle) / dt = {steps} steps: expected between 1 and 1e7")));
+        return Err(SpacearmError::InvalidArgument(format!("(duration + settle) / dt = {steps} steps: expected between 1 and 1e7")));
     }
     crate::kinematics::forward_kinematics(model, data, x0)?;
     let start = point_position(data, body, offset);

@@ -97,16 +97,16 @@ pub fn joint_grid(lower: &[f64], upper: &[f64], resolution: usize) -> Result<Vec
         return Err(SpacearmError::Dimension { what: "upper joint bounds".into(), expected: n.to_string(), got: upper.len() });
     }
     if resolution < 2 {
-        return Err(SpacearmError::InvalidModel(format!("the grid resolution must be at least 2 values per joint, got {resolution}")));
+        return Err(SpacearmError::InvalidArgument(format!("the grid resolution must be at least 2 values per joint, got {resolution}")));
     }
     crate::error::check_finite("lower joint bounds", lower)?;
     crate::error::check_finite("upper joint bounds", upper)?;
     if let Some(i) = (0..n).find(|&i| lower[i] > upper[i]) {
-        return Err(SpacearmError::InvalidModel(format!("joint {i}: the grid needs lower <= upper, got [{}, {}]", lower[i], upper[i])));
+        return Err(SpacearmError::InvalidArgument(format!("joint {i}: the grid needs lower <= upper, got [{}, {}]", lower[i], upper[i])));
     }
     let total = (resolution as f64).powi(n as i32);
     if total > 5.0e7 {
-        return Err(SpacearmError::InvalidModel(format!(
+        return Err(SpacearmError::InvalidArgument(format!(
             "a grid of {resolution}^{n} = {total:.3e} samples is too large (limit 5e7): lower the resolution or sample randomly"
         )));
     }

@@ -115,10 +115,10 @@ impl DampingLaw {
     /// A law, checked: `threshold` finite and > 0, `max_damping` finite and ≥ 0.
     pub fn new(threshold: f64, max_damping: f64) -> Result<Self> {
         if !(threshold.is_finite() && threshold > 0.0) {
-            return Err(SpacearmError::InvalidModel(format!("the damping threshold ε must be finite and > 0, got {threshold}")));
+            return Err(SpacearmError::InvalidArgument(format!("the damping threshold ε must be finite and > 0, got {threshold}")));
         }
         if !(max_damping.is_finite() && max_damping >= 0.0) {
-            return Err(SpacearmError::InvalidModel(format!("the maximum damping λ_max must be finite and >= 0, got {max_damping}")));
+            return Err(SpacearmError::InvalidArgument(format!("the maximum damping λ_max must be finite and >= 0, got {max_damping}")));
         }
         Ok(DampingLaw { threshold, max_damping })
     }

@@ -88,10 +88,10 @@ pub fn workspace_shells(samples: &[ScanSample], singular_threshold: f64, radial_
         return Err(SpacearmError::Dimension { what: "workspace samples".into(), expected: "at least one".into(), got: 0 });
     }
     if !(singular_threshold.is_finite() && singular_threshold >= 0.0) {
-        return Err(SpacearmError::InvalidModel(format!("the singularity threshold must be finite and >= 0, got {singular_threshold}")));
+        return Err(SpacearmError::InvalidArgument(format!("the singularity threshold must be finite and >= 0, got {singular_threshold}")));
     }
     if !(radial_resolution.is_finite() && radial_resolution > 0.0) {
-        return Err(SpacearmError::InvalidModel(format!("the radial resolution must be finite and > 0, got {radial_resolution}")));
+        return Err(SpacearmError::InvalidArgument(format!("the radial resolution must be finite and > 0, got {radial_resolution}")));
     }
     if let Some(g) = grid {
         if g.resolution < 2 || g.resolution.checked_pow(g.n_joints as u32) != Some(samples.len()) {
