@@ -144,6 +144,8 @@ pub fn integrate_prescribed(
             |s, _, _| Ok(DVector::from_column_slice(&qd_half[row(s) * n..(row(s) + 1) * n])),
             |s| Some(q_half[row(s) * n..(row(s) + 1) * n].to_vec()),
         )?;
+        // The joints follow the prescription exactly; only the base pose is integrated.
+        x[7..].copy_from_slice(&q_half[row(3) * n..(row(3) + 1) * n]);
         out.extend_from_slice(&x);
     }
     Ok(out)
