@@ -148,6 +148,50 @@ pub fn analysis_workspace<'py>(
     Ok(d)
 }
 
+/// Workspace shells from the arrays of a scan (so a scan need not run twice).
+#[pyfunction]
+#[pyo3(signature = (sigma_min_generalized, det_generalized, point_from_com, point_from_base, singular_threshold, radial_resolution, grid=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn analysis_shells<'py>(
+    py: Python<'py>,
+    sigma_min_generalized: Vec<f64>,
+    det_generalized: Vec<f64>,
+    point_from_com: PyReadonlyArray2<'py, f64>,
+    point_from_base: PyReadonlyArray2<'py, f64>,
+    singular_threshold: f64,
+    radial_resolution: f64,
+    grid: Option<(usize, usize)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (com, m1, c1) = rows_of(&point_from_com);
+    let (base, m2, c2) = rows_of(&point_from_base);
+    let m = sigma_min_generalized.len();
+    if det_generalized.len() != m || m1 != m || m2 != m || c1 != 3 || c2 != 3 {
+        return Err(to_py_err(py, SpacearmError::Dimension { what: "scan arrays".into(), expected: format!("{m} samples (positions M×3)"), got: det_generalized.len() }));
+    }
+    let samples: Vec<scan::ScanSample> = (0..m)
+        .map(|i| scan::ScanSample {
+            sigma_min_generalized: sigma_min_generalized[i],
+            sigma_max_generalized: f64::NAN,
+            manipulability_generalized: f64::NAN,
+            det_generalized: det_generalized[i],
+            sigma_min_fixed: f64::NAN,
+            manipulability_fixed: f64::NAN,
+            det_fixed: f64::NAN,
+            point_from_base: Vector3::new(base[3 * i], base[3 * i + 1], base[3 * i + 2]),
+            point_from_com: Vector3::new(com[3 * i], com[3 * i + 1], com[3 * i + 2]),
+        })
+        .collect();
+    let grid = grid.map(|(resolution, n_joints)| workspace::GridShape { resolution, n_joints });
+    let w = workspace::workspace_shells(&samples, singular_threshold, radial_resolution, grid).or_raise(py)?;
+    let d = PyDict::new(py);
+    d.set_item("reachable", w.reachable.to_vec())?;
+    d.set_item("fixed_base", w.fixed_base.to_vec())?;
+    d.set_item("singular_radii", array1(py, &w.singular_radii))?;
+    d.set_item("path_dependent", w.path_dependent.iter().map(|a| a.to_vec()).collect::<Vec<_>>())?;
+    d.set_item("path_independent", w.path_independent.iter().map(|a| a.to_vec()).collect::<Vec<_>>())?;
+    Ok(d)
+}
+
 fn rns_dict<'py>(py: Python<'py>, r: &rns::ReactionNullSpace) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("base_motion_map", dmat(py, &r.base_motion_map))?;
@@ -303,6 +347,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analysis_joint_grid, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_scan, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_workspace, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis_shells, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_reaction_null_space, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_integrate_prescribed, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_rmrc_rates, m)?)?;

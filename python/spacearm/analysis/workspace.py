@@ -56,7 +56,7 @@ class Workspace:
         for ax, pts, name in ((ax_fix, self.point_from_base, "fixed base: point from the base CM"),
                               (ax_ff, self.point_from_com, "free floating: point from the system CM")):
             sel = np.abs(pts[:, k]) <= slab
-            ax.scatter(pts[sel, i], pts[sel, j], s=0.5, c="0.25", alpha=0.25, rasterized=True, zorder=3,
+            ax.scatter(pts[sel, i], pts[sel, j], s=0.5, c="0.3", alpha=0.12, rasterized=True, zorder=3,
                        label=f"sampled positions (|{'xyz'[k]}| ≤ {slab:.2g} m)")
             ax.set_aspect("equal")
             ax.set_xlabel(f"{'xyz'[i]} (m, base frame)")
@@ -113,14 +113,14 @@ def workspace(robot, resolution: int = 15, samples=None, point=None, task: TaskL
         step = np.max(hi - lo) / (resolution - 1)
         how = f"grid {resolution}^{n} = {q.shape[0]} samples, step ≤ {step:.3g} rad"
     t0 = time.perf_counter()
-    # A first pass gives σ_min's scale and R_max for the default thresholds.
     parts = chunked(lambda s: _core.analysis_scan(robot._m, s, body, off, rows), q, progress, "workspace")
     elapsed = time.perf_counter() - t0
-    sig = np.concatenate([p["sigma_min_generalized"] for p in parts])
-    pfc = np.concatenate([p["point_from_com"] for p in parts])
-    thr = 0.01 * float(np.max(sig)) if singular_threshold is None else float(singular_threshold)
-    rres = 0.01 * float(np.max(np.linalg.norm(pfc, axis=1))) if radial_resolution is None else float(radial_resolution)
-    w = _core.analysis_workspace(robot._m, q, body, off, rows, thr, rres, grid_res)
+    r = {k: np.concatenate([p[k] for p in parts]) for k in ("sigma_min_generalized", "det_generalized", "point_from_com", "point_from_base")}
+    thr = 0.01 * float(np.max(r["sigma_min_generalized"])) if singular_threshold is None else float(singular_threshold)
+    rres = 0.01 * float(np.max(np.linalg.norm(r["point_from_com"], axis=1))) if radial_resolution is None else float(radial_resolution)
+    w = _core.analysis_shells(r["sigma_min_generalized"], r["det_generalized"], r["point_from_com"], r["point_from_base"], thr, rres,
+                              None if grid_res is None else (grid_res, n))
+    w.update(r)
     return Workspace(
         robot.name, tuple(rows), q, w["point_from_base"], w["point_from_com"], w["sigma_min_generalized"],
         tuple(w["reachable"]), tuple(w["fixed_base"]), w["singular_radii"],
