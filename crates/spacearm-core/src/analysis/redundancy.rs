@@ -13,14 +13,17 @@
 //! 2. [`Strategy::MinimumBaseDisturbance`] — the base angular velocity as a second-priority
 //!    task (Nakamura, Hanafusa & Yoshikawa 1987 task priority; Yoshida & Nenchev 1995):
 //!    `q̇₂ = N₁ (Ω N₁)⁺ (−Ω q̇₁)` with `Ω` the angular rows of `−H0⁻¹ H0m` and `N₁ = P − Ĵ⁺Ĵ`;
-//!    it removes as much base rotation as the task's null space allows;
+//!    it removes as much base rotation as the task's null space allows (the inverse of `Ω N₁`
+//!    is damped like the primary one, with `ε = λ_max = 0.01 σ_max(Ω N₁)`, so that base rotations
+//!    the null space can hardly reach are reduced rather than chased with unbounded rates);
 //! 3. gradient objectives projected into the remaining null space `N`: `q̇₃ = N z`,
 //!    `z = k_w ∇w(q) + k_l ∇h(q)`, with `w` the manipulability `Π σᵢ` of the task rows of `J*`
 //!    (singularity avoidance, gradient by central differences) and
 //!    `h = −½ Σ ((qᵢ − q̄ᵢ)/(q_max,i − q_min,i))²` over the joints with finite limits
 //!    (joint-limit avoidance, Liégeois 1977).
 //!
-//! If a joint's rate exceeds its velocity limit, the whole `q̇` is scaled down (direction kept).
+//! Velocity limits: the null-space part is shortened first so that the task is kept; only if
+//! the task alone exceeds a limit is the whole `q̇` scaled down (direction kept).
 //! The closed loop is integrated with the free-floating kinematics of
 //! [`super::free_floating_kinematics`] (zero momentum).
 
@@ -112,23 +115,22 @@ pub fn rmrc_rates(model: &Model, data: &mut Data, x: &[f64], body: usize, offset
     let svd = Svd::new(&jp)?;
     let sigma_min = svd.sigma_min();
     let lambda = options.damping.damping(sigma_min);
-    let mut qd = &projector * dls_from_svd(&svd, jp.nrows(), n, lambda) * &v;
+    let primary = &projector * dls_from_svd(&svd, jp.nrows(), n, lambda) * &v;
+    let mut qd = primary.clone();
     // Null space of the primary task within range(P): N₁ = P − Ĵ⁺Ĵ (undamped, rank-cut).
     let jp_pinv = dls_from_svd(&svd, jp.nrows(), n, 0.0);
     let mut null = &projector - &jp_pinv * &jp;
     if options.strategy == Strategy::MinimumBaseDisturbance {
         let on = &omega_map * &null;
         let svd2 = Svd::new(&on)?;
-        // Drop directions the null space barely reaches (relative 1e-6) rather than amplify them.
-        let mut on_pinv = DMatrix::zeros(n, 3);
-        let cut = 1e-6 * svd2.sigma_max();
-        for (i, &s) in svd2.singular_values.iter().enumerate() {
-            if s > cut {
-                on_pinv += (1.0 / s) * svd2.v.column(i) * svd2.u.column(i).transpose();
-            }
-        }
+        // Damped inverse of Ω N₁ (law of module docs with ε = λ_max = 0.01 σ_max(Ω N₁)): base
+        // rotations the null space can barely reach are reduced, not chased with huge rates.
+        let scale = svd2.sigma_max();
+        let lambda2 = if scale > 0.0 { DampingLaw { threshold: 0.01 * scale, max_damping: 0.01 * scale }.damping(svd2.sigma_min()) } else { 0.0 };
+        let on_pinv = dls_from_svd(&svd2, 3, n, lambda2);
+        let on_pinv_exact = dls_from_svd(&svd2, 3, n, 0.0);
         qd += &null * &on_pinv * (-(&omega_map * &qd));
-        null = &null * (DMatrix::identity(n, n) - &on_pinv * &on);
+        null = &null * (DMatrix::identity(n, n) - &on_pinv_exact * &on);
     }
     if options.manipulability_gain > 0.0 || options.joint_limit_gain > 0.0 {
         let mut z = DVector::zeros(n);
@@ -156,15 +158,28 @@ pub fn rmrc_rates(model: &Model, data: &mut Data, x: &[f64], body: usize, offset
         }
         qd += &null * z;
     }
-    // Velocity limits: scale the whole q̇ down if a joint would exceed its limit.
+    // Velocity limits: first shorten the null-space part (largest α ∈ [0, 1] with
+    // |q̇₁ + α q̇ₙ| within the limits), which keeps the task; if the task alone is too fast,
+    // scale it down as a whole (direction kept).
+    let secondary = &qd - &primary;
+    let mut alpha: f64 = 1.0;
     let mut scale: f64 = 1.0;
     for i in 0..n {
         let vmax = model.links[model.body_of_dof(i) - 1].joint.limits.velocity;
-        if vmax.is_finite() && qd[i].abs() > vmax {
-            scale = scale.min(vmax / qd[i].abs());
+        if !vmax.is_finite() {
+            continue;
+        }
+        if primary[i].abs() > vmax {
+            scale = scale.min(vmax / primary[i].abs());
+        }
+        let (p, d) = (primary[i], secondary[i]);
+        if (p + d).abs() > vmax && d != 0.0 {
+            // |p + α d| ≤ vmax on the side d pushes towards.
+            let bound = if d > 0.0 { (vmax - p) / d } else { (-vmax - p) / d };
+            alpha = alpha.min(bound.max(0.0));
         }
     }
-    qd *= scale;
+    let qd = if scale < 1.0 { primary * scale } else { primary + secondary * alpha };
     let base_angular_velocity = Vector3::from_iterator((&omega_map * &qd).iter().copied());
     Ok(RmrcRates { qd, sigma_min, damping: lambda, base_angular_velocity })
 }
