@@ -110,7 +110,7 @@ pub fn integrate_prescribed(
     split_configuration(model, x0)?;
     check_step(dt)?;
     let n = model.n_dof();
-    if n == 0 || q_half.len() % n != 0 || q_half.len() / n < 3 || (q_half.len() / n) % 2 == 0 {
+    if n == 0 || !q_half.len().is_multiple_of(n) || q_half.len() / n < 3 || (q_half.len() / n).is_multiple_of(2) {
         return Err(SpacearmError::Dimension {
             what: "prescribed joint positions".into(),
             expected: format!("(2K+1)×N values with K >= 1 and N = {n} (q at every half step)"),

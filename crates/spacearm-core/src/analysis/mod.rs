@@ -157,13 +157,12 @@ impl Svd {
 fn orthonormalize_columns(u: &mut DMatrix<f64>) {
     let (m, k) = u.shape();
     for c in 0..k {
-        let mut candidates = std::iter::once(u.column(c).into_owned()).chain((0..m).map(|i| {
+        let candidates = std::iter::once(u.column(c).into_owned()).chain((0..m).map(|i| {
             let mut e = DVector::zeros(m);
             e[i] = 1.0;
             e
         }));
-        loop {
-            let Some(mut col) = candidates.next() else { break };
+        for mut col in candidates {
             for _ in 0..2 {
                 for p in 0..c {
                     let prev = u.column(p).into_owned();

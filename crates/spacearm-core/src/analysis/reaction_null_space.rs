@@ -67,7 +67,7 @@ pub fn reaction_null_space(model: &Model, data: &mut Data, x: &[f64], which: Bas
         BaseMotion::Angular => full.rows(3, 3).into_owned(),
         BaseMotion::Full => full,
     };
-    Ok(null_space_of(map, relative_tolerance)?)
+    null_space_of(map, relative_tolerance)
 }
 
 /// Null space, rank and projector of a map (shared with the planners).

@@ -73,7 +73,7 @@ pub fn scan(model: &Model, samples: &[f64], body: usize, offset: &Vector3<f64>, 
     check_body(model, body)?;
     crate::error::check_finite("point offset", offset.as_slice())?;
     let n = model.n_dof();
-    if samples.len() % n != 0 {
+    if !samples.len().is_multiple_of(n) {
         return Err(SpacearmError::Dimension {
             what: "joint samples".into(),
             expected: format!("a multiple of N = {n} (one row of N joint coordinates per sample)"),
