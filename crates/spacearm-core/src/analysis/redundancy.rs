@@ -126,7 +126,14 @@ pub fn rmrc_rates(model: &Model, data: &mut Data, x: &[f64], body: usize, offset
         // Damped inverse of Ω N₁ (law of module docs with ε = λ_max = 0.01 σ_max(Ω N₁)): base
         // rotations the null space can barely reach are reduced, not chased with huge rates.
         let scale = svd2.sigma_max();
-        let lambda2 = if scale > 0.0 { DampingLaw { threshold: 0.01 * scale, max_damping: 0.01 * scale }.damping(svd2.sigma_min()) } else { 0.0 };
+        // Structural zeros (e.g. the in-plane rows of Ω for a planar arm) are not near-singular
+        // directions: the damping looks at the smallest singular value above 1e-9 σ_max.
+        let sigma_ref = svd2.singular_values.iter().copied().filter(|&v| v > 1e-9 * scale).fold(f64::INFINITY, f64::min);
+        let lambda2 = if scale > 0.0 && sigma_ref.is_finite() {
+            DampingLaw { threshold: 0.01 * scale, max_damping: 0.01 * scale }.damping(sigma_ref)
+        } else {
+            0.0
+        };
         let on_pinv = dls_from_svd(&svd2, 3, n, lambda2);
         let on_pinv_exact = dls_from_svd(&svd2, 3, n, 0.0);
         qd += &null * &on_pinv * (-(&omega_map * &qd));
