@@ -109,6 +109,24 @@ def test_scan_equals_per_sample_analysis_and_is_chunk_independent():
         np.testing.assert_allclose(whole["point_from_base"][i], p, atol=1e-12)
 
 
+def test_scan_is_independent_of_the_thread_count():
+    import hashlib
+    import os
+    import subprocess
+    import sys
+
+    code = ("import numpy as np, spacearm, hashlib; from spacearm import analysis; r = spacearm.presets.spatial7(); "
+            "q = np.random.default_rng(1).uniform(-3, 3, (5000, 7)); s = analysis.scan(r, q); "
+            "print(hashlib.sha256(b''.join(np.ascontiguousarray(s[k]).tobytes() for k in sorted(s))).hexdigest())")
+    digests = set()
+    for threads in ("1", "2", "3"):
+        env = dict(os.environ, RAYON_NUM_THREADS=threads)
+        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+        assert out.returncode == 0, out.stderr
+        digests.add(out.stdout.strip())
+    assert len(digests) == 1 and len(hashlib.sha256().hexdigest()) == len(digests.pop())
+
+
 def test_singularity_map_and_figure(tmp_path):
     robot = two_link_planar()
     m = analysis.singularity_map(robot, joints=(0, 1), resolution=81, task="planar")

@@ -118,36 +118,6 @@ pub fn analysis_scan<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, samples: PyRea
     scan_dict(py, &s)
 }
 
-/// Scan plus the workspace shells (reachable, fixed-base, path-dependent, path-independent).
-#[pyfunction]
-#[pyo3(signature = (m, samples, body, offset, rows, singular_threshold, radial_resolution, grid_resolution=None))]
-#[allow(clippy::too_many_arguments)]
-pub fn analysis_workspace<'py>(
-    py: Python<'py>,
-    m: PyRef<'_, PyModel>,
-    samples: PyReadonlyArray2<'py, f64>,
-    body: usize,
-    offset: &Bound<'py, PyAny>,
-    rows: Vec<usize>,
-    singular_threshold: f64,
-    radial_resolution: f64,
-    grid_resolution: Option<usize>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let off = vec3(offset, "offset")?;
-    let t = task(py, rows)?;
-    let s = run_scan(py, &m, &samples, body, &off, &t)?;
-    let grid = grid_resolution.map(|r| workspace::GridShape { resolution: r, n_joints: m.model.n_dof() });
-    let w = workspace::workspace_shells(&s, singular_threshold, radial_resolution, grid).or_raise(py)?;
-    let d = scan_dict(py, &s)?;
-    d.set_item("reachable", w.reachable.to_vec())?;
-    d.set_item("fixed_base", w.fixed_base.to_vec())?;
-    d.set_item("singular_radii", array1(py, &w.singular_radii))?;
-    d.set_item("path_dependent", w.path_dependent.iter().map(|a| a.to_vec()).collect::<Vec<_>>())?;
-    d.set_item("path_independent", w.path_independent.iter().map(|a| a.to_vec()).collect::<Vec<_>>())?;
-    d.set_item("radial_resolution", w.radial_resolution)?;
-    Ok(d)
-}
-
 /// Workspace shells from the arrays of a scan (so a scan need not run twice).
 #[pyfunction]
 #[pyo3(signature = (sigma_min_generalized, det_generalized, point_from_com, point_from_base, singular_threshold, radial_resolution, grid=None))]
@@ -346,7 +316,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analysis_damping, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_joint_grid, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_scan, m)?)?;
-    m.add_function(wrap_pyfunction!(analysis_workspace, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_shells, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_reaction_null_space, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_integrate_prescribed, m)?)?;
