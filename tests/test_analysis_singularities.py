@@ -158,3 +158,23 @@ def test_bad_input():
         analysis.singularity_map(robot, resolution=1)
     with pytest.raises(spacearm.QuaternionError):
         analysis.detect(robot, np.r_[0, 0, 0, 0, 0, 0, 2.0, robot.initial_q])
+
+
+def test_planar4_measures_match_the_symbolic_jstar():
+    """planar4: the singular values of J* from spacearm.symbolic (closed form, SymPy) and the
+    minors of its planar rows: σ₁σ₂ = √(Σ of the squared 2×2 minors) (Cauchy–Binet)."""
+    from itertools import combinations
+
+    from spacearm.symbolic import derive
+
+    robot = spacearm.presets.planar4()
+    d = derive(robot)
+    rng = np.random.default_rng(21)
+    for _ in range(3):
+        x = robot.neutral_configuration(q=rng.uniform(-np.pi, np.pi, 4))
+        (jsym,) = d.evaluate_many([f"J_star_{robot.end_effector}"], x)
+        j = np.asarray(jsym, dtype=float)[:2]
+        rep = analysis.analyze(robot, x, task="planar").generalized
+        minors = [np.linalg.det(j[:, [a, b]]) for a, b in combinations(range(4), 2)]
+        assert rep.manipulability == pytest.approx(np.sqrt(np.sum(np.square(minors))), rel=1e-9)
+        np.testing.assert_allclose(rep.singular_values, np.linalg.svd(j, compute_uv=False), rtol=1e-9)
