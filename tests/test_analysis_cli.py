@@ -1,13 +1,9 @@
 """`spacearm analyze`: each analysis prints its numbers and writes its figure; bad input fails
 cleanly."""
 
-import io
 import re
 import subprocess
 import sys
-
-import numpy as np
-import pytest
 
 import spacearm
 from spacearm import analysis
