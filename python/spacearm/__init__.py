@@ -10,6 +10,7 @@ from . import dh, model_file, presets
 from ._core import __version__
 from .builder import RobotBuilder
 from .errors import (
+    ArgumentError,
     ModelError,
     ModelFileError,
     NonFiniteError,
@@ -39,5 +40,6 @@ __all__ = [
     "QuaternionError",
     "NotFoundError",
     "SingularError",
+    "ArgumentError",
     "__version__",
 ]

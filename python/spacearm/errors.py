@@ -14,6 +14,7 @@ __all__ = [
     "QuaternionError",
     "NotFoundError",
     "SingularError",
+    "ArgumentError",
 ]
 
 
@@ -47,3 +48,7 @@ class NotFoundError(SpacearmError, LookupError):
 
 class SingularError(SpacearmError, ArithmeticError):
     """A matrix that must be inverted is singular at this configuration."""
+
+
+class ArgumentError(SpacearmError, ValueError):
+    """A numerical argument (tolerance, gain, time step, resolution, ...) is outside its valid range."""

@@ -12,10 +12,10 @@ from __future__ import annotations
 from . import _core
 from .robot import Robot
 
-__all__ = ["planar4", "spatial6", "dual_arm", "NAMES", "get"]
+__all__ = ["planar4", "spatial6", "dual_arm", "spatial7", "NAMES", "get"]
 
 #: Preset names, as accepted by :func:`get` and the CLI.
-NAMES = ("planar4", "spatial6", "dual_arm")
+NAMES = ("planar4", "spatial6", "dual_arm", "spatial7")
 
 
 def planar4() -> Robot:
@@ -49,6 +49,18 @@ def dual_arm() -> Robot:
     :meth:`~spacearm.Robot.generalized_jacobian`.
     """
     return Robot(_core.preset("dual_arm"))
+
+
+def spatial7() -> Robot:
+    """Redundant 7-DOF arm on the spatial6 base: the redundancy-resolution example (issue #6).
+
+    Base: 500 kg, 1.2 × 1.0 × 0.8 m (Ixx 68.33, Iyy 86.67, Izz 101.67 kg·m²); joint 1 at
+    (0.6, 0, 0) m; axes x, y, x, y, x, y, x (shoulder roll-pitch-roll, elbow pitch, wrist
+    roll-pitch-roll); lengths 0.2, 0.1, 0.9, 0.1, 0.9, 0.1, 0.15 m; masses 8, 4, 12, 4, 10, 3,
+    3 kg; 0.1 m square bars. Limits: roll joints ±2.97 rad, pitch joints 2 and 6 ±2.09 rad, elbow
+    −2.9…0.1 rad; 1.5 rad/s and 100 N·m each. Initial angles [0, π/4, 0, −π/2, 0, π/4, 0].
+    """
+    return Robot(_core.preset("spatial7"))
 
 
 def get(name: str) -> Robot:

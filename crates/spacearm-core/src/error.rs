@@ -50,6 +50,10 @@ pub enum SpacearmError {
     #[error("{0} is singular (or numerically singular) at this configuration")]
     Singular(String),
 
+    /// A numerical argument (tolerance, gain, step, resolution, ...) is outside its valid range.
+    #[error("{0}")]
+    InvalidArgument(String),
+
     /// A model file could not be parsed; the message carries line and column.
     #[error("{0}")]
     Parse(String),

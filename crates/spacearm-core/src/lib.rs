@@ -16,6 +16,7 @@
 //! [`momentum`], [`dynamics`]; model input in [`model`].
 
 pub mod aba;
+pub mod analysis;
 pub mod body;
 pub mod crba;
 pub mod data;

@@ -13,7 +13,7 @@ use crate::joint::{JointLimits, JointType};
 use crate::model::{LinkSpec, Model, ModelBuilder};
 
 /// Names of the presets, as accepted by [`by_name`].
-pub const NAMES: [&str; 3] = ["planar4", "spatial6", "dual_arm"];
+pub const NAMES: [&str; 4] = ["planar4", "spatial6", "dual_arm", "spatial7"];
 
 /// Inertia of a square bar of length `l` along x and side `w`: `Ixx = m w²/6`,
 /// `Iyy = Izz = m (l² + w²)/12`.
@@ -32,6 +32,8 @@ struct SerialArm<'a> {
     masses: &'a [f64],
     width: f64,
     initial_q: Vec<f64>,
+    /// Joint limits, one per joint (empty: unlimited).
+    limits: &'a [JointLimits],
 }
 
 /// Add a chain of bars on the base (links `{prefix}link1..`, joints `{prefix}joint1..`) and
@@ -52,7 +54,7 @@ fn add_chain(b: &mut ModelBuilder, prefix: &str, spec: &SerialArm<'_>) -> Result
             com_from_joint: [l / 2.0, 0.0, 0.0],
             mass: m,
             inertia: bar_inertia(m, l, spec.width),
-            limits: JointLimits::unlimited(),
+            limits: spec.limits.get(i).copied().unwrap_or_else(JointLimits::unlimited),
         })?;
         parent = name;
         // The next joint is at this link's tip, half a length beyond its CM.
@@ -83,6 +85,7 @@ pub fn planar4() -> Model {
         masses: &[10.0; 4],
         width: 0.05,
         initial_q: vec![FRAC_PI_4, -FRAC_PI_4, -FRAC_PI_4, FRAC_PI_4],
+        limits: &[],
     })
     .expect("the planar4 preset is a valid model")
 }
@@ -101,6 +104,7 @@ pub fn spatial6() -> Model {
         masses: &[8.0, 15.0, 12.0, 4.0, 3.0, 3.0],
         width: 0.1,
         initial_q: vec![0.0, FRAC_PI_4, -2.0 * FRAC_PI_4, 0.0, FRAC_PI_4, 0.0],
+        limits: &[],
     })
     .expect("the spatial6 preset is a valid model")
 }
@@ -129,6 +133,7 @@ pub fn dual_arm() -> Model {
                 masses: &[6.0, 10.0, 8.0, 2.0, 1.5, 1.5],
                 width: 0.08,
                 initial_q: Vec::new(),
+                limits: &[],
             };
             let (tip_link, tip) = add_chain(&mut b, &format!("{side}_"), &arm)?;
             b.add_point(&format!("{side}_tool"), &tip_link, tip)?;
@@ -141,12 +146,40 @@ pub fn dual_arm() -> Model {
     build().expect("the dual_arm preset is a valid model")
 }
 
+/// Redundant 7-DOF arm (shoulder roll–pitch–roll, elbow pitch, wrist roll–pitch–roll) on the
+/// spatial6 base (500 kg, 1.2 × 1.0 × 0.8 m; Ixx 68.33, Iyy 86.67, Izz 101.67 kg·m²): the
+/// redundancy-resolution example (issue #6).
+///
+/// Joint 1 at (0.6, 0, 0) m; axes x, y, x, y, x, y, x; lengths 0.2, 0.1, 0.9, 0.1, 0.9, 0.1,
+/// 0.15 m; masses 8, 4, 12, 4, 10, 3, 3 kg; 0.1 m square bars. Limits: roll joints (1, 3, 5, 7)
+/// ±2.97 rad (±170°), pitch joints 2 and 6 ±2.09 rad (±120°), elbow (joint 4) −2.9…0.1 rad; every
+/// joint 1.5 rad/s and 100 N·m. Initial angles [0, π/4, 0, −π/2, 0, π/4, 0] (elbow bent).
+pub fn spatial7() -> Model {
+    let (x, y) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+    let lim = |lower: f64, upper: f64| JointLimits { lower, upper, velocity: 1.5, effort: 100.0 };
+    let (roll, pitch) = (lim(-2.97, 2.97), lim(-2.09, 2.09));
+    serial_arm(SerialArm {
+        name: "spatial7",
+        base_mass: 500.0,
+        base_inertia: [68.33, 86.67, 101.67],
+        first_joint: [0.6, 0.0, 0.0],
+        axes: &[x, y, x, y, x, y, x],
+        lengths: &[0.2, 0.1, 0.9, 0.1, 0.9, 0.1, 0.15],
+        masses: &[8.0, 4.0, 12.0, 4.0, 10.0, 3.0, 3.0],
+        width: 0.1,
+        initial_q: vec![0.0, FRAC_PI_4, 0.0, -2.0 * FRAC_PI_4, 0.0, FRAC_PI_4, 0.0],
+        limits: &[roll, pitch, roll, lim(-2.9, 0.1), roll, pitch, roll],
+    })
+    .expect("the spatial7 preset is a valid model")
+}
+
 /// A preset by name (see [`NAMES`]).
 pub fn by_name(name: &str) -> Option<Model> {
     match name {
         "planar4" => Some(planar4()),
         "spatial6" => Some(spatial6()),
         "dual_arm" => Some(dual_arm()),
+        "spatial7" => Some(spatial7()),
         _ => None,
     }
 }
@@ -180,5 +213,9 @@ mod tests {
         assert!((d.total_mass() - 658.0).abs() < 1e-12);
         // the right arm hangs off the base, not off the left arm
         assert_eq!(d.links[6].parent, 0);
+        let s7 = spatial7();
+        assert_eq!(s7.n_dof(), 7);
+        assert!((s7.total_mass() - 544.0).abs() < 1e-12);
+        assert_eq!(s7.links[3].joint.limits.upper, 0.1);
     }
 }

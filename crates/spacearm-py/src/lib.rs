@@ -4,6 +4,7 @@
 //! converts the result back; errors map onto `spacearm.errors`. The Python package
 //! (`python/spacearm`) is the face users see.
 
+mod analysis_py;
 mod builder_py;
 mod convert;
 mod model_io_py;
@@ -35,6 +36,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(model_io_py::model_to_toml, m)?)?;
     m.add_function(wrap_pyfunction!(model_io_py::model_from_classic_dh, m)?)?;
     m.add_function(wrap_pyfunction!(model_io_py::model_from_paper_dh, m)?)?;
+    analysis_py::register(m)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

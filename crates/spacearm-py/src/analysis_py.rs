@@ -1,0 +1,325 @@
+//! Bindings of `spacearm_core::analysis` (issue #6): dynamic singularities, joint-space scans,
+//! workspaces, reaction null space, free-floating kinematics and resolved-motion-rate control.
+//! Thin wrappers: arrays in, a dict of arrays out; the Python package `spacearm.analysis` is the
+//! face users see. Scans release the GIL while rayon runs.
+
+use nalgebra::{DMatrix, Vector3, Vector6};
+use numpy::{PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use spacearm_core::analysis::{
+    free_floating_kinematics as ffk, reaction_null_space as rns, redundancy, scan, singularity, workspace, Task,
+};
+use spacearm_core::SpacearmError;
+
+use crate::convert::*;
+use crate::model_py::PyModel;
+
+fn task(py: Python<'_>, rows: Vec<usize>) -> PyResult<Task> {
+    Task::new(&rows).or_raise(py)
+}
+
+/// A 2-D float64 array (any layout) as a row-major Vec with its shape.
+fn rows_of(a: &PyReadonlyArray2<'_, f64>) -> (Vec<f64>, usize, usize) {
+    let shape = a.shape();
+    let v = a.as_array().iter().copied().collect();
+    (v, shape[0], shape[1])
+}
+
+fn row_major<'py>(py: Python<'py>, v: &[f64], rows: usize, cols: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let m = DMatrix::from_row_slice(rows, cols, v);
+    Ok(dmat(py, &m))
+}
+
+fn measures<'py>(py: Python<'py>, m: &singularity::JacobianMeasures) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("jacobian", dmat(py, &m.jacobian))?;
+    d.set_item("singular_values", dvec(py, &m.singular_values))?;
+    d.set_item("condition", m.condition)?;
+    d.set_item("manipulability", m.manipulability)?;
+    d.set_item("task_directions", dmat(py, &m.task_directions))?;
+    d.set_item("joint_directions", dmat(py, &m.joint_directions))?;
+    Ok(d)
+}
+
+/// Singular values, condition, manipulability, singular directions of J* and J_m.
+#[pyfunction]
+pub fn analysis_singularity<'py>(py: Python<'py>, mut m: PyRefMut<'_, PyModel>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>, rows: Vec<usize>) -> PyResult<Bound<'py, PyDict>> {
+    let off = vec3(offset, "offset")?;
+    let x = vec_arg(x, "x")?;
+    let t = task(py, rows)?;
+    let PyModel { model, data } = &mut *m;
+    let a = singularity::analyze(model, data, x.as_slice(), body, &off, &t).or_raise(py)?;
+    let d = PyDict::new(py);
+    d.set_item("generalized", measures(py, &a.generalized)?)?;
+    d.set_item("fixed_base", measures(py, &a.fixed_base)?)?;
+    Ok(d)
+}
+
+/// (sigma_min, condition, damping, near_singular) of the task rows of J* at x.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+pub fn analysis_detect(py: Python<'_>, mut m: PyRefMut<'_, PyModel>, x: &Bound<'_, PyAny>, body: usize, offset: &Bound<'_, PyAny>, rows: Vec<usize>, threshold: f64, max_damping: f64) -> PyResult<(f64, f64, f64, bool)> {
+    let off = vec3(offset, "offset")?;
+    let x = vec_arg(x, "x")?;
+    let t = task(py, rows)?;
+    let law = singularity::DampingLaw::new(threshold, max_damping).or_raise(py)?;
+    let PyModel { model, data } = &mut *m;
+    let d = singularity::detect_at(model, data, x.as_slice(), body, &off, &t, &law).or_raise(py)?;
+    Ok((d.sigma_min, d.condition, d.damping, d.near_singular))
+}
+
+/// The damping λ(σ_min) of the law λ² = λ_max² (1 − (σ/ε)²) for σ < ε.
+#[pyfunction]
+pub fn analysis_damping(py: Python<'_>, sigma_min: f64, threshold: f64, max_damping: f64) -> PyResult<f64> {
+    Ok(singularity::DampingLaw::new(threshold, max_damping).or_raise(py)?.damping(sigma_min))
+}
+
+/// Regular joint grid (row-major M×N).
+#[pyfunction]
+pub fn analysis_joint_grid<'py>(py: Python<'py>, lower: Vec<f64>, upper: Vec<f64>, resolution: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let n = lower.len();
+    let g = scan::joint_grid(&lower, &upper, resolution).or_raise(py)?;
+    row_major(py, &g, g.len() / n.max(1), n)
+}
+
+fn scan_dict<'py>(py: Python<'py>, s: &[scan::ScanSample]) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let col = |f: &dyn Fn(&scan::ScanSample) -> f64| s.iter().map(f).collect::<Vec<f64>>();
+    d.set_item("sigma_min_generalized", array1(py, &col(&|r| r.sigma_min_generalized)))?;
+    d.set_item("sigma_max_generalized", array1(py, &col(&|r| r.sigma_max_generalized)))?;
+    d.set_item("manipulability_generalized", array1(py, &col(&|r| r.manipulability_generalized)))?;
+    d.set_item("det_generalized", array1(py, &col(&|r| r.det_generalized)))?;
+    d.set_item("sigma_min_fixed", array1(py, &col(&|r| r.sigma_min_fixed)))?;
+    d.set_item("manipulability_fixed", array1(py, &col(&|r| r.manipulability_fixed)))?;
+    d.set_item("det_fixed", array1(py, &col(&|r| r.det_fixed)))?;
+    let pos = |f: &dyn Fn(&scan::ScanSample) -> Vector3<f64>| s.iter().flat_map(|r| f(r).iter().copied().collect::<Vec<_>>()).collect::<Vec<f64>>();
+    d.set_item("point_from_base", row_major(py, &pos(&|r| r.point_from_base), s.len(), 3)?)?;
+    d.set_item("point_from_com", row_major(py, &pos(&|r| r.point_from_com), s.len(), 3)?)?;
+    Ok(d)
+}
+
+fn run_scan(py: Python<'_>, m: &PyModel, samples: &PyReadonlyArray2<'_, f64>, body: usize, off: &Vector3<f64>, t: &Task) -> PyResult<Vec<scan::ScanSample>> {
+    let (v, _, cols) = rows_of(samples);
+    let n = m.model.n_dof();
+    if cols != n {
+        return Err(to_py_err(py, SpacearmError::Dimension { what: "joint samples (columns)".into(), expected: format!("N = {n}"), got: cols }));
+    }
+    let model = &m.model;
+    py.detach(|| scan::scan(model, &v, body, off, t)).or_raise(py)
+}
+
+/// Parallel scan of joint samples (M×N): σ, manipulability, det of J* and J_m, positions.
+#[pyfunction]
+pub fn analysis_scan<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, samples: PyReadonlyArray2<'py, f64>, body: usize, offset: &Bound<'py, PyAny>, rows: Vec<usize>) -> PyResult<Bound<'py, PyDict>> {
+    let off = vec3(offset, "offset")?;
+    let t = task(py, rows)?;
+    let s = run_scan(py, &m, &samples, body, &off, &t)?;
+    scan_dict(py, &s)
+}
+
+/// Workspace shells from the arrays of a scan (so a scan need not run twice).
+#[pyfunction]
+#[pyo3(signature = (sigma_min_generalized, det_generalized, point_from_com, point_from_base, singular_threshold, radial_resolution, grid=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn analysis_shells<'py>(
+    py: Python<'py>,
+    sigma_min_generalized: Vec<f64>,
+    det_generalized: Vec<f64>,
+    point_from_com: PyReadonlyArray2<'py, f64>,
+    point_from_base: PyReadonlyArray2<'py, f64>,
+    singular_threshold: f64,
+    radial_resolution: f64,
+    grid: Option<(usize, usize)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (com, m1, c1) = rows_of(&point_from_com);
+    let (base, m2, c2) = rows_of(&point_from_base);
+    let m = sigma_min_generalized.len();
+    if det_generalized.len() != m || m1 != m || m2 != m || c1 != 3 || c2 != 3 {
+        return Err(to_py_err(py, SpacearmError::Dimension { what: "scan arrays".into(), expected: format!("{m} samples (positions M×3)"), got: det_generalized.len() }));
+    }
+    let samples: Vec<scan::ScanSample> = (0..m)
+        .map(|i| scan::ScanSample {
+            sigma_min_generalized: sigma_min_generalized[i],
+            sigma_max_generalized: f64::NAN,
+            manipulability_generalized: f64::NAN,
+            det_generalized: det_generalized[i],
+            sigma_min_fixed: f64::NAN,
+            manipulability_fixed: f64::NAN,
+            det_fixed: f64::NAN,
+            point_from_base: Vector3::new(base[3 * i], base[3 * i + 1], base[3 * i + 2]),
+            point_from_com: Vector3::new(com[3 * i], com[3 * i + 1], com[3 * i + 2]),
+        })
+        .collect();
+    let grid = grid.map(|(resolution, n_joints)| workspace::GridShape { resolution, n_joints });
+    let w = workspace::workspace_shells(&samples, singular_threshold, radial_resolution, grid).or_raise(py)?;
+    let d = PyDict::new(py);
+    d.set_item("reachable", w.reachable.to_vec())?;
+    d.set_item("fixed_base", w.fixed_base.to_vec())?;
+    d.set_item("singular_radii", array1(py, &w.singular_radii))?;
+    d.set_item("path_dependent", w.path_dependent.iter().map(|a| a.to_vec()).collect::<Vec<_>>())?;
+    d.set_item("path_independent", w.path_independent.iter().map(|a| a.to_vec()).collect::<Vec<_>>())?;
+    Ok(d)
+}
+
+fn rns_dict<'py>(py: Python<'py>, r: &rns::ReactionNullSpace) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("base_motion_map", dmat(py, &r.base_motion_map))?;
+    d.set_item("singular_values", dvec(py, &r.singular_values))?;
+    d.set_item("rank", r.rank)?;
+    d.set_item("basis", dmat(py, &r.basis))?;
+    d.set_item("projector", dmat(py, &r.projector))?;
+    Ok(d)
+}
+
+/// Reaction null space at x: `which` is "angular" or "full".
+#[pyfunction]
+pub fn analysis_reaction_null_space<'py>(py: Python<'py>, mut m: PyRefMut<'_, PyModel>, x: &Bound<'py, PyAny>, which: &str, tolerance: f64) -> PyResult<Bound<'py, PyDict>> {
+    let which = match which {
+        "angular" => rns::BaseMotion::Angular,
+        "full" => rns::BaseMotion::Full,
+        other => return Err(to_py_err(py, SpacearmError::NotFound(format!("base motion must be 'angular' or 'full', got '{other}'")))),
+    };
+    let x = vec_arg(x, "x")?;
+    let PyModel { model, data } = &mut *m;
+    let r = rns::reaction_null_space(model, data, x.as_slice(), which, tolerance).or_raise(py)?;
+    rns_dict(py, &r)
+}
+
+/// Base motion under prescribed joint motion at the RK4 half steps; returns (K+1)×(7+N).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+pub fn analysis_integrate_prescribed<'py>(
+    py: Python<'py>,
+    mut m: PyRefMut<'_, PyModel>,
+    x0: &Bound<'py, PyAny>,
+    dt: f64,
+    q_half: PyReadonlyArray2<'py, f64>,
+    qd_half: PyReadonlyArray2<'py, f64>,
+    linear_momentum: &Bound<'py, PyAny>,
+    angular_momentum: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let p = vec3(linear_momentum, "linear momentum")?;
+    let l = vec3(angular_momentum, "angular momentum")?;
+    let x0 = vec_arg(x0, "x0")?;
+    let n = m.model.n_dof();
+    let (q, _, qc) = rows_of(&q_half);
+    let (qd, _, qdc) = rows_of(&qd_half);
+    for (what, c) in [("prescribed q (columns)", qc), ("prescribed qd (columns)", qdc)] {
+        if c != n {
+            return Err(to_py_err(py, SpacearmError::Dimension { what: what.into(), expected: format!("N = {n}"), got: c }));
+        }
+    }
+    let PyModel { model, data } = &mut *m;
+    let mom = ffk::ConservedMomentum { linear: p, angular_about_origin: l };
+    let xs = ffk::integrate_prescribed(model, data, x0.as_slice(), dt, &q, &qd, &mom).or_raise(py)?;
+    row_major(py, &xs, xs.len() / (7 + n), 7 + n)
+}
+
+fn strategy(py: Python<'_>, s: &str) -> PyResult<redundancy::Strategy> {
+    match s {
+        "naive" => Ok(redundancy::Strategy::Naive),
+        "reactionless" => Ok(redundancy::Strategy::Reactionless),
+        "minimum_disturbance" => Ok(redundancy::Strategy::MinimumBaseDisturbance),
+        other => Err(to_py_err(py, SpacearmError::NotFound(format!("strategy must be 'naive', 'reactionless' or 'minimum_disturbance', got '{other}'")))),
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn options(py: Python<'_>, rows: Vec<usize>, threshold: f64, max_damping: f64, gain: f64, strat: &str, manipulability_gain: f64, joint_limit_gain: f64) -> PyResult<redundancy::RmrcOptions> {
+    Ok(redundancy::RmrcOptions {
+        task: task(py, rows)?,
+        damping: singularity::DampingLaw::new(threshold, max_damping).or_raise(py)?,
+        feedback_gain: gain,
+        strategy: strategy(py, strat)?,
+        manipulability_gain,
+        joint_limit_gain,
+    })
+}
+
+/// One evaluation of the RMRC law: (qd, sigma_min, damping, base angular velocity).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+pub fn analysis_rmrc_rates<'py>(
+    py: Python<'py>,
+    mut m: PyRefMut<'_, PyModel>,
+    x: &Bound<'py, PyAny>,
+    body: usize,
+    offset: &Bound<'py, PyAny>,
+    desired_twist: &Bound<'py, PyAny>,
+    rows: Vec<usize>,
+    threshold: f64,
+    max_damping: f64,
+    strat: &str,
+    manipulability_gain: f64,
+    joint_limit_gain: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let off = vec3(offset, "offset")?;
+    let v: Vector6<f64> = vec6(desired_twist, "desired twist")?;
+    let x = vec_arg(x, "x")?;
+    let o = options(py, rows, threshold, max_damping, 0.0, strat, manipulability_gain, joint_limit_gain)?;
+    let PyModel { model, data } = &mut *m;
+    let r = redundancy::rmrc_rates(model, data, x.as_slice(), body, &off, &v, &o).or_raise(py)?;
+    let d = PyDict::new(py);
+    d.set_item("qd", dvec(py, &r.qd))?;
+    d.set_item("sigma_min", r.sigma_min)?;
+    d.set_item("damping", r.damping)?;
+    d.set_item("base_angular_velocity", array1(py, r.base_angular_velocity.as_slice()))?;
+    Ok(d)
+}
+
+/// Closed-loop point-to-point RMRC motion (zero momentum).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+pub fn analysis_move_to<'py>(
+    py: Python<'py>,
+    mut m: PyRefMut<'_, PyModel>,
+    x0: &Bound<'py, PyAny>,
+    body: usize,
+    offset: &Bound<'py, PyAny>,
+    target: &Bound<'py, PyAny>,
+    duration: f64,
+    settle: f64,
+    dt: f64,
+    rows: Vec<usize>,
+    threshold: f64,
+    max_damping: f64,
+    gain: f64,
+    strat: &str,
+    manipulability_gain: f64,
+    joint_limit_gain: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let off = vec3(offset, "offset")?;
+    let target = vec3(target, "target")?;
+    let x0 = vec_arg(x0, "x0")?;
+    let o = options(py, rows, threshold, max_damping, gain, strat, manipulability_gain, joint_limit_gain)?;
+    let PyModel { model, data } = &mut *m;
+    let r = redundancy::move_to(model, data, x0.as_slice(), body, &off, &target, duration, settle, dt, &o).or_raise(py)?;
+    let n = model.n_dof();
+    let k = r.times.len();
+    let d = PyDict::new(py);
+    d.set_item("times", array1(py, &r.times))?;
+    d.set_item("x", row_major(py, &r.x, k, 7 + n)?)?;
+    d.set_item("qd", row_major(py, &r.qd, k, n)?)?;
+    d.set_item("point_position", row_major(py, &r.point_position, k, 3)?)?;
+    d.set_item("sigma_min", array1(py, &r.sigma_min))?;
+    d.set_item("damping", array1(py, &r.damping))?;
+    d.set_item("attitude_change", array1(py, &r.attitude_change))?;
+    d.set_item("final_position_error", r.final_position_error)?;
+    Ok(d)
+}
+
+/// Register the analysis functions on the extension module.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(analysis_singularity, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis_detect, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis_damping, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis_joint_grid, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis_scan, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis_shells, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis_reaction_null_space, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis_integrate_prescribed, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis_rmrc_rates, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis_move_to, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,122 @@
+"""Helpers shared by the analysis modules: task rows, points, progress-bar chunking and atomic
+figure output."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from typing import Sequence, Union
+
+import numpy as np
+
+from ..errors import ShapeError, SpacearmError
+
+TaskLike = Union[str, Sequence[int], None]
+
+#: Named tasks: rows of the point twist [vx, vy, vz, wx, wy, wz] (in the inertial frame).
+TASKS = {
+    "position": (0, 1, 2),
+    "planar": (0, 1),
+    "planar_pose": (0, 1, 5),
+    "orientation": (3, 4, 5),
+    "full": (0, 1, 2, 3, 4, 5),
+}
+
+
+def is_planar(robot) -> bool:
+    """True when every joint axis is along z at the initial configuration (a planar arm in x–y)."""
+    k = robot.forward_kinematics(robot.neutral_configuration()).joint_axis_in_world
+    axes = [k[b] for b in robot.body_of_dof]
+    return len(axes) > 0 and all(abs(abs(a[2]) - 1.0) < 1e-12 for a in axes)
+
+
+def task_rows(robot, task: TaskLike) -> list:
+    """Rows of the twist for ``task``: a name of :data:`TASKS`, a sequence of row indices, or
+    ``None``/``"auto"`` (``"planar"`` for a planar arm with every joint axis along z, else
+    ``"position"``)."""
+    if task is None or (isinstance(task, str) and task == "auto"):
+        task = "planar" if is_planar(robot) else "position"
+    if isinstance(task, str):
+        if task not in TASKS:
+            raise SpacearmError(f"unknown task '{task}': expected one of {', '.join(TASKS)} or a list of rows 0-5")
+        return list(TASKS[task])
+    rows = [int(r) for r in task]
+    return rows
+
+
+def joint_bounds(robot, default_span=np.pi):
+    """Lower and upper joint bounds for scans: the model's limits where finite, else ±π (±1 m
+    for prismatic joints)."""
+    lower, upper = [], []
+    types = [t for t in robot.joint_types if t != "fixed"]
+    limits = [link["limits"] for link in robot.describe()["links"] if link["type"] != "fixed"]
+    for t, (lo, hi, _v, _e) in zip(types, limits):
+        span = default_span if t == "revolute" else 1.0
+        lower.append(lo if np.isfinite(lo) else -span)
+        upper.append(hi if np.isfinite(hi) else span)
+    return np.array(lower), np.array(upper)
+
+
+def samples_2d(samples, n_dof: int) -> np.ndarray:
+    a = np.ascontiguousarray(np.asarray(samples, dtype=float))
+    if a.ndim != 2 or a.shape[1] != n_dof:
+        raise ShapeError(f"joint samples must have shape (M, N = {n_dof}), got {a.shape}")
+    if a.shape[0] == 0:
+        raise ShapeError("joint samples must hold at least one row")
+    return a
+
+
+def chunked(run, samples: np.ndarray, progress: bool, desc: str):
+    """Run ``run(rows)`` over row chunks (a progress bar per chunk); returns the list of results.
+    Chunking changes nothing in the numbers: every sample is computed from its own row only."""
+    m = samples.shape[0]
+    n_chunks = 1 if m < 2000 else min(50, m // 1000)
+    bounds = np.linspace(0, m, n_chunks + 1).astype(int)
+    out = []
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=m, desc=desc, unit="sample", leave=False)
+    try:
+        for a, b in zip(bounds[:-1], bounds[1:]):
+            out.append(run(np.ascontiguousarray(samples[a:b])))
+            if bar is not None:
+                bar.update(b - a)
+    finally:
+        if bar is not None:
+            bar.close()
+    return out
+
+
+def concat_dicts(parts):
+    """Concatenate the array entries of the chunk results."""
+    keys = parts[0].keys()
+    return {k: np.concatenate([p[k] for p in parts], axis=0) for k in keys}
+
+
+def new_figure(*args, **kwargs):
+    """A matplotlib Figure without pyplot's global state (Agg canvas)."""
+    try:
+        from matplotlib.figure import Figure
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise SpacearmError("figures need matplotlib: pip install 'spacearm[plot]'") from exc
+    return Figure(*args, **kwargs)
+
+
+def save_figure(fig, path) -> str:
+    """Write ``fig`` to ``path`` atomically (temporary file in the same folder, then rename)."""
+    path = os.fspath(path)
+    folder = os.path.dirname(os.path.abspath(path))
+    ext = os.path.splitext(path)[1] or ".png"
+    fd, tmp = tempfile.mkstemp(suffix=ext, dir=folder, prefix=".spacearm-")
+    os.close(fd)
+    try:
+        fig.savefig(tmp, format=ext.lstrip(".") or "png", dpi=130, bbox_inches="tight")
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path

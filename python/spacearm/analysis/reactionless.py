@@ -1,0 +1,135 @@
+"""Reaction null space and reactionless motion (Nenchev, Umetani & Yoshida 1992; Nenchev et al.
+1999), and the resolved-motion-rate planner shared with redundancy resolution
+(``docs/reactionless.md``, ``docs/redundancy.md``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from .. import _core
+from .._arrays import vector
+from ..errors import SpacearmError
+from ._common import TaskLike, new_figure, save_figure, task_rows
+
+__all__ = ["ReactionNullSpace", "reaction_null_space", "Motion", "move_to", "rmrc_rates", "STRATEGIES"]
+
+#: Strategies of the planner: how the base is treated.
+STRATEGIES = ("naive", "reactionless", "minimum_disturbance")
+
+
+@dataclass(frozen=True)
+class ReactionNullSpace:
+    """Joint rates that leave the base attitude (``"angular"``) or the whole base (``"full"``)
+    undisturbed, with zero system momentum."""
+
+    base_motion_map: np.ndarray  #: rows of −H0⁻¹ H0m: joint rates → base angular velocity (3×N) or twist (6×N)
+    singular_values: np.ndarray  #: of the map, decreasing
+    rank: int
+    basis: np.ndarray  #: orthonormal basis of the null space, N×(N − rank)
+    projector: np.ndarray  #: N×N orthogonal projector onto it
+
+    @property
+    def dimension(self) -> int:
+        return self.basis.shape[1]
+
+
+def reaction_null_space(robot, x=None, base_motion: str = "angular", tolerance: float = 1e-9) -> ReactionNullSpace:
+    """The reaction null space at ``x`` (default: initial configuration): the null space of the
+    angular rows (``base_motion="angular"``, Nenchev's RNS: null space of the coupling inertia
+    about the system CM) or of all rows (``"full"``) of ``−H0⁻¹ H0m``; rank at
+    ``tolerance · σ_max``."""
+    x = robot.neutral_configuration() if x is None else x
+    return ReactionNullSpace(**_core.analysis_reaction_null_space(robot._m, x, base_motion, float(tolerance)))
+
+
+def _check_strategy(strategy: str) -> str:
+    if strategy not in STRATEGIES:
+        raise SpacearmError(f"strategy must be one of {', '.join(STRATEGIES)}, got {strategy!r}")
+    return strategy
+
+
+def rmrc_rates(robot, x, desired_twist, point=None, task: TaskLike = None, strategy: str = "naive", threshold: float = 0.05,
+               max_damping: float = 0.05, manipulability_gain: float = 0.0, joint_limit_gain: float = 0.0) -> dict:
+    """One evaluation of the resolved-motion-rate law: joint rates realising the task rows of
+    ``desired_twist`` (6 values ``[v; w]`` in 𝒥) through ``J*`` (DLS with the damping law of
+    :func:`spacearm.analysis.damping`), with the null-space objectives. Returns ``qd``,
+    ``sigma_min``, ``damping`` and ``base_angular_velocity``."""
+    body, off = robot._point(point)
+    return _core.analysis_rmrc_rates(robot._m, x, body, off, vector(desired_twist, "desired_twist", 6), task_rows(robot, task),
+                                     float(threshold), float(max_damping), _check_strategy(strategy),
+                                     float(manipulability_gain), float(joint_limit_gain))
+
+
+@dataclass
+class Motion:
+    """A closed-loop point-to-point motion of a free-floating system (zero momentum)."""
+
+    robot_name: str
+    strategy: str
+    target: np.ndarray
+    times: np.ndarray  #: (K+1,)
+    x: np.ndarray  #: (K+1, 7+N) configurations
+    qd: np.ndarray  #: (K+1, N) joint rates
+    point_position: np.ndarray  #: (K+1, 3) in 𝒥
+    sigma_min: np.ndarray  #: σ_min of the (projected) task Jacobian
+    damping: np.ndarray
+    attitude_change: np.ndarray  #: base rotation angle from the start, rad
+    final_position_error: float  #: m
+
+    @property
+    def max_attitude_change(self) -> float:
+        return float(np.max(self.attitude_change))
+
+    def plot(self, path, others=(), title: Optional[str] = None) -> str:
+        """Point path (x–y), base attitude change and σ_min against time, for this motion and
+        any ``others`` (e.g. a naive motion to the same target)."""
+        fig = new_figure(figsize=(13, 4.2))
+        ax_path, ax_att, ax_sig = fig.subplots(1, 3)
+        for m in (self, *others):
+            ax_path.plot(m.point_position[:, 0], m.point_position[:, 1], label=m.strategy)
+            ax_att.plot(m.times, np.degrees(m.attitude_change), label=f"{m.strategy} (max {np.degrees(m.max_attitude_change):.3g}°)")
+            ax_sig.plot(m.times, m.sigma_min, label=m.strategy)
+        p0 = self.point_position[0]
+        ax_path.plot([p0[0]], [p0[1]], "ko", label="start")
+        ax_path.plot([self.target[0]], [self.target[1]], "r*", ms=12, label="target")
+        ax_path.set_xlabel("x (m)")
+        ax_path.set_ylabel("y (m)")
+        ax_path.set_aspect("equal", adjustable="datalim")
+        ax_path.set_title("end-effector path (inertial x–y)", fontsize=10)
+        ax_path.legend(fontsize=8)
+        ax_att.set_xlabel("t (s)")
+        ax_att.set_ylabel("base attitude change (deg)")
+        ax_att.set_title("base attitude disturbance", fontsize=10)
+        ax_att.legend(fontsize=8)
+        ax_sig.set_xlabel("t (s)")
+        ax_sig.set_ylabel("σ_min of the task Jacobian")
+        ax_sig.set_title("distance from singularity", fontsize=10)
+        ax_sig.legend(fontsize=8)
+        fig.suptitle(title or f"{self.robot_name}: point-to-point motion of the free-floating system (zero momentum)", fontsize=10)
+        return save_figure(fig, path)
+
+
+def move_to(robot, target, x0=None, point=None, task: TaskLike = None, strategy: str = "reactionless", duration: float = 5.0,
+            settle: float = 1.0, dt: float = 0.01, gain: float = 5.0, threshold: float = 0.05, max_damping: float = 0.05,
+            manipulability_gain: float = 0.0, joint_limit_gain: float = 0.0) -> Motion:
+    """Move a point (default: the end effector) to ``target`` (3 values in 𝒥; only the task's
+    linear rows are controlled; angular rows hold the initial orientation) along a straight line
+    with quintic timing over ``duration`` s, then ``settle`` s more, by resolved-motion-rate
+    control through ``J*`` integrated with the free-floating kinematics (RK4, step ``dt``).
+
+    ``strategy``: ``"naive"`` (DLS pseudo-inverse of ``J*``), ``"reactionless"`` (task in the
+    reaction null space: base attitude undisturbed), ``"minimum_disturbance"`` (task first, base
+    angular velocity minimized in its null space). ``manipulability_gain`` and
+    ``joint_limit_gain`` add singularity- and joint-limit-avoidance in the remaining null space.
+    """
+    x0 = robot.neutral_configuration() if x0 is None else x0
+    body, off = robot._point(point)
+    tgt = vector(target, "target", 3)
+    d = _core.analysis_move_to(robot._m, x0, body, off, tgt, float(duration), float(settle), float(dt), task_rows(robot, task),
+                               float(threshold), float(max_damping), float(gain), _check_strategy(strategy),
+                               float(manipulability_gain), float(joint_limit_gain))
+    return Motion(robot.name, strategy, tgt, **d)

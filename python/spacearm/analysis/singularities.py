@@ -1,0 +1,169 @@
+"""Dynamic singularities of free-floating systems (Papadopoulos & Dubowsky 1991, 1993):
+rank loss of the Generalized Jacobian ``J*`` (paper eq. 110), compared with the fixed-base
+Jacobian ``J_m`` (eq. 106). Theory and the damping law: ``docs/singularities.md``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional, Sequence
+
+import numpy as np
+
+from .. import _core
+from ._common import TaskLike, chunked, concat_dicts, new_figure, samples_2d, save_figure, task_rows
+
+__all__ = ["JacobianMeasures", "SingularityReport", "Detection", "SingularityMap", "analyze", "detect", "damping", "scan", "singularity_map"]
+
+
+@dataclass(frozen=True)
+class JacobianMeasures:
+    """Singular-value measures of one task Jacobian (m×N)."""
+
+    jacobian: np.ndarray  #: the task rows analysed
+    singular_values: np.ndarray  #: decreasing, min(m, N) of them
+    condition: float  #: σ_max / σ_min (inf at a singularity)
+    manipulability: float  #: Yoshikawa's Π σ_i
+    task_directions: np.ndarray  #: left singular vectors (m×min(m, N)); the last is the worst task direction
+    joint_directions: np.ndarray  #: right singular vectors (N×N); columns beyond the rank span the null space
+
+    @property
+    def sigma_min(self) -> float:
+        return float(self.singular_values[-1])
+
+
+@dataclass(frozen=True)
+class SingularityReport:
+    """``J*`` (free-floating, zero momentum) and ``J_m`` (base held fixed) at one configuration."""
+
+    generalized: JacobianMeasures
+    fixed_base: JacobianMeasures
+    task: tuple  #: twist rows analysed
+
+
+@dataclass(frozen=True)
+class Detection:
+    """What the detector tells a resolved-motion-rate controller."""
+
+    sigma_min: float
+    condition: float
+    damping: float  #: recommended λ of the DLS inverse
+    near_singular: bool  #: σ_min < ε
+
+
+def analyze(robot, x=None, point=None, task: TaskLike = None) -> SingularityReport:
+    """Singular values, condition numbers, manipulability and singular directions of the task
+    rows of ``J*`` and of ``J_m`` at ``x`` (default: the initial configuration)."""
+    x = robot.neutral_configuration() if x is None else x
+    body, off = robot._point(point)
+    rows = task_rows(robot, task)
+    d = _core.analysis_singularity(robot._m, x, body, off, rows)
+    return SingularityReport(JacobianMeasures(**d["generalized"]), JacobianMeasures(**d["fixed_base"]), tuple(rows))
+
+
+def damping(sigma_min: float, threshold: float, max_damping: float) -> float:
+    """``λ(σ_min)`` with ``λ² = λ_max² (1 − (σ_min/ε)²)`` for ``σ_min < ε``, else 0."""
+    return _core.analysis_damping(float(sigma_min), float(threshold), float(max_damping))
+
+
+def detect(robot, x, point=None, task: TaskLike = None, threshold: float = 0.05, max_damping: float = 0.05) -> Detection:
+    """Singularity detector for RMRC: ``σ_min`` and condition of the task rows of ``J*`` and
+    the recommended DLS damping (``threshold`` = ε, ``max_damping`` = λ_max)."""
+    body, off = robot._point(point)
+    return Detection(*_core.analysis_detect(robot._m, x, body, off, task_rows(robot, task), float(threshold), float(max_damping)))
+
+
+def scan(robot, samples, point=None, task: TaskLike = None, progress: bool = False) -> dict:
+    """Joint-space scan (parallel, in Rust) with the base at the origin and aligned with 𝒥:
+    for each row ``q`` of ``samples`` (M×N), the smallest/largest singular values,
+    manipulability and determinant (square tasks, else NaN) of ``J*`` and ``J_m`` and the
+    point's position from the base CM and from the system CM (base frame). Returns a dict of
+    arrays."""
+    body, off = robot._point(point)
+    rows = task_rows(robot, task)
+    q = samples_2d(samples, robot.n_dof)
+    parts = chunked(lambda s: _core.analysis_scan(robot._m, s, body, off, rows), q, progress, "scan")
+    return concat_dicts(parts)
+
+
+@dataclass
+class SingularityMap:
+    """``σ_min`` of ``J*`` and ``J_m`` on a grid over two joints (the others fixed)."""
+
+    robot_name: str
+    joints: tuple  #: the two joints varied (0-based dof indices)
+    q_reference: np.ndarray  #: the other joints' values
+    axis_a: np.ndarray  #: values of joint ``joints[0]`` (rad or m)
+    axis_b: np.ndarray  #: values of joint ``joints[1]``
+    sigma_min_generalized: np.ndarray  #: (len(axis_a), len(axis_b))
+    sigma_min_fixed: np.ndarray
+    det_generalized: np.ndarray  #: NaN unless the task is square
+    det_fixed: np.ndarray
+    task: tuple
+    seconds: float  #: wall time of the scan
+    samples_per_second: float
+
+    def singular_mask(self, relative: float = 0.02) -> np.ndarray:
+        """Grid cells with ``σ_min(J*) < relative · max σ_min(J*)`` over the map."""
+        return self.sigma_min_generalized < relative * np.nanmax(self.sigma_min_generalized)
+
+    def plot(self, path, title: Optional[str] = None) -> str:
+        """Two maps side by side (``J*`` and ``J_m``), with the locus of singularities: the zero
+        contour of ``det`` for a square task, else the contour ``σ_min = 2 %`` of its maximum."""
+        fig = new_figure(figsize=(11, 4.6))
+        axes = fig.subplots(1, 2, sharey=True)
+        ext = [self.axis_b[0], self.axis_b[-1], self.axis_a[0], self.axis_a[-1]]
+        vmax = max(np.nanmax(self.sigma_min_generalized), np.nanmax(self.sigma_min_fixed))
+        for ax, s, det, name in (
+            (axes[0], self.sigma_min_generalized, self.det_generalized, "free-floating  σ_min(J*)"),
+            (axes[1], self.sigma_min_fixed, self.det_fixed, "fixed base  σ_min(J_m)"),
+        ):
+            im = ax.imshow(s, origin="lower", extent=ext, aspect="auto", cmap="viridis", vmin=0, vmax=vmax)
+            bb, aa = np.meshgrid(self.axis_b, self.axis_a)
+            if np.all(np.isfinite(det)):
+                ax.contour(bb, aa, det, levels=[0.0], colors="red", linewidths=1.5)
+                locus = "det = 0"
+            else:
+                ax.contour(bb, aa, s, levels=[0.02 * np.nanmax(s)], colors="red", linewidths=1.5)
+                locus = "σ_min = 2% of max"
+            ax.set_title(f"{name}\n(red: singular locus, {locus})", fontsize=10)
+            ax.set_xlabel(f"q{self.joints[1] + 1} (rad)")
+        axes[0].set_ylabel(f"q{self.joints[0] + 1} (rad)")
+        fig.colorbar(im, ax=list(axes), label="smallest singular value (m/rad for position rows)")
+        others = ", ".join(f"q{i + 1}={v:.3g}" for i, v in enumerate(self.q_reference) if i not in self.joints)
+        fig.suptitle(title or f"{self.robot_name}: dynamic vs kinematic singularities, task rows {list(self.task)}" + (f"; {others}" if others else ""), fontsize=10, y=1.04)
+        return save_figure(fig, path)
+
+
+def singularity_map(robot, joints: Sequence[int] = None, resolution: int = 101, q=None, point=None, task: TaskLike = None,
+                    bounds=None, progress: bool = False) -> SingularityMap:
+    """Scan ``σ_min(J*)`` and ``σ_min(J_m)`` over a ``resolution × resolution`` grid of two
+    joints (default: the last two; 0-based), the other joints at ``q`` (default: the initial
+    angles), each varied over ``bounds`` (default: its limits, or ±π)."""
+    import time
+
+    from ._common import joint_bounds
+
+    n = robot.n_dof
+    joints = (n - 2, n - 1) if joints is None else tuple(int(j) for j in joints)
+    if len(joints) != 2 or len(set(joints)) != 2 or not all(0 <= j < n for j in joints):
+        from ..errors import ShapeError
+
+        raise ShapeError(f"joints must be two different dof indices in 0..{n - 1}, got {joints}")
+    q_ref = np.array(robot.initial_q if q is None else q, dtype=float)
+    lo, hi = joint_bounds(robot) if bounds is None else (np.asarray(bounds[0], float), np.asarray(bounds[1], float))
+    grid = _core.analysis_joint_grid([lo[joints[0]], lo[joints[1]]], [hi[joints[0]], hi[joints[1]]], int(resolution))
+    samples = np.tile(q_ref, (grid.shape[0], 1))
+    samples[:, joints[0]] = grid[:, 0]
+    samples[:, joints[1]] = grid[:, 1]
+    t0 = time.perf_counter()
+    r = scan(robot, samples, point=point, task=task, progress=progress)
+    dt = time.perf_counter() - t0
+    shape = (resolution, resolution)
+    return SingularityMap(
+        robot.name, joints, q_ref,
+        np.linspace(lo[joints[0]], hi[joints[0]], resolution), np.linspace(lo[joints[1]], hi[joints[1]], resolution),
+        r["sigma_min_generalized"].reshape(shape), r["sigma_min_fixed"].reshape(shape),
+        r["det_generalized"].reshape(shape), r["det_fixed"].reshape(shape),
+        tuple(task_rows(robot, task)), dt, samples.shape[0] / dt,
+    )

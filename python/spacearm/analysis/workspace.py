@@ -1,0 +1,129 @@
+"""Workspaces of a free-floating manipulator: reachable workspace about the system CM (Vafa &
+Dubowsky's virtual manipulator), path-dependent and path-independent workspaces (Papadopoulos
+& Dubowsky 1991, 1993) and the fixed-base workspace for comparison. ``docs/workspace.md``.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from .. import _core
+from ..errors import SpacearmError
+from ._common import TaskLike, chunked, joint_bounds, new_figure, samples_2d, save_figure, task_rows
+
+__all__ = ["Workspace", "workspace"]
+
+
+@dataclass
+class Workspace:
+    """Sampled workspaces (radii in m)."""
+
+    robot_name: str
+    task: tuple
+    samples: np.ndarray  #: (M, N) joint samples
+    point_from_base: np.ndarray  #: (M, 3) point from the base CM, base frame: fixed-base workspace
+    point_from_com: np.ndarray  #: (M, 3) point from the system CM, base frame (virtual manipulator)
+    sigma_min_generalized: np.ndarray  #: (M,)
+    reachable: tuple  #: (R_min, R_max) of the free-floating reachable workspace about the system CM
+    fixed_base: tuple  #: (min, max) distance from the base CM, base held fixed
+    singular_radii: np.ndarray
+    path_dependent: list  #: [(a, b), ...] PDW shells
+    path_independent: list  #: [(a, b), ...] PIW shells
+    resolution: str  #: how the joint space was sampled
+    radial_resolution: float
+    singular_threshold: float
+    seconds: float
+    samples_per_second: float
+
+    def plot(self, path, plane: str = "xy", slab: Optional[float] = None, title: Optional[str] = None) -> str:
+        """Left: fixed-base reachable points (base at the origin, held fixed). Right: the
+        free-floating workspace about the system CM: reachable shell, PDW shells (red) and PIW
+        shells (green), with the samples' barycentric positions at the initial attitude (grey).
+        ``plane``: ``"xy"``, ``"xz"`` or ``"yz"``; for spatial arms only samples within ``slab``
+        (default: 5 % of R_max) of the plane are drawn (a slice)."""
+        if plane not in ("xy", "xz", "yz"):
+            raise SpacearmError(f"plane must be 'xy', 'xz' or 'yz', got {plane!r}")
+        i, j = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}[plane]
+        k = 3 - i - j
+        fig = new_figure(figsize=(12, 5.6))
+        ax_fix, ax_ff = fig.subplots(1, 2)
+        r_max = max(self.reachable[1], self.fixed_base[1])
+        slab = 0.05 * r_max if slab is None else slab
+        for ax, pts, name in ((ax_fix, self.point_from_base, "fixed base: point from the base CM"),
+                              (ax_ff, self.point_from_com, "free floating: point from the system CM")):
+            sel = np.abs(pts[:, k]) <= slab
+            ax.scatter(pts[sel, i], pts[sel, j], s=0.5, c="0.3", alpha=0.12, rasterized=True, zorder=3,
+                       label=f"sampled positions (|{'xyz'[k]}| ≤ {slab:.2g} m)")
+            ax.set_aspect("equal")
+            ax.set_xlabel(f"{'xyz'[i]} (m, base frame)")
+            ax.set_ylabel(f"{'xyz'[j]} (m, base frame)")
+            ax.set_title(name, fontsize=10)
+        th = np.linspace(0, 2 * np.pi, 361)
+        for a, b in self.path_independent:
+            ax_ff.fill(np.r_[b * np.cos(th), a * np.cos(th[::-1])], np.r_[b * np.sin(th), a * np.sin(th[::-1])], color="tab:green", alpha=0.25, lw=0)
+        for a, b in self.path_dependent:
+            bb = max(b, a + 0.5 * self.radial_resolution)
+            ax_ff.fill(np.r_[bb * np.cos(th), a * np.cos(th[::-1])], np.r_[bb * np.sin(th), a * np.sin(th[::-1])], color="tab:red", alpha=0.35, lw=0)
+        for rr in self.reachable:
+            ax_ff.plot(rr * np.cos(th), rr * np.sin(th), "k--", lw=0.8)
+        ax_ff.plot([], [], color="tab:green", lw=6, alpha=0.4, label="PIW (path independent)")
+        ax_ff.plot([], [], color="tab:red", lw=6, alpha=0.5, label="PDW (path dependent)")
+        ax_ff.plot([], [], "k--", lw=0.8, label=f"reachable shell R = {self.reachable[0]:.3g}…{self.reachable[1]:.3g} m")
+        ax_ff.plot([0], [0], "k+", ms=10)
+        ax_fix.plot([0], [0], "k+", ms=10)
+        for ax in (ax_fix, ax_ff):
+            ax.set_xlim(-1.05 * r_max, 1.05 * r_max)
+            ax.set_ylim(-1.05 * r_max, 1.05 * r_max)
+            ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2)
+        fig.suptitle(title or f"{self.robot_name}: workspaces ({self.resolution}; radial resolution {self.radial_resolution:.3g} m; "
+                     f"task rows {list(self.task)})", fontsize=10)
+        return save_figure(fig, path)
+
+
+def workspace(robot, resolution: int = 15, samples=None, point=None, task: TaskLike = None, singular_threshold: Optional[float] = None,
+              radial_resolution: Optional[float] = None, progress: bool = False, seed: int = 0, random_samples: Optional[int] = None) -> Workspace:
+    """Sample the joint space and compute the workspaces.
+
+    Sampling: a full grid with ``resolution`` values per joint over the joint limits (±π where
+    unlimited), or ``random_samples`` uniform samples (seeded), or explicit ``samples`` (M×N).
+    A dynamic singularity is a sample with ``σ_min(J*) < singular_threshold`` (default 1 % of the
+    largest σ_min seen) or, on a grid with a square task, a sign change of ``det J*`` between grid
+    neighbours. ``radial_resolution`` (default 1 % of R_max) merges singular radii into PDW shells.
+    """
+    rows = task_rows(robot, task)
+    body, off = robot._point(point)
+    n = robot.n_dof
+    grid_res = None
+    if samples is not None:
+        q = samples_2d(samples, n)
+        how = f"{q.shape[0]} given samples"
+    elif random_samples is not None:
+        lo, hi = joint_bounds(robot)
+        rng = np.random.default_rng(seed)
+        q = lo + (hi - lo) * rng.random((int(random_samples), n))
+        how = f"{int(random_samples)} uniform random samples (seed {seed})"
+    else:
+        lo, hi = joint_bounds(robot)
+        q = _core.analysis_joint_grid(list(lo), list(hi), int(resolution))
+        grid_res = int(resolution)
+        step = np.max(hi - lo) / (resolution - 1)
+        how = f"grid {resolution}^{n} = {q.shape[0]} samples, step ≤ {step:.3g} rad"
+    t0 = time.perf_counter()
+    parts = chunked(lambda s: _core.analysis_scan(robot._m, s, body, off, rows), q, progress, "workspace")
+    elapsed = time.perf_counter() - t0
+    r = {k: np.concatenate([p[k] for p in parts]) for k in ("sigma_min_generalized", "det_generalized", "point_from_com", "point_from_base")}
+    thr = 0.01 * float(np.max(r["sigma_min_generalized"])) if singular_threshold is None else float(singular_threshold)
+    rres = 0.01 * float(np.max(np.linalg.norm(r["point_from_com"], axis=1))) if radial_resolution is None else float(radial_resolution)
+    w = _core.analysis_shells(r["sigma_min_generalized"], r["det_generalized"], r["point_from_com"], r["point_from_base"], thr, rres,
+                              None if grid_res is None else (grid_res, n))
+    w.update(r)
+    return Workspace(
+        robot.name, tuple(rows), q, w["point_from_base"], w["point_from_com"], w["sigma_min_generalized"],
+        tuple(w["reachable"]), tuple(w["fixed_base"]), w["singular_radii"],
+        [tuple(v) for v in w["path_dependent"]], [tuple(v) for v in w["path_independent"]],
+        how, rres, thr, elapsed, q.shape[0] / elapsed,
+    )
