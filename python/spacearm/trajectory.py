@@ -278,11 +278,15 @@ class Trajectory:
     @property
     def base_rotation_angle(self) -> np.ndarray:
         """Angle ``(K,)`` (rad, in [0, π]) of the base rotation since the first sample,
-        ``R0(t) R0(t_0)ᵀ``: how far the base has turned, whatever the axis."""
-        r = self.base_rotation
-        rel = np.einsum("kij,lj->kil", r, r[0])  # R0(t) R0(0)^T (rows of r[0] = columns of R0(0)^T)
-        cos = (np.trace(rel, axis1=1, axis2=2) - 1.0) / 2.0
-        return np.arccos(np.clip(cos, -1.0, 1.0))
+        ``R0(t) R0(t_0)ᵀ``: how far the base has turned, whatever the axis. Computed from the
+        relative quaternion as ``2 atan2(|vector part|, |scalar part|)``, accurate for small
+        angles too."""
+        q = self.base_quat / np.linalg.norm(self.base_quat, axis=1, keepdims=True)
+        q0 = q[0] * np.array([-1.0, -1.0, -1.0, 1.0])  # conjugate of the first attitude
+        # Hamilton product q ⊗ q0* (scalar last).
+        v = q[:, 3:4] * q0[:3] + q0[3] * q[:, :3] + np.cross(q[:, :3], q0[:3])
+        w = q[:, 3] * q0[3] - q[:, :3] @ q0[:3]
+        return 2.0 * np.arctan2(np.linalg.norm(v, axis=1), np.abs(w))
 
     @property
     def base_velocity(self) -> np.ndarray:
