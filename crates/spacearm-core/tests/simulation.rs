@@ -66,10 +66,10 @@ fn rk4_final(model: &Model, dt: f64, duration: f64) -> Vec<f64> {
 #[test]
 fn rk4_converges_with_order_four() {
     let model = presets::spatial6();
-    let reference = rk4_final(&model, 1.0 / 2560.0, 1.0);
-    let e1 = max_abs_diff(&rk4_final(&model, 1.0 / 80.0, 1.0), &reference);
-    let e2 = max_abs_diff(&rk4_final(&model, 1.0 / 160.0, 1.0), &reference);
-    let e3 = max_abs_diff(&rk4_final(&model, 1.0 / 320.0, 1.0), &reference);
+    let reference = rk4_final(&model, 1.0 / 1280.0, 0.5);
+    let e1 = max_abs_diff(&rk4_final(&model, 1.0 / 80.0, 0.5), &reference);
+    let e2 = max_abs_diff(&rk4_final(&model, 1.0 / 160.0, 0.5), &reference);
+    let e3 = max_abs_diff(&rk4_final(&model, 1.0 / 320.0, 0.5), &reference);
     assert!(e1 > 1e-9, "coarse error {e1:e} too small to measure an order");
     let (r1, r2) = (e1 / e2, e2 / e3);
     println!("RK4 errors {e1:e} {e2:e} {e3:e}, ratios {r1:.2} {r2:.2}");
@@ -82,10 +82,10 @@ fn rk4_converges_with_order_four() {
 fn dopri5_meets_its_tolerance_against_a_fine_rk4_run() {
     let model = presets::spatial6();
     let (x0, u0) = tumbling_state(&model);
-    let fine = rk4_final(&model, 1.0 / 2560.0, 2.0);
+    let fine = rk4_final(&model, 1.0 / 1280.0, 1.0);
     let mut errors = Vec::new();
     for rtol in [1e-6, 1e-9] {
-        let opts = SimOptions { duration: 2.0, dt: 0.05, integrator: IntegratorKind::Dopri5, rtol, atol: rtol * 1e-2, ..SimOptions::default() };
+        let opts = SimOptions { duration: 1.0, dt: 0.05, integrator: IntegratorKind::Dopri5, rtol, atol: rtol * 1e-2, ..SimOptions::default() };
         let r = run(&model, &x0, &u0, &opts, &mut ZeroTorque);
         let mut y = last_row(&r.records.x, model.nx()).to_vec();
         y.extend_from_slice(last_row(&r.records.u, model.nu()));
@@ -93,7 +93,7 @@ fn dopri5_meets_its_tolerance_against_a_fine_rk4_run() {
         let err = max_abs_diff(&y, &fine) / scale;
         println!("DOPRI5 rtol {rtol:e}: relative error {err:e}, {} steps, {} rejected", r.n_steps, r.n_rejected);
         assert!(err < 50.0 * rtol, "relative error {err:e} at rtol {rtol:e}");
-        assert_eq!(r.records.n_samples, 41);
+        assert_eq!(r.records.n_samples, 21);
         errors.push(err);
     }
     assert!(errors[1] < 1e-2 * errors[0], "tightening rtol by 1000 must shrink the error: {errors:?}");
@@ -107,7 +107,7 @@ fn dopri5_dense_output_matches_the_fine_solution_between_steps() {
     let dp = run(&model, &x0, &u0, &opts, &mut ZeroTorque);
     println!("DOPRI5 {} steps for {} output samples", dp.n_steps, dp.records.n_samples);
     assert!(dp.n_steps < 80, "steps longer than the output interval expected, got {}", dp.n_steps);
-    let rk = run(&model, &x0, &u0, &SimOptions { duration: 1.0, dt: 1.0 / 1600.0, record_every: 16, ..SimOptions::default() }, &mut ZeroTorque);
+    let rk = run(&model, &x0, &u0, &SimOptions { duration: 1.0, dt: 1.0 / 800.0, record_every: 8, ..SimOptions::default() }, &mut ZeroTorque);
     assert_eq!(dp.records.n_samples, rk.records.n_samples);
     let err = max_abs_diff(&dp.records.x, &rk.records.x);
     println!("dense output vs fine RK4: {err:e}");
@@ -122,8 +122,8 @@ fn quaternion_norm_stays_one_and_runs_are_bit_identical() {
     let q0 = model.initial_q.clone();
     let q1: Vec<f64> = q0.iter().map(|q| q + 0.4).collect();
     for integrator in [IntegratorKind::Rk4, IntegratorKind::Dopri5] {
-        let opts = SimOptions { duration: 3.0, dt: 2e-3, integrator, rtol: 1e-8, atol: 1e-10, ..SimOptions::default() };
-        let mk = || ComputedTorque::new(vec![50.0], vec![14.0], JointReference::quintic(q0.clone(), q1.clone(), 0.2, 2.0).unwrap(), None);
+        let opts = SimOptions { duration: 1.5, dt: 5e-3, integrator, rtol: 1e-8, atol: 1e-10, ..SimOptions::default() };
+        let mk = || ComputedTorque::new(vec![50.0], vec![14.0], JointReference::quintic(q0.clone(), q1.clone(), 0.2, 1.2).unwrap(), None);
         let a = run(&model, &x0, &u0, &opts, &mut mk());
         let b = run(&model, &x0, &u0, &opts, &mut mk());
         assert_eq!(a.records, b.records, "{integrator:?}: two runs differ");
@@ -147,12 +147,12 @@ fn modes_apply_only_their_wrench_and_obey_newton_euler() {
     let n = model.n_dof();
     let (f, tq) = ([3.0, -2.0, 1.5], [0.4, 0.7, -0.5]);
     let wrench = [f[0], f[1], f[2], tq[0], tq[1], tq[2]];
-    let duration = 1.0;
+    let duration = 0.5;
     let tau: Vec<f64> = (0..n).map(|i| 0.2 * (i as f64 - 2.0)).collect();
     let f = Vector3::from(f);
     let tq = Vector3::from(tq);
     for mode in [Mode::Floating, Mode::RotationFloating, Mode::RotationFlying, Mode::TranslationFlying, Mode::Flying] {
-        let opts = SimOptions { mode, duration, dt: 1e-3, ..SimOptions::default() };
+        let opts = SimOptions { mode, duration, dt: 2e-3, ..SimOptions::default() };
         let r = run(&model, &x0, &u0, &opts, &mut Constant { tau: tau.clone(), wrench });
         let k_last = r.records.n_samples - 1;
         let p0 = row3(&r.records.linear_momentum, 0);
@@ -229,7 +229,8 @@ fn wheel_torque_and_speed_limits_clamp_and_record_events() {
     let model = one_wheel();
     let x0 = presets::initial_configuration(&model);
     let u0 = vec![0.0; model.nu()];
-    let opts = SimOptions { mode: Mode::RotationFloating, duration: 3.0, dt: 1e-3, ..SimOptions::default() };
+    let dt = 2e-3;
+    let opts = SimOptions { mode: Mode::RotationFloating, duration: 2.0, dt, ..SimOptions::default() };
     let r = run(&model, &x0, &u0, &opts, &mut Constant { tau: vec![1.0], wrench: [0.0; 6] });
     assert_eq!(r.wheel_dofs, vec![0]);
     // Torque limit: hit from the first step, applied torque exactly the limit.
@@ -242,10 +243,14 @@ fn wheel_torque_and_speed_limits_clamp_and_record_events() {
     let speed_events: Vec<_> = r.events.iter().filter(|e| e.kind == SaturationKind::Speed).collect();
     assert_eq!(speed_events.len(), 1, "{:?}", r.events);
     let t_expect = 5.0 / (0.2 * (1.0 / 0.05 + 1.0 / 10.0));
-    assert!((speed_events[0].t - t_expect).abs() < 2e-3, "speed limit reached at {} s, expected {t_expect}", speed_events[0].t);
+    assert!(speed_events[0].t <= t_expect && t_expect - speed_events[0].t < dt, "speed limit reached at {} s, expected {t_expect}", speed_events[0].t);
     let ws = r.records.wheel_speed.as_ref().unwrap();
     let last = *ws.last().unwrap();
-    assert!((last - 5.0).abs() < 1e-3, "wheel speed held at the limit, got {last}");
+    // Held at the limit, overshooting by less than one step of acceleration (the limit acts
+    // from the stage at which it is crossed).
+    let accel = 0.2 * (1.0 / 0.05 + 1.0 / 10.0);
+    assert!(last >= 5.0 && last - 5.0 < accel * dt, "wheel speed held at the limit, got {last}");
+    assert!(ws.iter().all(|w| *w < 5.0 + accel * dt));
     assert_eq!(*r.records.tau.last().unwrap(), 0.0);
     // The wheel is internal: the total angular momentum stays zero.
     assert!(r.drift.iter().all(|(_, d)| *d < 1e-12));
@@ -259,7 +264,7 @@ fn thruster_limits_clamp_each_axis_and_record_events() {
     let x0 = presets::initial_configuration(&model);
     let u0 = vec![0.0; model.nu()];
     let lim = ThrusterLimits::new(Vector3::new(1.0, 1.0, 1.0), Vector3::new(0.5, 0.5, 0.5)).unwrap();
-    let opts = SimOptions { mode: Mode::Flying, duration: 0.5, dt: 1e-3, thrusters: Some(lim), ..SimOptions::default() };
+    let opts = SimOptions { mode: Mode::Flying, duration: 0.1, dt: 1e-3, thrusters: Some(lim), ..SimOptions::default() };
     let r = run(&model, &x0, &u0, &opts, &mut Constant { tau: vec![0.0; 4], wrench: [3.0, -0.5, 0.0, 0.0, 0.0, -2.0] });
     assert_eq!(&r.records.base_wrench[0..6], &[1.0, -0.5, 0.0, 0.0, 0.0, -0.5]);
     let n = model.n_dof();
