@@ -197,23 +197,6 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
 # ---------------------------------------------------------------------------------------------
 # commands
 # ---------------------------------------------------------------------------------------------
-def _progress(enabled: bool):
-    """A tqdm bar as a ``progress(fraction)`` callable, and a function closing it."""
-    if not enabled:
-        return None, (lambda: None)
-    from tqdm import tqdm
-
-    bar = tqdm(total=1000, unit="‰", desc="simulating", file=sys.stderr, leave=False,
-               bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}<{remaining}")
-
-    def update(fraction: float) -> None:
-        n = int(round(1000 * min(max(float(fraction), 0.0), 1.0)))
-        if n > bar.n:
-            bar.update(n - bar.n)
-
-    return update, bar.close
-
-
 def simulate_command(args, load_model, out=None) -> int:
     """Run ``spacearm simulate`` with parsed ``args``; ``load_model`` is the CLI's model loader."""
     import spacearm
@@ -241,13 +224,9 @@ def simulate_command(args, load_model, out=None) -> int:
     mode = args.mode or DEFAULT_MODE[args.controller]
     steps = args.duration / args.dt
     show = (steps >= PROGRESS_STEPS) if args.progress is None else bool(args.progress)
-    progress, close = _progress(show)
-    try:
-        traj = spacearm.simulate(robot, args.duration, x0=x0, u0=u0, mode=mode, integrator=args.integrator,
-                                 dt=args.dt, rtol=args.rtol, atol=args.atol, controller=controller,
-                                 record_every=args.record_every, progress=progress or False)
-    finally:
-        close()
+    traj = spacearm.simulate(robot, args.duration, x0=x0, u0=u0, mode=mode, integrator=args.integrator,
+                             dt=args.dt, rtol=args.rtol, atol=args.atol, controller=controller,
+                             record_every=args.record_every, progress=show)  # True: a tqdm bar
     out.write(traj.summary() + "\n")
     written = []
     if args.out:

@@ -469,6 +469,10 @@ class Trajectory:
         with ``scale`` from :meth:`drift_scale` unless given (``scale={"P": 1.0}``). ``names``
         defaults to the quantities the run's mode conserves (:attr:`conserved`); for those the
         result is the integration error, for the others the physical change.
+
+        This is a recomputation from the recorded arrays; the simulator's own figures are in
+        ``meta["drift"]`` (same deviation, but its scale is the sum of the bodies' individual
+        contributions, which it alone sees), and :meth:`summary` shows those when present.
         """
         names = self.conserved if names is None else list(names)
         scale = dict(scale or {})
@@ -497,8 +501,10 @@ class Trajectory:
         lines.append("; ".join(p for p in (f"  t = {self.t[0]:g} .. {self.t[-1]:g} s, {len(self)} samples", step, counts) if p))
         conserved = [c for c in self.conserved if self.has(c)]
         if conserved:
-            d = self.drift(conserved)
-            lines.append("  conservation (max relative drift): " + ", ".join(f"{k} {v:.3g}" for k, v in d.items()))
+            # The simulator's figures when it gave them (its scale: the bodies' summed
+            # contributions), else this class's recomputation from the samples.
+            d = m.get("drift") if isinstance(m.get("drift"), dict) and set(conserved) <= set(m["drift"]) else self.drift(conserved)
+            lines.append("  conservation (max relative drift): " + ", ".join(f"{k} {d[k]:.3g}" for k in conserved))
         elif m.get("mode"):
             lines.append(f"  conservation: mode {m['mode']} conserves none of P, L, energy")
         if self.has("com"):
