@@ -253,7 +253,7 @@ fn wheel_torque_and_speed_limits_clamp_and_record_events() {
     assert!(ws.iter().all(|w| *w < 5.0 + accel * dt));
     assert_eq!(*r.records.tau.last().unwrap(), 0.0);
     // The wheel is internal: the total angular momentum stays zero.
-    assert!(r.drift.iter().all(|(_, d)| *d < 1e-12));
+    assert!(r.drift.iter().all(|(_, d)| *d < 1e-9), "{:?}", r.drift);
     let lz = r.records.angular_momentum_origin.chunks_exact(3).map(|l| l[2].abs()).fold(0.0, f64::max);
     assert!(lz < 1e-12);
 }
