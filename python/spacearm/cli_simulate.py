@@ -22,7 +22,7 @@ import numpy as np
 
 from .errors import SpacearmError
 
-__all__ = ["add_parsers", "run", "build_controller", "reaction_wheel_dofs", "run_demo"]
+__all__ = ["add_parsers", "run", "build_controller", "pd_gains", "reaction_wheel_dofs", "run_demo"]
 
 CONTROLLERS = ("none", "pd", "computed-torque", "rmrc", "attitude", "coordinated")
 MODES = ("floating", "rotation-floating", "rotation-flying", "translation-flying", "flying")
@@ -62,10 +62,11 @@ def add_parsers(sub) -> None:
                                     "inertial frame (m; default: 0.2 m from the start along each axis)")
     p.add_argument("--move-time", type=float, help="duration of the reference maneuver from t = 0, s "
                                                    "(default: 60%% of --duration)")
-    p.add_argument("--kp", type=float, help="proportional gain (defaults: pd 200 N m/rad, computed-torque 25 1/s^2, "
-                                           "attitude base 50 N m/rad; rmrc: the position gain, default 2 1/s)")
-    p.add_argument("--kd", type=float, help="derivative gain (defaults: pd 100 N m s/rad, computed-torque 10 1/s, "
-                                           "attitude base 100 N m s/rad)")
+    p.add_argument("--kp", type=float, help="proportional gain (defaults: pd 16 H*_jj N m/rad per joint, i.e. 4 rad/s "
+                                           "on the diagonal of H*; computed-torque 25 1/s^2; attitude base 50 N m/rad; "
+                                           "rmrc: the position gain, default 2 1/s)")
+    p.add_argument("--kd", type=float, help="derivative gain (defaults: pd 8 H*_jj N m s/rad per joint, critically "
+                                           "damped; computed-torque 10 1/s; attitude base 100 N m s/rad)")
     p.add_argument("--q0", help="initial joint coordinates q1,q2,... (default: the model's initial q)")
     p.add_argument("--qd0", help="initial joint velocities (default 0)")
     p.add_argument("--base-velocity", help="initial base velocity v0x,v0y,v0z,w0x,w0y,w0z in the inertial frame "
@@ -130,6 +131,17 @@ def reaction_wheel_dofs(robot) -> List[int]:
     return sorted(out)
 
 
+def pd_gains(robot, x0, arm, natural_frequency: float = 4.0, damping_ratio: float = 1.0):
+    """Per-joint PD gains ``kp_j = ω² H*_jj``, ``kd_j = 2 ζ ω H*_jj`` from the diagonal of the
+    generalized inertia ``H*`` (eq. 45) at ``x0``: each joint alone would respond like a
+    mass-spring-damper of natural frequency ``ω`` (rad/s) and damping ratio ``ζ``. Gains scaled
+    to the inertia each joint drives keep a light wrist joint from making the closed loop
+    stiff (a fixed ``kd`` over a 0.005 kg·m² wrist gives a pole at ``kd/I``, far beyond what a
+    1 ms RK4 step integrates)."""
+    h = np.diag(robot.generalized_inertia(x0))[arm]
+    return natural_frequency**2 * h, 2.0 * damping_ratio * natural_frequency * h
+
+
 # ---------------------------------------------------------------------------------------------
 # controllers from the options
 # ---------------------------------------------------------------------------------------------
@@ -165,7 +177,8 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
     if name in ("pd", "computed-torque"):
         ref = control.QuinticJoint(q_arm0, joint_goal(), 0.0, t_move)
         if name == "pd":
-            return control.JointPD(kp=200.0 if kp is None else kp, kd=100.0 if kd is None else kd, reference=ref)
+            kp_d, kd_d = pd_gains(robot, x0, arm)
+            return control.JointPD(kp=kp_d if kp is None else kp, kd=kd_d if kd is None else kd, reference=ref)
         return control.ComputedTorque(kp=25.0 if kp is None else kp, kd=10.0 if kd is None else kd, reference=ref)
     if name == "rmrc":
         if robot.end_effector is None:
@@ -251,8 +264,9 @@ def run_demo(out_dir, animation: bool = True, out=None) -> List[Path]:
        from the paper's initial angles to ``q_goal``: the base turns and moves the opposite
        way, the system CM stays where it was (zero momentum), the tracking error stays at the
        integration level.
-    2. The same model released with joint velocities and no torque: ``P``, ``L`` and the
-       kinetic energy stay at their initial values to ~1e-12.
+    2. The same model released with joint velocities (the base with the velocity that zeroes
+       the momentum, eq. 109) and no torque: ``P``, ``L`` and the kinetic energy stay at their
+       initial values to ~1e-13 and the system CM stays put.
     """
     import spacearm
     from spacearm import control
@@ -262,7 +276,7 @@ def run_demo(out_dir, animation: bool = True, out=None) -> List[Path]:
     out_dir.mkdir(parents=True, exist_ok=True)
     robot = spacearm.presets.spatial6()
     x0 = robot.neutral_configuration()
-    q_goal = robot.initial_q + np.array([0.6, -0.4, 0.5, 0.8, -0.6, 0.5])
+    q_goal = robot.initial_q + np.array([0.8, 0.5, 0.6, 0.5, 0.6, 0.5])
     ct = control.ComputedTorque(kp=25.0, kd=10.0, reference=control.QuinticJoint(robot.initial_q, q_goal, 0.0, 4.0))
     traj = spacearm.simulate(robot, 5.0, x0=x0, controller=ct, dt=1e-3, record_every=10)
     files = []
@@ -275,10 +289,12 @@ def run_demo(out_dir, animation: bool = True, out=None) -> List[Path]:
     if animation:
         traj.animate(out_dir / "spatial6_computed_torque.gif", frames=50, fps=10)
         files.append(out_dir / "spatial6_computed_torque.gif")
-    u0 = np.zeros(robot.nu)
-    u0[6:] = [0.3, -0.2, 0.4, 0.5, -0.3, 0.6]
+    # Joints released with velocities, the base with the velocity that zeroes the momentum
+    # (eq. 109): the base reacts, the CM stays put, P, L and the energy are conserved.
+    qd0 = np.array([0.3, -0.2, 0.4, 0.5, -0.3, 0.6])
+    u0 = np.concatenate([robot.base_velocity_from_momentum(x0, qd0), qd0])
     free = spacearm.simulate(robot, 10.0, x0=x0, u0=u0, dt=1e-3, record_every=10)
-    out.write("\n2. torque-free run with initial joint velocities, 10 s at 1 ms RK4\n" + free.summary() + "\n")
+    out.write("\n2. torque-free run, joints released with velocities at zero momentum, 10 s at 1 ms RK4\n" + free.summary() + "\n")
     free.plot(out_dir / "spatial6_torque_free.png")
     files.append(out_dir / "spatial6_torque_free.png")
     out.write("\nwrote:\n" + "".join(f"  {p}\n" for p in files))
