@@ -439,6 +439,10 @@ pub type Progress<'a> = &'a mut dyn FnMut(f64) -> Result<()>;
 /// records.
 pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, controller: &mut dyn Controller, progress: Progress<'_>) -> Result<SimResult> {
     opts.validate()?;
+    crate::error::check_vector("x0", x0, model.nx()).map_err(|e| match e {
+        SpacearmError::Dimension { got, .. } => SpacearmError::Dimension { what: "x0".into(), expected: format!("7+N = {}", model.nx()), got },
+        other => other,
+    })?;
     split_configuration(model, x0)?;
     check_velocity(model, "u0", u0)?;
     let n = model.n_dof();
