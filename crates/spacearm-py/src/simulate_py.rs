@@ -13,10 +13,12 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use spacearm_core::actuators::ThrusterLimits;
 use spacearm_core::control::mismatch::{perturbed_model, Slosh};
-use spacearm_core::control::{Combined, Command, ComputedTorque, ControlContext, Controller, JointPd, ZeroTorque};
+use spacearm_core::control::{
+    AttitudeControl, Combined, Command, ComputedTorque, ControlContext, Controller, JointPd, ResolvedMotionRate, ZeroTorque,
+};
 use spacearm_core::integrate::IntegratorKind;
 use spacearm_core::modes::Mode;
-use spacearm_core::reference::JointReference;
+use spacearm_core::reference::{CartesianLine, JointReference};
 use spacearm_core::simulate::{simulate as core_simulate, SimOptions};
 use spacearm_core::{Model, SpacearmError};
 
@@ -134,6 +136,19 @@ fn parse_joint_reference(spec: &Bound<'_, PyAny>) -> PyResult<JointReference> {
     }
 }
 
+/// `{"type": "cartesian_line", p_start, p_goal, t_start, t_end}`.
+fn parse_cartesian_line(spec: &Bound<'_, PyAny>) -> PyResult<CartesianLine> {
+    let py = spec.py();
+    let d = spec.cast::<PyDict>().map_err(|_| to_py_err(py, bad("a Cartesian reference must be a dict".into())))?;
+    let w = "Cartesian reference";
+    check_keys(d, &["type", "p_start", "p_goal", "t_start", "t_end"], w)?;
+    let kind = get_str(d, "type", w)?;
+    if kind != "cartesian_line" {
+        return Err(to_py_err(py, bad(format!("Cartesian reference type must be 'cartesian_line', got '{kind}'"))));
+    }
+    CartesianLine::new(get_vec3(d, "p_start", w)?, get_vec3(d, "p_goal", w)?, get_f64(d, "t_start", w)?, get_f64(d, "t_end", w)?).or_raise(py)
+}
+
 fn model_of(v: &Bound<'_, PyAny>) -> PyResult<Model> {
     let m = v.cast::<PyModel>().map_err(|_| to_py_err(v.py(), bad("a controller's model must be a spacearm Robot's core model".into())))?;
     Ok(m.borrow().model.clone())
@@ -206,6 +221,27 @@ fn parse_controller(spec: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<Box<d
             };
             Box::new(ComputedTorque::new(get_vec(d, "kp", w)?, get_vec(d, "kd", w)?, parse_joint_reference(&get(d, "reference", w)?)?, model))
         }
+        "rmrc" => {
+            check_keys(d, &["type", "reference", "gain", "damping", "threshold", "velocity_gain", "body", "offset"], w)?;
+            let line = parse_cartesian_line(&get(d, "reference", w)?)?;
+            let body: usize = get(d, "body", w)?.extract().map_err(|_| to_py_err(py, bad("rmrc: 'body' must be a body index".into())))?;
+            Box::new(ResolvedMotionRate::new(
+                line,
+                get_f64(d, "gain", w)?,
+                get_f64(d, "damping", w)?,
+                get_f64(d, "threshold", w)?,
+                get_f64(d, "velocity_gain", w)?,
+                body,
+                get_vec3(d, "offset", w)?,
+            ))
+        }
+        "attitude" => {
+            check_keys(d, &["type", "quat_ref", "kp", "kd"], w)?;
+            let q = get(d, "quat_ref", w)?;
+            let q = vec_arg_n(&q, "attitude quat_ref", 4)?;
+            let q = q.as_slice();
+            Box::new(AttitudeControl::new([q[0], q[1], q[2], q[3]], get_f64(d, "kp", w)?, get_f64(d, "kd", w)?))
+        }
         "combined" => {
             check_keys(d, &["type", "arm", "base"], w)?;
             Box::new(Combined::new(parse_controller(&get(d, "arm", w)?, slot)?, parse_controller(&get(d, "base", w)?, slot)?))
@@ -221,7 +257,9 @@ fn parse_controller(spec: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<Box<d
         other => {
             return Err(to_py_err(
                 py,
-                bad(format!("controller type must be one of ['none', 'joint_pd', 'computed_torque', 'combined', 'callback'], got '{other}'")),
+                bad(format!(
+                    "controller type must be one of ['none', 'joint_pd', 'computed_torque', 'rmrc', 'attitude', 'combined', 'callback'], got '{other}'"
+                )),
             ))
         }
     })

@@ -16,9 +16,11 @@
 //! Each controller keeps its own [`Model`] and [`Data`] (a computed-torque controller may use a
 //! model that differs from the plant), so controllers never disturb the plant's workspace.
 
+pub mod attitude;
 pub mod computed_torque;
 pub mod mismatch;
 pub mod pd;
+pub mod rmrc;
 
 use nalgebra::Vector6;
 
@@ -26,8 +28,10 @@ use crate::error::{Result, SpacearmError};
 use crate::model::Model;
 use crate::modes::Mode;
 
+pub use attitude::AttitudeControl;
 pub use computed_torque::ComputedTorque;
 pub use pd::JointPd;
+pub use rmrc::ResolvedMotionRate;
 
 /// What a controller commands at one instant.
 #[derive(Debug, Clone, PartialEq)]
