@@ -166,7 +166,7 @@ mod tests {
         let c = ResolvedMotionRate::new(line, 1.0, 0.1, 0.05, 10.0, 1, Vector3::zeros());
         assert_eq!(c.damping_sq(0.2), 0.0);
         assert_eq!(c.damping_sq(0.05), 0.0);
-        assert!((c.damping_sq(0.0) - 0.01).abs() < 1e-18);
+        assert!((c.damping_sq(0.0) - 0.01).abs() < 1e-15);
         let (a, b) = (c.damping_sq(0.04), c.damping_sq(0.01));
         assert!(a > 0.0 && b > a && b < 0.01);
     }
