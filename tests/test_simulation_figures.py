@@ -117,3 +117,14 @@ def test_animate_writes_a_small_gif(tmp_path):
     with pytest.raises(ValueError, match="frames must be >= 1"):
         tr.animate(tmp_path / "y.gif", frames=0)
     assert os.listdir(tmp_path) == ["run.gif"]
+
+
+def test_torque_free_run_has_no_torque_panel():
+    robot, data, meta = synthetic(k=11)
+    data["tau"] = np.zeros_like(data["tau"])
+    data["tau_cmd"] = np.zeros_like(data["tau_cmd"])
+    titles = _axes_by_title(Trajectory(robot=robot, data=data, meta=meta).plot())
+    assert not any("joint forces" in t for t in titles)
+    data["tau_cmd"][3, 2] = 1.0  # commanded but fully clipped: still shown
+    titles = _axes_by_title(Trajectory(robot=robot, data=data, meta=meta).plot())
+    assert any("joint forces" in t for t in titles)

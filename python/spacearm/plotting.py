@@ -9,7 +9,8 @@ for what was recorded:
 - base attitude (roll, pitch, yaw) and base CM displacement, with the system CM's;
 - conservation: relative change of ``P``, ``L_origin``, ``L_com`` and kinetic energy from
   their initial values (log scale; the mode's conserved quantities are marked);
-- arm joint forces (applied solid, commanded dashed where saturation clipped them);
+- arm joint forces (applied solid, commanded dashed where saturation clipped them), unless
+  all are zero;
 - reaction-wheel speeds (and wheel torques); the base wrench (flying modes);
 - tracking error.
 """
@@ -182,8 +183,8 @@ def plot_trajectory(traj, path: Optional[PathLike] = None, *, title: Optional[st
     panels.append(lambda ax: _panel_position(ax, traj))
     if any(traj.has(k) for k in ("P", "L_origin", "L_com", "energy")):
         panels.append(lambda ax: _panel_conservation(ax, traj))
-    if traj.has("tau") and arm:
-        panels.append(lambda ax: _panel_torques(ax, traj, names, arm))
+    if traj.has("tau") and arm and (np.any(traj.tau[:, arm] != 0) or (traj.has("tau_cmd") and np.any(traj.tau_cmd[:, arm] != 0))):
+        panels.append(lambda ax: _panel_torques(ax, traj, names, arm))  # not for torque-free runs
     if traj.has("wheel_speed"):
         panels.append(lambda ax: _panel_wheels(ax, traj, names, wheels))
     if traj.has("base_wrench") and np.any(traj.base_wrench != 0):
