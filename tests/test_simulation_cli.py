@@ -123,3 +123,52 @@ def test_demo_writes_its_figures(tmp_path, capsys):
     assert np.max(np.abs(traj.q[-1] - traj.q[0])) > 0.5
     assert traj.base_rotation_angle[-1] > np.radians(1.0)
     assert np.max(np.linalg.norm(traj.com - traj.com[0], axis=1)) < 1e-9
+
+
+def test_rmrc_and_coordinated_reach_the_cartesian_goal(tmp_path, capsys):
+    robot = spacearm.presets.spatial6()
+    p0 = robot.point_position(robot.neutral_configuration())
+    goal = p0 + [0.1, 0.2, -0.15]
+    target = ",".join(f"{v:.10g}" for v in goal)
+    for name in ("rmrc", "coordinated"):
+        out = tmp_path / f"{name}.npz"
+        assert main(["simulate", "spatial6", "--controller", name, "--target", target, "--duration", "2",
+                     "--move-time", "1.5", "--dt", "0.002", "--out", str(out), "--no-progress"]) == 0
+        traj = Trajectory.load(out)
+        assert traj.mode == ("floating" if name == "rmrc" else "flying")
+        assert traj.tracking_error_kind == "cartesian"
+        np.testing.assert_allclose(traj.ee_position[-1], goal, atol=2e-3)  # 2 s, gain 2/s: settled to mm
+        base_moved = np.max(np.linalg.norm(traj.base_position - traj.base_position[0], axis=1))
+        if name == "rmrc":  # floating: the base reacts
+            assert base_moved > 1e-3 and np.max(np.linalg.norm(traj.com - traj.com[0], axis=1)) < 1e-9
+        else:  # flying: thrusters hold the base pose
+            assert base_moved < 1e-3 and np.degrees(traj.base_rotation_angle.max()) < 0.5
+    capsys.readouterr()
+
+
+def test_attitude_control_with_wheels_holds_the_base(tmp_path, capsys):
+    d = spacearm.presets.spatial6().describe()
+    b = spacearm.Robot.builder("s6rw", base_mass=d["base"]["mass"], base_inertia=d["base"]["inertia"])
+    for link in d["links"]:
+        b.add_link(link["name"], parent=link["parent"], axis=link["axis"], origin=link["origin"], com=link["com"],
+                   mass=link["mass"], inertia=link["inertia"], joint_name=link["joint"])
+    for axis in np.eye(3):
+        b.add_reaction_wheel(axis, rotor_inertia=0.2, max_torque=40.0, max_speed=400.0)
+    b.add_point("tip", body="link6", offset=(0.1, 0, 0))
+    b.set_end_effector("tip")
+    b.set_initial_q(list(d["initial_q"]) + [0, 0, 0])
+    model = tmp_path / "s6rw.toml"
+    spacearm.model_file.save_toml(b.build(), model)
+    turned = {}
+    for ctrl in ("computed-torque", "attitude"):
+        out = tmp_path / f"{ctrl}.npz"
+        assert main(["simulate", str(model), "--controller", ctrl, "--target", "0.5,1.0,-1.2,0.4,1.2,0.4",
+                     "--duration", "4", "--move-time", "3", "--dt", "0.002", "--out", str(out), "--no-progress"]) == 0
+        traj = Trajectory.load(out)
+        turned[ctrl] = np.degrees(traj.base_rotation_angle.max())
+        assert traj.meta["wheel_dofs"] == [6, 7, 8]
+        assert traj.drift(["P", "L_origin"])["L_origin"] < 1e-9  # wheels are internal
+    # Idle wheels: the base turns freely; attitude control: the wheels take the momentum.
+    assert turned["computed-torque"] > 5.0
+    assert turned["attitude"] < 0.25 * turned["computed-torque"]
+    assert "rotation-floating" in capsys.readouterr().out

@@ -22,7 +22,7 @@ import numpy as np
 
 from .errors import SpacearmError
 
-__all__ = ["add_parsers", "run", "build_controller", "pd_gains", "reaction_wheel_dofs", "run_demo"]
+__all__ = ["add_parsers", "run", "build_controller", "pd_gains", "base_pose_hold", "reaction_wheel_dofs", "run_demo"]
 
 CONTROLLERS = ("none", "pd", "computed-torque", "rmrc", "attitude", "coordinated")
 MODES = ("floating", "rotation-floating", "rotation-flying", "translation-flying", "flying")
@@ -51,7 +51,8 @@ def add_parsers(sub) -> None:
     p.add_argument("--controller", choices=CONTROLLERS, default="none",
                    help="none (zero torques), pd (joint PD), computed-torque (reduced EOM, eqs. 112-115), "
                         "rmrc (resolved motion rate through J*), attitude (reaction wheels hold the base attitude "
-                        "while computed torque moves the arm), coordinated (flying: base and end effector)")
+                        "while computed torque moves the arm), coordinated (flying: the base wrench holds the base "
+                        "pose while the arm moves the end effector, spacearm.control.CoordinatedFlying)")
     p.add_argument("--duration", type=float, default=5.0, help="simulated time, s (default 5)")
     p.add_argument("--dt", type=float, default=1e-3, help="rk4 step; dopri5 output interval, s (default 0.001)")
     p.add_argument("--integrator", choices=("rk4", "dopri5"), default="rk4")
@@ -66,7 +67,7 @@ def add_parsers(sub) -> None:
                                            "on the diagonal of H*; computed-torque 25 1/s^2; attitude base 50 N m/rad; "
                                            "rmrc: the position gain, default 2 1/s)")
     p.add_argument("--kd", type=float, help="derivative gain (defaults: pd 8 H*_jj N m s/rad per joint, critically "
-                                           "damped; computed-torque 10 1/s; attitude base 100 N m s/rad)")
+                                           "damped; computed-torque 10 1/s; attitude base 6 I N m s/rad; coordinated: kd_ee, default 20 1/s)")
     p.add_argument("--q0", help="initial joint coordinates q1,q2,... (default: the model's initial q)")
     p.add_argument("--qd0", help="initial joint velocities (default 0)")
     p.add_argument("--base-velocity", help="initial base velocity v0x,v0y,v0z,w0x,w0y,w0z in the inertial frame "
@@ -142,6 +143,37 @@ def pd_gains(robot, x0, arm, natural_frequency: float = 4.0, damping_ratio: floa
     return natural_frequency**2 * h, 2.0 * damping_ratio * natural_frequency * h
 
 
+def _mean_base_inertia(robot) -> float:
+    """Mean principal moment of the base inertia, kg m^2 (the scale of the attitude gains)."""
+    return float(np.trace(np.asarray(robot.describe()["base"]["inertia"], dtype=float)) / 3.0)
+
+
+def base_pose_hold(robot, x0, natural_frequency: float = 3.0):
+    """A thruster law ``fn(t, x, u) -> (0, [F0, N0])`` holding the base CM position and
+    attitude of ``x0``: PD on the position error (gains ``ω² M``, ``2 ω M`` with ``M`` the total
+    mass) and on the attitude error ``2 v_e sign(w_e)`` of ``q ⊗ q_ref⁻¹`` (gains ``ω² Ī``,
+    ``2 ω Ī``, ``Ī`` the mean base principal moment); critically damped at ``ω`` rad/s."""
+    w = float(natural_frequency)
+    m, i_base = float(robot.total_mass), _mean_base_inertia(robot)
+    r_ref = np.array(x0[:3], dtype=float)
+    qr = np.array(x0[3:7], dtype=float)
+    qr_inv = np.array([-qr[0], -qr[1], -qr[2], qr[3]])
+    n = robot.n_dof
+
+    def fn(t, x, u):
+        qx, qy, qz, qw = x[3:7]
+        rx, ry, rz, rw = qr_inv
+        v = np.array([qw * rx + qx * rw + qy * rz - qz * ry, qw * ry - qx * rz + qy * rw + qz * rx,
+                      qw * rz + qx * ry - qy * rx + qz * rw])
+        s = qw * rw - qx * rx - qy * ry - qz * rz
+        err = 2.0 * (1.0 if s >= 0 else -1.0) * v
+        wrench = np.concatenate([-w * w * m * (x[:3] - r_ref) - 2.0 * w * m * u[:3],
+                                 -w * w * i_base * err - 2.0 * w * i_base * u[3:6]])
+        return np.zeros(n), wrench
+
+    return fn
+
+
 # ---------------------------------------------------------------------------------------------
 # controllers from the options
 # ---------------------------------------------------------------------------------------------
@@ -190,20 +222,26 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
         if not wheels:
             raise CliError(f"--controller attitude needs reaction wheels, but '{robot.name}' has none "
                            "(add them with RobotBuilder.add_reaction_wheel or [[reaction_wheel]] in a model file)")
-        base = control.AttitudeControl(quat_ref=np.asarray(x0[3:7]), kp=50.0 if kp is None else kp, kd=100.0 if kd is None else kd)
+        i_base = _mean_base_inertia(robot)
+        base = control.AttitudeControl(quat_ref=np.asarray(x0[3:7]), kp=9.0 * i_base if kp is None else kp,
+                                       kd=6.0 * i_base if kd is None else kd)
         if not arm:
             return base
         ref = control.QuinticJoint(q_arm0, joint_goal(), 0.0, t_move)
         return control.Combined(arm=control.ComputedTorque(kp=25.0, kd=10.0, reference=ref), base=base)
     if name == "coordinated":
-        if not hasattr(control, "CoordinatedFlying"):
-            raise CliError("--controller coordinated is not available in this build (spacearm.control.CoordinatedFlying "
-                           "is missing); use --mode flying with --controller computed-torque or a Callback")
         if robot.end_effector is None:
             raise CliError(f"--controller coordinated moves the end effector, but '{robot.name}' has none")
         p0 = robot.point_position(x0)
         line = control.CartesianLine(p0, cartesian_goal(p0), 0.0, t_move)
-        return control.CoordinatedFlying(ee_reference=line, base_pose_ref=np.asarray(x0[:7]))
+        if hasattr(control, "CoordinatedFlying"):
+            # Native: base pose held (the initial one), end effector along the line.
+            gains = {k: v for k, v in (("kp_ee", kp), ("kd_ee", kd)) if v is not None}
+            return control.CoordinatedFlying(ee_reference=line, **gains)
+        # Without the native controller: the end effector along the line by resolved motion
+        # rate through J*, the base pose held by a thruster law in Python (slower).
+        arm_ctrl = control.ResolvedMotionRate(line, gain=2.0 if kp is None else kp)
+        return control.Combined(arm=arm_ctrl, base=control.Callback(base_pose_hold(robot, x0)))
     raise CliError(f"--controller must be one of {', '.join(CONTROLLERS)}, got {name!r}")
 
 
