@@ -11,8 +11,9 @@ mode allows, by a thruster law written as a Python ``control.Callback`` (base wr
 - translation-flying: a force through the system CM holds the base CM in place (PD on its
   position); no external torque about the CM, so L_com is conserved, while P changes (the CM
   moves as the arm moves);
-- flying: the full wrench holds both the base position and attitude: coordinated base and arm
-  control — the end effector then moves as on a fixed base.
+- flying: the full wrench holds both the base position and attitude — the end effector then
+  moves as on a fixed base; and ``control.CoordinatedFlying``, the native coordinated
+  controller, drives the end effector along a straight line while holding the base pose.
 
 Writes spatial6_<mode>.png and spatial6_<mode>_paths.png to --out-dir (a few seconds).
 
@@ -64,13 +65,20 @@ def main():
         "translation-flying": thruster_law(x0, robot.n_dof, torque=False),
         "flying": thruster_law(x0, robot.n_dof),
     }
-    for mode, law in modes.items():
-        ctrl = control.Combined(arm=arm, base=control.Callback(law))
+    runs = {mode: (mode, control.Combined(arm=arm, base=control.Callback(law))) for mode, law in modes.items()}
+    if hasattr(control, "CoordinatedFlying"):
+        # Native coordinated control: the end effector along a 0.4 m straight line while the
+        # base wrench holds the base pose (acceleration-level, all in Rust).
+        p0 = robot.point_position(x0)
+        line = control.CartesianLine(p0, p0 + np.array([-0.2, 0.3, -0.1]), 0.0, 4.0)
+        runs["flying_coordinated"] = ("flying", control.CoordinatedFlying(ee_reference=line))
+    for name, (mode, ctrl) in runs.items():
         traj = spacearm.simulate(robot, 5.0, mode=mode, controller=ctrl, dt=1e-3, record_every=10)
-        print(f"--- spatial6 / {mode}\n{traj.summary()}\n  changed: "
+        print(f"--- spatial6 / {name}\n{traj.summary()}\n  changed: "
               + ", ".join(f"{k} {v:.3g}" for k, v in traj.drift(["P", "L_origin", "L_com"]).items()) + "\n")
-        traj.plot(out / f"spatial6_{mode}.png")
-        case_figure(traj, out / f"spatial6_{mode}_paths.png", f"spatial6, {mode}, computed torque + thrusters", plane=(0, 2))
+        traj.plot(out / f"spatial6_{name}.png")
+        how = "coordinated control" if name == "flying_coordinated" else "computed torque + thrusters"
+        case_figure(traj, out / f"spatial6_{name}_paths.png", f"spatial6, {mode}, {how}", plane=(0, 2))
     print(f"figures in {out}/")
 
 
