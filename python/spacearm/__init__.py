@@ -23,6 +23,7 @@ from .errors import (
 )
 from .robot import ExternalWrench, InertiaBlocks, Kinematics, Momentum, Robot
 from .simulation import simulate
+from .trajectory import Trajectory
 
 __all__ = [
     "Robot",
@@ -33,6 +34,7 @@ __all__ = [
     "InertiaBlocks",
     "presets",
     "simulate",
+    "Trajectory",
     "control",
     "dh",
     "model_file",
