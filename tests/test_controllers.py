@@ -15,6 +15,7 @@ from spacearm.control import (
     CartesianLine,
     Combined,
     ComputedTorque,
+    CoordinatedFlying,
     JointPD,
     QuinticJoint,
     ResolvedMotionRate,
@@ -255,3 +256,68 @@ def test_attitude_control_needs_wheels_and_the_rotation_floating_mode():
     traj = spacearm.simulate(wheeled, 0.01, mode="rotation-floating", wheels=["wheel1_joint", "wheel2"],
                              controller=AttitudeControl([0, 0, 0, 1], 1.0, 1.0))
     assert traj.meta["wheel_dofs"] == [4, 5]
+
+
+# ---- coordinated flying ---------------------------------------------------------------------
+@pytest.mark.parametrize("preset", ["planar4", "spatial6"])
+def test_coordinated_flying_tracks_the_line_and_holds_the_base(preset):
+    robot = getattr(spacearm.presets, preset)()
+    x0 = robot.neutral_configuration()
+    p0 = robot.point_position(x0)
+    line = CartesianLine(p0, p0 + [0.1, 0.15, 0.0], 0.0, 2.0)
+    traj = spacearm.simulate(robot, 2.5, mode="flying", dt=1e-3, record_every=5, controller=CoordinatedFlying(line))
+    assert traj["tracking_error"].max() < 1e-9
+    assert np.linalg.norm(robot.point_position(traj["x"][-1]) - line.p_goal) < 1e-9
+    assert np.abs(traj["x"][:, :7] - x0[:7]).max() < 1e-12  # the base does not move at all
+    assert np.abs(traj["base_wrench"]).max() > 1.0  # ... because the thrusters work
+    assert traj.meta["conserved"] == []
+
+
+def test_coordinated_flying_forces_are_the_flying_regime_reduced_eom():
+    """tau = H* qdd + c* + H0m^T H0^-1 F_b (numpy, from the robot's H*, c*, H0, H0m) and
+    F_b = H0 xdd0 + H0m qdd + c0, at recorded samples (the applied accelerations are the
+    commanded ones: exact model, no saturation)."""
+    robot = spacearm.presets.spatial6()
+    x0 = robot.neutral_configuration()
+    p0 = robot.point_position(x0)
+    line = CartesianLine(p0, p0 + [0.1, -0.1, 0.05], 0.0, 1.0)
+    base_ref = (np.array([0.05, 0.0, -0.02]), np.r_[np.sin(0.05) * np.array([0.0, 0.0, 1.0]), np.cos(0.05)])
+    traj = spacearm.simulate(robot, 1.0, mode="flying", dt=1e-3, record_every=50,
+                             controller=CoordinatedFlying(line, base_pose_ref=base_ref))
+    for i in (3, 10, 17):
+        x, u, du = traj["x"][i], traj["u"][i], traj["du"][i]
+        blocks = robot.inertia_blocks(x)
+        c = robot.bias_forces(x, u)
+        f_b = blocks.H0 @ du[:6] + blocks.H0m @ du[6:] + c[:6]
+        np.testing.assert_allclose(traj["base_wrench"][i], f_b, rtol=1e-9, atol=1e-9)
+        tau = robot.generalized_inertia(x) @ du[6:] + robot.generalized_bias(x, u) + blocks.H0m.T @ np.linalg.solve(blocks.H0, f_b)
+        np.testing.assert_allclose(traj["tau"][i], tau, rtol=1e-9, atol=1e-9)
+        assert np.abs(traj["tau"][i]).max() > 0.01
+
+
+def test_coordinated_flying_moves_the_base_with_the_closed_form_response():
+    """Base position error obeys e'' + kd e' + kp e = 0: critically damped for kp = 25,
+    kd = 10, e(t) = e0 (1 + 5 t) exp(-5 t), while the end effector still tracks its line."""
+    robot = spacearm.presets.spatial6()
+    x0 = robot.neutral_configuration()
+    p0 = robot.point_position(x0)
+    r_ref = np.array([0.1, -0.05, 0.03])
+    line = CartesianLine(p0, p0 + [0.0, 0.1, 0.0], 0.0, 2.0)
+    traj = spacearm.simulate(robot, 2.0, mode="flying", dt=1e-3, record_every=20,
+                             controller=CoordinatedFlying(line, base_pose_ref=(r_ref, [0, 0, 0, 1]), kp_base=25.0, kd_base=10.0))
+    t = traj["t"][:, None]
+    expect = r_ref + (x0[:3] - r_ref) * (1 + 5 * t) * np.exp(-5 * t)
+    np.testing.assert_allclose(traj["x"][:, :3], expect, atol=1e-9)
+    assert traj["tracking_error"].max() < 1e-8
+
+
+def test_coordinated_flying_needs_the_flying_mode_and_no_wheels():
+    robot = spacearm.presets.planar4()
+    p0 = robot.point_position(robot.neutral_configuration())
+    ctrl = CoordinatedFlying(CartesianLine(p0, p0, 0.0, 1.0))
+    with pytest.raises(errors.ArgumentError, match="flying"):
+        spacearm.simulate(robot, 0.01, mode="rotation-flying", controller=ctrl)
+    with pytest.raises(errors.ArgumentError, match="wheels"):
+        spacearm.simulate(with_wheels(robot), 0.01, mode="flying", controller=ctrl)
+    traj = spacearm.simulate(with_wheels(robot), 0.05, mode="flying", wheels=[], controller=ctrl)
+    assert traj["tracking_error"].max() < 1e-9

@@ -39,6 +39,7 @@ __all__ = [
     "ResolvedMotionRate",
     "AttitudeControl",
     "Combined",
+    "CoordinatedFlying",
     "Callback",
     "perturbed_model",
 ]
@@ -313,6 +314,59 @@ class Combined(_Controller):
             if not isinstance(c, _Controller):
                 raise ArgumentError(f"Combined {what} must be a spacearm.control controller, got {type(c).__name__}")
         return {"type": "combined", "arm": self.arm._spec(robot), "base": self.base._spec(robot)}
+
+
+@dataclass(frozen=True)
+class CoordinatedFlying(_Controller):
+    """Coordinated base-and-arm control in the ``"flying"`` mode: the end effector follows
+    ``ee_reference`` while the base holds ``base_pose_ref``.
+
+    Base (acceleration level): ``xdd0_des = [kp_base (r_ref - r0) - kd_base v0; -kp_base e -
+    kd_base w0]`` (``e`` the attitude error of :class:`AttitudeControl`). End effector:
+    ``a_des = pdd_ref + kd_ee (pd_ref - pd) + kp_ee (p_ref - p)``, realized by the joint
+    accelerations ``qdd = J^+ (a_des - J_0X xdd0_des - b)`` (``J``: translational joint-side
+    point Jacobian of the arm, damped least squares as in :class:`ResolvedMotionRate`; ``b``:
+    the velocity-product acceleration of the point). Forces: the base wrench ``F_b = H0 xdd0 +
+    H0m qdd + c0`` and the joint torques from the flying-regime reduced EOM
+    ``tau = H* qdd + c* + H0m^T H0^-1 F_b``.
+
+    ``base_pose_ref``: ``(r0, quat [x, y, z, w])``, or ``None`` to hold the initial pose.
+    Gains are acceleration-level (1/s², 1/s). ``point``: overrides the reference's point.
+    """
+
+    ee_reference: CartesianLine
+    base_pose_ref: Any = None
+    kp_ee: float = 100.0
+    kd_ee: float = 20.0
+    kp_base: float = 25.0
+    kd_base: float = 10.0
+    point: Any = None
+    damping: float = 0.05
+    threshold: float = 0.1
+
+    def _spec(self, robot) -> dict:
+        if not isinstance(self.ee_reference, CartesianLine):
+            raise ArgumentError(f"CoordinatedFlying needs a CartesianLine ee_reference, got {type(self.ee_reference).__name__}")
+        point = self.point if self.point is not None else self.ee_reference.point
+        body, offset = robot._point(point)
+        spec = {
+            "type": "coordinated_flying",
+            "reference": self.ee_reference._spec(),
+            "body": int(body),
+            "offset": np.asarray(offset, dtype=float),
+            "damping": _finite_float(self.damping, "CoordinatedFlying damping"),
+            "threshold": _finite_float(self.threshold, "CoordinatedFlying threshold"),
+        }
+        for key in ("kp_ee", "kd_ee", "kp_base", "kd_base"):
+            spec[key] = _finite_float(getattr(self, key), f"CoordinatedFlying {key}")
+        if self.base_pose_ref is not None:
+            try:
+                r0, quat = self.base_pose_ref
+            except (TypeError, ValueError) as exc:
+                raise ArgumentError(f"CoordinatedFlying base_pose_ref must be (r0, quat), got {self.base_pose_ref!r}") from exc
+            spec["base_position"] = vector(r0, "CoordinatedFlying base position", 3)
+            spec["base_quat"] = vector(quat, "CoordinatedFlying base quaternion", 4)
+        return spec
 
 
 @dataclass(frozen=True)

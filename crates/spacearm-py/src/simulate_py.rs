@@ -14,7 +14,8 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 use spacearm_core::actuators::ThrusterLimits;
 use spacearm_core::control::mismatch::{perturbed_model, Slosh};
 use spacearm_core::control::{
-    AttitudeControl, Combined, Command, ComputedTorque, ControlContext, Controller, JointPd, ResolvedMotionRate, ZeroTorque,
+    AttitudeControl, Combined, Command, ComputedTorque, ControlContext, Controller, CoordinatedFlying, CoordinatedGains, JointPd,
+    ResolvedMotionRate, ZeroTorque,
 };
 use spacearm_core::integrate::IntegratorKind;
 use spacearm_core::modes::Mode;
@@ -235,6 +236,29 @@ fn parse_controller(spec: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<Box<d
                 get_vec3(d, "offset", w)?,
             ))
         }
+        "coordinated_flying" => {
+            const KEYS: [&str; 13] =
+                ["type", "reference", "body", "offset", "base_position", "base_quat", "kp_ee", "kd_ee", "kp_base", "kd_base", "damping", "threshold", "point"];
+            check_keys(d, &KEYS, w)?;
+            let line = parse_cartesian_line(&get(d, "reference", w)?)?;
+            let body: usize = get(d, "body", w)?.extract().map_err(|_| to_py_err(py, bad("coordinated_flying: 'body' must be a body index".into())))?;
+            let base_ref = match (get_opt(d, "base_position")?, get_opt(d, "base_quat")?) {
+                (None, None) => None,
+                (Some(p), Some(q)) => {
+                    let q = vec_arg_n(&q, "coordinated flying base_quat", 4)?;
+                    let q = q.as_slice();
+                    Some((vec3(&p, "coordinated flying base_position")?, [q[0], q[1], q[2], q[3]]))
+                }
+                _ => return Err(to_py_err(py, bad("coordinated_flying: give both base_position and base_quat, or neither".into()))),
+            };
+            let gains = CoordinatedGains {
+                kp_ee: get_f64(d, "kp_ee", w)?,
+                kd_ee: get_f64(d, "kd_ee", w)?,
+                kp_base: get_f64(d, "kp_base", w)?,
+                kd_base: get_f64(d, "kd_base", w)?,
+            };
+            Box::new(CoordinatedFlying::new(line, body, get_vec3(d, "offset", w)?, base_ref, gains, get_f64(d, "damping", w)?, get_f64(d, "threshold", w)?))
+        }
         "attitude" => {
             check_keys(d, &["type", "quat_ref", "kp", "kd"], w)?;
             let q = get(d, "quat_ref", w)?;
@@ -258,7 +282,7 @@ fn parse_controller(spec: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<Box<d
             return Err(to_py_err(
                 py,
                 bad(format!(
-                    "controller type must be one of ['none', 'joint_pd', 'computed_torque', 'rmrc', 'attitude', 'combined', 'callback'], got '{other}'"
+                    "controller type must be one of ['none', 'joint_pd', 'computed_torque', 'rmrc', 'attitude', 'coordinated_flying', 'combined', 'callback'], got '{other}'"
                 )),
             ))
         }

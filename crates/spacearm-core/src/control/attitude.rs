@@ -48,6 +48,14 @@ impl AttitudeControl {
         }
     }
 
+    /// Set the reference attitude `[x, y, z, w]` (checked: unit within
+    /// [`crate::model::QUATERNION_TOLERANCE`]).
+    pub fn set_reference(&mut self, quat_ref: [f64; 4]) -> Result<()> {
+        self.quat_ref = crate::model::unit_quaternion_from_xyzw("attitude quat_ref", &quat_ref)?;
+        self.quat_ref_xyzw = quat_ref;
+        Ok(())
+    }
+
     /// Attitude error `e = 2 sign(w_e) v_e` of `quat` (`[x, y, z, w]`, unit) and its angle.
     pub fn error(&self, quat: &[f64]) -> (Vector3<f64>, f64) {
         let q = UnitQuaternion::new_unchecked(Quaternion::new(quat[3], quat[0], quat[1], quat[2]));

@@ -18,6 +18,7 @@
 
 pub mod attitude;
 pub mod computed_torque;
+pub mod coordinated;
 pub mod mismatch;
 pub mod pd;
 pub mod rmrc;
@@ -30,6 +31,7 @@ use crate::modes::Mode;
 
 pub use attitude::AttitudeControl;
 pub use computed_torque::ComputedTorque;
+pub use coordinated::{CoordinatedFlying, CoordinatedGains};
 pub use pd::JointPd;
 pub use rmrc::ResolvedMotionRate;
 

@@ -5,10 +5,11 @@
 //! linear part of `J_0X H0⁻¹ M0`, the motion that the system momentum `M0` produces, eq. 109
 //! generalized to `M0 ≠ 0`, plus the wheels' `J*_W q̇_W`). The arm's joint-rate command is
 //! `q̇_cmd = Jᵀ (J Jᵀ + λ² E)⁻¹ (ṗ_ref + K (p_ref − p) − v_drift)` with `J` the columns of
-//! `J*_T` of the arm joints. The damping follows the smallest singular value `σ_min` of `J`
-//! (Nakamura & Hanafusa 1986; Chiaverini 1997):
-//! `λ² = λ_max² (1 − (σ_min/ε)²)` for `σ_min < ε`, `0` otherwise — exact pseudo-inverse away
-//! from singularities, bounded joint rates near them. The joints follow `q̇_cmd` through the
+//! `J*_T` of the arm joints. The damping follows the singular values `σᵢ` of `J` (Nakamura &
+//! Hanafusa 1986; Chiaverini 1997), applied per singular direction ([`damped_solve`]):
+//! `λ²(σ) = λ_max² (1 − (σ/ε)²)` for `σ < ε`, `0` otherwise — the exact pseudo-inverse away from
+//! singularities, bounded joint rates near them, and no damping of the directions that are
+//! well conditioned (a planar arm keeps exact tracking in its plane although `J` has rank 2). The joints follow `q̇_cmd` through the
 //! reduced EOM (a computed-torque velocity loop): `τ = H* K_v (q̇_cmd − q̇) + c*`.
 
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
@@ -31,6 +32,28 @@ fn damping_sq(lambda_max: f64, threshold: f64, sigma_min: f64) -> f64 {
     } else {
         0.0
     }
+}
+
+/// `z = (J Jᵀ + Λ)⁻¹ v` with the damping applied per singular direction: with
+/// `J Jᵀ = Σ σᵢ² uᵢ uᵢᵀ`, `z = Σ uᵢ (uᵢ·v) / (σᵢ² + λ²(σᵢ))`. Directions with `σᵢ ≥ ε` are solved
+/// exactly, the others damped more the smaller `σᵢ` (the least-squares damping of Nakamura &
+/// Hanafusa applied to each singular value; a direction with `σᵢ = λ = 0` is dropped, `Jᵀ uᵢ = 0`
+/// there). Returns `z` and the largest `λ²` used.
+pub(crate) fn damped_solve(jjt: &Matrix3<f64>, v: &Vector3<f64>, lambda_max: f64, threshold: f64) -> (Vector3<f64>, f64) {
+    let eig = SymmetricEigen::new(*jjt);
+    let mut z = Vector3::zeros();
+    let mut worst = 0.0_f64;
+    for i in 0..3 {
+        let sigma = eig.eigenvalues[i].max(0.0).sqrt();
+        let lambda_sq = damping_sq(lambda_max, threshold, sigma);
+        worst = worst.max(lambda_sq);
+        let denom = sigma * sigma + lambda_sq;
+        if denom > 0.0 {
+            let ui = eig.eigenvectors.column(i);
+            z += ui * (ui.dot(v) / denom);
+        }
+    }
+    (z, worst)
 }
 
 /// Resolved-motion-rate control along a Cartesian line.
@@ -130,13 +153,8 @@ impl Controller for ResolvedMotionRate {
             let c = Vector3::new(js[(0, d)], js[(1, d)], js[(2, d)]);
             jjt += c * c.transpose();
         }
-        let sigma_min = SymmetricEigen::new(jjt).eigenvalues.min().max(0.0).sqrt();
-        let lambda_sq = damping_sq(self.damping, self.threshold, sigma_min);
+        let (z, lambda_sq) = damped_solve(&jjt, &v_cmd, self.damping, self.threshold);
         self.last_damping_sq = lambda_sq;
-        let z = (jjt + Matrix3::identity() * lambda_sq)
-            .cholesky()
-            .ok_or_else(|| SpacearmError::Singular("the end-effector Jacobian J J^T (raise the damping)".into()))?
-            .solve(&v_cmd);
         for (i, &d) in self.arm.iter().enumerate() {
             let qd_cmd = js[(0, d)] * z.x + js[(1, d)] * z.y + js[(2, d)] * z.z;
             self.qdd_cmd[i] = self.velocity_gain * (qd_cmd - u[6 + d]);
@@ -159,6 +177,7 @@ impl Controller for ResolvedMotionRate {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::{Matrix2, Vector2};
 
     #[test]
     fn damping_rises_as_the_smallest_singular_value_falls() {
@@ -169,5 +188,21 @@ mod tests {
         assert!((c.damping_sq(0.0) - 0.01).abs() < 1e-15);
         let (a, b) = (c.damping_sq(0.04), c.damping_sq(0.01));
         assert!(a > 0.0 && b > a && b < 0.01);
+    }
+
+    #[test]
+    fn damped_solve_is_exact_when_well_conditioned_and_damps_only_weak_directions() {
+        let m = Matrix3::new(2.0, 0.3, 0.1, 0.3, 1.5, -0.2, 0.1, -0.2, 1.0);
+        let v = Vector3::new(0.4, -1.0, 0.7);
+        let (z, l) = damped_solve(&m, &v, 0.1, 0.5);
+        assert_eq!(l, 0.0);
+        assert!((m * z - v).norm() < 1e-13);
+        // Rank 2 (a planar arm): the in-plane part is solved exactly, the normal one dropped.
+        let planar = Matrix3::new(2.0, 0.3, 0.0, 0.3, 1.5, 0.0, 0.0, 0.0, 0.0);
+        let (z, l) = damped_solve(&planar, &v, 0.1, 0.5);
+        assert!((l - 0.01).abs() < 1e-15);
+        let exact = Matrix2::new(2.0, 0.3, 0.3, 1.5).try_inverse().unwrap() * Vector2::new(v.x, v.y);
+        assert!((z.x - exact.x).abs() < 1e-13 && (z.y - exact.y).abs() < 1e-13);
+        assert!((z.z - v.z / 0.01).abs() < 1e-9);
     }
 }
