@@ -54,7 +54,9 @@ def case_figure(traj, path, title: str, plane=(0, 1)):
     ax2.set_ylabel("deg")
     ax2.set_title("base attitude change")
     ax2.legend(fontsize=7)
-    for key, style in (("P", "-"), ("L_origin", "--")):
+    # The angular momentum the mode conserves: about the CM in translation-flying, else the origin.
+    l_key = "L_com" if "L_com" in traj.conserved else "L_origin"
+    for key, style in (("P", "-"), (l_key, "--")):
         if traj.has(key):
             v = traj[key]
             for i in range(3):
