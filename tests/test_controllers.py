@@ -11,6 +11,7 @@ import spacearm
 from spacearm import errors
 from spacearm.control import (
     AttitudeControl,
+    BaseThrusterControl,
     Callback,
     CartesianLine,
     Combined,
@@ -321,3 +322,51 @@ def test_coordinated_flying_needs_the_flying_mode_and_no_wheels():
         spacearm.simulate(with_wheels(robot), 0.01, mode="flying", controller=ctrl)
     traj = spacearm.simulate(with_wheels(robot), 0.05, mode="flying", wheels=[], controller=ctrl)
     assert traj["tracking_error"].max() < 1e-9
+
+
+# ---- thruster regulation (rotation-flying, translation-flying) -----------------------------
+def test_translation_flying_moves_the_system_cm_with_the_closed_form_response():
+    """A force through the system CM: M r_g'' = F0, so with F0 = M (kp e - kd r_g') the CM error
+    is e0 (1 + 2 t) exp(-2 t) for kp = kd = 4 (critically damped), while the arm tracks its
+    quintic exactly (computed torque compensates the applied wrench) and L about the CM stays."""
+    robot = spacearm.presets.spatial6()
+    q0 = robot.initial_q
+    ref = QuinticJoint(q0, q0 + 0.5, 0.0, 2.0)
+    x0 = robot.neutral_configuration()
+    rg0 = robot.center_of_mass(x0)
+    target = rg0 + np.array([0.2, -0.1, 0.05])
+    traj = spacearm.simulate(robot, 3.0, mode="translation-flying", dt=1e-3, record_every=10,
+                             controller=Combined(arm=ComputedTorque(25.0, 10.0, ref),
+                                                 base=BaseThrusterControl(com_ref=target, kp_position=4.0, kd_position=4.0)))
+    t = traj["t"][:, None]
+    np.testing.assert_allclose(traj["com"], target + (rg0 - target) * (1 + 2 * t) * np.exp(-2 * t), atol=1e-10)
+    assert traj["tracking_error"].max() < 1e-9
+    assert traj.meta["conserved"] == ["L_com"] and traj.meta["drift"]["L_com"] < 1e-10
+    # The applied couple is the moment of the force about the base CM: none about the system CM.
+    r0, com, w = traj["x"][:, :3], traj["com"], traj["base_wrench"]
+    np.testing.assert_allclose(w[:, 3:], np.cross(com - r0, w[:, :3]), atol=1e-12)
+    assert np.abs(w[:, :3]).max() > 1.0
+
+
+def test_rotation_flying_holds_the_attitude_with_thruster_torques():
+    robot = spacearm.presets.spatial6()
+    q0 = robot.initial_q
+    arm = ComputedTorque(25.0, 10.0, QuinticJoint(q0, q0 + 0.5, 0.0, 2.0))
+    held = spacearm.simulate(robot, 3.0, mode="rotation-flying", dt=1e-3, record_every=10,
+                             controller=Combined(arm=arm, base=BaseThrusterControl(kp_attitude=2e4, kd_attitude=3e3)))
+    free = spacearm.simulate(robot, 3.0, mode="rotation-flying", dt=1e-3, record_every=10, controller=arm)
+    angle = lambda x: 2 * np.arccos(np.minimum(1.0, np.abs(x[:, 6])))  # noqa: E731
+    assert angle(free["x"]).max() > 0.1 and angle(held["x"]).max() < 1e-2
+    assert np.all(held["base_wrench"][:, :3] == 0)  # torque only
+    assert held.meta["drift"]["P"] < 1e-10 and held["tracking_error"].max() < 1e-9
+    # Euler for the whole system: L about the origin changes by the integral of the torque.
+    dl = held["L_origin"] - held["L_origin"][0]
+    n = held["base_wrench"][:, 3:]
+    integral = np.r_[np.zeros((1, 3)), np.cumsum(0.5 * (n[1:] + n[:-1]) * np.diff(held["t"])[:, None], axis=0)]
+    assert np.abs(dl).max() > 1.0
+    np.testing.assert_allclose(dl, integral, atol=1e-3 * np.abs(dl).max())
+
+
+def test_thruster_control_needs_a_flying_mode():
+    with pytest.raises(errors.ArgumentError, match="flying mode"):
+        spacearm.simulate(spacearm.presets.planar4(), 0.01, mode="floating", controller=BaseThrusterControl())

@@ -38,6 +38,7 @@ __all__ = [
     "ComputedTorque",
     "ResolvedMotionRate",
     "AttitudeControl",
+    "BaseThrusterControl",
     "Combined",
     "CoordinatedFlying",
     "Callback",
@@ -299,6 +300,38 @@ class AttitudeControl(_Controller):
     def _spec(self, robot) -> dict:
         q = vector(self.quat_ref, "AttitudeControl quat_ref", 4)
         return {"type": "attitude", "quat_ref": q, "kp": _finite_float(self.kp, "AttitudeControl kp"), "kd": _finite_float(self.kd, "AttitudeControl kd")}
+
+
+@dataclass(frozen=True)
+class BaseThrusterControl(_Controller):
+    """Base regulation by thrusters in the flying modes, each part only where the mode allows
+    it: the system CM position by a force through the CM (``"translation-flying"``,
+    ``"flying"``), the base attitude by a torque (``"rotation-flying"``, ``"flying"``).
+
+    Force ``F0 = M (kp_position (com_ref - r_g) - kd_position P / M)`` — the system CM then obeys
+    ``e'' + kd e' + kp e = 0`` exactly, whatever the arm does; torque ``N0 = -kp_attitude e -
+    kd_attitude w0`` (``e`` as in :class:`AttitudeControl`). ``com_ref`` (m, in 𝒥) and
+    ``quat_ref`` (``[x, y, z, w]``) default to the initial CM and attitude. Gains:
+    ``kp_position`` (1/s²), ``kd_position`` (1/s), ``kp_attitude`` (N·m/rad), ``kd_attitude``
+    (N·m·s/rad). Combine with an arm controller through :class:`Combined`.
+    """
+
+    com_ref: Any = None
+    quat_ref: Any = None
+    kp_position: float = 1.0
+    kd_position: float = 2.0
+    kp_attitude: float = 0.0
+    kd_attitude: float = 0.0
+
+    def _spec(self, robot) -> dict:
+        spec = {"type": "base_thrusters"}
+        for key in ("kp_position", "kd_position", "kp_attitude", "kd_attitude"):
+            spec[key] = _finite_float(getattr(self, key), f"BaseThrusterControl {key}")
+        if self.com_ref is not None:
+            spec["com_ref"] = vector(self.com_ref, "BaseThrusterControl com_ref", 3)
+        if self.quat_ref is not None:
+            spec["quat_ref"] = vector(self.quat_ref, "BaseThrusterControl quat_ref", 4)
+        return spec
 
 
 @dataclass(frozen=True)

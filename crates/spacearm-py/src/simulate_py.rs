@@ -14,7 +14,7 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 use spacearm_core::actuators::ThrusterLimits;
 use spacearm_core::control::mismatch::{perturbed_model, Slosh};
 use spacearm_core::control::{
-    AttitudeControl, Combined, Command, ComputedTorque, ControlContext, Controller, CoordinatedFlying, CoordinatedGains, JointPd,
+    AttitudeControl, BaseThrusterControl, Combined, Command, ComputedTorque, ControlContext, Controller, CoordinatedFlying, CoordinatedGains, JointPd,
     ResolvedMotionRate, ZeroTorque,
 };
 use spacearm_core::integrate::IntegratorKind;
@@ -259,6 +259,29 @@ fn parse_controller(spec: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<Box<d
             };
             Box::new(CoordinatedFlying::new(line, body, get_vec3(d, "offset", w)?, base_ref, gains, get_f64(d, "damping", w)?, get_f64(d, "threshold", w)?))
         }
+        "base_thrusters" => {
+            check_keys(d, &["type", "com_ref", "quat_ref", "kp_position", "kd_position", "kp_attitude", "kd_attitude"], w)?;
+            let com_ref = match get_opt(d, "com_ref")? {
+                Some(v) => Some(vec3(&v, "thruster control com_ref")?),
+                None => None,
+            };
+            let quat_ref = match get_opt(d, "quat_ref")? {
+                Some(v) => {
+                    let q = vec_arg_n(&v, "thruster control quat_ref", 4)?;
+                    let q = q.as_slice();
+                    Some([q[0], q[1], q[2], q[3]])
+                }
+                None => None,
+            };
+            Box::new(BaseThrusterControl::new(
+                com_ref,
+                quat_ref,
+                get_f64(d, "kp_position", w)?,
+                get_f64(d, "kd_position", w)?,
+                get_f64(d, "kp_attitude", w)?,
+                get_f64(d, "kd_attitude", w)?,
+            ))
+        }
         "attitude" => {
             check_keys(d, &["type", "quat_ref", "kp", "kd"], w)?;
             let q = get(d, "quat_ref", w)?;
@@ -282,7 +305,7 @@ fn parse_controller(spec: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<Box<d
             return Err(to_py_err(
                 py,
                 bad(format!(
-                    "controller type must be one of ['none', 'joint_pd', 'computed_torque', 'rmrc', 'attitude', 'coordinated_flying', 'combined', 'callback'], got '{other}'"
+                    "controller type must be one of ['none', 'joint_pd', 'computed_torque', 'rmrc', 'attitude', 'base_thrusters', 'coordinated_flying', 'combined', 'callback'], got '{other}'"
                 )),
             ))
         }

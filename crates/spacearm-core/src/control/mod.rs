@@ -22,6 +22,7 @@ pub mod coordinated;
 pub mod mismatch;
 pub mod pd;
 pub mod rmrc;
+pub mod thrusters;
 
 use nalgebra::Vector6;
 
@@ -34,6 +35,7 @@ pub use computed_torque::ComputedTorque;
 pub use coordinated::{CoordinatedFlying, CoordinatedGains};
 pub use pd::JointPd;
 pub use rmrc::ResolvedMotionRate;
+pub use thrusters::BaseThrusterControl;
 
 /// What a controller commands at one instant.
 #[derive(Debug, Clone, PartialEq)]
