@@ -164,8 +164,9 @@ pub struct SimResult {
     pub dropped_wrench_count: usize,
 }
 
-/// The plant as an ODE: model, mode, actuators, controller.
-struct Plant<'a> {
+/// The plant as an ODE `ẏ = f(t, y)` for the integrators: model, mode, actuators and controller
+/// (public so that single steps can be timed; [`simulate`] is the way to run a simulation).
+pub struct Plant<'a> {
     model: &'a Model,
     data: Data,
     mode: Mode,
@@ -182,6 +183,43 @@ struct Plant<'a> {
     n_evals: usize,
     dropped_max: f64,
     dropped_count: usize,
+    wheels: Vec<usize>,
+}
+
+impl<'a> Plant<'a> {
+    /// Check the options (wheels, limits) and set the controller up against the model.
+    pub fn new(model: &'a Model, opts: &SimOptions, controller: &'a mut dyn Controller) -> Result<Self> {
+        let n = model.n_dof();
+        let wheels = match &opts.wheels {
+            Some(w) => {
+                check_wheels(model, w)?;
+                w.clone()
+            }
+            None => detect_reaction_wheels(model),
+        };
+        let arm = arm_dofs(n, &wheels);
+        let ctx = ControlContext { plant: model, mode: opts.mode, wheel_dofs: &wheels, arm_dofs: &arm };
+        controller.setup(&ctx)?;
+        let n_ref = controller.reference_len();
+        Ok(Plant {
+            model,
+            data: Data::new(model),
+            mode: opts.mode,
+            actuators: Actuators::new(model, opts.joint_limits, opts.thrusters),
+            cmd: Command::new(n, n_ref),
+            controller,
+            tau_applied: vec![0.0; n],
+            wrench_applied: Vector6::zeros(),
+            f: vec![0.0; 6 + n],
+            flags_eval: vec![0; n + 6],
+            flags_step: vec![0; n + 6],
+            nx: model.nx(),
+            n_evals: 0,
+            dropped_max: 0.0,
+            dropped_count: 0,
+            wheels,
+        })
+    }
 }
 
 impl OdeSystem for Plant<'_> {
@@ -446,40 +484,13 @@ pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, contro
     split_configuration(model, x0)?;
     check_velocity(model, "u0", u0)?;
     let n = model.n_dof();
-    let wheels = match &opts.wheels {
-        Some(w) => {
-            check_wheels(model, w)?;
-            w.clone()
-        }
-        None => detect_reaction_wheels(model),
-    };
-    let arm = arm_dofs(n, &wheels);
-    let ctx = ControlContext { plant: model, mode: opts.mode, wheel_dofs: &wheels, arm_dofs: &arm };
-    controller.setup(&ctx)?;
-    let n_ref = controller.reference_len();
-    let tracking = controller.tracking();
-    let conserved = opts.mode.conserved(controller.is_torque_free());
-
-    let nx = model.nx();
+    let mut plant = Plant::new(model, opts, controller)?;
+    let n_ref = plant.controller.reference_len();
+    let tracking = plant.controller.tracking();
+    let conserved = opts.mode.conserved(plant.controller.is_torque_free());
+    let wheels = plant.wheels.clone();
     let mut y: Vec<f64> = x0.iter().chain(u0).copied().collect();
     let dim = y.len();
-    let mut plant = Plant {
-        model,
-        data: Data::new(model),
-        mode: opts.mode,
-        actuators: Actuators::new(model, opts.joint_limits, opts.thrusters),
-        cmd: Command::new(n, n_ref),
-        controller,
-        tau_applied: vec![0.0; n],
-        wrench_applied: Vector6::zeros(),
-        f: vec![0.0; 6 + n],
-        flags_eval: vec![0; n + 6],
-        flags_step: vec![0; n + 6],
-        nx,
-        n_evals: 0,
-        dropped_max: 0.0,
-        dropped_count: 0,
-    };
     plant.project(&mut y);
 
     // Sample times: RK4 every `record_every` steps of dt (plus the end); DOPRI5 every dt (plus
