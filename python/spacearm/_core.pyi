@@ -111,8 +111,8 @@ def simulate(
     """Run the native simulation loop. ``options`` keys: mode, integrator, dt, rtol, atol,
     record_every, wheels (dof list or None), thrusters ({max_force, max_torque} or None),
     joint_limits, max_steps, progress (callable or None). ``controller_spec``: a dict with a
-    ``type`` ("none", "joint_pd", "computed_torque", "rmrc", "attitude", "combined",
-    "callback") built by ``spacearm.control``. Returns per-sample arrays and ``"_meta"``."""
+    ``type`` ("none", "joint_pd", "computed_torque", "rmrc", "attitude", "base_thrusters",
+    "coordinated_flying", "combined", "callback") built by ``spacearm.control``. Returns per-sample arrays and ``"_meta"``."""
     ...
 
 def perturbed(
