@@ -114,11 +114,12 @@ def pd_gains(robot, omega=6.0):
     return omega**2 * h, 2 * omega * h
 
 
-def test_joint_pd_converges_to_the_set_point():
-    robot = spacearm.presets.planar4()
+@pytest.mark.parametrize("preset", ["planar4", "spatial6"])
+def test_joint_pd_converges_to_the_set_point(preset):
+    robot = getattr(spacearm.presets, preset)()
     kp, kd = pd_gains(robot)
     q0 = robot.initial_q
-    q1 = q0 + np.array([0.3, -0.2, 0.25, -0.3])
+    q1 = q0 + np.resize([0.3, -0.2, 0.25, -0.3], robot.n_dof)
     traj = spacearm.simulate(robot, 5.0, dt=2e-3, record_every=10, controller=JointPD(kp, kd, QuinticJoint(q0, q1, 0.0, 1.5)))
     e = traj["tracking_error"]
     assert e.max() > 1e-3  # PD lags the moving reference
