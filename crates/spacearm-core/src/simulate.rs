@@ -24,7 +24,7 @@ use crate::actuators::{check_wheels, detect_reaction_wheels, Actuators, Saturati
 use crate::control::{arm_dofs, Command, ControlContext, Controller, TrackingKind};
 use crate::data::Data;
 use crate::error::{Result, SpacearmError};
-use crate::integrate::{Dopri5, IntegratorKind, OdeSystem, Rk4};
+use crate::integrate::{Dopri5, IntegratorKind, OdeSystem, Rk4, StepOutcome};
 use crate::kinematics::{check_velocity, forward_kinematics, point_position, split_configuration};
 use crate::model::Model;
 use crate::modes::{Conserved, Mode};
@@ -184,6 +184,8 @@ pub struct Plant<'a> {
     dropped_max: f64,
     dropped_count: usize,
     wheels: Vec<usize>,
+    /// Set when a stage value was not finite (an adaptive step that was far too long).
+    nonfinite_stage: bool,
 }
 
 impl<'a> Plant<'a> {
@@ -218,6 +220,7 @@ impl<'a> Plant<'a> {
             dropped_max: 0.0,
             dropped_count: 0,
             wheels,
+            nonfinite_stage: false,
         })
     }
 }
@@ -240,6 +243,7 @@ impl OdeSystem for Plant<'_> {
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
         self.n_evals += 1;
         if let Some(i) = y.iter().position(|v| !v.is_finite()) {
+            self.nonfinite_stage = true;
             return Err(SpacearmError::Simulation(format!(
                 "the state became non-finite at t = {t} s (entry {i} of [x; u]): the motion diverged — reduce dt, tighten \
                  rtol/atol or lower the controller gains"
@@ -554,7 +558,16 @@ pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, contro
                     h = remaining;
                 }
                 plant.flags_step.fill(0);
-                let outcome = dp.try_step(&mut plant, t, h, &mut y)?;
+                let outcome = match dp.try_step(&mut plant, t, h, &mut y) {
+                    Ok(o) => o,
+                    // A trial step so long that a stage left the finite numbers: reject it and
+                    // retry shorter (y and f(t, y) are untouched by a failed attempt).
+                    Err(SpacearmError::Simulation(_)) if plant.nonfinite_stage => {
+                        plant.nonfinite_stage = false;
+                        StepOutcome { accepted: false, error: f64::INFINITY, next_h: 0.25 * h }
+                    }
+                    Err(e) => return Err(e),
+                };
                 if outcome.accepted {
                     n_steps += 1;
                     onsets(t, &mut prev_flags, &plant.flags_step, &mut events);
