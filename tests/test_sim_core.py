@@ -233,3 +233,38 @@ def test_bad_references_and_option_dicts(robot):
     with pytest.raises(errors.ArgumentError, match="missing 'kd'"):
         spacearm._core.simulate(robot._m, x0, u0, 1.0, {}, {"type": "joint_pd", "kp": [1.0],
                                                          "reference": {"type": "constant_joint", "q": np.zeros(4)}})
+
+
+def test_rk4_equals_a_numpy_rk4_on_the_mass_matrix_dynamics():
+    """A second implementation of the whole step in numpy: RK4 with stage renormalization of
+    the quaternion, quat' = 1/2 [w0; 0] ⊗ quat (Hamilton, w0 in the inertial frame), and
+    accelerations from H^-1 (f - c) (CRBA + RNEA, not the ABA the core integrates)."""
+    robot = spacearm.presets.spatial6()
+    x0, u0 = tumbling(robot, 11)
+    u0[3:6] = [0.4, -0.3, 0.5]
+    n = robot.n_dof
+    tau = np.linspace(-0.5, 0.5, n)
+
+    def qmul(a, b):  # Hamilton product, [x, y, z, w]
+        av, aw, bv, bw = a[:3], a[3], b[:3], b[3]
+        return np.r_[aw * bv + bw * av + np.cross(av, bv), aw * bw - av @ bv]
+
+    def f(y):
+        x, u = y[: 7 + n].copy(), y[7 + n:]
+        x[3:7] /= np.linalg.norm(x[3:7])
+        du = robot.forward_dynamics(x, u, tau=tau, method="mass_matrix")
+        return np.r_[u[:3], 0.5 * qmul(np.r_[u[3:6], 0.0], x[3:7]), u[6:], du]
+
+    h, steps = 5e-3, 40
+    y = np.r_[x0, u0]
+    for _ in range(steps):
+        k1 = f(y)
+        k2 = f(y + 0.5 * h * k1)
+        k3 = f(y + 0.5 * h * k2)
+        k4 = f(y + h * k3)
+        y = y + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+        y[3:7] /= np.linalg.norm(y[3:7])
+    traj = spacearm.simulate(robot, h * steps, x0=x0, u0=u0, dt=h, controller=Callback(lambda t, x, u: tau))
+    np.testing.assert_allclose(traj["x"][-1], y[: 7 + n], atol=1e-11)
+    np.testing.assert_allclose(traj["u"][-1], y[7 + n:], atol=1e-10)
+    assert abs(y[6] - x0[6]) > 0.01  # the base turned

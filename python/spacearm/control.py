@@ -408,7 +408,8 @@ class Callback(_Controller):
     ``-> (tau, base_wrench)`` (``[F0, N0]`` in 𝒥, applied as the mode allows).
 
     Called at every integrator stage (four times per RK4 step), so it is far slower than the
-    native controllers; an exception it raises stops the run and propagates unchanged.
+    native controllers; an exception it raises stops the run and propagates unchanged. As the
+    arm of a :class:`Combined`, its ``tau`` replaces every joint torque, wheels included.
     """
 
     fn: Callable
