@@ -6,7 +6,7 @@ checked against Pinocchio and MuJoCo. Start with :class:`Robot` and :mod:`spacea
 conventions are in ``docs/conventions.md``.
 """
 
-from . import dh, model_file, presets
+from . import control, dh, model_file, presets
 from ._core import __version__
 from .builder import RobotBuilder
 from .errors import (
@@ -17,10 +17,14 @@ from .errors import (
     NotFoundError,
     QuaternionError,
     ShapeError,
+    SimulationError,
     SingularError,
     SpacearmError,
+    ArgumentError,
 )
 from .robot import ExternalWrench, InertiaBlocks, Kinematics, Momentum, Robot
+from .simulation import simulate
+from .trajectory import Trajectory
 
 __all__ = [
     "Robot",
@@ -30,6 +34,9 @@ __all__ = [
     "Momentum",
     "InertiaBlocks",
     "presets",
+    "simulate",
+    "Trajectory",
+    "control",
     "dh",
     "model_file",
     "SpacearmError",
@@ -41,5 +48,6 @@ __all__ = [
     "NotFoundError",
     "SingularError",
     "ArgumentError",
+    "SimulationError",
     "__version__",
 ]

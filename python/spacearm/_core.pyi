@@ -110,3 +110,29 @@ def analysis_reaction_null_space(m: Model, x: ArrayLike, which: str, tolerance: 
 def analysis_integrate_prescribed(m: Model, x0: ArrayLike, dt: float, q_half: Vec, qd_half: Vec, linear_momentum: Vec, angular_momentum: Vec) -> Vec: ...
 def analysis_rmrc_rates(m: Model, x: ArrayLike, body: int, offset: Vec, desired_twist: Vec, rows: list[int], threshold: float, max_damping: float, strat: str, manipulability_gain: float, joint_limit_gain: float) -> dict: ...
 def analysis_move_to(m: Model, x0: ArrayLike, body: int, offset: Vec, target: Vec, duration: float, settle: float, dt: float, rows: list[int], threshold: float, max_damping: float, gain: float, strat: str, manipulability_gain: float, joint_limit_gain: float) -> dict: ...
+# ---- simulation (crates/spacearm-py/src/simulate_py.rs) --------------------------------------
+def simulate(
+    model: Model,
+    x0: ArrayLike,
+    u0: ArrayLike,
+    duration: float,
+    options: dict,
+    controller_spec: Optional[dict] = None,
+) -> dict:
+    """Run the native simulation loop. ``options`` keys: mode, integrator, dt, rtol, atol,
+    record_every, wheels (dof list or None), thrusters ({max_force, max_torque} or None),
+    joint_limits, max_steps, progress (callable or None). ``controller_spec``: a dict with a
+    ``type`` ("none", "joint_pd", "computed_torque", "rmrc", "attitude", "base_thrusters",
+    "coordinated_flying", "combined", "callback") built by ``spacearm.control``. Returns per-sample arrays and ``"_meta"``."""
+    ...
+
+def perturbed(
+    model: Model,
+    base_mass_scale: float,
+    base_inertia_scale: float,
+    link_mass_scale: float,
+    slosh_fraction: float,
+    slosh_offset: ArrayLike,
+    slosh_removed: bool,
+) -> Model: ...
+def default_wheel_dofs(model: Model) -> list[int]: ...

@@ -148,6 +148,9 @@ def main(argv=None) -> int:
     from .cli_analyze import add_parser as _add_analyze  # noqa: E402 (issue #6)
 
     _add_analyze(sub)
+    from .cli_simulate import add_parsers as _add_simulate  # noqa: E402 (issue #4)
+
+    _add_simulate(sub)
     args = parser.parse_args(argv)
     try:
         if args.command == "inspect":
@@ -163,6 +166,10 @@ def main(argv=None) -> int:
             from .cli_analyze import run as _analyze
 
             _analyze(args, load_model)
+        elif args.command in ("simulate", "demo"):
+            from .cli_simulate import run as _simulate
+
+            return _simulate(args, load_model)
     except SpacearmError as exc:
         print(f"spacearm: error: {exc}", file=sys.stderr)
         return 2

@@ -15,6 +15,7 @@ __all__ = [
     "NotFoundError",
     "SingularError",
     "ArgumentError",
+    "SimulationError",
 ]
 
 
@@ -51,4 +52,10 @@ class SingularError(SpacearmError, ArithmeticError):
 
 
 class ArgumentError(SpacearmError, ValueError):
-    """A numerical argument (tolerance, gain, time step, resolution, ...) is outside its valid range."""
+    """An option or numerical argument is outside its valid range (a negative duration, an unknown mode, a
+    tolerance, gain, time step or resolution out of range)."""
+
+
+class SimulationError(SpacearmError, RuntimeError):
+    """A simulation could not continue (the state diverged, the adaptive step size collapsed,
+    the step budget ran out); the message says when and what to change."""

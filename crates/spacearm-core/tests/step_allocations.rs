@@ -1,0 +1,131 @@
+//! A simulation step allocates nothing: a counting global allocator around RK4 steps and
+//! DOPRI5 attempts of spatial6 under every native controller (after a first, warming step).
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use nalgebra::Vector3;
+use spacearm_core::control::{
+    AttitudeControl, BaseThrusterControl, Combined, ComputedTorque, Controller, CoordinatedFlying, CoordinatedGains, JointPd,
+    ResolvedMotionRate, ZeroTorque,
+};
+use spacearm_core::integrate::{Dopri5, OdeSystem, Rk4};
+use spacearm_core::modes::Mode;
+use spacearm_core::reference::{CartesianLine, JointReference};
+use spacearm_core::simulate::{Plant, SimOptions};
+use spacearm_core::{presets, JointLimits, JointType, LinkSpec, Model, ModelBuilder};
+
+struct Counting;
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// spatial6 plus three reaction wheels.
+fn wheeled() -> Model {
+    let base = presets::spatial6();
+    let mut b = ModelBuilder::new("w", "base", base.base.mass, [[68.33, 0.0, 0.0], [0.0, 86.67, 0.0], [0.0, 0.0, 101.67]]).unwrap();
+    for l in &base.links {
+        b.add_link(LinkSpec {
+            name: l.name.clone(),
+            parent: base.body_name(l.parent).to_string(),
+            joint_name: Some(l.joint.name.clone()),
+            kind: l.joint.kind,
+            origin_in_parent: l.joint.origin_in_parent.into(),
+            rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
+            axis: l.joint.axis.into_inner().into(),
+            com_from_joint: l.com_from_joint.into(),
+            mass: l.mass.mass,
+            inertia: l.mass.inertia.into(),
+            limits: JointLimits::unlimited(),
+        })
+        .unwrap();
+    }
+    for (i, axis) in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]].into_iter().enumerate() {
+        b.add_link(LinkSpec {
+            name: format!("wheel{i}"),
+            parent: "base".into(),
+            joint_name: None,
+            kind: JointType::Revolute,
+            origin_in_parent: [0.0, 0.0, -0.3],
+            rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
+            axis,
+            com_from_joint: [0.0; 3],
+            mass: 1.0,
+            inertia: [[0.3, 0.0, 0.0], [0.0, 0.3, 0.0], [0.0, 0.0, 0.3]],
+            limits: JointLimits { lower: f64::NEG_INFINITY, upper: f64::INFINITY, velocity: 100.0, effort: 1.0 },
+        })
+        .unwrap();
+    }
+    b.build().unwrap()
+}
+
+fn allocations_per_step(model: &Model, mode: Mode, controller: &mut dyn Controller) -> (usize, usize) {
+    let opts = SimOptions { mode, ..SimOptions::default() };
+    let setup = ALLOCATIONS.load(Ordering::SeqCst);
+    let mut plant = Plant::new(model, &opts, controller).unwrap();
+    // The counter works: setting up allocates the workspaces.
+    assert!(ALLOCATIONS.load(Ordering::SeqCst) > setup);
+    let mut y = presets::initial_configuration(model);
+    y.extend((0..model.nu()).map(|i| 0.05 * (i as f64).sin()));
+    let mut rk = Rk4::new(plant.dim());
+    let mut dp = Dopri5::new(plant.dim(), 1e-9, 1e-12);
+    rk.step(&mut plant, 0.0, 1e-3, &mut y, false).unwrap();
+    dp.initial_step(&mut plant, 1e-3, &y, 1.0).unwrap();
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    for i in 0..5 {
+        rk.step(&mut plant, 1e-3 * (i + 1) as f64, 1e-3, &mut y, false).unwrap();
+    }
+    let rk_allocs = ALLOCATIONS.load(Ordering::SeqCst) - before;
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    let mut t = 0.006;
+    for _ in 0..5 {
+        if dp.try_step(&mut plant, t, 1e-3, &mut y).unwrap().accepted {
+            t += 1e-3;
+        }
+    }
+    (rk_allocs, ALLOCATIONS.load(Ordering::SeqCst) - before)
+}
+
+#[test]
+fn steps_allocate_nothing_under_every_native_controller() {
+    let arm = presets::spatial6();
+    let q0 = arm.initial_q.clone();
+    let q1: Vec<f64> = q0.iter().map(|q| q + 0.3).collect();
+    let quintic = || JointReference::quintic(q0.clone(), q1.clone(), 0.0, 1.0).unwrap();
+    let ee = &arm.points[arm.end_effector.unwrap()];
+    let line = CartesianLine::new(Vector3::new(2.6, 0.0, 0.1), Vector3::new(2.7, 0.1, 0.1), 0.0, 1.0).unwrap();
+    let gains = CoordinatedGains { kp_ee: 100.0, kd_ee: 20.0, kp_base: 25.0, kd_base: 10.0 };
+    let wheels = wheeled();
+    let cases: Vec<(&str, &Model, Mode, Box<dyn Controller>)> = vec![
+        ("zero", &arm, Mode::Floating, Box::new(ZeroTorque)),
+        ("pd", &arm, Mode::Floating, Box::new(JointPd::new(vec![1.0], vec![0.5], quintic()))),
+        ("computed torque", &arm, Mode::Floating, Box::new(ComputedTorque::new(vec![25.0], vec![10.0], quintic(), None))),
+        ("rmrc", &arm, Mode::Floating, Box::new(ResolvedMotionRate::new(line, 5.0, 0.05, 0.1, 50.0, ee.body, ee.offset))),
+        ("coordinated", &arm, Mode::Flying, Box::new(CoordinatedFlying::new(line, ee.body, ee.offset, None, gains, 0.05, 0.1))),
+        ("thrusters", &arm, Mode::Flying, Box::new(BaseThrusterControl::new(None, None, 1.0, 2.0, 100.0, 50.0))),
+        (
+            "wheels + computed torque",
+            &wheels,
+            Mode::RotationFloating,
+            Box::new(Combined::new(
+                Box::new(ComputedTorque::new(vec![25.0], vec![10.0], quintic(), None)),
+                Box::new(AttitudeControl::new([0.0, 0.0, 0.0, 1.0], 100.0, 50.0)),
+            )),
+        ),
+    ];
+    for (name, model, mode, mut c) in cases {
+        let (rk, dp) = allocations_per_step(model, mode, c.as_mut());
+        assert_eq!((rk, dp), (0, 0), "{name}: allocations in 5 RK4 steps, 5 DOPRI5 attempts");
+    }
+}
