@@ -145,6 +145,9 @@ def main(argv=None) -> int:
     from .symbolic.command import add_parser as _add_derive  # noqa: E402 (issue #5)
 
     _add_derive(sub)
+    from .cli_campaign import add_parser as _add_campaign  # noqa: E402 (issue #6)
+
+    _add_campaign(sub)
     args = parser.parse_args(argv)
     try:
         if args.command == "inspect":
@@ -156,6 +159,10 @@ def main(argv=None) -> int:
             from .symbolic.command import run as _derive
 
             _derive(args, load_model)
+        elif args.command == "campaign":
+            from .cli_campaign import run as _campaign
+
+            _campaign(args, load_model)
     except SpacearmError as exc:
         print(f"spacearm: error: {exc}", file=sys.stderr)
         return 2

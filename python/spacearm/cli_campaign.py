@@ -43,6 +43,7 @@ def add_parser(sub) -> None:
 
 def run(args, load_model, out=None) -> None:
     from .campaign import Perturbations, Scenario, run_campaign
+    from .errors import SpacearmError
 
     out = sys.stdout if out is None else out
     robot = load_model(args.model)
@@ -51,13 +52,14 @@ def run(args, load_model, out=None) -> None:
                                       args.slosh_fraction_max, args.slosh_offset, args.payload_mass_max)
         scenario = Scenario(mode=args.mode, controller=args.controller, duration=args.duration, dt=args.dt,
                             q_offset=args.q_offset, kp=args.kp, kd=args.kd)
-    except ValueError as exc:
-        from .errors import SpacearmError
-
+        result = run_campaign(robot, args.samples, seed=args.seed, perturbations=perturbations, scenario=scenario,
+                              workers=args.workers, scheduler=args.scheduler, out=args.out,
+                              resume=not args.no_resume, retry_failed=args.retry_failed,
+                              progress=not args.no_progress)
+    except SpacearmError:
+        raise
+    except ValueError as exc:  # bad option values: reported like every other CLI error
         raise SpacearmError(str(exc)) from None
-    result = run_campaign(robot, args.samples, seed=args.seed, perturbations=perturbations, scenario=scenario,
-                          workers=args.workers, scheduler=args.scheduler, out=args.out, resume=not args.no_resume,
-                          retry_failed=args.retry_failed, progress=not args.no_progress)
     out.write(result.summary() + "\n")
     out.write(f"results: {args.out}\n")
     failures = result.failures()
