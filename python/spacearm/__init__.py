@@ -6,7 +6,7 @@ checked against Pinocchio and MuJoCo. Start with :class:`Robot` and :mod:`spacea
 conventions are in ``docs/conventions.md``.
 """
 
-from . import dh, model_file, presets
+from . import control, dh, model_file, presets
 from ._core import __version__
 from .builder import RobotBuilder
 from .errors import (
@@ -16,10 +16,13 @@ from .errors import (
     NotFoundError,
     QuaternionError,
     ShapeError,
+    SimulationError,
     SingularError,
     SpacearmError,
+    ArgumentError,
 )
 from .robot import ExternalWrench, InertiaBlocks, Kinematics, Momentum, Robot
+from .simulation import simulate
 
 __all__ = [
     "Robot",
@@ -29,6 +32,8 @@ __all__ = [
     "Momentum",
     "InertiaBlocks",
     "presets",
+    "simulate",
+    "control",
     "dh",
     "model_file",
     "SpacearmError",
@@ -39,5 +44,7 @@ __all__ = [
     "QuaternionError",
     "NotFoundError",
     "SingularError",
+    "ArgumentError",
+    "SimulationError",
     "__version__",
 ]

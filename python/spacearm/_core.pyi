@@ -98,3 +98,30 @@ class Model:
     def momentum(self, x: ArrayLike, u: ArrayLike) -> tuple[Vec, Vec, Vec, Vec]: ...
     def kinetic_energy(self, x: ArrayLike, u: ArrayLike) -> float: ...
     def center_of_mass(self, x: ArrayLike) -> Vec: ...
+
+# ---- simulation (crates/spacearm-py/src/simulate_py.rs) --------------------------------------
+def simulate(
+    model: Model,
+    x0: ArrayLike,
+    u0: ArrayLike,
+    duration: float,
+    options: dict,
+    controller_spec: Optional[dict] = None,
+) -> dict:
+    """Run the native simulation loop. ``options`` keys: mode, integrator, dt, rtol, atol,
+    record_every, wheels (dof list or None), thrusters ({max_force, max_torque} or None),
+    joint_limits, max_steps, progress (callable or None). ``controller_spec``: a dict with a
+    ``type`` ("none", "joint_pd", "computed_torque", "rmrc", "attitude", "combined",
+    "callback") built by ``spacearm.control``. Returns per-sample arrays and ``"_meta"``."""
+    ...
+
+def perturbed(
+    model: Model,
+    base_mass_scale: float,
+    base_inertia_scale: float,
+    link_mass_scale: float,
+    slosh_fraction: float,
+    slosh_offset: ArrayLike,
+    slosh_removed: bool,
+) -> Model: ...
+def default_wheel_dofs(model: Model) -> list[int]: ...

@@ -145,6 +145,9 @@ def main(argv=None) -> int:
     from .symbolic.command import add_parser as _add_derive  # noqa: E402 (issue #5)
 
     _add_derive(sub)
+    from .cli_simulate import add_parsers as _add_simulate  # noqa: E402 (issue #4)
+
+    _add_simulate(sub)
     from .cli_campaign import add_parser as _add_campaign  # noqa: E402 (issue #6)
 
     _add_campaign(sub)
@@ -159,6 +162,10 @@ def main(argv=None) -> int:
             from .symbolic.command import run as _derive
 
             _derive(args, load_model)
+        elif args.command in ("simulate", "demo"):
+            from .cli_simulate import run as _simulate
+
+            return _simulate(args, load_model)
         elif args.command == "campaign":
             from .cli_campaign import run as _campaign
 

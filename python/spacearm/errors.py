@@ -14,6 +14,8 @@ __all__ = [
     "QuaternionError",
     "NotFoundError",
     "SingularError",
+    "ArgumentError",
+    "SimulationError",
 ]
 
 
@@ -47,3 +49,12 @@ class NotFoundError(SpacearmError, LookupError):
 
 class SingularError(SpacearmError, ArithmeticError):
     """A matrix that must be inverted is singular at this configuration."""
+
+
+class ArgumentError(SpacearmError, ValueError):
+    """An option or argument has an invalid value (a negative duration, an unknown mode)."""
+
+
+class SimulationError(SpacearmError, RuntimeError):
+    """A simulation could not continue (the state diverged, the adaptive step size collapsed,
+    the step budget ran out); the message says when and what to change."""

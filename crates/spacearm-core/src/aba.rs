@@ -33,6 +33,14 @@ pub fn aba<'d>(
     Ok(&data.accel)
 }
 
+/// ABA on the kinematics already in `data` (forward kinematics done by the caller, `u` and `f`
+/// checked): the simulator computes the system CM from the same kinematics before choosing the
+/// base wrench, so it runs forward kinematics once per stage. Fills `data.accel`.
+pub(crate) fn aba_after_kinematics(model: &Model, data: &mut Data, u: &[f64], f: &[f64]) -> Result<()> {
+    aba_passes_1_2(model, data, u, f, &[])?;
+    aba_pass_3(model, data, u, f)
+}
+
 /// ABA passes 1 and 2 on the kinematics already in `data`, inputs checked: body velocities,
 /// articulated inertias and bias forces folded down to the base.
 fn aba_passes_1_2(model: &Model, data: &mut Data, u: &[f64], f: &[f64], external: &[ExternalWrench]) -> Result<()> {

@@ -53,11 +53,25 @@ pub enum SpacearmError {
     /// A model file could not be parsed; the message carries line and column.
     #[error("{0}")]
     Parse(String),
+
+    /// An option or argument has an invalid value (a negative duration, an unknown mode name,
+    /// a limit that is not positive); the message names it and what was expected.
+    #[error("{0}")]
+    InvalidArgument(String),
+
+    /// A simulation could not continue (the state diverged, the adaptive step size fell below
+    /// its floor, the step budget ran out, or a controller failed); the message says when.
+    #[error("{0}")]
+    Simulation(String),
 }
 
 impl SpacearmError {
     pub(crate) fn model(msg: impl Into<String>) -> Self {
         SpacearmError::InvalidModel(msg.into())
+    }
+
+    pub(crate) fn argument(msg: impl Into<String>) -> Self {
+        SpacearmError::InvalidArgument(msg.into())
     }
 }
 

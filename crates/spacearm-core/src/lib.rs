@@ -13,10 +13,14 @@
 //!
 //! Layout: [`Model`] (constant) and [`Data`] (workspace) as in Pinocchio; one algorithm per
 //! module: [`kinematics`], [`inertia`] (paper form), [`crba`], [`rnea`], [`aba`], [`gjm`],
-//! [`momentum`], [`dynamics`]; model input in [`model`].
+//! [`momentum`], [`dynamics`]; model input in [`model`]. Simulation: [`simulate`] (loop and
+//! records), [`integrate`] (RK4, DOPRI5 on the quaternion manifold), [`modes`], [`actuators`],
+//! [`control`], [`reference`].
 
 pub mod aba;
+pub mod actuators;
 pub mod body;
+pub mod control;
 pub mod crba;
 pub mod data;
 pub mod dh;
@@ -24,13 +28,17 @@ pub mod dynamics;
 pub mod error;
 pub mod gjm;
 pub mod inertia;
+pub mod integrate;
 pub mod joint;
 pub mod kinematics;
 pub mod model;
 pub mod model_file;
+pub mod modes;
 pub mod momentum;
 pub mod presets;
+pub mod reference;
 pub mod rnea;
+pub mod simulate;
 pub mod spatial;
 pub mod wrench;
 

@@ -8,6 +8,7 @@ mod builder_py;
 mod convert;
 mod model_io_py;
 mod model_py;
+mod simulate_py;
 
 use pyo3::prelude::*;
 
@@ -35,6 +36,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(model_io_py::model_to_toml, m)?)?;
     m.add_function(wrap_pyfunction!(model_io_py::model_from_classic_dh, m)?)?;
     m.add_function(wrap_pyfunction!(model_io_py::model_from_paper_dh, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_py::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_py::perturbed, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_py::default_wheel_dofs, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -1,0 +1,382 @@
+//! `spacearm._core.simulate`: the whole simulation loop in Rust (`spacearm_core::simulate`),
+//! options and controller specifications parsed from Python dicts (unknown keys and bad values
+//! are errors naming them), records returned as numpy arrays. Wrapped by
+//! `spacearm.simulation.simulate`, which builds the dicts from the user-facing classes of
+//! `spacearm.control`.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use nalgebra::Vector3;
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyTuple};
+use spacearm_core::actuators::ThrusterLimits;
+use spacearm_core::control::mismatch::{perturbed_model, Slosh};
+use spacearm_core::control::{Combined, Command, ComputedTorque, ControlContext, Controller, JointPd, ZeroTorque};
+use spacearm_core::integrate::IntegratorKind;
+use spacearm_core::modes::Mode;
+use spacearm_core::reference::JointReference;
+use spacearm_core::simulate::{simulate as core_simulate, SimOptions};
+use spacearm_core::{Model, SpacearmError};
+
+use crate::convert::*;
+use crate::model_py::PyModel;
+
+type CoreResult<T> = spacearm_core::Result<T>;
+
+fn bad(msg: String) -> SpacearmError {
+    SpacearmError::InvalidArgument(msg)
+}
+
+/// Reject keys of `d` not in `allowed`; `what` names the dict in the message.
+fn check_keys(d: &Bound<'_, PyDict>, allowed: &[&str], what: &str) -> PyResult<()> {
+    for key in d.keys() {
+        let k: String = key.extract().map_err(|_| to_py_err(d.py(), bad(format!("{what}: keys must be strings, got {key}"))))?;
+        if !allowed.contains(&k.as_str()) {
+            return Err(to_py_err(d.py(), bad(format!("{what}: unknown key '{k}'; expected one of {allowed:?}"))));
+        }
+    }
+    Ok(())
+}
+
+fn get<'py>(d: &Bound<'py, PyDict>, key: &str, what: &str) -> PyResult<Bound<'py, PyAny>> {
+    d.get_item(key)?.ok_or_else(|| to_py_err(d.py(), bad(format!("{what}: missing '{key}'"))))
+}
+
+fn get_opt<'py>(d: &Bound<'py, PyDict>, key: &str) -> PyResult<Option<Bound<'py, PyAny>>> {
+    Ok(d.get_item(key)?.filter(|v| !v.is_none()))
+}
+
+fn get_f64(d: &Bound<'_, PyDict>, key: &str, what: &str) -> PyResult<f64> {
+    get(d, key, what)?.extract::<f64>().map_err(|_| to_py_err(d.py(), bad(format!("{what}: '{key}' must be a number"))))
+}
+
+fn get_vec(d: &Bound<'_, PyDict>, key: &str, what: &str) -> PyResult<Vec<f64>> {
+    let v = get(d, key, what)?;
+    Ok(vec_arg(&v, &format!("{what} '{key}'"))?.as_slice().to_vec())
+}
+
+fn get_vec3(d: &Bound<'_, PyDict>, key: &str, what: &str) -> PyResult<Vector3<f64>> {
+    let v = get(d, key, what)?;
+    vec3(&v, &format!("{what} '{key}'"))
+}
+
+fn get_str(d: &Bound<'_, PyDict>, key: &str, what: &str) -> PyResult<String> {
+    get(d, key, what)?.extract::<String>().map_err(|_| to_py_err(d.py(), bad(format!("{what}: '{key}' must be a string"))))
+}
+
+/// Options dict → [`SimOptions`] and the optional progress callable.
+fn parse_options<'py>(py: Python<'py>, duration: f64, o: &Bound<'py, PyDict>) -> PyResult<(SimOptions, Option<Bound<'py, PyAny>>)> {
+    const KEYS: [&str; 11] = ["mode", "integrator", "dt", "rtol", "atol", "record_every", "wheels", "thrusters", "joint_limits", "max_steps", "progress"];
+    check_keys(o, &KEYS, "simulation options")?;
+    let mut opts = SimOptions { duration, ..SimOptions::default() };
+    let w = "simulation options";
+    if let Some(m) = get_opt(o, "mode")? {
+        let name: String = m.extract().map_err(|_| to_py_err(py, bad("mode must be a string".into())))?;
+        opts.mode = Mode::from_name(&name).or_raise(py)?;
+    }
+    if let Some(m) = get_opt(o, "integrator")? {
+        let name: String = m.extract().map_err(|_| to_py_err(py, bad("integrator must be a string".into())))?;
+        opts.integrator = IntegratorKind::from_name(&name).or_raise(py)?;
+    }
+    for (key, slot) in [("dt", &mut opts.dt), ("rtol", &mut opts.rtol), ("atol", &mut opts.atol)] {
+        if get_opt(o, key)?.is_some() {
+            *slot = get_f64(o, key, w)?;
+        }
+    }
+    for (key, slot) in [("record_every", &mut opts.record_every), ("max_steps", &mut opts.max_steps)] {
+        if let Some(v) = get_opt(o, key)? {
+            let i: i64 = v.extract().map_err(|_| to_py_err(py, bad(format!("{key} must be an integer >= 1, got {v}"))))?;
+            if i < 1 {
+                return Err(to_py_err(py, bad(format!("{key} must be an integer >= 1, got {i}"))));
+            }
+            *slot = i as usize;
+        }
+    }
+    if let Some(v) = get_opt(o, "wheels")? {
+        let dofs: Vec<i64> = v.extract().map_err(|_| to_py_err(py, bad("wheels must be a list of dof indices".into())))?;
+        if let Some(d) = dofs.iter().find(|d| **d < 0) {
+            return Err(to_py_err(py, SpacearmError::NotFound(format!("wheel dof {d} does not exist"))));
+        }
+        opts.wheels = Some(dofs.into_iter().map(|d| d as usize).collect());
+    }
+    if let Some(v) = get_opt(o, "thrusters")? {
+        let d = v.cast::<PyDict>().map_err(|_| to_py_err(py, bad("thrusters must be a dict with max_force and max_torque".into())))?;
+        check_keys(d, &["max_force", "max_torque"], "thrusters")?;
+        let f = get_vec3(d, "max_force", "thrusters")?;
+        let t = get_vec3(d, "max_torque", "thrusters")?;
+        opts.thrusters = Some(ThrusterLimits::new(f, t).or_raise(py)?);
+    }
+    if let Some(v) = get_opt(o, "joint_limits")? {
+        opts.joint_limits = v.extract().map_err(|_| to_py_err(py, bad("joint_limits must be True or False".into())))?;
+    }
+    Ok((opts, get_opt(o, "progress")?))
+}
+
+/// A joint reference spec: `{"type": "quintic_joint", q_start, q_goal, t_start, t_end}` or
+/// `{"type": "constant_joint", "q"}`.
+fn parse_joint_reference(spec: &Bound<'_, PyAny>) -> PyResult<JointReference> {
+    let py = spec.py();
+    let d = spec.cast::<PyDict>().map_err(|_| to_py_err(py, bad("a joint reference must be a dict".into())))?;
+    let kind = get_str(d, "type", "joint reference")?;
+    let w = "joint reference";
+    match kind.as_str() {
+        "quintic_joint" => {
+            check_keys(d, &["type", "q_start", "q_goal", "t_start", "t_end"], w)?;
+            JointReference::quintic(get_vec(d, "q_start", w)?, get_vec(d, "q_goal", w)?, get_f64(d, "t_start", w)?, get_f64(d, "t_end", w)?).or_raise(py)
+        }
+        "constant_joint" => {
+            check_keys(d, &["type", "q"], w)?;
+            JointReference::constant(get_vec(d, "q", w)?).or_raise(py)
+        }
+        other => Err(to_py_err(py, bad(format!("joint reference type must be 'quintic_joint' or 'constant_joint', got '{other}'")))),
+    }
+}
+
+fn model_of(v: &Bound<'_, PyAny>) -> PyResult<Model> {
+    let m = v.cast::<PyModel>().map_err(|_| to_py_err(v.py(), bad("a controller's model must be a spacearm Robot's core model".into())))?;
+    Ok(m.borrow().model.clone())
+}
+
+/// Where a callback controller keeps the first Python exception it raised, for [`simulate`]
+/// to re-raise unchanged.
+type ErrorSlot = Rc<RefCell<Option<PyErr>>>;
+
+/// A Python callable as a controller: `fn(t, x, u) -> tau` or `(tau, base_wrench)`.
+struct PyCallback {
+    func: Py<PyAny>,
+    error: ErrorSlot,
+}
+
+impl PyCallback {
+    fn call(&self, py: Python<'_>, t: f64, x: &[f64], u: &[f64], out: &mut Command) -> PyResult<()> {
+        let result = self.func.bind(py).call1((t, PyArray1::from_slice(py, x), PyArray1::from_slice(py, u)))?;
+        let (tau_obj, wrench_obj) = match result.cast::<PyTuple>() {
+            Ok(tup) if tup.len() == 2 => (tup.get_item(0)?, Some(tup.get_item(1)?)),
+            _ => (result, None),
+        };
+        let n = out.tau.len();
+        let tau = vec_arg_n(&tau_obj, "the callback controller's tau", n)?;
+        out.tau.copy_from_slice(tau.as_slice());
+        if let Some(w) = wrench_obj {
+            out.base_wrench = vec6(&w, "the callback controller's base_wrench")?;
+        }
+        Ok(())
+    }
+}
+
+impl Controller for PyCallback {
+    fn name(&self) -> &str {
+        "callback"
+    }
+    fn setup(&mut self, _ctx: &ControlContext<'_>) -> CoreResult<()> {
+        Ok(())
+    }
+    fn command(&mut self, t: f64, x: &[f64], u: &[f64], out: &mut Command) -> CoreResult<()> {
+        let res = Python::attach(|py| self.call(py, t, x, u, out));
+        res.map_err(|e| {
+            let msg = format!("the controller callback raised at t = {t} s: {e}");
+            self.error.borrow_mut().get_or_insert(e);
+            SpacearmError::Simulation(msg)
+        })
+    }
+}
+
+/// A controller spec dict → a core controller; callback controllers share `slot`.
+fn parse_controller(spec: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<Box<dyn Controller>> {
+    let py = spec.py();
+    let d = spec.cast::<PyDict>().map_err(|_| to_py_err(py, bad("a controller spec must be a dict".into())))?;
+    let kind = get_str(d, "type", "controller")?;
+    let w = kind.as_str();
+    Ok(match w {
+        "none" => {
+            check_keys(d, &["type"], w)?;
+            Box::new(ZeroTorque)
+        }
+        "joint_pd" => {
+            check_keys(d, &["type", "kp", "kd", "reference"], w)?;
+            Box::new(JointPd::new(get_vec(d, "kp", w)?, get_vec(d, "kd", w)?, parse_joint_reference(&get(d, "reference", w)?)?))
+        }
+        "computed_torque" => {
+            check_keys(d, &["type", "kp", "kd", "reference", "model"], w)?;
+            let model = match get_opt(d, "model")? {
+                Some(m) => Some(model_of(&m)?),
+                None => None,
+            };
+            Box::new(ComputedTorque::new(get_vec(d, "kp", w)?, get_vec(d, "kd", w)?, parse_joint_reference(&get(d, "reference", w)?)?, model))
+        }
+        "combined" => {
+            check_keys(d, &["type", "arm", "base"], w)?;
+            Box::new(Combined::new(parse_controller(&get(d, "arm", w)?, slot)?, parse_controller(&get(d, "base", w)?, slot)?))
+        }
+        "callback" => {
+            check_keys(d, &["type", "fn"], w)?;
+            let f = get(d, "fn", w)?;
+            if !f.is_callable() {
+                return Err(to_py_err(py, bad("the callback controller needs a callable fn(t, x, u)".into())));
+            }
+            Box::new(PyCallback { func: f.unbind(), error: slot.clone() })
+        }
+        other => {
+            return Err(to_py_err(
+                py,
+                bad(format!("controller type must be one of ['none', 'joint_pd', 'computed_torque', 'combined', 'callback'], got '{other}'")),
+            ))
+        }
+    })
+}
+
+fn rows<'py>(py: Python<'py>, v: &[f64], k: usize, w: usize) -> PyResult<Bound<'py, PyAny>> {
+    let a = PyArray1::from_slice(py, v);
+    Ok(a.reshape([k, w])?.into_any())
+}
+
+/// Run a simulation; returns a dict of numpy arrays plus `"_meta"` (see `spacearm.simulation`).
+#[pyfunction]
+#[pyo3(signature = (model, x0, u0, duration, options, controller_spec=None))]
+pub fn simulate<'py>(
+    py: Python<'py>,
+    model: &Bound<'py, PyModel>,
+    x0: &Bound<'py, PyAny>,
+    u0: &Bound<'py, PyAny>,
+    duration: f64,
+    options: &Bound<'py, PyDict>,
+    controller_spec: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    // A copy of the model: the run holds no borrow of the Python object, so a callback
+    // controller may call the robot's methods.
+    let plant = model.borrow().model.clone();
+    let x0 = vec_arg(x0, "x0")?.as_slice().to_vec();
+    let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
+    let (opts, progress_fn) = parse_options(py, duration, options)?;
+    let slot: ErrorSlot = Rc::new(RefCell::new(None));
+    let mut controller: Box<dyn Controller> = match controller_spec {
+        Some(s) if !s.is_none() => parse_controller(s, &slot)?,
+        _ => Box::new(ZeroTorque),
+    };
+    let mut progress_error: Option<PyErr> = None;
+    let mut progress = |fraction: f64| -> CoreResult<()> {
+        let r = py.check_signals().and_then(|_| match &progress_fn {
+            Some(f) => f.call1((fraction,)).map(|_| ()),
+            None => Ok(()),
+        });
+        r.map_err(|e| {
+            progress_error.get_or_insert(e);
+            SpacearmError::Simulation("interrupted".into())
+        })
+    };
+    let result = core_simulate(&plant, &x0, &u0, &opts, controller.as_mut(), &mut progress);
+    let res = match result {
+        Ok(r) => r,
+        Err(e) => {
+            if let Some(err) = slot.borrow_mut().take() {
+                return Err(err);
+            }
+            if let Some(err) = progress_error {
+                return Err(err);
+            }
+            return Err(to_py_err(py, e));
+        }
+    };
+    let r = &res.records;
+    let k = r.n_samples;
+    let (nx, nu, n) = (plant.nx(), plant.nu(), plant.n_dof());
+    let out = PyDict::new(py);
+    out.set_item("t", PyArray1::from_slice(py, &r.t))?;
+    out.set_item("x", rows(py, &r.x, k, nx)?)?;
+    out.set_item("u", rows(py, &r.u, k, nu)?)?;
+    out.set_item("du", rows(py, &r.du, k, nu)?)?;
+    out.set_item("tau", rows(py, &r.tau, k, n)?)?;
+    out.set_item("tau_cmd", rows(py, &r.tau_cmd, k, n)?)?;
+    out.set_item("base_wrench", rows(py, &r.base_wrench, k, 6)?)?;
+    out.set_item("P", rows(py, &r.linear_momentum, k, 3)?)?;
+    out.set_item("L_origin", rows(py, &r.angular_momentum_origin, k, 3)?)?;
+    out.set_item("L_com", rows(py, &r.angular_momentum_com, k, 3)?)?;
+    out.set_item("energy", PyArray1::from_slice(py, &r.energy))?;
+    out.set_item("com", rows(py, &r.com, k, 3)?)?;
+    if let (Some(p), Some(q)) = (&r.ee_position, &r.ee_quat) {
+        out.set_item("ee_position", rows(py, p, k, 3)?)?;
+        out.set_item("ee_quat", rows(py, q, k, 4)?)?;
+    }
+    if let Some(v) = &r.reference {
+        out.set_item("reference", rows(py, v, k, res.reference_width)?)?;
+    }
+    if let Some(v) = &r.tracking_error {
+        out.set_item("tracking_error", PyArray1::from_slice(py, v))?;
+    }
+    if let Some(v) = &r.attitude_error {
+        out.set_item("attitude_error", PyArray1::from_slice(py, v))?;
+    }
+    if let Some(v) = &r.wheel_speed {
+        out.set_item("wheel_speed", rows(py, v, k, res.wheel_dofs.len())?)?;
+    }
+    let ev_t: Vec<f64> = res.events.iter().map(|e| e.t).collect();
+    let ev_a: Vec<i64> = res.events.iter().map(|e| e.actuator as i64).collect();
+    let ev_k: Vec<i64> = res.events.iter().map(|e| e.kind as i64).collect();
+    out.set_item("saturation_t", PyArray1::from_vec(py, ev_t))?;
+    out.set_item("saturation_actuator", PyArray1::from_vec(py, ev_a))?;
+    out.set_item("saturation_kind", PyArray1::from_vec(py, ev_k))?;
+
+    let meta = PyDict::new(py);
+    meta.set_item("mode", opts.mode.name())?;
+    meta.set_item("integrator", opts.integrator.name())?;
+    meta.set_item("dt", opts.dt)?;
+    meta.set_item("rtol", opts.rtol)?;
+    meta.set_item("atol", opts.atol)?;
+    meta.set_item("controller", &res.controller)?;
+    meta.set_item("conserved", PyList::new(py, res.drift.iter().map(|(c, _)| c.name()))?)?;
+    let drift = PyDict::new(py);
+    for (c, v) in &res.drift {
+        drift.set_item(c.name(), *v)?;
+    }
+    meta.set_item("drift", drift)?;
+    meta.set_item("n_steps", res.n_steps)?;
+    meta.set_item("n_rejected", res.n_rejected)?;
+    meta.set_item("n_rhs_evals", res.n_rhs_evals)?;
+    meta.set_item("actuator_names", res.actuator_names.clone())?;
+    meta.set_item("wheel_dofs", res.wheel_dofs.clone())?;
+    meta.set_item("tracking_error_kind", res.tracking.map(|t| t.name()))?;
+    meta.set_item("record_every", opts.record_every)?;
+    meta.set_item("joint_limits", opts.joint_limits)?;
+    let dropped = PyDict::new(py);
+    dropped.set_item("max_norm", res.dropped_wrench_max)?;
+    dropped.set_item("count", res.dropped_wrench_count)?;
+    meta.set_item("dropped_base_wrench", dropped)?;
+    out.set_item("_meta", meta)?;
+    Ok(out)
+}
+
+/// A copy of `model` with mass-property errors and fuel slosh (see
+/// `spacearm_core::control::mismatch::perturbed_model`). `slosh_offset = None` with a non-zero
+/// fraction removes the slosh mass instead of moving it.
+#[pyfunction]
+#[pyo3(signature = (model, base_mass_scale, base_inertia_scale, link_mass_scale, slosh_fraction, slosh_offset, slosh_removed))]
+#[allow(clippy::too_many_arguments)]
+pub fn perturbed(
+    py: Python<'_>,
+    model: &Bound<'_, PyModel>,
+    base_mass_scale: f64,
+    base_inertia_scale: f64,
+    link_mass_scale: f64,
+    slosh_fraction: f64,
+    slosh_offset: &Bound<'_, PyAny>,
+    slosh_removed: bool,
+) -> PyResult<PyModel> {
+    let offset = vec3(slosh_offset, "slosh_offset")?;
+    let slosh = if slosh_fraction == 0.0 {
+        Slosh::None
+    } else if slosh_removed {
+        Slosh::Removed { fraction: slosh_fraction }
+    } else {
+        Slosh::Moved { fraction: slosh_fraction, offset }
+    };
+    let m = perturbed_model(&model.borrow().model, base_mass_scale, base_inertia_scale, link_mass_scale, slosh).or_raise(py)?;
+    Ok(PyModel::new(m))
+}
+
+/// Degrees of freedom the simulator treats as reaction wheels by default.
+#[pyfunction]
+pub fn default_wheel_dofs(model: &Bound<'_, PyModel>) -> Vec<usize> {
+    spacearm_core::actuators::detect_reaction_wheels(&model.borrow().model)
+}

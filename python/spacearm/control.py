@@ -1,0 +1,367 @@
+"""Controllers, references and actuator limits for :func:`spacearm.simulate`.
+
+Every controller here is a description that the native simulator turns into a control law
+evaluated at every integrator stage in Rust (no Python call per step), except
+:class:`Callback`, which calls a Python function at every stage and is correspondingly slower.
+The equations, with the paper's numbers, are in ``docs/simulation-core.md``.
+
+Joint-space controllers act on the **arm joints**: every joint that is not a reaction wheel
+(wheels are what :meth:`RobotBuilder.add_reaction_wheel` creates, or what ``simulate(wheels=...)``
+names). Their references and per-joint gains therefore have one entry per arm joint — ``N``
+for a robot without wheels.
+
+>>> import spacearm
+>>> from spacearm.control import ComputedTorque, QuinticJoint
+>>> robot = spacearm.presets.planar4()
+>>> q0 = robot.initial_q
+>>> ref = QuinticJoint(q0, q0 + 0.3, t_start=0.0, t_end=2.0)
+>>> traj = spacearm.simulate(robot, 2.5, controller=ComputedTorque(kp=100.0, kd=20.0, reference=ref))
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _core
+from ._arrays import vector
+from .errors import ArgumentError
+
+__all__ = [
+    "QuinticJoint",
+    "CartesianLine",
+    "Thrusters",
+    "JointPD",
+    "ComputedTorque",
+    "ResolvedMotionRate",
+    "AttitudeControl",
+    "Combined",
+    "Callback",
+    "perturbed_model",
+]
+
+
+def _gains(value, name: str) -> list:
+    """A gain: one number or one per arm joint, as a list of floats (checked in Rust)."""
+    arr = np.atleast_1d(np.asarray(value, dtype=float))
+    if arr.ndim != 1 or arr.size == 0:
+        raise ArgumentError(f"{name} must be a number or a 1-D sequence of numbers, got {value!r}")
+    return arr.tolist()
+
+
+def _float(value, name: str) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError) as exc:
+        raise ArgumentError(f"{name} must be a number, got {value!r}") from exc
+
+
+def _finite_float(value, name: str) -> float:
+    v = _float(value, name)
+    if not math.isfinite(v):
+        raise ArgumentError(f"{name} must be finite, got {v}")
+    return v
+
+
+def _quintic(t, t_start: float, t_end: float):
+    """Rest-to-rest quintic time scaling ``s = 10τ³ − 15τ⁴ + 6τ⁵`` and its derivatives."""
+    t = np.asarray(t, dtype=float)
+    d = t_end - t_start
+    tau = np.clip((t - t_start) / d, 0.0, 1.0)
+    inside = (t > t_start) & (t < t_end)
+    s = tau**3 * (10 - 15 * tau + 6 * tau**2)
+    sd = np.where(inside, 30 * tau**2 * (1 - 2 * tau + tau**2) / d, 0.0)
+    sdd = np.where(inside, 60 * tau * (1 - 3 * tau + 2 * tau**2) / d**2, 0.0)
+    return s, sd, sdd
+
+
+# ---- references ------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class QuinticJoint:
+    """Joint-space rest-to-rest quintic from ``q_start`` to ``q_goal`` over ``[t_start, t_end]``
+    (one entry per arm joint); holds ``q_start`` before and ``q_goal`` after."""
+
+    q_start: Sequence[float]
+    q_goal: Sequence[float]
+    t_start: float
+    t_end: float
+
+    def __post_init__(self):
+        a = vector(self.q_start, "QuinticJoint q_start")
+        b = vector(self.q_goal, "QuinticJoint q_goal", a.shape[0])
+        t0 = _finite_float(self.t_start, "QuinticJoint t_start")
+        t1 = _finite_float(self.t_end, "QuinticJoint t_end")
+        if not t1 > t0:
+            raise ArgumentError(f"QuinticJoint needs t_end > t_start, got t_start = {t0}, t_end = {t1}")
+        for what, arr in (("q_start", a), ("q_goal", b)):
+            if not np.all(np.isfinite(arr)):
+                raise ArgumentError(f"QuinticJoint {what} must be finite, got {arr}")
+        object.__setattr__(self, "q_start", a)
+        object.__setattr__(self, "q_goal", b)
+        object.__setattr__(self, "t_start", t0)
+        object.__setattr__(self, "t_end", t1)
+
+    def evaluate(self, t):
+        """``(q, qd, qdd)`` at time(s) ``t``; arrays of shape ``(len(t), n)`` for an array ``t``."""
+        s, sd, sdd = _quintic(t, self.t_start, self.t_end)
+        delta = self.q_goal - self.q_start
+        s, sd, sdd = (np.asarray(v)[..., None] for v in (s, sd, sdd))
+        return self.q_start + s * delta, sd * delta, sdd * delta
+
+    def _spec(self) -> dict:
+        return {"type": "quintic_joint", "q_start": self.q_start, "q_goal": self.q_goal, "t_start": self.t_start, "t_end": self.t_end}
+
+
+@dataclass(frozen=True)
+class CartesianLine:
+    """Straight-line path of a point from ``p_start`` to ``p_goal`` (m, in 𝒥) with quintic
+    timing over ``[t_start, t_end]``. ``point``: the point that follows it (a point name, a
+    body name, or ``(body, offset)``; default: the end effector)."""
+
+    p_start: Sequence[float]
+    p_goal: Sequence[float]
+    t_start: float
+    t_end: float
+    point: Any = None
+
+    def __post_init__(self):
+        a = vector(self.p_start, "CartesianLine p_start", 3)
+        b = vector(self.p_goal, "CartesianLine p_goal", 3)
+        t0 = _finite_float(self.t_start, "CartesianLine t_start")
+        t1 = _finite_float(self.t_end, "CartesianLine t_end")
+        if not t1 > t0:
+            raise ArgumentError(f"CartesianLine needs t_end > t_start, got t_start = {t0}, t_end = {t1}")
+        for what, arr in (("p_start", a), ("p_goal", b)):
+            if not np.all(np.isfinite(arr)):
+                raise ArgumentError(f"CartesianLine {what} must be finite, got {arr}")
+        object.__setattr__(self, "p_start", a)
+        object.__setattr__(self, "p_goal", b)
+        object.__setattr__(self, "t_start", t0)
+        object.__setattr__(self, "t_end", t1)
+
+    def evaluate(self, t):
+        """``(p, pd, pdd)`` at time(s) ``t``."""
+        s, sd, sdd = _quintic(t, self.t_start, self.t_end)
+        delta = self.p_goal - self.p_start
+        s, sd, sdd = (np.asarray(v)[..., None] for v in (s, sd, sdd))
+        return self.p_start + s * delta, sd * delta, sdd * delta
+
+    def _spec(self) -> dict:
+        return {"type": "cartesian_line", "p_start": self.p_start, "p_goal": self.p_goal, "t_start": self.t_start, "t_end": self.t_end}
+
+
+def _joint_reference(ref, name: str) -> dict:
+    if isinstance(ref, QuinticJoint):
+        return ref._spec()
+    if isinstance(ref, CartesianLine):
+        raise ArgumentError(f"{name} takes a joint reference (QuinticJoint or a joint set point), got a CartesianLine")
+    q = vector(ref, f"{name} reference")
+    if not np.all(np.isfinite(q)):
+        raise ArgumentError(f"{name} reference must be finite, got {q}")
+    return {"type": "constant_joint", "q": q}
+
+
+# ---- actuators -------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Thrusters:
+    """Base thruster limits per axis of 𝒥: ``|F0_i| <= max_force`` (N) and ``|N0_i| <= max_torque``
+    (N·m); a number applies to all three axes, ``inf`` means no limit. A command beyond a
+    limit is clamped and recorded as a saturation event (kind 2)."""
+
+    max_force: Union[float, Sequence[float]] = math.inf
+    max_torque: Union[float, Sequence[float]] = math.inf
+
+    def _spec(self) -> dict:
+        out = {}
+        for key in ("max_force", "max_torque"):
+            value = getattr(self, key)
+            if np.ndim(value) == 0:
+                v = np.full(3, _float(value, f"Thrusters {key}"))
+            else:
+                v = vector(value, f"Thrusters {key}", 3)
+            if not np.all(v > 0):
+                raise ArgumentError(f"Thrusters {key} must be > 0 on every axis (inf for no limit), got {v}")
+            out[key] = v
+        return out
+
+
+# ---- controllers -----------------------------------------------------------------------------
+class _Controller:
+    def _spec(self, robot) -> dict:  # pragma: no cover - every subclass overrides
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class JointPD(_Controller):
+    """Joint PD on the arm joints: ``tau = kp (q_ref - q) + kd (qd_ref - qd)``.
+
+    ``kp``, ``kd``: one gain or one per arm joint (N·m/rad, N·m·s/rad). ``reference``: a
+    :class:`QuinticJoint` or a constant set point (one entry per arm joint).
+    """
+
+    kp: Any
+    kd: Any
+    reference: Any
+
+    def _spec(self, robot) -> dict:
+        return {"type": "joint_pd", "kp": _gains(self.kp, "kp"), "kd": _gains(self.kd, "kd"), "reference": _joint_reference(self.reference, "JointPD")}
+
+
+@dataclass(frozen=True)
+class ComputedTorque(_Controller):
+    """Computed torque on the reduced equations of motion (paper eqs. 112–115):
+    ``tau = H* (qdd_ref + kd (qd_ref - qd) + kp (q_ref - q)) + c*``.
+
+    ``H*``, ``c*`` come from ``model`` (a :class:`~spacearm.Robot` with the plant's joints; see
+    :func:`perturbed_model`) or, by default, from the plant itself. With the exact model the
+    arm follows the reference to integration accuracy. When combined with a base controller
+    (:class:`Combined`), the wheel torques and base wrench it commands are compensated exactly
+    (the ``H0m^T H0^-1 F_b`` term of the flying-regime reduced EOM).
+    """
+
+    kp: Any
+    kd: Any
+    reference: Any
+    model: Any = None
+
+    def _spec(self, robot) -> dict:
+        spec = {"type": "computed_torque", "kp": _gains(self.kp, "kp"), "kd": _gains(self.kd, "kd"), "reference": _joint_reference(self.reference, "ComputedTorque")}
+        if self.model is not None:
+            from .robot import Robot
+
+            if not isinstance(self.model, Robot):
+                raise ArgumentError(f"ComputedTorque model must be a spacearm.Robot, got {type(self.model).__name__}")
+            spec["model"] = self.model._m
+        return spec
+
+
+@dataclass(frozen=True)
+class ResolvedMotionRate(_Controller):
+    """Resolved-motion-rate control of a point through the generalized Jacobian ``J*``
+    (paper eq. 110) with damped least squares.
+
+    Joint-rate command: ``qd_cmd = J^T (J J^T + lambda^2 E)^-1 (pd_ref + gain (p_ref - p) - v_drift)``
+    with ``J`` the translational rows of ``J*`` over the arm joints and ``v_drift`` the point
+    velocity that the system momentum and the wheels produce; ``lambda^2 = damping^2 (1 -
+    (sigma_min / threshold)^2)`` when the smallest singular value ``sigma_min`` of ``J`` falls
+    below ``threshold``, else 0. The joints follow ``qd_cmd`` through the reduced EOM:
+    ``tau = H* velocity_gain (qd_cmd - qd) + c*``.
+
+    ``reference_cartesian``: a :class:`CartesianLine`; ``gain`` (1/s); ``damping`` (m, the
+    largest lambda); ``threshold`` (m, where damping starts); ``velocity_gain`` (1/s);
+    ``point``: overrides the reference's point (default: the end effector).
+    """
+
+    reference_cartesian: CartesianLine
+    gain: float
+    damping: float = 0.05
+    point: Any = None
+    threshold: float = 0.1
+    velocity_gain: float = 50.0
+
+    def _spec(self, robot) -> dict:
+        if not isinstance(self.reference_cartesian, CartesianLine):
+            raise ArgumentError(f"ResolvedMotionRate needs a CartesianLine reference, got {type(self.reference_cartesian).__name__}")
+        point = self.point if self.point is not None else self.reference_cartesian.point
+        body, offset = robot._point(point)
+        return {
+            "type": "rmrc",
+            "reference": self.reference_cartesian._spec(),
+            "gain": _finite_float(self.gain, "ResolvedMotionRate gain"),
+            "damping": _finite_float(self.damping, "ResolvedMotionRate damping"),
+            "threshold": _finite_float(self.threshold, "ResolvedMotionRate threshold"),
+            "velocity_gain": _finite_float(self.velocity_gain, "ResolvedMotionRate velocity_gain"),
+            "body": int(body),
+            "offset": np.asarray(offset, dtype=float),
+        }
+
+
+@dataclass(frozen=True)
+class AttitudeControl(_Controller):
+    """Base attitude control with reaction wheels (mode ``"rotation-floating"``).
+
+    PD on the attitude error quaternion ``q_e = q0 ⊗ q_ref^-1`` (in 𝒥): the base torque wanted
+    is ``N = -kp e - kd w0`` with ``e = 2 sign(w_e) v_e`` (``v_e``, ``w_e``: vector and scalar
+    parts of ``q_e``); the wheels, whose motor torques ``tau_W`` push the base with
+    ``-sum tau_j k_j``, get ``tau_W = -A^+ N`` with ``A = [k_1 ... k_W]`` the wheel axes in 𝒥 and
+    ``A^+`` its Moore–Penrose pseudo-inverse. ``quat_ref``: ``[x, y, z, w]``; ``kp`` (N·m/rad),
+    ``kd`` (N·m·s/rad).
+    """
+
+    quat_ref: Sequence[float]
+    kp: float
+    kd: float
+
+    def _spec(self, robot) -> dict:
+        q = vector(self.quat_ref, "AttitudeControl quat_ref", 4)
+        return {"type": "attitude", "quat_ref": q, "kp": _finite_float(self.kp, "AttitudeControl kp"), "kd": _finite_float(self.kd, "AttitudeControl kd")}
+
+
+@dataclass(frozen=True)
+class Combined(_Controller):
+    """An arm controller and a base controller together: the base controller (e.g.
+    :class:`AttitudeControl`) runs first, then the arm controller, which sees its command."""
+
+    arm: Any
+    base: Any
+
+    def _spec(self, robot) -> dict:
+        for what, c in (("arm", self.arm), ("base", self.base)):
+            if not isinstance(c, _Controller):
+                raise ArgumentError(f"Combined {what} must be a spacearm.control controller, got {type(c).__name__}")
+        return {"type": "combined", "arm": self.arm._spec(robot), "base": self.base._spec(robot)}
+
+
+@dataclass(frozen=True)
+class Callback(_Controller):
+    """A Python controller ``fn(t, x, u) -> tau`` (length N, every joint including wheels) or
+    ``-> (tau, base_wrench)`` (``[F0, N0]`` in 𝒥, applied as the mode allows).
+
+    Called at every integrator stage (four times per RK4 step), so it is far slower than the
+    native controllers; an exception it raises stops the run and propagates unchanged.
+    """
+
+    fn: Callable
+
+    def _spec(self, robot) -> dict:
+        if not callable(self.fn):
+            raise ArgumentError(f"Callback needs a callable fn(t, x, u), got {self.fn!r}")
+        return {"type": "callback", "fn": self.fn}
+
+
+def perturbed_model(
+    robot,
+    base_mass_scale: float = 1.0,
+    base_inertia_scale: float = 1.0,
+    link_mass_scale: float = 1.0,
+    slosh_fraction: float = 0.0,
+    slosh_offset: Sequence[float] = (0.0, 0.0, 0.0),
+    slosh_removed: bool = False,
+):
+    """A copy of ``robot`` with mass-property errors, for a controller's model
+    (:class:`ComputedTorque` ``model=``).
+
+    The base mass and inertia are scaled by ``base_mass_scale`` and ``base_inertia_scale``;
+    every link's mass and inertia by ``link_mass_scale``. Then a fraction ``slosh_fraction``
+    (in [0, 1)) of the base mass, taken as a point mass at the base CM (fuel), is moved to
+    ``slosh_offset`` (base frame, m) — the base CM shifts by ``slosh_fraction * slosh_offset``
+    and the inertia about it changes by the parallel-axis theorem — or, with
+    ``slosh_removed=True``, is missing from the model. The joint geometry is unchanged.
+    """
+    from .robot import Robot
+
+    if not isinstance(robot, Robot):
+        raise ArgumentError(f"perturbed_model needs a spacearm.Robot, got {type(robot).__name__}")
+    m = _core.perturbed(
+        robot._m,
+        _finite_float(base_mass_scale, "base_mass_scale"),
+        _finite_float(base_inertia_scale, "base_inertia_scale"),
+        _finite_float(link_mass_scale, "link_mass_scale"),
+        _finite_float(slosh_fraction, "slosh_fraction"),
+        vector(slosh_offset, "slosh_offset", 3),
+        bool(slosh_removed),
+    )
+    return Robot(m)
