@@ -99,19 +99,22 @@ def test_bad_campaign_arguments(planar4, tmp_path):
 
 def test_perturbed_plant_mass_and_cm_against_a_hand_sum(planar4):
     from spacearm import control
+    from spacearm.campaign.scenario import with_payload
 
     d = planar4.describe()
     base_mass = d["base"]["mass"]
     link_mass = sum(link["mass"] for link in d["links"])
-    plant = control.perturbed_model(planar4, base_mass_scale=1.1, base_inertia_scale=0.9, link_mass_scale=1.05,
-                                    slosh_fraction=0.05, slosh_offset=(0.3, -0.2, 0.1), payload_mass=4.0)
+    plant = with_payload(control.perturbed_model(planar4, base_mass_scale=1.1, base_inertia_scale=0.9,
+                                                 link_mass_scale=1.05, slosh_fraction=0.05,
+                                                 slosh_offset=(0.3, -0.2, 0.1)), 4.0)
+    assert plant.n_dof == planar4.n_dof
     assert plant.total_mass == pytest.approx(1.1 * base_mass + 1.05 * link_mass + 4.0, rel=1e-12)
     # The CM of the plant at the same configuration, from the hand sum of its parts: the nominal
     # links scaled, the base mass (of which 5 % sits 0.3,-0.2,0.1 from the nominal base CM) and the
     # payload at the end effector. Both plants are placed with the nominal base CM at the origin.
     x = planar4.neutral_configuration()
     kin = planar4.forward_kinematics(x)
-    link_cm = sum(link["mass"] * 1.05 * kin.com[i + 1] for i, link in enumerate(d["links"]))
+    link_cm = sum(link["mass"] * 1.05 * kin.com_in_world[i + 1] for i, link in enumerate(d["links"]))
     base_cm = 1.1 * base_mass * 0.05 * np.array([0.3, -0.2, 0.1])
     payload_cm = 4.0 * planar4.point_position(x)
     expected = (link_cm + base_cm + payload_cm) / plant.total_mass

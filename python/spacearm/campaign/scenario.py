@@ -24,7 +24,7 @@ from typing import Dict, Optional, Tuple
 
 import numpy as np
 
-__all__ = ["Scenario", "METRIC_NAMES", "evaluate"]
+__all__ = ["Scenario", "METRIC_NAMES", "evaluate", "with_payload"]
 
 METRIC_NAMES = (
     "tracking_error_max",
@@ -95,6 +95,35 @@ def _attitude_angle_deg(quat0: np.ndarray, quats: np.ndarray) -> np.ndarray:
     return np.degrees(2.0 * np.arccos(dots))
 
 
+def with_payload(robot, mass: float):
+    """``robot`` holding a point payload of ``mass`` kg at its end effector.
+
+    The payload is a massive link on a fixed joint at the end-effector point (so the joint space
+    is unchanged and the end-effector body's mass properties merge by the model's own
+    parallel-axis rules), added to the model's TOML description.
+    """
+    from ..model_file import dumps_toml, loads_toml
+
+    if mass == 0:
+        return robot
+    if robot.end_effector is None:
+        raise ValueError("a payload needs an end effector to hold it; the model defines none")
+    body, offset = next((b, o) for name, b, o in robot.describe()["points"] if name == robot.end_effector)
+    block = (
+        "\n[[link]]\n"
+        'name = "campaign_payload"\n'
+        f'parent = "{body}"\n'
+        "com = [0.0, 0.0, 0.0]\n"
+        f"mass = {float(mass)!r}\n"
+        "inertia = [0.0, 0.0, 0.0]\n"
+        "[link.joint]\n"
+        'name = "campaign_payload_joint"\n'
+        'type = "fixed"\n'
+        f"origin = [{', '.join(repr(float(v)) for v in offset)}]\n"
+    )
+    return loads_toml(dumps_toml(robot) + block, source=f"<{robot.name} with a {mass:g} kg payload>")
+
+
 def evaluate(nominal, scenario: Scenario, params: Dict[str, float]) -> Dict[str, float]:
     """Fly one sample: the metrics of :data:`METRIC_NAMES` for the plant drawn as ``params``."""
     from .. import control, simulate
@@ -106,8 +135,8 @@ def evaluate(nominal, scenario: Scenario, params: Dict[str, float]) -> Dict[str,
         link_mass_scale=params["link_mass_scale"],
         slosh_fraction=params["slosh_fraction"],
         slosh_offset=(params["slosh_offset_x"], params["slosh_offset_y"], params["slosh_offset_z"]),
-        payload_mass=params["payload_mass"],
     )
+    plant = with_payload(plant, params["payload_mass"])
     q0 = np.asarray(nominal.initial_q, dtype=float)
     reference = control.QuinticJoint(q0, scenario.goal(nominal), 0.0, scenario.motion_fraction * scenario.duration)
     if scenario.controller == "computed-torque":
@@ -115,9 +144,8 @@ def evaluate(nominal, scenario: Scenario, params: Dict[str, float]) -> Dict[str,
     else:
         controller = control.JointPD(scenario.kp, scenario.kd, reference)
     traj = simulate(plant, scenario.duration, mode=scenario.mode, dt=scenario.dt, controller=controller)
-    data = traj.data
-    error = np.asarray(data["tracking_error"], dtype=float)
-    x = np.asarray(data["x"], dtype=float)
+    error = np.asarray(traj["tracking_error"], dtype=float)
+    x = np.asarray(traj["x"], dtype=float)
     quats = x[:, 3:7]
     displacement = np.linalg.norm(x[:, 0:3] - x[0, 0:3], axis=1)
     metrics = {
@@ -126,7 +154,7 @@ def evaluate(nominal, scenario: Scenario, params: Dict[str, float]) -> Dict[str,
         "tracking_error_final": float(error[-1]),
         "attitude_excursion_max": float(np.max(_attitude_angle_deg(quats[0], quats))),
         "base_displacement_max": float(np.max(displacement)),
-        "saturation_events": float(len(data.get("saturation_t", ()))),
+        "saturation_events": float(len(traj["saturation_t"]) if traj.has("saturation_t") else 0),
     }
     bad = [k for k, v in metrics.items() if not math.isfinite(v)]
     if bad:
