@@ -151,6 +151,9 @@ def main(argv=None) -> int:
     from .cli_simulate import add_parsers as _add_simulate  # noqa: E402 (issue #4)
 
     _add_simulate(sub)
+    from .cli_campaign import add_parser as _add_campaign  # noqa: E402 (issue #6)
+
+    _add_campaign(sub)
     args = parser.parse_args(argv)
     try:
         if args.command == "inspect":
@@ -170,6 +173,10 @@ def main(argv=None) -> int:
             from .cli_simulate import run as _simulate
 
             return _simulate(args, load_model)
+        elif args.command == "campaign":
+            from .cli_campaign import run as _campaign
+
+            _campaign(args, load_model)
     except SpacearmError as exc:
         print(f"spacearm: error: {exc}", file=sys.stderr)
         return 2

@@ -100,7 +100,7 @@ def new_figure(*args, **kwargs):
     try:
         from matplotlib.figure import Figure
     except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise SpacearmError("figures need matplotlib: pip install 'spacearm[plot]'") from exc
+        raise SpacearmError("figures need matplotlib (a dependency of spacearm): pip install matplotlib") from exc
     return Figure(*args, **kwargs)
 
 

@@ -1,0 +1,216 @@
+"""Running a campaign: local processes by default, a Dask cluster when given its scheduler.
+
+Samples are independent, so both back ends simply map :func:`~.worker.run_sample` over the
+pending indices and collect outcomes as they complete (in any order; each is stored at its
+index, so the file does not depend on scheduling). The parent draws every sample's parameters
+(:meth:`Perturbations.draw`), keeps the :class:`~.results.CampaignResult`, writes it atomically
+every ``checkpoint_seconds`` and at the end (also on Ctrl-C), and shows a progress bar.
+
+- ``backend="processes"`` (default): :class:`concurrent.futures.ProcessPoolExecutor` with the
+  ``spawn`` start method (no inherited threads or Rust state), ``workers`` processes
+  (default: the CPU count).
+- ``scheduler="tcp://host:8786"`` (or a ``distributed.Client``): Dask's ``client.map`` and
+  ``as_completed`` on an existing cluster (``pip install "dask[distributed]"``); each worker needs
+  spacearm installed. A worker that dies marks its sample failed with Dask's message.
+- ``workers=0``: run in this process (debugging, profiling).
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
+from typing import Callable, Iterable, Iterator, Optional, Union
+
+from ..errors import SpacearmError
+from .perturbation import PARAMETER_NAMES, Perturbations
+from .results import FAILED, PENDING, CampaignResult
+from .scenario import METRIC_NAMES, Scenario
+from .spec import CampaignSpec
+from .worker import SampleOutcome, run_sample
+
+__all__ = ["run_campaign", "CampaignSpec"]
+
+
+def _progress(total: int, initial: int, enabled: Union[bool, Callable[[int, int], None]]):
+    """A tqdm bar (``enabled=True``), a user callback ``fn(done, total)``, or nothing."""
+    if callable(enabled):
+        class _Callback:
+            def __init__(self):
+                self.done = initial
+
+            def update(self, k=1):
+                self.done += k
+                enabled(self.done, total)
+
+            def close(self):
+                pass
+
+        return _Callback()
+    if enabled:
+        from tqdm import tqdm
+
+        return tqdm(total=total, initial=initial, unit="sample", desc="campaign", dynamic_ncols=True)
+
+    class _Silent:
+        def update(self, k=1):
+            pass
+
+        def close(self):
+            pass
+
+    return _Silent()
+
+
+def _local_outcomes(spec: CampaignSpec, jobs, workers: int) -> Iterator[SampleOutcome]:
+    if workers == 0:
+        for index, params in jobs:
+            yield run_sample(spec, index, params)
+        return
+    context = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        futures = {pool.submit(run_sample, spec, index, params): (index, params) for index, params in jobs}
+        try:
+            for future in as_completed(futures):
+                index, params = futures[future]
+                try:
+                    yield future.result()
+                except Exception as exc:  # a worker process died (e.g. killed): the sample failed
+                    yield SampleOutcome(index, params, None, f"worker failed: {type(exc).__name__}: {exc}", float("nan"))
+        finally:
+            for future in futures:
+                future.cancel()
+
+
+def _dask_outcomes(spec: CampaignSpec, jobs, scheduler) -> Iterator[SampleOutcome]:
+    try:
+        from distributed import Client, as_completed as dask_as_completed
+    except ImportError:
+        raise SpacearmError('the Dask back end needs dask.distributed: pip install "dask[distributed]"') from None
+    own_client = not isinstance(scheduler, Client)
+    client = Client(scheduler) if own_client else scheduler
+    try:
+        indices = [index for index, _ in jobs]
+        params = [p for _, p in jobs]
+        futures = client.map(run_sample, [spec] * len(jobs), indices, params, pure=False)
+        job_of = {f.key: job for f, job in zip(futures, jobs)}
+        for future in dask_as_completed(futures):
+            index, p = job_of[future.key]
+            try:
+                yield future.result()
+            except Exception as exc:  # the worker died or the task could not run
+                yield SampleOutcome(index, p, None, f"dask task failed: {type(exc).__name__}: {exc}", float("nan"))
+    finally:
+        if own_client:
+            client.close()
+
+
+def run_campaign(
+    robot_or_spec,
+    samples: Optional[int] = None,
+    *,
+    seed: int = 0,
+    perturbations: Optional[Perturbations] = None,
+    scenario: Optional[Scenario] = None,
+    workers: Optional[int] = None,
+    scheduler=None,
+    out: Optional[Union[str, Path]] = None,
+    resume: bool = True,
+    retry_failed: bool = False,
+    checkpoint_seconds: float = 10.0,
+    progress: Union[bool, Callable[[int, int], None]] = True,
+) -> CampaignResult:
+    """Run a Monte Carlo inertia-uncertainty campaign (issue #6 item 5).
+
+    ``robot_or_spec``: the nominal :class:`~spacearm.Robot` (then ``samples`` is required) or a
+    :class:`CampaignSpec`. Each sample flies :class:`Scenario` on a plant whose inertia is
+    perturbed as drawn from ``perturbations``, with the controller built on the nominal model.
+    ``workers`` local processes (default ``os.cpu_count()``; 0 = in this process) or, with
+    ``scheduler`` (address or ``distributed.Client``), a Dask cluster. With ``out`` (.npz) the
+    result is written atomically every ``checkpoint_seconds`` and at the end; if ``out``
+    already holds this campaign and ``resume``, only its missing samples run (failed ones too if
+    ``retry_failed``). Returns the :class:`CampaignResult`.
+    """
+    if isinstance(robot_or_spec, CampaignSpec):
+        if samples is not None or perturbations is not None or scenario is not None:
+            raise ValueError("give either a CampaignSpec or a robot with samples/perturbations/scenario, not both")
+        spec = robot_or_spec
+    else:
+        if samples is None:
+            raise ValueError("run_campaign(robot, samples=...): the number of samples is required")
+        from ..model_file import dumps_toml
+
+        spec = CampaignSpec(dumps_toml(robot_or_spec), samples, seed, perturbations or Perturbations(),
+                            scenario or Scenario())
+        spec.scenario.goal(robot_or_spec)  # a wrong-length q_goal fails here, not in every worker
+    if workers is None:
+        workers = os.cpu_count() or 1
+    if not isinstance(workers, int) or workers < 0:
+        raise ValueError(f"workers must be an integer >= 0, got {workers!r}")
+    if scheduler is not None and workers == 0:
+        raise ValueError("workers=0 runs in this process; it cannot be combined with a Dask scheduler")
+    if not checkpoint_seconds > 0:
+        raise ValueError(f"checkpoint_seconds must be > 0, got {checkpoint_seconds!r}")
+    out = Path(out) if out is not None else None
+    if out is not None and out.suffix != ".npz":
+        raise ValueError(f"out must be a .npz path, got '{out}'")
+
+    spec_json = spec.to_json()
+    result = None
+    if out is not None and out.exists() and resume:
+        result = CampaignResult.load(out)
+        if result.spec_json != spec_json:
+            raise SpacearmError(f"'{out}' holds a different campaign (model, perturbations, scenario, samples or "
+                                "seed differ); choose another output path or pass resume=False to overwrite it")
+    if result is None:
+        result = CampaignResult(spec_json, PARAMETER_NAMES, METRIC_NAMES, spec.samples)
+    todo = result.status == PENDING
+    if retry_failed:
+        todo |= result.status == FAILED
+    jobs = [(int(i), spec.perturbations.draw(spec.seed, int(i))) for i in result.index[todo]]
+
+    backend = "in-process" if workers == 0 else ("dask" if scheduler is not None else "processes")
+    n_workers = workers
+    if scheduler is not None:
+        n_workers = None  # filled from the cluster below when possible
+    bar = _progress(spec.samples, spec.samples - len(jobs), progress)
+    start = time.perf_counter()
+    last_save = start
+    outcomes: Iterable[SampleOutcome]
+    if scheduler is not None:
+        outcomes = _dask_outcomes(spec, jobs, scheduler)
+        try:
+            from distributed import Client
+
+            if isinstance(scheduler, Client):
+                n_workers = len(scheduler.scheduler_info().get("workers", {}))
+        except ImportError:
+            pass
+    else:
+        outcomes = _local_outcomes(spec, jobs, min(workers, max(len(jobs), 1)) if workers else 0)
+    done = 0
+    try:
+        for outcome in outcomes:
+            result.record(outcome.index, outcome.params, outcome.metrics, outcome.error, outcome.seconds)
+            done += 1
+            bar.update(1)
+            now = time.perf_counter()
+            if out is not None and now - last_save >= checkpoint_seconds:
+                result.save(out)
+                last_save = now
+    finally:
+        bar.close()
+        elapsed = time.perf_counter() - start
+        result.run = {
+            "backend": backend,
+            "workers": n_workers,
+            "scheduler": None if scheduler is None else str(getattr(scheduler, "scheduler", scheduler)),
+            "samples_run": done,
+            "elapsed_s": elapsed,
+            "samples_per_s": done / elapsed if elapsed > 0 else float("nan"),
+        }
+        if out is not None:
+            result.save(out)
+    return result

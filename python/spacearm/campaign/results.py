@@ -1,0 +1,174 @@
+"""The result of a campaign: one row per sample, in one ``.npz`` file written atomically.
+
+File layout (``numpy.load(path)`` reads it without spacearm):
+
+====================  =====================================================================
+``index``             (n,) sample indices 0 … n−1
+``status``            (n,) 0 = not run yet, 1 = ok, 2 = failed
+``params``            (n, p) the sampled inertia errors (columns ``param_names``); drawn before
+                      the run, so present for failed samples too
+``metrics``           (n, m) the run's metrics (columns ``metric_names``), NaN unless ok
+``error``             (n,) the failure message of failed samples ('' otherwise)
+``seconds``           (n,) wall time of each sample on its worker
+``spec_json``         the campaign's definition (model TOML, perturbations, scenario, seed)
+``run_json``          how it ran: backend, workers, elapsed seconds, samples per second
+====================  =====================================================================
+
+A partly run file is a checkpoint: :func:`spacearm.campaign.run_campaign` with the same
+``out`` runs only the samples whose status is 0 (or failed, with ``retry_failed``).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from pathlib import Path
+from typing import Dict, Optional, Sequence
+
+import numpy as np
+
+__all__ = ["CampaignResult", "PENDING", "OK", "FAILED"]
+
+PENDING, OK, FAILED = 0, 1, 2
+
+
+class CampaignResult:
+    """Per-sample parameters, metrics and failures of a campaign (see the module docs)."""
+
+    def __init__(self, spec_json: str, param_names: Sequence[str], metric_names: Sequence[str], n: int):
+        self.spec_json = spec_json
+        self.param_names = tuple(param_names)
+        self.metric_names = tuple(metric_names)
+        self.index = np.arange(n)
+        self.status = np.zeros(n, dtype=np.uint8)
+        self.params = np.full((n, len(self.param_names)), np.nan)
+        self.metrics = np.full((n, len(self.metric_names)), np.nan)
+        self.error = np.array([""] * n, dtype=object)
+        self.seconds = np.full(n, np.nan)
+        self.run: Dict[str, object] = {}
+
+    # -- filling -----------------------------------------------------------------------------
+    def record(self, index: int, params: Dict[str, float], metrics: Optional[Dict[str, float]],
+               error: str = "", seconds: float = float("nan")) -> None:
+        """Store sample ``index``: its metrics if it ran, else its failure message."""
+        self.params[index] = [params[k] for k in self.param_names]
+        self.seconds[index] = seconds
+        if metrics is None:
+            self.status[index] = FAILED
+            self.metrics[index] = np.nan
+            self.error[index] = error or "failed without a message"
+        else:
+            self.status[index] = OK
+            self.metrics[index] = [metrics[k] for k in self.metric_names]
+            self.error[index] = ""
+
+    # -- views -------------------------------------------------------------------------------
+    @property
+    def n_samples(self) -> int:
+        return int(self.index.shape[0])
+
+    @property
+    def n_ok(self) -> int:
+        return int(np.sum(self.status == OK))
+
+    @property
+    def n_failed(self) -> int:
+        return int(np.sum(self.status == FAILED))
+
+    @property
+    def n_pending(self) -> int:
+        return int(np.sum(self.status == PENDING))
+
+    def metric(self, name: str) -> np.ndarray:
+        """The values of metric ``name`` over the samples that ran."""
+        if name not in self.metric_names:
+            raise KeyError(f"unknown metric {name!r}; the metrics are {', '.join(self.metric_names)}")
+        return self.metrics[self.status == OK, self.metric_names.index(name)]
+
+    def parameter(self, name: str, ok_only: bool = True) -> np.ndarray:
+        if name not in self.param_names:
+            raise KeyError(f"unknown parameter {name!r}; the parameters are {', '.join(self.param_names)}")
+        column = self.params[:, self.param_names.index(name)]
+        return column[self.status == OK] if ok_only else column
+
+    def failures(self) -> Dict[int, str]:
+        """Sample index → failure message."""
+        return {int(i): str(self.error[i]) for i in np.flatnonzero(self.status == FAILED)}
+
+    def table(self, percentiles=(50, 90, 99)) -> str:
+        """A Markdown table of each metric's distribution over the samples that ran."""
+        head = "| metric | " + " | ".join(f"p{p:g}" for p in percentiles) + " | max | mean |"
+        rows = [head, "|" + "---|" * (len(percentiles) + 3)]
+        for name in self.metric_names:
+            v = self.metric(name)
+            if v.size == 0:
+                cells = ["–"] * (len(percentiles) + 2)
+            else:
+                cells = [f"{x:.4g}" for x in np.percentile(v, percentiles)] + [f"{v.max():.4g}", f"{v.mean():.4g}"]
+            rows.append(f"| {name} | " + " | ".join(cells) + " |")
+        rows.append(f"\n{self.n_ok} samples ran, {self.n_failed} failed, {self.n_pending} not run.")
+        return "\n".join(rows)
+
+    def summary(self) -> str:
+        lines = [self.table()]
+        if self.run:
+            r = self.run
+            lines.append(f"backend {r.get('backend')}, {r.get('workers')} worker(s): {r.get('samples_run')} samples "
+                         f"in {r.get('elapsed_s', float('nan')):.3g} s = {r.get('samples_per_s', float('nan')):.3g} samples/s")
+        return "\n".join(lines)
+
+    # -- files -------------------------------------------------------------------------------
+    def save(self, path) -> Path:
+        """Write the result to ``path`` (.npz) atomically: a temporary file, then a rename."""
+        path = Path(path)
+        if path.suffix != ".npz":
+            raise ValueError(f"campaign results are saved as .npz, got '{path}'")
+        directory = path.parent if str(path.parent) else Path(".")
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp.npz", dir=directory)
+        try:
+            with os.fdopen(fd, "wb") as f:
+                np.savez(
+                    f,
+                    index=self.index,
+                    status=self.status,
+                    params=self.params,
+                    param_names=np.array(self.param_names),
+                    metrics=self.metrics,
+                    metric_names=np.array(self.metric_names),
+                    error=np.array([str(e) for e in self.error], dtype=str),
+                    seconds=self.seconds,
+                    spec_json=np.array(self.spec_json),
+                    run_json=np.array(json.dumps(self.run)),
+                )
+            os.chmod(tmp, 0o644)
+            os.replace(tmp, path)
+        except BaseException:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+            raise
+        return path
+
+    @classmethod
+    def load(cls, path) -> "CampaignResult":
+        """Read a result (or checkpoint) written by :meth:`save`."""
+        with np.load(Path(path), allow_pickle=False) as f:
+            missing = {"index", "status", "params", "metrics", "spec_json"} - set(f.files)
+            if missing:
+                raise ValueError(f"'{path}' is not a spacearm campaign file: no {', '.join(sorted(missing))}")
+            result = cls(str(f["spec_json"]), [str(s) for s in f["param_names"]], [str(s) for s in f["metric_names"]],
+                         int(f["index"].shape[0]))
+            result.status = f["status"].astype(np.uint8)
+            result.params = f["params"].astype(float)
+            result.metrics = f["metrics"].astype(float)
+            result.error = np.array([str(e) for e in f["error"]], dtype=object)
+            result.seconds = f["seconds"].astype(float)
+            result.run = json.loads(str(f["run_json"]))
+        return result
+
+    def plot(self, path, metrics: Optional[Sequence[str]] = None) -> Path:
+        """PNG: a histogram of each metric, and each metric against the parameter that explains
+        it best (largest |Spearman rank correlation|, stated in the panel title)."""
+        from .report import plot_campaign
+
+        return plot_campaign(self, path, metrics)

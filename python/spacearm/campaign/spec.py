@@ -1,0 +1,57 @@
+"""The definition of a campaign: what every worker needs to run any of its samples.
+
+A :class:`CampaignSpec` is plain data (the nominal model as TOML text, the perturbation
+distributions, the scenario, the sample count and the seed), so it pickles to processes and Dask
+workers and its JSON form identifies the campaign in the result file: a checkpoint is resumed
+only by the campaign that wrote it.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+
+from .perturbation import Perturbations
+from .scenario import Scenario
+
+__all__ = ["CampaignSpec"]
+
+
+@dataclass(frozen=True)
+class CampaignSpec:
+    """``model_toml``: the nominal robot (:func:`spacearm.model_file.dumps_toml`);
+    ``samples``: how many; ``seed``: the campaign's seed (sample ``i`` draws from
+    ``SeedSequence(seed, spawn_key=(i,))``)."""
+
+    model_toml: str
+    samples: int
+    seed: int = 0
+    perturbations: Perturbations = field(default_factory=Perturbations)
+    scenario: Scenario = field(default_factory=Scenario)
+
+    def __post_init__(self):
+        if not isinstance(self.samples, int) or isinstance(self.samples, bool) or self.samples < 1:
+            raise ValueError(f"the number of samples must be an integer >= 1, got {self.samples!r}")
+        if not isinstance(self.seed, int) or isinstance(self.seed, bool) or self.seed < 0:
+            raise ValueError(f"the seed must be an integer >= 0, got {self.seed!r}")
+
+    def to_json(self) -> str:
+        return json.dumps(
+            {
+                "model_toml": self.model_toml,
+                "samples": self.samples,
+                "seed": self.seed,
+                "perturbations": self.perturbations.to_dict(),
+                "scenario": self.scenario.to_dict(),
+            },
+            sort_keys=True,
+        )
+
+    @classmethod
+    def from_json(cls, text: str) -> "CampaignSpec":
+        d = json.loads(text)
+        scenario = dict(d["scenario"])
+        if scenario.get("q_goal") is not None:
+            scenario["q_goal"] = tuple(scenario["q_goal"])
+        return cls(d["model_toml"], int(d["samples"]), int(d["seed"]), Perturbations(**d["perturbations"]),
+                   Scenario(**scenario))
