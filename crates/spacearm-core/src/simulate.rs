@@ -200,14 +200,15 @@ impl<'a> Plant<'a> {
             None => detect_reaction_wheels(model),
         };
         let arm = arm_dofs(n, &wheels);
-        let ctx = ControlContext { plant: model, mode: opts.mode, wheel_dofs: &wheels, arm_dofs: &arm };
+        let actuators = Actuators::new(model, opts.joint_limits, opts.thrusters);
+        let ctx = ControlContext { plant: model, mode: opts.mode, wheel_dofs: &wheels, arm_dofs: &arm, actuators: &actuators };
         controller.setup(&ctx)?;
         let n_ref = controller.reference_len();
         Ok(Plant {
             model,
             data: Data::new(model),
             mode: opts.mode,
-            actuators: Actuators::new(model, opts.joint_limits, opts.thrusters),
+            actuators,
             cmd: Command::new(n, n_ref),
             controller,
             tau_applied: vec![0.0; n],

@@ -26,6 +26,7 @@ pub mod thrusters;
 
 use nalgebra::Vector6;
 
+use crate::actuators::Actuators;
 use crate::error::{Result, SpacearmError};
 use crate::model::Model;
 use crate::modes::Mode;
@@ -97,6 +98,8 @@ pub struct ControlContext<'a> {
     pub wheel_dofs: &'a [usize],
     /// Degrees of freedom of the arm joints (every dof that is not a wheel), ascending.
     pub arm_dofs: &'a [usize],
+    /// The actuator limits the simulation applies to every command.
+    pub actuators: &'a Actuators,
 }
 
 /// A control law evaluated inside the integration loop.
@@ -155,17 +158,34 @@ impl Controller for ZeroTorque {
 
 /// A base controller and an arm controller together: the base controller runs first (wheel
 /// torques or base wrench), then the arm controller with that command in view.
+///
+/// The arm controller sees the base command as the actuators will apply it (wheel torques and
+/// base wrench clamped to their torque, speed and thruster limits): a computed-torque arm
+/// controller then compensates the coupling of what the wheels actually do, so the arm keeps
+/// tracking while the wheels saturate. The command returned is still the unclamped one, so the
+/// simulation records `tau_cmd` and the saturation events as they happen.
 pub struct Combined {
     pub arm: Box<dyn Controller>,
     pub base: Box<dyn Controller>,
     base_cmd: Command,
     arm_dofs: Vec<usize>,
+    actuators: Option<Actuators>,
+    commanded_tau: Vec<f64>,
+    flags: Vec<u8>,
 }
 
 impl Combined {
     /// Combine an arm controller and a base controller.
     pub fn new(arm: Box<dyn Controller>, base: Box<dyn Controller>) -> Self {
-        Combined { arm, base, base_cmd: Command::new(0, 0), arm_dofs: Vec::new() }
+        Combined {
+            arm,
+            base,
+            base_cmd: Command::new(0, 0),
+            arm_dofs: Vec::new(),
+            actuators: None,
+            commanded_tau: Vec::new(),
+            flags: Vec::new(),
+        }
     }
 }
 
@@ -179,6 +199,9 @@ impl Controller for Combined {
         self.base.setup(ctx)?;
         self.base_cmd = Command::new(ctx.plant.n_dof(), self.base.reference_len());
         self.arm_dofs = ctx.arm_dofs.to_vec();
+        self.actuators = Some(ctx.actuators.clone());
+        self.commanded_tau = vec![0.0; ctx.plant.n_dof()];
+        self.flags = vec![0; ctx.plant.n_dof() + 6];
         Ok(())
     }
 
@@ -192,7 +215,23 @@ impl Controller for Combined {
             out.tau[d] = 0.0;
         }
         out.base_wrench = self.base_cmd.base_wrench;
+        // Show the arm controller the base command as it will be applied (see the type's docs).
+        if let Some(actuators) = &self.actuators {
+            self.commanded_tau.copy_from_slice(&out.tau);
+            actuators.saturate_joints(&mut out.tau, &u[6..], &mut self.flags);
+            actuators.saturate_thrusters(&mut out.base_wrench, &mut self.flags[..6]);
+        }
         self.arm.command(t, x, u, out)?;
+        if self.actuators.is_some() {
+            // Hand back the base controller's unclamped command: the loop clamps it to the same
+            // values and records the saturation.
+            for (d, &tau) in self.commanded_tau.iter().enumerate() {
+                if !self.arm_dofs.contains(&d) {
+                    out.tau[d] = tau;
+                }
+            }
+            out.base_wrench = self.base_cmd.base_wrench;
+        }
         let n_arm = self.arm.reference_len();
         out.reference[n_arm..].copy_from_slice(&self.base_cmd.reference);
         out.attitude_error = self.base_cmd.attitude_error;
