@@ -4,11 +4,11 @@ figure output."""
 from __future__ import annotations
 
 import os
-import tempfile
 from typing import Sequence, Union
 
 import numpy as np
 
+from .._atomic import atomic_path
 from ..errors import ShapeError, SpacearmError
 
 TaskLike = Union[str, Sequence[int], None]
@@ -107,16 +107,7 @@ def new_figure(*args, **kwargs):
 def save_figure(fig, path) -> str:
     """Write ``fig`` to ``path`` atomically (temporary file in the same folder, then rename)."""
     path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
     ext = os.path.splitext(path)[1] or ".png"
-    fd, tmp = tempfile.mkstemp(suffix=ext, dir=folder, prefix=".spacearm-")
-    os.close(fd)
-    try:
+    with atomic_path(path, suffix=ext) as tmp:
         fig.savefig(tmp, format=ext.lstrip(".") or "png", dpi=130, bbox_inches="tight")
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
     return path

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 from typing import Optional, Sequence
 
 import numpy as np
+
+from .._atomic import atomic_path
 
 __all__ = ["plot_campaign", "rank_correlation"]
 
@@ -63,14 +63,9 @@ def plot_campaign(result, path, metrics: Optional[Sequence[str]] = None) -> Path
             row[1].set_axis_off()
     fig.suptitle(f"inertia-uncertainty campaign: {result.n_ok} samples ({result.n_failed} failed)")
     fig.tight_layout()
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp.png", dir=path.parent if str(path.parent) else ".")
-    os.close(fd)
     try:
-        fig.savefig(tmp, dpi=110)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
+        with atomic_path(path, suffix=".png") as tmp:
+            fig.savefig(tmp, dpi=110)
     finally:
         plt.close(fig)
-        if os.path.exists(tmp):
-            os.unlink(tmp)
     return path

@@ -21,12 +21,12 @@ A partly run file is a checkpoint: :func:`spacearm.campaign.run_campaign` with t
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 from pathlib import Path
 from typing import Dict, Optional, Sequence
 
 import numpy as np
+
+from .._atomic import atomic_open
 
 __all__ = ["CampaignResult", "PENDING", "OK", "FAILED"]
 
@@ -124,29 +124,20 @@ class CampaignResult:
         path = Path(path)
         if path.suffix != ".npz":
             raise ValueError(f"campaign results are saved as .npz, got '{path}'")
-        directory = path.parent if str(path.parent) else Path(".")
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp.npz", dir=directory)
-        try:
-            with os.fdopen(fd, "wb") as f:
-                np.savez(
-                    f,
-                    index=self.index,
-                    status=self.status,
-                    params=self.params,
-                    param_names=np.array(self.param_names),
-                    metrics=self.metrics,
-                    metric_names=np.array(self.metric_names),
-                    error=np.array([str(e) for e in self.error], dtype=str),
-                    seconds=self.seconds,
-                    spec_json=np.array(self.spec_json),
-                    run_json=np.array(json.dumps(self.run)),
-                )
-            os.chmod(tmp, 0o644)
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
+        with atomic_open(path, "wb", suffix=".tmp.npz") as f:
+            np.savez(
+                f,
+                index=self.index,
+                status=self.status,
+                params=self.params,
+                param_names=np.array(self.param_names),
+                metrics=self.metrics,
+                metric_names=np.array(self.metric_names),
+                error=np.array([str(e) for e in self.error], dtype=str),
+                seconds=self.seconds,
+                spec_json=np.array(self.spec_json),
+                run_json=np.array(json.dumps(self.run)),
+            )
         return path
 
     @classmethod
