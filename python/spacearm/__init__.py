@@ -19,7 +19,7 @@ from .errors import (
     SingularError,
     SpacearmError,
 )
-from .robot import ExternalWrench, InertiaBlocks, Kinematics, Momentum, Robot
+from .robot import ExternalWrench, ForwardDynamicsDerivatives, InertiaBlocks, Kinematics, Linearization, Momentum, Robot
 
 __all__ = [
     "Robot",
@@ -28,6 +28,8 @@ __all__ = [
     "Kinematics",
     "Momentum",
     "InertiaBlocks",
+    "ForwardDynamicsDerivatives",
+    "Linearization",
     "presets",
     "dh",
     "model_file",
