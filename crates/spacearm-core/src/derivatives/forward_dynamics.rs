@@ -13,7 +13,7 @@
 
 use nalgebra::{DMatrix, DMatrixView};
 
-use super::{lanes, pose_and_velocity, seed_chunk, DerivativeData, CHUNK};
+use super::{lanes, pose_and_velocity, seed_chunk_from_kinematics, DerivativeData, CHUNK};
 use crate::dynamics::compute_forward_dynamics_via_mass_matrix;
 use crate::error::Result;
 use crate::kinematics::check_velocity;
@@ -36,8 +36,9 @@ pub enum LinearizationInputs {
 /// `work.accel_wrt_configuration`, `work.accel_wrt_velocity`, `work.accel_wrt_force`; the
 /// acceleration itself in `work.data.accel`.
 ///
-/// Cost: one CRBA + RNEA + Cholesky in `f64`, and `⌈(9+2N)/CHUNK⌉` passes of forward
-/// kinematics + RNEA on dual numbers.
+/// Cost: forward kinematics, CRBA, RNEA and a Cholesky factorization in `f64`, and
+/// `⌈(9+2N)/CHUNK⌉` passes of RNEA on dual numbers seeded with the closed-form motion of the
+/// bodies (no forward kinematics on dual numbers).
 #[allow(clippy::type_complexity)]
 pub fn forward_dynamics_derivatives<'w>(
     model: &Model,
@@ -62,7 +63,7 @@ pub fn forward_dynamics_derivatives<'w>(
         *v = super::DualChunk::from_re(work.data.accel[k]);
     }
     for (c, chunk) in work.dynamics_dirs.chunks(CHUNK).enumerate() {
-        seed_chunk(model, &mut work.chunk, &pose, Some(u), chunk);
+        seed_chunk_from_kinematics(model, &work.data, &mut work.chunk, &pose, Some(u), chunk);
         let w = &mut work.chunk;
         rnea_after_kinematics(model, &mut w.data, &w.u, Some(&w.du), &[]);
         for i in 0..nu {

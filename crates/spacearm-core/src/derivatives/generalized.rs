@@ -4,10 +4,10 @@
 
 use nalgebra::{DMatrix, Vector3};
 
-use super::{lanes, pose_and_velocity, seed_along_velocity, seed_chunk, DerivativeData, Pose, CHUNK};
+use super::{lanes, pose_and_velocity, seed_along_velocity, seed_chunk, seed_chunk_from_kinematics, DerivativeData, Pose, CHUNK};
 use crate::error::Result;
 use crate::gjm::{fill_generalized_inertia, generalized_jacobian_after_reduction, reduce_after_kinematics, reduction_columns};
-use crate::kinematics::check_body;
+use crate::kinematics::{check_body, forward_kinematics};
 use crate::model::Model;
 
 /// Partial derivatives `∂H*/∂q_k` (each N×N, symmetric) of the generalized inertia with
@@ -18,10 +18,11 @@ use crate::model::Model;
 /// reduction is invariant and its tangent partials with respect to `δr0`, `δθ` vanish.
 pub fn generalized_inertia_partials<'w>(model: &Model, work: &'w mut DerivativeData, x: &[f64]) -> Result<&'w [DMatrix<f64>]> {
     let pose = Pose::new(model, x)?;
+    forward_kinematics(model, &mut work.data, x)?;
     let n = model.n_dof();
     let dirs = &work.joint_dirs;
     for (c, chunk) in dirs.chunks(CHUNK).enumerate() {
-        seed_chunk(model, &mut work.chunk, &pose, None, chunk);
+        seed_chunk_from_kinematics(model, &work.data, &mut work.chunk, &pose, None, chunk);
         let data = &mut work.chunk.data;
         let inv = reduce_after_kinematics(model, data, true)?;
         reduction_columns(model, data, &inv);

@@ -3,9 +3,10 @@
 
 use nalgebra::DMatrix;
 
-use super::{lanes, pose_and_velocity, seed_along_velocity, seed_chunk, DerivativeData, Pose, CHUNK};
+use super::{lanes, pose_and_velocity, seed_along_velocity, seed_chunk_from_kinematics, DerivativeData, Pose, CHUNK};
 use crate::crba::crba_after_kinematics;
 use crate::error::Result;
+use crate::kinematics::forward_kinematics;
 use crate::model::Model;
 
 /// Partial derivatives `∂H/∂x_k` of the mass matrix with respect to the `6+N` tangent
@@ -13,16 +14,17 @@ use crate::model::Model;
 /// (each `(6+N)²`, symmetric).
 ///
 /// Only the attitude (`k = 3..6`) and the joint coordinates (`k ≥ 6`) matter; the three `δr0`
-/// partials are exactly zero. Cost: `⌈(3+N)/CHUNK⌉` passes of forward kinematics + CRBA on
-/// dual numbers.
+/// partials are exactly zero. Cost: forward kinematics in `f64`, then `⌈(3+N)/CHUNK⌉` passes
+/// of CRBA on dual numbers seeded with the closed-form motion of the bodies.
 pub fn mass_matrix_partials<'w>(model: &Model, work: &'w mut DerivativeData, x: &[f64]) -> Result<&'w [DMatrix<f64>]> {
     let pose = Pose::new(model, x)?;
+    forward_kinematics(model, &mut work.data, x)?;
     let dirs = &work.config_dirs;
     for k in 0..3 {
         work.mass_matrix_partials[k].fill(0.0);
     }
     for chunk in dirs.chunks(CHUNK) {
-        seed_chunk(model, &mut work.chunk, &pose, None, chunk);
+        seed_chunk_from_kinematics(model, &work.data, &mut work.chunk, &pose, None, chunk);
         crba_after_kinematics(model, &mut work.chunk.data, true);
         let h = &work.chunk.data.mass_matrix;
         let nu = model.nu();

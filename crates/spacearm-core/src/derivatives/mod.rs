@@ -40,15 +40,15 @@ pub use generalized::{
 };
 pub use mass_matrix::{mass_matrix_derivative, mass_matrix_partials};
 
-use nalgebra::{Const, DMatrix, Matrix3, Vector3, U1};
-use num_dual::{Dual64, DualSVec64};
+use nalgebra::{Const, DMatrix, Matrix3, Matrix6, SVector, Vector3, Vector6, U1};
+use num_dual::{Derivative, Dual64, DualSVec64};
 
 use crate::data::{Data, DataT};
 use crate::error::Result;
 use crate::kinematics::{check_velocity, forward_kinematics_at, split_configuration};
 use crate::model::Model;
 use crate::scalar::Real;
-use crate::spatial::skew;
+use crate::spatial::{cross_motion, rotate_symmetric, skew, spatial_inertia};
 
 /// Number of directions differentiated together in one dual-number pass.
 pub const CHUNK: usize = 8;
@@ -148,6 +148,107 @@ fn seed_chunk(model: &Model, work: &mut DualWork<DualChunk>, pose: &Pose, u: Opt
         }
     }
     dual_kinematics(model, work, pose, pose.r0.map(DualChunk::from_re), theta);
+}
+
+/// Seed a chunk of directions from the `f64` kinematics already in `kin` (current for the
+/// configuration of `pose`), without running forward kinematics on dual numbers: the ε parts
+/// of the two fields that CRBA and RNEA read — the motion subspaces `Sᵢ` and the spatial
+/// inertias `Iᵢ` at the base CM — are their exact first-order changes, which have a closed
+/// form. A direction moves rigidly every body it carries with the twist `S_d` at the base CM
+/// (the base CM itself never moves under `δθ` or `δq`): `[0; e_i]` for the attitude increment
+/// `δθ_i` (every body), the joint's motion subspace `S_j` for `δq_j` (the bodies of its
+/// subtree). Then (Featherstone §2.9–2.12) `δSᵢ = S_d ×ₘ Sᵢ`, and `Iᵢ` follows from its CM and
+/// world inertia moving as `δc = S_d,lin + S_d,ang × c`, `δI_c = ω̃ I_c − I_c ω̃` — evaluated
+/// through [`spatial_inertia`] and [`rotate_symmetric`] on single-lane duals. Sets `work.q` and
+/// `work.u` as [`seed_chunk`] does; the other kinematic fields of `work.data` are left stale.
+///
+/// Cost O(bodies × depth × lanes) flops, a fraction of forward kinematics on dual numbers
+/// (which the tests use as the reference for this seeding).
+fn seed_chunk_from_kinematics(model: &Model, kin: &Data, work: &mut DualWork<DualChunk>, pose: &Pose, u: Option<&[f64]>, dirs: &[Direction]) {
+    debug_assert!(dirs.len() <= CHUNK);
+    for (j, q) in work.q.iter_mut().enumerate() {
+        *q = DualChunk::from_re(pose.q[j]);
+    }
+    if let Some(u) = u {
+        for (k, v) in work.u.iter_mut().enumerate() {
+            *v = DualChunk::from_re(u[k]);
+        }
+    }
+    for (lane, dir) in dirs.iter().enumerate() {
+        if let Direction::Velocity(k) = *dir {
+            work.u[k] = DualChunk::from_re(u.expect("velocity directions need u")[k]).derivative(lane);
+        }
+    }
+    let r0 = kin.base_position;
+    for b in 0..model.n_bodies() {
+        let s = kin.motion_subspace[b];
+        let inertia = &kin.spatial_inertia[b];
+        if !dirs.iter().any(|d| moves(model, *d, b)) {
+            work.data.motion_subspace[b] = s.map(DualChunk::from_re);
+            work.data.spatial_inertia[b] = inertia.map(DualChunk::from_re);
+            continue;
+        }
+        let mass = model.mass_properties(b).mass;
+        let c = kin.com_in_world[b] - r0;
+        let ic = kin.inertia_in_world[b];
+        let mut ds = [[0.0; CHUNK]; 6];
+        let mut di = [[0.0; CHUNK]; 36];
+        for (lane, dir) in dirs.iter().enumerate() {
+            if !moves(model, *dir, b) {
+                continue;
+            }
+            let twist = match *dir {
+                Direction::Attitude(i) => {
+                    let mut t = Vector6::zeros();
+                    t[3 + i] = 1.0;
+                    t
+                }
+                Direction::Joint(j) => kin.motion_subspace[model.body_of_dof(j)],
+                Direction::Velocity(_) => unreachable!("velocity directions move no body"),
+            };
+            let d_s = cross_motion(&twist, &s);
+            for r in 0..6 {
+                ds[r][lane] = d_s[r];
+            }
+            let (v, w) = (twist.fixed_rows::<3>(0).into_owned(), twist.fixed_rows::<3>(3).into_owned());
+            let dc = v + w.cross(&c);
+            let c_dual = Vector3::from_fn(|r, _| Dual64::new(c[r], dc[r]));
+            let turn = Matrix3::from_fn(|r, k| Dual64::new(if r == k { 1.0 } else { 0.0 }, 0.0)) + skew(&w.map(|e| Dual64::new(0.0, e)));
+            let ic_dual = rotate_symmetric(&turn, &ic.map(Dual64::from_re));
+            let d_i = spatial_inertia(Dual64::from_re(mass), &c_dual, &ic_dual);
+            for (k, e) in d_i.iter().enumerate() {
+                di[k][lane] = e.eps;
+            }
+        }
+        let dual = |re: f64, eps: &[f64; CHUNK]| DualChunk::new(re, Derivative::some(SVector::from(*eps)));
+        work.data.motion_subspace[b] = Vector6::from_fn(|r, _| dual(s[r], &ds[r]));
+        work.data.spatial_inertia[b] = Matrix6::from_iterator(inertia.iter().zip(di.iter()).map(|(re, eps)| dual(*re, eps)));
+    }
+}
+
+/// `true` if a change of the configuration along `dir` moves `body`.
+#[inline]
+fn moves(model: &Model, dir: Direction, body: usize) -> bool {
+    match dir {
+        Direction::Attitude(_) => true,
+        Direction::Joint(j) => is_ancestor_or_self(model, model.body_of_dof(j), body),
+        Direction::Velocity(_) => false,
+    }
+}
+
+/// `true` if `ancestor` is `body` or on its path to the base.
+fn is_ancestor_or_self(model: &Model, ancestor: usize, body: usize) -> bool {
+    let mut b = body;
+    loop {
+        if b == ancestor {
+            return true;
+        }
+        if b == 0 || b < ancestor {
+            // Parents are listed before their children: below `ancestor`'s index it cannot appear.
+            return false;
+        }
+        b = model.links[b - 1].parent;
+    }
 }
 
 /// Seed the single direction `(ẋ, u̇_dir)` = the tangent velocity `u` itself: `r0` moves at
@@ -252,4 +353,75 @@ pub(crate) fn pose_and_velocity<'a>(model: &Model, x: &'a [f64], u: &[f64]) -> R
     let pose = Pose::new(model, x)?;
     check_velocity(model, "u", u)?;
     Ok(pose)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::joint::{JointLimits, JointType};
+    use crate::kinematics::forward_kinematics;
+    use crate::model::{LinkSpec, ModelBuilder};
+
+    /// A tree with a rotated revolute chain, a prismatic branch and a fixed link carrying a
+    /// revolute child.
+    fn tree() -> Model {
+        let mut b = ModelBuilder::new("t", "base", 120.0, [[20.0, 0.5, -0.3], [0.5, 25.0, 0.2], [-0.3, 0.2, 30.0]]).unwrap();
+        let mut add = |name: &str, parent: &str, kind: JointType, rot: [f64; 4], axis: [f64; 3]| {
+            b.add_link(LinkSpec {
+                name: name.into(),
+                parent: parent.into(),
+                joint_name: None,
+                kind,
+                origin_in_parent: [0.4, -0.2, 0.3],
+                rotation_in_parent: rot,
+                axis,
+                com_from_joint: [0.2, 0.1, -0.05],
+                mass: 3.0,
+                inertia: [[0.05, 0.001, 0.0], [0.001, 0.06, 0.002], [0.0, 0.002, 0.07]],
+                limits: JointLimits::unlimited(),
+            })
+            .unwrap();
+        };
+        let r = [0.1, -0.2, 0.3, (1.0f64 - 0.14).sqrt()];
+        add("a", "base", JointType::Revolute, r, [0.0, 0.6, 0.8]);
+        add("b", "a", JointType::Revolute, [0.0, 0.0, 0.0, 1.0], [1.0, 0.0, 0.0]);
+        add("p", "a", JointType::Prismatic, r, [0.0, 0.0, 1.0]);
+        add("f", "b", JointType::Fixed, r, [1.0, 0.0, 0.0]);
+        add("c", "f", JointType::Revolute, [0.0, 0.0, 0.0, 1.0], [0.3, 0.4, 0.0]);
+        b.build().unwrap()
+    }
+
+    #[test]
+    fn closed_form_seeding_equals_forward_kinematics_on_dual_numbers() {
+        let model = tree();
+        let mut work = DerivativeData::new(&model);
+        let x = [0.3, -1.2, 2.0, 0.2, -0.4, 0.1, (1.0f64 - 0.21).sqrt(), 0.7, -0.3, 0.25, 1.1];
+        let u: Vec<f64> = (0..model.nu()).map(|k| 0.1 * k as f64 - 0.3).collect();
+        let pose = Pose::new(&model, &x).unwrap();
+        forward_kinematics(&model, &mut work.data, &x).unwrap();
+        let dirs: Vec<Direction> = work.dynamics_dirs.clone();
+        let mut reference = DualWork::<DualChunk>::new(&model);
+        let mut checked = 0;
+        for chunk in dirs.chunks(CHUNK) {
+            seed_chunk(&model, &mut reference, &pose, Some(&u), chunk);
+            seed_chunk_from_kinematics(&model, &work.data, &mut work.chunk, &pose, Some(&u), chunk);
+            for b in 0..model.n_bodies() {
+                let pairs = work.chunk.data.motion_subspace[b]
+                    .iter()
+                    .zip(reference.data.motion_subspace[b].iter())
+                    .chain(work.chunk.data.spatial_inertia[b].iter().zip(reference.data.spatial_inertia[b].iter()));
+                for (ours, theirs) in pairs {
+                    assert!((ours.re - theirs.re).abs() < 1e-13);
+                    let (a, r) = (lanes(ours), lanes(theirs));
+                    for l in 0..CHUNK {
+                        assert!((a[l] - r[l]).abs() < 1e-12 * (1.0 + r[l].abs()), "body {b}: {} vs {}", a[l], r[l]);
+                        checked += (r[l] != 0.0) as usize;
+                    }
+                }
+            }
+            assert_eq!(work.chunk.u, reference.u);
+            assert_eq!(work.chunk.q, reference.q);
+        }
+        assert!(checked > 500, "the comparison covered {checked} non-zero derivatives");
+    }
 }
