@@ -22,7 +22,7 @@ from .errors import (
     SpacearmError,
     ArgumentError,
 )
-from .robot import ExternalWrench, InertiaBlocks, Kinematics, Momentum, Robot
+from .robot import ExternalWrench, ForwardDynamicsDerivatives, InertiaBlocks, Kinematics, Linearization, Momentum, Robot
 from .simulation import simulate
 from .trajectory import Trajectory
 
@@ -33,6 +33,8 @@ __all__ = [
     "Kinematics",
     "Momentum",
     "InertiaBlocks",
+    "ForwardDynamicsDerivatives",
+    "Linearization",
     "presets",
     "simulate",
     "Trajectory",

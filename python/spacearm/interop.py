@@ -72,6 +72,7 @@ __all__ = [
     "mass_matrix_from_pinocchio",
     "bias_from_pinocchio",
     "pinocchio_transform",
+    "aba_derivatives_from_pinocchio",
     # MuJoCo
     "to_mjcf",
     "to_mujoco",
@@ -483,3 +484,53 @@ def mass_matrix_from_mujoco(robot, x, M) -> np.ndarray:
 def bias_from_mujoco(robot, x, qfrc_bias) -> np.ndarray:
     """MuJoCo ``qfrc_bias`` (zero gravity) → spacearm ``c = T_mj qfrc_bias``."""
     return mujoco_transform(robot, x) @ vector(qfrc_bias, "qfrc_bias", robot.nu)
+
+
+# ---------------------------------------------------------------------------------------------
+# Pinocchio: forward-dynamics derivatives (docs/derivatives.md)
+# ---------------------------------------------------------------------------------------------
+def _skew(v) -> np.ndarray:
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+def _cross_columns(nu: int, w) -> np.ndarray:
+    """The map ``δx ↦ [w_lin × δθ; w_ang × δθ; 0]`` (non-zero in columns 3:6 only)."""
+    out = np.zeros((nu, nu))
+    out[0:3, 3:6] = _skew(w[0:3])
+    out[3:6, 3:6] = _skew(w[3:6])
+    return out
+
+
+def aba_derivatives_from_pinocchio(robot, x, u, f, ddq_dq, ddq_dv, minv, ddq):
+    """Pinocchio's ``computeABADerivatives`` results → spacearm's
+    ``(∂u̇/∂x, ∂u̇/∂u, ∂u̇/∂f)`` (:meth:`spacearm.Robot.forward_dynamics_derivatives`).
+
+    Pinocchio computes ``a = ABA(q, v, τ_p)`` with ``v = Tᵀ u``, ``τ_p = Tᵀ f`` and spacearm's
+    ``u̇ = T a + [ω0 × v0; 0; 0]``, ``T = blkdiag(R0, R0, P_e)``. Its configuration tangent is
+    the local increment ``δ_p = Tᵀ δx`` of spacearm's ``δx = [δr0, δθ, δq]`` (``R0 ← exp(δθ̃) R0``).
+    Perturbing the attitude changes the maps: ``δ(Tᵀ w) = Tᵀ C(w) δx`` with
+    ``C(w) δx = [w_lin × δθ; w_ang × δθ; 0]``, and ``δT a = −C(T a) δx``. The chain rule gives
+
+    - ``∂u̇/∂x = T (A_q + A_v C(u) + M⁻¹ C(f)) Tᵀ``-wise: ``T A_q Tᵀ + T A_v Tᵀ C(u) + T M⁻¹ Tᵀ C(f) − C(T a)``,
+    - ``∂u̇/∂u = T A_v Tᵀ + ∂(ω0 × v0)/∂u`` (``ω̃0`` in the ``v0`` columns, ``−ṽ0`` in the ``ω0`` ones),
+    - ``∂u̇/∂f = T M⁻¹ Tᵀ``,
+
+    with ``A_q = ddq_dq``, ``A_v = ddq_dv``, ``M⁻¹ = minv`` (symmetrized from its upper triangle,
+    which is all Pinocchio fills) and ``a = ddq`` (Pinocchio's ``data.ddq``).
+    """
+    nu = robot.nu
+    u = vector(u, "u", nu)
+    f = vector(f, "f", nu)
+    t = pinocchio_transform(robot, x)
+    a_q = _square(ddq_dq, nu, "ddq_dq")
+    a_v = _square(ddq_dv, nu, "ddq_dv")
+    m = _square(minv, nu, "minv")
+    m = np.triu(m) + np.triu(m, 1).T
+    ta = t @ vector(ddq, "ddq", nu)
+    tm = t @ m @ t.T
+    tav = t @ a_v @ t.T
+    d_dx = t @ a_q @ t.T + tav @ _cross_columns(nu, u) + tm @ _cross_columns(nu, f) - _cross_columns(nu, ta)
+    d_du = tav.copy()
+    d_du[0:3, 0:3] += _skew(u[3:6])
+    d_du[0:3, 3:6] -= _skew(u[0:3])
+    return d_dx, d_du, tm

@@ -21,7 +21,7 @@ from . import _core
 from ._arrays import vector, vector3
 from .errors import NotFoundError, ShapeError
 
-__all__ = ["Robot", "ExternalWrench", "Kinematics", "Momentum", "InertiaBlocks"]
+__all__ = ["Robot", "ExternalWrench", "Kinematics", "Momentum", "InertiaBlocks", "ForwardDynamicsDerivatives", "Linearization"]
 
 PointLike = Union[str, tuple, None]
 
@@ -388,3 +388,120 @@ class Robot:
     def center_of_mass(self, x) -> np.ndarray:
         """System CM ``r_g`` in 𝒥."""
         return self._m.center_of_mass(x)
+
+    # ---- exact derivatives (docs/derivatives.md) -----------------------------------------
+    # Tangent coordinates of the configuration (the conventions contract): dx = [dr0 (3),
+    # dtheta (3), dq (N)], dtheta a rotation increment about the axes of 𝒥, R0 <- exp(dtheta^) R0.
+    # The time derivative of x in these coordinates is u. Tensors of partials put the derivative
+    # index LAST: out[i, j, k] = d X[i, j] / d x_k. Computed in the Rust core by forward-mode
+    # automatic differentiation (dual numbers) of the same algorithms: exact to rounding.
+    def _derivatives(self):
+        d = self.__dict__.get("_deriv_core")
+        if d is None:
+            d = self._deriv_core = _core.Derivatives(self._m)
+        return d
+
+    def _force(self, f, tau, base_wrench) -> np.ndarray:
+        """``f = [F0, N0, tau]`` from ``f`` or from ``tau`` and ``base_wrench`` (zero default)."""
+        if f is None:
+            t = np.zeros(self.n_dof) if tau is None else vector(tau, "tau", self.n_dof)
+            b = np.zeros(6) if base_wrench is None else vector(base_wrench, "base_wrench", 6)
+            return np.concatenate([b, t])
+        if tau is not None or base_wrench is not None:
+            raise ValueError("give either f or tau/base_wrench, not both")
+        return f
+
+    def configuration_plus(self, x, dx) -> np.ndarray:
+        """``x ⊕ dx`` for a tangent increment ``dx = [dr0, dtheta, dq]`` (length 6+N):
+        ``r0 + dr0``, ``R0 <- exp(dtheta^) R0`` (rotation about the axes of 𝒥), ``q + dq``."""
+        from .tangent import configuration_plus
+
+        return configuration_plus(x, dx, self.n_dof)
+
+    def configuration_difference(self, x1, x0) -> np.ndarray:
+        """The tangent increment ``dx`` (length 6+N) with ``x0 ⊕ dx = x1``
+        (see :meth:`configuration_plus`; the attitude part is ``log(R1 R0^T)``)."""
+        from .tangent import configuration_difference
+
+        return configuration_difference(x1, x0, self.n_dof)
+
+    def mass_matrix_partials(self, x) -> np.ndarray:
+        """``dH/dx_k`` for the 6+N tangent coordinates: array of shape (6+N, 6+N, 6+N) with
+        ``out[:, :, k] = dH/dx_k`` (derivative index last).
+
+        ``H`` (eq. 36) is referred to the base CM, so the ``dr0`` slices ``k = 0..3`` are
+        exactly zero; ``k = 3..6`` are the attitude partials, ``k >= 6`` the joint partials.
+        """
+        return self._derivatives().mass_matrix_partials(x)
+
+    def mass_matrix_derivative(self, x, u) -> np.ndarray:
+        """Time derivative ``dH/dt = sum_k dH/dx_k u_k`` ((6+N)², symmetric) of the mass matrix
+        along the generalized velocity ``u`` (the tangent velocity of ``x``)."""
+        return self._derivatives().mass_matrix_derivative(x, u)
+
+    def generalized_inertia_partials(self, x) -> np.ndarray:
+        """``dH*/dq_k``: array of shape (N, N, N), ``out[:, :, k] = dH*/dq_k``.
+
+        ``H*`` (eq. 45) depends on the joint coordinates only (it is invariant under rigid
+        motions of the whole system), so there are no base slices.
+        """
+        return self._derivatives().generalized_inertia_partials(x)
+
+    def generalized_inertia_derivative(self, x, u) -> np.ndarray:
+        """Time derivative ``dH*/dt = sum_k dH*/dq_k qd_k`` (N×N) at the state ``(x, u)``."""
+        return self._derivatives().generalized_inertia_derivative(x, u)
+
+    def generalized_jacobian_partials(self, x, point: PointLike = None) -> np.ndarray:
+        """``dJ*/dx_k`` of a point (default: the end effector) for the 6+N tangent coordinates:
+        array of shape (6, N, 6+N), ``out[:, :, k] = dJ*/dx_k``. ``J*`` (eq. 110) is expressed
+        in 𝒥 and turns with the base attitude (slices ``k = 3..6``); the ``dr0`` slices are zero."""
+        body, off = self._point(point)
+        return self._derivatives().generalized_jacobian_partials(x, body, off)
+
+    def generalized_jacobian_derivative(self, x, u, point: PointLike = None) -> np.ndarray:
+        """Time derivative ``dJ*/dt = sum_k dJ*/dx_k u_k`` (6×N) of a point's generalized
+        Jacobian along ``u``; e.g. the point's acceleration with zero momentum is
+        ``J* qdd + dJ*/dt qd``."""
+        body, off = self._point(point)
+        return self._derivatives().generalized_jacobian_derivative(x, u, body, off)
+
+    def forward_dynamics_derivatives(self, x, u, f=None, *, tau=None, base_wrench=None) -> "ForwardDynamicsDerivatives":
+        """Jacobians of forward dynamics ``du = FD(x, u, f)`` (no external wrenches):
+        ``(ddu_dx, ddu_du, ddu_df)``, each (6+N)².
+
+        ``ddu_dx`` is with respect to the tangent coordinates ``[dr0, dtheta, dq]`` (its ``dr0``
+        columns are zero); ``ddu_df = H⁻¹``. From ``ID(x, u, FD(x, u, f)) = f``:
+        ``ddu_dx = -H⁻¹ dID/dx``, ``ddu_du = -H⁻¹ dID/du`` (Carpentier & Mansard 2018). Give ``f``
+        or ``tau`` and ``base_wrench`` as in :meth:`forward_dynamics`.
+        """
+        return ForwardDynamicsDerivatives(*self._derivatives().forward_dynamics_derivatives(x, u, self._force(f, tau, base_wrench)))
+
+    def linearize(self, x, u, f=None, *, tau=None, base_wrench=None, inputs: str = "joints") -> "Linearization":
+        """Linearization ``d(dz)/dt = A dz + B df`` of the state equation ``z' = [u; FD(x, u, f)]``
+        about ``(x, u, f)``, in the tangent state ``dz = [dx (6+N); du (6+N)]``.
+
+        ``A = [[Omega, E], [ddu_dx, ddu_du]]`` (2(6+N) square) with ``Omega = blkdiag(0, w0^, 0)``
+        (from ``R0 = exp(dtheta^) R0_ref``: ``dtheta' = dw0 + w0 × dtheta``), and
+        ``B = [[0], [H⁻¹ columns]]``: ``inputs="joints"`` gives the N joint-torque columns
+        (free-floating control), ``inputs="all"`` the 6+N columns of ``f = [F0, N0, tau]``.
+        Apply a state increment with :meth:`configuration_plus`.
+        """
+        if inputs not in ("joints", "all"):
+            raise ValueError(f"inputs must be 'joints' or 'all', got {inputs!r}")
+        a, b = self._derivatives().linearize(x, u, self._force(f, tau, base_wrench), inputs == "joints")
+        return Linearization(a, b)
+
+
+class ForwardDynamicsDerivatives(NamedTuple):
+    """Jacobians of forward dynamics ``du = FD(x, u, f)`` (see :meth:`Robot.forward_dynamics_derivatives`)."""
+
+    ddu_dx: np.ndarray  #: (6+N)², with respect to the tangent coordinates [dr0, dtheta, dq]
+    ddu_du: np.ndarray  #: (6+N)², with respect to the generalized velocity u
+    ddu_df: np.ndarray  #: (6+N)², H⁻¹: with respect to the generalized force f
+
+
+class Linearization(NamedTuple):
+    """``(A, B)`` of the linearized state equation (see :meth:`Robot.linearize`)."""
+
+    A: np.ndarray  #: 2(6+N) square
+    B: np.ndarray  #: 2(6+N) × N (inputs="joints") or 2(6+N) × (6+N) (inputs="all")

@@ -8,10 +8,11 @@
 
 use nalgebra::DMatrix;
 
-use crate::data::Data;
+use crate::data::{Data, DataT};
 use crate::error::Result;
 use crate::kinematics::forward_kinematics;
 use crate::model::Model;
+use crate::scalar::Real;
 use crate::spatial::{add6_assign, dot6, mul6};
 
 /// Mass matrix `H(x)` ((6+N)², symmetric) by CRBA; the result is also left in
@@ -22,16 +23,16 @@ pub fn crba<'d>(model: &Model, data: &'d mut Data, x: &[f64]) -> Result<&'d DMat
     Ok(&data.mass_matrix)
 }
 
-/// CRBA on the kinematics already in `data`. With `joint_block == false` only the base rows and
+/// CRBA on the kinematics already in `data`, for any scalar. With `joint_block == false` only the base rows and
 /// columns `[H0, H0m]` (and their transpose) are filled, in O(N): that is all the momentum map
 /// and `J*` need; the joint block `H_m` is then left stale.
-pub(crate) fn crba_after_kinematics(model: &Model, data: &mut Data, joint_block: bool) {
+pub(crate) fn crba_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>, joint_block: bool) {
     let nb = model.n_bodies();
     let nu = model.nu();
     data.subtree_inertia[..nb].copy_from_slice(&data.spatial_inertia[..nb]);
     let h = data.mass_matrix.as_mut_slice();
     if joint_block {
-        h.fill(0.0);
+        h.fill(T::zero());
     }
     for b in (1..nb).rev() {
         let p = model.links[b - 1].parent;

@@ -3,79 +3,87 @@
 //! Every algorithm fills the fields it documents; vectors are indexed by body (0 = base).
 //! Spatial quantities use world (𝒥) axes and the base CM at the current instant as reference
 //! point (see [`crate::spatial`]).
+//!
+//! The workspace is generic over the scalar ([`Real`]): users and the `f64` algorithms use
+//! [`Data`] `= DataT<T>`; [`crate::derivatives`] runs the same algorithms on a `DataT` of dual
+//! numbers.
 
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 
 use crate::model::Model;
+use crate::scalar::Real;
 
-/// Workspace and results of the algorithms for one model.
+/// Workspace and results of the algorithms for one model, in `f64`.
+pub type Data = DataT<f64>;
+
+/// Workspace and results of the algorithms for one model, with scalar `T`.
 #[derive(Debug, Clone)]
-pub struct Data {
+pub struct DataT<T: Real> {
     /// Base CM position `r0` in 𝒥 (filled by forward kinematics).
-    pub base_position: Vector3<f64>,
+    pub base_position: Vector3<T>,
     /// Rotation of each body frame to 𝒥 (`R0` for the base).
-    pub body_to_world: Vec<Matrix3<f64>>,
+    pub body_to_world: Vec<Matrix3<T>>,
     /// CM position `rᵢ` of each body in 𝒥.
-    pub com_in_world: Vec<Vector3<f64>>,
+    pub com_in_world: Vec<Vector3<T>>,
     /// Position `pᵢ` in 𝒥 of the joint moving each body (the base entry is `r0`).
-    pub joint_position_in_world: Vec<Vector3<f64>>,
+    pub joint_position_in_world: Vec<Vector3<T>>,
     /// Unit axis `kᵢ` in 𝒥 of the joint moving each body (zero for the base).
-    pub joint_axis_in_world: Vec<Vector3<f64>>,
+    pub joint_axis_in_world: Vec<Vector3<T>>,
     /// Motion subspace `Sᵢ` of each joint at the base CM (zero for the base and fixed joints):
     /// `[(pᵢ − r0) × kᵢ; kᵢ]` revolute, `[kᵢ; 0]` prismatic.
-    pub motion_subspace: Vec<Vector6<f64>>,
+    pub motion_subspace: Vec<Vector6<T>>,
     /// Inertia of each body about its CM in 𝒥 axes, `Rᵢ Iᵢ Rᵢᵀ`.
-    pub inertia_in_world: Vec<Matrix3<f64>>,
+    pub inertia_in_world: Vec<Matrix3<T>>,
     /// Spatial inertia of each body at the base CM (𝒥 axes).
-    pub spatial_inertia: Vec<Matrix6<f64>>,
+    pub spatial_inertia: Vec<Matrix6<T>>,
     /// Spatial velocity of each body at the base CM.
-    pub body_velocity: Vec<Vector6<f64>>,
+    pub body_velocity: Vec<Vector6<T>>,
     /// Spatial acceleration of each body at the base CM.
-    pub body_acceleration: Vec<Vector6<f64>>,
+    pub body_acceleration: Vec<Vector6<T>>,
     /// Velocity-product acceleration `Vᵢ ×ₘ Sᵢ q̇ᵢ` of each joint.
-    pub velocity_product: Vec<Vector6<f64>>,
+    pub velocity_product: Vec<Vector6<T>>,
     /// Spatial force transmitted across each joint (RNEA) or articulated bias force (ABA).
-    pub body_force: Vec<Vector6<f64>>,
+    pub body_force: Vec<Vector6<T>>,
     /// Composite (CRBA) or articulated (ABA) inertia of each subtree.
-    pub subtree_inertia: Vec<Matrix6<f64>>,
+    pub subtree_inertia: Vec<Matrix6<T>>,
     /// ABA: `Uᵢ = Iᴬᵢ Sᵢ`.
-    pub(crate) aba_u: Vec<Vector6<f64>>,
+    pub(crate) aba_u: Vec<Vector6<T>>,
     /// ABA: `Dᵢ = Sᵢᵀ Uᵢ` and `uᵢ = τᵢ − Sᵢᵀ pᴬᵢ`.
-    pub(crate) aba_d: Vec<f64>,
-    pub(crate) aba_small_u: Vec<f64>,
+    pub(crate) aba_d: Vec<T>,
+    pub(crate) aba_small_u: Vec<T>,
     /// Joint-space mass matrix `H` (6+N square), filled by CRBA. The routines that need only
     /// the base rows (`J*`, `c*`, the momentum map) refresh `[H0, H0m]` and leave `H_m` stale.
-    pub mass_matrix: DMatrix<f64>,
+    pub mass_matrix: DMatrix<T>,
     /// Generalized force or acceleration result (6+N), filled by RNEA / ABA.
-    pub tau: DVector<f64>,
+    pub tau: DVector<T>,
     /// Generalized acceleration `u̇` (6+N), filled by the forward-dynamics routines.
-    pub accel: DVector<f64>,
+    pub accel: DVector<T>,
     /// Generalized inertia matrix `H*` (N×N), filled by [`crate::gjm::compute_generalized_inertia`].
-    pub generalized_inertia: DMatrix<f64>,
+    pub generalized_inertia: DMatrix<T>,
     /// Generalized Jacobian `J*` (6×N), filled by [`crate::gjm::compute_generalized_jacobian`].
-    pub generalized_jacobian: DMatrix<f64>,
+    pub generalized_jacobian: DMatrix<T>,
     /// Generalized bias `c*` (N), filled by [`crate::gjm::compute_generalized_bias`].
-    pub generalized_bias: DVector<f64>,
+    pub generalized_bias: DVector<T>,
     /// Scratch: a (6+N)² or N² matrix factorized in place by the dense forward-dynamics routes.
-    pub(crate) factor: DMatrix<f64>,
+    pub(crate) factor: DMatrix<T>,
     /// Scratch: an N-vector.
-    pub(crate) work_n: DVector<f64>,
+    pub(crate) work_n: DVector<T>,
     /// Scratch: per-dof 3-vectors (joint-side columns, reduction intermediates).
-    pub(crate) work_lin: Vec<Vector3<f64>>,
-    pub(crate) work_ang: Vec<Vector3<f64>>,
-    pub(crate) work_y: Vec<Vector3<f64>>,
+    pub(crate) work_lin: Vec<Vector3<T>>,
+    pub(crate) work_ang: Vec<Vector3<T>>,
+    pub(crate) work_y: Vec<Vector3<T>>,
     /// Scratch: degree-of-freedom indices along a path to the base.
     pub(crate) work_dofs: Vec<usize>,
     /// Scratch: an N² matrix factorized in place by the reduced dynamics.
-    pub(crate) factor_n: DMatrix<f64>,
+    pub(crate) factor_n: DMatrix<T>,
 }
 
-impl Data {
+impl<T: Real> DataT<T> {
     /// Allocate a workspace for `model`.
     pub fn new(model: &Model) -> Self {
         let nb = model.n_bodies();
         let nu = model.nu();
-        Data {
+        DataT {
             base_position: Vector3::zeros(),
             body_to_world: vec![Matrix3::identity(); nb],
             com_in_world: vec![Vector3::zeros(); nb],
@@ -90,8 +98,8 @@ impl Data {
             body_force: vec![Vector6::zeros(); nb],
             subtree_inertia: vec![Matrix6::zeros(); nb],
             aba_u: vec![Vector6::zeros(); nb],
-            aba_d: vec![0.0; nb],
-            aba_small_u: vec![0.0; nb],
+            aba_d: vec![T::zero(); nb],
+            aba_small_u: vec![T::zero(); nb],
             mass_matrix: DMatrix::zeros(nu, nu),
             tau: DVector::zeros(nu),
             accel: DVector::zeros(nu),

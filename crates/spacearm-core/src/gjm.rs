@@ -18,12 +18,13 @@
 use nalgebra::{DMatrix, DVector, Matrix6, Vector3, Vector6};
 
 use crate::crba::crba_after_kinematics;
-use crate::data::Data;
+use crate::data::{Data, DataT};
 use crate::error::{Result, SpacearmError};
 use crate::inertia::BaseInverse;
 use crate::joint::JointType;
 use crate::kinematics::{check_body, check_joint_vector, check_velocity, forward_kinematics, point_position};
 use crate::model::Model;
+use crate::scalar::Real;
 use crate::rnea::rnea_after_kinematics;
 use crate::spatial::spatial;
 
@@ -38,22 +39,28 @@ pub fn split_mass_matrix(h: &DMatrix<f64>) -> (Matrix6<f64>, DMatrix<f64>, DMatr
 }
 
 /// Forward kinematics, CRBA (the joint block only if `joint_block`) and the factored `H0⁻¹`.
-fn reduce(model: &Model, data: &mut Data, x: &[f64], joint_block: bool) -> Result<BaseInverse> {
+fn reduce(model: &Model, data: &mut Data, x: &[f64], joint_block: bool) -> Result<BaseInverse<f64>> {
     forward_kinematics(model, data, x)?;
+    reduce_after_kinematics(model, data, joint_block)
+}
+
+/// CRBA (the joint block only if `joint_block`) and the factored `H0⁻¹` on the kinematics
+/// already in `data`, any scalar.
+pub(crate) fn reduce_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>, joint_block: bool) -> Result<BaseInverse<T>> {
     crba_after_kinematics(model, data, joint_block);
     BaseInverse::new(&data.subtree_inertia[0])
 }
 
 /// Column `j` of `H0m` as `(A_j, B_j)`. Requires CRBA.
 #[inline]
-fn h0m_column(data: &Data, j: usize) -> (Vector3<f64>, Vector3<f64>) {
+fn h0m_column<T: Real>(data: &DataT<T>, j: usize) -> (Vector3<T>, Vector3<T>) {
     let c = data.mass_matrix.column(6 + j);
     (Vector3::new(c[0], c[1], c[2]), Vector3::new(c[3], c[4], c[5]))
 }
 
 /// Fill `data.work_lin[j] = A_j`, `data.work_ang[j] = C_j = B_j − r_0g × A_j`,
 /// `data.work_y[j] = S⁻¹ C_j` for every dof. Requires CRBA.
-fn reduction_columns(model: &Model, data: &mut Data, inv: &BaseInverse) {
+pub(crate) fn reduction_columns<T: Real>(model: &Model, data: &mut DataT<T>, inv: &BaseInverse<T>) {
     for j in 0..model.n_dof() {
         let (a, b) = h0m_column(data, j);
         let c = b - inv.base_to_com.cross(&a);
@@ -65,7 +72,7 @@ fn reduction_columns(model: &Model, data: &mut Data, inv: &BaseInverse) {
 
 /// `H0mᵀ H0⁻¹ w` added with factor `sign` into `out` (length N). Requires
 /// [`reduction_columns`].
-fn add_h0m_t_h0_inv(model: &Model, data: &Data, inv: &BaseInverse, w: &Vector6<f64>, sign: f64, out: &mut DVector<f64>) {
+fn add_h0m_t_h0_inv(model: &Model, data: &Data, inv: &BaseInverse<f64>, w: &Vector6<f64>, sign: f64, out: &mut DVector<f64>) {
     let (w_lin, w_ang) = (w.fixed_rows::<3>(0).into_owned(), w.fixed_rows::<3>(3).into_owned());
     let y = inv.angular(&w_lin, &w_ang);
     let w_lin_m = w_lin / inv.total_mass;
@@ -84,8 +91,8 @@ pub fn compute_generalized_inertia<'d>(model: &Model, data: &'d mut Data, x: &[f
 }
 
 /// `H*` from the CRBA matrix and [`reduction_columns`] into `data.generalized_inertia`, or into
-/// `data.factor_n` if `into_factor`.
-fn fill_generalized_inertia(model: &Model, data: &mut Data, inv: &BaseInverse, into_factor: bool) {
+/// `data.factor_n` if `into_factor`; any scalar.
+pub(crate) fn fill_generalized_inertia<T: Real>(model: &Model, data: &mut DataT<T>, inv: &BaseInverse<T>, into_factor: bool) {
     let n = model.n_dof();
     let m = inv.total_mass;
     let (h, a, c, y) = (&data.mass_matrix, &data.work_lin, &data.work_ang, &data.work_y);
@@ -139,6 +146,13 @@ pub fn compute_generalized_jacobian<'d>(
 ) -> Result<&'d DMatrix<f64>> {
     let inv = reduce(model, data, x, false)?;
     check_body(model, body)?;
+    generalized_jacobian_after_reduction(model, data, &inv, body, offset);
+    Ok(&data.generalized_jacobian)
+}
+
+/// `J*` into `data.generalized_jacobian` from the base rows of the CRBA matrix and `H0⁻¹`
+/// (`body` checked), any scalar.
+pub(crate) fn generalized_jacobian_after_reduction<T: Real>(model: &Model, data: &mut DataT<T>, inv: &BaseInverse<T>, body: usize, offset: &Vector3<f64>) {
     let point = point_position(data, body, offset);
     // J_0X H0⁻¹ H0m, column j: [A_j/M + (r_0g − r_0X) × Y_j; Y_j].
     let e = inv.base_to_com - (point - data.base_position);
@@ -180,7 +194,6 @@ pub fn compute_generalized_jacobian<'d>(
         }
         b = model.links[b - 1].parent;
     }
-    Ok(&data.generalized_jacobian)
 }
 
 /// Generalized Jacobian `J* = J_mX − J_0X H0⁻¹ H0m` (6×N, paper eq. 110) of a point fixed to

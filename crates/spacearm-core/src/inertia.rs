@@ -13,6 +13,7 @@ use crate::error::{Result, SpacearmError};
 use crate::joint::JointType;
 use crate::kinematics::forward_kinematics;
 use crate::model::Model;
+use crate::scalar::Real;
 use crate::spatial::skew;
 
 /// The inertia blocks of paper eqs. 27–36, all in 𝒥 about the base CM.
@@ -118,8 +119,9 @@ pub fn inertia_blocks(model: &Model, data: &mut Data, x: &[f64]) -> Result<Inert
     Ok(InertiaBlocks { total_mass, base_to_com, h_s, j_ts, h_sq, h0, h0m, hm })
 }
 
-/// Closed-form inverse of a symmetric 3×3 matrix by its adjugate (paper eqs. 54–61).
-fn symmetric3_inverse(s: &Matrix3<f64>) -> Option<Matrix3<f64>> {
+/// Closed-form inverse of a symmetric 3×3 matrix by its adjugate (paper eqs. 54–61), any
+/// scalar (the singularity test reads the real part).
+fn symmetric3_inverse<T: Real>(s: &Matrix3<T>) -> Option<Matrix3<T>> {
     let (a, b, c) = (s[(0, 0)], s[(1, 1)], s[(2, 2)]);
     let (d, e, f) = (s[(0, 1)], s[(1, 2)], s[(0, 2)]);
     let c11 = b * c - e * e;
@@ -129,8 +131,8 @@ fn symmetric3_inverse(s: &Matrix3<f64>) -> Option<Matrix3<f64>> {
     let c23 = d * f - a * e;
     let c33 = a * b - d * d;
     let det = a * c11 + d * c12 + f * c13;
-    let scale = s.abs().max().powi(3);
-    if !(det.abs() > 1e-14 * scale) || !det.is_finite() {
+    let scale = s.iter().fold(0.0_f64, |acc, e| acc.max(e.value().abs())).powi(3);
+    if !(det.value().abs() > 1e-14 * scale) || !det.value().is_finite() {
         return None;
     }
     Some(Matrix3::new(c11, c12, c13, c12, c22, c23, c13, c23, c33) / det)
@@ -162,28 +164,28 @@ pub fn base_inertia_inverse(h0: &Matrix6<f64>) -> Result<Matrix6<f64>> {
 /// base-to-system-CM vector `r_0g` and `S⁻¹` with `S = H_S + M r̃_0g r̃_0g`. Applying it to a
 /// 6-vector costs two cross products and one 3×3 product; see [`BaseInverse::apply`].
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct BaseInverse {
-    pub total_mass: f64,
-    pub base_to_com: Vector3<f64>,
-    pub schur_inverse: Matrix3<f64>,
+pub(crate) struct BaseInverse<T: Real> {
+    pub total_mass: T,
+    pub base_to_com: Vector3<T>,
+    pub schur_inverse: Matrix3<T>,
 }
 
-impl BaseInverse {
+impl<T: Real> BaseInverse<T> {
     /// Factor `h0` (structure of eq. 30); the same checks and errors as [`base_inertia_inverse`].
-    pub fn new(h0: &Matrix6<f64>) -> Result<Self> {
+    pub fn new(h0: &Matrix6<T>) -> Result<Self> {
         let m = h0[(0, 0)];
-        if !(m > 0.0) {
-            return Err(SpacearmError::Singular(format!("the base inertia H0 (total mass {m})")));
+        if !(m.value() > 0.0) {
+            return Err(SpacearmError::Singular(format!("the base inertia H0 (total mass {})", m.value())));
         }
         // Lower-left block M r̃_0g.
         let r = Vector3::new(h0[(5, 1)], h0[(3, 2)], h0[(4, 0)]) / m;
         let rr = r.norm_squared();
-        let h_s: Matrix3<f64> = h0.fixed_view::<3, 3>(3, 3).into_owned();
+        let h_s: Matrix3<T> = h0.fixed_view::<3, 3>(3, 3).into_owned();
         // M r̃ r̃ = M (r rᵀ − |r|² E), symmetric.
         let mut schur = h_s;
         for i in 0..3 {
             for j in 0..3 {
-                let v = m * (r[i] * r[j] - if i == j { rr } else { 0.0 });
+                let v = m * (r[i] * r[j] - if i == j { rr } else { T::zero() });
                 schur[(i, j)] += v;
             }
         }
@@ -195,13 +197,13 @@ impl BaseInverse {
     /// `y = S⁻¹ (w_ang − r_0g × w_lin)`, the angular half of `H0⁻¹ w` and the building block
     /// of every reduction.
     #[inline]
-    pub fn angular(&self, w_lin: &Vector3<f64>, w_ang: &Vector3<f64>) -> Vector3<f64> {
+    pub fn angular(&self, w_lin: &Vector3<T>, w_ang: &Vector3<T>) -> Vector3<T> {
         self.schur_inverse * (w_ang - self.base_to_com.cross(w_lin))
     }
 
     /// `H0⁻¹ w = [w_lin / M + r_0g × y; y]` with `y` from [`BaseInverse::angular`].
     #[inline]
-    pub fn apply(&self, w: &Vector6<f64>) -> Vector6<f64> {
+    pub fn apply(&self, w: &Vector6<T>) -> Vector6<T> {
         let (w_lin, w_ang) = (w.fixed_rows::<3>(0).into_owned(), w.fixed_rows::<3>(3).into_owned());
         let y = self.angular(&w_lin, &w_ang);
         let top = w_lin / self.total_mass + self.base_to_com.cross(&y);
@@ -219,6 +221,6 @@ mod tests {
         let inv = symmetric3_inverse(&s).unwrap();
         let lu = s.try_inverse().unwrap();
         assert!((inv - lu).abs().max() < 1e-15);
-        assert!(symmetric3_inverse(&Matrix3::zeros()).is_none());
+        assert!(symmetric3_inverse(&Matrix3::<f64>::zeros()).is_none());
     }
 }

@@ -1,12 +1,13 @@
 //! Forward kinematics, point positions and point/link Jacobians (paper §2–3, eqs. 104–108).
 
-use nalgebra::{DMatrix, Matrix3, Matrix6, Rotation3, UnitQuaternion, Vector3, Vector6};
+use nalgebra::{DMatrix, Matrix3, Matrix6, UnitQuaternion, Vector3, Vector6};
 
-use crate::data::Data;
+use crate::data::{Data, DataT};
 use crate::error::{check_finite, Result, SpacearmError};
 use crate::joint::JointType;
 use crate::model::{Model, QUATERNION_TOLERANCE};
-use crate::spatial::{point_twist_transform, rotate_symmetric, spatial, spatial_inertia};
+use crate::scalar::{matrix3, vector3, Real};
+use crate::spatial::{axis_angle_rotation, point_twist_transform, rotate_symmetric, spatial, spatial_inertia};
 
 /// The configuration `x = [r0 (3), quat0 (4, [x, y, z, w]), q (N)]` split into its parts,
 /// validated (length, finite values, unit quaternion within [`QUATERNION_TOLERANCE`]); the
@@ -57,7 +58,16 @@ pub fn check_joint_vector(model: &Model, what: &str, v: &[f64]) -> Result<()> {
 /// inertias of `data` (paper §2.2: `rᵢ`, `pᵢ`, `kᵢ`, `Rᵢ`).
 pub fn forward_kinematics(model: &Model, data: &mut Data, x: &[f64]) -> Result<()> {
     let (r0, quat0, q) = split_configuration(model, x)?;
-    let r0_mat = quat0.to_rotation_matrix().into_inner();
+    forward_kinematics_at(model, data, &r0, &quat0.to_rotation_matrix().into_inner(), q);
+    Ok(())
+}
+
+/// Forward kinematics from the base pose (`r0`, `R0` = `base_to_world`) and the joint
+/// coordinates `q` (length N, unchecked), for any scalar: the one implementation behind
+/// [`forward_kinematics`] and the dual-number derivatives of [`crate::derivatives`].
+pub fn forward_kinematics_at<T: Real>(model: &Model, data: &mut DataT<T>, r0: &Vector3<T>, base_to_world: &Matrix3<T>, q: &[T]) {
+    let r0 = *r0;
+    let r0_mat = *base_to_world;
     data.base_position = r0;
     data.body_to_world[0] = r0_mat;
     data.com_in_world[0] = r0;
@@ -65,35 +75,37 @@ pub fn forward_kinematics(model: &Model, data: &mut Data, x: &[f64]) -> Result<(
     data.joint_axis_in_world[0] = Vector3::zeros();
     data.motion_subspace[0] = Vector6::zeros();
     let base = &model.base;
-    let base_inertia = rotate_symmetric(&r0_mat, &base.inertia);
+    let base_inertia = rotate_symmetric(&r0_mat, &matrix3(&base.inertia));
     data.inertia_in_world[0] = base_inertia;
-    data.spatial_inertia[0] = spatial_inertia(base.mass, &Vector3::zeros(), &base_inertia);
+    data.spatial_inertia[0] = spatial_inertia(T::c(base.mass), &Vector3::zeros(), &base_inertia);
 
     for (k, link) in model.links.iter().enumerate() {
         let b = k + 1;
         let p = link.parent;
         let parent_rot = data.body_to_world[p];
         let joint = &link.joint;
-        let joint_pos = data.com_in_world[p] + parent_rot * joint.origin_in_parent;
+        let joint_pos = data.com_in_world[p] + parent_rot * vector3(&joint.origin_in_parent);
         let rq = &joint.rotation_in_parent;
         // Most models attach joints without a fixed rotation: skip the product then.
         let joint_rot = if rq.i == 0.0 && rq.j == 0.0 && rq.k == 0.0 {
             parent_rot
         } else {
-            parent_rot * rq.to_rotation_matrix().into_inner()
+            parent_rot * matrix3(&rq.to_rotation_matrix().into_inner())
         };
-        let axis_world = joint_rot * joint.axis.into_inner();
+        let axis = vector3(&joint.axis.into_inner());
+        let axis_world = joint_rot * axis;
         let (rot, com_local, axis_out, subspace) = match joint.kind {
             JointType::Revolute => {
                 let angle = q[model.dof_of_body(b).expect("revolute joint has a dof")];
-                let rot = joint_rot * Rotation3::from_axis_angle(&joint.axis, angle).into_inner();
-                (rot, link.com_from_joint, axis_world, spatial(&(joint_pos - r0).cross(&axis_world), &axis_world))
+                // A joint at exactly zero (with no derivative part) adds no rotation.
+                let rot = if angle.is_exactly_zero() { joint_rot } else { joint_rot * axis_angle_rotation(&axis, angle) };
+                (rot, vector3(&link.com_from_joint), axis_world, spatial(&(joint_pos - r0).cross(&axis_world), &axis_world))
             }
             JointType::Prismatic => {
                 let d = q[model.dof_of_body(b).expect("prismatic joint has a dof")];
-                (joint_rot, link.com_from_joint + joint.axis.into_inner() * d, axis_world, spatial(&axis_world, &Vector3::zeros()))
+                (joint_rot, vector3(&link.com_from_joint) + axis * d, axis_world, spatial(&axis_world, &Vector3::zeros()))
             }
-            JointType::Fixed => (joint_rot, link.com_from_joint, Vector3::zeros(), Vector6::zeros()),
+            JointType::Fixed => (joint_rot, vector3(&link.com_from_joint), Vector3::zeros(), Vector6::zeros()),
         };
         let com = joint_pos + rot * com_local;
         data.body_to_world[b] = rot;
@@ -101,17 +113,16 @@ pub fn forward_kinematics(model: &Model, data: &mut Data, x: &[f64]) -> Result<(
         data.joint_position_in_world[b] = joint_pos;
         data.joint_axis_in_world[b] = axis_out;
         data.motion_subspace[b] = subspace;
-        let inertia_world = rotate_symmetric(&rot, &link.mass.inertia);
+        let inertia_world = rotate_symmetric(&rot, &matrix3(&link.mass.inertia));
         data.inertia_in_world[b] = inertia_world;
-        data.spatial_inertia[b] = spatial_inertia(link.mass.mass, &(com - r0), &inertia_world);
+        data.spatial_inertia[b] = spatial_inertia(T::c(link.mass.mass), &(com - r0), &inertia_world);
     }
-    Ok(())
 }
 
 /// Position in 𝒥 of a point fixed to `body` at `offset` (body frame, from its CM). Requires
 /// forward kinematics.
-pub fn point_position(data: &Data, body: usize, offset: &Vector3<f64>) -> Vector3<f64> {
-    data.com_in_world[body] + data.body_to_world[body] * offset
+pub fn point_position<T: Real>(data: &DataT<T>, body: usize, offset: &Vector3<f64>) -> Vector3<T> {
+    data.com_in_world[body] + data.body_to_world[body] * vector3(offset)
 }
 
 /// Check a body index against the model.
@@ -129,7 +140,7 @@ pub fn check_body(model: &Model, body: usize) -> Result<()> {
 /// `point` fixed to `body`: column `j` is `[kⱼ × (x − pⱼ); kⱼ]` (revolute) or `[kⱼ; 0]`
 /// (prismatic) for every joint on the path from the base to `body`, zero elsewhere.
 /// Requires forward kinematics.
-pub fn joint_jacobian_of_point(model: &Model, data: &Data, body: usize, point: &Vector3<f64>) -> DMatrix<f64> {
+pub fn joint_jacobian_of_point<T: Real>(model: &Model, data: &DataT<T>, body: usize, point: &Vector3<T>) -> DMatrix<T> {
     let mut jm = DMatrix::zeros(6, model.n_dof());
     let mut b = body;
     while b != 0 {

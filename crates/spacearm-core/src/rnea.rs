@@ -7,16 +7,17 @@
 
 use nalgebra::{DVector, Vector6};
 
-use crate::data::Data;
+use crate::data::{Data, DataT};
 use crate::error::Result;
 use crate::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
+use crate::scalar::Real;
 use crate::spatial::{angular, cross_force, cross_motion, dot6, linear, mul6, spatial};
 use crate::wrench::ExternalWrench;
 
 /// Forward pass of body velocities `Vᵢ = V_λ(i) + Sᵢ q̇ᵢ` and velocity-product accelerations
 /// `Vᵢ ×ₘ Sᵢ q̇ᵢ`. Requires forward kinematics; `u` must be checked.
-pub(crate) fn velocity_pass(model: &Model, data: &mut Data, u: &[f64]) {
+pub(crate) fn velocity_pass<T: Real>(model: &Model, data: &mut DataT<T>, u: &[T]) {
     data.body_velocity[0] = Vector6::from_column_slice(&u[0..6]);
     data.velocity_product[0] = Vector6::zeros();
     for b in 1..model.n_bodies() {
@@ -37,7 +38,7 @@ pub(crate) fn velocity_pass(model: &Model, data: &mut Data, u: &[f64]) {
 }
 
 /// Spatial acceleration of the base at its CM from the state derivative `[v̇0; ω̇0]`.
-pub(crate) fn base_spatial_acceleration(u: &[f64], du: &[f64]) -> Vector6<f64> {
+pub(crate) fn base_spatial_acceleration<T: Real>(u: &[T], du: &[T]) -> Vector6<T> {
     let v0 = Vector6::from_column_slice(&u[0..6]);
     let a0 = Vector6::from_column_slice(&du[0..6]);
     spatial(&(linear(&a0) - angular(&v0).cross(&linear(&v0))), &angular(&a0))
@@ -64,13 +65,13 @@ pub fn rnea<'d>(
 }
 
 /// RNEA on the kinematics already in `data`, with checked inputs; `du = None` means `u̇ = 0`
-/// (the bias vector). Fills `data.tau`.
-pub(crate) fn rnea_after_kinematics(model: &Model, data: &mut Data, u: &[f64], du: Option<&[f64]>, external: &[ExternalWrench]) {
+/// (the bias vector). Fills `data.tau`. Any scalar.
+pub(crate) fn rnea_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>, u: &[T], du: Option<&[T]>, external: &[ExternalWrench]) {
     velocity_pass(model, data, u);
     let nb = model.n_bodies();
     data.body_acceleration[0] = match du {
         Some(du) => base_spatial_acceleration(u, du),
-        None => base_spatial_acceleration(u, &[0.0; 6]),
+        None => base_spatial_acceleration(u, &[T::zero(); 6]),
     };
     for b in 1..nb {
         let p = model.links[b - 1].parent;

@@ -6,37 +6,65 @@
 //! reference point is the base centre of mass `r0` at the current instant. With that choice the
 //! base's spatial velocity is exactly the paper's `ẋ0 = [v0; ω0]` and a spatial force on the
 //! base is exactly `[F0; N0]`, so no convention transform is ever needed for the base.
+//!
+//! Every function is generic over the scalar ([`Real`]: `f64` or a dual number).
 
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
+use crate::scalar::Real;
+
 /// Cross-product matrix `ã` with `ã b = a × b` (the paper's `a^×`).
 #[inline]
-pub fn skew(a: &Vector3<f64>) -> Matrix3<f64> {
-    Matrix3::new(0.0, -a.z, a.y, a.z, 0.0, -a.x, -a.y, a.x, 0.0)
+pub fn skew<T: Real>(a: &Vector3<T>) -> Matrix3<T> {
+    let z = T::zero();
+    Matrix3::new(z, -a.z, a.y, a.z, z, -a.x, -a.y, a.x, z)
+}
+
+/// Rotation by `angle` about the unit `axis` (Rodrigues: `E cos θ + (1 − cos θ) k kᵀ + sin θ k̃`).
+///
+/// The same entries as nalgebra's `Rotation3::from_axis_angle`, without its shortcut to the
+/// identity at `θ = 0`, which would drop the derivative part of a dual-number angle.
+#[inline]
+pub fn axis_angle_rotation<T: Real>(axis: &Vector3<T>, angle: T) -> Matrix3<T> {
+    let (ux, uy, uz) = (axis.x, axis.y, axis.z);
+    let (sqx, sqy, sqz) = (ux * ux, uy * uy, uz * uz);
+    let (sin, cos) = angle.sin_cos();
+    let one_m_cos = T::one() - cos;
+    Matrix3::new(
+        sqx + (T::one() - sqx) * cos,
+        ux * uy * one_m_cos - uz * sin,
+        ux * uz * one_m_cos + uy * sin,
+        ux * uy * one_m_cos + uz * sin,
+        sqy + (T::one() - sqy) * cos,
+        uy * uz * one_m_cos - ux * sin,
+        ux * uz * one_m_cos - uy * sin,
+        uy * uz * one_m_cos + ux * sin,
+        sqz + (T::one() - sqz) * cos,
+    )
 }
 
 /// Linear part `[0..3]` of a spatial vector.
 #[inline]
-pub fn linear(v: &Vector6<f64>) -> Vector3<f64> {
+pub fn linear<T: Real>(v: &Vector6<T>) -> Vector3<T> {
     v.fixed_rows::<3>(0).into_owned()
 }
 
 /// Angular part `[3..6]` of a spatial vector.
 #[inline]
-pub fn angular(v: &Vector6<f64>) -> Vector3<f64> {
+pub fn angular<T: Real>(v: &Vector6<T>) -> Vector3<T> {
     v.fixed_rows::<3>(3).into_owned()
 }
 
 /// Build a spatial vector from its linear and angular parts.
 #[inline]
-pub fn spatial(lin: &Vector3<f64>, ang: &Vector3<f64>) -> Vector6<f64> {
+pub fn spatial<T: Real>(lin: &Vector3<T>, ang: &Vector3<T>) -> Vector6<T> {
     Vector6::new(lin.x, lin.y, lin.z, ang.x, ang.y, ang.z)
 }
 
 /// Motion cross product `v ×ₘ m` (Featherstone eq. 2.31, reordered linear-first):
 /// `[ω × m_lin + v × m_ang; ω × m_ang]` for `v = [v; ω]`.
 #[inline]
-pub fn cross_motion(v: &Vector6<f64>, m: &Vector6<f64>) -> Vector6<f64> {
+pub fn cross_motion<T: Real>(v: &Vector6<T>, m: &Vector6<T>) -> Vector6<T> {
     let (lin, ang) = (linear(v), angular(v));
     let (m_lin, m_ang) = (linear(m), angular(m));
     spatial(&(ang.cross(&m_lin) + lin.cross(&m_ang)), &ang.cross(&m_ang))
@@ -45,7 +73,7 @@ pub fn cross_motion(v: &Vector6<f64>, m: &Vector6<f64>) -> Vector6<f64> {
 /// Force cross product `v ×* f` (Featherstone eq. 2.32, reordered linear-first):
 /// `[ω × f_lin; ω × f_ang + v × f_lin]` for `v = [v; ω]`, `f = [f_lin; f_ang]`.
 #[inline]
-pub fn cross_force(v: &Vector6<f64>, f: &Vector6<f64>) -> Vector6<f64> {
+pub fn cross_force<T: Real>(v: &Vector6<T>, f: &Vector6<T>) -> Vector6<T> {
     let (lin, ang) = (linear(v), angular(v));
     let (f_lin, f_ang) = (linear(f), angular(f));
     spatial(&ang.cross(&f_lin), &(ang.cross(&f_ang) + lin.cross(&f_lin)))
@@ -56,8 +84,9 @@ pub fn cross_force(v: &Vector6<f64>, f: &Vector6<f64>) -> Vector6<f64> {
 /// `[[m E, −m c̃], [m c̃, I_c + m c̃ᵀ c̃]]` (paper eq. 29's per-link term; Featherstone eq. 2.63),
 /// with `c̃ᵀ c̃ = |c|² E − c cᵀ`. The rotational block is symmetrized from its upper triangle.
 #[inline]
-pub fn spatial_inertia(m: f64, c: &Vector3<f64>, inertia_about_com: &Matrix3<f64>) -> Matrix6<f64> {
+pub fn spatial_inertia<T: Real>(m: T, c: &Vector3<T>, inertia_about_com: &Matrix3<T>) -> Matrix6<T> {
     let (x, y, z) = (c.x, c.y, c.z);
+    let o = T::zero();
     let (mx, my, mz) = (m * x, m * y, m * z);
     let ic = inertia_about_com;
     let i00 = ic[(0, 0)] + (my * y + mz * z);
@@ -68,12 +97,12 @@ pub fn spatial_inertia(m: f64, c: &Vector3<f64>, inertia_about_com: &Matrix3<f64
     let i12 = ic[(1, 2)] - my * z;
     #[rustfmt::skip]
     let out = Matrix6::new(
-        m,   0.0, 0.0, 0.0, mz,  -my,
-        0.0, m,   0.0, -mz, 0.0, mx,
-        0.0, 0.0, m,   my,  -mx, 0.0,
-        0.0, -mz, my,  i00, i01, i02,
-        mz,  0.0, -mx, i01, i11, i12,
-        -my, mx,  0.0, i02, i12, i22,
+        m,   o,   o,   o,   mz,  -my,
+        o,   m,   o,   -mz, o,   mx,
+        o,   o,   m,   my,  -mx, o,
+        o,   -mz, my,  i00, i01, i02,
+        mz,  o,   -mx, i01, i11, i12,
+        -my, mx,  o,   i02, i12, i22,
     );
     out
 }
@@ -81,7 +110,7 @@ pub fn spatial_inertia(m: f64, c: &Vector3<f64>, inertia_about_com: &Matrix3<f64
 /// `R A Rᵀ` for a symmetric 3×3 `A` (an inertia tensor changing axes), computed from its upper
 /// triangle so that the result is exactly symmetric.
 #[inline]
-pub fn rotate_symmetric(r: &Matrix3<f64>, a: &Matrix3<f64>) -> Matrix3<f64> {
+pub fn rotate_symmetric<T: Real>(r: &Matrix3<T>, a: &Matrix3<T>) -> Matrix3<T> {
     let mut out = r * a * r.transpose();
     out[(1, 0)] = out[(0, 1)];
     out[(2, 0)] = out[(0, 2)];
@@ -92,9 +121,9 @@ pub fn rotate_symmetric(r: &Matrix3<f64>, a: &Matrix3<f64>) -> Matrix3<f64> {
 /// `m v` for a 6×6 matrix, column by column (the small fixed-size product, written out so that
 /// it compiles to straight-line code in the recursions).
 #[inline(always)]
-pub fn mul6(m: &Matrix6<f64>, v: &Vector6<f64>) -> Vector6<f64> {
+pub fn mul6<T: Real>(m: &Matrix6<T>, v: &Vector6<T>) -> Vector6<T> {
     let a = m.as_slice();
-    let mut out = [0.0; 6];
+    let mut out = [T::zero(); 6];
     for j in 0..6 {
         let vj = v[j];
         let col = &a[6 * j..6 * j + 6];
@@ -107,13 +136,13 @@ pub fn mul6(m: &Matrix6<f64>, v: &Vector6<f64>) -> Vector6<f64> {
 
 /// `a · b` for spatial vectors.
 #[inline(always)]
-pub fn dot6(a: &Vector6<f64>, b: &Vector6<f64>) -> f64 {
+pub fn dot6<T: Real>(a: &Vector6<T>, b: &Vector6<T>) -> T {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5]
 }
 
 /// `dst += src` for 6×6 matrices.
 #[inline(always)]
-pub fn add6_assign(dst: &mut Matrix6<f64>, src: &Matrix6<f64>) {
+pub fn add6_assign<T: Real>(dst: &mut Matrix6<T>, src: &Matrix6<T>) {
     for (d, s) in dst.as_mut_slice().iter_mut().zip(src.as_slice()) {
         *d += *s;
     }
@@ -121,7 +150,7 @@ pub fn add6_assign(dst: &mut Matrix6<f64>, src: &Matrix6<f64>) {
 
 /// Twist transform of a point offset `d` from the reference point: `[[E, −d̃], [0, E]]`, the
 /// paper's `J_0X` (eq. 105) — maps `[v_ref; ω]` to `[v_point; ω]`.
-pub fn point_twist_transform(d: &Vector3<f64>) -> Matrix6<f64> {
+pub fn point_twist_transform<T: Real>(d: &Vector3<T>) -> Matrix6<T> {
     let mut out = Matrix6::identity();
     out.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-skew(d)));
     out
@@ -172,6 +201,16 @@ mod tests {
         blocks.fixed_view_mut::<3, 3>(3, 0).copy_from(&(m * cx));
         blocks.fixed_view_mut::<3, 3>(3, 3).copy_from(&(ic + m * cx.transpose() * cx));
         assert!((spatial_inertia(m, &c, &ic) - blocks).abs().max() < 1e-14);
+    }
+
+    #[test]
+    fn axis_angle_rotation_matches_nalgebra() {
+        let axis = nalgebra::Unit::new_normalize(Vector3::new(0.3, -0.5, 0.8));
+        for angle in [0.0, 0.7, -2.9] {
+            let ours = axis_angle_rotation(&axis.into_inner(), angle);
+            let theirs = nalgebra::Rotation3::from_axis_angle(&axis, angle).into_inner();
+            assert!((ours - theirs).abs().max() < 1e-15);
+        }
     }
 
     #[test]

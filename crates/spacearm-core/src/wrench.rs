@@ -2,10 +2,11 @@
 
 use nalgebra::{Vector3, Vector6};
 
-use crate::data::Data;
+use crate::data::DataT;
 use crate::error::{Result, SpacearmError};
 use crate::kinematics::point_position;
 use crate::model::Model;
+use crate::scalar::{vector3, Real};
 use crate::spatial::spatial;
 
 /// A force and torque, both in 𝒥, applied at a point fixed to a body.
@@ -43,8 +44,9 @@ impl ExternalWrench {
 
     /// The wrench as a spatial force at the base CM `[f; n + (x − r0) × f]`. Requires forward
     /// kinematics.
-    pub fn at_base_com(&self, data: &Data) -> Vector6<f64> {
+    pub fn at_base_com<T: Real>(&self, data: &DataT<T>) -> Vector6<T> {
         let x = point_position(data, self.body, &self.offset);
-        spatial(&self.force, &(self.torque + (x - data.base_position).cross(&self.force)))
+        let force = vector3(&self.force);
+        spatial(&force, &(vector3(&self.torque) + (x - data.base_position).cross(&force)))
     }
 }

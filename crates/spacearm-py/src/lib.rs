@@ -7,6 +7,7 @@
 mod analysis_py;
 mod builder_py;
 mod convert;
+mod derivatives_py;
 mod model_io_py;
 mod model_py;
 mod simulate_py;
@@ -32,6 +33,7 @@ fn preset(py: Python<'_>, name: &str) -> PyResult<model_py::PyModel> {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model_py::PyModel>()?;
     m.add_class::<builder_py::PyModelBuilder>()?;
+    m.add_class::<derivatives_py::PyDerivatives>()?;
     m.add_function(wrap_pyfunction!(preset, m)?)?;
     m.add_function(wrap_pyfunction!(model_io_py::model_from_toml, m)?)?;
     m.add_function(wrap_pyfunction!(model_io_py::model_to_toml, m)?)?;
