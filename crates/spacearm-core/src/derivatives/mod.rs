@@ -48,7 +48,7 @@ use crate::error::Result;
 use crate::kinematics::{check_velocity, forward_kinematics_at, split_configuration};
 use crate::model::Model;
 use crate::scalar::Real;
-use crate::spatial::{cross_motion, rotate_symmetric, skew, spatial_inertia};
+use crate::spatial::{cross_motion, skew};
 
 /// Number of directions differentiated together in one dual-number pass.
 pub const CHUNK: usize = 8;
@@ -159,7 +159,7 @@ fn seed_chunk(model: &Model, work: &mut DualWork<DualChunk>, pose: &Pose, u: Opt
 /// `δθ_i` (every body), the joint's motion subspace `S_j` for `δq_j` (the bodies of its
 /// subtree). Then (Featherstone §2.9–2.12) `δSᵢ = S_d ×ₘ Sᵢ`, and `Iᵢ` follows from its CM and
 /// world inertia moving as `δc = S_d,lin + S_d,ang × c`, `δI_c = ω̃ I_c − I_c ω̃` — evaluated
-/// through [`spatial_inertia`] and [`rotate_symmetric`] on single-lane duals. Sets `work.q` and
+/// by [`spatial_inertia_change`]. Sets `work.q` and
 /// `work.u` as [`seed_chunk`] does; the other kinematic fields of `work.data` are left stale.
 ///
 /// Cost O(bodies × depth × lanes) flops, a fraction of forward kinematics on dual numbers
@@ -212,18 +212,35 @@ fn seed_chunk_from_kinematics(model: &Model, kin: &Data, work: &mut DualWork<Dua
             }
             let (v, w) = (twist.fixed_rows::<3>(0).into_owned(), twist.fixed_rows::<3>(3).into_owned());
             let dc = v + w.cross(&c);
-            let c_dual = Vector3::from_fn(|r, _| Dual64::new(c[r], dc[r]));
-            let turn = Matrix3::from_fn(|r, k| Dual64::new(if r == k { 1.0 } else { 0.0 }, 0.0)) + skew(&w.map(|e| Dual64::new(0.0, e)));
-            let ic_dual = rotate_symmetric(&turn, &ic.map(Dual64::from_re));
-            let d_i = spatial_inertia(Dual64::from_re(mass), &c_dual, &ic_dual);
+            let d_i = spatial_inertia_change(mass, &c, &ic, &dc, &w);
             for (k, e) in d_i.iter().enumerate() {
-                di[k][lane] = e.eps;
+                di[k][lane] = *e;
             }
         }
         let dual = |re: f64, eps: &[f64; CHUNK]| DualChunk::new(re, Derivative::some(SVector::from(*eps)));
         work.data.motion_subspace[b] = Vector6::from_fn(|r, _| dual(s[r], &ds[r]));
         work.data.spatial_inertia[b] = Matrix6::from_iterator(inertia.iter().zip(di.iter()).map(|(re, eps)| dual(*re, eps)));
     }
+}
+
+/// First-order change of [`spatial_inertia`]`(m, c, I_c)` when the CM moves by `dc` and the
+/// body turns at `w` (so `dI_c = w̃ I_c − I_c w̃`): with `c̃ᵀ c̃ = |c|² E − c cᵀ`,
+/// `[[0, −m dc̃], [m dc̃, dI_c + m (2 (c·dc) E − dc cᵀ − c dcᵀ)]]`.
+fn spatial_inertia_change(m: f64, c: &Vector3<f64>, ic: &Matrix3<f64>, dc: &Vector3<f64>, w: &Vector3<f64>) -> Matrix6<f64> {
+    // w̃ I_c − I_c w̃ = W + Wᵀ with W = w̃ I_c (I_c symmetric, w̃ᵀ = −w̃).
+    let wi = skew(w) * ic;
+    let cdc = 2.0 * c.dot(dc);
+    let mut out = Matrix6::zeros();
+    let mdc = skew(&(dc * m));
+    out.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-mdc));
+    out.fixed_view_mut::<3, 3>(3, 0).copy_from(&mdc);
+    for i in 0..3 {
+        for j in 0..3 {
+            let diag = if i == j { cdc } else { 0.0 };
+            out[(3 + i, 3 + j)] = wi[(i, j)] + wi[(j, i)] + m * (diag - dc[i] * c[j] - c[i] * dc[j]);
+        }
+    }
+    out
 }
 
 /// `true` if a change of the configuration along `dir` moves `body`.
@@ -389,6 +406,21 @@ mod tests {
         add("f", "b", JointType::Fixed, r, [1.0, 0.0, 0.0]);
         add("c", "f", JointType::Revolute, [0.0, 0.0, 0.0, 1.0], [0.3, 0.4, 0.0]);
         b.build().unwrap()
+    }
+
+    #[test]
+    fn spatial_inertia_change_is_the_derivative_of_spatial_inertia() {
+        use crate::spatial::{rotate_symmetric, spatial_inertia};
+        let (m, c) = (2.5, Vector3::new(0.3, -0.2, 0.5));
+        let ic = Matrix3::new(0.4, 0.01, 0.02, 0.01, 0.5, -0.03, 0.02, -0.03, 0.6);
+        let (dc, w) = (Vector3::new(-0.7, 0.1, 0.4), Vector3::new(0.2, 0.9, -0.3));
+        // Dual-number evaluation of spatial_inertia(m, c + dc ε, (E + w̃ ε) I_c (E + w̃ ε)ᵀ).
+        let c_dual = Vector3::from_fn(|r, _| Dual64::new(c[r], dc[r]));
+        let turn = Matrix3::from_fn(|r, k| Dual64::from_re(if r == k { 1.0 } else { 0.0 })) + skew(&w.map(|e| Dual64::new(0.0, e)));
+        let reference = spatial_inertia(Dual64::from_re(m), &c_dual, &rotate_symmetric(&turn, &ic.map(Dual64::from_re))).map(|e| e.eps);
+        let ours = spatial_inertia_change(m, &c, &ic, &dc, &w);
+        assert!(reference.norm() > 1.0);
+        assert!((ours - reference).abs().max() < 1e-14);
     }
 
     #[test]
