@@ -118,6 +118,7 @@ impl PyDerivatives {
 
     /// `(A, B)` of the linearized state equation; `B` for the joint torques only if
     /// `joints_only`, else for the whole generalized force.
+    #[allow(clippy::type_complexity)]
     fn linearize<'py>(
         &mut self,
         py: Python<'py>,
