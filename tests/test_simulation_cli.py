@@ -117,7 +117,7 @@ def test_demo_writes_its_figures(tmp_path, capsys):
     assert names == ["spatial6_computed_torque.npz", "spatial6_computed_torque.png", "spatial6_torque_free.png"]
     for name in names:
         assert str(tmp_path / "demo" / name) in text
-    assert "spatial 6-DOF case study" in text and "system CM moved" in text
+    assert "spatial 6-DOF example" in text and "system CM moved" in text
     traj = Trajectory.load(tmp_path / "demo" / "spatial6_computed_torque.npz")
     # The maneuver really happened and the base reacted while the system CM stayed put.
     assert np.max(np.abs(traj.q[-1] - traj.q[0])) > 0.5

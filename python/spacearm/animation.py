@@ -115,10 +115,12 @@ def animate_trajectory(
         raise ValueError(f"frames must be >= 1, got {frames}")
     if int(fps) < 1:
         raise ValueError(f"fps must be >= 1, got {fps}")
-    from matplotlib.animation import PillowWriter
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+    from ._optional import require
+
+    PillowWriter = require("matplotlib.animation", "animations").PillowWriter
+    FigureCanvasAgg = require("matplotlib.backends.backend_agg", "animations").FigureCanvasAgg
+    Figure = require("matplotlib.figure", "animations").Figure
+    Poly3DCollection = require("mpl_toolkits.mplot3d.art3d", "animations").Poly3DCollection
 
     k_total = len(traj)
     idx = np.unique(np.linspace(0, k_total - 1, min(int(frames), k_total)).round().astype(int))

@@ -142,16 +142,16 @@ def main(argv=None) -> int:
     p_inspect.add_argument("--mimic", choices=("error", "independent"),
                            help="URDF only: refuse <mimic> joints (default) or load them as independent joints")
     p_inspect.add_argument("--q", help="joint coordinates, comma-separated (default: the model's initial q)")
-    from .symbolic.command import add_parser as _add_derive  # noqa: E402 (issue #5)
+    from .cli_derive import add_parser as _add_derive  # noqa: E402
 
     _add_derive(sub)
-    from .cli_analyze import add_parser as _add_analyze  # noqa: E402 (issue #6)
+    from .cli_analyze import add_parser as _add_analyze  # noqa: E402
 
     _add_analyze(sub)
-    from .cli_simulate import add_parsers as _add_simulate  # noqa: E402 (issue #4)
+    from .cli_simulate import add_parsers as _add_simulate  # noqa: E402
 
     _add_simulate(sub)
-    from .cli_campaign import add_parser as _add_campaign  # noqa: E402 (issue #6)
+    from .cli_campaign import add_parser as _add_campaign  # noqa: E402
 
     _add_campaign(sub)
     args = parser.parse_args(argv)
@@ -162,7 +162,7 @@ def main(argv=None) -> int:
             q = None if args.q is None else _parse_q(args.q, robot.n_dof)
             inspect(robot, q)
         elif args.command == "derive":
-            from .symbolic.command import run as _derive
+            from .cli_derive import run as _derive
 
             _derive(args, load_model)
         elif args.command == "analyze":

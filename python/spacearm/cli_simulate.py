@@ -5,7 +5,7 @@ and writes any of: the trajectory (``--out run.npz``), a CSV table (``--csv``), 
 (``--plot``) and an animation (``--animate``); it prints the run's summary (conservation drift
 of the mode's conserved quantities, final tracking error, saturation events).
 
-``spacearm demo`` runs the paper's spatial 6-DOF case study (Wilde et al. 2018, §6.2) in
+``spacearm demo`` runs the spatial 6-DOF example (the project-defined preset ``spatial6``) in
 floating mode and writes its figures: a computed-torque joint maneuver (the base reacts, the
 system CM stays put) and a torque-free run (momentum and energy conserved).
 
@@ -85,12 +85,22 @@ def add_parsers(sub) -> None:
     p.add_argument("--at", help="with --mount-on: x,y,z,roll,pitch,yaw of the URDF base in the spacecraft base frame")
     p.add_argument("--prefix", help="URDF only: prefix for the URDF's link, joint and point names")
 
-    d = sub.add_parser("demo", help="run the paper's spatial 6-DOF case study and write its figures",
-                       description="Simulate the spatial 6-DOF case study (Wilde et al. 2018, sec. 6.2) in floating "
-                                   "mode: a computed-torque maneuver and a torque-free run; write figures and "
-                                   "print where.")
+    d = sub.add_parser("demo", help="run the spatial 6-DOF example and write its figures",
+                       description="Simulate the spatial 6-DOF example (the project-defined preset spatial6) in "
+                                   "floating mode: a computed-torque maneuver and a torque-free run; print their "
+                                   "summaries, write figures and say where. Figures need the plot extra: "
+                                   'pip install "spacearm[plot]" (or pass --no-figures).')
     d.add_argument("--out-dir", default="spacearm-demo", help="directory for the figures (default: ./spacearm-demo)")
     d.add_argument("--no-animation", action="store_true", help="skip the GIF (the slowest part)")
+    d.add_argument("--no-figures", action="store_true",
+                   help="print the summaries and save the trajectory only (no matplotlib needed)")
+
+
+def _require_figures(what: str) -> None:
+    """Fail before any work when a figure is asked for and matplotlib is missing."""
+    from ._optional import require
+
+    require("matplotlib", what)
 
 
 def _floats(text: Optional[str], name: str, n: Optional[int] = None) -> Optional[np.ndarray]:
@@ -262,6 +272,8 @@ def simulate_command(args, load_model, out=None) -> int:
         raise CliError(f"--dt must be > 0 s, got {args.dt}")
     if args.frames < 1:
         raise CliError(f"--frames must be >= 1, got {args.frames}")
+    if args.plot or args.animate:
+        _require_figures("--plot and --animate")
     q0 = _floats(args.q0, "--q0", robot.n_dof)
     x0 = robot.neutral_configuration(q0)
     u0 = np.zeros(robot.nu)
@@ -296,8 +308,10 @@ def simulate_command(args, load_model, out=None) -> int:
     return 0
 
 
-def run_demo(out_dir, animation: bool = True, out=None) -> List[Path]:
-    """The spatial 6-DOF case study in floating mode; returns the files written.
+def run_demo(out_dir, animation: bool = True, out=None, figures: bool = True) -> List[Path]:
+    """The spatial 6-DOF example in floating mode; returns the files written.
+
+    ``figures=False`` writes only the trajectory file (no matplotlib needed).
 
     1. Computed torque (reduced EOM, paper eqs. 112–115) drives the arm along a 4 s quintic
        from the paper's initial angles to ``q_goal``: the base turns and moves the opposite
@@ -311,6 +325,8 @@ def run_demo(out_dir, animation: bool = True, out=None) -> List[Path]:
     from spacearm import control
 
     out = sys.stdout if out is None else out
+    if figures:
+        _require_figures("the demo's figures (or pass --no-figures)")
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     robot = spacearm.presets.spatial6()
@@ -319,13 +335,14 @@ def run_demo(out_dir, animation: bool = True, out=None) -> List[Path]:
     ct = control.ComputedTorque(kp=25.0, kd=10.0, reference=control.QuinticJoint(robot.initial_q, q_goal, 0.0, 4.0))
     traj = spacearm.simulate(robot, 5.0, x0=x0, controller=ct, dt=1e-3, record_every=10)
     files = []
-    out.write("spatial 6-DOF case study (Wilde et al. 2018, sec. 6.2), floating mode\n\n")
+    out.write("spatial 6-DOF example (preset spatial6, project-defined), floating mode\n\n")
     out.write("1. computed-torque maneuver, 5 s at 1 ms RK4\n" + traj.summary() + "\n")
-    traj.plot(out_dir / "spatial6_computed_torque.png")
-    files.append(out_dir / "spatial6_computed_torque.png")
+    if figures:
+        traj.plot(out_dir / "spatial6_computed_torque.png")
+        files.append(out_dir / "spatial6_computed_torque.png")
     traj.save(out_dir / "spatial6_computed_torque.npz")
     files.append(out_dir / "spatial6_computed_torque.npz")
-    if animation:
+    if animation and figures:
         traj.animate(out_dir / "spatial6_computed_torque.gif", frames=50, fps=10)
         files.append(out_dir / "spatial6_computed_torque.gif")
     # Joints released with velocities, the base with the velocity that zeroes the momentum
@@ -334,8 +351,9 @@ def run_demo(out_dir, animation: bool = True, out=None) -> List[Path]:
     u0 = np.concatenate([robot.base_velocity_from_momentum(x0, qd0), qd0])
     free = spacearm.simulate(robot, 10.0, x0=x0, u0=u0, dt=1e-3, record_every=10)
     out.write("\n2. torque-free run, joints released with velocities at zero momentum, 10 s at 1 ms RK4\n" + free.summary() + "\n")
-    free.plot(out_dir / "spatial6_torque_free.png")
-    files.append(out_dir / "spatial6_torque_free.png")
+    if figures:
+        free.plot(out_dir / "spatial6_torque_free.png")
+        files.append(out_dir / "spatial6_torque_free.png")
     out.write("\nwrote:\n" + "".join(f"  {p}\n" for p in files))
     return files
 
@@ -345,6 +363,6 @@ def run(args, load_model) -> int:
     if args.command == "simulate":
         return simulate_command(args, load_model)
     if args.command == "demo":
-        run_demo(args.out_dir, animation=not args.no_animation)
+        run_demo(args.out_dir, animation=not args.no_animation, figures=not args.no_figures)
         return 0
     raise CliError(f"unknown command {args.command!r}")

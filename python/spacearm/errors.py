@@ -16,6 +16,7 @@ __all__ = [
     "SingularError",
     "ArgumentError",
     "SimulationError",
+    "MissingDependencyError",
 ]
 
 
@@ -59,3 +60,13 @@ class ArgumentError(SpacearmError, ValueError):
 class SimulationError(SpacearmError, RuntimeError):
     """A simulation could not continue (the state diverged, the adaptive step size collapsed,
     the step budget ran out); the message says when and what to change."""
+
+
+class MissingDependencyError(SpacearmError, ImportError):
+    """An optional package that this feature needs is not installed; the message names the extra
+    to install (``pip install "spacearm[plot]"``, ``[symbolic]``, ``[campaign]`` or ``[all]``)."""
+
+    def __init__(self, message: str, package: str = "", extra=None):
+        super().__init__(message, name=package or None)
+        self.package = package
+        self.extra = extra

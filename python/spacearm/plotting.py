@@ -32,8 +32,10 @@ _FLOOR = 1e-17  # log-scale floor for exact zeros of a relative change (below do
 
 
 def _new_figure(width: float, height: float):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
+    from ._optional import require
+
+    FigureCanvasAgg = require("matplotlib.backends.backend_agg", "figures").FigureCanvasAgg
+    Figure = require("matplotlib.figure", "figures").Figure
 
     fig = Figure(figsize=(width, height), layout="constrained")
     FigureCanvasAgg(fig)

@@ -97,10 +97,9 @@ def concat_dicts(parts):
 
 def new_figure(*args, **kwargs):
     """A matplotlib Figure without pyplot's global state (Agg canvas)."""
-    try:
-        from matplotlib.figure import Figure
-    except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise SpacearmError("figures need matplotlib (a dependency of spacearm): pip install matplotlib") from exc
+    from .._optional import require
+
+    Figure = require("matplotlib.figure", "figures").Figure
     return Figure(*args, **kwargs)
 
 

@@ -85,10 +85,10 @@ def _local_outcomes(spec: CampaignSpec, jobs, workers: int) -> Iterator[SampleOu
 
 
 def _dask_outcomes(spec: CampaignSpec, jobs, scheduler) -> Iterator[SampleOutcome]:
-    try:
-        from distributed import Client, as_completed as dask_as_completed
-    except ImportError:
-        raise SpacearmError('the Dask back end needs dask.distributed: pip install "dask[distributed]"') from None
+    from .._optional import require
+
+    distributed = require("distributed", "campaigns on a Dask cluster")
+    Client, dask_as_completed = distributed.Client, distributed.as_completed
     own_client = not isinstance(scheduler, Client)
     client = Client(scheduler) if own_client else scheduler
     try:

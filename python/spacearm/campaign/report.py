@@ -31,10 +31,10 @@ def rank_correlation(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def plot_campaign(result, path, metrics: Optional[Sequence[str]] = None) -> Path:
-    import matplotlib
+    from .._optional import require
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    require("matplotlib", "campaign figures").use("Agg")
+    plt = require("matplotlib.pyplot", "campaign figures")
 
     path = Path(path)
     names = list(metrics) if metrics is not None else [m for m in result.metric_names if np.ptp(result.metric(m)) > 0

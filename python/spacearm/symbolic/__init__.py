@@ -2,8 +2,13 @@
 matrices, the Schur-complement inverse of ``H0``, ``H*``, ``c*``, ``J*``, ``Ḣ`` and ``∂H/∂q``,
 with LaTeX, NumPy and C output. Tutorial: ``docs/symbolic.md``.
 
-Needs SymPy (``pip install spacearm[symbolic]``).
+Needs SymPy (``pip install "spacearm[symbolic]"``); without it, importing this package raises
+:class:`~spacearm.errors.MissingDependencyError` naming that extra.
 """
+
+from .._optional import require
+
+require("sympy", "closed-form derivation (spacearm.symbolic, spacearm derive)")
 
 from .derivation import Derivation, Quantity, derive
 from .parameters import Parameters

@@ -1,7 +1,8 @@
 """``spacearm derive MODEL [--latex OUT.tex] [--python OUT.py] [--c OUT.c] [--symbols ...]``.
 
 Derives the model's closed-form matrices and writes the requested outputs atomically; prints the
-derivation time of each stage. Registered in :mod:`spacearm.cli`.
+derivation time of each stage. Registered in :mod:`spacearm.cli`. SymPy (the ``symbolic`` extra)
+is imported only when the command runs, so the parser builds without it.
 """
 
 from __future__ import annotations
@@ -27,9 +28,9 @@ def add_parser(sub) -> None:
 def run(args, load_model, out=None) -> None:
     # Resolve the stream at call time so that redirections of sys.stdout (pytest, callers) count.
     out = sys.stdout if out is None else out
-    from ..errors import SpacearmError
-    from .codegen import write_atomic
-    from .derivation import derive
+    from .errors import SpacearmError
+    from .symbolic.codegen import write_atomic
+    from .symbolic.derivation import derive
 
     robot = load_model(args.model)
     symbols = None
@@ -45,15 +46,15 @@ def run(args, load_model, out=None) -> None:
         out.write("nothing to write: give --latex, --python and/or --c\n")
     jobs = []
     if args.latex:
-        from .latex import latex_document
+        from .symbolic.latex import latex_document
 
         jobs.append(("LaTeX", args.latex, lambda: latex_document(d)))
     if args.python:
-        from .numpy_module import numpy_module
+        from .symbolic.numpy_module import numpy_module
 
         jobs.append(("NumPy", args.python, lambda: numpy_module(d, include)))
     if args.c:
-        from .c_source import c_source
+        from .symbolic.c_source import c_source
 
         jobs.append(("C", args.c, lambda: c_source(d, include)))
     for what, path, make in jobs:
