@@ -39,7 +39,7 @@ cd "$work"   # away from the source tree, so the installed package is the one im
 "$work/plain/bin/python" - "$work/plain/bin/spacearm" <<'PY'
 import subprocess, sys, time
 t = time.perf_counter()
-out = subprocess.run([sys.argv[1], "--version"], check=True, capture_output=True, text=True).stdout.strip()
+out = subprocess.run([sys.argv[1], "--version"], check=True, stdout=subprocess.PIPE, text=True).stdout.strip()
 print(f"{out}: 'spacearm --version' took {time.perf_counter() - t:.2f} s")
 PY
 "$work/plain/bin/python" -m spacearm --version
