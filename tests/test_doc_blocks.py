@@ -174,3 +174,14 @@ def test_the_pages_have_blocks_to_run() -> None:
     # Guards the parser against silently finding nothing: the README's quick start is Python.
     assert any(b.lang == "python" for b in _runnable(ROOT / "README.md"))
     assert len(RUNNABLE_PAGES) >= 10
+
+
+def test_site_hook_hides_the_skip_word() -> None:
+    # The site (scripts/mkdocs_hooks.py) renders ```python skip as ```python; other fences unchanged.
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("mkdocs_hooks", ROOT / "scripts" / "mkdocs_hooks.py")
+    hooks = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(hooks)
+    text = '```python skip\na\n```\n  ```bash skip\n```python exec="on" session="s"\n~~~sh skip\n```\n'
+    assert hooks.on_page_markdown(text) == '```python\na\n```\n  ```bash\n```python exec="on" session="s"\n~~~sh\n```\n'
