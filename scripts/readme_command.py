@@ -1,6 +1,6 @@
 """Print one of the README's set-up commands, exactly as the README writes it.
 
-The README marks each set-up block with an HTML comment on the line before its fence:
+The README marks each set-up block with an HTML comment above its fence:
 ``<!-- ci: main-job -->`` (install and run the main job) and ``<!-- ci: test-command -->``
 (install the test needs and run every test). CI runs the printed command as written, so the
 README cannot drift from what is checked. Usage: ``python3 scripts/readme_command.py main-job``.
@@ -13,7 +13,8 @@ import sys
 
 def readme_command(name: str, readme: pathlib.Path) -> str:
     text = readme.read_text(encoding="utf-8")
-    pattern = re.compile(r"<!-- ci: " + re.escape(name) + r" -->\s*\n```[a-z]*\n(.*?)\n```", re.S)
+    # The marker, any further comment lines (the doc-block test's skip reason), then the fence.
+    pattern = re.compile(r"<!-- ci: " + re.escape(name) + r" -->[ \t]*\n(?:<!--[^\n]*-->[ \t]*\n)*```[^\n]*\n(.*?)\n```", re.S)
     found = pattern.findall(text)
     if len(found) != 1:
         raise SystemExit(f"readme_command: expected one block marked '<!-- ci: {name} -->' in {readme}, found {len(found)}")

@@ -1,6 +1,10 @@
 """Building a model in Python, link by link.
 
+<<<<<<< HEAD
 Frames (docs/conventions.md): every body frame has its origin at the body's CM. A joint sits at
+=======
+Frames (``docs/conventions.md``): every body frame has its origin at the body's CM. A joint sits at
+>>>>>>> docs
 ``origin`` in the parent's frame; the child's axes are the parent's rotated by ``rotation``
 (quaternion ``[x, y, z, w]``) or ``rpy`` (URDF roll-pitch-yaw) and then by the joint motion;
 ``axis`` is given in the child's frame; ``com`` is the child's CM measured from the joint, in
@@ -211,7 +215,7 @@ class RobotBuilder:
         mass: float = 0.0,
         transverse_inertia: Optional[float] = None,
     ) -> "RobotBuilder":
-        """Add a reaction wheel: a symmetric rotor on a revolute joint of the base (DESIGN §2).
+        """Add a reaction wheel: a symmetric rotor on a revolute joint of the base (``docs/simulation-core.md``).
 
         The wheel is an ordinary link (``wheel1``, ``wheel2``, … unless ``name`` is given; joint
         ``<name>_joint``) whose coordinate is the rotor angle, so its torque is an internal

@@ -314,7 +314,7 @@ def run_demo(out_dir, animation: bool = True, out=None, figures: bool = True) ->
     ``figures=False`` writes only the trajectory file (no matplotlib needed).
 
     1. Computed torque (reduced EOM, paper eqs. 112–115) drives the arm along a 4 s quintic
-       from the paper's initial angles to ``q_goal``: the base turns and moves the opposite
+       from the preset's initial angles to ``q_goal``: the base turns and moves the opposite
        way, the system CM stays where it was (zero momentum), the tracking error stays at the
        integration level.
     2. The same model released with joint velocities (the base with the velocity that zeroes

@@ -1,16 +1,28 @@
-"""Interoperability with Pinocchio and MuJoCo: model export and convention converters.
+"""Interoperability with Pinocchio, MuJoCo, SPART and SpaceDyn: model export and convention converters.
 
 spacearm, Pinocchio and MuJoCo describe the same free-flying multibody system with different
 coordinates. This module builds the equivalent model in each engine and maps states, forces,
 accelerations and mass matrices between the three layouts, so that a user (or a test) can
 compute a quantity in one and compare it with the other.
 
-Conventions (DESIGN.md §1 and §6; every formula below was verified numerically by
-``tests/test_pinocchio.py`` and ``tests/test_mujoco.py``)::
+Conventions (``docs/conventions.md``; every formula below was verified numerically by
+``tests/test_pinocchio.py``, ``tests/test_mujoco.py`` and ``tests/test_interop_spart.py``)::
 
     spacearm   x = [r0, quat0 (x, y, z, w), q]          u = [v0 (𝒥), ω0 (𝒥), q̇]
     Pinocchio  q = [r0, quat0 (x, y, z, w), P_eᵀ q]      v = [R0ᵀ v0, R0ᵀ ω0, P_eᵀ q̇]
     MuJoCo     qpos = [r0, quat0 (w, x, y, z), P_eᵀ q]   qvel = [v0, R0ᵀ ω0, P_eᵀ q̇]
+    SPART      R0, r0, qm = q                          u0 = [R0ᵀ ω0, v0], um = q̇
+    SpaceDyn   R0 = r0, A0 = R0, q                      v0, w0 = ω0, qd = q̇
+
+SPART and SpaceDyn are MATLAB libraries: their "state" is a set of separate arrays, returned
+here as the named tuples :class:`SpartState` and :class:`SpaceDynState`. Both put the base
+frame at the base centre of mass and use a rotation matrix mapping base-frame vectors to the
+inertial frame (SPART's ``R0``, SpaceDyn's ``A0``). SPART's base velocity ``u0`` puts the
+angular velocity first, in the base frame, then the linear velocity of the base CM in the
+inertial frame (its ``Velocities`` builds the base twist as ``t0 = blkdiag(R0, E) u0``);
+SpaceDyn's ``v0`` and ``w0`` are both in the inertial frame, like spacearm's. Both number the
+joints in the order of their robot description: a serial chain has spacearm's order, which these
+converters keep (no permutation).
 
 All three put the base frame origin at the base centre of mass (the exported models are built
 that way), so the base "origin velocity" of each engine is the base CM velocity ``v0``.
@@ -51,12 +63,12 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
-from typing import List, Optional, Tuple
+from typing import List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
 from ._arrays import vector
-from .errors import ShapeError
+from .errors import ArgumentError, NonFiniteError, QuaternionError, ShapeError
 from .rotations import quat_from_matrix, quat_to_matrix
 
 __all__ = [
@@ -85,6 +97,13 @@ __all__ = [
     "mass_matrix_from_mujoco",
     "bias_from_mujoco",
     "mujoco_transform",
+    # SPART and SpaceDyn (MATLAB)
+    "SpartState",
+    "to_spart_state",
+    "from_spart_state",
+    "SpaceDynState",
+    "to_spacedyn_state",
+    "from_spacedyn_state",
 ]
 
 #: Name of the free-flyer / free joint of the base in the exported models.
@@ -534,3 +553,108 @@ def aba_derivatives_from_pinocchio(robot, x, u, f, ddq_dq, ddq_dv, minv, ddq):
     d_du[0:3, 0:3] += _skew(u[3:6])
     d_du[0:3, 3:6] -= _skew(u[0:3])
     return d_dx, d_du, tm
+
+
+# ---------------------------------------------------------------------------------------------
+# SPART and SpaceDyn (MATLAB libraries; states only)
+# ---------------------------------------------------------------------------------------------
+#: How far from orthonormal (max |RᵀR − E|) a rotation matrix given to a converter may be.
+ROTATION_TOLERANCE = 1e-6
+
+
+class SpartState(NamedTuple):
+    """A spacearm state in SPART's variables (``R0, r0, qm, u0, um`` of SPART's kinematics)."""
+
+    R0: np.ndarray  #: 3×3 rotation, base frame → inertial frame
+    r0: np.ndarray  #: base CM position in the inertial frame
+    qm: np.ndarray  #: joint positions (N)
+    u0: np.ndarray  #: ``[ω0 in the base frame; ṙ0 in the inertial frame]`` (angular first)
+    um: np.ndarray  #: joint velocities (N)
+
+
+class SpaceDynState(NamedTuple):
+    """A spacearm state in SpaceDyn's variables (``R0, A0, v0, w0, q, qd``).
+
+    Beware the names: SpaceDyn's ``R0`` is the base CM *position* and ``A0`` the base rotation.
+    """
+
+    R0: np.ndarray  #: base CM position in the inertial frame
+    A0: np.ndarray  #: 3×3 rotation, base frame → inertial frame
+    v0: np.ndarray  #: base CM velocity, inertial frame
+    w0: np.ndarray  #: base angular velocity, inertial frame
+    q: np.ndarray  #: joint positions (N)
+    qd: np.ndarray  #: joint velocities (N)
+
+
+def _checked_state(robot, x, u) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``(r0, R0, q, u)`` of a spacearm state, checked as :class:`~spacearm.Robot` checks it."""
+    x = vector(x, "x", robot.nx)
+    u = vector(u, "u", robot.nu)
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(u))):
+        raise NonFiniteError("x and u must be finite")
+    norm = np.linalg.norm(x[3:7])
+    if abs(norm - 1.0) > 1e-6:
+        raise QuaternionError(f"the base quaternion x[3:7] must have unit norm (within 1e-6), got norm {norm:.9g}")
+    return x[:3].copy(), quat_to_matrix(x[3:7]), x[7:].copy(), u
+
+
+def _rotation(value, name: str) -> np.ndarray:
+    try:
+        r = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ShapeError(f"{name} must be a 3×3 rotation matrix of numbers, got {value!r}") from exc
+    if r.shape != (3, 3):
+        raise ShapeError(f"{name} must be a 3×3 rotation matrix, got shape {r.shape}")
+    if not np.all(np.isfinite(r)):
+        raise NonFiniteError(f"{name} must be finite")
+    err = np.max(np.abs(r.T @ r - np.eye(3)))
+    if err > ROTATION_TOLERANCE or np.linalg.det(r) <= 0:
+        raise ArgumentError(f"{name} must be a proper rotation matrix (orthonormal within {ROTATION_TOLERANCE:g}, "
+                            f"determinant +1); got max|{name}ᵀ{name} − E| = {err:.3g}, det = {np.linalg.det(r):.6g}")
+    return r
+
+
+def _finite(value, name: str, length: int) -> np.ndarray:
+    v = vector(value, name, length)
+    if not np.all(np.isfinite(v)):
+        raise NonFiniteError(f"{name} must be finite, got {v}")
+    return v
+
+
+def to_spart_state(robot, x, u) -> SpartState:
+    """spacearm ``(x, u)`` → SPART's ``(R0, r0, qm, u0, um)``.
+
+    ``R0`` is the base rotation of the quaternion ``x[3:7]``; ``u0 = [R0ᵀ ω0; v0]`` (SPART's
+    base angular velocity is in the base frame and comes first; its linear velocity is the
+    base CM velocity in the inertial frame).
+    """
+    r0, rot, q, u = _checked_state(robot, x, u)
+    return SpartState(rot, r0, q, np.concatenate([rot.T @ u[3:6], u[0:3]]), u[6:].copy())
+
+
+def from_spart_state(robot, R0, r0, qm, u0, um) -> Tuple[np.ndarray, np.ndarray]:
+    """SPART's ``(R0, r0, qm, u0, um)`` → spacearm ``(x, u)``: ``x = [r0, quat(R0), qm]``,
+    ``u = [u0[3:6], R0 u0[0:3], um]``. ``R0`` must be a rotation matrix (base → inertial)."""
+    n = robot.n_dof
+    rot = _rotation(R0, "R0")
+    u0 = _finite(u0, "u0", 6)
+    x = np.concatenate([_finite(r0, "r0", 3), quat_from_matrix(rot), _finite(qm, "qm", n)])
+    return x, np.concatenate([u0[3:6], rot @ u0[0:3], _finite(um, "um", n)])
+
+
+def to_spacedyn_state(robot, x, u) -> SpaceDynState:
+    """spacearm ``(x, u)`` → SpaceDyn's ``(R0, A0, v0, w0, q, qd)``: the same vectors (SpaceDyn's
+    ``v0``, ``w0`` are in the inertial frame), with the base attitude as the rotation matrix
+    ``A0`` (base → inertial) instead of a quaternion."""
+    r0, rot, q, u = _checked_state(robot, x, u)
+    return SpaceDynState(r0, rot, u[0:3].copy(), u[3:6].copy(), q, u[6:].copy())
+
+
+def from_spacedyn_state(robot, R0, A0, v0, w0, q, qd) -> Tuple[np.ndarray, np.ndarray]:
+    """SpaceDyn's ``(R0, A0, v0, w0, q, qd)`` → spacearm ``(x, u)``. ``R0`` is SpaceDyn's base
+    CM position, ``A0`` its base rotation matrix (base → inertial)."""
+    n = robot.n_dof
+    rot = _rotation(A0, "A0")
+    x = np.concatenate([_finite(R0, "R0", 3), quat_from_matrix(rot), _finite(q, "q", n)])
+    u = np.concatenate([_finite(v0, "v0", 3), _finite(w0, "w0", 3), _finite(qd, "qd", n)])
+    return x, u

@@ -1,6 +1,9 @@
-"""The two models of the paper's case studies (Wilde et al. 2018, §6), with exactly the
-parameters of the project's issue #2, and a dual-arm servicer (defined once, in the Rust core's
-``presets`` module).
+"""Preset models (defined once, in the Rust core's ``presets`` module).
+
+Provenance: :func:`planar4` carries exactly the planar values of SPART's ``ResolvedMotion``
+example (100 kg, 0.5 m base; four 10 kg, 1 m links; initial angles [π/4, −π/4, −π/4, π/4]).
+:func:`spatial6`, :func:`dual_arm` and :func:`spatial7` are defined by this project. None of them
+is the case study of Wilde et al. (2018): the paper's own case-study parameters are not available.
 
 Both follow the paper's link convention: every link frame aligns with the base frame at
 ``q = 0``, links extend along their x axis with the CM at mid-length, joint ``i+1`` sits at the
@@ -19,7 +22,7 @@ NAMES = ("planar4", "spatial6", "dual_arm", "spatial7")
 
 
 def planar4() -> Robot:
-    """Planar 4-link arm on a 100 kg cube (paper case study 1).
+    """Planar 4-link arm on a 100 kg cube: the planar values of SPART's ``ResolvedMotion`` example.
 
     Base: 100 kg, 0.5 m cube (4.1667 kg·m² about each axis). Four revolute joints about +z;
     joint 1 at (0.25, 0, 0) m from the base CM; links 10 kg, 1 m long, 0.05 m square bars
@@ -30,7 +33,7 @@ def planar4() -> Robot:
 
 
 def spatial6() -> Robot:
-    """Spatial 6-link arm on a 500 kg box (paper case study 2, after Yoshida & Umetani 1993).
+    """Spatial 6-link arm on a 500 kg box (defined by this project).
 
     Base: 500 kg, 1.2 × 1.0 × 0.8 m (Ixx 68.33, Iyy 86.67, Izz 101.67 kg·m²); joint 1 at
     (0.6, 0, 0) m; axes x, y, y, x, y, x; lengths 0.2, 1.0, 1.0, 0.15, 0.15, 0.2 m; masses 8,
@@ -52,7 +55,7 @@ def dual_arm() -> Robot:
 
 
 def spatial7() -> Robot:
-    """Redundant 7-DOF arm on the spatial6 base: the redundancy-resolution example (issue #6).
+    """Redundant 7-DOF arm on the spatial6 base: the redundancy-resolution example.
 
     Base: 500 kg, 1.2 × 1.0 × 0.8 m (Ixx 68.33, Iyy 86.67, Izz 101.67 kg·m²); joint 1 at
     (0.6, 0, 0) m; axes x, y, x, y, x, y, x (shoulder roll-pitch-roll, elbow pitch, wrist

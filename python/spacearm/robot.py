@@ -1,7 +1,7 @@
 """The :class:`Robot`: a validated spacecraft-manipulator model and every quantity of the
 Generalized Jacobian Matrix formulation.
 
-Conventions (DESIGN.md §1, see ``docs/conventions.md``): SI units; vectors in the inertial frame
+Conventions (``docs/conventions.md``): SI units; vectors in the inertial frame
 𝒥 unless a name says otherwise; configuration ``x = [r0 (3), quat0 (4, [x, y, z, w]), q (N)]``
 with ``r0`` the base CM; generalized velocity ``u = [v0 (3), w0 (3), qd (N)]`` with ``v0`` the
 base CM velocity and ``w0`` the base angular velocity, both in 𝒥; generalized force
@@ -50,7 +50,7 @@ class Kinematics(NamedTuple):
 
 
 class Momentum(NamedTuple):
-    """Linear momentum and angular momentum about three points (DESIGN.md §1)."""
+    """Linear momentum and angular momentum about three points (``docs/conventions.md``)."""
 
     P: np.ndarray  #: linear momentum, N·s
     L_origin: np.ndarray  #: about the origin of 𝒥 (conserved with no external wrench)
@@ -323,7 +323,7 @@ class Robot:
         Give either ``f = [F0, N0, tau]`` or ``tau`` (joint torques) and optionally
         ``base_wrench = [F0, N0]`` (zero: free-floating). ``method``: ``"aba"`` (O(N)
         articulated-body algorithm), ``"mass_matrix"`` (``H⁻¹(f + J^T w - c)``) or
-        ``"reduced"`` (``qdd = H*⁻¹(tau - c* - H0m^T H0⁻¹ F_b)``, DESIGN.md §2; no external
+        ``"reduced"`` (``qdd = H*⁻¹(tau - c* - H0m^T H0⁻¹ F_b)``, ``docs/physics.md``; no external
         wrenches).
         """
         if f is None:

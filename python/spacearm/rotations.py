@@ -1,6 +1,6 @@
 """Small rotation helpers for model input and convention conversion.
 
-Quaternions are unit, Hamilton, scalar LAST ``[x, y, z, w]`` (DESIGN.md §1; the same as
+Quaternions are unit, Hamilton, scalar LAST ``[x, y, z, w]`` (``docs/conventions.md``; the same as
 ``scipy.spatial.transform.Rotation.as_quat()`` and Pinocchio).
 """
 

@@ -221,14 +221,28 @@ def simulate(
     max_steps : int
         DOPRI5 step budget.
 
+    Returns
+    -------
+    Trajectory
+        The recorded run.
+
+    Raises
+    ------
+    ArgumentError
+        Bad options (an ``ArgumentError`` is a ``ValueError``).
+    ShapeError, NonFiniteError, QuaternionError
+        Bad initial states.
+    NotFoundError
+        Unknown wheels.
+    SimulationError
+        The motion diverges or the adaptive step collapses.
+
+    Notes
+    -----
     Saturation is never silent: a torque, speed or thruster limit hit is clamped physically
     (``tau`` against ``tau_cmd`` in the records) and its onset recorded as an event
     (``saturation_t``, ``saturation_actuator`` indexing ``meta["actuator_names"]``,
     ``saturation_kind`` 0 torque, 1 speed, 2 thruster).
-
-    Raises ``ArgumentError`` (a ``ValueError``) for bad options, ``ShapeError``,
-    ``NonFiniteError``, ``QuaternionError`` for bad states, ``NotFoundError`` for unknown
-    wheels, ``SimulationError`` if the motion diverges or the adaptive step collapses.
     """
     data, meta = _run(
         robot,

@@ -5,7 +5,7 @@ commanded torques, base wrench, momenta, kinetic energy, system CM, end-effector
 reference and tracking error, reaction-wheel speeds, actuator saturation events) and the run's
 description (``meta``: mode, integrator, step, controller, conserved quantities, step counts).
 
-Conventions (DESIGN.md §1): ``x = [r0, quat0 (x, y, z, w), q]``, ``u = [v0, w0, qd]`` with
+Conventions (``docs/conventions.md``): ``x = [r0, quat0 (x, y, z, w), q]``, ``u = [v0, w0, qd]`` with
 ``v0`` the base CM velocity and ``w0`` the base angular velocity, both in the inertial frame 𝒥;
 ``base_wrench = [F0, N0]`` in 𝒥; momenta ``P``, ``L_origin`` (about the origin of 𝒥) and
 ``L_com`` (about the system CM) in 𝒥. SI units throughout.

@@ -91,7 +91,7 @@ def to_urdf(robot) -> str:
 
 
 def save_urdf(robot, path) -> None:
-    """Write :func:`to_urdf` to ``path`` atomically (temporary file, flush, rename; DESIGN §4)."""
+    """Write :func:`to_urdf` to ``path`` atomically (temporary file, flush, rename)."""
     path = os.fspath(path)
     text = to_urdf(robot)
     fd, tmp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), suffix=".urdf.tmp")

@@ -1,6 +1,7 @@
-//! The two models of the paper's case studies (Wilde et al. 2018, §6) with the parameters of
-//! the project's issue #2, and a dual-arm servicer (issue #3). The Python presets
-//! (`spacearm.presets`) are these same models.
+//! The preset models. `planar4` carries exactly the planar values of SPART's `ResolvedMotion`
+//! example; `spatial6`, `dual_arm` and `spatial7` are defined by this project. None of them is
+//! the case study of Wilde et al. (2018), whose parameters are not available. The Python
+//! presets (`spacearm.presets`) are these same models.
 //!
 //! Both follow the paper's link convention: every link frame aligns with the base frame at
 //! `q = 0`, links extend along their x axis with the CM at mid-length, and joint `i+1` sits at
@@ -73,7 +74,8 @@ fn serial_arm(spec: SerialArm<'_>) -> Result<Model> {
     b.build()
 }
 
-/// Planar 4-link arm on a 100 kg, 0.5 m cube (paper case study 1).
+/// Planar 4-link arm on a 100 kg, 0.5 m cube: the planar values of SPART's `ResolvedMotion`
+/// example (four 10 kg, 1 m links; initial angles [π/4, −π/4, −π/4, π/4]).
 pub fn planar4() -> Model {
     serial_arm(SerialArm {
         name: "planar4",
@@ -90,8 +92,7 @@ pub fn planar4() -> Model {
     .expect("the planar4 preset is a valid model")
 }
 
-/// Spatial 6-link arm on a 500 kg, 1.2 × 1.0 × 0.8 m box (paper case study 2, after Yoshida
-/// & Umetani 1993).
+/// Spatial 6-link arm on a 500 kg, 1.2 × 1.0 × 0.8 m box (defined by this project).
 pub fn spatial6() -> Model {
     let (x, y) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
     serial_arm(SerialArm {
@@ -148,7 +149,7 @@ pub fn dual_arm() -> Model {
 
 /// Redundant 7-DOF arm (shoulder roll–pitch–roll, elbow pitch, wrist roll–pitch–roll) on the
 /// spatial6 base (500 kg, 1.2 × 1.0 × 0.8 m; Ixx 68.33, Iyy 86.67, Izz 101.67 kg·m²): the
-/// redundancy-resolution example (issue #6).
+/// redundancy-resolution example.
 ///
 /// Joint 1 at (0.6, 0, 0) m; axes x, y, x, y, x, y, x; lengths 0.2, 0.1, 0.9, 0.1, 0.9, 0.1,
 /// 0.15 m; masses 8, 4, 12, 4, 10, 3, 3 kg; 0.1 m square bars. Limits: roll joints (1, 3, 5, 7)

@@ -122,7 +122,7 @@ def run_campaign(
     checkpoint_seconds: float = 10.0,
     progress: Union[bool, Callable[[int, int], None]] = True,
 ) -> CampaignResult:
-    """Run a Monte Carlo inertia-uncertainty campaign (issue #6 item 5).
+    """Run a Monte Carlo inertia-uncertainty campaign.
 
     ``robot_or_spec``: the nominal :class:`~spacearm.Robot` (then ``samples`` is required) or a
     :class:`CampaignSpec`. Each sample flies :class:`Scenario` on a plant whose inertia is

@@ -1,4 +1,4 @@
-"""Random inertia errors of the plant: what the campaign samples (issue #6 item 5).
+"""Random inertia errors of the plant: what the campaign samples.
 
 A mission's controller is built on a *nominal* model; the spacecraft actually flying differs from
 it by the propellant used, fuel that has sloshed to one side of its tank, a payload of uncertain

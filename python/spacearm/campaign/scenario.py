@@ -1,6 +1,6 @@
 """One campaign sample: fly the perturbed plant under the controller built on the nominal model.
 
-The scenario is the paper's case-study manoeuvre (a joint-space quintic from the model's initial
+The scenario is a point-to-point manoeuvre (a joint-space quintic from the model's initial
 angles to a goal, tracked by computed torque on the reduced EOM, eqs. 112–115, or by joint PD)
 in a chosen maneuvering mode. The controller's model is always the *nominal* robot; the plant is
 the nominal robot with the sample's inertia errors (:func:`spacearm.control.perturbed_model`).

@@ -46,7 +46,7 @@ def kernel(d: Derivation, q: Quantity) -> Kernel:
 
 def write_atomic(path: str, text: str) -> None:
     """Write ``text`` to ``path`` through a temporary file in the same directory and
-    ``os.replace``, so an interrupted run never leaves a truncated file (DESIGN.md §4)."""
+    ``os.replace``, so an interrupted run never leaves a truncated file."""
     directory = os.path.dirname(os.path.abspath(path))
     fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=os.path.basename(path), dir=directory)
     try:

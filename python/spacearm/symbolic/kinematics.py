@@ -1,4 +1,4 @@
-"""Forward kinematics in closed form (paper §2–3; DESIGN.md §1 frames).
+"""Forward kinematics in closed form (paper §2–3; frames of ``docs/conventions.md``).
 
 Every body frame has its origin at the body's CM. For link ``i`` with parent ``p``:
 ``R_i = R_p · C_i · Rot(a_i, q_i)`` (revolute; ``C_i`` the fixed rotation of the model,
@@ -41,7 +41,7 @@ def dcm_symbols() -> sp.Matrix:
 
 
 def quaternion_symbols():
-    """The base attitude quaternion ``[x, y, z, w]`` (scalar last, DESIGN.md §1) as symbols."""
+    """The base attitude quaternion ``[x, y, z, w]`` (scalar last, ``docs/conventions.md``) as symbols."""
     return sp.symbols("eta0_x eta0_y eta0_z eta0_w", real=True)
 
 

@@ -2,7 +2,7 @@
 
 Each quantity ``NAME`` becomes ``NAME(x, p=PARAMS)`` or ``NAME(x, u, p=PARAMS)`` taking the world
 configuration ``x = [r0, quat xyzw, q]`` (and velocity ``u = [v0, w0, qd]``) and returning the
-world-frame matrix, exactly as :class:`spacearm.Robot` does (DESIGN.md §1).
+world-frame matrix, exactly as :class:`spacearm.Robot` does (``docs/conventions.md``).
 """
 
 from __future__ import annotations
