@@ -141,3 +141,19 @@ def test_plot_with_no_successful_sample_is_a_clear_error(tmp_path):
         result.plot(tmp_path / "empty.png")
     assert not (tmp_path / "empty.png").exists()
     assert list(tmp_path.iterdir()) == []
+
+
+def test_ctrl_c_keeps_what_ran_and_a_rerun_runs_the_rest(tmp_path):
+    planar4 = spacearm.presets.planar4()
+    out = tmp_path / "interrupted.npz"
+
+    def interrupt(done, total):
+        if done == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_campaign(planar4, 5, seed=4, scenario=QUICK, workers=0, out=out, progress=interrupt)
+    saved = CampaignResult.load(out)
+    assert (saved.n_ok, saved.n_failed, saved.n_pending) == (2, 0, 3)
+    resumed = run_campaign(planar4, 5, seed=4, scenario=QUICK, workers=0, out=out, progress=False)
+    assert resumed.run["samples_run"] == 3 and resumed.n_ok == 5
