@@ -1,4 +1,4 @@
-"""Analysis of free-floating spacecraft-manipulator systems (issue #6), on top of the Rust core's
+"""Analysis of free-floating spacecraft-manipulator systems, on top of the Rust core's
 ``analysis`` module:
 
 - :mod:`~spacearm.analysis.singularities` — dynamic singularities of ``J*`` vs kinematic ones of

@@ -1,4 +1,4 @@
-"""Inertia-uncertainty campaigns (issue #6 item 5): how much does an inertia error cost?
+"""Inertia-uncertainty campaigns: how much does an inertia error cost?
 
 A Monte Carlo study: every sample flies the same manoeuvre (:class:`Scenario`) on a plant whose
 base mass and inertia, link masses, sloshed propellant and payload differ from the nominal model
