@@ -193,6 +193,12 @@ def test_campaign_axes_carry_units():
              "base_mass_scale": "-", "base_inertia_scale": "-", "link_mass_scale": "-", "slosh_fraction": "-",
              "tracking_error_max": "rad", "tracking_error_rms": "rad", "tracking_error_final": "rad",
              "attitude_excursion_max": "deg", "base_displacement_max": "m"}
+    # Every parameter and metric has its unit in the tables the figure reads.
+    from spacearm.campaign import METRIC_NAMES, METRIC_UNITS, PARAMETER_NAMES, PARAMETER_UNITS
+
+    assert PARAMETER_UNITS == {name: units[name] for name in PARAMETER_NAMES}
+    assert {k: v for k, v in METRIC_UNITS.items() if k != "saturation_events"} == \
+        {name: units[name] for name in METRIC_NAMES if name != "saturation_events"}
     labels = [ax.get_xlabel() for ax in fig.axes if ax.get_visible() and ax.get_xlabel()]
     labels += [ax.get_ylabel() for ax in fig.axes if ax.get_visible() and ax.get_ylabel() not in ("", "samples")]
     assert len(labels) >= 4
@@ -201,3 +207,15 @@ def test_campaign_axes_carry_units():
         assert unit == units[name] + "]", label
     assert any(label.split(" [")[0] in {"payload_mass", "base_inertia_scale", "base_mass_scale", "link_mass_scale",
                                         "slosh_fraction"} for label in labels)
+
+
+def test_without_a_robot_the_joint_units_say_they_are_unknown():
+    from sim_samples import synthetic
+
+    from spacearm.trajectory import Trajectory
+
+    _, data, meta = synthetic(k=21)
+    axes = _axes_by_title(Trajectory(data=data, meta=meta).plot())  # joint kinds unknown
+    assert axes["joint coordinates (dashed: reference)"].get_ylabel() == "q [rad or m]"
+    assert axes["joint torques and forces applied (dashed: commanded)"].get_ylabel() == "τ [N m or N]"
+    assert axes["tracking error (joint)"].get_ylabel() == "‖e‖ [rad or m]"

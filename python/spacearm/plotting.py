@@ -247,9 +247,11 @@ def _panel_wrench(ax, traj):
 def _panel_tracking(ax, traj, arm):
     e = traj.tracking_error
     if traj.tracking_error_kind == "joint":
-        # The norm over the joints: in rad, in m, or a mix of both when the arm has both kinds.
-        kinds = {k for k in (_dof_kinds(traj)[j] for j in arm)}
-        unit = {frozenset({"revolute"}): "rad", frozenset({"prismatic"}): "m"}.get(frozenset(kinds), "rad and m")
+        # The norm over the joints: in rad, in m, a mix of both when the arm has both kinds, or
+        # either when the kinds are unknown (no robot).
+        kinds = frozenset(_dof_kinds(traj)[j] for j in arm)
+        unit = {frozenset({"revolute"}): "rad", frozenset({"prismatic"}): "m",
+                frozenset({None}): "rad or m"}.get(kinds, "rad and m")
     else:
         unit = {"cartesian": "m"}.get(traj.tracking_error_kind or "", "?")
     ax.plot(traj.t, e, lw=1.4, color="C3")
