@@ -140,8 +140,12 @@ def _lost_message(lost, done: int, backend: str, out: Optional[Path]) -> str:
     if done == 0 and backend == "processes":
         return (f"no worker process returned a sample ({reason}); nothing was recorded. If the script that "
                 f"calls run_campaign has no main guard, that is the cause: {GUARD_ADVICE}")
-    where = (f"the {done} sample(s) that ran are saved in '{out}'; run the same campaign with the same out to "
-             "run the rest" if out is not None else "run the campaign again with out=... to keep what ran")
+    if out is None:
+        where = "run the campaign again (with out=... to keep what runs)"
+    elif done == 0:
+        where = f"run the same campaign with out='{out}' again to run them"
+    else:
+        where = f"the {done} sample(s) that ran are saved in '{out}'; run the same campaign with the same out to run the rest"
     return (f"{len(lost)} sample(s) did not run because the {backend} back end failed outside them ({reason}); "
             f"they are not recorded as failed and stay pending: {where}")
 
