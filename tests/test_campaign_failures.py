@@ -157,3 +157,24 @@ def test_ctrl_c_keeps_what_ran_and_a_rerun_runs_the_rest(tmp_path):
     assert (saved.n_ok, saved.n_failed, saved.n_pending) == (2, 0, 3)
     resumed = run_campaign(planar4, 5, seed=4, scenario=QUICK, workers=0, out=out, progress=False)
     assert resumed.run["samples_run"] == 3 and resumed.n_ok == 5
+
+
+def test_dask_tasks_lost_to_a_restart_stay_pending(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    planar4 = spacearm.presets.planar4()
+    slow = Scenario(duration=2.0, dt=1e-3, q_offset=0.4)
+    out = tmp_path / "dask.npz"
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+
+            def restart_the_cluster(done, total):
+                if done == 1:
+                    client.restart()  # every task not yet finished is cancelled: not the samples' doing
+
+            with pytest.raises(SpacearmError, match="did not run because the dask back end failed"):
+                run_campaign(planar4, 30, seed=2, scenario=slow, scheduler=client, out=out, progress=restart_the_cluster)
+    saved = CampaignResult.load(out)
+    assert saved.n_failed == 0 and saved.n_ok >= 1 and saved.n_pending == saved.run["samples_lost"] > 0
+    assert "cancelled" in saved.run["lost_reason"].lower()
+    resumed = run_campaign(planar4, 30, seed=2, scenario=slow, workers=0, out=out, progress=False)
+    assert resumed.n_ok == 30 and resumed.run["samples_run"] == saved.n_pending
