@@ -27,7 +27,7 @@ def test_plot_writes_png_with_the_run_in_its_panels(tmp_path):
     with Image.open(path) as im:
         assert im.format == "PNG" and im.size[0] > 800 and im.size[1] > 600
     axes = _axes_by_title(fig)
-    joints = axes["joint coordinates (dashed: reference)"]
+    joints = axes["joint angles (dashed: reference)"]
     # Every joint's solid line is q_j(t); its dashed twin is the reference.
     solid = [l for l in joints.get_lines() if l.get_linestyle() == "-"]
     dashed = [l for l in joints.get_lines() if l.get_linestyle() == "--"]
@@ -39,7 +39,7 @@ def test_plot_writes_png_with_the_run_in_its_panels(tmp_path):
     att = axes["base attitude"].get_lines()
     np.testing.assert_allclose(att[2].get_ydata(), np.degrees(tr.base_euler[:, 2]))
     # Conservation: relative change of P from sample 1 on.
-    cons = axes["relative change from the initial value"]
+    cons = axes["momentum: relative change from the initial value"]
     p_line = [l for l in cons.get_lines() if l.get_label() == "P (conserved)"][0]
     rel = np.linalg.norm(data["P"] - data["P"][0], axis=1) / max(np.linalg.norm(data["P"][0]), tr.drift_scale("P"))
     np.testing.assert_allclose(p_line.get_ydata(), np.maximum(rel[1:], 1e-17))
@@ -65,7 +65,7 @@ def test_plot_shows_wheels_wrench_and_cartesian_reference():
     ee = axes["end-effector position (dashed: reference)"]
     np.testing.assert_array_equal(ee.get_lines()[1].get_ydata(), data["reference"][:, 0])
     # The wheel is not among the arm's joints.
-    joints = axes["joint coordinates"]
+    joints = axes["joint angles"]
     assert len(joints.get_lines()) == 5
 
 
@@ -124,7 +124,7 @@ def test_torque_free_run_has_no_torque_panel():
     data["tau"] = np.zeros_like(data["tau"])
     data["tau_cmd"] = np.zeros_like(data["tau_cmd"])
     titles = _axes_by_title(Trajectory(robot=robot, data=data, meta=meta).plot())
-    assert not any("joint forces" in t for t in titles)
+    assert not any("joint torques" in t for t in titles)
     data["tau_cmd"][3, 2] = 1.0  # commanded but fully clipped: still shown
     titles = _axes_by_title(Trajectory(robot=robot, data=data, meta=meta).plot())
-    assert any("joint forces" in t for t in titles)
+    assert any("joint torques" in t for t in titles)

@@ -44,6 +44,16 @@ def task_rows(robot, task: TaskLike) -> list:
     return rows
 
 
+def dof_kinds(robot) -> list:
+    """``"revolute"`` or ``"prismatic"`` for each degree of freedom, in ``q`` order (fixed
+    joints have none); sets the unit of each joint on figure axes (rad or m)."""
+    kinds = [""] * robot.n_dof
+    for link in robot.describe()["links"]:
+        if link["type"] != "fixed":
+            kinds[int(link["dof"])] = link["type"]
+    return kinds
+
+
 def joint_bounds(robot, default_span=np.pi):
     """Lower and upper joint bounds for scans: the model's limits where finite, else ±π (±1 m
     for prismatic joints)."""
@@ -96,11 +106,17 @@ def concat_dicts(parts):
 
 
 def new_figure(*args, **kwargs):
-    """A matplotlib Figure without pyplot's global state (Agg canvas)."""
+    """A matplotlib Figure without pyplot's global state (Agg canvas), laid out by matplotlib's
+    constrained layout so that labels, colour bars and legends outside the axes never overlap a
+    neighbouring panel."""
     from .._optional import require
 
+    FigureCanvasAgg = require("matplotlib.backends.backend_agg", "figures").FigureCanvasAgg
     Figure = require("matplotlib.figure", "figures").Figure
-    return Figure(*args, **kwargs)
+    kwargs.setdefault("layout", "constrained")
+    fig = Figure(*args, **kwargs)
+    FigureCanvasAgg(fig)
+    return fig
 
 
 def save_figure(fig, path) -> str:

@@ -85,8 +85,12 @@ class Motion:
         return float(np.max(self.attitude_change))
 
     def plot(self, path, others=(), title: Optional[str] = None) -> str:
+        """Write :meth:`figure` to ``path`` (PNG, atomically); returns the path."""
+        return save_figure(self.figure(others, title), path)
+
+    def figure(self, others=(), title: Optional[str] = None):
         """Point path (x–y), base attitude change and σ_min against time, for this motion and
-        any ``others`` (e.g. a naive motion to the same target)."""
+        any ``others`` (e.g. a naive motion to the same target). Returns the matplotlib ``Figure``."""
         fig = new_figure(figsize=(13, 4.2))
         ax_path, ax_att, ax_sig = fig.subplots(1, 3)
         for m in (self, *others):
@@ -110,7 +114,7 @@ class Motion:
         ax_sig.set_title("distance from singularity", fontsize=10)
         ax_sig.legend(fontsize=8)
         fig.suptitle(title or f"{self.robot_name}: point-to-point motion of the free-floating system (zero momentum)", fontsize=10)
-        return save_figure(fig, path)
+        return fig
 
 
 def move_to(robot, target, x0=None, point=None, task: TaskLike = None, strategy: str = "reactionless", duration: float = 5.0,

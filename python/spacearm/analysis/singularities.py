@@ -11,7 +11,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .. import _core
-from ._common import TaskLike, chunked, concat_dicts, new_figure, samples_2d, save_figure, task_rows
+from ._common import TaskLike, chunked, concat_dicts, dof_kinds, new_figure, samples_2d, save_figure, task_rows
 
 __all__ = ["JacobianMeasures", "SingularityReport", "Detection", "SingularityMap", "analyze", "detect", "damping", "scan", "singularity_map"]
 
@@ -102,23 +102,29 @@ class SingularityMap:
     task: tuple
     seconds: float  #: wall time of the scan
     samples_per_second: float
+    joint_kinds: tuple = ()  #: "revolute" or "prismatic" for each dof (axis units of the figure)
 
     def singular_mask(self, relative: float = 0.02) -> np.ndarray:
         """Grid cells with ``σ_min(J*) < relative · max σ_min(J*)`` over the map."""
         return self.sigma_min_generalized < relative * np.nanmax(self.sigma_min_generalized)
 
     def plot(self, path, title: Optional[str] = None) -> str:
-        """Two maps side by side (``J*`` and ``J_m``), with the locus of singularities: the zero
-        contour of ``det`` for a square task, else the contour ``σ_min = 2 %`` of its maximum."""
-        fig = new_figure(figsize=(11, 4.6))
+        """Write :meth:`figure` to ``path`` (PNG, atomically); returns the path."""
+        return save_figure(self.figure(title), path)
+
+    def figure(self, title: Optional[str] = None):
+        """Two maps side by side (``J*`` and ``J_m``), each with its own colour scale and colour
+        bar (their ranges can differ by orders of magnitude), with the locus of singularities:
+        the zero contour of ``det`` for a square task, else the contour ``σ_min = 2 %`` of its
+        maximum. Returns the matplotlib ``Figure``."""
+        fig = new_figure(figsize=(12, 4.8))
         axes = fig.subplots(1, 2, sharey=True)
         ext = [self.axis_b[0], self.axis_b[-1], self.axis_a[0], self.axis_a[-1]]
-        vmax = max(np.nanmax(self.sigma_min_generalized), np.nanmax(self.sigma_min_fixed))
-        for ax, s, det, name in (
-            (axes[0], self.sigma_min_generalized, self.det_generalized, "free-floating  σ_min(J*)"),
-            (axes[1], self.sigma_min_fixed, self.det_fixed, "fixed base  σ_min(J_m)"),
+        for ax, s, det, name, symbol in (
+            (axes[0], self.sigma_min_generalized, self.det_generalized, "free-floating", "σ_min(J*)"),
+            (axes[1], self.sigma_min_fixed, self.det_fixed, "fixed base", "σ_min(J_m)"),
         ):
-            im = ax.imshow(s, origin="lower", extent=ext, aspect="auto", cmap="viridis", vmin=0, vmax=vmax)
+            im = ax.imshow(s, origin="lower", extent=ext, aspect="auto", cmap="viridis", vmin=0, vmax=np.nanmax(s))
             bb, aa = np.meshgrid(self.axis_b, self.axis_a)
             if np.all(np.isfinite(det)):
                 ax.contour(bb, aa, det, levels=[0.0], colors="red", linewidths=1.5)
@@ -126,13 +132,16 @@ class SingularityMap:
             else:
                 ax.contour(bb, aa, s, levels=[0.02 * np.nanmax(s)], colors="red", linewidths=1.5)
                 locus = "σ_min = 2% of max"
-            ax.set_title(f"{name}\n(red: singular locus, {locus})", fontsize=10)
-            ax.set_xlabel(f"q{self.joints[1] + 1} (rad)")
-        axes[0].set_ylabel(f"q{self.joints[0] + 1} (rad)")
-        fig.colorbar(im, ax=list(axes), label="smallest singular value (m/rad for position rows)")
+            ax.set_title(f"{name}  {symbol}\n(red: singular locus, {locus})", fontsize=10)
+            ax.set_xlabel(f"q{self.joints[1] + 1} [{self._unit(self.joints[1])}]")
+            fig.colorbar(im, ax=ax, label=f"{symbol} (m/rad for position rows)", shrink=0.95)
+        axes[0].set_ylabel(f"q{self.joints[0] + 1} [{self._unit(self.joints[0])}]")
         others = ", ".join(f"q{i + 1}={v:.3g}" for i, v in enumerate(self.q_reference) if i not in self.joints)
-        fig.suptitle(title or f"{self.robot_name}: dynamic vs kinematic singularities, task rows {list(self.task)}" + (f"; {others}" if others else ""), fontsize=10, y=1.04)
-        return save_figure(fig, path)
+        fig.suptitle(title or f"{self.robot_name}: dynamic vs kinematic singularities, task rows {list(self.task)}" + (f"; {others}" if others else ""), fontsize=10)
+        return fig
+
+    def _unit(self, dof: int) -> str:
+        return "m" if self.joint_kinds and self.joint_kinds[dof] == "prismatic" else "rad"
 
 
 def singularity_map(robot, joints: Sequence[int] = None, resolution: int = 101, q=None, point=None, task: TaskLike = None,
@@ -166,4 +175,5 @@ def singularity_map(robot, joints: Sequence[int] = None, resolution: int = 101, 
         r["sigma_min_generalized"].reshape(shape), r["sigma_min_fixed"].reshape(shape),
         r["det_generalized"].reshape(shape), r["det_fixed"].reshape(shape),
         tuple(task_rows(robot, task)), dt, samples.shape[0] / dt,
+        tuple(dof_kinds(robot)),
     )

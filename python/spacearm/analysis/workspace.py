@@ -40,11 +40,15 @@ class Workspace:
     samples_per_second: float
 
     def plot(self, path, plane: str = "xy", slab: Optional[float] = None, title: Optional[str] = None) -> str:
+        """Write :meth:`figure` to ``path`` (PNG, atomically); returns the path."""
+        return save_figure(self.figure(plane, slab, title), path)
+
+    def figure(self, plane: str = "xy", slab: Optional[float] = None, title: Optional[str] = None):
         """Left: fixed-base reachable points (base at the origin, held fixed). Right: the
         free-floating workspace about the system CM: reachable shell, PDW shells (red) and PIW
         shells (green), with the samples' barycentric positions at the initial attitude (grey).
         ``plane``: ``"xy"``, ``"xz"`` or ``"yz"``; for spatial arms only samples within ``slab``
-        (default: 5 % of R_max) of the plane are drawn (a slice)."""
+        (default: 5 % of R_max) of the plane are drawn (a slice). Returns the matplotlib ``Figure``."""
         if plane not in ("xy", "xz", "yz"):
             raise SpacearmError(f"plane must be 'xy', 'xz' or 'yz', got {plane!r}")
         i, j = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}[plane]
@@ -81,7 +85,7 @@ class Workspace:
             ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2)
         fig.suptitle(title or f"{self.robot_name}: workspaces ({self.resolution}; radial resolution {self.radial_resolution:.3g} m; "
                      f"task rows {list(self.task)})", fontsize=10)
-        return save_figure(fig, path)
+        return fig
 
 
 def workspace(robot, resolution: int = 15, samples=None, point=None, task: TaskLike = None, singular_threshold: Optional[float] = None,

@@ -17,9 +17,9 @@ Docs: ``docs/campaigns.md``.
 """
 
 from .executor import run_campaign
-from .perturbation import PARAMETER_NAMES, Perturbations
+from .perturbation import PARAMETER_NAMES, PARAMETER_UNITS, Perturbations
 from .results import FAILED, OK, PENDING, CampaignResult
-from .scenario import METRIC_NAMES, Scenario, evaluate
+from .scenario import METRIC_NAMES, METRIC_UNITS, Scenario, evaluate
 from .spec import CampaignSpec
 
 __all__ = [
@@ -30,7 +30,9 @@ __all__ = [
     "Scenario",
     "evaluate",
     "PARAMETER_NAMES",
+    "PARAMETER_UNITS",
     "METRIC_NAMES",
+    "METRIC_UNITS",
     "OK",
     "FAILED",
     "PENDING",

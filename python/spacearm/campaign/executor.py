@@ -11,20 +11,30 @@ every ``checkpoint_seconds`` and at the end (also on Ctrl-C), and shows a progre
   (default: the CPU count).
 - ``scheduler="tcp://host:8786"`` (or a ``distributed.Client``): Dask's ``client.map`` and
   ``as_completed`` on an existing cluster (``pip install "dask[distributed]"``); each worker needs
-  spacearm installed. A worker that dies marks its sample failed with Dask's message.
+  spacearm installed.
 - ``workers=0``: run in this process (debugging, profiling).
+
+Failures are sorted by where they happen. :func:`~.worker.run_sample` returns every failure of
+the sample itself (an invalid plant, a singular matrix, a diverged state) as an outcome, which is
+recorded as failed. So anything the back end raises instead — a broken process pool, a worker
+or scheduler lost, a task that could not be sent — is a failure of the infrastructure, not of
+the sample: the sample is left pending (a rerun runs it), and once the outcomes that did arrive
+are recorded and saved, the campaign raises one :class:`~spacearm.errors.SpacearmError` saying
+how many samples did not run and why.
 """
 
 from __future__ import annotations
 
+import asyncio
 import multiprocessing
 import os
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
-from typing import Callable, Iterable, Iterator, Optional, Union
+from typing import Callable, Iterable, Iterator, NamedTuple, Optional, Union
 
 from ..errors import SpacearmError
+from ._main_guard import GUARD_ADVICE, check_caller_is_guarded, stop_if_reimported_by_a_worker
 from .perturbation import PARAMETER_NAMES, Perturbations
 from .results import FAILED, PENDING, CampaignResult
 from .scenario import METRIC_NAMES, Scenario
@@ -64,47 +74,80 @@ def _progress(total: int, initial: int, enabled: Union[bool, Callable[[int, int]
     return _Silent()
 
 
-def _local_outcomes(spec: CampaignSpec, jobs, workers: int) -> Iterator[SampleOutcome]:
+class LostSample(NamedTuple):
+    """A sample the back end could not run, for a reason outside the sample (see the module docs)."""
+
+    index: int
+    reason: str
+
+
+def _describe(exc: BaseException) -> str:
+    return f"{type(exc).__name__}: {exc}" if str(exc) else type(exc).__name__
+
+
+def _local_outcomes(spec: CampaignSpec, jobs, workers: int) -> Iterator[Union[SampleOutcome, LostSample]]:
     if workers == 0:
         for index, params in jobs:
             yield run_sample(spec, index, params)
         return
     context = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
-        futures = {pool.submit(run_sample, spec, index, params): (index, params) for index, params in jobs}
+        futures = {pool.submit(run_sample, spec, index, params): index for index, params in jobs}
         try:
             for future in as_completed(futures):
-                index, params = futures[future]
                 try:
-                    yield future.result()
-                except Exception as exc:  # a worker process died (e.g. killed): the sample failed
-                    yield SampleOutcome(index, params, None, f"worker failed: {type(exc).__name__}: {exc}", float("nan"))
+                    outcome = future.result()
+                except Exception as exc:  # the pool broke (a worker died or could not start)
+                    outcome = LostSample(futures[future], f"worker process failed: {_describe(exc)}")
+                yield outcome
         finally:
             for future in futures:
                 future.cancel()
 
 
-def _dask_outcomes(spec: CampaignSpec, jobs, scheduler) -> Iterator[SampleOutcome]:
+def _dask_outcomes(spec: CampaignSpec, jobs, scheduler) -> Iterator[Union[SampleOutcome, LostSample]]:
     from .._optional import require
 
     distributed = require("distributed", "campaigns on a Dask cluster")
     Client, dask_as_completed = distributed.Client, distributed.as_completed
     own_client = not isinstance(scheduler, Client)
-    client = Client(scheduler) if own_client else scheduler
+    if own_client:
+        try:
+            client = Client(scheduler)
+        except (OSError, TimeoutError) as exc:
+            raise SpacearmError(f"cannot connect to the Dask scheduler '{scheduler}': {_describe(exc)}") from None
+    else:
+        client = scheduler
     try:
         indices = [index for index, _ in jobs]
         params = [p for _, p in jobs]
         futures = client.map(run_sample, [spec] * len(jobs), indices, params, pure=False)
-        job_of = {f.key: job for f, job in zip(futures, jobs)}
+        index_of = {f.key: index for f, index in zip(futures, indices)}
         for future in dask_as_completed(futures):
-            index, p = job_of[future.key]
             try:
-                yield future.result()
-            except Exception as exc:  # the worker died or the task could not run
-                yield SampleOutcome(index, p, None, f"dask task failed: {type(exc).__name__}: {exc}", float("nan"))
+                outcome = future.result()
+            except (Exception, asyncio.CancelledError) as exc:  # worker killed, scheduler lost, task not sent
+                outcome = LostSample(index_of[future.key], f"Dask task failed: {_describe(exc)}")
+            yield outcome
     finally:
         if own_client:
             client.close()
+
+
+def _lost_message(lost, done: int, backend: str, out: Optional[Path]) -> str:
+    """The one error a campaign raises when samples were lost to the back end."""
+    reason = lost[0].reason
+    if done == 0 and backend == "processes":
+        return (f"no worker process returned a sample ({reason}); nothing was recorded. If the script that "
+                f"calls run_campaign has no main guard, that is the cause: {GUARD_ADVICE}")
+    if out is None:
+        where = "run the campaign again (with out=... to keep what runs)"
+    elif done == 0:
+        where = f"run the same campaign with out='{out}' again to run them"
+    else:
+        where = f"the {done} sample(s) that ran are saved in '{out}'; run the same campaign with the same out to run the rest"
+    return (f"{len(lost)} sample(s) did not run because the {backend} back end failed outside them ({reason}); "
+            f"they are not recorded as failed and stay pending: {where}")
 
 
 def run_campaign(
@@ -132,7 +175,12 @@ def run_campaign(
     result is written atomically every ``checkpoint_seconds`` and at the end; if ``out``
     already holds this campaign and ``resume``, only its missing samples run (failed ones too if
     ``retry_failed``). Returns the :class:`CampaignResult`.
+
+    Samples the back end loses (a broken pool, a lost worker or scheduler) stay pending and the
+    call raises :class:`~spacearm.errors.SpacearmError` after saving what ran; with local
+    processes, call it under ``if __name__ == "__main__":`` in a script (checked first).
     """
+    stop_if_reimported_by_a_worker()
     if isinstance(robot_or_spec, CampaignSpec):
         if samples is not None or perturbations is not None or scenario is not None:
             raise ValueError("give either a CampaignSpec or a robot with samples/perturbations/scenario, not both")
@@ -157,9 +205,13 @@ def run_campaign(
     if out is not None and out.suffix != ".npz":
         raise ValueError(f"out must be a .npz path, got '{out}'")
 
+    if workers > 0 and scheduler is None:
+        check_caller_is_guarded()
+
     spec_json = spec.to_json()
     result = None
-    if out is not None and out.exists() and resume:
+    resumed = out is not None and out.exists() and resume
+    if resumed:
         result = CampaignResult.load(out)
         if result.spec_json != spec_json:
             raise SpacearmError(f"'{out}' holds a different campaign (model, perturbations, scenario, samples or "
@@ -191,8 +243,12 @@ def run_campaign(
     else:
         outcomes = _local_outcomes(spec, jobs, min(workers, max(len(jobs), 1)) if workers else 0)
     done = 0
+    lost = []
     try:
         for outcome in outcomes:
+            if isinstance(outcome, LostSample):
+                lost.append(outcome)
+                continue
             result.record(outcome.index, outcome.params, outcome.metrics, outcome.error, outcome.seconds)
             done += 1
             bar.update(1)
@@ -208,9 +264,15 @@ def run_campaign(
             "workers": n_workers,
             "scheduler": None if scheduler is None else str(getattr(scheduler, "scheduler", scheduler)),
             "samples_run": done,
+            "samples_lost": len(lost),
             "elapsed_s": elapsed,
             "samples_per_s": done / elapsed if elapsed > 0 else float("nan"),
         }
-        if out is not None:
+        if lost:
+            result.run["lost_reason"] = lost[0].reason
+        # Nothing new to keep in a fresh file; an existing one is not overwritten by an empty run.
+        if out is not None and (done > 0 or resumed):
             result.save(out)
+    if lost:
+        raise SpacearmError(_lost_message(lost, done, backend, out))
     return result

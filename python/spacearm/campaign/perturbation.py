@@ -20,7 +20,7 @@ from typing import Dict
 
 import numpy as np
 
-__all__ = ["Perturbations", "PARAMETER_NAMES"]
+__all__ = ["Perturbations", "PARAMETER_NAMES", "PARAMETER_UNITS"]
 
 #: The parameters every sample draws, in the order of the result file's ``params`` columns.
 PARAMETER_NAMES = (
@@ -33,6 +33,18 @@ PARAMETER_NAMES = (
     "slosh_offset_z",
     "payload_mass",
 )
+
+#: The unit of each parameter ("-" for the dimensionless scales and fractions), for labels.
+PARAMETER_UNITS = {
+    "base_mass_scale": "-",
+    "base_inertia_scale": "-",
+    "link_mass_scale": "-",
+    "slosh_fraction": "-",
+    "slosh_offset_x": "m",
+    "slosh_offset_y": "m",
+    "slosh_offset_z": "m",
+    "payload_mass": "kg",
+}
 
 
 @dataclass(frozen=True)

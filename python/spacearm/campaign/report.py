@@ -8,17 +8,17 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .._atomic import atomic_path
+from ..errors import ArgumentError, NotFoundError, SpacearmError
+from .perturbation import PARAMETER_UNITS
+from .scenario import METRIC_UNITS
 
-__all__ = ["plot_campaign", "rank_correlation"]
+__all__ = ["campaign_figure", "plot_campaign", "rank_correlation"]
 
-_UNITS = {
-    "tracking_error_max": "rad",
-    "tracking_error_rms": "rad",
-    "tracking_error_final": "rad",
-    "attitude_excursion_max": "deg",
-    "base_displacement_max": "m",
-    "saturation_events": "count",
-}
+
+def _label(name: str) -> str:
+    """``name [unit]`` for a campaign parameter or metric."""
+    unit = PARAMETER_UNITS.get(name) or METRIC_UNITS.get(name)
+    return f"{name} [{unit}]" if unit else name
 
 
 def rank_correlation(a: np.ndarray, b: np.ndarray) -> float:
@@ -30,23 +30,38 @@ def rank_correlation(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.corrcoef(ra, rb)[0, 1])
 
 
-def plot_campaign(result, path, metrics: Optional[Sequence[str]] = None) -> Path:
+def campaign_figure(result, metrics: Optional[Sequence[str]] = None):
+    """The campaign's matplotlib ``Figure`` (Agg canvas, no pyplot): for each metric, its
+    histogram (dashed: the 90th percentile) and a scatter against the parameter with the
+    largest |Spearman ρ|; axes labelled with units. ``metrics``: which (default: those that
+    vary, and ``tracking_error_max`` always)."""
     from .._optional import require
 
-    require("matplotlib", "campaign figures").use("Agg")
-    plt = require("matplotlib.pyplot", "campaign figures")
+    FigureCanvasAgg = require("matplotlib.backends.backend_agg", "campaign figures").FigureCanvasAgg
+    Figure = require("matplotlib.figure", "campaign figures").Figure
 
-    path = Path(path)
-    names = list(metrics) if metrics is not None else [m for m in result.metric_names if np.ptp(result.metric(m)) > 0
-                                                       or m == "tracking_error_max"]
+    # Before any reduction over the samples: with none that ran, every array below is empty.
     if result.n_ok == 0:
-        raise ValueError("no sample of this campaign ran successfully: nothing to plot")
-    fig, axes = plt.subplots(len(names), 2, figsize=(10, 2.6 * len(names)), squeeze=False)
+        raise SpacearmError(f"no sample of this campaign ran successfully ({result.n_failed} failed, "
+                            f"{result.n_pending} not run): there is nothing to plot")
+    if metrics is not None:
+        unknown = [m for m in metrics if m not in result.metric_names]
+        if unknown:
+            raise NotFoundError(f"unknown metric(s) {', '.join(map(repr, unknown))}; the metrics are "
+                                f"{', '.join(result.metric_names)}")
+        names = list(metrics)
+        if not names:
+            raise ArgumentError("metrics must name at least one metric (or be None for the default)")
+    else:
+        names = [m for m in result.metric_names if np.ptp(result.metric(m)) > 0 or m == "tracking_error_max"]
+    fig = Figure(figsize=(10, 2.6 * len(names) + 0.4), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(len(names), 2, squeeze=False)
     for row, name in zip(axes, names):
         values = result.metric(name)
-        unit = _UNITS.get(name, "")
+        unit = METRIC_UNITS.get(name, "")
         row[0].hist(values, bins=min(40, max(5, values.size // 5)), color="#4477aa")
-        row[0].set_xlabel(f"{name} [{unit}]")
+        row[0].set_xlabel(_label(name))
         row[0].set_ylabel("samples")
         p90 = np.percentile(values, 90)
         row[0].axvline(p90, color="#cc3311", ls="--", lw=1)
@@ -56,16 +71,19 @@ def plot_campaign(result, path, metrics: Optional[Sequence[str]] = None) -> Path
         if scores:
             driver = max(scores, key=lambda p: abs(scores[p]))
             row[1].scatter(result.parameter(driver), values, s=6, color="#228833")
-            row[1].set_xlabel(driver)
-            row[1].set_ylabel(f"{name} [{unit}]")
+            row[1].set_xlabel(_label(driver))
+            row[1].set_ylabel(_label(name))
             row[1].set_title(f"strongest driver: {driver} (Spearman ρ = {scores[driver]:+.2f})", fontsize=9)
         else:
             row[1].set_axis_off()
     fig.suptitle(f"inertia-uncertainty campaign: {result.n_ok} samples ({result.n_failed} failed)")
-    fig.tight_layout()
-    try:
-        with atomic_path(path, suffix=".png") as tmp:
-            fig.savefig(tmp, dpi=110)
-    finally:
-        plt.close(fig)
+    return fig
+
+
+def plot_campaign(result, path, metrics: Optional[Sequence[str]] = None) -> Path:
+    """Write :func:`campaign_figure` to ``path`` as PNG (atomically)."""
+    fig = campaign_figure(result, metrics)
+    path = Path(path)
+    with atomic_path(path, suffix=".png") as tmp:
+        fig.savefig(tmp, format="png", dpi=110)
     return path

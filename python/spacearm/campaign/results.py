@@ -15,7 +15,9 @@ File layout (``numpy.load(path)`` reads it without spacearm):
 ====================  =====================================================================
 
 A partly run file is a checkpoint: :func:`spacearm.campaign.run_campaign` with the same
-``out`` runs only the samples whose status is 0 (or failed, with ``retry_failed``).
+``out`` runs only the samples whose status is 0 (or failed, with ``retry_failed``). Status 2 is
+for samples that failed for their own reasons; a sample the back end lost (a broken pool, a lost
+worker) is never recorded, so it stays 0 and a rerun runs it.
 """
 
 from __future__ import annotations
@@ -31,6 +33,11 @@ from .._atomic import atomic_open
 __all__ = ["CampaignResult", "PENDING", "OK", "FAILED"]
 
 PENDING, OK, FAILED = 0, 1, 2
+
+# Earlier versions recorded a sample lost to the back end as failed, with one of these prefixes
+# (a sample's own failure message starts with its exception's class name, which has no space);
+# such samples never ran, so :meth:`CampaignResult.load` reads them back as pending.
+_LOST_PREFIXES = ("worker failed: ", "dask task failed: ")
 
 
 class CampaignResult:
@@ -142,7 +149,8 @@ class CampaignResult:
 
     @classmethod
     def load(cls, path) -> "CampaignResult":
-        """Read a result (or checkpoint) written by :meth:`save`."""
+        """Read a result (or checkpoint) written by :meth:`save` (samples an earlier version
+        recorded as failed because the back end lost them come back pending)."""
         with np.load(Path(path), allow_pickle=False) as f:
             missing = {"index", "status", "params", "metrics", "spec_json"} - set(f.files)
             if missing:
@@ -155,7 +163,16 @@ class CampaignResult:
             result.error = np.array([str(e) for e in f["error"]], dtype=object)
             result.seconds = f["seconds"].astype(float)
             result.run = json.loads(str(f["run_json"]))
+        lost = (result.status == FAILED) & np.array([e.startswith(_LOST_PREFIXES) for e in result.error], dtype=bool)
+        result.status[lost] = PENDING
+        result.error[lost] = ""
         return result
+
+    def figure(self, metrics: Optional[Sequence[str]] = None):
+        """The figure of :meth:`plot` as a matplotlib ``Figure``, not written anywhere."""
+        from .report import campaign_figure
+
+        return campaign_figure(self, metrics)
 
     def plot(self, path, metrics: Optional[Sequence[str]] = None) -> Path:
         """PNG: a histogram of each metric, and each metric against the parameter that explains

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..errors import ArgumentError
 
-__all__ = ["Scenario", "METRIC_NAMES", "evaluate", "with_payload"]
+__all__ = ["Scenario", "METRIC_NAMES", "METRIC_UNITS", "evaluate", "with_payload"]
 
 METRIC_NAMES = (
     "tracking_error_max",
@@ -36,6 +36,16 @@ METRIC_NAMES = (
     "base_displacement_max",
     "saturation_events",
 )
+
+#: The unit of each metric, for labels.
+METRIC_UNITS = {
+    "tracking_error_max": "rad",
+    "tracking_error_rms": "rad",
+    "tracking_error_final": "rad",
+    "attitude_excursion_max": "deg",
+    "base_displacement_max": "m",
+    "saturation_events": "count",
+}
 
 _CONTROLLERS = ("computed-torque", "pd")
 

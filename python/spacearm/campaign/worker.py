@@ -2,7 +2,8 @@
 
 :func:`run_sample` never raises for a failure of the sample itself: a model the perturbation
 made invalid, a singular matrix, a non-finite state — each comes back as an outcome with the
-message, so one bad sample is recorded and the campaign goes on.
+message, so one bad sample is recorded and the campaign goes on. It follows that an exception
+the executor sees instead of an outcome was not the sample's doing (see ``executor.py``).
 """
 
 from __future__ import annotations
@@ -45,7 +46,7 @@ def run_sample(spec, index: int, params: Dict[str, float]) -> SampleOutcome:
     try:
         metrics = evaluate(_nominal(spec.model_toml), spec.scenario, params)
         return SampleOutcome(index, params, metrics, "", time.perf_counter() - start)
-    except Exception as exc:  # noqa: BLE001 — a failed sample is data, not a crash (issue #6)
+    except Exception as exc:  # noqa: BLE001 — a failed sample is data, not a crash
         last = traceback.extract_tb(exc.__traceback__)[-1:] if exc.__traceback__ else []
         where = f" (at {last[0].filename.rsplit('/', 1)[-1]}:{last[0].lineno})" if last else ""
         return SampleOutcome(index, params, None, f"{type(exc).__name__}: {exc}{where}", time.perf_counter() - start)
