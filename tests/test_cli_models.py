@@ -210,9 +210,17 @@ def test_campaign_workers_get_the_mounted_model(ur5, tmp_path, capsys):
                  "--samples", "2", "--workers", "0", "--duration", "0.1", "--dt", "0.01", "--payload-mass-max", "1",
                  "--out", str(out), "--no-progress"]) == 0
     assert "2 samples ran, 0 failed" in capsys.readouterr().out
-    spec = json.loads(CampaignResult.load(out).spec_json)
+    in_process = CampaignResult.load(out)
+    spec = json.loads(in_process.spec_json)
     robot = mounted_ur5(ur5, prefix="ur_", end_effector="tool0")
     assert spec["model_toml"] == dumps_toml(robot)
+    # Worker processes rebuild the model from the spec alone: the same samples give the same metrics.
+    assert main(["campaign", ur5, "--mount-on", BUS, "--at", "0.6,0,0,0,0,0", "--prefix", "ur_", "--end-effector", "tool0",
+                 "--samples", "2", "--workers", "2", "--duration", "0.1", "--dt", "0.01", "--payload-mass-max", "1",
+                 "--out", str(tmp_path / "c2.npz"), "--no-progress"]) == 0
+    assert "backend processes, 2 worker(s)" in capsys.readouterr().out
+    with np.load(out) as a, np.load(tmp_path / "c2.npz") as b:
+        assert np.array_equal(a["metrics"], b["metrics"], equal_nan=True) and np.isfinite(a["metrics"]).all()
 
 
 def test_derive_mounted_urdf(tmp_path, capsys):
