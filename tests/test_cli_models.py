@@ -254,7 +254,9 @@ def test_bad_model_options_exit_2(ur5):
          "--at expects 6 comma-separated numbers (x,y,z,roll,pitch,yaw; m, rad), got 3 in '0.6,0,0'"),
         (("inspect", ur5, "--mount-on", BUS, "--at", "-0.6,0,0,0,nan,0"), "'nan' is not finite"),
         (("inspect", ur5, "--at", "0.6,0,0,0,0,0"), "--at needs --mount-on"),
-        (("inspect", "planar4", "--prefix", "a_"), "--prefix apply to URDF models (.urdf files) only"),
+        (("inspect", "planar4", "--prefix", "a_"), "--prefix applies to URDF models (.urdf files) only"),
+        (("inspect", "planar4", "--mimic", "independent", "--at", "1,2"), "--at, --mimic apply to URDF models"),
+        (("inspect", ur5, "--mount-on", "no_such_bus.toml"), "--mount-on: 'no_such_bus.toml' is neither a preset"),
         (("inspect", ur5, "--end-effector", "nowhere"), "--end-effector must name a point or a body/link"),
         (("inspect", ur5, "--base-link", "nowhere"), "--base-link 'nowhere' is not a link of the URDF"),
         (("inspect", ur5, "--mount-on", "examples/models/spatial6.toml"), "--prefix arm_"),  # UR5 link 'base' clashes
@@ -290,7 +292,7 @@ def test_parse_numbers():
         with pytest.raises(CliError) as info:
             parse_numbers(text, "--t", count, "dx,dy,dz", "m")
         assert str(info.value).startswith("--t expects 3") and message in str(info.value)
-    assert issubclass(CliError, spacearm.SpacearmError)
+    assert issubclass(CliError, spacearm.errors.ArgumentError) and issubclass(CliError, spacearm.SpacearmError)
 
 
 def test_attach_negative_values():

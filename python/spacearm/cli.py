@@ -23,7 +23,7 @@ from typing import Optional
 import numpy as np
 
 from . import __version__, presets
-from .cli_numbers import attach_negative_values, parse_numbers
+from .cli_numbers import CliError, attach_negative_values, parse_numbers
 from .errors import SpacearmError
 from .robot import Robot
 
@@ -96,7 +96,8 @@ def load_model(spec: str, mount_on: Optional[str] = None, at=None, prefix: Optio
     given = [option for option, value in (("--mount-on", mount_on), ("--at", at), ("--prefix", prefix),
                                           ("--mimic", mimic), ("--base-link", base_link)) if value is not None]
     if given:
-        raise SpacearmError(f"{', '.join(given)} apply to URDF models (.urdf files) only, not to '{spec}'")
+        verb = "applies" if len(given) == 1 else "apply"
+        raise CliError(f"{', '.join(given)} {verb} to URDF models (.urdf files) only, not to '{spec}'")
     if spec in presets.NAMES:
         robot = presets.get(spec)
     elif os.path.exists(spec):
@@ -114,11 +115,15 @@ def _load_urdf_model(path, mount_on, at, prefix, mimic, base_link, end_effector)
     from .urdf_parse import parse_urdf
 
     if mount_on is None and at is not None:
-        raise SpacearmError("--at needs --mount-on (the spacecraft to mount the URDF on)")
+        raise CliError("--at needs --mount-on (the spacecraft to mount the URDF on)")
     options = {k: v for k, v in (("prefix", prefix), ("mimic", mimic), ("base_link", base_link)) if v is not None}
     if mount_on is not None:
         pose = parse_numbers(at, "--at", 6, "x,y,z,roll,pitch,yaw", "m, rad") if isinstance(at, str) else at
-        options.update(mount_on=load_model(mount_on), at=pose)
+        try:
+            spacecraft = load_model(mount_on)
+        except SpacearmError as exc:
+            raise type(exc)(f"--mount-on: {exc}") from None
+        options.update(mount_on=spacecraft, at=pose)
     try:
         robot = load_urdf(path, **options)
         if end_effector is None:
@@ -149,9 +154,9 @@ def _with_end_effector(robot: Robot, name: str) -> Robot:
     elif name in robot.body_names:
         point = f"{name}_cm"
         if point in robot.point_names or point in robot.body_names:
-            raise SpacearmError(f"--end-effector {name}: the model already has a '{point}' (name its point instead)")
+            raise CliError(f"--end-effector {name}: the model already has a '{point}' (name its point instead)")
     else:
-        raise SpacearmError(f"--end-effector must name a point or a body/link of model '{robot.name}', got '{name}'; "
+        raise CliError(f"--end-effector must name a point or a body/link of model '{robot.name}', got '{name}'; "
                             f"points: {', '.join(robot.point_names) or 'none'}; bodies: {', '.join(robot.body_names)}")
     builder = _copy_of(robot, robot.name)
     if robot.n_dof > 0:

@@ -20,7 +20,7 @@ from typing import List, Optional, Sequence
 
 import numpy as np
 
-from .errors import SpacearmError
+from .errors import ArgumentError
 
 __all__ = ["CliError", "parse_numbers", "attach_negative_values"]
 
@@ -28,7 +28,7 @@ __all__ = ["CliError", "parse_numbers", "attach_negative_values"]
 _NEGATIVE_VALUE = re.compile(r"-\.?\d")
 
 
-class CliError(SpacearmError, ValueError):
+class CliError(ArgumentError):
     """A command-line argument is invalid (the message names it and what was expected)."""
 
 
@@ -40,7 +40,7 @@ def parse_numbers(text: str, option: str, count: Optional[int], meaning: str, un
     what they are (``"x,y,z,roll,pitch,yaw"``, ``"one per joint of 'ur5'"``) and ``unit`` their
     unit (``"m, rad"``); both appear in the error. ``integer``: the values must be whole
     numbers (returned as ``int``). Spaces around the values are ignored. Raises
-    :class:`CliError` (a :class:`~spacearm.SpacearmError`).
+    :class:`CliError` (an :class:`~spacearm.errors.ArgumentError`).
     """
     kind = "integers" if integer else "numbers"
     expected = f"{option} expects {'' if count is None else f'{count} '}comma-separated {kind} ({meaning}; {unit})"
