@@ -6,8 +6,10 @@ spelling (``1,2,3``, ``-0.3, 0.3, 0``, ``1e-3,-2``) and report a bad value the s
 option, how many numbers it expects, what they mean and their unit.
 
 Negative values: :mod:`argparse` treats an argument that starts with ``-`` as an option unless
-it looks like a single negative number (``-0.3``), so ``--target -0.3,0.3,0`` fails with
-"expected one argument". The documented way to give such a value is the attached form
+it looks like a negative number. Up to Python 3.11 (at least) that means a single number
+(``-0.3``), so ``--target -0.3,0.3,0`` fails with "expected one argument"; recent releases
+accept anything starting ``-`` then a digit. The documented way that works in all of them is
+the attached form
 ``--target=-0.3,0.3,0``; :func:`attach_negative_values` rewrites ``--option -0.3,...`` into
 that form before parsing. No ``spacearm`` option starts with ``-`` followed by a digit, so an
 argument that does can only be a value.
