@@ -257,6 +257,7 @@ def test_bad_model_options_exit_2(ur5):
         (("inspect", "planar4", "--prefix", "a_"), "--prefix applies to URDF models (.urdf files) only"),
         (("inspect", "planar4", "--mimic", "independent", "--at", "1,2"), "--at, --mimic apply to URDF models"),
         (("inspect", ur5, "--mount-on", "no_such_bus.toml"), "--mount-on: 'no_such_bus.toml' is neither a preset"),
+        (("inspect", "no_such_arm.urdf", "--prefix", "a_"), "'no_such_arm.urdf' is neither a preset"),
         (("inspect", ur5, "--end-effector", "nowhere"), "--end-effector must name a point or a body/link"),
         (("inspect", ur5, "--base-link", "nowhere"), "--base-link 'nowhere' is not a link of the URDF"),
         (("inspect", ur5, "--mount-on", "examples/models/spatial6.toml"), "--prefix arm_"),  # UR5 link 'base' clashes

@@ -91,7 +91,9 @@ def load_model(spec: str, mount_on: Optional[str] = None, at=None, prefix: Optio
     ``<link>_frame``); or a body of a preset or ``.toml`` model (its CM, which is its frame
     origin in spacearm; a point ``<body>_cm`` is added).
     """
-    if spec.lower().endswith(".urdf") and os.path.exists(spec):
+    if spec not in presets.NAMES and not os.path.exists(spec):
+        raise SpacearmError(f"'{spec}' is neither a preset ({', '.join(presets.NAMES)}) nor an existing model file")
+    if spec.lower().endswith(".urdf"):
         return _load_urdf_model(spec, mount_on, at, prefix, mimic, base_link, end_effector)
     given = [option for option, value in (("--mount-on", mount_on), ("--at", at), ("--prefix", prefix),
                                           ("--mimic", mimic), ("--base-link", base_link)) if value is not None]
@@ -100,12 +102,10 @@ def load_model(spec: str, mount_on: Optional[str] = None, at=None, prefix: Optio
         raise CliError(f"{', '.join(given)} {verb} to URDF models (.urdf files) only, not to '{spec}'")
     if spec in presets.NAMES:
         robot = presets.get(spec)
-    elif os.path.exists(spec):
-        if not spec.lower().endswith(".toml"):
-            raise SpacearmError(f"cannot read '{spec}': model files must end in .toml or .urdf")
+    elif spec.lower().endswith(".toml"):
         robot = Robot.from_toml(spec)
     else:
-        raise SpacearmError(f"'{spec}' is neither a preset ({', '.join(presets.NAMES)}) nor an existing model file")
+        raise SpacearmError(f"cannot read '{spec}': model files must end in .toml or .urdf")
     return robot if end_effector is None else _with_end_effector(robot, end_effector)
 
 
@@ -145,7 +145,7 @@ def _load_urdf_model(path, mount_on, at, prefix, mimic, base_link, end_effector)
 def _with_end_effector(robot: Robot, name: str) -> Robot:
     """``robot`` with the end effector ``name``: a point of it, or a body (its CM, the body
     frame origin, as the new point ``<body>_cm``). Everything else stays exactly as it was."""
-    from .urdf import _copy_of
+    from .urdf import _copy_of  # the builder copy that mounting a URDF on a spacecraft uses
 
     if name == robot.end_effector:
         return robot
@@ -157,7 +157,7 @@ def _with_end_effector(robot: Robot, name: str) -> Robot:
             raise CliError(f"--end-effector {name}: the model already has a '{point}' (name its point instead)")
     else:
         raise CliError(f"--end-effector must name a point or a body/link of model '{robot.name}', got '{name}'; "
-                            f"points: {', '.join(robot.point_names) or 'none'}; bodies: {', '.join(robot.body_names)}")
+                       f"points: {', '.join(robot.point_names) or 'none'}; bodies: {', '.join(robot.body_names)}")
     builder = _copy_of(robot, robot.name)
     if robot.n_dof > 0:
         builder.set_initial_q(robot.initial_q)
