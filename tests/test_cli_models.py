@@ -237,12 +237,23 @@ def test_derive_mounted_urdf(tmp_path, capsys):
 </robot>""")
     py = tmp_path / "arm_eom.py"
     assert main(["derive", str(arm), "--mount-on", BUS, "--at=-0.6,0,0,0,0,3.14159", "--prefix", "a_",
-                 "--end-effector", "upper", "--python", str(py)]) == 0
-    assert "NumPy" in capsys.readouterr().out and py.stat().st_size > 0
-    from spacearm.cli import load_model
+                 "--end-effector", "upper", "--python", str(py), "--include", "J_star"]) == 0
+    assert "NumPy" in capsys.readouterr().out
+    import importlib.util
 
-    robot = load_model(str(arm), mount_on=BUS, at="-0.6,0,0,0,0,3.14159", prefix="a_", end_effector="upper")
-    assert robot.end_effector == "a_upper_frame" and robot.body_names[0] == "bus"
+    spec = importlib.util.spec_from_file_location("arm_eom", py)
+    eom = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(eom)
+    # The library on the same URDF; --end-effector upper is the 'upper' link frame origin (its joint),
+    # a point that exists only because of the option (derive writes J* of every point).
+    robot = load_urdf(arm, mount_on=spacearm.Robot.from_toml(BUS), at=(-0.6, 0, 0, 0, 0, 3.14159), prefix="a_")
+    assert robot.body_names == ["bus", "a_base", "a_upper"] and robot.end_effector == "a_tip"  # the only leaf, by default
+    com = np.asarray(robot.describe()["links"][1]["com"])
+    for q in (-0.7, 1.2):
+        x = robot.neutral_configuration([q], r0=(0.3, -0.2, 0.1), quat0=(0.1, -0.2, 0.3, 0.9273618495495703))
+        js = robot.generalized_jacobian(x, point=("a_upper", -com))
+        # (the generated module returns a one-column matrix as a vector)
+        assert np.allclose(eom.J_star_a_upper_frame(x), js[:, 0], rtol=1e-10, atol=1e-12)
 
 
 # ---------------------------------------------------------------------------------------------
