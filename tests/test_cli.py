@@ -40,9 +40,9 @@ def test_inspect_errors_are_clean():
     assert "neither a preset" in out.stderr and "Traceback" not in out.stderr
     out = run("inspect", "planar4", "--q", "1,2")
     assert out.returncode == 2
-    assert "--q must have N = 4 values, got 2" in out.stderr
+    assert "--q expects 4 comma-separated numbers (one per joint of 'planar4'; rad, or m for prismatic joints), got 2" in out.stderr
     out = run("inspect", "planar4", "--q", "1,x,3,4")
-    assert out.returncode == 2 and "comma-separated numbers" in out.stderr
+    assert out.returncode == 2 and "--q expects 4 comma-separated numbers" in out.stderr and "'x' is not a number" in out.stderr
 
 
 def test_cli_main_in_process(capsys):

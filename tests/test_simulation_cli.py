@@ -70,11 +70,11 @@ def test_zero_torque_run_reports_conservation(capsys):
 
 
 @pytest.mark.parametrize("args, message", [
-    (["--controller", "pd", "--target", "1,2"], "--target must have one value per arm joint (6 for 'spatial6'), got 2"),
-    (["--controller", "pd", "--target", "1,x,3"], "--target must be comma-separated numbers"),
+    (["--controller", "pd", "--target", "1,2"], "--target expects 6 comma-separated numbers (joint goal, one per arm joint of 'spatial6'; rad, or m for prismatic joints), got 2"),
+    (["--controller", "pd", "--target", "1,x,3"], "'x' is not a number"),
     (["--duration", "-1"], "--duration must be > 0 s"),
     (["--dt", "0"], "--dt must be > 0 s"),
-    (["--q0", "1,2"], "--q0 must have 6 values, got 2"),
+    (["--q0", "1,2"], "--q0 expects 6 comma-separated numbers (one per joint of 'spatial6'; rad, or m for prismatic joints), got 2"),
     (["--controller", "attitude"], "needs reaction wheels, but 'spatial6' has none"),
 ])
 def test_bad_arguments_fail_cleanly(args, message, capsys):

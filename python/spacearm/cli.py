@@ -3,8 +3,14 @@
 ``spacearm inspect MODEL [--q Q1,Q2,...]`` prints the model summary (bodies, joints, total
 mass) and, at the given or initial configuration, ``H0``, ``H*`` and the end-effector ``J*``
 with their conditioning. ``MODEL`` is a preset name (``planar4``, ``spatial6``), a TOML
-model file (``docs/model-format.md``) or a URDF file (``docs/urdf.md``; ``--mount-on SPACECRAFT
---at x,y,z,roll,pitch,yaw`` mounts it on a spacecraft base).
+model file (``docs/model-format.md``) or a URDF file (``docs/urdf.md``).
+
+Every subcommand that takes MODEL (``inspect``, ``derive``, ``analyze``, ``simulate``,
+``campaign``) takes the same model options, defined once by :func:`add_model_arguments` and
+turned into a :class:`~spacearm.Robot` by :func:`model_from_args` / :func:`load_model`:
+``--mount-on SPACECRAFT --at x,y,z,roll,pitch,yaw`` (mount a URDF arm on a spacecraft base),
+``--prefix``, ``--mimic``, ``--base-link`` (URDF only) and ``--end-effector`` (any model).
+Number lists are parsed by :func:`spacearm.cli_numbers.parse_numbers`.
 """
 
 from __future__ import annotations
@@ -17,58 +23,153 @@ from typing import Optional
 import numpy as np
 
 from . import __version__, presets
+from .cli_numbers import CliError, attach_negative_values, parse_numbers
 from .errors import SpacearmError
 from .robot import Robot
 
-__all__ = ["main", "load_model"]
+__all__ = ["main", "load_model", "add_model_arguments", "model_from_args", "MODEL_HELP"]
 
 
-def load_model(spec: str, mount_on: Optional[str] = None, at: Optional[str] = None, **urdf_options) -> Robot:
+#: What MODEL may be, for the help of every subcommand.
+MODEL_HELP = f"a preset ({', '.join(presets.NAMES)}), a .toml model file or a .urdf file"
+
+#: Python keyword advice in the URDF importer's messages, as the command line spells it.
+_URDF_ADVICE_AS_OPTIONS = (
+    ("pass mimic='independent'", "pass --mimic independent"),
+    ("base_link '", "--base-link '"),
+    ("name another base_link", "name another --base-link"),
+    ("(mount_on=...)", "(--mount-on SPACECRAFT)"),
+    ("(prefix='arm_', CLI --prefix)", "(--prefix arm_)"),
+)
+
+
+def add_model_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add MODEL and the model options that every subcommand taking a model shares; turn the
+    parsed ``args`` into the :class:`~spacearm.Robot` with :func:`model_from_args`."""
+    parser.add_argument("model", help=MODEL_HELP)
+    g = parser.add_argument_group("model options")
+    g.add_argument("--mount-on", metavar="SPACECRAFT",
+                   help="URDF only: mount the URDF arm on this spacecraft (a preset or .toml file, e.g. "
+                        "examples/models/spacecraft_bus.toml) instead of making its root link the free-flying base")
+    g.add_argument("--at", metavar="X,Y,Z,ROLL,PITCH,YAW",
+                   help="with --mount-on: pose of the URDF base link frame in the spacecraft base frame, from its CM "
+                        "(m, rad; URDF's R = Rz(yaw) Ry(pitch) Rx(roll); default 0,0,0,0,0,0)")
+    g.add_argument("--prefix", help="URDF only: prefix for the URDF's link, joint and point names (e.g. ur_; needed "
+                                    "when a URDF link has the name of a spacecraft body or point)")
+    g.add_argument("--mimic", choices=("error", "independent"),
+                   help="URDF only: refuse <mimic> joints (default) or load them as independent joints")
+    g.add_argument("--base-link", metavar="LINK",
+                   help="URDF only: the link that becomes the free-flying base, or with --mount-on the link "
+                        "fixed to the spacecraft (default: the URDF root link)")
+    g.add_argument("--end-effector", metavar="POINT|LINK",
+                   help="the end effector: a named point of the model, or a link: a URDF link's frame origin, a "
+                        "preset or .toml body's CM (its frame origin) (default: the model's own; for a URDF the only "
+                        "leaf link, if there is one)")
+
+
+def model_from_args(args: argparse.Namespace) -> Robot:
+    """The robot that MODEL and the model options of :func:`add_model_arguments` describe."""
+    return load_model(args.model, mount_on=args.mount_on, at=args.at, prefix=args.prefix, mimic=args.mimic,
+                      base_link=args.base_link, end_effector=args.end_effector)
+
+
+def load_model(spec: str, mount_on: Optional[str] = None, at=None, prefix: Optional[str] = None,
+               mimic: Optional[str] = None, base_link: Optional[str] = None,
+               end_effector: Optional[str] = None) -> Robot:
     """A preset by name, or a model file (``.toml``, ``.urdf``) by path.
 
-    ``mount_on`` (a preset or ``.toml`` file, the spacecraft) and ``at`` (``"x,y,z,roll,pitch,yaw"``,
-    m and rad, the URDF base link frame in the spacecraft base frame, from its CM) mount a URDF
-    arm on a spacecraft instead of making its root link the free-flying base (docs/urdf.md).
-    ``urdf_options`` (``prefix``, ``mimic``, ...) go to :func:`spacearm.urdf.load_urdf`.
+    URDF only (:func:`spacearm.urdf.load_urdf`, docs/urdf.md): ``mount_on`` (a preset or
+    ``.toml`` file, the spacecraft) and ``at`` (``"x,y,z,roll,pitch,yaw"`` or 6 numbers, m and
+    rad, the URDF base link frame in the spacecraft base frame, from its CM) mount the arm on a
+    spacecraft instead of making its root link the free-flying base; ``prefix`` renames its
+    links, joints and points; ``mimic`` is ``"error"`` or ``"independent"``; ``base_link``
+    picks the base (or mounted) link.
+
+    Any model: ``end_effector`` names the end effector: a point of the model; or a URDF link,
+    with or without the prefix (its URDF link frame origin, as ``load_urdf(end_effector=...)``:
+    a link welded by a fixed joint is already a point, a moving link gets a point
+    ``<link>_frame``); or a body of a preset or ``.toml`` model (its CM, which is its frame
+    origin in spacearm; a point ``<body>_cm`` is added).
     """
-    if spec.lower().endswith(".urdf") and os.path.exists(spec):
-        from .urdf import load_urdf
-
-        if mount_on is None:
-            if at is not None:
-                raise SpacearmError("--at needs --mount-on (the spacecraft to mount the URDF on)")
-            return load_urdf(spec, **urdf_options)
-        pose = _parse_numbers("--at", at, 6, "x,y,z,roll,pitch,yaw (m, rad)") if at is not None else None
-        return load_urdf(spec, mount_on=load_model(mount_on), at=pose, **urdf_options)
-    if mount_on is not None or at is not None or any(v is not None for v in urdf_options.values()):
-        raise SpacearmError("--mount-on, --at, --prefix and --mimic apply to URDF models (.urdf) only")
+    if spec not in presets.NAMES and not os.path.exists(spec):
+        raise SpacearmError(f"'{spec}' is neither a preset ({', '.join(presets.NAMES)}) nor an existing model file")
+    if spec.lower().endswith(".urdf"):
+        return _load_urdf_model(spec, mount_on, at, prefix, mimic, base_link, end_effector)
+    given = [option for option, value in (("--mount-on", mount_on), ("--at", at), ("--prefix", prefix),
+                                          ("--mimic", mimic), ("--base-link", base_link)) if value is not None]
+    if given:
+        verb = "applies" if len(given) == 1 else "apply"
+        raise CliError(f"{', '.join(given)} {verb} to URDF models (.urdf files) only, not to '{spec}'")
     if spec in presets.NAMES:
-        return presets.get(spec)
-    if os.path.exists(spec):
-        if spec.lower().endswith(".toml"):
-            return Robot.from_toml(spec)
+        robot = presets.get(spec)
+    elif spec.lower().endswith(".toml"):
+        robot = Robot.from_toml(spec)
+    else:
         raise SpacearmError(f"cannot read '{spec}': model files must end in .toml or .urdf")
-    raise SpacearmError(f"'{spec}' is neither a preset ({', '.join(presets.NAMES)}) nor an existing model file")
+    return robot if end_effector is None else _with_end_effector(robot, end_effector)
 
 
-def _parse_numbers(option: str, text: str, n: int, meaning: str) -> np.ndarray:
+def _load_urdf_model(path, mount_on, at, prefix, mimic, base_link, end_effector) -> Robot:
+    from .errors import ModelFileError
+    from .urdf import load_urdf
+    from .urdf_parse import parse_urdf
+
+    if mount_on is None and at is not None:
+        raise CliError("--at needs --mount-on (the spacecraft to mount the URDF on)")
+    options = {k: v for k, v in (("prefix", prefix), ("mimic", mimic), ("base_link", base_link)) if v is not None}
+    if mount_on is not None:
+        pose = parse_numbers(at, "--at", 6, "x,y,z,roll,pitch,yaw", "m, rad") if isinstance(at, str) else at
+        try:
+            spacecraft = load_model(mount_on)
+        except SpacearmError as exc:
+            raise type(exc)(f"--mount-on: {exc}") from None
+        options.update(mount_on=spacecraft, at=pose)
     try:
-        values = np.array([float(v) for v in text.replace(" ", "").split(",") if v != ""])
-    except ValueError:
-        raise SpacearmError(f"{option} must be {n} comma-separated numbers {meaning}, got '{text}'") from None
-    if values.shape[0] != n or not np.all(np.isfinite(values)):
-        raise SpacearmError(f"{option} must be {n} finite comma-separated numbers {meaning}, got '{text}'")
-    return values
+        robot = load_urdf(path, **options)
+        if end_effector is None:
+            return robot
+        p = prefix or ""
+        with open(path, "rb") as fh:
+            links = parse_urdf(fh.read(), path, mimic=mimic or "error").links
+        link = end_effector[len(p):] if p and end_effector.startswith(p) and end_effector[len(p):] in links else end_effector
+        if link in links:
+            return load_urdf(path, end_effector=link, **options)
+    except ModelFileError as exc:
+        message = str(exc)
+        for keyword, option in _URDF_ADVICE_AS_OPTIONS:
+            message = message.replace(keyword, option)
+        raise ModelFileError(message) from None
+    return _with_end_effector(robot, end_effector)
 
 
-def _parse_q(text: str, n: int) -> np.ndarray:
-    try:
-        q = np.array([float(v) for v in text.replace(" ", "").split(",") if v != ""])
-    except ValueError:
-        raise SpacearmError(f"--q must be {n} comma-separated numbers (rad or m), got '{text}'") from None
-    if q.shape[0] != n:
-        raise SpacearmError(f"--q must have N = {n} values, got {q.shape[0]}")
-    return q
+def _with_end_effector(robot: Robot, name: str) -> Robot:
+    """``robot`` with the end effector ``name``: a point of it, or a body (its CM, the body
+    frame origin, as the new point ``<body>_cm``). Everything else stays exactly as it was."""
+    from .urdf import _copy_of  # the builder copy that mounting a URDF on a spacecraft uses
+
+    if name == robot.end_effector:
+        return robot
+    if name in robot.point_names:
+        point = name
+    elif name in robot.body_names:
+        point = f"{name}_cm"
+        if point in robot.point_names or point in robot.body_names:
+            raise CliError(f"--end-effector {name}: the model already has a '{point}' (name its point instead)")
+    else:
+        raise CliError(f"--end-effector must name a point or a body/link of model '{robot.name}', got '{name}'; "
+                       f"points: {', '.join(robot.point_names) or 'none'}; bodies: {', '.join(robot.body_names)}")
+    builder = _copy_of(robot, robot.name)
+    if robot.n_dof > 0:
+        builder.set_initial_q(robot.initial_q)
+    if point not in robot.point_names:
+        builder.add_point(point, body=name)
+    return builder.set_end_effector(point).build()
+
+
+def joint_values(text: str, option: str, robot: Robot):
+    """One number per joint of ``robot`` (``--q``, ``--q0``, ``--qd0``) from ``text``."""
+    unit = "rad/s, or m/s for prismatic joints" if option == "--qd0" else "rad, or m for prismatic joints"
+    return parse_numbers(text, option, robot.n_dof, f"one per joint of '{robot.name}'", unit)
 
 
 def _matrix(name: str, m: np.ndarray, unit: str) -> str:
@@ -92,12 +193,16 @@ def inspect(robot: Robot, q=None, out=None) -> None:
     d = robot.describe()
     w = out.write
     w(f"model '{robot.name}': {robot.n_bodies} bodies, N = {robot.n_dof} joint DOF, total mass {robot.total_mass:.6g} kg\n\n")
-    w(f"{'body':<16}{'parent':<16}{'joint':<16}{'type':<10}{'axis (link frame)':<26}{'mass kg':>9}\n")
     b = d["base"]
-    w(f"{b['name']:<16}{'-':<16}{'-':<16}{'free':<10}{'-':<26}{b['mass']:>9.4g}\n")
+    rows = [(b["name"], "-", "-", "free", "-", b["mass"])]
     for link in d["links"]:
         axis = "-" if link["type"] == "fixed" else "[" + ", ".join(f"{v:.3g}" for v in link["axis"]) + "]"
-        w(f"{link['name']:<16}{link['parent']:<16}{link['joint']:<16}{link['type']:<10}{axis:<26}{link['mass']:>9.4g}\n")
+        rows.append((link["name"], link["parent"], link["joint"], link["type"], axis, link["mass"]))
+    # Columns as wide as their longest name (URDF names such as 'shoulder_pan_joint' are long).
+    widths = [max(16, 2 + max(len(r[k]) for r in rows)) for k in range(3)]
+    w(f"{'body':<{widths[0]}}{'parent':<{widths[1]}}{'joint':<{widths[2]}}{'type':<10}{'axis (link frame)':<26}{'mass kg':>9}\n")
+    for name, parent, joint, kind, axis, mass in rows:
+        w(f"{name:<{widths[0]}}{parent:<{widths[1]}}{joint:<{widths[2]}}{kind:<10}{axis:<26}{mass:>9.4g}\n")
     if d["points"]:
         w("\npoints: " + ", ".join(f"{n} on {b} at [{', '.join(f'{v:.4g}' for v in o)}]" for n, b, o in d["points"]))
         w(f"   (end effector: {robot.end_effector})\n")
@@ -133,15 +238,9 @@ def main(argv=None) -> int:
     parser.add_argument("--version", action="version", version=f"spacearm {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     p_inspect = sub.add_parser("inspect", help="print a model summary and H0, H*, J* at a configuration")
-    p_inspect.add_argument("model", help=f"a preset ({', '.join(presets.NAMES)}), a .toml model file or a .urdf file")
-    p_inspect.add_argument("--mount-on", help="mount the URDF on this spacecraft (a preset or .toml file) instead of "
-                                              "making its root link the free-flying base")
-    p_inspect.add_argument("--at", help="with --mount-on: x,y,z,roll,pitch,yaw of the URDF base link in the spacecraft "
-                                        "base frame, from its CM (m, rad; default 0)")
-    p_inspect.add_argument("--prefix", help="URDF only: prefix for the URDF's link, joint and point names")
-    p_inspect.add_argument("--mimic", choices=("error", "independent"),
-                           help="URDF only: refuse <mimic> joints (default) or load them as independent joints")
-    p_inspect.add_argument("--q", help="joint coordinates, comma-separated (default: the model's initial q)")
+    add_model_arguments(p_inspect)
+    p_inspect.add_argument("--q", metavar="Q1,Q2,...", help="joint coordinates, one per joint (rad, or m for prismatic "
+                                                            "joints; default: the model's initial q)")
     from .cli_derive import add_parser as _add_derive  # noqa: E402
 
     _add_derive(sub)
@@ -154,29 +253,28 @@ def main(argv=None) -> int:
     from .cli_campaign import add_parser as _add_campaign  # noqa: E402
 
     _add_campaign(sub)
-    args = parser.parse_args(argv)
+    # "--target -0.3,0.3,0" would be read as two options: pass such values as "--target=-0.3,...".
+    args = parser.parse_args(attach_negative_values(sys.argv[1:] if argv is None else argv))
     try:
         if args.command == "inspect":
-            options = {k: v for k, v in (("prefix", args.prefix), ("mimic", args.mimic)) if v is not None}
-            robot = load_model(args.model, mount_on=args.mount_on, at=args.at, **options)
-            q = None if args.q is None else _parse_q(args.q, robot.n_dof)
-            inspect(robot, q)
+            robot = model_from_args(args)
+            inspect(robot, None if args.q is None else joint_values(args.q, "--q", robot))
         elif args.command == "derive":
             from .cli_derive import run as _derive
 
-            _derive(args, load_model)
+            _derive(args, model_from_args)
         elif args.command == "analyze":
             from .cli_analyze import run as _analyze
 
-            _analyze(args, load_model)
+            _analyze(args, model_from_args)
         elif args.command in ("simulate", "demo"):
             from .cli_simulate import run as _simulate
 
-            return _simulate(args, load_model)
+            return _simulate(args, model_from_args)
         elif args.command == "campaign":
             from .cli_campaign import run as _campaign
 
-            _campaign(args, load_model)
+            _campaign(args, model_from_args)
     except SpacearmError as exc:
         print(f"spacearm: error: {exc}", file=sys.stderr)
         return 2

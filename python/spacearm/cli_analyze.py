@@ -14,8 +14,10 @@ __all__ = ["add_parser", "run"]
 
 
 def add_parser(sub) -> None:
+    from .cli import add_model_arguments
+
     p = sub.add_parser("analyze", help="dynamic singularities, workspaces or reactionless motion, with a figure")
-    p.add_argument("model", help="a preset, a .toml model file or a .urdf file")
+    add_model_arguments(p)
     what = p.add_mutually_exclusive_group(required=True)
     what.add_argument("--singularities", action="store_true", help="σ_min(J*) and σ_min(J_m) map over two joints, with the singular locus")
     what.add_argument("--workspace", action="store_true", help="reachable / path-dependent / path-independent and fixed-base workspaces")
@@ -40,23 +42,26 @@ def add_parser(sub) -> None:
 
 
 def _task(text):
+    from .cli_numbers import parse_numbers
+
     if text in (None, "auto"):
         return None
-    if text[0].isdigit():
-        return [int(v) for v in text.split(",") if v.strip()]
+    if text.strip()[:1].isdigit():
+        return [int(v) for v in parse_numbers(text, "--task", None, "twist row indices 0..5", "dimensionless", integer=True)]
     return text
 
 
-def run(args, load_model, out=None) -> None:
+def run(args, model_from_args, out=None) -> None:
     out = sys.stdout if out is None else out
     from . import analysis
-    from .cli import _parse_numbers, _parse_q
+    from .cli import joint_values
+    from .cli_numbers import parse_numbers
     from .errors import SpacearmError
 
-    robot = load_model(args.model)
+    robot = model_from_args(args)
     if robot.n_dof == 0:
         raise SpacearmError(f"model '{robot.name}' has no joints to analyse")
-    q = None if args.q is None else _parse_q(args.q, robot.n_dof)
+    q = None if args.q is None else joint_values(args.q, "--q", robot)
     task = _task(args.task)
     rows = analysis.task_rows(robot, task)
     progress = not args.no_progress
@@ -66,7 +71,8 @@ def run(args, load_model, out=None) -> None:
             raise SpacearmError("--singularities maps two joints: the model has only one")
         joints = None
         if args.joints is not None:
-            joints = tuple(int(v) - 1 for v in _parse_numbers("--joints", args.joints, 2, "(1-based joint numbers)"))
+            joints = tuple(int(v) - 1 for v in parse_numbers(args.joints, "--joints", 2, "two joint numbers, 1-based", "dimensionless",
+                                                             integer=True))
         res = 121 if args.resolution is None else args.resolution
         m = analysis.singularity_map(robot, joints=joints, resolution=res, q=q, point=args.point, task=task, progress=progress)
         rep = analysis.analyze(robot, robot.neutral_configuration(q), point=args.point, task=task)
@@ -98,7 +104,7 @@ def run(args, load_model, out=None) -> None:
         if args.target is None:
             delta = np.array([-0.3, 0.3, 0.0]) if planar else np.array([-0.3, 0.0, 0.2])
         else:
-            delta = _parse_numbers("--target", args.target, 3, "dx,dy,dz (m)")
+            delta = parse_numbers(args.target, "--target", 3, "dx,dy,dz of the point from its start", "m")
         x0 = robot.neutral_configuration(q)
         target = robot.point_position(x0, args.point) + delta
         motions = []

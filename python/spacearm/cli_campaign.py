@@ -13,8 +13,12 @@ __all__ = ["add_parser", "run"]
 
 
 def add_parser(sub) -> None:
-    p = sub.add_parser("campaign", help="Monte Carlo campaign: tracking cost of inertia errors (local processes or Dask)")
-    p.add_argument("model", help="a preset, a .toml model file or a .urdf file (the nominal model)")
+    from .cli import add_model_arguments
+
+    p = sub.add_parser("campaign", help="Monte Carlo campaign: tracking cost of inertia errors (local processes or Dask)",
+                       description="MODEL with its model options is the nominal model; the workers receive it whole "
+                                   "(as model-file text in the campaign spec), so a mounted URDF arm runs as loaded here.")
+    add_model_arguments(p)
     p.add_argument("--samples", type=int, required=True, help="number of samples")
     p.add_argument("--seed", type=int, default=0, help="campaign seed (default 0)")
     p.add_argument("--workers", type=int, default=None, help="local worker processes (default: CPU count; 0 = in this process)")
@@ -41,12 +45,12 @@ def add_parser(sub) -> None:
     e.add_argument("--payload-mass-max", type=float, default=0.0, help="max payload at the end effector, kg (default 0)")
 
 
-def run(args, load_model, out=None) -> None:
+def run(args, model_from_args, out=None) -> None:
     from .campaign import Perturbations, Scenario, run_campaign
     from .errors import SpacearmError
 
     out = sys.stdout if out is None else out
-    robot = load_model(args.model)
+    robot = model_from_args(args)
     try:
         perturbations = Perturbations(args.base_mass_sigma, args.base_inertia_sigma, args.link_mass_sigma,
                                       args.slosh_fraction_max, args.slosh_offset, args.payload_mass_max)

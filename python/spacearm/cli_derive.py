@@ -14,8 +14,10 @@ __all__ = ["add_parser", "run"]
 
 
 def add_parser(sub) -> None:
+    from .cli import add_model_arguments
+
     p = sub.add_parser("derive", help="derive the closed-form matrices (SymPy) and write LaTeX, NumPy and C")
-    p.add_argument("model", help="a preset or a .toml model file")
+    add_model_arguments(p)
     p.add_argument("--latex", metavar="OUT.tex", help="write a LaTeX document of the matrices")
     p.add_argument("--python", metavar="OUT.py", help="write a NumPy module")
     p.add_argument("--c", metavar="OUT.c", help="write C99 source")
@@ -25,14 +27,14 @@ def add_parser(sub) -> None:
                    help="comma-separated quantity groups for --python/--c (default all: blocks, jacobians, H0_inv, H_star, J_star, dH_dq, H_dot, c, c_star)")
 
 
-def run(args, load_model, out=None) -> None:
+def run(args, model_from_args, out=None) -> None:
     # Resolve the stream at call time so that redirections of sys.stdout (pytest, callers) count.
     out = sys.stdout if out is None else out
     from .errors import SpacearmError
     from .symbolic.codegen import write_atomic
     from .symbolic.derivation import derive
 
-    robot = load_model(args.model)
+    robot = model_from_args(args)
     symbols = None
     if args.symbols:
         symbols = "all" if args.symbols == "all" else [s.strip() for s in args.symbols.split(",") if s.strip()]

@@ -16,11 +16,11 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import List, Optional
+from typing import List
 
 import numpy as np
 
-from .errors import SpacearmError
+from .cli_numbers import CliError, parse_numbers
 
 __all__ = ["add_parsers", "run", "build_controller", "pd_gains", "base_pose_hold", "reaction_wheel_dofs", "run_demo"]
 
@@ -33,10 +33,6 @@ DEFAULT_MODE = {"none": "floating", "pd": "floating", "computed-torque": "floati
 PROGRESS_STEPS = 20_000
 
 
-class CliError(SpacearmError, ValueError):
-    """A command-line argument is invalid (the message names it and what was expected)."""
-
-
 # ---------------------------------------------------------------------------------------------
 # argument parsing
 # ---------------------------------------------------------------------------------------------
@@ -45,7 +41,9 @@ def add_parsers(sub) -> None:
     p = sub.add_parser("simulate", help="simulate a model under a controller and write the results",
                        description="Simulate MODEL in a maneuvering mode under a controller; print a summary and "
                                    "write the trajectory (.npz), a CSV table, a figure (PNG) and an animation (GIF).")
-    p.add_argument("model", help="a preset (planar4, spatial6, dual_arm), a .toml model file or a .urdf file")
+    from .cli import add_model_arguments
+
+    add_model_arguments(p)
     p.add_argument("--mode", choices=MODES, help="maneuvering mode (default: floating; rotation-floating for "
                                                  "--controller attitude, flying for coordinated)")
     p.add_argument("--controller", choices=CONTROLLERS, default="none",
@@ -81,9 +79,6 @@ def add_parsers(sub) -> None:
     p.add_argument("--progress", dest="progress", action="store_true", default=None,
                    help=f"show a progress bar (default: for runs of {PROGRESS_STEPS} steps or more)")
     p.add_argument("--no-progress", dest="progress", action="store_false", help="never show a progress bar")
-    p.add_argument("--mount-on", help="URDF only: mount the URDF arm on this spacecraft (as for `inspect`)")
-    p.add_argument("--at", help="with --mount-on: x,y,z,roll,pitch,yaw of the URDF base in the spacecraft base frame")
-    p.add_argument("--prefix", help="URDF only: prefix for the URDF's link, joint and point names")
 
     d = sub.add_parser("demo", help="run the spatial 6-DOF example and write its figures",
                        description="Simulate the spatial 6-DOF example (the project-defined preset spatial6) in "
@@ -101,20 +96,6 @@ def _require_figures(what: str) -> None:
     from ._optional import require
 
     require("matplotlib", what)
-
-
-def _floats(text: Optional[str], name: str, n: Optional[int] = None) -> Optional[np.ndarray]:
-    if text is None:
-        return None
-    try:
-        values = np.array([float(v) for v in text.split(",") if v.strip() != ""])
-    except ValueError:
-        raise CliError(f"{name} must be comma-separated numbers, got {text!r}") from None
-    if n is not None and values.shape[0] != n:
-        raise CliError(f"{name} must have {n} values, got {values.shape[0]}")
-    if not np.all(np.isfinite(values)):
-        raise CliError(f"{name} must be finite numbers, got {text!r}")
-    return values
 
 
 def reaction_wheel_dofs(robot) -> List[int]:
@@ -206,15 +187,13 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
             raise CliError(f"--controller {name} moves the arm joints, but '{robot.name}' has none (only reaction wheels)")
         if target is None:
             return q_arm0 + 0.3
-        goal = _floats(target, "--target")
-        if goal.shape[0] != len(arm):
-            raise CliError(f"--target must have one value per arm joint ({len(arm)} for '{robot.name}'), got {goal.shape[0]}")
-        return goal
+        return parse_numbers(target, "--target", len(arm), f"joint goal, one per arm joint of '{robot.name}'",
+                             "rad, or m for prismatic joints")
 
     def cartesian_goal(p0):
         if target is None:
             return p0 + 0.2
-        return _floats(target, "--target (end-effector position x,y,z)", 3)
+        return parse_numbers(target, "--target", 3, "end-effector goal x,y,z in the inertial frame", "m")
 
     if name in ("pd", "computed-torque"):
         ref = control.QuinticJoint(q_arm0, joint_goal(), 0.0, t_move)
@@ -224,7 +203,8 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
         return control.ComputedTorque(kp=25.0 if kp is None else kp, kd=10.0 if kd is None else kd, reference=ref)
     if name == "rmrc":
         if robot.end_effector is None:
-            raise CliError(f"--controller rmrc moves the end effector, but '{robot.name}' has none")
+            raise CliError(f"--controller rmrc moves the end effector, but '{robot.name}' has none: name one with "
+                           f"--end-effector (points: {', '.join(robot.point_names) or 'none'})")
         p0 = robot.point_position(x0)
         line = control.CartesianLine(p0, cartesian_goal(p0), 0.0, t_move)
         return control.ResolvedMotionRate(line, gain=2.0 if kp is None else kp)
@@ -242,7 +222,8 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
         return control.Combined(arm=control.ComputedTorque(kp=25.0, kd=10.0, reference=ref), base=base)
     if name == "coordinated":
         if robot.end_effector is None:
-            raise CliError(f"--controller coordinated moves the end effector, but '{robot.name}' has none")
+            raise CliError(f"--controller coordinated moves the end effector, but '{robot.name}' has none: name one with "
+                           f"--end-effector (points: {', '.join(robot.point_names) or 'none'})")
         p0 = robot.point_position(x0)
         line = control.CartesianLine(p0, cartesian_goal(p0), 0.0, t_move)
         if hasattr(control, "CoordinatedFlying"):
@@ -259,13 +240,14 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
 # ---------------------------------------------------------------------------------------------
 # commands
 # ---------------------------------------------------------------------------------------------
-def simulate_command(args, load_model, out=None) -> int:
-    """Run ``spacearm simulate`` with parsed ``args``; ``load_model`` is the CLI's model loader."""
+def simulate_command(args, model_from_args, out=None) -> int:
+    """Run ``spacearm simulate`` with parsed ``args``; ``model_from_args`` is the CLI's model
+    loader (:func:`spacearm.cli.model_from_args`)."""
     import spacearm
+    from .cli import joint_values
 
     out = sys.stdout if out is None else out
-    options = {k: v for k, v in (("prefix", args.prefix),) if v is not None}
-    robot = load_model(args.model, mount_on=args.mount_on, at=args.at, **options)
+    robot = model_from_args(args)
     if not (np.isfinite(args.duration) and args.duration > 0):
         raise CliError(f"--duration must be > 0 s, got {args.duration}")
     if not (np.isfinite(args.dt) and args.dt > 0):
@@ -274,15 +256,13 @@ def simulate_command(args, load_model, out=None) -> int:
         raise CliError(f"--frames must be >= 1, got {args.frames}")
     if args.plot or args.animate:
         _require_figures("--plot and --animate")
-    q0 = _floats(args.q0, "--q0", robot.n_dof)
-    x0 = robot.neutral_configuration(q0)
+    x0 = robot.neutral_configuration(None if args.q0 is None else joint_values(args.q0, "--q0", robot))
     u0 = np.zeros(robot.nu)
-    qd0 = _floats(args.qd0, "--qd0", robot.n_dof)
-    if qd0 is not None:
-        u0[6:] = qd0
-    base_v = _floats(args.base_velocity, "--base-velocity", 6)
-    if base_v is not None:
-        u0[:6] = base_v
+    if args.qd0 is not None:
+        u0[6:] = joint_values(args.qd0, "--qd0", robot)
+    if args.base_velocity is not None:
+        u0[:6] = parse_numbers(args.base_velocity, "--base-velocity", 6, "v0x,v0y,v0z,w0x,w0y,w0z in the inertial frame",
+                               "m/s, rad/s")
     controller = build_controller(args.controller, robot, x0, u0, duration=args.duration, target=args.target,
                                   move_time=args.move_time, kp=args.kp, kd=args.kd)
     mode = args.mode or DEFAULT_MODE[args.controller]
@@ -358,10 +338,10 @@ def run_demo(out_dir, animation: bool = True, out=None, figures: bool = True) ->
     return files
 
 
-def run(args, load_model) -> int:
+def run(args, model_from_args) -> int:
     """Dispatch ``simulate`` or ``demo`` (called by :func:`spacearm.cli.main`)."""
     if args.command == "simulate":
-        return simulate_command(args, load_model)
+        return simulate_command(args, model_from_args)
     if args.command == "demo":
         run_demo(args.out_dir, animation=not args.no_animation, figures=not args.no_figures)
         return 0
