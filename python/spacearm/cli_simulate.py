@@ -21,11 +21,11 @@ from typing import List
 import numpy as np
 
 from .cli_numbers import CliError, parse_numbers
+from .simulation import MODES  # the core's mode table
 
 __all__ = ["add_parsers", "run", "build_controller", "pd_gains", "base_pose_hold", "reaction_wheel_dofs", "run_demo"]
 
 CONTROLLERS = ("none", "pd", "computed-torque", "rmrc", "attitude", "coordinated")
-MODES = ("floating", "rotation-floating", "rotation-flying", "translation-flying", "flying")
 #: The mode each controller runs in unless --mode says otherwise.
 DEFAULT_MODE = {"none": "floating", "pd": "floating", "computed-torque": "floating", "rmrc": "floating",
                 "attitude": "rotation-floating", "coordinated": "flying"}

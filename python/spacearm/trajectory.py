@@ -530,7 +530,17 @@ class Trajectory:
             ws = np.max(np.abs(self.wheel_speed), axis=0)
             lines.append("  wheel max |speed| [rad/s]: " + ", ".join(f"{v:.4g}" for v in ws))
         if self.has("tau"):
-            lines.append(f"  max |tau| {np.max(np.abs(self.tau)) if self.tau.size else 0.0:.4g} (N m or N)")
+            # One figure per joint kind, each in its own unit (torque of revolute joints, force
+            # of prismatic ones); a run without its robot cannot tell them apart.
+            tau = np.abs(np.asarray(self.tau, dtype=float)).reshape(len(self), -1)
+            if self._robot is None:
+                lines.append(f"  max |tau| {np.max(tau) if tau.size else 0.0:.4g} (N m for revolute, N for prismatic joints)")
+            elif tau.shape[1]:
+                prismatic = np.array(self._joint_is_prismatic(), dtype=bool)
+                kinds = (("torque", ~prismatic, "N m"), ("force", prismatic, "N"))
+                parts = [f"max |{what}| {np.max(tau[:, cols]) if tau.shape[0] else 0.0:.4g} {unit}"
+                         for what, cols, unit in kinds if cols.any()]
+                lines.append("  joint " + ", ".join(parts))
         counts_sat = self.saturation_counts()
         if counts_sat:
             lines.append(f"  saturation: {len(self.saturation_events)} events: "
