@@ -145,8 +145,6 @@ def _load_urdf_model(path, mount_on, at, prefix, mimic, base_link, end_effector)
 def _with_end_effector(robot: Robot, name: str) -> Robot:
     """``robot`` with the end effector ``name``: a point of it, or a body (its CM, the body
     frame origin, as the new point ``<body>_cm``). Everything else stays exactly as it was."""
-    from .urdf import _copy_of  # the builder copy that mounting a URDF on a spacecraft uses
-
     if name == robot.end_effector:
         return robot
     if name in robot.point_names:
@@ -158,9 +156,7 @@ def _with_end_effector(robot: Robot, name: str) -> Robot:
     else:
         raise CliError(f"--end-effector must name a point or a body/link of model '{robot.name}', got '{name}'; "
                        f"points: {', '.join(robot.point_names) or 'none'}; bodies: {', '.join(robot.body_names)}")
-    builder = _copy_of(robot, robot.name)
-    if robot.n_dof > 0:
-        builder.set_initial_q(robot.initial_q)
+    builder = robot.to_builder()
     if point not in robot.point_names:
         builder.add_point(point, body=name)
     return builder.set_end_effector(point).build()

@@ -222,7 +222,7 @@ class _Importer:
                                            f"fixed joints) but {exc}; name another base_link or mount the robot on a "
                                            "spacecraft base (mount_on=...)") from None
         else:
-            builder = _copy_of(mount_on, name)
+            builder = RobotBuilder.from_robot(mount_on, name=name)
             taken = set(mount_on.body_names) | set(mount_on.point_names)
             clash = sorted(taken & {p + link for link in self.body_of_link})
             if clash:
@@ -274,23 +274,6 @@ class _Importer:
             builder.add_link(name, **kwargs)
         except SpacearmError as exc:
             raise self.fail(line, f"link '{name}': {exc}") from None
-
-
-def _copy_of(robot: Robot, name: str) -> RobotBuilder:
-    """A builder holding every body and point of ``robot`` (the spacecraft to mount on)."""
-    d = robot.describe()
-    builder = RobotBuilder(name, d["base"]["mass"], d["base"]["inertia"], base_name=d["base"]["name"])
-    for link in d["links"]:
-        lower, upper, velocity, effort = link["limits"]
-        limits = {k: v for k, v in (("lower", lower), ("upper", upper), ("velocity", velocity), ("effort", effort)) if np.isfinite(v)}
-        builder.add_link(link["name"], parent=link["parent"], joint=link["type"], axis=link["axis"], origin=link["origin"],
-                         rotation=link["rotation"], com=link["com"], mass=link["mass"], inertia=link["inertia"],
-                         joint_name=link["joint"], limits=limits)
-    for point, body, offset in d["points"]:
-        builder.add_point(point, body=body, offset=offset)
-    if d["end_effector"] is not None:
-        builder.set_end_effector(d["end_effector"])
-    return builder
 
 
 def loads_urdf(
