@@ -24,7 +24,7 @@ def out_dir(description: str) -> Path:
 
 def case_figure(traj, path, title: str, plane=(0, 1)):
     """Paths of the base CM, the end effector and the system CM in one coordinate plane, the
-    base rotation angle, and the momenta: what the paper's case studies show (the base reacts,
+    base rotation angle, and the momenta: what the paper's case studies illustrate (the base reacts,
     the system CM stays put, momentum is conserved). Written as PNG, atomically."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure

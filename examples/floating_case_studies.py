@@ -1,7 +1,8 @@
 #!/usr/bin/env python
-"""The paper's two case studies (Wilde et al. 2018, §6) simulated in floating mode.
-
-For planar4 (4 links on a 100 kg cube, a planar arm) and spatial6 (6 links on a 500 kg box):
+"""Two floating-mode case studies in the manner of the paper's §6 (Wilde et al. 2018), on the
+presets planar4 (4 links on a 100 kg cube, a planar arm; SPART's ResolvedMotion values) and
+spatial6 (6 links on a 500 kg box; project-defined) — not the paper's own parameters, which are
+not available:
 
 1. computed torque on the reduced EOM (paper eqs. 112–115) drives the arm along a quintic
    joint maneuver: the base reacts equal and opposite (it turns and moves), the system CM

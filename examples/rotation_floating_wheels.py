@@ -1,7 +1,7 @@
 #!/usr/bin/env python
 """Rotation-floating: three reaction wheels hold the base attitude while the arm moves.
 
-A spatial6-like servicer (the paper's case study 2 with three orthogonal reaction wheels in the
+A spatial6-like servicer (the project-defined spatial6 preset with three orthogonal reaction wheels in the
 base, built with ``RobotBuilder.add_reaction_wheel``) performs the same computed-torque arm
 maneuver twice:
 
