@@ -2,7 +2,7 @@
 """The three flying modes of the paper's Table 1 on spatial6, with the same arm maneuver.
 
 The arm follows a 4 s quintic joint maneuver under computed torque on the reduced EOM (which
-compensates the base wrench it is combined with, DESIGN.md §2); the base is actuated as each
+compensates the base wrench it is combined with, docs/simulation-core.md); the base is actuated as each
 mode allows, by a thruster law written as a Python ``control.Callback`` (base wrench only):
 
 - rotation-flying: thruster torque couples hold the base attitude (PD on the attitude error

@@ -4,7 +4,7 @@ Every model is built through the public :class:`spacearm.RobotBuilder` (so the t
 the same path as users) from a ``numpy.random.Generator`` seeded with the case's seed: a failing
 seed reproduces exactly.
 
-What a model can contain (DESIGN.md §1 frames: every body frame at its CM):
+What a model can contain (docs/conventions.md frames: every body frame at its CM):
 
 - N = 1..12 joint degrees of freedom, revolute or prismatic, plus 0..3 fixed links;
 - a tree, not only a chain: each new link hangs from the previous link (a chain), from the base

@@ -1,4 +1,4 @@
-"""Reaction null space, free-floating kinematics and reactionless motion (issue #6 item 3),
+"""Reaction null space, free-floating kinematics and reactionless motion,
 against Pinocchio-built base maps, an independent NumPy RK4 of the base driven by Pinocchio's mass
 matrix, and a closed form."""
 

@@ -1,4 +1,4 @@
-"""Redundancy resolution (issue #6 item 4) on the 7-DOF preset: the task is met exactly through
+"""Redundancy resolution on the 7-DOF preset: the task is met exactly through
 Pinocchio-built J*, the null-space objectives improve what they target, damped least squares
 keeps motions toward unreachable targets finite."""
 

@@ -1,4 +1,4 @@
-"""Dynamic singularities (issue #6 item 1) against independent references: a SymPy determinant of
+"""Dynamic singularities against independent references: a SymPy determinant of
 the two-link planar free-floating J* derived here from the momentum conditions, and NumPy SVDs of
 Pinocchio-built J* and J_m."""
 

@@ -1,4 +1,4 @@
-"""Workspaces (issue #6 item 2): reachable shell about the system CM against a hand-derived closed
+"""Workspaces: reachable shell about the system CM against a hand-derived closed
 form and Pinocchio's CM and frame placements; path-dependent workspace against the radii of the
 dynamic singularities located by the SymPy determinant."""
 

@@ -1,4 +1,4 @@
-"""Every bad input of DESIGN.md §4 raises a spacearm exception that names what was wrong and
+"""Every bad input of docs/architecture.md raises a spacearm exception that names what was wrong and
 what was expected — never a panic, a crash or a silent NaN."""
 
 import numpy as np

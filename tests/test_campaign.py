@@ -1,4 +1,4 @@
-"""Inertia-uncertainty campaigns (issue #6 item 5): sampling, execution back ends, files, CLI.
+"""Inertia-uncertainty campaigns: sampling, execution back ends, files, CLI.
 
 References used here are independent of the campaign code: the closed-form statistics of the
 log-normal scales, a hand-built perturbed plant's total mass and CM, the computed-torque

@@ -1,4 +1,4 @@
-"""Exact derivatives (issue #5 item 3) against independent references.
+"""Exact derivatives against independent references.
 
 The core computes every derivative by dual numbers through the same algorithms; the references
 here are independent of that:

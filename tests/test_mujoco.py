@@ -3,7 +3,7 @@
 Every quantity is computed by MuJoCo on the model compiled from
 :func:`spacearm.interop.to_mjcf`, mapped to spacearm's conventions with the converters of
 :mod:`spacearm.interop` (free joint: linear velocity in the world, angular in the base frame,
-quaternion scalar first; DESIGN.md §6), and compared norm-wise:
+quaternion scalar first; docs/conventions.md), and compared norm-wise:
 ``‖spacearm − mujoco‖ / ‖mujoco‖ ≤ 1e-10`` with ``‖mujoco‖`` asserted to be non-negligible.
 ``H*``, ``J*`` and ``c*`` are computed with numpy from MuJoCo's own dense mass matrix
 (``mj_fullM``) and site Jacobian (``mj_jacSite``, world axes) in MuJoCo's coordinates.

@@ -2,7 +2,7 @@
 
 Every quantity is computed by Pinocchio on the model exported by
 :func:`spacearm.interop.to_pinocchio`, mapped to spacearm's conventions with the converters of
-:mod:`spacearm.interop` (formulas in its docstring, DESIGN.md §6), and compared norm-wise:
+:mod:`spacearm.interop` (formulas in its docstring, docs/conventions.md), and compared norm-wise:
 ``‖spacearm − pinocchio‖ / ‖pinocchio‖ ≤ 1e-10`` with ``‖pinocchio‖`` asserted to be
 non-negligible. ``H*``, ``J*`` and ``c*`` are computed with numpy from Pinocchio's own mass
 matrix and frame Jacobian in Pinocchio's coordinates (they do not depend on the base-velocity

@@ -1,5 +1,5 @@
-"""The presets carry exactly the parameters of issue #2, checked against values computed here
-from the issue's numbers (not from spacearm)."""
+"""The presets carry exactly their defining parameters (presets.py says where each set comes
+from), checked against values computed here from those numbers (not from spacearm)."""
 
 import numpy as np
 import pytest

@@ -1,4 +1,4 @@
-"""spacearm.symbolic (issue #5): the closed-form matrices against the Rust core.
+"""spacearm.symbolic: the closed-form matrices against the Rust core.
 
 Every symbolic quantity is evaluated at random world states and compared to an independent
 numeric computation of the core (paper-form Jacobian sums, CRBA, RNEA, the Schur inverse):

@@ -1,4 +1,4 @@
-"""Generated NumPy module and C source (issue #5 item 2) against the Rust core, and the
+"""Generated NumPy module and C source against the Rust core, and the
 ``spacearm derive`` command. C tests skip cleanly without a C compiler."""
 
 import ctypes
