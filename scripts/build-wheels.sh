@@ -1,0 +1,95 @@
+#!/usr/bin/env bash
+# Build the portable Linux wheels and the sdist into dist/:
+#
+#   bash scripts/build-wheels.sh                 # manylinux2014 x86_64 + aarch64 wheels, sdist
+#   bash scripts/build-wheels.sh --x86_64-only   # manylinux2014 x86_64 wheel, sdist (CI)
+#
+# (SPACEARM_WHEELS_X86_64_ONLY=1 is the same as --x86_64-only.)
+#
+# The wheels link against glibc 2.17 (manylinux2014: RHEL/CentOS 7 and every newer Linux),
+# whatever glibc this machine has: maturin links through zig (`--zig`, zig from the `ziglang`
+# PyPI package), which targets an old glibc's symbol versions instead of the host's. Each wheel
+# is then checked by scripts/check-wheel-glibc.sh. The extension is abi3 (CPython 3.9+), so one
+# wheel per architecture serves every Python version.
+#
+# What it installs itself, when missing: maturin and ziglang (pip, into the running Python's
+# environment) and the Rust standard library of each target (rustup). A target whose standard
+# library cannot be had is reported in one line and skipped; the rest is still built.
+# macOS and Windows wheels are built by .github/workflows/release.yml on their own runners.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PYTHON=${PYTHON:-python3}
+OUT_DIR=dist
+MATURIN_REQUIREMENT="maturin>=1.9.4,<2"
+
+x86_64_only=${SPACEARM_WHEELS_X86_64_ONLY:-0}
+for arg in "$@"; do
+    case "$arg" in
+        --x86_64-only) x86_64_only=1 ;;
+        -h|--help) sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        *) echo "build-wheels: error: unknown argument '$arg' (expected --x86_64-only or --help)" >&2; exit 2 ;;
+    esac
+done
+
+targets=(x86_64-unknown-linux-gnu)
+if [ "$x86_64_only" != 1 ]; then
+    targets+=(aarch64-unknown-linux-gnu)
+fi
+
+# --- tools -------------------------------------------------------------------------------------
+# maturin 1.9.4 is the first to put the PEP 639 licence files in both the wheel and the sdist.
+if ! "$PYTHON" - <<'PY' 2>/dev/null
+import importlib.metadata, re
+version = tuple(int(part) for part in re.findall(r"\d+", importlib.metadata.version("maturin"))[:3])
+raise SystemExit(0 if (1, 9, 4) <= version < (2,) else 1)
+PY
+then
+    "$PYTHON" -m pip install --quiet "$MATURIN_REQUIREMENT"
+fi
+if ! "$PYTHON" -m ziglang version >/dev/null 2>&1; then
+    "$PYTHON" -m pip install --quiet ziglang
+fi
+# maturin finds zig through `python -m ziglang` of the Python it runs under.
+MATURIN=("$PYTHON" -m maturin)
+echo "build-wheels: $("${MATURIN[@]}" --version), zig $("$PYTHON" -m ziglang version), $(rustc --version)"
+
+have_target() {
+    # The standard library of a target is installed when rustc's sysroot has its directory.
+    [ -d "$(rustc --print sysroot)/lib/rustlib/$1/lib" ]
+}
+
+mkdir -p "$OUT_DIR"
+# Old artifacts of this project would be checked and shipped with the new ones.
+rm -f "$OUT_DIR"/spacearm-*.whl "$OUT_DIR"/spacearm-*.tar.gz
+
+built=()
+skipped=()
+for target in "${targets[@]}"; do
+    if ! have_target "$target"; then
+        rustup target add "$target" >/dev/null 2>&1 || true
+    fi
+    if ! have_target "$target"; then
+        echo "build-wheels: SKIPPED $target: its Rust standard library is not installed and 'rustup target add $target' failed (offline?); the other wheels are still built" >&2
+        skipped+=("$target")
+        continue
+    fi
+    echo "build-wheels: building the manylinux2014 wheel for $target"
+    "${MATURIN[@]}" build --release --zig --compatibility manylinux2014 \
+        --target "$target" --out "$OUT_DIR"
+    built+=("$target")
+done
+
+echo "build-wheels: building the sdist"
+"${MATURIN[@]}" sdist --out "$OUT_DIR"
+
+# --- checks ------------------------------------------------------------------------------------
+for wheel in "$OUT_DIR"/spacearm-*manylinux*.whl; do
+    bash scripts/check-wheel-glibc.sh "$wheel"
+done
+
+echo "build-wheels: done: ${built[*]} wheel(s) and the sdist in $OUT_DIR/:"
+ls -l "$OUT_DIR"/spacearm-*
+if [ ${#skipped[@]} -gt 0 ]; then
+    echo "build-wheels: NOT built: ${skipped[*]} (see the SKIPPED line above)" >&2
+fi
