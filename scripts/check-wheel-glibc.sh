@@ -33,7 +33,11 @@ fi
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"${PYTHON:-python3}" -c 'import sys, zipfile; zipfile.ZipFile(sys.argv[1]).extractall(sys.argv[2])' "$wheel" "$work"
+if ! "${PYTHON:-python3}" -c 'import sys, zipfile; zipfile.ZipFile(sys.argv[1]).extractall(sys.argv[2])' \
+    "$wheel" "$work" 2>"$work/unzip.log"; then
+    echo "check-wheel-glibc: error: cannot unpack '$wheel': $(tail -n 1 "$work/unzip.log")" >&2
+    exit 2
+fi
 
 mapfile -t shared_objects < <(find "$work" -type f -name '*.so*' | sort)
 if [ ${#shared_objects[@]} -eq 0 ]; then

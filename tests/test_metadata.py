@@ -175,7 +175,11 @@ def test_glibc_checker_refuses_what_is_not_a_wheel(tmp_path):
     empty_wheel = tmp_path / "empty-0.0.0-py3-none-any.whl"
     with zipfile.ZipFile(empty_wheel, "w") as z:
         z.writestr("empty/__init__.py", "")
-    for path, message in ((not_a_wheel, "is not a .whl file"), (empty_wheel, "holds no shared object")):
+    corrupt_wheel = tmp_path / "corrupt-0.0.0-py3-none-any.whl"
+    corrupt_wheel.write_bytes(b"not a zip archive")
+    cases = ((not_a_wheel, "is not a .whl file"), (empty_wheel, "holds no shared object"),
+             (corrupt_wheel, "cannot unpack"))
+    for path, message in cases:
         result = subprocess.run(["bash", str(ROOT / "scripts/check-wheel-glibc.sh"), str(path)],
                                 capture_output=True, text=True, timeout=60)
         assert result.returncode == 2 and message in result.stderr, result.stderr
