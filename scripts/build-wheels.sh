@@ -27,7 +27,7 @@ x86_64_only=${SPACEARM_WHEELS_X86_64_ONLY:-0}
 for arg in "$@"; do
     case "$arg" in
         --x86_64-only) x86_64_only=1 ;;
-        -h|--help) sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
         *) echo "build-wheels: error: unknown argument '$arg' (expected --x86_64-only or --help)" >&2; exit 2 ;;
     esac
 done
