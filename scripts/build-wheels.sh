@@ -21,7 +21,6 @@ cd "$(dirname "$0")/.."
 
 PYTHON=${PYTHON:-python3}
 OUT_DIR=dist
-MATURIN_REQUIREMENT="maturin>=1.9.4,<2"
 
 x86_64_only=${SPACEARM_WHEELS_X86_64_ONLY:-0}
 for arg in "$@"; do
@@ -38,18 +37,14 @@ if [ "$x86_64_only" != 1 ]; then
 fi
 
 # --- tools -------------------------------------------------------------------------------------
-# maturin 1.9.4 is the first to put the PEP 639 licence files in both the wheel and the sdist.
-if ! "$PYTHON" - <<'PY' 2>/dev/null
-import importlib.metadata, re
-version = tuple(int(part) for part in re.findall(r"\d+", importlib.metadata.version("maturin"))[:3])
-raise SystemExit(0 if (1, 9, 4) <= version < (2,) else 1)
-PY
-then
-    "$PYTHON" -m pip install --quiet "$MATURIN_REQUIREMENT"
+# maturin as pyproject's build-system requires it (1.9.4+: the PEP 639 licence files in both the
+# wheel and the sdist); pip leaves a satisfying installed version alone, without the network.
+maturin_requirement=$(sed -n 's/^requires = \["\(maturin[^"]*\)"\]$/\1/p' pyproject.toml)
+if [ -z "$maturin_requirement" ]; then
+    echo "build-wheels: error: no maturin requirement found in pyproject.toml's [build-system]" >&2
+    exit 2
 fi
-if ! "$PYTHON" -m ziglang version >/dev/null 2>&1; then
-    "$PYTHON" -m pip install --quiet ziglang
-fi
+"$PYTHON" -m pip install --quiet "$maturin_requirement" ziglang
 # maturin finds zig through `python -m ziglang` of the Python it runs under.
 MATURIN=("$PYTHON" -m maturin)
 echo "build-wheels: $("${MATURIN[@]}" --version), zig $("$PYTHON" -m ziglang version), $(rustc --version)"
