@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# Build the portable Linux wheels and the sdist into dist/:
+#
+#   bash scripts/build-wheels.sh                 # manylinux2014 x86_64 + aarch64 wheels, sdist
+#   bash scripts/build-wheels.sh --x86_64-only   # manylinux2014 x86_64 wheel, sdist (CI)
+#
+# (SPACEARM_WHEELS_X86_64_ONLY=1 is the same as --x86_64-only.)
+#
+# The wheels link against glibc 2.17 (manylinux2014: RHEL/CentOS 7 and every newer Linux),
+# whatever glibc this machine has: maturin links through zig (`--zig`, zig from the `ziglang`
+# PyPI package), which targets an old glibc's symbol versions instead of the host's. Each wheel
+# is then checked by scripts/check-wheel-glibc.sh. The extension is abi3 (CPython 3.9+), so one
+# wheel per architecture serves every Python version.
+#
+# What it installs itself, when missing: maturin and ziglang (pip, into the running Python's
+# environment) and the Rust standard library of each target (rustup). A target whose standard
+# library cannot be had is reported in one line and skipped; the rest is still built.
+# macOS and Windows wheels are built by .github/workflows/release.yml on their own runners.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PYTHON=${PYTHON:-python3}
+OUT_DIR=dist
+
+x86_64_only=${SPACEARM_WHEELS_X86_64_ONLY:-0}
+for arg in "$@"; do
+    case "$arg" in
+        --x86_64-only) x86_64_only=1 ;;
+        -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
+        *) echo "build-wheels: error: unknown argument '$arg' (expected --x86_64-only or --help)" >&2; exit 2 ;;
+    esac
+done
+
+targets=(x86_64-unknown-linux-gnu)
+if [ "$x86_64_only" != 1 ]; then
+    targets+=(aarch64-unknown-linux-gnu)
+fi
+
+# --- tools -------------------------------------------------------------------------------------
+# maturin as pyproject's build-system requires it (1.9.4+: the PEP 639 licence files in both the
+# wheel and the sdist); pip leaves a satisfying installed version alone, without the network.
+maturin_requirement=$(sed -n 's/^requires = \["\(maturin[^"]*\)"\]$/\1/p' pyproject.toml)
+if [ -z "$maturin_requirement" ]; then
+    echo "build-wheels: error: no maturin requirement found in pyproject.toml's [build-system]" >&2
+    exit 2
+fi
+"$PYTHON" -m pip install --quiet "$maturin_requirement" ziglang
+# maturin finds zig through `python -m ziglang` of the Python it runs under.
+MATURIN=("$PYTHON" -m maturin)
+echo "build-wheels: $("${MATURIN[@]}" --version), zig $("$PYTHON" -m ziglang version), $(rustc --version)"
+
+have_target() {
+    # The standard library of a target is installed when rustc's sysroot has its directory.
+    [ -d "$(rustc --print sysroot)/lib/rustlib/$1/lib" ]
+}
+
+mkdir -p "$OUT_DIR"
+# Old artifacts of this project would be checked and shipped with the new ones.
+rm -f "$OUT_DIR"/spacearm-*.whl "$OUT_DIR"/spacearm-*.tar.gz
+
+built=()
+skipped=()
+for target in "${targets[@]}"; do
+    if ! have_target "$target"; then
+        rustup target add "$target" >/dev/null 2>&1 || true
+    fi
+    if ! have_target "$target"; then
+        echo "build-wheels: SKIPPED $target: its Rust standard library is not installed and 'rustup target add $target' failed (offline?); the other wheels are still built" >&2
+        skipped+=("$target")
+        continue
+    fi
+    echo "build-wheels: building the manylinux2014 wheel for $target"
+    "${MATURIN[@]}" build --release --zig --compatibility manylinux2014 \
+        --target "$target" --out "$OUT_DIR"
+    built+=("$target")
+done
+
+echo "build-wheels: building the sdist"
+"${MATURIN[@]}" sdist --out "$OUT_DIR"
+
+# --- checks ------------------------------------------------------------------------------------
+for wheel in "$OUT_DIR"/spacearm-*manylinux*.whl; do
+    bash scripts/check-wheel-glibc.sh "$wheel"
+done
+
+echo "build-wheels: done: ${built[*]} wheel(s) and the sdist in $OUT_DIR/:"
+ls -l "$OUT_DIR"/spacearm-*
+if [ ${#skipped[@]} -gt 0 ]; then
+    echo "build-wheels: NOT built: ${skipped[*]} (see the SKIPPED line above)" >&2
+fi
