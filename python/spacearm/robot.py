@@ -1,7 +1,7 @@
 """The :class:`Robot`: a validated spacecraft-manipulator model and every quantity of the
 Generalized Jacobian Matrix formulation.
 
-Conventions (DESIGN.md §1, see ``docs/conventions.md``): SI units; vectors in the inertial frame
+Conventions (``docs/conventions.md``): SI units; vectors in the inertial frame
 𝒥 unless a name says otherwise; configuration ``x = [r0 (3), quat0 (4, [x, y, z, w]), q (N)]``
 with ``r0`` the base CM; generalized velocity ``u = [v0 (3), w0 (3), qd (N)]`` with ``v0`` the
 base CM velocity and ``w0`` the base angular velocity, both in 𝒥; generalized force
@@ -18,8 +18,8 @@ from typing import NamedTuple, Sequence, Union
 import numpy as np
 
 from . import _core
-from ._arrays import vector, vector3
-from .errors import NotFoundError, ShapeError
+from ._arrays import quaternion, vector, vector3
+from .errors import ArgumentError, NotFoundError, ShapeError, SpacearmTypeError
 
 __all__ = ["Robot", "ExternalWrench", "Kinematics", "Momentum", "InertiaBlocks", "ForwardDynamicsDerivatives", "Linearization"]
 
@@ -50,7 +50,7 @@ class Kinematics(NamedTuple):
 
 
 class Momentum(NamedTuple):
-    """Linear momentum and angular momentum about three points (DESIGN.md §1)."""
+    """Linear momentum and angular momentum about three points."""
 
     P: np.ndarray  #: linear momentum, N·s
     L_origin: np.ndarray  #: about the origin of 𝒥 (conserved with no external wrench)
@@ -87,7 +87,7 @@ class Robot:
 
     def __init__(self, core_model: "_core.Model"):
         if not isinstance(core_model, _core.Model):
-            raise TypeError("Robot is built with Robot.builder(), Robot.from_toml(), Robot.from_dh() or spacearm.presets")
+            raise SpacearmTypeError("Robot is built with Robot.builder(), Robot.from_toml(), Robot.from_dh() or spacearm.presets")
         self._m = core_model
         # Named points resolved once (the model is immutable): name or None -> (body, offset).
         self._points = {}
@@ -177,8 +177,33 @@ class Robot:
 
     @property
     def joint_types(self) -> list:
-        """Joint type of each link, in link order."""
+        """Joint type of each LINK, in link order (length ``n_bodies - 1``), fixed joints
+        included: ``"revolute"``, ``"prismatic"`` or ``"fixed"``. It does not line up with ``q``
+        when the model has fixed joints; for one entry per degree of freedom use
+        :attr:`dof_types` and :attr:`joint_names`."""
         return list(self._m.joint_types())
+
+    @property
+    def joint_names(self) -> list:
+        """Name of the joint of each degree of freedom, in ``q`` order (length ``N``; fixed
+        joints excluded): ``q[k]``, ``qd[k]`` and ``tau[k]`` belong to ``joint_names[k]``."""
+        return [name for name, _ in self._dofs()]
+
+    @property
+    def dof_types(self) -> list:
+        """Type of each degree of freedom, in ``q`` order (length ``N``): ``"revolute"`` (rad,
+        N·m) or ``"prismatic"`` (m, N). Unlike :attr:`joint_types`, fixed joints are excluded."""
+        return [kind for _, kind in self._dofs()]
+
+    def _dofs(self) -> tuple:
+        """``(joint name, joint type)`` of each degree of freedom in ``q`` order, read once from
+        the model's description (the model is immutable)."""
+        dofs = self.__dict__.get("_dof_joints")
+        if dofs is None:
+            links = [link for link in self.describe()["links"] if link["dof"] is not None]
+            links.sort(key=lambda link: link["dof"])
+            dofs = self._dof_joints = tuple((link["joint"], link["type"]) for link in links)
+        return dofs
 
     @property
     def body_of_dof(self) -> list:
@@ -225,9 +250,12 @@ class Robot:
 
     # ---- states ---------------------------------------------------------------------------
     def neutral_configuration(self, q=None, r0=(0.0, 0.0, 0.0), quat0=(0.0, 0.0, 0.0, 1.0)) -> np.ndarray:
-        """Configuration ``x = [r0, quat0, q]``; ``q`` defaults to the model's initial angles."""
+        """Configuration ``x = [r0, quat0, q]``; ``q`` defaults to the model's initial angles.
+
+        ``quat0`` is the base attitude, a quaternion ``[x, y, z, w]`` or a
+        ``scipy.spatial.transform.Rotation``."""
         qv = self.initial_q if q is None else vector(q, "q", self.n_dof)
-        return np.concatenate([vector(r0, "r0", 3), vector(quat0, "quat0", 4), qv])
+        return np.concatenate([vector(r0, "r0", 3), quaternion(quat0, "quat0"), qv])
 
     def zero_velocity(self) -> np.ndarray:
         """``u = 0`` (length ``6 + N``)."""
@@ -278,7 +306,7 @@ class Robot:
             return self._m.mass_matrix_crba(x)
         if method == "paper":
             return self._m.mass_matrix_paper(x)
-        raise ValueError(f"method must be 'crba' or 'paper', got {method!r}")
+        raise ArgumentError(f"method must be 'crba' or 'paper', got {method!r}")
 
     def base_inertia_inverse(self, x) -> np.ndarray:
         """``H0⁻¹`` by the closed-form Schur complement (eqs. 52–61)."""
@@ -295,7 +323,7 @@ class Robot:
         out = []
         for w in wrenches:
             if not isinstance(w, ExternalWrench):
-                raise TypeError(f"wrenches must be spacearm.ExternalWrench objects, got {type(w).__name__}")
+                raise SpacearmTypeError(f"wrenches must be spacearm.ExternalWrench objects, got {type(w).__name__}")
             out.append((
                 self.body_index(w.body),
                 list(vector3(w.offset, "wrench offset")),
@@ -313,38 +341,34 @@ class Robot:
     def forward_dynamics(self, x, u, f=None, *, tau=None, base_wrench=None, wrenches=None, method: str = "aba") -> np.ndarray:
         """State derivative ``du = [dv0, dw0, qdd]`` under generalized force ``f``.
 
-        Give either ``f = [F0, N0, tau]`` or ``tau`` (joint torques) and optionally
-        ``base_wrench = [F0, N0]`` (zero: free-floating). ``method``: ``"aba"`` (O(N)
-        articulated-body algorithm), ``"mass_matrix"`` (``H⁻¹(f + J^T w - c)``) or
-        ``"reduced"`` (``qdd = H*⁻¹(tau - c* - H0m^T H0⁻¹ F_b)``, DESIGN.md §2; no external
-        wrenches).
+        Give either ``f = [F0, N0, tau]`` or ``tau`` (joint torques, default zero) and
+        optionally ``base_wrench = [F0, N0]`` (default zero: free-floating); the two forms give
+        bit-identical results at the same cost (the second assembles ``f`` in the extension).
+        ``method``: ``"aba"`` (O(N) articulated-body algorithm), ``"mass_matrix"``
+        (``H⁻¹(f + J^T w - c)``) or ``"reduced"`` (``qdd = H*⁻¹(tau - c* - H0m^T H0⁻¹ F_b)``,
+        the reduction of eqs. 39–50, ``docs/physics.md``; no external wrenches).
         """
+        # One native call per form and method: x, u and the force arrays go to the extension
+        # unconverted (see _x/_u above); it checks them in the order force, x, u.
+        ext = None if wrenches is None else self._wrenches(wrenches)
         if f is None:
-            t = np.zeros(self.n_dof) if tau is None else vector(tau, "tau", self.n_dof)
-            b = np.zeros(6) if base_wrench is None else vector(base_wrench, "base_wrench", 6)
-            f = np.concatenate([b, t])
-        elif tau is not None or base_wrench is not None:
-            raise ValueError("give either f or tau/base_wrench, not both")
-        if wrenches is None:
-            # The extension converts f, then x, then u (the order of the general path below).
             if method == "aba":
-                return self._m.forward_dynamics_aba(x, u, f)
+                return self._m.forward_dynamics_aba_tau(x, u, tau, base_wrench, ext)
             if method == "mass_matrix":
-                return self._m.forward_dynamics_mass_matrix(x, u, f)
-            if method == "reduced":
-                return self._m.reduced_forward_dynamics_f(x, u, f)
-        f = self._u(f, "f")
-        if method == "aba":
-            return self._m.forward_dynamics_aba(self._x(x), self._u(u), f, self._wrenches(wrenches))
-        if method == "mass_matrix":
-            return self._m.forward_dynamics_mass_matrix(self._x(x), self._u(u), f, self._wrenches(wrenches))
+                return self._m.forward_dynamics_mass_matrix_tau(x, u, tau, base_wrench, ext)
+        elif tau is not None or base_wrench is not None:
+            raise ArgumentError("give either f or tau/base_wrench, not both")
+        elif method == "aba":
+            return self._m.forward_dynamics_aba(x, u, f, ext)
+        elif method == "mass_matrix":
+            return self._m.forward_dynamics_mass_matrix(x, u, f, ext)
         if method == "reduced":
-            if wrenches:
-                raise ValueError("method='reduced' takes no external wrenches; use 'aba' or 'mass_matrix'")
-            if f.shape[0] != self.nu:
-                raise ShapeError(f"f must have length 6+N = {self.nu}, got {f.shape[0]}")
-            return self._m.reduced_forward_dynamics(self._x(x), self._u(u), np.ascontiguousarray(f[6:]), np.ascontiguousarray(f[:6]))
-        raise ValueError(f"method must be 'aba', 'mass_matrix' or 'reduced', got {method!r}")
+            if ext:
+                raise ArgumentError("method='reduced' takes no external wrenches; use 'aba' or 'mass_matrix'")
+            if f is None:
+                return self._m.reduced_forward_dynamics(x, u, tau, base_wrench)
+            return self._m.reduced_forward_dynamics_f(x, u, f)
+        raise ArgumentError(f"method must be 'aba', 'mass_matrix' or 'reduced', got {method!r}")
 
     # ---- generalized (reduced) quantities ------------------------------------------------
     def generalized_inertia(self, x) -> np.ndarray:
@@ -408,7 +432,7 @@ class Robot:
             b = np.zeros(6) if base_wrench is None else vector(base_wrench, "base_wrench", 6)
             return np.concatenate([b, t])
         if tau is not None or base_wrench is not None:
-            raise ValueError("give either f or tau/base_wrench, not both")
+            raise ArgumentError("give either f or tau/base_wrench, not both")
         return f
 
     def configuration_plus(self, x, dx) -> np.ndarray:
@@ -487,7 +511,7 @@ class Robot:
         Apply a state increment with :meth:`configuration_plus`.
         """
         if inputs not in ("joints", "all"):
-            raise ValueError(f"inputs must be 'joints' or 'all', got {inputs!r}")
+            raise ArgumentError(f"inputs must be 'joints' or 'all', got {inputs!r}")
         a, b = self._derivatives().linearize(x, u, self._force(f, tau, base_wrench), inputs == "joints")
         return Linearization(a, b)
 

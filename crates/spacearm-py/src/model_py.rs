@@ -1,7 +1,7 @@
 //! `spacearm._core.Model`: a core `Model` with its `Data` workspace, one thin method per core
 //! function. Argument checking beyond numpy conversion happens in the core.
 
-use nalgebra::Vector3;
+use nalgebra::{DVector, Vector3, Vector6};
 use numpy::{PyArray1, PyArray2, PyArray3};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -41,6 +41,27 @@ fn wrenches(py: Python<'_>, list: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64
         });
     }
     Ok(out)
+}
+
+/// The generalized force `f = [base_wrench; tau]` of the `tau=`/`base_wrench=` form of forward
+/// dynamics, assembled here so that this form costs one native call like the `f` form (either
+/// part may be `None`: zero). `tau` is converted before `base_wrench`, and each is checked for
+/// length and finiteness under its own name (an error names `tau`, not the assembled `f`).
+fn force_from_parts(py: Python<'_>, model: &core::Model, tau: Option<&Bound<'_, PyAny>>, base_wrench: Option<&Bound<'_, PyAny>>) -> PyResult<DVector<f64>> {
+    let n = model.n_dof();
+    let mut f = DVector::zeros(6 + n);
+    // Each slice is copied out before the next conversion runs Python code (see `VecArg`).
+    if let Some(tau) = tau {
+        let tau = vec_arg_n(tau, "tau", n)?;
+        check_finite(py, "tau", tau.as_slice())?;
+        f.rows_mut(6, n).copy_from_slice(tau.as_slice());
+    }
+    if let Some(fb) = base_wrench {
+        let fb = vec_arg_n(fb, "base_wrench", 6)?;
+        check_finite(py, "base_wrench", fb.as_slice())?;
+        f.rows_mut(0, 6).copy_from_slice(fb.as_slice());
+    }
+    Ok(f)
 }
 
 #[pymethods]
@@ -270,17 +291,60 @@ impl PyModel {
         Ok(dvec(py, a))
     }
 
+    /// Forward dynamics by ABA under `f = [base_wrench; tau]` (either `None`: zero), in one
+    /// call: the same numbers as `forward_dynamics_aba` with the assembled `f`.
+    #[pyo3(signature = (x, u, tau=None, base_wrench=None, wrenches=None))]
+    fn forward_dynamics_aba_tau<'py>(
+        &mut self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+        tau: Option<&Bound<'py, PyAny>>,
+        base_wrench: Option<&Bound<'py, PyAny>>,
+        wrenches: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let f = force_from_parts(py, &self.model, tau, base_wrench)?;
+        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
+        let ext = self::wrenches(py, wrenches)?;
+        let a = core::aba::aba(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f.as_slice(), &ext).or_raise(py)?;
+        Ok(dvec(py, a))
+    }
+
+    /// Forward dynamics through `H` under `f = [base_wrench; tau]` (either `None`: zero).
+    #[pyo3(signature = (x, u, tau=None, base_wrench=None, wrenches=None))]
+    fn forward_dynamics_mass_matrix_tau<'py>(
+        &mut self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+        tau: Option<&Bound<'py, PyAny>>,
+        base_wrench: Option<&Bound<'py, PyAny>>,
+        wrenches: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let f = force_from_parts(py, &self.model, tau, base_wrench)?;
+        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
+        let ext = self::wrenches(py, wrenches)?;
+        let a = core::dynamics::compute_forward_dynamics_via_mass_matrix(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f.as_slice(), &ext)
+            .or_raise(py)?;
+        Ok(dvec(py, a))
+    }
+
+    /// Reduced forward dynamics (the `H*` route) under joint torques `tau` and base wrench
+    /// `base_wrench` (either `None`: zero).
+    #[pyo3(signature = (x, u, tau=None, base_wrench=None))]
     fn reduced_forward_dynamics<'py>(
         &mut self,
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
-        tau: &Bound<'py, PyAny>,
-        base_wrench: &Bound<'py, PyAny>,
+        tau: Option<&Bound<'py, PyAny>>,
+        base_wrench: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let fb = vec6(base_wrench, "base_wrench")?;
-        let (x, u, tau) = (vec_arg(x, "x")?, vec_arg(u, "u")?, vec_arg(tau, "tau")?);
-        let a = core::gjm::compute_reduced_forward_dynamics(&self.model, &mut self.data, x.as_slice(), u.as_slice(), tau.as_slice(), &fb).or_raise(py)?;
+        let f = force_from_parts(py, &self.model, tau, base_wrench)?;
+        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
+        let fb = Vector6::from_column_slice(&f.as_slice()[..6]);
+        let a = core::gjm::compute_reduced_forward_dynamics(&self.model, &mut self.data, x.as_slice(), u.as_slice(), &f.as_slice()[6..], &fb)
+            .or_raise(py)?;
         Ok(dvec(py, a))
     }
 
@@ -295,7 +359,7 @@ impl PyModel {
         }
         let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
         let fs = f.as_slice();
-        let fb = nalgebra::Vector6::from_column_slice(&fs[..6]);
+        let fb = Vector6::from_column_slice(&fs[..6]);
         let a = core::gjm::compute_reduced_forward_dynamics(&self.model, &mut self.data, x.as_slice(), u.as_slice(), &fs[6..], &fb).or_raise(py)?;
         Ok(dvec(py, a))
     }

@@ -9,7 +9,7 @@ from typing import Sequence, Union
 import numpy as np
 
 from .._atomic import atomic_path
-from ..errors import ShapeError, SpacearmError
+from ..errors import ArgumentError, ShapeError
 
 TaskLike = Union[str, Sequence[int], None]
 
@@ -38,7 +38,7 @@ def task_rows(robot, task: TaskLike) -> list:
         task = "planar" if is_planar(robot) else "position"
     if isinstance(task, str):
         if task not in TASKS:
-            raise SpacearmError(f"unknown task '{task}': expected one of {', '.join(TASKS)} or a list of rows 0-5")
+            raise ArgumentError(f"unknown task '{task}': expected one of {', '.join(TASKS)} or a list of rows 0-5")
         return list(TASKS[task])
     rows = [int(r) for r in task]
     return rows

@@ -24,7 +24,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Callable, Iterable, Iterator, Optional, Union
 
-from ..errors import SpacearmError
+from ..errors import ArgumentError
 from .perturbation import PARAMETER_NAMES, Perturbations
 from .results import FAILED, PENDING, CampaignResult
 from .scenario import METRIC_NAMES, Scenario
@@ -135,11 +135,11 @@ def run_campaign(
     """
     if isinstance(robot_or_spec, CampaignSpec):
         if samples is not None or perturbations is not None or scenario is not None:
-            raise ValueError("give either a CampaignSpec or a robot with samples/perturbations/scenario, not both")
+            raise ArgumentError("give either a CampaignSpec or a robot with samples/perturbations/scenario, not both")
         spec = robot_or_spec
     else:
         if samples is None:
-            raise ValueError("run_campaign(robot, samples=...): the number of samples is required")
+            raise ArgumentError("run_campaign(robot, samples=...): the number of samples is required")
         from ..model_file import dumps_toml
 
         spec = CampaignSpec(dumps_toml(robot_or_spec), samples, seed, perturbations or Perturbations(),
@@ -148,21 +148,21 @@ def run_campaign(
     if workers is None:
         workers = os.cpu_count() or 1
     if not isinstance(workers, int) or workers < 0:
-        raise ValueError(f"workers must be an integer >= 0, got {workers!r}")
+        raise ArgumentError(f"workers must be an integer >= 0, got {workers!r}")
     if scheduler is not None and workers == 0:
-        raise ValueError("workers=0 runs in this process; it cannot be combined with a Dask scheduler")
+        raise ArgumentError("workers=0 runs in this process; it cannot be combined with a Dask scheduler")
     if not checkpoint_seconds > 0:
-        raise ValueError(f"checkpoint_seconds must be > 0, got {checkpoint_seconds!r}")
+        raise ArgumentError(f"checkpoint_seconds must be > 0, got {checkpoint_seconds!r}")
     out = Path(out) if out is not None else None
     if out is not None and out.suffix != ".npz":
-        raise ValueError(f"out must be a .npz path, got '{out}'")
+        raise ArgumentError(f"out must be a .npz path, got '{out}'")
 
     spec_json = spec.to_json()
     result = None
     if out is not None and out.exists() and resume:
         result = CampaignResult.load(out)
         if result.spec_json != spec_json:
-            raise SpacearmError(f"'{out}' holds a different campaign (model, perturbations, scenario, samples or "
+            raise ArgumentError(f"'{out}' holds a different campaign (model, perturbations, scenario, samples or "
                                 "seed differ); choose another output path or pass resume=False to overwrite it")
     if result is None:
         result = CampaignResult(spec_json, PARAMETER_NAMES, METRIC_NAMES, spec.samples)

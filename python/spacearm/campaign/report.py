@@ -8,6 +8,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .._atomic import atomic_path
+from ..errors import ArgumentError
 
 __all__ = ["plot_campaign", "rank_correlation"]
 
@@ -40,7 +41,7 @@ def plot_campaign(result, path, metrics: Optional[Sequence[str]] = None) -> Path
     names = list(metrics) if metrics is not None else [m for m in result.metric_names if np.ptp(result.metric(m)) > 0
                                                        or m == "tracking_error_max"]
     if result.n_ok == 0:
-        raise ValueError("no sample of this campaign ran successfully: nothing to plot")
+        raise ArgumentError("no sample of this campaign ran successfully: nothing to plot")
     fig, axes = plt.subplots(len(names), 2, figsize=(10, 2.6 * len(names)), squeeze=False)
     for row, name in zip(axes, names):
         values = result.metric(name)
