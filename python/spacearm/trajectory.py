@@ -414,11 +414,7 @@ class Trajectory:
         """Name of each degree of freedom (``q1``… without a robot)."""
         if self._robot is None:
             return [f"q{i + 1}" for i in range(self._n)]
-        names = [f"q{i + 1}" for i in range(self._n)]
-        for link in self._robot.describe()["links"]:
-            if link["type"] != "fixed":
-                names[int(link["dof"])] = link["joint"]
-        return names
+        return self._robot.joint_names
 
     def _joint_is_prismatic(self) -> List[bool]:
         if self._robot is None:

@@ -48,7 +48,7 @@ def joint_bounds(robot, default_span=np.pi):
     """Lower and upper joint bounds for scans: the model's limits where finite, else ±π (±1 m
     for prismatic joints)."""
     lower, upper = [], []
-    types = [t for t in robot.joint_types if t != "fixed"]
+    types = robot.dof_types
     limits = [link["limits"] for link in robot.describe()["links"] if link["type"] != "fixed"]
     for t, (lo, hi, _v, _e) in zip(types, limits):
         span = default_span if t == "revolute" else 1.0
