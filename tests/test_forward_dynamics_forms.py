@@ -81,3 +81,24 @@ def test_bad_parts_name_the_argument(method):
         robot.forward_dynamics(x[:-1], u, tau=np.zeros(n), method=method)
     with pytest.raises(ArgumentError, match="not both"):
         robot.forward_dynamics(x, u, np.zeros(6 + n), base_wrench=np.zeros(6), method=method)
+
+
+def test_no_input_reaches_a_panic():
+    # A Rust panic would surface as pyo3's PanicException (a BaseException, not caught here).
+    from spacearm.errors import SpacearmError
+
+    robot = presets.planar4()
+    x, u, n = robot.neutral_configuration(), robot.zero_velocity(), robot.n_dof
+    bad = [np.zeros((2, n)), np.zeros(0), [], [[1.0] * n], np.zeros(n, dtype=complex), np.zeros(2 * n)[::2] * np.nan,
+           object(), {"a": 1}, np.zeros(10**6)]
+    for value in bad:
+        for kwargs in (dict(tau=value), dict(base_wrench=value), dict(tau=np.zeros(n), base_wrench=value)):
+            for method in METHODS:
+                with pytest.raises(SpacearmError):
+                    robot.forward_dynamics(x, u, method=method, **kwargs)
+    with pytest.raises(SpacearmError):
+        robot.forward_dynamics(x, u, tau=np.zeros(n), wrenches=[spacearm.ExternalWrench(99)])
+    # A model without joints: tau is empty.
+    rigid = spacearm.RobotBuilder("rigid", 10.0, [1.0, 2.0, 3.0]).build()
+    du = rigid.forward_dynamics(rigid.neutral_configuration(), rigid.zero_velocity(), tau=[], base_wrench=[10.0, 0, 0, 0, 0, 2.0])
+    np.testing.assert_allclose(du, [1.0, 0, 0, 0, 0, 2.0 / 3.0], rtol=1e-15)

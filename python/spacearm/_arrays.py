@@ -12,9 +12,14 @@ from .errors import NonFiniteError, ShapeError
 def vector(value, name: str, length: int | None = None) -> np.ndarray:
     """Convert ``value`` to a contiguous 1-D float64 array, checking its length if given."""
     try:
-        arr = np.ascontiguousarray(value, dtype=np.float64)
+        arr = np.asarray(value)
+        complex_values = arr.dtype.kind == "c"  # casting would drop the imaginary parts silently
+        if not complex_values:
+            arr = np.ascontiguousarray(arr, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise ShapeError(f"{name} must be a 1-D array of numbers, got {value!r}") from exc
+    if complex_values:
+        raise ShapeError(f"{name} must be real numbers, got complex values {value!r}")
     if arr.ndim != 1:
         raise ShapeError(f"{name} must be a 1-D array, got an array of shape {arr.shape}")
     if length is not None and arr.shape[0] != length:
