@@ -13,9 +13,12 @@ Rows (per-call medians over interleaved batches, µs):
 - ``native f``: ``robot._m.forward_dynamics_aba(x, u, f)``, the extension alone (no
   ``Robot`` method): the floor any call form can reach.
 
-The ratio column divides by the ``f form`` of the same model. Every row is checked to return
-the same array as the ``f form`` (bit-identical) before timing. The machine this runs on may be
-shared: run it a few times and compare medians, never single numbers.
+Columns: the median per-call time over the rounds with its quartiles, the minimum (the
+least-disturbed batch), and the ratio to the ``f form`` of the same model, taken round by round
+(each round times every row once, one batch each, so a round's rows share the machine's state)
+and reported as the median over rounds. Every row is checked to return the same array as the
+``f form`` (bit-identical) before timing. On a shared machine run it a few times and compare
+medians, never single numbers.
 
     python benchmarks/forward_dynamics_forms.py                 # ~20 s
     python benchmarks/forward_dynamics_forms.py --repeat 31 --json fd_forms.json
@@ -79,31 +82,31 @@ def run(n: int, repeat: int, target: float):
             raise SystemExit(f"N = {n}: '{name}' does not return the f form's result")
     samples, numbers = time_interleaved([fn for _, fn, _ in rows], repeat, target)
     out = []
+    f_form = np.asarray(samples[0])
     for (name, _, _), s, number in zip(rows, samples, numbers):
         q1, med, q3 = np.percentile(s, [25, 50, 75])
-        out.append({"n_dof": n, "row": name, "median_s": med, "q1_s": q1, "q3_s": q3, "calls_per_batch": number})
-    base = out[0]["median_s"]
-    for row in out:
-        row["ratio_to_f_form"] = row["median_s"] / base
+        out.append({"n_dof": n, "row": name, "median_s": med, "q1_s": q1, "q3_s": q3, "min_s": min(s),
+                    "ratio_to_f_form": float(np.median(np.asarray(s) / f_form)), "calls_per_batch": number})
     return out
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--sizes", default=",".join(map(str, SIZES)), help="comma-separated N (default 2,6,12,30)")
-    parser.add_argument("--repeat", type=int, default=21, help="interleaved rounds (default 21)")
-    parser.add_argument("--batch", type=float, default=0.02, help="seconds per batch (default 0.02)")
+    parser.add_argument("--repeat", type=int, default=61, help="interleaved rounds (default 61)")
+    parser.add_argument("--batch", type=float, default=0.005, help="seconds per batch (default 0.005)")
     parser.add_argument("--json", help="write every measurement to this file")
     args = parser.parse_args(argv)
     results = []
-    print("forward_dynamics call forms, ABA (per-call median µs [quartiles]; ratio = row / f form)")
+    print("forward_dynamics call forms, ABA (per-call µs: median [quartiles] min; ratio = row / f form, "
+          "median over rounds)")
     for n in (int(s) for s in args.sizes.split(",")):
         rows = run(n, args.repeat, args.batch)
         results += rows
         print(f"N = {n}")
         for row in rows:
             print(f"  {row['row']:<26} {row['median_s'] * 1e6:7.2f}  [{row['q1_s'] * 1e6:6.2f} {row['q3_s'] * 1e6:6.2f}]"
-                  f"  ratio {row['ratio_to_f_form']:5.3f}")
+                  f"  min {row['min_s'] * 1e6:6.2f}  ratio {row['ratio_to_f_form']:5.3f}")
     if args.json:
         meta = {"spacearm": spacearm.__version__, "numpy": np.__version__, "python": platform.python_version(),
                 "machine": platform.machine(), "processor": platform.processor(), "repeat": args.repeat,
