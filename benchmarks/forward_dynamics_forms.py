@@ -15,8 +15,9 @@ Rows (per-call medians over interleaved batches, µs):
 
 Columns: the median per-call time over the rounds with its quartiles, the minimum (the
 least-disturbed batch), and the ratio to the ``f form`` of the same model, taken round by round
-(each round times every row once, one batch each, so a round's rows share the machine's state)
-and reported as the median over rounds. Every row is checked to return the same array as the
+and reported as the median over rounds. Each round times every row once, one batch of the same
+number of calls each, in a fresh random order (so that a disturbance that recurs with the
+rounds does not always land on the same row). Every row is checked to return the same array as the
 ``f form`` (bit-identical) before timing. On a shared machine run it a few times and compare
 medians, never single numbers.
 
@@ -42,7 +43,7 @@ import spacearm  # noqa: E402
 from spacearm._arrays import vector  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from peers import random_arm, time_interleaved  # noqa: E402
+from peers import calibrate, random_arm  # noqa: E402
 
 SIZES = (2, 6, 12, 30)
 
@@ -69,6 +70,20 @@ def rows_for(robot, x, u, tau, fb):
     yield "native f", lambda: r._m.forward_dynamics_aba(x, u, f), f
 
 
+def time_shuffled(fns, repeat: int, target: float, seed: int):
+    """Per-call times (s) of every callable over ``repeat`` rounds, each round in a random order."""
+    import timeit
+
+    number = calibrate(fns[0], target)
+    timers = [timeit.Timer(fn) for fn in fns]
+    samples = [[] for _ in fns]
+    rng = np.random.default_rng(seed)
+    for _ in range(repeat):
+        for i in rng.permutation(len(fns)):
+            samples[i].append(timers[i].timeit(number) / number)
+    return samples, [number] * len(fns)
+
+
 def run(n: int, repeat: int, target: float):
     robot = random_arm(n, seed=n)
     k = np.arange(n)
@@ -80,7 +95,7 @@ def run(n: int, repeat: int, target: float):
     for name, fn, f in rows:
         if not np.array_equal(fn(), robot.forward_dynamics(x, u, f)):
             raise SystemExit(f"N = {n}: '{name}' does not return the f form's result")
-    samples, numbers = time_interleaved([fn for _, fn, _ in rows], repeat, target)
+    samples, numbers = time_shuffled([fn for _, fn, _ in rows], repeat, target, seed=n)
     out = []
     f_form = np.asarray(samples[0])
     for (name, _, _), s, number in zip(rows, samples, numbers):
@@ -93,8 +108,8 @@ def run(n: int, repeat: int, target: float):
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--sizes", default=",".join(map(str, SIZES)), help="comma-separated N (default 2,6,12,30)")
-    parser.add_argument("--repeat", type=int, default=61, help="interleaved rounds (default 61)")
-    parser.add_argument("--batch", type=float, default=0.005, help="seconds per batch (default 0.005)")
+    parser.add_argument("--repeat", type=int, default=101, help="interleaved rounds (default 101)")
+    parser.add_argument("--batch", type=float, default=0.002, help="seconds per batch (default 0.002)")
     parser.add_argument("--json", help="write every measurement to this file")
     args = parser.parse_args(argv)
     results = []
