@@ -12,6 +12,7 @@ from __future__ import annotations
 import ast
 import builtins
 import pathlib
+import pickle
 import re
 
 import numpy as np
@@ -101,6 +102,14 @@ def test_class_has_its_documented_builtin_bases(name):
     # The builtin ancestors are exactly those documented (no accidental extra base).
     assert builtin_ancestors(cls) == BASES[name]
     assert f"| `{name}` |" in errors.__doc__
+
+
+@pytest.mark.parametrize("name", sorted(BASES))
+def test_class_pickles_and_prints_its_message(name):
+    # Campaign workers send errors between processes; the CLI prints str(error).
+    error = getattr(errors, name)("link 'x': mass must be > 0")
+    copy = pickle.loads(pickle.dumps(error))
+    assert type(copy) is type(error) and str(copy) == str(error) == "link 'x': mass must be > 0"
 
 
 def test_every_class_is_in_the_table():
