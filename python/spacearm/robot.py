@@ -261,14 +261,12 @@ class Robot:
         """``u = 0`` (length ``6 + N``)."""
         return np.zeros(self.nu)
 
-    # Vector arguments (x, u, du, f, qd) may go to the extension unconverted: it uses a 1-D
+    # Vector arguments (x, u, du, f, tau, qd...) go to the extension unconverted: it uses a 1-D
     # contiguous float64 array in place and converts anything else with ``_arrays.vector`` under
-    # the same name, so messages and their order are those of ``_x``/``_u``.
+    # the argument's name, so a Python-side conversion first would only repeat the work. Convert
+    # here only a value used twice (``_x``), so that a list is converted once.
     def _x(self, x):
         return vector(x, "x")
-
-    def _u(self, u, name="u"):
-        return vector(u, name)
 
     # ---- kinematics ----------------------------------------------------------------------
     def forward_kinematics(self, x) -> Kinematics:
@@ -288,7 +286,7 @@ class Robot:
 
     def link_jacobians(self, x, body):
         """``(J_Ti, J_Ri)`` (3×N each; eqs. 20–21) of the CM of ``body``."""
-        return self._m.link_jacobians(self._x(x), self.body_index(body))
+        return self._m.link_jacobians(x, self.body_index(body))
 
     # ---- inertia ---------------------------------------------------------------------------
     def inertia_blocks(self, x) -> InertiaBlocks:
@@ -334,9 +332,7 @@ class Robot:
 
     def inverse_dynamics(self, x, u, du, wrenches=None) -> np.ndarray:
         """Generalized force ``f = H du + c - J^T w_ext`` producing ``du`` (RNEA, Featherstone §5.3)."""
-        if wrenches is None:
-            return self._m.inverse_dynamics(x, u, du)
-        return self._m.inverse_dynamics(self._x(x), self._u(u), self._u(du, "du"), self._wrenches(wrenches))
+        return self._m.inverse_dynamics(x, u, du, None if wrenches is None else self._wrenches(wrenches))
 
     def forward_dynamics(self, x, u, f=None, *, tau=None, base_wrench=None, wrenches=None, method: str = "aba") -> np.ndarray:
         """State derivative ``du = [dv0, dw0, qdd]`` under generalized force ``f``.
@@ -349,7 +345,7 @@ class Robot:
         the reduction of eqs. 39–50, ``docs/physics.md``; no external wrenches).
         """
         # One native call per form and method: x, u and the force arrays go to the extension
-        # unconverted (see _x/_u above); it checks them in the order force, x, u.
+        # unconverted (see _x above); it checks them in the order force, x, u.
         ext = None if wrenches is None else self._wrenches(wrenches)
         if f is None:
             if method == "aba":
@@ -398,7 +394,7 @@ class Robot:
     def base_velocity_from_momentum(self, x, qd, P=(0.0, 0.0, 0.0), L=(0.0, 0.0, 0.0)) -> np.ndarray:
         """Base velocity ``[v0; w0] = H0⁻¹ (M0 - H0m qd)`` (eqs. 43, 109) that gives the system
         linear momentum ``P`` and angular momentum ``L`` about the origin of 𝒥."""
-        return self._m.base_velocity_from_momentum(self._x(x), vector(qd, "qd"), vector3(P, "P"), vector3(L, "L"))
+        return self._m.base_velocity_from_momentum(x, qd, vector3(P, "P"), vector3(L, "L"))
 
     # ---- momentum, energy, CM ------------------------------------------------------------
     def momentum(self, x, u) -> Momentum:
