@@ -339,7 +339,8 @@ class Robot:
 
         Give either ``f = [F0, N0, tau]`` or ``tau`` (joint torques, default zero) and
         optionally ``base_wrench = [F0, N0]`` (default zero: free-floating); the two forms give
-        bit-identical results at the same cost (the second assembles ``f`` in the extension).
+        bit-identical results, each in one call to the extension (which assembles ``f`` from
+        the parts; ``benchmarks/forward_dynamics_forms.py`` times both).
         ``method``: ``"aba"`` (O(N) articulated-body algorithm), ``"mass_matrix"``
         (``H⁻¹(f + J^T w - c)``) or ``"reduced"`` (``qdd = H*⁻¹(tau - c* - H0m^T H0⁻¹ F_b)``,
         the reduction of eqs. 39–50, ``docs/physics.md``; no external wrenches).
