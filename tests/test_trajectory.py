@@ -216,3 +216,24 @@ def test_csv_prismatic_units_without_and_with_robot(tmp_path):
         assert col in header.split(","), col
     header = open(Trajectory(data=data).to_csv(tmp_path / "b.csv")).read().splitlines()[-k - 1]
     assert "q_q1 [rad]" in header.split(",")
+
+
+def test_drift_of_a_simulated_run_is_the_simulators_number():
+    # One run, one number: the recomputation from the records uses the simulator's scales and
+    # agrees with meta["drift"] (the figures the summary prints), which the core computed on
+    # its own records; a save/load round trip keeps both.
+    robot = spacearm.presets.spatial6()
+    u0 = robot.zero_velocity()
+    u0[6:] = [0.3, -0.2, 0.4, 0.5, -0.3, 0.6]
+    tr = spacearm.simulate(robot, 1.0, u0=u0, dt=2e-3)
+    assert set(tr.meta["drift_scales"]) == set(tr.meta["drift"]) == {"P", "L_origin", "energy"}
+    assert all(v > 0 for v in tr.meta["drift_scales"].values())
+    recomputed = tr.drift()
+    for name, value in tr.meta["drift"].items():
+        assert value > 0
+        assert recomputed[name] == pytest.approx(value, rel=1e-12, abs=0)
+    # An explicit scale still overrides the simulator's.
+    p = tr.P
+    dev = np.max(np.linalg.norm(p - p[0], axis=1))
+    assert np.linalg.norm(p[0]) < 1e6
+    assert tr.drift(["P"], scale={"P": 1e6})["P"] == pytest.approx(dev / 1e6, rel=1e-12)

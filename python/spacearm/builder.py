@@ -1,10 +1,15 @@
 """Building a model in Python, link by link.
 
-Frames (DESIGN.md §1): every body frame has its origin at the body's CM. A joint sits at
+Frames (docs/conventions.md): every body frame has its origin at the body's CM. A joint sits at
 ``origin`` in the parent's frame; the child's axes are the parent's rotated by ``rotation``
 (quaternion ``[x, y, z, w]``) or ``rpy`` (URDF roll-pitch-yaw) and then by the joint motion;
 ``axis`` is given in the child's frame; ``com`` is the child's CM measured from the joint, in
 the child's frame. See ``docs/model-format.md`` for a worked example.
+
+A model is edited through a builder too: :meth:`RobotBuilder.from_robot` (or
+:meth:`Robot.to_builder`) holds an existing model exactly, and :meth:`~RobotBuilder.add_link`,
+:meth:`~RobotBuilder.attach_payload` and :meth:`~RobotBuilder.remove_body` change it before
+:meth:`~RobotBuilder.build` makes a new, validated Robot (a Robot itself never changes).
 
 >>> import spacearm
 >>> b = spacearm.Robot.builder("demo", base_mass=100.0, base_inertia=[10, 10, 10])
@@ -22,9 +27,9 @@ import numpy as np
 
 from . import _core
 from ._arrays import matrix3, quaternion, vector
+from .errors import ArgumentError, ModelError, NotFoundError
 from .rotations import IDENTITY_QUAT, quat_from_rpy
 from .robot import Robot
-from .errors import ArgumentError, ModelError
 
 __all__ = ["RobotBuilder"]
 
@@ -34,9 +39,47 @@ class RobotBuilder:
     :class:`~spacearm.Robot`."""
 
     def __init__(self, name: str, base_mass: float, base_inertia, base_name: str = "base"):
-        self._b = _core.ModelBuilder(str(name), str(base_name), float(base_mass), matrix3(base_inertia, "base_inertia"))
+        self._base = (str(name), str(base_name), float(base_mass), matrix3(base_inertia, "base_inertia"))
+        self._b = _core.ModelBuilder(*self._base)
         self._base_name = str(base_name)
         self._n_wheels = 0
+        # What was added, in order, so that remove_body can replay the rest through the core
+        # builder (which validates every addition).
+        self._links: list = []  # (name, parent, joint kind, joint name, core add_link args)
+        self._points: list = []  # (name, body, offset)
+        self._end_effector: Optional[str] = None
+        self._initial_q: Optional[list] = None
+        self._initial_q_by_link: dict = {}  # from from_robot / remove_body: link name -> q
+
+    @classmethod
+    def from_robot(cls, robot: Robot, name: Optional[str] = None) -> "RobotBuilder":
+        """A builder holding ``robot``'s model exactly: the base, every link with its joint,
+        limits and mass properties, the points, the end effector and the initial ``q``.
+
+        Building it unchanged gives a model equal to ``robot``: the same mass matrix bit for
+        bit where the axes and rotations are exactly unit, else equal to rounding (they are
+        normalized again on the way in).
+        The initial ``q`` is kept per link, so links added or removed afterwards keep the other
+        joints' initial values (new joints start at 0) unless :meth:`set_initial_q` is called.
+        """
+        if not isinstance(robot, Robot):
+            raise ArgumentError(f"from_robot needs a spacearm.Robot, got {type(robot).__name__}")
+        d = robot.describe()
+        base = d["base"]
+        b = cls(d["name"] if name is None else name, base["mass"], base["inertia"], base_name=base["name"])
+        for link in d["links"]:
+            limits = None
+            if link["type"] != "fixed" and link.get("limits") is not None:
+                limits = dict(zip(("lower", "upper", "velocity", "effort"), link["limits"]))
+            b.add_link(link["name"], parent=link["parent"], joint=link["type"], axis=link["axis"],
+                       origin=link["origin"], rotation=link["rotation"], com=link["com"], mass=link["mass"],
+                       inertia=link["inertia"], joint_name=link["joint"], limits=limits)
+        for point, body, offset in d["points"]:
+            b.add_point(point, body=body, offset=offset)
+        if d["end_effector"] is not None:
+            b.set_end_effector(d["end_effector"])
+        b._initial_q_by_link = dict(zip(b._moving_links(), (float(v) for v in d["initial_q"])))
+        return b
 
     def add_link(
         self,
@@ -81,7 +124,7 @@ class RobotBuilder:
                 float(limits.get("velocity", np.inf)),
                 float(limits.get("effort", np.inf)),
             ]
-        self._b.add_link(
+        args = (
             str(name),
             str(parent),
             str(joint),
@@ -94,7 +137,67 @@ class RobotBuilder:
             joint_name,
             lim,
         )
+        self._b.add_link(*args)
+        self._links.append((str(name), str(parent), str(joint), joint_name, args))
         return self
+
+    def attach_payload(
+        self,
+        name: str,
+        *,
+        body: str,
+        mass: float,
+        inertia=(0.0, 0.0, 0.0),
+        origin: Sequence[float] = (0.0, 0.0, 0.0),
+        rotation: Optional[Sequence[float]] = None,
+        rpy: Optional[Sequence[float]] = None,
+    ) -> "RobotBuilder":
+        """Attach a rigid payload to ``body``: a link on a fixed joint, so the joint space is
+        unchanged and the payload's mass properties merge with the body's.
+
+        ``origin`` is the payload's CM in ``body``'s frame (from its CM, m); ``rotation``
+        (quaternion ``[x, y, z, w]`` or scipy ``Rotation``) or ``rpy`` orients the payload's axes in ``body``'s frame;
+        ``inertia`` is about the payload's CM in its own axes (3×3, or 3 diagonal entries;
+        default 0: a point mass). A captured target or a grasped tool is attached this way.
+        """
+        return self.add_link(name, parent=body, joint="fixed", origin=origin, rotation=rotation, rpy=rpy,
+                             com=(0.0, 0.0, 0.0), mass=mass, inertia=inertia, joint_name=f"{name}_joint")
+
+    def remove_body(self, name: str) -> "RobotBuilder":
+        """Remove link ``name``, every link below it, and the points on them (the end effector
+        too, if it is one of them: set another with :meth:`set_end_effector`). The base cannot be
+        removed. The remaining links are added again, in order, through the core's validation.
+        """
+        name = str(name)
+        if name == self._base_name:
+            raise ModelError(f"the base '{name}' cannot be removed; start a new builder instead")
+        if name not in {link[0] for link in self._links}:
+            raise NotFoundError(f"no link named '{name}'; the links are {[link[0] for link in self._links]}")
+        removed = {name}
+        for link_name, parent, *_ in self._links:  # links come after their parents
+            if parent in removed:
+                removed.add(link_name)
+        if self._initial_q is not None:
+            # An explicit initial q no longer matches the joints: keep it per moving link instead.
+            self._initial_q_by_link = dict(zip(self._moving_links(), self._initial_q))
+            self._initial_q = None
+        links = [link for link in self._links if link[0] not in removed]
+        points = [p for p in self._points if p[1] not in removed]
+        end_effector = self._end_effector if any(p[0] == self._end_effector for p in points) else None
+        self._b = _core.ModelBuilder(*self._base)
+        self._links, self._points, self._end_effector = [], [], None
+        for *_, args in links:
+            self._b.add_link(*args)
+        self._links = links
+        for point, body, offset in points:
+            self.add_point(point, body=body, offset=offset)
+        if end_effector is not None:
+            self.set_end_effector(end_effector)
+        return self
+
+    def _moving_links(self) -> list:
+        """Names of the links with a joint coordinate, in ``q`` order (the order of addition)."""
+        return [link[0] for link in self._links if link[2] != "fixed"]
 
     def add_reaction_wheel(
         self,
@@ -142,19 +245,27 @@ class RobotBuilder:
 
     def add_point(self, name: str, *, body: str, offset: Sequence[float] = (0.0, 0.0, 0.0)) -> "RobotBuilder":
         """Add a named point fixed to ``body`` at ``offset`` (body frame, from its CM)."""
-        self._b.add_point(str(name), str(body), list(vector(offset, f"point '{name}' offset", 3)))
+        offset = list(vector(offset, f"point '{name}' offset", 3))
+        self._b.add_point(str(name), str(body), offset)
+        self._points.append((str(name), str(body), offset))
         return self
 
     def set_end_effector(self, name: str) -> "RobotBuilder":
         """Designate the named point as the end effector."""
         self._b.set_end_effector(str(name))
+        self._end_effector = str(name)
         return self
 
     def set_initial_q(self, q: Sequence[float]) -> "RobotBuilder":
         """Initial (nominal) joint coordinates, length N."""
-        self._b.set_initial_q(list(vector(q, "initial q")))
+        self._initial_q = list(vector(q, "initial q"))
+        self._initial_q_by_link = {}
         return self
 
     def build(self) -> Robot:
         """Validate the whole model and return the immutable :class:`~spacearm.Robot`."""
+        if self._initial_q is not None:
+            self._b.set_initial_q(self._initial_q)
+        elif self._initial_q_by_link:
+            self._b.set_initial_q([self._initial_q_by_link.get(link, 0.0) for link in self._moving_links()])
         return Robot(self._b.build())

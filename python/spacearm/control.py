@@ -69,15 +69,11 @@ def _finite_float(value, name: str) -> float:
 
 
 def _quintic(t, t_start: float, t_end: float):
-    """Rest-to-rest quintic time scaling ``s = 10τ³ − 15τ⁴ + 6τ⁵`` and its derivatives."""
+    """Rest-to-rest quintic time scaling ``s = 10τ³ − 15τ⁴ + 6τ⁵`` and its derivatives: the
+    core's (the one the native controllers follow), evaluated at each time of ``t``."""
     t = np.asarray(t, dtype=float)
-    d = t_end - t_start
-    tau = np.clip((t - t_start) / d, 0.0, 1.0)
-    inside = (t > t_start) & (t < t_end)
-    s = tau**3 * (10 - 15 * tau + 6 * tau**2)
-    sd = np.where(inside, 30 * tau**2 * (1 - 2 * tau + tau**2) / d, 0.0)
-    sdd = np.where(inside, 60 * tau * (1 - 3 * tau + 2 * tau**2) / d**2, 0.0)
-    return s, sd, sdd
+    s, sd, sdd = _core.quintic_scaling(np.ascontiguousarray(t.reshape(-1)), float(t_start), float(t_end))
+    return s.reshape(t.shape), sd.reshape(t.shape), sdd.reshape(t.shape)
 
 
 # ---- references ------------------------------------------------------------------------------

@@ -100,6 +100,13 @@ class Robot:
 
         return RobotBuilder(name, base_mass, base_inertia, base_name=base_name)
 
+    def to_builder(self, name=None):
+        """A :class:`~spacearm.builder.RobotBuilder` holding this model exactly, to edit
+        (add or remove bodies, attach a payload) and build into a new Robot; this one is unchanged."""
+        from .builder import RobotBuilder
+
+        return RobotBuilder.from_robot(self, name=name)
+
     @classmethod
     def from_toml(cls, path) -> "Robot":
         """Load a model file (schema: ``docs/model-format.md``)."""

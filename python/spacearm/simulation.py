@@ -26,12 +26,15 @@ from ._arrays import vector
 from .control import Thrusters, _Controller
 from .errors import ArgumentError, NotFoundError
 
-__all__ = ["simulate", "MODES", "INTEGRATORS"]
+__all__ = ["simulate", "MODES", "INTEGRATORS", "DEFAULTS"]
 
-#: The maneuvering modes (paper Table 1).
-MODES = ("floating", "rotation-floating", "rotation-flying", "translation-flying", "flying")
-#: The integrators.
-INTEGRATORS = ("rk4", "dopri5")
+#: The maneuvering modes (paper Table 1), as the core names them.
+MODES = tuple(_core.MODES)
+#: The integrators, as the core names them.
+INTEGRATORS = tuple(_core.INTEGRATORS)
+#: The simulation defaults (mode, integrator, dt, rtol, atol, record_every, joint_limits,
+#: max_steps): the core's, read here so that the signatures below cannot drift from them.
+DEFAULTS = dict(_core.SIM_DEFAULTS)
 
 
 def _wheel_dofs(robot, wheels) -> Optional[list]:
@@ -89,18 +92,18 @@ def _run(
     *,
     x0=None,
     u0=None,
-    mode: str = "floating",
-    integrator: str = "rk4",
-    dt: float = 1e-3,
-    rtol: float = 1e-9,
-    atol: float = 1e-12,
+    mode: str = DEFAULTS["mode"],
+    integrator: str = DEFAULTS["integrator"],
+    dt: float = DEFAULTS["dt"],
+    rtol: float = DEFAULTS["rtol"],
+    atol: float = DEFAULTS["atol"],
     controller=None,
     wheels=None,
     thrusters: Optional[Thrusters] = None,
-    record_every: int = 1,
+    record_every: int = DEFAULTS["record_every"],
     progress: Union[bool, Callable[[float], None]] = False,
-    joint_limits: bool = True,
-    max_steps: int = 10_000_000,
+    joint_limits: bool = DEFAULTS["joint_limits"],
+    max_steps: int = DEFAULTS["max_steps"],
 ):
     """The simulation proper: ``(data, meta)`` dicts of numpy arrays and run description."""
     from .robot import Robot
@@ -165,18 +168,18 @@ def simulate(
     *,
     x0: Optional[Sequence[float]] = None,
     u0: Optional[Sequence[float]] = None,
-    mode: str = "floating",
-    integrator: str = "rk4",
-    dt: float = 1e-3,
-    rtol: float = 1e-9,
-    atol: float = 1e-12,
+    mode: str = DEFAULTS["mode"],
+    integrator: str = DEFAULTS["integrator"],
+    dt: float = DEFAULTS["dt"],
+    rtol: float = DEFAULTS["rtol"],
+    atol: float = DEFAULTS["atol"],
     controller=None,
     wheels=None,
     thrusters: Optional[Thrusters] = None,
-    record_every: int = 1,
+    record_every: int = DEFAULTS["record_every"],
     progress: Union[bool, Callable[[float], None]] = False,
-    joint_limits: bool = True,
-    max_steps: int = 10_000_000,
+    joint_limits: bool = DEFAULTS["joint_limits"],
+    max_steps: int = DEFAULTS["max_steps"],
 ):
     """Simulate ``robot`` for ``duration`` seconds and return a :class:`~spacearm.trajectory.Trajectory`.
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import sys
 from typing import Dict, Iterable, List, NamedTuple, Optional, Sequence, Union
 
 import numpy as np
@@ -461,25 +462,32 @@ class Trajectory:
     def drift(self, names: Optional[Iterable[str]] = None, scale: Optional[Dict[str, float]] = None) -> Dict[str, float]:
         """Largest relative deviation of each quantity from its value at the first sample.
 
-        ``drift[name] = max_k |v_k − v_0| / max(|v_0|, scale)`` over the recorded samples,
-        with ``scale`` from :meth:`drift_scale` unless given (``scale={"P": 1.0}``). ``names``
-        defaults to the quantities the run's mode conserves (:attr:`conserved`); for those the
-        result is the integration error, for the others the physical change.
-
-        This is a recomputation from the recorded arrays; the simulator's own figures are in
-        ``meta["drift"]`` (same deviation, but its scale is the sum of the bodies' individual
-        contributions, which it alone sees), and :meth:`summary` shows those when present.
+        ``drift[name] = max_k |v_k − v_0| / max(|v_0|, scale)`` over the recorded samples (the
+        simulator's definition, ``docs/simulation-core.md``). ``scale`` is, unless given
+        (``scale={"P": 1.0}``): the simulator's own scale for the quantities its mode conserves
+        (``meta["drift_scales"]``: the running maximum of the bodies' individual
+        contributions, which only the simulator sees), so that for a simulated run this equals
+        ``meta["drift"]``; otherwise :meth:`drift_scale`. ``names`` defaults to the quantities
+        the run's mode conserves (:attr:`conserved`); for those the result is the integration
+        error, for the others the physical change.
         """
         names = self.conserved if names is None else list(names)
         scale = dict(scale or {})
+        recorded_scales = self._meta.get("drift_scales") or {}
         out = {}
         for name in names:
             v = np.asarray(self[name], dtype=float)
             v = v.reshape(v.shape[0], -1)
             dev = float(np.max(np.linalg.norm(v - v[0], axis=1)))
-            s = scale[name] if name in scale else self.drift_scale(name)
-            ref = max(float(np.linalg.norm(v[0])), float(s))
-            out[name] = dev / ref if ref > 0 else dev
+            if name in scale:
+                s = float(scale[name])
+            elif name in recorded_scales:
+                s = float(recorded_scales[name])
+            else:
+                s = self.drift_scale(name)
+            # The smallest positive double keeps an all-zero quantity at drift 0, as in the core.
+            ref = max(float(np.linalg.norm(v[0])), s, sys.float_info.min)
+            out[name] = dev / ref
         return out
 
     # ---- text ------------------------------------------------------------------------------

@@ -151,6 +151,9 @@ pub struct SimResult {
     pub events: Vec<SaturationEvent>,
     /// Quantities the mode conserves, with their drift.
     pub drift: Vec<(Conserved, f64)>,
+    /// The scale each drift was measured against when the initial value is smaller (see the
+    /// module docs), so that a recomputation from the records gives the same number.
+    pub drift_scales: Vec<(Conserved, f64)>,
     pub n_steps: usize,
     pub n_rejected: usize,
     pub n_rhs_evals: usize,
@@ -428,6 +431,16 @@ impl Recorder {
         }
     }
 
+    /// The scale of a conserved quantity's drift: the running maximum of its magnitude scale.
+    fn scale(&self, c: Conserved) -> f64 {
+        match c {
+            Conserved::LinearMomentum => self.scales.p,
+            Conserved::AngularMomentumOrigin => self.scales.l_origin,
+            Conserved::AngularMomentumCom => self.scales.l_com,
+            Conserved::Energy => self.scales.energy,
+        }
+    }
+
     /// Drift of each conserved quantity over the recorded samples (see the module docs).
     fn drift(&self, conserved: &[Conserved]) -> Vec<(Conserved, f64)> {
         let r = &self.rec;
@@ -609,11 +622,13 @@ pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, contro
     }
     progress(1.0)?;
     let drift = rec.drift(&conserved);
+    let drift_scales = conserved.iter().map(|&c| (c, rec.scale(c))).collect();
     Ok(SimResult {
         reference_width: n_ref,
         records: rec.rec,
         events,
         drift,
+        drift_scales,
         n_steps,
         n_rejected,
         n_rhs_evals: plant.n_evals,

@@ -10,6 +10,7 @@ mod convert;
 mod derivatives_py;
 mod model_io_py;
 mod model_py;
+mod rules_py;
 mod simulate_py;
 
 use pyo3::prelude::*;
@@ -40,6 +41,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(model_io_py::model_from_classic_dh, m)?)?;
     m.add_function(wrap_pyfunction!(model_io_py::model_from_paper_dh, m)?)?;
     analysis_py::register(m)?;
+    rules_py::register(m)?;
     m.add_function(wrap_pyfunction!(simulate_py::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_py::perturbed, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_py::default_wheel_dofs, m)?)?;

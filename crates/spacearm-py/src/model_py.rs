@@ -25,7 +25,10 @@ impl PyModel {
     }
 }
 
-fn wrenches(py: Python<'_>, list: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>>) -> PyResult<Vec<ExternalWrench>> {
+/// External wrenches as `Robot._wrenches` passes them: `(body, offset, force, torque)`.
+type WrenchList = Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>;
+
+fn wrenches(py: Python<'_>, list: Option<WrenchList>) -> PyResult<Vec<ExternalWrench>> {
     let mut out = Vec::new();
     for (body, offset, force, torque) in list.unwrap_or_default() {
         for (what, v) in [("wrench point", &offset), ("wrench force", &force), ("wrench torque", &torque)] {
@@ -266,7 +269,7 @@ impl PyModel {
         x: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
         du: &Bound<'py, PyAny>,
-        wrenches: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>>,
+        wrenches: Option<WrenchList>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let (x, u, du) = (vec_arg(x, "x")?, vec_arg(u, "u")?, vec_arg(du, "du")?);
         let ext = self::wrenches(py, wrenches)?;
@@ -282,7 +285,7 @@ impl PyModel {
         x: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
         f: &Bound<'py, PyAny>,
-        wrenches: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>>,
+        wrenches: Option<WrenchList>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let f = vec_arg(f, "f")?;
         let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
@@ -298,7 +301,7 @@ impl PyModel {
         x: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
         f: &Bound<'py, PyAny>,
-        wrenches: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>>,
+        wrenches: Option<WrenchList>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let f = vec_arg(f, "f")?;
         let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
@@ -318,7 +321,7 @@ impl PyModel {
         u: &Bound<'py, PyAny>,
         tau: Option<&Bound<'py, PyAny>>,
         base_wrench: Option<&Bound<'py, PyAny>>,
-        wrenches: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>>,
+        wrenches: Option<WrenchList>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         with_force_from_parts(py, &self.model, tau, base_wrench, |f| {
             let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
@@ -337,7 +340,7 @@ impl PyModel {
         u: &Bound<'py, PyAny>,
         tau: Option<&Bound<'py, PyAny>>,
         base_wrench: Option<&Bound<'py, PyAny>>,
-        wrenches: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>>,
+        wrenches: Option<WrenchList>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         with_force_from_parts(py, &self.model, tau, base_wrench, |f| {
             let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);

@@ -416,6 +416,11 @@ pub fn simulate<'py>(
         drift.set_item(c.name(), *v)?;
     }
     meta.set_item("drift", drift)?;
+    let drift_scales = PyDict::new(py);
+    for (c, v) in &res.drift_scales {
+        drift_scales.set_item(c.name(), *v)?;
+    }
+    meta.set_item("drift_scales", drift_scales)?;
     meta.set_item("n_steps", res.n_steps)?;
     meta.set_item("n_rejected", res.n_rejected)?;
     meta.set_item("n_rhs_evals", res.n_rhs_evals)?;

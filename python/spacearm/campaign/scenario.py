@@ -24,7 +24,7 @@ from typing import Dict, Optional, Tuple
 
 import numpy as np
 
-from ..errors import ArgumentError, NotFoundError, ShapeError, SimulationError
+from ..errors import ArgumentError, ShapeError, SimulationError
 
 __all__ = ["Scenario", "METRIC_NAMES", "evaluate", "with_payload"]
 
@@ -100,30 +100,18 @@ def _attitude_angle_deg(quat0: np.ndarray, quats: np.ndarray) -> np.ndarray:
 def with_payload(robot, mass: float):
     """``robot`` holding a point payload of ``mass`` kg at its end effector.
 
-    The payload is a massive link on a fixed joint at the end-effector point (so the joint space
+    The payload is a point mass on a fixed joint at the end-effector point (so the joint space
     is unchanged and the end-effector body's mass properties merge by the model's own
-    parallel-axis rules), added to the model's TOML description.
+    parallel-axis rules), attached with :meth:`spacearm.builder.RobotBuilder.attach_payload`.
     """
-    from ..model_file import dumps_toml, loads_toml
-
     if mass == 0:
         return robot
     if robot.end_effector is None:
-        raise NotFoundError("a payload needs an end effector to hold it; the model defines none")
+        raise ArgumentError("a payload needs an end effector to hold it; the model defines none")
     body, offset = next((b, o) for name, b, o in robot.describe()["points"] if name == robot.end_effector)
-    block = (
-        "\n[[link]]\n"
-        'name = "campaign_payload"\n'
-        f'parent = "{body}"\n'
-        "com = [0.0, 0.0, 0.0]\n"
-        f"mass = {float(mass)!r}\n"
-        "inertia = [0.0, 0.0, 0.0]\n"
-        "[link.joint]\n"
-        'name = "campaign_payload_joint"\n'
-        'type = "fixed"\n'
-        f"origin = [{', '.join(repr(float(v)) for v in offset)}]\n"
-    )
-    return loads_toml(dumps_toml(robot) + block, source=f"<{robot.name} with a {mass:g} kg payload>")
+    builder = robot.to_builder()
+    builder.attach_payload("campaign_payload", body=body, mass=float(mass), origin=offset)
+    return builder.build()
 
 
 def evaluate(nominal, scenario: Scenario, params: Dict[str, float]) -> Dict[str, float]:
