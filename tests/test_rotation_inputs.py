@@ -47,6 +47,21 @@ def test_builder_link_rotation():
     np.testing.assert_allclose(robot.forward_kinematics(x).body_to_world[1], rot.as_matrix(), atol=1e-14)
 
 
+def test_attach_payload_rotation():
+    # A payload with an anisotropic inertia, rotated by R: the body's merged inertia about its CM
+    # in 𝒥 gains R I R^T (the body frame is aligned with 𝒥 at the neutral configuration).
+    rot = ROTATIONS[5]
+    inertia = np.diag([1.0, 2.0, 3.0])
+
+    def base_inertia(rotation):
+        robot = spacearm.RobotBuilder("b", 100.0, [10.0, 12.0, 14.0]).attach_payload(
+            "p", body="base", mass=2.0, inertia=inertia, rotation=rotation).build()
+        return robot.mass_matrix(robot.neutral_configuration())[3:6, 3:6]
+
+    np.testing.assert_allclose(base_inertia(rot) - base_inertia(None), rot.as_matrix() @ inertia @ rot.as_matrix().T - inertia,
+                               atol=1e-12)
+
+
 def test_dh_joint1_rotation():
     rot = ROTATIONS[1]
     links = [dict(d=0.1, theta=0.0, a=0.5, alpha=0.3, com=(-0.25, 0, 0), mass=4.0, inertia=[0.01, 0.1, 0.1]),
