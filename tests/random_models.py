@@ -161,7 +161,7 @@ def random_state(robot: spacearm.Robot, rng: np.random.Generator):
     joint coordinates (revolute ±π rad, prismatic ±0.5 m) and velocities of order one."""
     far = rng.random() < 0.35
     r0 = rng.uniform(-5000.0, 5000.0, size=3) if far else rng.uniform(-2.0, 2.0, size=3)
-    types = [t for t in robot.joint_types if t != "fixed"]
+    types = robot.dof_types
     q = np.array([rng.uniform(-np.pi, np.pi) if t == "revolute" else rng.uniform(-0.5, 0.5) for t in types])
     x = robot.neutral_configuration(q=q, r0=r0, quat0=random_quaternion(rng))
     u = np.concatenate([rng.normal(scale=0.5, size=3), rng.normal(scale=0.5, size=3), rng.normal(size=robot.n_dof)])

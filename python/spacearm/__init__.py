@@ -11,6 +11,7 @@ from ._core import __version__
 from .builder import RobotBuilder
 from .errors import (
     ArgumentError,
+    MissingDependencyError,
     ModelError,
     ModelFileError,
     NonFiniteError,
@@ -20,7 +21,7 @@ from .errors import (
     SimulationError,
     SingularError,
     SpacearmError,
-    ArgumentError,
+    SpacearmTypeError,
 )
 from .robot import ExternalWrench, ForwardDynamicsDerivatives, InertiaBlocks, Kinematics, Linearization, Momentum, Robot
 from .simulation import simulate
@@ -50,6 +51,8 @@ __all__ = [
     "NotFoundError",
     "SingularError",
     "ArgumentError",
+    "SpacearmTypeError",
     "SimulationError",
+    "MissingDependencyError",
     "__version__",
 ]

@@ -1,5 +1,6 @@
 """Argument conversion at the Python boundary: anything array-like in, contiguous float64 out,
-with errors that name the argument."""
+with errors that name the argument. A quaternion argument also accepts a
+``scipy.spatial.transform.Rotation`` (see :func:`quaternion`)."""
 
 from __future__ import annotations
 
@@ -11,9 +12,14 @@ from .errors import NonFiniteError, ShapeError
 def vector(value, name: str, length: int | None = None) -> np.ndarray:
     """Convert ``value`` to a contiguous 1-D float64 array, checking its length if given."""
     try:
-        arr = np.ascontiguousarray(value, dtype=np.float64)
+        arr = np.asarray(value)
+        complex_values = arr.dtype.kind == "c"  # casting would drop the imaginary parts silently
+        if not complex_values:
+            arr = np.ascontiguousarray(arr, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise ShapeError(f"{name} must be a 1-D array of numbers, got {value!r}") from exc
+    if complex_values:
+        raise ShapeError(f"{name} must be real numbers, got complex values {value!r}")
     if arr.ndim != 1:
         raise ShapeError(f"{name} must be a 1-D array, got an array of shape {arr.shape}")
     if length is not None and arr.shape[0] != length:
@@ -38,3 +44,27 @@ def matrix3(value, name: str) -> list:
     if arr.shape != (3, 3):
         raise ShapeError(f"{name} must be a 3x3 matrix (or the 3 diagonal entries), got shape {arr.shape}")
     return arr.tolist()
+
+
+def _is_scipy_rotation(value) -> bool:
+    """Whether ``value`` is a ``scipy.spatial.transform.Rotation``, recognized without importing
+    scipy (not a dependency of spacearm)."""
+    return hasattr(value, "as_quat") and type(value).__module__.startswith("scipy.spatial.transform")
+
+
+def quaternion(value, name: str) -> np.ndarray:
+    """A quaternion argument ``[x, y, z, w]`` (unit, Hamilton, scalar last) as a contiguous
+    float64 4-vector; unit norm is checked where the quaternion is used.
+
+    ``value`` may be any 4-element array-like or a ``scipy.spatial.transform.Rotation`` holding
+    one rotation: its ``as_quat()`` is scalar last by default (``scalar_first=False`` since
+    scipy 1.14, the only order before), the same convention as spacearm's. A Rotation holding
+    several rotations raises :class:`~spacearm.errors.ShapeError`.
+    """
+    if _is_scipy_rotation(value):
+        quat = np.asarray(value.as_quat(), dtype=np.float64)
+        if quat.shape != (4,):
+            raise ShapeError(f"{name} must be one rotation, got a scipy Rotation holding {quat.size // 4} rotations "
+                             f"(as_quat() shape {quat.shape}); index it, e.g. rotation[0]")
+        return np.ascontiguousarray(quat)
+    return vector(value, name, 4)

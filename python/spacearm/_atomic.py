@@ -12,6 +12,8 @@ import tempfile
 from pathlib import Path
 from typing import Iterator, Union
 
+from .errors import ArgumentError
+
 __all__ = ["atomic_path", "atomic_open"]
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -51,7 +53,7 @@ def atomic_open(path: PathLike, mode: str = "w", suffix: str = ".tmp", **kwargs)
     when the block ends without error the data is flushed to disk and the file renamed onto
     ``path``."""
     if mode not in ("w", "wb"):
-        raise ValueError(f"atomic_open mode must be 'w' or 'wb', got {mode!r}")
+        raise ArgumentError(f"atomic_open mode must be 'w' or 'wb', got {mode!r}")
     if mode == "w":
         kwargs.setdefault("encoding", "utf-8")
         kwargs.setdefault("newline", "\n")

@@ -21,7 +21,7 @@ from typing import List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ._atomic import atomic_path
-from .errors import SpacearmError
+from .errors import ArgumentError
 
 __all__ = ["animate_trajectory", "equivalent_box", "arm_segments", "box_faces"]
 
@@ -110,11 +110,11 @@ def animate_trajectory(
     """
     robot = traj.robot
     if robot is None:
-        raise SpacearmError("animate needs the robot: build the Trajectory with robot=..., or load() a file saved with one")
+        raise ArgumentError("animate needs the robot: build the Trajectory with robot=..., or load() a file saved with one")
     if int(frames) < 1:
-        raise ValueError(f"frames must be >= 1, got {frames}")
+        raise ArgumentError(f"frames must be >= 1, got {frames}")
     if int(fps) < 1:
-        raise ValueError(f"fps must be >= 1, got {fps}")
+        raise ArgumentError(f"fps must be >= 1, got {fps}")
     from ._optional import require
 
     PillowWriter = require("matplotlib.animation", "animations").PillowWriter

@@ -1,10 +1,6 @@
 """Building a model in Python, link by link.
 
-<<<<<<< HEAD
-Frames (docs/conventions.md): every body frame has its origin at the body's CM. A joint sits at
-=======
 Frames (``docs/conventions.md``): every body frame has its origin at the body's CM. A joint sits at
->>>>>>> docs
 ``origin`` in the parent's frame; the child's axes are the parent's rotated by ``rotation``
 (quaternion ``[x, y, z, w]``) or ``rpy`` (URDF roll-pitch-yaw) and then by the joint motion;
 ``axis`` is given in the child's frame; ``com`` is the child's CM measured from the joint, in
@@ -30,7 +26,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from . import _core
-from ._arrays import matrix3, vector
+from ._arrays import matrix3, quaternion, vector
 from .errors import ArgumentError, ModelError, NotFoundError
 from .rotations import IDENTITY_QUAT, quat_from_rpy
 from .robot import Robot
@@ -104,24 +100,24 @@ class RobotBuilder:
         """Add a link attached to ``parent`` through a joint.
 
         ``joint``: ``"revolute"``, ``"prismatic"`` or ``"fixed"``. ``axis`` (normalized) in
-        the link frame. ``rotation`` (quaternion ``[x, y, z, w]``) or ``rpy`` (rad) orients
+        the link frame. ``rotation`` (quaternion ``[x, y, z, w]`` or scipy ``Rotation``) or ``rpy`` (rad) orients
         the link frame in the parent frame at ``q = 0`` (default: aligned). ``inertia`` is about
         the link CM in link axes (3×3, or its 3 diagonal entries). ``limits``: optional dict
         with any of ``lower``, ``upper``, ``velocity``, ``effort``.
         """
         if rotation is not None and rpy is not None:
-            raise ValueError(f"link '{name}': give rotation or rpy, not both")
+            raise ArgumentError(f"link '{name}': give rotation or rpy, not both")
         if rpy is not None:
             quat = quat_from_rpy(*vector(rpy, f"link '{name}' rpy", 3))
         elif rotation is not None:
-            quat = vector(rotation, f"link '{name}' rotation", 4)
+            quat = quaternion(rotation, f"link '{name}' rotation")
         else:
             quat = IDENTITY_QUAT
         lim = None
         if limits is not None:
             unknown = set(limits) - {"lower", "upper", "velocity", "effort"}
             if unknown:
-                raise ValueError(f"link '{name}': unknown limit keys {sorted(unknown)}; expected lower, upper, velocity, effort")
+                raise ArgumentError(f"link '{name}': unknown limit keys {sorted(unknown)}; expected lower, upper, velocity, effort")
             lim = [
                 float(limits.get("lower", -np.inf)),
                 float(limits.get("upper", np.inf)),
@@ -160,7 +156,7 @@ class RobotBuilder:
         unchanged and the payload's mass properties merge with the body's.
 
         ``origin`` is the payload's CM in ``body``'s frame (from its CM, m); ``rotation``
-        (quaternion ``[x, y, z, w]``) or ``rpy`` orients the payload's axes in ``body``'s frame;
+        (quaternion ``[x, y, z, w]`` or scipy ``Rotation``) or ``rpy`` orients the payload's axes in ``body``'s frame;
         ``inertia`` is about the payload's CM in its own axes (3×3, or 3 diagonal entries;
         default 0: a point mass). A captured target or a grasped tool is attached this way.
         """
@@ -231,15 +227,15 @@ class RobotBuilder:
         k = vector(axis, "reaction wheel axis", 3)
         norm = float(np.linalg.norm(k))
         if not np.isfinite(norm) or norm <= 1e-9:
-            raise ValueError(f"reaction wheel axis must be a finite non-zero vector, got {list(k)}")
+            raise ModelError(f"reaction wheel axis must be a finite non-zero vector, got {list(k)}")
         k = k / norm
         i_s = float(rotor_inertia)
         if not (np.isfinite(i_s) and i_s > 0):
-            raise ValueError(f"reaction wheel rotor_inertia must be > 0 kg m^2, got {rotor_inertia}")
+            raise ModelError(f"reaction wheel rotor_inertia must be > 0 kg m^2, got {rotor_inertia}")
         i_t = 0.6 * i_s if transverse_inertia is None else float(transverse_inertia)
         for what, v in (("max_torque", max_torque), ("max_speed", max_speed)):
             if not float(v) > 0:
-                raise ValueError(f"reaction wheel {what} must be > 0, got {v}")
+                raise ModelError(f"reaction wheel {what} must be > 0, got {v}")
         self._n_wheels += 1
         name = f"wheel{self._n_wheels}" if name is None else str(name)
         inertia = i_t * np.eye(3) + (i_s - i_t) * np.outer(k, k)

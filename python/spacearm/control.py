@@ -27,7 +27,7 @@ from typing import Any, Callable, Optional, Sequence, Union
 import numpy as np
 
 from . import _core
-from ._arrays import vector
+from ._arrays import quaternion, vector
 from .errors import ArgumentError
 
 __all__ = [
@@ -285,7 +285,8 @@ class AttitudeControl(_Controller):
     is ``N = -kp e - kd w0`` with ``e = 2 sign(w_e) v_e`` (``v_e``, ``w_e``: vector and scalar
     parts of ``q_e``); the wheels, whose motor torques ``tau_W`` push the base with
     ``-sum tau_j k_j``, get ``tau_W = -A^+ N`` with ``A = [k_1 ... k_W]`` the wheel axes in 𝒥 and
-    ``A^+`` its Moore–Penrose pseudo-inverse. ``quat_ref``: ``[x, y, z, w]``; ``kp`` (N·m/rad),
+    ``A^+`` its Moore–Penrose pseudo-inverse. ``quat_ref``: ``[x, y, z, w]`` or a scipy
+    ``Rotation``; ``kp`` (N·m/rad),
     ``kd`` (N·m·s/rad).
     """
 
@@ -294,7 +295,7 @@ class AttitudeControl(_Controller):
     kd: float
 
     def _spec(self, robot) -> dict:
-        q = vector(self.quat_ref, "AttitudeControl quat_ref", 4)
+        q = quaternion(self.quat_ref, "AttitudeControl quat_ref")
         return {"type": "attitude", "quat_ref": q, "kp": _finite_float(self.kp, "AttitudeControl kp"), "kd": _finite_float(self.kd, "AttitudeControl kd")}
 
 
@@ -307,7 +308,7 @@ class BaseThrusterControl(_Controller):
     Force ``F0 = M (kp_position (com_ref - r_g) - kd_position P / M)`` — the system CM then obeys
     ``e'' + kd e' + kp e = 0`` exactly, whatever the arm does; torque ``N0 = -kp_attitude e -
     kd_attitude w0`` (``e`` as in :class:`AttitudeControl`). ``com_ref`` (m, in 𝒥) and
-    ``quat_ref`` (``[x, y, z, w]``) default to the initial CM and attitude. Gains:
+    ``quat_ref`` (``[x, y, z, w]`` or a scipy ``Rotation``) default to the initial CM and attitude. Gains:
     ``kp_position`` (1/s²), ``kd_position`` (1/s), ``kp_attitude`` (N·m/rad), ``kd_attitude``
     (N·m·s/rad). Combine with an arm controller through :class:`Combined`.
     """
@@ -326,7 +327,7 @@ class BaseThrusterControl(_Controller):
         if self.com_ref is not None:
             spec["com_ref"] = vector(self.com_ref, "BaseThrusterControl com_ref", 3)
         if self.quat_ref is not None:
-            spec["quat_ref"] = vector(self.quat_ref, "BaseThrusterControl quat_ref", 4)
+            spec["quat_ref"] = quaternion(self.quat_ref, "BaseThrusterControl quat_ref")
         return spec
 
 
@@ -359,7 +360,7 @@ class CoordinatedFlying(_Controller):
     H0m qdd + c0`` and the joint torques from the flying-regime reduced EOM
     ``tau = H* qdd + c* + H0m^T H0^-1 F_b``.
 
-    ``base_pose_ref``: ``(r0, quat [x, y, z, w])``, or ``None`` to hold the initial pose.
+    ``base_pose_ref``: ``(r0, quat [x, y, z, w] or scipy Rotation)``, or ``None`` to hold the initial pose.
     Gains are acceleration-level (1/s², 1/s). ``point``: overrides the reference's point.
     """
 
@@ -394,7 +395,7 @@ class CoordinatedFlying(_Controller):
             except (TypeError, ValueError) as exc:
                 raise ArgumentError(f"CoordinatedFlying base_pose_ref must be (r0, quat), got {self.base_pose_ref!r}") from exc
             spec["base_position"] = vector(r0, "CoordinatedFlying base position", 3)
-            spec["base_quat"] = vector(quat, "CoordinatedFlying base quaternion", 4)
+            spec["base_quat"] = quaternion(quat, "CoordinatedFlying base quaternion")
         return spec
 
 

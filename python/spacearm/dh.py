@@ -36,7 +36,7 @@ from typing import Mapping, Optional, Sequence
 import numpy as np
 
 from . import _core
-from ._arrays import matrix3, vector
+from ._arrays import matrix3, quaternion, vector
 from .errors import ModelError
 from .robot import Robot
 from .rotations import quat_from_rpy
@@ -150,7 +150,8 @@ def robot_from_dh(
         Name of the base body.
     joint1_origin, joint1_rotation, joint1_rpy:
         Pose of joint 1's frame (classic: DH frame 0) in the base CM frame; its ``z`` axis is
-        joint 1's axis. Give the rotation as a quaternion ``[x, y, z, w]`` or as URDF
+        joint 1's axis. Give the rotation as a quaternion ``[x, y, z, w]`` (or a scipy
+        ``Rotation``) or as URDF
         roll-pitch-yaw (rad), not both; default: aligned with the base.
     tool_offset:
         Offset of the tip point in the last link frame (classic: from DH frame ``N``'s origin;
@@ -182,7 +183,7 @@ def robot_from_dh(
     if joint1_rpy is not None:
         rotation = list(quat_from_rpy(*vector(joint1_rpy, "joint1_rpy", 3)))
     elif joint1_rotation is not None:
-        rotation = list(vector(joint1_rotation, "joint1_rotation", 4))
+        rotation = list(quaternion(joint1_rotation, "joint1_rotation"))
     else:
         rotation = [0.0, 0.0, 0.0, 1.0]
     build = _core.model_from_classic_dh if convention == "classic" else _core.model_from_paper_dh

@@ -1,8 +1,32 @@
 """The exceptions spacearm raises.
 
-Every error spacearm raises on bad input derives from :class:`SpacearmError`; those caused by
-an invalid argument or model also derive from :class:`ValueError`, so ``except ValueError``
-keeps working. The Rust core maps each of its error kinds onto one class here.
+Every error spacearm raises on bad input (an argument, a model, a file) or on a computation
+that cannot go on is an instance of :class:`SpacearmError`, so ``except spacearm.SpacearmError``
+catches all of them and nothing else. Each class also derives from the builtin exception a
+Python programmer would expect for that kind of error, so ``except ValueError`` (or
+``TypeError``, ``KeyError``...) keeps working around spacearm calls. The Rust core has one error
+kind per class below (the bindings map each onto its class).
+
+| class | builtin bases | raised when |
+| --- | --- | --- |
+| `ModelError` | `ValueError` | a model breaks a physical or structural rule (the message names the body or joint) |
+| `ModelFileError` | `ValueError` (a `ModelError`) | a model file (TOML, URDF) cannot be read; the message gives the line and column |
+| `ShapeError` | `ValueError` | an array has the wrong length or shape, or is not an array of numbers |
+| `NonFiniteError` | `ValueError` | an argument holds NaN or an infinity |
+| `QuaternionError` | `ValueError` | a quaternion is not of unit norm |
+| `ArgumentError` | `ValueError` | an option or number is outside its valid range (an unknown method or mode name, a negative duration, gain, tolerance...) |
+| `SpacearmTypeError` | `TypeError` | an argument is an object of the wrong kind (not a `Robot`, not an `ExternalWrench`, bytes where text is expected) |
+| `NotFoundError` | `KeyError` (so `LookupError`) and `ValueError` | a body, joint, point, preset, metric or quantity name (or index) does not exist |
+| `SingularError` | `ArithmeticError` | a matrix that must be inverted is singular at this configuration |
+| `SimulationError` | `RuntimeError` | a simulation cannot go on (it diverged, the step size collapsed, the step budget ran out) |
+| `MissingDependencyError` | `ImportError` | an optional package is not installed (the message names the extra to install) |
+
+``NotFoundError`` is a lookup failure (``robot.body_index("nope")``, ``results.metric("x")``),
+hence a ``KeyError``; a name that does not exist is also an invalid argument value, hence a
+``ValueError`` too, so that ``except ValueError`` catches every bad-input error of this table
+except a wrong type (``TypeError``), a missing package (``ImportError``), a singular matrix
+and a failed simulation. Its message
+prints as written (a plain ``KeyError`` would print it in quotes).
 """
 
 __all__ = [
@@ -15,6 +39,7 @@ __all__ = [
     "NotFoundError",
     "SingularError",
     "ArgumentError",
+    "SpacearmTypeError",
     "SimulationError",
     "MissingDependencyError",
 ]
@@ -44,8 +69,14 @@ class QuaternionError(SpacearmError, ValueError):
     """A quaternion is not of unit norm within the stated tolerance."""
 
 
-class NotFoundError(SpacearmError, LookupError):
-    """A body, joint or point name (or index) does not exist in the model."""
+class NotFoundError(SpacearmError, KeyError, ValueError):
+    """A body, joint, point, preset, metric or quantity name (or index) does not exist.
+
+    A ``KeyError`` (so a ``LookupError``) and a ``ValueError``: see the module docstring."""
+
+    # KeyError's str() is the repr of its argument (quotes around the message); print the
+    # message as written, like every other spacearm error.
+    __str__ = BaseException.__str__
 
 
 class SingularError(SpacearmError, ArithmeticError):
@@ -55,6 +86,11 @@ class SingularError(SpacearmError, ArithmeticError):
 class ArgumentError(SpacearmError, ValueError):
     """An option or numerical argument is outside its valid range (a negative duration, an unknown mode, a
     tolerance, gain, time step or resolution out of range)."""
+
+
+class SpacearmTypeError(SpacearmError, TypeError):
+    """An argument is an object of the wrong kind (e.g. not a ``Robot``, not an
+    ``ExternalWrench``, bytes where a string is expected); the message names what was expected."""
 
 
 class SimulationError(SpacearmError, RuntimeError):

@@ -68,7 +68,7 @@ from typing import List, NamedTuple, Optional, Tuple
 import numpy as np
 
 from ._arrays import vector
-from .errors import ArgumentError, NonFiniteError, QuaternionError, ShapeError
+from .errors import ArgumentError, MissingDependencyError, NonFiniteError, QuaternionError, ShapeError
 from .rotations import quat_from_matrix, quat_to_matrix
 
 __all__ = [
@@ -117,7 +117,7 @@ def _import_pinocchio():
     try:
         import pinocchio
     except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise ImportError(
+        raise MissingDependencyError(
             "spacearm.interop needs Pinocchio for this function: install it with `pip install pin`"
         ) from exc
     return pinocchio
@@ -127,7 +127,7 @@ def _import_mujoco():
     try:
         import mujoco
     except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise ImportError(
+        raise MissingDependencyError(
             "spacearm.interop needs MuJoCo for this function: install it with `pip install mujoco`"
         ) from exc
     return mujoco

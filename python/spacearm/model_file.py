@@ -38,7 +38,7 @@ from pathlib import Path
 from typing import Union
 
 from . import _core
-from .errors import ModelFileError
+from .errors import ModelFileError, SpacearmTypeError
 from .robot import Robot
 
 __all__ = ["load_toml", "loads_toml", "save_toml", "dumps_toml"]
@@ -54,7 +54,7 @@ def loads_toml(text: str, source: str = "<string>") -> Robot:
         except UnicodeDecodeError as exc:
             raise ModelFileError(f"{source}: the model file is not valid UTF-8 (byte {exc.start})") from None
     if not isinstance(text, str):
-        raise TypeError(f"loads_toml expects the TOML text as a str, got {type(text).__name__}")
+        raise SpacearmTypeError(f"loads_toml expects the TOML text as a str, got {type(text).__name__}")
     return Robot(_core.model_from_toml(text, str(source)))
 
 
@@ -70,7 +70,7 @@ def dumps_toml(robot: Robot) -> str:
     """The model as TOML text. ``loads_toml(dumps_toml(robot))`` gives back exactly the same
     model (every number is written in its shortest exact form)."""
     if not isinstance(robot, Robot):
-        raise TypeError(f"dumps_toml expects a spacearm.Robot, got {type(robot).__name__}")
+        raise SpacearmTypeError(f"dumps_toml expects a spacearm.Robot, got {type(robot).__name__}")
     return _core.model_to_toml(robot._m)
 
 

@@ -18,8 +18,8 @@ from typing import NamedTuple, Sequence, Union
 import numpy as np
 
 from . import _core
-from ._arrays import vector, vector3
-from .errors import NotFoundError, ShapeError
+from ._arrays import quaternion, vector, vector3
+from .errors import ArgumentError, NotFoundError, ShapeError, SpacearmTypeError
 
 __all__ = ["Robot", "ExternalWrench", "Kinematics", "Momentum", "InertiaBlocks", "ForwardDynamicsDerivatives", "Linearization"]
 
@@ -87,7 +87,7 @@ class Robot:
 
     def __init__(self, core_model: "_core.Model"):
         if not isinstance(core_model, _core.Model):
-            raise TypeError("Robot is built with Robot.builder(), Robot.from_toml(), Robot.from_dh() or spacearm.presets")
+            raise SpacearmTypeError("Robot is built with Robot.builder(), Robot.from_toml(), Robot.from_dh() or spacearm.presets")
         self._m = core_model
         # Named points resolved once (the model is immutable): name or None -> (body, offset).
         self._points = {}
@@ -184,8 +184,33 @@ class Robot:
 
     @property
     def joint_types(self) -> list:
-        """Joint type of each link, in link order."""
+        """Joint type of each LINK, in link order (length ``n_bodies - 1``), fixed joints
+        included: ``"revolute"``, ``"prismatic"`` or ``"fixed"``. It does not line up with ``q``
+        when the model has fixed joints; for one entry per degree of freedom use
+        :attr:`dof_types` and :attr:`joint_names`."""
         return list(self._m.joint_types())
+
+    @property
+    def joint_names(self) -> list:
+        """Name of the joint of each degree of freedom, in ``q`` order (length ``N``; fixed
+        joints excluded): ``q[k]``, ``qd[k]`` and ``tau[k]`` belong to ``joint_names[k]``."""
+        return [name for name, _ in self._dofs()]
+
+    @property
+    def dof_types(self) -> list:
+        """Type of each degree of freedom, in ``q`` order (length ``N``): ``"revolute"`` (rad,
+        N·m) or ``"prismatic"`` (m, N). Unlike :attr:`joint_types`, fixed joints are excluded."""
+        return [kind for _, kind in self._dofs()]
+
+    def _dofs(self) -> tuple:
+        """``(joint name, joint type)`` of each degree of freedom in ``q`` order, read once from
+        the model's description (the model is immutable)."""
+        dofs = self.__dict__.get("_dof_joints")
+        if dofs is None:
+            links = [link for link in self.describe()["links"] if link["dof"] is not None]
+            links.sort(key=lambda link: link["dof"])
+            dofs = self._dof_joints = tuple((link["joint"], link["type"]) for link in links)
+        return dofs
 
     @property
     def body_of_dof(self) -> list:
@@ -232,22 +257,23 @@ class Robot:
 
     # ---- states ---------------------------------------------------------------------------
     def neutral_configuration(self, q=None, r0=(0.0, 0.0, 0.0), quat0=(0.0, 0.0, 0.0, 1.0)) -> np.ndarray:
-        """Configuration ``x = [r0, quat0, q]``; ``q`` defaults to the model's initial angles."""
+        """Configuration ``x = [r0, quat0, q]``; ``q`` defaults to the model's initial angles.
+
+        ``quat0`` is the base attitude, a quaternion ``[x, y, z, w]`` or a
+        ``scipy.spatial.transform.Rotation``."""
         qv = self.initial_q if q is None else vector(q, "q", self.n_dof)
-        return np.concatenate([vector(r0, "r0", 3), vector(quat0, "quat0", 4), qv])
+        return np.concatenate([vector(r0, "r0", 3), quaternion(quat0, "quat0"), qv])
 
     def zero_velocity(self) -> np.ndarray:
         """``u = 0`` (length ``6 + N``)."""
         return np.zeros(self.nu)
 
-    # Vector arguments (x, u, du, f, qd) may go to the extension unconverted: it uses a 1-D
+    # Vector arguments (x, u, du, f, tau, qd...) go to the extension unconverted: it uses a 1-D
     # contiguous float64 array in place and converts anything else with ``_arrays.vector`` under
-    # the same name, so messages and their order are those of ``_x``/``_u``.
+    # the argument's name, so a Python-side conversion first would only repeat the work. Convert
+    # here only a value used twice (``_x``), so that a list is converted once.
     def _x(self, x):
         return vector(x, "x")
-
-    def _u(self, u, name="u"):
-        return vector(u, name)
 
     # ---- kinematics ----------------------------------------------------------------------
     def forward_kinematics(self, x) -> Kinematics:
@@ -267,7 +293,7 @@ class Robot:
 
     def link_jacobians(self, x, body):
         """``(J_Ti, J_Ri)`` (3×N each; eqs. 20–21) of the CM of ``body``."""
-        return self._m.link_jacobians(self._x(x), self.body_index(body))
+        return self._m.link_jacobians(x, self.body_index(body))
 
     # ---- inertia ---------------------------------------------------------------------------
     def inertia_blocks(self, x) -> InertiaBlocks:
@@ -285,7 +311,7 @@ class Robot:
             return self._m.mass_matrix_crba(x)
         if method == "paper":
             return self._m.mass_matrix_paper(x)
-        raise ValueError(f"method must be 'crba' or 'paper', got {method!r}")
+        raise ArgumentError(f"method must be 'crba' or 'paper', got {method!r}")
 
     def base_inertia_inverse(self, x) -> np.ndarray:
         """``H0⁻¹`` by the closed-form Schur complement (eqs. 52–61)."""
@@ -302,7 +328,7 @@ class Robot:
         out = []
         for w in wrenches:
             if not isinstance(w, ExternalWrench):
-                raise TypeError(f"wrenches must be spacearm.ExternalWrench objects, got {type(w).__name__}")
+                raise SpacearmTypeError(f"wrenches must be spacearm.ExternalWrench objects, got {type(w).__name__}")
             out.append((
                 self.body_index(w.body),
                 list(vector3(w.offset, "wrench offset")),
@@ -313,45 +339,40 @@ class Robot:
 
     def inverse_dynamics(self, x, u, du, wrenches=None) -> np.ndarray:
         """Generalized force ``f = H du + c - J^T w_ext`` producing ``du`` (RNEA, Featherstone §5.3)."""
-        if wrenches is None:
-            return self._m.inverse_dynamics(x, u, du)
-        return self._m.inverse_dynamics(self._x(x), self._u(u), self._u(du, "du"), self._wrenches(wrenches))
+        return self._m.inverse_dynamics(x, u, du, None if wrenches is None else self._wrenches(wrenches))
 
     def forward_dynamics(self, x, u, f=None, *, tau=None, base_wrench=None, wrenches=None, method: str = "aba") -> np.ndarray:
         """State derivative ``du = [dv0, dw0, qdd]`` under generalized force ``f``.
 
-        Give either ``f = [F0, N0, tau]`` or ``tau`` (joint torques) and optionally
-        ``base_wrench = [F0, N0]`` (zero: free-floating). ``method``: ``"aba"`` (O(N)
-        articulated-body algorithm), ``"mass_matrix"`` (``H⁻¹(f + J^T w - c)``) or
-        ``"reduced"`` (``qdd = H*⁻¹(tau - c* - H0m^T H0⁻¹ F_b)``, ``docs/physics.md``; no external
-        wrenches).
+        Give either ``f = [F0, N0, tau]`` or ``tau`` (joint torques, default zero) and
+        optionally ``base_wrench = [F0, N0]`` (default zero: free-floating); the two forms give
+        bit-identical results, each in one call to the extension (which assembles ``f`` from
+        the parts; ``benchmarks/forward_dynamics_forms.py`` times both).
+        ``method``: ``"aba"`` (O(N) articulated-body algorithm), ``"mass_matrix"``
+        (``H⁻¹(f + J^T w - c)``) or ``"reduced"`` (``qdd = H*⁻¹(tau - c* - H0m^T H0⁻¹ F_b)``,
+        the reduction of eqs. 39–50, ``docs/physics.md``; no external wrenches).
         """
+        # One native call per form and method: x, u and the force arrays go to the extension
+        # unconverted (see _x above); it checks them in the order force, x, u.
+        ext = None if wrenches is None else self._wrenches(wrenches)
         if f is None:
-            t = np.zeros(self.n_dof) if tau is None else vector(tau, "tau", self.n_dof)
-            b = np.zeros(6) if base_wrench is None else vector(base_wrench, "base_wrench", 6)
-            f = np.concatenate([b, t])
-        elif tau is not None or base_wrench is not None:
-            raise ValueError("give either f or tau/base_wrench, not both")
-        if wrenches is None:
-            # The extension converts f, then x, then u (the order of the general path below).
             if method == "aba":
-                return self._m.forward_dynamics_aba(x, u, f)
+                return self._m.forward_dynamics_aba_tau(x, u, tau, base_wrench, ext)
             if method == "mass_matrix":
-                return self._m.forward_dynamics_mass_matrix(x, u, f)
-            if method == "reduced":
-                return self._m.reduced_forward_dynamics_f(x, u, f)
-        f = self._u(f, "f")
-        if method == "aba":
-            return self._m.forward_dynamics_aba(self._x(x), self._u(u), f, self._wrenches(wrenches))
-        if method == "mass_matrix":
-            return self._m.forward_dynamics_mass_matrix(self._x(x), self._u(u), f, self._wrenches(wrenches))
+                return self._m.forward_dynamics_mass_matrix_tau(x, u, tau, base_wrench, ext)
+        elif tau is not None or base_wrench is not None:
+            raise ArgumentError("give either f or tau/base_wrench, not both")
+        elif method == "aba":
+            return self._m.forward_dynamics_aba(x, u, f, ext)
+        elif method == "mass_matrix":
+            return self._m.forward_dynamics_mass_matrix(x, u, f, ext)
         if method == "reduced":
-            if wrenches:
-                raise ValueError("method='reduced' takes no external wrenches; use 'aba' or 'mass_matrix'")
-            if f.shape[0] != self.nu:
-                raise ShapeError(f"f must have length 6+N = {self.nu}, got {f.shape[0]}")
-            return self._m.reduced_forward_dynamics(self._x(x), self._u(u), np.ascontiguousarray(f[6:]), np.ascontiguousarray(f[:6]))
-        raise ValueError(f"method must be 'aba', 'mass_matrix' or 'reduced', got {method!r}")
+            if ext:
+                raise ArgumentError("method='reduced' takes no external wrenches; use 'aba' or 'mass_matrix'")
+            if f is None:
+                return self._m.reduced_forward_dynamics(x, u, tau, base_wrench)
+            return self._m.reduced_forward_dynamics_f(x, u, f)
+        raise ArgumentError(f"method must be 'aba', 'mass_matrix' or 'reduced', got {method!r}")
 
     # ---- generalized (reduced) quantities ------------------------------------------------
     def generalized_inertia(self, x) -> np.ndarray:
@@ -381,7 +402,7 @@ class Robot:
     def base_velocity_from_momentum(self, x, qd, P=(0.0, 0.0, 0.0), L=(0.0, 0.0, 0.0)) -> np.ndarray:
         """Base velocity ``[v0; w0] = H0⁻¹ (M0 - H0m qd)`` (eqs. 43, 109) that gives the system
         linear momentum ``P`` and angular momentum ``L`` about the origin of 𝒥."""
-        return self._m.base_velocity_from_momentum(self._x(x), vector(qd, "qd"), vector3(P, "P"), vector3(L, "L"))
+        return self._m.base_velocity_from_momentum(x, qd, vector3(P, "P"), vector3(L, "L"))
 
     # ---- momentum, energy, CM ------------------------------------------------------------
     def momentum(self, x, u) -> Momentum:
@@ -415,7 +436,7 @@ class Robot:
             b = np.zeros(6) if base_wrench is None else vector(base_wrench, "base_wrench", 6)
             return np.concatenate([b, t])
         if tau is not None or base_wrench is not None:
-            raise ValueError("give either f or tau/base_wrench, not both")
+            raise ArgumentError("give either f or tau/base_wrench, not both")
         return f
 
     def configuration_plus(self, x, dx) -> np.ndarray:
@@ -494,7 +515,7 @@ class Robot:
         Apply a state increment with :meth:`configuration_plus`.
         """
         if inputs not in ("joints", "all"):
-            raise ValueError(f"inputs must be 'joints' or 'all', got {inputs!r}")
+            raise ArgumentError(f"inputs must be 'joints' or 'all', got {inputs!r}")
         a, b = self._derivatives().linearize(x, u, self._force(f, tau, base_wrench), inputs == "joints")
         return Linearization(a, b)
 

@@ -1,12 +1,16 @@
 """Small rotation helpers for model input and convention conversion.
 
-Quaternions are unit, Hamilton, scalar LAST ``[x, y, z, w]`` (``docs/conventions.md``; the same as
-``scipy.spatial.transform.Rotation.as_quat()`` and Pinocchio).
+Quaternions are unit, Hamilton, scalar LAST ``[x, y, z, w]`` (``docs/conventions.md``; the same
+as ``scipy.spatial.transform.Rotation.as_quat()`` and Pinocchio). Every quaternion argument of
+spacearm also accepts a ``scipy.spatial.transform.Rotation`` holding one rotation
+(:func:`spacearm._arrays.quaternion`).
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+from ._arrays import quaternion
 
 __all__ = ["quat_from_rpy", "quat_from_axis_angle", "quat_to_matrix", "quat_from_matrix", "IDENTITY_QUAT"]
 
@@ -42,8 +46,9 @@ def quat_from_rpy(roll: float, pitch: float, yaw: float) -> np.ndarray:
 
 
 def quat_to_matrix(q) -> np.ndarray:
-    """Rotation matrix of a unit quaternion ``[x, y, z, w]``."""
-    x, y, z, w = np.asarray(q, dtype=float) / np.linalg.norm(q)
+    """Rotation matrix of a unit quaternion ``[x, y, z, w]`` (or a scipy ``Rotation``)."""
+    q = quaternion(q, "quaternion")
+    x, y, z, w = q / np.linalg.norm(q)
     return np.array([
         [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],

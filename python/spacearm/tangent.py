@@ -12,16 +12,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._arrays import vector
+from ._arrays import quaternion, vector
 from .errors import NonFiniteError, QuaternionError
 
 __all__ = ["quat_exp", "quat_log", "quat_multiply", "configuration_plus", "configuration_difference"]
 
 
 def quat_multiply(a, b) -> np.ndarray:
-    """Hamilton product ``a ⊗ b`` of quaternions ``[x, y, z, w]`` (rotation ``R(a) R(b)``)."""
-    ax, ay, az, aw = a
-    bx, by, bz, bw = b
+    """Hamilton product ``a ⊗ b`` of quaternions ``[x, y, z, w]`` (or scipy ``Rotation``
+    objects), the rotation ``R(a) R(b)``."""
+    ax, ay, az, aw = quaternion(a, "a")
+    bx, by, bz, bw = quaternion(b, "b")
     return np.array([
         aw * bx + ax * bw + ay * bz - az * by,
         aw * by - ax * bz + ay * bw + az * bx,
@@ -42,8 +43,8 @@ def quat_exp(theta) -> np.ndarray:
 
 
 def quat_log(q) -> np.ndarray:
-    """Rotation vector (length ≤ π) of a unit quaternion ``[x, y, z, w]``."""
-    q = np.asarray(q, dtype=float)
+    """Rotation vector (length ≤ π) of a unit quaternion ``[x, y, z, w]`` (or scipy ``Rotation``)."""
+    q = quaternion(q, "q")
     q = q / np.linalg.norm(q)
     if q[3] < 0:
         q = -q

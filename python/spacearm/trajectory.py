@@ -27,7 +27,7 @@ from typing import Dict, Iterable, List, NamedTuple, Optional, Sequence, Union
 import numpy as np
 
 from ._atomic import atomic_open
-from .errors import NotFoundError, ShapeError, SpacearmError
+from .errors import ArgumentError, NotFoundError, ShapeError, SpacearmTypeError
 
 __all__ = ["Trajectory", "SaturationEvent", "SATURATION_KINDS", "quats_to_matrices", "euler_from_matrices"]
 
@@ -128,9 +128,9 @@ class Trajectory:
 
     def __init__(self, robot=None, data: Optional[dict] = None, meta: Optional[dict] = None):
         if data is None:
-            raise TypeError("Trajectory needs data: a dict of per-sample arrays with at least t, x and u")
+            raise SpacearmTypeError("Trajectory needs data: a dict of per-sample arrays with at least t, x and u")
         if not isinstance(data, dict):
-            raise TypeError(f"Trajectory data must be a dict of arrays, got {type(data).__name__}")
+            raise SpacearmTypeError(f"Trajectory data must be a dict of arrays, got {type(data).__name__}")
         missing = [k for k in _REQUIRED if k not in data]
         if missing:
             raise ShapeError(f"Trajectory data lacks {', '.join(missing)} (needs at least t, x and u)")
@@ -415,11 +415,7 @@ class Trajectory:
         """Name of each degree of freedom (``q1``… without a robot)."""
         if self._robot is None:
             return [f"q{i + 1}" for i in range(self._n)]
-        names = [f"q{i + 1}" for i in range(self._n)]
-        for link in self._robot.describe()["links"]:
-            if link["type"] != "fixed":
-                names[int(link["dof"])] = link["joint"]
-        return names
+        return self._robot.joint_names
 
     def _joint_is_prismatic(self) -> List[bool]:
         if self._robot is None:
@@ -575,10 +571,10 @@ class Trajectory:
         except (OSError, ValueError) as exc:
             if isinstance(exc, FileNotFoundError):
                 raise
-            raise SpacearmError(f"{path}: not a spacearm trajectory file ({exc})") from None
+            raise ArgumentError(f"{path}: not a spacearm trajectory file ({exc})") from None
         fmt = str(files.pop("__format__", ""))
         if fmt != FILE_FORMAT:
-            raise SpacearmError(f"{path}: not a spacearm trajectory file (format tag {fmt!r}, expected {FILE_FORMAT!r})")
+            raise ArgumentError(f"{path}: not a spacearm trajectory file (format tag {fmt!r}, expected {FILE_FORMAT!r})")
         meta = json.loads(str(files.pop("__meta__", "{}")))
         model = files.pop("__model_toml__", None)
         if robot is None and model is not None:

@@ -37,7 +37,7 @@ from typing import Dict, List, Optional, Sequence
 import numpy as np
 
 from .builder import RobotBuilder
-from .errors import ModelFileError, SpacearmError
+from .errors import ArgumentError, ModelFileError, ShapeError, SpacearmError
 from .robot import Robot
 from .rotations import quat_from_matrix, quat_from_rpy, quat_to_matrix
 from .urdf_parse import UrdfJoint, UrdfRobot, parse_urdf
@@ -97,7 +97,7 @@ class _Body:
 class _Importer:
     def __init__(self, urdf: UrdfRobot, base_link: Optional[str], fixed: str = "merge"):
         if fixed not in ("merge", "keep"):
-            raise ValueError(f"fixed must be 'merge' or 'keep', got {fixed!r}")
+            raise ArgumentError(f"fixed must be 'merge' or 'keep', got {fixed!r}")
         self.keep_fixed = fixed == "keep"
         self.urdf = urdf
         self.fail = urdf.error
@@ -231,7 +231,7 @@ class _Importer:
                                      "the URDF's links and joints")
             pose = np.asarray(at if at is not None else np.zeros(6), dtype=float)
             if pose.shape != (6,) or not np.all(np.isfinite(pose)):
-                raise ValueError(f"at must be 6 finite numbers (x, y, z, roll, pitch, yaw), got {at!r}")
+                raise ShapeError(f"at must be 6 finite numbers (x, y, z, roll, pitch, yaw), got {at!r}")
             parent = mount_body if mount_body is not None else mount_on.body_names[0]
             self._add(builder, base_line, p + base.name, parent=parent, joint="fixed", origin=pose[:3],
                       rotation=quat_from_rpy(*pose[3:]), com=base.com, mass=base.mass, inertia=base.inertia,

@@ -33,7 +33,7 @@ import numpy as np
 from defusedxml import DefusedXmlException
 from defusedxml.ElementTree import DefusedXMLParser
 
-from .errors import ModelFileError
+from .errors import ArgumentError, ModelFileError
 from .rotations import quat_from_rpy, quat_to_matrix
 
 __all__ = ["UrdfInertial", "UrdfLink", "UrdfJoint", "UrdfRobot", "parse_urdf", "urdf_error"]
@@ -278,7 +278,7 @@ def parse_urdf(text, source: str = "<string>", mimic: str = "error") -> UrdfRobo
     ``mimic="independent"`` reads a ``<mimic>`` joint as an ordinary joint instead.
     """
     if mimic not in ("error", "independent"):
-        raise ValueError(f"mimic must be 'error' or 'independent', got {mimic!r}")
+        raise ArgumentError(f"mimic must be 'error' or 'independent', got {mimic!r}")
     root, lines = _xml_tree(text, source)
     reader = _Reader(lines, source, mimic)
     if root.tag != "robot":

@@ -178,7 +178,7 @@ pub fn analysis_reaction_null_space<'py>(py: Python<'py>, mut m: PyRefMut<'_, Py
     let which = match which {
         "angular" => rns::BaseMotion::Angular,
         "full" => rns::BaseMotion::Full,
-        other => return Err(to_py_err(py, SpacearmError::NotFound(format!("base motion must be 'angular' or 'full', got '{other}'")))),
+        other => return Err(to_py_err(py, SpacearmError::InvalidArgument(format!("base motion must be 'angular' or 'full', got '{other}'")))),
     };
     let x = vec_arg(x, "x")?;
     let PyModel { model, data } = &mut *m;
@@ -221,7 +221,7 @@ fn strategy(py: Python<'_>, s: &str) -> PyResult<redundancy::Strategy> {
         "naive" => Ok(redundancy::Strategy::Naive),
         "reactionless" => Ok(redundancy::Strategy::Reactionless),
         "minimum_disturbance" => Ok(redundancy::Strategy::MinimumBaseDisturbance),
-        other => Err(to_py_err(py, SpacearmError::NotFound(format!("strategy must be 'naive', 'reactionless' or 'minimum_disturbance', got '{other}'")))),
+        other => Err(to_py_err(py, SpacearmError::InvalidArgument(format!("strategy must be 'naive', 'reactionless' or 'minimum_disturbance', got '{other}'")))),
     }
 }
 

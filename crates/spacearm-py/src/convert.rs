@@ -111,6 +111,14 @@ pub fn vec_arg_n<'py>(obj: &Bound<'py, PyAny>, what: &str, n: usize) -> PyResult
     Ok(v)
 }
 
+/// Raise `NonFiniteError` naming `what` and its first non-finite entry, if any.
+pub fn check_finite(py: Python<'_>, what: &str, values: &[f64]) -> PyResult<()> {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(to_py_err(py, SpacearmError::NonFinite { what: what.into(), index, value: values[index] })),
+        None => Ok(()),
+    }
+}
+
 /// A 3-vector argument (length checked, `ShapeError` naming `what`).
 pub fn vec3(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vector3<f64>> {
     Ok(Vector3::from_column_slice(vec_arg_n(obj, what, 3)?.as_slice()))

@@ -1,7 +1,7 @@
 //! `spacearm._core.Model`: a core `Model` with its `Data` workspace, one thin method per core
 //! function. Argument checking beyond numpy conversion happens in the core.
 
-use nalgebra::Vector3;
+use nalgebra::{Vector3, Vector6};
 use numpy::{PyArray1, PyArray2, PyArray3};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -25,7 +25,10 @@ impl PyModel {
     }
 }
 
-fn wrenches(py: Python<'_>, list: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>>) -> PyResult<Vec<ExternalWrench>> {
+/// External wrenches as `Robot._wrenches` passes them: `(body, offset, force, torque)`.
+type WrenchList = Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>;
+
+fn wrenches(py: Python<'_>, list: Option<WrenchList>) -> PyResult<Vec<ExternalWrench>> {
     let mut out = Vec::new();
     for (body, offset, force, torque) in list.unwrap_or_default() {
         for (what, v) in [("wrench point", &offset), ("wrench force", &force), ("wrench torque", &torque)] {
@@ -41,6 +44,44 @@ fn wrenches(py: Python<'_>, list: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64
         });
     }
     Ok(out)
+}
+
+/// Room for the assembled `f` on the stack: models up to `FORCE_ON_STACK - 6` joints need no
+/// allocation per call.
+const FORCE_ON_STACK: usize = 64;
+
+/// Run `compute` on the generalized force `f = [base_wrench; tau]` of the `tau=`/`base_wrench=`
+/// form of forward dynamics, assembled here so that this form costs one native call like the `f`
+/// form (either part may be `None`: zero). `tau` is converted before `base_wrench`, and each is
+/// checked for length and finiteness under its own name (an error names `tau`, not `f`).
+fn with_force_from_parts<R>(
+    py: Python<'_>,
+    model: &core::Model,
+    tau: Option<&Bound<'_, PyAny>>,
+    base_wrench: Option<&Bound<'_, PyAny>>,
+    compute: impl FnOnce(&[f64]) -> PyResult<R>,
+) -> PyResult<R> {
+    let n = model.n_dof();
+    let mut on_stack = [0.0; FORCE_ON_STACK];
+    let mut on_heap = Vec::new();
+    let f: &mut [f64] = if 6 + n <= FORCE_ON_STACK {
+        &mut on_stack[..6 + n]
+    } else {
+        on_heap.resize(6 + n, 0.0);
+        &mut on_heap
+    };
+    // Each slice is copied out before the next conversion runs Python code (see `VecArg`).
+    if let Some(tau) = tau {
+        let tau = vec_arg_n(tau, "tau", n)?;
+        check_finite(py, "tau", tau.as_slice())?;
+        f[6..].copy_from_slice(tau.as_slice());
+    }
+    if let Some(fb) = base_wrench {
+        let fb = vec_arg_n(fb, "base_wrench", 6)?;
+        check_finite(py, "base_wrench", fb.as_slice())?;
+        f[..6].copy_from_slice(fb.as_slice());
+    }
+    compute(f)
 }
 
 #[pymethods]
@@ -228,7 +269,7 @@ impl PyModel {
         x: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
         du: &Bound<'py, PyAny>,
-        wrenches: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>>,
+        wrenches: Option<WrenchList>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let (x, u, du) = (vec_arg(x, "x")?, vec_arg(u, "u")?, vec_arg(du, "du")?);
         let ext = self::wrenches(py, wrenches)?;
@@ -244,7 +285,7 @@ impl PyModel {
         x: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
         f: &Bound<'py, PyAny>,
-        wrenches: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>>,
+        wrenches: Option<WrenchList>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let f = vec_arg(f, "f")?;
         let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
@@ -260,7 +301,7 @@ impl PyModel {
         x: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
         f: &Bound<'py, PyAny>,
-        wrenches: Option<Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>>,
+        wrenches: Option<WrenchList>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let f = vec_arg(f, "f")?;
         let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
@@ -270,18 +311,64 @@ impl PyModel {
         Ok(dvec(py, a))
     }
 
+    /// Forward dynamics by ABA under `f = [base_wrench; tau]` (either `None`: zero), in one
+    /// call: the same numbers as `forward_dynamics_aba` with the assembled `f`.
+    #[pyo3(signature = (x, u, tau=None, base_wrench=None, wrenches=None))]
+    fn forward_dynamics_aba_tau<'py>(
+        &mut self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+        tau: Option<&Bound<'py, PyAny>>,
+        base_wrench: Option<&Bound<'py, PyAny>>,
+        wrenches: Option<WrenchList>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        with_force_from_parts(py, &self.model, tau, base_wrench, |f| {
+            let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
+            let ext = self::wrenches(py, wrenches)?;
+            let a = core::aba::aba(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f, &ext).or_raise(py)?;
+            Ok(dvec(py, a))
+        })
+    }
+
+    /// Forward dynamics through `H` under `f = [base_wrench; tau]` (either `None`: zero).
+    #[pyo3(signature = (x, u, tau=None, base_wrench=None, wrenches=None))]
+    fn forward_dynamics_mass_matrix_tau<'py>(
+        &mut self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+        tau: Option<&Bound<'py, PyAny>>,
+        base_wrench: Option<&Bound<'py, PyAny>>,
+        wrenches: Option<WrenchList>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        with_force_from_parts(py, &self.model, tau, base_wrench, |f| {
+            let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
+            let ext = self::wrenches(py, wrenches)?;
+            let a = core::dynamics::compute_forward_dynamics_via_mass_matrix(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f, &ext)
+                .or_raise(py)?;
+            Ok(dvec(py, a))
+        })
+    }
+
+    /// Reduced forward dynamics (the `H*` route) under joint torques `tau` and base wrench
+    /// `base_wrench` (either `None`: zero).
+    #[pyo3(signature = (x, u, tau=None, base_wrench=None))]
     fn reduced_forward_dynamics<'py>(
         &mut self,
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
-        tau: &Bound<'py, PyAny>,
-        base_wrench: &Bound<'py, PyAny>,
+        tau: Option<&Bound<'py, PyAny>>,
+        base_wrench: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let fb = vec6(base_wrench, "base_wrench")?;
-        let (x, u, tau) = (vec_arg(x, "x")?, vec_arg(u, "u")?, vec_arg(tau, "tau")?);
-        let a = core::gjm::compute_reduced_forward_dynamics(&self.model, &mut self.data, x.as_slice(), u.as_slice(), tau.as_slice(), &fb).or_raise(py)?;
-        Ok(dvec(py, a))
+        with_force_from_parts(py, &self.model, tau, base_wrench, |f| {
+            let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
+            let fb = Vector6::from_column_slice(&f[..6]);
+            let a = core::gjm::compute_reduced_forward_dynamics(&self.model, &mut self.data, x.as_slice(), u.as_slice(), &f[6..], &fb)
+                .or_raise(py)?;
+            Ok(dvec(py, a))
+        })
     }
 
     /// Reduced forward dynamics from the full generalized force `f = [F_b; τ]` (what
@@ -295,7 +382,7 @@ impl PyModel {
         }
         let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
         let fs = f.as_slice();
-        let fb = nalgebra::Vector6::from_column_slice(&fs[..6]);
+        let fb = Vector6::from_column_slice(&fs[..6]);
         let a = core::gjm::compute_reduced_forward_dynamics(&self.model, &mut self.data, x.as_slice(), u.as_slice(), &fs[6..], &fb).or_raise(py)?;
         Ok(dvec(py, a))
     }

@@ -9,7 +9,7 @@ from typing import Sequence, Union
 import numpy as np
 
 from .._atomic import atomic_path
-from ..errors import ShapeError, SpacearmError
+from ..errors import ArgumentError, ShapeError
 
 TaskLike = Union[str, Sequence[int], None]
 
@@ -38,7 +38,7 @@ def task_rows(robot, task: TaskLike) -> list:
         task = "planar" if is_planar(robot) else "position"
     if isinstance(task, str):
         if task not in TASKS:
-            raise SpacearmError(f"unknown task '{task}': expected one of {', '.join(TASKS)} or a list of rows 0-5")
+            raise ArgumentError(f"unknown task '{task}': expected one of {', '.join(TASKS)} or a list of rows 0-5")
         return list(TASKS[task])
     rows = [int(r) for r in task]
     return rows
@@ -58,7 +58,7 @@ def joint_bounds(robot, default_span=np.pi):
     """Lower and upper joint bounds for scans: the model's limits where finite, else ±π (±1 m
     for prismatic joints)."""
     lower, upper = [], []
-    types = [t for t in robot.joint_types if t != "fixed"]
+    types = robot.dof_types
     limits = [link["limits"] for link in robot.describe()["links"] if link["type"] != "fixed"]
     for t, (lo, hi, _v, _e) in zip(types, limits):
         span = default_span if t == "revolute" else 1.0

@@ -11,8 +11,8 @@ from typing import Callable
 import numpy as np
 
 from .. import _core
-from .._arrays import vector3
-from ..errors import SpacearmError
+from .._arrays import quaternion, vector3
+from ..errors import ArgumentError
 
 __all__ = ["integrate_prescribed", "attitude_change"]
 
@@ -24,7 +24,7 @@ def integrate_prescribed(robot, q_of_t: Callable, qd_of_t: Callable, t_end: floa
     at the origin, aligned with 𝒥); its ``q`` part is replaced by ``q(0)``. Returns
     ``(times (K+1), x (K+1, 7+N))``."""
     if not (np.isfinite(t_end) and t_end > 0 and np.isfinite(dt) and dt > 0):
-        raise SpacearmError(f"t_end and dt must be finite and > 0, got {t_end} and {dt}")
+        raise ArgumentError(f"t_end and dt must be finite and > 0, got {t_end} and {dt}")
     k = max(1, int(round(t_end / dt)))
     h = t_end / k
     half = np.linspace(0.0, t_end, 2 * k + 1)
@@ -37,7 +37,8 @@ def integrate_prescribed(robot, q_of_t: Callable, qd_of_t: Callable, t_end: floa
 
 
 def attitude_change(quat_a, quat_b) -> float:
-    """Rotation angle (rad, 0..π) between two attitudes given as ``[x, y, z, w]`` quaternions."""
-    a = np.asarray(quat_a, float) / np.linalg.norm(quat_a)
-    b = np.asarray(quat_b, float) / np.linalg.norm(quat_b)
+    """Rotation angle (rad, 0..π) between two attitudes given as ``[x, y, z, w]`` quaternions
+    (or scipy ``Rotation`` objects)."""
+    a, b = quaternion(quat_a, "quat_a"), quaternion(quat_b, "quat_b")
+    a, b = a / np.linalg.norm(a), b / np.linalg.norm(b)
     return float(2.0 * np.arccos(min(1.0, abs(float(np.dot(a, b))))))

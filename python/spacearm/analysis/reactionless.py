@@ -12,7 +12,7 @@ import numpy as np
 
 from .. import _core
 from .._arrays import vector
-from ..errors import SpacearmError
+from ..errors import ArgumentError
 from ._common import TaskLike, new_figure, save_figure, task_rows
 
 __all__ = ["ReactionNullSpace", "reaction_null_space", "Motion", "move_to", "rmrc_rates", "STRATEGIES"]
@@ -48,7 +48,7 @@ def reaction_null_space(robot, x=None, base_motion: str = "angular", tolerance: 
 
 def _check_strategy(strategy: str) -> str:
     if strategy not in STRATEGIES:
-        raise SpacearmError(f"strategy must be one of {', '.join(STRATEGIES)}, got {strategy!r}")
+        raise ArgumentError(f"strategy must be one of {', '.join(STRATEGIES)}, got {strategy!r}")
     return strategy
 
 

@@ -12,7 +12,7 @@ from typing import Optional
 import numpy as np
 
 from .. import _core
-from ..errors import SpacearmError
+from ..errors import ArgumentError
 from ._common import TaskLike, chunked, joint_bounds, new_figure, samples_2d, save_figure, task_rows
 
 __all__ = ["Workspace", "workspace"]
@@ -50,7 +50,7 @@ class Workspace:
         ``plane``: ``"xy"``, ``"xz"`` or ``"yz"``; for spatial arms only samples within ``slab``
         (default: 5 % of R_max) of the plane are drawn (a slice). Returns the matplotlib ``Figure``."""
         if plane not in ("xy", "xz", "yz"):
-            raise SpacearmError(f"plane must be 'xy', 'xz' or 'yz', got {plane!r}")
+            raise ArgumentError(f"plane must be 'xy', 'xz' or 'yz', got {plane!r}")
         i, j = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}[plane]
         k = 3 - i - j
         fig = new_figure(figsize=(12, 5.6))

@@ -33,7 +33,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Callable, Iterable, Iterator, NamedTuple, Optional, Union
 
-from ..errors import SpacearmError
+from ..errors import ArgumentError, SpacearmError
 from ._main_guard import GUARD_ADVICE, check_caller_is_guarded, stop_if_reimported_by_a_worker
 from .perturbation import PARAMETER_NAMES, Perturbations
 from .results import FAILED, PENDING, CampaignResult
@@ -183,11 +183,11 @@ def run_campaign(
     stop_if_reimported_by_a_worker()
     if isinstance(robot_or_spec, CampaignSpec):
         if samples is not None or perturbations is not None or scenario is not None:
-            raise ValueError("give either a CampaignSpec or a robot with samples/perturbations/scenario, not both")
+            raise ArgumentError("give either a CampaignSpec or a robot with samples/perturbations/scenario, not both")
         spec = robot_or_spec
     else:
         if samples is None:
-            raise ValueError("run_campaign(robot, samples=...): the number of samples is required")
+            raise ArgumentError("run_campaign(robot, samples=...): the number of samples is required")
         from ..model_file import dumps_toml
 
         spec = CampaignSpec(dumps_toml(robot_or_spec), samples, seed, perturbations or Perturbations(),
@@ -196,14 +196,14 @@ def run_campaign(
     if workers is None:
         workers = os.cpu_count() or 1
     if not isinstance(workers, int) or workers < 0:
-        raise ValueError(f"workers must be an integer >= 0, got {workers!r}")
+        raise ArgumentError(f"workers must be an integer >= 0, got {workers!r}")
     if scheduler is not None and workers == 0:
-        raise ValueError("workers=0 runs in this process; it cannot be combined with a Dask scheduler")
+        raise ArgumentError("workers=0 runs in this process; it cannot be combined with a Dask scheduler")
     if not checkpoint_seconds > 0:
-        raise ValueError(f"checkpoint_seconds must be > 0, got {checkpoint_seconds!r}")
+        raise ArgumentError(f"checkpoint_seconds must be > 0, got {checkpoint_seconds!r}")
     out = Path(out) if out is not None else None
     if out is not None and out.suffix != ".npz":
-        raise ValueError(f"out must be a .npz path, got '{out}'")
+        raise ArgumentError(f"out must be a .npz path, got '{out}'")
 
     if workers > 0 and scheduler is None:
         check_caller_is_guarded()
@@ -214,7 +214,7 @@ def run_campaign(
     if resumed:
         result = CampaignResult.load(out)
         if result.spec_json != spec_json:
-            raise SpacearmError(f"'{out}' holds a different campaign (model, perturbations, scenario, samples or "
+            raise ArgumentError(f"'{out}' holds a different campaign (model, perturbations, scenario, samples or "
                                 "seed differ); choose another output path or pass resume=False to overwrite it")
     if result is None:
         result = CampaignResult(spec_json, PARAMETER_NAMES, METRIC_NAMES, spec.samples)

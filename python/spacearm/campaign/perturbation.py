@@ -20,6 +20,8 @@ from typing import Dict
 
 import numpy as np
 
+from ..errors import ArgumentError
+
 __all__ = ["Perturbations", "PARAMETER_NAMES", "PARAMETER_UNITS"]
 
 #: The parameters every sample draws, in the order of the result file's ``params`` columns.
@@ -71,10 +73,10 @@ class Perturbations:
     def __post_init__(self):
         for name, value in asdict(self).items():
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
-                raise ValueError(f"Perturbations.{name} must be a finite number >= 0, got {value!r}")
+                raise ArgumentError(f"Perturbations.{name} must be a finite number >= 0, got {value!r}")
         if self.slosh_fraction_max >= 1:
-            raise ValueError(f"Perturbations.slosh_fraction_max must be < 1 (a fraction of the base mass), "
-                             f"got {self.slosh_fraction_max}")
+            raise ArgumentError(f"Perturbations.slosh_fraction_max must be < 1 (a fraction of the base mass), "
+                                f"got {self.slosh_fraction_max}")
 
     def draw(self, seed: int, index: int) -> Dict[str, float]:
         """The parameters of sample ``index`` of the campaign seeded ``seed``."""

@@ -29,6 +29,7 @@ from typing import Dict, Optional, Sequence
 import numpy as np
 
 from .._atomic import atomic_open
+from ..errors import ArgumentError, NotFoundError
 
 __all__ = ["CampaignResult", "PENDING", "OK", "FAILED"]
 
@@ -90,12 +91,12 @@ class CampaignResult:
     def metric(self, name: str) -> np.ndarray:
         """The values of metric ``name`` over the samples that ran."""
         if name not in self.metric_names:
-            raise KeyError(f"unknown metric {name!r}; the metrics are {', '.join(self.metric_names)}")
+            raise NotFoundError(f"unknown metric {name!r}; the metrics are {', '.join(self.metric_names)}")
         return self.metrics[self.status == OK, self.metric_names.index(name)]
 
     def parameter(self, name: str, ok_only: bool = True) -> np.ndarray:
         if name not in self.param_names:
-            raise KeyError(f"unknown parameter {name!r}; the parameters are {', '.join(self.param_names)}")
+            raise NotFoundError(f"unknown parameter {name!r}; the parameters are {', '.join(self.param_names)}")
         column = self.params[:, self.param_names.index(name)]
         return column[self.status == OK] if ok_only else column
 
@@ -130,7 +131,7 @@ class CampaignResult:
         """Write the result to ``path`` (.npz) atomically: a temporary file, then a rename."""
         path = Path(path)
         if path.suffix != ".npz":
-            raise ValueError(f"campaign results are saved as .npz, got '{path}'")
+            raise ArgumentError(f"campaign results are saved as .npz, got '{path}'")
         with atomic_open(path, "wb", suffix=".tmp.npz") as f:
             np.savez(
                 f,
@@ -154,7 +155,7 @@ class CampaignResult:
         with np.load(Path(path), allow_pickle=False) as f:
             missing = {"index", "status", "params", "metrics", "spec_json"} - set(f.files)
             if missing:
-                raise ValueError(f"'{path}' is not a spacearm campaign file: no {', '.join(sorted(missing))}")
+                raise ArgumentError(f"'{path}' is not a spacearm campaign file: no {', '.join(sorted(missing))}")
             result = cls(str(f["spec_json"]), [str(s) for s in f["param_names"]], [str(s) for s in f["metric_names"]],
                          int(f["index"].shape[0]))
             result.status = f["status"].astype(np.uint8)

@@ -24,7 +24,7 @@ from typing import Dict, Optional, Tuple
 
 import numpy as np
 
-from ..errors import ArgumentError
+from ..errors import ArgumentError, ShapeError, SimulationError
 
 __all__ = ["Scenario", "METRIC_NAMES", "METRIC_UNITS", "evaluate", "with_payload"]
 
@@ -74,19 +74,19 @@ class Scenario:
 
     def __post_init__(self):
         if self.controller not in _CONTROLLERS:
-            raise ValueError(f"Scenario.controller must be one of {', '.join(_CONTROLLERS)}, got {self.controller!r}")
+            raise ArgumentError(f"Scenario.controller must be one of {', '.join(_CONTROLLERS)}, got {self.controller!r}")
         for name in ("duration", "dt", "kp", "kd"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-                raise ValueError(f"Scenario.{name} must be a finite number > 0, got {value!r}")
+                raise ArgumentError(f"Scenario.{name} must be a finite number > 0, got {value!r}")
         if not (0 < self.motion_fraction <= 1):
-            raise ValueError(f"Scenario.motion_fraction must be in (0, 1], got {self.motion_fraction!r}")
+            raise ArgumentError(f"Scenario.motion_fraction must be in (0, 1], got {self.motion_fraction!r}")
         if self.dt > self.duration:
-            raise ValueError(f"Scenario.dt ({self.dt} s) must not exceed the duration ({self.duration} s)")
+            raise ArgumentError(f"Scenario.dt ({self.dt} s) must not exceed the duration ({self.duration} s)")
         if self.q_goal is not None:
             goal = np.asarray(self.q_goal, dtype=float)
             if goal.ndim != 1 or not np.all(np.isfinite(goal)):
-                raise ValueError(f"Scenario.q_goal must be a finite 1-D sequence, got {self.q_goal!r}")
+                raise ShapeError(f"Scenario.q_goal must be a finite 1-D sequence, got {self.q_goal!r}")
             object.__setattr__(self, "q_goal", tuple(float(v) for v in goal))
 
     def goal(self, robot) -> np.ndarray:
@@ -94,7 +94,7 @@ class Scenario:
         if self.q_goal is None:
             return q0 + self.q_offset
         if len(self.q_goal) != robot.n_dof:
-            raise ValueError(f"Scenario.q_goal must have N = {robot.n_dof} values, got {len(self.q_goal)}")
+            raise ShapeError(f"Scenario.q_goal must have N = {robot.n_dof} values, got {len(self.q_goal)}")
         return np.asarray(self.q_goal)
 
     def to_dict(self) -> dict:
@@ -158,5 +158,5 @@ def evaluate(nominal, scenario: Scenario, params: Dict[str, float]) -> Dict[str,
     }
     bad = [k for k, v in metrics.items() if not math.isfinite(v)]
     if bad:
-        raise FloatingPointError(f"the simulation produced non-finite {', '.join(bad)}")
+        raise SimulationError(f"the simulation produced non-finite {', '.join(bad)}")
     return metrics

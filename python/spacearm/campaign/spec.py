@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field
 
+from ..errors import ArgumentError
 from .perturbation import Perturbations
 from .scenario import Scenario
 
@@ -33,9 +34,9 @@ class CampaignSpec:
 
     def __post_init__(self):
         if not isinstance(self.samples, int) or isinstance(self.samples, bool) or self.samples < 1:
-            raise ValueError(f"the number of samples must be an integer >= 1, got {self.samples!r}")
+            raise ArgumentError(f"the number of samples must be an integer >= 1, got {self.samples!r}")
         if not isinstance(self.seed, int) or isinstance(self.seed, bool) or self.seed < 0:
-            raise ValueError(f"the seed must be an integer >= 0, got {self.seed!r}")
+            raise ArgumentError(f"the seed must be an integer >= 0, got {self.seed!r}")
 
     def to_json(self) -> str:
         return json.dumps(

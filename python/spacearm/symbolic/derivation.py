@@ -32,6 +32,7 @@ from .inertia import SymbolicInertia, assemble, inertia_blocks
 from .jacobians import point_jacobians, rotational_jacobian, translational_jacobian
 from .kinematics import Kinematics, quaternion_dcm, quaternion_symbols, dcm_symbols
 from .parameters import Parameters
+from ..errors import NotFoundError
 
 __all__ = ["Derivation", "Quantity", "derive", "fast_cse"]
 
@@ -146,7 +147,7 @@ class Derivation:
         if point is None:
             point = self.description["end_effector"]
             if point is None:
-                raise ValueError("the model has no end effector; pass a point name or (body, offset)")
+                raise NotFoundError("the model has no end effector; pass a point name or (body, offset)")
         if isinstance(point, str):
             if point in self.points:
                 return self.points[point]
@@ -230,7 +231,7 @@ class Derivation:
         if want is not None:
             known = set(self.GROUPS) | {n for _, n, _ in self._catalogue()}
             if want - known:
-                raise ValueError(f"unknown quantities {sorted(want - known)}; groups are {', '.join(self.GROUPS)}")
+                raise NotFoundError(f"unknown quantities {sorted(want - known)}; groups are {', '.join(self.GROUPS)}")
         return [f() for g, n, f in self._catalogue() if want is None or g in want or n in want]
 
     def quantity(self, name: str) -> Quantity:
@@ -238,7 +239,7 @@ class Derivation:
         for _, n, f in self._catalogue():
             if n == name:
                 return f()
-        raise KeyError(f"no quantity named {name!r}")
+        raise NotFoundError(f"no quantity named {name!r}")
 
     def world(self, expr: sp.Matrix, row_groups: int, col_groups: int, attitude: str = "quaternion") -> sp.Matrix:
         """World form ``Tr X Tcᵀ`` of a base-frame expression, with ``R0`` as nine DCM symbols

@@ -20,6 +20,7 @@ import sympy as sp
 
 from ..rotations import quat_to_matrix
 from .parameters import Parameters, exact_number
+from ..errors import ArgumentError
 
 __all__ = ["Kinematics", "skew", "rodrigues", "dcm_symbols", "quaternion_symbols", "quaternion_dcm"]
 
@@ -132,7 +133,7 @@ class Kinematics:
         elif attitude == "quaternion":
             R0 = quaternion_dcm(quaternion_symbols())
         else:
-            raise ValueError(f"attitude must be 'dcm' or 'quaternion', got {attitude!r}")
+            raise ArgumentError(f"attitude must be 'dcm' or 'quaternion', got {attitude!r}")
         r0 = sp.Matrix(sp.symbols("r0_x r0_y r0_z", real=True))
         return (r0, R0, [R0 * R for R in self.R], [r0 + R0 * r for r in self.r],
                 [r0 + R0 * p for p in self.p], [R0 * k for k in self.k])

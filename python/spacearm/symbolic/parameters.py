@@ -24,6 +24,8 @@ from typing import Dict, Iterable, List, Optional, Union
 
 import sympy as sp
 
+from ..errors import NotFoundError
+
 __all__ = ["Parameters", "exact_number", "CATEGORIES"]
 
 CATEGORIES = ("masses", "inertias", "lengths")
@@ -85,8 +87,8 @@ class Parameters:
             self.com.append(sp.Matrix([put(f"c{i}_{a}", "lengths", link["com"][k]) for k, a in enumerate(_AXES)]))
         unknown = wanted - set(CATEGORIES) - set(self.values)
         if unknown:
-            raise ValueError(f"unknown parameter names {sorted(unknown)}; names are m0, m1, I0_xx, I1_xy, o1_x, c1_z, ... "
-                             f"or the categories {', '.join(CATEGORIES)}")
+            raise NotFoundError(f"unknown parameter names {sorted(unknown)}; names are m0, m1, I0_xx, I1_xy, o1_x, c1_z, ... "
+                                f"or the categories {', '.join(CATEGORIES)}")
 
     @staticmethod
     def _wanted(symbols) -> set:
