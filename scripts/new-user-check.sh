@@ -20,7 +20,7 @@ say() { printf '\n== new user: %s\n' "$*"; }
 wheel=${1:-}
 if [ -z "$wheel" ]; then
     say "building the wheel"
-    python3 -m pip install --quiet "maturin>=1.5,<2"
+    python3 -m pip install --quiet "maturin>=1.9.4,<2"
     rm -rf dist/new-user && python3 -m maturin build --release --quiet -o dist/new-user
     wheel=$(ls dist/new-user/spacearm-*.whl)
 fi
