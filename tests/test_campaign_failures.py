@@ -19,7 +19,7 @@ import pytest
 import spacearm
 from spacearm.campaign import FAILED, PENDING, CampaignResult, CampaignSpec, Perturbations, Scenario, run_campaign
 from spacearm.campaign._main_guard import line_is_guarded
-from spacearm.errors import SpacearmError
+from spacearm.errors import CampaignError, SpacearmError
 from spacearm.model_file import dumps_toml
 
 PYTHON_DIR = Path(spacearm.__file__).resolve().parent.parent
@@ -44,7 +44,7 @@ def test_unguarded_script_fails_once_before_any_sample(tmp_path):
     proc = _run_script(tmp_path, CAMPAIGN_CALL)
     assert proc.returncode != 0
     assert proc.stderr.count("Traceback") == 1, proc.stderr
-    assert "spacearm.errors.SpacearmError" in proc.stderr
+    assert "spacearm.errors.CampaignError" in proc.stderr
     assert 'if __name__ == "__main__":' in proc.stderr and "workers=0" in proc.stderr
     assert "BrokenProcessPool" not in proc.stderr and "samples ok" not in proc.stdout
     assert not (tmp_path / "c.npz").exists()
@@ -95,7 +95,7 @@ def test_lost_workers_leave_their_samples_pending_and_a_rerun_runs_them(tmp_path
             for child in multiprocessing.active_children():  # this test's pool workers
                 child.kill()
 
-    with pytest.raises(SpacearmError, match=r"did not run because the processes back end failed") as info:
+    with pytest.raises(CampaignError, match=r"did not run because the processes back end failed") as info:
         run_campaign(planar4, 40, seed=2, scenario=slow, workers=1, out=out, progress=kill_the_workers)
     assert "stay pending" in str(info.value) and str(out) in str(info.value)
     saved = CampaignResult.load(out)
@@ -137,7 +137,7 @@ def test_plot_with_no_successful_sample_is_a_clear_error(tmp_path):
     bad_goal = CampaignSpec(dumps_toml(planar4), 3, 0, Perturbations(), Scenario(duration=0.2, dt=0.01, q_goal=(0.1,)))
     result = run_campaign(bad_goal, workers=0, progress=False)
     assert result.n_failed == 3
-    with pytest.raises(SpacearmError, match="no sample of this campaign ran successfully"):
+    with pytest.raises(CampaignError, match="no sample of this campaign ran successfully"):
         result.plot(tmp_path / "empty.png")
     assert not (tmp_path / "empty.png").exists()
     assert list(tmp_path.iterdir()) == []
@@ -171,7 +171,7 @@ def test_dask_tasks_lost_to_a_restart_stay_pending(tmp_path):
                 if done == 1:
                     client.restart()  # every task not yet finished is cancelled: not the samples' doing
 
-            with pytest.raises(SpacearmError, match="did not run because the dask back end failed"):
+            with pytest.raises(CampaignError, match="did not run because the dask back end failed"):
                 run_campaign(planar4, 30, seed=2, scenario=slow, scheduler=client, out=out, progress=restart_the_cluster)
     saved = CampaignResult.load(out)
     assert saved.n_failed == 0 and saved.n_ok >= 1 and saved.n_pending == saved.run["samples_lost"] > 0

@@ -87,6 +87,7 @@ BASES = {
     "SingularError": {ArithmeticError},
     "SimulationError": {RuntimeError},
     "MissingDependencyError": {ImportError},
+    "CampaignError": {RuntimeError},
 }
 
 

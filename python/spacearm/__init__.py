@@ -12,6 +12,7 @@ from .builder import RobotBuilder
 from .errors import (
     ArgumentError,
     MissingDependencyError,
+    CampaignError,
     ModelError,
     ModelFileError,
     NonFiniteError,
@@ -54,5 +55,6 @@ __all__ = [
     "SpacearmTypeError",
     "SimulationError",
     "MissingDependencyError",
+    "CampaignError",
     "__version__",
 ]

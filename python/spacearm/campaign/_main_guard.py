@@ -24,7 +24,7 @@ import sys
 from pathlib import Path
 from typing import Optional
 
-from ..errors import SpacearmError
+from ..errors import CampaignError
 
 __all__ = ["GUARD_ADVICE", "check_caller_is_guarded", "stop_if_reimported_by_a_worker"]
 
@@ -82,7 +82,7 @@ def line_is_guarded(source: str, line: int) -> bool:
 
 
 def check_caller_is_guarded() -> None:
-    """Raise :class:`~spacearm.errors.SpacearmError` when the main script that a worker would
+    """Raise :class:`~spacearm.errors.CampaignError` when the main script that a worker would
     re-run is, at this moment, executing top-level code outside a main guard. Inconclusive cases
     (no script, source not readable) pass; the broken-pool check in the executor covers them."""
     script = _script_a_worker_reruns()
@@ -99,7 +99,7 @@ def check_caller_is_guarded() -> None:
     except (OSError, UnicodeDecodeError, SyntaxError, ValueError):
         return
     if not guarded:
-        raise SpacearmError(f"run_campaign is called at the top level of '{script}' (line {frame.f_lineno}): {GUARD_ADVICE}")
+        raise CampaignError(f"run_campaign is called at the top level of '{script}' (line {frame.f_lineno}): {GUARD_ADVICE}")
 
 
 def stop_if_reimported_by_a_worker() -> None:

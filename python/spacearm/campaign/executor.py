@@ -19,7 +19,7 @@ the sample itself (an invalid plant, a singular matrix, a diverged state) as an 
 recorded as failed. So anything the back end raises instead — a broken process pool, a worker
 or scheduler lost, a task that could not be sent — is a failure of the infrastructure, not of
 the sample: the sample is left pending (a rerun runs it), and once the outcomes that did arrive
-are recorded and saved, the campaign raises one :class:`~spacearm.errors.SpacearmError` saying
+are recorded and saved, the campaign raises one :class:`~spacearm.errors.CampaignError` saying
 how many samples did not run and why.
 """
 
@@ -33,7 +33,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Callable, Iterable, Iterator, NamedTuple, Optional, Union
 
-from ..errors import ArgumentError, SpacearmError
+from ..errors import ArgumentError, CampaignError
 from ._main_guard import GUARD_ADVICE, check_caller_is_guarded, stop_if_reimported_by_a_worker
 from .perturbation import PARAMETER_NAMES, Perturbations
 from .results import FAILED, PENDING, CampaignResult
@@ -115,7 +115,7 @@ def _dask_outcomes(spec: CampaignSpec, jobs, scheduler) -> Iterator[Union[Sample
         try:
             client = Client(scheduler)
         except (OSError, TimeoutError) as exc:
-            raise SpacearmError(f"cannot connect to the Dask scheduler '{scheduler}': {_describe(exc)}") from None
+            raise CampaignError(f"cannot connect to the Dask scheduler '{scheduler}': {_describe(exc)}") from None
     else:
         client = scheduler
     try:
@@ -177,7 +177,7 @@ def run_campaign(
     ``retry_failed``). Returns the :class:`CampaignResult`.
 
     Samples the back end loses (a broken pool, a lost worker or scheduler) stay pending and the
-    call raises :class:`~spacearm.errors.SpacearmError` after saving what ran; with local
+    call raises :class:`~spacearm.errors.CampaignError` after saving what ran; with local
     processes, call it under ``if __name__ == "__main__":`` in a script (checked first).
     """
     stop_if_reimported_by_a_worker()
@@ -274,5 +274,5 @@ def run_campaign(
         if out is not None and (done > 0 or resumed):
             result.save(out)
     if lost:
-        raise SpacearmError(_lost_message(lost, done, backend, out))
+        raise CampaignError(_lost_message(lost, done, backend, out))
     return result

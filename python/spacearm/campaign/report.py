@@ -8,7 +8,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .._atomic import atomic_path
-from ..errors import ArgumentError, NotFoundError, SpacearmError
+from ..errors import ArgumentError, CampaignError, NotFoundError
 from .perturbation import PARAMETER_UNITS
 from .scenario import METRIC_UNITS
 
@@ -42,7 +42,7 @@ def campaign_figure(result, metrics: Optional[Sequence[str]] = None):
 
     # Before any reduction over the samples: with none that ran, every array below is empty.
     if result.n_ok == 0:
-        raise SpacearmError(f"no sample of this campaign ran successfully ({result.n_failed} failed, "
+        raise CampaignError(f"no sample of this campaign ran successfully ({result.n_failed} failed, "
                             f"{result.n_pending} not run): there is nothing to plot")
     if metrics is not None:
         unknown = [m for m in metrics if m not in result.metric_names]
