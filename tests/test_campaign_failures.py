@@ -19,7 +19,7 @@ import pytest
 import spacearm
 from spacearm.campaign import FAILED, PENDING, CampaignResult, CampaignSpec, Perturbations, Scenario, run_campaign
 from spacearm.campaign._main_guard import line_is_guarded
-from spacearm.errors import CampaignError, SpacearmError
+from spacearm.errors import CampaignError
 from spacearm.model_file import dumps_toml
 
 PYTHON_DIR = Path(spacearm.__file__).resolve().parent.parent
