@@ -5,4 +5,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 python3 -m pip install -e ".[test]"
 cargo test -p spacearm-core
-python3 -m pytest tests -q
+# The suite runs on every core (pytest-xdist); tests are independent (each writes under tmp_path).
+python3 -m pytest tests -q -n auto
