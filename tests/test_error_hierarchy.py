@@ -209,3 +209,24 @@ def test_python_side_errors_have_their_classes():
         robot.linearize(x, u, inputs="nope")
     with pytest.raises(errors.SpacearmTypeError):
         spacearm.model_file.loads_toml(42)
+
+
+def test_scalar_options_of_the_wrong_kind_are_spacearm_errors():
+    # float() itself would raise ValueError ('a') or TypeError (None): the same builtin bases,
+    # as spacearm errors naming the argument.
+    robot = presets.planar4()
+    x = robot.neutral_configuration()
+    cases = [
+        (lambda v: spacearm.RobotBuilder("b", v, [1, 1, 1]), "base_mass"),
+        (lambda v: spacearm.RobotBuilder("b", 1.0, [1, 1, 1]).add_link("l", parent="base", mass=v, inertia=[1, 1, 1]), "mass"),
+        (lambda v: spacearm.RobotBuilder("b", 1.0, [1, 1, 1]).add_link("l", parent="base", mass=1.0, inertia=[1, 1, 1],
+                                                                        limits={"effort": v}), "limit effort"),
+        (lambda v: spacearm.analysis.reaction_null_space(robot, x, tolerance=v), "tolerance"),
+        (lambda v: spacearm.analysis.detect(robot, x, threshold=v), "threshold"),
+        (lambda v: spacearm.analysis.damping(0.1, 0.2, v), "max_damping"),
+    ]
+    for call, name in cases:
+        with pytest.raises(errors.ArgumentError, match=name):
+            call("a")
+        with pytest.raises(errors.SpacearmTypeError, match=name):
+            call(None)

@@ -11,6 +11,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .. import _core
+from .._arrays import number
 from ._common import TaskLike, chunked, concat_dicts, new_figure, samples_2d, save_figure, task_rows
 
 __all__ = ["JacobianMeasures", "SingularityReport", "Detection", "SingularityMap", "analyze", "detect", "damping", "scan", "singularity_map"]
@@ -63,14 +64,14 @@ def analyze(robot, x=None, point=None, task: TaskLike = None) -> SingularityRepo
 
 def damping(sigma_min: float, threshold: float, max_damping: float) -> float:
     """``λ(σ_min)`` with ``λ² = λ_max² (1 − (σ_min/ε)²)`` for ``σ_min < ε``, else 0."""
-    return _core.analysis_damping(float(sigma_min), float(threshold), float(max_damping))
+    return _core.analysis_damping(number(sigma_min, "sigma_min"), number(threshold, "threshold"), number(max_damping, "max_damping"))
 
 
 def detect(robot, x, point=None, task: TaskLike = None, threshold: float = 0.05, max_damping: float = 0.05) -> Detection:
     """Singularity detector for RMRC: ``σ_min`` and condition of the task rows of ``J*`` and
     the recommended DLS damping (``threshold`` = ε, ``max_damping`` = λ_max)."""
     body, off = robot._point(point)
-    return Detection(*_core.analysis_detect(robot._m, x, body, off, task_rows(robot, task), float(threshold), float(max_damping)))
+    return Detection(*_core.analysis_detect(robot._m, x, body, off, task_rows(robot, task), number(threshold, "threshold"), number(max_damping, "max_damping")))
 
 
 def scan(robot, samples, point=None, task: TaskLike = None, progress: bool = False) -> dict:
