@@ -212,7 +212,7 @@ def test_python_side_errors_have_their_classes():
 
 
 def test_scalar_options_of_the_wrong_kind_are_spacearm_errors():
-    # float() itself would raise ValueError ('a') or TypeError (None): the same builtin bases,
+    # float() itself would raise ValueError ('a') or TypeError ([3]): the same builtin bases,
     # as spacearm errors naming the argument.
     robot = presets.planar4()
     x = robot.neutral_configuration()
@@ -225,8 +225,18 @@ def test_scalar_options_of_the_wrong_kind_are_spacearm_errors():
         (lambda v: spacearm.analysis.detect(robot, x, threshold=v), "threshold"),
         (lambda v: spacearm.analysis.damping(0.1, 0.2, v), "max_damping"),
     ]
-    for call, name in cases:
+    integers = [
+        (lambda v: spacearm.analysis.workspace(robot, resolution=v), "resolution"),
+        (lambda v: spacearm.analysis.workspace(robot, random_samples=v), "random_samples"),
+        (lambda v: spacearm.analysis.singularity_map(robot, resolution=v), "resolution"),
+    ]
+    for call, name in cases + integers:
         with pytest.raises(errors.ArgumentError, match=name):
             call("a")
         with pytest.raises(errors.SpacearmTypeError, match=name):
-            call(None)
+            call([3])  # (None means "not given" for some options)
+    for call, name in integers:
+        with pytest.raises(errors.ArgumentError, match=f"{name} must be an integer, got 2.5"):
+            call(2.5)
+    with pytest.raises(errors.SpacearmTypeError, match="base_motion"):
+        spacearm.analysis.reaction_null_space(robot, x, base_motion=3)

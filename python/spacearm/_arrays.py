@@ -39,6 +39,18 @@ def number(value, name: str) -> float:
         raise SpacearmTypeError(f"{name} must be a number, got {type(value).__name__} {value!r}") from None
 
 
+def integer(value, name: str) -> int:
+    """An integer argument (a count, a resolution, an index): an ``int``, a numpy integer or a
+    float with an integral value; anything else is an :class:`ArgumentError` (a value such as
+    ``2.5`` or ``"x"``) or a :class:`SpacearmTypeError` (``None``, a list)."""
+    if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
+        return int(value)
+    as_float = number(value, name)
+    if not as_float.is_integer():
+        raise ArgumentError(f"{name} must be an integer, got {value!r}")
+    return int(as_float)
+
+
 def vector3(value, name: str) -> np.ndarray:
     arr = vector(value, name, 3)
     if not np.all(np.isfinite(arr)):

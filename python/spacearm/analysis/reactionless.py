@@ -12,7 +12,7 @@ import numpy as np
 
 from .. import _core
 from .._arrays import number, vector
-from ..errors import ArgumentError
+from ..errors import ArgumentError, SpacearmTypeError
 from ._common import TaskLike, new_figure, save_figure, task_rows
 
 __all__ = ["ReactionNullSpace", "reaction_null_space", "Motion", "move_to", "rmrc_rates", "STRATEGIES"]
@@ -43,6 +43,8 @@ def reaction_null_space(robot, x=None, base_motion: str = "angular", tolerance: 
     about the system CM) or of all rows (``"full"``) of ``−H0⁻¹ H0m``; rank at
     ``tolerance · σ_max``."""
     x = robot.neutral_configuration() if x is None else x
+    if not isinstance(base_motion, str):
+        raise SpacearmTypeError(f"base_motion must be 'angular' or 'full', got {type(base_motion).__name__} {base_motion!r}")
     return ReactionNullSpace(**_core.analysis_reaction_null_space(robot._m, x, base_motion, number(tolerance, "tolerance")))
 
 

@@ -11,7 +11,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .. import _core
-from .._arrays import number
+from .._arrays import integer, number
 from ._common import TaskLike, chunked, concat_dicts, new_figure, samples_2d, save_figure, task_rows
 
 __all__ = ["JacobianMeasures", "SingularityReport", "Detection", "SingularityMap", "analyze", "detect", "damping", "scan", "singularity_map"]
@@ -153,7 +153,7 @@ def singularity_map(robot, joints: Sequence[int] = None, resolution: int = 101, 
         raise ShapeError(f"joints must be two different dof indices in 0..{n - 1}, got {joints}")
     q_ref = np.array(robot.initial_q if q is None else q, dtype=float)
     lo, hi = joint_bounds(robot) if bounds is None else (np.asarray(bounds[0], float), np.asarray(bounds[1], float))
-    grid = _core.analysis_joint_grid([lo[joints[0]], lo[joints[1]]], [hi[joints[0]], hi[joints[1]]], int(resolution))
+    grid = _core.analysis_joint_grid([lo[joints[0]], lo[joints[1]]], [hi[joints[0]], hi[joints[1]]], integer(resolution, "resolution"))
     samples = np.tile(q_ref, (grid.shape[0], 1))
     samples[:, joints[0]] = grid[:, 0]
     samples[:, joints[1]] = grid[:, 1]
