@@ -20,6 +20,7 @@ import pytest
 
 import spacearm
 import spacearm.analysis
+import spacearm.analysis.free_floating
 from spacearm import errors, presets
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -240,3 +241,15 @@ def test_scalar_options_of_the_wrong_kind_are_spacearm_errors():
             call(2.5)
     with pytest.raises(errors.SpacearmTypeError, match="base_motion"):
         spacearm.analysis.reaction_null_space(robot, x, base_motion=3)
+    with pytest.raises(errors.ArgumentError, match="joints"):
+        spacearm.analysis.singularity_map(robot, joints=("a", 1))
+    with pytest.raises(errors.ArgumentError, match="t_end"):
+        spacearm.analysis.free_floating.integrate_prescribed(robot, np.zeros, np.zeros, "x", 0.1)
+    with pytest.raises(errors.ArgumentError, match="base_mass"):
+        spacearm.Robot.from_dh("d", [dict(d=0, theta=0, a=1, alpha=0, com=(0, 0, 0), mass=1.0, inertia=[1, 1, 1])],
+                               base_mass="x", base_inertia=[1, 1, 1])
+    with pytest.raises(errors.ModelError, match="limits"):
+        spacearm.Robot.from_dh("d", [dict(d=0, theta=0, a=1, alpha=0, com=(0, 0, 0), mass=1.0, inertia=[1, 1, 1],
+                                          limits={"effort": "x"})], base_mass=1.0, base_inertia=[1, 1, 1])
+    with pytest.raises(errors.SpacearmTypeError, match="path"):
+        spacearm.Robot.from_toml(None)

@@ -146,7 +146,7 @@ def singularity_map(robot, joints: Sequence[int] = None, resolution: int = 101, 
     from ._common import joint_bounds
 
     n = robot.n_dof
-    joints = (n - 2, n - 1) if joints is None else tuple(int(j) for j in joints)
+    joints = (n - 2, n - 1) if joints is None else tuple(integer(j, "joints") for j in joints)
     if len(joints) != 2 or len(set(joints)) != 2 or not all(0 <= j < n for j in joints):
         from ..errors import ShapeError
 
