@@ -11,6 +11,7 @@ from ._core import __version__
 from .builder import RobotBuilder
 from .errors import (
     ArgumentError,
+    CampaignError,
     MissingDependencyError,
     ModelError,
     ModelFileError,
@@ -53,6 +54,7 @@ __all__ = [
     "ArgumentError",
     "SpacearmTypeError",
     "SimulationError",
+    "CampaignError",
     "MissingDependencyError",
     "__version__",
 ]

@@ -50,7 +50,7 @@ class Kinematics(NamedTuple):
 
 
 class Momentum(NamedTuple):
-    """Linear momentum and angular momentum about three points."""
+    """Linear momentum and angular momentum about three points (``docs/conventions.md``)."""
 
     P: np.ndarray  #: linear momentum, N·s
     L_origin: np.ndarray  #: about the origin of 𝒥 (conserved with no external wrench)
