@@ -20,6 +20,7 @@ import pytest
 
 import spacearm
 import spacearm.analysis
+import spacearm.analysis.free_floating
 from spacearm import errors, presets
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -86,6 +87,7 @@ BASES = {
     "NotFoundError": {KeyError, LookupError, ValueError},
     "SingularError": {ArithmeticError},
     "SimulationError": {RuntimeError},
+    "CampaignError": {RuntimeError},
     "MissingDependencyError": {ImportError},
     "CampaignError": {RuntimeError},
 }
@@ -210,3 +212,46 @@ def test_python_side_errors_have_their_classes():
         robot.linearize(x, u, inputs="nope")
     with pytest.raises(errors.SpacearmTypeError):
         spacearm.model_file.loads_toml(42)
+
+
+def test_scalar_options_of_the_wrong_kind_are_spacearm_errors():
+    # float() itself would raise ValueError ('a') or TypeError ([3]): the same builtin bases,
+    # as spacearm errors naming the argument.
+    robot = presets.planar4()
+    x = robot.neutral_configuration()
+    cases = [
+        (lambda v: spacearm.RobotBuilder("b", v, [1, 1, 1]), "base_mass"),
+        (lambda v: spacearm.RobotBuilder("b", 1.0, [1, 1, 1]).add_link("l", parent="base", mass=v, inertia=[1, 1, 1]), "mass"),
+        (lambda v: spacearm.RobotBuilder("b", 1.0, [1, 1, 1]).add_link("l", parent="base", mass=1.0, inertia=[1, 1, 1],
+                                                                        limits={"effort": v}), "limit effort"),
+        (lambda v: spacearm.analysis.reaction_null_space(robot, x, tolerance=v), "tolerance"),
+        (lambda v: spacearm.analysis.detect(robot, x, threshold=v), "threshold"),
+        (lambda v: spacearm.analysis.damping(0.1, 0.2, v), "max_damping"),
+    ]
+    integers = [
+        (lambda v: spacearm.analysis.workspace(robot, resolution=v), "resolution"),
+        (lambda v: spacearm.analysis.workspace(robot, random_samples=v), "random_samples"),
+        (lambda v: spacearm.analysis.singularity_map(robot, resolution=v), "resolution"),
+    ]
+    for call, name in cases + integers:
+        with pytest.raises(errors.ArgumentError, match=name):
+            call("a")
+        with pytest.raises(errors.SpacearmTypeError, match=name):
+            call([3])  # (None means "not given" for some options)
+    for call, name in integers:
+        with pytest.raises(errors.ArgumentError, match=f"{name} must be an integer, got 2.5"):
+            call(2.5)
+    with pytest.raises(errors.SpacearmTypeError, match="base_motion"):
+        spacearm.analysis.reaction_null_space(robot, x, base_motion=3)
+    with pytest.raises(errors.ArgumentError, match="joints"):
+        spacearm.analysis.singularity_map(robot, joints=("a", 1))
+    with pytest.raises(errors.ArgumentError, match="t_end"):
+        spacearm.analysis.free_floating.integrate_prescribed(robot, np.zeros, np.zeros, "x", 0.1)
+    with pytest.raises(errors.ArgumentError, match="base_mass"):
+        spacearm.Robot.from_dh("d", [dict(d=0, theta=0, a=1, alpha=0, com=(0, 0, 0), mass=1.0, inertia=[1, 1, 1])],
+                               base_mass="x", base_inertia=[1, 1, 1])
+    with pytest.raises(errors.ModelError, match="limits"):
+        spacearm.Robot.from_dh("d", [dict(d=0, theta=0, a=1, alpha=0, com=(0, 0, 0), mass=1.0, inertia=[1, 1, 1],
+                                          limits={"effort": "x"})], base_mass=1.0, base_inertia=[1, 1, 1])
+    with pytest.raises(errors.SpacearmTypeError, match="path"):
+        spacearm.Robot.from_toml(None)

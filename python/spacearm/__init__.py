@@ -11,6 +11,7 @@ from ._core import __version__
 from .builder import RobotBuilder
 from .errors import (
     ArgumentError,
+    CampaignError,
     MissingDependencyError,
     CampaignError,
     ModelError,
@@ -54,6 +55,7 @@ __all__ = [
     "ArgumentError",
     "SpacearmTypeError",
     "SimulationError",
+    "CampaignError",
     "MissingDependencyError",
     "CampaignError",
     "__version__",

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import NonFiniteError, ShapeError
+from .errors import ArgumentError, NonFiniteError, ShapeError, SpacearmTypeError
 
 
 def vector(value, name: str, length: int | None = None) -> np.ndarray:
@@ -25,6 +25,30 @@ def vector(value, name: str, length: int | None = None) -> np.ndarray:
     if length is not None and arr.shape[0] != length:
         raise ShapeError(f"{name} must have length {length}, got {arr.shape[0]}")
     return arr
+
+
+def number(value, name: str) -> float:
+    """A scalar argument as a float (range checks are the caller's): a string that is not a
+    number is an :class:`ArgumentError`, an object of another kind (``None``, a list) a
+    :class:`SpacearmTypeError` (the builtin bases of the errors ``float()`` itself raises)."""
+    try:
+        return float(value)
+    except ValueError:
+        raise ArgumentError(f"{name} must be a number, got {value!r}") from None
+    except TypeError:
+        raise SpacearmTypeError(f"{name} must be a number, got {type(value).__name__} {value!r}") from None
+
+
+def integer(value, name: str) -> int:
+    """An integer argument (a count, a resolution, an index): an ``int``, a numpy integer or a
+    float with an integral value; anything else is an :class:`ArgumentError` (a value such as
+    ``2.5`` or ``"x"``) or a :class:`SpacearmTypeError` (``None``, a list)."""
+    if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
+        return int(value)
+    as_float = number(value, name)
+    if not as_float.is_integer():
+        raise ArgumentError(f"{name} must be an integer, got {value!r}")
+    return int(as_float)
 
 
 def vector3(value, name: str) -> np.ndarray:

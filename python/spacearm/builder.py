@@ -26,7 +26,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from . import _core
-from ._arrays import matrix3, quaternion, vector
+from ._arrays import matrix3, number, quaternion, vector
 from .errors import ArgumentError, ModelError, NotFoundError
 from .rotations import IDENTITY_QUAT, quat_from_rpy
 from .robot import Robot
@@ -39,7 +39,7 @@ class RobotBuilder:
     :class:`~spacearm.Robot`."""
 
     def __init__(self, name: str, base_mass: float, base_inertia, base_name: str = "base"):
-        self._base = (str(name), str(base_name), float(base_mass), matrix3(base_inertia, "base_inertia"))
+        self._base = (str(name), str(base_name), number(base_mass, "base_mass"), matrix3(base_inertia, "base_inertia"))
         self._b = _core.ModelBuilder(*self._base)
         self._base_name = str(base_name)
         self._n_wheels = 0
@@ -118,12 +118,8 @@ class RobotBuilder:
             unknown = set(limits) - {"lower", "upper", "velocity", "effort"}
             if unknown:
                 raise ArgumentError(f"link '{name}': unknown limit keys {sorted(unknown)}; expected lower, upper, velocity, effort")
-            lim = [
-                float(limits.get("lower", -np.inf)),
-                float(limits.get("upper", np.inf)),
-                float(limits.get("velocity", np.inf)),
-                float(limits.get("effort", np.inf)),
-            ]
+            lim = [number(limits.get(key, default), f"link '{name}' limit {key}")
+                   for key, default in (("lower", -np.inf), ("upper", np.inf), ("velocity", np.inf), ("effort", np.inf))]
         args = (
             str(name),
             str(parent),
@@ -132,7 +128,7 @@ class RobotBuilder:
             list(quat),
             list(vector(axis, f"link '{name}' axis", 3)),
             list(vector(com, f"link '{name}' com", 3)),
-            float(mass),
+            number(mass, f"link '{name}' mass"),
             matrix3(inertia, f"link '{name}' inertia"),
             joint_name,
             lim,
@@ -229,12 +225,12 @@ class RobotBuilder:
         if not np.isfinite(norm) or norm <= 1e-9:
             raise ModelError(f"reaction wheel axis must be a finite non-zero vector, got {list(k)}")
         k = k / norm
-        i_s = float(rotor_inertia)
+        i_s = number(rotor_inertia, "reaction wheel rotor_inertia")
         if not (np.isfinite(i_s) and i_s > 0):
             raise ModelError(f"reaction wheel rotor_inertia must be > 0 kg m^2, got {rotor_inertia}")
-        i_t = 0.6 * i_s if transverse_inertia is None else float(transverse_inertia)
+        i_t = 0.6 * i_s if transverse_inertia is None else number(transverse_inertia, "reaction wheel transverse_inertia")
         for what, v in (("max_torque", max_torque), ("max_speed", max_speed)):
-            if not float(v) > 0:
+            if not number(v, f"reaction wheel {what}") > 0:
                 raise ModelError(f"reaction wheel {what} must be > 0, got {v}")
         self._n_wheels += 1
         name = f"wheel{self._n_wheels}" if name is None else str(name)

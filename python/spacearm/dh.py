@@ -36,7 +36,7 @@ from typing import Mapping, Optional, Sequence
 import numpy as np
 
 from . import _core
-from ._arrays import matrix3, quaternion, vector
+from ._arrays import matrix3, number, quaternion, vector
 from .errors import ModelError
 from .robot import Robot
 from .rotations import quat_from_rpy
@@ -66,12 +66,8 @@ def _limits(row: Mapping, who: str):
     unknown = set(lim) - {"lower", "upper", "velocity", "effort"}
     if unknown:
         raise ModelError(f"{who}: unknown limit keys {sorted(unknown)}; expected lower, upper, velocity, effort")
-    return [
-        float(lim.get("lower", -np.inf)),
-        float(lim.get("upper", np.inf)),
-        float(lim.get("velocity", np.inf)),
-        float(lim.get("effort", np.inf)),
-    ]
+    return [_number(lim, key, f"{who} limits", default)
+            for key, default in (("lower", -np.inf), ("upper", np.inf), ("velocity", np.inf), ("effort", np.inf))]
 
 
 def _number(row: Mapping, key: str, who: str, default=None) -> float:
@@ -191,7 +187,7 @@ def robot_from_dh(
         build(
             str(name),
             str(base_name),
-            float(base_mass),
+            number(base_mass, "base_mass"),
             matrix3(base_inertia, "base_inertia"),
             rows,
             list(vector(joint1_origin, "joint1_origin", 3)),

@@ -19,6 +19,7 @@ kind per class below (the bindings map each onto its class).
 | `NotFoundError` | `KeyError` (so `LookupError`) and `ValueError` | a body, joint, point, preset, metric or quantity name (or index) does not exist |
 | `SingularError` | `ArithmeticError` | a matrix that must be inverted is singular at this configuration |
 | `SimulationError` | `RuntimeError` | a simulation cannot go on (it diverged, the step size collapsed, the step budget ran out) |
+| `CampaignError` | `RuntimeError` | a campaign cannot run or go on for reasons outside its samples (a script without a main guard under the spawn start method, an unreachable Dask scheduler, lost workers) |
 | `MissingDependencyError` | `ImportError` | an optional package is not installed (the message names the extra to install) |
 | `CampaignError` | `RuntimeError` | a campaign cannot run or report its samples (local workers started from an unguarded script, samples lost to the back end, nothing that ran to plot) |
 
@@ -26,7 +27,7 @@ kind per class below (the bindings map each onto its class).
 hence a ``KeyError``; a name that does not exist is also an invalid argument value, hence a
 ``ValueError`` too, so that ``except ValueError`` catches every bad-input error of this table
 except a wrong type (``TypeError``), a missing package (``ImportError``), a singular matrix
-and a failed simulation. Its message
+and a failed simulation or campaign. Its message
 prints as written (a plain ``KeyError`` would print it in quotes).
 """
 
@@ -42,6 +43,7 @@ __all__ = [
     "ArgumentError",
     "SpacearmTypeError",
     "SimulationError",
+    "CampaignError",
     "MissingDependencyError",
     "CampaignError",
 ]
@@ -98,6 +100,12 @@ class SpacearmTypeError(SpacearmError, TypeError):
 class SimulationError(SpacearmError, RuntimeError):
     """A simulation could not continue (the state diverged, the adaptive step size collapsed,
     the step budget ran out); the message says when and what to change."""
+
+
+class CampaignError(SpacearmError, RuntimeError):
+    """A campaign cannot run, or cannot go on, for reasons outside its samples (a script
+    without an ``if __name__ == "__main__":`` guard under the spawn start method, an unreachable
+    Dask scheduler, lost worker processes); the message says what to change."""
 
 
 class MissingDependencyError(SpacearmError, ImportError):

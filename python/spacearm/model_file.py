@@ -61,7 +61,10 @@ def loads_toml(text: str, source: str = "<string>") -> Robot:
 def load_toml(path: PathLike) -> Robot:
     """Read a model file (UTF-8 TOML). A missing file raises ``FileNotFoundError``; anything
     wrong inside it raises :class:`~spacearm.ModelFileError` with the line and column."""
-    path = Path(path)
+    try:
+        path = Path(path)
+    except TypeError:
+        raise SpacearmTypeError(f"load_toml expects a path (str or os.PathLike), got {type(path).__name__}") from None
     data = path.read_bytes()
     return loads_toml(data, source=str(path))
 

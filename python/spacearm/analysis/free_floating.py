@@ -11,7 +11,7 @@ from typing import Callable
 import numpy as np
 
 from .. import _core
-from .._arrays import quaternion, vector3
+from .._arrays import number, quaternion, vector3
 from ..errors import ArgumentError
 
 __all__ = ["integrate_prescribed", "attitude_change"]
@@ -23,6 +23,7 @@ def integrate_prescribed(robot, q_of_t: Callable, qd_of_t: Callable, t_end: floa
     ``t`` in ``[0, t_end]`` with RK4 steps ``dt``. ``x0`` gives the initial base pose (default:
     at the origin, aligned with 𝒥); its ``q`` part is replaced by ``q(0)``. Returns
     ``(times (K+1), x (K+1, 7+N))``."""
+    t_end, dt = number(t_end, "t_end"), number(dt, "dt")
     if not (np.isfinite(t_end) and t_end > 0 and np.isfinite(dt) and dt > 0):
         raise ArgumentError(f"t_end and dt must be finite and > 0, got {t_end} and {dt}")
     k = max(1, int(round(t_end / dt)))

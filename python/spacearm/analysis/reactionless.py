@@ -11,8 +11,8 @@ from typing import Optional
 import numpy as np
 
 from .. import _core
-from .._arrays import vector
-from ..errors import ArgumentError
+from .._arrays import number, vector
+from ..errors import ArgumentError, SpacearmTypeError
 from ._common import TaskLike, new_figure, save_figure, task_rows
 
 __all__ = ["ReactionNullSpace", "reaction_null_space", "Motion", "move_to", "rmrc_rates", "STRATEGIES"]
@@ -43,7 +43,9 @@ def reaction_null_space(robot, x=None, base_motion: str = "angular", tolerance: 
     about the system CM) or of all rows (``"full"``) of ``−H0⁻¹ H0m``; rank at
     ``tolerance · σ_max``."""
     x = robot.neutral_configuration() if x is None else x
-    return ReactionNullSpace(**_core.analysis_reaction_null_space(robot._m, x, base_motion, float(tolerance)))
+    if not isinstance(base_motion, str):
+        raise SpacearmTypeError(f"base_motion must be 'angular' or 'full', got {type(base_motion).__name__} {base_motion!r}")
+    return ReactionNullSpace(**_core.analysis_reaction_null_space(robot._m, x, base_motion, number(tolerance, "tolerance")))
 
 
 def _check_strategy(strategy: str) -> str:
@@ -60,8 +62,8 @@ def rmrc_rates(robot, x, desired_twist, point=None, task: TaskLike = None, strat
     ``sigma_min``, ``damping`` and ``base_angular_velocity``."""
     body, off = robot._point(point)
     return _core.analysis_rmrc_rates(robot._m, x, body, off, vector(desired_twist, "desired_twist", 6), task_rows(robot, task),
-                                     float(threshold), float(max_damping), _check_strategy(strategy),
-                                     float(manipulability_gain), float(joint_limit_gain))
+                                     number(threshold, "threshold"), number(max_damping, "max_damping"), _check_strategy(strategy),
+                                     number(manipulability_gain, "manipulability_gain"), number(joint_limit_gain, "joint_limit_gain"))
 
 
 @dataclass
@@ -133,7 +135,7 @@ def move_to(robot, target, x0=None, point=None, task: TaskLike = None, strategy:
     x0 = robot.neutral_configuration() if x0 is None else x0
     body, off = robot._point(point)
     tgt = vector(target, "target", 3)
-    d = _core.analysis_move_to(robot._m, x0, body, off, tgt, float(duration), float(settle), float(dt), task_rows(robot, task),
-                               float(threshold), float(max_damping), float(gain), _check_strategy(strategy),
-                               float(manipulability_gain), float(joint_limit_gain))
+    d = _core.analysis_move_to(robot._m, x0, body, off, tgt, number(duration, "duration"), number(settle, "settle"), number(dt, "dt"), task_rows(robot, task),
+                               number(threshold, "threshold"), number(max_damping, "max_damping"), number(gain, "gain"), _check_strategy(strategy),
+                               number(manipulability_gain, "manipulability_gain"), number(joint_limit_gain, "joint_limit_gain"))
     return Motion(robot.name, strategy, tgt, **d)

@@ -11,6 +11,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .. import _core
+from .._arrays import integer, number
 from ._common import TaskLike, chunked, concat_dicts, dof_kinds, new_figure, samples_2d, save_figure, task_rows
 
 __all__ = ["JacobianMeasures", "SingularityReport", "Detection", "SingularityMap", "analyze", "detect", "damping", "scan", "singularity_map"]
@@ -63,14 +64,14 @@ def analyze(robot, x=None, point=None, task: TaskLike = None) -> SingularityRepo
 
 def damping(sigma_min: float, threshold: float, max_damping: float) -> float:
     """``λ(σ_min)`` with ``λ² = λ_max² (1 − (σ_min/ε)²)`` for ``σ_min < ε``, else 0."""
-    return _core.analysis_damping(float(sigma_min), float(threshold), float(max_damping))
+    return _core.analysis_damping(number(sigma_min, "sigma_min"), number(threshold, "threshold"), number(max_damping, "max_damping"))
 
 
 def detect(robot, x, point=None, task: TaskLike = None, threshold: float = 0.05, max_damping: float = 0.05) -> Detection:
     """Singularity detector for RMRC: ``σ_min`` and condition of the task rows of ``J*`` and
     the recommended DLS damping (``threshold`` = ε, ``max_damping`` = λ_max)."""
     body, off = robot._point(point)
-    return Detection(*_core.analysis_detect(robot._m, x, body, off, task_rows(robot, task), float(threshold), float(max_damping)))
+    return Detection(*_core.analysis_detect(robot._m, x, body, off, task_rows(robot, task), number(threshold, "threshold"), number(max_damping, "max_damping")))
 
 
 def scan(robot, samples, point=None, task: TaskLike = None, progress: bool = False) -> dict:
@@ -154,14 +155,14 @@ def singularity_map(robot, joints: Sequence[int] = None, resolution: int = 101, 
     from ._common import joint_bounds
 
     n = robot.n_dof
-    joints = (n - 2, n - 1) if joints is None else tuple(int(j) for j in joints)
+    joints = (n - 2, n - 1) if joints is None else tuple(integer(j, "joints") for j in joints)
     if len(joints) != 2 or len(set(joints)) != 2 or not all(0 <= j < n for j in joints):
         from ..errors import ShapeError
 
         raise ShapeError(f"joints must be two different dof indices in 0..{n - 1}, got {joints}")
     q_ref = np.array(robot.initial_q if q is None else q, dtype=float)
     lo, hi = joint_bounds(robot) if bounds is None else (np.asarray(bounds[0], float), np.asarray(bounds[1], float))
-    grid = _core.analysis_joint_grid([lo[joints[0]], lo[joints[1]]], [hi[joints[0]], hi[joints[1]]], int(resolution))
+    grid = _core.analysis_joint_grid([lo[joints[0]], lo[joints[1]]], [hi[joints[0]], hi[joints[1]]], integer(resolution, "resolution"))
     samples = np.tile(q_ref, (grid.shape[0], 1))
     samples[:, joints[0]] = grid[:, 0]
     samples[:, joints[1]] = grid[:, 1]

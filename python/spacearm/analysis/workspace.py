@@ -12,6 +12,7 @@ from typing import Optional
 import numpy as np
 
 from .. import _core
+from .._arrays import integer
 from ..errors import ArgumentError
 from ._common import TaskLike, chunked, joint_bounds, new_figure, samples_2d, save_figure, task_rows
 
@@ -108,13 +109,16 @@ def workspace(robot, resolution: int = 15, samples=None, point=None, task: TaskL
     elif random_samples is not None:
         lo, hi = joint_bounds(robot)
         rng = np.random.default_rng(seed)
-        q = lo + (hi - lo) * rng.random((int(random_samples), n))
-        how = f"{int(random_samples)} uniform random samples (seed {seed})"
+        n_random = integer(random_samples, "random_samples")
+        if n_random < 1:
+            raise ArgumentError(f"random_samples must be >= 1, got {random_samples!r}")
+        q = lo + (hi - lo) * rng.random((n_random, n))
+        how = f"{n_random} uniform random samples (seed {seed})"
     else:
         lo, hi = joint_bounds(robot)
-        q = _core.analysis_joint_grid(list(lo), list(hi), int(resolution))
-        grid_res = int(resolution)
-        step = np.max(hi - lo) / (resolution - 1)
+        grid_res = integer(resolution, "resolution")
+        q = _core.analysis_joint_grid(list(lo), list(hi), grid_res)
+        step = np.max(hi - lo) / (grid_res - 1)
         how = f"grid {resolution}^{n} = {q.shape[0]} samples, step ≤ {step:.3g} rad"
     t0 = time.perf_counter()
     parts = chunked(lambda s: _core.analysis_scan(robot._m, s, body, off, rows), q, progress, "workspace")
