@@ -13,7 +13,6 @@ from .errors import (
     ArgumentError,
     CampaignError,
     MissingDependencyError,
-    CampaignError,
     ModelError,
     ModelFileError,
     NonFiniteError,
@@ -57,6 +56,5 @@ __all__ = [
     "SimulationError",
     "CampaignError",
     "MissingDependencyError",
-    "CampaignError",
     "__version__",
 ]

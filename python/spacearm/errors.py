@@ -19,9 +19,8 @@ kind per class below (the bindings map each onto its class).
 | `NotFoundError` | `KeyError` (so `LookupError`) and `ValueError` | a body, joint, point, preset, metric or quantity name (or index) does not exist |
 | `SingularError` | `ArithmeticError` | a matrix that must be inverted is singular at this configuration |
 | `SimulationError` | `RuntimeError` | a simulation cannot go on (it diverged, the step size collapsed, the step budget ran out) |
-| `CampaignError` | `RuntimeError` | a campaign cannot run or go on for reasons outside its samples (a script without a main guard under the spawn start method, an unreachable Dask scheduler, lost workers) |
+| `CampaignError` | `RuntimeError` | a campaign cannot run, go on or report for reasons outside its samples (a script without a main guard under the spawn start method, an unreachable Dask scheduler, lost workers, nothing that ran to plot) |
 | `MissingDependencyError` | `ImportError` | an optional package is not installed (the message names the extra to install) |
-| `CampaignError` | `RuntimeError` | a campaign cannot run or report its samples (local workers started from an unguarded script, samples lost to the back end, nothing that ran to plot) |
 
 ``NotFoundError`` is a lookup failure (``robot.body_index("nope")``, ``results.metric("x")``),
 hence a ``KeyError``; a name that does not exist is also an invalid argument value, hence a
@@ -117,8 +116,3 @@ class MissingDependencyError(SpacearmError, ImportError):
         self.package = package
         self.extra = extra
 
-
-class CampaignError(SpacearmError, RuntimeError):
-    """A campaign cannot run or report its samples: local workers started from a script without
-    a main guard, samples lost to the back end (a broken pool, a lost scheduler; they stay
-    pending and a rerun runs them), or no sample that ran to plot. The message says what to do."""
