@@ -11,7 +11,9 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use spacearm_core::derivatives::{self, DerivativeData, LinearizationInputs};
-use spacearm_core::{aba, presets, Model};
+use spacearm_core::algorithms::aba;
+use spacearm_core::model::presets;
+use spacearm_core::Model;
 
 /// A fixed, non-trivial state: base drifting and tumbling, every joint displaced and moving.
 fn state(model: &Model) -> (Vec<f64>, Vec<f64>, Vec<f64>) {

@@ -14,7 +14,10 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use nalgebra::{Vector3, Vector6};
-use spacearm_core::{aba, crba, dynamics, gjm, inertia, kinematics, presets, rnea, Data, Model};
+use spacearm_core::algorithms::{aba, crba, dynamics, inertia, kinematics, rnea};
+use spacearm_core::gjm;
+use spacearm_core::model::presets;
+use spacearm_core::{Data, Model};
 
 /// A fixed, non-trivial state: base drifting and tumbling, every joint moving.
 fn state(model: &Model) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {

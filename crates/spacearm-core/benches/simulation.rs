@@ -8,10 +8,10 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use spacearm_core::control::{ComputedTorque, Controller, ZeroTorque};
-use spacearm_core::integrate::{Dopri5, OdeSystem, Rk4};
-use spacearm_core::presets;
-use spacearm_core::reference::JointReference;
-use spacearm_core::simulate::{Plant, SimOptions};
+use spacearm_core::sim::integrate::{Dopri5, OdeSystem, Rk4};
+use spacearm_core::model::presets;
+use spacearm_core::sim::reference::JointReference;
+use spacearm_core::sim::simulate::{Plant, SimOptions};
 
 fn state(n: usize) -> (Vec<f64>, Vec<f64>) {
     let model = presets::spatial6();

@@ -17,16 +17,16 @@
 
 use nalgebra::{DMatrix, DVector, Matrix6, Vector3, Vector6};
 
-use crate::crba::crba_after_kinematics;
-use crate::data::{Data, DataT};
+use crate::algorithms::crba::crba_after_kinematics;
+use crate::model::data::{Data, DataT};
 use crate::error::{Result, SpacearmError};
-use crate::inertia::BaseInverse;
-use crate::joint::JointType;
-use crate::kinematics::{check_body, check_joint_vector, check_velocity, forward_kinematics, point_position};
+use crate::algorithms::inertia::BaseInverse;
+use crate::model::joint::JointType;
+use crate::algorithms::kinematics::{check_body, check_joint_vector, check_velocity, forward_kinematics, point_position};
 use crate::model::Model;
-use crate::scalar::Real;
-use crate::rnea::rnea_after_kinematics;
-use crate::spatial::spatial;
+use crate::math::scalar::Real;
+use crate::algorithms::rnea::rnea_after_kinematics;
+use crate::math::spatial::spatial;
 
 /// The blocks `H0` (6×6), `H0m` (6×N), `H_m` (N×N) of a mass matrix.
 pub fn split_mass_matrix(h: &DMatrix<f64>) -> (Matrix6<f64>, DMatrix<f64>, DMatrix<f64>) {

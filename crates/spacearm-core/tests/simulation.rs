@@ -5,13 +5,13 @@
 //! actuator saturation.
 
 use nalgebra::Vector3;
-use spacearm_core::actuators::{SaturationKind, ThrusterLimits};
+use spacearm_core::sim::actuators::{SaturationKind, ThrusterLimits};
 use spacearm_core::control::{Command, ComputedTorque, ControlContext, Controller, ZeroTorque};
-use spacearm_core::integrate::IntegratorKind;
-use spacearm_core::modes::{Conserved, Mode};
-use spacearm_core::presets;
-use spacearm_core::reference::JointReference;
-use spacearm_core::simulate::{simulate, SimOptions, SimResult};
+use spacearm_core::sim::integrate::IntegratorKind;
+use spacearm_core::sim::modes::{Conserved, Mode};
+use spacearm_core::model::presets;
+use spacearm_core::sim::reference::JointReference;
+use spacearm_core::sim::simulate::{simulate, SimOptions, SimResult};
 use spacearm_core::{JointLimits, JointType, LinkSpec, Model, ModelBuilder};
 
 /// A constant command: joint torques and a base wrench.

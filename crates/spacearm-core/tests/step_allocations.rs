@@ -9,11 +9,12 @@ use spacearm_core::control::{
     AttitudeControl, BaseThrusterControl, Combined, ComputedTorque, Controller, CoordinatedFlying, CoordinatedGains, JointPd,
     ResolvedMotionRate, ZeroTorque,
 };
-use spacearm_core::integrate::{Dopri5, OdeSystem, Rk4};
-use spacearm_core::modes::Mode;
-use spacearm_core::reference::{CartesianLine, JointReference};
-use spacearm_core::simulate::{Plant, SimOptions};
-use spacearm_core::{presets, JointLimits, JointType, LinkSpec, Model, ModelBuilder};
+use spacearm_core::sim::integrate::{Dopri5, OdeSystem, Rk4};
+use spacearm_core::sim::modes::Mode;
+use spacearm_core::sim::reference::{CartesianLine, JointReference};
+use spacearm_core::sim::simulate::{Plant, SimOptions};
+use spacearm_core::model::presets;
+use spacearm_core::{JointLimits, JointType, LinkSpec, Model, ModelBuilder};
 
 struct Counting;
 static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);

@@ -14,12 +14,13 @@
 //! `q̇uat = ½ [ω0; 0] ⊗ quat`. The quaternion is renormalized after every step (and the
 //! intermediate stage quaternions before they are used).
 
-use nalgebra::{DVector, Quaternion, UnitQuaternion, Vector3, Vector6};
+use nalgebra::{DVector, UnitQuaternion, Vector3, Vector6};
 
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
 use crate::gjm::base_velocity_from_momentum;
-use crate::kinematics::split_configuration;
+use crate::algorithms::kinematics::split_configuration;
+use crate::math::rotations::{normalize_xyzw, quaternion_from_xyzw, quaternion_rate};
 use crate::model::Model;
 
 /// Conserved momenta of the free-floating system: linear momentum `P` and angular momentum
@@ -34,20 +35,13 @@ pub struct ConservedMomentum {
 
 /// Time derivative of `[r0, quat]` (7 values) for base twist `[v0; ω0]` (both in 𝒥).
 fn base_pose_rate(quat: &[f64], twist: &Vector6<f64>) -> [f64; 7] {
-    let (qx, qy, qz, qw) = (quat[0], quat[1], quat[2], quat[3]);
-    let w = Vector3::new(twist[3], twist[4], twist[5]);
-    let v = Vector3::new(qx, qy, qz);
-    // ½ [ω; 0] ⊗ [v; w]: vector part ½(w ω + ω × v), scalar part −½ ω·v.
-    let dv = 0.5 * (qw * w + w.cross(&v));
-    let dw = -0.5 * w.dot(&v);
-    [twist[0], twist[1], twist[2], dv.x, dv.y, dv.z, dw]
+    let d = quaternion_rate(quat, &Vector3::new(twist[3], twist[4], twist[5]));
+    [twist[0], twist[1], twist[2], d[0], d[1], d[2], d[3]]
 }
 
+/// Normalize the base quaternion `x[3..7]` of a configuration.
 fn normalize_quaternion(x: &mut [f64]) {
-    let n = (x[3] * x[3] + x[4] * x[4] + x[5] * x[5] + x[6] * x[6]).sqrt();
-    for v in &mut x[3..7] {
-        *v /= n;
-    }
+    normalize_xyzw(&mut x[3..7]);
 }
 
 /// One RK4 step of the whole configuration `x = [r0, quat, q]` over `dt`, given the joint rates
@@ -176,15 +170,15 @@ where
 
 /// Rotation angle (rad, in [0, π]) between two base attitudes given as `[x, y, z, w]` quaternions.
 pub fn attitude_change(quat_a: &[f64], quat_b: &[f64]) -> f64 {
-    let a = UnitQuaternion::from_quaternion(Quaternion::new(quat_a[3], quat_a[0], quat_a[1], quat_a[2]));
-    let b = UnitQuaternion::from_quaternion(Quaternion::new(quat_b[3], quat_b[0], quat_b[1], quat_b[2]));
+    let a = UnitQuaternion::from_quaternion(quaternion_from_xyzw(quat_a));
+    let b = UnitQuaternion::from_quaternion(quaternion_from_xyzw(quat_b));
     a.angle_to(&b)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::presets;
+    use crate::model::presets;
 
     /// Planar base + one link, zero momentum: dθ0/dq = −(I1 + μ(b² + ab cos q)) /
     /// (I0 + I1 + μ(a² + b² + 2ab cos q)) with μ = m0 m1/(m0 + m1), a the joint offset from
@@ -192,7 +186,7 @@ mod tests {
     /// two-body system). Integrated here by composite Simpson on a fine grid.
     #[test]
     fn one_link_planar_closed_form() {
-        use crate::joint::{JointLimits, JointType};
+        use crate::model::joint::{JointLimits, JointType};
         use crate::model::{LinkSpec, ModelBuilder};
         let (m0, i0, m1, i1, a, b) = (50.0, 3.0, 8.0, 0.7, 0.4, 0.6);
         let mut mb = ModelBuilder::new("one", "base", m0, [[i0, 0.0, 0.0], [0.0, i0, 0.0], [0.0, 0.0, i0]]).unwrap();

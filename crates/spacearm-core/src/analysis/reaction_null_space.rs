@@ -17,7 +17,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::Svd;
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
 use crate::gjm::compute_generalized_jacobian;
 use crate::model::Model;
@@ -84,7 +84,7 @@ pub fn null_space_of(map: DMatrix<f64>, relative_tolerance: f64) -> Result<React
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::presets;
+    use crate::model::presets;
 
     #[test]
     fn planar_arm_has_a_three_dimensional_reaction_null_space() {

@@ -33,10 +33,10 @@ use super::free_floating_kinematics::{attitude_change, integrate_feedback, Conse
 use super::reaction_null_space::null_space_of;
 use super::singularity::DampingLaw;
 use super::{dls_from_svd, Svd, Task};
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
 use crate::gjm::compute_generalized_jacobian;
-use crate::kinematics::{check_body, point_position, split_configuration};
+use crate::algorithms::kinematics::{check_body, point_position, split_configuration};
 use crate::model::Model;
 
 /// How the primary task treats the base.
@@ -255,7 +255,7 @@ pub fn move_to(
     if steps == 0 || steps > 10_000_000 {
         return Err(SpacearmError::InvalidArgument(format!("(duration + settle) / dt = {steps} steps: expected between 1 and 1e7")));
     }
-    crate::kinematics::forward_kinematics(model, data, x0)?;
+    crate::algorithms::kinematics::forward_kinematics(model, data, x0)?;
     let start = point_position(data, body, offset);
     let rot_d: Matrix3<f64> = data.body_to_world[body];
     let k = options.feedback_gain;
@@ -269,7 +269,7 @@ pub fn move_to(
         Vector6::new(lin.x, lin.y, lin.z, ang.x, ang.y, ang.z)
     };
     let law = |t: f64, x: &[f64], data: &mut Data| -> Result<RmrcRates> {
-        crate::kinematics::forward_kinematics(model, data, x)?;
+        crate::algorithms::kinematics::forward_kinematics(model, data, x)?;
         let desired = desired_at(t, data);
         rmrc_rates(model, data, x, body, offset, &desired, options)
     };
@@ -288,7 +288,7 @@ pub fn move_to(
     for i in 0..=steps {
         let x = motion.x[i * nx..(i + 1) * nx].to_vec();
         let r = law(motion.times[i], &x, data)?;
-        crate::kinematics::forward_kinematics(model, data, &x)?;
+        crate::algorithms::kinematics::forward_kinematics(model, data, &x)?;
         let p = point_position(data, body, offset);
         motion.qd.extend(r.qd.iter());
         motion.point_position.extend(p.iter());
@@ -305,7 +305,7 @@ pub fn move_to(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::presets;
+    use crate::model::presets;
 
     fn options(strategy: Strategy) -> RmrcOptions {
         RmrcOptions {
@@ -341,7 +341,7 @@ mod tests {
         let mut d = Data::new(&m);
         let x0 = presets::initial_configuration(&m);
         let ee = m.points[m.end_effector.unwrap()].clone();
-        crate::kinematics::forward_kinematics(&m, &mut d, &x0).unwrap();
+        crate::algorithms::kinematics::forward_kinematics(&m, &mut d, &x0).unwrap();
         let p0 = point_position(&d, ee.body, &ee.offset);
         let target = p0 + Vector3::new(-0.5, 0.6, 0.0);
         let r = move_to(&m, &mut d, &x0, ee.body, &ee.offset, &target, 4.0, 1.0, 0.01, &options(Strategy::Reactionless)).unwrap();

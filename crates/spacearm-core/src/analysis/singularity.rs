@@ -22,10 +22,10 @@
 use nalgebra::{DMatrix, DVector, Vector3};
 
 use super::{Svd, Task};
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
 use crate::gjm::compute_generalized_jacobian;
-use crate::kinematics::{joint_jacobian_of_point, point_position};
+use crate::algorithms::kinematics::{joint_jacobian_of_point, point_position};
 use crate::model::Model;
 
 /// Singular values, condition, manipulability and singular directions of one task Jacobian.
@@ -173,7 +173,7 @@ pub fn detect_at(model: &Model, data: &mut Data, x: &[f64], body: usize, offset:
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::presets;
+    use crate::model::presets;
 
     #[test]
     fn damping_law_shape() {

@@ -11,13 +11,13 @@
 //! `q̈_W = H*_WW⁻¹ (τ_W − g_W − H*_WA q̈_A)` and then `τ_A = H*_AA q̈_A + H*_AW q̈_W + g_A`, with
 //! `g = c* + H0mᵀ H0⁻¹ F_b`.
 
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
 use crate::gjm::{compute_generalized_bias, compute_generalized_inertia};
-use crate::inertia::BaseInverse;
+use crate::algorithms::inertia::BaseInverse;
 use crate::model::Model;
-use crate::modes::Mode;
-use crate::reference::JointReference;
+use crate::sim::modes::Mode;
+use crate::sim::reference::JointReference;
 
 use super::pd::check_reference_len;
 use super::{broadcast_gains, cholesky_solve_in_place, Command, ControlContext, Controller, TrackingKind};

@@ -18,16 +18,16 @@
 
 use nalgebra::{Matrix3, Vector3, Vector6};
 
-use crate::crba::crba_after_kinematics;
-use crate::data::Data;
+use crate::algorithms::crba::crba_after_kinematics;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
-use crate::joint::JointType;
-use crate::kinematics::{check_body, forward_kinematics, point_position};
+use crate::model::joint::JointType;
+use crate::algorithms::kinematics::{check_body, forward_kinematics, point_position};
 use crate::model::Model;
-use crate::modes::Mode;
-use crate::reference::CartesianLine;
-use crate::rnea::rnea_after_kinematics;
-use crate::spatial::{angular, linear};
+use crate::sim::modes::Mode;
+use crate::sim::reference::CartesianLine;
+use crate::algorithms::rnea::rnea_after_kinematics;
+use crate::math::spatial::{angular, linear};
 
 use super::attitude::AttitudeControl;
 use super::computed_torque::ReducedInverseDynamics;
@@ -150,7 +150,7 @@ impl Controller for CoordinatedFlying {
         }
         check_body(ctx.plant, self.body)?;
         if let Some((_, q)) = self.base_ref {
-            crate::model::unit_quaternion_from_xyzw("coordinated flying base quaternion reference", &q)?;
+            crate::math::rotations::unit_quaternion_from_xyzw("coordinated flying base quaternion reference", &q)?;
         }
         let model = ctx.plant.clone();
         self.data = Some(Data::new(&model));
@@ -244,9 +244,9 @@ impl Controller for CoordinatedFlying {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kinematics::point_jacobians;
+    use crate::algorithms::kinematics::point_jacobians;
     use nalgebra::UnitQuaternion;
-    use crate::presets;
+    use crate::model::presets;
 
     /// Configuration advanced by `h` along constant `u` (u̇ = 0): exact for the base (constant
     /// v0, ω0 in 𝒥) and the joints.

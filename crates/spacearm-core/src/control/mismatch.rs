@@ -4,7 +4,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::body::MassProperties;
+use crate::model::body::MassProperties;
 use crate::error::{Result, SpacearmError};
 use crate::model::Model;
 
@@ -94,19 +94,19 @@ pub fn perturbed_model(model: &Model, base_mass_scale: f64, base_inertia_scale: 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::momentum::center_of_mass;
+    use crate::algorithms::momentum::center_of_mass;
     use crate::Data;
 
     #[test]
     fn moving_slosh_mass_keeps_total_mass_and_shifts_the_base_cm() {
-        let plant = crate::presets::spatial6();
+        let plant = crate::model::presets::spatial6();
         let d = Vector3::new(0.3, -0.1, 0.2);
         let f = 0.1;
         let m = perturbed_model(&plant, 1.0, 1.0, 1.0, Slosh::Moved { fraction: f, offset: d }).unwrap();
         assert!((m.total_mass() - plant.total_mass()).abs() < 1e-12);
         // Same geometry: the system CM of the perturbed model, measured from the plant's base
         // CM, is the plant's plus m_s d / M (independent closed form).
-        let x = crate::presets::initial_configuration(&plant);
+        let x = crate::model::presets::initial_configuration(&plant);
         let rg_plant = center_of_mass(&plant, &mut Data::new(&plant), &x).unwrap();
         let rg_model = center_of_mass(&m, &mut Data::new(&m), &x).unwrap();
         // The model's base CM sits at f d from the plant's, so its r0 = x[0..3] is the plant's
@@ -123,7 +123,7 @@ mod tests {
 
     #[test]
     fn scales_and_removal() {
-        let plant = crate::presets::planar4();
+        let plant = crate::model::presets::planar4();
         let m = perturbed_model(&plant, 1.2, 0.8, 1.1, Slosh::Removed { fraction: 0.25 }).unwrap();
         assert!((m.base.mass - plant.base.mass * 1.2 * 0.75).abs() < 1e-12);
         assert!((m.base.inertia - plant.base.inertia * 0.8).norm() < 1e-12);

@@ -29,8 +29,9 @@
 use nalgebra::{UnitQuaternion, Vector3};
 
 use crate::error::{Result, SpacearmError};
-use crate::joint::{JointLimits, JointType};
-use crate::model::{unit_quaternion_from_xyzw, LinkSpec, Model, ModelBuilder};
+use crate::model::joint::{JointLimits, JointType};
+use crate::math::rotations::{unit_quaternion_from_xyzw, xyzw};
+use crate::model::{LinkSpec, Model, ModelBuilder};
 
 /// One row of a classic (distal) Denavit–Hartenberg table, with the link's mass properties.
 #[derive(Debug, Clone, PartialEq)]
@@ -168,10 +169,6 @@ fn check_finite(who: &str, what: &str, values: &[f64]) -> Result<()> {
         return Err(SpacearmError::model(format!("{who}: {what} must be finite, got {v}")));
     }
     Ok(())
-}
-
-fn xyzw(q: &UnitQuaternion<f64>) -> [f64; 4] {
-    [q.i, q.j, q.k, q.w]
 }
 
 /// `(sin α, cos α)` with rounding residue below 1e-15 set to zero, so that a twist of
@@ -315,9 +312,9 @@ pub fn model_from_dh(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::data::Data;
-    use crate::kinematics::{forward_kinematics, point_position};
-    use crate::presets;
+    use crate::model::data::Data;
+    use crate::algorithms::kinematics::{forward_kinematics, point_position};
+    use crate::model::presets;
     use nalgebra::{Matrix3, Matrix4, Rotation3};
 
     fn bar(m: f64, l: f64, w: f64) -> [[f64; 3]; 3] {
@@ -350,7 +347,7 @@ mod tests {
 
     fn mass_matrix(model: &Model, x: &[f64]) -> nalgebra::DMatrix<f64> {
         let mut data = Data::new(model);
-        crate::crba::crba(model, &mut data, x).unwrap().clone()
+        crate::algorithms::crba::crba(model, &mut data, x).unwrap().clone()
     }
 
     #[test]

@@ -27,7 +27,7 @@
 //! ```
 //!
 //! A `[dh]` section with `[[dh.link]]` rows builds a serial arm on the base from a
-//! Denavit–Hartenberg table ([`crate::dh`], `docs/dh.md`).
+//! Denavit–Hartenberg table ([`crate::io::dh`], `docs/dh.md`).
 //!
 //! Every error is [`SpacearmError::Parse`] and starts with `source:line:column:`; the
 //! structural ones (syntax, unknown key, wrong type, missing field) come from the TOML parser,
@@ -42,11 +42,12 @@ use nalgebra::{Matrix3, Quaternion, Unit, UnitQuaternion, Vector3};
 use serde::Deserialize;
 use toml::{Spanned, Value};
 
-use crate::body::MassProperties;
-use crate::dh::{check_inertia_magnitude, ClassicDhLink, DhArm, DhTable, PaperDhLink};
+use crate::model::body::MassProperties;
+use crate::io::dh::{check_inertia_magnitude, ClassicDhLink, DhArm, DhTable, PaperDhLink};
 use crate::error::{Result, SpacearmError};
-use crate::joint::{JointLimits, JointType};
-use crate::model::{unit_quaternion_from_xyzw, Link, LinkSpec, Model, Point};
+use crate::model::joint::{JointLimits, JointType};
+use crate::math::rotations::{unit_quaternion_from_xyzw, xyzw_from_rpy};
+use crate::model::{Link, LinkSpec, Model, Point};
 
 /// The file format version written by [`model_to_toml`] and accepted by the reader
 /// (`[model] format_version`, optional).
@@ -316,12 +317,10 @@ fn rotation_xyzw(
         (Some(r), Some(_)) => Err(ctx.err(&sp(r), format!("{who}: give `{}` or `{}`, not both", names.0, names.1))),
         (Some(r), None) => Ok(*r.get_ref()),
         (None, Some(e)) => {
-            let [r, p, y] = *e.get_ref();
-            if ![r, p, y].iter().all(|v| v.is_finite()) {
+            if !e.get_ref().iter().all(|v| v.is_finite()) {
                 return Err(ctx.err(&sp(e), format!("{who}: `{}` must be finite, got {:?}", names.1, e.get_ref())));
             }
-            let q = UnitQuaternion::from_euler_angles(r, p, y);
-            Ok([q.i, q.j, q.k, q.w])
+            Ok(xyzw_from_rpy(e.get_ref()))
         }
         (None, None) => Ok([0.0, 0.0, 0.0, 1.0]),
     }
@@ -843,7 +842,7 @@ pub fn model_to_toml(model: &Model) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::presets;
+    use crate::model::presets;
 
     const DEMO: &str = r#"
 [model]

@@ -4,12 +4,12 @@
 
 use nalgebra::Vector3;
 
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::Result;
-use crate::kinematics::{check_velocity, forward_kinematics};
+use crate::algorithms::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
-use crate::rnea::velocity_pass;
-use crate::spatial::{angular, linear};
+use crate::algorithms::rnea::velocity_pass;
+use crate::math::spatial::{angular, linear};
 
 /// Linear momentum and angular momentum about three points (DESIGN.md §1).
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -9,7 +9,7 @@
 use std::f64::consts::FRAC_PI_4;
 
 use crate::error::Result;
-use crate::joint::{JointLimits, JointType};
+use crate::model::joint::{JointLimits, JointType};
 use crate::model::{LinkSpec, Model, ModelBuilder};
 
 /// Names of the presets, as accepted by [`by_name`].

@@ -7,13 +7,13 @@
 
 use nalgebra::{DVector, Vector6};
 
-use crate::data::{Data, DataT};
+use crate::model::data::{Data, DataT};
 use crate::error::Result;
-use crate::kinematics::{check_velocity, forward_kinematics};
+use crate::algorithms::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
-use crate::scalar::Real;
-use crate::spatial::{angular, cross_force, cross_motion, dot6, linear, mul6, spatial};
-use crate::wrench::ExternalWrench;
+use crate::math::scalar::Real;
+use crate::math::spatial::{angular, cross_force, cross_motion, dot6, linear, mul6, spatial};
+use crate::algorithms::wrench::ExternalWrench;
 
 /// Forward pass of body velocities `Vᵢ = V_λ(i) + Sᵢ q̇ᵢ` and velocity-product accelerations
 /// `Vᵢ ×ₘ Sᵢ q̇ᵢ`. Requires forward kinematics; `u` must be checked.

@@ -19,17 +19,18 @@
 
 use nalgebra::{Rotation3, UnitQuaternion, Vector3, Vector6};
 
-use crate::aba::aba_after_kinematics;
-use crate::actuators::{check_wheels, detect_reaction_wheels, Actuators, SaturationKind, ThrusterLimits};
+use crate::algorithms::aba::aba_after_kinematics;
+use crate::sim::actuators::{check_wheels, detect_reaction_wheels, Actuators, SaturationKind, ThrusterLimits};
 use crate::control::{arm_dofs, Command, ControlContext, Controller, TrackingKind};
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
-use crate::integrate::{Dopri5, IntegratorKind, OdeSystem, Rk4, StepOutcome};
-use crate::kinematics::{check_velocity, forward_kinematics, point_position, split_configuration};
+use crate::sim::integrate::{Dopri5, IntegratorKind, OdeSystem, Rk4, StepOutcome};
+use crate::algorithms::kinematics::{check_velocity, forward_kinematics, point_position, split_configuration};
 use crate::model::Model;
-use crate::modes::{Conserved, Mode};
-use crate::momentum::center_of_mass_from_data;
-use crate::spatial::{angular, linear};
+use crate::sim::modes::{Conserved, Mode};
+use crate::algorithms::momentum::center_of_mass_from_data;
+use crate::math::rotations::quaternion_rate;
+use crate::math::spatial::{angular, linear};
 
 /// Options of a simulation.
 #[derive(Debug, Clone, PartialEq)]
@@ -282,14 +283,7 @@ impl OdeSystem for Plant<'_> {
         aba_after_kinematics(self.model, &mut self.data, u, &self.f)?;
         // ṙ0 = v0; quaṫ = ½ [ω0; 0] ⊗ quat (Hamilton, [x, y, z, w], ω0 in 𝒥); q̇; u̇.
         dy[0..3].copy_from_slice(&u[0..3]);
-        let w = Vector3::new(u[3], u[4], u[5]);
-        let qv = Vector3::new(x[3], x[4], x[5]);
-        let qs = x[6];
-        let dv = (w * qs + w.cross(&qv)) * 0.5;
-        dy[3] = dv.x;
-        dy[4] = dv.y;
-        dy[5] = dv.z;
-        dy[6] = -0.5 * w.dot(&qv);
+        dy[3..7].copy_from_slice(&quaternion_rate(&x[3..7], &Vector3::new(u[3], u[4], u[5])));
         dy[7..self.nx].copy_from_slice(&u[6..]);
         dy[self.nx..].copy_from_slice(self.data.accel.as_slice());
         for (s, e) in self.flags_step.iter_mut().zip(&self.flags_eval) {
@@ -477,7 +471,7 @@ pub type Progress<'a> = &'a mut dyn FnMut(f64) -> Result<()>;
 /// Simulate `model` from `(x0, u0)` for `opts.duration` seconds under `controller`.
 ///
 /// `x0` must be a valid configuration (unit quaternion within
-/// [`crate::model::QUATERNION_TOLERANCE`]; it is normalized exactly); `u0` any finite
+/// [`crate::math::rotations::QUATERNION_TOLERANCE`]; it is normalized exactly); `u0` any finite
 /// velocity (non-zero momentum is allowed). Deterministic: the same inputs give bit-identical
 /// records.
 pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, controller: &mut dyn Controller, progress: Progress<'_>) -> Result<SimResult> {

@@ -2,12 +2,12 @@
 
 use nalgebra::{Vector3, Vector6};
 
-use crate::data::DataT;
+use crate::model::data::DataT;
 use crate::error::{Result, SpacearmError};
-use crate::kinematics::point_position;
+use crate::algorithms::kinematics::point_position;
 use crate::model::Model;
-use crate::scalar::{vector3, Real};
-use crate::spatial::spatial;
+use crate::math::scalar::{vector3, Real};
+use crate::math::spatial::spatial;
 
 /// A force and torque, both in 𝒥, applied at a point fixed to a body.
 ///

@@ -3,13 +3,13 @@
 
 use nalgebra::{DVector, Matrix6, Vector6};
 
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
-use crate::kinematics::{check_velocity, forward_kinematics};
+use crate::algorithms::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
-use crate::rnea::velocity_pass;
-use crate::spatial::{add6_assign, angular, cross_force, dot6, linear, mul6};
-use crate::wrench::ExternalWrench;
+use crate::algorithms::rnea::velocity_pass;
+use crate::math::spatial::{add6_assign, angular, cross_force, dot6, linear, mul6};
+use crate::algorithms::wrench::ExternalWrench;
 
 /// Forward dynamics by ABA: the state derivative `u̇ = [v̇0; ω̇0; q̈]` produced by the generalized
 /// force `f = [F0; N0; τ]` (base force at its CM and torque about its CM, in 𝒥; joint torques)

@@ -2,12 +2,13 @@
 
 use nalgebra::{DMatrix, Matrix3, Matrix6, UnitQuaternion, Vector3, Vector6};
 
-use crate::data::{Data, DataT};
+use crate::model::data::{Data, DataT};
 use crate::error::{check_finite, Result, SpacearmError};
-use crate::joint::JointType;
-use crate::model::{Model, QUATERNION_TOLERANCE};
-use crate::scalar::{matrix3, vector3, Real};
-use crate::spatial::{axis_angle_rotation, point_twist_transform, rotate_symmetric, spatial, spatial_inertia};
+use crate::model::joint::JointType;
+use crate::math::rotations::{axis_angle_rotation, quaternion_from_xyzw, rotate_symmetric, QUATERNION_TOLERANCE};
+use crate::model::Model;
+use crate::math::scalar::{matrix3, vector3, Real};
+use crate::math::spatial::{point_twist_transform, spatial, spatial_inertia};
 
 /// The configuration `x = [r0 (3), quat0 (4, [x, y, z, w]), q (N)]` split into its parts,
 /// validated (length, finite values, unit quaternion within [`QUATERNION_TOLERANCE`]); the
@@ -22,7 +23,7 @@ pub fn split_configuration<'a>(model: &Model, x: &'a [f64]) -> Result<(Vector3<f
         });
     }
     check_finite("x", x)?;
-    let quat = nalgebra::Quaternion::new(x[6], x[3], x[4], x[5]);
+    let quat = quaternion_from_xyzw(&x[3..7]);
     let norm = quat.norm();
     if (norm - 1.0).abs() > QUATERNION_TOLERANCE {
         return Err(SpacearmError::NotUnitQuaternion {

@@ -9,12 +9,10 @@ use std::collections::HashSet;
 
 use nalgebra::{Matrix3, Unit, UnitQuaternion, Vector3};
 
-use crate::body::MassProperties;
+use crate::model::body::MassProperties;
 use crate::error::{Result, SpacearmError};
-use crate::joint::{Joint, JointLimits, JointType};
-
-/// Tolerance on the norm of a quaternion given as input (`| |q| - 1 | <= this`).
-pub const QUATERNION_TOLERANCE: f64 = 1e-6;
+use crate::math::rotations::unit_quaternion_from_xyzw;
+use crate::model::joint::{Joint, JointLimits, JointType};
 
 /// A link: a rigid body attached to its parent body through one joint.
 #[derive(Debug, Clone, PartialEq)]
@@ -363,16 +361,6 @@ pub struct LinkSpec {
 
 fn matrix3(rows: &[[f64; 3]; 3]) -> Matrix3<f64> {
     Matrix3::from_fn(|i, j| rows[i][j])
-}
-
-/// Validate a quaternion `[x, y, z, w]` given as input and return it normalized.
-pub fn unit_quaternion_from_xyzw(what: &str, q: &[f64; 4]) -> Result<UnitQuaternion<f64>> {
-    crate::error::check_finite(what, q)?;
-    let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
-    if (norm - 1.0).abs() > QUATERNION_TOLERANCE {
-        return Err(SpacearmError::NotUnitQuaternion { what: what.into(), norm, tolerance: QUATERNION_TOLERANCE });
-    }
-    Ok(UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[3], q[0], q[1], q[2])))
 }
 
 impl ModelBuilder {

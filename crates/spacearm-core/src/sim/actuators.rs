@@ -17,7 +17,7 @@
 use nalgebra::{Vector3, Vector6};
 
 use crate::error::{Result, SpacearmError};
-use crate::joint::JointType;
+use crate::model::joint::JointType;
 use crate::model::Model;
 
 /// Kind of a saturation (the integer codes of the simulation records).
@@ -205,7 +205,7 @@ pub fn check_wheels(model: &Model, wheels: &[usize]) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::joint::JointLimits;
+    use crate::model::joint::JointLimits;
     use crate::model::{LinkSpec, ModelBuilder};
 
     fn wheeled() -> Model {
@@ -237,7 +237,7 @@ mod tests {
     #[test]
     fn detects_only_symmetric_rotors_on_the_base() {
         assert_eq!(detect_reaction_wheels(&wheeled()), vec![0]);
-        assert!(detect_reaction_wheels(&crate::presets::spatial6()).is_empty());
+        assert!(detect_reaction_wheels(&crate::model::presets::spatial6()).is_empty());
     }
 
     #[test]
