@@ -61,7 +61,7 @@ pub fn arm12() -> Model {
 fn bench_model(c: &mut Criterion, name: &str, model: Model) {
     let mut work = DerivativeData::new(&model);
     let (x, u, f) = state(&model);
-    let ee = model.points[model.end_effector.expect("an end effector")].clone();
+    let ee = model.points()[model.end_effector().expect("an end effector")].clone();
     let mut g = c.benchmark_group(name);
     g.bench_function("forward_dynamics_aba", |b| {
         b.iter(|| black_box(aba::aba(&model, &mut work.data, black_box(&x), black_box(&u), black_box(&f), &[]).unwrap()[0]))

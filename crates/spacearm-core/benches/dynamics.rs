@@ -36,7 +36,7 @@ fn bench_model(c: &mut Criterion, name: &str, model: Model) {
     let mut data = Data::new(&model);
     let (x, u, du, f) = state(&model);
     let n = model.n_dof();
-    let ee = model.end_effector.map(|i| model.points[i].clone()).expect("preset has an end effector");
+    let ee = model.end_effector().map(|i| model.points()[i].clone()).expect("preset has an end effector");
     let (ee_body, ee_offset): (usize, Vector3<f64>) = (ee.body, ee.offset);
     let base_wrench = Vector6::from_column_slice(&f[0..6]);
     let tau = f[6..6 + n].to_vec();

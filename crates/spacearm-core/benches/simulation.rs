@@ -48,7 +48,7 @@ fn bench_step(c: &mut Criterion, name: &str, controller: &mut dyn Controller) {
 
 fn benches(c: &mut Criterion) {
     let model = presets::spatial6();
-    let q0 = model.initial_q.clone();
+    let q0 = model.initial_q().to_vec();
     let q1: Vec<f64> = q0.iter().map(|q| q + 0.5).collect();
     bench_step(c, "zero_torque", &mut ZeroTorque);
     let mut ct = ComputedTorque::new(vec![25.0], vec![10.0], JointReference::quintic(q0, q1, 0.0, 2.0).unwrap(), None);

@@ -1,5 +1,5 @@
 //! The Generalized Jacobian Matrix formulation: `H*`, `c*`, `J*`, the momentum map and the
-//! reduced joint-space dynamics (paper §4–5, eqs. 39–50 and 104–111; DESIGN.md §2).
+//! reduced joint-space dynamics (paper §4–5, eqs. 39–50 and 104–111; docs/physics.md).
 //!
 //! All functions here take their inertia blocks from the CRBA mass matrix and invert `H0` by
 //! the closed-form Schur complement; nothing inverts a 6×6 matrix numerically.
@@ -175,7 +175,7 @@ pub(crate) fn generalized_jacobian_after_reduction<T: Real>(model: &Model, data:
         if let Some(d) = model.dof_of_body(b) {
             let k = data.joint_axis_in_world[b];
             let mut col = data.generalized_jacobian.column_mut(d);
-            match model.links[b - 1].joint.kind {
+            match model.links()[b - 1].joint.kind {
                 JointType::Revolute => {
                     let lin = k.cross(&(point - data.joint_position_in_world[b]));
                     col[0] += lin.x;
@@ -192,7 +192,7 @@ pub(crate) fn generalized_jacobian_after_reduction<T: Real>(model: &Model, data:
                 }
             }
         }
-        b = model.links[b - 1].parent;
+        b = model.links()[b - 1].parent;
     }
 }
 
@@ -256,7 +256,7 @@ pub fn momentum_twist(
     Ok(spatial(&(t_lin - d.cross(&t_ang)), &t_ang))
 }
 
-/// Reduced joint-space forward dynamics (DESIGN.md §2): with base wrench `F_b = [F0; N0]`,
+/// Reduced joint-space forward dynamics (docs/physics.md): with base wrench `F_b = [F0; N0]`,
 /// `q̈ = H*⁻¹ (τ − c* − H0mᵀ H0⁻¹ F_b)` and `ẍ0 = H0⁻¹ (F_b − H0m q̈ − c0)`, left in
 /// `data.accel`. See [`reduced_forward_dynamics`].
 pub fn compute_reduced_forward_dynamics<'d>(
@@ -302,7 +302,7 @@ pub fn compute_reduced_forward_dynamics<'d>(
     Ok(&data.accel)
 }
 
-/// Reduced joint-space forward dynamics (DESIGN.md §2): with base wrench `F_b = [F0; N0]`,
+/// Reduced joint-space forward dynamics (docs/physics.md): with base wrench `F_b = [F0; N0]`,
 /// `q̈ = H*⁻¹ (τ − c* − H0mᵀ H0⁻¹ F_b)` and `ẍ0 = H0⁻¹ (F_b − H0m q̈ − c0)`. `F_b = 0` is the
 /// floating case (eq. 50 generalized to a moving base). Returns the full `u̇ = [ẍ0; q̈]`, which
 /// equals the ABA result for `f = [F_b; τ]`.

@@ -24,6 +24,8 @@
 //! * [`sim`], [`control`], [`analysis`] — the simulation loop, the controllers, and the
 //!   singularity, workspace and redundancy analyses.
 
+#![deny(missing_docs)]
+
 pub mod algorithms;
 pub mod analysis;
 pub mod control;

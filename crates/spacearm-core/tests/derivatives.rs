@@ -139,7 +139,7 @@ fn generalized_jacobian_partials_match_finite_differences() {
     for (model, x, u) in models() {
         let mut work = DerivativeData::new(&model);
         let mut data = Data::new(&model);
-        let p = &model.points[model.end_effector.unwrap()];
+        let p = &model.points()[model.end_effector().unwrap()];
         let (body, offset) = (p.body, p.offset);
         let n = model.n_dof();
         let partials = derivatives::generalized_jacobian_partials(&model, &mut work, &x, body, &offset).unwrap().to_vec();

@@ -119,7 +119,7 @@ fn quaternion_norm_stays_one_and_runs_are_bit_identical() {
     let model = presets::spatial6();
     let (x0, mut u0) = tumbling_state(&model);
     u0[3] = 3.0; // fast spin
-    let q0 = model.initial_q.clone();
+    let q0 = model.initial_q().to_vec();
     let q1: Vec<f64> = q0.iter().map(|q| q + 0.4).collect();
     for integrator in [IntegratorKind::Rk4, IntegratorKind::Dopri5] {
         let opts = SimOptions { duration: 1.5, dt: 5e-3, integrator, rtol: 1e-8, atol: 1e-10, ..SimOptions::default() };

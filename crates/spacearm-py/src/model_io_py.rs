@@ -1,5 +1,5 @@
-//! Model input and output: TOML model files (`spacearm-core::model_file`) and
-//! Denavit–Hartenberg tables (`spacearm-core::dh`). Wrapped by `spacearm.model_file` and
+//! Model input and output: TOML model files (`spacearm-core::io::toml`) and
+//! Denavit–Hartenberg tables (`spacearm-core::io::dh`). Wrapped by `spacearm.model_file` and
 //! `spacearm.dh`, which normalize the arguments.
 
 use pyo3::prelude::*;

@@ -59,7 +59,7 @@ fn aba_passes_1_2(model: &Model, data: &mut Data, u: &[f64], f: &[f64], external
     }
     // Pass 2: fold each subtree's articulated inertia into its parent (p < b: split borrows).
     for b in (1..nb).rev() {
-        let p = model.links[b - 1].parent;
+        let p = model.links()[b - 1].parent;
         let (head, tail) = data.subtree_inertia.split_at_mut(b);
         let ia = &mut tail[0];
         let pa = data.body_force[b];
@@ -71,7 +71,7 @@ fn aba_passes_1_2(model: &Model, data: &mut Data, u: &[f64], f: &[f64], external
                 if !(d_scalar > 1e-12 * max_abs(ia).max(1e-300)) {
                     return Err(SpacearmError::Singular(format!(
                         "the articulated inertia about joint '{}' (D = {d_scalar:e})",
-                        model.links[b - 1].joint.name
+                        model.links()[b - 1].joint.name
                     )));
                 }
                 let small_u = f[6 + d] - dot6(&s, &pa);
@@ -124,7 +124,7 @@ fn aba_pass_3(model: &Model, data: &mut Data, u: &[f64], f: &[f64]) -> Result<()
     data.body_acceleration[0] = a0;
     // Pass 3: accelerations outwards.
     for b in 1..nb {
-        let p = model.links[b - 1].parent;
+        let p = model.links()[b - 1].parent;
         let mut a = data.body_acceleration[p] + data.velocity_product[b];
         if let Some(d) = model.dof_of_body(b) {
             let qdd = (data.aba_small_u[b] - dot6(&data.aba_u[b], &a)) / data.aba_d[b];

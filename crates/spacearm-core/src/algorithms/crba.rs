@@ -35,7 +35,7 @@ pub(crate) fn crba_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>,
         h.fill(T::zero());
     }
     for b in (1..nb).rev() {
-        let p = model.links[b - 1].parent;
+        let p = model.links()[b - 1].parent;
         let composite = data.subtree_inertia[b];
         add6_assign(&mut data.subtree_inertia[p], &composite);
         let Some(d) = model.dof_of_body(b) else { continue };
@@ -59,7 +59,7 @@ pub(crate) fn crba_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>,
                 h[col * nu + 6 + e] = v;
                 h[(6 + e) * nu + col] = v;
             }
-            a = model.links[a - 1].parent;
+            a = model.links()[a - 1].parent;
         }
     }
     let h0 = data.subtree_inertia[0];

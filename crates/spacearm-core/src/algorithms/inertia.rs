@@ -78,7 +78,7 @@ pub fn inertia_blocks(model: &Model, data: &mut Data, x: &[f64]) -> Result<Inert
         while a != 0 {
             if let Some(d) = model.dof_of_body(a) {
                 let k = data.joint_axis_in_world[a];
-                let (t, r) = match model.links[a - 1].joint.kind {
+                let (t, r) = match model.links()[a - 1].joint.kind {
                     JointType::Revolute => (k.cross(&(r_i - data.joint_position_in_world[a])), k),
                     _ => (k, Vector3::zeros()),
                 };
@@ -86,7 +86,7 @@ pub fn inertia_blocks(model: &Model, data: &mut Data, x: &[f64]) -> Result<Inert
                 data.work_ang[data.work_dofs.len()] = r;
                 data.work_dofs.push(d);
             }
-            a = model.links[a - 1].parent;
+            a = model.links()[a - 1].parent;
         }
         for (p, &j) in data.work_dofs.iter().enumerate() {
             let (t_j, r_j) = (data.work_lin[p], data.work_ang[p]);

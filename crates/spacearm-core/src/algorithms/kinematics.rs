@@ -75,12 +75,12 @@ pub fn forward_kinematics_at<T: Real>(model: &Model, data: &mut DataT<T>, r0: &V
     data.joint_position_in_world[0] = r0;
     data.joint_axis_in_world[0] = Vector3::zeros();
     data.motion_subspace[0] = Vector6::zeros();
-    let base = &model.base;
+    let base = &model.base();
     let base_inertia = rotate_symmetric(&r0_mat, &matrix3(&base.inertia));
     data.inertia_in_world[0] = base_inertia;
     data.spatial_inertia[0] = spatial_inertia(T::c(base.mass), &Vector3::zeros(), &base_inertia);
 
-    for (k, link) in model.links.iter().enumerate() {
+    for (k, link) in model.links().iter().enumerate() {
         let b = k + 1;
         let p = link.parent;
         let parent_rot = data.body_to_world[p];
@@ -147,15 +147,15 @@ pub fn joint_jacobian_of_point<T: Real>(model: &Model, data: &DataT<T>, body: us
     while b != 0 {
         if let Some(d) = model.dof_of_body(b) {
             let k = data.joint_axis_in_world[b];
-            let lin = match model.links[b - 1].joint.kind {
+            let lin = match model.links()[b - 1].joint.kind {
                 JointType::Revolute => k.cross(&(point - data.joint_position_in_world[b])),
                 _ => k,
             };
-            let ang = if model.links[b - 1].joint.kind == JointType::Revolute { k } else { Vector3::zeros() };
+            let ang = if model.links()[b - 1].joint.kind == JointType::Revolute { k } else { Vector3::zeros() };
             jm.fixed_view_mut::<3, 1>(0, d).copy_from(&lin);
             jm.fixed_view_mut::<3, 1>(3, d).copy_from(&ang);
         }
-        b = model.links[b - 1].parent;
+        b = model.links()[b - 1].parent;
     }
     jm
 }

@@ -12,7 +12,7 @@ use crate::math::spatial::spatial;
 /// A force and torque, both in 𝒥, applied at a point fixed to a body.
 ///
 /// Its generalized force is `J_Xᵀ [f; n]` with `J_X = [J_0X, J_mX]` the point's Jacobian
-/// (DESIGN.md §1: `H u̇ + c = f + Jᵀ w_ext`).
+/// (docs/conventions.md: `H u̇ + c = f + Jᵀ w_ext`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExternalWrench {
     /// Body index (0 = base).

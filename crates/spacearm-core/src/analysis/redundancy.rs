@@ -155,7 +155,7 @@ pub fn rmrc_rates(model: &Model, data: &mut Data, x: &[f64], body: usize, offset
         }
         if options.joint_limit_gain > 0.0 {
             for i in 0..n {
-                let lim = model.links[model.body_of_dof(i) - 1].joint.limits;
+                let lim = model.links()[model.body_of_dof(i) - 1].joint.limits;
                 if lim.lower.is_finite() && lim.upper.is_finite() && lim.upper > lim.lower {
                     let range = lim.upper - lim.lower;
                     let mid = 0.5 * (lim.upper + lim.lower);
@@ -172,7 +172,7 @@ pub fn rmrc_rates(model: &Model, data: &mut Data, x: &[f64], body: usize, offset
     let mut alpha: f64 = 1.0;
     let mut scale: f64 = 1.0;
     for i in 0..n {
-        let vmax = model.links[model.body_of_dof(i) - 1].joint.limits.velocity;
+        let vmax = model.links()[model.body_of_dof(i) - 1].joint.limits.velocity;
         if !vmax.is_finite() {
             continue;
         }
@@ -323,7 +323,7 @@ mod tests {
         let m = presets::planar4();
         let mut d = Data::new(&m);
         let x = presets::initial_configuration(&m);
-        let ee = m.points[m.end_effector.unwrap()].clone();
+        let ee = m.points()[m.end_effector().unwrap()].clone();
         let desired = Vector6::new(0.1, -0.05, 0.0, 0.0, 0.0, 0.0);
         let r = rmrc_rates(&m, &mut d, &x, ee.body, &ee.offset, &desired, &options(Strategy::Reactionless)).unwrap();
         assert!(r.base_angular_velocity.norm() < 1e-12);
@@ -340,7 +340,7 @@ mod tests {
         let m = presets::planar4();
         let mut d = Data::new(&m);
         let x0 = presets::initial_configuration(&m);
-        let ee = m.points[m.end_effector.unwrap()].clone();
+        let ee = m.points()[m.end_effector().unwrap()].clone();
         crate::algorithms::kinematics::forward_kinematics(&m, &mut d, &x0).unwrap();
         let p0 = point_position(&d, ee.body, &ee.offset);
         let target = p0 + Vector3::new(-0.5, 0.6, 0.0);

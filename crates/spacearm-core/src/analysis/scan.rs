@@ -143,7 +143,7 @@ mod tests {
     #[test]
     fn parallel_scan_equals_serial() {
         let m = presets::planar4();
-        let ee = m.points[m.end_effector.unwrap()].clone();
+        let ee = m.points()[m.end_effector().unwrap()].clone();
         let g = joint_grid(&[-1.0; 4], &[1.0; 4], 4).unwrap();
         let par = scan(&m, &g, ee.body, &ee.offset, &Task::planar()).unwrap();
         let mut d = Data::new(&m);

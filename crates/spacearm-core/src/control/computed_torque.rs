@@ -3,7 +3,7 @@
 //! the controller's own model (by default the plant's; [`super::mismatch::perturbed_model`]
 //! builds a mismatched one — mass and inertia errors, fuel slosh).
 //!
-//! The reduced EOM with a base wrench (DESIGN.md §2) is `H* q̈ + c* + H0mᵀ H0⁻¹ F_b = τ`, so when a
+//! The reduced EOM with a base wrench (docs/physics.md) is `H* q̈ + c* + H0mᵀ H0⁻¹ F_b = τ`, so when a
 //! base controller commands a wrench `F_b` (in [`super::Combined`]) its effect is compensated
 //! by the extra term, with `F_b` as the mode applies it. With reaction wheels the wheels' torques
 //! `τ_W` are given (by the base controller, or zero) and the arm joints `A` get the torques
@@ -42,9 +42,9 @@ impl ReducedInverseDynamics {
         if model.n_dof() != ctx.plant.n_dof() {
             return Err(SpacearmError::argument(format!(
                 "the controller's model '{}' has {} joint dofs but the plant '{}' has {}",
-                model.name,
+                model.name(),
                 model.n_dof(),
-                ctx.plant.name,
+                ctx.plant.name(),
                 ctx.plant.n_dof()
             )));
         }

@@ -1,6 +1,6 @@
 //! Coordinated base-and-arm control in the flying mode: an end-effector task plus base pose
 //! regulation, through the flying-regime reduced EOM `H* q̈ + c* = τ − H0mᵀ H0⁻¹ F_b`
-//! (DESIGN.md §2; the paper leaves the flying case open).
+//! (docs/physics.md; the paper leaves the flying case open).
 //!
 //! 1. Base regulation (acceleration level): `ẍ0_des = [K_pb (r_ref − r0) − K_db v0;
 //!    −K_pb e − K_db ω0]` with `e` the attitude error of [`super::attitude`].
@@ -37,9 +37,13 @@ use super::{positive, Command, ControlContext, Controller, TrackingKind};
 /// Gains of [`CoordinatedFlying`] (acceleration level, 1/s² and 1/s).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CoordinatedGains {
+    /// End-effector position gain, 1/s².
     pub kp_ee: f64,
+    /// End-effector velocity gain, 1/s.
     pub kd_ee: f64,
+    /// Base pose gain, 1/s².
     pub kp_base: f64,
+    /// Base velocity gain, 1/s.
     pub kd_base: f64,
 }
 
@@ -198,12 +202,12 @@ impl Controller for CoordinatedFlying {
         while b != 0 {
             if let Some(dof) = model.dof_of_body(b) {
                 let k = data.joint_axis_in_world[b];
-                self.jac[dof] = match model.links[b - 1].joint.kind {
+                self.jac[dof] = match model.links()[b - 1].joint.kind {
                     JointType::Revolute => k.cross(&(p - data.joint_position_in_world[b])),
                     _ => k,
                 };
             }
-            b = model.links[b - 1].parent;
+            b = model.links()[b - 1].parent;
         }
         let mut jjt = Matrix3::zeros();
         for &dof in &self.arm {
@@ -277,7 +281,7 @@ mod tests {
         x[0] = 3.0;
         x[2] = -1.0;
         let u = vec![0.3, -0.2, 0.1, 0.4, -0.5, 0.3, 0.7, -0.4, 0.6, 0.5, -0.8, 0.9];
-        let pt = &model.points[model.end_effector.unwrap()];
+        let pt = &model.points()[model.end_effector().unwrap()];
         let (body, offset) = (pt.body, pt.offset);
         let velocity = |data: &mut Data, x: &[f64]| {
             forward_kinematics(&model, data, x).unwrap();

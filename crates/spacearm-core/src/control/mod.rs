@@ -165,7 +165,9 @@ impl Controller for ZeroTorque {
 /// tracking while the wheels saturate. The command returned is still the unclamped one, so the
 /// simulation records `tau_cmd` and the saturation events as they happen.
 pub struct Combined {
+    /// The controller of the arm joints.
     pub arm: Box<dyn Controller>,
+    /// The controller of the base (wheels or base wrench).
     pub base: Box<dyn Controller>,
     base_cmd: Command,
     arm_dofs: Vec<usize>,

@@ -264,7 +264,7 @@ fn is_ancestor_or_self(model: &Model, ancestor: usize, body: usize) -> bool {
             // Parents are listed before their children: below `ancestor`'s index it cannot appear.
             return false;
         }
-        b = model.links[b - 1].parent;
+        b = model.links()[b - 1].parent;
     }
 }
 

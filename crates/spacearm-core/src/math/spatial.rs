@@ -1,7 +1,7 @@
 //! 3-vectors, cross-product matrices and spatial (6-D) vectors and inertias.
 //!
 //! Spatial vectors are ordered `[linear (3), angular (3)]`, linear first, as in the paper
-//! (DESIGN.md §1). The recursive algorithms (Featherstone, *Rigid Body Dynamics Algorithms*,
+//! (docs/conventions.md). The recursive algorithms (Featherstone, *Rigid Body Dynamics Algorithms*,
 //! 2008, ch. 2) work with spatial vectors whose axes are those of the inertial frame 𝒥 and whose
 //! reference point is the base centre of mass `r0` at the current instant. With that choice the
 //! base's spatial velocity is exactly the paper's `ẋ0 = [v0; ω0]` and a spatial force on the

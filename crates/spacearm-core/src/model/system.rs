@@ -1,18 +1,20 @@
 //! The constant description of a spacecraft-manipulator system: a base and a tree of links.
 //!
-//! A [`Model`] is immutable once built and validated; all per-configuration quantities live in
+//! A [`Model`] is immutable once built and validated: its fields are private, it is made only
+//! by [`crate::model::ModelBuilder`] (which applies every rule of [`crate::model::validate`]),
+//! and it is read through accessors, so its derived data (degree-of-freedom numbering, total
+//! mass) always agree with its links. All per-configuration quantities live in
 //! [`crate::Data`] (Pinocchio's Model/Data split). Bodies are indexed `0` (the base) and
 //! `1..=n_links` (the links, each listed after its parent). Degrees of freedom are numbered in
 //! link order over the non-fixed joints, so `q` has `N = n_dof` entries.
 
-use std::collections::HashSet;
+use nalgebra::{UnitQuaternion, UnitVector3, Vector3};
 
-use nalgebra::{Matrix3, Unit, UnitQuaternion, Vector3};
-
+use crate::error::{ModelError, Result, SpacearmError};
 use crate::model::body::MassProperties;
-use crate::error::{Result, SpacearmError};
-use crate::math::rotations::unit_quaternion_from_xyzw;
-use crate::model::joint::{Joint, JointLimits, JointType};
+use crate::model::builder::LinkSpec;
+use crate::model::joint::{Joint, JointType};
+use crate::model::validate::check_structure;
 
 /// A link: a rigid body attached to its parent body through one joint.
 #[derive(Debug, Clone, PartialEq)]
@@ -32,9 +34,9 @@ pub struct Link {
 
 impl Link {
     /// Assemble a link from its description once the parent index, the normalized rotation and
-    /// axis and the validated mass properties are known (shared by the builder and the model
-    /// file reader). The joint name defaults to `<link>_joint`.
-    pub(crate) fn from_spec(spec: LinkSpec, parent: usize, rotation: UnitQuaternion<f64>, axis: nalgebra::UnitVector3<f64>, mass: MassProperties) -> Link {
+    /// axis and the validated mass properties are known (by the builder). The joint name
+    /// defaults to `<link>_joint`.
+    pub(crate) fn from_spec(spec: LinkSpec, parent: usize, rotation: UnitQuaternion<f64>, axis: UnitVector3<f64>, mass: MassProperties) -> Link {
         let joint_name = spec.joint_name.clone().unwrap_or_else(|| format!("{}_joint", spec.name));
         Link {
             name: spec.name,
@@ -64,148 +66,90 @@ pub struct Point {
     pub offset: Vector3<f64>,
 }
 
-/// Spacecraft-manipulator model: base + tree of links + named points.
+/// Spacecraft-manipulator model: base + tree of links + named points. Made by
+/// [`crate::model::ModelBuilder`]; read through its accessors.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Model {
-    /// Model name.
-    pub name: String,
-    /// Name of the base body.
-    pub base_name: String,
-    /// Base mass properties (frame at the base CM, DESIGN.md §1).
-    pub base: MassProperties,
+    name: String,
+    base_name: String,
+    /// Base mass properties (frame at the base CM, docs/conventions.md).
+    base: MassProperties,
     /// Links in topological order (each after its parent).
-    pub links: Vec<Link>,
-    /// Named points.
-    pub points: Vec<Point>,
+    links: Vec<Link>,
+    points: Vec<Point>,
     /// Index into `points` of the end effector, if any.
-    pub end_effector: Option<usize>,
+    end_effector: Option<usize>,
     /// Initial (nominal) joint coordinates, length `n_dof`.
-    pub initial_q: Vec<f64>,
-    // Derived, kept in sync by `Model::new` (the fields above are validated together).
+    initial_q: Vec<f64>,
+    // Derived from the fields above by `Model::new`.
     dof_of_body: Vec<Option<usize>>,
     body_of_dof: Vec<usize>,
     total_mass: f64,
 }
 
 impl Model {
-    /// Validate and assemble a model. `initial_q` defaults to zeros when `None`.
-    pub fn new(
-        name: impl Into<String>,
-        base_name: impl Into<String>,
+    /// Assemble a model from validated parts, after the whole-model rules of
+    /// [`check_structure`]. `initial_q` defaults to zeros when `None`. Only the builder (and
+    /// the perturbed copies of [`crate::control::mismatch`], whose parts come from a valid
+    /// model) call this.
+    pub(crate) fn new(
+        name: String,
+        base_name: String,
         base: MassProperties,
         links: Vec<Link>,
         points: Vec<Point>,
         end_effector: Option<usize>,
         initial_q: Option<Vec<f64>>,
-    ) -> Result<Self> {
-        let base_name = base_name.into();
-        let mut names = HashSet::new();
-        names.insert(base_name.clone());
-        let mut joint_names = HashSet::new();
+    ) -> std::result::Result<Self, ModelError> {
         let mut dof_of_body = vec![None];
         let mut body_of_dof = Vec::new();
-        let mut total_mass = base.mass;
         for (k, link) in links.iter().enumerate() {
-            let body = k + 1;
-            let who = format!("link '{}'", link.name);
-            if !names.insert(link.name.clone()) {
-                return Err(SpacearmError::model(format!("body name '{}' is used twice", link.name)));
-            }
-            if !joint_names.insert(link.joint.name.clone()) {
-                return Err(SpacearmError::model(format!("joint name '{}' is used twice", link.joint.name)));
-            }
-            if link.parent >= body {
-                return Err(SpacearmError::model(format!(
-                    "{who}: parent index {} must name the base (0) or a link listed before it (1..={}); \
-                     links must be given parents first and the tree cannot contain cycles",
-                    link.parent, k
-                )));
-            }
-            let j = &link.joint;
-            for (what, v) in [("joint origin", &j.origin_in_parent), ("com", &link.com_from_joint)] {
-                if v.iter().any(|x| !x.is_finite()) {
-                    return Err(SpacearmError::model(format!("{who}: {what} must be finite, got {v:?}")));
-                }
-            }
-            if j.axis.iter().any(|x| !x.is_finite()) || j.rotation_in_parent.coords.iter().any(|x| !x.is_finite()) {
-                return Err(SpacearmError::model(format!("{who}: joint '{}' axis and rotation must be finite", j.name)));
-            }
-            let lim = &j.limits;
-            if lim.lower.is_nan() || lim.upper.is_nan() || lim.lower > lim.upper {
-                return Err(SpacearmError::model(format!(
-                    "joint '{}': position limits must satisfy lower <= upper, got [{}, {}]",
-                    j.name, lim.lower, lim.upper
-                )));
-            }
-            if !(lim.velocity >= 0.0) || !(lim.effort >= 0.0) {
-                return Err(SpacearmError::model(format!(
-                    "joint '{}': velocity and effort limits must be >= 0, got {} and {}",
-                    j.name, lim.velocity, lim.effort
-                )));
-            }
-            total_mass += link.mass.mass;
-            if j.kind == JointType::Fixed {
+            if link.joint.kind == JointType::Fixed {
                 dof_of_body.push(None);
             } else {
                 dof_of_body.push(Some(body_of_dof.len()));
-                body_of_dof.push(body);
+                body_of_dof.push(k + 1);
             }
         }
-        let n_dof = body_of_dof.len();
-        // A moving joint must carry something: with no mass and no inertia anywhere downstream
-        // its acceleration is undetermined and H is singular for every configuration.
-        let mut subtree_mass: Vec<f64> = std::iter::once(base.mass).chain(links.iter().map(|l| l.mass.mass)).collect();
-        let mut subtree_inertia: Vec<f64> =
-            std::iter::once(base.inertia.trace()).chain(links.iter().map(|l| l.mass.inertia.trace())).collect();
-        for k in (0..links.len()).rev() {
-            let body = k + 1;
-            if links[k].joint.kind != JointType::Fixed && subtree_mass[body] == 0.0 && subtree_inertia[body] == 0.0 {
-                return Err(SpacearmError::model(format!(
-                    "joint '{}' moves link '{}', but that link and everything attached to it have zero mass and inertia: \
-                     the joint's acceleration would be undetermined",
-                    links[k].joint.name, links[k].name
-                )));
-            }
-            let p = links[k].parent;
-            subtree_mass[p] += subtree_mass[body];
-            subtree_inertia[p] += subtree_inertia[body];
-        }
-        for p in &points {
-            if !names.insert(p.name.clone()) {
-                return Err(SpacearmError::model(format!("point name '{}' is already used by a body or point", p.name)));
-            }
-            if p.body > links.len() {
-                return Err(SpacearmError::model(format!(
-                    "point '{}': body index {} does not exist (the model has bodies 0..={})",
-                    p.name,
-                    p.body,
-                    links.len()
-                )));
-            }
-            if p.offset.iter().any(|x| !x.is_finite()) {
-                return Err(SpacearmError::model(format!("point '{}': offset must be finite", p.name)));
-            }
-        }
-        if let Some(e) = end_effector {
-            if e >= points.len() {
-                return Err(SpacearmError::model(format!("end effector index {e} does not name a point")));
-            }
-        }
-        let initial_q = initial_q.unwrap_or_else(|| vec![0.0; n_dof]);
-        crate::error::check_vector("initial joint coordinates", &initial_q, n_dof)
-            .map_err(|e| SpacearmError::model(e.to_string()))?;
-        Ok(Model {
-            name: name.into(),
-            base_name,
-            base,
-            links,
-            points,
-            end_effector,
-            initial_q,
-            dof_of_body,
-            body_of_dof,
-            total_mass,
-        })
+        let initial_q = initial_q.unwrap_or_else(|| vec![0.0; body_of_dof.len()]);
+        check_structure(&base, &links, &points, end_effector, &initial_q)?;
+        let total_mass = links.iter().fold(base.mass, |m, l| m + l.mass.mass);
+        Ok(Model { name, base_name, base, links, points, end_effector, initial_q, dof_of_body, body_of_dof, total_mass })
+    }
+
+    /// Model name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Name of the base body.
+    pub fn base_name(&self) -> &str {
+        &self.base_name
+    }
+
+    /// Base mass properties (frame at the base CM).
+    pub fn base(&self) -> &MassProperties {
+        &self.base
+    }
+
+    /// Links in topological order (each after its parent); link `k` is body `k + 1`.
+    pub fn links(&self) -> &[Link] {
+        &self.links
+    }
+
+    /// Named points.
+    pub fn points(&self) -> &[Point] {
+        &self.points
+    }
+
+    /// Index into [`Model::points`] of the end effector, if any.
+    pub fn end_effector(&self) -> Option<usize> {
+        self.end_effector
+    }
+
+    /// Initial (nominal) joint coordinates, length `N`.
+    pub fn initial_q(&self) -> &[f64] {
+        &self.initial_q
     }
 
     /// Number of joint degrees of freedom `N` (length of `q`).
@@ -324,136 +268,5 @@ impl Model {
         }
         out.reverse();
         out
-    }
-}
-
-/// Incremental builder for [`Model`], used by the Python API, the TOML reader and the DH
-/// converter. Names are resolved and everything is validated by [`ModelBuilder::build`] and by
-/// each `add_*` call where possible.
-#[derive(Debug, Clone)]
-pub struct ModelBuilder {
-    name: String,
-    base_name: String,
-    base: MassProperties,
-    links: Vec<Link>,
-    points: Vec<Point>,
-    end_effector: Option<String>,
-    initial_q: Option<Vec<f64>>,
-}
-
-/// Everything that describes one link to [`ModelBuilder::add_link`].
-#[derive(Debug, Clone)]
-pub struct LinkSpec {
-    pub name: String,
-    pub parent: String,
-    pub joint_name: Option<String>,
-    pub kind: JointType,
-    pub origin_in_parent: [f64; 3],
-    /// Quaternion `[x, y, z, w]` of the child frame in the parent frame at `q = 0`.
-    pub rotation_in_parent: [f64; 4],
-    pub axis: [f64; 3],
-    pub com_from_joint: [f64; 3],
-    pub mass: f64,
-    /// Inertia about the CM in the link frame, row-major 3×3.
-    pub inertia: [[f64; 3]; 3],
-    pub limits: JointLimits,
-}
-
-fn matrix3(rows: &[[f64; 3]; 3]) -> Matrix3<f64> {
-    Matrix3::from_fn(|i, j| rows[i][j])
-}
-
-impl ModelBuilder {
-    /// Start a model with its base: mass (kg, > 0) and inertia about the base CM in base axes.
-    pub fn new(name: &str, base_name: &str, base_mass: f64, base_inertia: [[f64; 3]; 3]) -> Result<Self> {
-        let base = MassProperties::new(&format!("base '{base_name}'"), base_mass, matrix3(&base_inertia), true)?;
-        Ok(ModelBuilder {
-            name: name.to_string(),
-            base_name: base_name.to_string(),
-            base,
-            links: Vec::new(),
-            points: Vec::new(),
-            end_effector: None,
-            initial_q: None,
-        })
-    }
-
-    fn body_index(&self, name: &str) -> Result<usize> {
-        if name == self.base_name {
-            return Ok(0);
-        }
-        self.links.iter().position(|l| l.name == name).map(|k| k + 1).ok_or_else(|| {
-            SpacearmError::model(format!(
-                "parent body '{name}' is not defined (yet); known bodies: {:?}; add parents before children",
-                std::iter::once(self.base_name.as_str()).chain(self.links.iter().map(|l| l.name.as_str())).collect::<Vec<_>>()
-            ))
-        })
-    }
-
-    /// Add a link attached to an existing body.
-    pub fn add_link(&mut self, spec: LinkSpec) -> Result<&mut Self> {
-        let who = format!("link '{}'", spec.name);
-        let parent = self.body_index(&spec.parent)?;
-        let axis_v = Vector3::from(spec.axis);
-        if axis_v.iter().any(|x| !x.is_finite()) {
-            return Err(SpacearmError::model(format!("{who}: joint axis must be finite, got {:?}", spec.axis)));
-        }
-        let axis = if spec.kind == JointType::Fixed {
-            Unit::new_normalize(if axis_v.norm() > 0.0 { axis_v } else { Vector3::z() })
-        } else {
-            // Scale by the largest component first so that the norm cannot overflow
-            // (an axis like [1e154, 0, 1] must become [1, 0, 0], not NaN or zero).
-            let largest = axis_v.amax();
-            if !(largest > 1e-9) {
-                return Err(SpacearmError::model(format!(
-                    "{who}: joint axis must be a non-zero vector (it is normalized), got {:?}",
-                    spec.axis
-                )));
-            }
-            Unit::new_normalize(axis_v / largest)
-        };
-        let rotation = unit_quaternion_from_xyzw(&format!("{who}: joint rotation"), &spec.rotation_in_parent)
-            .map_err(|e| SpacearmError::model(e.to_string()))?;
-        let mass = MassProperties::new(&who, spec.mass, matrix3(&spec.inertia), false)?;
-        self.links.push(Link::from_spec(spec, parent, rotation, axis, mass));
-        Ok(self)
-    }
-
-    /// Add a named point fixed to `body` at `offset` (body frame, from its CM).
-    pub fn add_point(&mut self, name: &str, body: &str, offset: [f64; 3]) -> Result<&mut Self> {
-        let b = self.body_index(body)?;
-        self.points.push(Point { name: name.to_string(), body: b, offset: Vector3::from(offset) });
-        Ok(self)
-    }
-
-    /// Designate the point called `name` as the end effector.
-    pub fn set_end_effector(&mut self, name: &str) -> &mut Self {
-        self.end_effector = Some(name.to_string());
-        self
-    }
-
-    /// Set the initial joint coordinates (length `N`).
-    pub fn set_initial_q(&mut self, q: Vec<f64>) -> &mut Self {
-        self.initial_q = Some(q);
-        self
-    }
-
-    /// Validate everything and produce the immutable model.
-    pub fn build(&self) -> Result<Model> {
-        let ee = match &self.end_effector {
-            None => None,
-            Some(n) => Some(self.points.iter().position(|p| &p.name == n).ok_or_else(|| {
-                SpacearmError::model(format!("end effector '{n}' is not a defined point"))
-            })?),
-        };
-        Model::new(
-            self.name.clone(),
-            self.base_name.clone(),
-            self.base.clone(),
-            self.links.clone(),
-            self.points.clone(),
-            ee,
-            self.initial_q.clone(),
-        )
     }
 }
