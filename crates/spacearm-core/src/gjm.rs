@@ -14,6 +14,8 @@
 //! all column by column in O(N) or O(N²) with no dense 6×N or N×N temporaries. The `compute_*`
 //! functions leave their result in [`Data`] and allocate nothing; the functions returning owned
 //! matrices are thin copies of them.
+//!
+//! Imports: `math`, `model` and `algorithms`.
 
 use nalgebra::{DMatrix, DVector, Matrix6, Vector3, Vector6};
 

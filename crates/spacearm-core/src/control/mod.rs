@@ -15,6 +15,9 @@
 //!
 //! Each controller keeps its own [`Model`] and [`Data`] (a computed-torque controller may use a
 //! model that differs from the plant), so controllers never disturb the plant's workspace.
+//!
+//! Imports: everything below it (`math`, `model`, `algorithms`, `gjm`) and the maneuvering
+//! modes, actuator limits and references of [`crate::sim`] (its peer).
 
 pub mod attitude;
 pub mod computed_torque;

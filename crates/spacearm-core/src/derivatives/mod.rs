@@ -29,6 +29,8 @@
 //! In the dual evaluation the attitude increment enters as `R0 ← (E + δθ̃) R0`, which equals
 //! `exp(δθ̃) R0` to first order — all that a first derivative sees — and avoids differentiating
 //! the exponential at `δθ = 0`.
+//!
+//! Imports: `math`, `model`, `algorithms` and [`crate::gjm`].
 
 mod forward_dynamics;
 mod generalized;

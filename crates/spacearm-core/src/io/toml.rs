@@ -737,14 +737,14 @@ pub fn model_to_toml(model: &Model) -> String {
     let _ = writeln!(s, "# SI units (m, kg, kg·m², rad). Every body frame has its origin at the body's centre of mass;");
     let _ = writeln!(s, "# a joint's origin is given in its parent's frame, com/axis/inertia in the link's own frame.");
     let _ = writeln!(s, "\n[model]");
-    let _ = writeln!(s, "name = {}", string(&model.name()));
+    let _ = writeln!(s, "name = {}", string(model.name()));
     let _ = writeln!(s, "format_version = {FORMAT_VERSION}");
     if let Some(e) = model.end_effector() {
         let _ = writeln!(s, "end_effector = {}", string(&model.points()[e].name));
     }
     let _ = writeln!(s, "initial_q = {}", vec_str(model.initial_q()));
     let _ = writeln!(s, "\n[base]");
-    let _ = writeln!(s, "name = {}", string(&model.base_name()));
+    let _ = writeln!(s, "name = {}", string(model.base_name()));
     let _ = writeln!(s, "mass = {}", num(model.base().mass));
     let _ = writeln!(s, "inertia = {}", inertia_str(&model.base().inertia));
     for l in model.links() {

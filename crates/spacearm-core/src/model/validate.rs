@@ -85,7 +85,7 @@ pub fn joint_axis(item: ModelItem, who: &str, kind: JointType, axis: &[f64; 3]) 
         return Err(ModelError::new(item, ModelField::Axis, format!("{who}: joint axis must be finite, got {axis:?}")));
     }
     let largest = v.amax();
-    if !(largest > MIN_AXIS_COMPONENT) {
+    if largest.is_nan() || largest <= MIN_AXIS_COMPONENT {
         if kind == JointType::Fixed {
             return Ok(Vector3::z_axis());
         }
@@ -123,7 +123,7 @@ pub fn joint_limits(item: ModelItem, who: &str, limits: &JointLimits) -> Result<
             format!("{who}: position limits must satisfy lower <= upper, got [{}, {}]", l.lower, l.upper),
         ));
     }
-    if !(l.velocity >= 0.0) || !(l.effort >= 0.0) {
+    if l.velocity.is_nan() || l.effort.is_nan() || l.velocity < 0.0 || l.effort < 0.0 {
         return Err(ModelError::new(
             item,
             ModelField::Limits,
