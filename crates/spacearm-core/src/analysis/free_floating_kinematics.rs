@@ -22,6 +22,7 @@ use crate::gjm::base_velocity_from_momentum;
 use crate::algorithms::kinematics::split_configuration;
 use crate::math::rotations::{normalize_xyzw, quaternion_from_xyzw, quaternion_rate};
 use crate::model::Model;
+use crate::sim::integrate::{OdeSystem, Rk4};
 
 /// Conserved momenta of the free-floating system: linear momentum `P` and angular momentum
 /// about the origin of 𝒥. `Default` is zero momentum (a system that starts at rest).
@@ -44,41 +45,59 @@ fn normalize_quaternion(x: &mut [f64]) {
     normalize_xyzw(&mut x[3..7]);
 }
 
-/// One RK4 step of the whole configuration `x = [r0, quat, q]` over `dt`, given the joint rates
-/// at the stage times by `joint_rates(stage, x_stage)` (stage 0 at `t`, 1 and 2 at `t + dt/2`,
-/// 3 at `t + dt`) and, for prescribed joint motion, the joint positions at the stage times by
-/// `joint_positions(stage)` (`None`: `q` is integrated from the rates too).
-fn rk4_step<F, G>(model: &Model, data: &mut Data, x: &mut [f64], dt: f64, momentum: &ConservedMomentum, mut joint_rates: F, joint_positions: G) -> Result<()>
+/// The configuration `x = [r0, quat, q]` of a free-floating system as an ODE for the
+/// simulator's [`Rk4`] (the one RK4 with quaternion projection of the crate): `ṙ0, quaṫ` from
+/// the base twist that conserves `momentum`, `q̇` from `joint_rates(stage, x_stage, data)`, and,
+/// for prescribed joint motion, `q` at each stage replaced by `joint_positions(stage)`.
+/// [`Rk4::step`] evaluates its four stages in order (0 at `t`, 1 and 2 at `t + dt/2`, 3 at
+/// `t + dt`), which `stage` counts.
+struct FreeFloating<'a, F, G> {
+    model: &'a Model,
+    data: &'a mut Data,
+    momentum: &'a ConservedMomentum,
+    joint_rates: F,
+    joint_positions: G,
+    stage: usize,
+    x_stage: Vec<f64>,
+}
+
+impl<F, G> OdeSystem for FreeFloating<'_, F, G>
 where
     F: FnMut(usize, &[f64], &mut Data) -> Result<DVector<f64>>,
     G: Fn(usize) -> Option<Vec<f64>>,
 {
-    let n = model.n_dof();
-    let nx = 7 + n;
-    let mut k = vec![vec![0.0; nx]; 4];
-    let mut stage = x.to_vec();
-    for s in 0..4 {
-        if s > 0 {
-            let h = if s == 3 { dt } else { 0.5 * dt };
-            for i in 0..nx {
-                stage[i] = x[i] + h * k[s - 1][i];
-            }
-            normalize_quaternion(&mut stage);
-        }
-        if let Some(q) = joint_positions(s) {
-            stage[7..].copy_from_slice(&q);
-        }
-        let qd = joint_rates(s, &stage, data)?;
-        let twist = base_velocity_from_momentum(model, data, &stage, qd.as_slice(), &momentum.linear, &momentum.angular_about_origin)?;
-        let rate = base_pose_rate(&stage[3..7], &twist);
-        k[s][..7].copy_from_slice(&rate);
-        k[s][7..].copy_from_slice(qd.as_slice());
+    fn dim(&self) -> usize {
+        7 + self.model.n_dof()
     }
-    for i in 0..nx {
-        x[i] += dt / 6.0 * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
+
+    fn project(&self, x: &mut [f64]) {
+        normalize_quaternion(x);
     }
-    normalize_quaternion(x);
-    Ok(())
+
+    fn rhs(&mut self, _t: f64, x: &[f64], dx: &mut [f64]) -> Result<()> {
+        let s = self.stage;
+        self.stage = (s + 1) % 4;
+        self.x_stage.copy_from_slice(x);
+        if let Some(q) = (self.joint_positions)(s) {
+            self.x_stage[7..].copy_from_slice(&q);
+        }
+        let qd = (self.joint_rates)(s, &self.x_stage, self.data)?;
+        let m = self.momentum;
+        let twist = base_velocity_from_momentum(self.model, self.data, &self.x_stage, qd.as_slice(), &m.linear, &m.angular_about_origin)?;
+        dx[..7].copy_from_slice(&base_pose_rate(&self.x_stage[3..7], &twist));
+        dx[7..].copy_from_slice(qd.as_slice());
+        Ok(())
+    }
+}
+
+/// One RK4 step of the whole configuration `x = [r0, quat, q]` over `dt` ([`FreeFloating`]).
+fn rk4_step<F, G>(model: &Model, data: &mut Data, x: &mut [f64], dt: f64, momentum: &ConservedMomentum, joint_rates: F, joint_positions: G) -> Result<()>
+where
+    F: FnMut(usize, &[f64], &mut Data) -> Result<DVector<f64>>,
+    G: Fn(usize) -> Option<Vec<f64>>,
+{
+    let mut system = FreeFloating { model, data, momentum, joint_rates, joint_positions, stage: 0, x_stage: x.to_vec() };
+    Rk4::new(x.len()).step(&mut system, 0.0, dt, x, false)
 }
 
 fn check_step(dt: f64) -> Result<()> {
