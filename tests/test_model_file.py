@@ -277,7 +277,7 @@ BAD = [
     ("initial_q length", ("initial_q = [0.3, 0.1]", "initial_q = [0.3]"), "initial_q",
      r"initial_q must have N = 2 entries \(one per moving joint\), got 1"),
     ("unknown end effector", ('end_effector = "tip"', 'end_effector = "hand"'), "end_effector",
-     r"end_effector 'hand' is not a defined point; points: \[\"tip\"\]"),
+     r"end effector 'hand' is not a defined point; points: \[\"tip\"\]"),
     ("point on unknown body", ('body = "slider"', 'body = "hand"'), 'body = "hand"',
      r"point 'tip': body 'hand' is not a body of the model"),
     ("point name clash", ('name = "tip"', 'name = "arm"'), 'name = "arm"\nbody', r"point name 'arm' is already used"),

@@ -11,7 +11,9 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use spacearm_core::derivatives::{self, DerivativeData, LinearizationInputs};
-use spacearm_core::{aba, presets, Model};
+use spacearm_core::algorithms::aba;
+use spacearm_core::model::presets;
+use spacearm_core::Model;
 
 /// A fixed, non-trivial state: base drifting and tumbling, every joint displaced and moving.
 fn state(model: &Model) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
@@ -59,7 +61,7 @@ pub fn arm12() -> Model {
 fn bench_model(c: &mut Criterion, name: &str, model: Model) {
     let mut work = DerivativeData::new(&model);
     let (x, u, f) = state(&model);
-    let ee = model.points[model.end_effector.expect("an end effector")].clone();
+    let ee = model.points()[model.end_effector().expect("an end effector")].clone();
     let mut g = c.benchmark_group(name);
     g.bench_function("forward_dynamics_aba", |b| {
         b.iter(|| black_box(aba::aba(&model, &mut work.data, black_box(&x), black_box(&u), black_box(&f), &[]).unwrap()[0]))

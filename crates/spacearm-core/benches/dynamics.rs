@@ -14,7 +14,10 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use nalgebra::{Vector3, Vector6};
-use spacearm_core::{aba, crba, dynamics, gjm, inertia, kinematics, presets, rnea, Data, Model};
+use spacearm_core::algorithms::{aba, crba, dynamics, inertia, kinematics, rnea};
+use spacearm_core::gjm;
+use spacearm_core::model::presets;
+use spacearm_core::{Data, Model};
 
 /// A fixed, non-trivial state: base drifting and tumbling, every joint moving.
 fn state(model: &Model) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
@@ -33,7 +36,7 @@ fn bench_model(c: &mut Criterion, name: &str, model: Model) {
     let mut data = Data::new(&model);
     let (x, u, du, f) = state(&model);
     let n = model.n_dof();
-    let ee = model.end_effector.map(|i| model.points[i].clone()).expect("preset has an end effector");
+    let ee = model.end_effector().map(|i| model.points()[i].clone()).expect("preset has an end effector");
     let (ee_body, ee_offset): (usize, Vector3<f64>) = (ee.body, ee.offset);
     let base_wrench = Vector6::from_column_slice(&f[0..6]);
     let tau = f[6..6 + n].to_vec();

@@ -8,10 +8,10 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use spacearm_core::control::{ComputedTorque, Controller, ZeroTorque};
-use spacearm_core::integrate::{Dopri5, OdeSystem, Rk4};
-use spacearm_core::presets;
-use spacearm_core::reference::JointReference;
-use spacearm_core::simulate::{Plant, SimOptions};
+use spacearm_core::sim::integrate::{Dopri5, OdeSystem, Rk4};
+use spacearm_core::model::presets;
+use spacearm_core::sim::reference::JointReference;
+use spacearm_core::sim::simulate::{Plant, SimOptions};
 
 fn state(n: usize) -> (Vec<f64>, Vec<f64>) {
     let model = presets::spatial6();
@@ -48,7 +48,7 @@ fn bench_step(c: &mut Criterion, name: &str, controller: &mut dyn Controller) {
 
 fn benches(c: &mut Criterion) {
     let model = presets::spatial6();
-    let q0 = model.initial_q.clone();
+    let q0 = model.initial_q().to_vec();
     let q1: Vec<f64> = q0.iter().map(|q| q + 0.5).collect();
     bench_step(c, "zero_torque", &mut ZeroTorque);
     let mut ct = ComputedTorque::new(vec![25.0], vec![10.0], JointReference::quintic(q0, q1, 0.0, 2.0).unwrap(), None);

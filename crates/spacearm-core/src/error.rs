@@ -12,23 +12,31 @@ pub type Result<T> = std::result::Result<T, SpacearmError>;
 /// expected.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum SpacearmError {
-    /// The model description violates a physical or structural rule (DESIGN.md §4).
+    /// The model description violates a physical or structural rule (the rules:
+    /// [`crate::model::validate`]; docs/model-format.md). Raised from a [`ModelError`], which
+    /// also says where the rule is broken.
     #[error("invalid model: {0}")]
     InvalidModel(String),
 
     /// An array argument has the wrong length.
     #[error("{what} must have length {expected}, got {got}")]
     Dimension {
+        /// The argument.
         what: String,
+        /// The length expected (a number or a formula such as `7+N = 13`).
         expected: String,
+        /// The length given.
         got: usize,
     },
 
     /// An argument contains NaN or an infinity.
     #[error("{what} must be finite, but entry {index} is {value}")]
     NonFinite {
+        /// The argument.
         what: String,
+        /// Index of the first non-finite entry.
         index: usize,
+        /// Its value.
         value: f64,
     },
 
@@ -37,8 +45,11 @@ pub enum SpacearmError {
         "{what} must be a unit quaternion [x, y, z, w] (|q| = 1 within {tolerance:e}), got norm {norm}"
     )]
     NotUnitQuaternion {
+        /// The argument.
         what: String,
+        /// Its norm.
         norm: f64,
+        /// The tolerance on `| |q| − 1 |`.
         tolerance: f64,
     },
 
@@ -66,11 +77,88 @@ pub enum SpacearmError {
     Simulation(String),
 }
 
-impl SpacearmError {
-    pub(crate) fn model(msg: impl Into<String>) -> Self {
-        SpacearmError::InvalidModel(msg.into())
-    }
+/// Which item of a model description a [`ModelError`] is about. Links and points are counted
+/// from 0 in the order they were given to [`crate::model::ModelBuilder`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModelItem {
+    /// The model as a whole (its end effector, its initial joint coordinates).
+    Model,
+    /// The base body.
+    Base,
+    /// The `k`-th link given to the builder.
+    Link(usize),
+    /// The `k`-th point given to the builder.
+    Point(usize),
+    /// A Denavit–Hartenberg table as a whole (its rows, mounting pose and tool offset).
+    DhArm,
+    /// Row `k` of a Denavit–Hartenberg table (from 0).
+    DhRow(usize),
+}
 
+/// Which field of a [`ModelItem`] breaks a rule.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModelField {
+    /// The item's name (a duplicate, or empty).
+    Name,
+    /// The parent body of a link.
+    Parent,
+    /// The name of a link's joint.
+    JointName,
+    /// A joint's position in its parent (or a DH arm's `joint1_origin`).
+    Origin,
+    /// A joint's rotation at `q = 0` (or a DH arm's `joint1_rotation`).
+    Rotation,
+    /// A joint's axis.
+    Axis,
+    /// A link's centre of mass from its joint.
+    Com,
+    /// A body's mass (also: a moving joint that carries no mass at all).
+    Mass,
+    /// A body's inertia tensor.
+    Inertia,
+    /// A joint's limits.
+    Limits,
+    /// The body a point is fixed to.
+    Body,
+    /// A point's offset (or a DH arm's tool offset).
+    Offset,
+    /// The model's end effector.
+    EndEffector,
+    /// The model's initial joint coordinates.
+    InitialQ,
+    /// The geometric parameters of a DH row (`d`, `theta`, `a`, `alpha`, CM vectors).
+    DhParameters,
+}
+
+/// A model description that breaks a rule: the message (naming the body, joint or point, what
+/// was wrong and what was expected) and where, as an item and a field, so that a reader of a
+/// model file can point at the offending text from its own parse tree. Becomes
+/// [`SpacearmError::InvalidModel`] with the same message.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("invalid model: {message}")]
+pub struct ModelError {
+    /// The item the message is about.
+    pub item: ModelItem,
+    /// Its offending field.
+    pub field: ModelField,
+    /// What was wrong and what was expected.
+    pub message: String,
+}
+
+impl ModelError {
+    /// An error about `field` of `item`.
+    pub fn new(item: ModelItem, field: ModelField, message: impl Into<String>) -> Self {
+        ModelError { item, field, message: message.into() }
+    }
+}
+
+impl From<ModelError> for SpacearmError {
+    fn from(e: ModelError) -> Self {
+        SpacearmError::InvalidModel(e.message)
+    }
+}
+
+impl SpacearmError {
     pub(crate) fn argument(msg: impl Into<String>) -> Self {
         SpacearmError::InvalidArgument(msg.into())
     }

@@ -1,5 +1,5 @@
 //! The Generalized Jacobian Matrix formulation: `H*`, `c*`, `J*`, the momentum map and the
-//! reduced joint-space dynamics (paper §4–5, eqs. 39–50 and 104–111; DESIGN.md §2).
+//! reduced joint-space dynamics (paper §4–5, eqs. 39–50 and 104–111; docs/physics.md).
 //!
 //! All functions here take their inertia blocks from the CRBA mass matrix and invert `H0` by
 //! the closed-form Schur complement; nothing inverts a 6×6 matrix numerically.
@@ -14,19 +14,21 @@
 //! all column by column in O(N) or O(N²) with no dense 6×N or N×N temporaries. The `compute_*`
 //! functions leave their result in [`Data`] and allocate nothing; the functions returning owned
 //! matrices are thin copies of them.
+//!
+//! Imports: `math`, `model` and `algorithms`.
 
 use nalgebra::{DMatrix, DVector, Matrix6, Vector3, Vector6};
 
-use crate::crba::crba_after_kinematics;
-use crate::data::{Data, DataT};
+use crate::algorithms::crba::crba_after_kinematics;
+use crate::model::data::{Data, DataT};
 use crate::error::{Result, SpacearmError};
-use crate::inertia::BaseInverse;
-use crate::joint::JointType;
-use crate::kinematics::{check_body, check_joint_vector, check_velocity, forward_kinematics, point_position};
+use crate::algorithms::inertia::BaseInverse;
+use crate::model::joint::JointType;
+use crate::algorithms::kinematics::{check_body, check_joint_vector, check_velocity, forward_kinematics, point_position};
 use crate::model::Model;
-use crate::scalar::Real;
-use crate::rnea::rnea_after_kinematics;
-use crate::spatial::spatial;
+use crate::math::scalar::Real;
+use crate::algorithms::rnea::rnea_after_kinematics;
+use crate::math::spatial::spatial;
 
 /// The blocks `H0` (6×6), `H0m` (6×N), `H_m` (N×N) of a mass matrix.
 pub fn split_mass_matrix(h: &DMatrix<f64>) -> (Matrix6<f64>, DMatrix<f64>, DMatrix<f64>) {
@@ -175,7 +177,7 @@ pub(crate) fn generalized_jacobian_after_reduction<T: Real>(model: &Model, data:
         if let Some(d) = model.dof_of_body(b) {
             let k = data.joint_axis_in_world[b];
             let mut col = data.generalized_jacobian.column_mut(d);
-            match model.links[b - 1].joint.kind {
+            match model.links()[b - 1].joint.kind {
                 JointType::Revolute => {
                     let lin = k.cross(&(point - data.joint_position_in_world[b]));
                     col[0] += lin.x;
@@ -192,7 +194,7 @@ pub(crate) fn generalized_jacobian_after_reduction<T: Real>(model: &Model, data:
                 }
             }
         }
-        b = model.links[b - 1].parent;
+        b = model.links()[b - 1].parent;
     }
 }
 
@@ -256,7 +258,7 @@ pub fn momentum_twist(
     Ok(spatial(&(t_lin - d.cross(&t_ang)), &t_ang))
 }
 
-/// Reduced joint-space forward dynamics (DESIGN.md §2): with base wrench `F_b = [F0; N0]`,
+/// Reduced joint-space forward dynamics (docs/physics.md): with base wrench `F_b = [F0; N0]`,
 /// `q̈ = H*⁻¹ (τ − c* − H0mᵀ H0⁻¹ F_b)` and `ẍ0 = H0⁻¹ (F_b − H0m q̈ − c0)`, left in
 /// `data.accel`. See [`reduced_forward_dynamics`].
 pub fn compute_reduced_forward_dynamics<'d>(
@@ -302,7 +304,7 @@ pub fn compute_reduced_forward_dynamics<'d>(
     Ok(&data.accel)
 }
 
-/// Reduced joint-space forward dynamics (DESIGN.md §2): with base wrench `F_b = [F0; N0]`,
+/// Reduced joint-space forward dynamics (docs/physics.md): with base wrench `F_b = [F0; N0]`,
 /// `q̈ = H*⁻¹ (τ − c* − H0mᵀ H0⁻¹ F_b)` and `ẍ0 = H0⁻¹ (F_b − H0m q̈ − c0)`. `F_b = 0` is the
 /// floating case (eq. 50 generalized to a moving base). Returns the full `u̇ = [ẍ0; q̈]`, which
 /// equals the ABA result for `f = [F_b; τ]`.

@@ -5,48 +5,39 @@
 //! of Motion of Free-Floating Spacecraft-Manipulator Systems: An Engineer's Tutorial", Front.
 //! Robot. AI 5:41 — "the paper" in these docs, cited by equation number).
 //!
-//! Conventions (DESIGN.md §1, kept by every function): SI units; every vector in the inertial
-//! frame 𝒥 unless its name says otherwise; configuration `x = [r0, quat0 [x,y,z,w], q]`;
+//! Conventions (docs/conventions.md, kept by every function): SI units; every vector in the
+//! inertial frame 𝒥 unless its name says otherwise; configuration `x = [r0, quat0 [x,y,z,w], q]`;
 //! generalized velocity `u = [v0, ω0, q̇]` with `v0` the base CM velocity and `ω0` the base
 //! angular velocity, both in 𝒥; generalized force `f = [F0, N0, τ]`; spatial vectors linear
 //! first. EOM: `H(x) u̇ + c(x, u) = f + Jᵀ w_ext`.
 //!
-//! Layout: [`Model`] (constant) and [`Data`] (workspace) as in Pinocchio; one algorithm per
-//! module: [`kinematics`], [`inertia`] (paper form), [`crba`], [`rnea`], [`aba`], [`gjm`],
-//! [`momentum`], [`dynamics`]; model input in [`model`]. Simulation: [`simulate`] (loop and
-//! records), [`integrate`] (RK4, DOPRI5 on the quaternion manifold), [`modes`], [`actuators`],
-//! [`control`], [`reference`].
+//! Layout (docs/architecture.md), each folder importing only from those before it:
+//!
+//! * [`math`] — spatial vectors, rotations and quaternions, the scalar type;
+//! * [`model`] — [`Model`] (constant, validated, built only by [`ModelBuilder`]) and [`Data`]
+//!   (workspace), as in Pinocchio; mass properties, joints, presets;
+//! * [`io`] — TOML model files and Denavit–Hartenberg tables, both through the builder;
+//! * [`algorithms`] — kinematics, CRBA, RNEA, ABA, the paper-form inertia, momentum: free
+//!   functions `algo(&model, &mut data, x, ...)`;
+//! * [`gjm`] and [`derivatives`] — the generalized (reduced) dynamics `H*`, `c*`, `J*`, and
+//!   their exact derivatives;
+//! * [`sim`], [`control`], [`analysis`] — the simulation loop, the controllers, and the
+//!   singularity, workspace and redundancy analyses.
 
-pub mod aba;
+#![deny(missing_docs)]
+
+pub mod algorithms;
 pub mod analysis;
-pub mod actuators;
-pub mod body;
 pub mod control;
-pub mod crba;
-pub mod data;
 pub mod derivatives;
-pub mod dh;
-pub mod dynamics;
 pub mod error;
 pub mod gjm;
-pub mod inertia;
-pub mod integrate;
-pub mod joint;
-pub mod kinematics;
+pub mod io;
+pub mod math;
 pub mod model;
-pub mod model_file;
-pub mod modes;
-pub mod momentum;
-pub mod presets;
-pub mod reference;
-pub mod rnea;
-pub mod simulate;
-pub mod scalar;
-pub mod spatial;
-pub mod wrench;
+pub mod sim;
 
-pub use data::{Data, DataT};
+pub use algorithms::wrench::ExternalWrench;
 pub use error::{Result, SpacearmError};
-pub use joint::{JointLimits, JointType};
-pub use model::{LinkSpec, Model, ModelBuilder};
-pub use wrench::ExternalWrench;
+pub use model::joint::{JointLimits, JointType};
+pub use model::{Data, DataT, LinkSpec, Model, ModelBuilder};

@@ -6,6 +6,7 @@ mod common;
 
 use approx::assert_relative_eq;
 use nalgebra::{DMatrix, DVector, Vector3, Vector6};
+use spacearm_core::algorithms::{aba, crba, dynamics, inertia, kinematics, momentum, rnea};
 use spacearm_core::*;
 
 fn rel_err(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {

@@ -7,7 +7,9 @@ mod common;
 
 use nalgebra::{DMatrix, Quaternion, UnitQuaternion, Vector3};
 use spacearm_core::derivatives::{self, DerivativeData, LinearizationInputs};
-use spacearm_core::{aba, crba, gjm, Data, Model};
+use spacearm_core::algorithms::{aba, crba};
+use spacearm_core::gjm;
+use spacearm_core::{Data, Model};
 
 /// `x ⊕ h e_k` in tangent coordinates `[δr0, δθ (world), δq]`: `R0 ← exp(h ẽ) R0`.
 fn perturb(x: &[f64], k: usize, h: f64) -> Vec<f64> {
@@ -52,7 +54,7 @@ fn models() -> Vec<(Model, Vec<f64>, Vec<f64>)> {
         let (x, u) = common::random_state(&mut r, &model);
         out.push((model, x, u));
     }
-    out.push((spacearm_core::presets::spatial6(), spacearm_core::presets::initial_configuration(&spacearm_core::presets::spatial6()), {
+    out.push((spacearm_core::model::presets::spatial6(), spacearm_core::model::presets::initial_configuration(&spacearm_core::model::presets::spatial6()), {
         let mut u = vec![0.05, -0.02, 0.01, 0.03, -0.04, 0.02];
         u.extend((0..6).map(|i| 0.3 * (1.0 + i as f64).sin()));
         u
@@ -137,7 +139,7 @@ fn generalized_jacobian_partials_match_finite_differences() {
     for (model, x, u) in models() {
         let mut work = DerivativeData::new(&model);
         let mut data = Data::new(&model);
-        let p = &model.points[model.end_effector.unwrap()];
+        let p = &model.points()[model.end_effector().unwrap()];
         let (body, offset) = (p.body, p.offset);
         let n = model.n_dof();
         let partials = derivatives::generalized_jacobian_partials(&model, &mut work, &x, body, &offset).unwrap().to_vec();
@@ -208,9 +210,9 @@ fn forward_dynamics_derivatives_match_finite_differences() {
 
 #[test]
 fn bad_input_is_an_error_not_a_panic() {
-    let model = spacearm_core::presets::planar4();
+    let model = spacearm_core::model::presets::planar4();
     let mut work = DerivativeData::new(&model);
-    let x = spacearm_core::presets::initial_configuration(&model);
+    let x = spacearm_core::model::presets::initial_configuration(&model);
     assert!(derivatives::mass_matrix_partials(&model, &mut work, &x[1..]).is_err());
     let mut bad = x.clone();
     bad[3] = 2.0;

@@ -5,13 +5,13 @@
 //! actuator saturation.
 
 use nalgebra::Vector3;
-use spacearm_core::actuators::{SaturationKind, ThrusterLimits};
+use spacearm_core::sim::actuators::{SaturationKind, ThrusterLimits};
 use spacearm_core::control::{Command, ComputedTorque, ControlContext, Controller, ZeroTorque};
-use spacearm_core::integrate::IntegratorKind;
-use spacearm_core::modes::{Conserved, Mode};
-use spacearm_core::presets;
-use spacearm_core::reference::JointReference;
-use spacearm_core::simulate::{simulate, SimOptions, SimResult};
+use spacearm_core::sim::integrate::IntegratorKind;
+use spacearm_core::sim::modes::{Conserved, Mode};
+use spacearm_core::model::presets;
+use spacearm_core::sim::reference::JointReference;
+use spacearm_core::sim::simulate::{simulate, SimOptions, SimResult};
 use spacearm_core::{JointLimits, JointType, LinkSpec, Model, ModelBuilder};
 
 /// A constant command: joint torques and a base wrench.
@@ -119,7 +119,7 @@ fn quaternion_norm_stays_one_and_runs_are_bit_identical() {
     let model = presets::spatial6();
     let (x0, mut u0) = tumbling_state(&model);
     u0[3] = 3.0; // fast spin
-    let q0 = model.initial_q.clone();
+    let q0 = model.initial_q().to_vec();
     let q1: Vec<f64> = q0.iter().map(|q| q + 0.4).collect();
     for integrator in [IntegratorKind::Rk4, IntegratorKind::Dopri5] {
         let opts = SimOptions { duration: 1.5, dt: 5e-3, integrator, rtol: 1e-8, atol: 1e-10, ..SimOptions::default() };

@@ -9,11 +9,12 @@ use spacearm_core::control::{
     AttitudeControl, BaseThrusterControl, Combined, ComputedTorque, Controller, CoordinatedFlying, CoordinatedGains, JointPd,
     ResolvedMotionRate, ZeroTorque,
 };
-use spacearm_core::integrate::{Dopri5, OdeSystem, Rk4};
-use spacearm_core::modes::Mode;
-use spacearm_core::reference::{CartesianLine, JointReference};
-use spacearm_core::simulate::{Plant, SimOptions};
-use spacearm_core::{presets, JointLimits, JointType, LinkSpec, Model, ModelBuilder};
+use spacearm_core::sim::integrate::{Dopri5, OdeSystem, Rk4};
+use spacearm_core::sim::modes::Mode;
+use spacearm_core::sim::reference::{CartesianLine, JointReference};
+use spacearm_core::sim::simulate::{Plant, SimOptions};
+use spacearm_core::model::presets;
+use spacearm_core::{JointLimits, JointType, LinkSpec, Model, ModelBuilder};
 
 struct Counting;
 static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
@@ -34,8 +35,8 @@ static GLOBAL: Counting = Counting;
 /// spatial6 plus three reaction wheels.
 fn wheeled() -> Model {
     let base = presets::spatial6();
-    let mut b = ModelBuilder::new("w", "base", base.base.mass, [[68.33, 0.0, 0.0], [0.0, 86.67, 0.0], [0.0, 0.0, 101.67]]).unwrap();
-    for l in &base.links {
+    let mut b = ModelBuilder::new("w", "base", base.base().mass, [[68.33, 0.0, 0.0], [0.0, 86.67, 0.0], [0.0, 0.0, 101.67]]).unwrap();
+    for l in base.links() {
         b.add_link(LinkSpec {
             name: l.name.clone(),
             parent: base.body_name(l.parent).to_string(),
@@ -100,10 +101,10 @@ fn allocations_per_step(model: &Model, mode: Mode, controller: &mut dyn Controll
 #[test]
 fn steps_allocate_nothing_under_every_native_controller() {
     let arm = presets::spatial6();
-    let q0 = arm.initial_q.clone();
+    let q0 = arm.initial_q().to_vec();
     let q1: Vec<f64> = q0.iter().map(|q| q + 0.3).collect();
     let quintic = || JointReference::quintic(q0.clone(), q1.clone(), 0.0, 1.0).unwrap();
-    let ee = &arm.points[arm.end_effector.unwrap()];
+    let ee = &arm.points()[arm.end_effector().unwrap()];
     let line = CartesianLine::new(Vector3::new(2.6, 0.0, 0.1), Vector3::new(2.7, 0.1, 0.1), 0.0, 1.0).unwrap();
     let gains = CoordinatedGains { kp_ee: 100.0, kd_ee: 20.0, kp_base: 25.0, kd_base: 10.0 };
     let wheels = wheeled();

@@ -1,4 +1,4 @@
-//! Bindings of `spacearm_core::analysis` (issue #6): dynamic singularities, joint-space scans,
+//! Bindings of `spacearm_core::analysis`: dynamic singularities, joint-space scans,
 //! workspaces, reaction null space, free-floating kinematics and resolved-motion-rate control.
 //! Thin wrappers: arrays in, a dict of arrays out; the Python package `spacearm.analysis` is the
 //! face users see. Scans release the GIL while rayon runs.

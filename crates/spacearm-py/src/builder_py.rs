@@ -28,7 +28,7 @@ fn joint_type(py: Python<'_>, s: &str) -> PyResult<JointType> {
 impl PyModelBuilder {
     #[new]
     fn new(py: Python<'_>, name: &str, base_name: &str, base_mass: f64, base_inertia: [[f64; 3]; 3]) -> PyResult<Self> {
-        Ok(PyModelBuilder { inner: ModelBuilder::new(name, base_name, base_mass, base_inertia).or_raise(py)? })
+        Ok(PyModelBuilder { inner: ModelBuilder::new(name, base_name, base_mass, base_inertia).map_err(SpacearmError::from).or_raise(py)? })
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -67,12 +67,13 @@ impl PyModelBuilder {
                 inertia,
                 limits,
             })
+            .map_err(SpacearmError::from)
             .or_raise(py)?;
         Ok(())
     }
 
     fn add_point(&mut self, py: Python<'_>, name: &str, body: &str, offset: [f64; 3]) -> PyResult<()> {
-        self.inner.add_point(name, body, offset).or_raise(py)?;
+        self.inner.add_point(name, body, offset).map_err(SpacearmError::from).or_raise(py)?;
         Ok(())
     }
 
@@ -85,6 +86,6 @@ impl PyModelBuilder {
     }
 
     fn build(&self, py: Python<'_>) -> PyResult<PyModel> {
-        Ok(PyModel::new(self.inner.build().or_raise(py)?))
+        Ok(PyModel::new(self.inner.build().map_err(SpacearmError::from).or_raise(py)?))
     }
 }

@@ -18,13 +18,13 @@ use pyo3::prelude::*;
 /// A preset model by name (`planar4`, `spatial6`).
 #[pyfunction]
 fn preset(py: Python<'_>, name: &str) -> PyResult<model_py::PyModel> {
-    match spacearm_core::presets::by_name(name) {
+    match spacearm_core::model::presets::by_name(name) {
         Some(m) => Ok(model_py::PyModel::new(m)),
         None => Err(convert::to_py_err(
             py,
             spacearm_core::SpacearmError::NotFound(format!(
                 "no preset named '{name}'; presets are {:?}",
-                spacearm_core::presets::NAMES
+                spacearm_core::model::presets::NAMES
             )),
         )),
     }

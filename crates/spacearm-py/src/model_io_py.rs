@@ -1,9 +1,9 @@
-//! Model input and output: TOML model files (`spacearm-core::model_file`) and
-//! Denavit–Hartenberg tables (`spacearm-core::dh`). Wrapped by `spacearm.model_file` and
+//! Model input and output: TOML model files (`spacearm-core::io::toml`) and
+//! Denavit–Hartenberg tables (`spacearm-core::io::dh`). Wrapped by `spacearm.model_file` and
 //! `spacearm.dh`, which normalize the arguments.
 
 use pyo3::prelude::*;
-use spacearm_core::dh::{ClassicDhLink, DhArm, DhTable, PaperDhLink};
+use spacearm_core::io::dh::{ClassicDhLink, DhArm, DhTable, PaperDhLink};
 use spacearm_core::{JointLimits, JointType, SpacearmError};
 
 use crate::convert::*;
@@ -13,14 +13,14 @@ use crate::model_py::PyModel;
 #[pyfunction]
 #[pyo3(signature = (text, source = "<string>"))]
 pub fn model_from_toml(py: Python<'_>, text: &str, source: &str) -> PyResult<PyModel> {
-    let model = py.detach(|| spacearm_core::model_file::model_from_toml_str(text, source));
+    let model = py.detach(|| spacearm_core::io::toml::model_from_toml_str(text, source));
     model.map(PyModel::new).or_raise(py)
 }
 
 /// The model as TOML text (exact round trip).
 #[pyfunction]
 pub fn model_to_toml(model: PyRef<'_, PyModel>) -> String {
-    spacearm_core::model_file::model_to_toml(&model.model)
+    spacearm_core::io::toml::model_to_toml(&model.model)
 }
 
 fn joint_type(s: &str) -> spacearm_core::Result<JointType> {
@@ -61,7 +61,7 @@ fn build(
     initial_q: Option<Vec<f64>>,
 ) -> spacearm_core::Result<spacearm_core::Model> {
     let arm = DhArm { table, parent: base_name.to_string(), joint1_origin, joint1_rotation, tool_offset, tip_point };
-    spacearm_core::dh::model_from_dh(name, base_name, base_mass, base_inertia, &arm, initial_q)
+    spacearm_core::io::dh::model_from_dh(name, base_name, base_mass, base_inertia, &arm, initial_q)
 }
 
 /// A model whose arm is given by a classic (distal) DH table (see `docs/dh.md`).

@@ -88,7 +88,7 @@ fn with_force_from_parts<R>(
 impl PyModel {
     #[getter]
     fn name(&self) -> String {
-        self.model.name.clone()
+        self.model.name().to_string()
     }
     #[getter]
     fn n_dof(&self) -> usize {
@@ -108,15 +108,15 @@ impl PyModel {
     }
     #[getter]
     fn point_names(&self) -> Vec<String> {
-        self.model.points.iter().map(|p| p.name.clone()).collect()
+        self.model.points().iter().map(|p| p.name.clone()).collect()
     }
     #[getter]
     fn end_effector(&self) -> Option<String> {
-        self.model.end_effector.map(|i| self.model.points[i].name.clone())
+        self.model.end_effector().map(|i| self.model.points()[i].name.clone())
     }
     #[getter]
     fn initial_q<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        array1(py, &self.model.initial_q)
+        array1(py, self.model.initial_q())
     }
     /// Body index moved by each degree of freedom.
     #[getter]
@@ -128,7 +128,7 @@ impl PyModel {
     }
     fn point(&self, py: Python<'_>, name: &str) -> PyResult<(usize, [f64; 3])> {
         let i = self.model.point_index(name).or_raise(py)?;
-        let p = &self.model.points[i];
+        let p = &self.model.points()[i];
         Ok((p.body, [p.offset.x, p.offset.y, p.offset.z]))
     }
 
@@ -136,14 +136,14 @@ impl PyModel {
     fn describe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let m = &self.model;
         let out = PyDict::new(py);
-        out.set_item("name", &m.name)?;
+        out.set_item("name", m.name())?;
         let base = PyDict::new(py);
-        base.set_item("name", &m.base_name)?;
-        base.set_item("mass", m.base.mass)?;
-        base.set_item("inertia", rows3(&m.base.inertia))?;
+        base.set_item("name", m.base_name())?;
+        base.set_item("mass", m.base().mass)?;
+        base.set_item("inertia", rows3(&m.base().inertia))?;
         out.set_item("base", base)?;
         let links = PyList::empty(py);
-        for l in &m.links {
+        for l in m.links() {
             let d = PyDict::new(py);
             d.set_item("name", &l.name)?;
             d.set_item("parent", m.body_name(l.parent))?;
@@ -167,12 +167,12 @@ impl PyModel {
         }
         out.set_item("links", links)?;
         let points = PyList::empty(py);
-        for p in &m.points {
+        for p in m.points() {
             points.append((p.name.clone(), m.body_name(p.body).to_string(), [p.offset.x, p.offset.y, p.offset.z]))?;
         }
         out.set_item("points", points)?;
         out.set_item("end_effector", self.end_effector())?;
-        out.set_item("initial_q", m.initial_q.clone())?;
+        out.set_item("initial_q", m.initial_q().to_vec())?;
         Ok(out)
     }
 
@@ -185,7 +185,7 @@ impl PyModel {
         x: &Bound<'py, PyAny>,
     ) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
         let x = vec_arg(x, "x")?;
-        core::kinematics::forward_kinematics(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
+        core::algorithms::kinematics::forward_kinematics(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
         let d = &self.data;
         Ok((
             stack_mat3(py, &d.body_to_world),
@@ -198,31 +198,31 @@ impl PyModel {
     fn point_position<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let off = vec3(offset, "offset")?;
         let x = vec_arg(x, "x")?;
-        core::kinematics::forward_kinematics(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
-        core::kinematics::check_body(&self.model, body).or_raise(py)?;
-        Ok(array1(py, core::kinematics::point_position(&self.data, body, &off).as_slice()))
+        core::algorithms::kinematics::forward_kinematics(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
+        core::algorithms::kinematics::check_body(&self.model, body).or_raise(py)?;
+        Ok(array1(py, core::algorithms::kinematics::point_position(&self.data, body, &off).as_slice()))
     }
 
     fn point_jacobians<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
         let off = vec3(offset, "offset")?;
         let x = vec_arg(x, "x")?;
-        core::kinematics::forward_kinematics(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
-        let (j0, jm) = core::kinematics::point_jacobians(&self.model, &self.data, body, &off).or_raise(py)?;
+        core::algorithms::kinematics::forward_kinematics(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
+        let (j0, jm) = core::algorithms::kinematics::point_jacobians(&self.model, &self.data, body, &off).or_raise(py)?;
         Ok((mat6(py, &j0), dmat(py, &jm)))
     }
 
     fn link_jacobians<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
         let x = vec_arg(x, "x")?;
-        core::kinematics::forward_kinematics(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
-        core::kinematics::check_body(&self.model, body).or_raise(py)?;
-        let (jt, jr) = core::kinematics::link_jacobians(&self.model, &self.data, body);
+        core::algorithms::kinematics::forward_kinematics(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
+        core::algorithms::kinematics::check_body(&self.model, body).or_raise(py)?;
+        let (jt, jr) = core::algorithms::kinematics::link_jacobians(&self.model, &self.data, body);
         Ok((dmat(py, &jt), dmat(py, &jr)))
     }
 
     /// The paper's inertia blocks (eqs. 27–36) as a dict.
     fn inertia_blocks<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
         let x = vec_arg(x, "x")?;
-        let b = core::inertia::inertia_blocks(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
+        let b = core::algorithms::inertia::inertia_blocks(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
         let d = PyDict::new(py);
         d.set_item("M", b.total_mass)?;
         d.set_item("r_0g", array1(py, b.base_to_com.as_slice()))?;
@@ -239,26 +239,26 @@ impl PyModel {
     /// The mass matrix `H` by the paper's Jacobian sums (eqs. 27–36) alone.
     fn mass_matrix_paper<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let x = vec_arg(x, "x")?;
-        let b = core::inertia::inertia_blocks(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
+        let b = core::algorithms::inertia::inertia_blocks(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
         Ok(dmat(py, &b.mass_matrix()))
     }
 
     fn mass_matrix_crba<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let x = vec_arg(x, "x")?;
-        let h = core::crba::crba(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
+        let h = core::algorithms::crba::crba(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
         Ok(dmat(py, h))
     }
 
     fn base_inertia_inverse<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let x = vec_arg(x, "x")?;
-        let h = core::crba::crba(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
+        let h = core::algorithms::crba::crba(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
         let h0 = h.fixed_view::<6, 6>(0, 0).into_owned();
-        Ok(mat6(py, &core::inertia::base_inertia_inverse(&h0).or_raise(py)?))
+        Ok(mat6(py, &core::algorithms::inertia::base_inertia_inverse(&h0).or_raise(py)?))
     }
 
     fn bias_forces<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
-        let c = core::rnea::bias_forces(&self.model, &mut self.data, x.as_slice(), u.as_slice()).or_raise(py)?;
+        let c = core::algorithms::rnea::bias_forces(&self.model, &mut self.data, x.as_slice(), u.as_slice()).or_raise(py)?;
         Ok(dvec(py, c))
     }
 
@@ -273,7 +273,7 @@ impl PyModel {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let (x, u, du) = (vec_arg(x, "x")?, vec_arg(u, "u")?, vec_arg(du, "du")?);
         let ext = self::wrenches(py, wrenches)?;
-        let f = core::rnea::rnea(&self.model, &mut self.data, x.as_slice(), u.as_slice(), du.as_slice(), &ext).or_raise(py)?;
+        let f = core::algorithms::rnea::rnea(&self.model, &mut self.data, x.as_slice(), u.as_slice(), du.as_slice(), &ext).or_raise(py)?;
         Ok(dvec(py, f))
     }
 
@@ -290,7 +290,7 @@ impl PyModel {
         let f = vec_arg(f, "f")?;
         let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
         let ext = self::wrenches(py, wrenches)?;
-        let a = core::aba::aba(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f.as_slice(), &ext).or_raise(py)?;
+        let a = core::algorithms::aba::aba(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f.as_slice(), &ext).or_raise(py)?;
         Ok(dvec(py, a))
     }
 
@@ -306,7 +306,7 @@ impl PyModel {
         let f = vec_arg(f, "f")?;
         let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
         let ext = self::wrenches(py, wrenches)?;
-        let a = core::dynamics::compute_forward_dynamics_via_mass_matrix(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f.as_slice(), &ext)
+        let a = core::algorithms::dynamics::compute_forward_dynamics_via_mass_matrix(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f.as_slice(), &ext)
             .or_raise(py)?;
         Ok(dvec(py, a))
     }
@@ -326,7 +326,7 @@ impl PyModel {
         with_force_from_parts(py, &self.model, tau, base_wrench, |f| {
             let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
             let ext = self::wrenches(py, wrenches)?;
-            let a = core::aba::aba(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f, &ext).or_raise(py)?;
+            let a = core::algorithms::aba::aba(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f, &ext).or_raise(py)?;
             Ok(dvec(py, a))
         })
     }
@@ -345,7 +345,7 @@ impl PyModel {
         with_force_from_parts(py, &self.model, tau, base_wrench, |f| {
             let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
             let ext = self::wrenches(py, wrenches)?;
-            let a = core::dynamics::compute_forward_dynamics_via_mass_matrix(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f, &ext)
+            let a = core::algorithms::dynamics::compute_forward_dynamics_via_mass_matrix(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f, &ext)
                 .or_raise(py)?;
             Ok(dvec(py, a))
         })
@@ -447,7 +447,7 @@ impl PyModel {
         u: &Bound<'py, PyAny>,
     ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
         let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
-        let m = core::momentum::momentum(&self.model, &mut self.data, x.as_slice(), u.as_slice()).or_raise(py)?;
+        let m = core::algorithms::momentum::momentum(&self.model, &mut self.data, x.as_slice(), u.as_slice()).or_raise(py)?;
         Ok((
             array1(py, m.linear.as_slice()),
             array1(py, m.angular_about_origin.as_slice()),
@@ -458,26 +458,26 @@ impl PyModel {
 
     fn kinetic_energy<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<f64> {
         let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
-        core::momentum::kinetic_energy(&self.model, &mut self.data, x.as_slice(), u.as_slice()).or_raise(py)
+        core::algorithms::momentum::kinetic_energy(&self.model, &mut self.data, x.as_slice(), u.as_slice()).or_raise(py)
     }
 
     fn center_of_mass<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let x = vec_arg(x, "x")?;
-        let c = core::momentum::center_of_mass(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
+        let c = core::algorithms::momentum::center_of_mass(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
         Ok(array1(py, c.as_slice()))
     }
 
     fn joint_types(&self) -> Vec<&'static str> {
-        self.model.links.iter().map(|l| l.joint.kind.as_str()).collect()
+        self.model.links().iter().map(|l| l.joint.kind.as_str()).collect()
     }
 
     fn __repr__(&self) -> String {
         format!(
             "<spacearm._core.Model '{}': {} bodies, N = {} dof, {} fixed joints>",
-            self.model.name,
+            self.model.name(),
             self.model.n_bodies(),
             self.model.n_dof(),
-            self.model.links.iter().filter(|l| l.joint.kind == JointType::Fixed).count()
+            self.model.links().iter().filter(|l| l.joint.kind == JointType::Fixed).count()
         )
     }
 }

@@ -2,13 +2,13 @@
 //! the mode and integrator names, the simulation defaults and the
 //! quintic time scaling of the references (docs/simulation-core.md).
 
-use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
+use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use spacearm_core::integrate::IntegratorKind;
-use spacearm_core::modes::Mode;
-use spacearm_core::reference::quintic_scaling as core_quintic_scaling;
-use spacearm_core::simulate::SimOptions;
+use spacearm_core::sim::integrate::IntegratorKind;
+use spacearm_core::sim::modes::Mode;
+use spacearm_core::sim::reference::quintic_scaling as core_quintic_scaling;
+use spacearm_core::sim::simulate::SimOptions;
 
 /// Rest-to-rest quintic time scaling `(s, ṡ, s̈)` at each time of `t` (1-D array).
 #[pyfunction]

@@ -1,4 +1,4 @@
-//! `spacearm._core.simulate`: the whole simulation loop in Rust (`spacearm_core::simulate`),
+//! `spacearm._core.simulate`: the whole simulation loop in Rust (`spacearm_core::sim::simulate`),
 //! options and controller specifications parsed from Python dicts (unknown keys and bad values
 //! are errors naming them), records returned as numpy arrays. Wrapped by
 //! `spacearm.simulation.simulate`, which builds the dicts from the user-facing classes of
@@ -11,16 +11,16 @@ use nalgebra::Vector3;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
-use spacearm_core::actuators::ThrusterLimits;
+use spacearm_core::sim::actuators::ThrusterLimits;
 use spacearm_core::control::mismatch::{perturbed_model, Slosh};
 use spacearm_core::control::{
     AttitudeControl, BaseThrusterControl, Combined, Command, ComputedTorque, ControlContext, Controller, CoordinatedFlying, CoordinatedGains, JointPd,
     ResolvedMotionRate, ZeroTorque,
 };
-use spacearm_core::integrate::IntegratorKind;
-use spacearm_core::modes::Mode;
-use spacearm_core::reference::{CartesianLine, JointReference};
-use spacearm_core::simulate::{simulate as core_simulate, SimOptions};
+use spacearm_core::sim::integrate::IntegratorKind;
+use spacearm_core::sim::modes::Mode;
+use spacearm_core::sim::reference::{CartesianLine, JointReference};
+use spacearm_core::sim::simulate::{simulate as core_simulate, SimOptions};
 use spacearm_core::{Model, SpacearmError};
 
 use crate::convert::*;
@@ -468,5 +468,5 @@ pub fn perturbed(
 /// Degrees of freedom the simulator treats as reaction wheels by default.
 #[pyfunction]
 pub fn default_wheel_dofs(model: &Bound<'_, PyModel>) -> Vec<usize> {
-    spacearm_core::actuators::detect_reaction_wheels(&model.borrow().model)
+    spacearm_core::sim::actuators::detect_reaction_wheels(&model.borrow().model)
 }

@@ -14,13 +14,15 @@
 //! `q̇uat = ½ [ω0; 0] ⊗ quat`. The quaternion is renormalized after every step (and the
 //! intermediate stage quaternions before they are used).
 
-use nalgebra::{DVector, Quaternion, UnitQuaternion, Vector3, Vector6};
+use nalgebra::{DVector, UnitQuaternion, Vector3, Vector6};
 
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
 use crate::gjm::base_velocity_from_momentum;
-use crate::kinematics::split_configuration;
+use crate::algorithms::kinematics::split_configuration;
+use crate::math::rotations::{normalize_xyzw, quaternion_from_xyzw, quaternion_rate};
 use crate::model::Model;
+use crate::sim::integrate::{OdeSystem, Rk4};
 
 /// Conserved momenta of the free-floating system: linear momentum `P` and angular momentum
 /// about the origin of 𝒥. `Default` is zero momentum (a system that starts at rest).
@@ -34,57 +36,68 @@ pub struct ConservedMomentum {
 
 /// Time derivative of `[r0, quat]` (7 values) for base twist `[v0; ω0]` (both in 𝒥).
 fn base_pose_rate(quat: &[f64], twist: &Vector6<f64>) -> [f64; 7] {
-    let (qx, qy, qz, qw) = (quat[0], quat[1], quat[2], quat[3]);
-    let w = Vector3::new(twist[3], twist[4], twist[5]);
-    let v = Vector3::new(qx, qy, qz);
-    // ½ [ω; 0] ⊗ [v; w]: vector part ½(w ω + ω × v), scalar part −½ ω·v.
-    let dv = 0.5 * (qw * w + w.cross(&v));
-    let dw = -0.5 * w.dot(&v);
-    [twist[0], twist[1], twist[2], dv.x, dv.y, dv.z, dw]
+    let d = quaternion_rate(quat, &Vector3::new(twist[3], twist[4], twist[5]));
+    [twist[0], twist[1], twist[2], d[0], d[1], d[2], d[3]]
 }
 
+/// Normalize the base quaternion `x[3..7]` of a configuration.
 fn normalize_quaternion(x: &mut [f64]) {
-    let n = (x[3] * x[3] + x[4] * x[4] + x[5] * x[5] + x[6] * x[6]).sqrt();
-    for v in &mut x[3..7] {
-        *v /= n;
-    }
+    normalize_xyzw(&mut x[3..7]);
 }
 
-/// One RK4 step of the whole configuration `x = [r0, quat, q]` over `dt`, given the joint rates
-/// at the stage times by `joint_rates(stage, x_stage)` (stage 0 at `t`, 1 and 2 at `t + dt/2`,
-/// 3 at `t + dt`) and, for prescribed joint motion, the joint positions at the stage times by
-/// `joint_positions(stage)` (`None`: `q` is integrated from the rates too).
-fn rk4_step<F, G>(model: &Model, data: &mut Data, x: &mut [f64], dt: f64, momentum: &ConservedMomentum, mut joint_rates: F, joint_positions: G) -> Result<()>
+/// The configuration `x = [r0, quat, q]` of a free-floating system as an ODE for the
+/// simulator's [`Rk4`] (the one RK4 with quaternion projection of the crate): `ṙ0, quaṫ` from
+/// the base twist that conserves `momentum`, `q̇` from `joint_rates(stage, x_stage, data)`, and,
+/// for prescribed joint motion, `q` at each stage replaced by `joint_positions(stage)`.
+/// [`Rk4::step`] evaluates its four stages in order (0 at `t`, 1 and 2 at `t + dt/2`, 3 at
+/// `t + dt`), which `stage` counts.
+struct FreeFloating<'a, F, G> {
+    model: &'a Model,
+    data: &'a mut Data,
+    momentum: &'a ConservedMomentum,
+    joint_rates: F,
+    joint_positions: G,
+    stage: usize,
+    x_stage: Vec<f64>,
+}
+
+impl<F, G> OdeSystem for FreeFloating<'_, F, G>
 where
     F: FnMut(usize, &[f64], &mut Data) -> Result<DVector<f64>>,
     G: Fn(usize) -> Option<Vec<f64>>,
 {
-    let n = model.n_dof();
-    let nx = 7 + n;
-    let mut k = vec![vec![0.0; nx]; 4];
-    let mut stage = x.to_vec();
-    for s in 0..4 {
-        if s > 0 {
-            let h = if s == 3 { dt } else { 0.5 * dt };
-            for i in 0..nx {
-                stage[i] = x[i] + h * k[s - 1][i];
-            }
-            normalize_quaternion(&mut stage);
-        }
-        if let Some(q) = joint_positions(s) {
-            stage[7..].copy_from_slice(&q);
-        }
-        let qd = joint_rates(s, &stage, data)?;
-        let twist = base_velocity_from_momentum(model, data, &stage, qd.as_slice(), &momentum.linear, &momentum.angular_about_origin)?;
-        let rate = base_pose_rate(&stage[3..7], &twist);
-        k[s][..7].copy_from_slice(&rate);
-        k[s][7..].copy_from_slice(qd.as_slice());
+    fn dim(&self) -> usize {
+        7 + self.model.n_dof()
     }
-    for i in 0..nx {
-        x[i] += dt / 6.0 * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
+
+    fn project(&self, x: &mut [f64]) {
+        normalize_quaternion(x);
     }
-    normalize_quaternion(x);
-    Ok(())
+
+    fn rhs(&mut self, _t: f64, x: &[f64], dx: &mut [f64]) -> Result<()> {
+        let s = self.stage;
+        self.stage = (s + 1) % 4;
+        self.x_stage.copy_from_slice(x);
+        if let Some(q) = (self.joint_positions)(s) {
+            self.x_stage[7..].copy_from_slice(&q);
+        }
+        let qd = (self.joint_rates)(s, &self.x_stage, self.data)?;
+        let m = self.momentum;
+        let twist = base_velocity_from_momentum(self.model, self.data, &self.x_stage, qd.as_slice(), &m.linear, &m.angular_about_origin)?;
+        dx[..7].copy_from_slice(&base_pose_rate(&self.x_stage[3..7], &twist));
+        dx[7..].copy_from_slice(qd.as_slice());
+        Ok(())
+    }
+}
+
+/// One RK4 step of the whole configuration `x = [r0, quat, q]` over `dt` ([`FreeFloating`]).
+fn rk4_step<F, G>(model: &Model, data: &mut Data, x: &mut [f64], dt: f64, momentum: &ConservedMomentum, joint_rates: F, joint_positions: G) -> Result<()>
+where
+    F: FnMut(usize, &[f64], &mut Data) -> Result<DVector<f64>>,
+    G: Fn(usize) -> Option<Vec<f64>>,
+{
+    let mut system = FreeFloating { model, data, momentum, joint_rates, joint_positions, stage: 0, x_stage: x.to_vec() };
+    Rk4::new(x.len()).step(&mut system, 0.0, dt, x, false)
 }
 
 fn check_step(dt: f64) -> Result<()> {
@@ -176,15 +189,15 @@ where
 
 /// Rotation angle (rad, in [0, π]) between two base attitudes given as `[x, y, z, w]` quaternions.
 pub fn attitude_change(quat_a: &[f64], quat_b: &[f64]) -> f64 {
-    let a = UnitQuaternion::from_quaternion(Quaternion::new(quat_a[3], quat_a[0], quat_a[1], quat_a[2]));
-    let b = UnitQuaternion::from_quaternion(Quaternion::new(quat_b[3], quat_b[0], quat_b[1], quat_b[2]));
+    let a = UnitQuaternion::from_quaternion(quaternion_from_xyzw(quat_a));
+    let b = UnitQuaternion::from_quaternion(quaternion_from_xyzw(quat_b));
     a.angle_to(&b)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::presets;
+    use crate::model::presets;
 
     /// Planar base + one link, zero momentum: dθ0/dq = −(I1 + μ(b² + ab cos q)) /
     /// (I0 + I1 + μ(a² + b² + 2ab cos q)) with μ = m0 m1/(m0 + m1), a the joint offset from
@@ -192,7 +205,7 @@ mod tests {
     /// two-body system). Integrated here by composite Simpson on a fine grid.
     #[test]
     fn one_link_planar_closed_form() {
-        use crate::joint::{JointLimits, JointType};
+        use crate::model::joint::{JointLimits, JointType};
         use crate::model::{LinkSpec, ModelBuilder};
         let (m0, i0, m1, i1, a, b) = (50.0, 3.0, 8.0, 0.7, 0.4, 0.6);
         let mut mb = ModelBuilder::new("one", "base", m0, [[i0, 0.0, 0.0], [0.0, i0, 0.0], [0.0, 0.0, i0]]).unwrap();

@@ -10,6 +10,9 @@
 //!
 //! Every batch scan runs its samples in parallel with rayon; each sample is computed on its own
 //! workspace from its own input only, so the results do not depend on the number of threads.
+//!
+//! Imports: everything below it (`math`, `model`, `algorithms`, `gjm`) and the RK4 integrator
+//! of [`crate::sim::integrate`] (its peer); nothing from `control`.
 
 pub mod free_floating_kinematics;
 pub mod reaction_null_space;

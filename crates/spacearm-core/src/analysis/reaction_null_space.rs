@@ -17,7 +17,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::Svd;
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
 use crate::gjm::compute_generalized_jacobian;
 use crate::model::Model;
@@ -57,7 +57,7 @@ pub fn base_twist_map(model: &Model, data: &mut Data, x: &[f64]) -> Result<DMatr
 /// with rank decided at `relative_tolerance · σ_max` (e.g. `1e-9`).
 pub fn reaction_null_space(model: &Model, data: &mut Data, x: &[f64], which: BaseMotion, relative_tolerance: f64) -> Result<ReactionNullSpace> {
     if model.n_dof() == 0 {
-        return Err(SpacearmError::InvalidModel(format!("model '{}' has no joints: no reaction null space", model.name)));
+        return Err(SpacearmError::InvalidModel(format!("model '{}' has no joints: no reaction null space", model.name())));
     }
     if !(relative_tolerance.is_finite() && relative_tolerance > 0.0 && relative_tolerance < 1.0) {
         return Err(SpacearmError::InvalidArgument(format!("the rank tolerance must be in (0, 1), got {relative_tolerance}")));
@@ -84,7 +84,7 @@ pub fn null_space_of(map: DMatrix<f64>, relative_tolerance: f64) -> Result<React
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::presets;
+    use crate::model::presets;
 
     #[test]
     fn planar_arm_has_a_three_dimensional_reaction_null_space() {

@@ -33,10 +33,10 @@ use super::free_floating_kinematics::{attitude_change, integrate_feedback, Conse
 use super::reaction_null_space::null_space_of;
 use super::singularity::DampingLaw;
 use super::{dls_from_svd, Svd, Task};
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
 use crate::gjm::compute_generalized_jacobian;
-use crate::kinematics::{check_body, point_position, split_configuration};
+use crate::algorithms::kinematics::{check_body, point_position, split_configuration};
 use crate::model::Model;
 
 /// How the primary task treats the base.
@@ -155,7 +155,7 @@ pub fn rmrc_rates(model: &Model, data: &mut Data, x: &[f64], body: usize, offset
         }
         if options.joint_limit_gain > 0.0 {
             for i in 0..n {
-                let lim = model.links[model.body_of_dof(i) - 1].joint.limits;
+                let lim = model.links()[model.body_of_dof(i) - 1].joint.limits;
                 if lim.lower.is_finite() && lim.upper.is_finite() && lim.upper > lim.lower {
                     let range = lim.upper - lim.lower;
                     let mid = 0.5 * (lim.upper + lim.lower);
@@ -172,7 +172,7 @@ pub fn rmrc_rates(model: &Model, data: &mut Data, x: &[f64], body: usize, offset
     let mut alpha: f64 = 1.0;
     let mut scale: f64 = 1.0;
     for i in 0..n {
-        let vmax = model.links[model.body_of_dof(i) - 1].joint.limits.velocity;
+        let vmax = model.links()[model.body_of_dof(i) - 1].joint.limits.velocity;
         if !vmax.is_finite() {
             continue;
         }
@@ -255,7 +255,7 @@ pub fn move_to(
     if steps == 0 || steps > 10_000_000 {
         return Err(SpacearmError::InvalidArgument(format!("(duration + settle) / dt = {steps} steps: expected between 1 and 1e7")));
     }
-    crate::kinematics::forward_kinematics(model, data, x0)?;
+    crate::algorithms::kinematics::forward_kinematics(model, data, x0)?;
     let start = point_position(data, body, offset);
     let rot_d: Matrix3<f64> = data.body_to_world[body];
     let k = options.feedback_gain;
@@ -269,7 +269,7 @@ pub fn move_to(
         Vector6::new(lin.x, lin.y, lin.z, ang.x, ang.y, ang.z)
     };
     let law = |t: f64, x: &[f64], data: &mut Data| -> Result<RmrcRates> {
-        crate::kinematics::forward_kinematics(model, data, x)?;
+        crate::algorithms::kinematics::forward_kinematics(model, data, x)?;
         let desired = desired_at(t, data);
         rmrc_rates(model, data, x, body, offset, &desired, options)
     };
@@ -288,7 +288,7 @@ pub fn move_to(
     for i in 0..=steps {
         let x = motion.x[i * nx..(i + 1) * nx].to_vec();
         let r = law(motion.times[i], &x, data)?;
-        crate::kinematics::forward_kinematics(model, data, &x)?;
+        crate::algorithms::kinematics::forward_kinematics(model, data, &x)?;
         let p = point_position(data, body, offset);
         motion.qd.extend(r.qd.iter());
         motion.point_position.extend(p.iter());
@@ -305,7 +305,7 @@ pub fn move_to(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::presets;
+    use crate::model::presets;
 
     fn options(strategy: Strategy) -> RmrcOptions {
         RmrcOptions {
@@ -323,7 +323,7 @@ mod tests {
         let m = presets::planar4();
         let mut d = Data::new(&m);
         let x = presets::initial_configuration(&m);
-        let ee = m.points[m.end_effector.unwrap()].clone();
+        let ee = m.points()[m.end_effector().unwrap()].clone();
         let desired = Vector6::new(0.1, -0.05, 0.0, 0.0, 0.0, 0.0);
         let r = rmrc_rates(&m, &mut d, &x, ee.body, &ee.offset, &desired, &options(Strategy::Reactionless)).unwrap();
         assert!(r.base_angular_velocity.norm() < 1e-12);
@@ -340,8 +340,8 @@ mod tests {
         let m = presets::planar4();
         let mut d = Data::new(&m);
         let x0 = presets::initial_configuration(&m);
-        let ee = m.points[m.end_effector.unwrap()].clone();
-        crate::kinematics::forward_kinematics(&m, &mut d, &x0).unwrap();
+        let ee = m.points()[m.end_effector().unwrap()].clone();
+        crate::algorithms::kinematics::forward_kinematics(&m, &mut d, &x0).unwrap();
         let p0 = point_position(&d, ee.body, &ee.offset);
         let target = p0 + Vector3::new(-0.5, 0.6, 0.0);
         let r = move_to(&m, &mut d, &x0, ee.body, &ee.offset, &target, 4.0, 1.0, 0.01, &options(Strategy::Reactionless)).unwrap();

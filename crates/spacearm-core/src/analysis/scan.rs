@@ -11,11 +11,11 @@ use rayon::prelude::*;
 
 use super::singularity::{check_has_dofs, task_jacobians};
 use super::{Svd, Task};
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
-use crate::kinematics::{check_body, point_position};
+use crate::algorithms::kinematics::{check_body, point_position};
 use crate::model::Model;
-use crate::momentum::center_of_mass_from_data;
+use crate::algorithms::momentum::center_of_mass_from_data;
 
 /// The results of one joint-space sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -126,7 +126,7 @@ pub fn joint_grid(lower: &[f64], upper: &[f64], resolution: usize) -> Result<Vec
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::presets;
+    use crate::model::presets;
 
     #[test]
     fn grid_order_and_limits() {
@@ -143,7 +143,7 @@ mod tests {
     #[test]
     fn parallel_scan_equals_serial() {
         let m = presets::planar4();
-        let ee = m.points[m.end_effector.unwrap()].clone();
+        let ee = m.points()[m.end_effector().unwrap()].clone();
         let g = joint_grid(&[-1.0; 4], &[1.0; 4], 4).unwrap();
         let par = scan(&m, &g, ee.body, &ee.offset, &Task::planar()).unwrap();
         let mut d = Data::new(&m);

@@ -22,10 +22,10 @@
 use nalgebra::{DMatrix, DVector, Vector3};
 
 use super::{Svd, Task};
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
 use crate::gjm::compute_generalized_jacobian;
-use crate::kinematics::{joint_jacobian_of_point, point_position};
+use crate::algorithms::kinematics::{joint_jacobian_of_point, point_position};
 use crate::model::Model;
 
 /// Singular values, condition, manipulability and singular directions of one task Jacobian.
@@ -94,7 +94,7 @@ pub fn analyze(model: &Model, data: &mut Data, x: &[f64], body: usize, offset: &
 
 pub(crate) fn check_has_dofs(model: &Model) -> Result<()> {
     if model.n_dof() == 0 {
-        return Err(SpacearmError::InvalidModel(format!("model '{}' has no joint degrees of freedom to analyse", model.name)));
+        return Err(SpacearmError::InvalidModel(format!("model '{}' has no joint degrees of freedom to analyse", model.name())));
     }
     Ok(())
 }
@@ -173,7 +173,7 @@ pub fn detect_at(model: &Model, data: &mut Data, x: &[f64], body: usize, offset:
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::presets;
+    use crate::model::presets;
 
     #[test]
     fn damping_law_shape() {
@@ -193,7 +193,7 @@ mod tests {
     fn attitude_does_not_change_singular_values() {
         let m = presets::spatial6();
         let mut d = Data::new(&m);
-        let ee = m.points[m.end_effector.unwrap()].clone();
+        let ee = m.points()[m.end_effector().unwrap()].clone();
         let mut x = presets::initial_configuration(&m);
         let a = analyze(&m, &mut d, &x, ee.body, &ee.offset, &Task::full()).unwrap();
         // A rotated, translated base: same q.

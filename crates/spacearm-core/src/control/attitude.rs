@@ -9,13 +9,14 @@
 //! 𝒥) and `A⁺ = Aᵀ (A Aᵀ)⁺` its Moore–Penrose pseudo-inverse (the minimum-norm torques; with
 //! fewer than three independent axes, the component of `N` they cannot produce is left out).
 
-use nalgebra::{Matrix3, Quaternion, SymmetricEigen, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, SymmetricEigen, UnitQuaternion, Vector3};
 
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
-use crate::kinematics::forward_kinematics;
+use crate::algorithms::kinematics::forward_kinematics;
+use crate::math::rotations::quaternion_from_xyzw;
 use crate::model::Model;
-use crate::modes::Mode;
+use crate::sim::modes::Mode;
 
 use super::{Command, ControlContext, Controller};
 
@@ -33,7 +34,7 @@ pub struct AttitudeControl {
 }
 
 impl AttitudeControl {
-    /// `quat_ref` `[x, y, z, w]` (unit within [`crate::model::QUATERNION_TOLERANCE`]), gains `kp` (N·m/rad)
+    /// `quat_ref` `[x, y, z, w]` (unit within [`crate::math::rotations::QUATERNION_TOLERANCE`]), gains `kp` (N·m/rad)
     /// and `kd` (N·m·s/rad), finite and ≥ 0.
     pub fn new(quat_ref: [f64; 4], kp: f64, kd: f64) -> Self {
         AttitudeControl {
@@ -49,16 +50,16 @@ impl AttitudeControl {
     }
 
     /// Set the reference attitude `[x, y, z, w]` (checked: unit within
-    /// [`crate::model::QUATERNION_TOLERANCE`]).
+    /// [`crate::math::rotations::QUATERNION_TOLERANCE`]).
     pub fn set_reference(&mut self, quat_ref: [f64; 4]) -> Result<()> {
-        self.quat_ref = crate::model::unit_quaternion_from_xyzw("attitude quat_ref", &quat_ref)?;
+        self.quat_ref = crate::math::rotations::unit_quaternion_from_xyzw("attitude quat_ref", &quat_ref)?;
         self.quat_ref_xyzw = quat_ref;
         Ok(())
     }
 
     /// Attitude error `e = 2 sign(w_e) v_e` of `quat` (`[x, y, z, w]`, unit) and its angle.
     pub fn error(&self, quat: &[f64]) -> (Vector3<f64>, f64) {
-        let q = UnitQuaternion::new_unchecked(Quaternion::new(quat[3], quat[0], quat[1], quat[2]));
+        let q = UnitQuaternion::new_unchecked(quaternion_from_xyzw(quat));
         let qe = q * self.quat_ref.inverse();
         let sign = if qe.w < 0.0 { -1.0 } else { 1.0 };
         let v = qe.vector() * (2.0 * sign);
@@ -88,7 +89,7 @@ impl Controller for AttitudeControl {
                 return Err(SpacearmError::argument(format!("attitude control {what} must be finite and >= 0, got {v}")));
             }
         }
-        self.quat_ref = crate::model::unit_quaternion_from_xyzw("attitude control quat_ref", &self.quat_ref_xyzw)?;
+        self.quat_ref = crate::math::rotations::unit_quaternion_from_xyzw("attitude control quat_ref", &self.quat_ref_xyzw)?;
         let model = ctx.plant.clone();
         self.data = Some(Data::new(&model));
         self.axes_body = ctx.wheel_dofs.iter().map(|&d| model.body_of_dof(d)).collect();

@@ -3,7 +3,7 @@
 //! the controller's own model (by default the plant's; [`super::mismatch::perturbed_model`]
 //! builds a mismatched one — mass and inertia errors, fuel slosh).
 //!
-//! The reduced EOM with a base wrench (DESIGN.md §2) is `H* q̈ + c* + H0mᵀ H0⁻¹ F_b = τ`, so when a
+//! The reduced EOM with a base wrench (docs/physics.md) is `H* q̈ + c* + H0mᵀ H0⁻¹ F_b = τ`, so when a
 //! base controller commands a wrench `F_b` (in [`super::Combined`]) its effect is compensated
 //! by the extra term, with `F_b` as the mode applies it. With reaction wheels the wheels' torques
 //! `τ_W` are given (by the base controller, or zero) and the arm joints `A` get the torques
@@ -11,13 +11,13 @@
 //! `q̈_W = H*_WW⁻¹ (τ_W − g_W − H*_WA q̈_A)` and then `τ_A = H*_AA q̈_A + H*_AW q̈_W + g_A`, with
 //! `g = c* + H0mᵀ H0⁻¹ F_b`.
 
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
 use crate::gjm::{compute_generalized_bias, compute_generalized_inertia};
-use crate::inertia::BaseInverse;
+use crate::algorithms::inertia::BaseInverse;
 use crate::model::Model;
-use crate::modes::Mode;
-use crate::reference::JointReference;
+use crate::sim::modes::Mode;
+use crate::sim::reference::JointReference;
 
 use super::pd::check_reference_len;
 use super::{broadcast_gains, cholesky_solve_in_place, Command, ControlContext, Controller, TrackingKind};
@@ -42,9 +42,9 @@ impl ReducedInverseDynamics {
         if model.n_dof() != ctx.plant.n_dof() {
             return Err(SpacearmError::argument(format!(
                 "the controller's model '{}' has {} joint dofs but the plant '{}' has {}",
-                model.name,
+                model.name(),
                 model.n_dof(),
-                ctx.plant.name,
+                ctx.plant.name(),
                 ctx.plant.n_dof()
             )));
         }

@@ -1,6 +1,6 @@
 //! Coordinated base-and-arm control in the flying mode: an end-effector task plus base pose
 //! regulation, through the flying-regime reduced EOM `H* q̈ + c* = τ − H0mᵀ H0⁻¹ F_b`
-//! (DESIGN.md §2; the paper leaves the flying case open).
+//! (docs/physics.md; the paper leaves the flying case open).
 //!
 //! 1. Base regulation (acceleration level): `ẍ0_des = [K_pb (r_ref − r0) − K_db v0;
 //!    −K_pb e − K_db ω0]` with `e` the attitude error of [`super::attitude`].
@@ -18,16 +18,16 @@
 
 use nalgebra::{Matrix3, Vector3, Vector6};
 
-use crate::crba::crba_after_kinematics;
-use crate::data::Data;
+use crate::algorithms::crba::crba_after_kinematics;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
-use crate::joint::JointType;
-use crate::kinematics::{check_body, forward_kinematics, point_position};
+use crate::model::joint::JointType;
+use crate::algorithms::kinematics::{check_body, forward_kinematics, point_position};
 use crate::model::Model;
-use crate::modes::Mode;
-use crate::reference::CartesianLine;
-use crate::rnea::rnea_after_kinematics;
-use crate::spatial::{angular, linear};
+use crate::sim::modes::Mode;
+use crate::sim::reference::CartesianLine;
+use crate::algorithms::rnea::rnea_after_kinematics;
+use crate::math::spatial::{angular, linear};
 
 use super::attitude::AttitudeControl;
 use super::computed_torque::ReducedInverseDynamics;
@@ -37,9 +37,13 @@ use super::{positive, Command, ControlContext, Controller, TrackingKind};
 /// Gains of [`CoordinatedFlying`] (acceleration level, 1/s² and 1/s).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CoordinatedGains {
+    /// End-effector position gain, 1/s².
     pub kp_ee: f64,
+    /// End-effector velocity gain, 1/s.
     pub kd_ee: f64,
+    /// Base pose gain, 1/s².
     pub kp_base: f64,
+    /// Base velocity gain, 1/s.
     pub kd_base: f64,
 }
 
@@ -150,7 +154,7 @@ impl Controller for CoordinatedFlying {
         }
         check_body(ctx.plant, self.body)?;
         if let Some((_, q)) = self.base_ref {
-            crate::model::unit_quaternion_from_xyzw("coordinated flying base quaternion reference", &q)?;
+            crate::math::rotations::unit_quaternion_from_xyzw("coordinated flying base quaternion reference", &q)?;
         }
         let model = ctx.plant.clone();
         self.data = Some(Data::new(&model));
@@ -198,12 +202,12 @@ impl Controller for CoordinatedFlying {
         while b != 0 {
             if let Some(dof) = model.dof_of_body(b) {
                 let k = data.joint_axis_in_world[b];
-                self.jac[dof] = match model.links[b - 1].joint.kind {
+                self.jac[dof] = match model.links()[b - 1].joint.kind {
                     JointType::Revolute => k.cross(&(p - data.joint_position_in_world[b])),
                     _ => k,
                 };
             }
-            b = model.links[b - 1].parent;
+            b = model.links()[b - 1].parent;
         }
         let mut jjt = Matrix3::zeros();
         for &dof in &self.arm {
@@ -244,9 +248,9 @@ impl Controller for CoordinatedFlying {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kinematics::point_jacobians;
+    use crate::algorithms::kinematics::point_jacobians;
     use nalgebra::UnitQuaternion;
-    use crate::presets;
+    use crate::model::presets;
 
     /// Configuration advanced by `h` along constant `u` (u̇ = 0): exact for the base (constant
     /// v0, ω0 in 𝒥) and the joints.
@@ -277,7 +281,7 @@ mod tests {
         x[0] = 3.0;
         x[2] = -1.0;
         let u = vec![0.3, -0.2, 0.1, 0.4, -0.5, 0.3, 0.7, -0.4, 0.6, 0.5, -0.8, 0.9];
-        let pt = &model.points[model.end_effector.unwrap()];
+        let pt = &model.points()[model.end_effector().unwrap()];
         let (body, offset) = (pt.body, pt.offset);
         let velocity = |data: &mut Data, x: &[f64]| {
             forward_kinematics(&model, data, x).unwrap();

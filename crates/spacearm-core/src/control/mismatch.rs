@@ -4,8 +4,8 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::body::MassProperties;
-use crate::error::{Result, SpacearmError};
+use crate::model::body::MassProperties;
+use crate::error::{ModelItem, Result, SpacearmError};
 use crate::model::Model;
 
 /// How a fraction of the base mass (a point mass at the base CM, e.g. fuel) differs in the
@@ -17,10 +17,18 @@ pub enum Slosh {
     /// The fraction `f` of the (scaled) base mass moves from the base CM to `offset` (base
     /// frame): the base CM moves by `f · offset` and the inertia about the new CM gains
     /// `f m0 (1 − f) (|d|² E − d dᵀ)`.
-    Moved { fraction: f64, offset: Vector3<f64> },
+    Moved {
+        /// `f`, in `[0, 1)`.
+        fraction: f64,
+        /// Where the moved mass sits, from the base CM in the base frame, m.
+        offset: Vector3<f64>,
+    },
     /// The fraction `f` of the base mass is absent from the model (a point mass at the base CM:
     /// the inertia about the CM is unchanged).
-    Removed { fraction: f64 },
+    Removed {
+        /// `f`, in `[0, 1)`.
+        fraction: f64,
+    },
 }
 
 fn check_scale(what: &str, v: f64) -> Result<f64> {
@@ -33,7 +41,7 @@ fn check_scale(what: &str, v: f64) -> Result<f64> {
 /// A copy of `model` with the base mass scaled by `base_mass_scale`, the base inertia by
 /// `base_inertia_scale`, every link's mass and inertia by `link_mass_scale` (a density error),
 /// then `slosh` applied. The joint geometry is unchanged; if the base CM moves, the base frame
-/// (whose origin is the base CM, DESIGN.md §1) moves with it, so joint origins and points on
+/// (whose origin is the base CM, docs/conventions.md) moves with it, so joint origins and points on
 /// the base are re-expressed from the new CM. Joint-space quantities (`H*`, `c*`) do not
 /// depend on where the base reference point is, so such a model can be evaluated at the
 /// plant's state.
@@ -41,8 +49,8 @@ pub fn perturbed_model(model: &Model, base_mass_scale: f64, base_inertia_scale: 
     check_scale("base_mass_scale", base_mass_scale)?;
     check_scale("base_inertia_scale", base_inertia_scale)?;
     check_scale("link_mass_scale", link_mass_scale)?;
-    let mut m0 = model.base.mass * base_mass_scale;
-    let mut i0 = model.base.inertia * base_inertia_scale;
+    let mut m0 = model.base().mass * base_mass_scale;
+    let mut i0 = model.base().inertia * base_inertia_scale;
     let mut cm_shift = Vector3::zeros();
     let bad = match slosh {
         Slosh::None => false,
@@ -65,69 +73,69 @@ pub fn perturbed_model(model: &Model, base_mass_scale: f64, base_inertia_scale: 
             m0 *= 1.0 - fraction;
         }
     }
-    let base = MassProperties::new(&format!("perturbed base '{}'", model.base_name), m0, i0, true)?;
-    let mut links = model.links.clone();
-    for link in &mut links {
+    let base = MassProperties::new(ModelItem::Base, &format!("perturbed base '{}'", model.base_name()), m0, i0, true)?;
+    let mut links = model.links().to_vec();
+    for (k, link) in links.iter_mut().enumerate() {
         let who = format!("perturbed link '{}'", link.name);
-        link.mass = MassProperties::new(&who, link.mass.mass * link_mass_scale, link.mass.inertia * link_mass_scale, false)?;
+        link.mass = MassProperties::new(ModelItem::Link(k), &who, link.mass.mass * link_mass_scale, link.mass.inertia * link_mass_scale, false)?;
         if link.parent == 0 {
             link.joint.origin_in_parent -= cm_shift;
         }
     }
-    let mut points = model.points.clone();
+    let mut points = model.points().to_vec();
     for p in &mut points {
         if p.body == 0 {
             p.offset -= cm_shift;
         }
     }
-    Model::new(
-        format!("{}_perturbed", model.name),
-        model.base_name.clone(),
+    Ok(Model::new(
+        format!("{}_perturbed", model.name()),
+        model.base_name().to_string(),
         base,
         links,
         points,
-        model.end_effector,
-        Some(model.initial_q.clone()),
-    )
+        model.end_effector(),
+        Some(model.initial_q().to_vec()),
+    )?)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::momentum::center_of_mass;
+    use crate::algorithms::momentum::center_of_mass;
     use crate::Data;
 
     #[test]
     fn moving_slosh_mass_keeps_total_mass_and_shifts_the_base_cm() {
-        let plant = crate::presets::spatial6();
+        let plant = crate::model::presets::spatial6();
         let d = Vector3::new(0.3, -0.1, 0.2);
         let f = 0.1;
         let m = perturbed_model(&plant, 1.0, 1.0, 1.0, Slosh::Moved { fraction: f, offset: d }).unwrap();
         assert!((m.total_mass() - plant.total_mass()).abs() < 1e-12);
         // Same geometry: the system CM of the perturbed model, measured from the plant's base
         // CM, is the plant's plus m_s d / M (independent closed form).
-        let x = crate::presets::initial_configuration(&plant);
+        let x = crate::model::presets::initial_configuration(&plant);
         let rg_plant = center_of_mass(&plant, &mut Data::new(&plant), &x).unwrap();
         let rg_model = center_of_mass(&m, &mut Data::new(&m), &x).unwrap();
         // The model's base CM sits at f d from the plant's, so its r0 = x[0..3] is the plant's
         // r0 + f d: in plant coordinates, the model's CM is rg_model + f d.
-        let expect = rg_plant + d * (f * plant.base.mass / plant.total_mass());
+        let expect = rg_plant + d * (f * plant.base().mass / plant.total_mass());
         assert!((rg_model + d * f - expect).norm() < 1e-12, "{rg_model} vs {expect}");
         // Inertia about the new CM by the parallel-axis theorem applied to the two masses.
-        let ms = f * plant.base.mass;
+        let ms = f * plant.base().mass;
         let c = d * f;
         let pa = |m: f64, v: &Vector3<f64>| (Matrix3::identity() * v.norm_squared() - v * v.transpose()) * m;
-        let about_old = plant.base.inertia + pa(ms, &d);
-        assert!((m.base.inertia + pa(plant.base.mass, &c) - about_old).norm() < 1e-12);
+        let about_old = plant.base().inertia + pa(ms, &d);
+        assert!((m.base().inertia + pa(plant.base().mass, &c) - about_old).norm() < 1e-12);
     }
 
     #[test]
     fn scales_and_removal() {
-        let plant = crate::presets::planar4();
+        let plant = crate::model::presets::planar4();
         let m = perturbed_model(&plant, 1.2, 0.8, 1.1, Slosh::Removed { fraction: 0.25 }).unwrap();
-        assert!((m.base.mass - plant.base.mass * 1.2 * 0.75).abs() < 1e-12);
-        assert!((m.base.inertia - plant.base.inertia * 0.8).norm() < 1e-12);
-        assert!((m.links[2].mass.mass - plant.links[2].mass.mass * 1.1).abs() < 1e-12);
+        assert!((m.base().mass - plant.base().mass * 1.2 * 0.75).abs() < 1e-12);
+        assert!((m.base().inertia - plant.base().inertia * 0.8).norm() < 1e-12);
+        assert!((m.links()[2].mass.mass - plant.links()[2].mass.mass * 1.1).abs() < 1e-12);
         assert!(perturbed_model(&plant, 0.0, 1.0, 1.0, Slosh::None).is_err());
         assert!(perturbed_model(&plant, 1.0, 1.0, 1.0, Slosh::Removed { fraction: 1.0 }).is_err());
         assert!(perturbed_model(&plant, 1.0, 1.0, 1.0, Slosh::Moved { fraction: 0.1, offset: Vector3::new(f64::NAN, 0.0, 0.0) }).is_err());

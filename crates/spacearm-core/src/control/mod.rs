@@ -4,7 +4,7 @@
 //! law, so the right-hand side stays smooth and the integrators keep their order). It receives
 //! the plant's state `(t, x, u)` and writes a [`Command`]: joint torques `τ` (N) and a base
 //! wrench `[F0; N0]` (in 𝒥, at the base CM). The simulator then applies the maneuvering mode's
-//! mask and the actuator limits ([`crate::modes`], [`crate::actuators`]).
+//! mask and the actuator limits ([`crate::sim::modes`], [`crate::sim::actuators`]).
 //!
 //! Joint degrees of freedom are split into the **arm** joints and the **reaction wheels**
 //! ([`ControlContext`]): arm controllers (joint PD, computed torque, resolved motion rate) act
@@ -15,6 +15,9 @@
 //!
 //! Each controller keeps its own [`Model`] and [`Data`] (a computed-torque controller may use a
 //! model that differs from the plant), so controllers never disturb the plant's workspace.
+//!
+//! Imports: everything below it (`math`, `model`, `algorithms`, `gjm`) and the maneuvering
+//! modes, actuator limits and references of [`crate::sim`] (its peer).
 
 pub mod attitude;
 pub mod computed_torque;
@@ -26,10 +29,10 @@ pub mod thrusters;
 
 use nalgebra::Vector6;
 
-use crate::actuators::Actuators;
+use crate::sim::actuators::Actuators;
 use crate::error::{Result, SpacearmError};
 use crate::model::Model;
-use crate::modes::Mode;
+use crate::sim::modes::Mode;
 
 pub use attitude::AttitudeControl;
 pub use computed_torque::ComputedTorque;
@@ -165,7 +168,9 @@ impl Controller for ZeroTorque {
 /// tracking while the wheels saturate. The command returned is still the unclamped one, so the
 /// simulation records `tau_cmd` and the saturation events as they happen.
 pub struct Combined {
+    /// The controller of the arm joints.
     pub arm: Box<dyn Controller>,
+    /// The controller of the base (wheels or base wrench).
     pub base: Box<dyn Controller>,
     base_cmd: Command,
     arm_dofs: Vec<usize>,

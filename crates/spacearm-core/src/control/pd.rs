@@ -2,7 +2,7 @@
 //! (diagonal gains), on the arm joints only (the wheels are left to a base controller).
 
 use crate::error::{Result, SpacearmError};
-use crate::reference::JointReference;
+use crate::sim::reference::JointReference;
 
 use super::{broadcast_gains, Command, ControlContext, Controller, TrackingKind};
 

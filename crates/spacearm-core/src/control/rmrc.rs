@@ -14,13 +14,13 @@
 
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
 use crate::gjm::{compute_generalized_jacobian, momentum_twist};
-use crate::kinematics::{check_body, point_position};
+use crate::algorithms::kinematics::{check_body, point_position};
 use crate::model::Model;
-use crate::momentum::momentum;
-use crate::reference::CartesianLine;
+use crate::algorithms::momentum::momentum;
+use crate::sim::reference::CartesianLine;
 
 use super::computed_torque::ReducedInverseDynamics;
 use super::{positive, Command, ControlContext, Controller, TrackingKind};

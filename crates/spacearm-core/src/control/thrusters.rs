@@ -11,11 +11,11 @@
 
 use nalgebra::Vector3;
 
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
-use crate::kinematics::forward_kinematics;
+use crate::algorithms::kinematics::forward_kinematics;
 use crate::model::Model;
-use crate::momentum::{center_of_mass_from_data, momentum};
+use crate::algorithms::momentum::{center_of_mass_from_data, momentum};
 
 use super::attitude::AttitudeControl;
 use super::{Command, ControlContext, Controller};
@@ -81,7 +81,7 @@ impl Controller for BaseThrusterControl {
             crate::error::check_finite("thruster control CM reference", r.as_slice())?;
         }
         if let Some(q) = self.quat_ref {
-            crate::model::unit_quaternion_from_xyzw("thruster control quat_ref", &q)?;
+            crate::math::rotations::unit_quaternion_from_xyzw("thruster control quat_ref", &q)?;
         }
         let model = ctx.plant.clone();
         self.data = Some(Data::new(&model));

@@ -14,12 +14,12 @@
 use nalgebra::{DMatrix, DMatrixView};
 
 use super::{lanes, pose_and_velocity, seed_chunk_from_kinematics, DerivativeData, CHUNK};
-use crate::dynamics::compute_forward_dynamics_via_mass_matrix;
+use crate::algorithms::dynamics::compute_forward_dynamics_via_mass_matrix;
 use crate::error::Result;
-use crate::kinematics::check_velocity;
+use crate::algorithms::kinematics::check_velocity;
 use crate::model::Model;
-use crate::rnea::rnea_after_kinematics;
-use crate::spatial::skew;
+use crate::algorithms::rnea::rnea_after_kinematics;
+use crate::math::spatial::skew;
 
 /// Which inputs the `B` matrix of [`linearize`] has columns for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -4,9 +4,9 @@
 use nalgebra::DMatrix;
 
 use super::{lanes, pose_and_velocity, seed_along_velocity, seed_chunk_from_kinematics, DerivativeData, Pose, CHUNK};
-use crate::crba::crba_after_kinematics;
+use crate::algorithms::crba::crba_after_kinematics;
 use crate::error::Result;
-use crate::kinematics::forward_kinematics;
+use crate::algorithms::kinematics::forward_kinematics;
 use crate::model::Model;
 
 /// Partial derivatives `∂H/∂x_k` of the mass matrix with respect to the `6+N` tangent

@@ -5,7 +5,7 @@
 //! # Route: forward-mode automatic differentiation of the one generic implementation
 //!
 //! Forward kinematics, CRBA, RNEA and the GJM reduction are generic over the scalar
-//! ([`crate::scalar::Real`]). Run on dual numbers `a + Σ_l b_l ε_l` (`ε_l ε_m = 0`, crate
+//! ([`crate::math::scalar::Real`]). Run on dual numbers `a + Σ_l b_l ε_l` (`ε_l ε_m = 0`, crate
 //! `num-dual`) whose `ε` parts are seeded with a direction of the inputs, the very same code
 //! returns, next to every value, its exact directional derivatives — no truncation error, no
 //! step size, no second copy of an algorithm to keep in sync. Several directions travel
@@ -29,6 +29,8 @@
 //! In the dual evaluation the attitude increment enters as `R0 ← (E + δθ̃) R0`, which equals
 //! `exp(δθ̃) R0` to first order — all that a first derivative sees — and avoids differentiating
 //! the exponential at `δθ = 0`.
+//!
+//! Imports: `math`, `model`, `algorithms` and [`crate::gjm`].
 
 mod forward_dynamics;
 mod generalized;
@@ -43,12 +45,12 @@ pub use mass_matrix::{mass_matrix_derivative, mass_matrix_partials};
 use nalgebra::{Const, DMatrix, Matrix3, Matrix6, SVector, Vector3, Vector6, U1};
 use num_dual::{Derivative, Dual64, DualSVec64};
 
-use crate::data::{Data, DataT};
+use crate::model::data::{Data, DataT};
 use crate::error::Result;
-use crate::kinematics::{check_velocity, forward_kinematics_at, split_configuration};
+use crate::algorithms::kinematics::{check_velocity, forward_kinematics_at, split_configuration};
 use crate::model::Model;
-use crate::scalar::Real;
-use crate::spatial::{cross_motion, skew};
+use crate::math::scalar::Real;
+use crate::math::spatial::{cross_motion, skew};
 
 /// Number of directions differentiated together in one dual-number pass.
 pub const CHUNK: usize = 8;
@@ -264,7 +266,7 @@ fn is_ancestor_or_self(model: &Model, ancestor: usize, body: usize) -> bool {
             // Parents are listed before their children: below `ancestor`'s index it cannot appear.
             return false;
         }
-        b = model.links[b - 1].parent;
+        b = model.links()[b - 1].parent;
     }
 }
 
@@ -375,8 +377,8 @@ pub(crate) fn pose_and_velocity<'a>(model: &Model, x: &'a [f64], u: &[f64]) -> R
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::joint::{JointLimits, JointType};
-    use crate::kinematics::forward_kinematics;
+    use crate::model::joint::{JointLimits, JointType};
+    use crate::algorithms::kinematics::forward_kinematics;
     use crate::model::{LinkSpec, ModelBuilder};
 
     /// A tree with a rotated revolute chain, a prismatic branch and a fixed link carrying a
@@ -410,7 +412,8 @@ mod tests {
 
     #[test]
     fn spatial_inertia_change_is_the_derivative_of_spatial_inertia() {
-        use crate::spatial::{rotate_symmetric, spatial_inertia};
+        use crate::math::rotations::rotate_symmetric;
+        use crate::math::spatial::spatial_inertia;
         let (m, c) = (2.5, Vector3::new(0.3, -0.2, 0.5));
         let ic = Matrix3::new(0.4, 0.01, 0.02, 0.01, 0.5, -0.03, 0.02, -0.03, 0.6);
         let (dc, w) = (Vector3::new(-0.7, 0.1, 0.4), Vector3::new(0.2, 0.9, -0.3));

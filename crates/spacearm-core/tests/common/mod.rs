@@ -2,7 +2,8 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use spacearm_core::{body::MassProperties, JointLimits, JointType, LinkSpec, Model, ModelBuilder};
+use spacearm_core::model::body::MassProperties;
+use spacearm_core::{JointLimits, JointType, LinkSpec, Model, ModelBuilder};
 
 pub fn rng(seed: u64) -> ChaCha8Rng {
     ChaCha8Rng::seed_from_u64(seed)

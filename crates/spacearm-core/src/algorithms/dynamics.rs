@@ -1,15 +1,15 @@
 //! Forward dynamics through the mass matrix, `u̇ = H⁻¹ (f + Jᵀ w_ext − c)` (the O(N³) route,
-//! independent of the articulated-body recursion in [`crate::aba`]).
+//! independent of the articulated-body recursion in [`crate::algorithms::aba`]).
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::crba::crba_after_kinematics;
-use crate::data::Data;
+use crate::algorithms::crba::crba_after_kinematics;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
-use crate::kinematics::{check_velocity, forward_kinematics};
+use crate::algorithms::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
-use crate::rnea::rnea_after_kinematics;
-use crate::wrench::ExternalWrench;
+use crate::algorithms::rnea::rnea_after_kinematics;
+use crate::algorithms::wrench::ExternalWrench;
 
 /// Forward dynamics by CRBA + RNEA + Cholesky: the state derivative `u̇` for the generalized
 /// force `f = [F0; N0; τ]` and external wrenches, left in `data.accel` (no allocation: the

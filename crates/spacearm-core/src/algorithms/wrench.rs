@@ -2,17 +2,17 @@
 
 use nalgebra::{Vector3, Vector6};
 
-use crate::data::DataT;
+use crate::model::data::DataT;
 use crate::error::{Result, SpacearmError};
-use crate::kinematics::point_position;
+use crate::algorithms::kinematics::point_position;
 use crate::model::Model;
-use crate::scalar::{vector3, Real};
-use crate::spatial::spatial;
+use crate::math::scalar::{vector3, Real};
+use crate::math::spatial::spatial;
 
 /// A force and torque, both in 𝒥, applied at a point fixed to a body.
 ///
 /// Its generalized force is `J_Xᵀ [f; n]` with `J_X = [J_0X, J_mX]` the point's Jacobian
-/// (DESIGN.md §1: `H u̇ + c = f + Jᵀ w_ext`).
+/// (docs/conventions.md: `H u̇ + c = f + Jᵀ w_ext`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExternalWrench {
     /// Body index (0 = base).

@@ -63,7 +63,7 @@ impl JointLimits {
 /// A joint: where it sits on the parent, how the child frame is oriented at `q = 0`, and the
 /// axis it moves about or along.
 ///
-/// Frames (DESIGN.md §1): every body frame has its origin at the body's centre of mass. The joint
+/// Frames (docs/conventions.md): every body frame has its origin at the body's centre of mass. The joint
 /// sits at `origin_in_parent`, a point given in the parent's (CM) frame. The child's frame axes
 /// are the parent's rotated by `rotation_in_parent` and then, for a revolute joint, by `q` about
 /// `axis`; `axis` is expressed in the child's frame (it is unchanged by the joint's own motion).

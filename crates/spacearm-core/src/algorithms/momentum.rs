@@ -4,14 +4,14 @@
 
 use nalgebra::Vector3;
 
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::Result;
-use crate::kinematics::{check_velocity, forward_kinematics};
+use crate::algorithms::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
-use crate::rnea::velocity_pass;
-use crate::spatial::{angular, linear};
+use crate::algorithms::rnea::velocity_pass;
+use crate::math::spatial::{angular, linear};
 
-/// Linear momentum and angular momentum about three points (DESIGN.md §1).
+/// Linear momentum and angular momentum about three points (docs/conventions.md).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Momentum {
     /// `P = Σ mᵢ vᵢ`, N·s.
@@ -44,6 +44,14 @@ pub fn momentum(model: &Model, data: &mut Data, x: &[f64], u: &[f64]) -> Result<
     forward_kinematics(model, data, x)?;
     check_velocity(model, "u", u)?;
     velocity_pass(model, data, u);
+    Ok(momentum_from_data(model, data))
+}
+
+/// Momentum from the body velocities already in `data` (after forward kinematics and the
+/// velocity pass): `[P; L_base] = Σ Iᵢ vᵢ` with the spatial inertias and velocities at the base
+/// CM, then moved to the origin of 𝒥 and to the system CM. The one momentum sum of the crate
+/// (the simulator records it with this function too).
+pub fn momentum_from_data(model: &Model, data: &Data) -> Momentum {
     let mut total = nalgebra::Vector6::zeros();
     for b in 0..model.n_bodies() {
         total += data.spatial_inertia[b] * data.body_velocity[b];
@@ -52,12 +60,12 @@ pub fn momentum(model: &Model, data: &mut Data, x: &[f64], u: &[f64]) -> Result<
     let l_base = angular(&total);
     let r0 = data.base_position;
     let rg = center_of_mass_from_data(model, data);
-    Ok(Momentum {
+    Momentum {
         linear: p,
         angular_about_origin: l_base + r0.cross(&p),
         angular_about_base: l_base,
         angular_about_com: l_base + (r0 - rg).cross(&p),
-    })
+    }
 }
 
 /// Kinetic energy `T = ½ Σ (mᵢ |vᵢ|² + ωᵢᵀ Iᵢ ωᵢ)` at `(x, u)`, J.

@@ -10,14 +10,14 @@
 //!   the rate relative to the base); the record shows it.
 //! - Thrusters: each component of `F0` and `N0` (𝒥 axes) is clamped to its limit.
 //!
-//! Reaction wheels are ordinary joints of the tree (DESIGN.md §2). By default the simulator
+//! Reaction wheels are ordinary joints of the tree (docs/physics.md). By default the simulator
 //! treats as wheels the joints that [`detect_reaction_wheels`] finds: what
 //! `RobotBuilder.add_reaction_wheel` creates, a symmetric rotor on a revolute joint of the base.
 
 use nalgebra::{Vector3, Vector6};
 
 use crate::error::{Result, SpacearmError};
-use crate::joint::JointType;
+use crate::model::joint::JointType;
 use crate::model::Model;
 
 /// Kind of a saturation (the integer codes of the simulation records).
@@ -47,7 +47,9 @@ impl SaturationKind {
 /// (infinite: unlimited).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ThrusterLimits {
+    /// Largest `|F0_i|` per axis of 𝒥, N.
     pub max_force: Vector3<f64>,
+    /// Largest `|N0_i|` per axis of 𝒥, N·m.
     pub max_torque: Vector3<f64>,
 }
 
@@ -83,7 +85,7 @@ impl Actuators {
         let (mut effort, mut speed) = (vec![f64::INFINITY; n], vec![f64::INFINITY; n]);
         if joint_limits {
             for d in 0..n {
-                let lim = model.links[model.body_of_dof(d) - 1].joint.limits;
+                let lim = model.links()[model.body_of_dof(d) - 1].joint.limits;
                 effort[d] = lim.effort;
                 speed[d] = lim.velocity;
             }
@@ -94,7 +96,7 @@ impl Actuators {
     /// Actuator names: the joint names (dof order), then [`THRUSTER_CHANNELS`].
     pub fn names(model: &Model) -> Vec<String> {
         (0..model.n_dof())
-            .map(|d| model.links[model.body_of_dof(d) - 1].joint.name.clone())
+            .map(|d| model.links()[model.body_of_dof(d) - 1].joint.name.clone())
             .chain(THRUSTER_CHANNELS.iter().map(|s| s.to_string()))
             .collect()
     }
@@ -153,11 +155,11 @@ impl Actuators {
 /// exactly what `RobotBuilder.add_reaction_wheel` creates.
 pub fn detect_reaction_wheels(model: &Model) -> Vec<usize> {
     let mut has_children = vec![false; model.n_bodies()];
-    for l in &model.links {
+    for l in model.links() {
         has_children[l.parent] = true;
     }
     let mut wheels = Vec::new();
-    for (k, link) in model.links.iter().enumerate() {
+    for (k, link) in model.links().iter().enumerate() {
         let body = k + 1;
         if link.parent != 0 || link.joint.kind != JointType::Revolute || has_children[body] {
             continue;
@@ -194,7 +196,7 @@ pub fn check_wheels(model: &Model, wheels: &[usize]) -> Result<()> {
             return Err(SpacearmError::argument(format!("wheel dof {d} is listed twice")));
         }
         seen[d] = true;
-        let joint = &model.links[model.body_of_dof(d) - 1].joint;
+        let joint = &model.links()[model.body_of_dof(d) - 1].joint;
         if joint.kind != JointType::Revolute {
             return Err(SpacearmError::argument(format!("wheel joint '{}' must be revolute, it is {}", joint.name, joint.kind.as_str())));
         }
@@ -205,7 +207,7 @@ pub fn check_wheels(model: &Model, wheels: &[usize]) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::joint::JointLimits;
+    use crate::model::joint::JointLimits;
     use crate::model::{LinkSpec, ModelBuilder};
 
     fn wheeled() -> Model {
@@ -237,7 +239,7 @@ mod tests {
     #[test]
     fn detects_only_symmetric_rotors_on_the_base() {
         assert_eq!(detect_reaction_wheels(&wheeled()), vec![0]);
-        assert!(detect_reaction_wheels(&crate::presets::spatial6()).is_empty());
+        assert!(detect_reaction_wheels(&crate::model::presets::spatial6()).is_empty());
     }
 
     #[test]

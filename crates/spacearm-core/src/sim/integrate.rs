@@ -194,8 +194,9 @@ pub struct Dopri5 {
     fac_old: f64,
     last_rejected: bool,
     k1_valid: bool,
-    /// Start and size of the last accepted step (for dense output).
+    /// Start of the last accepted step, s (for dense output).
     pub last_t: f64,
+    /// Size of the last accepted step, s.
     pub last_h: f64,
 }
 

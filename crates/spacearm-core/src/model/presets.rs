@@ -10,7 +10,7 @@
 use std::f64::consts::FRAC_PI_4;
 
 use crate::error::Result;
-use crate::joint::{JointLimits, JointType};
+use crate::model::joint::{JointLimits, JointType};
 use crate::model::{LinkSpec, Model, ModelBuilder};
 
 /// Names of the presets, as accepted by [`by_name`].
@@ -71,7 +71,7 @@ fn serial_arm(spec: SerialArm<'_>) -> Result<Model> {
     b.add_point("end_effector", &parent, origin)?;
     b.set_end_effector("end_effector");
     b.set_initial_q(spec.initial_q);
-    b.build()
+    Ok(b.build()?)
 }
 
 /// Planar 4-link arm on a 100 kg, 0.5 m cube: the planar values of SPART's `ResolvedMotion`
@@ -142,14 +142,14 @@ pub fn dual_arm() -> Model {
         }
         b.set_end_effector("left_tool");
         b.set_initial_q(initial_q);
-        b.build()
+        Ok(b.build()?)
     };
     build().expect("the dual_arm preset is a valid model")
 }
 
 /// Redundant 7-DOF arm (shoulder roll–pitch–roll, elbow pitch, wrist roll–pitch–roll) on the
 /// spatial6 base (500 kg, 1.2 × 1.0 × 0.8 m; Ixx 68.33, Iyy 86.67, Izz 101.67 kg·m²): the
-/// redundancy-resolution example.
+/// redundancy-resolution example (docs/redundancy.md).
 ///
 /// Joint 1 at (0.6, 0, 0) m; axes x, y, x, y, x, y, x; lengths 0.2, 0.1, 0.9, 0.1, 0.9, 0.1,
 /// 0.15 m; masses 8, 4, 12, 4, 10, 3, 3 kg; 0.1 m square bars. Limits: roll joints (1, 3, 5, 7)
@@ -189,7 +189,7 @@ pub fn by_name(name: &str) -> Option<Model> {
 /// joint angles.
 pub fn initial_configuration(model: &Model) -> Vec<f64> {
     let mut x = vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
-    x.extend_from_slice(&model.initial_q);
+    x.extend_from_slice(model.initial_q());
     x
 }
 
@@ -206,17 +206,17 @@ mod tests {
         assert_eq!(s.n_dof(), 6);
         assert!((s.total_mass() - 545.0).abs() < 1e-12);
         // Link 2 of spatial6: 15 kg, 1.0 m, 0.1 m bar.
-        let l2 = &s.links[1].mass;
+        let l2 = &s.links()[1].mass;
         assert!((l2.inertia[(0, 0)] - 15.0 * 0.01 / 6.0).abs() < 1e-15);
         assert!((l2.inertia[(1, 1)] - 15.0 * 1.01 / 12.0).abs() < 1e-15);
         let d = dual_arm();
         assert_eq!(d.n_dof(), 12);
         assert!((d.total_mass() - 658.0).abs() < 1e-12);
         // the right arm hangs off the base, not off the left arm
-        assert_eq!(d.links[6].parent, 0);
+        assert_eq!(d.links()[6].parent, 0);
         let s7 = spatial7();
         assert_eq!(s7.n_dof(), 7);
         assert!((s7.total_mass() - 544.0).abs() < 1e-12);
-        assert_eq!(s7.links[3].joint.limits.upper, 0.1);
+        assert_eq!(s7.links()[3].joint.limits.upper, 0.1);
     }
 }

@@ -19,17 +19,18 @@
 
 use nalgebra::{Rotation3, UnitQuaternion, Vector3, Vector6};
 
-use crate::aba::aba_after_kinematics;
-use crate::actuators::{check_wheels, detect_reaction_wheels, Actuators, SaturationKind, ThrusterLimits};
+use crate::algorithms::aba::aba_after_kinematics;
+use crate::sim::actuators::{check_wheels, detect_reaction_wheels, Actuators, SaturationKind, ThrusterLimits};
 use crate::control::{arm_dofs, Command, ControlContext, Controller, TrackingKind};
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
-use crate::integrate::{Dopri5, IntegratorKind, OdeSystem, Rk4, StepOutcome};
-use crate::kinematics::{check_velocity, forward_kinematics, point_position, split_configuration};
+use crate::sim::integrate::{Dopri5, IntegratorKind, OdeSystem, Rk4, StepOutcome};
+use crate::algorithms::kinematics::{check_velocity, forward_kinematics, point_position, split_configuration};
 use crate::model::Model;
-use crate::modes::{Conserved, Mode};
-use crate::momentum::center_of_mass_from_data;
-use crate::spatial::{angular, linear};
+use crate::sim::modes::{Conserved, Mode};
+use crate::algorithms::momentum::{center_of_mass_from_data, momentum_from_data};
+use crate::math::rotations::quaternion_rate;
+use crate::math::spatial::{angular, linear};
 
 /// Options of a simulation.
 #[derive(Debug, Clone, PartialEq)]
@@ -112,24 +113,38 @@ pub struct SaturationEvent {
     pub t: f64,
     /// Actuator index: dof `0..N`, then the six thruster channels `N..N+6`.
     pub actuator: usize,
+    /// Which limit it reached.
     pub kind: SaturationKind,
 }
 
 /// Recorded samples, each field row-major with one row per sample.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Records {
+    /// Number of samples (rows).
     pub n_samples: usize,
+    /// Sample times, s.
     pub t: Vec<f64>,
+    /// Configurations `x = [r0, quat0, q]` (width `7 + N`).
     pub x: Vec<f64>,
+    /// Generalized velocities `u = [v0, ω0, q̇]` (width `6 + N`).
     pub u: Vec<f64>,
+    /// Generalized accelerations `u̇` (width `6 + N`).
     pub du: Vec<f64>,
+    /// Joint torques applied, after the actuator limits (width `N`).
     pub tau: Vec<f64>,
+    /// Joint torques commanded by the controller, before the limits (width `N`).
     pub tau_cmd: Vec<f64>,
+    /// Base wrench `[F0; N0]` applied, in 𝒥 at the base CM (width 6).
     pub base_wrench: Vec<f64>,
+    /// Linear momentum `P`, N·s (width 3).
     pub linear_momentum: Vec<f64>,
+    /// Angular momentum about the origin of 𝒥, N·m·s (width 3).
     pub angular_momentum_origin: Vec<f64>,
+    /// Angular momentum about the system CM, N·m·s (width 3).
     pub angular_momentum_com: Vec<f64>,
+    /// Kinetic energy, J (width 1).
     pub energy: Vec<f64>,
+    /// System CM in 𝒥, m (width 3).
     pub com: Vec<f64>,
     /// End-effector position (if the model has an end effector).
     pub ee_position: Option<Vec<f64>>,
@@ -137,7 +152,9 @@ pub struct Records {
     pub ee_quat: Option<Vec<f64>>,
     /// Controller reference (width [`SimResult::reference_width`]).
     pub reference: Option<Vec<f64>>,
+    /// The controller's tracking error (see [`SimResult::tracking`]), if it reports one.
     pub tracking_error: Option<Vec<f64>>,
+    /// The controller's base attitude error angle, rad, if it reports one.
     pub attitude_error: Option<Vec<f64>>,
     /// Wheel rates relative to the base, rad/s.
     pub wheel_speed: Option<Vec<f64>>,
@@ -146,24 +163,35 @@ pub struct Records {
 /// Everything a simulation returns.
 #[derive(Debug, Clone)]
 pub struct SimResult {
+    /// The recorded samples.
     pub records: Records,
+    /// Number of reference values per sample in [`Records::reference`].
     pub reference_width: usize,
+    /// Saturation onsets, in time order.
     pub events: Vec<SaturationEvent>,
     /// Quantities the mode conserves, with their drift.
     pub drift: Vec<(Conserved, f64)>,
     /// The scale each drift was measured against when the initial value is smaller (see the
     /// module docs), so that a recomputation from the records gives the same number.
     pub drift_scales: Vec<(Conserved, f64)>,
+    /// Accepted integration steps.
     pub n_steps: usize,
+    /// Rejected steps (adaptive integrator only).
     pub n_rejected: usize,
+    /// Evaluations of the right-hand side (each one forward-dynamics solve).
     pub n_rhs_evals: usize,
+    /// Name of each actuator index of [`SaturationEvent::actuator`].
     pub actuator_names: Vec<String>,
+    /// Degrees of freedom that are reaction wheels.
     pub wheel_dofs: Vec<usize>,
+    /// What [`Records::tracking_error`] measures, if recorded.
     pub tracking: Option<TrackingKind>,
+    /// Name of the controller that ran.
     pub controller: String,
     /// Largest norm of a commanded base-wrench part the mode does not allow, and the number of
     /// evaluations in which one was commanded.
     pub dropped_wrench_max: f64,
+    /// Number of evaluations that commanded such a part.
     pub dropped_wrench_count: usize,
 }
 
@@ -285,14 +313,7 @@ impl OdeSystem for Plant<'_> {
         aba_after_kinematics(self.model, &mut self.data, u, &self.f)?;
         // ṙ0 = v0; quaṫ = ½ [ω0; 0] ⊗ quat (Hamilton, [x, y, z, w], ω0 in 𝒥); q̇; u̇.
         dy[0..3].copy_from_slice(&u[0..3]);
-        let w = Vector3::new(u[3], u[4], u[5]);
-        let qv = Vector3::new(x[3], x[4], x[5]);
-        let qs = x[6];
-        let dv = (w * qs + w.cross(&qv)) * 0.5;
-        dy[3] = dv.x;
-        dy[4] = dv.y;
-        dy[5] = dv.z;
-        dy[6] = -0.5 * w.dot(&qv);
+        dy[3..7].copy_from_slice(&quaternion_rate(&x[3..7], &Vector3::new(u[3], u[4], u[5])));
         dy[7..self.nx].copy_from_slice(&u[6..]);
         dy[self.nx..].copy_from_slice(self.data.accel.as_slice());
         for (s, e) in self.flags_step.iter_mut().zip(&self.flags_eval) {
@@ -324,7 +345,7 @@ impl Recorder {
     fn new(model: &Model, capacity: usize, wheels: &[usize], n_ref: usize, tracking: bool, attitude: bool) -> Self {
         let (nx, nu, n) = (model.nx(), model.nu(), model.n_dof());
         let v = |w: usize| Vec::with_capacity(capacity * w);
-        let ee = model.end_effector.map(|i| (model.points[i].body, model.points[i].offset));
+        let ee = model.end_effector().map(|i| (model.points()[i].body, model.points()[i].offset));
         Recorder {
             rec: Records {
                 n_samples: 0,
@@ -369,17 +390,16 @@ impl Recorder {
         r.tau.extend_from_slice(&plant.tau_applied);
         r.tau_cmd.extend_from_slice(&plant.cmd.tau);
         r.base_wrench.extend_from_slice(plant.wrench_applied.as_slice());
-        // Momentum and energy from the body velocities (spatial, at the base CM), body by body.
+        // Momentum and energy from the body velocities (spatial, at the base CM), body by body,
+        // with the scale of each sum's terms for the drift (module docs).
+        let momentum = momentum_from_data(model, data);
         let r0 = data.base_position;
         let rg = center_of_mass_from_data(model, data);
-        let mut total = Vector6::zeros();
         let mut energy = 0.0;
         let (mut sp, mut slo, mut slc) = (0.0, 0.0, 0.0);
         for b in 0..model.n_bodies() {
             let v = data.body_velocity[b];
-            let h = data.spatial_inertia[b] * v;
-            total += h;
-            energy += 0.5 * v.dot(&h);
+            energy += 0.5 * v.dot(&(data.spatial_inertia[b] * v));
             let w = angular(&v);
             let rb = data.com_in_world[b];
             let p_b = (linear(&v) + w.cross(&(rb - r0))) * model.mass_properties(b).mass;
@@ -388,13 +408,9 @@ impl Recorder {
             slo += rb.cross(&p_b).norm() + spin;
             slc += (rb - rg).cross(&p_b).norm() + spin;
         }
-        let p = linear(&total);
-        let l_base = angular(&total);
-        let l_origin = l_base + r0.cross(&p);
-        let l_com = l_base + (r0 - rg).cross(&p);
-        r.linear_momentum.extend_from_slice(p.as_slice());
-        r.angular_momentum_origin.extend_from_slice(l_origin.as_slice());
-        r.angular_momentum_com.extend_from_slice(l_com.as_slice());
+        r.linear_momentum.extend_from_slice(momentum.linear.as_slice());
+        r.angular_momentum_origin.extend_from_slice(momentum.angular_about_origin.as_slice());
+        r.angular_momentum_com.extend_from_slice(momentum.angular_about_com.as_slice());
         r.energy.push(energy);
         r.com.extend_from_slice(rg.as_slice());
         let s = &mut self.scales;
@@ -490,7 +506,7 @@ pub type Progress<'a> = &'a mut dyn FnMut(f64) -> Result<()>;
 /// Simulate `model` from `(x0, u0)` for `opts.duration` seconds under `controller`.
 ///
 /// `x0` must be a valid configuration (unit quaternion within
-/// [`crate::model::QUATERNION_TOLERANCE`]; it is normalized exactly); `u0` any finite
+/// [`crate::math::rotations::QUATERNION_TOLERANCE`]; it is normalized exactly); `u0` any finite
 /// velocity (non-zero momentum is allowed). Deterministic: the same inputs give bit-identical
 /// records.
 pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, controller: &mut dyn Controller, progress: Progress<'_>) -> Result<SimResult> {

@@ -7,13 +7,13 @@
 
 use nalgebra::{DVector, Vector6};
 
-use crate::data::{Data, DataT};
+use crate::model::data::{Data, DataT};
 use crate::error::Result;
-use crate::kinematics::{check_velocity, forward_kinematics};
+use crate::algorithms::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
-use crate::scalar::Real;
-use crate::spatial::{angular, cross_force, cross_motion, dot6, linear, mul6, spatial};
-use crate::wrench::ExternalWrench;
+use crate::math::scalar::Real;
+use crate::math::spatial::{angular, cross_force, cross_motion, dot6, linear, mul6, spatial};
+use crate::algorithms::wrench::ExternalWrench;
 
 /// Forward pass of body velocities `Vᵢ = V_λ(i) + Sᵢ q̇ᵢ` and velocity-product accelerations
 /// `Vᵢ ×ₘ Sᵢ q̇ᵢ`. Requires forward kinematics; `u` must be checked.
@@ -21,7 +21,7 @@ pub(crate) fn velocity_pass<T: Real>(model: &Model, data: &mut DataT<T>, u: &[T]
     data.body_velocity[0] = Vector6::from_column_slice(&u[0..6]);
     data.velocity_product[0] = Vector6::zeros();
     for b in 1..model.n_bodies() {
-        let p = model.links[b - 1].parent;
+        let p = model.links()[b - 1].parent;
         match model.dof_of_body(b) {
             Some(d) => {
                 let vj = data.motion_subspace[b] * u[6 + d];
@@ -74,7 +74,7 @@ pub(crate) fn rnea_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>,
         None => base_spatial_acceleration(u, &[T::zero(); 6]),
     };
     for b in 1..nb {
-        let p = model.links[b - 1].parent;
+        let p = model.links()[b - 1].parent;
         let mut a = data.body_acceleration[p] + data.velocity_product[b];
         if let (Some(d), Some(du)) = (model.dof_of_body(b), du) {
             a += data.motion_subspace[b] * du[6 + d];
@@ -91,7 +91,7 @@ pub(crate) fn rnea_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>,
         data.body_force[w.body] -= f;
     }
     for b in (1..nb).rev() {
-        let p = model.links[b - 1].parent;
+        let p = model.links()[b - 1].parent;
         if let Some(d) = model.dof_of_body(b) {
             data.tau[6 + d] = dot6(&data.motion_subspace[b], &data.body_force[b]);
         }

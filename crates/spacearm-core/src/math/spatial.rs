@@ -1,7 +1,7 @@
 //! 3-vectors, cross-product matrices and spatial (6-D) vectors and inertias.
 //!
 //! Spatial vectors are ordered `[linear (3), angular (3)]`, linear first, as in the paper
-//! (DESIGN.md §1). The recursive algorithms (Featherstone, *Rigid Body Dynamics Algorithms*,
+//! (docs/conventions.md). The recursive algorithms (Featherstone, *Rigid Body Dynamics Algorithms*,
 //! 2008, ch. 2) work with spatial vectors whose axes are those of the inertial frame 𝒥 and whose
 //! reference point is the base centre of mass `r0` at the current instant. With that choice the
 //! base's spatial velocity is exactly the paper's `ẋ0 = [v0; ω0]` and a spatial force on the
@@ -11,36 +11,13 @@
 
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
-use crate::scalar::Real;
+use crate::math::scalar::Real;
 
 /// Cross-product matrix `ã` with `ã b = a × b` (the paper's `a^×`).
 #[inline]
 pub fn skew<T: Real>(a: &Vector3<T>) -> Matrix3<T> {
     let z = T::zero();
     Matrix3::new(z, -a.z, a.y, a.z, z, -a.x, -a.y, a.x, z)
-}
-
-/// Rotation by `angle` about the unit `axis` (Rodrigues: `E cos θ + (1 − cos θ) k kᵀ + sin θ k̃`).
-///
-/// The same entries as nalgebra's `Rotation3::from_axis_angle`, without its shortcut to the
-/// identity at `θ = 0`, which would drop the derivative part of a dual-number angle.
-#[inline]
-pub fn axis_angle_rotation<T: Real>(axis: &Vector3<T>, angle: T) -> Matrix3<T> {
-    let (ux, uy, uz) = (axis.x, axis.y, axis.z);
-    let (sqx, sqy, sqz) = (ux * ux, uy * uy, uz * uz);
-    let (sin, cos) = angle.sin_cos();
-    let one_m_cos = T::one() - cos;
-    Matrix3::new(
-        sqx + (T::one() - sqx) * cos,
-        ux * uy * one_m_cos - uz * sin,
-        ux * uz * one_m_cos + uy * sin,
-        ux * uy * one_m_cos + uz * sin,
-        sqy + (T::one() - sqy) * cos,
-        uy * uz * one_m_cos - ux * sin,
-        ux * uz * one_m_cos - uy * sin,
-        uy * uz * one_m_cos + ux * sin,
-        sqz + (T::one() - sqz) * cos,
-    )
 }
 
 /// Linear part `[0..3]` of a spatial vector.
@@ -104,17 +81,6 @@ pub fn spatial_inertia<T: Real>(m: T, c: &Vector3<T>, inertia_about_com: &Matrix
         mz,  o,   -mx, i01, i11, i12,
         -my, mx,  o,   i02, i12, i22,
     );
-    out
-}
-
-/// `R A Rᵀ` for a symmetric 3×3 `A` (an inertia tensor changing axes), computed from its upper
-/// triangle so that the result is exactly symmetric.
-#[inline]
-pub fn rotate_symmetric<T: Real>(r: &Matrix3<T>, a: &Matrix3<T>) -> Matrix3<T> {
-    let mut out = r * a * r.transpose();
-    out[(1, 0)] = out[(0, 1)];
-    out[(2, 0)] = out[(0, 2)];
-    out[(2, 1)] = out[(1, 2)];
     out
 }
 
@@ -201,24 +167,5 @@ mod tests {
         blocks.fixed_view_mut::<3, 3>(3, 0).copy_from(&(m * cx));
         blocks.fixed_view_mut::<3, 3>(3, 3).copy_from(&(ic + m * cx.transpose() * cx));
         assert!((spatial_inertia(m, &c, &ic) - blocks).abs().max() < 1e-14);
-    }
-
-    #[test]
-    fn axis_angle_rotation_matches_nalgebra() {
-        let axis = nalgebra::Unit::new_normalize(Vector3::new(0.3, -0.5, 0.8));
-        for angle in [0.0, 0.7, -2.9] {
-            let ours = axis_angle_rotation(&axis.into_inner(), angle);
-            let theirs = nalgebra::Rotation3::from_axis_angle(&axis, angle).into_inner();
-            assert!((ours - theirs).abs().max() < 1e-15);
-        }
-    }
-
-    #[test]
-    fn rotate_symmetric_is_r_a_rt() {
-        let a = Matrix3::new(0.4, 0.01, 0.02, 0.01, 0.5, -0.03, 0.02, -0.03, 0.6);
-        let r = nalgebra::Rotation3::from_euler_angles(0.3, -1.1, 2.0).into_inner();
-        let out = rotate_symmetric(&r, &a);
-        assert!((out - r * a * r.transpose()).abs().max() < 1e-15);
-        assert_eq!(out, out.transpose());
     }
 }

@@ -27,7 +27,7 @@
 //! ```
 //!
 //! A `[dh]` section with `[[dh.link]]` rows builds a serial arm on the base from a
-//! Denavit–Hartenberg table ([`crate::dh`], `docs/dh.md`).
+//! Denavit–Hartenberg table ([`crate::io::dh`], `docs/dh.md`).
 //!
 //! Every error is [`SpacearmError::Parse`] and starts with `source:line:column:`; the
 //! structural ones (syntax, unknown key, wrong type, missing field) come from the TOML parser,
@@ -38,15 +38,15 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::ops::Range;
 
-use nalgebra::{Matrix3, Quaternion, Unit, UnitQuaternion, Vector3};
+use nalgebra::Matrix3;
 use serde::Deserialize;
 use toml::{Spanned, Value};
 
-use crate::body::MassProperties;
-use crate::dh::{check_inertia_magnitude, ClassicDhLink, DhArm, DhTable, PaperDhLink};
-use crate::error::{Result, SpacearmError};
-use crate::joint::{JointLimits, JointType};
-use crate::model::{unit_quaternion_from_xyzw, Link, LinkSpec, Model, Point};
+use crate::error::{ModelError, ModelField, ModelItem, Result, SpacearmError};
+use crate::io::dh::{ClassicDhLink, DhArm, DhTable, PaperDhLink};
+use crate::model::joint::{JointLimits, JointType};
+use crate::math::rotations::xyzw_from_rpy;
+use crate::model::{LinkSpec, Model, ModelBuilder};
 
 /// The file format version written by [`model_to_toml`] and accepted by the reader
 /// (`[model] format_version`, optional).
@@ -294,16 +294,6 @@ fn limits(doc: &Option<Spanned<LimitsDoc>>) -> JointLimits {
     }
 }
 
-fn check_limits(who: &str, l: &JointLimits) -> std::result::Result<(), String> {
-    if l.lower.is_nan() || l.upper.is_nan() || l.lower > l.upper {
-        return Err(format!("{who}: position limits must satisfy lower <= upper, got [{}, {}]", l.lower, l.upper));
-    }
-    if l.velocity.is_nan() || l.effort.is_nan() || l.velocity < 0.0 || l.effort < 0.0 {
-        return Err(format!("{who}: velocity and effort limits must be >= 0, got {} and {}", l.velocity, l.effort));
-    }
-    Ok(())
-}
-
 /// `[x, y, z, w]` from `rotation` or `rpy` (URDF roll-pitch-yaw, `Rz(yaw) Ry(pitch) Rx(roll)`).
 fn rotation_xyzw(
     ctx: &Ctx<'_>,
@@ -316,71 +306,13 @@ fn rotation_xyzw(
         (Some(r), Some(_)) => Err(ctx.err(&sp(r), format!("{who}: give `{}` or `{}`, not both", names.0, names.1))),
         (Some(r), None) => Ok(*r.get_ref()),
         (None, Some(e)) => {
-            let [r, p, y] = *e.get_ref();
-            if ![r, p, y].iter().all(|v| v.is_finite()) {
+            if !e.get_ref().iter().all(|v| v.is_finite()) {
                 return Err(ctx.err(&sp(e), format!("{who}: `{}` must be finite, got {:?}", names.1, e.get_ref())));
             }
-            let q = UnitQuaternion::from_euler_angles(r, p, y);
-            Ok([q.i, q.j, q.k, q.w])
+            Ok(xyzw_from_rpy(e.get_ref()))
         }
         (None, None) => Ok([0.0, 0.0, 0.0, 1.0]),
     }
-}
-
-/// Which part of a link an error is about (to point at it).
-enum Field {
-    Axis,
-    Rotation,
-    Mass,
-    Inertia,
-    Com,
-    Origin,
-    Limits,
-}
-
-/// A model `Link` from a spec whose parent is resolved: the checks of
-/// `ModelBuilder::add_link`, except that a quaternion or axis already of unit norm to machine
-/// precision is kept exactly (so that writing and reading a model is exact).
-fn link_from_spec(spec: LinkSpec, parent: usize) -> std::result::Result<Link, (Field, SpacearmError)> {
-    let who = format!("link '{}'", spec.name);
-    let model_err = |f: Field, m: String| (f, SpacearmError::InvalidModel(m));
-    for (f, what, v) in [(Field::Origin, "joint origin", &spec.origin_in_parent), (Field::Com, "com", &spec.com_from_joint)] {
-        if v.iter().any(|x| !x.is_finite()) {
-            return Err(model_err(f, format!("{who}: {what} must be finite, got {v:?}")));
-        }
-    }
-    let axis_v = Vector3::from(spec.axis);
-    if axis_v.iter().any(|x| !x.is_finite()) {
-        return Err(model_err(Field::Axis, format!("{who}: joint axis must be finite, got {:?}", spec.axis)));
-    }
-    // Scale first so that huge components cannot overflow the norm (|a|² > f64::MAX).
-    let scale = axis_v.amax();
-    let axis_v = if scale > 1e100 { axis_v / scale } else { axis_v };
-    let n = axis_v.norm();
-    let axis = if spec.kind == JointType::Fixed && n <= 1e-9 {
-        Vector3::z_axis()
-    } else if n <= 1e-9 {
-        return Err(model_err(
-            Field::Axis,
-            format!("{who}: joint axis must be a non-zero vector (it is normalized), got {:?}", spec.axis),
-        ));
-    } else if (n - 1.0).abs() <= 4.0 * f64::EPSILON {
-        Unit::new_unchecked(axis_v)
-    } else {
-        Unit::new_normalize(axis_v)
-    };
-    let rotation = unit_quaternion_from_xyzw(&format!("{who}: joint rotation"), &spec.rotation_in_parent)
-        .map_err(|e| (Field::Rotation, SpacearmError::InvalidModel(e.to_string())))?;
-    let [x, y, z, w] = spec.rotation_in_parent;
-    let raw = Quaternion::new(w, x, y, z);
-    let rotation = if (raw.norm() - 1.0).abs() <= 4.0 * f64::EPSILON { UnitQuaternion::new_unchecked(raw) } else { rotation };
-    check_inertia_magnitude(&who, &spec.inertia).map_err(|e| (Field::Inertia, e))?;
-    let inertia = Matrix3::from_fn(|i, j| spec.inertia[i][j]);
-    let mass = MassProperties::new(&who, spec.mass, inertia, false).map_err(|e| {
-        let field = if e.to_string().contains("mass must") { Field::Mass } else { Field::Inertia };
-        (field, e)
-    })?;
-    Ok(Link::from_spec(spec, parent, rotation, axis, mass))
 }
 
 // ---- reading -------------------------------------------------------------------------------
@@ -402,15 +334,74 @@ pub fn model_from_toml_file(path: &std::path::Path) -> Result<Model> {
     model_from_toml_str(&text, &path.display().to_string())
 }
 
-/// Bodies defined so far: name → (index, span of the name).
-struct Bodies {
-    index: HashMap<String, (usize, Span)>,
-    order: Vec<String>,
+/// The spans of one model item in the file, to point at the field a [`ModelError`] names.
+#[derive(Clone)]
+struct ItemSpans {
+    /// The whole item (a `[[link]]` table, a DH row, a `[[point]]`), for fields without a span.
+    whole: Span,
+    fields: Vec<(ModelField, Span)>,
 }
 
-impl Bodies {
-    fn known(&self) -> String {
-        format!("{:?}", self.order)
+impl ItemSpans {
+    /// One span for every field (a DH row, whose link fields are computed from the row).
+    fn uniform(span: Span) -> Self {
+        ItemSpans { whole: span, fields: Vec::new() }
+    }
+
+    fn of(&self, field: ModelField) -> Span {
+        self.fields.iter().find(|(f, _)| *f == field).map_or_else(|| self.whole.clone(), |(_, s)| s.clone())
+    }
+}
+
+/// Where every item given to the builder sits in the file, in the builder's order; maps a
+/// [`ModelError`]'s item and field to a span, and names the first definition of a duplicate.
+struct Located<'a> {
+    ctx: &'a Ctx<'a>,
+    model: ItemSpans,
+    base: ItemSpans,
+    links: Vec<ItemSpans>,
+    points: Vec<ItemSpans>,
+    dh_arm: ItemSpans,
+    dh_rows: Vec<Span>,
+    /// Body names with the span of their definition, base first, in the builder's order.
+    bodies: Vec<(String, Span)>,
+    /// Joint names with the span of their definition, in link order.
+    joints: Vec<(String, Span)>,
+}
+
+impl Located<'_> {
+    fn span(&self, e: &ModelError) -> Span {
+        match e.item {
+            ModelItem::Model => self.model.of(e.field),
+            ModelItem::Base => self.base.of(e.field),
+            ModelItem::Link(k) => self.links.get(k).map_or_else(|| self.model.whole.clone(), |s| s.of(e.field)),
+            ModelItem::Point(k) => self.points.get(k).map_or_else(|| self.model.whole.clone(), |s| s.of(e.field)),
+            ModelItem::DhArm => self.dh_arm.of(e.field),
+            ModelItem::DhRow(k) => self.dh_rows.get(k).cloned().unwrap_or_else(|| self.dh_arm.whole.clone()),
+        }
+    }
+
+    /// ` (first on line N)` for a duplicated body or joint name.
+    fn first_definition(&self, e: &ModelError) -> String {
+        let ModelItem::Link(k) = e.item else { return String::new() };
+        // `bodies[0]` is the base, so link `k` is `bodies[k + 1]` and `joints[k]`.
+        let (earlier, this) = match e.field {
+            ModelField::Name => (self.bodies.get(..k + 1), self.bodies.get(k + 1)),
+            ModelField::JointName => (self.joints.get(..k), self.joints.get(k)),
+            _ => return String::new(),
+        };
+        let (Some(earlier), Some((name, _))) = (earlier, this) else { return String::new() };
+        earlier
+            .iter()
+            .find(|(n, _)| n == name)
+            .map_or_else(String::new, |(_, first)| format!(" (first on line {})", line_col(self.ctx.text, first.start).0))
+    }
+
+    /// The model error as a parse error at the offending text.
+    fn err(&self, e: ModelError) -> SpacearmError {
+        let span = self.span(&e);
+        let message = format!("{}{}", e, self.first_definition(&e));
+        self.ctx.err(&span, message)
     }
 }
 
@@ -432,76 +423,65 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc) -> Result<Model> {
         (Some(_), Some(b)) => return Err(ctx.err(&sp(b), "initial_q is given both in [model] and at the top level; keep one")),
         (a, b) => a.as_ref().or(b.as_ref()),
     };
+    let dh_span = doc.dh.as_ref().map_or_else(|| sp(&doc.model), sp);
+    let mut model_spans = ItemSpans::uniform(sp(&doc.model));
+    if let Some(e) = end_effector {
+        model_spans.fields.push((ModelField::EndEffector, sp(e)));
+    } else if let Some(t) = doc.dh.as_ref().and_then(|d| d.get_ref().tip_point.as_ref()) {
+        model_spans.fields.push((ModelField::EndEffector, sp(t)));
+    }
+    if let Some(q) = initial_q {
+        model_spans.fields.push((ModelField::InitialQ, sp(q)));
+    }
 
     // Base.
     let base_doc = doc.base.get_ref();
     let base_name = base_doc.name.as_ref().map_or_else(|| "base".to_string(), |n| n.get_ref().clone());
     let base_name_span = base_doc.name.as_ref().map_or_else(|| sp(&doc.base), sp);
-    if base_name.is_empty() {
-        return Err(ctx.err(&base_name_span, "base name must not be empty"));
-    }
-    let base_inertia = inertia_from_value(base_doc.inertia.get_ref()).map_err(|m| ctx.err(&sp(&base_doc.inertia), format!("base '{base_name}': {m}")))?;
-    check_inertia_magnitude(&format!("base '{base_name}'"), &base_inertia).map_err(|e| ctx.err(&sp(&base_doc.inertia), e))?;
-    let base = MassProperties::new(&format!("base '{base_name}'"), *base_doc.mass.get_ref(), Matrix3::from_fn(|i, j| base_inertia[i][j]), true)
-        .map_err(|e| {
-            let span = if e.to_string().contains("mass must") { sp(&base_doc.mass) } else { sp(&base_doc.inertia) };
-            ctx.err(&span, e)
-        })?;
-
-    let mut bodies = Bodies { index: HashMap::new(), order: vec![base_name.clone()] };
-    bodies.index.insert(base_name.clone(), (0, base_name_span));
-    let mut joint_names: HashMap<String, Span> = HashMap::new();
-    let mut links: Vec<Link> = Vec::new();
-    let mut points: Vec<Point> = Vec::new();
-    let mut point_spans: Vec<Span> = Vec::new();
-
-    let mut add_link = |spec: LinkSpec, spans: &dyn Fn(Field) -> Span, name_span: Span, joint_span: Span, links: &mut Vec<Link>, bodies: &mut Bodies| -> Result<()> {
-        if let Some((_, first)) = bodies.index.get(&spec.name) {
-            let (l, _) = line_col(ctx.text, first.start);
-            return Err(ctx.err(&name_span, format!("body name '{}' is used twice (first on line {l})", spec.name)));
-        }
-        if spec.name.is_empty() {
-            return Err(ctx.err(&name_span, "link name must not be empty"));
-        }
-        let jname = spec.joint_name.clone().unwrap_or_else(|| format!("{}_joint", spec.name));
-        if let Some(first) = joint_names.get(&jname) {
-            let (l, _) = line_col(ctx.text, first.start);
-            return Err(ctx.err(&joint_span, format!("link '{}': joint name '{jname}' is used twice (first on line {l})", spec.name)));
-        }
-        let who = format!("joint '{jname}' of link '{}'", spec.name);
-        check_limits(&who, &spec.limits).map_err(|m| ctx.err(&spans(Field::Limits), SpacearmError::InvalidModel(m)))?;
-        let parent = bodies.index.get(&spec.parent).map(|(i, _)| *i).unwrap_or(0);
-        let name = spec.name.clone();
-        let link = link_from_spec(spec, parent).map_err(|(f, e)| ctx.err(&spans(f), e))?;
-        joint_names.insert(jname, joint_span);
-        bodies.index.insert(name.clone(), (links.len() + 1, name_span));
-        bodies.order.push(name);
-        links.push(link);
-        Ok(())
+    let mut at = Located {
+        ctx,
+        model: model_spans,
+        base: ItemSpans {
+            whole: sp(&doc.base),
+            fields: vec![(ModelField::Name, base_name_span.clone()), (ModelField::Mass, sp(&base_doc.mass)), (ModelField::Inertia, sp(&base_doc.inertia))],
+        },
+        links: Vec::new(),
+        points: Vec::new(),
+        dh_arm: ItemSpans::uniform(dh_span.clone()),
+        dh_rows: Vec::new(),
+        bodies: vec![(base_name.clone(), base_name_span)],
+        joints: Vec::new(),
     };
+    let base_inertia = inertia_from_value(base_doc.inertia.get_ref()).map_err(|m| ctx.err(&sp(&base_doc.inertia), format!("base '{base_name}': {m}")))?;
+    let name = model_doc.name.get_ref();
+    let mut builder = ModelBuilder::new(name, &base_name, *base_doc.mass.get_ref(), base_inertia).map_err(|e| at.err(e))?;
 
     // A DH arm first (its links can carry further [[link]]s and [[point]]s).
-    let mut dh_tip: Option<String> = None;
     if let Some(dh) = &doc.dh {
         let (arm, row_spans) = dh_arm(ctx, dh, &base_name)?;
-        let converted = arm.convert().map_err(|e| {
-            let msg = e.to_string();
-            let span = row_spans.iter().enumerate().find(|(k, _)| msg.contains(&format!("DH link {} (", k + 1))).map_or_else(|| sp(dh), |(_, s)| s.clone());
-            ctx.err(&span, e)
-        })?;
-        for (spec, rs) in converted.links.into_iter().zip(&row_spans) {
-            let f = |_: Field| rs.clone();
-            add_link(spec, &f, rs.clone(), rs.clone(), &mut links, &mut bodies)?;
+        let d = dh.get_ref();
+        for (field, span) in [(ModelField::Origin, &d.joint1_origin), (ModelField::Offset, &d.tool_offset)] {
+            if let Some(s) = span {
+                at.dh_arm.fields.push((field, sp(s)));
+            }
+        }
+        if let Some(s) = d.joint1_rotation.as_ref().map(sp).or_else(|| d.joint1_rpy.as_ref().map(sp)) {
+            at.dh_arm.fields.push((ModelField::Rotation, s));
+        }
+        at.dh_rows = row_spans.clone();
+        let converted = arm.convert().map_err(|e| at.err(e))?;
+        for (spec, row) in converted.links.into_iter().zip(row_spans) {
+            at.bodies.push((spec.name.clone(), row.clone()));
+            at.joints.push((spec.joint_name.clone().unwrap_or_else(|| format!("{}_joint", spec.name)), row.clone()));
+            at.links.push(ItemSpans::uniform(row));
+            builder.add_link(spec).map_err(|e| at.err(e))?;
         }
         if let Some((name, body, offset)) = converted.tip {
-            let span = dh.get_ref().tip_point.as_ref().map_or_else(|| sp(dh), sp);
-            let b = bodies.index.get(&body).map(|(i, _)| *i).unwrap_or(0);
-            if bodies.index.contains_key(&name) {
-                return Err(ctx.err(&span, format!("tip point name '{name}' is already used by a body")));
+            at.points.push(ItemSpans::uniform(d.tip_point.as_ref().map_or_else(|| dh_span.clone(), sp)));
+            builder.add_point(&name, &body, offset).map_err(|e| at.err(e))?;
+            if end_effector.is_none() {
+                builder.set_end_effector(&name);
             }
-            points.push(Point { name: name.clone(), body: b, offset: Vector3::from(offset) });
-            point_spans.push(span);
-            dh_tip = Some(name);
         }
     }
 
@@ -512,39 +492,8 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc) -> Result<Model> {
         let l = ld.get_ref();
         let name = l.name.get_ref();
         let parent = l.parent.get_ref();
-        if !bodies.index.contains_key(parent) {
-            let msg = if parent == name {
-                format!("link '{name}' cannot be its own parent")
-            } else if let Some(&(later, _)) = all_links.get(parent.as_str()).filter(|(j, _)| *j > k) {
-                // Is it a cycle? Follow the parents from `parent`.
-                let mut chain = vec![name.as_str(), parent.as_str()];
-                let mut cur = parent.as_str();
-                let mut cycle = false;
-                for _ in 0..all_links.len() {
-                    match all_links.get(cur) {
-                        Some(&(_, p)) if p == name => {
-                            chain.push(name);
-                            cycle = true;
-                            break;
-                        }
-                        Some(&(_, p)) if all_links.contains_key(p) && !chain.contains(&p) => {
-                            chain.push(p);
-                            cur = p;
-                        }
-                        _ => break,
-                    }
-                }
-                if cycle {
-                    let c: Vec<String> = chain.iter().map(|s| format!("'{s}'")).collect();
-                    format!("link '{name}': the parents form a cycle {}; a model is a tree rooted at the base", c.join(" -> "))
-                } else {
-                    let (line, _) = line_col(ctx.text, doc.link[later].span().start);
-                    format!("link '{name}': parent '{parent}' is defined later in the file (line {line}); list every link after its parent")
-                }
-            } else {
-                format!("link '{name}': parent '{parent}' is not a body of the model; bodies defined so far: {}", bodies.known())
-            };
-            return Err(ctx.err(&sp(&l.parent), msg));
+        if !at.bodies.iter().any(|(n, _)| n == parent) {
+            return Err(ctx.err(&sp(&l.parent), missing_parent(ctx, &doc, &all_links, k, &at.bodies)));
         }
         let j = l.joint.get_ref();
         let kind = *j.kind.get_ref();
@@ -571,84 +520,80 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc) -> Result<Model> {
             inertia,
             limits: limits(&j.limits),
         };
-        if let Some(n) = &j.name {
-            if n.get_ref().is_empty() {
-                return Err(ctx.err(&sp(n), format!("{who}: joint name must not be empty")));
-            }
-        }
-        let spans = |f: Field| match f {
-            Field::Axis => j.axis.as_ref().map_or_else(|| sp(&l.joint), sp),
-            Field::Rotation => j.rotation.as_ref().map(sp).or_else(|| j.rpy.as_ref().map(sp)).unwrap_or_else(|| sp(&l.joint)),
-            Field::Mass => sp(&l.mass),
-            Field::Inertia => sp(&l.inertia),
-            Field::Com => sp(&l.com),
-            Field::Origin => sp(&j.origin),
-            Field::Limits => j.limits.as_ref().map_or_else(|| sp(&l.joint), sp),
-        };
         let joint_span = j.name.as_ref().map_or_else(|| sp(&l.joint), sp);
-        add_link(spec, &spans, sp(&l.name), joint_span, &mut links, &mut bodies)?;
+        let rotation_span = j.rotation.as_ref().map(sp).or_else(|| j.rpy.as_ref().map(sp)).unwrap_or_else(|| sp(&l.joint));
+        at.links.push(ItemSpans {
+            whole: sp(ld),
+            fields: vec![
+                (ModelField::Name, sp(&l.name)),
+                (ModelField::Parent, sp(&l.parent)),
+                (ModelField::JointName, joint_span.clone()),
+                (ModelField::Origin, sp(&j.origin)),
+                (ModelField::Rotation, rotation_span),
+                (ModelField::Axis, j.axis.as_ref().map_or_else(|| sp(&l.joint), sp)),
+                (ModelField::Com, sp(&l.com)),
+                (ModelField::Mass, sp(&l.mass)),
+                (ModelField::Inertia, sp(&l.inertia)),
+                (ModelField::Limits, j.limits.as_ref().map_or_else(|| sp(&l.joint), sp)),
+            ],
+        });
+        at.bodies.push((name.clone(), sp(&l.name)));
+        at.joints.push((spec.joint_name.clone().unwrap_or_else(|| format!("{name}_joint")), joint_span));
+        builder.add_link(spec).map_err(|e| at.err(e))?;
     }
 
     // [[point]]s.
     for pd in &doc.point {
         let p = pd.get_ref();
-        let name = p.name.get_ref();
-        if name.is_empty() {
-            return Err(ctx.err(&sp(&p.name), "point name must not be empty"));
-        }
-        if bodies.index.contains_key(name) || points.iter().any(|q| &q.name == name) {
-            return Err(ctx.err(&sp(&p.name), format!("point name '{name}' is already used by a body or point")));
-        }
-        let Some(&(body, _)) = bodies.index.get(p.body.get_ref()) else {
-            return Err(ctx.err(
-                &sp(&p.body),
-                format!("point '{name}': body '{}' is not a body of the model; bodies: {}", p.body.get_ref(), bodies.known()),
-            ));
-        };
-        let offset = *p.offset.get_ref();
-        if offset.iter().any(|x| !x.is_finite()) {
-            return Err(ctx.err(&sp(&p.offset), SpacearmError::InvalidModel(format!("point '{name}': offset must be finite, got {offset:?}"))));
-        }
-        points.push(Point { name: name.clone(), body, offset: Vector3::from(offset) });
-        point_spans.push(sp(&p.name));
+        at.points.push(ItemSpans {
+            whole: sp(pd),
+            fields: vec![(ModelField::Name, sp(&p.name)), (ModelField::Body, sp(&p.body)), (ModelField::Offset, sp(&p.offset))],
+        });
+        builder.add_point(p.name.get_ref(), p.body.get_ref(), *p.offset.get_ref()).map_err(|e| at.err(e))?;
     }
 
-    // End effector and initial q.
-    let ee = match end_effector {
-        Some(e) => match points.iter().position(|p| &p.name == e.get_ref()) {
-            Some(i) => Some(i),
-            None => {
-                let names: Vec<&str> = points.iter().map(|p| p.name.as_str()).collect();
-                return Err(ctx.err(&sp(e), format!("end_effector '{}' is not a defined point; points: {names:?}", e.get_ref())));
-            }
-        },
-        None => dh_tip.and_then(|t| points.iter().position(|p| p.name == t)),
-    };
-    let n_dof = links.iter().filter(|l| l.joint.kind != JointType::Fixed).count();
+    // End effector, initial q, and the rules that need the whole model.
+    if let Some(e) = end_effector {
+        builder.set_end_effector(e.get_ref());
+    }
     if let Some(q) = initial_q {
-        let v = q.get_ref();
-        if v.len() != n_dof {
-            return Err(ctx.err(&sp(q), format!("initial_q must have N = {n_dof} entries (one per moving joint), got {}", v.len())));
-        }
-        if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-            return Err(ctx.err(&sp(q), format!("initial_q must be finite, got {x}")));
-        }
+        builder.set_initial_q(q.get_ref().clone());
     }
+    builder.build().map_err(|e| at.err(e))
+}
 
-    let name = doc.model.get_ref().name.get_ref().clone();
-    Model::new(name, base_name, base, links.clone(), points.clone(), ee, initial_q.map(|q| q.get_ref().clone())).map_err(|e| {
-        // Point at the first link, joint or point the message names.
-        let msg = e.to_string();
-        let named = |n: &str| msg.contains(&format!("'{n}'"));
-        let span = links
-            .iter()
-            .zip(bodies.order.iter().skip(1))
-            .find(|(l, _)| named(&l.name) || named(&l.joint.name))
-            .and_then(|(_, n)| bodies.index.get(n).map(|(_, s)| s.clone()))
-            .or_else(|| points.iter().zip(&point_spans).find(|(p, _)| named(&p.name)).map(|(_, s)| s.clone()))
-            .unwrap_or_else(|| sp(&doc.model));
-        ctx.err(&span, e)
-    })
+/// Why the parent of `[[link]]` number `k` is not a body defined above it: the link is its own
+/// parent, the parents form a cycle, the parent comes later in the file, or it does not exist.
+fn missing_parent(ctx: &Ctx<'_>, doc: &FileDoc, all_links: &HashMap<&str, (usize, &str)>, k: usize, bodies: &[(String, Span)]) -> String {
+    let l = doc.link[k].get_ref();
+    let name = l.name.get_ref().as_str();
+    let parent = l.parent.get_ref().as_str();
+    if parent == name {
+        return format!("link '{name}' cannot be its own parent");
+    }
+    if let Some(&(later, _)) = all_links.get(parent).filter(|(j, _)| *j > k) {
+        // Is it a cycle? Follow the parents from `parent`.
+        let mut chain = vec![name, parent];
+        let mut cur = parent;
+        for _ in 0..all_links.len() {
+            match all_links.get(cur) {
+                Some(&(_, p)) if p == name => {
+                    chain.push(name);
+                    let c: Vec<String> = chain.iter().map(|s| format!("'{s}'")).collect();
+                    return format!("link '{name}': the parents form a cycle {}; a model is a tree rooted at the base", c.join(" -> "));
+                }
+                Some(&(_, p)) if all_links.contains_key(p) && !chain.contains(&p) => {
+                    chain.push(p);
+                    cur = p;
+                }
+                _ => break,
+            }
+        }
+        let (line, _) = line_col(ctx.text, doc.link[later].span().start);
+        return format!("link '{name}': parent '{parent}' is defined later in the file (line {line}); list every link after its parent");
+    }
+    let known: Vec<&str> = bodies.iter().map(|(n, _)| n.as_str()).collect();
+    format!("link '{name}': parent '{parent}' is not a body of the model; bodies defined so far: {known:?}")
 }
 
 /// The `[dh]` section as a [`DhArm`] on the base, with the span of each row.
@@ -792,17 +737,17 @@ pub fn model_to_toml(model: &Model) -> String {
     let _ = writeln!(s, "# SI units (m, kg, kg·m², rad). Every body frame has its origin at the body's centre of mass;");
     let _ = writeln!(s, "# a joint's origin is given in its parent's frame, com/axis/inertia in the link's own frame.");
     let _ = writeln!(s, "\n[model]");
-    let _ = writeln!(s, "name = {}", string(&model.name));
+    let _ = writeln!(s, "name = {}", string(model.name()));
     let _ = writeln!(s, "format_version = {FORMAT_VERSION}");
-    if let Some(e) = model.end_effector {
-        let _ = writeln!(s, "end_effector = {}", string(&model.points[e].name));
+    if let Some(e) = model.end_effector() {
+        let _ = writeln!(s, "end_effector = {}", string(&model.points()[e].name));
     }
-    let _ = writeln!(s, "initial_q = {}", vec_str(&model.initial_q));
+    let _ = writeln!(s, "initial_q = {}", vec_str(model.initial_q()));
     let _ = writeln!(s, "\n[base]");
-    let _ = writeln!(s, "name = {}", string(&model.base_name));
-    let _ = writeln!(s, "mass = {}", num(model.base.mass));
-    let _ = writeln!(s, "inertia = {}", inertia_str(&model.base.inertia));
-    for l in &model.links {
+    let _ = writeln!(s, "name = {}", string(model.base_name()));
+    let _ = writeln!(s, "mass = {}", num(model.base().mass));
+    let _ = writeln!(s, "inertia = {}", inertia_str(&model.base().inertia));
+    for l in model.links() {
         let j = &l.joint;
         let _ = writeln!(s, "\n[[link]]");
         let _ = writeln!(s, "name = {}", string(&l.name));
@@ -831,7 +776,7 @@ pub fn model_to_toml(model: &Model) -> String {
             let _ = writeln!(s, "limits = {{ {} }}", parts.join(", "));
         }
     }
-    for p in &model.points {
+    for p in model.points() {
         let _ = writeln!(s, "\n[[point]]");
         let _ = writeln!(s, "name = {}", string(&p.name));
         let _ = writeln!(s, "body = {}", string(model.body_name(p.body)));
@@ -843,7 +788,9 @@ pub fn model_to_toml(model: &Model) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::presets;
+    use crate::math::rotations::xyzw;
+    use crate::model::presets;
+    use nalgebra::{UnitQuaternion, Vector3};
 
     const DEMO: &str = r#"
 [model]
@@ -895,17 +842,17 @@ offset = [0.2, 0.0, 0.0]
     #[test]
     fn reads_a_valid_document() {
         let m = model_from_toml_str(DEMO, "demo.toml").unwrap();
-        assert_eq!(m.name, "demo");
+        assert_eq!(m.name(), "demo");
         assert_eq!(m.n_dof(), 2);
-        assert_eq!(m.base.inertia[(0, 1)], 0.5);
-        assert_eq!(m.links[0].joint.name, "arm_joint");
-        assert_eq!(m.links[0].joint.axis.into_inner(), Vector3::z());
-        assert_eq!(m.links[0].joint.limits.upper, 1.0);
-        assert_eq!(m.links[0].joint.limits.effort, f64::INFINITY);
-        assert_eq!(m.links[1].joint.kind, JointType::Prismatic);
-        assert!((m.links[1].joint.rotation_in_parent.angle() - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
-        assert_eq!(m.points[m.end_effector.unwrap()].name, "tip");
-        assert_eq!(m.initial_q, vec![0.3, 0.1]);
+        assert_eq!(m.base().inertia[(0, 1)], 0.5);
+        assert_eq!(m.links()[0].joint.name, "arm_joint");
+        assert_eq!(m.links()[0].joint.axis.into_inner(), Vector3::z());
+        assert_eq!(m.links()[0].joint.limits.upper, 1.0);
+        assert_eq!(m.links()[0].joint.limits.effort, f64::INFINITY);
+        assert_eq!(m.links()[1].joint.kind, JointType::Prismatic);
+        assert!((m.links()[1].joint.rotation_in_parent.angle() - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        assert_eq!(m.points()[m.end_effector().unwrap()].name, "tip");
+        assert_eq!(m.initial_q(), vec![0.3, 0.1]);
     }
 
     #[test]
@@ -920,12 +867,23 @@ offset = [0.2, 0.0, 0.0]
 
     #[test]
     fn round_trip_of_awkward_values() {
-        let mut m = model_from_toml_str(DEMO, "demo.toml").unwrap();
-        m.name = "we\"ird\\ name\n\u{1}é".into();
-        m.links[0].com_from_joint = Vector3::new(1e-300, -0.1, 1.0 / 3.0);
-        m.links[0].joint.limits.velocity = 7.5;
-        let q = UnitQuaternion::from_euler_angles(0.1, 0.2, 0.3);
-        m.links[0].joint.rotation_in_parent = q;
+        let rotation = xyzw(&UnitQuaternion::from_euler_angles(0.1, 0.2, 0.3));
+        let mut b = ModelBuilder::new("we\"ird\\ name\n\u{1}é", "base", 100.0, [[10.0, 0.5, 0.0], [0.5, 12.0, 0.0], [0.0, 0.0, 14.0]]).unwrap();
+        b.add_link(LinkSpec {
+            name: "arm".into(),
+            parent: "base".into(),
+            joint_name: None,
+            kind: JointType::Revolute,
+            origin_in_parent: [0.5, 0.0, 0.0],
+            rotation_in_parent: rotation,
+            axis: [0.0, 0.6, 0.8],
+            com_from_joint: [1e-300, -0.1, 1.0 / 3.0],
+            mass: 5.0,
+            inertia: [[0.01, 0.0, 0.0], [0.0, 0.4, 0.0], [0.0, 0.0, 0.4]],
+            limits: JointLimits { velocity: 7.5, ..JointLimits::unlimited() },
+        })
+        .unwrap();
+        let m = b.build().unwrap();
         let text = model_to_toml(&m);
         assert_eq!(model_from_toml_str(&text, "x").unwrap(), m, "{text}");
     }
@@ -984,7 +942,7 @@ offset = [0.2, 0.0, 0.0]
         let e = err(&DEMO.replace("body = \"slider\"", "body = \"hand\""));
         assert!(e.contains("point 'tip'") && e.contains("'hand'"), "{e}");
         let e = err(&DEMO.replace("end_effector = \"tip\"", "end_effector = \"hand\""));
-        assert!(e.contains("end_effector 'hand'"), "{e}");
+        assert!(e.contains("end effector 'hand'"), "{e}");
         let e = err(&DEMO.replace("limits = { lower = -1.0, upper = 1.0 }", "limits = { lower = 1.0, upper = -1.0 }"));
         assert!(e.contains("lower <= upper") && e.contains("arm_joint"), "{e}");
         let e = err(&DEMO.replace("name = \"slider\"", "name = \"arm\""));
@@ -1022,7 +980,7 @@ joint = { type = "revolute", origin = [0, 0, 0], axis = [0, 0, 1] }
 
     #[test]
     fn dh_section_builds_the_planar4_preset() {
-        let q0 = presets::planar4().initial_q;
+        let q0 = presets::planar4().initial_q().to_vec();
         let text = format!(
             r#"
 [model]
@@ -1044,8 +1002,8 @@ joint1_origin = [0.25, 0.0, 0.0]
         let m = model_from_toml_str(&text, "dh.toml").unwrap();
         let p = presets::planar4();
         assert_eq!(m.n_dof(), 4);
-        assert_eq!(m.points[m.end_effector.unwrap()].name, "end_effector");
-        for (a, b) in m.links.iter().zip(&p.links) {
+        assert_eq!(m.points()[m.end_effector().unwrap()].name, "end_effector");
+        for (a, b) in m.links().iter().zip(p.links()) {
             assert!((a.joint.origin_in_parent - b.joint.origin_in_parent).norm() < 1e-15);
             assert!((a.com_from_joint - b.com_from_joint).norm() < 1e-15);
             assert!((a.mass.inertia - b.mass.inertia).abs().max() < 1e-15);

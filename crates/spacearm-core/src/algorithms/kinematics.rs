@@ -2,12 +2,13 @@
 
 use nalgebra::{DMatrix, Matrix3, Matrix6, UnitQuaternion, Vector3, Vector6};
 
-use crate::data::{Data, DataT};
+use crate::model::data::{Data, DataT};
 use crate::error::{check_finite, Result, SpacearmError};
-use crate::joint::JointType;
-use crate::model::{Model, QUATERNION_TOLERANCE};
-use crate::scalar::{matrix3, vector3, Real};
-use crate::spatial::{axis_angle_rotation, point_twist_transform, rotate_symmetric, spatial, spatial_inertia};
+use crate::model::joint::JointType;
+use crate::math::rotations::{axis_angle_rotation, quaternion_from_xyzw, rotate_symmetric, QUATERNION_TOLERANCE};
+use crate::model::Model;
+use crate::math::scalar::{matrix3, vector3, Real};
+use crate::math::spatial::{point_twist_transform, spatial, spatial_inertia};
 
 /// The configuration `x = [r0 (3), quat0 (4, [x, y, z, w]), q (N)]` split into its parts,
 /// validated (length, finite values, unit quaternion within [`QUATERNION_TOLERANCE`]); the
@@ -22,7 +23,7 @@ pub fn split_configuration<'a>(model: &Model, x: &'a [f64]) -> Result<(Vector3<f
         });
     }
     check_finite("x", x)?;
-    let quat = nalgebra::Quaternion::new(x[6], x[3], x[4], x[5]);
+    let quat = quaternion_from_xyzw(&x[3..7]);
     let norm = quat.norm();
     if (norm - 1.0).abs() > QUATERNION_TOLERANCE {
         return Err(SpacearmError::NotUnitQuaternion {
@@ -74,12 +75,12 @@ pub fn forward_kinematics_at<T: Real>(model: &Model, data: &mut DataT<T>, r0: &V
     data.joint_position_in_world[0] = r0;
     data.joint_axis_in_world[0] = Vector3::zeros();
     data.motion_subspace[0] = Vector6::zeros();
-    let base = &model.base;
+    let base = &model.base();
     let base_inertia = rotate_symmetric(&r0_mat, &matrix3(&base.inertia));
     data.inertia_in_world[0] = base_inertia;
     data.spatial_inertia[0] = spatial_inertia(T::c(base.mass), &Vector3::zeros(), &base_inertia);
 
-    for (k, link) in model.links.iter().enumerate() {
+    for (k, link) in model.links().iter().enumerate() {
         let b = k + 1;
         let p = link.parent;
         let parent_rot = data.body_to_world[p];
@@ -146,15 +147,15 @@ pub fn joint_jacobian_of_point<T: Real>(model: &Model, data: &DataT<T>, body: us
     while b != 0 {
         if let Some(d) = model.dof_of_body(b) {
             let k = data.joint_axis_in_world[b];
-            let lin = match model.links[b - 1].joint.kind {
+            let lin = match model.links()[b - 1].joint.kind {
                 JointType::Revolute => k.cross(&(point - data.joint_position_in_world[b])),
                 _ => k,
             };
-            let ang = if model.links[b - 1].joint.kind == JointType::Revolute { k } else { Vector3::zeros() };
+            let ang = if model.links()[b - 1].joint.kind == JointType::Revolute { k } else { Vector3::zeros() };
             jm.fixed_view_mut::<3, 1>(0, d).copy_from(&lin);
             jm.fixed_view_mut::<3, 1>(3, d).copy_from(&ang);
         }
-        b = model.links[b - 1].parent;
+        b = model.links()[b - 1].parent;
     }
     jm
 }

@@ -2,7 +2,7 @@
 //!
 //! Every algorithm fills the fields it documents; vectors are indexed by body (0 = base).
 //! Spatial quantities use world (𝒥) axes and the base CM at the current instant as reference
-//! point (see [`crate::spatial`]).
+//! point (see [`crate::math::spatial`]).
 //!
 //! The workspace is generic over the scalar ([`Real`]): users and the `f64` algorithms use
 //! [`Data`] `= DataT<T>`; [`crate::derivatives`] runs the same algorithms on a `DataT` of dual
@@ -11,7 +11,7 @@
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 
 use crate::model::Model;
-use crate::scalar::Real;
+use crate::math::scalar::Real;
 
 /// Workspace and results of the algorithms for one model, in `f64`.
 pub type Data = DataT<f64>;

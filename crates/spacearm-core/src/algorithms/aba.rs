@@ -3,13 +3,13 @@
 
 use nalgebra::{DVector, Matrix6, Vector6};
 
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
-use crate::kinematics::{check_velocity, forward_kinematics};
+use crate::algorithms::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
-use crate::rnea::velocity_pass;
-use crate::spatial::{add6_assign, angular, cross_force, dot6, linear, mul6};
-use crate::wrench::ExternalWrench;
+use crate::algorithms::rnea::velocity_pass;
+use crate::math::spatial::{add6_assign, angular, cross_force, dot6, linear, mul6};
+use crate::algorithms::wrench::ExternalWrench;
 
 /// Forward dynamics by ABA: the state derivative `u̇ = [v̇0; ω̇0; q̈]` produced by the generalized
 /// force `f = [F0; N0; τ]` (base force at its CM and torque about its CM, in 𝒥; joint torques)
@@ -59,7 +59,7 @@ fn aba_passes_1_2(model: &Model, data: &mut Data, u: &[f64], f: &[f64], external
     }
     // Pass 2: fold each subtree's articulated inertia into its parent (p < b: split borrows).
     for b in (1..nb).rev() {
-        let p = model.links[b - 1].parent;
+        let p = model.links()[b - 1].parent;
         let (head, tail) = data.subtree_inertia.split_at_mut(b);
         let ia = &mut tail[0];
         let pa = data.body_force[b];
@@ -71,7 +71,7 @@ fn aba_passes_1_2(model: &Model, data: &mut Data, u: &[f64], f: &[f64], external
                 if !(d_scalar > 1e-12 * max_abs(ia).max(1e-300)) {
                     return Err(SpacearmError::Singular(format!(
                         "the articulated inertia about joint '{}' (D = {d_scalar:e})",
-                        model.links[b - 1].joint.name
+                        model.links()[b - 1].joint.name
                     )));
                 }
                 let small_u = f[6 + d] - dot6(&s, &pa);
@@ -124,7 +124,7 @@ fn aba_pass_3(model: &Model, data: &mut Data, u: &[f64], f: &[f64]) -> Result<()
     data.body_acceleration[0] = a0;
     // Pass 3: accelerations outwards.
     for b in 1..nb {
-        let p = model.links[b - 1].parent;
+        let p = model.links()[b - 1].parent;
         let mut a = data.body_acceleration[p] + data.velocity_product[b];
         if let Some(d) = model.dof_of_body(b) {
             let qdd = (data.aba_small_u[b] - dot6(&data.aba_u[b], &a)) / data.aba_d[b];

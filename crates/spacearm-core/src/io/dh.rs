@@ -1,6 +1,6 @@
 //! Serial arms from Denavit–Hartenberg tables, in two conventions (see `docs/dh.md`).
 //!
-//! spacearm's own frames (DESIGN.md §1) put every body frame's origin at the body's centre of
+//! spacearm's own frames (docs/conventions.md) put every body frame's origin at the body's centre of
 //! mass (CM). This module converts two common ways of writing down a serial arm into those
 //! frames, producing ordinary [`LinkSpec`]s:
 //!
@@ -28,9 +28,10 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 
-use crate::error::{Result, SpacearmError};
-use crate::joint::{JointLimits, JointType};
-use crate::model::{unit_quaternion_from_xyzw, LinkSpec, Model, ModelBuilder};
+use crate::error::{ModelError, ModelField, ModelItem, Result};
+use crate::model::joint::{JointLimits, JointType};
+use crate::math::rotations::{unit_quaternion_from_xyzw, xyzw};
+use crate::model::{LinkSpec, Model, ModelBuilder};
 
 /// One row of a classic (distal) Denavit–Hartenberg table, with the link's mass properties.
 #[derive(Debug, Clone, PartialEq)]
@@ -144,34 +145,12 @@ pub struct ConvertedArm {
     pub tip: Option<(String, String, [f64; 3])>,
 }
 
-/// Largest magnitude accepted for an inertia entry, kg·m². Anything larger is certainly a
-/// units mistake, and it would overflow the eigenvalue analysis that checks the tensor.
-pub const MAX_INERTIA_ENTRY: f64 = 1e100;
-
-/// Check that every inertia entry is finite and at most [`MAX_INERTIA_ENTRY`] in magnitude.
-pub fn check_inertia_magnitude(who: &str, inertia: &[[f64; 3]; 3]) -> Result<()> {
-    for v in inertia.iter().flatten() {
-        if !v.is_finite() {
-            return Err(SpacearmError::model(format!("{who}: inertia must be finite, found {v}")));
-        }
-        if v.abs() > MAX_INERTIA_ENTRY {
-            return Err(SpacearmError::model(format!(
-                "{who}: inertia entry {v:e} kg·m² exceeds {MAX_INERTIA_ENTRY:e} in magnitude (check the units)"
-            )));
-        }
-    }
-    Ok(())
-}
-
-fn check_finite(who: &str, what: &str, values: &[f64]) -> Result<()> {
+/// A DH parameter or vector must be finite; `item` is the arm or the row.
+fn check_finite(item: ModelItem, field: ModelField, who: &str, what: &str, values: &[f64]) -> std::result::Result<(), ModelError> {
     if let Some(v) = values.iter().find(|v| !v.is_finite()) {
-        return Err(SpacearmError::model(format!("{who}: {what} must be finite, got {v}")));
+        return Err(ModelError::new(item, field, format!("{who}: {what} must be finite, got {v}")));
     }
     Ok(())
-}
-
-fn xyzw(q: &UnitQuaternion<f64>) -> [f64; 4] {
-    [q.i, q.j, q.k, q.w]
 }
 
 /// `(sin α, cos α)` with rounding residue below 1e-15 set to zero, so that a twist of
@@ -190,15 +169,22 @@ fn dh_rotation(p: &UnitQuaternion<f64>, theta: f64, alpha: f64) -> ([f64; 4], [f
 }
 
 impl DhArm {
-    /// Convert the table into link specs in spacearm's CM-origin frames (module docs).
-    pub fn convert(&self) -> Result<ConvertedArm> {
+    /// Convert the table into link specs in spacearm's CM-origin frames (module docs). Only the
+    /// table's own values are checked here (finite parameters, a unit mounting rotation, at
+    /// least one row); the links themselves are checked by the builder they are added to.
+    pub fn convert(&self) -> std::result::Result<ConvertedArm, ModelError> {
+        let arm = ModelItem::DhArm;
         if self.table.is_empty() {
-            return Err(SpacearmError::model(format!("the {} DH table has no links; give at least one", self.table.convention())));
+            return Err(ModelError::new(
+                arm,
+                ModelField::DhParameters,
+                format!("the {} DH table has no links; give at least one", self.table.convention()),
+            ));
         }
-        check_finite("DH arm", "joint1_origin", &self.joint1_origin)?;
-        check_finite("DH arm", "tool_offset", &self.tool_offset)?;
+        check_finite(arm, ModelField::Origin, "DH arm", "joint1_origin", &self.joint1_origin)?;
+        check_finite(arm, ModelField::Offset, "DH arm", "tool_offset", &self.tool_offset)?;
         let p1 = unit_quaternion_from_xyzw("DH arm: joint1_rotation", &self.joint1_rotation)
-            .map_err(|e| SpacearmError::model(e.to_string()))?;
+            .map_err(|e| ModelError::new(arm, ModelField::Rotation, e.to_string()))?;
         let identity = UnitQuaternion::identity();
         let mut links = Vec::with_capacity(self.table.len());
         let mut parent = self.parent.clone();
@@ -211,9 +197,9 @@ impl DhArm {
                 for (k, row) in rows.iter().enumerate() {
                     let name = row.name.clone().unwrap_or_else(|| format!("link{}", k + 1));
                     let who = format!("DH link {} ('{name}')", k + 1);
-                    check_finite(&who, "d, theta, a and alpha", &[row.d, row.theta, row.a, row.alpha])?;
-                    check_finite(&who, "com", &row.com)?;
-                    check_inertia_magnitude(&format!("link '{name}'"), &row.inertia)?;
+                    let item = ModelItem::DhRow(k);
+                    check_finite(item, ModelField::DhParameters, &who, "d, theta, a and alpha", &[row.d, row.theta, row.a, row.alpha])?;
+                    check_finite(item, ModelField::DhParameters, &who, "com", &row.com)?;
                     let p = if k == 0 { &p1 } else { &identity };
                     let (rotation, axis) = dh_rotation(p, row.theta, row.alpha);
                     let (s, c) = sin_cos(row.alpha);
@@ -244,10 +230,10 @@ impl DhArm {
                 for (k, row) in rows.iter().enumerate() {
                     let name = row.name.clone().unwrap_or_else(|| format!("link{}", k + 1));
                     let who = format!("DH link {} ('{name}')", k + 1);
-                    check_finite(&who, "theta and alpha", &[row.theta, row.alpha])?;
-                    check_finite(&who, "joint_to_com", &row.joint_to_com)?;
-                    check_finite(&who, "com_to_next", &row.com_to_next)?;
-                    check_inertia_magnitude(&format!("link '{name}'"), &row.inertia)?;
+                    let item = ModelItem::DhRow(k);
+                    check_finite(item, ModelField::DhParameters, &who, "theta and alpha", &[row.theta, row.alpha])?;
+                    check_finite(item, ModelField::DhParameters, &who, "joint_to_com", &row.joint_to_com)?;
+                    check_finite(item, ModelField::DhParameters, &who, "com_to_next", &row.com_to_next)?;
                     let p = if k == 0 { &p1 } else { &identity };
                     let (rotation, axis) = dh_rotation(p, row.theta, row.alpha);
                     links.push(LinkSpec {
@@ -300,7 +286,6 @@ pub fn model_from_dh(
     arm: &DhArm,
     initial_q: Option<Vec<f64>>,
 ) -> Result<Model> {
-    check_inertia_magnitude(&format!("base '{base_name}'"), &base_inertia)?;
     let mut b = ModelBuilder::new(name, base_name, base_mass, base_inertia)?;
     arm.add_to(&mut b)?;
     if let Some(tip) = &arm.tip_point {
@@ -309,15 +294,15 @@ pub fn model_from_dh(
     if let Some(q) = initial_q {
         b.set_initial_q(q);
     }
-    b.build()
+    Ok(b.build()?)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::data::Data;
-    use crate::kinematics::{forward_kinematics, point_position};
-    use crate::presets;
+    use crate::model::data::Data;
+    use crate::algorithms::kinematics::{forward_kinematics, point_position};
+    use crate::model::presets;
     use nalgebra::{Matrix3, Matrix4, Rotation3};
 
     fn bar(m: f64, l: f64, w: f64) -> [[f64; 3]; 3] {
@@ -344,13 +329,13 @@ mod tests {
     fn planar4_classic() -> Model {
         let rows = (0..4).map(|_| classic(JointType::Revolute, 0.0, 0.0, 1.0, 0.0, [-0.5, 0.0, 0.0], 10.0, bar(10.0, 1.0, 0.05))).collect();
         let a = arm(DhTable::Classic(rows), [0.25, 0.0, 0.0]);
-        let q0 = presets::planar4().initial_q;
+        let q0 = presets::planar4().initial_q().to_vec();
         model_from_dh("planar4", "base", 100.0, Matrix3::from_diagonal_element(4.1667).into(), &a, Some(q0)).unwrap()
     }
 
     fn mass_matrix(model: &Model, x: &[f64]) -> nalgebra::DMatrix<f64> {
         let mut data = Data::new(model);
-        crate::crba::crba(model, &mut data, x).unwrap().clone()
+        crate::algorithms::crba::crba(model, &mut data, x).unwrap().clone()
     }
 
     #[test]
@@ -401,7 +386,7 @@ mod tests {
         x.extend_from_slice(&q);
         let mut data = Data::new(&m);
         forward_kinematics(&m, &mut data, &x).unwrap();
-        let pt = &m.points[m.end_effector.unwrap()];
+        let pt = &m.points()[m.end_effector().unwrap()];
         let got = point_position(&data, pt.body, &pt.offset);
         assert!((got - tip.xyz()).norm() < 1e-12, "{got} vs {tip}");
         // The last link's frame is DH frame 4.
@@ -424,7 +409,7 @@ mod tests {
         x.extend_from_slice(&q);
         let mut data = Data::new(&m);
         forward_kinematics(&m, &mut data, &x).unwrap();
-        let pt = &m.points[0];
+        let pt = &m.points()[0];
         let got = point_position(&data, pt.body, &pt.offset);
         assert!((got - t.fixed_view::<3, 1>(0, 3)).norm() < 1e-12);
     }
@@ -453,7 +438,7 @@ mod tests {
         assert!((mass_matrix(&m, &x) - mass_matrix(&preset, &x)).abs().max() < 1e-12);
         x[7] = -1.0;
         assert!((mass_matrix(&m, &x) - mass_matrix(&preset, &x)).abs().max() < 1e-12);
-        assert_eq!(m.points[0].offset, preset.points[0].offset);
+        assert_eq!(m.points()[0].offset, preset.points()[0].offset);
     }
 
     #[test]

@@ -1,20 +1,20 @@
 //! The inertia matrices in the paper's Jacobian-sum form (eqs. 27–36) and the closed-form
 //! inverse of the base inertia `H0` (eqs. 52–61).
 //!
-//! This is the first of the two independent computations of `H`; [`crate::crba`] is the
+//! This is the first of the two independent computations of `H`; [`crate::algorithms::crba`] is the
 //! second. Nothing here uses spatial recursions: every block is a sum over links of products of
-//! the link Jacobians `J_Ti`, `J_Ri` of [`crate::kinematics::link_jacobians`] (their non-zero
+//! the link Jacobians `J_Ti`, `J_Ri` of [`crate::algorithms::kinematics::link_jacobians`] (their non-zero
 //! columns, formed in place).
 
 use nalgebra::{DMatrix, Matrix3, Matrix6, Vector3, Vector6};
 
-use crate::data::Data;
+use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
-use crate::joint::JointType;
-use crate::kinematics::forward_kinematics;
+use crate::model::joint::JointType;
+use crate::algorithms::kinematics::forward_kinematics;
 use crate::model::Model;
-use crate::scalar::Real;
-use crate::spatial::skew;
+use crate::math::scalar::Real;
+use crate::math::spatial::skew;
 
 /// The inertia blocks of paper eqs. 27–36, all in 𝒥 about the base CM.
 #[derive(Debug, Clone, PartialEq)]
@@ -78,7 +78,7 @@ pub fn inertia_blocks(model: &Model, data: &mut Data, x: &[f64]) -> Result<Inert
         while a != 0 {
             if let Some(d) = model.dof_of_body(a) {
                 let k = data.joint_axis_in_world[a];
-                let (t, r) = match model.links[a - 1].joint.kind {
+                let (t, r) = match model.links()[a - 1].joint.kind {
                     JointType::Revolute => (k.cross(&(r_i - data.joint_position_in_world[a])), k),
                     _ => (k, Vector3::zeros()),
                 };
@@ -86,7 +86,7 @@ pub fn inertia_blocks(model: &Model, data: &mut Data, x: &[f64]) -> Result<Inert
                 data.work_ang[data.work_dofs.len()] = r;
                 data.work_dofs.push(d);
             }
-            a = model.links[a - 1].parent;
+            a = model.links()[a - 1].parent;
         }
         for (p, &j) in data.work_dofs.iter().enumerate() {
             let (t_j, r_j) = (data.work_lin[p], data.work_ang[p]);

@@ -1,4 +1,4 @@
-//! The five maneuvering modes (paper Table 1; DESIGN.md §2): which components of the base
+//! The five maneuvering modes (paper Table 1; docs/physics.md): which components of the base
 //! wrench `F_b = [F0; N0]` an actuator may apply, and which momenta therefore stay constant.
 //!
 //! | mode | base wrench applied | conserved |

@@ -42,7 +42,16 @@ pub enum JointReference {
     /// Hold `q` (zero velocity and acceleration).
     Constant(Vec<f64>),
     /// `q(t) = q_start + s(t) (q_goal − q_start)`.
-    Quintic { q_start: Vec<f64>, q_goal: Vec<f64>, t_start: f64, t_end: f64 },
+    Quintic {
+        /// Joint coordinates at and before `t_start`.
+        q_start: Vec<f64>,
+        /// Joint coordinates at and after `t_end`.
+        q_goal: Vec<f64>,
+        /// Start of the motion, s.
+        t_start: f64,
+        /// End of the motion, s.
+        t_end: f64,
+    },
 }
 
 impl JointReference {
@@ -101,9 +110,13 @@ impl JointReference {
 /// quintic timing (a constant point when `p_goal = p_start`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CartesianLine {
+    /// Start point in 𝒥, m.
     pub p_start: Vector3<f64>,
+    /// Goal point in 𝒥, m.
     pub p_goal: Vector3<f64>,
+    /// Time the motion starts, s (the point is at `p_start` before).
     pub t_start: f64,
+    /// Time the motion ends, s (the point is at `p_goal` after).
     pub t_end: f64,
 }
 

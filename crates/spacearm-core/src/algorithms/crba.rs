@@ -1,19 +1,19 @@
 //! Composite-rigid-body algorithm for the joint-space mass matrix `H` (Featherstone 2008,
 //! §6.2, Table 6.2), floating-base form.
 //!
-//! The second, independent computation of `H` (the first is [`crate::inertia`]). Because all
+//! The second, independent computation of `H` (the first is [`crate::algorithms::inertia`]). Because all
 //! spatial quantities share one reference point (the base CM) and world axes, the force
 //! `F = Iᶜᵢ Sᵢ` needs no transform on its way up the tree, and the base block of the floating
 //! joint is the identity: `H0 = Iᶜ₀`, `H0m[:, i] = Iᶜᵢ Sᵢ`.
 
 use nalgebra::DMatrix;
 
-use crate::data::{Data, DataT};
+use crate::model::data::{Data, DataT};
 use crate::error::Result;
-use crate::kinematics::forward_kinematics;
+use crate::algorithms::kinematics::forward_kinematics;
 use crate::model::Model;
-use crate::scalar::Real;
-use crate::spatial::{add6_assign, dot6, mul6};
+use crate::math::scalar::Real;
+use crate::math::spatial::{add6_assign, dot6, mul6};
 
 /// Mass matrix `H(x)` ((6+N)², symmetric) by CRBA; the result is also left in
 /// `data.mass_matrix` and the composite inertias in `data.subtree_inertia`.
@@ -35,7 +35,7 @@ pub(crate) fn crba_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>,
         h.fill(T::zero());
     }
     for b in (1..nb).rev() {
-        let p = model.links[b - 1].parent;
+        let p = model.links()[b - 1].parent;
         let composite = data.subtree_inertia[b];
         add6_assign(&mut data.subtree_inertia[p], &composite);
         let Some(d) = model.dof_of_body(b) else { continue };
@@ -59,7 +59,7 @@ pub(crate) fn crba_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>,
                 h[col * nu + 6 + e] = v;
                 h[(6 + e) * nu + col] = v;
             }
-            a = model.links[a - 1].parent;
+            a = model.links()[a - 1].parent;
         }
     }
     let h0 = data.subtree_inertia[0];

@@ -1,0 +1,17 @@
+//! The rigid-body algorithms on one [`crate::model::Model`], each a free function
+//! `algo(&model, &mut data, x, ...)` leaving its results in [`crate::model::Data`]:
+//! forward kinematics and Jacobians ([`kinematics`]), the paper-form inertia blocks
+//! ([`inertia`], eqs. 27–36), CRBA ([`crba`]), RNEA ([`rnea`]), ABA ([`aba`]), forward
+//! dynamics through `H` ([`dynamics`]), momentum and energy ([`momentum`]) and external
+//! wrenches ([`wrench`]).
+//!
+//! Imports: [`crate::math`], [`crate::model`] and [`crate::error`].
+
+pub mod aba;
+pub mod crba;
+pub mod dynamics;
+pub mod inertia;
+pub mod kinematics;
+pub mod momentum;
+pub mod rnea;
+pub mod wrench;

@@ -1,0 +1,8 @@
+//! Model input and output: TOML model files ([`toml`], `docs/model-format.md`) and
+//! Denavit–Hartenberg tables ([`dh`], `docs/dh.md`). Both feed [`crate::model::ModelBuilder`],
+//! so a model gets the same verdict whichever door it comes through.
+//!
+//! Imports: [`crate::math`], [`crate::model`] and [`crate::error`].
+
+pub mod dh;
+pub mod toml;

@@ -1,0 +1,133 @@
+//! Mass properties of one rigid body and the physical rules they obey (each rule defined here
+//! once; every door that makes a model reaches them through [`crate::model::ModelBuilder`]).
+
+use nalgebra::{Matrix3, SymmetricEigen};
+
+use crate::error::{ModelError, ModelField, ModelItem};
+
+/// Relative tolerance on the symmetry, positive semi-definiteness and triangle inequality of
+/// an inertia tensor, scaled by its largest principal moment.
+pub const INERTIA_TOLERANCE: f64 = 1e-9;
+
+/// Largest magnitude accepted for an inertia entry, kg·m². Anything larger is certainly a
+/// units mistake, and it would overflow the eigenvalue analysis that checks the tensor.
+pub const MAX_INERTIA_ENTRY: f64 = 1e100;
+
+/// Mass and rotational inertia of a rigid body, the inertia taken about its centre of mass and
+/// expressed in the body frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MassProperties {
+    /// Mass, kg.
+    pub mass: f64,
+    /// Inertia tensor about the CM in body axes, kg·m².
+    pub inertia: Matrix3<f64>,
+}
+
+impl MassProperties {
+    /// Build and validate: the mass finite and `>= 0` (`> 0` for the base, whose CM defines the
+    /// base frame), the inertia finite, at most [`MAX_INERTIA_ENTRY`] in magnitude, symmetric,
+    /// positive semi-definite (definite for the base) and obeying the triangle inequality.
+    /// `item` and `who` say which body it is, in the error's location and message.
+    pub fn new(item: ModelItem, who: &str, mass: f64, inertia: Matrix3<f64>, require_positive_mass: bool) -> Result<Self, ModelError> {
+        let mass_error = |m: String| ModelError::new(item, ModelField::Mass, m);
+        let inertia_error = |m: String| ModelError::new(item, ModelField::Inertia, m);
+        if !mass.is_finite() {
+            return Err(mass_error(format!("{who}: mass must be finite, got {mass}")));
+        }
+        if require_positive_mass && mass <= 0.0 {
+            return Err(mass_error(format!("{who}: mass must be > 0 kg, got {mass}")));
+        }
+        if mass < 0.0 {
+            return Err(mass_error(format!("{who}: mass must be >= 0 kg, got {mass}")));
+        }
+        for v in inertia.iter() {
+            if !v.is_finite() {
+                return Err(inertia_error(format!("{who}: inertia must be finite, found {v}")));
+            }
+            if v.abs() > MAX_INERTIA_ENTRY {
+                return Err(inertia_error(format!(
+                    "{who}: inertia entry {v:e} kg·m² exceeds {MAX_INERTIA_ENTRY:e} in magnitude (check the units)"
+                )));
+            }
+        }
+        let scale = inertia.abs().max().max(f64::MIN_POSITIVE);
+        let asym = (inertia - inertia.transpose()).abs().max();
+        if asym > INERTIA_TOLERANCE * scale {
+            return Err(inertia_error(format!(
+                "{who}: inertia tensor must be symmetric, but |I - I^T| reaches {asym:.3e} (tolerance {:.1e} of its largest entry)",
+                INERTIA_TOLERANCE
+            )));
+        }
+        let sym = (inertia + inertia.transpose()) * 0.5;
+        let mut moments = SymmetricEigen::new(sym).eigenvalues;
+        // Entries near f64::MAX overflow the eigen-decomposition: refuse rather than compare NaNs.
+        if moments.iter().any(|m| !m.is_finite()) {
+            return Err(inertia_error(format!(
+                "{who}: inertia tensor entries are too large to analyse (largest |entry| {scale:e} kg·m²)"
+            )));
+        }
+        moments.as_mut_slice().sort_by(|a, b| a.total_cmp(b));
+        let (a, b, c) = (moments[0], moments[1], moments[2]);
+        let tol = INERTIA_TOLERANCE * c.abs().max(f64::MIN_POSITIVE);
+        if a < -tol {
+            return Err(inertia_error(format!(
+                "{who}: inertia tensor must be positive semi-definite, but its principal moments are [{a:.6e}, {b:.6e}, {c:.6e}] kg·m²"
+            )));
+        }
+        if require_positive_mass && a <= tol {
+            return Err(inertia_error(format!(
+                "{who}: the base inertia tensor must be positive definite, but its smallest principal moment is {a:.6e} kg·m²"
+            )));
+        }
+        // A physical body's principal moments obey I_a + I_b >= I_c (the second moments of
+        // mass are non-negative).
+        if a + b < c - tol {
+            return Err(inertia_error(format!(
+                "{who}: principal moments [{a:.6e}, {b:.6e}, {c:.6e}] kg·m² violate the triangle inequality I1 + I2 >= I3 of a physical body"
+            )));
+        }
+        Ok(MassProperties { mass, inertia: sym })
+    }
+
+    /// Inertia of a solid box of the given side lengths about its centre, in its own axes.
+    pub fn solid_box(mass: f64, sx: f64, sy: f64, sz: f64) -> Matrix3<f64> {
+        let k = mass / 12.0;
+        Matrix3::from_diagonal(&nalgebra::Vector3::new(
+            k * (sy * sy + sz * sz),
+            k * (sx * sx + sz * sz),
+            k * (sx * sx + sy * sy),
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_non_physical_inertias() {
+        let ok = MassProperties::solid_box(2.0, 0.1, 0.2, 0.3);
+        assert!(MassProperties::new(ModelItem::Base, "b", 2.0, ok, true).is_ok());
+        let mut asym = ok;
+        asym[(0, 1)] = 0.01;
+        assert!(MassProperties::new(ModelItem::Base, "b", 2.0, asym, true).unwrap_err().to_string().contains("symmetric"));
+        let tri = Matrix3::from_diagonal(&nalgebra::Vector3::new(1.0, 1.0, 3.0));
+        assert!(MassProperties::new(ModelItem::Base, "b", 2.0, tri, true).unwrap_err().to_string().contains("triangle"));
+        let huge = Matrix3::from_diagonal(&nalgebra::Vector3::new(1e308, 1e308, 1e308)) + Matrix3::from_element(1e308);
+        assert!(MassProperties::new(ModelItem::Base, "b", 1.0, huge, false).unwrap_err().to_string().contains("finite"));
+        let huge = Matrix3::from_diagonal(&nalgebra::Vector3::new(1e200, 1e200, 1e200));
+        assert!(MassProperties::new(ModelItem::Base, "b", 1.0, huge, false).unwrap_err().to_string().contains("exceeds"));
+        // Just below the magnitude limit: a valid tensor.
+        let big = Matrix3::from_diagonal(&nalgebra::Vector3::new(1e100, 1e100, 1e100));
+        assert!(MassProperties::new(ModelItem::Base, "b", 1.0, big, false).is_ok());
+        let e = MassProperties::new(ModelItem::Link(2), "l", -1.0, ok, false).unwrap_err();
+        assert_eq!((e.item, e.field), (ModelItem::Link(2), ModelField::Mass));
+        let e = MassProperties::new(ModelItem::Link(2), "l", 1.0, tri, false).unwrap_err();
+        assert_eq!((e.item, e.field), (ModelItem::Link(2), ModelField::Inertia));
+        let neg = Matrix3::from_diagonal(&nalgebra::Vector3::new(-1.0, 1.0, 1.0));
+        assert!(MassProperties::new(ModelItem::Base, "b", 2.0, neg, false).unwrap_err().to_string().contains("semi-definite"));
+        assert!(MassProperties::new(ModelItem::Base, "base", 0.0, ok, true).unwrap_err().to_string().contains("> 0"));
+        assert!(MassProperties::new(ModelItem::Base, "l", -1.0, ok, false).unwrap_err().to_string().contains(">= 0"));
+        assert!(MassProperties::new(ModelItem::Base, "l", f64::NAN, ok, false).is_err());
+    }
+}

@@ -1,0 +1,333 @@
+//! [`ModelBuilder`]: the one way to make a [`Model`]. Every door feeds it — the Python
+//! `RobotBuilder` and URDF loader through the bindings, the TOML reader, the DH converter — so
+//! every rule of [`crate::model::validate`] is applied once, the same way, whatever the source.
+
+use nalgebra::Matrix3;
+
+use crate::error::{ModelError, ModelField, ModelItem};
+use crate::model::body::MassProperties;
+use crate::model::joint::{JointLimits, JointType};
+use crate::model::system::{Link, Model, Point};
+use crate::model::validate;
+
+/// Everything that describes one link to [`ModelBuilder::add_link`].
+#[derive(Debug, Clone)]
+pub struct LinkSpec {
+    /// Unique link (body) name.
+    pub name: String,
+    /// Name of the parent body (the base or a link added before).
+    pub parent: String,
+    /// Unique joint name (default `<name>_joint`).
+    pub joint_name: Option<String>,
+    /// Revolute, prismatic or fixed.
+    pub kind: JointType,
+    /// Joint position in the parent frame (from the parent's CM), m.
+    pub origin_in_parent: [f64; 3],
+    /// Quaternion `[x, y, z, w]` of the child frame in the parent frame at `q = 0`.
+    pub rotation_in_parent: [f64; 4],
+    /// Joint axis in the link frame (normalized by the builder).
+    pub axis: [f64; 3],
+    /// Link CM from the joint, in the link frame (at `q = 0` for a prismatic joint), m.
+    pub com_from_joint: [f64; 3],
+    /// Mass, kg.
+    pub mass: f64,
+    /// Inertia about the CM in the link frame, row-major 3×3, kg·m².
+    pub inertia: [[f64; 3]; 3],
+    /// Position, velocity and effort limits.
+    pub limits: JointLimits,
+}
+
+/// Incremental builder for [`Model`]. Names are resolved when a link or point is added, each
+/// link's own fields are checked then, and the rules that need the whole model when
+/// [`ModelBuilder::build`] runs. Every error is a [`ModelError`] that names the item (the base,
+/// the `k`-th link or point given, the model) and the field at fault.
+#[derive(Debug, Clone)]
+pub struct ModelBuilder {
+    name: String,
+    base_name: String,
+    base: MassProperties,
+    links: Vec<Link>,
+    points: Vec<Point>,
+    end_effector: Option<String>,
+    initial_q: Option<Vec<f64>>,
+}
+
+fn matrix3(rows: &[[f64; 3]; 3]) -> Matrix3<f64> {
+    Matrix3::from_fn(|i, j| rows[i][j])
+}
+
+impl ModelBuilder {
+    /// Start a model with its base: mass (kg, > 0) and inertia about the base CM in base axes.
+    pub fn new(name: &str, base_name: &str, base_mass: f64, base_inertia: [[f64; 3]; 3]) -> Result<Self, ModelError> {
+        validate::non_empty_name(ModelItem::Base, ModelField::Name, "base name", base_name)?;
+        let base = MassProperties::new(ModelItem::Base, &format!("base '{base_name}'"), base_mass, matrix3(&base_inertia), true)?;
+        Ok(ModelBuilder {
+            name: name.to_string(),
+            base_name: base_name.to_string(),
+            base,
+            links: Vec::new(),
+            points: Vec::new(),
+            end_effector: None,
+            initial_q: None,
+        })
+    }
+
+    /// Names of the bodies added so far, base first.
+    fn body_names(&self) -> Vec<&str> {
+        std::iter::once(self.base_name.as_str()).chain(self.links.iter().map(|l| l.name.as_str())).collect()
+    }
+
+    /// Index of the body called `name` among those added so far.
+    fn body_index(&self, name: &str) -> Option<usize> {
+        if name == self.base_name {
+            return Some(0);
+        }
+        self.links.iter().position(|l| l.name == name).map(|k| k + 1)
+    }
+
+    /// Add a link attached to a body added before (its parent).
+    pub fn add_link(&mut self, spec: LinkSpec) -> Result<&mut Self, ModelError> {
+        let item = ModelItem::Link(self.links.len());
+        validate::non_empty_name(item, ModelField::Name, "link name", &spec.name)?;
+        let who = format!("link '{}'", spec.name);
+        if let Some(joint_name) = &spec.joint_name {
+            validate::non_empty_name(item, ModelField::JointName, &format!("{who}: joint name"), joint_name)?;
+        }
+        let parent = self.body_index(&spec.parent).ok_or_else(|| {
+            ModelError::new(
+                item,
+                ModelField::Parent,
+                format!(
+                    "parent body '{}' is not defined (yet); known bodies: {:?}; add parents before children",
+                    spec.parent,
+                    self.body_names()
+                ),
+            )
+        })?;
+        validate::finite_vector(item, ModelField::Origin, &who, "joint origin", &spec.origin_in_parent)?;
+        validate::finite_vector(item, ModelField::Com, &who, "com", &spec.com_from_joint)?;
+        let axis = validate::joint_axis(item, &who, spec.kind, &spec.axis)?;
+        let rotation = validate::joint_rotation(item, &who, &spec.rotation_in_parent)?;
+        let joint_name = spec.joint_name.clone().unwrap_or_else(|| format!("{}_joint", spec.name));
+        validate::new_link_names(
+            item,
+            &spec.name,
+            &joint_name,
+            self.body_names().into_iter(),
+            self.points.iter().map(|p| p.name.as_str()),
+            self.links.iter().map(|l| l.joint.name.as_str()),
+        )?;
+        validate::joint_limits(item, &format!("joint '{joint_name}' of link '{}'", spec.name), &spec.limits)?;
+        let mass = MassProperties::new(item, &who, spec.mass, matrix3(&spec.inertia), false)?;
+        self.links.push(Link::from_spec(spec, parent, rotation, axis, mass));
+        Ok(self)
+    }
+
+    /// Add a named point fixed to `body` at `offset` (body frame, from its CM).
+    pub fn add_point(&mut self, name: &str, body: &str, offset: [f64; 3]) -> Result<&mut Self, ModelError> {
+        let item = ModelItem::Point(self.points.len());
+        validate::non_empty_name(item, ModelField::Name, "point name", name)?;
+        validate::new_point_name(item, name, self.body_names().into_iter().chain(self.points.iter().map(|p| p.name.as_str())))?;
+        let who = format!("point '{name}'");
+        let b = self.body_index(body).ok_or_else(|| {
+            ModelError::new(
+                item,
+                ModelField::Body,
+                format!("{who}: body '{body}' is not a body of the model; bodies defined so far: {:?}", self.body_names()),
+            )
+        })?;
+        let offset = validate::finite_vector(item, ModelField::Offset, &who, "offset", &offset)?;
+        self.points.push(Point { name: name.to_string(), body: b, offset });
+        Ok(self)
+    }
+
+    /// Designate the point called `name` as the end effector.
+    pub fn set_end_effector(&mut self, name: &str) -> &mut Self {
+        self.end_effector = Some(name.to_string());
+        self
+    }
+
+    /// Set the initial joint coordinates (length `N`).
+    pub fn set_initial_q(&mut self, q: Vec<f64>) -> &mut Self {
+        self.initial_q = Some(q);
+        self
+    }
+
+    /// Apply the whole-model rules and produce the immutable model.
+    pub fn build(&self) -> Result<Model, ModelError> {
+        let ee = match &self.end_effector {
+            None => None,
+            Some(n) => Some(self.points.iter().position(|p| &p.name == n).ok_or_else(|| {
+                let names: Vec<&str> = self.points.iter().map(|p| p.name.as_str()).collect();
+                ModelError::new(ModelItem::Model, ModelField::EndEffector, format!("end effector '{n}' is not a defined point; points: {names:?}"))
+            })?),
+        };
+        Model::new(
+            self.name.clone(),
+            self.base_name.clone(),
+            self.base.clone(),
+            self.links.clone(),
+            self.points.clone(),
+            ee,
+            self.initial_q.clone(),
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::dh::{ClassicDhLink, DhArm, DhTable};
+    use crate::io::toml::model_from_toml_str;
+    use crate::SpacearmError;
+
+    fn spec(axis: [f64; 3], mass: f64, limits: JointLimits) -> LinkSpec {
+        LinkSpec {
+            name: "arm".into(),
+            parent: "base".into(),
+            joint_name: None,
+            kind: JointType::Revolute,
+            origin_in_parent: [0.5, 0.0, 0.0],
+            rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
+            axis,
+            com_from_joint: [0.5, 0.0, 0.0],
+            mass,
+            inertia: [[0.01, 0.0, 0.0], [0.0, 0.4, 0.0], [0.0, 0.0, 0.4]],
+            limits,
+        }
+    }
+
+    fn through_builder(s: LinkSpec) -> SpacearmError {
+        let mut b = ModelBuilder::new("m", "base", 100.0, [[10.0, 0.0, 0.0], [0.0, 10.0, 0.0], [0.0, 0.0, 10.0]]).unwrap();
+        let e = match b.add_link(s) {
+            Err(e) => e,
+            Ok(b) => b.build().unwrap_err(),
+        };
+        assert_eq!(e.item, ModelItem::Link(0), "{e}");
+        e.into()
+    }
+
+    fn toml_number(x: f64) -> String {
+        format!("{x:?}")
+    }
+
+    fn through_toml(s: &LinkSpec) -> SpacearmError {
+        let [a0, a1, a2] = s.axis.map(toml_number);
+        let l = &s.limits;
+        let limits = if l.lower.is_finite() { format!(", limits = {{ lower = {:?}, upper = {:?} }}", l.lower, l.upper) } else { String::new() };
+        let text = format!(
+            "[model]\nname = \"m\"\n[base]\nmass = 100.0\ninertia = [10.0, 10.0, 10.0]\n[[link]]\nname = \"arm\"\nparent = \"base\"\n\
+             com = [0.5, 0.0, 0.0]\nmass = {:?}\ninertia = [0.01, 0.4, 0.4]\n\
+             joint = {{ type = \"revolute\", origin = [0.5, 0.0, 0.0], axis = [{a0}, {a1}, {a2}]{limits} }}\n",
+            s.mass
+        );
+        model_from_toml_str(&text, "doors.toml").unwrap_err()
+    }
+
+    fn through_dh(mass: f64, limits: JointLimits) -> SpacearmError {
+        // A DH row cannot state an axis (it is z of the DH frame); mass and limits it can.
+        let row = ClassicDhLink {
+            name: Some("arm".into()),
+            joint_name: Some("arm_joint".into()),
+            kind: JointType::Revolute,
+            d: 0.0,
+            theta: 0.0,
+            a: 1.0,
+            alpha: 0.0,
+            com: [-0.5, 0.0, 0.0],
+            mass,
+            inertia: [[0.01, 0.0, 0.0], [0.0, 0.4, 0.0], [0.0, 0.0, 0.4]],
+            limits,
+        };
+        let arm = DhArm {
+            table: DhTable::Classic(vec![row]),
+            parent: "base".into(),
+            joint1_origin: [0.5, 0.0, 0.0],
+            joint1_rotation: [0.0, 0.0, 0.0, 1.0],
+            tool_offset: [0.0; 3],
+            tip_point: None,
+        };
+        crate::io::dh::model_from_dh("m", "base", 100.0, [[10.0, 0.0, 0.0], [0.0, 10.0, 0.0], [0.0, 0.0, 10.0]], &arm, None).unwrap_err()
+    }
+
+    /// The message of an invalid-model error, and that of a model-file error after its
+    /// `file:line:column: ` prefix and without the quoted source line under it.
+    fn core(e: &SpacearmError) -> String {
+        match e {
+            SpacearmError::InvalidModel(m) => format!("invalid model: {m}"),
+            SpacearmError::Parse(m) => {
+                let first = m.lines().next().unwrap();
+                first.splitn(4, ':').nth(3).unwrap().trim_start().to_string()
+            }
+            other => panic!("not a model error: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn every_door_gives_the_same_verdict() {
+        let ok = JointLimits::unlimited();
+        let inverted = JointLimits { lower: 1.0, upper: -1.0, ..ok };
+        // A tiny axis: every component below the 1e-9 floor although the norm is above it.
+        let tiny = [8e-10, 8e-10, 8e-10];
+        let builder = through_builder(spec(tiny, 5.0, ok));
+        let toml = through_toml(&spec(tiny, 5.0, ok));
+        assert!(matches!(builder, SpacearmError::InvalidModel(_)) && matches!(toml, SpacearmError::Parse(_)), "{builder:?} {toml:?}");
+        assert_eq!(core(&builder), core(&toml));
+        assert!(core(&builder).contains("link 'arm': joint axis must be a non-zero vector"), "{builder}");
+        for (mass, limits, expect) in [(-1.0, ok, "mass must be >= 0 kg"), (5.0, inverted, "position limits must satisfy lower <= upper")] {
+            let builder = through_builder(spec([0.0, 0.0, 1.0], mass, limits));
+            let toml = through_toml(&spec([0.0, 0.0, 1.0], mass, limits));
+            let dh = through_dh(mass, limits);
+            assert!(core(&builder).contains(expect), "{builder}");
+            assert!(matches!(dh, SpacearmError::InvalidModel(_)), "{dh:?}");
+            assert_eq!(core(&builder), core(&toml));
+            assert_eq!(core(&builder), core(&dh));
+        }
+    }
+
+    #[test]
+    fn errors_name_the_item_and_field() {
+        let mut b = ModelBuilder::new("m", "base", 1.0, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]).unwrap();
+        b.add_link(spec([0.0, 0.0, 1.0], 1.0, JointLimits::unlimited())).unwrap();
+        let e = b.add_link(spec([0.0, 0.0, 0.0], 1.0, JointLimits::unlimited())).unwrap_err();
+        assert_eq!((e.item, e.field), (ModelItem::Link(1), ModelField::Axis));
+        let mut s = spec([0.0, 0.0, 1.0], 1.0, JointLimits::unlimited());
+        s.parent = "ghost".into();
+        assert_eq!(b.add_link(s).unwrap_err().field, ModelField::Parent);
+        b.add_point("tip", "arm", [0.0; 3]).unwrap();
+        assert_eq!(b.add_point("p", "arm", [f64::NAN, 0.0, 0.0]).unwrap_err().field, ModelField::Offset);
+        assert_eq!(b.add_point("", "arm", [0.0; 3]).unwrap_err().field, ModelField::Name);
+        let e = b.add_link(spec([0.0, 0.0, 1.0], 1.0, JointLimits::unlimited())).unwrap_err();
+        assert_eq!((e.item, e.field), (ModelItem::Link(1), ModelField::Name), "{e}");
+        assert!(e.message.contains("body name 'arm' is used twice"));
+        let mut other = spec([0.0, 0.0, 1.0], 1.0, JointLimits::unlimited());
+        other.name = "other".into();
+        other.joint_name = Some("arm_joint".into());
+        let e = b.add_link(other).unwrap_err();
+        assert_eq!((e.item, e.field), (ModelItem::Link(1), ModelField::JointName), "{e}");
+        assert_eq!(b.add_point("arm", "arm", [0.0; 3]).unwrap_err().field, ModelField::Name);
+        let mut b = ModelBuilder::new("m", "base", 1.0, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]).unwrap();
+        let mut massless = spec([0.0, 0.0, 1.0], 0.0, JointLimits::unlimited());
+        massless.inertia = [[0.0; 3]; 3];
+        b.add_link(massless).unwrap();
+        b.set_initial_q(vec![0.0]);
+        let e = b.build().unwrap_err();
+        assert!(e.field == ModelField::Mass && e.message.contains("zero mass and inertia"), "{e}");
+    }
+
+    #[test]
+    fn unit_axes_and_rotations_are_kept_exactly_others_normalized() {
+        let mut b = ModelBuilder::new("m", "base", 1.0, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]).unwrap();
+        let (s, c) = 0.3f64.sin_cos();
+        let mut l = spec([0.0, s, c], 1.0, JointLimits::unlimited());
+        l.rotation_in_parent = [0.0, 0.0, s, c];
+        b.add_link(l).unwrap();
+        let mut l = spec([0.0, 0.0, 2.0], 1.0, JointLimits::unlimited());
+        l.name = "second".into();
+        b.add_link(l).unwrap();
+        let m = b.build().unwrap();
+        assert_eq!(m.links()[0].joint.axis.into_inner(), nalgebra::Vector3::new(0.0, s, c));
+        assert_eq!(m.links()[0].joint.rotation_in_parent.coords, nalgebra::Vector4::new(0.0, 0.0, s, c));
+        assert_eq!(m.links()[1].joint.axis.into_inner(), nalgebra::Vector3::z());
+    }
+}

@@ -1,0 +1,19 @@
+//! The constant description of a spacecraft-manipulator system and its per-configuration
+//! workspace: mass properties ([`body`]), joints ([`joint`]), the validated [`Model`]
+//! ([`system`]), the one way to build one ([`builder`], checked by [`validate`]), the
+//! workspace [`Data`] ([`data`]) and the paper's case-study models ([`presets`]).
+//!
+//! Imports: [`crate::math`] and [`crate::error`] only (the presets use the builder of this
+//! folder).
+
+pub mod body;
+pub mod builder;
+pub mod data;
+pub mod joint;
+pub mod presets;
+pub mod system;
+pub mod validate;
+
+pub use builder::{LinkSpec, ModelBuilder};
+pub use data::{Data, DataT};
+pub use system::{Link, Model, Point};

@@ -1,0 +1,205 @@
+//! The rules a model description must satisfy, each defined once.
+//!
+//! [`crate::model::ModelBuilder`] applies them, and every door that makes a model goes through
+//! the builder: the Python `RobotBuilder`, the URDF loader (both through the bindings), the TOML
+//! reader ([`crate::io::toml`]) and the Denavit–Hartenberg converter ([`crate::io::dh`]). So a
+//! model gets the same verdict, with the same message, from every door; each error is a
+//! [`ModelError`] that says which item and field broke the rule, from which a model file reader
+//! finds the offending text.
+//!
+//! Where each rule lives: a link's or point's own fields (names, unique among those given
+//! before, joint origin, CM, axis, rotation, limits, offset) are checked here when it is
+//! added; mass and inertia by [`MassProperties::new`](crate::model::body::MassProperties::new);
+//! the rules that need the whole model (a tree, no massless moving subtree, end effector,
+//! initial joint coordinates) by [`check_structure`] when the model is built.
+
+use nalgebra::{Quaternion, Unit, UnitQuaternion, UnitVector3, Vector3};
+
+use crate::error::{ModelError, ModelField, ModelItem};
+use crate::math::rotations::unit_quaternion_from_xyzw;
+use crate::model::body::MassProperties;
+use crate::model::joint::{JointLimits, JointType};
+use crate::model::system::{Link, Point};
+
+/// A moving joint's axis is refused when its largest component (in magnitude) is at most this:
+/// it is normalized, and a shorter vector has no reliable direction.
+pub const MIN_AXIS_COMPONENT: f64 = 1e-9;
+
+/// A joint axis or rotation already of unit norm within this is kept bit for bit rather than
+/// normalized again, so that a model written to a file reads back identical.
+const UNIT_NORM_KEPT: f64 = 4.0 * f64::EPSILON;
+
+/// A name must not be empty (`what` says which name, for the message).
+pub fn non_empty_name(item: ModelItem, field: ModelField, what: &str, name: &str) -> Result<(), ModelError> {
+    if name.is_empty() {
+        return Err(ModelError::new(item, field, format!("{what} must not be empty")));
+    }
+    Ok(())
+}
+
+/// A new link's body and joint names must differ from every body, point and joint name given
+/// before (`bodies` includes the base).
+pub fn new_link_names<'a>(
+    item: ModelItem,
+    name: &str,
+    joint_name: &str,
+    mut bodies: impl Iterator<Item = &'a str>,
+    mut points: impl Iterator<Item = &'a str>,
+    mut joints: impl Iterator<Item = &'a str>,
+) -> Result<(), ModelError> {
+    if bodies.any(|b| b == name) {
+        return Err(ModelError::new(item, ModelField::Name, format!("body name '{name}' is used twice")));
+    }
+    if points.any(|p| p == name) {
+        return Err(ModelError::new(item, ModelField::Name, format!("body name '{name}' is already used by a point")));
+    }
+    if joints.any(|j| j == joint_name) {
+        return Err(ModelError::new(item, ModelField::JointName, format!("link '{name}': joint name '{joint_name}' is used twice")));
+    }
+    Ok(())
+}
+
+/// A new point's name must differ from every body and point name given before.
+pub fn new_point_name<'a>(item: ModelItem, name: &str, mut bodies_and_points: impl Iterator<Item = &'a str>) -> Result<(), ModelError> {
+    if bodies_and_points.any(|n| n == name) {
+        return Err(ModelError::new(item, ModelField::Name, format!("point name '{name}' is already used by a body or point")));
+    }
+    Ok(())
+}
+
+/// A 3-vector of a link or point must be finite.
+pub fn finite_vector(item: ModelItem, field: ModelField, who: &str, what: &str, v: &[f64; 3]) -> Result<Vector3<f64>, ModelError> {
+    if v.iter().any(|x| !x.is_finite()) {
+        return Err(ModelError::new(item, field, format!("{who}: {what} must be finite, got {v:?}")));
+    }
+    Ok(Vector3::from(*v))
+}
+
+/// The unit axis of a joint, in the link frame: finite; for a moving joint, a vector whose
+/// largest component exceeds [`MIN_AXIS_COMPONENT`] (scaled by that component before it is
+/// normalized, so that the norm cannot overflow); a fixed joint's axis is ignored, and a zero
+/// one becomes `z`.
+pub fn joint_axis(item: ModelItem, who: &str, kind: JointType, axis: &[f64; 3]) -> Result<UnitVector3<f64>, ModelError> {
+    let v = Vector3::from(*axis);
+    if v.iter().any(|x| !x.is_finite()) {
+        return Err(ModelError::new(item, ModelField::Axis, format!("{who}: joint axis must be finite, got {axis:?}")));
+    }
+    let largest = v.amax();
+    if largest.is_nan() || largest <= MIN_AXIS_COMPONENT {
+        if kind == JointType::Fixed {
+            return Ok(Vector3::z_axis());
+        }
+        return Err(ModelError::new(
+            item,
+            ModelField::Axis,
+            format!("{who}: joint axis must be a non-zero vector (it is normalized), got {axis:?}"),
+        ));
+    }
+    if (v.norm() - 1.0).abs() <= UNIT_NORM_KEPT {
+        return Ok(Unit::new_unchecked(v));
+    }
+    Ok(Unit::new_normalize(v / largest))
+}
+
+/// The rotation of a joint's child frame at `q = 0`, `[x, y, z, w]`: a unit quaternion within
+/// [`crate::math::rotations::QUATERNION_TOLERANCE`], then normalized.
+pub fn joint_rotation(item: ModelItem, who: &str, xyzw: &[f64; 4]) -> Result<UnitQuaternion<f64>, ModelError> {
+    let rotation = unit_quaternion_from_xyzw(&format!("{who}: joint rotation"), xyzw)
+        .map_err(|e| ModelError::new(item, ModelField::Rotation, e.to_string()))?;
+    let raw = Quaternion::new(xyzw[3], xyzw[0], xyzw[1], xyzw[2]);
+    if (raw.norm() - 1.0).abs() <= UNIT_NORM_KEPT {
+        return Ok(UnitQuaternion::new_unchecked(raw));
+    }
+    Ok(rotation)
+}
+
+/// Joint limits: `lower <= upper` (neither NaN), velocity and effort limits `>= 0`.
+pub fn joint_limits(item: ModelItem, who: &str, limits: &JointLimits) -> Result<(), ModelError> {
+    let l = limits;
+    if l.lower.is_nan() || l.upper.is_nan() || l.lower > l.upper {
+        return Err(ModelError::new(
+            item,
+            ModelField::Limits,
+            format!("{who}: position limits must satisfy lower <= upper, got [{}, {}]", l.lower, l.upper),
+        ));
+    }
+    if l.velocity.is_nan() || l.effort.is_nan() || l.velocity < 0.0 || l.effort < 0.0 {
+        return Err(ModelError::new(
+            item,
+            ModelField::Limits,
+            format!("{who}: velocity and effort limits must be >= 0, got {} and {}", l.velocity, l.effort),
+        ));
+    }
+    Ok(())
+}
+
+/// The rules that need the whole model: links come parents first (`links[k].parent <= k`, a
+/// tree) and points name existing bodies (both guaranteed by the builder, which resolves
+/// names in order, and checked here for any other assembly); every moving joint carries some
+/// mass or inertia; the end effector names a point; `initial_q` has one finite entry per
+/// moving joint. Names are unique by construction (checked as each item is added).
+pub fn check_structure(
+    base: &MassProperties,
+    links: &[Link],
+    points: &[Point],
+    end_effector: Option<usize>,
+    initial_q: &[f64],
+) -> Result<(), ModelError> {
+    for (k, link) in links.iter().enumerate() {
+        let item = ModelItem::Link(k);
+        if link.parent > k {
+            return Err(ModelError::new(
+                item,
+                ModelField::Parent,
+                format!("link '{}': parent index {} must name the base (0) or a link listed before it (1..={k})", link.name, link.parent),
+            ));
+        }
+    }
+    // A moving joint must carry something: with no mass and no inertia anywhere downstream
+    // its acceleration is undetermined and H is singular for every configuration.
+    let mut subtree_mass: Vec<f64> = std::iter::once(base.mass).chain(links.iter().map(|l| l.mass.mass)).collect();
+    let mut subtree_inertia: Vec<f64> =
+        std::iter::once(base.inertia.trace()).chain(links.iter().map(|l| l.mass.inertia.trace())).collect();
+    for (k, link) in links.iter().enumerate().rev() {
+        let body = k + 1;
+        if link.joint.kind != JointType::Fixed && subtree_mass[body] == 0.0 && subtree_inertia[body] == 0.0 {
+            return Err(ModelError::new(
+                ModelItem::Link(k),
+                ModelField::Mass,
+                format!(
+                    "joint '{}' moves link '{}', but that link and everything attached to it have zero mass and inertia: \
+                     the joint's acceleration would be undetermined",
+                    link.joint.name, link.name
+                ),
+            ));
+        }
+        subtree_mass[link.parent] += subtree_mass[body];
+        subtree_inertia[link.parent] += subtree_inertia[body];
+    }
+    for (i, p) in points.iter().enumerate() {
+        if p.body > links.len() {
+            return Err(ModelError::new(
+                ModelItem::Point(i),
+                ModelField::Body,
+                format!("point '{}': body index {} does not exist (the model has bodies 0..={})", p.name, p.body, links.len()),
+            ));
+        }
+    }
+    if let Some(e) = end_effector {
+        if e >= points.len() {
+            return Err(ModelError::new(ModelItem::Model, ModelField::EndEffector, format!("end effector index {e} does not name a point")));
+        }
+    }
+    let n_dof = links.iter().filter(|l| l.joint.kind != JointType::Fixed).count();
+    if initial_q.len() != n_dof {
+        return Err(ModelError::new(
+            ModelItem::Model,
+            ModelField::InitialQ,
+            format!("initial_q must have N = {n_dof} entries (one per moving joint), got {}", initial_q.len()),
+        ));
+    }
+    if let Some(x) = initial_q.iter().find(|x| !x.is_finite()) {
+        return Err(ModelError::new(ModelItem::Model, ModelField::InitialQ, format!("initial_q must be finite, got {x}")));
+    }
+    Ok(())
+}
