@@ -10,11 +10,12 @@ import sys
 
 import numpy as np
 
+from .cli_model import add_model_arguments, joint_values
+
 __all__ = ["add_parser", "run"]
 
 
 def add_parser(sub) -> None:
-    from .cli import add_model_arguments
 
     p = sub.add_parser("analyze", help="dynamic singularities, workspaces or reactionless motion, with a figure")
     add_model_arguments(p)
@@ -54,7 +55,6 @@ def _task(text):
 def run(args, model_from_args, out=None) -> None:
     out = sys.stdout if out is None else out
     from . import analysis
-    from .cli import joint_values
     from .cli_numbers import parse_numbers
     from .errors import SpacearmError
 

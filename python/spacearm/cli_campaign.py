@@ -9,11 +9,12 @@ from __future__ import annotations
 
 import sys
 
+from .cli_model import add_model_arguments
+
 __all__ = ["add_parser", "run"]
 
 
 def add_parser(sub) -> None:
-    from .cli import add_model_arguments
 
     p = sub.add_parser("campaign", help="Monte Carlo campaign: tracking cost of inertia errors (local processes or Dask)",
                        description="MODEL with its model options is the nominal model; the workers receive it whole "

@@ -10,11 +10,12 @@ from __future__ import annotations
 import sys
 import time
 
+from .cli_model import add_model_arguments
+
 __all__ = ["add_parser", "run"]
 
 
 def add_parser(sub) -> None:
-    from .cli import add_model_arguments
 
     p = sub.add_parser("derive", help="derive the closed-form matrices (SymPy) and write LaTeX, NumPy and C")
     add_model_arguments(p)

@@ -20,6 +20,7 @@ from typing import List
 
 import numpy as np
 
+from .cli_model import add_model_arguments, joint_values
 from .cli_numbers import CliError, parse_numbers
 from .simulation import MODES  # the core's mode table
 
@@ -41,7 +42,6 @@ def add_parsers(sub) -> None:
     p = sub.add_parser("simulate", help="simulate a model under a controller and write the results",
                        description="Simulate MODEL in a maneuvering mode under a controller; print a summary and "
                                    "write the trajectory (.npz), a CSV table, a figure (PNG) and an animation (GIF).")
-    from .cli import add_model_arguments
 
     add_model_arguments(p)
     p.add_argument("--mode", choices=MODES, help="maneuvering mode (default: floating; rotation-floating for "
@@ -244,7 +244,6 @@ def simulate_command(args, model_from_args, out=None) -> int:
     """Run ``spacearm simulate`` with parsed ``args``; ``model_from_args`` is the CLI's model
     loader (:func:`spacearm.cli.model_from_args`)."""
     import spacearm
-    from .cli import joint_values
 
     out = sys.stdout if out is None else out
     robot = model_from_args(args)
