@@ -162,7 +162,7 @@ class ModelDescription:
         for link in self.links:
             if link.name == name:
                 return link
-        raise NotFoundError(f"no link named {name!r} (links: {', '.join(l.name for l in self.links) or 'none'})")
+        raise NotFoundError(f"no link named {name!r} (links: {', '.join(link.name for link in self.links) or 'none'})")
 
     def point(self, name: str) -> PointDescription:
         """The point called ``name`` (raises :class:`~spacearm.NotFoundError` if there is none)."""
