@@ -9,6 +9,7 @@ conventions are in ``docs/conventions.md``.
 from . import control, dh, model_file, presets
 from ._core import __version__
 from .builder import RobotBuilder
+from .description import BaseDescription, JointLimits, LinkDescription, ModelDescription, PointDescription
 from .errors import (
     ArgumentError,
     CampaignError,
@@ -37,6 +38,11 @@ __all__ = [
     "InertiaBlocks",
     "ForwardDynamicsDerivatives",
     "Linearization",
+    "ModelDescription",
+    "BaseDescription",
+    "LinkDescription",
+    "PointDescription",
+    "JointLimits",
     "presets",
     "simulate",
     "Trajectory",

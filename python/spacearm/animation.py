@@ -56,20 +56,20 @@ def arm_segments(robot, x, skip_dofs: Sequence[int] = ()) -> List[Tuple[np.ndarr
     """The segments ``(start, end)`` in 𝒥 that draw every link at configuration ``x``
     (joint to child joint; a leaf ends at its end-effector point or the mirror of its joint
     through its CM). Links moved by a dof in ``skip_dofs`` (reaction wheels) are left out."""
-    desc = robot.describe()
+    desc = robot.description
     kin = robot.forward_kinematics(x)
-    links = desc["links"]
+    links = desc.links
     children = {b: [] for b in range(len(links) + 1)}
     for i, link in enumerate(links):
-        children[int(link["parent_index"])].append(i + 1)
+        children[link.parent_index].append(i + 1)
     point_on = {}
-    for name, body, offset in desc["points"]:
-        point_on.setdefault(robot.body_index(body), []).append(name)
+    for p in desc.points:
+        point_on.setdefault(robot.body_index(p.body), []).append(p.name)
     skip = {int(d) for d in skip_dofs}
     segments = []
     for i, link in enumerate(links):
         b = i + 1
-        if link["type"] != "fixed" and int(link["dof"]) in skip:
+        if link.dof is not None and link.dof in skip:
             continue
         start = kin.joint_position_in_world[b]
         ends = [kin.joint_position_in_world[c] for c in children[b]]
@@ -125,8 +125,8 @@ def animate_trajectory(
     k_total = len(traj)
     idx = np.unique(np.linspace(0, k_total - 1, min(int(frames), k_total)).round().astype(int))
     wheel_dofs = [int(d) for d in (traj.meta.get("wheel_dofs") or [])]
-    base = robot.describe()["base"]
-    sides, axes = equivalent_box(base["mass"], base["inertia"])
+    base = robot.description.base
+    sides, axes = equivalent_box(base.mass, base.inertia)
     rotations = traj.base_rotation
     has_ee = robot.end_effector is not None and robot.n_dof > 0
     ee = traj.ee_position if traj.has("ee_position") else (

@@ -64,21 +64,19 @@ class RobotBuilder:
         """
         if not isinstance(robot, Robot):
             raise ArgumentError(f"from_robot needs a spacearm.Robot, got {type(robot).__name__}")
-        d = robot.describe()
-        base = d["base"]
-        b = cls(d["name"] if name is None else name, base["mass"], base["inertia"], base_name=base["name"])
-        for link in d["links"]:
-            limits = None
-            if link["type"] != "fixed" and link.get("limits") is not None:
-                limits = dict(zip(("lower", "upper", "velocity", "effort"), link["limits"]))
-            b.add_link(link["name"], parent=link["parent"], joint=link["type"], axis=link["axis"],
-                       origin=link["origin"], rotation=link["rotation"], com=link["com"], mass=link["mass"],
-                       inertia=link["inertia"], joint_name=link["joint"], limits=limits)
-        for point, body, offset in d["points"]:
-            b.add_point(point, body=body, offset=offset)
-        if d["end_effector"] is not None:
-            b.set_end_effector(d["end_effector"])
-        b._initial_q_by_link = dict(zip(b._moving_links(), (float(v) for v in d["initial_q"])))
+        d = robot.description
+        b = cls(d.name if name is None else name, d.base.mass, d.base.inertia.tolist(), base_name=d.base.name)
+        for link in d.links:
+            lim = link.limits
+            limits = None if link.type == "fixed" else dict(lower=lim.lower, upper=lim.upper, velocity=lim.velocity, effort=lim.effort)
+            b.add_link(link.name, parent=link.parent, joint=link.type, axis=link.axis.tolist(),
+                       origin=link.origin.tolist(), rotation=link.rotation.tolist(), com=link.com.tolist(), mass=link.mass,
+                       inertia=link.inertia.tolist(), joint_name=link.joint, limits=limits)
+        for p in d.points:
+            b.add_point(p.name, body=p.body, offset=p.offset.tolist())
+        if d.end_effector is not None:
+            b.set_end_effector(d.end_effector)
+        b._initial_q_by_link = dict(zip(b._moving_links(), d.initial_q.tolist()))
         return b
 
     def add_link(

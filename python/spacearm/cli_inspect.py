@@ -46,21 +46,20 @@ def inspect(robot: Robot, q=None, out=None) -> None:
     """Print the model summary and the GJM quantities at ``q`` (default: initial angles)."""
     # Resolve the stream at call time, not at import time, so redirections of sys.stdout count.
     out = sys.stdout if out is None else out
-    d = robot.describe()
+    d = robot.description
     w = out.write
     w(f"model '{robot.name}': {robot.n_bodies} bodies, N = {robot.n_dof} joint DOF, total mass {robot.total_mass:.6g} kg\n\n")
-    b = d["base"]
-    rows = [(b["name"], "-", "-", "free", "-", b["mass"])]
-    for link in d["links"]:
-        axis = "-" if link["type"] == "fixed" else "[" + ", ".join(f"{v:.3g}" for v in link["axis"]) + "]"
-        rows.append((link["name"], link["parent"], link["joint"], link["type"], axis, link["mass"]))
+    rows = [(d.base.name, "-", "-", "free", "-", d.base.mass)]
+    for link in d.links:
+        axis = "-" if link.type == "fixed" else "[" + ", ".join(f"{v:.3g}" for v in link.axis) + "]"
+        rows.append((link.name, link.parent, link.joint, link.type, axis, link.mass))
     # Columns as wide as their longest name (URDF names such as 'shoulder_pan_joint' are long).
     widths = [max(16, 2 + max(len(r[k]) for r in rows)) for k in range(3)]
     w(f"{'body':<{widths[0]}}{'parent':<{widths[1]}}{'joint':<{widths[2]}}{'type':<10}{'axis (link frame)':<26}{'mass kg':>9}\n")
     for name, parent, joint, kind, axis, mass in rows:
         w(f"{name:<{widths[0]}}{parent:<{widths[1]}}{joint:<{widths[2]}}{kind:<10}{axis:<26}{mass:>9.4g}\n")
-    if d["points"]:
-        w("\npoints: " + ", ".join(f"{n} on {b} at [{', '.join(f'{v:.4g}' for v in o)}]" for n, b, o in d["points"]))
+    if d.points:
+        w("\npoints: " + ", ".join(f"{p.name} on {p.body} at [{', '.join(f'{v:.4g}' for v in p.offset)}]" for p in d.points))
         w(f"   (end effector: {robot.end_effector})\n")
     x = robot.neutral_configuration(q)
     qs = ", ".join(f"{v:.4g}" for v in x[7:])

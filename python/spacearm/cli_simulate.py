@@ -102,16 +102,13 @@ def reaction_wheel_dofs(robot) -> List[int]:
     """Degrees of freedom of the reaction wheels: the rule of the simulator's default
     (``detect_reaction_wheels`` in the core) — a revolute joint on the base whose link has no
     children, its CM on the axis and an inertia symmetric about it."""
-    desc = robot.describe()
-    links = desc["links"]
-    parents = {int(link["parent_index"]) for link in links}
+    links = robot.description.links
+    parents = {link.parent_index for link in links}
     out = []
     for i, link in enumerate(links):
-        if int(link["parent_index"]) != 0 or link["type"] != "revolute" or (i + 1) in parents:
+        if link.parent_index != 0 or link.type != "revolute" or (i + 1) in parents:
             continue
-        k = np.asarray(link["axis"], dtype=float)
-        c = np.asarray(link["com"], dtype=float)
-        inertia = np.asarray(link["inertia"], dtype=float)
+        k, c, inertia = link.axis, link.com, link.inertia
         if np.linalg.norm(c - k * (k @ c)) > 1e-9:
             continue
         scale = max(np.linalg.norm(inertia), 1e-300)
@@ -119,7 +116,7 @@ def reaction_wheel_dofs(robot) -> List[int]:
         transverse = inertia - spin * np.outer(k, k)
         iso = transverse - 0.5 * np.trace(transverse) * (np.eye(3) - np.outer(k, k))
         if np.linalg.norm(inertia @ k - spin * k) <= 1e-9 * scale and np.linalg.norm(iso) <= 1e-9 * scale:
-            out.append(int(link["dof"]))
+            out.append(link.dof)
     return sorted(out)
 
 
@@ -136,7 +133,7 @@ def pd_gains(robot, x0, arm, natural_frequency: float = 4.0, damping_ratio: floa
 
 def _mean_base_inertia(robot) -> float:
     """Mean principal moment of the base inertia, kg m^2 (the scale of the attitude gains)."""
-    return float(np.trace(np.asarray(robot.describe()["base"]["inertia"], dtype=float)) / 3.0)
+    return float(np.trace(robot.description.base.inertia) / 3.0)
 
 
 def base_pose_hold(robot, x0, natural_frequency: float = 3.0):

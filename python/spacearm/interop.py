@@ -68,6 +68,7 @@ from typing import List, NamedTuple, Optional, Tuple
 import numpy as np
 
 from ._arrays import vector
+from .description import PointDescription
 from .errors import ArgumentError, MissingDependencyError, NonFiniteError, QuaternionError, ShapeError
 from .rotations import quat_from_matrix, quat_to_matrix
 
@@ -134,7 +135,7 @@ def _import_mujoco():
 
 
 # ---------------------------------------------------------------------------------------------
-# the model's tree, read once from Robot.describe()
+# the model's tree, read from Robot.description
 # ---------------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class _Body:
@@ -152,27 +153,24 @@ class _Body:
     dof: Optional[int]  # spacearm dof index, None for the base and fixed joints
 
 
-def _tree(robot) -> Tuple[List[_Body], List[List[int]], list]:
+def _tree(robot) -> Tuple[List[_Body], List[List[int]], Tuple[PointDescription, ...]]:
     """Bodies (index order), children lists (link order) and points of ``robot``."""
-    d = robot.describe()
-    base = d["base"]
+    d = robot.description
     bodies = [
-        _Body(0, base["name"], -1, "base", None, np.zeros(3), np.eye(3), np.zeros(3), np.zeros(3),
-              float(base["mass"]), np.asarray(base["inertia"], dtype=float), None)
+        _Body(0, d.base.name, -1, "base", None, np.zeros(3), np.eye(3), np.zeros(3), np.zeros(3),
+              d.base.mass, np.array(d.base.inertia), None)
     ]
-    for k, link in enumerate(d["links"]):
-        kind = link["type"]
+    # Writable copies: the engines' bindings may not accept read-only arrays.
+    for k, link in enumerate(d.links):
         bodies.append(_Body(
-            k + 1, link["name"], int(link["parent_index"]), kind, link["joint"],
-            np.asarray(link["origin"], dtype=float), quat_to_matrix(link["rotation"]),
-            np.asarray(link["axis"], dtype=float), np.asarray(link["com"], dtype=float),
-            float(link["mass"]), np.asarray(link["inertia"], dtype=float),
-            None if kind == "fixed" else int(link["dof"]),
+            k + 1, link.name, link.parent_index, link.type, link.joint,
+            np.array(link.origin), quat_to_matrix(link.rotation), np.array(link.axis), np.array(link.com),
+            link.mass, np.array(link.inertia), link.dof,
         ))
     children: List[List[int]] = [[] for _ in bodies]
     for b in bodies[1:]:
         children[b.parent].append(b.index)
-    return bodies, children, list(d["points"])
+    return bodies, children, d.points
 
 
 def _depth_first(children: List[List[int]]) -> List[int]:
@@ -282,10 +280,10 @@ def to_pinocchio(robot):
         model.appendBodyToJoint(support[b], pin.Inertia(body.mass, np.zeros(3), body.inertia), placement[b])
         frame_of[b] = model.addFrame(pin.Frame(body.name, support[b], jframe, placement[b], pin.FrameType.BODY), False)
 
-    for name, body_name, offset in points:
-        b = robot.body_index(body_name)
-        pose = placement[b] * pin.SE3(np.eye(3), np.asarray(offset, dtype=float))
-        model.addFrame(pin.Frame(name, support[b], frame_of[b], pose, pin.FrameType.OP_FRAME), False)
+    for p in points:
+        b = robot.body_index(p.body)
+        pose = placement[b] * pin.SE3(np.eye(3), np.array(p.offset))
+        model.addFrame(pin.Frame(p.name, support[b], frame_of[b], pose, pin.FrameType.OP_FRAME), False)
     return model
 
 
@@ -410,8 +408,8 @@ def to_mjcf(robot) -> str:
     world = ET.SubElement(root, "worldbody")
 
     points_on = {}
-    for name, body_name, offset in points:
-        points_on.setdefault(robot.body_index(body_name), []).append((name, offset))
+    for p in points:
+        points_on.setdefault(robot.body_index(p.body), []).append((p.name, p.offset))
 
     def emit(parent_el: ET.Element, b: int) -> None:
         body = bodies[b]

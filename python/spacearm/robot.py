@@ -19,6 +19,7 @@ import numpy as np
 
 from . import _core
 from ._arrays import quaternion, vector, vector3
+from .description import ModelDescription
 from .errors import ArgumentError, NotFoundError, ShapeError, SpacearmTypeError
 
 __all__ = ["Robot", "ExternalWrench", "Kinematics", "Momentum", "InertiaBlocks", "ForwardDynamicsDerivatives", "Linearization"]
@@ -207,9 +208,8 @@ class Robot:
         the model's description (the model is immutable)."""
         dofs = self.__dict__.get("_dof_joints")
         if dofs is None:
-            links = [link for link in self.describe()["links"] if link["dof"] is not None]
-            links.sort(key=lambda link: link["dof"])
-            dofs = self._dof_joints = tuple((link["joint"], link["type"]) for link in links)
+            links = sorted((link for link in self.description.links if link.dof is not None), key=lambda link: link.dof)
+            dofs = self._dof_joints = tuple((link.joint, link.type) for link in links)
         return dofs
 
     @property
@@ -217,8 +217,18 @@ class Robot:
         """Body index moved by each degree of freedom."""
         return list(self._m.body_of_dof)
 
+    @property
+    def description(self) -> ModelDescription:
+        """The model's parameters, typed, with each field's frame and unit
+        (:class:`~spacearm.ModelDescription`); built once (the model is immutable)."""
+        desc = self.__dict__.get("_description")
+        if desc is None:
+            desc = self._description = ModelDescription.from_core(self._m.describe())
+        return desc
+
     def describe(self) -> dict:
-        """The model as plain Python data (base, links in tree order, points)."""
+        """The model as plain Python data (base, links in tree order, points): a new dict at
+        each call. :attr:`description` is the typed form of the same data."""
         return self._m.describe()
 
     def body_index(self, body: Union[str, int]) -> int:

@@ -43,7 +43,7 @@ def _wheel_dofs(robot, wheels) -> Optional[list]:
         return None
     if isinstance(wheels, (str, int, np.integer)):
         wheels = [wheels]
-    links = robot.describe()["links"]
+    links = robot.description.links
     out = []
     for w in wheels:
         if isinstance(w, (int, np.integer)) and not isinstance(w, bool):
@@ -53,13 +53,13 @@ def _wheel_dofs(robot, wheels) -> Optional[list]:
             continue
         if not isinstance(w, str):
             raise ArgumentError(f"wheels are joint names, link names or dof indices, got {w!r}")
-        match = [link for link in links if w in (link["joint"], link["name"])]
+        match = [link for link in links if w in (link.joint, link.name)]
         if not match:
-            joints = [link["joint"] for link in links if link["dof"] is not None]
+            joints = [link.joint for link in links if link.dof is not None]
             raise NotFoundError(f"no joint or link named '{w}' for a reaction wheel; the joints are {joints}")
-        if match[0]["dof"] is None:
+        if match[0].dof is None:
             raise ArgumentError(f"wheel '{w}' is on a fixed joint; a reaction wheel needs a revolute joint")
-        out.append(int(match[0]["dof"]))
+        out.append(match[0].dof)
     return out
 
 

@@ -421,9 +421,9 @@ class Trajectory:
         if self._robot is None:
             return [False] * self._n
         flags = [False] * self._n
-        for link in self._robot.describe()["links"]:
-            if link["type"] == "prismatic":
-                flags[int(link["dof"])] = True
+        for link in self._robot.description.links:
+            if link.type == "prismatic":
+                flags[link.dof] = True
         return flags
 
     # ---- conservation ----------------------------------------------------------------------

@@ -57,35 +57,37 @@ def _inertial(link: ET.Element, mass: float, com, inertia) -> None:
 
 def to_urdf(robot) -> str:
     """The model as URDF text (``<robot name>`` = the model name)."""
-    d = robot.describe()
+    d = robot.description
     root = ET.Element("robot", name=robot.name)
-    com = {d["base"]["name"]: np.zeros(3)}
-    base = ET.SubElement(root, "link", name=d["base"]["name"])
-    _inertial(base, d["base"]["mass"], np.zeros(3), d["base"]["inertia"])
-    for link in d["links"]:
-        el = ET.SubElement(root, "link", name=link["name"])
-        _inertial(el, link["mass"], link["com"], link["inertia"])
-        com[link["name"]] = np.asarray(link["com"], dtype=float)
-        lower, upper, velocity, effort = link["limits"]
-        kind = link["type"]
+    # URDF frames sit at the joints, spacearm's at the CMs: a body's CM from its URDF frame.
+    com = {d.base.name: np.zeros(3)}
+    base = ET.SubElement(root, "link", name=d.base.name)
+    _inertial(base, d.base.mass, np.zeros(3), d.base.inertia)
+    for link in d.links:
+        el = ET.SubElement(root, "link", name=link.name)
+        _inertial(el, link.mass, link.com, link.inertia)
+        com[link.name] = link.com
+        lim = link.limits
+        lower, upper, velocity, effort = lim.lower, lim.upper, lim.velocity, lim.effort
+        kind = link.type
         if kind == "revolute" and not (np.isfinite(lower) and np.isfinite(upper)):
             kind, lower, upper = "continuous", -np.inf, np.inf
-        joint = ET.SubElement(root, "joint", name=link["joint"], type=kind)
-        ET.SubElement(joint, "parent", link=link["parent"])
-        ET.SubElement(joint, "child", link=link["name"])
-        ET.SubElement(joint, "origin", xyz=_vec(np.asarray(link["origin"]) + com[link["parent"]]), rpy=_vec(_rpy(link["rotation"])))
+        joint = ET.SubElement(root, "joint", name=link.joint, type=kind)
+        ET.SubElement(joint, "parent", link=link.parent)
+        ET.SubElement(joint, "child", link=link.name)
+        ET.SubElement(joint, "origin", xyz=_vec(link.origin + com[link.parent]), rpy=_vec(_rpy(link.rotation)))
         if kind != "fixed":
-            ET.SubElement(joint, "axis", xyz=_vec(link["axis"]))
+            ET.SubElement(joint, "axis", xyz=_vec(link.axis))
             limits = {k: _num(v) for k, v in (("lower", lower), ("upper", upper), ("velocity", velocity), ("effort", effort))
                       if np.isfinite(v)}
             if limits:
                 ET.SubElement(joint, "limit", **limits)
-    for name, body, offset in d["points"]:
-        ET.SubElement(root, "link", name=name)
-        joint = ET.SubElement(root, "joint", name=f"{name}_point", type="fixed")
-        ET.SubElement(joint, "parent", link=body)
-        ET.SubElement(joint, "child", link=name)
-        ET.SubElement(joint, "origin", xyz=_vec(np.asarray(offset) + com[body]), rpy="0 0 0")
+    for p in d.points:
+        ET.SubElement(root, "link", name=p.name)
+        joint = ET.SubElement(root, "joint", name=f"{p.name}_point", type="fixed")
+        ET.SubElement(joint, "parent", link=p.body)
+        ET.SubElement(joint, "child", link=p.name)
+        ET.SubElement(joint, "origin", xyz=_vec(p.offset + com[p.body]), rpy="0 0 0")
     ET.indent(root)
     return '<?xml version="1.0"?>\n<!-- written by spacearm (docs/urdf.md) -->\n' + ET.tostring(root, encoding="unicode") + "\n"
 

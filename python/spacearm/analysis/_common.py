@@ -48,9 +48,9 @@ def dof_kinds(robot) -> list:
     """``"revolute"`` or ``"prismatic"`` for each degree of freedom, in ``q`` order (fixed
     joints have none); sets the unit of each joint on figure axes (rad or m)."""
     kinds = [""] * robot.n_dof
-    for link in robot.describe()["links"]:
-        if link["type"] != "fixed":
-            kinds[int(link["dof"])] = link["type"]
+    for link in robot.description.links:
+        if link.dof is not None:
+            kinds[link.dof] = link.type
     return kinds
 
 
@@ -59,8 +59,9 @@ def joint_bounds(robot, default_span=np.pi):
     for prismatic joints)."""
     lower, upper = [], []
     types = robot.dof_types
-    limits = [link["limits"] for link in robot.describe()["links"] if link["type"] != "fixed"]
-    for t, (lo, hi, _v, _e) in zip(types, limits):
+    limits = [link.limits for link in sorted((l for l in robot.description.links if l.dof is not None), key=lambda l: l.dof)]
+    for t, lim in zip(types, limits):
+        lo, hi = lim.lower, lim.upper
         span = default_span if t == "revolute" else 1.0
         lower.append(lo if np.isfinite(lo) else -span)
         upper.append(hi if np.isfinite(hi) else span)

@@ -118,9 +118,9 @@ def with_payload(robot, mass: float):
         return robot
     if robot.end_effector is None:
         raise ArgumentError("a payload needs an end effector to hold it; the model defines none")
-    body, offset = next((b, o) for name, b, o in robot.describe()["points"] if name == robot.end_effector)
+    ee = robot.description.point(robot.end_effector)
     builder = robot.to_builder()
-    builder.attach_payload("campaign_payload", body=body, mass=float(mass), origin=offset)
+    builder.attach_payload("campaign_payload", body=ee.body, mass=float(mass), origin=ee.offset.tolist())
     return builder.build()
 
 

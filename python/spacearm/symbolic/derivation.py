@@ -66,8 +66,8 @@ class Derivation:
 
     def __init__(self, robot, symbols=None):
         self.robot = robot
-        self.description = robot.describe()
-        self.name = self.description["name"]
+        self.description = robot.description
+        self.name = self.description.name
         self.timings: Dict[str, float] = {}
         t = time.perf_counter()
         self.params = Parameters(self.description, symbols)
@@ -79,7 +79,7 @@ class Derivation:
         self.v_b = sp.Matrix(sp.symbols("v_x v_y v_z", real=True))
         self.w_b = sp.Matrix(sp.symbols("omega_x omega_y omega_z", real=True))
         self.u_b = sp.Matrix.vstack(self.v_b, self.w_b, sp.Matrix(self.qd)) if self.n_dof else sp.Matrix.vstack(self.v_b, self.w_b)
-        self.points = {name: (self.robot.body_index(body), list(off)) for name, body, off in self.description["points"]}
+        self.points = {p.name: (self.robot.body_index(p.body), p.offset.tolist()) for p in self.description.points}
         self._lambdas: Dict[str, Callable] = {}
 
     def _timed(self, key: str, fn):
@@ -145,7 +145,7 @@ class Derivation:
 
     def _point(self, point):
         if point is None:
-            point = self.description["end_effector"]
+            point = self.description.end_effector
             if point is None:
                 raise NotFoundError("the model has no end effector; pass a point name or (body, offset)")
         if isinstance(point, str):

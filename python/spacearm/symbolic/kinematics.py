@@ -72,16 +72,16 @@ class Kinematics:
 
     def __init__(self, params: Parameters):
         d = params.description
-        links = d["links"]
+        links = d.links
         self.n_bodies = 1 + len(links)
         self.parent: List[Optional[int]] = [None]
         self.kind = ["base"]
         self.dof_of_body: List[Optional[int]] = [None]
         self.body_of_dof: List[int] = []
         for i, link in enumerate(links, start=1):
-            self.parent.append(int(link["parent_index"]))
-            self.kind.append(link["type"])
-            if link["type"] == "fixed":
+            self.parent.append(link.parent_index)
+            self.kind.append(link.type)
+            if link.type == "fixed":
                 self.dof_of_body.append(None)
             else:
                 self.dof_of_body.append(len(self.body_of_dof))
@@ -97,15 +97,15 @@ class Kinematics:
         for i, link in enumerate(links, start=1):
             par = self.parent[i]
             rp, Rp = self.r[par], self.R[par]
-            C = _exact_matrix(quat_to_matrix(link["rotation"]))
-            axis = sp.Matrix([exact_number(v) for v in link["axis"]]) if link["type"] != "fixed" else zero
+            C = _exact_matrix(quat_to_matrix(link.rotation))
+            axis = sp.Matrix([exact_number(v) for v in link.axis]) if link.type != "fixed" else zero
             com = params.com[i]
             j = self.dof_of_body[i]
-            if link["type"] == "revolute":
+            if link.type == "revolute":
                 Ri = Rp * C * rodrigues(axis, self.q[j])
             else:
                 Ri = Rp * C
-            if link["type"] == "prismatic":
+            if link.type == "prismatic":
                 com = com + axis * self.q[j]
             pi = rp + Rp * params.origin[i]
             self.R.append(Ri)

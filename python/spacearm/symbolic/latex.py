@@ -164,7 +164,7 @@ def latex_document(d: Derivation, include_bias: bool = False) -> str:
         W.matrix("Adjugate of S", r"\mathrm{adj}\,S", d.schur.adj_S, simplify=False)
         if d.n_dof <= 4:
             W.matrix("Generalized inertia", "H^*", d.H_star, simplify=False)
-        if d.description["end_effector"] is not None:
+        if d.description.end_effector is not None:
             w(r"\section*{Generalized Jacobian of the end effector (eq. 110)}")
             W.matrix(r"$J^* = J_{mX} - J_{0X} H_0^{-1} H_{0m}$", "J^*", d.J_star(), simplify=False)
         if include_bias:

@@ -1,6 +1,6 @@
 """Model parameters as SymPy quantities: numbers, or symbols where the user asks for them.
 
-A :class:`Parameters` turns ``Robot.describe()`` into SymPy values. Every numeric parameter can
+A :class:`Parameters` turns ``Robot.description`` (a :class:`~spacearm.ModelDescription`) into SymPy values. Every numeric parameter can
 be replaced by a symbol; joint coordinates are always symbols. Parameter names:
 
 | name | meaning |
@@ -24,6 +24,7 @@ from typing import Dict, Iterable, List, Optional, Union
 
 import sympy as sp
 
+from ..description import ModelDescription
 from ..errors import NotFoundError
 
 __all__ = ["Parameters", "exact_number", "CATEGORIES"]
@@ -56,7 +57,7 @@ class Parameters:
     model's), which the generated code uses as the default parameter vector ``p``.
     """
 
-    def __init__(self, description: dict, symbols: Union[None, str, Iterable[str]] = None):
+    def __init__(self, description: ModelDescription, symbols: Union[None, str, Iterable[str]] = None):
         self.description = description
         wanted = self._wanted(symbols)
         self.values: Dict[str, sp.Expr] = {}
@@ -75,16 +76,16 @@ class Parameters:
                 self.values[name] = exact_number(value)
             return self.values[name]
 
-        base = description["base"]
-        self.mass = [put("m0", "masses", base["mass"])]
-        self.inertia = [self._inertia(put, 0, base["inertia"])]
+        base = description.base
+        self.mass = [put("m0", "masses", base.mass)]
+        self.inertia = [self._inertia(put, 0, base.inertia)]
         self.origin = [None]
         self.com = [None]
-        for i, link in enumerate(description["links"], start=1):
-            self.mass.append(put(f"m{i}", "masses", link["mass"]))
-            self.inertia.append(self._inertia(put, i, link["inertia"]))
-            self.origin.append(sp.Matrix([put(f"o{i}_{a}", "lengths", link["origin"][k]) for k, a in enumerate(_AXES)]))
-            self.com.append(sp.Matrix([put(f"c{i}_{a}", "lengths", link["com"][k]) for k, a in enumerate(_AXES)]))
+        for i, link in enumerate(description.links, start=1):
+            self.mass.append(put(f"m{i}", "masses", link.mass))
+            self.inertia.append(self._inertia(put, i, link.inertia))
+            self.origin.append(sp.Matrix([put(f"o{i}_{a}", "lengths", link.origin[k]) for k, a in enumerate(_AXES)]))
+            self.com.append(sp.Matrix([put(f"c{i}_{a}", "lengths", link.com[k]) for k, a in enumerate(_AXES)]))
         unknown = wanted - set(CATEGORIES) - set(self.values)
         if unknown:
             raise NotFoundError(f"unknown parameter names {sorted(unknown)}; names are m0, m1, I0_xx, I1_xy, o1_x, c1_z, ... "
@@ -102,7 +103,7 @@ class Parameters:
     def _inertia(put, i: int, inertia) -> sp.Matrix:
         m = sp.zeros(3, 3)
         for key, r, c in _INERTIA_KEYS:
-            v = put(f"I{i}_{key}", "inertias", inertia[r][c])
+            v = put(f"I{i}_{key}", "inertias", float(inertia[r, c]))
             m[r, c] = v
             m[c, r] = v
         return m
