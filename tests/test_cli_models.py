@@ -12,7 +12,6 @@ import json
 import os
 import subprocess
 import sys
-from importlib import metadata
 
 import numpy as np
 import pytest
@@ -23,26 +22,17 @@ from spacearm.cli_numbers import CliError, attach_negative_values, parse_numbers
 from spacearm.model_file import dumps_toml
 from spacearm.urdf import load_urdf
 
+from robot_data import robot_urdf
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BUS = os.path.join(ROOT, "examples", "models", "spacecraft_bus.toml")
 AT = (0.6, 0.0, 0.0, 0.0, 0.0, 0.0)
 Q = np.array([-0.4, -1.1, 1.3, -0.7, 0.5, 0.3])  # a generic UR5 configuration, negative first value
 
 
-def _example_robot(name: str) -> str:
-    try:
-        files = metadata.files("example-robot-data") or []
-    except metadata.PackageNotFoundError:
-        pytest.skip("example-robot-data (a test extra) is not installed")
-    for f in files:
-        if f.name == name:
-            return str(f.locate())
-    pytest.skip(f"{name} not found in example-robot-data")
-
-
 @pytest.fixture(scope="module")
 def ur5() -> str:
-    return _example_robot("ur5_robot.urdf")
+    return robot_urdf("ur_description/urdf/ur5_robot.urdf")
 
 
 def mounted_ur5(path, **options) -> spacearm.Robot:
@@ -283,7 +273,7 @@ def test_bad_model_options_exit_2(ur5):
 
 
 def test_mimic_advice_names_the_cli_option(capsys):
-    panda = _example_robot("panda.urdf")
+    panda = robot_urdf("panda_description/urdf/panda.urdf")
     assert main(["inspect", panda]) == 2
     assert "pass --mimic independent" in capsys.readouterr().err
     assert main(["inspect", panda, "--mimic", "independent", "--end-effector", "panda_hand"]) == 0

@@ -7,7 +7,6 @@ xml.etree, the SI units of each physical quantity, and the maps' own data ranges
 """
 
 import os
-import site
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -18,16 +17,9 @@ from spacearm import analysis, control
 from spacearm.urdf import load_urdf
 from spacearm.campaign import Perturbations, Scenario, run_campaign
 
+from robot_data import robot_urdf  # noqa: E402
+
 pytest.importorskip("matplotlib")
-
-
-def _panda_urdf() -> str:
-    for root in site.getsitepackages() + [site.getusersitepackages()]:
-        path = os.path.join(root, "cmeel.prefix", "share", "example-robot-data", "robots",
-                            "panda_description", "urdf", "panda.urdf")
-        if os.path.isfile(path):
-            return path
-    pytest.skip("example-robot-data (the Panda URDF) is not installed")
 
 
 def _axes_by_title(fig):
@@ -64,7 +56,7 @@ def _chain(n: int):
 
 @pytest.fixture(scope="module")
 def panda_run():
-    path = _panda_urdf()
+    path = robot_urdf("panda_description/urdf/panda.urdf")
     panda = load_urdf(path, mimic="independent")
     kinds = {j.get("name"): j.get("type") for j in ET.parse(path).getroot().iter("joint")}
     return _quintic_run(panda, np.r_[0.4 * np.ones(7), 0.01, 0.01]), kinds

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import glob
 import os
-import site
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -17,6 +16,8 @@ import spacearm
 from spacearm import presets
 from spacearm.urdf import load_urdf
 
+from robot_data import robots_dir
+
 try:
     import tomllib
 except ImportError:  # Python < 3.11
@@ -25,14 +26,6 @@ except ImportError:  # Python < 3.11
 ROOT = os.path.join(os.path.dirname(__file__), "..")
 # URDF joint type -> spacearm dof type (a continuous joint is a revolute joint without limits).
 URDF_DOF_TYPES = {"revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"}
-
-
-def robots_dir() -> str:
-    for root in site.getsitepackages() + [site.getusersitepackages()]:
-        d = os.path.join(root, "cmeel.prefix", "share", "example-robot-data", "robots")
-        if os.path.isdir(d):
-            return d
-    pytest.skip("example-robot-data robots directory not found")
 
 
 URDFS = {

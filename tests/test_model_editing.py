@@ -3,7 +3,6 @@ exactly, attach_payload merges a rigid payload, remove_body drops a subtree. Che
 models built independently (by hand through the builder, the payload folded into the body's
 mass properties with the parallel-axis theorem computed here in numpy)."""
 
-import os
 
 import numpy as np
 import pytest
@@ -14,6 +13,7 @@ from spacearm.errors import ModelError, NotFoundError
 from spacearm.rotations import quat_to_matrix
 
 from random_models import random_model, random_state
+from robot_data import robot_urdf
 
 
 def _same_model(a, b, seed=0, exact=True):
@@ -51,9 +51,7 @@ def test_to_builder_round_trip_of_random_trees_is_exact(seed):
 def test_round_trip_keeps_limits_of_a_urdf_arm():
     from spacearm.urdf import load_urdf
 
-    from test_urdf_pinocchio import robots_dir
-
-    robot = load_urdf(os.path.join(robots_dir(), "ur_description/urdf/ur5_robot.urdf"))
+    robot = load_urdf(robot_urdf("ur_description/urdf/ur5_robot.urdf"))
     rebuilt = robot.to_builder(name="ur5_copy").build()
     assert rebuilt.name == "ur5_copy"
     assert [l["limits"] for l in rebuilt.describe()["links"]] == [l["limits"] for l in robot.describe()["links"]]

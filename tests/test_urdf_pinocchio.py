@@ -21,7 +21,6 @@ to the root body (``appendBodyToJoint``), so it too comes from urdfdom, not from
 from __future__ import annotations
 
 import os
-import site
 
 import numpy as np
 import pytest
@@ -33,16 +32,9 @@ from spacearm.rotations import quat_from_matrix, quat_from_rpy, quat_to_matrix  
 from spacearm.urdf import load_urdf  # noqa: E402
 from random_models import assert_rel_close  # noqa: E402
 from random_urdf import random_urdf  # noqa: E402
+from robot_data import robots_dir  # noqa: E402
 
 RTOL = 1e-10
-
-
-def robots_dir() -> str:
-    for root in site.getsitepackages() + [site.getusersitepackages()]:
-        d = os.path.join(root, "cmeel.prefix", "share", "example-robot-data", "robots")
-        if os.path.isdir(d):
-            return d
-    pytest.skip("example-robot-data robots directory not found")
 
 
 # name -> (path under robots/, load options). Baxter is a branched tree (two arms, grippers).
