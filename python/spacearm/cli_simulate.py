@@ -20,6 +20,7 @@ from typing import List
 
 import numpy as np
 
+from . import _core
 from .cli_model import add_model_arguments, joint_values
 from .cli_numbers import CliError, parse_numbers
 from .simulation import MODES  # the core's mode table
@@ -99,25 +100,10 @@ def _require_figures(what: str) -> None:
 
 
 def reaction_wheel_dofs(robot) -> List[int]:
-    """Degrees of freedom of the reaction wheels: the rule of the simulator's default
-    (``detect_reaction_wheels`` in the core) — a revolute joint on the base whose link has no
-    children, its CM on the axis and an inertia symmetric about it."""
-    links = robot.description.links
-    parents = {link.parent_index for link in links}
-    out = []
-    for i, link in enumerate(links):
-        if link.parent_index != 0 or link.type != "revolute" or (i + 1) in parents:
-            continue
-        k, c, inertia = link.axis, link.com, link.inertia
-        if np.linalg.norm(c - k * (k @ c)) > 1e-9:
-            continue
-        scale = max(np.linalg.norm(inertia), 1e-300)
-        spin = k @ inertia @ k
-        transverse = inertia - spin * np.outer(k, k)
-        iso = transverse - 0.5 * np.trace(transverse) * (np.eye(3) - np.outer(k, k))
-        if np.linalg.norm(inertia @ k - spin * k) <= 1e-9 * scale and np.linalg.norm(iso) <= 1e-9 * scale:
-            out.append(link.dof)
-    return sorted(out)
+    """Degrees of freedom of the reaction wheels, by the simulator's own rule (read from the
+    core, ``default_wheel_dofs``): a revolute joint on the base whose link has no children, its
+    CM on the axis and an inertia symmetric about it (docs/simulation-core.md)."""
+    return sorted(int(d) for d in _core.default_wheel_dofs(robot._m))
 
 
 def pd_gains(robot, x0, arm, natural_frequency: float = 4.0, damping_ratio: float = 1.0):
