@@ -6,9 +6,10 @@ checked against Pinocchio and MuJoCo. Start with :class:`Robot` and :mod:`spacea
 conventions are in ``docs/conventions.md``.
 """
 
-from . import control, dh, model_file, presets
+from . import capture, control, dh, model_file, presets
 from ._core import __version__
 from .builder import RobotBuilder
+from .capture import Target
 from .description import BaseDescription, JointLimits, LinkDescription, ModelDescription, PointDescription
 from .errors import (
     ArgumentError,
@@ -44,6 +45,8 @@ __all__ = [
     "PointDescription",
     "JointLimits",
     "presets",
+    "capture",
+    "Target",
     "simulate",
     "Trajectory",
     "control",
