@@ -17,7 +17,6 @@ import numpy as np
 from .._arrays import number, quaternion, vector, vector3
 from ..errors import ArgumentError, ModelError, NotFoundError, ShapeError
 from ..robot import Robot
-from ..rotations import _mul as _quat_mul
 from ..rotations import quat_to_matrix as _quat_matrix
 
 __all__ = ["Target", "TargetState"]
@@ -159,14 +158,21 @@ class Target:
         n = max(1, int(np.ceil(duration / dt)))
         h = duration / n
         R = _quat_matrix(s[3:7])
-        L = R @ self.inertia @ R.T @ s[10:13]
+        L_body = self.inertia @ R.T @ s[10:13]  # body-frame angular momentum at the start
+        L = R @ L_body
         inv_i = np.linalg.inv(self.inertia)
         qv = s[3:7].copy()
 
         def rate(qq):
-            Rq = _quat_matrix(qq)
-            w = Rq @ inv_i @ Rq.T @ L
-            return 0.5 * _quat_mul(np.array([w[0], w[1], w[2], 0.0]), qq)
+            # ω in body axes from the constant world L: ω_b = I⁻¹ Rᵀ L; q̇ = ½ q ⊗ [ω_b; 0].
+            x, y, z, w = qq
+            Rt_L = np.array([
+                (1 - 2 * (y * y + z * z)) * L[0] + 2 * (x * y + z * w) * L[1] + 2 * (x * z - y * w) * L[2],
+                2 * (x * y - z * w) * L[0] + (1 - 2 * (x * x + z * z)) * L[1] + 2 * (y * z + x * w) * L[2],
+                2 * (x * z + y * w) * L[0] + 2 * (y * z - x * w) * L[1] + (1 - 2 * (x * x + y * y)) * L[2],
+            ])
+            a, b, c = inv_i @ Rt_L
+            return 0.5 * np.array([w * a + y * c - z * b, w * b + z * a - x * c, w * c + x * b - y * a, -x * a - y * b - z * c])
 
         for _ in range(n):
             k1 = rate(qv)
