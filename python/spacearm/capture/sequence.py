@@ -117,6 +117,11 @@ class CaptureResult:
         return animate_capture(self, path, fps=fps)
 
 
+def _reach(robot) -> float:
+    """A bound on the distance of any body CM from the base CM (sum of the link offsets)."""
+    return float(sum(np.linalg.norm(link.origin) + np.linalg.norm(link.com) for link in robot.description.links))
+
+
 def _target_grid(target, s0, duration, h):
     """Target states at every multiple of ``h / 2`` up to ``duration`` (the RK4 stage times)."""
     n = int(round(duration / h))
@@ -325,8 +330,20 @@ def capture(
         a, b, c, d = _ledger(plant if comb else robot, target, xs, us, ss, comb)
         P.append(a), L.append(b), Pt.append(c), Lt.append(d)
     P, L, Pt, Lt = (np.concatenate(v) for v in (P, L, Pt, Lt))
-    scale_p = max(float(np.max(np.linalg.norm(P - Pt, axis=1) + np.linalg.norm(Pt, axis=1))), 1e-300)
-    scale_l = max(float(np.max(np.linalg.norm(L - Lt, axis=1) + np.linalg.norm(Lt, axis=1))), 1e-300)
+    # The momentum in play: the largest |robot part| + |target part| over the run, and no less
+    # than what the largest kinetic energy T allows (|P| <= sqrt(2 M T), |L| <= that times the
+    # farthest CM distance ρ from the origin), so that a run at zero total momentum still has a
+    # meaningful relative drift.
+    energy = max(max(robot.kinetic_energy(x, u) for x, u in zip(xa, ua)),
+                 max(plant.kinetic_energy(x, u) for x, u in zip(seg_x[-1], seg_u[-1])))
+    if captured is None:
+        energy += target.kinetic_energy(sc)
+    mass = robot.total_mass + target.mass
+    rho = max(1.0, float(np.max(np.linalg.norm(np.concatenate(seg_s)[:, :3], axis=1))),
+              float(np.max(np.linalg.norm(np.concatenate(seg_x)[:, :3], axis=1))) + _reach(robot))
+    p_energy = float(np.sqrt(2.0 * mass * energy))
+    scale_p = max(float(np.max(np.linalg.norm(P - Pt, axis=1) + np.linalg.norm(Pt, axis=1))), p_energy, 1e-300)
+    scale_l = max(float(np.max(np.linalg.norm(L - Lt, axis=1) + np.linalg.norm(Lt, axis=1))), p_energy * rho, 1e-300)
     drift = {"P": float(np.max(np.linalg.norm(P - P[0], axis=1)) / scale_p), "L": float(np.max(np.linalg.norm(L - L[0], axis=1)) / scale_l)}
     return CaptureResult(
         t=np.concatenate(seg_t), phase=np.concatenate(seg_phase), x=np.concatenate(seg_x), u=np.concatenate(seg_u),
