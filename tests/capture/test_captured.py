@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import spacearm
-from spacearm.capture.captured import attach_target, relative_twist, soft_capture
+from spacearm.capture.captured import attach_target, soft_capture
 from spacearm.rotations import quat_to_matrix
 
 

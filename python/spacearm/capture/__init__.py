@@ -1,8 +1,21 @@
-"""Capture of a tumbling target: the target (:class:`Target`), the grasp impact
-(:func:`grasp_impulse`, also ``Robot.grasp_impulse``) and its inverse-inertia quantities, the
-captured system, detumbling and the whole capture sequence (``docs/capture.md``)."""
+"""Capture of a tumbling target (``docs/capture.md``).
 
+- :class:`Target`: a free rigid body with grasp points (state ``[position, quaternion [x, y, z,
+  w], velocity, angular velocity]``, all in 𝒥);
+- :func:`grasp_impulse` (also ``Robot.grasp_impulse``): the impact, rigid lock or frictionless
+  point contact, and its pieces :func:`inverse_inertia`, :func:`virtual_mass`,
+  :func:`impulse_momentum_split`;
+- :func:`attach_target` (the captured system as one model) and :func:`soft_capture` (a wrist
+  impedance between two free bodies);
+- :func:`detumble`; :func:`capture`, the whole sequence with phases and the momentum ledger;
+- :func:`capture_envelope`: success over target spin rates and inertia errors.
+"""
+
+from .captured import CapturedSystem, SoftCaptureRun, attach_target, relative_twist, soft_capture
+from .detumble import DetumbleRun, detumble
+from .envelope import CaptureEnvelope, capture_envelope
 from .impact import GraspImpulse, MomentumSplit, grasp_impulse, impulse_momentum_split, inverse_inertia, virtual_mass
+from .sequence import PHASES, CaptureResult, capture
 from .target import Target, TargetState
 
 __all__ = [
@@ -14,4 +27,16 @@ __all__ = [
     "inverse_inertia",
     "virtual_mass",
     "impulse_momentum_split",
+    "CapturedSystem",
+    "attach_target",
+    "relative_twist",
+    "SoftCaptureRun",
+    "soft_capture",
+    "DetumbleRun",
+    "detumble",
+    "PHASES",
+    "CaptureResult",
+    "capture",
+    "CaptureEnvelope",
+    "capture_envelope",
 ]

@@ -18,7 +18,7 @@ Joints (both modes): the arm holds the posture it had at capture through the red
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import NamedTuple, Optional
 
 import numpy as np
 
@@ -88,11 +88,16 @@ def grasp_wrench(t: np.ndarray, target_states: np.ndarray, mass: float, inertia:
 
 def detumble(robot, x, u, duration: float, *, mode: str = "floating", q_hold=None, kp: float = 1.0, kd: float = 2.0,
              time_constant: float = 5.0, max_joint_torque: float = math.inf, max_force: float = math.inf,
-             max_torque: float = math.inf, rate_tolerance: float = 1e-3, dt: float = 0.01) -> DetumbleRun:
+             max_torque: float = math.inf, rate_tolerance: float = 1e-3, dt: float = 0.01, model=None,
+             rtol: Optional[float] = 1e-10) -> DetumbleRun:
     """Run the detumbling controller of the module docstring on ``robot`` (the captured system)
     from ``(x, u)`` for ``duration`` s (``spacearm.simulate``, RK4 with step ``dt``).
     ``q_hold`` defaults to the joint angles of ``x``; gains ``kp`` (1/s²) and ``kd`` (1/s) act
-    through ``H*``; ``time_constant`` (s) sets the flying-mode momentum decay."""
+    through ``H*``; ``time_constant`` (s) sets the flying-mode momentum decay. ``model``: the
+    controller's model of the plant (default the plant itself), e.g. the captured system built
+    with an estimated target inertia: ``H*``, ``c*`` and the momenta of the laws come from it.
+    ``rtol``: adaptive DOPRI5 with this relative tolerance (``dt`` the output interval), or
+    ``None`` for fixed-step RK4 with step ``dt``."""
     if mode not in DETUMBLE_MODES:
         raise ArgumentError(f"mode must be one of {list(DETUMBLE_MODES)}, got {mode!r}")
     x = np.asarray(x, dtype=float)
@@ -102,14 +107,21 @@ def detumble(robot, x, u, duration: float, *, mode: str = "floating", q_hold=Non
     if min(limits) <= 0 or not tc > 0:
         raise ArgumentError(f"limits and time_constant must be > 0, got limits {limits}, time_constant {tc}")
     mjt, mf, mt = limits
+    model = robot if model is None else model
+    if model.nu != robot.nu:
+        raise ArgumentError(f"the controller's model has {model.n_dof} joints, the plant {robot.n_dof}")
 
     def law(t, xs, us):
-        tau = hold_torque(robot, xs, us, q_hold, kp, kd, mjt)
+        tau = hold_torque(model, xs, us, q_hold, kp, kd, mjt)
         if mode == "flying":
-            return tau, momentum_damping_wrench(robot, xs, us, tc, mf, mt)
+            return tau, momentum_damping_wrench(model, xs, us, tc, mf, mt)
         return tau
 
-    traj = simulate(robot, duration, x0=x, u0=u, mode=mode, dt=dt, controller=Callback(law))
+    if rtol is None:
+        traj = simulate(robot, duration, x0=x, u0=u, mode=mode, dt=dt, controller=Callback(law))
+    else:
+        traj = simulate(robot, duration, x0=x, u0=u, mode=mode, dt=dt, controller=Callback(law), integrator="dopri5",
+                        rtol=rtol, atol=rtol * 1e-2)
     uu = traj.u
     rates = uu[:, 6:] if mode == "floating" else uu[:, 3:]
     if rates.shape[1] == 0:

@@ -177,7 +177,8 @@ def capture(
     rmrc_gain: float = 2.0,
     rmrc_damping: float = 0.05,
     velocity_gain: float = 5.0,
-    approach_rtol: float = 1e-10,
+    max_joint_rate: float = 1.0,
+    rtol: float = 1e-10,
     kp: float = 1.0,
     kd: float = 2.0,
     time_constant: float = 5.0,
@@ -233,6 +234,9 @@ def capture(
         v_drift = (j0 @ u[:6] + jm @ u[6:])[:3] - js @ u[6:]
         lam2 = rmrc_damping**2
         qd_cmd = js.T @ np.linalg.solve(js @ js.T + lam2 * np.eye(3), v_t + rmrc_gain * (p_t - p) - v_drift)
+        peak = np.abs(qd_cmd).max(initial=0.0)
+        if peak > max_joint_rate:  # scaled as a whole, so the point still heads for the target
+            qd_cmd *= max_joint_rate / peak
         tau = robot.generalized_inertia(x) @ (velocity_gain * (qd_cmd - u[6:])) + robot.generalized_bias(x, u)
         tau = np.clip(tau, -mjt, mjt)
         if mode == "flying":
@@ -250,7 +254,7 @@ def capture(
             return approach_law(t + t_offset, x, u)
 
         tr = simulate(robot, span, x0=xs0, u0=us0, mode=mode, dt=dt, controller=Callback(law), integrator="dopri5",
-                      rtol=approach_rtol, atol=approach_rtol * 1e-2)
+                      rtol=rtol, atol=rtol * 1e-2)
         first = 0 if not chunks else 1
         ts = tr.t[first:] + t_offset
         ss = grid[[min(int(round(t / half)), len(grid) - 1) for t in ts]]
@@ -307,7 +311,7 @@ def capture(
     for phase, duration, run_mode, gains in ((2, post_time, "floating", (0.0, kd)), (3, detumble_time, mode, (kp, kd))):
         run = detumble(plant, x_start, u_start, duration, mode=run_mode, q_hold=q_hold, kp=gains[0], kd=gains[1],
                        time_constant=time_constant, max_joint_torque=mjt, max_force=max_force, max_torque=max_torque,
-                       rate_tolerance=rate_tolerance, dt=dt)
+                       rate_tolerance=rate_tolerance, dt=dt, rtol=rtol)
         tr = run.trajectory
         if captured is not None:
             ss = _payload_states(captured, tr.x, tr.u, target)
@@ -330,10 +334,10 @@ def capture(
         a, b, c, d = _ledger(plant if comb else robot, target, xs, us, ss, comb)
         P.append(a), L.append(b), Pt.append(c), Lt.append(d)
     P, L, Pt, Lt = (np.concatenate(v) for v in (P, L, Pt, Lt))
-    # The momentum in play: the largest |robot part| + |target part| over the run, and no less
-    # than what the largest kinetic energy T allows (|P| <= sqrt(2 M T), |L| <= that times the
-    # farthest CM distance ρ from the origin), so that a run at zero total momentum still has a
-    # meaningful relative drift.
+    # The momentum in play: the largest |robot part| + |target part| over the run; where that is
+    # tiny (nothing moving relative to a zero total), a thousandth of what the largest kinetic
+    # energy T allows (|P| <= sqrt(2 M T), |L| <= that times the farthest CM distance ρ from the
+    # origin), so that the relative drift stays meaningful.
     energy = max(max(robot.kinetic_energy(x, u) for x, u in zip(xa, ua)),
                  max(plant.kinetic_energy(x, u) for x, u in zip(seg_x[-1], seg_u[-1])))
     if captured is None:
@@ -342,8 +346,8 @@ def capture(
     rho = max(1.0, float(np.max(np.linalg.norm(np.concatenate(seg_s)[:, :3], axis=1))),
               float(np.max(np.linalg.norm(np.concatenate(seg_x)[:, :3], axis=1))) + _reach(robot))
     p_energy = float(np.sqrt(2.0 * mass * energy))
-    scale_p = max(float(np.max(np.linalg.norm(P - Pt, axis=1) + np.linalg.norm(Pt, axis=1))), p_energy, 1e-300)
-    scale_l = max(float(np.max(np.linalg.norm(L - Lt, axis=1) + np.linalg.norm(Lt, axis=1))), p_energy * rho, 1e-300)
+    scale_p = max(float(np.max(np.linalg.norm(P - Pt, axis=1) + np.linalg.norm(Pt, axis=1))), 1e-3 * p_energy, 1e-300)
+    scale_l = max(float(np.max(np.linalg.norm(L - Lt, axis=1) + np.linalg.norm(Lt, axis=1))), 1e-3 * p_energy * rho, 1e-300)
     drift = {"P": float(np.max(np.linalg.norm(P - P[0], axis=1)) / scale_p), "L": float(np.max(np.linalg.norm(L - L[0], axis=1)) / scale_l)}
     return CaptureResult(
         t=np.concatenate(seg_t), phase=np.concatenate(seg_phase), x=np.concatenate(seg_x), u=np.concatenate(seg_u),
