@@ -9,7 +9,6 @@ import numpy as np
 from .._atomic import atomic_path
 from .._optional import require
 from ..animation import arm_segments, box_faces, equivalent_box
-from .sequence import PHASES
 
 __all__ = ["plot_capture", "animate_capture", "plot_envelope"]
 
@@ -35,7 +34,7 @@ def _save(fig, path):
 def _shade(ax, result):
     """Background colour per phase, labelled once."""
     t, phase = result.t, result.phase
-    for k, name in enumerate(PHASES):
+    for k, name in enumerate(result.phase_names):
         idx = np.nonzero(phase == k)[0]
         if idx.size and k > 0:
             ax.axvspan(t[idx[0]], t[idx[-1]], color=_PHASE_COLOURS[k], alpha=0.8, lw=0, label=name if ax.get_label() == "first" else None)
@@ -119,7 +118,7 @@ def animate_capture(result, path, *, frames: int = 40, fps: int = 10, dpi: int =
                 for line, (a, b) in zip(links, segs):
                     line.set_data_3d([a[0], b[0]], [a[1], b[1]], [a[2], b[2]])
                 title.set_text(f"{robot.name} capturing {target.name} ({result.kind}, {result.mode})\n"
-                               f"{PHASES[result.phase[k]]}, t = {result.t[k]:.2f} s")
+                               f"{result.phase_names[result.phase[k]]}, t = {result.t[k]:.2f} s")
                 writer.grab_frame()
     return str(path)
 

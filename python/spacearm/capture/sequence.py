@@ -56,6 +56,9 @@ class CaptureResult:
     ``drift`` (relative, ``{"P": ..., "L": ...}``).
     """
 
+    #: The names of the phases, indexed by ``phase``.
+    phase_names = PHASES
+
     def __init__(self, **fields):
         self.__dict__.update(fields)
 
