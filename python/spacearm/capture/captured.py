@@ -24,9 +24,9 @@ from typing import Callable, NamedTuple, Optional
 
 import numpy as np
 
-from .._arrays import number, vector
+from .._util.arrays import number, vector
 from ..errors import ArgumentError, SimulationError
-from ..robot import ExternalWrench
+from ..model.robot import ExternalWrench
 from ..rotations import quat_from_matrix
 from .impact import _check_target, _robot_point, inverse_inertia
 

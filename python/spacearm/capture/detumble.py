@@ -22,10 +22,10 @@ from typing import NamedTuple, Optional
 
 import numpy as np
 
-from .._arrays import number
+from .._util.arrays import number
 from ..control import Callback
 from ..errors import ArgumentError
-from ..simulation import simulate
+from ..sim.simulation import simulate
 
 __all__ = ["DetumbleRun", "detumble", "hold_torque", "grasp_wrench", "time_to_rest", "DETUMBLE_MODES"]
 

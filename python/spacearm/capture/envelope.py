@@ -19,7 +19,7 @@ from typing import NamedTuple, Optional, Sequence
 
 import numpy as np
 
-from .._arrays import vector
+from .._util.arrays import vector
 from ..errors import ArgumentError, SimulationError
 from .captured import attach_target
 from .detumble import detumble, grasp_wrench

@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._atomic import atomic_path
-from .._optional import require
-from ..animation import arm_segments, box_faces, equivalent_box
+from .._util.atomic import atomic_path
+from .._util.optional import require
+from ..viz.animation import arm_segments, box_faces, equivalent_box
 
 __all__ = ["plot_capture", "animate_capture", "plot_envelope"]
 

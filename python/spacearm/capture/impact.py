@@ -30,7 +30,7 @@ from typing import NamedTuple, Optional, Sequence
 
 import numpy as np
 
-from .._arrays import number, vector, vector3
+from .._util.arrays import number, vector, vector3
 from ..errors import ArgumentError, SingularError, SpacearmTypeError
 
 __all__ = [

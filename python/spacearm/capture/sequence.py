@@ -28,11 +28,11 @@ from typing import Optional
 
 import numpy as np
 
-from .._arrays import number, vector
+from .._util.arrays import number, vector
 from ..control import Callback
 from ..errors import ArgumentError, SimulationError
 from ..rotations import quat_from_matrix
-from ..simulation import simulate
+from ..sim.simulation import simulate
 from .captured import attach_target, soft_capture
 from .detumble import DETUMBLE_MODES, detumble, grasp_wrench, hold_torque, momentum_damping_wrench
 from .impact import _check_target, grasp_impulse
@@ -102,7 +102,7 @@ class CaptureResult:
 
     def save(self, path) -> None:
         """Write the arrays to an ``.npz`` file (atomically: no partial file)."""
-        from .._atomic import atomic_open
+        from .._util.atomic import atomic_open
 
         with atomic_open(path, "wb") as fh:
             np.savez(fh, **self.arrays())

@@ -14,9 +14,9 @@ from typing import Mapping, NamedTuple, Optional, Sequence, Union
 
 import numpy as np
 
-from .._arrays import number, quaternion, vector, vector3
+from .._util.arrays import number, quaternion, vector, vector3
 from ..errors import ArgumentError, ModelError, NotFoundError, ShapeError
-from ..robot import Robot
+from ..model.robot import Robot
 from ..rotations import quat_to_matrix as _quat_matrix
 
 __all__ = ["Target", "TargetState"]
