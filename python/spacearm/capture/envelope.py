@@ -43,7 +43,7 @@ class CaptureEnvelope(NamedTuple):
 
     def plot(self, path=None):
         """The envelope figure (success map with detumble times); written to ``path`` if given."""
-        from .figures import plot_envelope
+        from ..viz.capture import plot_envelope
 
         return plot_envelope(self, path)
 

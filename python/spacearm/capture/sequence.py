@@ -108,14 +108,14 @@ class CaptureResult:
             np.savez(fh, **self.arrays())
 
     def plot(self, path=None):
-        """A figure of the capture; written to ``path`` if given. See :mod:`spacearm.capture.figures`."""
-        from .figures import plot_capture
+        """A figure of the capture; written to ``path`` if given. See :mod:`spacearm.viz.capture`."""
+        from ..viz.capture import plot_capture
 
         return plot_capture(self, path)
 
     def animate(self, path, fps: int = 20):
         """A GIF of the capture (robot, target, grasp point)."""
-        from .figures import animate_capture
+        from ..viz.capture import animate_capture
 
         return animate_capture(self, path, fps=fps)
 

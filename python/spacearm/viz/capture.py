@@ -8,7 +8,7 @@ import numpy as np
 
 from .._util.atomic import atomic_path
 from .._util.optional import require
-from ..viz.animation import arm_segments, box_faces, equivalent_box
+from .animation import arm_segments, box_faces, equivalent_box
 
 __all__ = ["plot_capture", "animate_capture", "plot_envelope"]
 
