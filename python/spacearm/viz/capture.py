@@ -125,7 +125,8 @@ def animate_capture(result, path, *, frames: int = 40, fps: int = 10, dpi: int =
 
 def plot_envelope(envelope, path=None):
     """Success (green) or failure (red) over spin rate × inertia error, each cell labelled with
-    the time to detumble."""
+    the time to detumble ("not detumbled" when the run ended first; "limit" when it detumbled but a
+    grasp-wrench limit was exceeded)."""
     fig = _figure(6.0, 4.0)
     ax = fig.subplots()
     colors = np.where(envelope.success, 1.0, 0.0)
@@ -133,7 +134,11 @@ def plot_envelope(envelope, path=None):
     for i in range(envelope.success.shape[0]):
         for j in range(envelope.success.shape[1]):
             t = envelope.time_to_detumble[i, j]
-            ax.text(j, i, "fail" if not np.isfinite(t) else f"{t:.1f} s", ha="center", va="center", fontsize=8)
+            if not np.isfinite(t):
+                label = "not\ndetumbled"
+            else:
+                label = f"{t:.1f} s" + ("" if envelope.success[i, j] else "\nlimit")
+            ax.text(j, i, label, ha="center", va="center", fontsize=8)
     ax.set_xticks(range(len(envelope.inertia_errors)), [f"{e:+.0%}" for e in envelope.inertia_errors])
     ax.set_yticks(range(len(envelope.spin_rates)), [f"{r:g}" for r in envelope.spin_rates])
     ax.set_xlabel("error of the controller's target mass and inertia")
