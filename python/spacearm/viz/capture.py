@@ -31,13 +31,13 @@ def _save(fig, path):
     return fig
 
 
-def _shade(ax, result):
-    """Background colour per phase, labelled once."""
+def _shade(ax, result, labelled: bool):
+    """Background colour per phase (after the approach), with legend labels if ``labelled``."""
     t, phase = result.t, result.phase
     for k, name in enumerate(result.phase_names):
         idx = np.nonzero(phase == k)[0]
         if idx.size and k > 0:
-            ax.axvspan(t[idx[0]], t[idx[-1]], color=_PHASE_COLOURS[k], alpha=0.8, lw=0, label=name if ax.get_label() == "first" else None)
+            ax.axvspan(t[idx[0]], t[idx[-1]], color=_PHASE_COLOURS[k], alpha=0.8, lw=0, label=name if labelled else None)
 
 
 def plot_capture(result, path=None):
@@ -48,27 +48,32 @@ def plot_capture(result, path=None):
     axes = fig.subplots(2, 2, sharex=True)
     t = result.t
     (a0, a1), (a2, a3) = axes
-    a0.set_label("first")
     for ax in axes.ravel():
-        _shade(ax, result)
+        _shade(ax, result, labelled=ax is a0)
     dP = np.linalg.norm(result.P - result.P[0], axis=1)
     dL = np.linalg.norm(result.L - result.L[0], axis=1)
     a0.semilogy(t, np.maximum(dP, 1e-18), label="|P − P(0)| [N s]")
     a0.semilogy(t, np.maximum(dL, 1e-18), label="|L − L(0)| [N m s]")
     a0.set_title(f"momentum ledger, robot + target ({result.mode})", fontsize=9)
+    a0.set_ylabel("change [N s], [N m s]")
     a0.legend(fontsize=7)
     w0 = result.u[:, 3:6]
     for k, c in enumerate("xyz"):
         a1.plot(t, w0[:, k], label=f"ω0{c}")
-    a1.set_title("base angular velocity [rad/s]", fontsize=9)
+    a1.set_title("base angular velocity", fontsize=9)
+    a1.set_ylabel("ω0 [rad/s]")
     a1.legend(fontsize=7)
     if result.tau.size:
-        a2.plot(t, result.tau, lw=0.8)
-    a2.set_title("joint torques [N m]", fontsize=9)
+        for k, name in enumerate(result.robot.joint_names):
+            a2.plot(t, result.tau[:, k], lw=0.8, label=name)
+        a2.legend(fontsize=6, ncol=2)
+    a2.set_title("joint torques", fontsize=9)
+    a2.set_ylabel("τ [N m]")
     a2.set_xlabel("t [s]")
     a3.plot(t, np.linalg.norm(result.grasp_wrench[:, :3], axis=1), label="|f| [N]")
     a3.plot(t, np.linalg.norm(result.grasp_wrench[:, 3:], axis=1), label="|n| [N m]")
     a3.set_title("wrench holding the target", fontsize=9)
+    a3.set_ylabel("|f| [N], |n| [N m]")
     a3.set_xlabel("t [s]")
     a3.legend(fontsize=7)
     return _save(fig, path)
