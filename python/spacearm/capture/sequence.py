@@ -50,7 +50,7 @@ class CaptureResult:
     (T, 6+N) of the robot (its own coordinates: the payload adds none), ``tau`` (T, N),
     ``base_wrench`` (T, 6), ``target`` (T, 13) target states, ``P`` and ``L`` (T, 3) robot +
     target momentum about the origin of 𝒥, ``grasp_wrench`` (T, 6) the wrench holding the
-    target (zero while it is free), ``impact`` (:class:`GraspImpulse`), ``robot`` (before
+    target, ``[f; n]`` with the moment about the target's CM (zero while it is free), ``impact`` (:class:`GraspImpulse`), ``robot`` (before
     capture), ``captured`` (the combined model, or ``None`` for a point contact), ``mode``,
     ``kind``, ``time_to_detumble`` (s after the detumble phase starts), ``residual_spin`` (rad/s),
     ``drift`` (relative, ``{"P": ..., "L": ...}``).
@@ -292,8 +292,12 @@ def capture(
         soft = soft_capture(robot, xc, uc, target, sc, soft_time, point=point, grasp=grasp, dt=dt / 5,
                             torque=lambda t, x, u: hold_torque(robot, x, u, q_hold, kp, kd, mjt))
         keep = slice(1, None)
+        # the impedance's wrench on the target, moved from X to the target's CM like the rigid phases'
+        held = -soft.wrench[keep]
+        X = np.array([robot._m.point_position(x, body, offset) for x in soft.x[keep]])
+        held[:, 3:] += np.cross(X - soft.target[keep][:, :3], held[:, :3])
         add(t_cap + soft.t[keep], 1, soft.x[keep], soft.u[keep], soft.target[keep], soft.tau[keep], np.zeros((len(soft.t) - 1, 6)),
-            -soft.wrench[keep], False)
+            held, False)
         t_cap, xc, uc, sc = t_cap + float(soft.t[-1]), soft.x[-1], soft.u[-1], soft.target[-1]
         impact = grasp_impulse(robot, xc, uc, target, sc, point=point, grasp=grasp, kind="rigid")
         soft_impact = impact
