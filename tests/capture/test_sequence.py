@@ -85,8 +85,21 @@ def test_unreachable_target_is_an_error():
     s[:3] += np.array([5.0, 0.0, 0.0])
     with pytest.raises(spacearm.SimulationError, match="did not reach the grasp point"):
         capture(robot, target, s, approach_time=1.0)
-    with pytest.raises(spacearm.ArgumentError, match="kind"):
-        capture(robot, target, s, kind="glue")
+
+@pytest.mark.parametrize("options, message", [
+    ({"kind": "glue"}, "kind"),
+    ({"mode": "rotation-floating"}, "mode"),
+    ({"max_joint_torque": -1.0}, "max_joint_torque must be > 0"),
+    ({"restitution": 0.5}, "for kind='point' only"),
+    ({"kind": "point", "restitution": 1.5}, "restitution must be in"),
+    ({"detumble_time": 0.0}, "detumble_time must be > 0"),
+])
+def test_bad_options_fail_before_simulating(options, message):
+    robot, target, s = _scene()
+    with pytest.raises(spacearm.ArgumentError, match=message):
+        capture(robot, target, s, **options)
+    with pytest.raises(spacearm.SpacearmTypeError, match="Target"):
+        capture(robot, "box", s)
 
 
 def test_envelope_is_monotone_in_spin():

@@ -214,6 +214,12 @@ def capture(
         if not v > 0:
             raise ArgumentError(f"{k} must be > 0, got {v}")
     mjt = number(max_joint_torque, "max_joint_torque")
+    for name, value in (("max_joint_torque", mjt), ("max_force", max_force), ("max_torque", max_torque)):
+        if not number(value, name) > 0:
+            raise ArgumentError(f"{name} must be > 0 (inf: no limit), got {value}")
+    e = number(restitution, "restitution")
+    if not 0.0 <= e <= 1.0 or (kind != "point" and e != 0.0):
+        raise ArgumentError(f"restitution must be in [0, 1] and is for kind='point' only (a grasp is plastic), got {e} with kind={kind!r}")
     body, offset = robot._point(point)
     tpoint = target.point(grasp)
 
