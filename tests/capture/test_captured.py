@@ -104,14 +104,13 @@ def test_soft_capture_conserves_momentum_and_energy():
     assert e2[-1] < 0.99 * e2[0]
 
 
-mujoco = pytest.importorskip("mujoco")
-
 
 def test_post_capture_motion_against_mujoco_weld():
     """MuJoCo: the robot and the target as a free body, a weld equality gripper–target activated
     at the capture pose; spacearm: the combined model. Same post-impact state, 1 s of free motion."""
     from spacearm import interop
 
+    mujoco = pytest.importorskip("mujoco")
     robot, x, u, target, s = _scene()
     imp = robot.grasp_impulse(x, u, target, s)
     cap = attach_target(robot, x, imp.u_after, target, imp.target_state_after)

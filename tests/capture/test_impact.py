@@ -171,8 +171,6 @@ def test_momentum_split_adds_up():
     assert split.base_jump_singular_values.shape == (6,)
 
 
-pin = pytest.importorskip("pinocchio")
-
 
 @pytest.mark.parametrize("index", range(4))
 @pytest.mark.parametrize("kind", ["rigid", "point"])
@@ -181,6 +179,7 @@ def test_robot_jump_against_pinocchio_impulse_dynamics(index, kind):
     must equal Pinocchio's impulseDynamics with the gripper frame's Jacobian as constraint."""
     from spacearm import interop
 
+    pin = pytest.importorskip("pinocchio")
     robot = _robots()[index]
     rng = np.random.default_rng([19, index])
     x, u = random_state(robot, rng)
@@ -229,3 +228,72 @@ def test_bad_input():
         spacearm.Target(10.0, [1, 1, 5], name="box")
     with pytest.raises(spacearm.NotFoundError, match="grasp point"):
         target.grasp_position(s, "nope")
+
+
+# ---- a whole model as the target ---------------------------------------------------------------
+def test_jointless_model_target_equals_target():
+    robot = spacearm.presets.spatial6()
+    rng = np.random.default_rng(20)
+    x, u, target, s = _scene(robot, rng)
+    twin = spacearm.Target.from_robot(target.body)
+    a = robot.grasp_impulse(x, u, target, s, grasp="handle")
+    b = robot.grasp_impulse(x, u, twin, s, grasp="handle")
+    np.testing.assert_array_equal(a.impulse, b.impulse)
+    np.testing.assert_array_equal(a.target_dtwist, b.target_dtwist)
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_jointed_target_conserves_momentum_and_locks(seed):
+    robot = spacearm.presets.spatial6()
+    model = random_model(seed).robot
+    target = spacearm.Target.from_robot(model)
+    rng = np.random.default_rng([21, seed])
+    x, u = random_state(robot, rng)
+    x[:3] = 0.0
+    xt, ut = random_state(model, rng)
+    # move the target so that its probe point is at the gripper
+    xt[:3] += robot.point_position(x) - model.point_position(xt, "probe")
+    s = np.concatenate([xt, ut])
+    res = robot.grasp_impulse(x, u, target, s, grasp="probe")
+    assert res.gap < 1e-9 and res.target_dtwist.shape == (model.nu,)
+    assert np.linalg.norm(res.relative_twist_after) < 1e-9 * np.linalg.norm(res.relative_twist_before)
+    m0 = [robot.momentum(x, u), target.momentum(s)]
+    m1 = [robot.momentum(x, res.u_after), target.momentum(res.target_state_after)]
+    scale = sum(np.linalg.norm(m.L_origin) for m in m0 + m1) + sum(np.linalg.norm(m.P) for m in m0 + m1)
+    np.testing.assert_allclose(m0[0].P + m0[1].P, m1[0].P + m1[1].P, atol=1e-12 * scale)
+    np.testing.assert_allclose(m0[0].L_origin + m0[1].L_origin, m1[0].L_origin + m1[1].L_origin, atol=1e-11 * scale)
+    with pytest.raises(spacearm.ArgumentError, match="jointed"):
+        from spacearm.capture import attach_target
+
+        attach_target(robot, x, res.u_after, target, res.target_state_after)
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_jointed_target_jump_against_pinocchio(seed):
+    """A jointless 'robot' 1e15 times heavier, at rest, is a fixed contact for a jointed target:
+    the target's jump must equal Pinocchio's impulseDynamics of the target's model."""
+    from spacearm import interop
+
+    pin = pytest.importorskip("pinocchio")
+    model = random_model(seed).robot
+    target = spacearm.Target.from_robot(model)
+    rng = np.random.default_rng([22, seed])
+    xt, ut = random_state(model, rng)
+    big = 1e15
+    wall = spacearm.Robot.builder("wall", base_mass=big, base_inertia=[big, big, big])
+    wall.add_point("pad", body="base", offset=(0.0, 0.0, 0.0))
+    wall.set_end_effector("pad")
+    wall = wall.build()
+    xw = wall.neutral_configuration(r0=model.point_position(xt, "probe"))
+    res = wall.grasp_impulse(xw, wall.zero_velocity(), target, np.concatenate([xt, ut]), grasp="probe")
+    pmodel = interop.to_pinocchio(model)
+    data = pmodel.createData()
+    q, v = interop.to_pinocchio_state(model, xt, ut)
+    pin.computeJointJacobians(pmodel, data, q)
+    pin.updateFramePlacements(pmodel, data)
+    J = pin.getFrameJacobian(pmodel, data, pmodel.getFrameId("probe"), pin.LOCAL_WORLD_ALIGNED)
+    v_after = pin.impulseDynamics(pmodel, data, q, v, J, 0.0, 0.0)
+    _, u_ref = interop.from_pinocchio_state(model, q, np.asarray(v_after))
+    du_ref = u_ref - ut
+    assert np.linalg.norm(du_ref) > 1e-2
+    np.testing.assert_allclose(res.target_dtwist, du_ref, atol=1e-9 * np.linalg.norm(du_ref))

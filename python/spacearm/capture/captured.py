@@ -33,6 +33,11 @@ from .impact import _check_target, _robot_point, inverse_inertia
 __all__ = ["CapturedSystem", "attach_target", "SoftCaptureRun", "soft_capture", "relative_twist"]
 
 
+def tb_rotation(target, state, body: int) -> np.ndarray:
+    """Rotation (body axes -> 𝒥) of a body of the target's model."""
+    return target.body.forward_kinematics(target.xu(state)[0]).body_to_world[body]
+
+
 class CapturedSystem(NamedTuple):
     """A rigid capture: the combined model and its state."""
 
@@ -50,8 +55,10 @@ def relative_twist(robot, x, u, target, target_state, point=None, grasp_offset=(
     body, offset = _robot_point(robot, xv, point, grasp_offset)
     X = robot._m.point_position(xv, body, offset)
     j0, jm = robot._m.point_jacobians(xv, body, offset)
-    t0, _ = target.body._m.point_jacobians(s[:7], 0, target.rotation(s).T @ (X - s[:3]))
-    return j0 @ uv[:6] + jm @ uv[6:] - t0 @ s[7:]
+    tx, tu = target.xu(s)
+    t_body, t_offset = target.material_point(s, X)
+    t0, tm = target.body._m.point_jacobians(tx, t_body, t_offset)
+    return j0 @ uv[:6] + jm @ uv[6:] - (t0 @ tu[:6] + tm @ tu[6:])
 
 
 def attach_target(robot, x, u, target, target_state, *, point=None, grasp_offset=(0.0, 0.0, 0.0),
@@ -65,6 +72,8 @@ def attach_target(robot, x, u, target, target_state, *, point=None, grasp_offset
     payload named ``name`` (default: the target's name).
     """
     _check_target(target)
+    if not target.is_rigid:
+        raise ArgumentError(f"target '{target.name}' is a jointed model: only a rigid target can be attached as a payload")
     xv, uv = vector(x, "x", robot.nx), vector(u, "u", robot.nu)
     s = target.check_state(target_state)
     body, _ = _robot_point(robot, xv, point, grasp_offset)
@@ -93,7 +102,7 @@ class SoftCaptureRun(NamedTuple):
     t: np.ndarray  #: (T,)
     x: np.ndarray  #: (T, 7+N) robot configurations
     u: np.ndarray  #: (T, 6+N) robot velocities
-    target: np.ndarray  #: (T, 13) target states
+    target: np.ndarray  #: (T, 13) target states (``[x, u]`` of a jointed target)
     wrench: np.ndarray  #: (T, 6) the impedance's wrench on the robot at X ([force; couple], 𝒥)
     tau: np.ndarray  #: (T, N) joint torques applied
     gains: dict  #: the impedance used (stiffness, damping, rotational_stiffness, rotational_damping)
@@ -133,11 +142,11 @@ def soft_capture(robot, x, u, target, target_state, duration: float, *, frequenc
     if not duration > 0 or not dt > 0:
         raise ArgumentError(f"duration and dt must be > 0, got {duration}, {dt}")
     body, offset = _robot_point(robot, xv, point, (0.0, 0.0, 0.0))
-    tpoint = target.point(grasp)[1]
+    tbody, tpoint = target.point(grasp)
     omega, zeta = number(frequency, "frequency"), number(damping_ratio, "damping_ratio")
     if not omega > 0 or zeta < 0:
         raise ArgumentError(f"frequency must be > 0 and damping_ratio >= 0, got {omega}, {zeta}")
-    g = inverse_inertia(robot, xv, (body, offset)) + inverse_inertia(target.body, s[:7], (0, tpoint))
+    g = inverse_inertia(robot, xv, (body, offset)) + inverse_inertia(target.body, target.xu(s)[0], (tbody, tpoint))
     g_lin, g_rot = np.linalg.eigvalsh(g[:3, :3]).max(), np.linalg.eigvalsh(g[3:, 3:]).max()
     defaults = (omega**2 / g_lin, 2 * zeta * omega / g_lin, omega**2 / g_rot, 2 * zeta * omega / g_rot)
     given = (stiffness, damping, rotational_stiffness, rotational_damping)
@@ -146,7 +155,8 @@ def soft_capture(robot, x, u, target, target_state, duration: float, *, frequenc
     if min(gains) < 0:
         raise ArgumentError(f"impedance gains must be >= 0, got {dict(zip(names, gains))}")
     k, d, kr, dr = gains
-    rel0 = robot.forward_kinematics(xv).body_to_world[body].T @ target.rotation(s)  # gripper -> target at contact
+    # gripper -> grasped body of the target, at contact
+    rel0 = robot.forward_kinematics(xv).body_to_world[body].T @ tb_rotation(target, s, tbody)
     n = robot.n_dof
     tb = target.body
 
@@ -154,26 +164,28 @@ def soft_capture(robot, x, u, target, target_state, duration: float, *, frequenc
         X = robot._m.point_position(xr, body, offset)
         j0, jm = robot._m.point_jacobians(xr, body, offset)
         tw_r = j0 @ ur[:6] + jm @ ur[6:]
-        p = tb._m.point_position(xt, 0, tpoint)
-        Rt = tb.forward_kinematics(xt).body_to_world[0]
-        tp, _ = tb._m.point_jacobians(xt, 0, tpoint)
-        tw_p = tp @ ut
+        p = tb._m.point_position(xt, tbody, tpoint)
+        kin_t = tb.forward_kinematics(xt)
+        Rt, ct = kin_t.body_to_world[tbody], kin_t.com_in_world[tbody]
+        tp, tm = tb._m.point_jacobians(xt, tbody, tpoint)
+        tw_p = tp @ ut[:6] + tm @ ut[6:]
         Rg = robot.forward_kinematics(xr).body_to_world[body]
         theta = _rotation_vector(Rt @ (Rg @ rel0).T)
         f = k * (p - X) + d * (tw_p[:3] - tw_r[:3])
         c = kr * theta + dr * (tw_p[3:] - tw_r[3:])
-        return X, f, c, Rt
+        return X, f, c, Rt, ct
 
     def rates(t, xr, ur, xt, ut):
-        X, f, c, Rt = wrench(xr, ur, xt, ut)
+        X, f, c, Rt, ct = wrench(xr, ur, xt, ut)
         tau = np.zeros(n) if torque is None else vector(torque(t, xr, ur), "soft-capture torque", n)
         dur = robot.forward_dynamics(xr, ur, tau=tau, wrenches=[ExternalWrench(body, f, c, offset)])
-        dut = tb.forward_dynamics(xt, ut, wrenches=[ExternalWrench(0, -f, -c, Rt.T @ (X - xt[:3]))])
+        dut = tb.forward_dynamics(xt, ut, wrenches=[ExternalWrench(tbody, -f, -c, Rt.T @ (X - ct))])
         return dur, dut, np.r_[f, c], tau
 
     steps = max(1, int(np.ceil(duration / dt)))
     h = duration / steps
-    xr, ur, xt, ut = xv.copy(), uv.copy(), s[:7].copy(), s[7:].copy()
+    xr, ur = xv.copy(), uv.copy()
+    xt, ut = (a.copy() for a in target.xu(s))
     T, X_, U_, S_, W_, TAU_ = [], [], [], [], [], []
     for i in range(steps + 1):
         t = i * h

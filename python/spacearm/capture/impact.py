@@ -53,12 +53,12 @@ class GraspImpulse(NamedTuple):
 
     kind: str  #: "rigid" or "point"
     du: np.ndarray  #: the robot's velocity jump [Δv0, Δω0, Δq̇] (6+N)
-    target_dtwist: np.ndarray  #: the target's jump of [v; ω] (CM velocity, angular velocity) (6)
+    target_dtwist: np.ndarray  #: the target's jump of [v; ω] (CM velocity, angular velocity) (6); of its u for a jointed target
     impulse: np.ndarray  #: Λ = [f̂; n̂] on the robot at the grasp point (N·s, N·m·s); the target gets −Λ
     point: np.ndarray  #: the grasp point X in 𝒥 (the robot's point)
     gap: float  #: distance from X to the target's grasp point (m): zero for a perfect approach
     u_after: np.ndarray  #: the robot's velocity after the impact
-    target_state_after: np.ndarray  #: the target's 13-state after the impact
+    target_state_after: np.ndarray  #: the target's state after the impact
     relative_twist_before: np.ndarray  #: twist of the gripper at X minus the target's twist at X
     relative_twist_after: np.ndarray
     G_robot: np.ndarray  #: the robot's inverse inertia at X (6×6)
@@ -195,13 +195,15 @@ def grasp_impulse(
     robot, x, u
         The robot and its state just before the impact.
     target, target_state
-        A :class:`~spacearm.capture.Target` and its 13-state.
+        A :class:`~spacearm.capture.Target` and its state (13 numbers; ``[x, u]`` of a jointed
+        target's model, :meth:`Target.from_robot`).
     point
         The robot's grasp point (default: the end effector); ``grasp_offset`` moves it, in the
         gripper body's frame (m).
     grasp
-        The target's grasp point name (default: its first); used for ``gap`` and, with
-        ``kind="point"``, for the default normal.
+        The target's grasp point name (default: its first): the body hit is its body; it also
+        gives ``gap`` and, with ``kind="point"``, the default normal (from that body's CM to the
+        grasp point).
     restitution
         ``e`` in [0, 1] (``kind="point"``; a rigid lock is plastic).
     kind
@@ -229,10 +231,10 @@ def grasp_impulse(
     X = robot._m.point_position(xv, body, offset)
     grasp_world = target.grasp_position(s, grasp)
 
-    # The target's material point at X, as a point of its jointless model.
-    tx, tu = s[:7], s[7:]
-    t_offset = target.rotation(s).T @ (X - s[0:3])
-    j_t = _jacobian(target.body, tx, 0, t_offset)
+    # The target's material point at X, as a point of its own model (jointless for a rigid target).
+    tx, tu = target.xu(s)
+    t_body, t_offset = target.material_point(s, X, grasp)
+    j_t = _jacobian(target.body, tx, t_body, t_offset)
     h_t = target.body.mass_matrix(tx)
     g_t = j_t @ _solve(h_t, j_t.T, "the target's mass matrix")
     j_full = _jacobian(robot, xv, body, offset)
@@ -244,7 +246,11 @@ def grasp_impulse(
     if kind == "rigid":
         lam = -_solve(g, v_rel, "the grasp's inverse inertia G_robot + G_target")
     else:
-        n = _unit(normal, "normal") if normal is not None else _unit(grasp_world - s[0:3], "the default normal (target CM to grasp point)")
+        if normal is None:
+            body_cm = target.body.forward_kinematics(tx).com_in_world[t_body]
+            n = _unit(grasp_world - body_cm, "the default normal (the grasped body's CM to the grasp point)")
+        else:
+            n = _unit(normal, "normal")
         vn = float(n @ v_rel[:3])
         lam = np.zeros(6)
         if vn < 0.0:
@@ -255,8 +261,8 @@ def grasp_impulse(
     dtw = -_solve(h_t, j_t.T @ lam, "the target's mass matrix")
     u_after = uv + du
     s_after = s.copy()
-    s_after[7:] += dtw
-    v_rel_after = j_full @ u_after - j_t @ s_after[7:]
+    s_after[tx.size:] += dtw
+    v_rel_after = j_full @ u_after - j_t @ target.xu(s_after)[1]
     energy = (robot.kinetic_energy(xv, uv) + target.kinetic_energy(s)) - (robot.kinetic_energy(xv, u_after) + target.kinetic_energy(s_after))
     return GraspImpulse(kind, du, dtw, lam, X, float(np.linalg.norm(X - grasp_world)), u_after, s_after,
                         v_rel, v_rel_after, g_r, g_t, float(energy))

@@ -206,6 +206,9 @@ def capture(
     if kind not in CAPTURE_KINDS:
         raise ArgumentError(f"kind must be one of {list(CAPTURE_KINDS)}, got {kind!r}")
     s0 = target.check_state(target_state)
+    if kind != "point" and not target.is_rigid:
+        raise ArgumentError(f"target '{target.name}' is a jointed model: kind='{kind}' attaches it as a payload, which needs a rigid "
+                            "target; use kind='point'")
     x0 = robot.neutral_configuration() if x0 is None else vector(x0, "x0", robot.nx)
     u0 = robot.zero_velocity() if u0 is None else vector(u0, "u0", robot.nu)
     times = {k: number(v, k) for k, v in (("approach_time", approach_time), ("soft_time", soft_time), ("post_time", post_time),
@@ -221,7 +224,7 @@ def capture(
     if not 0.0 <= e <= 1.0 or (kind != "point" and e != 0.0):
         raise ArgumentError(f"restitution must be in [0, 1] and is for kind='point' only (a grasp is plastic), got {e} with kind={kind!r}")
     body, offset = robot._point(point)
-    tpoint = target.point(grasp)
+    target.point(grasp)  # an unknown grasp point fails here, before the approach runs
 
     # ---- 0. approach ------------------------------------------------------------------------
     grid = _target_grid(target, s0, approach_time, dt)
@@ -234,9 +237,8 @@ def capture(
 
     def approach_law(t, x, u):
         s = target_at(t)
-        p_t = target.body._m.point_position(s[:7], *tpoint)
-        tj, _ = target.body._m.point_jacobians(s[:7], *tpoint)
-        v_t = (tj @ s[7:])[:3]
+        p_t = target.grasp_position(s, grasp)
+        v_t = target.grasp_velocity(s, grasp)
         p = robot._m.point_position(x, body, offset)
         j0, jm = robot._m.point_jacobians(x, body, offset)
         js = robot._m.generalized_jacobian(x, body, offset)[:3]
@@ -267,7 +269,7 @@ def capture(
         first = 0 if not chunks else 1
         ts = tr.t[first:] + t_offset
         ss = grid[[min(int(round(t / half)), len(grid) - 1) for t in ts]]
-        gaps = np.array([np.linalg.norm(robot._m.point_position(x, body, offset) - target.body._m.point_position(s[:7], *tpoint))
+        gaps = np.array([np.linalg.norm(robot._m.point_position(x, body, offset) - target.grasp_position(s, grasp))
                          for x, s in zip(tr.x[first:], ss)])
         chunks.append((ts, tr.x[first:], tr.u[first:], ss, tr.tau[first:], tr.base_wrench[first:], gaps))
         within = np.nonzero(gaps < capture_tolerance)[0]

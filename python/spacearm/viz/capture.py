@@ -88,13 +88,17 @@ def animate_capture(result, path, *, frames: int = 40, fps: int = 10, dpi: int =
     idx = np.unique(np.linspace(0, len(result.t) - 1, min(int(frames), len(result.t))).round().astype(int))
     base = robot.description.base
     b_sides, b_axes = equivalent_box(base.mass, base.inertia)
-    t_sides, t_axes = equivalent_box(target.mass, target.inertia)
+    # a jointed target: its base as a box and its links as segments
+    t_base = target.body.description.base
+    t_sides, t_axes = equivalent_box(t_base.mass, t_base.inertia)
     geo = []
     from ..rotations import quat_to_matrix
 
     for k in idx:
         x, s = result.x[k], result.target[k]
-        geo.append((box_faces(x[:3], quat_to_matrix(x[3:7]), b_sides, b_axes), arm_segments(robot, x),
+        tx = target.xu(s)[0]
+        segs = arm_segments(robot, x) + (arm_segments(target.body, tx) if not target.is_rigid else [])
+        geo.append((box_faces(x[:3], quat_to_matrix(x[3:7]), b_sides, b_axes), segs,
                     box_faces(s[:3], quat_to_matrix(s[3:7]), t_sides, t_axes)))
     pts = np.vstack([np.vstack(b) for b, _, _ in geo] + [np.vstack(tb) for _, _, tb in geo]
                     + [np.vstack([np.vstack(seg) for seg in segs]) for _, segs, _ in geo if segs])
