@@ -110,3 +110,24 @@ def test_envelope_is_monotone_in_spin():
     # the grasp moment grows with the spin rate: the slow target is caught, the fast one is not
     assert np.all(env.peak_grasp_torque[1] > env.peak_grasp_torque[0])
     assert env.success[0].all() and not env.success[1].any()
+
+
+def test_jointed_target_point_contact_sequence():
+    """A second spacecraft with a hinged panel as the target: a point contact, the ledger of the
+    two jointed systems conserved through the approach, the impact and after."""
+    robot = spacearm.presets.spatial6()
+    b = spacearm.Robot.builder("sat", base_mass=80.0, base_inertia=[8.0, 9.0, 10.0])
+    b.add_link("panel", parent="base", axis=(0, 1, 0), origin=(0.6, 0, 0), com=(0.5, 0, 0), mass=5.0, inertia=[0.5, 0.4, 0.9])
+    b.add_point("handle", body="base", offset=(-0.5, 0.0, 0.0))
+    sat = b.build()
+    target = spacearm.Target.from_robot(sat)
+    xt = sat.neutral_configuration(r0=robot.point_position(robot.neutral_configuration()) + np.array([0.6, 0.0, 0.0]))
+    ut = sat.zero_velocity()
+    ut[5], ut[6] = 0.1, 0.2  # spinning about z, the panel swinging
+    s = np.concatenate([xt, ut])
+    res = capture(robot, target, s, kind="point", restitution=0.5, detumble_time=2.0, post_time=0.5)
+    assert res.impact.target_dtwist.shape == (sat.nu,)
+    assert np.linalg.norm(res.impact.impulse) > 0.1
+    assert res.drift["P"] < 1e-9 and res.drift["L"] < 1e-9
+    with pytest.raises(spacearm.ArgumentError, match="jointed"):
+        capture(robot, target, s, kind="rigid")
