@@ -7,10 +7,12 @@
   :func:`impulse_momentum_split`;
 - :func:`attach_target` (the captured system as one model) and :func:`soft_capture` (a wrist
   impedance between two free bodies);
+- :func:`simulate_closed_chain`: a two-arm grasp as a closed chain;
 - :func:`detumble`; :func:`capture`, the whole sequence with phases and the momentum ledger;
 - :func:`capture_envelope`: success over target spin rates and inertia errors.
 """
 
+from .closed_chain import ClosedChainRun, simulate_closed_chain
 from .captured import CapturedSystem, SoftCaptureRun, attach_target, relative_twist, soft_capture
 from .detumble import DetumbleRun, detumble
 from .envelope import CaptureEnvelope, capture_envelope
@@ -32,6 +34,8 @@ __all__ = [
     "relative_twist",
     "SoftCaptureRun",
     "soft_capture",
+    "ClosedChainRun",
+    "simulate_closed_chain",
     "DetumbleRun",
     "detumble",
     "PHASES",

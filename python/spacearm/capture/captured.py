@@ -14,8 +14,8 @@ Soft: the robot and the target stay free; a wrist impedance acts at the robot's 
 with the relative attitude it had at contact, to the target's) act on the robot at ``X`` and
 their opposites on the target's material point at ``X``: an internal wrench, so robot + target
 momentum is conserved. ``simulate`` takes no external wrench, so this phase is integrated here:
-classical fixed-step RK4 on both bodies, each through its own ``forward_dynamics(wrenches=...)``,
-the configurations advanced on the quaternion manifold by ``configuration_plus``.
+classical fixed-step RK4 on both bodies (:mod:`spacearm.capture._rk4`), each through its own
+``forward_dynamics(wrenches=...)``.
 """
 
 from __future__ import annotations
@@ -28,6 +28,7 @@ from .._util.arrays import number, vector
 from ..errors import ArgumentError, SimulationError
 from ..model.robot import ExternalWrench
 from ..rotations import quat_from_matrix
+from ._rk4 import rk4_step
 from .impact import _check_target, _robot_point, inverse_inertia
 
 __all__ = ["CapturedSystem", "attach_target", "SoftCaptureRun", "soft_capture", "relative_twist"]
@@ -189,23 +190,11 @@ def soft_capture(robot, x, u, target, target_state, duration: float, *, frequenc
     T, X_, U_, S_, W_, TAU_ = [], [], [], [], [], []
     for i in range(steps + 1):
         t = i * h
-        a1, b1, w, tau = rates(t, xr, ur, xt, ut)
+        _, _, w, tau = rates(t, xr, ur, xt, ut)
         T.append(t), X_.append(xr.copy()), U_.append(ur.copy()), S_.append(np.r_[xt, ut]), W_.append(w), TAU_.append(tau)
         if i == steps:
             break
-        xr2, ur2 = robot.configuration_plus(xr, 0.5 * h * ur), ur + 0.5 * h * a1
-        xt2, ut2 = tb.configuration_plus(xt, 0.5 * h * ut), ut + 0.5 * h * b1
-        a2, b2, _, _ = rates(t + 0.5 * h, xr2, ur2, xt2, ut2)
-        xr3, ur3 = robot.configuration_plus(xr, 0.5 * h * ur2), ur + 0.5 * h * a2
-        xt3, ut3 = tb.configuration_plus(xt, 0.5 * h * ut2), ut + 0.5 * h * b2
-        a3, b3, _, _ = rates(t + 0.5 * h, xr3, ur3, xt3, ut3)
-        xr4, ur4 = robot.configuration_plus(xr, h * ur3), ur + h * a3
-        xt4, ut4 = tb.configuration_plus(xt, h * ut3), ut + h * b3
-        a4, b4, _, _ = rates(t + h, xr4, ur4, xt4, ut4)
-        xr = robot.configuration_plus(xr, h / 6.0 * (ur + 2 * ur2 + 2 * ur3 + ur4))
-        ur = ur + h / 6.0 * (a1 + 2 * a2 + 2 * a3 + a4)
-        xt = tb.configuration_plus(xt, h / 6.0 * (ut + 2 * ut2 + 2 * ut3 + ut4))
-        ut = ut + h / 6.0 * (b1 + 2 * b2 + 2 * b3 + b4)
+        (xr, xt), (ur, ut) = rk4_step(t, h, [xr, xt], [ur, ut], lambda tt, xx, uu: list(rates(tt, xx[0], uu[0], xx[1], uu[1])[:2]))
         if not (np.all(np.isfinite(ur)) and np.all(np.isfinite(ut))):
             raise SimulationError(f"the soft capture diverged at t = {t + h:.4g} s; lower the gains or dt")
     return SoftCaptureRun(np.array(T), np.array(X_), np.array(U_), np.array(S_), np.array(W_), np.array(TAU_), dict(zip(names, gains)))
