@@ -88,7 +88,12 @@ def run(args, model_from_args, out=None) -> int:
     w = out.write
     w(f"capture of a {target.mass:g} kg target spinning at {np.linalg.norm(spin):.4g} rad/s by {robot.name}: "
       f"{args.kind} grasp, {args.mode} mode\n")
-    w(f"  grasp at t = {s['capture_time']:.3f} s, grasp points {1e3 * s['gap']:.2f} mm apart\n")
+    if args.kind == "soft":
+        locked = res.phase_start("post-capture")
+        w(f"  contact at t = {s['capture_time']:.3f} s, wrist impedance until t = {locked:.3f} s, then locked with "
+          f"the grasp points {1e3 * s['gap']:.2f} mm apart (the impulse below is the lock's)\n")
+    else:
+        w(f"  grasp at t = {s['capture_time']:.3f} s, grasp points {1e3 * s['gap']:.2f} mm apart\n")
     w(f"  impulse on the robot: {_vec(s['impulse'][:3])} N s, {_vec(s['impulse'][3:])} N m s "
       f"(|f| {s['impulse_force_norm']:.4g} N s, |n| {s['impulse_moment_norm']:.4g} N m s)\n")
     w(f"  base jump: dv0 = {_vec(s['base_dv'])} m/s, dw0 = {_vec(s['base_dw'])} rad/s\n")
