@@ -297,3 +297,24 @@ def test_jointed_target_jump_against_pinocchio(seed):
     du_ref = u_ref - ut
     assert np.linalg.norm(du_ref) > 1e-2
     np.testing.assert_allclose(res.target_dtwist, du_ref, atol=1e-9 * np.linalg.norm(du_ref))
+
+
+def test_analysis_quantities_bad_input_and_grasp_point_forms():
+    robot = spacearm.presets.spatial6()
+    x = robot.neutral_configuration()
+    with pytest.raises(spacearm.ArgumentError, match="form"):
+        inverse_inertia(robot, x, form="schur")
+    with pytest.raises(spacearm.ArgumentError, match="arm"):
+        inverse_inertia(robot, x, arm="floppy")
+    with pytest.raises(spacearm.ArgumentError, match="direction"):
+        virtual_mass(robot, x, (0.0, 0.0, 0.0))
+    with pytest.raises(spacearm.ShapeError):
+        impulse_momentum_split(robot, x, [1.0, 2.0])
+    # grasp points: a mapping, a list of offsets, one flat offset
+    assert list(spacearm.Target(1.0, [1, 1, 1], grasp_points=[(0.1, 0, 0), (0, 0.2, 0)]).grasp_points) == ["grasp0", "grasp1"]
+    one = spacearm.Target(1.0, [1, 1, 1], grasp_points=(0.1, 0.0, 0.0))
+    np.testing.assert_array_equal(one.grasp_points["grasp0"], [0.1, 0.0, 0.0])
+    with pytest.raises(spacearm.ArgumentError, match="at least one grasp point"):
+        spacearm.Target(1.0, [1, 1, 1], grasp_points={})
+    with pytest.raises(spacearm.ArgumentError, match="jointed model"):
+        spacearm.Target.from_robot(robot).state()
