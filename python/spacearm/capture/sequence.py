@@ -14,6 +14,8 @@ Phases (``PHASES``; ``result.phase`` holds the index at every sample):
    :func:`soft_capture` for ``soft_time``, then a rigid lock of what relative motion remains.
 2. **post-capture** — the captured system (rigid, soft: the target attached as a payload, model
    edited at run time; point: the robot alone, the target flying off) with the joints braked.
+   The thrusters act in the approach and the detumble only: the soft phase and this one are
+   unactuated at the base in either mode.
 3. **detumble** — :func:`detumble` in ``mode``.
 
 Momentum ledger: ``P`` and ``L`` (about the origin of 𝒥) of robot + target at every sample. In
