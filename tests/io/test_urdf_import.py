@@ -56,7 +56,7 @@ def test_rotated_inertial_frame_is_rotated_into_link_axes():
 
 
 def test_fixed_joints_are_merged_with_parallel_axis_theorem_and_kept_as_points():
-    text = f"""<robot name="m">
+    text = """<robot name="m">
   <link name="a"><inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1"/></inertial></link>
   <link name="tool"><inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1"/></inertial></link>
   <joint name="weld" type="fixed"><parent link="a"/><child link="tool"/><origin xyz="0 0 1"/></joint>
