@@ -1,10 +1,11 @@
 //! `spacearm._core.simulate`: the whole simulation loop in Rust (`spacearm_core::sim::simulate`),
 //! options and controller specifications parsed from Python dicts (unknown keys and bad values
 //! are errors naming them), records returned as numpy arrays. Wrapped by
-//! `spacearm.simulation.simulate`, which builds the dicts from the user-facing classes of
+//! `spacearm.sim.simulation.simulate`, which builds the dicts from the user-facing classes of
 //! `spacearm.control`.
 
 use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
 
 use nalgebra::Vector3;
 use numpy::PyArray1;
@@ -27,6 +28,9 @@ use crate::model_py::PyModel;
 use crate::records_py::run_dict;
 
 type CoreResult<T> = spacearm_core::Result<T>;
+
+/// How often a run without a progress callable checks for Ctrl-C.
+const SIGNAL_CHECK_INTERVAL: Duration = Duration::from_millis(100);
 
 fn bad(msg: String) -> SpacearmError {
     SpacearmError::InvalidArgument(msg)
@@ -343,7 +347,7 @@ pub fn parse_controller(spec: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<B
 }
 
 /// Run a simulation, without the GIL; returns a dict of numpy arrays plus `"_meta"` (see
-/// `spacearm.simulation`).
+/// `spacearm.sim.simulation`).
 #[pyfunction]
 #[pyo3(signature = (model, x0, u0, duration, options, controller_spec=None))]
 pub fn simulate<'py>(
@@ -367,10 +371,16 @@ pub fn simulate<'py>(
         _ => Box::new(ZeroTorque),
     };
     let mut progress_error: Option<PyErr> = None;
+    let mut last_check = Instant::now();
     let result = py.detach(|| {
-        // The progress callable and Ctrl-C are checked with the GIL taken back (at most ~1000
-        // times a run).
+        // The progress callable and Ctrl-C are checked with the GIL taken back: at every report
+        // (at most ~1000 a run) if there is a callable, else every 0.1 s of wall time (taking
+        // the GIL back waits for the other Python threads, so not more often than that).
         let mut progress = |fraction: f64| -> CoreResult<()> {
+            if progress_fn.is_none() && fraction < 1.0 && last_check.elapsed() < SIGNAL_CHECK_INTERVAL {
+                return Ok(());
+            }
+            last_check = Instant::now();
             Python::attach(|py| {
                 py.check_signals()?;
                 match &progress_fn {
