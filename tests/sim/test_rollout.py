@@ -20,7 +20,6 @@ def batch(robot, b, seed=0):
 
 
 def controllers(robot, x0):
-    n = robot.n_dof
     return [JointPD(20.0, 8.0, QuinticJoint(x[7:], x[7:] + 0.1 * (k + 1), 0.0, 0.2)) for k, x in enumerate(x0)]
 
 
