@@ -30,7 +30,9 @@ from .errors import (
     SpacearmTypeError,
 )
 from .model.robot import ExternalWrench, ForwardDynamicsDerivatives, InertiaBlocks, Kinematics, Linearization, Momentum, Robot
+from .sim.rollout import Rollouts, rollout
 from .sim.simulation import simulate
+from .sim.simulator import Simulator
 from .sim.trajectory import Trajectory
 
 # The model-file modules moved into spacearm.io (docs/architecture.md); their old public paths
@@ -57,6 +59,9 @@ __all__ = [
     "capture",
     "Target",
     "simulate",
+    "rollout",
+    "Rollouts",
+    "Simulator",
     "Trajectory",
     "control",
     "dh",
