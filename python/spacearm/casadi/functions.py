@@ -177,11 +177,16 @@ def rk4_step(robot, substeps: int = 1):
     """
     if not isinstance(substeps, int) or substeps < 1:
         raise ArgumentError(f"substeps must be a positive integer, got {substeps!r}")
-    ca, x, u, _ = _symbols(robot)
-    tau = ca.SX.sym("tau", robot.n_dof)
-    wrench = ca.SX.sym("base_wrench", 6)
-    dt = ca.SX.sym("dt")
+    ca, _, _, _ = _symbols(robot)
     fd = forward_dynamics(robot)
+    # MX symbols calling the SX forward-dynamics Function: the graph holds 4·substeps calls
+    # of one compiled function instead of as many inlined copies, so its derivatives (and an
+    # optimiser's Hessian) are built once per model rather than once per stage.
+    x = ca.MX.sym("x", robot.nx)
+    u = ca.MX.sym("u", robot.nu)
+    tau = ca.MX.sym("tau", robot.n_dof)
+    wrench = ca.MX.sym("base_wrench", 6)
+    dt = ca.MX.sym("dt")
     nx = robot.nx
 
     def rhs(y):

@@ -1,0 +1,36 @@
+"""The initial guess of a plan: the reactionless resolved-motion-rate motion
+(:func:`spacearm.analysis.reactionless.move_to`) sampled at the knots."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..analysis.reactionless import move_to
+
+
+def reactionless_guess(robot, x0, u0, target, point, times, bounds):
+    """``(x, u, tau, motion)`` at the knots ``times`` (K+1) from the reactionless RMRC motion
+    to ``target`` over ``times[-1]``: configurations and joint rates from the motion, base
+    velocities from the system momentum of ``(x0, u0)`` (``Robot.base_velocity_from_momentum``),
+    and joint torques ``H* qdd + c*`` with ``qdd`` by finite differences of the rates, clipped
+    to the effort limits. The motion itself is returned too (the planner's figure compares
+    with it)."""
+    duration = float(times[-1])
+    dt = duration / (4 * (len(times) - 1))
+    motion = move_to(robot, target, x0=x0, point=point, strategy="reactionless", duration=duration, settle=0.0, dt=dt)
+    idx = np.clip(np.searchsorted(motion.times, times - 1e-9 * duration), 0, len(motion.times) - 1)
+    x = motion.x[idx].copy()
+    qd = motion.qd[idx].copy()
+    qd[0] = u0[6:]
+    mom = robot.momentum(x0, u0)
+    u = np.array([np.concatenate([robot.base_velocity_from_momentum(xk, qk, mom.P, mom.L_origin), qk]) for xk, qk in zip(x, qd)])
+    qdd = np.gradient(qd, times, axis=0)
+    tau = np.array([robot.generalized_inertia(x[k]) @ qdd[k] + robot.generalized_bias(x[k], u[k]) for k in range(len(times) - 1)])
+    tau = np.clip(tau, -bounds.effort, bounds.effort)
+    return x, u, tau, motion
+
+
+def hold_guess(robot, x0, u0, times):
+    """``(x, u, tau, None)``: the initial state held at every knot, zero torques."""
+    k = len(times)
+    return np.tile(x0, (k, 1)), np.tile(u0, (k, 1)), np.zeros((k - 1, robot.n_dof)), None
