@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from typing import Tuple
 
-from .._optional import require
+from .._util.optional import require
 from ..errors import ArgumentError, SpacearmTypeError
 from . import _recursions as rec
 
@@ -41,7 +41,7 @@ def _casadi():
 
 def _symbols(robot) -> Tuple[object, object, object, "rec.Kinematics"]:
     """``(ca, x, u, kinematics)``: fresh SX symbols of a robot's state and its kinematics."""
-    from ..robot import Robot
+    from ..model.robot import Robot
 
     if not isinstance(robot, Robot):
         raise SpacearmTypeError(f"spacearm.casadi functions take a spacearm.Robot, got {type(robot).__name__}")

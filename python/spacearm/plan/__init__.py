@@ -10,7 +10,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from .._arrays import integer, number, vector
+from .._util.arrays import integer, number, vector
 from ..errors import ArgumentError, SpacearmTypeError
 from .limits import JointBounds
 from .problem import OBJECTIVES
@@ -83,7 +83,7 @@ def point_to_point(
     Plan
         Check :attr:`Plan.success`; :meth:`Plan.resimulate` runs it in the native simulator.
     """
-    from ..robot import Robot
+    from ..model.robot import Robot
     from .problem import solve
     from .warm_start import hold_guess, reactionless_guess
 

@@ -27,7 +27,7 @@ import time
 
 import numpy as np
 
-from .._optional import require
+from .._util.optional import require
 from ..casadi import point_position, rk4_step
 from ..errors import ArgumentError
 

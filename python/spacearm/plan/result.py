@@ -9,7 +9,7 @@ from typing import Any, Optional
 
 import numpy as np
 
-from .._atomic import atomic_open
+from .._util.atomic import atomic_open
 from ..errors import ArgumentError
 
 
@@ -80,7 +80,7 @@ class Plan:
         uses another discretisation than the plan. Returns the
         :class:`~spacearm.trajectory.Trajectory`."""
         from ..control import Callback
-        from ..simulation import simulate
+        from ..sim.simulation import simulate
         from .reference import PlanReference, computed_torque_tracking
 
         step = self.duration / ((len(self.t) - 1) * self.substeps)
@@ -109,7 +109,7 @@ class Plan:
         to the target. Returns ``{name: (t, attitude angle, |tau|, point path)}``."""
         from ..analysis.reactionless import move_to
         from ..control import ComputedTorque, QuinticJoint
-        from ..simulation import simulate
+        from ..sim.simulation import simulate
 
         robot = self.robot
         out = {f"plan ({self.objective})": (self.t, self.attitude_change, np.r_[np.linalg.norm(self.tau, axis=1), np.nan],
