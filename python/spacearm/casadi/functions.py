@@ -163,7 +163,7 @@ def _project(ca, y):
     return ca.vertcat(y[0:3], quat / ca.norm_2(quat), y[7:])
 
 
-def rk4_step(robot, substeps: int = 1):
+def rk4_step(robot, substeps: int = 1, torque: str = "constant"):
     """``rk4_step(x, u, tau, base_wrench, dt) -> (x_next, u_next)``: ``substeps`` classical
     Runge–Kutta 4 steps of size ``dt / substeps`` with ``tau`` and ``base_wrench`` held.
 
@@ -174,9 +174,16 @@ def rk4_step(robot, substeps: int = 1):
     which keeps the order 4). Chosen over an exponential-map (Lie-group) step so that one step
     of this function and one step of the native simulation are the same map to rounding: a plan
     built on it re-simulates without a discretisation mismatch.
+
+    ``torque="linear"`` adds an input ``tau_end`` after ``tau``: the joint torque then varies
+    linearly from ``tau`` at the start to ``tau_end`` at ``t + dt`` (a first-order hold; each
+    RK4 stage sees the torque of its own time), so a sequence of steps applies a continuous
+    torque, which a fixed-step integrator with any step reproduces to its order.
     """
     if not isinstance(substeps, int) or substeps < 1:
         raise ArgumentError(f"substeps must be a positive integer, got {substeps!r}")
+    if torque not in ("constant", "linear"):
+        raise ArgumentError(f"torque must be 'constant' or 'linear', got {torque!r}")
     ca, _, _, _ = _symbols(robot)
     fd = forward_dynamics(robot)
     # MX symbols calling the SX forward-dynamics Function: the graph holds 4·substeps calls
@@ -185,22 +192,28 @@ def rk4_step(robot, substeps: int = 1):
     x = ca.MX.sym("x", robot.nx)
     u = ca.MX.sym("u", robot.nu)
     tau = ca.MX.sym("tau", robot.n_dof)
+    tau_end = ca.MX.sym("tau_end", robot.n_dof) if torque == "linear" else tau
     wrench = ca.MX.sym("base_wrench", 6)
     dt = ca.MX.sym("dt")
     nx = robot.nx
 
-    def rhs(y):
+    def rhs(y, fraction):
+        """The state rate at the fraction ``fraction`` of the step (for the torque)."""
         xs, us = y[0:nx], y[nx:]
         xdot = ca.vertcat(us[0:3], _quaternion_rate(ca, us[3:6], xs[3:7]), us[6:])
-        return ca.vertcat(xdot, fd(xs, us, tau, wrench))
+        return ca.vertcat(xdot, fd(xs, us, tau + fraction * (tau_end - tau), wrench))
 
     h = dt / substeps
     y = ca.vertcat(x, u)
-    for _ in range(substeps):
-        k1 = rhs(y)
-        k2 = rhs(_project(ca, y + 0.5 * h * k1))
-        k3 = rhs(_project(ca, y + 0.5 * h * k2))
-        k4 = rhs(_project(ca, y + h * k3))
+    for m in range(substeps):
+        a, mid, b = m / substeps, (m + 0.5) / substeps, (m + 1) / substeps
+        k1 = rhs(y, a)
+        k2 = rhs(_project(ca, y + 0.5 * h * k1), mid)
+        k3 = rhs(_project(ca, y + 0.5 * h * k2), mid)
+        k4 = rhs(_project(ca, y + h * k3), b)
         y = _project(ca, y + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4))
-    return _function(ca, "rk4_step", {"x": x, "u": u, "tau": tau, "base_wrench": wrench, "dt": dt},
-                     {"x_next": y[0:nx], "u_next": y[nx:]})
+    inputs = {"x": x, "u": u, "tau": tau}
+    if torque == "linear":
+        inputs["tau_end"] = tau_end
+    inputs.update({"base_wrench": wrench, "dt": dt})
+    return _function(ca, "rk4_step", inputs, {"x_next": y[0:nx], "u_next": y[nx:]})

@@ -1,13 +1,15 @@
 """The transcription: point-to-point maneuvers of a free-floating system by direct multiple
 shooting, solved by IPOPT through CasADi (docs/optimal-control.md).
 
-Unknowns: the state ``y_k = [x_k; u_k]`` at the knots ``t_k = k T / K`` (``k = 0..K``) and the
-joint torques ``tau_k`` held on ``[t_k, t_k+1)``. Constraints:
+Unknowns: the state ``y_k = [x_k; u_k]`` and the joint torques ``tau_k`` at the knots
+``t_k = k T / K`` (``k = 0..K``); the torque is linear between knots (a first-order hold), so
+it is continuous and any fixed-step integrator reproduces the plan to its own order.
+Constraints:
 
 - ``y_0`` is the given initial state;
-- continuity ``y_k+1 = Φ(y_k, tau_k, T/K)``, ``Φ`` being ``substeps`` RK4 steps of the
+- continuity ``y_k+1 = Φ(y_k, tau_k, tau_k+1, T/K)``, ``Φ`` being ``substeps`` RK4 steps of the
   free-floating dynamics (no base wrench) with the quaternion renormalised
-  (:func:`spacearm.casadi.rk4_step`: the same map as the native simulator's RK4);
+  (:func:`spacearm.casadi.rk4_step` with ``torque="linear"``);
 - the point reaches ``target`` at ``t_K``;
 - joint positions, speeds and torques within their bounds at every knot;
 - optionally zero joint speeds at ``t_K`` (``rest_at_end``) and zero base angular velocity at
@@ -15,10 +17,10 @@ joint torques ``tau_k`` held on ``[t_k, t_k+1)``. Constraints:
 
 Objectives (both divided by ``T`` so that their size does not depend on the duration):
 
-- ``"attitude"``: ``(1/T) Σ_k |θ_k|² Δt`` with ``θ_k = 2 vec(quat_k ⊗ quat_0*)`` (for small
+- ``"attitude"``: ``(1/T) Σ_k |θ_k|² Δt`` (k = 1..K) with ``θ_k = 2 vec(quat_k ⊗ quat_0*)`` (for small
   angles the base rotation vector since ``t_0``), plus ``effort_weight (1/T) Σ |tau_k|² Δt``
   so that the torques are defined where the attitude does not decide them;
-- ``"effort"``: ``(1/T) Σ_k |tau_k|² Δt``.
+- ``"effort"``: ``(1/T) Σ_k ½ (|tau_k|² + |tau_k+1|²) Δt`` (trapezoidal rule).
 """
 
 from __future__ import annotations
@@ -54,22 +56,22 @@ def solve(robot, x0, u0, target, point, duration, nodes, substeps, objective, bo
     n, nx, nu = robot.n_dof, robot.nx, robot.nu
     K = nodes
     dt = duration / K
-    step = rk4_step(robot, substeps)
+    step = rk4_step(robot, substeps, torque="linear")
     position = point_position(robot, point)
 
     opti = ca.Opti()
     X = opti.variable(nx, K + 1)
     U = opti.variable(nu, K + 1)
-    TAU = opti.variable(n, K)
+    TAU = opti.variable(n, K + 1)
     opti.subject_to(X[:, 0] == x0)
     opti.subject_to(U[:, 0] == u0)
     zero_wrench = ca.DM.zeros(6)
     cost = 0
     for k in range(K):
-        x_next, u_next = step(X[:, k], U[:, k], TAU[:, k], zero_wrench, dt)
+        x_next, u_next = step(X[:, k], U[:, k], TAU[:, k], TAU[:, k + 1], zero_wrench, dt)
         opti.subject_to(X[:, k + 1] == x_next)
         opti.subject_to(U[:, k + 1] == u_next)
-        effort = ca.sumsqr(TAU[:, k]) * dt / duration
+        effort = 0.5 * (ca.sumsqr(TAU[:, k]) + ca.sumsqr(TAU[:, k + 1])) * dt / duration
         if objective == "effort":
             cost += effort
         else:
@@ -115,12 +117,12 @@ def solve(robot, x0, u0, target, point, duration, nodes, substeps, objective, bo
     except RuntimeError:  # IPOPT stopped without success: keep its last iterate and report it
         value, stats = opti.debug.value, opti.debug.stats()
     elapsed = time.perf_counter() - start
-    x = np.atleast_2d(np.array(value(X))).T
+    x = np.ascontiguousarray(np.atleast_2d(np.array(value(X))).T)
     # Unit quaternions at the knots: exact to the constraint tolerance after a successful
     # solve; for an unconverged iterate this keeps every state a valid configuration.
     x[:, 3:7] /= np.linalg.norm(x[:, 3:7], axis=1, keepdims=True)
-    u = np.atleast_2d(np.array(value(U))).T
-    tau = np.array(value(TAU)).reshape(n, K).T
+    u = np.ascontiguousarray(np.atleast_2d(np.array(value(U))).T)
+    tau = np.ascontiguousarray(np.array(value(TAU)).reshape(n, K + 1).T)
     return {
         "x": x,
         "u": u,

@@ -3,10 +3,10 @@ native simulator.
 
 The reference is the plan's own motion between the knots, not a spline through them: each
 interval is cut into the plan's RK4 sub-steps, the states there come from the same RK4 map the
-plan was built with (:func:`spacearm.casadi.rk4_step`), the joint accelerations from forward
-dynamics under the interval's torque, and each sub-step is a quintic Hermite segment matching
-``q``, ``qd`` and ``qdd`` at both ends (so ``qdd`` may jump only at the knots, where ``tau``
-does). The computed-torque law on the reduced equations (paper eqs. 112–115),
+plan was built with (:func:`spacearm.casadi.rk4_step`, torque linear between knots), the joint
+accelerations from forward dynamics under the torque of that instant, and each sub-step is a
+quintic Hermite segment matching ``q``, ``qd`` and ``qdd`` at both ends (the torque is
+continuous, so is the reference's ``qdd``). The computed-torque law on the reduced equations (paper eqs. 112–115),
 ``tau = H* (qdd_ref + kd ė + kp e) + c*``, then drives the plant; with the exact model it
 follows the plan to integration accuracy, so the re-simulation checks the plan with an
 independent integrator step rather than the optimiser's own report.
@@ -35,7 +35,7 @@ class PlanReference:
     """``(q, qd, qdd)`` of the plan at any time in ``[0, T]`` (clamped outside)."""
 
     def __init__(self, robot, plan, substeps: int):
-        step = rk4_step(robot, 1)
+        step = rk4_step(robot, 1, torque="linear")
         fd = forward_dynamics(robot)
         zero = np.zeros(6)
         n = robot.n_dof
@@ -44,9 +44,11 @@ class PlanReference:
             h = (plan.t[k + 1] - plan.t[k]) / substeps
             x, u = plan.x[k], plan.u[k]
             for m in range(substeps):
-                x1, u1 = (np.array(v, dtype=float).ravel() for v in step(x, u, plan.tau[k], zero, h))
-                a0 = np.array(fd(x, u, plan.tau[k], zero)).ravel()[6:]
-                a1 = np.array(fd(x1, u1, plan.tau[k], zero)).ravel()[6:]
+                tau0 = plan.tau[k] + (plan.tau[k + 1] - plan.tau[k]) * (m / substeps)
+                tau1 = plan.tau[k] + (plan.tau[k + 1] - plan.tau[k]) * ((m + 1) / substeps)
+                x1, u1 = (np.array(v, dtype=float).ravel() for v in step(x, u, tau0, tau1, zero, h))
+                a0 = np.array(fd(x, u, tau0, zero)).ravel()[6:]
+                a1 = np.array(fd(x1, u1, tau1, zero)).ravel()[6:]
                 ends = np.stack([x[7:], u[6:] * h, a0 * h * h, x1[7:], u1[6:] * h, a1 * h * h])  # (6, n)
                 times.append(plan.t[k] + m * h)
                 coeffs.append(_HERMITE @ ends)

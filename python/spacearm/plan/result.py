@@ -27,8 +27,8 @@ class Plan:
     """A planned point-to-point maneuver of a free-floating system, in spacearm's conventions
     (docs/conventions.md; SI units).
 
-    ``t`` (K+1,) knot times; ``x`` (K+1, 7+N) and ``u`` (K+1, 6+N) the states at the knots;
-    ``tau`` (K, N) the joint torques, ``tau[k]`` held on ``[t[k], t[k+1])``. ``status`` is
+    ``t`` (K+1,) knot times; ``x`` (K+1, 7+N), ``u`` (K+1, 6+N) and ``tau`` (K+1, N) the
+    states and joint torques at the knots, the torque linear between knots. ``status`` is
     IPOPT's return status and ``success`` whether it converged; a plan that did not converge
     holds IPOPT's last iterate, which need not satisfy the constraints.
     """
@@ -70,21 +70,23 @@ class Plan:
 
     @property
     def effort(self) -> float:
-        """``∫ |tau|² dt`` (N²·m²·s) of the piecewise-constant torques."""
-        return float(np.sum(np.sum(self.tau ** 2, axis=1) * np.diff(self.t)))
+        """``∫ |tau|² dt`` (N²·m²·s) by the trapezoidal rule over the knots."""
+        sq = np.sum(self.tau ** 2, axis=1)
+        return float(np.sum(0.5 * (sq[1:] + sq[:-1]) * np.diff(self.t)))
 
     def resimulate(self, kp: float = 400.0, kd: float = 40.0, dt: Optional[float] = None):
         """Run the plan in the native simulator (:func:`spacearm.simulate`, floating mode, RK4)
         under computed torque tracking the plan's joint motion (:mod:`spacearm.plan.reference`),
-        from the plan's initial state. ``dt`` defaults to half the plan's RK4 step, so the check
-        uses another discretisation than the plan. Returns the
+        from the plan's initial state. ``dt`` defaults to a quarter of the plan's RK4 step (at
+        most 0.01 s, so that the stiff tracking loop is integrated accurately), so the check uses
+        another discretisation than the plan. Returns the
         :class:`~spacearm.trajectory.Trajectory`."""
         from ..control import Callback
         from ..sim.simulation import simulate
         from .reference import PlanReference, computed_torque_tracking
 
         step = self.duration / ((len(self.t) - 1) * self.substeps)
-        dt = 0.5 * step if dt is None else float(dt)
+        dt = min(0.25 * step, 0.01) if dt is None else float(dt)
         reference = PlanReference(self.robot, self, self.substeps)
         law = computed_torque_tracking(self.robot, reference, float(kp), float(kd))
         return simulate(self.robot, self.duration, x0=self.x[0], u0=self.u[0], mode="floating", integrator="rk4", dt=dt,
@@ -112,8 +114,7 @@ class Plan:
         from ..sim.simulation import simulate
 
         robot = self.robot
-        out = {f"plan ({self.objective})": (self.t, self.attitude_change, np.r_[np.linalg.norm(self.tau, axis=1), np.nan],
-                                            self.point_position)}
+        out = {f"plan ({self.objective})": (self.t, self.attitude_change, np.linalg.norm(self.tau, axis=1), self.point_position)}
         ref = QuinticJoint(self.x[0][7:], self.x[-1][7:], 0.0, self.duration)
         traj = simulate(robot, self.duration, x0=self.x[0], u0=self.u[0], dt=self.duration / 400, joint_limits=False,
                         controller=ComputedTorque(kp=400.0, kd=40.0, reference=ref))
@@ -140,10 +141,9 @@ class Plan:
         fig = new_figure(figsize=(13, 4.2))
         ax_att, ax_tau, ax_path = fig.subplots(1, 3)
         for name, (t, angle, torque, path) in self.comparison().items():
-            effort = np.nansum(torque[:-1] ** 2 * np.diff(t))
-            style = {"drawstyle": "steps-post"} if name.startswith("plan") else {}
+            effort = np.sum(0.5 * (torque[1:] ** 2 + torque[:-1] ** 2) * np.diff(t))
             ax_att.plot(t, np.degrees(angle), label=f"{name}: max {np.degrees(np.nanmax(angle)):.3g}°")
-            ax_tau.plot(t, torque, label=f"{name}: ∫|τ|²dt = {effort:.3g}", **style)
+            ax_tau.plot(t, torque, label=f"{name}: ∫|τ|²dt = {effort:.3g}")
             ax_path.plot(path[:, 0], path[:, 1], label=name)
         ax_path.plot([self.target[0]], [self.target[1]], "r*", ms=12, label="target")
         ax_att.set_xlabel("t (s)")

@@ -25,7 +25,7 @@ def reactionless_guess(robot, x0, u0, target, point, times, bounds):
     mom = robot.momentum(x0, u0)
     u = np.array([np.concatenate([robot.base_velocity_from_momentum(xk, qk, mom.P, mom.L_origin), qk]) for xk, qk in zip(x, qd)])
     qdd = np.gradient(qd, times, axis=0)
-    tau = np.array([robot.generalized_inertia(x[k]) @ qdd[k] + robot.generalized_bias(x[k], u[k]) for k in range(len(times) - 1)])
+    tau = np.array([robot.generalized_inertia(x[k]) @ qdd[k] + robot.generalized_bias(x[k], u[k]) for k in range(len(times))])
     tau = np.clip(tau, -bounds.effort, bounds.effort)
     return x, u, tau, motion
 
@@ -33,4 +33,4 @@ def reactionless_guess(robot, x0, u0, target, point, times, bounds):
 def hold_guess(robot, x0, u0, times):
     """``(x, u, tau, None)``: the initial state held at every knot, zero torques."""
     k = len(times)
-    return np.tile(x0, (k, 1)), np.tile(u0, (k, 1)), np.zeros((k - 1, robot.n_dof)), None
+    return np.tile(x0, (k, 1)), np.tile(u0, (k, 1)), np.zeros((k, robot.n_dof)), None
