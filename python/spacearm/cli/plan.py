@@ -65,11 +65,12 @@ def run(args, model_from_args) -> None:
         raise ArgumentError(f"--out takes a .npz file name, got {args.out!r}")
 
     def progress(iteration: int, objective: float) -> None:
+        if iteration == 0:  # the arguments passed every check: the solve has started
+            print(f"planning {robot.name}: {args.objective}, T = {args.duration:g} s, {args.nodes} intervals", file=sys.stderr)
         # One line rewritten in place on a terminal, one line per iteration otherwise.
         end = "" if sys.stderr.isatty() else "\n"
         print(f"\rIPOPT iteration {iteration:4d}  objective {objective:.6g}", end=end, file=sys.stderr, flush=True)
 
-    print(f"planning {robot.name}: {args.objective}, T = {args.duration:g} s, {args.nodes} intervals", file=sys.stderr)
     plan = point_to_point(robot, target, duration=args.duration, nodes=args.nodes, substeps=args.substeps,
                           objective=args.objective, effort_limit=_limit(args.effort_limit, "--effort-limit", robot),
                           velocity_limit=_limit(args.velocity_limit, "--velocity-limit", robot), rest_at_end=not args.no_rest,
