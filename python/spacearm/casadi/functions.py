@@ -39,13 +39,18 @@ def _casadi():
     return require("casadi", "spacearm.casadi (CasADi functions of the equations of motion)")
 
 
-def _symbols(robot) -> Tuple[object, object, object, "rec.Kinematics"]:
-    """``(ca, x, u, kinematics)``: fresh SX symbols of a robot's state and its kinematics."""
+def _casadi_for(robot):
+    """The casadi module, once ``robot`` is checked to be a Robot."""
     from ..model.robot import Robot
 
     if not isinstance(robot, Robot):
         raise SpacearmTypeError(f"spacearm.casadi functions take a spacearm.Robot, got {type(robot).__name__}")
-    ca = _casadi()
+    return _casadi()
+
+
+def _symbols(robot) -> Tuple[object, object, object, "rec.Kinematics"]:
+    """``(ca, x, u, kinematics)``: fresh SX symbols of a robot's state and its kinematics."""
+    ca = _casadi_for(robot)
     x = ca.SX.sym("x", robot.nx)
     u = ca.SX.sym("u", robot.nu)
     return ca, x, u, rec.Kinematics(ca, robot.description, x)
@@ -56,7 +61,8 @@ def _function(ca, name: str, inputs: dict, outputs: dict):
 
 
 def _base_inverse_times(ca, H, rhs):
-    """``H0⁻¹ rhs`` from the 6×6 base block of ``H`` (symbolic LU-free solve by CasADi)."""
+    """``H0⁻¹ rhs`` from the 6×6 base block of ``H``: CasADi's symbolic solve (a QR
+    factorisation of the 6×6 block written into the graph, independent of N)."""
     return ca.solve(H[0:6, 0:6], rhs)
 
 
@@ -180,11 +186,11 @@ def rk4_step(robot, substeps: int = 1, torque: str = "constant"):
     RK4 stage sees the torque of its own time), so a sequence of steps applies a continuous
     torque, which a fixed-step integrator with any step reproduces to its order.
     """
-    if not isinstance(substeps, int) or substeps < 1:
+    if isinstance(substeps, bool) or not isinstance(substeps, int) or substeps < 1:
         raise ArgumentError(f"substeps must be a positive integer, got {substeps!r}")
     if torque not in ("constant", "linear"):
         raise ArgumentError(f"torque must be 'constant' or 'linear', got {torque!r}")
-    ca, _, _, _ = _symbols(robot)
+    ca = _casadi_for(robot)
     fd = forward_dynamics(robot)
     # MX symbols calling the SX forward-dynamics Function: the graph holds 4·substeps calls
     # of one compiled function instead of as many inlined copies, so its derivatives (and an
