@@ -68,7 +68,8 @@ def point_to_point(
     substeps : int
         RK4 steps per interval in the shooting map.
     warm_start : ``"reactionless"`` or ``"hold"``
-        Initial guess: the reactionless RMRC motion to the target, or the initial state held.
+        Initial guess: the reactionless RMRC motion to the target (the minimum-disturbance
+        one where the reactionless motion cannot reach it), or the initial state held.
     max_iter : int
         IPOPT's iteration limit.
     hessian : ``"objective"`` or ``"exact"``

@@ -47,7 +47,7 @@ class Plan:
     cost: float
     solve_time: float  #: s, IPOPT's wall time
     substeps: int  #: RK4 steps per knot interval in the transcription
-    warm_start: Any = field(default=None, repr=False)  #: the reactionless RMRC Motion used as initial guess, if any
+    warm_start: Any = field(default=None, repr=False)  #: the RMRC Motion used as initial guess, if any
 
     @property
     def duration(self) -> float:
@@ -107,8 +107,9 @@ class Plan:
     def comparison(self):
         """The plan beside two other ways to make the same move, each over the plan's
         duration from its initial state: a rest-to-rest quintic joint move to the plan's final
-        joint configuration (simulated under computed torque) and the reactionless RMRC motion
-        to the target. Returns ``{name: (t, attitude angle, |tau|, point path)}``."""
+        joint configuration (simulated under computed torque) and the RMRC motion to the target
+        the plan was warm-started from (reactionless, or minimum-disturbance where the
+        reactionless motion cannot reach the target). Returns ``{name: (t, attitude angle, |tau|, point path)}``."""
         from ..analysis.reactionless import move_to
         from ..control import ComputedTorque, QuinticJoint
         from ..sim.simulation import simulate
@@ -129,12 +130,12 @@ class Plan:
         zero_momentum = [np.concatenate([robot.base_velocity_from_momentum(xk, qk), qk]) for xk, qk in zip(motion.x, qd)]
         torque = [np.linalg.norm(robot.generalized_inertia(xk) @ a + robot.generalized_bias(xk, uk))
                   for xk, uk, a in zip(motion.x, zero_momentum, qdd)]
-        out["reactionless RMRC"] = (times, motion.attitude_change, np.array(torque), motion.point_position)
+        out[f"{motion.strategy.replace('_', '-')} RMRC"] = (times, motion.attitude_change, np.array(torque), motion.point_position)
         return out
 
     def figure(self, title: Optional[str] = None):
         """Base attitude change, joint-torque norm and point path (inertial x–y) of the plan,
-        a quintic joint move to the same end configuration and the reactionless RMRC motion
+        a quintic joint move to the same end configuration and the RMRC motion
         (:meth:`comparison`). Returns the matplotlib ``Figure``."""
         from ..analysis._common import new_figure
 
