@@ -42,6 +42,9 @@ def add_parser(sub) -> None:
     p.add_argument("--no-rest", action="store_true", help="do not require zero joint speeds at the end")
     p.add_argument("--reactionless-end", action="store_true", help="require zero base angular velocity at the end")
     p.add_argument("--max-iter", type=int, default=500, help="IPOPT iteration limit (default 500)")
+    p.add_argument("--hessian", choices=("objective", "exact"), default="objective",
+                   help="the Hessian IPOPT uses: the objective's only (default, fast per iteration) or the exact one "
+                        "(slower; for problems without a reactionless path, docs/optimal-control.md)")
     p.add_argument("--out", required=True, help="write the plan here (.npz: t, x, u, tau, target, solver status)")
     p.add_argument("--plot", help="write the figure here (PNG): the plan against a quintic joint move and reactionless RMRC")
 
@@ -74,7 +77,8 @@ def run(args, model_from_args) -> None:
     plan = point_to_point(robot, target, duration=args.duration, nodes=args.nodes, substeps=args.substeps,
                           objective=args.objective, effort_limit=_limit(args.effort_limit, "--effort-limit", robot),
                           velocity_limit=_limit(args.velocity_limit, "--velocity-limit", robot), rest_at_end=not args.no_rest,
-                          reactionless_end=args.reactionless_end, max_iter=args.max_iter, progress=progress)
+                          reactionless_end=args.reactionless_end, max_iter=args.max_iter, hessian=args.hessian,
+                          progress=progress)
     if sys.stderr.isatty():
         print(file=sys.stderr)
     if not plan.success:
