@@ -109,3 +109,12 @@ def test_missing_casadi_names_the_extra(monkeypatch, robot, target):
     monkeypatch.setitem(sys.modules, "casadi", None)
     with pytest.raises(spacearm.errors.MissingDependencyError, match=r"spacearm\[optimal-control\]"):
         point_to_point(robot, target, warm_start="hold")
+
+
+def test_reactionless_end_stops_the_base_not_the_arm(robot, target):
+    plan = point_to_point(robot, target, duration=2.0, nodes=8, objective="effort", rest_at_end=False, reactionless_end=True)
+    assert plan.success, plan.status
+    traj = plan.resimulate()
+    assert np.linalg.norm(robot.point_position(traj.x[-1]) - target) < 1e-3
+    assert np.linalg.norm(traj.u[-1, 3:6]) < 1e-5  # the base does not turn at the end
+    assert np.linalg.norm(traj.u[-1, 6:]) > 1e-3  # while the arm still moves (no rest required)
