@@ -19,10 +19,15 @@ ordinary least-squares pass; a second pass weights the rows by ``1/σ`` and give
 and base velocities enters (1) this way to first order (on both sides: the regressor holds
 measured velocities too, which biases the estimate by a term of order σ², not corrected here).
 
-Identifiability: the columns of the weighted regressor are scaled to unit norm (so that kg,
-kg·m and kg·m² compare) and decomposed by SVD; singular values below ``rcond`` times the
-largest span the null space — parameter combinations the motion does not determine. The
-condition number reported is that of the column-scaled regressor.
+Identifiability: the parameters are made commensurable with a characteristic length ``ℓ`` (the
+RMS distance of the grasp body's CM from the base CM over the samples): ``[m, h/ℓ, Ī/ℓ²]`` all
+have units of mass, and their columns of the weighted regressor units of momentum per kg. The
+SVD of that matrix gives the rank: singular values below ``rcond`` times the largest singular
+value of the same matrix before the mean is removed (the size of the parameters' contribution
+to the momentum) span the null space, the parameter combinations the motion does not determine
+(a contribution that is tiny, or constant along the motion and so indistinguishable from
+``h0``, gives a small singular value). The condition number reported is that of this nondimensional matrix; it measures how
+well the motion excites the parameters, not an artefact of the units.
 """
 
 from __future__ import annotations
@@ -151,12 +156,11 @@ def _samples(robot: Robot, trajectory, x, u):
     return xs, us
 
 
-def _solve(a: np.ndarray, b: np.ndarray, rcond: float):
-    """Column-scaled SVD least squares: ``(pi, covariance factor, singular values, rank, null space)``."""
-    scale = np.linalg.norm(a, axis=0)
-    scale[scale == 0.0] = 1.0
+def _solve(a: np.ndarray, b: np.ndarray, scale: np.ndarray, threshold: float):
+    """Least squares on the columns of ``a`` divided by ``scale``, by SVD, keeping the singular
+    values above ``threshold``: ``(π, Cov(π) for unit row noise, singular values, rank, null space)``."""
     u, s, vt = np.linalg.svd(a / scale, full_matrices=False)
-    rank = int(np.sum(s > rcond * s[0])) if s[0] > 0 else 0
+    rank = int(np.sum(s > threshold))
     z = vt[:rank].T @ ((u[:, :rank].T @ b) / s[:rank])
     pi = z / scale
     # Cov(π) = D V_r S_r⁻² V_rᵀ D with D = diag(1/scale).
@@ -165,6 +169,14 @@ def _solve(a: np.ndarray, b: np.ndarray, rcond: float):
     if null.size:
         null, _ = np.linalg.qr(null)
     return pi, half @ half.T, s, rank, null
+
+
+def _lever_arm(robot: Robot, body: int, xs: np.ndarray) -> float:
+    """RMS distance (m) of ``body``'s CM from the base CM over the samples; 1 m if zero (the
+    payload on the base itself)."""
+    d2 = [np.sum((robot.forward_kinematics(x).com_in_world[body] - x[:3]) ** 2) for x in xs]
+    ell = float(np.sqrt(np.mean(d2)))
+    return ell if ell > 0.0 else 1.0
 
 
 def identify_payload(robot: Robot, trajectory=None, *, body, x=None, u=None, momentum=None,
@@ -220,15 +232,22 @@ def identify_payload(robot: Robot, trajectory=None, *, body, x=None, u=None, mom
     a, b = a.reshape(6 * k, 10), b.reshape(6 * k)
     linear = np.tile(np.r_[np.ones(3, bool), np.zeros(3, bool)], k)
 
+    # [m, h, Ī] = [m, ℓ h̃, ℓ² Ĩ]: the regressor's columns times 1, ℓ, ℓ² act on parameters in kg.
+    ell = _lever_arm(robot, g, xs)
+    scale = 1.0 / np.r_[1.0, ell, ell, ell, np.full(6, ell**2)]
+
     # Pass 1 (ordinary) gives the residual's scale on the linear and angular rows; pass 2 weights them.
-    pi, _, _, rank, _ = _solve(a, b, rcond)
+    def threshold(weight):
+        return rcond * np.linalg.norm(y.reshape(6 * k, 10) * weight[:, None] / scale, 2)
+
+    pi, _, _, rank, _ = _solve(a, b, scale, threshold(np.ones(6 * k)))
     residual = a @ pi - b
     dof = max(6 * k - rank - (0 if given else 6), 1)
     inflation = 6 * k / dof
     floor = np.finfo(float).eps * (np.sqrt(np.mean(b**2)) + np.finfo(float).tiny)
     sigma = np.array([max(np.sqrt(np.mean(residual[rows] ** 2) * inflation), floor) for rows in (linear, ~linear)])
     weight = np.where(linear, 1.0 / sigma[0], 1.0 / sigma[1])
-    pi, cov, s, rank, null = _solve(a * weight[:, None], b * weight, rcond)
+    pi, cov, s, rank, null = _solve(a * weight[:, None], b * weight, scale, threshold(weight))
     h_est = h0 if given else (h_robot + y @ pi).mean(axis=0)
     return PayloadEstimate(
         body=robot.body_names[g],
