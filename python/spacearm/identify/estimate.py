@@ -111,7 +111,7 @@ class PayloadEstimate:
     def summary(self) -> str:
         """A few lines: rank, condition number, and the estimate with its standard deviations."""
         lines = [f"payload on '{self.body}': {self.n_samples} samples, rank {self.rank}/10, "
-                 f"condition number {self.condition_number:.3g} (column-scaled regressor)",
+                 f"condition number {self.condition_number:.3g} (nondimensional regressor)",
                  f"noise of the momentum equations: sigma_P {self.noise_std[0]:.3g} N*s, sigma_L {self.noise_std[1]:.3g} N*m*s"]
         if not self.identifiable:
             lines.append(f"not identified: {self.null_space.shape[1]} direction(s) of {list(PARAMETER_NAMES)}")
