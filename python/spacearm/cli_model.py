@@ -12,11 +12,13 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
+import warnings
 from typing import Optional
 
 from . import presets
 from .cli_numbers import CliError, parse_numbers
-from .errors import SpacearmError
+from .errors import NonPhysicalInertiaWarning, SpacearmError
 from .robot import Robot
 
 __all__ = ["MODEL_HELP", "add_model_arguments", "model_from_args", "load_model", "joint_values"]
@@ -64,10 +66,19 @@ def add_model_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def model_from_args(args: argparse.Namespace) -> Robot:
-    """The robot that MODEL and the model options of :func:`add_model_arguments` describe."""
-    return load_model(args.model, mount_on=args.mount_on, at=args.at, prefix=args.prefix, mimic=args.mimic,
-                      base_link=args.base_link, end_effector=args.end_effector,
-                      allow_nonphysical_inertia=getattr(args, "allow_nonphysical_inertia", False))
+    """The robot that MODEL and the model options of :func:`add_model_arguments` describe. The
+    warnings of ``--allow-nonphysical-inertia`` print as ``spacearm: warning: ...`` lines."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", NonPhysicalInertiaWarning)
+        robot = load_model(args.model, mount_on=args.mount_on, at=args.at, prefix=args.prefix, mimic=args.mimic,
+                           base_link=args.base_link, end_effector=args.end_effector,
+                           allow_nonphysical_inertia=getattr(args, "allow_nonphysical_inertia", False))
+    for w in caught:
+        if issubclass(w.category, NonPhysicalInertiaWarning):
+            print(f"spacearm: warning: {w.message}", file=sys.stderr)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return robot
 
 
 def load_model(spec: str, mount_on: Optional[str] = None, at=None, prefix: Optional[str] = None,

@@ -12,6 +12,8 @@ Grompone & Romano (2018), Front. Robot. AI 5:41 ("the paper").
 
 from __future__ import annotations
 
+import os
+import sys
 import warnings
 from dataclasses import dataclass
 from typing import NamedTuple, Sequence, Union
@@ -559,11 +561,17 @@ class Linearization(NamedTuple):
     B: np.ndarray  #: 2(6+N) × N (inputs="joints") or 2(6+N) × (6+N) (inputs="all")
 
 
-def warn_nonphysical_inertia(robot: Robot, stacklevel: int = 3) -> Robot:
+def warn_nonphysical_inertia(robot: Robot) -> Robot:
     """Issue one :class:`~spacearm.errors.NonPhysicalInertiaWarning` per body of ``robot``
     whose inertia breaks the triangle inequality (loaded under ``allow_nonphysical_inertia``),
-    and return ``robot``. Every loading door calls it once, so the warnings point at the
-    caller's line (``stacklevel``)."""
+    and return ``robot``. Every loading door calls it; the warnings point at the first line
+    outside the spacearm package (the user's call), however deep the door."""
+    if not robot.inertia_warnings:
+        return robot
+    package = os.path.dirname(sys.modules[__name__.partition(".")[0]].__file__)
+    frame, level = sys._getframe(1), 2  # level 1 is this function, 2 its caller
+    while frame.f_back is not None and frame.f_code.co_filename.startswith(package):
+        frame, level = frame.f_back, level + 1
     for message in robot.inertia_warnings:
-        warnings.warn(message, NonPhysicalInertiaWarning, stacklevel=stacklevel)
+        warnings.warn(message, NonPhysicalInertiaWarning, stacklevel=level)
     return robot

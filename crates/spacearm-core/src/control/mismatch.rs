@@ -114,6 +114,20 @@ mod tests {
     use crate::Data;
 
     #[test]
+    fn perturbed_copies_keep_the_triangle_inequality_rule() {
+        use crate::model::TriangleInequality;
+        let published = crate::model::presets::ets7_with(TriangleInequality::Warn);
+        let m = perturbed_model(&published, 1.1, 0.9, 1.05, Slosh::None).unwrap();
+        assert_eq!(m.triangle_inequality(), TriangleInequality::Warn);
+        assert_eq!(m.inertia_warnings().len(), 3);
+        assert!(m.inertia_warnings()[0].contains("perturbed link 'link1'"));
+        // A physical model stays strict and silent.
+        let strict = perturbed_model(&crate::model::presets::ets7(), 1.1, 0.9, 1.05, Slosh::None).unwrap();
+        assert_eq!(strict.triangle_inequality(), TriangleInequality::Enforce);
+        assert!(strict.inertia_warnings().is_empty());
+    }
+
+    #[test]
     fn moving_slosh_mass_keeps_total_mass_and_shifts_the_base_cm() {
         let plant = crate::model::presets::spatial6();
         let d = Vector3::new(0.3, -0.1, 0.2);
