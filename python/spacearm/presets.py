@@ -15,7 +15,7 @@ tip of link ``i``, and the end effector is the tip of the last link.
 from __future__ import annotations
 
 from . import _core
-from .robot import Robot, warn_nonphysical_inertia
+from .model.robot import Robot, warn_nonphysical_inertia
 
 __all__ = ["planar4", "spatial6", "dual_arm", "spatial7", "ets7", "NAMES", "get"]
 

@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ArgumentError, ShapeError, SingularError, SpacearmTypeError
-from ..robot import Robot
+from ..model.robot import Robot
 from .parameters import PARAMETER_NAMES, from_parameters, physical_jacobian
 from .regressor import momentum_regressor, robot_momentum
 
@@ -223,7 +223,7 @@ def identify_payload(robot: Robot, trajectory=None, *, body, x=None, u=None, mom
     y = momentum_regressor(robot, g, xs, us)
     h_robot = robot_momentum(robot, xs, us)
     if given:
-        from .._arrays import vector
+        from .._util.arrays import vector
 
         h0 = vector(momentum, "momentum", 6)
         a, b = y, h0[None, :] - h_robot
