@@ -89,7 +89,6 @@ BASES = {
     "SimulationError": {RuntimeError},
     "CampaignError": {RuntimeError},
     "MissingDependencyError": {ImportError},
-    "CampaignError": {RuntimeError},
 }
 
 

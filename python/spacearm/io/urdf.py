@@ -39,7 +39,7 @@ import numpy as np
 from ..model.builder import RobotBuilder
 from ..errors import ArgumentError, ModelFileError, ShapeError, SpacearmError
 from ..model.robot import Robot
-from ..rotations import quat_from_matrix, quat_from_rpy, quat_to_matrix
+from ..rotations import quat_from_matrix, quat_from_rpy
 from .urdf_parse import UrdfJoint, UrdfRobot, parse_urdf
 
 __all__ = ["load_urdf", "loads_urdf"]

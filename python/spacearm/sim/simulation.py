@@ -15,7 +15,6 @@ and controllers are described with their equations in ``docs/simulation-core.md`
 
 from __future__ import annotations
 
-import math
 import warnings
 from typing import Callable, Optional, Sequence, Union
 

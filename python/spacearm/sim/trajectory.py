@@ -22,7 +22,7 @@ import json
 import math
 import os
 import sys
-from typing import Dict, Iterable, List, NamedTuple, Optional, Sequence, Union
+from typing import Dict, Iterable, List, NamedTuple, Optional, Union
 
 import numpy as np
 
