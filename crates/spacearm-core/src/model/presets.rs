@@ -213,13 +213,8 @@ const ETS7_END_EFFECTOR: [f64; 3] = [0.0, 0.0, 0.53];
 /// about the joint axis z) and their difference. Physical moments are returned unchanged.
 pub fn flatten_negative_second_moment(moments: [f64; 3]) -> [f64; 3] {
     let mut out = moments;
-    let (mut largest, mut sum) = (0, 0.0);
-    for k in 0..3 {
-        sum += moments[k];
-        if moments[k] > moments[largest] {
-            largest = k;
-        }
-    }
+    let largest = (1..3).fold(0, |l, k| if moments[k] > moments[l] { k } else { l });
+    let sum: f64 = moments.iter().sum();
     let deficit = moments[largest] - (sum - moments[largest]);
     if deficit > 0.0 {
         for (k, m) in out.iter_mut().enumerate() {
@@ -357,9 +352,9 @@ mod tests {
         assert_eq!(published.links()[0].mass.inertia[(0, 0)], 0.25);
         // The correction: Szz = (Ixx + Iyy - Izz)/2 becomes zero, Sxx and Syy are kept.
         let corrected = ets7();
-        for k in 0..6 {
-            let [a, b, c] = ETS7_LINKS[k].moments;
-            let i = &corrected.links()[k].mass.inertia;
+        for (link, published) in corrected.links().iter().zip(&ETS7_LINKS) {
+            let [a, b, c] = published.moments;
+            let i = &link.mass.inertia;
             let (x, y, z) = (i[(0, 0)], i[(1, 1)], i[(2, 2)]);
             assert!((y + z - x - (b + c - a)).abs() < 1e-12 && (x + z - y - (a + c - b)).abs() < 1e-12);
             assert!((x + y - z - (a + b - c).max(0.0)).abs() < 1e-12);
