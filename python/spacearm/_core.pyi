@@ -13,8 +13,8 @@ Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 
 __version__: str
 
-def preset(name: str) -> Model: ...
-def model_from_toml(text: str, source: str) -> Model: ...
+def preset(name: str, allow_nonphysical_inertia: bool = ...) -> Model: ...
+def model_from_toml(text: str, source: str, allow_nonphysical_inertia: bool = ...) -> Model: ...
 def model_to_toml(model: Model) -> str: ...
 def model_from_classic_dh(
     name: str,
@@ -42,7 +42,8 @@ def model_from_paper_dh(
 ) -> Model: ...
 
 class ModelBuilder:
-    def __init__(self, name: str, base_name: str, base_mass: float, base_inertia: Sequence[Sequence[float]]) -> None: ...
+    def __init__(self, name: str, base_name: str, base_mass: float, base_inertia: Sequence[Sequence[float]],
+                 allow_nonphysical_inertia: bool = ...) -> None: ...
     def add_link(
         self,
         name: str,
@@ -67,6 +68,8 @@ class Model:
     n_dof: int
     n_bodies: int
     total_mass: float
+    allows_nonphysical_inertia: bool
+    inertia_warnings: list[str]
     body_names: list[str]
     point_names: list[str]
     end_effector: Optional[str]

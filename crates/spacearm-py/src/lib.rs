@@ -18,10 +18,12 @@ mod simulator_py;
 
 use pyo3::prelude::*;
 
-/// A preset model by name (`planar4`, `spatial6`).
+/// A preset model by name (`planar4`, `spatial6`, ...); `allow_nonphysical_inertia` keeps
+/// published inertias that break the triangle inequality (only `ets7` has such data).
 #[pyfunction]
-fn preset(py: Python<'_>, name: &str) -> PyResult<model_py::PyModel> {
-    match spacearm_core::model::presets::by_name(name) {
+#[pyo3(signature = (name, allow_nonphysical_inertia = false))]
+fn preset(py: Python<'_>, name: &str, allow_nonphysical_inertia: bool) -> PyResult<model_py::PyModel> {
+    match spacearm_core::model::presets::by_name_with(name, convert::triangle_inequality(allow_nonphysical_inertia)) {
         Some(m) => Ok(model_py::PyModel::new(m)),
         None => Err(convert::to_py_err(
             py,
