@@ -12,7 +12,7 @@ import time
 import traceback
 from typing import Dict, NamedTuple, Optional
 
-__all__ = ["SampleOutcome", "run_sample"]
+__all__ = ["SampleOutcome", "LostSample", "describe_exception", "run_sample"]
 
 # The nominal robot of the last campaign this process served, keyed by its TOML text, so a
 # worker parses the model once per campaign rather than once per sample.
@@ -25,6 +25,19 @@ class SampleOutcome(NamedTuple):
     metrics: Optional[Dict[str, float]]
     error: str
     seconds: float
+
+
+class LostSample(NamedTuple):
+    """A sample a back end could not run, for a reason outside the sample (a dead worker, a lost
+    scheduler, a batch that could not be sent): it is not recorded and stays pending."""
+
+    index: int
+    reason: str
+
+
+def describe_exception(exc: BaseException) -> str:
+    """``Class: message`` (the class alone when the message is empty)."""
+    return f"{type(exc).__name__}: {exc}" if str(exc) else type(exc).__name__
 
 
 def _nominal(model_toml: str):

@@ -1,0 +1,126 @@
+"""The Dask back end: a batch of samples per task, and a watchdog for a cluster with no workers.
+
+Each task runs :func:`~.batch.run_batch` on one batch (one thread per task: Dask runs as many
+tasks at once as its workers have threads). Outcomes are yielded as tasks finish, in any order.
+
+Failures outside the samples leave them pending (a rerun runs them), never failed:
+
+- a task Dask gives up on (its worker died ``allowed-failures`` times, a lost scheduler, which
+  cancels every task of the client, a restart) yields its samples as :class:`~.worker.LostSample`;
+- the **watchdog**: a cluster with no live worker (or a client that has lost its scheduler) for
+  ``worker_timeout`` seconds would wait forever; the campaign instead cancels what is left and
+  yields it as lost, so :func:`~spacearm.campaign.run_campaign` saves what ran and raises one
+  :class:`~spacearm.errors.CampaignError` that says so.
+
+The watchdog reads the worker count the client keeps up to date (``Client.scheduler_info()``,
+refreshed every couple of seconds) and the client's connection status, so it costs no call to the
+scheduler and cannot itself hang on a dead one.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import time
+from typing import Iterator, Optional, Sequence, Union
+
+from ..errors import CampaignError
+from .batch import Job, run_batch, split_into_batches
+from .worker import LostSample, SampleOutcome, describe_exception
+
+__all__ = ["dask_outcomes", "DEFAULT_WORKER_TIMEOUT", "connect"]
+
+#: Seconds a campaign waits for a live Dask worker before it stops (``worker_timeout``).
+DEFAULT_WORKER_TIMEOUT = 60.0
+
+# How long the calling thread sleeps when no task has finished, before it looks again (s).
+_POLL_SECONDS = 0.05
+# Tasks per worker thread when the batch size is chosen: enough to balance the load at the end.
+_TASKS_PER_THREAD = 4
+_MAX_BATCH = 64
+
+Outcome = Union[SampleOutcome, LostSample]
+
+
+def connect(scheduler):
+    """``(client, owned)``: the ``distributed.Client`` given, or a new one to the address given."""
+    from .._optional import require
+
+    distributed = require("distributed", "campaigns on a Dask cluster")
+    if isinstance(scheduler, distributed.Client):
+        return scheduler, False
+    try:
+        return distributed.Client(scheduler), True
+    except (OSError, TimeoutError) as exc:
+        raise CampaignError(f"cannot connect to the Dask scheduler '{scheduler}': {describe_exception(exc)}") from None
+
+
+def worker_threads(client) -> int:
+    """Threads of the live workers, as the client last heard from the scheduler (0 if none, or if
+    the client is not connected)."""
+    if client.status != "running":
+        return 0
+    workers = client.scheduler_info().get("workers", {})
+    return sum(int(w.get("nthreads", 1)) for w in workers.values())
+
+
+def samples_per_task(pending: int, threads: int) -> int:
+    """The default batch size: about four tasks per worker thread, at most 64 samples."""
+    return max(1, min(_MAX_BATCH, -(-pending // (_TASKS_PER_THREAD * max(threads, 1)))))
+
+
+class _Watchdog:
+    """Time since the cluster last had a live worker."""
+
+    def __init__(self, client, timeout: float):
+        self.client = client
+        self.timeout = timeout
+        self.last_alive = time.monotonic()
+
+    def expired(self) -> bool:
+        now = time.monotonic()
+        if worker_threads(self.client) > 0:
+            self.last_alive = now
+        return now - self.last_alive >= self.timeout
+
+    def reason(self) -> str:
+        state = "no live Dask worker" if self.client.status == "running" else "no connection to the Dask scheduler"
+        return f"{state} for {self.timeout:g} s (worker_timeout)"
+
+
+def dask_outcomes(spec, jobs: Sequence[Job], client, batch_size: Optional[int],
+                  worker_timeout: float) -> Iterator[Outcome]:
+    """Outcomes of ``jobs`` run on the Dask cluster of ``client``, one batch per task."""
+    import distributed
+
+    if batch_size is None:
+        batch_size = samples_per_task(len(jobs), worker_threads(client))
+    batches = split_into_batches(jobs, batch_size)
+    futures = client.map(run_batch, [spec] * len(batches), batches, pure=False)
+    batch_of = {future.key: batch for future, batch in zip(futures, batches)}
+    arrivals = distributed.as_completed(futures)
+    watchdog = _Watchdog(client, worker_timeout)
+    try:
+        while not arrivals.is_empty():
+            if not arrivals.has_ready():
+                if watchdog.expired():
+                    reason = watchdog.reason()
+                    for future in futures:
+                        if not future.done():
+                            yield from (LostSample(index, reason) for index, _ in batch_of[future.key])
+                    return
+                time.sleep(_POLL_SECONDS)
+                continue
+            for future in arrivals.next_batch(block=False):
+                try:
+                    outcomes = future.result()
+                except (Exception, asyncio.CancelledError) as exc:  # worker killed, scheduler lost, task not sent
+                    reason = f"Dask task failed: {describe_exception(exc)}"
+                    outcomes = [LostSample(index, reason) for index, _ in batch_of[future.key]]
+                yield from outcomes
+    finally:
+        unfinished = [future for future in futures if not future.done()]
+        if unfinished:
+            try:
+                client.cancel(unfinished)
+            except Exception:  # noqa: BLE001 — a client without a scheduler cannot cancel; nothing to undo
+                pass
