@@ -96,31 +96,30 @@ def dask_outcomes(spec, jobs: Sequence[Job], client, batch_size: Optional[int],
         batch_size = samples_per_task(len(jobs), worker_threads(client))
     batches = split_into_batches(jobs, batch_size)
     futures = client.map(run_batch, [spec] * len(batches), batches, pure=False)
-    batch_of = {future.key: batch for future, batch in zip(futures, batches)}
+    unfinished = {future.key: (future, batch) for future, batch in zip(futures, batches)}
     arrivals = distributed.as_completed(futures)
     watchdog = _Watchdog(client, worker_timeout)
     try:
-        while not arrivals.is_empty():
+        while unfinished:
             if not arrivals.has_ready():
                 if watchdog.expired():
                     reason = watchdog.reason()
-                    for future in futures:
-                        if not future.done():
-                            yield from (LostSample(index, reason) for index, _ in batch_of[future.key])
+                    for _, batch in unfinished.values():
+                        yield from (LostSample(index, reason) for index, _ in batch)
                     return
                 time.sleep(_POLL_SECONDS)
                 continue
             for future in arrivals.next_batch(block=False):
+                _, batch = unfinished.pop(future.key)
                 try:
                     outcomes = future.result()
                 except (Exception, asyncio.CancelledError) as exc:  # worker killed, scheduler lost, task not sent
                     reason = f"Dask task failed: {describe_exception(exc)}"
-                    outcomes = [LostSample(index, reason) for index, _ in batch_of[future.key]]
+                    outcomes = [LostSample(index, reason) for index, _ in batch]
                 yield from outcomes
     finally:
-        unfinished = [future for future in futures if not future.done()]
         if unfinished:
             try:
-                client.cancel(unfinished)
+                client.cancel([future for future, _ in unfinished.values()])
             except Exception:  # noqa: BLE001 — a client without a scheduler cannot cancel; nothing to undo
                 pass

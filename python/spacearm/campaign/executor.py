@@ -242,7 +242,7 @@ def run_campaign(
         result.run = {
             "backend": backend,
             "workers": workers,
-            "scheduler": None if scheduler is None else str(getattr(scheduler, "scheduler", scheduler)),
+            "scheduler": None if client is None else client.scheduler.address,
             "samples_run": done,
             "samples_lost": len(lost),
             "elapsed_s": elapsed,

@@ -37,7 +37,8 @@ class LostSample(NamedTuple):
 
 def describe_exception(exc: BaseException) -> str:
     """``Class: message`` (the class alone when the message is empty)."""
-    return f"{type(exc).__name__}: {exc}" if str(exc) else type(exc).__name__
+    message = " ".join(str(exc).split())  # one line: some back ends' messages span several
+    return f"{type(exc).__name__}: {message}" if message else type(exc).__name__
 
 
 def _nominal(model_toml: str):
