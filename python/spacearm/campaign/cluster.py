@@ -43,7 +43,7 @@ Outcome = Union[SampleOutcome, LostSample]
 
 def connect(scheduler):
     """``(client, owned)``: the ``distributed.Client`` given, or a new one to the address given."""
-    from .._optional import require
+    from .._util.optional import require
 
     distributed = require("distributed", "campaigns on a Dask cluster")
     if isinstance(scheduler, distributed.Client):

@@ -11,7 +11,7 @@ other exception; and it shows a progress bar.
   released (``local.py``): no process start, no model parse, no Python loop per sample.
 - ``workers=0``: sample by sample in the calling thread (the reference path; debugging).
 - ``backend="processes"``: spawned worker processes, one batch per task, for isolation; they
-  die with this process (``lifeline.py``).
+  die with this process (``_util/lifeline.py``).
 - ``scheduler="tcp://host:8786"`` (or a ``distributed.Client``): a Dask cluster, one batch per
   task, with a watchdog for a cluster left without workers (``cluster.py``).
 
@@ -152,7 +152,7 @@ def run_campaign(
     else:
         if samples is None:
             raise ArgumentError("run_campaign(robot, samples=...): the number of samples is required")
-        from ..model_file import dumps_toml
+        from ..io.model_file import dumps_toml
 
         spec = CampaignSpec(dumps_toml(robot_or_spec), samples, seed, perturbations or Perturbations(),
                             scenario or Scenario())

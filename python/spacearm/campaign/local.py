@@ -14,7 +14,7 @@ bit.
 **Processes** (``backend="processes"``): a :class:`~concurrent.futures.ProcessPoolExecutor`
 with the ``spawn`` start method, one batch per task, for isolation: a sample that takes its
 process down (an abort in native code) loses one batch, not the campaign. Every worker runs
-:func:`~.lifeline.die_with_parent` first, so workers end within a second of their parent's
+:func:`spacearm._util.lifeline.die_with_parent` first, so workers end within a second of their parent's
 death, SIGKILL included. The pool is created and fed from the calling thread, which lives as
 long as the pool (the kernel's parent-death signal is tied to the thread that started a worker).
 """
@@ -27,7 +27,7 @@ import threading
 from typing import Iterator, List, Sequence, Union
 
 from .batch import Job, run_batch, split_into_batches
-from .lifeline import die_with_parent
+from .._util.lifeline import die_with_parent
 from .worker import LostSample, SampleOutcome, describe_exception, run_sample
 
 __all__ = ["in_process_outcomes", "thread_outcomes", "process_outcomes", "samples_per_batch"]
