@@ -29,7 +29,9 @@ from .errors import (
     SpacearmTypeError,
 )
 from .model.robot import ExternalWrench, ForwardDynamicsDerivatives, InertiaBlocks, Kinematics, Linearization, Momentum, Robot
+from .sim.rollout import Rollouts, rollout
 from .sim.simulation import simulate
+from .sim.simulator import Simulator
 from .sim.trajectory import Trajectory
 
 # The model-file modules moved into spacearm.io (docs/architecture.md); their old public paths
@@ -54,6 +56,9 @@ __all__ = [
     "JointLimits",
     "presets",
     "simulate",
+    "rollout",
+    "Rollouts",
+    "Simulator",
     "Trajectory",
     "control",
     "dh",

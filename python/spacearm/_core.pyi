@@ -1,7 +1,7 @@
 """Type stub of the private extension ``spacearm._core`` (PyO3). Users call
 :class:`spacearm.Robot`, which wraps :class:`Model`; this stub documents the boundary."""
 
-from typing import Any, Optional, Sequence
+from typing import Any, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -123,10 +123,41 @@ def simulate(
 ) -> dict:
     """Run the native simulation loop. ``options`` keys: mode, integrator, dt, rtol, atol,
     record_every, wheels (dof list or None), thrusters ({max_force, max_torque} or None),
-    joint_limits, max_steps, progress (callable or None). ``controller_spec``: a dict with a
+    joint_limits, max_steps, progress (callable or None), record_dtype ("float64" or "float32").
+    Runs without the GIL; the records are handed to numpy without a copy. ``controller_spec``: a dict with a
     ``type`` ("none", "joint_pd", "computed_torque", "rmrc", "attitude", "base_thrusters",
     "coordinated_flying", "combined", "callback") built by ``spacearm.control``. Returns per-sample arrays and ``"_meta"``."""
     ...
+
+def rollout(
+    models: list[Model],
+    x0: Vec,
+    u0: Vec,
+    duration: float,
+    options: dict,
+    controllers: Optional[Union[dict, list[dict]]] = None,
+    threads: Optional[int] = None,
+) -> dict:
+    """Run B rollouts on native threads without the GIL (crates/spacearm-py/src/rollout_py.rs).
+    ``models``: one model or one per rollout; ``x0`` (B, 7+N), ``u0`` (B, 6+N) float64;
+    ``options`` as for :func:`simulate` (``progress`` ignored); ``controllers``: one spec (an
+    instance per rollout) or a list of B. Returns the records with a leading B axis (NaN rows for
+    a failed rollout) and ``ok``, ``reason``, ``error_class``, ``meta``, ``events``."""
+    ...
+
+class Simulator:
+    """RK4 stepping of a plant from Python (crates/spacearm-py/src/simulator_py.rs)."""
+
+    def __init__(self, model: Model, options: dict, controller_spec: Optional[dict] = None, record_every: Optional[int] = None) -> None: ...
+    def reset(self, x0: ArrayLike, u0: ArrayLike) -> None: ...
+    def step(self, tau: Optional[ArrayLike] = None, n: int = 1, base_wrench: Optional[ArrayLike] = None) -> None: ...
+    @property
+    def time(self) -> float: ...
+    @property
+    def state(self) -> Vec: ...
+    @property
+    def n_steps(self) -> int: ...
+    def result(self) -> dict: ...
 
 def perturbed(
     model: Model,

@@ -10,8 +10,11 @@ mod convert;
 mod derivatives_py;
 mod model_io_py;
 mod model_py;
+mod records_py;
+mod rollout_py;
 mod rules_py;
 mod simulate_py;
+mod simulator_py;
 
 use pyo3::prelude::*;
 
@@ -43,6 +46,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     analysis_py::register(m)?;
     rules_py::register(m)?;
     m.add_function(wrap_pyfunction!(simulate_py::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(rollout_py::rollout, m)?)?;
+    m.add_class::<simulator_py::PySimulator>()?;
     m.add_function(wrap_pyfunction!(simulate_py::perturbed, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_py::default_wheel_dofs, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
