@@ -104,6 +104,19 @@ def _choose_backend(backend: Optional[str], workers: Optional[int], scheduler) -
     return backend
 
 
+def _record_bytes(spec: CampaignSpec, backend: str, jobs) -> int:
+    """Bytes of one sample's records, which bound a thread batch (0 where unknown: a scenario no
+    sample can fly fails sample by sample, as data, not here)."""
+    if backend != "threads" or not jobs:
+        return 0
+    from .batch import record_bytes_per_sample
+
+    try:
+        return record_bytes_per_sample(spec)
+    except Exception:  # noqa: BLE001 — see the docstring
+        return 0
+
+
 def run_campaign(
     robot_or_spec,
     samples: Optional[int] = None,
@@ -212,7 +225,7 @@ def run_campaign(
             outcomes = in_process_outcomes(spec, jobs)
         else:
             workers = min(workers, max(len(jobs), 1))
-            size = batch_size or samples_per_batch(backend, workers, len(jobs))
+            size = batch_size or samples_per_batch(backend, workers, len(jobs), _record_bytes(spec, backend, jobs))
             run = thread_outcomes if backend == "threads" else process_outcomes
             outcomes = run(spec, jobs, workers, size)
 
