@@ -134,3 +134,12 @@ def test_checkpoints_are_written_while_the_threads_run(spatial6, tmp_path):
     assert seen and seen[0][0] < 8
     assert all(ok <= done for done, ok in seen)
     assert CampaignResult.load(out).n_ok == 8
+
+
+def test_batches_cover_every_sample_once_in_order():
+    from spacearm.campaign.batch import split_into_batches
+
+    assert [len(b) for b in split_into_batches(list(range(20)), 8)] == [8, 8, 4]
+    ramped = split_into_batches(list(range(20)), 8, first=2)
+    assert [len(b) for b in ramped] == [2, 4, 8, 6]
+    assert sum(ramped, []) == list(range(20))

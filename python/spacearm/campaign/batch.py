@@ -34,18 +34,25 @@ from .worker import SampleOutcome, failure_message, nominal_robot
 __all__ = ["Job", "Prepared", "prepare", "fly", "outcomes", "run_batch", "split_into_batches",
            "record_bytes_per_sample"]
 
-#: One sample to run: its index and its drawn parameters.
+def split_into_batches(indices: Sequence[int], batch_size: int, first: Optional[int] = None) -> List[List[int]]:
+    """``indices`` in order, cut into consecutive batches of ``batch_size`` (the last one may be
+    shorter). With ``first``, the batches start at that size and double up to ``batch_size``: the
+    first batch is flying while the next are prepared, so a small one starts the threads sooner."""
+    batches, start, size = [], 0, min(first or batch_size, batch_size)
+    while start < len(indices):
+        batches.append(list(indices[start:start + size]))
+        start += size
+        size = min(2 * size, batch_size)
+    return batches
+
+
+#: A sample to fly: its index and its drawn inertia errors.
 Job = Tuple[int, Dict[str, float]]
 
 
-def split_into_batches(jobs: Sequence[Job], batch_size: int) -> List[List[Job]]:
-    """``jobs`` in order, cut into consecutive batches of at most ``batch_size``."""
-    return [list(jobs[i:i + batch_size]) for i in range(0, len(jobs), batch_size)]
-
-
 class Prepared(NamedTuple):
-    """A batch ready to fly: the jobs whose plant was built (with the plants), and the failures of
-    the others (job → message)."""
+    """A batch ready to fly: the samples whose plant was built (with the plants), and the failures
+    of the others (sample → message)."""
 
     spec: object
     flying: List[Job]
@@ -53,11 +60,12 @@ class Prepared(NamedTuple):
     failed: List[Tuple[Job, str]]
 
 
-def prepare(spec, jobs: Sequence[Job]) -> Prepared:
-    """Build the plant of every job of ``jobs`` (campaign ``spec``)."""
+def prepare(spec, indices: Sequence[int]) -> Prepared:
+    """Draw the inertia errors of samples ``indices`` of campaign ``spec`` and build their plants."""
     nominal = nominal_robot(spec.model_toml)
     flying, plants, failed = [], [], []
-    for job in jobs:
+    for index in indices:
+        job = (index, spec.perturbations.draw(spec.seed, index))
         try:
             plants.append(plant(nominal, job[1]))
             flying.append(job)
@@ -96,7 +104,10 @@ def outcomes(prepared: Prepared, runs, seconds: float, threads: int) -> List[Sam
     per_sample = seconds * min(threads, len(prepared.flying)) / len(prepared.flying)
     if isinstance(runs, str):
         return result + [SampleOutcome(i, p, None, runs, per_sample) for i, p in prepared.flying]
-    metrics = metrics_from_records(runs["tracking_error"], runs["x"], runs.saturation_count)
+    if runs.ok.any():
+        metrics = metrics_from_records(runs["tracking_error"], runs["x"], runs.saturation_count)
+    else:  # every rollout failed: there are no records to compute metrics from
+        metrics = np.full((len(prepared.flying), len(METRIC_NAMES)), np.nan)
     for k, (index, params) in enumerate(prepared.flying):
         if not runs.ok[k]:
             message = f"{runs.error_class[k]}: {runs.reason[k]}"
@@ -109,10 +120,10 @@ def outcomes(prepared: Prepared, runs, seconds: float, threads: int) -> List[Sam
     return result
 
 
-def run_batch(spec, jobs: Sequence[Job], threads: int = 1) -> List[SampleOutcome]:
-    """Fly every sample of ``jobs`` (of campaign ``spec``) on ``threads`` threads: one outcome per
-    job (the failed plants first)."""
-    prepared = prepare(spec, jobs)
+def run_batch(spec, indices: Sequence[int], threads: int = 1) -> List[SampleOutcome]:
+    """Fly samples ``indices`` of campaign ``spec`` on ``threads`` threads: one outcome per sample
+    (the failed plants first)."""
+    prepared = prepare(spec, indices)
     runs, seconds = fly(prepared, threads)
     return outcomes(prepared, runs, seconds, threads)
 

@@ -24,7 +24,7 @@ import time
 from typing import Iterator, Optional, Sequence, Union
 
 from ..errors import CampaignError
-from .batch import Job, run_batch, split_into_batches
+from .batch import run_batch, split_into_batches
 from .worker import LostSample, SampleOutcome, describe_exception
 
 __all__ = ["dask_outcomes", "DEFAULT_WORKER_TIMEOUT", "connect"]
@@ -87,14 +87,14 @@ class _Watchdog:
         return f"{state} for {self.timeout:g} s (worker_timeout)"
 
 
-def dask_outcomes(spec, jobs: Sequence[Job], client, batch_size: Optional[int],
+def dask_outcomes(spec, indices: Sequence[int], client, batch_size: Optional[int],
                   worker_timeout: float) -> Iterator[Outcome]:
-    """Outcomes of ``jobs`` run on the Dask cluster of ``client``, one batch per task."""
+    """Outcomes of samples ``indices`` run on the Dask cluster of ``client``, one batch per task."""
     import distributed
 
     if batch_size is None:
-        batch_size = samples_per_task(len(jobs), worker_threads(client))
-    batches = split_into_batches(jobs, batch_size)
+        batch_size = samples_per_task(len(indices), worker_threads(client))
+    batches = split_into_batches(indices, batch_size)
     futures = client.map(run_batch, [spec] * len(batches), batches, pure=False)
     unfinished = {future.key: (future, batch) for future, batch in zip(futures, batches)}
     arrivals = distributed.as_completed(futures)
@@ -105,7 +105,7 @@ def dask_outcomes(spec, jobs: Sequence[Job], client, batch_size: Optional[int],
                 if watchdog.expired():
                     reason = watchdog.reason()
                     for _, batch in unfinished.values():
-                        yield from (LostSample(index, reason) for index, _ in batch)
+                        yield from (LostSample(index, reason) for index in batch)
                     return
                 time.sleep(_POLL_SECONDS)
                 continue
@@ -115,7 +115,7 @@ def dask_outcomes(spec, jobs: Sequence[Job], client, batch_size: Optional[int],
                     outcomes = future.result()
                 except (Exception, asyncio.CancelledError) as exc:  # worker killed, scheduler lost, task not sent
                     reason = f"Dask task failed: {describe_exception(exc)}"
-                    outcomes = [LostSample(index, reason) for index, _ in batch]
+                    outcomes = [LostSample(index, reason) for index in batch]
                 yield from outcomes
     finally:
         if unfinished:

@@ -104,10 +104,10 @@ def _choose_backend(backend: Optional[str], workers: Optional[int], scheduler) -
     return backend
 
 
-def _record_bytes(spec: CampaignSpec, backend: str, jobs) -> int:
+def _record_bytes(spec: CampaignSpec, backend: str, pending) -> int:
     """Bytes of one sample's records, which bound a thread batch (0 where unknown: a scenario no
     sample can fly fails sample by sample, as data, not here)."""
-    if backend != "threads" or not jobs:
+    if backend != "threads" or not pending:
         return 0
     from .batch import record_bytes_per_sample
 
@@ -208,7 +208,9 @@ def run_campaign(
     todo = result.status == PENDING
     if retry_failed:
         todo |= result.status == FAILED
-    jobs = [(int(i), spec.perturbations.draw(spec.seed, int(i))) for i in result.index[todo]]
+    # Only the indices: each sample's inertia errors are drawn where its plant is built (in the
+    # back end's pipeline), not all up front in this thread.
+    pending = [int(i) for i in result.index[todo]]
 
     client = owned_client = None
     if backend == "dask":
@@ -216,20 +218,24 @@ def run_campaign(
 
         client, owned_client = connect(scheduler)
         workers = len(client.scheduler_info().get("workers", {}))
-        outcomes = dask_outcomes(spec, jobs, client, batch_size,
+        outcomes = dask_outcomes(spec, pending, client, batch_size,
                                  DEFAULT_WORKER_TIMEOUT if worker_timeout is None else float(worker_timeout))
     else:
         from .local import in_process_outcomes, process_outcomes, samples_per_batch, thread_outcomes
 
         if backend == "in-process":
-            outcomes = in_process_outcomes(spec, jobs)
+            outcomes = in_process_outcomes(spec, pending)
+        elif backend == "processes":
+            workers = min(workers, max(len(pending), 1))
+            outcomes = process_outcomes(spec, pending, workers,
+                                        batch_size or samples_per_batch(backend, workers, len(pending)))
         else:
-            workers = min(workers, max(len(jobs), 1))
-            size = batch_size or samples_per_batch(backend, workers, len(jobs), _record_bytes(spec, backend, jobs))
-            run = thread_outcomes if backend == "threads" else process_outcomes
-            outcomes = run(spec, jobs, workers, size)
+            workers = min(workers, max(len(pending), 1))
+            size = batch_size or samples_per_batch(backend, workers, len(pending), _record_bytes(spec, backend, pending))
+            # Default batches start at one sample per thread and double: the threads start sooner.
+            outcomes = thread_outcomes(spec, pending, workers, size, first=None if batch_size else workers)
 
-    bar = _progress(spec.samples, spec.samples - len(jobs), progress)
+    bar = _progress(spec.samples, spec.samples - len(pending), progress)
     start = time.perf_counter()
     last_save = start
     done = 0

@@ -26,10 +26,10 @@ from __future__ import annotations
 import os
 import queue
 import threading
-from typing import Iterator, List, Sequence, Union
+from typing import Iterator, List, Optional, Sequence, Union
 
 from .._util.lifeline import die_with_parent
-from .batch import Job, Prepared, fly, outcomes, prepare, run_batch, split_into_batches
+from .batch import Prepared, fly, outcomes, prepare, run_batch, split_into_batches
 from .worker import LostSample, SampleOutcome, describe_exception, run_sample
 
 __all__ = ["in_process_outcomes", "thread_outcomes", "process_outcomes", "samples_per_batch"]
@@ -57,13 +57,13 @@ def samples_per_batch(backend: str, workers: int, pending: int, record_bytes: in
     return max(1, min(_MAX_PROCESS_BATCH, -(-pending // (4 * max(workers, 1)))))
 
 
-def _lost(batch: Sequence[Job], reason: str) -> List[LostSample]:
-    return [LostSample(index, reason) for index, _ in batch]
+def _lost(batch: Sequence[int], reason: str) -> List[LostSample]:
+    return [LostSample(index, reason) for index in batch]
 
 
-def in_process_outcomes(spec, jobs: Sequence[Job]) -> Iterator[Outcome]:
-    for index, params in jobs:
-        yield run_sample(spec, index, params)
+def in_process_outcomes(spec, indices: Sequence[int]) -> Iterator[Outcome]:
+    for index in indices:
+        yield run_sample(spec, index)
 
 
 _END = object()
@@ -72,7 +72,7 @@ _END = object()
 class _Failed:
     """A batch that failed outside its samples in the preparer or the driver."""
 
-    def __init__(self, batch: Sequence[Job], exc: BaseException):
+    def __init__(self, batch: Sequence[int], exc: BaseException):
         self.batch, self.exc = batch, exc
 
 
@@ -87,9 +87,11 @@ def _put(q: "queue.Queue", item, stop: threading.Event) -> bool:
     return False
 
 
-def thread_outcomes(spec, jobs: Sequence[Job], threads: int, batch_size: int) -> Iterator[Outcome]:
-    """Outcomes of ``jobs`` run as native rollouts on ``threads`` threads, a batch at a time."""
-    batches = split_into_batches(jobs, batch_size)
+def thread_outcomes(spec, indices: Sequence[int], threads: int, batch_size: int,
+                    first: Optional[int] = None) -> Iterator[Outcome]:
+    """Outcomes of samples ``indices`` run as native rollouts on ``threads`` threads, a batch at a
+    time (batches of ``batch_size``, or from ``first`` doubling up to it)."""
+    batches = split_into_batches(indices, batch_size, first)
     prepared: "queue.Queue" = queue.Queue(maxsize=1)  # the next batch's plants, ready to fly
     flown: "queue.Queue" = queue.Queue(maxsize=2)  # flown batches waiting for the calling thread
     stop = threading.Event()
@@ -116,7 +118,7 @@ def thread_outcomes(spec, jobs: Sequence[Job], threads: int, batch_size: int) ->
                 try:
                     item = (item, *fly(item, threads))
                 except Exception as exc:  # noqa: BLE001 — not a sample's failure (fly returns those)
-                    item = _Failed(item.flying, exc)
+                    item = _Failed([index for index, _ in item.flying], exc)
             if not _put(flown, item, stop):
                 return
         _put(flown, _END, stop)
@@ -141,15 +143,15 @@ def thread_outcomes(spec, jobs: Sequence[Job], threads: int, batch_size: int) ->
         stop.set()  # the threads end after the step they are in
 
 
-def process_outcomes(spec, jobs: Sequence[Job], workers: int, batch_size: int) -> Iterator[Outcome]:
-    """Outcomes of ``jobs`` run on ``workers`` spawned processes, one batch per task."""
+def process_outcomes(spec, indices: Sequence[int], workers: int, batch_size: int) -> Iterator[Outcome]:
+    """Outcomes of samples ``indices`` run on ``workers`` spawned processes, one batch per task."""
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
     context = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=die_with_parent,
                              initargs=(os.getpid(),)) as pool:
-        futures = {pool.submit(run_batch, spec, batch, 1): batch for batch in split_into_batches(jobs, batch_size)}
+        futures = {pool.submit(run_batch, spec, batch, 1): batch for batch in split_into_batches(indices, batch_size)}
         try:
             for future in as_completed(futures):
                 try:

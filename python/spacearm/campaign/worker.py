@@ -62,11 +62,12 @@ def failure_message(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {exc}{where}"
 
 
-def run_sample(spec, index: int, params: Dict[str, float]) -> SampleOutcome:
-    """Fly sample ``index`` of ``spec`` with the inertia errors ``params``."""
+def run_sample(spec, index: int) -> SampleOutcome:
+    """Fly sample ``index`` of ``spec`` (its inertia errors drawn here, from its own stream)."""
     from .scenario import evaluate
 
     start = time.perf_counter()
+    params = spec.perturbations.draw(spec.seed, index)
     try:
         metrics = evaluate(nominal_robot(spec.model_toml), spec.scenario, params)
         return SampleOutcome(index, params, metrics, "", time.perf_counter() - start)
