@@ -34,6 +34,8 @@ DEFAULT_WORKER_TIMEOUT = 60.0
 
 # How long the calling thread sleeps when no task has finished, before it looks again (s).
 _POLL_SECONDS = 0.05
+# How long one attempt to fetch a finished task's result waits before the watchdog is asked (s).
+_FETCH_SECONDS = 1.0
 # Tasks per worker thread when the batch size is chosen: enough to balance the load at the end.
 _TASKS_PER_THREAD = 4
 _MAX_BATCH = 64
@@ -99,23 +101,33 @@ def dask_outcomes(spec, indices: Sequence[int], client, batch_size: Optional[int
     unfinished = {future.key: (future, batch) for future, batch in zip(futures, batches)}
     arrivals = distributed.as_completed(futures)
     watchdog = _Watchdog(client, worker_timeout)
+
+    def give_up() -> Iterator[LostSample]:
+        reason = watchdog.reason()
+        for _, batch in unfinished.values():
+            yield from (LostSample(index, reason) for index in batch)
+
     try:
         while unfinished:
-            if not arrivals.has_ready():
+            ready = arrivals.next_batch(block=False) if arrivals.has_ready() else []
+            if not ready:
                 if watchdog.expired():
-                    reason = watchdog.reason()
-                    for _, batch in unfinished.values():
-                        yield from (LostSample(index, reason) for index in batch)
+                    yield from give_up()
                     return
                 time.sleep(_POLL_SECONDS)
                 continue
-            for future in arrivals.next_batch(block=False):
-                _, batch = unfinished.pop(future.key)
+            for future in ready:
+                if future.key not in unfinished:
+                    continue
                 try:
-                    outcomes = future.result()
+                    outcomes = _result(future, watchdog)
+                except _NoWorker:
+                    yield from give_up()
+                    return
                 except (Exception, asyncio.CancelledError) as exc:  # worker killed, scheduler lost, task not sent
                     reason = f"Dask task failed: {describe_exception(exc)}"
-                    outcomes = [LostSample(index, reason) for index in batch]
+                    outcomes = [LostSample(index, reason) for index in unfinished[future.key][1]]
+                del unfinished[future.key]
                 yield from outcomes
     finally:
         if unfinished:
@@ -123,3 +135,19 @@ def dask_outcomes(spec, indices: Sequence[int], client, batch_size: Optional[int
                 client.cancel([future for future, _ in unfinished.values()])
             except Exception:  # noqa: BLE001 — a client without a scheduler cannot cancel; nothing to undo
                 pass
+
+
+class _NoWorker(Exception):
+    """The watchdog expired while a finished task's result was being fetched."""
+
+
+def _result(future, watchdog: _Watchdog):
+    """The result of a finished task, fetched without waiting forever: a result held by a worker
+    that has since left is recomputed when a worker comes back, and until then the fetch waits
+    under the watchdog (:class:`_NoWorker` when it expires)."""
+    while True:
+        try:
+            return future.result(timeout=_FETCH_SECONDS)
+        except (TimeoutError, asyncio.TimeoutError):
+            if watchdog.expired():
+                raise _NoWorker from None

@@ -217,6 +217,7 @@ def run_campaign(
         from .cluster import DEFAULT_WORKER_TIMEOUT, connect, dask_outcomes
 
         client, owned_client = connect(scheduler)
+        scheduler_address = client.scheduler.address
         workers = len(client.scheduler_info().get("workers", {}))
         outcomes = dask_outcomes(spec, pending, client, batch_size,
                                  DEFAULT_WORKER_TIMEOUT if worker_timeout is None else float(worker_timeout))
@@ -261,7 +262,7 @@ def run_campaign(
         result.run = {
             "backend": backend,
             "workers": workers,
-            "scheduler": None if client is None else client.scheduler.address,
+            "scheduler": None if client is None else scheduler_address,
             "samples_run": done,
             "samples_lost": len(lost),
             "elapsed_s": elapsed,
