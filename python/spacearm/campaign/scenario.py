@@ -153,9 +153,11 @@ def with_payload(robot, mass: float):
         return robot
     if robot.end_effector is None:
         raise ArgumentError("a payload needs an end effector to hold it; the model defines none")
-    ee = robot.description.point(robot.end_effector)
+    # The point straight from the model (body index, offset): the full description is built once,
+    # by to_builder, not twice.
+    body, offset = robot._m.point(robot.end_effector)
     builder = robot.to_builder()
-    builder.attach_payload("campaign_payload", body=ee.body, mass=float(mass), origin=ee.offset.tolist())
+    builder.attach_payload("campaign_payload", body=robot._m.body_names[body], mass=float(mass), origin=list(offset))
     return builder.build()
 
 
