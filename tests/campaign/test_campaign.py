@@ -249,3 +249,6 @@ def test_cli_campaign_writes_results_and_figure(tmp_path, capsys):
     assert fig.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "tracking_error_max" in text and "3 samples ran" in text
     assert main(["campaign", "planar4", "--samples", "0", "--workers", "0", "--out", str(out)]) == 2
+    # The watchdog's timeout is for a Dask cluster only: a clear error, not a silently ignored option.
+    assert main(["campaign", "planar4", "--samples", "2", "--worker-timeout", "5", "--out", str(out)]) == 2
+    assert "worker_timeout is the Dask watchdog's" in capsys.readouterr().err

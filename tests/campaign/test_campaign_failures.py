@@ -45,7 +45,7 @@ def test_unguarded_script_fails_once_before_any_sample(tmp_path):
     assert proc.returncode != 0
     assert proc.stderr.count("Traceback") == 1, proc.stderr
     assert "spacearm.errors.CampaignError" in proc.stderr
-    assert 'if __name__ == "__main__":' in proc.stderr and "workers=0" in proc.stderr
+    assert 'if __name__ == "__main__":' in proc.stderr and "thread back end" in proc.stderr
     assert "BrokenProcessPool" not in proc.stderr and "samples ok" not in proc.stdout
     assert not (tmp_path / "c.npz").exists()
 

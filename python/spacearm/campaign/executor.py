@@ -172,7 +172,7 @@ def run_campaign(
         spec.scenario.goal(robot_or_spec)  # a wrong-length q_goal fails here, not in every worker
     backend = _choose_backend(backend, workers, scheduler)
     if backend == "dask":
-        if workers not in (None,):
+        if workers is not None:
             raise ArgumentError("workers is for the local back ends; a Dask campaign runs on the cluster's workers")
     else:
         workers = 0 if backend == "in-process" else (os.cpu_count() or 1) if workers is None else workers
