@@ -4,8 +4,9 @@
 For each thread count T, two candidates fly the same samples (same seed, same plants, the same
 computed-torque manoeuvre on the nominal model, every step recorded):
 
-- ``native``: one :func:`spacearm.rollout` call on T threads over the prepared plants: the
-  floor a campaign cannot beat (the plants are built before the clock starts);
+- ``native``: :func:`spacearm.rollout` on T threads over the prepared plants, in calls of the
+  campaign's batch size (the same record memory per call), back to back: the floor a campaign
+  cannot beat (the plants are built before the clock starts);
 - ``campaign``: :func:`spacearm.campaign.run_campaign` with ``workers=T`` writing its result
   file, everything included: drawing the parameters, building every plant, the rollouts, the
   metrics, recording, checkpoints and the final file.
@@ -44,17 +45,18 @@ from spacearm.campaign import Perturbations, Scenario, run_campaign  # noqa: E40
 from spacearm.campaign.scenario import controller, plant  # noqa: E402
 
 
-def native_rollouts(robot, scenario: Scenario, plants, threads: int) -> float:
-    """Seconds of one :func:`spacearm.rollout` of every plant on ``threads`` threads."""
+def native_rollouts(robot, scenario: Scenario, plants, threads: int, batch: int) -> float:
+    """Seconds of :func:`spacearm.rollout` of every plant on ``threads`` threads, ``batch`` plants a
+    call, back to back (the campaign's batch size: the same record memory per call)."""
     tracker = controller(robot, scenario)
     x0 = np.stack([p.neutral_configuration() for p in plants])
     start = time.perf_counter()
-    runs = spacearm.rollout(robot, scenario.duration, x0, controller=tracker, plants=plants, mode=scenario.mode,
-                            dt=scenario.dt, threads=threads)
-    elapsed = time.perf_counter() - start
-    if not runs.ok.all():
-        raise SystemExit(f"benchmark scenario broken: {sum(~runs.ok)} rollouts failed: {runs.reason[:3]}")
-    return elapsed
+    for i in range(0, len(plants), batch):
+        runs = spacearm.rollout(robot, scenario.duration, x0[i:i + batch], controller=tracker,
+                                plants=plants[i:i + batch], mode=scenario.mode, dt=scenario.dt, threads=threads)
+        if not runs.ok.all():
+            raise SystemExit(f"benchmark scenario broken: {sum(~runs.ok)} rollouts failed: {runs.reason[:3]}")
+    return time.perf_counter() - start
 
 
 def campaign(robot, scenario: Scenario, perturbations: Perturbations, samples: int, threads: int, out: Path) -> float:
@@ -121,12 +123,21 @@ def main() -> None:
           f"{1e3 * outc:.3f}) against native rollout {1e3 * native:.2f} ms: the one GIL keeps up with up to "
           f"{native / (prep + outc):.0f} threads")
 
+    from spacearm.campaign import CampaignSpec
+    from spacearm.campaign.batch import record_bytes_per_sample
+    from spacearm.campaign.local import samples_per_batch
+    from spacearm.io.model_file import dumps_toml
+
+    record_bytes = record_bytes_per_sample(CampaignSpec(dumps_toml(robot), 1, 0, perturbations, scenario))
+    batch = {t: samples_per_batch("threads", t, args.samples, record_bytes) for t in threads}
+    print(f"records {record_bytes / 2**20:.2f} MiB a sample; batch sizes {batch}")
+
     times = {(kind, t): [] for kind in ("native", "campaign") for t in threads}
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "campaign.npz"
         for _ in range(args.repeat):
             for t in threads:
-                times["native", t].append(native_rollouts(robot, scenario, plants, t))
+                times["native", t].append(native_rollouts(robot, scenario, plants, t, batch[t]))
                 times["campaign", t].append(campaign(robot, scenario, perturbations, args.samples, t, out))
 
     rate = {key: args.samples / statistics.median(v) for key, v in times.items()}
