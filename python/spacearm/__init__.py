@@ -8,10 +8,11 @@ conventions are in ``docs/conventions.md``.
 
 import sys as _sys
 
-from . import control, presets
+from . import capture, control, presets
 from .io import dh, model_file, urdf, urdf_export
 from ._core import __version__
 from .model.builder import RobotBuilder
+from .capture import Target
 from .model.description import BaseDescription, JointLimits, LinkDescription, ModelDescription, PointDescription
 from .errors import (
     ArgumentError,
@@ -55,6 +56,8 @@ __all__ = [
     "PointDescription",
     "JointLimits",
     "presets",
+    "capture",
+    "Target",
     "simulate",
     "rollout",
     "Rollouts",

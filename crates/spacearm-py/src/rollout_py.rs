@@ -5,6 +5,7 @@
 use numpy::{PyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
+use rayon::prelude::*;
 use spacearm_core::control::{Controller, ZeroTorque};
 use spacearm_core::sim::rollout::{rollout as core_rollout, RolloutSpec};
 use spacearm_core::sim::simulate::{check_initial_state, sample_count, SimResult};
@@ -12,7 +13,7 @@ use spacearm_core::{Model, SpacearmError};
 
 use crate::convert::*;
 use crate::model_py::PyModel;
-use crate::records_py::{events, meta, take_fields, to_numpy, Field};
+use crate::records_py::{events, meta, take_fields, Field};
 use crate::simulate_py::{error_slot, parse_controller, parse_options, RunOptions};
 
 /// The error `err` with `rollout {i}: ` before its message, as the same Python class.
@@ -109,6 +110,12 @@ pub fn rollout<'py>(
     stack(py, results, &opts, float32, (nx, nu, n))
 }
 
+/// One record of every rollout, stacked.
+enum Stacked {
+    F64(Vec<f64>),
+    F32(Vec<f32>),
+}
+
 /// The rollouts' records stacked along a leading axis, with their status and descriptions.
 fn stack<'py>(
     py: Python<'py>,
@@ -152,22 +159,53 @@ fn stack<'py>(
         Some(f) => f.iter().map(|f| (f.name, f.width, f.scalar)).collect(),
         None => vec![("t", 1, true), ("x", nx, false), ("u", nu, false)],
     };
-    for (j, &(name, width, scalar)) in layout.iter().enumerate() {
-        let mut values = Vec::with_capacity(b * k * width);
-        for (i, f) in fields.iter_mut().enumerate() {
-            match f {
-                Some(f) => {
-                    let field = f.get_mut(j).filter(|f| f.name == name && f.width == width && f.values.len() == k * width).ok_or_else(|| {
-                        to_py_err(py, SpacearmError::InvalidArgument(format!("rollout {i} records '{name}' differently from the others; give every rollout the same kind of controller")))
-                    })?;
-                    values.append(&mut field.values);
-                    field.values.shrink_to_fit();
+    // Regroup by record (moving the buffers, no copy): columns[j][i] is record j of rollout i.
+    let mut columns: Vec<Vec<Option<Vec<f64>>>> = layout.iter().map(|_| Vec::with_capacity(b)).collect();
+    for (i, f) in fields.into_iter().enumerate() {
+        match f {
+            Some(f) => {
+                let same = f.len() == layout.len()
+                    && f.iter().zip(&layout).all(|(f, &(name, width, _))| f.name == name && f.width == width && f.values.len() == k * width);
+                if !same {
+                    let msg = format!("rollout {i} records differently from rollout 0 (another kind of controller?); give every rollout the same kind of controller");
+                    return Err(to_py_err(py, SpacearmError::InvalidArgument(msg)));
                 }
-                None => values.resize(values.len() + k * width, f64::NAN),
+                for (column, field) in columns.iter_mut().zip(f) {
+                    column.push(Some(field.values));
+                }
             }
+            None => columns.iter_mut().for_each(|c| c.push(None)),
         }
+    }
+    // Stack each record on its own thread (a copy into the batch buffer, page faults included,
+    // is most of this work), freeing each rollout's buffer once copied.
+    let stacked: Vec<Stacked> = py.detach(|| {
+        columns
+            .into_par_iter()
+            .zip(layout.par_iter())
+            .map(|(column, &(name, width, _))| {
+                let mut values = Vec::with_capacity(b * k * width);
+                for v in column {
+                    match v {
+                        Some(mut v) => values.append(&mut v),
+                        None => values.resize(values.len() + k * width, f64::NAN),
+                    }
+                }
+                if float32 && name != "t" {
+                    Stacked::F32(values.iter().map(|&v| v as f32).collect())
+                } else {
+                    Stacked::F64(values)
+                }
+            })
+            .collect()
+    });
+    for (values, &(name, width, scalar)) in stacked.into_iter().zip(&layout) {
         let shape: Vec<usize> = if scalar { vec![b, k] } else { vec![b, k, width] };
-        out.set_item(name, to_numpy(py, name, values, &shape, float32)?)?;
+        let array = match values {
+            Stacked::F64(v) => PyArray1::from_vec(py, v).into_any(),
+            Stacked::F32(v) => PyArray1::from_vec(py, v).into_any(),
+        };
+        out.set_item(name, array.call_method1("reshape", (shape,))?)?;
     }
     out.set_item("ok", PyArray1::from_vec(py, ok))?;
     out.set_item("reason", reason)?;

@@ -195,7 +195,7 @@ class _Importer:
         else:
             # Reversed: parent = child · motion(−axis, q) · origin⁻¹, same coordinate q.
             joint_pose, axis, link_in_body = here, -j.axis, origin.inverse()
-        self.bodies.append(_Body(other, body, j, joint_pose, axis))  # unit: normalized by the parser
+        self.bodies.append(_Body(other, body, j, joint_pose, axis))  # normalized by the core's builder
         self._visit(other, len(self.bodies) - 1, link_in_body)
 
     def _check_moving_subtrees(self) -> None:
@@ -273,7 +273,9 @@ class _Importer:
         try:
             builder.add_link(name, **kwargs)
         except SpacearmError as exc:
-            raise self.fail(line, f"link '{name}': {exc}") from None
+            # The core's message names the link or joint and the broken rule (one message from
+            # every door, model/validate.rs); the URDF adds the file and the joint's line.
+            raise self.fail(line, str(exc)) from None
 
 
 def loads_urdf(

@@ -414,6 +414,20 @@ class Robot:
         linear momentum ``P`` and angular momentum ``L`` about the origin of 𝒥."""
         return self._m.base_velocity_from_momentum(x, qd, vector3(P, "P"), vector3(L, "L"))
 
+    # ---- capture (docs/capture.md) ---------------------------------------------------------
+    def grasp_impulse(self, x, u, target, target_state, *, point: PointLike = None, grasp=None,
+                      grasp_offset=(0.0, 0.0, 0.0), restitution: float = 0.0, kind: str = "rigid",
+                      normal=None, arm: str = "free"):
+        """The impact of this robot's grasp point with a :class:`spacearm.Target`: a
+        :class:`~spacearm.capture.GraspImpulse` (``du``, ``target_dtwist``, ``impulse``, ...).
+        ``kind="rigid"`` locks the two grasp frames (6-D, plastic); ``kind="point"`` is a
+        frictionless contact along ``normal`` with restitution ``e``. The equations, from the
+        inverse inertia ``G = J H⁻¹ Jᵀ`` of each side, are in :mod:`spacearm.capture.impact`."""
+        from ..capture.impact import grasp_impulse
+
+        return grasp_impulse(self, x, u, target, target_state, point=point, grasp=grasp, grasp_offset=grasp_offset,
+                             restitution=restitution, kind=kind, normal=normal, arm=arm)
+
     # ---- momentum, energy, CM ------------------------------------------------------------
     def momentum(self, x, u) -> Momentum:
         """Linear momentum and angular momentum about the origin, base CM and system CM."""
