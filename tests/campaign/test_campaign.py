@@ -93,6 +93,16 @@ def test_bad_campaign_arguments(planar4, tmp_path):
         run_campaign(planar4, 2, workers=0, out=tmp_path / "r.csv", progress=False)
     with pytest.raises(ValueError, match="q_goal must have N = 4"):
         run_campaign(planar4, 2, workers=0, scenario=Scenario(q_goal=(0.1, 0.2)), progress=False)
+    with pytest.raises(ValueError, match="backend must be one of"):
+        run_campaign(planar4, 2, backend="gpu", progress=False)
+    with pytest.raises(ValueError, match="needs a scheduler"):
+        run_campaign(planar4, 2, backend="dask", progress=False)
+    with pytest.raises(ValueError, match="needs workers >= 1"):
+        run_campaign(planar4, 2, workers=0, backend="threads", progress=False)
+    with pytest.raises(ValueError, match="batch_size"):
+        run_campaign(planar4, 2, batch_size=0, progress=False)
+    with pytest.raises(ValueError, match="worker_timeout is the Dask watchdog"):
+        run_campaign(planar4, 2, worker_timeout=5, progress=False)
 
 
 # -- the perturbed plant ---------------------------------------------------------------------
@@ -147,12 +157,16 @@ def test_backends_agree_bit_for_bit_and_files_round_trip(planar4, tmp_path):
     assert np.all(np.isfinite(serial.metrics))
     # Every sample is a different plant: the tracking errors differ.
     assert np.unique(serial.metric("tracking_error_max")).size == 4
-    procs = run_campaign(planar4, 4, seed=3, scenario=QUICK, workers=2, progress=False, out=tmp_path / "c.npz")
-    np.testing.assert_array_equal(procs.metrics, serial.metrics)
-    np.testing.assert_array_equal(procs.params, serial.params)
+    threads = run_campaign(planar4, 4, seed=3, scenario=QUICK, workers=2, batch_size=3, progress=False,
+                           out=tmp_path / "c.npz")
+    procs = run_campaign(planar4, 4, seed=3, scenario=QUICK, workers=2, backend="processes", progress=False)
+    for other in (threads, procs):
+        np.testing.assert_array_equal(other.metrics, serial.metrics)
+        np.testing.assert_array_equal(other.params, serial.params)
+    assert procs.run["backend"] == "processes"
     loaded = CampaignResult.load(tmp_path / "c.npz")
     np.testing.assert_array_equal(loaded.metrics, serial.metrics)
-    assert loaded.run["backend"] == "processes" and loaded.run["samples_run"] == 4
+    assert loaded.run["backend"] == "threads" and loaded.run["samples_run"] == 4
     raw = np.load(tmp_path / "c.npz")  # readable without spacearm
     assert list(raw["metric_names"]) == list(METRIC_NAMES)
     assert json.loads(str(raw["spec_json"]))["samples"] == 4
@@ -203,9 +217,10 @@ def test_failures_in_worker_processes_are_recorded(planar4):
     # A spec whose goal has the wrong length (bypassing run_campaign's early check) makes every
     # sample fail inside the worker; the campaign still completes and says why.
     spec = CampaignSpec(dumps_toml(planar4), 2, 0, Perturbations(), Scenario(duration=0.2, dt=0.01, q_goal=(0.1,)))
-    result = run_campaign(spec, workers=2, progress=False)
-    assert result.n_failed == 2
-    assert all("q_goal must have N = 4" in m for m in result.failures().values())
+    for backend in ("threads", "processes"):
+        result = run_campaign(spec, workers=2, backend=backend, progress=False)
+        assert result.n_failed == 2
+        assert all("q_goal must have N = 4" in m for m in result.failures().values())
 
 
 def test_dask_local_cluster_matches_in_process(planar4):
@@ -234,3 +249,6 @@ def test_cli_campaign_writes_results_and_figure(tmp_path, capsys):
     assert fig.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "tracking_error_max" in text and "3 samples ran" in text
     assert main(["campaign", "planar4", "--samples", "0", "--workers", "0", "--out", str(out)]) == 2
+    # The watchdog's timeout is for a Dask cluster only: a clear error, not a silently ignored option.
+    assert main(["campaign", "planar4", "--samples", "2", "--worker-timeout", "5", "--out", str(out)]) == 2
+    assert "worker_timeout is the Dask watchdog's" in capsys.readouterr().err

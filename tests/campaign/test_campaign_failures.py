@@ -26,7 +26,7 @@ PYTHON_DIR = Path(spacearm.__file__).resolve().parent.parent
 QUICK = Scenario(duration=0.6, dt=5e-3, q_offset=0.4)
 
 CAMPAIGN_CALL = """\
-result = run_campaign(spacearm.presets.planar4(), samples=3, workers=2, progress=False, out="c.npz",
+result = run_campaign(spacearm.presets.planar4(), samples=3, workers=2, backend="processes", progress=False, out="c.npz",
                       scenario=Scenario(duration=0.3, dt=0.01))
 print("samples ok:", result.n_ok)
 """
@@ -45,7 +45,7 @@ def test_unguarded_script_fails_once_before_any_sample(tmp_path):
     assert proc.returncode != 0
     assert proc.stderr.count("Traceback") == 1, proc.stderr
     assert "spacearm.errors.CampaignError" in proc.stderr
-    assert 'if __name__ == "__main__":' in proc.stderr and "workers=0" in proc.stderr
+    assert 'if __name__ == "__main__":' in proc.stderr and "thread back end" in proc.stderr
     assert "BrokenProcessPool" not in proc.stderr and "samples ok" not in proc.stdout
     assert not (tmp_path / "c.npz").exists()
 
@@ -96,7 +96,8 @@ def test_lost_workers_leave_their_samples_pending_and_a_rerun_runs_them(tmp_path
                 child.kill()
 
     with pytest.raises(CampaignError, match=r"did not run because the processes back end failed") as info:
-        run_campaign(planar4, 40, seed=2, scenario=slow, workers=1, out=out, progress=kill_the_workers)
+        run_campaign(planar4, 40, seed=2, scenario=slow, workers=1, backend="processes", batch_size=2, out=out,
+                     progress=kill_the_workers)
     assert "stay pending" in str(info.value) and str(out) in str(info.value)
     saved = CampaignResult.load(out)
     assert saved.n_failed == 0 and saved.n_ok >= 1 and saved.n_pending > 0

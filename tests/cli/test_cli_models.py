@@ -204,11 +204,11 @@ def test_campaign_workers_get_the_mounted_model(ur5, tmp_path, capsys):
     spec = json.loads(in_process.spec_json)
     robot = mounted_ur5(ur5, prefix="ur_", end_effector="tool0")
     assert spec["model_toml"] == dumps_toml(robot)
-    # Worker processes rebuild the model from the spec alone: the same samples give the same metrics.
+    # The worker threads rebuild the model from the spec alone: the same samples give the same metrics.
     assert main(["campaign", ur5, "--mount-on", BUS, "--at", "0.6,0,0,0,0,0", "--prefix", "ur_", "--end-effector", "tool0",
                  "--samples", "2", "--workers", "2", "--duration", "0.1", "--dt", "0.01", "--payload-mass-max", "1",
                  "--out", str(tmp_path / "c2.npz"), "--no-progress"]) == 0
-    assert "backend processes, 2 worker(s)" in capsys.readouterr().out
+    assert "backend threads, 2 worker(s)" in capsys.readouterr().out
     with np.load(out) as a, np.load(tmp_path / "c2.npz") as b:
         assert np.array_equal(a["metrics"], b["metrics"], equal_nan=True) and np.isfinite(a["metrics"]).all()
 

@@ -1,6 +1,7 @@
-"""The one rule local worker processes impose on the script that starts a campaign.
+"""The one rule worker processes (``backend="processes"``) impose on the script that starts a
+campaign (the default thread back end starts no process and needs no guard).
 
-Local workers are started with the ``spawn`` start method: each is a fresh interpreter that
+Worker processes are started with the ``spawn`` start method: each is a fresh interpreter that
 re-runs the parent's main script (as module ``__mp_main__``) to find the code it is sent. A script
 that calls :func:`~spacearm.campaign.run_campaign` at its top level, not under
 ``if __name__ == "__main__":``, therefore calls it again inside every worker while the worker is
@@ -29,9 +30,9 @@ from ..errors import CampaignError
 __all__ = ["GUARD_ADVICE", "check_caller_is_guarded", "stop_if_reimported_by_a_worker"]
 
 GUARD_ADVICE = (
-    "local worker processes start with the 'spawn' method and re-run the main script, so a script that "
-    "calls run_campaign must do so under `if __name__ == \"__main__\":` (or pass workers=0 to run the "
-    "samples in this process)"
+    "worker processes start with the 'spawn' method and re-run the main script, so a script that "
+    "calls run_campaign with backend='processes' must do so under `if __name__ == \"__main__\":` (or use "
+    "the default thread back end, which starts no process)"
 )
 
 

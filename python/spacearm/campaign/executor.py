@@ -1,37 +1,35 @@
-"""Running a campaign: local processes by default, a Dask cluster when given its scheduler.
+"""Running a campaign: native threads by default, worker processes or a Dask cluster on request.
 
-Samples are independent, so both back ends simply map :func:`~.worker.run_sample` over the
-pending indices and collect outcomes as they complete (in any order; each is stored at its
-index, so the file does not depend on scheduling). The parent draws every sample's parameters
-(:meth:`Perturbations.draw`), keeps the :class:`~.results.CampaignResult`, writes it atomically
-every ``checkpoint_seconds`` and at the end (also on Ctrl-C), and shows a progress bar.
+Samples are independent. The calling thread draws every pending sample's parameters
+(:meth:`Perturbations.draw`), hands them to a back end in batches, and records the outcomes as
+they come back (in any order; each is stored at its index, so the file does not depend on
+scheduling). It keeps the :class:`~.results.CampaignResult`, writes it atomically every
+``checkpoint_seconds`` while the back end goes on computing, at the end, and on Ctrl-C or any
+other exception; and it shows a progress bar.
 
-- ``backend="processes"`` (default): :class:`concurrent.futures.ProcessPoolExecutor` with the
-  ``spawn`` start method (no inherited threads or Rust state), ``workers`` processes
-  (default: the CPU count).
-- ``scheduler="tcp://host:8786"`` (or a ``distributed.Client``): Dask's ``client.map`` and
-  ``as_completed`` on an existing cluster (``pip install "dask[distributed]"``); each worker needs
-  spacearm installed.
-- ``workers=0``: run in this process (debugging, profiling).
+- ``backend="threads"`` (default): batches of native rollouts on ``workers`` threads with the GIL
+  released (``local.py``): no process start, no model parse, no Python loop per sample.
+- ``workers=0``: sample by sample in the calling thread (the reference path; debugging).
+- ``backend="processes"``: spawned worker processes, one batch per task, for isolation; they
+  die with this process (``_util/lifeline.py``).
+- ``scheduler="tcp://host:8786"`` (or a ``distributed.Client``): a Dask cluster, one batch per
+  task, with a watchdog for a cluster left without workers (``cluster.py``).
 
-Failures are sorted by where they happen. :func:`~.worker.run_sample` returns every failure of
-the sample itself (an invalid plant, a singular matrix, a diverged state) as an outcome, which is
-recorded as failed. So anything the back end raises instead — a broken process pool, a worker
-or scheduler lost, a task that could not be sent — is a failure of the infrastructure, not of
-the sample: the sample is left pending (a rerun runs it), and once the outcomes that did arrive
-are recorded and saved, the campaign raises one :class:`~spacearm.errors.CampaignError` saying
-how many samples did not run and why.
+Failures are sorted by where they happen. A batch returns every failure of a sample itself (an
+invalid plant, a singular matrix, a diverged state) as an outcome, which is recorded as failed.
+Anything a back end reports instead — a broken process pool, a worker or scheduler lost, a
+cluster with no workers for ``worker_timeout`` — is a failure of the infrastructure: those
+samples are left pending (a rerun runs them), and once the outcomes that did arrive are recorded
+and saved, the campaign raises one :class:`~spacearm.errors.CampaignError` saying how many
+samples did not run and why.
 """
 
 from __future__ import annotations
 
-import asyncio
-import multiprocessing
 import os
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
-from typing import Callable, Iterable, Iterator, NamedTuple, Optional, Union
+from typing import Callable, Optional, Union
 
 from ..errors import ArgumentError, CampaignError
 from ._main_guard import GUARD_ADVICE, check_caller_is_guarded, stop_if_reimported_by_a_worker
@@ -39,9 +37,12 @@ from .perturbation import PARAMETER_NAMES, Perturbations
 from .results import FAILED, PENDING, CampaignResult
 from .scenario import METRIC_NAMES, Scenario
 from .spec import CampaignSpec
-from .worker import SampleOutcome, run_sample
+from .worker import LostSample
 
-__all__ = ["run_campaign", "CampaignSpec"]
+__all__ = ["run_campaign", "CampaignSpec", "BACKENDS"]
+
+#: The back ends :func:`run_campaign` accepts (``"in-process"`` is ``workers=0``).
+BACKENDS = ("threads", "processes", "dask", "in-process")
 
 
 def _progress(total: int, initial: int, enabled: Union[bool, Callable[[int, int], None]]):
@@ -74,66 +75,6 @@ def _progress(total: int, initial: int, enabled: Union[bool, Callable[[int, int]
     return _Silent()
 
 
-class LostSample(NamedTuple):
-    """A sample the back end could not run, for a reason outside the sample (see the module docs)."""
-
-    index: int
-    reason: str
-
-
-def _describe(exc: BaseException) -> str:
-    return f"{type(exc).__name__}: {exc}" if str(exc) else type(exc).__name__
-
-
-def _local_outcomes(spec: CampaignSpec, jobs, workers: int) -> Iterator[Union[SampleOutcome, LostSample]]:
-    if workers == 0:
-        for index, params in jobs:
-            yield run_sample(spec, index, params)
-        return
-    context = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
-        futures = {pool.submit(run_sample, spec, index, params): index for index, params in jobs}
-        try:
-            for future in as_completed(futures):
-                try:
-                    outcome = future.result()
-                except Exception as exc:  # the pool broke (a worker died or could not start)
-                    outcome = LostSample(futures[future], f"worker process failed: {_describe(exc)}")
-                yield outcome
-        finally:
-            for future in futures:
-                future.cancel()
-
-
-def _dask_outcomes(spec: CampaignSpec, jobs, scheduler) -> Iterator[Union[SampleOutcome, LostSample]]:
-    from .._util.optional import require
-
-    distributed = require("distributed", "campaigns on a Dask cluster")
-    Client, dask_as_completed = distributed.Client, distributed.as_completed
-    own_client = not isinstance(scheduler, Client)
-    if own_client:
-        try:
-            client = Client(scheduler)
-        except (OSError, TimeoutError) as exc:
-            raise CampaignError(f"cannot connect to the Dask scheduler '{scheduler}': {_describe(exc)}") from None
-    else:
-        client = scheduler
-    try:
-        indices = [index for index, _ in jobs]
-        params = [p for _, p in jobs]
-        futures = client.map(run_sample, [spec] * len(jobs), indices, params, pure=False)
-        index_of = {f.key: index for f, index in zip(futures, indices)}
-        for future in dask_as_completed(futures):
-            try:
-                outcome = future.result()
-            except (Exception, asyncio.CancelledError) as exc:  # worker killed, scheduler lost, task not sent
-                outcome = LostSample(index_of[future.key], f"Dask task failed: {_describe(exc)}")
-            yield outcome
-    finally:
-        if own_client:
-            client.close()
-
-
 def _lost_message(lost, done: int, backend: str, out: Optional[Path]) -> str:
     """The one error a campaign raises when samples were lost to the back end."""
     reason = lost[0].reason
@@ -150,6 +91,32 @@ def _lost_message(lost, done: int, backend: str, out: Optional[Path]) -> str:
             f"they are not recorded as failed and stay pending: {where}")
 
 
+def _choose_backend(backend: Optional[str], workers: Optional[int], scheduler) -> str:
+    if backend is None:
+        return "dask" if scheduler is not None else ("in-process" if workers == 0 else "threads")
+    if backend not in BACKENDS:
+        raise ArgumentError(f"backend must be one of {', '.join(map(repr, BACKENDS))}, got {backend!r}")
+    if (backend == "dask") != (scheduler is not None):
+        raise ArgumentError("the dask back end needs a scheduler (an address or a distributed.Client), and a "
+                            f"scheduler needs the dask back end; got backend={backend!r}, scheduler={scheduler!r}")
+    if backend == "in-process" and workers not in (None, 0):
+        raise ArgumentError(f"the in-process back end runs in the calling thread; workers must be 0, got {workers!r}")
+    return backend
+
+
+def _record_bytes(spec: CampaignSpec, backend: str, pending) -> int:
+    """Bytes of one sample's records, which bound a thread batch (0 where unknown: a scenario no
+    sample can fly fails sample by sample, as data, not here)."""
+    if backend != "threads" or not pending:
+        return 0
+    from .batch import record_bytes_per_sample
+
+    try:
+        return record_bytes_per_sample(spec)
+    except Exception:  # noqa: BLE001 — see the docstring
+        return 0
+
+
 def run_campaign(
     robot_or_spec,
     samples: Optional[int] = None,
@@ -158,7 +125,10 @@ def run_campaign(
     perturbations: Optional[Perturbations] = None,
     scenario: Optional[Scenario] = None,
     workers: Optional[int] = None,
+    backend: Optional[str] = None,
     scheduler=None,
+    batch_size: Optional[int] = None,
+    worker_timeout: Optional[float] = None,
     out: Optional[Union[str, Path]] = None,
     resume: bool = True,
     retry_failed: bool = False,
@@ -170,15 +140,22 @@ def run_campaign(
     ``robot_or_spec``: the nominal :class:`~spacearm.Robot` (then ``samples`` is required) or a
     :class:`CampaignSpec`. Each sample flies :class:`Scenario` on a plant whose inertia is
     perturbed as drawn from ``perturbations``, with the controller built on the nominal model.
-    ``workers`` local processes (default ``os.cpu_count()``; 0 = in this process) or, with
-    ``scheduler`` (address or ``distributed.Client``), a Dask cluster. With ``out`` (.npz) the
-    result is written atomically every ``checkpoint_seconds`` and at the end; if ``out``
-    already holds this campaign and ``resume``, only its missing samples run (failed ones too if
-    ``retry_failed``). Returns the :class:`CampaignResult`.
 
-    Samples the back end loses (a broken pool, a lost worker or scheduler) stay pending and the
-    call raises :class:`~spacearm.errors.CampaignError` after saving what ran; with local
-    processes, call it under ``if __name__ == "__main__":`` in a script (checked first).
+    Where the samples run: ``workers`` native threads (default ``os.cpu_count()``); ``workers=0``
+    runs them one by one in the calling thread; ``backend="processes"`` on ``workers`` spawned
+    processes instead; with ``scheduler`` (address or ``distributed.Client``), on a Dask
+    cluster. ``batch_size``: samples per batch (default: 8 per thread; for Dask about four tasks
+    per worker thread, at most 64). ``worker_timeout`` (Dask only, default 60 s): a cluster with
+    no live worker for that long stops the campaign.
+
+    With ``out`` (.npz) the result is written atomically every ``checkpoint_seconds`` and at the
+    end; if ``out`` already holds this campaign and ``resume``, only its missing samples run
+    (failed ones too if ``retry_failed``). Returns the :class:`CampaignResult`.
+
+    Samples the back end loses (a broken pool, a lost worker or scheduler, the watchdog) stay
+    pending and the call raises :class:`~spacearm.errors.CampaignError` after saving what ran;
+    with worker processes, call it under ``if __name__ == "__main__":`` in a script (checked
+    first).
     """
     stop_if_reimported_by_a_worker()
     if isinstance(robot_or_spec, CampaignSpec):
@@ -193,19 +170,29 @@ def run_campaign(
         spec = CampaignSpec(dumps_toml(robot_or_spec), samples, seed, perturbations or Perturbations(),
                             scenario or Scenario())
         spec.scenario.goal(robot_or_spec)  # a wrong-length q_goal fails here, not in every worker
-    if workers is None:
-        workers = os.cpu_count() or 1
-    if not isinstance(workers, int) or workers < 0:
-        raise ArgumentError(f"workers must be an integer >= 0, got {workers!r}")
-    if scheduler is not None and workers == 0:
-        raise ArgumentError("workers=0 runs in this process; it cannot be combined with a Dask scheduler")
+    backend = _choose_backend(backend, workers, scheduler)
+    if backend == "dask":
+        if workers is not None:
+            raise ArgumentError("workers is for the local back ends; a Dask campaign runs on the cluster's workers")
+    else:
+        workers = 0 if backend == "in-process" else (os.cpu_count() or 1) if workers is None else workers
+        if not isinstance(workers, int) or isinstance(workers, bool) or workers < 0:
+            raise ArgumentError(f"workers must be an integer >= 0, got {workers!r}")
+        if workers == 0 and backend != "in-process":
+            raise ArgumentError(f"the {backend} back end needs workers >= 1 (workers=0 runs in the calling thread)")
+    if batch_size is not None and (not isinstance(batch_size, int) or isinstance(batch_size, bool) or batch_size < 1):
+        raise ArgumentError(f"batch_size must be an integer >= 1, got {batch_size!r}")
+    if worker_timeout is not None and backend != "dask":
+        raise ArgumentError("worker_timeout is the Dask watchdog's; the local back ends do not use it")
+    if worker_timeout is not None and not (isinstance(worker_timeout, (int, float)) and worker_timeout > 0):
+        raise ArgumentError(f"worker_timeout must be a number of seconds > 0, got {worker_timeout!r}")
     if not checkpoint_seconds > 0:
         raise ArgumentError(f"checkpoint_seconds must be > 0, got {checkpoint_seconds!r}")
     out = Path(out) if out is not None else None
     if out is not None and out.suffix != ".npz":
         raise ArgumentError(f"out must be a .npz path, got '{out}'")
 
-    if workers > 0 and scheduler is None:
+    if backend == "processes":
         check_caller_is_guarded()
 
     spec_json = spec.to_json()
@@ -221,27 +208,37 @@ def run_campaign(
     todo = result.status == PENDING
     if retry_failed:
         todo |= result.status == FAILED
-    jobs = [(int(i), spec.perturbations.draw(spec.seed, int(i))) for i in result.index[todo]]
+    # Only the indices: each sample's inertia errors are drawn where its plant is built (in the
+    # back end's pipeline), not all up front in this thread.
+    pending = [int(i) for i in result.index[todo]]
 
-    backend = "in-process" if workers == 0 else ("dask" if scheduler is not None else "processes")
-    n_workers = workers
-    if scheduler is not None:
-        n_workers = None  # filled from the cluster below when possible
-    bar = _progress(spec.samples, spec.samples - len(jobs), progress)
+    client = owned_client = None
+    if backend == "dask":
+        from .cluster import DEFAULT_WORKER_TIMEOUT, connect, dask_outcomes
+
+        client, owned_client = connect(scheduler)
+        scheduler_address = client.scheduler.address
+        workers = len(client.scheduler_info().get("workers", {}))
+        outcomes = dask_outcomes(spec, pending, client, batch_size,
+                                 DEFAULT_WORKER_TIMEOUT if worker_timeout is None else float(worker_timeout))
+    else:
+        from .local import in_process_outcomes, process_outcomes, samples_per_batch, thread_outcomes
+
+        if backend == "in-process":
+            outcomes = in_process_outcomes(spec, pending)
+        elif backend == "processes":
+            workers = min(workers, max(len(pending), 1))
+            outcomes = process_outcomes(spec, pending, workers,
+                                        batch_size or samples_per_batch(backend, workers, len(pending)))
+        else:
+            workers = min(workers, max(len(pending), 1))
+            size = batch_size or samples_per_batch(backend, workers, len(pending), _record_bytes(spec, backend, pending))
+            # Default batches start at one sample per thread and double: the threads start sooner.
+            outcomes = thread_outcomes(spec, pending, workers, size, first=None if batch_size else workers)
+
+    bar = _progress(spec.samples, spec.samples - len(pending), progress)
     start = time.perf_counter()
     last_save = start
-    outcomes: Iterable[SampleOutcome]
-    if scheduler is not None:
-        outcomes = _dask_outcomes(spec, jobs, scheduler)
-        try:
-            from distributed import Client
-
-            if isinstance(scheduler, Client):
-                n_workers = len(scheduler.scheduler_info().get("workers", {}))
-        except ImportError:
-            pass
-    else:
-        outcomes = _local_outcomes(spec, jobs, min(workers, max(len(jobs), 1)) if workers else 0)
     done = 0
     lost = []
     try:
@@ -257,12 +254,15 @@ def run_campaign(
                 result.save(out)
                 last_save = now
     finally:
+        outcomes.close()  # stops the back end's threads, pool or tasks, also on an exception
+        if owned_client:
+            client.close()
         bar.close()
         elapsed = time.perf_counter() - start
         result.run = {
             "backend": backend,
-            "workers": n_workers,
-            "scheduler": None if scheduler is None else str(getattr(scheduler, "scheduler", scheduler)),
+            "workers": workers,
+            "scheduler": None if client is None else scheduler_address,
             "samples_run": done,
             "samples_lost": len(lost),
             "elapsed_s": elapsed,

@@ -26,7 +26,8 @@ import numpy as np
 
 from ..errors import ArgumentError, ShapeError, SimulationError
 
-__all__ = ["Scenario", "METRIC_NAMES", "METRIC_UNITS", "evaluate", "with_payload"]
+__all__ = ["Scenario", "METRIC_NAMES", "METRIC_UNITS", "evaluate", "plant", "controller", "with_payload",
+           "metrics_from_records", "non_finite_message", "attitude_angle_deg"]
 
 METRIC_NAMES = (
     "tracking_error_max",
@@ -101,10 +102,44 @@ class Scenario:
         return asdict(self)
 
 
-def _attitude_angle_deg(quat0: np.ndarray, quats: np.ndarray) -> np.ndarray:
-    """Rotation angle (deg) between the attitude ``quat0`` and each row of ``quats`` (xyzw)."""
-    dots = np.clip(np.abs(quats @ quat0), 0.0, 1.0)
-    return np.degrees(2.0 * np.arccos(dots))
+def attitude_angle_deg(quat0: np.ndarray, quats: np.ndarray) -> np.ndarray:
+    """Rotation angle (deg) between the attitude ``quat0`` (``(..., 4)``, xyzw) and each
+    ``quats[..., k, :]``: ``2 acos |q0 · q|``. The dot product is written out term by term so
+    that a batch of runs and one run give the same bits (a matrix product may sum in another
+    order)."""
+    q0 = quat0[..., None, :]
+    dots = (quats[..., 0] * q0[..., 0] + quats[..., 1] * q0[..., 1]) + (quats[..., 2] * q0[..., 2]
+                                                                        + quats[..., 3] * q0[..., 3])
+    return np.degrees(2.0 * np.arccos(np.clip(np.abs(dots), 0.0, 1.0)))
+
+
+def metrics_from_records(tracking_error: np.ndarray, x: np.ndarray, saturation_events: np.ndarray) -> np.ndarray:
+    """The metrics (columns :data:`METRIC_NAMES`) of ``B`` runs from their records.
+
+    ``tracking_error`` ``(B, K)`` (rad), ``x`` ``(B, K, 7+N)`` and ``saturation_events`` ``(B,)``,
+    every step recorded. Each row of the result depends on its own run only, computed with the
+    same operations whatever ``B`` (so one run alone and the same run in a batch agree bit for
+    bit); a row with a non-finite metric is the caller's to report.
+    """
+    error = np.asarray(tracking_error, dtype=float)
+    x = np.asarray(x, dtype=float)
+    displacement = np.linalg.norm(x[:, :, 0:3] - x[:, :1, 0:3], axis=-1)
+    quats = x[:, :, 3:7]
+    columns = {
+        "tracking_error_max": np.max(error, axis=1),
+        "tracking_error_rms": np.sqrt(np.mean(error**2, axis=1)),
+        "tracking_error_final": error[:, -1],
+        "attitude_excursion_max": np.max(attitude_angle_deg(quats[:, 0, :], quats), axis=1),
+        "base_displacement_max": np.max(displacement, axis=1),
+        "saturation_events": np.asarray(saturation_events, dtype=float),
+    }
+    return np.stack([columns[name] for name in METRIC_NAMES], axis=1)
+
+
+def non_finite_message(metrics_row: np.ndarray) -> str:
+    """The failure message of a run whose metrics are not all finite ('' if they are)."""
+    bad = [name for name, v in zip(METRIC_NAMES, metrics_row) if not math.isfinite(v)]
+    return f"the simulation produced non-finite {', '.join(bad)}" if bad else ""
 
 
 def with_payload(robot, mass: float):
@@ -118,17 +153,20 @@ def with_payload(robot, mass: float):
         return robot
     if robot.end_effector is None:
         raise ArgumentError("a payload needs an end effector to hold it; the model defines none")
-    ee = robot.description.point(robot.end_effector)
+    # The point straight from the model (body index, offset): the full description is built once,
+    # by to_builder, not twice.
+    body, offset = robot._m.point(robot.end_effector)
     builder = robot.to_builder()
-    builder.attach_payload("campaign_payload", body=ee.body, mass=float(mass), origin=ee.offset.tolist())
+    builder.attach_payload("campaign_payload", body=robot._m.body_names[body], mass=float(mass), origin=list(offset))
     return builder.build()
 
 
-def evaluate(nominal, scenario: Scenario, params: Dict[str, float]) -> Dict[str, float]:
-    """Fly one sample: the metrics of :data:`METRIC_NAMES` for the plant drawn as ``params``."""
-    from .. import control, simulate
+def plant(nominal, params: Dict[str, float]):
+    """The plant of a sample: ``nominal`` with the inertia errors ``params`` (the
+    :data:`~.perturbation.PARAMETER_NAMES`) and its payload."""
+    from .. import control
 
-    plant = control.perturbed_model(
+    perturbed = control.perturbed_model(
         nominal,
         base_mass_scale=params["base_mass_scale"],
         base_inertia_scale=params["base_inertia_scale"],
@@ -136,27 +174,31 @@ def evaluate(nominal, scenario: Scenario, params: Dict[str, float]) -> Dict[str,
         slosh_fraction=params["slosh_fraction"],
         slosh_offset=(params["slosh_offset_x"], params["slosh_offset_y"], params["slosh_offset_z"]),
     )
-    plant = with_payload(plant, params["payload_mass"])
+    return with_payload(perturbed, params["payload_mass"])
+
+
+def controller(nominal, scenario: Scenario):
+    """The controller every sample flies with, built on the *nominal* model: the quintic reference
+    tracked by computed torque or joint PD."""
+    from .. import control
+
     q0 = np.asarray(nominal.initial_q, dtype=float)
     reference = control.QuinticJoint(q0, scenario.goal(nominal), 0.0, scenario.motion_fraction * scenario.duration)
     if scenario.controller == "computed-torque":
-        controller = control.ComputedTorque(scenario.kp, scenario.kd, reference, model=nominal)
-    else:
-        controller = control.JointPD(scenario.kp, scenario.kd, reference)
-    traj = simulate(plant, scenario.duration, mode=scenario.mode, dt=scenario.dt, controller=controller)
-    error = np.asarray(traj["tracking_error"], dtype=float)
-    x = np.asarray(traj["x"], dtype=float)
-    quats = x[:, 3:7]
-    displacement = np.linalg.norm(x[:, 0:3] - x[0, 0:3], axis=1)
-    metrics = {
-        "tracking_error_max": float(np.max(error)),
-        "tracking_error_rms": float(np.sqrt(np.mean(error**2))),
-        "tracking_error_final": float(error[-1]),
-        "attitude_excursion_max": float(np.max(_attitude_angle_deg(quats[0], quats))),
-        "base_displacement_max": float(np.max(displacement)),
-        "saturation_events": float(len(traj["saturation_t"]) if traj.has("saturation_t") else 0),
-    }
-    bad = [k for k, v in metrics.items() if not math.isfinite(v)]
-    if bad:
-        raise SimulationError(f"the simulation produced non-finite {', '.join(bad)}")
-    return metrics
+        return control.ComputedTorque(scenario.kp, scenario.kd, reference, model=nominal)
+    return control.JointPD(scenario.kp, scenario.kd, reference)
+
+
+def evaluate(nominal, scenario: Scenario, params: Dict[str, float]) -> Dict[str, float]:
+    """Fly one sample with :func:`spacearm.simulate`: the metrics of :data:`METRIC_NAMES` for the
+    plant drawn as ``params``. The reference every batched run is checked against."""
+    from .. import simulate
+
+    traj = simulate(plant(nominal, params), scenario.duration, mode=scenario.mode, dt=scenario.dt,
+                    controller=controller(nominal, scenario))
+    saturation = len(traj["saturation_t"]) if traj.has("saturation_t") else 0
+    row = metrics_from_records(traj["tracking_error"][None], traj["x"][None], np.array([saturation]))[0]
+    message = non_finite_message(row)
+    if message:
+        raise SimulationError(message)
+    return {name: float(v) for name, v in zip(METRIC_NAMES, row)}

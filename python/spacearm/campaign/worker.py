@@ -1,9 +1,11 @@
-"""What runs on a worker (a local process or a Dask worker): one sample, failures included.
+"""What a sample comes back as, and the per-sample reference path.
 
-:func:`run_sample` never raises for a failure of the sample itself: a model the perturbation
-made invalid, a singular matrix, a non-finite state — each comes back as an outcome with the
-message, so one bad sample is recorded and the campaign goes on. It follows that an exception
-the executor sees instead of an outcome was not the sample's doing (see ``executor.py``).
+A sample that ran comes back as a :class:`SampleOutcome`: its metrics, or the message of its own
+failure (a model the perturbation made invalid, a singular matrix, a non-finite state), so one
+bad sample is recorded and the campaign goes on. A sample a back end could not run comes back as
+a :class:`LostSample` and stays pending. :func:`run_sample` flies one sample with
+:func:`spacearm.simulate` in the calling thread (``workers=0``): the reference that the batched
+path (``batch.py``) reproduces bit for bit.
 """
 
 from __future__ import annotations
@@ -12,7 +14,7 @@ import time
 import traceback
 from typing import Dict, NamedTuple, Optional
 
-__all__ = ["SampleOutcome", "run_sample"]
+__all__ = ["SampleOutcome", "LostSample", "describe_exception", "failure_message", "nominal_robot", "run_sample"]
 
 # The nominal robot of the last campaign this process served, keyed by its TOML text, so a
 # worker parses the model once per campaign rather than once per sample.
@@ -27,7 +29,22 @@ class SampleOutcome(NamedTuple):
     seconds: float
 
 
-def _nominal(model_toml: str):
+class LostSample(NamedTuple):
+    """A sample a back end could not run, for a reason outside the sample (a dead worker, a lost
+    scheduler, a batch that could not be sent): it is not recorded and stays pending."""
+
+    index: int
+    reason: str
+
+
+def describe_exception(exc: BaseException) -> str:
+    """``Class: message`` (the class alone when the message is empty)."""
+    message = " ".join(str(exc).split())  # one line: some back ends' messages span several
+    return f"{type(exc).__name__}: {message}" if message else type(exc).__name__
+
+
+def nominal_robot(model_toml: str):
+    """The campaign's nominal robot, parsed once per process and campaign (keyed by its TOML)."""
     robot = _NOMINAL_CACHE.get(model_toml)
     if robot is None:
         from ..io.model_file import loads_toml
@@ -38,15 +55,21 @@ def _nominal(model_toml: str):
     return robot
 
 
-def run_sample(spec, index: int, params: Dict[str, float]) -> SampleOutcome:
-    """Fly sample ``index`` of ``spec`` with the inertia errors ``params``."""
+def failure_message(exc: BaseException) -> str:
+    """A sample's failure as recorded: ``Class: message (at file:line)``, the line that raised."""
+    last = traceback.extract_tb(exc.__traceback__)[-1:] if exc.__traceback__ else []
+    where = f" (at {last[0].filename.rsplit('/', 1)[-1]}:{last[0].lineno})" if last else ""
+    return f"{type(exc).__name__}: {exc}{where}"
+
+
+def run_sample(spec, index: int) -> SampleOutcome:
+    """Fly sample ``index`` of ``spec`` (its inertia errors drawn here, from its own stream)."""
     from .scenario import evaluate
 
     start = time.perf_counter()
+    params = spec.perturbations.draw(spec.seed, index)
     try:
-        metrics = evaluate(_nominal(spec.model_toml), spec.scenario, params)
+        metrics = evaluate(nominal_robot(spec.model_toml), spec.scenario, params)
         return SampleOutcome(index, params, metrics, "", time.perf_counter() - start)
     except Exception as exc:  # noqa: BLE001 — a failed sample is data, not a crash
-        last = traceback.extract_tb(exc.__traceback__)[-1:] if exc.__traceback__ else []
-        where = f" (at {last[0].filename.rsplit('/', 1)[-1]}:{last[0].lineno})" if last else ""
-        return SampleOutcome(index, params, None, f"{type(exc).__name__}: {exc}{where}", time.perf_counter() - start)
+        return SampleOutcome(index, params, None, failure_message(exc), time.perf_counter() - start)

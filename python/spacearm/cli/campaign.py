@@ -1,7 +1,7 @@
 """``spacearm campaign MODEL --samples N ...``: an inertia-uncertainty Monte Carlo campaign.
 
-Runs :func:`spacearm.campaign.run_campaign` on local processes (``--workers``) or on a Dask
-cluster (``--scheduler tcp://host:8786``), writes the results to ``--out`` (.npz, atomically,
+Runs :func:`spacearm.campaign.run_campaign` on native threads (``--workers``) or on a Dask
+cluster (``--scheduler tcp://host:8786``, with ``--worker-timeout``), writes the results to ``--out`` (.npz, atomically,
 resumable), prints the metrics table and optionally draws ``--plot``.
 """
 
@@ -16,14 +16,22 @@ __all__ = ["add_parser", "run"]
 
 def add_parser(sub) -> None:
 
-    p = sub.add_parser("campaign", help="Monte Carlo campaign: tracking cost of inertia errors (local processes or Dask)",
+    p = sub.add_parser("campaign", help="Monte Carlo campaign: tracking cost of inertia errors (threads or Dask)",
                        description="MODEL with its model options is the nominal model; the workers receive it whole "
                                    "(as model-file text in the campaign spec), so a mounted URDF arm runs as loaded here.")
     add_model_arguments(p)
     p.add_argument("--samples", type=int, required=True, help="number of samples")
     p.add_argument("--seed", type=int, default=0, help="campaign seed (default 0)")
-    p.add_argument("--workers", type=int, default=None, help="local worker processes (default: CPU count; 0 = in this process)")
+    p.add_argument("--workers", type=int, default=None,
+                   help="threads running the samples as native rollouts (default: CPU count; 0 = one by one in the "
+                        "main thread)")
     p.add_argument("--scheduler", default=None, help="Dask scheduler address (tcp://host:port) to run on a cluster")
+    p.add_argument("--batch-size", type=int, default=None,
+                   help="samples per batch (default: 8 per thread; with --scheduler about 4 tasks per worker thread, "
+                        "at most 64)")
+    p.add_argument("--worker-timeout", type=float, default=None,
+                   help="with --scheduler: stop when the cluster has had no live worker for this long, s (default 60); "
+                        "the samples not run stay pending in --out")
     p.add_argument("--out", default="campaign.npz", help="result file (.npz; default campaign.npz); resumed if it exists")
     p.add_argument("--no-resume", action="store_true", help="overwrite --out instead of resuming it")
     p.add_argument("--retry-failed", action="store_true", help="when resuming, run failed samples again")
@@ -58,7 +66,8 @@ def run(args, model_from_args, out=None) -> None:
         scenario = Scenario(mode=args.mode, controller=args.controller, duration=args.duration, dt=args.dt,
                             q_offset=args.q_offset, kp=args.kp, kd=args.kd)
         result = run_campaign(robot, args.samples, seed=args.seed, perturbations=perturbations, scenario=scenario,
-                              workers=args.workers, scheduler=args.scheduler, out=args.out,
+                              workers=args.workers, scheduler=args.scheduler, batch_size=args.batch_size,
+                              worker_timeout=args.worker_timeout, out=args.out,
                               resume=not args.no_resume, retry_failed=args.retry_failed,
                               progress=not args.no_progress)
     except SpacearmError:
