@@ -342,6 +342,13 @@ struct Recorder {
 }
 
 impl Recorder {
+    /// Values recorded per sample: the sum of the widths that [`Recorder::new`] reserves.
+    fn sample_width(model: &Model, n_wheels: usize, n_ref: usize, tracking: bool, attitude: bool) -> usize {
+        let (nx, nu, n) = (model.nx(), model.nu(), model.n_dof());
+        let ee = if model.end_effector().is_some() { 3 + 4 } else { 0 };
+        1 + nx + 2 * nu + 2 * n + 6 + 3 + 3 + 3 + 1 + 3 + ee + n_ref + usize::from(tracking) + usize::from(attitude) + n_wheels
+    }
+
     fn new(model: &Model, capacity: usize, wheels: &[usize], n_ref: usize, tracking: bool, attitude: bool) -> Self {
         let (nx, nu, n) = (model.nx(), model.nu(), model.n_dof());
         let v = |w: usize| Vec::with_capacity(capacity * w);
@@ -503,6 +510,21 @@ fn onsets(t: f64, prev: &mut [u8], now: &[u8], events: &mut Vec<SaturationEvent>
 /// it returns (an interrupted run) stops the simulation.
 pub type Progress<'a> = &'a mut dyn FnMut(f64) -> Result<()>;
 
+/// Admission control of a simulation's records ([`crate::admission`]): `capacity` samples of
+/// `width` values each, recorded in `f64` and copied once more by the caller that converts
+/// them (so twice the records' size is counted).
+fn admit_records(opts: &SimOptions, capacity: usize, width: usize) -> Result<()> {
+    let remedy = match opts.integrator {
+        IntegratorKind::Rk4 => "record fewer samples (record_every > 1 keeps every k-th step), or simulate a shorter duration",
+        IntegratorKind::Dopri5 => "use a coarser output grid (dt is DOPRI5's output interval; the step size adapts on its own), or simulate a shorter duration",
+    };
+    crate::admission::admit(
+        &format!("a simulation recording {capacity} samples of {width} values"),
+        2.0 * crate::admission::bytes_of::<f64>(capacity as f64 * width as f64),
+        remedy,
+    )
+}
+
 /// Simulate `model` from `(x0, u0)` for `opts.duration` seconds under `controller`.
 ///
 /// `x0` must be a valid configuration (unit quaternion within
@@ -534,7 +556,9 @@ pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, contro
         IntegratorKind::Rk4 => n_steps_rk4 / opts.record_every + 2,
         IntegratorKind::Dopri5 => n_steps_rk4 + 2,
     };
-    let mut rec = Recorder::new(model, capacity, &wheels, n_ref, tracking.is_some(), plant.controller.reports_attitude_error());
+    let attitude = plant.controller.reports_attitude_error();
+    admit_records(opts, capacity, Recorder::sample_width(model, wheels.len(), n_ref, tracking.is_some(), attitude))?;
+    let mut rec = Recorder::new(model, capacity, &wheels, n_ref, tracking.is_some(), attitude);
     let mut events = Vec::new();
     let mut prev_flags = vec![0u8; n + 6];
     let mut dy = vec![0.0; dim];
@@ -613,6 +637,12 @@ pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, contro
                         plant.rhs(t_o, &y_out, &mut dy)?;
                         rec.record(&plant, t_o, &y_out, &dy);
                         k_out += 1;
+                        // A dense output grid can put many samples in one step: report (and
+                        // let the caller interrupt) between them too.
+                        if t_o >= next_progress {
+                            progress(t_o / opts.duration)?;
+                            next_progress = t_o + progress_every;
+                        }
                     }
                     t = t_new;
                     if t >= next_progress {
