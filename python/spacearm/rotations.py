@@ -3,7 +3,7 @@
 Quaternions are unit, Hamilton, scalar LAST ``[x, y, z, w]`` (``docs/conventions.md``; the same
 as ``scipy.spatial.transform.Rotation.as_quat()`` and Pinocchio). Every quaternion argument of
 spacearm also accepts a ``scipy.spatial.transform.Rotation`` holding one rotation
-(:func:`spacearm._arrays.quaternion`).
+(:func:`spacearm._util.arrays.quaternion`).
 
 Every helper checks its input: shapes, finite values, a unit quaternion (norm 1 within the
 core's tolerance, ``_core.QUATERNION_TOLERANCE`` = 1e-6, then normalized exactly) and a proper
@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _core
-from ._arrays import number, quaternion, vector
+from ._util.arrays import number, quaternion, vector
 from .errors import ArgumentError, NonFiniteError, QuaternionError, ShapeError, SpacearmTypeError
 
 __all__ = ["quat_from_rpy", "quat_from_axis_angle", "quat_to_matrix", "quat_from_matrix", "IDENTITY_QUAT", "MATRIX_TOLERANCE"]
