@@ -111,9 +111,10 @@ def quat_from_matrix(r) -> np.ndarray:
     if r.shape != (3, 3):
         raise ShapeError(f"r must be a 3x3 rotation matrix, got shape {r.shape}")
     _finite(r, "r")
-    off = float(np.max(np.abs(r.T @ r - np.eye(3))))
-    det = float(np.linalg.det(r))
-    if off > MATRIX_TOLERANCE or abs(det - 1.0) > MATRIX_TOLERANCE:
+    with np.errstate(over="ignore", invalid="ignore"):  # huge entries: inf, refused below
+        off = float(np.max(np.abs(r.T @ r - np.eye(3))))
+        det = float(np.linalg.det(r))
+    if not (off <= MATRIX_TOLERANCE and abs(det - 1.0) <= MATRIX_TOLERANCE):
         raise ArgumentError(f"r must be a rotation matrix (R^T R = I and det R = +1 within {MATRIX_TOLERANCE:g}), "
                             f"got |R^T R - I| = {off:.3g}, det R = {det:.6g}")
     tr = np.trace(r)

@@ -28,6 +28,7 @@ CHILD = textwrap.dedent(r"""
     resource.setrlimit(resource.RLIMIT_AS, (cap, cap))
     import numpy as np
     import spacearm
+    from spacearm import analysis
     from spacearm.io.model_file import loads_toml
 
     def chain(n):
@@ -63,14 +64,14 @@ CHILD = textwrap.dedent(r"""
         "dopri5 dt=1e-9": outcome(lambda: spacearm.simulate(spatial6, 1.0, integrator="dopri5", dt=1e-9)),
         "dopri5 100 s dt=1e-6": outcome(lambda: spacearm.simulate(spatial6, 100.0, integrator="dopri5", dt=1e-6)),
         "rk4 100 s dt=1e-6": outcome(lambda: spacearm.simulate(spatial6, 100.0, dt=1e-6)),
-        "aba 20000 links": outcome(lambda: float(long_chain.forward_dynamics(x, u, tau)[6])),
+        "aba 20000 links": outcome(lambda: float(long_chain.forward_dynamics(x, u, tau=tau)[6])),
         "crba 20000 links": outcome(lambda: long_chain.mass_matrix(x).shape),
         "J* 20000 links": outcome(lambda: long_chain.generalized_jacobian(x, point=(long_chain.n_bodies - 1, [0.0, 0.0, 0.0])).shape),
         "paper form 3000 links": outcome(lambda: mid_chain.mass_matrix(mid_chain.neutral_configuration(),
                                                                        method="paper").shape),
         "partials 700 links": outcome(lambda: short_chain.mass_matrix_partials(short_chain.neutral_configuration()).shape),
         "initial_q 1e7": outcome(lambda: loads_toml(text_q, "q.toml").n_dof),
-        "grid 10^12": outcome(lambda: spacearm.analysis.workspace(spacearm.presets.dual_arm(), resolution=10)),
+        "grid 10^12": outcome(lambda: analysis.workspace(spacearm.presets.dual_arm(), resolution=10)),
         "peak MB": {"value": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024},
     }
     print(json.dumps(results))
