@@ -109,6 +109,11 @@ class ResourceLimitError(SpacearmError, MemoryError):
     message names the request, its size and the way out (``record_every``, a coarser output
     grid, a shorter run, an O(N) algorithm, a smaller model)."""
 
+    def __reduce__(self):
+        # MemoryError's own pickling goes through MemoryError.__new__, which refuses subclasses;
+        # rebuild from the message instead (campaign workers send errors between processes).
+        return (type(self), self.args)
+
 
 class CampaignError(SpacearmError, RuntimeError):
     """A campaign cannot run, or cannot go on, for reasons outside its samples (a script
