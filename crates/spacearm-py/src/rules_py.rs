@@ -1,11 +1,12 @@
 //! The core's rules and defaults, read by the Python package instead of restating them:
-//! the mode and integrator names, the simulation defaults and the
-//! quintic time scaling of the references (docs/simulation-core.md), the tolerance on input
+//! the mode and integrator names, the simulation defaults, the damped-least-squares defaults,
+//! the quintic time scaling of the references (docs/simulation-core.md), the tolerance on input
 //! quaternions, the physical bounds of a model and the memory limit of one request.
 
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use spacearm_core::math::dls::DampingLaw;
 use spacearm_core::sim::integrate::IntegratorKind;
 use spacearm_core::sim::modes::Mode;
 use spacearm_core::sim::reference::quintic_scaling as core_quintic_scaling;
@@ -54,6 +55,11 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     bounds.set_item("max_length", spacearm_core::model::validate::MAX_LENGTH)?;
     bounds.set_item("max_inertia_entry", spacearm_core::model::body::MAX_INERTIA_ENTRY)?;
     m.add("MODEL_BOUNDS", bounds)?;
+    let law = DampingLaw::default();
+    let dls = PyDict::new(py);
+    dls.set_item("threshold", law.threshold)?;
+    dls.set_item("max_damping", law.max_damping)?;
+    m.add("DLS_DEFAULTS", dls)?;
     m.add_function(wrap_pyfunction!(quintic_scaling, m)?)?;
     Ok(())
 }
