@@ -42,6 +42,8 @@ OUTPUT_OPTIONS = {
     "campaign": ("out", "plot"),
     "analyze": ("out",),
     "derive": ("latex", "python", "c"),
+    "capture": ("out", "plot"),
+    "plan": ("out", "plot"),
 }
 
 
