@@ -87,6 +87,7 @@ BASES = {
     "NotFoundError": {KeyError, LookupError, ValueError},
     "SingularError": {ArithmeticError},
     "SimulationError": {RuntimeError},
+    "ResourceLimitError": {MemoryError},
     "CampaignError": {RuntimeError},
     "MissingDependencyError": {ImportError},
 }

@@ -19,6 +19,7 @@ kind per class below (the bindings map each onto its class).
 | `NotFoundError` | `KeyError` (so `LookupError`) and `ValueError` | a body, joint, point, preset, metric or quantity name (or index) does not exist |
 | `SingularError` | `ArithmeticError` | a matrix that must be inverted is singular at this configuration |
 | `SimulationError` | `RuntimeError` | a simulation cannot go on (it diverged, the step size collapsed, the step budget ran out) |
+| `ResourceLimitError` | `MemoryError` | a request would allocate more than the memory limit of one request (2 GiB): a simulation recording too many samples, a dense matrix or tensor of a very large model; refused before anything is allocated, the message gives the size and the way out |
 | `CampaignError` | `RuntimeError` | a campaign cannot run, go on or report for reasons outside its samples (a script without a main guard under the spawn start method, an unreachable Dask scheduler, lost workers, nothing that ran to plot) |
 | `MissingDependencyError` | `ImportError` | an optional package is not installed (the message names the extra to install) |
 
@@ -46,6 +47,7 @@ __all__ = [
     "ArgumentError",
     "SpacearmTypeError",
     "SimulationError",
+    "ResourceLimitError",
     "CampaignError",
     "MissingDependencyError",
     "CampaignError",
@@ -104,6 +106,18 @@ class SpacearmTypeError(SpacearmError, TypeError):
 class SimulationError(SpacearmError, RuntimeError):
     """A simulation could not continue (the state diverged, the adaptive step size collapsed,
     the step budget ran out); the message says when and what to change."""
+
+
+class ResourceLimitError(SpacearmError, MemoryError):
+    """A request would allocate more than the memory limit of one request
+    (``spacearm._core.MEMORY_LIMIT_BYTES``, 2 GiB): refused before anything is allocated. The
+    message names the request, its size and the way out (``record_every``, a coarser output
+    grid, a shorter run, an O(N) algorithm, a smaller model)."""
+
+    def __reduce__(self):
+        # MemoryError's own pickling goes through MemoryError.__new__, which refuses subclasses;
+        # rebuild from the message instead (campaign workers send errors between processes).
+        return (type(self), self.args)
 
 
 class CampaignError(SpacearmError, RuntimeError):

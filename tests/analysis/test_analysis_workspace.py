@@ -86,5 +86,6 @@ def test_bad_input():
         analysis.workspace(robot, samples=np.zeros((4, 3)))
     with pytest.raises(ArgumentError, match="radial resolution"):
         analysis.workspace(robot, resolution=3, radial_resolution=-1.0)
-    with pytest.raises(ArgumentError, match="too large"):
+    # 10^N grid points for the dual arm: refused before allocating, with the size and the way out.
+    with pytest.raises(spacearm.ResourceLimitError, match="would allocate .* lower the resolution"):
         analysis.workspace(spacearm.presets.dual_arm(), resolution=10)

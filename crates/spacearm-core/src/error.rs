@@ -75,6 +75,11 @@ pub enum SpacearmError {
     /// its floor, the step budget ran out, or a controller failed); the message says when.
     #[error("{0}")]
     Simulation(String),
+
+    /// A request would allocate more than [`crate::admission::MEMORY_LIMIT_BYTES`]; the message
+    /// names the request, its size and the way out. Refused before anything is allocated.
+    #[error("{0}")]
+    ResourceLimit(String),
 }
 
 /// Which item of a model description a [`ModelError`] is about. Links and points are counted

@@ -49,7 +49,7 @@ fn reduce(model: &Model, data: &mut Data, x: &[f64], joint_block: bool) -> Resul
 /// CRBA (the joint block only if `joint_block`) and the factored `H0⁻¹` on the kinematics
 /// already in `data`, any scalar.
 pub(crate) fn reduce_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>, joint_block: bool) -> Result<BaseInverse<T>> {
-    crba_after_kinematics(model, data, joint_block);
+    crba_after_kinematics(model, data, joint_block)?;
     BaseInverse::new(&data.subtree_inertia[0])
 }
 
@@ -88,13 +88,14 @@ fn add_h0m_t_h0_inv(model: &Model, data: &Data, inv: &BaseInverse<f64>, w: &Vect
 pub fn compute_generalized_inertia<'d>(model: &Model, data: &'d mut Data, x: &[f64]) -> Result<&'d DMatrix<f64>> {
     let inv = reduce(model, data, x, true)?;
     reduction_columns(model, data, &inv);
-    fill_generalized_inertia(model, data, &inv, false);
+    fill_generalized_inertia(model, data, &inv, false)?;
     Ok(&data.generalized_inertia)
 }
 
 /// `H*` from the CRBA matrix and [`reduction_columns`] into `data.generalized_inertia`, or into
 /// `data.factor_n` if `into_factor`; any scalar.
-pub(crate) fn fill_generalized_inertia<T: Real>(model: &Model, data: &mut DataT<T>, inv: &BaseInverse<T>, into_factor: bool) {
+pub(crate) fn fill_generalized_inertia<T: Real>(model: &Model, data: &mut DataT<T>, inv: &BaseInverse<T>, into_factor: bool) -> Result<()> {
+    data.ensure_generalized_inertia(into_factor)?;
     let n = model.n_dof();
     let m = inv.total_mass;
     let (h, a, c, y) = (&data.mass_matrix, &data.work_lin, &data.work_ang, &data.work_y);
@@ -107,6 +108,7 @@ pub(crate) fn fill_generalized_inertia<T: Real>(model: &Model, data: &mut DataT<
             out[(j, i)] = v;
         }
     }
+    Ok(())
 }
 
 /// Generalized inertia matrix `H* = H_m − H0mᵀ H0⁻¹ H0m` (N×N, paper eq. 45).
@@ -148,13 +150,20 @@ pub fn compute_generalized_jacobian<'d>(
 ) -> Result<&'d DMatrix<f64>> {
     let inv = reduce(model, data, x, false)?;
     check_body(model, body)?;
-    generalized_jacobian_after_reduction(model, data, &inv, body, offset);
+    generalized_jacobian_after_reduction(model, data, &inv, body, offset)?;
     Ok(&data.generalized_jacobian)
 }
 
 /// `J*` into `data.generalized_jacobian` from the base rows of the CRBA matrix and `H0⁻¹`
 /// (`body` checked), any scalar.
-pub(crate) fn generalized_jacobian_after_reduction<T: Real>(model: &Model, data: &mut DataT<T>, inv: &BaseInverse<T>, body: usize, offset: &Vector3<f64>) {
+pub(crate) fn generalized_jacobian_after_reduction<T: Real>(
+    model: &Model,
+    data: &mut DataT<T>,
+    inv: &BaseInverse<T>,
+    body: usize,
+    offset: &Vector3<f64>,
+) -> Result<()> {
+    data.ensure_generalized_jacobian()?;
     let point = point_position(data, body, offset);
     // J_0X H0⁻¹ H0m, column j: [A_j/M + (r_0g − r_0X) × Y_j; Y_j].
     let e = inv.base_to_com - (point - data.base_position);
@@ -196,6 +205,7 @@ pub(crate) fn generalized_jacobian_after_reduction<T: Real>(model: &Model, data:
         }
         b = model.links()[b - 1].parent;
     }
+    Ok(())
 }
 
 /// Generalized Jacobian `J* = J_mX − J_0X H0⁻¹ H0m` (6×N, paper eq. 110) of a point fixed to
@@ -275,7 +285,7 @@ pub fn compute_reduced_forward_dynamics<'d>(
     let inv = reduce(model, data, x, true)?;
     rnea_after_kinematics(model, data, u, None, &[]);
     reduction_columns(model, data, &inv);
-    fill_generalized_inertia(model, data, &inv, true);
+    fill_generalized_inertia(model, data, &inv, true)?;
     let n = model.n_dof();
     // τ − c* − H0mᵀ H0⁻¹ F_b = τ − c_m − H0mᵀ H0⁻¹ (F_b − c0).
     let w = base_wrench - data.tau.fixed_rows::<6>(0);

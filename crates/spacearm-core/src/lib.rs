@@ -26,6 +26,7 @@
 
 #![deny(missing_docs)]
 
+pub mod admission;
 pub mod algorithms;
 pub mod analysis;
 pub mod control;

@@ -23,6 +23,7 @@ pub fn to_py_err(py: Python<'_>, err: SpacearmError) -> PyErr {
         SpacearmError::Parse(_) => "ModelFileError",
         SpacearmError::InvalidArgument(_) => "ArgumentError",
         SpacearmError::Simulation(_) => "SimulationError",
+        SpacearmError::ResourceLimit(_) => "ResourceLimitError",
     };
     let message = err.to_string();
     match py.import("spacearm.errors").and_then(|m| m.getattr(class)).and_then(|c| c.call1((message.clone(),))) {

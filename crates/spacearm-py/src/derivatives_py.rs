@@ -42,10 +42,11 @@ fn stack_last<'py>(py: Python<'py>, ms: &[DMatrix<f64>], rows: usize, cols: usiz
 #[pymethods]
 impl PyDerivatives {
     #[new]
-    fn new(model: PyRef<'_, PyModel>) -> Self {
+    fn new(py: Python<'_>, model: PyRef<'_, PyModel>) -> PyResult<Self> {
         let model = model.model.clone();
+        DerivativeData::admit(&model).or_raise(py)?;
         let work = DerivativeData::new(&model);
-        PyDerivatives { model, work }
+        Ok(PyDerivatives { model, work })
     }
 
     /// `∂H/∂x_k`, shape (6+N, 6+N, 6+N), derivative index last.

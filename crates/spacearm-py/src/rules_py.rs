@@ -1,6 +1,7 @@
 //! The core's rules and defaults, read by the Python package instead of restating them:
-//! the mode and integrator names, the simulation defaults, the damped-least-squares defaults and
-//! the quintic time scaling of the references (docs/simulation-core.md).
+//! the mode and integrator names, the simulation defaults, the damped-least-squares defaults,
+//! the quintic time scaling of the references (docs/simulation-core.md), the tolerance on input
+//! quaternions, the physical bounds of a model and the memory limit of one request.
 
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
@@ -46,6 +47,14 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     defaults.set_item("joint_limits", d.joint_limits)?;
     defaults.set_item("max_steps", d.max_steps)?;
     m.add("SIM_DEFAULTS", defaults)?;
+    m.add("QUATERNION_TOLERANCE", spacearm_core::math::rotations::QUATERNION_TOLERANCE)?;
+    m.add("MEMORY_LIMIT_BYTES", spacearm_core::admission::MEMORY_LIMIT_BYTES)?;
+    let bounds = PyDict::new(py);
+    bounds.set_item("min_mass", spacearm_core::model::body::MIN_MASS)?;
+    bounds.set_item("max_mass", spacearm_core::model::body::MAX_MASS)?;
+    bounds.set_item("max_length", spacearm_core::model::validate::MAX_LENGTH)?;
+    bounds.set_item("max_inertia_entry", spacearm_core::model::body::MAX_INERTIA_ENTRY)?;
+    m.add("MODEL_BOUNDS", bounds)?;
     let law = DampingLaw::default();
     let dls = PyDict::new(py);
     dls.set_item("threshold", law.threshold)?;

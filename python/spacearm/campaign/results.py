@@ -29,6 +29,7 @@ from typing import Dict, Optional, Sequence
 import numpy as np
 
 from .._util.atomic import atomic_open
+from .._util.npz import open_npz
 from ..errors import ArgumentError, NotFoundError
 
 __all__ = ["CampaignResult", "PENDING", "OK", "FAILED"]
@@ -152,7 +153,7 @@ class CampaignResult:
     def load(cls, path) -> "CampaignResult":
         """Read a result (or checkpoint) written by :meth:`save` (samples an earlier version
         recorded as failed because the back end lost them come back pending)."""
-        with np.load(Path(path), allow_pickle=False) as f:
+        with open_npz(Path(path), "spacearm campaign") as f:
             missing = {"index", "status", "params", "metrics", "spec_json"} - set(f.files)
             if missing:
                 raise ArgumentError(f"'{path}' is not a spacearm campaign file: no {', '.join(sorted(missing))}")

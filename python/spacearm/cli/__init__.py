@@ -7,8 +7,10 @@
 ``spatial6``, ...), a TOML model file (``docs/model-format.md``) or a URDF file
 (``docs/urdf.md``), with the model options of :mod:`spacearm.cli.model_options`. Optional packages are
 imported only inside the subcommand that needs them, so the command starts on a plain install.
-Every :class:`~spacearm.errors.SpacearmError` is answered with ``spacearm: error: ...`` and exit
-status 2.
+Every error a user can cause is answered with ``spacearm: error: ...`` on stderr and exit status
+2, never a traceback: a :class:`~spacearm.errors.SpacearmError`, and an error of the file system
+(a missing or read-only directory, a directory where a file is expected, a full disk), named
+with its path. Ctrl-C exits with status 130 and one line.
 """
 
 from __future__ import annotations
@@ -27,9 +29,32 @@ from . import plan as cli_plan
 from . import simulate as cli_simulate
 from .model_options import MODEL_HELP, add_model_arguments, load_model, model_from_args
 from .numbers import attach_negative_values
+from .._util.atomic import check_writable
 from ..errors import SpacearmError
 
-__all__ = ["main", "load_model", "add_model_arguments", "model_from_args", "MODEL_HELP"]
+__all__ = ["main", "load_model", "add_model_arguments", "model_from_args", "MODEL_HELP", "describe_os_error"]
+
+
+#: The options of each subcommand that name a file to write: checked before the command
+#: computes anything (:func:`spacearm._util.atomic.check_writable`).
+OUTPUT_OPTIONS = {
+    "simulate": ("out", "csv", "plot", "animate"),
+    "campaign": ("out", "plot"),
+    "analyze": ("out",),
+    "derive": ("latex", "python", "c"),
+    "capture": ("out", "plot"),
+    "plan": ("out", "plot"),
+}
+
+
+def describe_os_error(exc: OSError) -> str:
+    """An ``OSError`` as one line naming the path: ``cannot use 'out/run.csv': No space left on
+    device`` (Python's own text repeats the errno and quotes a temporary name)."""
+    reason = exc.strerror or str(exc)
+    if exc.filename is not None:
+        return f"cannot use '{os.fsdecode(exc.filename)}': {reason}"
+    return reason
+
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(
@@ -48,6 +73,9 @@ def main(argv=None) -> int:
     # "--target -0.3,0.3,0" would be read as two options: pass such values as "--target=-0.3,...".
     args = parser.parse_args(attach_negative_values(sys.argv[1:] if argv is None else argv))
     try:
+        for option in OUTPUT_OPTIONS.get(args.command, ()):
+            if getattr(args, option, None):
+                check_writable(getattr(args, option))
         if args.command == "inspect":
             cli_inspect.run(args, model_from_args)
         elif args.command == "derive":
@@ -70,6 +98,16 @@ def main(argv=None) -> int:
         # Point stdout at devnull so the interpreter's final flush cannot raise again.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except OSError as exc:
+        print(f"spacearm: error: {describe_os_error(exc)}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print("spacearm: error: out of memory (a smaller request: fewer samples, a coarser grid, a smaller model)",
+              file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("spacearm: interrupted", file=sys.stderr)
+        return 130
     return 0
 
 

@@ -1,6 +1,11 @@
 """``spacearm inspect MODEL [--q Q1,Q2,...]``: the model summary (bodies, joints, total mass)
 and, at the given or initial configuration, ``H0``, ``H*`` and the end-effector ``J*`` with
 their conditioning. Registered in :mod:`spacearm.cli`.
+
+Above :data:`FULL_REPORT_MAX_DOF` joints the dense part is left out: printing the N×N ``H*``
+and taking SVDs of it costs O(N²) text and O(N³) time (a 10,000-joint model took more than five
+minutes), so a large model gets its summary table and ``H0`` (from the closed-form ``H0⁻¹`` of
+eqs. 52–61, O(N)) with a line saying how to get the rest from Python.
 """
 
 from __future__ import annotations
@@ -12,7 +17,10 @@ import numpy as np
 from .model_options import add_model_arguments, joint_values
 from ..model.robot import Robot
 
-__all__ = ["add_parser", "run", "inspect"]
+__all__ = ["add_parser", "run", "inspect", "FULL_REPORT_MAX_DOF"]
+
+#: Models with more joints than this get the summary and ``H0`` only (module docstring).
+FULL_REPORT_MAX_DOF = 50
 
 
 def add_parser(sub) -> None:
@@ -65,6 +73,16 @@ def inspect(robot: Robot, q=None, out=None) -> None:
     qs = ", ".join(f"{v:.4g}" for v in x[7:])
     w(f"\nconfiguration: base at the origin aligned with the inertial frame, q = [{qs}]\n\n")
     np.set_printoptions(linewidth=160)
+    if robot.n_dof > FULL_REPORT_MAX_DOF:
+        h0 = np.linalg.inv(robot.base_inertia_inverse(x))
+        h0 = 0.5 * (h0 + h0.T)
+        w(_matrix("H0 (base inertia, eq. 30; inverse of the closed-form H0^-1, eqs. 52-61)", h0,
+                  "kg | kg m | kg m^2 blocks") + "\n\n")
+        w(f"H* ({robot.n_dof}x{robot.n_dof}) and J* are not printed for models of more than {FULL_REPORT_MAX_DOF} joints; "
+          "in Python: robot.generalized_inertia(x), robot.generalized_jacobian(x)\n\n")
+        w("conditioning:\n")
+        w(_conditioning("H0", h0) + "\n")
+        return
     h0 = robot.inertia_blocks(x).H0
     w(_matrix("H0 (base inertia, eq. 30)", h0, "kg | kg m | kg m^2 blocks") + "\n\n")
     if robot.n_dof > 0:

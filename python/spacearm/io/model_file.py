@@ -33,11 +33,11 @@ Every problem with a file raises :class:`~spacearm.ModelFileError` (a
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 from typing import Union
 
 from .. import _core
+from .._util.atomic import write_text
 from ..errors import ModelFileError, SpacearmTypeError
 from ..model.robot import Robot, warn_nonphysical_inertia
 
@@ -88,27 +88,5 @@ def dumps_toml(robot: Robot) -> str:
 def save_toml(robot: Robot, path: PathLike) -> Path:
     """Write the model to ``path`` atomically: the text goes to a temporary file in the same
     directory, is flushed to disk, and then replaces ``path`` in one step, so an interrupted
-    run never leaves a truncated file. Returns the path written."""
-    text = dumps_toml(robot)
-    path = Path(path)
-    directory = path.parent if str(path.parent) else Path(".")
-    # Keep the mode of a file being replaced; a new file gets the usual rw-r--r--.
-    try:
-        mode = path.stat().st_mode & 0o777
-    except OSError:
-        mode = 0o644
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
-    try:
-        os.chmod(tmp, mode)
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as f:
-            f.write(text)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
-    return path
+    run never leaves a truncated file (:mod:`spacearm._util.atomic`). Returns the path written."""
+    return write_text(path, dumps_toml(robot))

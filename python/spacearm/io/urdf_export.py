@@ -17,12 +17,11 @@ the file back reproduces the model to rounding (rotations go through roll-pitch-
 from __future__ import annotations
 
 import math
-import os
-import tempfile
 import xml.etree.ElementTree as ET
 
 import numpy as np
 
+from .._util.atomic import write_text
 from ..rotations import quat_to_matrix
 
 __all__ = ["to_urdf", "save_urdf"]
@@ -93,17 +92,6 @@ def to_urdf(robot) -> str:
 
 
 def save_urdf(robot, path) -> None:
-    """Write :func:`to_urdf` to ``path`` atomically (temporary file, flush, rename)."""
-    path = os.fspath(path)
-    text = to_urdf(robot)
-    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), suffix=".urdf.tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    """Write :func:`to_urdf` to ``path`` atomically (:mod:`spacearm._util.atomic`: temporary
+    file, flush, rename; the mode of a normal file)."""
+    write_text(path, to_urdf(robot), suffix=".urdf")

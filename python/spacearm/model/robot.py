@@ -95,6 +95,10 @@ class Robot:
         self._m = core_model
         # Named points resolved once (the model is immutable): name or None -> (body, offset).
         self._points = {}
+        # The repr, made once: it must work even while a call into the extension holds the
+        # model (an error message that shows a Robot passed where an array was expected).
+        self._repr = (f"<Robot '{core_model.name}': {core_model.n_bodies} bodies, N = {core_model.n_dof}, "
+                      f"total mass {core_model.total_mass:.6g} kg>")
 
     # ---- construction -------------------------------------------------------------------
     @staticmethod
@@ -279,7 +283,7 @@ class Robot:
         raise ShapeError(f"a point is a point name, a body name, or (body, offset), got {point!r}")
 
     def __repr__(self) -> str:
-        return f"<Robot '{self.name}': {self.n_bodies} bodies, N = {self.n_dof}, total mass {self.total_mass:.6g} kg>"
+        return self._repr
 
     # ---- states ---------------------------------------------------------------------------
     def neutral_configuration(self, q=None, r0=(0.0, 0.0, 0.0), quat0=(0.0, 0.0, 0.0, 1.0)) -> np.ndarray:

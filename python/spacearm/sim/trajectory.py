@@ -27,6 +27,7 @@ from typing import Dict, Iterable, List, NamedTuple, Optional, Union
 import numpy as np
 
 from .._util.atomic import atomic_open
+from .._util.npz import open_npz
 from ..errors import ArgumentError, NotFoundError, ShapeError, SpacearmTypeError
 
 __all__ = ["Trajectory", "SaturationEvent", "SATURATION_KINDS", "quats_to_matrices", "euler_from_matrices"]
@@ -583,13 +584,8 @@ class Trajectory:
     def load(cls, path: PathLike, robot=None) -> "Trajectory":
         """Read a file written by :meth:`save`. The robot is rebuilt from the embedded model
         unless ``robot`` is given (it must have the same number of joints)."""
-        try:
-            with np.load(path, allow_pickle=False) as z:
-                files = {k: z[k] for k in z.files}
-        except (OSError, ValueError) as exc:
-            if isinstance(exc, FileNotFoundError):
-                raise
-            raise ArgumentError(f"{path}: not a spacearm trajectory file ({exc})") from None
+        with open_npz(path, "spacearm trajectory") as files:
+            files = dict(files)
         fmt = str(files.pop("__format__", ""))
         if fmt != FILE_FORMAT:
             raise ArgumentError(f"{path}: not a spacearm trajectory file (format tag {fmt!r}, expected {FILE_FORMAT!r})")

@@ -8,13 +8,12 @@ wrapper turns the world state ``(x, u)`` into ``(q, u_b = Tᵀu)`` and rotates t
 
 from __future__ import annotations
 
-import os
 import re
-import tempfile
 from typing import List, Tuple
 
 import sympy as sp
 
+from .._util.atomic import write_text
 from .derivation import Derivation, Quantity
 
 __all__ = ["Kernel", "kernel", "identifier", "write_atomic"]
@@ -45,18 +44,6 @@ def kernel(d: Derivation, q: Quantity) -> Kernel:
 
 
 def write_atomic(path: str, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file in the same directory and
-    ``os.replace``, so an interrupted run never leaves a truncated file."""
-    directory = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=os.path.basename(path), dir=directory)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the file ordinary permissions
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    """Write ``text`` to ``path`` atomically (:mod:`spacearm._util.atomic`), so an interrupted
+    run never leaves a truncated file."""
+    write_text(path, text)

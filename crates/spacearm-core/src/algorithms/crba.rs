@@ -19,14 +19,16 @@ use crate::math::spatial::{add6_assign, dot6, mul6};
 /// `data.mass_matrix` and the composite inertias in `data.subtree_inertia`.
 pub fn crba<'d>(model: &Model, data: &'d mut Data, x: &[f64]) -> Result<&'d DMatrix<f64>> {
     forward_kinematics(model, data, x)?;
-    crba_after_kinematics(model, data, true);
+    crba_after_kinematics(model, data, true)?;
     Ok(&data.mass_matrix)
 }
 
 /// CRBA on the kinematics already in `data`, for any scalar. With `joint_block == false` only the base rows and
 /// columns `[H0, H0m]` (and their transpose) are filled, in O(N): that is all the momentum map
-/// and `J*` need; the joint block `H_m` is then left stale.
-pub(crate) fn crba_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>, joint_block: bool) {
+/// and `J*` need; the joint block `H_m` is then left stale. Sizes `data.mass_matrix` on first
+/// use (refused by [`crate::admission`] when too large).
+pub(crate) fn crba_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>, joint_block: bool) -> Result<()> {
+    data.ensure_mass_matrix()?;
     let nb = model.n_bodies();
     let nu = model.nu();
     data.subtree_inertia[..nb].copy_from_slice(&data.spatial_inertia[..nb]);
@@ -64,4 +66,5 @@ pub(crate) fn crba_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>,
     }
     let h0 = data.subtree_inertia[0];
     data.mass_matrix.fixed_view_mut::<6, 6>(0, 0).copy_from(&h0);
+    Ok(())
 }

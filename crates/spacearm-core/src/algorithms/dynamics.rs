@@ -30,7 +30,8 @@ pub fn compute_forward_dynamics_via_mass_matrix<'d>(
     }
     // c − Jᵀ w_ext is the inverse dynamics at zero acceleration (left in data.tau).
     rnea_after_kinematics(model, data, u, None, external);
-    crba_after_kinematics(model, data, true);
+    crba_after_kinematics(model, data, true)?;
+    data.ensure_factor()?;
     let nu = model.nu();
     let mut factor = std::mem::take(&mut data.factor);
     factor.copy_from(&data.mass_matrix);

@@ -50,11 +50,37 @@ impl InertiaBlocks {
     }
 }
 
+/// Admission control of [`inertia_blocks`]: its arithmetic (Σ depth² over the links) and its
+/// N² block `H_m` plus the `(6+N)²` matrix a caller assembles from it.
+fn admit_paper_form(model: &Model) -> Result<()> {
+    let remedy = "use the CRBA mass matrix (method=\"crba\", the same H in O(N·depth)) or a smaller model";
+    let n = model.n_dof() as f64;
+    crate::admission::admit(
+        &format!("the paper-form inertia blocks of N = {}", model.n_dof()),
+        crate::admission::bytes_of::<f64>(n * n + (n + 6.0) * (n + 6.0)),
+        remedy,
+    )?;
+    // Joints on the path from the base to each body (parents come first).
+    let mut depth = vec![0usize; model.n_bodies()];
+    let mut operations = 0.0;
+    for b in 1..model.n_bodies() {
+        let parent = model.links()[b - 1].parent;
+        depth[b] = depth[parent] + usize::from(model.dof_of_body(b).is_some());
+        operations += (depth[b] * depth[b]) as f64;
+    }
+    crate::admission::admit_work(&format!("the paper-form inertia blocks of N = {}", model.n_dof()), operations, remedy)
+}
+
 /// Compute every inertia block by the paper's Jacobian sums at configuration `x`.
 ///
 /// The sums run only over the non-zero columns of each link's Jacobians (the joints on the path
-/// from the base to the link, eqs. 20–21); nothing is allocated but the returned blocks.
+/// from the base to the link, eqs. 20–21); nothing is allocated but the returned blocks. The
+/// cost is Σ over links of (joints on its path)², N³/3 on a serial chain: a request beyond
+/// [`crate::admission::WORK_LIMIT`] (a chain of about 2,300 joints) or whose `H_m` exceeds the
+/// memory limit is refused ([`crate::SpacearmError::ResourceLimit`]); CRBA computes the same
+/// matrix in O(N·depth).
 pub fn inertia_blocks(model: &Model, data: &mut Data, x: &[f64]) -> Result<InertiaBlocks> {
+    admit_paper_form(model)?;
     forward_kinematics(model, data, x)?;
     let n = model.n_dof();
     let r0 = data.base_position;

@@ -104,12 +104,13 @@ pub fn joint_grid(lower: &[f64], upper: &[f64], resolution: usize) -> Result<Vec
     if let Some(i) = (0..n).find(|&i| lower[i] > upper[i]) {
         return Err(SpacearmError::InvalidArgument(format!("joint {i}: the grid needs lower <= upper, got [{}, {}]", lower[i], upper[i])));
     }
+    // Admission: the grid (N values per sample) and the scan's results (one ScanSample each).
     let total = (resolution as f64).powi(n as i32);
-    if total > 5.0e7 {
-        return Err(SpacearmError::InvalidArgument(format!(
-            "a grid of {resolution}^{n} = {total:.3e} samples is too large (limit 5e7): lower the resolution or sample randomly"
-        )));
-    }
+    crate::admission::admit(
+        &format!("a joint grid of {resolution}^{n} = {total:.3e} samples and its scan"),
+        total * (crate::admission::bytes_of::<f64>(n as f64) + std::mem::size_of::<ScanSample>() as f64),
+        "lower the resolution, or scan random samples instead",
+    )?;
     let m = resolution.pow(n as u32);
     let mut out = vec![0.0; m * n];
     for s in 0..m {

@@ -184,7 +184,7 @@ impl Controller for CoordinatedFlying {
         let acc_ang = -e_att * g.kp_base - w0 * g.kd_base;
         // 2. End-effector task: kinematics, velocity and u̇ = 0 acceleration of the point.
         forward_kinematics(model, data, x)?;
-        crba_after_kinematics(model, data, false);
+        crba_after_kinematics(model, data, false)?;
         rnea_after_kinematics(model, data, u, None, &[]);
         let p = point_position(data, self.body, &self.offset);
         let d = p - data.base_position;

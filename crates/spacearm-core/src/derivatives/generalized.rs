@@ -20,13 +20,21 @@ pub fn generalized_inertia_partials<'w>(model: &Model, work: &'w mut DerivativeD
     let pose = Pose::new(model, x)?;
     forward_kinematics(model, &mut work.data, x)?;
     let n = model.n_dof();
+    if work.generalized_inertia_partials.len() != n {
+        crate::admission::admit(
+            &format!("generalized_inertia_partials (N³ = {n}³ values)"),
+            crate::admission::bytes_of::<f64>((n as f64).powi(3)),
+            "use generalized_inertia_derivative (Ḣ* along one velocity, N² values) or a smaller model",
+        )?;
+        work.generalized_inertia_partials = vec![DMatrix::zeros(n, n); n];
+    }
     let dirs = &work.joint_dirs;
     for (c, chunk) in dirs.chunks(CHUNK).enumerate() {
         seed_chunk_from_kinematics(model, &work.data, &mut work.chunk, &pose, None, chunk);
         let data = &mut work.chunk.data;
         let inv = reduce_after_kinematics(model, data, true)?;
         reduction_columns(model, data, &inv);
-        fill_generalized_inertia(model, data, &inv, false);
+        fill_generalized_inertia(model, data, &inv, false)?;
         let hs = &data.generalized_inertia;
         for j in 0..n {
             for i in 0..=j {
@@ -51,7 +59,7 @@ pub fn generalized_inertia_derivative<'w>(model: &Model, work: &'w mut Derivativ
     let data = &mut work.single.data;
     let inv = reduce_after_kinematics(model, data, true)?;
     reduction_columns(model, data, &inv);
-    fill_generalized_inertia(model, data, &inv, false);
+    fill_generalized_inertia(model, data, &inv, false)?;
     for (out, v) in work.generalized_inertia_derivative.iter_mut().zip(data.generalized_inertia.iter()) {
         *out = v.eps;
     }
@@ -82,7 +90,7 @@ pub fn generalized_jacobian_partials<'w>(
         seed_chunk(model, &mut work.chunk, &pose, None, chunk);
         let data = &mut work.chunk.data;
         let inv = reduce_after_kinematics(model, data, false)?;
-        generalized_jacobian_after_reduction(model, data, &inv, body, offset);
+        generalized_jacobian_after_reduction(model, data, &inv, body, offset)?;
         let js = &data.generalized_jacobian;
         for j in 0..n {
             for i in 0..6 {
@@ -114,7 +122,7 @@ pub fn generalized_jacobian_derivative<'w>(
     seed_along_velocity(model, &mut work.single, &pose, u);
     let data = &mut work.single.data;
     let inv = reduce_after_kinematics(model, data, false)?;
-    generalized_jacobian_after_reduction(model, data, &inv, body, offset);
+    generalized_jacobian_after_reduction(model, data, &inv, body, offset)?;
     for (out, v) in work.generalized_jacobian_derivative.iter_mut().zip(data.generalized_jacobian.iter()) {
         *out = v.eps;
     }

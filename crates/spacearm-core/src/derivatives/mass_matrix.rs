@@ -19,15 +19,23 @@ use crate::model::Model;
 pub fn mass_matrix_partials<'w>(model: &Model, work: &'w mut DerivativeData, x: &[f64]) -> Result<&'w [DMatrix<f64>]> {
     let pose = Pose::new(model, x)?;
     forward_kinematics(model, &mut work.data, x)?;
+    let nu = model.nu();
+    if work.mass_matrix_partials.len() != nu {
+        crate::admission::admit(
+            &format!("mass_matrix_partials ((6+N)³ = {nu}³ values)"),
+            crate::admission::bytes_of::<f64>((nu as f64).powi(3)),
+            "use mass_matrix_derivative (Ḣ along one velocity, (6+N)² values) or a smaller model",
+        )?;
+        work.mass_matrix_partials = vec![DMatrix::zeros(nu, nu); nu];
+    }
     let dirs = &work.config_dirs;
     for k in 0..3 {
         work.mass_matrix_partials[k].fill(0.0);
     }
     for chunk in dirs.chunks(CHUNK) {
         seed_chunk_from_kinematics(model, &work.data, &mut work.chunk, &pose, None, chunk);
-        crba_after_kinematics(model, &mut work.chunk.data, true);
+        crba_after_kinematics(model, &mut work.chunk.data, true)?;
         let h = &work.chunk.data.mass_matrix;
-        let nu = model.nu();
         for j in 0..nu {
             for i in 0..=j {
                 let e = lanes(&h[(i, j)]);
@@ -49,7 +57,7 @@ pub fn mass_matrix_partials<'w>(model: &Model, work: &'w mut DerivativeData, x: 
 pub fn mass_matrix_derivative<'w>(model: &Model, work: &'w mut DerivativeData, x: &[f64], u: &[f64]) -> Result<&'w DMatrix<f64>> {
     let pose = pose_and_velocity(model, x, u)?;
     seed_along_velocity(model, &mut work.single, &pose, u);
-    crba_after_kinematics(model, &mut work.single.data, true);
+    crba_after_kinematics(model, &mut work.single.data, true)?;
     let h = &work.single.data.mass_matrix;
     for (out, v) in work.mass_matrix_derivative.iter_mut().zip(h.iter()) {
         *out = v.eps;

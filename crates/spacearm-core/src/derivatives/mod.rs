@@ -340,7 +340,20 @@ pub struct DerivativeData {
 }
 
 impl DerivativeData {
-    /// Allocate the workspace and results for `model`.
+    /// Admit the workspace of [`DerivativeData::new`] for `model` (its dense matrices take
+    /// about 13 (6+N)² values; the two tensors of partials, (6+N)³ and N³ values, are sized by
+    /// their functions on first use and admitted there), or refuse it with
+    /// [`crate::SpacearmError::ResourceLimit`].
+    pub fn admit(model: &Model) -> Result<()> {
+        let nu = model.nu() as f64;
+        crate::admission::admit(
+            &format!("the derivative workspace of a model with N = {}", model.n_dof()),
+            crate::admission::bytes_of::<f64>(13.0 * nu * nu + 6.0 * nu * nu),
+            "use finite differences of forward_dynamics (O(N) per call with ABA) or a smaller model",
+        )
+    }
+
+    /// Allocate the workspace and results for `model` (see [`DerivativeData::admit`]).
     pub fn new(model: &Model) -> Self {
         let n = model.n_dof();
         let nu = model.nu();
@@ -348,9 +361,9 @@ impl DerivativeData {
             data: Data::new(model),
             chunk: DualWork::new(model),
             single: DualWork::new(model),
-            mass_matrix_partials: vec![DMatrix::zeros(nu, nu); nu],
+            mass_matrix_partials: Vec::new(),
             mass_matrix_derivative: DMatrix::zeros(nu, nu),
-            generalized_inertia_partials: vec![DMatrix::zeros(n, n); n],
+            generalized_inertia_partials: Vec::new(),
             generalized_inertia_derivative: DMatrix::zeros(n, n),
             generalized_jacobian_partials: vec![DMatrix::zeros(6, n); nu],
             generalized_jacobian_derivative: DMatrix::zeros(6, n),

@@ -34,7 +34,7 @@
 //! the semantic ones (unknown parent, negative mass, ...) name the link, joint or point and
 //! point at the offending value. No input makes this module panic.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 use std::ops::Range;
 
@@ -326,9 +326,27 @@ pub fn model_from_toml_str(text: &str, source: &str) -> Result<Model> {
 /// As [`model_from_toml_str`], choosing what an inertia that breaks the triangle inequality
 /// does (refused, or accepted with a warning: see [`TriangleInequality`]).
 pub fn model_from_toml_str_with(text: &str, source: &str, triangle_inequality: TriangleInequality) -> Result<Model> {
+    admit_document(text, source)?;
     let ctx = Ctx { text, source };
     let doc: FileDoc = toml::from_str(text).map_err(|e| ctx.at(e.span(), e.message()))?;
     build(&ctx, doc, triangle_inequality)
+}
+
+/// Memory the TOML parser takes per value of the document (its tree of spanned values), bytes:
+/// measured at about 260 for a long array of numbers.
+const PARSE_BYTES_PER_VALUE: f64 = 256.0;
+
+/// Admission control of a document ([`crate::admission`]): the parser's tree holds every value
+/// at once, so a huge array (an `initial_q` of 10⁷ entries) would take gigabytes before any
+/// rule could refuse it. The values are counted from the separators (`,` and `=`, an upper
+/// bound), in one pass over the text.
+fn admit_document(text: &str, source: &str) -> Result<()> {
+    let values = text.bytes().filter(|&b| b == b',' || b == b'=').count() + 1;
+    crate::admission::admit(
+        &format!("{source}: parsing about {values} values"),
+        values as f64 * PARSE_BYTES_PER_VALUE,
+        "a model file holds at most a few million values (a 10⁵-link model has about 3·10⁶); check that the file is a model",
+    )
 }
 
 /// Read a model file (UTF-8 TOML). I/O and decoding errors are [`SpacearmError::Parse`] too.
@@ -492,14 +510,16 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
         }
     }
 
-    // [[link]]s, parents first.
+    // [[link]]s, parents first. `known` mirrors `at.bodies` as a set, so that checking a parent
+    // costs O(1) and a file of N links reads in O(N).
+    let mut known: HashSet<String> = at.bodies.iter().map(|(n, _)| n.clone()).collect();
     let all_links: HashMap<&str, (usize, &str)> =
         doc.link.iter().enumerate().map(|(k, l)| (l.get_ref().name.get_ref().as_str(), (k, l.get_ref().parent.get_ref().as_str()))).collect();
     for (k, ld) in doc.link.iter().enumerate() {
         let l = ld.get_ref();
         let name = l.name.get_ref();
         let parent = l.parent.get_ref();
-        if !at.bodies.iter().any(|(n, _)| n == parent) {
+        if !known.contains(parent.as_str()) {
             return Err(ctx.err(&sp(&l.parent), missing_parent(ctx, &doc, &all_links, k, &at.bodies)));
         }
         let j = l.joint.get_ref();
@@ -545,6 +565,7 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
             ],
         });
         at.bodies.push((name.clone(), sp(&l.name)));
+        known.insert(name.clone());
         at.joints.push((spec.joint_name.clone().unwrap_or_else(|| format!("{name}_joint")), joint_span));
         builder.add_link(spec).map_err(|e| at.err(e))?;
     }

@@ -9,9 +9,17 @@ use crate::error::{ModelError, ModelField, ModelItem};
 /// an inertia tensor, scaled by its largest principal moment.
 pub const INERTIA_TOLERANCE: f64 = 1e-9;
 
-/// Largest magnitude accepted for an inertia entry, kg·m². Anything larger is certainly a
-/// units mistake, and it would overflow the eigenvalue analysis that checks the tensor.
-pub const MAX_INERTIA_ENTRY: f64 = 1e100;
+/// Smallest non-zero mass of a body, kg (a microgram; a massless link, mass 0, is allowed).
+pub const MIN_MASS: f64 = 1e-9;
+
+/// Largest mass of a body, kg (10⁹ t, far above any spacecraft). Larger masses are a units
+/// mistake, and near the top of the floats they make the mass matrix non-finite.
+pub const MAX_MASS: f64 = 1e12;
+
+/// Largest magnitude accepted for an inertia entry, kg·m²: a body of [`MAX_MASS`] with its mass
+/// [`crate::model::validate::MAX_LENGTH`] from its CM. Anything larger is certainly a units
+/// mistake.
+pub const MAX_INERTIA_ENTRY: f64 = MAX_MASS * crate::model::validate::MAX_LENGTH * crate::model::validate::MAX_LENGTH;
 
 /// The option that loads inertias breaking the triangle inequality, by the name it has in Rust,
 /// Python (keyword argument) and, with dashes, on the command line. The refusal names it.
@@ -43,7 +51,7 @@ pub struct MassProperties {
 
 impl MassProperties {
     /// Build and validate: the mass finite and `>= 0` (`> 0` for the base, whose CM defines the
-    /// base frame), the inertia finite, at most [`MAX_INERTIA_ENTRY`] in magnitude, symmetric,
+    /// base frame) and, unless zero, within [`MIN_MASS`]..=[`MAX_MASS`], the inertia finite, at most [`MAX_INERTIA_ENTRY`] in magnitude, symmetric,
     /// positive semi-definite (definite for the base) and obeying the triangle inequality.
     /// `item` and `who` say which body it is, in the error's location and message.
     pub fn new(item: ModelItem, who: &str, mass: f64, inertia: Matrix3<f64>, require_positive_mass: bool) -> Result<Self, ModelError> {
@@ -71,6 +79,11 @@ impl MassProperties {
         }
         if mass < 0.0 {
             return Err(mass_error(format!("{who}: mass must be >= 0 kg, got {mass}")));
+        }
+        if mass != 0.0 && !(MIN_MASS..=MAX_MASS).contains(&mass) {
+            return Err(mass_error(format!(
+                "{who}: mass {mass:e} kg is outside the physical range [{MIN_MASS:e}, {MAX_MASS:e}] kg (or 0 for a massless link; check the units)"
+            )));
         }
         for v in inertia.iter() {
             if !v.is_finite() {
@@ -159,9 +172,20 @@ mod tests {
         assert!(MassProperties::new(ModelItem::Base, "b", 1.0, huge, false).unwrap_err().to_string().contains("finite"));
         let huge = Matrix3::from_diagonal(&nalgebra::Vector3::new(1e200, 1e200, 1e200));
         assert!(MassProperties::new(ModelItem::Base, "b", 1.0, huge, false).unwrap_err().to_string().contains("exceeds"));
-        // Just below the magnitude limit: a valid tensor.
-        let big = Matrix3::from_diagonal(&nalgebra::Vector3::new(1e100, 1e100, 1e100));
+        // At the magnitude limit (1e12 kg at 1e6 m: 1e24 kg·m²): a valid tensor; just above, refused.
+        let big = Matrix3::from_diagonal(&nalgebra::Vector3::new(1e24, 1e24, 1e24));
         assert!(MassProperties::new(ModelItem::Base, "b", 1.0, big, false).is_ok());
+        let over = Matrix3::from_diagonal(&nalgebra::Vector3::new(1.1e24, 1.1e24, 1.1e24));
+        assert!(MassProperties::new(ModelItem::Base, "b", 1.0, over, false).unwrap_err().to_string().contains("exceeds"));
+        // Masses: 0 (a massless link) and the bounds themselves accepted; outside them refused.
+        for m in [0.0, MIN_MASS, 1.0, MAX_MASS] {
+            assert!(MassProperties::new(ModelItem::Link(0), "l", m, ok, false).is_ok(), "{m}");
+        }
+        for m in [1e-12, 0.9e-9, 1.1e12, 1e308] {
+            let e = MassProperties::new(ModelItem::Link(0), "l", m, ok, false).unwrap_err();
+            assert_eq!(e.field, ModelField::Mass);
+            assert!(e.to_string().contains("physical range"), "{e}");
+        }
         let e = MassProperties::new(ModelItem::Link(2), "l", -1.0, ok, false).unwrap_err();
         assert_eq!((e.item, e.field), (ModelItem::Link(2), ModelField::Mass));
         let e = MassProperties::new(ModelItem::Link(2), "l", 1.0, tri, false).unwrap_err();

@@ -2,6 +2,8 @@
 //! `RobotBuilder` and URDF loader through the bindings, the TOML reader, the DH converter — so
 //! every rule of [`crate::model::validate`] is applied once, the same way, whatever the source.
 
+use std::collections::{HashMap, HashSet};
+
 use nalgebra::Matrix3;
 
 use crate::error::{ModelError, ModelField, ModelItem};
@@ -50,6 +52,11 @@ pub struct ModelBuilder {
     points: Vec<Point>,
     end_effector: Option<String>,
     initial_q: Option<Vec<f64>>,
+    /// Body index by name (base 0), point and joint names: name look-ups in O(1), so that a
+    /// model of N items builds in O(N).
+    body_by_name: HashMap<String, usize>,
+    point_names: HashSet<String>,
+    joint_names: HashSet<String>,
     triangle_inequality: TriangleInequality,
     /// Warnings of the bodies accepted under [`TriangleInequality::Warn`].
     inertia_warnings: Vec<String>,
@@ -87,6 +94,9 @@ impl ModelBuilder {
             points: Vec::new(),
             end_effector: None,
             initial_q: None,
+            body_by_name: HashMap::from([(base_name.to_string(), 0)]),
+            point_names: HashSet::new(),
+            joint_names: HashSet::new(),
             triangle_inequality,
             inertia_warnings: warning.into_iter().collect(),
         })
@@ -99,10 +109,7 @@ impl ModelBuilder {
 
     /// Index of the body called `name` among those added so far.
     fn body_index(&self, name: &str) -> Option<usize> {
-        if name == self.base_name {
-            return Some(0);
-        }
-        self.links.iter().position(|l| l.name == name).map(|k| k + 1)
+        self.body_by_name.get(name).copied()
     }
 
     /// Add a link attached to a body added before (its parent).
@@ -124,22 +131,22 @@ impl ModelBuilder {
                 ),
             )
         })?;
-        validate::finite_vector(item, ModelField::Origin, &who, "joint origin", &spec.origin_in_parent)?;
-        validate::finite_vector(item, ModelField::Com, &who, "com", &spec.com_from_joint)?;
+        validate::position(item, ModelField::Origin, &who, "joint origin", &spec.origin_in_parent)?;
+        validate::position(item, ModelField::Com, &who, "com", &spec.com_from_joint)?;
         let axis = validate::joint_axis(item, &who, spec.kind, &spec.axis)?;
         let rotation = validate::joint_rotation(item, &who, &spec.rotation_in_parent)?;
         let joint_name = spec.joint_name.clone().unwrap_or_else(|| format!("{}_joint", spec.name));
-        validate::new_link_names(
-            item,
-            &spec.name,
-            &joint_name,
-            self.body_names().into_iter(),
-            self.points.iter().map(|p| p.name.as_str()),
-            self.links.iter().map(|l| l.joint.name.as_str()),
-        )?;
+        let taken = validate::NamesTaken {
+            by_body: self.body_by_name.contains_key(&spec.name),
+            by_point: self.point_names.contains(&spec.name),
+            joint_by_joint: self.joint_names.contains(&joint_name),
+        };
+        validate::new_link_names(item, &spec.name, &joint_name, taken)?;
         validate::joint_limits(item, &format!("joint '{joint_name}' of link '{}'", spec.name), &spec.limits)?;
         let (mass, warning) = MassProperties::checked(item, &who, spec.mass, matrix3(&spec.inertia), false, self.triangle_inequality)?;
         self.inertia_warnings.extend(warning);
+        self.body_by_name.insert(spec.name.clone(), self.links.len() + 1);
+        self.joint_names.insert(joint_name);
         self.links.push(Link::from_spec(spec, parent, rotation, axis, mass));
         Ok(self)
     }
@@ -148,7 +155,7 @@ impl ModelBuilder {
     pub fn add_point(&mut self, name: &str, body: &str, offset: [f64; 3]) -> Result<&mut Self, ModelError> {
         let item = ModelItem::Point(self.points.len());
         validate::non_empty_name(item, ModelField::Name, "point name", name)?;
-        validate::new_point_name(item, name, self.body_names().into_iter().chain(self.points.iter().map(|p| p.name.as_str())))?;
+        validate::new_point_name(item, name, self.body_by_name.contains_key(name) || self.point_names.contains(name))?;
         let who = format!("point '{name}'");
         let b = self.body_index(body).ok_or_else(|| {
             ModelError::new(
@@ -157,7 +164,8 @@ impl ModelBuilder {
                 format!("{who}: body '{body}' is not a body of the model; bodies defined so far: {:?}", self.body_names()),
             )
         })?;
-        let offset = validate::finite_vector(item, ModelField::Offset, &who, "offset", &offset)?;
+        let offset = validate::position(item, ModelField::Offset, &who, "offset", &offset)?;
+        self.point_names.insert(name.to_string());
         self.points.push(Point { name: name.to_string(), body: b, offset });
         Ok(self)
     }

@@ -7,9 +7,18 @@
 //! The workspace is generic over the scalar ([`Real`]): users and the `f64` algorithms use
 //! [`Data`] `= DataT<T>`; [`crate::derivatives`] runs the same algorithms on a `DataT` of dual
 //! numbers.
+//!
+//! Memory: everything indexed by body or degree of freedom is allocated with the workspace
+//! (O(N)); the dense matrices (`mass_matrix`, `generalized_inertia`, `generalized_jacobian`
+//! and the factorization scratch) start empty and are sized by the first algorithm that needs
+//! them, after [`crate::admission`] has admitted their size. So a model of 10⁵ links builds and
+//! runs kinematics, RNEA and ABA in O(N) memory, and a dense request too large for the machine
+//! is refused with a clear error instead of aborting.
 
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 
+use crate::admission::{admit, bytes_of};
+use crate::error::Result;
 use crate::model::Model;
 use crate::math::scalar::Real;
 
@@ -51,16 +60,16 @@ pub struct DataT<T: Real> {
     /// ABA: `Dᵢ = Sᵢᵀ Uᵢ` and `uᵢ = τᵢ − Sᵢᵀ pᴬᵢ`.
     pub(crate) aba_d: Vec<T>,
     pub(crate) aba_small_u: Vec<T>,
-    /// Joint-space mass matrix `H` (6+N square), filled by CRBA. The routines that need only
+    /// Joint-space mass matrix `H` (6+N square; empty until the first CRBA), filled by CRBA. The routines that need only
     /// the base rows (`J*`, `c*`, the momentum map) refresh `[H0, H0m]` and leave `H_m` stale.
     pub mass_matrix: DMatrix<T>,
     /// Generalized force or acceleration result (6+N), filled by RNEA / ABA.
     pub tau: DVector<T>,
     /// Generalized acceleration `u̇` (6+N), filled by the forward-dynamics routines.
     pub accel: DVector<T>,
-    /// Generalized inertia matrix `H*` (N×N), filled by [`crate::gjm::compute_generalized_inertia`].
+    /// Generalized inertia matrix `H*` (N×N; empty until first filled), filled by [`crate::gjm::compute_generalized_inertia`].
     pub generalized_inertia: DMatrix<T>,
-    /// Generalized Jacobian `J*` (6×N), filled by [`crate::gjm::compute_generalized_jacobian`].
+    /// Generalized Jacobian `J*` (6×N; empty until first filled), filled by [`crate::gjm::compute_generalized_jacobian`].
     pub generalized_jacobian: DMatrix<T>,
     /// Generalized bias `c*` (N), filled by [`crate::gjm::compute_generalized_bias`].
     pub generalized_bias: DVector<T>,
@@ -100,19 +109,63 @@ impl<T: Real> DataT<T> {
             aba_u: vec![Vector6::zeros(); nb],
             aba_d: vec![T::zero(); nb],
             aba_small_u: vec![T::zero(); nb],
-            mass_matrix: DMatrix::zeros(nu, nu),
+            mass_matrix: DMatrix::zeros(0, 0),
             tau: DVector::zeros(nu),
             accel: DVector::zeros(nu),
-            generalized_inertia: DMatrix::zeros(nu - 6, nu - 6),
-            generalized_jacobian: DMatrix::zeros(6, nu - 6),
+            generalized_inertia: DMatrix::zeros(0, 0),
+            generalized_jacobian: DMatrix::zeros(0, 0),
             generalized_bias: DVector::zeros(nu - 6),
-            factor: DMatrix::zeros(nu, nu),
+            factor: DMatrix::zeros(0, 0),
             work_n: DVector::zeros(nu - 6),
             work_lin: vec![Vector3::zeros(); nu - 6],
             work_ang: vec![Vector3::zeros(); nu - 6],
             work_y: vec![Vector3::zeros(); nu - 6],
             work_dofs: Vec::with_capacity(nu - 6),
-            factor_n: DMatrix::zeros(nu - 6, nu - 6),
+            factor_n: DMatrix::zeros(0, 0),
         }
     }
+
+    /// The dimension `6+N` of the velocity space.
+    fn nu(&self) -> usize {
+        self.tau.len()
+    }
+
+    /// Size `data.mass_matrix` to `(6+N)²` (once; admitted first).
+    pub(crate) fn ensure_mass_matrix(&mut self) -> Result<()> {
+        let nu = self.nu();
+        ensure_dense::<T>(&mut self.mass_matrix, nu, nu, "the mass matrix H")
+    }
+
+    /// Size the `(6+N)²` factorization scratch (once; admitted first).
+    pub(crate) fn ensure_factor(&mut self) -> Result<()> {
+        let nu = self.nu();
+        ensure_dense::<T>(&mut self.factor, nu, nu, "the factorization of the mass matrix H")
+    }
+
+    /// Size `generalized_inertia` (or, with `into_factor`, its N² factorization scratch).
+    pub(crate) fn ensure_generalized_inertia(&mut self, into_factor: bool) -> Result<()> {
+        let n = self.nu() - 6;
+        let m = if into_factor { &mut self.factor_n } else { &mut self.generalized_inertia };
+        ensure_dense::<T>(m, n, n, "the generalized inertia matrix H*")
+    }
+
+    /// Size `generalized_jacobian` to 6×N (once).
+    pub(crate) fn ensure_generalized_jacobian(&mut self) -> Result<()> {
+        let n = self.nu() - 6;
+        ensure_dense::<T>(&mut self.generalized_jacobian, 6, n, "the generalized Jacobian J*")
+    }
+}
+
+/// Give `m` the shape `rows × cols` (zeros) unless it has it already, after admitting its size.
+fn ensure_dense<T: Real>(m: &mut DMatrix<T>, rows: usize, cols: usize, what: &str) -> Result<()> {
+    if m.shape() == (rows, cols) {
+        return Ok(());
+    }
+    admit(
+        &format!("{what} ({rows}×{cols})"),
+        bytes_of::<T>(rows as f64 * cols as f64),
+        "use the O(N) algorithms instead (ABA forward dynamics, RNEA, kinematics) or a smaller model",
+    )?;
+    *m = DMatrix::zeros(rows, cols);
+    Ok(())
 }

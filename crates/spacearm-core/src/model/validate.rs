@@ -37,40 +37,60 @@ pub fn non_empty_name(item: ModelItem, field: ModelField, what: &str, name: &str
     Ok(())
 }
 
+/// Which names are already given to a model under construction, as the caller looks them up
+/// (the builder keeps hash sets, so that checking a name costs O(1) and a model of N items
+/// builds in O(N)).
+pub struct NamesTaken {
+    /// The new item's name is already a body's (the base included).
+    pub by_body: bool,
+    /// The new item's name is already a point's.
+    pub by_point: bool,
+    /// The new link's joint name is already a joint's.
+    pub joint_by_joint: bool,
+}
+
 /// A new link's body and joint names must differ from every body, point and joint name given
-/// before (`bodies` includes the base).
-pub fn new_link_names<'a>(
-    item: ModelItem,
-    name: &str,
-    joint_name: &str,
-    mut bodies: impl Iterator<Item = &'a str>,
-    mut points: impl Iterator<Item = &'a str>,
-    mut joints: impl Iterator<Item = &'a str>,
-) -> Result<(), ModelError> {
-    if bodies.any(|b| b == name) {
+/// before.
+pub fn new_link_names(item: ModelItem, name: &str, joint_name: &str, taken: NamesTaken) -> Result<(), ModelError> {
+    if taken.by_body {
         return Err(ModelError::new(item, ModelField::Name, format!("body name '{name}' is used twice")));
     }
-    if points.any(|p| p == name) {
+    if taken.by_point {
         return Err(ModelError::new(item, ModelField::Name, format!("body name '{name}' is already used by a point")));
     }
-    if joints.any(|j| j == joint_name) {
+    if taken.joint_by_joint {
         return Err(ModelError::new(item, ModelField::JointName, format!("link '{name}': joint name '{joint_name}' is used twice")));
     }
     Ok(())
 }
 
-/// A new point's name must differ from every body and point name given before.
-pub fn new_point_name<'a>(item: ModelItem, name: &str, mut bodies_and_points: impl Iterator<Item = &'a str>) -> Result<(), ModelError> {
-    if bodies_and_points.any(|n| n == name) {
+/// A new point's name must differ from every body and point name given before (`taken`: it
+/// does not).
+pub fn new_point_name(item: ModelItem, name: &str, taken: bool) -> Result<(), ModelError> {
+    if taken {
         return Err(ModelError::new(item, ModelField::Name, format!("point name '{name}' is already used by a body or point")));
     }
     Ok(())
 }
 
-/// A 3-vector of a link or point must be finite.
-pub fn finite_vector(item: ModelItem, field: ModelField, who: &str, what: &str, v: &[f64; 3]) -> Result<Vector3<f64>, ModelError> {
+/// Largest magnitude of a length in a model (a joint origin, CM or point offset component, an
+/// initial joint coordinate), m: 1000 km, larger than any spacecraft. Larger values are a units
+/// mistake or garbage, and they ruin the numbers (at 1e150 m the mass matrix comes out
+/// indefinite, at 1e300 non-finite) without any error.
+pub const MAX_LENGTH: f64 = 1e6;
+
+/// A position 3-vector of a link or point (joint origin, CM, offset): finite, each component
+/// within [`MAX_LENGTH`] in magnitude.
+pub fn position(item: ModelItem, field: ModelField, who: &str, what: &str, v: &[f64; 3]) -> Result<Vector3<f64>, ModelError> {
     if v.iter().any(|x| !x.is_finite()) {
         return Err(ModelError::new(item, field, format!("{who}: {what} must be finite, got {v:?}")));
+    }
+    if let Some(x) = v.iter().find(|x| x.abs() > MAX_LENGTH) {
+        return Err(ModelError::new(
+            item,
+            field,
+            format!("{who}: {what} component {x:e} m exceeds {MAX_LENGTH:e} m in magnitude (check the units), got {v:?}"),
+        ));
     }
     Ok(Vector3::from(*v))
 }
@@ -200,6 +220,13 @@ pub fn check_structure(
     }
     if let Some(x) = initial_q.iter().find(|x| !x.is_finite()) {
         return Err(ModelError::new(ModelItem::Model, ModelField::InitialQ, format!("initial_q must be finite, got {x}")));
+    }
+    if let Some(x) = initial_q.iter().find(|x| x.abs() > MAX_LENGTH) {
+        return Err(ModelError::new(
+            ModelItem::Model,
+            ModelField::InitialQ,
+            format!("initial_q entry {x:e} exceeds {MAX_LENGTH:e} (m or rad) in magnitude"),
+        ));
     }
     Ok(())
 }

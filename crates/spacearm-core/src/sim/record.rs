@@ -42,6 +42,20 @@ impl Recorder {
         Recorder::new(plant.model(), capacity, &plant.wheels, c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
     }
 
+    /// Values recorded per sample by a recorder of [`Recorder::for_plant`].
+    pub(crate) fn values_per_sample_of(plant: &Plant<'_>) -> usize {
+        let c = &plant.controller;
+        Recorder::values_per_sample(plant.model(), plant.wheels.len(), c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
+    }
+
+    /// Values recorded per sample: the sum of the widths that [`Recorder::new`] reserves (keep
+    /// the two in step).
+    pub(crate) fn values_per_sample(model: &Model, n_wheels: usize, n_ref: usize, tracking: bool, attitude: bool) -> usize {
+        let (nx, nu, n) = (model.nx(), model.nu(), model.n_dof());
+        let ee = if model.end_effector().is_some() { 3 + 4 } else { 0 };
+        1 + nx + 2 * nu + 2 * n + 6 + 3 + 3 + 3 + 1 + 3 + ee + n_ref + usize::from(tracking) + usize::from(attitude) + n_wheels
+    }
+
     /// Buffers for `capacity` samples (reserved up front, so recording never reallocates).
     pub(crate) fn new(model: &Model, capacity: usize, wheels: &[usize], n_ref: usize, tracking: bool, attitude: bool) -> Self {
         let (nx, nu, n) = (model.nx(), model.nu(), model.n_dof());

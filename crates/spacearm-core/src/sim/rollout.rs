@@ -11,7 +11,8 @@ use rayon::prelude::*;
 use crate::control::Controller;
 use crate::error::{Result, SpacearmError};
 use crate::model::Model;
-use crate::sim::simulate::{simulate, SimOptions, SimResult};
+use crate::sim::record::Recorder;
+use crate::sim::simulate::{admit_records, sample_count, simulate, SimOptions, SimResult};
 
 /// The inputs of one rollout.
 pub struct RolloutSpec<'a> {
@@ -35,6 +36,11 @@ pub const MAX_THREADS: usize = 1024;
 /// succeeds or fails on its own. Nothing is printed or reported while the rollouts run.
 pub fn rollout(specs: Vec<RolloutSpec<'_>>, opts: &SimOptions, threads: Option<usize>) -> Result<Vec<Result<SimResult>>> {
     opts.validate()?;
+    // Admission of every rollout's records together (they are all held at the end), counting
+    // each model's own values per sample (the controller's few extra columns aside).
+    let values: f64 = specs.iter().map(|s| Recorder::values_per_sample(s.model, 0, 0, false, false) as f64).sum();
+    let samples = sample_count(opts) as f64;
+    admit_records(opts.integrator, samples * specs.len() as f64, values * samples)?;
     let run = move || -> Vec<Result<SimResult>> {
         specs.into_par_iter().with_max_len(1).map(|mut s| simulate(s.model, s.x0, s.u0, opts, s.controller.as_mut(), &mut |_| Ok(()))).collect()
     };

@@ -377,10 +377,31 @@ pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, contro
     opts.validate()?;
     check_initial_state(model, x0, u0)?;
     let plant = Plant::new(model, opts, controller)?;
+    let samples = sample_count(opts) as f64;
+    admit_records(opts.integrator, samples, samples * Recorder::values_per_sample_of(&plant) as f64)?;
     match opts.integrator {
         IntegratorKind::Rk4 => simulate_rk4(plant, x0, u0, opts, progress),
         IntegratorKind::Dopri5 => simulate_dopri5(plant, x0, u0, opts, progress),
     }
+}
+
+/// Admission control of recorded samples ([`crate::admission`]), the one check of every entry
+/// point that records ([`simulate`], [`crate::sim::rollout::rollout`], a recording
+/// [`Rk4Stepper`]): `samples` samples of `values` values in all, in `f64`, counted twice (the
+/// records and the copy a caller converts them into), refused before any buffer is reserved,
+/// with the way out for `integrator`.
+pub fn admit_records(integrator: IntegratorKind, samples: f64, values: f64) -> Result<()> {
+    let remedy = match integrator {
+        IntegratorKind::Rk4 => "record fewer samples (record_every > 1 keeps every k-th step), or simulate a shorter duration",
+        IntegratorKind::Dopri5 => {
+            "use a coarser output grid (dt is DOPRI5's output interval; the step size adapts on its own), or simulate a shorter duration"
+        }
+    };
+    crate::admission::admit(
+        &format!("recording {samples} samples ({values:.3e} values)"),
+        2.0 * crate::admission::bytes_of::<f64>(values),
+        remedy,
+    )
 }
 
 /// Check an initial state against `model`: `x0` of length 7+N with a unit quaternion, `u0` of
@@ -500,6 +521,12 @@ fn simulate_dopri5(mut plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptio
                     plant.rhs(t_o, &y_out, &mut dy)?;
                     rec.record(&plant, t_o, &y_out, &dy);
                     k_out += 1;
+                    // A dense output grid can put many samples in one step: report (and let
+                    // the caller interrupt) between them too.
+                    if t_o >= next_progress {
+                        progress(t_o / opts.duration)?;
+                        next_progress = t_o + progress_every;
+                    }
                 }
                 t = t_new;
                 if t >= next_progress {

@@ -5,9 +5,9 @@
 //! plant to a time and simulating it to that time give the same records bit for bit.
 
 use crate::error::{Result, SpacearmError};
-use crate::sim::integrate::{OdeSystem, Rk4};
+use crate::sim::integrate::{IntegratorKind, OdeSystem, Rk4};
 use crate::sim::record::{onsets, Recorder};
-use crate::sim::simulate::{finish_result, Plant, SaturationEvent, SimResult};
+use crate::sim::simulate::{admit_records, finish_result, Plant, SaturationEvent, SimResult};
 
 /// A plant, its state `y = [x; u]` at time `t`, an RK4 workspace and the records so far.
 pub struct Rk4Stepper<'a> {
@@ -38,6 +38,10 @@ impl<'a> Rk4Stepper<'a> {
         plant.project(&mut y);
         let dim = y.len();
         let n = plant.model().n_dof();
+        if let Some((capacity, _)) = recording {
+            let values = capacity as f64 * Recorder::values_per_sample_of(&plant) as f64;
+            admit_records(IntegratorKind::Rk4, capacity as f64, values)?;
+        }
         let recording = recording.map(|(capacity, every)| (Recorder::for_plant(&plant, capacity), every));
         Ok(Rk4Stepper {
             rk: Rk4::new(dim),
