@@ -142,9 +142,12 @@ def core_error_variants() -> list:
 
 
 def binding_mapping() -> dict:
-    """``variant -> Python class name`` from the binding's ``to_py_err``."""
+    """``variant -> Python class name`` from the binding's ``class_of_error`` (convert.rs) and
+    the class names of its ``ErrorClass`` (errors_py.rs)."""
     text = (BINDINGS / "convert.rs").read_text(encoding="utf-8")
-    return dict(re.findall(r"SpacearmError::(\w+)\s*(?:\([^)]*\)|\{[^}]*\})?\s*=>\s*\"(\w+)\"", text))
+    classes = dict(re.findall(r"ErrorClass::(\w+)\s*=>\s*\"(\w+)\"", (BINDINGS / "errors_py.rs").read_text(encoding="utf-8")))
+    pairs = re.findall(r"SpacearmError::(\w+)\s*(?:\([^)]*\)|\{[^}]*\})?\s*=>\s*ErrorClass::(\w+)", text)
+    return {variant: classes[cls] for variant, cls in pairs}
 
 
 def test_the_binding_maps_every_core_error_kind_onto_a_spacearm_error_class():
