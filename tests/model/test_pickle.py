@@ -80,7 +80,7 @@ def test_references_and_limits_round_trip():
 
 
 def test_campaign_spec_round_trip():
-    spec = CampaignSpec(model_toml=spacearm.model_file.dumps_toml(presets.planar4()), samples=3, seed=5,
+    spec = CampaignSpec(model_toml=spacearm.io.model_file.dumps_toml(presets.planar4()), samples=3, seed=5,
                         perturbations=Perturbations(), scenario=Scenario(duration=1.0))
     for other in round_trips(spec):
         assert other == spec
