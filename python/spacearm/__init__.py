@@ -11,6 +11,7 @@ import sys as _sys
 from . import control, presets
 from .io import dh, model_file, urdf, urdf_export
 from ._core import __version__
+from .model.batch import batch_threads, set_batch_threads
 from .model.builder import RobotBuilder
 from .model.description import BaseDescription, JointLimits, LinkDescription, ModelDescription, PointDescription
 from .errors import (
@@ -55,6 +56,8 @@ __all__ = [
     "presets",
     "simulate",
     "Trajectory",
+    "set_batch_threads",
+    "batch_threads",
     "control",
     "dh",
     "model_file",
