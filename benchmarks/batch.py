@@ -172,7 +172,7 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--threads", type=int, default=2, help="threads for every batch (default 2)")
     p.add_argument("--states", type=int, default=10_000, help="states per batch (default 10,000)")
-    p.add_argument("--repeat", type=int, default=15, help="interleaved rounds (default 15)")
+    p.add_argument("--repeat", type=int, default=9, help="interleaved rounds (default 9)")
     p.add_argument("--quick", action="store_true", help="2,000 states, 5 rounds")
     args = p.parse_args(argv)
     if args.quick:
