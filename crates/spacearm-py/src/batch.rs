@@ -26,9 +26,10 @@ use crate::convert::{batch_arg, class_of_error, shape_error, ArgValue};
 use crate::errors_py::{new_error, ErrorClass};
 
 /// Workspaces of one model for one-state calls: taken for the duration of a call, given back
-/// after it; a call that finds none free makes a new one.
+/// after it; a call that finds none free makes a new one. Boxed, so that taking and giving
+/// back moves a pointer, not the workspace (a `Data` is a few hundred bytes).
 pub struct Pool<W> {
-    free: Mutex<Vec<W>>,
+    free: Mutex<Vec<Box<W>>>,
 }
 
 /// At most this many idle workspaces are kept (as many as threads are likely to call at once).
@@ -42,7 +43,7 @@ impl<W> Pool<W> {
     /// Run `f` with a workspace of the pool (or a new one from `make`).
     pub fn with<R>(&self, make: impl FnOnce() -> W, f: impl FnOnce(&mut W) -> R) -> R {
         let taken = self.free.lock().unwrap_or_else(|e| e.into_inner()).pop();
-        let mut work = taken.unwrap_or_else(make);
+        let mut work = taken.unwrap_or_else(|| Box::new(make()));
         let result = f(&mut work);
         let mut free = self.free.lock().unwrap_or_else(|e| e.into_inner());
         if free.len() < POOL_KEEP {
