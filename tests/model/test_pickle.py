@@ -85,3 +85,17 @@ def test_campaign_spec_round_trip():
     for other in round_trips(spec):
         assert other == spec
         assert other.to_json() == spec.to_json()
+
+
+def test_a_model_that_allows_nonphysical_inertia_round_trips_with_its_choice():
+    import warnings
+
+    from spacearm.errors import NonPhysicalInertiaWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NonPhysicalInertiaWarning)
+        robot = presets.ets7(allow_nonphysical_inertia=True)
+        other = pickle.loads(pickle.dumps(robot))
+    assert other.allows_nonphysical_inertia and other.describe() == robot.describe()
+    x = robot.neutral_configuration()
+    assert np.array_equal(other.mass_matrix(x), robot.mass_matrix(x))

@@ -174,7 +174,9 @@ impl PyModel {
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
         let reader = py.import("spacearm._core")?.getattr("model_from_toml")?;
         let text = core::io::toml::model_to_toml(&self.model);
-        Ok((reader, PyTuple::new(py, [text, format!("<pickled model '{}'>", self.model.name())])?))
+        let source = format!("<pickled model '{}'>", self.model.name());
+        let args = (text, source, self.allows_nonphysical_inertia()).into_pyobject(py)?;
+        Ok((reader, args))
     }
 
     /// Check a configuration (length, finite values, unit quaternion) without computing.
