@@ -10,7 +10,7 @@ Rows (per-call medians over interleaved batches, µs):
 - ``tau form, no base wrench``: ``robot.forward_dynamics(x, u, tau=tau)`` (free-floating);
 - ``Python-assembled f``: what the tau form cost when ``f`` was built in Python
   (``np.concatenate`` of the converted parts, then the native call), for comparison;
-- ``native f``: ``robot._m.forward_dynamics_aba(x, u, f)``, the extension alone (no
+- ``native f``: ``robot._m.forward_dynamics(x, u, f)``, the extension alone (no
   ``Robot`` method): the floor any call form can reach.
 
 Columns: the median per-call time over the rounds with its quartiles, the minimum (the
@@ -67,7 +67,7 @@ def rows_for(robot, x, u, tau, fb):
     yield "tau form", lambda: r.forward_dynamics(x, u, tau=tau, base_wrench=fb), f
     yield "tau form, no base wrench", lambda: r.forward_dynamics(x, u, tau=tau), np.concatenate([np.zeros(6), tau])
     yield "Python-assembled f", lambda: old(x, u, tau, fb), f
-    yield "native f", lambda: r._m.forward_dynamics_aba(x, u, f), f
+    yield "native f", lambda: r._m.forward_dynamics(x, u, f), f
 
 
 def time_shuffled(fns, repeat: int, target: float, seed: int):

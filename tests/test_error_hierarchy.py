@@ -142,9 +142,12 @@ def core_error_variants() -> list:
 
 
 def binding_mapping() -> dict:
-    """``variant -> Python class name`` from the binding's ``to_py_err``."""
+    """``variant -> Python class name`` from the binding's ``class_of_error`` (convert.rs) and
+    the class names of its ``ErrorClass`` (errors_py.rs)."""
     text = (BINDINGS / "convert.rs").read_text(encoding="utf-8")
-    return dict(re.findall(r"SpacearmError::(\w+)\s*(?:\([^)]*\)|\{[^}]*\})?\s*=>\s*\"(\w+)\"", text))
+    classes = dict(re.findall(r"ErrorClass::(\w+)\s*=>\s*\"(\w+)\"", (BINDINGS / "errors_py.rs").read_text(encoding="utf-8")))
+    pairs = re.findall(r"SpacearmError::(\w+)\s*(?:\([^)]*\)|\{[^}]*\})?\s*=>\s*ErrorClass::(\w+)", text)
+    return {variant: classes[cls] for variant, cls in pairs}
 
 
 def test_the_binding_maps_every_core_error_kind_onto_a_spacearm_error_class():
@@ -255,3 +258,18 @@ def test_scalar_options_of_the_wrong_kind_are_spacearm_errors():
                                           limits={"effort": "x"})], base_mass=1.0, base_inertia=[1, 1, 1])
     with pytest.raises(errors.SpacearmTypeError, match="path"):
         spacearm.Robot.from_toml(None)
+
+
+def test_the_extension_imports_no_module_of_the_package():
+    # The extension defines its exception classes (errors_py.rs) and converts arrays with numpy
+    # (convert.rs); spacearm.errors re-exports the classes. Importing a module of the package
+    # from the extension would tie the FFI to the package's layout.
+    offenders = []
+    for path in sorted(BINDINGS.glob("*.rs")):
+        for k, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            for module in re.findall(r"import\(\"(spacearm[\w.]*)\"\)", line):
+                if module != "spacearm._core":
+                    offenders.append(f"{path.relative_to(ROOT)}:{k}: {module}")
+    assert not offenders, "\n".join(offenders)
+    assert errors.ShapeError is spacearm._core.ShapeError
+    assert errors.ShapeError.__module__ == "spacearm.errors"

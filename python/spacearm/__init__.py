@@ -11,6 +11,7 @@ import sys as _sys
 from . import capture, control, presets
 from .io import dh, model_file, urdf, urdf_export
 from ._core import __version__
+from .model.batch import batch_threads, set_batch_threads
 from .model.builder import RobotBuilder
 from .capture import Target
 from .model.description import BaseDescription, JointLimits, LinkDescription, ModelDescription, PointDescription
@@ -64,6 +65,8 @@ __all__ = [
     "Rollouts",
     "Simulator",
     "Trajectory",
+    "set_batch_threads",
+    "batch_threads",
     "control",
     "dh",
     "model_file",

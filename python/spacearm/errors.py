@@ -12,10 +12,10 @@ kind per class below (the bindings map each onto its class).
 | `ModelError` | `ValueError` | a model breaks a physical or structural rule (the message names the body or joint) |
 | `ModelFileError` | `ValueError` (a `ModelError`) | a model file (TOML, URDF) cannot be read; the message gives the line and column |
 | `ShapeError` | `ValueError` | an array has the wrong length or shape, or is not an array of numbers |
-| `NonFiniteError` | `ValueError` | an argument holds NaN or an infinity |
+| `NonFiniteError` | `ValueError` | an argument holds NaN or an infinity, or a result computed from finite arguments overflowed |
 | `QuaternionError` | `ValueError` | a quaternion is not of unit norm |
 | `ArgumentError` | `ValueError` | an option or number is outside its valid range (an unknown method or mode name, a negative duration, gain, tolerance...) |
-| `SpacearmTypeError` | `TypeError` | an argument is an object of the wrong kind (not a `Robot`, not an `ExternalWrench`, bytes where text is expected) |
+| `SpacearmTypeError` | `TypeError` | an argument is an object of the wrong kind (not a `Robot`, not an `ExternalWrench`, bytes where text is expected, an array that is not real numbers: complex, object, datetime, strings) |
 | `NotFoundError` | `KeyError` (so `LookupError`) and `ValueError` | a body, joint, point, preset, metric or quantity name (or index) does not exist |
 | `SingularError` | `ArithmeticError` | a matrix that must be inverted is singular at this configuration |
 | `SimulationError` | `RuntimeError` | a simulation cannot go on (it diverged, the step size collapsed, the step budget ran out) |
@@ -50,74 +50,62 @@ __all__ = [
     "ResourceLimitError",
     "CampaignError",
     "MissingDependencyError",
-    "CampaignError",
     "NonPhysicalInertiaWarning",
 ]
 
 
-class SpacearmError(Exception):
-    """Base class of every spacearm error."""
+# The classes the extension raises are defined by the extension itself (so that it never
+# imports this package); they are re-exported here, where users import them from, with their
+# documentation. Their bases are those of the table above.
+from ._core import (  # noqa: E402
+    ArgumentError,
+    ModelError,
+    ModelFileError,
+    NonFiniteError,
+    NotFoundError,
+    QuaternionError,
+    ResourceLimitError,
+    ShapeError,
+    SimulationError,
+    SingularError,
+    SpacearmError,
+    SpacearmTypeError,
+)
+
+SpacearmError.__doc__ = """Base class of every spacearm error."""
+ModelError.__doc__ = """The model description violates a physical or structural rule (names the body/joint)."""
+ModelFileError.__doc__ = """A model file (TOML, URDF) could not be read; the message gives the line and column."""
+ShapeError.__doc__ = """An array argument has the wrong length or shape (the message gives the expected one)."""
+NonFiniteError.__doc__ = """An argument contains NaN or infinity, or a computation from finite arguments overflowed
+(the message names the call and the likely cause)."""
+QuaternionError.__doc__ = """A quaternion is not of unit norm within the stated tolerance."""
+NotFoundError.__doc__ = """A body, joint, point, preset, metric or quantity name (or index) does not exist.
+
+A ``KeyError`` (so a ``LookupError``) and a ``ValueError``: see the module docstring. Its message
+prints as written (a plain ``KeyError`` prints it in quotes)."""
+SingularError.__doc__ = """A matrix that must be inverted is singular at this configuration."""
+ArgumentError.__doc__ = """An option or numerical argument is outside its valid range (a negative duration, an unknown
+mode, a tolerance, gain, time step or resolution out of range)."""
+SpacearmTypeError.__doc__ = """An argument is an object of the wrong kind (e.g. not a ``Robot``, not an
+``ExternalWrench``, bytes where a string is expected, an array of complex numbers or strings); the
+message names what was expected."""
+SimulationError.__doc__ = """A simulation could not continue (the state diverged, the adaptive step size collapsed,
+the step budget ran out); the message says when and what to change."""
 
 
-class ModelError(SpacearmError, ValueError):
-    """The model description violates a physical or structural rule (names the body/joint)."""
+ResourceLimitError.__doc__ = """A request would allocate more than the memory limit of one request
+(``spacearm._core.MEMORY_LIMIT_BYTES``, 2 GiB): refused before anything is allocated. The
+message names the request, its size and the way out (``record_every``, a coarser output
+grid, a shorter run, an O(N) algorithm, a smaller model)."""
 
 
-class ModelFileError(ModelError):
-    """A model file (TOML, URDF) could not be read; the message gives the line and column."""
+def _reduce_from_args(self):
+    # MemoryError's own pickling goes through MemoryError.__new__, which refuses subclasses;
+    # rebuild from the message instead (campaign workers send errors between processes).
+    return (type(self), self.args)
 
 
-class ShapeError(SpacearmError, ValueError):
-    """An array argument has the wrong length or shape (the message gives the expected one)."""
-
-
-class NonFiniteError(SpacearmError, ValueError):
-    """An argument contains NaN or infinity."""
-
-
-class QuaternionError(SpacearmError, ValueError):
-    """A quaternion is not of unit norm within the stated tolerance."""
-
-
-class NotFoundError(SpacearmError, KeyError, ValueError):
-    """A body, joint, point, preset, metric or quantity name (or index) does not exist.
-
-    A ``KeyError`` (so a ``LookupError``) and a ``ValueError``: see the module docstring."""
-
-    # KeyError's str() is the repr of its argument (quotes around the message); print the
-    # message as written, like every other spacearm error.
-    __str__ = BaseException.__str__
-
-
-class SingularError(SpacearmError, ArithmeticError):
-    """A matrix that must be inverted is singular at this configuration."""
-
-
-class ArgumentError(SpacearmError, ValueError):
-    """An option or numerical argument is outside its valid range (a negative duration, an unknown mode, a
-    tolerance, gain, time step or resolution out of range)."""
-
-
-class SpacearmTypeError(SpacearmError, TypeError):
-    """An argument is an object of the wrong kind (e.g. not a ``Robot``, not an
-    ``ExternalWrench``, bytes where a string is expected); the message names what was expected."""
-
-
-class SimulationError(SpacearmError, RuntimeError):
-    """A simulation could not continue (the state diverged, the adaptive step size collapsed,
-    the step budget ran out); the message says when and what to change."""
-
-
-class ResourceLimitError(SpacearmError, MemoryError):
-    """A request would allocate more than the memory limit of one request
-    (``spacearm._core.MEMORY_LIMIT_BYTES``, 2 GiB): refused before anything is allocated. The
-    message names the request, its size and the way out (``record_every``, a coarser output
-    grid, a shorter run, an O(N) algorithm, a smaller model)."""
-
-    def __reduce__(self):
-        # MemoryError's own pickling goes through MemoryError.__new__, which refuses subclasses;
-        # rebuild from the message instead (campaign workers send errors between processes).
-        return (type(self), self.args)
+ResourceLimitError.__reduce__ = _reduce_from_args
 
 
 class CampaignError(SpacearmError, RuntimeError):

@@ -12,6 +12,7 @@ from spacearm import (
     QuaternionError,
     ShapeError,
     SpacearmError,
+    SpacearmTypeError,
 )
 
 BAR = [0.01, 0.5, 0.5]
@@ -48,13 +49,19 @@ def test_velocity_length(robot):
         robot.bias_forces(x, np.zeros(11))
 
 
-def test_two_dimensional_state_is_rejected(robot):
-    with pytest.raises(ShapeError, match="1-D"):
+def test_batch_of_the_wrong_width_is_rejected(robot):
+    # A 2-D x is a batch of states, one per row: (13, 1) is 13 states of length 1.
+    with pytest.raises(ShapeError, match=r"x must have shape \(B, 13\).*got \(13, 1\)"):
         robot.mass_matrix(np.zeros((13, 1)))
 
 
+def test_three_dimensional_state_is_rejected(robot):
+    with pytest.raises(ShapeError, match="1-D array .* or a 2-D array"):
+        robot.mass_matrix(np.zeros((2, 13, 1)))
+
+
 def test_non_numeric_state_is_rejected(robot):
-    with pytest.raises(ShapeError, match="array of numbers"):
+    with pytest.raises(SpacearmTypeError, match="x must hold real numbers.*dtype <U1"):
         robot.mass_matrix(["a"] * 13)
 
 

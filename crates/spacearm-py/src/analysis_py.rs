@@ -44,12 +44,11 @@ fn measures<'py>(py: Python<'py>, m: &singularity::JacobianMeasures) -> PyResult
 
 /// Singular values, condition, manipulability, singular directions of J* and J_m.
 #[pyfunction]
-pub fn analysis_singularity<'py>(py: Python<'py>, mut m: PyRefMut<'_, PyModel>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>, rows: Vec<usize>) -> PyResult<Bound<'py, PyDict>> {
+pub fn analysis_singularity<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>, rows: Vec<usize>) -> PyResult<Bound<'py, PyDict>> {
     let off = vec3(offset, "offset")?;
     let x = vec_arg(x, "x")?;
     let t = task(py, rows)?;
-    let PyModel { model, data } = &mut *m;
-    let a = singularity::analyze(model, data, x.as_slice(), body, &off, &t).or_raise(py)?;
+    let a = m.with_data(|model, data| singularity::analyze(model, data, x.as_slice(), body, &off, &t)).or_raise(py)?;
     let d = PyDict::new(py);
     d.set_item("generalized", measures(py, &a.generalized)?)?;
     d.set_item("fixed_base", measures(py, &a.fixed_base)?)?;
@@ -59,13 +58,12 @@ pub fn analysis_singularity<'py>(py: Python<'py>, mut m: PyRefMut<'_, PyModel>, 
 /// (sigma_min, condition, damping, near_singular) of the task rows of J* at x.
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
-pub fn analysis_detect(py: Python<'_>, mut m: PyRefMut<'_, PyModel>, x: &Bound<'_, PyAny>, body: usize, offset: &Bound<'_, PyAny>, rows: Vec<usize>, threshold: f64, max_damping: f64) -> PyResult<(f64, f64, f64, bool)> {
+pub fn analysis_detect(py: Python<'_>, m: PyRef<'_, PyModel>, x: &Bound<'_, PyAny>, body: usize, offset: &Bound<'_, PyAny>, rows: Vec<usize>, threshold: f64, max_damping: f64) -> PyResult<(f64, f64, f64, bool)> {
     let off = vec3(offset, "offset")?;
     let x = vec_arg(x, "x")?;
     let t = task(py, rows)?;
     let law = singularity::DampingLaw::new(threshold, max_damping).or_raise(py)?;
-    let PyModel { model, data } = &mut *m;
-    let d = singularity::detect_at(model, data, x.as_slice(), body, &off, &t, &law).or_raise(py)?;
+    let d = m.with_data(|model, data| singularity::detect_at(model, data, x.as_slice(), body, &off, &t, &law)).or_raise(py)?;
     Ok((d.sigma_min, d.condition, d.damping, d.near_singular))
 }
 
@@ -174,15 +172,14 @@ fn rns_dict<'py>(py: Python<'py>, r: &rns::ReactionNullSpace) -> PyResult<Bound<
 
 /// Reaction null space at x: `which` is "angular" or "full".
 #[pyfunction]
-pub fn analysis_reaction_null_space<'py>(py: Python<'py>, mut m: PyRefMut<'_, PyModel>, x: &Bound<'py, PyAny>, which: &str, tolerance: f64) -> PyResult<Bound<'py, PyDict>> {
+pub fn analysis_reaction_null_space<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, x: &Bound<'py, PyAny>, which: &str, tolerance: f64) -> PyResult<Bound<'py, PyDict>> {
     let which = match which {
         "angular" => rns::BaseMotion::Angular,
         "full" => rns::BaseMotion::Full,
         other => return Err(to_py_err(py, SpacearmError::InvalidArgument(format!("base motion must be 'angular' or 'full', got '{other}'")))),
     };
     let x = vec_arg(x, "x")?;
-    let PyModel { model, data } = &mut *m;
-    let r = rns::reaction_null_space(model, data, x.as_slice(), which, tolerance).or_raise(py)?;
+    let r = m.with_data(|model, data| rns::reaction_null_space(model, data, x.as_slice(), which, tolerance)).or_raise(py)?;
     rns_dict(py, &r)
 }
 
@@ -191,7 +188,7 @@ pub fn analysis_reaction_null_space<'py>(py: Python<'py>, mut m: PyRefMut<'_, Py
 #[allow(clippy::too_many_arguments)]
 pub fn analysis_integrate_prescribed<'py>(
     py: Python<'py>,
-    mut m: PyRefMut<'_, PyModel>,
+    m: PyRef<'_, PyModel>,
     x0: &Bound<'py, PyAny>,
     dt: f64,
     q_half: PyReadonlyArray2<'py, f64>,
@@ -210,9 +207,8 @@ pub fn analysis_integrate_prescribed<'py>(
             return Err(to_py_err(py, SpacearmError::Dimension { what: what.into(), expected: format!("N = {n}"), got: c }));
         }
     }
-    let PyModel { model, data } = &mut *m;
     let mom = ffk::ConservedMomentum { linear: p, angular_about_origin: l };
-    let xs = ffk::integrate_prescribed(model, data, x0.as_slice(), dt, &q, &qd, &mom).or_raise(py)?;
+    let xs = m.with_data(|model, data| ffk::integrate_prescribed(model, data, x0.as_slice(), dt, &q, &qd, &mom)).or_raise(py)?;
     row_major(py, &xs, xs.len() / (7 + n), 7 + n)
 }
 
@@ -225,16 +221,37 @@ fn strategy(py: Python<'_>, s: &str) -> PyResult<redundancy::Strategy> {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn options(py: Python<'_>, rows: Vec<usize>, threshold: f64, max_damping: f64, gain: f64, strat: &str, manipulability_gain: f64, joint_limit_gain: f64) -> PyResult<redundancy::RmrcOptions> {
-    Ok(redundancy::RmrcOptions {
-        task: task(py, rows)?,
-        damping: singularity::DampingLaw::new(threshold, max_damping).or_raise(py)?,
-        feedback_gain: gain,
-        strategy: strategy(py, strat)?,
-        manipulability_gain,
-        joint_limit_gain,
-    })
+/// The options of the resolved-motion-rate law (`spacearm_core::analysis::redundancy::RmrcOptions`)
+/// as one typed, keyword-only object: the task rows of the point twist, the damping law
+/// (`threshold` ε and `max_damping` λ_max), the feedback gain (1/s; used by `analysis_move_to`),
+/// the strategy (`"naive"`, `"reactionless"`, `"minimum_disturbance"`) and the null-space
+/// gains. Checked when built.
+#[pyclass(module = "spacearm._core", name = "RmrcOptions", frozen)]
+pub struct PyRmrcOptions {
+    inner: redundancy::RmrcOptions,
+}
+
+#[pymethods]
+impl PyRmrcOptions {
+    #[new]
+    #[pyo3(signature = (*, rows, threshold, max_damping, gain=0.0, strategy="naive", manipulability_gain=0.0, joint_limit_gain=0.0))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(py: Python<'_>, rows: Vec<usize>, threshold: f64, max_damping: f64, gain: f64, strategy: &str, manipulability_gain: f64, joint_limit_gain: f64) -> PyResult<Self> {
+        Ok(PyRmrcOptions {
+            inner: redundancy::RmrcOptions {
+                task: task(py, rows)?,
+                damping: singularity::DampingLaw::new(threshold, max_damping).or_raise(py)?,
+                feedback_gain: gain,
+                strategy: self::strategy(py, strategy)?,
+                manipulability_gain,
+                joint_limit_gain,
+            },
+        })
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<spacearm._core.RmrcOptions {:?}>", self.inner)
+    }
 }
 
 /// One evaluation of the RMRC law: (qd, sigma_min, damping, base angular velocity).
@@ -242,24 +259,18 @@ fn options(py: Python<'_>, rows: Vec<usize>, threshold: f64, max_damping: f64, g
 #[allow(clippy::too_many_arguments)]
 pub fn analysis_rmrc_rates<'py>(
     py: Python<'py>,
-    mut m: PyRefMut<'_, PyModel>,
+    m: PyRef<'_, PyModel>,
     x: &Bound<'py, PyAny>,
     body: usize,
     offset: &Bound<'py, PyAny>,
     desired_twist: &Bound<'py, PyAny>,
-    rows: Vec<usize>,
-    threshold: f64,
-    max_damping: f64,
-    strat: &str,
-    manipulability_gain: f64,
-    joint_limit_gain: f64,
+    options: PyRef<'_, PyRmrcOptions>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let off = vec3(offset, "offset")?;
     let v: Vector6<f64> = vec6(desired_twist, "desired twist")?;
     let x = vec_arg(x, "x")?;
-    let o = options(py, rows, threshold, max_damping, 0.0, strat, manipulability_gain, joint_limit_gain)?;
-    let PyModel { model, data } = &mut *m;
-    let r = redundancy::rmrc_rates(model, data, x.as_slice(), body, &off, &v, &o).or_raise(py)?;
+    let o = &options.inner;
+    let r = m.with_data(|model, data| redundancy::rmrc_rates(model, data, x.as_slice(), body, &off, &v, o)).or_raise(py)?;
     let d = PyDict::new(py);
     d.set_item("qd", dvec(py, &r.qd))?;
     d.set_item("sigma_min", r.sigma_min)?;
@@ -273,7 +284,7 @@ pub fn analysis_rmrc_rates<'py>(
 #[allow(clippy::too_many_arguments)]
 pub fn analysis_move_to<'py>(
     py: Python<'py>,
-    mut m: PyRefMut<'_, PyModel>,
+    m: PyRef<'_, PyModel>,
     x0: &Bound<'py, PyAny>,
     body: usize,
     offset: &Bound<'py, PyAny>,
@@ -281,21 +292,14 @@ pub fn analysis_move_to<'py>(
     duration: f64,
     settle: f64,
     dt: f64,
-    rows: Vec<usize>,
-    threshold: f64,
-    max_damping: f64,
-    gain: f64,
-    strat: &str,
-    manipulability_gain: f64,
-    joint_limit_gain: f64,
+    options: PyRef<'_, PyRmrcOptions>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let off = vec3(offset, "offset")?;
     let target = vec3(target, "target")?;
     let x0 = vec_arg(x0, "x0")?;
-    let o = options(py, rows, threshold, max_damping, gain, strat, manipulability_gain, joint_limit_gain)?;
-    let PyModel { model, data } = &mut *m;
-    let r = redundancy::move_to(model, data, x0.as_slice(), body, &off, &target, duration, settle, dt, &o).or_raise(py)?;
-    let n = model.n_dof();
+    let o = &options.inner;
+    let r = m.with_data(|model, data| redundancy::move_to(model, data, x0.as_slice(), body, &off, &target, duration, settle, dt, o)).or_raise(py)?;
+    let n = m.model.n_dof();
     let k = r.times.len();
     let d = PyDict::new(py);
     d.set_item("times", array1(py, &r.times))?;
@@ -321,5 +325,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analysis_integrate_prescribed, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_rmrc_rates, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_move_to, m)?)?;
+    m.add_class::<PyRmrcOptions>()?;
     Ok(())
 }

@@ -1,35 +1,50 @@
 //! Conversions between numpy arrays / Python values and the core's types, and the mapping of
-//! core errors onto the Python exception classes defined in `spacearm.errors`.
+//! core errors onto the exception classes of [`crate::errors_py`] (re-exported by
+//! `spacearm.errors`). This is the one place where arguments cross the boundary: only real
+//! numbers (bool, int, float) are accepted, under the argument's name. The extension imports
+//! numpy here, never the `spacearm` package.
 
-use nalgebra::{DMatrix, DVector, Dim, IsContiguous, Matrix, Matrix3, Matrix6, RawStorage, Vector3, Vector6};
+use nalgebra::{DMatrix, DVector, Dim, IsContiguous, Matrix, Matrix3, RawStorage, Vector3, Vector6};
 use std::os::raw::c_int;
 
 use numpy::npyffi::flags::{NPY_ARRAY_ALIGNED, NPY_ARRAY_C_CONTIGUOUS};
 use numpy::npyffi::NPY_TYPES;
-use numpy::{PyArray1, PyArray2, PyArray3, PyArrayDescrMethods, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArrayDescrMethods, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use spacearm_core::SpacearmError;
 
+use crate::errors_py::{new_error, ErrorClass};
+
+/// The exception class of a core error.
+pub fn class_of_error(err: &SpacearmError) -> ErrorClass {
+    match err {
+        SpacearmError::InvalidModel(_) => ErrorClass::Model,
+        SpacearmError::Dimension { .. } => ErrorClass::Shape,
+        SpacearmError::NonFinite { .. } => ErrorClass::NonFinite,
+        SpacearmError::NotUnitQuaternion { .. } => ErrorClass::Quaternion,
+        SpacearmError::NotFound(_) => ErrorClass::NotFound,
+        SpacearmError::Singular(_) => ErrorClass::Singular,
+        SpacearmError::Parse(_) => ErrorClass::ModelFile,
+        SpacearmError::InvalidArgument(_) => ErrorClass::Argument,
+        SpacearmError::Simulation(_) => ErrorClass::Simulation,
+        SpacearmError::ResourceLimit(_) => ErrorClass::ResourceLimit,
+    }
+}
+
 /// Raise the `spacearm.errors` class that corresponds to a core error.
 pub fn to_py_err(py: Python<'_>, err: SpacearmError) -> PyErr {
-    let class = match &err {
-        SpacearmError::InvalidModel(_) => "ModelError",
-        SpacearmError::Dimension { .. } => "ShapeError",
-        SpacearmError::NonFinite { .. } => "NonFiniteError",
-        SpacearmError::NotUnitQuaternion { .. } => "QuaternionError",
-        SpacearmError::NotFound(_) => "NotFoundError",
-        SpacearmError::Singular(_) => "SingularError",
-        SpacearmError::Parse(_) => "ModelFileError",
-        SpacearmError::InvalidArgument(_) => "ArgumentError",
-        SpacearmError::Simulation(_) => "SimulationError",
-        SpacearmError::ResourceLimit(_) => "ResourceLimitError",
-    };
-    let message = err.to_string();
-    match py.import("spacearm.errors").and_then(|m| m.getattr(class)).and_then(|c| c.call1((message.clone(),))) {
-        Ok(instance) => PyErr::from_value(instance),
-        Err(e) => e,
-    }
+    new_error(py, class_of_error(&err), err.to_string())
+}
+
+/// A `ShapeError` with `message`.
+pub fn shape_error(py: Python<'_>, message: String) -> PyErr {
+    new_error(py, ErrorClass::Shape, message)
+}
+
+/// A `SpacearmTypeError` with `message`.
+pub fn type_error(py: Python<'_>, message: String) -> PyErr {
+    new_error(py, ErrorClass::Type, message)
 }
 
 /// `core::Result<T>` → `PyResult<T>` with the right exception class.
@@ -46,13 +61,12 @@ impl<T> OrRaise<T> for spacearm_core::Result<T> {
 /// A float64 vector argument of a binding. An argument that already is a 1-D, C-contiguous,
 /// aligned, native float64 numpy array is used in place (no copy, no borrow bookkeeping: the
 /// call holds the GIL throughout and runs no Python code between taking the slice and
-/// returning); anything else goes through `spacearm._arrays.vector`, the Python layer's own
-/// converter, so that conversion errors read exactly as they do there.
+/// returning); anything else is converted by numpy under the rules of [`real_array`].
 pub struct VecArg<'py>(Bound<'py, PyArray1<f64>>);
 
 impl VecArg<'_> {
-    /// The values. Take slices only after every argument of the call has been converted (the
-    /// fallback conversion runs Python code).
+    /// The values. Take slices only after every argument of the call has been converted (a
+    /// conversion may run Python code).
     pub fn as_slice(&self) -> &[f64] {
         // SAFETY: contiguity and alignment were checked on construction; the array is kept
         // alive by `self`, and no Python code runs while the slice is in use (see above).
@@ -60,45 +74,119 @@ impl VecArg<'_> {
     }
 }
 
-fn usable_in_place<'py>(obj: &Bound<'py, PyAny>) -> Option<Bound<'py, PyArray1<f64>>> {
+/// Whether `arr` is native-order float64, C-contiguous and aligned: usable as a slice.
+fn is_plain_float64(arr: &Bound<'_, PyUntypedArray>) -> bool {
     // Cheaper than `cast::<PyArray1<f64>>()`, whose dtype test goes through numpy's casting
-    // tables: an ndarray (or subclass), 1-D, dtype float64 in native byte order, C-contiguous
-    // and aligned.
-    let arr = obj.cast::<PyUntypedArray>().ok()?;
-    if arr.ndim() != 1 {
-        return None;
-    }
+    // tables.
     let dtype = arr.dtype();
     let native = matches!(dtype.byteorder(), b'=' | b'|') || (cfg!(target_endian = "little") && dtype.byteorder() == b'<');
     if dtype.num() != NPY_TYPES::NPY_DOUBLE as c_int || !native {
-        return None;
+        return false;
     }
     // SAFETY: `arr` is a live numpy array; reading its flags field is what PyArray_FLAGS does.
     let flags = unsafe { (*arr.as_array_ptr()).flags };
     let wanted = NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED;
-    if flags & wanted != wanted {
+    flags & wanted == wanted
+}
+
+fn usable_in_place<'py>(obj: &Bound<'py, PyAny>) -> Option<Bound<'py, PyArray1<f64>>> {
+    let arr = obj.cast::<PyUntypedArray>().ok()?;
+    if arr.ndim() != 1 || !is_plain_float64(arr) {
         return None;
     }
     // SAFETY: dimensionality and element type were checked above.
     Some(unsafe { arr.cast_unchecked::<PyArray1<f64>>() }.clone())
 }
 
-/// Convert a vector argument named `what` (see [`VecArg`]).
+fn numpy_function<'py>(py: Python<'py>, cell: &'static PyOnceLock<Py<PyAny>>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+    Ok(cell.get_or_try_init(py, || py.import("numpy")?.getattr(name).map(Bound::unbind))?.bind(py).clone())
+}
+
+/// `obj` as a C-contiguous float64 numpy array, refusing anything that is not real numbers:
+/// numpy's `asarray` reads it, then its dtype must be bool, integer or float (complex would
+/// lose its imaginary part, and object, datetime, timedelta, string and void arrays are not
+/// numbers) — else a `SpacearmTypeError` naming `what` and the dtype; a ragged sequence is a
+/// `ShapeError`.
+pub fn real_array<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, PyUntypedArray>> {
+    static ASARRAY: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+    static CONTIGUOUS: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+    let py = obj.py();
+    let type_name = || obj.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "object".into());
+    let arr = match obj.cast::<PyUntypedArray>() {
+        Ok(a) => a.clone(),
+        Err(_) => {
+            let converted = numpy_function(py, &ASARRAY, "asarray")?.call1((obj,)).map_err(|e| {
+                // numpy refuses a ragged or unreadable sequence with ValueError or TypeError;
+                // anything that is not an Exception (KeyboardInterrupt) goes through.
+                if e.is_instance_of::<pyo3::exceptions::PyException>(py) {
+                    shape_error(py, format!("{what} must be an array of numbers (a 1-D array, or a 2-D array with one state per row), got a {} that numpy cannot read as one: {}", type_name(), e.value(py)))
+                } else {
+                    e
+                }
+            })?;
+            converted.cast_into::<PyUntypedArray>().map_err(PyErr::from)?
+        }
+    };
+    let dtype = arr.dtype();
+    if !matches!(dtype.kind(), b'b' | b'i' | b'u' | b'f') {
+        let described = dtype.str().map(|s| s.to_string()).unwrap_or_else(|_| "?".into());
+        let got = if arr.ndim() == 0 && dtype.kind() == b'O' { format!("a {}", type_name()) } else { format!("an array of dtype {described}") };
+        return Err(type_error(py, format!("{what} must hold real numbers (bool, int or float), got {got}")));
+    }
+    if is_plain_float64(&arr) {
+        return Ok(arr);
+    }
+    let converted = numpy_function(py, &CONTIGUOUS, "ascontiguousarray")?.call1((arr, "float64"))?;
+    converted.cast_into::<PyUntypedArray>().map_err(PyErr::from)
+}
+
+/// Convert a vector argument named `what` (see [`VecArg`]): one state, 1-D.
 pub fn vec_arg<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<VecArg<'py>> {
     if let Some(arr) = usable_in_place(obj) {
         return Ok(VecArg(arr));
     }
-    static VECTOR: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
-    let py = obj.py();
-    let convert = VECTOR.get_or_try_init(py, || py.import("spacearm._util.arrays")?.getattr("vector").map(Bound::unbind))?;
-    let converted = convert.bind(py).call1((obj, what))?;
-    if let Some(arr) = usable_in_place(&converted) {
-        return Ok(VecArg(arr));
+    let arr = real_array(obj, what)?;
+    if arr.ndim() != 1 {
+        return Err(shape_error(obj.py(), format!("{what} must be a 1-D array, got an array of shape {:?}", arr.shape())));
     }
-    // `vector` returns contiguous float64; a misaligned buffer still needs a fresh copy.
-    let arr = converted.cast_into::<PyArray1<f64>>().map_err(PyErr::from)?;
-    let copy = PyArray1::from_vec(py, arr.to_vec().map_err(PyErr::from)?);
-    Ok(VecArg(copy))
+    match usable_in_place(arr.as_any()) {
+        Some(a) => Ok(VecArg(a)),
+        None => Err(shape_error(obj.py(), format!("{what} could not be read as a float64 vector"))),
+    }
+}
+
+/// A vector argument that may also be a batch: `One` 1-D vector, or `Many` rows of a 2-D
+/// array (copied, row-major, so that the values may be read without the GIL).
+pub enum ArgValue<'py> {
+    /// One vector, used in place.
+    One(VecArg<'py>),
+    /// A batch of `rows` vectors of length `width`, row after row.
+    Many { values: Vec<f64>, rows: usize, width: usize },
+}
+
+/// Convert an argument that may be one vector (1-D) or a batch of them (2-D, one per row).
+pub fn batch_arg<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<ArgValue<'py>> {
+    if let Some(arr) = usable_in_place(obj) {
+        return Ok(ArgValue::One(VecArg(arr)));
+    }
+    let arr = real_array(obj, what)?;
+    match arr.ndim() {
+        1 => match usable_in_place(arr.as_any()) {
+            Some(a) => Ok(ArgValue::One(VecArg(a))),
+            None => Err(shape_error(obj.py(), format!("{what} could not be read as a float64 vector"))),
+        },
+        2 => {
+            let (rows, width) = (arr.shape()[0], arr.shape()[1]);
+            // SAFETY: `real_array` returns a C-contiguous float64 array; it is copied at once.
+            let typed = unsafe { arr.cast_unchecked::<PyArray2<f64>>() };
+            let values = unsafe { typed.as_slice() }.map_err(PyErr::from)?.to_vec();
+            Ok(ArgValue::Many { values, rows, width })
+        }
+        _ => Err(shape_error(
+            obj.py(),
+            format!("{what} must be a 1-D array (one state) or a 2-D array (a batch, one state per row), got an array of shape {:?}", arr.shape()),
+        )),
+    }
 }
 
 /// A fixed-length argument (`offset`, momenta): [`vec_arg`] plus a length check that raises
@@ -123,6 +211,13 @@ pub fn check_finite(py: Python<'_>, what: &str, values: &[f64]) -> PyResult<()> 
 /// A 3-vector argument (length checked, `ShapeError` naming `what`).
 pub fn vec3(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vector3<f64>> {
     Ok(Vector3::from_column_slice(vec_arg_n(obj, what, 3)?.as_slice()))
+}
+
+/// A finite 3-vector argument (a point offset): [`vec3`] plus `NonFiniteError` naming `what`.
+pub fn finite3(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vector3<f64>> {
+    let v = vec3(obj, what)?;
+    check_finite(obj.py(), what, v.as_slice())?;
+    Ok(v)
 }
 
 /// A 6-vector argument (length checked, `ShapeError` naming `what`).
@@ -171,38 +266,6 @@ pub fn matrix<'py, R: Dim, C: Dim, S: RawStorage<f64, R, C> + IsContiguous>(py: 
 
 pub fn dmat<'py>(py: Python<'py>, m: &DMatrix<f64>) -> Bound<'py, PyArray2<f64>> {
     matrix(py, m)
-}
-
-pub fn mat6<'py>(py: Python<'py>, m: &Matrix6<f64>) -> Bound<'py, PyArray2<f64>> {
-    matrix(py, m)
-}
-
-pub fn mat3<'py>(py: Python<'py>, m: &Matrix3<f64>) -> Bound<'py, PyArray2<f64>> {
-    matrix(py, m)
-}
-
-pub fn stack_mat3<'py>(py: Python<'py>, ms: &[Matrix3<f64>]) -> Bound<'py, PyArray3<f64>> {
-    // SAFETY: a fresh array owned by nobody else; every element is written below.
-    let out = unsafe { PyArray3::<f64>::new(py, [ms.len(), 3, 3], false) };
-    let dst = unsafe { out.as_slice_mut().expect("a new array is contiguous") };
-    for (k, m) in ms.iter().enumerate() {
-        for i in 0..3 {
-            for j in 0..3 {
-                dst[9 * k + 3 * i + j] = m[(i, j)];
-            }
-        }
-    }
-    out
-}
-
-pub fn stack_vec3<'py>(py: Python<'py>, vs: &[Vector3<f64>]) -> Bound<'py, PyArray2<f64>> {
-    // SAFETY: a fresh array owned by nobody else; every element is written below.
-    let out = unsafe { PyArray2::<f64>::new(py, [vs.len(), 3], false) };
-    let dst = unsafe { out.as_slice_mut().expect("a new array is contiguous") };
-    for (k, v) in vs.iter().enumerate() {
-        dst[3 * k..3 * k + 3].copy_from_slice(v.as_slice());
-    }
-    out
 }
 
 pub fn rows3(m: &Matrix3<f64>) -> [[f64; 3]; 3] {

@@ -6,132 +6,146 @@
 //! `out[i, j, k] = ∂X[i, j]/∂x_k`.
 
 use nalgebra::DMatrix;
-use numpy::{PyArray2, PyArray3, PyArrayMethods};
 use pyo3::prelude::*;
 use spacearm_core as core;
 use spacearm_core::derivatives::{self, DerivativeData, LinearizationInputs};
 
+use crate::batch::{run, Input, Pool};
 use crate::convert::*;
-use crate::model_py::PyModel;
+use crate::model_py::{put, PyModel};
 
-/// The derivative functions of one model (a copy of the model and a workspace).
-#[pyclass(module = "spacearm._core", name = "Derivatives")]
+/// The derivative functions of one model (a copy of the model and a pool of workspaces; see
+/// [`crate::batch`]: every method takes one state or a batch).
+#[pyclass(module = "spacearm._core", name = "Derivatives", frozen)]
 pub struct PyDerivatives {
     model: core::Model,
-    work: DerivativeData,
+    workspaces: Pool<DerivativeData>,
 }
 
-/// Matrices `ms[k]` (all `rows × cols`, column-major) as one C-ordered array
-/// `out[i, j, k] = ms[k][(i, j)]`.
-fn stack_last<'py>(py: Python<'py>, ms: &[DMatrix<f64>], rows: usize, cols: usize) -> Bound<'py, PyArray3<f64>> {
+/// Write matrices `ms[k]` (all `rows × cols`) into `out` in C order with the derivative index
+/// last: `out[(i·cols + j)·depth + k] = ms[k][(i, j)]`.
+fn put_last(ms: &[DMatrix<f64>], out: &mut [f64]) {
     let depth = ms.len();
-    // SAFETY: a fresh array owned by nobody else; every element is written below.
-    let out = unsafe { PyArray3::<f64>::new(py, [rows, cols, depth], false) };
-    let dst = unsafe { out.as_slice_mut().expect("a new array is contiguous") };
     for (k, m) in ms.iter().enumerate() {
-        debug_assert_eq!(m.shape(), (rows, cols));
+        let cols = m.ncols();
         for j in 0..cols {
-            for i in 0..rows {
-                dst[(i * cols + j) * depth + k] = m[(i, j)];
+            for i in 0..m.nrows() {
+                out[(i * cols + j) * depth + k] = m[(i, j)];
             }
         }
     }
-    out
 }
 
 #[pymethods]
 impl PyDerivatives {
     #[new]
     fn new(py: Python<'_>, model: PyRef<'_, PyModel>) -> PyResult<Self> {
-        let model = model.model.clone();
-        DerivativeData::admit(&model).or_raise(py)?;
-        let work = DerivativeData::new(&model);
-        Ok(PyDerivatives { model, work })
+        // Refused before any workspace is allocated (the cubic tensors are sized on first use).
+        DerivativeData::admit(&model.model).or_raise(py)?;
+        Ok(PyDerivatives { model: model.model.clone(), workspaces: Pool::new() })
     }
 
     /// `∂H/∂x_k`, shape (6+N, 6+N, 6+N), derivative index last.
-    fn mass_matrix_partials<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray3<f64>>> {
-        let x = vec_arg(x, "x")?;
-        let nu = self.model.nu();
-        let p = derivatives::mass_matrix_partials(&self.model, &mut self.work, x.as_slice()).or_raise(py)?;
-        Ok(stack_last(py, p, nu, nu))
+    fn mass_matrix_partials<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let nu = m.nu();
+        let inputs = [Input::arg(x, "x", m.nx())?];
+        run(py, "mass_matrix_partials", inputs, [&[nu, nu, nu]], &self.workspaces, || DerivativeData::new(m), |w, [x], [out]| {
+            put_last(derivatives::mass_matrix_partials(m, w, x)?, out);
+            Ok(())
+        })
     }
 
     /// `Ḣ` along `u`, (6+N)².
-    fn mass_matrix_derivative<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
-        let h = derivatives::mass_matrix_derivative(&self.model, &mut self.work, x.as_slice(), u.as_slice()).or_raise(py)?;
-        Ok(dmat(py, h))
+    fn mass_matrix_derivative<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let nu = m.nu();
+        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?];
+        run(py, "mass_matrix_derivative", inputs, [&[nu, nu]], &self.workspaces, || DerivativeData::new(m), |w, [x, u], [out]| {
+            put(derivatives::mass_matrix_derivative(m, w, x, u)?, out);
+            Ok(())
+        })
     }
 
     /// `∂H*/∂q_k`, shape (N, N, N), derivative index last.
-    fn generalized_inertia_partials<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray3<f64>>> {
-        let x = vec_arg(x, "x")?;
-        let n = self.model.n_dof();
-        let p = derivatives::generalized_inertia_partials(&self.model, &mut self.work, x.as_slice()).or_raise(py)?;
-        Ok(stack_last(py, p, n, n))
+    fn generalized_inertia_partials<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let n = m.n_dof();
+        let inputs = [Input::arg(x, "x", m.nx())?];
+        run(py, "generalized_inertia_partials", inputs, [&[n, n, n]], &self.workspaces, || DerivativeData::new(m), |w, [x], [out]| {
+            put_last(derivatives::generalized_inertia_partials(m, w, x)?, out);
+            Ok(())
+        })
     }
 
     /// `Ḣ*` along `u`, N×N.
-    fn generalized_inertia_derivative<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
-        let h = derivatives::generalized_inertia_derivative(&self.model, &mut self.work, x.as_slice(), u.as_slice()).or_raise(py)?;
-        Ok(dmat(py, h))
+    fn generalized_inertia_derivative<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let n = m.n_dof();
+        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
+        run(py, "generalized_inertia_derivative", inputs, [&[n, n]], &self.workspaces, || DerivativeData::new(m), |w, [x, u], [out]| {
+            put(derivatives::generalized_inertia_derivative(m, w, x, u)?, out);
+            Ok(())
+        })
     }
 
     /// `∂J*/∂x_k` of a point, shape (6, N, 6+N), derivative index last.
-    fn generalized_jacobian_partials<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray3<f64>>> {
-        let off = vec3(offset, "offset")?;
-        let x = vec_arg(x, "x")?;
-        let n = self.model.n_dof();
-        let p = derivatives::generalized_jacobian_partials(&self.model, &mut self.work, x.as_slice(), body, &off).or_raise(py)?;
-        Ok(stack_last(py, p, 6, n))
+    fn generalized_jacobian_partials<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let off = finite3(offset, "offset")?;
+        let m = &self.model;
+        let (n, nu) = (m.n_dof(), m.nu());
+        let inputs = [Input::arg(x, "x", m.nx())?];
+        run(py, "generalized_jacobian_partials", inputs, [&[6, n, nu]], &self.workspaces, || DerivativeData::new(m), |w, [x], [out]| {
+            put_last(derivatives::generalized_jacobian_partials(m, w, x, body, &off)?, out);
+            Ok(())
+        })
     }
 
     /// `J̇*` of a point along `u`, 6×N.
     fn generalized_jacobian_derivative<'py>(
-        &mut self,
+        &self,
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
         body: usize,
         offset: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let off = vec3(offset, "offset")?;
-        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
-        let j = derivatives::generalized_jacobian_derivative(&self.model, &mut self.work, x.as_slice(), u.as_slice(), body, &off).or_raise(py)?;
-        Ok(dmat(py, j))
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let off = finite3(offset, "offset")?;
+        let m = &self.model;
+        let n = m.n_dof();
+        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
+        run(py, "generalized_jacobian_derivative", inputs, [&[6, n]], &self.workspaces, || DerivativeData::new(m), |w, [x, u], [out]| {
+            put(derivatives::generalized_jacobian_derivative(m, w, x, u, body, &off)?, out);
+            Ok(())
+        })
     }
 
     /// `(∂u̇/∂x, ∂u̇/∂u, ∂u̇/∂f)`, each (6+N)², `x` in tangent coordinates.
-    #[allow(clippy::type_complexity)]
-    fn forward_dynamics_derivatives<'py>(
-        &mut self,
-        py: Python<'py>,
-        x: &Bound<'py, PyAny>,
-        u: &Bound<'py, PyAny>,
-        f: &Bound<'py, PyAny>,
-    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
-        let (x, u, f) = (vec_arg(x, "x")?, vec_arg(u, "u")?, vec_arg(f, "f")?);
-        let (dx, du, df) = derivatives::forward_dynamics_derivatives(&self.model, &mut self.work, x.as_slice(), u.as_slice(), f.as_slice()).or_raise(py)?;
-        Ok((dmat(py, dx), dmat(py, du), dmat(py, df)))
+    fn forward_dynamics_derivatives<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>, f: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let nu = m.nu();
+        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?, Input::arg(f, "f", nu)?];
+        run(py, "forward_dynamics_derivatives", inputs, [&[nu, nu], &[nu, nu], &[nu, nu]], &self.workspaces, || DerivativeData::new(m), |w, [x, u, f], [dx, du, df]| {
+            let (a, b, c) = derivatives::forward_dynamics_derivatives(m, w, x, u, f)?;
+            put(a, dx);
+            put(b, du);
+            put(c, df);
+            Ok(())
+        })
     }
 
     /// `(A, B)` of the linearized state equation; `B` for the joint torques only if
     /// `joints_only`, else for the whole generalized force.
-    #[allow(clippy::type_complexity)]
-    fn linearize<'py>(
-        &mut self,
-        py: Python<'py>,
-        x: &Bound<'py, PyAny>,
-        u: &Bound<'py, PyAny>,
-        f: &Bound<'py, PyAny>,
-        joints_only: bool,
-    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
-        let (x, u, f) = (vec_arg(x, "x")?, vec_arg(u, "u")?, vec_arg(f, "f")?);
-        let inputs = if joints_only { LinearizationInputs::Joints } else { LinearizationInputs::All };
-        let (a, b) = derivatives::linearize(&self.model, &mut self.work, x.as_slice(), u.as_slice(), f.as_slice(), inputs).or_raise(py)?;
-        let b = b.into_owned();
-        Ok((dmat(py, a), dmat(py, &b)))
+    fn linearize<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>, f: &Bound<'py, PyAny>, joints_only: bool) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let nu = m.nu();
+        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?, Input::arg(f, "f", nu)?];
+        let (kind, b_cols) = if joints_only { (LinearizationInputs::Joints, m.n_dof()) } else { (LinearizationInputs::All, nu) };
+        run(py, "linearize", inputs, [&[2 * nu, 2 * nu], &[2 * nu, b_cols]], &self.workspaces, || DerivativeData::new(m), |w, [x, u, f], [a_out, b_out]| {
+            let (a, b) = derivatives::linearize(m, w, x, u, f, kind)?;
+            put(a, a_out);
+            put(&b, b_out);
+            Ok(())
+        })
     }
 }

@@ -1,13 +1,16 @@
 //! PyO3 bindings of `spacearm-core`, built as the private extension `spacearm._core`.
 //!
 //! Thin by design: each method converts numpy arrays to slices, calls one core function and
-//! converts the result back; errors map onto `spacearm.errors`. The Python package
+//! converts the result back; errors are the exception classes of `errors_py.rs`, re-exported by `spacearm.errors`; every
+//! per-state method runs through the one batch driver of `batch.rs`. The Python package
 //! (`python/spacearm`) is the face users see.
 
 mod analysis_py;
+mod batch;
 mod builder_py;
 mod convert;
 mod derivatives_py;
+mod errors_py;
 mod model_io_py;
 mod model_py;
 mod records_py;
@@ -37,6 +40,9 @@ fn preset(py: Python<'_>, name: &str, allow_nonphysical_inertia: bool) -> PyResu
 
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    errors_py::register(m)?;
+    m.add_function(wrap_pyfunction!(batch::set_batch_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::batch_threads, m)?)?;
     m.add_class::<model_py::PyModel>()?;
     m.add_class::<builder_py::PyModelBuilder>()?;
     m.add_class::<derivatives_py::PyDerivatives>()?;

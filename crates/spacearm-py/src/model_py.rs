@@ -1,27 +1,47 @@
-//! `spacearm._core.Model`: a core `Model` with its `Data` workspace, one thin method per core
-//! function. Argument checking beyond numpy conversion happens in the core.
+//! `spacearm._core.Model`: a core `Model` with a pool of `Data` workspaces, one thin method
+//! per core function. Every per-state method takes one state or a batch of states (a 2-D `x`,
+//! one state per row; the other vectors with the same number of rows or one row for all) and
+//! runs through the one driver of [`crate::batch`]. Argument checking beyond numpy conversion
+//! happens in the core.
 
-use nalgebra::{Vector3, Vector6};
-use numpy::{PyArray1, PyArray2, PyArray3};
+use nalgebra::{Dim, Matrix, RawStorage, Vector3, Vector6};
+use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyDict, PyList, PyTuple};
 use spacearm_core as core;
-use spacearm_core::{Data, ExternalWrench, JointType};
+use spacearm_core::algorithms::{aba, crba, dynamics, inertia, kinematics, momentum, rnea};
+use spacearm_core::{gjm, Data, ExternalWrench, JointType};
 
+use crate::batch::{run, Input, Pool};
 use crate::convert::*;
 
-/// A validated spacecraft-manipulator model with its workspace (private; wrapped by
-/// `spacearm.Robot`).
-#[pyclass(module = "spacearm._core", name = "Model")]
+/// A validated spacecraft-manipulator model with its workspaces (private; wrapped by
+/// `spacearm.Robot`). Immutable: every method takes `&self` and a workspace of the pool, so
+/// one model may be used from several threads at once.
+#[pyclass(module = "spacearm._core", name = "Model", frozen)]
 pub struct PyModel {
     pub model: core::Model,
-    pub data: Data,
+    pub workspaces: Pool<Data>,
 }
 
 impl PyModel {
     pub fn new(model: core::Model) -> Self {
-        let data = Data::new(&model);
-        PyModel { model, data }
+        PyModel { model, workspaces: Pool::new() }
+    }
+
+    /// Run `f` with a workspace of this model (for the bindings that are not per-state methods).
+    pub fn with_data<R>(&self, f: impl FnOnce(&core::Model, &mut Data) -> R) -> R {
+        self.workspaces.with(|| Data::new(&self.model), |d| f(&self.model, d))
+    }
+}
+
+/// Write a matrix into `out` row after row (numpy's C order).
+pub fn put<R: Dim, C: Dim, S: RawStorage<f64, R, C>>(m: &Matrix<f64, R, C, S>, out: &mut [f64]) {
+    let (rows, cols) = m.shape();
+    for i in 0..rows {
+        for j in 0..cols {
+            out[i * cols + j] = m[(i, j)];
+        }
     }
 }
 
@@ -44,44 +64,6 @@ fn wrenches(py: Python<'_>, list: Option<WrenchList>) -> PyResult<Vec<ExternalWr
         });
     }
     Ok(out)
-}
-
-/// Room for the assembled `f` on the stack: models up to `FORCE_ON_STACK - 6` joints need no
-/// allocation per call.
-const FORCE_ON_STACK: usize = 64;
-
-/// Run `compute` on the generalized force `f = [base_wrench; tau]` of the `tau=`/`base_wrench=`
-/// form of forward dynamics, assembled here so that this form costs one native call like the `f`
-/// form (either part may be `None`: zero). `tau` is converted before `base_wrench`, and each is
-/// checked for length and finiteness under its own name (an error names `tau`, not `f`).
-fn with_force_from_parts<R>(
-    py: Python<'_>,
-    model: &core::Model,
-    tau: Option<&Bound<'_, PyAny>>,
-    base_wrench: Option<&Bound<'_, PyAny>>,
-    compute: impl FnOnce(&[f64]) -> PyResult<R>,
-) -> PyResult<R> {
-    let n = model.n_dof();
-    let mut on_stack = [0.0; FORCE_ON_STACK];
-    let mut on_heap = Vec::new();
-    let f: &mut [f64] = if 6 + n <= FORCE_ON_STACK {
-        &mut on_stack[..6 + n]
-    } else {
-        on_heap.resize(6 + n, 0.0);
-        &mut on_heap
-    };
-    // Each slice is copied out before the next conversion runs Python code (see `VecArg`).
-    if let Some(tau) = tau {
-        let tau = vec_arg_n(tau, "tau", n)?;
-        check_finite(py, "tau", tau.as_slice())?;
-        f[6..].copy_from_slice(tau.as_slice());
-    }
-    if let Some(fb) = base_wrench {
-        let fb = vec_arg_n(fb, "base_wrench", 6)?;
-        check_finite(py, "base_wrench", fb.as_slice())?;
-        f[..6].copy_from_slice(fb.as_slice());
-    }
-    compute(f)
 }
 
 #[pymethods]
@@ -186,295 +168,330 @@ impl PyModel {
         Ok(out)
     }
 
+
+    /// The model as TOML text, the form it pickles in (the core's writer prints every float
+    /// in its shortest round-trip form, so a model read back is bit-identical).
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let reader = py.import("spacearm._core")?.getattr("model_from_toml")?;
+        let text = core::io::toml::model_to_toml(&self.model);
+        let source = format!("<pickled model '{}'>", self.model.name());
+        let args = (text, source, self.allows_nonphysical_inertia()).into_pyobject(py)?;
+        Ok((reader, args))
+    }
+
+    /// Check a configuration (length, finite values, unit quaternion) without computing.
+    fn check_configuration(&self, py: Python<'_>, x: &Bound<'_, PyAny>) -> PyResult<()> {
+        let x = vec_arg(x, "x")?;
+        kinematics::split_configuration(&self.model, x.as_slice()).or_raise(py)?;
+        Ok(())
+    }
+
     /// Forward kinematics: (body_to_world (nb,3,3), com_in_world (nb,3),
     /// joint_position_in_world (nb,3), joint_axis_in_world (nb,3)).
-    #[allow(clippy::type_complexity)]
-    fn forward_kinematics<'py>(
-        &mut self,
-        py: Python<'py>,
-        x: &Bound<'py, PyAny>,
-    ) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
-        let x = vec_arg(x, "x")?;
-        core::algorithms::kinematics::forward_kinematics(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
-        let d = &self.data;
-        Ok((
-            stack_mat3(py, &d.body_to_world),
-            stack_vec3(py, &d.com_in_world),
-            stack_vec3(py, &d.joint_position_in_world),
-            stack_vec3(py, &d.joint_axis_in_world),
-        ))
+    fn forward_kinematics<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let nb = m.n_bodies();
+        let inputs = [Input::arg(x, "x", m.nx())?];
+        run(py, "forward_kinematics", inputs, [&[nb, 3, 3], &[nb, 3], &[nb, 3], &[nb, 3]], &self.workspaces, || Data::new(m), |d, [x], [r, c, p, a]| {
+            kinematics::forward_kinematics(m, d, x)?;
+            for b in 0..nb {
+                put(&d.body_to_world[b], &mut r[9 * b..9 * b + 9]);
+                c[3 * b..3 * b + 3].copy_from_slice(d.com_in_world[b].as_slice());
+                p[3 * b..3 * b + 3].copy_from_slice(d.joint_position_in_world[b].as_slice());
+                a[3 * b..3 * b + 3].copy_from_slice(d.joint_axis_in_world[b].as_slice());
+            }
+            Ok(())
+        })
     }
 
-    fn point_position<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let off = vec3(offset, "offset")?;
-        let x = vec_arg(x, "x")?;
-        core::algorithms::kinematics::forward_kinematics(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
-        core::algorithms::kinematics::check_body(&self.model, body).or_raise(py)?;
-        Ok(array1(py, core::algorithms::kinematics::point_position(&self.data, body, &off).as_slice()))
+    fn point_position<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let off = finite3(offset, "offset")?;
+        let m = &self.model;
+        let inputs = [Input::arg(x, "x", m.nx())?];
+        run(py, "point_position", inputs, [&[3]], &self.workspaces, || Data::new(m), |d, [x], [out]| {
+            kinematics::forward_kinematics(m, d, x)?;
+            kinematics::check_body(m, body)?;
+            out.copy_from_slice(kinematics::point_position(d, body, &off).as_slice());
+            Ok(())
+        })
     }
 
-    fn point_jacobians<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
-        let off = vec3(offset, "offset")?;
-        let x = vec_arg(x, "x")?;
-        core::algorithms::kinematics::forward_kinematics(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
-        let (j0, jm) = core::algorithms::kinematics::point_jacobians(&self.model, &self.data, body, &off).or_raise(py)?;
-        Ok((mat6(py, &j0), dmat(py, &jm)))
+    /// `(J_0X (6,6), J_mX (6,N))` of a point.
+    fn point_jacobians<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let off = finite3(offset, "offset")?;
+        let m = &self.model;
+        let n = m.n_dof();
+        let inputs = [Input::arg(x, "x", m.nx())?];
+        run(py, "point_jacobian", inputs, [&[6, 6], &[6, n]], &self.workspaces, || Data::new(m), |d, [x], [j0, jm]| {
+            kinematics::forward_kinematics(m, d, x)?;
+            let (a, b) = kinematics::point_jacobians(m, d, body, &off)?;
+            put(&a, j0);
+            put(&b, jm);
+            Ok(())
+        })
     }
 
-    fn link_jacobians<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
-        let x = vec_arg(x, "x")?;
-        core::algorithms::kinematics::forward_kinematics(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
-        core::algorithms::kinematics::check_body(&self.model, body).or_raise(py)?;
-        let (jt, jr) = core::algorithms::kinematics::link_jacobians(&self.model, &self.data, body);
-        Ok((dmat(py, &jt), dmat(py, &jr)))
+    /// `(J_Ti (3,N), J_Ri (3,N))` of a body's CM.
+    fn link_jacobians<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let n = m.n_dof();
+        let inputs = [Input::arg(x, "x", m.nx())?];
+        run(py, "link_jacobians", inputs, [&[3, n], &[3, n]], &self.workspaces, || Data::new(m), |d, [x], [jt, jr]| {
+            kinematics::forward_kinematics(m, d, x)?;
+            kinematics::check_body(m, body)?;
+            let (a, b) = kinematics::link_jacobians(m, d, body);
+            put(&a, jt);
+            put(&b, jr);
+            Ok(())
+        })
     }
 
-    /// The paper's inertia blocks (eqs. 27–36) as a dict.
-    fn inertia_blocks<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
-        let x = vec_arg(x, "x")?;
-        let b = core::algorithms::inertia::inertia_blocks(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
-        let d = PyDict::new(py);
-        d.set_item("M", b.total_mass)?;
-        d.set_item("r_0g", array1(py, b.base_to_com.as_slice()))?;
-        d.set_item("H_S", mat3(py, &b.h_s))?;
-        d.set_item("J_TS", dmat(py, &b.j_ts))?;
-        d.set_item("H_Sq", dmat(py, &b.h_sq))?;
-        d.set_item("H0", mat6(py, &b.h0))?;
-        d.set_item("H0m", dmat(py, &b.h0m))?;
-        d.set_item("Hm", dmat(py, &b.hm))?;
-        d.set_item("H", dmat(py, &b.mass_matrix()))?;
-        Ok(d)
+    /// The paper's inertia blocks (eqs. 27–36) as a tuple in the order of
+    /// `spacearm.InertiaBlocks`: (M, r_0g, H_S, J_TS, H_Sq, H0, H0m, Hm, H).
+    fn inertia_blocks<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let (n, nu) = (m.n_dof(), m.nu());
+        let inputs = [Input::arg(x, "x", m.nx())?];
+        let shapes: [&[usize]; 9] = [&[], &[3], &[3, 3], &[3, n], &[3, n], &[6, 6], &[6, n], &[n, n], &[nu, nu]];
+        run(py, "inertia_blocks", inputs, shapes, &self.workspaces, || Data::new(m), |d, [x], [mass, r0g, hs, jts, hsq, h0, h0m, hm, h]| {
+            let b = inertia::inertia_blocks(m, d, x)?;
+            mass[0] = b.total_mass;
+            r0g.copy_from_slice(b.base_to_com.as_slice());
+            put(&b.h_s, hs);
+            put(&b.j_ts, jts);
+            put(&b.h_sq, hsq);
+            put(&b.h0, h0);
+            put(&b.h0m, h0m);
+            put(&b.hm, hm);
+            put(&b.mass_matrix(), h);
+            Ok(())
+        })
     }
 
     /// The mass matrix `H` by the paper's Jacobian sums (eqs. 27–36) alone.
-    fn mass_matrix_paper<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let x = vec_arg(x, "x")?;
-        let b = core::algorithms::inertia::inertia_blocks(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
-        Ok(dmat(py, &b.mass_matrix()))
+    fn mass_matrix_paper<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let nu = m.nu();
+        let inputs = [Input::arg(x, "x", m.nx())?];
+        run(py, "mass_matrix", inputs, [&[nu, nu]], &self.workspaces, || Data::new(m), |d, [x], [out]| {
+            put(&inertia::inertia_blocks(m, d, x)?.mass_matrix(), out);
+            Ok(())
+        })
     }
 
-    fn mass_matrix_crba<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let x = vec_arg(x, "x")?;
-        let h = core::algorithms::crba::crba(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
-        Ok(dmat(py, h))
+    fn mass_matrix_crba<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let nu = m.nu();
+        let inputs = [Input::arg(x, "x", m.nx())?];
+        run(py, "mass_matrix", inputs, [&[nu, nu]], &self.workspaces, || Data::new(m), |d, [x], [out]| {
+            put(crba::crba(m, d, x)?, out);
+            Ok(())
+        })
     }
 
-    fn base_inertia_inverse<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let x = vec_arg(x, "x")?;
-        let h = core::algorithms::crba::crba(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
-        let h0 = h.fixed_view::<6, 6>(0, 0).into_owned();
-        Ok(mat6(py, &core::algorithms::inertia::base_inertia_inverse(&h0).or_raise(py)?))
+    fn base_inertia_inverse<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let inputs = [Input::arg(x, "x", m.nx())?];
+        run(py, "base_inertia_inverse", inputs, [&[6, 6]], &self.workspaces, || Data::new(m), |d, [x], [out]| {
+            let h0 = crba::crba(m, d, x)?.fixed_view::<6, 6>(0, 0).into_owned();
+            put(&inertia::base_inertia_inverse(&h0)?, out);
+            Ok(())
+        })
     }
 
-    fn bias_forces<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
-        let c = core::algorithms::rnea::bias_forces(&self.model, &mut self.data, x.as_slice(), u.as_slice()).or_raise(py)?;
-        Ok(dvec(py, c))
+    fn bias_forces<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let nu = m.nu();
+        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?];
+        run(py, "bias_forces", inputs, [&[nu]], &self.workspaces, || Data::new(m), |d, [x, u], [out]| {
+            out.copy_from_slice(rnea::bias_forces(m, d, x, u)?.as_slice());
+            Ok(())
+        })
     }
 
     #[pyo3(signature = (x, u, du, wrenches=None))]
     fn inverse_dynamics<'py>(
-        &mut self,
+        &self,
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
         du: &Bound<'py, PyAny>,
         wrenches: Option<WrenchList>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let (x, u, du) = (vec_arg(x, "x")?, vec_arg(u, "u")?, vec_arg(du, "du")?);
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let nu = m.nu();
+        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?, Input::arg(du, "du", nu)?];
         let ext = self::wrenches(py, wrenches)?;
-        let f = core::algorithms::rnea::rnea(&self.model, &mut self.data, x.as_slice(), u.as_slice(), du.as_slice(), &ext).or_raise(py)?;
-        Ok(dvec(py, f))
+        run(py, "inverse_dynamics", inputs, [&[nu]], &self.workspaces, || Data::new(m), |d, [x, u, du], [out]| {
+            out.copy_from_slice(rnea::rnea(m, d, x, u, du, &ext)?.as_slice());
+            Ok(())
+        })
     }
 
-    /// `f` is converted before `x` and `u`, in the order `Robot.forward_dynamics` always used.
-    #[pyo3(signature = (x, u, f, wrenches=None))]
-    fn forward_dynamics_aba<'py>(
-        &mut self,
+    /// Forward dynamics under the generalized force `f`, by `method` ("aba", "mass_matrix" or
+    /// "reduced"; the last takes no external wrenches). `f` is converted before `x` and `u`,
+    /// in the order `Robot.forward_dynamics` always used.
+    #[pyo3(signature = (x, u, f, wrenches=None, method="aba"))]
+    fn forward_dynamics<'py>(
+        &self,
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
         f: &Bound<'py, PyAny>,
         wrenches: Option<WrenchList>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let f = vec_arg(f, "f")?;
-        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
-        let ext = self::wrenches(py, wrenches)?;
-        let a = core::algorithms::aba::aba(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f.as_slice(), &ext).or_raise(py)?;
-        Ok(dvec(py, a))
-    }
-
-    #[pyo3(signature = (x, u, f, wrenches=None))]
-    fn forward_dynamics_mass_matrix<'py>(
-        &mut self,
-        py: Python<'py>,
-        x: &Bound<'py, PyAny>,
-        u: &Bound<'py, PyAny>,
-        f: &Bound<'py, PyAny>,
-        wrenches: Option<WrenchList>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let f = vec_arg(f, "f")?;
-        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
-        let ext = self::wrenches(py, wrenches)?;
-        let a = core::algorithms::dynamics::compute_forward_dynamics_via_mass_matrix(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f.as_slice(), &ext)
-            .or_raise(py)?;
-        Ok(dvec(py, a))
-    }
-
-    /// Forward dynamics by ABA under `f = [base_wrench; tau]` (either `None`: zero), in one
-    /// call: the same numbers as `forward_dynamics_aba` with the assembled `f`.
-    #[pyo3(signature = (x, u, tau=None, base_wrench=None, wrenches=None))]
-    fn forward_dynamics_aba_tau<'py>(
-        &mut self,
-        py: Python<'py>,
-        x: &Bound<'py, PyAny>,
-        u: &Bound<'py, PyAny>,
-        tau: Option<&Bound<'py, PyAny>>,
-        base_wrench: Option<&Bound<'py, PyAny>>,
-        wrenches: Option<WrenchList>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        with_force_from_parts(py, &self.model, tau, base_wrench, |f| {
-            let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
-            let ext = self::wrenches(py, wrenches)?;
-            let a = core::algorithms::aba::aba(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f, &ext).or_raise(py)?;
-            Ok(dvec(py, a))
-        })
-    }
-
-    /// Forward dynamics through `H` under `f = [base_wrench; tau]` (either `None`: zero).
-    #[pyo3(signature = (x, u, tau=None, base_wrench=None, wrenches=None))]
-    fn forward_dynamics_mass_matrix_tau<'py>(
-        &mut self,
-        py: Python<'py>,
-        x: &Bound<'py, PyAny>,
-        u: &Bound<'py, PyAny>,
-        tau: Option<&Bound<'py, PyAny>>,
-        base_wrench: Option<&Bound<'py, PyAny>>,
-        wrenches: Option<WrenchList>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        with_force_from_parts(py, &self.model, tau, base_wrench, |f| {
-            let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
-            let ext = self::wrenches(py, wrenches)?;
-            let a = core::algorithms::dynamics::compute_forward_dynamics_via_mass_matrix(&self.model, &mut self.data, x.as_slice(), u.as_slice(), f, &ext)
-                .or_raise(py)?;
-            Ok(dvec(py, a))
-        })
-    }
-
-    /// Reduced forward dynamics (the `H*` route) under joint torques `tau` and base wrench
-    /// `base_wrench` (either `None`: zero).
-    #[pyo3(signature = (x, u, tau=None, base_wrench=None))]
-    fn reduced_forward_dynamics<'py>(
-        &mut self,
-        py: Python<'py>,
-        x: &Bound<'py, PyAny>,
-        u: &Bound<'py, PyAny>,
-        tau: Option<&Bound<'py, PyAny>>,
-        base_wrench: Option<&Bound<'py, PyAny>>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        with_force_from_parts(py, &self.model, tau, base_wrench, |f| {
-            let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
-            let fb = Vector6::from_column_slice(&f[..6]);
-            let a = core::gjm::compute_reduced_forward_dynamics(&self.model, &mut self.data, x.as_slice(), u.as_slice(), &f[6..], &fb)
-                .or_raise(py)?;
-            Ok(dvec(py, a))
-        })
-    }
-
-    /// Reduced forward dynamics from the full generalized force `f = [F_b; τ]` (what
-    /// `Robot.forward_dynamics(method="reduced")` passes), without splitting it in Python.
-    fn reduced_forward_dynamics_f<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>, f: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let f = vec_arg(f, "f")?;
+        method: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let nu = self.model.nu();
-        let n_f = f.as_slice().len();
-        if n_f != nu {
-            return Err(to_py_err(py, core::SpacearmError::Dimension { what: "f".into(), expected: format!("6+N = {nu}"), got: n_f }));
-        }
-        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
-        let fs = f.as_slice();
-        let fb = Vector6::from_column_slice(&fs[..6]);
-        let a = core::gjm::compute_reduced_forward_dynamics(&self.model, &mut self.data, x.as_slice(), u.as_slice(), &fs[6..], &fb).or_raise(py)?;
-        Ok(dvec(py, a))
+        let f = Input::arg(f, "f", nu)?;
+        self.forward_dynamics_of(py, x, u, f, None, wrenches, method)
     }
 
-    fn generalized_inertia<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let x = vec_arg(x, "x")?;
-        let h = core::gjm::compute_generalized_inertia(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
-        Ok(dmat(py, h))
+    /// Forward dynamics under `f = [base_wrench; tau]` (either `None`: zero), assembled in the
+    /// kernel so that this form costs one native call like the `f` form; `tau` is converted
+    /// before `base_wrench`, and each is checked under its own name.
+    #[pyo3(signature = (x, u, tau=None, base_wrench=None, wrenches=None, method="aba"))]
+    #[allow(clippy::too_many_arguments)]
+    fn forward_dynamics_tau<'py>(
+        &self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+        tau: Option<&Bound<'py, PyAny>>,
+        base_wrench: Option<&Bound<'py, PyAny>>,
+        wrenches: Option<WrenchList>,
+        method: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let n = self.model.n_dof();
+        let tau = Input::optional(tau, "tau", n)?;
+        let base_wrench = Input::optional(base_wrench, "base_wrench", 6)?;
+        self.forward_dynamics_of(py, x, u, tau, Some(base_wrench), wrenches, method)
     }
 
-    fn generalized_bias<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
-        let c = core::gjm::compute_generalized_bias(&self.model, &mut self.data, x.as_slice(), u.as_slice()).or_raise(py)?;
-        Ok(dvec(py, c))
+    fn generalized_inertia<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let n = m.n_dof();
+        let inputs = [Input::arg(x, "x", m.nx())?];
+        run(py, "generalized_inertia", inputs, [&[n, n]], &self.workspaces, || Data::new(m), |d, [x], [out]| {
+            put(gjm::compute_generalized_inertia(m, d, x)?, out);
+            Ok(())
+        })
     }
 
-    fn generalized_jacobian<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let off = vec3(offset, "offset")?;
-        let x = vec_arg(x, "x")?;
-        let j = core::gjm::compute_generalized_jacobian(&self.model, &mut self.data, x.as_slice(), body, &off).or_raise(py)?;
-        Ok(dmat(py, j))
+    fn generalized_bias<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let n = m.n_dof();
+        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
+        run(py, "generalized_bias", inputs, [&[n]], &self.workspaces, || Data::new(m), |d, [x, u], [out]| {
+            out.copy_from_slice(gjm::compute_generalized_bias(m, d, x, u)?.as_slice());
+            Ok(())
+        })
+    }
+
+    fn generalized_jacobian<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let off = finite3(offset, "offset")?;
+        let m = &self.model;
+        let n = m.n_dof();
+        let inputs = [Input::arg(x, "x", m.nx())?];
+        run(py, "generalized_jacobian", inputs, [&[6, n]], &self.workspaces, || Data::new(m), |d, [x], [out]| {
+            put(gjm::compute_generalized_jacobian(m, d, x, body, &off)?, out);
+            Ok(())
+        })
+    }
+
+    /// The twist `[v_X; ω] = J* q̇ + J_0X H0⁻¹ M0` of a point when the joints move at `qd` and
+    /// the system has linear momentum `P` and angular momentum `L` about the origin of 𝒥.
+    #[allow(clippy::too_many_arguments)]
+    fn point_twist<'py>(
+        &self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        qd: &Bound<'py, PyAny>,
+        body: usize,
+        offset: &Bound<'py, PyAny>,
+        linear: &Bound<'py, PyAny>,
+        angular_origin: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let off = finite3(offset, "offset")?;
+        let m = &self.model;
+        let n = m.n_dof();
+        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(qd, "qd", n)?, Input::arg(linear, "P", 3)?, Input::arg(angular_origin, "L", 3)?];
+        run(py, "point_twist", inputs, [&[6]], &self.workspaces, || Data::new(m), |d, [x, qd, p, l], [out]| {
+            kinematics::check_joint_vector(m, "qd", qd)?;
+            let (p, l) = (momentum3(m, "P", p)?, momentum3(m, "L", l)?);
+            let from_joints = gjm::compute_generalized_jacobian(m, d, x, body, &off)? * nalgebra::DVectorView::from_slice(qd, n);
+            let from_momentum = gjm::momentum_twist(m, d, x, body, &off, &p, &l)?;
+            out.copy_from_slice((from_joints + from_momentum).as_slice());
+            Ok(())
+        })
     }
 
     fn momentum_twist<'py>(
-        &mut self,
+        &self,
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
         body: usize,
         offset: &Bound<'py, PyAny>,
         linear: &Bound<'py, PyAny>,
         angular_origin: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let off = vec3(offset, "offset")?;
-        let p = vec3(linear, "linear momentum")?;
-        let l = vec3(angular_origin, "angular momentum")?;
-        let x = vec_arg(x, "x")?;
-        let t = core::gjm::momentum_twist(&self.model, &mut self.data, x.as_slice(), body, &off, &p, &l).or_raise(py)?;
-        Ok(array1(py, t.as_slice()))
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let off = finite3(offset, "offset")?;
+        let m = &self.model;
+        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(linear, "P", 3)?, Input::arg(angular_origin, "L", 3)?];
+        run(py, "momentum_twist", inputs, [&[6]], &self.workspaces, || Data::new(m), |d, [x, p, l], [out]| {
+            let (p, l) = (momentum3(m, "P", p)?, momentum3(m, "L", l)?);
+            out.copy_from_slice(gjm::momentum_twist(m, d, x, body, &off, &p, &l)?.as_slice());
+            Ok(())
+        })
     }
 
     fn base_velocity_from_momentum<'py>(
-        &mut self,
+        &self,
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
         qd: &Bound<'py, PyAny>,
         linear: &Bound<'py, PyAny>,
         angular_origin: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let p = vec3(linear, "linear momentum")?;
-        let l = vec3(angular_origin, "angular momentum")?;
-        let (x, qd) = (vec_arg(x, "x")?, vec_arg(qd, "qd")?);
-        let v = core::gjm::base_velocity_from_momentum(&self.model, &mut self.data, x.as_slice(), qd.as_slice(), &p, &l).or_raise(py)?;
-        Ok(array1(py, v.as_slice()))
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let n = m.n_dof();
+        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(qd, "qd", n)?, Input::arg(linear, "P", 3)?, Input::arg(angular_origin, "L", 3)?];
+        run(py, "base_velocity_from_momentum", inputs, [&[6]], &self.workspaces, || Data::new(m), |d, [x, qd, p, l], [out]| {
+            let (p, l) = (momentum3(m, "P", p)?, momentum3(m, "L", l)?);
+            out.copy_from_slice(gjm::base_velocity_from_momentum(m, d, x, qd, &p, &l)?.as_slice());
+            Ok(())
+        })
     }
 
     /// (P, L_origin, L_base, L_com)
-    #[allow(clippy::type_complexity)]
-    fn momentum<'py>(
-        &mut self,
-        py: Python<'py>,
-        x: &Bound<'py, PyAny>,
-        u: &Bound<'py, PyAny>,
-    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
-        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
-        let m = core::algorithms::momentum::momentum(&self.model, &mut self.data, x.as_slice(), u.as_slice()).or_raise(py)?;
-        Ok((
-            array1(py, m.linear.as_slice()),
-            array1(py, m.angular_about_origin.as_slice()),
-            array1(py, m.angular_about_base.as_slice()),
-            array1(py, m.angular_about_com.as_slice()),
-        ))
+    fn momentum<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
+        run(py, "momentum", inputs, [&[3], &[3], &[3], &[3]], &self.workspaces, || Data::new(m), |d, [x, u], [p, lo, lb, lc]| {
+            let h = momentum::momentum(m, d, x, u)?;
+            p.copy_from_slice(h.linear.as_slice());
+            lo.copy_from_slice(h.angular_about_origin.as_slice());
+            lb.copy_from_slice(h.angular_about_base.as_slice());
+            lc.copy_from_slice(h.angular_about_com.as_slice());
+            Ok(())
+        })
     }
 
-    fn kinetic_energy<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<f64> {
-        let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
-        core::algorithms::momentum::kinetic_energy(&self.model, &mut self.data, x.as_slice(), u.as_slice()).or_raise(py)
+    fn kinetic_energy<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
+        run(py, "kinetic_energy", inputs, [&[]], &self.workspaces, || Data::new(m), |d, [x, u], [out]| {
+            out[0] = momentum::kinetic_energy(m, d, x, u)?;
+            Ok(())
+        })
     }
 
-    fn center_of_mass<'py>(&mut self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let x = vec_arg(x, "x")?;
-        let c = core::algorithms::momentum::center_of_mass(&self.model, &mut self.data, x.as_slice()).or_raise(py)?;
-        Ok(array1(py, c.as_slice()))
+    fn center_of_mass<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let inputs = [Input::arg(x, "x", m.nx())?];
+        run(py, "center_of_mass", inputs, [&[3]], &self.workspaces, || Data::new(m), |d, [x], [out]| {
+            out.copy_from_slice(momentum::center_of_mass(m, d, x)?.as_slice());
+            Ok(())
+        })
     }
 
     fn joint_types(&self) -> Vec<&'static str> {
@@ -489,5 +506,106 @@ impl PyModel {
             self.model.n_dof(),
             self.model.links().iter().filter(|l| l.joint.kind == JointType::Fixed).count()
         )
+    }
+}
+
+/// `NonFinite` naming `what` and its first non-finite entry, if any (one row's check).
+fn finite_row(what: &str, v: &[f64]) -> core::Result<()> {
+    match v.iter().position(|x| !x.is_finite()) {
+        Some(index) => Err(core::SpacearmError::NonFinite { what: what.into(), index, value: v[index] }),
+        None => Ok(()),
+    }
+}
+
+/// A momentum argument of one row as a 3-vector (length and finiteness checked under `what`).
+fn momentum3(_model: &core::Model, what: &str, v: &[f64]) -> core::Result<Vector3<f64>> {
+    if v.len() != 3 {
+        return Err(core::SpacearmError::Dimension { what: what.into(), expected: "3".into(), got: v.len() });
+    }
+    finite_row(what, v)?;
+    Ok(Vector3::from_column_slice(v))
+}
+
+/// The forward-dynamics methods of `Model`, with `force` either `f` (`base_wrench: None`) or
+/// `tau` with `base_wrench`.
+#[derive(Clone, Copy)]
+enum FdMethod {
+    Aba,
+    MassMatrix,
+    Reduced,
+}
+
+/// Room for the assembled `f` on the stack: models up to `FORCE_ON_STACK - 6` joints need no
+/// allocation per row.
+const FORCE_ON_STACK: usize = 64;
+
+impl PyModel {
+    #[allow(clippy::too_many_arguments)]
+    fn forward_dynamics_of<'py>(
+        &self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+        force: Input<'py>,
+        base_wrench: Option<Input<'py>>,
+        wrenches: Option<WrenchList>,
+        method: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let nu = m.nu();
+        let method = match method {
+            "aba" => FdMethod::Aba,
+            "mass_matrix" => FdMethod::MassMatrix,
+            "reduced" => FdMethod::Reduced,
+            other => {
+                return Err(to_py_err(
+                    py,
+                    core::SpacearmError::InvalidArgument(format!("method must be 'aba', 'mass_matrix' or 'reduced', got '{other}'")),
+                ))
+            }
+        };
+        let from_parts = base_wrench.is_some();
+        let base_wrench = base_wrench.unwrap_or_else(|| Input::constant("base_wrench", Vec::new()));
+        let inputs = [force, base_wrench, Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?];
+        let ext = self::wrenches(py, wrenches)?;
+        if matches!(method, FdMethod::Reduced) && !ext.is_empty() {
+            return Err(to_py_err(py, core::SpacearmError::InvalidArgument("method='reduced' takes no external wrenches; use 'aba' or 'mass_matrix'".into())));
+        }
+        run(py, "forward_dynamics", inputs, [&[nu]], &self.workspaces, || Data::new(m), |d, [force, fb, x, u], [out]| {
+            let mut on_stack = [0.0; FORCE_ON_STACK];
+            let mut on_heap = Vec::new();
+            let f: &[f64] = if from_parts {
+                if force.len() != nu - 6 {
+                    return Err(core::SpacearmError::Dimension { what: "tau".into(), expected: (nu - 6).to_string(), got: force.len() });
+                }
+                finite_row("tau", force)?;
+                if fb.len() != 6 {
+                    return Err(core::SpacearmError::Dimension { what: "base_wrench".into(), expected: "6".into(), got: fb.len() });
+                }
+                finite_row("base_wrench", fb)?;
+                let buf: &mut [f64] = if nu <= FORCE_ON_STACK {
+                    &mut on_stack[..nu]
+                } else {
+                    on_heap.resize(nu, 0.0);
+                    &mut on_heap
+                };
+                buf[..6].copy_from_slice(fb);
+                buf[6..].copy_from_slice(force);
+                buf
+            } else {
+                force
+            };
+            let du = match method {
+                FdMethod::Aba => aba::aba(m, d, x, u, f, &ext)?,
+                FdMethod::MassMatrix => dynamics::compute_forward_dynamics_via_mass_matrix(m, d, x, u, f, &ext)?,
+                FdMethod::Reduced => {
+                    kinematics::check_velocity(m, "f", f)?;
+                    let fb = Vector6::from_column_slice(&f[..6]);
+                    gjm::compute_reduced_forward_dynamics(m, d, x, u, &f[6..], &fb)?
+                }
+            };
+            out.copy_from_slice(du.as_slice());
+            Ok(())
+        })
     }
 }

@@ -9,21 +9,52 @@ import numpy as np
 from ..errors import ArgumentError, NonFiniteError, ShapeError, SpacearmTypeError
 
 
-def vector(value, name: str, length: int | None = None) -> np.ndarray:
-    """Convert ``value`` to a contiguous 1-D float64 array, checking its length if given."""
+#: numpy dtype kinds accepted as numbers: bool, signed and unsigned integers, floats. Complex
+#: values would lose their imaginary part; objects, datetimes, timedeltas, strings and records
+#: are not numbers. The extension applies the same rule to what it converts (convert.rs).
+REAL_KINDS = "biuf"
+
+
+def real_array(value, name: str) -> np.ndarray:
+    """``value`` as a contiguous float64 array of any shape, refusing anything that is not real
+    numbers: a :class:`SpacearmTypeError` naming ``name`` and the dtype (complex, object,
+    datetime, string...), a :class:`ShapeError` for a ragged sequence."""
     try:
         arr = np.asarray(value)
-        complex_values = arr.dtype.kind == "c"  # casting would drop the imaginary parts silently
-        if not complex_values:
-            arr = np.ascontiguousarray(arr, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise ShapeError(f"{name} must be a 1-D array of numbers, got {value!r}") from exc
-    if complex_values:
-        raise ShapeError(f"{name} must be real numbers, got complex values {value!r}")
+        raise ShapeError(f"{name} must be an array of numbers, got {type(value).__name__} that numpy cannot read as one ({exc})") from None
+    if arr.dtype.kind not in REAL_KINDS:
+        got = f"a {type(value).__name__}" if arr.ndim == 0 and arr.dtype.kind == "O" else f"an array of dtype {arr.dtype}"
+        raise SpacearmTypeError(f"{name} must hold real numbers (bool, int or float), got {got}")
+    return np.ascontiguousarray(arr, dtype=np.float64)
+
+
+def vector(value, name: str, length: int | None = None) -> np.ndarray:
+    """Convert ``value`` to a contiguous 1-D float64 array (see :func:`real_array`), checking
+    its length if given."""
+    arr = real_array(value, name)
     if arr.ndim != 1:
         raise ShapeError(f"{name} must be a 1-D array, got an array of shape {arr.shape}")
     if length is not None and arr.shape[0] != length:
         raise ShapeError(f"{name} must have length {length}, got {arr.shape[0]}")
+    return arr
+
+
+def rows(value, name: str, width: int) -> np.ndarray:
+    """One vector (1-D, length ``width``) or a batch of them (2-D, one per row, ``width``
+    columns) as a contiguous float64 array."""
+    arr = real_array(value, name)
+    if arr.ndim not in (1, 2) or arr.shape[-1] != width:
+        raise ShapeError(f"{name} must have shape ({width},) or (B, {width}) for a batch of B, got {arr.shape}")
+    return arr
+
+
+def finite(arr: np.ndarray, name: str) -> np.ndarray:
+    """``arr`` itself if every entry is finite, else a :class:`NonFiniteError` naming ``name``
+    and the first non-finite entry."""
+    if not np.all(np.isfinite(arr)):
+        index = int(np.flatnonzero(~np.isfinite(arr.ravel()))[0])
+        raise NonFiniteError(f"{name} must be finite, but entry {index} is {arr.ravel()[index]}")
     return arr
 
 
@@ -59,10 +90,7 @@ def vector3(value, name: str) -> np.ndarray:
 
 
 def matrix3(value, name: str) -> list:
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise ShapeError(f"{name} must be a 3x3 matrix of numbers, got {value!r}") from exc
+    arr = real_array(value, name)
     if arr.shape == (3,):
         arr = np.diag(arr)
     if arr.shape != (3, 3):

@@ -61,9 +61,11 @@ def rmrc_rates(robot, x, desired_twist, point=None, task: TaskLike = None, strat
     :func:`spacearm.analysis.damping`), with the null-space objectives. Returns ``qd``,
     ``sigma_min``, ``damping`` and ``base_angular_velocity``."""
     body, off = robot._point(point)
-    return _core.analysis_rmrc_rates(robot._m, x, body, off, vector(desired_twist, "desired_twist", 6), task_rows(robot, task),
-                                     number(threshold, "threshold"), number(max_damping, "max_damping"), _check_strategy(strategy),
-                                     number(manipulability_gain, "manipulability_gain"), number(joint_limit_gain, "joint_limit_gain"))
+    options = _core.RmrcOptions(rows=task_rows(robot, task), threshold=number(threshold, "threshold"),
+                                max_damping=number(max_damping, "max_damping"), strategy=_check_strategy(strategy),
+                                manipulability_gain=number(manipulability_gain, "manipulability_gain"),
+                                joint_limit_gain=number(joint_limit_gain, "joint_limit_gain"))
+    return _core.analysis_rmrc_rates(robot._m, x, body, off, vector(desired_twist, "desired_twist", 6), options)
 
 
 @dataclass
@@ -135,7 +137,9 @@ def move_to(robot, target, x0=None, point=None, task: TaskLike = None, strategy:
     x0 = robot.neutral_configuration() if x0 is None else x0
     body, off = robot._point(point)
     tgt = vector(target, "target", 3)
-    d = _core.analysis_move_to(robot._m, x0, body, off, tgt, number(duration, "duration"), number(settle, "settle"), number(dt, "dt"), task_rows(robot, task),
-                               number(threshold, "threshold"), number(max_damping, "max_damping"), number(gain, "gain"), _check_strategy(strategy),
-                               number(manipulability_gain, "manipulability_gain"), number(joint_limit_gain, "joint_limit_gain"))
+    options = _core.RmrcOptions(rows=task_rows(robot, task), threshold=number(threshold, "threshold"),
+                                max_damping=number(max_damping, "max_damping"), gain=number(gain, "gain"),
+                                strategy=_check_strategy(strategy), manipulability_gain=number(manipulability_gain, "manipulability_gain"),
+                                joint_limit_gain=number(joint_limit_gain, "joint_limit_gain"))
+    d = _core.analysis_move_to(robot._m, x0, body, off, tgt, number(duration, "duration"), number(settle, "settle"), number(dt, "dt"), options)
     return Motion(robot.name, strategy, tgt, **d)

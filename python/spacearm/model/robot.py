@@ -8,6 +8,11 @@ base CM velocity and ``w0`` the base angular velocity, both in 𝒥; generalized
 ``f = [F0 (3), N0 (3), tau (N)]`` (force at the base CM, torque about it, in 𝒥; joint torques).
 EOM: ``H(x) du + c(x, u) = f + J^T w_ext``. Equation numbers refer to Wilde, Kwok Choon,
 Grompone & Romano (2018), Front. Robot. AI 5:41 ("the paper").
+
+Batches (``docs/batch.md``): every per-state method also takes a batch of states, ``x`` of shape
+``(B, 7+N)`` (and ``u``, ``f``, ``tau``, ``du``, ``qd`` with ``B`` rows, or one row used for every
+state), and returns its results with a leading axis of length ``B``; the rows are computed in
+parallel in the extension with the GIL released, bit-identical to one call per state.
 """
 
 from __future__ import annotations
@@ -21,7 +26,7 @@ from typing import NamedTuple, Sequence, Union
 import numpy as np
 
 from .. import _core
-from .._util.arrays import quaternion, vector, vector3
+from .._util.arrays import quaternion, real_array, vector, vector3
 from .description import ModelDescription
 from ..errors import ArgumentError, NonPhysicalInertiaWarning, NotFoundError, ShapeError, SpacearmTypeError
 
@@ -282,6 +287,11 @@ class Robot:
             return self.body_index(point[0]), vector3(point[1], "point offset")
         raise ShapeError(f"a point is a point name, a body name, or (body, offset), got {point!r}")
 
+    def __reduce__(self):
+        # Pickled through the extension's model (its TOML text, floats in shortest round-trip
+        # form: bit-exact); caches are rebuilt on demand.
+        return (Robot, (self._m,))
+
     def __repr__(self) -> str:
         return self._repr
 
@@ -292,18 +302,18 @@ class Robot:
         ``quat0`` is the base attitude, a quaternion ``[x, y, z, w]`` or a
         ``scipy.spatial.transform.Rotation``."""
         qv = self.initial_q if q is None else vector(q, "q", self.n_dof)
-        return np.concatenate([vector(r0, "r0", 3), quaternion(quat0, "quat0"), qv])
+        x = np.concatenate([vector(r0, "r0", 3), quaternion(quat0, "quat0"), qv])
+        self._m.check_configuration(x)  # finite values, unit quaternion: the core's one rule
+        return x
 
     def zero_velocity(self) -> np.ndarray:
         """``u = 0`` (length ``6 + N``)."""
         return np.zeros(self.nu)
 
     # Vector arguments (x, u, du, f, tau, qd...) go to the extension unconverted: it uses a 1-D
-    # contiguous float64 array in place and converts anything else with ``_arrays.vector`` under
-    # the argument's name, so a Python-side conversion first would only repeat the work. Convert
-    # here only a value used twice (``_x``), so that a list is converted once.
-    def _x(self, x):
-        return vector(x, "x")
+    # contiguous float64 array in place, copies the rows of a 2-D one (a batch), and converts
+    # anything else under the argument's name (real numbers only), so a Python-side conversion
+    # first would only repeat the work.
 
     # ---- kinematics ----------------------------------------------------------------------
     def forward_kinematics(self, x) -> Kinematics:
@@ -328,8 +338,7 @@ class Robot:
     # ---- inertia ---------------------------------------------------------------------------
     def inertia_blocks(self, x) -> InertiaBlocks:
         """``H0``, ``H0m``, ``Hm`` and their parts by the paper's Jacobian sums (eqs. 27–36)."""
-        d = self._m.inertia_blocks(x)
-        return InertiaBlocks(**d)
+        return InertiaBlocks(*self._m.inertia_blocks(x))
 
     def mass_matrix(self, x, method: str = "crba") -> np.ndarray:
         """Generalized mass matrix ``H(x)`` ((6+N)², eq. 36).
@@ -386,23 +395,10 @@ class Robot:
         # unconverted (see _x above); it checks them in the order force, x, u.
         ext = None if wrenches is None else self._wrenches(wrenches)
         if f is None:
-            if method == "aba":
-                return self._m.forward_dynamics_aba_tau(x, u, tau, base_wrench, ext)
-            if method == "mass_matrix":
-                return self._m.forward_dynamics_mass_matrix_tau(x, u, tau, base_wrench, ext)
-        elif tau is not None or base_wrench is not None:
+            return self._m.forward_dynamics_tau(x, u, tau, base_wrench, ext, method)
+        if tau is not None or base_wrench is not None:
             raise ArgumentError("give either f or tau/base_wrench, not both")
-        elif method == "aba":
-            return self._m.forward_dynamics_aba(x, u, f, ext)
-        elif method == "mass_matrix":
-            return self._m.forward_dynamics_mass_matrix(x, u, f, ext)
-        if method == "reduced":
-            if ext:
-                raise ArgumentError("method='reduced' takes no external wrenches; use 'aba' or 'mass_matrix'")
-            if f is None:
-                return self._m.reduced_forward_dynamics(x, u, tau, base_wrench)
-            return self._m.reduced_forward_dynamics_f(x, u, f)
-        raise ArgumentError(f"method must be 'aba', 'mass_matrix' or 'reduced', got {method!r}")
+        return self._m.forward_dynamics(x, u, f, ext, method)
 
     # ---- generalized (reduced) quantities ------------------------------------------------
     def generalized_inertia(self, x) -> np.ndarray:
@@ -424,15 +420,12 @@ class Robot:
         linear momentum ``P`` and angular momentum ``L`` about the origin of 𝒥:
         ``J* qd + J_0X H0⁻¹ M0`` (the non-zero-momentum GJM)."""
         body, off = self._point(point)
-        xv = self._x(x)
-        jstar = self._m.generalized_jacobian(xv, body, off)
-        offset = self._m.momentum_twist(xv, body, off, vector3(P, "P"), vector3(L, "L"))
-        return jstar @ vector(qd, "qd", self.n_dof) + offset
+        return self._m.point_twist(x, qd, body, off, P, L)
 
     def base_velocity_from_momentum(self, x, qd, P=(0.0, 0.0, 0.0), L=(0.0, 0.0, 0.0)) -> np.ndarray:
         """Base velocity ``[v0; w0] = H0⁻¹ (M0 - H0m qd)`` (eqs. 43, 109) that gives the system
         linear momentum ``P`` and angular momentum ``L`` about the origin of 𝒥."""
-        return self._m.base_velocity_from_momentum(x, qd, vector3(P, "P"), vector3(L, "L"))
+        return self._m.base_velocity_from_momentum(x, qd, P, L)
 
     # ---- capture (docs/capture.md) ---------------------------------------------------------
     def grasp_impulse(self, x, u, target, target_state, *, point: PointLike = None, grasp=None,
@@ -474,11 +467,20 @@ class Robot:
         return d
 
     def _force(self, f, tau, base_wrench) -> np.ndarray:
-        """``f = [F0, N0, tau]`` from ``f`` or from ``tau`` and ``base_wrench`` (zero default)."""
+        """``f = [F0, N0, tau]`` from ``f`` or from ``tau`` and ``base_wrench`` (zero default),
+        one row or a batch of rows (either part may be one row for all)."""
         if f is None:
-            t = np.zeros(self.n_dof) if tau is None else vector(tau, "tau", self.n_dof)
-            b = np.zeros(6) if base_wrench is None else vector(base_wrench, "base_wrench", 6)
-            return np.concatenate([b, t])
+            t = np.zeros(self.n_dof) if tau is None else real_array(tau, "tau")
+            b = np.zeros(6) if base_wrench is None else real_array(base_wrench, "base_wrench")
+            for arr, name, width in ((t, "tau", self.n_dof), (b, "base_wrench", 6)):
+                if arr.ndim not in (1, 2) or arr.shape[-1] != width:
+                    raise ShapeError(f"{name} must have length {width} (or shape (B, {width}) for a batch), got shape {arr.shape}")
+            if t.ndim == 1 and b.ndim == 1:
+                return np.concatenate([b, t])
+            lead = t.shape[0] if t.ndim == 2 else b.shape[0]
+            if t.ndim == 2 and b.ndim == 2 and t.shape[0] != b.shape[0]:
+                raise ShapeError(f"tau has {t.shape[0]} rows but base_wrench has {b.shape[0]}")
+            return np.concatenate([np.broadcast_to(b, (lead, 6)), np.broadcast_to(t, (lead, self.n_dof))], axis=1)
         if tau is not None or base_wrench is not None:
             raise ArgumentError("give either f or tau/base_wrench, not both")
         return f

@@ -1,0 +1,359 @@
+//! The one driver behind every per-state method of the extension: one state, or a batch of
+//! states (a 2-D argument, one state per row) computed on rayon's threads with the GIL
+//! released.
+//!
+//! A method describes its inputs (name and row width), its outputs (the shape of one row's
+//! result) and a kernel that computes one row into preallocated output slices with a workspace
+//! of its own. The driver converts the arguments, allocates the numpy results, runs the kernel
+//! once (one state) or once per row (a batch: each rayon job makes its own workspace, nothing
+//! mutable is shared) and checks every result for finiteness. A row's result depends only on
+//! that row's inputs (the kernels run forward kinematics first and overwrite everything they
+//! read), so a batch gives bit for bit the per-state results whatever the thread count.
+//!
+//! One-state calls take their workspace from a small [`Pool`] of the model, so concurrent
+//! calls from several Python threads, or a call re-entered from Python code run by an argument
+//! conversion, never share one.
+
+use std::sync::{Arc, Mutex};
+
+use numpy::{IxDyn, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyTuple;
+use rayon::prelude::*;
+use spacearm_core::SpacearmError;
+
+use crate::convert::{batch_arg, class_of_error, shape_error, ArgValue};
+use crate::errors_py::{new_error, ErrorClass};
+
+/// Workspaces of one model for one-state calls: taken for the duration of a call, given back
+/// after it; a call that finds none free makes a new one. Boxed, so that taking and giving
+/// back moves a pointer, not the workspace (a `Data` is a few hundred bytes).
+pub struct Pool<W> {
+    free: Mutex<Vec<Box<W>>>,
+}
+
+/// At most this many idle workspaces are kept (as many as threads are likely to call at once).
+const POOL_KEEP: usize = 16;
+
+impl<W> Pool<W> {
+    pub fn new() -> Self {
+        Pool { free: Mutex::new(Vec::new()) }
+    }
+
+    /// Run `f` with a workspace of the pool (or a new one from `make`).
+    pub fn with<R>(&self, make: impl FnOnce() -> W, f: impl FnOnce(&mut W) -> R) -> R {
+        let taken = self.free.lock().unwrap_or_else(|e| e.into_inner()).pop();
+        let mut work = taken.unwrap_or_else(|| Box::new(make()));
+        let result = f(&mut work);
+        let mut free = self.free.lock().unwrap_or_else(|e| e.into_inner());
+        if free.len() < POOL_KEEP {
+            free.push(work);
+        }
+        result
+    }
+}
+
+impl<W> Default for Pool<W> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// The thread pool batches run on: `None` is rayon's global pool (all cores, or
+/// `RAYON_NUM_THREADS`).
+static THREADS: Mutex<Option<Arc<rayon::ThreadPool>>> = Mutex::new(None);
+
+/// Run batches on `threads` threads from now on (`None`: rayon's global pool).
+#[pyfunction]
+#[pyo3(signature = (threads=None))]
+pub fn set_batch_threads(py: Python<'_>, threads: Option<usize>) -> PyResult<()> {
+    let pool = match threads {
+        None => None,
+        Some(0) => return Err(new_error(py, ErrorClass::Argument, "threads must be a positive integer or None (all cores), got 0".into())),
+        Some(n) => Some(Arc::new(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| new_error(py, ErrorClass::Argument, format!("could not start {n} threads: {e}")))?,
+        )),
+    };
+    *THREADS.lock().unwrap_or_else(|e| e.into_inner()) = pool;
+    Ok(())
+}
+
+/// The number of threads batches run on.
+#[pyfunction]
+pub fn batch_threads() -> usize {
+    match &*THREADS.lock().unwrap_or_else(|e| e.into_inner()) {
+        Some(pool) => pool.current_num_threads(),
+        None => rayon::current_num_threads(),
+    }
+}
+
+/// One input of a method: an argument (one vector, or a batch of rows) or a constant vector
+/// used for every row (an omitted optional argument).
+pub struct Input<'py> {
+    name: &'static str,
+    width: usize,
+    value: Value<'py>,
+}
+
+enum Value<'py> {
+    Arg(ArgValue<'py>),
+    Constant(Vec<f64>),
+}
+
+impl<'py> Input<'py> {
+    /// Convert argument `obj` named `name`, whose rows have `width` entries (the core checks a
+    /// single vector's length itself, with its own message).
+    pub fn arg(obj: &Bound<'py, PyAny>, name: &'static str, width: usize) -> PyResult<Self> {
+        Ok(Input { name, width, value: Value::Arg(batch_arg(obj, name)?) })
+    }
+
+    /// [`Input::arg`], or zeros of length `width` when the argument is omitted.
+    pub fn optional(obj: Option<&Bound<'py, PyAny>>, name: &'static str, width: usize) -> PyResult<Self> {
+        match obj {
+            Some(o) if !o.is_none() => Self::arg(o, name, width),
+            _ => Ok(Input { name, width, value: Value::Constant(vec![0.0; width]) }),
+        }
+    }
+
+    /// A constant vector used for every row.
+    pub fn constant(name: &'static str, values: Vec<f64>) -> Self {
+        Input { name, width: values.len(), value: Value::Constant(values) }
+    }
+
+    fn rows(&self) -> Option<usize> {
+        match &self.value {
+            Value::Arg(ArgValue::Many { rows, .. }) => Some(*rows),
+            _ => None,
+        }
+    }
+
+    fn single(&self) -> &[f64] {
+        match &self.value {
+            Value::Arg(ArgValue::One(v)) => v.as_slice(),
+            Value::Constant(v) => v,
+            Value::Arg(ArgValue::Many { values, .. }) => values,
+        }
+    }
+
+    /// The values as rows that may cross to other threads (a single vector is copied and
+    /// repeated for every row, stride 0).
+    fn rows_source(&self) -> RowSource {
+        match &self.value {
+            Value::Arg(ArgValue::Many { values, width, .. }) => RowSource { values: values.clone(), stride: *width },
+            _ => RowSource { values: self.single().to_vec(), stride: 0 },
+        }
+    }
+}
+
+struct RowSource {
+    values: Vec<f64>,
+    stride: usize,
+}
+
+impl RowSource {
+    fn row(&self, i: usize) -> &[f64] {
+        if self.stride == 0 {
+            &self.values
+        } else {
+            &self.values[i * self.stride..(i + 1) * self.stride]
+        }
+    }
+}
+
+/// What went wrong in one row.
+enum RowError {
+    Core(SpacearmError),
+    NonFiniteResult { index: usize, value: f64 },
+}
+
+/// Whether every value is finite (its exponent bits are not all set): an and-reduction without
+/// early exit, which the compiler vectorizes — the check of every result costs a fraction of
+/// reading it once.
+fn all_finite(values: &[f64]) -> bool {
+    const EXPONENT: u64 = 0x7ff0_0000_0000_0000;
+    values.iter().fold(true, |ok, v| ok & (v.to_bits() & EXPONENT != EXPONENT))
+}
+
+/// The first non-finite entry of the outputs (index counted across them in order), if any.
+fn first_non_finite(outputs: &[&mut [f64]]) -> Option<(usize, f64)> {
+    if outputs.iter().all(|out| all_finite(out)) {
+        return None;
+    }
+    let mut base = 0;
+    for out in outputs {
+        if let Some(i) = out.iter().position(|v| !v.is_finite()) {
+            return Some((base + i, out[i]));
+        }
+        base += out.len();
+    }
+    None
+}
+
+fn raise(py: Python<'_>, call: &str, row: Option<usize>, err: RowError) -> PyErr {
+    let prefix = match row {
+        Some(i) => format!("row {i} of the batch: "),
+        None => String::new(),
+    };
+    match err {
+        RowError::Core(e) => new_error(py, class_of_error(&e), format!("{prefix}{e}")),
+        RowError::NonFiniteResult { index, value } => new_error(
+            py,
+            ErrorClass::NonFinite,
+            format!(
+                "{prefix}{call} gave a non-finite result (entry {index} of the result is {value}) from finite inputs: the \
+                 state is beyond what double precision can represent (e.g. joint rates of 1e200 overflow the velocity \
+                 products); reduce the magnitudes of the inputs"
+            ),
+        ),
+    }
+}
+
+/// A raw output pointer that may cross to rayon's threads: each row writes only its own
+/// disjoint part of the array.
+#[derive(Clone, Copy)]
+struct OutPtr(*mut f64);
+// SAFETY: the pointer targets a fresh numpy buffer that lives (and is not touched by Python)
+// until the batch returns; rows write disjoint ranges.
+unsafe impl Send for OutPtr {}
+unsafe impl Sync for OutPtr {}
+
+/// Compute `kernel` for one state or for a batch (see the module documentation).
+///
+/// `inputs` in the order their conversion errors should be reported; `outputs[k]` the shape of
+/// one row's `k`-th result (`[]`: a scalar, returned as a Python float for one state); `call`
+/// the method's name for error messages. One output is returned as it is, several as a tuple.
+pub fn run<'py, W, const I: usize, const O: usize>(
+    py: Python<'py>,
+    call: &str,
+    inputs: [Input<'py>; I],
+    outputs: [&[usize]; O],
+    pool: &Pool<W>,
+    make: impl Fn() -> W + Sync,
+    kernel: impl Fn(&mut W, [&[f64]; I], &mut [&mut [f64]; O]) -> spacearm_core::Result<()> + Sync,
+) -> PyResult<Bound<'py, PyAny>> {
+    let mut rows: Option<usize> = None;
+    for input in &inputs {
+        if let Some(r) = input.rows() {
+            match rows {
+                Some(b) if b != r => {
+                    let first = inputs.iter().find(|i| i.rows().is_some()).map(|i| i.name).unwrap_or("?");
+                    return Err(shape_error(py, format!("the batch arguments disagree on the number of rows: {first} has {b}, {} has {r}", input.name)));
+                }
+                _ => rows = Some(r),
+            }
+        }
+    }
+    match rows {
+        None => run_one(py, call, &inputs, outputs, pool, make, kernel),
+        Some(b) => run_batch(py, call, &inputs, outputs, b, make, kernel),
+    }
+}
+
+fn new_output<'py>(py: Python<'py>, lead: Option<usize>, shape: &[usize]) -> Bound<'py, PyArrayDyn<f64>> {
+    // On the stack: a one-state call allocates nothing but the array itself.
+    let mut dims = [0usize; 8];
+    let mut len = 0;
+    for d in lead.iter().chain(shape) {
+        dims[len] = *d;
+        len += 1;
+    }
+    // SAFETY: a fresh array owned by nobody else; the kernel writes every element.
+    unsafe { PyArrayDyn::<f64>::new(py, IxDyn(&dims[..len]), false) }
+}
+
+fn finish<'py, const O: usize>(py: Python<'py>, arrays: [Bound<'py, PyArrayDyn<f64>>; O], scalar_as_float: bool) -> PyResult<Bound<'py, PyAny>> {
+    let as_python = |a: Bound<'py, PyArrayDyn<f64>>| -> PyResult<Bound<'py, PyAny>> {
+        if scalar_as_float && a.ndim() == 0 {
+            // SAFETY: a 0-d contiguous array holds one element.
+            let v = unsafe { a.as_slice() }.map_err(PyErr::from)?[0];
+            Ok(v.into_pyobject(py)?.into_any())
+        } else {
+            Ok(a.into_any())
+        }
+    };
+    if O == 1 {
+        return as_python(arrays.into_iter().next().expect("one output"));
+    }
+    let items = arrays.into_iter().map(as_python).collect::<PyResult<Vec<_>>>()?;
+    Ok(PyTuple::new(py, items)?.into_any())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn run_one<'py, W, const I: usize, const O: usize>(
+    py: Python<'py>,
+    call: &str,
+    inputs: &[Input<'py>; I],
+    outputs: [&[usize]; O],
+    pool: &Pool<W>,
+    make: impl Fn() -> W,
+    kernel: impl Fn(&mut W, [&[f64]; I], &mut [&mut [f64]; O]) -> spacearm_core::Result<()>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let arrays: [Bound<'py, PyArrayDyn<f64>>; O] = std::array::from_fn(|k| new_output(py, None, outputs[k]));
+    let args: [&[f64]; I] = std::array::from_fn(|k| inputs[k].single());
+    // SAFETY: fresh contiguous arrays, not yet visible to Python.
+    let mut bufs: [&mut [f64]; O] = std::array::from_fn(|k| unsafe { arrays[k].as_slice_mut() }.expect("a new array is contiguous"));
+    let result = pool.with(make, |w| kernel(w, args, &mut bufs));
+    result.map_err(|e| raise(py, call, None, RowError::Core(e)))?;
+    if let Some((index, value)) = first_non_finite(&bufs) {
+        return Err(raise(py, call, None, RowError::NonFiniteResult { index, value }));
+    }
+    finish(py, arrays, true)
+}
+
+fn run_batch<'py, W, const I: usize, const O: usize>(
+    py: Python<'py>,
+    call: &str,
+    inputs: &[Input<'py>; I],
+    outputs: [&[usize]; O],
+    rows: usize,
+    make: impl Fn() -> W + Sync,
+    kernel: impl Fn(&mut W, [&[f64]; I], &mut [&mut [f64]; O]) -> spacearm_core::Result<()> + Sync,
+) -> PyResult<Bound<'py, PyAny>> {
+    for input in inputs {
+        if let Value::Arg(ArgValue::Many { width, .. }) = &input.value {
+            if *width != input.width {
+                return Err(shape_error(
+                    py,
+                    format!("{} must have shape (B, {}) for a batch of B states (one per row), got ({rows}, {width})", input.name, input.width),
+                ));
+            }
+        }
+    }
+    let sources: [RowSource; I] = std::array::from_fn(|k| inputs[k].rows_source());
+    let arrays: [Bound<'py, PyArrayDyn<f64>>; O] = std::array::from_fn(|k| new_output(py, Some(rows), outputs[k]));
+    let row_len: [usize; O] = std::array::from_fn(|k| outputs[k].iter().product());
+    // SAFETY: fresh contiguous arrays, not yet visible to Python.
+    let ptrs: [OutPtr; O] = std::array::from_fn(|k| OutPtr(unsafe { arrays[k].as_slice_mut() }.expect("a new array is contiguous").as_mut_ptr()));
+    let first_error: Mutex<Option<(usize, RowError)>> = Mutex::new(None);
+    let work = || {
+        (0..rows).into_par_iter().with_min_len(16).for_each_init(&make, |w, i| {
+            let args: [&[f64]; I] = std::array::from_fn(|k| sources[k].row(i));
+            // SAFETY: row i of output k is [i·len, (i+1)·len) of a buffer of rows·len
+            // elements; no other row touches it.
+            let mut bufs: [&mut [f64]; O] = std::array::from_fn(|k| unsafe { std::slice::from_raw_parts_mut(ptrs[k].0.add(i * row_len[k]), row_len[k]) });
+            let outcome = match kernel(w, args, &mut bufs) {
+                Err(e) => Some(RowError::Core(e)),
+                Ok(()) => first_non_finite(&bufs).map(|(index, value)| RowError::NonFiniteResult { index, value }),
+            };
+            if let Some(err) = outcome {
+                // Keep the error of the lowest row, whatever order the threads finish in.
+                let mut slot = first_error.lock().unwrap_or_else(|e| e.into_inner());
+                if slot.as_ref().is_none_or(|(j, _)| i < *j) {
+                    *slot = Some((i, err));
+                }
+            }
+        })
+    };
+    let pool = THREADS.lock().unwrap_or_else(|e| e.into_inner()).clone();
+    py.detach(|| match pool {
+        Some(p) => p.install(work),
+        None => work(),
+    });
+    if let Some((i, err)) = first_error.into_inner().unwrap_or_else(|e| e.into_inner()) {
+        return Err(raise(py, call, Some(i), err));
+    }
+    finish(py, arrays, false)
+}
