@@ -9,10 +9,19 @@ use nalgebra::DMatrix;
 use numpy::{PyArray2, PyArray3, PyArrayMethods};
 use pyo3::prelude::*;
 use spacearm_core as core;
-use spacearm_core::derivatives::{self, DerivativeData, LinearizationInputs};
+use spacearm_core::derivatives::{self, DerivativeData, DerivativeMethod, LinearizationInputs};
 
 use crate::convert::*;
-use crate::model_py::PyModel;
+use crate::model_py::{wrenches as wrench_list, PyModel, WrenchList};
+
+/// The route of the partials of inverse dynamics: analytic, or dual numbers (the test oracle).
+fn method(dual: bool) -> DerivativeMethod {
+    if dual {
+        DerivativeMethod::DualNumbers
+    } else {
+        DerivativeMethod::Analytic
+    }
+}
 
 /// The derivative functions of one model (a copy of the model and a workspace).
 #[pyclass(module = "spacearm._core", name = "Derivatives")]
@@ -102,23 +111,47 @@ impl PyDerivatives {
         Ok(dmat(py, j))
     }
 
-    /// `(∂u̇/∂x, ∂u̇/∂u, ∂u̇/∂f)`, each (6+N)², `x` in tangent coordinates.
+    /// `(∂u̇/∂x, ∂u̇/∂u, ∂u̇/∂f)`, each (6+N)², `x` in tangent coordinates; analytic route, or
+    /// dual numbers if `dual` (the test oracle).
     #[allow(clippy::type_complexity)]
+    #[pyo3(signature = (x, u, f, wrenches=None, dual=false))]
     fn forward_dynamics_derivatives<'py>(
         &mut self,
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
         f: &Bound<'py, PyAny>,
+        wrenches: Option<WrenchList>,
+        dual: bool,
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
         let (x, u, f) = (vec_arg(x, "x")?, vec_arg(u, "u")?, vec_arg(f, "f")?);
-        let (dx, du, df) = derivatives::forward_dynamics_derivatives(&self.model, &mut self.work, x.as_slice(), u.as_slice(), f.as_slice()).or_raise(py)?;
+        let ext = wrench_list(py, wrenches)?;
+        let (dx, du, df) = derivatives::forward_dynamics_derivatives_with(&self.model, &mut self.work, x.as_slice(), u.as_slice(), f.as_slice(), &ext, method(dual))
+            .or_raise(py)?;
         Ok((dmat(py, dx), dmat(py, du), dmat(py, df)))
+    }
+
+    /// `(∂ID/∂x, ∂ID/∂u)` of inverse dynamics, each (6+N)², `x` in tangent coordinates.
+    #[pyo3(signature = (x, u, du, wrenches=None, dual=false))]
+    fn inverse_dynamics_partials<'py>(
+        &mut self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+        du: &Bound<'py, PyAny>,
+        wrenches: Option<WrenchList>,
+        dual: bool,
+    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+        let (x, u, du) = (vec_arg(x, "x")?, vec_arg(u, "u")?, vec_arg(du, "du")?);
+        let ext = wrench_list(py, wrenches)?;
+        let (dx, dv) = derivatives::inverse_dynamics_partials(&self.model, &mut self.work, x.as_slice(), u.as_slice(), du.as_slice(), &ext, method(dual)).or_raise(py)?;
+        Ok((dmat(py, dx), dmat(py, dv)))
     }
 
     /// `(A, B)` of the linearized state equation; `B` for the joint torques only if
     /// `joints_only`, else for the whole generalized force.
     #[allow(clippy::type_complexity)]
+    #[pyo3(signature = (x, u, f, joints_only, dual=false))]
     fn linearize<'py>(
         &mut self,
         py: Python<'py>,
@@ -126,10 +159,11 @@ impl PyDerivatives {
         u: &Bound<'py, PyAny>,
         f: &Bound<'py, PyAny>,
         joints_only: bool,
+        dual: bool,
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
         let (x, u, f) = (vec_arg(x, "x")?, vec_arg(u, "u")?, vec_arg(f, "f")?);
         let inputs = if joints_only { LinearizationInputs::Joints } else { LinearizationInputs::All };
-        let (a, b) = derivatives::linearize(&self.model, &mut self.work, x.as_slice(), u.as_slice(), f.as_slice(), inputs).or_raise(py)?;
+        let (a, b) = derivatives::linearize_with(&self.model, &mut self.work, x.as_slice(), u.as_slice(), f.as_slice(), inputs, method(dual)).or_raise(py)?;
         let b = b.into_owned();
         Ok((dmat(py, a), dmat(py, &b)))
     }
