@@ -40,7 +40,7 @@ import sys  # noqa: E402
 import numpy as np  # noqa: E402
 
 import spacearm  # noqa: E402
-from spacearm._arrays import vector  # noqa: E402
+from spacearm._util.arrays import vector  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from peers import calibrate, random_arm  # noqa: E402

@@ -105,7 +105,7 @@ def main() -> None:
 
     # ---- row 1: PD to a set point ---------------------------------------------------------
     # Per-joint gains: 4 rad/s, critically damped, on the diagonal of H* (see cli_simulate.pd_gains).
-    from spacearm.cli_simulate import pd_gains
+    from spacearm.cli.simulate import pd_gains
 
     kp_pd, kd_pd = pd_gains(robot, x0, list(range(n)))
     pd = control.JointPD(kp=kp_pd, kd=kd_pd, reference=q_goal)

@@ -29,7 +29,7 @@ def case_figure(traj, path, title: str, plane=(0, 1)):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    from spacearm._atomic import atomic_open
+    from spacearm._util.atomic import atomic_open
 
     fig = Figure(figsize=(12, 3.8), layout="constrained")
     FigureCanvasAgg(fig)

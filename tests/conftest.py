@@ -2,8 +2,15 @@
 them forking mid-chain, with prismatic and fixed joints), so invariants are exercised on a
 tree, not only on serial chains."""
 
+import os
+import sys
+
 import numpy as np
 import pytest
+
+# Tests live in sub-folders that mirror the package; the shared helpers (random_models.py,
+# robot_data.py, ...) stay here, so this folder goes on the path for every test.
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import spacearm
 

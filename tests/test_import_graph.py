@@ -10,7 +10,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "python" / "spacearm"
 
 #: Function-level imports allowed to close a cycle: Robot's classmethod constructors, which
 #: import the modules that build a Robot (they import robot.py at module level).
-ALLOWED_LAZY_CYCLE = {"spacearm.robot", "spacearm.builder", "spacearm.dh", "spacearm.model_file", "spacearm.urdf"}
+ALLOWED_LAZY_CYCLE = {"spacearm.model.robot", "spacearm.model.builder", "spacearm.io.dh", "spacearm.io.model_file", "spacearm.io.urdf"}
 
 
 def _modules():
@@ -87,10 +87,10 @@ def _cycles(graph):
 def test_the_graph_is_read():
     top, lazy = _graph()
     # Known edges, so that a parser that reads nothing cannot pass the tests below.
-    assert "spacearm.robot" in top["spacearm.builder"]
-    assert "spacearm._core" in top["spacearm.robot"]
-    assert "spacearm.cli_model" in top["spacearm.cli"]
-    assert "spacearm.builder" in lazy["spacearm.robot"]
+    assert "spacearm.model.robot" in top["spacearm.model.builder"]
+    assert "spacearm._core" in top["spacearm.model.robot"]
+    assert "spacearm.cli.model_options" in top["spacearm.cli"]
+    assert "spacearm.model.builder" in lazy["spacearm.model.robot"]
     assert _cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [{"a", "b", "c"}]
 
 
@@ -104,3 +104,36 @@ def test_function_level_imports_close_no_cycle_but_the_robot_constructors():
     both = {m: top[m] | lazy[m] for m in top}
     for component in _cycles(both):
         assert component <= ALLOWED_LAZY_CYCLE, f"an import cycle through function-level imports: {sorted(component)}"
+
+
+#: The layers of docs/architecture.md: a module-level import goes to a lower layer or stays in
+#: its own folder. Function-level imports may go up (a result's .plot() importing viz, Robot's
+#: constructors importing io): they run only when called.
+LAYERS = {
+    "_core": 0, "errors": 0, "_util": 1, "rotations": 2, "model": 3,
+    "io": 4, "presets": 4, "control": 4, "interop": 4,
+    "sim": 5, "analysis": 5, "symbolic": 5,
+    "viz": 6, "campaign": 6, "cli": 7, "": 8, "__main__": 9,
+}
+
+
+def _folder(module):
+    parts = module.split(".")[1:]
+    return parts[0] if parts else ""
+
+
+def test_module_level_imports_follow_the_layers():
+    top, _ = _graph()
+    upward = []
+    for mod, targets in top.items():
+        for target in targets:
+            a, b = _folder(mod), _folder(target)
+            if a != b and LAYERS.get(a, 99) <= LAYERS.get(b, 99):
+                upward.append(f"{mod} -> {target}")
+    assert not upward, "module-level imports against the layers of docs/architecture.md:\n" + "\n".join(sorted(upward))
+
+
+def test_every_folder_has_a_layer():
+    top, _ = _graph()
+    missing = {_folder(m) for m in top} - set(LAYERS)
+    assert not missing, f"give these folders a layer in LAYERS and docs/architecture.md: {sorted(missing)}"

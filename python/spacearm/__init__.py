@@ -6,10 +6,13 @@ checked against Pinocchio and MuJoCo. Start with :class:`Robot` and :mod:`spacea
 conventions are in ``docs/conventions.md``.
 """
 
-from . import control, dh, model_file, presets
+import sys as _sys
+
+from . import control, presets
+from .io import dh, model_file, urdf, urdf_export
 from ._core import __version__
-from .builder import RobotBuilder
-from .description import BaseDescription, JointLimits, LinkDescription, ModelDescription, PointDescription
+from .model.builder import RobotBuilder
+from .model.description import BaseDescription, JointLimits, LinkDescription, ModelDescription, PointDescription
 from .errors import (
     ArgumentError,
     CampaignError,
@@ -25,9 +28,15 @@ from .errors import (
     SpacearmError,
     SpacearmTypeError,
 )
-from .robot import ExternalWrench, ForwardDynamicsDerivatives, InertiaBlocks, Kinematics, Linearization, Momentum, Robot
-from .simulation import simulate
-from .trajectory import Trajectory
+from .model.robot import ExternalWrench, ForwardDynamicsDerivatives, InertiaBlocks, Kinematics, Linearization, Momentum, Robot
+from .sim.simulation import simulate
+from .sim.trajectory import Trajectory
+
+# The model-file modules moved into spacearm.io (docs/architecture.md); their old public paths
+# (``import spacearm.dh``, ``from spacearm.urdf import load_urdf``) keep working.
+for _name, _module in (("dh", dh), ("model_file", model_file), ("urdf", urdf), ("urdf_export", urdf_export)):
+    _sys.modules[f"{__name__}.{_name}"] = _module
+del _name, _module
 
 __all__ = [
     "Robot",

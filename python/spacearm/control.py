@@ -27,7 +27,7 @@ from typing import Any, Callable, Optional, Sequence, Union
 import numpy as np
 
 from . import _core
-from ._arrays import quaternion, vector
+from ._util.arrays import quaternion, vector
 from .errors import ArgumentError
 
 __all__ = [
@@ -228,7 +228,7 @@ class ComputedTorque(_Controller):
     def _spec(self, robot) -> dict:
         spec = {"type": "computed_torque", "kp": _gains(self.kp, "kp"), "kd": _gains(self.kd, "kd"), "reference": _joint_reference(self.reference, "ComputedTorque")}
         if self.model is not None:
-            from .robot import Robot
+            from .model.robot import Robot
 
             if not isinstance(self.model, Robot):
                 raise ArgumentError(f"ComputedTorque model must be a spacearm.Robot, got {type(self.model).__name__}")
@@ -436,7 +436,7 @@ def perturbed_model(
     and the inertia about it changes by the parallel-axis theorem — or, with
     ``slosh_removed=True``, is missing from the model. The joint geometry is unchanged.
     """
-    from .robot import Robot
+    from .model.robot import Robot
 
     if not isinstance(robot, Robot):
         raise ArgumentError(f"perturbed_model needs a spacearm.Robot, got {type(robot).__name__}")

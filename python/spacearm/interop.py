@@ -6,7 +6,7 @@ accelerations and mass matrices between the three layouts, so that a user (or a 
 compute a quantity in one and compare it with the other.
 
 Conventions (``docs/conventions.md``; every formula below was verified numerically by
-``tests/test_pinocchio.py``, ``tests/test_mujoco.py`` and ``tests/test_interop_spart.py``)::
+``tests/interop/test_pinocchio.py``, ``tests/interop/test_mujoco.py`` and ``tests/interop/test_interop_spart.py``)::
 
     spacearm   x = [r0, quat0 (x, y, z, w), q]          u = [v0 (𝒥), ω0 (𝒥), q̇]
     Pinocchio  q = [r0, quat0 (x, y, z, w), P_eᵀ q]      v = [R0ᵀ v0, R0ᵀ ω0, P_eᵀ q̇]
@@ -67,8 +67,8 @@ from typing import List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
-from ._arrays import vector
-from .description import PointDescription
+from ._util.arrays import vector
+from .model.description import PointDescription
 from .errors import ArgumentError, MissingDependencyError, NonFiniteError, QuaternionError, ShapeError
 from .rotations import quat_from_matrix, quat_to_matrix
 

@@ -13,7 +13,7 @@ tip of link ``i``, and the end effector is the tip of the last link.
 from __future__ import annotations
 
 from . import _core
-from .robot import Robot
+from .model.robot import Robot
 
 __all__ = ["planar4", "spatial6", "dual_arm", "spatial7", "NAMES", "get"]
 

@@ -3,14 +3,14 @@
 Quaternions are unit, Hamilton, scalar LAST ``[x, y, z, w]`` (``docs/conventions.md``; the same
 as ``scipy.spatial.transform.Rotation.as_quat()`` and Pinocchio). Every quaternion argument of
 spacearm also accepts a ``scipy.spatial.transform.Rotation`` holding one rotation
-(:func:`spacearm._arrays.quaternion`).
+(:func:`spacearm._util.arrays.quaternion`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ._arrays import quaternion
+from ._util.arrays import quaternion
 
 __all__ = ["quat_from_rpy", "quat_from_axis_angle", "quat_to_matrix", "quat_from_matrix", "IDENTITY_QUAT"]
 

@@ -89,7 +89,7 @@ pub fn vec_arg<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<VecArg<'py>
     }
     static VECTOR: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
     let py = obj.py();
-    let convert = VECTOR.get_or_try_init(py, || py.import("spacearm._arrays")?.getattr("vector").map(Bound::unbind))?;
+    let convert = VECTOR.get_or_try_init(py, || py.import("spacearm._util.arrays")?.getattr("vector").map(Bound::unbind))?;
     let converted = convert.bind(py).call1((obj, what))?;
     if let Some(arr) = usable_in_place(&converted) {
         return Ok(VecArg(arr));

@@ -8,7 +8,7 @@ from typing import Sequence, Union
 
 import numpy as np
 
-from .._atomic import atomic_path
+from .._util.atomic import atomic_path
 from ..errors import ArgumentError, ShapeError
 
 TaskLike = Union[str, Sequence[int], None]
@@ -110,7 +110,7 @@ def new_figure(*args, **kwargs):
     """A matplotlib Figure without pyplot's global state (Agg canvas), laid out by matplotlib's
     constrained layout so that labels, colour bars and legends outside the axes never overlap a
     neighbouring panel."""
-    from .._optional import require
+    from .._util.optional import require
 
     FigureCanvasAgg = require("matplotlib.backends.backend_agg", "figures").FigureCanvasAgg
     Figure = require("matplotlib.figure", "figures").Figure

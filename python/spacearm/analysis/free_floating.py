@@ -11,7 +11,7 @@ from typing import Callable
 import numpy as np
 
 from .. import _core
-from .._arrays import number, quaternion, vector3
+from .._util.arrays import number, quaternion, vector3
 from ..errors import ArgumentError
 
 __all__ = ["integrate_prescribed", "attitude_change"]

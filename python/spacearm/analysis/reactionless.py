@@ -11,7 +11,7 @@ from typing import Optional
 import numpy as np
 
 from .. import _core
-from .._arrays import number, vector
+from .._util.arrays import number, vector
 from ..errors import ArgumentError, SpacearmTypeError
 from ._common import TaskLike, new_figure, save_figure, task_rows
 

@@ -11,7 +11,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .. import _core
-from .._arrays import integer, number
+from .._util.arrays import integer, number
 from ._common import TaskLike, chunked, concat_dicts, dof_kinds, new_figure, samples_2d, save_figure, task_rows
 
 __all__ = ["JacobianMeasures", "SingularityReport", "Detection", "SingularityMap", "analyze", "detect", "damping", "scan", "singularity_map"]

@@ -12,7 +12,7 @@ from typing import Optional
 import numpy as np
 
 from .. import _core
-from .._arrays import integer
+from .._util.arrays import integer
 from ..errors import ArgumentError
 from ._common import TaskLike, chunked, joint_bounds, new_figure, samples_2d, save_figure, task_rows
 

@@ -106,7 +106,7 @@ def _local_outcomes(spec: CampaignSpec, jobs, workers: int) -> Iterator[Union[Sa
 
 
 def _dask_outcomes(spec: CampaignSpec, jobs, scheduler) -> Iterator[Union[SampleOutcome, LostSample]]:
-    from .._optional import require
+    from .._util.optional import require
 
     distributed = require("distributed", "campaigns on a Dask cluster")
     Client, dask_as_completed = distributed.Client, distributed.as_completed
@@ -188,7 +188,7 @@ def run_campaign(
     else:
         if samples is None:
             raise ArgumentError("run_campaign(robot, samples=...): the number of samples is required")
-        from ..model_file import dumps_toml
+        from ..io.model_file import dumps_toml
 
         spec = CampaignSpec(dumps_toml(robot_or_spec), samples, seed, perturbations or Perturbations(),
                             scenario or Scenario())

@@ -7,7 +7,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from .._atomic import atomic_path
+from .._util.atomic import atomic_path
 from ..errors import ArgumentError, CampaignError, NotFoundError
 from .perturbation import PARAMETER_UNITS
 from .scenario import METRIC_UNITS
@@ -35,7 +35,7 @@ def campaign_figure(result, metrics: Optional[Sequence[str]] = None):
     histogram (dashed: the 90th percentile) and a scatter against the parameter with the
     largest |Spearman ρ|; axes labelled with units. ``metrics``: which (default: those that
     vary, and ``tracking_error_max`` always)."""
-    from .._optional import require
+    from .._util.optional import require
 
     FigureCanvasAgg = require("matplotlib.backends.backend_agg", "campaign figures").FigureCanvasAgg
     Figure = require("matplotlib.figure", "campaign figures").Figure

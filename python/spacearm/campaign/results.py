@@ -28,7 +28,7 @@ from typing import Dict, Optional, Sequence
 
 import numpy as np
 
-from .._atomic import atomic_open
+from .._util.atomic import atomic_open
 from ..errors import ArgumentError, NotFoundError
 
 __all__ = ["CampaignResult", "PENDING", "OK", "FAILED"]

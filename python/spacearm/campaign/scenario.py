@@ -112,7 +112,7 @@ def with_payload(robot, mass: float):
 
     The payload is a point mass on a fixed joint at the end-effector point (so the joint space
     is unchanged and the end-effector body's mass properties merge by the model's own
-    parallel-axis rules), attached with :meth:`spacearm.builder.RobotBuilder.attach_payload`.
+    parallel-axis rules), attached with :meth:`spacearm.model.builder.RobotBuilder.attach_payload`.
     """
     if mass == 0:
         return robot

@@ -20,7 +20,7 @@ __all__ = ["CampaignSpec"]
 
 @dataclass(frozen=True)
 class CampaignSpec:
-    """``model_toml``: the nominal robot (:func:`spacearm.model_file.dumps_toml`), exactly as it
+    """``model_toml``: the nominal robot (:func:`spacearm.io.model_file.dumps_toml`), exactly as it
     was loaded: a URDF arm mounted on a spacecraft, its prefix and its chosen end effector (the
     CLI's model options) are all in the text, so workers need nothing else to rebuild it;
     ``samples``: how many; ``seed``: the campaign's seed (sample ``i`` draws from

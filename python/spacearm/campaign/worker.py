@@ -30,7 +30,7 @@ class SampleOutcome(NamedTuple):
 def _nominal(model_toml: str):
     robot = _NOMINAL_CACHE.get(model_toml)
     if robot is None:
-        from ..model_file import loads_toml
+        from ..io.model_file import loads_toml
 
         robot = loads_toml(model_toml, source="<campaign model>")
         _NOMINAL_CACHE.clear()

@@ -6,7 +6,7 @@ Needs SymPy (``pip install "spacearm[symbolic]"``); without it, importing this p
 :class:`~spacearm.errors.MissingDependencyError` naming that extra.
 """
 
-from .._optional import require
+from .._util.optional import require
 
 require("sympy", "closed-form derivation (spacearm.symbolic, spacearm derive)")
 

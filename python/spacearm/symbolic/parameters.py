@@ -24,7 +24,7 @@ from typing import Dict, Iterable, List, Optional, Union
 
 import sympy as sp
 
-from ..description import ModelDescription
+from ..model.description import ModelDescription
 from ..errors import NotFoundError
 
 __all__ = ["Parameters", "exact_number", "CATEGORIES"]

@@ -1,0 +1,68 @@
+"""The ``spacearm`` command line: the parser and the dispatch to one module per subcommand.
+
+``inspect`` (:mod:`spacearm.cli.inspect`), ``derive`` (:mod:`spacearm.cli.derive`), ``analyze``
+(:mod:`spacearm.cli.analyze`), ``simulate`` and ``demo`` (:mod:`spacearm.cli.simulate`) and
+``campaign`` (:mod:`spacearm.cli.campaign`). ``MODEL`` is a preset name (``planar4``,
+``spatial6``, ...), a TOML model file (``docs/model-format.md``) or a URDF file
+(``docs/urdf.md``), with the model options of :mod:`spacearm.cli.model_options`. Optional packages are
+imported only inside the subcommand that needs them, so the command starts on a plain install.
+Every :class:`~spacearm.errors.SpacearmError` is answered with ``spacearm: error: ...`` and exit
+status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+from .._core import __version__
+from . import analyze as cli_analyze
+from . import campaign as cli_campaign
+from . import derive as cli_derive
+from . import inspect as cli_inspect
+from . import simulate as cli_simulate
+from .model_options import MODEL_HELP, add_model_arguments, load_model, model_from_args
+from .numbers import attach_negative_values
+from ..errors import SpacearmError
+
+__all__ = ["main", "load_model", "add_model_arguments", "model_from_args", "MODEL_HELP"]
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="spacearm",
+        description="Equations of motion of spacecraft-manipulator systems (GJM formulation).",
+    )
+    parser.add_argument("--version", action="version", version=f"spacearm {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True)
+    cli_inspect.add_parser(sub)
+    cli_derive.add_parser(sub)
+    cli_analyze.add_parser(sub)
+    cli_simulate.add_parsers(sub)
+    cli_campaign.add_parser(sub)
+    # "--target -0.3,0.3,0" would be read as two options: pass such values as "--target=-0.3,...".
+    args = parser.parse_args(attach_negative_values(sys.argv[1:] if argv is None else argv))
+    try:
+        if args.command == "inspect":
+            cli_inspect.run(args, model_from_args)
+        elif args.command == "derive":
+            cli_derive.run(args, model_from_args)
+        elif args.command == "analyze":
+            cli_analyze.run(args, model_from_args)
+        elif args.command in ("simulate", "demo"):
+            return cli_simulate.run(args, model_from_args)
+        elif args.command == "campaign":
+            cli_campaign.run(args, model_from_args)
+    except SpacearmError as exc:
+        print(f"spacearm: error: {exc}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:
+        # The reader went away (e.g. `spacearm inspect spatial6 | head`): not an error of ours.
+        # Point stdout at devnull so the interpreter's final flush cannot raise again.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,85 @@
+"""``spacearm inspect MODEL [--q Q1,Q2,...]``: the model summary (bodies, joints, total mass)
+and, at the given or initial configuration, ``H0``, ``H*`` and the end-effector ``J*`` with
+their conditioning. Registered in :mod:`spacearm.cli`.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from .model_options import add_model_arguments, joint_values
+from ..model.robot import Robot
+
+__all__ = ["add_parser", "run", "inspect"]
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("inspect", help="print a model summary and H0, H*, J* at a configuration")
+    add_model_arguments(p)
+    p.add_argument("--q", metavar="Q1,Q2,...", help="joint coordinates, one per joint (rad, or m for prismatic "
+                                                    "joints; default: the model's initial q)")
+
+
+def run(args, model_from_args) -> None:
+    """Run ``spacearm inspect`` with parsed ``args``."""
+    robot = model_from_args(args)
+    inspect(robot, None if args.q is None else joint_values(args.q, "--q", robot))
+
+
+def _matrix(name: str, m: np.ndarray, unit: str) -> str:
+    rows = [f"{name}  [{unit}]  ({m.shape[0]}x{m.shape[1]})"]
+    for row in m:
+        # Adding 0.0 turns IEEE negative zeros into plain zeros for display.
+        rows.append("  " + " ".join(f"{v + 0.0:11.4g}" for v in row))
+    return "\n".join(rows)
+
+
+def _conditioning(name: str, m: np.ndarray) -> str:
+    s = np.linalg.svd(m, compute_uv=False)
+    cond = s[0] / s[-1] if s[-1] > 0 else np.inf
+    return f"  {name}: singular values [{', '.join(f'{v:.4g}' for v in s)}], condition number {cond:.4g}"
+
+
+def inspect(robot: Robot, q=None, out=None) -> None:
+    """Print the model summary and the GJM quantities at ``q`` (default: initial angles)."""
+    # Resolve the stream at call time, not at import time, so redirections of sys.stdout count.
+    out = sys.stdout if out is None else out
+    d = robot.description
+    w = out.write
+    w(f"model '{robot.name}': {robot.n_bodies} bodies, N = {robot.n_dof} joint DOF, total mass {robot.total_mass:.6g} kg\n\n")
+    rows = [(d.base.name, "-", "-", "free", "-", d.base.mass)]
+    for link in d.links:
+        axis = "-" if link.type == "fixed" else "[" + ", ".join(f"{v:.3g}" for v in link.axis) + "]"
+        rows.append((link.name, link.parent, link.joint, link.type, axis, link.mass))
+    # Columns as wide as their longest name (URDF names such as 'shoulder_pan_joint' are long).
+    widths = [max(16, 2 + max(len(r[k]) for r in rows)) for k in range(3)]
+    w(f"{'body':<{widths[0]}}{'parent':<{widths[1]}}{'joint':<{widths[2]}}{'type':<10}{'axis (link frame)':<26}{'mass kg':>9}\n")
+    for name, parent, joint, kind, axis, mass in rows:
+        w(f"{name:<{widths[0]}}{parent:<{widths[1]}}{joint:<{widths[2]}}{kind:<10}{axis:<26}{mass:>9.4g}\n")
+    if d.points:
+        w("\npoints: " + ", ".join(f"{p.name} on {p.body} at [{', '.join(f'{v:.4g}' for v in p.offset)}]" for p in d.points))
+        w(f"   (end effector: {robot.end_effector})\n")
+    x = robot.neutral_configuration(q)
+    qs = ", ".join(f"{v:.4g}" for v in x[7:])
+    w(f"\nconfiguration: base at the origin aligned with the inertial frame, q = [{qs}]\n\n")
+    np.set_printoptions(linewidth=160)
+    h0 = robot.inertia_blocks(x).H0
+    w(_matrix("H0 (base inertia, eq. 30)", h0, "kg | kg m | kg m^2 blocks") + "\n\n")
+    if robot.n_dof > 0:
+        hs = robot.generalized_inertia(x)
+        w(_matrix("H* (generalized inertia, eq. 45)", hs, "kg m^2 between revolute joints") + "\n\n")
+    if robot.end_effector is not None and robot.n_dof > 0:
+        js = robot.generalized_jacobian(x)
+        w(_matrix(f"J* of '{robot.end_effector}' (generalized Jacobian, eq. 110)", js, "linear rows m/rad, angular rows 1") + "\n")
+        p = robot.point_position(x)
+        w(f"  end-effector position: [{', '.join(f'{v:.6g}' for v in p)}] m\n\n")
+    w("conditioning:\n")
+    w(_conditioning("H0", h0) + "\n")
+    if robot.n_dof > 0:
+        w(_conditioning("H*", hs) + "\n")
+        if robot.end_effector is not None:
+            w(_conditioning("J*", js) + "\n")
+            _, jm = robot.point_jacobian(x)
+            w(_conditioning("J_m (fixed-base Jacobian, for comparison)", jm) + "\n")

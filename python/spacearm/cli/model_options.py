@@ -1,0 +1,160 @@
+"""The model options every ``spacearm`` subcommand that takes MODEL shares, defined once.
+
+``inspect``, ``derive``, ``analyze``, ``simulate`` and ``campaign`` take the same options, added
+by :func:`add_model_arguments` and turned into a :class:`~spacearm.Robot` by
+:func:`model_from_args` / :func:`load_model`: ``--mount-on SPACECRAFT --at
+x,y,z,roll,pitch,yaw`` (mount a URDF arm on a spacecraft base), ``--prefix``, ``--mimic``,
+``--base-link`` (URDF only) and ``--end-effector`` (any model). Number lists are parsed by
+:func:`spacearm.cli.numbers.parse_numbers`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+from typing import Optional
+
+from .. import presets
+from .numbers import CliError, parse_numbers
+from ..errors import SpacearmError
+from ..model.robot import Robot
+
+__all__ = ["MODEL_HELP", "add_model_arguments", "model_from_args", "load_model", "joint_values"]
+
+
+#: What MODEL may be, for the help of every subcommand.
+MODEL_HELP = f"a preset ({', '.join(presets.NAMES)}), a .toml model file or a .urdf file"
+
+#: Python keyword advice in the URDF importer's messages, as the command line spells it.
+_URDF_ADVICE_AS_OPTIONS = (
+    ("pass mimic='independent'", "pass --mimic independent"),
+    ("base_link '", "--base-link '"),
+    ("name another base_link", "name another --base-link"),
+    ("(mount_on=...)", "(--mount-on SPACECRAFT)"),
+    ("(prefix='arm_', CLI --prefix)", "(--prefix arm_)"),
+)
+
+
+def add_model_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add MODEL and the model options that every subcommand taking a model shares; turn the
+    parsed ``args`` into the :class:`~spacearm.Robot` with :func:`model_from_args`."""
+    parser.add_argument("model", help=MODEL_HELP)
+    g = parser.add_argument_group("model options")
+    g.add_argument("--mount-on", metavar="SPACECRAFT",
+                   help="URDF only: mount the URDF arm on this spacecraft (a preset or .toml file, e.g. "
+                        "examples/models/spacecraft_bus.toml) instead of making its root link the free-flying base")
+    g.add_argument("--at", metavar="X,Y,Z,ROLL,PITCH,YAW",
+                   help="with --mount-on: pose of the URDF base link frame in the spacecraft base frame, from its CM "
+                        "(m, rad; URDF's R = Rz(yaw) Ry(pitch) Rx(roll); default 0,0,0,0,0,0)")
+    g.add_argument("--prefix", help="URDF only: prefix for the URDF's link, joint and point names (e.g. ur_; needed "
+                                    "when a URDF link has the name of a spacecraft body or point)")
+    g.add_argument("--mimic", choices=("error", "independent"),
+                   help="URDF only: refuse <mimic> joints (default) or load them as independent joints")
+    g.add_argument("--base-link", metavar="LINK",
+                   help="URDF only: the link that becomes the free-flying base, or with --mount-on the link "
+                        "fixed to the spacecraft (default: the URDF root link)")
+    g.add_argument("--end-effector", metavar="POINT|LINK",
+                   help="the end effector: a named point of the model, or a link: a URDF link's frame origin, a "
+                        "preset or .toml body's CM (its frame origin) (default: the model's own; for a URDF the only "
+                        "leaf link, if there is one)")
+
+
+def model_from_args(args: argparse.Namespace) -> Robot:
+    """The robot that MODEL and the model options of :func:`add_model_arguments` describe."""
+    return load_model(args.model, mount_on=args.mount_on, at=args.at, prefix=args.prefix, mimic=args.mimic,
+                      base_link=args.base_link, end_effector=args.end_effector)
+
+
+def load_model(spec: str, mount_on: Optional[str] = None, at=None, prefix: Optional[str] = None,
+               mimic: Optional[str] = None, base_link: Optional[str] = None,
+               end_effector: Optional[str] = None) -> Robot:
+    """A preset by name, or a model file (``.toml``, ``.urdf``) by path.
+
+    URDF only (:func:`spacearm.io.urdf.load_urdf`, docs/urdf.md): ``mount_on`` (a preset or
+    ``.toml`` file, the spacecraft) and ``at`` (``"x,y,z,roll,pitch,yaw"`` or 6 numbers, m and
+    rad, the URDF base link frame in the spacecraft base frame, from its CM) mount the arm on a
+    spacecraft instead of making its root link the free-flying base; ``prefix`` renames its
+    links, joints and points; ``mimic`` is ``"error"`` or ``"independent"``; ``base_link``
+    picks the base (or mounted) link.
+
+    Any model: ``end_effector`` names the end effector: a point of the model; or a URDF link,
+    with or without the prefix (its URDF link frame origin, as ``load_urdf(end_effector=...)``:
+    a link welded by a fixed joint is already a point, a moving link gets a point
+    ``<link>_frame``); or a body of a preset or ``.toml`` model (its CM, which is its frame
+    origin in spacearm; a point ``<body>_cm`` is added).
+    """
+    if spec not in presets.NAMES and not os.path.exists(spec):
+        raise SpacearmError(f"'{spec}' is neither a preset ({', '.join(presets.NAMES)}) nor an existing model file")
+    if spec.lower().endswith(".urdf"):
+        return _load_urdf_model(spec, mount_on, at, prefix, mimic, base_link, end_effector)
+    given = [option for option, value in (("--mount-on", mount_on), ("--at", at), ("--prefix", prefix),
+                                          ("--mimic", mimic), ("--base-link", base_link)) if value is not None]
+    if given:
+        verb = "applies" if len(given) == 1 else "apply"
+        raise CliError(f"{', '.join(given)} {verb} to URDF models (.urdf files) only, not to '{spec}'")
+    if spec in presets.NAMES:
+        robot = presets.get(spec)
+    elif spec.lower().endswith(".toml"):
+        robot = Robot.from_toml(spec)
+    else:
+        raise SpacearmError(f"cannot read '{spec}': model files must end in .toml or .urdf")
+    return robot if end_effector is None else _with_end_effector(robot, end_effector)
+
+
+def _load_urdf_model(path, mount_on, at, prefix, mimic, base_link, end_effector) -> Robot:
+    from ..errors import ModelFileError
+    from ..io.urdf import load_urdf
+    from ..io.urdf_parse import parse_urdf
+
+    if mount_on is None and at is not None:
+        raise CliError("--at needs --mount-on (the spacecraft to mount the URDF on)")
+    options = {k: v for k, v in (("prefix", prefix), ("mimic", mimic), ("base_link", base_link)) if v is not None}
+    if mount_on is not None:
+        pose = parse_numbers(at, "--at", 6, "x,y,z,roll,pitch,yaw", "m, rad") if isinstance(at, str) else at
+        try:
+            spacecraft = load_model(mount_on)
+        except SpacearmError as exc:
+            raise type(exc)(f"--mount-on: {exc}") from None
+        options.update(mount_on=spacecraft, at=pose)
+    try:
+        robot = load_urdf(path, **options)
+        if end_effector is None:
+            return robot
+        p = prefix or ""
+        with open(path, "rb") as fh:
+            links = parse_urdf(fh.read(), path, mimic=mimic or "error").links
+        link = end_effector[len(p):] if p and end_effector.startswith(p) and end_effector[len(p):] in links else end_effector
+        if link in links:
+            return load_urdf(path, end_effector=link, **options)
+    except ModelFileError as exc:
+        message = str(exc)
+        for keyword, option in _URDF_ADVICE_AS_OPTIONS:
+            message = message.replace(keyword, option)
+        raise ModelFileError(message) from None
+    return _with_end_effector(robot, end_effector)
+
+
+def _with_end_effector(robot: Robot, name: str) -> Robot:
+    """``robot`` with the end effector ``name``: a point of it, or a body (its CM, the body
+    frame origin, as the new point ``<body>_cm``). Everything else stays exactly as it was."""
+    if name == robot.end_effector:
+        return robot
+    if name in robot.point_names:
+        point = name
+    elif name in robot.body_names:
+        point = f"{name}_cm"
+        if point in robot.point_names or point in robot.body_names:
+            raise CliError(f"--end-effector {name}: the model already has a '{point}' (name its point instead)")
+    else:
+        raise CliError(f"--end-effector must name a point or a body/link of model '{robot.name}', got '{name}'; "
+                       f"points: {', '.join(robot.point_names) or 'none'}; bodies: {', '.join(robot.body_names)}")
+    builder = robot.to_builder()
+    if point not in robot.point_names:
+        builder.add_point(point, body=name)
+    return builder.set_end_effector(point).build()
+
+
+def joint_values(text: str, option: str, robot: Robot):
+    """One number per joint of ``robot`` (``--q``, ``--q0``, ``--qd0``) from ``text``."""
+    unit = "rad/s, or m/s for prismatic joints" if option == "--qd0" else "rad, or m for prismatic joints"
+    return parse_numbers(text, option, robot.n_dof, f"one per joint of '{robot.name}'", unit)

@@ -1,0 +1,106 @@
+"""TOML model files: read and write a :class:`~spacearm.Robot`.
+
+The schema (units, frames, every key and every validation rule) is in
+``docs/model-format.md``. In brief::
+
+    [model]
+    name = "demo"
+    end_effector = "tip"            # optional: names a [[point]]
+    initial_q = [0.3]               # optional: one entry per moving joint
+
+    [base]
+    mass = 100.0                    # kg
+    inertia = [10.0, 10.0, 10.0]    # about the base CM; or 3x3, or {ixx = .., ixy = ..}
+
+    [[link]]
+    name = "arm"
+    parent = "base"
+    com = [0.5, 0.0, 0.0]           # CM from the joint, link frame
+    mass = 5.0
+    inertia = [0.01, 0.4, 0.4]      # about the CM, link axes
+    joint = { type = "revolute", origin = [0.5, 0.0, 0.0], axis = [0.0, 0.0, 1.0] }
+
+    [[point]]
+    name = "tip"
+    body = "arm"
+    offset = [0.5, 0.0, 0.0]
+
+Every problem with a file raises :class:`~spacearm.ModelFileError` (a
+:class:`~spacearm.ModelError`, hence a ``ValueError``) whose message starts with
+``file:line:column:`` and names the link, joint or point concerned.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+from typing import Union
+
+from .. import _core
+from ..errors import ModelFileError, SpacearmTypeError
+from ..model.robot import Robot
+
+__all__ = ["load_toml", "loads_toml", "save_toml", "dumps_toml"]
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+def loads_toml(text: str, source: str = "<string>") -> Robot:
+    """Parse a model from TOML text. ``source`` names the text in error messages."""
+    if isinstance(text, (bytes, bytearray)):
+        try:
+            text = bytes(text).decode("utf-8")
+        except UnicodeDecodeError as exc:
+            raise ModelFileError(f"{source}: the model file is not valid UTF-8 (byte {exc.start})") from None
+    if not isinstance(text, str):
+        raise SpacearmTypeError(f"loads_toml expects the TOML text as a str, got {type(text).__name__}")
+    return Robot(_core.model_from_toml(text, str(source)))
+
+
+def load_toml(path: PathLike) -> Robot:
+    """Read a model file (UTF-8 TOML). A missing file raises ``FileNotFoundError``; anything
+    wrong inside it raises :class:`~spacearm.ModelFileError` with the line and column."""
+    try:
+        path = Path(path)
+    except TypeError:
+        raise SpacearmTypeError(f"load_toml expects a path (str or os.PathLike), got {type(path).__name__}") from None
+    data = path.read_bytes()
+    return loads_toml(data, source=str(path))
+
+
+def dumps_toml(robot: Robot) -> str:
+    """The model as TOML text. ``loads_toml(dumps_toml(robot))`` gives back exactly the same
+    model (every number is written in its shortest exact form)."""
+    if not isinstance(robot, Robot):
+        raise SpacearmTypeError(f"dumps_toml expects a spacearm.Robot, got {type(robot).__name__}")
+    return _core.model_to_toml(robot._m)
+
+
+def save_toml(robot: Robot, path: PathLike) -> Path:
+    """Write the model to ``path`` atomically: the text goes to a temporary file in the same
+    directory, is flushed to disk, and then replaces ``path`` in one step, so an interrupted
+    run never leaves a truncated file. Returns the path written."""
+    text = dumps_toml(robot)
+    path = Path(path)
+    directory = path.parent if str(path.parent) else Path(".")
+    # Keep the mode of a file being replaced; a new file gets the usual rw-r--r--.
+    try:
+        mode = path.stat().st_mode & 0o777
+    except OSError:
+        mode = 0o644
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
+    try:
+        os.chmod(tmp, mode)
+        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+    return path

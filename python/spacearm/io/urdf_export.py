@@ -1,0 +1,109 @@
+"""URDF export: any spacearm model as a URDF document (docs/urdf.md, "Export").
+
+The inverse of :mod:`spacearm.io.urdf`'s frame conversion. URDF puts a link frame at its joint;
+spacearm puts it at the CM (docs/conventions.md). So each spacearm body becomes a URDF link
+whose frame is at its **joint** with the body's axes, its ``<inertial><origin>`` is the
+spacearm ``com``, and a child joint's URDF ``<origin xyz>`` is the spacearm ``origin`` (from
+the parent CM) plus the parent's ``com``. The base becomes the root link with its frame at the
+base CM. Named points become massless links on fixed joints (a URDF has no other way to name a
+frame); reading the file back merges them into their bodies as points again.
+
+Joints without position limits are written as ``continuous`` (revolute) or as ``prismatic``
+without ``lower``/``upper``; infinite velocity or effort limits are left out (URDF cannot
+write infinity). Every number is written in its shortest round-trip form (``repr``), so reading
+the file back reproduces the model to rounding (rotations go through roll-pitch-yaw angles).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+import xml.etree.ElementTree as ET
+
+import numpy as np
+
+from ..rotations import quat_to_matrix
+
+__all__ = ["to_urdf", "save_urdf"]
+
+
+def _num(v: float) -> str:
+    return repr(float(v) + 0.0)  # + 0.0: no negative zeros
+
+
+def _vec(v) -> str:
+    return " ".join(_num(x) for x in v)
+
+
+def _rpy(quat) -> np.ndarray:
+    """URDF roll-pitch-yaw (``R = Rz(yaw) Ry(pitch) Rx(roll)``) of a quaternion ``[x, y, z, w]``."""
+    r = quat_to_matrix(quat)
+    pitch = math.atan2(-r[2, 0], math.hypot(r[0, 0], r[1, 0]))
+    if math.hypot(r[0, 0], r[1, 0]) > 1e-12:
+        return np.array([math.atan2(r[2, 1], r[2, 2]), pitch, math.atan2(r[1, 0], r[0, 0])])
+    # gimbal lock (pitch = ±90°): only roll ∓ yaw is defined; put it all in roll
+    return np.array([math.atan2(-r[1, 2], r[1, 1]), pitch, 0.0])
+
+
+def _inertial(link: ET.Element, mass: float, com, inertia) -> None:
+    el = ET.SubElement(link, "inertial")
+    ET.SubElement(el, "origin", xyz=_vec(com), rpy="0 0 0")
+    ET.SubElement(el, "mass", value=_num(mass))
+    i = np.asarray(inertia, dtype=float)
+    ET.SubElement(el, "inertia", ixx=_num(i[0, 0]), ixy=_num(i[0, 1]), ixz=_num(i[0, 2]),
+                  iyy=_num(i[1, 1]), iyz=_num(i[1, 2]), izz=_num(i[2, 2]))
+
+
+def to_urdf(robot) -> str:
+    """The model as URDF text (``<robot name>`` = the model name)."""
+    d = robot.description
+    root = ET.Element("robot", name=robot.name)
+    # URDF frames sit at the joints, spacearm's at the CMs: a body's CM from its URDF frame.
+    com = {d.base.name: np.zeros(3)}
+    base = ET.SubElement(root, "link", name=d.base.name)
+    _inertial(base, d.base.mass, np.zeros(3), d.base.inertia)
+    for link in d.links:
+        el = ET.SubElement(root, "link", name=link.name)
+        _inertial(el, link.mass, link.com, link.inertia)
+        com[link.name] = link.com
+        lim = link.limits
+        lower, upper, velocity, effort = lim.lower, lim.upper, lim.velocity, lim.effort
+        kind = link.type
+        if kind == "revolute" and not (np.isfinite(lower) and np.isfinite(upper)):
+            kind, lower, upper = "continuous", -np.inf, np.inf
+        joint = ET.SubElement(root, "joint", name=link.joint, type=kind)
+        ET.SubElement(joint, "parent", link=link.parent)
+        ET.SubElement(joint, "child", link=link.name)
+        ET.SubElement(joint, "origin", xyz=_vec(link.origin + com[link.parent]), rpy=_vec(_rpy(link.rotation)))
+        if kind != "fixed":
+            ET.SubElement(joint, "axis", xyz=_vec(link.axis))
+            limits = {k: _num(v) for k, v in (("lower", lower), ("upper", upper), ("velocity", velocity), ("effort", effort))
+                      if np.isfinite(v)}
+            if limits:
+                ET.SubElement(joint, "limit", **limits)
+    for p in d.points:
+        ET.SubElement(root, "link", name=p.name)
+        joint = ET.SubElement(root, "joint", name=f"{p.name}_point", type="fixed")
+        ET.SubElement(joint, "parent", link=p.body)
+        ET.SubElement(joint, "child", link=p.name)
+        ET.SubElement(joint, "origin", xyz=_vec(p.offset + com[p.body]), rpy="0 0 0")
+    ET.indent(root)
+    return '<?xml version="1.0"?>\n<!-- written by spacearm (docs/urdf.md) -->\n' + ET.tostring(root, encoding="unicode") + "\n"
+
+
+def save_urdf(robot, path) -> None:
+    """Write :func:`to_urdf` to ``path`` atomically (temporary file, flush, rename)."""
+    path = os.fspath(path)
+    text = to_urdf(robot)
+    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), suffix=".urdf.tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise

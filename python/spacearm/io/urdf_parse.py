@@ -1,0 +1,300 @@
+"""Reading URDF text into plain records, safely and with line numbers.
+
+This module only parses: XML → :class:`UrdfRobot` (links, joints, inertials, limits, each with
+the line of its element). Turning that tree into a spacearm model (frames at the CM, fixed
+joints merged, choice of base) is :mod:`spacearm.io.urdf`.
+
+Why this parser: the XML is read by the standard library's expat parser through
+``defusedxml`` (a small, maintained, pure-Python guard used by pip-installed tools that read
+untrusted XML). With ``forbid_entities`` and ``forbid_external`` it refuses every entity
+declaration and every external DTD or entity reference before anything is expanded, so a
+"billion laughs" document or an ``<!ENTITY x SYSTEM "file:///etc/passwd">`` is a
+:class:`~spacearm.ModelFileError`, never an expansion. ``forbid_dtd`` refuses any
+``<!DOCTYPE>`` as well: URDF has no DTD, and with an external DTD subset expat would otherwise
+silently skip undefined entity references (nothing is fetched, but a name could become empty). expat also reports the line and column
+of each element, which the error messages cite. A Rust crate (``urdf-rs``, ``roxmltree``)
+would have meant a second XML stack in the core and a rebuild for every change; the model
+itself is still validated by the Rust core when it is built.
+
+URDF (https://wiki.ros.org/urdf/XML) numbers are attribute strings: ``xyz="0 0 0.1"``.
+Elements this reader does not need (``visual``, ``collision``, ``gazebo``, ``transmission``,
+``material``, ``dynamics``, ``calibration``, ``safety_controller``) are ignored; elements that
+change the kinematics in a way spacearm cannot represent (``mimic``) are errors.
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from typing import Dict, List, Optional, Tuple
+
+import numpy as np
+from defusedxml import DefusedXmlException
+from defusedxml.ElementTree import DefusedXMLParser
+
+from ..errors import ArgumentError, ModelFileError
+from ..rotations import quat_from_rpy, quat_to_matrix
+
+__all__ = ["UrdfInertial", "UrdfLink", "UrdfJoint", "UrdfRobot", "parse_urdf", "urdf_error"]
+
+
+@dataclass
+class UrdfInertial:
+    """A link's ``<inertial>``: mass, CM ``origin`` and ``rotation`` (of the inertial frame in
+    the link frame) and the inertia matrix about the CM in the inertial frame's axes."""
+
+    mass: float
+    origin: np.ndarray
+    rotation: np.ndarray
+    inertia: np.ndarray
+    line: int
+
+
+@dataclass
+class UrdfLink:
+    name: str
+    inertial: Optional[UrdfInertial]
+    line: int
+
+
+@dataclass
+class UrdfJoint:
+    """A ``<joint>``; ``origin``/``rotation`` place the child link frame in the parent link
+    frame at ``q = 0``; ``axis`` is in that (joint = child) frame."""
+
+    name: str
+    kind: str
+    parent: str
+    child: str
+    origin: np.ndarray
+    rotation: np.ndarray
+    axis: np.ndarray
+    limits: Dict[str, float]
+    line: int
+
+
+@dataclass
+class UrdfRobot:
+    name: str
+    links: Dict[str, UrdfLink] = field(default_factory=dict)
+    joints: List[UrdfJoint] = field(default_factory=list)
+    source: str = "<string>"
+
+    def error(self, line: int, message: str) -> ModelFileError:
+        return urdf_error(self.source, line, message)
+
+
+def urdf_error(source: str, line: int, message: str) -> ModelFileError:
+    """A :class:`ModelFileError` whose message starts ``source:line:`` like the TOML reader's."""
+    return ModelFileError(f"{source}:{line}: {message}")
+
+
+class _LineRecorder(ET.TreeBuilder):
+    """A tree builder that remembers the line of every element (ElementTree drops it)."""
+
+    def __init__(self):
+        super().__init__()
+        self.parser: Optional[DefusedXMLParser] = None
+        self.lines: Dict[int, int] = {}
+
+    def start(self, tag, attrs):
+        el = super().start(tag, attrs)
+        self.lines[id(el)] = self.parser.parser.CurrentLineNumber
+        return el
+
+
+def _xml_tree(text, source: str) -> Tuple[ET.Element, Dict[int, int]]:
+    target = _LineRecorder()
+    parser = DefusedXMLParser(target=target, forbid_dtd=True, forbid_entities=True, forbid_external=True)
+    target.parser = parser
+    try:
+        parser.feed(text)
+        root = parser.close()
+    except ET.ParseError as exc:
+        line, col = exc.position
+        raise ModelFileError(f"{source}:{line}:{col + 1}: not well-formed XML: {exc}") from None
+    except DefusedXmlException as exc:
+        line = parser.parser.CurrentLineNumber if parser.parser is not None else 1
+        raise urdf_error(source, line, f"refused unsafe XML ({type(exc).__name__}: {exc}); URDF files need no DTD entities") from None
+    except (ValueError, RecursionError) as exc:  # e.g. expat "cannot be larger than 2 GB", deep nesting
+        raise urdf_error(source, 1, f"could not parse XML: {exc}") from None
+    return root, target.lines
+
+
+class _Reader:
+    """Turns the element tree into records; every error names the element and its line."""
+
+    def __init__(self, lines: Dict[int, int], source: str, mimic: str):
+        self.lines = lines
+        self.source = source
+        self.mimic = mimic
+
+    def line(self, el: ET.Element) -> int:
+        return self.lines.get(id(el), 0)
+
+    def fail(self, el: ET.Element, message: str) -> ModelFileError:
+        return urdf_error(self.source, self.line(el), message)
+
+    def attr(self, el: ET.Element, name: str, who: str) -> str:
+        value = el.get(name)
+        if value is None or value.strip() == "":
+            raise self.fail(el, f"{who}: <{el.tag}> needs a non-empty '{name}' attribute")
+        return value.strip()
+
+    def numbers(self, el: ET.Element, name: str, n: int, default, who: str) -> np.ndarray:
+        text = el.get(name)
+        if text is None:
+            return np.array(default, dtype=float)
+        parts = text.split()
+        try:
+            values = np.array([float(p) for p in parts], dtype=float)
+        except ValueError:
+            raise self.fail(el, f"{who}: <{el.tag} {name}=\"{text}\"> must be {n} numbers separated by spaces") from None
+        if values.shape[0] != n:
+            raise self.fail(el, f"{who}: <{el.tag} {name}=\"{text}\"> must be {n} numbers, got {values.shape[0]}")
+        if not np.all(np.isfinite(values)):
+            raise self.fail(el, f"{who}: <{el.tag} {name}=\"{text}\"> must be finite")
+        return values
+
+    def number(self, el: ET.Element, name: str, who: str, default: Optional[float] = None) -> float:
+        text = el.get(name)
+        if text is None:
+            if default is None:
+                raise self.fail(el, f"{who}: <{el.tag}> needs a '{name}' attribute")
+            return default
+        try:
+            value = float(text)
+        except ValueError:
+            raise self.fail(el, f"{who}: <{el.tag} {name}=\"{text}\"> must be a number") from None
+        if math.isnan(value):
+            raise self.fail(el, f"{who}: <{el.tag} {name}=\"{text}\"> must not be NaN")
+        return value
+
+    def single(self, parent: ET.Element, tag: str, who: str) -> Optional[ET.Element]:
+        found = parent.findall(tag)
+        if len(found) > 1:
+            raise self.fail(found[1], f"{who}: more than one <{tag}> (first on line {self.line(found[0])})")
+        return found[0] if found else None
+
+    def pose(self, parent: ET.Element, who: str) -> Tuple[np.ndarray, np.ndarray]:
+        """``<origin xyz rpy>`` → (position, rotation matrix); absent means identity."""
+        el = self.single(parent, "origin", who)
+        if el is None:
+            return np.zeros(3), np.eye(3)
+        xyz = self.numbers(el, "xyz", 3, [0.0, 0.0, 0.0], who)
+        rpy = self.numbers(el, "rpy", 3, [0.0, 0.0, 0.0], who)
+        return xyz, quat_to_matrix(quat_from_rpy(*rpy))
+
+    def inertial(self, el: ET.Element, who: str) -> UrdfInertial:
+        origin, rotation = self.pose(el, who)
+        m_el = self.single(el, "mass", who)
+        if m_el is None:
+            raise self.fail(el, f"{who}: <inertial> needs a <mass value=...>")
+        mass = self.number(m_el, "value", who)
+        if not (math.isfinite(mass) and mass >= 0):
+            raise self.fail(m_el, f"{who}: mass must be finite and >= 0 kg, got {mass}")
+        i_el = self.single(el, "inertia", who)
+        if i_el is None:
+            raise self.fail(el, f"{who}: <inertial> needs an <inertia ixx=... iyy=... izz=...>")
+        v = {k: self.number(i_el, k, who, default=0.0 if k in ("ixy", "ixz", "iyz") else None)
+             for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")}
+        if not all(math.isfinite(x) for x in v.values()):
+            raise self.fail(i_el, f"{who}: inertia entries must be finite")
+        # URDF's ixy, ixz, iyz are the off-diagonal entries of the inertia matrix (not products
+        # of inertia with the opposite sign), as in spacearm's TOML format.
+        inertia = np.array([[v["ixx"], v["ixy"], v["ixz"]], [v["ixy"], v["iyy"], v["iyz"]], [v["ixz"], v["iyz"], v["izz"]]])
+        # Positive semi-definiteness is checked here, per link, because merging fixed links
+        # could hide a negative moment inside a good total (tolerance: 1e-9 of the largest entry,
+        # plus 1e-15 kg m^2 for inertias that are zero up to rounding). The triangle inequality
+        # is left to the merged body (checked when the model is built): published URDFs often
+        # give massless sensor frames rod-like inertias that violate it and vanish in the merge.
+        scale = float(np.abs(inertia).max())
+        if scale > 1e100:
+            raise self.fail(i_el, f"{who}: inertia entries beyond 1e100 kg m^2 (a units mistake?)")
+        moments = np.linalg.eigvalsh(inertia)
+        if moments[0] < -(1e-9 * scale + 1e-15):
+            raise self.fail(i_el, f"{who}: inertia must be positive semi-definite, principal moments {moments.tolist()} kg m^2")
+        return UrdfInertial(mass, origin, rotation, inertia, self.line(el))
+
+    def link(self, el: ET.Element) -> UrdfLink:
+        name = self.attr(el, "name", "<link>")
+        who = f"link '{name}'"
+        inertial_el = self.single(el, "inertial", who)
+        inertial = None if inertial_el is None else self.inertial(inertial_el, who)
+        return UrdfLink(name, inertial, self.line(el))
+
+    def joint(self, el: ET.Element) -> UrdfJoint:
+        name = self.attr(el, "name", "<joint>")
+        who = f"joint '{name}'"
+        kind = self.attr(el, "type", who)
+        if kind in ("floating", "planar"):
+            raise self.fail(el, f"{who}: type '{kind}' is not supported inside the tree (spacearm's only "
+                                "multi-DOF joint is the free-flying base); supported: revolute, continuous, prismatic, fixed")
+        if kind not in ("revolute", "continuous", "prismatic", "fixed"):
+            raise self.fail(el, f"{who}: unknown joint type '{kind}'; expected revolute, continuous, prismatic or fixed")
+        mimic = el.find("mimic")
+        if mimic is not None and self.mimic != "independent":
+            raise self.fail(mimic, f"{who}: <mimic> joints are not supported (a mimic joint is a constraint between "
+                                   "coordinates, not a tree joint); pass mimic='independent' to load it as an "
+                                   "ordinary joint with its own coordinate (as Pinocchio does by default), or remove it")
+        links = {}
+        for tag in ("parent", "child"):
+            sub = self.single(el, tag, who)
+            if sub is None:
+                raise self.fail(el, f"{who}: needs a <{tag} link=...>")
+            links[tag] = self.attr(sub, "link", who)
+        origin, rotation = self.pose(el, who)
+        axis_el = self.single(el, "axis", who)
+        axis = np.array([1.0, 0.0, 0.0]) if axis_el is None else self.numbers(axis_el, "xyz", 3, [1.0, 0.0, 0.0], who)
+        if kind != "fixed" and not np.abs(axis).max() > 1e-9:
+            raise self.fail(axis_el, f"{who}: the joint axis must be a non-zero vector, got {axis.tolist()}")
+        if kind != "fixed":
+            axis = axis / np.abs(axis).max()  # scale first so that the norm cannot overflow
+            axis = axis / np.linalg.norm(axis)
+        limits: Dict[str, float] = {}
+        limit_el = self.single(el, "limit", who)
+        if limit_el is not None and kind != "fixed":
+            # A continuous joint has no position limits (URDF ignores lower/upper there).
+            keys = ("velocity", "effort") if kind == "continuous" else ("lower", "upper", "velocity", "effort")
+            for key in keys:
+                if limit_el.get(key) is not None:
+                    limits[key] = self.number(limit_el, key, who)
+            if "lower" in limits and "upper" in limits and limits["lower"] > limits["upper"]:
+                raise self.fail(limit_el, f"{who}: limit lower = {limits['lower']} exceeds upper = {limits['upper']}")
+            for key in ("velocity", "effort"):
+                if key in limits and limits[key] < 0:
+                    raise self.fail(limit_el, f"{who}: {key} limit must be >= 0, got {limits[key]}")
+        return UrdfJoint(name, kind, links["parent"], links["child"], origin, rotation, axis, limits, self.line(el))
+
+
+def parse_urdf(text, source: str = "<string>", mimic: str = "error") -> UrdfRobot:
+    """Parse URDF text (``str`` or ``bytes``) into a :class:`UrdfRobot`.
+
+    Raises :class:`~spacearm.ModelFileError` (``source:line: message``) for XML that is not
+    well formed or declares entities, a root element other than ``<robot>``, missing or
+    malformed attributes, unsupported joints (``floating``, ``planar``, ``<mimic>``) and
+    duplicate link or joint names. The tree structure is checked by :mod:`spacearm.io.urdf`.
+    ``mimic="independent"`` reads a ``<mimic>`` joint as an ordinary joint instead.
+    """
+    if mimic not in ("error", "independent"):
+        raise ArgumentError(f"mimic must be 'error' or 'independent', got {mimic!r}")
+    root, lines = _xml_tree(text, source)
+    reader = _Reader(lines, source, mimic)
+    if root.tag != "robot":
+        raise reader.fail(root, f"the root element must be <robot>, got <{root.tag}>")
+    robot = UrdfRobot(name=(root.get("name") or "robot").strip() or "robot", source=source)
+    joint_lines: Dict[str, int] = {}
+    for el in root:
+        if el.tag == "link":
+            link = reader.link(el)
+            if link.name in robot.links:
+                raise reader.fail(el, f"link name '{link.name}' is used twice (first on line {robot.links[link.name].line})")
+            robot.links[link.name] = link
+        elif el.tag == "joint":
+            joint = reader.joint(el)
+            if joint.name in joint_lines:
+                raise reader.fail(el, f"joint name '{joint.name}' is used twice (first on line {joint_lines[joint.name]})")
+            joint_lines[joint.name] = joint.line
+            robot.joints.append(joint)
+    return robot

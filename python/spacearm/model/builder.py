@@ -1,0 +1,265 @@
+"""Building a model in Python, link by link.
+
+Frames (``docs/conventions.md``): every body frame has its origin at the body's CM. A joint sits at
+``origin`` in the parent's frame; the child's axes are the parent's rotated by ``rotation``
+(quaternion ``[x, y, z, w]``) or ``rpy`` (URDF roll-pitch-yaw) and then by the joint motion;
+``axis`` is given in the child's frame; ``com`` is the child's CM measured from the joint, in
+the child's frame. See ``docs/model-format.md`` for a worked example.
+
+A model is edited through a builder too: :meth:`RobotBuilder.from_robot` (or
+:meth:`Robot.to_builder`) holds an existing model exactly, and :meth:`~RobotBuilder.add_link`,
+:meth:`~RobotBuilder.attach_payload` and :meth:`~RobotBuilder.remove_body` change it before
+:meth:`~RobotBuilder.build` makes a new, validated Robot (a Robot itself never changes).
+
+>>> import spacearm
+>>> b = spacearm.Robot.builder("demo", base_mass=100.0, base_inertia=[10, 10, 10])
+>>> b.add_link("arm", parent="base", joint="revolute", axis=(0, 0, 1), origin=(0.5, 0, 0),
+...            com=(0.5, 0, 0), mass=5.0, inertia=[0.01, 0.4, 0.4])
+>>> b.add_point("tip", body="arm", offset=(0.5, 0, 0)); b.set_end_effector("tip")
+>>> robot = b.build()
+"""
+
+from __future__ import annotations
+
+from typing import Optional, Sequence
+
+import numpy as np
+
+from .. import _core
+from .._util.arrays import matrix3, number, quaternion, vector
+from ..errors import ArgumentError, ModelError, NotFoundError
+from ..rotations import IDENTITY_QUAT, quat_from_rpy
+from .robot import Robot
+
+__all__ = ["RobotBuilder"]
+
+
+class RobotBuilder:
+    """Accumulates a base and links, validating each addition; :meth:`build` returns a
+    :class:`~spacearm.Robot`."""
+
+    def __init__(self, name: str, base_mass: float, base_inertia, base_name: str = "base"):
+        self._base = (str(name), str(base_name), number(base_mass, "base_mass"), matrix3(base_inertia, "base_inertia"))
+        self._b = _core.ModelBuilder(*self._base)
+        self._base_name = str(base_name)
+        self._n_wheels = 0
+        # What was added, in order, so that remove_body can replay the rest through the core
+        # builder (which validates every addition).
+        self._links: list = []  # (name, parent, joint kind, joint name, core add_link args)
+        self._points: list = []  # (name, body, offset)
+        self._end_effector: Optional[str] = None
+        self._initial_q: Optional[list] = None
+        self._initial_q_by_link: dict = {}  # from from_robot / remove_body: link name -> q
+
+    @classmethod
+    def from_robot(cls, robot: Robot, name: Optional[str] = None) -> "RobotBuilder":
+        """A builder holding ``robot``'s model exactly: the base, every link with its joint,
+        limits and mass properties, the points, the end effector and the initial ``q``.
+
+        Building it unchanged gives a model equal to ``robot``: the same mass matrix bit for
+        bit where the axes and rotations are exactly unit, else equal to rounding (they are
+        normalized again on the way in).
+        The initial ``q`` is kept per link, so links added or removed afterwards keep the other
+        joints' initial values (new joints start at 0) unless :meth:`set_initial_q` is called.
+        """
+        if not isinstance(robot, Robot):
+            raise ArgumentError(f"from_robot needs a spacearm.Robot, got {type(robot).__name__}")
+        d = robot.description
+        b = cls(d.name if name is None else name, d.base.mass, d.base.inertia.tolist(), base_name=d.base.name)
+        for link in d.links:
+            lim = link.limits
+            limits = None if link.type == "fixed" else dict(lower=lim.lower, upper=lim.upper, velocity=lim.velocity, effort=lim.effort)
+            b.add_link(link.name, parent=link.parent, joint=link.type, axis=link.axis.tolist(),
+                       origin=link.origin.tolist(), rotation=link.rotation.tolist(), com=link.com.tolist(), mass=link.mass,
+                       inertia=link.inertia.tolist(), joint_name=link.joint, limits=limits)
+        for p in d.points:
+            b.add_point(p.name, body=p.body, offset=p.offset.tolist())
+        if d.end_effector is not None:
+            b.set_end_effector(d.end_effector)
+        b._initial_q_by_link = dict(zip(b._moving_links(), d.initial_q.tolist()))
+        return b
+
+    def add_link(
+        self,
+        name: str,
+        *,
+        parent: str = "base",
+        joint: str = "revolute",
+        axis: Sequence[float] = (0.0, 0.0, 1.0),
+        origin: Sequence[float] = (0.0, 0.0, 0.0),
+        rotation: Optional[Sequence[float]] = None,
+        rpy: Optional[Sequence[float]] = None,
+        com: Sequence[float] = (0.0, 0.0, 0.0),
+        mass: float,
+        inertia,
+        joint_name: Optional[str] = None,
+        limits: Optional[dict] = None,
+    ) -> "RobotBuilder":
+        """Add a link attached to ``parent`` through a joint.
+
+        ``joint``: ``"revolute"``, ``"prismatic"`` or ``"fixed"``. ``axis`` (normalized) in
+        the link frame. ``rotation`` (quaternion ``[x, y, z, w]`` or scipy ``Rotation``) or ``rpy`` (rad) orients
+        the link frame in the parent frame at ``q = 0`` (default: aligned). ``inertia`` is about
+        the link CM in link axes (3×3, or its 3 diagonal entries). ``limits``: optional dict
+        with any of ``lower``, ``upper``, ``velocity``, ``effort``.
+        """
+        if rotation is not None and rpy is not None:
+            raise ArgumentError(f"link '{name}': give rotation or rpy, not both")
+        if rpy is not None:
+            quat = quat_from_rpy(*vector(rpy, f"link '{name}' rpy", 3))
+        elif rotation is not None:
+            quat = quaternion(rotation, f"link '{name}' rotation")
+        else:
+            quat = IDENTITY_QUAT
+        lim = None
+        if limits is not None:
+            unknown = set(limits) - {"lower", "upper", "velocity", "effort"}
+            if unknown:
+                raise ArgumentError(f"link '{name}': unknown limit keys {sorted(unknown)}; expected lower, upper, velocity, effort")
+            lim = [number(limits.get(key, default), f"link '{name}' limit {key}")
+                   for key, default in (("lower", -np.inf), ("upper", np.inf), ("velocity", np.inf), ("effort", np.inf))]
+        args = (
+            str(name),
+            str(parent),
+            str(joint),
+            list(vector(origin, f"link '{name}' origin", 3)),
+            list(quat),
+            list(vector(axis, f"link '{name}' axis", 3)),
+            list(vector(com, f"link '{name}' com", 3)),
+            number(mass, f"link '{name}' mass"),
+            matrix3(inertia, f"link '{name}' inertia"),
+            joint_name,
+            lim,
+        )
+        self._b.add_link(*args)
+        self._links.append((str(name), str(parent), str(joint), joint_name, args))
+        return self
+
+    def attach_payload(
+        self,
+        name: str,
+        *,
+        body: str,
+        mass: float,
+        inertia=(0.0, 0.0, 0.0),
+        origin: Sequence[float] = (0.0, 0.0, 0.0),
+        rotation: Optional[Sequence[float]] = None,
+        rpy: Optional[Sequence[float]] = None,
+    ) -> "RobotBuilder":
+        """Attach a rigid payload to ``body``: a link on a fixed joint, so the joint space is
+        unchanged and the payload's mass properties merge with the body's.
+
+        ``origin`` is the payload's CM in ``body``'s frame (from its CM, m); ``rotation``
+        (quaternion ``[x, y, z, w]`` or scipy ``Rotation``) or ``rpy`` orients the payload's axes in ``body``'s frame;
+        ``inertia`` is about the payload's CM in its own axes (3×3, or 3 diagonal entries;
+        default 0: a point mass). A captured target or a grasped tool is attached this way.
+        """
+        return self.add_link(name, parent=body, joint="fixed", origin=origin, rotation=rotation, rpy=rpy,
+                             com=(0.0, 0.0, 0.0), mass=mass, inertia=inertia, joint_name=f"{name}_joint")
+
+    def remove_body(self, name: str) -> "RobotBuilder":
+        """Remove link ``name``, every link below it, and the points on them (the end effector
+        too, if it is one of them: set another with :meth:`set_end_effector`). The base cannot be
+        removed. The remaining links are added again, in order, through the core's validation.
+        """
+        name = str(name)
+        if name == self._base_name:
+            raise ModelError(f"the base '{name}' cannot be removed; start a new builder instead")
+        if name not in {link[0] for link in self._links}:
+            raise NotFoundError(f"no link named '{name}'; the links are {[link[0] for link in self._links]}")
+        removed = {name}
+        for link_name, parent, *_ in self._links:  # links come after their parents
+            if parent in removed:
+                removed.add(link_name)
+        if self._initial_q is not None:
+            # An explicit initial q no longer matches the joints: keep it per moving link instead.
+            self._initial_q_by_link = dict(zip(self._moving_links(), self._initial_q))
+            self._initial_q = None
+        links = [link for link in self._links if link[0] not in removed]
+        points = [p for p in self._points if p[1] not in removed]
+        end_effector = self._end_effector if any(p[0] == self._end_effector for p in points) else None
+        self._b = _core.ModelBuilder(*self._base)
+        self._links, self._points, self._end_effector = [], [], None
+        for *_, args in links:
+            self._b.add_link(*args)
+        self._links = links
+        for point, body, offset in points:
+            self.add_point(point, body=body, offset=offset)
+        if end_effector is not None:
+            self.set_end_effector(end_effector)
+        return self
+
+    def _moving_links(self) -> list:
+        """Names of the links with a joint coordinate, in ``q`` order (the order of addition)."""
+        return [link[0] for link in self._links if link[2] != "fixed"]
+
+    def add_reaction_wheel(
+        self,
+        axis: Sequence[float],
+        rotor_inertia: float,
+        position: Sequence[float] = (0.0, 0.0, 0.0),
+        max_torque: float = np.inf,
+        max_speed: float = np.inf,
+        *,
+        name: Optional[str] = None,
+        mass: float = 0.0,
+        transverse_inertia: Optional[float] = None,
+    ) -> "RobotBuilder":
+        """Add a reaction wheel: a symmetric rotor on a revolute joint of the base (``docs/simulation-core.md``).
+
+        The wheel is an ordinary link (``wheel1``, ``wheel2``, … unless ``name`` is given; joint
+        ``<name>_joint``) whose coordinate is the rotor angle, so its torque is an internal
+        joint torque and the momentum bookkeeping stays exact. ``axis``: spin axis in the base
+        frame (normalized); ``rotor_inertia``: spin-axis moment, kg·m²; ``position``: rotor CM
+        from the base CM in the base frame, m; ``max_torque`` (N·m) and ``max_speed`` (rad/s)
+        are kept as the joint's effort and velocity limits. ``mass`` (kg, default 0: the wheel's
+        mass counted in the base) and ``transverse_inertia`` (default ``0.6 · rotor_inertia``: a
+        disc 0.77 radii thick; 0.5 is the thin-disc limit, where the triangle inequality of
+        the inertia is an equality that MuJoCo rejects) complete the rotor; its inertia ``I_t E + (I_s − I_t) k kᵀ`` is symmetric
+        about the axis, so it does not change as the rotor spins.
+        """
+        k = vector(axis, "reaction wheel axis", 3)
+        norm = float(np.linalg.norm(k))
+        if not np.isfinite(norm) or norm <= 1e-9:
+            raise ModelError(f"reaction wheel axis must be a finite non-zero vector, got {list(k)}")
+        k = k / norm
+        i_s = number(rotor_inertia, "reaction wheel rotor_inertia")
+        if not (np.isfinite(i_s) and i_s > 0):
+            raise ModelError(f"reaction wheel rotor_inertia must be > 0 kg m^2, got {rotor_inertia}")
+        i_t = 0.6 * i_s if transverse_inertia is None else number(transverse_inertia, "reaction wheel transverse_inertia")
+        for what, v in (("max_torque", max_torque), ("max_speed", max_speed)):
+            if not number(v, f"reaction wheel {what}") > 0:
+                raise ModelError(f"reaction wheel {what} must be > 0, got {v}")
+        self._n_wheels += 1
+        name = f"wheel{self._n_wheels}" if name is None else str(name)
+        inertia = i_t * np.eye(3) + (i_s - i_t) * np.outer(k, k)
+        return self.add_link(name, parent=self._base_name, joint="revolute", axis=k, origin=position,
+                             com=(0.0, 0.0, 0.0), mass=mass, inertia=inertia, joint_name=f"{name}_joint",
+                             limits={"velocity": float(max_speed), "effort": float(max_torque)})
+
+    def add_point(self, name: str, *, body: str, offset: Sequence[float] = (0.0, 0.0, 0.0)) -> "RobotBuilder":
+        """Add a named point fixed to ``body`` at ``offset`` (body frame, from its CM)."""
+        offset = list(vector(offset, f"point '{name}' offset", 3))
+        self._b.add_point(str(name), str(body), offset)
+        self._points.append((str(name), str(body), offset))
+        return self
+
+    def set_end_effector(self, name: str) -> "RobotBuilder":
+        """Designate the named point as the end effector."""
+        self._b.set_end_effector(str(name))
+        self._end_effector = str(name)
+        return self
+
+    def set_initial_q(self, q: Sequence[float]) -> "RobotBuilder":
+        """Initial (nominal) joint coordinates, length N."""
+        self._initial_q = list(vector(q, "initial q"))
+        self._initial_q_by_link = {}
+        return self
+
+    def build(self) -> Robot:
+        """Validate the whole model and return the immutable :class:`~spacearm.Robot`."""
+        if self._initial_q is not None:
+            self._b.set_initial_q(self._initial_q)
+        elif self._initial_q_by_link:
+            self._b.set_initial_q([self._initial_q_by_link.get(link, 0.0) for link in self._moving_links()])
+        return Robot(self._b.build())

@@ -1,0 +1,545 @@
+"""The :class:`Robot`: a validated spacecraft-manipulator model and every quantity of the
+Generalized Jacobian Matrix formulation.
+
+Conventions (``docs/conventions.md``): SI units; vectors in the inertial frame
+𝒥 unless a name says otherwise; configuration ``x = [r0 (3), quat0 (4, [x, y, z, w]), q (N)]``
+with ``r0`` the base CM; generalized velocity ``u = [v0 (3), w0 (3), qd (N)]`` with ``v0`` the
+base CM velocity and ``w0`` the base angular velocity, both in 𝒥; generalized force
+``f = [F0 (3), N0 (3), tau (N)]`` (force at the base CM, torque about it, in 𝒥; joint torques).
+EOM: ``H(x) du + c(x, u) = f + J^T w_ext``. Equation numbers refer to Wilde, Kwok Choon,
+Grompone & Romano (2018), Front. Robot. AI 5:41 ("the paper").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple, Sequence, Union
+
+import numpy as np
+
+from .. import _core
+from .._util.arrays import quaternion, vector, vector3
+from .description import ModelDescription
+from ..errors import ArgumentError, NotFoundError, ShapeError, SpacearmTypeError
+
+__all__ = ["Robot", "ExternalWrench", "Kinematics", "Momentum", "InertiaBlocks", "ForwardDynamicsDerivatives", "Linearization"]
+
+PointLike = Union[str, tuple, None]
+
+
+@dataclass(frozen=True)
+class ExternalWrench:
+    """A force and torque, both in 𝒥, applied at a point fixed to a body.
+
+    ``body`` is a body name or index (0 = base); ``offset`` is the application point in that
+    body's frame (from its CM). Its generalized force is ``J_X^T [force; torque]``.
+    """
+
+    body: Union[str, int]
+    force: Sequence[float] = (0.0, 0.0, 0.0)
+    torque: Sequence[float] = (0.0, 0.0, 0.0)
+    offset: Sequence[float] = (0.0, 0.0, 0.0)
+
+
+class Kinematics(NamedTuple):
+    """Forward kinematics, one row per body (row 0 = base)."""
+
+    body_to_world: np.ndarray  #: (n_bodies, 3, 3) rotation of each body frame to 𝒥
+    com_in_world: np.ndarray  #: (n_bodies, 3) CM positions r_i
+    joint_position_in_world: np.ndarray  #: (n_bodies, 3) joint positions p_i (row 0: r0)
+    joint_axis_in_world: np.ndarray  #: (n_bodies, 3) unit joint axes k_i (zero: base, fixed)
+
+
+class Momentum(NamedTuple):
+    """Linear momentum and angular momentum about three points (``docs/conventions.md``)."""
+
+    P: np.ndarray  #: linear momentum, N·s
+    L_origin: np.ndarray  #: about the origin of 𝒥 (conserved with no external wrench)
+    L_base: np.ndarray  #: about the base CM (lower half of H0 xd0 + H0m qd, eq. 42)
+    L_com: np.ndarray  #: about the system CM
+
+
+class InertiaBlocks(NamedTuple):
+    """The paper's inertia blocks (eqs. 27–36), in 𝒥 about the base CM."""
+
+    M: float  #: total mass
+    r_0g: np.ndarray  #: base CM to system CM
+    H_S: np.ndarray  #: 3×3, eq. 29
+    J_TS: np.ndarray  #: 3×N, eq. 32
+    H_Sq: np.ndarray  #: 3×N, eq. 33
+    H0: np.ndarray  #: 6×6 base inertia, eq. 30
+    H0m: np.ndarray  #: 6×N coupling inertia, eq. 31
+    Hm: np.ndarray  #: N×N manipulator inertia, eq. 34
+    H: np.ndarray  #: (6+N)² full mass matrix, eq. 36
+
+
+def _frozen(a: np.ndarray) -> np.ndarray:
+    a.setflags(write=False)
+    return a
+
+
+class Robot:
+    """A spacecraft base carrying a tree of links (one or more arms).
+
+    Build one with :meth:`Robot.builder`, :meth:`Robot.from_toml`, :meth:`Robot.from_dh` or a
+    preset from :mod:`spacearm.presets`. A ``Robot`` is immutable; its methods are functions of
+    the state passed in.
+    """
+
+    def __init__(self, core_model: "_core.Model"):
+        if not isinstance(core_model, _core.Model):
+            raise SpacearmTypeError("Robot is built with Robot.builder(), Robot.from_toml(), Robot.from_dh() or spacearm.presets")
+        self._m = core_model
+        # Named points resolved once (the model is immutable): name or None -> (body, offset).
+        self._points = {}
+
+    # ---- construction -------------------------------------------------------------------
+    @staticmethod
+    def builder(name: str, base_mass: float, base_inertia, base_name: str = "base"):
+        """Start building a model: see :class:`spacearm.model.builder.RobotBuilder`."""
+        from .builder import RobotBuilder
+
+        return RobotBuilder(name, base_mass, base_inertia, base_name=base_name)
+
+    def to_builder(self, name=None):
+        """A :class:`~spacearm.model.builder.RobotBuilder` holding this model exactly, to edit
+        (add or remove bodies, attach a payload) and build into a new Robot; this one is unchanged."""
+        from .builder import RobotBuilder
+
+        return RobotBuilder.from_robot(self, name=name)
+
+    @classmethod
+    def from_toml(cls, path) -> "Robot":
+        """Load a model file (schema: ``docs/model-format.md``)."""
+        from ..io.model_file import load_toml
+
+        return load_toml(path)
+
+    @classmethod
+    def from_toml_string(cls, text: str, source: str = "<string>") -> "Robot":
+        """Parse a model from TOML text (schema: ``docs/model-format.md``)."""
+        from ..io.model_file import loads_toml
+
+        return loads_toml(text, source=source)
+
+    @classmethod
+    def from_dh(cls, *args, **kwargs) -> "Robot":
+        """Build a model from a Denavit–Hartenberg table: see :func:`spacearm.io.dh.robot_from_dh`."""
+        from ..io.dh import robot_from_dh
+
+        return robot_from_dh(*args, **kwargs)
+
+    @classmethod
+    def from_urdf(cls, path, **kwargs) -> "Robot":
+        """Load a URDF file (root link = free-flying base, or mounted on a spacecraft): see
+        :func:`spacearm.io.urdf.load_urdf` for the options and ``docs/urdf.md`` for the frames."""
+        from ..io.urdf import load_urdf
+
+        return load_urdf(path, **kwargs)
+
+    # ---- description --------------------------------------------------------------------
+    @property
+    def name(self) -> str:
+        return self._m.name
+
+    @property
+    def n_dof(self) -> int:
+        """Number of joint degrees of freedom ``N``."""
+        return self._m.n_dof
+
+    @property
+    def n_bodies(self) -> int:
+        """Number of bodies including the base."""
+        return self._m.n_bodies
+
+    @property
+    def nx(self) -> int:
+        """Length of the configuration ``x``: ``7 + N``."""
+        return 7 + self._m.n_dof
+
+    @property
+    def nu(self) -> int:
+        """Length of the generalized velocity ``u``: ``6 + N``."""
+        return 6 + self._m.n_dof
+
+    @property
+    def total_mass(self) -> float:
+        return self._m.total_mass
+
+    @property
+    def body_names(self) -> list:
+        return list(self._m.body_names)
+
+    @property
+    def point_names(self) -> list:
+        return list(self._m.point_names)
+
+    @property
+    def end_effector(self):
+        """Name of the end-effector point, or ``None``."""
+        return self._m.end_effector
+
+    @property
+    def initial_q(self) -> np.ndarray:
+        return self._m.initial_q
+
+    @property
+    def joint_types(self) -> list:
+        """Joint type of each LINK, in link order (length ``n_bodies - 1``), fixed joints
+        included: ``"revolute"``, ``"prismatic"`` or ``"fixed"``. It does not line up with ``q``
+        when the model has fixed joints; for one entry per degree of freedom use
+        :attr:`dof_types` and :attr:`joint_names`."""
+        return list(self._m.joint_types())
+
+    @property
+    def joint_names(self) -> list:
+        """Name of the joint of each degree of freedom, in ``q`` order (length ``N``; fixed
+        joints excluded): ``q[k]``, ``qd[k]`` and ``tau[k]`` belong to ``joint_names[k]``."""
+        return [name for name, _ in self._dofs()]
+
+    @property
+    def dof_types(self) -> list:
+        """Type of each degree of freedom, in ``q`` order (length ``N``): ``"revolute"`` (rad,
+        N·m) or ``"prismatic"`` (m, N). Unlike :attr:`joint_types`, fixed joints are excluded."""
+        return [kind for _, kind in self._dofs()]
+
+    def _dofs(self) -> tuple:
+        """``(joint name, joint type)`` of each degree of freedom in ``q`` order, read once from
+        the model's description (the model is immutable)."""
+        dofs = self.__dict__.get("_dof_joints")
+        if dofs is None:
+            links = sorted((link for link in self.description.links if link.dof is not None), key=lambda link: link.dof)
+            dofs = self._dof_joints = tuple((link.joint, link.type) for link in links)
+        return dofs
+
+    @property
+    def body_of_dof(self) -> list:
+        """Body index moved by each degree of freedom."""
+        return list(self._m.body_of_dof)
+
+    @property
+    def description(self) -> ModelDescription:
+        """The model's parameters, typed, with each field's frame and unit
+        (:class:`~spacearm.ModelDescription`); built once (the model is immutable)."""
+        desc = self.__dict__.get("_description")
+        if desc is None:
+            desc = self._description = ModelDescription.from_core(self._m.describe())
+        return desc
+
+    def describe(self) -> dict:
+        """The model as plain Python data (base, links in tree order, points): a new dict at
+        each call. :attr:`description` is the typed form of the same data."""
+        return self._m.describe()
+
+    def body_index(self, body: Union[str, int]) -> int:
+        """Index of a body given by name or index (0 = base)."""
+        if isinstance(body, (int, np.integer)):
+            if not 0 <= int(body) < self.n_bodies:
+                raise NotFoundError(f"body index {body} does not exist (the model has bodies 0..{self.n_bodies - 1})")
+            return int(body)
+        return self._m.body_index(str(body))
+
+    def _point(self, point: PointLike):
+        """Resolve a point: ``None`` (end effector), a point name, or ``(body, offset)``."""
+        if point is None or type(point) is str:
+            cached = self._points.get(point)
+            if cached is None:
+                cached = self._points[point] = self._resolve_point(point)
+            return cached
+        return self._resolve_point(point)
+
+    def _resolve_point(self, point: PointLike):
+        if point is None:
+            if self.end_effector is None:
+                raise NotFoundError("the model has no end effector; pass a point name or (body, offset)")
+            point = self.end_effector
+        if isinstance(point, str):
+            if point in self._m.point_names:
+                body, off = self._m.point(point)
+                return body, _frozen(np.asarray(off, dtype=float))
+            return self.body_index(point), _frozen(np.zeros(3))
+        if isinstance(point, (tuple, list)) and len(point) == 2:
+            return self.body_index(point[0]), vector3(point[1], "point offset")
+        raise ShapeError(f"a point is a point name, a body name, or (body, offset), got {point!r}")
+
+    def __repr__(self) -> str:
+        return f"<Robot '{self.name}': {self.n_bodies} bodies, N = {self.n_dof}, total mass {self.total_mass:.6g} kg>"
+
+    # ---- states ---------------------------------------------------------------------------
+    def neutral_configuration(self, q=None, r0=(0.0, 0.0, 0.0), quat0=(0.0, 0.0, 0.0, 1.0)) -> np.ndarray:
+        """Configuration ``x = [r0, quat0, q]``; ``q`` defaults to the model's initial angles.
+
+        ``quat0`` is the base attitude, a quaternion ``[x, y, z, w]`` or a
+        ``scipy.spatial.transform.Rotation``."""
+        qv = self.initial_q if q is None else vector(q, "q", self.n_dof)
+        return np.concatenate([vector(r0, "r0", 3), quaternion(quat0, "quat0"), qv])
+
+    def zero_velocity(self) -> np.ndarray:
+        """``u = 0`` (length ``6 + N``)."""
+        return np.zeros(self.nu)
+
+    # Vector arguments (x, u, du, f, tau, qd...) go to the extension unconverted: it uses a 1-D
+    # contiguous float64 array in place and converts anything else with ``_arrays.vector`` under
+    # the argument's name, so a Python-side conversion first would only repeat the work. Convert
+    # here only a value used twice (``_x``), so that a list is converted once.
+    def _x(self, x):
+        return vector(x, "x")
+
+    # ---- kinematics ----------------------------------------------------------------------
+    def forward_kinematics(self, x) -> Kinematics:
+        """Poses of every body CM frame, joint positions and joint axes in 𝒥 (paper §2)."""
+        return Kinematics(*self._m.forward_kinematics(x))
+
+    def point_position(self, x, point: PointLike = None) -> np.ndarray:
+        """Position in 𝒥 of a point (default: the end effector)."""
+        body, off = self._point(point)
+        return self._m.point_position(x, body, off)
+
+    def point_jacobian(self, x, point: PointLike = None):
+        """Point Jacobians ``(J_0X, J_mX)`` (6×6, 6×N; eqs. 104–108) of a point: its twist
+        ``[v_X; w]`` in 𝒥 is ``J_0X xd0 + J_mX qd``."""
+        body, off = self._point(point)
+        return self._m.point_jacobians(x, body, off)
+
+    def link_jacobians(self, x, body):
+        """``(J_Ti, J_Ri)`` (3×N each; eqs. 20–21) of the CM of ``body``."""
+        return self._m.link_jacobians(x, self.body_index(body))
+
+    # ---- inertia ---------------------------------------------------------------------------
+    def inertia_blocks(self, x) -> InertiaBlocks:
+        """``H0``, ``H0m``, ``Hm`` and their parts by the paper's Jacobian sums (eqs. 27–36)."""
+        d = self._m.inertia_blocks(x)
+        return InertiaBlocks(**d)
+
+    def mass_matrix(self, x, method: str = "crba") -> np.ndarray:
+        """Generalized mass matrix ``H(x)`` ((6+N)², eq. 36).
+
+        ``method="crba"`` (composite-rigid-body algorithm, Featherstone §6.2) or ``"paper"``
+        (the Jacobian sums of eqs. 27–36); the two are independent computations.
+        """
+        if method == "crba":
+            return self._m.mass_matrix_crba(x)
+        if method == "paper":
+            return self._m.mass_matrix_paper(x)
+        raise ArgumentError(f"method must be 'crba' or 'paper', got {method!r}")
+
+    def base_inertia_inverse(self, x) -> np.ndarray:
+        """``H0⁻¹`` by the closed-form Schur complement (eqs. 52–61)."""
+        return self._m.base_inertia_inverse(x)
+
+    # ---- dynamics --------------------------------------------------------------------------
+    def bias_forces(self, x, u) -> np.ndarray:
+        """Bias vector ``c(x, u)`` (velocity-product terms; no gravity in orbit) by RNEA."""
+        return self._m.bias_forces(x, u)
+
+    def _wrenches(self, wrenches):
+        if not wrenches:
+            return None
+        out = []
+        for w in wrenches:
+            if not isinstance(w, ExternalWrench):
+                raise SpacearmTypeError(f"wrenches must be spacearm.ExternalWrench objects, got {type(w).__name__}")
+            out.append((
+                self.body_index(w.body),
+                list(vector3(w.offset, "wrench offset")),
+                list(vector3(w.force, "wrench force")),
+                list(vector3(w.torque, "wrench torque")),
+            ))
+        return out
+
+    def inverse_dynamics(self, x, u, du, wrenches=None) -> np.ndarray:
+        """Generalized force ``f = H du + c - J^T w_ext`` producing ``du`` (RNEA, Featherstone §5.3)."""
+        return self._m.inverse_dynamics(x, u, du, None if wrenches is None else self._wrenches(wrenches))
+
+    def forward_dynamics(self, x, u, f=None, *, tau=None, base_wrench=None, wrenches=None, method: str = "aba") -> np.ndarray:
+        """State derivative ``du = [dv0, dw0, qdd]`` under generalized force ``f``.
+
+        Give either ``f = [F0, N0, tau]`` or ``tau`` (joint torques, default zero) and
+        optionally ``base_wrench = [F0, N0]`` (default zero: free-floating); the two forms give
+        bit-identical results, each in one call to the extension (which assembles ``f`` from
+        the parts; ``benchmarks/forward_dynamics_forms.py`` times both).
+        ``method``: ``"aba"`` (O(N) articulated-body algorithm), ``"mass_matrix"``
+        (``H⁻¹(f + J^T w - c)``) or ``"reduced"`` (``qdd = H*⁻¹(tau - c* - H0m^T H0⁻¹ F_b)``,
+        the reduction of eqs. 39–50, ``docs/physics.md``; no external wrenches).
+        """
+        # One native call per form and method: x, u and the force arrays go to the extension
+        # unconverted (see _x above); it checks them in the order force, x, u.
+        ext = None if wrenches is None else self._wrenches(wrenches)
+        if f is None:
+            if method == "aba":
+                return self._m.forward_dynamics_aba_tau(x, u, tau, base_wrench, ext)
+            if method == "mass_matrix":
+                return self._m.forward_dynamics_mass_matrix_tau(x, u, tau, base_wrench, ext)
+        elif tau is not None or base_wrench is not None:
+            raise ArgumentError("give either f or tau/base_wrench, not both")
+        elif method == "aba":
+            return self._m.forward_dynamics_aba(x, u, f, ext)
+        elif method == "mass_matrix":
+            return self._m.forward_dynamics_mass_matrix(x, u, f, ext)
+        if method == "reduced":
+            if ext:
+                raise ArgumentError("method='reduced' takes no external wrenches; use 'aba' or 'mass_matrix'")
+            if f is None:
+                return self._m.reduced_forward_dynamics(x, u, tau, base_wrench)
+            return self._m.reduced_forward_dynamics_f(x, u, f)
+        raise ArgumentError(f"method must be 'aba', 'mass_matrix' or 'reduced', got {method!r}")
+
+    # ---- generalized (reduced) quantities ------------------------------------------------
+    def generalized_inertia(self, x) -> np.ndarray:
+        """Generalized inertia matrix ``H* = Hm - H0m^T H0⁻¹ H0m`` (N×N, eq. 45)."""
+        return self._m.generalized_inertia(x)
+
+    def generalized_bias(self, x, u) -> np.ndarray:
+        """Generalized bias ``c* = c_m - H0m^T H0⁻¹ c0`` (N) at the state ``(x, u)``."""
+        return self._m.generalized_bias(x, u)
+
+    def generalized_jacobian(self, x, point: PointLike = None) -> np.ndarray:
+        """Generalized Jacobian ``J* = J_mX - J_0X H0⁻¹ H0m`` (6×N, eq. 110) of a point
+        (default: the end effector). With zero momentum the point twist is ``J* qd``."""
+        body, off = self._point(point)
+        return self._m.generalized_jacobian(x, body, off)
+
+    def point_twist(self, x, qd, point: PointLike = None, P=(0.0, 0.0, 0.0), L=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """Twist ``[v_X; w]`` of a point when the joints move at ``qd`` and the system has
+        linear momentum ``P`` and angular momentum ``L`` about the origin of 𝒥:
+        ``J* qd + J_0X H0⁻¹ M0`` (the non-zero-momentum GJM)."""
+        body, off = self._point(point)
+        xv = self._x(x)
+        jstar = self._m.generalized_jacobian(xv, body, off)
+        offset = self._m.momentum_twist(xv, body, off, vector3(P, "P"), vector3(L, "L"))
+        return jstar @ vector(qd, "qd", self.n_dof) + offset
+
+    def base_velocity_from_momentum(self, x, qd, P=(0.0, 0.0, 0.0), L=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """Base velocity ``[v0; w0] = H0⁻¹ (M0 - H0m qd)`` (eqs. 43, 109) that gives the system
+        linear momentum ``P`` and angular momentum ``L`` about the origin of 𝒥."""
+        return self._m.base_velocity_from_momentum(x, qd, vector3(P, "P"), vector3(L, "L"))
+
+    # ---- momentum, energy, CM ------------------------------------------------------------
+    def momentum(self, x, u) -> Momentum:
+        """Linear momentum and angular momentum about the origin, base CM and system CM."""
+        return Momentum(*self._m.momentum(x, u))
+
+    def kinetic_energy(self, x, u) -> float:
+        """``T = ½ Σ (m_i |v_i|² + w_i^T I_i w_i)`` (equal to ``½ u^T H u``, eq. 27)."""
+        return self._m.kinetic_energy(x, u)
+
+    def center_of_mass(self, x) -> np.ndarray:
+        """System CM ``r_g`` in 𝒥."""
+        return self._m.center_of_mass(x)
+
+    # ---- exact derivatives (docs/derivatives.md) -----------------------------------------
+    # Tangent coordinates of the configuration (the conventions contract): dx = [dr0 (3),
+    # dtheta (3), dq (N)], dtheta a rotation increment about the axes of 𝒥, R0 <- exp(dtheta^) R0.
+    # The time derivative of x in these coordinates is u. Tensors of partials put the derivative
+    # index LAST: out[i, j, k] = d X[i, j] / d x_k. Computed in the Rust core by forward-mode
+    # automatic differentiation (dual numbers) of the same algorithms: exact to rounding.
+    def _derivatives(self):
+        d = self.__dict__.get("_deriv_core")
+        if d is None:
+            d = self._deriv_core = _core.Derivatives(self._m)
+        return d
+
+    def _force(self, f, tau, base_wrench) -> np.ndarray:
+        """``f = [F0, N0, tau]`` from ``f`` or from ``tau`` and ``base_wrench`` (zero default)."""
+        if f is None:
+            t = np.zeros(self.n_dof) if tau is None else vector(tau, "tau", self.n_dof)
+            b = np.zeros(6) if base_wrench is None else vector(base_wrench, "base_wrench", 6)
+            return np.concatenate([b, t])
+        if tau is not None or base_wrench is not None:
+            raise ArgumentError("give either f or tau/base_wrench, not both")
+        return f
+
+    def configuration_plus(self, x, dx) -> np.ndarray:
+        """``x ⊕ dx`` for a tangent increment ``dx = [dr0, dtheta, dq]`` (length 6+N):
+        ``r0 + dr0``, ``R0 <- exp(dtheta^) R0`` (rotation about the axes of 𝒥), ``q + dq``."""
+        from .tangent import configuration_plus
+
+        return configuration_plus(x, dx, self.n_dof)
+
+    def configuration_difference(self, x1, x0) -> np.ndarray:
+        """The tangent increment ``dx`` (length 6+N) with ``x0 ⊕ dx = x1``
+        (see :meth:`configuration_plus`; the attitude part is ``log(R1 R0^T)``)."""
+        from .tangent import configuration_difference
+
+        return configuration_difference(x1, x0, self.n_dof)
+
+    def mass_matrix_partials(self, x) -> np.ndarray:
+        """``dH/dx_k`` for the 6+N tangent coordinates: array of shape (6+N, 6+N, 6+N) with
+        ``out[:, :, k] = dH/dx_k`` (derivative index last).
+
+        ``H`` (eq. 36) is referred to the base CM, so the ``dr0`` slices ``k = 0..3`` are
+        exactly zero; ``k = 3..6`` are the attitude partials, ``k >= 6`` the joint partials.
+        """
+        return self._derivatives().mass_matrix_partials(x)
+
+    def mass_matrix_derivative(self, x, u) -> np.ndarray:
+        """Time derivative ``dH/dt = sum_k dH/dx_k u_k`` ((6+N)², symmetric) of the mass matrix
+        along the generalized velocity ``u`` (the tangent velocity of ``x``)."""
+        return self._derivatives().mass_matrix_derivative(x, u)
+
+    def generalized_inertia_partials(self, x) -> np.ndarray:
+        """``dH*/dq_k``: array of shape (N, N, N), ``out[:, :, k] = dH*/dq_k``.
+
+        ``H*`` (eq. 45) depends on the joint coordinates only (it is invariant under rigid
+        motions of the whole system), so there are no base slices.
+        """
+        return self._derivatives().generalized_inertia_partials(x)
+
+    def generalized_inertia_derivative(self, x, u) -> np.ndarray:
+        """Time derivative ``dH*/dt = sum_k dH*/dq_k qd_k`` (N×N) at the state ``(x, u)``."""
+        return self._derivatives().generalized_inertia_derivative(x, u)
+
+    def generalized_jacobian_partials(self, x, point: PointLike = None) -> np.ndarray:
+        """``dJ*/dx_k`` of a point (default: the end effector) for the 6+N tangent coordinates:
+        array of shape (6, N, 6+N), ``out[:, :, k] = dJ*/dx_k``. ``J*`` (eq. 110) is expressed
+        in 𝒥 and turns with the base attitude (slices ``k = 3..6``); the ``dr0`` slices are zero."""
+        body, off = self._point(point)
+        return self._derivatives().generalized_jacobian_partials(x, body, off)
+
+    def generalized_jacobian_derivative(self, x, u, point: PointLike = None) -> np.ndarray:
+        """Time derivative ``dJ*/dt = sum_k dJ*/dx_k u_k`` (6×N) of a point's generalized
+        Jacobian along ``u``; e.g. the point's acceleration with zero momentum is
+        ``J* qdd + dJ*/dt qd``."""
+        body, off = self._point(point)
+        return self._derivatives().generalized_jacobian_derivative(x, u, body, off)
+
+    def forward_dynamics_derivatives(self, x, u, f=None, *, tau=None, base_wrench=None) -> "ForwardDynamicsDerivatives":
+        """Jacobians of forward dynamics ``du = FD(x, u, f)`` (no external wrenches):
+        ``(ddu_dx, ddu_du, ddu_df)``, each (6+N)².
+
+        ``ddu_dx`` is with respect to the tangent coordinates ``[dr0, dtheta, dq]`` (its ``dr0``
+        columns are zero); ``ddu_df = H⁻¹``. From ``ID(x, u, FD(x, u, f)) = f``:
+        ``ddu_dx = -H⁻¹ dID/dx``, ``ddu_du = -H⁻¹ dID/du`` (Carpentier & Mansard 2018). Give ``f``
+        or ``tau`` and ``base_wrench`` as in :meth:`forward_dynamics`.
+        """
+        return ForwardDynamicsDerivatives(*self._derivatives().forward_dynamics_derivatives(x, u, self._force(f, tau, base_wrench)))
+
+    def linearize(self, x, u, f=None, *, tau=None, base_wrench=None, inputs: str = "joints") -> "Linearization":
+        """Linearization ``d(dz)/dt = A dz + B df`` of the state equation ``z' = [u; FD(x, u, f)]``
+        about ``(x, u, f)``, in the tangent state ``dz = [dx (6+N); du (6+N)]``.
+
+        ``A = [[Omega, E], [ddu_dx, ddu_du]]`` (2(6+N) square) with ``Omega = blkdiag(0, w0^, 0)``
+        (from ``R0 = exp(dtheta^) R0_ref``: ``dtheta' = dw0 + w0 × dtheta``), and
+        ``B = [[0], [H⁻¹ columns]]``: ``inputs="joints"`` gives the N joint-torque columns
+        (free-floating control), ``inputs="all"`` the 6+N columns of ``f = [F0, N0, tau]``.
+        Apply a state increment with :meth:`configuration_plus`.
+        """
+        if inputs not in ("joints", "all"):
+            raise ArgumentError(f"inputs must be 'joints' or 'all', got {inputs!r}")
+        a, b = self._derivatives().linearize(x, u, self._force(f, tau, base_wrench), inputs == "joints")
+        return Linearization(a, b)
+
+
+class ForwardDynamicsDerivatives(NamedTuple):
+    """Jacobians of forward dynamics ``du = FD(x, u, f)`` (see :meth:`Robot.forward_dynamics_derivatives`)."""
+
+    ddu_dx: np.ndarray  #: (6+N)², with respect to the tangent coordinates [dr0, dtheta, dq]
+    ddu_du: np.ndarray  #: (6+N)², with respect to the generalized velocity u
+    ddu_df: np.ndarray  #: (6+N)², H⁻¹: with respect to the generalized force f
+
+
+class Linearization(NamedTuple):
+    """``(A, B)`` of the linearized state equation (see :meth:`Robot.linearize`)."""
+
+    A: np.ndarray  #: 2(6+N) square
+    B: np.ndarray  #: 2(6+N) × N (inputs="joints") or 2(6+N) × (6+N) (inputs="all")

@@ -1,0 +1,85 @@
+"""Tangent coordinates of the configuration (docs/derivatives.md).
+
+The base attitude is a quasi-coordinate, so configuration increments live in the tangent space
+of dimension ``6 + N``: ``dx = [dr0 (3), dtheta (3), dq (N)]``, where ``dtheta`` is a rotation
+increment about the axes of the inertial frame 𝒥 applied on the left, ``R0 <- exp(dtheta^) R0``.
+The time derivative of ``x`` in these coordinates is the generalized velocity ``u`` itself.
+Every derivative with respect to ``x`` (``Robot.mass_matrix_partials``,
+``Robot.forward_dynamics_derivatives``, ``Robot.linearize``...) uses them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._util.arrays import quaternion, vector
+from ..errors import NonFiniteError, QuaternionError
+
+__all__ = ["quat_exp", "quat_log", "quat_multiply", "configuration_plus", "configuration_difference"]
+
+
+def quat_multiply(a, b) -> np.ndarray:
+    """Hamilton product ``a ⊗ b`` of quaternions ``[x, y, z, w]`` (or scipy ``Rotation``
+    objects), the rotation ``R(a) R(b)``."""
+    ax, ay, az, aw = quaternion(a, "a")
+    bx, by, bz, bw = quaternion(b, "b")
+    return np.array([
+        aw * bx + ax * bw + ay * bz - az * by,
+        aw * by - ax * bz + ay * bw + az * bx,
+        aw * bz + ax * by - ay * bx + az * bw,
+        aw * bw - ax * bx - ay * by - az * bz,
+    ])
+
+
+def quat_exp(theta) -> np.ndarray:
+    """Unit quaternion ``[x, y, z, w]`` of the rotation vector ``theta`` (rotation by
+    ``|theta|`` about ``theta / |theta|``); exact near zero."""
+    theta = np.asarray(theta, dtype=float)
+    angle = float(np.linalg.norm(theta))
+    half = 0.5 * angle
+    # sin(half)/angle, with its Taylor series near zero.
+    k = np.sin(half) / angle if angle > 1e-8 else 0.5 - angle * angle / 48.0
+    return np.array([theta[0] * k, theta[1] * k, theta[2] * k, np.cos(half)])
+
+
+def quat_log(q) -> np.ndarray:
+    """Rotation vector (length ≤ π) of a unit quaternion ``[x, y, z, w]`` (or scipy ``Rotation``)."""
+    q = quaternion(q, "q")
+    q = q / np.linalg.norm(q)
+    if q[3] < 0:
+        q = -q
+    v = q[:3]
+    s = float(np.linalg.norm(v))
+    angle = 2.0 * np.arctan2(s, q[3])
+    k = angle / s if s > 1e-12 else 2.0 / q[3]
+    return v * k
+
+
+def _checked(x: np.ndarray, name: str) -> np.ndarray:
+    """A configuration with finite entries and a unit quaternion (tolerance 1e-6, as the core)."""
+    if not np.all(np.isfinite(x)):
+        raise NonFiniteError(f"{name} must be finite, got {x}")
+    norm = float(np.linalg.norm(x[3:7]))
+    if abs(norm - 1.0) > 1e-6:
+        raise QuaternionError(f"the base quaternion {name}[3:7] must have unit norm (tolerance 1e-6), got norm {norm}")
+    return x
+
+
+def configuration_plus(x, dx, n_dof: int) -> np.ndarray:
+    """``x ⊕ dx``: ``r0 + dr0``, ``R0 <- exp(dtheta^) R0``, ``q + dq`` (``dx`` of length 6+N)."""
+    x = _checked(vector(x, "x", 7 + n_dof), "x")
+    dx = vector(dx, "dx", 6 + n_dof)
+    if not np.all(np.isfinite(dx)):
+        raise NonFiniteError(f"dx must be finite, got {dx}")
+    quat = quat_multiply(quat_exp(dx[3:6]), x[3:7])
+    return np.concatenate([x[0:3] + dx[0:3], quat / np.linalg.norm(quat), x[7:] + dx[6:]])
+
+
+def configuration_difference(x1, x0, n_dof: int) -> np.ndarray:
+    """``dx`` with ``x0 ⊕ dx = x1`` (the attitude part is ``log(R1 R0ᵀ)``, length ≤ π)."""
+    x1 = _checked(vector(x1, "x1", 7 + n_dof), "x1")
+    x0 = _checked(vector(x0, "x0", 7 + n_dof), "x0")
+    q0 = x0[3:7]
+    conj = np.array([-q0[0], -q0[1], -q0[2], q0[3]])
+    dtheta = quat_log(quat_multiply(x1[3:7], conj))
+    return np.concatenate([x1[0:3] - x0[0:3], dtheta, x1[7:] - x0[7:]])

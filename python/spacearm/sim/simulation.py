@@ -1,0 +1,267 @@
+"""Simulation of a spacecraft-manipulator system: :func:`simulate`.
+
+The whole loop — integrator, maneuvering mode, actuator limits, controller, recording — runs in
+the Rust core (``spacearm_core::simulate``); this module checks and converts the arguments and
+wraps the records in a :class:`~spacearm.sim.trajectory.Trajectory`. Integrators, modes, actuators
+and controllers are described with their equations in ``docs/simulation-core.md``.
+
+>>> import spacearm
+>>> robot = spacearm.presets.spatial6()
+>>> u0 = robot.zero_velocity(); u0[6:] = 0.2        # joints moving, base at rest
+>>> traj = spacearm.simulate(robot, 2.0, u0=u0)     # free-floating, zero torques, RK4
+>>> traj.meta["conserved"]
+['P', 'L_origin', 'energy']
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from typing import Callable, Optional, Sequence, Union
+
+import numpy as np
+
+from .. import _core
+from .._util.arrays import vector
+from ..control import Thrusters, _Controller
+from ..errors import ArgumentError, NotFoundError
+
+__all__ = ["simulate", "MODES", "INTEGRATORS", "DEFAULTS"]
+
+#: The maneuvering modes (paper Table 1), as the core names them.
+MODES = tuple(_core.MODES)
+#: The integrators, as the core names them.
+INTEGRATORS = tuple(_core.INTEGRATORS)
+#: The simulation defaults (mode, integrator, dt, rtol, atol, record_every, joint_limits,
+#: max_steps): the core's, read here so that the signatures below cannot drift from them.
+DEFAULTS = dict(_core.SIM_DEFAULTS)
+
+
+def _wheel_dofs(robot, wheels) -> Optional[list]:
+    """Wheel joints given by joint name, link name or dof index → dof indices."""
+    if wheels is None:
+        return None
+    if isinstance(wheels, (str, int, np.integer)):
+        wheels = [wheels]
+    links = robot.description.links
+    out = []
+    for w in wheels:
+        if isinstance(w, (int, np.integer)) and not isinstance(w, bool):
+            if not 0 <= int(w) < robot.n_dof:
+                raise NotFoundError(f"wheel dof {w} does not exist (the robot has dofs 0..{robot.n_dof - 1})")
+            out.append(int(w))
+            continue
+        if not isinstance(w, str):
+            raise ArgumentError(f"wheels are joint names, link names or dof indices, got {w!r}")
+        match = [link for link in links if w in (link.joint, link.name)]
+        if not match:
+            joints = [link.joint for link in links if link.dof is not None]
+            raise NotFoundError(f"no joint or link named '{w}' for a reaction wheel; the joints are {joints}")
+        if match[0].dof is None:
+            raise ArgumentError(f"wheel '{w}' is on a fixed joint; a reaction wheel needs a revolute joint")
+        out.append(match[0].dof)
+    return out
+
+
+def _progress_callable(progress):
+    """``progress``: False/None, True (a tqdm bar) or a callable(fraction); returns
+    ``(callable or None, closer)``."""
+    if progress is None or progress is False:
+        return None, lambda: None
+    if progress is True:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=1000, desc="simulate", unit="‰", leave=False)
+        state = {"n": 0}
+
+        def update(fraction: float) -> None:
+            n = int(round(1000 * fraction))
+            if n > state["n"]:
+                bar.update(n - state["n"])
+                state["n"] = n
+
+        return update, bar.close
+    if callable(progress):
+        return progress, lambda: None
+    raise ArgumentError(f"progress must be True, False or a callable(fraction), got {progress!r}")
+
+
+def _run(
+    robot,
+    duration,
+    *,
+    x0=None,
+    u0=None,
+    mode: str = DEFAULTS["mode"],
+    integrator: str = DEFAULTS["integrator"],
+    dt: float = DEFAULTS["dt"],
+    rtol: float = DEFAULTS["rtol"],
+    atol: float = DEFAULTS["atol"],
+    controller=None,
+    wheels=None,
+    thrusters: Optional[Thrusters] = None,
+    record_every: int = DEFAULTS["record_every"],
+    progress: Union[bool, Callable[[float], None]] = False,
+    joint_limits: bool = DEFAULTS["joint_limits"],
+    max_steps: int = DEFAULTS["max_steps"],
+):
+    """The simulation proper: ``(data, meta)`` dicts of numpy arrays and run description."""
+    from ..model.robot import Robot
+
+    if not isinstance(robot, Robot):
+        raise ArgumentError(f"simulate needs a spacearm.Robot, got {type(robot).__name__}")
+    try:
+        duration = float(duration)
+    except (TypeError, ValueError) as exc:
+        raise ArgumentError(f"duration must be a number of seconds, got {duration!r}") from exc
+    if not isinstance(mode, str) or mode not in MODES:
+        raise ArgumentError(f"mode must be one of {list(MODES)}, got {mode!r}")
+    if not isinstance(integrator, str) or integrator not in INTEGRATORS:
+        raise ArgumentError(f"integrator must be one of {list(INTEGRATORS)}, got {integrator!r}")
+    x0 = robot.neutral_configuration() if x0 is None else vector(x0, "x0")
+    u0 = robot.zero_velocity() if u0 is None else vector(u0, "u0")
+    if controller is not None and not isinstance(controller, _Controller):
+        raise ArgumentError(
+            f"controller must be None or a spacearm.control controller (JointPD, ComputedTorque, ..., Callback), got {type(controller).__name__}"
+        )
+    if thrusters is not None and not isinstance(thrusters, Thrusters):
+        raise ArgumentError(f"thrusters must be a spacearm.control.Thrusters, got {type(thrusters).__name__}")
+    for name, value in (("record_every", record_every), ("max_steps", max_steps)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+            raise ArgumentError(f"{name} must be an integer >= 1, got {value!r}")
+    callback, close = _progress_callable(progress)
+    options = {
+        "mode": mode,
+        "integrator": integrator,
+        "dt": float(dt) if isinstance(dt, (int, float, np.floating, np.integer)) else dt,
+        "rtol": rtol,
+        "atol": atol,
+        "record_every": int(record_every),
+        "wheels": _wheel_dofs(robot, wheels),
+        "thrusters": None if thrusters is None else thrusters._spec(),
+        "joint_limits": bool(joint_limits),
+        "max_steps": int(max_steps),
+        "progress": callback,
+    }
+    spec = None if controller is None else controller._spec(robot)
+    try:
+        data = _core.simulate(robot._m, x0, u0, duration, options, spec)
+    finally:
+        close()
+    meta = data.pop("_meta")
+    meta["duration"] = duration
+    meta["robot"] = robot.name
+    dropped = meta["dropped_base_wrench"]
+    if dropped["count"]:
+        warnings.warn(
+            f"mode '{mode}' does not allow part of the base wrench the controller commanded; it was dropped in "
+            f"{dropped['count']} evaluations (largest dropped norm {dropped['max_norm']:.3g}); see meta['dropped_base_wrench']",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+    return data, meta
+
+
+def simulate(
+    robot,
+    duration: float,
+    *,
+    x0: Optional[Sequence[float]] = None,
+    u0: Optional[Sequence[float]] = None,
+    mode: str = DEFAULTS["mode"],
+    integrator: str = DEFAULTS["integrator"],
+    dt: float = DEFAULTS["dt"],
+    rtol: float = DEFAULTS["rtol"],
+    atol: float = DEFAULTS["atol"],
+    controller=None,
+    wheels=None,
+    thrusters: Optional[Thrusters] = None,
+    record_every: int = DEFAULTS["record_every"],
+    progress: Union[bool, Callable[[float], None]] = False,
+    joint_limits: bool = DEFAULTS["joint_limits"],
+    max_steps: int = DEFAULTS["max_steps"],
+):
+    """Simulate ``robot`` for ``duration`` seconds and return a :class:`~spacearm.sim.trajectory.Trajectory`.
+
+    Parameters
+    ----------
+    robot : Robot
+        The plant.
+    duration : float
+        Simulated time, s (> 0).
+    x0, u0 : array, optional
+        Initial configuration ``[r0, quat0 (x, y, z, w), q]`` and velocity ``[v0, w0, qd]``
+        (default: ``robot.neutral_configuration()`` and zero). Any momentum is allowed.
+    mode : str
+        ``"floating"`` (no base actuation), ``"rotation-floating"`` (reaction wheels),
+        ``"rotation-flying"`` (base torque only), ``"translation-flying"`` (base force through
+        the system CM), ``"flying"`` (full base wrench). The mode decides which base-wrench
+        components reach the plant and which momenta are conserved (``meta["conserved"]``,
+        with their drift in ``meta["drift"]``). Components a mode does not allow are dropped,
+        counted in ``meta["dropped_base_wrench"]`` and warned about.
+    integrator : str
+        ``"rk4"`` (fixed step ``dt``) or ``"dopri5"`` (adaptive Dormand–Prince 5(4) with
+        ``rtol``/``atol``; ``dt`` is then the output interval, filled by dense output).
+    controller : spacearm.control controller, optional
+        ``None``: zero torques. See :mod:`spacearm.control`.
+    wheels : list of joint names, link names or dof indices, optional
+        The reaction wheels (default: every symmetric rotor on a revolute joint of the base,
+        i.e. what ``RobotBuilder.add_reaction_wheel`` creates). Their torque and speed limits
+        are the joints' effort and velocity limits.
+    thrusters : spacearm.control.Thrusters, optional
+        Base force and torque limits (flying modes).
+    record_every : int
+        RK4: keep every k-th step (the final state is always kept).
+    progress : bool or callable
+        ``True`` for a tqdm progress bar, or a callable receiving the completed fraction.
+        Ctrl-C interrupts a run.
+    joint_limits : bool
+        Whether the joints' effort and velocity limits apply (default ``True``; position
+        limits are not enforced).
+    max_steps : int
+        DOPRI5 step budget.
+
+    Returns
+    -------
+    Trajectory
+        The recorded run.
+
+    Raises
+    ------
+    ArgumentError
+        Bad options (an ``ArgumentError`` is a ``ValueError``).
+    ShapeError, NonFiniteError, QuaternionError
+        Bad initial states.
+    NotFoundError
+        Unknown wheels.
+    SimulationError
+        The motion diverges or the adaptive step collapses.
+
+    Notes
+    -----
+    Saturation is never silent: a torque, speed or thruster limit hit is clamped physically
+    (``tau`` against ``tau_cmd`` in the records) and its onset recorded as an event
+    (``saturation_t``, ``saturation_actuator`` indexing ``meta["actuator_names"]``,
+    ``saturation_kind`` 0 torque, 1 speed, 2 thruster).
+    """
+    data, meta = _run(
+        robot,
+        duration,
+        x0=x0,
+        u0=u0,
+        mode=mode,
+        integrator=integrator,
+        dt=dt,
+        rtol=rtol,
+        atol=atol,
+        controller=controller,
+        wheels=wheels,
+        thrusters=thrusters,
+        record_every=record_every,
+        progress=progress,
+        joint_limits=joint_limits,
+        max_steps=max_steps,
+    )
+    from .trajectory import Trajectory
+
+    return Trajectory(robot=robot, data=data, meta=meta)

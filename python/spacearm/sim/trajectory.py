@@ -1,0 +1,681 @@
+"""Simulation results: the :class:`Trajectory` that :func:`spacearm.simulate` returns.
+
+A trajectory holds the recorded samples of one run (times, states, accelerations, applied and
+commanded torques, base wrench, momenta, kinetic energy, system CM, end-effector pose,
+reference and tracking error, reaction-wheel speeds, actuator saturation events) and the run's
+description (``meta``: mode, integrator, step, controller, conserved quantities, step counts).
+
+Conventions (``docs/conventions.md``): ``x = [r0, quat0 (x, y, z, w), q]``, ``u = [v0, w0, qd]`` with
+``v0`` the base CM velocity and ``w0`` the base angular velocity, both in the inertial frame 𝒥;
+``base_wrench = [F0, N0]`` in 𝒥; momenta ``P``, ``L_origin`` (about the origin of 𝒥) and
+``L_com`` (about the system CM) in 𝒥. SI units throughout.
+
+Output: :meth:`Trajectory.save` / :meth:`Trajectory.load` (``.npz``, the model embedded as
+TOML so a loaded run can be plotted and animated), :meth:`Trajectory.to_csv` (one row per
+sample, a header naming every column with its unit), :meth:`Trajectory.plot` (a multi-panel
+PNG) and :meth:`Trajectory.animate` (a 3-D GIF). Every file is written atomically.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import sys
+from typing import Dict, Iterable, List, NamedTuple, Optional, Sequence, Union
+
+import numpy as np
+
+from .._util.atomic import atomic_open
+from ..errors import ArgumentError, NotFoundError, ShapeError, SpacearmTypeError
+
+__all__ = ["Trajectory", "SaturationEvent", "SATURATION_KINDS", "quats_to_matrices", "euler_from_matrices"]
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+#: ``saturation_kind`` codes of the simulation dict (docs/simulation.md).
+SATURATION_KINDS = {0: "torque limit", 1: "speed limit", 2: "force limit"}
+
+#: Format tag stored in saved files, checked by :meth:`Trajectory.load`.
+FILE_FORMAT = "spacearm.Trajectory/1"
+
+# Per-sample arrays: name -> (trailing shape as a function of N, W, n_ref; required?)
+_REQUIRED = ("t", "x", "u")
+_PER_SAMPLE = (
+    "t", "x", "u", "du", "tau", "tau_cmd", "base_wrench", "P", "L_origin", "L_com", "energy", "com",
+    "ee_position", "ee_quat", "reference", "tracking_error", "wheel_speed",
+)
+_EVENTS = ("saturation_t", "saturation_actuator", "saturation_kind")
+
+
+class SaturationEvent(NamedTuple):
+    """One step at which an actuator hit its limit."""
+
+    t: float  #: time, s
+    actuator: str  #: actuator name (a joint name, ``"thruster_force"``, …)
+    kind: str  #: ``"torque limit"``, ``"speed limit"`` or ``"force limit"``
+
+
+# ---------------------------------------------------------------------------------------------
+# rotations of many samples at once
+# ---------------------------------------------------------------------------------------------
+def quats_to_matrices(quats) -> np.ndarray:
+    """Rotation matrices ``(K, 3, 3)`` of unit quaternions ``(K, 4)`` ``[x, y, z, w]``."""
+    q = np.asarray(quats, dtype=float)
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    x, y, z, w = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    r = np.empty(q.shape[:-1] + (3, 3))
+    r[..., 0, 0] = 1 - 2 * (y * y + z * z)
+    r[..., 0, 1] = 2 * (x * y - z * w)
+    r[..., 0, 2] = 2 * (x * z + y * w)
+    r[..., 1, 0] = 2 * (x * y + z * w)
+    r[..., 1, 1] = 1 - 2 * (x * x + z * z)
+    r[..., 1, 2] = 2 * (y * z - x * w)
+    r[..., 2, 0] = 2 * (x * z - y * w)
+    r[..., 2, 1] = 2 * (y * z + x * w)
+    r[..., 2, 2] = 1 - 2 * (x * x + y * y)
+    return r
+
+
+def euler_from_matrices(r) -> np.ndarray:
+    """Roll, pitch, yaw ``(K, 3)`` (rad) of rotation matrices, in the URDF convention
+    ``R = Rz(yaw) Ry(pitch) Rx(roll)``; roll and yaw are unwrapped along the samples so a
+    steady rotation gives a continuous curve."""
+    r = np.asarray(r, dtype=float)
+    roll = np.arctan2(r[..., 2, 1], r[..., 2, 2])
+    pitch = -np.arcsin(np.clip(r[..., 2, 0], -1.0, 1.0))
+    yaw = np.arctan2(r[..., 1, 0], r[..., 0, 0])
+    out = np.stack([roll, pitch, yaw], axis=-1)
+    if out.ndim == 2 and out.shape[0] > 1:
+        out[:, 0] = np.unwrap(out[:, 0])
+        out[:, 2] = np.unwrap(out[:, 2])
+    return out
+
+
+def _skew(v) -> np.ndarray:
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+def _jsonable(value):
+    """``meta`` values as plain JSON types (numpy scalars and arrays become numbers and lists)."""
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _jsonable(value.tolist())
+    if isinstance(value, np.generic):
+        return value.item()
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return value
+    return str(value)
+
+
+# ---------------------------------------------------------------------------------------------
+# the trajectory
+# ---------------------------------------------------------------------------------------------
+class Trajectory:
+    """The recorded samples of one simulation run.
+
+    Built by :func:`spacearm.simulate` (or :meth:`load`); ``data`` maps the names of
+    ``docs/simulation.md`` (``t``, ``x``, ``u``, ``du``, ``tau``, …) to numpy arrays with one
+    row per sample, ``meta`` describes the run. ``robot`` (the simulated
+    :class:`~spacearm.Robot`) is needed by :meth:`animate`, the CSV column names and the
+    momentum scales of :meth:`drift`; a trajectory without it still gives every recorded array.
+
+    The arrays are read-only views: copy them (``np.array(traj.q)``) to modify.
+    """
+
+    def __init__(self, robot=None, data: Optional[dict] = None, meta: Optional[dict] = None):
+        if data is None:
+            raise SpacearmTypeError("Trajectory needs data: a dict of per-sample arrays with at least t, x and u")
+        if not isinstance(data, dict):
+            raise SpacearmTypeError(f"Trajectory data must be a dict of arrays, got {type(data).__name__}")
+        missing = [k for k in _REQUIRED if k not in data]
+        if missing:
+            raise ShapeError(f"Trajectory data lacks {', '.join(missing)} (needs at least t, x and u)")
+        arrays = {}
+        for key, value in data.items():
+            try:
+                a = np.array(value, dtype=np.int64 if key in ("saturation_actuator", "saturation_kind") else float)
+            except (TypeError, ValueError) as exc:
+                raise ShapeError(f"Trajectory data '{key}' must be a numeric array") from exc
+            a.setflags(write=False)
+            arrays[str(key)] = a
+        t, x, u = arrays["t"], arrays["x"], arrays["u"]
+        if t.ndim != 1:
+            raise ShapeError(f"Trajectory data 't' must be 1-D (K samples), got shape {t.shape}")
+        k = t.shape[0]
+        if x.ndim != 2 or x.shape[0] != k or x.shape[1] < 7:
+            raise ShapeError(f"Trajectory data 'x' must have shape (K, 7+N) with K = {k}, got {x.shape}")
+        n = x.shape[1] - 7
+        if u.shape != (k, 6 + n):
+            raise ShapeError(f"Trajectory data 'u' must have shape (K, 6+N) = {(k, 6 + n)}, got {u.shape}")
+        if robot is not None and robot.n_dof != n:
+            raise ShapeError(f"Trajectory data has N = {n} joints but the robot '{robot.name}' has N = {robot.n_dof}")
+        for key in _PER_SAMPLE:
+            if key in arrays and arrays[key].shape[:1] != (k,):
+                raise ShapeError(f"Trajectory data '{key}' must have one row per sample (K = {k}), got shape {arrays[key].shape}")
+        lengths = {arrays[e].shape for e in _EVENTS if e in arrays}
+        if len(lengths) > 1 or any(len(s) != 1 for s in lengths):
+            raise ShapeError("Trajectory data saturation_t, saturation_actuator and saturation_kind must be 1-D of one length")
+        self._robot = robot
+        self._data = arrays
+        self._meta = dict(meta or {})
+        self._n = n
+
+    # ---- raw access ------------------------------------------------------------------------
+    @property
+    def robot(self):
+        """The simulated :class:`~spacearm.Robot` (``None`` if unknown)."""
+        return self._robot
+
+    @property
+    def meta(self) -> dict:
+        """The run's description (a copy): mode, integrator, dt, controller, conserved, …"""
+        return json.loads(json.dumps(_jsonable(self._meta)))
+
+    @property
+    def keys(self) -> List[str]:
+        """Names of the recorded arrays."""
+        return sorted(self._data)
+
+    def has(self, key: str) -> bool:
+        """Whether the array ``key`` was recorded (e.g. ``"ee_position"``, ``"wheel_speed"``)."""
+        return key in self._data
+
+    def __getitem__(self, key: str) -> np.ndarray:
+        try:
+            return self._data[key]
+        except KeyError:
+            raise NotFoundError(f"this trajectory has no '{key}' data; it has {', '.join(self.keys)}") from None
+
+    def _get(self, key: str, why: str) -> np.ndarray:
+        if key not in self._data:
+            raise NotFoundError(f"this trajectory has no '{key}' data ({why})")
+        return self._data[key]
+
+    def __len__(self) -> int:
+        return self._data["t"].shape[0]
+
+    def __repr__(self) -> str:
+        name = self._robot.name if self._robot is not None else "?"
+        return (f"<Trajectory '{name}' {self._meta.get('mode', '?')}: {len(self)} samples, "
+                f"t = {self.t[0]:.6g}..{self.t[-1]:.6g} s, N = {self._n}>")
+
+    # ---- samples -----------------------------------------------------------------------------
+    @property
+    def n_dof(self) -> int:
+        return self._n
+
+    @property
+    def n_samples(self) -> int:
+        return len(self)
+
+    @property
+    def duration(self) -> float:
+        """Time span of the recorded samples, s."""
+        return float(self.t[-1] - self.t[0])
+
+    @property
+    def t(self) -> np.ndarray:
+        """Sample times ``(K,)``, s."""
+        return self._data["t"]
+
+    @property
+    def x(self) -> np.ndarray:
+        """Configurations ``(K, 7+N)``: ``[r0, quat0, q]``."""
+        return self._data["x"]
+
+    @property
+    def u(self) -> np.ndarray:
+        """Generalized velocities ``(K, 6+N)``: ``[v0, w0, qd]``."""
+        return self._data["u"]
+
+    @property
+    def du(self) -> np.ndarray:
+        """Generalized accelerations ``(K, 6+N)``: ``[dv0, dw0, qdd]``."""
+        return self._get("du", "accelerations were not recorded")
+
+    def state(self, k: int):
+        """``(x, u)`` of sample ``k`` (negative counts from the end)."""
+        return np.array(self.x[k]), np.array(self.u[k])
+
+    @property
+    def q(self) -> np.ndarray:
+        """Joint coordinates ``(K, N)`` (rad, or m for prismatic joints)."""
+        return self.x[:, 7:]
+
+    @property
+    def qd(self) -> np.ndarray:
+        """Joint velocities ``(K, N)``."""
+        return self.u[:, 6:]
+
+    @property
+    def qdd(self) -> np.ndarray:
+        """Joint accelerations ``(K, N)``."""
+        return self.du[:, 6:]
+
+    @property
+    def base_position(self) -> np.ndarray:
+        """Base CM position ``r0`` ``(K, 3)`` in 𝒥, m."""
+        return self.x[:, :3]
+
+    @property
+    def base_quat(self) -> np.ndarray:
+        """Base attitude ``(K, 4)``, unit quaternions ``[x, y, z, w]`` (base frame to 𝒥)."""
+        return self.x[:, 3:7]
+
+    @property
+    def base_rotation(self) -> np.ndarray:
+        """Base attitude ``R0`` ``(K, 3, 3)`` (base-frame vectors to 𝒥)."""
+        return quats_to_matrices(self.base_quat)
+
+    @property
+    def base_euler(self) -> np.ndarray:
+        """Base roll, pitch, yaw ``(K, 3)``, rad (``R0 = Rz(yaw) Ry(pitch) Rx(roll)``, unwrapped)."""
+        return euler_from_matrices(self.base_rotation)
+
+    @property
+    def base_rotation_angle(self) -> np.ndarray:
+        """Angle ``(K,)`` (rad, in [0, π]) of the base rotation since the first sample,
+        ``R0(t) R0(t_0)ᵀ``: how far the base has turned, whatever the axis. Computed from the
+        relative quaternion as ``2 atan2(|vector part|, |scalar part|)``, accurate for small
+        angles too."""
+        q = self.base_quat / np.linalg.norm(self.base_quat, axis=1, keepdims=True)
+        q0 = q[0] * np.array([-1.0, -1.0, -1.0, 1.0])  # conjugate of the first attitude
+        # Hamilton product q ⊗ q0* (scalar last).
+        v = q[:, 3:4] * q0[:3] + q0[3] * q[:, :3] + np.cross(q[:, :3], q0[:3])
+        w = q[:, 3] * q0[3] - q[:, :3] @ q0[:3]
+        return 2.0 * np.arctan2(np.linalg.norm(v, axis=1), np.abs(w))
+
+    @property
+    def base_velocity(self) -> np.ndarray:
+        """Base CM velocity ``v0`` ``(K, 3)`` in 𝒥, m/s."""
+        return self.u[:, :3]
+
+    @property
+    def base_angular_velocity(self) -> np.ndarray:
+        """Base angular velocity ``w0`` ``(K, 3)`` in 𝒥, rad/s."""
+        return self.u[:, 3:6]
+
+    @property
+    def base_angular_velocity_in_base(self) -> np.ndarray:
+        """Base angular velocity in the base frame ``R0ᵀ w0`` ``(K, 3)``, rad/s."""
+        return np.einsum("kji,kj->ki", self.base_rotation, self.base_angular_velocity)
+
+    # ---- forces --------------------------------------------------------------------------
+    @property
+    def tau(self) -> np.ndarray:
+        """Joint forces actually applied (after saturation) ``(K, N)``, N·m or N."""
+        return self._get("tau", "joint forces were not recorded")
+
+    @property
+    def tau_cmd(self) -> np.ndarray:
+        """Joint forces commanded by the controller ``(K, N)``, before saturation."""
+        return self._get("tau_cmd", "commanded joint forces were not recorded")
+
+    @property
+    def base_wrench(self) -> np.ndarray:
+        """Base wrench ``[F0, N0]`` actually applied ``(K, 6)`` in 𝒥 (zero in floating modes)."""
+        return self._get("base_wrench", "the base wrench was not recorded")
+
+    # ---- momenta, energy, CM ---------------------------------------------------------------
+    @property
+    def P(self) -> np.ndarray:
+        """Linear momentum ``(K, 3)``, N·s."""
+        return self._get("P", "momentum was not recorded")
+
+    @property
+    def L_origin(self) -> np.ndarray:
+        """Angular momentum about the origin of 𝒥 ``(K, 3)``, N·m·s."""
+        return self._get("L_origin", "momentum was not recorded")
+
+    @property
+    def L_com(self) -> np.ndarray:
+        """Angular momentum about the system CM ``(K, 3)``, N·m·s."""
+        return self._get("L_com", "momentum was not recorded")
+
+    @property
+    def energy(self) -> np.ndarray:
+        """Kinetic energy ``(K,)``, J."""
+        return self._get("energy", "energy was not recorded")
+
+    @property
+    def com(self) -> np.ndarray:
+        """System CM ``r_g`` ``(K, 3)`` in 𝒥, m."""
+        return self._get("com", "the system CM was not recorded")
+
+    # ---- end effector, tracking, wheels ----------------------------------------------------
+    @property
+    def ee_position(self) -> np.ndarray:
+        """End-effector position ``(K, 3)`` in 𝒥, m."""
+        return self._get("ee_position", "the robot has no end effector")
+
+    @property
+    def ee_quat(self) -> np.ndarray:
+        """End-effector attitude ``(K, 4)`` ``[x, y, z, w]`` (the frame of its link)."""
+        return self._get("ee_quat", "the robot has no end effector")
+
+    @property
+    def reference(self) -> np.ndarray:
+        """The controller's reference ``(K, n_ref)``: joint angles or a Cartesian point."""
+        return self._get("reference", "the controller tracks no reference")
+
+    @property
+    def tracking_error(self) -> np.ndarray:
+        """Tracking error ``(K,)``: ``|q_ref − q|`` (rad) or ``|p_ref − p|`` (m), see
+        :attr:`tracking_error_kind`."""
+        return self._get("tracking_error", "the controller tracks no reference")
+
+    @property
+    def tracking_error_kind(self) -> Optional[str]:
+        """``"joint"`` (rad), ``"cartesian"`` (m) or ``None``."""
+        return self._meta.get("tracking_error_kind")
+
+    @property
+    def wheel_speed(self) -> np.ndarray:
+        """Reaction-wheel speeds ``(K, W)``, rad/s (relative to the base)."""
+        return self._get("wheel_speed", "the run had no reaction wheels")
+
+    @property
+    def saturation_events(self) -> List[SaturationEvent]:
+        """Every step at which an actuator hit its limit, in time order."""
+        if "saturation_t" not in self._data:
+            return []
+        names = self._meta.get("actuator_names") or []
+        out = []
+        for t, a, kind in zip(self._data["saturation_t"], self._data["saturation_actuator"], self._data["saturation_kind"]):
+            a = int(a)
+            name = names[a] if 0 <= a < len(names) else f"actuator {a}"
+            out.append(SaturationEvent(float(t), name, SATURATION_KINDS.get(int(kind), f"kind {int(kind)}")))
+        return out
+
+    def saturation_counts(self) -> Dict[str, int]:
+        """Number of saturated steps per ``"actuator (kind)"``."""
+        counts: Dict[str, int] = {}
+        for e in self.saturation_events:
+            key = f"{e.actuator} ({e.kind})"
+            counts[key] = counts.get(key, 0) + 1
+        return counts
+
+    # ---- metadata shortcuts ------------------------------------------------------------------
+    @property
+    def mode(self) -> Optional[str]:
+        return self._meta.get("mode")
+
+    @property
+    def conserved(self) -> List[str]:
+        """Names of the quantities the run's mode conserves (among ``P``, ``L_origin``,
+        ``L_com``, ``energy``)."""
+        return list(self._meta.get("conserved") or [])
+
+    # ---- names and units ----------------------------------------------------------------------
+    def joint_names(self) -> List[str]:
+        """Name of each degree of freedom (``q1``… without a robot)."""
+        if self._robot is None:
+            return [f"q{i + 1}" for i in range(self._n)]
+        return self._robot.joint_names
+
+    def _joint_is_prismatic(self) -> List[bool]:
+        if self._robot is None:
+            return [False] * self._n
+        flags = [False] * self._n
+        for link in self._robot.description.links:
+            if link.type == "prismatic":
+                flags[link.dof] = True
+        return flags
+
+    # ---- conservation ----------------------------------------------------------------------
+    def drift_scale(self, name: str) -> float:
+        """The magnitude against which :meth:`drift` measures deviations of ``name``, when the
+        initial value is smaller (e.g. zero momentum).
+
+        With ``T_max`` the largest kinetic energy of the run, ``M`` the total mass and ``I_G``
+        the locked inertia about the system CM at the first sample: ``energy`` → ``T_max``;
+        ``P`` → ``sqrt(2 M T_max)`` (the largest linear momentum that kinetic energy allows,
+        by Cauchy–Schwarz); ``L_com`` → ``sqrt(2 λmax(I_G) T_max)`` (the angular momentum of
+        the locked system spinning with that energy about its axis of largest inertia);
+        ``L_origin`` → that plus ``|r_g| sqrt(2 M T_max)`` (the moment of the linear momentum
+        about the origin). Without a robot the momentum scales are 0.
+        """
+        t_max = float(np.max(np.abs(self.energy))) if self.has("energy") else 0.0
+        if name == "energy":
+            return t_max
+        if self._robot is None:
+            return 0.0
+        m = float(self._robot.total_mass)
+        p_scale = math.sqrt(2.0 * m * t_max)
+        if name == "P":
+            return p_scale
+        if name in ("L_com", "L_origin"):
+            x0 = self.x[0]
+            blocks = self._robot.inertia_blocks(x0)
+            s = np.asarray(blocks.H_S) + m * _skew(blocks.r_0g) @ _skew(blocks.r_0g)
+            l_scale = math.sqrt(2.0 * float(np.max(np.linalg.eigvalsh(0.5 * (s + s.T)))) * t_max)
+            if name == "L_com":
+                return l_scale
+            r_g = float(np.max(np.linalg.norm(self.com, axis=1))) if self.has("com") else float(np.linalg.norm(self._robot.center_of_mass(x0)))
+            return l_scale + r_g * p_scale
+        raise NotFoundError(f"no drift scale for '{name}'; expected one of P, L_origin, L_com, energy")
+
+    def drift(self, names: Optional[Iterable[str]] = None, scale: Optional[Dict[str, float]] = None) -> Dict[str, float]:
+        """Largest relative deviation of each quantity from its value at the first sample.
+
+        ``drift[name] = max_k |v_k − v_0| / max(|v_0|, scale)`` over the recorded samples (the
+        simulator's definition, ``docs/simulation-core.md``). ``scale`` is, unless given
+        (``scale={"P": 1.0}``): the simulator's own scale for the quantities its mode conserves
+        (``meta["drift_scales"]``: the running maximum of the bodies' individual
+        contributions, which only the simulator sees), so that for a simulated run this equals
+        ``meta["drift"]``; otherwise :meth:`drift_scale`. ``names`` defaults to the quantities
+        the run's mode conserves (:attr:`conserved`); for those the result is the integration
+        error, for the others the physical change.
+        """
+        names = self.conserved if names is None else list(names)
+        scale = dict(scale or {})
+        recorded_scales = self._meta.get("drift_scales") or {}
+        out = {}
+        for name in names:
+            v = np.asarray(self[name], dtype=float)
+            v = v.reshape(v.shape[0], -1)
+            dev = float(np.max(np.linalg.norm(v - v[0], axis=1)))
+            if name in scale:
+                s = float(scale[name])
+            elif name in recorded_scales:
+                s = float(recorded_scales[name])
+            else:
+                s = self.drift_scale(name)
+            # The smallest positive double keeps an all-zero quantity at drift 0, as in the core.
+            ref = max(float(np.linalg.norm(v[0])), s, sys.float_info.min)
+            out[name] = dev / ref
+        return out
+
+    # ---- text ------------------------------------------------------------------------------
+    def summary(self) -> str:
+        """A few lines for a human: the run, conservation, tracking, saturation, final state."""
+        m = self._meta
+        name = self._robot.name if self._robot is not None else "?"
+        lines = [f"simulation of '{name}' (N = {self._n}): mode {m.get('mode', '?')}, "
+                 f"controller {m.get('controller') or 'none'}, integrator {m.get('integrator', '?')}"]
+        step = f"dt = {m['dt']:g} s" if "dt" in m else ""
+        if m.get("integrator") == "dopri5":
+            step = f"rtol = {m.get('rtol', float('nan')):g}, atol = {m.get('atol', float('nan')):g}, output every {m.get('dt', float('nan')):g} s"
+        counts = ", ".join(f"{v} {k.replace('n_', '').replace('_', ' ')}" for k, v in
+                           ((k, m[k]) for k in ("n_steps", "n_rejected", "n_rhs_evals") if k in m))
+        lines.append("; ".join(p for p in (f"  t = {self.t[0]:g} .. {self.t[-1]:g} s, {len(self)} samples", step, counts) if p))
+        conserved = [c for c in self.conserved if self.has(c)]
+        if conserved:
+            # The simulator's figures when it gave them (its scale: the bodies' summed
+            # contributions), else this class's recomputation from the samples.
+            d = m.get("drift") if isinstance(m.get("drift"), dict) and set(conserved) <= set(m["drift"]) else self.drift(conserved)
+            lines.append("  conservation (max relative drift): " + ", ".join(f"{k} {d[k]:.3g}" for k in conserved))
+        elif m.get("mode"):
+            lines.append(f"  conservation: mode {m['mode']} conserves none of P, L, energy")
+        if self.has("com"):
+            lines.append(f"  system CM moved {np.max(np.linalg.norm(self.com - self.com[0], axis=1)):.3g} m (max)")
+        lines.append(f"  base: moved {np.linalg.norm(self.base_position[-1] - self.base_position[0]):.4g} m, "
+                     f"turned {np.degrees(self.base_rotation_angle[-1]):.4g} deg (final vs initial)")
+        if self.has("tracking_error"):
+            unit = {"joint": "rad", "cartesian": "m"}.get(self.tracking_error_kind or "", "")
+            e = self.tracking_error
+            lines.append(f"  tracking error ({self.tracking_error_kind or '?'}): final {e[-1]:.3g} {unit}, max {np.max(e):.3g} {unit}")
+        if self.has("ee_position"):
+            p = self.ee_position[-1]
+            lines.append(f"  end effector final position [{', '.join(f'{v:.4g}' for v in p)}] m")
+        if self.has("wheel_speed"):
+            ws = np.max(np.abs(self.wheel_speed), axis=0)
+            lines.append("  wheel max |speed| [rad/s]: " + ", ".join(f"{v:.4g}" for v in ws))
+        if self.has("tau"):
+            # One figure per joint kind, each in its own unit (torque of revolute joints, force
+            # of prismatic ones); a run without its robot cannot tell them apart.
+            tau = np.abs(np.asarray(self.tau, dtype=float)).reshape(len(self), -1)
+            if self._robot is None:
+                lines.append(f"  max |tau| {np.max(tau) if tau.size else 0.0:.4g} (N m for revolute, N for prismatic joints)")
+            elif tau.shape[1]:
+                prismatic = np.array(self._joint_is_prismatic(), dtype=bool)
+                kinds = (("torque", ~prismatic, "N m"), ("force", prismatic, "N"))
+                parts = [f"max |{what}| {np.max(tau[:, cols]) if tau.shape[0] else 0.0:.4g} {unit}"
+                         for what, cols, unit in kinds if cols.any()]
+                lines.append("  joint " + ", ".join(parts))
+        counts_sat = self.saturation_counts()
+        if counts_sat:
+            lines.append(f"  saturation: {len(self.saturation_events)} events: "
+                         + ", ".join(f"{k} x{v}" for k, v in sorted(counts_sat.items())))
+        else:
+            lines.append("  saturation: none")
+        return "\n".join(lines)
+
+    # ---- files -----------------------------------------------------------------------------
+    def save(self, path: PathLike) -> str:
+        """Write the trajectory to ``path`` as a compressed ``.npz`` (atomically): every
+        recorded array under its own name, ``meta`` as JSON and the model as TOML text (so
+        :meth:`load` can rebuild it). Returns the path."""
+        payload = {k: np.asarray(v) for k, v in self._data.items()}
+        payload["__format__"] = np.array(FILE_FORMAT)
+        payload["__meta__"] = np.array(json.dumps(_jsonable(self._meta), allow_nan=True))
+        if self._robot is not None:
+            from ..io.model_file import dumps_toml
+
+            payload["__model_toml__"] = np.array(dumps_toml(self._robot))
+        with atomic_open(path, "wb", suffix=".npz") as f:
+            np.savez_compressed(f, **payload)
+        return str(path)
+
+    @classmethod
+    def load(cls, path: PathLike, robot=None) -> "Trajectory":
+        """Read a file written by :meth:`save`. The robot is rebuilt from the embedded model
+        unless ``robot`` is given (it must have the same number of joints)."""
+        try:
+            with np.load(path, allow_pickle=False) as z:
+                files = {k: z[k] for k in z.files}
+        except (OSError, ValueError) as exc:
+            if isinstance(exc, FileNotFoundError):
+                raise
+            raise ArgumentError(f"{path}: not a spacearm trajectory file ({exc})") from None
+        fmt = str(files.pop("__format__", ""))
+        if fmt != FILE_FORMAT:
+            raise ArgumentError(f"{path}: not a spacearm trajectory file (format tag {fmt!r}, expected {FILE_FORMAT!r})")
+        meta = json.loads(str(files.pop("__meta__", "{}")))
+        model = files.pop("__model_toml__", None)
+        if robot is None and model is not None:
+            from ..io.model_file import loads_toml
+
+            robot = loads_toml(str(model), source=f"{path} (embedded model)")
+        return cls(robot=robot, data=files, meta=meta)
+
+    def columns(self) -> List[tuple]:
+        """The CSV columns: ``(name, unit, values (K,))`` in file order."""
+        names = self.joint_names()
+        prismatic = self._joint_is_prismatic()
+        pos = ["m" if p else "rad" for p in prismatic]
+        vel = ["m/s" if p else "rad/s" for p in prismatic]
+        acc = ["m/s^2" if p else "rad/s^2" for p in prismatic]
+        frc = ["N" if p else "N m" for p in prismatic]
+        xyz = ("x", "y", "z")
+        cols = [("t", "s", self.t)]
+
+        def add(prefix, arr, labels, units):
+            for j, (lab, unit) in enumerate(zip(labels, units)):
+                cols.append((f"{prefix}{lab}", unit, arr[:, j]))
+
+        add("r0_", self.x[:, :3], xyz, ["m"] * 3)
+        add("quat0_", self.x[:, 3:7], ("x", "y", "z", "w"), ["1"] * 4)
+        add("q_", self.q, names, pos)
+        add("v0_", self.u[:, :3], xyz, ["m/s"] * 3)
+        add("w0_", self.u[:, 3:6], xyz, ["rad/s"] * 3)
+        add("qd_", self.qd, names, vel)
+        if self.has("du"):
+            add("dv0_", self.du[:, :3], xyz, ["m/s^2"] * 3)
+            add("dw0_", self.du[:, 3:6], xyz, ["rad/s^2"] * 3)
+            add("qdd_", self.qdd, names, acc)
+        if self.has("tau"):
+            add("tau_", self.tau, names, frc)
+        if self.has("tau_cmd"):
+            add("tau_cmd_", self.tau_cmd, names, frc)
+        if self.has("base_wrench"):
+            add("F0_", self.base_wrench[:, :3], xyz, ["N"] * 3)
+            add("N0_", self.base_wrench[:, 3:], xyz, ["N m"] * 3)
+        for key, unit in (("P", "N s"), ("L_origin", "N m s"), ("L_com", "N m s")):
+            if self.has(key):
+                add(f"{key}_", self[key], xyz, [unit] * 3)
+        if self.has("energy"):
+            cols.append(("energy", "J", self.energy))
+        if self.has("com"):
+            add("com_", self.com, xyz, ["m"] * 3)
+        if self.has("ee_position"):
+            add("ee_", self.ee_position, xyz, ["m"] * 3)
+        if self.has("ee_quat"):
+            add("ee_quat_", self.ee_quat, ("x", "y", "z", "w"), ["1"] * 4)
+        if self.has("reference"):
+            ref = self.reference.reshape(len(self), -1)
+            kind = self.tracking_error_kind
+            if kind == "joint" and ref.shape[1] == self._n:
+                add("q_ref_", ref, names, pos)
+            elif kind == "cartesian" and ref.shape[1] == 3:
+                add("ee_ref_", ref, xyz, ["m"] * 3)
+            else:
+                add("ref_", ref, [str(i + 1) for i in range(ref.shape[1])], ["1"] * ref.shape[1])
+        if self.has("tracking_error"):
+            unit = {"joint": "rad", "cartesian": "m"}.get(self.tracking_error_kind or "", "1")
+            cols.append(("tracking_error", unit, self.tracking_error))
+        if self.has("wheel_speed"):
+            ws = self.wheel_speed.reshape(len(self), -1)
+            dofs = list(self._meta.get("wheel_dofs") or [])
+            labels = [names[d] if len(dofs) == ws.shape[1] and 0 <= d < self._n else str(i + 1) for i, d in
+                      enumerate(dofs if len(dofs) == ws.shape[1] else range(ws.shape[1]))]
+            add("wheel_speed_", ws, labels, ["rad/s"] * ws.shape[1])
+        return cols
+
+    def to_csv(self, path: PathLike) -> str:
+        """Write one row per sample to ``path`` (atomically). Lines starting with ``#``
+        describe the run (read them with ``comment="#"``); the header row names every column
+        with its unit in brackets, e.g. ``q_joint1 [rad]``; numbers are written with 17
+        significant digits (exact round trip). Saturation events are summarized in the
+        comments (the ``.npz`` of :meth:`save` keeps each one). Returns the path."""
+        cols = self.columns()
+        header = ",".join(f"{n} [{u}]" for n, u, _ in cols)
+        table = np.column_stack([c for _, _, c in cols])
+        with atomic_open(path, "w", suffix=".csv") as f:
+            for line in self.summary().splitlines():
+                f.write(f"# {line}\n")
+            meta = {k: v for k, v in _jsonable(self._meta).items() if k != "actuator_names"}
+            f.write(f"# meta: {json.dumps(meta, allow_nan=True)}\n")
+            f.write(header + "\n")
+            np.savetxt(f, table, delimiter=",", fmt="%.17g")
+        return str(path)
+
+    # ---- figures -----------------------------------------------------------------------------
+    def plot(self, path: Optional[PathLike] = None, **kwargs):
+        """A multi-panel figure of the run (joints and reference, base attitude and position,
+        conservation, torques and wheel speeds, tracking error); written as PNG to ``path`` if
+        given. Returns the matplotlib ``Figure``. See :func:`spacearm.viz.plotting.plot_trajectory`."""
+        from ..viz.plotting import plot_trajectory
+
+        return plot_trajectory(self, path, **kwargs)
+
+    def animate(self, path: PathLike, **kwargs) -> str:
+        """A 3-D GIF of the base (box) and the arm (segments joint to joint). Needs the robot.
+        See :func:`spacearm.viz.animation.animate_trajectory` for the options."""
+        from ..viz.animation import animate_trajectory
+
+        return animate_trajectory(self, path, **kwargs)
