@@ -17,8 +17,10 @@ use super::rnea_partials::fill_rnea_partials;
 use super::{lanes, pose_and_velocity, seed_chunk, seed_chunk_from_kinematics, DerivativeData, Pose, CHUNK};
 use crate::algorithms::kinematics::forward_kinematics;
 use crate::algorithms::wrench::ExternalWrench;
-use crate::algorithms::dynamics::compute_forward_dynamics_via_mass_matrix;
-use crate::error::Result;
+use super::dense::spd_inverse;
+use crate::algorithms::crba::crba_after_kinematics;
+use crate::algorithms::kinematics::forward_kinematics_at;
+use crate::error::{Result, SpacearmError};
 use crate::algorithms::kinematics::check_velocity;
 use crate::model::Model;
 use crate::algorithms::rnea::rnea_after_kinematics;
@@ -65,8 +67,7 @@ pub fn forward_dynamics_derivatives<'w>(
 /// wrench's force and couple held fixed in 𝒥 while its application point moves with its body)
 /// and a choice of route for the partials of inverse dynamics.
 ///
-/// Cost: forward kinematics, CRBA, RNEA and a Cholesky factorization in `f64`, `H⁻¹` from the
-/// factor, the partials of RNEA (analytic: O(N·depth); dual: `⌈(9+2N)/CHUNK⌉` passes of RNEA on
+/// Cost: forward kinematics, CRBA and RNEA in `f64`, `H⁻¹` by Cholesky ([`super::dense`]), the partials of RNEA (analytic: O(N·depth); dual: `⌈(9+2N)/CHUNK⌉` passes of RNEA on
 /// dual numbers), and one `(6+N) × (6+N) × (9+2N)` matrix product.
 #[allow(clippy::type_complexity)]
 pub fn forward_dynamics_derivatives_with<'w>(
@@ -82,15 +83,22 @@ pub fn forward_dynamics_derivatives_with<'w>(
     check_velocity(model, "f", f)?;
     let n = model.n_dof();
     let nu = model.nu();
-    // u̇ = H⁻¹ (f + Jᵀ w − c) in f64; the Cholesky factor of H stays in data.factor.
-    compute_forward_dynamics_via_mass_matrix(model, &mut work.data, x, u, f, external)?;
-    let factor = std::mem::take(&mut work.data.factor);
-    let chol = nalgebra::Cholesky::pack_dirty(factor);
-    work.accel_wrt_force.fill_with_identity();
-    chol.solve_mut(&mut work.accel_wrt_force);
-    work.data.factor = chol.unpack_dirty();
-    // ∂ID/∂(x, u) at fixed u̇.
-    work.du_scratch.copy_from(&work.data.accel);
+    for w in external {
+        w.check(model)?;
+    }
+    // H and c − Jᵀ w in f64, H⁻¹ (kept: it is ∂u̇/∂f), u̇ = H⁻¹ (f + Jᵀ w − c).
+    forward_kinematics_at(model, &mut work.data, &pose.r0, &pose.base_to_world, pose.q);
+    rnea_after_kinematics(model, &mut work.data, u, None, external);
+    crba_after_kinematics(model, &mut work.data, true);
+    if !spd_inverse(&work.data.mass_matrix, &mut work.dense_scratch, &mut work.accel_wrt_force) {
+        return Err(SpacearmError::Singular("the mass matrix H".into()));
+    }
+    for i in 0..nu {
+        work.data.accel[i] = f[i] - work.data.tau[i];
+    }
+    work.du_scratch.gemv(1.0, &work.accel_wrt_force, &work.data.accel, 0.0);
+    work.data.accel.copy_from(&work.du_scratch);
+    // ∂ID/∂(x, u) at fixed u̇ (= work.du_scratch).
     fill_id_partials(model, work, &pose, u, external, method);
     let dx = 3 + n;
     work.accel_wrt_configuration.columns_mut(0, 3).fill(0.0);

@@ -32,6 +32,7 @@
 //!
 //! Imports: `math`, `model`, `algorithms` and [`crate::gjm`].
 
+mod dense;
 mod forward_dynamics;
 mod generalized;
 mod mass_matrix;
@@ -343,6 +344,8 @@ pub struct DerivativeData {
     pub(crate) id_partials: DMatrix<f64>,
     /// Scratch: the acceleration `u̇` at which inverse dynamics is differentiated.
     pub(crate) du_scratch: nalgebra::DVector<f64>,
+    /// Scratch: `L⁻¹` while inverting `H` ((6+N)²).
+    pub(crate) dense_scratch: DMatrix<f64>,
     /// Scratch of the analytic RNEA partials (O(N)).
     pub(crate) rnea: rnea_partials::RneaPartialsWork,
     /// The directions of each function: attitude + joints; joints; attitude + joints + velocity.
@@ -375,6 +378,7 @@ impl DerivativeData {
             id_wrt_velocity: DMatrix::zeros(nu, nu),
             id_partials: DMatrix::zeros(nu, 9 + 2 * n),
             du_scratch: nalgebra::DVector::zeros(nu),
+            dense_scratch: DMatrix::zeros(nu, nu),
             rnea: rnea_partials::RneaPartialsWork::new(model),
             config_dirs: configuration_directions(n).collect(),
             joint_dirs: (0..n).map(Direction::Joint).collect(),

@@ -115,20 +115,25 @@ impl RneaPartialsWork {
 /// when the velocity changes by `w` and the acceleration by `w ×ₘ v`.
 fn coriolis_matrix(inertia: &Matrix6<f64>, v: &Vector6<f64>) -> Matrix6<f64> {
     let (lin, ang) = (skew(&linear(v)), skew(&angular(v)));
-    // (v ×*) = [[ω̃, 0], [ṽ, ω̃]],  (v ×ₘ) = [[ω̃, ṽ], [0, ω̃]].
+    // (v ×*) = [[ω̃, 0], [ṽ, ω̃]] and (v ×ₘ) = −(v ×*)ᵀ, so with I symmetric
+    // −I (v ×ₘ) = I (v ×*)ᵀ = ((v ×*) I)ᵀ: C = X + Xᵀ + (I v)×̄ with X = (v ×*) I.
     let mut crf = Matrix6::zeros();
     crf.fixed_view_mut::<3, 3>(0, 0).copy_from(&ang);
     crf.fixed_view_mut::<3, 3>(3, 3).copy_from(&ang);
     crf.fixed_view_mut::<3, 3>(3, 0).copy_from(&lin);
-    let crm = -crf.transpose();
+    let x = crf * inertia;
     let h = mul6(inertia, v);
     // (h×̄) w = w ×* h = [w_ang × h_lin; w_ang × h_ang + w_lin × h_lin] = [[0, −h̃_lin], [−h̃_lin, −h̃_ang]] w.
     let (hl, ha) = (skew(&linear(&h)), skew(&angular(&h)));
-    let mut bar = Matrix6::zeros();
-    bar.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-hl));
-    bar.fixed_view_mut::<3, 3>(3, 0).copy_from(&(-hl));
-    bar.fixed_view_mut::<3, 3>(3, 3).copy_from(&(-ha));
-    crf * inertia - inertia * crm + bar
+    let mut out = x + x.transpose();
+    for r in 0..3 {
+        for c in 0..3 {
+            out[(r, 3 + c)] -= hl[(r, c)];
+            out[(3 + r, c)] -= hl[(r, c)];
+            out[(3 + r, 3 + c)] -= ha[(r, c)];
+        }
+    }
+    out
 }
 
 /// `E ψ = [ω × f; ω × n + p × (ω × f)]` as a 6×6 matrix acting on `ψ = [v; ω]`, for a wrench of
@@ -200,13 +205,16 @@ pub(crate) fn fill_rnea_partials(model: &Model, data: &Data, external: &[Externa
         ws.velocity_force[j] = mul6(bc, &s) + 2.0 * y_psi_dot;
     }
     let (col_q, col_u) = (3, 3 + n);
+    let rows = out.nrows();
+    let o = out.as_mut_slice();
+    let at = |r: usize, c: usize| c * rows + r;
     // Base rows of the joint columns; joint rows of the pairs (joint k, joint a on k's path).
     for b in 1..nb {
         let Some(k) = model.dof_of_body(b) else { continue };
         let (g, pv) = (ws.config_force[k], ws.velocity_force[k]);
         for r in 0..6 {
-            out[(r, col_q + k)] = g[r];
-            out[(r, col_u + 6 + k)] = pv[r];
+            o[at(r, col_q + k)] = g[r];
+            o[at(r, col_u + 6 + k)] = pv[r];
         }
         let (sy, sb, sk) = (ws.inertia_row[k], ws.coriolis_row[k], ws.wrench_row[k]);
         let mut a_body = b;
@@ -219,12 +227,12 @@ pub(crate) fn fill_rnea_partials(model: &Model, data: &Data, external: &[Externa
                 if has_wrench {
                     dq += dot6(&sk, &s_a);
                 }
-                out[(6 + k, col_q + a)] = dq;
-                out[(6 + k, col_u + 6 + a)] = dot6(&sb, &s_a) + 2.0 * dot6(&sy, &pd);
+                o[at(6 + k, col_q + a)] = dq;
+                o[at(6 + k, col_u + 6 + a)] = dot6(&sb, &s_a) + 2.0 * dot6(&sy, &pd);
                 if a != k {
                     // Row a (a strict ancestor of k), column k.
-                    out[(6 + a, col_q + k)] = dot6(&s_a, &g);
-                    out[(6 + a, col_u + 6 + k)] = dot6(&s_a, &pv);
+                    o[at(6 + a, col_q + k)] = dot6(&s_a, &g);
+                    o[at(6 + a, col_u + 6 + k)] = dot6(&s_a, &pv);
                 }
             }
             a_body = links[a_body - 1].parent;
@@ -244,7 +252,7 @@ pub(crate) fn fill_rnea_partials(model: &Model, data: &Data, external: &[Externa
             base += mul6(&ws.composite_wrench[0], &psi);
         }
         for r in 0..6 {
-            out[(r, m)] = base[r];
+            o[at(r, m)] = base[r];
         }
         for b in 1..nb {
             let Some(j) = model.dof_of_body(b) else { continue };
@@ -252,7 +260,7 @@ pub(crate) fn fill_rnea_partials(model: &Model, data: &Data, external: &[Externa
             if has_wrench {
                 d += dot6(&ws.wrench_row[j], &psi);
             }
-            out[(6 + j, m)] = d;
+            o[at(6 + j, m)] = d;
         }
     }
     let (lin_v0, ang_w0) = (linear(&v0), angular(&v0));
@@ -265,11 +273,11 @@ pub(crate) fn fill_rnea_partials(model: &Model, data: &Data, external: &[Externa
         let gamma = da0 - cross_motion(&e, &v0);
         let base = b0.column(k) + mul6(y0, &gamma);
         for r in 0..6 {
-            out[(r, col_u + k)] = base[r];
+            o[at(r, col_u + k)] = base[r];
         }
         for b in 1..nb {
             let Some(j) = model.dof_of_body(b) else { continue };
-            out[(6 + j, col_u + k)] = ws.coriolis_row[j][k] + dot6(&ws.inertia_row[j], &gamma);
+            o[at(6 + j, col_u + k)] = ws.coriolis_row[j][k] + dot6(&ws.inertia_row[j], &gamma);
         }
     }
 }
