@@ -28,7 +28,16 @@ from .errors import (
     SpacearmError,
     SpacearmTypeError,
 )
-from .model.robot import ExternalWrench, ForwardDynamicsDerivatives, InertiaBlocks, Kinematics, Linearization, Momentum, Robot
+from .model.robot import (
+    ExternalWrench,
+    ForwardDynamicsDerivatives,
+    InertiaBlocks,
+    InverseDynamicsPartials,
+    Kinematics,
+    Linearization,
+    Momentum,
+    Robot,
+)
 from .sim.simulation import simulate
 from .sim.trajectory import Trajectory
 
@@ -46,6 +55,7 @@ __all__ = [
     "Momentum",
     "InertiaBlocks",
     "ForwardDynamicsDerivatives",
+    "InverseDynamicsPartials",
     "Linearization",
     "ModelDescription",
     "BaseDescription",
