@@ -33,7 +33,9 @@ fn axpy_neg(alpha: f64, x: &[f64], y: &mut [f64]) {
 pub(crate) fn spd_inverse(h: &DMatrix<f64>, scratch: &mut DMatrix<f64>, out: &mut DMatrix<f64>) -> bool {
     let n = h.nrows();
     // Cholesky, left-looking, into `out` (lower triangle): column j of L is
-    // (h[j.., j] − Σ_{k<j} L[j, k] L[j.., k]) / L[j, j].
+    // (h[j.., j] − Σ_{k<j} L[j, k] L[j.., k]) / L[j, j]. The diagonal is stored as 1 / L[j, j]
+    // (the factorization never reads it; the substitution below multiplies by it instead of
+    // dividing, a division being the latency that bounds that loop).
     out.copy_from(h);
     let l = out.as_mut_slice();
     for j in 0..n {
@@ -50,19 +52,19 @@ pub(crate) fn spd_inverse(h: &DMatrix<f64>, scratch: &mut DMatrix<f64>, out: &mu
         }
         let ljj = d.sqrt();
         let inv = 1.0 / ljj;
-        l[j * n + j] = ljj;
+        l[j * n + j] = inv;
         for v in &mut l[j * n + j + 1..j * n + n] {
             *v *= inv;
         }
     }
-    // M = L⁻¹ (lower), column j by forward substitution of L m = e_j.
+    // M = L⁻¹ (lower), column j by forward substitution of L m = e_j (diagonal: 1 / L[k, k]).
     let m = scratch.as_mut_slice();
     m.fill(0.0);
     for j in 0..n {
         let col = &mut m[j * n..j * n + n];
         col[j] = 1.0;
         for k in j..n {
-            let xk = col[k] / l[k * n + k];
+            let xk = col[k] * l[k * n + k];
             col[k] = xk;
             if xk != 0.0 {
                 axpy_neg(xk, &l[k * n + k + 1..k * n + n], &mut col[k + 1..n]);

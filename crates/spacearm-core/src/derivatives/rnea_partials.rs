@@ -156,8 +156,13 @@ pub(crate) fn fill_rnea_partials(model: &Model, data: &Data, external: &[Externa
     let n = model.n_dof();
     let links = model.links();
     let has_wrench = !external.is_empty();
-    // Joints on different branches (neither on the other's path) are not coupled: zeros.
-    out.fill(0.0);
+    // Joints on different branches (neither on the other's path) are not coupled: zeros. The
+    // loops below write every other entry, so on a chain (each body the child of the one
+    // before) there is nothing to clear.
+    let chain = links.iter().enumerate().all(|(k, link)| link.parent == k);
+    if !chain {
+        out.as_mut_slice().fill(0.0);
+    }
     // Backward sweep: composite Y, B (and K), then the per-joint vectors that need them.
     for b in 0..nb {
         let inertia = &data.spatial_inertia[b];
