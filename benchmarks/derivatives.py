@@ -3,8 +3,10 @@
 from Python, on the same models, at N = 2, 6, 12, 30, 60, in one run.
 
 Every figure is the time of ONE call as a Python user makes it (argument conversion, the
-computation, the result arrays), the median over interleaved batches (``peers.py``: one batch of
-every candidate per round, so drifting machine load hits all alike). Ratios are spacearm /
+computation, the result arrays), the median over interleaved batches (one batch of every
+candidate per round, so drifting machine load hits all alike). Time is the CPU time of this
+process (``time.process_time``) unless ``--wall``: on a shared machine, wall time also counts the
+moments the scheduler gives the CPU to others, CPU time does not. Ratios are spacearm /
 Pinocchio: below 1 means spacearm is faster. The growth exponent ``p`` is the least-squares
 slope of log(time) against log(N) over the sizes run (time ≈ c·N^p).
 
@@ -37,13 +39,15 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 import argparse  # noqa: E402
 import json  # noqa: E402
 import sys  # noqa: E402
+import time  # noqa: E402
+import timeit  # noqa: E402
 
 import numpy as np  # noqa: E402
 
 from spacearm import interop  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from peers import meta, random_arm, rel_diff, state, time_interleaved  # noqa: E402
+from peers import meta, random_arm, rel_diff, state  # noqa: E402
 
 try:
     import pinocchio as pin
@@ -79,14 +83,31 @@ def pinocchio_check(robot, x, u, f) -> float:
     return max(rel_diff(a, b) for a, b in zip(theirs, ours))
 
 
-def run_size(n: int, repeat: int, batch: float):
+def time_interleaved(fns, repeat: int, batch: float, timer):
+    """Per-call times (s) of every callable: ``repeat`` rounds, one batch of each per round;
+    a batch has the number of calls that lasts about ``batch`` seconds."""
+    timers = [timeit.Timer(fn, timer=timer) for fn in fns]
+    numbers = []
+    for t in timers:
+        n = 1
+        while (elapsed := t.timeit(n)) < batch / 5 and n < 10_000_000:
+            n *= 5
+        numbers.append(max(1, int(n * batch / max(elapsed, 1e-9))))
+    samples = [[] for _ in fns]
+    for _ in range(repeat):
+        for t, number, out in zip(timers, numbers, samples):
+            out.append(t.timeit(number) / number)
+    return samples, numbers
+
+
+def run_size(n: int, repeat: int, batch: float, timer):
     robot = random_arm(n, 7)
     x, u, _, f = state(robot)
     # Displace the joints: at zero angles many terms vanish.
     x = x.copy()
     x[7:] += 0.4 * np.sin(0.7 + np.arange(n))
     cands = list(candidates(robot, x, u, f))
-    samples, numbers = time_interleaved([c[1] for c in cands], repeat, batch)
+    samples, numbers = time_interleaved([c[1] for c in cands], repeat, batch, timer)
     row = {"n_dof": n, "check": pinocchio_check(robot, x, u, f) if pin is not None else None}
     for (col, _), s, number in zip(cands, samples, numbers):
         row[col] = {"median_s": float(np.median(s)), "min_s": float(np.min(s)), "calls_per_batch": number}
@@ -124,6 +145,7 @@ def main(argv=None) -> int:
     ap.add_argument("--repeat", type=int, default=15, help="interleaved rounds, default 15")
     ap.add_argument("--batch", type=float, default=0.02, help="seconds per batch, default 0.02")
     ap.add_argument("--quick", action="store_true", help="5 rounds of 5 ms batches (a rough look)")
+    ap.add_argument("--wall", action="store_true", help="wall-clock time instead of this process's CPU time")
     ap.add_argument("--json", metavar="PATH", help="also write every measurement and its context here")
     args = ap.parse_args(argv)
     if args.quick:
@@ -136,7 +158,8 @@ def main(argv=None) -> int:
         ap.error("--sizes needs at least one joint count >= 1")
     if pin is None:
         print("note: pinocchio is not installed; its column is left out", file=sys.stderr)
-    rows = [run_size(n, args.repeat, args.batch) for n in sizes]
+    timer = time.perf_counter if args.wall else time.process_time
+    rows = [run_size(n, args.repeat, args.batch, timer) for n in sizes]
     fits = print_table(rows)
     print("  check: max relative difference of Pinocchio's result (mapped by")
     print("  spacearm.interop.aba_derivatives_from_pinocchio) from spacearm's.")
@@ -147,6 +170,7 @@ def main(argv=None) -> int:
         print(f"WARNING: N = {r['n_dof']}: spacearm and Pinocchio differ by {r['check']:.1e}", file=sys.stderr)
     if args.json:
         m = meta(args, ["spacearm"] + (["pinocchio"] if pin else []), None)
+        m["timer"] = "perf_counter (wall)" if args.wall else "process_time (CPU)"
         with open(args.json + ".tmp", "w") as fh:
             json.dump({"meta": m, "results": rows, "growth_exponents": fits}, fh, indent=1)
         os.replace(args.json + ".tmp", args.json)

@@ -524,6 +524,10 @@ class Robot:
         point moves with its body. ``method="analytic"`` (default) uses the analytic partials of
         inverse dynamics; ``"dual"`` the dual-number route (slower; the test oracle).
         """
+        # The common call (f given, no wrenches, analytic) skips the general argument handling:
+        # at small N the Python layer is a visible part of the cost.
+        if f is not None and tau is None and base_wrench is None and wrenches is None and method == "analytic":
+            return ForwardDynamicsDerivatives(*self._derivatives().forward_dynamics_derivatives(x, u, f))
         dual = self._dual(method)
         ext = None if wrenches is None else self._wrenches(wrenches)
         return ForwardDynamicsDerivatives(*self._derivatives().forward_dynamics_derivatives(x, u, self._force(f, tau, base_wrench), ext, dual))

@@ -17,7 +17,7 @@ use super::rnea_partials::fill_rnea_partials;
 use super::{lanes, pose_and_velocity, seed_chunk, seed_chunk_from_kinematics, DerivativeData, Pose, CHUNK};
 use crate::algorithms::kinematics::forward_kinematics;
 use crate::algorithms::wrench::ExternalWrench;
-use super::dense::spd_inverse;
+use super::dense::{neg_product, spd_inverse};
 use crate::algorithms::crba::crba_after_kinematics;
 use crate::algorithms::kinematics::forward_kinematics_at;
 use crate::error::{Result, SpacearmError};
@@ -102,8 +102,8 @@ pub fn forward_dynamics_derivatives_with<'w>(
     fill_id_partials(model, work, &pose, u, external, method);
     let dx = 3 + n;
     work.accel_wrt_configuration.columns_mut(0, 3).fill(0.0);
-    work.accel_wrt_configuration.columns_mut(3, dx).gemm(-1.0, &work.accel_wrt_force, &work.id_partials.columns(0, dx), 0.0);
-    work.accel_wrt_velocity.gemm(-1.0, &work.accel_wrt_force, &work.id_partials.columns(dx, nu), 0.0);
+    neg_product(&work.accel_wrt_force, work.id_partials.columns(0, dx), work.accel_wrt_configuration.columns_mut(3, dx));
+    neg_product(&work.accel_wrt_force, work.id_partials.columns(dx, nu), work.accel_wrt_velocity.columns_mut(0, nu));
     Ok((&work.accel_wrt_configuration, &work.accel_wrt_velocity, &work.accel_wrt_force))
 }
 

@@ -114,14 +114,20 @@ impl RneaPartialsWork {
 /// `w ↦ I (w ×ₘ v) + w ×* (I v) + v ×* (I w)`, the first-order change of `I a + v ×* I v`
 /// when the velocity changes by `w` and the acceleration by `w ×ₘ v`.
 fn coriolis_matrix(inertia: &Matrix6<f64>, v: &Vector6<f64>) -> Matrix6<f64> {
-    let (lin, ang) = (skew(&linear(v)), skew(&angular(v)));
     // (v ×*) = [[ω̃, 0], [ṽ, ω̃]] and (v ×ₘ) = −(v ×*)ᵀ, so with I symmetric
-    // −I (v ×ₘ) = I (v ×*)ᵀ = ((v ×*) I)ᵀ: C = X + Xᵀ + (I v)×̄ with X = (v ×*) I.
-    let mut crf = Matrix6::zeros();
-    crf.fixed_view_mut::<3, 3>(0, 0).copy_from(&ang);
-    crf.fixed_view_mut::<3, 3>(3, 3).copy_from(&ang);
-    crf.fixed_view_mut::<3, 3>(3, 0).copy_from(&lin);
-    let x = crf * inertia;
+    // −I (v ×ₘ) = I (v ×*)ᵀ = ((v ×*) I)ᵀ: C = X + Xᵀ + (I v)×̄ with X = (v ×*) I. Column by
+    // column, X's top half is ω × (top of I's column) and its bottom half
+    // v × (top) + ω × (bottom): cross products, no 6×6 product.
+    let (lin, ang) = (linear(v), angular(v));
+    let mut x = Matrix6::zeros();
+    for c in 0..6 {
+        let col = inertia.column(c);
+        let (top, bottom) = (Vector3::new(col[0], col[1], col[2]), Vector3::new(col[3], col[4], col[5]));
+        let xt = ang.cross(&top);
+        let xb = lin.cross(&top) + ang.cross(&bottom);
+        x.fixed_view_mut::<3, 1>(0, c).copy_from(&xt);
+        x.fixed_view_mut::<3, 1>(3, c).copy_from(&xb);
+    }
     let h = mul6(inertia, v);
     // (h×̄) w = w ×* h = [w_ang × h_lin; w_ang × h_ang + w_lin × h_lin] = [[0, −h̃_lin], [−h̃_lin, −h̃_ang]] w.
     let (hl, ha) = (skew(&linear(&h)), skew(&angular(&h)));
