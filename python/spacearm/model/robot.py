@@ -556,6 +556,8 @@ class Robot:
         Apply a state increment with :meth:`configuration_plus`. ``method`` as in
         :meth:`forward_dynamics_derivatives`.
         """
+        if f is not None and tau is None and base_wrench is None and inputs == "joints" and method == "analytic":
+            return Linearization(*self._derivatives().linearize(x, u, f, True))  # the common call, direct
         if inputs not in ("joints", "all"):
             raise ArgumentError(f"inputs must be 'joints' or 'all', got {inputs!r}")
         dual = self._dual(method)

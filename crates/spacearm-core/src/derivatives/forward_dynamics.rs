@@ -204,14 +204,15 @@ pub fn linearize_with<'w>(
     forward_dynamics_derivatives_with(model, work, x, u, f, &[], method)?;
     let nu = model.nu();
     let a = &mut work.state_matrix;
-    a.fill(0.0);
+    // The bottom half is overwritten below; the top half is [[Ω, E]].
+    a.view_mut((0, 0), (nu, 2 * nu)).fill(0.0);
     a.view_mut((0, nu), (nu, nu)).fill_with_identity();
     let w0 = nalgebra::Vector3::new(u[3], u[4], u[5]);
     a.fixed_view_mut::<3, 3>(3, 3).copy_from(&skew(&w0));
     a.view_mut((nu, 0), (nu, nu)).copy_from(&work.accel_wrt_configuration);
     a.view_mut((nu, nu), (nu, nu)).copy_from(&work.accel_wrt_velocity);
     let b = &mut work.input_matrix;
-    b.fill(0.0);
+    b.view_mut((0, 0), (nu, nu)).fill(0.0);
     b.view_mut((nu, 0), (nu, nu)).copy_from(&work.accel_wrt_force);
     let view = match inputs {
         LinearizationInputs::All => work.input_matrix.columns(0, nu),
