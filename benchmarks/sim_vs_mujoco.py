@@ -104,10 +104,10 @@ def main() -> None:
     assert np.array_equal(order, np.arange(n))  # serial chain: engine order = spacearm order
 
     # ---- row 1: PD to a set point ---------------------------------------------------------
-    # Per-joint gains: 4 rad/s, critically damped, on the diagonal of H* (see cli_simulate.pd_gains).
-    from spacearm.cli.simulate import pd_gains
+    # Per-joint gains: 4 rad/s, critically damped, on the diagonal of H* (control.inertia_scaled_gains).
+    from spacearm.control import inertia_scaled_gains
 
-    kp_pd, kd_pd = pd_gains(robot, x0, list(range(n)))
+    kp_pd, kd_pd = inertia_scaled_gains(robot, x0, list(range(n)))
     pd = control.JointPD(kp=kp_pd, kd=kd_pd, reference=q_goal)
 
     def sa_pd():

@@ -89,7 +89,6 @@ BASES = {
     "SimulationError": {RuntimeError},
     "CampaignError": {RuntimeError},
     "MissingDependencyError": {ImportError},
-    "CampaignError": {RuntimeError},
 }
 
 
@@ -116,7 +115,7 @@ def test_class_pickles_and_prints_its_message(name):
 
 
 def test_every_class_is_in_the_table():
-    classes = {n for n in errors.__all__ if n != "SpacearmError"}
+    classes = {n for n in errors.__all__ if n != "SpacearmError" and not issubclass(getattr(errors, n), Warning)}
     assert classes == set(BASES)
 
 

@@ -8,10 +8,11 @@ conventions are in ``docs/conventions.md``.
 
 import sys as _sys
 
-from . import control, presets
+from . import capture, control, presets
 from .io import dh, model_file, urdf, urdf_export
 from ._core import __version__
 from .model.builder import RobotBuilder
+from .capture import Target
 from .model.description import BaseDescription, JointLimits, LinkDescription, ModelDescription, PointDescription
 from .errors import (
     ArgumentError,
@@ -38,7 +39,9 @@ from .model.robot import (
     Momentum,
     Robot,
 )
+from .sim.rollout import Rollouts, rollout
 from .sim.simulation import simulate
+from .sim.simulator import Simulator
 from .sim.trajectory import Trajectory
 
 # The model-file modules moved into spacearm.io (docs/architecture.md); their old public paths
@@ -63,7 +66,12 @@ __all__ = [
     "PointDescription",
     "JointLimits",
     "presets",
+    "capture",
+    "Target",
     "simulate",
+    "rollout",
+    "Rollouts",
+    "Simulator",
     "Trajectory",
     "control",
     "dh",

@@ -1,7 +1,7 @@
 """Type stub of the private extension ``spacearm._core`` (PyO3). Users call
 :class:`spacearm.Robot`, which wraps :class:`Model`; this stub documents the boundary."""
 
-from typing import Any, Optional, Sequence
+from typing import Any, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -13,8 +13,8 @@ Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 
 __version__: str
 
-def preset(name: str) -> Model: ...
-def model_from_toml(text: str, source: str) -> Model: ...
+def preset(name: str, allow_nonphysical_inertia: bool = ...) -> Model: ...
+def model_from_toml(text: str, source: str, allow_nonphysical_inertia: bool = ...) -> Model: ...
 def model_to_toml(model: Model) -> str: ...
 def model_from_classic_dh(
     name: str,
@@ -42,7 +42,8 @@ def model_from_paper_dh(
 ) -> Model: ...
 
 class ModelBuilder:
-    def __init__(self, name: str, base_name: str, base_mass: float, base_inertia: Sequence[Sequence[float]]) -> None: ...
+    def __init__(self, name: str, base_name: str, base_mass: float, base_inertia: Sequence[Sequence[float]],
+                 allow_nonphysical_inertia: bool = ...) -> None: ...
     def add_link(
         self,
         name: str,
@@ -67,6 +68,8 @@ class Model:
     n_dof: int
     n_bodies: int
     total_mass: float
+    allows_nonphysical_inertia: bool
+    inertia_warnings: list[str]
     body_names: list[str]
     point_names: list[str]
     end_effector: Optional[str]
@@ -123,10 +126,41 @@ def simulate(
 ) -> dict:
     """Run the native simulation loop. ``options`` keys: mode, integrator, dt, rtol, atol,
     record_every, wheels (dof list or None), thrusters ({max_force, max_torque} or None),
-    joint_limits, max_steps, progress (callable or None). ``controller_spec``: a dict with a
+    joint_limits, max_steps, progress (callable or None), record_dtype ("float64" or "float32").
+    Runs without the GIL; the records are handed to numpy without a copy. ``controller_spec``: a dict with a
     ``type`` ("none", "joint_pd", "computed_torque", "rmrc", "attitude", "base_thrusters",
     "coordinated_flying", "combined", "callback") built by ``spacearm.control``. Returns per-sample arrays and ``"_meta"``."""
     ...
+
+def rollout(
+    models: list[Model],
+    x0: Vec,
+    u0: Vec,
+    duration: float,
+    options: dict,
+    controllers: Optional[Union[dict, list[dict]]] = None,
+    threads: Optional[int] = None,
+) -> dict:
+    """Run B rollouts on native threads without the GIL (crates/spacearm-py/src/rollout_py.rs).
+    ``models``: one model or one per rollout; ``x0`` (B, 7+N), ``u0`` (B, 6+N) float64;
+    ``options`` as for :func:`simulate` (``progress`` ignored); ``controllers``: one spec (an
+    instance per rollout) or a list of B. Returns the records with a leading B axis (NaN rows for
+    a failed rollout) and ``ok``, ``reason``, ``error_class``, ``meta``, ``events``."""
+    ...
+
+class Simulator:
+    """RK4 stepping of a plant from Python (crates/spacearm-py/src/simulator_py.rs)."""
+
+    def __init__(self, model: Model, options: dict, controller_spec: Optional[dict] = None, record_every: Optional[int] = None) -> None: ...
+    def reset(self, x0: ArrayLike, u0: ArrayLike) -> None: ...
+    def step(self, tau: Optional[ArrayLike] = None, n: int = 1, base_wrench: Optional[ArrayLike] = None) -> None: ...
+    @property
+    def time(self) -> float: ...
+    @property
+    def state(self) -> Vec: ...
+    @property
+    def n_steps(self) -> int: ...
+    def result(self) -> dict: ...
 
 def perturbed(
     model: Model,

@@ -21,8 +21,8 @@ for a robot without wheels.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
-from typing import Any, Callable, Optional, Sequence, Union
+from dataclasses import dataclass
+from typing import Any, Callable, Sequence, Union
 
 import numpy as np
 
@@ -43,6 +43,7 @@ __all__ = [
     "CoordinatedFlying",
     "Callback",
     "perturbed_model",
+    "inertia_scaled_gains",
 ]
 
 
@@ -243,21 +244,22 @@ class ResolvedMotionRate(_Controller):
 
     Joint-rate command: ``qd_cmd = J^T (J J^T + lambda^2 E)^-1 (pd_ref + gain (p_ref - p) - v_drift)``
     with ``J`` the translational rows of ``J*`` over the arm joints and ``v_drift`` the point
-    velocity that the system momentum and the wheels produce; ``lambda^2 = damping^2 (1 -
-    (sigma_min / threshold)^2)`` when the smallest singular value ``sigma_min`` of ``J`` falls
-    below ``threshold``, else 0. The joints follow ``qd_cmd`` through the reduced EOM:
+    velocity that the system momentum and the wheels produce. Damped least squares per singular
+    direction (docs/singularities.md): a direction of singular value ``sigma`` gets
+    ``lambda^2 = max_damping^2 (1 - (sigma / threshold)^2)`` when ``sigma < threshold``, else 0 —
+    the same law and defaults as :mod:`spacearm.analysis`. The joints follow ``qd_cmd`` through the reduced EOM:
     ``tau = H* velocity_gain (qd_cmd - qd) + c*``.
 
-    ``reference_cartesian``: a :class:`CartesianLine`; ``gain`` (1/s); ``damping`` (m, the
+    ``reference_cartesian``: a :class:`CartesianLine`; ``gain`` (1/s); ``max_damping`` (m, the
     largest lambda); ``threshold`` (m, where damping starts); ``velocity_gain`` (1/s);
     ``point``: overrides the reference's point (default: the end effector).
     """
 
     reference_cartesian: CartesianLine
     gain: float
-    damping: float = 0.05
+    max_damping: float = _core.DLS_DEFAULTS["max_damping"]
     point: Any = None
-    threshold: float = 0.1
+    threshold: float = _core.DLS_DEFAULTS["threshold"]
     velocity_gain: float = 50.0
 
     def _spec(self, robot) -> dict:
@@ -269,7 +271,7 @@ class ResolvedMotionRate(_Controller):
             "type": "rmrc",
             "reference": self.reference_cartesian._spec(),
             "gain": _finite_float(self.gain, "ResolvedMotionRate gain"),
-            "damping": _finite_float(self.damping, "ResolvedMotionRate damping"),
+            "damping": _finite_float(self.max_damping, "ResolvedMotionRate max_damping"),
             "threshold": _finite_float(self.threshold, "ResolvedMotionRate threshold"),
             "velocity_gain": _finite_float(self.velocity_gain, "ResolvedMotionRate velocity_gain"),
             "body": int(body),
@@ -331,6 +333,22 @@ class BaseThrusterControl(_Controller):
         return spec
 
 
+def inertia_scaled_gains(robot, x, joints, natural_frequency: float = 4.0, damping_ratio: float = 1.0):
+    """Per-joint PD gains ``(kp, kd)`` for :class:`JointPD` or :class:`ComputedTorque`-style
+    loops, scaled to the inertia each joint drives: ``kp_j = ω² H*_jj``, ``kd_j = 2 ζ ω H*_jj``
+    from the diagonal of the generalized inertia ``H*`` (eq. 45) at ``x``, so that each joint
+    alone would respond like a mass-spring-damper of natural frequency ``ω`` (rad/s) and damping
+    ratio ``ζ``. Scaling keeps a light wrist joint from making the closed loop stiff (a fixed
+    ``kd`` over a 0.005 kg·m² wrist gives a pole at ``kd/I``, far beyond what a 1 ms RK4 step
+    integrates). ``joints``: indices of the joints to return gains for (N·m/rad, N·m·s/rad)."""
+    w = _finite_float(natural_frequency, "natural_frequency")
+    zeta = _finite_float(damping_ratio, "damping_ratio")
+    if not (w > 0 and zeta >= 0):
+        raise ArgumentError(f"inertia_scaled_gains needs natural_frequency > 0 and damping_ratio >= 0, got {w} and {zeta}")
+    h = np.diag(robot.generalized_inertia(x))[list(joints)]
+    return w**2 * h, 2.0 * zeta * w * h
+
+
 @dataclass(frozen=True)
 class Combined(_Controller):
     """An arm controller and a base controller together: the base controller (e.g.
@@ -371,8 +389,8 @@ class CoordinatedFlying(_Controller):
     kp_base: float = 25.0
     kd_base: float = 10.0
     point: Any = None
-    damping: float = 0.05
-    threshold: float = 0.1
+    max_damping: float = _core.DLS_DEFAULTS["max_damping"]
+    threshold: float = _core.DLS_DEFAULTS["threshold"]
 
     def _spec(self, robot) -> dict:
         if not isinstance(self.ee_reference, CartesianLine):
@@ -384,7 +402,7 @@ class CoordinatedFlying(_Controller):
             "reference": self.ee_reference._spec(),
             "body": int(body),
             "offset": np.asarray(offset, dtype=float),
-            "damping": _finite_float(self.damping, "CoordinatedFlying damping"),
+            "damping": _finite_float(self.max_damping, "CoordinatedFlying max_damping"),
             "threshold": _finite_float(self.threshold, "CoordinatedFlying threshold"),
         }
         for key in ("kp_ee", "kd_ee", "kp_base", "kd_base"):

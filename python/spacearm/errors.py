@@ -22,6 +22,10 @@ kind per class below (the bindings map each onto its class).
 | `CampaignError` | `RuntimeError` | a campaign cannot run, go on or report for reasons outside its samples (a script without a main guard under the spawn start method, an unreachable Dask scheduler, lost workers, nothing that ran to plot) |
 | `MissingDependencyError` | `ImportError` | an optional package is not installed (the message names the extra to install) |
 
+One warning class: :class:`NonPhysicalInertiaWarning` (a ``UserWarning``), issued when a model
+is loaded with ``allow_nonphysical_inertia=True`` and a body's inertia breaks the triangle
+inequality.
+
 ``NotFoundError`` is a lookup failure (``robot.body_index("nope")``, ``results.metric("x")``),
 hence a ``KeyError``; a name that does not exist is also an invalid argument value, hence a
 ``ValueError`` too, so that ``except ValueError`` catches every bad-input error of this table
@@ -45,6 +49,7 @@ __all__ = [
     "CampaignError",
     "MissingDependencyError",
     "CampaignError",
+    "NonPhysicalInertiaWarning",
 ]
 
 
@@ -116,3 +121,10 @@ class MissingDependencyError(SpacearmError, ImportError):
         self.package = package
         self.extra = extra
 
+
+
+class NonPhysicalInertiaWarning(UserWarning):
+    """A body's inertia breaks the triangle inequality ``I1 + I2 >= I3`` (no real mass
+    distribution has such moments) and was loaded because ``allow_nonphysical_inertia=True``
+    (command line: ``--allow-nonphysical-inertia``) asked for it; the message names the body.
+    Published identified inertias of flown robots can be of this kind (ETS-VII)."""

@@ -102,7 +102,7 @@ class Case:
         self._pin_state()
 
     def _pin_state(self):
-        r, n = self.robot, self.robot.n_dof
+        n = self.robot.n_dof
         x, u = self.x, self.u
         R0 = quat_to_matrix(x[3:7])
         R_BF, t_BF = self.R_FB.T, -self.R_FB.T @ self.t_FB
@@ -122,7 +122,7 @@ class Case:
         T[3:6, 3:6] = R_F.T
         T[self.perm, 6 + np.arange(n)] = 1.0
         v = T @ u
-        v0, w0 = u[:3], u[3:6]
+        w0 = u[3:6]
         tdot_u = np.zeros(6 + n)
         tdot_u[:3] = -np.cross(v[3:6], v[:3]) + R_F.T @ np.cross(w0, np.cross(w0, d))
         self.q, self.v, self.T, self.tdot_u = q, v, T, tdot_u

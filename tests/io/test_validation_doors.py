@@ -110,10 +110,9 @@ def test_tiny_axis_is_refused_by_every_door():
     assert isinstance(toml, spacearm.ModelError)
     assert str(toml).startswith("doors.toml:")
     assert str(toml).splitlines()[0].endswith("invalid model: " + message), str(toml)
-    # The URDF reader refuses the axis while parsing the element, before the builder sees it.
     urdf = through_urdf(axis=TINY_AXIS)
     assert isinstance(urdf, spacearm.ModelError)
-    assert "joint axis must be a non-zero vector" in str(urdf), str(urdf)
+    assert str(urdf).splitlines()[0].endswith("invalid model: " + message), str(urdf)
 
 
 @pytest.mark.parametrize("what, bad, rule", [

@@ -186,7 +186,7 @@ def test_rmrc_stays_bounded_through_an_unreachable_target():
     x0 = robot.neutral_configuration()
     p0 = robot.point_position(x0)
     line = CartesianLine(p0, p0 + [5.0, 0.0, 0.0], 0.0, 2.0)
-    traj = spacearm.simulate(robot, 3.0, dt=1e-3, record_every=10, controller=ResolvedMotionRate(line, gain=2.0, damping=0.1, threshold=0.2))
+    traj = spacearm.simulate(robot, 3.0, dt=1e-3, record_every=10, controller=ResolvedMotionRate(line, gain=2.0, max_damping=0.1, threshold=0.2))
     assert np.all(np.isfinite(traj["u"]))
     assert np.abs(traj["u"][:, 6:]).max() < 20.0
     assert traj["tracking_error"][-1] > 1.0  # it could not get there
@@ -390,3 +390,17 @@ def test_rotation_flying_holds_the_attitude_with_thruster_torques():
 def test_thruster_control_needs_a_flying_mode():
     with pytest.raises(errors.ArgumentError, match="flying mode"):
         spacearm.simulate(spacearm.presets.planar4(), 0.01, mode="floating", controller=BaseThrusterControl())
+
+
+def test_inertia_scaled_gains_follow_the_diagonal_of_the_schur_complement():
+    # H* = Hm − H0mᵀ H0⁻¹ H0m from the CRBA mass matrix (numpy), not from the core's GJM.
+    robot = spacearm.presets.spatial6()
+    x = robot.neutral_configuration(q=[0.3, -0.4, 0.5, 0.2, -0.1, 0.7])
+    h = robot.mass_matrix(x)
+    h_star = h[6:, 6:] - h[:6, 6:].T @ np.linalg.solve(h[:6, :6], h[:6, 6:])
+    joints = [0, 2, 5]
+    kp, kd = spacearm.control.inertia_scaled_gains(robot, x, joints, natural_frequency=3.0, damping_ratio=0.7)
+    np.testing.assert_allclose(kp, 9.0 * np.diag(h_star)[joints], rtol=1e-12)
+    np.testing.assert_allclose(kd, 2 * 0.7 * 3.0 * np.diag(h_star)[joints], rtol=1e-12)
+    with pytest.raises(spacearm.ArgumentError, match="natural_frequency"):
+        spacearm.control.inertia_scaled_gains(robot, x, joints, natural_frequency=0.0)

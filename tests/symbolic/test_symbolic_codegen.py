@@ -13,11 +13,10 @@ pytest.importorskip("sympy")
 
 import spacearm  # noqa: E402
 from spacearm.cli import main  # noqa: E402
-from spacearm.symbolic import derive  # noqa: E402
 from spacearm.symbolic.c_source import c_source  # noqa: E402
 from spacearm.symbolic.numpy_module import numpy_module  # noqa: E402
 
-from random_models import random_model, random_state  # noqa: E402
+from random_models import random_state  # noqa: E402
 from test_symbolic import RANDOM3, derivation, r0g_tolerance, rel_close  # noqa: E402
 
 INCLUDE = ["blocks", "H0_inv", "H_star", "J_star", "c", "c_star"]

@@ -27,8 +27,21 @@ fn joint_type(py: Python<'_>, s: &str) -> PyResult<JointType> {
 #[pymethods]
 impl PyModelBuilder {
     #[new]
-    fn new(py: Python<'_>, name: &str, base_name: &str, base_mass: f64, base_inertia: [[f64; 3]; 3]) -> PyResult<Self> {
-        Ok(PyModelBuilder { inner: ModelBuilder::new(name, base_name, base_mass, base_inertia).map_err(SpacearmError::from).or_raise(py)? })
+    #[pyo3(signature = (name, base_name, base_mass, base_inertia, allow_nonphysical_inertia=false))]
+    fn new(
+        py: Python<'_>,
+        name: &str,
+        base_name: &str,
+        base_mass: f64,
+        base_inertia: [[f64; 3]; 3],
+        allow_nonphysical_inertia: bool,
+    ) -> PyResult<Self> {
+        let rule = triangle_inequality(allow_nonphysical_inertia);
+        Ok(PyModelBuilder {
+            inner: ModelBuilder::with_triangle_inequality(name, base_name, base_mass, base_inertia, rule)
+                .map_err(SpacearmError::from)
+                .or_raise(py)?,
+        })
     }
 
     #[allow(clippy::too_many_arguments)]

@@ -207,3 +207,12 @@ pub fn stack_vec3<'py>(py: Python<'py>, vs: &[Vector3<f64>]) -> Bound<'py, PyArr
 pub fn rows3(m: &Matrix3<f64>) -> [[f64; 3]; 3] {
     [[m[(0, 0)], m[(0, 1)], m[(0, 2)]], [m[(1, 0)], m[(1, 1)], m[(1, 2)]], [m[(2, 0)], m[(2, 1)], m[(2, 2)]]]
 }
+
+/// The core's triangle-inequality rule for the Python option `allow_nonphysical_inertia`.
+pub fn triangle_inequality(allow_nonphysical_inertia: bool) -> spacearm_core::model::TriangleInequality {
+    if allow_nonphysical_inertia {
+        spacearm_core::model::TriangleInequality::Warn
+    } else {
+        spacearm_core::model::TriangleInequality::Enforce
+    }
+}

@@ -10,15 +10,20 @@ mod convert;
 mod derivatives_py;
 mod model_io_py;
 mod model_py;
+mod records_py;
+mod rollout_py;
 mod rules_py;
 mod simulate_py;
+mod simulator_py;
 
 use pyo3::prelude::*;
 
-/// A preset model by name (`planar4`, `spatial6`).
+/// A preset model by name (`planar4`, `spatial6`, ...); `allow_nonphysical_inertia` keeps
+/// published inertias that break the triangle inequality (only `ets7` has such data).
 #[pyfunction]
-fn preset(py: Python<'_>, name: &str) -> PyResult<model_py::PyModel> {
-    match spacearm_core::model::presets::by_name(name) {
+#[pyo3(signature = (name, allow_nonphysical_inertia = false))]
+fn preset(py: Python<'_>, name: &str, allow_nonphysical_inertia: bool) -> PyResult<model_py::PyModel> {
+    match spacearm_core::model::presets::by_name_with(name, convert::triangle_inequality(allow_nonphysical_inertia)) {
         Some(m) => Ok(model_py::PyModel::new(m)),
         None => Err(convert::to_py_err(
             py,
@@ -43,6 +48,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     analysis_py::register(m)?;
     rules_py::register(m)?;
     m.add_function(wrap_pyfunction!(simulate_py::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(rollout_py::rollout, m)?)?;
+    m.add_class::<simulator_py::PySimulator>()?;
     m.add_function(wrap_pyfunction!(simulate_py::perturbed, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_py::default_wheel_dofs, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -9,11 +9,14 @@ use spacearm_core::{JointLimits, JointType, SpacearmError};
 use crate::convert::*;
 use crate::model_py::PyModel;
 
-/// Parse a model from TOML text; `source` names it in error messages.
+/// Parse a model from TOML text; `source` names it in error messages;
+/// `allow_nonphysical_inertia` accepts inertias that break the triangle inequality (with
+/// warnings kept on the model).
 #[pyfunction]
-#[pyo3(signature = (text, source = "<string>"))]
-pub fn model_from_toml(py: Python<'_>, text: &str, source: &str) -> PyResult<PyModel> {
-    let model = py.detach(|| spacearm_core::io::toml::model_from_toml_str(text, source));
+#[pyo3(signature = (text, source = "<string>", allow_nonphysical_inertia = false))]
+pub fn model_from_toml(py: Python<'_>, text: &str, source: &str, allow_nonphysical_inertia: bool) -> PyResult<PyModel> {
+    let rule = triangle_inequality(allow_nonphysical_inertia);
+    let model = py.detach(|| spacearm_core::io::toml::model_from_toml_str_with(text, source, rule));
     model.map(PyModel::new).or_raise(py)
 }
 

@@ -98,6 +98,16 @@ impl PyModel {
     fn n_bodies(&self) -> usize {
         self.model.n_bodies()
     }
+    /// Whether the model was built accepting inertias that break the triangle inequality.
+    #[getter]
+    fn allows_nonphysical_inertia(&self) -> bool {
+        self.model.triangle_inequality() == spacearm_core::model::TriangleInequality::Warn
+    }
+    /// One message per body whose inertia breaks the triangle inequality.
+    #[getter]
+    fn inertia_warnings(&self) -> Vec<String> {
+        self.model.inertia_warnings().to_vec()
+    }
     #[getter]
     fn total_mass(&self) -> f64 {
         self.model.total_mass()

@@ -1,10 +1,11 @@
 //! The core's rules and defaults, read by the Python package instead of restating them:
-//! the mode and integrator names, the simulation defaults and the
-//! quintic time scaling of the references (docs/simulation-core.md).
+//! the mode and integrator names, the simulation defaults, the damped-least-squares defaults and
+//! the quintic time scaling of the references (docs/simulation-core.md).
 
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use spacearm_core::math::dls::DampingLaw;
 use spacearm_core::sim::integrate::IntegratorKind;
 use spacearm_core::sim::modes::Mode;
 use spacearm_core::sim::reference::quintic_scaling as core_quintic_scaling;
@@ -45,6 +46,11 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     defaults.set_item("joint_limits", d.joint_limits)?;
     defaults.set_item("max_steps", d.max_steps)?;
     m.add("SIM_DEFAULTS", defaults)?;
+    let law = DampingLaw::default();
+    let dls = PyDict::new(py);
+    dls.set_item("threshold", law.threshold)?;
+    dls.set_item("max_damping", law.max_damping)?;
+    m.add("DLS_DEFAULTS", dls)?;
     m.add_function(wrap_pyfunction!(quintic_scaling, m)?)?;
     Ok(())
 }

@@ -1,16 +1,16 @@
 //! `spacearm._core.simulate`: the whole simulation loop in Rust (`spacearm_core::sim::simulate`),
 //! options and controller specifications parsed from Python dicts (unknown keys and bad values
 //! are errors naming them), records returned as numpy arrays. Wrapped by
-//! `spacearm.simulation.simulate`, which builds the dicts from the user-facing classes of
+//! `spacearm.sim.simulation.simulate`, which builds the dicts from the user-facing classes of
 //! `spacearm.control`.
 
-use std::cell::RefCell;
-use std::rc::Rc;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
 
 use nalgebra::Vector3;
-use numpy::{PyArray1, PyArrayMethods};
+use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyTuple};
+use pyo3::types::{PyDict, PyTuple};
 use spacearm_core::sim::actuators::ThrusterLimits;
 use spacearm_core::control::mismatch::{perturbed_model, Slosh};
 use spacearm_core::control::{
@@ -25,8 +25,12 @@ use spacearm_core::{Model, SpacearmError};
 
 use crate::convert::*;
 use crate::model_py::PyModel;
+use crate::records_py::run_dict;
 
 type CoreResult<T> = spacearm_core::Result<T>;
+
+/// How often a run without a progress callable checks for Ctrl-C.
+const SIGNAL_CHECK_INTERVAL: Duration = Duration::from_millis(100);
 
 fn bad(msg: String) -> SpacearmError {
     SpacearmError::InvalidArgument(msg)
@@ -69,9 +73,19 @@ fn get_str(d: &Bound<'_, PyDict>, key: &str, what: &str) -> PyResult<String> {
     get(d, key, what)?.extract::<String>().map_err(|_| to_py_err(d.py(), bad(format!("{what}: '{key}' must be a string"))))
 }
 
-/// Options dict → [`SimOptions`] and the optional progress callable.
-fn parse_options<'py>(py: Python<'py>, duration: f64, o: &Bound<'py, PyDict>) -> PyResult<(SimOptions, Option<Bound<'py, PyAny>>)> {
-    const KEYS: [&str; 11] = ["mode", "integrator", "dt", "rtol", "atol", "record_every", "wheels", "thrusters", "joint_limits", "max_steps", "progress"];
+/// The options of a run, parsed.
+pub struct RunOptions {
+    pub sim: SimOptions,
+    /// The progress callable, if any.
+    pub progress: Option<Py<PyAny>>,
+    /// Whether the records are returned as float32 (`"record_dtype": "float32"`).
+    pub float32: bool,
+}
+
+/// Options dict → [`RunOptions`].
+pub fn parse_options(py: Python<'_>, duration: f64, o: &Bound<'_, PyDict>) -> PyResult<RunOptions> {
+    const KEYS: [&str; 12] =
+        ["mode", "integrator", "dt", "rtol", "atol", "record_every", "wheels", "thrusters", "joint_limits", "max_steps", "progress", "record_dtype"];
     check_keys(o, &KEYS, "simulation options")?;
     let mut opts = SimOptions { duration, ..SimOptions::default() };
     let w = "simulation options";
@@ -114,7 +128,15 @@ fn parse_options<'py>(py: Python<'py>, duration: f64, o: &Bound<'py, PyDict>) ->
     if let Some(v) = get_opt(o, "joint_limits")? {
         opts.joint_limits = v.extract().map_err(|_| to_py_err(py, bad("joint_limits must be True or False".into())))?;
     }
-    Ok((opts, get_opt(o, "progress")?))
+    let float32 = match get_opt(o, "record_dtype")? {
+        None => false,
+        Some(v) => match v.extract::<String>().ok().as_deref() {
+            Some("float64") => false,
+            Some("float32") => true,
+            _ => return Err(to_py_err(py, bad(format!("record_dtype must be 'float64' or 'float32', got {v}")))),
+        },
+    };
+    Ok(RunOptions { sim: opts, progress: get_opt(o, "progress")?.map(Bound::unbind), float32 })
 }
 
 /// A joint reference spec: `{"type": "quintic_joint", q_start, q_goal, t_start, t_end}` or
@@ -156,8 +178,18 @@ fn model_of(v: &Bound<'_, PyAny>) -> PyResult<Model> {
 }
 
 /// Where a callback controller keeps the first Python exception it raised, for [`simulate`]
-/// to re-raise unchanged.
-type ErrorSlot = Rc<RefCell<Option<PyErr>>>;
+/// to re-raise unchanged (a mutex: the run may be on another thread, without the GIL).
+pub type ErrorSlot = Arc<Mutex<Option<PyErr>>>;
+
+/// A new, empty [`ErrorSlot`].
+pub fn error_slot() -> ErrorSlot {
+    Arc::new(Mutex::new(None))
+}
+
+/// The Python exception a callback stored in `slot`, if any.
+pub fn take_error(slot: &ErrorSlot) -> Option<PyErr> {
+    slot.lock().map(|mut e| e.take()).unwrap_or(None)
+}
 
 /// A Python callable as a controller: `fn(t, x, u) -> tau` or `(tau, base_wrench)`.
 struct PyCallback {
@@ -193,14 +225,16 @@ impl Controller for PyCallback {
         let res = Python::attach(|py| self.call(py, t, x, u, out));
         res.map_err(|e| {
             let msg = format!("the controller callback raised at t = {t} s: {e}");
-            self.error.borrow_mut().get_or_insert(e);
+            if let Ok(mut slot) = self.error.lock() {
+                slot.get_or_insert(e);
+            }
             SpacearmError::Simulation(msg)
         })
     }
 }
 
 /// A controller spec dict → a core controller; callback controllers share `slot`.
-fn parse_controller(spec: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<Box<dyn Controller>> {
+pub fn parse_controller(spec: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<Box<dyn Controller>> {
     let py = spec.py();
     let d = spec.cast::<PyDict>().map_err(|_| to_py_err(py, bad("a controller spec must be a dict".into())))?;
     let kind = get_str(d, "type", "controller")?;
@@ -312,12 +346,8 @@ fn parse_controller(spec: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<Box<d
     })
 }
 
-fn rows<'py>(py: Python<'py>, v: &[f64], k: usize, w: usize) -> PyResult<Bound<'py, PyAny>> {
-    let a = PyArray1::from_slice(py, v);
-    Ok(a.reshape([k, w])?.into_any())
-}
-
-/// Run a simulation; returns a dict of numpy arrays plus `"_meta"` (see `spacearm.simulation`).
+/// Run a simulation, without the GIL; returns a dict of numpy arrays plus `"_meta"` (see
+/// `spacearm.sim.simulation`).
 #[pyfunction]
 #[pyo3(signature = (model, x0, u0, duration, options, controller_spec=None))]
 pub fn simulate<'py>(
@@ -334,28 +364,41 @@ pub fn simulate<'py>(
     let plant = model.borrow().model.clone();
     let x0 = vec_arg(x0, "x0")?.as_slice().to_vec();
     let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
-    let (opts, progress_fn) = parse_options(py, duration, options)?;
-    let slot: ErrorSlot = Rc::new(RefCell::new(None));
+    let RunOptions { sim: opts, progress: progress_fn, float32 } = parse_options(py, duration, options)?;
+    let slot = error_slot();
     let mut controller: Box<dyn Controller> = match controller_spec {
         Some(s) if !s.is_none() => parse_controller(s, &slot)?,
         _ => Box::new(ZeroTorque),
     };
     let mut progress_error: Option<PyErr> = None;
-    let mut progress = |fraction: f64| -> CoreResult<()> {
-        let r = py.check_signals().and_then(|_| match &progress_fn {
-            Some(f) => f.call1((fraction,)).map(|_| ()),
-            None => Ok(()),
-        });
-        r.map_err(|e| {
-            progress_error.get_or_insert(e);
-            SpacearmError::Simulation("interrupted".into())
-        })
-    };
-    let result = core_simulate(&plant, &x0, &u0, &opts, controller.as_mut(), &mut progress);
+    let mut last_check = Instant::now();
+    let result = py.detach(|| {
+        // The progress callable and Ctrl-C are checked with the GIL taken back: at every report
+        // (at most ~1000 a run) if there is a callable, else every 0.1 s of wall time (taking
+        // the GIL back waits for the other Python threads, so not more often than that).
+        let mut progress = |fraction: f64| -> CoreResult<()> {
+            if progress_fn.is_none() && fraction < 1.0 && last_check.elapsed() < SIGNAL_CHECK_INTERVAL {
+                return Ok(());
+            }
+            last_check = Instant::now();
+            Python::attach(|py| {
+                py.check_signals()?;
+                match &progress_fn {
+                    Some(f) => f.call1(py, (fraction,)).map(|_| ()),
+                    None => Ok(()),
+                }
+            })
+            .map_err(|e| {
+                progress_error.get_or_insert(e);
+                SpacearmError::Simulation("interrupted".into())
+            })
+        };
+        core_simulate(&plant, &x0, &u0, &opts, controller.as_mut(), &mut progress)
+    });
     let res = match result {
         Ok(r) => r,
         Err(e) => {
-            if let Some(err) = slot.borrow_mut().take() {
+            if let Some(err) = take_error(&slot) {
                 return Err(err);
             }
             if let Some(err) = progress_error {
@@ -364,77 +407,7 @@ pub fn simulate<'py>(
             return Err(to_py_err(py, e));
         }
     };
-    let r = &res.records;
-    let k = r.n_samples;
-    let (nx, nu, n) = (plant.nx(), plant.nu(), plant.n_dof());
-    let out = PyDict::new(py);
-    out.set_item("t", PyArray1::from_slice(py, &r.t))?;
-    out.set_item("x", rows(py, &r.x, k, nx)?)?;
-    out.set_item("u", rows(py, &r.u, k, nu)?)?;
-    out.set_item("du", rows(py, &r.du, k, nu)?)?;
-    out.set_item("tau", rows(py, &r.tau, k, n)?)?;
-    out.set_item("tau_cmd", rows(py, &r.tau_cmd, k, n)?)?;
-    out.set_item("base_wrench", rows(py, &r.base_wrench, k, 6)?)?;
-    out.set_item("P", rows(py, &r.linear_momentum, k, 3)?)?;
-    out.set_item("L_origin", rows(py, &r.angular_momentum_origin, k, 3)?)?;
-    out.set_item("L_com", rows(py, &r.angular_momentum_com, k, 3)?)?;
-    out.set_item("energy", PyArray1::from_slice(py, &r.energy))?;
-    out.set_item("com", rows(py, &r.com, k, 3)?)?;
-    if let (Some(p), Some(q)) = (&r.ee_position, &r.ee_quat) {
-        out.set_item("ee_position", rows(py, p, k, 3)?)?;
-        out.set_item("ee_quat", rows(py, q, k, 4)?)?;
-    }
-    if let Some(v) = &r.reference {
-        out.set_item("reference", rows(py, v, k, res.reference_width)?)?;
-    }
-    if let Some(v) = &r.tracking_error {
-        out.set_item("tracking_error", PyArray1::from_slice(py, v))?;
-    }
-    if let Some(v) = &r.attitude_error {
-        out.set_item("attitude_error", PyArray1::from_slice(py, v))?;
-    }
-    if let Some(v) = &r.wheel_speed {
-        out.set_item("wheel_speed", rows(py, v, k, res.wheel_dofs.len())?)?;
-    }
-    let ev_t: Vec<f64> = res.events.iter().map(|e| e.t).collect();
-    let ev_a: Vec<i64> = res.events.iter().map(|e| e.actuator as i64).collect();
-    let ev_k: Vec<i64> = res.events.iter().map(|e| e.kind as i64).collect();
-    out.set_item("saturation_t", PyArray1::from_vec(py, ev_t))?;
-    out.set_item("saturation_actuator", PyArray1::from_vec(py, ev_a))?;
-    out.set_item("saturation_kind", PyArray1::from_vec(py, ev_k))?;
-
-    let meta = PyDict::new(py);
-    meta.set_item("mode", opts.mode.name())?;
-    meta.set_item("integrator", opts.integrator.name())?;
-    meta.set_item("dt", opts.dt)?;
-    meta.set_item("rtol", opts.rtol)?;
-    meta.set_item("atol", opts.atol)?;
-    meta.set_item("controller", &res.controller)?;
-    meta.set_item("conserved", PyList::new(py, res.drift.iter().map(|(c, _)| c.name()))?)?;
-    let drift = PyDict::new(py);
-    for (c, v) in &res.drift {
-        drift.set_item(c.name(), *v)?;
-    }
-    meta.set_item("drift", drift)?;
-    let drift_scales = PyDict::new(py);
-    for (c, v) in &res.drift_scales {
-        drift_scales.set_item(c.name(), *v)?;
-    }
-    meta.set_item("drift_scales", drift_scales)?;
-    meta.set_item("n_steps", res.n_steps)?;
-    meta.set_item("n_rejected", res.n_rejected)?;
-    meta.set_item("n_rhs_evals", res.n_rhs_evals)?;
-    meta.set_item("actuator_names", res.actuator_names.clone())?;
-    meta.set_item("wheel_dofs", res.wheel_dofs.clone())?;
-    meta.set_item("tracking_error_kind", res.tracking.map(|t| t.name()))?;
-    meta.set_item("record_every", opts.record_every)?;
-    meta.set_item("joint_limits", opts.joint_limits)?;
-    let dropped = PyDict::new(py);
-    dropped.set_item("max_norm", res.dropped_wrench_max)?;
-    dropped.set_item("count", res.dropped_wrench_count)?;
-    meta.set_item("dropped_base_wrench", dropped)?;
-    out.set_item("_meta", meta)?;
-    Ok(out)
+    run_dict(py, res, &opts, float32, plant.nx(), plant.nu(), plant.n_dof())
 }
 
 /// A copy of `model` with mass-property errors and fuel slosh (see

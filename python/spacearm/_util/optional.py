@@ -26,6 +26,7 @@ EXTRAS = {
     "sympy": "symbolic",
     "distributed": "campaign",
     "dask": "campaign",
+    "casadi": "optimal-control",
 }
 
 

@@ -1,8 +1,9 @@
 """The ``spacearm`` command line: the parser and the dispatch to one module per subcommand.
 
 ``inspect`` (:mod:`spacearm.cli.inspect`), ``derive`` (:mod:`spacearm.cli.derive`), ``analyze``
-(:mod:`spacearm.cli.analyze`), ``simulate`` and ``demo`` (:mod:`spacearm.cli.simulate`) and
-``campaign`` (:mod:`spacearm.cli.campaign`). ``MODEL`` is a preset name (``planar4``,
+(:mod:`spacearm.cli.analyze`), ``simulate`` and ``demo`` (:mod:`spacearm.cli.simulate`),
+``campaign`` (:mod:`spacearm.cli.campaign`), ``capture`` (:mod:`spacearm.cli.capture`) and
+``plan`` (:mod:`spacearm.cli.plan`). ``MODEL`` is a preset name (``planar4``,
 ``spatial6``, ...), a TOML model file (``docs/model-format.md``) or a URDF file
 (``docs/urdf.md``), with the model options of :mod:`spacearm.cli.model_options`. Optional packages are
 imported only inside the subcommand that needs them, so the command starts on a plain install.
@@ -19,8 +20,10 @@ import sys
 from .._core import __version__
 from . import analyze as cli_analyze
 from . import campaign as cli_campaign
+from . import capture as cli_capture
 from . import derive as cli_derive
 from . import inspect as cli_inspect
+from . import plan as cli_plan
 from . import simulate as cli_simulate
 from .model_options import MODEL_HELP, add_model_arguments, load_model, model_from_args
 from .numbers import attach_negative_values
@@ -40,6 +43,8 @@ def main(argv=None) -> int:
     cli_analyze.add_parser(sub)
     cli_simulate.add_parsers(sub)
     cli_campaign.add_parser(sub)
+    cli_capture.add_parser(sub)
+    cli_plan.add_parser(sub)
     # "--target -0.3,0.3,0" would be read as two options: pass such values as "--target=-0.3,...".
     args = parser.parse_args(attach_negative_values(sys.argv[1:] if argv is None else argv))
     try:
@@ -53,6 +58,10 @@ def main(argv=None) -> int:
             return cli_simulate.run(args, model_from_args)
         elif args.command == "campaign":
             cli_campaign.run(args, model_from_args)
+        elif args.command == "capture":
+            return cli_capture.run(args, model_from_args)
+        elif args.command == "plan":
+            cli_plan.run(args, model_from_args)
     except SpacearmError as exc:
         print(f"spacearm: error: {exc}", file=sys.stderr)
         return 2

@@ -12,11 +12,13 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
+import warnings
 from typing import Optional
 
 from .. import presets
 from .numbers import CliError, parse_numbers
-from ..errors import SpacearmError
+from ..errors import NonPhysicalInertiaWarning, SpacearmError
 from ..model.robot import Robot
 
 __all__ = ["MODEL_HELP", "add_model_arguments", "model_from_args", "load_model", "joint_values"]
@@ -57,17 +59,31 @@ def add_model_arguments(parser: argparse.ArgumentParser) -> None:
                    help="the end effector: a named point of the model, or a link: a URDF link's frame origin, a "
                         "preset or .toml body's CM (its frame origin) (default: the model's own; for a URDF the only "
                         "leaf link, if there is one)")
+    g.add_argument("--allow-nonphysical-inertia", action="store_true",
+                   help="load inertias that break the triangle inequality I1 + I2 >= I3 (published identified data) "
+                        "with a warning instead of refusing them; for the ets7 preset, its published link inertias "
+                        "instead of their documented correction")
 
 
 def model_from_args(args: argparse.Namespace) -> Robot:
-    """The robot that MODEL and the model options of :func:`add_model_arguments` describe."""
-    return load_model(args.model, mount_on=args.mount_on, at=args.at, prefix=args.prefix, mimic=args.mimic,
-                      base_link=args.base_link, end_effector=args.end_effector)
+    """The robot that MODEL and the model options of :func:`add_model_arguments` describe. The
+    warnings of ``--allow-nonphysical-inertia`` print as ``spacearm: warning: ...`` lines."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", NonPhysicalInertiaWarning)
+        robot = load_model(args.model, mount_on=args.mount_on, at=args.at, prefix=args.prefix, mimic=args.mimic,
+                           base_link=args.base_link, end_effector=args.end_effector,
+                           allow_nonphysical_inertia=getattr(args, "allow_nonphysical_inertia", False))
+    for w in caught:
+        if issubclass(w.category, NonPhysicalInertiaWarning):
+            print(f"spacearm: warning: {w.message}", file=sys.stderr)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return robot
 
 
 def load_model(spec: str, mount_on: Optional[str] = None, at=None, prefix: Optional[str] = None,
                mimic: Optional[str] = None, base_link: Optional[str] = None,
-               end_effector: Optional[str] = None) -> Robot:
+               end_effector: Optional[str] = None, allow_nonphysical_inertia: bool = False) -> Robot:
     """A preset by name, or a model file (``.toml``, ``.urdf``) by path.
 
     URDF only (:func:`spacearm.io.urdf.load_urdf`, docs/urdf.md): ``mount_on`` (a preset or
@@ -81,27 +97,28 @@ def load_model(spec: str, mount_on: Optional[str] = None, at=None, prefix: Optio
     with or without the prefix (its URDF link frame origin, as ``load_urdf(end_effector=...)``:
     a link welded by a fixed joint is already a point, a moving link gets a point
     ``<link>_frame``); or a body of a preset or ``.toml`` model (its CM, which is its frame
-    origin in spacearm; a point ``<body>_cm`` is added).
+    origin in spacearm; a point ``<body>_cm`` is added). ``allow_nonphysical_inertia``: load
+    inertias that break the triangle inequality with a warning (``ets7``: the published values).
     """
     if spec not in presets.NAMES and not os.path.exists(spec):
         raise SpacearmError(f"'{spec}' is neither a preset ({', '.join(presets.NAMES)}) nor an existing model file")
     if spec.lower().endswith(".urdf"):
-        return _load_urdf_model(spec, mount_on, at, prefix, mimic, base_link, end_effector)
+        return _load_urdf_model(spec, mount_on, at, prefix, mimic, base_link, end_effector, allow_nonphysical_inertia)
     given = [option for option, value in (("--mount-on", mount_on), ("--at", at), ("--prefix", prefix),
                                           ("--mimic", mimic), ("--base-link", base_link)) if value is not None]
     if given:
         verb = "applies" if len(given) == 1 else "apply"
         raise CliError(f"{', '.join(given)} {verb} to URDF models (.urdf files) only, not to '{spec}'")
     if spec in presets.NAMES:
-        robot = presets.get(spec)
+        robot = presets.get(spec, allow_nonphysical_inertia=allow_nonphysical_inertia)
     elif spec.lower().endswith(".toml"):
-        robot = Robot.from_toml(spec)
+        robot = Robot.from_toml(spec, allow_nonphysical_inertia=allow_nonphysical_inertia)
     else:
         raise SpacearmError(f"cannot read '{spec}': model files must end in .toml or .urdf")
     return robot if end_effector is None else _with_end_effector(robot, end_effector)
 
 
-def _load_urdf_model(path, mount_on, at, prefix, mimic, base_link, end_effector) -> Robot:
+def _load_urdf_model(path, mount_on, at, prefix, mimic, base_link, end_effector, allow_nonphysical_inertia) -> Robot:
     from ..errors import ModelFileError
     from ..io.urdf import load_urdf
     from ..io.urdf_parse import parse_urdf
@@ -109,10 +126,12 @@ def _load_urdf_model(path, mount_on, at, prefix, mimic, base_link, end_effector)
     if mount_on is None and at is not None:
         raise CliError("--at needs --mount-on (the spacecraft to mount the URDF on)")
     options = {k: v for k, v in (("prefix", prefix), ("mimic", mimic), ("base_link", base_link)) if v is not None}
+    if allow_nonphysical_inertia:
+        options["allow_nonphysical_inertia"] = True
     if mount_on is not None:
         pose = parse_numbers(at, "--at", 6, "x,y,z,roll,pitch,yaw", "m, rad") if isinstance(at, str) else at
         try:
-            spacecraft = load_model(mount_on)
+            spacecraft = load_model(mount_on, allow_nonphysical_inertia=allow_nonphysical_inertia)
         except SpacearmError as exc:
             raise type(exc)(f"--mount-on: {exc}") from None
         options.update(mount_on=spacecraft, at=pose)

@@ -25,7 +25,7 @@ from .model_options import add_model_arguments, joint_values
 from .numbers import CliError, parse_numbers
 from ..sim.simulation import MODES  # the core's mode table
 
-__all__ = ["add_parsers", "run", "build_controller", "pd_gains", "base_pose_hold", "reaction_wheel_dofs", "run_demo"]
+__all__ = ["add_parsers", "run", "build_controller", "reaction_wheel_dofs", "run_demo"]
 
 CONTROLLERS = ("none", "pd", "computed-torque", "rmrc", "attitude", "coordinated")
 #: The mode each controller runs in unless --mode says otherwise.
@@ -106,46 +106,9 @@ def reaction_wheel_dofs(robot) -> List[int]:
     return sorted(int(d) for d in _core.default_wheel_dofs(robot._m))
 
 
-def pd_gains(robot, x0, arm, natural_frequency: float = 4.0, damping_ratio: float = 1.0):
-    """Per-joint PD gains ``kp_j = ω² H*_jj``, ``kd_j = 2 ζ ω H*_jj`` from the diagonal of the
-    generalized inertia ``H*`` (eq. 45) at ``x0``: each joint alone would respond like a
-    mass-spring-damper of natural frequency ``ω`` (rad/s) and damping ratio ``ζ``. Gains scaled
-    to the inertia each joint drives keep a light wrist joint from making the closed loop
-    stiff (a fixed ``kd`` over a 0.005 kg·m² wrist gives a pole at ``kd/I``, far beyond what a
-    1 ms RK4 step integrates)."""
-    h = np.diag(robot.generalized_inertia(x0))[arm]
-    return natural_frequency**2 * h, 2.0 * damping_ratio * natural_frequency * h
-
-
 def _mean_base_inertia(robot) -> float:
     """Mean principal moment of the base inertia, kg m^2 (the scale of the attitude gains)."""
     return float(np.trace(robot.description.base.inertia) / 3.0)
-
-
-def base_pose_hold(robot, x0, natural_frequency: float = 3.0):
-    """A thruster law ``fn(t, x, u) -> (0, [F0, N0])`` holding the base CM position and
-    attitude of ``x0``: PD on the position error (gains ``ω² M``, ``2 ω M`` with ``M`` the total
-    mass) and on the attitude error ``2 v_e sign(w_e)`` of ``q ⊗ q_ref⁻¹`` (gains ``ω² Ī``,
-    ``2 ω Ī``, ``Ī`` the mean base principal moment); critically damped at ``ω`` rad/s."""
-    w = float(natural_frequency)
-    m, i_base = float(robot.total_mass), _mean_base_inertia(robot)
-    r_ref = np.array(x0[:3], dtype=float)
-    qr = np.array(x0[3:7], dtype=float)
-    qr_inv = np.array([-qr[0], -qr[1], -qr[2], qr[3]])
-    n = robot.n_dof
-
-    def fn(t, x, u):
-        qx, qy, qz, qw = x[3:7]
-        rx, ry, rz, rw = qr_inv
-        v = np.array([qw * rx + qx * rw + qy * rz - qz * ry, qw * ry - qx * rz + qy * rw + qz * rx,
-                      qw * rz + qx * ry - qy * rx + qz * rw])
-        s = qw * rw - qx * rx - qy * ry - qz * rz
-        err = 2.0 * (1.0 if s >= 0 else -1.0) * v
-        wrench = np.concatenate([-w * w * m * (x[:3] - r_ref) - 2.0 * w * m * u[:3],
-                                 -w * w * i_base * err - 2.0 * w * i_base * u[3:6]])
-        return np.zeros(n), wrench
-
-    return fn
 
 
 # ---------------------------------------------------------------------------------------------
@@ -181,7 +144,7 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
     if name in ("pd", "computed-torque"):
         ref = control.QuinticJoint(q_arm0, joint_goal(), 0.0, t_move)
         if name == "pd":
-            kp_d, kd_d = pd_gains(robot, x0, arm)
+            kp_d, kd_d = control.inertia_scaled_gains(robot, x0, arm)
             return control.JointPD(kp=kp_d if kp is None else kp, kd=kd_d if kd is None else kd, reference=ref)
         return control.ComputedTorque(kp=25.0 if kp is None else kp, kd=10.0 if kd is None else kd, reference=ref)
     if name == "rmrc":
@@ -209,14 +172,9 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
                            f"--end-effector (points: {', '.join(robot.point_names) or 'none'})")
         p0 = robot.point_position(x0)
         line = control.CartesianLine(p0, cartesian_goal(p0), 0.0, t_move)
-        if hasattr(control, "CoordinatedFlying"):
-            # Native: base pose held (the initial one), end effector along the line.
-            gains = {k: v for k, v in (("kp_ee", kp), ("kd_ee", kd)) if v is not None}
-            return control.CoordinatedFlying(ee_reference=line, **gains)
-        # Without the native controller: the end effector along the line by resolved motion
-        # rate through J*, the base pose held by a thruster law in Python (slower).
-        arm_ctrl = control.ResolvedMotionRate(line, gain=2.0 if kp is None else kp)
-        return control.Combined(arm=arm_ctrl, base=control.Callback(base_pose_hold(robot, x0)))
+        # Base pose held (the initial one), end effector along the line.
+        gains = {k: v for k, v in (("kp_ee", kp), ("kd_ee", kd)) if v is not None}
+        return control.CoordinatedFlying(ee_reference=line, **gains)
     raise CliError(f"--controller must be one of {', '.join(CONTROLLERS)}, got {name!r}")
 
 

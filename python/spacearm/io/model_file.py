@@ -39,15 +39,21 @@ from typing import Union
 
 from .. import _core
 from ..errors import ModelFileError, SpacearmTypeError
-from ..model.robot import Robot
+from ..model.robot import Robot, warn_nonphysical_inertia
 
 __all__ = ["load_toml", "loads_toml", "save_toml", "dumps_toml"]
 
 PathLike = Union[str, "os.PathLike[str]"]
 
 
-def loads_toml(text: str, source: str = "<string>") -> Robot:
-    """Parse a model from TOML text. ``source`` names the text in error messages."""
+def loads_toml(text: str, source: str = "<string>", *, allow_nonphysical_inertia: bool = False) -> Robot:
+    """Parse a model from TOML text. ``source`` names the text in error messages.
+
+    ``allow_nonphysical_inertia``: accept inertias whose principal moments break the triangle
+    inequality ``I1 + I2 >= I3`` (refused by default: no real body has them), with a
+    :class:`~spacearm.errors.NonPhysicalInertiaWarning` per body; published identified datasets
+    can need it. Symmetry and positive semi-definiteness are still required.
+    """
     if isinstance(text, (bytes, bytearray)):
         try:
             text = bytes(text).decode("utf-8")
@@ -55,18 +61,20 @@ def loads_toml(text: str, source: str = "<string>") -> Robot:
             raise ModelFileError(f"{source}: the model file is not valid UTF-8 (byte {exc.start})") from None
     if not isinstance(text, str):
         raise SpacearmTypeError(f"loads_toml expects the TOML text as a str, got {type(text).__name__}")
-    return Robot(_core.model_from_toml(text, str(source)))
+    robot = Robot(_core.model_from_toml(text, str(source), allow_nonphysical_inertia=bool(allow_nonphysical_inertia)))
+    return warn_nonphysical_inertia(robot)
 
 
-def load_toml(path: PathLike) -> Robot:
+def load_toml(path: PathLike, *, allow_nonphysical_inertia: bool = False) -> Robot:
     """Read a model file (UTF-8 TOML). A missing file raises ``FileNotFoundError``; anything
-    wrong inside it raises :class:`~spacearm.ModelFileError` with the line and column."""
+    wrong inside it raises :class:`~spacearm.ModelFileError` with the line and column.
+    ``allow_nonphysical_inertia``: see :func:`loads_toml`."""
     try:
         path = Path(path)
     except TypeError:
         raise SpacearmTypeError(f"load_toml expects a path (str or os.PathLike), got {type(path).__name__}") from None
     data = path.read_bytes()
-    return loads_toml(data, source=str(path))
+    return loads_toml(data, source=str(path), allow_nonphysical_inertia=allow_nonphysical_inertia)
 
 
 def dumps_toml(robot: Robot) -> str:

@@ -39,7 +39,7 @@ import numpy as np
 from ..model.builder import RobotBuilder
 from ..errors import ArgumentError, ModelFileError, ShapeError, SpacearmError
 from ..model.robot import Robot
-from ..rotations import quat_from_matrix, quat_from_rpy, quat_to_matrix
+from ..rotations import quat_from_matrix, quat_from_rpy
 from .urdf_parse import UrdfJoint, UrdfRobot, parse_urdf
 
 __all__ = ["load_urdf", "loads_urdf"]
@@ -195,7 +195,7 @@ class _Importer:
         else:
             # Reversed: parent = child · motion(−axis, q) · origin⁻¹, same coordinate q.
             joint_pose, axis, link_in_body = here, -j.axis, origin.inverse()
-        self.bodies.append(_Body(other, body, j, joint_pose, axis))  # unit: normalized by the parser
+        self.bodies.append(_Body(other, body, j, joint_pose, axis))  # normalized by the core's builder
         self._visit(other, len(self.bodies) - 1, link_in_body)
 
     def _check_moving_subtrees(self) -> None:
@@ -210,19 +210,21 @@ class _Importer:
 
     # ---- model --------------------------------------------------------------------------
     def build(self, name: str, mount_on: Optional[Robot], mount_body: Optional[str], at, end_effector: Optional[str],
-              prefix: str = "") -> Robot:
+              prefix: str = "", allow_nonphysical_inertia: bool = False) -> Robot:
         p = prefix
         base = self.bodies[0]
         base_line = self.urdf.links[self.base_link].line
         if mount_on is None:
             try:
-                builder = RobotBuilder(name, base.mass, base.inertia, base_name=p + base.name)
+                builder = RobotBuilder(name, base.mass, base.inertia, base_name=p + base.name,
+                                       allow_nonphysical_inertia=allow_nonphysical_inertia)
             except SpacearmError as exc:
                 raise self.fail(base_line, f"link '{base.name}' is the free-flying base (with the links welded to it by "
                                            f"fixed joints) but {exc}; name another base_link or mount the robot on a "
                                            "spacecraft base (mount_on=...)") from None
         else:
-            builder = RobotBuilder.from_robot(mount_on, name=name)
+            builder = RobotBuilder.from_robot(mount_on, name=name, allow_nonphysical_inertia=(
+                allow_nonphysical_inertia or mount_on.allows_nonphysical_inertia))
             taken = set(mount_on.body_names) | set(mount_on.point_names)
             clash = sorted(taken & {p + link for link in self.body_of_link})
             if clash:
@@ -273,7 +275,9 @@ class _Importer:
         try:
             builder.add_link(name, **kwargs)
         except SpacearmError as exc:
-            raise self.fail(line, f"link '{name}': {exc}") from None
+            # The core's message names the link or joint and the broken rule (one message from
+            # every door, model/validate.rs); the URDF adds the file and the joint's line.
+            raise self.fail(line, str(exc)) from None
 
 
 def loads_urdf(
@@ -289,11 +293,12 @@ def loads_urdf(
     name: Optional[str] = None,
     prefix: str = "",
     fixed: str = "merge",
+    allow_nonphysical_inertia: bool = False,
 ) -> Robot:
     """Build a :class:`~spacearm.Robot` from URDF text (``str`` or ``bytes``); see :func:`load_urdf`."""
     urdf = parse_urdf(text, source, mimic=mimic)
     importer = _Importer(urdf, base_link, fixed)
-    return importer.build(name or urdf.name, mount_on, mount_body, at, end_effector, str(prefix))
+    return importer.build(name or urdf.name, mount_on, mount_body, at, end_effector, str(prefix), bool(allow_nonphysical_inertia))
 
 
 def load_urdf(path, **kwargs) -> Robot:
@@ -312,7 +317,9 @@ def load_urdf(path, **kwargs) -> Robot:
     :func:`spacearm.io.urdf_export.to_urdf` had it.
     ``prefix``: prepended to every URDF link, joint and point name (for mounting two arms, or an
     arm whose link names clash with the spacecraft's). ``name``: the model name (default: the
-    ``<robot name>``).
+    ``<robot name>``). ``allow_nonphysical_inertia``: accept inertias that break the triangle
+    inequality ``I1 + I2 >= I3`` (published identified data), with a
+    :class:`~spacearm.errors.NonPhysicalInertiaWarning` per body, instead of refusing the file.
 
     Raises :class:`~spacearm.ModelFileError` with ``file:line:`` for every problem in the file,
     and ``OSError`` if it cannot be read.

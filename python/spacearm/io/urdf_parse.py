@@ -247,11 +247,9 @@ class _Reader:
         origin, rotation = self.pose(el, who)
         axis_el = self.single(el, "axis", who)
         axis = np.array([1.0, 0.0, 0.0]) if axis_el is None else self.numbers(axis_el, "xyz", 3, [1.0, 0.0, 0.0], who)
-        if kind != "fixed" and not np.abs(axis).max() > 1e-9:
-            raise self.fail(axis_el, f"{who}: the joint axis must be a non-zero vector, got {axis.tolist()}")
-        if kind != "fixed":
-            axis = axis / np.abs(axis).max()  # scale first so that the norm cannot overflow
-            axis = axis / np.linalg.norm(axis)
+        # The axis and the limits are checked (and the axis normalized) by the core's one
+        # validation when the link is added (crates/spacearm-core/src/model/validate.rs); a refusal
+        # names this joint's line (UrdfModel._add).
         limits: Dict[str, float] = {}
         limit_el = self.single(el, "limit", who)
         if limit_el is not None and kind != "fixed":
@@ -260,11 +258,6 @@ class _Reader:
             for key in keys:
                 if limit_el.get(key) is not None:
                     limits[key] = self.number(limit_el, key, who)
-            if "lower" in limits and "upper" in limits and limits["lower"] > limits["upper"]:
-                raise self.fail(limit_el, f"{who}: limit lower = {limits['lower']} exceeds upper = {limits['upper']}")
-            for key in ("velocity", "effort"):
-                if key in limits and limits[key] < 0:
-                    raise self.fail(limit_el, f"{who}: {key} limit must be >= 0, got {limits[key]}")
         return UrdfJoint(name, kind, links["parent"], links["child"], origin, rotation, axis, limits, self.line(el))
 
 

@@ -29,7 +29,7 @@ from .. import _core
 from .._util.arrays import matrix3, number, quaternion, vector
 from ..errors import ArgumentError, ModelError, NotFoundError
 from ..rotations import IDENTITY_QUAT, quat_from_rpy
-from .robot import Robot
+from .robot import Robot, warn_nonphysical_inertia
 
 __all__ = ["RobotBuilder"]
 
@@ -38,8 +38,14 @@ class RobotBuilder:
     """Accumulates a base and links, validating each addition; :meth:`build` returns a
     :class:`~spacearm.Robot`."""
 
-    def __init__(self, name: str, base_mass: float, base_inertia, base_name: str = "base"):
-        self._base = (str(name), str(base_name), number(base_mass, "base_mass"), matrix3(base_inertia, "base_inertia"))
+    def __init__(self, name: str, base_mass: float, base_inertia, base_name: str = "base", *,
+                 allow_nonphysical_inertia: bool = False):
+        """``allow_nonphysical_inertia``: accept inertias whose principal moments break the
+        triangle inequality ``I1 + I2 >= I3`` (refused by default: no real body has them);
+        :meth:`build` then warns once per such body
+        (:class:`~spacearm.errors.NonPhysicalInertiaWarning`). For published identified data."""
+        self._base = (str(name), str(base_name), number(base_mass, "base_mass"), matrix3(base_inertia, "base_inertia"),
+                      bool(allow_nonphysical_inertia))
         self._b = _core.ModelBuilder(*self._base)
         self._base_name = str(base_name)
         self._n_wheels = 0
@@ -52,7 +58,8 @@ class RobotBuilder:
         self._initial_q_by_link: dict = {}  # from from_robot / remove_body: link name -> q
 
     @classmethod
-    def from_robot(cls, robot: Robot, name: Optional[str] = None) -> "RobotBuilder":
+    def from_robot(cls, robot: Robot, name: Optional[str] = None, *,
+                   allow_nonphysical_inertia: Optional[bool] = None) -> "RobotBuilder":
         """A builder holding ``robot``'s model exactly: the base, every link with its joint,
         limits and mass properties, the points, the end effector and the initial ``q``.
 
@@ -61,11 +68,14 @@ class RobotBuilder:
         normalized again on the way in).
         The initial ``q`` is kept per link, so links added or removed afterwards keep the other
         joints' initial values (new joints start at 0) unless :meth:`set_initial_q` is called.
+        ``allow_nonphysical_inertia`` defaults to ``robot``'s own choice.
         """
         if not isinstance(robot, Robot):
             raise ArgumentError(f"from_robot needs a spacearm.Robot, got {type(robot).__name__}")
         d = robot.description
-        b = cls(d.name if name is None else name, d.base.mass, d.base.inertia.tolist(), base_name=d.base.name)
+        allow = robot.allows_nonphysical_inertia if allow_nonphysical_inertia is None else allow_nonphysical_inertia
+        b = cls(d.name if name is None else name, d.base.mass, d.base.inertia.tolist(), base_name=d.base.name,
+                allow_nonphysical_inertia=allow)
         for link in d.links:
             lim = link.limits
             limits = None if link.type == "fixed" else dict(lower=lim.lower, upper=lim.upper, velocity=lim.velocity, effort=lim.effort)
@@ -262,4 +272,4 @@ class RobotBuilder:
             self._b.set_initial_q(self._initial_q)
         elif self._initial_q_by_link:
             self._b.set_initial_q([self._initial_q_by_link.get(link, 0.0) for link in self._moving_links()])
-        return Robot(self._b.build())
+        return warn_nonphysical_inertia(Robot(self._b.build()))

@@ -12,6 +12,9 @@ Grompone & Romano (2018), Front. Robot. AI 5:41 ("the paper").
 
 from __future__ import annotations
 
+import os
+import sys
+import warnings
 from dataclasses import dataclass
 from typing import NamedTuple, Sequence, Union
 
@@ -20,7 +23,7 @@ import numpy as np
 from .. import _core
 from .._util.arrays import quaternion, vector, vector3
 from .description import ModelDescription
-from ..errors import ArgumentError, NotFoundError, ShapeError, SpacearmTypeError
+from ..errors import ArgumentError, NonPhysicalInertiaWarning, NotFoundError, ShapeError, SpacearmTypeError
 
 __all__ = ["Robot", "ExternalWrench", "Kinematics", "Momentum", "InertiaBlocks", "ForwardDynamicsDerivatives", "Linearization"]
 
@@ -95,11 +98,11 @@ class Robot:
 
     # ---- construction -------------------------------------------------------------------
     @staticmethod
-    def builder(name: str, base_mass: float, base_inertia, base_name: str = "base"):
+    def builder(name: str, base_mass: float, base_inertia, base_name: str = "base", *, allow_nonphysical_inertia: bool = False):
         """Start building a model: see :class:`spacearm.model.builder.RobotBuilder`."""
         from .builder import RobotBuilder
 
-        return RobotBuilder(name, base_mass, base_inertia, base_name=base_name)
+        return RobotBuilder(name, base_mass, base_inertia, base_name=base_name, allow_nonphysical_inertia=allow_nonphysical_inertia)
 
     def to_builder(self, name=None):
         """A :class:`~spacearm.model.builder.RobotBuilder` holding this model exactly, to edit
@@ -109,18 +112,19 @@ class Robot:
         return RobotBuilder.from_robot(self, name=name)
 
     @classmethod
-    def from_toml(cls, path) -> "Robot":
-        """Load a model file (schema: ``docs/model-format.md``)."""
+    def from_toml(cls, path, *, allow_nonphysical_inertia: bool = False) -> "Robot":
+        """Load a model file (schema: ``docs/model-format.md``; ``allow_nonphysical_inertia``:
+        see :func:`spacearm.io.model_file.loads_toml`)."""
         from ..io.model_file import load_toml
 
-        return load_toml(path)
+        return load_toml(path, allow_nonphysical_inertia=allow_nonphysical_inertia)
 
     @classmethod
-    def from_toml_string(cls, text: str, source: str = "<string>") -> "Robot":
+    def from_toml_string(cls, text: str, source: str = "<string>", *, allow_nonphysical_inertia: bool = False) -> "Robot":
         """Parse a model from TOML text (schema: ``docs/model-format.md``)."""
         from ..io.model_file import loads_toml
 
-        return loads_toml(text, source=source)
+        return loads_toml(text, source=source, allow_nonphysical_inertia=allow_nonphysical_inertia)
 
     @classmethod
     def from_dh(cls, *args, **kwargs) -> "Robot":
@@ -165,6 +169,18 @@ class Robot:
     @property
     def total_mass(self) -> float:
         return self._m.total_mass
+
+    @property
+    def allows_nonphysical_inertia(self) -> bool:
+        """Whether the model was loaded with ``allow_nonphysical_inertia=True`` (inertias that
+        break the triangle inequality accepted; edited copies keep the choice)."""
+        return self._m.allows_nonphysical_inertia
+
+    @property
+    def inertia_warnings(self) -> list:
+        """One message per body whose inertia breaks the triangle inequality (empty unless
+        the model was loaded with ``allow_nonphysical_inertia=True``)."""
+        return list(self._m.inertia_warnings)
 
     @property
     def body_names(self) -> list:
@@ -414,6 +430,20 @@ class Robot:
         linear momentum ``P`` and angular momentum ``L`` about the origin of 𝒥."""
         return self._m.base_velocity_from_momentum(x, qd, vector3(P, "P"), vector3(L, "L"))
 
+    # ---- capture (docs/capture.md) ---------------------------------------------------------
+    def grasp_impulse(self, x, u, target, target_state, *, point: PointLike = None, grasp=None,
+                      grasp_offset=(0.0, 0.0, 0.0), restitution: float = 0.0, kind: str = "rigid",
+                      normal=None, arm: str = "free"):
+        """The impact of this robot's grasp point with a :class:`spacearm.Target`: a
+        :class:`~spacearm.capture.GraspImpulse` (``du``, ``target_dtwist``, ``impulse``, ...).
+        ``kind="rigid"`` locks the two grasp frames (6-D, plastic); ``kind="point"`` is a
+        frictionless contact along ``normal`` with restitution ``e``. The equations, from the
+        inverse inertia ``G = J H⁻¹ Jᵀ`` of each side, are in :mod:`spacearm.capture.impact`."""
+        from ..capture.impact import grasp_impulse
+
+        return grasp_impulse(self, x, u, target, target_state, point=point, grasp=grasp, grasp_offset=grasp_offset,
+                             restitution=restitution, kind=kind, normal=normal, arm=arm)
+
     # ---- momentum, energy, CM ------------------------------------------------------------
     def momentum(self, x, u) -> Momentum:
         """Linear momentum and angular momentum about the origin, base CM and system CM."""
@@ -592,3 +622,19 @@ class Linearization(NamedTuple):
 
     A: np.ndarray  #: 2(6+N) square
     B: np.ndarray  #: 2(6+N) × N (inputs="joints") or 2(6+N) × (6+N) (inputs="all")
+
+
+def warn_nonphysical_inertia(robot: Robot) -> Robot:
+    """Issue one :class:`~spacearm.errors.NonPhysicalInertiaWarning` per body of ``robot``
+    whose inertia breaks the triangle inequality (loaded under ``allow_nonphysical_inertia``),
+    and return ``robot``. Every loading door calls it; the warnings point at the first line
+    outside the spacearm package (the user's call), however deep the door."""
+    if not robot.inertia_warnings:
+        return robot
+    package = os.path.dirname(sys.modules[__name__.partition(".")[0]].__file__)
+    frame, level = sys._getframe(1), 2  # level 1 is this function, 2 its caller
+    while frame.f_back is not None and frame.f_code.co_filename.startswith(package):
+        frame, level = frame.f_back, level + 1
+    for message in robot.inertia_warnings:
+        warnings.warn(message, NonPhysicalInertiaWarning, stacklevel=level)
+    return robot

@@ -15,7 +15,6 @@ and controllers are described with their equations in ``docs/simulation-core.md`
 
 from __future__ import annotations
 
-import math
 import warnings
 from typing import Callable, Optional, Sequence, Union
 
@@ -26,7 +25,7 @@ from .._util.arrays import vector
 from ..control import Thrusters, _Controller
 from ..errors import ArgumentError, NotFoundError
 
-__all__ = ["simulate", "MODES", "INTEGRATORS", "DEFAULTS"]
+__all__ = ["simulate", "MODES", "INTEGRATORS", "DEFAULTS", "RECORD_DTYPES"]
 
 #: The maneuvering modes (paper Table 1), as the core names them.
 MODES = tuple(_core.MODES)
@@ -86,6 +85,72 @@ def _progress_callable(progress):
     raise ArgumentError(f"progress must be True, False or a callable(fraction), got {progress!r}")
 
 
+#: The dtypes a run can record in (``record_dtype``); the time ``t`` is always float64.
+RECORD_DTYPES = ("float64", "float32")
+
+
+def _check_robot(robot, what: str):
+    from ..model.robot import Robot
+
+    if not isinstance(robot, Robot):
+        raise ArgumentError(f"{what} needs a spacearm.Robot, got {type(robot).__name__}")
+
+
+def _check_duration(duration) -> float:
+    try:
+        return float(duration)
+    except (TypeError, ValueError) as exc:
+        raise ArgumentError(f"duration must be a number of seconds, got {duration!r}") from exc
+
+
+def _check_controller(controller, what: str = "controller"):
+    if controller is not None and not isinstance(controller, _Controller):
+        raise ArgumentError(
+            f"{what} must be None or a spacearm.control controller (JointPD, ComputedTorque, ..., Callback), got {type(controller).__name__}"
+        )
+
+
+def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, record_every, joint_limits, max_steps, record_dtype) -> dict:
+    """The options dict of the core's simulation entry points (``_core.simulate``,
+    ``_core.rollout``, ``_core.Simulator``), every value checked."""
+    if not isinstance(mode, str) or mode not in MODES:
+        raise ArgumentError(f"mode must be one of {list(MODES)}, got {mode!r}")
+    if not isinstance(integrator, str) or integrator not in INTEGRATORS:
+        raise ArgumentError(f"integrator must be one of {list(INTEGRATORS)}, got {integrator!r}")
+    if thrusters is not None and not isinstance(thrusters, Thrusters):
+        raise ArgumentError(f"thrusters must be a spacearm.control.Thrusters, got {type(thrusters).__name__}")
+    for name, value in (("record_every", record_every), ("max_steps", max_steps)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+            raise ArgumentError(f"{name} must be an integer >= 1, got {value!r}")
+    if record_dtype not in RECORD_DTYPES:
+        raise ArgumentError(f"record_dtype must be one of {list(RECORD_DTYPES)}, got {record_dtype!r}")
+    return {
+        "mode": mode,
+        "integrator": integrator,
+        "dt": float(dt) if isinstance(dt, (int, float, np.floating, np.integer)) else dt,
+        "rtol": rtol,
+        "atol": atol,
+        "record_every": int(record_every),
+        "wheels": _wheel_dofs(robot, wheels),
+        "thrusters": None if thrusters is None else thrusters._spec(),
+        "joint_limits": bool(joint_limits),
+        "max_steps": int(max_steps),
+        "record_dtype": record_dtype,
+    }
+
+
+def _warn_dropped(mode: str, meta: dict, stacklevel: int) -> None:
+    """Warn that the mode dropped part of the commanded base wrench, if it did."""
+    dropped = meta["dropped_base_wrench"]
+    if dropped["count"]:
+        warnings.warn(
+            f"mode '{mode}' does not allow part of the base wrench the controller commanded; it was dropped in "
+            f"{dropped['count']} evaluations (largest dropped norm {dropped['max_norm']:.3g}); see meta['dropped_base_wrench']",
+            RuntimeWarning,
+            stacklevel=stacklevel + 1,
+        )
+
+
 def _run(
     robot,
     duration,
@@ -104,45 +169,20 @@ def _run(
     progress: Union[bool, Callable[[float], None]] = False,
     joint_limits: bool = DEFAULTS["joint_limits"],
     max_steps: int = DEFAULTS["max_steps"],
+    record_dtype: str = "float64",
 ):
     """The simulation proper: ``(data, meta)`` dicts of numpy arrays and run description."""
-    from ..model.robot import Robot
-
-    if not isinstance(robot, Robot):
-        raise ArgumentError(f"simulate needs a spacearm.Robot, got {type(robot).__name__}")
-    try:
-        duration = float(duration)
-    except (TypeError, ValueError) as exc:
-        raise ArgumentError(f"duration must be a number of seconds, got {duration!r}") from exc
-    if not isinstance(mode, str) or mode not in MODES:
-        raise ArgumentError(f"mode must be one of {list(MODES)}, got {mode!r}")
-    if not isinstance(integrator, str) or integrator not in INTEGRATORS:
-        raise ArgumentError(f"integrator must be one of {list(INTEGRATORS)}, got {integrator!r}")
+    _check_robot(robot, "simulate")
+    duration = _check_duration(duration)
+    options = _options(
+        robot, mode=mode, integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=wheels, thrusters=thrusters,
+        record_every=record_every, joint_limits=joint_limits, max_steps=max_steps, record_dtype=record_dtype,
+    )
     x0 = robot.neutral_configuration() if x0 is None else vector(x0, "x0")
     u0 = robot.zero_velocity() if u0 is None else vector(u0, "u0")
-    if controller is not None and not isinstance(controller, _Controller):
-        raise ArgumentError(
-            f"controller must be None or a spacearm.control controller (JointPD, ComputedTorque, ..., Callback), got {type(controller).__name__}"
-        )
-    if thrusters is not None and not isinstance(thrusters, Thrusters):
-        raise ArgumentError(f"thrusters must be a spacearm.control.Thrusters, got {type(thrusters).__name__}")
-    for name, value in (("record_every", record_every), ("max_steps", max_steps)):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-            raise ArgumentError(f"{name} must be an integer >= 1, got {value!r}")
+    _check_controller(controller)
     callback, close = _progress_callable(progress)
-    options = {
-        "mode": mode,
-        "integrator": integrator,
-        "dt": float(dt) if isinstance(dt, (int, float, np.floating, np.integer)) else dt,
-        "rtol": rtol,
-        "atol": atol,
-        "record_every": int(record_every),
-        "wheels": _wheel_dofs(robot, wheels),
-        "thrusters": None if thrusters is None else thrusters._spec(),
-        "joint_limits": bool(joint_limits),
-        "max_steps": int(max_steps),
-        "progress": callback,
-    }
+    options["progress"] = callback
     spec = None if controller is None else controller._spec(robot)
     try:
         data = _core.simulate(robot._m, x0, u0, duration, options, spec)
@@ -151,14 +191,7 @@ def _run(
     meta = data.pop("_meta")
     meta["duration"] = duration
     meta["robot"] = robot.name
-    dropped = meta["dropped_base_wrench"]
-    if dropped["count"]:
-        warnings.warn(
-            f"mode '{mode}' does not allow part of the base wrench the controller commanded; it was dropped in "
-            f"{dropped['count']} evaluations (largest dropped norm {dropped['max_norm']:.3g}); see meta['dropped_base_wrench']",
-            RuntimeWarning,
-            stacklevel=3,
-        )
+    _warn_dropped(mode, meta, stacklevel=3)
     return data, meta
 
 
@@ -180,6 +213,7 @@ def simulate(
     progress: Union[bool, Callable[[float], None]] = False,
     joint_limits: bool = DEFAULTS["joint_limits"],
     max_steps: int = DEFAULTS["max_steps"],
+    record_dtype: str = "float64",
 ):
     """Simulate ``robot`` for ``duration`` seconds and return a :class:`~spacearm.sim.trajectory.Trajectory`.
 
@@ -220,6 +254,9 @@ def simulate(
         limits are not enforced).
     max_steps : int
         DOPRI5 step budget.
+    record_dtype : str
+        ``"float64"`` (default) or ``"float32"``: the dtype of the recorded arrays (half the
+        memory; the time ``t`` stays float64). The run itself is float64 either way.
 
     Returns
     -------
@@ -261,7 +298,8 @@ def simulate(
         progress=progress,
         joint_limits=joint_limits,
         max_steps=max_steps,
+        record_dtype=record_dtype,
     )
     from .trajectory import Trajectory
 
-    return Trajectory(robot=robot, data=data, meta=meta)
+    return Trajectory._adopt(robot, data, meta)

@@ -22,7 +22,7 @@ import json
 import math
 import os
 import sys
-from typing import Dict, Iterable, List, NamedTuple, Optional, Sequence, Union
+from typing import Dict, Iterable, List, NamedTuple, Optional, Union
 
 import numpy as np
 
@@ -46,6 +46,8 @@ _PER_SAMPLE = (
     "ee_position", "ee_quat", "reference", "tracking_error", "wheel_speed",
 )
 _EVENTS = ("saturation_t", "saturation_actuator", "saturation_kind")
+# Dtypes of a run's records adopted without conversion (a run may record float32).
+_FLOAT_DTYPES = (np.dtype(np.float64), np.dtype(np.float32))
 
 
 class SaturationEvent(NamedTuple):
@@ -127,6 +129,17 @@ class Trajectory:
     """
 
     def __init__(self, robot=None, data: Optional[dict] = None, meta: Optional[dict] = None):
+        self._init(robot, data, meta, copy=True)
+
+    @classmethod
+    def _adopt(cls, robot, data: dict, meta: dict) -> "Trajectory":
+        """A trajectory that takes the arrays of a run as they are (read-only views, no copy):
+        for the simulation entry points, whose arrays nobody else holds."""
+        traj = cls.__new__(cls)
+        traj._init(robot, data, meta, copy=False)
+        return traj
+
+    def _init(self, robot, data, meta, copy: bool) -> None:
         if data is None:
             raise SpacearmTypeError("Trajectory needs data: a dict of per-sample arrays with at least t, x and u")
         if not isinstance(data, dict):
@@ -136,10 +149,15 @@ class Trajectory:
             raise ShapeError(f"Trajectory data lacks {', '.join(missing)} (needs at least t, x and u)")
         arrays = {}
         for key, value in data.items():
-            try:
-                a = np.array(value, dtype=np.int64 if key in ("saturation_actuator", "saturation_kind") else float)
-            except (TypeError, ValueError) as exc:
-                raise ShapeError(f"Trajectory data '{key}' must be a numeric array") from exc
+            integer = key in ("saturation_actuator", "saturation_kind")
+            if not copy and isinstance(value, np.ndarray) and value.dtype in ((np.dtype(np.int64),) if integer else _FLOAT_DTYPES):
+                # A view: its own read-only flag, the run's memory (float32 records stay float32).
+                a = value.view()
+            else:
+                try:
+                    a = np.array(value, dtype=np.int64 if integer else float)
+                except (TypeError, ValueError) as exc:
+                    raise ShapeError(f"Trajectory data '{key}' must be a numeric array") from exc
             a.setflags(write=False)
             arrays[str(key)] = a
         t, x, u = arrays["t"], arrays["x"], arrays["u"]

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 from typing import List, Optional
 
-import numpy as np
 import sympy as sp
 
 from ..rotations import quat_to_matrix

@@ -62,7 +62,7 @@ def numpy_module(d: Derivation, include: Optional[Iterable[str]] = None) -> str:
         "import numpy",
         "",
         f"N = {d.n_dof}",
-        f"#: Symbolic parameters (the model's values are the defaults).",
+        "#: Symbolic parameters (the model's values are the defaults).",
         f"PARAM_NAMES = {list(d.params.names)!r}",
         f"PARAMS = numpy.array({[float(v) for v in d.params.defaults]!r}, dtype=float)",
     ]

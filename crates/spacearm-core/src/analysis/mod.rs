@@ -24,6 +24,7 @@ pub mod workspace;
 use nalgebra::{DMatrix, DVector};
 
 use crate::error::{Result, SpacearmError};
+use crate::math::dls::{damped_inverse, DampingLaw};
 
 /// The rows of a point twist `[v_x, v_y, v_z, ω_x, ω_y, ω_z]` (in 𝒥) that a task controls or an
 /// analysis looks at. `Task::position()` is the usual choice for a spatial arm, `Task::planar()`
@@ -181,34 +182,17 @@ fn orthonormalize_columns(u: &mut DMatrix<f64>) {
     }
 }
 
-/// Damped least-squares pseudo-inverse `J⁺_λ = Jᵀ (J Jᵀ + λ² E)⁻¹` (n×m) of an m×n Jacobian
-/// (Nakamura & Hanafusa 1986; Wampler 1986). With `λ = 0` it is the Moore–Penrose inverse of a
-/// full-row-rank `J`; it is computed from the SVD as `Σ σᵢ/(σᵢ² + λ²) vᵢ uᵢᵀ`, which also
-/// covers rank-deficient `J` (terms with `σᵢ = 0` vanish, and with `λ = 0` terms below
-/// `1e-12 σ_max` are dropped).
-pub fn dls_pseudo_inverse(j: &DMatrix<f64>, lambda: f64) -> Result<DMatrix<f64>> {
+/// Damped least-squares pseudo-inverse `J⁺_λ` (n×m) of an m×n Jacobian, damped per singular
+/// direction by `law` ([`crate::math::dls`]); [`DampingLaw::none`] gives the Moore–Penrose
+/// inverse, which also covers rank-deficient `J` (directions below `1e-12 σ_max` dropped).
+pub fn dls_pseudo_inverse(j: &DMatrix<f64>, law: &DampingLaw) -> Result<DMatrix<f64>> {
     let svd = Svd::new(j)?;
-    Ok(dls_from_svd(&svd, j.nrows(), j.ncols(), lambda))
+    Ok(dls_from_svd(&svd, law))
 }
 
-/// [`dls_pseudo_inverse`] from an existing decomposition of the m×n matrix.
-pub fn dls_from_svd(svd: &Svd, m: usize, n: usize, lambda: f64) -> DMatrix<f64> {
-    let mut out = DMatrix::zeros(n, m);
-    let cut = 1e-12 * svd.sigma_max();
-    for (i, &s) in svd.singular_values.iter().enumerate() {
-        let w = if lambda > 0.0 {
-            s / (s * s + lambda * lambda)
-        } else if s > cut {
-            1.0 / s
-        } else {
-            0.0
-        };
-        if w == 0.0 {
-            continue;
-        }
-        out += w * svd.v.column(i) * svd.u.column(i).transpose();
-    }
-    out
+/// [`dls_pseudo_inverse`] from an existing decomposition.
+pub fn dls_from_svd(svd: &Svd, law: &DampingLaw) -> DMatrix<f64> {
+    damped_inverse(&svd.u, &svd.singular_values, &svd.v, law)
 }
 
 #[cfg(test)]
@@ -234,13 +218,17 @@ mod tests {
     #[test]
     fn dls_limits() {
         let a = DMatrix::from_row_slice(2, 3, &[1.0, 2.0, 0.0, 0.0, 1.0, 1.0]);
-        let p = dls_pseudo_inverse(&a, 0.0).unwrap();
+        let p = dls_pseudo_inverse(&a, &DampingLaw::none()).unwrap();
         // Moore–Penrose of a full-row-rank matrix: Aᵀ(AAᵀ)⁻¹.
         let mp = a.transpose() * (&a * a.transpose()).try_inverse().unwrap();
         assert!((p - &mp).norm() < 1e-12);
-        let lam = 0.3;
-        let d = dls_pseudo_inverse(&a, lam).unwrap();
-        let direct = a.transpose() * (&a * a.transpose() + DMatrix::identity(2, 2) * lam * lam).try_inverse().unwrap();
+        // Damped per direction: Aᵀ(AAᵀ + Λ)⁻¹ with Λ = U diag(λ²(σᵢ)) Uᵀ from nalgebra's own SVD.
+        let law = DampingLaw::new(10.0, 0.3).unwrap();
+        let d = dls_pseudo_inverse(&a, &law).unwrap();
+        let svd = a.clone().svd(true, false);
+        let u = svd.u.unwrap();
+        let lambda_sq = DMatrix::from_diagonal(&svd.singular_values.map(|s| law.damping_sq(s)));
+        let direct = a.transpose() * (&a * a.transpose() + &u * lambda_sq * u.transpose()).try_inverse().unwrap();
         assert!((d - direct).norm() < 1e-12);
     }
 

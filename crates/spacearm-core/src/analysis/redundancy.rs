@@ -8,8 +8,9 @@
 //!    `q̇₁ = P Ĵ⁺_λ v_d` with `Ĵ = J P`, where `J` is the m×N task Jacobian, `P = E` or, for
 //!    [`Strategy::Reactionless`], the projector onto the reaction null space
 //!    ([`super::reaction_null_space`]): then `ω0 = 0` exactly and the base attitude is not
-//!    disturbed (Nenchev et al. 1999). `Ĵ⁺_λ` is the damped least-squares inverse with the
-//!    damping `λ(σ_min(Ĵ))` of [`super::singularity::DampingLaw`];
+//!    disturbed (Nenchev et al. 1999). `Ĵ⁺_λ` is the damped least-squares inverse of
+//!    [`crate::math::dls`], each singular direction damped by the law `λ(σᵢ)` of
+//!    [`DampingLaw`] (the reported damping is the largest, `λ(σ_min)`);
 //! 2. [`Strategy::MinimumBaseDisturbance`] — the base angular velocity as a second-priority
 //!    task (Nakamura, Hanafusa & Yoshikawa 1987 task priority; Yoshida & Nenchev 1995):
 //!    `q̇₂ = N₁ (Ω N₁)⁺ (−Ω q̇₁)` with `Ω` the angular rows of `−H0⁻¹ H0m` and `N₁ = P − Ĵ⁺Ĵ`;
@@ -31,7 +32,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Rotation3, UnitQuaternion, Vector3, Ve
 
 use super::free_floating_kinematics::{attitude_change, integrate_feedback, ConservedMomentum};
 use super::reaction_null_space::null_space_of;
-use super::singularity::DampingLaw;
+use crate::math::dls::DampingLaw;
 use super::{dls_from_svd, Svd, Task};
 use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
@@ -115,27 +116,22 @@ pub fn rmrc_rates(model: &Model, data: &mut Data, x: &[f64], body: usize, offset
     let svd = Svd::new(&jp)?;
     let sigma_min = svd.sigma_min();
     let lambda = options.damping.damping(sigma_min);
-    let primary = &projector * dls_from_svd(&svd, jp.nrows(), n, lambda) * &v;
+    let primary = &projector * dls_from_svd(&svd, &options.damping) * &v;
     let mut qd = primary.clone();
     // Null space of the primary task within range(P): N₁ = P − Ĵ⁺Ĵ (undamped, rank-cut).
-    let jp_pinv = dls_from_svd(&svd, jp.nrows(), n, 0.0);
+    let jp_pinv = dls_from_svd(&svd, &DampingLaw::none());
     let mut null = &projector - &jp_pinv * &jp;
     if options.strategy == Strategy::MinimumBaseDisturbance {
         let on = &omega_map * &null;
         let svd2 = Svd::new(&on)?;
         // Damped inverse of Ω N₁ (law of module docs with ε = λ_max = 0.01 σ_max(Ω N₁)): base
         // rotations the null space can barely reach are reduced, not chased with huge rates.
+        // Damped per direction, structural zeros (e.g. the in-plane rows of Ω for a planar arm)
+        // are dropped by the rank cut and do not damp the other directions.
         let scale = svd2.sigma_max();
-        // Structural zeros (e.g. the in-plane rows of Ω for a planar arm) are not near-singular
-        // directions: the damping looks at the smallest singular value above 1e-9 σ_max.
-        let sigma_ref = svd2.singular_values.iter().copied().filter(|&v| v > 1e-9 * scale).fold(f64::INFINITY, f64::min);
-        let lambda2 = if scale > 0.0 && sigma_ref.is_finite() {
-            DampingLaw { threshold: 0.01 * scale, max_damping: 0.01 * scale }.damping(sigma_ref)
-        } else {
-            0.0
-        };
-        let on_pinv = dls_from_svd(&svd2, 3, n, lambda2);
-        let on_pinv_exact = dls_from_svd(&svd2, 3, n, 0.0);
+        let law = if scale > 0.0 { DampingLaw { threshold: 0.01 * scale, max_damping: 0.01 * scale } } else { DampingLaw::none() };
+        let on_pinv = dls_from_svd(&svd2, &law);
+        let on_pinv_exact = dls_from_svd(&svd2, &DampingLaw::none());
         qd += &null * &on_pinv * (-(&omega_map * &qd));
         null = &null * (DMatrix::identity(n, n) - &on_pinv_exact * &on);
     }

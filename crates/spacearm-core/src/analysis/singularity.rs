@@ -99,44 +99,8 @@ pub(crate) fn check_has_dofs(model: &Model) -> Result<()> {
     Ok(())
 }
 
-/// The damping law of the damped least-squares inverse near singularities (Nakamura &
-/// Hanafusa 1986; Maciejewski & Klein 1988; Chiaverini 1997):
-/// `λ² = λ_max² (1 − (σ_min/ε)²)` inside the singular region `σ_min < ε`, `λ = 0` outside.
-/// The damping rises smoothly from 0 at `σ_min = ε` to `λ_max` at `σ_min = 0`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DampingLaw {
-    /// Size `ε > 0` of the singular region, in the units of `σ` (m/rad for position rows).
-    pub threshold: f64,
-    /// Damping `λ_max ≥ 0` at the singularity itself.
-    pub max_damping: f64,
-}
-
-impl DampingLaw {
-    /// A law, checked: `threshold` finite and > 0, `max_damping` finite and ≥ 0.
-    pub fn new(threshold: f64, max_damping: f64) -> Result<Self> {
-        if !(threshold.is_finite() && threshold > 0.0) {
-            return Err(SpacearmError::InvalidArgument(format!("the damping threshold ε must be finite and > 0, got {threshold}")));
-        }
-        if !(max_damping.is_finite() && max_damping >= 0.0) {
-            return Err(SpacearmError::InvalidArgument(format!("the maximum damping λ_max must be finite and >= 0, got {max_damping}")));
-        }
-        Ok(DampingLaw { threshold, max_damping })
-    }
-
-    /// No damping at all (plain pseudo-inverse).
-    pub fn none() -> Self {
-        DampingLaw { threshold: 1.0, max_damping: 0.0 }
-    }
-
-    /// `λ(σ_min)`.
-    pub fn damping(&self, sigma_min: f64) -> f64 {
-        if sigma_min >= self.threshold {
-            return 0.0;
-        }
-        let r = (sigma_min.max(0.0) / self.threshold).min(1.0);
-        self.max_damping * (1.0 - r * r).sqrt()
-    }
-}
+/// The damping law, defined once with the damped inverse in [`crate::math::dls`].
+pub use crate::math::dls::DampingLaw;
 
 /// What the singularity detector tells a resolved-motion-rate controller.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -174,20 +138,6 @@ pub fn detect_at(model: &Model, data: &mut Data, x: &[f64], body: usize, offset:
 mod tests {
     use super::*;
     use crate::model::presets;
-
-    #[test]
-    fn damping_law_shape() {
-        let law = DampingLaw::new(0.1, 0.05).unwrap();
-        assert_eq!(law.damping(0.2), 0.0);
-        assert_eq!(law.damping(0.1), 0.0);
-        assert!((law.damping(0.0) - 0.05).abs() < 1e-15);
-        // λ² = λ_max² (1 − (σ/ε)²) at σ = ε/2.
-        let l = law.damping(0.05);
-        assert!((l * l - 0.05f64.powi(2) * 0.75).abs() < 1e-15);
-        assert!(DampingLaw::new(0.0, 1.0).is_err());
-        assert!(DampingLaw::new(1.0, -1.0).is_err());
-        assert!(DampingLaw::new(f64::NAN, 1.0).is_err());
-    }
 
     #[test]
     fn attitude_does_not_change_singular_values() {

@@ -31,7 +31,7 @@ use crate::math::spatial::{angular, linear};
 
 use super::attitude::AttitudeControl;
 use super::computed_torque::ReducedInverseDynamics;
-use super::rmrc::damped_solve;
+use crate::math::dls::{damped_gram_solve, DampingLaw};
 use super::{positive, Command, ControlContext, Controller, TrackingKind};
 
 /// Gains of [`CoordinatedFlying`] (acceleration level, 1/s² and 1/s).
@@ -150,7 +150,7 @@ impl Controller for CoordinatedFlying {
         }
         positive("coordinated flying threshold", self.threshold)?;
         if !(self.damping.is_finite() && self.damping >= 0.0) {
-            return Err(SpacearmError::argument(format!("coordinated flying damping must be finite and >= 0, got {}", self.damping)));
+            return Err(SpacearmError::argument(format!("coordinated flying max_damping must be finite and >= 0, got {}", self.damping)));
         }
         check_body(ctx.plant, self.body)?;
         if let Some((_, q)) = self.base_ref {
@@ -213,7 +213,7 @@ impl Controller for CoordinatedFlying {
         for &dof in &self.arm {
             jjt += self.jac[dof] * self.jac[dof].transpose();
         }
-        let (z, _) = damped_solve(&jjt, &rhs, self.damping, self.threshold);
+        let (z, _) = damped_gram_solve(&jjt, &rhs, &DampingLaw { threshold: self.threshold, max_damping: self.damping });
         for &dof in &self.arm {
             self.qdd[dof] = self.jac[dof].dot(&z);
         }

@@ -73,11 +73,18 @@ pub fn perturbed_model(model: &Model, base_mass_scale: f64, base_inertia_scale: 
             m0 *= 1.0 - fraction;
         }
     }
-    let base = MassProperties::new(ModelItem::Base, &format!("perturbed base '{}'", model.base_name()), m0, i0, true)?;
+    // The copy accepts what the model accepted (published inertias that break the triangle
+    // inequality stay loadable when perturbed), with the perturbed bodies' own warnings.
+    let rule = model.triangle_inequality();
+    let (base, warning) = MassProperties::checked(ModelItem::Base, &format!("perturbed base '{}'", model.base_name()), m0, i0, true, rule)?;
+    let mut warnings: Vec<String> = warning.into_iter().collect();
     let mut links = model.links().to_vec();
     for (k, link) in links.iter_mut().enumerate() {
         let who = format!("perturbed link '{}'", link.name);
-        link.mass = MassProperties::new(ModelItem::Link(k), &who, link.mass.mass * link_mass_scale, link.mass.inertia * link_mass_scale, false)?;
+        let (mass, warning) =
+            MassProperties::checked(ModelItem::Link(k), &who, link.mass.mass * link_mass_scale, link.mass.inertia * link_mass_scale, false, rule)?;
+        link.mass = mass;
+        warnings.extend(warning);
         if link.parent == 0 {
             link.joint.origin_in_parent -= cm_shift;
         }
@@ -96,7 +103,8 @@ pub fn perturbed_model(model: &Model, base_mass_scale: f64, base_inertia_scale: 
         points,
         model.end_effector(),
         Some(model.initial_q().to_vec()),
-    )?)
+    )?
+    .with_triangle_inequality(rule, warnings))
 }
 
 #[cfg(test)]
@@ -104,6 +112,20 @@ mod tests {
     use super::*;
     use crate::algorithms::momentum::center_of_mass;
     use crate::Data;
+
+    #[test]
+    fn perturbed_copies_keep_the_triangle_inequality_rule() {
+        use crate::model::TriangleInequality;
+        let published = crate::model::presets::ets7_with(TriangleInequality::Warn);
+        let m = perturbed_model(&published, 1.1, 0.9, 1.05, Slosh::None).unwrap();
+        assert_eq!(m.triangle_inequality(), TriangleInequality::Warn);
+        assert_eq!(m.inertia_warnings().len(), 3);
+        assert!(m.inertia_warnings()[0].contains("perturbed link 'link1'"));
+        // A physical model stays strict and silent.
+        let strict = perturbed_model(&crate::model::presets::ets7(), 1.1, 0.9, 1.05, Slosh::None).unwrap();
+        assert_eq!(strict.triangle_inequality(), TriangleInequality::Enforce);
+        assert!(strict.inertia_warnings().is_empty());
+    }
 
     #[test]
     fn moving_slosh_mass_keeps_total_mass_and_shifts_the_base_cm() {

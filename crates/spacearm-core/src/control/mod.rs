@@ -106,7 +106,10 @@ pub struct ControlContext<'a> {
 }
 
 /// A control law evaluated inside the integration loop.
-pub trait Controller {
+///
+/// `Send`, so that a controller can move to the thread that runs its simulation (batch
+/// rollouts, [`crate::sim::rollout`]); each run owns its controller, nothing is shared.
+pub trait Controller: Send {
     /// Short name for the records (`"joint_pd"`, `"computed_torque"`, ...).
     fn name(&self) -> &str;
 
@@ -137,6 +140,32 @@ pub trait Controller {
     /// conserve the kinetic energy).
     fn is_torque_free(&self) -> bool {
         false
+    }
+}
+
+/// A borrowed controller is a controller: [`crate::sim::simulate::Plant`] owns a boxed
+/// controller, and this lets it run one the caller keeps.
+impl<C: Controller + ?Sized> Controller for &mut C {
+    fn name(&self) -> &str {
+        (**self).name()
+    }
+    fn setup(&mut self, ctx: &ControlContext<'_>) -> Result<()> {
+        (**self).setup(ctx)
+    }
+    fn command(&mut self, t: f64, x: &[f64], u: &[f64], out: &mut Command) -> Result<()> {
+        (**self).command(t, x, u, out)
+    }
+    fn reference_len(&self) -> usize {
+        (**self).reference_len()
+    }
+    fn tracking(&self) -> Option<TrackingKind> {
+        (**self).tracking()
+    }
+    fn reports_attitude_error(&self) -> bool {
+        (**self).reports_attitude_error()
+    }
+    fn is_torque_free(&self) -> bool {
+        (**self).is_torque_free()
     }
 }
 

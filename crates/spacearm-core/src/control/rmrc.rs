@@ -6,13 +6,13 @@
 //! generalized to `M0 ≠ 0`, plus the wheels' `J*_W q̇_W`). The arm's joint-rate command is
 //! `q̇_cmd = Jᵀ (J Jᵀ + λ² E)⁻¹ (ṗ_ref + K (p_ref − p) − v_drift)` with `J` the columns of
 //! `J*_T` of the arm joints. The damping follows the singular values `σᵢ` of `J` (Nakamura &
-//! Hanafusa 1986; Chiaverini 1997), applied per singular direction ([`damped_solve`]):
+//! Hanafusa 1986; Chiaverini 1997), applied per singular direction (the one damped inverse, [`crate::math::dls`]):
 //! `λ²(σ) = λ_max² (1 − (σ/ε)²)` for `σ < ε`, `0` otherwise — the exact pseudo-inverse away from
 //! singularities, bounded joint rates near them, and no damping of the directions that are
 //! well conditioned (a planar arm keeps exact tracking in its plane although `J` has rank 2). The joints follow `q̇_cmd` through the
 //! reduced EOM (a computed-torque velocity loop): `τ = H* K_v (q̇_cmd − q̇) + c*`.
 
-use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+use nalgebra::{Matrix3, Vector3};
 
 use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
@@ -20,41 +20,11 @@ use crate::gjm::{compute_generalized_jacobian, momentum_twist};
 use crate::algorithms::kinematics::{check_body, point_position};
 use crate::model::Model;
 use crate::algorithms::momentum::momentum;
+use crate::math::dls::{damped_gram_solve, DampingLaw};
 use crate::sim::reference::CartesianLine;
 
 use super::computed_torque::ReducedInverseDynamics;
 use super::{positive, Command, ControlContext, Controller, TrackingKind};
-
-/// `λ² = λ_max² (1 − (σ_min/ε)²)` below the threshold `ε`, else 0.
-fn damping_sq(lambda_max: f64, threshold: f64, sigma_min: f64) -> f64 {
-    if sigma_min < threshold {
-        lambda_max * lambda_max * (1.0 - (sigma_min / threshold).powi(2))
-    } else {
-        0.0
-    }
-}
-
-/// `z = (J Jᵀ + Λ)⁻¹ v` with the damping applied per singular direction: with
-/// `J Jᵀ = Σ σᵢ² uᵢ uᵢᵀ`, `z = Σ uᵢ (uᵢ·v) / (σᵢ² + λ²(σᵢ))`. Directions with `σᵢ ≥ ε` are solved
-/// exactly, the others damped more the smaller `σᵢ` (the least-squares damping of Nakamura &
-/// Hanafusa applied to each singular value; a direction with `σᵢ = λ = 0` is dropped, `Jᵀ uᵢ = 0`
-/// there). Returns `z` and the largest `λ²` used.
-pub(crate) fn damped_solve(jjt: &Matrix3<f64>, v: &Vector3<f64>, lambda_max: f64, threshold: f64) -> (Vector3<f64>, f64) {
-    let eig = SymmetricEigen::new(*jjt);
-    let mut z = Vector3::zeros();
-    let mut worst = 0.0_f64;
-    for i in 0..3 {
-        let sigma = eig.eigenvalues[i].max(0.0).sqrt();
-        let lambda_sq = damping_sq(lambda_max, threshold, sigma);
-        worst = worst.max(lambda_sq);
-        let denom = sigma * sigma + lambda_sq;
-        if denom > 0.0 {
-            let ui = eig.eigenvectors.column(i);
-            z += ui * (ui.dot(v) / denom);
-        }
-    }
-    (z, worst)
-}
 
 /// Resolved-motion-rate control along a Cartesian line.
 #[derive(Debug, Clone)]
@@ -101,7 +71,12 @@ impl ResolvedMotionRate {
     /// The damping law: `λ²` for a smallest singular value `sigma_min` (the same expression
     /// as in [`Controller::command`]).
     pub fn damping_sq(&self, sigma_min: f64) -> f64 {
-        damping_sq(self.damping, self.threshold, sigma_min)
+        self.law().damping_sq(sigma_min)
+    }
+
+    /// The damped-least-squares law of [`crate::math::dls`] (checked in `setup`).
+    fn law(&self) -> DampingLaw {
+        DampingLaw { threshold: self.threshold, max_damping: self.damping }
     }
 }
 
@@ -115,7 +90,7 @@ impl Controller for ResolvedMotionRate {
         positive("resolved-motion-rate threshold", self.threshold)?;
         positive("resolved-motion-rate velocity_gain", self.velocity_gain)?;
         if !(self.damping.is_finite() && self.damping >= 0.0) {
-            return Err(SpacearmError::argument(format!("resolved-motion-rate damping must be finite and >= 0, got {}", self.damping)));
+            return Err(SpacearmError::argument(format!("resolved-motion-rate max_damping must be finite and >= 0, got {}", self.damping)));
         }
         check_body(ctx.plant, self.body)?;
         crate::error::check_finite("resolved-motion-rate point offset", self.offset.as_slice())?;
@@ -153,7 +128,8 @@ impl Controller for ResolvedMotionRate {
             let c = Vector3::new(js[(0, d)], js[(1, d)], js[(2, d)]);
             jjt += c * c.transpose();
         }
-        let (z, lambda_sq) = damped_solve(&jjt, &v_cmd, self.damping, self.threshold);
+        let law = DampingLaw { threshold: self.threshold, max_damping: self.damping };
+        let (z, lambda_sq) = damped_gram_solve(&jjt, &v_cmd, &law);
         self.last_damping_sq = lambda_sq;
         for (i, &d) in self.arm.iter().enumerate() {
             let qd_cmd = js[(0, d)] * z.x + js[(1, d)] * z.y + js[(2, d)] * z.z;
@@ -177,7 +153,6 @@ impl Controller for ResolvedMotionRate {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::{Matrix2, Vector2};
 
     #[test]
     fn damping_rises_as_the_smallest_singular_value_falls() {
@@ -188,21 +163,5 @@ mod tests {
         assert!((c.damping_sq(0.0) - 0.01).abs() < 1e-15);
         let (a, b) = (c.damping_sq(0.04), c.damping_sq(0.01));
         assert!(a > 0.0 && b > a && b < 0.01);
-    }
-
-    #[test]
-    fn damped_solve_is_exact_when_well_conditioned_and_damps_only_weak_directions() {
-        let m = Matrix3::new(2.0, 0.3, 0.1, 0.3, 1.5, -0.2, 0.1, -0.2, 1.0);
-        let v = Vector3::new(0.4, -1.0, 0.7);
-        let (z, l) = damped_solve(&m, &v, 0.1, 0.5);
-        assert_eq!(l, 0.0);
-        assert!((m * z - v).norm() < 1e-13);
-        // Rank 2 (a planar arm): the in-plane part is solved exactly, the normal one dropped.
-        let planar = Matrix3::new(2.0, 0.3, 0.0, 0.3, 1.5, 0.0, 0.0, 0.0, 0.0);
-        let (z, l) = damped_solve(&planar, &v, 0.1, 0.5);
-        assert!((l - 0.01).abs() < 1e-15);
-        let exact = Matrix2::new(2.0, 0.3, 0.3, 1.5).try_inverse().unwrap() * Vector2::new(v.x, v.y);
-        assert!((z.x - exact.x).abs() < 1e-13 && (z.y - exact.y).abs() < 1e-13);
-        assert!((z.z - v.z / 0.01).abs() < 1e-9);
     }
 }

@@ -46,7 +46,7 @@ use crate::error::{ModelError, ModelField, ModelItem, Result, SpacearmError};
 use crate::io::dh::{ClassicDhLink, DhArm, DhTable, PaperDhLink};
 use crate::model::joint::{JointLimits, JointType};
 use crate::math::rotations::xyzw_from_rpy;
-use crate::model::{LinkSpec, Model, ModelBuilder};
+use crate::model::{LinkSpec, Model, ModelBuilder, TriangleInequality};
 
 /// The file format version written by [`model_to_toml`] and accepted by the reader
 /// (`[model] format_version`, optional).
@@ -320,9 +320,15 @@ fn rotation_xyzw(
 /// Parse a model from TOML text. `source` names the text in error messages (a file name, or
 /// `"<string>"`). See the module docs and `docs/model-format.md`.
 pub fn model_from_toml_str(text: &str, source: &str) -> Result<Model> {
+    model_from_toml_str_with(text, source, TriangleInequality::Enforce)
+}
+
+/// As [`model_from_toml_str`], choosing what an inertia that breaks the triangle inequality
+/// does (refused, or accepted with a warning: see [`TriangleInequality`]).
+pub fn model_from_toml_str_with(text: &str, source: &str, triangle_inequality: TriangleInequality) -> Result<Model> {
     let ctx = Ctx { text, source };
     let doc: FileDoc = toml::from_str(text).map_err(|e| ctx.at(e.span(), e.message()))?;
-    build(&ctx, doc)
+    build(&ctx, doc, triangle_inequality)
 }
 
 /// Read a model file (UTF-8 TOML). I/O and decoding errors are [`SpacearmError::Parse`] too.
@@ -405,7 +411,7 @@ impl Located<'_> {
     }
 }
 
-fn build(ctx: &Ctx<'_>, doc: FileDoc) -> Result<Model> {
+fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -> Result<Model> {
     let model_doc = doc.model.get_ref();
     if let Some(v) = &model_doc.format_version {
         if *v.get_ref() != FORMAT_VERSION {
@@ -454,7 +460,8 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc) -> Result<Model> {
     };
     let base_inertia = inertia_from_value(base_doc.inertia.get_ref()).map_err(|m| ctx.err(&sp(&base_doc.inertia), format!("base '{base_name}': {m}")))?;
     let name = model_doc.name.get_ref();
-    let mut builder = ModelBuilder::new(name, &base_name, *base_doc.mass.get_ref(), base_inertia).map_err(|e| at.err(e))?;
+    let mut builder = ModelBuilder::with_triangle_inequality(name, &base_name, *base_doc.mass.get_ref(), base_inertia, triangle_inequality)
+        .map_err(|e| at.err(e))?;
 
     // A DH arm first (its links can carry further [[link]]s and [[point]]s).
     if let Some(dh) = &doc.dh {

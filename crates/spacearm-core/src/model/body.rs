@@ -13,6 +13,24 @@ pub const INERTIA_TOLERANCE: f64 = 1e-9;
 /// units mistake, and it would overflow the eigenvalue analysis that checks the tensor.
 pub const MAX_INERTIA_ENTRY: f64 = 1e100;
 
+/// The option that loads inertias breaking the triangle inequality, by the name it has in Rust,
+/// Python (keyword argument) and, with dashes, on the command line. The refusal names it.
+pub const ALLOW_NONPHYSICAL_INERTIA: &str = "allow_nonphysical_inertia";
+
+/// What [`MassProperties::checked`] does with an inertia tensor whose principal moments break
+/// the triangle inequality `I1 + I2 >= I3`. Only that rule can be relaxed: symmetry and positive
+/// semi-definiteness are what the dynamics need (a positive definite mass matrix), while the
+/// triangle inequality only says the moments come from a real mass distribution. Identified
+/// inertias published for flown robots break it (ETS-VII), hence the option.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum TriangleInequality {
+    /// Refuse such a tensor (the default).
+    #[default]
+    Enforce,
+    /// Accept it, with a warning naming the body (the option [`ALLOW_NONPHYSICAL_INERTIA`]).
+    Warn,
+}
+
 /// Mass and rotational inertia of a rigid body, the inertia taken about its centre of mass and
 /// expressed in the body frame.
 #[derive(Debug, Clone, PartialEq)]
@@ -29,6 +47,20 @@ impl MassProperties {
     /// positive semi-definite (definite for the base) and obeying the triangle inequality.
     /// `item` and `who` say which body it is, in the error's location and message.
     pub fn new(item: ModelItem, who: &str, mass: f64, inertia: Matrix3<f64>, require_positive_mass: bool) -> Result<Self, ModelError> {
+        Self::checked(item, who, mass, inertia, require_positive_mass, TriangleInequality::Enforce).map(|(m, _)| m)
+    }
+
+    /// As [`MassProperties::new`], with the triangle inequality enforced or, under
+    /// [`TriangleInequality::Warn`], reported: the second value is then the warning's text when
+    /// the tensor breaks it.
+    pub fn checked(
+        item: ModelItem,
+        who: &str,
+        mass: f64,
+        inertia: Matrix3<f64>,
+        require_positive_mass: bool,
+        triangle: TriangleInequality,
+    ) -> Result<(Self, Option<String>), ModelError> {
         let mass_error = |m: String| ModelError::new(item, ModelField::Mass, m);
         let inertia_error = |m: String| ModelError::new(item, ModelField::Inertia, m);
         if !mass.is_finite() {
@@ -81,12 +113,22 @@ impl MassProperties {
         }
         // A physical body's principal moments obey I_a + I_b >= I_c (the second moments of
         // mass are non-negative).
+        let mut warning = None;
         if a + b < c - tol {
-            return Err(inertia_error(format!(
+            let broken = format!(
                 "{who}: principal moments [{a:.6e}, {b:.6e}, {c:.6e}] kg·m² violate the triangle inequality I1 + I2 >= I3 of a physical body"
-            )));
+            );
+            match triangle {
+                TriangleInequality::Enforce => {
+                    return Err(inertia_error(format!(
+                        "{broken}; to load published data that break it anyway, pass {ALLOW_NONPHYSICAL_INERTIA}=True \
+                         (command line: --allow-nonphysical-inertia)"
+                    )))
+                }
+                TriangleInequality::Warn => warning = Some(format!("{broken}; loaded anyway ({ALLOW_NONPHYSICAL_INERTIA})")),
+            }
         }
-        Ok(MassProperties { mass, inertia: sym })
+        Ok((MassProperties { mass, inertia: sym }, warning))
     }
 
     /// Inertia of a solid box of the given side lengths about its centre, in its own axes.
@@ -124,7 +166,15 @@ mod tests {
         assert_eq!((e.item, e.field), (ModelItem::Link(2), ModelField::Mass));
         let e = MassProperties::new(ModelItem::Link(2), "l", 1.0, tri, false).unwrap_err();
         assert_eq!((e.item, e.field), (ModelItem::Link(2), ModelField::Inertia));
+        assert!(e.message.contains(ALLOW_NONPHYSICAL_INERTIA), "{e}");
+        let (m, warning) = MassProperties::checked(ModelItem::Link(2), "l", 1.0, tri, false, TriangleInequality::Warn).unwrap();
+        assert_eq!(m.inertia, tri);
+        assert!(warning.unwrap().contains("triangle"));
+        let (_, warning) = MassProperties::checked(ModelItem::Link(2), "l", 1.0, ok, false, TriangleInequality::Warn).unwrap();
+        assert!(warning.is_none());
         let neg = Matrix3::from_diagonal(&nalgebra::Vector3::new(-1.0, 1.0, 1.0));
+        // Only the triangle inequality is relaxed.
+        assert!(MassProperties::checked(ModelItem::Base, "b", 2.0, neg, false, TriangleInequality::Warn).is_err());
         assert!(MassProperties::new(ModelItem::Base, "b", 2.0, neg, false).unwrap_err().to_string().contains("semi-definite"));
         assert!(MassProperties::new(ModelItem::Base, "base", 0.0, ok, true).unwrap_err().to_string().contains("> 0"));
         assert!(MassProperties::new(ModelItem::Base, "l", -1.0, ok, false).unwrap_err().to_string().contains(">= 0"));

@@ -5,7 +5,7 @@
 use nalgebra::Matrix3;
 
 use crate::error::{ModelError, ModelField, ModelItem};
-use crate::model::body::MassProperties;
+use crate::model::body::{MassProperties, TriangleInequality};
 use crate::model::joint::{JointLimits, JointType};
 use crate::model::system::{Link, Model, Point};
 use crate::model::validate;
@@ -50,6 +50,9 @@ pub struct ModelBuilder {
     points: Vec<Point>,
     end_effector: Option<String>,
     initial_q: Option<Vec<f64>>,
+    triangle_inequality: TriangleInequality,
+    /// Warnings of the bodies accepted under [`TriangleInequality::Warn`].
+    inertia_warnings: Vec<String>,
 }
 
 fn matrix3(rows: &[[f64; 3]; 3]) -> Matrix3<f64> {
@@ -59,8 +62,23 @@ fn matrix3(rows: &[[f64; 3]; 3]) -> Matrix3<f64> {
 impl ModelBuilder {
     /// Start a model with its base: mass (kg, > 0) and inertia about the base CM in base axes.
     pub fn new(name: &str, base_name: &str, base_mass: f64, base_inertia: [[f64; 3]; 3]) -> Result<Self, ModelError> {
+        Self::with_triangle_inequality(name, base_name, base_mass, base_inertia, TriangleInequality::Enforce)
+    }
+
+    /// As [`ModelBuilder::new`], choosing what every body's inertia that breaks the triangle
+    /// inequality does: refused ([`TriangleInequality::Enforce`], the default) or accepted with a
+    /// warning kept in [`Model::inertia_warnings`] ([`TriangleInequality::Warn`], the option
+    /// `allow_nonphysical_inertia` of the other doors).
+    pub fn with_triangle_inequality(
+        name: &str,
+        base_name: &str,
+        base_mass: f64,
+        base_inertia: [[f64; 3]; 3],
+        triangle_inequality: TriangleInequality,
+    ) -> Result<Self, ModelError> {
         validate::non_empty_name(ModelItem::Base, ModelField::Name, "base name", base_name)?;
-        let base = MassProperties::new(ModelItem::Base, &format!("base '{base_name}'"), base_mass, matrix3(&base_inertia), true)?;
+        let (base, warning) =
+            MassProperties::checked(ModelItem::Base, &format!("base '{base_name}'"), base_mass, matrix3(&base_inertia), true, triangle_inequality)?;
         Ok(ModelBuilder {
             name: name.to_string(),
             base_name: base_name.to_string(),
@@ -69,6 +87,8 @@ impl ModelBuilder {
             points: Vec::new(),
             end_effector: None,
             initial_q: None,
+            triangle_inequality,
+            inertia_warnings: warning.into_iter().collect(),
         })
     }
 
@@ -118,7 +138,8 @@ impl ModelBuilder {
             self.links.iter().map(|l| l.joint.name.as_str()),
         )?;
         validate::joint_limits(item, &format!("joint '{joint_name}' of link '{}'", spec.name), &spec.limits)?;
-        let mass = MassProperties::new(item, &who, spec.mass, matrix3(&spec.inertia), false)?;
+        let (mass, warning) = MassProperties::checked(item, &who, spec.mass, matrix3(&spec.inertia), false, self.triangle_inequality)?;
+        self.inertia_warnings.extend(warning);
         self.links.push(Link::from_spec(spec, parent, rotation, axis, mass));
         Ok(self)
     }
@@ -162,7 +183,7 @@ impl ModelBuilder {
                 ModelError::new(ModelItem::Model, ModelField::EndEffector, format!("end effector '{n}' is not a defined point; points: {names:?}"))
             })?),
         };
-        Model::new(
+        Ok(Model::new(
             self.name.clone(),
             self.base_name.clone(),
             self.base.clone(),
@@ -170,7 +191,8 @@ impl ModelBuilder {
             self.points.clone(),
             ee,
             self.initial_q.clone(),
-        )
+        )?
+        .with_triangle_inequality(self.triangle_inequality, self.inertia_warnings.clone()))
     }
 }
 

@@ -14,6 +14,7 @@ pub mod presets;
 pub mod system;
 pub mod validate;
 
+pub use body::TriangleInequality;
 pub use builder::{LinkSpec, ModelBuilder};
 pub use data::{Data, DataT};
 pub use system::{Link, Model, Point};

@@ -1,20 +1,22 @@
 //! The preset models. `planar4` carries exactly the planar values of SPART's `ResolvedMotion`
-//! example; `spatial6`, `dual_arm` and `spatial7` are defined by this project. None of them is
-//! the case study of Wilde et al. (2018), whose parameters are not available. The Python
-//! presets (`spacearm.presets`) are these same models.
+//! example; `spatial6`, `dual_arm` and `spatial7` are defined by this project; `ets7` is the
+//! flown ETS-VII robot from published parameters (see [`ets7`]). None of them is the case study
+//! of Wilde et al. (2018), whose parameters are not available. The Python presets
+//! (`spacearm.presets`) are these same models.
 //!
-//! Both follow the paper's link convention: every link frame aligns with the base frame at
+//! The project-defined ones follow the paper's link convention: every link frame aligns with the base frame at
 //! `q = 0`, links extend along their x axis with the CM at mid-length, and joint `i+1` sits at
 //! the tip of link `i`; the end effector is the tip of the last link.
 
-use std::f64::consts::FRAC_PI_4;
+use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
 use crate::error::Result;
+use crate::math::rotations::xyzw_from_rpy;
 use crate::model::joint::{JointLimits, JointType};
-use crate::model::{LinkSpec, Model, ModelBuilder};
+use crate::model::{LinkSpec, Model, ModelBuilder, TriangleInequality};
 
 /// Names of the presets, as accepted by [`by_name`].
-pub const NAMES: [&str; 4] = ["planar4", "spatial6", "dual_arm", "spatial7"];
+pub const NAMES: [&str; 5] = ["planar4", "spatial6", "dual_arm", "spatial7", "ets7"];
 
 /// Inertia of a square bar of length `l` along x and side `w`: `Ixx = m w²/6`,
 /// `Iyy = Izz = m (l² + w²)/12`.
@@ -174,13 +176,127 @@ pub fn spatial7() -> Model {
     .expect("the spatial7 preset is a valid model")
 }
 
+/// One ETS-VII arm link as transcribed: joint origin (m) and roll-pitch-yaw (rad) of the joint
+/// frame in the parent link frame, mass (kg), principal moments (Ixx, Iyy, Izz) about the link
+/// frame origin (kg·m²; the products of inertia are zero in the transcription).
+struct Ets7Link {
+    origin: [f64; 3],
+    rpy: [f64; 3],
+    mass: f64,
+    moments: [f64; 3],
+}
+
+/// The ETS-VII arm as transcribed (see [`ets7`]). The transcription's angles 3.1416, 1.5708 and
+/// 1.570796 rad are read as π and π/2.
+const ETS7_LINKS: [Ets7Link; 6] = [
+    Ets7Link { origin: [-0.79, -0.29, 1.0], rpy: [0.0, 0.0, PI], mass: 35.0, moments: [0.25, 0.25, 1.69] },
+    Ets7Link { origin: [0.0, -0.275, 0.35], rpy: [-FRAC_PI_2, 0.0, 0.0], mass: 22.5, moments: [0.1, 1.31, 3.75] },
+    Ets7Link { origin: [0.0, -0.87, 0.0], rpy: [0.0, 0.0, 0.0], mass: 21.9, moments: [0.1, 0.71, 2.53] },
+    Ets7Link { origin: [-0.63, 0.0, 0.0], rpy: [0.0, 0.0, 0.0], mass: 16.5, moments: [0.15, 0.15, 0.073] },
+    Ets7Link { origin: [0.0, 0.0, 0.26], rpy: [FRAC_PI_2, 0.0, 0.0], mass: 26.0, moments: [0.15, 0.15, 0.13] },
+    Ets7Link { origin: [0.0, 0.0, 0.28], rpy: [0.0, -FRAC_PI_2, 0.0], mass: 18.5, moments: [0.97, 0.97, 0.26] },
+];
+
+/// ETS-VII base (the satellite): mass, kg, and inertia about its CM in its axes, kg·m².
+const ETS7_BASE_MASS: f64 = 2550.0;
+const ETS7_BASE_INERTIA: [[f64; 3]; 3] = [[6200.0, 48.2, 78.5], [48.2, 3540.0, -29.2], [78.5, -29.2, 7090.0]];
+
+/// End effector: on link 6's z axis, 0.53 m from its frame origin.
+const ETS7_END_EFFECTOR: [f64; 3] = [0.0, 0.0, 0.53];
+
+/// The smallest physical correction of diagonal moments `(Ixx, Iyy, Izz)` (about principal
+/// axes) that break the triangle inequality. The moments imply the second moments of mass
+/// `Sxx = ∫x² dm = (Iyy + Izz − Ixx)/2` and cyclically; a broken inequality `Ixx + Iyy < Izz` is
+/// a negative `Szz`. The correction sets that second moment to zero and keeps the other two, so
+/// the body becomes flat in the plane where the data put it: it raises the two smaller moments by
+/// the same `δ = (Izz − Ixx − Iyy)/2` and keeps the largest (for ETS-VII links 1–3, the moment
+/// about the joint axis z) and their difference. Physical moments are returned unchanged.
+pub fn flatten_negative_second_moment(moments: [f64; 3]) -> [f64; 3] {
+    let mut out = moments;
+    let largest = (1..3).fold(0, |l, k| if moments[k] > moments[l] { k } else { l });
+    let sum: f64 = moments.iter().sum();
+    let deficit = moments[largest] - (sum - moments[largest]);
+    if deficit > 0.0 {
+        for (k, m) in out.iter_mut().enumerate() {
+            if k != largest {
+                *m += deficit / 2.0;
+            }
+        }
+    }
+    out
+}
+
+/// ETS-VII (Engineering Test Satellite VII, flown 1997–1999): a 6-DOF arm on a 2.55 t satellite.
+///
+/// Sources: kinematics from K. Yoshida, "Engineering test satellite VII flight experiments for
+/// space robot dynamics and control", Int. J. Robotics Research 22(5):321–335, 2003; inertial
+/// parameters from K. Yoshida and S. Abiko, "Inertia parameter identification for a free-flying
+/// space robot", AIAA GNC Conference, 2002; both as transcribed in S. Vyas's public URDF
+/// ("TraceableRobotModels", 2020). The transcription puts each link's CM at its link (joint)
+/// frame origin, so every `com` is zero and each joint origin is measured from the parent's CM;
+/// these are the transcribed values of the papers, with that CM simplification, not a flight
+/// dataset. All six joints are revolute about their frame's z; no joint limits; the end
+/// effector is 0.53 m along link 6's z axis; initial angles zero (a non-singular pose).
+///
+/// The transcribed moments of links 1, 2 and 3 — (0.25, 0.25, 1.69), (0.1, 1.31, 3.75) and
+/// (0.1, 0.71, 2.53) kg·m² — break the triangle inequality. `TriangleInequality::Enforce` (the
+/// default preset) corrects them by [`flatten_negative_second_moment`] to (0.845, 0.845, 1.69),
+/// (1.27, 2.48, 3.75) and (0.96, 1.57, 2.53); `TriangleInequality::Warn` keeps the published
+/// values and records a warning per link in [`Model::inertia_warnings`].
+pub fn ets7_with(triangle_inequality: TriangleInequality) -> Model {
+    let build = || -> Result<Model> {
+        let mut b = ModelBuilder::with_triangle_inequality("ets7", "base", ETS7_BASE_MASS, ETS7_BASE_INERTIA, triangle_inequality)?;
+        let mut parent = "base".to_string();
+        for (i, link) in ETS7_LINKS.iter().enumerate() {
+            let [ixx, iyy, izz] = match triangle_inequality {
+                TriangleInequality::Enforce => flatten_negative_second_moment(link.moments),
+                TriangleInequality::Warn => link.moments,
+            };
+            let name = format!("link{}", i + 1);
+            b.add_link(LinkSpec {
+                name: name.clone(),
+                parent: parent.clone(),
+                joint_name: Some(format!("joint{}", i + 1)),
+                kind: JointType::Revolute,
+                origin_in_parent: link.origin,
+                rotation_in_parent: xyzw_from_rpy(&link.rpy),
+                axis: [0.0, 0.0, 1.0],
+                com_from_joint: [0.0; 3],
+                mass: link.mass,
+                inertia: [[ixx, 0.0, 0.0], [0.0, iyy, 0.0], [0.0, 0.0, izz]],
+                limits: JointLimits::unlimited(),
+            })?;
+            parent = name;
+        }
+        b.add_point("end_effector", &parent, ETS7_END_EFFECTOR)?;
+        b.set_end_effector("end_effector");
+        b.set_initial_q(vec![0.0; 6]);
+        Ok(b.build()?)
+    };
+    build().expect("the ets7 preset is a valid model")
+}
+
+/// ETS-VII with the physical correction of the links whose published moments break the
+/// triangle inequality (see [`ets7_with`]).
+pub fn ets7() -> Model {
+    ets7_with(TriangleInequality::Enforce)
+}
+
 /// A preset by name (see [`NAMES`]).
 pub fn by_name(name: &str) -> Option<Model> {
+    by_name_with(name, TriangleInequality::Enforce)
+}
+
+/// A preset by name, choosing what inertias that break the triangle inequality do: only
+/// `ets7` has such published data, which [`TriangleInequality::Warn`] keeps (the other presets
+/// are physical and unchanged by the choice).
+pub fn by_name_with(name: &str, triangle_inequality: TriangleInequality) -> Option<Model> {
     match name {
         "planar4" => Some(planar4()),
         "spatial6" => Some(spatial6()),
         "dual_arm" => Some(dual_arm()),
         "spatial7" => Some(spatial7()),
+        "ets7" => Some(ets7_with(triangle_inequality)),
         _ => None,
     }
 }
@@ -218,5 +334,30 @@ mod tests {
         assert_eq!(s7.n_dof(), 7);
         assert!((s7.total_mass() - 544.0).abs() < 1e-12);
         assert_eq!(s7.links()[3].joint.limits.upper, 0.1);
+        let e = ets7();
+        assert_eq!(e.n_dof(), 6);
+        assert!((e.total_mass() - (2550.0 + 35.0 + 22.5 + 21.9 + 16.5 + 26.0 + 18.5)).abs() < 1e-9);
+        assert!(e.inertia_warnings().is_empty());
+    }
+
+    #[test]
+    fn ets7_published_inertias_need_the_option() {
+        let published = ets7_with(TriangleInequality::Warn);
+        // Links 1, 2 and 3 break the triangle inequality, each with its own warning.
+        assert_eq!(published.inertia_warnings().len(), 3);
+        for (k, w) in published.inertia_warnings().iter().enumerate() {
+            assert!(w.contains(&format!("link 'link{}'", k + 1)) && w.contains("triangle"), "{w}");
+        }
+        assert_eq!(published.links()[0].mass.inertia[(2, 2)], 1.69);
+        assert_eq!(published.links()[0].mass.inertia[(0, 0)], 0.25);
+        // The correction: Szz = (Ixx + Iyy - Izz)/2 becomes zero, Sxx and Syy are kept.
+        let corrected = ets7();
+        for (link, published) in corrected.links().iter().zip(&ETS7_LINKS) {
+            let [a, b, c] = published.moments;
+            let i = &link.mass.inertia;
+            let (x, y, z) = (i[(0, 0)], i[(1, 1)], i[(2, 2)]);
+            assert!((y + z - x - (b + c - a)).abs() < 1e-12 && (x + z - y - (a + c - b)).abs() < 1e-12);
+            assert!((x + y - z - (a + b - c).max(0.0)).abs() < 1e-12);
+        }
     }
 }

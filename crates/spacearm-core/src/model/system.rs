@@ -11,7 +11,7 @@
 use nalgebra::{UnitQuaternion, UnitVector3, Vector3};
 
 use crate::error::{ModelError, Result, SpacearmError};
-use crate::model::body::MassProperties;
+use crate::model::body::{MassProperties, TriangleInequality};
 use crate::model::builder::LinkSpec;
 use crate::model::joint::{Joint, JointType};
 use crate::model::validate::check_structure;
@@ -85,6 +85,10 @@ pub struct Model {
     dof_of_body: Vec<Option<usize>>,
     body_of_dof: Vec<usize>,
     total_mass: f64,
+    /// Whether inertias breaking the triangle inequality were accepted, and the warnings they
+    /// gave (set by the builder; see [`TriangleInequality`]).
+    triangle_inequality: TriangleInequality,
+    inertia_warnings: Vec<String>,
 }
 
 impl Model {
@@ -114,7 +118,40 @@ impl Model {
         let initial_q = initial_q.unwrap_or_else(|| vec![0.0; body_of_dof.len()]);
         check_structure(&base, &links, &points, end_effector, &initial_q)?;
         let total_mass = links.iter().fold(base.mass, |m, l| m + l.mass.mass);
-        Ok(Model { name, base_name, base, links, points, end_effector, initial_q, dof_of_body, body_of_dof, total_mass })
+        Ok(Model {
+            name,
+            base_name,
+            base,
+            links,
+            points,
+            end_effector,
+            initial_q,
+            dof_of_body,
+            body_of_dof,
+            total_mass,
+            triangle_inequality: TriangleInequality::Enforce,
+            inertia_warnings: Vec::new(),
+        })
+    }
+
+    /// The model with the triangle-inequality rule it was built under and the warnings of the
+    /// bodies that break it (see [`TriangleInequality`]).
+    pub(crate) fn with_triangle_inequality(mut self, rule: TriangleInequality, warnings: Vec<String>) -> Self {
+        self.triangle_inequality = rule;
+        self.inertia_warnings = warnings;
+        self
+    }
+
+    /// Whether this model was built accepting inertias that break the triangle inequality
+    /// (copies of it, e.g. perturbed ones, are built the same way).
+    pub fn triangle_inequality(&self) -> TriangleInequality {
+        self.triangle_inequality
+    }
+
+    /// One message per body whose inertia breaks the triangle inequality (empty unless the
+    /// model was built with [`TriangleInequality::Warn`]).
+    pub fn inertia_warnings(&self) -> &[String] {
+        &self.inertia_warnings
     }
 
     /// Model name.

@@ -1,6 +1,8 @@
 //! The native simulation loop: time integrators on the quaternion manifold ([`integrate`]),
 //! maneuvering modes ([`modes`]), actuator limits ([`actuators`]), reference trajectories
-//! ([`reference`]) and the loop with its records ([`simulate`]); docs/simulation-core.md.
+//! ([`reference`]), the loop ([`simulate`]) with its records ([`record`]), the same loop one
+//! RK4 step at a time ([`stepper`]) and many runs on threads ([`rollout`]);
+//! docs/simulation-core.md.
 //!
 //! Imports: everything below it (`math`, `model`, `algorithms`, `gjm`) and the controllers of
 //! [`crate::control`], which in turn use [`modes`], [`actuators`] and [`reference`].
@@ -8,5 +10,8 @@
 pub mod actuators;
 pub mod integrate;
 pub mod modes;
+pub mod record;
 pub mod reference;
+pub mod rollout;
 pub mod simulate;
+pub mod stepper;

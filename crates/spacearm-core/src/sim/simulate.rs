@@ -17,20 +17,23 @@
 //! the point for `L`, the energy itself for the energy): the size of the terms whose
 //! cancellation the conservation is.
 
-use nalgebra::{Rotation3, UnitQuaternion, Vector3, Vector6};
+use std::borrow::Cow;
+
+use nalgebra::{Vector3, Vector6};
 
 use crate::algorithms::aba::aba_after_kinematics;
-use crate::sim::actuators::{check_wheels, detect_reaction_wheels, Actuators, SaturationKind, ThrusterLimits};
+use crate::algorithms::kinematics::{check_velocity, forward_kinematics, split_configuration};
+use crate::algorithms::momentum::center_of_mass_from_data;
 use crate::control::{arm_dofs, Command, ControlContext, Controller, TrackingKind};
-use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
-use crate::sim::integrate::{Dopri5, IntegratorKind, OdeSystem, Rk4, StepOutcome};
-use crate::algorithms::kinematics::{check_velocity, forward_kinematics, point_position, split_configuration};
-use crate::model::Model;
-use crate::sim::modes::{Conserved, Mode};
-use crate::algorithms::momentum::{center_of_mass_from_data, momentum_from_data};
 use crate::math::rotations::quaternion_rate;
-use crate::math::spatial::{angular, linear};
+use crate::model::data::Data;
+use crate::model::Model;
+use crate::sim::actuators::{check_wheels, detect_reaction_wheels, Actuators, SaturationKind, ThrusterLimits};
+use crate::sim::integrate::{Dopri5, IntegratorKind, OdeSystem, StepOutcome};
+use crate::sim::modes::{Conserved, Mode};
+use crate::sim::record::{onsets, Recorder};
+use crate::sim::stepper::Rk4Stepper;
 
 /// Options of a simulation.
 #[derive(Debug, Clone, PartialEq)]
@@ -197,24 +200,30 @@ pub struct SimResult {
 
 /// The plant as an ODE `ẏ = f(t, y)` for the integrators: model, mode, actuators and controller
 /// (public so that single steps can be timed; [`simulate`] is the way to run a simulation).
+///
+/// It borrows or owns its model and controller (`Plant<'static>` owns both: a plant that can
+/// live in a Python object or move to another thread).
 pub struct Plant<'a> {
-    model: &'a Model,
-    data: Data,
+    model: Cow<'a, Model>,
+    pub(crate) data: Data,
     mode: Mode,
     actuators: Actuators,
-    controller: &'a mut dyn Controller,
-    cmd: Command,
-    tau_applied: Vec<f64>,
-    wrench_applied: Vector6<f64>,
+    pub(crate) controller: Box<dyn Controller + 'a>,
+    pub(crate) cmd: Command,
+    /// A joint torque and base wrench added to the controller's command at every evaluation
+    /// (held constant over a step: the input of a step-by-step simulation); `None`: nothing added.
+    held_input: Option<(Vec<f64>, Vector6<f64>)>,
+    pub(crate) tau_applied: Vec<f64>,
+    pub(crate) wrench_applied: Vector6<f64>,
     f: Vec<f64>,
     /// Saturation bits of the last evaluation, and OR-ed over the current step.
     flags_eval: Vec<u8>,
-    flags_step: Vec<u8>,
-    nx: usize,
-    n_evals: usize,
-    dropped_max: f64,
-    dropped_count: usize,
-    wheels: Vec<usize>,
+    pub(crate) flags_step: Vec<u8>,
+    pub(crate) nx: usize,
+    pub(crate) n_evals: usize,
+    pub(crate) dropped_max: f64,
+    pub(crate) dropped_count: usize,
+    pub(crate) wheels: Vec<usize>,
     /// Set when a stage value was not finite (an adaptive step that was far too long).
     nonfinite_stage: bool,
 }
@@ -222,38 +231,69 @@ pub struct Plant<'a> {
 impl<'a> Plant<'a> {
     /// Check the options (wheels, limits) and set the controller up against the model.
     pub fn new(model: &'a Model, opts: &SimOptions, controller: &'a mut dyn Controller) -> Result<Self> {
+        Plant::build(Cow::Borrowed(model), opts, Box::new(controller))
+    }
+
+    /// A plant that owns its model and controller.
+    pub fn owned(model: Model, opts: &SimOptions, controller: Box<dyn Controller>) -> Result<Plant<'static>> {
+        Plant::build(Cow::Owned(model), opts, controller)
+    }
+
+    fn build(model: Cow<'a, Model>, opts: &SimOptions, mut controller: Box<dyn Controller + 'a>) -> Result<Self> {
         let n = model.n_dof();
         let wheels = match &opts.wheels {
             Some(w) => {
-                check_wheels(model, w)?;
+                check_wheels(&model, w)?;
                 w.clone()
             }
-            None => detect_reaction_wheels(model),
+            None => detect_reaction_wheels(&model),
         };
         let arm = arm_dofs(n, &wheels);
-        let actuators = Actuators::new(model, opts.joint_limits, opts.thrusters);
-        let ctx = ControlContext { plant: model, mode: opts.mode, wheel_dofs: &wheels, arm_dofs: &arm, actuators: &actuators };
+        let actuators = Actuators::new(&model, opts.joint_limits, opts.thrusters);
+        let ctx = ControlContext { plant: &model, mode: opts.mode, wheel_dofs: &wheels, arm_dofs: &arm, actuators: &actuators };
         controller.setup(&ctx)?;
         let n_ref = controller.reference_len();
         Ok(Plant {
+            data: Data::new(&model),
+            nx: model.nx(),
             model,
-            data: Data::new(model),
             mode: opts.mode,
             actuators,
             cmd: Command::new(n, n_ref),
+            held_input: None,
             controller,
             tau_applied: vec![0.0; n],
             wrench_applied: Vector6::zeros(),
             f: vec![0.0; 6 + n],
             flags_eval: vec![0; n + 6],
             flags_step: vec![0; n + 6],
-            nx: model.nx(),
             n_evals: 0,
             dropped_max: 0.0,
             dropped_count: 0,
             wheels,
             nonfinite_stage: false,
         })
+    }
+
+    /// The plant's model.
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+
+    /// Add `tau` (N) and `base_wrench` (`[F0; N0]` in 𝒥 at the base CM) to every command of the
+    /// controller from now on (then the mode's mask and the actuator limits apply as usual);
+    /// `None` stops adding. The caller checks lengths and finiteness.
+    pub fn set_held_input(&mut self, input: Option<(&[f64], Vector6<f64>)>) {
+        match input {
+            Some((tau, wrench)) => match &mut self.held_input {
+                Some((t, w)) => {
+                    t.copy_from_slice(tau);
+                    *w = wrench;
+                }
+                None => self.held_input = Some((tau.to_vec(), wrench)),
+            },
+            None => self.held_input = None,
+        }
     }
 }
 
@@ -285,13 +325,16 @@ impl OdeSystem for Plant<'_> {
         let (x, u) = y.split_at(self.nx);
         self.cmd.clear();
         self.controller.command(t, x, u, &mut self.cmd)?;
-        if self.cmd.tau.iter().chain(self.cmd.base_wrench.iter()).any(|v| !v.is_finite()) {
-            return Err(SpacearmError::Simulation(format!(
-                "controller '{}' returned a non-finite torque or base wrench at t = {t} s",
-                self.controller.name()
-            )));
+        if let Some((tau, wrench)) = &self.held_input {
+            for (c, h) in self.cmd.tau.iter_mut().zip(tau) {
+                *c += h;
+            }
+            self.cmd.base_wrench += wrench;
         }
-        forward_kinematics(self.model, &mut self.data, x)?;
+        if self.cmd.tau.iter().chain(self.cmd.base_wrench.iter()).any(|v| !v.is_finite()) {
+            return Err(SpacearmError::Simulation(format!("controller '{}' returned a non-finite torque or base wrench at t = {t} s", self.controller.name())));
+        }
+        forward_kinematics(&self.model, &mut self.data, x)?;
         self.flags_eval.fill(0);
         self.tau_applied.copy_from_slice(&self.cmd.tau);
         self.actuators.saturate_joints(&mut self.tau_applied, &u[6..], &mut self.flags_eval[..n]);
@@ -302,15 +345,12 @@ impl OdeSystem for Plant<'_> {
             self.dropped_max = self.dropped_max.max(dropped_norm);
         }
         self.actuators.saturate_thrusters(&mut kept, &mut self.flags_eval[n..]);
-        let base_to_com = if self.mode == Mode::TranslationFlying {
-            center_of_mass_from_data(self.model, &self.data) - self.data.base_position
-        } else {
-            Vector3::zeros()
-        };
+        let base_to_com =
+            if self.mode == Mode::TranslationFlying { center_of_mass_from_data(&self.model, &self.data) - self.data.base_position } else { Vector3::zeros() };
         self.wrench_applied = self.mode.wrench_at_base(&kept, &base_to_com);
         self.f[..6].copy_from_slice(self.wrench_applied.as_slice());
         self.f[6..].copy_from_slice(&self.tau_applied);
-        aba_after_kinematics(self.model, &mut self.data, u, &self.f)?;
+        aba_after_kinematics(&self.model, &mut self.data, u, &self.f)?;
         // ṙ0 = v0; quaṫ = ½ [ω0; 0] ⊗ quat (Hamilton, [x, y, z, w], ω0 in 𝒥); q̇; u̇.
         dy[0..3].copy_from_slice(&u[0..3]);
         dy[3..7].copy_from_slice(&quaternion_rate(&x[3..7], &Vector3::new(u[3], u[4], u[5])));
@@ -320,182 +360,6 @@ impl OdeSystem for Plant<'_> {
             *s |= *e;
         }
         Ok(())
-    }
-}
-
-/// Running maxima of the drift scales.
-#[derive(Debug, Default, Clone, Copy)]
-struct Scales {
-    p: f64,
-    l_origin: f64,
-    l_com: f64,
-    energy: f64,
-}
-
-struct Recorder {
-    rec: Records,
-    ee: Option<(usize, Vector3<f64>)>,
-    wheels: Vec<usize>,
-    n_ref: usize,
-    scales: Scales,
-    last_quat: Option<UnitQuaternion<f64>>,
-}
-
-impl Recorder {
-    fn new(model: &Model, capacity: usize, wheels: &[usize], n_ref: usize, tracking: bool, attitude: bool) -> Self {
-        let (nx, nu, n) = (model.nx(), model.nu(), model.n_dof());
-        let v = |w: usize| Vec::with_capacity(capacity * w);
-        let ee = model.end_effector().map(|i| (model.points()[i].body, model.points()[i].offset));
-        Recorder {
-            rec: Records {
-                n_samples: 0,
-                t: v(1),
-                x: v(nx),
-                u: v(nu),
-                du: v(nu),
-                tau: v(n),
-                tau_cmd: v(n),
-                base_wrench: v(6),
-                linear_momentum: v(3),
-                angular_momentum_origin: v(3),
-                angular_momentum_com: v(3),
-                energy: v(1),
-                com: v(3),
-                ee_position: ee.map(|_| v(3)),
-                ee_quat: ee.map(|_| v(4)),
-                reference: (n_ref > 0).then(|| v(n_ref)),
-                tracking_error: tracking.then(|| v(1)),
-                attitude_error: attitude.then(|| v(1)),
-                wheel_speed: (!wheels.is_empty()).then(|| v(wheels.len())),
-            },
-            ee,
-            wheels: wheels.to_vec(),
-            n_ref,
-            scales: Scales::default(),
-            last_quat: None,
-        }
-    }
-
-    /// Record the sample at `(t, y)`; the plant has just evaluated `dy = f(t, y)`, so its
-    /// workspace holds the kinematics at `x` and the body velocities at `u`.
-    fn record(&mut self, plant: &Plant<'_>, t: f64, y: &[f64], dy: &[f64]) {
-        let (model, data) = (plant.model, &plant.data);
-        let nx = plant.nx;
-        let r = &mut self.rec;
-        r.n_samples += 1;
-        r.t.push(t);
-        r.x.extend_from_slice(&y[..nx]);
-        r.u.extend_from_slice(&y[nx..]);
-        r.du.extend_from_slice(&dy[nx..]);
-        r.tau.extend_from_slice(&plant.tau_applied);
-        r.tau_cmd.extend_from_slice(&plant.cmd.tau);
-        r.base_wrench.extend_from_slice(plant.wrench_applied.as_slice());
-        // Momentum and energy from the body velocities (spatial, at the base CM), body by body,
-        // with the scale of each sum's terms for the drift (module docs).
-        let momentum = momentum_from_data(model, data);
-        let r0 = data.base_position;
-        let rg = center_of_mass_from_data(model, data);
-        let mut energy = 0.0;
-        let (mut sp, mut slo, mut slc) = (0.0, 0.0, 0.0);
-        for b in 0..model.n_bodies() {
-            let v = data.body_velocity[b];
-            energy += 0.5 * v.dot(&(data.spatial_inertia[b] * v));
-            let w = angular(&v);
-            let rb = data.com_in_world[b];
-            let p_b = (linear(&v) + w.cross(&(rb - r0))) * model.mass_properties(b).mass;
-            let spin = (data.inertia_in_world[b] * w).norm();
-            sp += p_b.norm();
-            slo += rb.cross(&p_b).norm() + spin;
-            slc += (rb - rg).cross(&p_b).norm() + spin;
-        }
-        r.linear_momentum.extend_from_slice(momentum.linear.as_slice());
-        r.angular_momentum_origin.extend_from_slice(momentum.angular_about_origin.as_slice());
-        r.angular_momentum_com.extend_from_slice(momentum.angular_about_com.as_slice());
-        r.energy.push(energy);
-        r.com.extend_from_slice(rg.as_slice());
-        let s = &mut self.scales;
-        s.p = s.p.max(sp);
-        s.l_origin = s.l_origin.max(slo);
-        s.l_com = s.l_com.max(slc);
-        s.energy = s.energy.max(energy);
-        if let Some((body, offset)) = self.ee {
-            let pos = point_position(data, body, &offset);
-            r.ee_position.as_mut().expect("allocated with ee").extend_from_slice(pos.as_slice());
-            let mut q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(data.body_to_world[body]));
-            if let Some(last) = self.last_quat {
-                if last.coords.dot(&q.coords) < 0.0 {
-                    q = UnitQuaternion::new_unchecked(-q.into_inner());
-                }
-            }
-            self.last_quat = Some(q);
-            let c = q.coords; // [i, j, k, w]
-            r.ee_quat.as_mut().expect("allocated with ee").extend_from_slice(&[c[0], c[1], c[2], c[3]]);
-        }
-        if let Some(rf) = r.reference.as_mut() {
-            rf.extend_from_slice(&plant.cmd.reference[..self.n_ref]);
-        }
-        if let Some(te) = r.tracking_error.as_mut() {
-            te.push(plant.cmd.tracking_error);
-        }
-        if let Some(ae) = r.attitude_error.as_mut() {
-            ae.push(plant.cmd.attitude_error);
-        }
-        if let Some(ws) = r.wheel_speed.as_mut() {
-            for &d in &self.wheels {
-                ws.push(y[nx + 6 + d]);
-            }
-        }
-    }
-
-    /// The scale of a conserved quantity's drift: the running maximum of its magnitude scale.
-    fn scale(&self, c: Conserved) -> f64 {
-        match c {
-            Conserved::LinearMomentum => self.scales.p,
-            Conserved::AngularMomentumOrigin => self.scales.l_origin,
-            Conserved::AngularMomentumCom => self.scales.l_com,
-            Conserved::Energy => self.scales.energy,
-        }
-    }
-
-    /// Drift of each conserved quantity over the recorded samples (see the module docs).
-    fn drift(&self, conserved: &[Conserved]) -> Vec<(Conserved, f64)> {
-        let r = &self.rec;
-        let vec_drift = |data: &[f64], scale: f64| {
-            let first = Vector3::new(data[0], data[1], data[2]);
-            let denom = first.norm().max(scale).max(f64::MIN_POSITIVE);
-            data.chunks_exact(3).map(|c| (Vector3::new(c[0], c[1], c[2]) - first).norm()).fold(0.0, f64::max) / denom
-        };
-        conserved
-            .iter()
-            .map(|&c| {
-                let d = match c {
-                    Conserved::LinearMomentum => vec_drift(&r.linear_momentum, self.scales.p),
-                    Conserved::AngularMomentumOrigin => vec_drift(&r.angular_momentum_origin, self.scales.l_origin),
-                    Conserved::AngularMomentumCom => vec_drift(&r.angular_momentum_com, self.scales.l_com),
-                    Conserved::Energy => {
-                        let e0 = r.energy[0];
-                        let denom = e0.abs().max(self.scales.energy).max(f64::MIN_POSITIVE);
-                        r.energy.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max) / denom
-                    }
-                };
-                (c, d)
-            })
-            .collect()
-    }
-}
-
-/// Saturation onsets: actuator kinds flagged in this step and not in the previous one.
-fn onsets(t: f64, prev: &mut [u8], now: &[u8], events: &mut Vec<SaturationEvent>) {
-    for (a, (p, &n)) in prev.iter_mut().zip(now).enumerate() {
-        let new = n & !*p;
-        if new != 0 {
-            for kind in SaturationKind::ALL {
-                if new & kind.bit() != 0 {
-                    events.push(SaturationEvent { t, actuator: a, kind });
-                }
-            }
-        }
-        *p = n;
     }
 }
 
@@ -511,30 +375,69 @@ pub type Progress<'a> = &'a mut dyn FnMut(f64) -> Result<()>;
 /// records.
 pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, controller: &mut dyn Controller, progress: Progress<'_>) -> Result<SimResult> {
     opts.validate()?;
+    check_initial_state(model, x0, u0)?;
+    let plant = Plant::new(model, opts, controller)?;
+    match opts.integrator {
+        IntegratorKind::Rk4 => simulate_rk4(plant, x0, u0, opts, progress),
+        IntegratorKind::Dopri5 => simulate_dopri5(plant, x0, u0, opts, progress),
+    }
+}
+
+/// Check an initial state against `model`: `x0` of length 7+N with a unit quaternion, `u0` of
+/// length 6+N, all finite.
+pub fn check_initial_state(model: &Model, x0: &[f64], u0: &[f64]) -> Result<()> {
     crate::error::check_vector("x0", x0, model.nx()).map_err(|e| match e {
         SpacearmError::Dimension { got, .. } => SpacearmError::Dimension { what: "x0".into(), expected: format!("7+N = {}", model.nx()), got },
         other => other,
     })?;
     split_configuration(model, x0)?;
-    check_velocity(model, "u0", u0)?;
-    let n = model.n_dof();
-    let mut plant = Plant::new(model, opts, controller)?;
-    let n_ref = plant.controller.reference_len();
-    let tracking = plant.controller.tracking();
-    let conserved = opts.mode.conserved(plant.controller.is_torque_free());
-    let wheels = plant.wheels.clone();
+    check_velocity(model, "u0", u0)
+}
+
+/// Number of RK4 steps of a run: steps at `t_i = i·dt` up to the duration (the last one may be
+/// shorter); also the number of DOPRI5 output intervals.
+pub fn rk4_step_count(opts: &SimOptions) -> usize {
+    ((opts.duration / opts.dt) * (1.0 - 1e-12)).ceil().max(1.0) as usize
+}
+
+/// Number of samples a run records: RK4 every `record_every` steps plus the end; DOPRI5 every
+/// `dt` plus the end. Every run of the same options records exactly this many.
+pub fn sample_count(opts: &SimOptions) -> usize {
+    let n = rk4_step_count(opts);
+    match opts.integrator {
+        IntegratorKind::Rk4 => n.div_ceil(opts.record_every) + 1,
+        IntegratorKind::Dopri5 => n + 1,
+    }
+}
+
+/// The RK4 loop: steps at `t_i = i·dt` (computed by multiplication, not accumulation), the last
+/// one landing on the duration.
+fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, progress: Progress<'_>) -> Result<SimResult> {
+    let n_steps = rk4_step_count(opts);
+    let mut stepper = Rk4Stepper::new(plant, x0, u0, Some((sample_count(opts), opts.record_every)))?;
+    let progress_every = opts.duration / 1000.0;
+    let mut next_progress = 0.0;
+    for i in 0..n_steps {
+        let t_next = if i + 1 == n_steps { opts.duration } else { (i + 1) as f64 * opts.dt };
+        stepper.step_to(t_next)?;
+        if t_next >= next_progress {
+            progress(t_next / opts.duration)?;
+            next_progress = t_next + progress_every;
+        }
+    }
+    let result = stepper.finish()?;
+    progress(1.0)?;
+    Ok(result)
+}
+
+/// The DOPRI5 loop: adaptive steps, samples every `dt` by dense output.
+fn simulate_dopri5(mut plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, progress: Progress<'_>) -> Result<SimResult> {
+    let n = plant.model().n_dof();
     let mut y: Vec<f64> = x0.iter().chain(u0).copied().collect();
     let dim = y.len();
     plant.project(&mut y);
-
-    // Sample times: RK4 every `record_every` steps of dt (plus the end); DOPRI5 every dt (plus
-    // the end). Steps are at t_i = i·dt (computed by multiplication, not accumulation).
-    let n_steps_rk4 = ((opts.duration / opts.dt) * (1.0 - 1e-12)).ceil().max(1.0) as usize;
-    let capacity = match opts.integrator {
-        IntegratorKind::Rk4 => n_steps_rk4 / opts.record_every + 2,
-        IntegratorKind::Dopri5 => n_steps_rk4 + 2,
-    };
-    let mut rec = Recorder::new(model, capacity, &wheels, n_ref, tracking.is_some(), plant.controller.reports_attitude_error());
+    let n_steps_rk4 = rk4_step_count(opts);
+    let mut rec = Recorder::for_plant(&plant, sample_count(opts));
     let mut events = Vec::new();
     let mut prev_flags = vec![0u8; n + 6];
     let mut dy = vec![0.0; dim];
@@ -542,105 +445,90 @@ pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, contro
     let mut n_rejected = 0;
     let progress_every = opts.duration / 1000.0;
     let mut next_progress = 0.0;
-
-    match opts.integrator {
-        IntegratorKind::Rk4 => {
-            let mut rk = Rk4::new(dim);
-            for i in 0..n_steps_rk4 {
-                let t = i as f64 * opts.dt;
-                let t_next = if i + 1 == n_steps_rk4 { opts.duration } else { (i + 1) as f64 * opts.dt };
-                plant.flags_step.fill(0);
-                let record_now = i % opts.record_every == 0;
-                if record_now {
-                    plant.rhs(t, &y, rk.k1_mut())?;
-                    rec.record(&plant, t, &y, rk.k1());
+    {
+        let mut dp = Dopri5::new(dim, opts.rtol, opts.atol);
+        plant.rhs(0.0, &y, &mut dy)?;
+        rec.record(&plant, 0.0, &y, &dy);
+        let n_out = n_steps_rk4;
+        let mut k_out = 1;
+        let out_time = |k: usize| {
+            if k == n_out {
+                opts.duration
+            } else {
+                k as f64 * opts.dt
+            }
+        };
+        let mut t = 0.0;
+        let mut h = dp.initial_step(&mut plant, t, &y, opts.duration)?;
+        let mut y_out = vec![0.0; dim];
+        while t < opts.duration {
+            if n_steps + n_rejected >= opts.max_steps {
+                return Err(SpacearmError::Simulation(format!(
+                    "DOPRI5 used its budget of {} steps and reached only t = {t} s of {} s (loosen rtol/atol, raise \
+                         max_steps, or use rk4)",
+                    opts.max_steps, opts.duration
+                )));
+            }
+            let remaining = opts.duration - t;
+            // Land exactly on the end; avoid a sliver of a last step.
+            if h >= remaining || remaining - h < 1e-10 * opts.duration {
+                h = remaining;
+            }
+            plant.flags_step.fill(0);
+            let outcome = match dp.try_step(&mut plant, t, h, &mut y) {
+                Ok(o) => o,
+                // A trial step so long that a stage left the finite numbers: reject it and
+                // retry shorter (y and f(t, y) are untouched by a failed attempt).
+                Err(SpacearmError::Simulation(_)) if plant.nonfinite_stage => {
+                    plant.nonfinite_stage = false;
+                    StepOutcome { accepted: false, error: f64::INFINITY, next_h: 0.25 * h }
                 }
-                rk.step(&mut plant, t, t_next - t, &mut y, record_now)?;
+                Err(e) => return Err(e),
+            };
+            if outcome.accepted {
                 n_steps += 1;
                 onsets(t, &mut prev_flags, &plant.flags_step, &mut events);
-                if t_next >= next_progress {
-                    progress(t_next / opts.duration)?;
-                    next_progress = t_next + progress_every;
+                let t_new = if h == remaining { opts.duration } else { t + h };
+                while k_out <= n_out && out_time(k_out) <= t_new {
+                    let t_o = out_time(k_out);
+                    if t_o == t_new {
+                        y_out.copy_from_slice(&y);
+                    } else {
+                        dp.dense_output(t_o, &mut y_out);
+                        plant.project(&mut y_out);
+                    }
+                    plant.rhs(t_o, &y_out, &mut dy)?;
+                    rec.record(&plant, t_o, &y_out, &dy);
+                    k_out += 1;
                 }
+                t = t_new;
+                if t >= next_progress {
+                    progress(t / opts.duration)?;
+                    next_progress = t + progress_every;
+                }
+            } else {
+                n_rejected += 1;
             }
-        }
-        IntegratorKind::Dopri5 => {
-            let mut dp = Dopri5::new(dim, opts.rtol, opts.atol);
-            plant.rhs(0.0, &y, &mut dy)?;
-            rec.record(&plant, 0.0, &y, &dy);
-            let n_out = n_steps_rk4;
-            let mut k_out = 1;
-            let out_time = |k: usize| if k == n_out { opts.duration } else { k as f64 * opts.dt };
-            let mut t = 0.0;
-            let mut h = dp.initial_step(&mut plant, t, &y, opts.duration)?;
-            let mut y_out = vec![0.0; dim];
-            while t < opts.duration {
-                if n_steps + n_rejected >= opts.max_steps {
-                    return Err(SpacearmError::Simulation(format!(
-                        "DOPRI5 used its budget of {} steps and reached only t = {t} s of {} s (loosen rtol/atol, raise \
-                         max_steps, or use rk4)",
-                        opts.max_steps, opts.duration
-                    )));
-                }
-                let remaining = opts.duration - t;
-                // Land exactly on the end; avoid a sliver of a last step.
-                if h >= remaining || remaining - h < 1e-10 * opts.duration {
-                    h = remaining;
-                }
-                plant.flags_step.fill(0);
-                let outcome = match dp.try_step(&mut plant, t, h, &mut y) {
-                    Ok(o) => o,
-                    // A trial step so long that a stage left the finite numbers: reject it and
-                    // retry shorter (y and f(t, y) are untouched by a failed attempt).
-                    Err(SpacearmError::Simulation(_)) if plant.nonfinite_stage => {
-                        plant.nonfinite_stage = false;
-                        StepOutcome { accepted: false, error: f64::INFINITY, next_h: 0.25 * h }
-                    }
-                    Err(e) => return Err(e),
-                };
-                if outcome.accepted {
-                    n_steps += 1;
-                    onsets(t, &mut prev_flags, &plant.flags_step, &mut events);
-                    let t_new = if h == remaining { opts.duration } else { t + h };
-                    while k_out <= n_out && out_time(k_out) <= t_new {
-                        let t_o = out_time(k_out);
-                        if t_o == t_new {
-                            y_out.copy_from_slice(&y);
-                        } else {
-                            dp.dense_output(t_o, &mut y_out);
-                            plant.project(&mut y_out);
-                        }
-                        plant.rhs(t_o, &y_out, &mut dy)?;
-                        rec.record(&plant, t_o, &y_out, &dy);
-                        k_out += 1;
-                    }
-                    t = t_new;
-                    if t >= next_progress {
-                        progress(t / opts.duration)?;
-                        next_progress = t + progress_every;
-                    }
-                } else {
-                    n_rejected += 1;
-                }
-                h = outcome.next_h;
-                if !(h.is_finite() && h > 1e-14 * t.abs().max(opts.duration)) {
-                    return Err(SpacearmError::Simulation(format!(
-                        "DOPRI5 step size fell to {h:e} s at t = {t} s: the dynamics are too stiff or discontinuous there \
+            h = outcome.next_h;
+            if !(h.is_finite() && h > 1e-14 * t.abs().max(opts.duration)) {
+                return Err(SpacearmError::Simulation(format!(
+                    "DOPRI5 step size fell to {h:e} s at t = {t} s: the dynamics are too stiff or discontinuous there \
                          (a saturating actuator switching, a very high gain); loosen rtol/atol or use rk4"
-                    )));
-                }
+                )));
             }
         }
-    }
-    if opts.integrator == IntegratorKind::Rk4 {
-        plant.rhs(opts.duration, &y, &mut dy)?;
-        rec.record(&plant, opts.duration, &y, &dy);
     }
     progress(1.0)?;
+    Ok(finish_result(&plant, rec, events, n_steps, n_rejected))
+}
+
+/// The result of a run from its plant (counters, controller) and records.
+pub(crate) fn finish_result(plant: &Plant<'_>, rec: Recorder, events: Vec<SaturationEvent>, n_steps: usize, n_rejected: usize) -> SimResult {
+    let conserved = plant.mode.conserved(plant.controller.is_torque_free());
     let drift = rec.drift(&conserved);
     let drift_scales = conserved.iter().map(|&c| (c, rec.scale(c))).collect();
-    Ok(SimResult {
-        reference_width: n_ref,
+    SimResult {
+        reference_width: plant.controller.reference_len(),
         records: rec.rec,
         events,
         drift,
@@ -648,11 +536,11 @@ pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, contro
         n_steps,
         n_rejected,
         n_rhs_evals: plant.n_evals,
-        actuator_names: Actuators::names(model),
-        wheel_dofs: wheels,
-        tracking,
+        actuator_names: Actuators::names(plant.model()),
+        tracking: plant.controller.tracking(),
         controller: plant.controller.name().to_string(),
         dropped_wrench_max: plant.dropped_max,
         dropped_wrench_count: plant.dropped_count,
-    })
+        wheel_dofs: plant.wheels.clone(),
+    }
 }

@@ -1,0 +1,86 @@
+"""Build and evaluation time of spacearm.casadi's Functions against N (serial chains of
+revolute joints), and the planner's solve time with the two Hessian options.
+
+    python benchmarks/casadi_build.py            # N = 6, 12, 30
+    python benchmarks/casadi_build.py --plan     # also planar4 plans: objective vs exact Hessian
+
+Prints medians of repeated builds (a build is a fresh set of SX symbols and the recursions run
+on them) and of evaluations at one random state, with the core's time for the same quantity.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+import numpy as np
+
+import spacearm
+import spacearm.casadi as sc
+
+
+def chain(n: int) -> spacearm.Robot:
+    b = spacearm.Robot.builder(f"chain{n}", 500.0, np.diag([50.0, 60.0, 70.0]))
+    for i in range(n):
+        b.add_link(f"l{i}", parent="base" if i == 0 else f"l{i - 1}", axis=[(0, 0, 1), (0, 1, 0), (1, 0, 0)][i % 3],
+                   origin=(0.3, 0, 0) if i else (1.0, 0, 0), com=(0.15, 0, 0), mass=2.0, inertia=[0.01, 0.02, 0.02])
+    b.add_point("tip", body=f"l{n - 1}", offset=(0.15, 0, 0))
+    b.set_end_effector("tip")
+    return b.build()
+
+
+def median_time(fn, repeat: int) -> float:
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return statistics.median(times)
+
+
+def builds(sizes) -> None:
+    print(f"{'N':>3} {'function':<22} {'build (s)':>10} {'eval (µs)':>10} {'core (µs)':>10} {'SX instr.':>10}")
+    for n in sizes:
+        robot = chain(n)
+        rng = np.random.default_rng(0)
+        x = robot.neutral_configuration(q=rng.uniform(-1, 1, n))
+        u = rng.normal(size=robot.nu)
+        tau = rng.normal(size=n)
+        cases = {
+            "forward_dynamics": (sc.forward_dynamics, (x, u, tau, np.zeros(6)), lambda: robot.forward_dynamics(x, u, tau=tau)),
+            "inverse_dynamics": (sc.inverse_dynamics, (x, u, u), lambda: robot.inverse_dynamics(x, u, u)),
+            "mass_matrix": (sc.mass_matrix, (x,), lambda: robot.mass_matrix(x)),
+            "generalized_inertia": (sc.generalized_inertia, (x,), lambda: robot.generalized_inertia(x)),
+            "generalized_jacobian": (sc.generalized_jacobian, (x,), lambda: robot.generalized_jacobian(x)),
+        }
+        for name, (build, args, core) in cases.items():
+            t_build = median_time(lambda: build(robot), 3)
+            f = build(robot)
+            t_eval = median_time(lambda: f(*args), 50)
+            t_core = median_time(core, 50)
+            print(f"{n:>3} {name:<22} {t_build:>10.3f} {1e6 * t_eval:>10.1f} {1e6 * t_core:>10.1f} {f.n_instructions():>10}")
+        print(f"{n:>3} {'rk4_step':<22} {median_time(lambda: sc.rk4_step(robot), 3):>10.3f}")
+
+
+def plans() -> None:
+    from spacearm.plan import point_to_point
+
+    robot = spacearm.presets.planar4()
+    target = robot.point_position(robot.neutral_configuration()) + np.array([-0.3, 0.4, 0.0])
+    for hessian in ("objective", "exact"):
+        t = time.perf_counter()
+        plan = point_to_point(robot, target, duration=3.0, nodes=15, hessian=hessian)
+        total = time.perf_counter() - t
+        print(f"planar4, K = 15, attitude, hessian={hessian}: {plan.status}, {plan.iterations} iterations, "
+              f"IPOPT {plan.solve_time:.2f} s, total {total:.2f} s")
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", default="6,12,30")
+    parser.add_argument("--plan", action="store_true")
+    args = parser.parse_args()
+    builds([int(v) for v in args.sizes.split(",")])
+    if args.plan:
+        plans()

@@ -1,0 +1,189 @@
+//! Damped least squares: the one damping law and the one damped inverse, used by the controllers
+//! that run in the simulation loop (control/rmrc.rs, control/coordinated.rs) and by the analyses
+//! (analysis/singularity.rs, analysis/redundancy.rs).
+//!
+//! The damped least-squares inverse of an m×n Jacobian `J = Σ σᵢ uᵢ vᵢᵀ` (Nakamura & Hanafusa
+//! 1986; Wampler 1986) is `J⁺_λ = Σ σᵢ / (σᵢ² + λᵢ²) vᵢ uᵢᵀ`. The damping is applied per
+//! singular direction (Maciejewski & Klein 1988; Chiaverini 1997): each direction gets the
+//! damping of its own singular value, `λᵢ = λ(σᵢ)` of [`DampingLaw`], so a direction that is far
+//! from singular (`σᵢ ≥ ε`) is inverted exactly and only the weak directions are damped — a single
+//! `λ(σ_min)` for every direction would also distort the well-conditioned ones.
+//!
+//! Two factorisations realise the same inverse: [`damped_inverse`] from an SVD of `J` (analysis,
+//! where the inverse is needed as a matrix for null-space projectors), and [`damped_gram_solve`]
+//! from the eigen-decomposition of the 3×3 Gram matrix `J Jᵀ = Σ σᵢ² uᵢ uᵢᵀ` (controllers of a
+//! point's position: no allocation inside the simulation loop). A test holds the two together.
+
+use nalgebra::{DMatrix, DVector, Matrix3, SymmetricEigen, Vector3};
+
+use crate::error::{Result, SpacearmError};
+
+/// The damping law near singularities (Nakamura & Hanafusa 1986):
+/// `λ²(σ) = λ_max² (1 − (σ/ε)²)` inside the singular region `σ < ε`, `λ = 0` outside. The damping
+/// rises smoothly from 0 at `σ = ε` to `λ_max` at `σ = 0`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DampingLaw {
+    /// Size `ε > 0` of the singular region, in the units of `σ` (m/rad for position rows).
+    pub threshold: f64,
+    /// Damping `λ_max ≥ 0` at the singularity itself, in the units of `σ`.
+    pub max_damping: f64,
+}
+
+impl Default for DampingLaw {
+    /// The library's default law, `ε = λ_max = 0.05` (m for position rows): every controller and
+    /// analysis that damps takes it unless told otherwise (Python reads it as `_core.DLS_DEFAULTS`).
+    fn default() -> Self {
+        DampingLaw { threshold: 0.05, max_damping: 0.05 }
+    }
+}
+
+impl DampingLaw {
+    /// A law, checked: `threshold` finite and > 0, `max_damping` finite and ≥ 0.
+    pub fn new(threshold: f64, max_damping: f64) -> Result<Self> {
+        if !(threshold.is_finite() && threshold > 0.0) {
+            return Err(SpacearmError::InvalidArgument(format!("the damping threshold ε must be finite and > 0, got {threshold}")));
+        }
+        if !(max_damping.is_finite() && max_damping >= 0.0) {
+            return Err(SpacearmError::InvalidArgument(format!("the maximum damping λ_max must be finite and >= 0, got {max_damping}")));
+        }
+        Ok(DampingLaw { threshold, max_damping })
+    }
+
+    /// No damping at all (the Moore–Penrose inverse).
+    pub fn none() -> Self {
+        DampingLaw { threshold: 1.0, max_damping: 0.0 }
+    }
+
+    /// `λ²(σ)`.
+    pub fn damping_sq(&self, sigma: f64) -> f64 {
+        if sigma >= self.threshold {
+            return 0.0;
+        }
+        let r = (sigma.max(0.0) / self.threshold).min(1.0);
+        self.max_damping * self.max_damping * (1.0 - r * r)
+    }
+
+    /// `λ(σ)`.
+    pub fn damping(&self, sigma: f64) -> f64 {
+        self.damping_sq(sigma).sqrt()
+    }
+
+    /// The weight `σ / (σ² + λ²(σ))` of one singular direction in the damped inverse. A direction
+    /// with `σ ≤ cut` (numerically outside the range of `J`) gets 0: there the undamped weight
+    /// `1/σ` would amplify rounding, and the damped one is ≈ `σ/λ²`, below rounding too.
+    pub fn weight(&self, sigma: f64, cut: f64) -> f64 {
+        if !(sigma > cut) {
+            return 0.0;
+        }
+        sigma / (sigma * sigma + self.damping_sq(sigma))
+    }
+}
+
+/// Relative size below which a singular value counts as zero in [`damped_inverse`]:
+/// `cut = RANK_TOLERANCE · σ_max`.
+pub const RANK_TOLERANCE: f64 = 1e-12;
+
+/// The damped inverse `J⁺_λ = Σ wᵢ vᵢ uᵢᵀ` (n×m) of an m×n matrix from its SVD: `u` (m×k) and
+/// `v` (n×k, or more columns: those past `k` are not used) with orthonormal columns and the `k` singular values `sigma`, weights
+/// [`DampingLaw::weight`] with `cut = RANK_TOLERANCE · σ_max`. With [`DampingLaw::none`] it is
+/// the Moore–Penrose inverse.
+pub fn damped_inverse(u: &DMatrix<f64>, sigma: &DVector<f64>, v: &DMatrix<f64>, law: &DampingLaw) -> DMatrix<f64> {
+    let cut = RANK_TOLERANCE * sigma.iter().fold(0.0_f64, |a, &s| a.max(s));
+    let mut out = DMatrix::zeros(v.nrows(), u.nrows());
+    for (i, &s) in sigma.iter().enumerate() {
+        let w = law.weight(s, cut);
+        if w != 0.0 {
+            out += w * v.column(i) * u.column(i).transpose();
+        }
+    }
+    out
+}
+
+/// `z = Σ uᵢ (uᵢ·b) / (σᵢ² + λ²(σᵢ))` from the Gram matrix `J Jᵀ = Σ σᵢ² uᵢ uᵢᵀ` of a 3-row `J`,
+/// so that `Jᵀ z = J⁺_λ b` (the damped inverse of [`damped_inverse`] applied to `b`, without
+/// forming `J⁺_λ`). Directions with `σᵢ ≤ RANK_TOLERANCE · σ_max` are dropped as in
+/// [`damped_inverse`]. Returns `z` and the largest `λ²` of the law over the three directions.
+pub fn damped_gram_solve(jjt: &Matrix3<f64>, b: &Vector3<f64>, law: &DampingLaw) -> (Vector3<f64>, f64) {
+    let eig = SymmetricEigen::new(*jjt);
+    let sigmas = eig.eigenvalues.map(|e| e.max(0.0).sqrt());
+    let cut = RANK_TOLERANCE * sigmas.max();
+    let mut z = Vector3::zeros();
+    let mut worst = 0.0_f64;
+    for i in 0..3 {
+        let sigma = sigmas[i];
+        worst = worst.max(law.damping_sq(sigma));
+        // weight/σ = 1/(σ² + λ²): the Gram form carries one σ less than the SVD form.
+        let w = law.weight(sigma, cut);
+        if w != 0.0 {
+            let ui = eig.eigenvectors.column(i);
+            z += ui * (ui.dot(b) * w / sigma);
+        }
+    }
+    (z, worst)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn law_shape() {
+        let law = DampingLaw::new(0.1, 0.05).unwrap();
+        assert_eq!(law.damping(0.2), 0.0);
+        assert_eq!(law.damping(0.1), 0.0);
+        assert!((law.damping(0.0) - 0.05).abs() < 1e-15);
+        let l = law.damping(0.05);
+        assert!((l * l - 0.05f64.powi(2) * (1.0 - 0.25)).abs() < 1e-15);
+        assert!(DampingLaw::new(0.0, 1.0).is_err());
+        assert!(DampingLaw::new(1.0, -1.0).is_err());
+        assert!(DampingLaw::new(f64::NAN, 1.0).is_err());
+    }
+
+    fn svd(j: &DMatrix<f64>) -> (DMatrix<f64>, DVector<f64>, DMatrix<f64>) {
+        let s = j.clone().svd(true, true);
+        (s.u.unwrap(), s.singular_values, s.v_t.unwrap().transpose())
+    }
+
+    #[test]
+    fn undamped_inverse_is_the_moore_penrose_inverse() {
+        let j = DMatrix::from_row_slice(3, 5, &[0.3, -1.0, 0.2, 0.7, 0.1, 1.1, 0.4, -0.6, 0.0, 0.9, -0.2, 0.5, 0.8, 0.3, -0.4]);
+        let (u, s, v) = svd(&j);
+        let p = damped_inverse(&u, &s, &v, &DampingLaw::none());
+        // The Penrose conditions, and Jᵀ(JJᵀ)⁻¹ for a full-row-rank J.
+        assert!((&j * &p * &j - &j).norm() < 1e-13);
+        assert!((&p * &j * &p - &p).norm() < 1e-13);
+        let normal = j.transpose() * (&j * j.transpose()).try_inverse().unwrap();
+        assert!((p - normal).norm() < 1e-12);
+    }
+
+    #[test]
+    fn per_direction_damping_leaves_strong_directions_exact() {
+        // σ = 2, 1, 0.01: with ε = 0.1 only the weakest direction is damped.
+        let j = DMatrix::from_row_slice(3, 3, &[2.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.01]);
+        let law = DampingLaw::new(0.1, 0.05).unwrap();
+        let (u, s, v) = svd(&j);
+        let p = damped_inverse(&u, &s, &v, &law);
+        assert!((p[(0, 0)] - 0.5).abs() < 1e-15 && (p[(1, 1)] - 1.0).abs() < 1e-15);
+        let lam_sq = law.damping_sq(0.01);
+        assert!((p[(2, 2)] - 0.01 / (1e-4 + lam_sq)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn gram_solve_equals_the_svd_form() {
+        let law = DampingLaw::new(0.5, 0.1).unwrap();
+        for j in [
+            DMatrix::from_row_slice(3, 4, &[0.3, -1.0, 0.2, 0.7, 1.1, 0.4, -0.6, 0.0, -0.2, 0.5, 0.8, 0.3]),
+            // Rank 2 (a planar arm) and a near-singular row.
+            DMatrix::from_row_slice(3, 4, &[0.3, -1.0, 0.2, 0.7, 1.1, 0.4, -0.6, 0.0, 0.0, 0.0, 0.0, 0.0]),
+            DMatrix::from_row_slice(3, 4, &[0.3, -1.0, 0.2, 0.7, 1.1, 0.4, -0.6, 0.0, 0.3, -1.0, 0.2, 0.71]),
+        ] {
+            let b = Vector3::new(0.4, -1.0, 0.7);
+            let (u, s, v) = svd(&j);
+            let expected = damped_inverse(&u, &s, &v, &law) * DVector::from_column_slice(b.as_slice());
+            let jjt = &j * j.transpose();
+            let (z, _) = damped_gram_solve(&Matrix3::from_iterator(jjt.iter().copied()), &b, &law);
+            let got = j.transpose() * DVector::from_column_slice(z.as_slice());
+            assert!((got - expected).norm() < 1e-10, "Gram and SVD forms differ");
+        }
+    }
+}

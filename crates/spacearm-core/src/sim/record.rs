@@ -1,0 +1,201 @@
+//! The records of a run: buffers allocated once per run ([`Recorder::new`]), one sample per
+//! recorded instant, the drift of the conserved quantities, and the saturation onsets; shared by
+//! [`crate::sim::simulate`] (both integrators) and the step-by-step [`crate::sim::stepper`].
+//! The quantities and the drift's definition are in the docs of [`crate::sim::simulate`].
+
+use nalgebra::{Rotation3, UnitQuaternion, Vector3};
+
+use crate::algorithms::kinematics::point_position;
+use crate::algorithms::momentum::{center_of_mass_from_data, momentum_from_data};
+use crate::math::spatial::{angular, linear};
+use crate::model::Model;
+use crate::sim::actuators::SaturationKind;
+use crate::sim::modes::Conserved;
+use crate::sim::simulate::{Plant, Records, SaturationEvent};
+
+/// Running maxima of the drift scales.
+#[derive(Debug, Default, Clone, Copy)]
+struct Scales {
+    p: f64,
+    l_origin: f64,
+    l_com: f64,
+    energy: f64,
+}
+
+/// The records of one run and what is needed to extend them; [`Recorder::new`] is the one place
+/// where record buffers are allocated.
+#[derive(Debug, Clone)]
+pub(crate) struct Recorder {
+    pub(crate) rec: Records,
+    ee: Option<(usize, Vector3<f64>)>,
+    wheels: Vec<usize>,
+    n_ref: usize,
+    scales: Scales,
+    last_quat: Option<UnitQuaternion<f64>>,
+}
+
+impl Recorder {
+    /// Buffers for `capacity` samples of what `plant` produces (its model's end effector, its
+    /// wheels, its controller's reference and errors).
+    pub(crate) fn for_plant(plant: &Plant<'_>, capacity: usize) -> Self {
+        let c = &plant.controller;
+        Recorder::new(plant.model(), capacity, &plant.wheels, c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
+    }
+
+    /// Buffers for `capacity` samples (reserved up front, so recording never reallocates).
+    pub(crate) fn new(model: &Model, capacity: usize, wheels: &[usize], n_ref: usize, tracking: bool, attitude: bool) -> Self {
+        let (nx, nu, n) = (model.nx(), model.nu(), model.n_dof());
+        let v = |w: usize| Vec::with_capacity(capacity * w);
+        let ee = model.end_effector().map(|i| (model.points()[i].body, model.points()[i].offset));
+        Recorder {
+            rec: Records {
+                n_samples: 0,
+                t: v(1),
+                x: v(nx),
+                u: v(nu),
+                du: v(nu),
+                tau: v(n),
+                tau_cmd: v(n),
+                base_wrench: v(6),
+                linear_momentum: v(3),
+                angular_momentum_origin: v(3),
+                angular_momentum_com: v(3),
+                energy: v(1),
+                com: v(3),
+                ee_position: ee.map(|_| v(3)),
+                ee_quat: ee.map(|_| v(4)),
+                reference: (n_ref > 0).then(|| v(n_ref)),
+                tracking_error: tracking.then(|| v(1)),
+                attitude_error: attitude.then(|| v(1)),
+                wheel_speed: (!wheels.is_empty()).then(|| v(wheels.len())),
+            },
+            ee,
+            wheels: wheels.to_vec(),
+            n_ref,
+            scales: Scales::default(),
+            last_quat: None,
+        }
+    }
+
+    /// Record the sample at `(t, y)`; the plant has just evaluated `dy = f(t, y)`, so its
+    /// workspace holds the kinematics at `x` and the body velocities at `u`.
+    pub(crate) fn record(&mut self, plant: &Plant<'_>, t: f64, y: &[f64], dy: &[f64]) {
+        let (model, data) = (plant.model(), &plant.data);
+        let nx = plant.nx;
+        let r = &mut self.rec;
+        r.n_samples += 1;
+        r.t.push(t);
+        r.x.extend_from_slice(&y[..nx]);
+        r.u.extend_from_slice(&y[nx..]);
+        r.du.extend_from_slice(&dy[nx..]);
+        r.tau.extend_from_slice(&plant.tau_applied);
+        r.tau_cmd.extend_from_slice(&plant.cmd.tau);
+        r.base_wrench.extend_from_slice(plant.wrench_applied.as_slice());
+        // Momentum and energy from the body velocities (spatial, at the base CM), body by body,
+        // with the scale of each sum's terms for the drift (module docs).
+        let momentum = momentum_from_data(model, data);
+        let r0 = data.base_position;
+        let rg = center_of_mass_from_data(model, data);
+        let mut energy = 0.0;
+        let (mut sp, mut slo, mut slc) = (0.0, 0.0, 0.0);
+        for b in 0..model.n_bodies() {
+            let v = data.body_velocity[b];
+            energy += 0.5 * v.dot(&(data.spatial_inertia[b] * v));
+            let w = angular(&v);
+            let rb = data.com_in_world[b];
+            let p_b = (linear(&v) + w.cross(&(rb - r0))) * model.mass_properties(b).mass;
+            let spin = (data.inertia_in_world[b] * w).norm();
+            sp += p_b.norm();
+            slo += rb.cross(&p_b).norm() + spin;
+            slc += (rb - rg).cross(&p_b).norm() + spin;
+        }
+        r.linear_momentum.extend_from_slice(momentum.linear.as_slice());
+        r.angular_momentum_origin.extend_from_slice(momentum.angular_about_origin.as_slice());
+        r.angular_momentum_com.extend_from_slice(momentum.angular_about_com.as_slice());
+        r.energy.push(energy);
+        r.com.extend_from_slice(rg.as_slice());
+        let s = &mut self.scales;
+        s.p = s.p.max(sp);
+        s.l_origin = s.l_origin.max(slo);
+        s.l_com = s.l_com.max(slc);
+        s.energy = s.energy.max(energy);
+        if let Some((body, offset)) = self.ee {
+            let pos = point_position(data, body, &offset);
+            r.ee_position.as_mut().expect("allocated with ee").extend_from_slice(pos.as_slice());
+            let mut q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(data.body_to_world[body]));
+            if let Some(last) = self.last_quat {
+                if last.coords.dot(&q.coords) < 0.0 {
+                    q = UnitQuaternion::new_unchecked(-q.into_inner());
+                }
+            }
+            self.last_quat = Some(q);
+            let c = q.coords; // [i, j, k, w]
+            r.ee_quat.as_mut().expect("allocated with ee").extend_from_slice(&[c[0], c[1], c[2], c[3]]);
+        }
+        if let Some(rf) = r.reference.as_mut() {
+            rf.extend_from_slice(&plant.cmd.reference[..self.n_ref]);
+        }
+        if let Some(te) = r.tracking_error.as_mut() {
+            te.push(plant.cmd.tracking_error);
+        }
+        if let Some(ae) = r.attitude_error.as_mut() {
+            ae.push(plant.cmd.attitude_error);
+        }
+        if let Some(ws) = r.wheel_speed.as_mut() {
+            for &d in &self.wheels {
+                ws.push(y[nx + 6 + d]);
+            }
+        }
+    }
+
+    /// The scale of a conserved quantity's drift: the running maximum of its magnitude scale.
+    pub(crate) fn scale(&self, c: Conserved) -> f64 {
+        match c {
+            Conserved::LinearMomentum => self.scales.p,
+            Conserved::AngularMomentumOrigin => self.scales.l_origin,
+            Conserved::AngularMomentumCom => self.scales.l_com,
+            Conserved::Energy => self.scales.energy,
+        }
+    }
+
+    /// Drift of each conserved quantity over the recorded samples (see the module docs).
+    pub(crate) fn drift(&self, conserved: &[Conserved]) -> Vec<(Conserved, f64)> {
+        let r = &self.rec;
+        let vec_drift = |data: &[f64], scale: f64| {
+            let first = Vector3::new(data[0], data[1], data[2]);
+            let denom = first.norm().max(scale).max(f64::MIN_POSITIVE);
+            data.chunks_exact(3).map(|c| (Vector3::new(c[0], c[1], c[2]) - first).norm()).fold(0.0, f64::max) / denom
+        };
+        conserved
+            .iter()
+            .map(|&c| {
+                let d = match c {
+                    Conserved::LinearMomentum => vec_drift(&r.linear_momentum, self.scales.p),
+                    Conserved::AngularMomentumOrigin => vec_drift(&r.angular_momentum_origin, self.scales.l_origin),
+                    Conserved::AngularMomentumCom => vec_drift(&r.angular_momentum_com, self.scales.l_com),
+                    Conserved::Energy => {
+                        let e0 = r.energy[0];
+                        let denom = e0.abs().max(self.scales.energy).max(f64::MIN_POSITIVE);
+                        r.energy.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max) / denom
+                    }
+                };
+                (c, d)
+            })
+            .collect()
+    }
+}
+
+/// Saturation onsets: actuator kinds flagged in this step and not in the previous one.
+pub(crate) fn onsets(t: f64, prev: &mut [u8], now: &[u8], events: &mut Vec<SaturationEvent>) {
+    for (a, (p, &n)) in prev.iter_mut().zip(now).enumerate() {
+        let new = n & !*p;
+        if new != 0 {
+            for kind in SaturationKind::ALL {
+                if new & kind.bit() != 0 {
+                    events.push(SaturationEvent { t, actuator: a, kind });
+                }
+            }
+        }
+        *p = n;
+    }
+}

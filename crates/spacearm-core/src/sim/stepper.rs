@@ -1,0 +1,140 @@
+//! Fixed-step RK4 integration of a [`Plant`] one step at a time, with optional recording.
+//!
+//! This is the loop of [`crate::sim::simulate::simulate`]'s RK4 path, and of the step-by-step
+//! simulator of the Python package (`spacearm.Simulator`): one code path, so that stepping a
+//! plant to a time and simulating it to that time give the same records bit for bit.
+
+use crate::error::{Result, SpacearmError};
+use crate::sim::integrate::{OdeSystem, Rk4};
+use crate::sim::record::{onsets, Recorder};
+use crate::sim::simulate::{finish_result, Plant, SaturationEvent, SimResult};
+
+/// A plant, its state `y = [x; u]` at time `t`, an RK4 workspace and the records so far.
+pub struct Rk4Stepper<'a> {
+    plant: Plant<'a>,
+    rk: Rk4,
+    y: Vec<f64>,
+    dy: Vec<f64>,
+    t: f64,
+    n_steps: usize,
+    /// `(records, record_every)`; `None`: nothing is recorded (the saturation onsets still are).
+    recording: Option<(Recorder, usize)>,
+    events: Vec<SaturationEvent>,
+    prev_flags: Vec<u8>,
+    /// Set by a failed step: the state is then that of an unfinished step.
+    failed: bool,
+}
+
+impl<'a> Rk4Stepper<'a> {
+    /// Start at `t = 0` from `(x0, u0)` (checked by the caller, see
+    /// [`crate::sim::simulate::check_initial_state`]; the quaternion is normalized exactly).
+    /// `recording = Some((capacity, record_every))` records every `record_every`-th step into
+    /// buffers reserved for `capacity` samples.
+    pub fn new(plant: Plant<'a>, x0: &[f64], u0: &[f64], recording: Option<(usize, usize)>) -> Result<Self> {
+        if let Some((_, 0)) = recording {
+            return Err(SpacearmError::argument("record_every must be >= 1".to_string()));
+        }
+        let mut y: Vec<f64> = x0.iter().chain(u0).copied().collect();
+        plant.project(&mut y);
+        let dim = y.len();
+        let n = plant.model().n_dof();
+        let recording = recording.map(|(capacity, every)| (Recorder::for_plant(&plant, capacity), every));
+        Ok(Rk4Stepper {
+            rk: Rk4::new(dim),
+            dy: vec![0.0; dim],
+            y,
+            t: 0.0,
+            n_steps: 0,
+            recording,
+            events: Vec::new(),
+            prev_flags: vec![0; n + 6],
+            failed: false,
+            plant,
+        })
+    }
+
+    /// Advance one step from the current time to `t_next` (> the current time), recording the
+    /// state at the start of the step if it is a recorded step.
+    pub fn step_to(&mut self, t_next: f64) -> Result<()> {
+        if self.failed {
+            return Err(SpacearmError::Simulation("a step failed earlier; reset the simulation before stepping again".into()));
+        }
+        let t = self.t;
+        self.plant.flags_step.fill(0);
+        let record_now = matches!(&self.recording, Some((_, every)) if self.n_steps % every == 0);
+        let result = (|| {
+            if record_now {
+                self.plant.rhs(t, &self.y, self.rk.k1_mut())?;
+                if let Some((rec, _)) = &mut self.recording {
+                    rec.record(&self.plant, t, &self.y, self.rk.k1());
+                }
+            }
+            self.rk.step(&mut self.plant, t, t_next - t, &mut self.y, record_now)
+        })();
+        if result.is_err() {
+            self.failed = true;
+            return result;
+        }
+        self.n_steps += 1;
+        self.t = t_next;
+        onsets(t, &mut self.prev_flags, &self.plant.flags_step, &mut self.events);
+        Ok(())
+    }
+
+    /// The current time, s.
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// The current state `[x; u]`.
+    pub fn state(&self) -> &[f64] {
+        &self.y
+    }
+
+    /// Accepted steps so far.
+    pub fn n_steps(&self) -> usize {
+        self.n_steps
+    }
+
+    /// The plant (to change its held input between steps).
+    pub fn plant_mut(&mut self) -> &mut Plant<'a> {
+        &mut self.plant
+    }
+
+    /// Whether a step failed (then only a new stepper can go on).
+    pub fn failed(&self) -> bool {
+        self.failed
+    }
+
+    /// Record the final sample (the current state) and return the run's result.
+    pub fn finish(mut self) -> Result<SimResult> {
+        let rec = match self.recording.take() {
+            Some((rec, _)) => rec,
+            None => Recorder::for_plant(&self.plant, 1),
+        };
+        self.result_with(rec)
+    }
+
+    /// The result so far, as [`Rk4Stepper::finish`] would return it now, leaving the stepper
+    /// able to go on: the records are copied, and the evaluation at the current state (for its
+    /// sample) is not counted.
+    pub fn snapshot(&mut self) -> Result<SimResult> {
+        let rec = match &self.recording {
+            Some((rec, _)) => rec.clone(),
+            None => Recorder::for_plant(&self.plant, 1),
+        };
+        let counters = (self.plant.n_evals, self.plant.dropped_max, self.plant.dropped_count);
+        let result = self.result_with(rec);
+        (self.plant.n_evals, self.plant.dropped_max, self.plant.dropped_count) = counters;
+        result
+    }
+
+    fn result_with(&mut self, mut rec: Recorder) -> Result<SimResult> {
+        if self.failed {
+            return Err(SpacearmError::Simulation("a step failed; the simulation has no result".into()));
+        }
+        self.plant.rhs(self.t, &self.y, &mut self.dy)?;
+        rec.record(&self.plant, self.t, &self.y, &self.dy);
+        Ok(finish_result(&self.plant, rec, self.events.clone(), self.n_steps, 0))
+    }
+}

@@ -1,0 +1,216 @@
+//! `spacearm._core.rollout`: many simulations on native threads without the GIL
+//! (`spacearm_core::sim::rollout`), their records stacked into arrays with a leading rollout
+//! axis. Wrapped by `spacearm.rollout`.
+
+use numpy::{PyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use rayon::prelude::*;
+use spacearm_core::control::{Controller, ZeroTorque};
+use spacearm_core::sim::rollout::{rollout as core_rollout, RolloutSpec};
+use spacearm_core::sim::simulate::{check_initial_state, sample_count, SimResult};
+use spacearm_core::{Model, SpacearmError};
+
+use crate::convert::*;
+use crate::model_py::PyModel;
+use crate::records_py::{events, meta, take_fields, Field};
+use crate::simulate_py::{error_slot, parse_controller, parse_options, RunOptions};
+
+/// The error `err` with `rollout {i}: ` before its message, as the same Python class.
+fn for_rollout(py: Python<'_>, i: usize, err: SpacearmError) -> PyErr {
+    let e = to_py_err(py, err);
+    let message = format!("rollout {i}: {}", e.value(py));
+    match e.get_type(py).call1((message,)) {
+        Ok(instance) => PyErr::from_value(instance),
+        Err(other) => other,
+    }
+}
+
+/// `(B, width)` float64 rows as one row-major Vec.
+fn rows(a: &PyReadonlyArray2<'_, f64>, what: &str, width: usize) -> PyResult<(Vec<f64>, usize)> {
+    let shape = a.shape();
+    if shape[1] != width {
+        let e = SpacearmError::Dimension { what: what.into(), expected: format!("(B, {width})"), got: shape[1] };
+        return Err(to_py_err(a.py(), e));
+    }
+    Ok((a.as_array().iter().copied().collect(), shape[0]))
+}
+
+/// Run `B` rollouts; returns a dict: every record with a leading rollout axis (`(B, K, ...)`, NaN
+/// rows for a failed rollout), `"ok"` (B booleans), `"reason"` (None or the error message of each
+/// rollout), `"error_class"` (None or the `spacearm.errors` class name), `"meta"` and `"events"`
+/// (a dict or None per rollout).
+#[pyfunction]
+#[pyo3(signature = (models, x0, u0, duration, options, controllers=None, threads=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn rollout<'py>(
+    py: Python<'py>,
+    models: &Bound<'py, PyList>,
+    x0: PyReadonlyArray2<'py, f64>,
+    u0: PyReadonlyArray2<'py, f64>,
+    duration: f64,
+    options: &Bound<'py, PyDict>,
+    controllers: Option<&Bound<'py, PyAny>>,
+    threads: Option<usize>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let bad = |msg: String| to_py_err(py, SpacearmError::InvalidArgument(msg));
+    let plants: Vec<Model> = models
+        .iter()
+        .map(|m| m.cast::<PyModel>().map(|m| m.borrow().model.clone()).map_err(|_| bad("rollout: models must be spacearm core models".into())))
+        .collect::<PyResult<_>>()?;
+    let first = plants.first().ok_or_else(|| bad("rollout: no model given".into()))?;
+    let (nx, nu, n) = (first.nx(), first.nu(), first.n_dof());
+    let (x0, b) = rows(&x0, "x0", nx)?;
+    let (u0, b_u) = rows(&u0, "u0", nu)?;
+    if b_u != b {
+        return Err(bad(format!("x0 has {b} rows but u0 has {b_u}; give one initial velocity per rollout")));
+    }
+    if plants.len() != 1 && plants.len() != b {
+        return Err(bad(format!("plants: got {} models for {b} rollouts; give one per rollout", plants.len())));
+    }
+    let plant = |i: usize| if plants.len() == 1 { &plants[0] } else { &plants[i] };
+    for (i, m) in plants.iter().enumerate() {
+        if m.nx() != nx {
+            return Err(bad(format!("plant {i} has {} degrees of freedom, plant 0 has {n}; every plant needs the same joints", m.n_dof())));
+        }
+    }
+    for i in 0..b {
+        check_initial_state(plant(i), &x0[i * nx..(i + 1) * nx], &u0[i * nu..(i + 1) * nu]).map_err(|e| for_rollout(py, i, e))?;
+    }
+    let RunOptions { sim: opts, float32, .. } = parse_options(py, duration, options)?;
+    // One controller instance per rollout (controllers keep workspaces): a shared spec is parsed
+    // once per rollout.
+    let slot = error_slot();
+    let mut boxed: Vec<Box<dyn Controller>> = Vec::with_capacity(b);
+    match controllers {
+        None => boxed.extend((0..b).map(|_| Box::new(ZeroTorque) as Box<dyn Controller>)),
+        Some(c) if c.is_none() => boxed.extend((0..b).map(|_| Box::new(ZeroTorque) as Box<dyn Controller>)),
+        Some(c) => match c.cast::<PyList>() {
+            Ok(list) => {
+                if list.len() != b {
+                    return Err(bad(format!("controllers: got {} for {b} rollouts; give one controller, or one per rollout", list.len())));
+                }
+                for spec in list.iter() {
+                    boxed.push(parse_controller(&spec, &slot)?);
+                }
+            }
+            Err(_) => {
+                for _ in 0..b {
+                    boxed.push(parse_controller(c, &slot)?);
+                }
+            }
+        },
+    }
+    let specs: Vec<RolloutSpec<'_>> = boxed
+        .into_iter()
+        .enumerate()
+        .map(|(i, controller)| RolloutSpec { model: plant(i), x0: &x0[i * nx..(i + 1) * nx], u0: &u0[i * nu..(i + 1) * nu], controller })
+        .collect();
+    let results = py.detach(|| core_rollout(specs, &opts, threads)).or_raise(py)?;
+    stack(py, results, &opts, float32, (nx, nu, n))
+}
+
+/// One record of every rollout, stacked.
+enum Stacked {
+    F64(Vec<f64>),
+    F32(Vec<f32>),
+}
+
+/// The rollouts' records stacked along a leading axis, with their status and descriptions.
+fn stack<'py>(
+    py: Python<'py>,
+    results: Vec<spacearm_core::Result<SimResult>>,
+    opts: &spacearm_core::sim::simulate::SimOptions,
+    float32: bool,
+    (nx, nu, n): (usize, usize, usize),
+) -> PyResult<Bound<'py, PyDict>> {
+    let b = results.len();
+    let k = sample_count(opts);
+    let out = PyDict::new(py);
+    let ok: Vec<bool> = results.iter().map(|r| r.is_ok()).collect();
+    let reason = PyList::empty(py);
+    let error_class = PyList::empty(py);
+    let metas = PyList::empty(py);
+    let event_list = PyList::empty(py);
+    let mut fields: Vec<Option<Vec<Field>>> = Vec::with_capacity(b);
+    for r in results {
+        match r {
+            Ok(mut res) => {
+                reason.append(py.None())?;
+                error_class.append(py.None())?;
+                metas.append(meta(py, &res, opts, float32)?)?;
+                let ev = PyDict::new(py);
+                events(py, &res, &ev)?;
+                event_list.append(ev)?;
+                fields.push(Some(take_fields(&mut res, nx, nu, n)));
+            }
+            Err(e) => {
+                reason.append(e.to_string())?;
+                let class = to_py_err(py, e).get_type(py).name()?.to_string();
+                error_class.append(class)?;
+                metas.append(py.None())?;
+                event_list.append(py.None())?;
+                fields.push(None);
+            }
+        }
+    }
+    // The layout of a record: that of the first successful rollout (or the three always recorded).
+    let layout: Vec<(&'static str, usize, bool)> = match fields.iter().flatten().next() {
+        Some(f) => f.iter().map(|f| (f.name, f.width, f.scalar)).collect(),
+        None => vec![("t", 1, true), ("x", nx, false), ("u", nu, false)],
+    };
+    // Regroup by record (moving the buffers, no copy): columns[j][i] is record j of rollout i.
+    let mut columns: Vec<Vec<Option<Vec<f64>>>> = layout.iter().map(|_| Vec::with_capacity(b)).collect();
+    for (i, f) in fields.into_iter().enumerate() {
+        match f {
+            Some(f) => {
+                let same = f.len() == layout.len()
+                    && f.iter().zip(&layout).all(|(f, &(name, width, _))| f.name == name && f.width == width && f.values.len() == k * width);
+                if !same {
+                    let msg = format!("rollout {i} records differently from rollout 0 (another kind of controller?); give every rollout the same kind of controller");
+                    return Err(to_py_err(py, SpacearmError::InvalidArgument(msg)));
+                }
+                for (column, field) in columns.iter_mut().zip(f) {
+                    column.push(Some(field.values));
+                }
+            }
+            None => columns.iter_mut().for_each(|c| c.push(None)),
+        }
+    }
+    // Stack each record on its own thread (a copy into the batch buffer, page faults included,
+    // is most of this work), freeing each rollout's buffer once copied.
+    let stacked: Vec<Stacked> = py.detach(|| {
+        columns
+            .into_par_iter()
+            .zip(layout.par_iter())
+            .map(|(column, &(name, width, _))| {
+                let mut values = Vec::with_capacity(b * k * width);
+                for v in column {
+                    match v {
+                        Some(mut v) => values.append(&mut v),
+                        None => values.resize(values.len() + k * width, f64::NAN),
+                    }
+                }
+                if float32 && name != "t" {
+                    Stacked::F32(values.iter().map(|&v| v as f32).collect())
+                } else {
+                    Stacked::F64(values)
+                }
+            })
+            .collect()
+    });
+    for (values, &(name, width, scalar)) in stacked.into_iter().zip(&layout) {
+        let shape: Vec<usize> = if scalar { vec![b, k] } else { vec![b, k, width] };
+        let array = match values {
+            Stacked::F64(v) => PyArray1::from_vec(py, v).into_any(),
+            Stacked::F32(v) => PyArray1::from_vec(py, v).into_any(),
+        };
+        out.set_item(name, array.call_method1("reshape", (shape,))?)?;
+    }
+    out.set_item("ok", PyArray1::from_vec(py, ok))?;
+    out.set_item("reason", reason)?;
+    out.set_item("error_class", error_class)?;
+    out.set_item("meta", metas)?;
+    out.set_item("events", event_list)?;
+    Ok(out)
+}

@@ -1,0 +1,171 @@
+//! `spacearm._core.Simulator`: a plant stepped from Python one RK4 step (or `n`) at a time
+//! (`spacearm_core::sim::stepper::Rk4Stepper`, the loop of `simulate`), with an optional joint
+//! torque and base wrench held over each call. Wrapped by `spacearm.Simulator`.
+
+use std::sync::Mutex;
+
+use nalgebra::Vector6;
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use spacearm_core::control::{Controller, ZeroTorque};
+use spacearm_core::sim::integrate::IntegratorKind;
+use spacearm_core::sim::simulate::{check_initial_state, Plant, SimOptions};
+use spacearm_core::sim::stepper::Rk4Stepper;
+use spacearm_core::{Model, SpacearmError};
+
+use crate::convert::*;
+use crate::model_py::PyModel;
+use crate::records_py::run_dict;
+use crate::simulate_py::{error_slot, parse_controller, parse_options, take_error, ErrorSlot, RunOptions};
+
+/// The state of a simulator between calls.
+#[pyclass(module = "spacearm._core", name = "Simulator")]
+pub struct PySimulator {
+    model: Model,
+    opts: SimOptions,
+    float32: bool,
+    /// The controller's spec, parsed anew at every reset (a fresh controller each run).
+    spec: Option<Py<PyAny>>,
+    /// `record_every`, or `None`: nothing recorded.
+    record_every: Option<usize>,
+    /// Behind a mutex so that the object may be used from any Python thread.
+    stepper: Mutex<Option<Rk4Stepper<'static>>>,
+    slot: ErrorSlot,
+    /// Reused buffer of the held torque.
+    tau: Vec<f64>,
+}
+
+fn bad(msg: String) -> SpacearmError {
+    SpacearmError::InvalidArgument(msg)
+}
+
+impl PySimulator {
+    fn not_reset(py: Python<'_>) -> PyErr {
+        to_py_err(py, bad("the simulator has no state yet; call reset(x0, u0) first".into()))
+    }
+}
+
+#[pymethods]
+impl PySimulator {
+    #[new]
+    #[pyo3(signature = (model, options, controller_spec=None, record_every=None))]
+    fn new(py: Python<'_>, model: &Bound<'_, PyModel>, options: &Bound<'_, PyDict>, controller_spec: Option<Bound<'_, PyAny>>, record_every: Option<usize>) -> PyResult<Self> {
+        let RunOptions { sim: opts, float32, .. } = parse_options(py, 1.0, options)?;
+        if opts.integrator != IntegratorKind::Rk4 {
+            return Err(to_py_err(py, bad("the Simulator steps with integrator 'rk4' only; use spacearm.simulate for 'dopri5'".into())));
+        }
+        opts.validate().or_raise(py)?;
+        if record_every == Some(0) {
+            return Err(to_py_err(py, bad("record_every must be an integer >= 1".into())));
+        }
+        let model = model.borrow().model.clone();
+        let n = model.n_dof();
+        Ok(PySimulator {
+            model,
+            opts,
+            float32,
+            spec: controller_spec.filter(|s| !s.is_none()).map(Bound::unbind),
+            record_every,
+            stepper: Mutex::new(None),
+            slot: error_slot(),
+            tau: vec![0.0; n],
+        })
+    }
+
+    /// Start again at `t = 0` from `(x0, u0)` with a fresh controller and empty records.
+    fn reset(&mut self, py: Python<'_>, x0: &Bound<'_, PyAny>, u0: &Bound<'_, PyAny>) -> PyResult<()> {
+        let x0 = vec_arg(x0, "x0")?;
+        let u0 = vec_arg(u0, "u0")?;
+        check_initial_state(&self.model, x0.as_slice(), u0.as_slice()).or_raise(py)?;
+        let controller: Box<dyn Controller> = match &self.spec {
+            Some(s) => parse_controller(s.bind(py), &self.slot)?,
+            None => Box::new(ZeroTorque),
+        };
+        let plant = Plant::owned(self.model.clone(), &self.opts, controller).or_raise(py)?;
+        let recording = self.record_every.map(|every| (1024, every));
+        let stepper = Rk4Stepper::new(plant, x0.as_slice(), u0.as_slice(), recording).or_raise(py)?;
+        *self.stepper.get_mut().map_err(|_| Self::not_reset(py))? = Some(stepper);
+        Ok(())
+    }
+
+    /// Advance `n` steps of `dt`, adding `tau` (N) and `base_wrench` (6) to the controller's
+    /// command throughout (None: nothing added). Steps land on `t = i·dt`.
+    #[pyo3(signature = (tau=None, n=1, base_wrench=None))]
+    fn step(&mut self, py: Python<'_>, tau: Option<&Bound<'_, PyAny>>, n: usize, base_wrench: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let n_dof = self.model.n_dof();
+        let held = match (tau, base_wrench) {
+            (None, None) => None,
+            (t, w) => {
+                match t {
+                    Some(t) => {
+                        let v = vec_arg_n(t, "tau", n_dof)?;
+                        check_finite(py, "tau", v.as_slice())?;
+                        self.tau.copy_from_slice(v.as_slice());
+                    }
+                    None => self.tau.fill(0.0),
+                }
+                let w = match w {
+                    Some(w) => {
+                        let w = vec6(w, "base_wrench")?;
+                        check_finite(py, "base_wrench", w.as_slice())?;
+                        w
+                    }
+                    None => Vector6::zeros(),
+                };
+                Some(w)
+            }
+        };
+        let dt = self.opts.dt;
+        let tau = &self.tau;
+        let stepper = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?.as_mut().ok_or_else(|| Self::not_reset(py))?;
+        stepper.plant_mut().set_held_input(held.map(|w| (tau.as_slice(), w)));
+        let result = if n == 1 {
+            // One step is a few microseconds: releasing the GIL would cost a noticeable part of it.
+            let t_next = (stepper.n_steps() + 1) as f64 * dt;
+            stepper.step_to(t_next)
+        } else {
+            py.detach(|| {
+                for _ in 0..n {
+                    let t_next = (stepper.n_steps() + 1) as f64 * dt;
+                    stepper.step_to(t_next)?;
+                }
+                Ok(())
+            })
+        };
+        result.map_err(|e| take_error(&self.slot).unwrap_or_else(|| to_py_err(py, e)))
+    }
+
+    /// The current time, s.
+    #[getter]
+    fn time(&mut self, py: Python<'_>) -> PyResult<f64> {
+        let s = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?;
+        s.as_ref().map(|s| s.time()).ok_or_else(|| Self::not_reset(py))
+    }
+
+    /// The current state `[x; u]` (a new array).
+    #[getter]
+    fn state<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let s = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?;
+        s.as_ref().map(|s| PyArray1::from_slice(py, s.state())).ok_or_else(|| Self::not_reset(py))
+    }
+
+    /// Steps taken since the last reset.
+    #[getter]
+    fn n_steps(&mut self, py: Python<'_>) -> PyResult<usize> {
+        let s = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?;
+        s.as_ref().map(|s| s.n_steps()).ok_or_else(|| Self::not_reset(py))
+    }
+
+    /// The records so far with the current state as the last sample, as the dict of
+    /// `spacearm._core.simulate` (the simulator goes on unchanged).
+    fn result<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let (nx, nu, n) = (self.model.nx(), self.model.nu(), self.model.n_dof());
+        let mut opts = self.opts.clone();
+        opts.record_every = self.record_every.unwrap_or(usize::MAX);
+        let stepper = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?.as_mut().ok_or_else(|| Self::not_reset(py))?;
+        let res = stepper.snapshot().map_err(|e| take_error(&self.slot).unwrap_or_else(|| to_py_err(py, e)))?;
+        opts.duration = stepper.time();
+        run_dict(py, res, &opts, self.float32, nx, nu, n)
+    }
+}

@@ -1,0 +1,46 @@
+"""Capture of a tumbling target (``docs/capture.md``).
+
+- :class:`Target`: a free rigid body with grasp points (state ``[position, quaternion [x, y, z,
+  w], velocity, angular velocity]``, all in 𝒥);
+- :func:`grasp_impulse` (also ``Robot.grasp_impulse``): the impact, rigid lock or frictionless
+  point contact, and its pieces :func:`inverse_inertia`, :func:`virtual_mass`,
+  :func:`impulse_momentum_split`;
+- :func:`attach_target` (the captured system as one model) and :func:`soft_capture` (a wrist
+  impedance between two free bodies);
+- :func:`simulate_closed_chain`: a two-arm grasp as a closed chain;
+- :func:`detumble`; :func:`capture`, the whole sequence with phases and the momentum ledger;
+- :func:`capture_envelope`: success over target spin rates and inertia errors.
+"""
+
+from .closed_chain import ClosedChainRun, simulate_closed_chain
+from .captured import CapturedSystem, SoftCaptureRun, attach_target, relative_twist, soft_capture
+from .detumble import DetumbleRun, detumble
+from .envelope import CaptureEnvelope, capture_envelope
+from .impact import GraspImpulse, MomentumSplit, grasp_impulse, impulse_momentum_split, inverse_inertia, virtual_mass
+from .sequence import PHASES, CaptureResult, capture
+from .target import Target, TargetState
+
+__all__ = [
+    "Target",
+    "TargetState",
+    "GraspImpulse",
+    "MomentumSplit",
+    "grasp_impulse",
+    "inverse_inertia",
+    "virtual_mass",
+    "impulse_momentum_split",
+    "CapturedSystem",
+    "attach_target",
+    "relative_twist",
+    "SoftCaptureRun",
+    "soft_capture",
+    "ClosedChainRun",
+    "simulate_closed_chain",
+    "DetumbleRun",
+    "detumble",
+    "PHASES",
+    "CaptureResult",
+    "capture",
+    "CaptureEnvelope",
+    "capture_envelope",
+]

@@ -1,0 +1,380 @@
+"""The whole capture in one call (:func:`capture`): approach → capture → post-capture → detumble,
+with phase markers and the momentum ledger of robot + target.
+
+Phases (``PHASES``; ``result.phase`` holds the index at every sample):
+
+0. **approach** — resolved-motion-rate control of the grasp point towards the *moving* grasp
+   point of the tumbling target, through the generalized Jacobian: ``q̇_cmd = J*_vᵀ (J*_v J*_vᵀ +
+   λ² E)⁻¹ (ṗ_t + k (p_t − p) − v_drift)`` (eq. 110; ``v_drift`` the point velocity the robot's
+   momentum makes), followed through ``τ = H* k_v (q̇_cmd − q̇) + c*``. The target moves torque-free
+   (:meth:`Target.propagate`). The approach ends at the first sample where the two grasp points
+   are within ``capture_tolerance``.
+1. **capture** — ``rigid`` and ``point``: the impulse of :func:`grasp_impulse` (one extra
+   sample at the same instant, after the jump); ``soft``: the wrist impedance of
+   :func:`soft_capture` for ``soft_time``, then a rigid lock of what relative motion remains.
+2. **post-capture** — the captured system (rigid, soft: the target attached as a payload, model
+   edited at run time; point: the robot alone, the target flying off) with the joints braked.
+   The thrusters act in the approach and the detumble only: the soft phase and this one are
+   unactuated at the base in either mode.
+3. **detumble** — :func:`detumble` in ``mode``.
+
+Momentum ledger: ``P`` and ``L`` (about the origin of 𝒥) of robot + target at every sample. In
+floating mode nothing external acts, and their drift relative to the momentum in play (the
+largest ``|robot part| + |target part|``) is the integration error (``result.drift``).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Optional
+
+import numpy as np
+
+from .._util.arrays import number, vector
+from ..control import Callback
+from ..errors import ArgumentError, SimulationError
+from ..rotations import quat_from_matrix
+from ..sim.simulation import simulate
+from .captured import attach_target, soft_capture
+from .detumble import DETUMBLE_MODES, detumble, grasp_wrench, hold_torque, momentum_damping_wrench
+from .impact import _check_target, grasp_impulse
+
+__all__ = ["capture", "CaptureResult", "PHASES", "CAPTURE_KINDS"]
+
+PHASES = ("approach", "capture", "post-capture", "detumble")
+CAPTURE_KINDS = ("rigid", "point", "soft")
+
+
+class CaptureResult:
+    """The recorded capture: arrays over samples ``t`` (s), and the impact.
+
+    Attributes: ``t`` (T,), ``phase`` (T,) indices into :data:`PHASES`, ``x`` (T, 7+N) and ``u``
+    (T, 6+N) of the robot (its own coordinates: the payload adds none), ``tau`` (T, N),
+    ``base_wrench`` (T, 6), ``target`` (T, 13) target states, ``P`` and ``L`` (T, 3) robot +
+    target momentum about the origin of 𝒥, ``grasp_wrench`` (T, 6) the wrench holding the
+    target, ``[f; n]`` with the moment about the target's CM (zero while it is free), ``impact`` (:class:`GraspImpulse`), ``robot`` (before
+    capture), ``captured`` (the combined model, or ``None`` for a point contact), ``mode``,
+    ``kind``, ``time_to_detumble`` (s after the detumble phase starts), ``residual_spin`` (rad/s),
+    ``drift`` (relative, ``{"P": ..., "L": ...}``).
+    """
+
+    #: The names of the phases, indexed by ``phase``.
+    phase_names = PHASES
+
+    def __init__(self, **fields):
+        self.__dict__.update(fields)
+
+    def phase_start(self, name: str) -> float:
+        """Time at which a phase starts."""
+        idx = np.nonzero(self.phase == PHASES.index(name))[0]
+        return float(self.t[idx[0]]) if idx.size else math.nan
+
+    def summary(self) -> dict:
+        """The figures of the capture (what the CLI prints)."""
+        imp = self.impact
+        post = self.phase >= 1
+        return {
+            "mode": self.mode,
+            "kind": self.kind,
+            "capture_time": self.phase_start("capture"),
+            "gap": imp.gap,
+            "impulse": imp.impulse.copy(),
+            "impulse_force_norm": float(np.linalg.norm(imp.impulse[:3])),
+            "impulse_moment_norm": float(np.linalg.norm(imp.impulse[3:])),
+            "base_dv": imp.du[:3].copy(),
+            "base_dw": imp.du[3:6].copy(),
+            "energy_lost": imp.energy_lost,
+            "peak_grasp_force": float(np.linalg.norm(self.grasp_wrench[post, :3], axis=1).max()),
+            "peak_grasp_torque": float(np.linalg.norm(self.grasp_wrench[post, 3:], axis=1).max()),
+            "peak_joint_torque": float(np.abs(self.tau).max()) if self.tau.size else 0.0,
+            "time_to_detumble": self.time_to_detumble,
+            "residual_spin": self.residual_spin,
+            "drift_P": self.drift["P"],
+            "drift_L": self.drift["L"],
+        }
+
+    def arrays(self) -> dict:
+        """The arrays saved by :meth:`save`."""
+        return {
+            "t": self.t, "phase": self.phase, "P": self.P, "L": self.L, "x": self.x, "u": self.u, "tau": self.tau,
+            "base_wrench": self.base_wrench, "target": self.target, "grasp_wrench": self.grasp_wrench,
+            "impulse": self.impact.impulse, "du": self.impact.du, "target_dtwist": self.impact.target_dtwist,
+            "impact_point": self.impact.point, "phase_names": np.array(PHASES),
+        }
+
+    def save(self, path) -> None:
+        """Write the arrays to an ``.npz`` file (atomically: no partial file)."""
+        from .._util.atomic import atomic_open
+
+        with atomic_open(path, "wb") as fh:
+            np.savez(fh, **self.arrays())
+
+    def plot(self, path=None):
+        """A figure of the capture; written to ``path`` if given. See :mod:`spacearm.viz.capture`."""
+        from ..viz.capture import plot_capture
+
+        return plot_capture(self, path)
+
+    def animate(self, path, fps: int = 20):
+        """A GIF of the capture (robot, target, grasp point)."""
+        from ..viz.capture import animate_capture
+
+        return animate_capture(self, path, fps=fps)
+
+
+def _reach(robot) -> float:
+    """A bound on the distance of any body CM from the base CM (sum of the link offsets)."""
+    return float(sum(np.linalg.norm(link.origin) + np.linalg.norm(link.com) for link in robot.description.links))
+
+
+def _target_grid(target, s0, duration, h):
+    """Target states at every multiple of ``h / 2`` up to ``duration`` (the RK4 stage times)."""
+    n = int(round(duration / h))
+    out = [s0]
+    for _ in range(2 * n + 2):
+        out.append(target.propagate(out[-1], 0.5 * h, dt=0.5 * h))
+    return np.array(out)
+
+
+def _ledger(robot, target, xs, us, ss, combined: bool):
+    """Total P, L about the origin, and the target's share (for the drift scale)."""
+    P, L, Pt, Lt = [], [], [], []
+    for x, u, s in zip(xs, us, ss):
+        m = robot.momentum(x, u)
+        mt = target.momentum(s)
+        P.append(m.P if combined else m.P + mt.P)
+        L.append(m.L_origin if combined else m.L_origin + mt.L_origin)
+        Pt.append(mt.P)
+        Lt.append(mt.L_origin)
+    return np.array(P), np.array(L), np.array(Pt), np.array(Lt)
+
+
+def _payload_states(captured, xs, us, target):
+    """The target's 13-state while it rides on the gripper, from the combined model."""
+    body = captured.robot.body_index(captured.payload)
+    out = []
+    for x, u in zip(xs, us):
+        kin = captured.robot.forward_kinematics(x)
+        j0, jm = captured.robot._m.point_jacobians(x, body, np.zeros(3))
+        tw = j0 @ u[:6] + jm @ u[6:]
+        out.append(np.r_[kin.com_in_world[body], quat_from_matrix(kin.body_to_world[body]), tw])
+    return np.array(out)
+
+
+def capture(
+    robot,
+    target,
+    target_state,
+    *,
+    x0=None,
+    u0=None,
+    mode: str = "floating",
+    kind: str = "rigid",
+    restitution: float = 0.0,
+    point=None,
+    grasp: Optional[str] = None,
+    approach_time: float = 8.0,
+    capture_tolerance: float = 0.01,
+    soft_time: float = 2.0,
+    post_time: float = 1.0,
+    detumble_time: float = 30.0,
+    dt: float = 0.01,
+    rmrc_gain: float = 2.0,
+    rmrc_damping: float = 0.05,
+    velocity_gain: float = 5.0,
+    max_joint_rate: float = 1.0,
+    rtol: float = 1e-10,
+    kp: float = 1.0,
+    kd: float = 2.0,
+    time_constant: float = 5.0,
+    max_joint_torque: float = math.inf,
+    max_force: float = math.inf,
+    max_torque: float = math.inf,
+    rate_tolerance: float = 1e-3,
+) -> CaptureResult:
+    """Simulate the capture of ``target`` (state ``target_state``) by ``robot`` (module docstring).
+
+    ``mode``: ``"floating"`` or ``"flying"`` (base thrusters in the approach, holding the base
+    momentum at zero, and in the detumble); ``kind``: ``"rigid"``, ``"point"`` (restitution
+    ``restitution``) or ``"soft"``. Limits: ``max_joint_torque`` (N·m, every joint),
+    ``max_force`` (N) and ``max_torque`` (N·m) of the base thrusters; the approach's joint-rate
+    command is scaled down to at most ``max_joint_rate`` (rad/s). Times in s. Every phase but the
+    soft one is integrated by adaptive DOPRI5 with relative tolerance ``rtol`` and recorded every
+    ``dt``; the soft phase by fixed-step RK4 with step ``dt / 5``. Gains: ``rmrc_gain`` (1/s),
+    ``rmrc_damping`` (m), ``velocity_gain`` (1/s) of the approach; ``kp``, ``kd``,
+    ``time_constant`` of :func:`~spacearm.capture.detumble`.
+    Raises ``SimulationError`` when the approach does not bring the grasp points within
+    ``capture_tolerance`` (m).
+    """
+    _check_target(target)
+    if mode not in DETUMBLE_MODES:
+        raise ArgumentError(f"mode must be one of {list(DETUMBLE_MODES)}, got {mode!r}")
+    if kind not in CAPTURE_KINDS:
+        raise ArgumentError(f"kind must be one of {list(CAPTURE_KINDS)}, got {kind!r}")
+    s0 = target.check_state(target_state)
+    if kind != "point" and not target.is_rigid:
+        raise ArgumentError(f"target '{target.name}' is a jointed model: kind='{kind}' attaches it as a payload, which needs a rigid "
+                            "target; use kind='point'")
+    x0 = robot.neutral_configuration() if x0 is None else vector(x0, "x0", robot.nx)
+    u0 = robot.zero_velocity() if u0 is None else vector(u0, "u0", robot.nu)
+    times = {k: number(v, k) for k, v in (("approach_time", approach_time), ("soft_time", soft_time), ("post_time", post_time),
+                                           ("detumble_time", detumble_time), ("dt", dt), ("capture_tolerance", capture_tolerance))}
+    for k, v in times.items():
+        if not v > 0:
+            raise ArgumentError(f"{k} must be > 0, got {v}")
+    mjt = number(max_joint_torque, "max_joint_torque")
+    for name, value in (("max_joint_torque", mjt), ("max_force", max_force), ("max_torque", max_torque)):
+        if not number(value, name) > 0:
+            raise ArgumentError(f"{name} must be > 0 (inf: no limit), got {value}")
+    e = number(restitution, "restitution")
+    if not 0.0 <= e <= 1.0 or (kind != "point" and e != 0.0):
+        raise ArgumentError(f"restitution must be in [0, 1] and is for kind='point' only (a grasp is plastic), got {e} with kind={kind!r}")
+    body, offset = robot._point(point)
+    target.point(grasp)  # an unknown grasp point fails here, before the approach runs
+
+    # ---- 0. approach ------------------------------------------------------------------------
+    grid = _target_grid(target, s0, approach_time, dt)
+    half = 0.5 * dt
+
+    def target_at(t):
+        i = min(int(t / half), len(grid) - 1)
+        rest = t - i * half
+        return grid[i] if rest <= 1e-12 else target.propagate(grid[i], rest, dt=rest)
+
+    def approach_law(t, x, u):
+        s = target_at(t)
+        p_t = target.grasp_position(s, grasp)
+        v_t = target.grasp_velocity(s, grasp)
+        p = robot._m.point_position(x, body, offset)
+        j0, jm = robot._m.point_jacobians(x, body, offset)
+        js = robot._m.generalized_jacobian(x, body, offset)[:3]
+        v_drift = (j0 @ u[:6] + jm @ u[6:])[:3] - js @ u[6:]
+        lam2 = rmrc_damping**2
+        qd_cmd = js.T @ np.linalg.solve(js @ js.T + lam2 * np.eye(3), v_t + rmrc_gain * (p_t - p) - v_drift)
+        peak = np.abs(qd_cmd).max(initial=0.0)
+        if peak > max_joint_rate:  # scaled as a whole, so the point still heads for the target
+            qd_cmd *= max_joint_rate / peak
+        tau = robot.generalized_inertia(x) @ (velocity_gain * (qd_cmd - u[6:])) + robot.generalized_bias(x, u)
+        tau = np.clip(tau, -mjt, mjt)
+        if mode == "flying":
+            return tau, momentum_damping_wrench(robot, x, u, time_constant, max_force, max_torque)
+        return tau
+
+    # Simulated in chunks of about a second, stopping at the first chunk that reaches the target.
+    chunks, t0, xs0, us0, k = [], 0.0, x0, u0, None
+    chunk = max(dt, round(1.0 / dt) * dt)
+    while t0 < approach_time - 0.5 * dt and k is None:
+        span = min(chunk, approach_time - t0)
+        t_offset = t0
+
+        def law(t, x, u, t_offset=t_offset):
+            return approach_law(t + t_offset, x, u)
+
+        tr = simulate(robot, span, x0=xs0, u0=us0, mode=mode, dt=dt, controller=Callback(law), integrator="dopri5",
+                      rtol=rtol, atol=rtol * 1e-2)
+        first = 0 if not chunks else 1
+        ts = tr.t[first:] + t_offset
+        ss = grid[[min(int(round(t / half)), len(grid) - 1) for t in ts]]
+        gaps = np.array([np.linalg.norm(robot._m.point_position(x, body, offset) - target.grasp_position(s, grasp))
+                         for x, s in zip(tr.x[first:], ss)])
+        chunks.append((ts, tr.x[first:], tr.u[first:], ss, tr.tau[first:], tr.base_wrench[first:], gaps))
+        within = np.nonzero(gaps < capture_tolerance)[0]
+        if within.size:
+            k = sum(len(c[0]) for c in chunks[:-1]) + int(within[0])
+        t0, xs0, us0 = float(ts[-1]), tr.x[-1], tr.u[-1]
+    ta, xa, ua, sa, taua, bwa, gaps = (np.concatenate([c[i] for c in chunks]) for i in range(7))
+    if k is None:
+        raise SimulationError(
+            f"the approach did not reach the grasp point: closest {gaps.min():.3g} m at t = {ta[gaps.argmin()]:.3g} s "
+            f"(capture_tolerance {capture_tolerance} m); lengthen approach_time, place the target within reach or raise rmrc_gain")
+    seg_t, seg_phase = [ta[: k + 1]], [np.zeros(k + 1, dtype=int)]
+    seg_x, seg_u, seg_s = [xa[: k + 1]], [ua[: k + 1]], [sa[: k + 1]]
+    seg_tau = [taua[: k + 1]]
+    seg_bw = [bwa[: k + 1]]
+    seg_w = [np.zeros((k + 1, 6))]
+    seg_combined = [False]
+    t_cap, xc, uc, sc = float(ta[k]), xa[k], ua[k], sa[k]
+
+    def add(t, phase, xs, us, ss, tau, bw, w, combined):
+        seg_t.append(t), seg_phase.append(np.full(len(t), phase)), seg_x.append(xs), seg_u.append(us), seg_s.append(ss)
+        seg_tau.append(tau), seg_bw.append(bw), seg_w.append(w), seg_combined.append(combined)
+
+    # ---- 1. capture -------------------------------------------------------------------------
+    n = robot.n_dof
+    q_hold = xc[7:].copy()
+    if kind == "soft":
+        soft = soft_capture(robot, xc, uc, target, sc, soft_time, point=point, grasp=grasp, dt=dt / 5,
+                            torque=lambda t, x, u: hold_torque(robot, x, u, q_hold, kp, kd, mjt))
+        keep = slice(1, None)
+        # the impedance's wrench on the target, moved from X to the target's CM like the rigid phases'
+        held = -soft.wrench[keep]
+        X = np.array([robot._m.point_position(x, body, offset) for x in soft.x[keep]])
+        held[:, 3:] += np.cross(X - soft.target[keep][:, :3], held[:, :3])
+        add(t_cap + soft.t[keep], 1, soft.x[keep], soft.u[keep], soft.target[keep], soft.tau[keep], np.zeros((len(soft.t) - 1, 6)),
+            held, False)
+        t_cap, xc, uc, sc = t_cap + float(soft.t[-1]), soft.x[-1], soft.u[-1], soft.target[-1]
+        impact = grasp_impulse(robot, xc, uc, target, sc, point=point, grasp=grasp, kind="rigid")
+        soft_impact = impact
+    else:
+        impact = grasp_impulse(robot, xc, uc, target, sc, point=point, grasp=grasp, kind=kind, restitution=restitution)
+        soft_impact = None
+    uc, sc = impact.u_after, impact.target_state_after
+    add(np.array([t_cap]), 1, xc[None], uc[None], sc[None], np.zeros((1, n)), np.zeros((1, 6)), np.zeros((1, 6)), kind != "point")
+
+    # ---- 2. post-capture, 3. detumble ------------------------------------------------------------
+    captured = None
+    plant = robot
+    if kind != "point":
+        captured = attach_target(robot, xc, uc, target, sc, point=point)
+        plant = captured.robot
+    runs = []
+    x_start, u_start = xc, uc
+    for phase, duration, run_mode, gains in ((2, post_time, "floating", (0.0, kd)), (3, detumble_time, mode, (kp, kd))):
+        run = detumble(plant, x_start, u_start, duration, mode=run_mode, q_hold=q_hold, kp=gains[0], kd=gains[1],
+                       time_constant=time_constant, max_joint_torque=mjt, max_force=max_force, max_torque=max_torque,
+                       rate_tolerance=rate_tolerance, dt=dt, rtol=rtol)
+        tr = run.trajectory
+        if captured is not None:
+            ss = _payload_states(captured, tr.x, tr.u, target)
+        else:
+            t_rel = tr.t
+            ss, cur, last = [], sc, 0.0
+            for tt in t_rel:
+                cur = target.propagate(cur, tt - last)
+                last = tt
+                ss.append(cur)
+            ss = np.array(ss)
+        w = grasp_wrench(tr.t, ss, target.mass, target.inertia) if captured is not None else np.zeros((len(tr.t), 6))
+        add(t_cap + tr.t[1:], phase, tr.x[1:], tr.u[1:], ss[1:], tr.tau[1:], tr.base_wrench[1:], w[1:], captured is not None)
+        runs.append(run)
+        t_cap, x_start, u_start, sc = t_cap + float(tr.t[-1]), tr.x[-1], tr.u[-1], ss[-1]
+
+    # ---- the ledger -----------------------------------------------------------------------------
+    P, L, Pt, Lt = [], [], [], []
+    for xs, us, ss, comb in zip(seg_x, seg_u, seg_s, seg_combined):
+        a, b, c, d = _ledger(plant if comb else robot, target, xs, us, ss, comb)
+        P.append(a), L.append(b), Pt.append(c), Lt.append(d)
+    P, L, Pt, Lt = (np.concatenate(v) for v in (P, L, Pt, Lt))
+    # The momentum in play: the largest |robot part| + |target part| over the run; where that is
+    # tiny (nothing moving relative to a zero total), a thousandth of what the largest kinetic
+    # energy T allows (|P| <= sqrt(2 M T), |L| <= that times the farthest CM distance ρ from the
+    # origin), so that the relative drift stays meaningful.
+    energy = max(max(robot.kinetic_energy(x, u) for x, u in zip(xa, ua)),
+                 max(plant.kinetic_energy(x, u) for x, u in zip(seg_x[-1], seg_u[-1])))
+    if captured is None:
+        energy += target.kinetic_energy(sc)
+    mass = robot.total_mass + target.mass
+    rho = max(1.0, float(np.max(np.linalg.norm(np.concatenate(seg_s)[:, :3], axis=1))),
+              float(np.max(np.linalg.norm(np.concatenate(seg_x)[:, :3], axis=1))) + _reach(robot))
+    p_energy = float(np.sqrt(2.0 * mass * energy))
+    scale_p = max(float(np.max(np.linalg.norm(P - Pt, axis=1) + np.linalg.norm(Pt, axis=1))), 1e-3 * p_energy, 1e-300)
+    scale_l = max(float(np.max(np.linalg.norm(L - Lt, axis=1) + np.linalg.norm(Lt, axis=1))), 1e-3 * p_energy * rho, 1e-300)
+    drift = {"P": float(np.max(np.linalg.norm(P - P[0], axis=1)) / scale_p), "L": float(np.max(np.linalg.norm(L - L[0], axis=1)) / scale_l)}
+    return CaptureResult(
+        t=np.concatenate(seg_t), phase=np.concatenate(seg_phase), x=np.concatenate(seg_x), u=np.concatenate(seg_u),
+        tau=np.concatenate(seg_tau), base_wrench=np.concatenate(seg_bw), target=np.concatenate(seg_s), P=P, L=L,
+        grasp_wrench=np.concatenate(seg_w), impact=impact, soft_impact=soft_impact, robot=robot, captured=captured,
+        target_model=target, mode=mode, kind=kind, time_to_detumble=runs[-1].time_to_detumble,
+        residual_spin=runs[-1].residual_spin, drift=drift,
+    )
+

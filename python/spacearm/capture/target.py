@@ -1,0 +1,245 @@
+"""The capture target: a free rigid body (:class:`Target`).
+
+State layout (13): ``[position (3), quaternion [x, y, z, w] (4), CM velocity in 𝒥 (3),
+angular velocity in 𝒥 (3)]``. That is exactly a spacearm configuration ``x`` (7) followed by a
+generalized velocity ``u`` (6) of a robot with no joints, and a Target is built as one: its
+mass properties pass the same model rules as every robot's base (one definition of each rule),
+and its momentum, point Jacobians and dynamics under a wrench come from the same core. Grasp
+points are offsets from the target's CM in its own axes.
+
+The general case, a whole spacearm model as the target (a second spacecraft with appendages),
+is :meth:`Target.from_robot`: its state is that model's ``[x, u]``, its grasp points are the
+model's named points, and the impact, the soft capture and the point-contact sequence work on it
+unchanged; only the rigid attachment as a payload needs a rigid target.
+"""
+
+from __future__ import annotations
+
+from typing import Mapping, NamedTuple, Optional, Sequence, Union
+
+import numpy as np
+
+from .._util.arrays import number, quaternion, vector, vector3
+from ..errors import ArgumentError, ModelError, NotFoundError, ShapeError
+from ..model.robot import Robot
+from ..sim.simulation import simulate
+from ..rotations import quat_to_matrix as _quat_matrix
+
+__all__ = ["Target", "TargetState"]
+
+class TargetState(NamedTuple):
+    """A target's state split into its parts (all in 𝒥)."""
+
+    position: np.ndarray  #: CM position, m
+    quaternion: np.ndarray  #: attitude [x, y, z, w] (target axes -> 𝒥)
+    velocity: np.ndarray  #: CM velocity, m/s
+    angular_velocity: np.ndarray  #: rad/s
+
+
+class Target:
+    """A free rigid body to capture.
+
+    Parameters
+    ----------
+    mass : float
+        kg (> 0).
+    inertia : 3 numbers or 3×3
+        About the CM, in the target's axes (kg·m²); the same physical rules as a robot body
+        (positive definite, triangle inequality) apply.
+    name : str, optional
+        Default ``"target"``.
+    grasp_points : mapping name -> offset, or a sequence of offsets, optional
+        Offsets from the CM in the target's axes (m). A sequence gets the names ``grasp0``,
+        ``grasp1``, ...; default: one point ``"grasp"`` at the CM.
+    """
+
+    def __init__(self, mass: float, inertia, *, name: Optional[str] = None,
+                 grasp_points: Union[Mapping[str, Sequence[float]], Sequence[Sequence[float]], None] = None):
+        self.name = "target" if name is None else str(name)
+        mass = number(mass, "target mass")
+        try:
+            builder = Robot.builder(self.name, base_mass=mass, base_inertia=inertia, base_name=self.name)
+        except ModelError as exc:
+            raise ModelError(f"target '{self.name}': {exc}") from None
+        if grasp_points is None:
+            grasp_points = {"grasp": (0.0, 0.0, 0.0)}
+        elif not isinstance(grasp_points, Mapping):
+            pts = list(grasp_points)
+            if pts and np.ndim(pts[0]) == 0:  # one offset given flat
+                pts = [pts]
+            grasp_points = {f"grasp{i}": p for i, p in enumerate(pts)}
+        if not grasp_points:
+            raise ArgumentError(f"target '{self.name}' needs at least one grasp point")
+        self.grasp_points = {}
+        for key, offset in grasp_points.items():
+            off = vector3(offset, f"target grasp point '{key}'")
+            if not np.all(np.isfinite(off)):
+                raise ArgumentError(f"target grasp point '{key}' must be finite, got {off}")
+            self.grasp_points[str(key)] = off
+            builder.add_point(str(key), body=self.name, offset=off)
+        try:
+            #: The target as a spacearm model with no joints: state ``[x (7), u (6)]``.
+            self.body = builder.build()
+        except ModelError as exc:
+            raise ModelError(f"target '{self.name}': {exc}") from None
+        self.mass = mass
+        base = self.body.description.base
+        #: Inertia about the CM in target axes (3×3; ``None`` for a jointed target).
+        self.inertia = np.array(base.inertia, dtype=float).reshape(3, 3)
+        self._grasp = {key: (0, off) for key, off in self.grasp_points.items()}
+
+    @classmethod
+    def from_robot(cls, robot, *, name: Optional[str] = None) -> "Target":
+        """A whole spacearm model as the target. Its state is ``np.concatenate([x, u])`` of the
+        model; its grasp points are the model's named points (offsets in their bodies' frames);
+        ``mass`` is its total mass and ``inertia`` is ``None``."""
+        if not isinstance(robot, Robot):
+            raise ArgumentError(f"Target.from_robot needs a spacearm.Robot, got {type(robot).__name__}")
+        if not robot.point_names:
+            raise ArgumentError(f"model '{robot.name}' has no named point to grasp; add one with RobotBuilder.add_point")
+        self = cls.__new__(cls)
+        self.name = robot.name if name is None else str(name)
+        self.body = robot
+        self.mass = robot.total_mass
+        self.inertia = None
+        self._grasp = {p: robot._point(p) for p in robot.point_names}
+        self.grasp_points = {p: np.array(off) for p, (_, off) in self._grasp.items()}
+        return self
+
+    @property
+    def is_rigid(self) -> bool:
+        """Whether the target is one rigid body (a jointed model is not)."""
+        return self.body.n_dof == 0
+
+    @property
+    def state_size(self) -> int:
+        """13 for a rigid target; ``7 + N + 6 + N`` for a model."""
+        return self.body.nx + self.body.nu
+
+    def xu(self, state):
+        """The state split as the target model's ``(x, u)``."""
+        s = np.asarray(state, dtype=float)
+        return s[: self.body.nx], s[self.body.nx:]
+
+    def __repr__(self) -> str:
+        return f"<Target '{self.name}': {self.mass:.6g} kg, grasp points {list(self.grasp_points)}>"
+
+    # ---- states ---------------------------------------------------------------------------
+    def state(self, position=(0.0, 0.0, 0.0), quaternion=(0.0, 0.0, 0.0, 1.0), velocity=(0.0, 0.0, 0.0),
+              angular_velocity=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """The 13-vector ``[position, quaternion, velocity, angular_velocity]`` (all in 𝒥) of a
+        rigid target (a jointed one: ``np.concatenate([x, u])`` of its model)."""
+        if not self.is_rigid:
+            raise ArgumentError(f"target '{self.name}' is a jointed model: its state is np.concatenate([x, u]) of that model")
+        return np.concatenate([vector(position, "target position", 3), _quat(quaternion),
+                               vector(velocity, "target velocity", 3), vector(angular_velocity, "target angular velocity", 3)])
+
+    def check_state(self, state) -> np.ndarray:
+        """``state`` as a checked float array (length 13 for a rigid target; the quaternion normalized)."""
+        s = vector(state, "target_state")
+        if s.size != self.state_size:
+            layout = ("[position, quaternion xyzw, velocity, angular velocity]" if self.is_rigid
+                      else f"[x, u] of model '{self.body.name}'")
+            raise ShapeError(f"target_state has length {self.state_size} ({layout}), got {s.size}")
+        if not np.all(np.isfinite(s)):
+            raise ArgumentError(f"target_state must be finite, got {s}")
+        s = s.copy()
+        s[3:7] = _quat(s[3:7])
+        return s
+
+    @staticmethod
+    def split(state) -> TargetState:
+        s = np.asarray(state, dtype=float)
+        return TargetState(s[0:3], s[3:7], s[7:10], s[10:13])
+
+    def point(self, grasp: Optional[str] = None):
+        """``(body, offset)`` of a grasp point for :attr:`body` (default: the first one)."""
+        if grasp is None:
+            grasp = next(iter(self._grasp))
+        if grasp not in self._grasp:
+            raise NotFoundError(f"target '{self.name}' has no grasp point '{grasp}'; it has {list(self._grasp)}")
+        return self._grasp[grasp]
+
+    def rotation(self, state) -> np.ndarray:
+        """Target (base) axes -> 𝒥 (3×3)."""
+        return self.body.forward_kinematics(self.xu(state)[0]).body_to_world[0]
+
+    def material_point(self, state, point_in_world, grasp: Optional[str] = None):
+        """``(body, offset)`` of the material point of the grasp point's body that is at
+        ``point_in_world`` (m, 𝒥)."""
+        body, _ = self.point(grasp)
+        kin = self.body.forward_kinematics(self.xu(state)[0])
+        return body, kin.body_to_world[body].T @ (np.asarray(point_in_world, dtype=float) - kin.com_in_world[body])
+
+    def grasp_position(self, state, grasp: Optional[str] = None) -> np.ndarray:
+        """World position of a grasp point."""
+        return self.body.point_position(self.xu(state)[0], self.point(grasp))
+
+    def grasp_velocity(self, state, grasp: Optional[str] = None) -> np.ndarray:
+        """World velocity of a grasp point."""
+        x, u = self.xu(state)
+        j0, jm = self.body.point_jacobian(x, self.point(grasp))
+        return (j0 @ u[:6] + jm @ u[6:])[:3]
+
+    def momentum(self, state):
+        """:class:`spacearm.Momentum` of the target (``P``, ``L_origin``, ...)."""
+        return self.body.momentum(*self.xu(state))
+
+    def kinetic_energy(self, state) -> float:
+        return self.body.kinetic_energy(*self.xu(state))
+
+    # ---- motion -----------------------------------------------------------------------------
+    def propagate(self, state, duration: float, *, dt: float = 1e-3) -> np.ndarray:
+        """The torque-free state after ``duration`` seconds (a jointed target: free-floating with
+        zero joint torques, by ``spacearm.simulate`` with DOPRI5).
+
+        The CM moves at constant velocity and the angular momentum ``L`` in 𝒥 is constant; the
+        attitude is integrated (RK4 on the quaternion, step ``dt``) under ``ω = R I⁻¹ Rᵀ L``, so
+        ``P`` and ``L`` are conserved exactly and only the attitude carries integration error.
+        """
+        s = self.check_state(state)
+        duration = number(duration, "duration")
+        if duration < 0:
+            raise ArgumentError(f"duration must be >= 0, got {duration}")
+        if duration == 0:
+            return s
+        if not self.is_rigid:  # a jointed model: free-floating with zero torques, adaptive DOPRI5
+            x, u = self.xu(s)
+            traj = simulate(self.body, duration, x0=x, u0=u, integrator="dopri5", rtol=1e-11, atol=1e-13, dt=duration)
+            return np.concatenate([traj.x[-1], traj.u[-1]])
+        n = max(1, int(np.ceil(duration / dt)))
+        h = duration / n
+        R = _quat_matrix(s[3:7])
+        L_body = self.inertia @ R.T @ s[10:13]  # body-frame angular momentum at the start
+        L = R @ L_body
+        inv_i = np.linalg.inv(self.inertia)
+        qv = s[3:7].copy()
+
+        def rate(qq):
+            # ω in body axes from the constant world L: ω_b = I⁻¹ Rᵀ L; q̇ = ½ q ⊗ [ω_b; 0].
+            x, y, z, w = qq
+            Rt_L = np.array([
+                (1 - 2 * (y * y + z * z)) * L[0] + 2 * (x * y + z * w) * L[1] + 2 * (x * z - y * w) * L[2],
+                2 * (x * y - z * w) * L[0] + (1 - 2 * (x * x + z * z)) * L[1] + 2 * (y * z + x * w) * L[2],
+                2 * (x * z + y * w) * L[0] + 2 * (y * z - x * w) * L[1] + (1 - 2 * (x * x + y * y)) * L[2],
+            ])
+            a, b, c = inv_i @ Rt_L
+            return 0.5 * np.array([w * a + y * c - z * b, w * b + z * a - x * c, w * c + x * b - y * a, -x * a - y * b - z * c])
+
+        for _ in range(n):
+            k1 = rate(qv)
+            k2 = rate(qv + 0.5 * h * k1)
+            k3 = rate(qv + 0.5 * h * k2)
+            k4 = rate(qv + h * k3)
+            qv = qv + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+            qv /= np.linalg.norm(qv)
+        R = _quat_matrix(qv)
+        out = s.copy()
+        out[0:3] = s[0:3] + duration * s[7:10]
+        out[3:7] = qv
+        out[10:13] = R @ inv_i @ R.T @ L
+        return out
+
+
+def _quat(value) -> np.ndarray:
+    return quaternion(value, "target quaternion")

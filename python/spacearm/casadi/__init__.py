@@ -1,0 +1,43 @@
+"""CasADi functions of the equations of motion, for optimal control (optional extra
+``optimal-control``: ``pip install "spacearm[optimal-control]"``).
+
+Every builder takes a :class:`~spacearm.Robot` and returns a ``casadi.Function`` on ``SX``
+symbols built from the recursive algorithms (RNEA, CRBA, ABA, kinematics) evaluated on the
+model's description, in spacearm's conventions (docs/conventions.md):
+
+>>> import spacearm, spacearm.casadi as sc
+>>> robot = spacearm.presets.planar4()
+>>> fd = sc.forward_dynamics(robot)            # (x, u, tau, base_wrench) -> du
+>>> x, u = robot.neutral_configuration(), robot.zero_velocity()
+>>> du = fd(x, u, [1.0, 0, 0, 0], [0.0] * 6)
+
+See docs/optimal-control.md for the equations and the planner :mod:`spacearm.plan` built on them.
+"""
+
+from .functions import (
+    base_velocity_from_momentum,
+    bias_forces,
+    forward_dynamics,
+    generalized_bias,
+    generalized_inertia,
+    generalized_jacobian,
+    inverse_dynamics,
+    mass_matrix,
+    momentum,
+    point_position,
+    rk4_step,
+)
+
+__all__ = [
+    "forward_dynamics",
+    "inverse_dynamics",
+    "mass_matrix",
+    "bias_forces",
+    "generalized_inertia",
+    "generalized_bias",
+    "generalized_jacobian",
+    "point_position",
+    "momentum",
+    "base_velocity_from_momentum",
+    "rk4_step",
+]

@@ -1,0 +1,119 @@
+"""``spacearm capture MODEL --target-mass M --target-inertia IXX,IYY,IZZ --target-spin WX,WY,WZ ...``:
+the capture of a tumbling target, approach → capture → post-capture → detumble
+(:func:`spacearm.capture.capture`), with a printed summary, the ``.npz`` record and figures.
+
+The target starts at ``--target-at`` (its CM, m in 𝒥; default 0.6 m beyond the end effector,
+away from the base CM), at rest apart from its spin, with its axes along 𝒥's; its grasp point
+is ``--grasp-offset`` from its CM in its axes (default: towards the end effector, 0.1 m short
+of it).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+
+import numpy as np
+
+from .model_options import add_model_arguments
+from .numbers import parse_numbers
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("capture", help="capture of a tumbling target: approach, grasp impact, detumbling, momentum ledger",
+                       description="Simulates the approach of the grasp point (RMRC through J*), the grasp impact, the "
+                                   "captured system and its detumbling; prints the impulse, the base disturbance, peak "
+                                   "wrench and torques, the detumble time and the momentum drift.")
+    add_model_arguments(p)
+    t = p.add_argument_group("target")
+    t.add_argument("--target-mass", type=float, required=True, help="kg")
+    t.add_argument("--target-inertia", required=True, help="IXX,IYY,IZZ principal moments about its CM, kg m²")
+    t.add_argument("--target-spin", default="0,0,0", help="WX,WY,WZ angular velocity in 𝒥, rad/s (default 0,0,0)")
+    t.add_argument("--target-at", default=None, help="X,Y,Z of its CM in 𝒥, m (default 0.6 m beyond the end effector)")
+    t.add_argument("--grasp-offset", default=None, help="X,Y,Z of the grasp point from its CM, target axes, m")
+    c = p.add_argument_group("capture")
+    c.add_argument("--kind", default="rigid", choices=("rigid", "point", "soft"), help="grasp model (default rigid)")
+    c.add_argument("--restitution", type=float, default=0.0, help="e in [0, 1] for --kind point (default 0)")
+    c.add_argument("--mode", default="floating", choices=("floating", "flying"), help="maneuvering mode (default floating)")
+    c.add_argument("--approach-time", type=float, default=8.0, help="longest approach, s (default 8)")
+    c.add_argument("--detumble-time", type=float, default=20.0, help="s (default 20)")
+    c.add_argument("--dt", type=float, default=0.01, help="recording interval, s (default 0.01)")
+    c.add_argument("--max-joint-torque", type=float, default=math.inf, help="N m, every joint (default none)")
+    c.add_argument("--max-force", type=float, default=math.inf, help="base thruster force limit, N (flying; default none)")
+    c.add_argument("--max-torque", type=float, default=math.inf, help="base thruster torque limit, N m (flying; default none)")
+    o = p.add_argument_group("output")
+    o.add_argument("--out", default=None, help="write the record (.npz: t, phase, P, L, impulse, ...)")
+    o.add_argument("--plot", default=None, help="write the figure (PNG)")
+    o.add_argument("--animate", default=None, help="write an animation (GIF)")
+
+
+def _vec(v) -> str:
+    return "[" + ", ".join(f"{x:.4g}" for x in v) + "]"
+
+
+def run(args, model_from_args, out=None) -> int:
+    from ..capture import Target, capture
+    from ..errors import ArgumentError
+
+    out = sys.stdout if out is None else out
+    robot = model_from_args(args)
+    if robot.end_effector is None:
+        raise ArgumentError(f"model '{robot.name}' has no end effector to grasp with; give one with the model options")
+    inertia = parse_numbers(args.target_inertia, "--target-inertia", 3, "IXX,IYY,IZZ", "kg m²")
+    spin = parse_numbers(args.target_spin, "--target-spin", 3, "WX,WY,WZ", "rad/s")
+    x0 = robot.neutral_configuration()
+    ee = robot.point_position(x0)
+    if args.target_at is None:
+        outward = ee - x0[:3]
+        outward = outward / np.linalg.norm(outward) if np.linalg.norm(outward) > 1e-9 else np.array([1.0, 0.0, 0.0])
+        at = ee + 0.6 * outward
+    else:
+        at = parse_numbers(args.target_at, "--target-at", 3, "X,Y,Z", "m")
+    if args.grasp_offset is None:
+        to_ee = ee - at
+        dist = float(np.linalg.norm(to_ee))
+        grasp = to_ee * max(dist - 0.1, 0.0) / dist if dist > 1e-9 else np.zeros(3)
+    else:
+        grasp = parse_numbers(args.grasp_offset, "--grasp-offset", 3, "X,Y,Z", "m")
+    if not 0.0 <= args.restitution <= 1.0:
+        raise ArgumentError(f"--restitution must be in [0, 1], got {args.restitution}")
+    target = Target(args.target_mass, inertia, grasp_points={"grasp": grasp})
+    state = target.state(position=at, angular_velocity=spin)
+    res = capture(robot, target, state, x0=x0, mode=args.mode, kind=args.kind, restitution=args.restitution,
+                  approach_time=args.approach_time, detumble_time=args.detumble_time, dt=args.dt,
+                  max_joint_torque=args.max_joint_torque, max_force=args.max_force, max_torque=args.max_torque)
+    s = res.summary()
+    w = out.write
+    w(f"capture of a {target.mass:g} kg target spinning at {np.linalg.norm(spin):.4g} rad/s by {robot.name}: "
+      f"{args.kind} grasp, {args.mode} mode\n")
+    if args.kind == "soft":
+        locked = res.phase_start("post-capture")
+        w(f"  contact at t = {s['capture_time']:.3f} s, wrist impedance until t = {locked:.3f} s, then locked with "
+          f"the grasp points {1e3 * s['gap']:.2f} mm apart (the impulse below is the lock's)\n")
+    else:
+        w(f"  grasp at t = {s['capture_time']:.3f} s, grasp points {1e3 * s['gap']:.2f} mm apart\n")
+    w(f"  impulse on the robot: {_vec(s['impulse'][:3])} N s, {_vec(s['impulse'][3:])} N m s "
+      f"(|f| {s['impulse_force_norm']:.4g} N s, |n| {s['impulse_moment_norm']:.4g} N m s)\n")
+    w(f"  base jump: dv0 = {_vec(s['base_dv'])} m/s, dw0 = {_vec(s['base_dw'])} rad/s\n")
+    w(f"  energy lost at the impact: {s['energy_lost']:.4g} J\n")
+    w(f"  peak grasp wrench: {s['peak_grasp_force']:.4g} N, {s['peak_grasp_torque']:.4g} N m\n")
+    w(f"  peak joint torque: {s['peak_joint_torque']:.4g} N m\n")
+    detumble = s["time_to_detumble"]
+    w(f"  detumbled: {'not within the run' if not math.isfinite(detumble) else f'{detumble:.2f} s after the detumble starts'}"
+      f" (residual base spin {s['residual_spin']:.3g} rad/s)\n")
+    if args.mode == "floating":
+        w(f"  momentum drift of robot + target (relative): P {s['drift_P']:.2e}, L {s['drift_L']:.2e}\n")
+    else:
+        w(f"  momentum change by the thrusters (relative): P {s['drift_P']:.3g}, L {s['drift_L']:.3g}\n")
+    if args.out:
+        res.save(args.out)
+        w(f"record: {args.out}\n")
+    if args.plot:
+        res.plot(args.plot)
+        w(f"figure: {args.plot}\n")
+    if args.animate:
+        res.animate(args.animate)
+        w(f"animation: {args.animate}\n")
+    return 0

@@ -1,0 +1,85 @@
+"""The momentum regressor of a payload carried by one body of a robot (Yoshida & Abiko 2002).
+
+A rigid payload fixed to the grasp body ``g`` moves with it: with ``r_g`` the position of ``g``'s
+CM in 𝒥, ``R_g`` its rotation (body to 𝒥), ``v_g`` the velocity of its CM and ``ω`` its angular
+velocity (both in 𝒥), a point ``ρ`` of the payload (from ``g``'s CM, in ``g``'s axes) is at
+``r = r_g + R_g ρ`` with velocity ``v_g + ω × R_g ρ``. Integrating over the payload's mass,
+
+    P_payload = m v_g + [ω]× R_g h
+    L_payload = r_g × P_payload + (R_g h) × v_g + R_g Ī R_gᵀ ω      (about the origin of 𝒥)
+
+with ``h = m c`` and ``Ī`` the payload's inertia about ``g``'s CM in ``g``'s axes. Both are linear
+in the parameter vector π of :mod:`spacearm.identify.parameters`:
+
+    [P; L]_payload = Y(x, u) π,
+    Y = [[ v_g,        [ω]× R_g,                          0          ],
+         [ r_g × v_g,  ([r_g]× [ω]× − [v_g]×) R_g,   R_g Λ(R_gᵀ ω) ]]
+
+where ``Λ(w)`` maps the six tensor entries to ``Ī w``. The robot's own momentum ``[P; L_origin]``
+comes from the known model. With no external wrench, the combined system's momentum
+``h_robot(x, u) + Y(x, u) π`` stays constant along the motion: the equation the estimator solves.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["momentum_regressor", "robot_momentum"]
+
+
+def _skew(v: np.ndarray) -> np.ndarray:
+    """``[v]×`` such that ``[v]× w = v × w``; ``v`` of shape (..., 3)."""
+    s = np.zeros(v.shape[:-1] + (3, 3))
+    s[..., 0, 1], s[..., 0, 2] = -v[..., 2], v[..., 1]
+    s[..., 1, 0], s[..., 1, 2] = v[..., 2], -v[..., 0]
+    s[..., 2, 0], s[..., 2, 1] = -v[..., 1], v[..., 0]
+    return s
+
+
+def _tensor_times(w: np.ndarray) -> np.ndarray:
+    """``Λ(w)`` (..., 3, 6): ``Ī w`` for ``Ī`` given by its entries (xx, yy, zz, xy, xz, yz)."""
+    lam = np.zeros(w.shape[:-1] + (3, 6))
+    x, y, z = w[..., 0], w[..., 1], w[..., 2]
+    lam[..., 0, 0], lam[..., 0, 3], lam[..., 0, 4] = x, y, z
+    lam[..., 1, 1], lam[..., 1, 3], lam[..., 1, 5] = y, x, z
+    lam[..., 2, 2], lam[..., 2, 4], lam[..., 2, 5] = z, x, y
+    return lam
+
+
+def _grasp_body_motion(robot, body: int, xs: np.ndarray, us: np.ndarray):
+    """``r_g, R_g, v_g, ω`` of body ``body``'s CM frame for every sample (shapes (K, 3), (K, 3, 3),
+    (K, 3), (K, 3)), from the robot's kinematics and point Jacobians (eqs. 104–108)."""
+    k = len(xs)
+    r_g, rot, v_g, w = np.empty((k, 3)), np.empty((k, 3, 3)), np.empty((k, 3)), np.empty((k, 3))
+    origin = (body, np.zeros(3))
+    for i, (x, u) in enumerate(zip(xs, us)):
+        kin = robot.forward_kinematics(x)
+        rot[i], r_g[i] = kin.body_to_world[body], kin.com_in_world[body]
+        j0, jm = robot.point_jacobian(x, origin)
+        twist = j0 @ u[:6] + jm @ u[6:]
+        v_g[i], w[i] = twist[:3], twist[3:]
+    return r_g, rot, v_g, w
+
+
+def momentum_regressor(robot, body: int, xs, us) -> np.ndarray:
+    """``Y`` (K, 6, 10) for every sample: ``[P; L_origin]`` of a payload fixed to body index
+    ``body`` of ``robot`` is ``Y π`` (module docstring). ``xs`` (K, 7+N), ``us`` (K, 6+N)."""
+    xs, us = np.asarray(xs, dtype=float), np.asarray(us, dtype=float)
+    r_g, rot, v_g, w = _grasp_body_motion(robot, body, xs, us)
+    y = np.zeros((len(xs), 6, 10))
+    y[:, :3, 0] = v_g
+    y[:, :3, 1:4] = _skew(w) @ rot
+    y[:, 3:, 0] = np.cross(r_g, v_g)
+    y[:, 3:, 1:4] = (_skew(r_g) @ _skew(w) - _skew(v_g)) @ rot
+    w_body = np.einsum("kji,kj->ki", rot, w)  # R_gᵀ ω
+    y[:, 3:, 4:] = rot @ _tensor_times(w_body)
+    return y
+
+
+def robot_momentum(robot, xs, us) -> np.ndarray:
+    """``[P; L_origin]`` (K, 6) of the robot's own bodies for every sample."""
+    out = np.empty((len(xs), 6))
+    for i, (x, u) in enumerate(zip(xs, us)):
+        m = robot.momentum(x, u)
+        out[i, :3], out[i, 3:] = m.P, m.L_origin
+    return out

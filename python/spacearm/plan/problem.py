@@ -1,0 +1,135 @@
+"""The transcription: point-to-point maneuvers of a free-floating system by direct multiple
+shooting, solved by IPOPT through CasADi (docs/optimal-control.md).
+
+Unknowns: the state ``y_k = [x_k; u_k]`` and the joint torques ``tau_k`` at the knots
+``t_k = k T / K`` (``k = 0..K``); the torque is linear between knots (a first-order hold), so
+it is continuous and any fixed-step integrator reproduces the plan to its own order.
+Constraints:
+
+- ``y_0`` is the given initial state;
+- continuity ``y_k+1 = Φ(y_k, tau_k, tau_k+1, T/K)``, ``Φ`` being ``substeps`` RK4 steps of the
+  free-floating dynamics (no base wrench) with the quaternion renormalised
+  (:func:`spacearm.casadi.rk4_step` with ``torque="linear"``);
+- the point reaches ``target`` at ``t_K``;
+- joint positions, speeds and torques within their bounds at every knot;
+- optionally zero joint speeds at ``t_K`` (``rest_at_end``) and zero base angular velocity at
+  ``t_K`` (``reactionless_end``: the arm ends moving, if at all, inside the reaction null space).
+
+Objectives (both divided by ``T`` so that their size does not depend on the duration):
+
+- ``"attitude"``: ``(1/T) Σ_k |θ_k|² Δt`` (k = 1..K) with ``θ_k = 2 vec(quat_k ⊗ quat_0*)`` (for small
+  angles the base rotation vector since ``t_0``), plus ``effort_weight (1/T) Σ |tau_k|² Δt``
+  so that the torques are defined where the attitude does not decide them;
+- ``"effort"``: ``(1/T) Σ_k ½ (|tau_k|² + |tau_k+1|²) Δt`` (trapezoidal rule).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from .._util.optional import require
+from ..casadi import point_position, rk4_step
+from ..errors import ArgumentError
+
+OBJECTIVES = ("attitude", "effort")
+#: How IPOPT gets the Hessian of the Lagrangian: the objective's only, or the exact one.
+HESSIANS = ("objective", "exact")
+
+
+def _attitude_error(ca, quat, quat0: np.ndarray):
+    """``2 vec(quat ⊗ quat0*)`` (3): the base rotation since ``quat0`` (≈ rotation vector)."""
+    c = np.array([-quat0[0], -quat0[1], -quat0[2], quat0[3]])
+    qv, qw = quat[0:3], quat[3]
+    return 2.0 * (qw * c[:3] + c[3] * qv + ca.cross(qv, c[:3]))
+
+
+def solve(robot, x0, u0, target, point, duration, nodes, substeps, objective, bounds, guess, rest_at_end, reactionless_end,
+          effort_weight, max_iter, progress, hessian="objective"):
+    """Build and solve the NLP; returns a dict of the plan arrays and the solver's report."""
+    if objective not in OBJECTIVES:
+        raise ArgumentError(f"objective must be one of {OBJECTIVES}, got {objective!r}")
+    if hessian not in HESSIANS:
+        raise ArgumentError(f"hessian must be one of {HESSIANS}, got {hessian!r}")
+    ca = require("casadi", "the planner (spacearm.plan)")
+    n, nx, nu = robot.n_dof, robot.nx, robot.nu
+    K = nodes
+    dt = duration / K
+    step = rk4_step(robot, substeps, torque="linear")
+    position = point_position(robot, point)
+
+    opti = ca.Opti()
+    X = opti.variable(nx, K + 1)
+    U = opti.variable(nu, K + 1)
+    TAU = opti.variable(n, K + 1)
+    opti.subject_to(X[:, 0] == x0)
+    opti.subject_to(U[:, 0] == u0)
+    zero_wrench = ca.DM.zeros(6)
+    cost = 0
+    for k in range(K):
+        x_next, u_next = step(X[:, k], U[:, k], TAU[:, k], TAU[:, k + 1], zero_wrench, dt)
+        opti.subject_to(X[:, k + 1] == x_next)
+        opti.subject_to(U[:, k + 1] == u_next)
+        effort = 0.5 * (ca.sumsqr(TAU[:, k]) + ca.sumsqr(TAU[:, k + 1])) * dt / duration
+        if objective == "effort":
+            cost += effort
+        else:
+            cost += ca.sumsqr(_attitude_error(ca, X[3:7, k + 1], x0[3:7])) * dt / duration + effort_weight * effort
+    opti.minimize(cost)
+    opti.subject_to(position(X[:, K]) == target)
+    for j in range(n):
+        q, qd = X[7 + j, 1:], U[6 + j, 1:]
+        if np.isfinite(bounds.lower[j]):
+            opti.subject_to(q >= bounds.lower[j])
+        if np.isfinite(bounds.upper[j]):
+            opti.subject_to(q <= bounds.upper[j])
+        if np.isfinite(bounds.velocity[j]):
+            opti.subject_to(opti.bounded(-bounds.velocity[j], qd, bounds.velocity[j]))
+        if np.isfinite(bounds.effort[j]):
+            opti.subject_to(opti.bounded(-bounds.effort[j], TAU[j, :], bounds.effort[j]))
+    if rest_at_end:
+        opti.subject_to(U[6:, K] == 0)
+    if reactionless_end:
+        opti.subject_to(U[3:6, K] == 0)
+
+    x_guess, u_guess, tau_guess = guess
+    opti.set_initial(X, x_guess.T)
+    opti.set_initial(U, u_guess.T)
+    opti.set_initial(TAU, tau_guess.T)
+    options = {}
+    if hessian == "objective":
+        # The objective's exact Hessian, without the curvature of the shooting constraints (a
+        # Gauss-Newton-type approximation; the objective is a sum of squares). The exact
+        # Hessian of the constraints costs about twenty Jacobians per iteration through the
+        # second derivatives of every RK4 stage, and buys no fewer iterations from the warm start.
+        lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", opti.ng)
+        hess = ca.triu(lam_f * ca.hessian(cost, opti.x)[0])
+        options["hess_lag"] = ca.Function("nlp_hess_l", [opti.x, opti.p, lam_f, lam_g], [hess], ["x", "p", "lam_f", "lam_g"], ["hess_gamma_x_x"])
+    opti.solver("ipopt", {**options, "print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.max_iter": int(max_iter),
+                          "ipopt.tol": 1e-9, "ipopt.constr_viol_tol": 1e-10})
+    if progress is not None:
+        opti.callback(lambda i: progress(int(i), float(opti.debug.value(cost))))
+    start = time.perf_counter()
+    try:
+        sol = opti.solve()
+        value, stats = sol.value, sol.stats()
+    except RuntimeError:  # IPOPT stopped without success: keep its last iterate and report it
+        value, stats = opti.debug.value, opti.debug.stats()
+    elapsed = time.perf_counter() - start
+    x = np.ascontiguousarray(np.atleast_2d(np.array(value(X))).T)
+    # Unit quaternions at the knots: exact to the constraint tolerance after a successful
+    # solve; for an unconverged iterate this keeps every state a valid configuration.
+    x[:, 3:7] /= np.linalg.norm(x[:, 3:7], axis=1, keepdims=True)
+    u = np.ascontiguousarray(np.atleast_2d(np.array(value(U))).T)
+    tau = np.ascontiguousarray(np.array(value(TAU)).reshape(n, K + 1).T)
+    return {
+        "x": x,
+        "u": u,
+        "tau": tau,
+        "status": str(stats.get("return_status", "unknown")),
+        "success": bool(stats.get("success", False)),
+        "iterations": int(stats.get("iter_count", -1)),
+        "cost": float(value(cost)),
+        "solve_time": elapsed,
+    }

@@ -1,0 +1,170 @@
+"""The result of :func:`spacearm.plan.point_to_point`: the plan, the solver's report, the
+re-simulation and the figure."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from typing import Any, Optional
+
+import numpy as np
+
+from .._util.atomic import atomic_open
+from ..errors import ArgumentError
+
+
+def attitude_angle(quats: np.ndarray) -> np.ndarray:
+    """Angle (rad) of each base attitude ``quats[k]`` relative to ``quats[0]``."""
+    q = quats / np.linalg.norm(quats, axis=1, keepdims=True)
+    c = q[0] * np.array([-1.0, -1.0, -1.0, 1.0])
+    v = q[:, 3:4] * c[:3] + c[3] * q[:, :3] + np.cross(q[:, :3], c[:3])
+    w = q[:, 3] * c[3] - q[:, :3] @ c[:3]
+    return 2.0 * np.arctan2(np.linalg.norm(v, axis=1), np.abs(w))
+
+
+@dataclass
+class Plan:
+    """A planned point-to-point maneuver of a free-floating system, in spacearm's conventions
+    (docs/conventions.md; SI units).
+
+    ``t`` (K+1,) knot times; ``x`` (K+1, 7+N), ``u`` (K+1, 6+N) and ``tau`` (K+1, N) the
+    states and joint torques at the knots, the torque linear between knots. ``status`` is
+    IPOPT's return status and ``success`` whether it converged; a plan that did not converge
+    holds IPOPT's last iterate, which need not satisfy the constraints.
+    """
+
+    robot: Any = field(repr=False)
+    objective: str
+    target: np.ndarray
+    point: Any
+    t: np.ndarray
+    x: np.ndarray
+    u: np.ndarray
+    tau: np.ndarray
+    status: str
+    success: bool
+    iterations: int
+    cost: float
+    solve_time: float  #: s, IPOPT's wall time
+    substeps: int  #: RK4 steps per knot interval in the transcription
+    warm_start: Any = field(default=None, repr=False)  #: the RMRC Motion used as initial guess, if any
+
+    @property
+    def duration(self) -> float:
+        return float(self.t[-1] - self.t[0])
+
+    @property
+    def point_position(self) -> np.ndarray:
+        """(K+1, 3) position of the planned point in 𝒥 at the knots."""
+        return np.array([self.robot.point_position(xk, self.point) for xk in self.x])
+
+    @property
+    def final_position_error(self) -> float:
+        """Distance (m) from the planned point's final position to the target."""
+        return float(np.linalg.norm(self.point_position[-1] - self.target))
+
+    @property
+    def attitude_change(self) -> np.ndarray:
+        """(K+1,) base rotation angle (rad) since ``t[0]``, at the knots."""
+        return attitude_angle(self.x[:, 3:7])
+
+    @property
+    def effort(self) -> float:
+        """``∫ |tau|² dt`` (N²·m²·s) by the trapezoidal rule over the knots."""
+        sq = np.sum(self.tau ** 2, axis=1)
+        return float(np.sum(0.5 * (sq[1:] + sq[:-1]) * np.diff(self.t)))
+
+    def resimulate(self, kp: float = 400.0, kd: float = 40.0, dt: Optional[float] = None):
+        """Run the plan in the native simulator (:func:`spacearm.simulate`, floating mode, RK4)
+        under computed torque tracking the plan's joint motion (:mod:`spacearm.plan.reference`),
+        from the plan's initial state. ``dt`` defaults to a quarter of the plan's RK4 step (at
+        most 0.01 s, so that the stiff tracking loop is integrated accurately), so the check uses
+        another discretisation than the plan. Returns the
+        :class:`~spacearm.trajectory.Trajectory`."""
+        from ..control import Callback
+        from ..sim.simulation import simulate
+        from .reference import PlanReference, computed_torque_tracking
+
+        step = self.duration / ((len(self.t) - 1) * self.substeps)
+        dt = min(0.25 * step, 0.01) if dt is None else float(dt)
+        reference = PlanReference(self.robot, self, self.substeps)
+        law = computed_torque_tracking(self.robot, reference, float(kp), float(kd))
+        return simulate(self.robot, self.duration, x0=self.x[0], u0=self.u[0], mode="floating", integrator="rk4", dt=dt,
+                        controller=Callback(law), joint_limits=False)
+
+    def save(self, path) -> str:
+        """Write ``t``, ``x``, ``u``, ``tau``, ``target`` and the solver's report to an ``.npz``
+        file (atomically); returns the path."""
+        path = os.fspath(path)
+        if not path.endswith(".npz"):
+            raise ArgumentError(f"a plan is saved as .npz, got {path!r}")
+        with atomic_open(path, "wb", suffix=".npz") as f:
+            np.savez(f, t=self.t, x=self.x, u=self.u, tau=self.tau, target=self.target, objective=self.objective,
+                     status=self.status, success=self.success, iterations=self.iterations, cost=self.cost,
+                     robot=self.robot.name)
+        return path
+
+    def comparison(self):
+        """The plan beside two other ways to make the same move, each over the plan's
+        duration from its initial state: a rest-to-rest quintic joint move to the plan's final
+        joint configuration (simulated under computed torque) and the RMRC motion to the target
+        the plan was warm-started from (reactionless, or minimum-disturbance where the
+        reactionless motion cannot reach the target). Returns ``{name: (t, attitude angle, |tau|, point path)}``."""
+        from ..analysis.reactionless import move_to
+        from ..control import ComputedTorque, QuinticJoint
+        from ..sim.simulation import simulate
+
+        robot = self.robot
+        out = {f"plan ({self.objective})": (self.t, self.attitude_change, np.linalg.norm(self.tau, axis=1), self.point_position)}
+        ref = QuinticJoint(self.x[0][7:], self.x[-1][7:], 0.0, self.duration)
+        traj = simulate(robot, self.duration, x0=self.x[0], u0=self.u[0], dt=self.duration / 400, joint_limits=False,
+                        controller=ComputedTorque(kp=400.0, kd=40.0, reference=ref))
+        path = np.array([robot.point_position(xk, self.point) for xk in traj.x])
+        out["quintic joint move"] = (traj.t, traj.base_rotation_angle, np.linalg.norm(traj.tau, axis=1), path)
+        motion = self.warm_start
+        if motion is None:
+            motion = move_to(robot, self.target, x0=self.x[0], point=self.point, strategy="reactionless",
+                             duration=self.duration, settle=0.0, dt=self.duration / 400)
+        times, qd = motion.times, motion.qd
+        qdd = np.gradient(qd, times, axis=0)
+        zero_momentum = [np.concatenate([robot.base_velocity_from_momentum(xk, qk), qk]) for xk, qk in zip(motion.x, qd)]
+        torque = [np.linalg.norm(robot.generalized_inertia(xk) @ a + robot.generalized_bias(xk, uk))
+                  for xk, uk, a in zip(motion.x, zero_momentum, qdd)]
+        out[f"{motion.strategy.replace('_', '-')} RMRC"] = (times, motion.attitude_change, np.array(torque), motion.point_position)
+        return out
+
+    def figure(self, title: Optional[str] = None):
+        """Base attitude change, joint-torque norm and point path (inertial x–y) of the plan,
+        a quintic joint move to the same end configuration and the RMRC motion
+        (:meth:`comparison`). Returns the matplotlib ``Figure``."""
+        from ..analysis._common import new_figure
+
+        fig = new_figure(figsize=(13, 4.2))
+        ax_att, ax_tau, ax_path = fig.subplots(1, 3)
+        for name, (t, angle, torque, path) in self.comparison().items():
+            effort = np.sum(0.5 * (torque[1:] ** 2 + torque[:-1] ** 2) * np.diff(t))
+            ax_att.plot(t, np.degrees(angle), label=f"{name}: max {np.degrees(np.nanmax(angle)):.3g}°")
+            ax_tau.plot(t, torque, label=f"{name}: ∫|τ|²dt = {effort:.3g}")
+            ax_path.plot(path[:, 0], path[:, 1], label=name)
+        ax_path.plot([self.target[0]], [self.target[1]], "r*", ms=12, label="target")
+        ax_att.set_xlabel("t (s)")
+        ax_att.set_ylabel("base attitude change (deg)")
+        ax_att.set_title("base attitude disturbance", fontsize=10)
+        ax_tau.set_xlabel("t (s)")
+        ax_tau.set_ylabel("|τ| (N·m)")
+        ax_tau.set_title("joint effort", fontsize=10)
+        ax_path.set_xlabel("x (m)")
+        ax_path.set_ylabel("y (m)")
+        ax_path.set_aspect("equal", adjustable="datalim")
+        ax_path.set_title("point path (inertial x–y)", fontsize=10)
+        for ax in (ax_att, ax_tau, ax_path):
+            ax.legend(fontsize=7)
+        fig.suptitle(title or (f"{self.robot.name}: planned maneuver ({self.objective}, T = {self.duration:g} s, "
+                               f"{len(self.t) - 1} intervals; IPOPT: {self.status})"), fontsize=10)
+        return fig
+
+    def plot(self, path, title: Optional[str] = None) -> str:
+        """Write :meth:`figure` to ``path`` (PNG, atomically); returns the path."""
+        from ..analysis._common import save_figure
+
+        return save_figure(self.figure(title), path)

@@ -1,0 +1,270 @@
+"""Many simulations at once on native threads: :func:`rollout` and its result :class:`Rollouts`.
+
+Each rollout is the run :func:`spacearm.simulate` would make from its initial state, with its
+own plant (the robot, or one perturbed model per rollout) and its own controller instance; the
+rollouts run in parallel on the core's threads with the GIL released. A rollout's records are
+bit-identical to ``simulate`` of the same inputs whatever the number of threads. A rollout that
+fails (the motion diverges, a controller raises) is reported in :attr:`Rollouts.ok` and
+:attr:`Rollouts.reason` and its rows are NaN; the others run on.
+
+>>> import numpy as np, spacearm
+>>> robot = spacearm.presets.spatial6()
+>>> x0 = np.tile(robot.neutral_configuration(), (4, 1))
+>>> u0 = np.zeros((4, robot.nu)); u0[:, 6:] = np.linspace(0.1, 0.4, 4)[:, None]
+>>> runs = spacearm.rollout(robot, 0.5, x0, u0, dt=1e-3, record_every=50)
+>>> runs["x"].shape, bool(runs.ok.all())
+((4, 11, 13), True)
+"""
+
+from __future__ import annotations
+
+from typing import List, Optional, Sequence
+
+import numpy as np
+
+from .. import _core
+from ..errors import ArgumentError, NotFoundError, ShapeError, SimulationError
+from .simulation import DEFAULTS, _check_controller, _check_duration, _check_robot, _options, _warn_dropped
+
+__all__ = ["rollout", "Rollouts"]
+
+
+def _batch_size(x0, u0, plants, controller) -> int:
+    """The number of rollouts: the leading axis of a 2-D ``x0`` or ``u0``, or the length of
+    ``plants`` or of a list of controllers; every one given must agree."""
+    sizes = {}
+    for name, value in (("x0", x0), ("u0", u0)):
+        if value is not None and value.ndim == 2:
+            sizes[name] = value.shape[0]
+    if plants is not None:
+        sizes["plants"] = len(plants)
+    if isinstance(controller, (list, tuple)):
+        sizes["controller"] = len(controller)
+    if not sizes:
+        raise ShapeError("rollout needs a batch: x0 of shape (B, 7+N), u0 of shape (B, 6+N), B plants or B controllers")
+    if len(set(sizes.values())) > 1:
+        raise ShapeError(f"rollout: the batch sizes disagree: {', '.join(f'{k} {v}' for k, v in sizes.items())}")
+    b = next(iter(sizes.values()))
+    if b < 1:
+        raise ShapeError("rollout needs at least one rollout (B >= 1)")
+    return b
+
+
+def _states(value, default, width: int, b: int, name: str) -> np.ndarray:
+    """``value`` as a C-contiguous float64 ``(b, width)`` array: ``None`` → ``default`` on every
+    row, one row → repeated, ``(b, width)`` → as given."""
+    if value is None:
+        value = default
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ArgumentError(f"{name} must be an array of numbers") from exc
+    if a.ndim == 1:
+        a = np.broadcast_to(a, (b, a.shape[0]))
+    if a.ndim != 2 or a.shape[1] != width:
+        raise ShapeError(f"{name} must have shape (B, {width}) or ({width},), got {a.shape}")
+    return np.ascontiguousarray(a)
+
+
+def rollout(
+    robot,
+    duration: float,
+    x0=None,
+    u0=None,
+    *,
+    controller=None,
+    plants: Optional[Sequence] = None,
+    mode: str = DEFAULTS["mode"],
+    integrator: str = DEFAULTS["integrator"],
+    dt: float = DEFAULTS["dt"],
+    rtol: float = DEFAULTS["rtol"],
+    atol: float = DEFAULTS["atol"],
+    wheels=None,
+    thrusters=None,
+    joint_limits: bool = DEFAULTS["joint_limits"],
+    max_steps: int = DEFAULTS["max_steps"],
+    record_every: int = DEFAULTS["record_every"],
+    record_dtype: str = "float64",
+    threads: Optional[int] = None,
+) -> "Rollouts":
+    """Simulate ``B`` rollouts of ``robot`` for ``duration`` seconds on native threads.
+
+    Parameters
+    ----------
+    robot : Robot
+        The nominal plant (and the plant of every rollout when ``plants`` is not given).
+    duration : float
+        Simulated time of each rollout, s.
+    x0 : array (B, 7+N) or (7+N,), optional
+        Initial configurations (one row is used for every rollout; default: the neutral one).
+    u0 : array (B, 6+N) or (6+N,), optional
+        Initial velocities (default: zero).
+    controller : controller or list of B controllers, optional
+        One :mod:`spacearm.control` controller for every rollout (each rollout runs its own
+        instance of it), or one per rollout (per-rollout gains or references). ``None``: zero
+        torques. A :class:`~spacearm.control.Callback` works but runs its Python function under
+        the GIL, so its rollouts do not run in parallel.
+    plants : list of B Robots, optional
+        One plant per rollout, e.g. models perturbed with
+        :func:`spacearm.control.perturbed_model`; they must have the robot's joints.
+    mode, integrator, dt, rtol, atol, wheels, thrusters, joint_limits, max_steps, record_every, record_dtype
+        As for :func:`spacearm.simulate`, the same for every rollout. ``record_every`` (RK4)
+        and ``record_dtype="float32"`` keep the records small: with ``record_every`` at least
+        the number of steps only the initial and final samples are kept.
+    threads : int, optional
+        Number of threads (default: one per core).
+
+    Returns
+    -------
+    Rollouts
+        Records with a leading rollout axis, and each rollout's status.
+
+    Raises
+    ------
+    ArgumentError, ShapeError, NonFiniteError, QuaternionError
+        Bad options or initial states (an initial state's error names its rollout). A rollout
+        that fails while running raises nothing: see :attr:`Rollouts.ok`.
+    """
+    _check_robot(robot, "rollout")
+    duration = _check_duration(duration)
+    options = _options(
+        robot, mode=mode, integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=wheels, thrusters=thrusters,
+        record_every=record_every, joint_limits=joint_limits, max_steps=max_steps, record_dtype=record_dtype,
+    )
+    if threads is not None and (isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1):
+        raise ArgumentError(f"threads must be None or an integer >= 1, got {threads!r}")
+    x0_in = None if x0 is None else np.asarray(x0)
+    u0_in = None if u0 is None else np.asarray(u0)
+    if plants is not None and not isinstance(plants, (list, tuple)):
+        raise ArgumentError(f"plants must be a list of spacearm.Robot (one per rollout), got {type(plants).__name__}")
+    b = _batch_size(x0_in, u0_in, plants, controller)
+    x0 = _states(x0, robot.neutral_configuration(), robot.nx, b, "x0")
+    u0 = _states(u0, robot.zero_velocity(), robot.nu, b, "u0")
+    models = [robot._m]
+    if plants is not None:
+        for i, p in enumerate(plants):
+            _check_robot(p, f"rollout: plants[{i}]")
+            if p.n_dof != robot.n_dof:
+                raise ShapeError(f"plants[{i}] has N = {p.n_dof} joints but the robot has N = {robot.n_dof}")
+        models = [p._m for p in plants]
+    if isinstance(controller, (list, tuple)):
+        for i, c in enumerate(controller):
+            _check_controller(c, f"controller[{i}]")
+        specs = [None if c is None else c._spec(robot) for c in controller]
+        if any(s is None for s in specs):
+            specs = [{"type": "none"} if s is None else s for s in specs]
+    else:
+        _check_controller(controller)
+        specs = None if controller is None else controller._spec(robot)
+    data = _core.rollout(models, x0, u0, duration, options, specs, None if threads is None else int(threads))
+    meta = data.pop("meta")
+    for m in meta:
+        if m is not None:
+            m["duration"] = duration
+            m["robot"] = robot.name
+    first = next((m for m in meta if m is not None), None)
+    if first is not None:
+        _warn_dropped(mode, first, stacklevel=2)
+    return Rollouts(robot, plants, data, meta)
+
+
+class Rollouts:
+    """The records of ``B`` rollouts (what :func:`rollout` returns).
+
+    ``runs[name]`` (or ``runs.x``, ``runs.t``, ...) is the record ``name`` of
+    :func:`spacearm.simulate` with a leading rollout axis: ``(B, K, ...)``, NaN rows for a
+    rollout that failed. :attr:`ok` and :attr:`reason` say which failed and why;
+    :meth:`trajectory` gives one rollout as a :class:`~spacearm.Trajectory`. The arrays are
+    read-only.
+    """
+
+    def __init__(self, robot, plants, data: dict, meta: List[Optional[dict]]):
+        self._robot = robot
+        self._plants = plants
+        self._ok = np.asarray(data.pop("ok"), dtype=bool)
+        self._reason = list(data.pop("reason"))
+        self._error_class = list(data.pop("error_class"))
+        self._events = list(data.pop("events"))
+        self._meta = meta
+        for a in data.values():
+            a.setflags(write=False)
+        self._ok.setflags(write=False)
+        self._data = data
+
+    def __len__(self) -> int:
+        return len(self._ok)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        try:
+            return self._data[name]
+        except KeyError:
+            raise NotFoundError(f"the rollouts have no '{name}' record; they have {', '.join(sorted(self._data))}") from None
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        if name.startswith("_"):
+            raise AttributeError(name)
+        try:
+            return self._data[name]
+        except KeyError:
+            raise AttributeError(f"'Rollouts' has no attribute or record '{name}'") from None
+
+    @property
+    def keys(self) -> List[str]:
+        """Names of the records."""
+        return sorted(self._data)
+
+    @property
+    def ok(self) -> np.ndarray:
+        """``(B,)`` booleans: whether each rollout ran to the end."""
+        return self._ok
+
+    @property
+    def reason(self) -> List[Optional[str]]:
+        """Why each rollout failed (the error message), ``None`` for those that did not."""
+        return list(self._reason)
+
+    @property
+    def error_class(self) -> List[Optional[str]]:
+        """The :mod:`spacearm.errors` class of each failure (``"SimulationError"``, ...), or ``None``."""
+        return list(self._error_class)
+
+    @property
+    def meta(self) -> List[Optional[dict]]:
+        """Each rollout's description (as ``Trajectory.meta``), ``None`` for a failed one."""
+        return [None if m is None else dict(m) for m in self._meta]
+
+    @property
+    def saturation_count(self) -> np.ndarray:
+        """``(B,)`` number of saturation onsets of each rollout (-1 for a failed one)."""
+        return np.array([-1 if e is None else len(e["saturation_t"]) for e in self._events], dtype=np.int64)
+
+    def final_state(self) -> np.ndarray:
+        """``(B, 13+2N)`` ``[x; u]`` of each rollout at the end (NaN for a failed one)."""
+        return np.concatenate([self._data["x"][:, -1, :], self._data["u"][:, -1, :]], axis=1)
+
+    def raise_failures(self) -> None:
+        """Raise :class:`~spacearm.errors.SimulationError` listing the failed rollouts, if any."""
+        failed = np.flatnonzero(~self._ok)
+        if failed.size:
+            lines = [f"rollout {i}: {self._reason[i]}" for i in failed[:10]]
+            more = f" (and {failed.size - 10} more)" if failed.size > 10 else ""
+            raise SimulationError(f"{failed.size} of {len(self)} rollouts failed{more}:\n" + "\n".join(lines))
+
+    def trajectory(self, i: int):
+        """Rollout ``i`` as a :class:`~spacearm.Trajectory` (its plant as the robot); raises
+        :class:`~spacearm.errors.SimulationError` with its reason if it failed."""
+        from .trajectory import Trajectory
+
+        if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not -len(self) <= i < len(self):
+            raise ArgumentError(f"rollout index must be an integer in [0, {len(self)}), got {i!r}")
+        i = int(i) % len(self)
+        if not self._ok[i]:
+            raise SimulationError(f"rollout {i} failed: {self._reason[i]}")
+        data = {k: v[i] for k, v in self._data.items()}
+        data.update(self._events[i])
+        robot = self._robot if self._plants is None else self._plants[i]
+        return Trajectory._adopt(robot, data, self._meta[i])
+
+    def __repr__(self) -> str:
+        k = self._data["t"].shape[1]
+        return f"<Rollouts: {len(self)} rollouts of {k} samples, {int(self._ok.sum())} ok>"

@@ -1,0 +1,156 @@
+"""Figures of a capture: the run (:func:`plot_capture`), its animation (:func:`animate_capture`)
+and the capture envelope (:func:`plot_envelope`). matplotlib (extra ``plot``) on its Agg canvas,
+files written atomically."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._util.atomic import atomic_path
+from .._util.optional import require
+from .animation import arm_segments, box_faces, equivalent_box
+
+__all__ = ["plot_capture", "animate_capture", "plot_envelope"]
+
+_PHASE_COLOURS = ("#ffffff", "#fde0c5", "#e3f0d6", "#dbe7f5")
+
+
+def _figure(width, height, layout="constrained"):
+    FigureCanvasAgg = require("matplotlib.backends.backend_agg", "figures").FigureCanvasAgg
+    Figure = require("matplotlib.figure", "figures").Figure
+    fig = Figure(figsize=(width, height), layout=layout)
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def _save(fig, path):
+    if path is not None:
+        suffix = "." + str(path).rsplit(".", 1)[-1] if "." in str(path) else ".png"
+        with atomic_path(path, suffix=suffix) as tmp:
+            fig.savefig(str(tmp), dpi=110, format=suffix[1:])
+    return fig
+
+
+def _shade(ax, result, labelled: bool):
+    """Background colour per phase (after the approach), with legend labels if ``labelled``."""
+    t, phase = result.t, result.phase
+    for k, name in enumerate(result.phase_names):
+        idx = np.nonzero(phase == k)[0]
+        if idx.size and k > 0:
+            ax.axvspan(t[idx[0]], t[idx[-1]], color=_PHASE_COLOURS[k], alpha=0.8, lw=0, label=name if labelled else None)
+
+
+def plot_capture(result, path=None):
+    """Four panels against time, phases shaded (capture orange, post-capture green, detumble
+    blue): the momentum ledger's change ``P − P(0)`` and ``L − L(0)`` of robot + target; the base
+    angular velocity; the joint torques; the grasp force and moment."""
+    fig = _figure(9.0, 7.0)
+    axes = fig.subplots(2, 2, sharex=True)
+    t = result.t
+    (a0, a1), (a2, a3) = axes
+    for ax in axes.ravel():
+        _shade(ax, result, labelled=ax is a0)
+    dP = np.linalg.norm(result.P - result.P[0], axis=1)
+    dL = np.linalg.norm(result.L - result.L[0], axis=1)
+    a0.semilogy(t, np.maximum(dP, 1e-18), label="|P − P(0)| [N s]")
+    a0.semilogy(t, np.maximum(dL, 1e-18), label="|L − L(0)| [N m s]")
+    a0.set_title(f"momentum ledger, robot + target ({result.mode})", fontsize=9)
+    a0.set_ylabel("change [N s], [N m s]")
+    a0.legend(fontsize=7)
+    w0 = result.u[:, 3:6]
+    for k, c in enumerate("xyz"):
+        a1.plot(t, w0[:, k], label=f"ω0{c}")
+    a1.set_title("base angular velocity", fontsize=9)
+    a1.set_ylabel("ω0 [rad/s]")
+    a1.legend(fontsize=7)
+    if result.tau.size:
+        for k, name in enumerate(result.robot.joint_names):
+            a2.plot(t, result.tau[:, k], lw=0.8, label=name)
+        a2.legend(fontsize=6, ncol=2)
+    a2.set_title("joint torques", fontsize=9)
+    a2.set_ylabel("τ [N m]")
+    a2.set_xlabel("t [s]")
+    a3.plot(t, np.linalg.norm(result.grasp_wrench[:, :3], axis=1), label="|f| [N]")
+    a3.plot(t, np.linalg.norm(result.grasp_wrench[:, 3:], axis=1), label="|n| [N m]")
+    a3.set_title("wrench holding the target", fontsize=9)
+    a3.set_ylabel("|f| [N], |n| [N m]")
+    a3.set_xlabel("t [s]")
+    a3.legend(fontsize=7)
+    return _save(fig, path)
+
+
+def animate_capture(result, path, *, frames: int = 40, fps: int = 10, dpi: int = 72, size: float = 4.5) -> str:
+    """A GIF: the base (its equivalent box), the arm, the target (its equivalent box) and the
+    grasp point's path; the title gives the phase and time."""
+    PillowWriter = require("matplotlib.animation", "animations").PillowWriter
+    Poly3DCollection = require("mpl_toolkits.mplot3d.art3d", "animations").Poly3DCollection
+    robot, target = result.robot, result.target_model
+    idx = np.unique(np.linspace(0, len(result.t) - 1, min(int(frames), len(result.t))).round().astype(int))
+    base = robot.description.base
+    b_sides, b_axes = equivalent_box(base.mass, base.inertia)
+    # a jointed target: its base as a box and its links as segments
+    t_base = target.body.description.base
+    t_sides, t_axes = equivalent_box(t_base.mass, t_base.inertia)
+    geo = []
+    from ..rotations import quat_to_matrix
+
+    for k in idx:
+        x, s = result.x[k], result.target[k]
+        tx = target.xu(s)[0]
+        segs = arm_segments(robot, x) + (arm_segments(target.body, tx) if not target.is_rigid else [])
+        geo.append((box_faces(x[:3], quat_to_matrix(x[3:7]), b_sides, b_axes), segs,
+                    box_faces(s[:3], quat_to_matrix(s[3:7]), t_sides, t_axes)))
+    pts = np.vstack([np.vstack(b) for b, _, _ in geo] + [np.vstack(tb) for _, _, tb in geo]
+                    + [np.vstack([np.vstack(seg) for seg in segs]) for _, segs, _ in geo if segs])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    centre, half = 0.5 * (lo + hi), 0.5 * float(np.max(hi - lo)) * 1.08 + 1e-6
+    fig = _figure(size, size, layout=None)
+    fig.subplots_adjust(left=0.0, right=1.0, bottom=0.02, top=0.9)
+    ax = fig.add_subplot(projection="3d")
+    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre):
+        setter(c - half, c + half)
+    ax.set_box_aspect((1, 1, 1))
+    ax.tick_params(labelsize=6)
+    base_box = Poly3DCollection(geo[0][0], facecolor="silver", edgecolor="dimgray", alpha=0.35, linewidths=0.6)
+    target_box = Poly3DCollection(geo[0][2], facecolor="tab:orange", edgecolor="saddlebrown", alpha=0.35, linewidths=0.6)
+    ax.add_collection3d(base_box)
+    ax.add_collection3d(target_box)
+    links = [ax.plot([], [], [], "-o", color="C0", lw=2.5, ms=3)[0] for _ in geo[0][1]]
+    title = ax.set_title("", fontsize=8)
+    writer = PillowWriter(fps=int(fps))
+    with atomic_path(path, suffix=".gif") as tmp:
+        with writer.saving(fig, str(tmp), dpi=dpi):
+            for j, k in enumerate(idx):
+                faces, segs, tfaces = geo[j]
+                base_box.set_verts(faces)
+                target_box.set_verts(tfaces)
+                for line, (a, b) in zip(links, segs):
+                    line.set_data_3d([a[0], b[0]], [a[1], b[1]], [a[2], b[2]])
+                title.set_text(f"{robot.name} capturing {target.name} ({result.kind}, {result.mode})\n"
+                               f"{result.phase_names[result.phase[k]]}, t = {result.t[k]:.2f} s")
+                writer.grab_frame()
+    return str(path)
+
+
+def plot_envelope(envelope, path=None):
+    """Success (green) or failure (red) over spin rate × inertia error, each cell labelled with
+    the time to detumble ("not detumbled" when the run ended first; "limit" when it detumbled but a
+    grasp-wrench limit was exceeded)."""
+    fig = _figure(6.0, 4.0)
+    ax = fig.subplots()
+    colors = np.where(envelope.success, 1.0, 0.0)
+    ax.imshow(colors, cmap="RdYlGn", vmin=-0.2, vmax=1.2, origin="lower", aspect="auto")
+    for i in range(envelope.success.shape[0]):
+        for j in range(envelope.success.shape[1]):
+            t = envelope.time_to_detumble[i, j]
+            if not np.isfinite(t):
+                label = "not\ndetumbled"
+            else:
+                label = f"{t:.1f} s" + ("" if envelope.success[i, j] else "\nlimit")
+            ax.text(j, i, label, ha="center", va="center", fontsize=8)
+    ax.set_xticks(range(len(envelope.inertia_errors)), [f"{e:+.0%}" for e in envelope.inertia_errors])
+    ax.set_yticks(range(len(envelope.spin_rates)), [f"{r:g}" for r in envelope.spin_rates])
+    ax.set_xlabel("error of the controller's target mass and inertia")
+    ax.set_ylabel("target spin rate [rad/s]")
+    ax.set_title(f"capture envelope ({envelope.mode}): time to detumble", fontsize=9)
+    return _save(fig, path)

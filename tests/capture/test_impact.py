@@ -1,0 +1,320 @@
+"""The grasp impact against independent references: conservation and the lock condition, the
+closed forms of two free rigid bodies (arm locked), and Pinocchio's impulseDynamics for the
+robot-side jump against a fixed contact."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import spacearm
+from spacearm.capture import impulse_momentum_split, inverse_inertia, virtual_mass
+from spacearm.rotations import quat_to_matrix
+from random_models import random_model, random_quaternion, random_state
+
+SEEDS = (3, 11, 42)
+
+
+def _scene(robot, rng, *, target_mass=80.0, spin=0.5, near_origin=True):
+    """A robot state and a target whose grasp point sits at the robot's end effector."""
+    x, u = random_state(robot, rng)
+    if near_origin:
+        x[:3] = rng.normal(scale=0.5, size=3)
+    target = spacearm.Target(target_mass, [6.0, 8.0, 9.0], grasp_points={"handle": (0.2, -0.4, 0.3)})
+    quat = random_quaternion(rng)
+    X = robot.point_position(x)
+    cm = X - quat_to_matrix(quat) @ target.grasp_points["handle"]
+    s = target.state(cm, quat, rng.normal(scale=0.3, size=3), rng.normal(scale=spin, size=3))
+    return x, u, target, s
+
+
+def _robots():
+    return [spacearm.presets.spatial6()] + [random_model(s).robot for s in SEEDS]
+
+
+def _rigid_body(robot, x):
+    """The robot frozen as one rigid body, from its bodies' own mass properties (independent of
+    the mass matrix): total mass, CM, inertia about the CM in 𝒥."""
+    desc = robot.description
+    kin = robot.forward_kinematics(x)
+    masses = [desc.base.mass] + [link.mass for link in desc.links]
+    inertias = [np.asarray(desc.base.inertia).reshape(3, 3)] + [np.asarray(link.inertia).reshape(3, 3) for link in desc.links]
+    m = sum(masses)
+    c = sum(mi * ri for mi, ri in zip(masses, kin.com_in_world)) / m
+    inertia = np.zeros((3, 3))
+    for mi, Ii, Ri, ri in zip(masses, inertias, kin.body_to_world, kin.com_in_world):
+        d = ri - c
+        inertia += Ri @ Ii @ Ri.T + mi * (d @ d * np.eye(3) - np.outer(d, d))
+    return m, c, inertia
+
+
+@pytest.mark.parametrize("index", range(4))
+def test_rigid_grasp_conserves_momentum_and_locks(index):
+    robot = _robots()[index]
+    x, u, target, s = _scene(robot, np.random.default_rng([14, index]))
+    res = robot.grasp_impulse(x, u, target, s, grasp="handle")
+    assert res.gap < 1e-12
+    # the lock: no relative twist at the grasp point after, a clear one before
+    assert np.linalg.norm(res.relative_twist_before) > 0.1
+    assert np.linalg.norm(res.relative_twist_after) < 1e-12 * np.linalg.norm(res.relative_twist_before) * 1e3
+    before_r, before_t = robot.momentum(x, u), target.momentum(s)
+    after_r, after_t = robot.momentum(x, res.u_after), target.momentum(res.target_state_after)
+    scale_p = np.linalg.norm(before_r.P) + np.linalg.norm(before_t.P) + np.linalg.norm(res.impulse[:3])
+    scale_l = np.linalg.norm(before_r.L_origin) + np.linalg.norm(before_t.L_origin) + np.linalg.norm(res.impulse[3:])
+    assert np.linalg.norm(before_r.P + before_t.P - after_r.P - after_t.P) < 1e-12 * scale_p
+    assert np.linalg.norm(before_r.L_origin + before_t.L_origin - after_r.L_origin - after_t.L_origin) < 1e-12 * scale_l
+    # the impulse the robot receives is the momentum it gains (about the origin of 𝒥)
+    np.testing.assert_allclose(after_r.P - before_r.P, res.impulse[:3], atol=1e-12 * scale_p)
+    np.testing.assert_allclose(after_r.L_origin - before_r.L_origin, res.impulse[3:] + np.cross(res.point, res.impulse[:3]),
+                               atol=1e-11 * scale_l)
+    assert res.energy_lost > 0.0
+
+
+@pytest.mark.parametrize("index", range(4))
+def test_inverse_inertia_forms_agree(index):
+    robot = _robots()[index]
+    x, _ = random_state(robot, np.random.default_rng([15, index]))
+    g1 = inverse_inertia(robot, x)
+    g2 = inverse_inertia(robot, x, form="generalized")
+    np.testing.assert_allclose(g2, g1, atol=1e-10 * np.abs(g1).max())
+    assert np.all(np.linalg.eigvalsh(0.5 * (g1 + g1.T)) > 0)
+    # Locking the arm stiffens the point: G_locked <= G_free in the PSD order.
+    gl = inverse_inertia(robot, x, arm="locked")
+    assert np.linalg.eigvalsh(0.5 * ((g1 - gl) + (g1 - gl).T)).min() > -1e-10 * np.abs(g1).max()
+    n = np.array([0.3, -0.5, 0.8])
+    assert virtual_mass(robot, x, n) <= virtual_mass(robot, x, n, arm="locked") * (1 + 1e-12)
+
+
+@pytest.mark.parametrize("index", range(4))
+def test_two_free_bodies_point_impact_closed_form(index):
+    """Arm locked: the robot is one rigid body; the classical two-body impulse
+    λ = (1 + e) m_eff v_n with 1/m_eff = 1/m1 + 1/m2 + (r1×n)ᵀI1⁻¹(r1×n) + (r2×n)ᵀI2⁻¹(r2×n)."""
+    robot = _robots()[index]
+    rng = np.random.default_rng([16, index])
+    x, u, target, s = _scene(robot, rng)
+    u[6:] = 0.0  # the arm at rest relative to the base: the robot is one rigid body
+    m1, c1, I1 = _rigid_body(robot, x)
+    X = robot.point_position(x)
+    n = rng.normal(size=3)
+    n /= np.linalg.norm(n)
+    # the robot's point velocity and the target's material point velocity
+    j0, jm = robot.point_jacobian(x)
+    v_robot = (j0 @ u[:6] + jm @ u[6:])[:3]
+    st = target.split(s)
+    v_target = st.velocity + np.cross(st.angular_velocity, X - st.position)
+    vn = n @ (v_robot - v_target)
+    if vn > 0:
+        n, vn = -n, -vn
+    m2 = target.mass
+    R2 = quat_to_matrix(st.quaternion)
+    I2 = R2 @ target.inertia @ R2.T
+    r1, r2 = X - c1, X - st.position
+    inv_meff = 1 / m1 + 1 / m2 + np.cross(r1, n) @ np.linalg.solve(I1, np.cross(r1, n)) + np.cross(r2, n) @ np.linalg.solve(I2, np.cross(r2, n))
+    meff = 1 / inv_meff
+    for e in (0.0, 1.0, 0.4):
+        res = robot.grasp_impulse(x, u, target, s, kind="point", restitution=e, normal=n, arm="locked")
+        lam = (1 + e) * meff * (-vn)
+        np.testing.assert_allclose(res.impulse, np.r_[lam * n, 0, 0, 0], rtol=1e-10, atol=1e-12 * abs(lam))
+        # the target's jump from Newton–Euler on its own
+        np.testing.assert_allclose(res.target_dtwist[:3], -lam * n / m2, rtol=1e-10, atol=1e-13)
+        np.testing.assert_allclose(res.target_dtwist[3:], -np.linalg.solve(I2, np.cross(r2, lam * n)), rtol=1e-9, atol=1e-13)
+        # the robot's base jump: the rigid composite's CM and spin jump, moved to the base CM
+        dv_c = lam * n / m1
+        dw = np.linalg.solve(I1, np.cross(r1, lam * n))
+        np.testing.assert_allclose(res.du[3:6], dw, rtol=1e-9, atol=1e-13)
+        np.testing.assert_allclose(res.du[:3], dv_c + np.cross(dw, x[:3] - c1), rtol=1e-9, atol=1e-13)
+        assert np.all(res.du[6:] == 0.0)
+        # normal relative velocity: -e times before; energy: lost (1 - e²)/2 m_eff v_n²
+        assert n @ res.relative_twist_after[:3] == pytest.approx(-e * vn, rel=1e-9, abs=1e-13)
+        assert res.energy_lost == pytest.approx(0.5 * meff * (1 - e * e) * vn * vn, rel=1e-8, abs=1e-10 * meff * vn * vn)
+
+
+@pytest.mark.parametrize("index", range(4))
+def test_two_free_bodies_rigid_grasp_closed_form(index):
+    """Arm locked, rigid lock: both bodies end moving as one rigid body with v = P/M and
+    ω = I_c⁻¹ L_c (momentum about the combined CM)."""
+    robot = _robots()[index]
+    x, u, target, s = _scene(robot, np.random.default_rng([17, index]))
+    u[6:] = 0.0  # the arm at rest relative to the base: a rigid body before the impact too
+    res = robot.grasp_impulse(x, u, target, s, arm="locked")
+    m1, c1, I1 = _rigid_body(robot, x)
+    st = target.split(s)
+    R2 = quat_to_matrix(st.quaternion)
+    I2 = R2 @ target.inertia @ R2.T
+    v1 = u[:3] + np.cross(u[3:6], c1 - x[:3])
+    M = m1 + target.mass
+    c = (m1 * c1 + target.mass * st.position) / M
+    P = m1 * v1 + target.mass * st.velocity
+    L = I1 @ u[3:6] + m1 * np.cross(c1 - c, v1) + I2 @ st.angular_velocity + target.mass * np.cross(st.position - c, st.velocity)
+    Ic = (I1 + m1 * ((c1 - c) @ (c1 - c) * np.eye(3) - np.outer(c1 - c, c1 - c))
+          + I2 + target.mass * ((st.position - c) @ (st.position - c) * np.eye(3) - np.outer(st.position - c, st.position - c)))
+    v, w = P / M, np.linalg.solve(Ic, L)
+    scale = np.linalg.norm(v) + np.linalg.norm(w)
+    after = target.split(res.target_state_after)
+    np.testing.assert_allclose(after.angular_velocity, w, atol=1e-10 * scale)
+    np.testing.assert_allclose(after.velocity, v + np.cross(w, st.position - c), atol=1e-10 * scale)
+    np.testing.assert_allclose(res.u_after[3:6], w, atol=1e-10 * scale)
+    np.testing.assert_allclose(res.u_after[:3], v + np.cross(w, x[:3] - c), atol=1e-10 * scale)
+
+
+def test_momentum_split_adds_up():
+    robot = spacearm.presets.spatial6()
+    x, _ = random_state(robot, np.random.default_rng(18))
+    lam = np.array([3.0, -1.0, 2.0, 0.5, 0.2, -0.4])
+    split = impulse_momentum_split(robot, x, lam)
+    X = robot.point_position(x)
+    # the impulse's momentum about the base CM, from its definition
+    total = np.r_[lam[:3], lam[3:] + np.cross(X - x[:3], lam[:3])]
+    np.testing.assert_allclose(split.total, total, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(split.base + split.arm, total, rtol=1e-9, atol=1e-10)
+    assert np.linalg.norm(split.arm) > 1e-3 * np.linalg.norm(total)
+    assert split.base_jump_singular_values.shape == (6,)
+
+
+
+@pytest.mark.parametrize("index", range(4))
+@pytest.mark.parametrize("kind", ["rigid", "point"])
+def test_robot_jump_against_pinocchio_impulse_dynamics(index, kind):
+    """A target far heavier than the robot, at rest, is a fixed contact: the robot-side jump
+    must equal Pinocchio's impulseDynamics with the gripper frame's Jacobian as constraint."""
+    from spacearm import interop
+
+    pin = pytest.importorskip("pinocchio")
+    robot = _robots()[index]
+    rng = np.random.default_rng([19, index])
+    x, u = random_state(robot, rng)
+    X = robot.point_position(x)
+    big = 1e15
+    target = spacearm.Target(big, [big, big, big])
+    s = target.state(X + np.array([0.3, 0.1, -0.2]))
+    model = interop.to_pinocchio(robot)
+    data = model.createData()
+    q, v = interop.to_pinocchio_state(robot, x, u)
+    pin.computeJointJacobians(model, data, q)
+    pin.updateFramePlacements(model, data)
+    J = pin.getFrameJacobian(model, data, model.getFrameId(robot.end_effector), pin.LOCAL_WORLD_ALIGNED)
+    if kind == "rigid":
+        res = robot.grasp_impulse(x, u, target, s)
+        v_after = pin.impulseDynamics(model, data, q, v, J, 0.0, 0.0)
+    else:
+        j0, jm = robot.point_jacobian(x)
+        vX = (j0 @ u[:6] + jm @ u[6:])[:3]
+        n = -vX / np.linalg.norm(vX)  # the gripper moves into the contact
+        e = 0.6
+        res = robot.grasp_impulse(x, u, target, s, kind="point", restitution=e, normal=n)
+        v_after = pin.impulseDynamics(model, data, q, v, (n @ J[:3])[None, :], e, 0.0)
+    _, u_ref = interop.from_pinocchio_state(robot, q, np.asarray(v_after))
+    du_ref = u_ref - u
+    assert np.linalg.norm(du_ref) > 1e-2
+    np.testing.assert_allclose(res.du, du_ref, atol=1e-9 * np.linalg.norm(du_ref))
+
+
+def test_bad_input():
+    robot = spacearm.presets.spatial6()
+    x, u = robot.neutral_configuration(), robot.zero_velocity()
+    target = spacearm.Target(10.0, [1, 1, 1])
+    s = target.state(robot.point_position(x))
+    with pytest.raises(spacearm.ArgumentError, match="restitution"):
+        robot.grasp_impulse(x, u, target, s, kind="point", restitution=1.5)
+    with pytest.raises(spacearm.ArgumentError, match="kind"):
+        robot.grasp_impulse(x, u, target, s, kind="glue")
+    with pytest.raises(spacearm.ArgumentError, match="plastic"):
+        robot.grasp_impulse(x, u, target, s, restitution=0.5)
+    with pytest.raises(spacearm.ShapeError, match="target_state"):
+        robot.grasp_impulse(x, u, target, s[:12])
+    with pytest.raises(spacearm.SpacearmTypeError, match="Target"):
+        robot.grasp_impulse(x, u, "box", s)
+    with pytest.raises(spacearm.ModelError, match="target 'box'.*triangle"):
+        spacearm.Target(10.0, [1, 1, 5], name="box")
+    with pytest.raises(spacearm.NotFoundError, match="grasp point"):
+        target.grasp_position(s, "nope")
+
+
+# ---- a whole model as the target ---------------------------------------------------------------
+def test_jointless_model_target_equals_target():
+    robot = spacearm.presets.spatial6()
+    rng = np.random.default_rng(20)
+    x, u, target, s = _scene(robot, rng)
+    twin = spacearm.Target.from_robot(target.body)
+    a = robot.grasp_impulse(x, u, target, s, grasp="handle")
+    b = robot.grasp_impulse(x, u, twin, s, grasp="handle")
+    np.testing.assert_array_equal(a.impulse, b.impulse)
+    np.testing.assert_array_equal(a.target_dtwist, b.target_dtwist)
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_jointed_target_conserves_momentum_and_locks(seed):
+    robot = spacearm.presets.spatial6()
+    model = random_model(seed).robot
+    target = spacearm.Target.from_robot(model)
+    rng = np.random.default_rng([21, seed])
+    x, u = random_state(robot, rng)
+    x[:3] = 0.0
+    xt, ut = random_state(model, rng)
+    # move the target so that its probe point is at the gripper
+    xt[:3] += robot.point_position(x) - model.point_position(xt, "probe")
+    s = np.concatenate([xt, ut])
+    res = robot.grasp_impulse(x, u, target, s, grasp="probe")
+    assert res.gap < 1e-9 and res.target_dtwist.shape == (model.nu,)
+    assert np.linalg.norm(res.relative_twist_after) < 1e-9 * np.linalg.norm(res.relative_twist_before)
+    m0 = [robot.momentum(x, u), target.momentum(s)]
+    m1 = [robot.momentum(x, res.u_after), target.momentum(res.target_state_after)]
+    scale = sum(np.linalg.norm(m.L_origin) for m in m0 + m1) + sum(np.linalg.norm(m.P) for m in m0 + m1)
+    np.testing.assert_allclose(m0[0].P + m0[1].P, m1[0].P + m1[1].P, atol=1e-12 * scale)
+    np.testing.assert_allclose(m0[0].L_origin + m0[1].L_origin, m1[0].L_origin + m1[1].L_origin, atol=1e-11 * scale)
+    with pytest.raises(spacearm.ArgumentError, match="jointed"):
+        from spacearm.capture import attach_target
+
+        attach_target(robot, x, res.u_after, target, res.target_state_after)
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_jointed_target_jump_against_pinocchio(seed):
+    """A jointless 'robot' 1e15 times heavier, at rest, is a fixed contact for a jointed target:
+    the target's jump must equal Pinocchio's impulseDynamics of the target's model."""
+    from spacearm import interop
+
+    pin = pytest.importorskip("pinocchio")
+    model = random_model(seed).robot
+    target = spacearm.Target.from_robot(model)
+    rng = np.random.default_rng([22, seed])
+    xt, ut = random_state(model, rng)
+    big = 1e15
+    wall = spacearm.Robot.builder("wall", base_mass=big, base_inertia=[big, big, big])
+    wall.add_point("pad", body="base", offset=(0.0, 0.0, 0.0))
+    wall.set_end_effector("pad")
+    wall = wall.build()
+    xw = wall.neutral_configuration(r0=model.point_position(xt, "probe"))
+    res = wall.grasp_impulse(xw, wall.zero_velocity(), target, np.concatenate([xt, ut]), grasp="probe")
+    pmodel = interop.to_pinocchio(model)
+    data = pmodel.createData()
+    q, v = interop.to_pinocchio_state(model, xt, ut)
+    pin.computeJointJacobians(pmodel, data, q)
+    pin.updateFramePlacements(pmodel, data)
+    J = pin.getFrameJacobian(pmodel, data, pmodel.getFrameId("probe"), pin.LOCAL_WORLD_ALIGNED)
+    v_after = pin.impulseDynamics(pmodel, data, q, v, J, 0.0, 0.0)
+    _, u_ref = interop.from_pinocchio_state(model, q, np.asarray(v_after))
+    du_ref = u_ref - ut
+    assert np.linalg.norm(du_ref) > 1e-2
+    np.testing.assert_allclose(res.target_dtwist, du_ref, atol=1e-9 * np.linalg.norm(du_ref))
+
+
+def test_analysis_quantities_bad_input_and_grasp_point_forms():
+    robot = spacearm.presets.spatial6()
+    x = robot.neutral_configuration()
+    with pytest.raises(spacearm.ArgumentError, match="form"):
+        inverse_inertia(robot, x, form="schur")
+    with pytest.raises(spacearm.ArgumentError, match="arm"):
+        inverse_inertia(robot, x, arm="floppy")
+    with pytest.raises(spacearm.ArgumentError, match="direction"):
+        virtual_mass(robot, x, (0.0, 0.0, 0.0))
+    with pytest.raises(spacearm.ShapeError):
+        impulse_momentum_split(robot, x, [1.0, 2.0])
+    # grasp points: a mapping, a list of offsets, one flat offset
+    assert list(spacearm.Target(1.0, [1, 1, 1], grasp_points=[(0.1, 0, 0), (0, 0.2, 0)]).grasp_points) == ["grasp0", "grasp1"]
+    one = spacearm.Target(1.0, [1, 1, 1], grasp_points=(0.1, 0.0, 0.0))
+    np.testing.assert_array_equal(one.grasp_points["grasp0"], [0.1, 0.0, 0.0])
+    with pytest.raises(spacearm.ArgumentError, match="at least one grasp point"):
+        spacearm.Target(1.0, [1, 1, 1], grasp_points={})
+    with pytest.raises(spacearm.ArgumentError, match="jointed model"):
+        spacearm.Target.from_robot(robot).state()
