@@ -69,7 +69,8 @@ fn spd_inverse_portable(h: &DMatrix<f64>, scratch: &mut DMatrix<f64>, out: &mut 
             }
         }
         let d = l[j * n + j];
-        if !(d > 0.0) || !d.is_finite() {
+        // Not positive (or NaN / infinite): not positive definite.
+        if d.is_nan() || d <= 0.0 || d.is_infinite() {
             return false;
         }
         let ljj = d.sqrt();

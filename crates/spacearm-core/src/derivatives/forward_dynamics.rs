@@ -93,8 +93,8 @@ pub fn forward_dynamics_derivatives_with<'w>(
     if !spd_inverse(&work.data.mass_matrix, &mut work.dense_scratch, &mut work.accel_wrt_force) {
         return Err(SpacearmError::Singular("the mass matrix H".into()));
     }
-    for i in 0..nu {
-        work.data.accel[i] = f[i] - work.data.tau[i];
+    for ((a, fi), c) in work.data.accel.iter_mut().zip(f).zip(work.data.tau.iter()) {
+        *a = fi - c;
     }
     work.du_scratch.gemv(1.0, &work.accel_wrt_force, &work.data.accel, 0.0);
     work.data.accel.copy_from(&work.du_scratch);
