@@ -31,7 +31,16 @@ from .errors import (
     SpacearmError,
     SpacearmTypeError,
 )
-from .model.robot import ExternalWrench, ForwardDynamicsDerivatives, InertiaBlocks, Kinematics, Linearization, Momentum, Robot
+from .model.robot import (
+    ExternalWrench,
+    ForwardDynamicsDerivatives,
+    InertiaBlocks,
+    InverseDynamicsPartials,
+    Kinematics,
+    Linearization,
+    Momentum,
+    Robot,
+)
 from .sim.rollout import Rollouts, rollout
 from .sim.simulation import simulate
 from .sim.simulator import Simulator
@@ -51,6 +60,7 @@ __all__ = [
     "Momentum",
     "InertiaBlocks",
     "ForwardDynamicsDerivatives",
+    "InverseDynamicsPartials",
     "Linearization",
     "ModelDescription",
     "BaseDescription",

@@ -1,8 +1,11 @@
-//! Criterion benchmarks of the derivative functions (dual-number forward mode) on `spatial6`
-//! (6 DOF + free base) and a 12-DOF serial arm, at a non-trivial state.
+//! Criterion benchmarks of the derivative functions on `spatial6` (6 DOF + free base) and
+//! serial arms of 12, 30 and 60 DOF, at a non-trivial state: the forward-dynamics Jacobians by
+//! the analytic route (the default) and by dual numbers, the analytic partials of inverse
+//! dynamics alone, `linearize`, and the dual-number `∂H/∂x`, `Ḣ`, `∂H*/∂q`, `J̇*`.
 //!
 //! Run (short):
 //! `cargo bench -p spacearm-core --bench derivatives -- --warm-up-time 1 --measurement-time 2`
+//! (a filter such as `arm30/` selects one model).
 //!
 //! `benchmarks/derivatives.py` times the same functions from Python next to Pinocchio's
 //! `computeABADerivatives`.
@@ -10,7 +13,7 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use spacearm_core::derivatives::{self, DerivativeData, LinearizationInputs};
+use spacearm_core::derivatives::{self, DerivativeData, DerivativeMethod, LinearizationInputs};
 use spacearm_core::algorithms::aba;
 use spacearm_core::model::presets;
 use spacearm_core::Model;
@@ -29,13 +32,13 @@ fn state(model: &Model) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     (x, u, f)
 }
 
-/// A serial 12-DOF arm on a 500 kg base: alternating joint axes, 0.5 m links.
-pub fn arm12() -> Model {
+/// A serial `n`-DOF arm on a 500 kg base: alternating joint axes, 0.5 m links.
+pub fn serial_arm(n: usize) -> Model {
     use spacearm_core::{JointLimits, JointType, LinkSpec, ModelBuilder};
-    let mut b = ModelBuilder::new("arm12", "base", 500.0, [[60.0, 0.0, 0.0], [0.0, 70.0, 0.0], [0.0, 0.0, 80.0]]).unwrap();
+    let mut b = ModelBuilder::new(&format!("arm{n}"), "base", 500.0, [[60.0, 0.0, 0.0], [0.0, 70.0, 0.0], [0.0, 0.0, 80.0]]).unwrap();
     let axes = [[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]];
     let mut parent = "base".to_string();
-    for k in 0..12 {
+    for k in 0..n {
         let name = format!("link{}", k + 1);
         b.add_link(LinkSpec {
             name: name.clone(),
@@ -69,11 +72,34 @@ fn bench_model(c: &mut Criterion, name: &str, model: Model) {
     g.bench_function("forward_dynamics_derivatives", |b| {
         b.iter(|| black_box(derivatives::forward_dynamics_derivatives(&model, &mut work, black_box(&x), black_box(&u), black_box(&f)).unwrap().0[(6, 6)]))
     });
+    g.bench_function("forward_dynamics_derivatives_dual", |b| {
+        b.iter(|| {
+            black_box(
+                derivatives::forward_dynamics_derivatives_with(&model, &mut work, black_box(&x), black_box(&u), black_box(&f), &[], DerivativeMethod::DualNumbers)
+                    .unwrap()
+                    .0[(6, 6)],
+            )
+        })
+    });
+    g.bench_function("inverse_dynamics_partials", |b| {
+        b.iter(|| {
+            black_box(
+                derivatives::inverse_dynamics_partials(&model, &mut work, black_box(&x), black_box(&u), black_box(&f), &[], DerivativeMethod::Analytic)
+                    .unwrap()
+                    .0[(6, 6)],
+            )
+        })
+    });
     g.bench_function("linearize", |b| {
         b.iter(|| {
             black_box(derivatives::linearize(&model, &mut work, black_box(&x), black_box(&u), black_box(&f), LinearizationInputs::Joints).unwrap().0[(6, 6)])
         })
     });
+    if model.n_dof() > 12 {
+        // The dual-number tensors below grow as N³: timed on the small models only.
+        g.finish();
+        return;
+    }
     g.bench_function("mass_matrix_partials", |b| {
         b.iter(|| black_box(derivatives::mass_matrix_partials(&model, &mut work, black_box(&x)).unwrap()[6][(0, 0)]))
     });
@@ -93,7 +119,9 @@ fn bench_model(c: &mut Criterion, name: &str, model: Model) {
 
 fn benches(c: &mut Criterion) {
     bench_model(c, "spatial6", presets::spatial6());
-    bench_model(c, "arm12", arm12());
+    for n in [12, 30, 60] {
+        bench_model(c, &format!("arm{n}"), serial_arm(n));
+    }
 }
 
 criterion_group!(derivative_benches, benches);

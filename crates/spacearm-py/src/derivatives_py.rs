@@ -8,11 +8,20 @@
 use nalgebra::DMatrix;
 use pyo3::prelude::*;
 use spacearm_core as core;
-use spacearm_core::derivatives::{self, DerivativeData, LinearizationInputs};
+use spacearm_core::derivatives::{self, DerivativeData, DerivativeMethod, LinearizationInputs};
 
 use crate::batch::{run, Input, Pool};
 use crate::convert::*;
-use crate::model_py::{put, PyModel};
+use crate::model_py::{put, wrenches as wrench_list, PyModel, WrenchList};
+
+/// The route of the partials of inverse dynamics: analytic, or dual numbers (the test oracle).
+fn method(dual: bool) -> DerivativeMethod {
+    if dual {
+        DerivativeMethod::DualNumbers
+    } else {
+        DerivativeMethod::Analytic
+    }
+}
 
 /// The derivative functions of one model (a copy of the model and a pool of workspaces; see
 /// [`crate::batch`]: every method takes one state or a batch).
@@ -120,13 +129,25 @@ impl PyDerivatives {
         })
     }
 
-    /// `(∂u̇/∂x, ∂u̇/∂u, ∂u̇/∂f)`, each (6+N)², `x` in tangent coordinates.
-    fn forward_dynamics_derivatives<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>, f: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+    /// `(∂u̇/∂x, ∂u̇/∂u, ∂u̇/∂f)`, each (6+N)², `x` in tangent coordinates; analytic route, or
+    /// dual numbers if `dual` (the test oracle). `wrenches` act on every state of a batch.
+    #[pyo3(signature = (x, u, f, wrenches=None, dual=false))]
+    fn forward_dynamics_derivatives<'py>(
+        &self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+        f: &Bound<'py, PyAny>,
+        wrenches: Option<WrenchList>,
+        dual: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let m = &self.model;
         let nu = m.nu();
+        let ext = wrench_list(py, wrenches)?;
+        let route = method(dual);
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?, Input::arg(f, "f", nu)?];
         run(py, "forward_dynamics_derivatives", inputs, [&[nu, nu], &[nu, nu], &[nu, nu]], &self.workspaces, || DerivativeData::new(m), |w, [x, u, f], [dx, du, df]| {
-            let (a, b, c) = derivatives::forward_dynamics_derivatives(m, w, x, u, f)?;
+            let (a, b, c) = derivatives::forward_dynamics_derivatives_with(m, w, x, u, f, &ext, route)?;
             put(a, dx);
             put(b, du);
             put(c, df);
@@ -134,15 +155,41 @@ impl PyDerivatives {
         })
     }
 
-    /// `(A, B)` of the linearized state equation; `B` for the joint torques only if
-    /// `joints_only`, else for the whole generalized force.
-    fn linearize<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>, f: &Bound<'py, PyAny>, joints_only: bool) -> PyResult<Bound<'py, PyAny>> {
+    /// `(∂ID/∂x, ∂ID/∂u)` of inverse dynamics, each (6+N)², `x` in tangent coordinates.
+    #[pyo3(signature = (x, u, du, wrenches=None, dual=false))]
+    fn inverse_dynamics_partials<'py>(
+        &self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+        du: &Bound<'py, PyAny>,
+        wrenches: Option<WrenchList>,
+        dual: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let m = &self.model;
         let nu = m.nu();
+        let ext = wrench_list(py, wrenches)?;
+        let route = method(dual);
+        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?, Input::arg(du, "du", nu)?];
+        run(py, "inverse_dynamics_partials", inputs, [&[nu, nu], &[nu, nu]], &self.workspaces, || DerivativeData::new(m), |w, [x, u, du], [dx_out, dv_out]| {
+            let (dx, dv) = derivatives::inverse_dynamics_partials(m, w, x, u, du, &ext, route)?;
+            put(dx, dx_out);
+            put(dv, dv_out);
+            Ok(())
+        })
+    }
+
+    /// `(A, B)` of the linearized state equation; `B` for the joint torques only if
+    /// `joints_only`, else for the whole generalized force.
+    #[pyo3(signature = (x, u, f, joints_only, dual=false))]
+    fn linearize<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>, f: &Bound<'py, PyAny>, joints_only: bool, dual: bool) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let nu = m.nu();
+        let route = method(dual);
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?, Input::arg(f, "f", nu)?];
         let (kind, b_cols) = if joints_only { (LinearizationInputs::Joints, m.n_dof()) } else { (LinearizationInputs::All, nu) };
         run(py, "linearize", inputs, [&[2 * nu, 2 * nu], &[2 * nu, b_cols]], &self.workspaces, || DerivativeData::new(m), |w, [x, u, f], [a_out, b_out]| {
-            let (a, b) = derivatives::linearize(m, w, x, u, f, kind)?;
+            let (a, b) = derivatives::linearize_with(m, w, x, u, f, kind, route)?;
             put(a, a_out);
             put(&b, b_out);
             Ok(())

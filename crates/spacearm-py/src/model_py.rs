@@ -46,9 +46,9 @@ pub fn put<R: Dim, C: Dim, S: RawStorage<f64, R, C>>(m: &Matrix<f64, R, C, S>, o
 }
 
 /// External wrenches as `Robot._wrenches` passes them: `(body, offset, force, torque)`.
-type WrenchList = Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>;
+pub(crate) type WrenchList = Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>;
 
-fn wrenches(py: Python<'_>, list: Option<WrenchList>) -> PyResult<Vec<ExternalWrench>> {
+pub(crate) fn wrenches(py: Python<'_>, list: Option<WrenchList>) -> PyResult<Vec<ExternalWrench>> {
     let mut out = Vec::new();
     for (body, offset, force, torque) in list.unwrap_or_default() {
         for (what, v) in [("wrench point", &offset), ("wrench force", &force), ("wrench torque", &torque)] {

@@ -458,8 +458,9 @@ class Robot:
     # Tangent coordinates of the configuration (the conventions contract): dx = [dr0 (3),
     # dtheta (3), dq (N)], dtheta a rotation increment about the axes of 𝒥, R0 <- exp(dtheta^) R0.
     # The time derivative of x in these coordinates is u. Tensors of partials put the derivative
-    # index LAST: out[i, j, k] = d X[i, j] / d x_k. Computed in the Rust core by forward-mode
-    # automatic differentiation (dual numbers) of the same algorithms: exact to rounding.
+    # index LAST: out[i, j, k] = d X[i, j] / d x_k. Computed in the Rust core: the forward- and
+    # inverse-dynamics Jacobians by analytic recursions, the others by forward-mode automatic
+    # differentiation (dual numbers) of the same algorithms; all exact to rounding.
     def _derivatives(self):
         d = self.__dict__.get("_deriv_core")
         if d is None:
@@ -539,18 +540,49 @@ class Robot:
         body, off = self._point(point)
         return self._derivatives().generalized_jacobian_derivative(x, u, body, off)
 
-    def forward_dynamics_derivatives(self, x, u, f=None, *, tau=None, base_wrench=None) -> "ForwardDynamicsDerivatives":
-        """Jacobians of forward dynamics ``du = FD(x, u, f)`` (no external wrenches):
-        ``(ddu_dx, ddu_du, ddu_df)``, each (6+N)².
+    @staticmethod
+    def _dual(method: str) -> bool:
+        """``True`` for ``method="dual"`` (the dual-number oracle), ``False`` for ``"analytic"``."""
+        if method not in ("analytic", "dual"):
+            raise ArgumentError(f"method must be 'analytic' or 'dual', got {method!r}")
+        return method == "dual"
+
+    def forward_dynamics_derivatives(self, x, u, f=None, *, tau=None, base_wrench=None, wrenches=None,
+                                     method: str = "analytic") -> "ForwardDynamicsDerivatives":
+        """Jacobians of forward dynamics ``du = FD(x, u, f)``: ``(ddu_dx, ddu_du, ddu_df)``,
+        each (6+N)².
 
         ``ddu_dx`` is with respect to the tangent coordinates ``[dr0, dtheta, dq]`` (its ``dr0``
         columns are zero); ``ddu_df = H⁻¹``. From ``ID(x, u, FD(x, u, f)) = f``:
         ``ddu_dx = -H⁻¹ dID/dx``, ``ddu_du = -H⁻¹ dID/du`` (Carpentier & Mansard 2018). Give ``f``
-        or ``tau`` and ``base_wrench`` as in :meth:`forward_dynamics`.
+        or ``tau`` and ``base_wrench`` as in :meth:`forward_dynamics`. ``wrenches``
+        (:class:`spacearm.ExternalWrench`) keep their force and torque fixed in 𝒥 while their
+        point moves with its body. ``method="analytic"`` (default) uses the analytic partials of
+        inverse dynamics; ``"dual"`` the dual-number route (slower; the test oracle).
         """
-        return ForwardDynamicsDerivatives(*self._derivatives().forward_dynamics_derivatives(x, u, self._force(f, tau, base_wrench)))
+        # The common call (f given, no wrenches, analytic) skips the general argument handling:
+        # at small N the Python layer is a visible part of the cost.
+        if f is not None and tau is None and base_wrench is None and wrenches is None and method == "analytic":
+            d = self.__dict__.get("_deriv_core") or self._derivatives()
+            return _tuple_new(ForwardDynamicsDerivatives, d.forward_dynamics_derivatives(x, u, f))
+        dual = self._dual(method)
+        ext = None if wrenches is None else self._wrenches(wrenches)
+        return ForwardDynamicsDerivatives(*self._derivatives().forward_dynamics_derivatives(x, u, self._force(f, tau, base_wrench), ext, dual))
 
-    def linearize(self, x, u, f=None, *, tau=None, base_wrench=None, inputs: str = "joints") -> "Linearization":
+    def inverse_dynamics_partials(self, x, u, du, wrenches=None, *, method: str = "analytic") -> "InverseDynamicsPartials":
+        """Partials of inverse dynamics ``f = ID(x, u, du) = H du + c - J^T w_ext``:
+        ``(df_dx, df_du)``, each (6+N)², ``x`` in the tangent coordinates ``[dr0, dtheta, dq]``
+        (the ``dr0`` columns are zero); ``df/d(du)`` is :meth:`mass_matrix`. External
+        ``wrenches`` keep their force and torque fixed in 𝒥 while their point moves with its body.
+        Analytic recursions of Carpentier & Mansard (2018) in spacearm's frames
+        (docs/derivatives.md); ``method="dual"`` for the dual-number route.
+        """
+        dual = self._dual(method)
+        ext = None if wrenches is None else self._wrenches(wrenches)
+        return InverseDynamicsPartials(*self._derivatives().inverse_dynamics_partials(x, u, du, ext, dual))
+
+    def linearize(self, x, u, f=None, *, tau=None, base_wrench=None, inputs: str = "joints",
+                  method: str = "analytic") -> "Linearization":
         """Linearization ``d(dz)/dt = A dz + B df`` of the state equation ``z' = [u; FD(x, u, f)]``
         about ``(x, u, f)``, in the tangent state ``dz = [dx (6+N); du (6+N)]``.
 
@@ -558,12 +590,22 @@ class Robot:
         (from ``R0 = exp(dtheta^) R0_ref``: ``dtheta' = dw0 + w0 × dtheta``), and
         ``B = [[0], [H⁻¹ columns]]``: ``inputs="joints"`` gives the N joint-torque columns
         (free-floating control), ``inputs="all"`` the 6+N columns of ``f = [F0, N0, tau]``.
-        Apply a state increment with :meth:`configuration_plus`.
+        Apply a state increment with :meth:`configuration_plus`. ``method`` as in
+        :meth:`forward_dynamics_derivatives`.
         """
+        if f is not None and tau is None and base_wrench is None and inputs == "joints" and method == "analytic":
+            d = self.__dict__.get("_deriv_core") or self._derivatives()
+            return _tuple_new(Linearization, d.linearize(x, u, f, True))  # the common call, direct
         if inputs not in ("joints", "all"):
             raise ArgumentError(f"inputs must be 'joints' or 'all', got {inputs!r}")
-        a, b = self._derivatives().linearize(x, u, self._force(f, tau, base_wrench), inputs == "joints")
+        dual = self._dual(method)
+        a, b = self._derivatives().linearize(x, u, self._force(f, tau, base_wrench), inputs == "joints", dual)
         return Linearization(a, b)
+
+
+#: Builds a NamedTuple from the core's plain tuple in C (its generated ``__new__`` is a Python
+#: function, a third of a microsecond per call on the fast paths above).
+_tuple_new = tuple.__new__
 
 
 class ForwardDynamicsDerivatives(NamedTuple):
@@ -572,6 +614,13 @@ class ForwardDynamicsDerivatives(NamedTuple):
     ddu_dx: np.ndarray  #: (6+N)², with respect to the tangent coordinates [dr0, dtheta, dq]
     ddu_du: np.ndarray  #: (6+N)², with respect to the generalized velocity u
     ddu_df: np.ndarray  #: (6+N)², H⁻¹: with respect to the generalized force f
+
+
+class InverseDynamicsPartials(NamedTuple):
+    """Partials of inverse dynamics ``f = ID(x, u, du)`` (see :meth:`Robot.inverse_dynamics_partials`)."""
+
+    df_dx: np.ndarray  #: (6+N)², with respect to the tangent coordinates [dr0, dtheta, dq]
+    df_du: np.ndarray  #: (6+N)², with respect to the generalized velocity u
 
 
 class Linearization(NamedTuple):

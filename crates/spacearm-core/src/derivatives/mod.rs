@@ -32,11 +32,16 @@
 //!
 //! Imports: `math`, `model`, `algorithms` and [`crate::gjm`].
 
+mod dense;
 mod forward_dynamics;
 mod generalized;
 mod mass_matrix;
+pub mod rnea_partials;
 
-pub use forward_dynamics::{forward_dynamics_derivatives, linearize, LinearizationInputs};
+pub use forward_dynamics::{
+    forward_dynamics_derivatives, forward_dynamics_derivatives_with, inverse_dynamics_partials, linearize, linearize_with, DerivativeMethod,
+    LinearizationInputs,
+};
 pub use generalized::{
     generalized_inertia_derivative, generalized_inertia_partials, generalized_jacobian_derivative, generalized_jacobian_partials,
 };
@@ -331,8 +336,18 @@ pub struct DerivativeData {
     pub state_matrix: DMatrix<f64>,
     /// `B` of the linearized state equation (2(6+N) × (6+N) or × N), filled by [`linearize`].
     pub input_matrix: DMatrix<f64>,
-    /// Scratch: derivatives of the inverse dynamics, (6+N) × (9+2N).
+    /// `∂ID/∂x` ((6+N)², tangent coordinates), filled by [`inverse_dynamics_partials`].
+    pub id_wrt_configuration: DMatrix<f64>,
+    /// `∂ID/∂u` ((6+N)²), filled by [`inverse_dynamics_partials`].
+    pub id_wrt_velocity: DMatrix<f64>,
+    /// Scratch: derivatives of the inverse dynamics, (6+N) × (9+2N), columns `[δθ, δq, δu]`.
     pub(crate) id_partials: DMatrix<f64>,
+    /// Scratch: the acceleration `u̇` at which inverse dynamics is differentiated.
+    pub(crate) du_scratch: nalgebra::DVector<f64>,
+    /// Scratch: `L⁻¹` while inverting `H` ((6+N)²).
+    pub(crate) dense_scratch: DMatrix<f64>,
+    /// Scratch of the analytic RNEA partials (O(N)).
+    pub(crate) rnea: rnea_partials::RneaPartialsWork,
     /// The directions of each function: attitude + joints; joints; attitude + joints + velocity.
     pub(crate) config_dirs: Vec<Direction>,
     pub(crate) joint_dirs: Vec<Direction>,
@@ -372,7 +387,12 @@ impl DerivativeData {
             accel_wrt_force: DMatrix::zeros(nu, nu),
             state_matrix: DMatrix::zeros(2 * nu, 2 * nu),
             input_matrix: DMatrix::zeros(2 * nu, nu),
+            id_wrt_configuration: DMatrix::zeros(nu, nu),
+            id_wrt_velocity: DMatrix::zeros(nu, nu),
             id_partials: DMatrix::zeros(nu, 9 + 2 * n),
+            du_scratch: nalgebra::DVector::zeros(nu),
+            dense_scratch: DMatrix::zeros(nu, nu),
+            rnea: rnea_partials::RneaPartialsWork::new(model),
             config_dirs: configuration_directions(n).collect(),
             joint_dirs: (0..n).map(Direction::Joint).collect(),
             dynamics_dirs: configuration_directions(n).chain((0..nu).map(Direction::Velocity)).collect(),
