@@ -89,7 +89,7 @@ pub fn forward_dynamics_derivatives_with<'w>(
     // H and c − Jᵀ w in f64, H⁻¹ (kept: it is ∂u̇/∂f), u̇ = H⁻¹ (f + Jᵀ w − c).
     forward_kinematics_at(model, &mut work.data, &pose.r0, &pose.base_to_world, pose.q);
     rnea_after_kinematics(model, &mut work.data, u, None, external);
-    crba_after_kinematics(model, &mut work.data, true);
+    crba_after_kinematics(model, &mut work.data, true)?;
     if !spd_inverse(&work.data.mass_matrix, &mut work.dense_scratch, &mut work.accel_wrt_force) {
         return Err(SpacearmError::Singular("the mass matrix H".into()));
     }
