@@ -50,6 +50,8 @@ class Simulator:
     record_dtype : str
         ``"float64"`` or ``"float32"`` for :meth:`trajectory`'s arrays.
 
+    Notes
+    -----
     Call :meth:`reset` before the first :meth:`step`. A failed step (the motion diverged)
     raises :class:`~spacearm.errors.SimulationError` and leaves the simulator needing a reset.
     """
