@@ -56,6 +56,12 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate_py::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(rollout_py::rollout, m)?)?;
     m.add_class::<simulator_py::PySimulator>()?;
+    m.add_class::<records_py::RunRecords>()?;
+    m.add_class::<records_py::RunEvents>()?;
+    m.add_class::<records_py::ConservedDrift>()?;
+    m.add_class::<records_py::RunMeta>()?;
+    m.add_class::<records_py::RunResult>()?;
+    m.add_class::<records_py::RolloutBatch>()?;
     m.add_function(wrap_pyfunction!(simulate_py::perturbed, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_py::default_wheel_dofs, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -1,11 +1,15 @@
-//! Records of a run as numpy arrays, without a second copy: each record `Vec` is handed to numpy
+//! The results of a run as frozen classes: the recorded arrays (`RunRecords`), the saturation
+//! onsets (`RunEvents`), the run's description (`RunMeta`, one `ConservedDrift` per conserved
+//! quantity), the three together (`RunResult`: what `simulate` and `Simulator.result` return).
+//!
+//! Records go to numpy without a second copy: each record `Vec` is handed over as it is
 //! (`PyArray1::from_vec` keeps the allocation; the reshape is a view), or converted to float32
-//! field by field, freeing each float64 buffer as soon as its float32 copy exists. The run's
-//! description (`meta`) as a dict.
+//! field by field, freeing each float64 buffer as soon as its float32 copy exists.
 
-use numpy::PyArray1;
+use numpy::{PyArray1, PyUntypedArray, PyUntypedArrayMethods};
+use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyTuple;
 use spacearm_core::sim::simulate::{SimOptions, SimResult};
 
 /// One recorded quantity of a run, row-major with `width` values per sample; `scalar`: one value
@@ -18,7 +22,7 @@ pub struct Field {
 }
 
 /// Take every recorded quantity out of `res` (leaving its records empty), with the names the
-/// Python `Trajectory` uses.
+/// Python `Trajectory` uses (the attribute names of [`RunRecords`]).
 pub fn take_fields(res: &mut SimResult, nx: usize, nu: usize, n: usize) -> Vec<Field> {
     let n_ref = res.reference_width;
     let n_wheels = res.wheel_dofs.len();
@@ -74,62 +78,371 @@ pub fn to_numpy<'py>(py: Python<'py>, name: &str, values: Vec<f64>, shape: &[usi
     array.call_method1("reshape", (shape.to_vec(),))
 }
 
-/// The saturation onsets as three arrays: time, actuator index, kind code.
-pub fn events<'py>(py: Python<'py>, res: &SimResult, out: &Bound<'py, PyDict>) -> PyResult<()> {
-    let ev_t: Vec<f64> = res.events.iter().map(|e| e.t).collect();
-    let ev_a: Vec<i64> = res.events.iter().map(|e| e.actuator as i64).collect();
-    let ev_k: Vec<i64> = res.events.iter().map(|e| e.kind as i64).collect();
-    out.set_item("saturation_t", PyArray1::from_vec(py, ev_t))?;
-    out.set_item("saturation_actuator", PyArray1::from_vec(py, ev_a))?;
-    out.set_item("saturation_kind", PyArray1::from_vec(py, ev_k))?;
-    Ok(())
+type Array = Py<PyUntypedArray>;
+
+/// The recorded samples of a run: one numpy array per record, one row per sample (`K` samples;
+/// a batch of rollouts adds a leading rollout axis, `(B, K, ...)`). float64, or float32 when the
+/// run asked for it (`t` stays float64). Every vector is in the inertial frame 𝒥; SI units.
+///
+/// `t`, `x` and `u` are always there; a record the run did not make is `None`, and `fields`
+/// names, in order, those it made. (Optional attributes plus that one tuple keep the Python
+/// wrapper to one loop, `{name: getattr(records, name) for name in records.fields}`, with no
+/// list of names of its own to keep in step with this class.)
+#[pyclass(module = "spacearm._core", name = "RunRecords", frozen)]
+#[derive(Default)]
+pub struct RunRecords {
+    /// `(K,)` sample times, s (always float64).
+    #[pyo3(get)]
+    t: Option<Array>,
+    /// `(K, 7+N)` configurations `[r0, quat0 (x, y, z, w), q]`: base CM in 𝒥 (m), base attitude, joint coordinates (rad or m).
+    #[pyo3(get)]
+    x: Option<Array>,
+    /// `(K, 6+N)` velocities `[v0, w0, qd]`: base CM velocity and angular velocity in 𝒥 (m/s, rad/s), joint rates.
+    #[pyo3(get)]
+    u: Option<Array>,
+    /// `(K, 6+N)` accelerations `du/dt` (m/s², rad/s²), or None.
+    #[pyo3(get)]
+    du: Option<Array>,
+    /// `(K, N)` applied joint torques (N·m; N for prismatic joints), after the actuator limits, or None.
+    #[pyo3(get)]
+    tau: Option<Array>,
+    /// `(K, N)` joint torques the controller commanded, before the limits (N·m or N), or None.
+    #[pyo3(get)]
+    tau_cmd: Option<Array>,
+    /// `(K, 6)` applied base wrench `[F0, N0]` at the base CM in 𝒥 (N, N·m), or None.
+    #[pyo3(get)]
+    base_wrench: Option<Array>,
+    /// `(K, 3)` linear momentum `P` of the system in 𝒥 (kg·m/s), or None.
+    #[pyo3(get, name = "P")]
+    linear_momentum: Option<Array>,
+    /// `(K, 3)` angular momentum about the origin of 𝒥, in 𝒥 (kg·m²/s), or None.
+    #[pyo3(get, name = "L_origin")]
+    angular_momentum_origin: Option<Array>,
+    /// `(K, 3)` angular momentum about the system CM, in 𝒥 (kg·m²/s), or None.
+    #[pyo3(get, name = "L_com")]
+    angular_momentum_com: Option<Array>,
+    /// `(K,)` kinetic energy (J), or None.
+    #[pyo3(get)]
+    energy: Option<Array>,
+    /// `(K, 3)` system CM position in 𝒥 (m), or None.
+    #[pyo3(get)]
+    com: Option<Array>,
+    /// `(K, 3)` end-effector position in 𝒥 (m); None if the robot has no end effector.
+    #[pyo3(get)]
+    ee_position: Option<Array>,
+    /// `(K, 4)` end-effector attitude, quaternion `[x, y, z, w]` (body to 𝒥); None if the robot has no end effector.
+    #[pyo3(get)]
+    ee_quat: Option<Array>,
+    /// `(K, R)` the controller's reference (its own layout and units); None if it has none.
+    #[pyo3(get)]
+    reference: Option<Array>,
+    /// `(K,)` `|reference − actual|` (rad or m: `RunMeta.tracking_error_kind`); None if the controller tracks nothing.
+    #[pyo3(get)]
+    tracking_error: Option<Array>,
+    /// `(K,)` base attitude error angle (rad) of an attitude controller; None otherwise.
+    #[pyo3(get)]
+    attitude_error: Option<Array>,
+    /// `(K, W)` reaction-wheel speeds (rad/s), one column per wheel of `RunMeta.wheel_dofs`; None without wheels.
+    #[pyo3(get)]
+    wheel_speed: Option<Array>,
+    /// The names of the records made, in the order of [`take_fields`].
+    names: Vec<&'static str>,
+}
+
+impl RunRecords {
+    /// The records `arrays` (name, numpy array), each under its name; `t`, `x` and `u` are required.
+    pub fn from_arrays(arrays: Vec<(&'static str, Bound<'_, PyAny>)>) -> PyResult<Self> {
+        let mut r = RunRecords::default();
+        for (name, array) in arrays {
+            let slot = match name {
+                "t" => &mut r.t,
+                "x" => &mut r.x,
+                "u" => &mut r.u,
+                "du" => &mut r.du,
+                "tau" => &mut r.tau,
+                "tau_cmd" => &mut r.tau_cmd,
+                "base_wrench" => &mut r.base_wrench,
+                "P" => &mut r.linear_momentum,
+                "L_origin" => &mut r.angular_momentum_origin,
+                "L_com" => &mut r.angular_momentum_com,
+                "energy" => &mut r.energy,
+                "com" => &mut r.com,
+                "ee_position" => &mut r.ee_position,
+                "ee_quat" => &mut r.ee_quat,
+                "reference" => &mut r.reference,
+                "tracking_error" => &mut r.tracking_error,
+                "attitude_error" => &mut r.attitude_error,
+                "wheel_speed" => &mut r.wheel_speed,
+                other => return Err(PyRuntimeError::new_err(format!("spacearm internal error: RunRecords has no record '{other}'"))),
+            };
+            *slot = Some(array.cast_into::<PyUntypedArray>()?.unbind());
+            r.names.push(name);
+        }
+        if r.t.is_none() || r.x.is_none() || r.u.is_none() {
+            return Err(PyRuntimeError::new_err("spacearm internal error: RunRecords needs t, x and u"));
+        }
+        Ok(r)
+    }
+
+    /// One run's records (`(K, ...)` arrays), moved out of `res`.
+    pub fn of_run(py: Python<'_>, res: &mut SimResult, float32: bool, (nx, nu, n): (usize, usize, usize)) -> PyResult<Self> {
+        let k = res.records.n_samples;
+        let mut arrays = Vec::new();
+        for field in take_fields(res, nx, nu, n) {
+            let shape: Vec<usize> = if field.scalar { vec![k] } else { vec![k, field.width] };
+            arrays.push((field.name, to_numpy(py, field.name, field.values, &shape, float32)?));
+        }
+        Self::from_arrays(arrays)
+    }
+}
+
+#[pymethods]
+impl RunRecords {
+    /// The names of the records made (the attributes that are not None), in a fixed order.
+    #[getter]
+    fn fields<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        PyTuple::new(py, &self.names)
+    }
+
+    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+        let mut parts = Vec::new();
+        for &name in &slf.get().names {
+            let array = slf.getattr(name)?.cast_into::<PyUntypedArray>()?;
+            parts.push(format!("{name}: {:?} {}", array.shape(), array.dtype()));
+        }
+        Ok(format!("RunRecords({})", parts.join(", ")))
+    }
+}
+
+/// The saturation onsets of a run, in time order (`E` events): the accepted step in which an
+/// actuator started saturating.
+#[pyclass(module = "spacearm._core", name = "RunEvents", frozen)]
+pub struct RunEvents {
+    /// `(E,)` float64: start time of the step in which each saturation began, s.
+    #[pyo3(get)]
+    saturation_t: Py<PyArray1<f64>>,
+    /// `(E,)` int64: the actuator, dof `0..N` then the six thruster channels `N..N+6` (named by `RunMeta.actuator_names`).
+    #[pyo3(get)]
+    saturation_actuator: Py<PyArray1<i64>>,
+    /// `(E,)` int64: the limit reached, 0 joint torque, 1 joint speed, 2 thruster.
+    #[pyo3(get)]
+    saturation_kind: Py<PyArray1<i64>>,
+}
+
+impl RunEvents {
+    pub fn of_run(py: Python<'_>, res: &SimResult) -> Self {
+        let ev_t: Vec<f64> = res.events.iter().map(|e| e.t).collect();
+        let ev_a: Vec<i64> = res.events.iter().map(|e| e.actuator as i64).collect();
+        let ev_k: Vec<i64> = res.events.iter().map(|e| e.kind as i64).collect();
+        RunEvents {
+            saturation_t: PyArray1::from_vec(py, ev_t).unbind(),
+            saturation_actuator: PyArray1::from_vec(py, ev_a).unbind(),
+            saturation_kind: PyArray1::from_vec(py, ev_k).unbind(),
+        }
+    }
+}
+
+#[pymethods]
+impl RunEvents {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("RunEvents({} saturation onsets)", self.saturation_t.bind(py).len())
+    }
+}
+
+/// The drift of one quantity the run's mode conserves.
+#[pyclass(module = "spacearm._core", name = "ConservedDrift", frozen)]
+pub struct ConservedDrift {
+    /// The quantity, by its record name: `"P"`, `"L_origin"`, `"L_com"` or `"energy"`.
+    #[pyo3(get)]
+    quantity: String,
+    /// Largest deviation from the initial value over the recorded samples, relative to
+    /// `max(|initial|, scale)` (dimensionless).
+    #[pyo3(get)]
+    drift: f64,
+    /// The magnitude the drift is measured against when the initial value is smaller: the largest
+    /// over the samples of the sum of the bodies' contributions, in the quantity's unit
+    /// (kg·m/s, kg·m²/s or J).
+    #[pyo3(get)]
+    scale: f64,
+}
+
+#[pymethods]
+impl ConservedDrift {
+    fn __repr__(&self) -> String {
+        format!("ConservedDrift(quantity={:?}, drift={:e}, scale={:e})", self.quantity, self.drift, self.scale)
+    }
 }
 
 /// The description of a run (what `Trajectory.meta` holds, less what Python adds).
-pub fn meta<'py>(py: Python<'py>, res: &SimResult, opts: &SimOptions, float32: bool) -> PyResult<Bound<'py, PyDict>> {
-    let meta = PyDict::new(py);
-    meta.set_item("mode", opts.mode.name())?;
-    meta.set_item("integrator", opts.integrator.name())?;
-    meta.set_item("dt", opts.dt)?;
-    meta.set_item("rtol", opts.rtol)?;
-    meta.set_item("atol", opts.atol)?;
-    meta.set_item("controller", &res.controller)?;
-    meta.set_item("conserved", PyList::new(py, res.drift.iter().map(|(c, _)| c.name()))?)?;
-    let drift = PyDict::new(py);
-    for (c, v) in &res.drift {
-        drift.set_item(c.name(), *v)?;
-    }
-    meta.set_item("drift", drift)?;
-    let drift_scales = PyDict::new(py);
-    for (c, v) in &res.drift_scales {
-        drift_scales.set_item(c.name(), *v)?;
-    }
-    meta.set_item("drift_scales", drift_scales)?;
-    meta.set_item("n_steps", res.n_steps)?;
-    meta.set_item("n_rejected", res.n_rejected)?;
-    meta.set_item("n_rhs_evals", res.n_rhs_evals)?;
-    meta.set_item("actuator_names", res.actuator_names.clone())?;
-    meta.set_item("wheel_dofs", res.wheel_dofs.clone())?;
-    meta.set_item("tracking_error_kind", res.tracking.map(|t| t.name()))?;
-    meta.set_item("record_every", opts.record_every)?;
-    meta.set_item("record_dtype", if float32 { "float32" } else { "float64" })?;
-    meta.set_item("joint_limits", opts.joint_limits)?;
-    let dropped = PyDict::new(py);
-    dropped.set_item("max_norm", res.dropped_wrench_max)?;
-    dropped.set_item("count", res.dropped_wrench_count)?;
-    meta.set_item("dropped_base_wrench", dropped)?;
-    Ok(meta)
+#[pyclass(module = "spacearm._core", name = "RunMeta", frozen)]
+pub struct RunMeta {
+    /// The maneuvering mode (`"floating"`, `"rotation-floating"`, ...).
+    #[pyo3(get)]
+    mode: &'static str,
+    /// `"rk4"` or `"dopri5"`.
+    #[pyo3(get)]
+    integrator: &'static str,
+    /// Step (RK4) or output interval (DOPRI5), s.
+    #[pyo3(get)]
+    dt: f64,
+    /// DOPRI5 relative tolerance.
+    #[pyo3(get)]
+    rtol: f64,
+    /// DOPRI5 absolute tolerance.
+    #[pyo3(get)]
+    atol: f64,
+    /// The name of the controller that ran.
+    #[pyo3(get)]
+    controller: String,
+    /// One entry per quantity the mode conserves, in the mode's order.
+    #[pyo3(get)]
+    drift: Vec<Py<ConservedDrift>>,
+    /// Accepted integration steps.
+    #[pyo3(get)]
+    n_steps: usize,
+    /// Rejected steps (DOPRI5 only).
+    #[pyo3(get)]
+    n_rejected: usize,
+    /// Evaluations of the right-hand side (each a forward-dynamics solve).
+    #[pyo3(get)]
+    n_rhs_evals: usize,
+    /// The name of each actuator index of `RunEvents.saturation_actuator`.
+    #[pyo3(get)]
+    actuator_names: Vec<String>,
+    /// The degrees of freedom (indices into q) that are reaction wheels.
+    #[pyo3(get)]
+    wheel_dofs: Vec<usize>,
+    /// What `RunRecords.tracking_error` measures, or None.
+    #[pyo3(get)]
+    tracking_error_kind: Option<&'static str>,
+    /// RK4: every how many steps a sample was kept.
+    #[pyo3(get)]
+    record_every: usize,
+    /// `"float64"` or `"float32"`: the dtype of the records.
+    #[pyo3(get)]
+    record_dtype: &'static str,
+    /// Whether the joints' effort and velocity limits applied.
+    #[pyo3(get)]
+    joint_limits: bool,
+    /// Largest norm of a commanded base-wrench part the mode does not allow (N or N·m; 0 if none).
+    #[pyo3(get)]
+    dropped_base_wrench_max_norm: f64,
+    /// Number of evaluations that commanded such a part (dropped).
+    #[pyo3(get)]
+    dropped_base_wrench_count: usize,
 }
 
-/// One run's records, events and `"_meta"` as the dict `spacearm.Trajectory` is made from.
-pub fn run_dict<'py>(py: Python<'py>, mut res: SimResult, opts: &SimOptions, float32: bool, nx: usize, nu: usize, n: usize) -> PyResult<Bound<'py, PyDict>> {
-    let k = res.records.n_samples;
-    let out = PyDict::new(py);
-    for field in take_fields(&mut res, nx, nu, n) {
-        let shape: Vec<usize> = if field.scalar { vec![k] } else { vec![k, field.width] };
-        out.set_item(field.name, to_numpy(py, field.name, field.values, &shape, float32)?)?;
+impl RunMeta {
+    pub fn of_run(py: Python<'_>, res: &SimResult, opts: &SimOptions, float32: bool) -> PyResult<Self> {
+        // drift and drift_scales are made from the one list of conserved quantities, in its order.
+        let drift = res
+            .drift
+            .iter()
+            .map(|&(c, drift)| {
+                let scale = res.drift_scales.iter().find(|(s, _)| *s == c).map_or(f64::NAN, |&(_, s)| s);
+                Py::new(py, ConservedDrift { quantity: c.name().to_string(), drift, scale })
+            })
+            .collect::<PyResult<_>>()?;
+        Ok(RunMeta {
+            mode: opts.mode.name(),
+            integrator: opts.integrator.name(),
+            dt: opts.dt,
+            rtol: opts.rtol,
+            atol: opts.atol,
+            controller: res.controller.clone(),
+            drift,
+            n_steps: res.n_steps,
+            n_rejected: res.n_rejected,
+            n_rhs_evals: res.n_rhs_evals,
+            actuator_names: res.actuator_names.clone(),
+            wheel_dofs: res.wheel_dofs.clone(),
+            tracking_error_kind: res.tracking.map(|t| t.name()),
+            record_every: opts.record_every,
+            record_dtype: if float32 { "float32" } else { "float64" },
+            joint_limits: opts.joint_limits,
+            dropped_base_wrench_max_norm: res.dropped_wrench_max,
+            dropped_base_wrench_count: res.dropped_wrench_count,
+        })
     }
-    events(py, &res, &out)?;
-    out.set_item("_meta", meta(py, &res, opts, float32)?)?;
-    Ok(out)
+}
+
+#[pymethods]
+impl RunMeta {
+    fn __repr__(&self) -> String {
+        format!(
+            "RunMeta(mode={:?}, integrator={:?}, controller={:?}, n_steps={}, {} conserved)",
+            self.mode,
+            self.integrator,
+            self.controller,
+            self.n_steps,
+            self.drift.len()
+        )
+    }
+}
+
+/// One run: its records, saturation onsets and description (what `simulate` and
+/// `Simulator.result` return).
+#[pyclass(module = "spacearm._core", name = "RunResult", frozen)]
+pub struct RunResult {
+    /// The recorded samples, `(K, ...)` arrays.
+    #[pyo3(get)]
+    records: Py<RunRecords>,
+    /// The saturation onsets.
+    #[pyo3(get)]
+    events: Py<RunEvents>,
+    /// The run's description.
+    #[pyo3(get)]
+    meta: Py<RunMeta>,
+}
+
+impl RunResult {
+    /// One run's result, its records moved out of `res` (no second copy).
+    pub fn of_run(py: Python<'_>, mut res: SimResult, opts: &SimOptions, float32: bool, dims: (usize, usize, usize)) -> PyResult<Self> {
+        let events = Py::new(py, RunEvents::of_run(py, &res))?;
+        let meta = Py::new(py, RunMeta::of_run(py, &res, opts, float32)?)?;
+        let records = Py::new(py, RunRecords::of_run(py, &mut res, float32, dims)?)?;
+        Ok(RunResult { records, events, meta })
+    }
+}
+
+#[pymethods]
+impl RunResult {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let k = self.records.get().t.as_ref().map_or(0, |t| t.bind(py).shape()[0]);
+        format!("RunResult({k} samples)")
+    }
+}
+
+/// The results of `B` rollouts (what `rollout` returns): the records stacked along a leading
+/// rollout axis, and each rollout's status, description and saturation onsets.
+#[pyclass(module = "spacearm._core", name = "RolloutBatch", frozen)]
+pub struct RolloutBatch {
+    /// The records, `(B, K, ...)` arrays: row `i` is rollout `i`'s, NaN for a failed rollout.
+    /// When every rollout failed, only `t`, `x` and `u` are there.
+    #[pyo3(get)]
+    pub records: Py<RunRecords>,
+    /// `(B,)` bool: whether each rollout ran to the end.
+    #[pyo3(get)]
+    pub ok: Py<PyArray1<bool>>,
+    /// The error message of each failed rollout, None for the others.
+    #[pyo3(get)]
+    pub reason: Vec<Option<String>>,
+    /// The `spacearm.errors` class name of each failure (`"SimulationError"`, ...), None for the others.
+    #[pyo3(get)]
+    pub error_class: Vec<Option<String>>,
+    /// Each rollout's description, None for a failed one.
+    #[pyo3(get)]
+    pub meta: Vec<Option<Py<RunMeta>>>,
+    /// Each rollout's saturation onsets, None for a failed one.
+    #[pyo3(get)]
+    pub events: Vec<Option<Py<RunEvents>>>,
+}
+
+#[pymethods]
+impl RolloutBatch {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let ok = self.reason.iter().filter(|r| r.is_none()).count();
+        let k = self.records.get().t.as_ref().map_or(0, |t| t.bind(py).shape().get(1).copied().unwrap_or(0));
+        format!("RolloutBatch({} rollouts of {k} samples, {ok} ok)", self.reason.len())
+    }
 }

@@ -13,7 +13,7 @@ use spacearm_core::{Model, SpacearmError};
 
 use crate::convert::*;
 use crate::model_py::PyModel;
-use crate::records_py::{events, meta, take_fields, Field};
+use crate::records_py::{take_fields, Field, RolloutBatch, RunEvents, RunMeta, RunRecords};
 use crate::simulate_py::{error_slot, parse_controller, parse_options, RunOptions};
 
 /// The error `err` with `rollout {i}: ` before its message, as the same Python class.
@@ -36,10 +36,9 @@ fn rows(a: &PyReadonlyArray2<'_, f64>, what: &str, width: usize) -> PyResult<(Ve
     Ok((a.as_array().iter().copied().collect(), shape[0]))
 }
 
-/// Run `B` rollouts; returns a dict: every record with a leading rollout axis (`(B, K, ...)`, NaN
-/// rows for a failed rollout), `"ok"` (B booleans), `"reason"` (None or the error message of each
-/// rollout), `"error_class"` (None or the `spacearm.errors` class name), `"meta"` and `"events"`
-/// (a dict or None per rollout).
+/// Run `B` rollouts; returns a `RolloutBatch`: every record with a leading rollout axis
+/// (`(B, K, ...)`, NaN rows for a failed rollout), and each rollout's status, description and
+/// saturation onsets.
 #[pyfunction]
 #[pyo3(signature = (models, x0, u0, duration, options, controllers=None, threads=None))]
 #[allow(clippy::too_many_arguments)]
@@ -52,7 +51,7 @@ pub fn rollout<'py>(
     options: &Bound<'py, PyDict>,
     controllers: Option<&Bound<'py, PyAny>>,
     threads: Option<usize>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<RolloutBatch> {
     let bad = |msg: String| to_py_err(py, SpacearmError::InvalidArgument(msg));
     let plants: Vec<Model> = models
         .iter()
@@ -123,33 +122,29 @@ fn stack<'py>(
     opts: &spacearm_core::sim::simulate::SimOptions,
     float32: bool,
     (nx, nu, n): (usize, usize, usize),
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<RolloutBatch> {
     let b = results.len();
     let k = sample_count(opts);
-    let out = PyDict::new(py);
     let ok: Vec<bool> = results.iter().map(|r| r.is_ok()).collect();
-    let reason = PyList::empty(py);
-    let error_class = PyList::empty(py);
-    let metas = PyList::empty(py);
-    let event_list = PyList::empty(py);
+    let mut reason = Vec::with_capacity(b);
+    let mut error_class = Vec::with_capacity(b);
+    let mut metas = Vec::with_capacity(b);
+    let mut event_list = Vec::with_capacity(b);
     let mut fields: Vec<Option<Vec<Field>>> = Vec::with_capacity(b);
     for r in results {
         match r {
             Ok(mut res) => {
-                reason.append(py.None())?;
-                error_class.append(py.None())?;
-                metas.append(meta(py, &res, opts, float32)?)?;
-                let ev = PyDict::new(py);
-                events(py, &res, &ev)?;
-                event_list.append(ev)?;
+                reason.push(None);
+                error_class.push(None);
+                metas.push(Some(Py::new(py, RunMeta::of_run(py, &res, opts, float32)?)?));
+                event_list.push(Some(Py::new(py, RunEvents::of_run(py, &res))?));
                 fields.push(Some(take_fields(&mut res, nx, nu, n)));
             }
             Err(e) => {
-                reason.append(e.to_string())?;
-                let class = to_py_err(py, e).get_type(py).name()?.to_string();
-                error_class.append(class)?;
-                metas.append(py.None())?;
-                event_list.append(py.None())?;
+                reason.push(Some(e.to_string()));
+                error_class.push(Some(to_py_err(py, e).get_type(py).name()?.to_string()));
+                metas.push(None);
+                event_list.push(None);
                 fields.push(None);
             }
         }
@@ -199,18 +194,21 @@ fn stack<'py>(
             })
             .collect()
     });
+    let mut arrays = Vec::with_capacity(layout.len());
     for (values, &(name, width, scalar)) in stacked.into_iter().zip(&layout) {
         let shape: Vec<usize> = if scalar { vec![b, k] } else { vec![b, k, width] };
         let array = match values {
             Stacked::F64(v) => PyArray1::from_vec(py, v).into_any(),
             Stacked::F32(v) => PyArray1::from_vec(py, v).into_any(),
         };
-        out.set_item(name, array.call_method1("reshape", (shape,))?)?;
+        arrays.push((name, array.call_method1("reshape", (shape,))?));
     }
-    out.set_item("ok", PyArray1::from_vec(py, ok))?;
-    out.set_item("reason", reason)?;
-    out.set_item("error_class", error_class)?;
-    out.set_item("meta", metas)?;
-    out.set_item("events", event_list)?;
-    Ok(out)
+    Ok(RolloutBatch {
+        records: Py::new(py, RunRecords::from_arrays(arrays)?)?,
+        ok: PyArray1::from_vec(py, ok).unbind(),
+        reason,
+        error_class,
+        meta: metas,
+        events: event_list,
+    })
 }

@@ -25,7 +25,7 @@ use spacearm_core::{Model, SpacearmError};
 
 use crate::convert::*;
 use crate::model_py::PyModel;
-use crate::records_py::run_dict;
+use crate::records_py::RunResult;
 
 type CoreResult<T> = spacearm_core::Result<T>;
 
@@ -346,8 +346,8 @@ pub fn parse_controller(spec: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<B
     })
 }
 
-/// Run a simulation, without the GIL; returns a dict of numpy arrays plus `"_meta"` (see
-/// `spacearm.sim.simulation`).
+/// Run a simulation, without the GIL; returns its records, saturation onsets and description as
+/// a `RunResult` (see `spacearm.sim.simulation`).
 #[pyfunction]
 #[pyo3(signature = (model, x0, u0, duration, options, controller_spec=None))]
 pub fn simulate<'py>(
@@ -358,7 +358,7 @@ pub fn simulate<'py>(
     duration: f64,
     options: &Bound<'py, PyDict>,
     controller_spec: Option<&Bound<'py, PyAny>>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<RunResult> {
     // A copy of the model: the run holds no borrow of the Python object, so a callback
     // controller may call the robot's methods.
     let plant = model.borrow().model.clone();
@@ -407,7 +407,7 @@ pub fn simulate<'py>(
             return Err(to_py_err(py, e));
         }
     };
-    run_dict(py, res, &opts, float32, plant.nx(), plant.nu(), plant.n_dof())
+    RunResult::of_run(py, res, &opts, float32, (plant.nx(), plant.nu(), plant.n_dof()))
 }
 
 /// A copy of `model` with mass-property errors and fuel slosh (see

@@ -16,7 +16,7 @@ use spacearm_core::{Model, SpacearmError};
 
 use crate::convert::*;
 use crate::model_py::PyModel;
-use crate::records_py::run_dict;
+use crate::records_py::RunResult;
 use crate::simulate_py::{error_slot, parse_controller, parse_options, take_error, ErrorSlot, RunOptions};
 
 /// The state of a simulator between calls.
@@ -157,15 +157,15 @@ impl PySimulator {
         s.as_ref().map(|s| s.n_steps()).ok_or_else(|| Self::not_reset(py))
     }
 
-    /// The records so far with the current state as the last sample, as the dict of
+    /// The records so far with the current state as the last sample, as the `RunResult` of
     /// `spacearm._core.simulate` (the simulator goes on unchanged).
-    fn result<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+    fn result(&mut self, py: Python<'_>) -> PyResult<RunResult> {
         let (nx, nu, n) = (self.model.nx(), self.model.nu(), self.model.n_dof());
         let mut opts = self.opts.clone();
         opts.record_every = self.record_every.unwrap_or(usize::MAX);
         let stepper = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?.as_mut().ok_or_else(|| Self::not_reset(py))?;
         let res = stepper.snapshot().map_err(|e| take_error(&self.slot).unwrap_or_else(|| to_py_err(py, e)))?;
         opts.duration = stepper.time();
-        run_dict(py, res, &opts, self.float32, nx, nu, n)
+        RunResult::of_run(py, res, &opts, self.float32, (nx, nu, n))
     }
 }

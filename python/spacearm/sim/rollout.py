@@ -24,6 +24,7 @@ import numpy as np
 
 from .. import _core
 from ..errors import ArgumentError, NotFoundError, ShapeError, SimulationError
+from ._run_result import events_dict, meta_dict, records_dict
 from .simulation import DEFAULTS, _check_controller, _check_duration, _check_robot, _options, _warn_dropped
 
 __all__ = ["rollout", "Rollouts"]
@@ -156,8 +157,8 @@ def rollout(
     else:
         _check_controller(controller)
         specs = None if controller is None else controller._spec(robot)
-    data = _core.rollout(models, x0, u0, duration, options, specs, None if threads is None else int(threads))
-    meta = data.pop("meta")
+    batch = _core.rollout(models, x0, u0, duration, options, specs, None if threads is None else int(threads))
+    meta = [meta_dict(m) for m in batch.meta]
     for m in meta:
         if m is not None:
             m["duration"] = duration
@@ -165,7 +166,7 @@ def rollout(
     first = next((m for m in meta if m is not None), None)
     if first is not None:
         _warn_dropped(mode, first, stacklevel=2)
-    return Rollouts(robot, plants, data, meta)
+    return Rollouts(robot, plants, batch, meta)
 
 
 class Rollouts:
@@ -178,14 +179,15 @@ class Rollouts:
     read-only.
     """
 
-    def __init__(self, robot, plants, data: dict, meta: List[Optional[dict]]):
+    def __init__(self, robot, plants, batch, meta: List[Optional[dict]]):
         self._robot = robot
         self._plants = plants
-        self._ok = np.asarray(data.pop("ok"), dtype=bool)
-        self._reason = list(data.pop("reason"))
-        self._error_class = list(data.pop("error_class"))
-        self._events = list(data.pop("events"))
+        self._ok = np.asarray(batch.ok, dtype=bool)
+        self._reason = list(batch.reason)
+        self._error_class = list(batch.error_class)
+        self._events = [None if e is None else events_dict(e) for e in batch.events]
         self._meta = meta
+        data = records_dict(batch.records)
         for a in data.values():
             a.setflags(write=False)
         self._ok.setflags(write=False)

@@ -24,6 +24,7 @@ from .. import _core
 from .._util.arrays import vector
 from ..control import Thrusters, _Controller
 from ..errors import ArgumentError, NotFoundError
+from ._run_result import meta_dict, run_data
 
 __all__ = ["simulate", "MODES", "INTEGRATORS", "DEFAULTS", "RECORD_DTYPES"]
 
@@ -185,10 +186,11 @@ def _run(
     options["progress"] = callback
     spec = None if controller is None else controller._spec(robot)
     try:
-        data = _core.simulate(robot._m, x0, u0, duration, options, spec)
+        result = _core.simulate(robot._m, x0, u0, duration, options, spec)
     finally:
         close()
-    meta = data.pop("_meta")
+    data = run_data(result)
+    meta = meta_dict(result.meta)
     meta["duration"] = duration
     meta["robot"] = robot.name
     _warn_dropped(mode, meta, stacklevel=3)

@@ -24,6 +24,7 @@ import numpy as np
 
 from .. import _core
 from ..errors import ArgumentError
+from ._run_result import meta_dict, run_data
 from .simulation import DEFAULTS, _check_controller, _check_robot, _options
 
 __all__ = ["Simulator"]
@@ -128,8 +129,9 @@ class Simulator:
         ``record_every`` it holds only the current state."""
         from .trajectory import Trajectory
 
-        data = self._core.result()
-        meta = data.pop("_meta")
+        result = self._core.result()
+        data = run_data(result)
+        meta = meta_dict(result.meta)
         meta["duration"] = float(data["t"][-1])
         meta["robot"] = self._robot.name
         return Trajectory._adopt(self._robot, data, meta)
