@@ -125,6 +125,84 @@ class RmrcOptions:
 def analysis_rmrc_rates(m: Model, x: ArrayLike, body: int, offset: Vec, desired_twist: Vec, options: RmrcOptions) -> dict: ...
 def analysis_move_to(m: Model, x0: ArrayLike, body: int, offset: Vec, target: Vec, duration: float, settle: float, dt: float, options: RmrcOptions) -> dict: ...
 # ---- simulation (crates/spacearm-py/src/simulate_py.rs) --------------------------------------
+# ---- results of a run (crates/spacearm-py/src/records_py.rs) ------------------------------------
+#: A recorded array: float64, or float32 when the run asked for it (``t`` is always float64).
+Record = npt.NDArray[Any]
+
+class RunRecords:
+    """The recorded samples of a run, one row per sample: ``(K, ...)`` for one run, ``(B, K, ...)``
+    in a :class:`RolloutBatch`. Vectors in the inertial frame, SI units. ``t``, ``x``, ``u`` are
+    always there; a record the run did not make is ``None``; ``fields`` names those it made."""
+    @property
+    def fields(self) -> tuple[str, ...]: ...
+    t: Record                              # (K,) sample times, s (float64)
+    x: Record                              # (K, 7+N) [r0, quat0 (x, y, z, w), q]
+    u: Record                              # (K, 6+N) [v0, w0, qd]
+    du: Optional[Record]                   # (K, 6+N) accelerations
+    tau: Optional[Record]                  # (K, N) applied joint torques, N·m (N prismatic)
+    tau_cmd: Optional[Record]              # (K, N) commanded joint torques, before the limits
+    base_wrench: Optional[Record]          # (K, 6) applied [F0, N0] at the base CM, N, N·m
+    P: Optional[Record]                    # (K, 3) linear momentum, kg·m/s
+    L_origin: Optional[Record]             # (K, 3) angular momentum about the origin, kg·m²/s
+    L_com: Optional[Record]                # (K, 3) angular momentum about the system CM, kg·m²/s
+    energy: Optional[Record]               # (K,) kinetic energy, J
+    com: Optional[Record]                  # (K, 3) system CM, m
+    ee_position: Optional[Record]          # (K, 3) end-effector position, m (robots with an end effector)
+    ee_quat: Optional[Record]              # (K, 4) end-effector attitude [x, y, z, w]
+    reference: Optional[Record]            # (K, R) the controller's reference
+    tracking_error: Optional[Record]       # (K,) |reference − actual|, rad or m (RunMeta.tracking_error_kind)
+    attitude_error: Optional[Record]       # (K,) base attitude error of an attitude controller, rad
+    wheel_speed: Optional[Record]          # (K, W) reaction-wheel speeds, rad/s (RunMeta.wheel_dofs)
+
+class RunEvents:
+    """The saturation onsets of a run (E events, in time order)."""
+    saturation_t: npt.NDArray[np.float64]        # (E,) start of the step in which it began, s
+    saturation_actuator: npt.NDArray[np.int64]   # (E,) dof 0..N, then thruster channels N..N+6
+    saturation_kind: npt.NDArray[np.int64]       # (E,) 0 joint torque, 1 joint speed, 2 thruster
+
+class ConservedDrift:
+    """The drift of one quantity the run's mode conserves."""
+    quantity: str    # "P", "L_origin", "L_com" or "energy"
+    drift: float     # largest deviation from the initial value / max(|initial|, scale)
+    scale: float     # the magnitude the drift is measured against (the quantity's unit)
+
+class RunMeta:
+    """The description of a run."""
+    mode: str
+    integrator: str
+    dt: float
+    rtol: float
+    atol: float
+    controller: str
+    drift: list[ConservedDrift]            # one per conserved quantity, in the mode's order
+    n_steps: int
+    n_rejected: int
+    n_rhs_evals: int
+    actuator_names: list[str]              # the name of each RunEvents.saturation_actuator index
+    wheel_dofs: list[int]
+    tracking_error_kind: Optional[str]
+    record_every: int
+    record_dtype: str                      # "float64" or "float32"
+    joint_limits: bool
+    dropped_base_wrench_max_norm: float    # largest commanded base-wrench part the mode dropped
+    dropped_base_wrench_count: int         # evaluations that commanded one
+
+class RunResult:
+    """One run (what :func:`simulate` and :meth:`Simulator.result` return)."""
+    records: RunRecords
+    events: RunEvents
+    meta: RunMeta
+
+class RolloutBatch:
+    """B rollouts (what :func:`rollout` returns); a failed rollout has NaN rows and ``None``
+    meta and events."""
+    records: RunRecords                    # (B, K, ...); only t, x, u when every rollout failed
+    ok: npt.NDArray[np.bool_]              # (B,)
+    reason: list[Optional[str]]            # the error message of each failed rollout
+    error_class: list[Optional[str]]       # its spacearm.errors class name
+    meta: list[Optional[RunMeta]]
+    events: list[Optional[RunEvents]]
+
 def simulate(
     model: Model,
     x0: ArrayLike,
@@ -132,13 +210,14 @@ def simulate(
     duration: float,
     options: dict,
     controller_spec: Optional[dict] = None,
-) -> dict:
+) -> RunResult:
     """Run the native simulation loop. ``options`` keys: mode, integrator, dt, rtol, atol,
     record_every, wheels (dof list or None), thrusters ({max_force, max_torque} or None),
     joint_limits, max_steps, progress (callable or None), record_dtype ("float64" or "float32").
     Runs without the GIL; the records are handed to numpy without a copy. ``controller_spec``: a dict with a
     ``type`` ("none", "joint_pd", "computed_torque", "rmrc", "attitude", "base_thrusters",
-    "coordinated_flying", "combined", "callback") built by ``spacearm.control``. Returns per-sample arrays and ``"_meta"``."""
+    "coordinated_flying", "combined", "callback") built by ``spacearm.control``. Returns the
+    records, saturation onsets and description of the run."""
     ...
 
 def rollout(
@@ -149,12 +228,12 @@ def rollout(
     options: dict,
     controllers: Optional[Union[dict, list[dict]]] = None,
     threads: Optional[int] = None,
-) -> dict:
+) -> RolloutBatch:
     """Run B rollouts on native threads without the GIL (crates/spacearm-py/src/rollout_py.rs).
     ``models``: one model or one per rollout; ``x0`` (B, 7+N), ``u0`` (B, 6+N) float64;
     ``options`` as for :func:`simulate` (``progress`` ignored); ``controllers``: one spec (an
     instance per rollout) or a list of B. Returns the records with a leading B axis (NaN rows for
-    a failed rollout) and ``ok``, ``reason``, ``error_class``, ``meta``, ``events``."""
+    a failed rollout) and each rollout's status, description and saturation onsets."""
     ...
 
 class Simulator:
@@ -169,7 +248,7 @@ class Simulator:
     def state(self) -> Vec: ...
     @property
     def n_steps(self) -> int: ...
-    def result(self) -> dict: ...
+    def result(self) -> RunResult: ...
 
 def perturbed(
     model: Model,

@@ -80,6 +80,14 @@ pub fn to_numpy<'py>(py: Python<'py>, name: &str, values: Vec<f64>, shape: &[usi
 
 type Array = Py<PyUntypedArray>;
 
+/// A shape as Python writes it: `(3,)`, `(51, 13)`.
+fn shape_text(shape: &[usize]) -> String {
+    match shape {
+        [n] => format!("({n},)"),
+        _ => format!("({})", shape.iter().map(|n| n.to_string()).collect::<Vec<_>>().join(", ")),
+    }
+}
+
 /// The recorded samples of a run: one numpy array per record, one row per sample (`K` samples;
 /// a batch of rollouts adds a leading rollout axis, `(B, K, ...)`). float64, or float32 when the
 /// run asked for it (`t` stays float64). Every vector is in the inertial frame 𝒥; SI units.
@@ -208,7 +216,7 @@ impl RunRecords {
         let mut parts = Vec::new();
         for &name in &slf.get().names {
             let array = slf.getattr(name)?.cast_into::<PyUntypedArray>()?;
-            parts.push(format!("{name}: {:?} {}", array.shape(), array.dtype()));
+            parts.push(format!("{name}: {} {}", shape_text(array.shape()), array.dtype()));
         }
         Ok(format!("RunRecords({})", parts.join(", ")))
     }
