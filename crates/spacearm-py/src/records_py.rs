@@ -7,65 +7,118 @@
 //! field by field, freeing each float64 buffer as soon as its float32 copy exists.
 
 use numpy::{PyArray1, PyUntypedArray, PyUntypedArrayMethods};
-use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use spacearm_core::sim::simulate::{SimOptions, SimResult};
 
+/// The quantities a run may record.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Record {
+    T,
+    X,
+    U,
+    Du,
+    Tau,
+    TauCmd,
+    BaseWrench,
+    LinearMomentum,
+    AngularMomentumOrigin,
+    AngularMomentumCom,
+    Energy,
+    Com,
+    EePosition,
+    EeQuat,
+    Reference,
+    TrackingError,
+    AttitudeError,
+    WheelSpeed,
+}
+
+impl Record {
+    /// The name the Python `Trajectory` uses, and the attribute of [`RunRecords`].
+    pub fn name(self) -> &'static str {
+        match self {
+            Record::T => "t",
+            Record::X => "x",
+            Record::U => "u",
+            Record::Du => "du",
+            Record::Tau => "tau",
+            Record::TauCmd => "tau_cmd",
+            Record::BaseWrench => "base_wrench",
+            Record::LinearMomentum => "P",
+            Record::AngularMomentumOrigin => "L_origin",
+            Record::AngularMomentumCom => "L_com",
+            Record::Energy => "energy",
+            Record::Com => "com",
+            Record::EePosition => "ee_position",
+            Record::EeQuat => "ee_quat",
+            Record::Reference => "reference",
+            Record::TrackingError => "tracking_error",
+            Record::AttitudeError => "attitude_error",
+            Record::WheelSpeed => "wheel_speed",
+        }
+    }
+
+    /// Whether the record stays float64 when the run asks for float32 records: the time does
+    /// (float32 cannot tell apart the steps of a long run).
+    pub fn stays_float64(self) -> bool {
+        self == Record::T
+    }
+}
+
 /// One recorded quantity of a run, row-major with `width` values per sample; `scalar`: one value
 /// per sample, returned 1-D.
 pub struct Field {
-    pub name: &'static str,
+    pub record: Record,
     pub values: Vec<f64>,
     pub width: usize,
     pub scalar: bool,
 }
 
-/// Take every recorded quantity out of `res` (leaving its records empty), with the names the
-/// Python `Trajectory` uses (the attribute names of [`RunRecords`]).
+/// Take every recorded quantity out of `res` (leaving its records empty); `t`, `x` and `u` always.
 pub fn take_fields(res: &mut SimResult, nx: usize, nu: usize, n: usize) -> Vec<Field> {
     let n_ref = res.reference_width;
     let n_wheels = res.wheel_dofs.len();
     let r = &mut res.records;
     let take = std::mem::take::<Vec<f64>>;
-    let f = |name, values, width, scalar| Field { name, values, width, scalar };
+    let f = |record, values, width, scalar| Field { record, values, width, scalar };
     let mut out = vec![
-        f("t", take(&mut r.t), 1, true),
-        f("x", take(&mut r.x), nx, false),
-        f("u", take(&mut r.u), nu, false),
-        f("du", take(&mut r.du), nu, false),
-        f("tau", take(&mut r.tau), n, false),
-        f("tau_cmd", take(&mut r.tau_cmd), n, false),
-        f("base_wrench", take(&mut r.base_wrench), 6, false),
-        f("P", take(&mut r.linear_momentum), 3, false),
-        f("L_origin", take(&mut r.angular_momentum_origin), 3, false),
-        f("L_com", take(&mut r.angular_momentum_com), 3, false),
-        f("energy", take(&mut r.energy), 1, true),
-        f("com", take(&mut r.com), 3, false),
+        f(Record::T, take(&mut r.t), 1, true),
+        f(Record::X, take(&mut r.x), nx, false),
+        f(Record::U, take(&mut r.u), nu, false),
+        f(Record::Du, take(&mut r.du), nu, false),
+        f(Record::Tau, take(&mut r.tau), n, false),
+        f(Record::TauCmd, take(&mut r.tau_cmd), n, false),
+        f(Record::BaseWrench, take(&mut r.base_wrench), 6, false),
+        f(Record::LinearMomentum, take(&mut r.linear_momentum), 3, false),
+        f(Record::AngularMomentumOrigin, take(&mut r.angular_momentum_origin), 3, false),
+        f(Record::AngularMomentumCom, take(&mut r.angular_momentum_com), 3, false),
+        f(Record::Energy, take(&mut r.energy), 1, true),
+        f(Record::Com, take(&mut r.com), 3, false),
     ];
     if let (Some(p), Some(q)) = (r.ee_position.take(), r.ee_quat.take()) {
-        out.push(f("ee_position", p, 3, false));
-        out.push(f("ee_quat", q, 4, false));
+        out.push(f(Record::EePosition, p, 3, false));
+        out.push(f(Record::EeQuat, q, 4, false));
     }
     if let Some(v) = r.reference.take() {
-        out.push(f("reference", v, n_ref, false));
+        out.push(f(Record::Reference, v, n_ref, false));
     }
     if let Some(v) = r.tracking_error.take() {
-        out.push(f("tracking_error", v, 1, true));
+        out.push(f(Record::TrackingError, v, 1, true));
     }
     if let Some(v) = r.attitude_error.take() {
-        out.push(f("attitude_error", v, 1, true));
+        out.push(f(Record::AttitudeError, v, 1, true));
     }
     if let Some(v) = r.wheel_speed.take() {
-        out.push(f("wheel_speed", v, n_wheels, false));
+        out.push(f(Record::WheelSpeed, v, n_wheels, false));
     }
     out
 }
 
-/// `values` as a numpy array of `shape` (row-major), float32 if asked (the time stays float64:
-/// float32 cannot tell apart the steps of a long run). No copy for float64.
-pub fn to_numpy<'py>(py: Python<'py>, name: &str, values: Vec<f64>, shape: &[usize], float32: bool) -> PyResult<Bound<'py, PyAny>> {
-    let array = if float32 && name != "t" {
+/// `values` as a numpy array of `shape` (row-major), float32 if asked (except the records that
+/// stay float64). No copy for float64.
+pub fn to_numpy<'py>(py: Python<'py>, record: Record, values: Vec<f64>, shape: &[usize], float32: bool) -> PyResult<Bound<'py, PyAny>> {
+    let array = if float32 && !record.stays_float64() {
         let narrow: Vec<f32> = values.iter().map(|&v| v as f32).collect();
         drop(values);
         PyArray1::from_vec(py, narrow).into_any()
@@ -153,41 +206,38 @@ pub struct RunRecords {
     /// `(K, W)` reaction-wheel speeds (rad/s), one column per wheel of `RunMeta.wheel_dofs`; None without wheels.
     #[pyo3(get)]
     wheel_speed: Option<Array>,
-    /// The names of the records made, in the order of [`take_fields`].
-    names: Vec<&'static str>,
+    /// The records made, in the order of [`take_fields`].
+    made: Vec<Record>,
 }
 
 impl RunRecords {
-    /// The records `arrays` (name, numpy array), each under its name; `t`, `x` and `u` are required.
-    pub fn from_arrays(arrays: Vec<(&'static str, Bound<'_, PyAny>)>) -> PyResult<Self> {
+    /// The records `arrays` (which record, numpy array), each under its name. Every caller gives
+    /// `t`, `x` and `u` ([`take_fields`] always makes them).
+    pub fn from_arrays(arrays: Vec<(Record, Bound<'_, PyAny>)>) -> PyResult<Self> {
         let mut r = RunRecords::default();
-        for (name, array) in arrays {
-            let slot = match name {
-                "t" => &mut r.t,
-                "x" => &mut r.x,
-                "u" => &mut r.u,
-                "du" => &mut r.du,
-                "tau" => &mut r.tau,
-                "tau_cmd" => &mut r.tau_cmd,
-                "base_wrench" => &mut r.base_wrench,
-                "P" => &mut r.linear_momentum,
-                "L_origin" => &mut r.angular_momentum_origin,
-                "L_com" => &mut r.angular_momentum_com,
-                "energy" => &mut r.energy,
-                "com" => &mut r.com,
-                "ee_position" => &mut r.ee_position,
-                "ee_quat" => &mut r.ee_quat,
-                "reference" => &mut r.reference,
-                "tracking_error" => &mut r.tracking_error,
-                "attitude_error" => &mut r.attitude_error,
-                "wheel_speed" => &mut r.wheel_speed,
-                other => return Err(PyRuntimeError::new_err(format!("spacearm internal error: RunRecords has no record '{other}'"))),
+        for (record, array) in arrays {
+            let slot = match record {
+                Record::T => &mut r.t,
+                Record::X => &mut r.x,
+                Record::U => &mut r.u,
+                Record::Du => &mut r.du,
+                Record::Tau => &mut r.tau,
+                Record::TauCmd => &mut r.tau_cmd,
+                Record::BaseWrench => &mut r.base_wrench,
+                Record::LinearMomentum => &mut r.linear_momentum,
+                Record::AngularMomentumOrigin => &mut r.angular_momentum_origin,
+                Record::AngularMomentumCom => &mut r.angular_momentum_com,
+                Record::Energy => &mut r.energy,
+                Record::Com => &mut r.com,
+                Record::EePosition => &mut r.ee_position,
+                Record::EeQuat => &mut r.ee_quat,
+                Record::Reference => &mut r.reference,
+                Record::TrackingError => &mut r.tracking_error,
+                Record::AttitudeError => &mut r.attitude_error,
+                Record::WheelSpeed => &mut r.wheel_speed,
             };
             *slot = Some(array.cast_into::<PyUntypedArray>()?.unbind());
-            r.names.push(name);
-        }
-        if r.t.is_none() || r.x.is_none() || r.u.is_none() {
-            return Err(PyRuntimeError::new_err("spacearm internal error: RunRecords needs t, x and u"));
+            r.made.push(record);
         }
         Ok(r)
     }
@@ -198,7 +248,7 @@ impl RunRecords {
         let mut arrays = Vec::new();
         for field in take_fields(res, nx, nu, n) {
             let shape: Vec<usize> = if field.scalar { vec![k] } else { vec![k, field.width] };
-            arrays.push((field.name, to_numpy(py, field.name, field.values, &shape, float32)?));
+            arrays.push((field.record, to_numpy(py, field.record, field.values, &shape, float32)?));
         }
         Self::from_arrays(arrays)
     }
@@ -209,12 +259,12 @@ impl RunRecords {
     /// The names of the records made (the attributes that are not None), in a fixed order.
     #[getter]
     fn fields<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
-        PyTuple::new(py, &self.names)
+        PyTuple::new(py, self.made.iter().map(|r| r.name()))
     }
 
     fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
         let mut parts = Vec::new();
-        for &name in &slf.get().names {
+        for name in slf.get().made.iter().map(|r| r.name()) {
             let array = slf.getattr(name)?.cast_into::<PyUntypedArray>()?;
             parts.push(format!("{name}: {} {}", shape_text(array.shape()), array.dtype()));
         }
@@ -342,12 +392,14 @@ pub struct RunMeta {
 
 impl RunMeta {
     pub fn of_run(py: Python<'_>, res: &SimResult, opts: &SimOptions, float32: bool) -> PyResult<Self> {
-        // drift and drift_scales are made from the one list of conserved quantities, in its order.
+        // The core makes `drift` and `drift_scales` from one list of conserved quantities, in its
+        // order: the two pair up entry by entry.
         let drift = res
             .drift
             .iter()
-            .map(|&(c, drift)| {
-                let scale = res.drift_scales.iter().find(|(s, _)| *s == c).map_or(f64::NAN, |&(_, s)| s);
+            .zip(&res.drift_scales)
+            .map(|(&(c, drift), &(c_scale, scale))| {
+                debug_assert_eq!(c, c_scale);
                 Py::new(py, ConservedDrift { quantity: c.name().to_string(), drift, scale })
             })
             .collect::<PyResult<_>>()?;

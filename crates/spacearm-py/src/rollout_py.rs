@@ -13,7 +13,7 @@ use spacearm_core::{Model, SpacearmError};
 
 use crate::convert::*;
 use crate::model_py::PyModel;
-use crate::records_py::{take_fields, Field, RolloutBatch, RunEvents, RunMeta, RunRecords};
+use crate::records_py::{take_fields, Field, Record, RolloutBatch, RunEvents, RunMeta, RunRecords};
 use crate::simulate_py::{error_slot, parse_controller, parse_options, RunOptions};
 
 /// The error `err` with `rollout {i}: ` before its message, as the same Python class.
@@ -150,9 +150,9 @@ fn stack<'py>(
         }
     }
     // The layout of a record: that of the first successful rollout (or the three always recorded).
-    let layout: Vec<(&'static str, usize, bool)> = match fields.iter().flatten().next() {
-        Some(f) => f.iter().map(|f| (f.name, f.width, f.scalar)).collect(),
-        None => vec![("t", 1, true), ("x", nx, false), ("u", nu, false)],
+    let layout: Vec<(Record, usize, bool)> = match fields.iter().flatten().next() {
+        Some(f) => f.iter().map(|f| (f.record, f.width, f.scalar)).collect(),
+        None => vec![(Record::T, 1, true), (Record::X, nx, false), (Record::U, nu, false)],
     };
     // Regroup by record (moving the buffers, no copy): columns[j][i] is record j of rollout i.
     let mut columns: Vec<Vec<Option<Vec<f64>>>> = layout.iter().map(|_| Vec::with_capacity(b)).collect();
@@ -160,7 +160,7 @@ fn stack<'py>(
         match f {
             Some(f) => {
                 let same = f.len() == layout.len()
-                    && f.iter().zip(&layout).all(|(f, &(name, width, _))| f.name == name && f.width == width && f.values.len() == k * width);
+                    && f.iter().zip(&layout).all(|(f, &(name, width, _))| f.record == name && f.width == width && f.values.len() == k * width);
                 if !same {
                     let msg = format!("rollout {i} records differently from rollout 0 (another kind of controller?); give every rollout the same kind of controller");
                     return Err(to_py_err(py, SpacearmError::InvalidArgument(msg)));
@@ -186,7 +186,7 @@ fn stack<'py>(
                         None => values.resize(values.len() + k * width, f64::NAN),
                     }
                 }
-                if float32 && name != "t" {
+                if float32 && !name.stays_float64() {
                     Stacked::F32(values.iter().map(|&v| v as f32).collect())
                 } else {
                     Stacked::F64(values)
