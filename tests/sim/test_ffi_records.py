@@ -196,3 +196,20 @@ def test_simulator_result_is_a_run_result(robot):
     np.testing.assert_array_equal(res.records.x[-1], sim.state[: robot.nx])
     np.testing.assert_array_equal(res.records.u[-1], sim.state[robot.nx:])
     assert res.meta.n_steps == 10 and res.meta.record_every == 4
+
+
+def test_the_public_results_hold_no_extension_object_and_pickle(robot):
+    """Trajectory and Rollouts keep plain dicts of the typed results, so they cross processes."""
+    import pickle
+
+    x0 = np.tile(robot.neutral_configuration(), (2, 1))
+    u0 = np.zeros((2, robot.nu))
+    u0[:, 6:] = [[0.1], [0.2]]
+    runs = spacearm.rollout(robot, 0.05, x0, u0, record_every=10)
+    again = pickle.loads(pickle.dumps(runs))
+    assert again.keys == runs.keys and again.meta == runs.meta
+    np.testing.assert_array_equal(again.x, runs.x)
+    np.testing.assert_array_equal(again.saturation_count, runs.saturation_count)
+    traj = runs.trajectory(1)
+    assert isinstance(traj.meta["drift"], dict) and traj.meta["conserved"] == list(traj.meta["drift"])
+    np.testing.assert_array_equal(pickle.loads(pickle.dumps(traj)).x, traj.x)
