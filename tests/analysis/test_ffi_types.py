@@ -225,3 +225,18 @@ def test_rmrc_motion_rows_are_consistent_records():
         assert m.attitude_change[i] == pytest.approx(2.0 * np.arccos(min(c, 1.0)), abs=1e-7)
     assert m.final_position_error == pytest.approx(np.linalg.norm(m.point_position[-1, :2] - target[:2]), rel=1e-9, abs=1e-15)
     assert m.final_position_error < 1e-3
+
+
+def test_public_scan_dict_has_every_scan_column_in_chunks_and_whole():
+    from spacearm.analysis.singularities import SCAN_COLUMNS
+
+    assert set(SCAN_COLUMNS) == {a for a in dir(_core.ScanResult) if not a.startswith("_")}
+    robot = spacearm.presets.planar4()
+    q = np.random.default_rng(10).uniform(-3, 3, (2500, robot.n_dof))  # two chunks
+    s = spacearm.analysis.scan(robot, q)
+    assert tuple(s) == SCAN_COLUMNS
+    body, off = robot._point(None)
+    last = _core.analysis_scan(robot._m, q[-3:], body, off, [0, 1])
+    for k in SCAN_COLUMNS:
+        assert len(s[k]) == 2500
+        np.testing.assert_array_equal(s[k][-3:], getattr(last, k))
