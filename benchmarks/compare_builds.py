@@ -65,7 +65,7 @@ def run_criterion(binaries: list, criterion_args: list, pin) -> dict:
     """One run of each criterion executable: {benchmark id: ns per iteration}."""
     found = {}
     for exe in binaries:
-        cmd = _prefix(pin) + [exe, "--bench", "--output-format", "bencher", *criterion_args]
+        cmd = _prefix(pin) + [str(Path(exe).resolve()), "--bench", "--output-format", "bencher", *criterion_args]
         proc = subprocess.run(cmd, capture_output=True, text=True, cwd=tempfile.gettempdir())
         if proc.returncode != 0:
             raise SystemExit(f"{exe} failed (exit {proc.returncode}):\n{proc.stderr[-3000:]}")
@@ -117,6 +117,9 @@ def main(argv=None) -> int:
         ap.error("--rounds must be at least 1")
     if len(args.criterion_a) != len(args.criterion_b):
         ap.error("give as many --criterion-b executables as --criterion-a, in the same order")
+    for exe in args.criterion_a + args.criterion_b:
+        if not os.access(exe, os.X_OK):
+            ap.error(f"{exe} is not an executable file")
     for d in (args.a, args.b):
         if not (Path(d) / "spacearm" / "__init__.py").exists():
             ap.error(f"{d} does not hold the spacearm package (expected {d}/spacearm/__init__.py)")
