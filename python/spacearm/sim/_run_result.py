@@ -41,6 +41,7 @@ def meta_dict(meta) -> Optional[dict]:
     and ``robot``, which the caller adds); ``None`` stays ``None`` (a failed rollout)."""
     if meta is None:
         return None
+    drift = meta.drift  # a new list at each read: read once
     return {
         "mode": meta.mode,
         "integrator": meta.integrator,
@@ -48,9 +49,9 @@ def meta_dict(meta) -> Optional[dict]:
         "rtol": meta.rtol,
         "atol": meta.atol,
         "controller": meta.controller,
-        "conserved": [d.quantity for d in meta.drift],
-        "drift": {d.quantity: d.drift for d in meta.drift},
-        "drift_scales": {d.quantity: d.scale for d in meta.drift},
+        "conserved": [d.quantity for d in drift],
+        "drift": {d.quantity: d.drift for d in drift},
+        "drift_scales": {d.quantity: d.scale for d in drift},
         "n_steps": meta.n_steps,
         "n_rejected": meta.n_rejected,
         "n_rhs_evals": meta.n_rhs_evals,
