@@ -1,8 +1,8 @@
 //! The options of the simulation entry points (`simulate`, `rollout`, `Simulator`) as typed,
 //! frozen, keyword-only classes: `RunOptions` and the `ThrusterLimits` it may carry. Every option
 //! left out (or given as None) keeps the core's default (`SimOptions::default()`, exported as
-//! `SIM_DEFAULTS`); each value is checked when the object is built, with the same messages as
-//! the keys of the options dict these classes replace.
+//! `SIM_DEFAULTS`); each value is checked when the object is built, and an unknown keyword is an
+//! `ArgumentError` naming it and the keywords the class takes.
 
 use nalgebra::Vector3;
 use numpy::PyArray1;
@@ -112,7 +112,7 @@ impl PyRunOptions {
     }
 }
 
-/// `v` as an integer >= 1, or the message of the options dict.
+/// `v` as an integer >= 1; `key` names it in the message.
 fn count(py: Python<'_>, key: &str, v: &Bound<'_, PyAny>) -> PyResult<usize> {
     let i: i64 = v.extract().map_err(|_| to_py_err(py, bad(format!("{key} must be an integer >= 1, got {v}"))))?;
     if i < 1 {
@@ -121,7 +121,7 @@ fn count(py: Python<'_>, key: &str, v: &Bound<'_, PyAny>) -> PyResult<usize> {
     Ok(i as usize)
 }
 
-/// `v` as a number, or the message of the options dict.
+/// `v` as a number; `key` names it in the message.
 fn number(py: Python<'_>, key: &str, v: &Bound<'_, PyAny>) -> PyResult<f64> {
     v.extract::<f64>().map_err(|_| to_py_err(py, bad(format!("simulation options: '{key}' must be a number"))))
 }
@@ -279,7 +279,7 @@ impl PyRunOptions {
     fn __repr__(&self) -> String {
         let o = &self.sim;
         format!(
-            "<spacearm._core.RunOptions mode={:?} integrator={:?} dt={} s rtol={} atol={} record_every={} wheels={:?} thrusters={} joint_limits={} max_steps={} progress={} record_dtype={:?}>",
+            "<spacearm._core.RunOptions mode={:?} integrator={:?} dt={:?} s rtol={:?} atol={:?} record_every={} wheels={:?} thrusters={} joint_limits={} max_steps={} progress={} record_dtype={:?}>",
             o.mode.name(),
             o.integrator.name(),
             o.dt,
