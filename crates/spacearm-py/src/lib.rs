@@ -9,6 +9,7 @@ mod analysis_py;
 mod analysis_results_py;
 mod batch;
 mod builder_py;
+mod controller_spec_py;
 mod convert;
 mod derivatives_py;
 mod errors_py;
@@ -17,6 +18,7 @@ mod model_py;
 mod records_py;
 mod rollout_py;
 mod rules_py;
+mod sim_options_py;
 mod simulate_py;
 mod simulator_py;
 
@@ -66,6 +68,20 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate_py::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(rollout_py::rollout, m)?)?;
     m.add_class::<simulator_py::PySimulator>()?;
+    // The typed inputs of simulate, rollout and Simulator.
+    m.add_class::<sim_options_py::PyRunOptions>()?;
+    m.add_class::<sim_options_py::PyThrusterLimits>()?;
+    m.add_class::<controller_spec_py::PyJointReference>()?;
+    m.add_class::<controller_spec_py::PyCartesianReference>()?;
+    m.add_class::<controller_spec_py::PyZeroTorqueSpec>()?;
+    m.add_class::<controller_spec_py::PyJointPdSpec>()?;
+    m.add_class::<controller_spec_py::PyComputedTorqueSpec>()?;
+    m.add_class::<controller_spec_py::PyRmrcSpec>()?;
+    m.add_class::<controller_spec_py::PyAttitudeSpec>()?;
+    m.add_class::<controller_spec_py::PyBaseThrustersSpec>()?;
+    m.add_class::<controller_spec_py::PyCoordinatedFlyingSpec>()?;
+    m.add_class::<controller_spec_py::PyCombinedSpec>()?;
+    m.add_class::<controller_spec_py::PyCallbackSpec>()?;
     m.add_function(wrap_pyfunction!(simulate_py::perturbed, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_py::default_wheel_dofs, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

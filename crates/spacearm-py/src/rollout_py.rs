@@ -14,7 +14,8 @@ use spacearm_core::{Model, SpacearmError};
 use crate::convert::*;
 use crate::model_py::PyModel;
 use crate::records_py::{events, meta, take_fields, Field};
-use crate::simulate_py::{error_slot, parse_controller, parse_options, RunOptions};
+use crate::controller_spec_py::{build_controller, error_slot};
+use crate::sim_options_py::PyRunOptions;
 
 /// The error `err` with `rollout {i}: ` before its message, as the same Python class.
 fn for_rollout(py: Python<'_>, i: usize, err: SpacearmError) -> PyErr {
@@ -49,7 +50,7 @@ pub fn rollout<'py>(
     x0: PyReadonlyArray2<'py, f64>,
     u0: PyReadonlyArray2<'py, f64>,
     duration: f64,
-    options: &Bound<'py, PyDict>,
+    options: PyRef<'py, PyRunOptions>,
     controllers: Option<&Bound<'py, PyAny>>,
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
@@ -77,9 +78,9 @@ pub fn rollout<'py>(
     for i in 0..b {
         check_initial_state(plant(i), &x0[i * nx..(i + 1) * nx], &u0[i * nu..(i + 1) * nu]).map_err(|e| for_rollout(py, i, e))?;
     }
-    let RunOptions { sim: opts, float32, .. } = parse_options(py, duration, options)?;
-    // One controller instance per rollout (controllers keep workspaces): a shared spec is parsed
-    // once per rollout.
+    let (opts, float32) = (options.sim_options(duration), options.records_float32());
+    // One controller instance per rollout (controllers keep workspaces): a shared spec builds
+    // one per rollout.
     let slot = error_slot();
     let mut boxed: Vec<Box<dyn Controller>> = Vec::with_capacity(b);
     match controllers {
@@ -91,12 +92,12 @@ pub fn rollout<'py>(
                     return Err(bad(format!("controllers: got {} for {b} rollouts; give one controller, or one per rollout", list.len())));
                 }
                 for spec in list.iter() {
-                    boxed.push(parse_controller(&spec, &slot)?);
+                    boxed.push(build_controller(&spec, &slot)?);
                 }
             }
             Err(_) => {
                 for _ in 0..b {
-                    boxed.push(parse_controller(c, &slot)?);
+                    boxed.push(build_controller(c, &slot)?);
                 }
             }
         },
