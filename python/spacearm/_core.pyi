@@ -63,6 +63,50 @@ class ModelBuilder:
     def set_initial_q(self, q: Sequence[float]) -> None: ...
     def build(self) -> Model: ...
 
+# ---- the model's description (crates/spacearm-py/src/description_py.rs) ---------------------
+# Frozen snapshots; every array attribute is a new array at each access. Frames and units:
+# docs/conventions.md ("A model's frames, concretely").
+
+class BaseInfo:
+    name: str
+    mass: float  # kg
+    inertia: Vec  # (3, 3) kg·m², about the base CM in base-frame axes
+
+class JointLimitsInfo:
+    lower: float  # rad or m; -inf when unbounded
+    upper: float  # rad or m; inf when unbounded
+    velocity: float  # rad/s or m/s; inf when unbounded
+    effort: float  # N·m or N; inf when unbounded
+
+class LinkInfo:
+    name: str
+    parent: str  # the parent body's name
+    parent_index: int  # the parent body's index (0 = base)
+    joint: str
+    type: str  # "revolute", "prismatic" or "fixed"
+    origin: Vec  # (3,) m, joint position in the parent frame, from the parent's CM
+    rotation: Vec  # (4,) [x, y, z, w], link frame in the parent frame at q = 0
+    axis: Vec  # (3,) unit joint axis in the link frame
+    com: Vec  # (3,) m, the link's CM from its joint, in the link frame
+    mass: float  # kg
+    inertia: Vec  # (3, 3) kg·m², about the link's CM in link-frame axes
+    limits: JointLimitsInfo
+    dof: Optional[int]  # index in q; None for a fixed joint
+
+class PointInfo:
+    name: str
+    body: str  # the carrying body's name
+    body_index: int  # the carrying body's index (0 = base)
+    offset: Vec  # (3,) m, from the body's CM in the body frame
+
+class ModelInfo:
+    name: str
+    base: BaseInfo
+    links: tuple[LinkInfo, ...]  # tree order: link k is body k + 1
+    points: tuple[PointInfo, ...]
+    end_effector: Optional[str]
+    initial_q: Vec  # (N,) rad or m per joint type
+
 class Model:
     name: str
     n_dof: int
@@ -77,7 +121,7 @@ class Model:
     body_of_dof: list[int]
     def body_index(self, name: str) -> int: ...
     def point(self, name: str) -> tuple[int, list[float]]: ...
-    def describe(self) -> dict: ...
+    def describe(self) -> ModelInfo: ...
     def joint_types(self) -> list[str]: ...
     # Every method below takes one state (1-D arrays) or a batch (a 2-D x, one state per row;
     # the other vectors with as many rows or one row for all) and then returns its results with
@@ -105,6 +149,10 @@ class Model:
     def momentum(self, x: ArrayLike, u: ArrayLike) -> tuple[Vec, Vec, Vec, Vec]: ...
     def kinetic_energy(self, x: ArrayLike, u: ArrayLike) -> Union[float, Vec]: ...
     def center_of_mass(self, x: ArrayLike) -> Vec: ...
+
+def body_mass_properties_error(
+    who: str, mass: float, inertia: Sequence[Sequence[float]], *, triangle_inequality: bool = True
+) -> Optional[tuple[str, str]]: ...  # None, or ("mass" | "inertia", the core's message naming `who`)
 
 def set_batch_threads(threads: Optional[int] = None) -> None: ...
 def batch_threads() -> int: ...
