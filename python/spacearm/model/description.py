@@ -69,7 +69,7 @@ class LinkDescription:
     parent_index: int  #: body index of the parent (0 = base)
     joint: str  #: name of the joint
     type: str  #: ``"revolute"``, ``"prismatic"`` or ``"fixed"``
-    axis: np.ndarray  #: (3,) unit joint axis in the link frame (zero for a fixed joint)
+    axis: np.ndarray  #: (3,) unit joint axis in the link frame (unused by a fixed joint: as given, or z if given zero)
     origin: np.ndarray  #: (3,) m, joint position in the parent frame, measured from the parent's CM
     rotation: np.ndarray  #: (4,) ``[x, y, z, w]`` unit quaternion, link frame in the parent frame at q = 0
     com: np.ndarray  #: (3,) m, the link's CM measured from the joint, in the link frame
