@@ -150,6 +150,44 @@ class Model:
     def kinetic_energy(self, x: ArrayLike, u: ArrayLike) -> Union[float, Vec]: ...
     def center_of_mass(self, x: ArrayLike) -> Vec: ...
 
+# ---- the core's rules and defaults (crates/spacearm-py/src/rules_py.rs, rule_tables_py.rs) -----
+# The tables are frozen instances with typed attributes; each is also a read-only mapping of its
+# field names (keys(), t[name], dict(t), **t, == a dict).
+
+class SimDefaults:
+    mode: str  # one of MODES
+    integrator: str  # one of INTEGRATORS
+    dt: float  # s: the RK4 step, the DOPRI5 output interval
+    rtol: float  # DOPRI5 relative tolerance
+    atol: float  # DOPRI5 absolute tolerance
+    record_every: int  # RK4: keep every k-th step
+    joint_limits: bool  # whether the joints' effort and velocity limits apply
+    max_steps: int  # largest number of attempted DOPRI5 steps
+    def keys(self) -> list[str]: ...
+    def __getitem__(self, key: str) -> Any: ...
+
+class ModelBounds:
+    min_mass: float  # kg, smallest non-zero body mass
+    max_mass: float  # kg
+    max_length: float  # m, largest |component| of a joint origin, CM or point offset
+    max_inertia_entry: float  # kg·m², largest |inertia entry|
+    def keys(self) -> list[str]: ...
+    def __getitem__(self, key: str) -> float: ...
+
+class DlsDefaults:
+    threshold: float  # ε, size of the singular region (units of σ)
+    max_damping: float  # λ_max, damping at the singularity (units of σ)
+    def keys(self) -> list[str]: ...
+    def __getitem__(self, key: str) -> float: ...
+
+MODES: list[str]
+INTEGRATORS: list[str]
+SIM_DEFAULTS: SimDefaults
+MODEL_BOUNDS: ModelBounds
+DLS_DEFAULTS: DlsDefaults
+QUATERNION_TOLERANCE: float
+MEMORY_LIMIT_BYTES: int
+def quintic_scaling(t: Vec, t_start: float, t_end: float) -> tuple[Vec, Vec, Vec]: ...
 def body_mass_properties_error(
     who: str, mass: float, inertia: Sequence[Sequence[float]], *, triangle_inequality: bool = True
 ) -> Optional[tuple[str, str]]: ...  # None, or ("mass" | "inertia", the core's message naming `who`)

@@ -16,6 +16,7 @@ mod model_io_py;
 mod model_py;
 mod records_py;
 mod rollout_py;
+mod rule_tables_py;
 mod rules_py;
 mod simulate_py;
 mod simulator_py;
@@ -52,6 +53,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<description_py::LinkInfo>()?;
     m.add_class::<description_py::JointLimitsInfo>()?;
     m.add_class::<description_py::PointInfo>()?;
+    m.add_class::<rule_tables_py::SimDefaults>()?;
+    m.add_class::<rule_tables_py::ModelBounds>()?;
+    m.add_class::<rule_tables_py::DlsDefaults>()?;
     m.add_function(wrap_pyfunction!(preset, m)?)?;
     m.add_function(wrap_pyfunction!(model_io_py::model_from_toml, m)?)?;
     m.add_function(wrap_pyfunction!(model_io_py::model_to_toml, m)?)?;
