@@ -195,21 +195,144 @@ def body_mass_properties_error(
 def set_batch_threads(threads: Optional[int] = None) -> None: ...
 def batch_threads() -> int: ...
 
-# ---- analysis (issue #6; crates/spacearm-py/src/analysis_py.rs) --------------------------------
-def analysis_singularity(m: Model, x: ArrayLike, body: int, offset: Vec, rows: list[int]) -> dict: ...
-def analysis_detect(m: Model, x: ArrayLike, body: int, offset: Vec, rows: list[int], threshold: float, max_damping: float) -> tuple[float, float, float, bool]: ...
+# ---- analysis (crates/spacearm-py/src/analysis_py.rs; results: analysis_results_py.rs) ------------
+# The results are frozen classes named after the core's types (spacearm_core::analysis); every
+# array attribute hands out the same numpy array on each read. Task Jacobians: rows are the task
+# rows of the point twist [v; w] in the inertial frame, columns the joint rates.
+class JacobianMeasures:
+    """Singular-value measures of one task Jacobian (m task rows, N joints)."""
+
+    @property
+    def jacobian(self) -> Vec: ...  # (m, N)
+    @property
+    def singular_values(self) -> Vec: ...  # (min(m, N),), decreasing
+    @property
+    def condition(self) -> float: ...  # sigma_max / sigma_min (inf at a singularity)
+    @property
+    def manipulability(self) -> float: ...  # product of the singular values
+    @property
+    def task_directions(self) -> Vec: ...  # (m, min(m, N)) left singular vectors; the last is the worst
+    @property
+    def joint_directions(self) -> Vec: ...  # (N, N) right singular vectors; beyond the rank: null space
+
+class SingularityAnalysis:
+    """The task rows of J* (free-floating, eq. 110) and of J_m (base fixed, eq. 106) at one configuration."""
+
+    @property
+    def generalized(self) -> JacobianMeasures: ...
+    @property
+    def fixed_base(self) -> JacobianMeasures: ...
+
+class Detection:
+    """What the singularity detector tells a resolved-motion-rate controller."""
+
+    @property
+    def sigma_min(self) -> float: ...
+    @property
+    def condition(self) -> float: ...
+    @property
+    def damping(self) -> float: ...  # recommended lambda of the DLS inverse
+    @property
+    def near_singular(self) -> bool: ...  # sigma_min < threshold
+
+class ScanResult:
+    """A joint-space scan of M samples: one entry per sample in each column."""
+
+    @property
+    def sigma_min_generalized(self) -> Vec: ...  # (M,)
+    @property
+    def sigma_max_generalized(self) -> Vec: ...  # (M,)
+    @property
+    def manipulability_generalized(self) -> Vec: ...  # (M,)
+    @property
+    def det_generalized(self) -> Vec: ...  # (M,), NaN unless the task is square
+    @property
+    def sigma_min_fixed(self) -> Vec: ...  # (M,)
+    @property
+    def manipulability_fixed(self) -> Vec: ...  # (M,)
+    @property
+    def det_fixed(self) -> Vec: ...  # (M,), NaN unless the task is square
+    @property
+    def point_from_base(self) -> Vec: ...  # (M, 3) m, base frame
+    @property
+    def point_from_com(self) -> Vec: ...  # (M, 3) m, base frame
+
+class WorkspaceShells:
+    """Radial description of the workspaces, m."""
+
+    @property
+    def reachable(self) -> tuple[float, float]: ...  # (R_min, R_max) about the system CM
+    @property
+    def fixed_base(self) -> tuple[float, float]: ...  # (min, max) from the base CM, base fixed
+    @property
+    def singular_radii(self) -> Vec: ...  # (K,), sorted
+    @property
+    def path_dependent(self) -> list[tuple[float, float]]: ...
+    @property
+    def path_independent(self) -> list[tuple[float, float]]: ...
+    @property
+    def radial_resolution(self) -> float: ...
+
+class ReactionNullSpace:
+    """The reaction null space at one configuration (N joints)."""
+
+    @property
+    def base_motion_map(self) -> Vec: ...  # (3, N) angular or (6, N) full rows of -H0^-1 H0m
+    @property
+    def singular_values(self) -> Vec: ...  # decreasing
+    @property
+    def rank(self) -> int: ...
+    @property
+    def basis(self) -> Vec: ...  # (N, N - rank), orthonormal
+    @property
+    def projector(self) -> Vec: ...  # (N, N)
+
+class RmrcRates:
+    """One evaluation of the resolved-motion-rate law."""
+
+    @property
+    def qd(self) -> Vec: ...  # (N,)
+    @property
+    def sigma_min(self) -> float: ...
+    @property
+    def damping(self) -> float: ...
+    @property
+    def base_angular_velocity(self) -> Vec: ...  # (3,) rad/s, inertial frame
+
+class RmrcMotion:
+    """A closed-loop point-to-point motion at its K+1 time nodes."""
+
+    @property
+    def times(self) -> Vec: ...  # (K+1,) s
+    @property
+    def x(self) -> Vec: ...  # (K+1, 7+N)
+    @property
+    def qd(self) -> Vec: ...  # (K+1, N)
+    @property
+    def point_position(self) -> Vec: ...  # (K+1, 3) m, inertial frame
+    @property
+    def sigma_min(self) -> Vec: ...  # (K+1,)
+    @property
+    def damping(self) -> Vec: ...  # (K+1,)
+    @property
+    def attitude_change(self) -> Vec: ...  # (K+1,) rad
+    @property
+    def final_position_error(self) -> float: ...  # m
+
+def analysis_singularity(m: Model, x: ArrayLike, body: int, offset: Vec, rows: list[int]) -> SingularityAnalysis: ...
+def analysis_detect(m: Model, x: ArrayLike, body: int, offset: Vec, rows: list[int], threshold: float, max_damping: float) -> Detection: ...
 def analysis_damping(sigma_min: float, threshold: float, max_damping: float) -> float: ...
 def analysis_joint_grid(lower: Sequence[float], upper: Sequence[float], resolution: int) -> Vec: ...
-def analysis_scan(m: Model, samples: Vec, body: int, offset: Vec, rows: list[int]) -> dict: ...
-def analysis_shells(sigma_min_generalized: Sequence[float], det_generalized: Sequence[float], point_from_com: Vec, point_from_base: Vec, singular_threshold: float, radial_resolution: float, grid: Optional[tuple[int, int]] = None) -> dict: ...
-def analysis_reaction_null_space(m: Model, x: ArrayLike, which: str, tolerance: float) -> dict: ...
+def analysis_scan(m: Model, samples: Vec, body: int, offset: Vec, rows: list[int]) -> ScanResult: ...
+def analysis_shells(sigma_min_generalized: Sequence[float], det_generalized: Sequence[float], point_from_com: Vec, point_from_base: Vec, singular_threshold: float, radial_resolution: float, grid: Optional[tuple[int, int]] = None) -> WorkspaceShells: ...
+def analysis_reaction_null_space(m: Model, x: ArrayLike, which: str, tolerance: float) -> ReactionNullSpace: ...
 def analysis_integrate_prescribed(m: Model, x0: ArrayLike, dt: float, q_half: Vec, qd_half: Vec, linear_momentum: Vec, angular_momentum: Vec) -> Vec: ...
 class RmrcOptions:
     """The options of the resolved-motion-rate law, keyword-only, checked when built."""
     def __init__(self, *, rows: list[int], threshold: float, max_damping: float, gain: float = 0.0, strategy: str = "naive",
                  manipulability_gain: float = 0.0, joint_limit_gain: float = 0.0) -> None: ...
-def analysis_rmrc_rates(m: Model, x: ArrayLike, body: int, offset: Vec, desired_twist: Vec, options: RmrcOptions) -> dict: ...
-def analysis_move_to(m: Model, x0: ArrayLike, body: int, offset: Vec, target: Vec, duration: float, settle: float, dt: float, options: RmrcOptions) -> dict: ...
+def analysis_rmrc_rates(m: Model, x: ArrayLike, body: int, offset: Vec, desired_twist: Vec, options: RmrcOptions) -> RmrcRates: ...
+def analysis_move_to(m: Model, x0: ArrayLike, body: int, offset: Vec, target: Vec, duration: float, settle: float, dt: float, options: RmrcOptions) -> RmrcMotion: ...
 # ---- simulation (crates/spacearm-py/src/simulate_py.rs) --------------------------------------
 def simulate(
     model: Model,

@@ -1,17 +1,17 @@
 //! Bindings of `spacearm_core::analysis`: dynamic singularities, joint-space scans,
 //! workspaces, reaction null space, free-floating kinematics and resolved-motion-rate control.
-//! Thin wrappers: arrays in, a dict of arrays out; the Python package `spacearm.analysis` is the
-//! face users see. Scans release the GIL while rayon runs.
+//! Thin wrappers: arrays in, a typed result out (the classes of `analysis_results_py.rs`); the
+//! Python package `spacearm.analysis` is the face users see. Scans release the GIL while rayon runs.
 
-use nalgebra::{DMatrix, Vector3, Vector6};
+use nalgebra::{Vector3, Vector6};
 use numpy::{PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 use spacearm_core::analysis::{
     free_floating_kinematics as ffk, reaction_null_space as rns, redundancy, scan, singularity, workspace, Task,
 };
 use spacearm_core::SpacearmError;
 
+use crate::analysis_results_py::*;
 use crate::convert::*;
 use crate::model_py::PyModel;
 
@@ -26,45 +26,26 @@ fn rows_of(a: &PyReadonlyArray2<'_, f64>) -> (Vec<f64>, usize, usize) {
     (v, shape[0], shape[1])
 }
 
-fn row_major<'py>(py: Python<'py>, v: &[f64], rows: usize, cols: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let m = DMatrix::from_row_slice(rows, cols, v);
-    Ok(dmat(py, &m))
-}
-
-fn measures<'py>(py: Python<'py>, m: &singularity::JacobianMeasures) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("jacobian", dmat(py, &m.jacobian))?;
-    d.set_item("singular_values", dvec(py, &m.singular_values))?;
-    d.set_item("condition", m.condition)?;
-    d.set_item("manipulability", m.manipulability)?;
-    d.set_item("task_directions", dmat(py, &m.task_directions))?;
-    d.set_item("joint_directions", dmat(py, &m.joint_directions))?;
-    Ok(d)
-}
-
 /// Singular values, condition, manipulability, singular directions of J* and J_m.
 #[pyfunction]
-pub fn analysis_singularity<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>, rows: Vec<usize>) -> PyResult<Bound<'py, PyDict>> {
+pub fn analysis_singularity<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>, rows: Vec<usize>) -> PyResult<PySingularityAnalysis> {
     let off = vec3(offset, "offset")?;
     let x = vec_arg(x, "x")?;
     let t = task(py, rows)?;
     let a = m.with_data(|model, data| singularity::analyze(model, data, x.as_slice(), body, &off, &t)).or_raise(py)?;
-    let d = PyDict::new(py);
-    d.set_item("generalized", measures(py, &a.generalized)?)?;
-    d.set_item("fixed_base", measures(py, &a.fixed_base)?)?;
-    Ok(d)
+    PySingularityAnalysis::new(py, &a)
 }
 
-/// (sigma_min, condition, damping, near_singular) of the task rows of J* at x.
+/// The singularity detector on the task rows of J* at x: σ_min, condition, damping, near_singular.
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
-pub fn analysis_detect(py: Python<'_>, m: PyRef<'_, PyModel>, x: &Bound<'_, PyAny>, body: usize, offset: &Bound<'_, PyAny>, rows: Vec<usize>, threshold: f64, max_damping: f64) -> PyResult<(f64, f64, f64, bool)> {
+pub fn analysis_detect(py: Python<'_>, m: PyRef<'_, PyModel>, x: &Bound<'_, PyAny>, body: usize, offset: &Bound<'_, PyAny>, rows: Vec<usize>, threshold: f64, max_damping: f64) -> PyResult<PyDetection> {
     let off = vec3(offset, "offset")?;
     let x = vec_arg(x, "x")?;
     let t = task(py, rows)?;
     let law = singularity::DampingLaw::new(threshold, max_damping).or_raise(py)?;
     let d = m.with_data(|model, data| singularity::detect_at(model, data, x.as_slice(), body, &off, &t, &law)).or_raise(py)?;
-    Ok((d.sigma_min, d.condition, d.damping, d.near_singular))
+    Ok(d.into())
 }
 
 /// The damping λ(σ_min) of the law λ² = λ_max² (1 − (σ/ε)²) for σ < ε.
@@ -78,23 +59,7 @@ pub fn analysis_damping(py: Python<'_>, sigma_min: f64, threshold: f64, max_damp
 pub fn analysis_joint_grid<'py>(py: Python<'py>, lower: Vec<f64>, upper: Vec<f64>, resolution: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let n = lower.len();
     let g = scan::joint_grid(&lower, &upper, resolution).or_raise(py)?;
-    row_major(py, &g, g.len() / n.max(1), n)
-}
-
-fn scan_dict<'py>(py: Python<'py>, s: &[scan::ScanSample]) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    let col = |f: &dyn Fn(&scan::ScanSample) -> f64| s.iter().map(f).collect::<Vec<f64>>();
-    d.set_item("sigma_min_generalized", array1(py, &col(&|r| r.sigma_min_generalized)))?;
-    d.set_item("sigma_max_generalized", array1(py, &col(&|r| r.sigma_max_generalized)))?;
-    d.set_item("manipulability_generalized", array1(py, &col(&|r| r.manipulability_generalized)))?;
-    d.set_item("det_generalized", array1(py, &col(&|r| r.det_generalized)))?;
-    d.set_item("sigma_min_fixed", array1(py, &col(&|r| r.sigma_min_fixed)))?;
-    d.set_item("manipulability_fixed", array1(py, &col(&|r| r.manipulability_fixed)))?;
-    d.set_item("det_fixed", array1(py, &col(&|r| r.det_fixed)))?;
-    let pos = |f: &dyn Fn(&scan::ScanSample) -> Vector3<f64>| s.iter().flat_map(|r| f(r).iter().copied().collect::<Vec<_>>()).collect::<Vec<f64>>();
-    d.set_item("point_from_base", row_major(py, &pos(&|r| r.point_from_base), s.len(), 3)?)?;
-    d.set_item("point_from_com", row_major(py, &pos(&|r| r.point_from_com), s.len(), 3)?)?;
-    Ok(d)
+    Ok(row_major(py, &g, g.len() / n.max(1), n))
 }
 
 fn run_scan(py: Python<'_>, m: &PyModel, samples: &PyReadonlyArray2<'_, f64>, body: usize, off: &Vector3<f64>, t: &Task) -> PyResult<Vec<scan::ScanSample>> {
@@ -109,11 +74,11 @@ fn run_scan(py: Python<'_>, m: &PyModel, samples: &PyReadonlyArray2<'_, f64>, bo
 
 /// Parallel scan of joint samples (M×N): σ, manipulability, det of J* and J_m, positions.
 #[pyfunction]
-pub fn analysis_scan<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, samples: PyReadonlyArray2<'py, f64>, body: usize, offset: &Bound<'py, PyAny>, rows: Vec<usize>) -> PyResult<Bound<'py, PyDict>> {
+pub fn analysis_scan<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, samples: PyReadonlyArray2<'py, f64>, body: usize, offset: &Bound<'py, PyAny>, rows: Vec<usize>) -> PyResult<PyScanResult> {
     let off = vec3(offset, "offset")?;
     let t = task(py, rows)?;
     let s = run_scan(py, &m, &samples, body, &off, &t)?;
-    scan_dict(py, &s)
+    Ok(PyScanResult::new(py, &s))
 }
 
 /// Workspace shells from the arrays of a scan (so a scan need not run twice).
@@ -129,7 +94,7 @@ pub fn analysis_shells<'py>(
     singular_threshold: f64,
     radial_resolution: f64,
     grid: Option<(usize, usize)>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PyWorkspaceShells> {
     let (com, m1, c1) = rows_of(&point_from_com);
     let (base, m2, c2) = rows_of(&point_from_base);
     let m = sigma_min_generalized.len();
@@ -151,28 +116,12 @@ pub fn analysis_shells<'py>(
         .collect();
     let grid = grid.map(|(resolution, n_joints)| workspace::GridShape { resolution, n_joints });
     let w = workspace::workspace_shells(&samples, singular_threshold, radial_resolution, grid).or_raise(py)?;
-    let d = PyDict::new(py);
-    d.set_item("reachable", w.reachable.to_vec())?;
-    d.set_item("fixed_base", w.fixed_base.to_vec())?;
-    d.set_item("singular_radii", array1(py, &w.singular_radii))?;
-    d.set_item("path_dependent", w.path_dependent.iter().map(|a| a.to_vec()).collect::<Vec<_>>())?;
-    d.set_item("path_independent", w.path_independent.iter().map(|a| a.to_vec()).collect::<Vec<_>>())?;
-    Ok(d)
-}
-
-fn rns_dict<'py>(py: Python<'py>, r: &rns::ReactionNullSpace) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("base_motion_map", dmat(py, &r.base_motion_map))?;
-    d.set_item("singular_values", dvec(py, &r.singular_values))?;
-    d.set_item("rank", r.rank)?;
-    d.set_item("basis", dmat(py, &r.basis))?;
-    d.set_item("projector", dmat(py, &r.projector))?;
-    Ok(d)
+    Ok(PyWorkspaceShells::new(py, &w))
 }
 
 /// Reaction null space at x: `which` is "angular" or "full".
 #[pyfunction]
-pub fn analysis_reaction_null_space<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, x: &Bound<'py, PyAny>, which: &str, tolerance: f64) -> PyResult<Bound<'py, PyDict>> {
+pub fn analysis_reaction_null_space<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, x: &Bound<'py, PyAny>, which: &str, tolerance: f64) -> PyResult<PyReactionNullSpace> {
     let which = match which {
         "angular" => rns::BaseMotion::Angular,
         "full" => rns::BaseMotion::Full,
@@ -180,7 +129,7 @@ pub fn analysis_reaction_null_space<'py>(py: Python<'py>, m: PyRef<'_, PyModel>,
     };
     let x = vec_arg(x, "x")?;
     let r = m.with_data(|model, data| rns::reaction_null_space(model, data, x.as_slice(), which, tolerance)).or_raise(py)?;
-    rns_dict(py, &r)
+    Ok(PyReactionNullSpace::new(py, &r))
 }
 
 /// Base motion under prescribed joint motion at the RK4 half steps; returns (K+1)×(7+N).
@@ -209,7 +158,7 @@ pub fn analysis_integrate_prescribed<'py>(
     }
     let mom = ffk::ConservedMomentum { linear: p, angular_about_origin: l };
     let xs = m.with_data(|model, data| ffk::integrate_prescribed(model, data, x0.as_slice(), dt, &q, &qd, &mom)).or_raise(py)?;
-    row_major(py, &xs, xs.len() / (7 + n), 7 + n)
+    Ok(row_major(py, &xs, xs.len() / (7 + n), 7 + n))
 }
 
 fn strategy(py: Python<'_>, s: &str) -> PyResult<redundancy::Strategy> {
@@ -254,7 +203,7 @@ impl PyRmrcOptions {
     }
 }
 
-/// One evaluation of the RMRC law: (qd, sigma_min, damping, base angular velocity).
+/// One evaluation of the RMRC law: joint rates, σ_min, damping, base angular velocity.
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
 pub fn analysis_rmrc_rates<'py>(
@@ -265,18 +214,13 @@ pub fn analysis_rmrc_rates<'py>(
     offset: &Bound<'py, PyAny>,
     desired_twist: &Bound<'py, PyAny>,
     options: PyRef<'_, PyRmrcOptions>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PyRmrcRates> {
     let off = vec3(offset, "offset")?;
     let v: Vector6<f64> = vec6(desired_twist, "desired twist")?;
     let x = vec_arg(x, "x")?;
     let o = &options.inner;
     let r = m.with_data(|model, data| redundancy::rmrc_rates(model, data, x.as_slice(), body, &off, &v, o)).or_raise(py)?;
-    let d = PyDict::new(py);
-    d.set_item("qd", dvec(py, &r.qd))?;
-    d.set_item("sigma_min", r.sigma_min)?;
-    d.set_item("damping", r.damping)?;
-    d.set_item("base_angular_velocity", array1(py, r.base_angular_velocity.as_slice()))?;
-    Ok(d)
+    Ok(PyRmrcRates::new(py, &r))
 }
 
 /// Closed-loop point-to-point RMRC motion (zero momentum).
@@ -293,24 +237,13 @@ pub fn analysis_move_to<'py>(
     settle: f64,
     dt: f64,
     options: PyRef<'_, PyRmrcOptions>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PyRmrcMotion> {
     let off = vec3(offset, "offset")?;
     let target = vec3(target, "target")?;
     let x0 = vec_arg(x0, "x0")?;
     let o = &options.inner;
     let r = m.with_data(|model, data| redundancy::move_to(model, data, x0.as_slice(), body, &off, &target, duration, settle, dt, o)).or_raise(py)?;
-    let n = m.model.n_dof();
-    let k = r.times.len();
-    let d = PyDict::new(py);
-    d.set_item("times", array1(py, &r.times))?;
-    d.set_item("x", row_major(py, &r.x, k, 7 + n)?)?;
-    d.set_item("qd", row_major(py, &r.qd, k, n)?)?;
-    d.set_item("point_position", row_major(py, &r.point_position, k, 3)?)?;
-    d.set_item("sigma_min", array1(py, &r.sigma_min))?;
-    d.set_item("damping", array1(py, &r.damping))?;
-    d.set_item("attitude_change", array1(py, &r.attitude_change))?;
-    d.set_item("final_position_error", r.final_position_error)?;
-    Ok(d)
+    Ok(PyRmrcMotion::new(py, &r, m.model.n_dof()))
 }
 
 /// Register the analysis functions on the extension module.
@@ -325,6 +258,5 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analysis_integrate_prescribed, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_rmrc_rates, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_move_to, m)?)?;
-    m.add_class::<PyRmrcOptions>()?;
     Ok(())
 }

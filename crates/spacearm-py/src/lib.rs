@@ -6,6 +6,7 @@
 //! (`python/spacearm`) is the face users see.
 
 mod analysis_py;
+mod analysis_results_py;
 mod batch;
 mod builder_py;
 mod convert;
@@ -62,6 +63,15 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(model_io_py::model_from_classic_dh, m)?)?;
     m.add_function(wrap_pyfunction!(model_io_py::model_from_paper_dh, m)?)?;
     analysis_py::register(m)?;
+    m.add_class::<analysis_py::PyRmrcOptions>()?;
+    m.add_class::<analysis_results_py::PyJacobianMeasures>()?;
+    m.add_class::<analysis_results_py::PySingularityAnalysis>()?;
+    m.add_class::<analysis_results_py::PyDetection>()?;
+    m.add_class::<analysis_results_py::PyScanResult>()?;
+    m.add_class::<analysis_results_py::PyWorkspaceShells>()?;
+    m.add_class::<analysis_results_py::PyReactionNullSpace>()?;
+    m.add_class::<analysis_results_py::PyRmrcRates>()?;
+    m.add_class::<analysis_results_py::PyRmrcMotion>()?;
     rules_py::register(m)?;
     m.add_function(wrap_pyfunction!(simulate_py::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(rollout_py::rollout, m)?)?;

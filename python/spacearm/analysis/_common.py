@@ -100,10 +100,10 @@ def chunked(run, samples: np.ndarray, progress: bool, desc: str):
     return out
 
 
-def concat_dicts(parts):
-    """Concatenate the array entries of the chunk results."""
-    keys = parts[0].keys()
-    return {k: np.concatenate([p[k] for p in parts], axis=0) for k in keys}
+def concat_columns(parts, names) -> dict:
+    """The attributes ``names`` of the chunk results (one row per sample), each concatenated
+    over the chunks: a dict of arrays."""
+    return {k: np.concatenate([getattr(p, k) for p in parts], axis=0) for k in names}
 
 
 def new_figure(*args, **kwargs):

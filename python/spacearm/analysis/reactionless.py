@@ -45,7 +45,9 @@ def reaction_null_space(robot, x=None, base_motion: str = "angular", tolerance: 
     x = robot.neutral_configuration() if x is None else x
     if not isinstance(base_motion, str):
         raise SpacearmTypeError(f"base_motion must be 'angular' or 'full', got {type(base_motion).__name__} {base_motion!r}")
-    return ReactionNullSpace(**_core.analysis_reaction_null_space(robot._m, x, base_motion, number(tolerance, "tolerance")))
+    r = _core.analysis_reaction_null_space(robot._m, x, base_motion, number(tolerance, "tolerance"))
+    return ReactionNullSpace(base_motion_map=r.base_motion_map, singular_values=r.singular_values, rank=r.rank, basis=r.basis,
+                             projector=r.projector)
 
 
 def _check_strategy(strategy: str) -> str:
@@ -65,7 +67,8 @@ def rmrc_rates(robot, x, desired_twist, point=None, task: TaskLike = None, strat
                                 max_damping=number(max_damping, "max_damping"), strategy=_check_strategy(strategy),
                                 manipulability_gain=number(manipulability_gain, "manipulability_gain"),
                                 joint_limit_gain=number(joint_limit_gain, "joint_limit_gain"))
-    return _core.analysis_rmrc_rates(robot._m, x, body, off, vector(desired_twist, "desired_twist", 6), options)
+    r = _core.analysis_rmrc_rates(robot._m, x, body, off, vector(desired_twist, "desired_twist", 6), options)
+    return {"qd": r.qd, "sigma_min": r.sigma_min, "damping": r.damping, "base_angular_velocity": r.base_angular_velocity}
 
 
 @dataclass
@@ -141,5 +144,6 @@ def move_to(robot, target, x0=None, point=None, task: TaskLike = None, strategy:
                                 max_damping=number(max_damping, "max_damping"), gain=number(gain, "gain"),
                                 strategy=_check_strategy(strategy), manipulability_gain=number(manipulability_gain, "manipulability_gain"),
                                 joint_limit_gain=number(joint_limit_gain, "joint_limit_gain"))
-    d = _core.analysis_move_to(robot._m, x0, body, off, tgt, number(duration, "duration"), number(settle, "settle"), number(dt, "dt"), options)
-    return Motion(robot.name, strategy, tgt, **d)
+    m = _core.analysis_move_to(robot._m, x0, body, off, tgt, number(duration, "duration"), number(settle, "settle"), number(dt, "dt"), options)
+    return Motion(robot.name, strategy, tgt, times=m.times, x=m.x, qd=m.qd, point_position=m.point_position, sigma_min=m.sigma_min,
+                  damping=m.damping, attitude_change=m.attitude_change, final_position_error=m.final_position_error)

@@ -12,7 +12,11 @@ import numpy as np
 
 from .. import _core
 from .._util.arrays import integer, number
-from ._common import TaskLike, chunked, concat_dicts, dof_kinds, new_figure, samples_2d, save_figure, task_rows
+from ._common import TaskLike, chunked, concat_columns, dof_kinds, new_figure, samples_2d, save_figure, task_rows
+
+#: The keys of :func:`scan`'s dict: the columns of the extension's ``ScanResult``.
+SCAN_COLUMNS = ("sigma_min_generalized", "sigma_max_generalized", "manipulability_generalized", "det_generalized",
+                "sigma_min_fixed", "manipulability_fixed", "det_fixed", "point_from_base", "point_from_com")
 
 __all__ = ["JacobianMeasures", "SingularityReport", "Detection", "SingularityMap", "analyze", "detect", "damping", "scan", "singularity_map"]
 
@@ -58,8 +62,13 @@ def analyze(robot, x=None, point=None, task: TaskLike = None) -> SingularityRepo
     x = robot.neutral_configuration() if x is None else x
     body, off = robot._point(point)
     rows = task_rows(robot, task)
-    d = _core.analysis_singularity(robot._m, x, body, off, rows)
-    return SingularityReport(JacobianMeasures(**d["generalized"]), JacobianMeasures(**d["fixed_base"]), tuple(rows))
+    a = _core.analysis_singularity(robot._m, x, body, off, rows)
+    return SingularityReport(_measures(a.generalized), _measures(a.fixed_base), tuple(rows))
+
+
+def _measures(m: _core.JacobianMeasures) -> JacobianMeasures:
+    return JacobianMeasures(jacobian=m.jacobian, singular_values=m.singular_values, condition=m.condition, manipulability=m.manipulability,
+                            task_directions=m.task_directions, joint_directions=m.joint_directions)
 
 
 def damping(sigma_min: float, threshold: float, max_damping: float) -> float:
@@ -71,7 +80,8 @@ def detect(robot, x, point=None, task: TaskLike = None, threshold: float = _core
     """Singularity detector for RMRC: ``σ_min`` and condition of the task rows of ``J*`` and
     the recommended DLS damping (``threshold`` = ε, ``max_damping`` = λ_max)."""
     body, off = robot._point(point)
-    return Detection(*_core.analysis_detect(robot._m, x, body, off, task_rows(robot, task), number(threshold, "threshold"), number(max_damping, "max_damping")))
+    d = _core.analysis_detect(robot._m, x, body, off, task_rows(robot, task), number(threshold, "threshold"), number(max_damping, "max_damping"))
+    return Detection(sigma_min=d.sigma_min, condition=d.condition, damping=d.damping, near_singular=d.near_singular)
 
 
 def scan(robot, samples, point=None, task: TaskLike = None, progress: bool = False) -> dict:
@@ -84,7 +94,7 @@ def scan(robot, samples, point=None, task: TaskLike = None, progress: bool = Fal
     rows = task_rows(robot, task)
     q = samples_2d(samples, robot.n_dof)
     parts = chunked(lambda s: _core.analysis_scan(robot._m, s, body, off, rows), q, progress, "scan")
-    return concat_dicts(parts)
+    return concat_columns(parts, SCAN_COLUMNS)
 
 
 @dataclass

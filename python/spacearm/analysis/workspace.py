@@ -14,7 +14,7 @@ import numpy as np
 from .. import _core
 from .._util.arrays import integer
 from ..errors import ArgumentError
-from ._common import TaskLike, chunked, joint_bounds, new_figure, samples_2d, save_figure, task_rows
+from ._common import TaskLike, chunked, concat_columns, joint_bounds, new_figure, samples_2d, save_figure, task_rows
 
 __all__ = ["Workspace", "workspace"]
 
@@ -123,15 +123,13 @@ def workspace(robot, resolution: int = 15, samples=None, point=None, task: TaskL
     t0 = time.perf_counter()
     parts = chunked(lambda s: _core.analysis_scan(robot._m, s, body, off, rows), q, progress, "workspace")
     elapsed = time.perf_counter() - t0
-    r = {k: np.concatenate([p[k] for p in parts]) for k in ("sigma_min_generalized", "det_generalized", "point_from_com", "point_from_base")}
+    r = concat_columns(parts, ("sigma_min_generalized", "det_generalized", "point_from_com", "point_from_base"))
     thr = 0.01 * float(np.max(r["sigma_min_generalized"])) if singular_threshold is None else float(singular_threshold)
     rres = 0.01 * float(np.max(np.linalg.norm(r["point_from_com"], axis=1))) if radial_resolution is None else float(radial_resolution)
     w = _core.analysis_shells(r["sigma_min_generalized"], r["det_generalized"], r["point_from_com"], r["point_from_base"], thr, rres,
                               None if grid_res is None else (grid_res, n))
-    w.update(r)
     return Workspace(
-        robot.name, tuple(rows), q, w["point_from_base"], w["point_from_com"], w["sigma_min_generalized"],
-        tuple(w["reachable"]), tuple(w["fixed_base"]), w["singular_radii"],
-        [tuple(v) for v in w["path_dependent"]], [tuple(v) for v in w["path_independent"]],
+        robot.name, tuple(rows), q, r["point_from_base"], r["point_from_com"], r["sigma_min_generalized"],
+        w.reachable, w.fixed_base, w.singular_radii, w.path_dependent, w.path_independent,
         how, rres, thr, elapsed, q.shape[0] / elapsed,
     )

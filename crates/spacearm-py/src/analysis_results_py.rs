@@ -1,0 +1,418 @@
+//! The typed results of the analysis bindings (`analysis_py.rs`): one frozen class per result
+//! type of `spacearm_core::analysis`, with the same name and fields, so the schema of what
+//! crosses the boundary is written here and in `_core.pyi`, not in dictionary keys.
+//!
+//! Each class only carries what the core computed: the arrays are built once, when the result
+//! is converted, and every read of an attribute hands out that same numpy array (no copy).
+//! Frames and units follow docs/conventions.md: vectors in the inertial frame 𝒥 unless the
+//! name says otherwise; a task Jacobian's rows are the task rows of the point twist `[v; ω]`
+//! (m/s, rad/s) and its columns the joint rates (rad/s, or m/s for a prismatic joint).
+
+use nalgebra::{DMatrix, Vector3};
+use numpy::{Element, PyArray, PyArray1, PyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use spacearm_core::analysis::{reaction_null_space as rns, redundancy, scan, singularity, workspace};
+
+use crate::convert::{array1, dmat, dvec};
+
+/// A numpy array's shape as Python writes it: `(3, 6)`, `(3,)`.
+fn shape_of<T: Element, D: numpy::ndarray::Dimension>(py: Python<'_>, a: &Py<PyArray<T, D>>) -> String {
+    let s = a.bind(py).shape().iter().map(|n| n.to_string()).collect::<Vec<_>>();
+    if s.len() == 1 {
+        format!("({},)", s[0])
+    } else {
+        format!("({})", s.join(", "))
+    }
+}
+
+/// A row-major `rows × cols` buffer of the core as a numpy array of that shape.
+pub(crate) fn row_major<'py>(py: Python<'py>, v: &[f64], rows: usize, cols: usize) -> Bound<'py, PyArray2<f64>> {
+    dmat(py, &DMatrix::from_row_slice(rows, cols, v))
+}
+
+/// Measures of one task Jacobian (`spacearm_core::analysis::singularity::JacobianMeasures`):
+/// its singular value decomposition and the numbers derived from it.
+#[pyclass(module = "spacearm._core", name = "JacobianMeasures", frozen)]
+pub struct PyJacobianMeasures {
+    /// (m, N) float64: the task rows of the Jacobian analysed (rows of the point twist in 𝒥 per
+    /// joint rate).
+    #[pyo3(get)]
+    jacobian: Py<PyArray2<f64>>,
+    /// (min(m, N),) float64: its singular values, decreasing; units of the Jacobian's rows.
+    #[pyo3(get)]
+    singular_values: Py<PyArray1<f64>>,
+    /// σ_max / σ_min, dimensionless (inf at a singularity).
+    #[pyo3(get)]
+    condition: f64,
+    /// Yoshikawa's manipulability Π σᵢ.
+    #[pyo3(get)]
+    manipulability: f64,
+    /// (m, min(m, N)) float64: left singular vectors, unit columns in task space (𝒥); the last
+    /// is the worst task direction.
+    #[pyo3(get)]
+    task_directions: Py<PyArray2<f64>>,
+    /// (N, N) float64: right singular vectors, unit columns in joint space; the columns beyond
+    /// the rank span the null space (self-motions).
+    #[pyo3(get)]
+    joint_directions: Py<PyArray2<f64>>,
+}
+
+impl PyJacobianMeasures {
+    fn new(py: Python<'_>, m: &singularity::JacobianMeasures) -> Self {
+        PyJacobianMeasures {
+            jacobian: dmat(py, &m.jacobian).unbind(),
+            singular_values: dvec(py, &m.singular_values).unbind(),
+            condition: m.condition,
+            manipulability: m.manipulability,
+            task_directions: dmat(py, &m.task_directions).unbind(),
+            joint_directions: dmat(py, &m.joint_directions).unbind(),
+        }
+    }
+}
+
+#[pymethods]
+impl PyJacobianMeasures {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "<spacearm._core.JacobianMeasures jacobian={} singular_values={} condition={:?} manipulability={:?} task_directions={} joint_directions={}>",
+            shape_of(py, &self.jacobian),
+            shape_of(py, &self.singular_values),
+            self.condition,
+            self.manipulability,
+            shape_of(py, &self.task_directions),
+            shape_of(py, &self.joint_directions)
+        )
+    }
+}
+
+/// Singularity analysis at one configuration
+/// (`spacearm_core::analysis::singularity::SingularityAnalysis`).
+#[pyclass(module = "spacearm._core", name = "SingularityAnalysis", frozen)]
+pub struct PySingularityAnalysis {
+    /// Measures of the task rows of J* (free-floating, zero momentum; paper eq. 110).
+    #[pyo3(get)]
+    generalized: Py<PyJacobianMeasures>,
+    /// Measures of the task rows of J_m (base held fixed; paper eq. 106).
+    #[pyo3(get)]
+    fixed_base: Py<PyJacobianMeasures>,
+}
+
+impl PySingularityAnalysis {
+    pub fn new(py: Python<'_>, a: &singularity::SingularityAnalysis) -> PyResult<Self> {
+        Ok(PySingularityAnalysis {
+            generalized: Py::new(py, PyJacobianMeasures::new(py, &a.generalized))?,
+            fixed_base: Py::new(py, PyJacobianMeasures::new(py, &a.fixed_base))?,
+        })
+    }
+}
+
+#[pymethods]
+impl PySingularityAnalysis {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let j = |m: &Py<PyJacobianMeasures>| shape_of(py, &m.get().jacobian);
+        format!("<spacearm._core.SingularityAnalysis generalized=JacobianMeasures(jacobian={}) fixed_base=JacobianMeasures(jacobian={})>", j(&self.generalized), j(&self.fixed_base))
+    }
+}
+
+/// What the singularity detector tells a resolved-motion-rate controller
+/// (`spacearm_core::analysis::singularity::Detection`).
+#[pyclass(module = "spacearm._core", name = "Detection", frozen)]
+pub struct PyDetection {
+    /// Smallest singular value of the task rows of J*.
+    #[pyo3(get)]
+    sigma_min: f64,
+    /// Condition number σ_max / σ_min, dimensionless.
+    #[pyo3(get)]
+    condition: f64,
+    /// Recommended damping λ(σ_min) of the damped least-squares inverse (units of σ).
+    #[pyo3(get)]
+    damping: f64,
+    /// σ_min < ε: inside the singular region.
+    #[pyo3(get)]
+    near_singular: bool,
+}
+
+impl From<singularity::Detection> for PyDetection {
+    fn from(d: singularity::Detection) -> Self {
+        PyDetection { sigma_min: d.sigma_min, condition: d.condition, damping: d.damping, near_singular: d.near_singular }
+    }
+}
+
+#[pymethods]
+impl PyDetection {
+    fn __repr__(&self) -> String {
+        format!(
+            "<spacearm._core.Detection sigma_min={:?} condition={:?} damping={:?} near_singular={}>",
+            self.sigma_min,
+            self.condition,
+            self.damping,
+            if self.near_singular { "True" } else { "False" }
+        )
+    }
+}
+
+/// A joint-space scan of M samples, one entry per sample in each column (the columns of
+/// `spacearm_core::analysis::scan::ScanSample`).
+#[pyclass(module = "spacearm._core", name = "ScanResult", frozen)]
+pub struct PyScanResult {
+    /// (M,) float64: smallest singular value of the task rows of J*.
+    #[pyo3(get)]
+    sigma_min_generalized: Py<PyArray1<f64>>,
+    /// (M,) float64: largest singular value of the task rows of J*.
+    #[pyo3(get)]
+    sigma_max_generalized: Py<PyArray1<f64>>,
+    /// (M,) float64: manipulability Π σᵢ of the task rows of J*.
+    #[pyo3(get)]
+    manipulability_generalized: Py<PyArray1<f64>>,
+    /// (M,) float64: determinant of the task rows of J* when square, else NaN.
+    #[pyo3(get)]
+    det_generalized: Py<PyArray1<f64>>,
+    /// (M,) float64: smallest singular value of the task rows of J_m (base held fixed).
+    #[pyo3(get)]
+    sigma_min_fixed: Py<PyArray1<f64>>,
+    /// (M,) float64: manipulability of the task rows of J_m.
+    #[pyo3(get)]
+    manipulability_fixed: Py<PyArray1<f64>>,
+    /// (M,) float64: determinant of the task rows of J_m when square, else NaN.
+    #[pyo3(get)]
+    det_fixed: Py<PyArray1<f64>>,
+    /// (M, 3) float64: the point from the base CM, base frame, m (the fixed-base workspace).
+    #[pyo3(get)]
+    point_from_base: Py<PyArray2<f64>>,
+    /// (M, 3) float64: the point from the system CM, base frame, m (the free-floating workspace).
+    #[pyo3(get)]
+    point_from_com: Py<PyArray2<f64>>,
+}
+
+impl PyScanResult {
+    pub fn new(py: Python<'_>, s: &[scan::ScanSample]) -> Self {
+        let column = |f: fn(&scan::ScanSample) -> f64| array1(py, &s.iter().map(f).collect::<Vec<f64>>()).unbind();
+        let points = |f: fn(&scan::ScanSample) -> Vector3<f64>| {
+            let v: Vec<f64> = s.iter().flat_map(|r| f(r).iter().copied().collect::<Vec<_>>()).collect();
+            row_major(py, &v, s.len(), 3).unbind()
+        };
+        PyScanResult {
+            sigma_min_generalized: column(|r| r.sigma_min_generalized),
+            sigma_max_generalized: column(|r| r.sigma_max_generalized),
+            manipulability_generalized: column(|r| r.manipulability_generalized),
+            det_generalized: column(|r| r.det_generalized),
+            sigma_min_fixed: column(|r| r.sigma_min_fixed),
+            manipulability_fixed: column(|r| r.manipulability_fixed),
+            det_fixed: column(|r| r.det_fixed),
+            point_from_base: points(|r| r.point_from_base),
+            point_from_com: points(|r| r.point_from_com),
+        }
+    }
+}
+
+#[pymethods]
+impl PyScanResult {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        // Seven columns of shape (M,) and the two positions (M, 3).
+        format!("<spacearm._core.ScanResult samples={} point_from_base={} point_from_com={}>", self.sigma_min_generalized.bind(py).len(), shape_of(py, &self.point_from_base), shape_of(py, &self.point_from_com))
+    }
+}
+
+/// Radial description of the workspaces (`spacearm_core::analysis::workspace::WorkspaceShells`).
+#[pyclass(module = "spacearm._core", name = "WorkspaceShells", frozen)]
+pub struct PyWorkspaceShells {
+    /// (R_min, R_max) of the free-floating reachable workspace about the system CM, m.
+    #[pyo3(get)]
+    reachable: (f64, f64),
+    /// (min, max) distance of the point from the base CM with the base held fixed, m.
+    #[pyo3(get)]
+    fixed_base: (f64, f64),
+    /// (K,) float64: barycentric radii of the singular samples and crossings found, sorted, m.
+    #[pyo3(get)]
+    singular_radii: Py<PyArray1<f64>>,
+    /// Path-dependent shells [(a, b), ...], m.
+    #[pyo3(get)]
+    path_dependent: Vec<(f64, f64)>,
+    /// Path-independent shells [(a, b), ...]: the reachable shell minus the path-dependent ones, m.
+    #[pyo3(get)]
+    path_independent: Vec<(f64, f64)>,
+    /// The radial resolution that merged the singular radii into shells, m.
+    #[pyo3(get)]
+    radial_resolution: f64,
+}
+
+impl PyWorkspaceShells {
+    pub fn new(py: Python<'_>, w: &workspace::WorkspaceShells) -> Self {
+        let pairs = |v: &[[f64; 2]]| v.iter().map(|[a, b]| (*a, *b)).collect();
+        PyWorkspaceShells {
+            reachable: (w.reachable[0], w.reachable[1]),
+            fixed_base: (w.fixed_base[0], w.fixed_base[1]),
+            singular_radii: array1(py, &w.singular_radii).unbind(),
+            path_dependent: pairs(&w.path_dependent),
+            path_independent: pairs(&w.path_independent),
+            radial_resolution: w.radial_resolution,
+        }
+    }
+}
+
+#[pymethods]
+impl PyWorkspaceShells {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "<spacearm._core.WorkspaceShells reachable={:?} fixed_base={:?} singular_radii={} path_dependent={} shells path_independent={} shells radial_resolution={:?}>",
+            self.reachable,
+            self.fixed_base,
+            shape_of(py, &self.singular_radii),
+            self.path_dependent.len(),
+            self.path_independent.len(),
+            self.radial_resolution
+        )
+    }
+}
+
+/// The reaction null space at one configuration
+/// (`spacearm_core::analysis::reaction_null_space::ReactionNullSpace`).
+#[pyclass(module = "spacearm._core", name = "ReactionNullSpace", frozen)]
+pub struct PyReactionNullSpace {
+    /// (3, N) or (6, N) float64: rows of −H0⁻¹ H0m (zero momentum), joint rates → base angular
+    /// velocity ω0 (rad/s) or base twist [v0; ω0] (m/s, rad/s), in 𝒥.
+    #[pyo3(get)]
+    base_motion_map: Py<PyArray2<f64>>,
+    /// (min(rows, N),) float64: singular values of the map, decreasing.
+    #[pyo3(get)]
+    singular_values: Py<PyArray1<f64>>,
+    /// Numerical rank of the map (singular values above tolerance · σ_max).
+    #[pyo3(get)]
+    rank: usize,
+    /// (N, N − rank) float64: orthonormal basis of the null space, in joint space.
+    #[pyo3(get)]
+    basis: Py<PyArray2<f64>>,
+    /// (N, N) float64: orthogonal projector onto the null space.
+    #[pyo3(get)]
+    projector: Py<PyArray2<f64>>,
+}
+
+impl PyReactionNullSpace {
+    pub fn new(py: Python<'_>, r: &rns::ReactionNullSpace) -> Self {
+        PyReactionNullSpace {
+            base_motion_map: dmat(py, &r.base_motion_map).unbind(),
+            singular_values: dvec(py, &r.singular_values).unbind(),
+            rank: r.rank,
+            basis: dmat(py, &r.basis).unbind(),
+            projector: dmat(py, &r.projector).unbind(),
+        }
+    }
+}
+
+#[pymethods]
+impl PyReactionNullSpace {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "<spacearm._core.ReactionNullSpace base_motion_map={} singular_values={} rank={} basis={} projector={}>",
+            shape_of(py, &self.base_motion_map),
+            shape_of(py, &self.singular_values),
+            self.rank,
+            shape_of(py, &self.basis),
+            shape_of(py, &self.projector)
+        )
+    }
+}
+
+/// One evaluation of the resolved-motion-rate law (`spacearm_core::analysis::redundancy::RmrcRates`).
+#[pyclass(module = "spacearm._core", name = "RmrcRates", frozen)]
+pub struct PyRmrcRates {
+    /// (N,) float64: joint rates q̇, rad/s (m/s for a prismatic joint).
+    #[pyo3(get)]
+    qd: Py<PyArray1<f64>>,
+    /// σ_min of the (projected) task Jacobian.
+    #[pyo3(get)]
+    sigma_min: f64,
+    /// Damping λ of the damped least-squares inverse used (units of σ).
+    #[pyo3(get)]
+    damping: f64,
+    /// (3,) float64: base angular velocity ω0 these rates produce (zero momentum), rad/s, in 𝒥.
+    #[pyo3(get)]
+    base_angular_velocity: Py<PyArray1<f64>>,
+}
+
+impl PyRmrcRates {
+    pub fn new(py: Python<'_>, r: &redundancy::RmrcRates) -> Self {
+        PyRmrcRates {
+            qd: dvec(py, &r.qd).unbind(),
+            sigma_min: r.sigma_min,
+            damping: r.damping,
+            base_angular_velocity: array1(py, r.base_angular_velocity.as_slice()).unbind(),
+        }
+    }
+}
+
+#[pymethods]
+impl PyRmrcRates {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "<spacearm._core.RmrcRates qd={} sigma_min={:?} damping={:?} base_angular_velocity={}>",
+            shape_of(py, &self.qd),
+            self.sigma_min,
+            self.damping,
+            shape_of(py, &self.base_angular_velocity)
+        )
+    }
+}
+
+/// A closed-loop point-to-point motion, recorded at its K+1 time nodes
+/// (`spacearm_core::analysis::redundancy::RmrcMotion`).
+#[pyclass(module = "spacearm._core", name = "RmrcMotion", frozen)]
+pub struct PyRmrcMotion {
+    /// (K+1,) float64: times k·dt, s.
+    #[pyo3(get)]
+    times: Py<PyArray1<f64>>,
+    /// (K+1, 7+N) float64: configurations [r0, quat [x, y, z, w], q].
+    #[pyo3(get)]
+    x: Py<PyArray2<f64>>,
+    /// (K+1, N) float64: joint rates, rad/s (m/s for a prismatic joint).
+    #[pyo3(get)]
+    qd: Py<PyArray2<f64>>,
+    /// (K+1, 3) float64: the point's position in 𝒥, m.
+    #[pyo3(get)]
+    point_position: Py<PyArray2<f64>>,
+    /// (K+1,) float64: σ_min of the (projected) task Jacobian.
+    #[pyo3(get)]
+    sigma_min: Py<PyArray1<f64>>,
+    /// (K+1,) float64: damping λ used.
+    #[pyo3(get)]
+    damping: Py<PyArray1<f64>>,
+    /// (K+1,) float64: base rotation angle from the start, rad.
+    #[pyo3(get)]
+    attitude_change: Py<PyArray1<f64>>,
+    /// Distance of the point from the target at the end (linear task rows only), m.
+    #[pyo3(get)]
+    final_position_error: f64,
+}
+
+impl PyRmrcMotion {
+    pub fn new(py: Python<'_>, r: &redundancy::RmrcMotion, n_dof: usize) -> Self {
+        let k = r.times.len();
+        PyRmrcMotion {
+            times: array1(py, &r.times).unbind(),
+            x: row_major(py, &r.x, k, 7 + n_dof).unbind(),
+            qd: row_major(py, &r.qd, k, n_dof).unbind(),
+            point_position: row_major(py, &r.point_position, k, 3).unbind(),
+            sigma_min: array1(py, &r.sigma_min).unbind(),
+            damping: array1(py, &r.damping).unbind(),
+            attitude_change: array1(py, &r.attitude_change).unbind(),
+            final_position_error: r.final_position_error,
+        }
+    }
+}
+
+#[pymethods]
+impl PyRmrcMotion {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "<spacearm._core.RmrcMotion times={} x={} qd={} point_position={} sigma_min={} damping={} attitude_change={} final_position_error={:?}>",
+            shape_of(py, &self.times),
+            shape_of(py, &self.x),
+            shape_of(py, &self.qd),
+            shape_of(py, &self.point_position),
+            shape_of(py, &self.sigma_min),
+            shape_of(py, &self.damping),
+            shape_of(py, &self.attitude_change),
+            self.final_position_error
+        )
+    }
+}
