@@ -16,7 +16,7 @@ use crate::convert::{array1, matrix};
 /// The spacecraft base (body 0); its frame has its origin at the base CM.
 #[pyclass(module = "spacearm._core", name = "BaseInfo", frozen)]
 #[derive(Clone)]
-pub struct BaseInfo {
+pub struct PyBaseInfo {
     /// The base's name.
     #[pyo3(get)]
     name: String,
@@ -27,7 +27,7 @@ pub struct BaseInfo {
 }
 
 #[pymethods]
-impl BaseInfo {
+impl PyBaseInfo {
     /// (3, 3) kg·m²: inertia about the base CM, in base-frame axes.
     #[getter]
     fn inertia<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
@@ -42,7 +42,7 @@ impl BaseInfo {
 /// A joint's limits; an absent bound is infinite (`-inf` for `lower`, `inf` for the others).
 #[pyclass(module = "spacearm._core", name = "JointLimitsInfo", frozen)]
 #[derive(Clone)]
-pub struct JointLimitsInfo {
+pub struct PyJointLimitsInfo {
     /// Lower position bound: rad (revolute) or m (prismatic).
     #[pyo3(get)]
     lower: f64,
@@ -58,7 +58,7 @@ pub struct JointLimitsInfo {
 }
 
 #[pymethods]
-impl JointLimitsInfo {
+impl PyJointLimitsInfo {
     fn __repr__(&self) -> String {
         format!(
             "<spacearm._core.JointLimitsInfo lower={} upper={} velocity={} effort={}>",
@@ -72,7 +72,7 @@ impl JointLimitsInfo {
 /// `rotation`.
 #[pyclass(module = "spacearm._core", name = "LinkInfo", frozen)]
 #[derive(Clone)]
-pub struct LinkInfo {
+pub struct PyLinkInfo {
     /// The link's name.
     #[pyo3(get)]
     name: String,
@@ -98,14 +98,14 @@ pub struct LinkInfo {
     inertia: Matrix3<f64>,
     /// The joint's limits.
     #[pyo3(get)]
-    limits: JointLimitsInfo,
+    limits: PyJointLimitsInfo,
     /// Index of the joint's coordinate in `q`; None for a fixed joint.
     #[pyo3(get)]
     dof: Option<usize>,
 }
 
 #[pymethods]
-impl LinkInfo {
+impl PyLinkInfo {
     /// (3,) m: joint position in the parent frame, measured from the parent's CM.
     #[getter]
     fn origin<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
@@ -147,7 +147,7 @@ impl LinkInfo {
 /// A named point fixed to a body (an end effector, a grasp point).
 #[pyclass(module = "spacearm._core", name = "PointInfo", frozen)]
 #[derive(Clone)]
-pub struct PointInfo {
+pub struct PyPointInfo {
     /// The point's name.
     #[pyo3(get)]
     name: String,
@@ -161,7 +161,7 @@ pub struct PointInfo {
 }
 
 #[pymethods]
-impl PointInfo {
+impl PyPointInfo {
     /// (3,) m: the point from the body's CM, in the body frame.
     #[getter]
     fn offset<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
@@ -176,15 +176,15 @@ impl PointInfo {
 /// A whole model: base, links in tree order (a parent before its children), named points, end
 /// effector and initial joint coordinates.
 #[pyclass(module = "spacearm._core", name = "ModelInfo", frozen)]
-pub struct ModelInfo {
+pub struct PyModelInfo {
     /// The model's name.
     #[pyo3(get)]
     name: String,
     /// The base (body 0).
     #[pyo3(get)]
-    base: BaseInfo,
-    links: Vec<LinkInfo>,
-    points: Vec<PointInfo>,
+    base: PyBaseInfo,
+    links: Vec<PyLinkInfo>,
+    points: Vec<PyPointInfo>,
     /// Name of the end-effector point, or None.
     #[pyo3(get)]
     end_effector: Option<String>,
@@ -192,7 +192,7 @@ pub struct ModelInfo {
 }
 
 #[pymethods]
-impl ModelInfo {
+impl PyModelInfo {
     /// The links in tree order (link `k` is body `k + 1`), a tuple of `LinkInfo`.
     #[getter]
     fn links<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
@@ -222,10 +222,10 @@ impl ModelInfo {
     }
 }
 
-impl ModelInfo {
+impl PyModelInfo {
     /// The description of `m`, field by field as the core holds it.
-    pub fn of(m: &core::Model) -> ModelInfo {
-        let base = BaseInfo { name: m.base_name().to_string(), mass: m.base().mass, inertia: m.base().inertia };
+    pub fn of(m: &core::Model) -> PyModelInfo {
+        let base = PyBaseInfo { name: m.base_name().to_string(), mass: m.base().mass, inertia: m.base().inertia };
         let links = m
             .links()
             .iter()
@@ -233,7 +233,7 @@ impl ModelInfo {
             .map(|(k, l)| {
                 let j = &l.joint;
                 let q = j.rotation_in_parent;
-                LinkInfo {
+                PyLinkInfo {
                     name: l.name.clone(),
                     parent: m.body_name(l.parent).to_string(),
                     parent_index: l.parent,
@@ -245,7 +245,7 @@ impl ModelInfo {
                     com: l.com_from_joint,
                     mass: l.mass.mass,
                     inertia: l.mass.inertia,
-                    limits: JointLimitsInfo {
+                    limits: PyJointLimitsInfo {
                         lower: j.limits.lower,
                         upper: j.limits.upper,
                         velocity: j.limits.velocity,
@@ -258,9 +258,9 @@ impl ModelInfo {
         let points = m
             .points()
             .iter()
-            .map(|p| PointInfo { name: p.name.clone(), body: m.body_name(p.body).to_string(), body_index: p.body, offset: p.offset })
+            .map(|p| PyPointInfo { name: p.name.clone(), body: m.body_name(p.body).to_string(), body_index: p.body, offset: p.offset })
             .collect();
-        ModelInfo {
+        PyModelInfo {
             name: m.name().to_string(),
             base,
             links,

@@ -83,7 +83,7 @@ macro_rules! rule_table {
 rule_table! {
     /// The simulation defaults (`SimOptions::default()`), read by `spacearm.simulate` and the
     /// other simulation entry points for their signatures.
-    SimDefaults, "SimDefaults" {
+    PySimDefaults, "SimDefaults" {
         /// Maneuvering mode name (one of `_core.MODES`).
         mode: &'static str,
         /// Integrator name (one of `_core.INTEGRATORS`).
@@ -106,7 +106,7 @@ rule_table! {
 rule_table! {
     /// The physical bounds of every model (docs/model-format.md, rule 10 and 11), the same at
     /// every door that makes a model.
-    ModelBounds, "ModelBounds" {
+    PyModelBounds, "ModelBounds" {
         /// Smallest non-zero mass of a body, kg (`MIN_MASS` in `model/body.rs`).
         min_mass: f64,
         /// Largest mass of a body, kg (`MAX_MASS`).
@@ -122,7 +122,7 @@ rule_table! {
 rule_table! {
     /// The default damped-least-squares law (`math/dls.rs`, `DampingLaw::default()`), taken by
     /// every controller and analysis that damps unless told otherwise.
-    DlsDefaults, "DlsDefaults" {
+    PyDlsDefaults, "DlsDefaults" {
         /// Size ε of the singular region, in the units of σ (m/rad for position rows).
         threshold: f64,
         /// Damping λ_max at the singularity itself, in the units of σ.
@@ -133,7 +133,7 @@ rule_table! {
 /// Add the three tables to the extension module (their classes are registered in `lib.rs`).
 pub fn add_tables(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let d = SimOptions::default();
-    let sim = SimDefaults {
+    let sim = PySimDefaults {
         mode: d.mode.name(),
         integrator: d.integrator.name(),
         dt: d.dt,
@@ -144,7 +144,7 @@ pub fn add_tables(m: &Bound<'_, PyModule>) -> PyResult<()> {
         max_steps: d.max_steps,
     };
     m.add("SIM_DEFAULTS", sim)?;
-    let bounds = ModelBounds {
+    let bounds = PyModelBounds {
         min_mass: body::MIN_MASS,
         max_mass: body::MAX_MASS,
         max_length: validate::MAX_LENGTH,
@@ -152,6 +152,6 @@ pub fn add_tables(m: &Bound<'_, PyModule>) -> PyResult<()> {
     };
     m.add("MODEL_BOUNDS", bounds)?;
     let law = DampingLaw::default();
-    m.add("DLS_DEFAULTS", DlsDefaults { threshold: law.threshold, max_damping: law.max_damping })?;
+    m.add("DLS_DEFAULTS", PyDlsDefaults { threshold: law.threshold, max_damping: law.max_damping })?;
     Ok(())
 }
