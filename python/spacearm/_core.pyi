@@ -68,17 +68,23 @@ class ModelBuilder:
 # docs/conventions.md ("A model's frames, concretely").
 
 class BaseInfo:
+    """The spacecraft base (body 0); its frame has its origin at the base CM."""
+
     name: str
     mass: float  # kg
     inertia: Vec  # (3, 3) kg·m², about the base CM in base-frame axes
 
 class JointLimitsInfo:
+    """A joint's limits; absent bounds are infinite."""
+
     lower: float  # rad or m; -inf when unbounded
     upper: float  # rad or m; inf when unbounded
     velocity: float  # rad/s or m/s; inf when unbounded
     effort: float  # N·m or N; inf when unbounded
 
 class LinkInfo:
+    """One link (the k-th is body k + 1) and the joint to its parent; its frame has its origin at its CM."""
+
     name: str
     parent: str  # the parent body's name
     parent_index: int  # the parent body's index (0 = base)
@@ -94,12 +100,16 @@ class LinkInfo:
     dof: Optional[int]  # index in q; None for a fixed joint
 
 class PointInfo:
+    """A named point fixed to a body."""
+
     name: str
     body: str  # the carrying body's name
     body_index: int  # the carrying body's index (0 = base)
     offset: Vec  # (3,) m, from the body's CM in the body frame
 
 class ModelInfo:
+    """What Model.describe() returns: the whole model as the core holds it."""
+
     name: str
     base: BaseInfo
     links: tuple[LinkInfo, ...]  # tree order: link k is body k + 1
@@ -155,6 +165,8 @@ class Model:
 # field names (keys(), t[name], dict(t), **t, == a dict).
 
 class SimDefaults:
+    """The simulation defaults (SimOptions::default())."""
+
     mode: str  # one of MODES
     integrator: str  # one of INTEGRATORS
     dt: float  # s: the RK4 step, the DOPRI5 output interval
@@ -167,6 +179,8 @@ class SimDefaults:
     def __getitem__(self, key: str) -> Any: ...
 
 class ModelBounds:
+    """The physical bounds of every model (docs/model-format.md, rules 10-11)."""
+
     min_mass: float  # kg, smallest non-zero body mass
     max_mass: float  # kg
     max_length: float  # m, largest |component| of a joint origin, CM or point offset
@@ -175,6 +189,8 @@ class ModelBounds:
     def __getitem__(self, key: str) -> float: ...
 
 class DlsDefaults:
+    """The default damped-least-squares law (math/dls.rs)."""
+
     threshold: float  # ε, size of the singular region (units of σ)
     max_damping: float  # λ_max, damping at the singularity (units of σ)
     def keys(self) -> list[str]: ...

@@ -35,7 +35,7 @@ impl PyBaseInfo {
     }
 
     fn __repr__(&self) -> String {
-        format!("<spacearm._core.BaseInfo '{}': mass float, inertia (3, 3)>", self.name)
+        format!("<spacearm._core.BaseInfo '{}': mass {} kg, inertia (3, 3)>", self.name, self.mass)
     }
 }
 
