@@ -63,6 +63,60 @@ class ModelBuilder:
     def set_initial_q(self, q: Sequence[float]) -> None: ...
     def build(self) -> Model: ...
 
+# ---- the model's description (crates/spacearm-py/src/description_py.rs) ---------------------
+# Frozen snapshots; every array attribute is a new array at each access. Frames and units:
+# docs/conventions.md ("A model's frames, concretely").
+
+class BaseInfo:
+    """The spacecraft base (body 0); its frame has its origin at the base CM."""
+
+    name: str
+    mass: float  # kg
+    inertia: Vec  # (3, 3) kg·m², about the base CM in base-frame axes
+
+class JointLimitsInfo:
+    """A joint's limits; absent bounds are infinite."""
+
+    lower: float  # rad or m; -inf when unbounded
+    upper: float  # rad or m; inf when unbounded
+    velocity: float  # rad/s or m/s; inf when unbounded
+    effort: float  # N·m or N; inf when unbounded
+
+class LinkInfo:
+    """One link (the k-th is body k + 1) and the joint to its parent; its frame has its origin at its CM."""
+
+    name: str
+    parent: str  # the parent body's name
+    parent_index: int  # the parent body's index (0 = base)
+    joint: str
+    type: str  # "revolute", "prismatic" or "fixed"
+    origin: Vec  # (3,) m, joint position in the parent frame, from the parent's CM
+    rotation: Vec  # (4,) [x, y, z, w], link frame in the parent frame at q = 0
+    axis: Vec  # (3,) unit joint axis in the link frame
+    com: Vec  # (3,) m, the link's CM from its joint, in the link frame
+    mass: float  # kg
+    inertia: Vec  # (3, 3) kg·m², about the link's CM in link-frame axes
+    limits: JointLimitsInfo
+    dof: Optional[int]  # index in q; None for a fixed joint
+
+class PointInfo:
+    """A named point fixed to a body."""
+
+    name: str
+    body: str  # the carrying body's name
+    body_index: int  # the carrying body's index (0 = base)
+    offset: Vec  # (3,) m, from the body's CM in the body frame
+
+class ModelInfo:
+    """What Model.describe() returns: the whole model as the core holds it."""
+
+    name: str
+    base: BaseInfo
+    links: tuple[LinkInfo, ...]  # tree order: link k is body k + 1
+    points: tuple[PointInfo, ...]
+    end_effector: Optional[str]
+    initial_q: Vec  # (N,) rad or m per joint type
+
 class Model:
     name: str
     n_dof: int
@@ -77,7 +131,7 @@ class Model:
     body_of_dof: list[int]
     def body_index(self, name: str) -> int: ...
     def point(self, name: str) -> tuple[int, list[float]]: ...
-    def describe(self) -> dict: ...
+    def describe(self) -> ModelInfo: ...
     def joint_types(self) -> list[str]: ...
     # Every method below takes one state (1-D arrays) or a batch (a 2-D x, one state per row;
     # the other vectors with as many rows or one row for all) and then returns its results with
@@ -105,6 +159,54 @@ class Model:
     def momentum(self, x: ArrayLike, u: ArrayLike) -> tuple[Vec, Vec, Vec, Vec]: ...
     def kinetic_energy(self, x: ArrayLike, u: ArrayLike) -> Union[float, Vec]: ...
     def center_of_mass(self, x: ArrayLike) -> Vec: ...
+
+# ---- the core's rules and defaults (crates/spacearm-py/src/rules_py.rs, rule_tables_py.rs) -----
+# The tables are frozen instances with typed attributes; each is also a read-only mapping of its
+# field names (keys(), t[name], dict(t), **t, == a dict).
+
+class SimDefaults:
+    """The simulation defaults (SimOptions::default())."""
+
+    mode: str  # one of MODES
+    integrator: str  # one of INTEGRATORS
+    dt: float  # s: the RK4 step, the DOPRI5 output interval
+    rtol: float  # DOPRI5 relative tolerance
+    atol: float  # DOPRI5 absolute tolerance
+    record_every: int  # RK4: keep every k-th step
+    joint_limits: bool  # whether the joints' effort and velocity limits apply
+    max_steps: int  # largest number of attempted DOPRI5 steps
+    def keys(self) -> list[str]: ...
+    def __getitem__(self, key: str) -> Any: ...
+
+class ModelBounds:
+    """The physical bounds of every model (docs/model-format.md, rules 10-11)."""
+
+    min_mass: float  # kg, smallest non-zero body mass
+    max_mass: float  # kg
+    max_length: float  # m, largest |component| of a joint origin, CM or point offset
+    max_inertia_entry: float  # kg·m², largest |inertia entry|
+    def keys(self) -> list[str]: ...
+    def __getitem__(self, key: str) -> float: ...
+
+class DlsDefaults:
+    """The default damped-least-squares law (math/dls.rs)."""
+
+    threshold: float  # ε, size of the singular region (units of σ)
+    max_damping: float  # λ_max, damping at the singularity (units of σ)
+    def keys(self) -> list[str]: ...
+    def __getitem__(self, key: str) -> float: ...
+
+MODES: list[str]
+INTEGRATORS: list[str]
+SIM_DEFAULTS: SimDefaults
+MODEL_BOUNDS: ModelBounds
+DLS_DEFAULTS: DlsDefaults
+QUATERNION_TOLERANCE: float
+MEMORY_LIMIT_BYTES: int
+def quintic_scaling(t: Vec, t_start: float, t_end: float) -> tuple[Vec, Vec, Vec]: ...
+def body_mass_properties_error(
+    who: str, mass: float, inertia: Sequence[Sequence[float]], *, triangle_inequality: bool = True
+) -> Optional[tuple[str, str]]: ...  # None, or ("mass" | "inertia", the core's message naming `who`)
 
 def set_batch_threads(threads: Optional[int] = None) -> None: ...
 def batch_threads() -> int: ...

@@ -259,9 +259,9 @@ class ResolvedMotionRate(_Controller):
 
     reference_cartesian: CartesianLine
     gain: float
-    max_damping: float = _core.DLS_DEFAULTS["max_damping"]
+    max_damping: float = _core.DLS_DEFAULTS.max_damping
     point: Any = None
-    threshold: float = _core.DLS_DEFAULTS["threshold"]
+    threshold: float = _core.DLS_DEFAULTS.threshold
     velocity_gain: float = 50.0
 
     def _spec(self, robot) -> _core.RmrcSpec:
@@ -386,8 +386,8 @@ class CoordinatedFlying(_Controller):
     kp_base: float = 25.0
     kd_base: float = 10.0
     point: Any = None
-    max_damping: float = _core.DLS_DEFAULTS["max_damping"]
-    threshold: float = _core.DLS_DEFAULTS["threshold"]
+    max_damping: float = _core.DLS_DEFAULTS.max_damping
+    threshold: float = _core.DLS_DEFAULTS.threshold
 
     def _spec(self, robot) -> _core.CoordinatedFlyingSpec:
         if not isinstance(self.ee_reference, CartesianLine):
