@@ -1,7 +1,7 @@
 """Type stub of the private extension ``spacearm._core`` (PyO3). Users call
 :class:`spacearm.Robot`, which wraps :class:`Model`; this stub documents the boundary."""
 
-from typing import Any, Optional, Sequence, Union
+from typing import Any, Callable, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -63,6 +63,60 @@ class ModelBuilder:
     def set_initial_q(self, q: Sequence[float]) -> None: ...
     def build(self) -> Model: ...
 
+# ---- the model's description (crates/spacearm-py/src/description_py.rs) ---------------------
+# Frozen snapshots; every array attribute is a new array at each access. Frames and units:
+# docs/conventions.md ("A model's frames, concretely").
+
+class BaseInfo:
+    """The spacecraft base (body 0); its frame has its origin at the base CM."""
+
+    name: str
+    mass: float  # kg
+    inertia: Vec  # (3, 3) kg·m², about the base CM in base-frame axes
+
+class JointLimitsInfo:
+    """A joint's limits; absent bounds are infinite."""
+
+    lower: float  # rad or m; -inf when unbounded
+    upper: float  # rad or m; inf when unbounded
+    velocity: float  # rad/s or m/s; inf when unbounded
+    effort: float  # N·m or N; inf when unbounded
+
+class LinkInfo:
+    """One link (the k-th is body k + 1) and the joint to its parent; its frame has its origin at its CM."""
+
+    name: str
+    parent: str  # the parent body's name
+    parent_index: int  # the parent body's index (0 = base)
+    joint: str
+    type: str  # "revolute", "prismatic" or "fixed"
+    origin: Vec  # (3,) m, joint position in the parent frame, from the parent's CM
+    rotation: Vec  # (4,) [x, y, z, w], link frame in the parent frame at q = 0
+    axis: Vec  # (3,) unit joint axis in the link frame
+    com: Vec  # (3,) m, the link's CM from its joint, in the link frame
+    mass: float  # kg
+    inertia: Vec  # (3, 3) kg·m², about the link's CM in link-frame axes
+    limits: JointLimitsInfo
+    dof: Optional[int]  # index in q; None for a fixed joint
+
+class PointInfo:
+    """A named point fixed to a body."""
+
+    name: str
+    body: str  # the carrying body's name
+    body_index: int  # the carrying body's index (0 = base)
+    offset: Vec  # (3,) m, from the body's CM in the body frame
+
+class ModelInfo:
+    """What Model.describe() returns: the whole model as the core holds it."""
+
+    name: str
+    base: BaseInfo
+    links: tuple[LinkInfo, ...]  # tree order: link k is body k + 1
+    points: tuple[PointInfo, ...]
+    end_effector: Optional[str]
+    initial_q: Vec  # (N,) rad or m per joint type
+
 class Model:
     name: str
     n_dof: int
@@ -77,7 +131,7 @@ class Model:
     body_of_dof: list[int]
     def body_index(self, name: str) -> int: ...
     def point(self, name: str) -> tuple[int, list[float]]: ...
-    def describe(self) -> dict: ...
+    def describe(self) -> ModelInfo: ...
     def joint_types(self) -> list[str]: ...
     # Every method below takes one state (1-D arrays) or a batch (a 2-D x, one state per row;
     # the other vectors with as many rows or one row for all) and then returns its results with
@@ -105,6 +159,54 @@ class Model:
     def momentum(self, x: ArrayLike, u: ArrayLike) -> tuple[Vec, Vec, Vec, Vec]: ...
     def kinetic_energy(self, x: ArrayLike, u: ArrayLike) -> Union[float, Vec]: ...
     def center_of_mass(self, x: ArrayLike) -> Vec: ...
+
+# ---- the core's rules and defaults (crates/spacearm-py/src/rules_py.rs, rule_tables_py.rs) -----
+# The tables are frozen instances with typed attributes; each is also a read-only mapping of its
+# field names (keys(), t[name], dict(t), **t, == a dict).
+
+class SimDefaults:
+    """The simulation defaults (SimOptions::default())."""
+
+    mode: str  # one of MODES
+    integrator: str  # one of INTEGRATORS
+    dt: float  # s: the RK4 step, the DOPRI5 output interval
+    rtol: float  # DOPRI5 relative tolerance
+    atol: float  # DOPRI5 absolute tolerance
+    record_every: int  # RK4: keep every k-th step
+    joint_limits: bool  # whether the joints' effort and velocity limits apply
+    max_steps: int  # largest number of attempted DOPRI5 steps
+    def keys(self) -> list[str]: ...
+    def __getitem__(self, key: str) -> Any: ...
+
+class ModelBounds:
+    """The physical bounds of every model (docs/model-format.md, rules 10-11)."""
+
+    min_mass: float  # kg, smallest non-zero body mass
+    max_mass: float  # kg
+    max_length: float  # m, largest |component| of a joint origin, CM or point offset
+    max_inertia_entry: float  # kg·m², largest |inertia entry|
+    def keys(self) -> list[str]: ...
+    def __getitem__(self, key: str) -> float: ...
+
+class DlsDefaults:
+    """The default damped-least-squares law (math/dls.rs)."""
+
+    threshold: float  # ε, size of the singular region (units of σ)
+    max_damping: float  # λ_max, damping at the singularity (units of σ)
+    def keys(self) -> list[str]: ...
+    def __getitem__(self, key: str) -> float: ...
+
+MODES: list[str]
+INTEGRATORS: list[str]
+SIM_DEFAULTS: SimDefaults
+MODEL_BOUNDS: ModelBounds
+DLS_DEFAULTS: DlsDefaults
+QUATERNION_TOLERANCE: float
+MEMORY_LIMIT_BYTES: int
+def quintic_scaling(t: Vec, t_start: float, t_end: float) -> tuple[Vec, Vec, Vec]: ...
+def body_mass_properties_error(
+    who: str, mass: float, inertia: Sequence[Sequence[float]], *, triangle_inequality: bool = True
+) -> Optional[tuple[str, str]]: ...  # None, or ("mass" | "inertia", the core's message naming `who`)
 
 def set_batch_threads(threads: Optional[int] = None) -> None: ...
 def batch_threads() -> int: ...
@@ -247,6 +349,205 @@ class RmrcOptions:
                  manipulability_gain: float = 0.0, joint_limit_gain: float = 0.0) -> None: ...
 def analysis_rmrc_rates(m: Model, x: ArrayLike, body: int, offset: Vec, desired_twist: Vec, options: RmrcOptions) -> RmrcRates: ...
 def analysis_move_to(m: Model, x0: ArrayLike, body: int, offset: Vec, target: Vec, duration: float, settle: float, dt: float, options: RmrcOptions) -> RmrcMotion: ...
+# ---- simulation inputs (crates/spacearm-py/src/sim_options_py.rs, controller_spec_py.rs) ------
+# Frozen, keyword-only; checked when built; an unknown keyword is an ArgumentError.
+class ThrusterLimits:
+    """Base thruster limits per axis of the inertial frame (> 0; inf: no limit)."""
+    def __init__(self, *, max_force: ArrayLike, max_torque: ArrayLike) -> None: ...
+    @property
+    def max_force(self) -> Vec:
+        """Shape (3,), N."""
+    @property
+    def max_torque(self) -> Vec:
+        """Shape (3,), N·m."""
+
+class RunOptions:
+    """The options of simulate, rollout and Simulator; a keyword left out or None keeps the
+    core's default (SIM_DEFAULTS)."""
+    def __init__(
+        self,
+        *,
+        mode: Optional[str] = None,
+        integrator: Optional[str] = None,
+        dt: Optional[float] = None,
+        rtol: Optional[float] = None,
+        atol: Optional[float] = None,
+        record_every: Optional[int] = None,
+        wheels: Optional[Sequence[int]] = None,
+        thrusters: Optional[ThrusterLimits] = None,
+        joint_limits: Optional[bool] = None,
+        max_steps: Optional[int] = None,
+        progress: Optional[Callable[[float], Any]] = None,
+        record_dtype: Optional[str] = None,
+    ) -> None: ...
+    @property
+    def mode(self) -> str: ...
+    @property
+    def integrator(self) -> str: ...
+    @property
+    def dt(self) -> float:
+        """s (RK4 step; DOPRI5 output interval)."""
+    @property
+    def rtol(self) -> float: ...
+    @property
+    def atol(self) -> float: ...
+    @property
+    def record_every(self) -> int: ...
+    @property
+    def wheels(self) -> Optional[list[int]]:
+        """Reaction-wheel dofs; None: those the model's structure shows."""
+    @property
+    def thrusters(self) -> Optional[ThrusterLimits]: ...
+    @property
+    def joint_limits(self) -> bool: ...
+    @property
+    def max_steps(self) -> int: ...
+    @property
+    def progress(self) -> Optional[Callable[[float], Any]]: ...
+    @property
+    def record_dtype(self) -> str:
+        """"float64" or "float32"."""
+
+class JointReference:
+    """A joint-space reference of the arm joints: a rest-to-rest quintic or a constant."""
+    @staticmethod
+    def quintic(*, q_start: ArrayLike, q_goal: ArrayLike, t_start: float, t_end: float) -> JointReference: ...
+    @staticmethod
+    def constant(*, q: ArrayLike) -> JointReference: ...
+    @property
+    def kind(self) -> str:
+        """"quintic" or "constant"."""
+    @property
+    def q_start(self) -> Vec:
+        """Shape (n,), rad or m (a constant's set point)."""
+    @property
+    def q_goal(self) -> Vec:
+        """Shape (n,), rad or m (a constant's set point)."""
+    @property
+    def t_start(self) -> Optional[float]:
+        """s; None for a constant."""
+    @property
+    def t_end(self) -> Optional[float]:
+        """s; None for a constant."""
+
+class CartesianReference:
+    """A straight line of a point in the inertial frame with quintic timing."""
+    def __init__(self, *, p_start: ArrayLike, p_goal: ArrayLike, t_start: float, t_end: float) -> None: ...
+    @property
+    def p_start(self) -> Vec:
+        """Shape (3,), m, inertial frame."""
+    @property
+    def p_goal(self) -> Vec:
+        """Shape (3,), m, inertial frame."""
+    @property
+    def t_start(self) -> float: ...
+    @property
+    def t_end(self) -> float: ...
+
+class ZeroTorqueSpec:
+    """No control: zero joint torques, no base wrench."""
+    def __init__(self) -> None: ...
+
+class JointPdSpec:
+    """Joint PD on the arm joints."""
+    def __init__(self, *, kp: Sequence[float], kd: Sequence[float], reference: JointReference) -> None: ...
+    kp: list[float]  # N·m/rad, one or one per arm joint (read-only)
+    kd: list[float]  # N·m·s/rad (read-only)
+    @property
+    def reference(self) -> JointReference: ...
+
+class ComputedTorqueSpec:
+    """Computed torque on the reduced equations of motion (paper eqs. 112-115)."""
+    def __init__(self, *, kp: Sequence[float], kd: Sequence[float], reference: JointReference, model: Optional[Model] = None) -> None: ...
+    kp: list[float]  # 1/s², one or one per arm joint (read-only)
+    kd: list[float]  # 1/s (read-only)
+    @property
+    def reference(self) -> JointReference: ...
+    @property
+    def has_model(self) -> bool:
+        """Whether the controller has a model of its own (else the plant's)."""
+
+class RmrcSpec:
+    """Resolved-motion-rate control of a point through J* (paper eq. 110), damped least squares."""
+    def __init__(self, *, reference: CartesianReference, gain: float, damping: float, threshold: float, velocity_gain: float,
+                 body: int, offset: ArrayLike) -> None: ...
+    gain: float  # 1/s (read-only)
+    damping: float  # m, the largest damping (read-only)
+    threshold: float  # m (read-only)
+    velocity_gain: float  # 1/s (read-only)
+    body: int  # (read-only)
+    @property
+    def reference(self) -> CartesianReference: ...
+    @property
+    def offset(self) -> Vec:
+        """Shape (3,), m, in the body's frame."""
+
+class CoordinatedFlyingSpec:
+    """Coordinated base-and-arm control in the flying mode."""
+    def __init__(self, *, reference: CartesianReference, body: int, offset: ArrayLike, kp_ee: float, kd_ee: float, kp_base: float,
+                 kd_base: float, damping: float, threshold: float, base_position: Optional[ArrayLike] = None,
+                 base_quat: Optional[ArrayLike] = None) -> None: ...
+    body: int  # (read-only)
+    damping: float  # m (read-only)
+    threshold: float  # m (read-only)
+    @property
+    def reference(self) -> CartesianReference: ...
+    @property
+    def offset(self) -> Vec:
+        """Shape (3,), m, in the body's frame."""
+    @property
+    def base_position(self) -> Optional[Vec]:
+        """Shape (3,), m, inertial frame; None: the initial one."""
+    @property
+    def base_quat(self) -> Optional[Vec]:
+        """Shape (4,), [x, y, z, w]; None: the initial one."""
+    @property
+    def kp_ee(self) -> float: ...
+    @property
+    def kd_ee(self) -> float: ...
+    @property
+    def kp_base(self) -> float: ...
+    @property
+    def kd_base(self) -> float: ...
+
+class BaseThrustersSpec:
+    """Base regulation by thrusters (system CM position, base attitude)."""
+    def __init__(self, *, kp_position: float, kd_position: float, kp_attitude: float, kd_attitude: float,
+                 com_ref: Optional[ArrayLike] = None, quat_ref: Optional[ArrayLike] = None) -> None: ...
+    kp_position: float  # 1/s² (read-only)
+    kd_position: float  # 1/s (read-only)
+    kp_attitude: float  # N·m/rad (read-only)
+    kd_attitude: float  # N·m·s/rad (read-only)
+    @property
+    def com_ref(self) -> Optional[Vec]:
+        """Shape (3,), m, inertial frame; None: the initial CM."""
+    @property
+    def quat_ref(self) -> Optional[Vec]:
+        """Shape (4,), [x, y, z, w]; None: the initial attitude."""
+
+class AttitudeSpec:
+    """Base attitude control with reaction wheels."""
+    def __init__(self, *, quat_ref: ArrayLike, kp: float, kd: float) -> None: ...
+    kp: float  # N·m/rad (read-only)
+    kd: float  # N·m·s/rad (read-only)
+    @property
+    def quat_ref(self) -> Vec:
+        """Shape (4,), [x, y, z, w]."""
+
+ControllerSpec = Union[ZeroTorqueSpec, JointPdSpec, ComputedTorqueSpec, RmrcSpec, CoordinatedFlyingSpec, BaseThrustersSpec, AttitudeSpec,
+                       "CombinedSpec", "CallbackSpec"]
+
+class CombinedSpec:
+    """An arm controller and a base controller; the base runs first."""
+    def __init__(self, *, arm: ControllerSpec, base: ControllerSpec) -> None: ...
+    arm: ControllerSpec  # (read-only)
+    base: ControllerSpec  # (read-only)
+
+class CallbackSpec:
+    """A Python controller fn(t, x, u) -> tau or (tau, base_wrench), called at every stage."""
+    def __init__(self, *, fn: Callable[[float, Vec, Vec], Any]) -> None: ...
+    fn: Callable[[float, Vec, Vec], Any]  # (read-only)
+
 # ---- simulation (crates/spacearm-py/src/simulate_py.rs) --------------------------------------
 # ---- results of a run (crates/spacearm-py/src/records_py.rs) ------------------------------------
 #: A recorded array: float64, or float32 when the run asked for it (``t`` is always float64).
@@ -331,16 +632,11 @@ def simulate(
     x0: ArrayLike,
     u0: ArrayLike,
     duration: float,
-    options: dict,
-    controller_spec: Optional[dict] = None,
+    options: RunOptions,
+    controller_spec: Optional[ControllerSpec] = None,
 ) -> RunResult:
-    """Run the native simulation loop. ``options`` keys: mode, integrator, dt, rtol, atol,
-    record_every, wheels (dof list or None), thrusters ({max_force, max_torque} or None),
-    joint_limits, max_steps, progress (callable or None), record_dtype ("float64" or "float32").
-    Runs without the GIL; the records are handed to numpy without a copy. ``controller_spec``: a dict with a
-    ``type`` ("none", "joint_pd", "computed_torque", "rmrc", "attitude", "base_thrusters",
-    "coordinated_flying", "combined", "callback") built by ``spacearm.control``. Returns the
-    records, saturation onsets and description of the run."""
+    """Run the native simulation loop (None: no control). Runs without the GIL; the records are
+    handed to numpy without a copy. Returns the records, saturation onsets and description of the run."""
     ...
 
 def rollout(
@@ -348,21 +644,21 @@ def rollout(
     x0: Vec,
     u0: Vec,
     duration: float,
-    options: dict,
-    controllers: Optional[Union[dict, list[dict]]] = None,
+    options: RunOptions,
+    controllers: Optional[Union[ControllerSpec, list[ControllerSpec]]] = None,
     threads: Optional[int] = None,
 ) -> RolloutBatch:
     """Run B rollouts on native threads without the GIL (crates/spacearm-py/src/rollout_py.rs).
     ``models``: one model or one per rollout; ``x0`` (B, 7+N), ``u0`` (B, 6+N) float64;
-    ``options`` as for :func:`simulate` (``progress`` ignored); ``controllers``: one spec (an
-    instance per rollout) or a list of B. Returns the records with a leading B axis (NaN rows for
+    ``options`` as for :func:`simulate` (``progress`` ignored); ``controllers``: one spec (a
+    controller built per rollout) or a list of B. Returns the records with a leading B axis (NaN rows for
     a failed rollout) and each rollout's status, description and saturation onsets."""
     ...
 
 class Simulator:
     """RK4 stepping of a plant from Python (crates/spacearm-py/src/simulator_py.rs)."""
 
-    def __init__(self, model: Model, options: dict, controller_spec: Optional[dict] = None, record_every: Optional[int] = None) -> None: ...
+    def __init__(self, model: Model, options: RunOptions, controller_spec: Optional[ControllerSpec] = None, record_every: Optional[int] = None) -> None: ...
     def reset(self, x0: ArrayLike, u0: ArrayLike) -> None: ...
     def step(self, tau: Optional[ArrayLike] = None, n: int = 1, base_wrench: Optional[ArrayLike] = None) -> None: ...
     @property

@@ -110,8 +110,8 @@ class QuinticJoint:
         s, sd, sdd = (np.asarray(v)[..., None] for v in (s, sd, sdd))
         return self.q_start + s * delta, sd * delta, sdd * delta
 
-    def _spec(self) -> dict:
-        return {"type": "quintic_joint", "q_start": self.q_start, "q_goal": self.q_goal, "t_start": self.t_start, "t_end": self.t_end}
+    def _spec(self) -> _core.JointReference:
+        return _core.JointReference.quintic(q_start=self.q_start, q_goal=self.q_goal, t_start=self.t_start, t_end=self.t_end)
 
 
 @dataclass(frozen=True)
@@ -148,11 +148,11 @@ class CartesianLine:
         s, sd, sdd = (np.asarray(v)[..., None] for v in (s, sd, sdd))
         return self.p_start + s * delta, sd * delta, sdd * delta
 
-    def _spec(self) -> dict:
-        return {"type": "cartesian_line", "p_start": self.p_start, "p_goal": self.p_goal, "t_start": self.t_start, "t_end": self.t_end}
+    def _spec(self) -> _core.CartesianReference:
+        return _core.CartesianReference(p_start=self.p_start, p_goal=self.p_goal, t_start=self.t_start, t_end=self.t_end)
 
 
-def _joint_reference(ref, name: str) -> dict:
+def _joint_reference(ref, name: str) -> _core.JointReference:
     if isinstance(ref, QuinticJoint):
         return ref._spec()
     if isinstance(ref, CartesianLine):
@@ -160,7 +160,7 @@ def _joint_reference(ref, name: str) -> dict:
     q = vector(ref, f"{name} reference")
     if not np.all(np.isfinite(q)):
         raise ArgumentError(f"{name} reference must be finite, got {q}")
-    return {"type": "constant_joint", "q": q}
+    return _core.JointReference.constant(q=q)
 
 
 # ---- actuators -------------------------------------------------------------------------------
@@ -173,7 +173,7 @@ class Thrusters:
     max_force: Union[float, Sequence[float]] = math.inf
     max_torque: Union[float, Sequence[float]] = math.inf
 
-    def _spec(self) -> dict:
+    def _spec(self) -> _core.ThrusterLimits:
         out = {}
         for key in ("max_force", "max_torque"):
             value = getattr(self, key)
@@ -184,12 +184,12 @@ class Thrusters:
             if not np.all(v > 0):
                 raise ArgumentError(f"Thrusters {key} must be > 0 on every axis (inf for no limit), got {v}")
             out[key] = v
-        return out
+        return _core.ThrusterLimits(**out)
 
 
 # ---- controllers -----------------------------------------------------------------------------
 class _Controller:
-    def _spec(self, robot) -> dict:  # pragma: no cover - every subclass overrides
+    def _spec(self, robot):  # pragma: no cover - every subclass overrides
         raise NotImplementedError
 
 
@@ -205,8 +205,8 @@ class JointPD(_Controller):
     kd: Any
     reference: Any
 
-    def _spec(self, robot) -> dict:
-        return {"type": "joint_pd", "kp": _gains(self.kp, "kp"), "kd": _gains(self.kd, "kd"), "reference": _joint_reference(self.reference, "JointPD")}
+    def _spec(self, robot) -> _core.JointPdSpec:
+        return _core.JointPdSpec(kp=_gains(self.kp, "kp"), kd=_gains(self.kd, "kd"), reference=_joint_reference(self.reference, "JointPD"))
 
 
 @dataclass(frozen=True)
@@ -226,15 +226,17 @@ class ComputedTorque(_Controller):
     reference: Any
     model: Any = None
 
-    def _spec(self, robot) -> dict:
-        spec = {"type": "computed_torque", "kp": _gains(self.kp, "kp"), "kd": _gains(self.kd, "kd"), "reference": _joint_reference(self.reference, "ComputedTorque")}
+    def _spec(self, robot) -> _core.ComputedTorqueSpec:
+        kp, kd = _gains(self.kp, "kp"), _gains(self.kd, "kd")
+        reference = _joint_reference(self.reference, "ComputedTorque")
+        model = None
         if self.model is not None:
             from .model.robot import Robot
 
             if not isinstance(self.model, Robot):
                 raise ArgumentError(f"ComputedTorque model must be a spacearm.Robot, got {type(self.model).__name__}")
-            spec["model"] = self.model._m
-        return spec
+            model = self.model._m
+        return _core.ComputedTorqueSpec(kp=kp, kd=kd, reference=reference, model=model)
 
 
 @dataclass(frozen=True)
@@ -257,26 +259,25 @@ class ResolvedMotionRate(_Controller):
 
     reference_cartesian: CartesianLine
     gain: float
-    max_damping: float = _core.DLS_DEFAULTS["max_damping"]
+    max_damping: float = _core.DLS_DEFAULTS.max_damping
     point: Any = None
-    threshold: float = _core.DLS_DEFAULTS["threshold"]
+    threshold: float = _core.DLS_DEFAULTS.threshold
     velocity_gain: float = 50.0
 
-    def _spec(self, robot) -> dict:
+    def _spec(self, robot) -> _core.RmrcSpec:
         if not isinstance(self.reference_cartesian, CartesianLine):
             raise ArgumentError(f"ResolvedMotionRate needs a CartesianLine reference, got {type(self.reference_cartesian).__name__}")
         point = self.point if self.point is not None else self.reference_cartesian.point
         body, offset = robot._point(point)
-        return {
-            "type": "rmrc",
-            "reference": self.reference_cartesian._spec(),
-            "gain": _finite_float(self.gain, "ResolvedMotionRate gain"),
-            "damping": _finite_float(self.max_damping, "ResolvedMotionRate max_damping"),
-            "threshold": _finite_float(self.threshold, "ResolvedMotionRate threshold"),
-            "velocity_gain": _finite_float(self.velocity_gain, "ResolvedMotionRate velocity_gain"),
-            "body": int(body),
-            "offset": np.asarray(offset, dtype=float),
-        }
+        return _core.RmrcSpec(
+            reference=self.reference_cartesian._spec(),
+            gain=_finite_float(self.gain, "ResolvedMotionRate gain"),
+            damping=_finite_float(self.max_damping, "ResolvedMotionRate max_damping"),
+            threshold=_finite_float(self.threshold, "ResolvedMotionRate threshold"),
+            velocity_gain=_finite_float(self.velocity_gain, "ResolvedMotionRate velocity_gain"),
+            body=int(body),
+            offset=np.asarray(offset, dtype=float),
+        )
 
 
 @dataclass(frozen=True)
@@ -296,9 +297,9 @@ class AttitudeControl(_Controller):
     kp: float
     kd: float
 
-    def _spec(self, robot) -> dict:
+    def _spec(self, robot) -> _core.AttitudeSpec:
         q = quaternion(self.quat_ref, "AttitudeControl quat_ref")
-        return {"type": "attitude", "quat_ref": q, "kp": _finite_float(self.kp, "AttitudeControl kp"), "kd": _finite_float(self.kd, "AttitudeControl kd")}
+        return _core.AttitudeSpec(quat_ref=q, kp=_finite_float(self.kp, "AttitudeControl kp"), kd=_finite_float(self.kd, "AttitudeControl kd"))
 
 
 @dataclass(frozen=True)
@@ -322,15 +323,11 @@ class BaseThrusterControl(_Controller):
     kp_attitude: float = 0.0
     kd_attitude: float = 0.0
 
-    def _spec(self, robot) -> dict:
-        spec = {"type": "base_thrusters"}
-        for key in ("kp_position", "kd_position", "kp_attitude", "kd_attitude"):
-            spec[key] = _finite_float(getattr(self, key), f"BaseThrusterControl {key}")
-        if self.com_ref is not None:
-            spec["com_ref"] = vector(self.com_ref, "BaseThrusterControl com_ref", 3)
-        if self.quat_ref is not None:
-            spec["quat_ref"] = quaternion(self.quat_ref, "BaseThrusterControl quat_ref")
-        return spec
+    def _spec(self, robot) -> _core.BaseThrustersSpec:
+        gains = {key: _finite_float(getattr(self, key), f"BaseThrusterControl {key}") for key in ("kp_position", "kd_position", "kp_attitude", "kd_attitude")}
+        com_ref = None if self.com_ref is None else vector(self.com_ref, "BaseThrusterControl com_ref", 3)
+        quat_ref = None if self.quat_ref is None else quaternion(self.quat_ref, "BaseThrusterControl quat_ref")
+        return _core.BaseThrustersSpec(com_ref=com_ref, quat_ref=quat_ref, **gains)
 
 
 def inertia_scaled_gains(robot, x, joints, natural_frequency: float = 4.0, damping_ratio: float = 1.0):
@@ -357,11 +354,11 @@ class Combined(_Controller):
     arm: Any
     base: Any
 
-    def _spec(self, robot) -> dict:
+    def _spec(self, robot) -> _core.CombinedSpec:
         for what, c in (("arm", self.arm), ("base", self.base)):
             if not isinstance(c, _Controller):
                 raise ArgumentError(f"Combined {what} must be a spacearm.control controller, got {type(c).__name__}")
-        return {"type": "combined", "arm": self.arm._spec(robot), "base": self.base._spec(robot)}
+        return _core.CombinedSpec(arm=self.arm._spec(robot), base=self.base._spec(robot))
 
 
 @dataclass(frozen=True)
@@ -389,32 +386,30 @@ class CoordinatedFlying(_Controller):
     kp_base: float = 25.0
     kd_base: float = 10.0
     point: Any = None
-    max_damping: float = _core.DLS_DEFAULTS["max_damping"]
-    threshold: float = _core.DLS_DEFAULTS["threshold"]
+    max_damping: float = _core.DLS_DEFAULTS.max_damping
+    threshold: float = _core.DLS_DEFAULTS.threshold
 
-    def _spec(self, robot) -> dict:
+    def _spec(self, robot) -> _core.CoordinatedFlyingSpec:
         if not isinstance(self.ee_reference, CartesianLine):
             raise ArgumentError(f"CoordinatedFlying needs a CartesianLine ee_reference, got {type(self.ee_reference).__name__}")
         point = self.point if self.point is not None else self.ee_reference.point
         body, offset = robot._point(point)
-        spec = {
-            "type": "coordinated_flying",
-            "reference": self.ee_reference._spec(),
-            "body": int(body),
-            "offset": np.asarray(offset, dtype=float),
-            "damping": _finite_float(self.max_damping, "CoordinatedFlying max_damping"),
-            "threshold": _finite_float(self.threshold, "CoordinatedFlying threshold"),
-        }
-        for key in ("kp_ee", "kd_ee", "kp_base", "kd_base"):
-            spec[key] = _finite_float(getattr(self, key), f"CoordinatedFlying {key}")
+        reference = self.ee_reference._spec()
+        damping = _finite_float(self.max_damping, "CoordinatedFlying max_damping")
+        threshold = _finite_float(self.threshold, "CoordinatedFlying threshold")
+        gains = {key: _finite_float(getattr(self, key), f"CoordinatedFlying {key}") for key in ("kp_ee", "kd_ee", "kp_base", "kd_base")}
+        base_position = base_quat = None
         if self.base_pose_ref is not None:
             try:
                 r0, quat = self.base_pose_ref
             except (TypeError, ValueError) as exc:
                 raise ArgumentError(f"CoordinatedFlying base_pose_ref must be (r0, quat), got {self.base_pose_ref!r}") from exc
-            spec["base_position"] = vector(r0, "CoordinatedFlying base position", 3)
-            spec["base_quat"] = quaternion(quat, "CoordinatedFlying base quaternion")
-        return spec
+            base_position = vector(r0, "CoordinatedFlying base position", 3)
+            base_quat = quaternion(quat, "CoordinatedFlying base quaternion")
+        return _core.CoordinatedFlyingSpec(
+            reference=reference, body=int(body), offset=np.asarray(offset, dtype=float), damping=damping, threshold=threshold,
+            base_position=base_position, base_quat=base_quat, **gains,
+        )
 
 
 @dataclass(frozen=True)
@@ -429,10 +424,10 @@ class Callback(_Controller):
 
     fn: Callable
 
-    def _spec(self, robot) -> dict:
+    def _spec(self, robot) -> _core.CallbackSpec:
         if not callable(self.fn):
             raise ArgumentError(f"Callback needs a callable fn(t, x, u), got {self.fn!r}")
-        return {"type": "callback", "fn": self.fn}
+        return _core.CallbackSpec(fn=self.fn)
 
 
 def perturbed_model(

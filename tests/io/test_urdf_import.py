@@ -123,7 +123,7 @@ def test_mount_on_a_spacecraft_and_prefix():
         (two_link().replace("</robot>", '<link name="c"/></robot>'), r"t\.urdf:8: the links do not form one tree"),
         (two_link().replace("</robot>", '<link name="a"/></robot>'), r"t\.urdf:8: link name 'a' is used twice \(first on line 2\)"),
         (two_link().replace('<inertia ixx="0.01"', '<inertia ixx="x"', 1), r"t\.urdf:2: link 'a': <inertia ixx=\"x\"> must be a number"),
-        (two_link().replace('<mass value="2"/>', '<mass value="-2"/>', 2), r"t\.urdf:2: link 'a': mass must be finite and >= 0 kg, got -2"),
+        (two_link().replace('<mass value="2"/>', '<mass value="-2"/>', 2), r"t\.urdf:2: invalid model: link 'a': mass must be >= 0 kg, got -2"),
         ("<robot name='x'><link name='a'/>", r"t\.urdf:1:\d+: not well-formed XML"),
         ("<model/>", r"t\.urdf:1: the root element must be <robot>"),
         ("<robot name='x'/>", r"t\.urdf:1: the URDF has no <link>"),

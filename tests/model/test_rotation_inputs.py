@@ -80,11 +80,11 @@ def test_dh_joint1_rotation():
 def test_controllers_take_rotations():
     robot = presets.spatial6()
     rot = ROTATIONS[2]
-    assert np.array_equal(control.AttitudeControl(quat_ref=rot, kp=1.0, kd=1.0)._spec(robot)["quat_ref"], rot.as_quat())
-    assert np.array_equal(control.BaseThrusterControl(quat_ref=rot)._spec(robot)["quat_ref"], rot.as_quat())
+    assert np.array_equal(control.AttitudeControl(quat_ref=rot, kp=1.0, kd=1.0)._spec(robot).quat_ref, rot.as_quat())
+    assert np.array_equal(control.BaseThrusterControl(quat_ref=rot)._spec(robot).quat_ref, rot.as_quat())
     line = control.CartesianLine(p_start=[1.0, 0.5, 0.2], p_goal=[1.1, 0.5, 0.2], t_start=0.0, t_end=1.0)
     spec = control.CoordinatedFlying(line, base_pose_ref=([0.0, 0.0, 0.0], rot))._spec(robot)
-    assert np.array_equal(spec["base_quat"], rot.as_quat())
+    assert np.array_equal(spec.base_quat, rot.as_quat())
 
 
 def test_a_simulation_with_a_rotation_reference_is_the_same_as_with_its_quaternion():

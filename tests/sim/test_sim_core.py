@@ -217,22 +217,22 @@ def test_bad_duration(robot, duration):
         spacearm.simulate(robot, duration)
 
 
-def test_bad_references_and_option_dicts(robot):
+def test_bad_references_options_and_specs(robot):
     with pytest.raises(errors.ArgumentError, match="t_end > t_start"):
         QuinticJoint(np.zeros(4), np.ones(4), 1.0, 0.5)
     with pytest.raises(errors.ShapeError):
         QuinticJoint(np.zeros(4), np.ones(3), 0.0, 1.0)
     x0, u0 = robot.neutral_configuration(), robot.zero_velocity()
     with pytest.raises(errors.ArgumentError, match="unknown key 'dtt'"):
-        spacearm._core.simulate(robot._m, x0, u0, 1.0, {"dtt": 1e-3})
+        spacearm._core.RunOptions(dtt=1e-3)
     with pytest.raises(errors.ArgumentError, match="controller type must be one of"):
-        spacearm._core.simulate(robot._m, x0, u0, 1.0, {}, {"type": "lqr"})
+        spacearm._core.simulate(robot._m, x0, u0, 1.0, spacearm._core.RunOptions(), {"type": "lqr"})
+    reference = spacearm._core.JointReference.constant(q=np.zeros(4))
     with pytest.raises(errors.ArgumentError, match="unknown key 'ki'"):
-        spacearm._core.simulate(robot._m, x0, u0, 1.0, {}, {"type": "joint_pd", "kp": [1.0], "kd": [1.0], "ki": [1.0],
-                                                         "reference": {"type": "constant_joint", "q": np.zeros(4)}})
-    with pytest.raises(errors.ArgumentError, match="missing 'kd'"):
-        spacearm._core.simulate(robot._m, x0, u0, 1.0, {}, {"type": "joint_pd", "kp": [1.0],
-                                                         "reference": {"type": "constant_joint", "q": np.zeros(4)}})
+        spacearm._core.JointPdSpec(kp=[1.0], kd=[1.0], ki=[1.0], reference=reference)
+    # A missing keyword is Python's own TypeError, naming it.
+    with pytest.raises(TypeError, match="'kd'"):
+        spacearm._core.JointPdSpec(kp=[1.0], reference=reference)
 
 
 def test_rk4_equals_a_numpy_rk4_on_the_mass_matrix_dynamics():

@@ -20,7 +20,9 @@ pub const MEMORY_LIMIT_BYTES: u64 = 2 << 30;
 pub const WORK_LIMIT: f64 = 4e9;
 
 /// Admit a computation of about `operations` multiply-adds, or refuse it (see [`WORK_LIMIT`]).
-pub fn admit_work(what: &str, operations: f64, remedy: &str) -> Result<()> {
+/// `what` is formatted only for a refusal (pass `format_args!`: admission is on the path of
+/// every call, where building a message that is thrown away would cost more than the check).
+pub fn admit_work(what: impl std::fmt::Display, operations: f64, remedy: &str) -> Result<()> {
     if operations.is_finite() && operations <= WORK_LIMIT {
         return Ok(());
     }
@@ -46,8 +48,9 @@ pub fn format_bytes(bytes: f64) -> String {
 }
 
 /// Admit a request that will allocate about `bytes` (a float, so that the estimate itself
-/// cannot overflow), or refuse it: `what` names the request, `remedy` the way out.
-pub fn admit(what: &str, bytes: f64, remedy: &str) -> Result<()> {
+/// cannot overflow), or refuse it: `what` names the request, `remedy` the way out. `what` is
+/// formatted only for a refusal (pass `format_args!`, see [`admit_work`]).
+pub fn admit(what: impl std::fmt::Display, bytes: f64, remedy: &str) -> Result<()> {
     if bytes.is_finite() && bytes <= MEMORY_LIMIT_BYTES as f64 {
         return Ok(());
     }

@@ -256,7 +256,7 @@ pub fn run<'py, W, const I: usize, const O: usize>(
     } else {
         "use a smaller batch or model, or the O(N) algorithms that need no dense matrix (ABA forward dynamics, RNEA, kinematics)"
     };
-    spacearm_core::admission::admit(&format!("{call} ({} state(s))", rows.unwrap_or(1)), bytes, remedy)
+    spacearm_core::admission::admit(format_args!("{call} ({} state(s))", rows.unwrap_or(1)), bytes, remedy)
     .map_err(|e| to_py_err(py, e))?;
     match rows {
         None => run_one(py, call, &inputs, outputs, pool, make, kernel),

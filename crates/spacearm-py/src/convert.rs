@@ -4,7 +4,7 @@
 //! numbers (bool, int, float) are accepted, under the argument's name. The extension imports
 //! numpy here, never the `spacearm` package.
 
-use nalgebra::{DMatrix, DVector, Dim, IsContiguous, Matrix, Matrix3, RawStorage, Vector3, Vector6};
+use nalgebra::{DMatrix, DVector, Dim, IsContiguous, Matrix, RawStorage, Vector3, Vector6};
 use std::os::raw::c_int;
 
 use numpy::npyffi::flags::{NPY_ARRAY_ALIGNED, NPY_ARRAY_C_CONTIGUOUS};
@@ -266,10 +266,6 @@ pub fn matrix<'py, R: Dim, C: Dim, S: RawStorage<f64, R, C> + IsContiguous>(py: 
 
 pub fn dmat<'py>(py: Python<'py>, m: &DMatrix<f64>) -> Bound<'py, PyArray2<f64>> {
     matrix(py, m)
-}
-
-pub fn rows3(m: &Matrix3<f64>) -> [[f64; 3]; 3] {
-    [[m[(0, 0)], m[(0, 1)], m[(0, 2)]], [m[(1, 0)], m[(1, 1)], m[(1, 2)]], [m[(2, 0)], m[(2, 1)], m[(2, 2)]]]
 }
 
 /// The core's triangle-inequality rule for the Python option `allow_nonphysical_inertia`.

@@ -7,12 +7,13 @@
 use nalgebra::{Dim, Matrix, RawStorage, Vector3, Vector6};
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyTuple};
+use pyo3::types::PyTuple;
 use spacearm_core as core;
 use spacearm_core::algorithms::{aba, crba, dynamics, inertia, kinematics, momentum, rnea};
 use spacearm_core::{gjm, Data, ExternalWrench, JointType};
 
 use crate::batch::{run, Input, Pool};
+use crate::description_py::PyModelInfo;
 use crate::convert::*;
 
 /// A validated spacecraft-manipulator model with its workspaces (private; wrapped by
@@ -124,50 +125,10 @@ impl PyModel {
         Ok((p.body, [p.offset.x, p.offset.y, p.offset.z]))
     }
 
-    /// The whole model as plain Python data (base, links in tree order, points).
-    fn describe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let m = &self.model;
-        let out = PyDict::new(py);
-        out.set_item("name", m.name())?;
-        let base = PyDict::new(py);
-        base.set_item("name", m.base_name())?;
-        base.set_item("mass", m.base().mass)?;
-        base.set_item("inertia", rows3(&m.base().inertia))?;
-        out.set_item("base", base)?;
-        let links = PyList::empty(py);
-        for l in m.links() {
-            let d = PyDict::new(py);
-            d.set_item("name", &l.name)?;
-            d.set_item("parent", m.body_name(l.parent))?;
-            d.set_item("parent_index", l.parent)?;
-            d.set_item("joint", &l.joint.name)?;
-            d.set_item("type", l.joint.kind.as_str())?;
-            let o = l.joint.origin_in_parent;
-            d.set_item("origin", [o.x, o.y, o.z])?;
-            let q = l.joint.rotation_in_parent;
-            d.set_item("rotation", [q.i, q.j, q.k, q.w])?;
-            let a = l.joint.axis;
-            d.set_item("axis", [a.x, a.y, a.z])?;
-            let c = l.com_from_joint;
-            d.set_item("com", [c.x, c.y, c.z])?;
-            d.set_item("mass", l.mass.mass)?;
-            d.set_item("inertia", rows3(&l.mass.inertia))?;
-            let lim = l.joint.limits;
-            d.set_item("limits", [lim.lower, lim.upper, lim.velocity, lim.effort])?;
-            d.set_item("dof", m.dof_of_body(m.body_index(&l.name).unwrap_or(0)))?;
-            links.append(d)?;
-        }
-        out.set_item("links", links)?;
-        let points = PyList::empty(py);
-        for p in m.points() {
-            points.append((p.name.clone(), m.body_name(p.body).to_string(), [p.offset.x, p.offset.y, p.offset.z]))?;
-        }
-        out.set_item("points", points)?;
-        out.set_item("end_effector", self.end_effector())?;
-        out.set_item("initial_q", m.initial_q().to_vec())?;
-        Ok(out)
+    /// The whole model, typed: base, links in tree order, points, end effector, initial `q`.
+    fn describe(&self) -> PyModelInfo {
+        PyModelInfo::of(&self.model)
     }
-
 
     /// The model as TOML text, the form it pickles in (the core's writer prints every float
     /// in its shortest round-trip form, so a model read back is bit-identical).

@@ -35,7 +35,7 @@ pub enum Record {
 }
 
 impl Record {
-    /// The name the Python `Trajectory` uses, and the attribute of [`RunRecords`].
+    /// The name the Python `Trajectory` uses, and the attribute of [`PyRunRecords`].
     pub fn name(self) -> &'static str {
         match self {
             Record::T => "t",
@@ -151,7 +151,7 @@ fn shape_text(shape: &[usize]) -> String {
 /// list of names of its own to keep in step with this class.)
 #[pyclass(module = "spacearm._core", name = "RunRecords", frozen)]
 #[derive(Default)]
-pub struct RunRecords {
+pub struct PyRunRecords {
     /// `(K,)` sample times, s (always float64).
     #[pyo3(get)]
     t: Option<Array>,
@@ -210,11 +210,11 @@ pub struct RunRecords {
     made: Vec<Record>,
 }
 
-impl RunRecords {
+impl PyRunRecords {
     /// The records `arrays` (which record, numpy array), each under its name. Every caller gives
     /// `t`, `x` and `u` ([`take_fields`] always makes them).
     pub fn from_arrays(arrays: Vec<(Record, Bound<'_, PyAny>)>) -> PyResult<Self> {
-        let mut r = RunRecords::default();
+        let mut r = PyRunRecords::default();
         for (record, array) in arrays {
             let slot = match record {
                 Record::T => &mut r.t,
@@ -255,7 +255,7 @@ impl RunRecords {
 }
 
 #[pymethods]
-impl RunRecords {
+impl PyRunRecords {
     /// The names of the records made (the attributes that are not None), in a fixed order.
     #[getter]
     fn fields<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
@@ -275,7 +275,7 @@ impl RunRecords {
 /// The saturation onsets of a run, in time order (`E` events): the accepted step in which an
 /// actuator started saturating.
 #[pyclass(module = "spacearm._core", name = "RunEvents", frozen)]
-pub struct RunEvents {
+pub struct PyRunEvents {
     /// `(E,)` float64: start time of the step in which each saturation began, s.
     #[pyo3(get)]
     saturation_t: Py<PyArray1<f64>>,
@@ -287,12 +287,12 @@ pub struct RunEvents {
     saturation_kind: Py<PyArray1<i64>>,
 }
 
-impl RunEvents {
+impl PyRunEvents {
     pub fn of_run(py: Python<'_>, res: &SimResult) -> Self {
         let ev_t: Vec<f64> = res.events.iter().map(|e| e.t).collect();
         let ev_a: Vec<i64> = res.events.iter().map(|e| e.actuator as i64).collect();
         let ev_k: Vec<i64> = res.events.iter().map(|e| e.kind as i64).collect();
-        RunEvents {
+        PyRunEvents {
             saturation_t: PyArray1::from_vec(py, ev_t).unbind(),
             saturation_actuator: PyArray1::from_vec(py, ev_a).unbind(),
             saturation_kind: PyArray1::from_vec(py, ev_k).unbind(),
@@ -301,7 +301,7 @@ impl RunEvents {
 }
 
 #[pymethods]
-impl RunEvents {
+impl PyRunEvents {
     fn __repr__(&self, py: Python<'_>) -> String {
         format!("RunEvents({} saturation onsets)", self.saturation_t.bind(py).len())
     }
@@ -309,7 +309,7 @@ impl RunEvents {
 
 /// The drift of one quantity the run's mode conserves.
 #[pyclass(module = "spacearm._core", name = "ConservedDrift", frozen)]
-pub struct ConservedDrift {
+pub struct PyConservedDrift {
     /// The quantity, by its record name: `"P"`, `"L_origin"`, `"L_com"` or `"energy"`.
     #[pyo3(get)]
     quantity: String,
@@ -325,7 +325,7 @@ pub struct ConservedDrift {
 }
 
 #[pymethods]
-impl ConservedDrift {
+impl PyConservedDrift {
     fn __repr__(&self) -> String {
         format!("ConservedDrift(quantity={:?}, drift={:e}, scale={:e})", self.quantity, self.drift, self.scale)
     }
@@ -333,7 +333,7 @@ impl ConservedDrift {
 
 /// The description of a run (what `Trajectory.meta` holds, less what Python adds).
 #[pyclass(module = "spacearm._core", name = "RunMeta", frozen)]
-pub struct RunMeta {
+pub struct PyRunMeta {
     /// The maneuvering mode (`"floating"`, `"rotation-floating"`, ...).
     #[pyo3(get)]
     mode: &'static str,
@@ -354,7 +354,7 @@ pub struct RunMeta {
     controller: String,
     /// One entry per quantity the mode conserves, in the mode's order.
     #[pyo3(get)]
-    drift: Vec<Py<ConservedDrift>>,
+    drift: Vec<Py<PyConservedDrift>>,
     /// Accepted integration steps.
     #[pyo3(get)]
     n_steps: usize,
@@ -390,7 +390,7 @@ pub struct RunMeta {
     dropped_base_wrench_count: usize,
 }
 
-impl RunMeta {
+impl PyRunMeta {
     pub fn of_run(py: Python<'_>, res: &SimResult, opts: &SimOptions, float32: bool) -> PyResult<Self> {
         // The core makes `drift` and `drift_scales` from one list of conserved quantities, in its
         // order: the two pair up entry by entry.
@@ -400,10 +400,10 @@ impl RunMeta {
             .zip(&res.drift_scales)
             .map(|(&(c, drift), &(c_scale, scale))| {
                 debug_assert_eq!(c, c_scale);
-                Py::new(py, ConservedDrift { quantity: c.name().to_string(), drift, scale })
+                Py::new(py, PyConservedDrift { quantity: c.name().to_string(), drift, scale })
             })
             .collect::<PyResult<_>>()?;
-        Ok(RunMeta {
+        Ok(PyRunMeta {
             mode: opts.mode.name(),
             integrator: opts.integrator.name(),
             dt: opts.dt,
@@ -427,7 +427,7 @@ impl RunMeta {
 }
 
 #[pymethods]
-impl RunMeta {
+impl PyRunMeta {
     fn __repr__(&self) -> String {
         format!(
             "RunMeta(mode={:?}, integrator={:?}, controller={:?}, n_steps={}, {} conserved)",
@@ -443,30 +443,30 @@ impl RunMeta {
 /// One run: its records, saturation onsets and description (what `simulate` and
 /// `Simulator.result` return).
 #[pyclass(module = "spacearm._core", name = "RunResult", frozen)]
-pub struct RunResult {
+pub struct PyRunResult {
     /// The recorded samples, `(K, ...)` arrays.
     #[pyo3(get)]
-    records: Py<RunRecords>,
+    records: Py<PyRunRecords>,
     /// The saturation onsets.
     #[pyo3(get)]
-    events: Py<RunEvents>,
+    events: Py<PyRunEvents>,
     /// The run's description.
     #[pyo3(get)]
-    meta: Py<RunMeta>,
+    meta: Py<PyRunMeta>,
 }
 
-impl RunResult {
+impl PyRunResult {
     /// One run's result, its records moved out of `res` (no second copy).
     pub fn of_run(py: Python<'_>, mut res: SimResult, opts: &SimOptions, float32: bool, dims: (usize, usize, usize)) -> PyResult<Self> {
-        let events = Py::new(py, RunEvents::of_run(py, &res))?;
-        let meta = Py::new(py, RunMeta::of_run(py, &res, opts, float32)?)?;
-        let records = Py::new(py, RunRecords::of_run(py, &mut res, float32, dims)?)?;
-        Ok(RunResult { records, events, meta })
+        let events = Py::new(py, PyRunEvents::of_run(py, &res))?;
+        let meta = Py::new(py, PyRunMeta::of_run(py, &res, opts, float32)?)?;
+        let records = Py::new(py, PyRunRecords::of_run(py, &mut res, float32, dims)?)?;
+        Ok(PyRunResult { records, events, meta })
     }
 }
 
 #[pymethods]
-impl RunResult {
+impl PyRunResult {
     fn __repr__(&self, py: Python<'_>) -> String {
         let k = self.records.get().t.as_ref().map_or(0, |t| t.bind(py).shape()[0]);
         format!("RunResult({k} samples)")
@@ -476,11 +476,11 @@ impl RunResult {
 /// The results of `B` rollouts (what `rollout` returns): the records stacked along a leading
 /// rollout axis, and each rollout's status, description and saturation onsets.
 #[pyclass(module = "spacearm._core", name = "RolloutBatch", frozen)]
-pub struct RolloutBatch {
+pub struct PyRolloutBatch {
     /// The records, `(B, K, ...)` arrays: row `i` is rollout `i`'s, NaN for a failed rollout.
     /// When every rollout failed, only `t`, `x` and `u` are there.
     #[pyo3(get)]
-    pub records: Py<RunRecords>,
+    pub records: Py<PyRunRecords>,
     /// `(B,)` bool: whether each rollout ran to the end.
     #[pyo3(get)]
     pub ok: Py<PyArray1<bool>>,
@@ -492,14 +492,14 @@ pub struct RolloutBatch {
     pub error_class: Vec<Option<String>>,
     /// Each rollout's description, None for a failed one.
     #[pyo3(get)]
-    pub meta: Vec<Option<Py<RunMeta>>>,
+    pub meta: Vec<Option<Py<PyRunMeta>>>,
     /// Each rollout's saturation onsets, None for a failed one.
     #[pyo3(get)]
-    pub events: Vec<Option<Py<RunEvents>>>,
+    pub events: Vec<Option<Py<PyRunEvents>>>,
 }
 
 #[pymethods]
-impl RolloutBatch {
+impl PyRolloutBatch {
     fn __repr__(&self, py: Python<'_>) -> String {
         let ok = self.reason.iter().filter(|r| r.is_none()).count();
         let k = self.records.get().t.as_ref().map_or(0, |t| t.bind(py).shape().get(1).copied().unwrap_or(0));

@@ -4,7 +4,7 @@
 
 use numpy::{PyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyList;
 use rayon::prelude::*;
 use spacearm_core::control::{Controller, ZeroTorque};
 use spacearm_core::sim::rollout::{rollout as core_rollout, RolloutSpec};
@@ -13,8 +13,9 @@ use spacearm_core::{Model, SpacearmError};
 
 use crate::convert::*;
 use crate::model_py::PyModel;
-use crate::records_py::{take_fields, Field, Record, RolloutBatch, RunEvents, RunMeta, RunRecords};
-use crate::simulate_py::{error_slot, parse_controller, parse_options, RunOptions};
+use crate::controller_spec_py::{build_controller, error_slot};
+use crate::records_py::{take_fields, Field, Record, PyRolloutBatch, PyRunEvents, PyRunMeta, PyRunRecords};
+use crate::sim_options_py::PyRunOptions;
 
 /// The error `err` with `rollout {i}: ` before its message, as the same Python class.
 fn for_rollout(py: Python<'_>, i: usize, err: SpacearmError) -> PyErr {
@@ -48,10 +49,10 @@ pub fn rollout<'py>(
     x0: PyReadonlyArray2<'py, f64>,
     u0: PyReadonlyArray2<'py, f64>,
     duration: f64,
-    options: &Bound<'py, PyDict>,
+    options: PyRef<'py, PyRunOptions>,
     controllers: Option<&Bound<'py, PyAny>>,
     threads: Option<usize>,
-) -> PyResult<RolloutBatch> {
+) -> PyResult<PyRolloutBatch> {
     let bad = |msg: String| to_py_err(py, SpacearmError::InvalidArgument(msg));
     let plants: Vec<Model> = models
         .iter()
@@ -76,9 +77,9 @@ pub fn rollout<'py>(
     for i in 0..b {
         check_initial_state(plant(i), &x0[i * nx..(i + 1) * nx], &u0[i * nu..(i + 1) * nu]).map_err(|e| for_rollout(py, i, e))?;
     }
-    let RunOptions { sim: opts, float32, .. } = parse_options(py, duration, options)?;
-    // One controller instance per rollout (controllers keep workspaces): a shared spec is parsed
-    // once per rollout.
+    let (opts, float32) = (options.sim_options(duration), options.records_float32());
+    // One controller instance per rollout (controllers keep workspaces): a shared spec builds
+    // one per rollout.
     let slot = error_slot();
     let mut boxed: Vec<Box<dyn Controller>> = Vec::with_capacity(b);
     match controllers {
@@ -90,12 +91,12 @@ pub fn rollout<'py>(
                     return Err(bad(format!("controllers: got {} for {b} rollouts; give one controller, or one per rollout", list.len())));
                 }
                 for spec in list.iter() {
-                    boxed.push(parse_controller(&spec, &slot)?);
+                    boxed.push(build_controller(&spec, &slot)?);
                 }
             }
             Err(_) => {
                 for _ in 0..b {
-                    boxed.push(parse_controller(c, &slot)?);
+                    boxed.push(build_controller(c, &slot)?);
                 }
             }
         },
@@ -122,7 +123,7 @@ fn stack<'py>(
     opts: &spacearm_core::sim::simulate::SimOptions,
     float32: bool,
     (nx, nu, n): (usize, usize, usize),
-) -> PyResult<RolloutBatch> {
+) -> PyResult<PyRolloutBatch> {
     let b = results.len();
     let k = sample_count(opts);
     let ok: Vec<bool> = results.iter().map(|r| r.is_ok()).collect();
@@ -136,8 +137,8 @@ fn stack<'py>(
             Ok(mut res) => {
                 reason.push(None);
                 error_class.push(None);
-                metas.push(Some(Py::new(py, RunMeta::of_run(py, &res, opts, float32)?)?));
-                event_list.push(Some(Py::new(py, RunEvents::of_run(py, &res))?));
+                metas.push(Some(Py::new(py, PyRunMeta::of_run(py, &res, opts, float32)?)?));
+                event_list.push(Some(Py::new(py, PyRunEvents::of_run(py, &res))?));
                 fields.push(Some(take_fields(&mut res, nx, nu, n)));
             }
             Err(e) => {
@@ -203,8 +204,8 @@ fn stack<'py>(
         };
         arrays.push((name, array.call_method1("reshape", (shape,))?));
     }
-    Ok(RolloutBatch {
-        records: Py::new(py, RunRecords::from_arrays(arrays)?)?,
+    Ok(PyRolloutBatch {
+        records: Py::new(py, PyRunRecords::from_arrays(arrays)?)?,
         ok: PyArray1::from_vec(py, ok).unbind(),
         reason,
         error_class,

@@ -1,16 +1,17 @@
 //! The core's rules and defaults, read by the Python package instead of restating them:
-//! the mode and integrator names, the simulation defaults, the damped-least-squares defaults,
-//! the quintic time scaling of the references (docs/simulation-core.md), the tolerance on input
-//! quaternions, the physical bounds of a model and the memory limit of one request.
+//! the mode and integrator names, the simulation defaults, the damped-least-squares defaults
+//! (those tables and the model bounds are typed classes: `rule_tables_py.rs`), the quintic time scaling of the references (docs/simulation-core.md), the tolerance on input
+//! quaternions, the physical bounds of a model, the rule of one body's mass properties and the
+//! memory limit of one request.
 
+use nalgebra::Matrix3;
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
-use spacearm_core::math::dls::DampingLaw;
+use spacearm_core::error::{ModelItem, SpacearmError};
+use spacearm_core::model::body::{MassProperties, TriangleInequality};
 use spacearm_core::sim::integrate::IntegratorKind;
 use spacearm_core::sim::modes::Mode;
 use spacearm_core::sim::reference::quintic_scaling as core_quintic_scaling;
-use spacearm_core::sim::simulate::SimOptions;
 
 /// Rest-to-rest quintic time scaling `(s, ṡ, s̈)` at each time of `t` (1-D array).
 #[pyfunction]
@@ -31,35 +32,34 @@ fn quintic_scaling<'py>(
     Ok((PyArray1::from_vec(py, s), PyArray1::from_vec(py, sd), PyArray1::from_vec(py, sdd)))
 }
 
+/// The core's verdict on one body's mass properties (`MassProperties::checked` in
+/// `model/body.rs`, the rule every body of every model obeys): `None` when `mass` (kg) and
+/// `inertia` ((3, 3) kg·m², about the CM) pass, else `(field, message)` with `field` `"mass"` or
+/// `"inertia"` and the message of the `ModelError` the builder would raise (`invalid model: `
+/// and the rule's text, which names the body as `who`). With
+/// `triangle_inequality=False` that one rule is not applied (it is the only one a model may
+/// relax; the URDF reader checks each link's own inertial this way before fixed links are merged,
+/// and the merged bodies meet the whole rule when the model is built). A link may be massless,
+/// so zero mass passes.
+#[pyfunction]
+#[pyo3(signature = (who, mass, inertia, *, triangle_inequality = true))]
+fn body_mass_properties_error(who: &str, mass: f64, inertia: [[f64; 3]; 3], triangle_inequality: bool) -> Option<(String, String)> {
+    let rule = if triangle_inequality { TriangleInequality::Enforce } else { TriangleInequality::Warn };
+    let inertia = Matrix3::from_fn(|i, j| inertia[i][j]);
+    match MassProperties::checked(ModelItem::Model, who, mass, inertia, false, rule) {
+        Ok(_) => None,
+        Err(e) => Some((format!("{:?}", e.field).to_lowercase(), SpacearmError::from(e).to_string())),
+    }
+}
+
 /// Register the rules on the extension module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    let py = m.py();
     m.add("MODES", Mode::NAMES.to_vec())?;
     m.add("INTEGRATORS", IntegratorKind::NAMES.to_vec())?;
-    let d = SimOptions::default();
-    let defaults = PyDict::new(py);
-    defaults.set_item("mode", d.mode.name())?;
-    defaults.set_item("integrator", d.integrator.name())?;
-    defaults.set_item("dt", d.dt)?;
-    defaults.set_item("rtol", d.rtol)?;
-    defaults.set_item("atol", d.atol)?;
-    defaults.set_item("record_every", d.record_every)?;
-    defaults.set_item("joint_limits", d.joint_limits)?;
-    defaults.set_item("max_steps", d.max_steps)?;
-    m.add("SIM_DEFAULTS", defaults)?;
     m.add("QUATERNION_TOLERANCE", spacearm_core::math::rotations::QUATERNION_TOLERANCE)?;
     m.add("MEMORY_LIMIT_BYTES", spacearm_core::admission::MEMORY_LIMIT_BYTES)?;
-    let bounds = PyDict::new(py);
-    bounds.set_item("min_mass", spacearm_core::model::body::MIN_MASS)?;
-    bounds.set_item("max_mass", spacearm_core::model::body::MAX_MASS)?;
-    bounds.set_item("max_length", spacearm_core::model::validate::MAX_LENGTH)?;
-    bounds.set_item("max_inertia_entry", spacearm_core::model::body::MAX_INERTIA_ENTRY)?;
-    m.add("MODEL_BOUNDS", bounds)?;
-    let law = DampingLaw::default();
-    let dls = PyDict::new(py);
-    dls.set_item("threshold", law.threshold)?;
-    dls.set_item("max_damping", law.max_damping)?;
-    m.add("DLS_DEFAULTS", dls)?;
+    crate::rule_tables_py::add_tables(m)?;
     m.add_function(wrap_pyfunction!(quintic_scaling, m)?)?;
+    m.add_function(wrap_pyfunction!(body_mass_properties_error, m)?)?;
     Ok(())
 }

@@ -7,7 +7,6 @@ use std::sync::Mutex;
 use nalgebra::Vector6;
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 use spacearm_core::control::{Controller, ZeroTorque};
 use spacearm_core::sim::integrate::IntegratorKind;
 use spacearm_core::sim::simulate::{check_initial_state, Plant, SimOptions};
@@ -16,8 +15,9 @@ use spacearm_core::{Model, SpacearmError};
 
 use crate::convert::*;
 use crate::model_py::PyModel;
-use crate::records_py::RunResult;
-use crate::simulate_py::{error_slot, parse_controller, parse_options, take_error, ErrorSlot, RunOptions};
+use crate::controller_spec_py::{build_controller, error_slot, take_error, ErrorSlot};
+use crate::records_py::PyRunResult;
+use crate::sim_options_py::PyRunOptions;
 
 /// The state of a simulator between calls.
 #[pyclass(module = "spacearm._core", name = "Simulator")]
@@ -25,7 +25,7 @@ pub struct PySimulator {
     model: Model,
     opts: SimOptions,
     float32: bool,
-    /// The controller's spec, parsed anew at every reset (a fresh controller each run).
+    /// The controller's spec, built anew at every reset (a fresh controller each run).
     spec: Option<Py<PyAny>>,
     /// `record_every`, or `None`: nothing recorded.
     record_every: Option<usize>,
@@ -50,8 +50,8 @@ impl PySimulator {
 impl PySimulator {
     #[new]
     #[pyo3(signature = (model, options, controller_spec=None, record_every=None))]
-    fn new(py: Python<'_>, model: &Bound<'_, PyModel>, options: &Bound<'_, PyDict>, controller_spec: Option<Bound<'_, PyAny>>, record_every: Option<usize>) -> PyResult<Self> {
-        let RunOptions { sim: opts, float32, .. } = parse_options(py, 1.0, options)?;
+    fn new(py: Python<'_>, model: &Bound<'_, PyModel>, options: PyRef<'_, PyRunOptions>, controller_spec: Option<Bound<'_, PyAny>>, record_every: Option<usize>) -> PyResult<Self> {
+        let (opts, float32) = (options.sim_options(1.0), options.records_float32());
         if opts.integrator != IntegratorKind::Rk4 {
             return Err(to_py_err(py, bad("the Simulator steps with integrator 'rk4' only; use spacearm.simulate for 'dopri5'".into())));
         }
@@ -79,7 +79,7 @@ impl PySimulator {
         let u0 = vec_arg(u0, "u0")?;
         check_initial_state(&self.model, x0.as_slice(), u0.as_slice()).or_raise(py)?;
         let controller: Box<dyn Controller> = match &self.spec {
-            Some(s) => parse_controller(s.bind(py), &self.slot)?,
+            Some(s) => build_controller(s.bind(py), &self.slot)?,
             None => Box::new(ZeroTorque),
         };
         let plant = Plant::owned(self.model.clone(), &self.opts, controller).or_raise(py)?;
@@ -159,13 +159,13 @@ impl PySimulator {
 
     /// The records so far with the current state as the last sample, as the `RunResult` of
     /// `spacearm._core.simulate` (the simulator goes on unchanged).
-    fn result(&mut self, py: Python<'_>) -> PyResult<RunResult> {
+    fn result(&mut self, py: Python<'_>) -> PyResult<PyRunResult> {
         let (nx, nu, n) = (self.model.nx(), self.model.nu(), self.model.n_dof());
         let mut opts = self.opts.clone();
         opts.record_every = self.record_every.unwrap_or(usize::MAX);
         let stepper = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?.as_mut().ok_or_else(|| Self::not_reset(py))?;
         let res = stepper.snapshot().map_err(|e| take_error(&self.slot).unwrap_or_else(|| to_py_err(py, e)))?;
         opts.duration = stepper.time();
-        RunResult::of_run(py, res, &opts, self.float32, (nx, nu, n))
+        PyRunResult::of_run(py, res, &opts, self.float32, (nx, nu, n))
     }
 }

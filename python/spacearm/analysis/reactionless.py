@@ -56,8 +56,8 @@ def _check_strategy(strategy: str) -> str:
     return strategy
 
 
-def rmrc_rates(robot, x, desired_twist, point=None, task: TaskLike = None, strategy: str = "naive", threshold: float = _core.DLS_DEFAULTS["threshold"],
-               max_damping: float = _core.DLS_DEFAULTS["max_damping"], manipulability_gain: float = 0.0, joint_limit_gain: float = 0.0) -> dict:
+def rmrc_rates(robot, x, desired_twist, point=None, task: TaskLike = None, strategy: str = "naive", threshold: float = _core.DLS_DEFAULTS.threshold,
+               max_damping: float = _core.DLS_DEFAULTS.max_damping, manipulability_gain: float = 0.0, joint_limit_gain: float = 0.0) -> dict:
     """One evaluation of the resolved-motion-rate law: joint rates realising the task rows of
     ``desired_twist`` (6 values ``[v; w]`` in 𝒥) through ``J*`` (DLS with the damping law of
     :func:`spacearm.analysis.damping`), with the null-space objectives. Returns ``qd``,
@@ -125,7 +125,7 @@ class Motion:
 
 
 def move_to(robot, target, x0=None, point=None, task: TaskLike = None, strategy: str = "reactionless", duration: float = 5.0,
-            settle: float = 1.0, dt: float = 0.01, gain: float = 5.0, threshold: float = _core.DLS_DEFAULTS["threshold"], max_damping: float = _core.DLS_DEFAULTS["max_damping"],
+            settle: float = 1.0, dt: float = 0.01, gain: float = 5.0, threshold: float = _core.DLS_DEFAULTS.threshold, max_damping: float = _core.DLS_DEFAULTS.max_damping,
             manipulability_gain: float = 0.0, joint_limit_gain: float = 0.0) -> Motion:
     """Move a point (default: the end effector) to ``target`` (3 values in 𝒥; only the task's
     linear rows are controlled; angular rows hold the initial orientation) along a straight line

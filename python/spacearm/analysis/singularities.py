@@ -76,7 +76,7 @@ def damping(sigma_min: float, threshold: float, max_damping: float) -> float:
     return _core.analysis_damping(number(sigma_min, "sigma_min"), number(threshold, "threshold"), number(max_damping, "max_damping"))
 
 
-def detect(robot, x, point=None, task: TaskLike = None, threshold: float = _core.DLS_DEFAULTS["threshold"], max_damping: float = _core.DLS_DEFAULTS["max_damping"]) -> Detection:
+def detect(robot, x, point=None, task: TaskLike = None, threshold: float = _core.DLS_DEFAULTS.threshold, max_damping: float = _core.DLS_DEFAULTS.max_damping) -> Detection:
     """Singularity detector for RMRC: ``σ_min`` and condition of the task rows of ``J*`` and
     the recommended DLS damping (``threshold`` = ε, ``max_damping`` = λ_max)."""
     body, off = robot._point(point)

@@ -7,13 +7,14 @@ are in the parent's frame; its ``axis`` is in the link frame; a link's ``com`` i
 its joint in the link frame; inertias are about the CM in the body's axes. SI units throughout.
 
 The classes are frozen and their arrays read-only: a description is a snapshot of an immutable
-model. :meth:`ModelDescription.to_dict` gives back the plain-data form of
-:meth:`Robot.describe`.
+model, read from the extension's typed description (``spacearm._core.ModelInfo``).
+:meth:`ModelDescription.to_dict` gives the plain-data form that :meth:`Robot.describe` returns.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import Optional, Tuple
 
 import numpy as np
@@ -68,7 +69,7 @@ class LinkDescription:
     parent_index: int  #: body index of the parent (0 = base)
     joint: str  #: name of the joint
     type: str  #: ``"revolute"``, ``"prismatic"`` or ``"fixed"``
-    axis: np.ndarray  #: (3,) unit joint axis in the link frame (zero for a fixed joint)
+    axis: np.ndarray  #: (3,) unit joint axis in the link frame (unused by a fixed joint: as given, or z if given zero)
     origin: np.ndarray  #: (3,) m, joint position in the parent frame, measured from the parent's CM
     rotation: np.ndarray  #: (4,) ``[x, y, z, w]`` unit quaternion, link frame in the parent frame at q = 0
     com: np.ndarray  #: (3,) m, the link's CM measured from the joint, in the link frame
@@ -100,34 +101,54 @@ class ModelDescription:
     initial_q: np.ndarray  #: (N,) initial joint coordinates (rad or m per joint type)
 
     @classmethod
-    def from_core(cls, d: dict) -> "ModelDescription":
-        """Build from the dict of the extension's ``Model.describe()``."""
-        base = d["base"]
+    def from_core(cls, info) -> "ModelDescription":
+        """Build from the extension's typed description, ``Model.describe()`` (a
+        ``spacearm._core.ModelInfo``: crates/spacearm-py/src/description_py.rs), or from the
+        plain-data form of :meth:`Robot.describe` (see :meth:`from_dict`)."""
+        if isinstance(info, dict):
+            return cls.from_dict(info)
+        base = info.base
         return cls(
-            name=d["name"],
-            base=BaseDescription(name=base["name"], mass=float(base["mass"]), inertia=_readonly(base["inertia"], (3, 3))),
+            name=info.name,
+            base=BaseDescription(name=base.name, mass=float(base.mass), inertia=_readonly(base.inertia, (3, 3))),
             links=tuple(
                 LinkDescription(
-                    name=link["name"],
-                    parent=link["parent"],
-                    parent_index=int(link["parent_index"]),
-                    joint=link["joint"],
-                    type=link["type"],
-                    axis=_readonly(link["axis"], (3,)),
-                    origin=_readonly(link["origin"], (3,)),
-                    rotation=_readonly(link["rotation"], (4,)),
-                    com=_readonly(link["com"], (3,)),
-                    mass=float(link["mass"]),
-                    inertia=_readonly(link["inertia"], (3, 3)),
-                    limits=JointLimits(*(float(v) for v in link["limits"])),
-                    dof=None if link["dof"] is None else int(link["dof"]),
+                    name=link.name,
+                    parent=link.parent,
+                    parent_index=int(link.parent_index),
+                    joint=link.joint,
+                    type=link.type,
+                    axis=_readonly(link.axis, (3,)),
+                    origin=_readonly(link.origin, (3,)),
+                    rotation=_readonly(link.rotation, (4,)),
+                    com=_readonly(link.com, (3,)),
+                    mass=float(link.mass),
+                    inertia=_readonly(link.inertia, (3, 3)),
+                    limits=JointLimits(float(link.limits.lower), float(link.limits.upper), float(link.limits.velocity),
+                                       float(link.limits.effort)),
+                    dof=None if link.dof is None else int(link.dof),
                 )
-                for link in d["links"]
+                for link in info.links
             ),
-            points=tuple(PointDescription(name=n, body=b, offset=_readonly(o, (3,))) for n, b, o in d["points"]),
-            end_effector=d["end_effector"],
-            initial_q=_readonly(d["initial_q"], (-1,)),
+            points=tuple(PointDescription(name=p.name, body=p.body, offset=_readonly(p.offset, (3,))) for p in info.points),
+            end_effector=info.end_effector,
+            initial_q=_readonly(info.initial_q, (-1,)),
         )
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "ModelDescription":
+        """Build from the plain-data form of :meth:`to_dict` and :meth:`Robot.describe` (read
+        through the same field mapping as :meth:`from_core`)."""
+        ns = SimpleNamespace
+        limit_names = ("lower", "upper", "velocity", "effort")
+        return cls.from_core(ns(
+            name=d["name"],
+            base=ns(**d["base"]),
+            links=[ns(**{**link, "limits": ns(**dict(zip(limit_names, link["limits"])))}) for link in d["links"]],
+            points=[ns(name=n, body=b, offset=o) for n, b, o in d["points"]],
+            end_effector=d["end_effector"],
+            initial_q=d["initial_q"],
+        ))
 
     def to_dict(self) -> dict:
         """The plain-data form, exactly as :meth:`Robot.describe` returns it."""

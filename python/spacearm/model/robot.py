@@ -254,7 +254,7 @@ class Robot:
     def describe(self) -> dict:
         """The model as plain Python data (base, links in tree order, points): a new dict at
         each call. :attr:`description` is the typed form of the same data."""
-        return self._m.describe()
+        return self.description.to_dict()
 
     def body_index(self, body: Union[str, int]) -> int:
         """Index of a body given by name or index (0 = base)."""

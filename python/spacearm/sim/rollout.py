@@ -153,7 +153,7 @@ def rollout(
             _check_controller(c, f"controller[{i}]")
         specs = [None if c is None else c._spec(robot) for c in controller]
         if any(s is None for s in specs):
-            specs = [{"type": "none"} if s is None else s for s in specs]
+            specs = [_core.ZeroTorqueSpec() if s is None else s for s in specs]
     else:
         _check_controller(controller)
         specs = None if controller is None else controller._spec(robot)

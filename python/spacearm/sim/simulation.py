@@ -111,9 +111,10 @@ def _check_controller(controller, what: str = "controller"):
         )
 
 
-def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, record_every, joint_limits, max_steps, record_dtype) -> dict:
-    """The options dict of the core's simulation entry points (``_core.simulate``,
-    ``_core.rollout``, ``_core.Simulator``), every value checked."""
+def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, record_every, joint_limits, max_steps, record_dtype,
+             progress=None) -> _core.RunOptions:
+    """The options of the core's simulation entry points (``_core.simulate``, ``_core.rollout``,
+    ``_core.Simulator``), every value checked; ``progress``: None or a callable(fraction)."""
     if not isinstance(mode, str) or mode not in MODES:
         raise ArgumentError(f"mode must be one of {list(MODES)}, got {mode!r}")
     if not isinstance(integrator, str) or integrator not in INTEGRATORS:
@@ -125,19 +126,20 @@ def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, reco
             raise ArgumentError(f"{name} must be an integer >= 1, got {value!r}")
     if record_dtype not in RECORD_DTYPES:
         raise ArgumentError(f"record_dtype must be one of {list(RECORD_DTYPES)}, got {record_dtype!r}")
-    return {
-        "mode": mode,
-        "integrator": integrator,
-        "dt": float(dt) if isinstance(dt, (int, float, np.floating, np.integer)) else dt,
-        "rtol": rtol,
-        "atol": atol,
-        "record_every": int(record_every),
-        "wheels": _wheel_dofs(robot, wheels),
-        "thrusters": None if thrusters is None else thrusters._spec(),
-        "joint_limits": bool(joint_limits),
-        "max_steps": int(max_steps),
-        "record_dtype": record_dtype,
-    }
+    return _core.RunOptions(
+        mode=mode,
+        integrator=integrator,
+        dt=float(dt) if isinstance(dt, (int, float, np.floating, np.integer)) else dt,
+        rtol=rtol,
+        atol=atol,
+        record_every=int(record_every),
+        wheels=_wheel_dofs(robot, wheels),
+        thrusters=None if thrusters is None else thrusters._spec(),
+        joint_limits=bool(joint_limits),
+        max_steps=int(max_steps),
+        progress=progress,
+        record_dtype=record_dtype,
+    )
 
 
 def _warn_dropped(mode: str, meta: dict, stacklevel: int) -> None:
@@ -175,17 +177,21 @@ def _run(
     """The simulation proper: ``(data, meta)`` dicts of numpy arrays and run description."""
     _check_robot(robot, "simulate")
     duration = _check_duration(duration)
-    options = _options(
-        robot, mode=mode, integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=wheels, thrusters=thrusters,
+    option_args = dict(
+        mode=mode, integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=wheels, thrusters=thrusters,
         record_every=record_every, joint_limits=joint_limits, max_steps=max_steps, record_dtype=record_dtype,
     )
+    options = _options(robot, **option_args)
     x0 = robot.neutral_configuration() if x0 is None else vector(x0, "x0")
     u0 = robot.zero_velocity() if u0 is None else vector(u0, "u0")
     _check_controller(controller)
     callback, close = _progress_callable(progress)
-    options["progress"] = callback
     spec = None if controller is None else controller._spec(robot)
     try:
+        if callback is not None:
+            # The options were checked first, before the progress callable (maybe a bar) was
+            # made; they are built again with it.
+            options = _options(robot, **option_args, progress=callback)
         result = _core.simulate(robot._m, x0, u0, duration, options, spec)
     finally:
         close()

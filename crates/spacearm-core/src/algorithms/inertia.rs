@@ -56,7 +56,7 @@ fn admit_paper_form(model: &Model) -> Result<()> {
     let remedy = "use the CRBA mass matrix (method=\"crba\", the same H in O(N·depth)) or a smaller model";
     let n = model.n_dof() as f64;
     crate::admission::admit(
-        &format!("the paper-form inertia blocks of N = {}", model.n_dof()),
+        format_args!("the paper-form inertia blocks of N = {}", model.n_dof()),
         crate::admission::bytes_of::<f64>(n * n + (n + 6.0) * (n + 6.0)),
         remedy,
     )?;
@@ -68,7 +68,7 @@ fn admit_paper_form(model: &Model) -> Result<()> {
         depth[b] = depth[parent] + usize::from(model.dof_of_body(b).is_some());
         operations += (depth[b] * depth[b]) as f64;
     }
-    crate::admission::admit_work(&format!("the paper-form inertia blocks of N = {}", model.n_dof()), operations, remedy)
+    crate::admission::admit_work(format_args!("the paper-form inertia blocks of N = {}", model.n_dof()), operations, remedy)
 }
 
 /// Compute every inertia block by the paper's Jacobian sums at configuration `x`.

@@ -107,7 +107,7 @@ pub fn joint_grid(lower: &[f64], upper: &[f64], resolution: usize) -> Result<Vec
     // Admission: the grid (N values per sample) and the scan's results (one ScanSample each).
     let total = (resolution as f64).powi(n as i32);
     crate::admission::admit(
-        &format!("a joint grid of {resolution}^{n} = {total:.3e} samples and its scan"),
+        format_args!("a joint grid of {resolution}^{n} = {total:.3e} samples and its scan"),
         total * (crate::admission::bytes_of::<f64>(n as f64) + std::mem::size_of::<ScanSample>() as f64),
         "lower the resolution, or scan random samples instead",
     )?;

@@ -22,7 +22,7 @@ pub fn generalized_inertia_partials<'w>(model: &Model, work: &'w mut DerivativeD
     let n = model.n_dof();
     if work.generalized_inertia_partials.len() != n {
         crate::admission::admit(
-            &format!("generalized_inertia_partials (N³ = {n}³ values)"),
+            format_args!("generalized_inertia_partials (N³ = {n}³ values)"),
             crate::admission::bytes_of::<f64>((n as f64).powi(3)),
             "use generalized_inertia_derivative (Ḣ* along one velocity, N² values) or a smaller model",
         )?;

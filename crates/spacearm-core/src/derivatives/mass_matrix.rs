@@ -22,7 +22,7 @@ pub fn mass_matrix_partials<'w>(model: &Model, work: &'w mut DerivativeData, x: 
     let nu = model.nu();
     if work.mass_matrix_partials.len() != nu {
         crate::admission::admit(
-            &format!("mass_matrix_partials ((6+N)³ = {nu}³ values)"),
+            format_args!("mass_matrix_partials ((6+N)³ = {nu}³ values)"),
             crate::admission::bytes_of::<f64>((nu as f64).powi(3)),
             "use mass_matrix_derivative (Ḣ along one velocity, (6+N)² values) or a smaller model",
         )?;

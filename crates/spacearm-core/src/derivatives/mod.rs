@@ -362,7 +362,7 @@ impl DerivativeData {
     pub fn admit(model: &Model) -> Result<()> {
         let nu = model.nu() as f64;
         crate::admission::admit(
-            &format!("the derivative workspace of a model with N = {}", model.n_dof()),
+            format_args!("the derivative workspace of a model with N = {}", model.n_dof()),
             crate::admission::bytes_of::<f64>(13.0 * nu * nu + 6.0 * nu * nu),
             "use finite differences of forward_dynamics (O(N) per call with ABA) or a smaller model",
         )

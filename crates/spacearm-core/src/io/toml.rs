@@ -343,7 +343,7 @@ const PARSE_BYTES_PER_VALUE: f64 = 256.0;
 fn admit_document(text: &str, source: &str) -> Result<()> {
     let values = text.bytes().filter(|&b| b == b',' || b == b'=').count() + 1;
     crate::admission::admit(
-        &format!("{source}: parsing about {values} values"),
+        format_args!("{source}: parsing about {values} values"),
         values as f64 * PARSE_BYTES_PER_VALUE,
         "a model file holds at most a few million values (a 10⁵-link model has about 3·10⁶); check that the file is a model",
     )

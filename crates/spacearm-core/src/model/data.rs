@@ -162,7 +162,7 @@ fn ensure_dense<T: Real>(m: &mut DMatrix<T>, rows: usize, cols: usize, what: &st
         return Ok(());
     }
     admit(
-        &format!("{what} ({rows}×{cols})"),
+        format_args!("{what} ({rows}×{cols})"),
         bytes_of::<T>(rows as f64 * cols as f64),
         "use the O(N) algorithms instead (ABA forward dynamics, RNEA, kinematics) or a smaller model",
     )?;

@@ -398,7 +398,7 @@ pub fn admit_records(integrator: IntegratorKind, samples: f64, values: f64) -> R
         }
     };
     crate::admission::admit(
-        &format!("recording {samples} samples ({values:.3e} values)"),
+        format_args!("recording {samples} samples ({values:.3e} values)"),
         2.0 * crate::admission::bytes_of::<f64>(values),
         remedy,
     )

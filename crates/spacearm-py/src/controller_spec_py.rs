@@ -1,0 +1,715 @@
+//! The controllers of the simulation entry points as typed, frozen, keyword-only classes: the
+//! references (`JointReference`, `CartesianReference`) and one spec per core controller
+//! (`JointPdSpec`, `ComputedTorqueSpec`, `RmrcSpec`, `CoordinatedFlyingSpec`,
+//! `BaseThrustersSpec`, `AttitudeSpec`, `CombinedSpec`, `CallbackSpec`, `ZeroTorqueSpec`).
+//! `spacearm.control` builds them; each value is checked when the spec is built, and a spec
+//! builds a fresh core controller for every run ([`build_controller`]: controllers keep
+//! workspaces, so each rollout and each `Simulator.reset` gets its own).
+
+use std::sync::{Arc, Mutex};
+
+use nalgebra::Vector3;
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+use spacearm_core::control::{
+    AttitudeControl, BaseThrusterControl, Combined, Command, ComputedTorque, ControlContext, Controller, CoordinatedFlying, CoordinatedGains, JointPd,
+    ResolvedMotionRate, ZeroTorque,
+};
+use spacearm_core::sim::reference::{CartesianLine, JointReference};
+use spacearm_core::{Model, SpacearmError};
+
+use crate::convert::*;
+use crate::model_py::PyModel;
+use crate::sim_options_py::{refuse_unknown, type_name};
+
+type CoreResult<T> = spacearm_core::Result<T>;
+
+fn bad(msg: String) -> SpacearmError {
+    SpacearmError::InvalidArgument(msg)
+}
+
+fn vector(v: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<f64>> {
+    Ok(vec_arg(v, what)?.as_slice().to_vec())
+}
+
+fn quat(v: &Bound<'_, PyAny>, what: &str) -> PyResult<[f64; 4]> {
+    let q = vec_arg_n(v, what, 4)?;
+    let q = q.as_slice();
+    Ok([q[0], q[1], q[2], q[3]])
+}
+
+fn array<'py>(py: Python<'py>, v: &[f64]) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::from_slice(py, v)
+}
+
+// ---- references ------------------------------------------------------------------------------
+
+/// A joint-space reference of the arm joints (`spacearm_core::sim::reference::JointReference`):
+/// built by `JointReference.quintic(...)` (rest-to-rest quintic) or `JointReference.constant(q=...)`.
+#[pyclass(module = "spacearm._core", name = "JointReference", frozen)]
+pub struct PyJointReference {
+    inner: JointReference,
+}
+
+#[pymethods]
+impl PyJointReference {
+    /// From `q_start` to `q_goal` (rad or m per arm joint) over `[t_start, t_end]` (s).
+    #[staticmethod]
+    #[pyo3(signature = (*, q_start, q_goal, t_start, t_end))]
+    fn quintic(py: Python<'_>, q_start: &Bound<'_, PyAny>, q_goal: &Bound<'_, PyAny>, t_start: f64, t_end: f64) -> PyResult<Self> {
+        let w = "joint reference";
+        let inner = JointReference::quintic(vector(q_start, &format!("{w} 'q_start'"))?, vector(q_goal, &format!("{w} 'q_goal'"))?, t_start, t_end).or_raise(py)?;
+        Ok(PyJointReference { inner })
+    }
+
+    /// Hold `q` (rad or m per arm joint).
+    #[staticmethod]
+    #[pyo3(signature = (*, q))]
+    fn constant(py: Python<'_>, q: &Bound<'_, PyAny>) -> PyResult<Self> {
+        Ok(PyJointReference { inner: JointReference::constant(vector(q, "joint reference 'q'")?).or_raise(py)? })
+    }
+
+    /// `"quintic"` or `"constant"`.
+    #[getter]
+    fn kind(&self) -> &'static str {
+        match self.inner {
+            JointReference::Quintic { .. } => "quintic",
+            JointReference::Constant(_) => "constant",
+        }
+    }
+
+    /// The joint coordinates at and before `t_start`, shape (n,) (the set point of a constant).
+    #[getter]
+    fn q_start<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        match &self.inner {
+            JointReference::Quintic { q_start, .. } => array(py, q_start),
+            JointReference::Constant(q) => array(py, q),
+        }
+    }
+
+    /// The joint coordinates at and after `t_end`, shape (n,) (the set point of a constant).
+    #[getter]
+    fn q_goal<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        match &self.inner {
+            JointReference::Quintic { q_goal, .. } => array(py, q_goal),
+            JointReference::Constant(q) => array(py, q),
+        }
+    }
+
+    /// Start of the motion, s (None for a constant).
+    #[getter]
+    fn t_start(&self) -> Option<f64> {
+        match self.inner {
+            JointReference::Quintic { t_start, .. } => Some(t_start),
+            JointReference::Constant(_) => None,
+        }
+    }
+
+    /// End of the motion, s (None for a constant).
+    #[getter]
+    fn t_end(&self) -> Option<f64> {
+        match self.inner {
+            JointReference::Quintic { t_end, .. } => Some(t_end),
+            JointReference::Constant(_) => None,
+        }
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<spacearm._core.JointReference {} of {} joints>", self.kind(), self.inner.len())
+    }
+}
+
+/// A straight line of a point in 𝒥 with quintic timing (`spacearm_core::sim::reference::CartesianLine`).
+#[pyclass(module = "spacearm._core", name = "CartesianReference", frozen)]
+pub struct PyCartesianReference {
+    inner: CartesianLine,
+}
+
+#[pymethods]
+impl PyCartesianReference {
+    /// From `p_start` to `p_goal` (m, in 𝒥) over `[t_start, t_end]` (s).
+    #[new]
+    #[pyo3(signature = (*, p_start, p_goal, t_start, t_end, **unknown))]
+    fn new(py: Python<'_>, p_start: &Bound<'_, PyAny>, p_goal: &Bound<'_, PyAny>, t_start: f64, t_end: f64, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        refuse_unknown::<Self>(py, unknown)?;
+        let w = "Cartesian reference";
+        let line = CartesianLine::new(vec3(p_start, &format!("{w} 'p_start'"))?, vec3(p_goal, &format!("{w} 'p_goal'"))?, t_start, t_end).or_raise(py)?;
+        Ok(PyCartesianReference { inner: line })
+    }
+
+    /// Start point, shape (3,), m, in 𝒥.
+    #[getter]
+    fn p_start<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array(py, self.inner.p_start.as_slice())
+    }
+
+    /// End point, shape (3,), m, in 𝒥.
+    #[getter]
+    fn p_goal<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array(py, self.inner.p_goal.as_slice())
+    }
+
+    /// Start of the motion, s.
+    #[getter]
+    fn t_start(&self) -> f64 {
+        self.inner.t_start
+    }
+
+    /// End of the motion, s.
+    #[getter]
+    fn t_end(&self) -> f64 {
+        self.inner.t_end
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<spacearm._core.CartesianReference t_start={} s, t_end={} s>", self.inner.t_start, self.inner.t_end)
+    }
+}
+
+/// A point of the robot: a body index and an offset (m, in that body's frame).
+fn point(py: Python<'_>, what: &str, body: &Bound<'_, PyAny>, offset: &Bound<'_, PyAny>) -> PyResult<(usize, Vector3<f64>)> {
+    let b: usize = body.extract().map_err(|_| to_py_err(py, bad(format!("{what}: 'body' must be a body index"))))?;
+    Ok((b, vec3(offset, &format!("{what} 'offset'"))?))
+}
+
+// ---- controller specs ------------------------------------------------------------------------
+
+/// No control: zero joint torques and no base wrench.
+#[pyclass(module = "spacearm._core", name = "ZeroTorqueSpec", frozen)]
+pub struct PyZeroTorqueSpec;
+
+#[pymethods]
+impl PyZeroTorqueSpec {
+    #[new]
+    fn new() -> Self {
+        PyZeroTorqueSpec
+    }
+
+    fn __repr__(&self) -> &'static str {
+        "<spacearm._core.ZeroTorqueSpec>"
+    }
+}
+
+/// Joint PD on the arm joints (`spacearm_core::control::JointPd`).
+#[pyclass(module = "spacearm._core", name = "JointPdSpec", frozen)]
+pub struct PyJointPdSpec {
+    /// Proportional gains, one or one per arm joint, N·m/rad.
+    #[pyo3(get)]
+    kp: Vec<f64>,
+    /// Derivative gains, one or one per arm joint, N·m·s/rad.
+    #[pyo3(get)]
+    kd: Vec<f64>,
+    reference: Py<PyJointReference>,
+}
+
+#[pymethods]
+impl PyJointPdSpec {
+    #[new]
+    #[pyo3(signature = (*, kp, kd, reference, **unknown))]
+    fn new(py: Python<'_>, kp: &Bound<'_, PyAny>, kd: &Bound<'_, PyAny>, reference: Py<PyJointReference>, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        refuse_unknown::<Self>(py, unknown)?;
+        Ok(PyJointPdSpec { kp: vector(kp, "joint_pd 'kp'")?, kd: vector(kd, "joint_pd 'kd'")?, reference })
+    }
+
+    /// The joint reference.
+    #[getter]
+    fn reference(&self, py: Python<'_>) -> Py<PyJointReference> {
+        self.reference.clone_ref(py)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<spacearm._core.JointPdSpec kp: {} gains, kd: {} gains>", self.kp.len(), self.kd.len())
+    }
+}
+
+/// Computed torque on the reduced equations of motion (`spacearm_core::control::ComputedTorque`,
+/// paper eqs. 112–115).
+#[pyclass(module = "spacearm._core", name = "ComputedTorqueSpec", frozen)]
+pub struct PyComputedTorqueSpec {
+    /// Proportional gains, one or one per arm joint, 1/s².
+    #[pyo3(get)]
+    kp: Vec<f64>,
+    /// Derivative gains, one or one per arm joint, 1/s.
+    #[pyo3(get)]
+    kd: Vec<f64>,
+    reference: Py<PyJointReference>,
+    /// The controller's model (None: the plant's).
+    model: Option<Model>,
+}
+
+#[pymethods]
+impl PyComputedTorqueSpec {
+    #[new]
+    #[pyo3(signature = (*, kp, kd, reference, model=None, **unknown))]
+    fn new(
+        py: Python<'_>,
+        kp: &Bound<'_, PyAny>,
+        kd: &Bound<'_, PyAny>,
+        reference: Py<PyJointReference>,
+        model: Option<&Bound<'_, PyAny>>,
+        unknown: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        refuse_unknown::<Self>(py, unknown)?;
+        let model = match model {
+            Some(m) => {
+                let m = m.cast::<PyModel>().map_err(|_| to_py_err(py, bad("a controller's model must be a spacearm Robot's core model".into())))?;
+                Some(m.borrow().model.clone())
+            }
+            None => None,
+        };
+        Ok(PyComputedTorqueSpec { kp: vector(kp, "computed_torque 'kp'")?, kd: vector(kd, "computed_torque 'kd'")?, reference, model })
+    }
+
+    /// The joint reference.
+    #[getter]
+    fn reference(&self, py: Python<'_>) -> Py<PyJointReference> {
+        self.reference.clone_ref(py)
+    }
+
+    /// Whether the controller has a model of its own (else it uses the plant's).
+    #[getter]
+    fn has_model(&self) -> bool {
+        self.model.is_some()
+    }
+
+    fn __repr__(&self) -> String {
+        let model = if self.model.is_some() { "its own" } else { "the plant's" };
+        format!("<spacearm._core.ComputedTorqueSpec kp: {} gains, kd: {} gains, model: {model}>", self.kp.len(), self.kd.len())
+    }
+}
+
+/// Resolved-motion-rate control of a point through `J*` (`spacearm_core::control::ResolvedMotionRate`,
+/// paper eq. 110) with damped least squares.
+#[pyclass(module = "spacearm._core", name = "RmrcSpec", frozen)]
+pub struct PyRmrcSpec {
+    reference: Py<PyCartesianReference>,
+    /// Position feedback gain, 1/s.
+    #[pyo3(get)]
+    gain: f64,
+    /// The largest damping λ_max, m.
+    #[pyo3(get)]
+    damping: f64,
+    /// The singular value below which damping starts, m.
+    #[pyo3(get)]
+    threshold: f64,
+    /// Joint-rate tracking gain, 1/s.
+    #[pyo3(get)]
+    velocity_gain: f64,
+    /// The body of the controlled point.
+    #[pyo3(get)]
+    body: usize,
+    offset: Vector3<f64>,
+}
+
+#[pymethods]
+impl PyRmrcSpec {
+    #[new]
+    #[pyo3(signature = (*, reference, gain, damping, threshold, velocity_gain, body, offset, **unknown))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        reference: Py<PyCartesianReference>,
+        gain: f64,
+        damping: f64,
+        threshold: f64,
+        velocity_gain: f64,
+        body: &Bound<'_, PyAny>,
+        offset: &Bound<'_, PyAny>,
+        unknown: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        refuse_unknown::<Self>(py, unknown)?;
+        let (body, offset) = point(py, "rmrc", body, offset)?;
+        Ok(PyRmrcSpec { reference, gain, damping, threshold, velocity_gain, body, offset })
+    }
+
+    /// The Cartesian reference.
+    #[getter]
+    fn reference(&self, py: Python<'_>) -> Py<PyCartesianReference> {
+        self.reference.clone_ref(py)
+    }
+
+    /// The point's offset in its body's frame, shape (3,), m.
+    #[getter]
+    fn offset<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array(py, self.offset.as_slice())
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<spacearm._core.RmrcSpec body={} gain={} 1/s>", self.body, self.gain)
+    }
+}
+
+/// Coordinated base-and-arm control in the flying mode (`spacearm_core::control::CoordinatedFlying`).
+#[pyclass(module = "spacearm._core", name = "CoordinatedFlyingSpec", frozen)]
+pub struct PyCoordinatedFlyingSpec {
+    reference: Py<PyCartesianReference>,
+    /// The body of the controlled point.
+    #[pyo3(get)]
+    body: usize,
+    offset: Vector3<f64>,
+    /// The base pose held: position (m, in 𝒥) and quaternion [x, y, z, w]; None: the initial pose.
+    base_ref: Option<(Vector3<f64>, [f64; 4])>,
+    gains: CoordinatedGains,
+    /// The largest damping λ_max, m.
+    #[pyo3(get)]
+    damping: f64,
+    /// The singular value below which damping starts, m.
+    #[pyo3(get)]
+    threshold: f64,
+}
+
+#[pymethods]
+impl PyCoordinatedFlyingSpec {
+    #[new]
+    #[pyo3(signature = (*, reference, body, offset, kp_ee, kd_ee, kp_base, kd_base, damping, threshold, base_position=None, base_quat=None, **unknown))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        reference: Py<PyCartesianReference>,
+        body: &Bound<'_, PyAny>,
+        offset: &Bound<'_, PyAny>,
+        kp_ee: f64,
+        kd_ee: f64,
+        kp_base: f64,
+        kd_base: f64,
+        damping: f64,
+        threshold: f64,
+        base_position: Option<&Bound<'_, PyAny>>,
+        base_quat: Option<&Bound<'_, PyAny>>,
+        unknown: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        refuse_unknown::<Self>(py, unknown)?;
+        let (body, offset) = point(py, "coordinated_flying", body, offset)?;
+        let base_ref = match (base_position, base_quat) {
+            (None, None) => None,
+            (Some(p), Some(q)) => Some((vec3(p, "coordinated flying base_position")?, quat(q, "coordinated flying base_quat")?)),
+            _ => return Err(to_py_err(py, bad("coordinated_flying: give both base_position and base_quat, or neither".into()))),
+        };
+        let gains = CoordinatedGains { kp_ee, kd_ee, kp_base, kd_base };
+        Ok(PyCoordinatedFlyingSpec { reference, body, offset, base_ref, gains, damping, threshold })
+    }
+
+    /// The end effector's Cartesian reference.
+    #[getter]
+    fn reference(&self, py: Python<'_>) -> Py<PyCartesianReference> {
+        self.reference.clone_ref(py)
+    }
+
+    /// The point's offset in its body's frame, shape (3,), m.
+    #[getter]
+    fn offset<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array(py, self.offset.as_slice())
+    }
+
+    /// The base position held, shape (3,), m, in 𝒥 (None: the initial one).
+    #[getter]
+    fn base_position<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        self.base_ref.as_ref().map(|(p, _)| array(py, p.as_slice()))
+    }
+
+    /// The base attitude held, quaternion [x, y, z, w], shape (4,) (None: the initial one).
+    #[getter]
+    fn base_quat<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        self.base_ref.as_ref().map(|(_, q)| array(py, q))
+    }
+
+    /// End-effector stiffness, 1/s².
+    #[getter]
+    fn kp_ee(&self) -> f64 {
+        self.gains.kp_ee
+    }
+
+    /// End-effector damping, 1/s.
+    #[getter]
+    fn kd_ee(&self) -> f64 {
+        self.gains.kd_ee
+    }
+
+    /// Base stiffness, 1/s².
+    #[getter]
+    fn kp_base(&self) -> f64 {
+        self.gains.kp_base
+    }
+
+    /// Base damping, 1/s.
+    #[getter]
+    fn kd_base(&self) -> f64 {
+        self.gains.kd_base
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<spacearm._core.CoordinatedFlyingSpec body={} base_ref={}>", self.body, if self.base_ref.is_some() { "given" } else { "initial pose" })
+    }
+}
+
+/// Base regulation by thrusters (`spacearm_core::control::BaseThrusterControl`).
+#[pyclass(module = "spacearm._core", name = "BaseThrustersSpec", frozen)]
+pub struct PyBaseThrustersSpec {
+    com_ref: Option<Vector3<f64>>,
+    quat_ref: Option<[f64; 4]>,
+    /// System-CM stiffness, 1/s².
+    #[pyo3(get)]
+    kp_position: f64,
+    /// System-CM damping, 1/s.
+    #[pyo3(get)]
+    kd_position: f64,
+    /// Attitude stiffness, N·m/rad.
+    #[pyo3(get)]
+    kp_attitude: f64,
+    /// Attitude damping, N·m·s/rad.
+    #[pyo3(get)]
+    kd_attitude: f64,
+}
+
+#[pymethods]
+impl PyBaseThrustersSpec {
+    #[new]
+    #[pyo3(signature = (*, kp_position, kd_position, kp_attitude, kd_attitude, com_ref=None, quat_ref=None, **unknown))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        kp_position: f64,
+        kd_position: f64,
+        kp_attitude: f64,
+        kd_attitude: f64,
+        com_ref: Option<&Bound<'_, PyAny>>,
+        quat_ref: Option<&Bound<'_, PyAny>>,
+        unknown: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        refuse_unknown::<Self>(py, unknown)?;
+        let com_ref = com_ref.map(|v| vec3(v, "thruster control com_ref")).transpose()?;
+        let quat_ref = quat_ref.map(|v| quat(v, "thruster control quat_ref")).transpose()?;
+        Ok(PyBaseThrustersSpec { com_ref, quat_ref, kp_position, kd_position, kp_attitude, kd_attitude })
+    }
+
+    /// The system CM position held, shape (3,), m, in 𝒥 (None: the initial one).
+    #[getter]
+    fn com_ref<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        self.com_ref.as_ref().map(|p| array(py, p.as_slice()))
+    }
+
+    /// The base attitude held, quaternion [x, y, z, w], shape (4,) (None: the initial one).
+    #[getter]
+    fn quat_ref<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        self.quat_ref.as_ref().map(|q| array(py, q))
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<spacearm._core.BaseThrustersSpec kp_position={} kd_position={} kp_attitude={} kd_attitude={}>", self.kp_position, self.kd_position, self.kp_attitude, self.kd_attitude)
+    }
+}
+
+/// Base attitude control with reaction wheels (`spacearm_core::control::AttitudeControl`).
+#[pyclass(module = "spacearm._core", name = "AttitudeSpec", frozen)]
+pub struct PyAttitudeSpec {
+    quat_ref: [f64; 4],
+    /// Attitude stiffness, N·m/rad.
+    #[pyo3(get)]
+    kp: f64,
+    /// Attitude damping, N·m·s/rad.
+    #[pyo3(get)]
+    kd: f64,
+}
+
+#[pymethods]
+impl PyAttitudeSpec {
+    #[new]
+    #[pyo3(signature = (*, quat_ref, kp, kd, **unknown))]
+    fn new(py: Python<'_>, quat_ref: &Bound<'_, PyAny>, kp: f64, kd: f64, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        refuse_unknown::<Self>(py, unknown)?;
+        Ok(PyAttitudeSpec { quat_ref: quat(quat_ref, "attitude quat_ref")?, kp, kd })
+    }
+
+    /// The base attitude held, quaternion [x, y, z, w] of 𝒥, shape (4,).
+    #[getter]
+    fn quat_ref<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array(py, &self.quat_ref)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<spacearm._core.AttitudeSpec kp={} kd={}>", self.kp, self.kd)
+    }
+}
+
+/// An arm controller and a base controller together (`spacearm_core::control::Combined`): the
+/// base runs first.
+#[pyclass(module = "spacearm._core", name = "CombinedSpec", frozen)]
+pub struct PyCombinedSpec {
+    /// The arm controller's spec.
+    #[pyo3(get)]
+    arm: Py<PyAny>,
+    /// The base controller's spec.
+    #[pyo3(get)]
+    base: Py<PyAny>,
+}
+
+#[pymethods]
+impl PyCombinedSpec {
+    #[new]
+    #[pyo3(signature = (*, arm, base, **unknown))]
+    fn new(py: Python<'_>, arm: &Bound<'_, PyAny>, base: &Bound<'_, PyAny>, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        refuse_unknown::<Self>(py, unknown)?;
+        spec_of(arm)?;
+        spec_of(base)?;
+        Ok(PyCombinedSpec { arm: arm.clone().unbind(), base: base.clone().unbind() })
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let name = |v: &Py<PyAny>| type_name(v.bind(py));
+        format!("<spacearm._core.CombinedSpec arm={} base={}>", name(&self.arm), name(&self.base))
+    }
+}
+
+/// A Python callable as the controller: `fn(t, x, u) -> tau` or `(tau, base_wrench)`, called at
+/// every integrator stage.
+#[pyclass(module = "spacearm._core", name = "CallbackSpec", frozen)]
+pub struct PyCallbackSpec {
+    /// The callable.
+    #[pyo3(get)]
+    r#fn: Py<PyAny>,
+}
+
+#[pymethods]
+impl PyCallbackSpec {
+    #[new]
+    #[pyo3(signature = (*, r#fn, **unknown))]
+    fn new(py: Python<'_>, r#fn: &Bound<'_, PyAny>, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        refuse_unknown::<Self>(py, unknown)?;
+        if !r#fn.is_callable() {
+            return Err(to_py_err(py, bad("the callback controller needs a callable fn(t, x, u)".into())));
+        }
+        Ok(PyCallbackSpec { r#fn: r#fn.clone().unbind() })
+    }
+
+    fn __repr__(&self) -> &'static str {
+        "<spacearm._core.CallbackSpec>"
+    }
+}
+
+// ---- from a spec to a controller -------------------------------------------------------------
+
+/// The spec classes, as the message of a wrong object names them.
+const SPEC_CLASSES: [&str; 9] =
+    ["ZeroTorqueSpec", "JointPdSpec", "ComputedTorqueSpec", "RmrcSpec", "AttitudeSpec", "BaseThrustersSpec", "CoordinatedFlyingSpec", "CombinedSpec", "CallbackSpec"];
+
+/// A controller spec, borrowed from its Python object.
+enum Spec<'a> {
+    ZeroTorque,
+    JointPd(&'a PyJointPdSpec),
+    ComputedTorque(&'a PyComputedTorqueSpec),
+    Rmrc(&'a PyRmrcSpec),
+    Attitude(&'a PyAttitudeSpec),
+    BaseThrusters(&'a PyBaseThrustersSpec),
+    CoordinatedFlying(&'a PyCoordinatedFlyingSpec),
+    Combined(&'a PyCombinedSpec),
+    Callback(&'a PyCallbackSpec),
+}
+
+/// Which spec `obj` is; an `ArgumentError` naming the spec classes if none.
+fn spec_of<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Spec<'a>> {
+    if obj.cast::<PyZeroTorqueSpec>().is_ok() {
+        return Ok(Spec::ZeroTorque);
+    }
+    if let Ok(s) = obj.cast::<PyJointPdSpec>() {
+        return Ok(Spec::JointPd(s.get()));
+    }
+    if let Ok(s) = obj.cast::<PyComputedTorqueSpec>() {
+        return Ok(Spec::ComputedTorque(s.get()));
+    }
+    if let Ok(s) = obj.cast::<PyRmrcSpec>() {
+        return Ok(Spec::Rmrc(s.get()));
+    }
+    if let Ok(s) = obj.cast::<PyAttitudeSpec>() {
+        return Ok(Spec::Attitude(s.get()));
+    }
+    if let Ok(s) = obj.cast::<PyBaseThrustersSpec>() {
+        return Ok(Spec::BaseThrusters(s.get()));
+    }
+    if let Ok(s) = obj.cast::<PyCoordinatedFlyingSpec>() {
+        return Ok(Spec::CoordinatedFlying(s.get()));
+    }
+    if let Ok(s) = obj.cast::<PyCombinedSpec>() {
+        return Ok(Spec::Combined(s.get()));
+    }
+    if let Ok(s) = obj.cast::<PyCallbackSpec>() {
+        return Ok(Spec::Callback(s.get()));
+    }
+    Err(to_py_err(obj.py(), bad(format!("controller type must be one of {SPEC_CLASSES:?}, got {}", type_name(obj)))))
+}
+
+/// A fresh core controller from a controller spec; callback controllers share `slot`.
+pub fn build_controller(obj: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<Box<dyn Controller>> {
+    let py = obj.py();
+    let joint_ref = |r: &Py<PyJointReference>| r.get().inner.clone();
+    let line = |r: &Py<PyCartesianReference>| r.get().inner;
+    Ok(match spec_of(obj)? {
+        Spec::ZeroTorque => Box::new(ZeroTorque),
+        Spec::JointPd(s) => Box::new(JointPd::new(s.kp.clone(), s.kd.clone(), joint_ref(&s.reference))),
+        Spec::ComputedTorque(s) => Box::new(ComputedTorque::new(s.kp.clone(), s.kd.clone(), joint_ref(&s.reference), s.model.clone())),
+        Spec::Rmrc(s) => Box::new(ResolvedMotionRate::new(line(&s.reference), s.gain, s.damping, s.threshold, s.velocity_gain, s.body, s.offset)),
+        Spec::Attitude(s) => Box::new(AttitudeControl::new(s.quat_ref, s.kp, s.kd)),
+        Spec::BaseThrusters(s) => Box::new(BaseThrusterControl::new(s.com_ref, s.quat_ref, s.kp_position, s.kd_position, s.kp_attitude, s.kd_attitude)),
+        Spec::CoordinatedFlying(s) => {
+            Box::new(CoordinatedFlying::new(line(&s.reference), s.body, s.offset, s.base_ref, s.gains, s.damping, s.threshold))
+        }
+        Spec::Combined(s) => Box::new(Combined::new(build_controller(s.arm.bind(py), slot)?, build_controller(s.base.bind(py), slot)?)),
+        Spec::Callback(s) => Box::new(PyCallback { func: s.r#fn.clone_ref(py), error: slot.clone() }),
+    })
+}
+
+/// Where a callback controller keeps the first Python exception it raised, for the entry point
+/// to re-raise unchanged (a mutex: the run may be on another thread, without the GIL).
+pub type ErrorSlot = Arc<Mutex<Option<PyErr>>>;
+
+/// A new, empty [`ErrorSlot`].
+pub fn error_slot() -> ErrorSlot {
+    Arc::new(Mutex::new(None))
+}
+
+/// The Python exception a callback stored in `slot`, if any.
+pub fn take_error(slot: &ErrorSlot) -> Option<PyErr> {
+    slot.lock().map(|mut e| e.take()).unwrap_or(None)
+}
+
+/// A Python callable as a controller: `fn(t, x, u) -> tau` or `(tau, base_wrench)`.
+struct PyCallback {
+    func: Py<PyAny>,
+    error: ErrorSlot,
+}
+
+impl PyCallback {
+    fn call(&self, py: Python<'_>, t: f64, x: &[f64], u: &[f64], out: &mut Command) -> PyResult<()> {
+        let result = self.func.bind(py).call1((t, PyArray1::from_slice(py, x), PyArray1::from_slice(py, u)))?;
+        let (tau_obj, wrench_obj) = match result.cast::<PyTuple>() {
+            Ok(tup) if tup.len() == 2 => (tup.get_item(0)?, Some(tup.get_item(1)?)),
+            _ => (result, None),
+        };
+        let n = out.tau.len();
+        let tau = vec_arg_n(&tau_obj, "the callback controller's tau", n)?;
+        out.tau.copy_from_slice(tau.as_slice());
+        if let Some(w) = wrench_obj {
+            out.base_wrench = vec6(&w, "the callback controller's base_wrench")?;
+        }
+        Ok(())
+    }
+}
+
+impl Controller for PyCallback {
+    fn name(&self) -> &str {
+        "callback"
+    }
+    fn setup(&mut self, _ctx: &ControlContext<'_>) -> CoreResult<()> {
+        Ok(())
+    }
+    fn command(&mut self, t: f64, x: &[f64], u: &[f64], out: &mut Command) -> CoreResult<()> {
+        let res = Python::attach(|py| self.call(py, t, x, u, out));
+        res.map_err(|e| {
+            let msg = format!("the controller callback raised at t = {t} s: {e}");
+            if let Ok(mut slot) = self.error.lock() {
+                slot.get_or_insert(e);
+            }
+            SpacearmError::Simulation(msg)
+        })
+    }
+}

@@ -1,0 +1,302 @@
+//! The options of the simulation entry points (`simulate`, `rollout`, `Simulator`) as typed,
+//! frozen, keyword-only classes: `RunOptions` and the `ThrusterLimits` it may carry. Every option
+//! left out (or given as None) keeps the core's default (`SimOptions::default()`, exported as
+//! `SIM_DEFAULTS`); each value is checked when the object is built, and an unknown keyword is an
+//! `ArgumentError` naming it and the keywords the class takes.
+
+use nalgebra::Vector3;
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyType};
+use pyo3::PyTypeInfo;
+use spacearm_core::sim::actuators::ThrusterLimits;
+use spacearm_core::sim::integrate::IntegratorKind;
+use spacearm_core::sim::modes::Mode;
+use spacearm_core::sim::simulate::SimOptions;
+use spacearm_core::SpacearmError;
+
+use crate::convert::*;
+
+fn bad(msg: String) -> SpacearmError {
+    SpacearmError::InvalidArgument(msg)
+}
+
+/// Refuse the keywords collected in `unknown` (the `**unknown` of a class's constructor) with an
+/// `ArgumentError` naming the first and the keywords `T` takes (read from its signature, so the
+/// list is never restated).
+pub fn refuse_unknown<T: PyTypeInfo>(py: Python<'_>, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+    let Some(key) = unknown.and_then(|d| d.keys().iter().next()) else {
+        return Ok(());
+    };
+    let cls: Bound<'_, PyType> = T::type_object(py);
+    let name = cls.qualname().map(|n| n.to_string()).unwrap_or_else(|_| T::NAME.to_string());
+    let expected: Vec<String> = py
+        .import("inspect")
+        .and_then(|inspect| inspect.call_method1("signature", (&cls,)))
+        .and_then(|sig| sig.getattr("parameters"))
+        .and_then(|params| params.call_method0("values"))
+        .and_then(|values| {
+            values
+                .try_iter()?
+                .filter_map(|p| p.ok())
+                // Keyword-only parameters (kind 3), not the `**unknown` catch-all (kind 4).
+                .filter(|p| p.getattr("kind").and_then(|k| k.extract::<i64>()).ok() == Some(3))
+                .map(|p| p.getattr("name")?.extract::<String>())
+                .collect::<PyResult<Vec<String>>>()
+        })
+        .unwrap_or_default();
+    Err(to_py_err(py, bad(format!("{name}: unknown key '{key}'; expected one of {expected:?}"))))
+}
+
+/// Thruster limits per axis of 𝒥 (`spacearm_core::sim::actuators::ThrusterLimits`): a force
+/// through the base CM and a torque are each clamped per component. Checked when built (every
+/// limit > 0; infinity for none).
+#[pyclass(module = "spacearm._core", name = "ThrusterLimits", frozen)]
+pub struct PyThrusterLimits {
+    pub inner: ThrusterLimits,
+}
+
+#[pymethods]
+impl PyThrusterLimits {
+    #[new]
+    #[pyo3(signature = (*, max_force, max_torque, **unknown))]
+    fn new(py: Python<'_>, max_force: &Bound<'_, PyAny>, max_torque: &Bound<'_, PyAny>, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        refuse_unknown::<Self>(py, unknown)?;
+        let f = vec3(max_force, "thrusters 'max_force'")?;
+        let t = vec3(max_torque, "thrusters 'max_torque'")?;
+        Ok(PyThrusterLimits { inner: ThrusterLimits::new(f, t).or_raise(py)? })
+    }
+
+    /// Largest base force per axis of 𝒥, shape (3,), N (inf: no limit).
+    #[getter]
+    fn max_force<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, self.inner.max_force.as_slice())
+    }
+
+    /// Largest base torque per axis of 𝒥, shape (3,), N·m (inf: no limit).
+    #[getter]
+    fn max_torque<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, self.inner.max_torque.as_slice())
+    }
+
+    fn __repr__(&self) -> String {
+        let v = |v: &Vector3<f64>| format!("[{}, {}, {}]", v.x, v.y, v.z);
+        format!("<spacearm._core.ThrusterLimits max_force={} N, max_torque={} N·m>", v(&self.inner.max_force), v(&self.inner.max_torque))
+    }
+}
+
+/// The options of a run, checked: everything of `SimOptions` but the duration (an argument of
+/// each entry point), the progress callable and the dtype of the records.
+#[pyclass(module = "spacearm._core", name = "RunOptions", frozen)]
+pub struct PyRunOptions {
+    /// The core's options; `duration` is a placeholder, replaced by [`PyRunOptions::sim_options`].
+    sim: SimOptions,
+    progress: Option<Py<PyAny>>,
+    float32: bool,
+}
+
+impl PyRunOptions {
+    /// The core's options of a run of `duration` seconds.
+    pub fn sim_options(&self, duration: f64) -> SimOptions {
+        SimOptions { duration, ..self.sim.clone() }
+    }
+
+    /// The progress callable, if any.
+    pub fn progress_fn(&self, py: Python<'_>) -> Option<Py<PyAny>> {
+        self.progress.as_ref().map(|f| f.clone_ref(py))
+    }
+
+    /// Whether the records are returned as float32.
+    pub fn records_float32(&self) -> bool {
+        self.float32
+    }
+}
+
+/// `v` as an integer >= 1; `key` names it in the message.
+fn count(py: Python<'_>, key: &str, v: &Bound<'_, PyAny>) -> PyResult<usize> {
+    let i: i64 = v.extract().map_err(|_| to_py_err(py, bad(format!("{key} must be an integer >= 1, got {v}"))))?;
+    if i < 1 {
+        return Err(to_py_err(py, bad(format!("{key} must be an integer >= 1, got {i}"))));
+    }
+    Ok(i as usize)
+}
+
+/// `v` as a number; `key` names it in the message.
+fn number(py: Python<'_>, key: &str, v: &Bound<'_, PyAny>) -> PyResult<f64> {
+    v.extract::<f64>().map_err(|_| to_py_err(py, bad(format!("simulation options: '{key}' must be a number"))))
+}
+
+#[pymethods]
+impl PyRunOptions {
+    /// Every keyword is optional; None keeps the core's default.
+    #[new]
+    #[pyo3(signature = (*, mode=None, integrator=None, dt=None, rtol=None, atol=None, record_every=None, wheels=None, thrusters=None,
+                        joint_limits=None, max_steps=None, progress=None, record_dtype=None, **unknown))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        mode: Option<&Bound<'_, PyAny>>,
+        integrator: Option<&Bound<'_, PyAny>>,
+        dt: Option<&Bound<'_, PyAny>>,
+        rtol: Option<&Bound<'_, PyAny>>,
+        atol: Option<&Bound<'_, PyAny>>,
+        record_every: Option<&Bound<'_, PyAny>>,
+        wheels: Option<&Bound<'_, PyAny>>,
+        thrusters: Option<&Bound<'_, PyAny>>,
+        joint_limits: Option<&Bound<'_, PyAny>>,
+        max_steps: Option<&Bound<'_, PyAny>>,
+        progress: Option<&Bound<'_, PyAny>>,
+        record_dtype: Option<&Bound<'_, PyAny>>,
+        unknown: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        refuse_unknown::<Self>(py, unknown)?;
+        let mut opts = SimOptions::default();
+        if let Some(m) = mode {
+            let name: String = m.extract().map_err(|_| to_py_err(py, bad("mode must be a string".into())))?;
+            opts.mode = Mode::from_name(&name).or_raise(py)?;
+        }
+        if let Some(m) = integrator {
+            let name: String = m.extract().map_err(|_| to_py_err(py, bad("integrator must be a string".into())))?;
+            opts.integrator = IntegratorKind::from_name(&name).or_raise(py)?;
+        }
+        for (key, value, slot) in [("dt", dt, &mut opts.dt), ("rtol", rtol, &mut opts.rtol), ("atol", atol, &mut opts.atol)] {
+            if let Some(v) = value {
+                *slot = number(py, key, v)?;
+            }
+        }
+        if let Some(v) = record_every {
+            opts.record_every = count(py, "record_every", v)?;
+        }
+        if let Some(v) = max_steps {
+            opts.max_steps = count(py, "max_steps", v)?;
+        }
+        if let Some(v) = wheels {
+            let dofs: Vec<i64> = v.extract().map_err(|_| to_py_err(py, bad("wheels must be a list of dof indices".into())))?;
+            if let Some(d) = dofs.iter().find(|d| **d < 0) {
+                return Err(to_py_err(py, SpacearmError::NotFound(format!("wheel dof {d} does not exist"))));
+            }
+            opts.wheels = Some(dofs.into_iter().map(|d| d as usize).collect());
+        }
+        if let Some(v) = thrusters {
+            let limits = v.cast::<PyThrusterLimits>().map_err(|_| to_py_err(py, bad(format!("thrusters must be a ThrusterLimits, got {}", type_name(v)))))?;
+            opts.thrusters = Some(limits.get().inner);
+        }
+        if let Some(v) = joint_limits {
+            opts.joint_limits = v.extract().map_err(|_| to_py_err(py, bad("joint_limits must be True or False".into())))?;
+        }
+        let float32 = match record_dtype {
+            None => false,
+            Some(v) => match v.extract::<String>().ok().as_deref() {
+                Some("float64") => false,
+                Some("float32") => true,
+                _ => return Err(to_py_err(py, bad(format!("record_dtype must be 'float64' or 'float32', got {v}")))),
+            },
+        };
+        if let Some(f) = progress {
+            if !f.is_callable() {
+                return Err(to_py_err(py, bad(format!("progress must be a callable(fraction) or None, got {}", type_name(f)))));
+            }
+        }
+        Ok(PyRunOptions { sim: opts, progress: progress.map(|f| f.clone().unbind()), float32 })
+    }
+
+    /// The maneuvering mode (paper Table 1), one of `MODES`.
+    #[getter]
+    fn mode(&self) -> &'static str {
+        self.sim.mode.name()
+    }
+
+    /// The integrator, one of `INTEGRATORS`.
+    #[getter]
+    fn integrator(&self) -> &'static str {
+        self.sim.integrator.name()
+    }
+
+    /// RK4: the step; DOPRI5: the output interval; s.
+    #[getter]
+    fn dt(&self) -> f64 {
+        self.sim.dt
+    }
+
+    /// DOPRI5 relative tolerance.
+    #[getter]
+    fn rtol(&self) -> f64 {
+        self.sim.rtol
+    }
+
+    /// DOPRI5 absolute tolerance.
+    #[getter]
+    fn atol(&self) -> f64 {
+        self.sim.atol
+    }
+
+    /// RK4: every how many steps a sample is recorded.
+    #[getter]
+    fn record_every(&self) -> usize {
+        self.sim.record_every
+    }
+
+    /// The reaction-wheel dofs, or None: those the model's structure shows.
+    #[getter]
+    fn wheels(&self) -> Option<Vec<usize>> {
+        self.sim.wheels.clone()
+    }
+
+    /// The thruster limits, or None: unlimited.
+    #[getter]
+    fn thrusters(&self) -> Option<PyThrusterLimits> {
+        self.sim.thrusters.map(|inner| PyThrusterLimits { inner })
+    }
+
+    /// Whether the joints' effort and velocity limits apply.
+    #[getter]
+    fn joint_limits(&self) -> bool {
+        self.sim.joint_limits
+    }
+
+    /// DOPRI5: the most steps attempted before giving up.
+    #[getter]
+    fn max_steps(&self) -> usize {
+        self.sim.max_steps
+    }
+
+    /// The callable given the fraction done (0..1) during the run, or None.
+    #[getter]
+    fn progress(&self, py: Python<'_>) -> Option<Py<PyAny>> {
+        self.progress_fn(py)
+    }
+
+    /// The dtype of the records but the time: "float64" or "float32".
+    #[getter]
+    fn record_dtype(&self) -> &'static str {
+        if self.float32 {
+            "float32"
+        } else {
+            "float64"
+        }
+    }
+
+    fn __repr__(&self) -> String {
+        let o = &self.sim;
+        format!(
+            "<spacearm._core.RunOptions mode={:?} integrator={:?} dt={:?} s rtol={:?} atol={:?} record_every={} wheels={:?} thrusters={} joint_limits={} max_steps={} progress={} record_dtype={:?}>",
+            o.mode.name(),
+            o.integrator.name(),
+            o.dt,
+            o.rtol,
+            o.atol,
+            o.record_every,
+            o.wheels,
+            if o.thrusters.is_some() { "limited" } else { "None" },
+            o.joint_limits,
+            o.max_steps,
+            if self.progress.is_some() { "callable" } else { "None" },
+            self.record_dtype(),
+        )
+    }
+}
+
+/// The name of `v`'s type, for messages.
+pub fn type_name(v: &Bound<'_, PyAny>) -> String {
+    v.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "?".into())
+}
