@@ -14,6 +14,8 @@
 //! calls from several Python threads, or a call re-entered from Python code run by an argument
 //! conversion, never share one.
 
+use std::ptr;
+use std::sync::atomic::{AtomicPtr, Ordering};
 use std::sync::{Arc, Mutex};
 
 use numpy::{IxDyn, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
@@ -28,28 +30,56 @@ use crate::errors_py::{new_error, ErrorClass};
 /// Workspaces of one model for one-state calls: taken for the duration of a call, given back
 /// after it; a call that finds none free makes a new one. Boxed, so that taking and giving
 /// back moves a pointer, not the workspace (a `Data` is a few hundred bytes).
+///
+/// One workspace waits in `hot`, taken and given back by one atomic swap each: the common case
+/// (one thread calling) never touches the mutex, whose two lock/unlock pairs were a measurable
+/// part of a one-state call. Concurrent calls find `hot` empty and fall back to the list.
 pub struct Pool<W> {
+    hot: AtomicPtr<W>,
     free: Mutex<Vec<Box<W>>>,
 }
 
-/// At most this many idle workspaces are kept (as many as threads are likely to call at once).
+/// At most this many idle workspaces are kept besides the hot one (as many as threads are
+/// likely to call at once).
 const POOL_KEEP: usize = 16;
 
 impl<W> Pool<W> {
     pub fn new() -> Self {
-        Pool { free: Mutex::new(Vec::new()) }
+        Pool { hot: AtomicPtr::new(ptr::null_mut()), free: Mutex::new(Vec::new()) }
     }
 
     /// Run `f` with a workspace of the pool (or a new one from `make`).
     pub fn with<R>(&self, make: impl FnOnce() -> W, f: impl FnOnce(&mut W) -> R) -> R {
-        let taken = self.free.lock().unwrap_or_else(|e| e.into_inner()).pop();
-        let mut work = taken.unwrap_or_else(|| Box::new(make()));
+        let hot = self.hot.swap(ptr::null_mut(), Ordering::Acquire);
+        let mut work = if hot.is_null() {
+            let taken = self.free.lock().unwrap_or_else(|e| e.into_inner()).pop();
+            taken.unwrap_or_else(|| Box::new(make()))
+        } else {
+            // SAFETY: a non-null `hot` came from `Box::into_raw` below, and the swap gave this
+            // call sole ownership of it.
+            unsafe { Box::from_raw(hot) }
+        };
         let result = f(&mut work);
-        let mut free = self.free.lock().unwrap_or_else(|e| e.into_inner());
-        if free.len() < POOL_KEEP {
-            free.push(work);
+        let raw = Box::into_raw(work);
+        if self.hot.compare_exchange(ptr::null_mut(), raw, Ordering::Release, Ordering::Relaxed).is_err() {
+            // SAFETY: `raw` was made by `Box::into_raw` just above and was not published.
+            let work = unsafe { Box::from_raw(raw) };
+            let mut free = self.free.lock().unwrap_or_else(|e| e.into_inner());
+            if free.len() < POOL_KEEP {
+                free.push(work);
+            }
         }
         result
+    }
+}
+
+impl<W> Drop for Pool<W> {
+    fn drop(&mut self) {
+        let hot = *self.hot.get_mut();
+        if !hot.is_null() {
+            // SAFETY: the pool owns the published workspace; nothing else can reach it now.
+            drop(unsafe { Box::from_raw(hot) });
+        }
     }
 }
 
