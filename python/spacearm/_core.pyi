@@ -471,10 +471,10 @@ class ComputedTorqueSpec:
 
 class RmrcSpec:
     """Resolved-motion-rate control of a point through J* (paper eq. 110), damped least squares."""
-    def __init__(self, *, reference: CartesianReference, gain: float, damping: float, threshold: float, velocity_gain: float,
+    def __init__(self, *, reference: CartesianReference, gain: float, max_damping: float, threshold: float, velocity_gain: float,
                  body: int, offset: ArrayLike) -> None: ...
     gain: float  # 1/s (read-only)
-    damping: float  # m, the largest damping (read-only)
+    max_damping: float  # m, the largest damping λ_max (read-only)
     threshold: float  # m (read-only)
     velocity_gain: float  # 1/s (read-only)
     body: int  # (read-only)
@@ -487,10 +487,10 @@ class RmrcSpec:
 class CoordinatedFlyingSpec:
     """Coordinated base-and-arm control in the flying mode."""
     def __init__(self, *, reference: CartesianReference, body: int, offset: ArrayLike, kp_ee: float, kd_ee: float, kp_base: float,
-                 kd_base: float, damping: float, threshold: float, base_position: Optional[ArrayLike] = None,
+                 kd_base: float, max_damping: float, threshold: float, base_position: Optional[ArrayLike] = None,
                  base_quat: Optional[ArrayLike] = None) -> None: ...
     body: int  # (read-only)
-    damping: float  # m (read-only)
+    max_damping: float  # m, the largest damping λ_max (read-only)
     threshold: float  # m (read-only)
     @property
     def reference(self) -> CartesianReference: ...

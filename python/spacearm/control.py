@@ -272,7 +272,7 @@ class ResolvedMotionRate(_Controller):
         return _core.RmrcSpec(
             reference=self.reference_cartesian._spec(),
             gain=_finite_float(self.gain, "ResolvedMotionRate gain"),
-            damping=_finite_float(self.max_damping, "ResolvedMotionRate max_damping"),
+            max_damping=_finite_float(self.max_damping, "ResolvedMotionRate max_damping"),
             threshold=_finite_float(self.threshold, "ResolvedMotionRate threshold"),
             velocity_gain=_finite_float(self.velocity_gain, "ResolvedMotionRate velocity_gain"),
             body=int(body),
@@ -395,7 +395,7 @@ class CoordinatedFlying(_Controller):
         point = self.point if self.point is not None else self.ee_reference.point
         body, offset = robot._point(point)
         reference = self.ee_reference._spec()
-        damping = _finite_float(self.max_damping, "CoordinatedFlying max_damping")
+        max_damping = _finite_float(self.max_damping, "CoordinatedFlying max_damping")
         threshold = _finite_float(self.threshold, "CoordinatedFlying threshold")
         gains = {key: _finite_float(getattr(self, key), f"CoordinatedFlying {key}") for key in ("kp_ee", "kd_ee", "kp_base", "kd_base")}
         base_position = base_quat = None
@@ -407,7 +407,7 @@ class CoordinatedFlying(_Controller):
             base_position = vector(r0, "CoordinatedFlying base position", 3)
             base_quat = quaternion(quat, "CoordinatedFlying base quaternion")
         return _core.CoordinatedFlyingSpec(
-            reference=reference, body=int(body), offset=np.asarray(offset, dtype=float), damping=damping, threshold=threshold,
+            reference=reference, body=int(body), offset=np.asarray(offset, dtype=float), max_damping=max_damping, threshold=threshold,
             base_position=base_position, base_quat=base_quat, **gains,
         )
 

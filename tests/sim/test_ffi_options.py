@@ -68,7 +68,7 @@ def test_values_are_checked_when_built():
         _core.CallbackSpec(fn=3)
     with pytest.raises(errors.ArgumentError, match="both base_position and base_quat"):
         _core.CoordinatedFlyingSpec(reference=_core.CartesianReference(p_start=[0.0] * 3, p_goal=[1.0] * 3, t_start=0.0, t_end=1.0),
-                                    body=4, offset=[0, 0, 0], kp_ee=1.0, kd_ee=1.0, kp_base=1.0, kd_base=1.0, damping=0.1,
+                                    body=4, offset=[0, 0, 0], kp_ee=1.0, kd_ee=1.0, kp_base=1.0, kd_base=1.0, max_damping=0.1,
                                     threshold=0.1, base_position=[0, 0, 0])
 
 
@@ -89,7 +89,7 @@ def test_the_control_classes_build_typed_specs_that_carry_what_the_user_gave(rob
     line = control.CartesianLine([1.0, 0.5, 0.0], [1.2, 0.4, 0.0], 0.0, 1.0)
     rmrc = control.ResolvedMotionRate(line, gain=3.0)._spec(robot)
     assert isinstance(rmrc, _core.RmrcSpec) and rmrc.gain == 3.0
-    assert rmrc.damping == _core.DLS_DEFAULTS["max_damping"] and rmrc.threshold == _core.DLS_DEFAULTS["threshold"]
+    assert rmrc.max_damping == _core.DLS_DEFAULTS["max_damping"] and rmrc.threshold == _core.DLS_DEFAULTS["threshold"]
     # The default point is the end effector: its body and offset, as the robot resolves them.
     body, offset = robot._point(None)
     assert rmrc.body == body

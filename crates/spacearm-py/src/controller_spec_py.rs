@@ -287,9 +287,9 @@ pub struct PyRmrcSpec {
     /// Position feedback gain, 1/s.
     #[pyo3(get)]
     gain: f64,
-    /// The largest damping λ_max, m.
+    /// The largest damping λ_max, m (`max_damping` everywhere in Python: one name for λ_max).
     #[pyo3(get)]
-    damping: f64,
+    max_damping: f64,
     /// The singular value below which damping starts, m.
     #[pyo3(get)]
     threshold: f64,
@@ -305,13 +305,13 @@ pub struct PyRmrcSpec {
 #[pymethods]
 impl PyRmrcSpec {
     #[new]
-    #[pyo3(signature = (*, reference, gain, damping, threshold, velocity_gain, body, offset, **unknown))]
+    #[pyo3(signature = (*, reference, gain, max_damping, threshold, velocity_gain, body, offset, **unknown))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
         reference: Py<PyCartesianReference>,
         gain: f64,
-        damping: f64,
+        max_damping: f64,
         threshold: f64,
         velocity_gain: f64,
         body: &Bound<'_, PyAny>,
@@ -320,7 +320,7 @@ impl PyRmrcSpec {
     ) -> PyResult<Self> {
         refuse_unknown::<Self>(py, unknown)?;
         let (body, offset) = point(py, "rmrc", body, offset)?;
-        Ok(PyRmrcSpec { reference, gain, damping, threshold, velocity_gain, body, offset })
+        Ok(PyRmrcSpec { reference, gain, max_damping, threshold, velocity_gain, body, offset })
     }
 
     /// The Cartesian reference.
@@ -351,9 +351,9 @@ pub struct PyCoordinatedFlyingSpec {
     /// The base pose held: position (m, in 𝒥) and quaternion [x, y, z, w]; None: the initial pose.
     base_ref: Option<(Vector3<f64>, [f64; 4])>,
     gains: CoordinatedGains,
-    /// The largest damping λ_max, m.
+    /// The largest damping λ_max, m (`max_damping` everywhere in Python: one name for λ_max).
     #[pyo3(get)]
-    damping: f64,
+    max_damping: f64,
     /// The singular value below which damping starts, m.
     #[pyo3(get)]
     threshold: f64,
@@ -362,7 +362,7 @@ pub struct PyCoordinatedFlyingSpec {
 #[pymethods]
 impl PyCoordinatedFlyingSpec {
     #[new]
-    #[pyo3(signature = (*, reference, body, offset, kp_ee, kd_ee, kp_base, kd_base, damping, threshold, base_position=None, base_quat=None, **unknown))]
+    #[pyo3(signature = (*, reference, body, offset, kp_ee, kd_ee, kp_base, kd_base, max_damping, threshold, base_position=None, base_quat=None, **unknown))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -373,7 +373,7 @@ impl PyCoordinatedFlyingSpec {
         kd_ee: f64,
         kp_base: f64,
         kd_base: f64,
-        damping: f64,
+        max_damping: f64,
         threshold: f64,
         base_position: Option<&Bound<'_, PyAny>>,
         base_quat: Option<&Bound<'_, PyAny>>,
@@ -387,7 +387,7 @@ impl PyCoordinatedFlyingSpec {
             _ => return Err(to_py_err(py, bad("coordinated_flying: give both base_position and base_quat, or neither".into()))),
         };
         let gains = CoordinatedGains { kp_ee, kd_ee, kp_base, kd_base };
-        Ok(PyCoordinatedFlyingSpec { reference, body, offset, base_ref, gains, damping, threshold })
+        Ok(PyCoordinatedFlyingSpec { reference, body, offset, base_ref, gains, max_damping, threshold })
     }
 
     /// The end effector's Cartesian reference.
@@ -647,11 +647,11 @@ pub fn build_controller(obj: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<Bo
         Spec::ZeroTorque => Box::new(ZeroTorque),
         Spec::JointPd(s) => Box::new(JointPd::new(s.kp.clone(), s.kd.clone(), joint_ref(&s.reference))),
         Spec::ComputedTorque(s) => Box::new(ComputedTorque::new(s.kp.clone(), s.kd.clone(), joint_ref(&s.reference), s.model.clone())),
-        Spec::Rmrc(s) => Box::new(ResolvedMotionRate::new(line(&s.reference), s.gain, s.damping, s.threshold, s.velocity_gain, s.body, s.offset)),
+        Spec::Rmrc(s) => Box::new(ResolvedMotionRate::new(line(&s.reference), s.gain, s.max_damping, s.threshold, s.velocity_gain, s.body, s.offset)),
         Spec::Attitude(s) => Box::new(AttitudeControl::new(s.quat_ref, s.kp, s.kd)),
         Spec::BaseThrusters(s) => Box::new(BaseThrusterControl::new(s.com_ref, s.quat_ref, s.kp_position, s.kd_position, s.kp_attitude, s.kd_attitude)),
         Spec::CoordinatedFlying(s) => {
-            Box::new(CoordinatedFlying::new(line(&s.reference), s.body, s.offset, s.base_ref, s.gains, s.damping, s.threshold))
+            Box::new(CoordinatedFlying::new(line(&s.reference), s.body, s.offset, s.base_ref, s.gains, s.max_damping, s.threshold))
         }
         Spec::Combined(s) => Box::new(Combined::new(build_controller(s.arm.bind(py), slot)?, build_controller(s.base.bind(py), slot)?)),
         Spec::Callback(s) => Box::new(PyCallback { func: s.r#fn.clone_ref(py), error: slot.clone() }),
