@@ -36,12 +36,22 @@ impl PyModel {
     }
 }
 
-/// Write a matrix into `out` row after row (numpy's C order).
+/// Write a matrix into `out` row after row (numpy's C order), reading nalgebra's storage
+/// through its strides: a plain load per element. (Indexing `m[(i, j)]` checks bounds twice per
+/// element and cost ~0.15 µs of a 12×12 mass-matrix call; a `step_by` iterator was worse.)
 pub fn put<R: Dim, C: Dim, S: RawStorage<f64, R, C>>(m: &Matrix<f64, R, C, S>, out: &mut [f64]) {
     let (rows, cols) = m.shape();
-    for i in 0..rows {
-        for j in 0..cols {
-            out[i * cols + j] = m[(i, j)];
+    let (row_stride, col_stride) = m.strides();
+    assert_eq!(out.len(), rows * cols, "output of the matrix's size");
+    let base = m.as_ptr();
+    for (i, row) in out.chunks_exact_mut(cols.max(1)).enumerate().take(rows) {
+        // Walk row i of the storage: element (i, j) is at i·row_stride + j·col_stride from
+        // `as_ptr()` (nalgebra's `RawStorage` contract); j < cols stays inside the storage.
+        let mut src = base.wrapping_add(i * row_stride);
+        for o in row.iter_mut() {
+            // SAFETY: `src` points at element (i, j) of the matrix for the j-th `o` (above).
+            *o = unsafe { *src };
+            src = src.wrapping_add(col_stride);
         }
     }
 }
