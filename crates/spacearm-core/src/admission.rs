@@ -51,7 +51,7 @@ pub fn format_bytes(bytes: f64) -> String {
 /// cannot overflow), or refuse it: `what` names the request, `remedy` the way out. `what` is
 /// formatted only for a refusal (pass `format_args!`, see [`admit_work`]).
 pub fn admit(what: impl std::fmt::Display, bytes: f64, remedy: &str) -> Result<()> {
-    if bytes.is_finite() && bytes <= MEMORY_LIMIT_BYTES as f64 {
+    if within_memory_limit(bytes) {
         return Ok(());
     }
     Err(SpacearmError::ResourceLimit(format!(
@@ -59,6 +59,13 @@ pub fn admit(what: impl std::fmt::Display, bytes: f64, remedy: &str) -> Result<(
         format_bytes(bytes),
         format_bytes(MEMORY_LIMIT_BYTES as f64)
     )))
+}
+
+/// Whether a request of about `bytes` is admitted (the test of [`admit`], for callers that
+/// choose their message only when it is not).
+#[inline]
+pub fn within_memory_limit(bytes: f64) -> bool {
+    bytes.is_finite() && bytes <= MEMORY_LIMIT_BYTES as f64
 }
 
 /// Bytes of `count` values of type `T`, as a float.

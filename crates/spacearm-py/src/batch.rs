@@ -280,14 +280,16 @@ pub fn run<'py, W, const I: usize, const O: usize>(
     // request before numpy is asked for it (core admission, one limit for every request).
     let values: usize = outputs.iter().map(|shape| shape.iter().product::<usize>()).sum();
     let bytes = rows.unwrap_or(1) as f64 * spacearm_core::admission::bytes_of::<f64>(values as f64);
-    let remedy = if call.ends_with("_partials") {
-        "use the derivative along one velocity (mass_matrix_derivative, generalized_inertia_derivative, \
-         generalized_jacobian_derivative: one slice instead of the whole tensor), a smaller batch or a smaller model"
-    } else {
-        "use a smaller batch or model, or the O(N) algorithms that need no dense matrix (ABA forward dynamics, RNEA, kinematics)"
-    };
-    spacearm_core::admission::admit(format_args!("{call} ({} state(s))", rows.unwrap_or(1)), bytes, remedy)
-    .map_err(|e| to_py_err(py, e))?;
+    if !spacearm_core::admission::within_memory_limit(bytes) {
+        let remedy = if call.ends_with("_partials") {
+            "use the derivative along one velocity (mass_matrix_derivative, generalized_inertia_derivative, \
+             generalized_jacobian_derivative: one slice instead of the whole tensor), a smaller batch or a smaller model"
+        } else {
+            "use a smaller batch or model, or the O(N) algorithms that need no dense matrix (ABA forward dynamics, RNEA, kinematics)"
+        };
+        spacearm_core::admission::admit(format_args!("{call} ({} state(s))", rows.unwrap_or(1)), bytes, remedy)
+            .map_err(|e| to_py_err(py, e))?;
+    }
     match rows {
         None => run_one(py, call, &inputs, outputs, pool, make, kernel),
         Some(b) => run_batch(py, call, &inputs, outputs, b, make, kernel),

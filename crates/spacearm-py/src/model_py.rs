@@ -43,14 +43,18 @@ pub fn put<R: Dim, C: Dim, S: RawStorage<f64, R, C>>(m: &Matrix<f64, R, C, S>, o
     let (rows, cols) = m.shape();
     let (row_stride, col_stride) = m.strides();
     assert_eq!(out.len(), rows * cols, "output of the matrix's size");
-    let base = m.as_ptr();
-    for (i, row) in out.chunks_exact_mut(cols.max(1)).enumerate().take(rows) {
+    let (src0, mut dst) = (m.as_ptr(), out.as_mut_ptr());
+    for i in 0..rows {
         // Walk row i of the storage: element (i, j) is at i·row_stride + j·col_stride from
-        // `as_ptr()` (nalgebra's `RawStorage` contract); j < cols stays inside the storage.
-        let mut src = base.wrapping_add(i * row_stride);
-        for o in row.iter_mut() {
-            // SAFETY: `src` points at element (i, j) of the matrix for the j-th `o` (above).
-            *o = unsafe { *src };
+        // `as_ptr()` (nalgebra's `RawStorage` contract).
+        let mut src = src0.wrapping_add(i * row_stride);
+        for _ in 0..cols {
+            // SAFETY: `src` points at element (i, j) (above); `dst` advances through the
+            // rows·cols elements of `out` (length asserted) exactly once.
+            unsafe {
+                *dst = *src;
+                dst = dst.add(1);
+            }
             src = src.wrapping_add(col_stride);
         }
     }
