@@ -42,8 +42,7 @@ def test_core_reference_exists(ref):
 @pytest.mark.parametrize("ref", PYTHON_REFS)
 def test_python_reference_exists(ref):
     path, name = ref.split("::")
-    text = (PACKAGE.parent / "spacearm" / path.removeprefix("spacearm/")).read_text(encoding="utf-8") \
-        if path.startswith("spacearm/") else (PACKAGE / path).read_text(encoding="utf-8")
+    text = (PACKAGE / path).read_text(encoding="utf-8")
     assert re.search(rf"^\s*(def|class)\s+{name}\b", text, re.M), f"{name} is not defined in {path}"
 
 
