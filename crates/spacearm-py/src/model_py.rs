@@ -37,20 +37,46 @@ impl PyModel {
 }
 
 /// Write a matrix into `out` row after row (numpy's C order), reading nalgebra's storage
-/// through its strides: a plain load per element. (Indexing `m[(i, j)]` checks bounds twice per
+/// through its strides: plain loads and stores. (Indexing `m[(i, j)]` checks bounds twice per
 /// element and cost ~0.15 µs of a 12×12 mass-matrix call; a `step_by` iterator was worse.)
+///
+/// Column-major storage with adjacent rows (every owned nalgebra matrix) is copied four rows
+/// at a time: each step reads four neighbouring values of a column and writes them down a
+/// column of `out`, about half the instructions per element of the one-at-a-time walk that
+/// copies the remaining rows and any other layout.
 pub fn put<R: Dim, C: Dim, S: RawStorage<f64, R, C>>(m: &Matrix<f64, R, C, S>, out: &mut [f64]) {
     let (rows, cols) = m.shape();
     let (row_stride, col_stride) = m.strides();
     assert_eq!(out.len(), rows * cols, "output of the matrix's size");
-    let (src0, mut dst) = (m.as_ptr(), out.as_mut_ptr());
-    for i in 0..rows {
-        // Walk row i of the storage: element (i, j) is at i·row_stride + j·col_stride from
-        // `as_ptr()` (nalgebra's `RawStorage` contract).
+    // Element (i, j) is at i·row_stride + j·col_stride from `as_ptr()` (nalgebra's
+    // `RawStorage` contract); element (i, j) of `out` at i·cols + j.
+    let (src0, dst0) = (m.as_ptr(), out.as_mut_ptr());
+    let mut first_row = 0;
+    if row_stride == 1 {
+        while first_row + 4 <= rows {
+            let (mut src, mut dst) = (src0.wrapping_add(first_row), dst0.wrapping_add(first_row * cols));
+            for _ in 0..cols {
+                // SAFETY: `src` is element (first_row, j) and rows first_row..first_row+4 exist
+                // (loop condition), adjacent in storage (row_stride 1); `dst` is element
+                // (first_row, j) of `out`, and rows first_row..first_row+4 of `out` exist.
+                unsafe {
+                    *dst = *src;
+                    *dst.add(cols) = *src.add(1);
+                    *dst.add(2 * cols) = *src.add(2);
+                    *dst.add(3 * cols) = *src.add(3);
+                }
+                src = src.wrapping_add(col_stride);
+                dst = dst.wrapping_add(1);
+            }
+            first_row += 4;
+        }
+    }
+    let mut dst = dst0.wrapping_add(first_row * cols);
+    for i in first_row..rows {
         let mut src = src0.wrapping_add(i * row_stride);
         for _ in 0..cols {
             // SAFETY: `src` points at element (i, j) (above); `dst` advances through the
-            // rows·cols elements of `out` (length asserted) exactly once.
+            // remaining elements of `out` (length asserted) exactly once.
             unsafe {
                 *dst = *src;
                 dst = dst.add(1);

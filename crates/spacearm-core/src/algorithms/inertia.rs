@@ -60,14 +60,7 @@ fn admit_paper_form(model: &Model) -> Result<()> {
         crate::admission::bytes_of::<f64>(n * n + (n + 6.0) * (n + 6.0)),
         remedy,
     )?;
-    // Joints on the path from the base to each body (parents come first).
-    let mut depth = vec![0usize; model.n_bodies()];
-    let mut operations = 0.0;
-    for b in 1..model.n_bodies() {
-        let parent = model.links()[b - 1].parent;
-        depth[b] = depth[parent] + usize::from(model.dof_of_body(b).is_some());
-        operations += (depth[b] * depth[b]) as f64;
-    }
+    let operations: f64 = (1..model.n_bodies()).map(|b| (model.path_dofs(b) * model.path_dofs(b)) as f64).sum();
     crate::admission::admit_work(format_args!("the paper-form inertia blocks of N = {}", model.n_dof()), operations, remedy)
 }
 

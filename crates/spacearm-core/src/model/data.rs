@@ -126,23 +126,27 @@ impl<T: Real> DataT<T> {
     }
 
     /// The dimension `6+N` of the velocity space.
+    #[inline]
     fn nu(&self) -> usize {
         self.tau.len()
     }
 
     /// Size `data.mass_matrix` to `(6+N)²` (once; admitted first).
+    #[inline]
     pub(crate) fn ensure_mass_matrix(&mut self) -> Result<()> {
         let nu = self.nu();
         ensure_dense::<T>(&mut self.mass_matrix, nu, nu, "the mass matrix H")
     }
 
     /// Size the `(6+N)²` factorization scratch (once; admitted first).
+    #[inline]
     pub(crate) fn ensure_factor(&mut self) -> Result<()> {
         let nu = self.nu();
         ensure_dense::<T>(&mut self.factor, nu, nu, "the factorization of the mass matrix H")
     }
 
     /// Size `generalized_inertia` (or, with `into_factor`, its N² factorization scratch).
+    #[inline]
     pub(crate) fn ensure_generalized_inertia(&mut self, into_factor: bool) -> Result<()> {
         let n = self.nu() - 6;
         let m = if into_factor { &mut self.factor_n } else { &mut self.generalized_inertia };
@@ -150,6 +154,7 @@ impl<T: Real> DataT<T> {
     }
 
     /// Size `generalized_jacobian` to 6×N (once).
+    #[inline]
     pub(crate) fn ensure_generalized_jacobian(&mut self) -> Result<()> {
         let n = self.nu() - 6;
         ensure_dense::<T>(&mut self.generalized_jacobian, 6, n, "the generalized Jacobian J*")
@@ -157,10 +162,19 @@ impl<T: Real> DataT<T> {
 }
 
 /// Give `m` the shape `rows × cols` (zeros) unless it has it already, after admitting its size.
+/// Every call of an algorithm that fills a dense matrix passes here: the test of the shape is
+/// inlined, the sizing (once per workspace) is not.
+#[inline(always)]
 fn ensure_dense<T: Real>(m: &mut DMatrix<T>, rows: usize, cols: usize, what: &str) -> Result<()> {
     if m.shape() == (rows, cols) {
         return Ok(());
     }
+    resize_dense(m, rows, cols, what)
+}
+
+#[cold]
+#[inline(never)]
+fn resize_dense<T: Real>(m: &mut DMatrix<T>, rows: usize, cols: usize, what: &str) -> Result<()> {
     admit(
         format_args!("{what} ({rows}×{cols})"),
         bytes_of::<T>(rows as f64 * cols as f64),

@@ -84,6 +84,8 @@ pub struct Model {
     // Derived from the fields above by `Model::new`.
     dof_of_body: Vec<Option<usize>>,
     body_of_dof: Vec<usize>,
+    /// Degrees of freedom on the path from the base to each body (see [`Model::path_dofs`]).
+    path_dofs: Vec<usize>,
     total_mass: f64,
     /// Whether inertias breaking the triangle inequality were accepted, and the warnings they
     /// gave (set by the builder; see [`TriangleInequality`]).
@@ -117,6 +119,11 @@ impl Model {
         }
         let initial_q = initial_q.unwrap_or_else(|| vec![0.0; body_of_dof.len()]);
         check_structure(&base, &links, &points, end_effector, &initial_q)?;
+        // Parents come before their children (checked above), so one pass suffices.
+        let mut path_dofs = vec![0usize; links.len() + 1];
+        for (k, link) in links.iter().enumerate() {
+            path_dofs[k + 1] = path_dofs[link.parent] + usize::from(dof_of_body[k + 1].is_some());
+        }
         let total_mass = links.iter().fold(base.mass, |m, l| m + l.mass.mass);
         Ok(Model {
             name,
@@ -128,6 +135,7 @@ impl Model {
             initial_q,
             dof_of_body,
             body_of_dof,
+            path_dofs,
             total_mass,
             triangle_inequality: TriangleInequality::Enforce,
             inertia_warnings: Vec::new(),
@@ -218,6 +226,13 @@ impl Model {
     #[inline]
     pub fn dof_of_body(&self, body: usize) -> Option<usize> {
         self.dof_of_body[body]
+    }
+
+    /// The number of degrees of freedom on the path from the base to `body`, its own joint
+    /// included: the non-zero columns of its Jacobians `J_Ti`, `J_Ri` (paper eqs. 20–21).
+    #[inline]
+    pub fn path_dofs(&self, body: usize) -> usize {
+        self.path_dofs[body]
     }
 
     /// Body index moved by degree of freedom `dof`.
