@@ -13,6 +13,29 @@ fn rel_err(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {
     (a - b).abs().max() / b.abs().max().max(1e-300)
 }
 
+/// `Model::path_dofs` (counted from the tree at build time) against the Jacobians: the
+/// non-zero columns of a body's `[J_Ti; J_Ri]` at a random configuration are the joints on its
+/// path (paper eqs. 20–21), on random trees with branches and fixed joints.
+#[test]
+fn path_dofs_are_the_jacobians_nonzero_columns() {
+    let mut r = common::rng(11);
+    let mut fixed_seen = false;
+    for trial in 0..20 {
+        let model = common::random_model(&mut r, 2 + trial % 10);
+        let mut data = Data::new(&model);
+        let (x, _) = common::random_state(&mut r, &model);
+        kinematics::forward_kinematics(&model, &mut data, &x).unwrap();
+        assert_eq!(model.path_dofs(0), 0);
+        for b in 1..model.n_bodies() {
+            fixed_seen |= model.dof_of_body(b).is_none();
+            let (jt, jr) = kinematics::link_jacobians(&model, &data, b);
+            let nonzero = (0..model.n_dof()).filter(|&d| jt.column(d).norm() + jr.column(d).norm() > 0.0).count();
+            assert_eq!(model.path_dofs(b), nonzero, "trial {trial}, body {b}");
+        }
+    }
+    assert!(fixed_seen, "the random trees include fixed joints");
+}
+
 #[test]
 fn paper_form_equals_crba() {
     let mut r = common::rng(1);
