@@ -6,6 +6,7 @@
 
 use nalgebra::{Dim, Matrix, RawStorage, Vector3, Vector6};
 use numpy::PyArray1;
+use pyo3::intern;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use spacearm_core as core;
@@ -332,7 +333,7 @@ impl PyModel {
     /// Forward dynamics under the generalized force `f`, by `method` ("aba", "mass_matrix" or
     /// "reduced"; the last takes no external wrenches). `f` is converted before `x` and `u`,
     /// in the order `Robot.forward_dynamics` always used.
-    #[pyo3(signature = (x, u, f, wrenches=None, method="aba"))]
+    #[pyo3(signature = (x, u, f, wrenches, method))]
     fn forward_dynamics<'py>(
         &self,
         py: Python<'py>,
@@ -340,7 +341,7 @@ impl PyModel {
         u: &Bound<'py, PyAny>,
         f: &Bound<'py, PyAny>,
         wrenches: Option<WrenchList>,
-        method: &str,
+        method: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let nu = self.model.nu();
         let f = Input::arg(f, "f", nu)?;
@@ -350,7 +351,7 @@ impl PyModel {
     /// Forward dynamics under `f = [base_wrench; tau]` (either `None`: zero), assembled in the
     /// kernel so that this form costs one native call like the `f` form; `tau` is converted
     /// before `base_wrench`, and each is checked under its own name.
-    #[pyo3(signature = (x, u, tau=None, base_wrench=None, wrenches=None, method="aba"))]
+    #[pyo3(signature = (x, u, tau, base_wrench, wrenches, method))]
     #[allow(clippy::too_many_arguments)]
     fn forward_dynamics_tau<'py>(
         &self,
@@ -360,7 +361,7 @@ impl PyModel {
         tau: Option<&Bound<'py, PyAny>>,
         base_wrench: Option<&Bound<'py, PyAny>>,
         wrenches: Option<WrenchList>,
-        method: &str,
+        method: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let n = self.model.n_dof();
         let tau = Input::optional(tau, "tau", n)?;
@@ -536,6 +537,31 @@ enum FdMethod {
     Reduced,
 }
 
+impl FdMethod {
+    /// The method a Python string names. Compared as Python strings: the names Python code
+    /// passes are interned, so the common case is one pointer comparison, where extracting a
+    /// `&str` (abi3 for Python 3.9 has no borrowed UTF-8 view) would build a bytes object on
+    /// every call, about 250 instructions.
+    fn named(py: Python<'_>, name: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let methods = [(intern!(py, "aba"), FdMethod::Aba), (intern!(py, "mass_matrix"), FdMethod::MassMatrix), (intern!(py, "reduced"), FdMethod::Reduced)];
+        for (text, method) in &methods {
+            if name.is(text) {
+                return Ok(*method);
+            }
+        }
+        for (text, method) in &methods {
+            if name.eq(text)? {
+                return Ok(*method);
+            }
+        }
+        let got = match name.cast::<pyo3::types::PyString>() {
+            Ok(s) => format!("'{}'", s.to_cow()?),
+            Err(_) => format!("{} of type {}", name.repr()?, name.get_type().name()?),
+        };
+        Err(to_py_err(py, core::SpacearmError::InvalidArgument(format!("method must be 'aba', 'mass_matrix' or 'reduced', got {got}"))))
+    }
+}
+
 /// Room for the assembled `f` on the stack: models up to `FORCE_ON_STACK - 6` joints need no
 /// allocation per row.
 const FORCE_ON_STACK: usize = 64;
@@ -550,21 +576,11 @@ impl PyModel {
         force: Input<'py>,
         base_wrench: Option<Input<'py>>,
         wrenches: Option<WrenchList>,
-        method: &str,
+        method: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let m = &self.model;
         let nu = m.nu();
-        let method = match method {
-            "aba" => FdMethod::Aba,
-            "mass_matrix" => FdMethod::MassMatrix,
-            "reduced" => FdMethod::Reduced,
-            other => {
-                return Err(to_py_err(
-                    py,
-                    core::SpacearmError::InvalidArgument(format!("method must be 'aba', 'mass_matrix' or 'reduced', got '{other}'")),
-                ))
-            }
-        };
+        let method = FdMethod::named(py, method)?;
         let from_parts = base_wrench.is_some();
         let base_wrench = base_wrench.unwrap_or_else(|| Input::constant("base_wrench", Vec::new()));
         let inputs = [force, base_wrench, Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?];
@@ -572,30 +588,7 @@ impl PyModel {
         if matches!(method, FdMethod::Reduced) && !ext.is_empty() {
             return Err(to_py_err(py, core::SpacearmError::InvalidArgument("method='reduced' takes no external wrenches; use 'aba' or 'mass_matrix'".into())));
         }
-        run(py, "forward_dynamics", inputs, [&[nu]], &self.workspaces, || Data::new(m), |d, [force, fb, x, u], [out]| {
-            let mut on_stack = [0.0; FORCE_ON_STACK];
-            let mut on_heap = Vec::new();
-            let f: &[f64] = if from_parts {
-                if force.len() != nu - 6 {
-                    return Err(core::SpacearmError::Dimension { what: "tau".into(), expected: (nu - 6).to_string(), got: force.len() });
-                }
-                finite_row("tau", force)?;
-                if fb.len() != 6 {
-                    return Err(core::SpacearmError::Dimension { what: "base_wrench".into(), expected: "6".into(), got: fb.len() });
-                }
-                finite_row("base_wrench", fb)?;
-                let buf: &mut [f64] = if nu <= FORCE_ON_STACK {
-                    &mut on_stack[..nu]
-                } else {
-                    on_heap.resize(nu, 0.0);
-                    &mut on_heap
-                };
-                buf[..6].copy_from_slice(fb);
-                buf[6..].copy_from_slice(force);
-                buf
-            } else {
-                force
-            };
+        let solve = |d: &mut Data, x: &[f64], u: &[f64], f: &[f64], out: &mut [f64]| -> core::Result<()> {
             let du = match method {
                 FdMethod::Aba => aba::aba(m, d, x, u, f, &ext)?,
                 FdMethod::MassMatrix => dynamics::compute_forward_dynamics_via_mass_matrix(m, d, x, u, f, &ext)?,
@@ -607,6 +600,31 @@ impl PyModel {
             };
             out.copy_from_slice(du.as_slice());
             Ok(())
+        };
+        run(py, "forward_dynamics", inputs, [&[nu]], &self.workspaces, || Data::new(m), |d, [force, fb, x, u], [out]| {
+            if !from_parts {
+                return solve(d, x, u, force, out);
+            }
+            if force.len() != nu - 6 {
+                return Err(core::SpacearmError::Dimension { what: "tau".into(), expected: (nu - 6).to_string(), got: force.len() });
+            }
+            finite_row("tau", force)?;
+            if fb.len() != 6 {
+                return Err(core::SpacearmError::Dimension { what: "base_wrench".into(), expected: "6".into(), got: fb.len() });
+            }
+            finite_row("base_wrench", fb)?;
+            // The buffer lives only in this branch: zeroing it is no cost to the `f` form.
+            let mut on_stack = [0.0; FORCE_ON_STACK];
+            let mut on_heap = Vec::new();
+            let buf: &mut [f64] = if nu <= FORCE_ON_STACK {
+                &mut on_stack[..nu]
+            } else {
+                on_heap.resize(nu, 0.0);
+                &mut on_heap
+            };
+            buf[..6].copy_from_slice(fb);
+            buf[6..].copy_from_slice(force);
+            solve(d, x, u, buf, out)
         })
     }
 }
