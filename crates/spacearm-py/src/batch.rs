@@ -49,11 +49,11 @@ impl<W> Pool<W> {
     }
 
     /// Run `f` with a workspace of the pool (or a new one from `make`).
+    #[inline]
     pub fn with<R>(&self, make: impl FnOnce() -> W, f: impl FnOnce(&mut W) -> R) -> R {
         let hot = self.hot.swap(ptr::null_mut(), Ordering::Acquire);
         let mut work = if hot.is_null() {
-            let taken = self.free.lock().unwrap_or_else(|e| e.into_inner()).pop();
-            taken.unwrap_or_else(|| Box::new(make()))
+            self.take_from_list(make)
         } else {
             // SAFETY: a non-null `hot` came from `Box::into_raw` below, and the swap gave this
             // call sole ownership of it.
@@ -63,13 +63,28 @@ impl<W> Pool<W> {
         let raw = Box::into_raw(work);
         if self.hot.compare_exchange(ptr::null_mut(), raw, Ordering::Release, Ordering::Relaxed).is_err() {
             // SAFETY: `raw` was made by `Box::into_raw` just above and was not published.
-            let work = unsafe { Box::from_raw(raw) };
-            let mut free = self.free.lock().unwrap_or_else(|e| e.into_inner());
-            if free.len() < POOL_KEEP {
-                free.push(work);
-            }
+            self.give_back_to_list(unsafe { Box::from_raw(raw) });
         }
         result
+    }
+
+    /// A workspace from the mutex list, or a new one: only when calls overlap (out of line, so
+    /// that the one-thread path stays small).
+    #[cold]
+    #[inline(never)]
+    fn take_from_list(&self, make: impl FnOnce() -> W) -> Box<W> {
+        let taken = self.free.lock().unwrap_or_else(|e| e.into_inner()).pop();
+        taken.unwrap_or_else(|| Box::new(make()))
+    }
+
+    /// Keep `work` in the mutex list (up to [`POOL_KEEP`]) when the hot slot is taken.
+    #[cold]
+    #[inline(never)]
+    fn give_back_to_list(&self, work: Box<W>) {
+        let mut free = self.free.lock().unwrap_or_else(|e| e.into_inner());
+        if free.len() < POOL_KEEP {
+            free.push(work);
+        }
     }
 }
 
@@ -235,6 +250,8 @@ fn first_non_finite(outputs: &[&mut [f64]]) -> Option<(usize, f64)> {
     None
 }
 
+#[cold]
+#[inline(never)]
 fn raise(py: Python<'_>, call: &str, row: Option<usize>, err: RowError) -> PyErr {
     let prefix = match row {
         Some(i) => format!("row {i} of the batch: "),
@@ -263,11 +280,38 @@ struct OutPtr(*mut f64);
 unsafe impl Send for OutPtr {}
 unsafe impl Sync for OutPtr {}
 
+/// The error of batch arguments whose row counts differ (kept out of line: the driver's hot
+/// path stays small, see [`run`]).
+#[cold]
+#[inline(never)]
+fn rows_disagree(py: Python<'_>, inputs: &[Input<'_>], rows: usize, name: &str, other: usize) -> PyErr {
+    let first = inputs.iter().find(|i| i.rows().is_some()).map(|i| i.name).unwrap_or("?");
+    shape_error(py, format!("the batch arguments disagree on the number of rows: {first} has {rows}, {name} has {other}"))
+}
+
+/// The refusal of outputs beyond the core's memory limit, with the way out for `call`
+/// (out of line, like [`rows_disagree`]).
+#[cold]
+#[inline(never)]
+fn refuse_outputs(py: Python<'_>, call: &str, rows: usize, bytes: f64) -> PyResult<()> {
+    let remedy = if call.ends_with("_partials") {
+        "use the derivative along one velocity (mass_matrix_derivative, generalized_inertia_derivative, \
+         generalized_jacobian_derivative: one slice instead of the whole tensor), a smaller batch or a smaller model"
+    } else {
+        "use a smaller batch or model, or the O(N) algorithms that need no dense matrix (ABA forward dynamics, RNEA, kinematics)"
+    };
+    spacearm_core::admission::admit(format_args!("{call} ({rows} state(s))"), bytes, remedy).map_err(|e| to_py_err(py, e))
+}
+
 /// Compute `kernel` for one state or for a batch (see the module documentation).
 ///
 /// `inputs` in the order their conversion errors should be reported; `outputs[k]` the shape of
 /// one row's `k`-th result (`[]`: a scalar, returned as a Python float for one state); `call`
 /// the method's name for error messages. One output is returned as it is, several as a tuple.
+///
+/// The one-state path is kept small and contiguous (the batch path and every error are out of
+/// line): a call from Python runs with an instruction cache that the interpreter has just
+/// refilled, so the code a call touches costs time beyond the instructions it executes.
 pub fn run<'py, W, const I: usize, const O: usize>(
     py: Python<'py>,
     call: &str,
@@ -281,10 +325,7 @@ pub fn run<'py, W, const I: usize, const O: usize>(
     for input in &inputs {
         if let Some(r) = input.rows() {
             match rows {
-                Some(b) if b != r => {
-                    let first = inputs.iter().find(|i| i.rows().is_some()).map(|i| i.name).unwrap_or("?");
-                    return Err(shape_error(py, format!("the batch arguments disagree on the number of rows: {first} has {b}, {} has {r}", input.name)));
-                }
+                Some(b) if b != r => return Err(rows_disagree(py, &inputs, b, input.name, r)),
                 _ => rows = Some(r),
             }
         }
@@ -294,14 +335,7 @@ pub fn run<'py, W, const I: usize, const O: usize>(
     let values: usize = outputs.iter().map(|shape| shape.iter().product::<usize>()).sum();
     let bytes = rows.unwrap_or(1) as f64 * spacearm_core::admission::bytes_of::<f64>(values as f64);
     if !spacearm_core::admission::within_memory_limit(bytes) {
-        let remedy = if call.ends_with("_partials") {
-            "use the derivative along one velocity (mass_matrix_derivative, generalized_inertia_derivative, \
-             generalized_jacobian_derivative: one slice instead of the whole tensor), a smaller batch or a smaller model"
-        } else {
-            "use a smaller batch or model, or the O(N) algorithms that need no dense matrix (ABA forward dynamics, RNEA, kinematics)"
-        };
-        spacearm_core::admission::admit(format_args!("{call} ({} state(s))", rows.unwrap_or(1)), bytes, remedy)
-            .map_err(|e| to_py_err(py, e))?;
+        refuse_outputs(py, call, rows.unwrap_or(1), bytes)?;
     }
     match rows {
         None => run_one(py, call, &inputs, outputs, pool, make, kernel),
@@ -360,6 +394,7 @@ fn run_one<'py, W, const I: usize, const O: usize>(
     finish(py, arrays, true)
 }
 
+#[inline(never)]
 fn run_batch<'py, W, const I: usize, const O: usize>(
     py: Python<'py>,
     call: &str,

@@ -166,9 +166,16 @@ pub enum ArgValue<'py> {
 
 /// Convert an argument that may be one vector (1-D) or a batch of them (2-D, one per row).
 pub fn batch_arg<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<ArgValue<'py>> {
-    if let Some(arr) = usable_in_place(obj) {
-        return Ok(ArgValue::One(VecArg(arr)));
+    match usable_in_place(obj) {
+        Some(arr) => Ok(ArgValue::One(VecArg(arr))),
+        None => converted_batch_arg(obj, what),
     }
+}
+
+/// [`batch_arg`] of anything that is not a float64 vector usable in place (lists, other dtypes,
+/// batches): out of line, so that the common case stays a few instructions in its caller.
+#[inline(never)]
+fn converted_batch_arg<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<ArgValue<'py>> {
     let arr = real_array(obj, what)?;
     match arr.ndim() {
         1 => match usable_in_place(arr.as_any()) {

@@ -549,6 +549,14 @@ impl FdMethod {
                 return Ok(*method);
             }
         }
+        Self::named_by_value(py, name)
+    }
+
+    /// [`FdMethod::named`] for a name that is not one of the interned strings (built at run
+    /// time, or wrong): compared by value, out of line.
+    #[inline(never)]
+    fn named_by_value(py: Python<'_>, name: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let methods = [(intern!(py, "aba"), FdMethod::Aba), (intern!(py, "mass_matrix"), FdMethod::MassMatrix), (intern!(py, "reduced"), FdMethod::Reduced)];
         for (text, method) in &methods {
             if name.eq(text)? {
                 return Ok(*method);
