@@ -1,20 +1,54 @@
 """Type stub of the private extension ``spacearm._core`` (PyO3). Users call
 :class:`spacearm.Robot`, which wraps :class:`Model`; this stub documents the boundary."""
 
-from typing import Any, Callable, Optional, Sequence, Union
+from typing import Any, Callable, Optional, Sequence, Union, final
 
 import numpy as np
 import numpy.typing as npt
 
-Vec = npt.NDArray[np.float64]
+_Vec = npt.NDArray[np.float64]
 #: Inputs accept any array-like; a contiguous float64 1-D array is used without a copy.
-ArrayLike = Any
-Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
+_ArrayLike = Any
+_Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 
 __version__: str
+__all__ = [
+    "ArgumentError", "AttitudeSpec", "BaseInfo", "BaseThrustersSpec", "CallbackSpec",
+    "CartesianReference", "CombinedSpec", "ComputedTorqueSpec", "ConservedDrift",
+    "CoordinatedFlyingSpec", "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
+    "INTEGRATORS", "JacobianMeasures", "JointLimitsInfo", "JointPdSpec", "JointReference",
+    "LinkInfo", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds",
+    "ModelBuilder", "ModelError", "ModelFileError", "ModelInfo", "NonFiniteError",
+    "NotFoundError", "PointInfo", "QUATERNION_TOLERANCE", "QuaternionError",
+    "ReactionNullSpace", "ResourceLimitError", "RmrcMotion", "RmrcOptions", "RmrcRates",
+    "RmrcSpec", "RolloutBatch", "RunEvents", "RunMeta", "RunOptions", "RunRecords", "RunResult",
+    "SIM_DEFAULTS", "ScanResult", "ShapeError", "SimDefaults", "SimulationError", "Simulator",
+    "SingularError", "SingularityAnalysis", "SpacearmError", "SpacearmTypeError",
+    "ThrusterLimits", "WorkspaceShells", "ZeroTorqueSpec", "__version__", "analysis_damping",
+    "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
+    "analysis_move_to", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
+    "analysis_shells", "analysis_singularity", "batch_threads", "body_mass_properties_error",
+    "default_wheel_dofs", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
+    "model_to_toml", "perturbed", "preset", "quintic_scaling", "rollout", "set_batch_threads",
+    "simulate",
+]
+
+# ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
+class SpacearmError(Exception): ...
+class ArgumentError(SpacearmError, ValueError): ...
+class ModelError(SpacearmError, ValueError): ...
+class ModelFileError(ModelError): ...
+class NonFiniteError(SpacearmError, ValueError): ...
+class NotFoundError(SpacearmError, KeyError, ValueError): ...
+class QuaternionError(SpacearmError, ValueError): ...
+class ResourceLimitError(SpacearmError, MemoryError): ...
+class ShapeError(SpacearmError, ValueError): ...
+class SimulationError(SpacearmError, RuntimeError): ...
+class SingularError(SpacearmError, ArithmeticError): ...
+class SpacearmTypeError(SpacearmError, TypeError): ...
 
 def preset(name: str, allow_nonphysical_inertia: bool = ...) -> Model: ...
-def model_from_toml(text: str, source: str, allow_nonphysical_inertia: bool = ...) -> Model: ...
+def model_from_toml(text: str, source: str = ..., allow_nonphysical_inertia: bool = ...) -> Model: ...
 def model_to_toml(model: Model) -> str: ...
 def model_from_classic_dh(
     name: str,
@@ -41,9 +75,10 @@ def model_from_paper_dh(
     initial_q: Optional[Sequence[float]] = None,
 ) -> Model: ...
 
+@final
 class ModelBuilder:
-    def __init__(self, name: str, base_name: str, base_mass: float, base_inertia: Sequence[Sequence[float]],
-                 allow_nonphysical_inertia: bool = ...) -> None: ...
+    def __new__(cls, name: str, base_name: str, base_mass: float, base_inertia: Sequence[Sequence[float]],
+                 allow_nonphysical_inertia: bool = ...) -> ModelBuilder: ...
     def add_link(
         self,
         name: str,
@@ -67,13 +102,15 @@ class ModelBuilder:
 # Frozen snapshots; every array attribute is a new array at each access. Frames and units:
 # docs/conventions.md ("A model's frames, concretely").
 
+@final
 class BaseInfo:
     """The spacecraft base (body 0); its frame has its origin at the base CM."""
 
     name: str
     mass: float  # kg
-    inertia: Vec  # (3, 3) kg·m², about the base CM in base-frame axes
+    inertia: _Vec  # (3, 3) kg·m², about the base CM in base-frame axes
 
+@final
 class JointLimitsInfo:
     """A joint's limits; absent bounds are infinite."""
 
@@ -82,6 +119,7 @@ class JointLimitsInfo:
     velocity: float  # rad/s or m/s; inf when unbounded
     effort: float  # N·m or N; inf when unbounded
 
+@final
 class LinkInfo:
     """One link (the k-th is body k + 1) and the joint to its parent; its frame has its origin at its CM."""
 
@@ -90,23 +128,25 @@ class LinkInfo:
     parent_index: int  # the parent body's index (0 = base)
     joint: str
     type: str  # "revolute", "prismatic" or "fixed"
-    origin: Vec  # (3,) m, joint position in the parent frame, from the parent's CM
-    rotation: Vec  # (4,) [x, y, z, w], link frame in the parent frame at q = 0
-    axis: Vec  # (3,) unit joint axis in the link frame
-    com: Vec  # (3,) m, the link's CM from its joint, in the link frame
+    origin: _Vec  # (3,) m, joint position in the parent frame, from the parent's CM
+    rotation: _Vec  # (4,) [x, y, z, w], link frame in the parent frame at q = 0
+    axis: _Vec  # (3,) unit joint axis in the link frame
+    com: _Vec  # (3,) m, the link's CM from its joint, in the link frame
     mass: float  # kg
-    inertia: Vec  # (3, 3) kg·m², about the link's CM in link-frame axes
+    inertia: _Vec  # (3, 3) kg·m², about the link's CM in link-frame axes
     limits: JointLimitsInfo
     dof: Optional[int]  # index in q; None for a fixed joint
 
+@final
 class PointInfo:
     """A named point fixed to a body."""
 
     name: str
     body: str  # the carrying body's name
     body_index: int  # the carrying body's index (0 = base)
-    offset: Vec  # (3,) m, from the body's CM in the body frame
+    offset: _Vec  # (3,) m, from the body's CM in the body frame
 
+@final
 class ModelInfo:
     """What Model.describe() returns: the whole model as the core holds it."""
 
@@ -115,8 +155,9 @@ class ModelInfo:
     links: tuple[LinkInfo, ...]  # tree order: link k is body k + 1
     points: tuple[PointInfo, ...]
     end_effector: Optional[str]
-    initial_q: Vec  # (N,) rad or m per joint type
+    initial_q: _Vec  # (N,) rad or m per joint type
 
+@final
 class Model:
     name: str
     n_dof: int
@@ -127,7 +168,7 @@ class Model:
     body_names: list[str]
     point_names: list[str]
     end_effector: Optional[str]
-    initial_q: Vec
+    initial_q: _Vec
     body_of_dof: list[int]
     def body_index(self, name: str) -> int: ...
     def point(self, name: str) -> tuple[int, list[float]]: ...
@@ -137,35 +178,36 @@ class Model:
     # the other vectors with as many rows or one row for all) and then returns its results with
     # a leading axis of length B (crates/spacearm-py/src/batch.rs).
     def __reduce__(self) -> tuple: ...
-    def check_configuration(self, x: ArrayLike) -> None: ...
+    def check_configuration(self, x: _ArrayLike) -> None: ...
     # The per-state methods return arrays (a tuple of them where named below), the fastest form for
     # the one-state path and the batch axis alike; the public Robot methods wrap them in NamedTuples.
-    def forward_kinematics(self, x: ArrayLike) -> tuple[Vec, Vec, Vec, Vec]: ...  # (body_to_world (nb,3,3), com_in_world (nb,3), joint_position_in_world (nb,3), joint_axis_in_world (nb,3))
-    def point_position(self, x: ArrayLike, body: int, offset: Vec) -> Vec: ...
-    def point_jacobians(self, x: ArrayLike, body: int, offset: Vec) -> tuple[Vec, Vec]: ...
-    def link_jacobians(self, x: ArrayLike, body: int) -> tuple[Vec, Vec]: ...
-    def inertia_blocks(self, x: ArrayLike) -> tuple: ...  # (M, r_0g, H_S, J_TS, H_Sq, H0, H0m, Hm, H): spacearm.InertiaBlocks
-    def mass_matrix_crba(self, x: ArrayLike) -> Vec: ...
-    def mass_matrix_paper(self, x: ArrayLike) -> Vec: ...
-    def base_inertia_inverse(self, x: ArrayLike) -> Vec: ...
-    def bias_forces(self, x: ArrayLike, u: ArrayLike) -> Vec: ...
-    def inverse_dynamics(self, x: ArrayLike, u: ArrayLike, du: ArrayLike, wrenches: Optional[list[Wrench]] = None) -> Vec: ...
-    def forward_dynamics(self, x: ArrayLike, u: ArrayLike, f: ArrayLike, wrenches: Optional[list[Wrench]], method: str) -> Vec: ...
-    def forward_dynamics_tau(self, x: ArrayLike, u: ArrayLike, tau: Optional[ArrayLike], base_wrench: Optional[ArrayLike], wrenches: Optional[list[Wrench]], method: str) -> Vec: ...
-    def generalized_inertia(self, x: ArrayLike) -> Vec: ...
-    def generalized_bias(self, x: ArrayLike, u: ArrayLike) -> Vec: ...
-    def generalized_jacobian(self, x: ArrayLike, body: int, offset: Vec) -> Vec: ...
-    def point_twist(self, x: ArrayLike, qd: ArrayLike, body: int, offset: Vec, linear: ArrayLike, angular_origin: ArrayLike) -> Vec: ...
-    def momentum_twist(self, x: ArrayLike, body: int, offset: Vec, linear: ArrayLike, angular_origin: ArrayLike) -> Vec: ...
-    def base_velocity_from_momentum(self, x: ArrayLike, qd: ArrayLike, linear: ArrayLike, angular_origin: ArrayLike) -> Vec: ...
-    def momentum(self, x: ArrayLike, u: ArrayLike) -> tuple[Vec, Vec, Vec, Vec]: ...  # (P, L_origin, L_base, L_com), each (3,) in 𝒥
-    def kinetic_energy(self, x: ArrayLike, u: ArrayLike) -> Union[float, Vec]: ...
-    def center_of_mass(self, x: ArrayLike) -> Vec: ...
+    def forward_kinematics(self, x: _ArrayLike) -> tuple[_Vec, _Vec, _Vec, _Vec]: ...  # (body_to_world (nb,3,3), com_in_world (nb,3), joint_position_in_world (nb,3), joint_axis_in_world (nb,3))
+    def point_position(self, x: _ArrayLike, body: int, offset: _Vec) -> _Vec: ...
+    def point_jacobians(self, x: _ArrayLike, body: int, offset: _Vec) -> tuple[_Vec, _Vec]: ...
+    def link_jacobians(self, x: _ArrayLike, body: int) -> tuple[_Vec, _Vec]: ...
+    def inertia_blocks(self, x: _ArrayLike) -> tuple: ...  # (M, r_0g, H_S, J_TS, H_Sq, H0, H0m, Hm, H): spacearm.InertiaBlocks
+    def mass_matrix_crba(self, x: _ArrayLike) -> _Vec: ...
+    def mass_matrix_paper(self, x: _ArrayLike) -> _Vec: ...
+    def base_inertia_inverse(self, x: _ArrayLike) -> _Vec: ...
+    def bias_forces(self, x: _ArrayLike, u: _ArrayLike) -> _Vec: ...
+    def inverse_dynamics(self, x: _ArrayLike, u: _ArrayLike, du: _ArrayLike, wrenches: Optional[list[_Wrench]] = None) -> _Vec: ...
+    def forward_dynamics(self, x: _ArrayLike, u: _ArrayLike, f: _ArrayLike, wrenches: Optional[list[_Wrench]], method: str) -> _Vec: ...
+    def forward_dynamics_tau(self, x: _ArrayLike, u: _ArrayLike, tau: Optional[_ArrayLike], base_wrench: Optional[_ArrayLike], wrenches: Optional[list[_Wrench]], method: str) -> _Vec: ...
+    def generalized_inertia(self, x: _ArrayLike) -> _Vec: ...
+    def generalized_bias(self, x: _ArrayLike, u: _ArrayLike) -> _Vec: ...
+    def generalized_jacobian(self, x: _ArrayLike, body: int, offset: _Vec) -> _Vec: ...
+    def point_twist(self, x: _ArrayLike, qd: _ArrayLike, body: int, offset: _Vec, linear: _ArrayLike, angular_origin: _ArrayLike) -> _Vec: ...
+    def momentum_twist(self, x: _ArrayLike, body: int, offset: _Vec, linear: _ArrayLike, angular_origin: _ArrayLike) -> _Vec: ...
+    def base_velocity_from_momentum(self, x: _ArrayLike, qd: _ArrayLike, linear: _ArrayLike, angular_origin: _ArrayLike) -> _Vec: ...
+    def momentum(self, x: _ArrayLike, u: _ArrayLike) -> tuple[_Vec, _Vec, _Vec, _Vec]: ...  # (P, L_origin, L_base, L_com), each (3,) in 𝒥
+    def kinetic_energy(self, x: _ArrayLike, u: _ArrayLike) -> Union[float, _Vec]: ...
+    def center_of_mass(self, x: _ArrayLike) -> _Vec: ...
 
 # ---- the core's rules and defaults (crates/spacearm-py/src/rules_py.rs, rule_tables_py.rs) -----
 # The tables are frozen instances with typed attributes; each is also a read-only mapping of its
 # field names (keys(), t[name], dict(t), **t, == a dict).
 
+@final
 class SimDefaults:
     """The simulation defaults (SimOptions::default())."""
 
@@ -178,8 +220,9 @@ class SimDefaults:
     joint_limits: bool  # whether the joints' effort and velocity limits apply
     max_steps: int  # largest number of attempted DOPRI5 steps
     def keys(self) -> list[str]: ...
-    def __getitem__(self, key: str) -> Any: ...
+    def __getitem__(self, key: str, /) -> Any: ...
 
+@final
 class ModelBounds:
     """The physical bounds of every model (docs/model-format.md, rules 10-11)."""
 
@@ -188,15 +231,16 @@ class ModelBounds:
     max_length: float  # m, largest |component| of a joint origin, CM or point offset
     max_inertia_entry: float  # kg·m², largest |inertia entry|
     def keys(self) -> list[str]: ...
-    def __getitem__(self, key: str) -> float: ...
+    def __getitem__(self, key: str, /) -> float: ...
 
+@final
 class DlsDefaults:
     """The default damped-least-squares law (math/dls.rs)."""
 
     threshold: float  # ε, size of the singular region (units of σ)
     max_damping: float  # λ_max, damping at the singularity (units of σ)
     def keys(self) -> list[str]: ...
-    def __getitem__(self, key: str) -> float: ...
+    def __getitem__(self, key: str, /) -> float: ...
 
 MODES: list[str]
 INTEGRATORS: list[str]
@@ -205,7 +249,7 @@ MODEL_BOUNDS: ModelBounds
 DLS_DEFAULTS: DlsDefaults
 QUATERNION_TOLERANCE: float
 MEMORY_LIMIT_BYTES: int
-def quintic_scaling(t: Vec, t_start: float, t_end: float) -> tuple[Vec, Vec, Vec]: ...
+def quintic_scaling(t: _Vec, t_start: float, t_end: float) -> tuple[_Vec, _Vec, _Vec]: ...
 def body_mass_properties_error(
     who: str, mass: float, inertia: Sequence[Sequence[float]], *, triangle_inequality: bool = True
 ) -> Optional[tuple[str, str]]: ...  # None, or ("mass" | "inertia", the core's message naming `who`)
@@ -217,22 +261,24 @@ def batch_threads() -> int: ...
 # The results are frozen classes named after the core's types (spacearm_core::analysis); every
 # array attribute hands out the same numpy array on each read. Task Jacobians: rows are the task
 # rows of the point twist [v; w] in the inertial frame, columns the joint rates.
+@final
 class JacobianMeasures:
     """Singular-value measures of one task Jacobian (m task rows, N joints)."""
 
     @property
-    def jacobian(self) -> Vec: ...  # (m, N)
+    def jacobian(self) -> _Vec: ...  # (m, N)
     @property
-    def singular_values(self) -> Vec: ...  # (min(m, N),), decreasing
+    def singular_values(self) -> _Vec: ...  # (min(m, N),), decreasing
     @property
     def condition(self) -> float: ...  # sigma_max / sigma_min (inf at a singularity)
     @property
     def manipulability(self) -> float: ...  # product of the singular values
     @property
-    def task_directions(self) -> Vec: ...  # (m, min(m, N)) left singular vectors; the last is the worst
+    def task_directions(self) -> _Vec: ...  # (m, min(m, N)) left singular vectors; the last is the worst
     @property
-    def joint_directions(self) -> Vec: ...  # (N, N) right singular vectors; beyond the rank: null space
+    def joint_directions(self) -> _Vec: ...  # (N, N) right singular vectors; beyond the rank: null space
 
+@final
 class SingularityAnalysis:
     """The task rows of J* (free-floating, eq. 110) and of J_m (base fixed, eq. 106) at one configuration."""
 
@@ -241,6 +287,7 @@ class SingularityAnalysis:
     @property
     def fixed_base(self) -> JacobianMeasures: ...
 
+@final
 class Detection:
     """What the singularity detector tells a resolved-motion-rate controller."""
 
@@ -253,28 +300,30 @@ class Detection:
     @property
     def near_singular(self) -> bool: ...  # sigma_min < threshold
 
+@final
 class ScanResult:
     """A joint-space scan of M samples: one entry per sample in each column."""
 
     @property
-    def sigma_min_generalized(self) -> Vec: ...  # (M,)
+    def sigma_min_generalized(self) -> _Vec: ...  # (M,)
     @property
-    def sigma_max_generalized(self) -> Vec: ...  # (M,)
+    def sigma_max_generalized(self) -> _Vec: ...  # (M,)
     @property
-    def manipulability_generalized(self) -> Vec: ...  # (M,)
+    def manipulability_generalized(self) -> _Vec: ...  # (M,)
     @property
-    def det_generalized(self) -> Vec: ...  # (M,), NaN unless the task is square
+    def det_generalized(self) -> _Vec: ...  # (M,), NaN unless the task is square
     @property
-    def sigma_min_fixed(self) -> Vec: ...  # (M,)
+    def sigma_min_fixed(self) -> _Vec: ...  # (M,)
     @property
-    def manipulability_fixed(self) -> Vec: ...  # (M,)
+    def manipulability_fixed(self) -> _Vec: ...  # (M,)
     @property
-    def det_fixed(self) -> Vec: ...  # (M,), NaN unless the task is square
+    def det_fixed(self) -> _Vec: ...  # (M,), NaN unless the task is square
     @property
-    def point_from_base(self) -> Vec: ...  # (M, 3) m, base frame
+    def point_from_base(self) -> _Vec: ...  # (M, 3) m, base frame
     @property
-    def point_from_com(self) -> Vec: ...  # (M, 3) m, base frame
+    def point_from_com(self) -> _Vec: ...  # (M, 3) m, base frame
 
+@final
 class WorkspaceShells:
     """Radial description of the workspaces, m."""
 
@@ -283,7 +332,7 @@ class WorkspaceShells:
     @property
     def fixed_base(self) -> tuple[float, float]: ...  # (min, max) from the base CM, base fixed
     @property
-    def singular_radii(self) -> Vec: ...  # (K,), sorted
+    def singular_radii(self) -> _Vec: ...  # (K,), sorted
     @property
     def path_dependent(self) -> list[tuple[float, float]]: ...
     @property
@@ -291,83 +340,89 @@ class WorkspaceShells:
     @property
     def radial_resolution(self) -> float: ...
 
+@final
 class ReactionNullSpace:
     """The reaction null space at one configuration (N joints)."""
 
     @property
-    def base_motion_map(self) -> Vec: ...  # (3, N) angular or (6, N) full rows of -H0^-1 H0m
+    def base_motion_map(self) -> _Vec: ...  # (3, N) angular or (6, N) full rows of -H0^-1 H0m
     @property
-    def singular_values(self) -> Vec: ...  # decreasing
+    def singular_values(self) -> _Vec: ...  # decreasing
     @property
     def rank(self) -> int: ...
     @property
-    def basis(self) -> Vec: ...  # (N, N - rank), orthonormal
+    def basis(self) -> _Vec: ...  # (N, N - rank), orthonormal
     @property
-    def projector(self) -> Vec: ...  # (N, N)
+    def projector(self) -> _Vec: ...  # (N, N)
 
+@final
 class RmrcRates:
     """One evaluation of the resolved-motion-rate law."""
 
     @property
-    def qd(self) -> Vec: ...  # (N,)
+    def qd(self) -> _Vec: ...  # (N,)
     @property
     def sigma_min(self) -> float: ...
     @property
     def damping(self) -> float: ...
     @property
-    def base_angular_velocity(self) -> Vec: ...  # (3,) rad/s, inertial frame
+    def base_angular_velocity(self) -> _Vec: ...  # (3,) rad/s, inertial frame
 
+@final
 class RmrcMotion:
     """A closed-loop point-to-point motion at its K+1 time nodes."""
 
     @property
-    def times(self) -> Vec: ...  # (K+1,) s
+    def times(self) -> _Vec: ...  # (K+1,) s
     @property
-    def x(self) -> Vec: ...  # (K+1, 7+N)
+    def x(self) -> _Vec: ...  # (K+1, 7+N)
     @property
-    def qd(self) -> Vec: ...  # (K+1, N)
+    def qd(self) -> _Vec: ...  # (K+1, N)
     @property
-    def point_position(self) -> Vec: ...  # (K+1, 3) m, inertial frame
+    def point_position(self) -> _Vec: ...  # (K+1, 3) m, inertial frame
     @property
-    def sigma_min(self) -> Vec: ...  # (K+1,)
+    def sigma_min(self) -> _Vec: ...  # (K+1,)
     @property
-    def damping(self) -> Vec: ...  # (K+1,)
+    def damping(self) -> _Vec: ...  # (K+1,)
     @property
-    def attitude_change(self) -> Vec: ...  # (K+1,) rad
+    def attitude_change(self) -> _Vec: ...  # (K+1,) rad
     @property
     def final_position_error(self) -> float: ...  # m
 
-def analysis_singularity(m: Model, x: ArrayLike, body: int, offset: Vec, rows: list[int]) -> SingularityAnalysis: ...
-def analysis_detect(m: Model, x: ArrayLike, body: int, offset: Vec, rows: list[int], threshold: float, max_damping: float) -> Detection: ...
+def analysis_singularity(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int]) -> SingularityAnalysis: ...
+def analysis_detect(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int], threshold: float, max_damping: float) -> Detection: ...
 def analysis_damping(sigma_min: float, threshold: float, max_damping: float) -> float: ...
-def analysis_joint_grid(lower: Sequence[float], upper: Sequence[float], resolution: int) -> Vec: ...
-def analysis_scan(m: Model, samples: Vec, body: int, offset: Vec, rows: list[int]) -> ScanResult: ...
-def analysis_shells(sigma_min_generalized: Sequence[float], det_generalized: Sequence[float], point_from_com: Vec, point_from_base: Vec, singular_threshold: float, radial_resolution: float, grid: Optional[tuple[int, int]] = None) -> WorkspaceShells: ...
-def analysis_reaction_null_space(m: Model, x: ArrayLike, which: str, tolerance: float) -> ReactionNullSpace: ...
-def analysis_integrate_prescribed(m: Model, x0: ArrayLike, dt: float, q_half: Vec, qd_half: Vec, linear_momentum: Vec, angular_momentum: Vec) -> Vec: ...
+def analysis_joint_grid(lower: Sequence[float], upper: Sequence[float], resolution: int) -> _Vec: ...
+def analysis_scan(m: Model, samples: _Vec, body: int, offset: _Vec, rows: list[int]) -> ScanResult: ...
+def analysis_shells(sigma_min_generalized: Sequence[float], det_generalized: Sequence[float], point_from_com: _Vec, point_from_base: _Vec, singular_threshold: float, radial_resolution: float, grid: Optional[tuple[int, int]] = None) -> WorkspaceShells: ...
+def analysis_reaction_null_space(m: Model, x: _ArrayLike, which: str, tolerance: float) -> ReactionNullSpace: ...
+def analysis_integrate_prescribed(m: Model, x0: _ArrayLike, dt: float, q_half: _Vec, qd_half: _Vec, linear_momentum: _Vec, angular_momentum: _Vec) -> _Vec: ...
+@final
 class RmrcOptions:
     """The options of the resolved-motion-rate law, keyword-only, checked when built."""
-    def __init__(self, *, rows: list[int], threshold: float, max_damping: float, gain: float = 0.0, strategy: str = "naive",
-                 manipulability_gain: float = 0.0, joint_limit_gain: float = 0.0) -> None: ...
-def analysis_rmrc_rates(m: Model, x: ArrayLike, body: int, offset: Vec, desired_twist: Vec, options: RmrcOptions) -> RmrcRates: ...
-def analysis_move_to(m: Model, x0: ArrayLike, body: int, offset: Vec, target: Vec, duration: float, settle: float, dt: float, options: RmrcOptions) -> RmrcMotion: ...
+    def __new__(cls, *, rows: list[int], threshold: float, max_damping: float, gain: float = 0.0, strategy: str = "naive",
+                 manipulability_gain: float = 0.0, joint_limit_gain: float = 0.0) -> RmrcOptions: ...
+def analysis_rmrc_rates(m: Model, x: _ArrayLike, body: int, offset: _Vec, desired_twist: _Vec, options: RmrcOptions) -> RmrcRates: ...
+def analysis_move_to(m: Model, x0: _ArrayLike, body: int, offset: _Vec, target: _Vec, duration: float, settle: float, dt: float, options: RmrcOptions) -> RmrcMotion: ...
 # ---- simulation inputs (crates/spacearm-py/src/sim_options_py.rs, controller_spec_py.rs) ------
 # Frozen, keyword-only; checked when built; an unknown keyword is an ArgumentError.
+@final
 class ThrusterLimits:
     """Base thruster limits per axis of the inertial frame (> 0; inf: no limit)."""
-    def __init__(self, *, max_force: ArrayLike, max_torque: ArrayLike) -> None: ...
+    def __new__(cls, *, max_force: _ArrayLike, max_torque: _ArrayLike) -> ThrusterLimits: ...
     @property
-    def max_force(self) -> Vec:
+    def max_force(self) -> _Vec:
         """Shape (3,), N."""
     @property
-    def max_torque(self) -> Vec:
+    def max_torque(self) -> _Vec:
         """Shape (3,), N·m."""
 
+@final
 class RunOptions:
     """The options of simulate, rollout and Simulator; a keyword left out or None keeps the
     core's default (SIM_DEFAULTS)."""
-    def __init__(
-        self,
+    def __new__(
+        cls,
         *,
         mode: Optional[str] = None,
         integrator: Optional[str] = None,
@@ -381,7 +436,7 @@ class RunOptions:
         max_steps: Optional[int] = None,
         progress: Optional[Callable[[float], Any]] = None,
         record_dtype: Optional[str] = None,
-    ) -> None: ...
+    ) -> RunOptions: ...
     @property
     def mode(self) -> str: ...
     @property
@@ -410,20 +465,21 @@ class RunOptions:
     def record_dtype(self) -> str:
         """"float64" or "float32"."""
 
+@final
 class JointReference:
     """A joint-space reference of the arm joints: a rest-to-rest quintic or a constant."""
     @staticmethod
-    def quintic(*, q_start: ArrayLike, q_goal: ArrayLike, t_start: float, t_end: float) -> JointReference: ...
+    def quintic(*, q_start: _ArrayLike, q_goal: _ArrayLike, t_start: float, t_end: float) -> JointReference: ...
     @staticmethod
-    def constant(*, q: ArrayLike) -> JointReference: ...
+    def constant(*, q: _ArrayLike) -> JointReference: ...
     @property
     def kind(self) -> str:
         """"quintic" or "constant"."""
     @property
-    def q_start(self) -> Vec:
+    def q_start(self) -> _Vec:
         """Shape (n,), rad or m (a constant's set point)."""
     @property
-    def q_goal(self) -> Vec:
+    def q_goal(self) -> _Vec:
         """Shape (n,), rad or m (a constant's set point)."""
     @property
     def t_start(self) -> Optional[float]:
@@ -432,35 +488,39 @@ class JointReference:
     def t_end(self) -> Optional[float]:
         """s; None for a constant."""
 
+@final
 class CartesianReference:
     """A straight line of a point in the inertial frame with quintic timing."""
-    def __init__(self, *, p_start: ArrayLike, p_goal: ArrayLike, t_start: float, t_end: float) -> None: ...
+    def __new__(cls, *, p_start: _ArrayLike, p_goal: _ArrayLike, t_start: float, t_end: float) -> CartesianReference: ...
     @property
-    def p_start(self) -> Vec:
+    def p_start(self) -> _Vec:
         """Shape (3,), m, inertial frame."""
     @property
-    def p_goal(self) -> Vec:
+    def p_goal(self) -> _Vec:
         """Shape (3,), m, inertial frame."""
     @property
     def t_start(self) -> float: ...
     @property
     def t_end(self) -> float: ...
 
+@final
 class ZeroTorqueSpec:
     """No control: zero joint torques, no base wrench."""
-    def __init__(self) -> None: ...
+    def __new__(cls) -> ZeroTorqueSpec: ...
 
+@final
 class JointPdSpec:
     """Joint PD on the arm joints."""
-    def __init__(self, *, kp: Sequence[float], kd: Sequence[float], reference: JointReference) -> None: ...
+    def __new__(cls, *, kp: Sequence[float], kd: Sequence[float], reference: JointReference) -> JointPdSpec: ...
     kp: list[float]  # N·m/rad, one or one per arm joint (read-only)
     kd: list[float]  # N·m·s/rad (read-only)
     @property
     def reference(self) -> JointReference: ...
 
+@final
 class ComputedTorqueSpec:
     """Computed torque on the reduced equations of motion (paper eqs. 112-115)."""
-    def __init__(self, *, kp: Sequence[float], kd: Sequence[float], reference: JointReference, model: Optional[Model] = None) -> None: ...
+    def __new__(cls, *, kp: Sequence[float], kd: Sequence[float], reference: JointReference, model: Optional[Model] = None) -> ComputedTorqueSpec: ...
     kp: list[float]  # 1/s², one or one per arm joint (read-only)
     kd: list[float]  # 1/s (read-only)
     @property
@@ -469,10 +529,11 @@ class ComputedTorqueSpec:
     def has_model(self) -> bool:
         """Whether the controller has a model of its own (else the plant's)."""
 
+@final
 class RmrcSpec:
     """Resolved-motion-rate control of a point through J* (paper eq. 110), damped least squares."""
-    def __init__(self, *, reference: CartesianReference, gain: float, max_damping: float, threshold: float, velocity_gain: float,
-                 body: int, offset: ArrayLike) -> None: ...
+    def __new__(cls, *, reference: CartesianReference, gain: float, max_damping: float, threshold: float, velocity_gain: float,
+                 body: int, offset: _ArrayLike) -> RmrcSpec: ...
     gain: float  # 1/s (read-only)
     max_damping: float  # m, the largest damping λ_max (read-only)
     threshold: float  # m (read-only)
@@ -481,27 +542,28 @@ class RmrcSpec:
     @property
     def reference(self) -> CartesianReference: ...
     @property
-    def offset(self) -> Vec:
+    def offset(self) -> _Vec:
         """Shape (3,), m, in the body's frame."""
 
+@final
 class CoordinatedFlyingSpec:
     """Coordinated base-and-arm control in the flying mode."""
-    def __init__(self, *, reference: CartesianReference, body: int, offset: ArrayLike, kp_ee: float, kd_ee: float, kp_base: float,
-                 kd_base: float, max_damping: float, threshold: float, base_position: Optional[ArrayLike] = None,
-                 base_quat: Optional[ArrayLike] = None) -> None: ...
+    def __new__(cls, *, reference: CartesianReference, body: int, offset: _ArrayLike, kp_ee: float, kd_ee: float, kp_base: float,
+                 kd_base: float, max_damping: float, threshold: float, base_position: Optional[_ArrayLike] = None,
+                 base_quat: Optional[_ArrayLike] = None) -> CoordinatedFlyingSpec: ...
     body: int  # (read-only)
     max_damping: float  # m, the largest damping λ_max (read-only)
     threshold: float  # m (read-only)
     @property
     def reference(self) -> CartesianReference: ...
     @property
-    def offset(self) -> Vec:
+    def offset(self) -> _Vec:
         """Shape (3,), m, in the body's frame."""
     @property
-    def base_position(self) -> Optional[Vec]:
+    def base_position(self) -> Optional[_Vec]:
         """Shape (3,), m, inertial frame; None: the initial one."""
     @property
-    def base_quat(self) -> Optional[Vec]:
+    def base_quat(self) -> Optional[_Vec]:
         """Shape (4,), [x, y, z, w]; None: the initial one."""
     @property
     def kp_ee(self) -> float: ...
@@ -512,86 +574,94 @@ class CoordinatedFlyingSpec:
     @property
     def kd_base(self) -> float: ...
 
+@final
 class BaseThrustersSpec:
     """Base regulation by thrusters (system CM position, base attitude)."""
-    def __init__(self, *, kp_position: float, kd_position: float, kp_attitude: float, kd_attitude: float,
-                 com_ref: Optional[ArrayLike] = None, quat_ref: Optional[ArrayLike] = None) -> None: ...
+    def __new__(cls, *, kp_position: float, kd_position: float, kp_attitude: float, kd_attitude: float,
+                 com_ref: Optional[_ArrayLike] = None, quat_ref: Optional[_ArrayLike] = None) -> BaseThrustersSpec: ...
     kp_position: float  # 1/s² (read-only)
     kd_position: float  # 1/s (read-only)
     kp_attitude: float  # N·m/rad (read-only)
     kd_attitude: float  # N·m·s/rad (read-only)
     @property
-    def com_ref(self) -> Optional[Vec]:
+    def com_ref(self) -> Optional[_Vec]:
         """Shape (3,), m, inertial frame; None: the initial CM."""
     @property
-    def quat_ref(self) -> Optional[Vec]:
+    def quat_ref(self) -> Optional[_Vec]:
         """Shape (4,), [x, y, z, w]; None: the initial attitude."""
 
+@final
 class AttitudeSpec:
     """Base attitude control with reaction wheels."""
-    def __init__(self, *, quat_ref: ArrayLike, kp: float, kd: float) -> None: ...
+    def __new__(cls, *, quat_ref: _ArrayLike, kp: float, kd: float) -> AttitudeSpec: ...
     kp: float  # N·m/rad (read-only)
     kd: float  # N·m·s/rad (read-only)
     @property
-    def quat_ref(self) -> Vec:
+    def quat_ref(self) -> _Vec:
         """Shape (4,), [x, y, z, w]."""
 
-ControllerSpec = Union[ZeroTorqueSpec, JointPdSpec, ComputedTorqueSpec, RmrcSpec, CoordinatedFlyingSpec, BaseThrustersSpec, AttitudeSpec,
+_ControllerSpec = Union[ZeroTorqueSpec, JointPdSpec, ComputedTorqueSpec, RmrcSpec, CoordinatedFlyingSpec, BaseThrustersSpec, AttitudeSpec,
                        "CombinedSpec", "CallbackSpec"]
 
+@final
 class CombinedSpec:
     """An arm controller and a base controller; the base runs first."""
-    def __init__(self, *, arm: ControllerSpec, base: ControllerSpec) -> None: ...
-    arm: ControllerSpec  # (read-only)
-    base: ControllerSpec  # (read-only)
+    def __new__(cls, *, arm: _ControllerSpec, base: _ControllerSpec) -> CombinedSpec: ...
+    arm: _ControllerSpec  # (read-only)
+    base: _ControllerSpec  # (read-only)
 
+@final
 class CallbackSpec:
     """A Python controller fn(t, x, u) -> tau or (tau, base_wrench), called at every stage."""
-    def __init__(self, *, fn: Callable[[float, Vec, Vec], Any]) -> None: ...
-    fn: Callable[[float, Vec, Vec], Any]  # (read-only)
+    def __new__(cls, *, fn: Callable[[float, _Vec, _Vec], Any]) -> CallbackSpec: ...
+    fn: Callable[[float, _Vec, _Vec], Any]  # (read-only)
 
 # ---- simulation (crates/spacearm-py/src/simulate_py.rs) --------------------------------------
 # ---- results of a run (crates/spacearm-py/src/records_py.rs) ------------------------------------
 #: A recorded array: float64, or float32 when the run asked for it (``t`` is always float64).
-Record = npt.NDArray[Any]
+_Record = npt.NDArray[Any]
 
+@final
 class RunRecords:
     """The recorded samples of a run, one row per sample: ``(K, ...)`` for one run, ``(B, K, ...)``
     in a :class:`RolloutBatch`. Vectors in the inertial frame, SI units. ``t``, ``x``, ``u`` are
     always there; a record the run did not make is ``None``; ``fields`` names those it made."""
     @property
     def fields(self) -> tuple[str, ...]: ...
-    t: Record                              # (K,) sample times, s (float64)
-    x: Record                              # (K, 7+N) [r0, quat0 (x, y, z, w), q]
-    u: Record                              # (K, 6+N) [v0, w0, qd]
-    du: Optional[Record]                   # (K, 6+N) accelerations
-    tau: Optional[Record]                  # (K, N) applied joint torques, N·m (N prismatic)
-    tau_cmd: Optional[Record]              # (K, N) commanded joint torques, before the limits
-    base_wrench: Optional[Record]          # (K, 6) applied [F0, N0] at the base CM, N, N·m
-    P: Optional[Record]                    # (K, 3) linear momentum, kg·m/s
-    L_origin: Optional[Record]             # (K, 3) angular momentum about the origin, kg·m²/s
-    L_com: Optional[Record]                # (K, 3) angular momentum about the system CM, kg·m²/s
-    energy: Optional[Record]               # (K,) kinetic energy, J
-    com: Optional[Record]                  # (K, 3) system CM, m
-    ee_position: Optional[Record]          # (K, 3) end-effector position, m (robots with an end effector)
-    ee_quat: Optional[Record]              # (K, 4) end-effector attitude [x, y, z, w]
-    reference: Optional[Record]            # (K, R) the controller's reference
-    tracking_error: Optional[Record]       # (K,) |reference − actual|, rad or m (RunMeta.tracking_error_kind)
-    attitude_error: Optional[Record]       # (K,) base attitude error of an attitude controller, rad
-    wheel_speed: Optional[Record]          # (K, W) reaction-wheel speeds, rad/s (RunMeta.wheel_dofs)
+    t: _Record                              # (K,) sample times, s (float64)
+    x: _Record                              # (K, 7+N) [r0, quat0 (x, y, z, w), q]
+    u: _Record                              # (K, 6+N) [v0, w0, qd]
+    du: Optional[_Record]                   # (K, 6+N) accelerations
+    tau: Optional[_Record]                  # (K, N) applied joint torques, N·m (N prismatic)
+    tau_cmd: Optional[_Record]              # (K, N) commanded joint torques, before the limits
+    base_wrench: Optional[_Record]          # (K, 6) applied [F0, N0] at the base CM, N, N·m
+    P: Optional[_Record]                    # (K, 3) linear momentum, kg·m/s
+    L_origin: Optional[_Record]             # (K, 3) angular momentum about the origin, kg·m²/s
+    L_com: Optional[_Record]                # (K, 3) angular momentum about the system CM, kg·m²/s
+    energy: Optional[_Record]               # (K,) kinetic energy, J
+    com: Optional[_Record]                  # (K, 3) system CM, m
+    ee_position: Optional[_Record]          # (K, 3) end-effector position, m (robots with an end effector)
+    ee_quat: Optional[_Record]              # (K, 4) end-effector attitude [x, y, z, w]
+    reference: Optional[_Record]            # (K, R) the controller's reference
+    tracking_error: Optional[_Record]       # (K,) |reference − actual|, rad or m (RunMeta.tracking_error_kind)
+    attitude_error: Optional[_Record]       # (K,) base attitude error of an attitude controller, rad
+    wheel_speed: Optional[_Record]          # (K, W) reaction-wheel speeds, rad/s (RunMeta.wheel_dofs)
 
+@final
 class RunEvents:
     """The saturation onsets of a run (E events, in time order)."""
     saturation_t: npt.NDArray[np.float64]        # (E,) start of the step in which it began, s
     saturation_actuator: npt.NDArray[np.int64]   # (E,) dof 0..N, then thruster channels N..N+6
     saturation_kind: npt.NDArray[np.int64]       # (E,) 0 joint torque, 1 joint speed, 2 thruster
 
+@final
 class ConservedDrift:
     """The drift of one quantity the run's mode conserves."""
     quantity: str    # "P", "L_origin", "L_com" or "energy"
     drift: float     # largest deviation from the initial value / max(|initial|, scale)
     scale: float     # the magnitude the drift is measured against (the quantity's unit)
 
+@final
 class RunMeta:
     """The description of a run."""
     mode: str
@@ -613,12 +683,14 @@ class RunMeta:
     dropped_base_wrench_max_norm: float    # largest commanded base-wrench part the mode dropped
     dropped_base_wrench_count: int         # evaluations that commanded one
 
+@final
 class RunResult:
     """One run (what :func:`simulate` and :meth:`Simulator.result` return)."""
     records: RunRecords
     events: RunEvents
     meta: RunMeta
 
+@final
 class RolloutBatch:
     """B rollouts (what :func:`rollout` returns); a failed rollout has NaN rows and ``None``
     meta and events."""
@@ -631,11 +703,11 @@ class RolloutBatch:
 
 def simulate(
     model: Model,
-    x0: ArrayLike,
-    u0: ArrayLike,
+    x0: _ArrayLike,
+    u0: _ArrayLike,
     duration: float,
     options: RunOptions,
-    controller_spec: Optional[ControllerSpec] = None,
+    controller_spec: Optional[_ControllerSpec] = None,
 ) -> RunResult:
     """Run the native simulation loop (None: no control). Runs without the GIL; the records are
     handed to numpy without a copy. Returns the records, saturation onsets and description of the run."""
@@ -643,11 +715,11 @@ def simulate(
 
 def rollout(
     models: list[Model],
-    x0: Vec,
-    u0: Vec,
+    x0: _Vec,
+    u0: _Vec,
     duration: float,
     options: RunOptions,
-    controllers: Optional[Union[ControllerSpec, list[ControllerSpec]]] = None,
+    controllers: Optional[Union[_ControllerSpec, list[_ControllerSpec]]] = None,
     threads: Optional[int] = None,
 ) -> RolloutBatch:
     """Run B rollouts on native threads without the GIL (crates/spacearm-py/src/rollout_py.rs).
@@ -657,16 +729,17 @@ def rollout(
     a failed rollout) and each rollout's status, description and saturation onsets."""
     ...
 
+@final
 class Simulator:
     """RK4 stepping of a plant from Python (crates/spacearm-py/src/simulator_py.rs)."""
 
-    def __init__(self, model: Model, options: RunOptions, controller_spec: Optional[ControllerSpec] = None, record_every: Optional[int] = None) -> None: ...
-    def reset(self, x0: ArrayLike, u0: ArrayLike) -> None: ...
-    def step(self, tau: Optional[ArrayLike] = None, n: int = 1, base_wrench: Optional[ArrayLike] = None) -> None: ...
+    def __new__(cls, model: Model, options: RunOptions, controller_spec: Optional[_ControllerSpec] = None, record_every: Optional[int] = None) -> Simulator: ...
+    def reset(self, x0: _ArrayLike, u0: _ArrayLike) -> None: ...
+    def step(self, tau: Optional[_ArrayLike] = None, n: int = 1, base_wrench: Optional[_ArrayLike] = None) -> None: ...
     @property
     def time(self) -> float: ...
     @property
-    def state(self) -> Vec: ...
+    def state(self) -> _Vec: ...
     @property
     def n_steps(self) -> int: ...
     def result(self) -> RunResult: ...
@@ -677,26 +750,27 @@ def perturbed(
     base_inertia_scale: float,
     link_mass_scale: float,
     slosh_fraction: float,
-    slosh_offset: ArrayLike,
+    slosh_offset: _ArrayLike,
     slosh_removed: bool,
 ) -> Model: ...
 def default_wheel_dofs(model: Model) -> list[int]: ...
+@final
 class Derivatives:
     """Exact derivatives of one model (analytic recursions for the dynamics Jacobians,
     forward-mode dual numbers for the others, and for ``dual=True``); tensors of partials have
     the derivative index last. Tangent coordinates ``[dr0, dtheta, dq]``."""
 
-    def __init__(self, model: Model) -> None: ...
-    def mass_matrix_partials(self, x: ArrayLike) -> npt.NDArray[np.float64]: ...
-    def mass_matrix_derivative(self, x: ArrayLike, u: ArrayLike) -> Vec: ...
-    def generalized_inertia_partials(self, x: ArrayLike) -> npt.NDArray[np.float64]: ...
-    def generalized_inertia_derivative(self, x: ArrayLike, u: ArrayLike) -> Vec: ...
-    def generalized_jacobian_partials(self, x: ArrayLike, body: int, offset: ArrayLike) -> npt.NDArray[np.float64]: ...
-    def generalized_jacobian_derivative(self, x: ArrayLike, u: ArrayLike, body: int, offset: ArrayLike) -> Vec: ...
+    def __new__(cls, model: Model) -> Derivatives: ...
+    def mass_matrix_partials(self, x: _ArrayLike) -> npt.NDArray[np.float64]: ...
+    def mass_matrix_derivative(self, x: _ArrayLike, u: _ArrayLike) -> _Vec: ...
+    def generalized_inertia_partials(self, x: _ArrayLike) -> npt.NDArray[np.float64]: ...
+    def generalized_inertia_derivative(self, x: _ArrayLike, u: _ArrayLike) -> _Vec: ...
+    def generalized_jacobian_partials(self, x: _ArrayLike, body: int, offset: _ArrayLike) -> npt.NDArray[np.float64]: ...
+    def generalized_jacobian_derivative(self, x: _ArrayLike, u: _ArrayLike, body: int, offset: _ArrayLike) -> _Vec: ...
     def forward_dynamics_derivatives(
-        self, x: ArrayLike, u: ArrayLike, f: ArrayLike, wrenches: Optional[list[Wrench]] = None, dual: bool = False
-    ) -> tuple[Vec, Vec, Vec]: ...
+        self, x: _ArrayLike, u: _ArrayLike, f: _ArrayLike, wrenches: Optional[list[_Wrench]] = None, dual: bool = False
+    ) -> tuple[_Vec, _Vec, _Vec]: ...
     def inverse_dynamics_partials(
-        self, x: ArrayLike, u: ArrayLike, du: ArrayLike, wrenches: Optional[list[Wrench]] = None, dual: bool = False
-    ) -> tuple[Vec, Vec]: ...
-    def linearize(self, x: ArrayLike, u: ArrayLike, f: ArrayLike, joints_only: bool, dual: bool = False) -> tuple[Vec, Vec]: ...
+        self, x: _ArrayLike, u: _ArrayLike, du: _ArrayLike, wrenches: Optional[list[_Wrench]] = None, dual: bool = False
+    ) -> tuple[_Vec, _Vec]: ...
+    def linearize(self, x: _ArrayLike, u: _ArrayLike, f: _ArrayLike, joints_only: bool, dual: bool = False) -> tuple[_Vec, _Vec]: ...
