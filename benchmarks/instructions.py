@@ -5,8 +5,8 @@ complement of ``compare_builds.py`` where the machine is too noisy for wall-cloc
 Wall-clock timing on a shared or small machine moves by 5-90 % from run to run; the number
 of instructions a call executes does not: one build gives the same count to the instruction
 run after run. Between two builds the criterion rows compare to about 2 % (the iteration count
-of a profiled run varies, and the set-up is spread over it); the Python rows also move by a few percent with incidental effects of memory layout in the interpreter and
-numpy's allocator (one call read 0.93 in this script and 1.05 in another harness), so read
+of a profiled run varies, and the set-up is spread over it); the Python rows also move by a few
+percent with incidental effects of memory layout in the interpreter and numpy's allocator (one call read 0.93 in this script and 1.05 in another harness), so read
 them to about ±5 %. A change that makes a call do more work shows here even when timings cannot
 resolve it. It says nothing about cache misses or branch prediction (callgrind's
 ``--cache-sim=yes --branch-sim=yes`` models them), so it complements timing on a quiet machine
