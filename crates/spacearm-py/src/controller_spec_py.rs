@@ -14,9 +14,11 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use spacearm_core::control::{
     AttitudeControl, BaseThrusterControl, Combined, Command, ComputedTorque, ControlContext, Controller, CoordinatedFlying, CoordinatedGains, JointPd,
-    ResolvedMotionRate, ZeroTorque,
+    JointTorqueLimit, MomentumDamping, ResolvedMotionRate, ZeroTorque,
 };
-use spacearm_core::sim::reference::{CartesianLine, JointReference};
+use spacearm_core::sim::free_body::FreeBody;
+use spacearm_core::sim::reference::{CartesianLine, JointReference, PointReference};
+use numpy::{PyArray2, PyReadonlyArray2, PyArrayMethods};
 use spacearm_core::{Model, SpacearmError};
 
 use crate::convert::*;
@@ -63,6 +65,33 @@ impl PyJointReference {
         Ok(PyJointReference { inner })
     }
 
+    /// The piecewise quintic Hermite interpolant of knots: times `t` (K ≥ 2, strictly
+    /// increasing, s) and positions `q`, velocities `qd`, accelerations `qdd` at the knots, each
+    /// of shape (K, n) (float64, C-contiguous).
+    #[staticmethod]
+    #[pyo3(signature = (*, t, q, qd, qdd))]
+    fn sampled(py: Python<'_>, t: &Bound<'_, PyAny>, q: &Bound<'_, PyAny>, qd: &Bound<'_, PyAny>, qdd: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let t = vector(t, "sampled reference 't'")?;
+        let mut parts = Vec::with_capacity(3);
+        let mut n = None;
+        for (what, v) in [("q", q), ("qd", qd), ("qdd", qdd)] {
+            let a: PyReadonlyArray2<'_, f64> = v
+                .extract()
+                .map_err(|_| shape_error(py, format!("sampled reference '{what}' must be a float64 array of shape (K, n), got {}", type_name(v))))?;
+            let shape = a.as_array().shape().to_vec();
+            if shape[0] != t.len() || n.is_some_and(|n| n != shape[1]) {
+                return Err(shape_error(py, format!("sampled reference '{what}' has shape {shape:?}; expected ({}, n) with the same n for q, qd and qdd", t.len())));
+            }
+            n = Some(shape[1]);
+            parts.push(a.as_array().iter().copied().collect::<Vec<f64>>());
+        }
+        let qdd = parts.pop().expect("three arrays");
+        let qd = parts.pop().expect("three arrays");
+        let q = parts.pop().expect("three arrays");
+        let inner = JointReference::sampled(t, q, qd, qdd, n.unwrap_or(0)).or_raise(py)?;
+        Ok(PyJointReference { inner })
+    }
+
     /// Hold `q` (rad or m per arm joint).
     #[staticmethod]
     #[pyo3(signature = (*, q))]
@@ -76,43 +105,64 @@ impl PyJointReference {
         match self.inner {
             JointReference::Quintic { .. } => "quintic",
             JointReference::Constant(_) => "constant",
+            JointReference::Sampled { .. } => "sampled",
         }
     }
 
-    /// The joint coordinates at and before `t_start`, shape (n,) (the set point of a constant).
+    /// The joint coordinates at and before `t_start`, shape (n,) (the set point of a constant;
+    /// the first knot of a sampled reference).
     #[getter]
     fn q_start<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         match &self.inner {
             JointReference::Quintic { q_start, .. } => array(py, q_start),
             JointReference::Constant(q) => array(py, q),
+            JointReference::Sampled { q, n, .. } => array(py, &q[..*n]),
         }
     }
 
-    /// The joint coordinates at and after `t_end`, shape (n,) (the set point of a constant).
+    /// The joint coordinates at and after `t_end`, shape (n,) (the set point of a constant; the
+    /// last knot of a sampled reference).
     #[getter]
     fn q_goal<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         match &self.inner {
             JointReference::Quintic { q_goal, .. } => array(py, q_goal),
             JointReference::Constant(q) => array(py, q),
+            JointReference::Sampled { q, n, .. } => array(py, &q[q.len() - *n..]),
         }
     }
 
-    /// Start of the motion, s (None for a constant).
+    /// Start of the motion, s (None for a constant; the first knot time of a sampled reference).
     #[getter]
     fn t_start(&self) -> Option<f64> {
-        match self.inner {
-            JointReference::Quintic { t_start, .. } => Some(t_start),
+        match &self.inner {
+            JointReference::Quintic { t_start, .. } => Some(*t_start),
             JointReference::Constant(_) => None,
+            JointReference::Sampled { t, .. } => t.first().copied(),
         }
     }
 
-    /// End of the motion, s (None for a constant).
+    /// End of the motion, s (None for a constant; the last knot time of a sampled reference).
     #[getter]
     fn t_end(&self) -> Option<f64> {
-        match self.inner {
-            JointReference::Quintic { t_end, .. } => Some(t_end),
+        match &self.inner {
+            JointReference::Quintic { t_end, .. } => Some(*t_end),
             JointReference::Constant(_) => None,
+            JointReference::Sampled { t, .. } => t.last().copied(),
         }
+    }
+
+    /// `(q, qd, qdd)` at each time of `t`, each of shape (T, n): the values the controllers
+    /// follow.
+    fn evaluate<'py>(&self, py: Python<'py>, t: &Bound<'_, PyAny>) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+        let times = vector(t, "joint reference evaluation times")?;
+        let n = self.inner.len();
+        let (mut q, mut qd, mut qdd) = (vec![0.0; times.len() * n], vec![0.0; times.len() * n], vec![0.0; times.len() * n]);
+        for (i, &ti) in times.iter().enumerate() {
+            let r = i * n..(i + 1) * n;
+            self.inner.eval(ti, &mut q[r.clone()], &mut qd[r.clone()], &mut qdd[r]);
+        }
+        let shape = |v: Vec<f64>| PyArray1::from_vec(py, v).reshape([times.len(), n]);
+        Ok((shape(q)?, shape(qd)?, shape(qdd)?))
     }
 
     fn __repr__(&self) -> String {
@@ -165,6 +215,69 @@ impl PyCartesianReference {
     fn __repr__(&self) -> String {
         format!("<spacearm._core.CartesianReference t_start={} s, t_end={} s>", self.inner.t_start, self.inner.t_end)
     }
+}
+
+/// A point on a torque-free rigid body (`spacearm_core::sim::free_body::FreeBody`): the grasp
+/// point of a tumbling capture target, as a reference for `RmrcSpec`, and the body's motion.
+#[pyclass(module = "spacearm._core", name = "FreeBodyReference", frozen)]
+pub struct PyFreeBodyReference {
+    inner: FreeBody,
+}
+
+#[pymethods]
+impl PyFreeBodyReference {
+    /// A body of `inertia` (3×3 about its CM in its axes, kg·m², symmetric positive definite;
+    /// 9 numbers row-major) in `state` (13: `[r, quat xyzw, v, w]` in 𝒥, at simulation time 0),
+    /// the point at `offset` (m, body axes, from the CM); attitude grid `step` (s).
+    #[new]
+    #[pyo3(signature = (*, inertia, state, offset, step, **unknown))]
+    fn new(py: Python<'_>, inertia: &Bound<'_, PyAny>, state: &Bound<'_, PyAny>, offset: &Bound<'_, PyAny>, step: f64, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        refuse_unknown::<Self>(py, unknown)?;
+        let i = vec_arg_n(inertia, "free-body 'inertia' (9 numbers, row-major 3×3)", 9)?;
+        let i = nalgebra::Matrix3::from_row_slice(i.as_slice());
+        let s = vec_arg_n(state, "free-body 'state' ([r, quat xyzw, v, w])", 13)?;
+        let inner = FreeBody::new(i, s.as_slice(), vec3(offset, "free-body 'offset'")?, step).or_raise(py)?;
+        Ok(PyFreeBodyReference { inner })
+    }
+
+    /// The body's 13-states at the times `t` (s ≥ 0), shape (T, 13).
+    fn states<'py>(&self, py: Python<'py>, t: &Bound<'_, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let times = vector(t, "free-body times")?;
+        let mut body = self.inner.clone();
+        let mut out = Vec::with_capacity(times.len() * 13);
+        for &ti in &times {
+            out.extend_from_slice(&body.state(ti).or_raise(py)?);
+        }
+        Ok(PyArray1::from_vec(py, out).reshape([times.len(), 13])?)
+    }
+
+    /// The point's positions and velocities (in 𝒥) at the times `t`, each of shape (T, 3).
+    fn points<'py>(&self, py: Python<'py>, t: &Bound<'_, PyAny>) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+        let times = vector(t, "free-body times")?;
+        let mut body = self.inner.clone();
+        let (mut p, mut v) = (Vec::with_capacity(times.len() * 3), Vec::with_capacity(times.len() * 3));
+        for &ti in &times {
+            let (pi, vi, _) = body.point(ti).or_raise(py)?;
+            p.extend_from_slice(pi.as_slice());
+            v.extend_from_slice(vi.as_slice());
+        }
+        Ok((PyArray1::from_vec(py, p).reshape([times.len(), 3])?, PyArray1::from_vec(py, v).reshape([times.len(), 3])?))
+    }
+
+    fn __repr__(&self) -> String {
+        "<spacearm._core.FreeBodyReference>".to_string()
+    }
+}
+
+/// A point reference of `RmrcSpec`: a `CartesianReference` or a `FreeBodyReference`.
+fn point_reference(obj: &Bound<'_, PyAny>) -> PyResult<PointReference> {
+    if let Ok(r) = obj.cast::<PyCartesianReference>() {
+        return Ok(PointReference::Line(r.get().inner));
+    }
+    if let Ok(r) = obj.cast::<PyFreeBodyReference>() {
+        return Ok(PointReference::FreeBody(Box::new(r.get().inner.clone())));
+    }
+    Err(to_py_err(obj.py(), bad(format!("a point reference must be a CartesianReference or a FreeBodyReference, got {}", type_name(obj)))))
 }
 
 /// A point of the robot: a body index and an offset (m, in that body's frame).
@@ -251,13 +364,7 @@ impl PyComputedTorqueSpec {
         unknown: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         refuse_unknown::<Self>(py, unknown)?;
-        let model = match model {
-            Some(m) => {
-                let m = m.cast::<PyModel>().map_err(|_| to_py_err(py, bad("a controller's model must be a spacearm Robot's core model".into())))?;
-                Some(m.borrow().model.clone())
-            }
-            None => None,
-        };
+        let model = controller_model(py, model)?;
         Ok(PyComputedTorqueSpec { kp: vector(kp, "computed_torque 'kp'")?, kd: vector(kd, "computed_torque 'kd'")?, reference, model })
     }
 
@@ -283,7 +390,11 @@ impl PyComputedTorqueSpec {
 /// paper eq. 110) with damped least squares.
 #[pyclass(module = "spacearm._core", name = "RmrcSpec", frozen)]
 pub struct PyRmrcSpec {
-    reference: Py<PyCartesianReference>,
+    reference: Py<PyAny>,
+    /// The cap on the joint-rate command (rad/s or m/s; inf: none): the command is scaled as a
+    /// whole.
+    #[pyo3(get)]
+    max_joint_rate: f64,
     /// Position feedback gain, 1/s.
     #[pyo3(get)]
     gain: f64,
@@ -305,27 +416,32 @@ pub struct PyRmrcSpec {
 #[pymethods]
 impl PyRmrcSpec {
     #[new]
-    #[pyo3(signature = (*, reference, gain, max_damping, threshold, velocity_gain, body, offset, **unknown))]
+    #[pyo3(signature = (*, reference, gain, max_damping, threshold, velocity_gain, body, offset, max_joint_rate=f64::INFINITY, **unknown))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
-        reference: Py<PyCartesianReference>,
+        reference: &Bound<'_, PyAny>,
         gain: f64,
         max_damping: f64,
         threshold: f64,
         velocity_gain: f64,
         body: &Bound<'_, PyAny>,
         offset: &Bound<'_, PyAny>,
+        max_joint_rate: f64,
         unknown: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         refuse_unknown::<Self>(py, unknown)?;
+        point_reference(reference)?;
+        if !(max_joint_rate > 0.0) {
+            return Err(to_py_err(py, bad(format!("rmrc 'max_joint_rate' must be > 0 (inf: no cap), got {max_joint_rate}"))));
+        }
         let (body, offset) = point(py, "rmrc", body, offset)?;
-        Ok(PyRmrcSpec { reference, gain, max_damping, threshold, velocity_gain, body, offset })
+        Ok(PyRmrcSpec { reference: reference.clone().unbind(), max_joint_rate, gain, max_damping, threshold, velocity_gain, body, offset })
     }
 
-    /// The Cartesian reference.
+    /// The point reference (a CartesianReference or a FreeBodyReference).
     #[getter]
-    fn reference(&self, py: Python<'_>) -> Py<PyCartesianReference> {
+    fn reference(&self, py: Python<'_>) -> Py<PyAny> {
         self.reference.clone_ref(py)
     }
 
@@ -561,6 +677,91 @@ impl PyCombinedSpec {
     }
 }
 
+/// Thruster damping of the system momentum (`spacearm_core::control::MomentumDamping`): the
+/// flying-mode detumbling law, `F0 = −P/τ`, `N0 = −L_G/τ − (r0 − r_g) × F0`, each norm-limited.
+#[pyclass(module = "spacearm._core", name = "MomentumDampingSpec", frozen)]
+pub struct PyMomentumDampingSpec {
+    /// Time constant τ, s.
+    #[pyo3(get)]
+    time_constant: f64,
+    /// Norm limit of the force, N (inf: none).
+    #[pyo3(get)]
+    max_force: f64,
+    /// Norm limit of the torque, N·m (inf: none).
+    #[pyo3(get)]
+    max_torque: f64,
+    model: Option<Model>,
+}
+
+#[pymethods]
+impl PyMomentumDampingSpec {
+    #[new]
+    #[pyo3(signature = (*, time_constant, max_force=f64::INFINITY, max_torque=f64::INFINITY, model=None, **unknown))]
+    fn new(py: Python<'_>, time_constant: f64, max_force: f64, max_torque: f64, model: Option<&Bound<'_, PyAny>>, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        refuse_unknown::<Self>(py, unknown)?;
+        if !(time_constant.is_finite() && time_constant > 0.0) {
+            return Err(to_py_err(py, bad(format!("momentum damping 'time_constant' must be finite and > 0, got {time_constant}"))));
+        }
+        for (what, v) in [("max_force", max_force), ("max_torque", max_torque)] {
+            if !(v > 0.0) {
+                return Err(to_py_err(py, bad(format!("momentum damping '{what}' must be > 0 (inf: no limit), got {v}"))));
+            }
+        }
+        Ok(PyMomentumDampingSpec { time_constant, max_force, max_torque, model: controller_model(py, model)? })
+    }
+
+    /// Whether the law has a model of its own (else it uses the plant's).
+    #[getter]
+    fn has_model(&self) -> bool {
+        self.model.is_some()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<spacearm._core.MomentumDampingSpec time_constant={} s>", self.time_constant)
+    }
+}
+
+/// Another controller's joint torques clamped to `±limit` on every joint
+/// (`spacearm_core::control::JointTorqueLimit`).
+#[pyclass(module = "spacearm._core", name = "JointTorqueLimitSpec", frozen)]
+pub struct PyJointTorqueLimitSpec {
+    /// The clamped controller's spec.
+    #[pyo3(get)]
+    controller: Py<PyAny>,
+    /// The limit, N·m (N for prismatic joints).
+    #[pyo3(get)]
+    limit: f64,
+}
+
+#[pymethods]
+impl PyJointTorqueLimitSpec {
+    #[new]
+    #[pyo3(signature = (*, controller, limit, **unknown))]
+    fn new(py: Python<'_>, controller: &Bound<'_, PyAny>, limit: f64, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        refuse_unknown::<Self>(py, unknown)?;
+        spec_of(controller)?;
+        if !(limit > 0.0) {
+            return Err(to_py_err(py, bad(format!("a joint torque 'limit' must be > 0 (inf: no limit), got {limit}"))));
+        }
+        Ok(PyJointTorqueLimitSpec { controller: controller.clone().unbind(), limit })
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("<spacearm._core.JointTorqueLimitSpec {} within ±{}>", type_name(self.controller.bind(py)), self.limit)
+    }
+}
+
+/// A controller's own model from its Python argument (a Robot's core model), or `None`.
+fn controller_model(py: Python<'_>, model: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Model>> {
+    match model {
+        Some(m) => {
+            let m = m.cast::<PyModel>().map_err(|_| to_py_err(py, bad("a controller's model must be a spacearm Robot's core model".into())))?;
+            Ok(Some(m.borrow().model.clone()))
+        }
+        None => Ok(None),
+    }
+}
+
 /// A Python callable as the controller: `fn(t, x, u) -> tau` or `(tau, base_wrench)`, called at
 /// every integrator stage.
 #[pyclass(module = "spacearm._core", name = "CallbackSpec", frozen)]
@@ -590,8 +791,19 @@ impl PyCallbackSpec {
 // ---- from a spec to a controller -------------------------------------------------------------
 
 /// The spec classes, as the message of a wrong object names them.
-const SPEC_CLASSES: [&str; 9] =
-    ["ZeroTorqueSpec", "JointPdSpec", "ComputedTorqueSpec", "RmrcSpec", "AttitudeSpec", "BaseThrustersSpec", "CoordinatedFlyingSpec", "CombinedSpec", "CallbackSpec"];
+const SPEC_CLASSES: [&str; 11] = [
+    "ZeroTorqueSpec",
+    "JointPdSpec",
+    "ComputedTorqueSpec",
+    "RmrcSpec",
+    "AttitudeSpec",
+    "BaseThrustersSpec",
+    "CoordinatedFlyingSpec",
+    "MomentumDampingSpec",
+    "CombinedSpec",
+    "JointTorqueLimitSpec",
+    "CallbackSpec",
+];
 
 /// A controller spec, borrowed from its Python object.
 enum Spec<'a> {
@@ -602,7 +814,9 @@ enum Spec<'a> {
     Attitude(&'a PyAttitudeSpec),
     BaseThrusters(&'a PyBaseThrustersSpec),
     CoordinatedFlying(&'a PyCoordinatedFlyingSpec),
+    MomentumDamping(&'a PyMomentumDampingSpec),
     Combined(&'a PyCombinedSpec),
+    TorqueLimit(&'a PyJointTorqueLimitSpec),
     Callback(&'a PyCallbackSpec),
 }
 
@@ -629,8 +843,14 @@ fn spec_of<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Spec<'a>> {
     if let Ok(s) = obj.cast::<PyCoordinatedFlyingSpec>() {
         return Ok(Spec::CoordinatedFlying(s.get()));
     }
+    if let Ok(s) = obj.cast::<PyMomentumDampingSpec>() {
+        return Ok(Spec::MomentumDamping(s.get()));
+    }
     if let Ok(s) = obj.cast::<PyCombinedSpec>() {
         return Ok(Spec::Combined(s.get()));
+    }
+    if let Ok(s) = obj.cast::<PyJointTorqueLimitSpec>() {
+        return Ok(Spec::TorqueLimit(s.get()));
     }
     if let Ok(s) = obj.cast::<PyCallbackSpec>() {
         return Ok(Spec::Callback(s.get()));
@@ -647,13 +867,18 @@ pub fn build_controller(obj: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<Bo
         Spec::ZeroTorque => Box::new(ZeroTorque),
         Spec::JointPd(s) => Box::new(JointPd::new(s.kp.clone(), s.kd.clone(), joint_ref(&s.reference))),
         Spec::ComputedTorque(s) => Box::new(ComputedTorque::new(s.kp.clone(), s.kd.clone(), joint_ref(&s.reference), s.model.clone())),
-        Spec::Rmrc(s) => Box::new(ResolvedMotionRate::new(line(&s.reference), s.gain, s.max_damping, s.threshold, s.velocity_gain, s.body, s.offset)),
+        Spec::Rmrc(s) => Box::new(
+            ResolvedMotionRate::new(point_reference(s.reference.bind(py))?, s.gain, s.max_damping, s.threshold, s.velocity_gain, s.body, s.offset)
+                .with_max_joint_rate(s.max_joint_rate),
+        ),
         Spec::Attitude(s) => Box::new(AttitudeControl::new(s.quat_ref, s.kp, s.kd)),
         Spec::BaseThrusters(s) => Box::new(BaseThrusterControl::new(s.com_ref, s.quat_ref, s.kp_position, s.kd_position, s.kp_attitude, s.kd_attitude)),
         Spec::CoordinatedFlying(s) => {
             Box::new(CoordinatedFlying::new(line(&s.reference), s.body, s.offset, s.base_ref, s.gains, s.max_damping, s.threshold))
         }
+        Spec::MomentumDamping(s) => Box::new(MomentumDamping::new(s.time_constant, s.max_force, s.max_torque, s.model.clone())),
         Spec::Combined(s) => Box::new(Combined::new(build_controller(s.arm.bind(py), slot)?, build_controller(s.base.bind(py), slot)?)),
+        Spec::TorqueLimit(s) => Box::new(JointTorqueLimit::new(build_controller(s.controller.bind(py), slot)?, s.limit)),
         Spec::Callback(s) => Box::new(PyCallback { func: s.r#fn.clone_ref(py), error: slot.clone() }),
     })
 }

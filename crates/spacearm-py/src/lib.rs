@@ -83,6 +83,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<sim_options_py::PyThrusterLimits>()?;
     m.add_class::<controller_spec_py::PyJointReference>()?;
     m.add_class::<controller_spec_py::PyCartesianReference>()?;
+    m.add_class::<controller_spec_py::PyFreeBodyReference>()?;
+    m.add_class::<controller_spec_py::PyMomentumDampingSpec>()?;
+    m.add_class::<controller_spec_py::PyJointTorqueLimitSpec>()?;
     m.add_class::<controller_spec_py::PyZeroTorqueSpec>()?;
     m.add_class::<controller_spec_py::PyJointPdSpec>()?;
     m.add_class::<controller_spec_py::PyComputedTorqueSpec>()?;

@@ -5,7 +5,10 @@
 //! linear part of `J_0X H0⁻¹ M0`, the motion that the system momentum `M0` produces, eq. 109
 //! generalized to `M0 ≠ 0`, plus the wheels' `J*_W q̇_W`). The arm's joint-rate command is
 //! `q̇_cmd = Jᵀ (J Jᵀ + λ² E)⁻¹ (ṗ_ref + K (p_ref − p) − v_drift)` with `J` the columns of
-//! `J*_T` of the arm joints. The damping follows the singular values `σᵢ` of `J` (Nakamura &
+//! `J*_T` of the arm joints. The reference is a [`PointReference`]: a straight line, or a point
+//! on a tumbling free body (the grasp point of a capture target). An optional rate cap scales
+//! `q̇_cmd` as a whole so that its largest entry is at most `max_joint_rate` (the direction of
+//! the point's motion is kept). The damping follows the singular values `σᵢ` of `J` (Nakamura &
 //! Hanafusa 1986; Chiaverini 1997), applied per singular direction (the one damped inverse, [`crate::math::dls`]):
 //! `λ²(σ) = λ_max² (1 − (σ/ε)²)` for `σ < ε`, `0` otherwise — the exact pseudo-inverse away from
 //! singularities, bounded joint rates near them, and no damping of the directions that are
@@ -21,7 +24,7 @@ use crate::algorithms::kinematics::{check_body, point_position};
 use crate::model::Model;
 use crate::algorithms::momentum::momentum;
 use crate::math::dls::{damped_gram_solve, DampingLaw};
-use crate::sim::reference::CartesianLine;
+use crate::sim::reference::PointReference;
 
 use super::computed_torque::ReducedInverseDynamics;
 use super::{positive, Command, ControlContext, Controller, TrackingKind};
@@ -29,7 +32,8 @@ use super::{positive, Command, ControlContext, Controller, TrackingKind};
 /// Resolved-motion-rate control along a Cartesian line.
 #[derive(Debug, Clone)]
 pub struct ResolvedMotionRate {
-    line: CartesianLine,
+    reference: PointReference,
+    max_joint_rate: f64,
     gain: f64,
     damping: f64,
     threshold: f64,
@@ -49,9 +53,10 @@ pub struct ResolvedMotionRate {
 impl ResolvedMotionRate {
     /// `gain` K (1/s, > 0), `damping` λ_max (≥ 0), `threshold` ε (> 0), `velocity_gain` K_v
     /// (1/s, > 0); the controlled point is fixed to `body` at `offset` (body frame).
-    pub fn new(line: CartesianLine, gain: f64, damping: f64, threshold: f64, velocity_gain: f64, body: usize, offset: Vector3<f64>) -> Self {
+    pub fn new(reference: impl Into<PointReference>, gain: f64, damping: f64, threshold: f64, velocity_gain: f64, body: usize, offset: Vector3<f64>) -> Self {
         ResolvedMotionRate {
-            line,
+            reference: reference.into(),
+            max_joint_rate: f64::INFINITY,
             gain,
             damping,
             threshold,
@@ -66,6 +71,13 @@ impl ResolvedMotionRate {
             qdd_cmd: vec![],
             last_damping_sq: 0.0,
         }
+    }
+
+    /// Cap the joint-rate command: `q̇_cmd` is scaled as a whole so that `max |q̇_cmd,i| ≤
+    /// max_joint_rate` (rad/s or m/s, > 0; infinity: no cap, the default).
+    pub fn with_max_joint_rate(mut self, max_joint_rate: f64) -> Self {
+        self.max_joint_rate = max_joint_rate;
+        self
     }
 
     /// The damping law: `λ²` for a smallest singular value `sigma_min` (the same expression
@@ -89,6 +101,9 @@ impl Controller for ResolvedMotionRate {
         positive("resolved-motion-rate gain", self.gain)?;
         positive("resolved-motion-rate threshold", self.threshold)?;
         positive("resolved-motion-rate velocity_gain", self.velocity_gain)?;
+        if !(self.max_joint_rate > 0.0) {
+            return Err(SpacearmError::argument(format!("resolved-motion-rate max_joint_rate must be > 0 (infinity: no cap), got {}", self.max_joint_rate)));
+        }
         if !(self.damping.is_finite() && self.damping >= 0.0) {
             return Err(SpacearmError::argument(format!("resolved-motion-rate max_damping must be finite and >= 0, got {}", self.damping)));
         }
@@ -111,7 +126,7 @@ impl Controller for ResolvedMotionRate {
         let (Some(model), Some(data), Some(inner)) = (self.model.as_ref(), self.data.as_mut(), self.inner.as_mut()) else {
             return Err(SpacearmError::Simulation("resolved-motion-rate control used before setup".into()));
         };
-        let (p_ref, v_ref, _) = self.line.eval(t);
+        let (p_ref, v_ref, _) = self.reference.eval(t)?;
         // Drift: the point velocity from the system momentum (J_0X H0⁻¹ M0) and the wheels.
         let m = momentum(model, data, x, u)?;
         let twist = momentum_twist(model, data, x, self.body, &self.offset, &m.linear, &m.angular_about_origin)?;
@@ -131,9 +146,15 @@ impl Controller for ResolvedMotionRate {
         let law = DampingLaw { threshold: self.threshold, max_damping: self.damping };
         let (z, lambda_sq) = damped_gram_solve(&jjt, &v_cmd, &law);
         self.last_damping_sq = lambda_sq;
+        let mut peak = 0.0_f64;
         for (i, &d) in self.arm.iter().enumerate() {
-            let qd_cmd = js[(0, d)] * z.x + js[(1, d)] * z.y + js[(2, d)] * z.z;
-            self.qdd_cmd[i] = self.velocity_gain * (qd_cmd - u[6 + d]);
+            self.qdd_cmd[i] = js[(0, d)] * z.x + js[(1, d)] * z.y + js[(2, d)] * z.z;
+            peak = peak.max(self.qdd_cmd[i].abs());
+        }
+        // The rate cap scales the command as a whole, so the point still heads for the reference.
+        let scale = if peak > self.max_joint_rate { self.max_joint_rate / peak } else { 1.0 };
+        for (i, &d) in self.arm.iter().enumerate() {
+            self.qdd_cmd[i] = self.velocity_gain * (scale * self.qdd_cmd[i] - u[6 + d]);
         }
         inner.arm_torques(x, u, &self.qdd_cmd, out)?;
         out.reference[..3].copy_from_slice(p_ref.as_slice());
@@ -153,6 +174,7 @@ impl Controller for ResolvedMotionRate {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::reference::CartesianLine;
 
     #[test]
     fn damping_rises_as_the_smallest_singular_value_falls() {

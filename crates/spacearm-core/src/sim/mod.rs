@@ -8,6 +8,7 @@
 //! [`crate::control`], which in turn use [`modes`], [`actuators`] and [`reference`].
 
 pub mod actuators;
+pub mod free_body;
 pub mod integrate;
 pub mod modes;
 pub mod record;

@@ -1,14 +1,22 @@
-//! Reference trajectories for the controllers: a joint-space quintic and a straight-line
-//! Cartesian path with quintic timing.
+//! Reference trajectories for the controllers: joint-space references (a set point, a
+//! rest-to-rest quintic, a sampled trajectory) and point references (a straight-line Cartesian
+//! path with quintic timing, a point on a tumbling free body).
 //!
-//! Both use the rest-to-rest quintic time scaling `s(τ) = 10τ³ − 15τ⁴ + 6τ⁵`,
+//! The quintic and the line use the rest-to-rest quintic time scaling `s(τ) = 10τ³ − 15τ⁴ + 6τ⁵`,
 //! `τ = (t − t_start)/(t_end − t_start)` clamped to `[0, 1]`: zero velocity and acceleration at
 //! both ends (Siciliano et al., *Robotics: Modelling, Planning and Control*, 2009, §4.2.1).
 //! Before `t_start` the reference holds the start, after `t_end` the goal.
+//!
+//! A sampled reference is the piecewise quintic Hermite interpolant of knots `(tₖ, qₖ, q̇ₖ, q̈ₖ)`
+//! ([`quintic_hermite`]): on each interval the quintic that matches position, velocity and
+//! acceleration at both ends, so `q`, `q̇` and `q̈` are continuous. The rest-to-rest quintic is
+//! the special case with zero end derivatives (its polynomial is the Hermite basis function of
+//! the end value).
 
 use nalgebra::Vector3;
 
 use crate::error::{check_finite, Result, SpacearmError};
+use crate::sim::free_body::FreeBody;
 
 /// Quintic time scaling: `(s, ṡ, s̈)` at time `t`.
 pub fn quintic_scaling(t: f64, t_start: f64, t_end: f64) -> (f64, f64, f64) {
@@ -25,6 +33,31 @@ pub fn quintic_scaling(t: f64, t_start: f64, t_end: f64) -> (f64, f64, f64) {
     let sd = 30.0 * t2 * (1.0 - 2.0 * tau + t2) / duration;
     let sdd = 60.0 * tau * (1.0 - 3.0 * tau + 2.0 * t2) / (duration * duration);
     (s, sd, sdd)
+}
+
+/// The quintic Hermite interpolant on one interval of length `h`: from the end values
+/// `(p0, v0, a0)` at `s = 0` and `(p1, v1, a1)` at `s = 1` (`s = (t − t₀)/h`), the position,
+/// velocity and acceleration at `s`. The polynomial is `Σ cₖ sᵏ` with `c0 = p0`, `c1 = V0`,
+/// `c2 = A0/2`, `c3 = 10Δ − 6V0 − 4V1 − (3A0 − A1)/2`, `c4 = −15Δ + 8V0 + 7V1 + (3A0 − 2A1)/2`,
+/// `c5 = 6Δ − 3V0 − 3V1 − (A0 − A1)/2`, where `Δ = p1 − p0`, `V = v h`, `A = a h²`.
+#[inline]
+pub fn quintic_hermite(s: f64, h: f64, start: (f64, f64, f64), end: (f64, f64, f64)) -> (f64, f64, f64) {
+    let (p0, v0, a0) = start;
+    let (p1, v1, a1) = end;
+    let (vv0, vv1, aa0, aa1) = (v0 * h, v1 * h, a0 * h * h, a1 * h * h);
+    let d = p1 - p0;
+    let c = [
+        p0,
+        vv0,
+        0.5 * aa0,
+        10.0 * d - 6.0 * vv0 - 4.0 * vv1 - 0.5 * (3.0 * aa0 - aa1),
+        -15.0 * d + 8.0 * vv0 + 7.0 * vv1 + 0.5 * (3.0 * aa0 - 2.0 * aa1),
+        6.0 * d - 3.0 * vv0 - 3.0 * vv1 - 0.5 * (aa0 - aa1),
+    ];
+    let p = c[0] + s * (c[1] + s * (c[2] + s * (c[3] + s * (c[4] + s * c[5]))));
+    let dp = c[1] + s * (2.0 * c[2] + s * (3.0 * c[3] + s * (4.0 * c[4] + s * 5.0 * c[5])));
+    let ddp = 2.0 * c[2] + s * (6.0 * c[3] + s * (12.0 * c[4] + s * 20.0 * c[5]));
+    (p, dp / h, ddp / (h * h))
 }
 
 fn check_times(t_start: f64, t_end: f64) -> Result<()> {
@@ -52,6 +85,21 @@ pub enum JointReference {
         /// End of the motion, s.
         t_end: f64,
     },
+    /// The piecewise quintic Hermite interpolant of knots (module docs); outside
+    /// `[t₀, t_last]` the values at the nearer end knot (its position, velocity and
+    /// acceleration).
+    Sampled {
+        /// Knot times, strictly increasing, s (at least two).
+        t: Vec<f64>,
+        /// Positions at the knots, row-major (knot, joint).
+        q: Vec<f64>,
+        /// Velocities at the knots, row-major.
+        qd: Vec<f64>,
+        /// Accelerations at the knots, row-major.
+        qdd: Vec<f64>,
+        /// Number of joints.
+        n: usize,
+    },
 }
 
 impl JointReference {
@@ -66,6 +114,32 @@ impl JointReference {
         Ok(JointReference::Quintic { q_start, q_goal, t_start, t_end })
     }
 
+    /// A sampled trajectory: knot times `t` (K ≥ 2, finite, strictly increasing) and the
+    /// positions, velocities and accelerations at the knots, each K×n row-major.
+    pub fn sampled(t: Vec<f64>, q: Vec<f64>, qd: Vec<f64>, qdd: Vec<f64>, n: usize) -> Result<Self> {
+        let k = t.len();
+        if k < 2 {
+            return Err(SpacearmError::argument(format!("a sampled joint reference needs at least two knots, got {k}")));
+        }
+        check_finite("sampled reference knot times", &t)?;
+        if let Some(i) = (1..k).find(|&i| !(t[i] > t[i - 1])) {
+            return Err(SpacearmError::argument(format!(
+                "sampled reference knot times must be strictly increasing, got t[{}] = {} after t[{}] = {}",
+                i,
+                t[i],
+                i - 1,
+                t[i - 1]
+            )));
+        }
+        for (what, v) in [("q", &q), ("qd", &qd), ("qdd", &qdd)] {
+            if v.len() != k * n {
+                return Err(SpacearmError::Dimension { what: format!("sampled reference {what}"), expected: format!("{k} knots × {n} joints = {}", k * n), got: v.len() });
+            }
+            check_finite(&format!("sampled reference {what}"), v)?;
+        }
+        Ok(JointReference::Sampled { t, q, qd, qdd, n })
+    }
+
     /// A constant set point.
     pub fn constant(q: Vec<f64>) -> Result<Self> {
         check_finite("reference q", &q)?;
@@ -77,6 +151,7 @@ impl JointReference {
         match self {
             JointReference::Constant(q) => q.len(),
             JointReference::Quintic { q_start, .. } => q_start.len(),
+            JointReference::Sampled { n, .. } => *n,
         }
     }
 
@@ -100,6 +175,32 @@ impl JointReference {
                     q[i] = q_start[i] + s * delta;
                     qd[i] = sd * delta;
                     qdd[i] = sdd * delta;
+                }
+            }
+            JointReference::Sampled { t: knots, q: kq, qd: kqd, qdd: kqdd, n } => {
+                let last = knots.len() - 1;
+                let n = *n;
+                let at_knot = |k: usize, q: &mut [f64], qd: &mut [f64], qdd: &mut [f64]| {
+                    q.copy_from_slice(&kq[k * n..(k + 1) * n]);
+                    qd.copy_from_slice(&kqd[k * n..(k + 1) * n]);
+                    qdd.copy_from_slice(&kqdd[k * n..(k + 1) * n]);
+                };
+                if !(t > knots[0]) {
+                    return at_knot(0, q, qd, qdd);
+                }
+                if t >= knots[last] {
+                    return at_knot(last, q, qd, qdd);
+                }
+                // The interval [t_i, t_{i+1}) holding t.
+                let i = knots.partition_point(|&tk| tk <= t) - 1;
+                let h = knots[i + 1] - knots[i];
+                let s = (t - knots[i]) / h;
+                for j in 0..n {
+                    let (a, b) = (i * n + j, (i + 1) * n + j);
+                    let (p, v, acc) = quintic_hermite(s, h, (kq[a], kqd[a], kqdd[a]), (kq[b], kqd[b], kqdd[b]));
+                    q[j] = p;
+                    qd[j] = v;
+                    qdd[j] = acc;
                 }
             }
         }
@@ -137,6 +238,32 @@ impl CartesianLine {
     }
 }
 
+/// A reference for a point: where it should be, and its velocity and acceleration, at `t`.
+#[derive(Debug, Clone)]
+pub enum PointReference {
+    /// A straight line with quintic timing.
+    Line(CartesianLine),
+    /// A point fixed to a torque-free rigid body ([`crate::sim::free_body`]), e.g. the grasp
+    /// point of a tumbling target; the body's state is the one at simulation time 0.
+    FreeBody(Box<FreeBody>),
+}
+
+impl From<CartesianLine> for PointReference {
+    fn from(line: CartesianLine) -> Self {
+        PointReference::Line(line)
+    }
+}
+
+impl PointReference {
+    /// Position, velocity and acceleration at `t` (in 𝒥).
+    pub fn eval(&mut self, t: f64) -> Result<(Vector3<f64>, Vector3<f64>, Vector3<f64>)> {
+        match self {
+            PointReference::Line(line) => Ok(line.eval(t)),
+            PointReference::FreeBody(body) => body.point(t),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -165,5 +292,46 @@ mod tests {
         assert!(JointReference::quintic(vec![0.0], vec![1.0], 1.0, 1.0).is_err());
         assert!(CartesianLine::new(Vector3::zeros(), Vector3::x(), 0.0, f64::NAN).is_err());
         assert!(JointReference::quintic(vec![0.0], vec![1.0, 2.0], 0.0, 1.0).is_err());
+    }
+
+    #[test]
+    fn sampled_reference_interpolates_a_polynomial_exactly() {
+        // q(t) = 1 + 2t − t³ + 0.5 t⁵ is a quintic: its Hermite interpolant on any knots is exact.
+        let f = |t: f64| (1.0 + 2.0 * t - t.powi(3) + 0.5 * t.powi(5), 2.0 - 3.0 * t * t + 2.5 * t.powi(4), -6.0 * t + 10.0 * t.powi(3));
+        let knots = vec![0.0, 0.3, 0.9, 1.0, 1.7];
+        let (mut q, mut qd, mut qdd) = (vec![], vec![], vec![]);
+        for &t in &knots {
+            let (a, b, c) = f(t);
+            q.push(a);
+            qd.push(b);
+            qdd.push(c);
+        }
+        let r = JointReference::sampled(knots, q, qd, qdd, 1).unwrap();
+        let (mut a, mut b, mut c) = ([0.0], [0.0], [0.0]);
+        for &t in &[0.0, 0.1, 0.3, 0.55, 0.95, 1.2, 1.7] {
+            r.eval(t, &mut a, &mut b, &mut c);
+            let (ea, eb, ec) = f(t);
+            assert!((a[0] - ea).abs() < 1e-13 && (b[0] - eb).abs() < 1e-12 && (c[0] - ec).abs() < 1e-11, "t = {t}");
+        }
+        // Outside the knots: the end knots' values.
+        r.eval(5.0, &mut a, &mut b, &mut c);
+        assert_eq!((a[0], b[0], c[0]), f(1.7));
+    }
+
+    #[test]
+    fn the_rest_to_rest_quintic_is_the_hermite_with_zero_end_derivatives() {
+        for &tau in &[0.0, 0.2, 0.5, 0.81, 1.0] {
+            let (s, sd, sdd) = quintic_scaling(tau * 2.0, 0.0, 2.0);
+            let (p, v, a) = quintic_hermite(tau, 2.0, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0));
+            assert!((s - p).abs() < 1e-14 && (sd - v).abs() < 1e-14 && (sdd - a).abs() < 1e-13, "tau = {tau}: {s} {p}, {sd} {v}, {sdd} {a}");
+        }
+    }
+
+    #[test]
+    fn bad_sampled_references_are_rejected() {
+        assert!(JointReference::sampled(vec![0.0], vec![0.0], vec![0.0], vec![0.0], 1).is_err());
+        assert!(JointReference::sampled(vec![0.0, 0.0], vec![0.0; 2], vec![0.0; 2], vec![0.0; 2], 1).is_err());
+        assert!(JointReference::sampled(vec![0.0, 1.0], vec![0.0; 3], vec![0.0; 2], vec![0.0; 2], 1).is_err());
+        assert!(JointReference::sampled(vec![0.0, 1.0], vec![0.0, f64::NAN], vec![0.0; 2], vec![0.0; 2], 1).is_err());
     }
 }

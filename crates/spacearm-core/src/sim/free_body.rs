@@ -1,0 +1,237 @@
+//! A torque-free rigid body (a capture target) and a point fixed to it, propagated natively:
+//! the target's motion for [`crate::sim::reference::PointReference::FreeBody`] (RMRC towards a
+//! tumbling grasp point) and for the capture's records (docs/capture.md).
+//!
+//! State (13): `[r (3), quat [x, y, z, w] (4), v (3), ω (3)]`, the CM position and velocity and
+//! the angular velocity in 𝒥, the attitude mapping body axes to 𝒥 (docs/conventions.md).
+//!
+//! Nothing acts on the body, so its linear momentum `m v` and its angular momentum about the CM
+//! in 𝒥, `L = R I Rᵀ ω`, are constant: `r(t) = r₀ + t v`, and only the attitude is integrated,
+//! `quaṫ = ½ [ω; 0] ⊗ quat` with `ω = R I⁻¹ Rᵀ L` ([`crate::math::rotations::quaternion_rate`]),
+//! by classical RK4 with the quaternion re-normalized after each step. `P` and `L` are
+//! therefore conserved exactly and only the attitude carries integration error (fourth order
+//! in the step).
+//!
+//! Times are measured from the state the body was built with. The attitude is kept on a grid of
+//! fixed steps `h` (extended as later times are asked for, so evaluating the body at the
+//! integrator's stage times costs one RK4 step at most); a time between two grid points is
+//! reached by one RK4 step of the remainder from the grid point below.
+
+use nalgebra::{Matrix3, UnitQuaternion, Quaternion, Vector3};
+
+use crate::error::{check_finite, Result, SpacearmError};
+use crate::math::rotations::{normalize_xyzw, quaternion_rate};
+
+/// A torque-free rigid body with a point fixed to it.
+#[derive(Debug, Clone)]
+pub struct FreeBody {
+    inertia: Matrix3<f64>,
+    inertia_inv: Matrix3<f64>,
+    r0: Vector3<f64>,
+    v: Vector3<f64>,
+    /// Angular momentum about the CM, in 𝒥 (constant).
+    l_world: Vector3<f64>,
+    offset: Vector3<f64>,
+    step: f64,
+    grid: Vec<[f64; 4]>,
+}
+
+fn rotation(q: &[f64; 4]) -> Matrix3<f64> {
+    UnitQuaternion::from_quaternion(Quaternion::new(q[3], q[0], q[1], q[2])).to_rotation_matrix().into_inner()
+}
+
+impl FreeBody {
+    /// A body of inertia `inertia` (about its CM, body axes; symmetric positive definite) in
+    /// `state` (13, see the module docs; the quaternion need not be unit) with the point at
+    /// `offset` from the CM (body axes, m); `step` h (s, > 0) of the attitude grid.
+    pub fn new(inertia: Matrix3<f64>, state: &[f64], offset: Vector3<f64>, step: f64) -> Result<Self> {
+        if state.len() != 13 {
+            return Err(SpacearmError::Dimension { what: "free-body state".into(), expected: "13 ([r, quat xyzw, v, w])".into(), got: state.len() });
+        }
+        check_finite("free-body state", state)?;
+        check_finite("free-body inertia", inertia.as_slice())?;
+        check_finite("free-body point offset", offset.as_slice())?;
+        if !(step.is_finite() && step > 0.0) {
+            return Err(SpacearmError::argument(format!("free-body step must be finite and > 0, got {step}")));
+        }
+        if (inertia - inertia.transpose()).abs().max() > 1e-12 * inertia.abs().max() {
+            return Err(SpacearmError::argument(format!("free-body inertia must be symmetric, got {inertia}")));
+        }
+        let inertia_inv = inertia
+            .cholesky()
+            .map(|c| c.inverse())
+            .ok_or_else(|| SpacearmError::argument(format!("free-body inertia must be positive definite, got {inertia}")))?;
+        let mut q = [state[3], state[4], state[5], state[6]];
+        let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if !(norm > 1e-12) {
+            return Err(SpacearmError::argument(format!("free-body quaternion must be non-zero, got {q:?}")));
+        }
+        normalize_xyzw(&mut q);
+        let r = rotation(&q);
+        let w = Vector3::new(state[10], state[11], state[12]);
+        let l_world = r * (inertia * (r.transpose() * w));
+        Ok(FreeBody {
+            inertia,
+            inertia_inv,
+            r0: Vector3::new(state[0], state[1], state[2]),
+            v: Vector3::new(state[7], state[8], state[9]),
+            l_world,
+            offset,
+            step,
+            grid: vec![q],
+        })
+    }
+
+    /// The body's inertia about its CM, body axes.
+    pub fn inertia(&self) -> &Matrix3<f64> {
+        &self.inertia
+    }
+
+    /// The angular velocity in 𝒥 at attitude `q`: `ω = R I⁻¹ Rᵀ L`.
+    fn omega(&self, q: &[f64; 4]) -> Vector3<f64> {
+        let r = rotation(q);
+        r * (self.inertia_inv * (r.transpose() * self.l_world))
+    }
+
+    fn rate(&self, q: &[f64; 4]) -> [f64; 4] {
+        quaternion_rate(q, &self.omega(q))
+    }
+
+    /// One classical RK4 step of the attitude (re-normalized).
+    fn rk4(&self, q: &[f64; 4], h: f64) -> [f64; 4] {
+        let shifted = |k: &[f64; 4], c: f64| [q[0] + c * k[0], q[1] + c * k[1], q[2] + c * k[2], q[3] + c * k[3]];
+        let k1 = self.rate(q);
+        let k2 = self.rate(&shifted(&k1, 0.5 * h));
+        let k3 = self.rate(&shifted(&k2, 0.5 * h));
+        let k4 = self.rate(&shifted(&k3, h));
+        let mut out = [0.0; 4];
+        for i in 0..4 {
+            out[i] = q[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        }
+        normalize_xyzw(&mut out);
+        out
+    }
+
+    /// The attitude `[x, y, z, w]` at time `t ≥ 0` (s after the initial state).
+    pub fn attitude(&mut self, t: f64) -> Result<[f64; 4]> {
+        if !(t.is_finite() && t >= 0.0) {
+            return Err(SpacearmError::argument(format!("a free body is propagated forward from its initial state: t must be finite and >= 0, got {t}")));
+        }
+        let steps = (t / self.step).floor();
+        if steps > 1e8 {
+            return Err(SpacearmError::argument(format!(
+                "free-body propagation to t = {t} s with step {} s needs {steps:.3e} steps (more than 1e8); raise the step",
+                self.step
+            )));
+        }
+        let i = steps as usize;
+        while self.grid.len() <= i {
+            let next = self.rk4(self.grid.last().expect("the grid starts with the initial attitude"), self.step);
+            self.grid.push(next);
+        }
+        let rest = t - i as f64 * self.step;
+        let q = self.grid[i];
+        Ok(if rest <= 1e-12 * self.step.max(1.0) { q } else { self.rk4(&q, rest) })
+    }
+
+    /// The 13-state at time `t ≥ 0`.
+    pub fn state(&mut self, t: f64) -> Result<[f64; 13]> {
+        let q = self.attitude(t)?;
+        let r = self.r0 + self.v * t;
+        let w = self.omega(&q);
+        Ok([r.x, r.y, r.z, q[0], q[1], q[2], q[3], self.v.x, self.v.y, self.v.z, w.x, w.y, w.z])
+    }
+
+    /// Position, velocity and acceleration (in 𝒥) of the body's point at time `t ≥ 0`:
+    /// `p = r + R o`, `ṗ = v + ω × R o`, `p̈ = ω̇ × R o + ω × (ω × R o)` with the Euler rate
+    /// `ω̇ = I_𝒥⁻¹ (L × ω)`.
+    pub fn point(&mut self, t: f64) -> Result<(Vector3<f64>, Vector3<f64>, Vector3<f64>)> {
+        let q = self.attitude(t)?;
+        let rot = rotation(&q);
+        let arm = rot * self.offset;
+        let w = rot * (self.inertia_inv * (rot.transpose() * self.l_world));
+        let wd = rot * (self.inertia_inv * (rot.transpose() * self.l_world.cross(&w)));
+        let p = self.r0 + self.v * t + arm;
+        let v = self.v + w.cross(&arm);
+        let a = wd.cross(&arm) + w.cross(&w.cross(&arm));
+        Ok((p, v, a))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn body(step: f64) -> FreeBody {
+        let inertia = Matrix3::new(4.0, 0.1, 0.0, 0.1, 5.0, -0.2, 0.0, -0.2, 6.0);
+        let q = UnitQuaternion::from_euler_angles(0.3, -0.2, 0.5);
+        let (qx, qy, qz, qw) = (q.i, q.j, q.k, q.w);
+        let s = [1.0, -2.0, 0.5, qx, qy, qz, qw, 0.1, 0.0, -0.05, 0.2, -0.4, 0.7];
+        FreeBody::new(inertia, &s, Vector3::new(0.3, 0.0, -0.2), step).unwrap()
+    }
+
+    #[test]
+    fn momenta_are_conserved_and_euler_equations_hold() {
+        let mut b = body(1e-3);
+        let s0 = b.state(0.0).unwrap();
+        let l0 = b.l_world;
+        for &t in &[0.37, 1.0, 2.5] {
+            let s = b.state(t).unwrap();
+            let rot = rotation(&[s[3], s[4], s[5], s[6]]);
+            let w = Vector3::new(s[10], s[11], s[12]);
+            let l = rot * b.inertia * rot.transpose() * w;
+            assert!((l - l0).norm() < 1e-13 * l0.norm());
+            assert!((s[0] - s0[0] - t * s0[7]).abs() < 1e-15);
+            // The body-axes angular velocity obeys Euler's equations I ω̇ + ω × I ω = 0: check by
+            // central differences of the propagated state.
+            let h = 1e-4;
+            let wb = |s: [f64; 13]| rotation(&[s[3], s[4], s[5], s[6]]).transpose() * Vector3::new(s[10], s[11], s[12]);
+            let (wp, wm, wc) = (wb(b.state(t + h).unwrap()), wb(b.state(t - h).unwrap()), wb(s));
+            let wdot = (wp - wm) / (2.0 * h);
+            let residual = b.inertia * wdot + wc.cross(&(b.inertia * wc));
+            assert!(residual.norm() < 1e-6, "Euler residual {residual}");
+        }
+    }
+
+    #[test]
+    fn the_attitude_converges_at_fourth_order() {
+        let t = 3.0;
+        let fine = body(1e-4).attitude(t).unwrap();
+        let err = |h: f64| {
+            let q = body(h).attitude(t).unwrap();
+            (0..4).map(|i| (q[i] - fine[i]).powi(2)).sum::<f64>().sqrt()
+        };
+        let (e1, e2) = (err(0.04), err(0.02));
+        let order = (e1 / e2).log2();
+        assert!(order > 3.7 && order < 4.4, "observed order {order} ({e1:.3e}, {e2:.3e})");
+    }
+
+    #[test]
+    fn the_point_velocity_is_the_derivative_of_its_position() {
+        let mut b = body(1e-3);
+        let h = 1e-5;
+        for &t in &[0.2, 1.3] {
+            let (p, v, a) = b.point(t).unwrap();
+            let (pp, vp, _) = b.point(t + h).unwrap();
+            let (pm, vm, _) = b.point(t - h).unwrap();
+            assert!(((pp - pm) / (2.0 * h) - v).norm() < 1e-8);
+            assert!(((vp - vm) / (2.0 * h) - a).norm() < 1e-6);
+            let _ = p;
+        }
+    }
+
+    #[test]
+    fn bad_inputs_are_refused() {
+        let s = [0.0; 13];
+        assert!(FreeBody::new(Matrix3::identity(), &s, Vector3::zeros(), 1e-3).is_err()); // zero quaternion
+        let mut s = s;
+        s[6] = 1.0;
+        assert!(FreeBody::new(-Matrix3::identity(), &s, Vector3::zeros(), 1e-3).is_err());
+        assert!(FreeBody::new(Matrix3::identity(), &s, Vector3::zeros(), 0.0).is_err());
+        assert!(FreeBody::new(Matrix3::identity(), &s[..12], Vector3::zeros(), 1e-3).is_err());
+        let mut b = FreeBody::new(Matrix3::identity(), &s, Vector3::zeros(), 1e-3).unwrap();
+        assert!(b.state(-1.0).is_err());
+        assert!(b.state(f64::NAN).is_err());
+        assert!(b.state(1e9).is_err());
+    }
+}
