@@ -32,7 +32,9 @@ from .errors import ArgumentError
 
 __all__ = [
     "QuinticJoint",
+    "SampledJoint",
     "CartesianLine",
+    "FreeBodyPoint",
     "Thrusters",
     "JointPD",
     "ComputedTorque",
@@ -41,6 +43,8 @@ __all__ = [
     "BaseThrusterControl",
     "Combined",
     "CoordinatedFlying",
+    "MomentumDamping",
+    "TorqueLimit",
     "Callback",
     "perturbed_model",
     "inertia_scaled_gains",
@@ -152,8 +156,77 @@ class CartesianLine:
         return _core.CartesianReference(p_start=self.p_start, p_goal=self.p_goal, t_start=self.t_start, t_end=self.t_end)
 
 
+@dataclass(frozen=True)
+class SampledJoint:
+    """A sampled joint trajectory: knot times ``t`` (K ≥ 2, strictly increasing, s) and the
+    positions ``q``, velocities ``qd`` and accelerations ``qdd`` at the knots, each (K, n).
+
+    Between knots the reference is the quintic Hermite interpolant (position, velocity and
+    acceleration matched at both ends of each interval, so all three are continuous; the core's
+    ``JointReference.sampled``); before the first and after the last knot, that knot's values.
+    A plan is tracked by :class:`ComputedTorque` through it (:mod:`spacearm.plan`). The values
+    are checked by the core."""
+
+    t: Any
+    q: Any
+    qd: Any
+    qdd: Any
+
+    def __post_init__(self):
+        object.__setattr__(self, "t", np.ascontiguousarray(self.t, dtype=float).reshape(-1))
+        for key in ("q", "qd", "qdd"):
+            arr = np.asarray(getattr(self, key), dtype=float)
+            object.__setattr__(self, key, np.ascontiguousarray(arr.reshape(len(self.t), -1) if arr.ndim == 1 else arr))
+        object.__setattr__(self, "_core_ref", _core.JointReference.sampled(t=self.t, q=self.q, qd=self.qd, qdd=self.qdd))
+
+    def evaluate(self, t):
+        """``(q, qd, qdd)`` at the times ``t``, each (len(t), n): what the controllers follow."""
+        return self._core_ref.evaluate(np.atleast_1d(np.asarray(t, dtype=float)))
+
+    def _spec(self) -> _core.JointReference:
+        return self._core_ref
+
+
+@dataclass(frozen=True)
+class FreeBodyPoint:
+    """A point fixed to a torque-free rigid body — the grasp point of a tumbling target — as a
+    reference for :class:`ResolvedMotionRate`.
+
+    ``inertia``: about the body's CM in its axes (3×3 or 3 principal moments, kg·m²);
+    ``state``: the body's 13-state ``[r, quat [x, y, z, w], v, w]`` (in 𝒥) at simulation time 0;
+    ``offset``: the point from the CM in body axes (m); ``step``: the attitude step (s) of the
+    core's propagation (``spacearm_core::sim::free_body``: momentum conserved exactly, the
+    attitude by RK4). ``point``: the robot's point that follows it (default: the end effector).
+    """
+
+    inertia: Any
+    state: Any
+    offset: Any = (0.0, 0.0, 0.0)
+    step: float = 1e-3
+    point: Any = None
+
+    def __post_init__(self):
+        inertia = np.asarray(self.inertia, dtype=float)
+        if inertia.shape == (3,):
+            inertia = np.diag(inertia)
+        core = _core.FreeBodyReference(inertia=inertia.reshape(-1), state=vector(self.state, "FreeBodyPoint state", 13),
+                                       offset=vector(self.offset, "FreeBodyPoint offset", 3), step=_float(self.step, "FreeBodyPoint step"))
+        object.__setattr__(self, "_core_ref", core)
+
+    def states(self, t) -> np.ndarray:
+        """The body's 13-states at the times ``t`` (s ≥ 0), shape (len(t), 13)."""
+        return self._core_ref.states(np.atleast_1d(np.asarray(t, dtype=float)))
+
+    def evaluate(self, t):
+        """``(p, pd)`` of the point at the times ``t``, each (len(t), 3), in 𝒥."""
+        return self._core_ref.points(np.atleast_1d(np.asarray(t, dtype=float)))
+
+    def _spec(self) -> _core.FreeBodyReference:
+        return self._core_ref
+
+
 def _joint_reference(ref, name: str) -> _core.JointReference:
-    if isinstance(ref, QuinticJoint):
+    if isinstance(ref, (QuinticJoint, SampledJoint)):
         return ref._spec()
     if isinstance(ref, CartesianLine):
         raise ArgumentError(f"{name} takes a joint reference (QuinticJoint or a joint set point), got a CartesianLine")
@@ -229,14 +302,7 @@ class ComputedTorque(_Controller):
     def _spec(self, robot) -> _core.ComputedTorqueSpec:
         kp, kd = _gains(self.kp, "kp"), _gains(self.kd, "kd")
         reference = _joint_reference(self.reference, "ComputedTorque")
-        model = None
-        if self.model is not None:
-            from .model.robot import Robot
-
-            if not isinstance(self.model, Robot):
-                raise ArgumentError(f"ComputedTorque model must be a spacearm.Robot, got {type(self.model).__name__}")
-            model = self.model._m
-        return _core.ComputedTorqueSpec(kp=kp, kd=kd, reference=reference, model=model)
+        return _core.ComputedTorqueSpec(kp=kp, kd=kd, reference=reference, model=_own_model(self.model, "ComputedTorque"))
 
 
 @dataclass(frozen=True)
@@ -252,22 +318,28 @@ class ResolvedMotionRate(_Controller):
     the same law and defaults as :mod:`spacearm.analysis`. The joints follow ``qd_cmd`` through the reduced EOM:
     ``tau = H* velocity_gain (qd_cmd - qd) + c*``.
 
-    ``reference_cartesian``: a :class:`CartesianLine`; ``gain`` (1/s); ``max_damping`` (m, the
+    ``reference_cartesian``: a :class:`CartesianLine`, a :class:`FreeBodyPoint` (a point on
+    a tumbling body: the capture approach) or a :class:`SampledJoint` of three coordinates (a
+    sampled path of the point in 𝒥); ``gain`` (1/s); ``max_damping`` (m, the
     largest lambda); ``threshold`` (m, where damping starts); ``velocity_gain`` (1/s);
-    ``point``: overrides the reference's point (default: the end effector).
+    ``point``: overrides the reference's point (default: the end effector);
+    ``max_joint_rate`` (rad/s): ``qd_cmd`` is scaled as a whole so that no entry exceeds it
+    (the point keeps its direction; default no cap).
     """
 
-    reference_cartesian: CartesianLine
+    reference_cartesian: Any
     gain: float
     max_damping: float = _core.DLS_DEFAULTS.max_damping
     point: Any = None
     threshold: float = _core.DLS_DEFAULTS.threshold
     velocity_gain: float = 50.0
+    max_joint_rate: float = math.inf
 
     def _spec(self, robot) -> _core.RmrcSpec:
-        if not isinstance(self.reference_cartesian, CartesianLine):
-            raise ArgumentError(f"ResolvedMotionRate needs a CartesianLine reference, got {type(self.reference_cartesian).__name__}")
-        point = self.point if self.point is not None else self.reference_cartesian.point
+        if not isinstance(self.reference_cartesian, (CartesianLine, FreeBodyPoint, SampledJoint)):
+            raise ArgumentError("ResolvedMotionRate needs a CartesianLine, a FreeBodyPoint or a SampledJoint path of 3 coordinates, "
+                                f"got {type(self.reference_cartesian).__name__}")
+        point = self.point if self.point is not None else getattr(self.reference_cartesian, "point", None)
         body, offset = robot._point(point)
         return _core.RmrcSpec(
             reference=self.reference_cartesian._spec(),
@@ -277,6 +349,7 @@ class ResolvedMotionRate(_Controller):
             velocity_gain=_finite_float(self.velocity_gain, "ResolvedMotionRate velocity_gain"),
             body=int(body),
             offset=np.asarray(offset, dtype=float),
+            max_joint_rate=_float(self.max_joint_rate, "ResolvedMotionRate max_joint_rate"),
         )
 
 
@@ -410,6 +483,52 @@ class CoordinatedFlying(_Controller):
             reference=reference, body=int(body), offset=np.asarray(offset, dtype=float), max_damping=max_damping, threshold=threshold,
             base_position=base_position, base_quat=base_quat, **gains,
         )
+
+
+def _own_model(model, name: str):
+    """The core model of a controller's own ``model`` (a Robot), or None for the plant's."""
+    if model is None:
+        return None
+    from .model.robot import Robot
+
+    if not isinstance(model, Robot):
+        raise ArgumentError(f"{name} model must be a spacearm.Robot, got {type(model).__name__}")
+    return model._m
+
+
+@dataclass(frozen=True)
+class MomentumDamping(_Controller):
+    """Damp the system momentum with the base thrusters (flying modes; the detumbling law):
+    ``F0 = -P / time_constant`` and ``N0 = -L_G / time_constant - (r0 - r_g) x F0`` (``L_G``
+    about the system CM ``r_g``), each limited in norm to ``max_force`` (N) / ``max_torque``
+    (N·m). Unsaturated, both momenta decay as ``exp(-t / time_constant)`` whatever the arm does.
+    ``model``: the law's model of the plant (e.g. the captured system with an estimated target;
+    default the plant). Compose with an arm controller through :class:`Combined`."""
+
+    time_constant: float
+    max_force: float = math.inf
+    max_torque: float = math.inf
+    model: Any = None
+
+    def _spec(self, robot) -> _core.MomentumDampingSpec:
+        return _core.MomentumDampingSpec(time_constant=_float(self.time_constant, "MomentumDamping time_constant"),
+                                         max_force=_float(self.max_force, "MomentumDamping max_force"),
+                                         max_torque=_float(self.max_torque, "MomentumDamping max_torque"),
+                                         model=_own_model(self.model, "MomentumDamping"))
+
+
+@dataclass(frozen=True)
+class TorqueLimit(_Controller):
+    """Another controller's joint torques clamped to ``±limit`` on every joint (N·m; N for
+    prismatic joints), inside the loop (the simulation's own effort limits apply on top)."""
+
+    controller: Any
+    limit: float
+
+    def _spec(self, robot) -> _core.JointTorqueLimitSpec:
+        if not isinstance(self.controller, _Controller):
+            raise ArgumentError(f"TorqueLimit controller must be a spacearm.control controller, got {type(self.controller).__name__}")
+        return _core.JointTorqueLimitSpec(controller=self.controller._spec(robot), limit=_float(self.limit, "TorqueLimit limit"))
 
 
 @dataclass(frozen=True)

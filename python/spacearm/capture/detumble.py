@@ -2,7 +2,11 @@
 
 Joints (both modes): the arm holds the posture it had at capture through the reduced dynamics,
 ``τ = H* (k_p (q_hold − q) − k_d q̇) + c*`` (eq. 45 and its bias), clamped to
-``±max_joint_torque``: the relative motion of base, arm and target is damped out.
+``±max_joint_torque``: the relative motion of base, arm and target is damped out. This is the
+native :class:`~spacearm.control.ComputedTorque` with a constant reference (paper eqs. 112–115);
+in the flying mode it also compensates the thrusters' wrench (the ``H0mᵀ H0⁻¹ F_b`` term), so
+the arm holds its posture exactly while the base is driven. Reaction wheels (the model's default
+wheels) are not arm joints: nothing drives them here.
 
 - ``mode="floating"`` (no base actuation): robot + target momentum is conserved, so the best
   the arm can do is redistribute it: the target's tumble passes through the arm into the base
@@ -12,7 +16,8 @@ Joints (both modes): the arm holds the posture it had at capture through the red
   time constant ``time_constant``: ``F0 = −P / τ_d`` and ``N0 = −L_com / τ_d − (r0 − r_g) × F0``
   (so that ``dL_com/dt = N0 + (r0 − r_g) × F0 = −L_com / τ_d`` exactly), each clamped to
   ``max_force`` / ``max_torque``. Detumbled: base angular velocity and joint rates below
-  ``rate_tolerance``.
+  ``rate_tolerance``. This is the native :class:`~spacearm.control.MomentumDamping`, composed
+  with the joint law by :class:`~spacearm.control.Combined`.
 """
 
 from __future__ import annotations
@@ -23,11 +28,12 @@ from typing import NamedTuple, Optional
 import numpy as np
 
 from .._util.arrays import number
-from ..control import Callback
+from ..control import Combined, ComputedTorque, MomentumDamping, TorqueLimit
 from ..errors import ArgumentError
+from ..rotations import quat_to_matrix
 from ..sim.simulation import simulate
 
-__all__ = ["DetumbleRun", "detumble", "hold_torque", "grasp_wrench", "time_to_rest", "DETUMBLE_MODES"]
+__all__ = ["DetumbleRun", "detumble", "detumble_controller", "hold_torque", "grasp_wrench", "time_to_rest", "DETUMBLE_MODES"]
 
 DETUMBLE_MODES = ("floating", "flying")
 
@@ -39,11 +45,6 @@ class DetumbleRun(NamedTuple):
     residual_spin: float  #: |ω0| at the end, rad/s
 
 
-def _clamp_norm(v: np.ndarray, limit: float) -> np.ndarray:
-    n = float(np.linalg.norm(v))
-    return v if n <= limit else v * (limit / n)
-
-
 def hold_torque(robot, x, u, q_hold, kp: float, kd: float, max_joint_torque: float) -> np.ndarray:
     """``clip(H* (kp (q_hold − q) − kd q̇) + c*, ±max_joint_torque)``."""
     if robot.n_dof == 0:
@@ -53,13 +54,19 @@ def hold_torque(robot, x, u, q_hold, kp: float, kd: float, max_joint_torque: flo
     return np.clip(tau, -max_joint_torque, max_joint_torque)
 
 
-def momentum_damping_wrench(robot, x, u, time_constant: float, max_force: float, max_torque: float) -> np.ndarray:
-    """The flying-mode base wrench ``[F0, N0]`` of the module docstring."""
-    m = robot.momentum(x, u)
-    f0 = _clamp_norm(-m.P / time_constant, max_force)
-    lever = x[:3] - robot.center_of_mass(x)
-    n0 = _clamp_norm(-m.L_com / time_constant - np.cross(lever, f0), max_torque)
-    return np.r_[f0, n0]
+def detumble_controller(robot, x, *, mode: str, q_hold, kp: float, kd: float, time_constant: float, max_joint_torque: float,
+                        max_force: float, max_torque: float, model=None):
+    """The native controller of the module docstring for ``robot`` (a spacearm.control
+    controller, or ``None`` when there is nothing to drive)."""
+    arm_dofs = robot.arm_dofs
+    arm = (ComputedTorque(kp=kp, kd=kd, reference=np.asarray(q_hold, dtype=float)[arm_dofs], model=model) if arm_dofs else None)
+    ctrl = arm
+    if mode == "flying":
+        base = MomentumDamping(time_constant, max_force=max_force, max_torque=max_torque, model=model)
+        ctrl = base if arm is None else Combined(arm=arm, base=base)
+    if ctrl is not None and math.isfinite(max_joint_torque):
+        ctrl = TorqueLimit(ctrl, max_joint_torque)
+    return ctrl
 
 
 def time_to_rest(t: np.ndarray, rates: np.ndarray, tolerance: float) -> float:
@@ -76,13 +83,12 @@ def grasp_wrench(t: np.ndarray, target_states: np.ndarray, mass: float, inertia:
     """The wrench ``[f; n]`` (T, 6, in 𝒥) that holds a rigid target on its recorded motion:
     ``f = d(m v)/dt`` and ``n = dL/dt`` about its CM, by central differences of the recorded
     states (second order; the ends one-sided)."""
-    from ..rotations import quat_to_matrix
-
     t = np.asarray(t, dtype=float)
     if t.size < 3:
         return np.zeros((t.size, 6))
     P = mass * target_states[:, 7:10]
-    L = np.array([quat_to_matrix(s[3:7]) @ inertia @ quat_to_matrix(s[3:7]).T @ s[10:13] for s in target_states])
+    R = np.array([quat_to_matrix(s[3:7]) for s in target_states])
+    L = np.einsum("bij,jk,blk,bl->bi", R, inertia, R, target_states[:, 10:13])
     return np.hstack([np.gradient(P, t, axis=0), np.gradient(L, t, axis=0)])
 
 
@@ -97,7 +103,8 @@ def detumble(robot, x, u, duration: float, *, mode: str = "floating", q_hold=Non
     controller's model of the plant (default the plant itself), e.g. the captured system built
     with an estimated target inertia: ``H*``, ``c*`` and the momenta of the laws come from it.
     ``rtol``: adaptive DOPRI5 with this relative tolerance (``dt`` the output interval), or
-    ``None`` for fixed-step RK4 with step ``dt``."""
+    ``None`` for fixed-step RK4 with step ``dt``. The laws run natively in the simulation loop
+    (:func:`detumble_controller`)."""
     if mode not in DETUMBLE_MODES:
         raise ArgumentError(f"mode must be one of {list(DETUMBLE_MODES)}, got {mode!r}")
     x = np.asarray(x, dtype=float)
@@ -111,16 +118,12 @@ def detumble(robot, x, u, duration: float, *, mode: str = "floating", q_hold=Non
     if model.nu != robot.nu:
         raise ArgumentError(f"the controller's model has {model.n_dof} joints, the plant {robot.n_dof}")
 
-    def law(t, xs, us):
-        tau = hold_torque(model, xs, us, q_hold, kp, kd, mjt)
-        if mode == "flying":
-            return tau, momentum_damping_wrench(model, xs, us, tc, mf, mt)
-        return tau
-
+    ctrl = detumble_controller(robot, x, mode=mode, q_hold=q_hold, kp=kp, kd=kd, time_constant=tc, max_joint_torque=mjt,
+                               max_force=mf, max_torque=mt, model=None if model is robot else model)
     if rtol is None:
-        traj = simulate(robot, duration, x0=x, u0=u, mode=mode, dt=dt, controller=Callback(law))
+        traj = simulate(robot, duration, x0=x, u0=u, mode=mode, dt=dt, controller=ctrl)
     else:
-        traj = simulate(robot, duration, x0=x, u0=u, mode=mode, dt=dt, controller=Callback(law), integrator="dopri5",
+        traj = simulate(robot, duration, x0=x, u0=u, mode=mode, dt=dt, controller=ctrl, integrator="dopri5",
                         rtol=rtol, atol=rtol * 1e-2)
     uu = traj.u
     rates = uu[:, 6:] if mode == "floating" else uu[:, 3:]

@@ -3,12 +3,17 @@ with phase markers and the momentum ledger of robot + target.
 
 Phases (``PHASES``; ``result.phase`` holds the index at every sample):
 
-0. **approach** — resolved-motion-rate control of the grasp point towards the *moving* grasp
-   point of the tumbling target, through the generalized Jacobian: ``q̇_cmd = J*_vᵀ (J*_v J*_vᵀ +
-   λ² E)⁻¹ (ṗ_t + k (p_t − p) − v_drift)`` (eq. 110; ``v_drift`` the point velocity the robot's
-   momentum makes), followed through ``τ = H* k_v (q̇_cmd − q̇) + c*``. The target moves torque-free
-   (:meth:`Target.propagate`). The approach ends at the first sample where the two grasp points
-   are within ``capture_tolerance``.
+0. **approach** — the native :class:`~spacearm.control.ResolvedMotionRate` of the grasp point
+   towards the *moving* grasp point of the tumbling target (a
+   :class:`~spacearm.control.FreeBodyPoint`, propagated by the core), through the generalized
+   Jacobian: ``q̇_cmd = J*_vᵀ (J*_v J*_vᵀ + λ² E)⁻¹ (ṗ_t + k (p_t − p) − v_drift)`` over the arm
+   joints (eq. 110; ``v_drift`` the point velocity the system momentum and the wheels make; ``λ``
+   the damping law of docs/singularities.md with ``λ_max = rmrc_damping``), scaled as a whole to
+   at most ``max_joint_rate``, followed through ``τ = H* k_v (q̇_cmd − q̇) + c*``. Reaction wheels
+   are not arm joints: the approach gives them no torque. In the flying mode the native
+   :class:`~spacearm.control.MomentumDamping` holds the system momentum at zero meanwhile. The
+   approach ends at the first sample where the two grasp points are within
+   ``capture_tolerance``.
 1. **capture** — ``rigid`` and ``point``: the impulse of :func:`grasp_impulse` (one extra
    sample at the same instant, after the jump); ``soft``: the wrist impedance of
    :func:`soft_capture` for ``soft_time``, then a rigid lock of what relative motion remains.
@@ -31,12 +36,12 @@ from typing import Optional
 import numpy as np
 
 from .._util.arrays import number, vector
-from ..control import Callback
+from ..control import Combined, MomentumDamping, ResolvedMotionRate, TorqueLimit
 from ..errors import ArgumentError, SimulationError
 from ..rotations import quat_from_matrix
 from ..sim.simulation import simulate
 from .captured import attach_target, soft_capture
-from .detumble import DETUMBLE_MODES, detumble, grasp_wrench, hold_torque, momentum_damping_wrench
+from .detumble import DETUMBLE_MODES, detumble, grasp_wrench, hold_torque
 from .impact import _check_target, grasp_impulse
 
 __all__ = ["capture", "CaptureResult", "PHASES", "CAPTURE_KINDS"]
@@ -127,37 +132,39 @@ def _reach(robot) -> float:
     return float(sum(np.linalg.norm(link.origin) + np.linalg.norm(link.com) for link in robot.description.links))
 
 
-def _target_grid(target, s0, duration, h):
-    """Target states at every multiple of ``h / 2`` up to ``duration`` (the RK4 stage times)."""
-    n = int(round(duration / h))
-    out = [s0]
-    for _ in range(2 * n + 2):
-        out.append(target.propagate(out[-1], 0.5 * h, dt=0.5 * h))
-    return np.array(out)
+def _ledger(plant, target, xs, us, ss, combined: bool):
+    """Total P, L about the origin, and the target's share (for the drift scale), over samples
+    (batch calls)."""
+    m = plant.momentum(xs, us)
+    nx = target.body.nx
+    mt = target.body.momentum(ss[:, :nx], ss[:, nx:])
+    if combined:  # the target is a link of the plant: its share is already in the plant's momentum
+        return m.P, m.L_origin, mt.P, mt.L_origin
+    return m.P + mt.P, m.L_origin + mt.L_origin, mt.P, mt.L_origin
 
 
-def _ledger(robot, target, xs, us, ss, combined: bool):
-    """Total P, L about the origin, and the target's share (for the drift scale)."""
-    P, L, Pt, Lt = [], [], [], []
-    for x, u, s in zip(xs, us, ss):
-        m = robot.momentum(x, u)
-        mt = target.momentum(s)
-        P.append(m.P if combined else m.P + mt.P)
-        L.append(m.L_origin if combined else m.L_origin + mt.L_origin)
-        Pt.append(mt.P)
-        Lt.append(mt.L_origin)
-    return np.array(P), np.array(L), np.array(Pt), np.array(Lt)
+def _payload_states(captured, xs, us):
+    """The target's 13-state while it rides on the gripper, from the combined model (batch)."""
+    robot = captured.robot
+    body = robot.body_index(captured.payload)
+    kin = robot.forward_kinematics(xs)
+    j0, jm = robot.point_jacobian(xs, (body, np.zeros(3)))
+    tw = np.einsum("bij,bj->bi", j0, us[:, :6]) + np.einsum("bij,bj->bi", jm, us[:, 6:])
+    quats = np.array([quat_from_matrix(r) for r in kin.body_to_world[:, body]])
+    return np.hstack([kin.com_in_world[:, body], quats, tw])
 
 
-def _payload_states(captured, xs, us, target):
-    """The target's 13-state while it rides on the gripper, from the combined model."""
-    body = captured.robot.body_index(captured.payload)
-    out = []
-    for x, u in zip(xs, us):
-        kin = captured.robot.forward_kinematics(x)
-        j0, jm = captured.robot._m.point_jacobians(x, body, np.zeros(3))
-        tw = j0 @ u[:6] + jm @ u[6:]
-        out.append(np.r_[kin.com_in_world[body], quat_from_matrix(kin.body_to_world[body]), tw])
+def _target_states(target, state, t):
+    """The free target's states at the times ``t`` from ``state`` at ``t[0]``."""
+    t = np.asarray(t, dtype=float) - float(t[0])
+    if target.is_rigid:
+        step = 0.5 * float(np.min(np.diff(t))) if len(t) > 1 else 1e-3
+        return target.free_body(state, step=step).states(t)
+    out, cur, last = [], state, 0.0
+    for tt in t:  # a jointed target: simulated by the core from sample to sample
+        cur = target.propagate(cur, tt - last)
+        last = tt
+        out.append(cur)
     return np.array(out)
 
 
@@ -233,60 +240,33 @@ def capture(
     target.point(grasp)  # an unknown grasp point fails here, before the approach runs
 
     # ---- 0. approach ------------------------------------------------------------------------
-    grid = _target_grid(target, s0, approach_time, dt)
-    half = 0.5 * dt
-
-    def target_at(t):
-        i = min(int(t / half), len(grid) - 1)
-        rest = t - i * half
-        return grid[i] if rest <= 1e-12 else target.propagate(grid[i], rest, dt=rest)
-
-    def approach_law(t, x, u):
-        s = target_at(t)
-        p_t = target.grasp_position(s, grasp)
-        v_t = target.grasp_velocity(s, grasp)
-        p = robot._m.point_position(x, body, offset)
-        j0, jm = robot._m.point_jacobians(x, body, offset)
-        js = robot._m.generalized_jacobian(x, body, offset)[:3]
-        v_drift = (j0 @ u[:6] + jm @ u[6:])[:3] - js @ u[6:]
-        lam2 = rmrc_damping**2
-        qd_cmd = js.T @ np.linalg.solve(js @ js.T + lam2 * np.eye(3), v_t + rmrc_gain * (p_t - p) - v_drift)
-        peak = np.abs(qd_cmd).max(initial=0.0)
-        if peak > max_joint_rate:  # scaled as a whole, so the point still heads for the target
-            qd_cmd *= max_joint_rate / peak
-        tau = robot.generalized_inertia(x) @ (velocity_gain * (qd_cmd - u[6:])) + robot.generalized_bias(x, u)
-        tau = np.clip(tau, -mjt, mjt)
-        if mode == "flying":
-            return tau, momentum_damping_wrench(robot, x, u, time_constant, max_force, max_torque)
-        return tau
-
-    # Simulated in chunks of about a second, stopping at the first chunk that reaches the target.
-    chunks, t0, xs0, us0, k = [], 0.0, x0, u0, None
-    chunk = max(dt, round(1.0 / dt) * dt)
-    while t0 < approach_time - 0.5 * dt and k is None:
-        span = min(chunk, approach_time - t0)
-        t_offset = t0
-
-        def law(t, x, u, t_offset=t_offset):
-            return approach_law(t + t_offset, x, u)
-
-        tr = simulate(robot, span, x0=xs0, u0=us0, mode=mode, dt=dt, controller=Callback(law), integrator="dopri5",
-                      rtol=rtol, atol=rtol * 1e-2)
-        first = 0 if not chunks else 1
-        ts = tr.t[first:] + t_offset
-        ss = grid[[min(int(round(t / half)), len(grid) - 1) for t in ts]]
-        gaps = np.array([np.linalg.norm(robot._m.point_position(x, body, offset) - target.grasp_position(s, grasp))
-                         for x, s in zip(tr.x[first:], ss)])
-        chunks.append((ts, tr.x[first:], tr.u[first:], ss, tr.tau[first:], tr.base_wrench[first:], gaps))
-        within = np.nonzero(gaps < capture_tolerance)[0]
-        if within.size:
-            k = sum(len(c[0]) for c in chunks[:-1]) + int(within[0])
-        t0, xs0, us0 = float(ts[-1]), tr.x[-1], tr.u[-1]
-    ta, xa, ua, sa, taua, bwa, gaps = (np.concatenate([c[i] for c in chunks]) for i in range(7))
-    if k is None:
+    # The target's grasp point as the native RMRC's reference; the whole approach is one native
+    # run, cut at the first sample within capture_tolerance.
+    half = 0.5 * times["dt"]
+    if target.is_rigid:
+        reference = target.free_body(s0, grasp, step=half, point=point)
+    else:
+        reference = target.grasp_path(s0, approach_time, dt, grasp)
+    rmrc = ResolvedMotionRate(reference, gain=rmrc_gain, max_damping=rmrc_damping, velocity_gain=velocity_gain, point=point,
+                              max_joint_rate=max_joint_rate)
+    ctrl = rmrc if mode == "floating" else Combined(arm=rmrc, base=MomentumDamping(time_constant, max_force=max_force, max_torque=max_torque))
+    if math.isfinite(mjt):
+        ctrl = TorqueLimit(ctrl, mjt)
+    tr = simulate(robot, approach_time, x0=x0, u0=u0, mode=mode, dt=dt, controller=ctrl, integrator="dopri5", rtol=rtol,
+                  atol=rtol * 1e-2)
+    ta, xa, ua, taua, bwa = tr.t, tr.x, tr.u, tr.tau, tr.base_wrench
+    if target.is_rigid:
+        sa = reference.states(ta)
+    else:
+        sa = target.trajectory(s0, approach_time, dt)[1][: len(ta)]
+    nxt = target.body.nx
+    gaps = np.linalg.norm(robot.point_position(xa, (body, offset)) - target.body.point_position(sa[:, :nxt], target.point(grasp)), axis=1)
+    within = np.nonzero(gaps < capture_tolerance)[0]
+    if not within.size:
         raise SimulationError(
             f"the approach did not reach the grasp point: closest {gaps.min():.3g} m at t = {ta[gaps.argmin()]:.3g} s "
             f"(capture_tolerance {capture_tolerance} m); lengthen approach_time, place the target within reach or raise rmrc_gain")
+    k = int(within[0])
     seg_t, seg_phase = [ta[: k + 1]], [np.zeros(k + 1, dtype=int)]
     seg_x, seg_u, seg_s = [xa[: k + 1]], [ua[: k + 1]], [sa[: k + 1]]
     seg_tau = [taua[: k + 1]]
@@ -308,7 +288,7 @@ def capture(
         keep = slice(1, None)
         # the impedance's wrench on the target, moved from X to the target's CM like the rigid phases'
         held = -soft.wrench[keep]
-        X = np.array([robot._m.point_position(x, body, offset) for x in soft.x[keep]])
+        X = robot.point_position(soft.x[keep], (body, offset))
         held[:, 3:] += np.cross(X - soft.target[keep][:, :3], held[:, :3])
         add(t_cap + soft.t[keep], 1, soft.x[keep], soft.u[keep], soft.target[keep], soft.tau[keep], np.zeros((len(soft.t) - 1, 6)),
             held, False)
@@ -334,16 +314,7 @@ def capture(
                        time_constant=time_constant, max_joint_torque=mjt, max_force=max_force, max_torque=max_torque,
                        rate_tolerance=rate_tolerance, dt=dt, rtol=rtol)
         tr = run.trajectory
-        if captured is not None:
-            ss = _payload_states(captured, tr.x, tr.u, target)
-        else:
-            t_rel = tr.t
-            ss, cur, last = [], sc, 0.0
-            for tt in t_rel:
-                cur = target.propagate(cur, tt - last)
-                last = tt
-                ss.append(cur)
-            ss = np.array(ss)
+        ss = _payload_states(captured, tr.x, tr.u) if captured is not None else _target_states(target, sc, tr.t)
         w = grasp_wrench(tr.t, ss, target.mass, target.inertia) if captured is not None else np.zeros((len(tr.t), 6))
         add(t_cap + tr.t[1:], phase, tr.x[1:], tr.u[1:], ss[1:], tr.tau[1:], tr.base_wrench[1:], w[1:], captured is not None)
         runs.append(run)
@@ -359,8 +330,7 @@ def capture(
     # tiny (nothing moving relative to a zero total), a thousandth of what the largest kinetic
     # energy T allows (|P| <= sqrt(2 M T), |L| <= that times the farthest CM distance ρ from the
     # origin), so that the relative drift stays meaningful.
-    energy = max(max(robot.kinetic_energy(x, u) for x, u in zip(xa, ua)),
-                 max(plant.kinetic_energy(x, u) for x, u in zip(seg_x[-1], seg_u[-1])))
+    energy = max(float(np.max(robot.kinetic_energy(xa, ua))), float(np.max(plant.kinetic_energy(seg_x[-1], seg_u[-1]))))
     if captured is None:
         energy += target.kinetic_energy(sc)
     mass = robot.total_mass + target.mass

@@ -19,11 +19,13 @@ from typing import Mapping, NamedTuple, Optional, Sequence, Union
 
 import numpy as np
 
+import math
+
 from .._util.arrays import number, quaternion, vector, vector3
+from ..control import FreeBodyPoint, SampledJoint
 from ..errors import ArgumentError, ModelError, NotFoundError, ShapeError
 from ..model.robot import Robot
 from ..sim.simulation import simulate
-from ..rotations import quat_to_matrix as _quat_matrix
 
 __all__ = ["Target", "TargetState"]
 
@@ -189,18 +191,68 @@ class Target:
         return self.body.kinetic_energy(*self.xu(state))
 
     # ---- motion -----------------------------------------------------------------------------
+    def _check_step(self, dt: float, what: str = "dt") -> float:
+        dt = number(dt, what)
+        if not (math.isfinite(dt) and dt > 0):
+            raise ArgumentError(f"{what} must be finite and > 0, got {dt}")
+        return dt
+
+    def free_body(self, state, grasp: Optional[str] = None, *, step: float = 1e-3, point=None) -> FreeBodyPoint:
+        """The rigid target in ``state`` (at simulation time 0) as a :class:`~spacearm.control.FreeBodyPoint`
+        of its grasp point: the reference :func:`~spacearm.capture.capture` hands the native
+        resolved-motion-rate controller, and the core's propagation of the target
+        (``spacearm_core::sim::free_body``; attitude step ``step``, s). ``point``: the robot's
+        point that follows it."""
+        if not self.is_rigid:
+            raise ArgumentError(f"target '{self.name}' is a jointed model: its motion is not a free rigid body; use Target.trajectory")
+        _, offset = self.point(grasp)
+        return FreeBodyPoint(self.inertia, self.check_state(state), offset=offset, step=self._check_step(step, "step"), point=point)
+
+    def trajectory(self, state, duration: float, dt: float):
+        """``(t, states)`` of the torque-free target from ``state`` on the grid ``0, dt, ...,
+        duration``: a rigid target by the core's free-body propagation (attitude step ``dt / 2``),
+        a jointed one by ``spacearm.simulate`` (free-floating, zero joint torques, adaptive DOPRI5)."""
+        s = self.check_state(state)
+        duration, dt = number(duration, "duration"), self._check_step(dt)
+        if not duration >= 0:
+            raise ArgumentError(f"duration must be >= 0, got {duration}")
+        if self.is_rigid:
+            n = int(round(duration / dt))
+            t = np.arange(n + 1) * dt
+            return t, self.free_body(s, step=0.5 * dt).states(t)
+        x, u = self.xu(s)
+        traj = simulate(self.body, max(duration, dt), x0=x, u0=u, integrator="dopri5", rtol=1e-11, atol=1e-13, dt=dt)
+        return traj.t, np.hstack([traj.x, traj.u])
+
+    def grasp_path(self, state, duration: float, dt: float, grasp: Optional[str] = None) -> SampledJoint:
+        """The grasp point's path in 𝒥 over ``[0, duration]`` as a sampled reference (positions,
+        velocities and, by central differences of the velocities, accelerations on the grid
+        ``dt``): how the native RMRC follows a jointed target."""
+        t, S = self.trajectory(state, duration, dt)
+        nx = self.body.nx
+        pt = self.point(grasp)
+        p = self.body.point_position(S[:, :nx], pt)
+        j0, jm = self.body.point_jacobian(S[:, :nx], pt)
+        u = S[:, nx:]
+        v = (np.einsum("bij,bj->bi", j0, u[:, :6]) + np.einsum("bij,bj->bi", jm, u[:, 6:]))[:, :3]
+        a = np.gradient(v, t, axis=0) if len(t) > 2 else np.zeros_like(v)
+        return SampledJoint(t, p, v, a)
+
     def propagate(self, state, duration: float, *, dt: float = 1e-3) -> np.ndarray:
         """The torque-free state after ``duration`` seconds (a jointed target: free-floating with
         zero joint torques, by ``spacearm.simulate`` with DOPRI5).
 
-        The CM moves at constant velocity and the angular momentum ``L`` in 𝒥 is constant; the
-        attitude is integrated (RK4 on the quaternion, step ``dt``) under ``ω = R I⁻¹ Rᵀ L``, so
-        ``P`` and ``L`` are conserved exactly and only the attitude carries integration error.
+        A rigid target moves by the core's free-body propagation
+        (``spacearm_core::sim::free_body``): the CM at constant velocity and the angular momentum
+        ``L`` in 𝒥 constant, the attitude integrated by RK4 under ``ω = R I⁻¹ Rᵀ L`` with
+        ``n = ceil(duration / dt)`` equal steps, so ``P`` and ``L`` are conserved exactly and only
+        the attitude carries integration error.
         """
         s = self.check_state(state)
         duration = number(duration, "duration")
-        if duration < 0:
-            raise ArgumentError(f"duration must be >= 0, got {duration}")
+        dt = self._check_step(dt)
+        if not (duration >= 0 and math.isfinite(duration)):
+            raise ArgumentError(f"duration must be finite and >= 0, got {duration}")
         if duration == 0:
             return s
         if not self.is_rigid:  # a jointed model: free-floating with zero torques, adaptive DOPRI5
@@ -208,37 +260,7 @@ class Target:
             traj = simulate(self.body, duration, x0=x, u0=u, integrator="dopri5", rtol=1e-11, atol=1e-13, dt=duration)
             return np.concatenate([traj.x[-1], traj.u[-1]])
         n = max(1, int(np.ceil(duration / dt)))
-        h = duration / n
-        R = _quat_matrix(s[3:7])
-        L_body = self.inertia @ R.T @ s[10:13]  # body-frame angular momentum at the start
-        L = R @ L_body
-        inv_i = np.linalg.inv(self.inertia)
-        qv = s[3:7].copy()
-
-        def rate(qq):
-            # ω in body axes from the constant world L: ω_b = I⁻¹ Rᵀ L; q̇ = ½ q ⊗ [ω_b; 0].
-            x, y, z, w = qq
-            Rt_L = np.array([
-                (1 - 2 * (y * y + z * z)) * L[0] + 2 * (x * y + z * w) * L[1] + 2 * (x * z - y * w) * L[2],
-                2 * (x * y - z * w) * L[0] + (1 - 2 * (x * x + z * z)) * L[1] + 2 * (y * z + x * w) * L[2],
-                2 * (x * z + y * w) * L[0] + 2 * (y * z - x * w) * L[1] + (1 - 2 * (x * x + y * y)) * L[2],
-            ])
-            a, b, c = inv_i @ Rt_L
-            return 0.5 * np.array([w * a + y * c - z * b, w * b + z * a - x * c, w * c + x * b - y * a, -x * a - y * b - z * c])
-
-        for _ in range(n):
-            k1 = rate(qv)
-            k2 = rate(qv + 0.5 * h * k1)
-            k3 = rate(qv + 0.5 * h * k2)
-            k4 = rate(qv + h * k3)
-            qv = qv + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
-            qv /= np.linalg.norm(qv)
-        R = _quat_matrix(qv)
-        out = s.copy()
-        out[0:3] = s[0:3] + duration * s[7:10]
-        out[3:7] = qv
-        out[10:13] = R @ inv_i @ R.T @ L
-        return out
+        return self.free_body(s, step=duration / n).states([duration])[0]
 
 
 def _quat(value) -> np.ndarray:

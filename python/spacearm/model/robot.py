@@ -238,6 +238,20 @@ class Robot:
         return dofs
 
     @property
+    def wheel_dofs(self) -> list:
+        """The degrees of freedom the simulation treats as reaction wheels by default (the
+        core's rule: a revolute joint on the base whose link has no children and a rotor
+        symmetric about the axis, i.e. what :meth:`RobotBuilder.add_reaction_wheel` creates)."""
+        return sorted(int(d) for d in _core.default_wheel_dofs(self._m))
+
+    @property
+    def arm_dofs(self) -> list:
+        """Every degree of freedom that is not a default reaction wheel (:attr:`wheel_dofs`), in
+        ``q`` order: the joints the arm controllers of :mod:`spacearm.control` act on."""
+        wheels = set(self.wheel_dofs)
+        return [d for d in range(self.n_dof) if d not in wheels]
+
+    @property
     def body_of_dof(self) -> list:
         """Body index moved by each degree of freedom."""
         return list(self._m.body_of_dof)
