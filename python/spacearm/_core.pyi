@@ -770,6 +770,15 @@ class Derivatives:
     def forward_dynamics_derivatives(
         self, x: _ArrayLike, u: _ArrayLike, f: _ArrayLike, wrenches: Optional[list[_Wrench]] = None, dual: bool = False
     ) -> tuple[_Vec, _Vec, _Vec]: ...
+    def forward_dynamics_derivatives_tau(
+        self,
+        x: _ArrayLike,
+        u: _ArrayLike,
+        tau: Optional[_ArrayLike] = None,
+        base_wrench: Optional[_ArrayLike] = None,
+        wrenches: Optional[list[_Wrench]] = None,
+        dual: bool = False,
+    ) -> tuple[_Vec, _Vec, _Vec]: ...
     def inverse_dynamics_partials(
         self, x: _ArrayLike, u: _ArrayLike, du: _ArrayLike, wrenches: Optional[list[_Wrench]] = None, dual: bool = False
     ) -> tuple[_Vec, _Vec]: ...

@@ -66,6 +66,8 @@ CALLS = {
     "generalized_jacobian_partials": lambda r, x, u, tau, f, fb: r.generalized_jacobian_partials(x),
     "generalized_jacobian_derivative": lambda r, x, u, tau, f, fb: r.generalized_jacobian_derivative(x, u),
     "forward_dynamics_derivatives": lambda r, x, u, tau, f, fb: r.forward_dynamics_derivatives(x, u, f),
+    "forward_dynamics_derivatives_tau": lambda r, x, u, tau, f, fb: r.forward_dynamics_derivatives(x, u, tau=tau, base_wrench=fb),
+    "forward_dynamics_derivatives_tau_free": lambda r, x, u, tau, f, fb: r.forward_dynamics_derivatives(x, u, tau=tau),
     "linearize": lambda r, x, u, tau, f, fb: r.linearize(x, u, tau=tau),
     "linearize_all": lambda r, x, u, tau, f, fb: r.linearize(x, u, f, inputs="all"),
 }

@@ -185,6 +185,65 @@ def test_forward_dynamics_derivatives(name):
     assert np.array_equal(d2.ddu_dx, d.ddu_dx)
 
 
+@pytest.mark.parametrize("name", ["seed14", "branched", "spatial6"])
+def test_forward_dynamics_derivatives_tau_form_is_the_f_form_bit_for_bit(name):
+    """The tau/base_wrench form (one native call that assembles f) returns exactly the arrays of
+    the f form, with and without a base wrench, for one state and for a batch (either part one
+    row for all), on both routes and with external wrenches; bad parts are refused under their
+    own names."""
+    robot, x, u, f = case(name)
+    n = robot.n_dof
+    tau, fb = f[6:].copy(), f[:6].copy()
+    assert np.any(fb != 0) and np.any(tau != 0)
+
+    def same(a, b):
+        assert all(np.array_equal(p, q) for p, q in zip(a, b))
+        assert any(np.any(p != 0) for p in a)
+
+    same(robot.forward_dynamics_derivatives(x, u, tau=tau, base_wrench=fb), robot.forward_dynamics_derivatives(x, u, f))
+    free = np.concatenate([np.zeros(6), tau])
+    same(robot.forward_dynamics_derivatives(x, u, tau=tau), robot.forward_dynamics_derivatives(x, u, free))
+    same(robot.forward_dynamics_derivatives(x, u, base_wrench=fb), robot.forward_dynamics_derivatives(x, u, np.concatenate([fb, np.zeros(n)])))
+    same(robot.forward_dynamics_derivatives(x, u, tau=list(tau), base_wrench=list(fb)), robot.forward_dynamics_derivatives(x, u, f))
+    # The base wrench changes the result (so the equalities above see it).
+    assert not np.array_equal(robot.forward_dynamics_derivatives(x, u, f).ddu_dx, robot.forward_dynamics_derivatives(x, u, free).ddu_dx)
+    ext = [spacearm.ExternalWrench(robot.n_bodies - 1, force=[1.0, -2.0, 0.5], torque=[0.1, 0.0, -0.3], offset=[0.1, 0.0, 0.0])]
+    same(robot.forward_dynamics_derivatives(x, u, tau=tau, base_wrench=fb, wrenches=ext), robot.forward_dynamics_derivatives(x, u, f, wrenches=ext))
+    same(robot.forward_dynamics_derivatives(x, u, tau=tau, method="dual"), robot.forward_dynamics_derivatives(x, u, free, method="dual"))
+    # A batch: x, u and tau with B rows, the base wrench one row for all, or B rows too.
+    rng = np.random.default_rng(5)
+    rows = 4
+    xs, us = np.tile(x, (rows, 1)), u + 0.1 * rng.normal(size=(rows, robot.nu))
+    taus, fbs = tau + rng.normal(size=(rows, n)), fb + rng.normal(size=(rows, 6))
+    same(robot.forward_dynamics_derivatives(xs, us, tau=taus, base_wrench=fb),
+         robot.forward_dynamics_derivatives(xs, us, np.concatenate([np.tile(fb, (rows, 1)), taus], axis=1)))
+    same(robot.forward_dynamics_derivatives(xs, us, tau=taus, base_wrench=fbs),
+         robot.forward_dynamics_derivatives(xs, us, np.concatenate([fbs, taus], axis=1)))
+    same(robot.forward_dynamics_derivatives(xs, us, tau=tau), robot.forward_dynamics_derivatives(xs, us, free))
+    # Refusals name the part at fault, not the assembled f.
+    with pytest.raises(spacearm.NonFiniteError, match="^tau must be finite"):
+        robot.forward_dynamics_derivatives(x, u, tau=np.full(n, np.nan), base_wrench=fb)
+    with pytest.raises(spacearm.NonFiniteError, match="^base_wrench must be finite, but entry 2"):
+        robot.forward_dynamics_derivatives(x, u, tau=tau, base_wrench=[0, 0, np.inf, 0, 0, 0])
+    bad = taus.copy()
+    bad[2, 1] = np.nan
+    with pytest.raises(spacearm.NonFiniteError, match="tau must be finite") as info:
+        robot.forward_dynamics_derivatives(xs, us, tau=bad)
+    assert "row 2" in str(info.value) or "state 2" in str(info.value), str(info.value)
+    with pytest.raises(spacearm.ShapeError, match=f"tau must have length {n}, got {n - 1}"):
+        robot.forward_dynamics_derivatives(x, u, tau=tau[:-1])
+    with pytest.raises(spacearm.ShapeError, match="base_wrench must have length 6, got 5"):
+        robot.forward_dynamics_derivatives(x, u, tau=tau, base_wrench=fb[:5])
+    with pytest.raises(spacearm.ShapeError, match="tau has 4, base_wrench has 3"):
+        robot.forward_dynamics_derivatives(xs, us, tau=taus, base_wrench=fbs[:3])
+    with pytest.raises(ValueError, match="either f or tau"):
+        robot.forward_dynamics_derivatives(x, u, f, tau=tau)
+    with pytest.raises(ValueError, match="either f or tau"):
+        robot.forward_dynamics_derivatives(x, u, f, base_wrench=fb, method="dual")
+    with pytest.raises(ValueError, match="method must be"):
+        robot.forward_dynamics_derivatives(x, u, tau=tau, method="numeric")
+
+
 @pytest.mark.parametrize("name", ["seed14", "seed28", "branched"])
 def test_derivatives_do_not_depend_on_the_base_position(name):
     """Everything is referred to the base CM: moving the base 4 km away changes no derivative

@@ -613,26 +613,34 @@ impl PyModel {
             if !from_parts {
                 return solve(d, x, u, force, out);
             }
-            if force.len() != nu - 6 {
-                return Err(core::SpacearmError::Dimension { what: "tau".into(), expected: (nu - 6).to_string(), got: force.len() });
-            }
-            finite_row("tau", force)?;
-            if fb.len() != 6 {
-                return Err(core::SpacearmError::Dimension { what: "base_wrench".into(), expected: "6".into(), got: fb.len() });
-            }
-            finite_row("base_wrench", fb)?;
-            // The buffer lives only in this branch: zeroing it is no cost to the `f` form.
-            let mut on_stack = [0.0; FORCE_ON_STACK];
-            let mut on_heap = Vec::new();
-            let buf: &mut [f64] = if nu <= FORCE_ON_STACK {
-                &mut on_stack[..nu]
-            } else {
-                on_heap.resize(nu, 0.0);
-                &mut on_heap
-            };
-            buf[..6].copy_from_slice(fb);
-            buf[6..].copy_from_slice(force);
-            solve(d, x, u, buf, out)
+            with_assembled_force(nu, force, fb, |f| solve(d, x, u, f, out))
         })
     }
+}
+
+/// Run `kernel` on `f = [base_wrench; tau]` of a model with `nu = 6 + N` generalized
+/// velocities, after checking `tau` (length N, finite) and then `base_wrench` (length 6,
+/// finite), each under its own name. The assembled `f` lives on the stack for models up to
+/// `FORCE_ON_STACK - 6` joints, so the tau/base_wrench form of a one-state call allocates
+/// nothing more than the `f` form. Shared by every binding that takes the two parts.
+pub(crate) fn with_assembled_force<R>(nu: usize, tau: &[f64], base_wrench: &[f64], kernel: impl FnOnce(&[f64]) -> core::Result<R>) -> core::Result<R> {
+    if tau.len() != nu - 6 {
+        return Err(core::SpacearmError::Dimension { what: "tau".into(), expected: (nu - 6).to_string(), got: tau.len() });
+    }
+    finite_row("tau", tau)?;
+    if base_wrench.len() != 6 {
+        return Err(core::SpacearmError::Dimension { what: "base_wrench".into(), expected: "6".into(), got: base_wrench.len() });
+    }
+    finite_row("base_wrench", base_wrench)?;
+    let mut on_stack = [0.0; FORCE_ON_STACK];
+    let mut on_heap = Vec::new();
+    let buf: &mut [f64] = if nu <= FORCE_ON_STACK {
+        &mut on_stack[..nu]
+    } else {
+        on_heap.resize(nu, 0.0);
+        &mut on_heap
+    };
+    buf[..6].copy_from_slice(base_wrench);
+    buf[6..].copy_from_slice(tau);
+    kernel(buf)
 }

@@ -574,14 +574,23 @@ class Robot:
         point moves with its body. ``method="analytic"`` (default) uses the analytic partials of
         inverse dynamics; ``"dual"`` the dual-number route (slower; the test oracle).
         """
-        # The common call (f given, no wrenches, analytic) skips the general argument handling:
-        # at small N the Python layer is a visible part of the cost.
-        if f is not None and tau is None and base_wrench is None and wrenches is None and method == "analytic":
+        # The common calls (no wrenches, analytic) skip the general argument handling: at small
+        # N the Python layer is a visible part of the cost. Each form is one native call; the
+        # tau/base_wrench form has the extension assemble f (bit-identical results; it checks
+        # tau, then base_wrench, then x and u; benchmarks/fd_derivatives_forms.py times both).
+        if wrenches is None and method == "analytic":
             d = self.__dict__.get("_deriv_core") or self._derivatives()
-            return _tuple_new(ForwardDynamicsDerivatives, d.forward_dynamics_derivatives(x, u, f))
+            if f is None:
+                return _tuple_new(ForwardDynamicsDerivatives, d.forward_dynamics_derivatives_tau(x, u, tau, base_wrench))
+            if tau is None and base_wrench is None:
+                return _tuple_new(ForwardDynamicsDerivatives, d.forward_dynamics_derivatives(x, u, f))
         dual = self._dual(method)
         ext = None if wrenches is None else self._wrenches(wrenches)
-        return ForwardDynamicsDerivatives(*self._derivatives().forward_dynamics_derivatives(x, u, self._force(f, tau, base_wrench), ext, dual))
+        if f is None:
+            return ForwardDynamicsDerivatives(*self._derivatives().forward_dynamics_derivatives_tau(x, u, tau, base_wrench, ext, dual))
+        if tau is not None or base_wrench is not None:
+            raise ArgumentError("give either f or tau/base_wrench, not both")
+        return ForwardDynamicsDerivatives(*self._derivatives().forward_dynamics_derivatives(x, u, f, ext, dual))
 
     def inverse_dynamics_partials(self, x, u, du, wrenches=None, *, method: str = "analytic") -> "InverseDynamicsPartials":
         """Partials of inverse dynamics ``f = ID(x, u, du) = H du + c - J^T w_ext``:
