@@ -277,7 +277,17 @@ fn point_reference(obj: &Bound<'_, PyAny>) -> PyResult<PointReference> {
     if let Ok(r) = obj.cast::<PyFreeBodyReference>() {
         return Ok(PointReference::FreeBody(Box::new(r.get().inner.clone())));
     }
-    Err(to_py_err(obj.py(), bad(format!("a point reference must be a CartesianReference or a FreeBodyReference, got {}", type_name(obj)))))
+    if let Ok(r) = obj.cast::<PyJointReference>() {
+        let inner = &r.get().inner;
+        if matches!(inner, JointReference::Sampled { n: 3, .. }) {
+            return Ok(PointReference::Sampled(inner.clone()));
+        }
+        return Err(to_py_err(obj.py(), bad("a JointReference as a point path must be a sampled one of 3 coordinates (the point in 𝒥)".into())));
+    }
+    Err(to_py_err(
+        obj.py(),
+        bad(format!("a point reference must be a CartesianReference, a FreeBodyReference or a sampled JointReference of 3 coordinates, got {}", type_name(obj))),
+    ))
 }
 
 /// A point of the robot: a body index and an offset (m, in that body's frame).

@@ -246,6 +246,9 @@ pub enum PointReference {
     /// A point fixed to a torque-free rigid body ([`crate::sim::free_body`]), e.g. the grasp
     /// point of a tumbling target; the body's state is the one at simulation time 0.
     FreeBody(Box<FreeBody>),
+    /// A sampled path: a [`JointReference::Sampled`] of the point's three coordinates in 𝒥
+    /// (e.g. the recorded motion of a jointed target's grasp point).
+    Sampled(JointReference),
 }
 
 impl From<CartesianLine> for PointReference {
@@ -260,6 +263,11 @@ impl PointReference {
         match self {
             PointReference::Line(line) => Ok(line.eval(t)),
             PointReference::FreeBody(body) => body.point(t),
+            PointReference::Sampled(path) => {
+                let (mut p, mut v, mut a) = (Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
+                path.eval(t, p.as_mut_slice(), v.as_mut_slice(), a.as_mut_slice());
+                Ok((p, v, a))
+            }
         }
     }
 }
