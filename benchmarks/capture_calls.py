@@ -1,6 +1,6 @@
 """Calls into the extension, Python calls and wall time of one CLI run (default: the README's capture command).
 
-    python benchmarks/capture_calls.py [--repeat 3] [-- CLI ARGS...]
+    python benchmarks/capture_calls.py [--repeat 3] [CLI ARGS...]
 
 Counts with ``sys.setprofile`` (every ``c_call`` whose function belongs to ``spacearm._core``:
 a module function, or a method of one of its classes) and every Python-level ``call`` event; the
@@ -42,9 +42,8 @@ def run(args):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("cli", nargs="*")
-    ns = ap.parse_args()
-    cli = ns.cli or README_CAPTURE
+    ns, cli = ap.parse_known_args()
+    cli = [a for a in cli if a != "--"] or README_CAPTURE
     os.chdir(tempfile.mkdtemp())
     import spacearm  # noqa: F401  (import time not counted)
     import matplotlib
