@@ -76,21 +76,21 @@ class Plan:
 
     def resimulate(self, kp: float = 400.0, kd: float = 40.0, dt: Optional[float] = None):
         """Run the plan in the native simulator (:func:`spacearm.simulate`, floating mode, RK4)
-        under computed torque tracking the plan's joint motion (:mod:`spacearm.plan.reference`),
+        under the native computed torque tracking the plan's joint motion (:mod:`spacearm.plan.reference`),
         from the plan's initial state. ``dt`` defaults to a quarter of the plan's RK4 step (at
         most 0.01 s, so that the stiff tracking loop is integrated accurately), so the check uses
         another discretisation than the plan. Returns the
         :class:`~spacearm.trajectory.Trajectory`."""
-        from ..control import Callback
+        from ..control import ComputedTorque
         from ..sim.simulation import simulate
-        from .reference import PlanReference, computed_torque_tracking
+        from .reference import plan_reference
 
         step = self.duration / ((len(self.t) - 1) * self.substeps)
         dt = min(0.25 * step, 0.01) if dt is None else float(dt)
-        reference = PlanReference(self.robot, self, self.substeps)
-        law = computed_torque_tracking(self.robot, reference, float(kp), float(kd))
+        reference = plan_reference(self.robot, self, self.substeps)
+        # Every joint follows the plan (wheels=[]: no joint is left to a base controller).
         return simulate(self.robot, self.duration, x0=self.x[0], u0=self.u[0], mode="floating", integrator="rk4", dt=dt,
-                        controller=Callback(law), joint_limits=False)
+                        controller=ComputedTorque(kp=float(kp), kd=float(kd), reference=reference), wheels=[], joint_limits=False)
 
     def save(self, path) -> str:
         """Write ``t``, ``x``, ``u``, ``tau``, ``target`` and the solver's report to an ``.npz``
