@@ -16,7 +16,8 @@ __all__ = [
     "ArgumentError", "AttitudeSpec", "BaseInfo", "BaseThrustersSpec", "CallbackSpec",
     "CartesianReference", "CombinedSpec", "ComputedTorqueSpec", "ConservedDrift",
     "CoordinatedFlyingSpec", "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
-    "INTEGRATORS", "JacobianMeasures", "JointLimitsInfo", "JointPdSpec", "JointReference",
+    "FreeBodyReference", "INTEGRATORS", "JacobianMeasures", "JointLimitsInfo", "JointPdSpec", "JointReference",
+    "JointTorqueLimitSpec", "MomentumDampingSpec",
     "LinkInfo", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds",
     "ModelBuilder", "ModelError", "ModelFileError", "ModelInfo", "NonFiniteError",
     "NotFoundError", "PointInfo", "QUATERNION_TOLERANCE", "QuaternionError",
@@ -467,14 +468,19 @@ class RunOptions:
 
 @final
 class JointReference:
-    """A joint-space reference of the arm joints: a rest-to-rest quintic or a constant."""
+    """A joint-space reference of the arm joints: a rest-to-rest quintic, a constant or a
+    sampled trajectory (piecewise quintic Hermite)."""
     @staticmethod
     def quintic(*, q_start: _ArrayLike, q_goal: _ArrayLike, t_start: float, t_end: float) -> JointReference: ...
     @staticmethod
     def constant(*, q: _ArrayLike) -> JointReference: ...
+    @staticmethod
+    def sampled(*, t: _ArrayLike, q: _ArrayLike, qd: _ArrayLike, qdd: _ArrayLike) -> JointReference: ...
+    def evaluate(self, t: _ArrayLike) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """(q, qd, qdd) at each time, each (T, n)."""
     @property
     def kind(self) -> str:
-        """"quintic" or "constant"."""
+        """"quintic", "constant" or "sampled"."""
     @property
     def q_start(self) -> _Vec:
         """Shape (n,), rad or m (a constant's set point)."""
@@ -487,6 +493,15 @@ class JointReference:
     @property
     def t_end(self) -> Optional[float]:
         """s; None for a constant."""
+
+@final
+class FreeBodyReference:
+    """A point on a torque-free rigid body (a tumbling capture target), propagated by the core."""
+    def __new__(cls, *, inertia: _ArrayLike, state: _ArrayLike, offset: _ArrayLike, step: float) -> FreeBodyReference: ...
+    def states(self, t: _ArrayLike) -> npt.NDArray[np.float64]:
+        """The body's 13-states at the times t, (T, 13)."""
+    def points(self, t: _ArrayLike) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """The point's positions and velocities at the times t, each (T, 3)."""
 
 @final
 class CartesianReference:
@@ -532,15 +547,16 @@ class ComputedTorqueSpec:
 @final
 class RmrcSpec:
     """Resolved-motion-rate control of a point through J* (paper eq. 110), damped least squares."""
-    def __new__(cls, *, reference: CartesianReference, gain: float, max_damping: float, threshold: float, velocity_gain: float,
-                 body: int, offset: _ArrayLike) -> RmrcSpec: ...
+    def __new__(cls, *, reference: Union[CartesianReference, FreeBodyReference, JointReference], gain: float, max_damping: float,
+                 threshold: float, velocity_gain: float, body: int, offset: _ArrayLike, max_joint_rate: float = ...) -> RmrcSpec: ...
     gain: float  # 1/s (read-only)
+    max_joint_rate: float  # rad/s, inf: no cap (read-only)
     max_damping: float  # m, the largest damping λ_max (read-only)
     threshold: float  # m (read-only)
     velocity_gain: float  # 1/s (read-only)
     body: int  # (read-only)
     @property
-    def reference(self) -> CartesianReference: ...
+    def reference(self) -> Union[CartesianReference, FreeBodyReference, JointReference]: ...
     @property
     def offset(self) -> _Vec:
         """Shape (3,), m, in the body's frame."""
@@ -601,7 +617,24 @@ class AttitudeSpec:
         """Shape (4,), [x, y, z, w]."""
 
 _ControllerSpec = Union[ZeroTorqueSpec, JointPdSpec, ComputedTorqueSpec, RmrcSpec, CoordinatedFlyingSpec, BaseThrustersSpec, AttitudeSpec,
-                       "CombinedSpec", "CallbackSpec"]
+                       "MomentumDampingSpec", "CombinedSpec", "JointTorqueLimitSpec", "CallbackSpec"]
+
+@final
+class MomentumDampingSpec:
+    """Thruster damping of the system momentum (flying modes): F0 = -P/τ, N0 = -L_G/τ - (r0 - r_g) × F0."""
+    def __new__(cls, *, time_constant: float, max_force: float = ..., max_torque: float = ..., model: Optional[Model] = None) -> MomentumDampingSpec: ...
+    time_constant: float  # s (read-only)
+    max_force: float  # N (read-only)
+    max_torque: float  # N·m (read-only)
+    @property
+    def has_model(self) -> bool: ...
+
+@final
+class JointTorqueLimitSpec:
+    """Another controller's joint torques clamped to ±limit."""
+    def __new__(cls, *, controller: _ControllerSpec, limit: float) -> JointTorqueLimitSpec: ...
+    controller: _ControllerSpec  # (read-only)
+    limit: float  # N·m (read-only)
 
 @final
 class CombinedSpec:
