@@ -48,17 +48,12 @@ def _tensor_times(w: np.ndarray) -> np.ndarray:
 
 def _grasp_body_motion(robot, body: int, xs: np.ndarray, us: np.ndarray):
     """``r_g, R_g, v_g, ω`` of body ``body``'s CM frame for every sample (shapes (K, 3), (K, 3, 3),
-    (K, 3), (K, 3)), from the robot's kinematics and point Jacobians (eqs. 104–108)."""
-    k = len(xs)
-    r_g, rot, v_g, w = np.empty((k, 3)), np.empty((k, 3, 3)), np.empty((k, 3)), np.empty((k, 3))
-    origin = (body, np.zeros(3))
-    for i, (x, u) in enumerate(zip(xs, us)):
-        kin = robot.forward_kinematics(x)
-        rot[i], r_g[i] = kin.body_to_world[body], kin.com_in_world[body]
-        j0, jm = robot.point_jacobian(x, origin)
-        twist = j0 @ u[:6] + jm @ u[6:]
-        v_g[i], w[i] = twist[:3], twist[3:]
-    return r_g, rot, v_g, w
+    (K, 3), (K, 3)), from the robot's kinematics and point Jacobians (eqs. 104–108), one batch
+    call each."""
+    kin = robot.forward_kinematics(xs)
+    j0, jm = robot.point_jacobian(xs, (body, np.zeros(3)))
+    twist = np.einsum("kij,kj->ki", j0, us[:, :6]) + np.einsum("kij,kj->ki", jm, us[:, 6:])
+    return kin.com_in_world[:, body], kin.body_to_world[:, body], twist[:, :3], twist[:, 3:]
 
 
 def momentum_regressor(robot, body: int, xs, us) -> np.ndarray:
@@ -77,9 +72,6 @@ def momentum_regressor(robot, body: int, xs, us) -> np.ndarray:
 
 
 def robot_momentum(robot, xs, us) -> np.ndarray:
-    """``[P; L_origin]`` (K, 6) of the robot's own bodies for every sample."""
-    out = np.empty((len(xs), 6))
-    for i, (x, u) in enumerate(zip(xs, us)):
-        m = robot.momentum(x, u)
-        out[i, :3], out[i, 3:] = m.P, m.L_origin
-    return out
+    """``[P; L_origin]`` (K, 6) of the robot's own bodies for every sample (one batch call)."""
+    m = robot.momentum(np.asarray(xs, dtype=float), np.asarray(us, dtype=float))
+    return np.hstack([m.P, m.L_origin])
