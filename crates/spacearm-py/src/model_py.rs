@@ -38,13 +38,12 @@ impl PyModel {
 }
 
 /// Write a matrix into `out` row after row (numpy's C order), reading nalgebra's storage
-/// through its strides: plain loads and stores. (Indexing `m[(i, j)]` checks bounds twice per
-/// element and cost ~0.15 µs of a 12×12 mass-matrix call; a `step_by` iterator was worse.)
+/// through its strides: plain loads and stores, no bounds check per element.
 ///
 /// Column-major storage with adjacent rows (every owned nalgebra matrix) is copied four rows
 /// at a time: each step reads four neighbouring values of a column and writes them down a
-/// column of `out`, about half the instructions per element of the one-at-a-time walk that
-/// copies the remaining rows and any other layout.
+/// column of `out`; the one-at-a-time walk copies the remaining rows and any other layout.
+/// (The measurements behind both choices: benchmarks/README.md, "Profiler history".)
 pub fn put<R: Dim, C: Dim, S: RawStorage<f64, R, C>>(m: &Matrix<f64, R, C, S>, out: &mut [f64]) {
     let (rows, cols) = m.shape();
     let (row_stride, col_stride) = m.strides();
@@ -541,7 +540,7 @@ impl FdMethod {
     /// The method a Python string names. Compared as Python strings: the names Python code
     /// passes are interned, so the common case is one pointer comparison, where extracting a
     /// `&str` (abi3 for Python 3.9 has no borrowed UTF-8 view) would build a bytes object on
-    /// every call, about 250 instructions.
+    /// every call (benchmarks/README.md, "Profiler history").
     fn named(py: Python<'_>, name: &Bound<'_, PyAny>) -> PyResult<Self> {
         let methods = [(intern!(py, "aba"), FdMethod::Aba), (intern!(py, "mass_matrix"), FdMethod::MassMatrix), (intern!(py, "reduced"), FdMethod::Reduced)];
         for (text, method) in &methods {

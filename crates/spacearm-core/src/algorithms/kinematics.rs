@@ -67,9 +67,8 @@ pub fn forward_kinematics(model: &Model, data: &mut Data, x: &[f64]) -> Result<(
 /// coordinates `q` (length N, unchecked), for any scalar: the one implementation behind
 /// [`forward_kinematics`] and the dual-number derivatives of [`crate::derivatives`].
 ///
-/// Always inlined: it has several `f64` callers, and as an out-of-line function it ran ~5 %
-/// more instructions per call (spatial6: 3,865 against 3,670, callgrind) than inlined into
-/// [`forward_kinematics`], on the path of every per-state call.
+/// Always inlined: it has several `f64` callers, and out of line it costs instructions on the
+/// path of every per-state call (the measurement: benchmarks/README.md, "Profiler history").
 #[inline(always)]
 pub fn forward_kinematics_at<T: Real>(model: &Model, data: &mut DataT<T>, r0: &Vector3<T>, base_to_world: &Matrix3<T>, q: &[T]) {
     let r0 = *r0;
