@@ -29,8 +29,8 @@ __all__ = [
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
     "analysis_move_to", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_shells", "analysis_singularity", "batch_threads", "body_mass_properties_error",
-    "default_wheel_dofs", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
-    "model_to_toml", "perturbed", "preset", "quintic_scaling", "rollout", "set_batch_threads",
+    "conserved_drift", "default_wheel_dofs", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
+    "model_to_toml", "momentum_scales", "perturbed", "preset", "quintic_scaling", "rollout", "set_batch_threads",
     "simulate",
 ]
 
@@ -787,6 +787,10 @@ def perturbed(
     slosh_removed: bool,
 ) -> Model: ...
 def default_wheel_dofs(model: Model) -> list[int]: ...
+def momentum_scales(model: Model, x: npt.NDArray[np.float64], u: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """(T, 4): Σ|p_i|, Σ(|r_i×p_i| + |I_i w_i|) about the origin and the system CM, kinetic energy."""
+def conserved_drift(values: npt.NDArray[np.float64], scale: float) -> float:
+    """max_k |v_k - v_0| / max(|v_0|, scale)."""
 @final
 class Derivatives:
     """Exact derivatives of one model (analytic recursions for the dynamics Jacobians,

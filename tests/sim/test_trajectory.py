@@ -70,30 +70,37 @@ def test_drift_measures_planted_deviation():
     tr = Trajectory(robot=robot, data=data, meta=meta)
     d = tr.drift(["P"], scale={"P": 0.0})
     assert d["P"] == pytest.approx(2e-6 / 5.0, rel=1e-9)
-    # Zero initial momentum: the deviation is measured against sqrt(2 M T_max).
+    # Zero initial momentum: the deviation is measured against the core's drift scale, the
+    # largest sum over the bodies of |p_i| (|r_i x p_i| + |I_i w_i| for L), computed here body by
+    # body from the point Jacobians at each body's CM.
     data["P"] = np.zeros((len(data["t"]), 3))
     data["P"][5] = [0, 1e-9, 0]
     tr = Trajectory(robot=robot, data=data, meta=meta)
-    scale = np.sqrt(2 * robot.total_mass * np.max(data["energy"]))
-    assert scale > 1.0
-    assert tr.drift_scale("P") == pytest.approx(scale, rel=1e-14)
-    assert tr.drift(["P"])["P"] == pytest.approx(1e-9 / scale, rel=1e-9)
-    # The default names are the mode's conserved quantities.
-    assert set(tr.drift()) == {"P", "L_origin"}
-    # The L scale: locked inertia about the CM at x0 (parallel-axis theorem on the base inertia
-    # blocks), checked against the body sums of describe() at q0 = initial_q + amp*sin(0).
-    x0 = data["x"][0]
-    kin = robot.forward_kinematics(x0)
     d_ = robot.describe()
     masses = [d_["base"]["mass"]] + [l["mass"] for l in d_["links"]]
     inertias = [np.asarray(d_["base"]["inertia"])] + [np.asarray(l["inertia"]) for l in d_["links"]]
-    rg = robot.center_of_mass(x0)
-    ig = np.zeros((3, 3))
-    for m, i_body, r, c in zip(masses, inertias, kin.body_to_world, kin.com_in_world):
-        dvec = c - rg
-        ig += r @ i_body @ r.T + m * (dvec @ dvec * np.eye(3) - np.outer(dvec, dvec))
-    expected = np.sqrt(2 * np.max(np.linalg.eigvalsh(ig)) * np.max(data["energy"]))
-    assert tr.drift_scale("L_com") == pytest.approx(expected, rel=1e-10)
+    sp, slo, slc = [], [], []
+    for x, u in zip(data["x"], data["u"]):
+        kin = robot.forward_kinematics(x)
+        rg = robot.center_of_mass(x)
+        tp = to = tc = 0.0
+        for b, (m, i_body) in enumerate(zip(masses, inertias)):
+            j0, jm = robot.point_jacobian(x, (b, np.zeros(3)))
+            tw = j0 @ u[:6] + jm @ u[6:]
+            p_b = m * tw[:3]
+            r, c = kin.body_to_world[b], kin.com_in_world[b]
+            spin = np.linalg.norm(r @ i_body @ r.T @ tw[3:])
+            tp += np.linalg.norm(p_b)
+            to += np.linalg.norm(np.cross(c, p_b)) + spin
+            tc += np.linalg.norm(np.cross(c - rg, p_b)) + spin
+        sp.append(tp), slo.append(to), slc.append(tc)
+    assert max(sp) > 1.0
+    assert tr.drift_scale("P") == pytest.approx(max(sp), rel=1e-12)
+    assert tr.drift_scale("L_origin") == pytest.approx(max(slo), rel=1e-12)
+    assert tr.drift_scale("L_com") == pytest.approx(max(slc), rel=1e-12)
+    assert tr.drift(["P"])["P"] == pytest.approx(1e-9 / max(sp), rel=1e-9)
+    # The default names are the mode's conserved quantities.
+    assert set(tr.drift()) == {"P", "L_origin"}
 
 
 def test_saturation_events_and_summary():

@@ -119,3 +119,44 @@ pub fn perturbed(
 pub fn default_wheel_dofs(model: &Bound<'_, PyModel>) -> Vec<usize> {
     spacearm_core::sim::actuators::detect_reaction_wheels(&model.borrow().model)
 }
+
+/// The drift scales of each sample (`spacearm_core::algorithms::momentum::MomentumScales`):
+/// `(T, 4)` columns `[Σ|pᵢ|, Σ(|rᵢ×pᵢ| + |Iᵢωᵢ|) about the origin, the same about the system CM,
+/// kinetic energy]` for the states `x` (T, 7+N) and `u` (T, 6+N).
+#[pyfunction]
+pub fn momentum_scales<'py>(
+    py: Python<'py>,
+    model: &Bound<'py, PyModel>,
+    x: numpy::PyReadonlyArray2<'py, f64>,
+    u: numpy::PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+    use numpy::PyArrayMethods;
+    let m = model.borrow();
+    let (xs, us) = (x.as_array(), u.as_array());
+    if xs.shape()[0] != us.shape()[0] {
+        return Err(shape_error(py, format!("momentum_scales: x has {} rows but u has {}", xs.shape()[0], us.shape()[0])));
+    }
+    let rows = xs.shape()[0];
+    let mut out = Vec::with_capacity(rows * 4);
+    let (mut xr, mut ur) = (Vec::new(), Vec::new());
+    for k in 0..rows {
+        xr.clear();
+        xr.extend(xs.row(k).iter().copied());
+        ur.clear();
+        ur.extend(us.row(k).iter().copied());
+        let s = m.with_data(|model, data| spacearm_core::algorithms::momentum::momentum_scales(model, data, &xr, &ur)).or_raise(py)?;
+        out.extend_from_slice(&[s.linear, s.angular_about_origin, s.angular_about_com, s.energy]);
+    }
+    Ok(numpy::PyArray1::from_vec(py, out).reshape([rows, 4])?)
+}
+
+/// The drift of a conserved quantity over samples (`spacearm_core::algorithms::momentum::conserved_drift`):
+/// `max_k |v_k − v_0| / max(|v_0|, scale)` for `values` (T, d) or (T,).
+#[pyfunction]
+pub fn conserved_drift(values: numpy::PyReadonlyArrayDyn<'_, f64>, scale: f64) -> PyResult<f64> {
+    use numpy::PyUntypedArrayMethods;
+    let shape = values.shape().to_vec();
+    let dim = if shape.len() <= 1 { 1 } else { shape[1..].iter().product() };
+    let flat: Vec<f64> = values.as_array().iter().copied().collect();
+    Ok(spacearm_core::algorithms::momentum::conserved_drift(&flat, dim, scale))
+}

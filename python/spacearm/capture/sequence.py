@@ -24,8 +24,10 @@ Phases (``PHASES``; ``result.phase`` holds the index at every sample):
 3. **detumble** — :func:`detumble` in ``mode``.
 
 Momentum ledger: ``P`` and ``L`` (about the origin of 𝒥) of robot + target at every sample. In
-floating mode nothing external acts, and their drift relative to the momentum in play (the
-largest ``|robot part| + |target part|``) is the integration error (``result.drift``).
+floating mode nothing external acts, and their drift is the integration error
+(``result.drift``): the core's drift (``max |v − v(0)|`` relative to the largest sum of the
+bodies' own momentum magnitudes, robot and target; docs/simulation-core.md), the one definition
+``Trajectory.drift`` and the simulator use.
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ from typing import Optional
 
 import numpy as np
 
+from .. import _core
 from .._util.arrays import number, vector
 from ..control import Combined, MomentumDamping, ResolvedMotionRate, TorqueLimit
 from ..errors import ArgumentError, SimulationError
@@ -127,20 +130,14 @@ class CaptureResult:
         return animate_capture(self, path, fps=fps)
 
 
-def _reach(robot) -> float:
-    """A bound on the distance of any body CM from the base CM (sum of the link offsets)."""
-    return float(sum(np.linalg.norm(link.origin) + np.linalg.norm(link.com) for link in robot.description.links))
-
-
 def _ledger(plant, target, xs, us, ss, combined: bool):
-    """Total P, L about the origin, and the target's share (for the drift scale), over samples
-    (batch calls)."""
+    """Total P, L about the origin over samples (batch calls)."""
     m = plant.momentum(xs, us)
+    if combined:  # the target is a link of the plant: its share is in the plant's momentum
+        return m.P, m.L_origin
     nx = target.body.nx
     mt = target.body.momentum(ss[:, :nx], ss[:, nx:])
-    if combined:  # the target is a link of the plant: its share is already in the plant's momentum
-        return m.P, m.L_origin, mt.P, mt.L_origin
-    return m.P + mt.P, m.L_origin + mt.L_origin, mt.P, mt.L_origin
+    return m.P + mt.P, m.L_origin + mt.L_origin
 
 
 def _payload_states(captured, xs, us):
@@ -321,25 +318,20 @@ def capture(
         t_cap, x_start, u_start, sc = t_cap + float(tr.t[-1]), tr.x[-1], tr.u[-1], ss[-1]
 
     # ---- the ledger -----------------------------------------------------------------------------
-    P, L, Pt, Lt = [], [], [], []
+    P, L, scales = [], [], []
+    nxt = target.body.nx
     for xs, us, ss, comb in zip(seg_x, seg_u, seg_s, seg_combined):
-        a, b, c, d = _ledger(plant if comb else robot, target, xs, us, ss, comb)
-        P.append(a), L.append(b), Pt.append(c), Lt.append(d)
-    P, L, Pt, Lt = (np.concatenate(v) for v in (P, L, Pt, Lt))
-    # The momentum in play: the largest |robot part| + |target part| over the run; where that is
-    # tiny (nothing moving relative to a zero total), a thousandth of what the largest kinetic
-    # energy T allows (|P| <= sqrt(2 M T), |L| <= that times the farthest CM distance ρ from the
-    # origin), so that the relative drift stays meaningful.
-    energy = max(float(np.max(robot.kinetic_energy(xa, ua))), float(np.max(plant.kinetic_energy(seg_x[-1], seg_u[-1]))))
-    if captured is None:
-        energy += target.kinetic_energy(sc)
-    mass = robot.total_mass + target.mass
-    rho = max(1.0, float(np.max(np.linalg.norm(np.concatenate(seg_s)[:, :3], axis=1))),
-              float(np.max(np.linalg.norm(np.concatenate(seg_x)[:, :3], axis=1))) + _reach(robot))
-    p_energy = float(np.sqrt(2.0 * mass * energy))
-    scale_p = max(float(np.max(np.linalg.norm(P - Pt, axis=1) + np.linalg.norm(Pt, axis=1))), 1e-3 * p_energy, 1e-300)
-    scale_l = max(float(np.max(np.linalg.norm(L - Lt, axis=1) + np.linalg.norm(Lt, axis=1))), 1e-3 * p_energy * rho, 1e-300)
-    drift = {"P": float(np.max(np.linalg.norm(P - P[0], axis=1)) / scale_p), "L": float(np.max(np.linalg.norm(L - L[0], axis=1)) / scale_l)}
+        owner = plant if comb else robot
+        a, b = _ledger(owner, target, xs, us, ss, comb)
+        P.append(a), L.append(b)
+        s = owner.momentum_scales(xs, us)[:, :2]
+        if not comb:  # the free target's own bodies
+            s = s + target.body.momentum_scales(ss[:, :nxt], ss[:, nxt:])[:, :2]
+        scales.append(s)
+    P, L, scales = (np.concatenate(v) for v in (P, L, scales))
+    # The core's drift (one definition, docs/simulation-core.md): the deviation from the first
+    # sample relative to the largest sum of the bodies' own momentum magnitudes, robot and target.
+    drift = {"P": _core.conserved_drift(P, float(scales[:, 0].max())), "L": _core.conserved_drift(L, float(scales[:, 1].max()))}
     return CaptureResult(
         t=np.concatenate(seg_t), phase=np.concatenate(seg_phase), x=np.concatenate(seg_x), u=np.concatenate(seg_u),
         tau=np.concatenate(seg_tau), base_wrench=np.concatenate(seg_bw), target=np.concatenate(seg_s), P=P, L=L,

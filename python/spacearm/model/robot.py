@@ -464,6 +464,16 @@ class Robot:
         """``T = ½ Σ (m_i |v_i|² + w_i^T I_i w_i)`` (equal to ``½ u^T H u``, eq. 27)."""
         return self._m.kinetic_energy(x, u)
 
+    def momentum_scales(self, x, u) -> np.ndarray:
+        """The magnitudes against which the drift of the momenta and the energy is measured, per
+        state: ``(T, 4)`` columns ``[Σ|p_i|, Σ(|r_i × p_i| + |I_i w_i|) about the origin, the
+        same about the system CM, kinetic energy]`` (sums over the bodies of their own
+        contributions' norms: the core's drift scales, docs/simulation-core.md). ``x`` (T, 7+N)
+        or (7+N,), ``u`` likewise."""
+        xs = np.ascontiguousarray(np.atleast_2d(np.asarray(x, dtype=float)))
+        us = np.ascontiguousarray(np.atleast_2d(np.asarray(u, dtype=float)))
+        return _core.momentum_scales(self._m, xs, us)
+
     def center_of_mass(self, x) -> np.ndarray:
         """System CM ``r_g`` in 𝒥."""
         return self._m.center_of_mass(x)

@@ -26,6 +26,7 @@ from typing import Dict, Iterable, List, NamedTuple, Optional, Union
 
 import numpy as np
 
+from .. import _core
 from .._util.atomic import atomic_open
 from .._util.npz import open_npz
 from ..errors import ArgumentError, NotFoundError, ShapeError, SpacearmTypeError
@@ -93,10 +94,6 @@ def euler_from_matrices(r) -> np.ndarray:
         out[:, 0] = np.unwrap(out[:, 0])
         out[:, 2] = np.unwrap(out[:, 2])
     return out
-
-
-def _skew(v) -> np.ndarray:
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
 
 def _jsonable(value):
@@ -448,35 +445,20 @@ class Trajectory:
     # ---- conservation ----------------------------------------------------------------------
     def drift_scale(self, name: str) -> float:
         """The magnitude against which :meth:`drift` measures deviations of ``name``, when the
-        initial value is smaller (e.g. zero momentum).
-
-        With ``T_max`` the largest kinetic energy of the run, ``M`` the total mass and ``I_G``
-        the locked inertia about the system CM at the first sample: ``energy`` → ``T_max``;
-        ``P`` → ``sqrt(2 M T_max)`` (the largest linear momentum that kinetic energy allows,
-        by Cauchy–Schwarz); ``L_com`` → ``sqrt(2 λmax(I_G) T_max)`` (the angular momentum of
-        the locked system spinning with that energy about its axis of largest inertia);
-        ``L_origin`` → that plus ``|r_g| sqrt(2 M T_max)`` (the moment of the linear momentum
-        about the origin). Without a robot the momentum scales are 0.
+        initial value is smaller (e.g. zero momentum): the core's drift scale
+        (:meth:`Robot.momentum_scales`, the sums over the bodies of their own contributions'
+        norms), its largest value over the recorded states — what the simulator records as
+        ``meta["drift_scales"]``. ``energy`` → the largest kinetic energy. Without a robot the
+        momentum scales are 0.
         """
-        t_max = float(np.max(np.abs(self.energy))) if self.has("energy") else 0.0
-        if name == "energy":
-            return t_max
-        if self._robot is None:
+        columns = {"P": 0, "L_origin": 1, "L_com": 2, "energy": 3}
+        if name not in columns:
+            raise NotFoundError(f"no drift scale for '{name}'; expected one of P, L_origin, L_com, energy")
+        if name == "energy" and (self._robot is None or not (self.has("x") and self.has("u"))):
+            return float(np.max(np.abs(self.energy))) if self.has("energy") else 0.0
+        if self._robot is None or not (self.has("x") and self.has("u")):
             return 0.0
-        m = float(self._robot.total_mass)
-        p_scale = math.sqrt(2.0 * m * t_max)
-        if name == "P":
-            return p_scale
-        if name in ("L_com", "L_origin"):
-            x0 = self.x[0]
-            blocks = self._robot.inertia_blocks(x0)
-            s = np.asarray(blocks.H_S) + m * _skew(blocks.r_0g) @ _skew(blocks.r_0g)
-            l_scale = math.sqrt(2.0 * float(np.max(np.linalg.eigvalsh(0.5 * (s + s.T)))) * t_max)
-            if name == "L_com":
-                return l_scale
-            r_g = float(np.max(np.linalg.norm(self.com, axis=1))) if self.has("com") else float(np.linalg.norm(self._robot.center_of_mass(x0)))
-            return l_scale + r_g * p_scale
-        raise NotFoundError(f"no drift scale for '{name}'; expected one of P, L_origin, L_com, energy")
+        return float(np.max(self._robot.momentum_scales(self.x, self.u)[:, columns[name]]))
 
     def drift(self, names: Optional[Iterable[str]] = None, scale: Optional[Dict[str, float]] = None) -> Dict[str, float]:
         """Largest relative deviation of each quantity from its value at the first sample.
@@ -497,16 +479,13 @@ class Trajectory:
         for name in names:
             v = np.asarray(self[name], dtype=float)
             v = v.reshape(v.shape[0], -1)
-            dev = float(np.max(np.linalg.norm(v - v[0], axis=1)))
             if name in scale:
                 s = float(scale[name])
             elif name in recorded_scales:
                 s = float(recorded_scales[name])
             else:
                 s = self.drift_scale(name)
-            # The smallest positive double keeps an all-zero quantity at drift 0, as in the core.
-            ref = max(float(np.linalg.norm(v[0])), s, sys.float_info.min)
-            out[name] = dev / ref
+            out[name] = _core.conserved_drift(np.ascontiguousarray(v), s)
         return out
 
     # ---- text ------------------------------------------------------------------------------

@@ -68,6 +68,79 @@ pub fn momentum_from_data(model: &Model, data: &Data) -> Momentum {
     }
 }
 
+/// The magnitudes against which the drift of a conserved quantity is measured
+/// ([`conserved_drift`]): the sums over the bodies of their own contributions' norms,
+/// `Σ |pᵢ|`, `Σ (|rᵢ × pᵢ| + |Iᵢ ωᵢ|)` about the origin and about the system CM, and the kinetic
+/// energy (a sum of non-negative terms). A sum of norms bounds the norm of the sum and does not
+/// cancel when the total is zero, so the relative drift stays meaningful for a system at zero
+/// momentum (docs/simulation-core.md, "Records and meta").
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct MomentumScales {
+    /// `Σ |pᵢ|`, N·s.
+    pub linear: f64,
+    /// `Σ (|rᵢ × pᵢ| + |Iᵢ ωᵢ|)`, about the origin of 𝒥, N·m·s.
+    pub angular_about_origin: f64,
+    /// The same about the system CM, N·m·s.
+    pub angular_about_com: f64,
+    /// Kinetic energy, J.
+    pub energy: f64,
+}
+
+impl MomentumScales {
+    /// The larger of each pair of entries (a running maximum over samples).
+    pub fn max(self, other: MomentumScales) -> MomentumScales {
+        MomentumScales {
+            linear: self.linear.max(other.linear),
+            angular_about_origin: self.angular_about_origin.max(other.angular_about_origin),
+            angular_about_com: self.angular_about_com.max(other.angular_about_com),
+            energy: self.energy.max(other.energy),
+        }
+    }
+}
+
+/// [`MomentumScales`] from the body velocities already in `data` (after forward kinematics and
+/// the velocity pass), body by body.
+pub fn momentum_scales_from_data(model: &Model, data: &Data) -> MomentumScales {
+    let r0 = data.base_position;
+    let rg = center_of_mass_from_data(model, data);
+    let mut s = MomentumScales::default();
+    for b in 0..model.n_bodies() {
+        let v = data.body_velocity[b];
+        s.energy += 0.5 * v.dot(&(data.spatial_inertia[b] * v));
+        let w = angular(&v);
+        let rb = data.com_in_world[b];
+        let p_b = (linear(&v) + w.cross(&(rb - r0))) * model.mass_properties(b).mass;
+        let spin = (data.inertia_in_world[b] * w).norm();
+        s.linear += p_b.norm();
+        s.angular_about_origin += rb.cross(&p_b).norm() + spin;
+        s.angular_about_com += (rb - rg).cross(&p_b).norm() + spin;
+    }
+    s
+}
+
+/// [`MomentumScales`] at `(x, u)`.
+pub fn momentum_scales(model: &Model, data: &mut Data, x: &[f64], u: &[f64]) -> Result<MomentumScales> {
+    forward_kinematics(model, data, x)?;
+    check_velocity(model, "u", u)?;
+    velocity_pass(model, data, u);
+    Ok(momentum_scales_from_data(model, data))
+}
+
+/// The drift of a conserved quantity over samples: `max_k |v_k − v_0| / max(|v_0|, scale)`,
+/// `values` row-major with `dim` entries per sample and `scale` the largest
+/// [`MomentumScales`] entry of the run (the smallest positive double keeps an all-zero quantity
+/// at drift 0). The one definition of drift: the simulator's records, `Trajectory.drift` and the
+/// capture's momentum ledger use it.
+pub fn conserved_drift(values: &[f64], dim: usize, scale: f64) -> f64 {
+    if values.is_empty() || dim == 0 {
+        return 0.0;
+    }
+    let first = &values[..dim];
+    let norm = |c: &[f64]| c.iter().zip(first).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
+    let denom = first.iter().map(|v| v * v).sum::<f64>().sqrt().max(scale).max(f64::MIN_POSITIVE);
+    values.chunks_exact(dim).map(norm).fold(0.0, f64::max) / denom
+}
+
 /// Kinetic energy `T = ½ Σ (mᵢ |vᵢ|² + ωᵢᵀ Iᵢ ωᵢ)` at `(x, u)`, J.
 pub fn kinetic_energy(model: &Model, data: &mut Data, x: &[f64], u: &[f64]) -> Result<f64> {
     forward_kinematics(model, data, x)?;

@@ -6,21 +6,11 @@
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 
 use crate::algorithms::kinematics::point_position;
-use crate::algorithms::momentum::{center_of_mass_from_data, momentum_from_data};
-use crate::math::spatial::{angular, linear};
+use crate::algorithms::momentum::{center_of_mass_from_data, conserved_drift, momentum_from_data, momentum_scales_from_data, MomentumScales};
 use crate::model::Model;
 use crate::sim::actuators::SaturationKind;
 use crate::sim::modes::Conserved;
 use crate::sim::simulate::{Plant, Records, SaturationEvent};
-
-/// Running maxima of the drift scales.
-#[derive(Debug, Default, Clone, Copy)]
-struct Scales {
-    p: f64,
-    l_origin: f64,
-    l_com: f64,
-    energy: f64,
-}
 
 /// The records of one run and what is needed to extend them; [`Recorder::new`] is the one place
 /// where record buffers are allocated.
@@ -30,7 +20,7 @@ pub(crate) struct Recorder {
     ee: Option<(usize, Vector3<f64>)>,
     wheels: Vec<usize>,
     n_ref: usize,
-    scales: Scales,
+    scales: MomentumScales,
     last_quat: Option<UnitQuaternion<f64>>,
 }
 
@@ -86,7 +76,7 @@ impl Recorder {
             ee,
             wheels: wheels.to_vec(),
             n_ref,
-            scales: Scales::default(),
+            scales: MomentumScales::default(),
             last_quat: None,
         }
     }
@@ -108,31 +98,15 @@ impl Recorder {
         // Momentum and energy from the body velocities (spatial, at the base CM), body by body,
         // with the scale of each sum's terms for the drift (module docs).
         let momentum = momentum_from_data(model, data);
-        let r0 = data.base_position;
         let rg = center_of_mass_from_data(model, data);
-        let mut energy = 0.0;
-        let (mut sp, mut slo, mut slc) = (0.0, 0.0, 0.0);
-        for b in 0..model.n_bodies() {
-            let v = data.body_velocity[b];
-            energy += 0.5 * v.dot(&(data.spatial_inertia[b] * v));
-            let w = angular(&v);
-            let rb = data.com_in_world[b];
-            let p_b = (linear(&v) + w.cross(&(rb - r0))) * model.mass_properties(b).mass;
-            let spin = (data.inertia_in_world[b] * w).norm();
-            sp += p_b.norm();
-            slo += rb.cross(&p_b).norm() + spin;
-            slc += (rb - rg).cross(&p_b).norm() + spin;
-        }
+        let scales = momentum_scales_from_data(model, data);
+        let energy = scales.energy;
         r.linear_momentum.extend_from_slice(momentum.linear.as_slice());
         r.angular_momentum_origin.extend_from_slice(momentum.angular_about_origin.as_slice());
         r.angular_momentum_com.extend_from_slice(momentum.angular_about_com.as_slice());
         r.energy.push(energy);
         r.com.extend_from_slice(rg.as_slice());
-        let s = &mut self.scales;
-        s.p = s.p.max(sp);
-        s.l_origin = s.l_origin.max(slo);
-        s.l_com = s.l_com.max(slc);
-        s.energy = s.energy.max(energy);
+        self.scales = self.scales.max(scales);
         if let Some((body, offset)) = self.ee {
             let pos = point_position(data, body, &offset);
             r.ee_position.as_mut().expect("allocated with ee").extend_from_slice(pos.as_slice());
@@ -165,9 +139,9 @@ impl Recorder {
     /// The scale of a conserved quantity's drift: the running maximum of its magnitude scale.
     pub(crate) fn scale(&self, c: Conserved) -> f64 {
         match c {
-            Conserved::LinearMomentum => self.scales.p,
-            Conserved::AngularMomentumOrigin => self.scales.l_origin,
-            Conserved::AngularMomentumCom => self.scales.l_com,
+            Conserved::LinearMomentum => self.scales.linear,
+            Conserved::AngularMomentumOrigin => self.scales.angular_about_origin,
+            Conserved::AngularMomentumCom => self.scales.angular_about_com,
             Conserved::Energy => self.scales.energy,
         }
     }
@@ -175,23 +149,14 @@ impl Recorder {
     /// Drift of each conserved quantity over the recorded samples (see the module docs).
     pub(crate) fn drift(&self, conserved: &[Conserved]) -> Vec<(Conserved, f64)> {
         let r = &self.rec;
-        let vec_drift = |data: &[f64], scale: f64| {
-            let first = Vector3::new(data[0], data[1], data[2]);
-            let denom = first.norm().max(scale).max(f64::MIN_POSITIVE);
-            data.chunks_exact(3).map(|c| (Vector3::new(c[0], c[1], c[2]) - first).norm()).fold(0.0, f64::max) / denom
-        };
         conserved
             .iter()
             .map(|&c| {
                 let d = match c {
-                    Conserved::LinearMomentum => vec_drift(&r.linear_momentum, self.scales.p),
-                    Conserved::AngularMomentumOrigin => vec_drift(&r.angular_momentum_origin, self.scales.l_origin),
-                    Conserved::AngularMomentumCom => vec_drift(&r.angular_momentum_com, self.scales.l_com),
-                    Conserved::Energy => {
-                        let e0 = r.energy[0];
-                        let denom = e0.abs().max(self.scales.energy).max(f64::MIN_POSITIVE);
-                        r.energy.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max) / denom
-                    }
+                    Conserved::LinearMomentum => conserved_drift(&r.linear_momentum, 3, self.scale(c)),
+                    Conserved::AngularMomentumOrigin => conserved_drift(&r.angular_momentum_origin, 3, self.scale(c)),
+                    Conserved::AngularMomentumCom => conserved_drift(&r.angular_momentum_com, 3, self.scale(c)),
+                    Conserved::Energy => conserved_drift(&r.energy, 1, self.scale(c)),
                 };
                 (c, d)
             })
