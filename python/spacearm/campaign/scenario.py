@@ -155,9 +155,9 @@ def with_payload(robot, mass: float):
         raise ArgumentError("a payload needs an end effector to hold it; the model defines none")
     # The point straight from the model (body index, offset): the full description is built once,
     # by to_builder, not twice.
-    body, offset = robot._m.point(robot.end_effector)
+    body, offset = robot.resolve_point(robot.end_effector)
     builder = robot.to_builder()
-    builder.attach_payload("campaign_payload", body=robot._m.body_names[body], mass=float(mass), origin=list(offset))
+    builder.attach_payload("campaign_payload", body=robot.body_names[body], mass=float(mass), origin=list(offset))
     return builder.build()
 
 

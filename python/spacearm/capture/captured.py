@@ -54,11 +54,11 @@ def relative_twist(robot, x, u, target, target_state, point=None, grasp_offset=(
     xv, uv = vector(x, "x", robot.nx), vector(u, "u", robot.nu)
     s = target.check_state(target_state)
     body, offset = _robot_point(robot, xv, point, grasp_offset)
-    X = robot._m.point_position(xv, body, offset)
-    j0, jm = robot._m.point_jacobians(xv, body, offset)
+    X = robot.point_position(xv, (body, offset))
+    j0, jm = robot.point_jacobian(xv, (body, offset))
     tx, tu = target.xu(s)
     t_body, t_offset = target.material_point(s, X)
-    t0, tm = target.body._m.point_jacobians(tx, t_body, t_offset)
+    t0, tm = target.body.point_jacobian(tx, (t_body, t_offset))
     return j0 @ uv[:6] + jm @ uv[6:] - (t0 @ tu[:6] + tm @ tu[6:])
 
 
@@ -162,13 +162,13 @@ def soft_capture(robot, x, u, target, target_state, duration: float, *, frequenc
     tb = target.body
 
     def wrench(xr, ur, xt, ut):
-        X = robot._m.point_position(xr, body, offset)
-        j0, jm = robot._m.point_jacobians(xr, body, offset)
+        X = robot.point_position(xr, (body, offset))
+        j0, jm = robot.point_jacobian(xr, (body, offset))
         tw_r = j0 @ ur[:6] + jm @ ur[6:]
-        p = tb._m.point_position(xt, tbody, tpoint)
+        p = tb.point_position(xt, (tbody, tpoint))
         kin_t = tb.forward_kinematics(xt)
         Rt, ct = kin_t.body_to_world[tbody], kin_t.com_in_world[tbody]
-        tp, tm = tb._m.point_jacobians(xt, tbody, tpoint)
+        tp, tm = tb.point_jacobian(xt, (tbody, tpoint))
         tw_p = tp @ ut[:6] + tm @ ut[6:]
         Rg = robot.forward_kinematics(xr).body_to_world[body]
         theta = _rotation_vector(Rt @ (Rg @ rel0).T)

@@ -57,16 +57,15 @@ def simulate_closed_chain(robot, x0, u0, duration: float, point_a, point_b, *, d
     duration, dt, alpha = number(duration, "duration"), number(dt, "dt"), number(stabilization, "stabilization")
     if not (duration > 0 and dt > 0 and alpha >= 0):
         raise ArgumentError(f"duration and dt must be > 0 and stabilization >= 0, got {duration}, {dt}, {alpha}")
-    ba, oa = robot._point(point_a)
-    bb, ob = robot._point(point_b)
+    ba, oa = robot.resolve_point(point_a)
+    bb, ob = robot.resolve_point(point_b)
     if ba == bb:
         raise ArgumentError("the two grasp frames are on the same body: no loop to close")
-    m = robot._m
     n = robot.n_dof
 
     def frames(x):
         kin = robot.forward_kinematics(x)
-        return (m.point_position(x, ba, oa), kin.body_to_world[ba], m.point_position(x, bb, ob), kin.body_to_world[bb])
+        return (robot.point_position(x, (ba, oa)), kin.body_to_world[ba], robot.point_position(x, (bb, ob)), kin.body_to_world[bb])
 
     pa, Ra, pb, Rb = frames(x0)
     d0 = Ra.T @ (pb - pa)  # b's origin in a's frame, and b's attitude relative to a, at the grasp
@@ -80,10 +79,10 @@ def simulate_closed_chain(robot, x0, u0, duration: float, point_a, point_b, *, d
     # i.e. a's point Jacobian is taken at the material point of body a that coincides with b.
     def jc_at_b(x):
         kin = robot.forward_kinematics(x)
-        pb = m.point_position(x, bb, ob)
+        pb = robot.point_position(x, (bb, ob))
         oa_b = kin.body_to_world[ba].T @ (pb - kin.com_in_world[ba])
-        ja0, jam = m.point_jacobians(x, ba, oa_b)
-        jb0, jbm = m.point_jacobians(x, bb, ob)
+        ja0, jam = robot.point_jacobian(x, (ba, oa_b))
+        jb0, jbm = robot.point_jacobian(x, (bb, ob))
         return np.hstack([jb0 - ja0, jbm - jam])
 
     if np.linalg.norm(jc_at_b(x0) @ u0) > 1e-9 * max(np.linalg.norm(u0), 1e-300):

@@ -80,12 +80,12 @@ class MomentumSplit(NamedTuple):
 def _robot_point(robot, x, point, grasp_offset):
     """``(body, offset)`` of the robot's grasp point: ``point`` moved by ``grasp_offset`` (in the
     gripper body's frame)."""
-    body, offset = robot._point(point)
+    body, offset = robot.resolve_point(point)
     return body, np.asarray(offset, dtype=float) + vector3(grasp_offset, "grasp_offset")
 
 
 def _jacobian(robot, x, body, offset) -> np.ndarray:
-    j0, jm = robot._m.point_jacobians(x, body, offset)
+    j0, jm = robot.point_jacobian(x, (body, offset))
     return np.hstack([j0, jm])
 
 
@@ -116,7 +116,7 @@ def inverse_inertia(robot, x, point=None, *, form: str = "mass_matrix", arm: str
     body, ``(body, offset)``; default the end effector).
     """
     xv = vector(x, "x")
-    body, offset = robot._point(point)
+    body, offset = robot.resolve_point(point)
     if arm not in ARMS:
         raise ArgumentError(f"arm must be one of {list(ARMS)}, got {arm!r}")
     if form == "mass_matrix":
@@ -124,10 +124,10 @@ def inverse_inertia(robot, x, point=None, *, form: str = "mass_matrix", arm: str
         return j @ _solve(m, j.T, "the mass matrix")
     if form != "generalized":
         raise ArgumentError(f"form must be 'mass_matrix' or 'generalized', got {form!r}")
-    j0, _ = robot._m.point_jacobians(xv, body, offset)
+    j0, _ = robot.point_jacobian(xv, (body, offset))
     g = j0 @ robot.base_inertia_inverse(xv) @ j0.T
     if arm == "free" and robot.n_dof:
-        js = robot._m.generalized_jacobian(xv, body, offset)
+        js = robot.generalized_jacobian(xv, (body, offset))
         g = g + js @ _solve(robot.generalized_inertia(xv), js.T, "the generalized inertia H*")
     return g
 
@@ -149,7 +149,7 @@ def impulse_momentum_split(robot, x, impulse, point=None) -> MomentumSplit:
     (Nenchev & Yoshida 1999)."""
     xv = vector(x, "x")
     lam = vector(impulse, "impulse", 6)
-    body, offset = robot._point(point)
+    body, offset = robot.resolve_point(point)
     j = _jacobian(robot, xv, body, offset)
     h = robot.mass_matrix(xv)
     response = _solve(h, j.T, "the mass matrix")  # H⁻¹ Jᵀ
@@ -228,7 +228,7 @@ def grasp_impulse(
     uv = vector(u, "u", robot.nu)
     s = target.check_state(target_state)
     body, offset = _robot_point(robot, xv, point, grasp_offset)
-    X = robot._m.point_position(xv, body, offset)
+    X = robot.point_position(xv, (body, offset))
     grasp_world = target.grasp_position(s, grasp)
 
     # The target's material point at X, as a point of its own model (jointless for a rigid target).

@@ -103,7 +103,7 @@ def reaction_wheel_dofs(robot) -> List[int]:
     """Degrees of freedom of the reaction wheels, by the simulator's own rule (read from the
     core, ``default_wheel_dofs``): a revolute joint on the base whose link has no children, its
     CM on the axis and an inertia symmetric about it (docs/simulation-core.md)."""
-    return sorted(int(d) for d in _core.default_wheel_dofs(robot._m))
+    return sorted(int(d) for d in _core.default_wheel_dofs(robot.core_model))
 
 
 def _mean_base_inertia(robot) -> float:

@@ -152,6 +152,21 @@ class Robot:
 
     # ---- description --------------------------------------------------------------------
     @property
+    def core_model(self) -> "_core.Model":
+        """The extension's model (``spacearm._core.Model``) this Robot wraps: the one accessor
+        for the package's modules that hand the model to a core function or spec
+        (``_core.simulate``, ``_core.Simulator``, the analyses, ``_core.model_to_toml``);
+        ``Robot(robot.core_model)`` is an equal Robot. Everything else goes through the Robot's
+        own methods.
+
+        A read-only property rather than a function in ``model/``: the handle is what a Robot
+        is made of (the constructor's one argument, what a pickle carries), the core's Model is
+        immutable (no method changes it), so handing it out cannot change the Robot, and one
+        named property is easy to find and to grep for (``tests/test_import_graph.py`` refuses
+        ``._m`` outside ``model/``)."""
+        return self._m
+
+    @property
     def name(self) -> str:
         return self._m.name
 
@@ -263,6 +278,13 @@ class Robot:
                 raise NotFoundError(f"body index {body} does not exist (the model has bodies 0..{self.n_bodies - 1})")
             return int(body)
         return self._m.body_index(str(body))
+
+    def resolve_point(self, point: PointLike = None) -> tuple:
+        """``(body index, offset)`` of a point, the form every point-taking core call uses:
+        ``None`` (the end effector), a point name, a body name (its CM: zero offset), or
+        ``(body, offset)`` with ``offset`` in the body's frame from its CM (m). A named point's
+        offset is resolved once and returned read-only. Unknown names raise :class:`~spacearm.errors.NotFoundError`."""
+        return self._point(point)
 
     def _point(self, point: PointLike):
         """Resolve a point: ``None`` (end effector), a point name, or ``(body, offset)``."""
