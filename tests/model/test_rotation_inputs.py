@@ -68,8 +68,8 @@ def test_dh_joint1_rotation():
     links = [dict(d=0.1, theta=0.0, a=0.5, alpha=0.3, com=(-0.25, 0, 0), mass=4.0, inertia=[0.01, 0.1, 0.1]),
              dict(d=0.0, theta=0.2, a=0.4, alpha=0.0, com=(-0.2, 0, 0), mass=3.0, inertia=[0.01, 0.05, 0.05])]
     args = dict(base_mass=100.0, base_inertia=[10.0, 12.0, 14.0])
-    with_rotation = spacearm.Robot.from_dh("r", links, joint1_rotation=rot, **args)
-    with_quat = spacearm.Robot.from_dh("r", links, joint1_rotation=list(rot.as_quat()), **args)
+    with_rotation = spacearm.io.robot_from_dh("r", links, joint1_rotation=rot, **args)
+    with_quat = spacearm.io.robot_from_dh("r", links, joint1_rotation=list(rot.as_quat()), **args)
     x = with_rotation.neutral_configuration(q=[0.4, -0.7])
     assert np.array_equal(with_rotation.mass_matrix(x), with_quat.mass_matrix(x))
     # Joint 1's axis is the z axis of its frame, rotated by R from the base frame.

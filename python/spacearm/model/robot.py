@@ -89,14 +89,16 @@ def _frozen(a: np.ndarray) -> np.ndarray:
 class Robot:
     """A spacecraft base carrying a tree of links (one or more arms).
 
-    Build one with :meth:`Robot.builder`, :meth:`Robot.from_toml`, :meth:`Robot.from_dh` or a
-    preset from :mod:`spacearm.presets`. A ``Robot`` is immutable; its methods are functions of
-    the state passed in.
+    Build one with :meth:`Robot.builder`, a preset from :mod:`spacearm.presets`, or a loader of
+    :mod:`spacearm.io` (``load_toml``, ``loads_toml``, ``load_urdf``, ``robot_from_dh``: they
+    live in ``io/``, a layer above this one, which imports nothing from above). A ``Robot`` is
+    immutable; its methods are functions of the state passed in.
     """
 
     def __init__(self, core_model: "_core.Model"):
         if not isinstance(core_model, _core.Model):
-            raise SpacearmTypeError("Robot is built with Robot.builder(), Robot.from_toml(), Robot.from_dh() or spacearm.presets")
+            raise SpacearmTypeError("Robot is built with Robot.builder(), spacearm.presets, or spacearm.io "
+                                    "(load_toml, loads_toml, load_urdf, robot_from_dh)")
         self._m = core_model
         # Named points resolved once (the model is immutable): name or None -> (body, offset).
         self._points = {}
@@ -119,36 +121,6 @@ class Robot:
         from .builder import RobotBuilder
 
         return RobotBuilder.from_robot(self, name=name)
-
-    @classmethod
-    def from_toml(cls, path, *, allow_nonphysical_inertia: bool = False) -> "Robot":
-        """Load a model file (schema: ``docs/model-format.md``; ``allow_nonphysical_inertia``:
-        see :func:`spacearm.io.model_file.loads_toml`)."""
-        from ..io.model_file import load_toml
-
-        return load_toml(path, allow_nonphysical_inertia=allow_nonphysical_inertia)
-
-    @classmethod
-    def from_toml_string(cls, text: str, source: str = "<string>", *, allow_nonphysical_inertia: bool = False) -> "Robot":
-        """Parse a model from TOML text (schema: ``docs/model-format.md``)."""
-        from ..io.model_file import loads_toml
-
-        return loads_toml(text, source=source, allow_nonphysical_inertia=allow_nonphysical_inertia)
-
-    @classmethod
-    def from_dh(cls, *args, **kwargs) -> "Robot":
-        """Build a model from a Denavit–Hartenberg table: see :func:`spacearm.io.dh.robot_from_dh`."""
-        from ..io.dh import robot_from_dh
-
-        return robot_from_dh(*args, **kwargs)
-
-    @classmethod
-    def from_urdf(cls, path, **kwargs) -> "Robot":
-        """Load a URDF file (root link = free-flying base, or mounted on a spacecraft): see
-        :func:`spacearm.io.urdf.load_urdf` for the options and ``docs/urdf.md`` for the frames."""
-        from ..io.urdf import load_urdf
-
-        return load_urdf(path, **kwargs)
 
     # ---- description --------------------------------------------------------------------
     @property
@@ -448,20 +420,6 @@ class Robot:
         """Base velocity ``[v0; w0] = H0⁻¹ (M0 - H0m qd)`` (eqs. 43, 109) that gives the system
         linear momentum ``P`` and angular momentum ``L`` about the origin of 𝒥."""
         return self._m.base_velocity_from_momentum(x, qd, P, L)
-
-    # ---- capture (docs/capture.md) ---------------------------------------------------------
-    def grasp_impulse(self, x, u, target, target_state, *, point: PointLike = None, grasp=None,
-                      grasp_offset=(0.0, 0.0, 0.0), restitution: float = 0.0, kind: str = "rigid",
-                      normal=None, arm: str = "free"):
-        """The impact of this robot's grasp point with a :class:`spacearm.Target`: a
-        :class:`~spacearm.capture.GraspImpulse` (``du``, ``target_dtwist``, ``impulse``, ...).
-        ``kind="rigid"`` locks the two grasp frames (6-D, plastic); ``kind="point"`` is a
-        frictionless contact along ``normal`` with restitution ``e``. The equations, from the
-        inverse inertia ``G = J H⁻¹ Jᵀ`` of each side, are in :mod:`spacearm.capture.impact`."""
-        from ..capture.impact import grasp_impulse
-
-        return grasp_impulse(self, x, u, target, target_state, point=point, grasp=grasp, grasp_offset=grasp_offset,
-                             restitution=restitution, kind=kind, normal=normal, arm=arm)
 
     # ---- momentum, energy, CM ------------------------------------------------------------
     def momentum(self, x, u) -> Momentum:
