@@ -318,3 +318,83 @@ def test_analysis_quantities_bad_input_and_grasp_point_forms():
         spacearm.Target(1.0, [1, 1, 1], grasp_points={})
     with pytest.raises(spacearm.ArgumentError, match="jointed model"):
         spacearm.Target.from_robot(robot).state()
+
+
+def _rigid_target_energy(target, state):
+    """½ m |v|² + ½ ωᵀ (R I Rᵀ) ω of a rigid target, from its split state alone."""
+    st = target.split(state)
+    R = quat_to_matrix(st.quaternion)
+    w = st.angular_velocity
+    return 0.5 * target.mass * st.velocity @ st.velocity + 0.5 * w @ (R @ target.inertia @ R.T) @ w
+
+
+def _energy_ledger(robot, x, u, target, s, res):
+    """``(T_before, T_after, locking_work)``: the kinetic energies from the paper-form mass matrix
+    (½ uᵀ H u) and the target's own mass properties, and the locking impulses' work from the
+    joint rows of H Δu = Jᵀ Λ + [0; τ̂] with the paper's inertia blocks (τ̂ = H0mᵀ Δẋ0 − J_mᵀ Λ)."""
+    h = robot.mass_matrix(x, method="paper")
+    blocks = robot.inertia_blocks(x)
+    _, jm = robot.point_jacobian(x)
+    tau_lock = blocks.H0m.T @ res.du[:6] + blocks.Hm @ res.du[6:] - jm.T @ res.impulse
+    before = 0.5 * u @ h @ u + _rigid_target_energy(target, s)
+    after = 0.5 * res.u_after @ h @ res.u_after + _rigid_target_energy(target, res.target_state_after)
+    return before, after, float(tau_lock @ u[6:]), tau_lock
+
+
+@pytest.mark.parametrize("index", range(4))
+@pytest.mark.parametrize("kind", ["rigid", "point"])
+def test_locked_arm_with_moving_joints_energy_ledger(index, kind):
+    """arm="locked" holds the joint rates (Δq̇ = 0) by locking impulses τ̂ that work on the moving
+    joints: energy_lost is the grasp's own dissipation (>= 0), locking_work that work, and the
+    kinetic energy changes by locking_work − energy_lost (ledger from the mass matrix)."""
+    robot = _robots()[index]
+    rng = np.random.default_rng([21, index])
+    x, u, target, s = _scene(robot, rng)
+    u[6:] = rng.normal(scale=0.5, size=robot.n_dof)  # the joints move
+    n = None
+    if kind == "point":
+        j0, jm = robot.point_jacobian(x)
+        st = target.split(s)
+        v_rel = (j0 @ u[:6] + jm @ u[6:])[:3] - (st.velocity + np.cross(st.angular_velocity, robot.point_position(x) - st.position))
+        n = -v_rel / np.linalg.norm(v_rel)  # approaching along n
+    kw = {} if kind == "rigid" else {"kind": "point", "normal": n, "restitution": 0.3}
+    res = grasp_impulse(robot, x, u, target, s, grasp="handle", arm="locked", **kw)
+    free = grasp_impulse(robot, x, u, target, s, grasp="handle", arm="free", **kw)
+    before, after, locking, tau_lock = _energy_ledger(robot, x, u, target, s, res)
+    scale = before + abs(locking)
+    assert np.all(res.du[6:] == 0.0)
+    assert np.linalg.norm(tau_lock) > 1e-3 * np.linalg.norm(res.impulse)  # the lock does act
+    assert res.locking_work == pytest.approx(locking, rel=1e-9, abs=1e-12 * scale)
+    assert res.energy_lost >= 0.0
+    assert before - after == pytest.approx(res.energy_lost - res.locking_work, rel=1e-9, abs=1e-11 * scale)
+    # The grasp's dissipation in closed form, from G = J_0 H0⁻¹ J_0ᵀ (arm locked) + the target's.
+    h0 = robot.inertia_blocks(x).H0
+    j0, _ = robot.point_jacobian(x)
+    g = j0 @ np.linalg.solve(h0, j0.T) + res.G_target
+    if kind == "rigid":
+        expected = 0.5 * res.relative_twist_before @ np.linalg.solve(g, res.relative_twist_before)
+    else:
+        vn = n @ res.relative_twist_before[:3]
+        expected = 0.5 * (1 - 0.3**2) * vn * vn / (n @ g[:3, :3] @ n)
+    assert res.energy_lost == pytest.approx(expected, rel=1e-9)
+    # arm="free": no locking impulse, the whole change is the grasp's.
+    fb, fa, f_locking, f_tau = _energy_ledger(robot, x, u, target, s, free)
+    assert free.locking_work == 0.0
+    _, jm = robot.point_jacobian(x)
+    assert np.abs(f_tau).max() < 1e-10 * np.abs(jm.T @ free.impulse).max()  # the joint rows balance
+    assert fb - fa == pytest.approx(free.energy_lost, rel=1e-9, abs=1e-11 * fb)
+
+
+def test_locked_arm_spatial6_target_at_rest():
+    """The reported case: spatial6 with its joints at 0.3 rad/s grasping a 50 kg target at rest.
+    The kinetic energy rises (the locking impulses put energy in), yet the grasp dissipates."""
+    robot = spacearm.presets.spatial6()
+    x, u = robot.neutral_configuration(), robot.zero_velocity()
+    u[6:] = 0.3
+    target = spacearm.Target(50.0, [4.0, 5.0, 6.0], grasp_points={"handle": (-0.5, 0.0, 0.0)})
+    s = target.state(position=robot.point_position(x) + np.array([0.5, 0.0, 0.0]))
+    res = grasp_impulse(robot, x, u, target, s, grasp="handle", arm="locked")
+    before, after, locking, _ = _energy_ledger(robot, x, u, target, s, res)
+    assert after > before  # what the old energy_lost (before − after) reported as a negative loss
+    assert res.locking_work == pytest.approx(locking, rel=1e-9) and locking > after - before
+    assert res.energy_lost == pytest.approx(locking - (after - before), rel=1e-9) and res.energy_lost > 0
