@@ -27,7 +27,7 @@ import numpy as np
 from .._util.arrays import number, vector
 from ..errors import ArgumentError, SimulationError
 from ..model.robot import ExternalWrench
-from ..rotations import quat_from_matrix
+from ..rotations import quat_from_matrix, rotation_vector
 from ._rk4 import rk4_step
 from .impact import _check_target, _robot_point, inverse_inertia
 
@@ -109,16 +109,6 @@ class SoftCaptureRun(NamedTuple):
     gains: dict  #: the impedance used (stiffness, damping, rotational_stiffness, rotational_damping)
 
 
-def _rotation_vector(R: np.ndarray) -> np.ndarray:
-    """``θ`` with ``exp(θ^) = R`` (|θ| < π)."""
-    c = np.clip((np.trace(R) - 1.0) / 2.0, -1.0, 1.0)
-    angle = np.arccos(c)
-    w = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
-    if angle < 1e-8:
-        return 0.5 * w
-    return angle / (2.0 * np.sin(angle)) * w
-
-
 def soft_capture(robot, x, u, target, target_state, duration: float, *, frequency: float = 3.0, damping_ratio: float = 0.7,
                  stiffness: Optional[float] = None, damping: Optional[float] = None,
                  rotational_stiffness: Optional[float] = None, rotational_damping: Optional[float] = None, point=None,
@@ -171,7 +161,7 @@ def soft_capture(robot, x, u, target, target_state, duration: float, *, frequenc
         tp, tm = tb.point_jacobian(xt, (tbody, tpoint))
         tw_p = tp @ ut[:6] + tm @ ut[6:]
         Rg = robot.forward_kinematics(xr).body_to_world[body]
-        theta = _rotation_vector(Rt @ (Rg @ rel0).T)
+        theta = rotation_vector(Rt @ (Rg @ rel0).T)
         f = k * (p - X) + d * (tw_p[:3] - tw_r[:3])
         c = kr * theta + dr * (tw_p[3:] - tw_r[3:])
         return X, f, c, Rt, ct

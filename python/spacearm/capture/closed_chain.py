@@ -24,6 +24,7 @@ import numpy as np
 
 from .._util.arrays import number, vector
 from ..errors import ArgumentError, SimulationError, SingularError
+from ..rotations import rotation_vector
 from ._rk4 import rk4_step
 
 __all__ = ["ClosedChainRun", "simulate_closed_chain"]
@@ -35,13 +36,6 @@ class ClosedChainRun(NamedTuple):
     u: np.ndarray  #: (T, 6+N)
     constraint_wrench: np.ndarray  #: (T, 6) λ: the wrench on frame b at its origin, [force; torque] in 𝒥 (body a gets −λ there)
     pose_error: np.ndarray  #: (T, 6) e = [position error (m); rotation error (rad)]
-
-
-def _rotation_vector(R: np.ndarray) -> np.ndarray:
-    c = np.clip((np.trace(R) - 1.0) / 2.0, -1.0, 1.0)
-    angle = np.arccos(c)
-    w = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
-    return 0.5 * w if angle < 1e-8 else angle / (2.0 * np.sin(angle)) * w
 
 
 def simulate_closed_chain(robot, x0, u0, duration: float, point_a, point_b, *, dt: float = 1e-3, stabilization: float = 20.0,
@@ -73,7 +67,7 @@ def simulate_closed_chain(robot, x0, u0, duration: float, point_a, point_b, *, d
 
     def error(x):
         pa, Ra, pb, Rb = frames(x)
-        return np.r_[pb - pa - Ra @ d0, _rotation_vector(Rb @ (Ra @ rel0).T)]
+        return np.r_[pb - pa - Ra @ d0, rotation_vector(Rb @ (Ra @ rel0).T)]
 
     # Frame b moves with a: its velocity constraint is written at b's origin for both frames,
     # i.e. a's point Jacobian is taken at the material point of body a that coincides with b.
