@@ -182,7 +182,7 @@ KINDS = {
     "NotUnitQuaternion": (lambda: presets.planar4().mass_matrix(np.r_[0, 0, 0, 0, 0, 0, 2.0, np.zeros(4)]),
                           errors.QuaternionError),
     "NotFound": (lambda: presets.planar4().body_index("nope"), errors.NotFoundError),
-    "Parse": (lambda: spacearm.Robot.from_toml_string("[model\nname = 1"), errors.ModelFileError),
+    "Parse": (lambda: spacearm.io.loads_toml("[model\nname = 1"), errors.ModelFileError),
     "InvalidArgument": (lambda: spacearm.analysis.reaction_null_space(presets.planar4(), base_motion="twist"),
                         errors.ArgumentError),
     "Simulation": (_diverging_simulation, errors.SimulationError),
@@ -251,13 +251,13 @@ def test_scalar_options_of_the_wrong_kind_are_spacearm_errors():
     with pytest.raises(errors.ArgumentError, match="t_end"):
         spacearm.analysis.free_floating.integrate_prescribed(robot, np.zeros, np.zeros, "x", 0.1)
     with pytest.raises(errors.ArgumentError, match="base_mass"):
-        spacearm.Robot.from_dh("d", [dict(d=0, theta=0, a=1, alpha=0, com=(0, 0, 0), mass=1.0, inertia=[1, 1, 1])],
+        spacearm.io.robot_from_dh("d", [dict(d=0, theta=0, a=1, alpha=0, com=(0, 0, 0), mass=1.0, inertia=[1, 1, 1])],
                                base_mass="x", base_inertia=[1, 1, 1])
     with pytest.raises(errors.ModelError, match="limits"):
-        spacearm.Robot.from_dh("d", [dict(d=0, theta=0, a=1, alpha=0, com=(0, 0, 0), mass=1.0, inertia=[1, 1, 1],
+        spacearm.io.robot_from_dh("d", [dict(d=0, theta=0, a=1, alpha=0, com=(0, 0, 0), mass=1.0, inertia=[1, 1, 1],
                                           limits={"effort": "x"})], base_mass=1.0, base_inertia=[1, 1, 1])
     with pytest.raises(errors.SpacearmTypeError, match="path"):
-        spacearm.Robot.from_toml(None)
+        spacearm.io.load_toml(None)
 
 
 def test_the_extension_imports_no_module_of_the_package():

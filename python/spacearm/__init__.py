@@ -6,10 +6,7 @@ checked against Pinocchio and MuJoCo. Start with :class:`Robot` and :mod:`spacea
 conventions are in ``docs/conventions.md``.
 """
 
-import sys as _sys
-
-from . import capture, control, presets
-from .io import dh, model_file, urdf, urdf_export
+from . import capture, control, io, presets
 from ._core import __version__
 from .model.batch import batch_threads, set_batch_threads
 from .model.builder import RobotBuilder
@@ -46,12 +43,6 @@ from .sim.simulation import simulate
 from .sim.simulator import Simulator
 from .sim.trajectory import Trajectory
 
-# The model-file modules moved into spacearm.io (docs/architecture.md); their old public paths
-# (``import spacearm.dh``, ``from spacearm.urdf import load_urdf``) keep working.
-for _name, _module in (("dh", dh), ("model_file", model_file), ("urdf", urdf), ("urdf_export", urdf_export)):
-    _sys.modules[f"{__name__}.{_name}"] = _module
-del _name, _module
-
 __all__ = [
     "Robot",
     "RobotBuilder",
@@ -78,8 +69,7 @@ __all__ = [
     "set_batch_threads",
     "batch_threads",
     "control",
-    "dh",
-    "model_file",
+    "io",
     "SpacearmError",
     "ModelError",
     "ModelFileError",

@@ -340,7 +340,7 @@ class ResolvedMotionRate(_Controller):
             raise ArgumentError("ResolvedMotionRate needs a CartesianLine, a FreeBodyPoint or a SampledJoint path of 3 coordinates, "
                                 f"got {type(self.reference_cartesian).__name__}")
         point = self.point if self.point is not None else getattr(self.reference_cartesian, "point", None)
-        body, offset = robot._point(point)
+        body, offset = robot.resolve_point(point)
         return _core.RmrcSpec(
             reference=self.reference_cartesian._spec(),
             gain=_finite_float(self.gain, "ResolvedMotionRate gain"),
@@ -466,7 +466,7 @@ class CoordinatedFlying(_Controller):
         if not isinstance(self.ee_reference, CartesianLine):
             raise ArgumentError(f"CoordinatedFlying needs a CartesianLine ee_reference, got {type(self.ee_reference).__name__}")
         point = self.point if self.point is not None else self.ee_reference.point
-        body, offset = robot._point(point)
+        body, offset = robot.resolve_point(point)
         reference = self.ee_reference._spec()
         max_damping = _finite_float(self.max_damping, "CoordinatedFlying max_damping")
         threshold = _finite_float(self.threshold, "CoordinatedFlying threshold")
@@ -493,7 +493,7 @@ def _own_model(model, name: str):
 
     if not isinstance(model, Robot):
         raise ArgumentError(f"{name} model must be a spacearm.Robot, got {type(model).__name__}")
-    return model._m
+    return model.core_model
 
 
 @dataclass(frozen=True)
@@ -573,7 +573,7 @@ def perturbed_model(
     if not isinstance(robot, Robot):
         raise ArgumentError(f"perturbed_model needs a spacearm.Robot, got {type(robot).__name__}")
     m = _core.perturbed(
-        robot._m,
+        robot.core_model,
         _finite_float(base_mass_scale, "base_mass_scale"),
         _finite_float(base_inertia_scale, "base_inertia_scale"),
         _finite_float(link_mass_scale, "link_mass_scale"),

@@ -1,4 +1,8 @@
-"""Small rotation helpers for model input and convention conversion.
+"""The rotation helpers, once for the package: quaternions (product, exponential and
+logarithm, matrix, roll-pitch-yaw, axis-angle), rotation matrices (quaternion, rotation vector)
+and the cross-product matrix ``skew``. The extension exports no rotation functions (its own
+are inside the Rust core's ``math/``), so these are numpy; other modules import them from here
+(``casadi/_spatial.py`` and ``symbolic/`` have their own on CasADi and SymPy symbols).
 
 Quaternions are unit, Hamilton, scalar LAST ``[x, y, z, w]`` (``docs/conventions.md``; the same
 as ``scipy.spatial.transform.Rotation.as_quat()`` and Pinocchio). Every quaternion argument of
@@ -16,10 +20,22 @@ from __future__ import annotations
 import numpy as np
 
 from . import _core
-from ._util.arrays import number, quaternion, vector
+from ._util.arrays import _is_scipy_rotation, number, quaternion, real_array, rows, vector
 from .errors import ArgumentError, NonFiniteError, QuaternionError, ShapeError, SpacearmTypeError
 
-__all__ = ["quat_from_rpy", "quat_from_axis_angle", "quat_to_matrix", "quat_from_matrix", "IDENTITY_QUAT", "MATRIX_TOLERANCE"]
+__all__ = [
+    "quat_from_rpy",
+    "quat_from_axis_angle",
+    "quat_multiply",
+    "quat_exp",
+    "quat_log",
+    "quat_to_matrix",
+    "quat_from_matrix",
+    "rotation_vector",
+    "skew",
+    "IDENTITY_QUAT",
+    "MATRIX_TOLERANCE",
+]
 
 #: The identity rotation ``[0, 0, 0, 1]``.
 IDENTITY_QUAT = np.array([0.0, 0.0, 0.0, 1.0])
@@ -43,16 +59,6 @@ def _angle(value, name: str) -> float:
     return angle
 
 
-def _unit_quaternion(value, name: str) -> np.ndarray:
-    """A finite quaternion of unit norm within the core's tolerance, normalized exactly."""
-    q = _finite(quaternion(value, name), name)
-    norm = float(np.linalg.norm(q))
-    if abs(norm - 1.0) > _core.QUATERNION_TOLERANCE:
-        raise QuaternionError(
-            f"{name} must be a unit quaternion [x, y, z, w] (|q| = 1 within {_core.QUATERNION_TOLERANCE:g}), got norm {norm}")
-    return q / norm
-
-
 def quat_from_axis_angle(axis, angle: float) -> np.ndarray:
     """Quaternion ``[x, y, z, w]`` of a rotation by ``angle`` (rad) about ``axis`` (any non-zero
     3-vector; it is normalized)."""
@@ -67,15 +73,65 @@ def quat_from_axis_angle(axis, angle: float) -> np.ndarray:
     return np.array([axis[0] * s, axis[1] * s, axis[2] * s, np.cos(angle / 2.0)])
 
 
-def _mul(a, b):
-    ax, ay, az, aw = a
-    bx, by, bz, bw = b
-    return np.array([
+def _quaternions(value, name: str) -> np.ndarray:
+    """One quaternion (4,) (or a scipy ``Rotation``) or a batch of them (K, 4), finite."""
+    q = quaternion(value, name) if _is_scipy_rotation(value) else rows(value, name, 4)
+    return _finite(q, name)
+
+
+def quat_multiply(a, b) -> np.ndarray:
+    """Hamilton product ``a ⊗ b`` of quaternions ``[x, y, z, w]``: for unit ones the rotation
+    ``R(a) R(b)``. Either may be one quaternion (or a scipy ``Rotation``) or ``(K, 4)`` rows, the
+    product row by row (one quaternion is used for every row). No unit norm is required (the
+    configuration rate ``½ [ω; 0] ⊗ q`` is a product too)."""
+    ax, ay, az, aw = np.moveaxis(_quaternions(a, "a"), -1, 0)
+    bx, by, bz, bw = np.moveaxis(_quaternions(b, "b"), -1, 0)
+    return np.stack([
         aw * bx + ax * bw + ay * bz - az * by,
         aw * by - ax * bz + ay * bw + az * bx,
         aw * bz + ax * by - ay * bx + az * bw,
         aw * bw - ax * bx - ay * by - az * bz,
-    ])
+    ], axis=-1)
+
+
+
+
+def quat_exp(theta) -> np.ndarray:
+    """Unit quaternion ``[x, y, z, w]`` of the rotation vector ``theta`` (rotation by
+    ``|theta|`` about ``theta / |theta|``); exact near zero."""
+    theta = _finite(vector(theta, "theta", 3), "theta")
+    angle = float(np.linalg.norm(theta))
+    half = 0.5 * angle
+    # sin(half)/angle, with its Taylor series near zero.
+    k = np.sin(half) / angle if angle > 1e-8 else 0.5 - angle * angle / 48.0
+    return np.array([theta[0] * k, theta[1] * k, theta[2] * k, np.cos(half)])
+
+
+def quat_log(q) -> np.ndarray:
+    """Rotation vector (length ≤ π) of a quaternion ``[x, y, z, w]`` (or scipy ``Rotation``),
+    normalized first."""
+    q = _finite(quaternion(q, "q"), "q")
+    q = q / np.linalg.norm(q)
+    if q[3] < 0:
+        q = -q
+    v = q[:3]
+    s = float(np.linalg.norm(v))
+    angle = 2.0 * np.arctan2(s, q[3])
+    k = angle / s if s > 1e-12 else 2.0 / q[3]
+    return v * k
+
+
+def skew(v) -> np.ndarray:
+    """The cross-product matrix ``[v]×`` (``[v]× w = v × w``) of a 3-vector, or of each row of
+    ``(..., 3)`` (shape ``(..., 3, 3)``)."""
+    v = _finite(real_array(v, "v"), "v")
+    if v.ndim == 0 or v.shape[-1] != 3:
+        raise ShapeError(f"v must be a 3-vector or an array of shape (..., 3), got shape {v.shape}")
+    out = np.zeros(v.shape[:-1] + (3, 3))
+    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
+    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
+    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
+    return out
 
 
 def quat_from_rpy(roll: float, pitch: float, yaw: float) -> np.ndarray:
@@ -84,23 +140,34 @@ def quat_from_rpy(roll: float, pitch: float, yaw: float) -> np.ndarray:
     qx = quat_from_axis_angle([1, 0, 0], roll)
     qy = quat_from_axis_angle([0, 1, 0], pitch)
     qz = quat_from_axis_angle([0, 0, 1], yaw)
-    return _mul(qz, _mul(qy, qx))
+    return quat_multiply(qz, quat_multiply(qy, qx))
 
 
 def quat_to_matrix(q) -> np.ndarray:
-    """Rotation matrix of a unit quaternion ``[x, y, z, w]`` (or a scipy ``Rotation``)."""
-    x, y, z, w = _unit_quaternion(q, "quaternion")
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ])
+    """Rotation matrix of a unit quaternion ``[x, y, z, w]`` (or a scipy ``Rotation``), or the
+    matrices ``(K, 3, 3)`` of ``(K, 4)`` rows; each of unit norm within the core's tolerance."""
+    q = _quaternions(q, "quaternion")
+    norm = np.linalg.norm(q, axis=-1, keepdims=True)
+    worst = float(np.max(np.abs(norm - 1.0))) if q.size else 0.0
+    if worst > _core.QUATERNION_TOLERANCE:
+        raise QuaternionError(f"quaternion must be a unit quaternion [x, y, z, w] (|q| = 1 within "
+                              f"{_core.QUATERNION_TOLERANCE:g}), got norm {float(norm.ravel()[np.argmax(np.abs(norm - 1.0))])}")
+    x, y, z, w = np.moveaxis(q / norm, -1, 0)
+    r = np.empty(q.shape[:-1] + (3, 3))
+    r[..., 0, 0] = 1 - 2 * (y * y + z * z)
+    r[..., 0, 1] = 2 * (x * y - z * w)
+    r[..., 0, 2] = 2 * (x * z + y * w)
+    r[..., 1, 0] = 2 * (x * y + z * w)
+    r[..., 1, 1] = 1 - 2 * (x * x + z * z)
+    r[..., 1, 2] = 2 * (y * z - x * w)
+    r[..., 2, 0] = 2 * (x * z - y * w)
+    r[..., 2, 1] = 2 * (y * z + x * w)
+    r[..., 2, 2] = 1 - 2 * (x * x + y * y)
+    return r
 
 
-def quat_from_matrix(r) -> np.ndarray:
-    """Unit quaternion ``[x, y, z, w]`` (with ``w >= 0``) of a rotation matrix (Shepperd's
-    method, stable for every rotation). ``r`` must be a proper rotation matrix within
-    :data:`MATRIX_TOLERANCE`."""
+def _rotation_matrix(r) -> np.ndarray:
+    """``r`` as a 3×3 float64 proper rotation matrix within :data:`MATRIX_TOLERANCE`."""
     try:
         r = np.asarray(r)
     except (TypeError, ValueError) as exc:  # ragged nested lists
@@ -117,6 +184,24 @@ def quat_from_matrix(r) -> np.ndarray:
     if not (off <= MATRIX_TOLERANCE and abs(det - 1.0) <= MATRIX_TOLERANCE):
         raise ArgumentError(f"r must be a rotation matrix (R^T R = I and det R = +1 within {MATRIX_TOLERANCE:g}), "
                             f"got |R^T R - I| = {off:.3g}, det R = {det:.6g}")
+    return r
+
+
+def rotation_vector(r) -> np.ndarray:
+    """The rotation vector ``θ`` (``|θ| ≤ π``) with ``exp([θ]×) = r`` of a rotation matrix
+    (a proper one within :data:`MATRIX_TOLERANCE`): ``log(r)``."""
+    r = _rotation_matrix(r)
+    c = np.clip((np.trace(r) - 1.0) / 2.0, -1.0, 1.0)
+    angle = np.arccos(c)
+    w = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
+    return 0.5 * w if angle < 1e-8 else angle / (2.0 * np.sin(angle)) * w
+
+
+def quat_from_matrix(r) -> np.ndarray:
+    """Unit quaternion ``[x, y, z, w]`` (with ``w >= 0``) of a rotation matrix (Shepperd's
+    method, stable for every rotation). ``r`` must be a proper rotation matrix within
+    :data:`MATRIX_TOLERANCE`."""
+    r = _rotation_matrix(r)
     tr = np.trace(r)
     diag = np.array([r[0, 0], r[1, 1], r[2, 2], tr])
     k = int(np.argmax(diag))

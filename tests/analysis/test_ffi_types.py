@@ -79,7 +79,7 @@ def test_singularity_analysis_matches_pinocchio_svd(name, rows):
     ref = PinRef(robot)
     x = _random_state(robot, np.random.default_rng(5))
     body, off = robot._point(None)
-    a = _core.analysis_singularity(robot._m, x, body, off, rows)
+    a = _core.analysis_singularity(robot.core_model, x, body, off, rows)
     assert isinstance(a, _core.SingularityAnalysis)
     jstar, jm, _ = ref.maps(x)
     _check_measures(a.generalized, jstar[rows])
@@ -99,7 +99,7 @@ def test_detection_matches_svd_and_the_damping_closed_form():
     body, off = robot._point(None)
     s = np.linalg.svd(ref.maps(x)[0][:3], compute_uv=False)
     for eps, lam_max in ((2.0 * s[-1], 0.1), (0.5 * s[-1], 0.1)):
-        d = _core.analysis_detect(robot._m, x, body, off, [0, 1, 2], eps, lam_max)
+        d = _core.analysis_detect(robot.core_model, x, body, off, [0, 1, 2], eps, lam_max)
         assert isinstance(d, _core.Detection)
         assert d.sigma_min == pytest.approx(s[-1], rel=1e-9)
         assert d.condition == pytest.approx(s[0] / s[-1], rel=1e-8)
@@ -116,7 +116,7 @@ def test_scan_result_columns_match_per_sample_references(name, rows):
     ref = PinRef(robot)
     q = np.random.default_rng(7).uniform(-2.5, 2.5, (5, robot.n_dof))
     body, off = robot._point(None)
-    r = _core.analysis_scan(robot._m, q, body, off, rows)
+    r = _core.analysis_scan(robot.core_model, q, body, off, rows)
     assert isinstance(r, _core.ScanResult)
     for col in ("sigma_min_generalized", "sigma_max_generalized", "manipulability_generalized", "det_generalized", "sigma_min_fixed",
                 "manipulability_fixed", "det_fixed"):
@@ -170,7 +170,7 @@ def test_reaction_null_space_matches_pinocchio_base_map(which, rows):
     robot = spacearm.presets.spatial7()
     ref = PinRef(robot)
     x = _random_state(robot, np.random.default_rng(8))
-    r = _core.analysis_reaction_null_space(robot._m, x, which, 1e-9)
+    r = _core.analysis_reaction_null_space(robot.core_model, x, which, 1e-9)
     assert isinstance(r, _core.ReactionNullSpace)
     base = ref.maps(x)[2][rows]
     np.testing.assert_allclose(r.base_motion_map, base, atol=1e-10 * np.abs(base).max())
@@ -192,7 +192,7 @@ def test_rmrc_rates_realise_the_twist_and_match_the_base_map():
     body, off = robot._point(None)
     desired = np.array([0.01, -0.02, 0.015, 0.0, 0.0, 0.0])
     options = _core.RmrcOptions(rows=[0, 1, 2], threshold=1e-6, max_damping=1e-3)
-    r = _core.analysis_rmrc_rates(robot._m, x, body, off, desired, options)
+    r = _core.analysis_rmrc_rates(robot.core_model, x, body, off, desired, options)
     assert isinstance(r, _core.RmrcRates)
     jstar, _, base = ref.maps(x)
     np.testing.assert_allclose(r.qd, np.linalg.pinv(jstar[:3]) @ desired[:3], rtol=1e-8, atol=1e-14)
@@ -210,7 +210,7 @@ def test_rmrc_motion_rows_are_consistent_records():
     target = p0 + np.array([-0.1, 0.05, 0.0])
     dt = 0.02
     options = _core.RmrcOptions(rows=[0, 1], threshold=1e-3, max_damping=1e-2, gain=5.0, strategy="naive")
-    m = _core.analysis_move_to(robot._m, x0, body, off, target, 1.0, 0.2, dt, options)
+    m = _core.analysis_move_to(robot.core_model, x0, body, off, target, 1.0, 0.2, dt, options)
     assert isinstance(m, _core.RmrcMotion)
     k = m.times.shape[0]
     n = robot.n_dof
@@ -236,7 +236,7 @@ def test_public_scan_dict_has_every_scan_column_in_chunks_and_whole():
     s = spacearm.analysis.scan(robot, q)
     assert tuple(s) == SCAN_COLUMNS
     body, off = robot._point(None)
-    last = _core.analysis_scan(robot._m, q[-3:], body, off, [0, 1])
+    last = _core.analysis_scan(robot.core_model, q[-3:], body, off, [0, 1])
     for k in SCAN_COLUMNS:
         assert len(s[k]) == 2500
         np.testing.assert_array_equal(s[k][-3:], getattr(last, k))

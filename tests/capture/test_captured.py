@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import spacearm
+from spacearm.capture import grasp_impulse
 from spacearm.capture.captured import attach_target, soft_capture
 from spacearm.rotations import quat_to_matrix
 
@@ -30,7 +31,7 @@ def _scene(spin=(0.3, -0.4, 0.5)):
 
 def test_attach_carries_momentum_energy_and_pose():
     robot, x, u, target, s = _scene()
-    imp = robot.grasp_impulse(x, u, target, s)
+    imp = grasp_impulse(robot, x, u, target, s)
     cap = attach_target(robot, x, imp.u_after, target, imp.target_state_after)
     m_c = cap.robot.momentum(cap.x, cap.u)
     m_r, m_t = robot.momentum(x, imp.u_after), target.momentum(imp.target_state_after)
@@ -112,7 +113,7 @@ def test_post_capture_motion_against_mujoco_weld():
 
     mujoco = pytest.importorskip("mujoco")
     robot, x, u, target, s = _scene()
-    imp = robot.grasp_impulse(x, u, target, s)
+    imp = grasp_impulse(robot, x, u, target, s)
     cap = attach_target(robot, x, imp.u_after, target, imp.target_state_after)
     duration = 1.0
     traj = spacearm.simulate(cap.robot, duration, x0=cap.x, u0=cap.u, integrator="dopri5", rtol=1e-11, atol=1e-13, dt=0.1)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import spacearm
-from spacearm.capture import impulse_momentum_split, inverse_inertia, virtual_mass
+from spacearm.capture import grasp_impulse, impulse_momentum_split, inverse_inertia, virtual_mass
 from spacearm.rotations import quat_to_matrix
 from random_models import random_model, random_quaternion, random_state
 
@@ -52,7 +52,7 @@ def _rigid_body(robot, x):
 def test_rigid_grasp_conserves_momentum_and_locks(index):
     robot = _robots()[index]
     x, u, target, s = _scene(robot, np.random.default_rng([14, index]))
-    res = robot.grasp_impulse(x, u, target, s, grasp="handle")
+    res = grasp_impulse(robot, x, u, target, s, grasp="handle")
     assert res.gap < 1e-12
     # the lock: no relative twist at the grasp point after, a clear one before
     assert np.linalg.norm(res.relative_twist_before) > 0.1
@@ -112,7 +112,7 @@ def test_two_free_bodies_point_impact_closed_form(index):
     inv_meff = 1 / m1 + 1 / m2 + np.cross(r1, n) @ np.linalg.solve(I1, np.cross(r1, n)) + np.cross(r2, n) @ np.linalg.solve(I2, np.cross(r2, n))
     meff = 1 / inv_meff
     for e in (0.0, 1.0, 0.4):
-        res = robot.grasp_impulse(x, u, target, s, kind="point", restitution=e, normal=n, arm="locked")
+        res = grasp_impulse(robot, x, u, target, s, kind="point", restitution=e, normal=n, arm="locked")
         lam = (1 + e) * meff * (-vn)
         np.testing.assert_allclose(res.impulse, np.r_[lam * n, 0, 0, 0], rtol=1e-10, atol=1e-12 * abs(lam))
         # the target's jump from Newton–Euler on its own
@@ -136,7 +136,7 @@ def test_two_free_bodies_rigid_grasp_closed_form(index):
     robot = _robots()[index]
     x, u, target, s = _scene(robot, np.random.default_rng([17, index]))
     u[6:] = 0.0  # the arm at rest relative to the base: a rigid body before the impact too
-    res = robot.grasp_impulse(x, u, target, s, arm="locked")
+    res = grasp_impulse(robot, x, u, target, s, arm="locked")
     m1, c1, I1 = _rigid_body(robot, x)
     st = target.split(s)
     R2 = quat_to_matrix(st.quaternion)
@@ -194,14 +194,14 @@ def test_robot_jump_against_pinocchio_impulse_dynamics(index, kind):
     pin.updateFramePlacements(model, data)
     J = pin.getFrameJacobian(model, data, model.getFrameId(robot.end_effector), pin.LOCAL_WORLD_ALIGNED)
     if kind == "rigid":
-        res = robot.grasp_impulse(x, u, target, s)
+        res = grasp_impulse(robot, x, u, target, s)
         v_after = pin.impulseDynamics(model, data, q, v, J, 0.0, 0.0)
     else:
         j0, jm = robot.point_jacobian(x)
         vX = (j0 @ u[:6] + jm @ u[6:])[:3]
         n = -vX / np.linalg.norm(vX)  # the gripper moves into the contact
         e = 0.6
-        res = robot.grasp_impulse(x, u, target, s, kind="point", restitution=e, normal=n)
+        res = grasp_impulse(robot, x, u, target, s, kind="point", restitution=e, normal=n)
         v_after = pin.impulseDynamics(model, data, q, v, (n @ J[:3])[None, :], e, 0.0)
     _, u_ref = interop.from_pinocchio_state(robot, q, np.asarray(v_after))
     du_ref = u_ref - u
@@ -215,15 +215,15 @@ def test_bad_input():
     target = spacearm.Target(10.0, [1, 1, 1])
     s = target.state(robot.point_position(x))
     with pytest.raises(spacearm.ArgumentError, match="restitution"):
-        robot.grasp_impulse(x, u, target, s, kind="point", restitution=1.5)
+        grasp_impulse(robot, x, u, target, s, kind="point", restitution=1.5)
     with pytest.raises(spacearm.ArgumentError, match="kind"):
-        robot.grasp_impulse(x, u, target, s, kind="glue")
+        grasp_impulse(robot, x, u, target, s, kind="glue")
     with pytest.raises(spacearm.ArgumentError, match="plastic"):
-        robot.grasp_impulse(x, u, target, s, restitution=0.5)
+        grasp_impulse(robot, x, u, target, s, restitution=0.5)
     with pytest.raises(spacearm.ShapeError, match="target_state"):
-        robot.grasp_impulse(x, u, target, s[:12])
+        grasp_impulse(robot, x, u, target, s[:12])
     with pytest.raises(spacearm.SpacearmTypeError, match="Target"):
-        robot.grasp_impulse(x, u, "box", s)
+        grasp_impulse(robot, x, u, "box", s)
     with pytest.raises(spacearm.ModelError, match="target 'box'.*triangle"):
         spacearm.Target(10.0, [1, 1, 5], name="box")
     with pytest.raises(spacearm.NotFoundError, match="grasp point"):
@@ -236,8 +236,8 @@ def test_jointless_model_target_equals_target():
     rng = np.random.default_rng(20)
     x, u, target, s = _scene(robot, rng)
     twin = spacearm.Target.from_robot(target.body)
-    a = robot.grasp_impulse(x, u, target, s, grasp="handle")
-    b = robot.grasp_impulse(x, u, twin, s, grasp="handle")
+    a = grasp_impulse(robot, x, u, target, s, grasp="handle")
+    b = grasp_impulse(robot, x, u, twin, s, grasp="handle")
     np.testing.assert_array_equal(a.impulse, b.impulse)
     np.testing.assert_array_equal(a.target_dtwist, b.target_dtwist)
 
@@ -254,7 +254,7 @@ def test_jointed_target_conserves_momentum_and_locks(seed):
     # move the target so that its probe point is at the gripper
     xt[:3] += robot.point_position(x) - model.point_position(xt, "probe")
     s = np.concatenate([xt, ut])
-    res = robot.grasp_impulse(x, u, target, s, grasp="probe")
+    res = grasp_impulse(robot, x, u, target, s, grasp="probe")
     assert res.gap < 1e-9 and res.target_dtwist.shape == (model.nu,)
     assert np.linalg.norm(res.relative_twist_after) < 1e-9 * np.linalg.norm(res.relative_twist_before)
     m0 = [robot.momentum(x, u), target.momentum(s)]
@@ -285,7 +285,7 @@ def test_jointed_target_jump_against_pinocchio(seed):
     wall.set_end_effector("pad")
     wall = wall.build()
     xw = wall.neutral_configuration(r0=model.point_position(xt, "probe"))
-    res = wall.grasp_impulse(xw, wall.zero_velocity(), target, np.concatenate([xt, ut]), grasp="probe")
+    res = grasp_impulse(wall, xw, wall.zero_velocity(), target, np.concatenate([xt, ut]), grasp="probe")
     pmodel = interop.to_pinocchio(model)
     data = pmodel.createData()
     q, v = interop.to_pinocchio_state(model, xt, ut)
@@ -318,3 +318,83 @@ def test_analysis_quantities_bad_input_and_grasp_point_forms():
         spacearm.Target(1.0, [1, 1, 1], grasp_points={})
     with pytest.raises(spacearm.ArgumentError, match="jointed model"):
         spacearm.Target.from_robot(robot).state()
+
+
+def _rigid_target_energy(target, state):
+    """½ m |v|² + ½ ωᵀ (R I Rᵀ) ω of a rigid target, from its split state alone."""
+    st = target.split(state)
+    R = quat_to_matrix(st.quaternion)
+    w = st.angular_velocity
+    return 0.5 * target.mass * st.velocity @ st.velocity + 0.5 * w @ (R @ target.inertia @ R.T) @ w
+
+
+def _energy_ledger(robot, x, u, target, s, res):
+    """``(T_before, T_after, locking_work)``: the kinetic energies from the paper-form mass matrix
+    (½ uᵀ H u) and the target's own mass properties, and the locking impulses' work from the
+    joint rows of H Δu = Jᵀ Λ + [0; τ̂] with the paper's inertia blocks (τ̂ = H0mᵀ Δẋ0 − J_mᵀ Λ)."""
+    h = robot.mass_matrix(x, method="paper")
+    blocks = robot.inertia_blocks(x)
+    _, jm = robot.point_jacobian(x)
+    tau_lock = blocks.H0m.T @ res.du[:6] + blocks.Hm @ res.du[6:] - jm.T @ res.impulse
+    before = 0.5 * u @ h @ u + _rigid_target_energy(target, s)
+    after = 0.5 * res.u_after @ h @ res.u_after + _rigid_target_energy(target, res.target_state_after)
+    return before, after, float(tau_lock @ u[6:]), tau_lock
+
+
+@pytest.mark.parametrize("index", range(4))
+@pytest.mark.parametrize("kind", ["rigid", "point"])
+def test_locked_arm_with_moving_joints_energy_ledger(index, kind):
+    """arm="locked" holds the joint rates (Δq̇ = 0) by locking impulses τ̂ that work on the moving
+    joints: energy_lost is the grasp's own dissipation (>= 0), locking_work that work, and the
+    kinetic energy changes by locking_work − energy_lost (ledger from the mass matrix)."""
+    robot = _robots()[index]
+    rng = np.random.default_rng([21, index])
+    x, u, target, s = _scene(robot, rng)
+    u[6:] = rng.normal(scale=0.5, size=robot.n_dof)  # the joints move
+    n = None
+    if kind == "point":
+        j0, jm = robot.point_jacobian(x)
+        st = target.split(s)
+        v_rel = (j0 @ u[:6] + jm @ u[6:])[:3] - (st.velocity + np.cross(st.angular_velocity, robot.point_position(x) - st.position))
+        n = -v_rel / np.linalg.norm(v_rel)  # approaching along n
+    kw = {} if kind == "rigid" else {"kind": "point", "normal": n, "restitution": 0.3}
+    res = grasp_impulse(robot, x, u, target, s, grasp="handle", arm="locked", **kw)
+    free = grasp_impulse(robot, x, u, target, s, grasp="handle", arm="free", **kw)
+    before, after, locking, tau_lock = _energy_ledger(robot, x, u, target, s, res)
+    scale = before + abs(locking)
+    assert np.all(res.du[6:] == 0.0)
+    assert np.linalg.norm(tau_lock) > 1e-3 * np.linalg.norm(res.impulse)  # the lock does act
+    assert res.locking_work == pytest.approx(locking, rel=1e-9, abs=1e-12 * scale)
+    assert res.energy_lost >= 0.0
+    assert before - after == pytest.approx(res.energy_lost - res.locking_work, rel=1e-9, abs=1e-11 * scale)
+    # The grasp's dissipation in closed form, from G = J_0 H0⁻¹ J_0ᵀ (arm locked) + the target's.
+    h0 = robot.inertia_blocks(x).H0
+    j0, _ = robot.point_jacobian(x)
+    g = j0 @ np.linalg.solve(h0, j0.T) + res.G_target
+    if kind == "rigid":
+        expected = 0.5 * res.relative_twist_before @ np.linalg.solve(g, res.relative_twist_before)
+    else:
+        vn = n @ res.relative_twist_before[:3]
+        expected = 0.5 * (1 - 0.3**2) * vn * vn / (n @ g[:3, :3] @ n)
+    assert res.energy_lost == pytest.approx(expected, rel=1e-9)
+    # arm="free": no locking impulse, the whole change is the grasp's.
+    fb, fa, f_locking, f_tau = _energy_ledger(robot, x, u, target, s, free)
+    assert free.locking_work == 0.0
+    _, jm = robot.point_jacobian(x)
+    assert np.abs(f_tau).max() < 1e-10 * np.abs(jm.T @ free.impulse).max()  # the joint rows balance
+    assert fb - fa == pytest.approx(free.energy_lost, rel=1e-9, abs=1e-11 * fb)
+
+
+def test_locked_arm_spatial6_target_at_rest():
+    """The reported case: spatial6 with its joints at 0.3 rad/s grasping a 50 kg target at rest.
+    The kinetic energy rises (the locking impulses put energy in), yet the grasp dissipates."""
+    robot = spacearm.presets.spatial6()
+    x, u = robot.neutral_configuration(), robot.zero_velocity()
+    u[6:] = 0.3
+    target = spacearm.Target(50.0, [4.0, 5.0, 6.0], grasp_points={"handle": (-0.5, 0.0, 0.0)})
+    s = target.state(position=robot.point_position(x) + np.array([0.5, 0.0, 0.0]))
+    res = grasp_impulse(robot, x, u, target, s, grasp="handle", arm="locked")
+    before, after, locking, _ = _energy_ledger(robot, x, u, target, s, res)
+    assert after > before  # what the old energy_lost (before − after) reported as a negative loss
+    assert res.locking_work == pytest.approx(locking, rel=1e-9) and locking > after - before
+    assert res.energy_lost == pytest.approx(locking - (after - before), rel=1e-9) and res.energy_lost > 0

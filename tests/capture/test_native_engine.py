@@ -109,7 +109,7 @@ def test_computed_torque_follows_a_sampled_polynomial_exactly():
 
 
 def test_capture_approach_gives_the_reaction_wheels_no_torque():
-    robot = spacearm.Robot.from_toml(MODELS / "spatial6_wheels.toml")
+    robot = spacearm.io.load_toml(MODELS / "spatial6_wheels.toml")
     x = robot.neutral_configuration()
     target = spacearm.Target(50.0, [4.0, 5.0, 6.0], grasp_points={"handle": (-0.5, 0.0, 0.0)})
     s = target.state(position=robot.point_position(x) + np.array([0.6, 0.0, 0.0]), angular_velocity=(0.0, 0.0, 0.1))

@@ -37,7 +37,7 @@ def ur5() -> str:
 
 def mounted_ur5(path, **options) -> spacearm.Robot:
     """The same model through the library API (not the CLI's loader)."""
-    return load_urdf(path, mount_on=spacearm.Robot.from_toml(BUS), at=AT, **options)
+    return load_urdf(path, mount_on=spacearm.io.load_toml(BUS), at=AT, **options)
 
 
 def run_cli(*args):
@@ -62,7 +62,7 @@ def assert_printed_close(printed, expected):
 # the shipped spacecraft bus
 # ---------------------------------------------------------------------------------------------
 def test_spacecraft_bus_is_the_documented_box():
-    bus = spacearm.Robot.from_toml(BUS)
+    bus = spacearm.io.load_toml(BUS)
     assert bus.n_dof == 0 and bus.body_names == ["bus"] and bus.total_mass == 500.0
     inertia = np.asarray(bus.describe()["base"]["inertia"])
     # Principal moments of a uniform 1.2 x 1.1 x 1.0 m box, m (b^2 + c^2) / 12 (the file's comment).
@@ -141,7 +141,7 @@ def test_inspect_negative_q_and_at(ur5, capsys):
     for at in (["--at", "-0.6,0,0.1,0,0,0"], ["--at=-0.6,0,0.1,0,0,0"]):
         assert main(["inspect", ur5, "--mount-on", BUS, *at]) == 0
         h0[at[0]] = printed_matrix(capsys.readouterr().out, "H0 (base inertia")
-    robot = load_urdf(ur5, mount_on=spacearm.Robot.from_toml(BUS), at=(-0.6, 0, 0.1, 0, 0, 0))
+    robot = load_urdf(ur5, mount_on=spacearm.io.load_toml(BUS), at=(-0.6, 0, 0.1, 0, 0, 0))
     expected = robot.inertia_blocks(robot.neutral_configuration()).H0
     assert_printed_close(h0["--at"], expected)
     assert np.array_equal(h0["--at"], h0["--at=-0.6,0,0.1,0,0,0"])
@@ -236,7 +236,7 @@ def test_derive_mounted_urdf(tmp_path, capsys):
     spec.loader.exec_module(eom)
     # The library on the same URDF; --end-effector upper is the 'upper' link frame origin (its joint),
     # a point that exists only because of the option (derive writes J* of every point).
-    robot = load_urdf(arm, mount_on=spacearm.Robot.from_toml(BUS), at=(-0.6, 0, 0, 0, 0, 3.14159), prefix="a_")
+    robot = load_urdf(arm, mount_on=spacearm.io.load_toml(BUS), at=(-0.6, 0, 0, 0, 0, 3.14159), prefix="a_")
     assert robot.body_names == ["bus", "a_base", "a_upper"] and robot.end_effector == "a_tip"  # the only leaf, by default
     com = np.asarray(robot.describe()["links"][1]["com"])
     for q in (-0.7, 1.2):

@@ -180,8 +180,8 @@ def test_attitude_control_from_the_wheeled_example_model_file(capsys):
     from pathlib import Path
 
     model = Path(__file__).resolve().parents[2] / "examples" / "models" / "spatial6_wheels.toml"
-    robot = spacearm.Robot.from_toml(model)
-    assert spacearm._core.default_wheel_dofs(robot._m) == [6, 7, 8]
+    robot = spacearm.io.load_toml(model)
+    assert spacearm._core.default_wheel_dofs(robot.core_model) == [6, 7, 8]
     assert main(["simulate", str(model), "--controller", "attitude", "--duration", "2", "--dt", "0.002",
                  "--no-progress"]) == 0
     text = capsys.readouterr().out

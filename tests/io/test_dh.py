@@ -17,7 +17,7 @@ import pytest
 
 import spacearm
 from spacearm import presets
-from spacearm import model_file
+from spacearm.io import model_file
 from spacearm.io.dh import robot_from_dh
 from spacearm.rotations import quat_from_matrix, quat_to_matrix
 
@@ -307,7 +307,7 @@ def test_names_limits_and_initial_q():
     rows = [dict(name="upper", joint_name="shoulder", d=0, theta=0, a=1, alpha=0, com=(-0.5, 0, 0), mass=1,
                  inertia=[0.01, 0.1, 0.1], limits=dict(lower=-1, upper=1)),
             dict(d=0, theta=0, a=1, alpha=0, com=(-0.5, 0, 0), mass=1, inertia=[0.01, 0.1, 0.1])]
-    robot = spacearm.Robot.from_dh("named", rows, base_mass=10, base_inertia=[1, 1, 1], initial_q=[0.1, 0.2],
+    robot = spacearm.io.robot_from_dh("named", rows, base_mass=10, base_inertia=[1, 1, 1], initial_q=[0.1, 0.2],
                                    tip_point="hand")
     d = robot.describe()
     assert [link["name"] for link in d["links"]] == ["upper", "link2"]

@@ -15,7 +15,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import spacearm
-from spacearm import model_file, presets
+from spacearm import presets
+from spacearm.io import model_file
 from spacearm.io.model_file import dumps_toml, load_toml, loads_toml, save_toml
 from spacearm.rotations import quat_from_axis_angle
 
@@ -76,7 +77,7 @@ def random_configuration(robot, rng):
 
 @pytest.mark.parametrize("name", presets.NAMES)
 def test_example_files_are_the_presets(name):
-    robot = spacearm.Robot.from_toml(MODELS / f"{name}.toml")
+    robot = spacearm.io.load_toml(MODELS / f"{name}.toml")
     preset = presets.get(name)
     assert robot.name == name and robot.end_effector == preset.end_effector
     np.testing.assert_array_equal(robot.initial_q, preset.initial_q)

@@ -19,7 +19,7 @@ CASES = sorted(glob.glob(os.path.join(MODELS_DIR, "*.toml"))) + ["dual_arm"] + [
 
 def original(name: str) -> spacearm.Robot:
     if name.endswith(".toml"):
-        return spacearm.Robot.from_toml(name)
+        return spacearm.io.load_toml(name)
     if name.startswith("seed"):
         return random_model(int(name[4:])).robot
     return spacearm.presets.get(name)

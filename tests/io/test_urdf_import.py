@@ -201,13 +201,3 @@ def test_load_file_and_cli(tmp_path):
     bad.write_text(two_link(joint_type="floating"))
     out = run_cli("inspect", str(bad))
     assert out.returncode == 2 and "bad.urdf:4: joint 'j'" in out.stderr
-
-
-def test_robot_from_urdf_is_load_urdf(tmp_path):
-    path = tmp_path / "two.urdf"
-    path.write_text(two_link())
-    a, b = spacearm.Robot.from_urdf(path), load_urdf(path)
-    x = a.neutral_configuration(np.full(a.n_dof, 0.4))
-    assert a.describe() == b.describe()
-    h = a.mass_matrix(x)
-    assert np.abs(h).max() > 0.1 and np.array_equal(h, b.mass_matrix(x))

@@ -150,7 +150,7 @@ def toml_dofs(doc: dict) -> list:
 
 
 def test_toml_model_with_fixed_joints():
-    robot = spacearm.Robot.from_toml_string(TOML_WITH_FIXED_JOINTS)
+    robot = spacearm.io.loads_toml(TOML_WITH_FIXED_JOINTS)
     expected = toml_dofs(tomllib.loads(TOML_WITH_FIXED_JOINTS))
     assert robot.joint_names == ["shoulder", "extend", "wrist_joint", "side_hinge"] == [n for n, _, _ in expected]
     assert robot.dof_types == ["revolute", "prismatic", "revolute", "revolute"]
@@ -169,7 +169,7 @@ def test_toml_model_with_fixed_joints():
 @pytest.mark.parametrize("path", sorted(glob.glob(os.path.join(ROOT, "examples", "models", "*.toml"))),
                          ids=os.path.basename)
 def test_example_model_files(path):
-    robot = spacearm.Robot.from_toml(path)
+    robot = spacearm.io.load_toml(path)
     with open(path, "rb") as fh:
         expected = toml_dofs(tomllib.load(fh))
     assert robot.joint_names == [n for n, _, _ in expected]

@@ -34,7 +34,7 @@ def _robot(name: str) -> spacearm.Robot:
 
 
 def test_describe_returns_the_typed_classes():
-    info = presets.dual_arm()._m.describe()
+    info = presets.dual_arm().core_model.describe()
     assert isinstance(info, _core.ModelInfo)
     assert isinstance(info.base, _core.BaseInfo)
     assert isinstance(info.links, tuple) and all(isinstance(link, _core.LinkInfo) for link in info.links)
@@ -56,7 +56,7 @@ def test_describe_returns_the_typed_classes():
 @pytest.mark.parametrize("seed", SEEDS)
 def test_typed_fields_equal_the_builder_arguments(seed):
     rm = random_model(seed)
-    info = rm.robot._m.describe()
+    info = rm.robot.core_model.describe()
     assert info.name == f"random{seed}"
     assert [link.name for link in info.links] == [f"link{k + 1}" for k in range(len(rm.specs))]
     body_names = ["base"] + [f"link{k + 1}" for k in range(len(rm.specs))]
@@ -77,7 +77,7 @@ def test_typed_fields_equal_the_builder_arguments(seed):
     # Points: the body each is fixed to, by the model's own lookup (Model.point), by index and name.
     assert [p.name for p in info.points] == ["tip", "probe"] and info.end_effector == "tip"
     for p in info.points:
-        body, offset = rm.robot._m.point(p.name)
+        body, offset = rm.robot.core_model.point(p.name)
         assert (p.body_index, p.body) == (body, body_names[body])
         np.testing.assert_array_equal(p.offset, offset)
     np.testing.assert_array_equal(info.initial_q, np.zeros(rm.robot.n_dof))
@@ -96,7 +96,7 @@ def _matrix(value) -> list:
 def _describe_from_model_file(robot: spacearm.Robot) -> dict:
     """The dict :meth:`Robot.describe` has always returned, rebuilt from the model file the core
     writes for ``robot`` (docs/model-format.md: defaults for what the file leaves out)."""
-    doc = tomllib.loads(_core.model_to_toml(robot._m))
+    doc = tomllib.loads(_core.model_to_toml(robot.core_model))
     links = doc.get("link", [])
     body_names = [doc["base"]["name"]] + [link["name"] for link in links]
     out_links, n_moving = [], 0
@@ -171,10 +171,10 @@ def test_describe_of_a_urdf_with_limits_and_fixed_links():
     for fixed in ("merge", "keep"):
         robot = spacearm.io.urdf.loads_urdf(text, fixed=fixed)
         _assert_same_plain_data(robot.describe(), _describe_from_model_file(robot))
-        shoulder = robot._m.describe().links[0]
+        shoulder = robot.core_model.describe().links[0]
         assert (shoulder.joint, shoulder.limits.lower, shoulder.limits.upper, shoulder.limits.velocity,
                 shoulder.limits.effort) == ("shoulder", -1.5, 2.0, 0.7, 40.0)
-    assert [link.type for link in robot._m.describe().links] == ["revolute", "fixed"]
+    assert [link.type for link in robot.core_model.describe().links] == ["revolute", "fixed"]
 
 
 def test_describe_stays_a_fresh_dict_of_plain_data():

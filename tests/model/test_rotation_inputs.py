@@ -19,7 +19,6 @@ Rotation = pytest.importorskip("scipy.spatial.transform").Rotation
 
 import spacearm  # noqa: E402
 from spacearm import control, presets, rotations
-from spacearm.model import tangent  # noqa: E402
 from spacearm.analysis.free_floating import attitude_change  # noqa: E402
 from spacearm.errors import ShapeError  # noqa: E402
 
@@ -68,8 +67,8 @@ def test_dh_joint1_rotation():
     links = [dict(d=0.1, theta=0.0, a=0.5, alpha=0.3, com=(-0.25, 0, 0), mass=4.0, inertia=[0.01, 0.1, 0.1]),
              dict(d=0.0, theta=0.2, a=0.4, alpha=0.0, com=(-0.2, 0, 0), mass=3.0, inertia=[0.01, 0.05, 0.05])]
     args = dict(base_mass=100.0, base_inertia=[10.0, 12.0, 14.0])
-    with_rotation = spacearm.Robot.from_dh("r", links, joint1_rotation=rot, **args)
-    with_quat = spacearm.Robot.from_dh("r", links, joint1_rotation=list(rot.as_quat()), **args)
+    with_rotation = spacearm.io.robot_from_dh("r", links, joint1_rotation=rot, **args)
+    with_quat = spacearm.io.robot_from_dh("r", links, joint1_rotation=list(rot.as_quat()), **args)
     x = with_rotation.neutral_configuration(q=[0.4, -0.7])
     assert np.array_equal(with_rotation.mass_matrix(x), with_quat.mass_matrix(x))
     # Joint 1's axis is the z axis of its frame, rotated by R from the base frame.
@@ -101,8 +100,26 @@ def test_rotation_helpers():
     a, b = ROTATIONS[3], ROTATIONS[4]
     np.testing.assert_allclose(rotations.quat_to_matrix(a), a.as_matrix(), atol=1e-14)
     np.testing.assert_allclose(attitude_change(a, b), (a.inv() * b).magnitude(), atol=1e-12)
-    np.testing.assert_allclose(rotations.quat_to_matrix(tangent.quat_multiply(a, b)), (a * b).as_matrix(), atol=1e-14)
-    np.testing.assert_allclose(tangent.quat_log(a), a.as_rotvec(), atol=1e-12)
+    np.testing.assert_allclose(rotations.quat_to_matrix(rotations.quat_multiply(a, b)), (a * b).as_matrix(), atol=1e-14)
+    np.testing.assert_allclose(rotations.quat_log(a), a.as_rotvec(), atol=1e-12)
+    np.testing.assert_allclose(rotations.quat_to_matrix(rotations.quat_exp(a.as_rotvec())), a.as_matrix(), atol=1e-14)
+    np.testing.assert_allclose(rotations.rotation_vector(a.as_matrix()), a.as_rotvec(), atol=1e-12)
+    # Batches: rows of quaternions against scipy's products and matrices, one side broadcast.
+    many = Rotation.from_quat(np.array([r.as_quat() for r in ROTATIONS]))
+    np.testing.assert_allclose(rotations.quat_to_matrix(many.as_quat()), many.as_matrix(), atol=1e-14)
+    prod = rotations.quat_multiply(many.as_quat(), b)
+    np.testing.assert_allclose(rotations.quat_to_matrix(prod), (many * b).as_matrix(), atol=1e-14)
+    # skew: [v]x w = v x w, for one vector and for rows.
+    rng = np.random.default_rng(5)
+    v, w = rng.normal(size=(4, 3)), rng.normal(size=3)
+    np.testing.assert_allclose(rotations.skew(v[0]) @ w, np.cross(v[0], w), atol=1e-15)
+    np.testing.assert_allclose(rotations.skew(v) @ w, np.cross(v, w), atol=1e-15)
+    with pytest.raises(spacearm.ShapeError):
+        rotations.skew([1.0, 2.0])
+    with pytest.raises(spacearm.QuaternionError):
+        rotations.quat_to_matrix([[0.0, 0.0, 0.0, 1.0], [0.0, 0.0, 0.0, 2.0]])
+    with pytest.raises(spacearm.ArgumentError):
+        rotations.rotation_vector(2 * np.eye(3))
 
 
 def test_scalar_last_order():

@@ -86,6 +86,31 @@ def test_reaction_wheel_input_checks():
             b.add_reaction_wheel(**kwargs)
 
 
+@pytest.mark.parametrize("axis", [[8e-10] * 3, [0.0, 0.0, 0.0]])
+def test_reaction_wheel_axis_follows_the_joint_axis_rule(axis):
+    """A wheel's axis is its joint's: add_link's verdict (the core's rule) for the same axis."""
+    def link(b):
+        b.add_link("l", parent="base", axis=axis, origin=(0, 0, 0), com=(0, 0, 0), mass=1.0, inertia=[1, 1, 1])
+
+    def wheel(b):
+        b.add_reaction_wheel(axis=axis, rotor_inertia=0.1)
+
+    caught = []
+    for add in (link, wheel):
+        with pytest.raises(spacearm.SpacearmError) as info:
+            add(spacearm.RobotBuilder("rw", 100.0, [10.0, 20.0, 30.0]))
+        caught.append(info.value)
+    assert type(caught[0]) is type(caught[1]) is spacearm.ModelError
+    assert "joint axis must be a non-zero vector" in str(caught[0])
+    assert "link 'wheel1': joint axis must be a non-zero vector" in str(caught[1])
+    # A refused wheel takes no number: the next one is wheel1.
+    b = spacearm.RobotBuilder("rw", 100.0, [10.0, 20.0, 30.0])
+    with pytest.raises(spacearm.ModelError):
+        wheel(b)
+    b.add_reaction_wheel(axis=[0, 0, 2.0], rotor_inertia=0.1)
+    assert b.build().body_names == ["base", "wheel1"]
+
+
 def test_against_pinocchio(setup):
     name, r, x, u, f = setup
     model = interop.to_pinocchio(r)

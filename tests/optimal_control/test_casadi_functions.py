@@ -23,7 +23,7 @@ import spacearm.casadi as sc  # noqa: E402
 def _urdf_robot(tmp_path_factory):
     path = tmp_path_factory.mktemp("urdf") / "random3.urdf"
     path.write_text(random_urdf(3, n_links=6))
-    return spacearm.Robot.from_urdf(path)
+    return spacearm.io.load_urdf(path)
 
 
 MODELS = {

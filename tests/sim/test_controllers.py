@@ -195,7 +195,7 @@ def test_rmrc_stays_bounded_through_an_unreachable_target():
 # ---- attitude control with reaction wheels --------------------------------------------------
 def test_attitude_control_holds_the_base_while_the_arm_moves():
     robot = with_wheels(spacearm.presets.spatial6())
-    assert spacearm._core.default_wheel_dofs(robot._m) == [6, 7, 8]
+    assert spacearm._core.default_wheel_dofs(robot.core_model) == [6, 7, 8]
     q0 = robot.initial_q[:6]
     ref = QuinticJoint(q0, q0 + 0.5, 0.0, 3.0)
     arm = ComputedTorque(25.0, 10.0, ref)

@@ -36,7 +36,7 @@ def torque_free(robot):
     u0 = robot.zero_velocity()
     u0[:6] = [0.05, -0.02, 0.03, 0.1, -0.05, 0.08]
     u0[6:] = np.linspace(0.2, 0.7, robot.n_dof)
-    return u0, _core.simulate(robot._m, robot.neutral_configuration(), u0, 0.5, core_options(robot, record_every=10))
+    return u0, _core.simulate(robot.core_model, robot.neutral_configuration(), u0, 0.5, core_options(robot, record_every=10))
 
 
 def test_simulate_returns_the_typed_classes(robot, torque_free):
@@ -119,7 +119,7 @@ def test_events_and_dropped_counters_follow_the_command(robot):
     saturates the thruster channel base_torque_z (index N + 5) once, from the first step."""
     command = control.Callback(lambda t, x, u: (np.zeros(6), np.array([0.6, 0.0, 0.8, 0.0, 0.0, 2.0])))
     options = core_options(robot, mode="rotation-flying", thrusters=control.Thrusters(max_force=1.0, max_torque=0.5))
-    res = _core.simulate(robot._m, robot.neutral_configuration(), robot.zero_velocity(), 0.01, options, command._spec(robot))
+    res = _core.simulate(robot.core_model, robot.neutral_configuration(), robot.zero_velocity(), 0.01, options, command._spec(robot))
     ev, m = res.events, res.meta
     assert ev.saturation_t.dtype == np.float64 and ev.saturation_actuator.dtype == np.int64
     np.testing.assert_array_equal(ev.saturation_t, [0.0])
@@ -134,7 +134,7 @@ def test_events_and_dropped_counters_follow_the_command(robot):
 
 
 def test_float32_records(robot):
-    res = _core.simulate(robot._m, robot.neutral_configuration(), robot.zero_velocity(), 0.01, core_options(robot, record_dtype="float32"))
+    res = _core.simulate(robot.core_model, robot.neutral_configuration(), robot.zero_velocity(), 0.01, core_options(robot, record_dtype="float32"))
     assert res.records.t.dtype == np.float64
     assert {getattr(res.records, f).dtype for f in res.records.fields if f != "t"} == {np.dtype(np.float32)}
     assert res.meta.record_dtype == "float32"
@@ -157,7 +157,7 @@ def test_rollout_batch_rows_are_the_single_runs(robot):
     q0 = x0[0, 7:]
     pd = control.JointPD(20.0, 8.0, control.QuinticJoint(q0, q0 + 0.3, 0.0, 0.2))
     options = core_options(robot, record_every=20)
-    batch = _core.rollout([robot._m], x0, u0, 0.2, options, pd._spec(robot), 2)
+    batch = _core.rollout([robot.core_model], x0, u0, 0.2, options, pd._spec(robot), 2)
     assert isinstance(batch, _core.RolloutBatch) and isinstance(batch.records, _core.RunRecords)
     np.testing.assert_array_equal(batch.ok, [True, True, False])
     assert batch.reason[:2] == [None, None] and "non-finite" in batch.reason[2]
@@ -167,7 +167,7 @@ def test_rollout_batch_rows_are_the_single_runs(robot):
     assert isinstance(batch.meta[0], _core.RunMeta) and isinstance(batch.events[0], _core.RunEvents)
     assert "tracking_error" in batch.records.fields and batch.records.wheel_speed is None
     for i in range(2):
-        single = _core.simulate(robot._m, x0[i], u0[i], 0.2, options, pd._spec(robot))
+        single = _core.simulate(robot.core_model, x0[i], u0[i], 0.2, options, pd._spec(robot))
         for name in single.records.fields:
             np.testing.assert_array_equal(getattr(batch.records, name)[i], getattr(single.records, name), err_msg=name)
         assert [(d.quantity, d.drift) for d in batch.meta[i].drift] == [(d.quantity, d.drift) for d in single.meta.drift]
@@ -177,14 +177,14 @@ def test_rollout_batch_rows_are_the_single_runs(robot):
 
 def test_rollout_batch_where_every_rollout_fails(robot):
     u0 = np.full((1, robot.nu), 1e8)
-    batch = _core.rollout([robot._m], robot.neutral_configuration()[None], u0, 0.1, core_options(robot), None, 1)
+    batch = _core.rollout([robot.core_model], robot.neutral_configuration()[None], u0, 0.1, core_options(robot), None, 1)
     assert batch.records.fields == ("t", "x", "u")
     assert batch.records.du is None and batch.records.P is None
     assert batch.error_class == ["SimulationError"] and batch.meta == [None] and batch.events == [None]
 
 
 def test_simulator_result_is_a_run_result(robot):
-    sim = _core.Simulator(robot._m, core_options(robot), None, 4)
+    sim = _core.Simulator(robot.core_model, core_options(robot), None, 4)
     u0 = robot.zero_velocity()
     u0[6:] = 0.2
     sim.reset(robot.neutral_configuration(), u0)

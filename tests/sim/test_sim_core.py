@@ -226,7 +226,7 @@ def test_bad_references_options_and_specs(robot):
     with pytest.raises(errors.ArgumentError, match="unknown key 'dtt'"):
         spacearm._core.RunOptions(dtt=1e-3)
     with pytest.raises(errors.ArgumentError, match="controller type must be one of"):
-        spacearm._core.simulate(robot._m, x0, u0, 1.0, spacearm._core.RunOptions(), {"type": "lqr"})
+        spacearm._core.simulate(robot.core_model, x0, u0, 1.0, spacearm._core.RunOptions(), {"type": "lqr"})
     reference = spacearm._core.JointReference.constant(q=np.zeros(4))
     with pytest.raises(errors.ArgumentError, match="unknown key 'ki'"):
         spacearm._core.JointPdSpec(kp=[1.0], kd=[1.0], ki=[1.0], reference=reference)

@@ -11,7 +11,7 @@ import pytest
 import spacearm
 from spacearm.errors import NotFoundError, ShapeError, SpacearmError
 from spacearm.rotations import quat_from_rpy, quat_to_matrix
-from spacearm.sim.trajectory import Trajectory, euler_from_matrices, quats_to_matrices
+from spacearm.sim.trajectory import Trajectory, euler_from_matrices
 
 from sim_samples import synthetic
 
@@ -38,7 +38,7 @@ def test_base_rotation_and_euler_against_single_sample_formulas():
     rng = np.random.default_rng(3)
     rpy = np.column_stack([rng.uniform(-3, 3, 30), rng.uniform(-1.5, 1.5, 30), rng.uniform(-3, 3, 30)])
     quats = np.array([quat_from_rpy(*a) for a in rpy])
-    mats = quats_to_matrices(quats)
+    mats = quat_to_matrix(quats)  # the batch form
     for q, m in zip(quats, mats):
         np.testing.assert_allclose(m, quat_to_matrix(q), atol=1e-15)
     # Independent samples: no unwrapping relation, so compare one at a time.
@@ -46,7 +46,7 @@ def test_base_rotation_and_euler_against_single_sample_formulas():
     np.testing.assert_allclose(back, rpy, atol=1e-12)
     # A steady yaw rotation through ±π unwraps to a straight line.
     yaw = np.linspace(0, 4 * np.pi, 50)
-    e = euler_from_matrices(quats_to_matrices(np.array([quat_from_rpy(0, 0, a) for a in yaw])))
+    e = euler_from_matrices(quat_to_matrix(np.array([quat_from_rpy(0, 0, a) for a in yaw])))
     np.testing.assert_allclose(e[:, 2], yaw, atol=1e-12)
 
 

@@ -33,7 +33,7 @@ def integrate_prescribed(robot, q_of_t: Callable, qd_of_t: Callable, t_end: floa
     qd = np.array([np.asarray(qd_of_t(t), dtype=float) for t in half])
     x = robot.neutral_configuration(q=q[0]) if x0 is None else np.array(x0, dtype=float)
     x[7:] = q[0]
-    xs = _core.analysis_integrate_prescribed(robot._m, x, h, q, qd, vector3(P, "P"), vector3(L, "L"))
+    xs = _core.analysis_integrate_prescribed(robot.core_model, x, h, q, qd, vector3(P, "P"), vector3(L, "L"))
     return half[::2], xs
 
 

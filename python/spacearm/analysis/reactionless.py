@@ -45,7 +45,7 @@ def reaction_null_space(robot, x=None, base_motion: str = "angular", tolerance: 
     x = robot.neutral_configuration() if x is None else x
     if not isinstance(base_motion, str):
         raise SpacearmTypeError(f"base_motion must be 'angular' or 'full', got {type(base_motion).__name__} {base_motion!r}")
-    r = _core.analysis_reaction_null_space(robot._m, x, base_motion, number(tolerance, "tolerance"))
+    r = _core.analysis_reaction_null_space(robot.core_model, x, base_motion, number(tolerance, "tolerance"))
     return ReactionNullSpace(base_motion_map=r.base_motion_map, singular_values=r.singular_values, rank=r.rank, basis=r.basis,
                              projector=r.projector)
 
@@ -62,12 +62,12 @@ def rmrc_rates(robot, x, desired_twist, point=None, task: TaskLike = None, strat
     ``desired_twist`` (6 values ``[v; w]`` in 𝒥) through ``J*`` (DLS with the damping law of
     :func:`spacearm.analysis.damping`), with the null-space objectives. Returns ``qd``,
     ``sigma_min``, ``damping`` and ``base_angular_velocity``."""
-    body, off = robot._point(point)
+    body, off = robot.resolve_point(point)
     options = _core.RmrcOptions(rows=task_rows(robot, task), threshold=number(threshold, "threshold"),
                                 max_damping=number(max_damping, "max_damping"), strategy=_check_strategy(strategy),
                                 manipulability_gain=number(manipulability_gain, "manipulability_gain"),
                                 joint_limit_gain=number(joint_limit_gain, "joint_limit_gain"))
-    r = _core.analysis_rmrc_rates(robot._m, x, body, off, vector(desired_twist, "desired_twist", 6), options)
+    r = _core.analysis_rmrc_rates(robot.core_model, x, body, off, vector(desired_twist, "desired_twist", 6), options)
     return {"qd": r.qd, "sigma_min": r.sigma_min, "damping": r.damping, "base_angular_velocity": r.base_angular_velocity}
 
 
@@ -138,12 +138,12 @@ def move_to(robot, target, x0=None, point=None, task: TaskLike = None, strategy:
     ``joint_limit_gain`` add singularity- and joint-limit-avoidance in the remaining null space.
     """
     x0 = robot.neutral_configuration() if x0 is None else x0
-    body, off = robot._point(point)
+    body, off = robot.resolve_point(point)
     tgt = vector(target, "target", 3)
     options = _core.RmrcOptions(rows=task_rows(robot, task), threshold=number(threshold, "threshold"),
                                 max_damping=number(max_damping, "max_damping"), gain=number(gain, "gain"),
                                 strategy=_check_strategy(strategy), manipulability_gain=number(manipulability_gain, "manipulability_gain"),
                                 joint_limit_gain=number(joint_limit_gain, "joint_limit_gain"))
-    m = _core.analysis_move_to(robot._m, x0, body, off, tgt, number(duration, "duration"), number(settle, "settle"), number(dt, "dt"), options)
+    m = _core.analysis_move_to(robot.core_model, x0, body, off, tgt, number(duration, "duration"), number(settle, "settle"), number(dt, "dt"), options)
     return Motion(robot.name, strategy, tgt, times=m.times, x=m.x, qd=m.qd, point_position=m.point_position, sigma_min=m.sigma_min,
                   damping=m.damping, attitude_change=m.attitude_change, final_position_error=m.final_position_error)

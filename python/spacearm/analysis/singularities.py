@@ -60,9 +60,9 @@ def analyze(robot, x=None, point=None, task: TaskLike = None) -> SingularityRepo
     """Singular values, condition numbers, manipulability and singular directions of the task
     rows of ``J*`` and of ``J_m`` at ``x`` (default: the initial configuration)."""
     x = robot.neutral_configuration() if x is None else x
-    body, off = robot._point(point)
+    body, off = robot.resolve_point(point)
     rows = task_rows(robot, task)
-    a = _core.analysis_singularity(robot._m, x, body, off, rows)
+    a = _core.analysis_singularity(robot.core_model, x, body, off, rows)
     return SingularityReport(_measures(a.generalized), _measures(a.fixed_base), tuple(rows))
 
 
@@ -79,8 +79,8 @@ def damping(sigma_min: float, threshold: float, max_damping: float) -> float:
 def detect(robot, x, point=None, task: TaskLike = None, threshold: float = _core.DLS_DEFAULTS.threshold, max_damping: float = _core.DLS_DEFAULTS.max_damping) -> Detection:
     """Singularity detector for RMRC: ``σ_min`` and condition of the task rows of ``J*`` and
     the recommended DLS damping (``threshold`` = ε, ``max_damping`` = λ_max)."""
-    body, off = robot._point(point)
-    d = _core.analysis_detect(robot._m, x, body, off, task_rows(robot, task), number(threshold, "threshold"), number(max_damping, "max_damping"))
+    body, off = robot.resolve_point(point)
+    d = _core.analysis_detect(robot.core_model, x, body, off, task_rows(robot, task), number(threshold, "threshold"), number(max_damping, "max_damping"))
     return Detection(sigma_min=d.sigma_min, condition=d.condition, damping=d.damping, near_singular=d.near_singular)
 
 
@@ -90,10 +90,10 @@ def scan(robot, samples, point=None, task: TaskLike = None, progress: bool = Fal
     manipulability and determinant (square tasks, else NaN) of ``J*`` and ``J_m`` and the
     point's position from the base CM and from the system CM (base frame). Returns a dict of
     arrays."""
-    body, off = robot._point(point)
+    body, off = robot.resolve_point(point)
     rows = task_rows(robot, task)
     q = samples_2d(samples, robot.n_dof)
-    parts = chunked(lambda s: _core.analysis_scan(robot._m, s, body, off, rows), q, progress, "scan")
+    parts = chunked(lambda s: _core.analysis_scan(robot.core_model, s, body, off, rows), q, progress, "scan")
     return concat_columns(parts, SCAN_COLUMNS)
 
 

@@ -100,7 +100,7 @@ def workspace(robot, resolution: int = 15, samples=None, point=None, task: TaskL
     neighbours. ``radial_resolution`` (default 1 % of R_max) merges singular radii into PDW shells.
     """
     rows = task_rows(robot, task)
-    body, off = robot._point(point)
+    body, off = robot.resolve_point(point)
     n = robot.n_dof
     grid_res = None
     if samples is not None:
@@ -121,7 +121,7 @@ def workspace(robot, resolution: int = 15, samples=None, point=None, task: TaskL
         step = np.max(hi - lo) / (grid_res - 1)
         how = f"grid {resolution}^{n} = {q.shape[0]} samples, step ≤ {step:.3g} rad"
     t0 = time.perf_counter()
-    parts = chunked(lambda s: _core.analysis_scan(robot._m, s, body, off, rows), q, progress, "workspace")
+    parts = chunked(lambda s: _core.analysis_scan(robot.core_model, s, body, off, rows), q, progress, "workspace")
     elapsed = time.perf_counter() - t0
     r = concat_columns(parts, ("sigma_min_generalized", "det_generalized", "point_from_com", "point_from_base"))
     thr = 0.01 * float(np.max(r["sigma_min_generalized"])) if singular_threshold is None else float(singular_threshold)

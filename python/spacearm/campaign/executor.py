@@ -48,7 +48,9 @@ BACKENDS = ("threads", "processes", "dask", "in-process")
 def _progress(total: int, initial: int, enabled: Union[bool, Callable[[int, int], None]]):
     """A tqdm bar (``enabled=True``), a user callback ``fn(done, total)``, or nothing."""
     if callable(enabled):
-        class _Callback:
+        class _FunctionProgress:
+            """tqdm's ``update``/``close`` over the user's ``fn(done, total)``."""
+
             def __init__(self):
                 self.done = initial
 
@@ -59,7 +61,7 @@ def _progress(total: int, initial: int, enabled: Union[bool, Callable[[int, int]
             def close(self):
                 pass
 
-        return _Callback()
+        return _FunctionProgress()
     if enabled:
         from tqdm import tqdm
 

@@ -24,7 +24,9 @@ from typing import Dict, Optional, Tuple
 
 import numpy as np
 
+from .. import control
 from ..errors import ArgumentError, ShapeError, SimulationError
+from ..sim.simulation import simulate
 
 __all__ = ["Scenario", "METRIC_NAMES", "METRIC_UNITS", "evaluate", "plant", "controller", "with_payload",
            "metrics_from_records", "non_finite_message", "attitude_angle_deg"]
@@ -155,17 +157,15 @@ def with_payload(robot, mass: float):
         raise ArgumentError("a payload needs an end effector to hold it; the model defines none")
     # The point straight from the model (body index, offset): the full description is built once,
     # by to_builder, not twice.
-    body, offset = robot._m.point(robot.end_effector)
+    body, offset = robot.resolve_point(robot.end_effector)
     builder = robot.to_builder()
-    builder.attach_payload("campaign_payload", body=robot._m.body_names[body], mass=float(mass), origin=list(offset))
+    builder.attach_payload("campaign_payload", body=robot.body_names[body], mass=float(mass), origin=list(offset))
     return builder.build()
 
 
 def plant(nominal, params: Dict[str, float]):
     """The plant of a sample: ``nominal`` with the inertia errors ``params`` (the
     :data:`~.perturbation.PARAMETER_NAMES`) and its payload."""
-    from .. import control
-
     perturbed = control.perturbed_model(
         nominal,
         base_mass_scale=params["base_mass_scale"],
@@ -180,8 +180,6 @@ def plant(nominal, params: Dict[str, float]):
 def controller(nominal, scenario: Scenario):
     """The controller every sample flies with, built on the *nominal* model: the quintic reference
     tracked by computed torque or joint PD."""
-    from .. import control
-
     q0 = np.asarray(nominal.initial_q, dtype=float)
     reference = control.QuinticJoint(q0, scenario.goal(nominal), 0.0, scenario.motion_fraction * scenario.duration)
     if scenario.controller == "computed-torque":
@@ -192,8 +190,6 @@ def controller(nominal, scenario: Scenario):
 def evaluate(nominal, scenario: Scenario, params: Dict[str, float]) -> Dict[str, float]:
     """Fly one sample with :func:`spacearm.simulate`: the metrics of :data:`METRIC_NAMES` for the
     plant drawn as ``params``. The reference every batched run is checked against."""
-    from .. import simulate
-
     traj = simulate(plant(nominal, params), scenario.duration, mode=scenario.mode, dt=scenario.dt,
                     controller=controller(nominal, scenario))
     saturation = len(traj["saturation_t"]) if traj.has("saturation_t") else 0

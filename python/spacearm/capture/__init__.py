@@ -2,7 +2,7 @@
 
 - :class:`Target`: a free rigid body with grasp points (state ``[position, quaternion [x, y, z,
   w], velocity, angular velocity]``, all in 𝒥);
-- :func:`grasp_impulse` (also ``Robot.grasp_impulse``): the impact, rigid lock or frictionless
+- :func:`grasp_impulse`: the impact, rigid lock or frictionless
   point contact, and its pieces :func:`inverse_inertia`, :func:`virtual_mass`,
   :func:`impulse_momentum_split`;
 - :func:`attach_target` (the captured system as one model) and :func:`soft_capture` (a wrist

@@ -10,7 +10,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ..rotations import _mul
+from ..rotations import quat_multiply
 
 __all__ = ["configuration_rate", "rk4_step"]
 
@@ -18,7 +18,7 @@ __all__ = ["configuration_rate", "rk4_step"]
 def configuration_rate(x: np.ndarray, u: np.ndarray) -> np.ndarray:
     """``ẋ`` of a configuration under the generalized velocity ``u`` (ω0 in 𝒥: left product)."""
     w = u[3:6]
-    return np.concatenate([u[:3], 0.5 * _mul(np.array([w[0], w[1], w[2], 0.0]), x[3:7]), u[6:]])
+    return np.concatenate([u[:3], 0.5 * quat_multiply(np.array([w[0], w[1], w[2], 0.0]), x[3:7]), u[6:]])
 
 
 def _normalized(x: np.ndarray) -> np.ndarray:

@@ -27,7 +27,7 @@ import numpy as np
 from .._util.arrays import number, vector
 from ..errors import ArgumentError, SimulationError
 from ..model.robot import ExternalWrench
-from ..rotations import quat_from_matrix
+from ..rotations import quat_from_matrix, rotation_vector
 from ._rk4 import rk4_step
 from .impact import _check_target, _robot_point, inverse_inertia
 
@@ -54,11 +54,11 @@ def relative_twist(robot, x, u, target, target_state, point=None, grasp_offset=(
     xv, uv = vector(x, "x", robot.nx), vector(u, "u", robot.nu)
     s = target.check_state(target_state)
     body, offset = _robot_point(robot, xv, point, grasp_offset)
-    X = robot._m.point_position(xv, body, offset)
-    j0, jm = robot._m.point_jacobians(xv, body, offset)
+    X = robot.point_position(xv, (body, offset))
+    j0, jm = robot.point_jacobian(xv, (body, offset))
     tx, tu = target.xu(s)
     t_body, t_offset = target.material_point(s, X)
-    t0, tm = target.body._m.point_jacobians(tx, t_body, t_offset)
+    t0, tm = target.body.point_jacobian(tx, (t_body, t_offset))
     return j0 @ uv[:6] + jm @ uv[6:] - (t0 @ tu[:6] + tm @ tu[6:])
 
 
@@ -109,16 +109,6 @@ class SoftCaptureRun(NamedTuple):
     gains: dict  #: the impedance used (stiffness, damping, rotational_stiffness, rotational_damping)
 
 
-def _rotation_vector(R: np.ndarray) -> np.ndarray:
-    """``θ`` with ``exp(θ^) = R`` (|θ| < π)."""
-    c = np.clip((np.trace(R) - 1.0) / 2.0, -1.0, 1.0)
-    angle = np.arccos(c)
-    w = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
-    if angle < 1e-8:
-        return 0.5 * w
-    return angle / (2.0 * np.sin(angle)) * w
-
-
 def soft_capture(robot, x, u, target, target_state, duration: float, *, frequency: float = 3.0, damping_ratio: float = 0.7,
                  stiffness: Optional[float] = None, damping: Optional[float] = None,
                  rotational_stiffness: Optional[float] = None, rotational_damping: Optional[float] = None, point=None,
@@ -162,16 +152,16 @@ def soft_capture(robot, x, u, target, target_state, duration: float, *, frequenc
     tb = target.body
 
     def wrench(xr, ur, xt, ut):
-        X = robot._m.point_position(xr, body, offset)
-        j0, jm = robot._m.point_jacobians(xr, body, offset)
+        X = robot.point_position(xr, (body, offset))
+        j0, jm = robot.point_jacobian(xr, (body, offset))
         tw_r = j0 @ ur[:6] + jm @ ur[6:]
-        p = tb._m.point_position(xt, tbody, tpoint)
+        p = tb.point_position(xt, (tbody, tpoint))
         kin_t = tb.forward_kinematics(xt)
         Rt, ct = kin_t.body_to_world[tbody], kin_t.com_in_world[tbody]
-        tp, tm = tb._m.point_jacobians(xt, tbody, tpoint)
+        tp, tm = tb.point_jacobian(xt, (tbody, tpoint))
         tw_p = tp @ ut[:6] + tm @ ut[6:]
         Rg = robot.forward_kinematics(xr).body_to_world[body]
-        theta = _rotation_vector(Rt @ (Rg @ rel0).T)
+        theta = rotation_vector(Rt @ (Rg @ rel0).T)
         f = k * (p - X) + d * (tw_p[:3] - tw_r[:3])
         c = kr * theta + dr * (tw_p[3:] - tw_r[3:])
         return X, f, c, Rt, ct

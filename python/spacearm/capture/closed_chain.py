@@ -24,6 +24,7 @@ import numpy as np
 
 from .._util.arrays import number, vector
 from ..errors import ArgumentError, SimulationError, SingularError
+from ..rotations import rotation_vector
 from ._rk4 import rk4_step
 
 __all__ = ["ClosedChainRun", "simulate_closed_chain"]
@@ -35,13 +36,6 @@ class ClosedChainRun(NamedTuple):
     u: np.ndarray  #: (T, 6+N)
     constraint_wrench: np.ndarray  #: (T, 6) λ: the wrench on frame b at its origin, [force; torque] in 𝒥 (body a gets −λ there)
     pose_error: np.ndarray  #: (T, 6) e = [position error (m); rotation error (rad)]
-
-
-def _rotation_vector(R: np.ndarray) -> np.ndarray:
-    c = np.clip((np.trace(R) - 1.0) / 2.0, -1.0, 1.0)
-    angle = np.arccos(c)
-    w = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
-    return 0.5 * w if angle < 1e-8 else angle / (2.0 * np.sin(angle)) * w
 
 
 def simulate_closed_chain(robot, x0, u0, duration: float, point_a, point_b, *, dt: float = 1e-3, stabilization: float = 20.0,
@@ -57,16 +51,15 @@ def simulate_closed_chain(robot, x0, u0, duration: float, point_a, point_b, *, d
     duration, dt, alpha = number(duration, "duration"), number(dt, "dt"), number(stabilization, "stabilization")
     if not (duration > 0 and dt > 0 and alpha >= 0):
         raise ArgumentError(f"duration and dt must be > 0 and stabilization >= 0, got {duration}, {dt}, {alpha}")
-    ba, oa = robot._point(point_a)
-    bb, ob = robot._point(point_b)
+    ba, oa = robot.resolve_point(point_a)
+    bb, ob = robot.resolve_point(point_b)
     if ba == bb:
         raise ArgumentError("the two grasp frames are on the same body: no loop to close")
-    m = robot._m
     n = robot.n_dof
 
     def frames(x):
         kin = robot.forward_kinematics(x)
-        return (m.point_position(x, ba, oa), kin.body_to_world[ba], m.point_position(x, bb, ob), kin.body_to_world[bb])
+        return (robot.point_position(x, (ba, oa)), kin.body_to_world[ba], robot.point_position(x, (bb, ob)), kin.body_to_world[bb])
 
     pa, Ra, pb, Rb = frames(x0)
     d0 = Ra.T @ (pb - pa)  # b's origin in a's frame, and b's attitude relative to a, at the grasp
@@ -74,16 +67,16 @@ def simulate_closed_chain(robot, x0, u0, duration: float, point_a, point_b, *, d
 
     def error(x):
         pa, Ra, pb, Rb = frames(x)
-        return np.r_[pb - pa - Ra @ d0, _rotation_vector(Rb @ (Ra @ rel0).T)]
+        return np.r_[pb - pa - Ra @ d0, rotation_vector(Rb @ (Ra @ rel0).T)]
 
     # Frame b moves with a: its velocity constraint is written at b's origin for both frames,
     # i.e. a's point Jacobian is taken at the material point of body a that coincides with b.
     def jc_at_b(x):
         kin = robot.forward_kinematics(x)
-        pb = m.point_position(x, bb, ob)
+        pb = robot.point_position(x, (bb, ob))
         oa_b = kin.body_to_world[ba].T @ (pb - kin.com_in_world[ba])
-        ja0, jam = m.point_jacobians(x, ba, oa_b)
-        jb0, jbm = m.point_jacobians(x, bb, ob)
+        ja0, jam = robot.point_jacobian(x, (ba, oa_b))
+        jb0, jbm = robot.point_jacobian(x, (bb, ob))
         return np.hstack([jb0 - ja0, jbm - jam])
 
     if np.linalg.norm(jc_at_b(x0) @ u0) > 1e-9 * max(np.linalg.norm(u0), 1e-300):

@@ -22,6 +22,7 @@ import numpy as np
 from .._util.arrays import vector
 from ..errors import ArgumentError, SimulationError
 from .captured import attach_target
+from .impact import grasp_impulse
 from .detumble import detumble, grasp_wrench
 from .sequence import _payload_states
 from .target import Target
@@ -74,7 +75,7 @@ def capture_envelope(robot, target, *, spin_rates: Sequence[float] = (0.05, 0.1,
     t_rest, f_peak, n_peak, tau_peak = (np.full(shape, np.nan) for _ in range(4))
     for i, rate in enumerate(rates):
         s = target.state(X - offset, velocity=rate * np.cross(axis, offset), angular_velocity=rate * axis)
-        imp = robot.grasp_impulse(x, u, target, s, grasp=grasp)
+        imp = grasp_impulse(robot, x, u, target, s, grasp=grasp)
         cap = attach_target(robot, x, imp.u_after, target, imp.target_state_after)
         for j, err in enumerate(errors):
             guess = Target(target.mass * (1 + err), target.inertia * (1 + err), name=target.name,

@@ -20,8 +20,18 @@ gives ``G_t`` in the same way from its own (jointless) model. The relative twist
   approach (``nᵀv_rel⁻ < 0``), else no impulse. ``1 / (nᵀ G_vv n)`` is Yoshida's virtual mass
   along ``n``.
 
-``arm="locked"`` treats the arm as rigid during the impact (only the base coordinates jump;
-``G_r = J_0X H0⁻¹ J_0Xᵀ``): the two-free-bodies case.
+``arm="locked"`` holds the joint rates through the impact: ``Δq̇ = 0``, only the base
+coordinates jump (``Δẋ0 = H0⁻¹ J_0Xᵀ Λ``, ``G_r = J_0X H0⁻¹ J_0Xᵀ``). Impulsive joint torques do
+the holding, the *locking impulses* ``τ̂ = H0mᵀ Δẋ0 − J_mXᵀ Λ`` (the joint rows of
+``H Δu = Jᵀ Λ + [0; τ̂]``); they act between the links, so the momentum is unchanged. With the
+arm at rest relative to the base the robot is one rigid body (the two-free-bodies case) and
+``τ̂`` does no work; with moving joints it does work ``τ̂ᵀ q̇`` (:attr:`GraspImpulse.locking_work`,
+either sign), which is not part of the energy the grasp dissipates.
+
+Energy: over the impact the kinetic energy of robot + target changes by
+``−energy_lost + locking_work``, with ``energy_lost = −Λᵀ (v_rel⁻ + v_rel⁺) / 2 ≥ 0`` the work
+the contact impulses take out (``½ v_rel⁻ᵀ (G_r + G_t)⁻¹ v_rel⁻`` for the rigid lock,
+``½ m_eff (1 − e²) (nᵀv_rel⁻)²`` for the point contact).
 """
 
 from __future__ import annotations
@@ -63,7 +73,8 @@ class GraspImpulse(NamedTuple):
     relative_twist_after: np.ndarray
     G_robot: np.ndarray  #: the robot's inverse inertia at X (6×6)
     G_target: np.ndarray  #: the target's inverse inertia at X (6×6)
-    energy_lost: float  #: kinetic energy of robot + target before minus after (J, >= 0)
+    energy_lost: float  #: energy the grasp dissipates, −Λᵀ(v_rel⁻ + v_rel⁺)/2 (J, >= 0; excludes locking_work)
+    locking_work: float  #: work of the locking joint impulses τ̂ᵀq̇ with arm="locked" (J, either sign; 0 with arm="free")
 
 
 class MomentumSplit(NamedTuple):
@@ -80,12 +91,12 @@ class MomentumSplit(NamedTuple):
 def _robot_point(robot, x, point, grasp_offset):
     """``(body, offset)`` of the robot's grasp point: ``point`` moved by ``grasp_offset`` (in the
     gripper body's frame)."""
-    body, offset = robot._point(point)
+    body, offset = robot.resolve_point(point)
     return body, np.asarray(offset, dtype=float) + vector3(grasp_offset, "grasp_offset")
 
 
 def _jacobian(robot, x, body, offset) -> np.ndarray:
-    j0, jm = robot._m.point_jacobians(x, body, offset)
+    j0, jm = robot.point_jacobian(x, (body, offset))
     return np.hstack([j0, jm])
 
 
@@ -96,11 +107,12 @@ def _solve(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.ndarray:
         raise SingularError(f"{what} is singular") from None
 
 
-def _mobility(robot, x, body, offset, arm: str):
+def _mobility(robot, x, body, offset, arm: str, j=None, h=None):
     """``(J, M)``: the Jacobian of the point over the coordinates that may jump, and their mass
-    matrix (all of ``u``; or the base's six with the arm locked)."""
-    j = _jacobian(robot, x, body, offset)
-    h = robot.mass_matrix(x)
+    matrix (all of ``u``; or the base's six with the arm locked). ``j`` and ``h``: the full
+    point Jacobian and mass matrix when the caller has them."""
+    j = _jacobian(robot, x, body, offset) if j is None else j
+    h = robot.mass_matrix(x) if h is None else h
     if arm == "locked":
         return j[:, :6], h[:6, :6]
     return j, h
@@ -112,11 +124,11 @@ def inverse_inertia(robot, x, point=None, *, form: str = "mass_matrix", arm: str
 
     ``form="mass_matrix"``: ``J H⁻¹ Jᵀ``; ``form="generalized"``: ``J_0X H0⁻¹ J_0Xᵀ + J* H*⁻¹ J*ᵀ``
     (floating base, Yoshida et al. 2004); the two are equal, computed independently.
-    ``arm="locked"``: the arm rigid, ``J_0X H0⁻¹ J_0Xᵀ``. ``point``: as everywhere (name,
+    ``arm="locked"``: the joint rates held (``Δq̇ = 0``), ``J_0X H0⁻¹ J_0Xᵀ``. ``point``: as everywhere (name,
     body, ``(body, offset)``; default the end effector).
     """
     xv = vector(x, "x")
-    body, offset = robot._point(point)
+    body, offset = robot.resolve_point(point)
     if arm not in ARMS:
         raise ArgumentError(f"arm must be one of {list(ARMS)}, got {arm!r}")
     if form == "mass_matrix":
@@ -124,10 +136,10 @@ def inverse_inertia(robot, x, point=None, *, form: str = "mass_matrix", arm: str
         return j @ _solve(m, j.T, "the mass matrix")
     if form != "generalized":
         raise ArgumentError(f"form must be 'mass_matrix' or 'generalized', got {form!r}")
-    j0, _ = robot._m.point_jacobians(xv, body, offset)
+    j0, _ = robot.point_jacobian(xv, (body, offset))
     g = j0 @ robot.base_inertia_inverse(xv) @ j0.T
     if arm == "free" and robot.n_dof:
-        js = robot._m.generalized_jacobian(xv, body, offset)
+        js = robot.generalized_jacobian(xv, (body, offset))
         g = g + js @ _solve(robot.generalized_inertia(xv), js.T, "the generalized inertia H*")
     return g
 
@@ -149,7 +161,7 @@ def impulse_momentum_split(robot, x, impulse, point=None) -> MomentumSplit:
     (Nenchev & Yoshida 1999)."""
     xv = vector(x, "x")
     lam = vector(impulse, "impulse", 6)
-    body, offset = robot._point(point)
+    body, offset = robot.resolve_point(point)
     j = _jacobian(robot, xv, body, offset)
     h = robot.mass_matrix(xv)
     response = _solve(h, j.T, "the mass matrix")  # H⁻¹ Jᵀ
@@ -212,7 +224,16 @@ def grasp_impulse(
         Contact normal in 𝒥, from the target into the robot (default: from the target's CM to
         its grasp point).
     arm
-        ``"free"`` (joints jump too) or ``"locked"`` (the arm held rigid during the impact).
+        ``"free"`` (the joint rates jump too) or ``"locked"`` (the joint rates held through the
+        impact by locking impulses, ``Δq̇ = 0``: module docstring).
+
+    Returns
+    -------
+    GraspImpulse
+        Its ``energy_lost`` is the energy the grasp dissipates (≥ 0, to rounding), its
+        ``locking_work`` the work of the locking impulses (0 with ``arm="free"``): the kinetic
+        energy of robot + target after the impact is the one before ``− energy_lost +
+        locking_work``.
     """
     _check_target(target)
     if kind not in KINDS:
@@ -228,7 +249,7 @@ def grasp_impulse(
     uv = vector(u, "u", robot.nu)
     s = target.check_state(target_state)
     body, offset = _robot_point(robot, xv, point, grasp_offset)
-    X = robot._m.point_position(xv, body, offset)
+    X = robot.point_position(xv, (body, offset))
     grasp_world = target.grasp_position(s, grasp)
 
     # The target's material point at X, as a point of its own model (jointless for a rigid target).
@@ -238,7 +259,8 @@ def grasp_impulse(
     h_t = target.body.mass_matrix(tx)
     g_t = j_t @ _solve(h_t, j_t.T, "the target's mass matrix")
     j_full = _jacobian(robot, xv, body, offset)
-    j_r, h_r = _mobility(robot, xv, body, offset, arm)
+    h_full = robot.mass_matrix(xv)
+    j_r, h_r = _mobility(robot, xv, body, offset, arm, j_full, h_full)
     g_r = j_r @ _solve(h_r, j_r.T, "the mass matrix")
     v_rel = j_full @ uv - j_t @ tu
     g = g_r + g_t
@@ -263,6 +285,12 @@ def grasp_impulse(
     s_after = s.copy()
     s_after[tx.size:] += dtw
     v_rel_after = j_full @ u_after - j_t @ target.xu(s_after)[1]
-    energy = (robot.kinetic_energy(xv, uv) + target.kinetic_energy(s)) - (robot.kinetic_energy(xv, u_after) + target.kinetic_energy(s_after))
+    # The contact pair's work over the impact (velocities jump linearly in the impulse, so the
+    # work is the impulse times the mean of the velocities before and after).
+    lost = -float(lam @ (v_rel + v_rel_after)) / 2.0
+    locking = 0.0
+    if arm == "locked" and robot.n_dof:
+        tau_lock = (h_full @ du - j_full.T @ lam)[6:]  # joint rows of H Δu = Jᵀ Λ + [0; τ̂]
+        locking = float(tau_lock @ uv[6:])  # q̇ is the same before and after
     return GraspImpulse(kind, du, dtw, lam, X, float(np.linalg.norm(X - grasp_world)), u_after, s_after,
-                        v_rel, v_rel_after, g_r, g_t, float(energy))
+                        v_rel, v_rel_after, g_r, g_t, lost, locking)

@@ -233,7 +233,7 @@ def capture(
     e = number(restitution, "restitution")
     if not 0.0 <= e <= 1.0 or (kind != "point" and e != 0.0):
         raise ArgumentError(f"restitution must be in [0, 1] and is for kind='point' only (a grasp is plastic), got {e} with kind={kind!r}")
-    body, offset = robot._point(point)
+    body, offset = robot.resolve_point(point)
     target.point(grasp)  # an unknown grasp point fails here, before the approach runs
 
     # ---- 0. approach ------------------------------------------------------------------------

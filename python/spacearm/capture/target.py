@@ -104,7 +104,7 @@ class Target:
         self.body = robot
         self.mass = robot.total_mass
         self.inertia = None
-        self._grasp = {p: robot._point(p) for p in robot.point_names}
+        self._grasp = {p: robot.resolve_point(p) for p in robot.point_names}
         self.grasp_points = {p: np.array(off) for p, (_, off) in self._grasp.items()}
         return self
 

@@ -120,7 +120,7 @@ def generalized_jacobian(robot, point=None):
     of a point (a point name, a body name, ``(body, offset)``, or ``None`` for the end
     effector): with zero momentum the point's twist ``[v_X; ω]`` in 𝒥 is ``J* qd``."""
     ca, x, _, kin = _symbols(robot)
-    body, offset = robot._point(point)
+    body, offset = robot.resolve_point(point)
     J0, Jm = kin.point_jacobians(body, offset)
     H = rec.mass_matrix(kin)
     J_star = Jm - ca.mtimes(J0, _base_inverse_times(ca, H, H[0:6, 6:]))
@@ -130,7 +130,7 @@ def generalized_jacobian(robot, point=None):
 def point_position(robot, point=None):
     """``point_position(x) -> p``: position in 𝒥 of a point (default: the end effector)."""
     ca, x, _, kin = _symbols(robot)
-    body, offset = robot._point(point)
+    body, offset = robot.resolve_point(point)
     return _function(ca, "point_position", {"x": x}, {"p": kin.point_position(body, offset)})
 
 

@@ -19,6 +19,7 @@ from typing import Optional
 from .. import presets
 from .numbers import CliError, parse_numbers
 from ..errors import NonPhysicalInertiaWarning, SpacearmError
+from ..io.model_file import load_toml
 from ..model.robot import Robot
 
 __all__ = ["MODEL_HELP", "add_model_arguments", "model_from_args", "load_model", "joint_values"]
@@ -112,7 +113,7 @@ def load_model(spec: str, mount_on: Optional[str] = None, at=None, prefix: Optio
     if spec in presets.NAMES:
         robot = presets.get(spec, allow_nonphysical_inertia=allow_nonphysical_inertia)
     elif spec.lower().endswith(".toml"):
-        robot = Robot.from_toml(spec, allow_nonphysical_inertia=allow_nonphysical_inertia)
+        robot = load_toml(spec, allow_nonphysical_inertia=allow_nonphysical_inertia)
     else:
         raise SpacearmError(f"cannot read '{spec}': model files must end in .toml or .urdf")
     return robot if end_effector is None else _with_end_effector(robot, end_effector)

@@ -20,10 +20,10 @@ from typing import List
 
 import numpy as np
 
-from .. import _core
+from .. import _core, control, presets
 from .model_options import add_model_arguments, joint_values
 from .numbers import CliError, parse_numbers
-from ..sim.simulation import MODES  # the core's mode table
+from ..sim.simulation import MODES, simulate  # MODES: the core's mode table
 
 __all__ = ["add_parsers", "run", "build_controller", "reaction_wheel_dofs", "run_demo"]
 
@@ -103,7 +103,7 @@ def reaction_wheel_dofs(robot) -> List[int]:
     """Degrees of freedom of the reaction wheels, by the simulator's own rule (read from the
     core, ``default_wheel_dofs``): a revolute joint on the base whose link has no children, its
     CM on the axis and an inertia symmetric about it (docs/simulation-core.md)."""
-    return sorted(int(d) for d in _core.default_wheel_dofs(robot._m))
+    return sorted(int(d) for d in _core.default_wheel_dofs(robot.core_model))
 
 
 def _mean_base_inertia(robot) -> float:
@@ -117,8 +117,6 @@ def _mean_base_inertia(robot) -> float:
 def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, move_time=None, kp=None, kd=None):
     """The :mod:`spacearm.control` object that ``--controller name`` means (``None`` for
     ``"none"``): references start at the initial state and reach ``target`` at ``move_time``."""
-    from .. import control
-
     if name == "none":
         return None
     wheels = reaction_wheel_dofs(robot)
@@ -184,8 +182,6 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
 def simulate_command(args, model_from_args, out=None) -> int:
     """Run ``spacearm simulate`` with parsed ``args``; ``model_from_args`` is the CLI's model
     loader (:func:`spacearm.cli.model_from_args`)."""
-    import spacearm
-
     out = sys.stdout if out is None else out
     robot = model_from_args(args)
     if not (np.isfinite(args.duration) and args.duration > 0):
@@ -208,7 +204,7 @@ def simulate_command(args, model_from_args, out=None) -> int:
     mode = args.mode or DEFAULT_MODE[args.controller]
     steps = args.duration / args.dt
     show = (steps >= PROGRESS_STEPS) if args.progress is None else bool(args.progress)
-    traj = spacearm.simulate(robot, args.duration, x0=x0, u0=u0, mode=mode, integrator=args.integrator,
+    traj = simulate(robot, args.duration, x0=x0, u0=u0, mode=mode, integrator=args.integrator,
                              dt=args.dt, rtol=args.rtol, atol=args.atol, controller=controller,
                              record_every=args.record_every, progress=show)  # True: a tqdm bar
     out.write(traj.summary() + "\n")
@@ -241,19 +237,16 @@ def run_demo(out_dir, animation: bool = True, out=None, figures: bool = True) ->
        the momentum, eq. 109) and no torque: ``P``, ``L`` and the kinetic energy stay at their
        initial values to ~1e-13 and the system CM stays put.
     """
-    import spacearm
-    from spacearm import control
-
     out = sys.stdout if out is None else out
     if figures:
         _require_figures("the demo's figures (or pass --no-figures)")
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    robot = spacearm.presets.spatial6()
+    robot = presets.spatial6()
     x0 = robot.neutral_configuration()
     q_goal = robot.initial_q + np.array([0.8, 0.5, 0.6, 0.5, 0.6, 0.5])
     ct = control.ComputedTorque(kp=25.0, kd=10.0, reference=control.QuinticJoint(robot.initial_q, q_goal, 0.0, 4.0))
-    traj = spacearm.simulate(robot, 5.0, x0=x0, controller=ct, dt=1e-3, record_every=10)
+    traj = simulate(robot, 5.0, x0=x0, controller=ct, dt=1e-3, record_every=10)
     files = []
     out.write("spatial 6-DOF example (preset spatial6, project-defined), floating mode\n\n")
     out.write("1. computed-torque maneuver, 5 s at 1 ms RK4\n" + traj.summary() + "\n")
@@ -269,7 +262,7 @@ def run_demo(out_dir, animation: bool = True, out=None, figures: bool = True) ->
     # (eq. 109): the base reacts, the CM stays put, P, L and the energy are conserved.
     qd0 = np.array([0.3, -0.2, 0.4, 0.5, -0.3, 0.6])
     u0 = np.concatenate([robot.base_velocity_from_momentum(x0, qd0), qd0])
-    free = spacearm.simulate(robot, 10.0, x0=x0, u0=u0, dt=1e-3, record_every=10)
+    free = simulate(robot, 10.0, x0=x0, u0=u0, dt=1e-3, record_every=10)
     out.write("\n2. torque-free run, joints released with velocities at zero momentum, 10 s at 1 ms RK4\n" + free.summary() + "\n")
     if figures:
         free.plot(out_dir / "spatial6_torque_free.png")

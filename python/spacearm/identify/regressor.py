@@ -24,16 +24,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..rotations import skew
+
 __all__ = ["momentum_regressor", "robot_momentum"]
-
-
-def _skew(v: np.ndarray) -> np.ndarray:
-    """``[v]×`` such that ``[v]× w = v × w``; ``v`` of shape (..., 3)."""
-    s = np.zeros(v.shape[:-1] + (3, 3))
-    s[..., 0, 1], s[..., 0, 2] = -v[..., 2], v[..., 1]
-    s[..., 1, 0], s[..., 1, 2] = v[..., 2], -v[..., 0]
-    s[..., 2, 0], s[..., 2, 1] = -v[..., 1], v[..., 0]
-    return s
 
 
 def _tensor_times(w: np.ndarray) -> np.ndarray:
@@ -63,9 +56,9 @@ def momentum_regressor(robot, body: int, xs, us) -> np.ndarray:
     r_g, rot, v_g, w = _grasp_body_motion(robot, body, xs, us)
     y = np.zeros((len(xs), 6, 10))
     y[:, :3, 0] = v_g
-    y[:, :3, 1:4] = _skew(w) @ rot
+    y[:, :3, 1:4] = skew(w) @ rot
     y[:, 3:, 0] = np.cross(r_g, v_g)
-    y[:, 3:, 1:4] = (_skew(r_g) @ _skew(w) - _skew(v_g)) @ rot
+    y[:, 3:, 1:4] = (skew(r_g) @ skew(w) - skew(v_g)) @ rot
     w_body = np.einsum("kji,kj->ki", rot, w)  # R_gᵀ ω
     y[:, 3:, 4:] = rot @ _tensor_times(w_body)
     return y

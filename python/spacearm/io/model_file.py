@@ -82,7 +82,7 @@ def dumps_toml(robot: Robot) -> str:
     model (every number is written in its shortest exact form)."""
     if not isinstance(robot, Robot):
         raise SpacearmTypeError(f"dumps_toml expects a spacearm.Robot, got {type(robot).__name__}")
-    return _core.model_to_toml(robot._m)
+    return _core.model_to_toml(robot.core_model)
 
 
 def save_toml(robot: Robot, path: PathLike) -> Path:

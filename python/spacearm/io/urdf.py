@@ -2,7 +2,7 @@
 
 >>> robot = spacearm.io.urdf.load_urdf("ur5_robot.urdf")                    # root link = free-flying base
 >>> robot = spacearm.io.urdf.load_urdf("baxter.urdf", mimic="independent")  # gripper fingers as own joints
->>> bus = spacearm.Robot.from_toml("bus.toml")
+>>> bus = spacearm.io.load_toml("bus.toml")
 >>> robot = spacearm.io.urdf.load_urdf("ur5_robot.urdf", mount_on=bus, at=(0.6, 0, 0.4, 0, 0, 0))
 
 How URDF frames become spacearm frames (docs/urdf.md has the full story):

@@ -229,10 +229,11 @@ class RobotBuilder:
         about the axis, so it does not change as the rotor spins.
         """
         k = vector(axis, "reaction wheel axis", 3)
+        # The axis is the joint's: the core's joint-axis rule judges it in add_link below (the
+        # same verdict and message as every other joint); the rotor inertia needs only its
+        # direction (a zero or non-finite axis gets a placeholder that never reaches a model).
         norm = float(np.linalg.norm(k))
-        if not np.isfinite(norm) or norm <= 1e-9:
-            raise ModelError(f"reaction wheel axis must be a finite non-zero vector, got {list(k)}")
-        k = k / norm
+        unit = k / norm if np.isfinite(norm) and norm > 0 else np.zeros(3)
         i_s = number(rotor_inertia, "reaction wheel rotor_inertia")
         if not (np.isfinite(i_s) and i_s > 0):
             raise ModelError(f"reaction wheel rotor_inertia must be > 0 kg m^2, got {rotor_inertia}")
@@ -240,12 +241,13 @@ class RobotBuilder:
         for what, v in (("max_torque", max_torque), ("max_speed", max_speed)):
             if not number(v, f"reaction wheel {what}") > 0:
                 raise ModelError(f"reaction wheel {what} must be > 0, got {v}")
-        self._n_wheels += 1
-        name = f"wheel{self._n_wheels}" if name is None else str(name)
-        inertia = i_t * np.eye(3) + (i_s - i_t) * np.outer(k, k)
-        return self.add_link(name, parent=self._base_name, joint="revolute", axis=k, origin=position,
-                             com=(0.0, 0.0, 0.0), mass=mass, inertia=inertia, joint_name=f"{name}_joint",
-                             limits={"velocity": float(max_speed), "effort": float(max_torque)})
+        name = f"wheel{self._n_wheels + 1}" if name is None else str(name)
+        inertia = i_t * np.eye(3) + (i_s - i_t) * np.outer(unit, unit)
+        self.add_link(name, parent=self._base_name, joint="revolute", axis=k, origin=position,
+                      com=(0.0, 0.0, 0.0), mass=mass, inertia=inertia, joint_name=f"{name}_joint",
+                      limits={"velocity": float(max_speed), "effort": float(max_torque)})
+        self._n_wheels += 1  # counted once added: a refused wheel takes no number
+        return self
 
     def add_point(self, name: str, *, body: str, offset: Sequence[float] = (0.0, 0.0, 0.0)) -> "RobotBuilder":
         """Add a named point fixed to ``body`` at ``offset`` (body frame, from its CM)."""

@@ -89,14 +89,16 @@ def _frozen(a: np.ndarray) -> np.ndarray:
 class Robot:
     """A spacecraft base carrying a tree of links (one or more arms).
 
-    Build one with :meth:`Robot.builder`, :meth:`Robot.from_toml`, :meth:`Robot.from_dh` or a
-    preset from :mod:`spacearm.presets`. A ``Robot`` is immutable; its methods are functions of
-    the state passed in.
+    Build one with :meth:`Robot.builder`, a preset from :mod:`spacearm.presets`, or a loader of
+    :mod:`spacearm.io` (``load_toml``, ``loads_toml``, ``load_urdf``, ``robot_from_dh``: they
+    live in ``io/``, a layer above this one, which imports nothing from above). A ``Robot`` is
+    immutable; its methods are functions of the state passed in.
     """
 
     def __init__(self, core_model: "_core.Model"):
         if not isinstance(core_model, _core.Model):
-            raise SpacearmTypeError("Robot is built with Robot.builder(), Robot.from_toml(), Robot.from_dh() or spacearm.presets")
+            raise SpacearmTypeError("Robot is built with Robot.builder(), spacearm.presets, or spacearm.io "
+                                    "(load_toml, loads_toml, load_urdf, robot_from_dh)")
         self._m = core_model
         # Named points resolved once (the model is immutable): name or None -> (body, offset).
         self._points = {}
@@ -120,37 +122,22 @@ class Robot:
 
         return RobotBuilder.from_robot(self, name=name)
 
-    @classmethod
-    def from_toml(cls, path, *, allow_nonphysical_inertia: bool = False) -> "Robot":
-        """Load a model file (schema: ``docs/model-format.md``; ``allow_nonphysical_inertia``:
-        see :func:`spacearm.io.model_file.loads_toml`)."""
-        from ..io.model_file import load_toml
-
-        return load_toml(path, allow_nonphysical_inertia=allow_nonphysical_inertia)
-
-    @classmethod
-    def from_toml_string(cls, text: str, source: str = "<string>", *, allow_nonphysical_inertia: bool = False) -> "Robot":
-        """Parse a model from TOML text (schema: ``docs/model-format.md``)."""
-        from ..io.model_file import loads_toml
-
-        return loads_toml(text, source=source, allow_nonphysical_inertia=allow_nonphysical_inertia)
-
-    @classmethod
-    def from_dh(cls, *args, **kwargs) -> "Robot":
-        """Build a model from a Denavit–Hartenberg table: see :func:`spacearm.io.dh.robot_from_dh`."""
-        from ..io.dh import robot_from_dh
-
-        return robot_from_dh(*args, **kwargs)
-
-    @classmethod
-    def from_urdf(cls, path, **kwargs) -> "Robot":
-        """Load a URDF file (root link = free-flying base, or mounted on a spacecraft): see
-        :func:`spacearm.io.urdf.load_urdf` for the options and ``docs/urdf.md`` for the frames."""
-        from ..io.urdf import load_urdf
-
-        return load_urdf(path, **kwargs)
-
     # ---- description --------------------------------------------------------------------
+    @property
+    def core_model(self) -> "_core.Model":
+        """The extension's model (``spacearm._core.Model``) this Robot wraps: the one accessor
+        for the package's modules that hand the model to a core function or spec
+        (``_core.simulate``, ``_core.Simulator``, the analyses, ``_core.model_to_toml``);
+        ``Robot(robot.core_model)`` is an equal Robot. Everything else goes through the Robot's
+        own methods.
+
+        A read-only property rather than a function in ``model/``: the handle is what a Robot
+        is made of (the constructor's one argument, what a pickle carries), the core's Model is
+        immutable (no method changes it), so handing it out cannot change the Robot, and one
+        named property is easy to find and to grep for (``tests/test_import_graph.py`` refuses
+        ``._m`` outside ``model/``)."""
+        return self._m
+
     @property
     def name(self) -> str:
         return self._m.name
@@ -277,6 +264,13 @@ class Robot:
                 raise NotFoundError(f"body index {body} does not exist (the model has bodies 0..{self.n_bodies - 1})")
             return int(body)
         return self._m.body_index(str(body))
+
+    def resolve_point(self, point: PointLike = None) -> tuple:
+        """``(body index, offset)`` of a point, the form every point-taking core call uses:
+        ``None`` (the end effector), a point name, a body name (its CM: zero offset), or
+        ``(body, offset)`` with ``offset`` in the body's frame from its CM (m). A named point's
+        offset is resolved once and returned read-only. Unknown names raise :class:`~spacearm.errors.NotFoundError`."""
+        return self._point(point)
 
     def _point(self, point: PointLike):
         """Resolve a point: ``None`` (end effector), a point name, or ``(body, offset)``."""
@@ -440,20 +434,6 @@ class Robot:
         """Base velocity ``[v0; w0] = H0⁻¹ (M0 - H0m qd)`` (eqs. 43, 109) that gives the system
         linear momentum ``P`` and angular momentum ``L`` about the origin of 𝒥."""
         return self._m.base_velocity_from_momentum(x, qd, P, L)
-
-    # ---- capture (docs/capture.md) ---------------------------------------------------------
-    def grasp_impulse(self, x, u, target, target_state, *, point: PointLike = None, grasp=None,
-                      grasp_offset=(0.0, 0.0, 0.0), restitution: float = 0.0, kind: str = "rigid",
-                      normal=None, arm: str = "free"):
-        """The impact of this robot's grasp point with a :class:`spacearm.Target`: a
-        :class:`~spacearm.capture.GraspImpulse` (``du``, ``target_dtwist``, ``impulse``, ...).
-        ``kind="rigid"`` locks the two grasp frames (6-D, plastic); ``kind="point"`` is a
-        frictionless contact along ``normal`` with restitution ``e``. The equations, from the
-        inverse inertia ``G = J H⁻¹ Jᵀ`` of each side, are in :mod:`spacearm.capture.impact`."""
-        from ..capture.impact import grasp_impulse
-
-        return grasp_impulse(self, x, u, target, target_state, point=point, grasp=grasp, grasp_offset=grasp_offset,
-                             restitution=restitution, kind=kind, normal=normal, arm=arm)
 
     # ---- momentum, energy, CM ------------------------------------------------------------
     def momentum(self, x, u) -> Momentum:

@@ -12,47 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._util.arrays import quaternion, vector
+from .._util.arrays import vector
 from ..errors import NonFiniteError, QuaternionError
+from ..rotations import quat_exp, quat_log, quat_multiply
 
-__all__ = ["quat_exp", "quat_log", "quat_multiply", "configuration_plus", "configuration_difference"]
-
-
-def quat_multiply(a, b) -> np.ndarray:
-    """Hamilton product ``a ⊗ b`` of quaternions ``[x, y, z, w]`` (or scipy ``Rotation``
-    objects), the rotation ``R(a) R(b)``."""
-    ax, ay, az, aw = quaternion(a, "a")
-    bx, by, bz, bw = quaternion(b, "b")
-    return np.array([
-        aw * bx + ax * bw + ay * bz - az * by,
-        aw * by - ax * bz + ay * bw + az * bx,
-        aw * bz + ax * by - ay * bx + az * bw,
-        aw * bw - ax * bx - ay * by - az * bz,
-    ])
-
-
-def quat_exp(theta) -> np.ndarray:
-    """Unit quaternion ``[x, y, z, w]`` of the rotation vector ``theta`` (rotation by
-    ``|theta|`` about ``theta / |theta|``); exact near zero."""
-    theta = np.asarray(theta, dtype=float)
-    angle = float(np.linalg.norm(theta))
-    half = 0.5 * angle
-    # sin(half)/angle, with its Taylor series near zero.
-    k = np.sin(half) / angle if angle > 1e-8 else 0.5 - angle * angle / 48.0
-    return np.array([theta[0] * k, theta[1] * k, theta[2] * k, np.cos(half)])
-
-
-def quat_log(q) -> np.ndarray:
-    """Rotation vector (length ≤ π) of a unit quaternion ``[x, y, z, w]`` (or scipy ``Rotation``)."""
-    q = quaternion(q, "q")
-    q = q / np.linalg.norm(q)
-    if q[3] < 0:
-        q = -q
-    v = q[:3]
-    s = float(np.linalg.norm(v))
-    angle = 2.0 * np.arctan2(s, q[3])
-    k = angle / s if s > 1e-12 else 2.0 / q[3]
-    return v * k
+__all__ = ["configuration_plus", "configuration_difference"]
 
 
 def _checked(x: np.ndarray, name: str) -> np.ndarray:

@@ -108,7 +108,7 @@ def point_to_point(
         raise ArgumentError(f"substeps must be at least 1, got {m}")
     xs = robot.neutral_configuration() if x0 is None else robot.configuration_plus(x0, np.zeros(robot.nu))
     us = robot.zero_velocity() if u0 is None else vector(u0, "u0", robot.nu)
-    robot._point(point)  # an unknown point fails here, before any work
+    robot.resolve_point(point)  # an unknown point fails here, before any work
     bounds = JointBounds.of(robot, position_limits, velocity_limit, effort_limit)
     q0 = xs[7:]
     if np.any(q0 < bounds.lower) or np.any(q0 > bounds.upper):

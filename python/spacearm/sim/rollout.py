@@ -141,13 +141,13 @@ def rollout(
     b = _batch_size(x0_in, u0_in, plants, controller)
     x0 = _states(x0, robot.neutral_configuration(), robot.nx, b, "x0")
     u0 = _states(u0, robot.zero_velocity(), robot.nu, b, "u0")
-    models = [robot._m]
+    models = [robot.core_model]
     if plants is not None:
         for i, p in enumerate(plants):
             _check_robot(p, f"rollout: plants[{i}]")
             if p.n_dof != robot.n_dof:
                 raise ShapeError(f"plants[{i}] has N = {p.n_dof} joints but the robot has N = {robot.n_dof}")
-        models = [p._m for p in plants]
+        models = [p.core_model for p in plants]
     if isinstance(controller, (list, tuple)):
         for i, c in enumerate(controller):
             _check_controller(c, f"controller[{i}]")

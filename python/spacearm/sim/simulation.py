@@ -192,7 +192,7 @@ def _run(
             # The options were checked first, before the progress callable (maybe a bar) was
             # made; they are built again with it.
             options = _options(robot, **option_args, progress=callback)
-        result = _core.simulate(robot._m, x0, u0, duration, options, spec)
+        result = _core.simulate(robot.core_model, x0, u0, duration, options, spec)
     finally:
         close()
     data = run_data(result)

@@ -83,7 +83,7 @@ class Simulator:
         )
         spec = None if controller is None else controller._spec(robot)
         self._robot = robot
-        self._core = _core.Simulator(robot._m, options, spec, None if record_every is None else int(record_every))
+        self._core = _core.Simulator(robot.core_model, options, spec, None if record_every is None else int(record_every))
         # The step itself, bound once: each call goes straight to the core.
         self.step = self._core.step
 

@@ -19,9 +19,7 @@ PNG) and :meth:`Trajectory.animate` (a 3-D GIF). Every file is written atomicall
 from __future__ import annotations
 
 import json
-import math
 import os
-import sys
 from typing import Dict, Iterable, List, NamedTuple, Optional, Union
 
 import numpy as np
@@ -30,8 +28,9 @@ from .. import _core
 from .._util.atomic import atomic_open
 from .._util.npz import open_npz
 from ..errors import ArgumentError, NotFoundError, ShapeError, SpacearmTypeError
+from ..rotations import quat_multiply, quat_to_matrix
 
-__all__ = ["Trajectory", "SaturationEvent", "SATURATION_KINDS", "quats_to_matrices", "euler_from_matrices"]
+__all__ = ["Trajectory", "SaturationEvent", "SATURATION_KINDS", "euler_from_matrices"]
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -63,24 +62,6 @@ class SaturationEvent(NamedTuple):
 # ---------------------------------------------------------------------------------------------
 # rotations of many samples at once
 # ---------------------------------------------------------------------------------------------
-def quats_to_matrices(quats) -> np.ndarray:
-    """Rotation matrices ``(K, 3, 3)`` of unit quaternions ``(K, 4)`` ``[x, y, z, w]``."""
-    q = np.asarray(quats, dtype=float)
-    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
-    x, y, z, w = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    r = np.empty(q.shape[:-1] + (3, 3))
-    r[..., 0, 0] = 1 - 2 * (y * y + z * z)
-    r[..., 0, 1] = 2 * (x * y - z * w)
-    r[..., 0, 2] = 2 * (x * z + y * w)
-    r[..., 1, 0] = 2 * (x * y + z * w)
-    r[..., 1, 1] = 1 - 2 * (x * x + z * z)
-    r[..., 1, 2] = 2 * (y * z - x * w)
-    r[..., 2, 0] = 2 * (x * z - y * w)
-    r[..., 2, 1] = 2 * (y * z + x * w)
-    r[..., 2, 2] = 1 - 2 * (x * x + y * y)
-    return r
-
-
 def euler_from_matrices(r) -> np.ndarray:
     """Roll, pitch, yaw ``(K, 3)`` (rad) of rotation matrices, in the URDF convention
     ``R = Rz(yaw) Ry(pitch) Rx(roll)``; roll and yaw are unwrapped along the samples so a
@@ -285,7 +266,8 @@ class Trajectory:
     @property
     def base_rotation(self) -> np.ndarray:
         """Base attitude ``R0`` ``(K, 3, 3)`` (base-frame vectors to 𝒥)."""
-        return quats_to_matrices(self.base_quat)
+        q = self.base_quat
+        return quat_to_matrix(q / np.linalg.norm(q, axis=1, keepdims=True))  # records: unit to their precision
 
     @property
     def base_euler(self) -> np.ndarray:
@@ -300,10 +282,8 @@ class Trajectory:
         angles too."""
         q = self.base_quat / np.linalg.norm(self.base_quat, axis=1, keepdims=True)
         q0 = q[0] * np.array([-1.0, -1.0, -1.0, 1.0])  # conjugate of the first attitude
-        # Hamilton product q ⊗ q0* (scalar last).
-        v = q[:, 3:4] * q0[:3] + q0[3] * q[:, :3] + np.cross(q[:, :3], q0[:3])
-        w = q[:, 3] * q0[3] - q[:, :3] @ q0[:3]
-        return 2.0 * np.arctan2(np.linalg.norm(v, axis=1), np.abs(w))
+        rel = quat_multiply(q, q0)  # q ⊗ q0*
+        return 2.0 * np.arctan2(np.linalg.norm(rel[:, :3], axis=1), np.abs(rel[:, 3]))
 
     @property
     def base_velocity(self) -> np.ndarray:

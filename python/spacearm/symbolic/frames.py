@@ -22,17 +22,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..rotations import quat_to_matrix
+
 __all__ = ["rotate", "quat_to_dcm", "to_base_velocity"]
 
 
 def quat_to_dcm(quat) -> np.ndarray:
     """``R0`` of a (normalized here) quaternion ``[x, y, z, w]``."""
-    x, y, z, w = np.asarray(quat, dtype=float) / np.linalg.norm(quat)
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ])
+    q = np.asarray(quat, dtype=float)
+    return quat_to_matrix(q / np.linalg.norm(q))
 
 
 def rotate(X: np.ndarray, R0: np.ndarray, row_groups: int, col_groups: int) -> np.ndarray:
