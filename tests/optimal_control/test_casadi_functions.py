@@ -171,3 +171,49 @@ def test_rk4_step_with_linear_torque_equals_the_native_rk4_under_that_torque():
     constant = sc.rk4_step(robot, substeps=8)
     x_c, _ = (_np(v).ravel() for v in constant(x0, u0, tau_a, np.zeros(6), duration))
     assert np.linalg.norm(x_c - x) > 1e-6  # the torque's variation mattered
+
+
+def test_values_on_both_sides_of_the_cores_branches(robot):
+    """The Functions replay one recorded path of the core's code; its branches test structural
+    zeros only (a joint exactly at zero skips its rotation in the f64 path, never on the tape),
+    so states with every joint at zero, a negative quaternion scalar part, and a quaternion of
+    any non-zero norm (normalised inside, as before) equal the core too."""
+    fd, H, Js = sc.forward_dynamics(robot), sc.mass_matrix(robot), sc.generalized_jacobian(robot, _point(robot))
+    rng = np.random.default_rng(21)
+    for k in range(3):
+        x, u = random_state(robot, rng)
+        if k == 0:
+            x[7:] = 0.0
+        if k == 1:
+            x[7::2] = 0.0
+            x[3:7] = -x[3:7] if x[6] > 0 else x[3:7]
+        tau, wrench = rng.normal(size=robot.n_dof), rng.normal(size=6)
+        scaled = x.copy()
+        scaled[3:7] *= [0.25, 1.0, 4.0][k]
+        assert_rel_close(_np(fd(scaled, u, tau, wrench)).ravel(), robot.forward_dynamics(x, u, tau=tau, base_wrench=wrench), "casadi fd", rtol=1e-12)
+        assert_rel_close(_np(H(scaled)), robot.mass_matrix(x), "casadi H", rtol=1e-12)
+        assert_rel_close(_np(Js(scaled)), robot.generalized_jacobian(x, _point(robot)), "casadi J*", rtol=1e-12)
+
+
+def test_a_zero_quaternion_gives_nan():
+    """A zero quaternion has no direction: the Functions, which cannot raise at evaluation,
+    return NaN (docs/optimal-control.md)."""
+    robot = spacearm.presets.planar4()
+    x = robot.neutral_configuration()
+    x[3:7] = 0.0
+    assert np.isnan(_np(sc.mass_matrix(robot)(x))).any()
+
+
+def test_the_graph_is_the_cores_tape():
+    """The Function is the core's recorded arithmetic: as many SX instructions as the tape
+    has operations (inputs, constants and outputs aside), and no hand-written recursions in
+    the package."""
+    import importlib.util
+
+    robot = spacearm.presets.spatial6()
+    tape = robot._m.tape("forward_dynamics")
+    operations = int(np.sum(tape.ops >= 2))
+    f = sc.forward_dynamics(robot)
+    # CasADi may fold a few operations of the replay (e.g. x·x into a square): never add any.
+    assert 0.9 * operations <= f.n_instructions() - f.nnz_in() - f.nnz_out() <= operations + len(tape.constants)
+    assert importlib.util.find_spec("spacearm.casadi._recursions") is None
