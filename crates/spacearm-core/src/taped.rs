@@ -32,6 +32,7 @@ use crate::gjm::{
     base_velocity_after_reduction, fill_generalized_inertia, generalized_bias_after_reduction, generalized_jacobian_after_reduction,
     reduce_after_kinematics, reduction_columns,
 };
+use crate::math::rotations::quaternion_rate;
 use crate::math::tape::{Recording, Tape, Var};
 use crate::model::data::DataT;
 use crate::model::Model;
@@ -41,6 +42,10 @@ use crate::model::Model;
 pub enum TapedFunction {
     /// `(x, u, tau, base_wrench) → du`: ABA with `f = [base_wrench; tau]`.
     ForwardDynamics,
+    /// `(x, u, tau, base_wrench) → dy`: the simulator's state derivative `dy = [ṙ0 = v0,
+    /// quaṫ = ½ [ω0; 0] ⊗ quat, q̇, u̇]` (7+N then 6+N; the quaternion rate of `x`'s quaternion
+    /// as given), `u̇` by ABA.
+    StateDerivative,
     /// `(x, u, du) → f`: RNEA.
     InverseDynamics,
     /// `x → H`: CRBA.
@@ -84,6 +89,7 @@ impl TapedFunction {
         };
         Ok(match name {
             "forward_dynamics" => TapedFunction::ForwardDynamics,
+            "state_derivative" => TapedFunction::StateDerivative,
             "inverse_dynamics" => TapedFunction::InverseDynamics,
             "mass_matrix" => TapedFunction::MassMatrix,
             "bias_forces" => TapedFunction::BiasForces,
@@ -103,8 +109,9 @@ impl TapedFunction {
     }
 
     /// The names [`TapedFunction::from_name`] knows.
-    pub const NAMES: [&'static str; 10] = [
+    pub const NAMES: [&'static str; 11] = [
         "forward_dynamics",
+        "state_derivative",
         "inverse_dynamics",
         "mass_matrix",
         "bias_forces",
@@ -120,6 +127,7 @@ impl TapedFunction {
     pub fn name(&self) -> &'static str {
         match self {
             TapedFunction::ForwardDynamics => "forward_dynamics",
+            TapedFunction::StateDerivative => "state_derivative",
             TapedFunction::InverseDynamics => "inverse_dynamics",
             TapedFunction::MassMatrix => "mass_matrix",
             TapedFunction::BiasForces => "bias_forces",
@@ -136,7 +144,7 @@ impl TapedFunction {
     pub fn inputs(&self, model: &Model) -> Vec<(&'static str, usize)> {
         let (nx, nu, n) = (model.nx(), model.nu(), model.n_dof());
         match self {
-            TapedFunction::ForwardDynamics => vec![("x", nx), ("u", nu), ("tau", n), ("base_wrench", 6)],
+            TapedFunction::ForwardDynamics | TapedFunction::StateDerivative => vec![("x", nx), ("u", nu), ("tau", n), ("base_wrench", 6)],
             TapedFunction::InverseDynamics => vec![("x", nx), ("u", nu), ("du", nu)],
             TapedFunction::MassMatrix
             | TapedFunction::GeneralizedInertia
@@ -152,6 +160,7 @@ impl TapedFunction {
         let (nu, n) = (model.nu(), model.n_dof());
         match self {
             TapedFunction::ForwardDynamics => vec![("du", nu, 1)],
+            TapedFunction::StateDerivative => vec![("dy", model.nx() + nu, 1)],
             TapedFunction::InverseDynamics => vec![("f", nu, 1)],
             TapedFunction::MassMatrix => vec![("H", nu, nu)],
             TapedFunction::BiasForces => vec![("c", nu, 1)],
@@ -193,13 +202,19 @@ pub fn record(model: &Model, function: &TapedFunction) -> Result<Tape> {
     let mut data = DataT::<Var>::new(model);
     kinematics(model, &mut data, &x);
     let outputs: Vec<Var> = match function {
-        TapedFunction::ForwardDynamics => {
+        TapedFunction::ForwardDynamics | TapedFunction::StateDerivative => {
             let u = rec.inputs(&vec![0.0; nu]);
             let tau = rec.inputs(&vec![0.0; n]);
             let wrench = rec.inputs(&[0.0; 6]);
             let f: Vec<Var> = wrench.iter().chain(tau.iter()).copied().collect();
             aba_after_kinematics(model, &mut data, &u, &f)?;
-            data.accel.iter().copied().collect()
+            if *function == TapedFunction::ForwardDynamics {
+                data.accel.iter().copied().collect()
+            } else {
+                // As the simulator's state derivative (sim::simulate): ṙ0, quaṫ, q̇, u̇.
+                let quat_rate = quaternion_rate(&x[3..7], &Vector3::new(u[3], u[4], u[5]));
+                u[0..3].iter().chain(quat_rate.iter()).chain(u[6..].iter()).chain(data.accel.iter()).copied().collect()
+            }
         }
         TapedFunction::InverseDynamics => {
             let u = rec.inputs(&vec![0.0; nu]);

@@ -10,6 +10,7 @@ use nalgebra::{DMatrix, Vector3};
 use rand::Rng;
 use spacearm_core::algorithms::{aba, crba, kinematics, momentum, rnea};
 use spacearm_core::gjm;
+use spacearm_core::math::rotations::quaternion_rate;
 use spacearm_core::math::tape::Tape;
 use spacearm_core::model::presets;
 use spacearm_core::taped::{record, TapedFunction};
@@ -56,6 +57,13 @@ fn check_all(model: &Model, tapes: &[(TapedFunction, Tape)], s: &Inputs, x_tape:
             TapedFunction::ForwardDynamics => {
                 let f = cat(&[&s.wrench, &s.tau]);
                 (tape.eval(&cat(&[x_tape, &s.u, &s.tau, &s.wrench])), aba::aba(model, &mut d, &s.x, &s.u, &f, &[]).unwrap().as_slice().to_vec())
+            }
+            TapedFunction::StateDerivative => {
+                let f = cat(&[&s.wrench, &s.tau]);
+                let du = aba::aba(model, &mut d, &s.x, &s.u, &f, &[]).unwrap().as_slice().to_vec();
+                // The quaternion rate of the quaternion as given (the simulator's stage value).
+                let rate = quaternion_rate(&x_tape[3..7], &Vector3::new(s.u[3], s.u[4], s.u[5]));
+                (tape.eval(&cat(&[x_tape, &s.u, &s.tau, &s.wrench])), cat(&[&s.u[0..3], &rate, &s.u[6..], &du]))
             }
             TapedFunction::InverseDynamics => {
                 (tape.eval(&cat(&[x_tape, &s.u, &s.du])), rnea::rnea(model, &mut d, &s.x, &s.u, &s.du, &[]).unwrap().as_slice().to_vec())

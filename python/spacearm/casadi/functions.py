@@ -122,12 +122,6 @@ def base_velocity_from_momentum(robot):
     return _taped(robot, "base_velocity_from_momentum")
 
 
-def _quaternion_rate(ca, w, quat):
-    """``quaṫ = ½ [ω; 0] ⊗ quat`` (Hamilton, ``[x, y, z, w]``, ``ω`` in 𝒥: a left product)."""
-    qv, qw = quat[0:3], quat[3]
-    return 0.5 * ca.vertcat(qw * w + ca.cross(w, qv), -ca.dot(w, qv))
-
-
 def _project(ca, y):
     """Normalise the quaternion of a state ``y = [x; u]``."""
     quat = y[3:7]
@@ -142,7 +136,10 @@ def rk4_step(robot, substeps: int = 1, torque: str = "constant"):
     simulator's RK4 (``spacearm.simulate(integrator="rk4")``): it is integrated as four
     components of ``quaṫ = ½ [ω0; 0] ⊗ quat``, every stage value is normalised before the
     dynamics are evaluated, and the step result is normalised again (the projection method,
-    which keeps the order 4). Chosen over an exponential-map (Lie-group) step so that one step
+    which keeps the order 4). The state derivative of each stage is the core's, recorded like
+    the other functions (``[v0, quaṫ, qd, du]``, ``du`` by ABA: the simulator's
+    ``sim::simulate`` right-hand side); only the Runge–Kutta weights and the projection are
+    written here. Chosen over an exponential-map (Lie-group) step so that one step
     of this function and one step of the native simulation are the same map to rounding: a plan
     built on it re-simulates without a discretisation mismatch.
 
@@ -156,8 +153,8 @@ def rk4_step(robot, substeps: int = 1, torque: str = "constant"):
     if torque not in ("constant", "linear"):
         raise ArgumentError(f"torque must be 'constant' or 'linear', got {torque!r}")
     ca = _casadi_for(robot)
-    fd = forward_dynamics(robot)
-    # MX symbols calling the SX forward-dynamics Function: the graph holds 4·substeps calls
+    state_derivative = _taped(robot, "state_derivative")
+    # MX symbols calling the SX state-derivative Function: the graph holds 4·substeps calls
     # of one compiled function instead of as many inlined copies, so its derivatives (and an
     # optimiser's Hessian) are built once per model rather than once per stage.
     x = ca.MX.sym("x", robot.nx)
@@ -170,9 +167,7 @@ def rk4_step(robot, substeps: int = 1, torque: str = "constant"):
 
     def rhs(y, fraction):
         """The state rate at the fraction ``fraction`` of the step (for the torque)."""
-        xs, us = y[0:nx], y[nx:]
-        xdot = ca.vertcat(us[0:3], _quaternion_rate(ca, us[3:6], xs[3:7]), us[6:])
-        return ca.vertcat(xdot, fd(xs, us, tau + fraction * (tau_end - tau), wrench))
+        return state_derivative(y[0:nx], y[nx:], tau + fraction * (tau_end - tau), wrench)
 
     h = dt / substeps
     y = ca.vertcat(x, u)
