@@ -49,15 +49,23 @@ def replay(ca, recorded: "_core.Tape", inputs: Sequence[object]) -> List[object]
     constants = recorded.constants.tolist()
     nodes: List[object] = []
     push = nodes.append
-    for op, (a, b) in zip(recorded.ops.tolist(), recorded.args.tolist()):
-        if op >= _FIRST_UNARY:
-            push(unary(codes[op], nodes[a]))
-        elif op > _CONST:
-            push(binary(codes[op], nodes[a], nodes[b]))
-        elif op == _INPUT:
-            push(xs[a])
-        else:
-            push(sx(constants[a]))
+    # CasADi's simplification on the fly rewrites some expressions as they are built (e.g.
+    # (a + b) − b → a), which changes the last digits and, on these graphs, adds instructions:
+    # off during the replay, so that the graph is the core's arithmetic exactly.
+    simplifying = ca.GlobalOptions.getSimplificationOnTheFly()
+    ca.GlobalOptions.setSimplificationOnTheFly(False)
+    try:
+        for op, (a, b) in zip(recorded.ops.tolist(), recorded.args.tolist()):
+            if op >= _FIRST_UNARY:
+                push(unary(codes[op], nodes[a]))
+            elif op > _CONST:
+                push(binary(codes[op], nodes[a], nodes[b]))
+            elif op == _INPUT:
+                push(xs[a])
+            else:
+                push(sx(constants[a]))
+    finally:
+        ca.GlobalOptions.setSimplificationOnTheFly(simplifying)
     values = [nodes[k] for k in recorded.outputs.tolist()]
     outputs, start = [], 0
     for _, rows, cols in recorded.outputs_shapes:
