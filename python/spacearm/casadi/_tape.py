@@ -51,7 +51,9 @@ def replay(ca, recorded: "_core.Tape", inputs: Sequence[object]) -> List[object]
     push = nodes.append
     # CasADi's simplification on the fly rewrites some expressions as they are built (e.g.
     # (a + b) − b → a), which changes the last digits and, on these graphs, adds instructions:
-    # off during the replay, so that the graph is the core's arithmetic exactly.
+    # off during the replay, so that the graph is the core's arithmetic exactly. (The option
+    # is global to CasADi: SX built on another thread during a replay is not simplified either,
+    # which changes nothing but the size of its graph.)
     simplifying = ca.GlobalOptions.getSimplificationOnTheFly()
     ca.GlobalOptions.setSimplificationOnTheFly(False)
     try:
