@@ -35,8 +35,10 @@
 //! * [`PartialEq`] is structural (the same node, or equal constants), so `a == b` is never
 //!   true by numerical coincidence at the nominal state.
 //!
-//! The tests replay each tape at random states on both sides of every branch the code has
-//! (joints at zero and not, both signs of every coordinate) and compare with the `f64` path.
+//! The tests (`crates/spacearm-core/tests/taped.rs`, `tests/optimal_control/`) replay each
+//! tape at random states on both sides of the branches the code has — joints exactly at zero
+//! and not, attitudes with either sign of the quaternion's scalar part, the identity attitude,
+//! quaternions of other norms — and compare with the `f64` path.
 //!
 //! Operations the recursions do not use (`floor`, `sinh`, `%`, ...) panic with a message
 //! saying so rather than record something wrong.
