@@ -24,7 +24,7 @@ __all__ = [
     "ReactionNullSpace", "ResourceLimitError", "RmrcMotion", "RmrcOptions", "RmrcRates",
     "RmrcSpec", "RolloutBatch", "RunEvents", "RunMeta", "RunOptions", "RunRecords", "RunResult",
     "SIM_DEFAULTS", "ScanResult", "ShapeError", "SimDefaults", "SimulationError", "Simulator",
-    "SingularError", "SingularityAnalysis", "SpacearmError", "SpacearmTypeError",
+    "SingularError", "SingularityAnalysis", "SpacearmError", "SpacearmTypeError", "Tape",
     "ThrusterLimits", "WorkspaceShells", "ZeroTorqueSpec", "__version__", "analysis_damping",
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
     "analysis_move_to", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
@@ -184,6 +184,8 @@ class Model:
     # the one-state path and the batch axis alike; the public Robot methods wrap them in NamedTuples.
     def forward_kinematics(self, x: _ArrayLike) -> tuple[_Vec, _Vec, _Vec, _Vec]: ...  # (body_to_world (nb,3,3), com_in_world (nb,3), joint_position_in_world (nb,3), joint_axis_in_world (nb,3))
     def point_position(self, x: _ArrayLike, body: int, offset: _Vec) -> _Vec: ...
+    # The core's recursions recorded on a tape (spacearm_core::taped) for spacearm.casadi to replay.
+    def tape(self, function: str, body: Optional[int] = None, offset: Optional[_ArrayLike] = None) -> Tape: ...
     def point_jacobians(self, x: _ArrayLike, body: int, offset: _Vec) -> tuple[_Vec, _Vec]: ...
     def link_jacobians(self, x: _ArrayLike, body: int) -> tuple[_Vec, _Vec]: ...
     def inertia_blocks(self, x: _ArrayLike) -> tuple: ...  # (M, r_0g, H_S, J_TS, H_Sq, H0, H0m, Hm, H): spacearm.InertiaBlocks
@@ -340,6 +342,28 @@ class WorkspaceShells:
     def path_independent(self) -> list[tuple[float, float]]: ...
     @property
     def radial_resolution(self) -> float: ...
+
+@final
+class Tape:
+    """A function of the equations of motion recorded by the core (spacearm_core::taped): node i
+    is ops[i] on the nodes args[i] (operands first), an input (args[i, 0]) or a constant
+    (constants[args[i, 0]]). Codes: 0 input, 1 constant, 2 add, 3 sub, 4 mul, 5 div, 6 atan2,
+    16 neg, 17 sqrt, 18 sin, 19 cos, 20 tan, 21 asin, 22 acos, 23 atan, 24 exp, 25 ln, 26 abs."""
+
+    @property
+    def ops(self) -> npt.NDArray[np.uint8]: ...  # (n,)
+    @property
+    def args(self) -> npt.NDArray[np.uint32]: ...  # (n, 2)
+    @property
+    def constants(self) -> _Vec: ...
+    @property
+    def outputs(self) -> npt.NDArray[np.uint32]: ...  # the node of each output value, column-major
+    @property
+    def n_inputs(self) -> int: ...
+    @property
+    def inputs(self) -> list[tuple[str, int]]: ...  # (name, length), in order
+    @property
+    def outputs_shapes(self) -> list[tuple[str, int, int]]: ...  # (name, rows, columns), in order
 
 @final
 class ReactionNullSpace:

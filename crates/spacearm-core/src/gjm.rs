@@ -72,12 +72,13 @@ pub(crate) fn reduction_columns<T: Real>(model: &Model, data: &mut DataT<T>, inv
     }
 }
 
-/// `H0mᵀ H0⁻¹ w` added with factor `sign` into `out` (length N). Requires
+/// `H0mᵀ H0⁻¹ w` added with factor `sign` into `out` (length N), any scalar. Requires
 /// [`reduction_columns`].
-fn add_h0m_t_h0_inv(model: &Model, data: &Data, inv: &BaseInverse<f64>, w: &Vector6<f64>, sign: f64, out: &mut DVector<f64>) {
+pub(crate) fn add_h0m_t_h0_inv<T: Real>(model: &Model, data: &DataT<T>, inv: &BaseInverse<T>, w: &Vector6<T>, sign: f64, out: &mut DVector<T>) {
     let (w_lin, w_ang) = (w.fixed_rows::<3>(0).into_owned(), w.fixed_rows::<3>(3).into_owned());
     let y = inv.angular(&w_lin, &w_ang);
     let w_lin_m = w_lin / inv.total_mass;
+    let sign = T::c(sign);
     for j in 0..model.n_dof() {
         out[j] += sign * (data.work_lin[j].dot(&w_lin_m) + data.work_ang[j].dot(&y));
     }
@@ -121,15 +122,21 @@ pub fn generalized_inertia(model: &Model, data: &mut Data, x: &[f64]) -> Result<
 pub fn compute_generalized_bias<'d>(model: &Model, data: &'d mut Data, x: &[f64], u: &[f64]) -> Result<&'d DVector<f64>> {
     let inv = reduce(model, data, x, false)?;
     check_velocity(model, "u", u)?;
+    generalized_bias_after_reduction(model, data, &inv, u);
+    Ok(&data.generalized_bias)
+}
+
+/// `c*` into `data.generalized_bias` from the base rows of the CRBA matrix and `H0⁻¹` (`u`
+/// checked), any scalar: RNEA at `u̇ = 0`, then `c_m − H0mᵀ H0⁻¹ c0`.
+pub(crate) fn generalized_bias_after_reduction<T: Real>(model: &Model, data: &mut DataT<T>, inv: &BaseInverse<T>, u: &[T]) {
     rnea_after_kinematics(model, data, u, None, &[]);
-    reduction_columns(model, data, &inv);
+    reduction_columns(model, data, inv);
     let n = model.n_dof();
     let c0 = data.tau.fixed_rows::<6>(0).into_owned();
     let mut out = std::mem::take(&mut data.generalized_bias);
     out.copy_from(&data.tau.rows(6, n));
-    add_h0m_t_h0_inv(model, data, &inv, &c0, -1.0, &mut out);
+    add_h0m_t_h0_inv(model, data, inv, &c0, -1.0, &mut out);
     data.generalized_bias = out;
-    Ok(&data.generalized_bias)
 }
 
 /// Generalized bias `c* = c_m − H0mᵀ H0⁻¹ c0` (N, paper eq. 46 with the base velocity `u[0..6]`
@@ -217,7 +224,7 @@ pub fn generalized_jacobian(model: &Model, data: &mut Data, x: &[f64], body: usi
 
 /// Base momentum vector `M0 = [P; L_base]` from the linear momentum and the angular momentum
 /// about the origin of 𝒥: `L_base = L_origin − r0 × P`.
-fn momentum_about_base(data: &Data, linear: &Vector3<f64>, angular_about_origin: &Vector3<f64>) -> Vector6<f64> {
+fn momentum_about_base<T: Real>(data: &DataT<T>, linear: &Vector3<T>, angular_about_origin: &Vector3<T>) -> Vector6<T> {
     spatial(linear, &(angular_about_origin - data.base_position.cross(linear)))
 }
 
@@ -240,11 +247,22 @@ pub fn base_velocity_from_momentum(
     check3("linear momentum", linear_momentum)?;
     check3("angular momentum", angular_momentum_origin)?;
     let inv = reduce(model, data, x, false)?;
+    Ok(base_velocity_after_reduction(data, &inv, qd, linear_momentum, angular_momentum_origin))
+}
+
+/// `H0⁻¹ (M0 − H0m q̇)` from the base rows of the CRBA matrix and `H0⁻¹`, any scalar.
+pub(crate) fn base_velocity_after_reduction<T: Real>(
+    data: &DataT<T>,
+    inv: &BaseInverse<T>,
+    qd: &[T],
+    linear_momentum: &Vector3<T>,
+    angular_momentum_origin: &Vector3<T>,
+) -> Vector6<T> {
     let mut w = momentum_about_base(data, linear_momentum, angular_momentum_origin);
     for (j, &qdj) in qd.iter().enumerate() {
         w -= data.mass_matrix.fixed_view::<6, 1>(0, 6 + j) * qdj;
     }
-    Ok(inv.apply(&w))
+    inv.apply(&w)
 }
 
 /// The momentum term of the point twist with non-zero system momentum:

@@ -21,6 +21,8 @@
 //!   functions `algo(&model, &mut data, x, ...)`;
 //! * [`gjm`] and [`derivatives`] — the generalized (reduced) dynamics `H*`, `c*`, `J*`, and
 //!   their exact derivatives;
+//! * [`taped`] — the same algorithms recorded on tapes ([`math::tape`]) for replay on other
+//!   systems' symbols (the CasADi functions of `spacearm.casadi`);
 //! * [`sim`], [`control`], [`analysis`] — the simulation loop, the controllers, and the
 //!   singularity, workspace and redundancy analyses.
 
@@ -37,6 +39,7 @@ pub mod io;
 pub mod math;
 pub mod model;
 pub mod sim;
+pub mod taped;
 
 pub use algorithms::wrench::ExternalWrench;
 pub use error::{Result, SpacearmError};

@@ -49,6 +49,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(batch::set_batch_threads, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch_threads, m)?)?;
     m.add_class::<model_py::PyModel>()?;
+    m.add_class::<model_py::PyTape>()?;
     m.add_class::<builder_py::PyModelBuilder>()?;
     m.add_class::<derivatives_py::PyDerivatives>()?;
     m.add_class::<description_py::PyModelInfo>()?;

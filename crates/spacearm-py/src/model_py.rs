@@ -5,7 +5,7 @@
 //! happens in the core.
 
 use nalgebra::{Dim, Matrix, RawStorage, Vector3, Vector6};
-use numpy::PyArray1;
+use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::intern;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
@@ -202,6 +202,34 @@ impl PyModel {
                 a[3 * b..3 * b + 3].copy_from_slice(d.joint_axis_in_world[b].as_slice());
             }
             Ok(())
+        })
+    }
+
+    /// The tape of a function of the equations of motion (`spacearm_core::taped`): the core's
+    /// recursions recorded on a recording scalar, for `spacearm.casadi` to replay on CasADi
+    /// symbols. `body` (and `offset`, default zero) name the point of `generalized_jacobian`
+    /// and `point_position`.
+    #[pyo3(signature = (function, body = None, offset = None))]
+    fn tape(&self, py: Python<'_>, function: &str, body: Option<usize>, offset: Option<&Bound<'_, PyAny>>) -> PyResult<PyTape> {
+        use core::taped::{record, TapedFunction};
+        let point = match (body, offset) {
+            (Some(b), Some(o)) => Some((b, finite3(o, "offset")?)),
+            (Some(b), None) => Some((b, Vector3::zeros())),
+            (None, _) => None,
+        };
+        let m = &self.model;
+        let f = TapedFunction::from_name(function, point).or_raise(py)?;
+        let tape = py.detach(|| record(m, &f)).or_raise(py)?;
+        let n = tape.len();
+        let args: Vec<u32> = tape.args.iter().flat_map(|a| a.iter().copied()).collect();
+        Ok(PyTape {
+            ops: PyArray1::from_vec(py, tape.ops).unbind(),
+            args: PyArray1::from_vec(py, args).reshape([n, 2])?.unbind(),
+            constants: PyArray1::from_vec(py, tape.constants).unbind(),
+            outputs: PyArray1::from_vec(py, tape.outputs).unbind(),
+            n_inputs: tape.n_inputs,
+            inputs: f.inputs(m).into_iter().map(|(name, k)| (name.to_string(), k)).collect(),
+            outputs_shapes: f.outputs(m).into_iter().map(|(name, r, c)| (name.to_string(), r, c)).collect(),
         })
     }
 
@@ -642,4 +670,42 @@ pub(crate) fn with_assembled_force<R>(nu: usize, tau: &[f64], base_wrench: &[f64
     buf[..6].copy_from_slice(base_wrench);
     buf[6..].copy_from_slice(tau);
     kernel(buf)
+}
+
+/// A recorded function of the equations of motion (`spacearm_core::math::tape::Tape` with the
+/// names of its inputs and outputs): node `i` is the operation `ops[i]` on the nodes
+/// `args[i]` (operands precede their node), an input (`args[i, 0]` its number) or a constant
+/// (`constants[args[i, 0]]`). Operation codes: 0 input, 1 constant, 2 add, 3 sub, 4 mul, 5 div,
+/// 6 atan2, 16 neg, 17 sqrt, 18 sin, 19 cos, 20 tan, 21 asin, 22 acos, 23 atan, 24 exp, 25 ln,
+/// 26 abs.
+#[pyclass(module = "spacearm._core", name = "Tape", frozen)]
+pub struct PyTape {
+    /// (n,) uint8: the operation of each node.
+    #[pyo3(get)]
+    ops: Py<PyArray1<u8>>,
+    /// (n, 2) uint32: the operands of each node (the second is 0 for a unary operation).
+    #[pyo3(get)]
+    args: Py<numpy::PyArray2<u32>>,
+    /// float64: the constants of the `Const` nodes.
+    #[pyo3(get)]
+    constants: Py<PyArray1<f64>>,
+    /// uint32: the node of each output value (outputs concatenated, matrices column-major).
+    #[pyo3(get)]
+    outputs: Py<PyArray1<u32>>,
+    /// Number of inputs (the inputs concatenated).
+    #[pyo3(get)]
+    n_inputs: usize,
+    /// `[(name, length)]` of the inputs, in order.
+    #[pyo3(get)]
+    inputs: Vec<(String, usize)>,
+    /// `[(name, rows, columns)]` of the outputs, in order.
+    #[pyo3(get)]
+    outputs_shapes: Vec<(String, usize, usize)>,
+}
+
+#[pymethods]
+impl PyTape {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("<Tape: {} nodes, {} inputs, {} outputs>", PyUntypedArrayMethods::len(self.ops.bind(py)), self.n_inputs, PyUntypedArrayMethods::len(self.outputs.bind(py)))
+    }
 }

@@ -2,8 +2,9 @@
 ``optimal-control``: ``pip install "spacearm[optimal-control]"``).
 
 Every builder takes a :class:`~spacearm.Robot` and returns a ``casadi.Function`` on ``SX``
-symbols built from the recursive algorithms (RNEA, CRBA, ABA, kinematics) evaluated on the
-model's description, in spacearm's conventions (docs/conventions.md):
+symbols whose graph is the Rust core's own recursions (ABA, RNEA, CRBA, the GJM reduction,
+kinematics), recorded by the core on a tape and replayed on ``SX`` (:mod:`._tape`), in
+spacearm's conventions (docs/conventions.md):
 
 >>> import spacearm, spacearm.casadi as sc
 >>> robot = spacearm.presets.planar4()

@@ -3,11 +3,12 @@
 
 use nalgebra::{DVector, Matrix6, Vector6};
 
-use crate::model::data::Data;
+use crate::model::data::{Data, DataT};
 use crate::error::{Result, SpacearmError};
 use crate::algorithms::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
 use crate::algorithms::rnea::velocity_pass;
+use crate::math::scalar::Real;
 use crate::math::spatial::{add6_assign, angular, cross_force, dot6, linear, mul6};
 use crate::algorithms::wrench::ExternalWrench;
 
@@ -35,15 +36,20 @@ pub fn aba<'d>(
 
 /// ABA on the kinematics already in `data` (forward kinematics done by the caller, `u` and `f`
 /// checked): the simulator computes the system CM from the same kinematics before choosing the
-/// base wrench, so it runs forward kinematics once per stage. Fills `data.accel`.
-pub(crate) fn aba_after_kinematics(model: &Model, data: &mut Data, u: &[f64], f: &[f64]) -> Result<()> {
+/// base wrench, so it runs forward kinematics once per stage. Fills `data.accel`. Any scalar:
+/// the one implementation behind [`aba`] and the recorded forward dynamics of [`crate::taped`].
+pub(crate) fn aba_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>, u: &[T], f: &[T]) -> Result<()> {
     aba_passes_1_2(model, data, u, f, &[])?;
     aba_pass_3(model, data, u, f)
 }
 
 /// ABA passes 1 and 2 on the kinematics already in `data`, inputs checked: body velocities,
 /// articulated inertias and bias forces folded down to the base.
-fn aba_passes_1_2(model: &Model, data: &mut Data, u: &[f64], f: &[f64], external: &[ExternalWrench]) -> Result<()> {
+///
+/// Generic over the scalar; its one value test (`D > 0` relative to the size of `Iᴬ`) is a
+/// validity check that holds at every state of a valid model, so a recorded tape
+/// ([`crate::math::tape`]) takes the branch every state takes.
+fn aba_passes_1_2<T: Real>(model: &Model, data: &mut DataT<T>, u: &[T], f: &[T], external: &[ExternalWrench]) -> Result<()> {
     velocity_pass(model, data, u);
     let nb = model.n_bodies();
     // Pass 1: articulated inertias start as rigid-body inertias, bias forces as gyroscopic
@@ -68,10 +74,11 @@ fn aba_passes_1_2(model: &Model, data: &mut Data, u: &[f64], f: &[f64], external
                 let s = data.motion_subspace[b];
                 let u_vec = mul6(ia, &s);
                 let d_scalar = dot6(&s, &u_vec);
-                if !(d_scalar > 1e-12 * max_abs(ia).max(1e-300)) {
+                if !(d_scalar.value() > 1e-12 * max_abs(ia).max(1e-300)) {
                     return Err(SpacearmError::Singular(format!(
-                        "the articulated inertia about joint '{}' (D = {d_scalar:e})",
-                        model.links()[b - 1].joint.name
+                        "the articulated inertia about joint '{}' (D = {:e})",
+                        model.links()[b - 1].joint.name,
+                        d_scalar.value()
                     )));
                 }
                 let small_u = f[6 + d] - dot6(&s, &pa);
@@ -80,11 +87,11 @@ fn aba_passes_1_2(model: &Model, data: &mut Data, u: &[f64], f: &[f64], external
                 data.aba_small_u[b] = small_u;
                 // Iᴬ − U Uᵀ / D in place (Iᴬ of this body is not needed again), column by
                 // column; (Uᵢ Uⱼ) / D keeps it exactly symmetric.
-                let inv_d = 1.0 / d_scalar;
+                let inv_d = T::one() / d_scalar;
                 for (j, col) in ia.as_mut_slice().chunks_exact_mut(6).enumerate() {
                     let uj = u_vec[j];
                     for (e, ui) in col.iter_mut().zip(u_vec.iter()) {
-                        *e -= (ui * uj) * inv_d;
+                        *e -= (*ui * uj) * inv_d;
                     }
                 }
                 let pa_reduced = pa + mul6(ia, &data.velocity_product[b]) + u_vec * (small_u / d_scalar);
@@ -100,20 +107,20 @@ fn aba_passes_1_2(model: &Model, data: &mut Data, u: &[f64], f: &[f64], external
     Ok(())
 }
 
-/// Largest `|entry|` of a 6×6 matrix (two independent running maxima per pair of rows: the
-/// same result as a single scan, with half the dependency chain).
+/// Largest `|entry|` of a 6×6 matrix, of the values (two independent running maxima per pair
+/// of rows: the same result as a single scan, with half the dependency chain).
 #[inline]
-fn max_abs(m: &Matrix6<f64>) -> f64 {
+fn max_abs<T: Real>(m: &Matrix6<T>) -> f64 {
     let (mut a, mut b) = (0.0_f64, 0.0_f64);
     for pair in m.as_slice().chunks_exact(2) {
-        a = a.max(pair[0].abs());
-        b = b.max(pair[1].abs());
+        a = a.max(pair[0].value().abs());
+        b = b.max(pair[1].value().abs());
     }
     a.max(b)
 }
 
 /// ABA pass 3: base acceleration, then joint accelerations outwards; fills `data.accel`.
-fn aba_pass_3(model: &Model, data: &mut Data, u: &[f64], f: &[f64]) -> Result<()> {
+fn aba_pass_3<T: Real>(model: &Model, data: &mut DataT<T>, u: &[T], f: &[T]) -> Result<()> {
     let nb = model.n_bodies();
     // Base: I^A_0 a0 = f_b − p^A_0.
     let rhs = Vector6::from_column_slice(&f[0..6]) - data.body_force[0];

@@ -4,7 +4,8 @@
 
 use nalgebra::Vector3;
 
-use crate::model::data::Data;
+use crate::model::data::{Data, DataT};
+use crate::math::scalar::Real;
 use crate::error::Result;
 use crate::algorithms::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
@@ -52,12 +53,7 @@ pub fn momentum(model: &Model, data: &mut Data, x: &[f64], u: &[f64]) -> Result<
 /// CM, then moved to the origin of 𝒥 and to the system CM. The one momentum sum of the crate
 /// (the simulator records it with this function too).
 pub fn momentum_from_data(model: &Model, data: &Data) -> Momentum {
-    let mut total = nalgebra::Vector6::zeros();
-    for b in 0..model.n_bodies() {
-        total += data.spatial_inertia[b] * data.body_velocity[b];
-    }
-    let p = linear(&total);
-    let l_base = angular(&total);
+    let (p, l_base) = momentum_about_base(model, data);
     let r0 = data.base_position;
     let rg = center_of_mass_from_data(model, data);
     Momentum {
@@ -139,6 +135,16 @@ pub fn conserved_drift(values: &[f64], dim: usize, scale: f64) -> f64 {
     let norm = |c: &[f64]| c.iter().zip(first).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
     let denom = first.iter().map(|v| v * v).sum::<f64>().sqrt().max(scale).max(f64::MIN_POSITIVE);
     values.chunks_exact(dim).map(norm).fold(0.0, f64::max) / denom
+}
+
+/// `(P, L_base)` from the body velocities already in `data`, any scalar: `[P; L_base] =
+/// Σ Iᵢ vᵢ` (the angular momentum about the base CM).
+pub(crate) fn momentum_about_base<T: Real>(model: &Model, data: &DataT<T>) -> (Vector3<T>, Vector3<T>) {
+    let mut total = nalgebra::Vector6::zeros();
+    for b in 0..model.n_bodies() {
+        total += data.spatial_inertia[b] * data.body_velocity[b];
+    }
+    (linear(&total), angular(&total))
 }
 
 /// Kinetic energy `T = ½ Σ (mᵢ |vᵢ|² + ωᵢᵀ Iᵢ ωᵢ)` at `(x, u)`, J.

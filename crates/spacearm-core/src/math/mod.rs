@@ -1,5 +1,5 @@
 //! Mathematics with no knowledge of the model: spatial (6-D) vectors and inertias, rotations
-//! and quaternions, the scalar type the algorithms are generic over, and damped least squares.
+//! and quaternions, the scalar type the algorithms are generic over (and a recording scalar, [`tape`]), and damped least squares.
 //!
 //! Imports: nothing else from this crate (the bottom layer). The allowed direction of imports
 //! across the crate is `math ← model ← io, algorithms ← gjm, derivatives ← sim, control,
@@ -9,3 +9,4 @@ pub mod dls;
 pub mod rotations;
 pub mod scalar;
 pub mod spatial;
+pub mod tape;

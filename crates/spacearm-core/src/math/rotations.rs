@@ -78,14 +78,15 @@ pub fn rotate_symmetric<T: Real>(r: &Matrix3<T>, a: &Matrix3<T>) -> Matrix3<T> {
 
 /// Quaternion kinematics `quaṫ = ½ [ω; 0] ⊗ quat` for `quat = [x, y, z, w]` and the angular
 /// velocity `ω` in 𝒥 (the body's attitude rate; Hamilton product, `ω` on the left because it
-/// is expressed in the inertial frame). Returns `quaṫ` as `[x, y, z, w]`.
+/// is expressed in the inertial frame). Returns `quaṫ` as `[x, y, z, w]`. Any scalar (the
+/// simulator's `f64`, the recorded state derivative of [`crate::taped`]).
 #[inline]
-pub fn quaternion_rate(quat_xyzw: &[f64], omega_world: &Vector3<f64>) -> [f64; 4] {
+pub fn quaternion_rate<T: Real>(quat_xyzw: &[T], omega_world: &Vector3<T>) -> [T; 4] {
     let vector = Vector3::new(quat_xyzw[0], quat_xyzw[1], quat_xyzw[2]);
     let scalar = quat_xyzw[3];
     // ½ [ω; 0] ⊗ [v; s]: vector part ½(s ω + ω × v), scalar part −½ ω·v.
-    let dv = (omega_world * scalar + omega_world.cross(&vector)) * 0.5;
-    [dv.x, dv.y, dv.z, -0.5 * omega_world.dot(&vector)]
+    let dv = (omega_world * scalar + omega_world.cross(&vector)) * T::c(0.5);
+    [dv.x, dv.y, dv.z, T::c(-0.5) * omega_world.dot(&vector)]
 }
 
 /// Divide the quaternion `[x, y, z, w]` stored in `quat_xyzw` by its norm.

@@ -1,11 +1,13 @@
 //! The scalar type of the recursive algorithms.
 //!
-//! Forward kinematics, CRBA, RNEA, the GJM reduction and the point Jacobians are written once,
-//! generic over a scalar `T: Real`. With `T = f64` they are the ordinary algorithms (the
-//! `Data` workspace is `DataT<f64>`); with `T` a dual number of the `num-dual` crate they carry,
-//! alongside every value, its exact directional derivatives — which is how
+//! Forward kinematics, ABA, CRBA, RNEA, the GJM reduction, the point Jacobians and the momentum
+//! sum are written once, generic over a scalar `T: Real`. With `T = f64` they are the ordinary
+//! algorithms (the `Data` workspace is `DataT<f64>`); with `T` a dual number of the `num-dual`
+//! crate they carry, alongside every value, its exact directional derivatives — which is how
 //! [`crate::derivatives`] obtains `∂H/∂x`, `Ḣ`, `∂H*/∂q`, `J̇*` and the forward-dynamics
-//! Jacobians to machine precision from the same code (forward-mode automatic differentiation).
+//! Jacobians to machine precision from the same code (forward-mode automatic differentiation);
+//! with `T` the recording scalar [`crate::math::tape::Var`] they write the operations they
+//! perform onto a tape, which `spacearm.casadi` replays on CasADi symbols ([`crate::taped`]).
 //!
 //! The model's constants stay `f64` and are converted with [`Real::c`] where they meet the
 //! state; for `f64` that conversion is the identity and compiles away.
@@ -26,7 +28,8 @@ pub trait Real: RealField + Copy {
     fn value(self) -> f64;
 
     /// `true` if the value and every derivative part are exactly zero (so that a computation
-    /// may take a shortcut without losing derivatives).
+    /// may take a shortcut without losing derivatives). For the recording scalar: only the
+    /// constant zero (a structural zero), so that a shortcut never depends on the state.
     fn is_exactly_zero(self) -> bool;
 }
 
