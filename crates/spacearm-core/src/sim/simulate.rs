@@ -546,7 +546,30 @@ fn simulate_dopri5(mut plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptio
         }
     }
     progress(1.0)?;
-    Ok(finish_result(&plant, rec, events, n_steps, n_rejected))
+    let result = finish_result(&plant, rec, events, n_steps, n_rejected);
+    check_divergence(&result)?;
+    Ok(result)
+}
+
+/// The largest relative drift of a conserved quantity that a run may show and still be returned
+/// (docs/simulation-core.md, "Errors"): beyond it the integration has lost the motion (a step far
+/// longer than the fastest mode allows), whatever the records look like.
+pub const DIVERGED_DRIFT: f64 = 0.1;
+
+/// A run whose conserved quantities drifted beyond [`DIVERGED_DRIFT`] (or overflowed to a
+/// non-finite value) diverged: a `SimulationError`, not a normal-looking result.
+fn check_divergence(result: &SimResult) -> Result<()> {
+    for (c, d) in &result.drift {
+        if !(d.is_finite() && *d <= DIVERGED_DRIFT) {
+            return Err(SpacearmError::Simulation(format!(
+                "the run diverged: the {} drifted by {} (relative; a conserved quantity may drift by at most {DIVERGED_DRIFT}) — \
+                 the step is too long for the motion: reduce dt, or use integrator='dopri5'",
+                c.name(),
+                if d.is_finite() { format!("{d:.3e}") } else { "a non-finite amount".to_string() }
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// The result of a run from its plant (counters, controller) and records.
