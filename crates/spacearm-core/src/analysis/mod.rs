@@ -1,7 +1,8 @@
 //! Analysis of free-floating spacecraft-manipulator systems built on the GJM quantities of
 //! [`crate::gjm`]: dynamic singularities ([`singularity`]), workspaces ([`workspace`]), the
-//! reaction null space ([`reaction_null_space`]), redundancy resolution and resolved-motion-rate
-//! control through `J*` ([`redundancy`]), and the kinematics of free-floating motion with
+//! reaction null space ([`reaction_null_space`]), the resolved-motion-rate solver through `J*`
+//! ([`rmrc_solver`], shared with the native controller of [`crate::control::rmrc`]), redundancy
+//! resolution with it ([`redundancy`]), and the kinematics of free-floating motion with
 //! conserved momentum ([`free_floating_kinematics`]).
 //!
 //! Shared here: the selection of task rows of a point twist ([`Task`]), the singular value
@@ -11,12 +12,14 @@
 //! Every batch scan runs its samples in parallel with rayon; each sample is computed on its own
 //! workspace from its own input only, so the results do not depend on the number of threads.
 //!
-//! Imports: everything below it (`math`, `model`, `algorithms`, `gjm`) and the RK4 integrator
-//! of [`crate::sim::integrate`] (its peer); nothing from `control`.
+//! Imports: everything below it (`math`, `model`, `algorithms`, `gjm`), the RK4 integrator
+//! of [`crate::sim::integrate`] and the point references of [`crate::sim::reference`] (its
+//! peer); nothing from `control` (which imports [`rmrc_solver`] and [`Task`] from here).
 
 pub mod free_floating_kinematics;
 pub mod reaction_null_space;
 pub mod redundancy;
+pub mod rmrc_solver;
 pub mod scan;
 pub mod singularity;
 pub mod workspace;
