@@ -205,4 +205,41 @@ mod tests {
         let (a, b) = (c.damping_sq(0.04), c.damping_sq(0.01));
         assert!(a > 0.0 && b > a && b < 0.01);
     }
+
+    #[test]
+    fn the_command_is_the_analysis_rmrc_rates() {
+        use crate::analysis::redundancy::rmrc_rates;
+        use crate::model::presets;
+        use crate::sim::actuators::Actuators;
+        use crate::sim::modes::Mode;
+        let m = presets::spatial7();
+        let x = presets::initial_configuration(&m);
+        let u = vec![0.0; m.nu()];
+        let ee = m.points()[m.end_effector().unwrap()].clone();
+        let mut d = Data::new(&m);
+        crate::algorithms::kinematics::forward_kinematics(&m, &mut d, &x).unwrap();
+        let p = point_position(&d, ee.body, &ee.offset);
+        let dp = Vector3::new(0.02, -0.015, 0.01);
+        let line = CartesianLine::new(p + dp, p + dp, 0.0, 1.0).unwrap();
+        let arm: Vec<usize> = (0..m.n_dof()).collect();
+        let actuators = Actuators::new(&m, false, None);
+        let ctx = ControlContext { plant: &m, mode: Mode::Floating, wheel_dofs: &[], arm_dofs: &arm, actuators: &actuators };
+        for strategy in [Strategy::Naive, Strategy::Reactionless, Strategy::MinimumBaseDisturbance] {
+            for task in [Task::position(), Task::full()] {
+                let mut c = ResolvedMotionRate::new(line, 5.0, 0.05, 0.05, 50.0, ee.body, ee.offset).with_strategy(strategy).with_task(task.clone());
+                c.setup(&ctx).unwrap();
+                let mut out = Command::new(m.n_dof(), 3);
+                c.command(0.0, &x, &u, &mut out).unwrap();
+                let options = RmrcOptions { strategy, ..RmrcOptions::task(task, c.law(), 5.0) };
+                let desired = Vector6::new(5.0 * dp.x, 5.0 * dp.y, 5.0 * dp.z, 0.0, 0.0, 0.0);
+                let r = rmrc_rates(&m, &mut d, &x, ee.body, &ee.offset, &desired, &options).unwrap();
+                let cmd = c.last_rate_command().unwrap();
+                assert!(r.qd.amax() > 0.1 && r.qd.amax() < 1.5, "{strategy:?}: no cap in play");
+                for i in 0..m.n_dof() {
+                    assert!((cmd[i] - r.qd[i]).abs() < 1e-14, "{strategy:?}: {} vs {}", cmd[i], r.qd[i]);
+                }
+                assert_eq!(c.last_damping_sq, r.damping * r.damping);
+            }
+        }
+    }
 }
