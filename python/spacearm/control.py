@@ -317,9 +317,10 @@ class ResolvedMotionRate(_Controller):
     """Resolved-motion-rate control of a point through the generalized Jacobian ``J*``
     (paper eq. 110) with damped least squares.
 
-    Joint-rate command: ``qd_cmd = J^T (J J^T + lambda^2 E)^-1 (pd_ref + gain (p_ref - p) - v_drift)``
-    with ``J`` the translational rows of ``J*`` over the arm joints and ``v_drift`` the point
-    velocity that the system momentum and the wheels produce. Damped least squares per singular
+    Joint-rate command (``strategy="naive"``): ``qd_cmd = J^T (J J^T + lambda^2 E)^-1 (v_d - v_drift)``,
+    ``v_d = pd_ref + gain (p_ref - p)`` on the translational rows, with ``J`` the task rows of
+    ``J*`` over the arm joints and ``v_drift`` the point twist that the system momentum and the
+    wheels produce: the solver of :func:`spacearm.analysis.rmrc_rates`, run natively. Damped least squares per singular
     direction (docs/singularities.md): a direction of singular value ``sigma`` gets
     ``lambda^2 = max_damping^2 (1 - (sigma / threshold)^2)`` when ``sigma < threshold``, else 0 —
     the same law and defaults as :mod:`spacearm.analysis`. The joints follow ``qd_cmd`` through the reduced EOM:

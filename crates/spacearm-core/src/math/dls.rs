@@ -1,6 +1,6 @@
 //! Damped least squares: the one damping law and the one damped inverse, used by the controllers
 //! that run in the simulation loop (control/rmrc.rs, control/coordinated.rs) and by the analyses
-//! (analysis/singularity.rs, analysis/redundancy.rs).
+//! (analysis/singularity.rs, analysis/rmrc_solver.rs).
 //!
 //! The damped least-squares inverse of an m×n Jacobian `J = Σ σᵢ uᵢ vᵢᵀ` (Nakamura & Hanafusa
 //! 1986; Wampler 1986) is `J⁺_λ = Σ σᵢ / (σᵢ² + λᵢ²) vᵢ uᵢᵀ`. The damping is applied per
@@ -9,15 +9,15 @@
 //! from singular (`σᵢ ≥ ε`) is inverted exactly and only the weak directions are damped — a single
 //! `λ(σ_min)` for every direction would also distort the well-conditioned ones.
 //!
-//! Three factorisations realise the same inverse: [`damped_inverse`] from an SVD of `J` (analysis,
-//! where the inverse is needed as a matrix), [`RowSvd`], a one-sided Jacobi SVD of a Jacobian of
-//! at most six rows in a workspace allocated once (the resolved-motion-rate solver,
-//! `analysis/rmrc_solver.rs`, for the controller in the simulation loop and the analyses alike: no
-//! allocation per evaluation, and the accuracy of an SVD, which the projectors onto null spaces
-//! need), and [`damped_gram_solve`] from the eigen-decomposition of the 3×3 Gram matrix
-//! `J Jᵀ = Σ σᵢ² uᵢ uᵢᵀ` (the acceleration-level task of control/coordinated.rs). Tests hold them together.
+//! Two factorisations realise the same inverse: [`damped_inverse`] from an SVD of `J` (analysis,
+//! where the inverse is needed as a matrix), and [`RowSvd`], a one-sided Jacobi SVD of a Jacobian
+//! of at most six rows in a workspace allocated once: no allocation per evaluation, for the
+//! controllers in the simulation loop (the resolved-motion-rate solver of
+//! `analysis/rmrc_solver.rs`, which the analyses run too, and the acceleration-level task of
+//! control/coordinated.rs), with the accuracy of an SVD, which the projectors onto null spaces
+//! need. A test holds the two together.
 
-use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, SymmetricEigen, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix6};
 
 use crate::error::{Result, SpacearmError};
 
@@ -102,29 +102,6 @@ pub fn damped_inverse(u: &DMatrix<f64>, sigma: &DVector<f64>, v: &DMatrix<f64>, 
     out
 }
 
-/// `z = Σ uᵢ (uᵢ·b) / (σᵢ² + λ²(σᵢ))` from the Gram matrix `J Jᵀ = Σ σᵢ² uᵢ uᵢᵀ` of a 3-row `J`,
-/// so that `Jᵀ z = J⁺_λ b` (the damped inverse of [`damped_inverse`] applied to `b`, without
-/// forming `J⁺_λ`). Directions with `σᵢ ≤ RANK_TOLERANCE · σ_max` are dropped as in
-/// [`damped_inverse`]. Returns `z` and the largest `λ²` of the law over the three directions.
-pub fn damped_gram_solve(jjt: &Matrix3<f64>, b: &Vector3<f64>, law: &DampingLaw) -> (Vector3<f64>, f64) {
-    let eig = SymmetricEigen::new(*jjt);
-    let sigmas = eig.eigenvalues.map(|e| e.max(0.0).sqrt());
-    let cut = RANK_TOLERANCE * sigmas.max();
-    let mut z = Vector3::zeros();
-    let mut worst = 0.0_f64;
-    for i in 0..3 {
-        let sigma = sigmas[i];
-        worst = worst.max(law.damping_sq(sigma));
-        // weight/σ = 1/(σ² + λ²): the Gram form carries one σ less than the SVD form.
-        let w = law.weight(sigma, cut);
-        if w != 0.0 {
-            let ui = eig.eigenvectors.column(i);
-            z += ui * (ui.dot(b) * w / sigma);
-        }
-    }
-    (z, worst)
-}
-
 /// Most rows a [`RowSvd`] factors (a point twist has six).
 pub const MAX_ROWS: usize = 6;
 
@@ -138,8 +115,9 @@ pub const MAX_ROWS: usize = 6;
 /// singular values. The damped inverse of [`damped_inverse`] applied to `b` is then
 /// `J⁺_λ b = Σⱼ (vⱼ·b) / (σⱼ² + λ²(σⱼ)) bⱼ` (directions with `σⱼ ≤ RANK_TOLERANCE · σ_max` dropped),
 /// and the projector onto the row space is `Σ qⱼ qⱼᵀ` over the directions above a rank cut. The
-/// `qⱼ` are orthonormal to rounding whatever their `σⱼ` (the stopping rule), unlike the Gram form,
-/// whose small singular values carry the rounding of `σ_max²`.
+/// `qⱼ` are orthonormal to rounding whatever their `σⱼ` (the stopping rule). (An eigen-decomposition
+/// of the Gram matrix `J Jᵀ`, used before, gives small singular values that carry the rounding
+/// of `σ_max²`: at `σ ≈ 1e-8 σ_max` they were off by 1 %.)
 #[derive(Debug, Clone)]
 pub struct RowSvd {
     m: usize,
@@ -358,25 +336,6 @@ mod tests {
             let pinv = damped_inverse(&u, &s, &v, &DampingLaw::none());
             assert!((&p - (DMatrix::identity(k, k) - &pinv * &j)).norm() < 1e-12);
             assert!((&j * &p).norm() < 1e-12 && (&p * &p - &p).norm() < 1e-12);
-        }
-    }
-
-    #[test]
-    fn gram_solve_equals_the_svd_form() {
-        let law = DampingLaw::new(0.5, 0.1).unwrap();
-        for j in [
-            DMatrix::from_row_slice(3, 4, &[0.3, -1.0, 0.2, 0.7, 1.1, 0.4, -0.6, 0.0, -0.2, 0.5, 0.8, 0.3]),
-            // Rank 2 (a planar arm) and a near-singular row.
-            DMatrix::from_row_slice(3, 4, &[0.3, -1.0, 0.2, 0.7, 1.1, 0.4, -0.6, 0.0, 0.0, 0.0, 0.0, 0.0]),
-            DMatrix::from_row_slice(3, 4, &[0.3, -1.0, 0.2, 0.7, 1.1, 0.4, -0.6, 0.0, 0.3, -1.0, 0.2, 0.71]),
-        ] {
-            let b = Vector3::new(0.4, -1.0, 0.7);
-            let (u, s, v) = svd(&j);
-            let expected = damped_inverse(&u, &s, &v, &law) * DVector::from_column_slice(b.as_slice());
-            let jjt = &j * j.transpose();
-            let (z, _) = damped_gram_solve(&Matrix3::from_iterator(jjt.iter().copied()), &b, &law);
-            let got = j.transpose() * DVector::from_column_slice(z.as_slice());
-            assert!((got - expected).norm() < 1e-10, "Gram and SVD forms differ");
         }
     }
 }
