@@ -306,6 +306,26 @@ mod tests {
     }
 
     #[test]
+    fn damped_inverse_is_the_normal_equations_with_per_direction_damping() {
+        // Aᵀ(AAᵀ + Λ)⁻¹ with Λ = U diag(λ²(σᵢ)) Uᵀ from nalgebra's own SVD, for both forms.
+        let a = DMatrix::from_row_slice(2, 3, &[1.0, 2.0, 0.0, 0.0, 1.0, 1.0]);
+        let law = DampingLaw::new(10.0, 0.3).unwrap();
+        let svd = a.clone().svd(true, false);
+        let u = svd.u.clone().unwrap();
+        let lambda_sq = DMatrix::from_diagonal(&svd.singular_values.map(|s| law.damping_sq(s)));
+        let direct = a.transpose() * (&a * a.transpose() + &u * lambda_sq * u.transpose()).try_inverse().unwrap();
+        let (u, s, v) = self::svd(&a);
+        assert!((damped_inverse(&u, &s, &v, &law) - &direct).norm() < 1e-12);
+        let mut ws = RowSvd::new(3);
+        ws.factor(&a);
+        for (c, b) in [[1.0, 0.0], [0.0, 1.0]].iter().enumerate() {
+            let mut col = DVector::zeros(3);
+            ws.solve(b, &law, &mut col);
+            assert!((col - direct.column(c)).norm() < 1e-12);
+        }
+    }
+
+    #[test]
     fn jacobi_svd_equals_the_svd_form() {
         let law = DampingLaw::new(0.5, 0.1).unwrap();
         let mut ws = RowSvd::new(7);
