@@ -572,7 +572,8 @@ class ComputedTorqueSpec:
 class RmrcSpec:
     """Resolved-motion-rate control of a point through J* (paper eq. 110), damped least squares."""
     def __new__(cls, *, reference: Union[CartesianReference, FreeBodyReference, JointReference], gain: float, max_damping: float,
-                 threshold: float, velocity_gain: float, body: int, offset: _ArrayLike, max_joint_rate: float = ...) -> RmrcSpec: ...
+                 threshold: float, velocity_gain: float, body: int, offset: _ArrayLike, max_joint_rate: float = ...,
+                 task: list[int] = ..., strategy: str = ...) -> RmrcSpec: ...
     gain: float  # 1/s (read-only)
     max_joint_rate: float  # rad/s, inf: no cap (read-only)
     max_damping: float  # m, the largest damping λ_max (read-only)
@@ -584,6 +585,12 @@ class RmrcSpec:
     @property
     def offset(self) -> _Vec:
         """Shape (3,), m, in the body's frame."""
+    @property
+    def task(self) -> list[int]:
+        """Rows of the point twist driven (0-2 linear, 3-5 angular velocity); default [0, 1, 2]."""
+    @property
+    def strategy(self) -> str:
+        """"naive" (default), "reactionless" or "minimum_disturbance"."""
 
 @final
 class CoordinatedFlyingSpec:

@@ -73,6 +73,13 @@ def _finite_float(value, name: str) -> float:
     return v
 
 
+def _strategy(value, name: str) -> str:
+    """A strategy name, checked by the core (``"naive"``, ``"reactionless"``, ``"minimum_disturbance"``)."""
+    if not isinstance(value, str):
+        raise ArgumentError(f"{name} must be 'naive', 'reactionless' or 'minimum_disturbance', got {value!r}")
+    return value
+
+
 def _quintic(t, t_start: float, t_end: float):
     """Rest-to-rest quintic time scaling ``s = 10τ³ − 15τ⁴ + 6τ⁵`` and its derivatives: the
     core's (the one the native controllers follow), evaluated at each time of ``t``."""
@@ -310,9 +317,10 @@ class ResolvedMotionRate(_Controller):
     """Resolved-motion-rate control of a point through the generalized Jacobian ``J*``
     (paper eq. 110) with damped least squares.
 
-    Joint-rate command: ``qd_cmd = J^T (J J^T + lambda^2 E)^-1 (pd_ref + gain (p_ref - p) - v_drift)``
-    with ``J`` the translational rows of ``J*`` over the arm joints and ``v_drift`` the point
-    velocity that the system momentum and the wheels produce. Damped least squares per singular
+    Joint-rate command (``strategy="naive"``): ``qd_cmd = J^T (J J^T + lambda^2 E)^-1 (v_d - v_drift)``,
+    ``v_d = pd_ref + gain (p_ref - p)`` on the translational rows, with ``J`` the task rows of
+    ``J*`` over the arm joints and ``v_drift`` the point twist that the system momentum and the
+    wheels produce: the solver of :func:`spacearm.analysis.rmrc_rates`, run natively. Damped least squares per singular
     direction (docs/singularities.md): a direction of singular value ``sigma`` gets
     ``lambda^2 = max_damping^2 (1 - (sigma / threshold)^2)`` when ``sigma < threshold``, else 0 —
     the same law and defaults as :mod:`spacearm.analysis`. The joints follow ``qd_cmd`` through the reduced EOM:
@@ -325,6 +333,14 @@ class ResolvedMotionRate(_Controller):
     ``point``: overrides the reference's point (default: the end effector);
     ``max_joint_rate`` (rad/s): ``qd_cmd`` is scaled as a whole so that no entry exceeds it
     (the point keeps its direction; default no cap).
+
+    ``task`` and ``strategy`` as in :func:`spacearm.analysis.rmrc_rates` (the same solver):
+    ``task`` a name of :data:`spacearm.analysis.TASKS` (``"position"``, the default: the
+    translational rows; ``"planar"``, ``"planar_pose"``, ``"orientation"``, ``"full"``), ``"auto"``
+    or a list of rows 0-5 (angular rows hold the orientation of the point's body at the start);
+    ``strategy``: ``"naive"`` (default), ``"reactionless"`` (the arm moves in the reaction null
+    space: no base rotation from the arm) or ``"minimum_disturbance"`` (task first, then as little
+    base rotation as its null space allows).
     """
 
     reference_cartesian: Any
@@ -334,6 +350,8 @@ class ResolvedMotionRate(_Controller):
     threshold: float = _core.DLS_DEFAULTS.threshold
     velocity_gain: float = 50.0
     max_joint_rate: float = math.inf
+    task: Any = "position"
+    strategy: str = "naive"
 
     def _spec(self, robot) -> _core.RmrcSpec:
         if not isinstance(self.reference_cartesian, (CartesianLine, FreeBodyPoint, SampledJoint)):
@@ -341,6 +359,8 @@ class ResolvedMotionRate(_Controller):
                                 f"got {type(self.reference_cartesian).__name__}")
         point = self.point if self.point is not None else getattr(self.reference_cartesian, "point", None)
         body, offset = robot.resolve_point(point)
+        from .analysis._common import task_rows  # the one home of the task names (function level: analysis is above control)
+
         return _core.RmrcSpec(
             reference=self.reference_cartesian._spec(),
             gain=_finite_float(self.gain, "ResolvedMotionRate gain"),
@@ -350,6 +370,8 @@ class ResolvedMotionRate(_Controller):
             body=int(body),
             offset=np.asarray(offset, dtype=float),
             max_joint_rate=_float(self.max_joint_rate, "ResolvedMotionRate max_joint_rate"),
+            task=task_rows(robot, self.task),
+            strategy=_strategy(self.strategy, "ResolvedMotionRate strategy"),
         )
 
 

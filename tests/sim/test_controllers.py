@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import spacearm
-from spacearm import errors
+from spacearm import analysis, errors
 from spacearm.control import (
     AttitudeControl,
     BaseThrusterControl,
@@ -190,6 +190,49 @@ def test_rmrc_stays_bounded_through_an_unreachable_target():
     assert np.all(np.isfinite(traj["u"]))
     assert np.abs(traj["u"][:, 6:]).max() < 20.0
     assert traj["tracking_error"][-1] > 1.0  # it could not get there
+
+
+@pytest.mark.parametrize("preset, delta, task", [("spatial7", (-0.2, 0.1, 0.15), "position"), ("planar4", (0.3, 0.2, 0.0), "planar")])
+def test_reactionless_rmrc_leaves_the_base_attitude_alone(preset, delta, task):
+    """The native controller with strategy "reactionless" moves the arm in the reaction null
+    space: the base attitude of the simulated trajectory (independent of the controller: the
+    integrated quaternion) barely moves, where the naive law turns the base by degrees. What is
+    left comes from the velocity loop's lag (q̇ ≠ q̇_cmd), so it shrinks as 1/velocity_gain."""
+    from scipy.spatial.transform import Rotation
+
+    robot = getattr(spacearm.presets, preset)()
+    x0 = robot.neutral_configuration()
+    p0 = robot.point_position(x0)
+    line = CartesianLine(p0, p0 + np.array(delta), 0.0, 2.0)
+    turn = {}
+    for strategy in ("naive", "reactionless"):
+        rmrc = ResolvedMotionRate(line, gain=5.0, task=task, strategy=strategy, velocity_gain=500.0)
+        traj = spacearm.simulate(robot, 3.0, dt=1e-3, record_every=10, controller=rmrc)
+        assert np.linalg.norm(robot.point_position(traj["x"][-1]) - line.p_goal) < 2e-5
+        turn[strategy] = (Rotation.from_quat(traj["x"][:, 3:7]) * Rotation.from_quat(x0[3:7]).inv()).magnitude().max()
+        if strategy == "reactionless":
+            assert np.abs(traj["u"][:, 3:6]).max() < 5e-5
+    assert turn["naive"] > 1e-2
+    assert turn["reactionless"] < 2e-5 and turn["reactionless"] < 1e-3 * turn["naive"]
+
+
+@pytest.mark.parametrize("strategy", ["naive", "reactionless", "minimum_disturbance"])
+def test_native_rmrc_command_is_the_analysis_rmrc_rates(strategy):
+    """One solver: at rest (zero momentum, c* = 0) the native controller's torque is
+    τ = H* K_v q̇_cmd, and q̇_cmd equals spacearm.analysis.rmrc_rates for the same state and
+    desired twist K (p_ref − p)."""
+    robot = spacearm.presets.spatial7()
+    x0 = robot.neutral_configuration()
+    p0 = robot.point_position(x0)
+    offset, gain, kv = np.array([0.02, -0.015, 0.01]), 5.0, 50.0
+    line = CartesianLine(p0 + offset, p0 + offset, 0.0, 1.0)
+    rmrc = ResolvedMotionRate(line, gain=gain, strategy=strategy, velocity_gain=kv)
+    traj = spacearm.simulate(robot, 0.002, dt=1e-3, joint_limits=False, controller=rmrc)
+    assert traj["t"][0] == 0.0
+    qd_cmd = np.linalg.solve(robot.generalized_inertia(x0), traj["tau"][0]) / kv
+    rates = analysis.rmrc_rates(robot, x0, np.r_[gain * offset, 0.0, 0.0, 0.0], task="position", strategy=strategy)
+    assert np.abs(rates["qd"]).max() > 0.1
+    np.testing.assert_allclose(qd_cmd, rates["qd"], rtol=0, atol=1e-12)
 
 
 # ---- attitude control with reaction wheels --------------------------------------------------

@@ -95,6 +95,19 @@ def test_the_control_classes_build_typed_specs_that_carry_what_the_user_gave(rob
     assert rmrc.body == body
     np.testing.assert_array_equal(rmrc.offset, offset)
     np.testing.assert_array_equal(rmrc.reference.p_goal, [1.2, 0.4, 0.0])
+    # Today's law by default: the translational rows, naive; the analysis' names otherwise.
+    assert (rmrc.task, rmrc.strategy) == ([0, 1, 2], "naive")
+    spec = control.ResolvedMotionRate(line, gain=3.0, task="planar", strategy="reactionless")._spec(robot)
+    assert (spec.task, spec.strategy) == ([0, 1], "reactionless")
+    assert control.ResolvedMotionRate(line, gain=3.0, task=[0, 1, 5])._spec(robot).task == [0, 1, 5]
+    with pytest.raises(errors.ArgumentError, match="strategy"):
+        control.ResolvedMotionRate(line, gain=3.0, strategy="minimal")._spec(robot)
+    with pytest.raises(errors.ArgumentError, match="strategy"):
+        control.ResolvedMotionRate(line, gain=3.0, strategy=1)._spec(robot)
+    with pytest.raises(errors.ArgumentError, match="task"):
+        control.ResolvedMotionRate(line, gain=3.0, task="sideways")._spec(robot)
+    with pytest.raises(errors.ShapeError):
+        control.ResolvedMotionRate(line, gain=3.0, task=[0, 0])._spec(robot)
 
     base = control.BaseThrusterControl(com_ref=[1.0, 2.0, 3.0], kp_position=4.0)
     combined = control.Combined(arm=control.JointPD(1.0, 1.0, q0), base=base)._spec(robot)

@@ -9,6 +9,8 @@ use spacearm_core::control::{
     AttitudeControl, BaseThrusterControl, Combined, ComputedTorque, Controller, CoordinatedFlying, CoordinatedGains, JointPd,
     ResolvedMotionRate, ZeroTorque,
 };
+use spacearm_core::analysis::redundancy::Strategy;
+use spacearm_core::analysis::Task;
 use spacearm_core::sim::integrate::{Dopri5, OdeSystem, Rk4};
 use spacearm_core::sim::modes::Mode;
 use spacearm_core::sim::reference::{CartesianLine, JointReference};
@@ -113,6 +115,23 @@ fn steps_allocate_nothing_under_every_native_controller() {
         ("pd", &arm, Mode::Floating, Box::new(JointPd::new(vec![1.0], vec![0.5], quintic()))),
         ("computed torque", &arm, Mode::Floating, Box::new(ComputedTorque::new(vec![25.0], vec![10.0], quintic(), None))),
         ("rmrc", &arm, Mode::Floating, Box::new(ResolvedMotionRate::new(line, 5.0, 0.05, 0.1, 50.0, ee.body, ee.offset))),
+        (
+            "rmrc reactionless, whole twist, capped",
+            &arm,
+            Mode::Floating,
+            Box::new(
+                ResolvedMotionRate::new(line, 5.0, 0.05, 0.1, 50.0, ee.body, ee.offset)
+                    .with_task(Task::full())
+                    .with_strategy(Strategy::Reactionless)
+                    .with_max_joint_rate(0.01),
+            ),
+        ),
+        (
+            "rmrc minimum disturbance, wheels as drift",
+            &wheels,
+            Mode::Floating,
+            Box::new(ResolvedMotionRate::new(line, 5.0, 0.05, 0.1, 50.0, ee.body, ee.offset).with_strategy(Strategy::MinimumBaseDisturbance)),
+        ),
         ("coordinated", &arm, Mode::Flying, Box::new(CoordinatedFlying::new(line, ee.body, ee.offset, None, gains, 0.05, 0.1))),
         ("thrusters", &arm, Mode::Flying, Box::new(BaseThrusterControl::new(None, None, 1.0, 2.0, 100.0, 50.0))),
         (

@@ -15,7 +15,7 @@ use crate::analysis_results_py::*;
 use crate::convert::*;
 use crate::model_py::PyModel;
 
-fn task(py: Python<'_>, rows: Vec<usize>) -> PyResult<Task> {
+pub(crate) fn task(py: Python<'_>, rows: Vec<usize>) -> PyResult<Task> {
     Task::new(&rows).or_raise(py)
 }
 
@@ -161,13 +161,8 @@ pub fn analysis_integrate_prescribed<'py>(
     Ok(row_major(py, &xs, xs.len() / (7 + n), 7 + n))
 }
 
-fn strategy(py: Python<'_>, s: &str) -> PyResult<redundancy::Strategy> {
-    match s {
-        "naive" => Ok(redundancy::Strategy::Naive),
-        "reactionless" => Ok(redundancy::Strategy::Reactionless),
-        "minimum_disturbance" => Ok(redundancy::Strategy::MinimumBaseDisturbance),
-        other => Err(to_py_err(py, SpacearmError::InvalidArgument(format!("strategy must be 'naive', 'reactionless' or 'minimum_disturbance', got '{other}'")))),
-    }
+pub(crate) fn strategy(py: Python<'_>, s: &str) -> PyResult<redundancy::Strategy> {
+    redundancy::Strategy::from_name(s).or_raise(py)
 }
 
 /// The options of the resolved-motion-rate law (`spacearm_core::analysis::redundancy::RmrcOptions`)

@@ -16,6 +16,8 @@ use spacearm_core::control::{
     AttitudeControl, BaseThrusterControl, Combined, Command, ComputedTorque, ControlContext, Controller, CoordinatedFlying, CoordinatedGains, JointPd,
     JointTorqueLimit, MomentumDamping, ResolvedMotionRate, ZeroTorque,
 };
+use spacearm_core::analysis::redundancy::Strategy;
+use spacearm_core::analysis::Task;
 use spacearm_core::sim::free_body::FreeBody;
 use spacearm_core::sim::reference::{CartesianLine, JointReference, PointReference};
 use numpy::{PyArray2, PyReadonlyArray2, PyArrayMethods};
@@ -421,12 +423,14 @@ pub struct PyRmrcSpec {
     #[pyo3(get)]
     body: usize,
     offset: Vector3<f64>,
+    task: Task,
+    strategy: Strategy,
 }
 
 #[pymethods]
 impl PyRmrcSpec {
     #[new]
-    #[pyo3(signature = (*, reference, gain, max_damping, threshold, velocity_gain, body, offset, max_joint_rate=f64::INFINITY, **unknown))]
+    #[pyo3(signature = (*, reference, gain, max_damping, threshold, velocity_gain, body, offset, max_joint_rate=f64::INFINITY, task=vec![0, 1, 2], strategy="naive", **unknown))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -438,15 +442,19 @@ impl PyRmrcSpec {
         body: &Bound<'_, PyAny>,
         offset: &Bound<'_, PyAny>,
         max_joint_rate: f64,
+        task: Vec<usize>,
+        strategy: &str,
         unknown: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         refuse_unknown::<Self>(py, unknown)?;
         point_reference(reference)?;
+        let task = crate::analysis_py::task(py, task)?;
+        let strategy = crate::analysis_py::strategy(py, strategy)?;
         if !(max_joint_rate > 0.0) {
             return Err(to_py_err(py, bad(format!("rmrc 'max_joint_rate' must be > 0 (inf: no cap), got {max_joint_rate}"))));
         }
         let (body, offset) = point(py, "rmrc", body, offset)?;
-        Ok(PyRmrcSpec { reference: reference.clone().unbind(), max_joint_rate, gain, max_damping, threshold, velocity_gain, body, offset })
+        Ok(PyRmrcSpec { reference: reference.clone().unbind(), max_joint_rate, gain, max_damping, threshold, velocity_gain, body, offset, task, strategy })
     }
 
     /// The point reference (a CartesianReference or a FreeBodyReference).
@@ -461,8 +469,20 @@ impl PyRmrcSpec {
         array(py, self.offset.as_slice())
     }
 
+    /// The rows of the point twist the controller drives (0-2 linear, 3-5 angular velocity).
+    #[getter]
+    fn task(&self) -> Vec<usize> {
+        self.task.rows().to_vec()
+    }
+
+    /// The treatment of the base: "naive", "reactionless" or "minimum_disturbance".
+    #[getter]
+    fn strategy(&self) -> &'static str {
+        self.strategy.name()
+    }
+
     fn __repr__(&self) -> String {
-        format!("<spacearm._core.RmrcSpec body={} gain={} 1/s>", self.body, self.gain)
+        format!("<spacearm._core.RmrcSpec body={} gain={} 1/s task={:?} strategy={}>", self.body, self.gain, self.task.rows(), self.strategy.name())
     }
 }
 
@@ -879,7 +899,9 @@ pub fn build_controller(obj: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<Bo
         Spec::ComputedTorque(s) => Box::new(ComputedTorque::new(s.kp.clone(), s.kd.clone(), joint_ref(&s.reference), s.model.clone())),
         Spec::Rmrc(s) => Box::new(
             ResolvedMotionRate::new(point_reference(s.reference.bind(py))?, s.gain, s.max_damping, s.threshold, s.velocity_gain, s.body, s.offset)
-                .with_max_joint_rate(s.max_joint_rate),
+                .with_max_joint_rate(s.max_joint_rate)
+                .with_task(s.task.clone())
+                .with_strategy(s.strategy),
         ),
         Spec::Attitude(s) => Box::new(AttitudeControl::new(s.quat_ref, s.kp, s.kd)),
         Spec::BaseThrusters(s) => Box::new(BaseThrusterControl::new(s.com_ref, s.quat_ref, s.kp_position, s.kd_position, s.kp_attitude, s.kd_attitude)),

@@ -1,22 +1,25 @@
 //! Analysis of free-floating spacecraft-manipulator systems built on the GJM quantities of
 //! [`crate::gjm`]: dynamic singularities ([`singularity`]), workspaces ([`workspace`]), the
-//! reaction null space ([`reaction_null_space`]), redundancy resolution and resolved-motion-rate
-//! control through `J*` ([`redundancy`]), and the kinematics of free-floating motion with
+//! reaction null space ([`reaction_null_space`]), the resolved-motion-rate solver through `J*`
+//! ([`rmrc_solver`], shared with the native controller of [`crate::control::rmrc`]), redundancy
+//! resolution with it ([`redundancy`]), and the kinematics of free-floating motion with
 //! conserved momentum ([`free_floating_kinematics`]).
 //!
-//! Shared here: the selection of task rows of a point twist ([`Task`]), the singular value
-//! decomposition with sorted singular values and full right singular vectors ([`Svd`]), and the
-//! damped least-squares pseudo-inverse ([`dls_pseudo_inverse`]).
+//! Shared here: the selection of task rows of a point twist ([`Task`]) and the singular value
+//! decomposition with sorted singular values and full right singular vectors ([`Svd`]); the
+//! damped least-squares inverse is [`crate::math::dls`]'s.
 //!
 //! Every batch scan runs its samples in parallel with rayon; each sample is computed on its own
 //! workspace from its own input only, so the results do not depend on the number of threads.
 //!
-//! Imports: everything below it (`math`, `model`, `algorithms`, `gjm`) and the RK4 integrator
-//! of [`crate::sim::integrate`] (its peer); nothing from `control`.
+//! Imports: everything below it (`math`, `model`, `algorithms`, `gjm`), the RK4 integrator
+//! of [`crate::sim::integrate`] and the point references of [`crate::sim::reference`] (its
+//! peer); nothing from `control` (which imports [`rmrc_solver`] and [`Task`] from here).
 
 pub mod free_floating_kinematics;
 pub mod reaction_null_space;
 pub mod redundancy;
+pub mod rmrc_solver;
 pub mod scan;
 pub mod singularity;
 pub mod workspace;
@@ -24,7 +27,6 @@ pub mod workspace;
 use nalgebra::{DMatrix, DVector};
 
 use crate::error::{Result, SpacearmError};
-use crate::math::dls::{damped_inverse, DampingLaw};
 
 /// The rows of a point twist `[v_x, v_y, v_z, ω_x, ω_y, ω_z]` (in 𝒥) that a task controls or an
 /// analysis looks at. `Task::position()` is the usual choice for a spatial arm, `Task::planar()`
@@ -182,19 +184,6 @@ fn orthonormalize_columns(u: &mut DMatrix<f64>) {
     }
 }
 
-/// Damped least-squares pseudo-inverse `J⁺_λ` (n×m) of an m×n Jacobian, damped per singular
-/// direction by `law` ([`crate::math::dls`]); [`DampingLaw::none`] gives the Moore–Penrose
-/// inverse, which also covers rank-deficient `J` (directions below `1e-12 σ_max` dropped).
-pub fn dls_pseudo_inverse(j: &DMatrix<f64>, law: &DampingLaw) -> Result<DMatrix<f64>> {
-    let svd = Svd::new(j)?;
-    Ok(dls_from_svd(&svd, law))
-}
-
-/// [`dls_pseudo_inverse`] from an existing decomposition.
-pub fn dls_from_svd(svd: &Svd, law: &DampingLaw) -> DMatrix<f64> {
-    damped_inverse(&svd.u, &svd.singular_values, &svd.v, law)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -213,23 +202,6 @@ mod tests {
         let recon = &s.u * DMatrix::from_diagonal(&s.singular_values) * s.v.columns(0, 2).transpose();
         assert!((recon - &a).norm() < 1e-12);
         assert!((&a * s.v.columns(2, 2)).norm() < 1e-12);
-    }
-
-    #[test]
-    fn dls_limits() {
-        let a = DMatrix::from_row_slice(2, 3, &[1.0, 2.0, 0.0, 0.0, 1.0, 1.0]);
-        let p = dls_pseudo_inverse(&a, &DampingLaw::none()).unwrap();
-        // Moore–Penrose of a full-row-rank matrix: Aᵀ(AAᵀ)⁻¹.
-        let mp = a.transpose() * (&a * a.transpose()).try_inverse().unwrap();
-        assert!((p - &mp).norm() < 1e-12);
-        // Damped per direction: Aᵀ(AAᵀ + Λ)⁻¹ with Λ = U diag(λ²(σᵢ)) Uᵀ from nalgebra's own SVD.
-        let law = DampingLaw::new(10.0, 0.3).unwrap();
-        let d = dls_pseudo_inverse(&a, &law).unwrap();
-        let svd = a.clone().svd(true, false);
-        let u = svd.u.unwrap();
-        let lambda_sq = DMatrix::from_diagonal(&svd.singular_values.map(|s| law.damping_sq(s)));
-        let direct = a.transpose() * (&a * a.transpose() + &u * lambda_sq * u.transpose()).try_inverse().unwrap();
-        assert!((d - direct).norm() < 1e-12);
     }
 
     #[test]

@@ -8,7 +8,8 @@
 //!    acceleration is `p̈ = v̇0 + α0 × r_0X + J_mX,T q̈ + b` (`J_0X ẍ0 + J_mX q̈` plus the
 //!    velocity-product term `b`, its acceleration at `u̇ = 0`), so with the base acceleration
 //!    prescribed, `q̈_des = J⁺_λ (a_des − v̇0_des − α0_des × r_0X − b)` with `J = J_mX,T` (arm
-//!    columns) and the damped least-squares inverse of [`super::rmrc`].
+//!    columns) and the damped least-squares inverse of [`crate::math::dls`] (the law of
+//!    [`super::rmrc`]).
 //! 3. Forces: the base wrench that produces `ẍ0_des` together with `q̈_des` comes from the base
 //!    rows, `F_b = H0 ẍ0_des + H0m q̈_des + c0`, and the joint torques from the reduced EOM,
 //!    `τ = H* q̈_des + c* + H0mᵀ H0⁻¹ F_b` (equal to the joint rows of `H u̇_des + c`; tested).
@@ -16,7 +17,7 @@
 //! With the exact model and no saturation both error dynamics are linear and decoupled
 //! (`ë + K_d ė + K_p e = 0` for the end effector and for the base pose).
 
-use nalgebra::{Matrix3, Vector3, Vector6};
+use nalgebra::{DMatrix, DVector, Vector3, Vector6};
 
 use crate::algorithms::crba::crba_after_kinematics;
 use crate::model::data::Data;
@@ -31,7 +32,7 @@ use crate::math::spatial::{angular, linear};
 
 use super::attitude::AttitudeControl;
 use super::computed_torque::ReducedInverseDynamics;
-use crate::math::dls::{damped_gram_solve, DampingLaw};
+use crate::math::dls::{DampingLaw, RowSvd};
 use super::{positive, Command, ControlContext, Controller, TrackingKind};
 
 /// Gains of [`CoordinatedFlying`] (acceleration level, 1/s² and 1/s).
@@ -65,6 +66,9 @@ pub struct CoordinatedFlying {
     inner: Option<ReducedInverseDynamics>,
     arm: Vec<usize>,
     jac: Vec<Vector3<f64>>,
+    jac_arm: DMatrix<f64>,
+    qdd_arm: DVector<f64>,
+    svd: RowSvd,
     qdd: Vec<f64>,
 }
 
@@ -96,6 +100,9 @@ impl CoordinatedFlying {
             inner: None,
             arm: vec![],
             jac: vec![],
+            jac_arm: DMatrix::zeros(3, 0),
+            qdd_arm: DVector::zeros(0),
+            svd: RowSvd::new(0),
             qdd: vec![],
         }
     }
@@ -162,6 +169,9 @@ impl Controller for CoordinatedFlying {
         self.model = Some(model);
         self.arm = ctx.arm_dofs.to_vec();
         self.jac = vec![Vector3::zeros(); ctx.plant.n_dof()];
+        self.jac_arm = DMatrix::zeros(3, self.arm.len());
+        self.qdd_arm = DVector::zeros(self.arm.len());
+        self.svd = RowSvd::new(self.arm.len());
         self.qdd = vec![0.0; ctx.plant.n_dof()];
         self.attitude = None;
         Ok(())
@@ -209,13 +219,15 @@ impl Controller for CoordinatedFlying {
             }
             b = model.links()[b - 1].parent;
         }
-        let mut jjt = Matrix3::zeros();
-        for &dof in &self.arm {
-            jjt += self.jac[dof] * self.jac[dof].transpose();
+        for (c, &dof) in self.arm.iter().enumerate() {
+            for r in 0..3 {
+                self.jac_arm[(r, c)] = self.jac[dof][r];
+            }
         }
-        let (z, _) = damped_gram_solve(&jjt, &rhs, &DampingLaw { threshold: self.threshold, max_damping: self.damping });
-        for &dof in &self.arm {
-            self.qdd[dof] = self.jac[dof].dot(&z);
+        self.svd.factor(&self.jac_arm);
+        self.svd.solve(rhs.as_slice(), &DampingLaw { threshold: self.threshold, max_damping: self.damping }, &mut self.qdd_arm);
+        for (c, &dof) in self.arm.iter().enumerate() {
+            self.qdd[dof] = self.qdd_arm[c];
         }
         // 3. Base rows: F_b = H0 ẍ0_des + H0m q̈_des + c0.
         let xdd0 = Vector6::new(acc_lin.x, acc_lin.y, acc_lin.z, acc_ang.x, acc_ang.y, acc_ang.z);

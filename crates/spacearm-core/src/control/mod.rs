@@ -16,8 +16,9 @@
 //! Each controller keeps its own [`Model`] and [`Data`] (a computed-torque controller may use a
 //! model that differs from the plant), so controllers never disturb the plant's workspace.
 //!
-//! Imports: everything below it (`math`, `model`, `algorithms`, `gjm`) and the maneuvering
-//! modes, actuator limits and references of [`crate::sim`] (its peer).
+//! Imports: everything below it (`math`, `model`, `algorithms`, `gjm`), the maneuvering
+//! modes, actuator limits and references of [`crate::sim`] and the resolved-motion-rate solver
+//! and task rows of [`crate::analysis`] (`analysis/rmrc_solver.rs`, [`crate::analysis::Task`]; its peers).
 
 pub mod attitude;
 pub mod computed_torque;
