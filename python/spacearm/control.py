@@ -359,7 +359,7 @@ class ResolvedMotionRate(_Controller):
                                 f"got {type(self.reference_cartesian).__name__}")
         point = self.point if self.point is not None else getattr(self.reference_cartesian, "point", None)
         body, offset = robot.resolve_point(point)
-        from .analysis._common import task_rows  # the one home of the task names (function level: analysis is above control)
+        from .model.tasks import task_rows  # the one home of the task names
 
         return _core.RmrcSpec(
             reference=self.reference_cartesian._spec(),

@@ -379,10 +379,12 @@ pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, contro
     let plant = Plant::new(model, opts, controller)?;
     let samples = sample_count(opts) as f64;
     admit_records(opts.integrator, samples, samples * Recorder::values_per_sample_of(&plant) as f64)?;
-    match opts.integrator {
-        IntegratorKind::Rk4 => simulate_rk4(plant, x0, u0, opts, progress),
-        IntegratorKind::Dopri5 => simulate_dopri5(plant, x0, u0, opts, progress),
-    }
+    let result = match opts.integrator {
+        IntegratorKind::Rk4 => simulate_rk4(plant, x0, u0, opts, progress)?,
+        IntegratorKind::Dopri5 => simulate_dopri5(plant, x0, u0, opts, progress)?,
+    };
+    check_divergence(&result)?;
+    Ok(result)
 }
 
 /// Admission control of recorded samples ([`crate::admission`]), the one check of every entry
@@ -546,9 +548,7 @@ fn simulate_dopri5(mut plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptio
         }
     }
     progress(1.0)?;
-    let result = finish_result(&plant, rec, events, n_steps, n_rejected);
-    check_divergence(&result)?;
-    Ok(result)
+    Ok(finish_result(&plant, rec, events, n_steps, n_rejected))
 }
 
 /// The largest relative drift of a conserved quantity that a run may show and still be returned
