@@ -3,11 +3,9 @@ figure output."""
 
 from __future__ import annotations
 
-import os
 
 import numpy as np
 
-from .._util.atomic import atomic_path
 from ..errors import ShapeError
 
 from ..model.tasks import TASKS, TaskLike, is_planar, task_rows  # noqa: F401  (the one home: model/tasks.py)
@@ -76,23 +74,14 @@ def concat_columns(parts, names) -> dict:
 
 
 def new_figure(*args, **kwargs):
-    """A matplotlib Figure without pyplot's global state (Agg canvas), laid out by matplotlib's
-    constrained layout so that labels, colour bars and legends outside the axes never overlap a
-    neighbouring panel."""
-    from .._util.optional import require
+    """:func:`spacearm.viz.figures.new_figure` (the figures' one home; imported when drawn)."""
+    from ..viz.figures import new_figure as make
 
-    FigureCanvasAgg = require("matplotlib.backends.backend_agg", "figures").FigureCanvasAgg
-    Figure = require("matplotlib.figure", "figures").Figure
-    kwargs.setdefault("layout", "constrained")
-    fig = Figure(*args, **kwargs)
-    FigureCanvasAgg(fig)
-    return fig
+    return make(*args, **kwargs)
 
 
 def save_figure(fig, path) -> str:
-    """Write ``fig`` to ``path`` atomically (temporary file in the same folder, then rename)."""
-    path = os.fspath(path)
-    ext = os.path.splitext(path)[1] or ".png"
-    with atomic_path(path, suffix=ext) as tmp:
-        fig.savefig(tmp, format=ext.lstrip(".") or "png", dpi=130, bbox_inches="tight")
-    return path
+    """:func:`spacearm.viz.figures.save_figure`: the format the file name asks for, atomically."""
+    from ..viz.figures import save_figure as save
+
+    return save(fig, path, dpi=130, bbox_inches="tight")

@@ -172,13 +172,17 @@ class CampaignResult:
 
     def figure(self, metrics: Optional[Sequence[str]] = None):
         """The figure of :meth:`plot` as a matplotlib ``Figure``, not written anywhere."""
-        from .report import campaign_figure
+        from ..viz.campaign import campaign_figure
+        from .report import report_rows
 
-        return campaign_figure(self, metrics)
+        return campaign_figure(report_rows(self, metrics), self.n_ok, self.n_failed)
 
     def plot(self, path, metrics: Optional[Sequence[str]] = None) -> Path:
-        """PNG: a histogram of each metric, and each metric against the parameter that explains
-        it best (largest |Spearman rank correlation|, stated in the panel title)."""
-        from .report import plot_campaign
+        """A histogram of each metric, and each metric against the parameter that explains it
+        best (largest |Spearman rank correlation|, stated in the panel title), written to
+        ``path`` in the format its suffix names (atomically)."""
+        from ..viz.figures import figure_format, save_figure
 
-        return plot_campaign(self, path, metrics)
+        figure_format(path)  # an unwritable format fails before the figure is drawn
+        save_figure(self.figure(metrics), path, dpi=110)
+        return Path(path)

@@ -136,35 +136,14 @@ class Plan:
     def figure(self, title: Optional[str] = None):
         """Base attitude change, joint-torque norm and point path (inertial x–y) of the plan,
         a quintic joint move to the same end configuration and the RMRC motion
-        (:meth:`comparison`). Returns the matplotlib ``Figure``."""
-        from ..analysis._common import new_figure
+        (:meth:`comparison`). Returns the matplotlib ``Figure`` (:func:`spacearm.viz.plan.plan_figure`)."""
+        from ..viz.plan import plan_figure
 
-        fig = new_figure(figsize=(13, 4.2))
-        ax_att, ax_tau, ax_path = fig.subplots(1, 3)
-        for name, (t, angle, torque, path) in self.comparison().items():
-            effort = np.sum(0.5 * (torque[1:] ** 2 + torque[:-1] ** 2) * np.diff(t))
-            ax_att.plot(t, np.degrees(angle), label=f"{name}: max {np.degrees(np.nanmax(angle)):.3g}°")
-            ax_tau.plot(t, torque, label=f"{name}: ∫|τ|²dt = {effort:.3g}")
-            ax_path.plot(path[:, 0], path[:, 1], label=name)
-        ax_path.plot([self.target[0]], [self.target[1]], "r*", ms=12, label="target")
-        ax_att.set_xlabel("t (s)")
-        ax_att.set_ylabel("base attitude change (deg)")
-        ax_att.set_title("base attitude disturbance", fontsize=10)
-        ax_tau.set_xlabel("t (s)")
-        ax_tau.set_ylabel("|τ| (N·m)")
-        ax_tau.set_title("joint effort", fontsize=10)
-        ax_path.set_xlabel("x (m)")
-        ax_path.set_ylabel("y (m)")
-        ax_path.set_aspect("equal", adjustable="datalim")
-        ax_path.set_title("point path (inertial x–y)", fontsize=10)
-        for ax in (ax_att, ax_tau, ax_path):
-            ax.legend(fontsize=7)
-        fig.suptitle(title or (f"{self.robot.name}: planned maneuver ({self.objective}, T = {self.duration:g} s, "
-                               f"{len(self.t) - 1} intervals; IPOPT: {self.status})"), fontsize=10)
-        return fig
+        return plan_figure(self, title)
 
     def plot(self, path, title: Optional[str] = None) -> str:
-        """Write :meth:`figure` to ``path`` (PNG, atomically); returns the path."""
-        from ..analysis._common import save_figure
+        """Write :meth:`figure` to ``path`` in the format its suffix names (atomically); returns the path."""
+        from ..viz.figures import figure_format, save_figure
 
-        return save_figure(self.figure(title), path)
+        figure_format(path)  # an unwritable format fails before anything is drawn
+        return save_figure(self.figure(title), path, bbox_inches="tight")

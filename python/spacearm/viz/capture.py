@@ -9,6 +9,7 @@ import numpy as np
 from .._util.atomic import atomic_path
 from .._util.optional import require
 from .animation import arm_segments, box_faces, equivalent_box
+from .figures import new_figure, save_figure
 
 __all__ = ["plot_capture", "animate_capture", "plot_envelope"]
 
@@ -16,18 +17,12 @@ _PHASE_COLOURS = ("#ffffff", "#fde0c5", "#e3f0d6", "#dbe7f5")
 
 
 def _figure(width, height, layout="constrained"):
-    FigureCanvasAgg = require("matplotlib.backends.backend_agg", "figures").FigureCanvasAgg
-    Figure = require("matplotlib.figure", "figures").Figure
-    fig = Figure(figsize=(width, height), layout=layout)
-    FigureCanvasAgg(fig)
-    return fig
+    return new_figure(figsize=(width, height), layout=layout)
 
 
 def _save(fig, path):
     if path is not None:
-        suffix = "." + str(path).rsplit(".", 1)[-1] if "." in str(path) else ".png"
-        with atomic_path(path, suffix=suffix) as tmp:
-            fig.savefig(str(tmp), dpi=110, format=suffix[1:])
+        save_figure(fig, path, dpi=110)
     return fig
 
 

@@ -29,7 +29,7 @@ from typing import Optional, Union
 
 import numpy as np
 
-from .._util.atomic import atomic_open
+from .figures import figure_format, new_figure, save_figure
 
 __all__ = ["plot_trajectory"]
 
@@ -39,14 +39,7 @@ _FLOOR = 1e-17  # log-scale floor for exact zeros of a relative change (below do
 
 
 def _new_figure(width: float, height: float):
-    from .._util.optional import require
-
-    FigureCanvasAgg = require("matplotlib.backends.backend_agg", "figures").FigureCanvasAgg
-    Figure = require("matplotlib.figure", "figures").Figure
-
-    fig = Figure(figsize=(width, height), layout="constrained")
-    FigureCanvasAgg(fig)
-    return fig
+    return new_figure(figsize=(width, height))
 
 
 def _wheel_dofs(traj) -> list:
@@ -291,6 +284,8 @@ def plot_trajectory(traj, path: Optional[PathLike] = None, *, title: Optional[st
     if traj.has("tracking_error"):
         panels.append(lambda ax, fig: _panel_tracking(ax, traj, arm))
     rows = (len(panels) + 1) // 2
+    if path is not None:
+        figure_format(path)  # an unwritable format fails before anything is drawn
     fig = _new_figure(12.0, 2.9 * rows + 0.6)
     axes = fig.subplots(rows, 2, squeeze=False).ravel()
     for ax, draw in zip(axes, panels):
@@ -305,6 +300,5 @@ def plot_trajectory(traj, path: Optional[PathLike] = None, *, title: Optional[st
         title = f"{name}: {m.get('mode', '?')} mode, controller {m.get('controller') or 'none'}, {m.get('integrator', '?')}"
     fig.suptitle(title)
     if path is not None:
-        with atomic_open(path, "wb", suffix=".png") as f:
-            fig.savefig(f, format="png", dpi=dpi)
+        save_figure(fig, path, dpi=dpi)
     return fig

@@ -1,0 +1,53 @@
+"""The one home of figure creation and saving: a matplotlib ``Figure`` on its own Agg canvas
+(no pyplot global state) and its atomic write in the format the file name asks for.
+
+Every figure of the package goes through :func:`save_figure`: ``run.pdf`` is a PDF, ``x.svg`` an
+SVG, ``run.png`` a PNG (a name without a suffix gets PNG); a suffix matplotlib cannot write is an
+:class:`~spacearm.errors.ArgumentError` naming the formats it can, raised before anything is drawn
+or written. Files are written atomically (no partial file).
+"""
+
+from __future__ import annotations
+
+import os
+
+from .._util.atomic import atomic_path
+from .._util.optional import require
+from ..errors import ArgumentError
+
+__all__ = ["new_figure", "figure_format", "save_figure"]
+
+
+def new_figure(*args, **kwargs):
+    """A matplotlib ``Figure`` on an Agg canvas; ``layout`` defaults to ``"constrained"`` (labels,
+    colour bars and legends outside the axes never overlap a neighbouring panel)."""
+    FigureCanvasAgg = require("matplotlib.backends.backend_agg", "figures").FigureCanvasAgg
+    Figure = require("matplotlib.figure", "figures").Figure
+    kwargs.setdefault("layout", "constrained")
+    fig = Figure(*args, **kwargs)
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def figure_format(path) -> str:
+    """The format ``path``'s suffix names (``"png"`` without one), checked against what
+    matplotlib can write."""
+    ext = os.path.splitext(os.fspath(path))[1].lower().lstrip(".")
+    if not ext:
+        return "png"
+    FigureCanvasAgg = require("matplotlib.backends.backend_agg", "figures").FigureCanvasAgg
+    supported = FigureCanvasAgg.get_supported_filetypes()
+    if ext not in supported:
+        raise ArgumentError(f"cannot write a figure as '.{ext}' ({os.fspath(path)!r}): the formats are "
+                            f"{', '.join('.' + k for k in sorted(supported))}")
+    return ext
+
+
+def save_figure(fig, path, *, dpi: int = 130, **savefig) -> str:
+    """Write ``fig`` to ``path`` in the format its suffix names (:func:`figure_format`),
+    atomically; returns the path."""
+    fmt = figure_format(path)
+    path = os.fspath(path)
+    with atomic_path(path, suffix="." + fmt) as tmp:
+        fig.savefig(tmp, format=fmt, dpi=dpi, **savefig)
+    return path
