@@ -1,6 +1,6 @@
 //! The rigid-body algorithms on one [`crate::model::Model`], each a free function
 //! `algo(&model, &mut data, x, ...)` leaving its results in [`crate::model::Data`]:
-//! forward kinematics and Jacobians ([`kinematics`]), the paper-form inertia blocks
+//! forward kinematics and Jacobians ([`kinematics`]), impulse dynamics ([`impulse`]), the paper-form inertia blocks
 //! ([`inertia`], eqs. 27–36), CRBA ([`crba`]), RNEA ([`rnea`]), ABA ([`aba`]), forward
 //! dynamics through `H` ([`dynamics`]), momentum and energy ([`momentum`]) and external
 //! wrenches ([`wrench`]).
@@ -10,6 +10,7 @@
 pub mod aba;
 pub mod crba;
 pub mod dynamics;
+pub mod impulse;
 pub mod inertia;
 pub mod kinematics;
 pub mod momentum;
