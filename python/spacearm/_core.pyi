@@ -16,7 +16,7 @@ __all__ = [
     "ArgumentError", "AttitudeSpec", "BaseInfo", "BaseThrustersSpec", "CallbackSpec",
     "CartesianReference", "CombinedSpec", "ComputedTorqueSpec", "ConservedDrift",
     "CoordinatedFlyingSpec", "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
-    "FreeBodyReference", "INTEGRATORS", "JacobianMeasures", "JointLimitsInfo", "JointPdSpec", "JointReference",
+    "FreeBodyReference", "GraspImpact", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimitsInfo", "JointPdSpec", "JointReference",
     "JointTorqueLimitSpec", "MomentumDampingSpec",
     "LinkInfo", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds",
     "ModelBuilder", "ModelError", "ModelFileError", "ModelInfo", "NonFiniteError",
@@ -29,7 +29,7 @@ __all__ = [
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
     "analysis_move_to", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_shells", "analysis_singularity", "batch_threads", "body_mass_properties_error",
-    "conserved_drift", "default_wheel_dofs", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
+    "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
     "model_to_toml", "momentum_scales", "perturbed", "preset", "quintic_scaling", "rollout", "set_batch_threads",
     "simulate",
 ]
@@ -413,6 +413,63 @@ class RmrcMotion:
     def attitude_change(self) -> _Vec: ...  # (K+1,) rad
     @property
     def final_position_error(self) -> float: ...  # m
+
+# ---- contact dynamics (crates/spacearm-py/src/contact_py.rs; spacearm_core::algorithms::impulse) --------
+@final
+class ImpulseDynamics:
+    """The velocity jump of an impact through a contact Jacobian (Pinocchio's impulseDynamics)."""
+
+    @property
+    def u_after(self) -> _Vec: ...  # (6+N,)
+    @property
+    def du(self) -> _Vec: ...  # (6+N,) H^-1 J^T Lambda, zero on locked coordinates
+    @property
+    def impulse(self) -> _Vec: ...  # (m,) Lambda
+    @property
+    def delassus(self) -> _Vec: ...  # (m, m) J H^-1 J^T over the mobile coordinates
+    @property
+    def locking_impulse(self) -> _Vec: ...  # (N,) the joint impulses holding locked joints
+
+@final
+class GraspImpact:
+    """The impact between a robot's grasp point and a target model (every vector in the inertial frame)."""
+
+    @property
+    def impulse(self) -> _Vec: ...  # (6,) [f; n] on the robot at X, N s, N m s
+    @property
+    def du(self) -> _Vec: ...  # (6+N,)
+    @property
+    def target_du(self) -> _Vec: ...  # the target model's jump of u
+    @property
+    def u_after(self) -> _Vec: ...
+    @property
+    def target_u_after(self) -> _Vec: ...
+    @property
+    def point(self) -> _Vec: ...  # (3,) X, m
+    @property
+    def gap(self) -> float: ...  # m
+    @property
+    def normal(self) -> _Vec | None: ...  # (3,) unit normal of a point contact
+    @property
+    def relative_twist_before(self) -> _Vec: ...  # (6,)
+    @property
+    def relative_twist_after(self) -> _Vec: ...  # (6,)
+    @property
+    def g_robot(self) -> _Vec: ...  # (6, 6)
+    @property
+    def g_target(self) -> _Vec: ...  # (6, 6)
+    @property
+    def energy_lost(self) -> float: ...  # J
+    @property
+    def locking_work(self) -> float: ...  # J
+    @property
+    def locking_impulse(self) -> _Vec: ...  # (N,)
+
+def impulse_dynamics(model: Model, x: _ArrayLike, u_before: _ArrayLike, jacobian: _Vec, restitution: float = 0.0,
+                     arm: str = "free") -> ImpulseDynamics: ...
+def grasp_impact(robot: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: _ArrayLike, target: Model, x_target: _ArrayLike,
+                 u_target: _ArrayLike, target_body: int, target_offset: _ArrayLike, *, kind: str = "rigid", restitution: float = 0.0,
+                 normal: _ArrayLike | None = None, arm: str = "free") -> GraspImpact: ...
 
 def analysis_singularity(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int]) -> SingularityAnalysis: ...
 def analysis_detect(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int], threshold: float, max_damping: float) -> Detection: ...

@@ -1,0 +1,206 @@
+//! Bindings of the core's contact dynamics: `spacearm_core::algorithms::impulse` (impulse
+//! dynamics and the two-body grasp impact). Arrays in, a typed frozen result out; the Python
+//! package `spacearm.capture` is the face users see (docs/capture.md).
+
+use nalgebra::DMatrix;
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use spacearm_core::algorithms::impulse::{self, BodyPoint, GraspContact, JointsAtImpact};
+use spacearm_core::SpacearmError;
+
+use crate::convert::*;
+use crate::model_py::PyModel;
+
+/// The result of `impulse_dynamics` (`spacearm_core::algorithms::impulse::ImpulseDynamics`).
+#[pyclass(module = "spacearm._core", name = "ImpulseDynamics", frozen)]
+pub struct PyImpulseDynamics {
+    /// (6+N,) the generalized velocity after the impact.
+    #[pyo3(get)]
+    u_after: Py<PyArray1<f64>>,
+    /// (6+N,) the jump Δu = H⁻¹ Jᵀ Λ (zero on locked coordinates).
+    #[pyo3(get)]
+    du: Py<PyArray1<f64>>,
+    /// (m,) the contact impulse Λ.
+    #[pyo3(get)]
+    impulse: Py<PyArray1<f64>>,
+    /// (m, m) the Delassus operator J H⁻¹ Jᵀ over the mobile coordinates.
+    #[pyo3(get)]
+    delassus: Py<PyArray2<f64>>,
+    /// (N,) the impulsive joint torques that hold locked joints (zeros with free joints).
+    #[pyo3(get)]
+    locking_impulse: Py<PyArray1<f64>>,
+}
+
+#[pymethods]
+impl PyImpulseDynamics {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("<spacearm._core.ImpulseDynamics impulse={:?}>", self.impulse.bind(py).to_vec().unwrap_or_default())
+    }
+}
+
+/// The result of `grasp_impact` (`spacearm_core::algorithms::impulse::GraspImpact`), every
+/// vector in 𝒥.
+#[pyclass(module = "spacearm._core", name = "GraspImpact", frozen)]
+pub struct PyGraspImpact {
+    /// (6,) Λ = [f̂; n̂] on the robot at the grasp point (N·s, N·m·s); the target gets −Λ.
+    #[pyo3(get)]
+    impulse: Py<PyArray1<f64>>,
+    /// (6+N,) the robot's velocity jump.
+    #[pyo3(get)]
+    du: Py<PyArray1<f64>>,
+    /// The target's velocity jump (of its model's u).
+    #[pyo3(get)]
+    target_du: Py<PyArray1<f64>>,
+    /// The robot's velocity after the impact.
+    #[pyo3(get)]
+    u_after: Py<PyArray1<f64>>,
+    /// The target's velocity after the impact.
+    #[pyo3(get)]
+    target_u_after: Py<PyArray1<f64>>,
+    /// (3,) the grasp point X (the robot's point), m.
+    #[pyo3(get)]
+    point: Py<PyArray1<f64>>,
+    /// Distance from X to the target's grasp point, m.
+    #[pyo3(get)]
+    gap: f64,
+    /// (3,) the unit contact normal of a point contact, or None.
+    #[pyo3(get)]
+    normal: Option<Py<PyArray1<f64>>>,
+    /// (6,) the relative twist at X before the impact.
+    #[pyo3(get)]
+    relative_twist_before: Py<PyArray1<f64>>,
+    /// (6,) the relative twist at X after the impact.
+    #[pyo3(get)]
+    relative_twist_after: Py<PyArray1<f64>>,
+    /// (6, 6) the robot's inverse inertia at X.
+    #[pyo3(get)]
+    g_robot: Py<PyArray2<f64>>,
+    /// (6, 6) the target's inverse inertia at X.
+    #[pyo3(get)]
+    g_target: Py<PyArray2<f64>>,
+    /// Energy the contact impulses take out, J (>= 0 to rounding).
+    #[pyo3(get)]
+    energy_lost: f64,
+    /// Work of the locking joint impulses, J (0 with the arm free).
+    #[pyo3(get)]
+    locking_work: f64,
+    /// (N,) the locking joint impulses τ̂ (zeros with the arm free).
+    #[pyo3(get)]
+    locking_impulse: Py<PyArray1<f64>>,
+}
+
+#[pymethods]
+impl PyGraspImpact {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "<spacearm._core.GraspImpact impulse={:?} energy_lost={:?} locking_work={:?}>",
+            self.impulse.bind(py).to_vec().unwrap_or_default(),
+            self.energy_lost,
+            self.locking_work
+        )
+    }
+}
+
+fn joints(py: Python<'_>, arm: &str) -> PyResult<JointsAtImpact> {
+    JointsAtImpact::from_name(arm).or_raise(py)
+}
+
+/// Impulse dynamics of one model: the velocity after an impact through the contact Jacobian
+/// `jacobian` (m × (6+N)) from `u_before`, restitution `e` in [0, 1], `arm` "free" or "locked".
+#[pyfunction]
+#[pyo3(signature = (model, x, u_before, jacobian, restitution = 0.0, arm = "free"))]
+pub fn impulse_dynamics(
+    py: Python<'_>,
+    model: PyRef<'_, PyModel>,
+    x: &Bound<'_, PyAny>,
+    u_before: &Bound<'_, PyAny>,
+    jacobian: PyReadonlyArray2<'_, f64>,
+    restitution: f64,
+    arm: &str,
+) -> PyResult<PyImpulseDynamics> {
+    let joints = joints(py, arm)?;
+    let (x, u) = (vec_arg(x, "x")?, vec_arg(u_before, "u_before")?);
+    let shape = jacobian.shape();
+    let j = DMatrix::from_row_iterator(shape[0], shape[1], jacobian.as_array().iter().copied());
+    let r = model.with_data(|m, d| impulse::impulse_dynamics(m, d, x.as_slice(), u.as_slice(), &j, restitution, joints)).or_raise(py)?;
+    Ok(PyImpulseDynamics {
+        u_after: dvec(py, &r.u_after).unbind(),
+        du: dvec(py, &r.du).unbind(),
+        impulse: dvec(py, &r.impulse).unbind(),
+        delassus: dmat(py, &r.delassus).unbind(),
+        locking_impulse: dvec(py, &r.locking_impulse).unbind(),
+    })
+}
+
+/// The grasp impact between the robot's point `(body, offset)` at `(x, u)` and the target
+/// model at `(x_target, u_target)`, hit on the body of its grasp point `(target_body,
+/// target_offset)` at its material point at the robot's point. `kind` "rigid" or "point"
+/// (`normal` in 𝒥, None: from the grasped body's CM to the grasp point), `restitution` in [0, 1],
+/// `arm` "free" or "locked".
+#[pyfunction]
+#[pyo3(signature = (robot, x, u, body, offset, target, x_target, u_target, target_body, target_offset, *, kind = "rigid",
+                    restitution = 0.0, normal = None, arm = "free"))]
+#[allow(clippy::too_many_arguments)]
+pub fn grasp_impact(
+    py: Python<'_>,
+    robot: PyRef<'_, PyModel>,
+    x: &Bound<'_, PyAny>,
+    u: &Bound<'_, PyAny>,
+    body: usize,
+    offset: &Bound<'_, PyAny>,
+    target: PyRef<'_, PyModel>,
+    x_target: &Bound<'_, PyAny>,
+    u_target: &Bound<'_, PyAny>,
+    target_body: usize,
+    target_offset: &Bound<'_, PyAny>,
+    kind: &str,
+    restitution: f64,
+    normal: Option<&Bound<'_, PyAny>>,
+    arm: &str,
+) -> PyResult<PyGraspImpact> {
+    let joints = joints(py, arm)?;
+    let contact = match kind {
+        "rigid" => GraspContact::Rigid,
+        "point" => GraspContact::Point { normal: normal.map(|n| finite3(n, "normal")).transpose()? },
+        other => return Err(to_py_err(py, SpacearmError::InvalidArgument(format!("kind must be one of ['rigid', 'point'], got '{other}'")))),
+    };
+    let robot_point = BodyPoint { body, offset: finite3(offset, "offset")? };
+    let target_grasp = BodyPoint { body: target_body, offset: finite3(target_offset, "target_offset")? };
+    let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
+    let (xt, ut) = (vec_arg(x_target, "x_target")?, vec_arg(u_target, "u_target")?);
+    let g = robot
+        .with_data(|rm, rd| {
+            target.with_data(|tm, td| {
+                impulse::grasp_impact(
+                    rm, rd, x.as_slice(), u.as_slice(), robot_point, tm, td, xt.as_slice(), ut.as_slice(), target_grasp, contact, restitution, joints,
+                )
+            })
+        })
+        .or_raise(py)?;
+    Ok(PyGraspImpact {
+        impulse: array1(py, g.impulse.as_slice()).unbind(),
+        du: dvec(py, &g.du).unbind(),
+        target_du: dvec(py, &g.target_du).unbind(),
+        u_after: dvec(py, &g.u_after).unbind(),
+        target_u_after: dvec(py, &g.target_u_after).unbind(),
+        point: array1(py, g.point.as_slice()).unbind(),
+        gap: g.gap,
+        normal: g.normal.map(|n| array1(py, n.as_slice()).unbind()),
+        relative_twist_before: array1(py, g.relative_twist_before.as_slice()).unbind(),
+        relative_twist_after: array1(py, g.relative_twist_after.as_slice()).unbind(),
+        g_robot: matrix(py, &g.g_robot).unbind(),
+        g_target: matrix(py, &g.g_target).unbind(),
+        energy_lost: g.energy_lost,
+        locking_work: g.locking_work,
+        locking_impulse: dvec(py, &g.locking_impulse).unbind(),
+    })
+}
+
+/// Add the contact functions and classes to the module.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyImpulseDynamics>()?;
+    m.add_class::<PyGraspImpact>()?;
+    m.add_function(wrap_pyfunction!(impulse_dynamics, m)?)?;
+    m.add_function(wrap_pyfunction!(grasp_impact, m)?)?;
+    Ok(())
+}
