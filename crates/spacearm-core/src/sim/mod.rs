@@ -1,7 +1,8 @@
 //! The native simulation loop: time integrators on the quaternion manifold ([`integrate`]),
 //! maneuvering modes ([`modes`]), actuator limits ([`actuators`]), reference trajectories
 //! ([`reference`]), the loop ([`simulate`]) with its records ([`record`]), the same loop one
-//! RK4 step at a time ([`stepper`]) and many runs on threads ([`rollout`]);
+//! RK4 step at a time ([`stepper`]), many runs on threads ([`rollout`]) and the soft capture of a
+//! free target by a wrist impedance ([`soft_capture`]);
 //! docs/simulation-core.md.
 //!
 //! Imports: everything below it (`math`, `model`, `algorithms`, `gjm`) and the controllers of
@@ -15,4 +16,5 @@ pub mod record;
 pub mod reference;
 pub mod rollout;
 pub mod simulate;
+pub mod soft_capture;
 pub mod stepper;

@@ -21,7 +21,8 @@ use std::borrow::Cow;
 
 use nalgebra::{Vector3, Vector6};
 
-use crate::algorithms::aba::aba_after_kinematics;
+use crate::algorithms::aba::{aba_after_kinematics, aba_with_wrenches_after_kinematics};
+use crate::algorithms::wrench::ExternalWrench;
 use crate::algorithms::kinematics::{check_velocity, forward_kinematics, split_configuration};
 use crate::algorithms::momentum::center_of_mass_from_data;
 use crate::control::{arm_dofs, Command, ControlContext, Controller, TrackingKind};
@@ -204,7 +205,7 @@ pub struct SimResult {
 /// It borrows or owns its model and controller (`Plant<'static>` owns both: a plant that can
 /// live in a Python object or move to another thread).
 pub struct Plant<'a> {
-    model: Cow<'a, Model>,
+    pub(crate) model: Cow<'a, Model>,
     pub(crate) data: Data,
     mode: Mode,
     actuators: Actuators,
@@ -225,7 +226,10 @@ pub struct Plant<'a> {
     pub(crate) dropped_count: usize,
     pub(crate) wheels: Vec<usize>,
     /// Set when a stage value was not finite (an adaptive step that was far too long).
-    nonfinite_stage: bool,
+    pub(crate) nonfinite_stage: bool,
+    /// Wrenches on bodies added at every evaluation (a coupling to another body, set by the
+    /// caller before each evaluation: [`crate::sim::soft_capture`]); empty: none.
+    body_wrenches: Vec<ExternalWrench>,
 }
 
 impl<'a> Plant<'a> {
@@ -272,12 +276,30 @@ impl<'a> Plant<'a> {
             dropped_count: 0,
             wheels,
             nonfinite_stage: false,
+            body_wrenches: Vec::new(),
         })
     }
 
     /// The plant's model.
     pub fn model(&self) -> &Model {
         &self.model
+    }
+
+    /// Apply `wrenches` (checked here against the model) at every evaluation from now on, in
+    /// the forward dynamics with the commanded forces; an empty slice removes them. Reuses its
+    /// buffer: no allocation once it has held as many wrenches.
+    pub fn set_body_wrenches(&mut self, wrenches: &[ExternalWrench]) -> Result<()> {
+        for w in wrenches {
+            w.check(&self.model)?;
+        }
+        self.body_wrenches.clear();
+        self.body_wrenches.extend_from_slice(wrenches);
+        Ok(())
+    }
+
+    /// The workspace of the last evaluation (kinematics at its `x`, body velocities at its `u`).
+    pub fn data(&self) -> &Data {
+        &self.data
     }
 
     /// Add `tau` (N) and `base_wrench` (`[F0; N0]` in 𝒥 at the base CM) to every command of the
@@ -350,7 +372,11 @@ impl OdeSystem for Plant<'_> {
         self.wrench_applied = self.mode.wrench_at_base(&kept, &base_to_com);
         self.f[..6].copy_from_slice(self.wrench_applied.as_slice());
         self.f[6..].copy_from_slice(&self.tau_applied);
-        aba_after_kinematics(&self.model, &mut self.data, u, &self.f)?;
+        if self.body_wrenches.is_empty() {
+            aba_after_kinematics(&self.model, &mut self.data, u, &self.f)?;
+        } else {
+            aba_with_wrenches_after_kinematics(&self.model, &mut self.data, u, &self.f, &self.body_wrenches)?;
+        }
         // ṙ0 = v0; quaṫ = ½ [ω0; 0] ⊗ quat (Hamilton, [x, y, z, w], ω0 in 𝒥); q̇; u̇.
         dy[0..3].copy_from_slice(&u[0..3]);
         dy[3..7].copy_from_slice(&quaternion_rate(&x[3..7], &Vector3::new(u[3], u[4], u[5])));
