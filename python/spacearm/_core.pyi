@@ -24,14 +24,14 @@ __all__ = [
     "ReactionNullSpace", "ResourceLimitError", "RmrcMotion", "RmrcOptions", "RmrcRates",
     "RmrcSpec", "RolloutBatch", "RunEvents", "RunMeta", "RunOptions", "RunRecords", "RunResult",
     "SIM_DEFAULTS", "ScanResult", "ShapeError", "SimDefaults", "SimulationError", "Simulator",
-    "SingularError", "SingularityAnalysis", "SpacearmError", "SpacearmTypeError", "Tape",
+    "SingularError", "SingularityAnalysis", "SoftCaptureResult", "SpacearmError", "SpacearmTypeError", "Tape",
     "ThrusterLimits", "WorkspaceShells", "ZeroTorqueSpec", "__version__", "analysis_damping",
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
     "analysis_move_to", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_shells", "analysis_singularity", "batch_threads", "body_mass_properties_error",
     "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
     "model_to_toml", "momentum_scales", "perturbed", "preset", "quintic_scaling", "rollout", "set_batch_threads",
-    "simulate",
+    "simulate", "soft_capture",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -470,6 +470,35 @@ def impulse_dynamics(model: Model, x: _ArrayLike, u_before: _ArrayLike, jacobian
 def grasp_impact(robot: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: _ArrayLike, target: Model, x_target: _ArrayLike,
                  u_target: _ArrayLike, target_body: int, target_offset: _ArrayLike, *, kind: str = "rigid", restitution: float = 0.0,
                  normal: _ArrayLike | None = None, arm: str = "free") -> GraspImpact: ...
+
+@final
+class SoftCaptureResult:
+    """A soft capture run by the core (spacearm_core::sim::soft_capture): the robot's and the target's runs."""
+
+    @property
+    def robot(self) -> RunResult: ...
+    @property
+    def target(self) -> RunResult: ...
+    @property
+    def wrench(self) -> _Vec: ...  # (K, 6) [f; n] on the robot at its grasp point
+    @property
+    def stiffness(self) -> float: ...  # N/m
+    @property
+    def damping(self) -> float: ...  # N s/m
+    @property
+    def rotational_stiffness(self) -> float: ...  # N m/rad
+    @property
+    def rotational_damping(self) -> float: ...  # N m s/rad
+    @property
+    def drift_linear(self) -> float: ...
+    @property
+    def drift_angular(self) -> float: ...
+
+def soft_capture(robot: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: _ArrayLike, target: Model, x_target: _ArrayLike,
+                 u_target: _ArrayLike, target_body: int, target_offset: _ArrayLike, duration: float, options: RunOptions,
+                 controller_spec: _ControllerSpec | None = None, *, frequency: float = 3.0, damping_ratio: float = 0.7,
+                 stiffness: float | None = None, damping: float | None = None, rotational_stiffness: float | None = None,
+                 rotational_damping: float | None = None) -> SoftCaptureResult: ...
 
 def analysis_singularity(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int]) -> SingularityAnalysis: ...
 def analysis_detect(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int], threshold: float, max_damping: float) -> Detection: ...

@@ -8,8 +8,13 @@ use pyo3::prelude::*;
 use spacearm_core::algorithms::impulse::{self, BodyPoint, GraspContact, JointsAtImpact};
 use spacearm_core::SpacearmError;
 
+use crate::controller_spec_py::{build_controller, error_slot, take_error};
 use crate::convert::*;
 use crate::model_py::PyModel;
+use crate::records_py::PyRunResult;
+use crate::sim_options_py::PyRunOptions;
+use spacearm_core::control::{Controller, ZeroTorque};
+use spacearm_core::sim::soft_capture::{self as soft, ImpedanceSpec};
 
 /// The result of `impulse_dynamics` (`spacearm_core::algorithms::impulse::ImpulseDynamics`).
 #[pyclass(module = "spacearm._core", name = "ImpulseDynamics", frozen)]
@@ -196,11 +201,137 @@ pub fn grasp_impact(
     })
 }
 
+/// The result of `soft_capture` (`spacearm_core::sim::soft_capture::SoftCaptureResult`).
+#[pyclass(module = "spacearm._core", name = "SoftCaptureResult", frozen)]
+pub struct PySoftCaptureResult {
+    /// The robot's run (its records, onsets, description).
+    #[pyo3(get)]
+    robot: Py<PyRunResult>,
+    /// The target's run (zero torques).
+    #[pyo3(get)]
+    target: Py<PyRunResult>,
+    /// (K, 6) the impedance's wrench [f; n] on the robot at its grasp point, in the inertial frame.
+    #[pyo3(get)]
+    wrench: Py<PyArray2<f64>>,
+    /// K, N/m.
+    #[pyo3(get)]
+    stiffness: f64,
+    /// D, N s/m.
+    #[pyo3(get)]
+    damping: f64,
+    /// K_r, N m/rad.
+    #[pyo3(get)]
+    rotational_stiffness: f64,
+    /// D_r, N m s/rad.
+    #[pyo3(get)]
+    rotational_damping: f64,
+    /// Drift of robot + target P over the samples (relative, the core's definition).
+    #[pyo3(get)]
+    drift_linear: f64,
+    /// Drift of robot + target L about the origin over the samples.
+    #[pyo3(get)]
+    drift_angular: f64,
+}
+
+#[pymethods]
+impl PySoftCaptureResult {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("<spacearm._core.SoftCaptureResult {} samples, drift P {:e}, L {:e}>", self.wrench.bind(py).shape()[0], self.drift_linear, self.drift_angular)
+    }
+}
+
+/// The soft capture of the target model (state `(x_target, u_target)`, grasp point
+/// `(target_body, target_offset)`) by the robot (state `(x, u)`, grasp point `(body, offset)`,
+/// joint law `controller_spec`, None: zero torques) for `duration` s under `options` (floating
+/// mode); gains given or from `frequency` and `damping_ratio`.
+#[pyfunction]
+#[pyo3(signature = (robot, x, u, body, offset, target, x_target, u_target, target_body, target_offset, duration, options,
+                    controller_spec = None, *, frequency = 3.0, damping_ratio = 0.7, stiffness = None, damping = None,
+                    rotational_stiffness = None, rotational_damping = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn soft_capture(
+    py: Python<'_>,
+    robot: PyRef<'_, PyModel>,
+    x: &Bound<'_, PyAny>,
+    u: &Bound<'_, PyAny>,
+    body: usize,
+    offset: &Bound<'_, PyAny>,
+    target: PyRef<'_, PyModel>,
+    x_target: &Bound<'_, PyAny>,
+    u_target: &Bound<'_, PyAny>,
+    target_body: usize,
+    target_offset: &Bound<'_, PyAny>,
+    duration: f64,
+    options: PyRef<'_, PyRunOptions>,
+    controller_spec: Option<&Bound<'_, PyAny>>,
+    frequency: f64,
+    damping_ratio: f64,
+    stiffness: Option<f64>,
+    damping: Option<f64>,
+    rotational_stiffness: Option<f64>,
+    rotational_damping: Option<f64>,
+) -> PyResult<PySoftCaptureResult> {
+    let robot_point = BodyPoint { body, offset: finite3(offset, "offset")? };
+    let target_point = BodyPoint { body: target_body, offset: finite3(target_offset, "target_offset")? };
+    let x = vec_arg(x, "x")?.as_slice().to_vec();
+    let u = vec_arg(u, "u")?.as_slice().to_vec();
+    let xt = vec_arg(x_target, "x_target")?.as_slice().to_vec();
+    let ut = vec_arg(u_target, "u_target")?.as_slice().to_vec();
+    let (opts, float32) = (options.sim_options(duration), options.records_float32());
+    let spec = ImpedanceSpec { frequency, damping_ratio, stiffness, damping, rotational_stiffness, rotational_damping };
+    let slot = error_slot();
+    let mut controller: Box<dyn Controller> = match controller_spec {
+        Some(s) if !s.is_none() => build_controller(s, &slot)?,
+        _ => Box::new(ZeroTorque),
+    };
+    // Copies of the models: the run holds no borrow of the Python objects.
+    let (rm, tm) = (robot.model.clone(), target.model.clone());
+    let mut interrupted: Option<PyErr> = None;
+    let result = py.detach(|| {
+        let mut progress = |_fraction: f64| -> spacearm_core::Result<()> {
+            Python::attach(|py| py.check_signals()).map_err(|e| {
+                interrupted.get_or_insert(e);
+                SpacearmError::Simulation("interrupted".into())
+            })
+        };
+        soft::soft_capture(&rm, &x, &u, robot_point, &tm, &xt, &ut, target_point, &spec, &opts, controller.as_mut(), &mut progress)
+    });
+    let res = match result {
+        Ok(r) => r,
+        Err(e) => {
+            if let Some(err) = take_error(&slot) {
+                return Err(err);
+            }
+            if let Some(err) = interrupted {
+                return Err(err);
+            }
+            return Err(to_py_err(py, e));
+        }
+    };
+    let k = res.wrench.len() / 6;
+    let wrench = numpy::PyArray1::from_slice(py, &res.wrench).reshape([k, 6])?.unbind();
+    let g = res.gains;
+    let target_opts = spacearm_core::sim::simulate::SimOptions { wheels: Some(Vec::new()), ..opts.clone() };
+    Ok(PySoftCaptureResult {
+        robot: Py::new(py, PyRunResult::of_run(py, res.robot, &opts, float32, (rm.nx(), rm.nu(), rm.n_dof()))?)?,
+        target: Py::new(py, PyRunResult::of_run(py, res.target, &target_opts, float32, (tm.nx(), tm.nu(), tm.n_dof()))?)?,
+        wrench,
+        stiffness: g.stiffness,
+        damping: g.damping,
+        rotational_stiffness: g.rotational_stiffness,
+        rotational_damping: g.rotational_damping,
+        drift_linear: res.drift[0],
+        drift_angular: res.drift[1],
+    })
+}
+
 /// Add the contact functions and classes to the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyImpulseDynamics>()?;
     m.add_class::<PyGraspImpact>()?;
     m.add_function(wrap_pyfunction!(impulse_dynamics, m)?)?;
     m.add_function(wrap_pyfunction!(grasp_impact, m)?)?;
+    m.add_class::<PySoftCaptureResult>()?;
+    m.add_function(wrap_pyfunction!(soft_capture, m)?)?;
     Ok(())
 }
