@@ -25,6 +25,7 @@
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 
 use crate::algorithms::crba::crba;
+pub use crate::algorithms::kinematics::BodyPoint;
 use crate::algorithms::kinematics::{check_body, check_velocity, point_jacobians, point_position};
 use crate::error::{check_finite, Result, SpacearmError};
 use crate::model::data::Data;
@@ -160,15 +161,6 @@ fn check_restitution(e: f64) -> Result<()> {
         return Err(SpacearmError::argument(format!("restitution must be in [0, 1], got {e}")));
     }
     Ok(())
-}
-
-/// A point fixed to a body: body index and offset from its CM in its frame (m).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BodyPoint {
-    /// Body index (0 = base).
-    pub body: usize,
-    /// Offset from the body's CM, in its frame, m.
-    pub offset: Vector3<f64>,
 }
 
 /// The contact of a grasp.

@@ -162,6 +162,11 @@ pub struct Records {
     pub attitude_error: Option<Vec<f64>>,
     /// Wheel rates relative to the base, rad/s.
     pub wheel_speed: Option<Vec<f64>>,
+    /// A closed chain's constraint wrench `λ` on frame b at its origin, `[force; torque]` in 𝒥
+    /// (width 6; [`crate::sim::closed_chain`]).
+    pub constraint_wrench: Option<Vec<f64>>,
+    /// A closed chain's pose error `e = [position (m); rotation (rad)]` (width 6).
+    pub constraint_error: Option<Vec<f64>>,
 }
 
 /// Everything a simulation returns.
@@ -230,6 +235,9 @@ pub struct Plant<'a> {
     /// Wrenches on bodies added at every evaluation (a coupling to another body, set by the
     /// caller before each evaluation: [`crate::sim::soft_capture`]); empty: none.
     body_wrenches: Vec<ExternalWrench>,
+    /// A loop closure: the forward dynamics are then the constrained ones
+    /// ([`crate::sim::closed_chain`]); `None`: ABA.
+    pub(crate) closure: Option<Box<crate::sim::closed_chain::ClosureState>>,
 }
 
 impl<'a> Plant<'a> {
@@ -277,6 +285,7 @@ impl<'a> Plant<'a> {
             wheels,
             nonfinite_stage: false,
             body_wrenches: Vec::new(),
+            closure: None,
         })
     }
 
@@ -372,7 +381,9 @@ impl OdeSystem for Plant<'_> {
         self.wrench_applied = self.mode.wrench_at_base(&kept, &base_to_com);
         self.f[..6].copy_from_slice(self.wrench_applied.as_slice());
         self.f[6..].copy_from_slice(&self.tau_applied);
-        if self.body_wrenches.is_empty() {
+        if let Some(c) = &mut self.closure {
+            c.evaluate(&self.model, &mut self.data, x, u, &self.f)?;
+        } else if self.body_wrenches.is_empty() {
             aba_after_kinematics(&self.model, &mut self.data, u, &self.f)?;
         } else {
             aba_with_wrenches_after_kinematics(&self.model, &mut self.data, u, &self.f, &self.body_wrenches)?;
@@ -403,6 +414,12 @@ pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, contro
     opts.validate()?;
     check_initial_state(model, x0, u0)?;
     let plant = Plant::new(model, opts, controller)?;
+    run_plant(plant, x0, u0, opts, progress)
+}
+
+/// Run a plant set up for `opts` from `(x0, u0)` (checked by the caller): admission of the
+/// records, then the RK4 or DOPRI5 loop.
+pub(crate) fn run_plant(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, progress: Progress<'_>) -> Result<SimResult> {
     let samples = sample_count(opts) as f64;
     admit_records(opts.integrator, samples, samples * Recorder::values_per_sample_of(&plant) as f64)?;
     match opts.integrator {
