@@ -14,10 +14,10 @@ _Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 __version__: str
 __all__ = [
     "ArgumentError", "AttitudeSpec", "BaseInfo", "BaseThrustersSpec", "CallbackSpec",
-    "CartesianReference", "CombinedSpec", "ComputedTorqueSpec", "ConservedDrift",
+    "CartesianReference", "ClosedChainResult", "CombinedSpec", "ComputedTorqueSpec", "ConservedDrift",
     "CoordinatedFlyingSpec", "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
     "FreeBodyReference", "GraspImpact", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimitsInfo", "JointPdSpec", "JointReference",
-    "JointTorqueLimitSpec", "MomentumDampingSpec",
+    "JointTorqueLimitSpec", "LoopClosureTerms", "MomentumDampingSpec",
     "LinkInfo", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds",
     "ModelBuilder", "ModelError", "ModelFileError", "ModelInfo", "NonFiniteError",
     "NotFoundError", "PointInfo", "QUATERNION_TOLERANCE", "QuaternionError",
@@ -29,9 +29,9 @@ __all__ = [
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
     "analysis_move_to", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_shells", "analysis_singularity", "batch_threads", "body_mass_properties_error",
-    "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
+    "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
     "model_to_toml", "momentum_scales", "perturbed", "preset", "quintic_scaling", "rollout", "set_batch_threads",
-    "simulate", "soft_capture",
+    "simulate", "simulate_closed_chain", "soft_capture",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -499,6 +499,32 @@ def soft_capture(robot: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: 
                  controller_spec: _ControllerSpec | None = None, *, frequency: float = 3.0, damping_ratio: float = 0.7,
                  stiffness: float | None = None, damping: float | None = None, rotational_stiffness: float | None = None,
                  rotational_damping: float | None = None) -> SoftCaptureResult: ...
+
+@final
+class ClosedChainResult:
+    """A closed chain run by the core (spacearm_core::sim::closed_chain)."""
+
+    @property
+    def run(self) -> RunResult: ...
+    @property
+    def constraint_wrench(self) -> _Vec: ...  # (K, 6) lambda on frame b at its origin
+    @property
+    def pose_error(self) -> _Vec: ...  # (K, 6) [position (m); rotation (rad)]
+
+@final
+class LoopClosureTerms:
+    """J_c and the exact J_c-dot u of a loop closure at one state."""
+
+    @property
+    def jacobian(self) -> _Vec: ...  # (6, 6+N)
+    @property
+    def jdot_u(self) -> _Vec: ...  # (6,)
+
+def loop_closure(model: Model, x: _ArrayLike, u: _ArrayLike, body_a: int, offset_a: _ArrayLike, body_b: int,
+                 offset_b: _ArrayLike) -> LoopClosureTerms: ...
+def simulate_closed_chain(model: Model, x0: _ArrayLike, u0: _ArrayLike, duration: float, body_a: int, offset_a: _ArrayLike,
+                          body_b: int, offset_b: _ArrayLike, options: RunOptions, controller_spec: _ControllerSpec | None = None, *,
+                          stabilization: float = 20.0) -> ClosedChainResult: ...
 
 def analysis_singularity(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int]) -> SingularityAnalysis: ...
 def analysis_detect(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int], threshold: float, max_damping: float) -> Detection: ...

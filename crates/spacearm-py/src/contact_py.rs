@@ -1,5 +1,6 @@
 //! Bindings of the core's contact dynamics: `spacearm_core::algorithms::impulse` (impulse
-//! dynamics and the two-body grasp impact). Arrays in, a typed frozen result out; the Python
+//! dynamics and the two-body grasp impact), the soft-capture plant (`sim::soft_capture`) and the
+//! closed chain (`sim::closed_chain`, `algorithms::constrained`, `derivatives::loop_closure_bias`). Arrays in, a typed frozen result out; the Python
 //! package `spacearm.capture` is the face users see (docs/capture.md).
 
 use nalgebra::DMatrix;
@@ -15,6 +16,9 @@ use crate::records_py::PyRunResult;
 use crate::sim_options_py::PyRunOptions;
 use spacearm_core::control::{Controller, ZeroTorque};
 use spacearm_core::sim::soft_capture::{self as soft, ImpedanceSpec};
+use spacearm_core::algorithms::constrained::LoopClosure;
+use spacearm_core::derivatives::{loop_closure_bias, ClosureBiasWork};
+use spacearm_core::sim::closed_chain::simulate_closed_chain as core_closed_chain;
 
 /// The result of `impulse_dynamics` (`spacearm_core::algorithms::impulse::ImpulseDynamics`).
 #[pyclass(module = "spacearm._core", name = "ImpulseDynamics", frozen)]
@@ -325,6 +329,127 @@ pub fn soft_capture(
     })
 }
 
+/// A closed chain's run (`spacearm_core::sim::closed_chain`).
+#[pyclass(module = "spacearm._core", name = "ClosedChainResult", frozen)]
+pub struct PyClosedChainResult {
+    /// The run (records, onsets, description).
+    #[pyo3(get)]
+    run: Py<PyRunResult>,
+    /// (K, 6) λ: the wrench on frame b at its origin, [force; torque] in the inertial frame (body a gets −λ).
+    #[pyo3(get)]
+    constraint_wrench: Py<PyArray2<f64>>,
+    /// (K, 6) e = [position error (m); rotation error (rad)].
+    #[pyo3(get)]
+    pose_error: Py<PyArray2<f64>>,
+}
+
+#[pymethods]
+impl PyClosedChainResult {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("<spacearm._core.ClosedChainResult {} samples>", self.pose_error.bind(py).shape()[0])
+    }
+}
+
+/// The loop-closure terms at one state (`LoopClosure::jacobian`, `derivatives::loop_closure_bias`).
+#[pyclass(module = "spacearm._core", name = "LoopClosureTerms", frozen)]
+pub struct PyLoopClosureTerms {
+    /// (6, 6+N) J_c = J_b − J_a at b's origin.
+    #[pyo3(get)]
+    jacobian: Py<PyArray2<f64>>,
+    /// (6,) the exact J̇_c u.
+    #[pyo3(get)]
+    jdot_u: Py<PyArray1<f64>>,
+}
+
+fn rows6(py: Python<'_>, v: Option<Vec<f64>>) -> PyResult<Py<PyArray2<f64>>> {
+    let v = v.unwrap_or_default();
+    let k = v.len() / 6;
+    Ok(numpy::PyArray1::from_vec(py, v).reshape([k, 6])?.unbind())
+}
+
+/// `J_c` and the exact `J̇_c u` of the loop closing frames a and b at `(x, u)`.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+pub fn loop_closure(
+    py: Python<'_>,
+    model: PyRef<'_, PyModel>,
+    x: &Bound<'_, PyAny>,
+    u: &Bound<'_, PyAny>,
+    body_a: usize,
+    offset_a: &Bound<'_, PyAny>,
+    body_b: usize,
+    offset_b: &Bound<'_, PyAny>,
+) -> PyResult<PyLoopClosureTerms> {
+    let (a, b) = (BodyPoint { body: body_a, offset: finite3(offset_a, "offset_a")? }, BodyPoint { body: body_b, offset: finite3(offset_b, "offset_b")? });
+    let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
+    let (j, jd) = model
+        .with_data(|m, d| -> spacearm_core::Result<_> {
+            let c = LoopClosure::at(m, d, x.as_slice(), a, b)?;
+            let jd = loop_closure_bias(m, &mut ClosureBiasWork::new(m), x.as_slice(), u.as_slice(), &c)?;
+            Ok((c.jacobian(m, d), jd))
+        })
+        .or_raise(py)?;
+    Ok(PyLoopClosureTerms { jacobian: dmat(py, &j).unbind(), jdot_u: array1(py, jd.as_slice()).unbind() })
+}
+
+/// Simulate `model` with the frames at `(body_a, offset_a)` and `(body_b, offset_b)` welded at
+/// their relative pose at `x0`, under `controller_spec` (None: zero torques) and `options`;
+/// `stabilization`: Baumgarte's rate (1/s).
+#[pyfunction]
+#[pyo3(signature = (model, x0, u0, duration, body_a, offset_a, body_b, offset_b, options, controller_spec = None, *, stabilization = 20.0))]
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_closed_chain(
+    py: Python<'_>,
+    model: PyRef<'_, PyModel>,
+    x0: &Bound<'_, PyAny>,
+    u0: &Bound<'_, PyAny>,
+    duration: f64,
+    body_a: usize,
+    offset_a: &Bound<'_, PyAny>,
+    body_b: usize,
+    offset_b: &Bound<'_, PyAny>,
+    options: PyRef<'_, PyRunOptions>,
+    controller_spec: Option<&Bound<'_, PyAny>>,
+    stabilization: f64,
+) -> PyResult<PyClosedChainResult> {
+    let (a, b) = (BodyPoint { body: body_a, offset: finite3(offset_a, "offset_a")? }, BodyPoint { body: body_b, offset: finite3(offset_b, "offset_b")? });
+    let x0 = vec_arg(x0, "x0")?.as_slice().to_vec();
+    let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
+    let (opts, float32) = (options.sim_options(duration), options.records_float32());
+    let slot = error_slot();
+    let mut controller: Box<dyn Controller> = match controller_spec {
+        Some(s) if !s.is_none() => build_controller(s, &slot)?,
+        _ => Box::new(ZeroTorque),
+    };
+    let m = model.model.clone();
+    let mut interrupted: Option<PyErr> = None;
+    let result = py.detach(|| {
+        let mut progress = |_fraction: f64| -> spacearm_core::Result<()> {
+            Python::attach(|py| py.check_signals()).map_err(|e| {
+                interrupted.get_or_insert(e);
+                SpacearmError::Simulation("interrupted".into())
+            })
+        };
+        core_closed_chain(&m, &x0, &u0, a, b, stabilization, &opts, controller.as_mut(), &mut progress)
+    });
+    let mut res = match result {
+        Ok(r) => r,
+        Err(e) => {
+            if let Some(err) = take_error(&slot) {
+                return Err(err);
+            }
+            if let Some(err) = interrupted {
+                return Err(err);
+            }
+            return Err(to_py_err(py, e));
+        }
+    };
+    let constraint_wrench = rows6(py, res.records.constraint_wrench.take())?;
+    let pose_error = rows6(py, res.records.constraint_error.take())?;
+    let run = Py::new(py, PyRunResult::of_run(py, res, &opts, float32, (m.nx(), m.nu(), m.n_dof()))?)?;
+    Ok(PyClosedChainResult { run, constraint_wrench, pose_error })
+}
+
 /// Add the contact functions and classes to the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyImpulseDynamics>()?;
@@ -333,5 +458,9 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(grasp_impact, m)?)?;
     m.add_class::<PySoftCaptureResult>()?;
     m.add_function(wrap_pyfunction!(soft_capture, m)?)?;
+    m.add_class::<PyClosedChainResult>()?;
+    m.add_class::<PyLoopClosureTerms>()?;
+    m.add_function(wrap_pyfunction!(simulate_closed_chain, m)?)?;
+    m.add_function(wrap_pyfunction!(loop_closure, m)?)?;
     Ok(())
 }
