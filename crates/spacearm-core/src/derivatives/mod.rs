@@ -305,7 +305,7 @@ impl ClosureBiasWork {
 /// `J̇_c u` of a loop closure ([`crate::algorithms::constrained::LoopClosure`]) at `(x, u)`,
 /// exactly: the time derivative along `u` of `J_c(x) = J_b − J_a` (both at b's origin `p_b(x)`,
 /// so the moving point is differentiated too) times `u` — the frames' relative acceleration at
-/// `u̇ = 0`. Forward kinematics on dual numbers seeded with `u` ([`seed_along_velocity`]), then
+/// `u̇ = 0`. Forward kinematics on dual numbers seeded with `u` (`seed_along_velocity`), then
 /// the joint-side point Jacobians of the same generic code (`J_c`'s base columns are zero).
 pub fn loop_closure_bias(
     model: &Model,
