@@ -14,24 +14,24 @@ _Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 __version__: str
 __all__ = [
     "ArgumentError", "AttitudeSpec", "BaseInfo", "BaseThrustersSpec", "CallbackSpec",
-    "CartesianReference", "CombinedSpec", "ComputedTorqueSpec", "ConservedDrift",
+    "CartesianReference", "ClosedChainResult", "CombinedSpec", "ComputedTorqueSpec", "ConservedDrift",
     "CoordinatedFlyingSpec", "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
-    "FreeBodyReference", "INTEGRATORS", "JacobianMeasures", "JointLimitsInfo", "JointPdSpec", "JointReference",
-    "JointTorqueLimitSpec", "MomentumDampingSpec",
+    "FreeBodyReference", "GraspImpact", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimitsInfo", "JointPdSpec", "JointReference",
+    "JointTorqueLimitSpec", "LoopClosureTerms", "MomentumDampingSpec",
     "LinkInfo", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds",
     "ModelBuilder", "ModelError", "ModelFileError", "ModelInfo", "NonFiniteError",
     "NotFoundError", "PointInfo", "QUATERNION_TOLERANCE", "QuaternionError",
     "ReactionNullSpace", "ResourceLimitError", "RmrcMotion", "RmrcOptions", "RmrcRates",
     "RmrcSpec", "RolloutBatch", "RunEvents", "RunMeta", "RunOptions", "RunRecords", "RunResult",
     "SIM_DEFAULTS", "ScanResult", "ShapeError", "SimDefaults", "SimulationError", "Simulator",
-    "SingularError", "SingularityAnalysis", "SpacearmError", "SpacearmTypeError", "Tape",
+    "SingularError", "SingularityAnalysis", "SoftCaptureResult", "SpacearmError", "SpacearmTypeError", "Tape",
     "ThrusterLimits", "WorkspaceShells", "ZeroTorqueSpec", "__version__", "analysis_damping",
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
     "analysis_move_to", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_shells", "analysis_singularity", "batch_threads", "body_mass_properties_error",
-    "conserved_drift", "default_wheel_dofs", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
+    "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
     "model_to_toml", "momentum_scales", "perturbed", "preset", "quintic_scaling", "rollout", "set_batch_threads",
-    "simulate",
+    "simulate", "simulate_closed_chain", "soft_capture",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -413,6 +413,118 @@ class RmrcMotion:
     def attitude_change(self) -> _Vec: ...  # (K+1,) rad
     @property
     def final_position_error(self) -> float: ...  # m
+
+# ---- contact dynamics (crates/spacearm-py/src/contact_py.rs; spacearm_core::algorithms::impulse) --------
+@final
+class ImpulseDynamics:
+    """The velocity jump of an impact through a contact Jacobian (Pinocchio's impulseDynamics)."""
+
+    @property
+    def u_after(self) -> _Vec: ...  # (6+N,)
+    @property
+    def du(self) -> _Vec: ...  # (6+N,) H^-1 J^T Lambda, zero on locked coordinates
+    @property
+    def impulse(self) -> _Vec: ...  # (m,) Lambda
+    @property
+    def delassus(self) -> _Vec: ...  # (m, m) J H^-1 J^T over the mobile coordinates
+    @property
+    def locking_impulse(self) -> _Vec: ...  # (N,) the joint impulses holding locked joints
+
+@final
+class GraspImpact:
+    """The impact between a robot's grasp point and a target model (every vector in the inertial frame)."""
+
+    @property
+    def impulse(self) -> _Vec: ...  # (6,) [f; n] on the robot at X, N s, N m s
+    @property
+    def du(self) -> _Vec: ...  # (6+N,)
+    @property
+    def target_du(self) -> _Vec: ...  # the target model's jump of u
+    @property
+    def u_after(self) -> _Vec: ...
+    @property
+    def target_u_after(self) -> _Vec: ...
+    @property
+    def point(self) -> _Vec: ...  # (3,) X, m
+    @property
+    def gap(self) -> float: ...  # m
+    @property
+    def normal(self) -> _Vec | None: ...  # (3,) unit normal of a point contact
+    @property
+    def relative_twist_before(self) -> _Vec: ...  # (6,)
+    @property
+    def relative_twist_after(self) -> _Vec: ...  # (6,)
+    @property
+    def g_robot(self) -> _Vec: ...  # (6, 6)
+    @property
+    def g_target(self) -> _Vec: ...  # (6, 6)
+    @property
+    def energy_lost(self) -> float: ...  # J
+    @property
+    def locking_work(self) -> float: ...  # J
+    @property
+    def locking_impulse(self) -> _Vec: ...  # (N,)
+
+def impulse_dynamics(model: Model, x: _ArrayLike, u_before: _ArrayLike, jacobian: _Vec, restitution: float = 0.0,
+                     arm: str = "free") -> ImpulseDynamics: ...
+def grasp_impact(robot: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: _ArrayLike, target: Model, x_target: _ArrayLike,
+                 u_target: _ArrayLike, target_body: int, target_offset: _ArrayLike, *, kind: str = "rigid", restitution: float = 0.0,
+                 normal: _ArrayLike | None = None, arm: str = "free") -> GraspImpact: ...
+
+@final
+class SoftCaptureResult:
+    """A soft capture run by the core (spacearm_core::sim::soft_capture): the robot's and the target's runs."""
+
+    @property
+    def robot(self) -> RunResult: ...
+    @property
+    def target(self) -> RunResult: ...
+    @property
+    def wrench(self) -> _Vec: ...  # (K, 6) [f; n] on the robot at its grasp point
+    @property
+    def stiffness(self) -> float: ...  # N/m
+    @property
+    def damping(self) -> float: ...  # N s/m
+    @property
+    def rotational_stiffness(self) -> float: ...  # N m/rad
+    @property
+    def rotational_damping(self) -> float: ...  # N m s/rad
+    @property
+    def drift_linear(self) -> float: ...
+    @property
+    def drift_angular(self) -> float: ...
+
+def soft_capture(robot: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: _ArrayLike, target: Model, x_target: _ArrayLike,
+                 u_target: _ArrayLike, target_body: int, target_offset: _ArrayLike, duration: float, options: RunOptions,
+                 controller_spec: _ControllerSpec | None = None, *, frequency: float = 3.0, damping_ratio: float = 0.7,
+                 stiffness: float | None = None, damping: float | None = None, rotational_stiffness: float | None = None,
+                 rotational_damping: float | None = None) -> SoftCaptureResult: ...
+
+@final
+class ClosedChainResult:
+    """A closed chain run by the core (spacearm_core::sim::closed_chain)."""
+
+    @property
+    def run(self) -> RunResult: ...
+    @property
+    def constraint_wrench(self) -> _Vec: ...  # (K, 6) lambda on frame b at its origin
+    @property
+    def pose_error(self) -> _Vec: ...  # (K, 6) [position (m); rotation (rad)]
+
+@final
+class LoopClosureTerms:
+    """J_c and the exact J_c-dot u of a loop closure at one state."""
+
+    @property
+    def jacobian(self) -> _Vec: ...  # (6, 6+N)
+    @property
+    def jdot_u(self) -> _Vec: ...  # (6,)
+
+def loop_closure(model: Model, x: _ArrayLike, u: _ArrayLike, body_a: int, offset_a: _ArrayLike, body_b: int,
+                 offset_b: _ArrayLike) -> LoopClosureTerms: ...
+def simulate_closed_chain(model: Model, x0: _ArrayLike, u0: _ArrayLike, duration: float, body_a: int, offset_a: _ArrayLike,
+                          body_b: int, offset_b: _ArrayLike, options: RunOptions, controller_spec: _ControllerSpec | None = None, *,
+                          stabilization: float = 20.0) -> ClosedChainResult: ...
 
 def analysis_singularity(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int]) -> SingularityAnalysis: ...
 def analysis_detect(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int], threshold: float, max_damping: float) -> Detection: ...

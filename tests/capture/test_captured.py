@@ -159,3 +159,102 @@ def test_post_capture_motion_against_mujoco_weld():
     np.testing.assert_allclose(x_mj[:3], x_sa[:3], atol=1e-8)
     np.testing.assert_allclose(x_mj[7:], x_sa[7:], atol=1e-8)
     np.testing.assert_allclose(u_mj, u_sa, atol=1e-6 * np.abs(u_sa).max())
+
+
+# ---- the previous numpy soft capture (fixed-step RK4 in Python over the robot's and the target's
+# forward_dynamics under ExternalWrench), kept as an independent oracle of the core's
+# sim/soft_capture.rs.
+def _numpy_soft_capture(robot, x, u, target, s, duration, *, dt, gains, torque=None):
+    from spacearm.model.robot import ExternalWrench
+    from spacearm.rotations import quat_multiply, rotation_vector
+
+    body, offset = robot.resolve_point(None)
+    tbody, tpoint = target.point(None)
+    k, d, kr, dr = gains
+    tb = target.body
+    rel0 = robot.forward_kinematics(x).body_to_world[body].T @ tb.forward_kinematics(target.xu(s)[0]).body_to_world[tbody]
+    n = robot.n_dof
+
+    def rates(t, xr, ur, xt, ut):
+        X = robot.point_position(xr, (body, offset))
+        tw_r = np.hstack(robot.point_jacobian(xr, (body, offset))) @ ur
+        p = tb.point_position(xt, (tbody, tpoint))
+        kin_t = tb.forward_kinematics(xt)
+        Rt, ct = kin_t.body_to_world[tbody], kin_t.com_in_world[tbody]
+        tw_p = np.hstack(tb.point_jacobian(xt, (tbody, tpoint))) @ ut
+        Rg = robot.forward_kinematics(xr).body_to_world[body]
+        theta = rotation_vector(Rt @ (Rg @ rel0).T)
+        f = k * (p - X) + d * (tw_p[:3] - tw_r[:3])
+        c = kr * theta + dr * (tw_p[3:] - tw_r[3:])
+        tau = np.zeros(n) if torque is None else torque(t, xr, ur)
+        dur = robot.forward_dynamics(xr, ur, tau=tau, wrenches=[ExternalWrench(body, f, c, offset)])
+        dut = tb.forward_dynamics(xt, ut, wrenches=[ExternalWrench(tbody, -f, -c, Rt.T @ (X - ct))])
+        return dur, dut, np.r_[f, c]
+
+    def xdot(xx, uu):
+        w = uu[3:6]
+        return np.concatenate([uu[:3], 0.5 * quat_multiply(np.array([w[0], w[1], w[2], 0.0]), xx[3:7]), uu[6:]])
+
+    def normalized(xx):
+        xx = xx.copy()
+        xx[3:7] /= np.linalg.norm(xx[3:7])
+        return xx
+
+    steps = int(round(duration / dt))
+    xr, ur = x.copy(), u.copy()
+    xt, ut = (a.copy() for a in target.xu(s))
+    X_, U_, S_, W_ = [], [], [], []
+    for i in range(steps + 1):
+        t = i * dt
+        X_.append(xr.copy()), U_.append(ur.copy()), S_.append(np.r_[xt, ut]), W_.append(rates(t, xr, ur, xt, ut)[2])
+        if i == steps:
+            break
+        ks, y = [], (xr, ur, xt, ut)
+        for c, tt in ((0.0, t), (0.5, t + dt / 2), (0.5, t + dt / 2), (1.0, t + dt)):
+            if ks:
+                kx_r, ku_r, kx_t, ku_t = ks[-1]
+                y = (normalized(xr + c * dt * kx_r), ur + c * dt * ku_r, normalized(xt + c * dt * kx_t), ut + c * dt * ku_t)
+            dur, dut, _ = rates(tt, *y)
+            ks.append((xdot(y[0], y[1]), dur, xdot(y[2], y[3]), dut))
+        comb = [sum(wt * kk[j] for wt, kk in zip((1, 2, 2, 1), ks)) * dt / 6 for j in range(4)]
+        xr, ur, xt, ut = normalized(xr + comb[0]), ur + comb[1], normalized(xt + comb[2]), ut + comb[3]
+    return np.array(X_), np.array(U_), np.array(S_), np.array(W_)
+
+
+@pytest.mark.parametrize("law", ["zero", "hold"])
+def test_core_soft_capture_against_the_numpy_rk4(law):
+    """The core's soft capture (RK4, the same step) against the numpy RK4 it replaced: the same
+    method on the same equations, so the states agree to rounding accumulated over the run; DOPRI5
+    agrees to its tolerance. The hold law: the native ComputedTorque with a constant reference
+    against hold_torque (numpy: H* (kp (q_hold − q) − kd q̇) + c*) as a Python callable."""
+    from spacearm import control
+    from spacearm.capture.detumble import hold_torque
+
+    robot, x, u, target, s = _scene(spin=(0.05, -0.1, 0.2))
+    s[:3] += np.array([0.01, -0.005, 0.008])  # start with the spring stretched
+    duration, dt = 0.2, 2e-3
+    q_hold = x[7:].copy()
+    ctrl = None if law == "zero" else control.ComputedTorque(kp=1.0, kd=2.0, reference=q_hold)
+    torque = None if law == "zero" else (lambda t, xr, ur: hold_torque(robot, xr, ur, q_hold, 1.0, 2.0, np.inf))
+    run = soft_capture(robot, x, u, target, s, duration, dt=dt, controller=ctrl)
+    g = run.gains
+    X, U, S, W = _numpy_soft_capture(robot, x, u, target, s, duration, dt=dt, torque=torque,
+                                     gains=(g["stiffness"], g["damping"], g["rotational_stiffness"], g["rotational_damping"]))
+    assert run.x.shape == X.shape and run.target.shape == S.shape
+    assert np.abs(W).max() > 1.0, "the impedance must act"
+    np.testing.assert_allclose(run.x, X, rtol=0, atol=1e-12 * max(1.0, np.abs(X).max()))
+    np.testing.assert_allclose(run.u, U, rtol=0, atol=1e-11 * np.abs(U).max())
+    np.testing.assert_allclose(run.target, S, rtol=0, atol=1e-11 * np.abs(S).max())
+    np.testing.assert_allclose(run.wrench, W, rtol=0, atol=1e-9 * np.abs(W).max())
+    # the gains from frequency and damping ratio: K = ω² / g, D = 2ζω / g on the lightest direction
+    from spacearm.capture import inverse_inertia
+
+    G = inverse_inertia(robot, x) + inverse_inertia(target.body, s[:7], target.point(None))
+    gl, gr = np.linalg.eigvalsh(G[:3, :3]).max(), np.linalg.eigvalsh(G[3:, 3:]).max()
+    np.testing.assert_allclose([g["stiffness"], g["damping"], g["rotational_stiffness"], g["rotational_damping"]],
+                               [9.0 / gl, 2 * 0.7 * 3.0 / gl, 9.0 / gr, 2 * 0.7 * 3.0 / gr], rtol=1e-12)
+    # DOPRI5 (samples every dt) against the same
+    tight = soft_capture(robot, x, u, target, s, duration, dt=dt, controller=ctrl, integrator="dopri5", rtol=1e-11)
+    np.testing.assert_allclose(tight.u, U, rtol=0, atol=1e-8 * np.abs(U).max())
+    np.testing.assert_allclose(tight.target, S, rtol=0, atol=1e-8 * np.abs(S).max())
+    assert tight.drift["P"] < 1e-9 and tight.drift["L"] < 1e-9

@@ -398,3 +398,99 @@ def test_locked_arm_spatial6_target_at_rest():
     assert after > before  # what the old energy_lost (before − after) reported as a negative loss
     assert res.locking_work == pytest.approx(locking, rel=1e-9) and locking > after - before
     assert res.energy_lost == pytest.approx(locking - (after - before), rel=1e-9) and res.energy_lost > 0
+
+
+# ---- the previous numpy implementation of grasp_impulse, kept as an independent oracle of the
+# core's algorithms/impulse.rs (robot methods: point Jacobians and mass matrices, numpy solves).
+def _numpy_grasp_impulse(robot, x, u, target, s, *, grasp=None, kind="rigid", restitution=0.0, normal=None, arm="free"):
+    e = restitution
+    body, offset = robot.resolve_point(None)
+    X = robot.point_position(x, (body, offset))
+    grasp_world = target.grasp_position(s, grasp)
+    tx, tu = target.xu(s)
+    t_body, t_offset = target.material_point(s, X, grasp)
+    j_t = np.hstack(target.body.point_jacobian(tx, (t_body, t_offset)))
+    h_t = target.body.mass_matrix(tx)
+    g_t = j_t @ np.linalg.solve(h_t, j_t.T)
+    j_full = np.hstack(robot.point_jacobian(x, (body, offset)))
+    h_full = robot.mass_matrix(x)
+    j_r, h_r = (j_full[:, :6], h_full[:6, :6]) if arm == "locked" else (j_full, h_full)
+    g_r = j_r @ np.linalg.solve(h_r, j_r.T)
+    v_rel = j_full @ u - j_t @ tu
+    g = g_r + g_t
+    if kind == "rigid":
+        lam = -np.linalg.solve(g, v_rel)
+    else:
+        if normal is None:
+            n = grasp_world - target.body.forward_kinematics(tx).com_in_world[t_body]
+        else:
+            n = np.asarray(normal, dtype=float)
+        n = n / np.linalg.norm(n)
+        vn = float(n @ v_rel[:3])
+        lam = np.zeros(6)
+        if vn < 0.0:
+            lam[:3] = -(1.0 + e) * vn / float(n @ g[:3, :3] @ n) * n
+    du = np.zeros(robot.nu)
+    du[: j_r.shape[1]] = np.linalg.solve(h_r, j_r.T @ lam)
+    dtw = -np.linalg.solve(h_t, j_t.T @ lam)
+    u_after = u + du
+    s_after = s.copy()
+    s_after[tx.size:] += dtw
+    v_rel_after = j_full @ u_after - j_t @ target.xu(s_after)[1]
+    lost = -float(lam @ (v_rel + v_rel_after)) / 2.0
+    locking = 0.0
+    if arm == "locked" and robot.n_dof:
+        locking = float((h_full @ du - j_full.T @ lam)[6:] @ u[6:])
+    return dict(du=du, target_dtwist=dtw, impulse=lam, point=X, gap=float(np.linalg.norm(X - grasp_world)), u_after=u_after,
+                target_state_after=s_after, relative_twist_before=v_rel, relative_twist_after=v_rel_after, G_robot=g_r, G_target=g_t,
+                energy_lost=lost, locking_work=locking)
+
+
+@pytest.mark.parametrize("index", range(4))
+@pytest.mark.parametrize("kind, restitution, normal", [("rigid", 0.0, None), ("point", 0.0, None), ("point", 0.6, None),
+                                                       ("point", 1.0, (0.3, -0.8, 0.5))])
+@pytest.mark.parametrize("arm", ["free", "locked"])
+def test_core_grasp_impulse_equals_the_numpy_formulas(index, kind, restitution, normal, arm):
+    """grasp_impulse (the core's algorithms/impulse.rs) against the numpy implementation it replaced."""
+    robot = _robots()[index]
+    x, u, target, s = _scene(robot, np.random.default_rng([31, index]))
+    if kind == "point":  # make the bodies approach along the normal: n·v_rel = −0.2 m/s
+        n = np.asarray(normal if normal is not None else target.grasp_position(s, "handle") - s[:3], dtype=float)
+        n = n / np.linalg.norm(n)
+        v_rel = grasp_impulse(robot, x, u, target, s, grasp="handle").relative_twist_before
+        s[7:10] += (v_rel[:3] @ n + 0.2) * n
+    got = grasp_impulse(robot, x, u, target, s, grasp="handle", kind=kind, restitution=restitution, normal=normal, arm=arm)
+    want = _numpy_grasp_impulse(robot, x, u, target, s, grasp="handle", kind=kind, restitution=restitution, normal=normal, arm=arm)
+    assert np.linalg.norm(want["impulse"]) > 1e-3, "the fixture must collide"
+    for name, value in want.items():
+        g = np.asarray(getattr(got, name))
+        scale = max(np.abs(value).max(), 1e-300)
+        if name in ("energy_lost", "locking_work"):  # energies: relative to the kinetic energy in play
+            scale = robot.kinetic_energy(x, u) + target.kinetic_energy(s)
+        if name == "gap":
+            scale = 1.0
+        if name == "relative_twist_after":  # zero for a rigid lock: rounding of the twist before
+            scale = np.abs(want["relative_twist_before"]).max()
+        np.testing.assert_allclose(g, value, rtol=0, atol=1e-12 * scale, err_msg=name)
+
+
+def test_core_impulse_dynamics_of_one_model():
+    """_core.impulse_dynamics: Newton's restitution law on the contact rows and the Schur form
+    against a dense KKT solve (numpy), free and locked."""
+    from spacearm import _core
+
+    robot = random_model(11).robot
+    x, u = random_state(robot, np.random.default_rng(5))
+    j = np.hstack(robot.point_jacobian(x))
+    h = robot.mass_matrix(x)
+    for e in (0.0, 0.5):
+        r = _core.impulse_dynamics(robot.core_model, x, u, j, restitution=e)
+        k = np.block([[h, -j.T], [j, np.zeros((6, 6))]])
+        sol = np.linalg.solve(k, np.r_[h @ u, -e * (j @ u)])
+        np.testing.assert_allclose(r.u_after, sol[: robot.nu], atol=1e-11 * np.abs(sol[: robot.nu]).max())
+        np.testing.assert_allclose(r.impulse, sol[robot.nu:], atol=1e-11 * np.abs(sol[robot.nu:]).max())
+        np.testing.assert_allclose(j @ r.u_after, -e * (j @ u), atol=1e-12 * np.abs(j @ u).max())
+        locked = _core.impulse_dynamics(robot.core_model, x, u, j[:1], restitution=e, arm="locked")
+        assert np.all(locked.du[6:] == 0.0)
+        np.testing.assert_allclose(j[:1] @ locked.u_after, -e * (j[:1] @ u), atol=1e-12 * np.abs(j @ u).max())
+        np.testing.assert_allclose(locked.locking_impulse, (h @ locked.du - j[:1].T @ locked.impulse)[6:], atol=1e-10)

@@ -9,6 +9,7 @@ mod analysis_py;
 mod analysis_results_py;
 mod batch;
 mod builder_py;
+mod contact_py;
 mod controller_spec_py;
 mod convert;
 mod derivatives_py;
@@ -66,6 +67,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(model_io_py::model_from_classic_dh, m)?)?;
     m.add_function(wrap_pyfunction!(model_io_py::model_from_paper_dh, m)?)?;
     analysis_py::register(m)?;
+    contact_py::register(m)?;
     m.add_class::<analysis_py::PyRmrcOptions>()?;
     m.add_class::<analysis_results_py::PyJacobianMeasures>()?;
     m.add_class::<analysis_results_py::PySingularityAnalysis>()?;

@@ -13,23 +13,26 @@ Soft: the robot and the target stay free; a wrist impedance acts at the robot's 
 ``n = K_r θ + D_r (ω_t − ω_g)`` (``θ`` the rotation vector taking the gripper's frame, carried
 with the relative attitude it had at contact, to the target's) act on the robot at ``X`` and
 their opposites on the target's material point at ``X``: an internal wrench, so robot + target
-momentum is conserved. ``simulate`` takes no external wrench, so this phase is integrated here:
-classical fixed-step RK4 on both bodies (:mod:`spacearm.capture._rk4`), each through its own
-``forward_dynamics(wrenches=...)``.
+momentum is conserved. The phase runs in the core (``spacearm_core::sim::soft_capture``): the
+robot and the target are two plants of the simulation loop, the impedance's wrench a body wrench of
+each at every stage, integrated as one system by the core's RK4 or DOPRI5 and recorded by its
+recorder; the robot's joint law is a native controller.
 """
 
 from __future__ import annotations
 
-from typing import Callable, NamedTuple, Optional
+from typing import NamedTuple, Optional
 
 import numpy as np
 
+from .. import _core
 from .._util.arrays import number, vector
-from ..errors import ArgumentError, SimulationError
-from ..model.robot import ExternalWrench
-from ..rotations import quat_from_matrix, rotation_vector
-from ._rk4 import rk4_step
-from .impact import _check_target, _robot_point, inverse_inertia
+from ..errors import ArgumentError
+from ..rotations import quat_from_matrix
+from ..sim._run_result import meta_dict, run_data
+from ..sim.simulation import DEFAULTS, _check_controller, _options
+from ..sim.trajectory import Trajectory
+from .impact import _check_target, _robot_point
 
 __all__ = ["CapturedSystem", "attach_target", "SoftCaptureRun", "soft_capture", "relative_twist"]
 
@@ -107,13 +110,15 @@ class SoftCaptureRun(NamedTuple):
     wrench: np.ndarray  #: (T, 6) the impedance's wrench on the robot at X ([force; couple], 𝒥)
     tau: np.ndarray  #: (T, N) joint torques applied
     gains: dict  #: the impedance used (stiffness, damping, rotational_stiffness, rotational_damping)
+    drift: dict  #: robot + target momentum drift over the samples, ``{"P": ..., "L": ...}`` (the core's definition)
+    trajectory: object  #: the robot's spacearm.Trajectory (its records and meta: integrator, steps, ...)
 
 
 def soft_capture(robot, x, u, target, target_state, duration: float, *, frequency: float = 3.0, damping_ratio: float = 0.7,
                  stiffness: Optional[float] = None, damping: Optional[float] = None,
                  rotational_stiffness: Optional[float] = None, rotational_damping: Optional[float] = None, point=None,
-                 grasp: Optional[str] = None, dt: float = 1e-3,
-                 torque: Optional[Callable[[float, np.ndarray, np.ndarray], np.ndarray]] = None) -> SoftCaptureRun:
+                 grasp: Optional[str] = None, dt: float = 1e-3, controller=None, integrator: str = "rk4",
+                 rtol: float = 1e-10, atol: Optional[float] = None) -> SoftCaptureRun:
     """Integrate the soft-capture phase for ``duration`` s (module docstring for the law).
 
     ``stiffness`` (N/m), ``damping`` (N·s/m), ``rotational_stiffness`` (N·m/rad),
@@ -122,8 +127,14 @@ def soft_capture(robot, x, u, target, target_state, duration: float, *, frequenc
     with ``g`` the largest eigenvalue of the translational (rotational) block of
     ``G_robot + G_target`` (:func:`~spacearm.capture.inverse_inertia`), so that no direction
     rings faster than ω and a fixed step ``dt`` well below 1/ω is stable. The rest pose is the
-    relative pose at the start with the two grasp points together. ``torque(t, x, u)`` gives the joint torques (default zero).
-    Classical RK4 with fixed step ``dt``.
+    relative pose at the start with the two grasp points together.
+
+    ``controller``: the robot's joint law, a native :mod:`spacearm.control` controller (default
+    ``None``: zero torques; the capture sequence passes the hold law, ``ComputedTorque`` with a
+    constant reference). The whole phase runs in the core (``spacearm_core::sim::soft_capture``):
+    ``integrator="rk4"`` with fixed step ``dt``, or ``"dopri5"`` with ``rtol``/``atol`` (default
+    ``rtol * 1e-2``) and samples every ``dt``; floating mode, the joints' effort and speed limits
+    apply as in ``spacearm.simulate``.
     """
     _check_target(target)
     xv, uv = vector(x, "x", robot.nx), vector(u, "u", robot.nu)
@@ -137,54 +148,23 @@ def soft_capture(robot, x, u, target, target_state, duration: float, *, frequenc
     omega, zeta = number(frequency, "frequency"), number(damping_ratio, "damping_ratio")
     if not omega > 0 or zeta < 0:
         raise ArgumentError(f"frequency must be > 0 and damping_ratio >= 0, got {omega}, {zeta}")
-    g = inverse_inertia(robot, xv, (body, offset)) + inverse_inertia(target.body, target.xu(s)[0], (tbody, tpoint))
-    g_lin, g_rot = np.linalg.eigvalsh(g[:3, :3]).max(), np.linalg.eigvalsh(g[3:, 3:]).max()
-    defaults = (omega**2 / g_lin, 2 * zeta * omega / g_lin, omega**2 / g_rot, 2 * zeta * omega / g_rot)
-    given = (stiffness, damping, rotational_stiffness, rotational_damping)
     names = ("stiffness", "damping", "rotational_stiffness", "rotational_damping")
-    gains = [dflt if v is None else number(v, name) for v, dflt, name in zip(given, defaults, names)]
-    if min(gains) < 0:
-        raise ArgumentError(f"impedance gains must be >= 0, got {dict(zip(names, gains))}")
-    k, d, kr, dr = gains
-    # gripper -> grasped body of the target, at contact
-    rel0 = robot.forward_kinematics(xv).body_to_world[body].T @ tb_rotation(target, s, tbody)
-    n = robot.n_dof
-    tb = target.body
-
-    def wrench(xr, ur, xt, ut):
-        X = robot.point_position(xr, (body, offset))
-        j0, jm = robot.point_jacobian(xr, (body, offset))
-        tw_r = j0 @ ur[:6] + jm @ ur[6:]
-        p = tb.point_position(xt, (tbody, tpoint))
-        kin_t = tb.forward_kinematics(xt)
-        Rt, ct = kin_t.body_to_world[tbody], kin_t.com_in_world[tbody]
-        tp, tm = tb.point_jacobian(xt, (tbody, tpoint))
-        tw_p = tp @ ut[:6] + tm @ ut[6:]
-        Rg = robot.forward_kinematics(xr).body_to_world[body]
-        theta = rotation_vector(Rt @ (Rg @ rel0).T)
-        f = k * (p - X) + d * (tw_p[:3] - tw_r[:3])
-        c = kr * theta + dr * (tw_p[3:] - tw_r[3:])
-        return X, f, c, Rt, ct
-
-    def rates(t, xr, ur, xt, ut):
-        X, f, c, Rt, ct = wrench(xr, ur, xt, ut)
-        tau = np.zeros(n) if torque is None else vector(torque(t, xr, ur), "soft-capture torque", n)
-        dur = robot.forward_dynamics(xr, ur, tau=tau, wrenches=[ExternalWrench(body, f, c, offset)])
-        dut = tb.forward_dynamics(xt, ut, wrenches=[ExternalWrench(tbody, -f, -c, Rt.T @ (X - ct))])
-        return dur, dut, np.r_[f, c], tau
-
-    steps = max(1, int(np.ceil(duration / dt)))
-    h = duration / steps
-    xr, ur = xv.copy(), uv.copy()
-    xt, ut = (a.copy() for a in target.xu(s))
-    T, X_, U_, S_, W_, TAU_ = [], [], [], [], [], []
-    for i in range(steps + 1):
-        t = i * h
-        _, _, w, tau = rates(t, xr, ur, xt, ut)
-        T.append(t), X_.append(xr.copy()), U_.append(ur.copy()), S_.append(np.r_[xt, ut]), W_.append(w), TAU_.append(tau)
-        if i == steps:
-            break
-        (xr, xt), (ur, ut) = rk4_step(t, h, [xr, xt], [ur, ut], lambda tt, xx, uu: list(rates(tt, xx[0], uu[0], xx[1], uu[1])[:2]))
-        if not (np.all(np.isfinite(ur)) and np.all(np.isfinite(ut))):
-            raise SimulationError(f"the soft capture diverged at t = {t + h:.4g} s; lower the gains or dt")
-    return SoftCaptureRun(np.array(T), np.array(X_), np.array(U_), np.array(S_), np.array(W_), np.array(TAU_), dict(zip(names, gains)))
+    given = [None if v is None else number(v, name) for v, name in zip((stiffness, damping, rotational_stiffness, rotational_damping), names)]
+    if min((v for v in given if v is not None), default=0.0) < 0:
+        raise ArgumentError(f"impedance gains must be >= 0, got {dict(zip(names, given))}")
+    _check_controller(controller)
+    rtol = number(rtol, "rtol")
+    atol = rtol * 1e-2 if atol is None else number(atol, "atol")
+    options = _options(robot, mode="floating", integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=None, thrusters=None,
+                       record_every=1, joint_limits=DEFAULTS["joint_limits"], max_steps=DEFAULTS["max_steps"], record_dtype="float64")
+    spec = None if controller is None else controller._spec(robot)
+    tx, tu = target.xu(s)
+    res = _core.soft_capture(robot.core_model, xv, uv, int(body), np.asarray(offset, dtype=float), target.body.core_model, tx, tu,
+                             int(tbody), np.asarray(tpoint, dtype=float), duration, options, spec, frequency=omega, damping_ratio=zeta,
+                             stiffness=given[0], damping=given[1], rotational_stiffness=given[2], rotational_damping=given[3])
+    rd, td = run_data(res.robot), run_data(res.target)
+    meta = meta_dict(res.robot.meta)
+    meta["duration"], meta["robot"] = duration, robot.name
+    gains = dict(zip(names, (res.stiffness, res.damping, res.rotational_stiffness, res.rotational_damping)))
+    return SoftCaptureRun(rd["t"], rd["x"], rd["u"], np.hstack([td["x"], td["u"]]), np.asarray(res.wrench), rd["tau"], gains,
+                          {"P": res.drift_linear, "L": res.drift_angular}, Trajectory._adopt(robot, rd, meta))

@@ -32,6 +32,10 @@ Energy: over the impact the kinetic energy of robot + target changes by
 ``−energy_lost + locking_work``, with ``energy_lost = −Λᵀ (v_rel⁻ + v_rel⁺) / 2 ≥ 0`` the work
 the contact impulses take out (``½ v_rel⁻ᵀ (G_r + G_t)⁻¹ v_rel⁻`` for the rigid lock,
 ``½ m_eff (1 − e²) (nᵀv_rel⁻)²`` for the point contact).
+
+:func:`grasp_impulse` is the core's (``spacearm_core::algorithms::impulse::grasp_impact``, built on
+its ``impulse_dynamics``, the Pinocchio-shaped impulse dynamics of one model, also
+``spacearm._core.impulse_dynamics``): this module converts the arguments and builds the result.
 """
 
 from __future__ import annotations
@@ -40,6 +44,7 @@ from typing import NamedTuple, Optional, Sequence
 
 import numpy as np
 
+from .. import _core
 from .._util.arrays import number, vector, vector3
 from ..errors import ArgumentError, SingularError, SpacearmTypeError
 
@@ -249,48 +254,14 @@ def grasp_impulse(
     uv = vector(u, "u", robot.nu)
     s = target.check_state(target_state)
     body, offset = _robot_point(robot, xv, point, grasp_offset)
-    X = robot.point_position(xv, (body, offset))
-    grasp_world = target.grasp_position(s, grasp)
-
-    # The target's material point at X, as a point of its own model (jointless for a rigid target).
+    t_body, t_offset = target.point(grasp)
     tx, tu = target.xu(s)
-    t_body, t_offset = target.material_point(s, X, grasp)
-    j_t = _jacobian(target.body, tx, t_body, t_offset)
-    h_t = target.body.mass_matrix(tx)
-    g_t = j_t @ _solve(h_t, j_t.T, "the target's mass matrix")
-    j_full = _jacobian(robot, xv, body, offset)
-    h_full = robot.mass_matrix(xv)
-    j_r, h_r = _mobility(robot, xv, body, offset, arm, j_full, h_full)
-    g_r = j_r @ _solve(h_r, j_r.T, "the mass matrix")
-    v_rel = j_full @ uv - j_t @ tu
-    g = g_r + g_t
-
-    if kind == "rigid":
-        lam = -_solve(g, v_rel, "the grasp's inverse inertia G_robot + G_target")
-    else:
-        if normal is None:
-            body_cm = target.body.forward_kinematics(tx).com_in_world[t_body]
-            n = _unit(grasp_world - body_cm, "the default normal (the grasped body's CM to the grasp point)")
-        else:
-            n = _unit(normal, "normal")
-        vn = float(n @ v_rel[:3])
-        lam = np.zeros(6)
-        if vn < 0.0:
-            lam[:3] = -(1.0 + e) * vn / float(n @ g[:3, :3] @ n) * n
-
-    du = np.zeros(robot.nu)
-    du[: j_r.shape[1]] = _solve(h_r, j_r.T @ lam, "the mass matrix")
-    dtw = -_solve(h_t, j_t.T @ lam, "the target's mass matrix")
-    u_after = uv + du
+    n = None if normal is None or kind != "point" else vector3(normal, "normal")
+    # The impulse, both jumps, G_r, G_t, the energy and the locking work: the core's
+    # algorithms/impulse.rs (grasp_impact, on its impulse dynamics).
+    g = _core.grasp_impact(robot.core_model, xv, uv, int(body), np.asarray(offset, dtype=float), target.body.core_model, tx, tu,
+                           int(t_body), np.asarray(t_offset, dtype=float), kind=kind, restitution=e, normal=n, arm=arm)
     s_after = s.copy()
-    s_after[tx.size:] += dtw
-    v_rel_after = j_full @ u_after - j_t @ target.xu(s_after)[1]
-    # The contact pair's work over the impact (velocities jump linearly in the impulse, so the
-    # work is the impulse times the mean of the velocities before and after).
-    lost = -float(lam @ (v_rel + v_rel_after)) / 2.0
-    locking = 0.0
-    if arm == "locked" and robot.n_dof:
-        tau_lock = (h_full @ du - j_full.T @ lam)[6:]  # joint rows of H Δu = Jᵀ Λ + [0; τ̂]
-        locking = float(tau_lock @ uv[6:])  # q̇ is the same before and after
-    return GraspImpulse(kind, du, dtw, lam, X, float(np.linalg.norm(X - grasp_world)), u_after, s_after,
-                        v_rel, v_rel_after, g_r, g_t, lost, locking)
+    s_after[tx.size:] = g.target_u_after
+    return GraspImpulse(kind, g.du, g.target_du, g.impulse, g.point, g.gap, g.u_after, s_after, g.relative_twist_before,
+                        g.relative_twist_after, g.g_robot, g.g_target, g.energy_lost, g.locking_work)

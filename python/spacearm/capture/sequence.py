@@ -44,7 +44,7 @@ from ..errors import ArgumentError, SimulationError
 from ..rotations import quat_from_matrix
 from ..sim.simulation import simulate
 from .captured import attach_target, soft_capture
-from .detumble import DETUMBLE_MODES, detumble, grasp_wrench, hold_torque
+from .detumble import DETUMBLE_MODES, detumble, detumble_controller, grasp_wrench
 from .impact import _check_target, grasp_impulse
 
 __all__ = ["capture", "CaptureResult", "PHASES", "CAPTURE_KINDS"]
@@ -204,7 +204,7 @@ def capture(
     ``max_force`` (N) and ``max_torque`` (N·m) of the base thrusters; the approach's joint-rate
     command is scaled down to at most ``max_joint_rate`` (rad/s). Times in s. Every phase but the
     soft one is integrated by adaptive DOPRI5 with relative tolerance ``rtol`` and recorded every
-    ``dt``; the soft phase by fixed-step RK4 with step ``dt / 5``. Gains: ``rmrc_gain`` (1/s),
+    ``dt`` (the soft phase every ``dt / 5``, in the core's soft-capture plant). Gains: ``rmrc_gain`` (1/s),
     ``rmrc_damping`` (m), ``velocity_gain`` (1/s) of the approach; ``kp``, ``kd``,
     ``time_constant`` of :func:`~spacearm.capture.detumble`.
     Raises ``SimulationError`` when the approach does not bring the grasp points within
@@ -280,8 +280,12 @@ def capture(
     n = robot.n_dof
     q_hold = xc[7:].copy()
     if kind == "soft":
-        soft = soft_capture(robot, xc, uc, target, sc, soft_time, point=point, grasp=grasp, dt=dt / 5,
-                            torque=lambda t, x, u: hold_torque(robot, x, u, q_hold, kp, kd, mjt))
+        # The hold law of the detumble (native ComputedTorque with a constant reference), the
+        # phase integrated by the core's DOPRI5 like every other phase, sampled every dt / 5.
+        hold = detumble_controller(robot, xc, mode="floating", q_hold=q_hold, kp=kp, kd=kd, time_constant=time_constant,
+                                   max_joint_torque=mjt, max_force=math.inf, max_torque=math.inf)
+        soft = soft_capture(robot, xc, uc, target, sc, soft_time, point=point, grasp=grasp, dt=dt / 5, controller=hold,
+                            integrator="dopri5", rtol=rtol)
         keep = slice(1, None)
         # the impedance's wrench on the target, moved from X to the target's CM like the rigid phases'
         held = -soft.wrench[keep]

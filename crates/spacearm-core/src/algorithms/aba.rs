@@ -43,6 +43,13 @@ pub(crate) fn aba_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>, 
     aba_pass_3(model, data, u, f)
 }
 
+/// [`aba_after_kinematics`] with external wrenches on bodies (checked by the caller): the
+/// simulator's plant under a coupling wrench ([`crate::sim::soft_capture`]).
+pub(crate) fn aba_with_wrenches_after_kinematics(model: &Model, data: &mut Data, u: &[f64], f: &[f64], external: &[ExternalWrench]) -> Result<()> {
+    aba_passes_1_2(model, data, u, f, external)?;
+    aba_pass_3(model, data, u, f)
+}
+
 /// ABA passes 1 and 2 on the kinematics already in `data`, inputs checked: body velocities,
 /// articulated inertias and bias forces folded down to the base.
 ///

@@ -130,6 +130,15 @@ pub fn point_position<T: Real>(data: &DataT<T>, body: usize, offset: &Vector3<f6
     data.com_in_world[body] + data.body_to_world[body] * vector3(offset)
 }
 
+/// A point fixed to a body: body index and offset from its CM in its frame (m).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyPoint {
+    /// Body index (0 = base).
+    pub body: usize,
+    /// Offset from the body's CM, in its frame, m.
+    pub offset: Vector3<f64>,
+}
+
 /// Check a body index against the model.
 pub fn check_body(model: &Model, body: usize) -> Result<()> {
     if body >= model.n_bodies() {

@@ -291,6 +291,45 @@ fn seed_along_velocity(model: &Model, work: &mut DualWork<Dual64>, pose: &Pose, 
     dual_kinematics(model, work, pose, r0, theta);
 }
 
+/// Workspace of [`loop_closure_bias`]: forward kinematics on one-lane dual numbers.
+#[derive(Debug, Clone)]
+pub struct ClosureBiasWork(DualWork<Dual64>);
+
+impl ClosureBiasWork {
+    /// A workspace for `model`.
+    pub fn new(model: &Model) -> Self {
+        ClosureBiasWork(DualWork::new(model))
+    }
+}
+
+/// `J̇_c u` of a loop closure ([`crate::algorithms::constrained::LoopClosure`]) at `(x, u)`,
+/// exactly: the time derivative along `u` of `J_c(x) = J_b − J_a` (both at b's origin `p_b(x)`,
+/// so the moving point is differentiated too) times `u` — the frames' relative acceleration at
+/// `u̇ = 0`. Forward kinematics on dual numbers seeded with `u` (`seed_along_velocity`), then
+/// the joint-side point Jacobians of the same generic code (`J_c`'s base columns are zero).
+pub fn loop_closure_bias(
+    model: &Model,
+    work: &mut ClosureBiasWork,
+    x: &[f64],
+    u: &[f64],
+    closure: &crate::algorithms::constrained::LoopClosure,
+) -> Result<Vector6<f64>> {
+    use crate::algorithms::kinematics::{joint_jacobian_of_point, point_position};
+    let pose = pose_and_velocity(model, x, u)?;
+    seed_along_velocity(model, &mut work.0, &pose, u);
+    let data = &work.0.data;
+    let pb = point_position(data, closure.b.body, &closure.b.offset);
+    let jb = joint_jacobian_of_point(model, data, closure.b.body, &pb);
+    let ja = joint_jacobian_of_point(model, data, closure.a.body, &pb);
+    let mut out = Vector6::zeros();
+    for j in 0..model.n_dof() {
+        for r in 0..6 {
+            out[r] += (jb[(r, j)].eps - ja[(r, j)].eps) * u[6 + j];
+        }
+    }
+    Ok(out)
+}
+
 /// The ε lanes of a chunk dual number (zeros when it carries none).
 #[inline]
 pub(crate) fn lanes(v: &DualChunk) -> [f64; CHUNK] {

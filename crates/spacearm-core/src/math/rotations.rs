@@ -98,9 +98,35 @@ pub fn normalize_xyzw(quat_xyzw: &mut [f64]) {
     }
 }
 
+/// The rotation vector `θ` (`|θ| ≤ π`) with `exp(θ̃) = R` of a rotation matrix, `log(R)`: through
+/// its unit quaternion `[v; w]` (`w ≥ 0`), `θ = 2 atan2(|v|, w) v / |v|` — accurate for small
+/// rotations too (an `acos` of the trace or of `w` loses half the digits there).
+pub fn rotation_vector(r: &Matrix3<f64>) -> Vector3<f64> {
+    let q = UnitQuaternion::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(*r));
+    let (mut v, mut w) = (q.imag(), q.scalar());
+    if w < 0.0 {
+        v = -v;
+        w = -w;
+    }
+    let s = v.norm();
+    if s == 0.0 {
+        return Vector3::zeros();
+    }
+    v * (2.0 * s.atan2(w) / s)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rotation_vector_inverts_the_exponential() {
+        for theta in [Vector3::new(0.3, -1.2, 0.8), Vector3::new(1e-9, 2e-9, -1e-9), Vector3::new(0.0, 3.1, 0.0), Vector3::zeros()] {
+            let r = nalgebra::Rotation3::from_scaled_axis(theta).into_inner();
+            let back = rotation_vector(&r);
+            assert!((back - theta).norm() <= 1e-14 * theta.norm().max(1e-300) + 1e-300, "{theta:?} -> {back:?}");
+        }
+    }
 
     #[test]
     fn axis_angle_rotation_matches_nalgebra() {

@@ -1,13 +1,16 @@
 //! The native simulation loop: time integrators on the quaternion manifold ([`integrate`]),
 //! maneuvering modes ([`modes`]), actuator limits ([`actuators`]), reference trajectories
 //! ([`reference`]), the loop ([`simulate`]) with its records ([`record`]), the same loop one
-//! RK4 step at a time ([`stepper`]) and many runs on threads ([`rollout`]);
+//! RK4 step at a time ([`stepper`]), many runs on threads ([`rollout`]) and the soft capture of a
+//! free target by a wrist impedance ([`soft_capture`]) and closed chains under a loop closure
+//! ([`closed_chain`]);
 //! docs/simulation-core.md.
 //!
 //! Imports: everything below it (`math`, `model`, `algorithms`, `gjm`) and the controllers of
 //! [`crate::control`], which in turn use [`modes`], [`actuators`] and [`reference`].
 
 pub mod actuators;
+pub mod closed_chain;
 pub mod free_body;
 pub mod integrate;
 pub mod modes;
@@ -15,4 +18,5 @@ pub mod record;
 pub mod reference;
 pub mod rollout;
 pub mod simulate;
+pub mod soft_capture;
 pub mod stepper;

@@ -29,13 +29,19 @@ impl Recorder {
     /// wheels, its controller's reference and errors).
     pub(crate) fn for_plant(plant: &Plant<'_>, capacity: usize) -> Self {
         let c = &plant.controller;
-        Recorder::new(plant.model(), capacity, &plant.wheels, c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
+        let mut rec = Recorder::new(plant.model(), capacity, &plant.wheels, c.reference_len(), c.tracking().is_some(), c.reports_attitude_error());
+        if plant.closure.is_some() {
+            rec.rec.constraint_wrench = Some(Vec::with_capacity(6 * capacity));
+            rec.rec.constraint_error = Some(Vec::with_capacity(6 * capacity));
+        }
+        rec
     }
 
     /// Values recorded per sample by a recorder of [`Recorder::for_plant`].
     pub(crate) fn values_per_sample_of(plant: &Plant<'_>) -> usize {
         let c = &plant.controller;
-        Recorder::values_per_sample(plant.model(), plant.wheels.len(), c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
+        let closure = if plant.closure.is_some() { 12 } else { 0 };
+        closure + Recorder::values_per_sample(plant.model(), plant.wheels.len(), c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
     }
 
     /// Values recorded per sample: the sum of the widths that [`Recorder::new`] reserves (keep
@@ -72,6 +78,8 @@ impl Recorder {
                 tracking_error: tracking.then(|| v(1)),
                 attitude_error: attitude.then(|| v(1)),
                 wheel_speed: (!wheels.is_empty()).then(|| v(wheels.len())),
+                constraint_wrench: None,
+                constraint_error: None,
             },
             ee,
             wheels: wheels.to_vec(),
@@ -133,6 +141,10 @@ impl Recorder {
             for &d in &self.wheels {
                 ws.push(y[nx + 6 + d]);
             }
+        }
+        if let (Some(c), Some(w), Some(e)) = (&plant.closure, r.constraint_wrench.as_mut(), r.constraint_error.as_mut()) {
+            w.extend_from_slice(c.lambda.as_slice());
+            e.extend_from_slice(c.error.as_slice());
         }
     }
 

@@ -21,7 +21,8 @@ use std::borrow::Cow;
 
 use nalgebra::{Vector3, Vector6};
 
-use crate::algorithms::aba::aba_after_kinematics;
+use crate::algorithms::aba::{aba_after_kinematics, aba_with_wrenches_after_kinematics};
+use crate::algorithms::wrench::ExternalWrench;
 use crate::algorithms::kinematics::{check_velocity, forward_kinematics, split_configuration};
 use crate::algorithms::momentum::center_of_mass_from_data;
 use crate::control::{arm_dofs, Command, ControlContext, Controller, TrackingKind};
@@ -161,6 +162,11 @@ pub struct Records {
     pub attitude_error: Option<Vec<f64>>,
     /// Wheel rates relative to the base, rad/s.
     pub wheel_speed: Option<Vec<f64>>,
+    /// A closed chain's constraint wrench `λ` on frame b at its origin, `[force; torque]` in 𝒥
+    /// (width 6; [`crate::sim::closed_chain`]).
+    pub constraint_wrench: Option<Vec<f64>>,
+    /// A closed chain's pose error `e = [position (m); rotation (rad)]` (width 6).
+    pub constraint_error: Option<Vec<f64>>,
 }
 
 /// Everything a simulation returns.
@@ -204,7 +210,7 @@ pub struct SimResult {
 /// It borrows or owns its model and controller (`Plant<'static>` owns both: a plant that can
 /// live in a Python object or move to another thread).
 pub struct Plant<'a> {
-    model: Cow<'a, Model>,
+    pub(crate) model: Cow<'a, Model>,
     pub(crate) data: Data,
     mode: Mode,
     actuators: Actuators,
@@ -225,7 +231,13 @@ pub struct Plant<'a> {
     pub(crate) dropped_count: usize,
     pub(crate) wheels: Vec<usize>,
     /// Set when a stage value was not finite (an adaptive step that was far too long).
-    nonfinite_stage: bool,
+    pub(crate) nonfinite_stage: bool,
+    /// Wrenches on bodies added at every evaluation (a coupling to another body, set by the
+    /// caller before each evaluation: [`crate::sim::soft_capture`]); empty: none.
+    body_wrenches: Vec<ExternalWrench>,
+    /// A loop closure: the forward dynamics are then the constrained ones
+    /// ([`crate::sim::closed_chain`]); `None`: ABA.
+    pub(crate) closure: Option<Box<crate::sim::closed_chain::ClosureState>>,
 }
 
 impl<'a> Plant<'a> {
@@ -272,12 +284,31 @@ impl<'a> Plant<'a> {
             dropped_count: 0,
             wheels,
             nonfinite_stage: false,
+            body_wrenches: Vec::new(),
+            closure: None,
         })
     }
 
     /// The plant's model.
     pub fn model(&self) -> &Model {
         &self.model
+    }
+
+    /// Apply `wrenches` (checked here against the model) at every evaluation from now on, in
+    /// the forward dynamics with the commanded forces; an empty slice removes them. Reuses its
+    /// buffer: no allocation once it has held as many wrenches.
+    pub fn set_body_wrenches(&mut self, wrenches: &[ExternalWrench]) -> Result<()> {
+        for w in wrenches {
+            w.check(&self.model)?;
+        }
+        self.body_wrenches.clear();
+        self.body_wrenches.extend_from_slice(wrenches);
+        Ok(())
+    }
+
+    /// The workspace of the last evaluation (kinematics at its `x`, body velocities at its `u`).
+    pub fn data(&self) -> &Data {
+        &self.data
     }
 
     /// Add `tau` (N) and `base_wrench` (`[F0; N0]` in 𝒥 at the base CM) to every command of the
@@ -350,7 +381,13 @@ impl OdeSystem for Plant<'_> {
         self.wrench_applied = self.mode.wrench_at_base(&kept, &base_to_com);
         self.f[..6].copy_from_slice(self.wrench_applied.as_slice());
         self.f[6..].copy_from_slice(&self.tau_applied);
-        aba_after_kinematics(&self.model, &mut self.data, u, &self.f)?;
+        if let Some(c) = &mut self.closure {
+            c.evaluate(&self.model, &mut self.data, x, u, &self.f)?;
+        } else if self.body_wrenches.is_empty() {
+            aba_after_kinematics(&self.model, &mut self.data, u, &self.f)?;
+        } else {
+            aba_with_wrenches_after_kinematics(&self.model, &mut self.data, u, &self.f, &self.body_wrenches)?;
+        }
         // ṙ0 = v0; quaṫ = ½ [ω0; 0] ⊗ quat (Hamilton, [x, y, z, w], ω0 in 𝒥); q̇; u̇.
         dy[0..3].copy_from_slice(&u[0..3]);
         dy[3..7].copy_from_slice(&quaternion_rate(&x[3..7], &Vector3::new(u[3], u[4], u[5])));
@@ -377,6 +414,12 @@ pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, contro
     opts.validate()?;
     check_initial_state(model, x0, u0)?;
     let plant = Plant::new(model, opts, controller)?;
+    run_plant(plant, x0, u0, opts, progress)
+}
+
+/// Run a plant set up for `opts` from `(x0, u0)` (checked by the caller): admission of the
+/// records, then the RK4 or DOPRI5 loop.
+pub(crate) fn run_plant(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, progress: Progress<'_>) -> Result<SimResult> {
     let samples = sample_count(opts) as f64;
     admit_records(opts.integrator, samples, samples * Recorder::values_per_sample_of(&plant) as f64)?;
     let result = match opts.integrator {

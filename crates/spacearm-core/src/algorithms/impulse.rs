@@ -1,0 +1,481 @@
+//! Impulse dynamics: the velocity jump of an impact (docs/capture.md, "The grasp impact").
+//!
+//! During an impact the configuration is fixed, the velocities jump and finite forces contribute
+//! nothing. An impulse `Λ` (m components) acting through a contact Jacobian `J` (m × (6+N): six
+//! rows `[v; ω]` of a welded frame, one row `nᵀ J_v` for a frictionless point) changes the
+//! generalized velocity by `Δu = H⁻¹ Jᵀ Λ`, so the contact's velocity `J u` jumps by
+//! `G Λ` with the **Delassus operator** (the inverse inertia at the contact)
+//! `G = J H⁻¹ Jᵀ` (Yoshida et al. 2004; Pinocchio's `impulseDynamics` solves the same KKT system
+//! `[H  Jᵀ; J  0] [u⁺; −Λ] = [H u⁻; −e J u⁻]`). Newton's restitution law `J u⁺ = −e J u⁻` gives
+//!
+//! `Λ = −(1 + e) G⁻¹ J u⁻`, `u⁺ = u⁻ + H⁻¹ Jᵀ Λ`
+//!
+//! (`e = 0`: a plastic lock). With the joints **locked** ([`JointsAtImpact::Locked`]) the joint
+//! rates are held through the impact, `Δq̇ = 0`: only the base coordinates jump, and `H`, `J` are
+//! their blocks `H0`, `J_0` (the joints' rows of `H Δu = Jᵀ Λ + [0; τ̂]` give the impulsive joint
+//! torques `τ̂` that do the holding, the *locking impulses*).
+//!
+//! [`grasp_impact`] is the two-body case: the robot's grasp point `X` against the material point
+//! of a target model at `X`, an impulse `Λ` on the robot and `−Λ` on the target. The contact
+//! Jacobian over `[u_robot; u_target]` is `[J_r, −J_t]` on a block-diagonal mass matrix, so the
+//! Delassus operator is the sum `G_r + G_t` of the two [`contact_response`]s.
+//!
+//! Imports: [`crate::math`], [`crate::model`] and the algorithms of this folder.
+
+use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
+
+use crate::algorithms::crba::crba;
+pub use crate::algorithms::kinematics::BodyPoint;
+use crate::algorithms::kinematics::{check_body, check_velocity, point_jacobians, point_position};
+use crate::error::{check_finite, Result, SpacearmError};
+use crate::model::data::Data;
+use crate::model::Model;
+
+/// What the joints do during an impact.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JointsAtImpact {
+    /// The joint rates jump with the base's (all of `u` is mobile).
+    Free,
+    /// The joint rates are held (`Δq̇ = 0`) by impulsive joint torques: only the base jumps.
+    Locked,
+}
+
+impl JointsAtImpact {
+    /// The names accepted by [`JointsAtImpact::from_name`].
+    pub const NAMES: [&'static str; 2] = ["free", "locked"];
+
+    /// Parse `"free"` or `"locked"`.
+    pub fn from_name(name: &str) -> Result<Self> {
+        match name {
+            "free" => Ok(JointsAtImpact::Free),
+            "locked" => Ok(JointsAtImpact::Locked),
+            other => Err(SpacearmError::argument(format!("arm must be one of {:?}, got '{other}'", Self::NAMES))),
+        }
+    }
+
+    /// Number of coordinates that may jump in a model with `nu` velocity coordinates.
+    fn mobile(self, nu: usize) -> usize {
+        match self {
+            JointsAtImpact::Free => nu,
+            JointsAtImpact::Locked => 6,
+        }
+    }
+}
+
+/// How a model answers impulses through a contact Jacobian `J` (m × (6+N)).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactResponse {
+    /// `G = J_m H_m⁻¹ J_mᵀ` (m × m) over the mobile coordinates `m` (all of `u`, or the base's
+    /// six with the joints locked): the contact velocity jumps by `G Λ`.
+    pub delassus: DMatrix<f64>,
+    /// `H_m⁻¹ J_mᵀ` ((6+N) × m; zero rows for locked coordinates): `Δu = response · Λ`.
+    pub response: DMatrix<f64>,
+    /// The mass matrix `H` at the configuration (full, (6+N)²).
+    pub mass_matrix: DMatrix<f64>,
+}
+
+fn check_jacobian(model: &Model, jacobian: &DMatrix<f64>) -> Result<()> {
+    if jacobian.ncols() != model.nu() {
+        return Err(SpacearmError::Dimension { what: "contact Jacobian (columns)".into(), expected: format!("6+N = {}", model.nu()), got: jacobian.ncols() });
+    }
+    if jacobian.nrows() == 0 {
+        return Err(SpacearmError::argument("the contact Jacobian has no rows"));
+    }
+    check_finite("contact Jacobian", jacobian.as_slice())
+}
+
+/// The response of `model` at `x` to impulses through `jacobian` (m × (6+N)): the Delassus
+/// operator `G` and the map `Λ ↦ Δu` (module docs). `SingularError` when the mobile block of `H`
+/// is not positive definite.
+pub fn contact_response(model: &Model, data: &mut Data, x: &[f64], jacobian: &DMatrix<f64>, joints: JointsAtImpact) -> Result<ContactResponse> {
+    check_jacobian(model, jacobian)?;
+    let h = crba(model, data, x)?.clone();
+    response_from(&h, jacobian, joints)
+}
+
+fn response_from(h: &DMatrix<f64>, jacobian: &DMatrix<f64>, joints: JointsAtImpact) -> Result<ContactResponse> {
+    let nu = h.nrows();
+    let k = joints.mobile(nu);
+    let hm = h.view((0, 0), (k, k)).into_owned();
+    let jm = jacobian.columns(0, k).into_owned();
+    let chol = hm.cholesky().ok_or_else(|| SpacearmError::Singular("the mass matrix".into()))?;
+    let part = chol.solve(&jm.transpose()); // H_m⁻¹ J_mᵀ (k × m)
+    let delassus = &jm * &part;
+    let mut response = DMatrix::zeros(nu, jacobian.nrows());
+    response.rows_mut(0, k).copy_from(&part);
+    Ok(ContactResponse { delassus, response, mass_matrix: h.clone() })
+}
+
+/// Solve `G Λ = rhs` (LU with partial pivoting); `SingularError` naming `what` when `G` is.
+fn solve_delassus(g: &DMatrix<f64>, rhs: &DVector<f64>, what: &str) -> Result<DVector<f64>> {
+    let singular = || SpacearmError::Singular(what.to_string());
+    let sol = g.clone().lu().solve(rhs).ok_or_else(singular)?;
+    if sol.iter().all(|v| v.is_finite()) {
+        Ok(sol)
+    } else {
+        Err(singular())
+    }
+}
+
+/// The result of [`impulse_dynamics`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImpulseDynamics {
+    /// The generalized velocity after the impact, `u⁺ = u⁻ + Δu`.
+    pub u_after: DVector<f64>,
+    /// The velocity jump `Δu = H⁻¹ Jᵀ Λ` (zero on locked coordinates).
+    pub du: DVector<f64>,
+    /// The contact impulse `Λ` (m; the units of `J`'s rows times N·s per m/s).
+    pub impulse: DVector<f64>,
+    /// The Delassus operator `G = J H⁻¹ Jᵀ` over the mobile coordinates (m × m).
+    pub delassus: DMatrix<f64>,
+    /// The impulsive joint torques that hold the joints with [`JointsAtImpact::Locked`]: the joint
+    /// rows of `H Δu − Jᵀ Λ` (N; zeros with free joints, to rounding).
+    pub locking_impulse: DVector<f64>,
+}
+
+/// Impulse dynamics of one model (Pinocchio's `impulseDynamics`): the velocity after an impact
+/// through the contact Jacobian `jacobian` (m × (6+N)) from `u_before`, with Newton's
+/// restitution `e` in [0, 1] (`J u⁺ = −e J u⁻`) and the joints free or locked.
+pub fn impulse_dynamics(
+    model: &Model,
+    data: &mut Data,
+    x: &[f64],
+    u_before: &[f64],
+    jacobian: &DMatrix<f64>,
+    restitution: f64,
+    joints: JointsAtImpact,
+) -> Result<ImpulseDynamics> {
+    check_velocity(model, "u_before", u_before)?;
+    check_restitution(restitution)?;
+    let r = contact_response(model, data, x, jacobian, joints)?;
+    let u = DVector::from_column_slice(u_before);
+    let rhs = -(1.0 + restitution) * (jacobian * &u);
+    let impulse = solve_delassus(&r.delassus, &rhs, "the Delassus operator J H⁻¹ Jᵀ (the contact rows are dependent)")?;
+    let du = &r.response * &impulse;
+    let locking_impulse = (&r.mass_matrix * &du - jacobian.transpose() * &impulse).rows(6, model.n_dof()).into_owned();
+    Ok(ImpulseDynamics { u_after: &u + &du, du, impulse, delassus: r.delassus, locking_impulse })
+}
+
+fn check_restitution(e: f64) -> Result<()> {
+    if !(0.0..=1.0).contains(&e) {
+        return Err(SpacearmError::argument(format!("restitution must be in [0, 1], got {e}")));
+    }
+    Ok(())
+}
+
+/// The contact of a grasp.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum GraspContact {
+    /// A 6-D weld of the two frames (six contact rows).
+    Rigid,
+    /// A frictionless point contact along `normal` (from the target into the robot, in 𝒥; `None`:
+    /// from the grasped body's CM to the target's grasp point). One contact row; unilateral: no
+    /// impulse when the bodies separate along the normal.
+    Point {
+        /// Contact normal in 𝒥 (normalized here), or `None` for the default.
+        normal: Option<Vector3<f64>>,
+    },
+}
+
+/// The result of [`grasp_impact`] (every vector in 𝒥).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GraspImpact {
+    /// `Λ = [f̂; n̂]` on the robot at the grasp point (N·s, N·m·s); the target gets `−Λ`.
+    pub impulse: Vector6<f64>,
+    /// The robot's velocity jump `Δu`.
+    pub du: DVector<f64>,
+    /// The target's velocity jump (of its model's `u`).
+    pub target_du: DVector<f64>,
+    /// The robot's velocity after the impact.
+    pub u_after: DVector<f64>,
+    /// The target's velocity after the impact.
+    pub target_u_after: DVector<f64>,
+    /// The grasp point `X` in 𝒥 (the robot's point).
+    pub point: Vector3<f64>,
+    /// Distance from `X` to the target's grasp point, m.
+    pub gap: f64,
+    /// The unit contact normal (point contact), or `None` (rigid).
+    pub normal: Option<Vector3<f64>>,
+    /// Twist of the robot at `X` minus the target's material point's twist at `X`, before.
+    pub relative_twist_before: Vector6<f64>,
+    /// The same after the impact.
+    pub relative_twist_after: Vector6<f64>,
+    /// The robot's inverse inertia at `X`, `G_r = J H⁻¹ Jᵀ` (over its mobile coordinates).
+    pub g_robot: Matrix6<f64>,
+    /// The target's inverse inertia at `X`, `G_t`.
+    pub g_target: Matrix6<f64>,
+    /// Energy the contact impulses take out, `−Λᵀ (v_rel⁻ + v_rel⁺) / 2` (J, ≥ 0 to rounding).
+    pub energy_lost: f64,
+    /// Work of the locking joint impulses, `τ̂ᵀ q̇` (J, either sign; 0 with free joints).
+    pub locking_work: f64,
+    /// The locking joint impulses `τ̂` (N; zeros with free joints).
+    pub locking_impulse: DVector<f64>,
+}
+
+fn jacobian_of(model: &Model, data: &Data, body: usize, offset: &Vector3<f64>) -> Result<DMatrix<f64>> {
+    let (j0, jm) = point_jacobians(model, data, body, offset)?;
+    let mut j = DMatrix::zeros(6, model.nu());
+    j.view_mut((0, 0), (6, 6)).copy_from(&j0);
+    j.view_mut((0, 6), (6, model.n_dof())).copy_from(&jm);
+    Ok(j)
+}
+
+fn matrix6(m: &DMatrix<f64>) -> Matrix6<f64> {
+    Matrix6::from_fn(|i, j| m[(i, j)])
+}
+
+/// The impact between the robot's grasp point and a target model (module docs): the robot at
+/// `(x, u)` grasps at `robot_point`; the target at `(x_target, u_target)` is hit on the body of
+/// its grasp point `target_grasp`, at its material point that coincides with the robot's point
+/// `X`. `restitution` `e` in [0, 1] (`J v⁺ = −e J v⁻` on the contact rows); `joints`: the
+/// robot's joints free or locked (the target's are always free).
+///
+/// Rigid: `Λ = −(1 + e) (G_r + G_t)⁻¹ v_rel⁻`. Point: `Λ = [λ n; 0]`,
+/// `λ = −(1 + e) nᵀv_rel⁻ / (nᵀ (G_r + G_t)_vv n)` when `nᵀv_rel⁻ < 0`, else no impulse.
+#[allow(clippy::too_many_arguments)]
+pub fn grasp_impact(
+    robot: &Model,
+    robot_data: &mut Data,
+    x: &[f64],
+    u: &[f64],
+    robot_point: BodyPoint,
+    target: &Model,
+    target_data: &mut Data,
+    x_target: &[f64],
+    u_target: &[f64],
+    target_grasp: BodyPoint,
+    contact: GraspContact,
+    restitution: f64,
+    joints: JointsAtImpact,
+) -> Result<GraspImpact> {
+    check_restitution(restitution)?;
+    check_velocity(robot, "u", u)?;
+    check_velocity(target, "the target's u", u_target)?;
+    check_body(robot, robot_point.body)?;
+    check_body(target, target_grasp.body)?;
+    check_finite("the robot's grasp offset", robot_point.offset.as_slice())?;
+    check_finite("the target's grasp offset", target_grasp.offset.as_slice())?;
+
+    // The robot's side: H, the point's Jacobian (crba runs forward kinematics).
+    let h_r = crba(robot, robot_data, x)?.clone();
+    let point = point_position(robot_data, robot_point.body, &robot_point.offset);
+    let j_r = jacobian_of(robot, robot_data, robot_point.body, &robot_point.offset)?;
+    // The target's side: its material point at X on the grasped body.
+    let h_t = crba(target, target_data, x_target)?.clone();
+    let tb = target_grasp.body;
+    let grasp_world = point_position(target_data, tb, &target_grasp.offset);
+    let body_cm = target_data.com_in_world[tb];
+    let rot_t: Matrix3<f64> = target_data.body_to_world[tb];
+    let t_offset = rot_t.transpose() * (point - body_cm);
+    let j_t = jacobian_of(target, target_data, tb, &t_offset)?;
+
+    let resp_r = response_from(&h_r, &j_r, joints)?;
+    let resp_t = response_from(&h_t, &j_t, JointsAtImpact::Free)
+        .map_err(|_| SpacearmError::Singular("the target's mass matrix".into()))?;
+    let u_r = DVector::from_column_slice(u);
+    let u_t = DVector::from_column_slice(u_target);
+    let v_rel = &j_r * &u_r - &j_t * &u_t;
+    let g = &resp_r.delassus + &resp_t.delassus;
+
+    let (lam, normal) = match contact {
+        GraspContact::Rigid => {
+            let lam = solve_delassus(&g, &(-(1.0 + restitution) * &v_rel), "the grasp's inverse inertia G_robot + G_target")?;
+            (lam, None)
+        }
+        GraspContact::Point { normal } => {
+            let (raw, what) = match normal {
+                Some(n) => (n, "normal"),
+                None => (grasp_world - body_cm, "the default normal (the grasped body's CM to the grasp point)"),
+            };
+            let norm = raw.norm();
+            if !(norm.is_finite() && norm >= 1e-12) {
+                return Err(SpacearmError::argument(format!("{what} must be a non-zero finite 3-vector, got {raw:?}")));
+            }
+            let n = raw / norm;
+            let vn = n.dot(&v_rel.fixed_rows::<3>(0));
+            let mut lam = DVector::zeros(6);
+            if vn < 0.0 {
+                let g_vv: Matrix3<f64> = g.fixed_view::<3, 3>(0, 0).into_owned();
+                let l = -(1.0 + restitution) * vn / n.dot(&(g_vv * n));
+                lam.fixed_rows_mut::<3>(0).copy_from(&(n * l));
+            }
+            (lam, Some(n))
+        }
+    };
+
+    let du = &resp_r.response * &lam;
+    let target_du = -(&resp_t.response * &lam);
+    let u_after = &u_r + &du;
+    let target_u_after = &u_t + &target_du;
+    let v_rel_after = &j_r * &u_after - &j_t * &target_u_after;
+    // The contact pair's work over the impact (velocities jump linearly in the impulse, so the
+    // work is the impulse times the mean of the velocities before and after).
+    let energy_lost = -lam.dot(&(&v_rel + &v_rel_after)) / 2.0;
+    let n = robot.n_dof();
+    let (locking_impulse, locking_work) = if joints == JointsAtImpact::Locked && n > 0 {
+        let tau = (&h_r * &du - j_r.transpose() * &lam).rows(6, n).into_owned();
+        let work = tau.dot(&u_r.rows(6, n));
+        (tau, work)
+    } else {
+        (DVector::zeros(n), 0.0)
+    };
+    Ok(GraspImpact {
+        impulse: Vector6::from_column_slice(lam.as_slice()),
+        du,
+        target_du,
+        u_after,
+        target_u_after,
+        point,
+        gap: (point - grasp_world).norm(),
+        normal,
+        relative_twist_before: Vector6::from_column_slice(v_rel.as_slice()),
+        relative_twist_after: Vector6::from_column_slice(v_rel_after.as_slice()),
+        g_robot: matrix6(&resp_r.delassus),
+        g_target: matrix6(&resp_t.delassus),
+        energy_lost,
+        locking_work,
+        locking_impulse,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::algorithms::momentum::{kinetic_energy, momentum};
+    use crate::model::presets::{initial_configuration, spatial6};
+    use crate::model::ModelBuilder;
+
+    fn state(model: &Model) -> (Vec<f64>, Vec<f64>) {
+        let mut x = initial_configuration(model);
+        for (j, q) in x[7..].iter_mut().enumerate() {
+            *q += 0.3 * (j as f64 + 1.0).sin();
+        }
+        let u: Vec<f64> = (0..model.nu()).map(|k| 0.05 * ((k as f64) * 1.7 + 0.3).cos()).collect();
+        (x, u)
+    }
+
+    fn target() -> Model {
+        ModelBuilder::new("t", "t", 50.0, [[4.0, 0.1, 0.0], [0.1, 5.0, 0.0], [0.0, 0.0, 6.0]]).unwrap().build().unwrap()
+    }
+
+    fn ee(model: &Model) -> BodyPoint {
+        let p = &model.points()[model.end_effector().unwrap()];
+        BodyPoint { body: p.body, offset: p.offset }
+    }
+
+    /// The target with its grasp point (offset (-0.5, 0, 0)) at the robot's end effector, tumbling.
+    fn target_state(robot: &Model, x: &[f64]) -> (Vec<f64>, Vec<f64>, BodyPoint) {
+        let mut data = Data::new(robot);
+        crate::algorithms::kinematics::forward_kinematics(robot, &mut data, x).unwrap();
+        let p = ee(robot);
+        let xp = point_position(&data, p.body, &p.offset);
+        let xt = vec![xp.x + 0.5, xp.y + 0.01, xp.z - 0.02, 0.0, 0.0, 0.0, 1.0];
+        let ut = vec![-0.02, 0.01, 0.03, 0.05, -0.02, 0.2];
+        (xt, ut, BodyPoint { body: 0, offset: Vector3::new(-0.5, 0.0, 0.0) })
+    }
+
+    fn total(robot: &Model, x: &[f64], u: &[f64], target: &Model, xt: &[f64], ut: &[f64]) -> (Vector3<f64>, Vector3<f64>, f64) {
+        let (mut dr, mut dt) = (Data::new(robot), Data::new(target));
+        let (a, b) = (momentum(robot, &mut dr, x, u).unwrap(), momentum(target, &mut dt, xt, ut).unwrap());
+        let e = kinetic_energy(robot, &mut dr, x, u).unwrap() + kinetic_energy(target, &mut dt, xt, ut).unwrap();
+        (a.linear + b.linear, a.angular_about_origin + b.angular_about_origin, e)
+    }
+
+    fn impact(contact: GraspContact, e: f64, joints: JointsAtImpact) -> (GraspImpact, [(Vector3<f64>, Vector3<f64>, f64); 2]) {
+        let (robot, tgt) = (spatial6(), target());
+        let (x, u) = state(&robot);
+        let (xt, ut, grasp) = target_state(&robot, &x);
+        let (mut dr, mut dt) = (Data::new(&robot), Data::new(&tgt));
+        let g = grasp_impact(&robot, &mut dr, &x, &u, ee(&robot), &tgt, &mut dt, &xt, &ut, grasp, contact, e, joints).unwrap();
+        let before = total(&robot, &x, &u, &tgt, &xt, &ut);
+        let after = total(&robot, &x, g.u_after.as_slice(), &tgt, &xt, g.target_u_after.as_slice());
+        (g, [before, after])
+    }
+
+    #[test]
+    fn a_rigid_grasp_locks_the_frames_and_conserves_momentum() {
+        for joints in [JointsAtImpact::Free, JointsAtImpact::Locked] {
+            let (g, [b, a]) = impact(GraspContact::Rigid, 0.0, joints);
+            let scale = g.relative_twist_before.norm();
+            assert!(g.relative_twist_after.norm() < 1e-12 * scale.max(1.0), "{:e}", g.relative_twist_after.norm());
+            assert!((a.0 - b.0).norm() < 1e-12 * b.0.norm().max(1.0));
+            assert!((a.1 - b.1).norm() < 1e-11 * b.1.norm().max(1.0));
+            // ½ v Gᵀ⁻¹ v, and the energy ledger with the locking work.
+            let gsum = g.g_robot + g.g_target;
+            let closed = 0.5 * g.relative_twist_before.dot(&(gsum.try_inverse().unwrap() * g.relative_twist_before));
+            assert!((g.energy_lost - closed).abs() < 1e-10 * closed, "{} vs {closed}", g.energy_lost);
+            assert!(((b.2 - a.2) - (g.energy_lost - g.locking_work)).abs() < 1e-10 * b.2);
+            if joints == JointsAtImpact::Locked {
+                assert!(g.du.rows(6, 6).norm() == 0.0);
+                assert!(g.locking_work != 0.0);
+            } else {
+                assert_eq!(g.locking_work, 0.0);
+            }
+        }
+    }
+
+    #[test]
+    fn a_point_contact_follows_newtons_restitution() {
+        for e in [0.0, 0.4, 1.0] {
+            let (g, [b, a]) = impact(GraspContact::Point { normal: None }, e, JointsAtImpact::Free);
+            let n = g.normal.unwrap();
+            let (vb, va) = (n.dot(&g.relative_twist_before.fixed_rows::<3>(0)), n.dot(&g.relative_twist_after.fixed_rows::<3>(0)));
+            assert!(vb < 0.0, "the fixture must approach");
+            assert!((va + e * vb).abs() < 1e-12 * vb.abs(), "{va} vs {}", -e * vb);
+            let m_eff = 1.0 / n.dot(&((g.g_robot + g.g_target).fixed_view::<3, 3>(0, 0) * n));
+            let closed = 0.5 * m_eff * (1.0 - e * e) * vb * vb;
+            assert!((g.energy_lost - closed).abs() < 1e-10 * b.2);
+            assert!(((b.2 - a.2) - g.energy_lost).abs() < 1e-10 * b.2);
+            assert!((a.0 - b.0).norm() < 1e-12 * b.0.norm().max(1.0));
+            assert!(g.impulse.fixed_rows::<3>(3).norm() == 0.0);
+        }
+        // Separating along the normal given: no impulse; a zero normal is refused.
+        let (g0, _) = impact(GraspContact::Point { normal: None }, 0.0, JointsAtImpact::Free);
+        let away = -g0.normal.unwrap();
+        let (g, _) = impact(GraspContact::Point { normal: Some(away) }, 0.0, JointsAtImpact::Free);
+        assert!(g.impulse.norm() == 0.0 && g.du.norm() == 0.0 && g.energy_lost == 0.0);
+        let (robot, tgt) = (spatial6(), target());
+        let (x, u) = state(&robot);
+        let (xt, ut, grasp) = target_state(&robot, &x);
+        let err = grasp_impact(&robot, &mut Data::new(&robot), &x, &u, ee(&robot), &tgt, &mut Data::new(&tgt), &xt, &ut, grasp,
+                               GraspContact::Point { normal: Some(Vector3::zeros()) }, 0.0, JointsAtImpact::Free)
+            .unwrap_err();
+        assert!(matches!(err, SpacearmError::InvalidArgument(_)), "{err}");
+    }
+
+    #[test]
+    fn impulse_dynamics_meets_the_restitution_law_and_matches_a_grasp_of_a_heavy_body() {
+        let robot = spatial6();
+        let (x, u) = state(&robot);
+        let mut data = Data::new(&robot);
+        crate::algorithms::kinematics::forward_kinematics(&robot, &mut data, &x).unwrap();
+        let p = ee(&robot);
+        let j = jacobian_of(&robot, &data, p.body, &p.offset).unwrap();
+        let uv = DVector::from_column_slice(&u);
+        for e in [0.0, 0.6] {
+            for joints in [JointsAtImpact::Free, JointsAtImpact::Locked] {
+                let r = impulse_dynamics(&robot, &mut data, &x, &u, &j, e, joints).unwrap();
+                let (vb, va) = (&j * &uv, &j * &r.u_after);
+                assert!((&va + e * &vb).norm() < 1e-12 * vb.norm());
+                let ke = |v: &DVector<f64>| kinetic_energy(&robot, &mut Data::new(&robot), &x, v.as_slice()).unwrap();
+                let lost = ke(&uv) - ke(&r.u_after);
+                if joints == JointsAtImpact::Free {
+                    assert!(lost >= 0.0 && r.locking_impulse.norm() < 1e-10);
+                } else {
+                    assert!(r.du.rows(6, 6).norm() == 0.0);
+                    assert!(((lost + r.locking_impulse.dot(&uv.rows(6, 6))) - (-r.impulse.dot(&(&va + &vb)) / 2.0)).abs() < 1e-10 * ke(&uv));
+                }
+            }
+        }
+        // A target of 1e12 kg at rest: a fixed contact to about 1e-10.
+        let heavy = ModelBuilder::new("t", "t", 1e12, [[1e12, 0.0, 0.0], [0.0, 1e12, 0.0], [0.0, 0.0, 1e12]]).unwrap().build().unwrap();
+        let (mut xt, _, grasp) = target_state(&robot, &x);
+        xt[0] -= 0.5;
+        let grasp = BodyPoint { offset: Vector3::zeros(), ..grasp };
+        let g = grasp_impact(&robot, &mut data, &x, &u, p, &heavy, &mut Data::new(&heavy), &xt, &[0.0; 6], grasp, GraspContact::Rigid, 0.0,
+                             JointsAtImpact::Free)
+            .unwrap();
+        let r = impulse_dynamics(&robot, &mut data, &x, &u, &j, 0.0, JointsAtImpact::Free).unwrap();
+        assert!((&g.du - &r.du).norm() < 1e-9 * r.du.norm(), "{:e}", (&g.du - &r.du).norm() / r.du.norm());
+    }
+}

@@ -1,0 +1,466 @@
+//! Bindings of the core's contact dynamics: `spacearm_core::algorithms::impulse` (impulse
+//! dynamics and the two-body grasp impact), the soft-capture plant (`sim::soft_capture`) and the
+//! closed chain (`sim::closed_chain`, `algorithms::constrained`, `derivatives::loop_closure_bias`). Arrays in, a typed frozen result out; the Python
+//! package `spacearm.capture` is the face users see (docs/capture.md).
+
+use nalgebra::DMatrix;
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use spacearm_core::algorithms::impulse::{self, BodyPoint, GraspContact, JointsAtImpact};
+use spacearm_core::SpacearmError;
+
+use crate::controller_spec_py::{build_controller, error_slot, take_error};
+use crate::convert::*;
+use crate::model_py::PyModel;
+use crate::records_py::PyRunResult;
+use crate::sim_options_py::PyRunOptions;
+use spacearm_core::control::{Controller, ZeroTorque};
+use spacearm_core::sim::soft_capture::{self as soft, ImpedanceSpec};
+use spacearm_core::algorithms::constrained::LoopClosure;
+use spacearm_core::derivatives::{loop_closure_bias, ClosureBiasWork};
+use spacearm_core::sim::closed_chain::simulate_closed_chain as core_closed_chain;
+
+/// The result of `impulse_dynamics` (`spacearm_core::algorithms::impulse::ImpulseDynamics`).
+#[pyclass(module = "spacearm._core", name = "ImpulseDynamics", frozen)]
+pub struct PyImpulseDynamics {
+    /// (6+N,) the generalized velocity after the impact.
+    #[pyo3(get)]
+    u_after: Py<PyArray1<f64>>,
+    /// (6+N,) the jump Δu = H⁻¹ Jᵀ Λ (zero on locked coordinates).
+    #[pyo3(get)]
+    du: Py<PyArray1<f64>>,
+    /// (m,) the contact impulse Λ.
+    #[pyo3(get)]
+    impulse: Py<PyArray1<f64>>,
+    /// (m, m) the Delassus operator J H⁻¹ Jᵀ over the mobile coordinates.
+    #[pyo3(get)]
+    delassus: Py<PyArray2<f64>>,
+    /// (N,) the impulsive joint torques that hold locked joints (zeros with free joints).
+    #[pyo3(get)]
+    locking_impulse: Py<PyArray1<f64>>,
+}
+
+#[pymethods]
+impl PyImpulseDynamics {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("<spacearm._core.ImpulseDynamics impulse={:?}>", self.impulse.bind(py).to_vec().unwrap_or_default())
+    }
+}
+
+/// The result of `grasp_impact` (`spacearm_core::algorithms::impulse::GraspImpact`), every
+/// vector in 𝒥.
+#[pyclass(module = "spacearm._core", name = "GraspImpact", frozen)]
+pub struct PyGraspImpact {
+    /// (6,) Λ = [f̂; n̂] on the robot at the grasp point (N·s, N·m·s); the target gets −Λ.
+    #[pyo3(get)]
+    impulse: Py<PyArray1<f64>>,
+    /// (6+N,) the robot's velocity jump.
+    #[pyo3(get)]
+    du: Py<PyArray1<f64>>,
+    /// The target's velocity jump (of its model's u).
+    #[pyo3(get)]
+    target_du: Py<PyArray1<f64>>,
+    /// The robot's velocity after the impact.
+    #[pyo3(get)]
+    u_after: Py<PyArray1<f64>>,
+    /// The target's velocity after the impact.
+    #[pyo3(get)]
+    target_u_after: Py<PyArray1<f64>>,
+    /// (3,) the grasp point X (the robot's point), m.
+    #[pyo3(get)]
+    point: Py<PyArray1<f64>>,
+    /// Distance from X to the target's grasp point, m.
+    #[pyo3(get)]
+    gap: f64,
+    /// (3,) the unit contact normal of a point contact, or None.
+    #[pyo3(get)]
+    normal: Option<Py<PyArray1<f64>>>,
+    /// (6,) the relative twist at X before the impact.
+    #[pyo3(get)]
+    relative_twist_before: Py<PyArray1<f64>>,
+    /// (6,) the relative twist at X after the impact.
+    #[pyo3(get)]
+    relative_twist_after: Py<PyArray1<f64>>,
+    /// (6, 6) the robot's inverse inertia at X.
+    #[pyo3(get)]
+    g_robot: Py<PyArray2<f64>>,
+    /// (6, 6) the target's inverse inertia at X.
+    #[pyo3(get)]
+    g_target: Py<PyArray2<f64>>,
+    /// Energy the contact impulses take out, J (>= 0 to rounding).
+    #[pyo3(get)]
+    energy_lost: f64,
+    /// Work of the locking joint impulses, J (0 with the arm free).
+    #[pyo3(get)]
+    locking_work: f64,
+    /// (N,) the locking joint impulses τ̂ (zeros with the arm free).
+    #[pyo3(get)]
+    locking_impulse: Py<PyArray1<f64>>,
+}
+
+#[pymethods]
+impl PyGraspImpact {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "<spacearm._core.GraspImpact impulse={:?} energy_lost={:?} locking_work={:?}>",
+            self.impulse.bind(py).to_vec().unwrap_or_default(),
+            self.energy_lost,
+            self.locking_work
+        )
+    }
+}
+
+fn joints(py: Python<'_>, arm: &str) -> PyResult<JointsAtImpact> {
+    JointsAtImpact::from_name(arm).or_raise(py)
+}
+
+/// Impulse dynamics of one model: the velocity after an impact through the contact Jacobian
+/// `jacobian` (m × (6+N)) from `u_before`, restitution `e` in [0, 1], `arm` "free" or "locked".
+#[pyfunction]
+#[pyo3(signature = (model, x, u_before, jacobian, restitution = 0.0, arm = "free"))]
+pub fn impulse_dynamics(
+    py: Python<'_>,
+    model: PyRef<'_, PyModel>,
+    x: &Bound<'_, PyAny>,
+    u_before: &Bound<'_, PyAny>,
+    jacobian: PyReadonlyArray2<'_, f64>,
+    restitution: f64,
+    arm: &str,
+) -> PyResult<PyImpulseDynamics> {
+    let joints = joints(py, arm)?;
+    let (x, u) = (vec_arg(x, "x")?, vec_arg(u_before, "u_before")?);
+    let shape = jacobian.shape();
+    let j = DMatrix::from_row_iterator(shape[0], shape[1], jacobian.as_array().iter().copied());
+    let r = model.with_data(|m, d| impulse::impulse_dynamics(m, d, x.as_slice(), u.as_slice(), &j, restitution, joints)).or_raise(py)?;
+    Ok(PyImpulseDynamics {
+        u_after: dvec(py, &r.u_after).unbind(),
+        du: dvec(py, &r.du).unbind(),
+        impulse: dvec(py, &r.impulse).unbind(),
+        delassus: dmat(py, &r.delassus).unbind(),
+        locking_impulse: dvec(py, &r.locking_impulse).unbind(),
+    })
+}
+
+/// The grasp impact between the robot's point `(body, offset)` at `(x, u)` and the target
+/// model at `(x_target, u_target)`, hit on the body of its grasp point `(target_body,
+/// target_offset)` at its material point at the robot's point. `kind` "rigid" or "point"
+/// (`normal` in 𝒥, None: from the grasped body's CM to the grasp point), `restitution` in [0, 1],
+/// `arm` "free" or "locked".
+#[pyfunction]
+#[pyo3(signature = (robot, x, u, body, offset, target, x_target, u_target, target_body, target_offset, *, kind = "rigid",
+                    restitution = 0.0, normal = None, arm = "free"))]
+#[allow(clippy::too_many_arguments)]
+pub fn grasp_impact(
+    py: Python<'_>,
+    robot: PyRef<'_, PyModel>,
+    x: &Bound<'_, PyAny>,
+    u: &Bound<'_, PyAny>,
+    body: usize,
+    offset: &Bound<'_, PyAny>,
+    target: PyRef<'_, PyModel>,
+    x_target: &Bound<'_, PyAny>,
+    u_target: &Bound<'_, PyAny>,
+    target_body: usize,
+    target_offset: &Bound<'_, PyAny>,
+    kind: &str,
+    restitution: f64,
+    normal: Option<&Bound<'_, PyAny>>,
+    arm: &str,
+) -> PyResult<PyGraspImpact> {
+    let joints = joints(py, arm)?;
+    let contact = match kind {
+        "rigid" => GraspContact::Rigid,
+        "point" => GraspContact::Point { normal: normal.map(|n| finite3(n, "normal")).transpose()? },
+        other => return Err(to_py_err(py, SpacearmError::InvalidArgument(format!("kind must be one of ['rigid', 'point'], got '{other}'")))),
+    };
+    let robot_point = BodyPoint { body, offset: finite3(offset, "offset")? };
+    let target_grasp = BodyPoint { body: target_body, offset: finite3(target_offset, "target_offset")? };
+    let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
+    let (xt, ut) = (vec_arg(x_target, "x_target")?, vec_arg(u_target, "u_target")?);
+    let g = robot
+        .with_data(|rm, rd| {
+            target.with_data(|tm, td| {
+                impulse::grasp_impact(
+                    rm, rd, x.as_slice(), u.as_slice(), robot_point, tm, td, xt.as_slice(), ut.as_slice(), target_grasp, contact, restitution, joints,
+                )
+            })
+        })
+        .or_raise(py)?;
+    Ok(PyGraspImpact {
+        impulse: array1(py, g.impulse.as_slice()).unbind(),
+        du: dvec(py, &g.du).unbind(),
+        target_du: dvec(py, &g.target_du).unbind(),
+        u_after: dvec(py, &g.u_after).unbind(),
+        target_u_after: dvec(py, &g.target_u_after).unbind(),
+        point: array1(py, g.point.as_slice()).unbind(),
+        gap: g.gap,
+        normal: g.normal.map(|n| array1(py, n.as_slice()).unbind()),
+        relative_twist_before: array1(py, g.relative_twist_before.as_slice()).unbind(),
+        relative_twist_after: array1(py, g.relative_twist_after.as_slice()).unbind(),
+        g_robot: matrix(py, &g.g_robot).unbind(),
+        g_target: matrix(py, &g.g_target).unbind(),
+        energy_lost: g.energy_lost,
+        locking_work: g.locking_work,
+        locking_impulse: dvec(py, &g.locking_impulse).unbind(),
+    })
+}
+
+/// The result of `soft_capture` (`spacearm_core::sim::soft_capture::SoftCaptureResult`).
+#[pyclass(module = "spacearm._core", name = "SoftCaptureResult", frozen)]
+pub struct PySoftCaptureResult {
+    /// The robot's run (its records, onsets, description).
+    #[pyo3(get)]
+    robot: Py<PyRunResult>,
+    /// The target's run (zero torques).
+    #[pyo3(get)]
+    target: Py<PyRunResult>,
+    /// (K, 6) the impedance's wrench [f; n] on the robot at its grasp point, in the inertial frame.
+    #[pyo3(get)]
+    wrench: Py<PyArray2<f64>>,
+    /// K, N/m.
+    #[pyo3(get)]
+    stiffness: f64,
+    /// D, N s/m.
+    #[pyo3(get)]
+    damping: f64,
+    /// K_r, N m/rad.
+    #[pyo3(get)]
+    rotational_stiffness: f64,
+    /// D_r, N m s/rad.
+    #[pyo3(get)]
+    rotational_damping: f64,
+    /// Drift of robot + target P over the samples (relative, the core's definition).
+    #[pyo3(get)]
+    drift_linear: f64,
+    /// Drift of robot + target L about the origin over the samples.
+    #[pyo3(get)]
+    drift_angular: f64,
+}
+
+#[pymethods]
+impl PySoftCaptureResult {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("<spacearm._core.SoftCaptureResult {} samples, drift P {:e}, L {:e}>", self.wrench.bind(py).shape()[0], self.drift_linear, self.drift_angular)
+    }
+}
+
+/// The soft capture of the target model (state `(x_target, u_target)`, grasp point
+/// `(target_body, target_offset)`) by the robot (state `(x, u)`, grasp point `(body, offset)`,
+/// joint law `controller_spec`, None: zero torques) for `duration` s under `options` (floating
+/// mode); gains given or from `frequency` and `damping_ratio`.
+#[pyfunction]
+#[pyo3(signature = (robot, x, u, body, offset, target, x_target, u_target, target_body, target_offset, duration, options,
+                    controller_spec = None, *, frequency = 3.0, damping_ratio = 0.7, stiffness = None, damping = None,
+                    rotational_stiffness = None, rotational_damping = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn soft_capture(
+    py: Python<'_>,
+    robot: PyRef<'_, PyModel>,
+    x: &Bound<'_, PyAny>,
+    u: &Bound<'_, PyAny>,
+    body: usize,
+    offset: &Bound<'_, PyAny>,
+    target: PyRef<'_, PyModel>,
+    x_target: &Bound<'_, PyAny>,
+    u_target: &Bound<'_, PyAny>,
+    target_body: usize,
+    target_offset: &Bound<'_, PyAny>,
+    duration: f64,
+    options: PyRef<'_, PyRunOptions>,
+    controller_spec: Option<&Bound<'_, PyAny>>,
+    frequency: f64,
+    damping_ratio: f64,
+    stiffness: Option<f64>,
+    damping: Option<f64>,
+    rotational_stiffness: Option<f64>,
+    rotational_damping: Option<f64>,
+) -> PyResult<PySoftCaptureResult> {
+    let robot_point = BodyPoint { body, offset: finite3(offset, "offset")? };
+    let target_point = BodyPoint { body: target_body, offset: finite3(target_offset, "target_offset")? };
+    let x = vec_arg(x, "x")?.as_slice().to_vec();
+    let u = vec_arg(u, "u")?.as_slice().to_vec();
+    let xt = vec_arg(x_target, "x_target")?.as_slice().to_vec();
+    let ut = vec_arg(u_target, "u_target")?.as_slice().to_vec();
+    let (opts, float32) = (options.sim_options(duration), options.records_float32());
+    let spec = ImpedanceSpec { frequency, damping_ratio, stiffness, damping, rotational_stiffness, rotational_damping };
+    let slot = error_slot();
+    let mut controller: Box<dyn Controller> = match controller_spec {
+        Some(s) if !s.is_none() => build_controller(s, &slot)?,
+        _ => Box::new(ZeroTorque),
+    };
+    // Copies of the models: the run holds no borrow of the Python objects.
+    let (rm, tm) = (robot.model.clone(), target.model.clone());
+    let mut interrupted: Option<PyErr> = None;
+    let result = py.detach(|| {
+        let mut progress = |_fraction: f64| -> spacearm_core::Result<()> {
+            Python::attach(|py| py.check_signals()).map_err(|e| {
+                interrupted.get_or_insert(e);
+                SpacearmError::Simulation("interrupted".into())
+            })
+        };
+        soft::soft_capture(&rm, &x, &u, robot_point, &tm, &xt, &ut, target_point, &spec, &opts, controller.as_mut(), &mut progress)
+    });
+    let res = match result {
+        Ok(r) => r,
+        Err(e) => {
+            if let Some(err) = take_error(&slot) {
+                return Err(err);
+            }
+            if let Some(err) = interrupted {
+                return Err(err);
+            }
+            return Err(to_py_err(py, e));
+        }
+    };
+    let k = res.wrench.len() / 6;
+    let wrench = numpy::PyArray1::from_slice(py, &res.wrench).reshape([k, 6])?.unbind();
+    let g = res.gains;
+    let target_opts = spacearm_core::sim::simulate::SimOptions { wheels: Some(Vec::new()), ..opts.clone() };
+    Ok(PySoftCaptureResult {
+        robot: Py::new(py, PyRunResult::of_run(py, res.robot, &opts, float32, (rm.nx(), rm.nu(), rm.n_dof()))?)?,
+        target: Py::new(py, PyRunResult::of_run(py, res.target, &target_opts, float32, (tm.nx(), tm.nu(), tm.n_dof()))?)?,
+        wrench,
+        stiffness: g.stiffness,
+        damping: g.damping,
+        rotational_stiffness: g.rotational_stiffness,
+        rotational_damping: g.rotational_damping,
+        drift_linear: res.drift[0],
+        drift_angular: res.drift[1],
+    })
+}
+
+/// A closed chain's run (`spacearm_core::sim::closed_chain`).
+#[pyclass(module = "spacearm._core", name = "ClosedChainResult", frozen)]
+pub struct PyClosedChainResult {
+    /// The run (records, onsets, description).
+    #[pyo3(get)]
+    run: Py<PyRunResult>,
+    /// (K, 6) λ: the wrench on frame b at its origin, [force; torque] in the inertial frame (body a gets −λ).
+    #[pyo3(get)]
+    constraint_wrench: Py<PyArray2<f64>>,
+    /// (K, 6) e = [position error (m); rotation error (rad)].
+    #[pyo3(get)]
+    pose_error: Py<PyArray2<f64>>,
+}
+
+#[pymethods]
+impl PyClosedChainResult {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("<spacearm._core.ClosedChainResult {} samples>", self.pose_error.bind(py).shape()[0])
+    }
+}
+
+/// The loop-closure terms at one state (`LoopClosure::jacobian`, `derivatives::loop_closure_bias`).
+#[pyclass(module = "spacearm._core", name = "LoopClosureTerms", frozen)]
+pub struct PyLoopClosureTerms {
+    /// (6, 6+N) J_c = J_b − J_a at b's origin.
+    #[pyo3(get)]
+    jacobian: Py<PyArray2<f64>>,
+    /// (6,) the exact J̇_c u.
+    #[pyo3(get)]
+    jdot_u: Py<PyArray1<f64>>,
+}
+
+fn rows6(py: Python<'_>, v: Option<Vec<f64>>) -> PyResult<Py<PyArray2<f64>>> {
+    let v = v.unwrap_or_default();
+    let k = v.len() / 6;
+    Ok(numpy::PyArray1::from_vec(py, v).reshape([k, 6])?.unbind())
+}
+
+/// `J_c` and the exact `J̇_c u` of the loop closing frames a and b at `(x, u)`.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+pub fn loop_closure(
+    py: Python<'_>,
+    model: PyRef<'_, PyModel>,
+    x: &Bound<'_, PyAny>,
+    u: &Bound<'_, PyAny>,
+    body_a: usize,
+    offset_a: &Bound<'_, PyAny>,
+    body_b: usize,
+    offset_b: &Bound<'_, PyAny>,
+) -> PyResult<PyLoopClosureTerms> {
+    let (a, b) = (BodyPoint { body: body_a, offset: finite3(offset_a, "offset_a")? }, BodyPoint { body: body_b, offset: finite3(offset_b, "offset_b")? });
+    let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
+    let (j, jd) = model
+        .with_data(|m, d| -> spacearm_core::Result<_> {
+            let c = LoopClosure::at(m, d, x.as_slice(), a, b)?;
+            let jd = loop_closure_bias(m, &mut ClosureBiasWork::new(m), x.as_slice(), u.as_slice(), &c)?;
+            Ok((c.jacobian(m, d), jd))
+        })
+        .or_raise(py)?;
+    Ok(PyLoopClosureTerms { jacobian: dmat(py, &j).unbind(), jdot_u: array1(py, jd.as_slice()).unbind() })
+}
+
+/// Simulate `model` with the frames at `(body_a, offset_a)` and `(body_b, offset_b)` welded at
+/// their relative pose at `x0`, under `controller_spec` (None: zero torques) and `options`;
+/// `stabilization`: Baumgarte's rate (1/s).
+#[pyfunction]
+#[pyo3(signature = (model, x0, u0, duration, body_a, offset_a, body_b, offset_b, options, controller_spec = None, *, stabilization = 20.0))]
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_closed_chain(
+    py: Python<'_>,
+    model: PyRef<'_, PyModel>,
+    x0: &Bound<'_, PyAny>,
+    u0: &Bound<'_, PyAny>,
+    duration: f64,
+    body_a: usize,
+    offset_a: &Bound<'_, PyAny>,
+    body_b: usize,
+    offset_b: &Bound<'_, PyAny>,
+    options: PyRef<'_, PyRunOptions>,
+    controller_spec: Option<&Bound<'_, PyAny>>,
+    stabilization: f64,
+) -> PyResult<PyClosedChainResult> {
+    let (a, b) = (BodyPoint { body: body_a, offset: finite3(offset_a, "offset_a")? }, BodyPoint { body: body_b, offset: finite3(offset_b, "offset_b")? });
+    let x0 = vec_arg(x0, "x0")?.as_slice().to_vec();
+    let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
+    let (opts, float32) = (options.sim_options(duration), options.records_float32());
+    let slot = error_slot();
+    let mut controller: Box<dyn Controller> = match controller_spec {
+        Some(s) if !s.is_none() => build_controller(s, &slot)?,
+        _ => Box::new(ZeroTorque),
+    };
+    let m = model.model.clone();
+    let mut interrupted: Option<PyErr> = None;
+    let result = py.detach(|| {
+        let mut progress = |_fraction: f64| -> spacearm_core::Result<()> {
+            Python::attach(|py| py.check_signals()).map_err(|e| {
+                interrupted.get_or_insert(e);
+                SpacearmError::Simulation("interrupted".into())
+            })
+        };
+        core_closed_chain(&m, &x0, &u0, a, b, stabilization, &opts, controller.as_mut(), &mut progress)
+    });
+    let mut res = match result {
+        Ok(r) => r,
+        Err(e) => {
+            if let Some(err) = take_error(&slot) {
+                return Err(err);
+            }
+            if let Some(err) = interrupted {
+                return Err(err);
+            }
+            return Err(to_py_err(py, e));
+        }
+    };
+    let constraint_wrench = rows6(py, res.records.constraint_wrench.take())?;
+    let pose_error = rows6(py, res.records.constraint_error.take())?;
+    let run = Py::new(py, PyRunResult::of_run(py, res, &opts, float32, (m.nx(), m.nu(), m.n_dof()))?)?;
+    Ok(PyClosedChainResult { run, constraint_wrench, pose_error })
+}
+
+/// Add the contact functions and classes to the module.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyImpulseDynamics>()?;
+    m.add_class::<PyGraspImpact>()?;
+    m.add_function(wrap_pyfunction!(impulse_dynamics, m)?)?;
+    m.add_function(wrap_pyfunction!(grasp_impact, m)?)?;
+    m.add_class::<PySoftCaptureResult>()?;
+    m.add_function(wrap_pyfunction!(soft_capture, m)?)?;
+    m.add_class::<PyClosedChainResult>()?;
+    m.add_class::<PyLoopClosureTerms>()?;
+    m.add_function(wrap_pyfunction!(simulate_closed_chain, m)?)?;
+    m.add_function(wrap_pyfunction!(loop_closure, m)?)?;
+    Ok(())
+}
