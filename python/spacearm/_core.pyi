@@ -13,14 +13,14 @@ _Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 
 __version__: str
 __all__ = [
-    "ArgumentError", "AttitudeSpec", "BaseInfo", "BaseThrustersSpec", "CallbackSpec",
+    "ArgumentError", "AttitudeSpec", "BaseDescription", "BaseThrustersSpec", "CallbackSpec",
     "CartesianReference", "CombinedSpec", "ComputedTorqueSpec", "ConservedDrift",
     "CoordinatedFlyingSpec", "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
-    "FreeBodyReference", "INTEGRATORS", "JacobianMeasures", "JointLimitsInfo", "JointPdSpec", "JointReference",
+    "FreeBodyReference", "INTEGRATORS", "JacobianMeasures", "JointLimits", "JointPdSpec", "JointReference",
     "JointTorqueLimitSpec", "MomentumDampingSpec",
-    "LinkInfo", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds",
-    "ModelBuilder", "ModelError", "ModelFileError", "ModelInfo", "NonFiniteError",
-    "NotFoundError", "PointInfo", "QUATERNION_TOLERANCE", "QuaternionError",
+    "LinkDescription", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds",
+    "ModelBuilder", "ModelDescription", "ModelError", "ModelFileError", "NonFiniteError",
+    "NotFoundError", "PointDescription", "QUATERNION_TOLERANCE", "QuaternionError",
     "ReactionNullSpace", "ResourceLimitError", "RmrcMotion", "RmrcOptions", "RmrcRates",
     "RmrcSpec", "RolloutBatch", "RunEvents", "RunMeta", "RunOptions", "RunRecords", "RunResult",
     "SIM_DEFAULTS", "ScanResult", "ShapeError", "SimDefaults", "SimulationError", "Simulator",
@@ -100,63 +100,138 @@ class ModelBuilder:
     def build(self) -> Model: ...
 
 # ---- the model's description (crates/spacearm-py/src/description_py.rs) ---------------------
-# Frozen snapshots; every array attribute is a new array at each access. Frames and units:
-# docs/conventions.md ("A model's frames, concretely").
+# The public types (spacearm.ModelDescription etc. are these classes). Frozen snapshots built
+# once per model: every attribute read hands out the same object, and the arrays are read-only.
+# Frames and units: docs/conventions.md ("A model's frames, concretely").
 
 @final
-class BaseInfo:
-    """The spacecraft base (body 0); its frame has its origin at the base CM."""
+class BaseDescription:
+    """The spacecraft base (body 0). Its frame has its origin at the base CM."""
 
-    name: str
-    mass: float  # kg
-    inertia: _Vec  # (3, 3) kg·m², about the base CM in base-frame axes
-
-@final
-class JointLimitsInfo:
-    """A joint's limits; absent bounds are infinite."""
-
-    lower: float  # rad or m; -inf when unbounded
-    upper: float  # rad or m; inf when unbounded
-    velocity: float  # rad/s or m/s; inf when unbounded
-    effort: float  # N·m or N; inf when unbounded
+    @property
+    def name(self) -> str:
+        """The base's name."""
+    @property
+    def mass(self) -> float:
+        """Mass, kg."""
+    @property
+    def inertia(self) -> _Vec:
+        """(3, 3) kg·m², read-only: inertia about the base CM, in base-frame axes."""
 
 @final
-class LinkInfo:
-    """One link (the k-th is body k + 1) and the joint to its parent; its frame has its origin at its CM."""
+class JointLimits:
+    """A joint's limits. ``lower``/``upper``: position bounds (rad for a revolute joint, m for a
+    prismatic one); ``velocity``: speed bound (rad/s or m/s); ``effort``: torque (N·m) or force
+    (N) bound. An absent bound is infinite (``-inf`` for ``lower``, ``inf`` for the others)."""
 
-    name: str
-    parent: str  # the parent body's name
-    parent_index: int  # the parent body's index (0 = base)
-    joint: str
-    type: str  # "revolute", "prismatic" or "fixed"
-    origin: _Vec  # (3,) m, joint position in the parent frame, from the parent's CM
-    rotation: _Vec  # (4,) [x, y, z, w], link frame in the parent frame at q = 0
-    axis: _Vec  # (3,) unit joint axis in the link frame
-    com: _Vec  # (3,) m, the link's CM from its joint, in the link frame
-    mass: float  # kg
-    inertia: _Vec  # (3, 3) kg·m², about the link's CM in link-frame axes
-    limits: JointLimitsInfo
-    dof: Optional[int]  # index in q; None for a fixed joint
-
-@final
-class PointInfo:
-    """A named point fixed to a body."""
-
-    name: str
-    body: str  # the carrying body's name
-    body_index: int  # the carrying body's index (0 = base)
-    offset: _Vec  # (3,) m, from the body's CM in the body frame
+    @property
+    def lower(self) -> float:
+        """Lower position bound, rad or m; ``-inf`` when unbounded."""
+    @property
+    def upper(self) -> float:
+        """Upper position bound, rad or m; ``inf`` when unbounded."""
+    @property
+    def velocity(self) -> float:
+        """Speed bound, rad/s or m/s; ``inf`` when unbounded."""
+    @property
+    def effort(self) -> float:
+        """Effort bound, N·m or N; ``inf`` when unbounded."""
+    def to_list(self) -> list[float]:
+        """``[lower, upper, velocity, effort]``, the order of :meth:`Robot.describe`."""
 
 @final
-class ModelInfo:
-    """What Model.describe() returns: the whole model as the core holds it."""
+class LinkDescription:
+    """One link (a body other than the base; the k-th link is body k + 1) and the joint that
+    connects it to its parent. The link frame has its origin at the link's CM; at ``q = 0`` its
+    axes are those of the parent frame rotated by ``rotation``."""
 
-    name: str
-    base: BaseInfo
-    links: tuple[LinkInfo, ...]  # tree order: link k is body k + 1
-    points: tuple[PointInfo, ...]
-    end_effector: Optional[str]
-    initial_q: _Vec  # (N,) rad or m per joint type
+    @property
+    def name(self) -> str:
+        """The link's name."""
+    @property
+    def parent(self) -> str:
+        """Name of the parent body (the base's name for a link on the base)."""
+    @property
+    def parent_index(self) -> int:
+        """Body index of the parent (0 = base)."""
+    @property
+    def joint(self) -> str:
+        """Name of the joint."""
+    @property
+    def type(self) -> str:
+        """``"revolute"``, ``"prismatic"`` or ``"fixed"``."""
+    @property
+    def origin(self) -> _Vec:
+        """(3,) m, read-only: joint position in the parent frame, measured from the parent's CM."""
+    @property
+    def rotation(self) -> _Vec:
+        """(4,) ``[x, y, z, w]`` unit quaternion, read-only: link frame in the parent frame at q = 0."""
+    @property
+    def axis(self) -> _Vec:
+        """(3,) read-only: unit joint axis in the link frame (unused by a fixed joint: as given, or z if given zero)."""
+    @property
+    def com(self) -> _Vec:
+        """(3,) m, read-only: the link's CM measured from the joint, in the link frame."""
+    @property
+    def mass(self) -> float:
+        """Mass, kg."""
+    @property
+    def inertia(self) -> _Vec:
+        """(3, 3) kg·m², read-only: about the link's CM in link-frame axes."""
+    @property
+    def limits(self) -> JointLimits:
+        """The joint's limits."""
+    @property
+    def dof(self) -> Optional[int]:
+        """Index of the joint's coordinate in ``q``; ``None`` for a fixed joint."""
+
+@final
+class PointDescription:
+    """A named point fixed to a body (an end effector, a grasp point)."""
+
+    @property
+    def name(self) -> str:
+        """The point's name."""
+    @property
+    def body(self) -> str:
+        """Name of the body carrying the point."""
+    @property
+    def body_index(self) -> int:
+        """Index of the body carrying the point (0 = base)."""
+    @property
+    def offset(self) -> _Vec:
+        """(3,) m, read-only: from the body's CM, in the body frame."""
+
+@final
+class ModelDescription:
+    """A whole model: base, links in tree order (a parent before its children; link ``i`` is
+    body ``i + 1``), named points, end effector and initial joint coordinates
+    (what :attr:`Robot.description` and ``Model.describe()`` return)."""
+
+    @property
+    def name(self) -> str:
+        """The model's name."""
+    @property
+    def base(self) -> BaseDescription:
+        """The base (body 0)."""
+    @property
+    def links(self) -> tuple[LinkDescription, ...]:
+        """The links in tree order: link k is body k + 1."""
+    @property
+    def points(self) -> tuple[PointDescription, ...]:
+        """The named points in the order they were added."""
+    @property
+    def end_effector(self) -> Optional[str]:
+        """Name of the end-effector point, or ``None``."""
+    @property
+    def initial_q(self) -> _Vec:
+        """(N,) read-only: initial joint coordinates (rad or m per joint type)."""
+    def link(self, name: str) -> LinkDescription:
+        """The link called ``name`` (raises :class:`~spacearm.NotFoundError` if there is none)."""
+    def point(self, name: str) -> PointDescription:
+        """The point called ``name`` (raises :class:`~spacearm.NotFoundError` if there is none)."""
+    def to_dict(self) -> dict[str, Any]:
+        """The plain-data form, exactly as :meth:`Robot.describe` returns it (a new dict at each call)."""
 
 @final
 class Model:
@@ -173,7 +248,7 @@ class Model:
     body_of_dof: list[int]
     def body_index(self, name: str) -> int: ...
     def point(self, name: str) -> tuple[int, list[float]]: ...
-    def describe(self) -> ModelInfo: ...
+    def describe(self) -> ModelDescription: ...
     def joint_types(self) -> list[str]: ...
     # Every method below takes one state (1-D arrays) or a batch (a 2-D x, one state per row;
     # the other vectors with as many rows or one row for all) and then returns its results with
