@@ -5,6 +5,7 @@ from typing import Any, Callable, Optional, Sequence, Union, final
 
 import numpy as np
 import numpy.typing as npt
+from typing_extensions import disjoint_base
 
 _Vec = npt.NDArray[np.float64]
 #: Inputs accept any array-like; a contiguous float64 1-D array is used without a copy.
@@ -24,10 +25,10 @@ __all__ = [
     "ReactionNullSpace", "ResourceLimitError", "RmrcMotion", "RmrcOptions", "RmrcRates",
     "RmrcSpec", "RolloutBatch", "RunEvents", "RunMeta", "RunOptions", "RunRecords", "RunResult",
     "SIM_DEFAULTS", "ScanResult", "ShapeError", "SimDefaults", "SimulationError", "Simulator",
-    "SingularError", "SingularityAnalysis", "SpacearmError", "SpacearmTypeError", "Tape",
+    "SingularError", "SingularityReport", "SpacearmError", "SpacearmTypeError", "Tape",
     "ThrusterLimits", "WorkspaceShells", "ZeroTorqueSpec", "__version__", "analysis_damping",
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
-    "analysis_move_to", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
+    "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_shells", "analysis_singularity", "batch_threads", "body_mass_properties_error",
     "conserved_drift", "default_wheel_dofs", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
     "model_to_toml", "momentum_scales", "perturbed", "preset", "quintic_scaling", "rollout", "set_batch_threads",
@@ -336,7 +337,9 @@ def set_batch_threads(threads: Optional[int] = None) -> None: ...
 def batch_threads() -> int: ...
 
 # ---- analysis (crates/spacearm-py/src/analysis_py.rs; results: analysis_results_py.rs) ------------
-# The results are frozen classes named after the core's types (spacearm_core::analysis); every
+# The results are frozen classes named after the core's types (spacearm_core::analysis) and are
+# the public types (spacearm.analysis.JacobianMeasures, SingularityReport, Detection,
+# ReactionNullSpace are these classes; spacearm.analysis.Motion subclasses RmrcMotion); every
 # array attribute hands out the same numpy array on each read. Task Jacobians: rows are the task
 # rows of the point twist [v; w] in the inertial frame, columns the joint rates.
 @final
@@ -344,39 +347,57 @@ class JacobianMeasures:
     """Singular-value measures of one task Jacobian (m task rows, N joints)."""
 
     @property
-    def jacobian(self) -> _Vec: ...  # (m, N)
+    def jacobian(self) -> _Vec:
+        """(m, N): the task rows analysed."""
     @property
-    def singular_values(self) -> _Vec: ...  # (min(m, N),), decreasing
+    def singular_values(self) -> _Vec:
+        """(min(m, N),): decreasing."""
     @property
-    def condition(self) -> float: ...  # sigma_max / sigma_min (inf at a singularity)
+    def sigma_min(self) -> float:
+        """The smallest singular value (NaN when there are none)."""
     @property
-    def manipulability(self) -> float: ...  # product of the singular values
+    def condition(self) -> float:
+        """σ_max / σ_min (inf at a singularity)."""
     @property
-    def task_directions(self) -> _Vec: ...  # (m, min(m, N)) left singular vectors; the last is the worst
+    def manipulability(self) -> float:
+        """Yoshikawa's Π σ_i."""
     @property
-    def joint_directions(self) -> _Vec: ...  # (N, N) right singular vectors; beyond the rank: null space
+    def task_directions(self) -> _Vec:
+        """(m, min(m, N)) left singular vectors; the last is the worst task direction."""
+    @property
+    def joint_directions(self) -> _Vec:
+        """(N, N) right singular vectors; the columns beyond the rank span the null space."""
 
 @final
-class SingularityAnalysis:
-    """The task rows of J* (free-floating, eq. 110) and of J_m (base fixed, eq. 106) at one configuration."""
+class SingularityReport:
+    """``J*`` (free-floating, zero momentum; eq. 110) and ``J_m`` (base held fixed; eq. 106) at one configuration."""
 
     @property
-    def generalized(self) -> JacobianMeasures: ...
+    def generalized(self) -> JacobianMeasures:
+        """Measures of the task rows of ``J*``."""
     @property
-    def fixed_base(self) -> JacobianMeasures: ...
+    def fixed_base(self) -> JacobianMeasures:
+        """Measures of the task rows of ``J_m``."""
+    @property
+    def task(self) -> tuple[int, ...]:
+        """The twist rows analysed (0-5 of ``[v; w]``)."""
 
 @final
 class Detection:
     """What the singularity detector tells a resolved-motion-rate controller."""
 
     @property
-    def sigma_min(self) -> float: ...
+    def sigma_min(self) -> float:
+        """Smallest singular value of the task rows of ``J*``."""
     @property
-    def condition(self) -> float: ...
+    def condition(self) -> float:
+        """σ_max / σ_min."""
     @property
-    def damping(self) -> float: ...  # recommended lambda of the DLS inverse
+    def damping(self) -> float:
+        """Recommended λ of the DLS inverse."""
     @property
-    def near_singular(self) -> bool: ...  # sigma_min < threshold
+    def near_singular(self) -> bool:
+        """σ_min < ε."""
 
 @final
 class ScanResult:
@@ -442,54 +463,90 @@ class Tape:
 
 @final
 class ReactionNullSpace:
-    """The reaction null space at one configuration (N joints)."""
+    """Joint rates that leave the base attitude (``"angular"``) or the whole base (``"full"``)
+    undisturbed, with zero system momentum (N joints)."""
 
     @property
-    def base_motion_map(self) -> _Vec: ...  # (3, N) angular or (6, N) full rows of -H0^-1 H0m
+    def base_motion_map(self) -> _Vec:
+        """Rows of −H0⁻¹ H0m: joint rates → base angular velocity (3, N) or twist (6, N)."""
     @property
-    def singular_values(self) -> _Vec: ...  # decreasing
+    def singular_values(self) -> _Vec:
+        """Of the map, decreasing."""
     @property
-    def rank(self) -> int: ...
+    def rank(self) -> int:
+        """Numerical rank of the map."""
     @property
-    def basis(self) -> _Vec: ...  # (N, N - rank), orthonormal
+    def basis(self) -> _Vec:
+        """(N, N − rank): orthonormal basis of the null space."""
     @property
-    def projector(self) -> _Vec: ...  # (N, N)
+    def dimension(self) -> int:
+        """N − rank, the columns of ``basis``."""
+    @property
+    def projector(self) -> _Vec:
+        """(N, N): orthogonal projector onto the null space."""
 
 @final
 class RmrcRates:
-    """One evaluation of the resolved-motion-rate law."""
+    """One evaluation of the resolved-motion-rate law (what ``spacearm.analysis.rmrc_rates`` returns)."""
 
     @property
-    def qd(self) -> _Vec: ...  # (N,)
+    def qd(self) -> _Vec:
+        """(N,) joint rates, rad/s (m/s for a prismatic joint)."""
     @property
-    def sigma_min(self) -> float: ...
+    def sigma_min(self) -> float:
+        """σ_min of the (projected) task Jacobian."""
     @property
-    def damping(self) -> float: ...
+    def damping(self) -> float:
+        """Damping λ of the DLS inverse used."""
     @property
-    def base_angular_velocity(self) -> _Vec: ...  # (3,) rad/s, inertial frame
+    def base_angular_velocity(self) -> _Vec:
+        """(3,) rad/s in 𝒥: the base angular velocity these rates produce (zero momentum)."""
 
-@final
+@disjoint_base
 class RmrcMotion:
-    """A closed-loop point-to-point motion at its K+1 time nodes."""
+    """A closed-loop point-to-point motion at its K+1 time nodes. Constructing one runs the
+    motion; ``spacearm.analysis.Motion`` subclasses it (the figure)."""
 
+    def __new__(cls, model: Model, x0: _ArrayLike, body: int, offset: _ArrayLike, target: _ArrayLike, duration: float,
+                settle: float, dt: float, options: RmrcOptions) -> RmrcMotion: ...
     @property
-    def times(self) -> _Vec: ...  # (K+1,) s
+    def robot_name(self) -> str:
+        """Name of the model moved."""
     @property
-    def x(self) -> _Vec: ...  # (K+1, 7+N)
+    def strategy(self) -> str:
+        """``"naive"``, ``"reactionless"`` or ``"minimum_disturbance"``."""
     @property
-    def qd(self) -> _Vec: ...  # (K+1, N)
+    def target(self) -> _Vec:
+        """(3,) m in 𝒥: the point's target."""
     @property
-    def point_position(self) -> _Vec: ...  # (K+1, 3) m, inertial frame
+    def times(self) -> _Vec:
+        """(K+1,) s."""
     @property
-    def sigma_min(self) -> _Vec: ...  # (K+1,)
+    def x(self) -> _Vec:
+        """(K+1, 7+N) configurations."""
     @property
-    def damping(self) -> _Vec: ...  # (K+1,)
+    def qd(self) -> _Vec:
+        """(K+1, N) joint rates."""
     @property
-    def attitude_change(self) -> _Vec: ...  # (K+1,) rad
+    def point_position(self) -> _Vec:
+        """(K+1, 3) m in 𝒥."""
     @property
-    def final_position_error(self) -> float: ...  # m
+    def sigma_min(self) -> _Vec:
+        """(K+1,) σ_min of the (projected) task Jacobian."""
+    @property
+    def damping(self) -> _Vec:
+        """(K+1,) damping λ used."""
+    @property
+    def attitude_change(self) -> _Vec:
+        """(K+1,) rad: base rotation angle from the start."""
+    @property
+    def max_attitude_change(self) -> float:
+        """The largest of ``attitude_change``, rad."""
+    @property
+    def final_position_error(self) -> float:
+        """m: the point's distance from the target at the end (linear task rows)."""
 
-def analysis_singularity(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int]) -> SingularityAnalysis: ...
+def analysis_singularity(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int]) -> SingularityReport: ...
 def analysis_detect(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int], threshold: float, max_damping: float) -> Detection: ...
 def analysis_damping(sigma_min: float, threshold: float, max_damping: float) -> float: ...
 def analysis_joint_grid(lower: Sequence[float], upper: Sequence[float], resolution: int) -> _Vec: ...
@@ -503,7 +560,6 @@ class RmrcOptions:
     def __new__(cls, *, rows: list[int], threshold: float, max_damping: float, gain: float = 0.0, strategy: str = "naive",
                  manipulability_gain: float = 0.0, joint_limit_gain: float = 0.0) -> RmrcOptions: ...
 def analysis_rmrc_rates(m: Model, x: _ArrayLike, body: int, offset: _Vec, desired_twist: _Vec, options: RmrcOptions) -> RmrcRates: ...
-def analysis_move_to(m: Model, x0: _ArrayLike, body: int, offset: _Vec, target: _Vec, duration: float, settle: float, dt: float, options: RmrcOptions) -> RmrcMotion: ...
 # ---- simulation inputs (crates/spacearm-py/src/sim_options_py.rs, controller_spec_py.rs) ------
 # Frozen, keyword-only; checked when built; an unknown keyword is an ArgumentError.
 @final

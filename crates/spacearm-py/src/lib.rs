@@ -68,7 +68,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     analysis_py::register(m)?;
     m.add_class::<analysis_py::PyRmrcOptions>()?;
     m.add_class::<analysis_results_py::PyJacobianMeasures>()?;
-    m.add_class::<analysis_results_py::PySingularityAnalysis>()?;
+    m.add_class::<analysis_results_py::PySingularityReport>()?;
     m.add_class::<analysis_results_py::PyDetection>()?;
     m.add_class::<analysis_results_py::PyScanResult>()?;
     m.add_class::<analysis_results_py::PyWorkspaceShells>()?;
