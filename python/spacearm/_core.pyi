@@ -29,7 +29,7 @@ __all__ = [
     "ThrusterLimits", "WorkspaceShells", "ZeroTorqueSpec", "__version__", "analysis_damping",
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
     "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
-    "analysis_shells", "analysis_singularity", "batch_threads", "body_mass_properties_error",
+    "analysis_singularity", "batch_threads", "body_mass_properties_error",
     "conserved_drift", "default_wheel_dofs", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
     "model_to_toml", "momentum_scales", "perturbed", "preset", "quintic_scaling", "rollout", "set_batch_threads",
     "simulate",
@@ -422,9 +422,14 @@ class ScanResult:
     @property
     def point_from_com(self) -> _Vec: ...  # (M, 3) m, base frame
 
-@final
+@disjoint_base
 class WorkspaceShells:
-    """Radial description of the workspaces, m."""
+    """Radial description of the workspaces, m. Constructing one computes the shells of a scan;
+    ``spacearm.analysis.Workspace`` subclasses it (the samples, timing and figure)."""
+
+    def __new__(cls, sigma_min_generalized: Sequence[float], det_generalized: Sequence[float], point_from_com: _Vec,
+                point_from_base: _Vec, singular_threshold: float, radial_resolution: float,
+                grid: Optional[tuple[int, int]] = None) -> WorkspaceShells: ...
 
     @property
     def reachable(self) -> tuple[float, float]: ...  # (R_min, R_max) about the system CM
@@ -551,7 +556,6 @@ def analysis_detect(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list
 def analysis_damping(sigma_min: float, threshold: float, max_damping: float) -> float: ...
 def analysis_joint_grid(lower: Sequence[float], upper: Sequence[float], resolution: int) -> _Vec: ...
 def analysis_scan(m: Model, samples: _Vec, body: int, offset: _Vec, rows: list[int]) -> ScanResult: ...
-def analysis_shells(sigma_min_generalized: Sequence[float], det_generalized: Sequence[float], point_from_com: _Vec, point_from_base: _Vec, singular_threshold: float, radial_resolution: float, grid: Optional[tuple[int, int]] = None) -> WorkspaceShells: ...
 def analysis_reaction_null_space(m: Model, x: _ArrayLike, which: str, tolerance: float) -> ReactionNullSpace: ...
 def analysis_integrate_prescribed(m: Model, x0: _ArrayLike, dt: float, q_half: _Vec, qd_half: _Vec, linear_momentum: _Vec, angular_momentum: _Vec) -> _Vec: ...
 @final

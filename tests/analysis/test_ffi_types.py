@@ -46,7 +46,7 @@ def test_stub_declares_exactly_the_class_attributes(name):
 def test_stub_names_the_classes_as_return_types():
     returns = _stub_returns()
     expected = {"analysis_singularity": "SingularityReport", "analysis_detect": "Detection", "analysis_scan": "ScanResult",
-                "analysis_shells": "WorkspaceShells", "analysis_reaction_null_space": "ReactionNullSpace", "analysis_rmrc_rates": "RmrcRates"}
+                "analysis_reaction_null_space": "ReactionNullSpace", "analysis_rmrc_rates": "RmrcRates"}
     for fn, cls in expected.items():
         assert returns[fn] == cls
     assert not [f for f, r in returns.items() if f.startswith("analysis_") and "dict" in r]
@@ -150,7 +150,7 @@ def test_workspace_shells_from_hand_worked_samples():
     com = dirs * np.array([1.0, 1.2, 1.25, 2.0, 3.0])[:, None]
     base = dirs[::-1] * np.array([0.5, 0.7, 0.4, 2.5, 1.5])[:, None]
     sigma = [1.0, 1e-3, 5e-3, 1.0, 0.5]
-    w = _core.analysis_shells(sigma, [np.nan] * 5, com, base, 0.01, 0.1)
+    w = _core.WorkspaceShells(sigma, [np.nan] * 5, com, base, 0.01, 0.1)
     assert isinstance(w, _core.WorkspaceShells)
     assert w.reachable == pytest.approx((1.0, 3.0), rel=1e-15)
     assert w.fixed_base == pytest.approx((0.4, 2.5), rel=1e-15)
@@ -161,7 +161,7 @@ def test_workspace_shells_from_hand_worked_samples():
     assert w.path_independent[1] == pytest.approx((1.25, 3.0), rel=1e-15)
     assert w.radial_resolution == 0.1
     # A finer resolution than the gap splits the PDW shell in two.
-    w2 = _core.analysis_shells(sigma, [np.nan] * 5, com, base, 0.01, 0.01)
+    w2 = _core.WorkspaceShells(sigma, [np.nan] * 5, com, base, 0.01, 0.01)
     np.testing.assert_allclose(w2.path_dependent, [(1.2, 1.2), (1.25, 1.25)], rtol=1e-15)
 
 
@@ -253,6 +253,9 @@ def test_public_results_are_the_extension_classes():
                          ("Detection", "Detection"), ("ReactionNullSpace", "ReactionNullSpace")):
         assert getattr(analysis, public) is getattr(_core, core)
     assert issubclass(analysis.Motion, _core.RmrcMotion) and analysis.Motion.__slots__ == ()
+    assert issubclass(analysis.Workspace, _core.WorkspaceShells)
+    shell_fields = {a for a in dir(_core.WorkspaceShells) if not a.startswith("_")}
+    assert not shell_fields & set(analysis.Workspace.__slots__)  # no copy of the extension's fields
     robot = spacearm.presets.planar4()
     rep = analysis.analyze(robot, task="planar")
     assert type(rep) is analysis.SingularityReport and rep.task == (0, 1)

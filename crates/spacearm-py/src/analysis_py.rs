@@ -81,11 +81,10 @@ pub fn analysis_scan<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, samples: PyRea
     Ok(PyScanResult::new(py, &s))
 }
 
-/// Workspace shells from the arrays of a scan (so a scan need not run twice).
-#[pyfunction]
-#[pyo3(signature = (sigma_min_generalized, det_generalized, point_from_com, point_from_base, singular_threshold, radial_resolution, grid=None))]
+/// Workspace shells of a scan's samples: the constructor of `WorkspaceShells` (a scan of M
+/// samples: σ_min and det of J*, the point from the system CM and from the base CM).
 #[allow(clippy::too_many_arguments)]
-pub fn analysis_shells<'py>(
+pub(crate) fn shells<'py>(
     py: Python<'py>,
     sigma_min_generalized: Vec<f64>,
     det_generalized: Vec<f64>,
@@ -116,7 +115,7 @@ pub fn analysis_shells<'py>(
         .collect();
     let grid = grid.map(|(resolution, n_joints)| workspace::GridShape { resolution, n_joints });
     let w = workspace::workspace_shells(&samples, singular_threshold, radial_resolution, grid).or_raise(py)?;
-    Ok(PyWorkspaceShells::new(py, &w))
+    Ok(PyWorkspaceShells::of(py, &w))
 }
 
 /// Reaction null space at x: `which` is "angular" or "full".
@@ -261,7 +260,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analysis_damping, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_joint_grid, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_scan, m)?)?;
-    m.add_function(wrap_pyfunction!(analysis_shells, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_reaction_null_space, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_integrate_prescribed, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_rmrc_rates, m)?)?;

@@ -226,7 +226,9 @@ impl PyScanResult {
 }
 
 /// Radial description of the workspaces (`spacearm_core::analysis::workspace::WorkspaceShells`).
-#[pyclass(module = "spacearm._core", name = "WorkspaceShells", frozen)]
+/// Constructing one computes the shells of a scan (`analysis_py::shells`);
+/// `spacearm.analysis.Workspace` is its Python subclass (the samples, timing and figure).
+#[pyclass(module = "spacearm._core", name = "WorkspaceShells", frozen, subclass)]
 pub struct PyWorkspaceShells {
     /// (R_min, R_max) of the free-floating reachable workspace about the system CM, m.
     #[pyo3(get)]
@@ -249,7 +251,7 @@ pub struct PyWorkspaceShells {
 }
 
 impl PyWorkspaceShells {
-    pub fn new(py: Python<'_>, w: &workspace::WorkspaceShells) -> Self {
+    pub fn of(py: Python<'_>, w: &workspace::WorkspaceShells) -> Self {
         let pairs = |v: &[[f64; 2]]| v.iter().map(|[a, b]| (*a, *b)).collect();
         PyWorkspaceShells {
             reachable: (w.reachable[0], w.reachable[1]),
@@ -264,6 +266,26 @@ impl PyWorkspaceShells {
 
 #[pymethods]
 impl PyWorkspaceShells {
+    /// The shells of a scan of M samples: `sigma_min_generalized` and `det_generalized` (M,),
+    /// `point_from_com` and `point_from_base` (M, 3); a sample is singular below
+    /// `singular_threshold` (or, on a grid `(resolution, n_joints)` with a square task, at a sign
+    /// change of det between neighbours); singular radii closer than `radial_resolution` merge.
+    #[new]
+    #[pyo3(signature = (sigma_min_generalized, det_generalized, point_from_com, point_from_base, singular_threshold, radial_resolution, grid=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new<'py>(
+        py: Python<'py>,
+        sigma_min_generalized: Vec<f64>,
+        det_generalized: Vec<f64>,
+        point_from_com: numpy::PyReadonlyArray2<'py, f64>,
+        point_from_base: numpy::PyReadonlyArray2<'py, f64>,
+        singular_threshold: f64,
+        radial_resolution: f64,
+        grid: Option<(usize, usize)>,
+    ) -> PyResult<Self> {
+        crate::analysis_py::shells(py, sigma_min_generalized, det_generalized, point_from_com, point_from_base, singular_threshold, radial_resolution, grid)
+    }
+
     fn __repr__(&self, py: Python<'_>) -> String {
         format!(
             "<spacearm._core.WorkspaceShells reachable={:?} fixed_base={:?} singular_radii={} path_dependent={} shells path_independent={} shells radial_resolution={:?}>",
