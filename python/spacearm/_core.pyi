@@ -820,6 +820,7 @@ class RunRecords:
     always there; a record the run did not make is ``None``; ``fields`` names those it made."""
     @property
     def fields(self) -> tuple[str, ...]: ...
+    def to_dict(self) -> dict[str, _Record]: ...  # {name: array} for each of fields, no copy
     t: _Record                              # (K,) sample times, s (float64)
     x: _Record                              # (K, 7+N) [r0, quat0 (x, y, z, w), q]
     u: _Record                              # (K, 6+N) [v0, w0, qd]
@@ -845,6 +846,7 @@ class RunEvents:
     saturation_t: npt.NDArray[np.float64]        # (E,) start of the step in which it began, s
     saturation_actuator: npt.NDArray[np.int64]   # (E,) dof 0..N, then thruster channels N..N+6
     saturation_kind: npt.NDArray[np.int64]       # (E,) 0 joint torque, 1 joint speed, 2 thruster
+    def to_dict(self) -> dict[str, npt.NDArray[Any]]: ...  # the three arrays by name, no copy
 
 @final
 class ConservedDrift:
@@ -874,6 +876,8 @@ class RunMeta:
     joint_limits: bool
     dropped_base_wrench_max_norm: float    # largest commanded base-wrench part the mode dropped
     dropped_base_wrench_count: int         # evaluations that commanded one
+    # The run-description dict of docs/simulation.md (Trajectory.meta less duration and robot).
+    def to_dict(self) -> dict[str, Any]: ...
 
 @final
 class RunResult:
