@@ -14,6 +14,7 @@ from typing import Optional
 import numpy as np
 
 from .. import _core
+from .._core import ReactionNullSpace
 from .._util.arrays import number, vector
 from ..errors import ArgumentError, SpacearmTypeError
 from ._common import TaskLike, new_figure, save_figure, task_rows
@@ -22,9 +23,6 @@ __all__ = ["ReactionNullSpace", "reaction_null_space", "Motion", "move_to", "rmr
 
 #: Strategies of the planner: how the base is treated.
 STRATEGIES = ("naive", "reactionless", "minimum_disturbance")
-
-
-ReactionNullSpace = _core.ReactionNullSpace
 
 
 def reaction_null_space(robot, x=None, base_motion: str = "angular", tolerance: float = 1e-9) -> ReactionNullSpace:

@@ -14,6 +14,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .. import _core
+from .._core import Detection, JacobianMeasures, SingularityReport
 from .._util.arrays import integer, number
 from ._common import TaskLike, chunked, concat_columns, dof_kinds, new_figure, samples_2d, save_figure, task_rows
 
@@ -22,11 +23,6 @@ SCAN_COLUMNS = ("sigma_min_generalized", "sigma_max_generalized", "manipulabilit
                 "sigma_min_fixed", "manipulability_fixed", "det_fixed", "point_from_base", "point_from_com")
 
 __all__ = ["JacobianMeasures", "SingularityReport", "Detection", "SingularityMap", "analyze", "detect", "damping", "scan", "singularity_map"]
-
-
-JacobianMeasures = _core.JacobianMeasures
-SingularityReport = _core.SingularityReport
-Detection = _core.Detection
 
 
 def analyze(robot, x=None, point=None, task: TaskLike = None) -> SingularityReport:
