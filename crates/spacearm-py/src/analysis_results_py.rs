@@ -68,7 +68,7 @@ impl PyJacobianMeasures {
         PyJacobianMeasures {
             jacobian: dmat(py, &m.jacobian).unbind(),
             singular_values: dvec(py, &m.singular_values).unbind(),
-            sigma_min: m.singular_values.iter().last().copied().unwrap_or(f64::NAN),
+            sigma_min: m.singular_values.iter().next_back().copied().unwrap_or(f64::NAN),
             condition: m.condition,
             manipulability: m.manipulability,
             task_directions: dmat(py, &m.task_directions).unbind(),
