@@ -5,6 +5,7 @@ from typing import Any, Callable, Optional, Sequence, Union, final
 
 import numpy as np
 import numpy.typing as npt
+from typing_extensions import disjoint_base
 
 _Vec = npt.NDArray[np.float64]
 #: Inputs accept any array-like; a contiguous float64 1-D array is used without a copy.
@@ -13,22 +14,22 @@ _Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 
 __version__: str
 __all__ = [
-    "ArgumentError", "AttitudeSpec", "BaseInfo", "BaseThrustersSpec", "CallbackSpec",
+    "ArgumentError", "AttitudeSpec", "BaseDescription", "BaseThrustersSpec", "CallbackSpec",
     "CartesianReference", "ClosedChainResult", "CombinedSpec", "ComputedTorqueSpec", "ConservedDrift",
     "CoordinatedFlyingSpec", "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
-    "FreeBodyReference", "GraspImpact", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimitsInfo", "JointPdSpec", "JointReference",
+    "FreeBodyReference", "GraspImpact", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimits", "JointPdSpec", "JointReference",
     "JointTorqueLimitSpec", "LoopClosureTerms", "MomentumDampingSpec",
-    "LinkInfo", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds",
-    "ModelBuilder", "ModelError", "ModelFileError", "ModelInfo", "NonFiniteError",
-    "NotFoundError", "PointInfo", "QUATERNION_TOLERANCE", "QuaternionError",
+    "LinkDescription", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds",
+    "ModelBuilder", "ModelDescription", "ModelError", "ModelFileError", "NonFiniteError",
+    "NotFoundError", "PointDescription", "QUATERNION_TOLERANCE", "QuaternionError",
     "ReactionNullSpace", "ResourceLimitError", "RmrcMotion", "RmrcOptions", "RmrcRates",
     "RmrcSpec", "RolloutBatch", "RunEvents", "RunMeta", "RunOptions", "RunRecords", "RunResult",
     "SIM_DEFAULTS", "ScanResult", "ShapeError", "SimDefaults", "SimulationError", "Simulator",
-    "SingularError", "SingularityAnalysis", "SoftCaptureResult", "SpacearmError", "SpacearmTypeError", "Tape",
+    "SingularError", "SingularityReport", "SoftCaptureResult", "SpacearmError", "SpacearmTypeError", "Tape",
     "ThrusterLimits", "WorkspaceShells", "ZeroTorqueSpec", "__version__", "analysis_damping",
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
-    "analysis_move_to", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
-    "analysis_shells", "analysis_singularity", "batch_threads", "body_mass_properties_error",
+    "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
+    "analysis_singularity", "batch_threads", "body_mass_properties_error",
     "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
     "model_to_toml", "momentum_scales", "perturbed", "preset", "quintic_scaling", "rollout", "set_batch_threads",
     "simulate", "simulate_closed_chain", "soft_capture",
@@ -100,63 +101,138 @@ class ModelBuilder:
     def build(self) -> Model: ...
 
 # ---- the model's description (crates/spacearm-py/src/description_py.rs) ---------------------
-# Frozen snapshots; every array attribute is a new array at each access. Frames and units:
-# docs/conventions.md ("A model's frames, concretely").
+# The public types (spacearm.ModelDescription etc. are these classes). Frozen snapshots built
+# once per model: every attribute read hands out the same object, and the arrays are read-only.
+# Frames and units: docs/conventions.md ("A model's frames, concretely").
 
 @final
-class BaseInfo:
-    """The spacecraft base (body 0); its frame has its origin at the base CM."""
+class BaseDescription:
+    """The spacecraft base (body 0). Its frame has its origin at the base CM."""
 
-    name: str
-    mass: float  # kg
-    inertia: _Vec  # (3, 3) kg·m², about the base CM in base-frame axes
-
-@final
-class JointLimitsInfo:
-    """A joint's limits; absent bounds are infinite."""
-
-    lower: float  # rad or m; -inf when unbounded
-    upper: float  # rad or m; inf when unbounded
-    velocity: float  # rad/s or m/s; inf when unbounded
-    effort: float  # N·m or N; inf when unbounded
+    @property
+    def name(self) -> str:
+        """The base's name."""
+    @property
+    def mass(self) -> float:
+        """Mass, kg."""
+    @property
+    def inertia(self) -> _Vec:
+        """(3, 3) kg·m², read-only: inertia about the base CM, in base-frame axes."""
 
 @final
-class LinkInfo:
-    """One link (the k-th is body k + 1) and the joint to its parent; its frame has its origin at its CM."""
+class JointLimits:
+    """A joint's limits. ``lower``/``upper``: position bounds (rad for a revolute joint, m for a
+    prismatic one); ``velocity``: speed bound (rad/s or m/s); ``effort``: torque (N·m) or force
+    (N) bound. An absent bound is infinite (``-inf`` for ``lower``, ``inf`` for the others)."""
 
-    name: str
-    parent: str  # the parent body's name
-    parent_index: int  # the parent body's index (0 = base)
-    joint: str
-    type: str  # "revolute", "prismatic" or "fixed"
-    origin: _Vec  # (3,) m, joint position in the parent frame, from the parent's CM
-    rotation: _Vec  # (4,) [x, y, z, w], link frame in the parent frame at q = 0
-    axis: _Vec  # (3,) unit joint axis in the link frame
-    com: _Vec  # (3,) m, the link's CM from its joint, in the link frame
-    mass: float  # kg
-    inertia: _Vec  # (3, 3) kg·m², about the link's CM in link-frame axes
-    limits: JointLimitsInfo
-    dof: Optional[int]  # index in q; None for a fixed joint
-
-@final
-class PointInfo:
-    """A named point fixed to a body."""
-
-    name: str
-    body: str  # the carrying body's name
-    body_index: int  # the carrying body's index (0 = base)
-    offset: _Vec  # (3,) m, from the body's CM in the body frame
+    @property
+    def lower(self) -> float:
+        """Lower position bound, rad or m; ``-inf`` when unbounded."""
+    @property
+    def upper(self) -> float:
+        """Upper position bound, rad or m; ``inf`` when unbounded."""
+    @property
+    def velocity(self) -> float:
+        """Speed bound, rad/s or m/s; ``inf`` when unbounded."""
+    @property
+    def effort(self) -> float:
+        """Effort bound, N·m or N; ``inf`` when unbounded."""
+    def to_list(self) -> list[float]:
+        """``[lower, upper, velocity, effort]``, the order of :meth:`Robot.describe`."""
 
 @final
-class ModelInfo:
-    """What Model.describe() returns: the whole model as the core holds it."""
+class LinkDescription:
+    """One link (a body other than the base; the k-th link is body k + 1) and the joint that
+    connects it to its parent. The link frame has its origin at the link's CM; at ``q = 0`` its
+    axes are those of the parent frame rotated by ``rotation``."""
 
-    name: str
-    base: BaseInfo
-    links: tuple[LinkInfo, ...]  # tree order: link k is body k + 1
-    points: tuple[PointInfo, ...]
-    end_effector: Optional[str]
-    initial_q: _Vec  # (N,) rad or m per joint type
+    @property
+    def name(self) -> str:
+        """The link's name."""
+    @property
+    def parent(self) -> str:
+        """Name of the parent body (the base's name for a link on the base)."""
+    @property
+    def parent_index(self) -> int:
+        """Body index of the parent (0 = base)."""
+    @property
+    def joint(self) -> str:
+        """Name of the joint."""
+    @property
+    def type(self) -> str:
+        """``"revolute"``, ``"prismatic"`` or ``"fixed"``."""
+    @property
+    def origin(self) -> _Vec:
+        """(3,) m, read-only: joint position in the parent frame, measured from the parent's CM."""
+    @property
+    def rotation(self) -> _Vec:
+        """(4,) ``[x, y, z, w]`` unit quaternion, read-only: link frame in the parent frame at q = 0."""
+    @property
+    def axis(self) -> _Vec:
+        """(3,) read-only: unit joint axis in the link frame (unused by a fixed joint: as given, or z if given zero)."""
+    @property
+    def com(self) -> _Vec:
+        """(3,) m, read-only: the link's CM measured from the joint, in the link frame."""
+    @property
+    def mass(self) -> float:
+        """Mass, kg."""
+    @property
+    def inertia(self) -> _Vec:
+        """(3, 3) kg·m², read-only: about the link's CM in link-frame axes."""
+    @property
+    def limits(self) -> JointLimits:
+        """The joint's limits."""
+    @property
+    def dof(self) -> Optional[int]:
+        """Index of the joint's coordinate in ``q``; ``None`` for a fixed joint."""
+
+@final
+class PointDescription:
+    """A named point fixed to a body (an end effector, a grasp point)."""
+
+    @property
+    def name(self) -> str:
+        """The point's name."""
+    @property
+    def body(self) -> str:
+        """Name of the body carrying the point."""
+    @property
+    def body_index(self) -> int:
+        """Index of the body carrying the point (0 = base)."""
+    @property
+    def offset(self) -> _Vec:
+        """(3,) m, read-only: from the body's CM, in the body frame."""
+
+@final
+class ModelDescription:
+    """A whole model: base, links in tree order (a parent before its children; link ``i`` is
+    body ``i + 1``), named points, end effector and initial joint coordinates
+    (what :attr:`Robot.description` and ``Model.describe()`` return)."""
+
+    @property
+    def name(self) -> str:
+        """The model's name."""
+    @property
+    def base(self) -> BaseDescription:
+        """The base (body 0)."""
+    @property
+    def links(self) -> tuple[LinkDescription, ...]:
+        """The links in tree order: link k is body k + 1."""
+    @property
+    def points(self) -> tuple[PointDescription, ...]:
+        """The named points in the order they were added."""
+    @property
+    def end_effector(self) -> Optional[str]:
+        """Name of the end-effector point, or ``None``."""
+    @property
+    def initial_q(self) -> _Vec:
+        """(N,) read-only: initial joint coordinates (rad or m per joint type)."""
+    def link(self, name: str) -> LinkDescription:
+        """The link called ``name`` (raises :class:`~spacearm.NotFoundError` if there is none)."""
+    def point(self, name: str) -> PointDescription:
+        """The point called ``name`` (raises :class:`~spacearm.NotFoundError` if there is none)."""
+    def to_dict(self) -> dict[str, Any]:
+        """The plain-data form, exactly as :meth:`Robot.describe` returns it (a new dict at each call)."""
 
 @final
 class Model:
@@ -173,7 +249,7 @@ class Model:
     body_of_dof: list[int]
     def body_index(self, name: str) -> int: ...
     def point(self, name: str) -> tuple[int, list[float]]: ...
-    def describe(self) -> ModelInfo: ...
+    def describe(self) -> ModelDescription: ...
     def joint_types(self) -> list[str]: ...
     # Every method below takes one state (1-D arrays) or a batch (a 2-D x, one state per row;
     # the other vectors with as many rows or one row for all) and then returns its results with
@@ -261,7 +337,9 @@ def set_batch_threads(threads: Optional[int] = None) -> None: ...
 def batch_threads() -> int: ...
 
 # ---- analysis (crates/spacearm-py/src/analysis_py.rs; results: analysis_results_py.rs) ------------
-# The results are frozen classes named after the core's types (spacearm_core::analysis); every
+# The results are frozen classes named after the core's types (spacearm_core::analysis) and are
+# the public types (spacearm.analysis.JacobianMeasures, SingularityReport, Detection,
+# ReactionNullSpace are these classes; spacearm.analysis.Motion subclasses RmrcMotion); every
 # array attribute hands out the same numpy array on each read. Task Jacobians: rows are the task
 # rows of the point twist [v; w] in the inertial frame, columns the joint rates.
 @final
@@ -269,39 +347,57 @@ class JacobianMeasures:
     """Singular-value measures of one task Jacobian (m task rows, N joints)."""
 
     @property
-    def jacobian(self) -> _Vec: ...  # (m, N)
+    def jacobian(self) -> _Vec:
+        """(m, N): the task rows analysed."""
     @property
-    def singular_values(self) -> _Vec: ...  # (min(m, N),), decreasing
+    def singular_values(self) -> _Vec:
+        """(min(m, N),): decreasing."""
     @property
-    def condition(self) -> float: ...  # sigma_max / sigma_min (inf at a singularity)
+    def sigma_min(self) -> float:
+        """The smallest singular value (NaN when there are none)."""
     @property
-    def manipulability(self) -> float: ...  # product of the singular values
+    def condition(self) -> float:
+        """σ_max / σ_min (inf at a singularity)."""
     @property
-    def task_directions(self) -> _Vec: ...  # (m, min(m, N)) left singular vectors; the last is the worst
+    def manipulability(self) -> float:
+        """Yoshikawa's Π σ_i."""
     @property
-    def joint_directions(self) -> _Vec: ...  # (N, N) right singular vectors; beyond the rank: null space
+    def task_directions(self) -> _Vec:
+        """(m, min(m, N)) left singular vectors; the last is the worst task direction."""
+    @property
+    def joint_directions(self) -> _Vec:
+        """(N, N) right singular vectors; the columns beyond the rank span the null space."""
 
 @final
-class SingularityAnalysis:
-    """The task rows of J* (free-floating, eq. 110) and of J_m (base fixed, eq. 106) at one configuration."""
+class SingularityReport:
+    """``J*`` (free-floating, zero momentum; eq. 110) and ``J_m`` (base held fixed; eq. 106) at one configuration."""
 
     @property
-    def generalized(self) -> JacobianMeasures: ...
+    def generalized(self) -> JacobianMeasures:
+        """Measures of the task rows of ``J*``."""
     @property
-    def fixed_base(self) -> JacobianMeasures: ...
+    def fixed_base(self) -> JacobianMeasures:
+        """Measures of the task rows of ``J_m``."""
+    @property
+    def task(self) -> tuple[int, ...]:
+        """The twist rows analysed (0-5 of ``[v; w]``)."""
 
 @final
 class Detection:
     """What the singularity detector tells a resolved-motion-rate controller."""
 
     @property
-    def sigma_min(self) -> float: ...
+    def sigma_min(self) -> float:
+        """Smallest singular value of the task rows of ``J*``."""
     @property
-    def condition(self) -> float: ...
+    def condition(self) -> float:
+        """σ_max / σ_min."""
     @property
-    def damping(self) -> float: ...  # recommended lambda of the DLS inverse
+    def damping(self) -> float:
+        """Recommended λ of the DLS inverse."""
     @property
-    def near_singular(self) -> bool: ...  # sigma_min < threshold
+    def near_singular(self) -> bool:
+        """σ_min < ε."""
 
 @final
 class ScanResult:
@@ -326,9 +422,14 @@ class ScanResult:
     @property
     def point_from_com(self) -> _Vec: ...  # (M, 3) m, base frame
 
-@final
+@disjoint_base
 class WorkspaceShells:
-    """Radial description of the workspaces, m."""
+    """Radial description of the workspaces, m. Constructing one computes the shells of a scan;
+    ``spacearm.analysis.Workspace`` subclasses it (the samples, timing and figure)."""
+
+    def __new__(cls, sigma_min_generalized: Sequence[float], det_generalized: Sequence[float], point_from_com: _Vec,
+                point_from_base: _Vec, singular_threshold: float, radial_resolution: float,
+                grid: Optional[tuple[int, int]] = None) -> WorkspaceShells: ...
 
     @property
     def reachable(self) -> tuple[float, float]: ...  # (R_min, R_max) about the system CM
@@ -367,52 +468,88 @@ class Tape:
 
 @final
 class ReactionNullSpace:
-    """The reaction null space at one configuration (N joints)."""
+    """Joint rates that leave the base attitude (``"angular"``) or the whole base (``"full"``)
+    undisturbed, with zero system momentum (N joints)."""
 
     @property
-    def base_motion_map(self) -> _Vec: ...  # (3, N) angular or (6, N) full rows of -H0^-1 H0m
+    def base_motion_map(self) -> _Vec:
+        """Rows of −H0⁻¹ H0m: joint rates → base angular velocity (3, N) or twist (6, N)."""
     @property
-    def singular_values(self) -> _Vec: ...  # decreasing
+    def singular_values(self) -> _Vec:
+        """Of the map, decreasing."""
     @property
-    def rank(self) -> int: ...
+    def rank(self) -> int:
+        """Numerical rank of the map."""
     @property
-    def basis(self) -> _Vec: ...  # (N, N - rank), orthonormal
+    def basis(self) -> _Vec:
+        """(N, N − rank): orthonormal basis of the null space."""
     @property
-    def projector(self) -> _Vec: ...  # (N, N)
+    def dimension(self) -> int:
+        """N − rank, the columns of ``basis``."""
+    @property
+    def projector(self) -> _Vec:
+        """(N, N): orthogonal projector onto the null space."""
 
 @final
 class RmrcRates:
-    """One evaluation of the resolved-motion-rate law."""
+    """One evaluation of the resolved-motion-rate law (what ``spacearm.analysis.rmrc_rates`` returns)."""
 
     @property
-    def qd(self) -> _Vec: ...  # (N,)
+    def qd(self) -> _Vec:
+        """(N,) joint rates, rad/s (m/s for a prismatic joint)."""
     @property
-    def sigma_min(self) -> float: ...
+    def sigma_min(self) -> float:
+        """σ_min of the (projected) task Jacobian."""
     @property
-    def damping(self) -> float: ...
+    def damping(self) -> float:
+        """Damping λ of the DLS inverse used."""
     @property
-    def base_angular_velocity(self) -> _Vec: ...  # (3,) rad/s, inertial frame
+    def base_angular_velocity(self) -> _Vec:
+        """(3,) rad/s in 𝒥: the base angular velocity these rates produce (zero momentum)."""
 
-@final
+@disjoint_base
 class RmrcMotion:
-    """A closed-loop point-to-point motion at its K+1 time nodes."""
+    """A closed-loop point-to-point motion at its K+1 time nodes. Constructing one runs the
+    motion; ``spacearm.analysis.Motion`` subclasses it (the figure)."""
 
+    def __new__(cls, model: Model, x0: _ArrayLike, body: int, offset: _ArrayLike, target: _ArrayLike, duration: float,
+                settle: float, dt: float, options: RmrcOptions) -> RmrcMotion: ...
     @property
-    def times(self) -> _Vec: ...  # (K+1,) s
+    def robot_name(self) -> str:
+        """Name of the model moved."""
     @property
-    def x(self) -> _Vec: ...  # (K+1, 7+N)
+    def strategy(self) -> str:
+        """``"naive"``, ``"reactionless"`` or ``"minimum_disturbance"``."""
     @property
-    def qd(self) -> _Vec: ...  # (K+1, N)
+    def target(self) -> _Vec:
+        """(3,) m in 𝒥: the point's target."""
     @property
-    def point_position(self) -> _Vec: ...  # (K+1, 3) m, inertial frame
+    def times(self) -> _Vec:
+        """(K+1,) s."""
     @property
-    def sigma_min(self) -> _Vec: ...  # (K+1,)
+    def x(self) -> _Vec:
+        """(K+1, 7+N) configurations."""
     @property
-    def damping(self) -> _Vec: ...  # (K+1,)
+    def qd(self) -> _Vec:
+        """(K+1, N) joint rates."""
     @property
-    def attitude_change(self) -> _Vec: ...  # (K+1,) rad
+    def point_position(self) -> _Vec:
+        """(K+1, 3) m in 𝒥."""
     @property
-    def final_position_error(self) -> float: ...  # m
+    def sigma_min(self) -> _Vec:
+        """(K+1,) σ_min of the (projected) task Jacobian."""
+    @property
+    def damping(self) -> _Vec:
+        """(K+1,) damping λ used."""
+    @property
+    def attitude_change(self) -> _Vec:
+        """(K+1,) rad: base rotation angle from the start."""
+    @property
+    def max_attitude_change(self) -> float:
+        """The largest of ``attitude_change``, rad."""
+    @property
+    def final_position_error(self) -> float:
+        """m: the point's distance from the target at the end (linear task rows)."""
 
 # ---- contact dynamics (crates/spacearm-py/src/contact_py.rs; spacearm_core::algorithms::impulse) --------
 @final
@@ -526,12 +663,11 @@ def simulate_closed_chain(model: Model, x0: _ArrayLike, u0: _ArrayLike, duration
                           body_b: int, offset_b: _ArrayLike, options: RunOptions, controller_spec: _ControllerSpec | None = None, *,
                           stabilization: float = 20.0) -> ClosedChainResult: ...
 
-def analysis_singularity(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int]) -> SingularityAnalysis: ...
+def analysis_singularity(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int]) -> SingularityReport: ...
 def analysis_detect(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int], threshold: float, max_damping: float) -> Detection: ...
 def analysis_damping(sigma_min: float, threshold: float, max_damping: float) -> float: ...
 def analysis_joint_grid(lower: Sequence[float], upper: Sequence[float], resolution: int) -> _Vec: ...
 def analysis_scan(m: Model, samples: _Vec, body: int, offset: _Vec, rows: list[int]) -> ScanResult: ...
-def analysis_shells(sigma_min_generalized: Sequence[float], det_generalized: Sequence[float], point_from_com: _Vec, point_from_base: _Vec, singular_threshold: float, radial_resolution: float, grid: Optional[tuple[int, int]] = None) -> WorkspaceShells: ...
 def analysis_reaction_null_space(m: Model, x: _ArrayLike, which: str, tolerance: float) -> ReactionNullSpace: ...
 def analysis_integrate_prescribed(m: Model, x0: _ArrayLike, dt: float, q_half: _Vec, qd_half: _Vec, linear_momentum: _Vec, angular_momentum: _Vec) -> _Vec: ...
 @final
@@ -540,7 +676,6 @@ class RmrcOptions:
     def __new__(cls, *, rows: list[int], threshold: float, max_damping: float, gain: float = 0.0, strategy: str = "naive",
                  manipulability_gain: float = 0.0, joint_limit_gain: float = 0.0) -> RmrcOptions: ...
 def analysis_rmrc_rates(m: Model, x: _ArrayLike, body: int, offset: _Vec, desired_twist: _Vec, options: RmrcOptions) -> RmrcRates: ...
-def analysis_move_to(m: Model, x0: _ArrayLike, body: int, offset: _Vec, target: _Vec, duration: float, settle: float, dt: float, options: RmrcOptions) -> RmrcMotion: ...
 # ---- simulation inputs (crates/spacearm-py/src/sim_options_py.rs, controller_spec_py.rs) ------
 # Frozen, keyword-only; checked when built; an unknown keyword is an ArgumentError.
 @final
@@ -804,6 +939,7 @@ class RunRecords:
     always there; a record the run did not make is ``None``; ``fields`` names those it made."""
     @property
     def fields(self) -> tuple[str, ...]: ...
+    def to_dict(self) -> dict[str, _Record]: ...  # {name: array} for each of fields, no copy
     t: _Record                              # (K,) sample times, s (float64)
     x: _Record                              # (K, 7+N) [r0, quat0 (x, y, z, w), q]
     u: _Record                              # (K, 6+N) [v0, w0, qd]
@@ -829,6 +965,7 @@ class RunEvents:
     saturation_t: npt.NDArray[np.float64]        # (E,) start of the step in which it began, s
     saturation_actuator: npt.NDArray[np.int64]   # (E,) dof 0..N, then thruster channels N..N+6
     saturation_kind: npt.NDArray[np.int64]       # (E,) 0 joint torque, 1 joint speed, 2 thruster
+    def to_dict(self) -> dict[str, npt.NDArray[Any]]: ...  # the three arrays by name, no copy
 
 @final
 class ConservedDrift:
@@ -858,6 +995,8 @@ class RunMeta:
     joint_limits: bool
     dropped_base_wrench_max_norm: float    # largest commanded base-wrench part the mode dropped
     dropped_base_wrench_count: int         # evaluations that commanded one
+    # The run-description dict of docs/simulation.md (Trajectory.meta less duration and robot).
+    def to_dict(self) -> dict[str, Any]: ...
 
 @final
 class RunResult:

@@ -31,20 +31,20 @@ def test_rates_meet_the_task_through_pinocchio_jstar(strategy, gains):
         desired = np.r_[rng.normal(scale=0.05, size=3), 0, 0, 0]
         r = analysis.rmrc_rates(robot, x, desired, task="position", strategy=strategy, manipulability_gain=gains[0],
                                 joint_limit_gain=gains[1], threshold=1e-3)
-        assert r["damping"] == 0.0 and np.all(np.isfinite(r["qd"]))
-        v = jstar[:3] @ r["qd"]
+        assert r.damping == 0.0 and np.all(np.isfinite(r.qd))
+        v = jstar[:3] @ r.qd
         # the preset's 1.5 rad/s limits may scale the whole q̇ down (direction kept)
         scale = v @ desired[:3] / (desired[:3] @ desired[:3])
         np.testing.assert_allclose(v, scale * desired[:3], atol=1e-9)
         assert 0 < scale <= 1 + 1e-9
-        if np.abs(r["qd"]).max() < 1.5 - 1e-9:
+        if np.abs(r.qd).max() < 1.5 - 1e-9:
             assert scale == pytest.approx(1.0, abs=1e-9)
         else:
-            assert np.abs(r["qd"]).max() == pytest.approx(1.5)
-        w0 = base[3:] @ r["qd"]
-        np.testing.assert_allclose(r["base_angular_velocity"], w0, atol=1e-12)
+            assert np.abs(r.qd).max() == pytest.approx(1.5)
+        w0 = base[3:] @ r.qd
+        np.testing.assert_allclose(r.base_angular_velocity, w0, atol=1e-12)
         naive = analysis.rmrc_rates(robot, x, desired, task="position", strategy="naive", threshold=1e-3)
-        w_naive = np.linalg.norm(base[3:] @ naive["qd"])
+        w_naive = np.linalg.norm(base[3:] @ naive.qd)
         assert w_naive > 1e-4
         if strategy == "reactionless":
             # the task itself is solved in the reaction null space: no base rotation at all

@@ -15,7 +15,7 @@ from spacearm import _core
 
 from analysis_refs import PinRef
 
-CLASSES = ("JacobianMeasures", "SingularityAnalysis", "Detection", "ScanResult", "WorkspaceShells", "ReactionNullSpace", "RmrcRates",
+CLASSES = ("JacobianMeasures", "SingularityReport", "Detection", "ScanResult", "WorkspaceShells", "ReactionNullSpace", "RmrcRates",
            "RmrcMotion")
 STUB = pathlib.Path(spacearm.__file__).with_name("_core.pyi")
 
@@ -45,9 +45,8 @@ def test_stub_declares_exactly_the_class_attributes(name):
 
 def test_stub_names_the_classes_as_return_types():
     returns = _stub_returns()
-    expected = {"analysis_singularity": "SingularityAnalysis", "analysis_detect": "Detection", "analysis_scan": "ScanResult",
-                "analysis_shells": "WorkspaceShells", "analysis_reaction_null_space": "ReactionNullSpace", "analysis_rmrc_rates": "RmrcRates",
-                "analysis_move_to": "RmrcMotion"}
+    expected = {"analysis_singularity": "SingularityReport", "analysis_detect": "Detection", "analysis_scan": "ScanResult",
+                "analysis_reaction_null_space": "ReactionNullSpace", "analysis_rmrc_rates": "RmrcRates"}
     for fn, cls in expected.items():
         assert returns[fn] == cls
     assert not [f for f, r in returns.items() if f.startswith("analysis_") and "dict" in r]
@@ -80,7 +79,8 @@ def test_singularity_analysis_matches_pinocchio_svd(name, rows):
     x = _random_state(robot, np.random.default_rng(5))
     body, off = robot._point(None)
     a = _core.analysis_singularity(robot.core_model, x, body, off, rows)
-    assert isinstance(a, _core.SingularityAnalysis)
+    assert isinstance(a, _core.SingularityReport) and a.task == tuple(rows)
+    assert a.generalized.sigma_min == a.generalized.singular_values[-1]
     jstar, jm, _ = ref.maps(x)
     _check_measures(a.generalized, jstar[rows])
     _check_measures(a.fixed_base, jm[rows])
@@ -150,7 +150,7 @@ def test_workspace_shells_from_hand_worked_samples():
     com = dirs * np.array([1.0, 1.2, 1.25, 2.0, 3.0])[:, None]
     base = dirs[::-1] * np.array([0.5, 0.7, 0.4, 2.5, 1.5])[:, None]
     sigma = [1.0, 1e-3, 5e-3, 1.0, 0.5]
-    w = _core.analysis_shells(sigma, [np.nan] * 5, com, base, 0.01, 0.1)
+    w = _core.WorkspaceShells(sigma, [np.nan] * 5, com, base, 0.01, 0.1)
     assert isinstance(w, _core.WorkspaceShells)
     assert w.reachable == pytest.approx((1.0, 3.0), rel=1e-15)
     assert w.fixed_base == pytest.approx((0.4, 2.5), rel=1e-15)
@@ -161,7 +161,7 @@ def test_workspace_shells_from_hand_worked_samples():
     assert w.path_independent[1] == pytest.approx((1.25, 3.0), rel=1e-15)
     assert w.radial_resolution == 0.1
     # A finer resolution than the gap splits the PDW shell in two.
-    w2 = _core.analysis_shells(sigma, [np.nan] * 5, com, base, 0.01, 0.01)
+    w2 = _core.WorkspaceShells(sigma, [np.nan] * 5, com, base, 0.01, 0.01)
     np.testing.assert_allclose(w2.path_dependent, [(1.2, 1.2), (1.25, 1.25)], rtol=1e-15)
 
 
@@ -177,7 +177,7 @@ def test_reaction_null_space_matches_pinocchio_base_map(which, rows):
     s = np.linalg.svd(base, compute_uv=False)
     np.testing.assert_allclose(r.singular_values, s, rtol=1e-9)
     rank = int(np.sum(s > 1e-9 * s[0]))
-    assert isinstance(r.rank, int) and r.rank == rank
+    assert isinstance(r.rank, int) and r.rank == rank and r.dimension == robot.n_dof - rank
     n = robot.n_dof
     assert r.basis.shape == (n, n - rank)
     np.testing.assert_allclose(r.basis.T @ r.basis, np.eye(n - rank), atol=1e-12)
@@ -210,8 +210,10 @@ def test_rmrc_motion_rows_are_consistent_records():
     target = p0 + np.array([-0.1, 0.05, 0.0])
     dt = 0.02
     options = _core.RmrcOptions(rows=[0, 1], threshold=1e-3, max_damping=1e-2, gain=5.0, strategy="naive")
-    m = _core.analysis_move_to(robot.core_model, x0, body, off, target, 1.0, 0.2, dt, options)
+    m = _core.RmrcMotion(robot.core_model, x0, body, off, target, 1.0, 0.2, dt, options)
     assert isinstance(m, _core.RmrcMotion)
+    assert (m.robot_name, m.strategy) == (robot.name, "naive") and np.array_equal(m.target, target)
+    assert m.max_attitude_change == m.attitude_change.max()
     k = m.times.shape[0]
     n = robot.n_dof
     assert m.x.shape == (k, 7 + n) and m.qd.shape == (k, n) and m.point_position.shape == (k, 3)
@@ -240,3 +242,32 @@ def test_public_scan_dict_has_every_scan_column_in_chunks_and_whole():
     for k in SCAN_COLUMNS:
         assert len(s[k]) == 2500
         np.testing.assert_array_equal(s[k][-3:], getattr(last, k))
+
+
+def test_public_results_are_the_extension_classes():
+    """Each type once: the public analysis results are the extension's classes (Motion a
+    subclass adding the figure only, no fields of its own), returned as the core made them."""
+    from spacearm import analysis
+
+    for public, core in (("JacobianMeasures", "JacobianMeasures"), ("SingularityReport", "SingularityReport"),
+                         ("Detection", "Detection"), ("ReactionNullSpace", "ReactionNullSpace")):
+        assert getattr(analysis, public) is getattr(_core, core)
+    assert issubclass(analysis.Motion, _core.RmrcMotion) and analysis.Motion.__slots__ == ()
+    assert issubclass(analysis.Workspace, _core.WorkspaceShells)
+    shell_fields = {a for a in dir(_core.WorkspaceShells) if not a.startswith("_")}
+    assert not shell_fields & set(analysis.Workspace.__slots__)  # no copy of the extension's fields
+    robot = spacearm.presets.planar4()
+    rep = analysis.analyze(robot, task="planar")
+    assert type(rep) is analysis.SingularityReport and rep.task == (0, 1)
+    assert rep.generalized.sigma_min == rep.generalized.singular_values[-1]
+    assert type(analysis.detect(robot, robot.neutral_configuration(), task="planar")) is analysis.Detection
+    rns = analysis.reaction_null_space(robot)
+    assert rns.dimension == rns.basis.shape[1] == robot.n_dof - rns.rank
+    r = analysis.rmrc_rates(robot, robot.neutral_configuration(), [0.01, 0, 0, 0, 0, 0], task="planar")
+    assert type(r) is _core.RmrcRates
+    m = analysis.move_to(robot, robot.point_position(robot.neutral_configuration()) + [-0.05, 0.02, 0.0], task="planar",
+                         duration=0.5, settle=0.1, dt=0.02)
+    assert type(m) is analysis.Motion and m.robot_name == robot.name and m.strategy == "reactionless"
+    assert m.max_attitude_change == float(np.max(m.attitude_change))
+    with pytest.raises(AttributeError):
+        m.strategy = "naive"

@@ -1,4 +1,4 @@
-"""The typed description at the extension boundary (``_core.Model.describe()`` → ``ModelInfo``)
+"""The typed description at the extension boundary (``_core.Model.describe()`` → ``ModelDescription``)
 and the plain ``Robot.describe()`` dict built from it, against sources that do not go through
 it: the keyword arguments given to ``RobotBuilder`` for the random trees, and the model file the
 core writes (``_core.model_to_toml``, read back with ``tomllib``) for every preset."""
@@ -35,22 +35,23 @@ def _robot(name: str) -> spacearm.Robot:
 
 def test_describe_returns_the_typed_classes():
     info = presets.dual_arm().core_model.describe()
-    assert isinstance(info, _core.ModelInfo)
-    assert isinstance(info.base, _core.BaseInfo)
-    assert isinstance(info.links, tuple) and all(isinstance(link, _core.LinkInfo) for link in info.links)
-    assert isinstance(info.points, tuple) and all(isinstance(p, _core.PointInfo) for p in info.points)
-    assert all(isinstance(link.limits, _core.JointLimitsInfo) for link in info.links)
+    assert isinstance(info, _core.ModelDescription)
+    assert isinstance(info.base, _core.BaseDescription)
+    assert isinstance(info.links, tuple) and all(isinstance(link, _core.LinkDescription) for link in info.links)
+    assert isinstance(info.points, tuple) and all(isinstance(p, _core.PointDescription) for p in info.points)
+    assert all(isinstance(link.limits, _core.JointLimits) for link in info.links)
     link, point = info.links[0], info.points[0]
     for array, shape in ((info.base.inertia, (3, 3)), (link.inertia, (3, 3)), (link.origin, (3,)), (link.rotation, (4,)),
                          (link.axis, (3,)), (link.com, (3,)), (point.offset, (3,)), (info.initial_q, (12,))):
         assert isinstance(array, np.ndarray) and array.dtype == np.float64 and array.shape == shape
-    # Frozen: no attribute can be set, and an array handed out is a copy of the model's data.
+    # Frozen: no attribute can be set, and the arrays handed out are read-only.
     for obj, attr in ((info, "name"), (info.base, "mass"), (link, "mass"), (link.limits, "upper"), (point, "body")):
         with pytest.raises(AttributeError):
             setattr(obj, attr, getattr(obj, attr))
-    link.origin[:] = 1e3
+    with pytest.raises(ValueError):
+        link.origin[:] = 1e3
     assert not np.any(info.links[0].origin == 1e3)
-    assert "LinkInfo 'left_link1'" in repr(link) and "inertia (3, 3)" in repr(link)
+    assert "LinkDescription 'left_link1'" in repr(link) and "inertia (3, 3)" in repr(link)
 
 
 @pytest.mark.parametrize("seed", SEEDS)

@@ -231,8 +231,8 @@ def test_native_rmrc_command_is_the_analysis_rmrc_rates(strategy):
     assert traj["t"][0] == 0.0
     qd_cmd = np.linalg.solve(robot.generalized_inertia(x0), traj["tau"][0]) / kv
     rates = analysis.rmrc_rates(robot, x0, np.r_[gain * offset, 0.0, 0.0, 0.0], task="position", strategy=strategy)
-    assert np.abs(rates["qd"]).max() > 0.1
-    np.testing.assert_allclose(qd_cmd, rates["qd"], rtol=0, atol=1e-12)
+    assert np.abs(rates.qd).max() > 0.1
+    np.testing.assert_allclose(qd_cmd, rates.qd, rtol=0, atol=1e-12)
 
 
 # ---- attitude control with reaction wheels --------------------------------------------------

@@ -11,7 +11,6 @@ import pytest
 
 import spacearm
 from spacearm import _core, control, errors
-from spacearm.sim._run_result import records_dict  # the typed RunRecords as a dict of arrays
 
 
 @pytest.fixture(scope="module")
@@ -135,7 +134,7 @@ def test_computed_torque_spec_follows_the_closed_form_quintic(robot):
     q1 = q0 + np.array([0.4, -0.2, 0.3, -0.1])
     reference = _core.JointReference.quintic(q_start=q0, q_goal=q1, t_start=0.2, t_end=1.2)
     spec = _core.ComputedTorqueSpec(kp=[25.0], kd=[10.0], reference=reference)
-    data = records_dict(_core.simulate(robot.core_model, robot.neutral_configuration(), robot.zero_velocity(), 1.5, _core.RunOptions(dt=2e-3), spec).records)
+    data = _core.simulate(robot.core_model, robot.neutral_configuration(), robot.zero_velocity(), 1.5, _core.RunOptions(dt=2e-3), spec).records.to_dict()
     err = np.abs(data["x"][:, 7:] - quintic(data["t"], q0, q1, 0.2, 1.2)).max()
     assert err < 1e-8, err
     assert np.abs(data["x"][-1, 7:] - q0).max() > 0.3  # the arm did move
@@ -145,8 +144,8 @@ def test_joint_pd_spec_settles_at_its_set_point(robot):
     """At rest the PD torque kp (q_ref - q) is zero only at q_ref: the steady state is the set point."""
     q_ref = robot.initial_q + np.array([0.3, -0.2, 0.1, 0.25])
     spec = _core.JointPdSpec(kp=[200.0], kd=[100.0], reference=_core.JointReference.constant(q=q_ref))
-    data = records_dict(_core.simulate(robot.core_model, robot.neutral_configuration(), robot.zero_velocity(), 15.0,
-                          _core.RunOptions(dt=5e-3, record_every=100), spec).records)
+    data = _core.simulate(robot.core_model, robot.neutral_configuration(), robot.zero_velocity(), 15.0,
+                          _core.RunOptions(dt=5e-3, record_every=100), spec).records.to_dict()
     np.testing.assert_allclose(data["x"][-1, 7:], q_ref, atol=1e-5)
     np.testing.assert_allclose(data["u"][-1, 6:], 0.0, atol=1e-5)
 
@@ -158,8 +157,8 @@ def test_base_thrusters_spec_moves_the_cm_with_the_closed_form_response(robot):
     rg0 = robot.center_of_mass(x0)
     target = rg0 + np.array([0.3, -0.2, 0.0])
     spec = _core.BaseThrustersSpec(com_ref=target, kp_position=4.0, kd_position=4.0, kp_attitude=0.0, kd_attitude=0.0)
-    data = records_dict(_core.simulate(robot.core_model, x0, robot.zero_velocity(), 2.0,
-                          _core.RunOptions(mode="translation-flying", dt=1e-3, record_every=10), spec).records)
+    data = _core.simulate(robot.core_model, x0, robot.zero_velocity(), 2.0,
+                          _core.RunOptions(mode="translation-flying", dt=1e-3, record_every=10), spec).records.to_dict()
     t = data["t"][:, None]
     np.testing.assert_allclose(data["com"], target + (rg0 - target) * (1 + 2 * t) * np.exp(-2 * t), atol=1e-10)
 
@@ -173,8 +172,8 @@ def test_thruster_limits_clamp_the_force_to_a_constant_acceleration(robot):
     spec = _core.BaseThrustersSpec(com_ref=rg0 + [1000.0, 0.0, 0.0], kp_position=100.0, kd_position=1.0, kp_attitude=0.0,
                                    kd_attitude=0.0)
     limits = _core.ThrusterLimits(max_force=[max_force] * 3, max_torque=[np.inf] * 3)
-    data = records_dict(_core.simulate(robot.core_model, x0, robot.zero_velocity(), 1.0,
-                          _core.RunOptions(mode="translation-flying", dt=1e-3, record_every=10, thrusters=limits), spec).records)
+    data = _core.simulate(robot.core_model, x0, robot.zero_velocity(), 1.0,
+                          _core.RunOptions(mode="translation-flying", dt=1e-3, record_every=10, thrusters=limits), spec).records.to_dict()
     t = data["t"]
     expected = rg0 + np.outer(max_force * t**2 / (2 * robot.total_mass), [1.0, 0.0, 0.0])
     np.testing.assert_allclose(data["com"], expected, atol=1e-10)
@@ -187,11 +186,11 @@ def test_rollout_takes_one_spec_per_rollout_and_the_zero_torque_spec(robot):
     x0 = np.tile(robot.neutral_configuration(), (2, 1))
     u0 = np.tile(robot.zero_velocity(), (2, 1))
     options = _core.RunOptions(dt=5e-3, record_every=200)
-    data = records_dict(_core.rollout([robot.core_model], x0, u0, 15.0, options, specs).records)
+    data = _core.rollout([robot.core_model], x0, u0, 15.0, options, specs).records.to_dict()
     np.testing.assert_allclose(data["x"][:, -1, 7:], q_refs, atol=1e-5)
     # No control: a joint speed given keeps the arm moving (no torque stops it); at rest it stays.
     u0[1, 7] = 0.1
-    free = records_dict(_core.rollout([robot.core_model], x0, u0, 1.0, options, [_core.ZeroTorqueSpec(), _core.ZeroTorqueSpec()]).records)
+    free = _core.rollout([robot.core_model], x0, u0, 1.0, options, [_core.ZeroTorqueSpec(), _core.ZeroTorqueSpec()]).records.to_dict()
     assert np.abs(free["x"][1, -1, 7:] - free["x"][1, 0, 7:]).max() > 1e-3
     np.testing.assert_array_equal(free["x"][0, -1], x0[0])
 

@@ -213,3 +213,26 @@ def test_the_public_results_hold_no_extension_object_and_pickle(robot):
     traj = runs.trajectory(1)
     assert isinstance(traj.meta["drift"], dict) and traj.meta["conserved"] == list(traj.meta["drift"])
     np.testing.assert_array_equal(pickle.loads(pickle.dumps(traj)).x, traj.x)
+
+
+def test_to_dict_is_the_public_plain_form(robot, torque_free):
+    """Each type once: the plain forms Trajectory and Rollouts hold come from the typed results'
+    own ``to_dict`` (no Python list of their fields), every field accounted for."""
+    _, res = torque_free
+    records = res.records.to_dict()
+    assert tuple(records) == res.records.fields
+    assert all(records[name] is getattr(res.records, name) for name in res.records.fields)  # the arrays, no copy
+    events = res.events.to_dict()
+    assert set(events) == {"saturation_t", "saturation_actuator", "saturation_kind"}
+    assert all(events[k] is getattr(res.events, k) for k in events)
+    meta, m = res.meta.to_dict(), res.meta
+    public = {a for a in dir(m) if not a.startswith("_") and a != "to_dict"}
+    renamed = {"drift", "dropped_base_wrench_max_norm", "dropped_base_wrench_count"}
+    assert public - renamed <= set(meta)
+    for name in public - renamed:
+        assert meta[name] == getattr(m, name), name
+    assert meta["conserved"] == [d.quantity for d in m.drift] == list(meta["drift"]) == list(meta["drift_scales"])
+    assert meta["drift"] == {d.quantity: d.drift for d in m.drift} and meta["drift_scales"] == {d.quantity: d.scale for d in m.drift}
+    assert meta["dropped_base_wrench"] == {"max_norm": m.dropped_base_wrench_max_norm, "count": m.dropped_base_wrench_count}
+    traj = spacearm.simulate(robot, 0.05, dt=0.01)
+    assert set(traj.meta) == set(meta) | {"duration", "robot"}

@@ -28,12 +28,12 @@ fn rows_of(a: &PyReadonlyArray2<'_, f64>) -> (Vec<f64>, usize, usize) {
 
 /// Singular values, condition, manipulability, singular directions of J* and J_m.
 #[pyfunction]
-pub fn analysis_singularity<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>, rows: Vec<usize>) -> PyResult<PySingularityAnalysis> {
+pub fn analysis_singularity<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>, rows: Vec<usize>) -> PyResult<PySingularityReport> {
     let off = vec3(offset, "offset")?;
     let x = vec_arg(x, "x")?;
-    let t = task(py, rows)?;
+    let t = task(py, rows.clone())?;
     let a = m.with_data(|model, data| singularity::analyze(model, data, x.as_slice(), body, &off, &t)).or_raise(py)?;
-    PySingularityAnalysis::new(py, &a)
+    PySingularityReport::new(py, &a, &rows)
 }
 
 /// The singularity detector on the task rows of J* at x: σ_min, condition, damping, near_singular.
@@ -81,11 +81,10 @@ pub fn analysis_scan<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, samples: PyRea
     Ok(PyScanResult::new(py, &s))
 }
 
-/// Workspace shells from the arrays of a scan (so a scan need not run twice).
-#[pyfunction]
-#[pyo3(signature = (sigma_min_generalized, det_generalized, point_from_com, point_from_base, singular_threshold, radial_resolution, grid=None))]
+/// Workspace shells of a scan's samples: the constructor of `WorkspaceShells` (a scan of M
+/// samples: σ_min and det of J*, the point from the system CM and from the base CM).
 #[allow(clippy::too_many_arguments)]
-pub fn analysis_shells<'py>(
+pub(crate) fn shells<'py>(
     py: Python<'py>,
     sigma_min_generalized: Vec<f64>,
     det_generalized: Vec<f64>,
@@ -116,7 +115,7 @@ pub fn analysis_shells<'py>(
         .collect();
     let grid = grid.map(|(resolution, n_joints)| workspace::GridShape { resolution, n_joints });
     let w = workspace::workspace_shells(&samples, singular_threshold, radial_resolution, grid).or_raise(py)?;
-    Ok(PyWorkspaceShells::new(py, &w))
+    Ok(PyWorkspaceShells::of(py, &w))
 }
 
 /// Reaction null space at x: `which` is "angular" or "full".
@@ -165,14 +164,23 @@ pub(crate) fn strategy(py: Python<'_>, s: &str) -> PyResult<redundancy::Strategy
     redundancy::Strategy::from_name(s).or_raise(py)
 }
 
+/// The name `strategy` reads.
+fn strategy_name(s: redundancy::Strategy) -> &'static str {
+    match s {
+        redundancy::Strategy::Naive => "naive",
+        redundancy::Strategy::Reactionless => "reactionless",
+        redundancy::Strategy::MinimumBaseDisturbance => "minimum_disturbance",
+    }
+}
+
 /// The options of the resolved-motion-rate law (`spacearm_core::analysis::redundancy::RmrcOptions`)
 /// as one typed, keyword-only object: the task rows of the point twist, the damping law
-/// (`threshold` ε and `max_damping` λ_max), the feedback gain (1/s; used by `analysis_move_to`),
+/// (`threshold` ε and `max_damping` λ_max), the feedback gain (1/s; used by the `RmrcMotion` constructor),
 /// the strategy (`"naive"`, `"reactionless"`, `"minimum_disturbance"`) and the null-space
 /// gains. Checked when built.
 #[pyclass(module = "spacearm._core", name = "RmrcOptions", frozen)]
 pub struct PyRmrcOptions {
-    inner: redundancy::RmrcOptions,
+    pub(crate) inner: redundancy::RmrcOptions,
 }
 
 #[pymethods]
@@ -218,10 +226,9 @@ pub fn analysis_rmrc_rates<'py>(
     Ok(PyRmrcRates::new(py, &r))
 }
 
-/// Closed-loop point-to-point RMRC motion (zero momentum).
-#[pyfunction]
+/// Closed-loop point-to-point RMRC motion (zero momentum): the constructor of `RmrcMotion`.
 #[allow(clippy::too_many_arguments)]
-pub fn analysis_move_to<'py>(
+pub(crate) fn move_to<'py>(
     py: Python<'py>,
     m: PyRef<'_, PyModel>,
     x0: &Bound<'py, PyAny>,
@@ -238,7 +245,7 @@ pub fn analysis_move_to<'py>(
     let x0 = vec_arg(x0, "x0")?;
     let o = &options.inner;
     let r = m.with_data(|model, data| redundancy::move_to(model, data, x0.as_slice(), body, &off, &target, duration, settle, dt, o)).or_raise(py)?;
-    Ok(PyRmrcMotion::new(py, &r, m.model.n_dof()))
+    Ok(PyRmrcMotion::of(py, &r, m.model.n_dof(), m.model.name().to_string(), strategy_name(o.strategy), &target))
 }
 
 /// Register the analysis functions on the extension module.
@@ -248,10 +255,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analysis_damping, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_joint_grid, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_scan, m)?)?;
-    m.add_function(wrap_pyfunction!(analysis_shells, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_reaction_null_space, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_integrate_prescribed, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_rmrc_rates, m)?)?;
-    m.add_function(wrap_pyfunction!(analysis_move_to, m)?)?;
     Ok(())
 }

@@ -1,6 +1,8 @@
 //! The typed results of the analysis bindings (`analysis_py.rs`): one frozen class per result
 //! type of `spacearm_core::analysis`, with the same name and fields, so the schema of what
-//! crosses the boundary is written here and in `_core.pyi`, not in dictionary keys.
+//! crosses the boundary is written here and in `_core.pyi`, not in dictionary keys. They are
+//! the public types too: `spacearm.analysis` returns them as they are (no Python copy of their
+//! fields); `spacearm.analysis.Motion` subclasses `RmrcMotion` to add the figure only.
 //!
 //! Each class only carries what the core computed: the arrays are built once, when the result
 //! is converted, and every read of an attribute hands out that same numpy array (no copy).
@@ -11,6 +13,7 @@
 use nalgebra::{DMatrix, Vector3};
 use numpy::{Element, PyArray, PyArray1, PyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
+use pyo3::types::PyTuple;
 use spacearm_core::analysis::{reaction_null_space as rns, redundancy, scan, singularity, workspace};
 
 use crate::convert::{array1, dmat, dvec};
@@ -41,6 +44,9 @@ pub struct PyJacobianMeasures {
     /// (min(m, N),) float64: its singular values, decreasing; units of the Jacobian's rows.
     #[pyo3(get)]
     singular_values: Py<PyArray1<f64>>,
+    /// σ_min, the smallest singular value (the last of `singular_values`; NaN when there are none).
+    #[pyo3(get)]
+    sigma_min: f64,
     /// σ_max / σ_min, dimensionless (inf at a singularity).
     #[pyo3(get)]
     condition: f64,
@@ -62,6 +68,7 @@ impl PyJacobianMeasures {
         PyJacobianMeasures {
             jacobian: dmat(py, &m.jacobian).unbind(),
             singular_values: dvec(py, &m.singular_values).unbind(),
+            sigma_min: m.singular_values.iter().next_back().copied().unwrap_or(f64::NAN),
             condition: m.condition,
             manipulability: m.manipulability,
             task_directions: dmat(py, &m.task_directions).unbind(),
@@ -85,32 +92,37 @@ impl PyJacobianMeasures {
     }
 }
 
-/// Singularity analysis at one configuration
-/// (`spacearm_core::analysis::singularity::SingularityAnalysis`).
-#[pyclass(module = "spacearm._core", name = "SingularityAnalysis", frozen)]
-pub struct PySingularityAnalysis {
+/// `spacearm.analysis.SingularityReport`: J* (free-floating, zero momentum) and J_m (base held
+/// fixed) at one configuration (`spacearm_core::analysis::singularity::SingularityAnalysis`,
+/// with the task rows analysed).
+#[pyclass(module = "spacearm._core", name = "SingularityReport", frozen)]
+pub struct PySingularityReport {
     /// Measures of the task rows of J* (free-floating, zero momentum; paper eq. 110).
     #[pyo3(get)]
     generalized: Py<PyJacobianMeasures>,
     /// Measures of the task rows of J_m (base held fixed; paper eq. 106).
     #[pyo3(get)]
     fixed_base: Py<PyJacobianMeasures>,
+    /// The twist rows analysed (0-5 of [v; ω]), a tuple.
+    #[pyo3(get)]
+    task: Py<PyTuple>,
 }
 
-impl PySingularityAnalysis {
-    pub fn new(py: Python<'_>, a: &singularity::SingularityAnalysis) -> PyResult<Self> {
-        Ok(PySingularityAnalysis {
+impl PySingularityReport {
+    pub fn new(py: Python<'_>, a: &singularity::SingularityAnalysis, rows: &[usize]) -> PyResult<Self> {
+        Ok(PySingularityReport {
             generalized: Py::new(py, PyJacobianMeasures::new(py, &a.generalized))?,
             fixed_base: Py::new(py, PyJacobianMeasures::new(py, &a.fixed_base))?,
+            task: PyTuple::new(py, rows)?.unbind(),
         })
     }
 }
 
 #[pymethods]
-impl PySingularityAnalysis {
+impl PySingularityReport {
     fn __repr__(&self, py: Python<'_>) -> String {
         let j = |m: &Py<PyJacobianMeasures>| shape_of(py, &m.get().jacobian);
-        format!("<spacearm._core.SingularityAnalysis generalized=JacobianMeasures(jacobian={}) fixed_base=JacobianMeasures(jacobian={})>", j(&self.generalized), j(&self.fixed_base))
+        format!("<spacearm.analysis.SingularityReport generalized=JacobianMeasures(jacobian={}) fixed_base=JacobianMeasures(jacobian={}) task={}>", j(&self.generalized), j(&self.fixed_base), self.task.bind(py))
     }
 }
 
@@ -214,7 +226,9 @@ impl PyScanResult {
 }
 
 /// Radial description of the workspaces (`spacearm_core::analysis::workspace::WorkspaceShells`).
-#[pyclass(module = "spacearm._core", name = "WorkspaceShells", frozen)]
+/// Constructing one computes the shells of a scan (`analysis_py::shells`);
+/// `spacearm.analysis.Workspace` is its Python subclass (the samples, timing and figure).
+#[pyclass(module = "spacearm._core", name = "WorkspaceShells", frozen, subclass)]
 pub struct PyWorkspaceShells {
     /// (R_min, R_max) of the free-floating reachable workspace about the system CM, m.
     #[pyo3(get)]
@@ -237,7 +251,7 @@ pub struct PyWorkspaceShells {
 }
 
 impl PyWorkspaceShells {
-    pub fn new(py: Python<'_>, w: &workspace::WorkspaceShells) -> Self {
+    pub fn of(py: Python<'_>, w: &workspace::WorkspaceShells) -> Self {
         let pairs = |v: &[[f64; 2]]| v.iter().map(|[a, b]| (*a, *b)).collect();
         PyWorkspaceShells {
             reachable: (w.reachable[0], w.reachable[1]),
@@ -252,6 +266,26 @@ impl PyWorkspaceShells {
 
 #[pymethods]
 impl PyWorkspaceShells {
+    /// The shells of a scan of M samples: `sigma_min_generalized` and `det_generalized` (M,),
+    /// `point_from_com` and `point_from_base` (M, 3); a sample is singular below
+    /// `singular_threshold` (or, on a grid `(resolution, n_joints)` with a square task, at a sign
+    /// change of det between neighbours); singular radii closer than `radial_resolution` merge.
+    #[new]
+    #[pyo3(signature = (sigma_min_generalized, det_generalized, point_from_com, point_from_base, singular_threshold, radial_resolution, grid=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new<'py>(
+        py: Python<'py>,
+        sigma_min_generalized: Vec<f64>,
+        det_generalized: Vec<f64>,
+        point_from_com: numpy::PyReadonlyArray2<'py, f64>,
+        point_from_base: numpy::PyReadonlyArray2<'py, f64>,
+        singular_threshold: f64,
+        radial_resolution: f64,
+        grid: Option<(usize, usize)>,
+    ) -> PyResult<Self> {
+        crate::analysis_py::shells(py, sigma_min_generalized, det_generalized, point_from_com, point_from_base, singular_threshold, radial_resolution, grid)
+    }
+
     fn __repr__(&self, py: Python<'_>) -> String {
         format!(
             "<spacearm._core.WorkspaceShells reachable={:?} fixed_base={:?} singular_radii={} path_dependent={} shells path_independent={} shells radial_resolution={:?}>",
@@ -282,6 +316,9 @@ pub struct PyReactionNullSpace {
     /// (N, N − rank) float64: orthonormal basis of the null space, in joint space.
     #[pyo3(get)]
     basis: Py<PyArray2<f64>>,
+    /// Dimension of the null space, N − rank (the columns of `basis`).
+    #[pyo3(get)]
+    dimension: usize,
     /// (N, N) float64: orthogonal projector onto the null space.
     #[pyo3(get)]
     projector: Py<PyArray2<f64>>,
@@ -294,6 +331,7 @@ impl PyReactionNullSpace {
             singular_values: dvec(py, &r.singular_values).unbind(),
             rank: r.rank,
             basis: dmat(py, &r.basis).unbind(),
+            dimension: r.basis.ncols(),
             projector: dmat(py, &r.projector).unbind(),
         }
     }
@@ -354,10 +392,21 @@ impl PyRmrcRates {
     }
 }
 
-/// A closed-loop point-to-point motion, recorded at its K+1 time nodes
-/// (`spacearm_core::analysis::redundancy::RmrcMotion`).
-#[pyclass(module = "spacearm._core", name = "RmrcMotion", frozen)]
+/// A closed-loop point-to-point motion of a free-floating system (zero momentum), recorded at
+/// its K+1 time nodes (`spacearm_core::analysis::redundancy::RmrcMotion`, with the model's name,
+/// the strategy and the target). Constructing one runs the motion (`analysis_py::move_to`);
+/// `spacearm.analysis.Motion` is its Python subclass, which adds the figure and nothing else.
+#[pyclass(module = "spacearm._core", name = "RmrcMotion", frozen, subclass)]
 pub struct PyRmrcMotion {
+    /// Name of the model moved.
+    #[pyo3(get)]
+    robot_name: String,
+    /// The strategy: "naive", "reactionless" or "minimum_disturbance".
+    #[pyo3(get)]
+    strategy: &'static str,
+    /// (3,) float64: the point's target in 𝒥, m.
+    #[pyo3(get)]
+    target: Py<PyArray1<f64>>,
     /// (K+1,) float64: times k·dt, s.
     #[pyo3(get)]
     times: Py<PyArray1<f64>>,
@@ -379,15 +428,21 @@ pub struct PyRmrcMotion {
     /// (K+1,) float64: base rotation angle from the start, rad.
     #[pyo3(get)]
     attitude_change: Py<PyArray1<f64>>,
+    /// The largest base rotation from the start over the motion (max of `attitude_change`), rad.
+    #[pyo3(get)]
+    max_attitude_change: f64,
     /// Distance of the point from the target at the end (linear task rows only), m.
     #[pyo3(get)]
     final_position_error: f64,
 }
 
 impl PyRmrcMotion {
-    pub fn new(py: Python<'_>, r: &redundancy::RmrcMotion, n_dof: usize) -> Self {
+    pub fn of(py: Python<'_>, r: &redundancy::RmrcMotion, n_dof: usize, robot_name: String, strategy: &'static str, target: &Vector3<f64>) -> Self {
         let k = r.times.len();
         PyRmrcMotion {
+            robot_name,
+            strategy,
+            target: array1(py, target.as_slice()).unbind(),
             times: array1(py, &r.times).unbind(),
             x: row_major(py, &r.x, k, 7 + n_dof).unbind(),
             qd: row_major(py, &r.qd, k, n_dof).unbind(),
@@ -395,6 +450,7 @@ impl PyRmrcMotion {
             sigma_min: array1(py, &r.sigma_min).unbind(),
             damping: array1(py, &r.damping).unbind(),
             attitude_change: array1(py, &r.attitude_change).unbind(),
+            max_attitude_change: r.attitude_change.iter().copied().fold(f64::NEG_INFINITY, f64::max),
             final_position_error: r.final_position_error,
         }
     }
@@ -402,9 +458,31 @@ impl PyRmrcMotion {
 
 #[pymethods]
 impl PyRmrcMotion {
+    /// Move a point of `model` to `target` by resolved-motion-rate control (what
+    /// `spacearm.analysis.move_to` documents; its arguments, checked, in the same order).
+    #[new]
+    #[pyo3(signature = (model, x0, body, offset, target, duration, settle, dt, options))]
+    #[allow(clippy::too_many_arguments)]
+    fn new<'py>(
+        py: Python<'py>,
+        model: PyRef<'_, crate::model_py::PyModel>,
+        x0: &Bound<'py, PyAny>,
+        body: usize,
+        offset: &Bound<'py, PyAny>,
+        target: &Bound<'py, PyAny>,
+        duration: f64,
+        settle: f64,
+        dt: f64,
+        options: PyRef<'_, crate::analysis_py::PyRmrcOptions>,
+    ) -> PyResult<Self> {
+        crate::analysis_py::move_to(py, model, x0, body, offset, target, duration, settle, dt, options)
+    }
+
     fn __repr__(&self, py: Python<'_>) -> String {
         format!(
-            "<spacearm._core.RmrcMotion times={} x={} qd={} point_position={} sigma_min={} damping={} attitude_change={} final_position_error={:?}>",
+            "<spacearm.analysis.Motion '{}' {} times={} x={} qd={} point_position={} sigma_min={} damping={} attitude_change={} final_position_error={:?}>",
+            self.robot_name,
+            self.strategy,
             shape_of(py, &self.times),
             shape_of(py, &self.x),
             shape_of(py, &self.qd),

@@ -1,78 +1,106 @@
-//! The typed description of a model that `Model.describe()` hands to Python: `ModelInfo` with
-//! its `BaseInfo`, `LinkInfo` (each with its `JointLimitsInfo`) and `PointInfo`. Frozen
-//! snapshots of the immutable core `Model`, read by `spacearm.model.description`; they carry
-//! only what the core holds (frames and units: docs/conventions.md, "A model's frames,
-//! concretely"). Every array attribute is a new numpy array at each access, so no caller can
-//! change what another reads.
+//! The typed description of a model, the public `spacearm.ModelDescription` (what
+//! `Model.describe()` and `Robot.description` return) with its `BaseDescription`,
+//! `LinkDescription` (each with its `JointLimits`) and `PointDescription`: frozen snapshots of
+//! the immutable core `Model`, carrying only what the core holds (frames and units:
+//! docs/conventions.md, "A model's frames, concretely"). These classes are the public types
+//! (`spacearm.model.description` re-exports them); there is no Python copy of their fields.
+//!
+//! Everything is built once, when the model is described: every attribute read hands out the
+//! same object, and the arrays are read-only, so no caller can change what another reads.
+//! `to_dict` is the plain-data form of `Robot.describe()`; `link`/`point` look items up by name.
 
-use nalgebra::{Matrix3, Vector3};
-use numpy::{PyArray1, PyArray2};
+use nalgebra::{Matrix, Vector3};
+use numpy::npyffi::flags::NPY_ARRAY_WRITEABLE;
+use numpy::{PyArray, PyArray1, PyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyTuple;
+use pyo3::types::{PyDict, PyList, PyTuple};
 use spacearm_core as core;
 
 use crate::convert::{array1, matrix};
+use crate::errors_py::{new_error, ErrorClass};
 
-/// The spacecraft base (body 0); its frame has its origin at the base CM.
-#[pyclass(module = "spacearm._core", name = "BaseInfo", frozen)]
-#[derive(Clone)]
-pub struct PyBaseInfo {
+/// `a`, made read-only (numpy's `setflags(write=False)`).
+fn read_only<'py, D>(a: Bound<'py, PyArray<f64, D>>) -> Py<PyArray<f64, D>> {
+    // SAFETY: a fresh array that nothing else references yet; clearing WRITEABLE is what
+    // `ndarray.setflags(write=False)` does.
+    unsafe { (*a.as_array_ptr()).flags &= !NPY_ARRAY_WRITEABLE };
+    a.unbind()
+}
+
+fn vector<'py>(py: Python<'py>, v: &[f64]) -> Py<PyArray1<f64>> {
+    read_only(array1(py, v))
+}
+
+fn matrix3(py: Python<'_>, m: &nalgebra::Matrix3<f64>) -> Py<PyArray2<f64>> {
+    read_only(matrix(py, m))
+}
+
+fn vector3(py: Python<'_>, v: &Vector3<f64>) -> Py<PyArray1<f64>> {
+    vector(py, Matrix::as_slice(v))
+}
+
+/// `array.tolist()`: nested lists of Python floats.
+fn to_list<'py, D>(py: Python<'py>, a: &Py<PyArray<f64, D>>) -> PyResult<Bound<'py, PyAny>> {
+    a.bind(py).call_method0("tolist")
+}
+
+/// The spacecraft base (body 0). Its frame has its origin at the base CM.
+#[pyclass(module = "spacearm._core", name = "BaseDescription", frozen)]
+pub struct PyBaseDescription {
     /// The base's name.
     #[pyo3(get)]
     name: String,
     /// Mass, kg.
     #[pyo3(get)]
     mass: f64,
-    inertia: Matrix3<f64>,
+    /// (3, 3) kg·m², read-only: inertia about the base CM, in base-frame axes.
+    #[pyo3(get)]
+    inertia: Py<PyArray2<f64>>,
 }
 
 #[pymethods]
-impl PyBaseInfo {
-    /// (3, 3) kg·m²: inertia about the base CM, in base-frame axes.
-    #[getter]
-    fn inertia<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        matrix(py, &self.inertia)
-    }
-
+impl PyBaseDescription {
     fn __repr__(&self) -> String {
-        format!("<spacearm._core.BaseInfo '{}': mass {} kg, inertia (3, 3)>", self.name, self.mass)
+        format!("<spacearm.BaseDescription '{}': mass {} kg, inertia (3, 3)>", self.name, self.mass)
     }
 }
 
-/// A joint's limits; an absent bound is infinite (`-inf` for `lower`, `inf` for the others).
-#[pyclass(module = "spacearm._core", name = "JointLimitsInfo", frozen)]
-#[derive(Clone)]
-pub struct PyJointLimitsInfo {
-    /// Lower position bound: rad (revolute) or m (prismatic).
+/// A joint's limits. `lower`/`upper`: position bounds (rad for a revolute joint, m for a
+/// prismatic one); `velocity`: speed bound (rad/s or m/s); `effort`: torque (N·m) or force (N)
+/// bound. An absent bound is infinite (`-inf` for `lower`, `inf` for the others).
+#[pyclass(module = "spacearm._core", name = "JointLimits", frozen)]
+pub struct PyJointLimits {
+    /// Lower position bound: rad (revolute) or m (prismatic); `-inf` when unbounded.
     #[pyo3(get)]
     lower: f64,
-    /// Upper position bound: rad (revolute) or m (prismatic).
+    /// Upper position bound: rad (revolute) or m (prismatic); `inf` when unbounded.
     #[pyo3(get)]
     upper: f64,
-    /// Speed bound: rad/s or m/s.
+    /// Speed bound: rad/s or m/s; `inf` when unbounded.
     #[pyo3(get)]
     velocity: f64,
-    /// Effort bound: N·m (revolute) or N (prismatic).
+    /// Effort bound: N·m (revolute) or N (prismatic); `inf` when unbounded.
     #[pyo3(get)]
     effort: f64,
 }
 
 #[pymethods]
-impl PyJointLimitsInfo {
+impl PyJointLimits {
+    /// `[lower, upper, velocity, effort]`, the order of `Robot.describe()`.
+    fn to_list(&self) -> [f64; 4] {
+        [self.lower, self.upper, self.velocity, self.effort]
+    }
+
     fn __repr__(&self) -> String {
-        format!(
-            "<spacearm._core.JointLimitsInfo lower={} upper={} velocity={} effort={}>",
-            self.lower, self.upper, self.velocity, self.effort
-        )
+        format!("JointLimits(lower={:?}, upper={:?}, velocity={:?}, effort={:?})", self.lower, self.upper, self.velocity, self.effort)
     }
 }
 
 /// One link (body `k + 1` for the `k`-th link) and the joint connecting it to its parent. The
 /// link frame has its origin at the link CM; at `q = 0` its axes are the parent's rotated by
 /// `rotation`.
-#[pyclass(module = "spacearm._core", name = "LinkInfo", frozen)]
-#[derive(Clone)]
-pub struct PyLinkInfo {
+#[pyclass(module = "spacearm._core", name = "LinkDescription", frozen)]
+pub struct PyLinkDescription {
     /// The link's name.
     #[pyo3(get)]
     name: String,
@@ -88,66 +116,46 @@ pub struct PyLinkInfo {
     /// Joint type: "revolute", "prismatic" or "fixed".
     #[pyo3(get, name = "type")]
     kind: &'static str,
-    origin: Vector3<f64>,
-    rotation: [f64; 4],
-    axis: Vector3<f64>,
-    com: Vector3<f64>,
+    /// (3,) m, read-only: joint position in the parent frame, measured from the parent's CM.
+    #[pyo3(get)]
+    origin: Py<PyArray1<f64>>,
+    /// (4,) unit quaternion `[x, y, z, w]`, read-only: the link frame in the parent frame at `q = 0`.
+    #[pyo3(get)]
+    rotation: Py<PyArray1<f64>>,
+    /// (3,) read-only: unit joint axis in the link frame (unused by a fixed joint: as given, or
+    /// z if given zero).
+    #[pyo3(get)]
+    axis: Py<PyArray1<f64>>,
+    /// (3,) m, read-only: the link's CM measured from its joint, in the link frame.
+    #[pyo3(get)]
+    com: Py<PyArray1<f64>>,
     /// Mass, kg.
     #[pyo3(get)]
     mass: f64,
-    inertia: Matrix3<f64>,
+    /// (3, 3) kg·m², read-only: inertia about the link's CM, in link-frame axes.
+    #[pyo3(get)]
+    inertia: Py<PyArray2<f64>>,
     /// The joint's limits.
     #[pyo3(get)]
-    limits: PyJointLimitsInfo,
+    limits: Py<PyJointLimits>,
     /// Index of the joint's coordinate in `q`; None for a fixed joint.
     #[pyo3(get)]
     dof: Option<usize>,
 }
 
 #[pymethods]
-impl PyLinkInfo {
-    /// (3,) m: joint position in the parent frame, measured from the parent's CM.
-    #[getter]
-    fn origin<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        array1(py, self.origin.as_slice())
-    }
-
-    /// (4,) unit quaternion `[x, y, z, w]`: the link frame in the parent frame at `q = 0`.
-    #[getter]
-    fn rotation<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        array1(py, &self.rotation)
-    }
-
-    /// (3,) unit joint axis in the link frame (unused by a fixed joint).
-    #[getter]
-    fn axis<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        array1(py, self.axis.as_slice())
-    }
-
-    /// (3,) m: the link's CM measured from its joint, in the link frame.
-    #[getter]
-    fn com<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        array1(py, self.com.as_slice())
-    }
-
-    /// (3, 3) kg·m²: inertia about the link's CM, in link-frame axes.
-    #[getter]
-    fn inertia<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        matrix(py, &self.inertia)
-    }
-
+impl PyLinkDescription {
     fn __repr__(&self) -> String {
         format!(
-            "<spacearm._core.LinkInfo '{}' ({} joint '{}' on '{}'): origin (3,), rotation (4,), axis (3,), com (3,), inertia (3, 3)>",
+            "<spacearm.LinkDescription '{}' ({} joint '{}' on '{}'): origin (3,), rotation (4,), axis (3,), com (3,), inertia (3, 3)>",
             self.name, self.kind, self.joint, self.parent
         )
     }
 }
 
 /// A named point fixed to a body (an end effector, a grasp point).
-#[pyclass(module = "spacearm._core", name = "PointInfo", frozen)]
-#[derive(Clone)]
-pub struct PyPointInfo {
+#[pyclass(module = "spacearm._core", name = "PointDescription", frozen)]
+pub struct PyPointDescription {
     /// The point's name.
     #[pyo3(get)]
     name: String,
@@ -157,116 +165,166 @@ pub struct PyPointInfo {
     /// Index of the body carrying the point (0 = base).
     #[pyo3(get)]
     body_index: usize,
-    offset: Vector3<f64>,
+    /// (3,) m, read-only: the point from the body's CM, in the body frame.
+    #[pyo3(get)]
+    offset: Py<PyArray1<f64>>,
 }
 
 #[pymethods]
-impl PyPointInfo {
-    /// (3,) m: the point from the body's CM, in the body frame.
-    #[getter]
-    fn offset<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        array1(py, self.offset.as_slice())
-    }
-
+impl PyPointDescription {
     fn __repr__(&self) -> String {
-        format!("<spacearm._core.PointInfo '{}' on '{}': offset (3,)>", self.name, self.body)
+        format!("<spacearm.PointDescription '{}' on '{}': offset (3,)>", self.name, self.body)
     }
 }
 
-/// A whole model: base, links in tree order (a parent before its children), named points, end
-/// effector and initial joint coordinates.
-#[pyclass(module = "spacearm._core", name = "ModelInfo", frozen)]
-pub struct PyModelInfo {
+/// A whole model: base, links in tree order (a parent before its children; link `i` is body
+/// `i + 1`), named points, end effector and initial joint coordinates.
+#[pyclass(module = "spacearm._core", name = "ModelDescription", frozen)]
+pub struct PyModelDescription {
     /// The model's name.
     #[pyo3(get)]
     name: String,
     /// The base (body 0).
     #[pyo3(get)]
-    base: PyBaseInfo,
-    links: Vec<PyLinkInfo>,
-    points: Vec<PyPointInfo>,
+    base: Py<PyBaseDescription>,
+    /// The links in tree order (link `k` is body `k + 1`), a tuple of `LinkDescription`.
+    #[pyo3(get)]
+    links: Py<PyTuple>,
+    /// The named points in the order they were added, a tuple of `PointDescription`.
+    #[pyo3(get)]
+    points: Py<PyTuple>,
     /// Name of the end-effector point, or None.
     #[pyo3(get)]
     end_effector: Option<String>,
-    initial_q: Vec<f64>,
+    /// (N,) read-only: initial joint coordinates, rad (revolute) or m (prismatic), in `q` order.
+    #[pyo3(get)]
+    initial_q: Py<PyArray1<f64>>,
 }
 
 #[pymethods]
-impl PyModelInfo {
-    /// The links in tree order (link `k` is body `k + 1`), a tuple of `LinkInfo`.
-    #[getter]
-    fn links<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
-        PyTuple::new(py, self.links.iter().cloned())
+impl PyModelDescription {
+    /// The link called `name` (raises `spacearm.NotFoundError` if there is none).
+    fn link<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+        find(py, &self.links, name, "link", |l: &PyLinkDescription| &l.name)
     }
 
-    /// The named points in the order they were added, a tuple of `PointInfo`.
-    #[getter]
-    fn points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
-        PyTuple::new(py, self.points.iter().cloned())
+    /// The point called `name` (raises `spacearm.NotFoundError` if there is none).
+    fn point<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+        find(py, &self.points, name, "point", |p: &PyPointDescription| &p.name)
     }
 
-    /// (N,) initial joint coordinates: rad (revolute) or m (prismatic), in `q` order.
-    #[getter]
-    fn initial_q<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        array1(py, &self.initial_q)
+    /// The plain-data form (dicts, lists, tuples of Python numbers and strings), exactly as
+    /// `Robot.describe()` returns it: a new object at each call.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let base = self.base.get();
+        let b = PyDict::new(py);
+        b.set_item("name", &base.name)?;
+        b.set_item("mass", base.mass)?;
+        b.set_item("inertia", to_list(py, &base.inertia)?)?;
+        let links = PyList::empty(py);
+        for link in self.links.bind(py).iter() {
+            let link = link.cast::<PyLinkDescription>()?.get();
+            let d = PyDict::new(py);
+            d.set_item("name", &link.name)?;
+            d.set_item("parent", &link.parent)?;
+            d.set_item("parent_index", link.parent_index)?;
+            d.set_item("joint", &link.joint)?;
+            d.set_item("type", link.kind)?;
+            d.set_item("origin", to_list(py, &link.origin)?)?;
+            d.set_item("rotation", to_list(py, &link.rotation)?)?;
+            d.set_item("axis", to_list(py, &link.axis)?)?;
+            d.set_item("com", to_list(py, &link.com)?)?;
+            d.set_item("mass", link.mass)?;
+            d.set_item("inertia", to_list(py, &link.inertia)?)?;
+            d.set_item("limits", link.limits.get().to_list().to_vec())?;
+            d.set_item("dof", link.dof)?;
+            links.append(d)?;
+        }
+        let points = PyList::empty(py);
+        for p in self.points.bind(py).iter() {
+            let p = p.cast::<PyPointDescription>()?.get();
+            points.append((&p.name, &p.body, to_list(py, &p.offset)?))?;
+        }
+        let out = PyDict::new(py);
+        out.set_item("name", &self.name)?;
+        out.set_item("base", b)?;
+        out.set_item("links", links)?;
+        out.set_item("points", points)?;
+        out.set_item("end_effector", &self.end_effector)?;
+        out.set_item("initial_q", to_list(py, &self.initial_q)?)?;
+        Ok(out)
     }
 
-    fn __repr__(&self) -> String {
+    fn __repr__(&self, py: Python<'_>) -> String {
         format!(
-            "<spacearm._core.ModelInfo '{}': base, {} links, {} points, initial_q ({},)>",
+            "<spacearm.ModelDescription '{}': base, {} links, {} points, initial_q ({},)>",
             self.name,
-            self.links.len(),
-            self.points.len(),
-            self.initial_q.len()
+            self.links.bind(py).len(),
+            self.points.bind(py).len(),
+            self.initial_q.bind(py).len()
         )
     }
 }
 
-impl PyModelInfo {
-    /// The description of `m`, field by field as the core holds it.
-    pub fn of(m: &core::Model) -> PyModelInfo {
-        let base = PyBaseInfo { name: m.base_name().to_string(), mass: m.base().mass, inertia: m.base().inertia };
-        let links = m
-            .links()
-            .iter()
-            .enumerate()
-            .map(|(k, l)| {
-                let j = &l.joint;
-                let q = j.rotation_in_parent;
-                PyLinkInfo {
-                    name: l.name.clone(),
-                    parent: m.body_name(l.parent).to_string(),
-                    parent_index: l.parent,
-                    joint: j.name.clone(),
-                    kind: j.kind.as_str(),
-                    origin: j.origin_in_parent,
-                    rotation: [q.i, q.j, q.k, q.w],
-                    axis: j.axis.into_inner(),
-                    com: l.com_from_joint,
-                    mass: l.mass.mass,
-                    inertia: l.mass.inertia,
-                    limits: PyJointLimitsInfo {
-                        lower: j.limits.lower,
-                        upper: j.limits.upper,
-                        velocity: j.limits.velocity,
-                        effort: j.limits.effort,
-                    },
-                    dof: m.dof_of_body(k + 1),
-                }
-            })
-            .collect();
-        let points = m
-            .points()
-            .iter()
-            .map(|p| PyPointInfo { name: p.name.clone(), body: m.body_name(p.body).to_string(), body_index: p.body, offset: p.offset })
-            .collect();
-        PyModelInfo {
-            name: m.name().to_string(),
-            base,
-            links,
-            points,
-            end_effector: m.end_effector().map(|i| m.points()[i].name.clone()),
-            initial_q: m.initial_q().to_vec(),
+/// The item of `items` (a tuple of `T`) called `name`, else a `NotFoundError` listing the names.
+fn find<'py, T: pyo3::PyClass<Frozen = pyo3::pyclass::boolean_struct::True> + Sync>(
+    py: Python<'py>,
+    items: &Py<PyTuple>,
+    name: &str,
+    what: &str,
+    name_of: fn(&T) -> &String,
+) -> PyResult<Bound<'py, PyAny>> {
+    let items = items.bind(py);
+    let mut names = Vec::with_capacity(items.len());
+    for item in items.iter() {
+        let n = name_of(item.cast::<T>()?.get());
+        if n == name {
+            return Ok(item);
         }
+        names.push(n.clone());
+    }
+    let listed = if names.is_empty() { "none".to_string() } else { names.join(", ") };
+    Err(new_error(py, ErrorClass::NotFound, format!("no {what} named '{name}' ({what}s: {listed})")))
+}
+
+impl PyModelDescription {
+    /// The description of `m`, field by field as the core holds it.
+    pub fn of(py: Python<'_>, m: &core::Model) -> PyResult<PyModelDescription> {
+        let base = PyBaseDescription { name: m.base_name().to_string(), mass: m.base().mass, inertia: matrix3(py, &m.base().inertia) };
+        let mut links = Vec::with_capacity(m.links().len());
+        for (k, l) in m.links().iter().enumerate() {
+            let j = &l.joint;
+            let q = j.rotation_in_parent;
+            let limits = PyJointLimits { lower: j.limits.lower, upper: j.limits.upper, velocity: j.limits.velocity, effort: j.limits.effort };
+            links.push(PyLinkDescription {
+                name: l.name.clone(),
+                parent: m.body_name(l.parent).to_string(),
+                parent_index: l.parent,
+                joint: j.name.clone(),
+                kind: j.kind.as_str(),
+                origin: vector3(py, &j.origin_in_parent),
+                rotation: vector(py, &[q.i, q.j, q.k, q.w]),
+                axis: vector3(py, &j.axis.into_inner()),
+                com: vector3(py, &l.com_from_joint),
+                mass: l.mass.mass,
+                inertia: matrix3(py, &l.mass.inertia),
+                limits: Py::new(py, limits)?,
+                dof: m.dof_of_body(k + 1),
+            });
+        }
+        let points = m.points().iter().map(|p| PyPointDescription {
+            name: p.name.clone(),
+            body: m.body_name(p.body).to_string(),
+            body_index: p.body,
+            offset: vector3(py, &p.offset),
+        });
+        Ok(PyModelDescription {
+            name: m.name().to_string(),
+            base: Py::new(py, base)?,
+            links: PyTuple::new(py, links)?.unbind(),
+            points: PyTuple::new(py, points)?.unbind(),
+            end_effector: m.end_effector().map(|i| m.points()[i].name.clone()),
+            initial_q: vector(py, m.initial_q()),
+        })
     }
 }

@@ -53,11 +53,11 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model_py::PyTape>()?;
     m.add_class::<builder_py::PyModelBuilder>()?;
     m.add_class::<derivatives_py::PyDerivatives>()?;
-    m.add_class::<description_py::PyModelInfo>()?;
-    m.add_class::<description_py::PyBaseInfo>()?;
-    m.add_class::<description_py::PyLinkInfo>()?;
-    m.add_class::<description_py::PyJointLimitsInfo>()?;
-    m.add_class::<description_py::PyPointInfo>()?;
+    m.add_class::<description_py::PyModelDescription>()?;
+    m.add_class::<description_py::PyBaseDescription>()?;
+    m.add_class::<description_py::PyLinkDescription>()?;
+    m.add_class::<description_py::PyJointLimits>()?;
+    m.add_class::<description_py::PyPointDescription>()?;
     m.add_class::<rule_tables_py::PySimDefaults>()?;
     m.add_class::<rule_tables_py::PyModelBounds>()?;
     m.add_class::<rule_tables_py::PyDlsDefaults>()?;
@@ -70,7 +70,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     contact_py::register(m)?;
     m.add_class::<analysis_py::PyRmrcOptions>()?;
     m.add_class::<analysis_results_py::PyJacobianMeasures>()?;
-    m.add_class::<analysis_results_py::PySingularityAnalysis>()?;
+    m.add_class::<analysis_results_py::PySingularityReport>()?;
     m.add_class::<analysis_results_py::PyDetection>()?;
     m.add_class::<analysis_results_py::PyScanResult>()?;
     m.add_class::<analysis_results_py::PyWorkspaceShells>()?;

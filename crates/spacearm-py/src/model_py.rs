@@ -14,7 +14,7 @@ use spacearm_core::algorithms::{aba, crba, dynamics, inertia, kinematics, moment
 use spacearm_core::{gjm, Data, ExternalWrench, JointType};
 
 use crate::batch::{run, Input, Pool};
-use crate::description_py::PyModelInfo;
+use crate::description_py::PyModelDescription;
 use crate::convert::*;
 
 /// A validated spacecraft-manipulator model with its workspaces (private; wrapped by
@@ -166,8 +166,8 @@ impl PyModel {
     }
 
     /// The whole model, typed: base, links in tree order, points, end effector, initial `q`.
-    fn describe(&self) -> PyModelInfo {
-        PyModelInfo::of(&self.model)
+    fn describe(&self, py: Python<'_>) -> PyResult<PyModelDescription> {
+        PyModelDescription::of(py, &self.model)
     }
 
     /// The model as TOML text, the form it pickles in (the core's writer prints every float

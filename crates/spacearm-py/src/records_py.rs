@@ -8,7 +8,7 @@
 
 use numpy::{PyArray1, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyTuple;
+use pyo3::types::{PyDict, PyTuple};
 use spacearm_core::sim::simulate::{SimOptions, SimResult};
 
 /// The quantities a run may record.
@@ -146,9 +146,8 @@ fn shape_text(shape: &[usize]) -> String {
 /// run asked for it (`t` stays float64). Every vector is in the inertial frame 𝒥; SI units.
 ///
 /// `t`, `x` and `u` are always there; a record the run did not make is `None`, and `fields`
-/// names, in order, those it made. (Optional attributes plus that one tuple keep the Python
-/// wrapper to one loop, `{name: getattr(records, name) for name in records.fields}`, with no
-/// list of names of its own to keep in step with this class.)
+/// names, in order, those it made; `to_dict` maps each of those names to its array (the arrays
+/// themselves, no copy): the data dict of `Trajectory` and `Rollouts`.
 #[pyclass(module = "spacearm._core", name = "RunRecords", frozen)]
 #[derive(Default)]
 pub struct PyRunRecords {
@@ -262,6 +261,16 @@ impl PyRunRecords {
         PyTuple::new(py, self.made.iter().map(|r| r.name()))
     }
 
+    /// `{name: array}` for every record made, in the order of `fields` (the arrays themselves,
+    /// no copy; a new dict at each call).
+    fn to_dict<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(slf.py());
+        for name in slf.get().made.iter().map(|r| r.name()) {
+            d.set_item(name, slf.getattr(name)?)?;
+        }
+        Ok(d)
+    }
+
     fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
         let mut parts = Vec::new();
         for name in slf.get().made.iter().map(|r| r.name()) {
@@ -302,6 +311,16 @@ impl PyRunEvents {
 
 #[pymethods]
 impl PyRunEvents {
+    /// `{"saturation_t", "saturation_actuator", "saturation_kind"}`: the three arrays under their
+    /// record names (no copy; a new dict at each call).
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        d.set_item("saturation_t", &self.saturation_t)?;
+        d.set_item("saturation_actuator", &self.saturation_actuator)?;
+        d.set_item("saturation_kind", &self.saturation_kind)?;
+        Ok(d)
+    }
+
     fn __repr__(&self, py: Python<'_>) -> String {
         format!("RunEvents({} saturation onsets)", self.saturation_t.bind(py).len())
     }
@@ -428,6 +447,43 @@ impl PyRunMeta {
 
 #[pymethods]
 impl PyRunMeta {
+    /// The run-description dict of docs/simulation.md (`Trajectory.meta` less `duration` and
+    /// `robot`, which the caller adds): plain Python values, a new dict at each call. The drift
+    /// entries become `conserved` (the quantities in order), `drift` and `drift_scales` (by
+    /// quantity); the dropped base wrench becomes `{"max_norm", "count"}`.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        d.set_item("mode", self.mode)?;
+        d.set_item("integrator", self.integrator)?;
+        d.set_item("dt", self.dt)?;
+        d.set_item("rtol", self.rtol)?;
+        d.set_item("atol", self.atol)?;
+        d.set_item("controller", &self.controller)?;
+        let drift: Vec<&PyConservedDrift> = self.drift.iter().map(|c| c.get()).collect();
+        d.set_item("conserved", drift.iter().map(|c| c.quantity.as_str()).collect::<Vec<_>>())?;
+        let (values, scales) = (PyDict::new(py), PyDict::new(py));
+        for c in &drift {
+            values.set_item(&c.quantity, c.drift)?;
+            scales.set_item(&c.quantity, c.scale)?;
+        }
+        d.set_item("drift", values)?;
+        d.set_item("drift_scales", scales)?;
+        d.set_item("n_steps", self.n_steps)?;
+        d.set_item("n_rejected", self.n_rejected)?;
+        d.set_item("n_rhs_evals", self.n_rhs_evals)?;
+        d.set_item("actuator_names", &self.actuator_names)?;
+        d.set_item("wheel_dofs", &self.wheel_dofs)?;
+        d.set_item("tracking_error_kind", self.tracking_error_kind)?;
+        d.set_item("record_every", self.record_every)?;
+        d.set_item("record_dtype", self.record_dtype)?;
+        d.set_item("joint_limits", self.joint_limits)?;
+        let dropped = PyDict::new(py);
+        dropped.set_item("max_norm", self.dropped_base_wrench_max_norm)?;
+        dropped.set_item("count", self.dropped_base_wrench_count)?;
+        d.set_item("dropped_base_wrench", dropped)?;
+        Ok(d)
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "RunMeta(mode={:?}, integrator={:?}, controller={:?}, n_steps={}, {} conserved)",

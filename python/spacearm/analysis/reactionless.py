@@ -1,16 +1,20 @@
 """Reaction null space and reactionless motion (Nenchev, Umetani & Yoshida 1992; Nenchev et al.
 1999), and the resolved-motion-rate planner shared with redundancy resolution
 (``docs/reactionless.md``, ``docs/redundancy.md``).
+
+:class:`ReactionNullSpace` and the rates of :func:`rmrc_rates` (``RmrcRates``) are the
+extension's own frozen classes; :class:`Motion` is a subclass of the extension's ``RmrcMotion``
+that adds the figure only (constructing it runs the motion in the core).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
 
 from .. import _core
+from .._core import ReactionNullSpace
 from .._util.arrays import number, vector
 from ..errors import ArgumentError, SpacearmTypeError
 from ._common import TaskLike, new_figure, save_figure, task_rows
@@ -21,22 +25,6 @@ __all__ = ["ReactionNullSpace", "reaction_null_space", "Motion", "move_to", "rmr
 STRATEGIES = ("naive", "reactionless", "minimum_disturbance")
 
 
-@dataclass(frozen=True)
-class ReactionNullSpace:
-    """Joint rates that leave the base attitude (``"angular"``) or the whole base (``"full"``)
-    undisturbed, with zero system momentum."""
-
-    base_motion_map: np.ndarray  #: rows of −H0⁻¹ H0m: joint rates → base angular velocity (3×N) or twist (6×N)
-    singular_values: np.ndarray  #: of the map, decreasing
-    rank: int
-    basis: np.ndarray  #: orthonormal basis of the null space, N×(N − rank)
-    projector: np.ndarray  #: N×N orthogonal projector onto it
-
-    @property
-    def dimension(self) -> int:
-        return self.basis.shape[1]
-
-
 def reaction_null_space(robot, x=None, base_motion: str = "angular", tolerance: float = 1e-9) -> ReactionNullSpace:
     """The reaction null space at ``x`` (default: initial configuration): the null space of the
     angular rows (``base_motion="angular"``, Nenchev's RNS: null space of the coupling inertia
@@ -45,9 +33,7 @@ def reaction_null_space(robot, x=None, base_motion: str = "angular", tolerance: 
     x = robot.neutral_configuration() if x is None else x
     if not isinstance(base_motion, str):
         raise SpacearmTypeError(f"base_motion must be 'angular' or 'full', got {type(base_motion).__name__} {base_motion!r}")
-    r = _core.analysis_reaction_null_space(robot.core_model, x, base_motion, number(tolerance, "tolerance"))
-    return ReactionNullSpace(base_motion_map=r.base_motion_map, singular_values=r.singular_values, rank=r.rank, basis=r.basis,
-                             projector=r.projector)
+    return _core.analysis_reaction_null_space(robot.core_model, x, base_motion, number(tolerance, "tolerance"))
 
 
 def _check_strategy(strategy: str) -> str:
@@ -57,39 +43,27 @@ def _check_strategy(strategy: str) -> str:
 
 
 def rmrc_rates(robot, x, desired_twist, point=None, task: TaskLike = None, strategy: str = "naive", threshold: float = _core.DLS_DEFAULTS.threshold,
-               max_damping: float = _core.DLS_DEFAULTS.max_damping, manipulability_gain: float = 0.0, joint_limit_gain: float = 0.0) -> dict:
+               max_damping: float = _core.DLS_DEFAULTS.max_damping, manipulability_gain: float = 0.0, joint_limit_gain: float = 0.0) -> _core.RmrcRates:
     """One evaluation of the resolved-motion-rate law: joint rates realising the task rows of
     ``desired_twist`` (6 values ``[v; w]`` in 𝒥) through ``J*`` (DLS with the damping law of
-    :func:`spacearm.analysis.damping`), with the null-space objectives. Returns ``qd``,
-    ``sigma_min``, ``damping`` and ``base_angular_velocity``."""
+    :func:`spacearm.analysis.damping`), with the null-space objectives. Returns the extension's
+    frozen ``RmrcRates``: ``qd``, ``sigma_min``, ``damping`` and ``base_angular_velocity``."""
     body, off = robot.resolve_point(point)
     options = _core.RmrcOptions(rows=task_rows(robot, task), threshold=number(threshold, "threshold"),
                                 max_damping=number(max_damping, "max_damping"), strategy=_check_strategy(strategy),
                                 manipulability_gain=number(manipulability_gain, "manipulability_gain"),
                                 joint_limit_gain=number(joint_limit_gain, "joint_limit_gain"))
-    r = _core.analysis_rmrc_rates(robot.core_model, x, body, off, vector(desired_twist, "desired_twist", 6), options)
-    return {"qd": r.qd, "sigma_min": r.sigma_min, "damping": r.damping, "base_angular_velocity": r.base_angular_velocity}
+    return _core.analysis_rmrc_rates(robot.core_model, x, body, off, vector(desired_twist, "desired_twist", 6), options)
 
 
-@dataclass
-class Motion:
-    """A closed-loop point-to-point motion of a free-floating system (zero momentum)."""
+class Motion(_core.RmrcMotion):
+    """A closed-loop point-to-point motion of a free-floating system (zero momentum), what
+    :func:`move_to` returns: the extension's ``RmrcMotion`` (``robot_name``, ``strategy``,
+    ``target``, ``times`` (K+1,), ``x`` (K+1, 7+N), ``qd`` (K+1, N), ``point_position`` (K+1, 3)
+    in 𝒥, ``sigma_min`` and ``damping`` of the (projected) task Jacobian, ``attitude_change``
+    (rad from the start), ``max_attitude_change``, ``final_position_error`` (m)) with its figure."""
 
-    robot_name: str
-    strategy: str
-    target: np.ndarray
-    times: np.ndarray  #: (K+1,)
-    x: np.ndarray  #: (K+1, 7+N) configurations
-    qd: np.ndarray  #: (K+1, N) joint rates
-    point_position: np.ndarray  #: (K+1, 3) in 𝒥
-    sigma_min: np.ndarray  #: σ_min of the (projected) task Jacobian
-    damping: np.ndarray
-    attitude_change: np.ndarray  #: base rotation angle from the start, rad
-    final_position_error: float  #: m
-
-    @property
-    def max_attitude_change(self) -> float:
-        return float(np.max(self.attitude_change))
+    __slots__ = ()
 
     def plot(self, path, others=(), title: Optional[str] = None) -> str:
         """Write :meth:`figure` to ``path`` (PNG, atomically); returns the path."""
@@ -144,6 +118,4 @@ def move_to(robot, target, x0=None, point=None, task: TaskLike = None, strategy:
                                 max_damping=number(max_damping, "max_damping"), gain=number(gain, "gain"),
                                 strategy=_check_strategy(strategy), manipulability_gain=number(manipulability_gain, "manipulability_gain"),
                                 joint_limit_gain=number(joint_limit_gain, "joint_limit_gain"))
-    m = _core.analysis_move_to(robot.core_model, x0, body, off, tgt, number(duration, "duration"), number(settle, "settle"), number(dt, "dt"), options)
-    return Motion(robot.name, strategy, tgt, times=m.times, x=m.x, qd=m.qd, point_position=m.point_position, sigma_min=m.sigma_min,
-                  damping=m.damping, attitude_change=m.attitude_change, final_position_error=m.final_position_error)
+    return Motion(robot.core_model, x0, body, off, tgt, number(duration, "duration"), number(settle, "settle"), number(dt, "dt"), options)

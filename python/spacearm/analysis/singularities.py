@@ -1,6 +1,9 @@
 """Dynamic singularities of free-floating systems (Papadopoulos & Dubowsky 1991, 1993):
 rank loss of the Generalized Jacobian ``J*`` (paper eq. 110), compared with the fixed-base
 Jacobian ``J_m`` (eq. 106). Theory and the damping law: ``docs/singularities.md``.
+
+:class:`SingularityReport`, :class:`JacobianMeasures` and :class:`Detection` are the extension's
+own frozen classes (``crates/spacearm-py/src/analysis_results_py.rs``), returned as they are.
 """
 
 from __future__ import annotations
@@ -11,6 +14,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .. import _core
+from .._core import Detection, JacobianMeasures, SingularityReport
 from .._util.arrays import integer, number
 from ._common import TaskLike, chunked, concat_columns, dof_kinds, new_figure, samples_2d, save_figure, task_rows
 
@@ -21,54 +25,13 @@ SCAN_COLUMNS = ("sigma_min_generalized", "sigma_max_generalized", "manipulabilit
 __all__ = ["JacobianMeasures", "SingularityReport", "Detection", "SingularityMap", "analyze", "detect", "damping", "scan", "singularity_map"]
 
 
-@dataclass(frozen=True)
-class JacobianMeasures:
-    """Singular-value measures of one task Jacobian (m×N)."""
-
-    jacobian: np.ndarray  #: the task rows analysed
-    singular_values: np.ndarray  #: decreasing, min(m, N) of them
-    condition: float  #: σ_max / σ_min (inf at a singularity)
-    manipulability: float  #: Yoshikawa's Π σ_i
-    task_directions: np.ndarray  #: left singular vectors (m×min(m, N)); the last is the worst task direction
-    joint_directions: np.ndarray  #: right singular vectors (N×N); columns beyond the rank span the null space
-
-    @property
-    def sigma_min(self) -> float:
-        return float(self.singular_values[-1])
-
-
-@dataclass(frozen=True)
-class SingularityReport:
-    """``J*`` (free-floating, zero momentum) and ``J_m`` (base held fixed) at one configuration."""
-
-    generalized: JacobianMeasures
-    fixed_base: JacobianMeasures
-    task: tuple  #: twist rows analysed
-
-
-@dataclass(frozen=True)
-class Detection:
-    """What the detector tells a resolved-motion-rate controller."""
-
-    sigma_min: float
-    condition: float
-    damping: float  #: recommended λ of the DLS inverse
-    near_singular: bool  #: σ_min < ε
-
-
 def analyze(robot, x=None, point=None, task: TaskLike = None) -> SingularityReport:
     """Singular values, condition numbers, manipulability and singular directions of the task
     rows of ``J*`` and of ``J_m`` at ``x`` (default: the initial configuration)."""
     x = robot.neutral_configuration() if x is None else x
     body, off = robot.resolve_point(point)
     rows = task_rows(robot, task)
-    a = _core.analysis_singularity(robot.core_model, x, body, off, rows)
-    return SingularityReport(_measures(a.generalized), _measures(a.fixed_base), tuple(rows))
-
-
-def _measures(m: _core.JacobianMeasures) -> JacobianMeasures:
-    return JacobianMeasures(jacobian=m.jacobian, singular_values=m.singular_values, condition=m.condition, manipulability=m.manipulability,
-                            task_directions=m.task_directions, joint_directions=m.joint_directions)
+    return _core.analysis_singularity(robot.core_model, x, body, off, rows)
 
 
 def damping(sigma_min: float, threshold: float, max_damping: float) -> float:
@@ -80,8 +43,8 @@ def detect(robot, x, point=None, task: TaskLike = None, threshold: float = _core
     """Singularity detector for RMRC: ``σ_min`` and condition of the task rows of ``J*`` and
     the recommended DLS damping (``threshold`` = ε, ``max_damping`` = λ_max)."""
     body, off = robot.resolve_point(point)
-    d = _core.analysis_detect(robot.core_model, x, body, off, task_rows(robot, task), number(threshold, "threshold"), number(max_damping, "max_damping"))
-    return Detection(sigma_min=d.sigma_min, condition=d.condition, damping=d.damping, near_singular=d.near_singular)
+    return _core.analysis_detect(robot.core_model, x, body, off, task_rows(robot, task), number(threshold, "threshold"),
+                                 number(max_damping, "max_damping"))
 
 
 def scan(robot, samples, point=None, task: TaskLike = None, progress: bool = False) -> dict:

@@ -1,12 +1,15 @@
 """Workspaces of a free-floating manipulator: reachable workspace about the system CM (Vafa &
 Dubowsky's virtual manipulator), path-dependent and path-independent workspaces (Papadopoulos
 & Dubowsky 1991, 1993) and the fixed-base workspace for comparison. ``docs/workspace.md``.
+
+:class:`Workspace` is a subclass of the extension's ``WorkspaceShells`` (the shells, computed
+in the core when it is constructed): it adds the samples and scan columns they came from, how
+they were sampled, the timing, and the figure; the shells' fields are the extension's own.
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
@@ -19,26 +22,19 @@ from ._common import TaskLike, chunked, concat_columns, joint_bounds, new_figure
 __all__ = ["Workspace", "workspace"]
 
 
-@dataclass
-class Workspace:
-    """Sampled workspaces (radii in m)."""
+class Workspace(_core.WorkspaceShells):
+    """Sampled workspaces (radii in m): the extension's ``WorkspaceShells`` (``reachable``
+    (R_min, R_max) of the free-floating reachable workspace about the system CM, ``fixed_base``
+    (min, max) distance from the base CM with the base held fixed, ``singular_radii``,
+    ``path_dependent`` and ``path_independent`` shells [(a, b), ...], ``radial_resolution``) with
+    the scan it came from: ``robot_name``, ``task``, ``samples`` (M, N) joint samples,
+    ``point_from_base`` (M, 3) point from the base CM in the base frame (fixed-base workspace),
+    ``point_from_com`` (M, 3) from the system CM (virtual manipulator), ``sigma_min_generalized``
+    (M,), ``resolution`` (how the joint space was sampled), ``singular_threshold``, ``seconds``
+    and ``samples_per_second``."""
 
-    robot_name: str
-    task: tuple
-    samples: np.ndarray  #: (M, N) joint samples
-    point_from_base: np.ndarray  #: (M, 3) point from the base CM, base frame: fixed-base workspace
-    point_from_com: np.ndarray  #: (M, 3) point from the system CM, base frame (virtual manipulator)
-    sigma_min_generalized: np.ndarray  #: (M,)
-    reachable: tuple  #: (R_min, R_max) of the free-floating reachable workspace about the system CM
-    fixed_base: tuple  #: (min, max) distance from the base CM, base held fixed
-    singular_radii: np.ndarray
-    path_dependent: list  #: [(a, b), ...] PDW shells
-    path_independent: list  #: [(a, b), ...] PIW shells
-    resolution: str  #: how the joint space was sampled
-    radial_resolution: float
-    singular_threshold: float
-    seconds: float
-    samples_per_second: float
+    __slots__ = ("robot_name", "task", "samples", "point_from_base", "point_from_com", "sigma_min_generalized", "resolution",
+                 "singular_threshold", "seconds", "samples_per_second")
 
     def plot(self, path, plane: str = "xy", slab: Optional[float] = None, title: Optional[str] = None) -> str:
         """Write :meth:`figure` to ``path`` (PNG, atomically); returns the path."""
@@ -126,10 +122,9 @@ def workspace(robot, resolution: int = 15, samples=None, point=None, task: TaskL
     r = concat_columns(parts, ("sigma_min_generalized", "det_generalized", "point_from_com", "point_from_base"))
     thr = 0.01 * float(np.max(r["sigma_min_generalized"])) if singular_threshold is None else float(singular_threshold)
     rres = 0.01 * float(np.max(np.linalg.norm(r["point_from_com"], axis=1))) if radial_resolution is None else float(radial_resolution)
-    w = _core.analysis_shells(r["sigma_min_generalized"], r["det_generalized"], r["point_from_com"], r["point_from_base"], thr, rres,
-                              None if grid_res is None else (grid_res, n))
-    return Workspace(
-        robot.name, tuple(rows), q, r["point_from_base"], r["point_from_com"], r["sigma_min_generalized"],
-        w.reachable, w.fixed_base, w.singular_radii, w.path_dependent, w.path_independent,
-        how, rres, thr, elapsed, q.shape[0] / elapsed,
-    )
+    w = Workspace(r["sigma_min_generalized"], r["det_generalized"], r["point_from_com"], r["point_from_base"], thr, rres,
+                  None if grid_res is None else (grid_res, n))
+    w.robot_name, w.task, w.samples, w.resolution = robot.name, tuple(rows), q, how
+    w.point_from_base, w.point_from_com, w.sigma_min_generalized = r["point_from_base"], r["point_from_com"], r["sigma_min_generalized"]
+    w.singular_threshold, w.seconds, w.samples_per_second = thr, elapsed, q.shape[0] / elapsed
+    return w

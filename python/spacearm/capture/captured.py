@@ -29,7 +29,6 @@ from .. import _core
 from .._util.arrays import number, vector
 from ..errors import ArgumentError
 from ..rotations import quat_from_matrix
-from ..sim._run_result import meta_dict, run_data
 from ..sim.simulation import DEFAULTS, _check_controller, _options
 from ..sim.trajectory import Trajectory
 from .impact import _check_target, _robot_point
@@ -162,8 +161,9 @@ def soft_capture(robot, x, u, target, target_state, duration: float, *, frequenc
     res = _core.soft_capture(robot.core_model, xv, uv, int(body), np.asarray(offset, dtype=float), target.body.core_model, tx, tu,
                              int(tbody), np.asarray(tpoint, dtype=float), duration, options, spec, frequency=omega, damping_ratio=zeta,
                              stiffness=given[0], damping=given[1], rotational_stiffness=given[2], rotational_damping=given[3])
-    rd, td = run_data(res.robot), run_data(res.target)
-    meta = meta_dict(res.robot.meta)
+    rd = {**res.robot.records.to_dict(), **res.robot.events.to_dict()}
+    td = res.target.records.to_dict()
+    meta = res.robot.meta.to_dict()
     meta["duration"], meta["robot"] = duration, robot.name
     gains = dict(zip(names, (res.stiffness, res.damping, res.rotational_stiffness, res.rotational_damping)))
     return SoftCaptureRun(rd["t"], rd["x"], rd["u"], np.hstack([td["x"], td["u"]]), np.asarray(res.wrench), rd["tau"], gains,

@@ -25,7 +25,6 @@ import numpy as np
 from .. import _core
 from .._util.arrays import number, vector
 from ..errors import ArgumentError
-from ..sim._run_result import meta_dict, run_data
 from ..sim.simulation import DEFAULTS, _check_controller, _options
 from ..sim.trajectory import Trajectory
 
@@ -81,8 +80,8 @@ def simulate_closed_chain(robot, x0, u0, duration: float, point_a, point_b, *, d
                        record_every=1, joint_limits=DEFAULTS["joint_limits"], max_steps=DEFAULTS["max_steps"], record_dtype="float64")
     spec = None if controller is None else controller._spec(robot)
     res = _core.simulate_closed_chain(robot.core_model, x0, u0, duration, *frames, options, spec, stabilization=alpha)
-    data = run_data(res.run)
-    meta = meta_dict(res.run.meta)
+    data = {**res.run.records.to_dict(), **res.run.events.to_dict()}
+    meta = res.run.meta.to_dict()
     meta["duration"], meta["robot"] = duration, robot.name
     return ClosedChainRun(data["t"], data["x"], data["u"], np.asarray(res.constraint_wrench), np.asarray(res.pose_error),
                           Trajectory._adopt(robot, data, meta))

@@ -249,7 +249,7 @@ class Robot:
         (:class:`~spacearm.ModelDescription`); built once (the model is immutable)."""
         desc = self.__dict__.get("_description")
         if desc is None:
-            desc = self._description = ModelDescription.from_core(self._m.describe())
+            desc = self._description = self._m.describe()
         return desc
 
     def describe(self) -> dict:

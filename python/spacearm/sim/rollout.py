@@ -24,7 +24,6 @@ import numpy as np
 
 from .. import _core
 from ..errors import ArgumentError, NotFoundError, ShapeError, SimulationError
-from ._run_result import events_dict, meta_dict, records_dict
 from .simulation import DEFAULTS, _check_controller, _check_duration, _check_robot, _options, _warn_dropped
 
 __all__ = ["rollout", "Rollouts"]
@@ -158,7 +157,7 @@ def rollout(
         _check_controller(controller)
         specs = None if controller is None else controller._spec(robot)
     batch = _core.rollout(models, x0, u0, duration, options, specs, None if threads is None else int(threads))
-    meta = [meta_dict(m) for m in batch.meta]
+    meta = [None if m is None else m.to_dict() for m in batch.meta]
     for m in meta:
         if m is not None:
             m["duration"] = duration
@@ -185,9 +184,9 @@ class Rollouts:
         self._ok = np.asarray(batch.ok, dtype=bool)
         self._reason = list(batch.reason)
         self._error_class = list(batch.error_class)
-        self._events = [None if e is None else events_dict(e) for e in batch.events]
+        self._events = [None if e is None else e.to_dict() for e in batch.events]
         self._meta = meta
-        data = records_dict(batch.records)
+        data = batch.records.to_dict()
         for a in data.values():
             a.setflags(write=False)
         self._ok.setflags(write=False)

@@ -24,7 +24,6 @@ from .. import _core
 from .._util.arrays import vector
 from ..control import Thrusters, _Controller
 from ..errors import ArgumentError, NotFoundError
-from ._run_result import meta_dict, run_data
 
 __all__ = ["simulate", "MODES", "INTEGRATORS", "DEFAULTS", "RECORD_DTYPES"]
 
@@ -195,8 +194,11 @@ def _run(
         result = _core.simulate(robot.core_model, x0, u0, duration, options, spec)
     finally:
         close()
-    data = run_data(result)
-    meta = meta_dict(result.meta)
+    # The typed run result as the public plain form: the records and saturation onsets as one
+    # dict of its arrays (no copy), the description as the meta dict (Trajectory's own form, as
+    # Trajectory.load gives it back from a file; plain data, so a Trajectory pickles).
+    data = {**result.records.to_dict(), **result.events.to_dict()}
+    meta = result.meta.to_dict()
     meta["duration"] = duration
     meta["robot"] = robot.name
     _warn_dropped(mode, meta, stacklevel=3)

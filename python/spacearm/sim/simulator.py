@@ -24,7 +24,6 @@ import numpy as np
 
 from .. import _core
 from ..errors import ArgumentError
-from ._run_result import meta_dict, run_data
 from .simulation import DEFAULTS, _check_controller, _check_robot, _options
 
 __all__ = ["Simulator"]
@@ -130,8 +129,8 @@ class Simulator:
         from .trajectory import Trajectory
 
         result = self._core.result()
-        data = run_data(result)
-        meta = meta_dict(result.meta)
+        data = {**result.records.to_dict(), **result.events.to_dict()}
+        meta = result.meta.to_dict()
         meta["duration"] = float(data["t"][-1])
         meta["robot"] = self._robot.name
         return Trajectory._adopt(self._robot, data, meta)
