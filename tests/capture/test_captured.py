@@ -228,7 +228,7 @@ def test_core_soft_capture_against_the_numpy_rk4(law):
     agrees to its tolerance. The hold law: the native ComputedTorque with a constant reference
     against hold_torque (numpy: H* (kp (q_hold − q) − kd q̇) + c*) as a Python callable."""
     from spacearm import control
-    from spacearm.capture.detumble import hold_torque
+    from capture_oracles import hold_torque
 
     robot, x, u, target, s = _scene(spin=(0.05, -0.1, 0.2))
     s[:3] += np.array([0.01, -0.005, 0.008])  # start with the spring stretched

@@ -13,7 +13,7 @@ from scipy.integrate import solve_ivp
 import spacearm
 from spacearm import control
 from spacearm.capture import capture, detumble
-from spacearm.capture.detumble import hold_torque
+from capture_oracles import hold_torque
 from spacearm.rotations import quat_to_matrix
 
 MODELS = Path(__file__).resolve().parents[2] / "examples" / "models"

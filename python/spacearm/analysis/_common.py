@@ -71,17 +71,3 @@ def concat_columns(parts, names) -> dict:
     """The attributes ``names`` of the chunk results (one row per sample), each concatenated
     over the chunks: a dict of arrays."""
     return {k: np.concatenate([getattr(p, k) for p in parts], axis=0) for k in names}
-
-
-def new_figure(*args, **kwargs):
-    """:func:`spacearm.viz.figures.new_figure` (the figures' one home; imported when drawn)."""
-    from ..viz.figures import new_figure as make
-
-    return make(*args, **kwargs)
-
-
-def save_figure(fig, path) -> str:
-    """:func:`spacearm.viz.figures.save_figure`: the format the file name asks for, atomically."""
-    from ..viz.figures import save_figure as save
-
-    return save(fig, path, dpi=130, bbox_inches="tight")

@@ -11,13 +11,12 @@ from __future__ import annotations
 
 from typing import Optional
 
-import numpy as np
 
 from .. import _core
 from .._core import ReactionNullSpace
 from .._util.arrays import number, vector
 from ..errors import ArgumentError, SpacearmTypeError
-from ._common import TaskLike, new_figure, save_figure, task_rows
+from ._common import TaskLike, task_rows
 
 __all__ = ["ReactionNullSpace", "reaction_null_space", "Motion", "move_to", "rmrc_rates", "STRATEGIES"]
 
@@ -66,36 +65,17 @@ class Motion(_core.RmrcMotion):
     __slots__ = ()
 
     def plot(self, path, others=(), title: Optional[str] = None) -> str:
-        """Write :meth:`figure` to ``path`` (PNG, atomically); returns the path."""
-        return save_figure(self.figure(others, title), path)
+        """Write :meth:`figure` to ``path`` in the format its suffix names (atomically); returns the path."""
+        from ..viz.figures import plot_to
+
+        return plot_to(path, lambda: self.figure(others, title), bbox_inches="tight")
 
     def figure(self, others=(), title: Optional[str] = None):
         """Point path (x–y), base attitude change and σ_min against time, for this motion and
-        any ``others`` (e.g. a naive motion to the same target). Returns the matplotlib ``Figure``."""
-        fig = new_figure(figsize=(13, 4.2))
-        ax_path, ax_att, ax_sig = fig.subplots(1, 3)
-        for m in (self, *others):
-            ax_path.plot(m.point_position[:, 0], m.point_position[:, 1], label=m.strategy)
-            ax_att.plot(m.times, np.degrees(m.attitude_change), label=f"{m.strategy} (max {np.degrees(m.max_attitude_change):.3g}°)")
-            ax_sig.plot(m.times, m.sigma_min, label=m.strategy)
-        p0 = self.point_position[0]
-        ax_path.plot([p0[0]], [p0[1]], "ko", label="start")
-        ax_path.plot([self.target[0]], [self.target[1]], "r*", ms=12, label="target")
-        ax_path.set_xlabel("x (m)")
-        ax_path.set_ylabel("y (m)")
-        ax_path.set_aspect("equal", adjustable="datalim")
-        ax_path.set_title("end-effector path (inertial x–y)", fontsize=10)
-        ax_path.legend(fontsize=8)
-        ax_att.set_xlabel("t (s)")
-        ax_att.set_ylabel("base attitude change (deg)")
-        ax_att.set_title("base attitude disturbance", fontsize=10)
-        ax_att.legend(fontsize=8)
-        ax_sig.set_xlabel("t (s)")
-        ax_sig.set_ylabel("σ_min of the task Jacobian")
-        ax_sig.set_title("distance from singularity", fontsize=10)
-        ax_sig.legend(fontsize=8)
-        fig.suptitle(title or f"{self.robot_name}: point-to-point motion of the free-floating system (zero momentum)", fontsize=10)
-        return fig
+        any ``others`` (:func:`spacearm.viz.analysis.motion_figure`). Returns the matplotlib ``Figure``."""
+        from ..viz.analysis import motion_figure
+
+        return motion_figure(self, others, title)
 
 
 def move_to(robot, target, x0=None, point=None, task: TaskLike = None, strategy: str = "reactionless", duration: float = 5.0,

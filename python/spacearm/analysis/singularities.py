@@ -16,7 +16,7 @@ import numpy as np
 from .. import _core
 from .._core import Detection, JacobianMeasures, SingularityReport
 from .._util.arrays import integer, number
-from ._common import TaskLike, chunked, concat_columns, dof_kinds, new_figure, samples_2d, save_figure, task_rows
+from ._common import TaskLike, chunked, concat_columns, dof_kinds, samples_2d, task_rows
 
 #: The keys of :func:`scan`'s dict: the columns of the extension's ``ScanResult``.
 SCAN_COLUMNS = ("sigma_min_generalized", "sigma_max_generalized", "manipulability_generalized", "det_generalized",
@@ -83,39 +83,18 @@ class SingularityMap:
         return self.sigma_min_generalized < relative * np.nanmax(self.sigma_min_generalized)
 
     def plot(self, path, title: Optional[str] = None) -> str:
-        """Write :meth:`figure` to ``path`` (PNG, atomically); returns the path."""
-        return save_figure(self.figure(title), path)
+        """Write :meth:`figure` to ``path`` in the format its suffix names (atomically); returns the path."""
+        from ..viz.figures import plot_to
+
+        return plot_to(path, lambda: self.figure(title), bbox_inches="tight")
 
     def figure(self, title: Optional[str] = None):
-        """Two maps side by side (``J*`` and ``J_m``), each with its own colour scale and colour
-        bar (their ranges can differ by orders of magnitude), with the locus of singularities:
-        the zero contour of ``det`` for a square task, else the contour ``σ_min = 2 %`` of its
-        maximum. Returns the matplotlib ``Figure``."""
-        fig = new_figure(figsize=(12, 4.8))
-        axes = fig.subplots(1, 2, sharey=True)
-        ext = [self.axis_b[0], self.axis_b[-1], self.axis_a[0], self.axis_a[-1]]
-        for ax, s, det, name, symbol in (
-            (axes[0], self.sigma_min_generalized, self.det_generalized, "free-floating", "σ_min(J*)"),
-            (axes[1], self.sigma_min_fixed, self.det_fixed, "fixed base", "σ_min(J_m)"),
-        ):
-            im = ax.imshow(s, origin="lower", extent=ext, aspect="auto", cmap="viridis", vmin=0, vmax=np.nanmax(s))
-            bb, aa = np.meshgrid(self.axis_b, self.axis_a)
-            if np.all(np.isfinite(det)):
-                ax.contour(bb, aa, det, levels=[0.0], colors="red", linewidths=1.5)
-                locus = "det = 0"
-            else:
-                ax.contour(bb, aa, s, levels=[0.02 * np.nanmax(s)], colors="red", linewidths=1.5)
-                locus = "σ_min = 2% of max"
-            ax.set_title(f"{name}  {symbol}\n(red: singular locus, {locus})", fontsize=10)
-            ax.set_xlabel(f"q{self.joints[1] + 1} [{self._unit(self.joints[1])}]")
-            fig.colorbar(im, ax=ax, label=f"{symbol} (m/rad for position rows)", shrink=0.95)
-        axes[0].set_ylabel(f"q{self.joints[0] + 1} [{self._unit(self.joints[0])}]")
-        others = ", ".join(f"q{i + 1}={v:.3g}" for i, v in enumerate(self.q_reference) if i not in self.joints)
-        fig.suptitle(title or f"{self.robot_name}: dynamic vs kinematic singularities, task rows {list(self.task)}" + (f"; {others}" if others else ""), fontsize=10)
-        return fig
+        """Two maps side by side (``J*`` and ``J_m``) with the singular locus
+        (:func:`spacearm.viz.analysis.singularity_map_figure`). Returns the matplotlib ``Figure``."""
+        from ..viz.analysis import singularity_map_figure
 
-    def _unit(self, dof: int) -> str:
-        return "m" if self.joint_kinds and self.joint_kinds[dof] == "prismatic" else "rad"
+        return singularity_map_figure(self, title)
+
 
 
 def singularity_map(robot, joints: Sequence[int] = None, resolution: int = 101, q=None, point=None, task: TaskLike = None,

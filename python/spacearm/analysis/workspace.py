@@ -17,7 +17,7 @@ import numpy as np
 from .. import _core
 from .._util.arrays import integer
 from ..errors import ArgumentError
-from ._common import TaskLike, chunked, concat_columns, joint_bounds, new_figure, samples_2d, save_figure, task_rows
+from ._common import TaskLike, chunked, concat_columns, joint_bounds, samples_2d, task_rows
 
 __all__ = ["Workspace", "workspace"]
 
@@ -37,52 +37,17 @@ class Workspace(_core.WorkspaceShells):
                  "singular_threshold", "seconds", "samples_per_second")
 
     def plot(self, path, plane: str = "xy", slab: Optional[float] = None, title: Optional[str] = None) -> str:
-        """Write :meth:`figure` to ``path`` (PNG, atomically); returns the path."""
-        return save_figure(self.figure(plane, slab, title), path)
+        """Write :meth:`figure` to ``path`` in the format its suffix names (atomically); returns the path."""
+        from ..viz.figures import plot_to
+
+        return plot_to(path, lambda: self.figure(plane, slab, title), bbox_inches="tight")
 
     def figure(self, plane: str = "xy", slab: Optional[float] = None, title: Optional[str] = None):
-        """Left: fixed-base reachable points (base at the origin, held fixed). Right: the
-        free-floating workspace about the system CM: reachable shell, PDW shells (red) and PIW
-        shells (green), with the samples' barycentric positions at the initial attitude (grey).
-        ``plane``: ``"xy"``, ``"xz"`` or ``"yz"``; for spatial arms only samples within ``slab``
-        (default: 5 % of R_max) of the plane are drawn (a slice). Returns the matplotlib ``Figure``."""
-        if plane not in ("xy", "xz", "yz"):
-            raise ArgumentError(f"plane must be 'xy', 'xz' or 'yz', got {plane!r}")
-        i, j = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}[plane]
-        k = 3 - i - j
-        fig = new_figure(figsize=(12, 5.6))
-        ax_fix, ax_ff = fig.subplots(1, 2)
-        r_max = max(self.reachable[1], self.fixed_base[1])
-        slab = 0.05 * r_max if slab is None else slab
-        for ax, pts, name in ((ax_fix, self.point_from_base, "fixed base: point from the base CM"),
-                              (ax_ff, self.point_from_com, "free floating: point from the system CM")):
-            sel = np.abs(pts[:, k]) <= slab
-            ax.scatter(pts[sel, i], pts[sel, j], s=0.5, c="0.3", alpha=0.12, rasterized=True, zorder=3,
-                       label=f"sampled positions (|{'xyz'[k]}| ≤ {slab:.2g} m)")
-            ax.set_aspect("equal")
-            ax.set_xlabel(f"{'xyz'[i]} (m, base frame)")
-            ax.set_ylabel(f"{'xyz'[j]} (m, base frame)")
-            ax.set_title(name, fontsize=10)
-        th = np.linspace(0, 2 * np.pi, 361)
-        for a, b in self.path_independent:
-            ax_ff.fill(np.r_[b * np.cos(th), a * np.cos(th[::-1])], np.r_[b * np.sin(th), a * np.sin(th[::-1])], color="tab:green", alpha=0.25, lw=0)
-        for a, b in self.path_dependent:
-            bb = max(b, a + 0.5 * self.radial_resolution)
-            ax_ff.fill(np.r_[bb * np.cos(th), a * np.cos(th[::-1])], np.r_[bb * np.sin(th), a * np.sin(th[::-1])], color="tab:red", alpha=0.35, lw=0)
-        for rr in self.reachable:
-            ax_ff.plot(rr * np.cos(th), rr * np.sin(th), "k--", lw=0.8)
-        ax_ff.plot([], [], color="tab:green", lw=6, alpha=0.4, label="PIW (path independent)")
-        ax_ff.plot([], [], color="tab:red", lw=6, alpha=0.5, label="PDW (path dependent)")
-        ax_ff.plot([], [], "k--", lw=0.8, label=f"reachable shell R = {self.reachable[0]:.3g}…{self.reachable[1]:.3g} m")
-        ax_ff.plot([0], [0], "k+", ms=10)
-        ax_fix.plot([0], [0], "k+", ms=10)
-        for ax in (ax_fix, ax_ff):
-            ax.set_xlim(-1.05 * r_max, 1.05 * r_max)
-            ax.set_ylim(-1.05 * r_max, 1.05 * r_max)
-            ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2)
-        fig.suptitle(title or f"{self.robot_name}: workspaces ({self.resolution}; radial resolution {self.radial_resolution:.3g} m; "
-                     f"task rows {list(self.task)})", fontsize=10)
-        return fig
+        """The fixed-base and free-floating workspaces in ``plane``
+        (:func:`spacearm.viz.analysis.workspace_figure`). Returns the matplotlib ``Figure``."""
+        from ..viz.analysis import workspace_figure
+
+        return workspace_figure(self, plane, slab, title)
 
 
 def workspace(robot, resolution: int = 15, samples=None, point=None, task: TaskLike = None, singular_threshold: Optional[float] = None,

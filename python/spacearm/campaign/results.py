@@ -181,8 +181,6 @@ class CampaignResult:
         """A histogram of each metric, and each metric against the parameter that explains it
         best (largest |Spearman rank correlation|, stated in the panel title), written to
         ``path`` in the format its suffix names (atomically)."""
-        from ..viz.figures import figure_format, save_figure
+        from ..viz.figures import plot_to
 
-        figure_format(path)  # an unwritable format fails before the figure is drawn
-        save_figure(self.figure(metrics), path, dpi=110)
-        return Path(path)
+        return Path(plot_to(path, lambda: self.figure(metrics), dpi=110))

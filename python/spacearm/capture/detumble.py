@@ -33,7 +33,7 @@ from ..errors import ArgumentError
 from ..rotations import quat_to_matrix
 from ..sim.simulation import simulate
 
-__all__ = ["DetumbleRun", "detumble", "detumble_controller", "hold_torque", "grasp_wrench", "time_to_rest", "DETUMBLE_MODES"]
+__all__ = ["DetumbleRun", "detumble", "detumble_controller", "grasp_wrench", "time_to_rest", "DETUMBLE_MODES"]
 
 DETUMBLE_MODES = ("floating", "flying")
 
@@ -43,15 +43,6 @@ class DetumbleRun(NamedTuple):
     time_to_detumble: float  #: s from the start of the run (inf when not reached)
     peak_joint_torque: float  #: N·m, largest |τ_j| applied
     residual_spin: float  #: |ω0| at the end, rad/s
-
-
-def hold_torque(robot, x, u, q_hold, kp: float, kd: float, max_joint_torque: float) -> np.ndarray:
-    """``clip(H* (kp (q_hold − q) − kd q̇) + c*, ±max_joint_torque)``."""
-    if robot.n_dof == 0:
-        return np.zeros(0)
-    q, qd = x[7:], u[6:]
-    tau = robot.generalized_inertia(x) @ (kp * (q_hold - q) - kd * qd) + robot.generalized_bias(x, u)
-    return np.clip(tau, -max_joint_torque, max_joint_torque)
 
 
 def detumble_controller(robot, x, *, mode: str, q_hold, kp: float, kd: float, time_constant: float, max_joint_torque: float,

@@ -143,7 +143,6 @@ class Plan:
 
     def plot(self, path, title: Optional[str] = None) -> str:
         """Write :meth:`figure` to ``path`` in the format its suffix names (atomically); returns the path."""
-        from ..viz.figures import figure_format, save_figure
+        from ..viz.figures import plot_to
 
-        figure_format(path)  # an unwritable format fails before anything is drawn
-        return save_figure(self.figure(title), path, bbox_inches="tight")
+        return plot_to(path, lambda: self.figure(title), bbox_inches="tight")

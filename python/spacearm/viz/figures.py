@@ -15,7 +15,7 @@ from .._util.atomic import atomic_path
 from .._util.optional import require
 from ..errors import ArgumentError
 
-__all__ = ["new_figure", "figure_format", "save_figure"]
+__all__ = ["new_figure", "figure_format", "save_figure", "plot_to"]
 
 
 def new_figure(*args, **kwargs):
@@ -51,3 +51,11 @@ def save_figure(fig, path, *, dpi: int = 130, **savefig) -> str:
     with atomic_path(path, suffix="." + fmt) as tmp:
         fig.savefig(tmp, format=fmt, dpi=dpi, **savefig)
     return path
+
+
+def plot_to(path, draw, *, dpi: int = 130, **savefig) -> str:
+    """Check ``path``'s format, then draw (``draw()`` returns the figure) and write it: what
+    every result's ``.plot(path)`` does, so that an unwritable format fails before the work of
+    drawing."""
+    figure_format(path)
+    return save_figure(draw(), path, dpi=dpi, **savefig)
