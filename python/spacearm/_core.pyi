@@ -31,8 +31,9 @@ __all__ = [
     "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_singularity", "batch_threads", "body_mass_properties_error",
     "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
-    "model_to_toml", "momentum_scales", "perturbed", "preset", "quintic_scaling", "rollout", "set_batch_threads",
-    "simulate", "simulate_closed_chain", "soft_capture",
+    "model_to_toml", "momentum_scales", "perturbed", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
+    "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
+    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "soft_capture",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -332,6 +333,19 @@ def quintic_scaling(t: _Vec, t_start: float, t_end: float) -> tuple[_Vec, _Vec, 
 def body_mass_properties_error(
     who: str, mass: float, inertia: Sequence[Sequence[float]], *, triangle_inequality: bool = True
 ) -> Optional[tuple[str, str]]: ...  # None, or ("mass" | "inertia", the core's message naming `who`)
+
+# ---- rotation helpers (crates/spacearm-py/src/rotations_py.rs; the core's math/rotations.rs) ------
+# Float64 arrays of one item or (B, ...) rows of them; only the shape is checked here (a
+# ShapeError): spacearm.rotations checks finiteness, unit norm and rotation matrices first.
+# Quaternions [x, y, z, w], scalar last.
+def quat_multiply(a: _Vec, b: _Vec) -> _Vec: ...  # (4,)/(B, 4) each; one row pairs with every row
+def quat_to_matrix(q: _Vec) -> _Vec: ...  # (4,) -> (3, 3), (B, 4) -> (B, 3, 3); each q divided by its norm
+def quat_from_matrix(r: _Vec) -> _Vec: ...  # (3, 3) -> (4,), (B, 3, 3) -> (B, 4); Shepperd, w >= 0
+def rotation_vector(r: _Vec) -> _Vec: ...  # (3, 3) -> (3,), (B, 3, 3) -> (B, 3); log(R), |theta| <= pi
+def quat_exp(theta: _Vec) -> _Vec: ...  # (3,) -> (4,), (B, 3) -> (B, 4)
+def quat_log(q: _Vec) -> _Vec: ...  # (4,) -> (3,), (B, 4) -> (B, 3); normalized first
+def skew(v: _Vec) -> _Vec: ...  # (3,) -> (3, 3), (B, 3) -> (B, 3, 3)
+def quat_from_rpy(roll: float, pitch: float, yaw: float) -> _Vec: ...  # Rz(yaw) Ry(pitch) Rx(roll)
 
 def set_batch_threads(threads: Optional[int] = None) -> None: ...
 def batch_threads() -> int: ...

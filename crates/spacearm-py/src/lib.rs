@@ -19,6 +19,7 @@ mod model_io_py;
 mod model_py;
 mod records_py;
 mod rollout_py;
+mod rotations_py;
 mod rule_tables_py;
 mod rules_py;
 mod sim_options_py;
@@ -78,6 +79,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<analysis_results_py::PyRmrcRates>()?;
     m.add_class::<analysis_results_py::PyRmrcMotion>()?;
     rules_py::register(m)?;
+    rotations_py::register(m)?;
     m.add_function(wrap_pyfunction!(simulate_py::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(rollout_py::rollout, m)?)?;
     m.add_class::<simulator_py::PySimulator>()?;
