@@ -166,8 +166,9 @@ def quat_to_matrix(q) -> np.ndarray:
     return r
 
 
-def _rotation_matrix(r) -> np.ndarray:
-    """``r`` as a 3×3 float64 proper rotation matrix within :data:`MATRIX_TOLERANCE`."""
+def _rotation_matrix(r, batch: bool = False) -> np.ndarray:
+    """``r`` as a 3×3 float64 proper rotation matrix within :data:`MATRIX_TOLERANCE` (with
+    ``batch``, also ``(B, 3, 3)`` rows of them)."""
     try:
         r = np.asarray(r)
     except (TypeError, ValueError) as exc:  # ragged nested lists
@@ -175,12 +176,16 @@ def _rotation_matrix(r) -> np.ndarray:
     if r.dtype.kind not in "biuf":
         raise SpacearmTypeError(f"r must be a 3x3 matrix of real numbers, got dtype {r.dtype}")
     r = r.astype(np.float64)
-    if r.shape != (3, 3):
-        raise ShapeError(f"r must be a 3x3 rotation matrix, got shape {r.shape}")
+    if r.shape[-2:] != (3, 3) or r.ndim not in ((2, 3) if batch else (2,)):
+        rows = " (or (B, 3, 3) rows of them)" if batch else ""
+        raise ShapeError(f"r must be a 3x3 rotation matrix{rows}, got shape {r.shape}")
     _finite(r, "r")
+    if r.ndim == 3 and r.shape[0] == 0:
+        return r
     with np.errstate(over="ignore", invalid="ignore"):  # huge entries: inf, refused below
-        off = float(np.max(np.abs(r.T @ r - np.eye(3))))
-        det = float(np.linalg.det(r))
+        off = float(np.max(np.abs(np.swapaxes(r, -1, -2) @ r - np.eye(3))))
+        dets = np.atleast_1d(np.linalg.det(r))
+        det = float(dets[int(np.argmax(np.abs(dets - 1.0)))]) if np.all(np.isfinite(dets)) else float("nan")
     if not (off <= MATRIX_TOLERANCE and abs(det - 1.0) <= MATRIX_TOLERANCE):
         raise ArgumentError(f"r must be a rotation matrix (R^T R = I and det R = +1 within {MATRIX_TOLERANCE:g}), "
                             f"got |R^T R - I| = {off:.3g}, det R = {det:.6g}")
@@ -200,8 +205,15 @@ def rotation_vector(r) -> np.ndarray:
 def quat_from_matrix(r) -> np.ndarray:
     """Unit quaternion ``[x, y, z, w]`` (with ``w >= 0``) of a rotation matrix (Shepperd's
     method, stable for every rotation). ``r`` must be a proper rotation matrix within
-    :data:`MATRIX_TOLERANCE`."""
-    r = _rotation_matrix(r)
+    :data:`MATRIX_TOLERANCE`; ``(B, 3, 3)`` rows of them give ``(B, 4)``."""
+    r = _rotation_matrix(r, batch=True)
+    if r.ndim == 3:
+        return np.array([_quat_of(m) for m in r]).reshape(len(r), 4) if len(r) else np.zeros((0, 4))
+    return _quat_of(r)
+
+
+def _quat_of(r: np.ndarray) -> np.ndarray:
+    """Shepperd's method on one checked rotation matrix."""
     tr = np.trace(r)
     diag = np.array([r[0, 0], r[1, 1], r[2, 2], tr])
     k = int(np.argmax(diag))
