@@ -17,7 +17,7 @@ __all__ = [
     "ArgumentError", "AttitudeSpec", "BaseDescription", "BaseThrustersSpec", "CallbackSpec",
     "CartesianReference", "ClosedChainResult", "CombinedSpec", "ComputedTorqueSpec", "ConservedDrift",
     "CoordinatedFlyingSpec", "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
-    "FreeBodyReference", "GraspImpact", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimits", "JointPdSpec", "JointReference",
+    "FreeBodyReference", "GraspImpulse", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimits", "JointPdSpec", "JointReference",
     "JointTorqueLimitSpec", "LoopClosureTerms", "MomentumDampingSpec",
     "LinkDescription", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds",
     "ModelBuilder", "ModelDescription", "ModelError", "ModelFileError", "NonFiniteError",
@@ -582,45 +582,68 @@ class ImpulseDynamics:
     def locking_impulse(self) -> _Vec: ...  # (N,) the joint impulses holding locked joints
 
 @final
-class GraspImpact:
-    """The impact between a robot's grasp point and a target model (every vector in the inertial frame)."""
+class GraspImpulse:
+    """The impact between a robot's grasp point and a target model (every vector in the inertial
+    frame): what ``grasp_impact`` and ``spacearm.capture.grasp_impulse`` return, the public
+    ``spacearm.capture.GraspImpulse``. Frozen; the arrays are read-only."""
 
     @property
-    def impulse(self) -> _Vec: ...  # (6,) [f; n] on the robot at X, N s, N m s
+    def kind(self) -> str:
+        """``"rigid"`` (6-D plastic lock) or ``"point"`` (frictionless contact)."""
     @property
-    def du(self) -> _Vec: ...  # (6+N,)
+    def du(self) -> _Vec:
+        """(6+N,) the robot's velocity jump ``[Δv0, Δω0, Δq̇]``."""
     @property
-    def target_du(self) -> _Vec: ...  # the target model's jump of u
+    def target_dtwist(self) -> _Vec:
+        """The target's jump of its model's u: ``[v; ω]`` (CM velocity, angular velocity; 6) of a rigid target."""
     @property
-    def u_after(self) -> _Vec: ...
+    def impulse(self) -> _Vec:
+        """(6,) ``Λ = [f̂; n̂]`` on the robot at the grasp point, N s, N m s; the target gets ``−Λ``."""
     @property
-    def target_u_after(self) -> _Vec: ...
+    def point(self) -> _Vec:
+        """(3,) the grasp point X (the robot's point), m."""
     @property
-    def point(self) -> _Vec: ...  # (3,) X, m
+    def gap(self) -> float:
+        """m: distance from X to the target's grasp point (zero for a perfect approach)."""
     @property
-    def gap(self) -> float: ...  # m
+    def u_after(self) -> _Vec:
+        """(6+N,) the robot's velocity after the impact."""
     @property
-    def normal(self) -> _Vec | None: ...  # (3,) unit normal of a point contact
+    def target_state_after(self) -> _Vec:
+        """The target's state after the impact: its x followed by its u after."""
     @property
-    def relative_twist_before(self) -> _Vec: ...  # (6,)
+    def relative_twist_before(self) -> _Vec:
+        """(6,) the gripper's twist at X minus the target's twist at X, before the impact."""
     @property
-    def relative_twist_after(self) -> _Vec: ...  # (6,)
+    def relative_twist_after(self) -> _Vec:
+        """(6,) the relative twist at X after the impact (zero for a rigid lock)."""
     @property
-    def g_robot(self) -> _Vec: ...  # (6, 6)
+    def G_robot(self) -> _Vec:
+        """(6, 6) the robot's inverse inertia at X (the base's alone with ``arm="locked"``)."""
     @property
-    def g_target(self) -> _Vec: ...  # (6, 6)
+    def G_target(self) -> _Vec:
+        """(6, 6) the target's inverse inertia at X."""
     @property
-    def energy_lost(self) -> float: ...  # J
+    def energy_lost(self) -> float:
+        """J: the energy the grasp dissipates, ``−Λᵀ(v_rel⁻ + v_rel⁺)/2`` (>= 0 to rounding; excludes ``locking_work``)."""
     @property
-    def locking_work(self) -> float: ...  # J
+    def locking_work(self) -> float:
+        """J: the work ``τ̂ᵀq̇`` of the locking joint impulses (either sign; 0 with ``arm="free"``)."""
     @property
-    def locking_impulse(self) -> _Vec: ...  # (N,)
+    def target_u_after(self) -> _Vec:
+        """The target's velocity after the impact (its model's u; the tail of ``target_state_after``)."""
+    @property
+    def normal(self) -> _Vec | None:
+        """(3,) the unit contact normal of a point contact, or None."""
+    @property
+    def locking_impulse(self) -> _Vec:
+        """(N,) the locking joint impulses ``τ̂`` (zeros with ``arm="free"``)."""
 
 def impulse_dynamics(model: Model, x: _ArrayLike, u_before: _ArrayLike, jacobian: _Vec, restitution: float = 0.0,
                      arm: str = "free") -> ImpulseDynamics: ...
 def grasp_impact(robot: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: _ArrayLike, target: Model, x_target: _ArrayLike,
                  u_target: _ArrayLike, target_body: int, target_offset: _ArrayLike, *, kind: str = "rigid", restitution: float = 0.0,
-                 normal: _ArrayLike | None = None, arm: str = "free") -> GraspImpact: ...
+                 normal: _ArrayLike | None = None, arm: str = "free") -> GraspImpulse: ...
 
 @final
 class SoftCaptureResult:

@@ -494,3 +494,30 @@ def test_core_impulse_dynamics_of_one_model():
         assert np.all(locked.du[6:] == 0.0)
         np.testing.assert_allclose(j[:1] @ locked.u_after, -e * (j[:1] @ u), atol=1e-12 * np.abs(j @ u).max())
         np.testing.assert_allclose(locked.locking_impulse, (h @ locked.du - j[:1].T @ locked.impulse)[6:], atol=1e-10)
+
+
+def test_grasp_impulse_is_the_extensions_frozen_class():
+    """One type: ``capture.GraspImpulse`` is ``_core.GraspImpulse``, frozen, its arrays read-only,
+    ``target_state_after`` the target's x then its u after, and a one-line repr."""
+    from spacearm import _core
+
+    robot = _robots()[1]
+    x, u, target, s = _scene(robot, np.random.default_rng([7, 1]))
+    res = grasp_impulse(robot, x, u, target, s, grasp="handle", kind="point", normal=(0.0, 0.0, 1.0), restitution=0.3)
+    assert spacearm.capture.GraspImpulse is _core.GraspImpulse and type(res) is _core.GraspImpulse
+    assert res.kind == "point" and res.normal is not None and res.locking_impulse.shape == (robot.n_dof,)
+    tx, _ = target.xu(target.check_state(s))
+    np.testing.assert_array_equal(res.target_state_after[: tx.size], tx)
+    np.testing.assert_array_equal(res.target_state_after[tx.size:], res.target_u_after)
+    assert res.G_robot.shape == res.G_target.shape == (6, 6)
+    for name in ("du", "target_dtwist", "impulse", "point", "u_after", "target_state_after", "relative_twist_before",
+                 "relative_twist_after", "G_robot", "G_target", "target_u_after", "normal", "locking_impulse"):
+        a = getattr(res, name)
+        assert not a.flags.writeable, name
+        with pytest.raises(ValueError):
+            a[...] = 0.0
+    with pytest.raises(AttributeError):
+        res.gap = 1.0  # frozen
+    text = repr(res)
+    assert text.startswith("<spacearm._core.GraspImpulse point:") and "energy_lost" in text and len(text) < 200
+    assert grasp_impulse(robot, x, u, target, s, grasp="handle").normal is None

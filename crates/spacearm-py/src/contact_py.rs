@@ -48,64 +48,72 @@ impl PyImpulseDynamics {
 }
 
 /// The result of `grasp_impact` (`spacearm_core::algorithms::impulse::GraspImpact`), every
-/// vector in 𝒥.
-#[pyclass(module = "spacearm._core", name = "GraspImpact", frozen)]
-pub struct PyGraspImpact {
+/// vector in 𝒥: the public `spacearm.capture.GraspImpulse` (`capture.grasp_impulse` returns it;
+/// no Python copy of its fields). Built once; the arrays are read-only.
+#[pyclass(module = "spacearm._core", name = "GraspImpulse", frozen)]
+pub struct PyGraspImpulse {
+    /// "rigid" or "point".
+    #[pyo3(get)]
+    kind: String,
+    /// (6+N,) the robot's velocity jump [Δv0, Δω0, Δq̇].
+    #[pyo3(get)]
+    du: Py<PyArray1<f64>>,
+    /// The target's jump of its model's u: [v; ω] (CM velocity, angular velocity, 6) of a rigid target.
+    #[pyo3(get)]
+    target_dtwist: Py<PyArray1<f64>>,
     /// (6,) Λ = [f̂; n̂] on the robot at the grasp point (N·s, N·m·s); the target gets −Λ.
     #[pyo3(get)]
     impulse: Py<PyArray1<f64>>,
-    /// (6+N,) the robot's velocity jump.
-    #[pyo3(get)]
-    du: Py<PyArray1<f64>>,
-    /// The target's velocity jump (of its model's u).
-    #[pyo3(get)]
-    target_du: Py<PyArray1<f64>>,
-    /// The robot's velocity after the impact.
-    #[pyo3(get)]
-    u_after: Py<PyArray1<f64>>,
-    /// The target's velocity after the impact.
-    #[pyo3(get)]
-    target_u_after: Py<PyArray1<f64>>,
     /// (3,) the grasp point X (the robot's point), m.
     #[pyo3(get)]
     point: Py<PyArray1<f64>>,
-    /// Distance from X to the target's grasp point, m.
+    /// Distance from X to the target's grasp point, m: zero for a perfect approach.
     #[pyo3(get)]
     gap: f64,
-    /// (3,) the unit contact normal of a point contact, or None.
+    /// (6+N,) the robot's velocity after the impact.
     #[pyo3(get)]
-    normal: Option<Py<PyArray1<f64>>>,
-    /// (6,) the relative twist at X before the impact.
+    u_after: Py<PyArray1<f64>>,
+    /// The target's state after the impact: its x followed by its u after.
+    #[pyo3(get)]
+    target_state_after: Py<PyArray1<f64>>,
+    /// (6,) the relative twist at X (gripper minus target) before the impact.
     #[pyo3(get)]
     relative_twist_before: Py<PyArray1<f64>>,
     /// (6,) the relative twist at X after the impact.
     #[pyo3(get)]
     relative_twist_after: Py<PyArray1<f64>>,
     /// (6, 6) the robot's inverse inertia at X.
-    #[pyo3(get)]
+    #[pyo3(get, name = "G_robot")]
     g_robot: Py<PyArray2<f64>>,
     /// (6, 6) the target's inverse inertia at X.
-    #[pyo3(get)]
+    #[pyo3(get, name = "G_target")]
     g_target: Py<PyArray2<f64>>,
-    /// Energy the contact impulses take out, J (>= 0 to rounding).
+    /// Energy the grasp dissipates, −Λᵀ(v_rel⁻ + v_rel⁺)/2, J (>= 0 to rounding; excludes locking_work).
     #[pyo3(get)]
     energy_lost: f64,
-    /// Work of the locking joint impulses, J (0 with the arm free).
+    /// Work of the locking joint impulses τ̂ᵀq̇, J (either sign; 0 with the arm free).
     #[pyo3(get)]
     locking_work: f64,
+    /// The target's velocity after the impact (of its model's u).
+    #[pyo3(get)]
+    target_u_after: Py<PyArray1<f64>>,
+    /// (3,) the unit contact normal of a point contact, or None.
+    #[pyo3(get)]
+    normal: Option<Py<PyArray1<f64>>>,
     /// (N,) the locking joint impulses τ̂ (zeros with the arm free).
     #[pyo3(get)]
     locking_impulse: Py<PyArray1<f64>>,
 }
 
 #[pymethods]
-impl PyGraspImpact {
+impl PyGraspImpulse {
     fn __repr__(&self, py: Python<'_>) -> String {
+        let lam = self.impulse.bind(py).to_vec().unwrap_or_default();
+        let norm = |v: &[f64]| v.iter().map(|a| a * a).sum::<f64>().sqrt();
+        let (f, n) = if lam.len() == 6 { (norm(&lam[..3]), norm(&lam[3..])) } else { (f64::NAN, f64::NAN) };
         format!(
-            "<spacearm._core.GraspImpact impulse={:?} energy_lost={:?} locking_work={:?}>",
-            self.impulse.bind(py).to_vec().unwrap_or_default(),
-            self.energy_lost,
-            self.locking_work
+            "<spacearm._core.GraspImpulse {}: |f̂| {:.4e} N s, |n̂| {:.4e} N m s, energy_lost {:.4e} J, locking_work {:.4e} J, gap {:.3e} m>",
+            self.kind, f, n, self.energy_lost, self.locking_work, self.gap
         )
     }
 }
@@ -166,7 +174,7 @@ pub fn grasp_impact(
     restitution: f64,
     normal: Option<&Bound<'_, PyAny>>,
     arm: &str,
-) -> PyResult<PyGraspImpact> {
+) -> PyResult<PyGraspImpulse> {
     let joints = joints(py, arm)?;
     let contact = match kind {
         "rigid" => GraspContact::Rigid,
@@ -186,22 +194,26 @@ pub fn grasp_impact(
             })
         })
         .or_raise(py)?;
-    Ok(PyGraspImpact {
-        impulse: array1(py, g.impulse.as_slice()).unbind(),
-        du: dvec(py, &g.du).unbind(),
-        target_du: dvec(py, &g.target_du).unbind(),
-        u_after: dvec(py, &g.u_after).unbind(),
-        target_u_after: dvec(py, &g.target_u_after).unbind(),
-        point: array1(py, g.point.as_slice()).unbind(),
+    let ro1 = |v: &[f64]| read_only(array1(py, v));
+    let target_state_after: Vec<f64> = xt.as_slice().iter().chain(g.target_u_after.iter()).copied().collect();
+    Ok(PyGraspImpulse {
+        kind: kind.to_owned(),
+        du: ro1(g.du.as_slice()),
+        target_dtwist: ro1(g.target_du.as_slice()),
+        impulse: ro1(g.impulse.as_slice()),
+        point: ro1(g.point.as_slice()),
         gap: g.gap,
-        normal: g.normal.map(|n| array1(py, n.as_slice()).unbind()),
-        relative_twist_before: array1(py, g.relative_twist_before.as_slice()).unbind(),
-        relative_twist_after: array1(py, g.relative_twist_after.as_slice()).unbind(),
-        g_robot: matrix(py, &g.g_robot).unbind(),
-        g_target: matrix(py, &g.g_target).unbind(),
+        u_after: ro1(g.u_after.as_slice()),
+        target_state_after: ro1(&target_state_after),
+        relative_twist_before: ro1(g.relative_twist_before.as_slice()),
+        relative_twist_after: ro1(g.relative_twist_after.as_slice()),
+        g_robot: read_only(matrix(py, &g.g_robot)),
+        g_target: read_only(matrix(py, &g.g_target)),
         energy_lost: g.energy_lost,
         locking_work: g.locking_work,
-        locking_impulse: dvec(py, &g.locking_impulse).unbind(),
+        target_u_after: ro1(g.target_u_after.as_slice()),
+        normal: g.normal.map(|n| ro1(n.as_slice())),
+        locking_impulse: ro1(g.locking_impulse.as_slice()),
     })
 }
 
@@ -453,7 +465,7 @@ pub fn simulate_closed_chain(
 /// Add the contact functions and classes to the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyImpulseDynamics>()?;
-    m.add_class::<PyGraspImpact>()?;
+    m.add_class::<PyGraspImpulse>()?;
     m.add_function(wrap_pyfunction!(impulse_dynamics, m)?)?;
     m.add_function(wrap_pyfunction!(grasp_impact, m)?)?;
     m.add_class::<PySoftCaptureResult>()?;

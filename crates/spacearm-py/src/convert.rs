@@ -7,9 +7,9 @@
 use nalgebra::{DMatrix, DVector, Dim, IsContiguous, Matrix, RawStorage, Vector3, Vector6};
 use std::os::raw::c_int;
 
-use numpy::npyffi::flags::{NPY_ARRAY_ALIGNED, NPY_ARRAY_C_CONTIGUOUS};
+use numpy::npyffi::flags::{NPY_ARRAY_ALIGNED, NPY_ARRAY_C_CONTIGUOUS, NPY_ARRAY_WRITEABLE};
 use numpy::npyffi::NPY_TYPES;
-use numpy::{PyArray1, PyArray2, PyArrayDescrMethods, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
+use numpy::{PyArray, PyArray1, PyArray2, PyArrayDescrMethods, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use spacearm_core::SpacearmError;
@@ -230,6 +230,15 @@ pub fn finite3(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vector3<f64>> {
 /// A 6-vector argument (length checked, `ShapeError` naming `what`).
 pub fn vec6(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vector6<f64>> {
     Ok(Vector6::from_column_slice(vec_arg_n(obj, what, 6)?.as_slice()))
+}
+
+/// `a`, made read-only (numpy's `setflags(write=False)`): a result class hands out the same
+/// array on every read, so no caller can change what another reads.
+pub fn read_only<'py, D>(a: Bound<'py, PyArray<f64, D>>) -> Py<PyArray<f64, D>> {
+    // SAFETY: a fresh array that nothing else references yet; clearing WRITEABLE is what
+    // `ndarray.setflags(write=False)` does.
+    unsafe { (*a.as_array_ptr()).flags &= !NPY_ARRAY_WRITEABLE };
+    a.unbind()
 }
 
 pub fn array1<'py>(py: Python<'py>, v: &[f64]) -> Bound<'py, PyArray1<f64>> {

@@ -10,22 +10,13 @@
 //! `to_dict` is the plain-data form of `Robot.describe()`; `link`/`point` look items up by name.
 
 use nalgebra::{Matrix, Vector3};
-use numpy::npyffi::flags::NPY_ARRAY_WRITEABLE;
 use numpy::{PyArray, PyArray1, PyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use spacearm_core as core;
 
-use crate::convert::{array1, matrix};
+use crate::convert::{array1, matrix, read_only};
 use crate::errors_py::{new_error, ErrorClass};
-
-/// `a`, made read-only (numpy's `setflags(write=False)`).
-fn read_only<'py, D>(a: Bound<'py, PyArray<f64, D>>) -> Py<PyArray<f64, D>> {
-    // SAFETY: a fresh array that nothing else references yet; clearing WRITEABLE is what
-    // `ndarray.setflags(write=False)` does.
-    unsafe { (*a.as_array_ptr()).flags &= !NPY_ARRAY_WRITEABLE };
-    a.unbind()
-}
 
 fn vector<'py>(py: Python<'py>, v: &[f64]) -> Py<PyArray1<f64>> {
     read_only(array1(py, v))

@@ -78,7 +78,7 @@ def grasp_wrench(t: np.ndarray, target_states: np.ndarray, mass: float, inertia:
     if t.size < 3:
         return np.zeros((t.size, 6))
     P = mass * target_states[:, 7:10]
-    R = np.array([quat_to_matrix(s[3:7]) for s in target_states])
+    R = quat_to_matrix(target_states[:, 3:7])
     L = np.einsum("bij,jk,blk,bl->bi", R, inertia, R, target_states[:, 10:13])
     return np.hstack([np.gradient(P, t, axis=0), np.gradient(L, t, axis=0)])
 

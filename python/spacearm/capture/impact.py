@@ -35,7 +35,9 @@ the contact impulses take out (``½ v_rel⁻ᵀ (G_r + G_t)⁻¹ v_rel⁻`` for 
 
 :func:`grasp_impulse` is the core's (``spacearm_core::algorithms::impulse::grasp_impact``, built on
 its ``impulse_dynamics``, the Pinocchio-shaped impulse dynamics of one model, also
-``spacearm._core.impulse_dynamics``): this module converts the arguments and builds the result.
+``spacearm._core.impulse_dynamics``): this module converts the arguments; the result,
+:class:`GraspImpulse`, is the extension's class (``spacearm._core.GraspImpulse``, frozen,
+read-only arrays; its fields are documented in ``_core.pyi``).
 """
 
 from __future__ import annotations
@@ -45,6 +47,7 @@ from typing import NamedTuple, Optional, Sequence
 import numpy as np
 
 from .. import _core
+from .._core import GraspImpulse
 from .._util.arrays import number, vector, vector3
 from ..errors import ArgumentError, SingularError, SpacearmTypeError
 
@@ -61,25 +64,6 @@ __all__ = [
 #: The impact models of :func:`grasp_impulse`.
 KINDS = ("rigid", "point")
 ARMS = ("free", "locked")
-
-
-class GraspImpulse(NamedTuple):
-    """The result of :func:`grasp_impulse` (every vector in 𝒥)."""
-
-    kind: str  #: "rigid" or "point"
-    du: np.ndarray  #: the robot's velocity jump [Δv0, Δω0, Δq̇] (6+N)
-    target_dtwist: np.ndarray  #: the target's jump of [v; ω] (CM velocity, angular velocity) (6); of its u for a jointed target
-    impulse: np.ndarray  #: Λ = [f̂; n̂] on the robot at the grasp point (N·s, N·m·s); the target gets −Λ
-    point: np.ndarray  #: the grasp point X in 𝒥 (the robot's point)
-    gap: float  #: distance from X to the target's grasp point (m): zero for a perfect approach
-    u_after: np.ndarray  #: the robot's velocity after the impact
-    target_state_after: np.ndarray  #: the target's state after the impact
-    relative_twist_before: np.ndarray  #: twist of the gripper at X minus the target's twist at X
-    relative_twist_after: np.ndarray
-    G_robot: np.ndarray  #: the robot's inverse inertia at X (6×6)
-    G_target: np.ndarray  #: the target's inverse inertia at X (6×6)
-    energy_lost: float  #: energy the grasp dissipates, −Λᵀ(v_rel⁻ + v_rel⁺)/2 (J, >= 0; excludes locking_work)
-    locking_work: float  #: work of the locking joint impulses τ̂ᵀq̇ with arm="locked" (J, either sign; 0 with arm="free")
 
 
 class MomentumSplit(NamedTuple):
@@ -259,9 +243,5 @@ def grasp_impulse(
     n = None if normal is None or kind != "point" else vector3(normal, "normal")
     # The impulse, both jumps, G_r, G_t, the energy and the locking work: the core's
     # algorithms/impulse.rs (grasp_impact, on its impulse dynamics).
-    g = _core.grasp_impact(robot.core_model, xv, uv, int(body), np.asarray(offset, dtype=float), target.body.core_model, tx, tu,
-                           int(t_body), np.asarray(t_offset, dtype=float), kind=kind, restitution=e, normal=n, arm=arm)
-    s_after = s.copy()
-    s_after[tx.size:] = g.target_u_after
-    return GraspImpulse(kind, g.du, g.target_du, g.impulse, g.point, g.gap, g.u_after, s_after, g.relative_twist_before,
-                        g.relative_twist_after, g.g_robot, g.g_target, g.energy_lost, g.locking_work)
+    return _core.grasp_impact(robot.core_model, xv, uv, int(body), np.asarray(offset, dtype=float), target.body.core_model, tx, tu,
+                              int(t_body), np.asarray(t_offset, dtype=float), kind=kind, restitution=e, normal=n, arm=arm)

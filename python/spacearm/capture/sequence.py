@@ -147,7 +147,7 @@ def _payload_states(captured, xs, us):
     kin = robot.forward_kinematics(xs)
     j0, jm = robot.point_jacobian(xs, (body, np.zeros(3)))
     tw = np.einsum("bij,bj->bi", j0, us[:, :6]) + np.einsum("bij,bj->bi", jm, us[:, 6:])
-    quats = np.array([quat_from_matrix(r) for r in kin.body_to_world[:, body]])
+    quats = quat_from_matrix(kin.body_to_world[:, body])
     return np.hstack([kin.com_in_world[:, body], quats, tw])
 
 

@@ -39,8 +39,9 @@ def plot_capture(result, path=None):
     """Four panels against time, phases shaded (capture orange, post-capture green, detumble
     blue): the momentum ledger's change ``P − P(0)`` and ``L − L(0)`` of robot + target; the base
     angular velocity; the joint torques; the grasp force and moment."""
-    # A fixed layout and fixed legend corners: constrained layout and loc="best" (which scans
-    # every plotted point) took most of the figure's time for a 3,000-sample run.
+    # A fixed layout, fixed legend corners and fixed title positions (y=1.0): constrained layout,
+    # loc="best" (which scans every plotted point) and the automatic title placement took most of
+    # the figure's time for a 3,000-sample run (benchmarks/README.md, "Profiler history").
     fig = _figure(9.0, 7.0, layout=None)
     fig.subplots_adjust(left=0.09, right=0.98, bottom=0.08, top=0.95, wspace=0.25, hspace=0.18)
     axes = fig.subplots(2, 2, sharex=True)
@@ -52,25 +53,29 @@ def plot_capture(result, path=None):
     dL = np.linalg.norm(result.L - result.L[0], axis=1)
     a0.semilogy(t, np.maximum(dP, 1e-18), label="|P − P(0)| [N s]")
     a0.semilogy(t, np.maximum(dL, 1e-18), label="|L − L(0)| [N m s]")
-    a0.set_title(f"momentum ledger, robot + target ({result.mode})", fontsize=9)
+    # Plain "1e-10" tick labels on the log axis (mathtext labels cost a parse each).
+    ticker = require("matplotlib.ticker", "figures")
+    a0.yaxis.set_major_formatter(ticker.LogFormatter(labelOnlyBase=True))
+    a0.yaxis.set_minor_locator(ticker.NullLocator())
+    a0.set_title(f"momentum ledger, robot + target ({result.mode})", fontsize=9, y=1.0)
     a0.set_ylabel("change [N s], [N m s]")
     a0.legend(fontsize=7, loc="upper right")
     w0 = result.u[:, 3:6]
     for k, c in enumerate("xyz"):
         a1.plot(t, w0[:, k], label=f"ω0{c}")
-    a1.set_title("base angular velocity", fontsize=9)
+    a1.set_title("base angular velocity", fontsize=9, y=1.0)
     a1.set_ylabel("ω0 [rad/s]")
     a1.legend(fontsize=7, loc="upper right")
     if result.tau.size:
         for k, name in enumerate(result.robot.joint_names):
             a2.plot(t, result.tau[:, k], lw=0.8, label=name)
         a2.legend(fontsize=6, ncol=2, loc="upper right")
-    a2.set_title("joint torques", fontsize=9)
+    a2.set_title("joint torques", fontsize=9, y=1.0)
     a2.set_ylabel("τ [N m]")
     a2.set_xlabel("t [s]")
     a3.plot(t, np.linalg.norm(result.grasp_wrench[:, :3], axis=1), label="|f| [N]")
     a3.plot(t, np.linalg.norm(result.grasp_wrench[:, 3:], axis=1), label="|n| [N m]")
-    a3.set_title("wrench holding the target", fontsize=9)
+    a3.set_title("wrench holding the target", fontsize=9, y=1.0)
     a3.set_ylabel("|f| [N], |n| [N m]")
     a3.set_xlabel("t [s]")
     a3.legend(fontsize=7, loc="upper right")
