@@ -1,16 +1,16 @@
 #!/usr/bin/env python
 """The rotation helpers of ``spacearm.rotations`` before and after a change, interleaved.
 
-``--before REV`` (default ``main``) names a git revision whose ``python/spacearm/rotations.py``
-is loaded beside the current one (as ``spacearm._rotations_before``, on the same extension), so
+``--before REV`` names a git revision whose ``python/spacearm/rotations.py`` is loaded beside
+the current one (``f5143ef``: the last numpy one) (as ``spacearm._rotations_before``, on the same extension), so
 both run in one process on the same inputs. For one quaternion (or matrix) and for ``--batch``
 rows (default 1000), each round times every candidate once (``--number`` calls, per-call time)
 and the figures are the medians of ``--rounds`` rounds. Where the revision's helper takes no
 batch (``quat_from_matrix`` before it took ``(B, 3, 3)``), its batch is a Python loop over the
 rows. Ratios are after / before: below 1 means the change is faster.
 
-    PYTHONPATH=python python benchmarks/rotations.py
-    PYTHONPATH=python python benchmarks/rotations.py --before b53dda6 --rounds 21
+    PYTHONPATH=python python benchmarks/rotations.py --before f5143ef
+    PYTHONPATH=python python benchmarks/rotations.py --before f5143ef --rounds 21 --batch 10000
 """
 
 from __future__ import annotations
@@ -55,7 +55,7 @@ def batch_or_loop(f, xs):
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--before", default="main")
+    ap.add_argument("--before", required=True, help="git revision of the rotations.py to compare with")
     ap.add_argument("--batch", type=int, default=1000)
     ap.add_argument("--rounds", type=int, default=15)
     ap.add_argument("--number", type=int, default=0, help="calls per timing (default: 2000 for one, 20 for a batch)")
