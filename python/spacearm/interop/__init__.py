@@ -63,67 +63,11 @@ Pinocchio (``pip install pin``) and MuJoCo (``pip install mujoco``) are optional
 imported only inside the functions that need them.
 """
 
-from ._common import ROOT_JOINT, ROTATION_TOLERANCE, engine_dof_order  # the constants too, as before the split
-from .mujoco import (
-    acceleration_from_mujoco,
-    bias_from_mujoco,
-    from_mujoco_force,
-    from_mujoco_state,
-    mass_matrix_from_mujoco,
-    mujoco_transform,
-    to_mjcf,
-    to_mujoco,
-    to_mujoco_acceleration,
-    to_mujoco_force,
-    to_mujoco_state,
-)
-from .pinocchio import (
-    aba_derivatives_from_pinocchio,
-    acceleration_from_pinocchio,
-    bias_from_pinocchio,
-    from_pinocchio_force,
-    from_pinocchio_state,
-    mass_matrix_from_pinocchio,
-    pinocchio_transform,
-    to_pinocchio,
-    to_pinocchio_acceleration,
-    to_pinocchio_force,
-    to_pinocchio_state,
-)
-from .spacedyn import SpaceDynState, from_spacedyn_state, to_spacedyn_state
-from .spart import SpartState, from_spart_state, to_spart_state
+from . import mujoco, pinocchio, spacedyn, spart
+from ._common import ROOT_JOINT, ROTATION_TOLERANCE, engine_dof_order  # noqa: F401  (the constants too, as before the split)
+from .mujoco import *  # noqa: F401,F403  (each engine's module lists its public names once, in its __all__)
+from .pinocchio import *  # noqa: F401,F403
+from .spacedyn import *  # noqa: F401,F403
+from .spart import *  # noqa: F401,F403
 
-__all__ = [
-    "engine_dof_order",
-    # Pinocchio
-    "to_pinocchio",
-    "to_pinocchio_state",
-    "from_pinocchio_state",
-    "to_pinocchio_force",
-    "from_pinocchio_force",
-    "to_pinocchio_acceleration",
-    "acceleration_from_pinocchio",
-    "mass_matrix_from_pinocchio",
-    "bias_from_pinocchio",
-    "pinocchio_transform",
-    "aba_derivatives_from_pinocchio",
-    # MuJoCo
-    "to_mjcf",
-    "to_mujoco",
-    "to_mujoco_state",
-    "from_mujoco_state",
-    "to_mujoco_force",
-    "from_mujoco_force",
-    "to_mujoco_acceleration",
-    "acceleration_from_mujoco",
-    "mass_matrix_from_mujoco",
-    "bias_from_mujoco",
-    "mujoco_transform",
-    # SPART and SpaceDyn (MATLAB)
-    "SpartState",
-    "to_spart_state",
-    "from_spart_state",
-    "SpaceDynState",
-    "to_spacedyn_state",
-    "from_spacedyn_state",
-]
+__all__ = ["engine_dof_order", *pinocchio.__all__, *mujoco.__all__, *spart.__all__, *spacedyn.__all__]
