@@ -88,7 +88,7 @@ def detumble(robot, x, u, duration: float, *, mode: str = "floating", q_hold=Non
              max_torque: float = math.inf, rate_tolerance: float = 1e-3, dt: float = 0.01, model=None,
              rtol: Optional[float] = 1e-10) -> DetumbleRun:
     """Run the detumbling controller of the module docstring on ``robot`` (the captured system)
-    from ``(x, u)`` for ``duration`` s (``spacearm.simulate``, RK4 with step ``dt``).
+    from ``(x, u)`` for ``duration`` s (``spacearm.simulate``; ``rtol`` below says how).
     ``q_hold`` defaults to the joint angles of ``x``; gains ``kp`` (1/s²) and ``kd`` (1/s) act
     through ``H*``; ``time_constant`` (s) sets the flying-mode momentum decay. ``model``: the
     controller's model of the plant (default the plant itself), e.g. the captured system built

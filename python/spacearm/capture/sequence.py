@@ -202,10 +202,10 @@ def capture(
     momentum at zero, and in the detumble); ``kind``: ``"rigid"``, ``"point"`` (restitution
     ``restitution``) or ``"soft"``. Limits: ``max_joint_torque`` (N·m, every joint),
     ``max_force`` (N) and ``max_torque`` (N·m) of the base thrusters; the approach's joint-rate
-    command is scaled down to at most ``max_joint_rate`` (rad/s). Times in s. Every phase but the
-    soft one is integrated by adaptive DOPRI5 with relative tolerance ``rtol`` and recorded every
-    ``dt`` (the soft phase every ``dt / 5``, in the core's soft-capture plant). Gains: ``rmrc_gain`` (1/s),
-    ``rmrc_damping`` (m), ``velocity_gain`` (1/s) of the approach; ``kp``, ``kd``,
+    command is scaled down to at most ``max_joint_rate`` (rad/s). Times in s. Every phase is
+    integrated by adaptive DOPRI5 with relative tolerance ``rtol`` and recorded every ``dt`` (the
+    soft phase, in the core's soft-capture plant, every ``dt / 5``). Gains: ``rmrc_gain`` (1/s),
+    ``rmrc_damping`` (m: ``λ_max`` of the damping law, docs/singularities.md), ``velocity_gain`` (1/s) of the approach; ``kp``, ``kd``,
     ``time_constant`` of :func:`~spacearm.capture.detumble`.
     Raises ``SimulationError`` when the approach does not bring the grasp points within
     ``capture_tolerance`` (m).
