@@ -11,7 +11,8 @@ from ._core import __version__
 from .model.batch import batch_threads, set_batch_threads
 from .model.builder import RobotBuilder
 from .capture import Target
-from .model.description import BaseDescription, JointLimits, LinkDescription, ModelDescription, PointDescription
+from .model.description import (BaseDescription, GeometryDescription, JointLimits, LinkDescription, ModelDescription,
+                                PointDescription)
 from .errors import (
     ArgumentError,
     CampaignError,
@@ -57,6 +58,7 @@ __all__ = [
     "BaseDescription",
     "LinkDescription",
     "PointDescription",
+    "GeometryDescription",
     "JointLimits",
     "presets",
     "capture",

@@ -46,6 +46,7 @@ use crate::error::{ModelError, ModelField, ModelItem, Result, SpacearmError};
 use crate::io::dh::{ClassicDhLink, DhArm, DhTable, PaperDhLink};
 use crate::model::joint::{JointLimits, JointType};
 use crate::math::rotations::xyzw_from_rpy;
+use crate::model::geometry::ShapeParts;
 use crate::model::{GeometryRole, GeometrySpec, LinkSpec, Model, ModelBuilder, Shape, TriangleInequality};
 
 /// The file format version written by [`model_to_toml`] and accepted by the reader
@@ -665,7 +666,6 @@ fn geometry_spec(ctx: &Ctx<'_>, gd: &Spanned<GeometryDoc>) -> Result<(GeometrySp
         Some(r) => GeometryRole::from_name(r.get_ref())
             .ok_or_else(|| ctx.err(&sp(r), format!("{who}: role must be \"visual\" or \"collision\", got {:?}", r.get_ref())))?,
     };
-    let kind = g.shape.get_ref().as_str();
     let present: [(&str, Option<Span>); 5] = [
         ("size", g.size.as_ref().map(sp)),
         ("radius", g.radius.as_ref().map(sp)),
@@ -673,43 +673,19 @@ fn geometry_spec(ctx: &Ctx<'_>, gd: &Spanned<GeometryDoc>) -> Result<(GeometrySp
         ("file", g.file.as_ref().map(sp)),
         ("scale", g.scale.as_ref().map(sp)),
     ];
-    let wanted: &[&str] = match kind {
-        "box" => &["size"],
-        "sphere" => &["radius"],
-        "cylinder" | "capsule" => &["radius", "length"],
-        "mesh" => &["file", "scale"],
-        other => {
-            return Err(ctx.err(
-                &sp(&g.shape),
-                format!("{who}: shape must be \"box\", \"cylinder\", \"sphere\", \"capsule\" or \"mesh\", got {other:?}"),
-            ))
-        }
+    let parts = ShapeParts {
+        size: g.size.as_ref().map(|v| *v.get_ref()),
+        radius: g.radius.as_ref().map(|v| *v.get_ref()),
+        length: g.length.as_ref().map(|v| *v.get_ref()),
+        file: g.file.as_ref().map(|v| v.get_ref().clone()),
+        scale: g.scale.as_ref().map(|v| *v.get_ref()),
     };
-    for (key, span) in &present {
-        if let Some(span) = span {
-            if !wanted.contains(key) {
-                return Err(ctx.err(span, format!("{who}: a {kind} takes {}, not `{key}`", wanted.join(" and "))));
-            }
-        }
-    }
-    let missing = |key: &str| ctx.err(&sp(gd), format!("{who}: a {kind} needs `{key}`"));
-    let shape = match kind {
-        "box" => Shape::Box { size: *g.size.as_ref().ok_or_else(|| missing("size"))?.get_ref() },
-        "sphere" => Shape::Sphere { radius: *g.radius.as_ref().ok_or_else(|| missing("radius"))?.get_ref() },
-        "cylinder" | "capsule" => {
-            let radius = *g.radius.as_ref().ok_or_else(|| missing("radius"))?.get_ref();
-            let length = *g.length.as_ref().ok_or_else(|| missing("length"))?.get_ref();
-            if kind == "cylinder" {
-                Shape::Cylinder { radius, length }
-            } else {
-                Shape::Capsule { radius, length }
-            }
-        }
-        _ => Shape::Mesh {
-            file: g.file.as_ref().ok_or_else(|| missing("file"))?.get_ref().clone(),
-            scale: g.scale.as_ref().map_or([1.0; 3], |s| *s.get_ref()),
-        },
-    };
+    let shape = Shape::from_parts(g.shape.get_ref(), parts).map_err(|m| {
+        // Point at the key named in the message (an extra key), else at the shape.
+        let span = present.iter().find(|(k, s)| s.is_some() && m.contains(&format!("`{k}`"))).and_then(|(_, s)| s.clone());
+        let span = span.unwrap_or_else(|| if m.contains("needs") { sp(gd) } else { sp(&g.shape) });
+        ctx.err(&span, format!("{who}: {m}"))
+    })?;
     let rotation = rotation_xyzw(ctx, &who, &g.rotation, &g.rpy, ("rotation", "rpy"))?;
     let shape_span = present.iter().find_map(|(_, s)| s.clone()).unwrap_or_else(|| sp(&g.shape));
     let spans = ItemSpans {

@@ -91,6 +91,60 @@ impl Shape {
     }
 }
 
+/// The dimension keys each shape kind takes, in the order of [`Shape::from_parts`].
+pub const SHAPE_KEYS: [(&str, &[&str]); 5] =
+    [("box", &["size"]), ("cylinder", &["radius", "length"]), ("sphere", &["radius"]), ("capsule", &["radius", "length"]), ("mesh", &["file", "scale"])];
+
+/// Optional dimension keys of a shape, as the doors give them (a model file table, keyword
+/// arguments): [`Shape::from_parts`] turns them into a [`Shape`].
+#[derive(Debug, Clone, Default)]
+pub struct ShapeParts {
+    /// Box side lengths.
+    pub size: Option<[f64; 3]>,
+    /// Sphere, cylinder or capsule radius.
+    pub radius: Option<f64>,
+    /// Cylinder or capsule length.
+    pub length: Option<f64>,
+    /// Mesh file.
+    pub file: Option<String>,
+    /// Mesh scale (default 1).
+    pub scale: Option<[f64; 3]>,
+}
+
+impl Shape {
+    /// The shape of kind `kind` from its dimension keys: each key of that kind required (a
+    /// mesh's `scale` defaults to 1), no other allowed. The error says which key and why.
+    pub fn from_parts(kind: &str, parts: ShapeParts) -> Result<Shape, String> {
+        let Some((_, wanted)) = SHAPE_KEYS.iter().find(|(k, _)| *k == kind) else {
+            return Err(format!("shape must be \"box\", \"cylinder\", \"sphere\", \"capsule\" or \"mesh\", got {kind:?}"));
+        };
+        let given = [
+            ("size", parts.size.is_some()),
+            ("radius", parts.radius.is_some()),
+            ("length", parts.length.is_some()),
+            ("file", parts.file.is_some()),
+            ("scale", parts.scale.is_some()),
+        ];
+        if let Some((key, _)) = given.iter().find(|(k, g)| *g && !wanted.contains(k)) {
+            return Err(format!("a {kind} takes {}, not `{key}`", wanted.join(" and ")));
+        }
+        let missing = |key: &str| format!("a {kind} needs `{key}`");
+        Ok(match kind {
+            "box" => Shape::Box { size: parts.size.ok_or_else(|| missing("size"))? },
+            "sphere" => Shape::Sphere { radius: parts.radius.ok_or_else(|| missing("radius"))? },
+            "cylinder" => Shape::Cylinder {
+                radius: parts.radius.ok_or_else(|| missing("radius"))?,
+                length: parts.length.ok_or_else(|| missing("length"))?,
+            },
+            "capsule" => Shape::Capsule {
+                radius: parts.radius.ok_or_else(|| missing("radius"))?,
+                length: parts.length.ok_or_else(|| missing("length"))?,
+            },
+            _ => Shape::Mesh { file: parts.file.ok_or_else(|| missing("file"))?, scale: parts.scale.unwrap_or([1.0; 3]) },
+        })
+    }
+}
+
 /// Colour of a geometry that states none: a light grey, opaque.
 pub const DEFAULT_RGBA: [f64; 4] = [0.7, 0.7, 0.7, 1.0];
 
