@@ -43,6 +43,25 @@ from .sim.simulation import simulate
 from .sim.simulator import Simulator
 from .sim.trajectory import Trajectory
 
+#: The subpackages imported on first use (PEP 562): ``spacearm.plan`` after ``import spacearm``
+#: imports ``spacearm.plan`` then, so ``import spacearm`` does not pay for them (CasADi, SymPy,
+#: Dask and the engines load only with the subpackage that needs them).
+_LAZY_SUBPACKAGES = ("analysis", "campaign", "casadi", "examples", "identify", "interop", "plan", "symbolic")
+
+
+def __getattr__(name: str):
+    if name in _LAZY_SUBPACKAGES:
+        import importlib
+
+        module = importlib.import_module(f"{__name__}.{name}")
+        globals()[name] = module
+        return module
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY_SUBPACKAGES))
+
 __all__ = [
     "Robot",
     "RobotBuilder",

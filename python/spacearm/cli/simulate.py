@@ -156,7 +156,7 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
         if not wheels:
             raise CliError(f"--controller attitude needs reaction wheels, but '{robot.name}' has none "
                            "(add them with RobotBuilder.add_reaction_wheel, or use a model file with wheel links such as "
-                           "examples/models/spatial6_wheels.toml)")
+                           "the shipped spatial6_wheels)")
         i_base = _mean_base_inertia(robot)
         base = control.AttitudeControl(quat_ref=np.asarray(x0[3:7]), kp=9.0 * i_base if kp is None else kp,
                                        kd=6.0 * i_base if kd is None else kd)
