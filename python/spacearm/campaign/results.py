@@ -34,7 +34,12 @@ from ..errors import ArgumentError, NotFoundError
 
 __all__ = ["CampaignResult", "PENDING", "OK", "FAILED"]
 
-PENDING, OK, FAILED = 0, 1, 2
+#: The status of a sample not run yet ([`CampaignResult`][spacearm.campaign.CampaignResult]'s ``status``).
+PENDING = 0
+#: The status of a sample that ran.
+OK = 1
+#: The status of a sample that failed (its message is kept).
+FAILED = 2
 
 # Earlier versions recorded a sample lost to the back end as failed, with one of these prefixes
 # (a sample's own failure message starts with its exception's class name, which has no space);

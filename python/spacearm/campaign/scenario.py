@@ -31,6 +31,7 @@ from ..sim.simulation import simulate
 __all__ = ["Scenario", "METRIC_NAMES", "METRIC_UNITS", "evaluate", "plant", "controller", "with_payload",
            "metrics_from_records", "non_finite_message", "attitude_angle_deg"]
 
+#: The metrics of each campaign sample, in the order of the result's columns (docs/campaigns.md).
 METRIC_NAMES = (
     "tracking_error_max",
     "tracking_error_rms",

@@ -14,7 +14,7 @@
 
 from .closed_chain import ClosedChainRun, simulate_closed_chain
 from .captured import CapturedSystem, SoftCaptureRun, attach_target, relative_twist, soft_capture
-from .detumble import DetumbleRun, detumble
+from .detumbling import DetumbleRun, detumble
 from .envelope import CaptureEnvelope, capture_envelope
 from .impact import GraspImpulse, MomentumSplit, grasp_impulse, impulse_momentum_split, inverse_inertia, virtual_mass
 from .sequence import PHASES, CaptureResult, capture

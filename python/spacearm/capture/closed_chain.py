@@ -32,6 +32,9 @@ __all__ = ["ClosedChainRun", "simulate_closed_chain", "loop_closure_terms"]
 
 
 class ClosedChainRun(NamedTuple):
+    """The result of :func:`simulate_closed_chain`: the samples of the closed-chain run, the
+    loop's constraint wrench and its pose error (docs/capture.md)."""
+
     t: np.ndarray  #: (T,)
     x: np.ndarray  #: (T, 7+N)
     u: np.ndarray  #: (T, 6+N)

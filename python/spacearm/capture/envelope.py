@@ -23,7 +23,7 @@ from .._util.arrays import vector
 from ..errors import ArgumentError, SimulationError
 from .captured import attach_target
 from .impact import grasp_impulse
-from .detumble import detumble, grasp_wrench
+from .detumbling import detumble, grasp_wrench
 from .sequence import _payload_states
 from .target import Target
 

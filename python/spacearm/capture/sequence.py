@@ -44,12 +44,14 @@ from ..errors import ArgumentError, SimulationError
 from ..rotations import quat_from_matrix
 from ..sim.simulation import simulate
 from .captured import attach_target, soft_capture
-from .detumble import DETUMBLE_MODES, detumble, detumble_controller, grasp_wrench
+from .detumbling import DETUMBLE_MODES, detumble, detumble_controller, grasp_wrench
 from .impact import _check_target, grasp_impulse
 
 __all__ = ["capture", "CaptureResult", "PHASES", "CAPTURE_KINDS"]
 
+#: The phases of [`capture`][spacearm.capture.capture], in order (docs/capture.md).
 PHASES = ("approach", "capture", "post-capture", "detumble")
+#: The grasp models [`capture`][spacearm.capture.capture] accepts as ``kind``.
 CAPTURE_KINDS = ("rigid", "point", "soft")
 
 

@@ -33,6 +33,8 @@ from .._util.optional import require
 from ..casadi import point_position, rk4_step
 from ..errors import ArgumentError
 
+#: The objectives of [`point_to_point`][spacearm.plan.point_to_point]: the base attitude excursion, or the
+#: control effort (docs/optimal-control.md).
 OBJECTIVES = ("attitude", "effort")
 #: How IPOPT gets the Hessian of the Lagrangian: the objective's only, or the exact one.
 HESSIANS = ("objective", "exact")
