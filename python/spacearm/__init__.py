@@ -2,7 +2,7 @@
 
 The generalized inertia matrix ``H*`` and the Generalized Jacobian Matrix ``J*`` (Umetani &
 Yoshida 1989; Wilde et al. 2018) and every quantity behind them, computed by a Rust core and
-checked against Pinocchio and MuJoCo. Start with :class:`Robot` and :mod:`spacearm.presets`;
+checked against Pinocchio and MuJoCo. Start with [`Robot`][spacearm.Robot] and [`spacearm.presets`][spacearm.presets];
 conventions are in ``docs/conventions.md``.
 """
 

@@ -1,11 +1,11 @@
 """The model options every ``spacearm`` subcommand that takes MODEL shares, defined once.
 
 ``inspect``, ``derive``, ``analyze``, ``simulate`` and ``campaign`` take the same options, added
-by :func:`add_model_arguments` and turned into a :class:`~spacearm.Robot` by
-:func:`model_from_args` / :func:`load_model`: ``--mount-on SPACECRAFT --at
+by ``add_model_arguments`` and turned into a [`Robot`][spacearm.Robot] by
+``model_from_args`` / ``load_model``: ``--mount-on SPACECRAFT --at
 x,y,z,roll,pitch,yaw`` (mount a URDF arm on a spacecraft base), ``--prefix``, ``--mimic``,
 ``--base-link`` (URDF only) and ``--end-effector`` (any model). Number lists are parsed by
-:func:`spacearm.cli.numbers.parse_numbers`.
+``spacearm.cli.numbers.parse_numbers``.
 """
 
 from __future__ import annotations
@@ -42,7 +42,7 @@ _URDF_ADVICE_AS_OPTIONS = (
 
 def add_model_arguments(parser: argparse.ArgumentParser) -> None:
     """Add MODEL and the model options that every subcommand taking a model shares; turn the
-    parsed ``args`` into the :class:`~spacearm.Robot` with :func:`model_from_args`."""
+    parsed ``args`` into the [`Robot`][spacearm.Robot] with ``model_from_args``."""
     parser.add_argument("model", help=MODEL_HELP)
     g = parser.add_argument_group("model options")
     g.add_argument("--mount-on", metavar="SPACECRAFT",
@@ -69,7 +69,7 @@ def add_model_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def model_from_args(args: argparse.Namespace) -> Robot:
-    """The robot that MODEL and the model options of :func:`add_model_arguments` describe. The
+    """The robot that MODEL and the model options of ``add_model_arguments`` describe. The
     warnings of ``--allow-nonphysical-inertia`` print as ``spacearm: warning: ...`` lines."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", NonPhysicalInertiaWarning)
@@ -91,7 +91,7 @@ def load_model(spec: str, mount_on: Optional[str] = None, at=None, prefix: Optio
     ``spatial6_wheels``: [`spacearm.examples`][spacearm.examples]), or a model file (``.toml``,
     ``.urdf``) by path.
 
-    URDF only (:func:`spacearm.io.urdf.load_urdf`, docs/urdf.md): ``mount_on`` (a preset or
+    URDF only ([`spacearm.io.urdf.load_urdf`][spacearm.io.load_urdf], docs/urdf.md): ``mount_on`` (a preset or
     ``.toml`` file, the spacecraft) and ``at`` (``"x,y,z,roll,pitch,yaw"`` or 6 numbers, m and
     rad, the URDF base link frame in the spacecraft base frame, from its CM) mount the arm on a
     spacecraft instead of making its root link the free-flying base; ``prefix`` renames its
