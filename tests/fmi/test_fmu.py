@@ -133,3 +133,32 @@ def test_export_errors(tmp_path, monkeypatch):
     with pytest.raises(MissingDependencyError, match="SPACEARM_C_LIBRARY"):
         spacearm.fmi.export(robot, tmp_path / "a.fmu")
     assert not (tmp_path / "a.fmu").exists()
+
+
+def test_the_fmu_command_writes_an_fmu_with_the_controller_parameters(tmp_path):
+    import xml.etree.ElementTree as ET
+    import zipfile
+
+    from spacearm.cli import main
+
+    out = tmp_path / "s6.fmu"
+    assert main(["fmu", "spatial6", "--out", str(out), "--fmi-version", "2", "--controller", "pd", "--kp", "3", "--kd", "1",
+                 "--mode", "flying"]) == 0
+    assert validate_fmu(str(out)) == []
+    with zipfile.ZipFile(out) as z:
+        root = ET.fromstring(z.read("modelDescription.xml"))
+        assert z.read("resources/model.toml").decode() == spacearm.io.dumps_toml(spacearm.presets.spatial6())
+    assert root.get("fmiVersion") == "2.0"
+    starts = {v.get("name"): float(v.find("Real").get("start")) for v in root.iter("ScalarVariable") if v.find("Real").get("start")}
+    assert starts["kp[1]"] == 3.0 and starts["kd[6]"] == 1.0 and "base_wrench[6]" in starts
+    assert np.allclose([starts[f"q_ref[{k}]"] for k in range(1, 7)], spacearm.presets.spatial6().initial_q)
+
+
+def test_the_fmu_command_answers_bad_options_in_one_line(tmp_path, capsys):
+    from spacearm.cli import main
+
+    assert main(["fmu", "spatial6", "--out", str(tmp_path / "a.fmu"), "--kp", "3"]) == 2
+    assert "spacearm: error: --kp needs --controller pd or ct" in capsys.readouterr().err
+    assert main(["fmu", "spatial6", "--out", str(tmp_path / "a.fmu"), "--controller", "ct", "--kp", "1,2", "--kd", "1"]) == 2
+    assert "kp" in capsys.readouterr().err
+    assert not (tmp_path / "a.fmu").exists()

@@ -2,8 +2,8 @@
 
 ``inspect`` (:mod:`spacearm.cli.inspect`), ``derive`` (:mod:`spacearm.cli.derive`), ``analyze``
 (:mod:`spacearm.cli.analyze`), ``simulate`` and ``demo`` (:mod:`spacearm.cli.simulate`),
-``campaign`` (:mod:`spacearm.cli.campaign`), ``capture`` (:mod:`spacearm.cli.capture`) and
-``plan`` (:mod:`spacearm.cli.plan`). ``MODEL`` is a preset name (``planar4``,
+``campaign`` (:mod:`spacearm.cli.campaign`), ``capture`` (:mod:`spacearm.cli.capture`),
+``plan`` (:mod:`spacearm.cli.plan`) and ``fmu`` (:mod:`spacearm.cli.fmu`). ``MODEL`` is a preset name (``planar4``,
 ``spatial6``, ...), a TOML model file (``docs/model-format.md``) or a URDF file
 (``docs/urdf.md``), with the model options of :mod:`spacearm.cli.model_options`. Optional packages are
 imported only inside the subcommand that needs them, so the command starts on a plain install.
@@ -24,6 +24,7 @@ from . import analyze as cli_analyze
 from . import campaign as cli_campaign
 from . import capture as cli_capture
 from . import derive as cli_derive
+from . import fmu as cli_fmu
 from . import inspect as cli_inspect
 from . import plan as cli_plan
 from . import simulate as cli_simulate
@@ -44,6 +45,7 @@ OUTPUT_OPTIONS = {
     "derive": ("latex", "python", "c"),
     "capture": ("out", "plot"),
     "plan": ("out", "plot"),
+    "fmu": ("out",),
 }
 
 
@@ -70,6 +72,7 @@ def main(argv=None) -> int:
     cli_campaign.add_parser(sub)
     cli_capture.add_parser(sub)
     cli_plan.add_parser(sub)
+    cli_fmu.add_parser(sub)
     # "--target -0.3,0.3,0" would be read as two options: pass such values as "--target=-0.3,...".
     args = parser.parse_args(attach_negative_values(sys.argv[1:] if argv is None else argv))
     try:
@@ -90,6 +93,8 @@ def main(argv=None) -> int:
             return cli_capture.run(args, model_from_args)
         elif args.command == "plan":
             cli_plan.run(args, model_from_args)
+        elif args.command == "fmu":
+            cli_fmu.run(args, model_from_args)
     except SpacearmError as exc:
         print(f"spacearm: error: {exc}", file=sys.stderr)
         return 2

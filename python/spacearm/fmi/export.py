@@ -23,12 +23,10 @@ from .._util.atomic import atomic_path
 from ..control import ComputedTorque, JointPD, QuinticJoint
 from ..errors import ArgumentError, SpacearmTypeError
 from ..model.robot import Robot
+from ..sim.simulation import MODES  # the core's mode table
 from . import library
 
-__all__ = ["export", "MODES", "binary_folder"]
-
-#: The maneuvering modes an FMU can be exported in (those of :func:`spacearm.simulate`).
-MODES = ("floating", "rotation-floating", "rotation-flying", "translation-flying", "flying")
+__all__ = ["export", "binary_folder"]
 
 
 def binary_folder(fmi_version: int) -> str:
@@ -77,7 +75,7 @@ def export(robot: Robot, path, *, mode: str = "floating", controller=None, dt: f
     path : str or os.PathLike
         The file to write (atomically).
     mode : str
-        One of :data:`MODES`; the flying modes give the FMU the ``base_wrench`` inputs.
+        A mode of :func:`spacearm.simulate`; the flying modes give the FMU the ``base_wrench`` inputs.
     controller : JointPD or ComputedTorque, optional
         A native controller with a constant set point, run inside the FMU at every RK4 stage;
         its gains and set point become the FMU parameters ``kp``, ``kd``, ``q_ref``. ``None``:
@@ -104,8 +102,8 @@ def export(robot: Robot, path, *, mode: str = "floating", controller=None, dt: f
         raise SpacearmTypeError(f"export expects a spacearm.Robot, got {type(robot).__name__}")
     if fmi_version not in (2, 3):
         raise ArgumentError(f"fmi_version must be 2 or 3, got {fmi_version!r}")
-    if mode not in MODES:
-        raise ArgumentError(f"mode must be one of {', '.join(MODES)}, got {mode!r}")
+    if not isinstance(mode, str) or mode not in MODES:
+        raise ArgumentError(f"mode must be one of {list(MODES)}, got {mode!r}")
     if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
         raise ArgumentError(f"dt must be a finite number > 0 s, got {dt!r}")
     identifier = model_identifier or "spacearm_" + re.sub(r"\W", "_", robot.name)

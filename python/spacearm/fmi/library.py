@@ -21,7 +21,8 @@ import sys
 from functools import lru_cache
 from pathlib import Path
 
-from ..errors import ArgumentError, MissingDependencyError, ModelError, ModelFileError
+from .. import errors
+from ..errors import MissingDependencyError
 
 __all__ = ["path", "load", "ABI_VERSION", "LIBRARY_NAME"]
 
@@ -54,6 +55,16 @@ def path() -> Path:
         "to the file it writes (docs/c-api.md, 'Getting the library')")
 
 
+#: The Python class of each SpacearmStatus code (docs/c-api.md, "Errors"): the same kinds as
+#: the core's errors, which the extension maps the same way.
+_ERRORS = {
+    1: errors.ModelError, 2: errors.ShapeError, 3: errors.NonFiniteError, 4: errors.QuaternionError,
+    5: errors.NotFoundError, 6: errors.SingularError, 7: errors.ModelFileError, 8: errors.ArgumentError,
+    9: errors.SimulationError, 10: errors.ResourceLimitError, 11: errors.ArgumentError, 12: errors.ArgumentError,
+    13: errors.ArgumentError, 14: errors.ArgumentError,
+}
+
+
 class _Library:
     """The loaded library with the signatures Python uses."""
 
@@ -78,9 +89,7 @@ class _Library:
         """Raise the error of a failed call (a status other than 0)."""
         if status != 0:
             message = (self.lib.spacearm_last_error() or b"").decode("utf-8", "replace")
-            # The status codes of SpacearmStatus (docs/c-api.md, "Errors").
-            cls = {1: ModelError, 7: ModelFileError}.get(status, ArgumentError)
-            raise cls(message)
+            raise _ERRORS.get(status, errors.ArgumentError)(message)
 
     def model_description(self, model_toml: str, options_toml: str, fmi_version: int, identifier: str, token: str,
                           stop_time: float) -> str:
