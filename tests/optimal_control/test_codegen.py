@@ -64,3 +64,14 @@ def test_the_compiled_rk4_step_is_the_native_simulators_step(compiled):
         x1, u1 = (np.array(v).ravel() for v in f["rk4_step"](x, u, tau, w, dt))
         assert np.allclose(x1, sim.x, rtol=0, atol=1e-11) and np.allclose(u1, sim.u, rtol=0, atol=1e-10)
         assert np.abs(u1 - u).max() > 1e-3  # the step moved
+
+
+def test_the_mpc_example_runs_and_reports_its_solve_times():
+    import os
+    import sys
+
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    run = subprocess.run([sys.executable, os.path.join(root, "examples", "mpc_receding_horizon.py"), "--steps", "2", "--horizon", "3"],
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert "solve time per step (CPU): median" in run.stdout and "final joint error" in run.stdout
