@@ -202,6 +202,8 @@ pub struct SimResult {
     pub dropped_wrench_max: f64,
     /// Number of evaluations that commanded such a part.
     pub dropped_wrench_count: usize,
+    /// A point controller's report on its goal at the final sample ([`Controller::goal_report`]).
+    pub goal: Option<crate::control::GoalReport>,
 }
 
 /// The plant as an ODE `ẏ = f(t, y)` for the integrators: model, mode, actuators and controller
@@ -638,5 +640,6 @@ pub(crate) fn finish_result(plant: &Plant<'_>, rec: Recorder, events: Vec<Satura
         dropped_wrench_max: plant.dropped_max,
         dropped_wrench_count: plant.dropped_count,
         wheel_dofs: plant.wheels.clone(),
+        goal: plant.controller.goal_report(),
     }
 }
