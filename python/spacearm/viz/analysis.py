@@ -1,4 +1,4 @@
-"""The figures of the analyses (:mod:`spacearm.analysis`): a singularity map, a point-to-point
+"""The figures of the analyses ([`spacearm.analysis`][spacearm.analysis]): a singularity map, a point-to-point
 motion, the workspaces. Each result's ``.figure()`` / ``.plot()`` calls these."""
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ def motion_plane(paths) -> tuple:
 
 
 def motion_figure(motion, others=(), title: Optional[str] = None):
-    """Point path (in the coordinate plane of the motion, :func:`motion_plane`), base attitude
+    """Point path (in the coordinate plane of the motion, `motion_plane`), base attitude
     change and σ_min against time, for this motion and any ``others`` (e.g. a naive motion to the
     same target). Returns the matplotlib ``Figure``."""
     fig = new_figure(figsize=(13, 4.2))
