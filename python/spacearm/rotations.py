@@ -131,7 +131,7 @@ def quat_to_matrix(q) -> _np.ndarray:
     worst = float(_np.max(_np.abs(norm - 1.0))) if q.size else 0.0
     if worst > _core.QUATERNION_TOLERANCE:
         raise _QuaternionError(f"quaternion must be a unit quaternion [x, y, z, w] (|q| = 1 within "
-                              f"{_core.QUATERNION_TOLERANCE:g}), got norm {float(norm.ravel()[np.argmax(np.abs(norm - 1.0))])}")
+                              f"{_core.QUATERNION_TOLERANCE:g}), got norm {float(norm.ravel()[_np.argmax(_np.abs(norm - 1.0))])}")
     return _core.quat_to_matrix(q)  # each divided by its norm
 
 
