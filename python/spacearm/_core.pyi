@@ -29,7 +29,7 @@ __all__ = [
     "ThrusterLimits", "WorkspaceShells", "ZeroTorqueSpec", "__version__", "analysis_damping",
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
     "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
-    "analysis_singularity", "batch_threads", "body_mass_properties_error",
+    "analysis_singularity", "batch_threads", "body_mass_properties_error", "check_grasp_handle", "GOAL_TOLERANCE", "MAX_HANDLE_RATIO",
     "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
     "model_to_toml", "momentum_scales", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
@@ -329,6 +329,8 @@ MODEL_BOUNDS: ModelBounds
 DLS_DEFAULTS: DlsDefaults
 QUATERNION_TOLERANCE: float
 MEMORY_LIMIT_BYTES: int
+GOAL_TOLERANCE: float    # m: RMRC ends farther than this from its reference with its damping active -> unreachable
+MAX_HANDLE_RATIO: float  # a target grasp point at most this many body sizes from the body's CM
 def quintic_scaling(t: _Vec, t_start: float, t_end: float) -> tuple[_Vec, _Vec, _Vec]: ...
 def body_mass_properties_error(
     who: str, mass: float, inertia: Sequence[Sequence[float]], *, triangle_inequality: bool = True
@@ -661,7 +663,8 @@ def impulse_dynamics(model: Model, x: _ArrayLike, u_before: _ArrayLike, jacobian
                      arm: str = "free") -> ImpulseDynamics: ...
 def grasp_impact(robot: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: _ArrayLike, target: Model, x_target: _ArrayLike,
                  u_target: _ArrayLike, target_body: int, target_offset: _ArrayLike, *, kind: str = "rigid", restitution: float = 0.0,
-                 normal: _ArrayLike | None = None, arm: str = "free") -> GraspImpulse: ...
+                 normal: _ArrayLike | None = None, arm: str = "free", capture_tolerance: float = 0.01) -> GraspImpulse: ...
+def check_grasp_handle(model: Model, body: int, offset: _ArrayLike) -> None: ...
 
 @final
 class SoftCaptureResult:
@@ -1050,6 +1053,9 @@ class RunMeta:
     joint_limits: bool
     dropped_base_wrench_max_norm: float    # largest commanded base-wrench part the mode dropped
     dropped_base_wrench_count: int         # evaluations that commanded one
+    goal_distance: float | None            # RMRC at the final sample: |p_ref - p|, m
+    goal_sigma_min: float | None           # ... the smallest singular value of its task Jacobian
+    goal_unreachable: bool | None          # ... stopped short with its damping active
     # The run-description dict of docs/simulation.md (Trajectory.meta less duration and robot).
     def to_dict(self) -> dict[str, Any]: ...
 
@@ -1105,7 +1111,7 @@ class Simulator:
 
     def __new__(cls, model: Model, options: RunOptions, controller_spec: Optional[_ControllerSpec] = None, record_every: Optional[int] = None) -> Simulator: ...
     def reset(self, x0: _ArrayLike, u0: _ArrayLike) -> None: ...
-    def step(self, tau: Optional[_ArrayLike] = None, n: int = 1, base_wrench: Optional[_ArrayLike] = None) -> None: ...
+    def step(self, tau: Optional[_ArrayLike] = None, n: Optional[int] = None, base_wrench: Optional[_ArrayLike] = None) -> None: ...
     @property
     def time(self) -> float: ...
     @property

@@ -497,6 +497,10 @@ class Trajectory:
             unit = {"joint": "rad", "cartesian": "m"}.get(self.tracking_error_kind or "", "")
             e = self.tracking_error
             lines.append(f"  tracking error ({self.tracking_error_kind or '?'}): final {e[-1]:.3g} {unit}, max {np.max(e):.3g} {unit}")
+        goal = m.get("goal")
+        if goal and goal["unreachable"]:
+            lines.append(f"  GOAL OUT OF REACH: the point stopped {goal['distance']:.3g} m short with the task Jacobian nearly "
+                         f"singular (smallest singular value {goal['sigma_min']:.3g}); choose a reachable goal")
         if self.has("ee_position"):
             p = self.ee_position[-1]
             lines.append(f"  end effector final position [{', '.join(f'{v:.4g}' for v in p)}] m")

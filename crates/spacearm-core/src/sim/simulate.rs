@@ -202,6 +202,8 @@ pub struct SimResult {
     pub dropped_wrench_max: f64,
     /// Number of evaluations that commanded such a part.
     pub dropped_wrench_count: usize,
+    /// A point controller's report on its goal at the final sample ([`Controller::goal_report`]).
+    pub goal: Option<crate::control::GoalReport>,
 }
 
 /// The plant as an ODE `ẏ = f(t, y)` for the integrators: model, mode, actuators and controller
@@ -481,6 +483,9 @@ pub fn sample_count(opts: &SimOptions) -> usize {
 fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, progress: Progress<'_>) -> Result<SimResult> {
     let n_steps = rk4_step_count(opts);
     let mut stepper = Rk4Stepper::new(plant, x0, u0, Some((sample_count(opts), opts.record_every)))?;
+    // A step longer than the fastest mode allows is refused before the first step.
+    let y0 = stepper.state().to_vec();
+    crate::sim::step_limit::check_rk4_step(stepper.plant_mut(), 0.0, &y0, opts.dt.min(opts.duration))?;
     let progress_every = opts.duration / 1000.0;
     let mut next_progress = 0.0;
     for i in 0..n_steps {
@@ -682,5 +687,6 @@ pub(crate) fn finish_result(plant: &Plant<'_>, rec: Recorder, events: Vec<Satura
         dropped_wrench_max: plant.dropped_max,
         dropped_wrench_count: plant.dropped_count,
         wheel_dofs: plant.wheels.clone(),
+        goal: plant.controller.goal_report(),
     }
 }
