@@ -115,3 +115,36 @@ def test_undamped_energy_record_includes_the_spring():
     assert kinetic.max() > 0.4 * energy[0]  # the energy changes form
     assert "energy" in traj.meta["conserved"]
     assert traj.meta["drift"]["energy"] < 1e-9
+
+
+URDF = """<?xml version="1.0"?>
+<robot name="panel">
+  <link name="bus"><inertial><mass value="100"/><inertia ixx="8" iyy="9" izz="10" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="panel"><inertial><origin xyz="0.5 0 0"/><mass value="10"/>
+    <inertia ixx="0.1" iyy="0.75" izz="0.8" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="hinge" type="continuous">
+    <parent link="bus"/><child link="panel"/><origin xyz="1 0 0"/><axis xyz="0 0 1"/>
+    <dynamics damping="0.5" friction="0.1"/>
+    <spacearm stiffness="30" rest="0.25" actuated="false"/>
+  </joint>
+</robot>
+"""
+
+
+def test_urdf_reads_damping_and_the_spacearm_extension_element():
+    robot = spacearm.io.loads_urdf(URDF)
+    link = robot.description.link("panel")
+    assert (link.actuated, link.stiffness, link.damping, link.rest) == (False, 30.0, 0.5, 0.25)
+    text = spacearm.io.to_urdf(robot)
+    assert '<dynamics damping="0.5"' in text and "<spacearm " in text
+    assert spacearm.io.loads_urdf(text).description.link("panel").stiffness == 30.0
+    again = spacearm.io.loads_urdf(text)
+    x = robot.neutral_configuration(q=[0.4])
+    u = np.r_[np.zeros(6), 0.3]
+    np.testing.assert_array_equal(again.passive_forces(x, u), robot.passive_forces(x, u))
+    with pytest.raises(errors.ModelFileError, match="<spacearm> takes stiffness, rest and actuated"):
+        spacearm.io.loads_urdf(URDF.replace('rest="0.25"', 'springref="0.25"'))
+    with pytest.raises(errors.ModelFileError, match="must be 'true' or 'false'"):
+        spacearm.io.loads_urdf(URDF.replace('actuated="false"', 'actuated="no"'))
+    with pytest.raises(errors.ModelFileError, match="stiffness must be finite and >= 0"):
+        spacearm.io.loads_urdf(URDF.replace('stiffness="30"', 'stiffness="-30"'))

@@ -403,7 +403,7 @@ class Robot:
 
     def inverse_dynamics(self, x, u, du, wrenches=None) -> np.ndarray:
         """Generalized force ``f = H du + c - Q_passive - J^T w_ext`` producing ``du`` (RNEA,
-        Featherstone §5.3; ``Q_passive``: :meth:`passive_forces`)."""
+        Featherstone §5.3; ``Q_passive``: [`passive_forces`][spacearm.Robot.passive_forces])."""
         return self._m.inverse_dynamics(x, u, du, None if wrenches is None else self._wrenches(wrenches))
 
     def forward_dynamics(self, x, u, f=None, *, tau=None, base_wrench=None, wrenches=None, method: str = "aba") -> np.ndarray:
@@ -416,7 +416,7 @@ class Robot:
         ``method``: ``"aba"`` (O(N) articulated-body algorithm), ``"mass_matrix"``
         (``H⁻¹(f + Q + J^T w - c)``) or ``"reduced"`` (``qdd = H*⁻¹(tau + Q_m - c* - H0m^T H0⁻¹ F_b)``,
         the reduction of eqs. 39–50, ``docs/physics.md``; no external wrenches). Every method adds
-        the joints' springs and dampers, ``Q`` = :meth:`passive_forces` (docs/flexibility.md).
+        the joints' springs and dampers, ``Q`` = [`passive_forces`][spacearm.Robot.passive_forces] (docs/flexibility.md).
         """
         # One native call per form and method: x, u and the force arrays go to the extension
         # unconverted (see _x above); it checks them in the order force, x, u.
