@@ -148,3 +148,28 @@ def test_urdf_reads_damping_and_the_spacearm_extension_element():
         spacearm.io.loads_urdf(URDF.replace('actuated="false"', 'actuated="no"'))
     with pytest.raises(errors.ModelFileError, match="stiffness must be finite and >= 0"):
         spacearm.io.loads_urdf(URDF.replace('stiffness="30"', 'stiffness="-30"'))
+
+
+def test_casadi_equations_of_motion_carry_the_springs():
+    pytest.importorskip("casadi")
+    from spacearm import casadi as sc
+
+    rng = np.random.default_rng(5)
+    robot, _ = with_joint_springs(spacearm.presets.get("planar4"), rng)
+    x = robot.neutral_configuration(q=rng.uniform(-1, 1, robot.n_dof))
+    u, tau = rng.normal(size=robot.nu), rng.normal(size=robot.n_dof)
+    fd = sc.forward_dynamics(robot)
+    got = np.asarray(fd(x, u, tau, np.zeros(6))).ravel()
+    np.testing.assert_allclose(got, robot.forward_dynamics(x, u, tau=tau), rtol=1e-12, atol=1e-12)
+    du = rng.normal(size=robot.nu)
+    f = np.asarray(sc.inverse_dynamics(robot)(x, u, du)).ravel()
+    np.testing.assert_allclose(f, robot.inverse_dynamics(x, u, du), rtol=1e-12, atol=1e-12)
+
+
+def test_trajectory_drift_recomputed_from_the_records_equals_the_simulators():
+    robot = spring_mass(k=200.0)
+    traj = spacearm.simulate(robot, 0.3, x0=robot.neutral_configuration(q=[0.02]), dt=1e-3)
+    # The energy scale is the mechanical energy (the kinetic energy starts at zero here).
+    assert traj.drift_scale("energy") == pytest.approx(traj.meta["drift_scales"]["energy"], rel=1e-12)
+    assert traj.drift(["energy"], scale={"energy": traj.drift_scale("energy")})["energy"] == pytest.approx(
+        traj.meta["drift"]["energy"], rel=1e-6, abs=1e-15)

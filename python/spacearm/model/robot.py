@@ -466,7 +466,7 @@ class Robot:
     def momentum_scales(self, x, u) -> np.ndarray:
         """The magnitudes against which the drift of the momenta and the energy is measured, per
         state: ``(T, 4)`` columns ``[Σ|p_i|, Σ(|r_i × p_i| + |I_i w_i|) about the origin, the
-        same about the system CM, kinetic energy]`` (sums over the bodies of their own
+        same about the system CM, kinetic plus spring energy]`` (sums over the bodies of their own
         contributions' norms: the core's drift scales, docs/simulation-core.md). ``x`` (T, 7+N)
         or (7+N,), ``u`` likewise."""
         xs = np.ascontiguousarray(np.atleast_2d(np.asarray(x, dtype=float)))
