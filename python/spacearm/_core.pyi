@@ -95,6 +95,7 @@ class ModelBuilder:
         inertia: Sequence[Sequence[float]],
         joint_name: Optional[str] = None,
         limits: Optional[Sequence[float]] = None,
+        dynamics: Optional[tuple[bool, float, float, float]] = None,  # (actuated, stiffness, damping, rest)
     ) -> None: ...
     def add_point(self, name: str, body: str, offset: Sequence[float]) -> None: ...
     def set_end_effector(self, name: str) -> None: ...
@@ -186,6 +187,18 @@ class LinkDescription:
     @property
     def dof(self) -> Optional[int]:
         """Index of the joint's coordinate in ``q``; ``None`` for a fixed joint."""
+    @property
+    def actuated(self) -> bool:
+        """Whether a motor drives the joint (``False``: a passive joint, docs/flexibility.md)."""
+    @property
+    def stiffness(self) -> float:
+        """Joint spring stiffness, N·m/rad (revolute) or N/m (prismatic); 0: none."""
+    @property
+    def damping(self) -> float:
+        """Joint damping, N·m·s/rad (revolute) or N·s/m (prismatic); 0: none."""
+    @property
+    def rest(self) -> float:
+        """The spring's rest coordinate, rad or m."""
 
 @final
 class PointDescription:
@@ -248,6 +261,7 @@ class Model:
     end_effector: Optional[str]
     initial_q: _Vec
     body_of_dof: list[int]
+    actuated_dofs: list[bool]
     def body_index(self, name: str) -> int: ...
     def point(self, name: str) -> tuple[int, list[float]]: ...
     def describe(self) -> ModelDescription: ...
@@ -282,6 +296,8 @@ class Model:
     def momentum(self, x: _ArrayLike, u: _ArrayLike) -> tuple[_Vec, _Vec, _Vec, _Vec]: ...  # (P, L_origin, L_base, L_com), each (3,) in 𝒥
     def kinetic_energy(self, x: _ArrayLike, u: _ArrayLike) -> Union[float, _Vec]: ...
     def center_of_mass(self, x: _ArrayLike) -> _Vec: ...
+    def passive_forces(self, x: _ArrayLike, u: _ArrayLike) -> _Vec: ...  # (6+N,): [0 (6); -k (q - rest) - c qd]
+    def spring_energy(self, x: _ArrayLike) -> Union[float, _Vec]: ...
 
 # ---- the core's rules and defaults (crates/spacearm-py/src/rules_py.rs, rule_tables_py.rs) -----
 # The tables are frozen instances with typed attributes; each is also a read-only mapping of its

@@ -428,7 +428,7 @@ class Trajectory:
         initial value is smaller (e.g. zero momentum): the core's drift scale
         ([`Robot.momentum_scales`][spacearm.Robot.momentum_scales], the sums over the bodies of their own contributions'
         norms), its largest value over the recorded states — what the simulator records as
-        ``meta["drift_scales"]``. ``energy`` → the largest kinetic energy. Without a robot the
+        ``meta["drift_scales"]``. ``energy`` → the largest mechanical energy (kinetic plus the joint springs'). Without a robot the
         momentum scales are 0.
         """
         columns = {"P": 0, "L_origin": 1, "L_com": 2, "energy": 3}

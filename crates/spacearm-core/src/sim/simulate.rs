@@ -7,7 +7,7 @@
 //! algorithm with `f = [F0; N0; τ]` → `ẏ = [v0; ½ [ω0; 0] ⊗ quat; q̇; u̇]`.
 //!
 //! Recorded per sample: the state, `u̇`, applied and commanded torques, the applied base
-//! wrench, `P`, `L_origin`, `L_com`, kinetic energy, system CM, end-effector pose, the
+//! wrench, `P`, `L_origin`, `L_com`, mechanical energy (kinetic plus the joint springs'), system CM, end-effector pose, the
 //! controller's reference and tracking error, wheel speeds. Saturation events mark the accepted
 //! step in which an actuator starts saturating (its onset; the per-sample `tau` against
 //! `tau_cmd` shows how long it lasts). The drift of each conserved quantity is its largest
@@ -146,7 +146,7 @@ pub struct Records {
     pub angular_momentum_origin: Vec<f64>,
     /// Angular momentum about the system CM, N·m·s (width 3).
     pub angular_momentum_com: Vec<f64>,
-    /// Kinetic energy, J (width 1).
+    /// Mechanical energy: kinetic energy plus the joint springs' potential energy, J (width 1).
     pub energy: Vec<f64>,
     /// System CM in 𝒥, m (width 3).
     pub com: Vec<f64>,
@@ -386,9 +386,9 @@ impl OdeSystem for Plant<'_> {
         if let Some(c) = &mut self.closure {
             c.evaluate(&self.model, &mut self.data, x, u, &self.f)?;
         } else if self.body_wrenches.is_empty() {
-            aba_after_kinematics(&self.model, &mut self.data, u, &self.f)?;
+            aba_after_kinematics(&self.model, &mut self.data, &x[7..], u, &self.f)?;
         } else {
-            aba_with_wrenches_after_kinematics(&self.model, &mut self.data, u, &self.f, &self.body_wrenches)?;
+            aba_with_wrenches_after_kinematics(&self.model, &mut self.data, &x[7..], u, &self.f, &self.body_wrenches)?;
         }
         // ṙ0 = v0; quaṫ = ½ [ω0; 0] ⊗ quat (Hamilton, [x, y, z, w], ω0 in 𝒥); q̇; u̇.
         dy[0..3].copy_from_slice(&u[0..3]);
@@ -669,7 +669,10 @@ fn check_divergence(result: &SimResult) -> Result<()> {
 
 /// The result of a run from its plant (counters, controller) and records.
 pub(crate) fn finish_result(plant: &Plant<'_>, rec: Recorder, events: Vec<SaturationEvent>, n_steps: usize, n_rejected: usize) -> SimResult {
-    let conserved = plant.mode.conserved(plant.controller.is_torque_free());
+    // The mechanical energy (kinetic plus springs) is conserved without joint torques, base
+    // wrench or joint dampers.
+    let undamped = plant.model().dof_dynamics().iter().all(|d| d.damping == 0.0);
+    let conserved = plant.mode.conserved(plant.controller.is_torque_free() && undamped);
     let drift = rec.drift(&conserved);
     let drift_scales = conserved.iter().map(|&c| (c, rec.scale(c))).collect();
     SimResult {
