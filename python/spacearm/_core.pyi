@@ -745,7 +745,13 @@ class RunOptions:
         max_steps: Optional[int] = None,
         progress: Optional[Callable[[float], Any]] = None,
         record_dtype: Optional[str] = None,
+        orbit: Optional[Orbit] = None,
+        gravity_gradient: Optional[bool] = None,
     ) -> RunOptions: ...
+    @property
+    def orbit(self) -> Optional[Orbit]: ...
+    @property
+    def gravity_gradient(self) -> bool: ...
     @property
     def mode(self) -> str: ...
     @property
@@ -995,6 +1001,9 @@ class RunRecords:
     tracking_error: Optional[_Record]       # (K,) |reference − actual|, rad or m (RunMeta.tracking_error_kind)
     attitude_error: Optional[_Record]       # (K,) base attitude error of an attitude controller, rad
     wheel_speed: Optional[_Record]          # (K, W) reaction-wheel speeds, rad/s (RunMeta.wheel_dofs)
+    r_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM in ECI, m (float64)
+    v_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM velocity in ECI, m/s (float64)
+    gravity_wrench: Optional[_Record]       # (K, 6) orbital runs: total tidal [force; torque about the origin], N, N·m
 
 @final
 class RunEvents:

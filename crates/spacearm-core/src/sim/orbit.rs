@@ -415,6 +415,35 @@ impl OrbitTrack {
         &self.orbit
     }
 
+    /// The end of the tracked span, s.
+    pub fn end(&self) -> f64 {
+        (self.nodes.len() - 1) as f64 * self.h
+    }
+
+    /// Extend the track (same node spacing) so that it covers `[0, t]`: the orbit propagated on
+    /// from its last node (a run stepped past the duration it was built for).
+    pub fn extend_to(&mut self, t: f64) -> Result<()> {
+        if t <= self.end() {
+            return Ok(());
+        }
+        // Extend by at least a tenth of a period, so that a stepped run extends rarely.
+        let want = t.max(self.end() + 0.1 * self.orbit.period());
+        let extra = ((want - self.end()) / self.h).ceil() as usize;
+        crate::admission::admit(
+            format_args!("an orbit track of {} nodes", self.nodes.len() + extra),
+            crate::admission::bytes_of::<f64>(9.0 * (self.nodes.len() + extra) as f64),
+            "simulate a shorter duration",
+        )?;
+        let (r, v, _) = *self.nodes.last().expect("a track has nodes");
+        let from = Orbit { r0: r, v0: v, ..self.orbit };
+        let times: Vec<f64> = (1..=extra).map(|k| k as f64 * self.h).collect();
+        for (r, v) in from.propagate(&times, 1e-13)? {
+            let a = self.orbit.acceleration(&r);
+            self.nodes.push((r, v, a));
+        }
+        Ok(())
+    }
+
     /// ECI position and velocity at `t` (clamped to the tracked span).
     pub fn state(&self, t: f64) -> (Vector3<f64>, Vector3<f64>) {
         let last = self.nodes.len() - 1;
