@@ -142,7 +142,7 @@ def test_momentum_balance_replaces_the_drift_in_orbit():
     q0 = robot.initial_q
     ctrl = spacearm.control.ComputedTorque(kp=4.0, kd=4.0, reference=spacearm.control.QuinticJoint(q0, q0 + 0.8, t_start=0.0, t_end=8.0))
     orbit = spacearm.Orbit.circular(400e3, inclination=0.5)
-    traj = spacearm.simulate(robot, 10.0, x0=robot.neutral_configuration(quat0=(0.3, 0.1, 0.2, 0.927)), controller=ctrl,
+    traj = spacearm.simulate(robot, 10.0, x0=robot.neutral_configuration(quat0=np.array([0.3, 0.1, 0.2, 0.927]) / np.linalg.norm([0.3, 0.1, 0.2, 0.927])), controller=ctrl,
                              orbit=orbit, dt=1e-2)
     assert traj.meta["conserved"] == ["P", "L_origin"]
     assert max(traj.meta["drift"].values()) < 1e-8
