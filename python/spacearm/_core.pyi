@@ -1,5 +1,5 @@
 """Type stub of the private extension ``spacearm._core`` (PyO3). Users call
-:class:`spacearm.Robot`, which wraps :class:`Model`; this stub documents the boundary."""
+[`spacearm.Robot`][spacearm.Robot], which wraps ``Model``; this stub documents the boundary."""
 
 from typing import Any, Callable, Optional, Sequence, Union, final
 
@@ -139,7 +139,7 @@ class JointLimits:
     def effort(self) -> float:
         """Effort bound, N·m or N; ``inf`` when unbounded."""
     def to_list(self) -> list[float]:
-        """``[lower, upper, velocity, effort]``, the order of :meth:`Robot.describe`."""
+        """``[lower, upper, velocity, effort]``, the order of [`Robot.describe`][spacearm.Robot.describe]."""
 
 @final
 class LinkDescription:
@@ -208,7 +208,7 @@ class PointDescription:
 class ModelDescription:
     """A whole model: base, links in tree order (a parent before its children; link ``i`` is
     body ``i + 1``), named points, end effector and initial joint coordinates
-    (what :attr:`Robot.description` and ``Model.describe()`` return)."""
+    (what [`Robot.description`][spacearm.Robot.description] and ``Model.describe()`` return)."""
 
     @property
     def name(self) -> str:
@@ -229,11 +229,11 @@ class ModelDescription:
     def initial_q(self) -> _Vec:
         """(N,) read-only: initial joint coordinates (rad or m per joint type)."""
     def link(self, name: str) -> LinkDescription:
-        """The link called ``name`` (raises :class:`~spacearm.NotFoundError` if there is none)."""
+        """The link called ``name`` (raises [`NotFoundError`][spacearm.NotFoundError] if there is none)."""
     def point(self, name: str) -> PointDescription:
-        """The point called ``name`` (raises :class:`~spacearm.NotFoundError` if there is none)."""
+        """The point called ``name`` (raises [`NotFoundError`][spacearm.NotFoundError] if there is none)."""
     def to_dict(self) -> dict[str, Any]:
-        """The plain-data form, exactly as :meth:`Robot.describe` returns it (a new dict at each call)."""
+        """The plain-data form, exactly as [`Robot.describe`][spacearm.Robot.describe] returns it (a new dict at each call)."""
 
 @final
 class Model:
@@ -978,7 +978,7 @@ _Record = npt.NDArray[Any]
 @final
 class RunRecords:
     """The recorded samples of a run, one row per sample: ``(K, ...)`` for one run, ``(B, K, ...)``
-    in a :class:`RolloutBatch`. Vectors in the inertial frame, SI units. ``t``, ``x``, ``u`` are
+    in a ``RolloutBatch``. Vectors in the inertial frame, SI units. ``t``, ``x``, ``u`` are
     always there; a record the run did not make is ``None``; ``fields`` names those it made."""
     @property
     def fields(self) -> tuple[str, ...]: ...
@@ -1046,14 +1046,14 @@ class RunMeta:
 
 @final
 class RunResult:
-    """One run (what :func:`simulate` and :meth:`Simulator.result` return)."""
+    """One run (what [`simulate`][spacearm.simulate] and ``Simulator.result`` return)."""
     records: RunRecords
     events: RunEvents
     meta: RunMeta
 
 @final
 class RolloutBatch:
-    """B rollouts (what :func:`rollout` returns); a failed rollout has NaN rows and ``None``
+    """B rollouts (what [`rollout`][spacearm.rollout] returns); a failed rollout has NaN rows and ``None``
     meta and events."""
     records: RunRecords                    # (B, K, ...); only t, x, u when every rollout failed
     ok: npt.NDArray[np.bool_]              # (B,)
@@ -1085,7 +1085,7 @@ def rollout(
 ) -> RolloutBatch:
     """Run B rollouts on native threads without the GIL (crates/spacearm-py/src/rollout_py.rs).
     ``models``: one model or one per rollout; ``x0`` (B, 7+N), ``u0`` (B, 6+N) float64;
-    ``options`` as for :func:`simulate` (``progress`` ignored); ``controllers``: one spec (a
+    ``options`` as for [`simulate`][spacearm.simulate] (``progress`` ignored); ``controllers``: one spec (a
     controller built per rollout) or a list of B. Returns the records with a leading B axis (NaN rows for
     a failed rollout) and each rollout's status, description and saturation onsets."""
     ...

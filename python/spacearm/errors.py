@@ -1,7 +1,7 @@
 """The exceptions spacearm raises.
 
 Every error spacearm raises on bad input (an argument, a model, a file) or on a computation
-that cannot go on is an instance of :class:`SpacearmError`, so ``except spacearm.SpacearmError``
+that cannot go on is an instance of [`SpacearmError`][spacearm.SpacearmError], so ``except spacearm.SpacearmError``
 catches all of them and nothing else. Each class also derives from the builtin exception a
 Python programmer would expect for that kind of error, so ``except ValueError`` (or
 ``TypeError``, ``KeyError``...) keeps working around spacearm calls. The Rust core has one error
@@ -23,7 +23,7 @@ kind per class below (the bindings map each onto its class).
 | `CampaignError` | `RuntimeError` | a campaign cannot run, go on or report for reasons outside its samples (a script without a main guard under the spawn start method, an unreachable Dask scheduler, lost workers, nothing that ran to plot) |
 | `MissingDependencyError` | `ImportError` | an optional package is not installed (the message names the extra to install) |
 
-One warning class: :class:`NonPhysicalInertiaWarning` (a ``UserWarning``), issued when a model
+One warning class: [`NonPhysicalInertiaWarning`][spacearm.errors.NonPhysicalInertiaWarning] (a ``UserWarning``), issued when a model
 is loaded with ``allow_nonphysical_inertia=True`` and a body's inertia breaks the triangle
 inequality.
 

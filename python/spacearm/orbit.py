@@ -1,10 +1,10 @@
 """Orbits: the central body's constants, osculating two-body elements, and the orbit a run's
 system centre of mass follows (two-body + J2), computed by the core (docs/orbit.md).
 
-The classes are the extension's (``spacearm._core``): :class:`Orbit` (``Orbit.circular``,
+The classes are the extension's (``spacearm._core``): [`Orbit`][spacearm.Orbit] (``Orbit.circular``,
 ``Orbit.from_elements``, ``Orbit.from_state``; ``propagate``, ``elements``, ``lvlh_to_eci``,
-``j2_secular_rates``), :class:`CentralBody` (μ, R, J2; ``CentralBody.earth()``) and
-:class:`OrbitalElements`. SI units and radians; ECI's z is the central body's pole; LVLH has x
+``j2_secular_rates``), [`CentralBody`][spacearm.CentralBody] (μ, R, J2; ``CentralBody.earth()``) and
+[`OrbitalElements`][spacearm.OrbitalElements]. SI units and radians; ECI's z is the central body's pole; LVLH has x
 radial, z along the orbit normal.
 
 >>> import spacearm

@@ -10,12 +10,12 @@ own on CasADi and SymPy symbols).
 Quaternions are unit, Hamilton, scalar LAST ``[x, y, z, w]`` (``docs/conventions.md``; the same
 as ``scipy.spatial.transform.Rotation.as_quat()`` and Pinocchio). Every quaternion argument of
 spacearm also accepts a ``scipy.spatial.transform.Rotation`` holding one rotation
-(:func:`spacearm._util.arrays.quaternion`).
+(``spacearm._util.arrays.quaternion``).
 
 Every helper checks its input: shapes, finite values, a unit quaternion (norm 1 within the
 core's tolerance, ``_core.QUATERNION_TOLERANCE`` = 1e-6, then normalized exactly) and a proper
 rotation matrix (orthonormal with determinant +1 within 1e-6); a bad input raises the
-:mod:`spacearm.errors` class that says what was wrong.
+[`spacearm.errors`][spacearm.errors] class that says what was wrong.
 """
 
 from __future__ import annotations
@@ -131,7 +131,7 @@ def quat_to_matrix(q) -> np.ndarray:
 
 
 def _rotation_matrix(r, batch: bool = False) -> np.ndarray:
-    """``r`` as a 3×3 float64 proper rotation matrix within :data:`MATRIX_TOLERANCE` (with
+    """``r`` as a 3×3 float64 proper rotation matrix within [`MATRIX_TOLERANCE`][spacearm.rotations.MATRIX_TOLERANCE] (with
     ``batch``, also ``(B, 3, 3)`` rows of them, each checked)."""
     try:
         r = np.asarray(r)
@@ -163,12 +163,12 @@ def _rotation_matrix(r, batch: bool = False) -> np.ndarray:
 
 def rotation_vector(r) -> np.ndarray:
     """The rotation vector ``θ`` (``|θ| ≤ π``) with ``exp([θ]×) = r`` of a rotation matrix
-    (a proper one within :data:`MATRIX_TOLERANCE`): ``log(r)``."""
+    (a proper one within [`MATRIX_TOLERANCE`][spacearm.rotations.MATRIX_TOLERANCE]): ``log(r)``."""
     return _core.rotation_vector(_rotation_matrix(r))
 
 
 def quat_from_matrix(r) -> np.ndarray:
     """Unit quaternion ``[x, y, z, w]`` (with ``w >= 0``) of a rotation matrix (Shepperd's
     method, stable for every rotation). ``r`` must be a proper rotation matrix within
-    :data:`MATRIX_TOLERANCE`; ``(B, 3, 3)`` rows of them give ``(B, 4)``."""
+    [`MATRIX_TOLERANCE`][spacearm.rotations.MATRIX_TOLERANCE]; ``(B, 3, 3)`` rows of them give ``(B, 4)``."""
     return _core.quat_from_matrix(_rotation_matrix(r, batch=True))

@@ -1,7 +1,7 @@
-"""Two-arm grasps: a closed kinematic chain (:func:`simulate_closed_chain`).
+"""Two-arm grasps: a closed kinematic chain ([`simulate_closed_chain`][spacearm.capture.simulate_closed_chain]).
 
 When a second gripper also holds the captured target, the captured model (the target a payload
-of the first gripper, :func:`~spacearm.capture.attach_target`) gains a loop: the frame of the
+of the first gripper, [`attach_target`][spacearm.capture.attach_target]) gains a loop: the frame of the
 second gripper must keep its pose relative to the target. With ``J_c = J_b − J_a`` the difference
 of the two frames' point Jacobians (6×(6+N), eqs. 104–108), the loop-closure constraint is
 ``J_c u = 0`` (both Jacobians taken at frame b's origin) and the dynamics become the index-1 system
@@ -13,7 +13,7 @@ of the two frames' point Jacobians (6×(6+N), eqs. 104–108), the loop-closure 
 last two terms Baumgarte's drift stabilisation with rate ``α``). The whole run is the core's
 (``spacearm_core::sim::closed_chain``): the KKT solve (``algorithms/constrained.rs``), ``J̇_c u``
 exact on dual numbers (``derivatives::loop_closure_bias``), the simulation loop's RK4 or DOPRI5,
-its records, and a native controller for the joints (:mod:`spacearm.control`).
+its records, and a native controller for the joints ([`spacearm.control`][spacearm.control]).
 """
 
 from __future__ import annotations
@@ -32,6 +32,9 @@ __all__ = ["ClosedChainRun", "simulate_closed_chain", "loop_closure_terms"]
 
 
 class ClosedChainRun(NamedTuple):
+    """The result of [`simulate_closed_chain`][spacearm.capture.simulate_closed_chain]: the samples of the closed-chain run, the
+    loop's constraint wrench and its pose error (docs/capture.md)."""
+
     t: np.ndarray  #: (T,)
     x: np.ndarray  #: (T, 7+N)
     u: np.ndarray  #: (T, 6+N)
@@ -63,7 +66,7 @@ def simulate_closed_chain(robot, x0, u0, duration: float, point_a, point_b, *, d
 
     ``u0`` must satisfy the velocity constraint (``J_c u0 = 0`` to 1e-9 of ``|u0|``; an
     ``ArgumentError`` otherwise). ``controller``: the joint torques, a native
-    :mod:`spacearm.control` controller (default ``None``: zero torques); the base is free
+    [`spacearm.control`][spacearm.control] controller (default ``None``: zero torques); the base is free
     (floating mode). ``stabilization``: Baumgarte's rate ``α`` (1/s). ``integrator="rk4"`` with
     step ``dt``, or ``"dopri5"`` with ``rtol``/``atol`` (default ``rtol * 1e-2``) and samples every
     ``dt``.

@@ -1,4 +1,4 @@
-"""The grasp impact: the impulse between the robot's gripper and a :class:`~spacearm.capture.Target`,
+"""The grasp impact: the impulse between the robot's gripper and a [`Target`][spacearm.Target],
 and the inverse-inertia quantities it is made of.
 
 Impulsive dynamics (positions fixed, velocities jump; finite forces contribute nothing over the
@@ -25,7 +25,7 @@ coordinates jump (``Δẋ0 = H0⁻¹ J_0Xᵀ Λ``, ``G_r = J_0X H0⁻¹ J_0Xᵀ`
 the holding, the *locking impulses* ``τ̂ = H0mᵀ Δẋ0 − J_mXᵀ Λ`` (the joint rows of
 ``H Δu = Jᵀ Λ + [0; τ̂]``); they act between the links, so the momentum is unchanged. With the
 arm at rest relative to the base the robot is one rigid body (the two-free-bodies case) and
-``τ̂`` does no work; with moving joints it does work ``τ̂ᵀ q̇`` (:attr:`GraspImpulse.locking_work`,
+``τ̂`` does no work; with moving joints it does work ``τ̂ᵀ q̇`` ([`GraspImpulse.locking_work`][spacearm.capture.GraspImpulse.locking_work],
 either sign), which is not part of the energy the grasp dissipates.
 
 Energy: over the impact the kinetic energy of robot + target changes by
@@ -33,10 +33,10 @@ Energy: over the impact the kinetic energy of robot + target changes by
 the contact impulses take out (``½ v_rel⁻ᵀ (G_r + G_t)⁻¹ v_rel⁻`` for the rigid lock,
 ``½ m_eff (1 − e²) (nᵀv_rel⁻)²`` for the point contact).
 
-:func:`grasp_impulse` is the core's (``spacearm_core::algorithms::impulse::grasp_impact``, built on
+[`grasp_impulse`][spacearm.capture.grasp_impulse] is the core's (``spacearm_core::algorithms::impulse::grasp_impact``, built on
 its ``impulse_dynamics``, the Pinocchio-shaped impulse dynamics of one model, also
 ``spacearm._core.impulse_dynamics``): this module converts the arguments; the result,
-:class:`GraspImpulse`, is the extension's class (``spacearm._core.GraspImpulse``, frozen,
+[`GraspImpulse`][spacearm.capture.GraspImpulse], is the extension's class (``spacearm._core.GraspImpulse``, frozen,
 read-only arrays; its fields are documented in ``_core.pyi``).
 """
 
@@ -61,7 +61,7 @@ __all__ = [
     "KINDS",
 ]
 
-#: The impact models of :func:`grasp_impulse`.
+#: The impact models of [`grasp_impulse`][spacearm.capture.grasp_impulse].
 KINDS = ("rigid", "point")
 ARMS = ("free", "locked")
 
@@ -135,7 +135,7 @@ def inverse_inertia(robot, x, point=None, *, form: str = "mass_matrix", arm: str
 
 def virtual_mass(robot, x, direction, point=None, *, arm: str = "free") -> float:
     """Yoshida's virtual mass of ``robot`` at ``point`` along ``direction`` (kg):
-    ``1 / (nᵀ G_vv n)``, ``G_vv`` the translational block of :func:`inverse_inertia`: the mass a
+    ``1 / (nᵀ G_vv n)``, ``G_vv`` the translational block of [`inverse_inertia`][spacearm.capture.inverse_inertia]: the mass a
     collision along ``n`` at the point feels."""
     n = _unit(direction, "direction")
     g = inverse_inertia(robot, x, point, arm=arm)
@@ -196,8 +196,8 @@ def grasp_impulse(
     robot, x, u
         The robot and its state just before the impact.
     target, target_state
-        A :class:`~spacearm.capture.Target` and its state (13 numbers; ``[x, u]`` of a jointed
-        target's model, :meth:`Target.from_robot`).
+        A [`Target`][spacearm.Target] and its state (13 numbers; ``[x, u]`` of a jointed
+        target's model, [`Target.from_robot`][spacearm.capture.Target.from_robot]).
     point
         The robot's grasp point (default: the end effector); ``grasp_offset`` moves it, in the
         gripper body's frame (m).

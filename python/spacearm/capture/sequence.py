@@ -1,27 +1,27 @@
-"""The whole capture in one call (:func:`capture`): approach → capture → post-capture → detumble,
+"""The whole capture in one call ([`capture`][spacearm.capture.capture]): approach → capture → post-capture → detumble,
 with phase markers and the momentum ledger of robot + target.
 
 Phases (``PHASES``; ``result.phase`` holds the index at every sample):
 
-0. **approach** — the native :class:`~spacearm.control.ResolvedMotionRate` of the grasp point
+0. **approach** — the native [`ResolvedMotionRate`][spacearm.control.ResolvedMotionRate] of the grasp point
    towards the *moving* grasp point of the tumbling target (a
-   :class:`~spacearm.control.FreeBodyPoint`, propagated by the core), through the generalized
+   [`FreeBodyPoint`][spacearm.control.FreeBodyPoint], propagated by the core), through the generalized
    Jacobian: ``q̇_cmd = J*_vᵀ (J*_v J*_vᵀ + λ² E)⁻¹ (ṗ_t + k (p_t − p) − v_drift)`` over the arm
    joints (eq. 110; ``v_drift`` the point velocity the system momentum and the wheels make; ``λ``
    the damping law of docs/singularities.md with ``λ_max = rmrc_damping``), scaled as a whole to
    at most ``max_joint_rate``, followed through ``τ = H* k_v (q̇_cmd − q̇) + c*``. Reaction wheels
    are not arm joints: the approach gives them no torque. In the flying mode the native
-   :class:`~spacearm.control.MomentumDamping` holds the system momentum at zero meanwhile. The
+   [`MomentumDamping`][spacearm.control.MomentumDamping] holds the system momentum at zero meanwhile. The
    approach ends at the first sample where the two grasp points are within
    ``capture_tolerance``.
-1. **capture** — ``rigid`` and ``point``: the impulse of :func:`grasp_impulse` (one extra
+1. **capture** — ``rigid`` and ``point``: the impulse of [`grasp_impulse`][spacearm.capture.grasp_impulse] (one extra
    sample at the same instant, after the jump); ``soft``: the wrist impedance of
-   :func:`soft_capture` for ``soft_time``, then a rigid lock of what relative motion remains.
+   [`soft_capture`][spacearm.capture.soft_capture] for ``soft_time``, then a rigid lock of what relative motion remains.
 2. **post-capture** — the captured system (rigid, soft: the target attached as a payload, model
    edited at run time; point: the robot alone, the target flying off) with the joints braked.
    The thrusters act in the approach and the detumble only: the soft phase and this one are
    unactuated at the base in either mode.
-3. **detumble** — :func:`detumble` in ``mode``.
+3. **detumble** — [`detumble`][spacearm.capture.detumble] in ``mode``.
 
 Momentum ledger: ``P`` and ``L`` (about the origin of 𝒥) of robot + target at every sample. In
 floating mode nothing external acts, and their drift is the integration error
@@ -44,23 +44,25 @@ from ..errors import ArgumentError, SimulationError
 from ..rotations import quat_from_matrix
 from ..sim.simulation import simulate
 from .captured import attach_target, soft_capture
-from .detumble import DETUMBLE_MODES, detumble, detumble_controller, grasp_wrench
+from .detumbling import DETUMBLE_MODES, detumble, detumble_controller, grasp_wrench
 from .impact import _check_target, grasp_impulse
 
 __all__ = ["capture", "CaptureResult", "PHASES", "CAPTURE_KINDS"]
 
+#: The phases of [`capture`][spacearm.capture.capture], in order (docs/capture.md).
 PHASES = ("approach", "capture", "post-capture", "detumble")
+#: The grasp models [`capture`][spacearm.capture.capture] accepts as ``kind``.
 CAPTURE_KINDS = ("rigid", "point", "soft")
 
 
 class CaptureResult:
     """The recorded capture: arrays over samples ``t`` (s), and the impact.
 
-    Attributes: ``t`` (T,), ``phase`` (T,) indices into :data:`PHASES`, ``x`` (T, 7+N) and ``u``
+    Attributes: ``t`` (T,), ``phase`` (T,) indices into [`PHASES`][spacearm.capture.sequence.PHASES], ``x`` (T, 7+N) and ``u``
     (T, 6+N) of the robot (its own coordinates: the payload adds none), ``tau`` (T, N),
     ``base_wrench`` (T, 6), ``target`` (T, 13) target states, ``P`` and ``L`` (T, 3) robot +
     target momentum about the origin of 𝒥, ``grasp_wrench`` (T, 6) the wrench holding the
-    target, ``[f; n]`` with the moment about the target's CM (zero while it is free), ``impact`` (:class:`GraspImpulse`), ``robot`` (before
+    target, ``[f; n]`` with the moment about the target's CM (zero while it is free), ``impact`` ([`GraspImpulse`][spacearm.capture.GraspImpulse]), ``robot`` (before
     capture), ``captured`` (the combined model, or ``None`` for a point contact), ``mode``,
     ``kind``, ``time_to_detumble`` (s after the detumble phase starts), ``residual_spin`` (rad/s),
     ``drift`` (relative, ``{"P": ..., "L": ...}``).
@@ -102,7 +104,7 @@ class CaptureResult:
         }
 
     def arrays(self) -> dict:
-        """The arrays saved by :meth:`save`."""
+        """The arrays saved by [`save`][spacearm.capture.CaptureResult.save]."""
         return {
             "t": self.t, "phase": self.phase, "P": self.P, "L": self.L, "x": self.x, "u": self.u, "tau": self.tau,
             "base_wrench": self.base_wrench, "target": self.target, "grasp_wrench": self.grasp_wrench,
@@ -118,7 +120,7 @@ class CaptureResult:
             np.savez(fh, **self.arrays())
 
     def plot(self, path=None):
-        """A figure of the capture; written to ``path`` if given. See :mod:`spacearm.viz.capture`."""
+        """A figure of the capture; written to ``path`` if given. See ``spacearm.viz.capture``."""
         from ..viz.capture import plot_capture
 
         return plot_capture(self, path)
@@ -206,7 +208,7 @@ def capture(
     integrated by adaptive DOPRI5 with relative tolerance ``rtol`` and recorded every ``dt`` (the
     soft phase, in the core's soft-capture plant, every ``dt / 5``). Gains: ``rmrc_gain`` (1/s),
     ``rmrc_damping`` (m: ``λ_max`` of the damping law, docs/singularities.md), ``velocity_gain`` (1/s) of the approach; ``kp``, ``kd``,
-    ``time_constant`` of :func:`~spacearm.capture.detumble`.
+    ``time_constant`` of [`detumble`][spacearm.capture.detumble].
     Raises ``SimulationError`` when the approach does not bring the grasp points within
     ``capture_tolerance`` (m).
     """

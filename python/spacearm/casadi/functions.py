@@ -1,8 +1,8 @@
-"""CasADi ``Function`` objects of a :class:`~spacearm.Robot`'s equations of motion.
+"""CasADi ``Function`` objects of a [`Robot`][spacearm.Robot]'s equations of motion.
 
 Each builder takes a Robot and returns a ``casadi.Function`` on ``SX`` symbols whose graph is
 the Rust core's own recursions (ABA, RNEA, CRBA, the GJM reduction, kinematics), recorded by
-the core on a recording scalar and replayed on ``SX`` by :mod:`._tape` — the same arithmetic,
+the core on a recording scalar and replayed on ``SX`` by ``._tape`` — the same arithmetic,
 operation for operation, as the core's numbers. The functions follow spacearm's conventions
 exactly (docs/conventions.md): ``x = [r0, quat0 [x, y, z, w], q]`` (7+N), ``u = [v0, w0, qd]``
 (6+N) with ``v0``, ``w0`` in 𝒥, ``f = [F0, N0, tau]``, ``EOM H du + c = f``. The quaternion

@@ -1,14 +1,14 @@
 """The ``spacearm`` command line: the parser and the dispatch to one module per subcommand.
 
-``inspect`` (:mod:`spacearm.cli.inspect`), ``derive`` (:mod:`spacearm.cli.derive`), ``analyze``
-(:mod:`spacearm.cli.analyze`), ``simulate`` and ``demo`` (:mod:`spacearm.cli.simulate`),
-``campaign`` (:mod:`spacearm.cli.campaign`), ``capture`` (:mod:`spacearm.cli.capture`) and
-``plan`` (:mod:`spacearm.cli.plan`). ``MODEL`` is a preset name (``planar4``,
+``inspect`` (``spacearm.cli.inspect``), ``derive`` (``spacearm.cli.derive``), ``analyze``
+(``spacearm.cli.analyze``), ``simulate`` and ``demo`` (``spacearm.cli.simulate``),
+``campaign`` (``spacearm.cli.campaign``), ``capture`` (``spacearm.cli.capture``) and
+``plan`` (``spacearm.cli.plan``). ``MODEL`` is a preset name (``planar4``,
 ``spatial6``, ...), a TOML model file (``docs/model-format.md``) or a URDF file
-(``docs/urdf.md``), with the model options of :mod:`spacearm.cli.model_options`. Optional packages are
+(``docs/urdf.md``), with the model options of ``spacearm.cli.model_options``. Optional packages are
 imported only inside the subcommand that needs them, so the command starts on a plain install.
 Every error a user can cause is answered with ``spacearm: error: ...`` on stderr and exit status
-2, never a traceback: a :class:`~spacearm.errors.SpacearmError`, and an error of the file system
+2, never a traceback: a [`SpacearmError`][spacearm.SpacearmError], and an error of the file system
 (a missing or read-only directory, a directory where a file is expected, a full disk), named
 with its path. Ctrl-C exits with status 130 and one line.
 """
@@ -36,7 +36,7 @@ __all__ = ["main", "load_model", "add_model_arguments", "model_from_args", "MODE
 
 
 #: The options of each subcommand that name a file to write: checked before the command
-#: computes anything (:func:`spacearm._util.atomic.check_writable`).
+#: computes anything (``spacearm._util.atomic.check_writable``).
 OUTPUT_OPTIONS = {
     "simulate": ("out", "csv", "plot", "animate"),
     "campaign": ("out", "plot"),

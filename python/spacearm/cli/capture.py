@@ -1,6 +1,6 @@
 """``spacearm capture MODEL --target-mass M --target-inertia IXX,IYY,IZZ --target-spin WX,WY,WZ ...``:
 the capture of a tumbling target, approach → capture → post-capture → detumble
-(:func:`spacearm.capture.capture`), with a printed summary, the ``.npz`` record and figures.
+([`spacearm.capture.capture`][spacearm.capture.capture]), with a printed summary, the ``.npz`` record and figures.
 
 The target starts at ``--target-at`` (its CM, m in 𝒥; default 0.6 m beyond the end effector,
 away from the base CM), at rest apart from its spin, with its axes along 𝒥's; its grasp point

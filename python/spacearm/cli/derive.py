@@ -1,7 +1,7 @@
 """``spacearm derive MODEL [--latex OUT.tex] [--python OUT.py] [--c OUT.c] [--symbols ...]``.
 
 Derives the model's closed-form matrices and writes the requested outputs atomically; prints the
-derivation time of each stage. Registered in :mod:`spacearm.cli`. SymPy (the ``symbolic`` extra)
+derivation time of each stage. Registered in ``spacearm.cli``. SymPy (the ``symbolic`` extra)
 is imported only when the command runs, so the parser builds without it.
 """
 

@@ -1,8 +1,8 @@
 """``spacearm inspect MODEL [--q Q1,Q2,...]``: the model summary (bodies, joints, total mass)
 and, at the given or initial configuration, ``H0``, ``H*`` and the end-effector ``J*`` with
-their conditioning. Registered in :mod:`spacearm.cli`.
+their conditioning. Registered in ``spacearm.cli``.
 
-Above :data:`FULL_REPORT_MAX_DOF` joints the dense part is left out: printing the N×N ``H*``
+Above ``FULL_REPORT_MAX_DOF`` joints the dense part is left out: printing the N×N ``H*``
 and taking SVDs of it costs O(N²) text and O(N³) time (a 10,000-joint model took more than five
 minutes), so a large model gets its summary table and ``H0`` (from the closed-form ``H0⁻¹`` of
 eqs. 52–61, O(N)) with a line saying how to get the rest from Python.

@@ -1,12 +1,12 @@
 """The ``spacearm plan`` command: an optimal point-to-point maneuver of the free-floating
-system (:func:`spacearm.plan.point_to_point`), checked by re-simulation.
+system ([`spacearm.plan.point_to_point`][spacearm.plan.point_to_point]), checked by re-simulation.
 
 ``spacearm plan MODEL --to X,Y,Z`` solves the multiple-shooting problem with IPOPT (progress on
 stderr), re-simulates the plan in the native simulator under computed torque, prints both, and
 writes the plan (``--out plan.npz``: ``t``, ``x``, ``u``, ``tau`` in spacearm's conventions) and
 its figure (``--plot plan.png``). A plan that IPOPT did not solve is an error (exit 2, no file).
 
-Registered in :mod:`spacearm.cli` by :func:`add_parser` and :func:`run`.
+Registered in ``spacearm.cli`` by ``add_parser`` and ``run``.
 """
 
 from __future__ import annotations

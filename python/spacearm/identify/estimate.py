@@ -5,7 +5,7 @@ its momentum ``h = [P; L_origin]`` is constant:
 
     h_robot(x_k, u_k) + Y(x_k, u_k) π = h0        for every sample k                     (1)
 
-(:mod:`spacearm.identify.regressor`; Yoshida & Abiko 2002). With ``h0`` known, (1) is linear in π.
+([`spacearm.identify.regressor`][spacearm.identify.regressor]; Yoshida & Abiko 2002). With ``h0`` known, (1) is linear in π.
 With ``h0`` unknown (the usual case: nothing measures it), it is eliminated by subtracting the
 sample mean of each of the six rows (the least-squares estimate of ``h0`` for any π), leaving
 ``(Y_k − Ȳ) π = −(h_robot,k − h̄_robot)``; ``h0`` is recovered afterwards as the mean of
@@ -50,7 +50,7 @@ DEFAULT_RCOND = 1e-9
 
 @dataclass(frozen=True)
 class PayloadEstimate:
-    """The result of :func:`identify_payload`. Frames: ``com`` from the grasp body's CM in its
+    """The result of [`identify_payload`][spacearm.identify.identify_payload]. Frames: ``com`` from the grasp body's CM in its
     axes, ``inertia`` about the payload's CM in the grasp body's axes, ``momentum`` in 𝒥."""
 
     body: str  #: the grasp body
@@ -73,7 +73,7 @@ class PayloadEstimate:
     @property
     def identifiable_combinations(self) -> np.ndarray:
         """(rank, 10): orthonormal rows ``c`` such that ``c · π`` is determined by the motion
-        (the orthogonal complement of :attr:`null_space`)."""
+        (the orthogonal complement of [`null_space`][spacearm.identify.estimate.PayloadEstimate.null_space])."""
         _, _, vt = np.linalg.svd(np.eye(10) - self.null_space @ self.null_space.T)
         return vt[: self.rank]
 
@@ -197,7 +197,7 @@ def identify_payload(robot: Robot, trajectory=None, *, body, x=None, u=None, mom
     momentum : array of 6, optional
         ``[P; L_origin]`` of robot + payload, if known; by default it is estimated too.
     rcond : float
-        Relative singular-value threshold for identifiability (:data:`DEFAULT_RCOND`).
+        Relative singular-value threshold for identifiability ([`DEFAULT_RCOND`][spacearm.identify.estimate.DEFAULT_RCOND]).
 
     Returns
     -------

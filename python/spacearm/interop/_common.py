@@ -1,7 +1,7 @@
 """What the engine converters share: the model's tree read from ``Robot.description``, the
 depth-first joint order of the exported models, the block transforms ``blkdiag(R0 or E, R0,
 P_e)``, and the checks of the MATLAB libraries' state arrays (formulas in the docstring of
-:mod:`spacearm.interop`)."""
+[`spacearm.interop`][spacearm.interop])."""
 
 from __future__ import annotations
 
@@ -118,7 +118,7 @@ ROTATION_TOLERANCE = 1e-6
 
 
 def _checked_state(robot, x, u) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """``(r0, R0, q, u)`` of a spacearm state, checked as :class:`~spacearm.Robot` checks it."""
+    """``(r0, R0, q, u)`` of a spacearm state, checked as [`Robot`][spacearm.Robot] checks it."""
     x = vector(x, "x", robot.nx)
     u = vector(u, "u", robot.nu)
     if not (np.all(np.isfinite(x)) and np.all(np.isfinite(u))):

@@ -1,7 +1,7 @@
 """MuJoCo: the MJCF text and compiled ``mujoco.MjModel`` of a spacearm model and the maps of
 states, forces, accelerations, mass matrices and bias forces between the two layouts
-(``T_mj = blkdiag(E, R0, P_e)``: the docstring of :mod:`spacearm.interop`). MuJoCo
-(``pip install mujoco``) is imported only inside :func:`to_mujoco`."""
+(``T_mj = blkdiag(E, R0, P_e)``: the docstring of [`spacearm.interop`][spacearm.interop]). MuJoCo
+(``pip install mujoco``) is imported only inside [`to_mujoco`][spacearm.interop.to_mujoco]."""
 
 from __future__ import annotations
 
@@ -109,7 +109,7 @@ def to_mjcf(robot) -> str:
 
 
 def to_mujoco(robot):
-    """The compiled ``mujoco.MjModel`` of :func:`to_mjcf`."""
+    """The compiled ``mujoco.MjModel`` of [`to_mjcf`][spacearm.interop.to_mjcf]."""
     mujoco = _import_mujoco()
     return mujoco.MjModel.from_xml_string(to_mjcf(robot))
 

@@ -1,15 +1,15 @@
 """Reading URDF text into plain records, safely and with line numbers.
 
-This module only parses: XML → :class:`UrdfRobot` (links, joints, inertials, limits, each with
+This module only parses: XML → ``UrdfRobot`` (links, joints, inertials, limits, each with
 the line of its element). Turning that tree into a spacearm model (frames at the CM, fixed
-joints merged, choice of base) is :mod:`spacearm.io.urdf`.
+joints merged, choice of base) is [`spacearm.io.urdf`][spacearm.io.urdf].
 
 Why this parser: the XML is read by the standard library's expat parser through
 ``defusedxml`` (a small, maintained, pure-Python guard used by pip-installed tools that read
 untrusted XML). With ``forbid_entities`` and ``forbid_external`` it refuses every entity
 declaration and every external DTD or entity reference before anything is expanded, so a
 "billion laughs" document or an ``<!ENTITY x SYSTEM "file:///etc/passwd">`` is a
-:class:`~spacearm.ModelFileError`, never an expansion. ``forbid_dtd`` refuses any
+[`ModelFileError`][spacearm.ModelFileError], never an expansion. ``forbid_dtd`` refuses any
 ``<!DOCTYPE>`` as well: URDF has no DTD, and with an external DTD subset expat would otherwise
 silently skip undefined entity references (nothing is fetched, but a name could become empty). expat also reports the line and column
 of each element, which the error messages cite. A Rust crate (``urdf-rs``, ``roxmltree``)
@@ -87,7 +87,7 @@ class UrdfRobot:
 
 
 def urdf_error(source: str, line: int, message: str) -> ModelFileError:
-    """A :class:`ModelFileError` whose message starts ``source:line:`` like the TOML reader's."""
+    """A [`ModelFileError`][spacearm.ModelFileError] whose message starts ``source:line:`` like the TOML reader's."""
     return ModelFileError(f"{source}:{line}: {message}")
 
 
@@ -257,12 +257,12 @@ class _Reader:
 
 
 def parse_urdf(text, source: str = "<string>", mimic: str = "error") -> UrdfRobot:
-    """Parse URDF text (``str`` or ``bytes``) into a :class:`UrdfRobot`.
+    """Parse URDF text (``str`` or ``bytes``) into a ``UrdfRobot``.
 
-    Raises :class:`~spacearm.ModelFileError` (``source:line: message``) for XML that is not
+    Raises [`ModelFileError`][spacearm.ModelFileError] (``source:line: message``) for XML that is not
     well formed or declares entities, a root element other than ``<robot>``, missing or
     malformed attributes, unsupported joints (``floating``, ``planar``, ``<mimic>``) and
-    duplicate link or joint names. The tree structure is checked by :mod:`spacearm.io.urdf`.
+    duplicate link or joint names. The tree structure is checked by [`spacearm.io.urdf`][spacearm.io.urdf].
     ``mimic="independent"`` reads a ``<mimic>`` joint as an ordinary joint instead.
     """
     if mimic not in ("error", "independent"):

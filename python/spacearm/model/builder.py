@@ -6,10 +6,10 @@ Frames (``docs/conventions.md``): every body frame has its origin at the body's 
 ``axis`` is given in the child's frame; ``com`` is the child's CM measured from the joint, in
 the child's frame. See ``docs/model-format.md`` for a worked example.
 
-A model is edited through a builder too: :meth:`RobotBuilder.from_robot` (or
-:meth:`Robot.to_builder`) holds an existing model exactly, and :meth:`~RobotBuilder.add_link`,
-:meth:`~RobotBuilder.attach_payload` and :meth:`~RobotBuilder.remove_body` change it before
-:meth:`~RobotBuilder.build` makes a new, validated Robot (a Robot itself never changes).
+A model is edited through a builder too: [`RobotBuilder.from_robot`][spacearm.RobotBuilder.from_robot] (or
+[`Robot.to_builder`][spacearm.Robot.to_builder]) holds an existing model exactly, and [`add_link`][spacearm.RobotBuilder.add_link],
+[`attach_payload`][spacearm.RobotBuilder.attach_payload] and [`remove_body`][spacearm.RobotBuilder.remove_body] change it before
+[`build`][spacearm.RobotBuilder.build] makes a new, validated Robot (a Robot itself never changes).
 
 >>> import spacearm
 >>> b = spacearm.Robot.builder("demo", base_mass=100.0, base_inertia=[10, 10, 10])
@@ -35,15 +35,15 @@ __all__ = ["RobotBuilder"]
 
 
 class RobotBuilder:
-    """Accumulates a base and links, validating each addition; :meth:`build` returns a
-    :class:`~spacearm.Robot`."""
+    """Accumulates a base and links, validating each addition; [`build`][spacearm.RobotBuilder.build] returns a
+    [`Robot`][spacearm.Robot]."""
 
     def __init__(self, name: str, base_mass: float, base_inertia, base_name: str = "base", *,
                  allow_nonphysical_inertia: bool = False):
         """``allow_nonphysical_inertia``: accept inertias whose principal moments break the
         triangle inequality ``I1 + I2 >= I3`` (refused by default: no real body has them);
-        :meth:`build` then warns once per such body
-        (:class:`~spacearm.errors.NonPhysicalInertiaWarning`). For published identified data."""
+        [`build`][spacearm.RobotBuilder.build] then warns once per such body
+        ([`NonPhysicalInertiaWarning`][spacearm.errors.NonPhysicalInertiaWarning]). For published identified data."""
         self._base = (str(name), str(base_name), number(base_mass, "base_mass"), matrix3(base_inertia, "base_inertia"),
                       bool(allow_nonphysical_inertia))
         self._b = _core.ModelBuilder(*self._base)
@@ -67,7 +67,7 @@ class RobotBuilder:
         bit where the axes and rotations are exactly unit, else equal to rounding (they are
         normalized again on the way in).
         The initial ``q`` is kept per link, so links added or removed afterwards keep the other
-        joints' initial values (new joints start at 0) unless :meth:`set_initial_q` is called.
+        joints' initial values (new joints start at 0) unless [`set_initial_q`][spacearm.RobotBuilder.set_initial_q] is called.
         ``allow_nonphysical_inertia`` defaults to ``robot``'s own choice.
         """
         if not isinstance(robot, Robot):
@@ -169,7 +169,7 @@ class RobotBuilder:
 
     def remove_body(self, name: str) -> "RobotBuilder":
         """Remove link ``name``, every link below it, and the points on them (the end effector
-        too, if it is one of them: set another with :meth:`set_end_effector`). The base cannot be
+        too, if it is one of them: set another with [`set_end_effector`][spacearm.RobotBuilder.set_end_effector]). The base cannot be
         removed. The remaining links are added again, in order, through the core's validation.
         """
         name = str(name)
@@ -269,7 +269,7 @@ class RobotBuilder:
         return self
 
     def build(self) -> Robot:
-        """Validate the whole model and return the immutable :class:`~spacearm.Robot`."""
+        """Validate the whole model and return the immutable [`Robot`][spacearm.Robot]."""
         if self._initial_q is not None:
             self._b.set_initial_q(self._initial_q)
         elif self._initial_q_by_link:

@@ -1,6 +1,6 @@
 """Optimal point-to-point maneuvers of a free-floating spacecraft manipulator (optional extra
 ``optimal-control``): direct multiple shooting with IPOPT through CasADi on the functions of
-:mod:`spacearm.casadi`, warm-started from the reactionless resolved-motion-rate motion.
+[`spacearm.casadi`][spacearm.casadi], warm-started from the reactionless resolved-motion-rate motion.
 docs/optimal-control.md gives the transcription, the cost and the constraints.
 """
 
@@ -60,7 +60,7 @@ def point_to_point(
         Initial state (default: ``robot.neutral_configuration()``, at rest).
     position_limits, velocity_limit, effort_limit : optional
         Override the model's joint limits: ``(lower, upper)``, and a number or one per joint
-        (:class:`JointBounds`). Infinite means unbounded; the presets have no limits.
+        ([`JointBounds`][spacearm.plan.JointBounds]). Infinite means unbounded; the presets have no limits.
     rest_at_end : bool
         Joint speeds zero at ``T`` (with zero momentum, the whole system at rest).
     reactionless_end : bool
@@ -82,7 +82,7 @@ def point_to_point(
     Returns
     -------
     Plan
-        Check :attr:`Plan.success`; :meth:`Plan.resimulate` runs it in the native simulator.
+        Check ``Plan.success``; [`Plan.resimulate`][spacearm.plan.Plan.resimulate] runs it in the native simulator.
     """
     from ..model.robot import Robot
     from .problem import solve

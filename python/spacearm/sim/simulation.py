@@ -1,8 +1,8 @@
-"""Simulation of a spacecraft-manipulator system: :func:`simulate`.
+"""Simulation of a spacecraft-manipulator system: [`simulate`][spacearm.simulate].
 
 The whole loop — integrator, maneuvering mode, actuator limits, controller, recording — runs in
 the Rust core (``spacearm_core::simulate``); this module checks and converts the arguments and
-wraps the records in a :class:`~spacearm.sim.trajectory.Trajectory`. Integrators, modes, actuators
+wraps the records in a [`Trajectory`][spacearm.Trajectory]. Integrators, modes, actuators
 and controllers are described with their equations in ``docs/simulation-core.md``.
 
 >>> import spacearm
@@ -247,7 +247,7 @@ def simulate(
     orbit=None,
     gravity_gradient: Optional[bool] = None,
 ):
-    """Simulate ``robot`` for ``duration`` seconds and return a :class:`~spacearm.sim.trajectory.Trajectory`.
+    """Simulate ``robot`` for ``duration`` seconds and return a [`Trajectory`][spacearm.Trajectory].
 
     Parameters
     ----------
@@ -269,7 +269,7 @@ def simulate(
         ``"rk4"`` (fixed step ``dt``) or ``"dopri5"`` (adaptive Dormand–Prince 5(4) with
         ``rtol``/``atol``; ``dt`` is then the output interval, filled by dense output).
     controller : spacearm.control controller, optional
-        ``None``: zero torques. See :mod:`spacearm.control`.
+        ``None``: zero torques. See [`spacearm.control`][spacearm.control].
     wheels : list of joint names, link names or dof indices, optional
         The reaction wheels (default: every symmetric rotor on a revolute joint of the base,
         i.e. what ``RobotBuilder.add_reaction_wheel`` creates). Their torque and speed limits

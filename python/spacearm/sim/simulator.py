@@ -1,7 +1,7 @@
-"""A simulation stepped from Python: :class:`Simulator`, the building block of RL environments
+"""A simulation stepped from Python: [`Simulator`][spacearm.Simulator], the building block of RL environments
 and MPC loops.
 
-The stepping runs the native RK4 loop of :func:`spacearm.simulate` (one code path in the core),
+The stepping runs the native RK4 loop of [`spacearm.simulate`][spacearm.simulate] (one code path in the core),
 so stepping a simulator ``n`` times of ``dt`` records exactly what ``simulate`` records for a
 duration of ``n·dt``. Between steps, a joint torque (and a base wrench) can be held over the
 next steps, added to the controller's command.
@@ -37,25 +37,25 @@ class Simulator:
     robot : Robot
         The plant.
     mode, dt, wheels, thrusters, joint_limits
-        As for :func:`spacearm.simulate`.
+        As for [`spacearm.simulate`][spacearm.simulate].
     integrator : str
         ``"rk4"`` (the only one a step-by-step simulation supports: an adaptive step has no
-        fixed grid to stop on; use :func:`spacearm.simulate` for ``"dopri5"``).
+        fixed grid to stop on; use [`spacearm.simulate`][spacearm.simulate] for ``"dopri5"``).
     controller : spacearm.control controller, optional
-        Evaluated at every integrator stage; ``None``: zero torques. Each :meth:`reset` starts
+        Evaluated at every integrator stage; ``None``: zero torques. Each [`reset`][spacearm.Simulator.reset] starts
         a fresh instance.
     record_every : int, optional
-        Record every k-th step for :meth:`trajectory`; ``None`` (default): record nothing (the
+        Record every k-th step for [`trajectory`][spacearm.Simulator.trajectory]; ``None`` (default): record nothing (the
         fastest stepping).
     record_dtype : str
-        ``"float64"`` or ``"float32"`` for :meth:`trajectory`'s arrays.
+        ``"float64"`` or ``"float32"`` for [`trajectory`][spacearm.Simulator.trajectory]'s arrays.
     orbit, gravity_gradient
-        As for :func:`spacearm.simulate` (docs/orbit.md).
+        As for [`spacearm.simulate`][spacearm.simulate] (docs/orbit.md).
 
     Notes
     -----
-    Call :meth:`reset` before the first :meth:`step`. A failed step (the motion diverged)
-    raises :class:`~spacearm.errors.SimulationError` and leaves the simulator needing a reset.
+    Call [`reset`][spacearm.Simulator.reset] before the first [`step`][spacearm.Simulator.step]. A failed step (the motion diverged)
+    raises [`SimulationError`][spacearm.SimulationError] and leaves the simulator needing a reset.
     """
 
     def __init__(
@@ -129,7 +129,7 @@ class Simulator:
 
     def trajectory(self):
         """The records so far, the current state as the last sample, as a
-        :class:`~spacearm.Trajectory` (the simulation goes on unchanged). Without
+        [`Trajectory`][spacearm.Trajectory] (the simulation goes on unchanged). Without
         ``record_every`` it holds only the current state."""
         from .trajectory import Trajectory
 

@@ -1,4 +1,4 @@
-"""The figures of the analyses (:mod:`spacearm.analysis`): a singularity map, a point-to-point
+"""The figures of the analyses ([`spacearm.analysis`][spacearm.analysis]): a singularity map, a point-to-point
 motion, the workspaces. Each result's ``.figure()`` / ``.plot()`` calls these."""
 
 from __future__ import annotations

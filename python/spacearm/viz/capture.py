@@ -1,5 +1,5 @@
-"""Figures of a capture: the run (:func:`plot_capture`), its animation (:func:`animate_capture`)
-and the capture envelope (:func:`plot_envelope`). matplotlib (extra ``plot``) on its Agg canvas,
+"""Figures of a capture: the run (``plot_capture``), its animation (``animate_capture``)
+and the capture envelope (``plot_envelope``). matplotlib (extra ``plot``) on its Agg canvas,
 files written atomically."""
 
 from __future__ import annotations

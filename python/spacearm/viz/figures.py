@@ -1,9 +1,9 @@
 """The one home of figure creation and saving: a matplotlib ``Figure`` on its own Agg canvas
 (no pyplot global state) and its atomic write in the format the file name asks for.
 
-Every figure of the package goes through :func:`save_figure`: ``run.pdf`` is a PDF, ``x.svg`` an
+Every figure of the package goes through ``save_figure``: ``run.pdf`` is a PDF, ``x.svg`` an
 SVG, ``run.png`` a PNG (a name without a suffix gets PNG); a suffix matplotlib cannot write is an
-:class:`~spacearm.errors.ArgumentError` naming the formats it can, raised before anything is drawn
+[`ArgumentError`][spacearm.ArgumentError] naming the formats it can, raised before anything is drawn
 or written. Files are written atomically (no partial file).
 """
 
@@ -44,7 +44,7 @@ def figure_format(path) -> str:
 
 
 def save_figure(fig, path, *, dpi: int = 130, **savefig) -> str:
-    """Write ``fig`` to ``path`` in the format its suffix names (:func:`figure_format`),
+    """Write ``fig`` to ``path`` in the format its suffix names (``figure_format``),
     atomically; returns the path."""
     fmt = figure_format(path)
     path = os.fspath(path)

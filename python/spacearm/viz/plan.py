@@ -1,5 +1,5 @@
-"""The figure of a plan (:func:`plan_figure`): the plan beside a quintic joint move and the RMRC
-motion to the same target (:meth:`spacearm.plan.result.Plan.comparison`)."""
+"""The figure of a plan (``plan_figure``): the plan beside a quintic joint move and the RMRC
+motion to the same target ([`spacearm.plan.result.Plan.comparison`][spacearm.plan.Plan.comparison])."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ __all__ = ["plan_figure"]
 def plan_figure(plan, title: Optional[str] = None):
     """Base attitude change, joint-torque norm and point path (inertial x–y) of the plan,
     a quintic joint move to the same end configuration and the RMRC motion
-    (:meth:`Plan.comparison`). Returns the matplotlib ``Figure``."""
+    ([`Plan.comparison`][spacearm.plan.Plan.comparison]). Returns the matplotlib ``Figure``."""
     fig = new_figure(figsize=(13, 4.2))
     ax_att, ax_tau, ax_path = fig.subplots(1, 3)
     for name, (t, angle, torque, path) in plan.comparison().items():

@@ -1,4 +1,4 @@
-"""Figures of a simulation run: one multi-panel PNG per :class:`~spacearm.Trajectory`.
+"""Figures of a simulation run: one multi-panel PNG per [`Trajectory`][spacearm.Trajectory].
 
 The figure is drawn on matplotlib's Agg canvas directly (no ``pyplot``, so no global state and
 no display is needed, and an interactive session's backend is left alone). Panels appear only
