@@ -14,7 +14,7 @@ _Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 
 __version__: str
 __all__ = [
-    "ArgumentError", "AttitudeSpec", "BaseDescription", "BaseThrustersSpec", "CallbackSpec",
+    "ArgumentError", "CentralBody", "Orbit", "OrbitalElements", "AttitudeSpec", "BaseDescription", "BaseThrustersSpec", "CallbackSpec",
     "CartesianReference", "ClosedChainResult", "CombinedSpec", "ComputedTorqueSpec", "ConservedDrift",
     "CoordinatedFlyingSpec", "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
     "FreeBodyReference", "GraspImpulse", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimits", "JointPdSpec", "JointReference",
@@ -782,7 +782,13 @@ class RunOptions:
         max_steps: Optional[int] = None,
         progress: Optional[Callable[[float], Any]] = None,
         record_dtype: Optional[str] = None,
+        orbit: Optional[Orbit] = None,
+        gravity_gradient: Optional[bool] = None,
     ) -> RunOptions: ...
+    @property
+    def orbit(self) -> Optional[Orbit]: ...
+    @property
+    def gravity_gradient(self) -> bool: ...
     @property
     def mode(self) -> str: ...
     @property
@@ -1032,6 +1038,9 @@ class RunRecords:
     tracking_error: Optional[_Record]       # (K,) |reference − actual|, rad or m (RunMeta.tracking_error_kind)
     attitude_error: Optional[_Record]       # (K,) base attitude error of an attitude controller, rad
     wheel_speed: Optional[_Record]          # (K, W) reaction-wheel speeds, rad/s (RunMeta.wheel_dofs)
+    r_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM in ECI, m (float64)
+    v_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM velocity in ECI, m/s (float64)
+    gravity_wrench: Optional[_Record]       # (K, 6) orbital runs: total tidal [force; torque about the origin], N, N·m
 
 @final
 class RunEvents:
@@ -1179,3 +1188,79 @@ class Derivatives:
         self, x: _ArrayLike, u: _ArrayLike, du: _ArrayLike, wrenches: Optional[list[_Wrench]] = None, dual: bool = False
     ) -> tuple[_Vec, _Vec]: ...
     def linearize(self, x: _ArrayLike, u: _ArrayLike, f: _ArrayLike, joints_only: bool, dual: bool = False) -> tuple[_Vec, _Vec]: ...
+
+# --- orbits (orbit_py.rs; docs/orbit.md) ---
+
+@final
+class CentralBody:
+    """A central body's gravity constants: mu (m^3/s^2), equatorial radius (m), J2."""
+    def __new__(cls, *, mu: float, radius: float, j2: float) -> CentralBody: ...
+    @staticmethod
+    def earth() -> CentralBody: ...
+    @property
+    def mu(self) -> float: ...
+    @property
+    def radius(self) -> float: ...
+    @property
+    def j2(self) -> float: ...
+
+@final
+class OrbitalElements:
+    """Osculating two-body elements: a (m), e, i, raan, argp, true_anomaly (rad)."""
+    @property
+    def a(self) -> float: ...
+    @property
+    def e(self) -> float: ...
+    @property
+    def i(self) -> float: ...
+    @property
+    def raan(self) -> float: ...
+    @property
+    def argp(self) -> float: ...
+    @property
+    def true_anomaly(self) -> float: ...
+
+@final
+class Orbit:
+    """An orbit: central body, J2 on or off, ECI state at t = 0."""
+    @staticmethod
+    def circular(
+        altitude: float,
+        *,
+        inclination: float = 0.0,
+        raan: float = 0.0,
+        arg_latitude: float = 0.0,
+        body: str | CentralBody | None = None,
+        j2: bool = False,
+    ) -> Orbit: ...
+    @staticmethod
+    def from_elements(
+        a: float,
+        e: float,
+        i: float,
+        raan: float,
+        argp: float,
+        true_anomaly: float,
+        *,
+        body: str | CentralBody | None = None,
+        j2: bool = False,
+    ) -> Orbit: ...
+    @staticmethod
+    def from_state(r: _ArrayLike, v: _ArrayLike, *, body: str | CentralBody | None = None, j2: bool = False) -> Orbit: ...
+    @property
+    def body(self) -> CentralBody: ...
+    @property
+    def j2(self) -> bool: ...
+    @property
+    def r0(self) -> _Vec: ...
+    @property
+    def v0(self) -> _Vec: ...
+    def elements(self) -> OrbitalElements: ...
+    @property
+    def mean_motion(self) -> float: ...
+    @property
+    def period(self) -> float: ...
+    def j2_secular_rates(self) -> tuple[float, float]: ...
+    def propagate(self, times: _ArrayLike, *, rtol: float = 1e-12) -> tuple[_Vec, _Vec]: ...
+    @staticmethod
+    def lvlh_to_eci(r: _ArrayLike, v: _ArrayLike) -> _Vec: ...
