@@ -36,6 +36,11 @@ def test_plan_writes_the_plan_and_the_figure(tmp_path, capsys):
     (["plan", "planar4", "--to", "3.4,0.3,0", "--out", "p.txt"], ".npz"),
     (["plan", "planar4", "--to", "3.4,0.3,0", "--nodes", "1", "--out", "p.npz"], "nodes"),
     (["plan", "planar4", "--to", "3.4,0.3,0", "--effort-limit", "1,2", "--out", "p.npz"], "--effort-limit"),
+    # issue 26: refused before any solve, with the reason
+    (["plan", "planar4", "--to=20,0,0", "--out", "p.npz"], "out of reach"),
+    (["plan", "planar4", "--to=3.46,0.3,0.5", "--out", "p.npz"], "off the plane"),
+    (["plan", "planar4", "--to=3.4,0.3,0", "--max-iter=-1", "--out", "p.npz"], "max_iter"),
+    (["plan", "planar4", "--to=3.4,0.3,0", "--nodes=1000000", "--out", "p.npz"], "nodes must be between"),
 ])
 def test_bad_arguments_exit_2_without_a_file(argv, needle, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
