@@ -134,3 +134,60 @@ def test_an_error_of_the_progress_callback_is_raised_not_swallowed(planar4):
 
     with pytest.raises(ZeroDivisionError, match="the user's callback"):
         point_to_point(planar4, (3.3, 0.3, 0.0), duration=2.0, nodes=4, warm_start="hold", progress=progress)
+
+
+@pytest.fixture(scope="module")
+def coarse_plan(planar4):
+    """IPOPT solves it (Solve_Succeeded), but three RK4 steps of 1 s do not follow the dynamics:
+    the plan is not one."""
+    target = planar4.point_position(planar4.neutral_configuration()) + np.array([-0.25, 0.35, 0.0])
+    with pytest.warns(PlanCheckWarning, match="re-simulat"):
+        plan = point_to_point(planar4, target, duration=3.0, nodes=3, substeps=1)
+    return plan
+
+
+def test_a_solved_plan_that_its_re_simulation_refutes_is_a_failure(coarse_plan, planar4):
+    assert coarse_plan.solver_success and coarse_plan.status == "Solve_Succeeded"
+    assert not coarse_plan.success
+    check = coarse_plan.verification
+    assert check.defect < 1e-8  # the knots follow the plan's own RK4 map: only the re-simulation tells
+    assert "re-simulat" in coarse_plan.failure
+    # Independently of spacearm.plan.verify: the plan's joint motion, re-simulated, misses.
+    traj = coarse_plan.resimulate()
+    miss = np.linalg.norm(planar4.point_position(traj.x[-1]) - coarse_plan.target)
+    knots = np.searchsorted(traj.t, coarse_plan.t - 1e-9)
+    dot = np.clip(np.abs(np.sum(traj.x[knots, 3:7] * coarse_plan.x[:, 3:7], axis=1)), 0, 1)
+    departure = np.max(2 * np.arccos(dot))
+    assert miss > 1e-3 or departure > max(0.1 * coarse_plan.attitude_change.max(), 1e-5)
+    assert check.point_error == pytest.approx(miss, rel=1e-9, abs=1e-12)
+
+
+def test_the_figure_draws_the_re_simulation(coarse_plan):
+    pytest.importorskip("matplotlib")
+    rows = coarse_plan.comparison()
+    t, angle, torque, path = rows["re-simulation of the plan"]
+    np.testing.assert_array_equal(t, coarse_plan.resimulation.t)
+    np.testing.assert_allclose(angle, coarse_plan.resimulation.base_rotation_angle)
+    fig = coarse_plan.figure()
+    labels = [line.get_label() for ax in fig.axes for line in ax.get_lines()]
+    assert sum(label.startswith("re-simulation") for label in labels) == 3
+    assert "FAILED its check" in fig._suptitle.get_text()
+
+
+def test_a_plan_whose_knots_break_its_dynamics_fails_on_the_defect(coarse_plan):
+    from dataclasses import replace
+
+    from spacearm.casadi import rk4_step
+    from spacearm.plan.verify import verify
+
+    x = coarse_plan.x.copy()
+    x[2, 7] += 1e-3  # one joint angle at one knot moved by 1 mrad
+    broken = replace(coarse_plan, x=x, verification=None)
+    check = verify(broken)
+    step = rk4_step(broken.robot, 1, torque="linear")  # one interval at a time, here
+    residual = 0.0
+    for k in range(3):
+        xn, un = (np.ravel(np.array(v)) for v in step(x[k], broken.u[k], broken.tau[k], broken.tau[k + 1], np.zeros(6), 1.0))
+        residual = max(residual, np.max(np.abs(xn - x[k + 1])), np.max(np.abs(un - broken.u[k + 1])))
+    assert check.defect == pytest.approx(residual, rel=1e-9)
+    assert check.defect > 9e-4 and any("defect" in f for f in check.failures)
