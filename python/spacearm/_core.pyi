@@ -28,7 +28,7 @@ __all__ = [
     "SingularError", "SingularityReport", "SoftCaptureResult", "SpacearmError", "SpacearmTypeError", "Tape",
     "ThrusterLimits", "WorkspaceShells", "ZeroTorqueSpec", "__version__", "analysis_damping",
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
-    "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
+    "analysis_reach", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_singularity", "batch_threads", "body_mass_properties_error", "check_grasp_handle", "GOAL_TOLERANCE", "MAX_HANDLE_RATIO",
     "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
     "model_to_toml", "momentum_scales", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
@@ -743,6 +743,8 @@ def analysis_damping(sigma_min: float, threshold: float, max_damping: float) -> 
 def analysis_joint_grid(lower: Sequence[float], upper: Sequence[float], resolution: int) -> _Vec: ...
 def analysis_scan(m: Model, samples: _Vec, body: int, offset: _Vec, rows: list[int]) -> ScanResult: ...
 def analysis_reaction_null_space(m: Model, x: _ArrayLike, which: str, tolerance: float) -> ReactionNullSpace: ...
+def analysis_reach(m: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: _Vec,
+                   duration: float) -> tuple[_Vec, float | None, tuple[_Vec, _Vec] | None]: ...
 def analysis_integrate_prescribed(m: Model, x0: _ArrayLike, dt: float, q_half: _Vec, qd_half: _Vec, linear_momentum: _Vec, angular_momentum: _Vec) -> _Vec: ...
 @final
 class RmrcOptions:
