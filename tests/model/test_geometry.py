@@ -109,7 +109,17 @@ def test_presets_bus_and_target_have_shapes():
 
 
 def _bus():
-    return str(Path(__file__).resolve().parents[2] / "examples" / "models" / "spacecraft_bus.toml")
+    return spacearm.examples.path("spacecraft_bus")
+
+
+def test_the_preset_files_draw_the_presets():
+    for name in set(spacearm.examples.NAMES) & set(spacearm.presets.NAMES):
+        a = spacearm.io.load_toml(spacearm.examples.path(name)).description.geometries
+        b = spacearm.presets.get(name).description.geometries
+        assert [(g.name, g.body, g.shape) for g in a] == [(g.name, g.body, g.shape) for g in b], name
+        for ga, gb in zip(a, b):
+            np.testing.assert_array_equal(ga.origin, gb.origin)
+            np.testing.assert_array_equal(ga.rotation, gb.rotation)
 
 
 def test_urdf_visuals_are_placed_as_pinocchio_places_them():

@@ -139,6 +139,8 @@ pub enum ModelField {
     Shape,
     /// A geometry's colour.
     Color,
+    /// A joint's passive dynamics: `actuated`, `stiffness`, `damping`, `rest`.
+    JointDynamics,
 }
 
 /// A model description that breaks a rule: the message (naming the body, joint or point, what
