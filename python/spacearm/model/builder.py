@@ -60,7 +60,7 @@ class RobotBuilder:
 
     @classmethod
     def from_robot(cls, robot: Robot, name: Optional[str] = None, *,
-                   allow_nonphysical_inertia: Optional[bool] = None) -> "RobotBuilder":
+                   allow_nonphysical_inertia: Optional[bool] = None, geometry: bool = True) -> "RobotBuilder":
         """A builder holding ``robot``'s model exactly: the base, every link with its joint,
         limits, passive dynamics and mass properties, the points, the end effector and the initial ``q``.
 
@@ -69,7 +69,8 @@ class RobotBuilder:
         normalized again on the way in).
         The initial ``q`` is kept per link, so links added or removed afterwards keep the other
         joints' initial values (new joints start at 0) unless [`set_initial_q`][spacearm.RobotBuilder.set_initial_q] is called.
-        ``allow_nonphysical_inertia`` defaults to ``robot``'s own choice.
+        ``allow_nonphysical_inertia`` defaults to ``robot``'s own choice. ``geometry=False``
+        leaves out the model's shapes (docs/geometry.md).
         """
         if not isinstance(robot, Robot):
             raise ArgumentError(f"from_robot needs a spacearm.Robot, got {type(robot).__name__}")
@@ -86,7 +87,7 @@ class RobotBuilder:
                        stiffness=link.stiffness, damping=link.damping, rest=link.rest)
         for p in d.points:
             b.add_point(p.name, body=p.body, offset=p.offset.tolist())
-        for g in d.geometries:
+        for g in (d.geometries if geometry else ()):
             dims = {key: getattr(g, key) for key in ("size", "radius", "length", "file", "scale") if getattr(g, key) is not None}
             b.add_geometry(g.body, g.shape, role=g.role, origin=g.origin, rotation=g.rotation, rgba=g.rgba,
                            name=g.name, **dims)
