@@ -256,7 +256,7 @@ pub fn segment(from: [f64; 3], to: [f64; 3]) -> Option<([f64; 3], [f64; 4], f64)
     let (a, b) = (Vector3::from(from), Vector3::from(to));
     let d = b - a;
     let length = d.norm();
-    if !(length > 0.0) {
+    if length.is_nan() || length <= 0.0 {
         return None;
     }
     let rotation = UnitQuaternion::rotation_between(&Vector3::z(), &d)
