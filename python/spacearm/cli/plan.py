@@ -6,7 +6,7 @@ stderr), re-simulates the plan in the native simulator under computed torque, pr
 writes the plan (``--out plan.npz``: ``t``, ``x``, ``u``, ``tau`` in spacearm's conventions) and
 its figure (``--plot plan.png``, with the re-simulation). A plan that IPOPT did not solve, or
 whose shooting defect or re-simulation is beyond the tolerances of
-:mod:`spacearm.plan.verify`, is an error (``spacearm: error: no plan: ...``, exit 2, no file).
+``spacearm.plan.verify``, is an error (``spacearm: error: no plan: ...``, exit 2, no file).
 
 Registered in ``spacearm.cli`` by ``add_parser`` and ``run``.
 """

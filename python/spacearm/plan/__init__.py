@@ -62,7 +62,7 @@ def point_to_point(
     duration : float
         Maneuver time ``T`` (s).
     nodes : int
-        Number of knot intervals ``K`` (torques are linear on them), at most :data:`MAX_NODES`.
+        Number of knot intervals ``K`` (torques are linear on them), at most [`MAX_NODES`][spacearm.plan.MAX_NODES].
     objective : ``"attitude"`` or ``"effort"``
         Minimise the base attitude disturbance ``(1/T) ∫ |θ|² dt`` (plus ``effort_weight``
         times the effort term) or the joint effort ``(1/T) ∫ |tau|² dt``.
@@ -76,12 +76,12 @@ def point_to_point(
     reactionless_end : bool
         Base angular velocity zero at ``T``.
     substeps : int
-        RK4 steps per interval in the shooting map (``nodes * substeps`` at most :data:`MAX_STEPS`).
+        RK4 steps per interval in the shooting map (``nodes * substeps`` at most [`MAX_STEPS`][spacearm.plan.MAX_STEPS]).
     warm_start : ``"reactionless"`` or ``"hold"``
         Initial guess: the reactionless RMRC motion to the target (the minimum-disturbance
         one where the reactionless motion cannot reach it), or the initial state held.
     max_iter : int
-        IPOPT's iteration limit (1 to :data:`MAX_ITER`).
+        IPOPT's iteration limit (1 to [`MAX_ITER`][spacearm.plan.MAX_ITER]).
     hessian : ``"objective"`` or ``"exact"``
         The Hessian IPOPT uses: the objective's alone (default; the shooting constraints'
         curvature left out, a Gauss–Newton-type approximation) or the exact Hessian of the
