@@ -282,14 +282,22 @@ pub fn impulse_dynamics(
     })
 }
 
+/// Refuse a target grasp point `offset` (m, from the CM of `body`, in its axes) farther from the
+/// CM than `MAX_HANDLE_RATIO` times the body's size (`spacearm_core::algorithms::impulse::check_grasp_handle`).
+#[pyfunction]
+pub fn check_grasp_handle(py: Python<'_>, model: PyRef<'_, PyModel>, body: usize, offset: &Bound<'_, PyAny>) -> PyResult<()> {
+    let offset = finite3(offset, "offset")?;
+    impulse::check_grasp_handle(&model.model, body, &offset).or_raise(py)
+}
+
 /// The grasp impact between the robot's point `(body, offset)` at `(x, u)` and the target
 /// model at `(x_target, u_target)`, hit on the body of its grasp point `(target_body,
 /// target_offset)` at its material point at the robot's point. `kind` "rigid" or "point"
 /// (`normal` in 𝒥, None: from the grasped body's CM to the grasp point), `restitution` in [0, 1],
-/// `arm` "free" or "locked".
+/// `arm` "free" or "locked"; `capture_tolerance` (m): the largest gap between the grasp points.
 #[pyfunction]
 #[pyo3(signature = (robot, x, u, body, offset, target, x_target, u_target, target_body, target_offset, *, kind = "rigid",
-                    restitution = 0.0, normal = None, arm = "free"))]
+                    restitution = 0.0, normal = None, arm = "free", capture_tolerance = 0.01))]
 #[allow(clippy::too_many_arguments)]
 pub fn grasp_impact(
     py: Python<'_>,
@@ -307,6 +315,7 @@ pub fn grasp_impact(
     restitution: f64,
     normal: Option<&Bound<'_, PyAny>>,
     arm: &str,
+    capture_tolerance: f64,
 ) -> PyResult<PyGraspImpulse> {
     let joints = joints(py, arm)?;
     let contact = match kind {
@@ -322,7 +331,7 @@ pub fn grasp_impact(
         .with_data(|rm, rd| {
             target.with_data(|tm, td| {
                 impulse::grasp_impact(
-                    rm, rd, x.as_slice(), u.as_slice(), robot_point, tm, td, xt.as_slice(), ut.as_slice(), target_grasp, contact, restitution, joints,
+                    rm, rd, x.as_slice(), u.as_slice(), robot_point, tm, td, xt.as_slice(), ut.as_slice(), target_grasp, contact, restitution, joints, capture_tolerance,
                 )
             })
         })
@@ -606,6 +615,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(virtual_mass, m)?)?;
     m.add_function(wrap_pyfunction!(impulse_momentum_split, m)?)?;
     m.add_function(wrap_pyfunction!(joint_wrenches, m)?)?;
+    m.add_function(wrap_pyfunction!(check_grasp_handle, m)?)?;
     m.add_class::<PySoftCaptureResult>()?;
     m.add_function(wrap_pyfunction!(soft_capture, m)?)?;
     m.add_class::<PyClosedChainResult>()?;

@@ -26,6 +26,7 @@ from typing import NamedTuple, Optional
 import numpy as np
 
 from .. import _core
+from .._util.summary import summary_repr
 from .._util.arrays import number, vector
 from ..errors import ArgumentError
 from ..rotations import quat_from_matrix
@@ -111,6 +112,8 @@ class SoftCaptureRun(NamedTuple):
     gains: dict  #: the impedance used (stiffness, damping, rotational_stiffness, rotational_damping)
     drift: dict  #: robot + target momentum drift over the samples, ``{"P": ..., "L": ...}`` (the core's definition)
     trajectory: object  #: the robot's spacearm.Trajectory (its records and meta: integrator, steps, ...)
+
+    __repr__ = summary_repr
 
 
 def soft_capture(robot, x, u, target, target_state, duration: float, *, frequency: float = 3.0, damping_ratio: float = 0.7,

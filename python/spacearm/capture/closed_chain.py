@@ -23,6 +23,7 @@ from typing import NamedTuple, Optional
 import numpy as np
 
 from .. import _core
+from .._util.summary import summary_repr
 from .._util.arrays import number, vector
 from ..errors import ArgumentError
 from ..sim.simulation import DEFAULTS, _check_controller, _options
@@ -41,6 +42,8 @@ class ClosedChainRun(NamedTuple):
     constraint_wrench: np.ndarray  #: (T, 6) λ: the wrench on frame b at its origin, [force; torque] in 𝒥 (body a gets −λ there)
     pose_error: np.ndarray  #: (T, 6) e = [position error (m); rotation error (rad)]
     trajectory: object  #: the run as a spacearm.Trajectory (tau, momentum, meta: integrator, steps, drift, ...)
+
+    __repr__ = summary_repr
 
 
 def _frames(robot, point_a, point_b):

@@ -38,6 +38,11 @@ its ``impulse_dynamics``, the Pinocchio-shaped impulse dynamics of one model, al
 ``spacearm._core.impulse_dynamics``): this module converts the arguments; the result,
 [`GraspImpulse`][spacearm.capture.GraspImpulse], is the extension's class (``spacearm._core.GraspImpulse``, frozen,
 read-only arrays; its fields are documented in ``_core.pyi``).
+
+Refused (``ArgumentError``, the core's rules): grasp points more than ``capture_tolerance`` apart
+(the gripper does not touch the handle), and a target grasp point farther from its body's CM
+than [`MAX_HANDLE_RATIO`][spacearm.capture.MAX_HANDLE_RATIO] times the body's size ``√(1.5 tr(I) / m)`` (the half-diagonal of
+the uniform box of its mass and inertia; docs/capture.md, "Grasps that are refused").
 """
 
 from __future__ import annotations
@@ -51,7 +56,16 @@ from .._core import GraspImpulse, MomentumSplit
 from .._util.arrays import number, vector, vector3
 from ..errors import ArgumentError, SingularError, SpacearmTypeError
 
+#: The default largest gap between the grasp points at the impact, m (``capture`` cuts its
+#: approach at the first sample this close).
+CAPTURE_TOLERANCE = 0.01
+
+#: A target grasp point may lie at most this many body sizes from the body's CM (the core's rule).
+MAX_HANDLE_RATIO = _core.MAX_HANDLE_RATIO
+
 __all__ = [
+    "CAPTURE_TOLERANCE",
+    "MAX_HANDLE_RATIO",
     "GraspImpulse",
     "MomentumSplit",
     "grasp_impulse",
@@ -141,6 +155,7 @@ def grasp_impulse(
     kind: str = "rigid",
     normal: Optional[Sequence[float]] = None,
     arm: str = "free",
+    capture_tolerance: float = CAPTURE_TOLERANCE,
 ) -> GraspImpulse:
     """The impact between the robot's grasp point and a target (module docstring for the equations).
 
@@ -168,6 +183,9 @@ def grasp_impulse(
     arm
         ``"free"`` (the joint rates jump too) or ``"locked"`` (the joint rates held through the
         impact by locking impulses, ``Δq̇ = 0``: module docstring).
+    capture_tolerance
+        The largest distance between the two grasp points, m (farther: ``ArgumentError``, no
+        impulse).
 
     Returns
     -------
@@ -194,7 +212,9 @@ def grasp_impulse(
     t_body, t_offset = target.point(grasp)
     tx, tu = target.xu(s)
     n = None if normal is None or kind != "point" else vector3(normal, "normal")
+    tol = number(capture_tolerance, "capture_tolerance")
     # The impulse, both jumps, G_r, G_t, the energy and the locking work: the core's
     # algorithms/impulse.rs (grasp_impact, on its impulse dynamics).
     return _core.grasp_impact(robot.core_model, xv, uv, int(body), np.asarray(offset, dtype=float), target.body.core_model, tx, tu,
-                              int(t_body), np.asarray(t_offset, dtype=float), kind=kind, restitution=e, normal=n, arm=arm)
+                              int(t_body), np.asarray(t_offset, dtype=float), kind=kind, restitution=e, normal=n, arm=arm,
+                             capture_tolerance=tol)

@@ -2,8 +2,8 @@
 
 ``inspect`` (``spacearm.cli.inspect``), ``derive`` (``spacearm.cli.derive``), ``analyze``
 (``spacearm.cli.analyze``), ``simulate`` and ``demo`` (``spacearm.cli.simulate``),
-``campaign`` (``spacearm.cli.campaign``), ``capture`` (``spacearm.cli.capture``) and
-``plan`` (``spacearm.cli.plan``). ``MODEL`` is a preset name (``planar4``,
+``campaign`` (``spacearm.cli.campaign``), ``capture`` (``spacearm.cli.capture``),
+``plan`` (``spacearm.cli.plan``) and ``fmu`` (``spacearm.cli.fmu``). ``MODEL`` is a preset name (``planar4``,
 ``spatial6``, ...), a TOML model file (``docs/model-format.md``) or a URDF file
 (``docs/urdf.md``), with the model options of ``spacearm.cli.model_options``. Optional packages are
 imported only inside the subcommand that needs them, so the command starts on a plain install.
@@ -26,6 +26,7 @@ from . import analyze as cli_analyze
 from . import campaign as cli_campaign
 from . import capture as cli_capture
 from . import derive as cli_derive
+from . import fmu as cli_fmu
 from . import inspect as cli_inspect
 from . import plan as cli_plan
 from . import simulate as cli_simulate
@@ -46,6 +47,7 @@ OUTPUT_OPTIONS = {
     "derive": ("latex", "python", "c"),
     "capture": ("out", "plot"),
     "plan": ("out", "plot"),
+    "fmu": ("out",),
 }
 
 
@@ -77,6 +79,7 @@ def main(argv=None) -> int:
     cli_campaign.add_parser(sub)
     cli_capture.add_parser(sub)
     cli_plan.add_parser(sub)
+    cli_fmu.add_parser(sub)
     # "--target -0.3,0.3,0" would be read as two options: pass such values as "--target=-0.3,...".
     args = parser.parse_args(attach_negative_values(sys.argv[1:] if argv is None else argv))
     try:
@@ -97,6 +100,8 @@ def main(argv=None) -> int:
             return cli_capture.run(args, model_from_args)
         elif args.command == "plan":
             cli_plan.run(args, model_from_args)
+        elif args.command == "fmu":
+            cli_fmu.run(args, model_from_args)
     except SpacearmError as exc:
         print(f"spacearm: error: {exc}", file=sys.stderr)
         return 2

@@ -300,11 +300,48 @@ fn matrix6(m: &DMatrix<f64>) -> Matrix6<f64> {
     Matrix6::from_fn(|i, j| m[(i, j)])
 }
 
+/// The farthest a target's grasp point may lie from the CM of the body it is on, in units of
+/// that body's size ([`body_size`]): a handle longer than this is no grasp the rigid-lock and
+/// impulse models describe (docs/capture.md, "Grasps that are refused").
+pub const MAX_HANDLE_RATIO: f64 = 2.0;
+
+/// The size of a body from its mass properties: the half-diagonal of the uniform box with the
+/// same mass and principal moments, `√(1.5 tr(I) / m)` m (for a box of sides `a, b, c`,
+/// `tr(I) = m (a² + b² + c²) / 6`); a point mass has size 0.
+pub fn body_size(model: &Model, body: usize) -> f64 {
+    let mp = model.mass_properties(body);
+    if mp.mass > 0.0 {
+        (1.5 * mp.inertia.trace() / mp.mass).max(0.0).sqrt()
+    } else {
+        0.0
+    }
+}
+
+/// Refuse a grasp point `offset` (from the CM of `body`, in its axes) farther from the CM than
+/// [`MAX_HANDLE_RATIO`] times the body's size: an `InvalidArgument` naming both lengths.
+pub fn check_grasp_handle(model: &Model, body: usize, offset: &Vector3<f64>) -> Result<()> {
+    check_body(model, body)?;
+    check_finite("the target's grasp offset", offset.as_slice())?;
+    let size = body_size(model, body);
+    let length = offset.norm();
+    if length > MAX_HANDLE_RATIO * size {
+        return Err(SpacearmError::argument(format!(
+            "the grasp point is {length:.4} m from the CM of body {body} of '{}', more than {MAX_HANDLE_RATIO} × its size \
+             {size:.4} m (the half-diagonal of the uniform box of its mass and inertia): no handle that long is a rigid \
+             grasp; put the grasp point on the body",
+            model.name()
+        )));
+    }
+    Ok(())
+}
+
 /// The impact between the robot's grasp point and a target model (module docs): the robot at
 /// `(x, u)` grasps at `robot_point`; the target at `(x_target, u_target)` is hit on the body of
 /// its grasp point `target_grasp`, at its material point that coincides with the robot's point
 /// `X`. `restitution` `e` in [0, 1] (`J v⁺ = −e J v⁻` on the contact rows); `joints`: the
-/// robot's joints free or locked (the target's are always free).
+/// robot's joints free or locked (the target's are always free). Refused: a target grasp point
+/// beyond [`check_grasp_handle`]'s bound, and grasp points more than `gap_tolerance` (m) apart
+/// (the gripper does not touch the handle: no impact).
 ///
 /// Rigid: `Λ = −(1 + e) (G_r + G_t)⁻¹ v_rel⁻`. Point: `Λ = [λ n; 0]`,
 /// `λ = −(1 + e) nᵀv_rel⁻ / (nᵀ (G_r + G_t)_vv n)` when `nᵀv_rel⁻ < 0`, else no impulse.
@@ -323,8 +360,12 @@ pub fn grasp_impact(
     contact: GraspContact,
     restitution: f64,
     joints: JointsAtImpact,
+    gap_tolerance: f64,
 ) -> Result<GraspImpact> {
     check_restitution(restitution)?;
+    if !(gap_tolerance >= 0.0) {
+        return Err(SpacearmError::argument(format!("the capture tolerance must be >= 0 m, got {gap_tolerance}")));
+    }
     check_velocity(robot, "u", u)?;
     check_velocity(target, "the target's u", u_target)?;
     check_body(robot, robot_point.body)?;
@@ -343,6 +384,14 @@ pub fn grasp_impact(
     let body_cm = target_data.com_in_world[tb];
     let rot_t: Matrix3<f64> = target_data.body_to_world[tb];
     let t_offset = rot_t.transpose() * (point - body_cm);
+    check_grasp_handle(target, tb, &target_grasp.offset)?;
+    let gap = (point - grasp_world).norm();
+    if gap > gap_tolerance {
+        return Err(SpacearmError::argument(format!(
+            "the grasp points are {gap:.4} m apart at the impact, more than the capture tolerance {gap_tolerance} m: the \
+             gripper does not touch the target's grasp point, so there is no impact to compute"
+        )));
+    }
     let j_t = jacobian_of(target, target_data, tb, &t_offset)?;
 
     let resp_r = response_from(&h_r, &j_r, joints)?;
@@ -402,7 +451,7 @@ pub fn grasp_impact(
         u_after,
         target_u_after,
         point,
-        gap: (point - grasp_world).norm(),
+        gap,
         normal,
         relative_twist_before: Vector6::from_column_slice(v_rel.as_slice()),
         relative_twist_after: Vector6::from_column_slice(v_rel_after.as_slice()),
@@ -450,6 +499,27 @@ mod tests {
         (xt, ut, BodyPoint { body: 0, offset: Vector3::new(-0.5, 0.0, 0.0) })
     }
 
+    #[test]
+    fn a_gap_beyond_the_tolerance_and_a_long_handle_are_refused() {
+        let (robot, tgt) = (spatial6(), target());
+        let (x, u) = state(&robot);
+        let (xt, ut, grasp) = target_state(&robot, &x); // grasp points 0.0224 m apart
+        let run = |tol: f64, grasp: BodyPoint| {
+            grasp_impact(&robot, &mut Data::new(&robot), &x, &u, ee(&robot), &tgt, &mut Data::new(&tgt), &xt, &ut, grasp,
+                         GraspContact::Rigid, 0.0, JointsAtImpact::Free, tol)
+        };
+        assert!(run(0.03, grasp).is_ok());
+        let err = run(0.02, grasp).unwrap_err().to_string();
+        assert!(err.contains("0.0224 m apart") && err.contains("capture tolerance 0.02 m"), "{err}");
+        // The target's size: tr(I) = 15 kg m², 50 kg → √(1.5·15/50) = 0.6708 m; the bound 1.3416 m.
+        assert!((body_size(&tgt, 0) - (1.5f64 * 15.0 / 50.0).sqrt()).abs() < 1e-15);
+        assert!(check_grasp_handle(&tgt, 0, &Vector3::new(1.34, 0.0, 0.0)).is_ok());
+        let err = check_grasp_handle(&tgt, 0, &Vector3::new(0.0, 1.35, 0.0)).unwrap_err().to_string();
+        assert!(err.contains("1.3500 m from the CM") && err.contains("0.6708 m"), "{err}");
+        let far = BodyPoint { offset: Vector3::new(-2.0, 0.0, 0.0), ..grasp };
+        assert!(run(f64::INFINITY, far).unwrap_err().to_string().contains("no handle that long"));
+    }
+
     fn total(robot: &Model, x: &[f64], u: &[f64], target: &Model, xt: &[f64], ut: &[f64]) -> (Vector3<f64>, Vector3<f64>, f64) {
         let (mut dr, mut dt) = (Data::new(robot), Data::new(target));
         let (a, b) = (momentum(robot, &mut dr, x, u).unwrap(), momentum(target, &mut dt, xt, ut).unwrap());
@@ -462,7 +532,7 @@ mod tests {
         let (x, u) = state(&robot);
         let (xt, ut, grasp) = target_state(&robot, &x);
         let (mut dr, mut dt) = (Data::new(&robot), Data::new(&tgt));
-        let g = grasp_impact(&robot, &mut dr, &x, &u, ee(&robot), &tgt, &mut dt, &xt, &ut, grasp, contact, e, joints).unwrap();
+        let g = grasp_impact(&robot, &mut dr, &x, &u, ee(&robot), &tgt, &mut dt, &xt, &ut, grasp, contact, e, joints, f64::INFINITY).unwrap();
         let before = total(&robot, &x, &u, &tgt, &xt, &ut);
         let after = total(&robot, &x, g.u_after.as_slice(), &tgt, &xt, g.target_u_after.as_slice());
         (g, [before, after])
@@ -589,7 +659,7 @@ mod tests {
         let (x, u) = state(&robot);
         let (xt, ut, grasp) = target_state(&robot, &x);
         let err = grasp_impact(&robot, &mut Data::new(&robot), &x, &u, ee(&robot), &tgt, &mut Data::new(&tgt), &xt, &ut, grasp,
-                               GraspContact::Point { normal: Some(Vector3::zeros()) }, 0.0, JointsAtImpact::Free)
+                               GraspContact::Point { normal: Some(Vector3::zeros()) }, 0.0, JointsAtImpact::Free, f64::INFINITY)
             .unwrap_err();
         assert!(matches!(err, SpacearmError::InvalidArgument(_)), "{err}");
     }
@@ -624,7 +694,7 @@ mod tests {
         xt[0] -= 0.5;
         let grasp = BodyPoint { offset: Vector3::zeros(), ..grasp };
         let g = grasp_impact(&robot, &mut data, &x, &u, p, &heavy, &mut Data::new(&heavy), &xt, &[0.0; 6], grasp, GraspContact::Rigid, 0.0,
-                             JointsAtImpact::Free)
+                             JointsAtImpact::Free, f64::INFINITY)
             .unwrap();
         let r = impulse_dynamics(&robot, &mut data, &x, &u, &j, 0.0, JointsAtImpact::Free).unwrap();
         assert!((&g.du - &r.du).norm() < 1e-9 * r.du.norm(), "{:e}", (&g.du - &r.du).norm() / r.du.norm());

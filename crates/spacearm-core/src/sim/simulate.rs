@@ -7,7 +7,7 @@
 //! algorithm with `f = [F0; N0; τ]` → `ẏ = [v0; ½ [ω0; 0] ⊗ quat; q̇; u̇]`.
 //!
 //! Recorded per sample: the state, `u̇`, applied and commanded torques, the applied base
-//! wrench, `P`, `L_origin`, `L_com`, kinetic energy, system CM, end-effector pose, the
+//! wrench, `P`, `L_origin`, `L_com`, mechanical energy (kinetic plus the joint springs'), system CM, end-effector pose, the
 //! controller's reference and tracking error, wheel speeds. Saturation events mark the accepted
 //! step in which an actuator starts saturating (its onset; the per-sample `tau` against
 //! `tau_cmd` shows how long it lasts). The drift of each conserved quantity is its largest
@@ -33,6 +33,7 @@ use crate::model::Model;
 use crate::sim::actuators::{check_wheels, detect_reaction_wheels, Actuators, SaturationKind, ThrusterLimits};
 use crate::sim::integrate::{Dopri5, IntegratorKind, OdeSystem, StepOutcome};
 use crate::sim::modes::{Conserved, Mode};
+use crate::sim::orbit::{gravity_gradient_tensor, gravity_gradient_torque, Orbit, OrbitTrack};
 use crate::sim::record::{onsets, Recorder};
 use crate::sim::stepper::Rk4Stepper;
 
@@ -61,6 +62,23 @@ pub struct SimOptions {
     pub joint_limits: bool,
     /// Largest number of attempted steps (DOPRI5) before giving up.
     pub max_steps: usize,
+    /// The orbit of the run ([`OrbitOptions`]); `None`: empty, inertial space.
+    pub orbit: Option<OrbitOptions>,
+}
+
+/// A run in orbit (docs/orbit.md): the origin of 𝒥 is the orbit's point `O`, propagated on its
+/// own (point mass, two-body + J2, [`OrbitTrack`]), with 𝒥's axes those of ECI; the states stay
+/// relative to `O`. With `gravity_gradient`, every body feels the tidal force `mᵢ G ρᵢ` at its CM
+/// (`ρᵢ` its CM from `O`) and the torque `axial(Iᵢ G − G Iᵢ)` about it, `G` the gradient at `O`
+/// ([`crate::sim::orbit`]); the uniform part of gravity moves `O` and with it everything. The
+/// conserved quantities of the mode are then monitored as balances: the change of each equals
+/// the integral of the tidal wrenches (trapezoid over the samples), the energy is dropped.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OrbitOptions {
+    /// The orbit of `O` (at `t = 0`).
+    pub orbit: Orbit,
+    /// Whether the tidal wrenches act on the bodies.
+    pub gravity_gradient: bool,
 }
 
 impl Default for SimOptions {
@@ -77,6 +95,7 @@ impl Default for SimOptions {
             thrusters: None,
             joint_limits: true,
             max_steps: 10_000_000,
+            orbit: None,
         }
     }
 }
@@ -146,7 +165,7 @@ pub struct Records {
     pub angular_momentum_origin: Vec<f64>,
     /// Angular momentum about the system CM, N·m·s (width 3).
     pub angular_momentum_com: Vec<f64>,
-    /// Kinetic energy, J (width 1).
+    /// Mechanical energy: kinetic energy plus the joint springs' potential energy, J (width 1).
     pub energy: Vec<f64>,
     /// System CM in 𝒥, m (width 3).
     pub com: Vec<f64>,
@@ -162,6 +181,13 @@ pub struct Records {
     pub attitude_error: Option<Vec<f64>>,
     /// Wheel rates relative to the base, rad/s.
     pub wheel_speed: Option<Vec<f64>>,
+    /// An orbital run's system CM in ECI, `r_O + r_g`, m (width 3).
+    pub r_cm_eci: Option<Vec<f64>>,
+    /// An orbital run's system CM velocity in ECI, `v_O + P/M`, m/s (width 3).
+    pub v_cm_eci: Option<Vec<f64>>,
+    /// An orbital run's total tidal wrench `[Σ fᵢ; Σ (ρᵢ × fᵢ + Nᵢ)]` (the torque about `O`),
+    /// N and N·m (width 6; zeros without the gravity gradient).
+    pub gravity_wrench: Option<Vec<f64>>,
     /// A closed chain's constraint wrench `λ` on frame b at its origin, `[force; torque]` in 𝒥
     /// (width 6; [`crate::sim::closed_chain`]).
     pub constraint_wrench: Option<Vec<f64>>,
@@ -202,6 +228,8 @@ pub struct SimResult {
     pub dropped_wrench_max: f64,
     /// Number of evaluations that commanded such a part.
     pub dropped_wrench_count: usize,
+    /// A point controller's report on its goal at the final sample ([`Controller::goal_report`]).
+    pub goal: Option<crate::control::GoalReport>,
 }
 
 /// The plant as an ODE `ẏ = f(t, y)` for the integrators: model, mode, actuators and controller
@@ -238,6 +266,14 @@ pub struct Plant<'a> {
     /// A loop closure: the forward dynamics are then the constrained ones
     /// ([`crate::sim::closed_chain`]); `None`: ABA.
     pub(crate) closure: Option<Box<crate::sim::closed_chain::ClosureState>>,
+    /// An orbital run's track of `O` and whether the tidal wrenches act ([`OrbitOptions`]).
+    pub(crate) orbit: Option<(OrbitTrack, bool)>,
+    /// `O`'s ECI position and velocity at the last evaluation.
+    pub(crate) orbit_state: (Vector3<f64>, Vector3<f64>),
+    /// The total tidal wrench of the last evaluation, `[force; torque about O]`.
+    pub(crate) gravity_wrench: Vector6<f64>,
+    /// The wrenches of the last evaluation: [`Plant::set_body_wrenches`]'s and the tidal ones.
+    wrench_buf: Vec<ExternalWrench>,
 }
 
 impl<'a> Plant<'a> {
@@ -265,6 +301,11 @@ impl<'a> Plant<'a> {
         let ctx = ControlContext { plant: &model, mode: opts.mode, wheel_dofs: &wheels, arm_dofs: &arm, actuators: &actuators };
         controller.setup(&ctx)?;
         let n_ref = controller.reference_len();
+        let orbit = match &opts.orbit {
+            Some(o) => Some((OrbitTrack::new(&o.orbit, opts.duration)?, o.gravity_gradient)),
+            None => None,
+        };
+        let orbit_state = opts.orbit.map(|o| (o.orbit.r0, o.orbit.v0)).unwrap_or_default();
         Ok(Plant {
             data: Data::new(&model),
             nx: model.nx(),
@@ -286,6 +327,10 @@ impl<'a> Plant<'a> {
             nonfinite_stage: false,
             body_wrenches: Vec::new(),
             closure: None,
+            orbit,
+            orbit_state,
+            gravity_wrench: Vector6::zeros(),
+            wrench_buf: Vec::new(),
         })
     }
 
@@ -325,6 +370,41 @@ impl<'a> Plant<'a> {
             },
             None => self.held_input = None,
         }
+    }
+}
+
+impl Plant<'_> {
+    /// An orbital run: read `O`'s state at `t` and, with the gravity gradient, fill the wrench
+    /// buffer with [`Plant::set_body_wrenches`]'s wrenches and each body's tidal wrench (the
+    /// kinematics are current). Returns whether the buffer is to be used.
+    fn tidal_wrenches(&mut self, t: f64) -> Result<bool> {
+        let Some((track, gg)) = &mut self.orbit else {
+            return Ok(false);
+        };
+        track.extend_to(t)?;
+        self.orbit_state = track.state(t);
+        if !*gg {
+            return Ok(false);
+        }
+        let g = gravity_gradient_tensor(track.orbit().body.mu, &self.orbit_state.0);
+        self.wrench_buf.clear();
+        self.wrench_buf.extend_from_slice(&self.body_wrenches);
+        let mut total = Vector6::zeros();
+        for b in 0..self.model.n_bodies() {
+            let rho = self.data.com_in_world[b];
+            let force = self.model.mass_properties(b).mass * (g * rho);
+            let torque = gravity_gradient_torque(&g, &self.data.inertia_in_world[b]);
+            let about_o = rho.cross(&force) + torque;
+            total += Vector6::new(force.x, force.y, force.z, about_o.x, about_o.y, about_o.z);
+            self.wrench_buf.push(ExternalWrench { body: b, offset: Vector3::zeros(), force, torque });
+        }
+        self.gravity_wrench = total;
+        Ok(true)
+    }
+
+    /// Whether the plant runs in orbit with the tidal wrenches.
+    pub fn has_gravity_gradient(&self) -> bool {
+        matches!(self.orbit, Some((_, true)))
     }
 }
 
@@ -381,12 +461,18 @@ impl OdeSystem for Plant<'_> {
         self.wrench_applied = self.mode.wrench_at_base(&kept, &base_to_com);
         self.f[..6].copy_from_slice(self.wrench_applied.as_slice());
         self.f[6..].copy_from_slice(&self.tau_applied);
+        let tidal = self.tidal_wrenches(t)?;
         if let Some(c) = &mut self.closure {
+            if tidal {
+                return Err(SpacearmError::argument("a closed chain in orbit with the gravity gradient is not implemented yet (use gravity_gradient=False)"));
+            }
             c.evaluate(&self.model, &mut self.data, x, u, &self.f)?;
+        } else if tidal {
+            aba_with_wrenches_after_kinematics(&self.model, &mut self.data, &x[7..], u, &self.f, &self.wrench_buf)?;
         } else if self.body_wrenches.is_empty() {
-            aba_after_kinematics(&self.model, &mut self.data, u, &self.f)?;
+            aba_after_kinematics(&self.model, &mut self.data, &x[7..], u, &self.f)?;
         } else {
-            aba_with_wrenches_after_kinematics(&self.model, &mut self.data, u, &self.f, &self.body_wrenches)?;
+            aba_with_wrenches_after_kinematics(&self.model, &mut self.data, &x[7..], u, &self.f, &self.body_wrenches)?;
         }
         // ṙ0 = v0; quaṫ = ½ [ω0; 0] ⊗ quat (Hamilton, [x, y, z, w], ω0 in 𝒥); q̇; u̇.
         dy[0..3].copy_from_slice(&u[0..3]);
@@ -481,6 +567,9 @@ pub fn sample_count(opts: &SimOptions) -> usize {
 fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, progress: Progress<'_>) -> Result<SimResult> {
     let n_steps = rk4_step_count(opts);
     let mut stepper = Rk4Stepper::new(plant, x0, u0, Some((sample_count(opts), opts.record_every)))?;
+    // A step longer than the fastest mode allows is refused before the first step.
+    let y0 = stepper.state().to_vec();
+    crate::sim::step_limit::check_rk4_step(stepper.plant_mut(), 0.0, &y0, opts.dt.min(opts.duration))?;
     let progress_every = opts.duration / 1000.0;
     let mut next_progress = 0.0;
     for i in 0..n_steps {
@@ -664,7 +753,14 @@ fn check_divergence(result: &SimResult) -> Result<()> {
 
 /// The result of a run from its plant (counters, controller) and records.
 pub(crate) fn finish_result(plant: &Plant<'_>, rec: Recorder, events: Vec<SaturationEvent>, n_steps: usize, n_rejected: usize) -> SimResult {
-    let conserved = plant.mode.conserved(plant.controller.is_torque_free());
+    // The mechanical energy (kinetic plus springs) is conserved without joint torques, base
+    // wrench or joint dampers.
+    let undamped = plant.model().dof_dynamics().iter().all(|d| d.damping == 0.0);
+    let mut conserved = plant.mode.conserved(plant.controller.is_torque_free() && undamped);
+    if plant.has_gravity_gradient() {
+        // The tidal wrenches do work on the system: only the momentum balances are monitored.
+        conserved.retain(|c| *c != Conserved::Energy);
+    }
     let drift = rec.drift(&conserved);
     let drift_scales = conserved.iter().map(|&c| (c, rec.scale(c))).collect();
     SimResult {
@@ -682,5 +778,6 @@ pub(crate) fn finish_result(plant: &Plant<'_>, rec: Recorder, events: Vec<Satura
         dropped_wrench_max: plant.dropped_max,
         dropped_wrench_count: plant.dropped_count,
         wheel_dofs: plant.wheels.clone(),
+        goal: plant.controller.goal_report(),
     }
 }
