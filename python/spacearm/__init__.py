@@ -12,7 +12,8 @@ from .model.batch import batch_threads, set_batch_threads
 from .model.builder import RobotBuilder
 from .capture import Target
 from .orbit import CentralBody, Orbit, OrbitalElements
-from .model.description import BaseDescription, JointLimits, LinkDescription, ModelDescription, PointDescription
+from .model.description import (BaseDescription, GeometryDescription, JointLimits, LinkDescription, ModelDescription,
+                                PointDescription)
 from .errors import (
     ArgumentError,
     CampaignError,
@@ -77,6 +78,7 @@ __all__ = [
     "BaseDescription",
     "LinkDescription",
     "PointDescription",
+    "GeometryDescription",
     "JointLimits",
     "presets",
     "capture",

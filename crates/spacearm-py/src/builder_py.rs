@@ -2,7 +2,8 @@
 //! `spacearm.RobotBuilder`).
 
 use pyo3::prelude::*;
-use spacearm_core::{JointDynamics, JointLimits, JointType, LinkSpec, ModelBuilder, SpacearmError};
+use spacearm_core::model::geometry::ShapeParts;
+use spacearm_core::{GeometryRole, GeometrySpec, JointDynamics, JointLimits, JointType, LinkSpec, ModelBuilder, Shape, SpacearmError};
 
 use crate::convert::*;
 use crate::model_py::PyModel;
@@ -95,6 +96,37 @@ impl PyModelBuilder {
 
     fn add_point(&mut self, py: Python<'_>, name: &str, body: &str, offset: [f64; 3]) -> PyResult<()> {
         self.inner.add_point(name, body, offset).map_err(SpacearmError::from).or_raise(py)?;
+        Ok(())
+    }
+
+    /// Add a visual or collision shape to `body` (model/geometry.rs: the shape from `shape`
+    /// and its keys, checked with the placement and colour by the core's builder).
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (body, role, shape, origin, rotation, size=None, radius=None, length=None, file=None, scale=None, rgba=None, name=None))]
+    fn add_geometry(
+        &mut self,
+        py: Python<'_>,
+        body: &str,
+        role: &str,
+        shape: &str,
+        origin: [f64; 3],
+        rotation: [f64; 4],
+        size: Option<[f64; 3]>,
+        radius: Option<f64>,
+        length: Option<f64>,
+        file: Option<String>,
+        scale: Option<[f64; 3]>,
+        rgba: Option<[f64; 4]>,
+        name: Option<String>,
+    ) -> PyResult<()> {
+        let who = name.as_ref().map_or_else(|| format!("geometry on '{body}'"), |n| format!("geometry '{n}'"));
+        let invalid = |m: String| to_py_err(py, SpacearmError::InvalidModel(format!("{who}: {m}")));
+        let role = GeometryRole::from_name(role).ok_or_else(|| invalid(format!("role must be 'visual' or 'collision', got '{role}'")))?;
+        let shape = Shape::from_parts(shape, ShapeParts { size, radius, length, file, scale }).map_err(invalid)?;
+        self.inner
+            .add_geometry(GeometrySpec { name, body: body.to_string(), role, shape, origin, rotation, rgba })
+            .map_err(SpacearmError::from)
+            .or_raise(py)?;
         Ok(())
     }
 

@@ -60,6 +60,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<description_py::PyLinkDescription>()?;
     m.add_class::<description_py::PyJointLimits>()?;
     m.add_class::<description_py::PyPointDescription>()?;
+    m.add_class::<description_py::PyGeometryDescription>()?;
     m.add_class::<rule_tables_py::PySimDefaults>()?;
     m.add_class::<rule_tables_py::PyModelBounds>()?;
     m.add_class::<rule_tables_py::PyDlsDefaults>()?;

@@ -8,6 +8,7 @@ use nalgebra::Matrix3;
 
 use crate::error::{ModelError, ModelField, ModelItem};
 use crate::model::body::{MassProperties, TriangleInequality};
+use crate::model::geometry::{self, Geometry, GeometrySpec, DEFAULT_RGBA};
 use crate::model::joint::{JointDynamics, JointLimits, JointType};
 use crate::model::system::{Link, Model, Point};
 use crate::model::validate;
@@ -60,6 +61,8 @@ pub struct ModelBuilder {
     triangle_inequality: TriangleInequality,
     /// Warnings of the bodies accepted under [`TriangleInequality::Warn`].
     inertia_warnings: Vec<String>,
+    geometries: Vec<Geometry>,
+    geometry_names: HashSet<String>,
 }
 
 fn matrix3(rows: &[[f64; 3]; 3]) -> Matrix3<f64> {
@@ -99,6 +102,8 @@ impl ModelBuilder {
             joint_names: HashSet::new(),
             triangle_inequality,
             inertia_warnings: warning.into_iter().collect(),
+            geometries: Vec::new(),
+            geometry_names: HashSet::new(),
         })
     }
 
@@ -191,6 +196,45 @@ impl ModelBuilder {
         Ok(self)
     }
 
+    /// Add a visual or collision shape fixed to `spec.body` (model/geometry.rs): its shape,
+    /// placement and colour are checked here; its name (default `<body>_<role><k>`) must differ
+    /// from every geometry's given before.
+    pub fn add_geometry(&mut self, spec: GeometrySpec) -> Result<&mut Self, ModelError> {
+        let item = ModelItem::Geometry(self.geometries.len());
+        let body = self.body_index(&spec.body).ok_or_else(|| {
+            ModelError::new(
+                item,
+                ModelField::Body,
+                format!("geometry on '{}': not a body of the model; bodies defined so far: {:?}", spec.body, self.body_names()),
+            )
+        })?;
+        let name = match spec.name {
+            Some(n) => {
+                validate::non_empty_name(item, ModelField::Name, "geometry name", &n)?;
+                n
+            }
+            None => {
+                let k = self.geometries.iter().filter(|g| g.body == body && g.role == spec.role).count();
+                let mut n = format!("{}_{}{k}", spec.body, spec.role.as_str());
+                while self.geometry_names.contains(&n) {
+                    n.push('_');
+                }
+                n
+            }
+        };
+        if self.geometry_names.contains(&name) {
+            return Err(ModelError::new(item, ModelField::Name, format!("geometry name '{name}' is used twice")));
+        }
+        let who = format!("geometry '{name}'");
+        geometry::check_shape(item, &who, &spec.shape)?;
+        let rgba = spec.rgba.unwrap_or(DEFAULT_RGBA);
+        geometry::check_rgba(item, &who, &rgba)?;
+        let (origin, rotation) = geometry::check_placement(item, &who, &spec.origin, &spec.rotation)?;
+        self.geometry_names.insert(name.clone());
+        self.geometries.push(Geometry { name, body, role: spec.role, shape: spec.shape, origin, rotation, rgba });
+        Ok(self)
+    }
+
     /// Designate the point called `name` as the end effector.
     pub fn set_end_effector(&mut self, name: &str) -> &mut Self {
         self.end_effector = Some(name.to_string());
@@ -221,7 +265,8 @@ impl ModelBuilder {
             ee,
             self.initial_q.clone(),
         )?
-        .with_triangle_inequality(self.triangle_inequality, self.inertia_warnings.clone()))
+        .with_triangle_inequality(self.triangle_inequality, self.inertia_warnings.clone())
+        .with_geometries(self.geometries.clone()))
     }
 }
 
