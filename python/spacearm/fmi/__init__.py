@@ -1,4 +1,4 @@
-"""FMI co-simulation units of spacearm models (docs/fmi.md): :func:`export` writes an FMU
+"""FMI co-simulation units of spacearm models (docs/fmi.md): [`export`][spacearm.fmi.export] writes an FMU
 (FMI 3 or FMI 2) whose binary is the spacearm C library (docs/c-api.md).
 
 >>> import spacearm, spacearm.fmi
