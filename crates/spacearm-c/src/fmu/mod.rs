@@ -233,8 +233,8 @@ pub(crate) fn run_fmi(inst: &mut Instance, body: impl FnOnce(&mut Instance) -> R
         Ok(Err(m)) => m,
         Err(_) => "internal error in spacearm (a Rust panic, caught at the FMI boundary)".to_string(),
     };
-    let logger = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| (inst.logger)(true, &msg)));
-    let _ = logger;
+    // A panicking logger (the importer's code) must not unwind through the FMI boundary either.
+    let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| (inst.logger)(true, &msg)));
     Err(())
 }
 
