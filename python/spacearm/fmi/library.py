@@ -1,6 +1,6 @@
 """The spacearm C library (``libspacearm_c``, crates/spacearm-c; docs/c-api.md) through
 ``ctypes``: where it is, and the few entry points Python calls (the FMU's binary is the same
-file, see ``spacearm.fmi.export``).
+file, see ``spacearm.fmi.fmu``).
 
 Where the library is looked for, in order:
 
