@@ -201,7 +201,7 @@ impl Instance {
             return Err(format!("the communication point {t} s is not the FMU's time {now} s"));
         }
         let steps = (h / dt).round();
-        if !(h > 0.0) || steps < 1.0 || (steps * dt - h).abs() > 1e-6 * dt {
+        if !h.is_finite() || h <= 0.0 || steps < 1.0 || (steps * dt - h).abs() > 1e-6 * dt {
             return Err(format!("the communication step {h} s must be a positive multiple of the FMU's RK4 step {dt} s (set when the FMU was exported)"));
         }
         let l = &self.layout;
