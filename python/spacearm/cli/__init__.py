@@ -16,7 +16,9 @@ with its path. Ctrl-C exits with status 130 and one line.
 from __future__ import annotations
 
 import argparse
+import functools
 import os
+import shutil
 import sys
 
 from .._core import __version__
@@ -59,12 +61,17 @@ def describe_os_error(exc: OSError) -> str:
 
 
 def main(argv=None) -> int:
+    # The terminal's width read once: argparse's HelpFormatter asks the terminal at each
+    # add_argument (85 times for these parsers, about 12 ms of a capture; benchmarks/README.md).
+    formatter = functools.partial(argparse.HelpFormatter, width=shutil.get_terminal_size().columns - 2)
     parser = argparse.ArgumentParser(
         prog="spacearm",
         description="Equations of motion of spacecraft-manipulator systems (GJM formulation).",
+        formatter_class=formatter,
     )
     parser.add_argument("--version", action="version", version=f"spacearm {__version__}")
-    sub = parser.add_subparsers(dest="command", required=True)
+    sub = parser.add_subparsers(dest="command", required=True,
+                                parser_class=functools.partial(argparse.ArgumentParser, formatter_class=formatter))
     cli_inspect.add_parser(sub)
     cli_derive.add_parser(sub)
     cli_analyze.add_parser(sub)
