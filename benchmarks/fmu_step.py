@@ -3,7 +3,7 @@
 one RK4 step costs through each.
 
 Match: ``fmpy.simulate_fmu`` of the FMU of spatial6 (floating, constant torques, a moving start)
-and of the UR5 of example-robot-data on the shipped spacecraft_bus (flying, torques
+and of the UR5 of example-robot-data on the example bus ``spacearm.examples.path("spacecraft_bus")`` (flying, torques
 and a base wrench) against ``spacearm.simulate`` of the same model and inputs (the inputs held by
 a ``control.Callback``), FMI 3 and FMI 2: the largest difference of the state over the run.
 

@@ -1,9 +1,9 @@
 """FMI co-simulation units (docs/fmi.md), imported by FMPy (a maintained FMU importer, the
 independent side of these checks): FMPy's validation passes, and ``fmpy.simulate_fmu`` of the FMU
 equals ``spacearm.simulate`` of the same model and inputs, for FMI 3 and FMI 2, for spatial6 and
-for the UR5 of example-robot-data mounted on the shipped spacecraft_bus (spacearm.examples).
+for the UR5 of example-robot-data mounted on the shipped example bus (``spacearm.examples.path("spacecraft_bus")``).
 
-The reference run applies the same held inputs through a :class:`spacearm.control.Callback`
+The reference run applies the same held inputs through a [`Callback`][spacearm.control.Callback]
 (or the same native controller), with the FMU's RK4 step; the FMU's outputs at every
 communication point must equal the recorded states and derived quantities to 1e-9 (relative to
 each quantity's scale): the same integrator on the same model, so anything more is a defect.

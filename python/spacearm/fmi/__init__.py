@@ -5,7 +5,7 @@
 >>> spacearm.fmi.export(spacearm.presets.spatial6(), "spatial6.fmu")   # doctest: +SKIP
 """
 
-from .writer import binary_folder, export
+from .fmu import binary_folder, export
 from .library import path as library_path
 
 __all__ = ["export", "binary_folder", "library_path"]
