@@ -36,6 +36,7 @@ from .model.robot import (
     Kinematics,
     Linearization,
     Momentum,
+    PassiveModes,
     Robot,
 )
 from .sim.rollout import Rollouts, rollout
@@ -72,6 +73,7 @@ __all__ = [
     "ForwardDynamicsDerivatives",
     "InverseDynamicsPartials",
     "Linearization",
+    "PassiveModes",
     "ModelDescription",
     "BaseDescription",
     "LinkDescription",

@@ -298,6 +298,7 @@ class Model:
     def center_of_mass(self, x: _ArrayLike) -> _Vec: ...
     def passive_forces(self, x: _ArrayLike, u: _ArrayLike) -> _Vec: ...  # (6+N,): [0 (6); -k (q - rest) - c qd]
     def spring_energy(self, x: _ArrayLike) -> Union[float, _Vec]: ...
+    def passive_modes(self, x: _ArrayLike, held: bool) -> tuple[list[int], _Vec, _Vec, _Vec]: ...  # (dofs, frequencies, damping_ratios, shapes)
 
 # ---- the core's rules and defaults (crates/spacearm-py/src/rules_py.rs, rule_tables_py.rs) -----
 # The tables are frozen instances with typed attributes; each is also a read-only mapping of its

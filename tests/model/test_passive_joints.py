@@ -173,3 +173,53 @@ def test_trajectory_drift_recomputed_from_the_records_equals_the_simulators():
     assert traj.drift_scale("energy") == pytest.approx(traj.meta["drift_scales"]["energy"], rel=1e-12)
     assert traj.drift(["energy"], scale={"energy": traj.drift_scale("energy")})["energy"] == pytest.approx(
         traj.meta["drift"]["energy"], rel=1e-6, abs=1e-15)
+
+
+def hinged_panel(k=30.0, c=0.0, base_mass=100.0, base_izz=10.0) -> spacearm.Robot:
+    """A panel (10 kg, I_zz 0.8 kg m², CM 0.5 m out) hinged about z at 1 m from the hub's CM."""
+    b = spacearm.Robot.builder("hinged", base_mass=base_mass, base_inertia=[0.8 * base_izz, 0.9 * base_izz, base_izz])
+    b.add_link("panel", joint="revolute", axis=(0, 0, 1), origin=(1.0, 0, 0), com=(0.5, 0, 0), mass=10.0,
+               inertia=[0.1, 0.75, 0.8], actuated=False, stiffness=k, damping=c)
+    return b.build()
+
+
+def hinge_frequency_closed_form(k, base_mass, base_izz, m=10.0, i1=0.8, a=1.0, b=0.5) -> float:
+    """``√(k / I_red)``, ``I_red = det M₂ / (1ᵀ M₂ 1)`` (docs/flexibility.md, the hinged panel)."""
+    mu = base_mass * m / (base_mass + m)
+    m11, m12, m22 = mu * a * a + base_izz, mu * a * b, mu * b * b + i1
+    return float(np.sqrt(k * (m11 + 2 * m12 + m22) / (m11 * m22 - m12 * m12)))
+
+
+@pytest.mark.parametrize("base_mass, base_izz", [(20.0, 2.0), (100.0, 10.0), (1e7, 1e6)])
+def test_hinged_panel_frequency_shift_on_a_free_hub(base_mass, base_izz):
+    k = 30.0
+    robot = hinged_panel(k, base_mass=base_mass, base_izz=base_izz)
+    modes = robot.natural_frequencies()
+    expected = hinge_frequency_closed_form(k, base_mass, base_izz)
+    assert modes.frequencies[0] == pytest.approx(expected, rel=1e-12)
+    fixed_hub = np.sqrt(k / (0.8 + 10.0 * 0.5**2))  # a clamped panel: the inertia about the hinge
+    assert modes.frequencies[0] > fixed_hub  # a free hub always raises it
+    if base_mass > 1e6:
+        assert modes.frequencies[0] == pytest.approx(fixed_hub, rel=1e-3)  # and a heavy one tends to the clamped value
+    # The linearization's eigenvalues say the same (zero damping, at rest).
+    x, u = robot.neutral_configuration(), np.zeros(robot.nu)
+    lin = robot.linearize(x, u, np.zeros(robot.nu))
+    assert np.max(np.linalg.eigvals(lin.A).imag) == pytest.approx(expected, rel=1e-9)
+
+
+def test_modal_damping_ratio_of_a_damped_panel():
+    k, c = 30.0, 0.5
+    robot = hinged_panel(k, c)
+    modes = robot.natural_frequencies()
+    omega = hinge_frequency_closed_form(k, 100.0, 10.0)
+    i_red = k / omega**2
+    assert modes.damping_ratios[0] == pytest.approx(c / (2 * np.sqrt(k * i_red)), rel=1e-12)
+    # The linearization's eigenvalues are −ζω ± iω√(1−ζ²).
+    lin = robot.linearize(robot.neutral_configuration(), np.zeros(robot.nu), np.zeros(robot.nu))
+    lam = np.linalg.eigvals(lin.A)
+    top = lam[np.argmax(lam.imag)]
+    zeta = modes.damping_ratios[0]
+    assert top.real == pytest.approx(-zeta * omega, rel=1e-9)
+    assert top.imag == pytest.approx(omega * np.sqrt(1 - zeta**2), rel=1e-9)
+    with pytest.raises(errors.ArgumentError, match="actuated must be 'held' or 'free'"):
+        robot.natural_frequencies(actuated="locked")

@@ -405,3 +405,77 @@ fn toml_reads_and_writes_the_joint_dynamics() {
     let e = model_from_toml_str(&SPRUNG_TOML.replace("damping = 0.5", "damping = -0.5"), "bad.toml").unwrap_err().to_string();
     assert!(e.contains("bad.toml:15") && e.contains("damping must be finite and >= 0"), "{e}");
 }
+
+/// A base, an arm link (actuated, or welded when `held`), a sprung panel on the arm and a sprung
+/// slosh mass on the base.
+fn arm_panel_slosh(held: bool) -> Model {
+    let mut b = ModelBuilder::new("aps", "base", 300.0, [[40.0, 1.0, 0.0], [1.0, 50.0, 0.0], [0.0, 0.0, 60.0]]).unwrap();
+    let link = |name: &str, parent: &str, kind: JointType, origin: [f64; 3], axis: [f64; 3], com: [f64; 3], mass: f64| LinkSpec {
+        name: name.into(),
+        parent: parent.into(),
+        joint_name: None,
+        kind,
+        origin_in_parent: origin,
+        rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
+        axis,
+        com_from_joint: com,
+        mass,
+        inertia: [[0.2, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 0.6]],
+        limits: JointLimits::unlimited(),
+    };
+    let arm_kind = if held { JointType::Fixed } else { JointType::Revolute };
+    b.add_link(link("arm", "base", arm_kind, [0.8, 0.1, 0.0], [0.0, 0.0, 1.0], [0.6, 0.0, 0.1], 12.0)).unwrap();
+    b.add_link(link("panel", "arm", JointType::Revolute, [0.6, 0.0, 0.0], [0.0, 1.0, 1.0], [0.7, 0.0, 0.0], 8.0)).unwrap();
+    b.add_link(link("slosh", "base", JointType::Prismatic, [0.0, 0.3, -0.2], [1.0, 0.0, 0.2], [0.0; 3], 40.0)).unwrap();
+    b.set_joint_dynamics("panel", JointDynamics { actuated: false, stiffness: 25.0, damping: 0.0, rest: 0.3 }).unwrap();
+    b.set_joint_dynamics("slosh", JointDynamics { actuated: false, stiffness: 900.0, damping: 0.0, rest: -0.05 }).unwrap();
+    b.build().unwrap()
+}
+
+/// The positive imaginary parts of the linearization's eigenvalues at rest at `x`, ascending.
+fn linearized_frequencies(model: &Model, x: &[f64]) -> Vec<f64> {
+    let mut work = DerivativeData::new(model);
+    let zeros = vec![0.0; model.nu()];
+    let (a, _) = linearize(model, &mut work, x, &zeros, &zeros, LinearizationInputs::Joints).unwrap();
+    let mut w: Vec<f64> = a.clone().complex_eigenvalues().iter().map(|z| z.im).filter(|im| *im > 1e-6).collect();
+    w.sort_by(f64::total_cmp);
+    w
+}
+
+#[test]
+fn natural_frequencies_equal_the_linearizations_with_joints_free_or_held() {
+    use spacearm_core::analysis::passive_modes::{passive_modes, ActuatedJoints};
+    let free_model = arm_panel_slosh(false);
+    let mut x = presets::initial_configuration(&free_model);
+    x[7..].copy_from_slice(&[0.0, 0.3, -0.05]); // the springs at rest: an equilibrium
+    let free = passive_modes(&free_model, &mut Data::new(&free_model), &x, ActuatedJoints::Free).unwrap();
+    assert_eq!(free.dofs, vec![0, 1, 2]);
+    assert!(free.frequencies[0].abs() < 1e-9, "the unsprung arm joint is a zero-frequency mode");
+    let lin = linearized_frequencies(&free_model, &x);
+    assert_eq!(lin.len(), 2);
+    for (got, want) in free.frequencies[1..].iter().zip(&lin) {
+        assert!((got / want - 1.0).abs() < 1e-9, "free: {got} rad/s, linearization {want}");
+    }
+    // Held: the same as the model with the arm joint welded at its angle (0 here).
+    let held = passive_modes(&free_model, &mut Data::new(&free_model), &x, ActuatedJoints::Held).unwrap();
+    assert_eq!(held.dofs, vec![1, 2]);
+    let welded = arm_panel_slosh(true);
+    let mut xw = presets::initial_configuration(&welded);
+    xw[7..].copy_from_slice(&[0.3, -0.05]);
+    let lin = linearized_frequencies(&welded, &xw);
+    for (got, want) in held.frequencies.iter().zip(&lin) {
+        assert!((got / want - 1.0).abs() < 1e-9, "held: {got} rad/s, linearization of the welded model {want}");
+    }
+    // Holding one joint is one constraint: the frequencies interlace (Rayleigh), free[i] ≤ held[i] ≤ free[i+1].
+    for i in 0..2 {
+        assert!(free.frequencies[i] <= held.frequencies[i] + 1e-12 && held.frequencies[i] <= free.frequencies[i + 1] + 1e-12);
+    }
+    assert!((held.frequencies[0] / free.frequencies[1] - 1.0).abs() > 1e-3, "holding the arm must matter");
+    // Mass-normalized shapes, zero on the held joint.
+    let h = generalized_inertia(&free_model, &mut Data::new(&free_model), &x).unwrap();
+    for i in 0..2 {
+        let v = held.shapes.column(i);
+        assert_eq!(v[0], 0.0);
+        assert!(((v.transpose() * &h * v)[(0, 0)] - 1.0).abs() < 1e-12);
+    }
+}
