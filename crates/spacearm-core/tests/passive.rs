@@ -479,3 +479,104 @@ fn natural_frequencies_equal_the_linearizations_with_joints_free_or_held() {
         assert!(((v.transpose() * &h * v)[(0, 0)] - 1.0).abs() < 1e-12);
     }
 }
+
+mod slosh {
+    use super::*;
+    use spacearm_core::algorithms::kinematics::forward_kinematics;
+    use spacearm_core::analysis::passive_modes::{passive_modes, ActuatedJoints};
+    use spacearm_core::model::slosh::{SloshModel, SloshRestoring, SloshSpec};
+
+    fn spec(model: SloshModel, length: Option<f64>) -> SloshSpec {
+        SloshSpec {
+            name: "fuel".into(),
+            parent: "base".into(),
+            model,
+            mass: 20.0,
+            position: [0.6, 0.0, 0.0],
+            axis: [1.0, 0.0, 0.0],
+            hinge: Some([0.0, 0.0, 1.0]),
+            length,
+            restoring: SloshRestoring::Frequency(2.0),
+            damping: 0.0,
+        }
+    }
+
+    fn with(base_mass: f64, base_izz: f64, s: SloshSpec) -> Model {
+        let mut b = ModelBuilder::new("tank", "base", base_mass, [[0.9 * base_izz, 0.0, 0.0], [0.0, 0.95 * base_izz, 0.0], [0.0, 0.0, base_izz]]).unwrap();
+        b.add_slosh(s).unwrap();
+        b.build().unwrap()
+    }
+
+    fn frequencies(m: &Model) -> Vec<f64> {
+        let x = presets::initial_configuration(m);
+        passive_modes(m, &mut Data::new(m), &x, ActuatedJoints::Held).unwrap().frequencies
+    }
+
+    #[test]
+    fn spring_mass_is_a_passive_prismatic_point_mass_at_position_plus_q_axis() {
+        let m = with(100.0, 10.0, SloshSpec { hinge: None, ..spec(SloshModel::SpringMass, None) });
+        let l = &m.links()[0];
+        assert_eq!((l.joint.kind, l.joint.dynamics.actuated, l.joint.dynamics.stiffness), (JointType::Prismatic, false, 20.0 * 4.0));
+        let mut x = presets::initial_configuration(&m);
+        x[7] = 0.1;
+        let mut d = Data::new(&m);
+        forward_kinematics(&m, &mut d, &x).unwrap();
+        assert!((d.com_in_world[1] - nalgebra::Vector3::new(0.7, 0.0, 0.0)).norm() < 1e-15);
+        // Reduced mass on the free base: ω² = k / μ.
+        let mu = 100.0 * 20.0 / 120.0;
+        assert!((frequencies(&m)[0] / (80.0_f64 / mu).sqrt() - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn pendulum_frequency_is_the_given_one_on_a_heavy_base_and_the_reduced_one_on_a_free_base() {
+        let heavy = with(1e9, 1e9, spec(SloshModel::Pendulum, Some(0.3)));
+        assert!((frequencies(&heavy)[0] / 2.0 - 1.0).abs() < 1e-7, "{:?}", frequencies(&heavy));
+        let m = with(100.0, 10.0, spec(SloshModel::Pendulum, Some(0.3)));
+        // The bob at position + length·axis at q = 0.
+        let mut d = Data::new(&m);
+        forward_kinematics(&m, &mut d, &presets::initial_configuration(&m)).unwrap();
+        assert!((d.com_in_world[1] - nalgebra::Vector3::new(0.9, 0.0, 0.0)).norm() < 1e-15);
+        // The hinged-body closed form with a point bob: a = 0.6, b = 0.3, I1 = 0.
+        let (mu, a, b, i0): (f64, f64, f64, f64) = (100.0 * 20.0 / 120.0, 0.6, 0.3, 10.0);
+        let (m11, m12, m22) = (mu * a * a + i0, mu * a * b, mu * b * b);
+        let i_red = (m11 * m22 - m12 * m12) / (m11 + 2.0 * m12 + m22);
+        let k: f64 = 20.0 * 0.09 * 4.0;
+        assert!((frequencies(&m)[0] / (k / i_red).sqrt() - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn spherical_pendulum_has_two_equal_modes_and_refuses_its_singular_posture() {
+        let heavy = with(1e9, 1e9, spec(SloshModel::SphericalPendulum, Some(0.3)));
+        assert_eq!(heavy.n_dof(), 2);
+        assert_eq!(heavy.links()[0].mass.mass, 0.0, "the gimbal link is massless");
+        for w in frequencies(&heavy) {
+            assert!((w / 2.0 - 1.0).abs() < 1e-7, "{w}");
+        }
+        // Joint axes: e1 = hinge (z), e2 = axis × e1 = x × z = −y.
+        assert_eq!(heavy.links()[0].joint.axis.into_inner(), nalgebra::Vector3::z());
+        assert_eq!(heavy.links()[1].joint.axis.into_inner(), -nalgebra::Vector3::y());
+        let m = with(100.0, 10.0, spec(SloshModel::SphericalPendulum, Some(0.3)));
+        let mut x = presets::initial_configuration(&m);
+        x[8] = std::f64::consts::FRAC_PI_2;
+        let e = aba(&m, &mut Data::new(&m), &x, &vec![0.0; m.nu()], &vec![0.0; m.nu()], &[]).unwrap_err();
+        assert!(matches!(e, SpacearmError::Singular(_)), "{e}");
+    }
+
+    #[test]
+    fn bad_slosh_specs_are_refused() {
+        let mut b = ModelBuilder::new("tank", "base", 100.0, BASE_INERTIA).unwrap();
+        for (s, needle) in [
+            (SloshSpec { mass: 0.0, ..spec(SloshModel::SpringMass, None) }, "mass must be finite and > 0"),
+            (SloshSpec { hinge: None, ..spec(SloshModel::SpringMass, Some(1.0)) }, "takes no length"),
+            (spec(SloshModel::Pendulum, None), "needs a length"),
+            (spec(SloshModel::Pendulum, Some(-1.0)), "length must be finite and > 0"),
+            (SloshSpec { hinge: Some([1.0, 0.0, 0.0]), ..spec(SloshModel::Pendulum, Some(1.0)) }, "must be perpendicular"),
+            (SloshSpec { restoring: SloshRestoring::Stiffness(-1.0), ..spec(SloshModel::Pendulum, Some(1.0)) }, "stiffness must be finite and >= 0"),
+            (SloshSpec { restoring: SloshRestoring::Frequency(f64::NAN), ..spec(SloshModel::Pendulum, Some(1.0)) }, "frequency must be finite"),
+            (SloshSpec { parent: "tank".into(), ..spec(SloshModel::Pendulum, Some(1.0)) }, "parent body 'tank' is not defined"),
+        ] {
+            let e = b.add_slosh(s).map(|_| ()).unwrap_err();
+            assert!(e.message.contains(needle), "{}", e.message);
+        }
+    }
+}

@@ -1,7 +1,8 @@
 //! The constant description of a spacecraft-manipulator system and its per-configuration
 //! workspace: mass properties ([`body`]), joints ([`joint`]), the validated [`Model`]
 //! ([`system`]), the one way to build one ([`builder`], checked by [`validate`]), the
-//! workspace [`Data`] ([`data`]) and the paper's case-study models ([`presets`]).
+//! workspace [`Data`] ([`data`]), the paper's case-study models ([`presets`]) and the slosh
+//! models built from passive joints ([`slosh`]).
 //!
 //! Imports: [`crate::math`] and [`crate::error`] only (the presets use the builder of this
 //! folder).
@@ -11,6 +12,7 @@ pub mod builder;
 pub mod data;
 pub mod joint;
 pub mod presets;
+pub mod slosh;
 pub mod system;
 pub mod validate;
 
