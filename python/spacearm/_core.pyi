@@ -33,7 +33,7 @@ __all__ = [
     "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
     "model_to_toml", "momentum_scales", "perturbed", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
-    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "soft_capture",
+    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "soft_capture",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -79,6 +79,10 @@ def model_from_paper_dh(
 ) -> Model: ...
 
 @final
+def slosh_links(name: str, parent: str, model: str, mass: float, position: Sequence[float], axis: Sequence[float],
+                hinge: Optional[Sequence[float]], length: Optional[float], stiffness: Optional[float],
+                frequency: Optional[float], damping: float) -> list[tuple]: ...  # ModelBuilder.add_link arguments per link
+
 class ModelBuilder:
     def __new__(cls, name: str, base_name: str, base_mass: float, base_inertia: Sequence[Sequence[float]],
                  allow_nonphysical_inertia: bool = ...) -> ModelBuilder: ...

@@ -223,3 +223,83 @@ def test_modal_damping_ratio_of_a_damped_panel():
     assert top.imag == pytest.approx(omega * np.sqrt(1 - zeta**2), rel=1e-9)
     with pytest.raises(errors.ArgumentError, match="actuated must be 'held' or 'free'"):
         robot.natural_frequencies(actuated="locked")
+
+
+SLOSH_TOML = """
+[model]
+name = "tanker"
+
+[base]
+mass = 1.0e9
+inertia = [1.0e9, 1.0e9, 1.0e9]
+
+[[link]]
+name = "boom"
+parent = "base"
+com = [0.5, 0.0, 0.0]
+mass = 5.0
+inertia = [0.01, 0.4, 0.4]
+joint = { type = "revolute", origin = [1.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0] }
+
+[[slosh]]
+name = "fuel"
+model = "spherical-pendulum"
+mass = 20.0
+position = [0.0, 0.0, -0.2]
+axis = [0.0, 0.0, -1.0]
+length = 0.3
+frequency = 2.0
+damping = 0.1
+
+[[slosh]]
+name = "oxidizer"
+parent = "boom"
+model = "spring-mass"
+mass = 3.0
+position = [0.2, 0.0, 0.0]
+axis = [0.0, 1.0, 0.0]
+stiffness = 48.0
+"""
+
+
+def test_slosh_from_the_builder_and_toml():
+    robot = spacearm.io.loads_toml(SLOSH_TOML)
+    b = spacearm.Robot.builder("tanker", base_mass=1e9, base_inertia=[1e9, 1e9, 1e9])
+    b.add_link("boom", joint="revolute", axis=(0, 0, 1), origin=(1, 0, 0), com=(0.5, 0, 0), mass=5.0, inertia=[0.01, 0.4, 0.4])
+    b.add_slosh("fuel", model="spherical-pendulum", mass=20.0, position=(0, 0, -0.2), axis=(0, 0, -1), length=0.3,
+                frequency=2.0, damping=0.1)
+    b.add_slosh("oxidizer", parent="boom", model="spring-mass", mass=3.0, position=(0.2, 0, 0), axis=(0, 1, 0), stiffness=48.0)
+    built = b.build()
+    assert built.describe() == robot.describe()
+    assert robot.body_names == ["base", "boom", "fuel_gimbal", "fuel", "oxidizer"]
+    assert robot.actuated_dofs.tolist() == [True, False, False, False]
+    # The bob hangs at position + length·axis at q = 0; the gimbal is massless.
+    kin = robot.forward_kinematics(robot.neutral_configuration())
+    np.testing.assert_allclose(kin.com_in_world[3], [0.0, 0.0, -0.5], atol=1e-15)
+    assert robot.description.link("fuel_gimbal").mass == 0.0
+    # On this (nearly clamped) base the pendulum modes are the given frequency, the spring-mass √(k/m).
+    w = robot.natural_frequencies().frequencies
+    np.testing.assert_allclose(w, [2.0, 2.0, 4.0], rtol=1e-6)
+    assert robot.describe() == spacearm.RobotBuilder.from_robot(robot).build().describe()
+    assert spacearm.io.loads_toml(spacearm.io.dumps_toml(robot)).describe() == robot.describe()
+    # Removing the gimbal removes the bob below it.
+    assert "fuel" not in spacearm.RobotBuilder.from_robot(robot).remove_body("fuel_gimbal").build().body_names
+
+
+@pytest.mark.parametrize("kwargs, needle", [
+    (dict(model="slushy", length=0.3, frequency=1.0), "model must be one of"),
+    (dict(model="pendulum", frequency=1.0), "a pendulum needs a length"),
+    (dict(model="pendulum", length=0.3), "give stiffness or frequency"),
+    (dict(model="pendulum", length=0.3, stiffness=1.0, frequency=1.0), "give stiffness or frequency"),
+    (dict(model="pendulum", length=0.3, frequency=1.0, hinge=(0, 0, 1)), "must be perpendicular"),
+])
+def test_bad_slosh_is_refused(kwargs, needle):
+    b = spacearm.Robot.builder("m", base_mass=100.0, base_inertia=[10, 10, 10])
+    with pytest.raises(errors.ModelError, match=needle):
+        b.add_slosh("fuel", mass=5.0, position=(0, 0, 0), axis=(0, 0, 1), **kwargs)
+
+
+def test_slosh_toml_errors_point_at_the_table():
+    text = SLOSH_TOML.replace('model = "spherical-pendulum"', 'model = "slushy"')
+    with pytest.raises(errors.ModelFileError, match=r"<string>:19:9: slosh .fuel.: model must be one of"):
+        spacearm.io.loads_toml(text)

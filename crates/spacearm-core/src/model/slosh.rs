@@ -101,86 +101,96 @@ fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// The links of a slosh mode, in the order they are added, each with its joint's dynamics
+/// (module docs): one for the spring–mass and the pendulum, the massless gimbal then the bob for
+/// the spherical pendulum. `item` names the first link for the errors (the builder's next
+/// link). The parent and the names are checked when the links are added.
+pub fn slosh_links(spec: &SloshSpec, item: ModelItem) -> Result<Vec<(LinkSpec, JointDynamics)>, ModelError> {
+    let who = format!("slosh '{}'", spec.name);
+    let bad = |field: ModelField, msg: String| Err(ModelError::new(item, field, format!("{who}: {msg}")));
+    if !(spec.mass.is_finite() && spec.mass > 0.0) {
+        return bad(ModelField::Mass, format!("mass must be finite and > 0 kg, got {}", spec.mass));
+    }
+    let Some(axis) = normalized(&spec.axis) else {
+        return bad(ModelField::Axis, format!("axis must be a finite non-zero vector, got {:?}", spec.axis));
+    };
+    if !(spec.damping.is_finite() && spec.damping >= 0.0) {
+        return bad(ModelField::JointDynamics, format!("damping must be finite and >= 0, got {}", spec.damping));
+    }
+    let length = match (spec.model, spec.length) {
+        (SloshModel::SpringMass, None) => 0.0,
+        (SloshModel::SpringMass, Some(_)) => return bad(ModelField::Com, "a spring-mass takes no length (its mass is at position + q·axis)".into()),
+        (_, None) => return bad(ModelField::Com, "a pendulum needs a length (> 0 m)".into()),
+        (_, Some(l)) if !(l.is_finite() && l > 0.0) => return bad(ModelField::Com, format!("length must be finite and > 0 m, got {l}")),
+        (_, Some(l)) => l,
+    };
+    if spec.model == SloshModel::SpringMass && spec.hinge.is_some() {
+        return bad(ModelField::Axis, "a spring-mass takes no hinge".into());
+    }
+    let lever = if spec.model == SloshModel::SpringMass { 1.0 } else { length * length };
+    let stiffness = match spec.restoring {
+        SloshRestoring::Stiffness(k) => k,
+        SloshRestoring::Frequency(w) if w.is_finite() && w >= 0.0 => spec.mass * lever * w * w,
+        SloshRestoring::Frequency(w) => return bad(ModelField::JointDynamics, format!("frequency must be finite and >= 0 rad/s, got {w}")),
+    };
+    let dynamics = JointDynamics { actuated: false, stiffness, damping: spec.damping, rest: 0.0 };
+    let link = |name: String, parent: String, joint: String, origin: [f64; 3], axis: [f64; 3], com: [f64; 3], mass: f64| LinkSpec {
+        name,
+        parent,
+        joint_name: Some(joint),
+        kind: if spec.model == SloshModel::SpringMass { JointType::Prismatic } else { JointType::Revolute },
+        origin_in_parent: origin,
+        rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
+        axis,
+        com_from_joint: com,
+        mass,
+        inertia: [[0.0; 3]; 3],
+        limits: JointLimits::unlimited(),
+    };
+    let name = spec.name.clone();
+    if spec.model == SloshModel::SpringMass {
+        return Ok(vec![(link(name.clone(), spec.parent.clone(), format!("{name}_joint"), spec.position, axis, [0.0; 3], spec.mass), dynamics)]);
+    }
+    let hinge = match spec.hinge {
+        Some(h) => {
+            let Some(h) = normalized(&h) else {
+                return bad(ModelField::Axis, format!("hinge must be a finite non-zero vector, got {h:?}"));
+            };
+            if dot(&h, &axis).abs() > 1e-9 {
+                return bad(ModelField::Axis, format!("hinge {h:?} must be perpendicular to axis {axis:?}"));
+            }
+            h
+        }
+        None => {
+            // The parent axis along axis's smallest component, made perpendicular to axis.
+            let k = (0..3).min_by(|&i, &j| axis[i].abs().total_cmp(&axis[j].abs())).unwrap_or(0);
+            let mut e = [0.0; 3];
+            e[k] = 1.0;
+            let d = dot(&e, &axis);
+            normalized(&[e[0] - d * axis[0], e[1] - d * axis[1], e[2] - d * axis[2]]).unwrap_or([1.0, 0.0, 0.0])
+        }
+    };
+    let rod = [length * axis[0], length * axis[1], length * axis[2]];
+    if spec.model == SloshModel::Pendulum {
+        return Ok(vec![(link(name.clone(), spec.parent.clone(), format!("{name}_joint"), spec.position, hinge, rod, spec.mass), dynamics)]);
+    }
+    let gimbal = format!("{name}_gimbal");
+    let e2 = cross(&axis, &hinge);
+    Ok(vec![
+        (link(gimbal.clone(), spec.parent.clone(), format!("{name}_joint1"), spec.position, hinge, [0.0; 3], 0.0), dynamics),
+        (link(name.clone(), gimbal, format!("{name}_joint2"), [0.0; 3], e2, rod, spec.mass), dynamics),
+    ])
+}
+
 impl ModelBuilder {
-    /// Add a slosh mode as passive links (module docs of [`crate::model::slosh`]); the joints
-    /// are checked by the usual rules when they are added.
+    /// Add a slosh mode as passive links ([`slosh_links`]); the links are checked by the usual
+    /// rules when they are added.
     pub fn add_slosh(&mut self, spec: SloshSpec) -> Result<&mut Self, ModelError> {
-        let item = ModelItem::Link(self.n_links());
-        let who = format!("slosh '{}'", spec.name);
-        let bad = |field: ModelField, msg: String| Err(ModelError::new(item, field, format!("{who}: {msg}")));
-        if !(spec.mass.is_finite() && spec.mass > 0.0) {
-            return bad(ModelField::Mass, format!("mass must be finite and > 0 kg, got {}", spec.mass));
+        for (link, dynamics) in slosh_links(&spec, ModelItem::Link(self.n_links()))? {
+            let name = link.name.clone();
+            self.add_link(link)?;
+            self.set_joint_dynamics(&name, dynamics)?;
         }
-        let Some(axis) = normalized(&spec.axis) else {
-            return bad(ModelField::Axis, format!("axis must be a finite non-zero vector, got {:?}", spec.axis));
-        };
-        if !(spec.damping.is_finite() && spec.damping >= 0.0) {
-            return bad(ModelField::JointDynamics, format!("damping must be finite and >= 0, got {}", spec.damping));
-        }
-        let length = match (spec.model, spec.length) {
-            (SloshModel::SpringMass, None) => 0.0,
-            (SloshModel::SpringMass, Some(_)) => return bad(ModelField::Com, "a spring-mass takes no length (its mass is at position + q·axis)".into()),
-            (_, None) => return bad(ModelField::Com, "a pendulum needs a length (> 0 m)".into()),
-            (_, Some(l)) if !(l.is_finite() && l > 0.0) => return bad(ModelField::Com, format!("length must be finite and > 0 m, got {l}")),
-            (_, Some(l)) => l,
-        };
-        if spec.model == SloshModel::SpringMass && spec.hinge.is_some() {
-            return bad(ModelField::Axis, "a spring-mass takes no hinge".into());
-        }
-        let lever = if spec.model == SloshModel::SpringMass { 1.0 } else { length * length };
-        let stiffness = match spec.restoring {
-            SloshRestoring::Stiffness(k) => k,
-            SloshRestoring::Frequency(w) if w.is_finite() && w >= 0.0 => spec.mass * lever * w * w,
-            SloshRestoring::Frequency(w) => return bad(ModelField::JointDynamics, format!("frequency must be finite and >= 0 rad/s, got {w}")),
-        };
-        let dynamics = JointDynamics { actuated: false, stiffness, damping: spec.damping, rest: 0.0 };
-        let link = |name: String, parent: String, joint: String, origin: [f64; 3], axis: [f64; 3], com: [f64; 3], mass: f64| LinkSpec {
-            name,
-            parent,
-            joint_name: Some(joint),
-            kind: if spec.model == SloshModel::SpringMass { JointType::Prismatic } else { JointType::Revolute },
-            origin_in_parent: origin,
-            rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-            axis,
-            com_from_joint: com,
-            mass,
-            inertia: [[0.0; 3]; 3],
-            limits: JointLimits::unlimited(),
-        };
-        let name = spec.name.clone();
-        if spec.model == SloshModel::SpringMass {
-            self.add_link(link(name.clone(), spec.parent.clone(), format!("{name}_joint"), spec.position, axis, [0.0; 3], spec.mass))?;
-            return self.set_joint_dynamics(&name, dynamics);
-        }
-        let hinge = match spec.hinge {
-            Some(h) => {
-                let Some(h) = normalized(&h) else {
-                    return bad(ModelField::Axis, format!("hinge must be a finite non-zero vector, got {h:?}"));
-                };
-                if dot(&h, &axis).abs() > 1e-9 {
-                    return bad(ModelField::Axis, format!("hinge {h:?} must be perpendicular to axis {axis:?}"));
-                }
-                h
-            }
-            None => {
-                // The parent axis along axis's smallest component, made perpendicular to axis.
-                let k = (0..3).min_by(|&i, &j| axis[i].abs().total_cmp(&axis[j].abs())).unwrap_or(0);
-                let mut e = [0.0; 3];
-                e[k] = 1.0;
-                let d = dot(&e, &axis);
-                normalized(&[e[0] - d * axis[0], e[1] - d * axis[1], e[2] - d * axis[2]]).unwrap_or([1.0, 0.0, 0.0])
-            }
-        };
-        let rod = [length * axis[0], length * axis[1], length * axis[2]];
-        if spec.model == SloshModel::Pendulum {
-            self.add_link(link(name.clone(), spec.parent.clone(), format!("{name}_joint"), spec.position, hinge, rod, spec.mass))?;
-            return self.set_joint_dynamics(&name, dynamics);
-        }
-        let gimbal = format!("{name}_gimbal");
-        let e2 = cross(&axis, &hinge);
-        self.add_link(link(gimbal.clone(), spec.parent.clone(), format!("{name}_joint1"), spec.position, hinge, [0.0; 3], 0.0))?;
-        self.set_joint_dynamics(&gimbal, dynamics)?;
-        self.add_link(link(name.clone(), gimbal, format!("{name}_joint2"), [0.0; 3], e2, rod, spec.mass))?;
-        self.set_joint_dynamics(&name, dynamics)
+        Ok(self)
     }
 }
