@@ -78,11 +78,11 @@ def model_from_paper_dh(
     initial_q: Optional[Sequence[float]] = None,
 ) -> Model: ...
 
-@final
 def slosh_links(name: str, parent: str, model: str, mass: float, position: Sequence[float], axis: Sequence[float],
                 hinge: Optional[Sequence[float]], length: Optional[float], stiffness: Optional[float],
                 frequency: Optional[float], damping: float) -> list[tuple]: ...  # ModelBuilder.add_link arguments per link
 
+@final
 class ModelBuilder:
     def __new__(cls, name: str, base_name: str, base_mass: float, base_inertia: Sequence[Sequence[float]],
                  allow_nonphysical_inertia: bool = ...) -> ModelBuilder: ...
