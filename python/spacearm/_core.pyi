@@ -14,12 +14,12 @@ _Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 
 __version__: str
 __all__ = [
-    "ArgumentError", "AttitudeSpec", "BaseDescription", "BaseThrustersSpec", "CallbackSpec",
+    "ArgumentError", "CentralBody", "Orbit", "OrbitalElements", "AttitudeSpec", "BaseDescription", "BaseThrustersSpec", "CallbackSpec",
     "CartesianReference", "ClosedChainResult", "CombinedSpec", "ComputedTorqueSpec", "ConservedDrift",
     "CoordinatedFlyingSpec", "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
     "FreeBodyReference", "GraspImpulse", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimits", "JointPdSpec", "JointReference",
     "JointTorqueLimitSpec", "LoopClosureTerms", "MomentumDampingSpec",
-    "LinkDescription", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds",
+    "LinkDescription", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds", "MomentumSplit",
     "ModelBuilder", "ModelDescription", "ModelError", "ModelFileError", "NonFiniteError",
     "NotFoundError", "PointDescription", "QUATERNION_TOLERANCE", "QuaternionError",
     "ReactionNullSpace", "ResourceLimitError", "RmrcMotion", "RmrcOptions", "RmrcRates",
@@ -28,12 +28,12 @@ __all__ = [
     "SingularError", "SingularityReport", "SoftCaptureResult", "SpacearmError", "SpacearmTypeError", "Tape",
     "ThrusterLimits", "WorkspaceShells", "ZeroTorqueSpec", "__version__", "analysis_damping",
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
-    "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
-    "analysis_singularity", "batch_threads", "body_mass_properties_error",
-    "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
-    "model_to_toml", "momentum_scales", "perturbed", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
+    "analysis_reach", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
+    "analysis_singularity", "batch_threads", "body_mass_properties_error", "check_grasp_handle", "GOAL_TOLERANCE", "MAX_HANDLE_RATIO",
+    "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
+    "model_to_toml", "momentum_scales", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
-    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "soft_capture",
+    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "soft_capture", "virtual_mass",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -350,6 +350,8 @@ MODEL_BOUNDS: ModelBounds
 DLS_DEFAULTS: DlsDefaults
 QUATERNION_TOLERANCE: float
 MEMORY_LIMIT_BYTES: int
+GOAL_TOLERANCE: float    # m: RMRC ends farther than this from its reference with its damping active -> unreachable
+MAX_HANDLE_RATIO: float  # a target grasp point at most this many body sizes from the body's CM
 def quintic_scaling(t: _Vec, t_start: float, t_end: float) -> tuple[_Vec, _Vec, _Vec]: ...
 def body_mass_properties_error(
     who: str, mass: float, inertia: Sequence[Sequence[float]], *, triangle_inequality: bool = True
@@ -660,11 +662,30 @@ class GraspImpulse:
     def locking_impulse(self) -> _Vec:
         """(N,) the locking joint impulses ``τ̂`` (zeros with ``arm="free"``)."""
 
+@final
+class MomentumSplit:
+    """Where an impulse's momentum goes, about the base CM ([P; L_base]): base + arm == total."""
+
+    @property
+    def base(self) -> _Vec: ...  # (6,) H0 dx0
+    @property
+    def arm(self) -> _Vec: ...  # (6,) H0m dq
+    @property
+    def total(self) -> _Vec: ...  # (6,) J_0X^T Lambda
+    @property
+    def base_jump_map(self) -> _Vec: ...  # (6, 6) B, dx0 = B Lambda
+    @property
+    def base_jump_singular_values(self) -> _Vec: ...  # (6,) of B, largest first
+
+def point_inverse_inertia(model: Model, x: _ArrayLike, body: int, offset: _ArrayLike, arm: str = "free") -> _Vec: ...
+def virtual_mass(model: Model, x: _ArrayLike, body: int, offset: _ArrayLike, direction: _ArrayLike, arm: str = "free") -> float: ...
+def impulse_momentum_split(model: Model, x: _ArrayLike, body: int, offset: _ArrayLike, impulse: _ArrayLike) -> MomentumSplit: ...
 def impulse_dynamics(model: Model, x: _ArrayLike, u_before: _ArrayLike, jacobian: _Vec, restitution: float = 0.0,
                      arm: str = "free") -> ImpulseDynamics: ...
 def grasp_impact(robot: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: _ArrayLike, target: Model, x_target: _ArrayLike,
                  u_target: _ArrayLike, target_body: int, target_offset: _ArrayLike, *, kind: str = "rigid", restitution: float = 0.0,
-                 normal: _ArrayLike | None = None, arm: str = "free") -> GraspImpulse: ...
+                 normal: _ArrayLike | None = None, arm: str = "free", capture_tolerance: float = 0.01) -> GraspImpulse: ...
+def check_grasp_handle(model: Model, body: int, offset: _ArrayLike) -> None: ...
 
 @final
 class SoftCaptureResult:
@@ -727,6 +748,8 @@ def analysis_damping(sigma_min: float, threshold: float, max_damping: float) -> 
 def analysis_joint_grid(lower: Sequence[float], upper: Sequence[float], resolution: int) -> _Vec: ...
 def analysis_scan(m: Model, samples: _Vec, body: int, offset: _Vec, rows: list[int]) -> ScanResult: ...
 def analysis_reaction_null_space(m: Model, x: _ArrayLike, which: str, tolerance: float) -> ReactionNullSpace: ...
+def analysis_reach(m: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: _Vec,
+                   duration: float) -> tuple[_Vec, float | None, tuple[_Vec, _Vec] | None]: ...
 def analysis_integrate_prescribed(m: Model, x0: _ArrayLike, dt: float, q_half: _Vec, qd_half: _Vec, linear_momentum: _Vec, angular_momentum: _Vec) -> _Vec: ...
 @final
 class RmrcOptions:
@@ -766,7 +789,13 @@ class RunOptions:
         max_steps: Optional[int] = None,
         progress: Optional[Callable[[float], Any]] = None,
         record_dtype: Optional[str] = None,
+        orbit: Optional[Orbit] = None,
+        gravity_gradient: Optional[bool] = None,
     ) -> RunOptions: ...
+    @property
+    def orbit(self) -> Optional[Orbit]: ...
+    @property
+    def gravity_gradient(self) -> bool: ...
     @property
     def mode(self) -> str: ...
     @property
@@ -1008,7 +1037,7 @@ class RunRecords:
     P: Optional[_Record]                    # (K, 3) linear momentum, kg·m/s
     L_origin: Optional[_Record]             # (K, 3) angular momentum about the origin, kg·m²/s
     L_com: Optional[_Record]                # (K, 3) angular momentum about the system CM, kg·m²/s
-    energy: Optional[_Record]               # (K,) kinetic energy, J
+    energy: Optional[_Record]               # (K,) mechanical energy (kinetic + joint springs), J
     com: Optional[_Record]                  # (K, 3) system CM, m
     ee_position: Optional[_Record]          # (K, 3) end-effector position, m (robots with an end effector)
     ee_quat: Optional[_Record]              # (K, 4) end-effector attitude [x, y, z, w]
@@ -1016,6 +1045,9 @@ class RunRecords:
     tracking_error: Optional[_Record]       # (K,) |reference − actual|, rad or m (RunMeta.tracking_error_kind)
     attitude_error: Optional[_Record]       # (K,) base attitude error of an attitude controller, rad
     wheel_speed: Optional[_Record]          # (K, W) reaction-wheel speeds, rad/s (RunMeta.wheel_dofs)
+    r_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM in ECI, m (float64)
+    v_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM velocity in ECI, m/s (float64)
+    gravity_wrench: Optional[_Record]       # (K, 6) orbital runs: total tidal [force; torque about the origin], N, N·m
 
 @final
 class RunEvents:
@@ -1053,6 +1085,9 @@ class RunMeta:
     joint_limits: bool
     dropped_base_wrench_max_norm: float    # largest commanded base-wrench part the mode dropped
     dropped_base_wrench_count: int         # evaluations that commanded one
+    goal_distance: float | None            # RMRC at the final sample: |p_ref - p|, m
+    goal_sigma_min: float | None           # ... the smallest singular value of its task Jacobian
+    goal_unreachable: bool | None          # ... stopped short with its damping active
     # The run-description dict of docs/simulation.md (Trajectory.meta less duration and robot).
     def to_dict(self) -> dict[str, Any]: ...
 
@@ -1108,7 +1143,7 @@ class Simulator:
 
     def __new__(cls, model: Model, options: RunOptions, controller_spec: Optional[_ControllerSpec] = None, record_every: Optional[int] = None) -> Simulator: ...
     def reset(self, x0: _ArrayLike, u0: _ArrayLike) -> None: ...
-    def step(self, tau: Optional[_ArrayLike] = None, n: int = 1, base_wrench: Optional[_ArrayLike] = None) -> None: ...
+    def step(self, tau: Optional[_ArrayLike] = None, n: Optional[int] = None, base_wrench: Optional[_ArrayLike] = None) -> None: ...
     @property
     def time(self) -> float: ...
     @property
@@ -1128,7 +1163,7 @@ def perturbed(
 ) -> Model: ...
 def default_wheel_dofs(model: Model) -> list[int]: ...
 def momentum_scales(model: Model, x: npt.NDArray[np.float64], u: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
-    """(T, 4): Σ|p_i|, Σ(|r_i×p_i| + |I_i w_i|) about the origin and the system CM, kinetic energy."""
+    """(T, 4): Σ|p_i|, Σ(|r_i×p_i| + |I_i w_i|) about the origin and the system CM, kinetic + spring energy."""
 def conserved_drift(values: npt.NDArray[np.float64], scale: float) -> float:
     """max_k |v_k - v_0| / max(|v_0|, scale)."""
 @final
@@ -1160,3 +1195,79 @@ class Derivatives:
         self, x: _ArrayLike, u: _ArrayLike, du: _ArrayLike, wrenches: Optional[list[_Wrench]] = None, dual: bool = False
     ) -> tuple[_Vec, _Vec]: ...
     def linearize(self, x: _ArrayLike, u: _ArrayLike, f: _ArrayLike, joints_only: bool, dual: bool = False) -> tuple[_Vec, _Vec]: ...
+
+# --- orbits (orbit_py.rs; docs/orbit.md) ---
+
+@final
+class CentralBody:
+    """A central body's gravity constants: mu (m^3/s^2), equatorial radius (m), J2."""
+    def __new__(cls, *, mu: float, radius: float, j2: float) -> CentralBody: ...
+    @staticmethod
+    def earth() -> CentralBody: ...
+    @property
+    def mu(self) -> float: ...
+    @property
+    def radius(self) -> float: ...
+    @property
+    def j2(self) -> float: ...
+
+@final
+class OrbitalElements:
+    """Osculating two-body elements: a (m), e, i, raan, argp, true_anomaly (rad)."""
+    @property
+    def a(self) -> float: ...
+    @property
+    def e(self) -> float: ...
+    @property
+    def i(self) -> float: ...
+    @property
+    def raan(self) -> float: ...
+    @property
+    def argp(self) -> float: ...
+    @property
+    def true_anomaly(self) -> float: ...
+
+@final
+class Orbit:
+    """An orbit: central body, J2 on or off, ECI state at t = 0."""
+    @staticmethod
+    def circular(
+        altitude: float,
+        *,
+        inclination: float = 0.0,
+        raan: float = 0.0,
+        arg_latitude: float = 0.0,
+        body: str | CentralBody | None = None,
+        j2: bool = False,
+    ) -> Orbit: ...
+    @staticmethod
+    def from_elements(
+        a: float,
+        e: float,
+        i: float,
+        raan: float,
+        argp: float,
+        true_anomaly: float,
+        *,
+        body: str | CentralBody | None = None,
+        j2: bool = False,
+    ) -> Orbit: ...
+    @staticmethod
+    def from_state(r: _ArrayLike, v: _ArrayLike, *, body: str | CentralBody | None = None, j2: bool = False) -> Orbit: ...
+    @property
+    def body(self) -> CentralBody: ...
+    @property
+    def j2(self) -> bool: ...
+    @property
+    def r0(self) -> _Vec: ...
+    @property
+    def v0(self) -> _Vec: ...
+    def elements(self) -> OrbitalElements: ...
+    @property
+    def mean_motion(self) -> float: ...
+    @property
+    def period(self) -> float: ...
+    def j2_secular_rates(self) -> tuple[float, float]: ...
+    def propagate(self, times: _ArrayLike, *, rtol: float = 1e-12) -> tuple[_Vec, _Vec]: ...
+    @staticmethod
+    def lvlh_to_eci(r: _ArrayLike, v: _ArrayLike) -> _Vec: ...

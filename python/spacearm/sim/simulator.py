@@ -49,6 +49,8 @@ class Simulator:
         fastest stepping).
     record_dtype : str
         ``"float64"`` or ``"float32"`` for [`trajectory`][spacearm.Simulator.trajectory]'s arrays.
+    orbit, gravity_gradient
+        As for [`spacearm.simulate`][spacearm.simulate] (docs/orbit.md).
 
     Notes
     -----
@@ -69,6 +71,8 @@ class Simulator:
         joint_limits: bool = DEFAULTS["joint_limits"],
         record_every: Optional[int] = None,
         record_dtype: str = "float64",
+        orbit=None,
+        gravity_gradient: Optional[bool] = None,
     ):
         _check_robot(robot, "Simulator")
         _check_controller(controller)
@@ -79,6 +83,7 @@ class Simulator:
         options = _options(
             robot, mode=mode, integrator=integrator, dt=dt, rtol=DEFAULTS["rtol"], atol=DEFAULTS["atol"], wheels=wheels,
             thrusters=thrusters, record_every=1, joint_limits=joint_limits, max_steps=DEFAULTS["max_steps"], record_dtype=record_dtype,
+            orbit=orbit, gravity_gradient=gravity_gradient,
         )
         spec = None if controller is None else controller._spec(robot)
         self._robot = robot
@@ -91,10 +96,12 @@ class Simulator:
         (default: zero), with empty records and a fresh controller."""
         self._core.reset(self._robot.neutral_configuration() if x0 is None else x0, self._robot.zero_velocity() if u0 is None else u0)
 
-    def step(self, tau=None, n: int = 1, base_wrench=None) -> None:  # replaced per instance by the core's method
-        """Advance ``n`` steps of ``dt`` with ``tau`` (N joint torques) and ``base_wrench``
-        (``[F0, N0]`` in 𝒥, as the mode allows) added to the controller's command over these
-        steps (``None``: nothing added). Steps land on ``t = i·dt``."""
+    def step(self, tau=None, n: Optional[int] = None, base_wrench=None) -> None:  # replaced per instance by the core's method
+        """Advance ``n`` steps of ``dt`` (an int >= 1; ``None``: one) with ``tau`` (N joint
+        torques) and ``base_wrench`` (``[F0, N0]`` in 𝒥, as the mode allows) added to the
+        controller's command over these steps (``None``: nothing added). Steps land on
+        ``t = i·dt``. The records the steps would add are admitted first (``ResourceLimitError``);
+        Ctrl-C stops a long call within 0.1 s, the steps taken so far kept."""
         self._core.step(tau, n, base_wrench)
 
     @property
