@@ -98,9 +98,11 @@ def test_simulated_spring_mass_follows_the_reduced_mass_ode():
     assert np.ptp(q) > amp  # it moves
     np.testing.assert_allclose(q, ref.y[0], rtol=0, atol=1e-9 * amp)
     # A passive joint takes no torque, whatever is commanded.
-    pushed = spacearm.simulate(robot, 0.2, x0=x0, dt=1e-3,
-                               controller=spacearm.control.JointPD(kp=100.0, kd=1.0, reference=[0.5]))
+    with pytest.warns(RuntimeWarning, match=r"commanded torque on the passive joints \['slug_joint'\]"):
+        pushed = spacearm.simulate(robot, 0.2, x0=x0, dt=1e-3,
+                                   controller=spacearm.control.JointPD(kp=100.0, kd=1.0, reference=[0.5]))
     assert not pushed.tau.any() and pushed.tau_cmd.any()
+    assert pushed.meta["passive_joints_commanded"] == ["slug_joint"] and traj.meta["passive_joints_commanded"] == []
 
 
 def test_undamped_energy_record_includes_the_spring():
