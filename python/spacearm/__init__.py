@@ -38,6 +38,7 @@ from .model.robot import (
     Kinematics,
     Linearization,
     Momentum,
+    PassiveModes,
     Robot,
 )
 from .sim.rollout import Rollouts, rollout
@@ -74,6 +75,7 @@ __all__ = [
     "ForwardDynamicsDerivatives",
     "InverseDynamicsPartials",
     "Linearization",
+    "PassiveModes",
     "ModelDescription",
     "BaseDescription",
     "LinkDescription",
