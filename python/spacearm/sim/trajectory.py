@@ -402,6 +402,14 @@ class Trajectory:
         base = quat_to_matrix(np.asarray(self.x[:, 3:7], dtype=float))
         return np.einsum("kji,kjl->kil", lvlh, base)
 
+    def plot_lvlh(self, path: Optional[PathLike] = None):
+        """The base attitude relative to LVLH against time in orbits (orbital runs;
+        docs/orbit.md), written to ``path`` if given (extra ``plot``)."""
+        from ..viz.orbit import plot_lvlh_attitude
+
+        self.r_cm_eci  # an orbital run, or a clear error
+        return plot_lvlh_attitude(self, path)
+
     @property
     def saturation_events(self) -> List[SaturationEvent]:
         """Every step at which an actuator hit its limit, in time order."""
