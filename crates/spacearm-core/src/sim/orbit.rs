@@ -361,6 +361,69 @@ pub fn lvlh_rate(r: &Vector3<f64>, v: &Vector3<f64>) -> Vector3<f64> {
     r.cross(v) / r.norm_squared()
 }
 
+/// A relative state in LVLH: position `[x radial, y along-track, z orbit normal]` (m) and its
+/// rate of change seen in the rotating LVLH frame (m/s).
+pub type RelativeState = [f64; 6];
+
+/// The Clohessy–Wiltshire (Hill) closed-form solution at `t` (s) of the linearized relative
+/// motion about a circular orbit of mean motion `n` (rad/s), from `rel0` at `t = 0` (Schaub &
+/// Junkins, §14.4; Vallado eq. 6-66, with x radial, y along-track, z orbit normal):
+/// `ẍ − 3n²x − 2nẏ = 0`, `ÿ + 2nẋ = 0`, `z̈ + n²z = 0`.
+pub fn clohessy_wiltshire(n: f64, rel0: &RelativeState, t: f64) -> RelativeState {
+    let [x0, y0, z0, vx0, vy0, vz0] = *rel0;
+    let (s, c) = (n * t).sin_cos();
+    let x = (4.0 - 3.0 * c) * x0 + s / n * vx0 + 2.0 / n * (1.0 - c) * vy0;
+    let y = 6.0 * (s - n * t) * x0 + y0 - 2.0 / n * (1.0 - c) * vx0 + (4.0 * s - 3.0 * n * t) / n * vy0;
+    let z = c * z0 + s / n * vz0;
+    let vx = 3.0 * n * s * x0 + c * vx0 + 2.0 * s * vy0;
+    let vy = -6.0 * n * (1.0 - c) * x0 - 2.0 * s * vx0 + (4.0 * c - 3.0) * vy0;
+    let vz = -n * s * z0 + c * vz0;
+    [x, y, z, vx, vy, vz]
+}
+
+/// The initial relative state of a drift-free CW "safety ellipse" about a point `along_track`
+/// metres ahead (or behind): `x = a sin nt`, `y = y_c + 2a cos nt`, `z = b cos nt`, so the
+/// target never crosses the chaser's along-track line inside the ellipse (a radial half-axis
+/// `a`, along-track half-axis `2a`, cross-track amplitude `b`).
+pub fn safety_ellipse(n: f64, radial: f64, cross_track: f64, along_track: f64) -> RelativeState {
+    [0.0, along_track + 2.0 * radial, cross_track, radial * n, 0.0, 0.0]
+}
+
+impl Orbit {
+    /// The ECI state of a point at relative state `rel` (LVLH of `(r, v)`) from `(r, v)`:
+    /// position `r + C ρ`, velocity `v + C ρ̇ + ω × C ρ` with `C` LVLH → ECI and `ω` the LVLH rate.
+    pub fn relative_to_eci(r: &Vector3<f64>, v: &Vector3<f64>, rel: &RelativeState) -> (Vector3<f64>, Vector3<f64>) {
+        let c = lvlh_to_eci(r, v);
+        let rho = c * Vector3::new(rel[0], rel[1], rel[2]);
+        let rho_dot = c * Vector3::new(rel[3], rel[4], rel[5]);
+        (r + rho, v + rho_dot + lvlh_rate(r, v).cross(&rho))
+    }
+
+    /// The relative state in the LVLH of `(r, v)` of a point at ECI `(r2, v2)`.
+    pub fn eci_to_relative(r: &Vector3<f64>, v: &Vector3<f64>, r2: &Vector3<f64>, v2: &Vector3<f64>) -> RelativeState {
+        let c = lvlh_to_eci(r, v);
+        let rho = r2 - r;
+        let rho_dot = v2 - v - lvlh_rate(r, v).cross(&rho);
+        let p = c.transpose() * rho;
+        let q = c.transpose() * rho_dot;
+        [p.x, p.y, p.z, q.x, q.y, q.z]
+    }
+
+    /// The exact relative motion, in this orbit's LVLH, of a second point mass started at
+    /// `rel0` (LVLH at `t = 0`) and propagated on its own orbit (the same body, J2 as this orbit):
+    /// one relative state per time of `times`.
+    pub fn relative_motion(&self, rel0: &RelativeState, times: &[f64], rtol: f64) -> Result<Vec<RelativeState>> {
+        if let Some(k) = rel0.iter().position(|v| !v.is_finite()) {
+            return Err(SpacearmError::argument(format!("relative state: entry {k} must be finite, got {}", rel0[k])));
+        }
+        let (r2, v2) = Orbit::relative_to_eci(&self.r0, &self.v0, rel0);
+        let other = Orbit::from_state(self.body, r2, v2, self.j2)?;
+        let mine = self.propagate(times, rtol)?;
+        let theirs = other.propagate(times, rtol)?;
+        Ok(mine.iter().zip(&theirs).map(|((r, v), (r2, v2))| Orbit::eci_to_relative(r, v, r2, v2)).collect())
+    }
+}
+
 /// The point-mass equations as an ODE `y = [r; v]`.
 struct PointMass {
     orbit: Orbit,
