@@ -154,3 +154,22 @@ def test_momentum_balance_replaces_the_drift_in_orbit():
     r, v = orbit.propagate(traj.t)
     np.testing.assert_allclose(traj.r_cm_eci, r + traj.com, rtol=0, atol=1e-6)
     np.testing.assert_allclose(traj.v_cm_eci, v + traj.P / robot.total_mass, rtol=0, atol=1e-8)
+
+
+def test_the_arms_gravity_gradient_torque_on_the_system_as_an_analysis_quantity():
+    robot = spacearm.presets.spatial6()
+    x = robot.neutral_configuration(robot.initial_q + 0.4)
+    orbit = spacearm.Orbit.circular(500e3, inclination=0.6, arg_latitude=1.0)
+    t = 300.0
+    wrenches, total, arm = orbit.tidal_torques(robot.core_model, x, t=t)
+    r_o = orbit.propagate([t])[0][0]
+    bodies = _tidal_wrenches(robot, x, r_o)
+    rg = robot.center_of_mass(x)
+    about = [np.cross(p - rg, f).sum(axis=0) for p, f, _ in bodies]
+    np.testing.assert_allclose(total, sum(about), rtol=1e-5)
+    np.testing.assert_allclose(arm, sum(about[1:]), rtol=1e-5)
+    assert np.linalg.norm(arm) > 0.1 * np.linalg.norm(total)  # the extended arm is a real share
+    scale = np.abs(wrenches).max()
+    for (p, f, c), w in zip(bodies, wrenches):
+        np.testing.assert_allclose(w[:3], f.sum(axis=0), rtol=1e-5, atol=1e-5 * scale)
+        np.testing.assert_allclose(w[3:], np.cross(p - c, f).sum(axis=0), rtol=1e-5, atol=1e-5 * scale)

@@ -305,6 +305,36 @@ impl PyOrbit {
         Ok(array1(py, &safety_ellipse(self.inner.mean_motion(), radial, cross_track, along_track)))
     }
 
+    /// The gravity-gradient torques on `model` at configuration `x` (relative to this orbit's
+    /// point at time `t`, s): `(wrenches, total, arm)` — per body `[force (N); torque about its CM
+    /// (N·m)]` in ECI axes, shape (n_bodies, 6); the total torque about the system CM; the part of
+    /// it from every body but the base.
+    #[pyo3(signature = (model, x, *, t=0.0))]
+    fn tidal_torques<'py>(
+        &self,
+        py: Python<'py>,
+        model: &Bound<'py, crate::model_py::PyModel>,
+        x: &Bound<'py, PyAny>,
+        t: f64,
+    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+        let x = vec_arg(x, "x")?.as_slice().to_vec();
+        if !(t.is_finite() && t >= 0.0) {
+            return Err(to_py_err(py, bad(format!("t must be finite and >= 0 s, got {t}"))));
+        }
+        let orbit = self.inner;
+        let m = model.borrow();
+        let core = &m.model;
+        let (rows_, total, arm) = py
+            .detach(|| -> spacearm_core::Result<_> {
+                let r = orbit.propagate(&[t], 1e-12)?[0].0;
+                spacearm_core::sim::orbit::tidal_torques(core, &x, orbit.body.mu, &r)
+            })
+            .or_raise(py)?;
+        let flat: Vec<f64> = rows_.iter().flatten().copied().collect();
+        let w = numpy::ndarray::Array2::from_shape_vec((rows_.len(), 6), flat).expect("shape").into_pyarray(py);
+        Ok((w, array1(py, total.as_slice()), array1(py, arm.as_slice())))
+    }
+
     fn __repr__(&self) -> String {
         let e = self.inner.elements();
         format!(

@@ -21,7 +21,12 @@
 
 use nalgebra::{Matrix3, Vector3};
 
+use crate::algorithms::kinematics::forward_kinematics;
+use crate::algorithms::momentum::center_of_mass_from_data;
+use crate::algorithms::wrench::ExternalWrench;
 use crate::error::{Result, SpacearmError};
+use crate::model::data::Data;
+use crate::model::Model;
 use crate::sim::integrate::{Dopri5, OdeSystem};
 
 /// A central body's gravity constants.
@@ -422,6 +427,39 @@ impl Orbit {
         let theirs = other.propagate(times, rtol)?;
         Ok(mine.iter().zip(&theirs).map(|((r, v), (r2, v2))| Orbit::eci_to_relative(r, v, r2, v2)).collect())
     }
+}
+
+/// Each body's tidal wrench under gradient `g`, the kinematics in `data` current and the
+/// positions measured from the point where `g` is taken: force `mᵢ G ρᵢ` at the CM and torque
+/// `axial(Iᵢ G − G Iᵢ)` about it, in the frame of `data` (the one rule of the simulation loop and
+/// of [`tidal_torques`]).
+pub fn tidal_wrenches_into(model: &Model, data: &Data, g: &Matrix3<f64>, out: &mut Vec<ExternalWrench>) {
+    for b in 0..model.n_bodies() {
+        let force = model.mass_properties(b).mass * (g * data.com_in_world[b]);
+        let torque = gravity_gradient_torque(g, &data.inertia_in_world[b]);
+        out.push(ExternalWrench { body: b, offset: Vector3::zeros(), force, torque });
+    }
+}
+
+/// The gravity-gradient torques on a system at configuration `x` (relative to the orbit's
+/// point at ECI `r`, ECI axes): the per-body wrenches `[force; torque about the body's CM]`, the
+/// total torque about the system CM, and the part of it from every body but the base (the arm's
+/// disturbance of the attitude). An analysis quantity (docs/orbit.md).
+pub fn tidal_torques(model: &Model, x: &[f64], mu: f64, r: &Vector3<f64>) -> Result<(Vec<[f64; 6]>, Vector3<f64>, Vector3<f64>)> {
+    if !(r.iter().all(|v| v.is_finite()) && r.norm() > 0.0) {
+        return Err(SpacearmError::argument("the orbit position must be finite and non-zero"));
+    }
+    let mut data = Data::new(model);
+    forward_kinematics(model, &mut data, x)?;
+    let g = gravity_gradient_tensor(mu, r);
+    let mut w = Vec::with_capacity(model.n_bodies());
+    tidal_wrenches_into(model, &data, &g, &mut w);
+    let rg = center_of_mass_from_data(model, &data);
+    let about = |e: &ExternalWrench| (data.com_in_world[e.body] - rg).cross(&e.force) + e.torque;
+    let total: Vector3<f64> = w.iter().map(about).sum();
+    let arm: Vector3<f64> = w.iter().skip(1).map(about).sum();
+    let rows = w.iter().map(|e| [e.force.x, e.force.y, e.force.z, e.torque.x, e.torque.y, e.torque.z]).collect();
+    Ok((rows, total, arm))
 }
 
 /// The point-mass equations as an ODE `y = [r; v]`.
