@@ -497,18 +497,20 @@ pub struct OrbitTrack {
 /// a micrometre in low orbit).
 pub const TRACK_NODES_PER_PERIOD: f64 = 1000.0;
 
+/// Nodes per propagated chunk of an [`OrbitTrack`] (a tenth of a period).
+pub const TRACK_CHUNK: usize = 100;
+
 impl OrbitTrack {
-    /// Propagate `orbit` over `[0, end]` (rtol 1e-13).
+    /// Propagate `orbit` over (at least) `[0, end]` (rtol 1e-13). The nodes are
+    /// [`TRACK_NODES_PER_PERIOD`] per period whatever `end` is, propagated in chunks of
+    /// [`TRACK_CHUNK`] nodes each from the last node of the one before: a track built for a
+    /// long run and one extended step by step ([`OrbitTrack::extend_to`]) hold the same nodes, so
+    /// stepping a run and simulating it give the same records.
     pub fn new(orbit: &Orbit, end: f64) -> Result<OrbitTrack> {
-        let end = end.max(0.0);
-        let h0 = orbit.period() / TRACK_NODES_PER_PERIOD;
-        let n = ((end / h0).ceil() as usize).max(1);
-        let h = if end > 0.0 { end / n as f64 } else { h0 };
-        crate::admission::admit(format_args!("an orbit track of {} nodes", n + 1), crate::admission::bytes_of::<f64>(9.0 * (n + 1) as f64), "simulate a shorter duration")?;
-        let times: Vec<f64> = (0..=n).map(|k| if k == n { n as f64 * h } else { k as f64 * h }).collect();
-        let states = orbit.propagate(&times, 1e-13)?;
-        let nodes = states.into_iter().map(|(r, v)| (r, v, orbit.acceleration(&r))).collect();
-        Ok(OrbitTrack { orbit: *orbit, h, nodes })
+        let h = orbit.period() / TRACK_NODES_PER_PERIOD;
+        let mut track = OrbitTrack { orbit: *orbit, h, nodes: vec![(orbit.r0, orbit.v0, orbit.acceleration(&orbit.r0))] };
+        track.extend_to(end.max(h))?;
+        Ok(track)
     }
 
     /// The orbit tracked.
@@ -521,26 +523,27 @@ impl OrbitTrack {
         (self.nodes.len() - 1) as f64 * self.h
     }
 
-    /// Extend the track (same node spacing) so that it covers `[0, t]`: the orbit propagated on
+    /// Extend the track by whole chunks so that it covers `[0, t]`: the orbit propagated on
     /// from its last node (a run stepped past the duration it was built for).
     pub fn extend_to(&mut self, t: f64) -> Result<()> {
         if t <= self.end() {
             return Ok(());
         }
-        // Extend by at least a tenth of a period, so that a stepped run extends rarely.
-        let want = t.max(self.end() + 0.1 * self.orbit.period());
-        let extra = ((want - self.end()) / self.h).ceil() as usize;
+        let chunks = ((t - self.end()) / (TRACK_CHUNK as f64 * self.h)).ceil().max(1.0) as usize;
+        let total = self.nodes.len() + chunks * TRACK_CHUNK;
         crate::admission::admit(
-            format_args!("an orbit track of {} nodes", self.nodes.len() + extra),
-            crate::admission::bytes_of::<f64>(9.0 * (self.nodes.len() + extra) as f64),
+            format_args!("an orbit track of {total} nodes"),
+            crate::admission::bytes_of::<f64>(9.0 * total as f64),
             "simulate a shorter duration",
         )?;
-        let (r, v, _) = *self.nodes.last().expect("a track has nodes");
-        let from = Orbit { r0: r, v0: v, ..self.orbit };
-        let times: Vec<f64> = (1..=extra).map(|k| k as f64 * self.h).collect();
-        for (r, v) in from.propagate(&times, 1e-13)? {
-            let a = self.orbit.acceleration(&r);
-            self.nodes.push((r, v, a));
+        let times: Vec<f64> = (1..=TRACK_CHUNK).map(|k| k as f64 * self.h).collect();
+        for _ in 0..chunks {
+            let (r, v, _) = *self.nodes.last().expect("a track has nodes");
+            let from = Orbit { r0: r, v0: v, ..self.orbit };
+            for (r, v) in from.propagate(&times, 1e-13)? {
+                let a = self.orbit.acceleration(&r);
+                self.nodes.push((r, v, a));
+            }
         }
         Ok(())
     }
