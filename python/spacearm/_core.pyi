@@ -19,7 +19,7 @@ __all__ = [
     "CoordinatedFlyingSpec", "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
     "FreeBodyReference", "GraspImpulse", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimits", "JointPdSpec", "JointReference",
     "JointTorqueLimitSpec", "LoopClosureTerms", "MomentumDampingSpec",
-    "LinkDescription", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds",
+    "LinkDescription", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds", "MomentumSplit",
     "ModelBuilder", "ModelDescription", "ModelError", "ModelFileError", "NonFiniteError",
     "NotFoundError", "PointDescription", "QUATERNION_TOLERANCE", "QuaternionError",
     "ReactionNullSpace", "ResourceLimitError", "RmrcMotion", "RmrcOptions", "RmrcRates",
@@ -28,12 +28,12 @@ __all__ = [
     "SingularError", "SingularityReport", "SoftCaptureResult", "SpacearmError", "SpacearmTypeError", "Tape",
     "ThrusterLimits", "WorkspaceShells", "ZeroTorqueSpec", "__version__", "analysis_damping",
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
-    "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
-    "analysis_singularity", "batch_threads", "body_mass_properties_error",
-    "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
-    "model_to_toml", "momentum_scales", "perturbed", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
+    "analysis_reach", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
+    "analysis_singularity", "batch_threads", "body_mass_properties_error", "check_grasp_handle", "GOAL_TOLERANCE", "MAX_HANDLE_RATIO",
+    "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
+    "model_to_toml", "momentum_scales", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
-    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "soft_capture",
+    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "soft_capture", "virtual_mass",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -95,6 +95,7 @@ class ModelBuilder:
         inertia: Sequence[Sequence[float]],
         joint_name: Optional[str] = None,
         limits: Optional[Sequence[float]] = None,
+        dynamics: Optional[tuple[bool, float, float, float]] = None,  # (actuated, stiffness, damping, rest)
     ) -> None: ...
     def add_point(self, name: str, body: str, offset: Sequence[float]) -> None: ...
     def set_end_effector(self, name: str) -> None: ...
@@ -186,6 +187,18 @@ class LinkDescription:
     @property
     def dof(self) -> Optional[int]:
         """Index of the joint's coordinate in ``q``; ``None`` for a fixed joint."""
+    @property
+    def actuated(self) -> bool:
+        """Whether a motor drives the joint (``False``: a passive joint, docs/flexibility.md)."""
+    @property
+    def stiffness(self) -> float:
+        """Joint spring stiffness, N·m/rad (revolute) or N/m (prismatic); 0: none."""
+    @property
+    def damping(self) -> float:
+        """Joint damping, N·m·s/rad (revolute) or N·s/m (prismatic); 0: none."""
+    @property
+    def rest(self) -> float:
+        """The spring's rest coordinate, rad or m."""
 
 @final
 class PointDescription:
@@ -248,6 +261,7 @@ class Model:
     end_effector: Optional[str]
     initial_q: _Vec
     body_of_dof: list[int]
+    actuated_dofs: list[bool]
     def body_index(self, name: str) -> int: ...
     def point(self, name: str) -> tuple[int, list[float]]: ...
     def describe(self) -> ModelDescription: ...
@@ -282,6 +296,8 @@ class Model:
     def momentum(self, x: _ArrayLike, u: _ArrayLike) -> tuple[_Vec, _Vec, _Vec, _Vec]: ...  # (P, L_origin, L_base, L_com), each (3,) in 𝒥
     def kinetic_energy(self, x: _ArrayLike, u: _ArrayLike) -> Union[float, _Vec]: ...
     def center_of_mass(self, x: _ArrayLike) -> _Vec: ...
+    def passive_forces(self, x: _ArrayLike, u: _ArrayLike) -> _Vec: ...  # (6+N,): [0 (6); -k (q - rest) - c qd]
+    def spring_energy(self, x: _ArrayLike) -> Union[float, _Vec]: ...
 
 # ---- the core's rules and defaults (crates/spacearm-py/src/rules_py.rs, rule_tables_py.rs) -----
 # The tables are frozen instances with typed attributes; each is also a read-only mapping of its
@@ -329,6 +345,8 @@ MODEL_BOUNDS: ModelBounds
 DLS_DEFAULTS: DlsDefaults
 QUATERNION_TOLERANCE: float
 MEMORY_LIMIT_BYTES: int
+GOAL_TOLERANCE: float    # m: RMRC ends farther than this from its reference with its damping active -> unreachable
+MAX_HANDLE_RATIO: float  # a target grasp point at most this many body sizes from the body's CM
 def quintic_scaling(t: _Vec, t_start: float, t_end: float) -> tuple[_Vec, _Vec, _Vec]: ...
 def body_mass_properties_error(
     who: str, mass: float, inertia: Sequence[Sequence[float]], *, triangle_inequality: bool = True
@@ -639,11 +657,30 @@ class GraspImpulse:
     def locking_impulse(self) -> _Vec:
         """(N,) the locking joint impulses ``τ̂`` (zeros with ``arm="free"``)."""
 
+@final
+class MomentumSplit:
+    """Where an impulse's momentum goes, about the base CM ([P; L_base]): base + arm == total."""
+
+    @property
+    def base(self) -> _Vec: ...  # (6,) H0 dx0
+    @property
+    def arm(self) -> _Vec: ...  # (6,) H0m dq
+    @property
+    def total(self) -> _Vec: ...  # (6,) J_0X^T Lambda
+    @property
+    def base_jump_map(self) -> _Vec: ...  # (6, 6) B, dx0 = B Lambda
+    @property
+    def base_jump_singular_values(self) -> _Vec: ...  # (6,) of B, largest first
+
+def point_inverse_inertia(model: Model, x: _ArrayLike, body: int, offset: _ArrayLike, arm: str = "free") -> _Vec: ...
+def virtual_mass(model: Model, x: _ArrayLike, body: int, offset: _ArrayLike, direction: _ArrayLike, arm: str = "free") -> float: ...
+def impulse_momentum_split(model: Model, x: _ArrayLike, body: int, offset: _ArrayLike, impulse: _ArrayLike) -> MomentumSplit: ...
 def impulse_dynamics(model: Model, x: _ArrayLike, u_before: _ArrayLike, jacobian: _Vec, restitution: float = 0.0,
                      arm: str = "free") -> ImpulseDynamics: ...
 def grasp_impact(robot: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: _ArrayLike, target: Model, x_target: _ArrayLike,
                  u_target: _ArrayLike, target_body: int, target_offset: _ArrayLike, *, kind: str = "rigid", restitution: float = 0.0,
-                 normal: _ArrayLike | None = None, arm: str = "free") -> GraspImpulse: ...
+                 normal: _ArrayLike | None = None, arm: str = "free", capture_tolerance: float = 0.01) -> GraspImpulse: ...
+def check_grasp_handle(model: Model, body: int, offset: _ArrayLike) -> None: ...
 
 @final
 class SoftCaptureResult:
@@ -706,6 +743,8 @@ def analysis_damping(sigma_min: float, threshold: float, max_damping: float) -> 
 def analysis_joint_grid(lower: Sequence[float], upper: Sequence[float], resolution: int) -> _Vec: ...
 def analysis_scan(m: Model, samples: _Vec, body: int, offset: _Vec, rows: list[int]) -> ScanResult: ...
 def analysis_reaction_null_space(m: Model, x: _ArrayLike, which: str, tolerance: float) -> ReactionNullSpace: ...
+def analysis_reach(m: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: _Vec,
+                   duration: float) -> tuple[_Vec, float | None, tuple[_Vec, _Vec] | None]: ...
 def analysis_integrate_prescribed(m: Model, x0: _ArrayLike, dt: float, q_half: _Vec, qd_half: _Vec, linear_momentum: _Vec, angular_momentum: _Vec) -> _Vec: ...
 @final
 class RmrcOptions:
@@ -1041,6 +1080,9 @@ class RunMeta:
     joint_limits: bool
     dropped_base_wrench_max_norm: float    # largest commanded base-wrench part the mode dropped
     dropped_base_wrench_count: int         # evaluations that commanded one
+    goal_distance: float | None            # RMRC at the final sample: |p_ref - p|, m
+    goal_sigma_min: float | None           # ... the smallest singular value of its task Jacobian
+    goal_unreachable: bool | None          # ... stopped short with its damping active
     # The run-description dict of docs/simulation.md (Trajectory.meta less duration and robot).
     def to_dict(self) -> dict[str, Any]: ...
 
@@ -1096,7 +1138,7 @@ class Simulator:
 
     def __new__(cls, model: Model, options: RunOptions, controller_spec: Optional[_ControllerSpec] = None, record_every: Optional[int] = None) -> Simulator: ...
     def reset(self, x0: _ArrayLike, u0: _ArrayLike) -> None: ...
-    def step(self, tau: Optional[_ArrayLike] = None, n: int = 1, base_wrench: Optional[_ArrayLike] = None) -> None: ...
+    def step(self, tau: Optional[_ArrayLike] = None, n: Optional[int] = None, base_wrench: Optional[_ArrayLike] = None) -> None: ...
     @property
     def time(self) -> float: ...
     @property

@@ -431,6 +431,16 @@ pub struct PyRunMeta {
     /// Number of evaluations that commanded such a part (dropped).
     #[pyo3(get)]
     dropped_base_wrench_count: usize,
+    /// A point controller (RMRC) at the final sample: `|p_ref − p|` (m), None for other controllers.
+    #[pyo3(get)]
+    goal_distance: Option<f64>,
+    /// ... the smallest singular value of its task Jacobian there.
+    #[pyo3(get)]
+    goal_sigma_min: Option<f64>,
+    /// ... whether it stopped short of an unreachable goal (farther than `GOAL_TOLERANCE` with
+    /// its damping active: the arm stretched into a singularity).
+    #[pyo3(get)]
+    goal_unreachable: Option<bool>,
 }
 
 impl PyRunMeta {
@@ -465,6 +475,9 @@ impl PyRunMeta {
             joint_limits: opts.joint_limits,
             dropped_base_wrench_max_norm: res.dropped_wrench_max,
             dropped_base_wrench_count: res.dropped_wrench_count,
+            goal_distance: res.goal.map(|g| g.distance),
+            goal_sigma_min: res.goal.map(|g| g.sigma_min),
+            goal_unreachable: res.goal.map(|g| g.unreachable()),
         })
     }
 }
@@ -505,6 +518,13 @@ impl PyRunMeta {
         dropped.set_item("max_norm", self.dropped_base_wrench_max_norm)?;
         dropped.set_item("count", self.dropped_base_wrench_count)?;
         d.set_item("dropped_base_wrench", dropped)?;
+        if let (Some(distance), Some(sigma_min), Some(unreachable)) = (self.goal_distance, self.goal_sigma_min, self.goal_unreachable) {
+            let goal = PyDict::new(py);
+            goal.set_item("distance", distance)?;
+            goal.set_item("sigma_min", sigma_min)?;
+            goal.set_item("unreachable", unreachable)?;
+            d.set_item("goal", goal)?;
+        }
         Ok(d)
     }
 

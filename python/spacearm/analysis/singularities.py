@@ -16,6 +16,7 @@ import numpy as np
 from .. import _core
 from .._core import Detection, JacobianMeasures, SingularityReport
 from .._util.arrays import integer, number
+from .._util.summary import summary_repr
 from ._common import TaskLike, chunked, concat_columns, dof_kinds, samples_2d, task_rows
 
 #: The keys of [`scan`][spacearm.analysis.scan]'s dict: the columns of the extension's ``ScanResult``.
@@ -60,7 +61,7 @@ def scan(robot, samples, point=None, task: TaskLike = None, progress: bool = Fal
     return concat_columns(parts, SCAN_COLUMNS)
 
 
-@dataclass
+@dataclass(repr=False)
 class SingularityMap:
     """``σ_min`` of ``J*`` and ``J_m`` on a grid over two joints (the others fixed)."""
 
@@ -77,6 +78,8 @@ class SingularityMap:
     seconds: float  #: wall time of the scan
     samples_per_second: float
     joint_kinds: tuple = ()  #: "revolute" or "prismatic" for each dof (axis units of the figure)
+
+    __repr__ = summary_repr
 
     def singular_mask(self, relative: float = 0.02) -> np.ndarray:
         """Grid cells with ``σ_min(J*) < relative · max σ_min(J*)`` over the map."""

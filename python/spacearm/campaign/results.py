@@ -124,6 +124,10 @@ class CampaignResult:
         rows.append(f"\n{self.n_ok} samples ran, {self.n_failed} failed, {self.n_pending} not run.")
         return "\n".join(rows)
 
+    def __repr__(self) -> str:
+        return (f"<CampaignResult: {len(self.index)} samples ({self.n_ok} ok, {self.n_failed} failed, {self.n_pending} not run), "
+                f"parameters {list(self.param_names)}, metrics {list(self.metric_names)}>")
+
     def summary(self) -> str:
         lines = [self.table()]
         if self.run:

@@ -16,14 +16,18 @@ from .closed_chain import ClosedChainRun, simulate_closed_chain
 from .captured import CapturedSystem, SoftCaptureRun, attach_target, relative_twist, soft_capture
 from .detumbling import DetumbleRun, detumble
 from .envelope import CaptureEnvelope, capture_envelope
-from .impact import GraspImpulse, MomentumSplit, grasp_impulse, impulse_momentum_split, inverse_inertia, virtual_mass
-from .sequence import PHASES, CaptureResult, capture
+from .impact import CAPTURE_TOLERANCE, MAX_HANDLE_RATIO, GraspImpulse, MomentumSplit, grasp_impulse, impulse_momentum_split, inverse_inertia, virtual_mass
+from .sequence import MAX_CAPTURE_SAMPLES, MAX_TURN_PER_SAMPLE, PHASES, CaptureResult, capture
 from .target import Target, TargetState
 
 __all__ = [
     "Target",
     "TargetState",
     "GraspImpulse",
+    "CAPTURE_TOLERANCE",
+    "MAX_HANDLE_RATIO",
+    "MAX_CAPTURE_SAMPLES",
+    "MAX_TURN_PER_SAMPLE",
     "MomentumSplit",
     "grasp_impulse",
     "inverse_inertia",

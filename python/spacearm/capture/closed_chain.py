@@ -23,6 +23,7 @@ from typing import NamedTuple, Optional
 import numpy as np
 
 from .. import _core
+from .._util.summary import summary_repr
 from .._util.arrays import number, vector
 from ..errors import ArgumentError
 from ..sim.simulation import DEFAULTS, _check_controller, _options
@@ -41,6 +42,8 @@ class ClosedChainRun(NamedTuple):
     constraint_wrench: np.ndarray  #: (T, 6) λ: the wrench on frame b at its origin, [force; torque] in 𝒥 (body a gets −λ there)
     pose_error: np.ndarray  #: (T, 6) e = [position error (m); rotation error (rad)]
     trajectory: object  #: the run as a spacearm.Trajectory (tau, momentum, meta: integrator, steps, drift, ...)
+
+    __repr__ = summary_repr
 
 
 def _frames(robot, point_a, point_b):
@@ -72,9 +75,8 @@ def simulate_closed_chain(robot, x0, u0, duration: float, point_a, point_b, *, d
     ``dt``.
     """
     x0, u0 = vector(x0, "x0", robot.nx), vector(u0, "u0", robot.nu)
+    # The core judges duration, dt and stabilization; Python converts them.
     duration, dt, alpha = number(duration, "duration"), number(dt, "dt"), number(stabilization, "stabilization")
-    if not (duration > 0 and dt > 0 and alpha >= 0):
-        raise ArgumentError(f"duration and dt must be > 0 and stabilization >= 0, got {duration}, {dt}, {alpha}")
     frames = _frames(robot, point_a, point_b)
     _check_controller(controller)
     rtol = number(rtol, "rtol")

@@ -27,6 +27,7 @@ from typing import NamedTuple, Optional
 
 import numpy as np
 
+from .._util.summary import summary_repr
 from .._util.arrays import number
 from ..control import Combined, ComputedTorque, MomentumDamping, TorqueLimit
 from ..errors import ArgumentError
@@ -43,6 +44,8 @@ class DetumbleRun(NamedTuple):
     time_to_detumble: float  #: s from the start of the run (inf when not reached)
     peak_joint_torque: float  #: N·m, largest |τ_j| applied
     residual_spin: float  #: |ω0| at the end, rad/s
+
+    __repr__ = summary_repr
 
 
 def detumble_controller(robot, x, *, mode: str, q_hold, kp: float, kd: float, time_constant: float, max_joint_torque: float,

@@ -45,9 +45,75 @@ from ..rotations import quat_from_matrix
 from ..sim.simulation import simulate
 from .captured import attach_target, soft_capture
 from .detumbling import DETUMBLE_MODES, detumble, detumble_controller, grasp_wrench
-from .impact import _check_target, grasp_impulse
+from .impact import CAPTURE_TOLERANCE, _check_target, grasp_impulse
 
-__all__ = ["capture", "CaptureResult", "PHASES", "CAPTURE_KINDS"]
+__all__ = ["capture", "CaptureResult", "PHASES", "CAPTURE_KINDS", "MAX_CAPTURE_SAMPLES", "MAX_TURN_PER_SAMPLE"]
+
+#: The most samples a capture may record over its phases (``(approach + soft + post +
+#: detumble time) / dt``): more is refused before anything runs (docs/capture.md, "Grasps that
+#: are refused").
+MAX_CAPTURE_SAMPLES = 1_000_000
+
+#: The largest angle, rad, the target may turn between two samples (``|ω| dt``): a faster spin
+#: is not resolved by the recording nor by the free-body reference, and is refused.
+MAX_TURN_PER_SAMPLE = 1.0
+
+
+def _reach_bound(robot, body: int, offset) -> tuple:
+    """Upper bounds on how far the robot's point ``(body, offset)`` and any body's CM can be from
+    the base CM, m: the sums of the joint offsets, CM offsets and prismatic travels along the
+    chain (``inf`` with an unbounded prismatic joint). The system CM is a mass-weighted mean of
+    the bodies' CMs, so ``|p − r_cm| ≤ point bound + body bound`` in every configuration."""
+    links = robot.description.links
+    reach = [0.0]
+    for link in links:
+        travel = 0.0
+        if link.type == "prismatic":
+            travel = max(abs(link.limits.lower), abs(link.limits.upper))
+        reach.append(reach[link.parent_index] + float(np.linalg.norm(link.origin)) + travel + float(np.linalg.norm(link.com)))
+    return reach[body] + float(np.linalg.norm(offset)), max(reach)
+
+
+def _closest_approach(p0, v, duration: float) -> tuple:
+    """``min |p0 + v t|`` over ``t`` in ``[0, duration]`` and the time it is reached."""
+    vv = float(v @ v)
+    t = 0.0 if vv == 0.0 else float(np.clip(-(p0 @ v) / vv, 0.0, duration))
+    return float(np.linalg.norm(p0 + v * t)), t
+
+
+def _check_work_and_reach(robot, x0, u0, target, s0, grasp, body, offset, mode, times):
+    """Refuse, before any run, a capture whose recording would be too large, whose target spins
+    too fast for ``dt``, or whose grasp point stays out of the arm's reach (floating mode: the
+    system CM moves at constant velocity ``P / m``)."""
+    dt = times["dt"]
+    total = sum(times[k] for k in ("approach_time", "soft_time", "post_time", "detumble_time"))
+    if total / dt > MAX_CAPTURE_SAMPLES:
+        raise ArgumentError(f"the capture would record {total / dt:.3g} samples ({total:g} s of phases every dt = {dt:g} s), more "
+                            f"than the {MAX_CAPTURE_SAMPLES:g} allowed: raise dt or shorten the phases")
+    if not target.is_rigid:
+        return
+    state = target.split(s0)
+    spin = float(np.linalg.norm(state.angular_velocity))
+    if spin * dt > MAX_TURN_PER_SAMPLE:
+        raise ArgumentError(f"the target spins at {spin:.4g} rad/s: it turns {spin * dt:.3g} rad between samples (dt = {dt:g} s), "
+                            f"more than the {MAX_TURN_PER_SAMPLE:g} rad the approach can follow; use dt <= "
+                            f"{MAX_TURN_PER_SAMPLE / spin:.3g} s")
+    if mode != "floating":
+        return  # the thrusters move the system CM: no bound from the momentum
+    point_reach, body_reach = _reach_bound(robot, body, offset)
+    if not np.isfinite(point_reach):
+        return
+    m = robot.total_mass
+    cm0 = robot.center_of_mass(x0)
+    v_cm = np.asarray(robot.momentum(x0, u0).P) / m
+    handle = float(np.linalg.norm(target.point(grasp)[1]))
+    # The target's grasp point is within |handle| of its CM, which moves at constant velocity.
+    gap, when = _closest_approach(state.position - cm0, state.velocity - v_cm, times["approach_time"])
+    if gap - handle > point_reach + body_reach:
+        raise SimulationError(
+            f"the approach cannot reach the target: its grasp point stays at least {gap - handle:.4g} m from the robot's system CM "
+            f"(closest at t = {when:.3g} s of the {times['approach_time']:g} s approach), farther than the {point_reach + body_reach:.4g} m "
+            f"that any configuration of '{robot.name}' reaches (its chain's lengths); place the target within reach")
 
 #: The phases of [`capture`][spacearm.capture.capture], in order (docs/capture.md).
 PHASES = ("approach", "capture", "post-capture", "detumble")
@@ -73,6 +139,12 @@ class CaptureResult:
 
     def __init__(self, **fields):
         self.__dict__.update(fields)
+
+    def __repr__(self) -> str:
+        detumble = self.time_to_detumble
+        return (f"<CaptureResult '{self.robot.name}' {self.kind} grasp, {self.mode}: {len(self.t)} samples, t = 0..{self.t[-1]:.4g} s, "
+                f"grasp at {self.phase_start('capture'):.4g} s, detumbled "
+                f"{'never' if not math.isfinite(detumble) else f'{detumble:.4g} s after the detumble starts'}>")
 
     def phase_start(self, name: str) -> float:
         """Time at which a phase starts."""
@@ -180,7 +252,7 @@ def capture(
     point=None,
     grasp: Optional[str] = None,
     approach_time: float = 8.0,
-    capture_tolerance: float = 0.01,
+    capture_tolerance: float = CAPTURE_TOLERANCE,
     soft_time: float = 2.0,
     post_time: float = 1.0,
     detumble_time: float = 30.0,
@@ -237,6 +309,7 @@ def capture(
         raise ArgumentError(f"restitution must be in [0, 1] and is for kind='point' only (a grasp is plastic), got {e} with kind={kind!r}")
     body, offset = robot.resolve_point(point)
     target.point(grasp)  # an unknown grasp point fails here, before the approach runs
+    _check_work_and_reach(robot, x0, u0, target, s0, grasp, body, offset, mode, times)
 
     # ---- 0. approach ------------------------------------------------------------------------
     # The target's grasp point as the native RMRC's reference; the whole approach is one native
@@ -296,10 +369,11 @@ def capture(
         add(t_cap + soft.t[keep], 1, soft.x[keep], soft.u[keep], soft.target[keep], soft.tau[keep], np.zeros((len(soft.t) - 1, 6)),
             held, False)
         t_cap, xc, uc, sc = t_cap + float(soft.t[-1]), soft.x[-1], soft.u[-1], soft.target[-1]
-        impact = grasp_impulse(robot, xc, uc, target, sc, point=point, grasp=grasp, kind="rigid")
+        impact = grasp_impulse(robot, xc, uc, target, sc, point=point, grasp=grasp, kind="rigid", capture_tolerance=times["capture_tolerance"])
         soft_impact = impact
     else:
-        impact = grasp_impulse(robot, xc, uc, target, sc, point=point, grasp=grasp, kind=kind, restitution=restitution)
+        impact = grasp_impulse(robot, xc, uc, target, sc, point=point, grasp=grasp, kind=kind, restitution=restitution,
+                               capture_tolerance=times["capture_tolerance"])
         soft_impact = None
     uc, sc = impact.u_after, impact.target_state_after
     add(np.array([t_cap]), 1, xc[None], uc[None], sc[None], np.zeros((1, n)), np.zeros((1, 6)), np.zeros((1, 6)), kind != "point")

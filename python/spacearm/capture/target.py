@@ -21,6 +21,7 @@ import numpy as np
 
 import math
 
+from .. import _core
 from .._util.arrays import number, quaternion, vector, vector3
 from ..control import FreeBodyPoint, SampledJoint
 from ..errors import ArgumentError, ModelError, NotFoundError, ShapeError
@@ -52,7 +53,9 @@ class Target:
         Default ``"target"``.
     grasp_points : mapping name -> offset, or a sequence of offsets, optional
         Offsets from the CM in the target's axes (m). A sequence gets the names ``grasp0``,
-        ``grasp1``, ...; default: one point ``"grasp"`` at the CM.
+        ``grasp1``, ...; default: one point ``"grasp"`` at the CM. Each at most
+        ``MAX_HANDLE_RATIO`` (2) times the target's size ``√(1.5 tr(I) / m)`` from the CM
+        (farther: ``ArgumentError``; docs/capture.md, "Grasps that are refused").
     """
 
     def __init__(self, mass: float, inertia, *, name: Optional[str] = None,
@@ -84,6 +87,11 @@ class Target:
             self.body = builder.build()
         except ModelError as exc:
             raise ModelError(f"target '{self.name}': {exc}") from None
+        for key, off in self.grasp_points.items():
+            try:  # the handle-length rule of the grasp impact (the core's), before any run
+                _core.check_grasp_handle(self.body.core_model, 0, off)
+            except ArgumentError as exc:
+                raise ArgumentError(f"target '{self.name}', grasp point '{key}': {exc}") from None
         self.mass = mass
         base = self.body.description.base
         #: Inertia about the CM in target axes (3×3; ``None`` for a jointed target).

@@ -93,6 +93,12 @@ def inspect(robot: Robot, q=None, out=None) -> None:
         w(_matrix(f"J* of '{robot.end_effector}' (generalized Jacobian, eq. 110)", js, "linear rows m/rad, angular rows 1") + "\n")
         p = robot.point_position(x)
         w(f"  end-effector position: [{', '.join(f'{v:.6g}' for v in p)}] m\n\n")
+    elif robot.n_dof > 0:
+        parents = {link.parent for link in d.links}
+        leaves = [link.name for link in d.links if link.name not in parents]
+        w(f"J* (generalized Jacobian, eq. 110): not computed, '{robot.name}' has no end effector; its chain has "
+          f"{len(leaves)} {'leaf' if len(leaves) == 1 else 'leaves'} ({', '.join(leaves)}): name the point to use with "
+          "--end-effector POINT|LINK\n\n")
     w("conditioning:\n")
     w(_conditioning("H0", h0) + "\n")
     if robot.n_dof > 0:

@@ -168,6 +168,20 @@ def _warn_dropped(mode: str, meta: dict, stacklevel: int) -> None:
         )
 
 
+def _warn_unreachable(meta: dict, stacklevel: int) -> None:
+    """Warn that a point controller (RMRC) stopped short of its goal with its damping active:
+    ``meta["goal"]["unreachable"]`` (docs/singularities.md, "Goals out of reach")."""
+    goal = meta.get("goal")
+    if goal and goal["unreachable"]:
+        warnings.warn(
+            f"the controller's goal is out of reach: the point ended {goal['distance']:.4g} m from its reference with the task "
+            f"Jacobian nearly singular (smallest singular value {goal['sigma_min']:.3g}, damped least squares active); "
+            "see meta['goal']",
+            RuntimeWarning,
+            stacklevel=stacklevel + 1,
+        )
+
+
 def _run(
     robot,
     duration,
@@ -222,6 +236,7 @@ def _run(
     if orbit is not None:
         meta["orbit"] = orbit_meta(options)
     _warn_dropped(mode, meta, stacklevel=3)
+    _warn_unreachable(meta, stacklevel=3)
     return data, meta
 
 

@@ -96,10 +96,12 @@ class Simulator:
         (default: zero), with empty records and a fresh controller."""
         self._core.reset(self._robot.neutral_configuration() if x0 is None else x0, self._robot.zero_velocity() if u0 is None else u0)
 
-    def step(self, tau=None, n: int = 1, base_wrench=None) -> None:  # replaced per instance by the core's method
-        """Advance ``n`` steps of ``dt`` with ``tau`` (N joint torques) and ``base_wrench``
-        (``[F0, N0]`` in 𝒥, as the mode allows) added to the controller's command over these
-        steps (``None``: nothing added). Steps land on ``t = i·dt``."""
+    def step(self, tau=None, n: Optional[int] = None, base_wrench=None) -> None:  # replaced per instance by the core's method
+        """Advance ``n`` steps of ``dt`` (an int >= 1; ``None``: one) with ``tau`` (N joint
+        torques) and ``base_wrench`` (``[F0, N0]`` in 𝒥, as the mode allows) added to the
+        controller's command over these steps (``None``: nothing added). Steps land on
+        ``t = i·dt``. The records the steps would add are admitted first (``ResourceLimitError``);
+        Ctrl-C stops a long call within 0.1 s, the steps taken so far kept."""
         self._core.step(tau, n, base_wrench)
 
     @property

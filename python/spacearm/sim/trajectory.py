@@ -465,7 +465,7 @@ class Trajectory:
         initial value is smaller (e.g. zero momentum): the core's drift scale
         ([`Robot.momentum_scales`][spacearm.Robot.momentum_scales], the sums over the bodies of their own contributions'
         norms), its largest value over the recorded states — what the simulator records as
-        ``meta["drift_scales"]``. ``energy`` → the largest kinetic energy. Without a robot the
+        ``meta["drift_scales"]``. ``energy`` → the largest mechanical energy (kinetic plus the joint springs'). Without a robot the
         momentum scales are 0.
         """
         columns = {"P": 0, "L_origin": 1, "L_com": 2, "energy": 3}
@@ -541,6 +541,10 @@ class Trajectory:
             unit = {"joint": "rad", "cartesian": "m"}.get(self.tracking_error_kind or "", "")
             e = self.tracking_error
             lines.append(f"  tracking error ({self.tracking_error_kind or '?'}): final {e[-1]:.3g} {unit}, max {np.max(e):.3g} {unit}")
+        goal = m.get("goal")
+        if goal and goal["unreachable"]:
+            lines.append(f"  GOAL OUT OF REACH: the point stopped {goal['distance']:.3g} m short with the task Jacobian nearly "
+                         f"singular (smallest singular value {goal['sigma_min']:.3g}); choose a reachable goal")
         if self.has("ee_position"):
             p = self.ee_position[-1]
             lines.append(f"  end effector final position [{', '.join(f'{v:.4g}' for v in p)}] m")

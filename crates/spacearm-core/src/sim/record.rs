@@ -3,6 +3,7 @@
 //! [`crate::sim::simulate`] (both integrators) and the step-by-step [`crate::sim::stepper`].
 //! The quantities and the drift's definition are in the docs of [`crate::sim::simulate`].
 
+use crate::algorithms::passive::spring_energy_of_q;
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 
 use crate::algorithms::kinematics::point_position;
@@ -121,7 +122,9 @@ impl Recorder {
         // with the scale of each sum's terms for the drift (module docs).
         let momentum = momentum_from_data(model, data);
         let rg = center_of_mass_from_data(model, data);
-        let scales = momentum_scales_from_data(model, data);
+        let mut scales = momentum_scales_from_data(model, data);
+        // The mechanical energy: kinetic plus the joint springs' potential (docs/flexibility.md).
+        scales.energy += spring_energy_of_q(model, &y[7..nx]);
         let energy = scales.energy;
         r.linear_momentum.extend_from_slice(momentum.linear.as_slice());
         r.angular_momentum_origin.extend_from_slice(momentum.angular_about_origin.as_slice());

@@ -7,7 +7,7 @@
 //! algorithm with `f = [F0; N0; τ]` → `ẏ = [v0; ½ [ω0; 0] ⊗ quat; q̇; u̇]`.
 //!
 //! Recorded per sample: the state, `u̇`, applied and commanded torques, the applied base
-//! wrench, `P`, `L_origin`, `L_com`, kinetic energy, system CM, end-effector pose, the
+//! wrench, `P`, `L_origin`, `L_com`, mechanical energy (kinetic plus the joint springs'), system CM, end-effector pose, the
 //! controller's reference and tracking error, wheel speeds. Saturation events mark the accepted
 //! step in which an actuator starts saturating (its onset; the per-sample `tau` against
 //! `tau_cmd` shows how long it lasts). The drift of each conserved quantity is its largest
@@ -165,7 +165,7 @@ pub struct Records {
     pub angular_momentum_origin: Vec<f64>,
     /// Angular momentum about the system CM, N·m·s (width 3).
     pub angular_momentum_com: Vec<f64>,
-    /// Kinetic energy, J (width 1).
+    /// Mechanical energy: kinetic energy plus the joint springs' potential energy, J (width 1).
     pub energy: Vec<f64>,
     /// System CM in 𝒥, m (width 3).
     pub com: Vec<f64>,
@@ -228,6 +228,8 @@ pub struct SimResult {
     pub dropped_wrench_max: f64,
     /// Number of evaluations that commanded such a part.
     pub dropped_wrench_count: usize,
+    /// A point controller's report on its goal at the final sample ([`Controller::goal_report`]).
+    pub goal: Option<crate::control::GoalReport>,
 }
 
 /// The plant as an ODE `ẏ = f(t, y)` for the integrators: model, mode, actuators and controller
@@ -464,11 +466,11 @@ impl OdeSystem for Plant<'_> {
             }
             c.evaluate(&self.model, &mut self.data, x, u, &self.f)?;
         } else if tidal {
-            aba_with_wrenches_after_kinematics(&self.model, &mut self.data, u, &self.f, &self.wrench_buf)?;
+            aba_with_wrenches_after_kinematics(&self.model, &mut self.data, &x[7..], u, &self.f, &self.wrench_buf)?;
         } else if self.body_wrenches.is_empty() {
-            aba_after_kinematics(&self.model, &mut self.data, u, &self.f)?;
+            aba_after_kinematics(&self.model, &mut self.data, &x[7..], u, &self.f)?;
         } else {
-            aba_with_wrenches_after_kinematics(&self.model, &mut self.data, u, &self.f, &self.body_wrenches)?;
+            aba_with_wrenches_after_kinematics(&self.model, &mut self.data, &x[7..], u, &self.f, &self.body_wrenches)?;
         }
         // ṙ0 = v0; quaṫ = ½ [ω0; 0] ⊗ quat (Hamilton, [x, y, z, w], ω0 in 𝒥); q̇; u̇.
         dy[0..3].copy_from_slice(&u[0..3]);
@@ -563,6 +565,9 @@ pub fn sample_count(opts: &SimOptions) -> usize {
 fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, progress: Progress<'_>) -> Result<SimResult> {
     let n_steps = rk4_step_count(opts);
     let mut stepper = Rk4Stepper::new(plant, x0, u0, Some((sample_count(opts), opts.record_every)))?;
+    // A step longer than the fastest mode allows is refused before the first step.
+    let y0 = stepper.state().to_vec();
+    crate::sim::step_limit::check_rk4_step(stepper.plant_mut(), 0.0, &y0, opts.dt.min(opts.duration))?;
     let progress_every = opts.duration / 1000.0;
     let mut next_progress = 0.0;
     for i in 0..n_steps {
@@ -578,102 +583,149 @@ fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, pro
     Ok(result)
 }
 
-/// The DOPRI5 loop: adaptive steps, samples every `dt` by dense output.
+/// The DOPRI5 run of one plant: [`dopri5_loop`] over the plant, its recorder recording.
 fn simulate_dopri5(mut plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, progress: Progress<'_>) -> Result<SimResult> {
-    let n = plant.model().n_dof();
     let mut y: Vec<f64> = x0.iter().chain(u0).copied().collect();
-    let dim = y.len();
     plant.project(&mut y);
-    let n_steps_rk4 = rk4_step_count(opts);
     let mut rec = Recorder::for_plant(&plant, sample_count(opts));
+    let words = DopriWords {
+        of_run: "",
+        budget_remedy: " (loosen rtol/atol, raise max_steps, or use rk4)",
+        stiff_remedy: "the dynamics are too stiff or discontinuous there (a saturating actuator switching, a very high gain); loosen \
+                       rtol/atol or use rk4",
+    };
+    let run = dopri5_loop(&mut plant, &mut y, opts, &words, &mut *progress, &mut |p, t, y, dy| rec.record(p, t, y, dy))?;
+    progress(1.0)?;
+    Ok(finish_result(&plant, rec, run.events, run.n_steps, run.n_rejected))
+}
+
+/// What [`dopri5_loop`] watches of a system besides its ODE: the actuator saturation flags of
+/// the current step and whether a stage left the finite numbers, both of the plant whose
+/// actuators the run reports ([`Plant`] itself; the robot's plant of a soft capture).
+pub(crate) trait StepWatch: OdeSystem {
+    /// Clear the step's saturation flags (before a step is tried).
+    fn clear_step_flags(&mut self);
+    /// The saturation bits OR-ed over the step's evaluations.
+    fn step_flags(&self) -> &[u8];
+    /// Whether a stage value of the last step was not finite; clears the mark.
+    fn take_nonfinite_stage(&mut self) -> bool;
+}
+
+impl StepWatch for Plant<'_> {
+    fn clear_step_flags(&mut self) {
+        self.flags_step.fill(0);
+    }
+
+    fn step_flags(&self) -> &[u8] {
+        &self.flags_step
+    }
+
+    fn take_nonfinite_stage(&mut self) -> bool {
+        std::mem::take(&mut self.nonfinite_stage)
+    }
+}
+
+/// How a DOPRI5 run's errors name it: ``"DOPRI5 used its budget of … s{of_run}{budget_remedy}"``
+/// and ``"DOPRI5 step size fell to … s{of_run}: {stiff_remedy}"``.
+pub(crate) struct DopriWords {
+    pub of_run: &'static str,
+    pub budget_remedy: &'static str,
+    pub stiff_remedy: &'static str,
+}
+
+/// The counters and saturation onsets of a DOPRI5 run.
+pub(crate) struct DopriRun {
+    pub n_steps: usize,
+    pub n_rejected: usize,
+    pub events: Vec<SaturationEvent>,
+}
+
+/// The one DOPRI5 loop (docs/simulation-core.md): adaptive steps over `sys` from `y` (projected
+/// by the caller) at t = 0 to `opts.duration`, a trial step whose stages left the finite numbers
+/// retried a quarter as long, samples at `t_k = k·dt` (the last on the duration) by dense output,
+/// each handed to `record` with `f(t_k, y_k)` evaluated there; `y` ends at the duration. Used by
+/// [`simulate`] (one plant) and [`crate::sim::soft_capture`] (robot + target); the caller reports
+/// `progress(1.0)` when it has finished.
+pub(crate) fn dopri5_loop<S: StepWatch>(
+    sys: &mut S,
+    y: &mut [f64],
+    opts: &SimOptions,
+    words: &DopriWords,
+    progress: Progress<'_>,
+    record: &mut dyn FnMut(&S, f64, &[f64], &[f64]),
+) -> Result<DopriRun> {
+    let dim = y.len();
     let mut events = Vec::new();
-    let mut prev_flags = vec![0u8; n + 6];
+    let mut prev_flags = vec![0u8; sys.step_flags().len()];
     let mut dy = vec![0.0; dim];
-    let mut n_steps = 0;
-    let mut n_rejected = 0;
+    let (mut n_steps, mut n_rejected) = (0usize, 0usize);
     let progress_every = opts.duration / 1000.0;
     let mut next_progress = 0.0;
-    {
-        let mut dp = Dopri5::new(dim, opts.rtol, opts.atol);
-        plant.rhs(0.0, &y, &mut dy)?;
-        rec.record(&plant, 0.0, &y, &dy);
-        let n_out = n_steps_rk4;
-        let mut k_out = 1;
-        let out_time = |k: usize| {
-            if k == n_out {
-                opts.duration
-            } else {
-                k as f64 * opts.dt
-            }
+    let mut dp = Dopri5::new(dim, opts.rtol, opts.atol);
+    sys.rhs(0.0, y, &mut dy)?;
+    record(sys, 0.0, y, &dy);
+    let n_out = rk4_step_count(opts);
+    let mut k_out = 1;
+    let out_time = |k: usize| if k == n_out { opts.duration } else { k as f64 * opts.dt };
+    let mut t = 0.0;
+    let mut h = dp.initial_step(sys, t, y, opts.duration)?;
+    let mut y_out = vec![0.0; dim];
+    while t < opts.duration {
+        if n_steps + n_rejected >= opts.max_steps {
+            return Err(SpacearmError::Simulation(format!(
+                "DOPRI5 used its budget of {} steps and reached only t = {t} s of {} s{}{}",
+                opts.max_steps, opts.duration, words.of_run, words.budget_remedy
+            )));
+        }
+        let remaining = opts.duration - t;
+        // Land exactly on the end; avoid a sliver of a last step.
+        if h >= remaining || remaining - h < 1e-10 * opts.duration {
+            h = remaining;
+        }
+        sys.clear_step_flags();
+        let outcome = match dp.try_step(sys, t, h, y) {
+            Ok(o) => o,
+            // A trial step so long that a stage left the finite numbers: reject it and
+            // retry shorter (y and f(t, y) are untouched by a failed attempt).
+            Err(SpacearmError::Simulation(_)) if sys.take_nonfinite_stage() => StepOutcome { accepted: false, error: f64::INFINITY, next_h: 0.25 * h },
+            Err(e) => return Err(e),
         };
-        let mut t = 0.0;
-        let mut h = dp.initial_step(&mut plant, t, &y, opts.duration)?;
-        let mut y_out = vec![0.0; dim];
-        while t < opts.duration {
-            if n_steps + n_rejected >= opts.max_steps {
-                return Err(SpacearmError::Simulation(format!(
-                    "DOPRI5 used its budget of {} steps and reached only t = {t} s of {} s (loosen rtol/atol, raise \
-                         max_steps, or use rk4)",
-                    opts.max_steps, opts.duration
-                )));
-            }
-            let remaining = opts.duration - t;
-            // Land exactly on the end; avoid a sliver of a last step.
-            if h >= remaining || remaining - h < 1e-10 * opts.duration {
-                h = remaining;
-            }
-            plant.flags_step.fill(0);
-            let outcome = match dp.try_step(&mut plant, t, h, &mut y) {
-                Ok(o) => o,
-                // A trial step so long that a stage left the finite numbers: reject it and
-                // retry shorter (y and f(t, y) are untouched by a failed attempt).
-                Err(SpacearmError::Simulation(_)) if plant.nonfinite_stage => {
-                    plant.nonfinite_stage = false;
-                    StepOutcome { accepted: false, error: f64::INFINITY, next_h: 0.25 * h }
+        if outcome.accepted {
+            n_steps += 1;
+            onsets(t, &mut prev_flags, sys.step_flags(), &mut events);
+            let t_new = if h == remaining { opts.duration } else { t + h };
+            while k_out <= n_out && out_time(k_out) <= t_new {
+                let t_o = out_time(k_out);
+                if t_o == t_new {
+                    y_out.copy_from_slice(y);
+                } else {
+                    dp.dense_output(t_o, &mut y_out);
+                    sys.project(&mut y_out);
                 }
-                Err(e) => return Err(e),
-            };
-            if outcome.accepted {
-                n_steps += 1;
-                onsets(t, &mut prev_flags, &plant.flags_step, &mut events);
-                let t_new = if h == remaining { opts.duration } else { t + h };
-                while k_out <= n_out && out_time(k_out) <= t_new {
-                    let t_o = out_time(k_out);
-                    if t_o == t_new {
-                        y_out.copy_from_slice(&y);
-                    } else {
-                        dp.dense_output(t_o, &mut y_out);
-                        plant.project(&mut y_out);
-                    }
-                    plant.rhs(t_o, &y_out, &mut dy)?;
-                    rec.record(&plant, t_o, &y_out, &dy);
-                    k_out += 1;
-                    // A dense output grid can put many samples in one step: report (and let
-                    // the caller interrupt) between them too.
-                    if t_o >= next_progress {
-                        progress(t_o / opts.duration)?;
-                        next_progress = t_o + progress_every;
-                    }
+                sys.rhs(t_o, &y_out, &mut dy)?;
+                record(sys, t_o, &y_out, &dy);
+                k_out += 1;
+                // A dense output grid can put many samples in one step: report (and let
+                // the caller interrupt) between them too.
+                if t_o >= next_progress {
+                    progress(t_o / opts.duration)?;
+                    next_progress = t_o + progress_every;
                 }
-                t = t_new;
-                if t >= next_progress {
-                    progress(t / opts.duration)?;
-                    next_progress = t + progress_every;
-                }
-            } else {
-                n_rejected += 1;
             }
-            h = outcome.next_h;
-            if !(h.is_finite() && h > 1e-14 * t.abs().max(opts.duration)) {
-                return Err(SpacearmError::Simulation(format!(
-                    "DOPRI5 step size fell to {h:e} s at t = {t} s: the dynamics are too stiff or discontinuous there \
-                         (a saturating actuator switching, a very high gain); loosen rtol/atol or use rk4"
-                )));
+            t = t_new;
+            if t >= next_progress {
+                progress(t / opts.duration)?;
+                next_progress = t + progress_every;
             }
+        } else {
+            n_rejected += 1;
+        }
+        h = outcome.next_h;
+        if !(h.is_finite() && h > 1e-14 * t.abs().max(opts.duration)) {
+            return Err(SpacearmError::Simulation(format!("DOPRI5 step size fell to {h:e} s at t = {t} s{}: {}", words.of_run, words.stiff_remedy)));
         }
     }
-    progress(1.0)?;
-    Ok(finish_result(&plant, rec, events, n_steps, n_rejected))
+    Ok(DopriRun { n_steps, n_rejected, events })
 }
 
 /// The largest relative drift of a conserved quantity that a run may show and still be returned
@@ -699,7 +751,10 @@ fn check_divergence(result: &SimResult) -> Result<()> {
 
 /// The result of a run from its plant (counters, controller) and records.
 pub(crate) fn finish_result(plant: &Plant<'_>, rec: Recorder, events: Vec<SaturationEvent>, n_steps: usize, n_rejected: usize) -> SimResult {
-    let mut conserved = plant.mode.conserved(plant.controller.is_torque_free());
+    // The mechanical energy (kinetic plus springs) is conserved without joint torques, base
+    // wrench or joint dampers.
+    let undamped = plant.model().dof_dynamics().iter().all(|d| d.damping == 0.0);
+    let mut conserved = plant.mode.conserved(plant.controller.is_torque_free() && undamped);
     if plant.has_gravity_gradient() {
         // The tidal wrenches do work on the system: only the momentum balances are monitored.
         conserved.retain(|c| *c != Conserved::Energy);
@@ -721,5 +776,6 @@ pub(crate) fn finish_result(plant: &Plant<'_>, rec: Recorder, events: Vec<Satura
         dropped_wrench_max: plant.dropped_max,
         dropped_wrench_count: plant.dropped_count,
         wheel_dofs: plant.wheels.clone(),
+        goal: plant.controller.goal_report(),
     }
 }
