@@ -40,6 +40,9 @@ def add_parser(sub) -> None:
     p.add_argument("--duration", type=float, default=4.0, help="maneuver time, s (default 4)")
     p.add_argument("--nodes", type=int, default=20, help="knot intervals; torques are constant on each (default 20)")
     p.add_argument("--substeps", type=int, default=2, help="RK4 steps per interval (default 2)")
+    p.add_argument("--max-step-angle", type=float, default=0.1,
+                   help="largest revolute joint rotation per RK4 step, rad: bounds the joint speeds so that the "
+                        "transcription resolves the motion (default 0.1; inf: no bound; docs/optimal-control.md)")
     p.add_argument("--effort-limit", help="joint torque bound(s), N·m or N: one number or one per joint (default: the model's)")
     p.add_argument("--velocity-limit", help="joint speed bound(s), rad/s or m/s (default: the model's)")
     p.add_argument("--no-rest", action="store_true", help="do not require zero joint speeds at the end")
@@ -84,13 +87,14 @@ def run(args, model_from_args) -> None:
                               objective=args.objective, effort_limit=_limit(args.effort_limit, "--effort-limit", robot),
                               velocity_limit=_limit(args.velocity_limit, "--velocity-limit", robot), rest_at_end=not args.no_rest,
                               reactionless_end=args.reactionless_end, max_iter=args.max_iter, hessian=args.hessian,
-                              progress=progress)
+                              max_step_angle=args.max_step_angle, progress=progress)
     if sys.stderr.isatty():
         print(file=sys.stderr)
     check = plan.verification
     print(f"IPOPT: {plan.status}, {plan.iterations} iterations, {plan.solve_time:.2f} s")
     print(f"plan: max base attitude change {np.degrees(plan.attitude_change.max()):.4g} deg, "
-          f"effort {plan.effort:.4g} N²m²s, final point error {plan.final_position_error:.3g} m, shooting defect {check.defect:.3g}")
+          f"effort {plan.effort:.4g} N²m²s, final point error {plan.final_position_error:.3g} m, shooting defect {check.defect:.3g}, "
+          f"RK4 local error estimate {check.transcription_error:.3g}")
     if check.trajectory is not None:
         traj = check.trajectory
         print(f"re-simulation (computed torque, rk4 dt = {traj.t[1] - traj.t[0]:.3g} s): final point error "

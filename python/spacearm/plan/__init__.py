@@ -13,7 +13,7 @@ import numpy as np
 
 from .._util.arrays import integer, number, vector
 from ..errors import ArgumentError, PlanCheckWarning, SpacearmTypeError
-from .limits import JointBounds
+from .limits import JointBounds, resolution_bounds
 from .problem import OBJECTIVES
 from .result import Plan
 from .verify import Verification
@@ -49,6 +49,8 @@ def point_to_point(
     effort_weight: float = 1e-6,
     max_iter: int = 500,
     hessian: str = "objective",
+    max_step_angle: float = 0.1,
+    smoothness_weight: float = 0.0,
     progress: Optional[Callable[[int, float], None]] = None,
 ) -> Plan:
     """Plan a motion of ``point`` (default: the end effector) to ``target`` (3 values, m, in 𝒥)
@@ -86,6 +88,13 @@ def point_to_point(
         The Hessian IPOPT uses: the objective's alone (default; the shooting constraints'
         curvature left out, a Gauss–Newton-type approximation) or the exact Hessian of the
         Lagrangian (several times slower per iteration; docs/optimal-control.md).
+    max_step_angle : float
+        The largest rotation (rad) of a revolute joint in one RK4 step of the transcription:
+        the joint speeds at the knots are bounded by ``max_step_angle / h``, ``h = T / (nodes
+        * substeps)``, so that the plan holds only motions its integrator resolves (RK4's local
+        error grows with the fifth power of the rotation per step; without this bound the
+        optimiser exploits that error, docs/optimal-control.md). ``inf`` drops the bound; more
+        ``substeps`` loosen it.
     progress : callable, optional
         Called after each IPOPT iteration with ``(iteration, objective value)``; an exception
         it raises stops the solve and is raised.
@@ -144,14 +153,19 @@ def point_to_point(
     us = robot.zero_velocity() if u0 is None else vector(u0, "u0", robot.nu)
     robot.resolve_point(point)  # an unknown point fails here, before any work
     bounds = JointBounds.of(robot, position_limits, velocity_limit, effort_limit)
+    step_angle = number(max_step_angle, "max_step_angle")
+    if not step_angle > 0:
+        raise ArgumentError(f"max_step_angle must be > 0 rad (inf for no bound), got {max_step_angle!r}")
+    resolved = resolution_bounds(robot, bounds, step_angle * K * m / T)
     check_target(robot, xs, us, tgt, point, T, bounds)  # an impossible target is refused here, before any work
     times = np.linspace(0.0, T, K + 1)
     if warm_start == "reactionless":
         xg, ug, taug, motion = reactionless_guess(robot, xs, us, tgt, point, times, bounds)
     else:
         xg, ug, taug, motion = hold_guess(robot, xs, us, times)
-    report = solve(robot, xs, us, tgt, point, T, K, m, objective, bounds, (xg, ug, taug), bool(rest_at_end),
-                   bool(reactionless_end), number(effort_weight, "effort_weight"), iterations, progress, hessian)
+    report = solve(robot, xs, us, tgt, point, T, K, m, objective, resolved, (xg, ug, taug), bool(rest_at_end),
+                   bool(reactionless_end), number(effort_weight, "effort_weight"), iterations, progress, hessian,
+                   number(smoothness_weight, "smoothness_weight"))
     plan = Plan(robot=robot, objective=objective, target=tgt, point=point, t=times, substeps=m, warm_start=motion, **report)
     plan.verification = verify(plan)
     if not plan.success:

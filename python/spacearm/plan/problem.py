@@ -73,7 +73,7 @@ class _Interrupts:
 
 
 def solve(robot, x0, u0, target, point, duration, nodes, substeps, objective, bounds, guess, rest_at_end, reactionless_end,
-          effort_weight, max_iter, progress, hessian="objective"):
+          effort_weight, max_iter, progress, hessian="objective", smoothness_weight=0.0):
     """Build and solve the NLP; returns a dict of the plan arrays and the solver's report."""
     if objective not in OBJECTIVES:
         raise ArgumentError(f"objective must be one of {OBJECTIVES}, got {objective!r}")
@@ -104,6 +104,8 @@ def solve(robot, x0, u0, target, point, duration, nodes, substeps, objective, bo
     else:
         theta = ca.horzcat(*[_attitude_error(ca, X[3:7, k], x0[3:7]) for k in range(1, K + 1)])
         cost = ca.sumsqr(theta) * dt / duration + effort_weight * effort
+    if smoothness_weight:
+        cost += smoothness_weight * ca.sumsqr(TAU[:, 1:] - TAU[:, :K]) / (dt * duration)
     opti.minimize(cost)
     opti.subject_to(position(X[:, K]) == target)
     for j in range(n):
