@@ -8,9 +8,9 @@ The contract (also stated in docs/contributing.md):
   ``if __name__ == "__main__":`` guard, as code that starts worker processes must).
 - ```` ```bash ```` / ```` ```sh ```` / ```` ```shell ```` blocks run with ``bash -e`` after the
   page's Python, in the same directory.
-- Both run in a fresh temporary directory holding links to the repository's top-level entries
-  (so ``examples/...`` and ``docs/...`` paths resolve as from the repository root, and files a
-  page writes land in the temporary directory), with matplotlib's Agg back end.
+- Both run in a fresh, empty temporary directory outside the repository, as a reader's would
+  (no path of the source tree resolves there: the example models ship in the package,
+  ``spacearm.examples``), with matplotlib's Agg back end; files a page writes land there.
 - A block whose info string has the word ``skip`` (```` ```python skip ````) is deliberately
   partial and is not run; the line right above its fence must be an HTML comment
   ``<!-- skip: the reason -->``. Other languages (``text``, ``toml``, ``console``, none) are
@@ -36,8 +36,6 @@ ROOT = Path(__file__).resolve().parents[1]
 PAGES = [ROOT / "README.md"] + sorted((ROOT / "docs").rglob("*.md"))
 PYTHON_LANGS = {"python", "py", "python3"}
 SHELL_LANGS = {"bash", "sh", "shell"}
-#: Top-level entries not linked into the temporary directory (large or irrelevant).
-NOT_LINKED = {".git", "target", "site", ".pytest_cache", ".hypothesis"}
 #: Seconds one page may take (its Python script, then each shell block).
 PAGE_TIMEOUT = 170
 
@@ -95,9 +93,9 @@ def _runnable(page: Path) -> List[Block]:
 
 
 def _workdir(tmp_path: Path) -> Path:
-    for entry in ROOT.iterdir():
-        if entry.name not in NOT_LINKED:
-            (tmp_path / entry.name).symlink_to(entry)
+    """An empty directory outside the repository (pytest's tmp_path), as a reader's would be."""
+    assert ROOT not in tmp_path.resolve().parents, f"{tmp_path} is inside the repository"
+    assert not any(tmp_path.iterdir()), f"{tmp_path} is not empty"
     return tmp_path
 
 

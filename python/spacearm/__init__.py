@@ -2,7 +2,7 @@
 
 The generalized inertia matrix ``H*`` and the Generalized Jacobian Matrix ``J*`` (Umetani &
 Yoshida 1989; Wilde et al. 2018) and every quantity behind them, computed by a Rust core and
-checked against Pinocchio and MuJoCo. Start with :class:`Robot` and :mod:`spacearm.presets`;
+checked against Pinocchio and MuJoCo. Start with [`Robot`][spacearm.Robot] and [`spacearm.presets`][spacearm.presets];
 conventions are in ``docs/conventions.md``.
 """
 
@@ -11,6 +11,7 @@ from ._core import __version__
 from .model.batch import batch_threads, set_batch_threads
 from .model.builder import RobotBuilder
 from .capture import Target
+from .orbit import CentralBody, Orbit, OrbitalElements
 from .model.description import BaseDescription, JointLimits, LinkDescription, ModelDescription, PointDescription
 from .errors import (
     ArgumentError,
@@ -43,6 +44,25 @@ from .sim.simulation import simulate
 from .sim.simulator import Simulator
 from .sim.trajectory import Trajectory
 
+#: The subpackages imported on first use (PEP 562): ``spacearm.plan`` after ``import spacearm``
+#: imports ``spacearm.plan`` then, so ``import spacearm`` does not pay for them (CasADi, SymPy,
+#: Dask and the engines load only with the subpackage that needs them).
+_LAZY_SUBPACKAGES = ("analysis", "campaign", "casadi", "examples", "identify", "interop", "plan", "symbolic")
+
+
+def __getattr__(name: str):
+    if name in _LAZY_SUBPACKAGES:
+        import importlib
+
+        module = importlib.import_module(f"{__name__}.{name}")
+        globals()[name] = module
+        return module
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY_SUBPACKAGES))
+
 __all__ = [
     "Robot",
     "RobotBuilder",
@@ -61,6 +81,9 @@ __all__ = [
     "presets",
     "capture",
     "Target",
+    "Orbit",
+    "CentralBody",
+    "OrbitalElements",
     "simulate",
     "rollout",
     "Rollouts",

@@ -1,12 +1,12 @@
-"""Controllers, references and actuator limits for :func:`spacearm.simulate`.
+"""Controllers, references and actuator limits for [`spacearm.simulate`][spacearm.simulate].
 
 Every controller here is a description that the native simulator turns into a control law
 evaluated at every integrator stage in Rust (no Python call per step), except
-:class:`Callback`, which calls a Python function at every stage and is correspondingly slower.
+[`Callback`][spacearm.control.Callback], which calls a Python function at every stage and is correspondingly slower.
 The equations, with the paper's numbers, are in ``docs/simulation-core.md``.
 
 Joint-space controllers act on the **arm joints**: every joint that is not a reaction wheel
-(wheels are what :meth:`RobotBuilder.add_reaction_wheel` creates, or what ``simulate(wheels=...)``
+(wheels are what [`RobotBuilder.add_reaction_wheel`][spacearm.RobotBuilder.add_reaction_wheel] creates, or what ``simulate(wheels=...)``
 names). Their references and per-joint gains therefore have one entry per arm joint — ``N``
 for a robot without wheels.
 
@@ -171,7 +171,7 @@ class SampledJoint:
     Between knots the reference is the quintic Hermite interpolant (position, velocity and
     acceleration matched at both ends of each interval, so all three are continuous; the core's
     ``JointReference.sampled``); before the first and after the last knot, that knot's values.
-    A plan is tracked by :class:`ComputedTorque` through it (:mod:`spacearm.plan`). The values
+    A plan is tracked by [`ComputedTorque`][spacearm.control.ComputedTorque] through it ([`spacearm.plan`][spacearm.plan]). The values
     are checked by the core."""
 
     t: Any
@@ -197,7 +197,7 @@ class SampledJoint:
 @dataclass(frozen=True)
 class FreeBodyPoint:
     """A point fixed to a torque-free rigid body — the grasp point of a tumbling target — as a
-    reference for :class:`ResolvedMotionRate`.
+    reference for [`ResolvedMotionRate`][spacearm.control.ResolvedMotionRate].
 
     ``inertia``: about the body's CM in its axes (3×3 or 3 principal moments, kg·m²);
     ``state``: the body's 13-state ``[r, quat [x, y, z, w], v, w]`` (in 𝒥) at simulation time 0;
@@ -278,7 +278,7 @@ class JointPD(_Controller):
     """Joint PD on the arm joints: ``tau = kp (q_ref - q) + kd (qd_ref - qd)``.
 
     ``kp``, ``kd``: one gain or one per arm joint (N·m/rad, N·m·s/rad). ``reference``: a
-    :class:`QuinticJoint` or a constant set point (one entry per arm joint).
+    [`QuinticJoint`][spacearm.control.QuinticJoint] or a constant set point (one entry per arm joint).
     """
 
     kp: Any
@@ -294,10 +294,10 @@ class ComputedTorque(_Controller):
     """Computed torque on the reduced equations of motion (paper eqs. 112–115):
     ``tau = H* (qdd_ref + kd (qd_ref - qd) + kp (q_ref - q)) + c*``.
 
-    ``H*``, ``c*`` come from ``model`` (a :class:`~spacearm.Robot` with the plant's joints; see
-    :func:`perturbed_model`) or, by default, from the plant itself. With the exact model the
+    ``H*``, ``c*`` come from ``model`` (a [`Robot`][spacearm.Robot] with the plant's joints; see
+    [`perturbed_model`][spacearm.control.perturbed_model]) or, by default, from the plant itself. With the exact model the
     arm follows the reference to integration accuracy. When combined with a base controller
-    (:class:`Combined`), the wheel torques and base wrench it commands are compensated exactly
+    ([`Combined`][spacearm.control.Combined]), the wheel torques and base wrench it commands are compensated exactly
     (the ``H0m^T H0^-1 F_b`` term of the flying-regime reduced EOM).
     """
 
@@ -320,22 +320,22 @@ class ResolvedMotionRate(_Controller):
     Joint-rate command (``strategy="naive"``): ``qd_cmd = J^T (J J^T + lambda^2 E)^-1 (v_d - v_drift)``,
     ``v_d = pd_ref + gain (p_ref - p)`` on the translational rows, with ``J`` the task rows of
     ``J*`` over the arm joints and ``v_drift`` the point twist that the system momentum and the
-    wheels produce: the solver of :func:`spacearm.analysis.rmrc_rates`, run natively. Damped least squares per singular
+    wheels produce: the solver of [`spacearm.analysis.rmrc_rates`][spacearm.analysis.rmrc_rates], run natively. Damped least squares per singular
     direction (docs/singularities.md): a direction of singular value ``sigma`` gets
     ``lambda^2 = max_damping^2 (1 - (sigma / threshold)^2)`` when ``sigma < threshold``, else 0 —
-    the same law and defaults as :mod:`spacearm.analysis`. The joints follow ``qd_cmd`` through the reduced EOM:
+    the same law and defaults as [`spacearm.analysis`][spacearm.analysis]. The joints follow ``qd_cmd`` through the reduced EOM:
     ``tau = H* velocity_gain (qd_cmd - qd) + c*``.
 
-    ``reference_cartesian``: a :class:`CartesianLine`, a :class:`FreeBodyPoint` (a point on
-    a tumbling body: the capture approach) or a :class:`SampledJoint` of three coordinates (a
+    ``reference_cartesian``: a [`CartesianLine`][spacearm.control.CartesianLine], a [`FreeBodyPoint`][spacearm.control.FreeBodyPoint] (a point on
+    a tumbling body: the capture approach) or a [`SampledJoint`][spacearm.control.SampledJoint] of three coordinates (a
     sampled path of the point in 𝒥); ``gain`` (1/s); ``max_damping`` (m, the
     largest lambda); ``threshold`` (m, where damping starts); ``velocity_gain`` (1/s);
     ``point``: overrides the reference's point (default: the end effector);
     ``max_joint_rate`` (rad/s): ``qd_cmd`` is scaled as a whole so that no entry exceeds it
     (the point keeps its direction; default no cap).
 
-    ``task`` and ``strategy`` as in :func:`spacearm.analysis.rmrc_rates` (the same solver):
-    ``task`` a name of :data:`spacearm.analysis.TASKS` (``"position"``, the default: the
+    ``task`` and ``strategy`` as in [`spacearm.analysis.rmrc_rates`][spacearm.analysis.rmrc_rates] (the same solver):
+    ``task`` a name of [`spacearm.analysis.TASKS`][spacearm.analysis.TASKS] (``"position"``, the default: the
     translational rows; ``"planar"``, ``"planar_pose"``, ``"orientation"``, ``"full"``), ``"auto"``
     or a list of rows 0-5 (angular rows hold the orientation of the point's body at the start);
     ``strategy``: ``"naive"`` (default), ``"reactionless"`` (the arm moves in the reaction null
@@ -405,10 +405,10 @@ class BaseThrusterControl(_Controller):
 
     Force ``F0 = M (kp_position (com_ref - r_g) - kd_position P / M)`` — the system CM then obeys
     ``e'' + kd e' + kp e = 0`` exactly, whatever the arm does; torque ``N0 = -kp_attitude e -
-    kd_attitude w0`` (``e`` as in :class:`AttitudeControl`). ``com_ref`` (m, in 𝒥) and
+    kd_attitude w0`` (``e`` as in [`AttitudeControl`][spacearm.control.AttitudeControl]). ``com_ref`` (m, in 𝒥) and
     ``quat_ref`` (``[x, y, z, w]`` or a scipy ``Rotation``) default to the initial CM and attitude. Gains:
     ``kp_position`` (1/s²), ``kd_position`` (1/s), ``kp_attitude`` (N·m/rad), ``kd_attitude``
-    (N·m·s/rad). Combine with an arm controller through :class:`Combined`.
+    (N·m·s/rad). Combine with an arm controller through [`Combined`][spacearm.control.Combined].
     """
 
     com_ref: Any = None
@@ -426,7 +426,7 @@ class BaseThrusterControl(_Controller):
 
 
 def inertia_scaled_gains(robot, x, joints, natural_frequency: float = 4.0, damping_ratio: float = 1.0):
-    """Per-joint PD gains ``(kp, kd)`` for :class:`JointPD` or :class:`ComputedTorque`-style
+    """Per-joint PD gains ``(kp, kd)`` for [`JointPD`][spacearm.control.JointPD] or [`ComputedTorque`][spacearm.control.ComputedTorque]-style
     loops, scaled to the inertia each joint drives: ``kp_j = ω² H*_jj``, ``kd_j = 2 ζ ω H*_jj``
     from the diagonal of the generalized inertia ``H*`` (eq. 45) at ``x``, so that each joint
     alone would respond like a mass-spring-damper of natural frequency ``ω`` (rad/s) and damping
@@ -444,7 +444,7 @@ def inertia_scaled_gains(robot, x, joints, natural_frequency: float = 4.0, dampi
 @dataclass(frozen=True)
 class Combined(_Controller):
     """An arm controller and a base controller together: the base controller (e.g.
-    :class:`AttitudeControl`) runs first, then the arm controller, which sees its command."""
+    [`AttitudeControl`][spacearm.control.AttitudeControl]) runs first, then the arm controller, which sees its command."""
 
     arm: Any
     base: Any
@@ -462,10 +462,10 @@ class CoordinatedFlying(_Controller):
     ``ee_reference`` while the base holds ``base_pose_ref``.
 
     Base (acceleration level): ``xdd0_des = [kp_base (r_ref - r0) - kd_base v0; -kp_base e -
-    kd_base w0]`` (``e`` the attitude error of :class:`AttitudeControl`). End effector:
+    kd_base w0]`` (``e`` the attitude error of [`AttitudeControl`][spacearm.control.AttitudeControl]). End effector:
     ``a_des = pdd_ref + kd_ee (pd_ref - pd) + kp_ee (p_ref - p)``, realized by the joint
     accelerations ``qdd = J^+ (a_des - J_0X xdd0_des - b)`` (``J``: translational joint-side
-    point Jacobian of the arm, damped least squares as in :class:`ResolvedMotionRate`; ``b``:
+    point Jacobian of the arm, damped least squares as in [`ResolvedMotionRate`][spacearm.control.ResolvedMotionRate]; ``b``:
     the velocity-product acceleration of the point). Forces: the base wrench ``F_b = H0 xdd0 +
     H0m qdd + c0`` and the joint torques from the flying-regime reduced EOM
     ``tau = H* qdd + c* + H0m^T H0^-1 F_b``.
@@ -525,7 +525,7 @@ class MomentumDamping(_Controller):
     about the system CM ``r_g``), each limited in norm to ``max_force`` (N) / ``max_torque``
     (N·m). Unsaturated, both momenta decay as ``exp(-t / time_constant)`` whatever the arm does.
     ``model``: the law's model of the plant (e.g. the captured system with an estimated target;
-    default the plant). Compose with an arm controller through :class:`Combined`."""
+    default the plant). Compose with an arm controller through [`Combined`][spacearm.control.Combined]."""
 
     time_constant: float
     max_force: float = math.inf
@@ -560,7 +560,7 @@ class Callback(_Controller):
 
     Called at every integrator stage (four times per RK4 step), so it is far slower than the
     native controllers; an exception it raises stops the run and propagates unchanged. As the
-    arm of a :class:`Combined`, its ``tau`` replaces every joint torque, wheels included.
+    arm of a [`Combined`][spacearm.control.Combined], its ``tau`` replaces every joint torque, wheels included.
     """
 
     fn: Callable
@@ -581,7 +581,7 @@ def perturbed_model(
     slosh_removed: bool = False,
 ):
     """A copy of ``robot`` with mass-property errors, for a controller's model
-    (:class:`ComputedTorque` ``model=``).
+    ([`ComputedTorque`][spacearm.control.ComputedTorque] ``model=``).
 
     The base mass and inertia are scaled by ``base_mass_scale`` and ``base_inertia_scale``;
     every link's mass and inertia by ``link_mass_scale``. Then a fraction ``slosh_fraction``

@@ -1,7 +1,7 @@
 """The exceptions spacearm raises.
 
 Every error spacearm raises on bad input (an argument, a model, a file) or on a computation
-that cannot go on is an instance of :class:`SpacearmError`, so ``except spacearm.SpacearmError``
+that cannot go on is an instance of [`SpacearmError`][spacearm.SpacearmError], so ``except spacearm.SpacearmError``
 catches all of them and nothing else. Each class also derives from the builtin exception a
 Python programmer would expect for that kind of error, so ``except ValueError`` (or
 ``TypeError``, ``KeyError``...) keeps working around spacearm calls. The Rust core has one error
@@ -23,9 +23,9 @@ kind per class below (the bindings map each onto its class).
 | `CampaignError` | `RuntimeError` | a campaign cannot run, go on or report for reasons outside its samples (a script without a main guard under the spawn start method, an unreachable Dask scheduler, lost workers, nothing that ran to plot) |
 | `MissingDependencyError` | `ImportError` | an optional package is not installed (the message names the extra to install) |
 
-Two warning classes (both ``UserWarning``): :class:`NonPhysicalInertiaWarning`, issued when a
+Two warning classes (both ``UserWarning``): [`NonPhysicalInertiaWarning`][spacearm.errors.NonPhysicalInertiaWarning], issued when a
 model is loaded with ``allow_nonphysical_inertia=True`` and a body's inertia breaks the triangle
-inequality, and :class:`PlanCheckWarning`, issued when a planned maneuver fails its check
+inequality, and [`PlanCheckWarning`][spacearm.errors.PlanCheckWarning], issued when a planned maneuver fails its check
 (``spacearm.plan``: IPOPT did not solve it, or its defect or re-simulation is beyond tolerance).
 
 ``NotFoundError`` is a lookup failure (``robot.body_index("nope")``, ``results.metric("x")``),

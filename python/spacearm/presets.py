@@ -1,9 +1,9 @@
 """Preset models (defined once, in the Rust core's ``presets`` module).
 
-Provenance: :func:`planar4` carries exactly the planar values of SPART's ``ResolvedMotion``
+Provenance: [`planar4`][spacearm.presets.planar4] carries exactly the planar values of SPART's ``ResolvedMotion``
 example (100 kg, 0.5 m base; four 10 kg, 1 m links; initial angles [π/4, −π/4, −π/4, π/4]).
-:func:`spatial6`, :func:`dual_arm` and :func:`spatial7` are defined by this project.
-:func:`ets7` is the flown ETS-VII robot, from published parameters (its docstring gives the
+[`spatial6`][spacearm.presets.spatial6], [`dual_arm`][spacearm.presets.dual_arm] and [`spatial7`][spacearm.presets.spatial7] are defined by this project.
+[`ets7`][spacearm.presets.ets7] is the flown ETS-VII robot, from published parameters (its docstring gives the
 sources). None of them is the case study of Wilde et al. (2018): the paper's own case-study
 parameters are not available.
 
@@ -19,7 +19,7 @@ from .model.robot import Robot, warn_nonphysical_inertia
 
 __all__ = ["planar4", "spatial6", "dual_arm", "spatial7", "ets7", "NAMES", "get"]
 
-#: Preset names, as accepted by :func:`get` and the CLI.
+#: Preset names, as accepted by [`get`][spacearm.presets.get] and the CLI.
 NAMES = ("planar4", "spatial6", "dual_arm", "spatial7", "ets7")
 
 
@@ -51,7 +51,7 @@ def dual_arm() -> Robot:
     lengths 0.2, 0.8, 0.8, 0.15, 0.15, 0.2 m; masses 6, 10, 8, 2, 1.5, 1.5 kg; 0.08 m square
     bars. ``q[0:6]`` moves the left arm (``left_joint1..6``), ``q[6:12]`` the right one; points
     ``left_tool`` (the end effector) and ``right_tool`` at the tips: pass either to
-    :meth:`~spacearm.Robot.generalized_jacobian`.
+    [`generalized_jacobian`][spacearm.Robot.generalized_jacobian].
     """
     return Robot(_core.preset("dual_arm"))
 
@@ -96,13 +96,13 @@ def ets7(allow_nonphysical_inertia: bool = False) -> Robot:
     zero, keeping ``Sxx`` and ``Syy`` — Ixx and Iyy both rise by ``(Izz − Ixx − Iyy)/2`` and Izz,
     the moment about the joint axis, is kept: link 1 (0.845, 0.845, 1.69), link 2 (1.27, 2.48,
     3.75), link 3 (0.96, 1.57, 2.53) kg·m². ``allow_nonphysical_inertia=True`` keeps the published
-    values instead, with one :class:`~spacearm.errors.NonPhysicalInertiaWarning` per link.
+    values instead, with one [`NonPhysicalInertiaWarning`][spacearm.errors.NonPhysicalInertiaWarning] per link.
     """
     return warn_nonphysical_inertia(Robot(_core.preset("ets7", allow_nonphysical_inertia=bool(allow_nonphysical_inertia))))
 
 
 def get(name: str, allow_nonphysical_inertia: bool = False) -> Robot:
-    """A preset by name (raises :class:`~spacearm.NotFoundError` for an unknown name).
-    ``allow_nonphysical_inertia`` only changes :func:`ets7` (the published inertias)."""
+    """A preset by name (raises [`NotFoundError`][spacearm.NotFoundError] for an unknown name).
+    ``allow_nonphysical_inertia`` only changes [`ets7`][spacearm.presets.ets7] (the published inertias)."""
     robot = Robot(_core.preset(name, allow_nonphysical_inertia=bool(allow_nonphysical_inertia)))
     return warn_nonphysical_inertia(robot)

@@ -10,21 +10,26 @@ own on CasADi and SymPy symbols).
 Quaternions are unit, Hamilton, scalar LAST ``[x, y, z, w]`` (``docs/conventions.md``; the same
 as ``scipy.spatial.transform.Rotation.as_quat()`` and Pinocchio). Every quaternion argument of
 spacearm also accepts a ``scipy.spatial.transform.Rotation`` holding one rotation
-(:func:`spacearm._util.arrays.quaternion`).
+(``spacearm._util.arrays.quaternion``).
 
 Every helper checks its input: shapes, finite values, a unit quaternion (norm 1 within the
 core's tolerance, ``_core.QUATERNION_TOLERANCE`` = 1e-6, then normalized exactly) and a proper
 rotation matrix (orthonormal with determinant +1 within 1e-6); a bad input raises the
-:mod:`spacearm.errors` class that says what was wrong.
+[`spacearm.errors`][spacearm.errors] class that says what was wrong.
 """
 
 from __future__ import annotations
 
-import numpy as np
+import numpy as _np
 
 from . import _core
-from ._util.arrays import _is_scipy_rotation, number, quaternion, real_array, rows, vector
-from .errors import ArgumentError, NonFiniteError, QuaternionError, ShapeError, SpacearmTypeError
+from ._util.arrays import _is_scipy_rotation
+from ._util.arrays import number as _number, quaternion as _quaternion, real_array as _real_array, rows as _rows, vector as _vector
+from .errors import ArgumentError as _ArgumentError, NonFiniteError as _NonFiniteError, QuaternionError as _QuaternionError
+from .errors import ShapeError as _ShapeError, SpacearmTypeError as _SpacearmTypeError
+
+# The module exports its API only (__all__): every helper above is imported under a private name.
+del annotations
 
 __all__ = [
     "quat_from_rpy",
@@ -41,7 +46,7 @@ __all__ = [
 ]
 
 #: The identity rotation ``[0, 0, 0, 1]``.
-IDENTITY_QUAT = np.array([0.0, 0.0, 0.0, 1.0])
+IDENTITY_QUAT = _np.array([0.0, 0.0, 0.0, 1.0])
 
 
 #: A rotation matrix must be orthonormal with determinant +1 within this (largest entry of
@@ -49,40 +54,40 @@ IDENTITY_QUAT = np.array([0.0, 0.0, 0.0, 1.0])
 MATRIX_TOLERANCE = 1e-6
 
 
-def _finite(arr: np.ndarray, name: str) -> np.ndarray:
-    if not np.all(np.isfinite(arr)):
-        raise NonFiniteError(f"{name} must be finite, got {arr}")
+def _finite(arr: _np.ndarray, name: str) -> _np.ndarray:
+    if not _np.all(_np.isfinite(arr)):
+        raise _NonFiniteError(f"{name} must be finite, got {arr}")
     return arr
 
 
 def _angle(value, name: str) -> float:
-    angle = number(value, name)
-    if not np.isfinite(angle):
-        raise NonFiniteError(f"{name} must be a finite angle in rad, got {angle}")
+    angle = _number(value, name)
+    if not _np.isfinite(angle):
+        raise _NonFiniteError(f"{name} must be a finite angle in rad, got {angle}")
     return angle
 
 
-def quat_from_axis_angle(axis, angle: float) -> np.ndarray:
+def quat_from_axis_angle(axis, angle: float) -> _np.ndarray:
     """Quaternion ``[x, y, z, w]`` of a rotation by ``angle`` (rad) about ``axis`` (any non-zero
     3-vector; it is normalized)."""
-    axis = _finite(vector(axis, "axis", 3), "axis")
+    axis = _finite(_vector(axis, "axis", 3), "axis")
     angle = _angle(angle, "angle")
-    largest = float(np.max(np.abs(axis)))
+    largest = float(_np.max(_np.abs(axis)))
     if largest == 0.0:
-        raise ArgumentError(f"axis must be a non-zero vector (it is normalized), got {axis}")
+        raise _ArgumentError(f"axis must be a non-zero vector (it is normalized), got {axis}")
     axis = axis / largest  # scaled first, so that the norm cannot overflow or underflow
-    axis = axis / np.linalg.norm(axis)
-    s = np.sin(angle / 2.0)
-    return np.array([axis[0] * s, axis[1] * s, axis[2] * s, np.cos(angle / 2.0)])
+    axis = axis / _np.linalg.norm(axis)
+    s = _np.sin(angle / 2.0)
+    return _np.array([axis[0] * s, axis[1] * s, axis[2] * s, _np.cos(angle / 2.0)])
 
 
-def _quaternions(value, name: str) -> np.ndarray:
+def _quaternions(value, name: str) -> _np.ndarray:
     """One quaternion (4,) (or a scipy ``Rotation``) or a batch of them (K, 4), finite."""
-    q = quaternion(value, name) if _is_scipy_rotation(value) else rows(value, name, 4)
+    q = _quaternion(value, name) if _is_scipy_rotation(value) else _rows(value, name, 4)
     return _finite(q, name)
 
 
-def quat_multiply(a, b) -> np.ndarray:
+def quat_multiply(a, b) -> _np.ndarray:
     """Hamilton product ``a ⊗ b`` of quaternions ``[x, y, z, w]``: for unit ones the rotation
     ``R(a) R(b)``. Either may be one quaternion (or a scipy ``Rotation``) or ``(K, 4)`` rows, the
     product row by row (one quaternion is used for every row). No unit norm is required (the
@@ -90,85 +95,85 @@ def quat_multiply(a, b) -> np.ndarray:
     return _core.quat_multiply(_quaternions(a, "a"), _quaternions(b, "b"))
 
 
-def quat_exp(theta) -> np.ndarray:
+def quat_exp(theta) -> _np.ndarray:
     """Unit quaternion ``[x, y, z, w]`` of the rotation vector ``theta`` (rotation by
     ``|theta|`` about ``theta / |theta|``); exact near zero."""
-    return _core.quat_exp(_finite(vector(theta, "theta", 3), "theta"))
+    return _core.quat_exp(_finite(_vector(theta, "theta", 3), "theta"))
 
 
-def quat_log(q) -> np.ndarray:
+def quat_log(q) -> _np.ndarray:
     """Rotation vector (length ≤ π) of a quaternion ``[x, y, z, w]`` (or scipy ``Rotation``),
     normalized first."""
-    return _core.quat_log(_finite(quaternion(q, "q"), "q"))
+    return _core.quat_log(_finite(_quaternion(q, "q"), "q"))
 
 
-def skew(v) -> np.ndarray:
+def skew(v) -> _np.ndarray:
     """The cross-product matrix ``[v]×`` (``[v]× w = v × w``) of a 3-vector, or of each row of
     ``(..., 3)`` (shape ``(..., 3, 3)``)."""
-    v = _finite(real_array(v, "v"), "v")
+    v = _finite(_real_array(v, "v"), "v")
     if v.ndim == 0 or v.shape[-1] != 3:
-        raise ShapeError(f"v must be a 3-vector or an array of shape (..., 3), got shape {v.shape}")
+        raise _ShapeError(f"v must be a 3-vector or an array of shape (..., 3), got shape {v.shape}")
     if v.ndim <= 2:
         return _core.skew(v)
     return _core.skew(v.reshape(-1, 3)).reshape(v.shape[:-1] + (3, 3))
 
 
-def quat_from_rpy(roll: float, pitch: float, yaw: float) -> np.ndarray:
+def quat_from_rpy(roll: float, pitch: float, yaw: float) -> _np.ndarray:
     """Quaternion of the URDF roll-pitch-yaw convention ``R = Rz(yaw) Ry(pitch) Rx(roll)``."""
     return _core.quat_from_rpy(_angle(roll, "roll"), _angle(pitch, "pitch"), _angle(yaw, "yaw"))
 
 
-def quat_to_matrix(q) -> np.ndarray:
+def quat_to_matrix(q) -> _np.ndarray:
     """Rotation matrix of a unit quaternion ``[x, y, z, w]`` (or a scipy ``Rotation``), or the
     matrices ``(K, 3, 3)`` of ``(K, 4)`` rows; each of unit norm within the core's tolerance."""
     q = _quaternions(q, "quaternion")
-    norm = np.linalg.norm(q, axis=-1, keepdims=True)
-    worst = float(np.max(np.abs(norm - 1.0))) if q.size else 0.0
+    norm = _np.linalg.norm(q, axis=-1, keepdims=True)
+    worst = float(_np.max(_np.abs(norm - 1.0))) if q.size else 0.0
     if worst > _core.QUATERNION_TOLERANCE:
-        raise QuaternionError(f"quaternion must be a unit quaternion [x, y, z, w] (|q| = 1 within "
-                              f"{_core.QUATERNION_TOLERANCE:g}), got norm {float(norm.ravel()[np.argmax(np.abs(norm - 1.0))])}")
+        raise _QuaternionError(f"quaternion must be a unit quaternion [x, y, z, w] (|q| = 1 within "
+                              f"{_core.QUATERNION_TOLERANCE:g}), got norm {float(norm.ravel()[_np.argmax(_np.abs(norm - 1.0))])}")
     return _core.quat_to_matrix(q)  # each divided by its norm
 
 
-def _rotation_matrix(r, batch: bool = False) -> np.ndarray:
-    """``r`` as a 3×3 float64 proper rotation matrix within :data:`MATRIX_TOLERANCE` (with
+def _rotation_matrix(r, batch: bool = False) -> _np.ndarray:
+    """``r`` as a 3×3 float64 proper rotation matrix within [`MATRIX_TOLERANCE`][spacearm.rotations.MATRIX_TOLERANCE] (with
     ``batch``, also ``(B, 3, 3)`` rows of them, each checked)."""
     try:
-        r = np.asarray(r)
+        r = _np.asarray(r)
     except (TypeError, ValueError) as exc:  # ragged nested lists
-        raise ShapeError(f"r must be a 3x3 rotation matrix, got {r!r}") from exc
+        raise _ShapeError(f"r must be a 3x3 rotation matrix, got {r!r}") from exc
     if r.dtype.kind not in "biuf":
-        raise SpacearmTypeError(f"r must be a 3x3 matrix of real numbers, got dtype {r.dtype}")
-    r = np.ascontiguousarray(r, dtype=np.float64)
+        raise _SpacearmTypeError(f"r must be a 3x3 matrix of real numbers, got dtype {r.dtype}")
+    r = _np.ascontiguousarray(r, dtype=_np.float64)
     if r.shape[-2:] != (3, 3) or r.ndim not in ((2, 3) if batch else (2,)):
         rows_text = " (or (B, 3, 3) rows of them)" if batch else ""
-        raise ShapeError(f"r must be a 3x3 rotation matrix{rows_text}, got shape {r.shape}")
+        raise _ShapeError(f"r must be a 3x3 rotation matrix{rows_text}, got shape {r.shape}")
     _finite(r, "r")
     if r.size == 0:
         return r
-    with np.errstate(over="ignore", invalid="ignore"):  # huge entries: inf, refused below
+    with _np.errstate(over="ignore", invalid="ignore"):  # huge entries: inf, refused below
         if r.ndim == 2:
-            off = float(np.max(np.abs(r.T @ r - np.eye(3))))
-            det = float(np.linalg.det(r))
+            off = float(_np.max(_np.abs(r.T @ r - _np.eye(3))))
+            det = float(_np.linalg.det(r))
         else:
-            off = float(np.max(np.abs(np.swapaxes(r, -1, -2) @ r - np.eye(3))))
-            dets = np.linalg.det(r)
+            off = float(_np.max(_np.abs(_np.swapaxes(r, -1, -2) @ r - _np.eye(3))))
+            dets = _np.linalg.det(r)
             # The worst row's determinant (nan when one is not finite: refused below).
-            det = float(dets[int(np.argmax(np.abs(dets - 1.0)))]) if np.all(np.isfinite(dets)) else float("nan")
+            det = float(dets[int(_np.argmax(_np.abs(dets - 1.0)))]) if _np.all(_np.isfinite(dets)) else float("nan")
     if not (off <= MATRIX_TOLERANCE and abs(det - 1.0) <= MATRIX_TOLERANCE):
-        raise ArgumentError(f"r must be a rotation matrix (R^T R = I and det R = +1 within {MATRIX_TOLERANCE:g}), "
+        raise _ArgumentError(f"r must be a rotation matrix (R^T R = I and det R = +1 within {MATRIX_TOLERANCE:g}), "
                             f"got |R^T R - I| = {off:.3g}, det R = {det:.6g}")
     return r
 
 
-def rotation_vector(r) -> np.ndarray:
+def rotation_vector(r) -> _np.ndarray:
     """The rotation vector ``θ`` (``|θ| ≤ π``) with ``exp([θ]×) = r`` of a rotation matrix
-    (a proper one within :data:`MATRIX_TOLERANCE`): ``log(r)``."""
+    (a proper one within [`MATRIX_TOLERANCE`][spacearm.rotations.MATRIX_TOLERANCE]): ``log(r)``."""
     return _core.rotation_vector(_rotation_matrix(r))
 
 
-def quat_from_matrix(r) -> np.ndarray:
+def quat_from_matrix(r) -> _np.ndarray:
     """Unit quaternion ``[x, y, z, w]`` (with ``w >= 0``) of a rotation matrix (Shepperd's
     method, stable for every rotation). ``r`` must be a proper rotation matrix within
-    :data:`MATRIX_TOLERANCE`; ``(B, 3, 3)`` rows of them give ``(B, 4)``."""
+    [`MATRIX_TOLERANCE`][spacearm.rotations.MATRIX_TOLERANCE]; ``(B, 3, 3)`` rows of them give ``(B, 4)``."""
     return _core.quat_from_matrix(_rotation_matrix(r, batch=True))

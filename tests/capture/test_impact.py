@@ -169,6 +169,11 @@ def test_momentum_split_adds_up():
     np.testing.assert_allclose(split.base + split.arm, total, rtol=1e-9, atol=1e-10)
     assert np.linalg.norm(split.arm) > 1e-3 * np.linalg.norm(total)
     assert split.base_jump_singular_values.shape == (6,)
+    # B Λ is the base's jump H⁻¹ Jᵀ Λ (from the mass matrix, independently of the core's solve)
+    J = np.hstack(robot.point_jacobian(x))
+    np.testing.assert_allclose(split.base_jump_map @ lam, np.linalg.solve(robot.mass_matrix(x), J.T @ lam)[:6], rtol=1e-10, atol=1e-12)
+    # one type: the extension's class, read-only
+    assert type(split) is spacearm._core.MomentumSplit and not split.base.flags.writeable
 
 
 
@@ -194,14 +199,15 @@ def test_robot_jump_against_pinocchio_impulse_dynamics(index, kind):
     pin.updateFramePlacements(model, data)
     J = pin.getFrameJacobian(model, data, model.getFrameId(robot.end_effector), pin.LOCAL_WORLD_ALIGNED)
     if kind == "rigid":
-        res = grasp_impulse(robot, x, u, target, s)
+        # the target's CM 0.37 m from X: the lock acts at the robot's point X (no gap allowed for)
+        res = grasp_impulse(robot, x, u, target, s, capture_tolerance=np.inf)
         v_after = pin.impulseDynamics(model, data, q, v, J, 0.0, 0.0)
     else:
         j0, jm = robot.point_jacobian(x)
         vX = (j0 @ u[:6] + jm @ u[6:])[:3]
         n = -vX / np.linalg.norm(vX)  # the gripper moves into the contact
         e = 0.6
-        res = grasp_impulse(robot, x, u, target, s, kind="point", restitution=e, normal=n)
+        res = grasp_impulse(robot, x, u, target, s, kind="point", restitution=e, normal=n, capture_tolerance=np.inf)
         v_after = pin.impulseDynamics(model, data, q, v, (n @ J[:3])[None, :], e, 0.0)
     _, u_ref = interop.from_pinocchio_state(robot, q, np.asarray(v_after))
     du_ref = u_ref - u

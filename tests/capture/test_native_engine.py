@@ -16,7 +16,7 @@ from spacearm.capture import capture, detumble
 from capture_oracles import hold_torque
 from spacearm.rotations import quat_to_matrix
 
-MODELS = Path(__file__).resolve().parents[2] / "examples" / "models"
+MODELS = Path(spacearm.examples.path("spatial6")).parent  # the shipped model files
 
 
 def _euler_rhs(inertia):

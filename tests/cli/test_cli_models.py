@@ -1,7 +1,7 @@
 """Model options shared by every subcommand that takes MODEL, number lists, negative values.
 
 The real arm is the UR5 of ``example-robot-data`` (a test extra) mounted on the shipped
-``examples/models/spacecraft_bus.toml``. What the CLI prints is checked against the library
+the shipped ``spacecraft_bus`` (``spacearm.examples``). What the CLI prints is checked against the library
 API called directly (``load_urdf`` with the same options, ``generalized_jacobian`` at an
 explicitly constructed point), not against the CLI's own code path.
 """
@@ -25,7 +25,7 @@ from spacearm.io.urdf import load_urdf
 from robot_data import robot_urdf
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-BUS = os.path.join(ROOT, "examples", "models", "spacecraft_bus.toml")
+BUS = str(spacearm.examples.path("spacecraft_bus"))
 AT = (0.6, 0.0, 0.0, 0.0, 0.0, 0.0)
 Q = np.array([-0.4, -1.1, 1.3, -0.7, 0.5, 0.3])  # a generic UR5 configuration, negative first value
 
@@ -261,7 +261,7 @@ def test_bad_model_options_exit_2(ur5):
         (("inspect", "no_such_arm.urdf", "--prefix", "a_"), "'no_such_arm.urdf' is neither a preset"),
         (("inspect", ur5, "--end-effector", "nowhere"), "--end-effector must name a point or a body/link"),
         (("inspect", ur5, "--base-link", "nowhere"), "--base-link 'nowhere' is not a link of the URDF"),
-        (("inspect", ur5, "--mount-on", "examples/models/spatial6.toml"), "--prefix arm_"),  # UR5 link 'base' clashes
+        (("inspect", ur5, "--mount-on", str(spacearm.examples.path("spatial6"))), "--prefix arm_"),  # UR5 link 'base' clashes
         (("analyze", "planar4", "--singularities", "--joints", "1.5,2", "--out", "x.png"), "'1.5' is not an integer"),
         (("simulate", "planar4", "--q0", "-1,x,0,0"), "--q0 expects 4 comma-separated numbers"),
     ]

@@ -179,7 +179,7 @@ def test_attitude_control_from_the_wheeled_example_model_file(capsys):
     # base); their 2 N m limit saturates, which the summary reports, while the arm still tracks.
     from pathlib import Path
 
-    model = Path(__file__).resolve().parents[2] / "examples" / "models" / "spatial6_wheels.toml"
+    model = spacearm.examples.path("spatial6_wheels")
     robot = spacearm.io.load_toml(model)
     assert spacearm._core.default_wheel_dofs(robot.core_model) == [6, 7, 8]
     assert main(["simulate", str(model), "--controller", "attitude", "--duration", "2", "--dt", "0.002",

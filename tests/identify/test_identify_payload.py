@@ -135,3 +135,19 @@ def test_bad_input():
     flying = spacearm.simulate(combined, 0.2, dt=0.05, mode="flying")
     with pytest.raises(ArgumentError, match="conserves"):
         identify_payload(robot, flying, body="link6")
+
+
+def test_bad_inputs_are_spacearm_errors_not_numpy_or_builtin_ones():
+    """Complex arrays, a non-number rcond, a recording without motion and a NaN momentum (issue 26)."""
+    robot = spacearm.presets.planar4()
+    x = np.tile(robot.neutral_configuration(), (5, 1))
+    u = np.zeros((5, robot.nu))
+    body = robot.body_names[-1]
+    with pytest.raises(spacearm.SpacearmTypeError, match="real numbers"):
+        identify_payload(robot, x=x.astype(complex), u=u, body=body)
+    with pytest.raises(spacearm.ArgumentError, match="rcond must be a number"):
+        identify_payload(robot, x=x, u=u, body=body, rcond="small")
+    with pytest.raises(spacearm.SingularError, match="nothing to identify"):
+        identify_payload(robot, x=x, u=u, body=body)  # static: the regressor is zero
+    with pytest.raises(spacearm.NonFiniteError, match="momentum"):
+        identify_payload(robot, x=x, u=u, body=body, momentum=[np.nan] * 6)

@@ -21,7 +21,7 @@ from spacearm.io.model_file import dumps_toml, load_toml, loads_toml, save_toml
 from spacearm.rotations import quat_from_axis_angle
 
 ROOT = Path(__file__).resolve().parents[2]
-MODELS = ROOT / "examples" / "models"
+MODELS = Path(spacearm.examples.path("spatial6")).parent  # the shipped model files
 
 DEMO = """\
 [model]

@@ -22,7 +22,7 @@ from spacearm.io.urdf import loads_urdf
 
 from random_models import random_model
 
-MODELS = Path(__file__).resolve().parents[2] / "examples" / "models"
+MODELS = Path(spacearm.examples.path("spatial6")).parent  # the shipped model files
 TOML_FILES = sorted(MODELS.glob("*.toml"))
 PRESETS = ["planar4", "spatial6", "dual_arm", "spatial7"]
 

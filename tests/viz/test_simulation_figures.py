@@ -35,14 +35,16 @@ def test_plot_writes_png_with_the_run_in_its_panels(tmp_path):
     for j, line in enumerate(solid):
         np.testing.assert_array_equal(line.get_ydata(), tr.q[:, j])
         np.testing.assert_array_equal(dashed[j].get_ydata(), data["reference"][:, j])
-    # The attitude panel shows degrees of the unwrapped roll-pitch-yaw.
-    att = axes["base attitude"].get_lines()
+    # The attitude panel shows degrees of the unwrapped roll-pitch-yaw, its sequence named.
+    att = axes["base attitude, Z-Y-X Euler angles (R0 = Rz(yaw) Ry(pitch) Rx(roll))"].get_lines()
     np.testing.assert_allclose(att[2].get_ydata(), np.degrees(tr.base_euler[:, 2]))
-    # Conservation: relative change of P from sample 1 on.
-    cons = axes["momentum: relative change from the initial value"]
-    p_line = [l for l in cons.get_lines() if l.get_label() == "P (conserved)"][0]
-    rel = np.linalg.norm(data["P"] - data["P"][0], axis=1) / max(np.linalg.norm(data["P"][0]), tr.drift_scale("P"))
-    np.testing.assert_allclose(p_line.get_ydata(), np.maximum(rel[1:], 1e-17))
+    # Conservation: the change of P in N s from sample 1 on, the unit on the axis and the label.
+    cons = axes["momentum: change from the initial value"]
+    p_line = [l for l in cons.get_lines() if l.get_label() == "P [N s] (conserved)"][0]
+    change = np.linalg.norm(data["P"] - data["P"][0], axis=1)
+    np.testing.assert_allclose(p_line.get_ydata(), np.maximum(change[1:], 1e-17))
+    assert cons.get_ylabel() == "|v(t) − v(0)| [N s (P), N m s (L)]"
+    assert "scale" not in cons.get_ylabel()
     assert "tracking error (joint)" in axes
     assert not any("wheel" in t for t in axes)  # no wheels recorded
     assert not any("base wrench" in t for t in axes)  # zero wrench

@@ -58,6 +58,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("INTEGRATORS", IntegratorKind::NAMES.to_vec())?;
     m.add("QUATERNION_TOLERANCE", spacearm_core::math::rotations::QUATERNION_TOLERANCE)?;
     m.add("MEMORY_LIMIT_BYTES", spacearm_core::admission::MEMORY_LIMIT_BYTES)?;
+    m.add("GOAL_TOLERANCE", spacearm_core::control::GOAL_TOLERANCE)?;
+    m.add("MAX_HANDLE_RATIO", spacearm_core::algorithms::impulse::MAX_HANDLE_RATIO)?;
     crate::rule_tables_py::add_tables(m)?;
     m.add_function(wrap_pyfunction!(quintic_scaling, m)?)?;
     m.add_function(wrap_pyfunction!(body_mass_properties_error, m)?)?;

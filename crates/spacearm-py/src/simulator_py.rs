@@ -3,6 +3,7 @@
 //! torque and base wrench held over each call. Wrapped by `spacearm.Simulator`.
 
 use std::sync::Mutex;
+use std::time::{Duration, Instant};
 
 use nalgebra::Vector6;
 use numpy::PyArray1;
@@ -18,6 +19,22 @@ use crate::model_py::PyModel;
 use crate::controller_spec_py::{build_controller, error_slot, take_error, ErrorSlot};
 use crate::records_py::PyRunResult;
 use crate::sim_options_py::PyRunOptions;
+
+/// How often a long `step(n)` takes the GIL back to check for Ctrl-C.
+const SIGNAL_CHECK_INTERVAL: Duration = Duration::from_millis(100);
+
+/// `n` of `step`: a Python int (not a bool) >= 1, else a `SpacearmTypeError` or `ArgumentError`.
+fn step_count(py: Python<'_>, n: &Bound<'_, PyAny>) -> PyResult<usize> {
+    use pyo3::types::{PyBool, PyInt};
+    if n.is_instance_of::<PyBool>() || !(n.is_instance_of::<PyInt>() || n.hasattr("__index__")?) {
+        return Err(type_error(py, format!("n must be an int >= 1 (a number of steps), got {}", n.get_type().name()?)));
+    }
+    let value: i128 = n.call_method0("__index__")?.extract().map_err(|_| to_py_err(py, bad("n must be an int >= 1, got one too large".into())))?;
+    if value < 1 {
+        return Err(to_py_err(py, bad(format!("n must be >= 1 (a number of steps), got {value}"))));
+    }
+    usize::try_from(value).map_err(|_| to_py_err(py, bad(format!("n must be at most {} (a number of steps), got {value}", usize::MAX))))
+}
 
 /// The state of a simulator between calls.
 #[pyclass(module = "spacearm._core", name = "Simulator")]
@@ -89,10 +106,15 @@ impl PySimulator {
         Ok(())
     }
 
-    /// Advance `n` steps of `dt`, adding `tau` (N) and `base_wrench` (6) to the controller's
-    /// command throughout (None: nothing added). Steps land on `t = i·dt`.
-    #[pyo3(signature = (tau=None, n=1, base_wrench=None))]
-    fn step(&mut self, py: Python<'_>, tau: Option<&Bound<'_, PyAny>>, n: usize, base_wrench: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+    /// Advance `n` steps of `dt` (an int >= 1; None: one), adding `tau` (N) and `base_wrench` (6) to the
+    /// controller's command throughout (None: nothing added). Steps land on `t = i·dt`. The
+    /// records the steps would add are admitted first; Ctrl-C stops a long call within 0.1 s.
+    #[pyo3(signature = (tau=None, n=None, base_wrench=None))]
+    fn step(&mut self, py: Python<'_>, tau: Option<&Bound<'_, PyAny>>, n: Option<&Bound<'_, PyAny>>, base_wrench: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let n = match n {
+            Some(n) => step_count(py, n)?,
+            None => 1,
+        };
         let n_dof = self.model.n_dof();
         let held = match (tau, base_wrench) {
             (None, None) => None,
@@ -119,20 +141,35 @@ impl PySimulator {
         let dt = self.opts.dt;
         let tau = &self.tau;
         let stepper = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?.as_mut().ok_or_else(|| Self::not_reset(py))?;
+        stepper.admit_steps(n).or_raise(py)?;
         stepper.plant_mut().set_held_input(held.map(|w| (tau.as_slice(), w)));
+        let mut interrupted: Option<PyErr> = None;
         let result = if n == 1 {
             // One step is a few microseconds: releasing the GIL would cost a noticeable part of it.
             let t_next = (stepper.n_steps() + 1) as f64 * dt;
             stepper.step_to(t_next)
         } else {
             py.detach(|| {
+                let mut last_check = Instant::now();
                 for _ in 0..n {
                     let t_next = (stepper.n_steps() + 1) as f64 * dt;
                     stepper.step_to(t_next)?;
+                    // Ctrl-C: the GIL taken back every 0.1 s of wall time to check the signals;
+                    // the steps taken so far stay taken (the simulator can go on).
+                    if last_check.elapsed() >= SIGNAL_CHECK_INTERVAL {
+                        last_check = Instant::now();
+                        if let Err(e) = Python::attach(|py| py.check_signals()) {
+                            interrupted = Some(e);
+                            return Err(SpacearmError::Simulation("interrupted".into()));
+                        }
+                    }
                 }
                 Ok(())
             })
         };
+        if let Some(e) = interrupted {
+            return Err(e);
+        }
         result.map_err(|e| take_error(&self.slot).unwrap_or_else(|| to_py_err(py, e)))
     }
 

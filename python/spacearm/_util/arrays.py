@@ -1,6 +1,6 @@
 """Argument conversion at the Python boundary: anything array-like in, contiguous float64 out,
 with errors that name the argument. A quaternion argument also accepts a
-``scipy.spatial.transform.Rotation`` (see :func:`quaternion`)."""
+``scipy.spatial.transform.Rotation`` (see ``quaternion``)."""
 
 from __future__ import annotations
 
@@ -17,8 +17,8 @@ REAL_KINDS = "biuf"
 
 def real_array(value, name: str) -> np.ndarray:
     """``value`` as a contiguous float64 array of any shape, refusing anything that is not real
-    numbers: a :class:`SpacearmTypeError` naming ``name`` and the dtype (complex, object,
-    datetime, string...), a :class:`ShapeError` for a ragged sequence."""
+    numbers: a [`SpacearmTypeError`][spacearm.SpacearmTypeError] naming ``name`` and the dtype (complex, object,
+    datetime, string...), a [`ShapeError`][spacearm.ShapeError] for a ragged sequence."""
     try:
         arr = np.asarray(value)
     except (TypeError, ValueError) as exc:
@@ -30,7 +30,7 @@ def real_array(value, name: str) -> np.ndarray:
 
 
 def vector(value, name: str, length: int | None = None) -> np.ndarray:
-    """Convert ``value`` to a contiguous 1-D float64 array (see :func:`real_array`), checking
+    """Convert ``value`` to a contiguous 1-D float64 array (see ``real_array``), checking
     its length if given."""
     arr = real_array(value, name)
     if arr.ndim != 1:
@@ -50,7 +50,7 @@ def rows(value, name: str, width: int) -> np.ndarray:
 
 
 def finite(arr: np.ndarray, name: str) -> np.ndarray:
-    """``arr`` itself if every entry is finite, else a :class:`NonFiniteError` naming ``name``
+    """``arr`` itself if every entry is finite, else a [`NonFiniteError`][spacearm.NonFiniteError] naming ``name``
     and the first non-finite entry."""
     if not np.all(np.isfinite(arr)):
         index = int(np.flatnonzero(~np.isfinite(arr.ravel()))[0])
@@ -60,8 +60,8 @@ def finite(arr: np.ndarray, name: str) -> np.ndarray:
 
 def number(value, name: str) -> float:
     """A scalar argument as a float (range checks are the caller's): a string that is not a
-    number is an :class:`ArgumentError`, an object of another kind (``None``, a list) a
-    :class:`SpacearmTypeError` (the builtin bases of the errors ``float()`` itself raises)."""
+    number is an [`ArgumentError`][spacearm.ArgumentError], an object of another kind (``None``, a list) a
+    [`SpacearmTypeError`][spacearm.SpacearmTypeError] (the builtin bases of the errors ``float()`` itself raises)."""
     try:
         return float(value)
     except ValueError:
@@ -72,8 +72,8 @@ def number(value, name: str) -> float:
 
 def integer(value, name: str) -> int:
     """An integer argument (a count, a resolution, an index): an ``int``, a numpy integer or a
-    float with an integral value; anything else is an :class:`ArgumentError` (a value such as
-    ``2.5`` or ``"x"``) or a :class:`SpacearmTypeError` (``None``, a list)."""
+    float with an integral value; anything else is an [`ArgumentError`][spacearm.ArgumentError] (a value such as
+    ``2.5`` or ``"x"``) or a [`SpacearmTypeError`][spacearm.SpacearmTypeError] (``None``, a list)."""
     if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
         return int(value)
     as_float = number(value, name)
@@ -111,7 +111,7 @@ def quaternion(value, name: str) -> np.ndarray:
     ``value`` may be any 4-element array-like or a ``scipy.spatial.transform.Rotation`` holding
     one rotation: its ``as_quat()`` is scalar last by default (``scalar_first=False`` since
     scipy 1.14, the only order before), the same convention as spacearm's. A Rotation holding
-    several rotations raises :class:`~spacearm.errors.ShapeError`.
+    several rotations raises [`ShapeError`][spacearm.ShapeError].
     """
     if _is_scipy_rotation(value):
         quat = np.asarray(value.as_quat(), dtype=np.float64)

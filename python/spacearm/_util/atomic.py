@@ -1,6 +1,6 @@
 """The one atomic writer: every file spacearm writes (``.toml``, ``.urdf``, ``.npz``, ``.csv``,
-figures, animations, generated code, campaign results) goes through :func:`atomic_open` or
-:func:`atomic_path`.
+figures, animations, generated code, campaign results) goes through ``atomic_open`` or
+``atomic_path``.
 
 The data goes to a hidden temporary file beside the target, ``.<name>.<pid>.<random><suffix>``,
 is flushed to disk, and is then renamed over the target in one step. An interrupted run (Ctrl-C,

@@ -3,7 +3,7 @@
 A campaign's worker process must not outlive its parent: when the parent is killed (SIGKILL
 included, which runs no clean-up), orphaned workers would go on computing samples nobody
 collects, and they hold the parent's stdout and stderr open, so a shell pipeline around the CLI
-never ends. :func:`die_with_parent`, run first in every worker (the process pool's
+never ends. ``die_with_parent``, run first in every worker (the process pool's
 ``initializer``), arms two mechanisms:
 
 - **Linux**: ``prctl(PR_SET_PDEATHSIG, SIGKILL)``: the kernel kills the worker the moment its

@@ -1,6 +1,6 @@
 """Reading ``.npz`` files written by spacearm (trajectories, campaign results) with one rule for
 damaged files: a truncated or corrupt archive (an interrupted copy, a full disk at the time of an
-older version's write) raises :class:`~spacearm.errors.ArgumentError` naming the file and what is
+older version's write) raises [`ArgumentError`][spacearm.ArgumentError] naming the file and what is
 wrong with it, instead of ``zipfile.BadZipFile``, ``EOFError`` or ``zlib.error`` from deep inside
 numpy. Errors of the file system (a missing file, no permission) stay the ``OSError`` Python
 raises.

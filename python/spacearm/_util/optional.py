@@ -3,9 +3,9 @@
 The plain install (``pip install spacearm``) holds the numerical core and the CLI: numpy,
 defusedxml and tqdm. Figures need matplotlib (extra ``plot``), closed-form derivation needs
 SymPy (extra ``symbolic``), and cluster campaigns need Dask (extra ``campaign``); ``all`` holds
-every extra. Each optional package is imported through :func:`require`, never at module level,
+every extra. Each optional package is imported through ``require``, never at module level,
 so ``import spacearm`` and every ``spacearm`` command start without them, and a missing one
-gives a :class:`~spacearm.errors.MissingDependencyError` that names the extra to install (the
+gives a [`MissingDependencyError`][spacearm.MissingDependencyError] that names the extra to install (the
 CLI prints it as one line and exits with status 2).
 """
 

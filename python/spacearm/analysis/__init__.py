@@ -1,14 +1,14 @@
 """Analysis of free-floating spacecraft-manipulator systems, on top of the Rust core's
 ``analysis`` module:
 
-- :mod:`~spacearm.analysis.singularities` — dynamic singularities of ``J*`` vs kinematic ones of
+- ``singularities`` — dynamic singularities of ``J*`` vs kinematic ones of
   ``J_m``, the DLS singularity detector, ``σ_min`` maps (``docs/singularities.md``);
-- :mod:`~spacearm.analysis.workspace` — reachable, path-dependent and path-independent
+- ``workspaces`` — reachable, path-dependent and path-independent
   workspaces, fixed-base workspace (``docs/workspace.md``);
-- :mod:`~spacearm.analysis.reactionless` — reaction null space, reactionless and
+- ``reactionless`` — reaction null space, reactionless and
   minimum-disturbance motion, RMRC with null-space objectives (``docs/reactionless.md``,
   ``docs/redundancy.md``);
-- :mod:`~spacearm.analysis.free_floating` — base motion under prescribed joint motion with
+- ``free_floating`` — base motion under prescribed joint motion with
   conserved momentum.
 
 Result objects have a ``.plot(path)`` method (needs matplotlib) that writes the figure atomically.
@@ -17,7 +17,7 @@ Result objects have a ``.plot(path)`` method (needs matplotlib) that writes the 
 from .free_floating import attitude_change, integrate_prescribed
 from .reactionless import STRATEGIES, Motion, ReactionNullSpace, move_to, reaction_null_space, rmrc_rates
 from .singularities import Detection, JacobianMeasures, SingularityMap, SingularityReport, analyze, damping, detect, scan, singularity_map
-from .workspace import Workspace, workspace
+from .workspaces import Workspace, workspace
 from ._common import TASKS, task_rows
 
 __all__ = [

@@ -2,8 +2,8 @@
 1999), and the resolved-motion-rate planner shared with redundancy resolution
 (``docs/reactionless.md``, ``docs/redundancy.md``).
 
-:class:`ReactionNullSpace` and the rates of :func:`rmrc_rates` (``RmrcRates``) are the
-extension's own frozen classes; :class:`Motion` is a subclass of the extension's ``RmrcMotion``
+[`ReactionNullSpace`][spacearm.analysis.ReactionNullSpace] and the rates of [`rmrc_rates`][spacearm.analysis.rmrc_rates] (``RmrcRates``) are the
+extension's own frozen classes; [`Motion`][spacearm.analysis.Motion] is a subclass of the extension's ``RmrcMotion``
 that adds the figure only (constructing it runs the motion in the core).
 """
 
@@ -45,7 +45,7 @@ def rmrc_rates(robot, x, desired_twist, point=None, task: TaskLike = None, strat
                max_damping: float = _core.DLS_DEFAULTS.max_damping, manipulability_gain: float = 0.0, joint_limit_gain: float = 0.0) -> _core.RmrcRates:
     """One evaluation of the resolved-motion-rate law: joint rates realising the task rows of
     ``desired_twist`` (6 values ``[v; w]`` in 𝒥) through ``J*`` (DLS with the damping law of
-    :func:`spacearm.analysis.damping`), with the null-space objectives. Returns the extension's
+    [`spacearm.analysis.damping`][spacearm.analysis.damping]), with the null-space objectives. Returns the extension's
     frozen ``RmrcRates``: ``qd``, ``sigma_min``, ``damping`` and ``base_angular_velocity``."""
     body, off = robot.resolve_point(point)
     options = _core.RmrcOptions(rows=task_rows(robot, task), threshold=number(threshold, "threshold"),
@@ -57,7 +57,7 @@ def rmrc_rates(robot, x, desired_twist, point=None, task: TaskLike = None, strat
 
 class Motion(_core.RmrcMotion):
     """A closed-loop point-to-point motion of a free-floating system (zero momentum), what
-    :func:`move_to` returns: the extension's ``RmrcMotion`` (``robot_name``, ``strategy``,
+    [`move_to`][spacearm.analysis.move_to] returns: the extension's ``RmrcMotion`` (``robot_name``, ``strategy``,
     ``target``, ``times`` (K+1,), ``x`` (K+1, 7+N), ``qd`` (K+1, N), ``point_position`` (K+1, 3)
     in 𝒥, ``sigma_min`` and ``damping`` of the (projected) task Jacobian, ``attitude_change``
     (rad from the start), ``max_attitude_change``, ``final_position_error`` (m)) with its figure."""
@@ -65,14 +65,14 @@ class Motion(_core.RmrcMotion):
     __slots__ = ()
 
     def plot(self, path, others=(), title: Optional[str] = None) -> str:
-        """Write :meth:`figure` to ``path`` in the format its suffix names (atomically); returns the path."""
+        """Write [`figure`][spacearm.analysis.Motion.figure] to ``path`` in the format its suffix names (atomically); returns the path."""
         from ..viz.figures import plot_to
 
         return plot_to(path, lambda: self.figure(others, title), bbox_inches="tight")
 
     def figure(self, others=(), title: Optional[str] = None):
         """Point path (x–y), base attitude change and σ_min against time, for this motion and
-        any ``others`` (:func:`spacearm.viz.analysis.motion_figure`). Returns the matplotlib ``Figure``."""
+        any ``others`` (``spacearm.viz.analysis.motion_figure``). Returns the matplotlib ``Figure``."""
         from ..viz.analysis import motion_figure
 
         return motion_figure(self, others, title)

@@ -2,7 +2,7 @@
 rank loss of the Generalized Jacobian ``J*`` (paper eq. 110), compared with the fixed-base
 Jacobian ``J_m`` (eq. 106). Theory and the damping law: ``docs/singularities.md``.
 
-:class:`SingularityReport`, :class:`JacobianMeasures` and :class:`Detection` are the extension's
+[`SingularityReport`][spacearm.analysis.SingularityReport], [`JacobianMeasures`][spacearm.analysis.JacobianMeasures] and [`Detection`][spacearm.analysis.Detection] are the extension's
 own frozen classes (``crates/spacearm-py/src/analysis_results_py.rs``), returned as they are.
 """
 
@@ -16,9 +16,10 @@ import numpy as np
 from .. import _core
 from .._core import Detection, JacobianMeasures, SingularityReport
 from .._util.arrays import integer, number
+from .._util.summary import summary_repr
 from ._common import TaskLike, chunked, concat_columns, dof_kinds, samples_2d, task_rows
 
-#: The keys of :func:`scan`'s dict: the columns of the extension's ``ScanResult``.
+#: The keys of [`scan`][spacearm.analysis.scan]'s dict: the columns of the extension's ``ScanResult``.
 SCAN_COLUMNS = ("sigma_min_generalized", "sigma_max_generalized", "manipulability_generalized", "det_generalized",
                 "sigma_min_fixed", "manipulability_fixed", "det_fixed", "point_from_base", "point_from_com")
 
@@ -60,7 +61,7 @@ def scan(robot, samples, point=None, task: TaskLike = None, progress: bool = Fal
     return concat_columns(parts, SCAN_COLUMNS)
 
 
-@dataclass
+@dataclass(repr=False)
 class SingularityMap:
     """``σ_min`` of ``J*`` and ``J_m`` on a grid over two joints (the others fixed)."""
 
@@ -78,19 +79,21 @@ class SingularityMap:
     samples_per_second: float
     joint_kinds: tuple = ()  #: "revolute" or "prismatic" for each dof (axis units of the figure)
 
+    __repr__ = summary_repr
+
     def singular_mask(self, relative: float = 0.02) -> np.ndarray:
         """Grid cells with ``σ_min(J*) < relative · max σ_min(J*)`` over the map."""
         return self.sigma_min_generalized < relative * np.nanmax(self.sigma_min_generalized)
 
     def plot(self, path, title: Optional[str] = None) -> str:
-        """Write :meth:`figure` to ``path`` in the format its suffix names (atomically); returns the path."""
+        """Write [`figure`][spacearm.analysis.SingularityMap.figure] to ``path`` in the format its suffix names (atomically); returns the path."""
         from ..viz.figures import plot_to
 
         return plot_to(path, lambda: self.figure(title), bbox_inches="tight")
 
     def figure(self, title: Optional[str] = None):
         """Two maps side by side (``J*`` and ``J_m``) with the singular locus
-        (:func:`spacearm.viz.analysis.singularity_map_figure`). Returns the matplotlib ``Figure``."""
+        (``spacearm.viz.analysis.singularity_map_figure``). Returns the matplotlib ``Figure``."""
         from ..viz.analysis import singularity_map_figure
 
         return singularity_map_figure(self, title)

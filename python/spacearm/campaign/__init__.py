@@ -1,8 +1,8 @@
 """Inertia-uncertainty campaigns: how much does an inertia error cost?
 
-A Monte Carlo study: every sample flies the same manoeuvre (:class:`Scenario`) on a plant whose
+A Monte Carlo study: every sample flies the same manoeuvre ([`Scenario`][spacearm.campaign.Scenario]) on a plant whose
 base mass and inertia, link masses, sloshed propellant and payload differ from the nominal model
-the controller uses (:class:`Perturbations`), and records tracking error, base attitude
+the controller uses ([`Perturbations`][spacearm.campaign.Perturbations]), and records tracking error, base attitude
 excursion and actuator saturation. Samples run in parallel as batches of native rollouts on
 threads (or on worker processes, or on a Dask cluster given its scheduler address); results go to one ``.npz`` file written atomically, which
 is also the checkpoint a rerun resumes from. Failed samples are recorded, not fatal.

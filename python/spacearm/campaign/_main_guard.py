@@ -3,16 +3,16 @@ campaign (the default thread back end starts no process and needs no guard).
 
 Worker processes are started with the ``spawn`` start method: each is a fresh interpreter that
 re-runs the parent's main script (as module ``__mp_main__``) to find the code it is sent. A script
-that calls :func:`~spacearm.campaign.run_campaign` at its top level, not under
+that calls [`run_campaign`][spacearm.campaign.run_campaign] at its top level, not under
 ``if __name__ == "__main__":``, therefore calls it again inside every worker while the worker is
 still starting; Python refuses to start processes from there, the worker dies, and without a
 check every sample would come back as a broken pool.
 
 Two checks, so the user gets one clear error before any sample runs:
 
-- in the parent, :func:`check_caller_is_guarded` reads the main script and tells whether the
+- in the parent, ``check_caller_is_guarded`` reads the main script and tells whether the
   line that is running lies under a ``__name__ == "__main__"`` test;
-- in a worker that is re-running the script, :func:`stop_if_reimported_by_a_worker` ends the
+- in a worker that is re-running the script, ``stop_if_reimported_by_a_worker`` ends the
   worker quietly (the parent then reports the broken pool with the same advice), rather than
   printing one traceback per worker.
 """
@@ -39,7 +39,7 @@ GUARD_ADVICE = (
 def _script_a_worker_reruns() -> Optional[Path]:
     """The main script a ``spawn`` worker re-runs, or None when it re-runs nothing.
 
-    Mirrors :func:`multiprocessing.spawn.get_preparation_data`: a module run with ``-m`` is
+    Mirrors ``multiprocessing.spawn.get_preparation_data``: a module run with ``-m`` is
     re-imported by name unless it is a package's ``__main__``; a script run by path is re-run
     from that path; an interactive session, ``python -c`` or a notebook has no file to re-run.
     """
@@ -83,7 +83,7 @@ def line_is_guarded(source: str, line: int) -> bool:
 
 
 def check_caller_is_guarded() -> None:
-    """Raise :class:`~spacearm.errors.CampaignError` when the main script that a worker would
+    """Raise [`CampaignError`][spacearm.CampaignError] when the main script that a worker would
     re-run is, at this moment, executing top-level code outside a main guard. Inconclusive cases
     (no script, source not readable) pass; the broken-pool check in the executor covers them."""
     script = _script_a_worker_reruns()

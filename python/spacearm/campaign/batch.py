@@ -4,19 +4,19 @@ process-pool task, a Dask task), flown as native rollouts.
 A batch goes through three stages, which the thread back end runs on three threads so that the
 cores never wait for Python:
 
-1. :func:`prepare` (Python): each sample's plant (:func:`~.scenario.plant`), built on the nominal
+1. ``prepare`` (Python): each sample's plant (``plant``), built on the nominal
    model the spec carries; a plant that cannot be built is that sample's failure;
-2. :func:`fly` (native, GIL released): :func:`spacearm.rollout` of every plant under the one
+2. ``fly`` (native, GIL released): [`spacearm.rollout`][spacearm.rollout] of every plant under the one
    nominal-model controller, on ``threads`` threads, every step recorded;
-3. :func:`outcomes` (numpy): the metrics of every run from its records
-   (:func:`~.scenario.metrics_from_records`), a failed rollout recorded with its reason.
+3. ``outcomes`` (numpy): the metrics of every run from its records
+   (``metrics_from_records``), a failed rollout recorded with its reason.
 
-Each rollout is bit-identical to :func:`spacearm.simulate` of the same plant, and the metrics
+Each rollout is bit-identical to [`spacearm.simulate`][spacearm.simulate] of the same plant, and the metrics
 are computed with the same operations for one run or many, so a batched sample equals the
-per-sample reference (:func:`~.worker.run_sample`) bit for bit, whatever the batch and the
+per-sample reference (``run_sample``) bit for bit, whatever the batch and the
 thread count.
 
-:func:`run_batch` never raises for a failure of a sample itself: each comes back as an outcome
+``run_batch`` never raises for a failure of a sample itself: each comes back as an outcome
 with its message. An exception that escapes it is therefore not the samples' doing, and the back
 ends leave the whole batch pending.
 """

@@ -1,16 +1,16 @@
 """The Dask back end: a batch of samples per task, and a watchdog for a cluster with no workers.
 
-Each task runs :func:`~.batch.run_batch` on one batch (one thread per task: Dask runs as many
+Each task runs ``run_batch`` on one batch (one thread per task: Dask runs as many
 tasks at once as its workers have threads). Outcomes are yielded as tasks finish, in any order.
 
 Failures outside the samples leave them pending (a rerun runs them), never failed:
 
 - a task Dask gives up on (its worker died ``allowed-failures`` times, a lost scheduler, which
-  cancels every task of the client, a restart) yields its samples as :class:`~.worker.LostSample`;
+  cancels every task of the client, a restart) yields its samples as ``LostSample``;
 - the **watchdog**: a cluster with no live worker (or a client that has lost its scheduler) for
   ``worker_timeout`` seconds would wait forever; the campaign instead cancels what is left and
-  yields it as lost, so :func:`~spacearm.campaign.run_campaign` saves what ran and raises one
-  :class:`~spacearm.errors.CampaignError` that says so.
+  yields it as lost, so [`run_campaign`][spacearm.campaign.run_campaign] saves what ran and raises one
+  [`CampaignError`][spacearm.CampaignError] that says so.
 
 The watchdog reads the worker count the client keeps up to date (``Client.scheduler_info()``,
 refreshed every couple of seconds) and the client's connection status, so it costs no call to the
@@ -144,7 +144,7 @@ class _NoWorker(Exception):
 def _result(future, watchdog: _Watchdog):
     """The result of a finished task, fetched without waiting forever: a result held by a worker
     that has since left is recomputed when a worker comes back, and until then the fetch waits
-    under the watchdog (:class:`_NoWorker` when it expires)."""
+    under the watchdog (``_NoWorker`` when it expires)."""
     while True:
         try:
             return future.result(timeout=_FETCH_SECONDS)

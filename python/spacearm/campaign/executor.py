@@ -1,9 +1,9 @@
 """Running a campaign: native threads by default, worker processes or a Dask cluster on request.
 
 Samples are independent. The calling thread draws every pending sample's parameters
-(:meth:`Perturbations.draw`), hands them to a back end in batches, and records the outcomes as
+([`Perturbations.draw`][spacearm.campaign.Perturbations.draw]), hands them to a back end in batches, and records the outcomes as
 they come back (in any order; each is stored at its index, so the file does not depend on
-scheduling). It keeps the :class:`~.results.CampaignResult`, writes it atomically every
+scheduling). It keeps the [`CampaignResult`][spacearm.campaign.CampaignResult], writes it atomically every
 ``checkpoint_seconds`` while the back end goes on computing, at the end, and on Ctrl-C or any
 other exception; and it shows a progress bar.
 
@@ -20,7 +20,7 @@ invalid plant, a singular matrix, a diverged state) as an outcome, which is reco
 Anything a back end reports instead — a broken process pool, a worker or scheduler lost, a
 cluster with no workers for ``worker_timeout`` — is a failure of the infrastructure: those
 samples are left pending (a rerun runs them), and once the outcomes that did arrive are recorded
-and saved, the campaign raises one :class:`~spacearm.errors.CampaignError` saying how many
+and saved, the campaign raises one [`CampaignError`][spacearm.CampaignError] saying how many
 samples did not run and why.
 """
 
@@ -41,7 +41,7 @@ from .worker import LostSample
 
 __all__ = ["run_campaign", "CampaignSpec", "BACKENDS"]
 
-#: The back ends :func:`run_campaign` accepts (``"in-process"`` is ``workers=0``).
+#: The back ends [`run_campaign`][spacearm.campaign.run_campaign] accepts (``"in-process"`` is ``workers=0``).
 BACKENDS = ("threads", "processes", "dask", "in-process")
 
 
@@ -139,8 +139,8 @@ def run_campaign(
 ) -> CampaignResult:
     """Run a Monte Carlo inertia-uncertainty campaign.
 
-    ``robot_or_spec``: the nominal :class:`~spacearm.Robot` (then ``samples`` is required) or a
-    :class:`CampaignSpec`. Each sample flies :class:`Scenario` on a plant whose inertia is
+    ``robot_or_spec``: the nominal [`Robot`][spacearm.Robot] (then ``samples`` is required) or a
+    [`CampaignSpec`][spacearm.campaign.CampaignSpec]. Each sample flies [`Scenario`][spacearm.campaign.Scenario] on a plant whose inertia is
     perturbed as drawn from ``perturbations``, with the controller built on the nominal model.
 
     Where the samples run: ``workers`` native threads (default ``os.cpu_count()``); ``workers=0``
@@ -152,10 +152,10 @@ def run_campaign(
 
     With ``out`` (.npz) the result is written atomically every ``checkpoint_seconds`` and at the
     end; if ``out`` already holds this campaign and ``resume``, only its missing samples run
-    (failed ones too if ``retry_failed``). Returns the :class:`CampaignResult`.
+    (failed ones too if ``retry_failed``). Returns the [`CampaignResult`][spacearm.campaign.CampaignResult].
 
     Samples the back end loses (a broken pool, a lost worker or scheduler, the watchdog) stay
-    pending and the call raises :class:`~spacearm.errors.CampaignError` after saving what ran;
+    pending and the call raises [`CampaignError`][spacearm.CampaignError] after saving what ran;
     with worker processes, call it under ``if __name__ == "__main__":`` in a script (checked
     first).
     """

@@ -3,19 +3,19 @@
 **Threads** (``backend="threads"``): the pending samples are cut into batches, and each batch
 goes through the three stages of ``batch.py`` on three threads at once: a *preparer* thread
 builds the plants of the next batch while a *driver* thread flies the current one
-(:func:`spacearm.rollout` on ``threads`` native threads, the GIL released), and the calling
+([`spacearm.rollout`][spacearm.rollout] on ``threads`` native threads, the GIL released), and the calling
 thread turns the batch before into metrics, records them, draws the progress bar and writes
 checkpoints. So the native threads go from one batch to the next without waiting for Python or
 for a file to be written. No process is started: nothing can outlive the campaign.
 
-**In this process** (``workers=0``): :func:`~.worker.run_sample` sample by sample in the calling
-thread, with :func:`spacearm.simulate`: the reference path (debugging, profiling) the other back
+**In this process** (``workers=0``): ``run_sample`` sample by sample in the calling
+thread, with [`spacearm.simulate`][spacearm.simulate]: the reference path (debugging, profiling) the other back
 ends agree with bit for bit.
 
-**Processes** (``backend="processes"``): a :class:`~concurrent.futures.ProcessPoolExecutor`
+**Processes** (``backend="processes"``): a ``ProcessPoolExecutor``
 with the ``spawn`` start method, one batch per task, for isolation: a sample that takes its
 process down (an abort in native code) loses one batch, not the campaign. Every worker runs
-:func:`spacearm._util.lifeline.die_with_parent` first, so workers end within a second of their
+``spacearm._util.lifeline.die_with_parent`` first, so workers end within a second of their
 parent's death, SIGKILL included. The pool is created and fed from the calling thread, which
 lives as long as the pool (the kernel's parent-death signal is tied to the thread that started a
 worker).

@@ -2,8 +2,8 @@
 
 A mission's controller is built on a *nominal* model; the spacecraft actually flying differs from
 it by the propellant used, fuel that has sloshed to one side of its tank, a payload of uncertain
-mass, and plain measurement error. :class:`Perturbations` describes those errors as distributions;
-:meth:`Perturbations.draw` turns a sample index into one concrete set of parameters, reproducibly
+mass, and plain measurement error. [`Perturbations`][spacearm.campaign.Perturbations] describes those errors as distributions;
+[`Perturbations.draw`][spacearm.campaign.Perturbations.draw] turns a sample index into one concrete set of parameters, reproducibly
 and independently of how many workers run the campaign (each sample has its own random stream,
 ``numpy.random.SeedSequence(seed, spawn_key=(index,))``).
 

@@ -1,5 +1,5 @@
 """What a campaign's report reads off its samples: the rank correlation of a metric with each
-perturbed parameter, and the axis labels (the figure itself is :mod:`spacearm.viz.campaign`)."""
+perturbed parameter, and the axis labels (the figure itself is ``spacearm.viz.campaign``)."""
 
 from __future__ import annotations
 
@@ -47,7 +47,7 @@ class ReportRow(NamedTuple):
 def report_rows(result, metrics: Optional[Sequence[str]] = None) -> list:
     """The rows of a campaign's report: for each metric (default: those that vary, and
     ``tracking_error_max`` always) its samples and the parameter it correlates with most
-    (Spearman's ρ). Drawn by :func:`spacearm.viz.campaign.campaign_figure`."""
+    (Spearman's ρ). Drawn by ``spacearm.viz.campaign.campaign_figure``."""
     # Before any reduction over the samples: with none that ran, every array below is empty.
     if result.n_ok == 0:
         raise CampaignError(f"no sample of this campaign ran successfully ({result.n_failed} failed, "

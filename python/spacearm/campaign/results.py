@@ -14,7 +14,7 @@ File layout (``numpy.load(path)`` reads it without spacearm):
 ``run_json``          how it ran: backend, workers, elapsed seconds, samples per second
 ====================  =====================================================================
 
-A partly run file is a checkpoint: :func:`spacearm.campaign.run_campaign` with the same
+A partly run file is a checkpoint: [`spacearm.campaign.run_campaign`][spacearm.campaign.run_campaign] with the same
 ``out`` runs only the samples whose status is 0 (or failed, with ``retry_failed``). Status 2 is
 for samples that failed for their own reasons; a sample the back end lost (a broken pool, a lost
 worker) is never recorded, so it stays 0 and a rerun runs it.
@@ -34,11 +34,16 @@ from ..errors import ArgumentError, NotFoundError
 
 __all__ = ["CampaignResult", "PENDING", "OK", "FAILED"]
 
-PENDING, OK, FAILED = 0, 1, 2
+#: The status of a sample not run yet ([`CampaignResult`][spacearm.campaign.CampaignResult]'s ``status``).
+PENDING = 0
+#: The status of a sample that ran.
+OK = 1
+#: The status of a sample that failed (its message is kept).
+FAILED = 2
 
 # Earlier versions recorded a sample lost to the back end as failed, with one of these prefixes
 # (a sample's own failure message starts with its exception's class name, which has no space);
-# such samples never ran, so :meth:`CampaignResult.load` reads them back as pending.
+# such samples never ran, so [`CampaignResult.load`][spacearm.campaign.CampaignResult.load] reads them back as pending.
 _LOST_PREFIXES = ("worker failed: ", "dask task failed: ")
 
 
@@ -119,6 +124,10 @@ class CampaignResult:
         rows.append(f"\n{self.n_ok} samples ran, {self.n_failed} failed, {self.n_pending} not run.")
         return "\n".join(rows)
 
+    def __repr__(self) -> str:
+        return (f"<CampaignResult: {len(self.index)} samples ({self.n_ok} ok, {self.n_failed} failed, {self.n_pending} not run), "
+                f"parameters {list(self.param_names)}, metrics {list(self.metric_names)}>")
+
     def summary(self) -> str:
         lines = [self.table()]
         if self.run:
@@ -151,7 +160,7 @@ class CampaignResult:
 
     @classmethod
     def load(cls, path) -> "CampaignResult":
-        """Read a result (or checkpoint) written by :meth:`save` (samples an earlier version
+        """Read a result (or checkpoint) written by [`save`][spacearm.campaign.CampaignResult.save] (samples an earlier version
         recorded as failed because the back end lost them come back pending)."""
         with open_npz(Path(path), "spacearm campaign") as f:
             missing = {"index", "status", "params", "metrics", "spec_json"} - set(f.files)
@@ -171,7 +180,7 @@ class CampaignResult:
         return result
 
     def figure(self, metrics: Optional[Sequence[str]] = None):
-        """The figure of :meth:`plot` as a matplotlib ``Figure``, not written anywhere."""
+        """The figure of [`plot`][spacearm.campaign.CampaignResult.plot] as a matplotlib ``Figure``, not written anywhere."""
         from ..viz.campaign import campaign_figure
         from .report import report_rows
 

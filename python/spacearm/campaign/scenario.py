@@ -3,11 +3,11 @@
 The scenario is a point-to-point manoeuvre (a joint-space quintic from the model's initial
 angles to a goal, tracked by computed torque on the reduced EOM, eqs. 112–115, or by joint PD)
 in a chosen maneuvering mode. The controller's model is always the *nominal* robot; the plant is
-the nominal robot with the sample's inertia errors (:func:`spacearm.control.perturbed_model`).
+the nominal robot with the sample's inertia errors ([`spacearm.control.perturbed_model`][spacearm.control.perturbed_model]).
 With no error the computed-torque run tracks the reference to integration accuracy, so every
 tracking error a campaign reports is caused by the sampled inertia error.
 
-Metrics of a run (the result file's ``metrics`` columns, :data:`METRIC_NAMES`):
+Metrics of a run (the result file's ``metrics`` columns, [`METRIC_NAMES`][spacearm.campaign.scenario.METRIC_NAMES]):
 
 - ``tracking_error_max``, ``tracking_error_rms``, ``tracking_error_final``: norm of
   ``q_ref − q`` (rad), over the run and at its end;
@@ -31,6 +31,7 @@ from ..sim.simulation import simulate
 __all__ = ["Scenario", "METRIC_NAMES", "METRIC_UNITS", "evaluate", "plant", "controller", "with_payload",
            "metrics_from_records", "non_finite_message", "attitude_angle_deg"]
 
+#: The metrics of each campaign sample, in the order of the result's columns (docs/campaigns.md).
 METRIC_NAMES = (
     "tracking_error_max",
     "tracking_error_rms",
@@ -57,7 +58,7 @@ _CONTROLLERS = ("computed-torque", "pd")
 class Scenario:
     """The manoeuvre every sample flies.
 
-    ``mode``: a maneuvering mode (``"floating"`` … ``"flying"``, see :func:`spacearm.simulate`).
+    ``mode``: a maneuvering mode (``"floating"`` … ``"flying"``, see [`spacearm.simulate`][spacearm.simulate]).
     ``controller``: ``"computed-torque"`` (reduced EOM on the nominal model) or ``"pd"``.
     The reference is a quintic from the model's initial ``q`` to ``q_goal`` (default: every
     joint ``q_offset`` rad further) over ``motion_fraction`` of ``duration``, then held.
@@ -116,7 +117,7 @@ def attitude_angle_deg(quat0: np.ndarray, quats: np.ndarray) -> np.ndarray:
 
 
 def metrics_from_records(tracking_error: np.ndarray, x: np.ndarray, saturation_events: np.ndarray) -> np.ndarray:
-    """The metrics (columns :data:`METRIC_NAMES`) of ``B`` runs from their records.
+    """The metrics (columns [`METRIC_NAMES`][spacearm.campaign.scenario.METRIC_NAMES]) of ``B`` runs from their records.
 
     ``tracking_error`` ``(B, K)`` (rad), ``x`` ``(B, K, 7+N)`` and ``saturation_events`` ``(B,)``,
     every step recorded. Each row of the result depends on its own run only, computed with the
@@ -149,7 +150,7 @@ def with_payload(robot, mass: float):
 
     The payload is a point mass on a fixed joint at the end-effector point (so the joint space
     is unchanged and the end-effector body's mass properties merge by the model's own
-    parallel-axis rules), attached with :meth:`spacearm.model.builder.RobotBuilder.attach_payload`.
+    parallel-axis rules), attached with [`spacearm.model.builder.RobotBuilder.attach_payload`][spacearm.RobotBuilder.attach_payload].
     """
     if mass == 0:
         return robot
@@ -165,7 +166,7 @@ def with_payload(robot, mass: float):
 
 def plant(nominal, params: Dict[str, float]):
     """The plant of a sample: ``nominal`` with the inertia errors ``params`` (the
-    :data:`~.perturbation.PARAMETER_NAMES`) and its payload."""
+    [`PARAMETER_NAMES`][spacearm.campaign.perturbation.PARAMETER_NAMES]) and its payload."""
     perturbed = control.perturbed_model(
         nominal,
         base_mass_scale=params["base_mass_scale"],
@@ -188,7 +189,7 @@ def controller(nominal, scenario: Scenario):
 
 
 def evaluate(nominal, scenario: Scenario, params: Dict[str, float]) -> Dict[str, float]:
-    """Fly one sample with :func:`spacearm.simulate`: the metrics of :data:`METRIC_NAMES` for the
+    """Fly one sample with [`spacearm.simulate`][spacearm.simulate]: the metrics of [`METRIC_NAMES`][spacearm.campaign.scenario.METRIC_NAMES] for the
     plant drawn as ``params``. The reference every batched run is checked against."""
     traj = simulate(plant(nominal, params), scenario.duration, mode=scenario.mode, dt=scenario.dt,
                     controller=controller(nominal, scenario))

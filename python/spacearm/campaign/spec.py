@@ -1,6 +1,6 @@
 """The definition of a campaign: what every worker needs to run any of its samples.
 
-A :class:`CampaignSpec` is plain data (the nominal model as TOML text, the perturbation
+A [`CampaignSpec`][spacearm.campaign.CampaignSpec] is plain data (the nominal model as TOML text, the perturbation
 distributions, the scenario, the sample count and the seed), so it pickles to processes and Dask
 workers and its JSON form identifies the campaign in the result file: a checkpoint is resumed
 only by the campaign that wrote it.
@@ -20,7 +20,7 @@ __all__ = ["CampaignSpec"]
 
 @dataclass(frozen=True)
 class CampaignSpec:
-    """``model_toml``: the nominal robot (:func:`spacearm.io.model_file.dumps_toml`), exactly as it
+    """``model_toml``: the nominal robot ([`spacearm.io.model_file.dumps_toml`][spacearm.io.dumps_toml]), exactly as it
     was loaded: a URDF arm mounted on a spacecraft, its prefix and its chosen end effector (the
     CLI's model options) are all in the text, so workers need nothing else to rebuild it;
     ``samples``: how many; ``seed``: the campaign's seed (sample ``i`` draws from

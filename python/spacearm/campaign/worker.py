@@ -1,10 +1,10 @@
 """What a sample comes back as, and the per-sample reference path.
 
-A sample that ran comes back as a :class:`SampleOutcome`: its metrics, or the message of its own
+A sample that ran comes back as a ``SampleOutcome``: its metrics, or the message of its own
 failure (a model the perturbation made invalid, a singular matrix, a non-finite state), so one
 bad sample is recorded and the campaign goes on. A sample a back end could not run comes back as
-a :class:`LostSample` and stays pending. :func:`run_sample` flies one sample with
-:func:`spacearm.simulate` in the calling thread (``workers=0``): the reference that the batched
+a ``LostSample`` and stays pending. ``run_sample`` flies one sample with
+[`spacearm.simulate`][spacearm.simulate] in the calling thread (``workers=0``): the reference that the batched
 path (``batch.py``) reproduces bit for bit.
 """
 

@@ -1,29 +1,33 @@
 """Capture of a tumbling target (``docs/capture.md``).
 
-- :class:`Target`: a free rigid body with grasp points (state ``[position, quaternion [x, y, z,
+- [`Target`][spacearm.Target]: a free rigid body with grasp points (state ``[position, quaternion [x, y, z,
   w], velocity, angular velocity]``, all in 𝒥);
-- :func:`grasp_impulse`: the impact, rigid lock or frictionless
-  point contact, and its pieces :func:`inverse_inertia`, :func:`virtual_mass`,
-  :func:`impulse_momentum_split`;
-- :func:`attach_target` (the captured system as one model) and :func:`soft_capture` (a wrist
+- [`grasp_impulse`][spacearm.capture.grasp_impulse]: the impact, rigid lock or frictionless
+  point contact, and its pieces [`inverse_inertia`][spacearm.capture.inverse_inertia], [`virtual_mass`][spacearm.capture.virtual_mass],
+  [`impulse_momentum_split`][spacearm.capture.impulse_momentum_split];
+- [`attach_target`][spacearm.capture.attach_target] (the captured system as one model) and [`soft_capture`][spacearm.capture.soft_capture] (a wrist
   impedance between two free bodies);
-- :func:`simulate_closed_chain`: a two-arm grasp as a closed chain;
-- :func:`detumble`; :func:`capture`, the whole sequence with phases and the momentum ledger;
-- :func:`capture_envelope`: success over target spin rates and inertia errors.
+- [`simulate_closed_chain`][spacearm.capture.simulate_closed_chain]: a two-arm grasp as a closed chain;
+- [`detumble`][spacearm.capture.detumble]; [`capture`][spacearm.capture.capture], the whole sequence with phases and the momentum ledger;
+- [`capture_envelope`][spacearm.capture.capture_envelope]: success over target spin rates and inertia errors.
 """
 
 from .closed_chain import ClosedChainRun, simulate_closed_chain
 from .captured import CapturedSystem, SoftCaptureRun, attach_target, relative_twist, soft_capture
-from .detumble import DetumbleRun, detumble
+from .detumbling import DetumbleRun, detumble
 from .envelope import CaptureEnvelope, capture_envelope
-from .impact import GraspImpulse, MomentumSplit, grasp_impulse, impulse_momentum_split, inverse_inertia, virtual_mass
-from .sequence import PHASES, CaptureResult, capture
+from .impact import CAPTURE_TOLERANCE, MAX_HANDLE_RATIO, GraspImpulse, MomentumSplit, grasp_impulse, impulse_momentum_split, inverse_inertia, virtual_mass
+from .sequence import MAX_CAPTURE_SAMPLES, MAX_TURN_PER_SAMPLE, PHASES, CaptureResult, capture
 from .target import Target, TargetState
 
 __all__ = [
     "Target",
     "TargetState",
     "GraspImpulse",
+    "CAPTURE_TOLERANCE",
+    "MAX_HANDLE_RATIO",
+    "MAX_CAPTURE_SAMPLES",
+    "MAX_TURN_PER_SAMPLE",
     "MomentumSplit",
     "grasp_impulse",
     "inverse_inertia",

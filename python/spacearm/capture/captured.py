@@ -1,6 +1,6 @@
 """The captured system: after a rigid grasp the target is a payload of the gripper link
-(:func:`attach_target`); before it, in a soft capture, a spring–damper at the grasp couples two
-free bodies (:func:`soft_capture`).
+([`attach_target`][spacearm.capture.attach_target]); before it, in a soft capture, a spring–damper at the grasp couples two
+free bodies ([`soft_capture`][spacearm.capture.soft_capture]).
 
 Rigid: the target becomes a link on a fixed joint of the gripper body
 (``RobotBuilder.attach_payload``) at the relative pose it has at that instant. The joint space is
@@ -26,6 +26,7 @@ from typing import NamedTuple, Optional
 import numpy as np
 
 from .. import _core
+from .._util.summary import summary_repr
 from .._util.arrays import number, vector
 from ..errors import ArgumentError
 from ..rotations import quat_from_matrix
@@ -68,7 +69,7 @@ def attach_target(robot, x, u, target, target_state, *, point=None, grasp_offset
                   name: Optional[str] = None, tolerance: float = 1e-8) -> CapturedSystem:
     """The combined model after a rigid grasp, and its state.
 
-    ``(x, u)`` and ``target_state`` are the states just after :func:`grasp_impulse` (the relative
+    ``(x, u)`` and ``target_state`` are the states just after [`grasp_impulse`][spacearm.capture.grasp_impulse] (the relative
     twist at the grasp point must be zero to ``tolerance`` times the motion's scale; otherwise
     the target cannot ride on the gripper without an impulse, and an ``ArgumentError`` says so).
     The target is attached to the grasp point's body at its current relative pose, as a
@@ -112,6 +113,8 @@ class SoftCaptureRun(NamedTuple):
     drift: dict  #: robot + target momentum drift over the samples, ``{"P": ..., "L": ...}`` (the core's definition)
     trajectory: object  #: the robot's spacearm.Trajectory (its records and meta: integrator, steps, ...)
 
+    __repr__ = summary_repr
+
 
 def soft_capture(robot, x, u, target, target_state, duration: float, *, frequency: float = 3.0, damping_ratio: float = 0.7,
                  stiffness: Optional[float] = None, damping: Optional[float] = None,
@@ -124,11 +127,11 @@ def soft_capture(robot, x, u, target, target_state, duration: float, *, frequenc
     ``rotational_damping`` (N·m·s/rad); each one not given is set from ``frequency`` ω (rad/s)
     and ``damping_ratio`` ζ on the lightest direction of the grasp, ``K = ω² / g``, ``D = 2ζω / g``
     with ``g`` the largest eigenvalue of the translational (rotational) block of
-    ``G_robot + G_target`` (:func:`~spacearm.capture.inverse_inertia`), so that no direction
+    ``G_robot + G_target`` ([`inverse_inertia`][spacearm.capture.inverse_inertia]), so that no direction
     rings faster than ω and a fixed step ``dt`` well below 1/ω is stable. The rest pose is the
     relative pose at the start with the two grasp points together.
 
-    ``controller``: the robot's joint law, a native :mod:`spacearm.control` controller (default
+    ``controller``: the robot's joint law, a native [`spacearm.control`][spacearm.control] controller (default
     ``None``: zero torques; the capture sequence passes the hold law, ``ComputedTorque`` with a
     constant reference). The whole phase runs in the core (``spacearm_core::sim::soft_capture``):
     ``integrator="rk4"`` with fixed step ``dt``, or ``"dopri5"`` with ``rtol``/``atol`` (default
@@ -140,17 +143,13 @@ def soft_capture(robot, x, u, target, target_state, duration: float, *, frequenc
     s = target.check_state(target_state)
     duration = number(duration, "duration")
     dt = number(dt, "dt")
-    if not duration > 0 or not dt > 0:
-        raise ArgumentError(f"duration and dt must be > 0, got {duration}, {dt}")
     body, offset = _robot_point(robot, xv, point, (0.0, 0.0, 0.0))
     tbody, tpoint = target.point(grasp)
+    # The core judges the values (duration, dt, frequency, damping_ratio, the gains); Python
+    # converts them.
     omega, zeta = number(frequency, "frequency"), number(damping_ratio, "damping_ratio")
-    if not omega > 0 or zeta < 0:
-        raise ArgumentError(f"frequency must be > 0 and damping_ratio >= 0, got {omega}, {zeta}")
     names = ("stiffness", "damping", "rotational_stiffness", "rotational_damping")
     given = [None if v is None else number(v, name) for v, name in zip((stiffness, damping, rotational_stiffness, rotational_damping), names)]
-    if min((v for v in given if v is not None), default=0.0) < 0:
-        raise ArgumentError(f"impedance gains must be >= 0, got {dict(zip(names, given))}")
     _check_controller(controller)
     rtol = number(rtol, "rtol")
     atol = rtol * 1e-2 if atol is None else number(atol, "atol")

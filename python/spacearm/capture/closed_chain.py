@@ -1,7 +1,7 @@
-"""Two-arm grasps: a closed kinematic chain (:func:`simulate_closed_chain`).
+"""Two-arm grasps: a closed kinematic chain ([`simulate_closed_chain`][spacearm.capture.simulate_closed_chain]).
 
 When a second gripper also holds the captured target, the captured model (the target a payload
-of the first gripper, :func:`~spacearm.capture.attach_target`) gains a loop: the frame of the
+of the first gripper, [`attach_target`][spacearm.capture.attach_target]) gains a loop: the frame of the
 second gripper must keep its pose relative to the target. With ``J_c = J_b − J_a`` the difference
 of the two frames' point Jacobians (6×(6+N), eqs. 104–108), the loop-closure constraint is
 ``J_c u = 0`` (both Jacobians taken at frame b's origin) and the dynamics become the index-1 system
@@ -13,7 +13,7 @@ of the two frames' point Jacobians (6×(6+N), eqs. 104–108), the loop-closure 
 last two terms Baumgarte's drift stabilisation with rate ``α``). The whole run is the core's
 (``spacearm_core::sim::closed_chain``): the KKT solve (``algorithms/constrained.rs``), ``J̇_c u``
 exact on dual numbers (``derivatives::loop_closure_bias``), the simulation loop's RK4 or DOPRI5,
-its records, and a native controller for the joints (:mod:`spacearm.control`).
+its records, and a native controller for the joints ([`spacearm.control`][spacearm.control]).
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ from typing import NamedTuple, Optional
 import numpy as np
 
 from .. import _core
+from .._util.summary import summary_repr
 from .._util.arrays import number, vector
 from ..errors import ArgumentError
 from ..sim.simulation import DEFAULTS, _check_controller, _options
@@ -32,12 +33,17 @@ __all__ = ["ClosedChainRun", "simulate_closed_chain", "loop_closure_terms"]
 
 
 class ClosedChainRun(NamedTuple):
+    """The result of [`simulate_closed_chain`][spacearm.capture.simulate_closed_chain]: the samples of the closed-chain run, the
+    loop's constraint wrench and its pose error (docs/capture.md)."""
+
     t: np.ndarray  #: (T,)
     x: np.ndarray  #: (T, 7+N)
     u: np.ndarray  #: (T, 6+N)
     constraint_wrench: np.ndarray  #: (T, 6) λ: the wrench on frame b at its origin, [force; torque] in 𝒥 (body a gets −λ there)
     pose_error: np.ndarray  #: (T, 6) e = [position error (m); rotation error (rad)]
     trajectory: object  #: the run as a spacearm.Trajectory (tau, momentum, meta: integrator, steps, drift, ...)
+
+    __repr__ = summary_repr
 
 
 def _frames(robot, point_a, point_b):
@@ -63,15 +69,14 @@ def simulate_closed_chain(robot, x0, u0, duration: float, point_a, point_b, *, d
 
     ``u0`` must satisfy the velocity constraint (``J_c u0 = 0`` to 1e-9 of ``|u0|``; an
     ``ArgumentError`` otherwise). ``controller``: the joint torques, a native
-    :mod:`spacearm.control` controller (default ``None``: zero torques); the base is free
+    [`spacearm.control`][spacearm.control] controller (default ``None``: zero torques); the base is free
     (floating mode). ``stabilization``: Baumgarte's rate ``α`` (1/s). ``integrator="rk4"`` with
     step ``dt``, or ``"dopri5"`` with ``rtol``/``atol`` (default ``rtol * 1e-2``) and samples every
     ``dt``.
     """
     x0, u0 = vector(x0, "x0", robot.nx), vector(u0, "u0", robot.nu)
+    # The core judges duration, dt and stabilization; Python converts them.
     duration, dt, alpha = number(duration, "duration"), number(dt, "dt"), number(stabilization, "stabilization")
-    if not (duration > 0 and dt > 0 and alpha >= 0):
-        raise ArgumentError(f"duration and dt must be > 0 and stabilization >= 0, got {duration}, {dt}, {alpha}")
     frames = _frames(robot, point_a, point_b)
     _check_controller(controller)
     rtol = number(rtol, "rtol")

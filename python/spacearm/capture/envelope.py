@@ -1,9 +1,9 @@
-"""The capture envelope (:func:`capture_envelope`): which target spin rates and which errors in
+"""The capture envelope ([`capture_envelope`][spacearm.capture.capture_envelope]): which target spin rates and which errors in
 the target's inertia still give a successful capture.
 
 Every sample starts at the grasp — the robot's grasp point on the target's, the gripper at rest,
 the target spinning at the sample's rate about ``spin_axis`` — applies the rigid grasp impulse,
-attaches the target and runs :func:`~spacearm.capture.detumble` for ``duration`` s. The
+attaches the target and runs [`detumble`][spacearm.capture.detumble] for ``duration`` s. The
 controller's model of the captured system carries the target with mass and inertia scaled by
 ``1 + error`` (the plant has the true target). A sample succeeds when the system is detumbled
 within ``duration`` and the peak grasp force and torque stay within ``max_grasp_force`` and
@@ -23,7 +23,7 @@ from .._util.arrays import vector
 from ..errors import ArgumentError, SimulationError
 from .captured import attach_target
 from .impact import grasp_impulse
-from .detumble import detumble, grasp_wrench
+from .detumbling import detumble, grasp_wrench
 from .sequence import _payload_states
 from .target import Target
 
@@ -55,7 +55,7 @@ def capture_envelope(robot, target, *, spin_rates: Sequence[float] = (0.05, 0.1,
                      max_joint_torque: float = math.inf, max_force: float = math.inf, max_torque: float = math.inf,
                      max_grasp_force: float = math.inf, max_grasp_torque: float = math.inf,
                      kp: float = 1.0, kd: float = 2.0, time_constant: float = 5.0, rate_tolerance: float = 1e-3) -> CaptureEnvelope:
-    """Sweep the grid (module docstring) and return a :class:`CaptureEnvelope`."""
+    """Sweep the grid (module docstring) and return a [`CaptureEnvelope`][spacearm.capture.CaptureEnvelope]."""
     rates = np.asarray(spin_rates, dtype=float).ravel()
     errors = np.asarray(inertia_errors, dtype=float).ravel()
     if rates.size == 0 or errors.size == 0 or not np.all(np.isfinite(rates)) or not np.all(np.isfinite(errors)):

@@ -1,4 +1,4 @@
-"""The grasp impact: the impulse between the robot's gripper and a :class:`~spacearm.capture.Target`,
+"""The grasp impact: the impulse between the robot's gripper and a [`Target`][spacearm.Target],
 and the inverse-inertia quantities it is made of.
 
 Impulsive dynamics (positions fixed, velocities jump; finite forces contribute nothing over the
@@ -25,7 +25,7 @@ coordinates jump (``Δẋ0 = H0⁻¹ J_0Xᵀ Λ``, ``G_r = J_0X H0⁻¹ J_0Xᵀ`
 the holding, the *locking impulses* ``τ̂ = H0mᵀ Δẋ0 − J_mXᵀ Λ`` (the joint rows of
 ``H Δu = Jᵀ Λ + [0; τ̂]``); they act between the links, so the momentum is unchanged. With the
 arm at rest relative to the base the robot is one rigid body (the two-free-bodies case) and
-``τ̂`` does no work; with moving joints it does work ``τ̂ᵀ q̇`` (:attr:`GraspImpulse.locking_work`,
+``τ̂`` does no work; with moving joints it does work ``τ̂ᵀ q̇`` ([`GraspImpulse.locking_work`][spacearm.capture.GraspImpulse.locking_work],
 either sign), which is not part of the energy the grasp dissipates.
 
 Energy: over the impact the kinetic energy of robot + target changes by
@@ -33,25 +33,39 @@ Energy: over the impact the kinetic energy of robot + target changes by
 the contact impulses take out (``½ v_rel⁻ᵀ (G_r + G_t)⁻¹ v_rel⁻`` for the rigid lock,
 ``½ m_eff (1 − e²) (nᵀv_rel⁻)²`` for the point contact).
 
-:func:`grasp_impulse` is the core's (``spacearm_core::algorithms::impulse::grasp_impact``, built on
+[`grasp_impulse`][spacearm.capture.grasp_impulse] is the core's (``spacearm_core::algorithms::impulse::grasp_impact``, built on
 its ``impulse_dynamics``, the Pinocchio-shaped impulse dynamics of one model, also
 ``spacearm._core.impulse_dynamics``): this module converts the arguments; the result,
-:class:`GraspImpulse`, is the extension's class (``spacearm._core.GraspImpulse``, frozen,
+[`GraspImpulse`][spacearm.capture.GraspImpulse], is the extension's class (``spacearm._core.GraspImpulse``, frozen,
 read-only arrays; its fields are documented in ``_core.pyi``).
+
+Refused (``ArgumentError``, the core's rules): grasp points more than ``capture_tolerance`` apart
+(the gripper does not touch the handle), and a target grasp point farther from its body's CM
+than [`MAX_HANDLE_RATIO`][spacearm.capture.MAX_HANDLE_RATIO] times the body's size ``√(1.5 tr(I) / m)`` (the half-diagonal of
+the uniform box of its mass and inertia; docs/capture.md, "Grasps that are refused").
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple, Optional, Sequence
+from typing import Optional, Sequence
 
 import numpy as np
 
 from .. import _core
-from .._core import GraspImpulse
+from .._core import GraspImpulse, MomentumSplit
 from .._util.arrays import number, vector, vector3
 from ..errors import ArgumentError, SingularError, SpacearmTypeError
 
+#: The default largest gap between the grasp points at the impact, m (``capture`` cuts its
+#: approach at the first sample this close).
+CAPTURE_TOLERANCE = 0.01
+
+#: A target grasp point may lie at most this many body sizes from the body's CM (the core's rule).
+MAX_HANDLE_RATIO = _core.MAX_HANDLE_RATIO
+
 __all__ = [
+    "CAPTURE_TOLERANCE",
+    "MAX_HANDLE_RATIO",
     "GraspImpulse",
     "MomentumSplit",
     "grasp_impulse",
@@ -61,20 +75,9 @@ __all__ = [
     "KINDS",
 ]
 
-#: The impact models of :func:`grasp_impulse`.
+#: The impact models of [`grasp_impulse`][spacearm.capture.grasp_impulse].
 KINDS = ("rigid", "point")
 ARMS = ("free", "locked")
-
-
-class MomentumSplit(NamedTuple):
-    """Where an impulse's momentum goes, about the base CM (``[P; L_base]``, eq. 42):
-    ``base + arm == total == J_0Xᵀ Λ``."""
-
-    base: np.ndarray  #: H0 Δẋ0: momentum carried by the base's own jump (6)
-    arm: np.ndarray  #: H0m Δq̇: the coupling momentum the joints take up (6)
-    total: np.ndarray  #: the impulse's momentum about the base CM (6)
-    base_jump_map: np.ndarray  #: B with Δẋ0 = B Λ (6×6); impulses in its null space leave the base still
-    base_jump_singular_values: np.ndarray  #: of B: a zero one means a reaction-null impulse direction exists
 
 
 def _robot_point(robot, x, point, grasp_offset):
@@ -84,62 +87,42 @@ def _robot_point(robot, x, point, grasp_offset):
     return body, np.asarray(offset, dtype=float) + vector3(grasp_offset, "grasp_offset")
 
 
-def _jacobian(robot, x, body, offset) -> np.ndarray:
-    j0, jm = robot.point_jacobian(x, (body, offset))
-    return np.hstack([j0, jm])
-
-
-def _solve(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.ndarray:
-    try:
-        return np.linalg.solve(matrix, rhs)
-    except np.linalg.LinAlgError:
-        raise SingularError(f"{what} is singular") from None
-
-
-def _mobility(robot, x, body, offset, arm: str, j=None, h=None):
-    """``(J, M)``: the Jacobian of the point over the coordinates that may jump, and their mass
-    matrix (all of ``u``; or the base's six with the arm locked). ``j`` and ``h``: the full
-    point Jacobian and mass matrix when the caller has them."""
-    j = _jacobian(robot, x, body, offset) if j is None else j
-    h = robot.mass_matrix(x) if h is None else h
-    if arm == "locked":
-        return j[:, :6], h[:6, :6]
-    return j, h
-
-
 def inverse_inertia(robot, x, point=None, *, form: str = "mass_matrix", arm: str = "free") -> np.ndarray:
     """The inverse inertia ``G`` (6×6) at a point of ``robot``: an impulse ``Λ = [f̂; n̂]`` at
     the point changes its twist ``[v; ω]`` by ``G Λ``.
 
-    ``form="mass_matrix"``: ``J H⁻¹ Jᵀ``; ``form="generalized"``: ``J_0X H0⁻¹ J_0Xᵀ + J* H*⁻¹ J*ᵀ``
-    (floating base, Yoshida et al. 2004); the two are equal, computed independently.
-    ``arm="locked"``: the joint rates held (``Δq̇ = 0``), ``J_0X H0⁻¹ J_0Xᵀ``. ``point``: as everywhere (name,
-    body, ``(body, offset)``; default the end effector).
+    ``form="mass_matrix"``: ``J H⁻¹ Jᵀ``, the core's (``spacearm_core::algorithms::impulse::
+    point_inverse_inertia``); ``form="generalized"``: ``J_0X H0⁻¹ J_0Xᵀ + J* H*⁻¹ J*ᵀ`` composed
+    here from the core's GJM quantities (floating base, Yoshida et al. 2004): the two are equal,
+    computed independently. ``arm="locked"``: the joint rates held (``Δq̇ = 0``),
+    ``J_0X H0⁻¹ J_0Xᵀ``. ``point``: as everywhere (name, body, ``(body, offset)``; default the end
+    effector).
     """
-    xv = vector(x, "x")
     body, offset = robot.resolve_point(point)
-    if arm not in ARMS:
-        raise ArgumentError(f"arm must be one of {list(ARMS)}, got {arm!r}")
     if form == "mass_matrix":
-        j, m = _mobility(robot, xv, body, offset, arm)
-        return j @ _solve(m, j.T, "the mass matrix")
+        return _core.point_inverse_inertia(robot.core_model, x, int(body), offset, arm=arm)
     if form != "generalized":
         raise ArgumentError(f"form must be 'mass_matrix' or 'generalized', got {form!r}")
+    if arm not in ARMS:
+        raise ArgumentError(f"arm must be one of {list(ARMS)}, got {arm!r}")
+    xv = vector(x, "x")
     j0, _ = robot.point_jacobian(xv, (body, offset))
     g = j0 @ robot.base_inertia_inverse(xv) @ j0.T
     if arm == "free" and robot.n_dof:
         js = robot.generalized_jacobian(xv, (body, offset))
-        g = g + js @ _solve(robot.generalized_inertia(xv), js.T, "the generalized inertia H*")
+        try:
+            g = g + js @ np.linalg.solve(robot.generalized_inertia(xv), js.T)
+        except np.linalg.LinAlgError:
+            raise SingularError("the generalized inertia H* is singular") from None
     return g
 
 
 def virtual_mass(robot, x, direction, point=None, *, arm: str = "free") -> float:
     """Yoshida's virtual mass of ``robot`` at ``point`` along ``direction`` (kg):
-    ``1 / (nᵀ G_vv n)``, ``G_vv`` the translational block of :func:`inverse_inertia`: the mass a
-    collision along ``n`` at the point feels."""
-    n = _unit(direction, "direction")
-    g = inverse_inertia(robot, x, point, arm=arm)
-    return float(1.0 / (n @ g[:3, :3] @ n))
+    ``1 / (nᵀ G_vv n)``, ``G_vv`` the translational block of [`inverse_inertia`][spacearm.capture.inverse_inertia]: the mass a
+    collision along ``n`` at the point feels (the core's ``impulse::virtual_mass``)."""
+    body, offset = robot.resolve_point(point)
+    return _core.virtual_mass(robot.core_model, x, int(body), offset, direction, arm=arm)
 
 
 def impulse_momentum_split(robot, x, impulse, point=None) -> MomentumSplit:
@@ -147,26 +130,10 @@ def impulse_momentum_split(robot, x, impulse, point=None) -> MomentumSplit:
     arm: the base's jump ``Δẋ0`` carries ``H0 Δẋ0``, the joints' jump ``Δq̇`` the coupling
     momentum ``H0m Δq̇`` (impedance matching, Yoshida et al. 2004). The base is undisturbed by
     impulses in the null space of ``B`` (``Δẋ0 = B Λ``): the reaction null space at impact
-    (Nenchev & Yoshida 1999)."""
-    xv = vector(x, "x")
-    lam = vector(impulse, "impulse", 6)
+    (Nenchev & Yoshida 1999). The core's ``impulse::impulse_momentum_split``; the result is the
+    extension's [`MomentumSplit`][spacearm.capture.MomentumSplit] (read-only arrays)."""
     body, offset = robot.resolve_point(point)
-    j = _jacobian(robot, xv, body, offset)
-    h = robot.mass_matrix(xv)
-    response = _solve(h, j.T, "the mass matrix")  # H⁻¹ Jᵀ
-    du = response @ lam
-    base = h[:6, :6] @ du[:6]
-    arm = h[:6, 6:] @ du[6:]
-    b = response[:6, :]
-    return MomentumSplit(base, arm, j[:, :6].T @ lam, b, np.linalg.svd(b, compute_uv=False))
-
-
-def _unit(value, name: str) -> np.ndarray:
-    n = vector3(value, name)
-    norm = np.linalg.norm(n)
-    if not np.isfinite(norm) or norm < 1e-12:
-        raise ArgumentError(f"{name} must be a non-zero finite 3-vector, got {n}")
-    return n / norm
+    return _core.impulse_momentum_split(robot.core_model, x, int(body), offset, impulse)
 
 
 def _check_target(target):
@@ -188,6 +155,7 @@ def grasp_impulse(
     kind: str = "rigid",
     normal: Optional[Sequence[float]] = None,
     arm: str = "free",
+    capture_tolerance: float = CAPTURE_TOLERANCE,
 ) -> GraspImpulse:
     """The impact between the robot's grasp point and a target (module docstring for the equations).
 
@@ -196,8 +164,8 @@ def grasp_impulse(
     robot, x, u
         The robot and its state just before the impact.
     target, target_state
-        A :class:`~spacearm.capture.Target` and its state (13 numbers; ``[x, u]`` of a jointed
-        target's model, :meth:`Target.from_robot`).
+        A [`Target`][spacearm.Target] and its state (13 numbers; ``[x, u]`` of a jointed
+        target's model, [`Target.from_robot`][spacearm.capture.Target.from_robot]).
     point
         The robot's grasp point (default: the end effector); ``grasp_offset`` moves it, in the
         gripper body's frame (m).
@@ -215,6 +183,9 @@ def grasp_impulse(
     arm
         ``"free"`` (the joint rates jump too) or ``"locked"`` (the joint rates held through the
         impact by locking impulses, ``Δq̇ = 0``: module docstring).
+    capture_tolerance
+        The largest distance between the two grasp points, m (farther: ``ArgumentError``, no
+        impulse).
 
     Returns
     -------
@@ -241,7 +212,9 @@ def grasp_impulse(
     t_body, t_offset = target.point(grasp)
     tx, tu = target.xu(s)
     n = None if normal is None or kind != "point" else vector3(normal, "normal")
+    tol = number(capture_tolerance, "capture_tolerance")
     # The impulse, both jumps, G_r, G_t, the energy and the locking work: the core's
     # algorithms/impulse.rs (grasp_impact, on its impulse dynamics).
     return _core.grasp_impact(robot.core_model, xv, uv, int(body), np.asarray(offset, dtype=float), target.body.core_model, tx, tu,
-                              int(t_body), np.asarray(t_offset, dtype=float), kind=kind, restitution=e, normal=n, arm=arm)
+                              int(t_body), np.asarray(t_offset, dtype=float), kind=kind, restitution=e, normal=n, arm=arm,
+                             capture_tolerance=tol)

@@ -1,27 +1,27 @@
-"""The whole capture in one call (:func:`capture`): approach → capture → post-capture → detumble,
+"""The whole capture in one call ([`capture`][spacearm.capture.capture]): approach → capture → post-capture → detumble,
 with phase markers and the momentum ledger of robot + target.
 
 Phases (``PHASES``; ``result.phase`` holds the index at every sample):
 
-0. **approach** — the native :class:`~spacearm.control.ResolvedMotionRate` of the grasp point
+0. **approach** — the native [`ResolvedMotionRate`][spacearm.control.ResolvedMotionRate] of the grasp point
    towards the *moving* grasp point of the tumbling target (a
-   :class:`~spacearm.control.FreeBodyPoint`, propagated by the core), through the generalized
+   [`FreeBodyPoint`][spacearm.control.FreeBodyPoint], propagated by the core), through the generalized
    Jacobian: ``q̇_cmd = J*_vᵀ (J*_v J*_vᵀ + λ² E)⁻¹ (ṗ_t + k (p_t − p) − v_drift)`` over the arm
    joints (eq. 110; ``v_drift`` the point velocity the system momentum and the wheels make; ``λ``
    the damping law of docs/singularities.md with ``λ_max = rmrc_damping``), scaled as a whole to
    at most ``max_joint_rate``, followed through ``τ = H* k_v (q̇_cmd − q̇) + c*``. Reaction wheels
    are not arm joints: the approach gives them no torque. In the flying mode the native
-   :class:`~spacearm.control.MomentumDamping` holds the system momentum at zero meanwhile. The
+   [`MomentumDamping`][spacearm.control.MomentumDamping] holds the system momentum at zero meanwhile. The
    approach ends at the first sample where the two grasp points are within
    ``capture_tolerance``.
-1. **capture** — ``rigid`` and ``point``: the impulse of :func:`grasp_impulse` (one extra
+1. **capture** — ``rigid`` and ``point``: the impulse of [`grasp_impulse`][spacearm.capture.grasp_impulse] (one extra
    sample at the same instant, after the jump); ``soft``: the wrist impedance of
-   :func:`soft_capture` for ``soft_time``, then a rigid lock of what relative motion remains.
+   [`soft_capture`][spacearm.capture.soft_capture] for ``soft_time``, then a rigid lock of what relative motion remains.
 2. **post-capture** — the captured system (rigid, soft: the target attached as a payload, model
    edited at run time; point: the robot alone, the target flying off) with the joints braked.
    The thrusters act in the approach and the detumble only: the soft phase and this one are
    unactuated at the base in either mode.
-3. **detumble** — :func:`detumble` in ``mode``.
+3. **detumble** — [`detumble`][spacearm.capture.detumble] in ``mode``.
 
 Momentum ledger: ``P`` and ``L`` (about the origin of 𝒥) of robot + target at every sample. In
 floating mode nothing external acts, and their drift is the integration error
@@ -44,23 +44,91 @@ from ..errors import ArgumentError, SimulationError
 from ..rotations import quat_from_matrix
 from ..sim.simulation import simulate
 from .captured import attach_target, soft_capture
-from .detumble import DETUMBLE_MODES, detumble, detumble_controller, grasp_wrench
-from .impact import _check_target, grasp_impulse
+from .detumbling import DETUMBLE_MODES, detumble, detumble_controller, grasp_wrench
+from .impact import CAPTURE_TOLERANCE, _check_target, grasp_impulse
 
-__all__ = ["capture", "CaptureResult", "PHASES", "CAPTURE_KINDS"]
+__all__ = ["capture", "CaptureResult", "PHASES", "CAPTURE_KINDS", "MAX_CAPTURE_SAMPLES", "MAX_TURN_PER_SAMPLE"]
 
+#: The most samples a capture may record over its phases (``(approach + soft + post +
+#: detumble time) / dt``): more is refused before anything runs (docs/capture.md, "Grasps that
+#: are refused").
+MAX_CAPTURE_SAMPLES = 1_000_000
+
+#: The largest angle, rad, the target may turn between two samples (``|ω| dt``): a faster spin
+#: is not resolved by the recording nor by the free-body reference, and is refused.
+MAX_TURN_PER_SAMPLE = 1.0
+
+
+def _reach_bound(robot, body: int, offset) -> tuple:
+    """Upper bounds on how far the robot's point ``(body, offset)`` and any body's CM can be from
+    the base CM, m: the sums of the joint offsets, CM offsets and prismatic travels along the
+    chain (``inf`` with an unbounded prismatic joint). The system CM is a mass-weighted mean of
+    the bodies' CMs, so ``|p − r_cm| ≤ point bound + body bound`` in every configuration."""
+    links = robot.description.links
+    reach = [0.0]
+    for link in links:
+        travel = 0.0
+        if link.type == "prismatic":
+            travel = max(abs(link.limits.lower), abs(link.limits.upper))
+        reach.append(reach[link.parent_index] + float(np.linalg.norm(link.origin)) + travel + float(np.linalg.norm(link.com)))
+    return reach[body] + float(np.linalg.norm(offset)), max(reach)
+
+
+def _closest_approach(p0, v, duration: float) -> tuple:
+    """``min |p0 + v t|`` over ``t`` in ``[0, duration]`` and the time it is reached."""
+    vv = float(v @ v)
+    t = 0.0 if vv == 0.0 else float(np.clip(-(p0 @ v) / vv, 0.0, duration))
+    return float(np.linalg.norm(p0 + v * t)), t
+
+
+def _check_work_and_reach(robot, x0, u0, target, s0, grasp, body, offset, mode, times):
+    """Refuse, before any run, a capture whose recording would be too large, whose target spins
+    too fast for ``dt``, or whose grasp point stays out of the arm's reach (floating mode: the
+    system CM moves at constant velocity ``P / m``)."""
+    dt = times["dt"]
+    total = sum(times[k] for k in ("approach_time", "soft_time", "post_time", "detumble_time"))
+    if total / dt > MAX_CAPTURE_SAMPLES:
+        raise ArgumentError(f"the capture would record {total / dt:.3g} samples ({total:g} s of phases every dt = {dt:g} s), more "
+                            f"than the {MAX_CAPTURE_SAMPLES:g} allowed: raise dt or shorten the phases")
+    if not target.is_rigid:
+        return
+    state = target.split(s0)
+    spin = float(np.linalg.norm(state.angular_velocity))
+    if spin * dt > MAX_TURN_PER_SAMPLE:
+        raise ArgumentError(f"the target spins at {spin:.4g} rad/s: it turns {spin * dt:.3g} rad between samples (dt = {dt:g} s), "
+                            f"more than the {MAX_TURN_PER_SAMPLE:g} rad the approach can follow; use dt <= "
+                            f"{MAX_TURN_PER_SAMPLE / spin:.3g} s")
+    if mode != "floating":
+        return  # the thrusters move the system CM: no bound from the momentum
+    point_reach, body_reach = _reach_bound(robot, body, offset)
+    if not np.isfinite(point_reach):
+        return
+    m = robot.total_mass
+    cm0 = robot.center_of_mass(x0)
+    v_cm = np.asarray(robot.momentum(x0, u0).P) / m
+    handle = float(np.linalg.norm(target.point(grasp)[1]))
+    # The target's grasp point is within |handle| of its CM, which moves at constant velocity.
+    gap, when = _closest_approach(state.position - cm0, state.velocity - v_cm, times["approach_time"])
+    if gap - handle > point_reach + body_reach:
+        raise SimulationError(
+            f"the approach cannot reach the target: its grasp point stays at least {gap - handle:.4g} m from the robot's system CM "
+            f"(closest at t = {when:.3g} s of the {times['approach_time']:g} s approach), farther than the {point_reach + body_reach:.4g} m "
+            f"that any configuration of '{robot.name}' reaches (its chain's lengths); place the target within reach")
+
+#: The phases of [`capture`][spacearm.capture.capture], in order (docs/capture.md).
 PHASES = ("approach", "capture", "post-capture", "detumble")
+#: The grasp models [`capture`][spacearm.capture.capture] accepts as ``kind``.
 CAPTURE_KINDS = ("rigid", "point", "soft")
 
 
 class CaptureResult:
     """The recorded capture: arrays over samples ``t`` (s), and the impact.
 
-    Attributes: ``t`` (T,), ``phase`` (T,) indices into :data:`PHASES`, ``x`` (T, 7+N) and ``u``
+    Attributes: ``t`` (T,), ``phase`` (T,) indices into [`PHASES`][spacearm.capture.sequence.PHASES], ``x`` (T, 7+N) and ``u``
     (T, 6+N) of the robot (its own coordinates: the payload adds none), ``tau`` (T, N),
     ``base_wrench`` (T, 6), ``target`` (T, 13) target states, ``P`` and ``L`` (T, 3) robot +
     target momentum about the origin of 𝒥, ``grasp_wrench`` (T, 6) the wrench holding the
-    target, ``[f; n]`` with the moment about the target's CM (zero while it is free), ``impact`` (:class:`GraspImpulse`), ``robot`` (before
+    target, ``[f; n]`` with the moment about the target's CM (zero while it is free), ``impact`` ([`GraspImpulse`][spacearm.capture.GraspImpulse]), ``robot`` (before
     capture), ``captured`` (the combined model, or ``None`` for a point contact), ``mode``,
     ``kind``, ``time_to_detumble`` (s after the detumble phase starts), ``residual_spin`` (rad/s),
     ``drift`` (relative, ``{"P": ..., "L": ...}``).
@@ -71,6 +139,12 @@ class CaptureResult:
 
     def __init__(self, **fields):
         self.__dict__.update(fields)
+
+    def __repr__(self) -> str:
+        detumble = self.time_to_detumble
+        return (f"<CaptureResult '{self.robot.name}' {self.kind} grasp, {self.mode}: {len(self.t)} samples, t = 0..{self.t[-1]:.4g} s, "
+                f"grasp at {self.phase_start('capture'):.4g} s, detumbled "
+                f"{'never' if not math.isfinite(detumble) else f'{detumble:.4g} s after the detumble starts'}>")
 
     def phase_start(self, name: str) -> float:
         """Time at which a phase starts."""
@@ -102,7 +176,7 @@ class CaptureResult:
         }
 
     def arrays(self) -> dict:
-        """The arrays saved by :meth:`save`."""
+        """The arrays saved by [`save`][spacearm.capture.CaptureResult.save]."""
         return {
             "t": self.t, "phase": self.phase, "P": self.P, "L": self.L, "x": self.x, "u": self.u, "tau": self.tau,
             "base_wrench": self.base_wrench, "target": self.target, "grasp_wrench": self.grasp_wrench,
@@ -118,7 +192,7 @@ class CaptureResult:
             np.savez(fh, **self.arrays())
 
     def plot(self, path=None):
-        """A figure of the capture; written to ``path`` if given. See :mod:`spacearm.viz.capture`."""
+        """A figure of the capture; written to ``path`` if given. See ``spacearm.viz.capture``."""
         from ..viz.capture import plot_capture
 
         return plot_capture(self, path)
@@ -178,7 +252,7 @@ def capture(
     point=None,
     grasp: Optional[str] = None,
     approach_time: float = 8.0,
-    capture_tolerance: float = 0.01,
+    capture_tolerance: float = CAPTURE_TOLERANCE,
     soft_time: float = 2.0,
     post_time: float = 1.0,
     detumble_time: float = 30.0,
@@ -206,7 +280,7 @@ def capture(
     integrated by adaptive DOPRI5 with relative tolerance ``rtol`` and recorded every ``dt`` (the
     soft phase, in the core's soft-capture plant, every ``dt / 5``). Gains: ``rmrc_gain`` (1/s),
     ``rmrc_damping`` (m: ``λ_max`` of the damping law, docs/singularities.md), ``velocity_gain`` (1/s) of the approach; ``kp``, ``kd``,
-    ``time_constant`` of :func:`~spacearm.capture.detumble`.
+    ``time_constant`` of [`detumble`][spacearm.capture.detumble].
     Raises ``SimulationError`` when the approach does not bring the grasp points within
     ``capture_tolerance`` (m).
     """
@@ -235,6 +309,7 @@ def capture(
         raise ArgumentError(f"restitution must be in [0, 1] and is for kind='point' only (a grasp is plastic), got {e} with kind={kind!r}")
     body, offset = robot.resolve_point(point)
     target.point(grasp)  # an unknown grasp point fails here, before the approach runs
+    _check_work_and_reach(robot, x0, u0, target, s0, grasp, body, offset, mode, times)
 
     # ---- 0. approach ------------------------------------------------------------------------
     # The target's grasp point as the native RMRC's reference; the whole approach is one native
@@ -294,10 +369,11 @@ def capture(
         add(t_cap + soft.t[keep], 1, soft.x[keep], soft.u[keep], soft.target[keep], soft.tau[keep], np.zeros((len(soft.t) - 1, 6)),
             held, False)
         t_cap, xc, uc, sc = t_cap + float(soft.t[-1]), soft.x[-1], soft.u[-1], soft.target[-1]
-        impact = grasp_impulse(robot, xc, uc, target, sc, point=point, grasp=grasp, kind="rigid")
+        impact = grasp_impulse(robot, xc, uc, target, sc, point=point, grasp=grasp, kind="rigid", capture_tolerance=times["capture_tolerance"])
         soft_impact = impact
     else:
-        impact = grasp_impulse(robot, xc, uc, target, sc, point=point, grasp=grasp, kind=kind, restitution=restitution)
+        impact = grasp_impulse(robot, xc, uc, target, sc, point=point, grasp=grasp, kind=kind, restitution=restitution,
+                               capture_tolerance=times["capture_tolerance"])
         soft_impact = None
     uc, sc = impact.u_after, impact.target_state_after
     add(np.array([t_cap]), 1, xc[None], uc[None], sc[None], np.zeros((1, n)), np.zeros((1, 6)), np.zeros((1, 6)), kind != "point")

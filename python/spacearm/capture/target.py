@@ -1,4 +1,4 @@
-"""The capture target: a free rigid body (:class:`Target`).
+"""The capture target: a free rigid body ([`Target`][spacearm.Target]).
 
 State layout (13): ``[position (3), quaternion [x, y, z, w] (4), CM velocity in 𝒥 (3),
 angular velocity in 𝒥 (3)]``. That is exactly a spacearm configuration ``x`` (7) followed by a
@@ -8,7 +8,7 @@ and its momentum, point Jacobians and dynamics under a wrench come from the same
 points are offsets from the target's CM in its own axes.
 
 The general case, a whole spacearm model as the target (a second spacecraft with appendages),
-is :meth:`Target.from_robot`: its state is that model's ``[x, u]``, its grasp points are the
+is [`Target.from_robot`][spacearm.capture.Target.from_robot]: its state is that model's ``[x, u]``, its grasp points are the
 model's named points, and the impact, the soft capture and the point-contact sequence work on it
 unchanged; only the rigid attachment as a payload needs a rigid target.
 """
@@ -21,6 +21,7 @@ import numpy as np
 
 import math
 
+from .. import _core
 from .._util.arrays import number, quaternion, vector, vector3
 from ..control import FreeBodyPoint, SampledJoint
 from ..errors import ArgumentError, ModelError, NotFoundError, ShapeError
@@ -52,7 +53,9 @@ class Target:
         Default ``"target"``.
     grasp_points : mapping name -> offset, or a sequence of offsets, optional
         Offsets from the CM in the target's axes (m). A sequence gets the names ``grasp0``,
-        ``grasp1``, ...; default: one point ``"grasp"`` at the CM.
+        ``grasp1``, ...; default: one point ``"grasp"`` at the CM. Each at most
+        ``MAX_HANDLE_RATIO`` (2) times the target's size ``√(1.5 tr(I) / m)`` from the CM
+        (farther: ``ArgumentError``; docs/capture.md, "Grasps that are refused").
     """
 
     def __init__(self, mass: float, inertia, *, name: Optional[str] = None,
@@ -84,6 +87,11 @@ class Target:
             self.body = builder.build()
         except ModelError as exc:
             raise ModelError(f"target '{self.name}': {exc}") from None
+        for key, off in self.grasp_points.items():
+            try:  # the handle-length rule of the grasp impact (the core's), before any run
+                _core.check_grasp_handle(self.body.core_model, 0, off)
+            except ArgumentError as exc:
+                raise ArgumentError(f"target '{self.name}', grasp point '{key}': {exc}") from None
         self.mass = mass
         base = self.body.description.base
         #: Inertia about the CM in target axes (3×3; ``None`` for a jointed target).
@@ -155,7 +163,7 @@ class Target:
         return TargetState(s[0:3], s[3:7], s[7:10], s[10:13])
 
     def point(self, grasp: Optional[str] = None):
-        """``(body, offset)`` of a grasp point for :attr:`body` (default: the first one)."""
+        """``(body, offset)`` of a grasp point for [`body`][spacearm.capture.target.Target.body] (default: the first one)."""
         if grasp is None:
             grasp = next(iter(self._grasp))
         if grasp not in self._grasp:
@@ -184,7 +192,7 @@ class Target:
         return (j0 @ u[:6] + jm @ u[6:])[:3]
 
     def momentum(self, state):
-        """:class:`spacearm.Momentum` of the target (``P``, ``L_origin``, ...)."""
+        """[`spacearm.Momentum`][spacearm.Momentum] of the target (``P``, ``L_origin``, ...)."""
         return self.body.momentum(*self.xu(state))
 
     def kinetic_energy(self, state) -> float:
@@ -198,8 +206,8 @@ class Target:
         return dt
 
     def free_body(self, state, grasp: Optional[str] = None, *, step: float = 1e-3, point=None) -> FreeBodyPoint:
-        """The rigid target in ``state`` (at simulation time 0) as a :class:`~spacearm.control.FreeBodyPoint`
-        of its grasp point: the reference :func:`~spacearm.capture.capture` hands the native
+        """The rigid target in ``state`` (at simulation time 0) as a [`FreeBodyPoint`][spacearm.control.FreeBodyPoint]
+        of its grasp point: the reference [`capture`][spacearm.capture.capture] hands the native
         resolved-motion-rate controller, and the core's propagation of the target
         (``spacearm_core::sim::free_body``; attitude step ``step``, s). ``point``: the robot's
         point that follows it."""

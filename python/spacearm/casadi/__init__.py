@@ -1,9 +1,9 @@
 """CasADi functions of the equations of motion, for optimal control (optional extra
 ``optimal-control``: ``pip install "spacearm[optimal-control]"``).
 
-Every builder takes a :class:`~spacearm.Robot` and returns a ``casadi.Function`` on ``SX``
+Every builder takes a [`Robot`][spacearm.Robot] and returns a ``casadi.Function`` on ``SX``
 symbols whose graph is the Rust core's own recursions (ABA, RNEA, CRBA, the GJM reduction,
-kinematics), recorded by the core on a tape and replayed on ``SX`` (:mod:`._tape`), in
+kinematics), recorded by the core on a tape and replayed on ``SX`` (``._tape``), in
 spacearm's conventions (docs/conventions.md):
 
 >>> import spacearm, spacearm.casadi as sc
@@ -12,7 +12,8 @@ spacearm's conventions (docs/conventions.md):
 >>> x, u = robot.neutral_configuration(), robot.zero_velocity()
 >>> du = fd(x, u, [1.0, 0, 0, 0], [0.0] * 6)
 
-See docs/optimal-control.md for the equations and the planner :mod:`spacearm.plan` built on them.
+See docs/optimal-control.md for the equations and the planner [`spacearm.plan`][spacearm.plan] built on them,
+and docs/c-api.md ("Embedded code") for [`generate_c`][spacearm.casadi.generate_c], their C code.
 """
 
 from .functions import (
@@ -29,4 +30,7 @@ from .functions import (
     rk4_step,
 )
 
-from .functions import __all__  # noqa: E402,F401  (the one list of the public names)
+from .codegen import GENERATED, generate_c  # noqa: E402
+from . import codegen as _codegen, functions as _functions  # noqa: E402
+
+__all__ = [*_functions.__all__, *_codegen.__all__]  # each module's list, once

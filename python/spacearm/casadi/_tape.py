@@ -3,7 +3,7 @@
 The Rust core records a function of the equations of motion by running its own recursions
 (forward kinematics, ABA, RNEA, CRBA, the GJM reduction) once on a recording scalar
 (``spacearm_core::math::tape``, ``spacearm_core::taped``): a flat list of nodes, each an input,
-a constant, or a unary or binary operation on earlier nodes. :func:`function` replays that
+a constant, or a unary or binary operation on earlier nodes. ``function`` replays that
 list on ``SX`` scalars, one ``SX.binary`` / ``SX.unary`` call per node, and wraps the result
 in a ``casadi.Function`` with the core's input and output names. Nothing of the physics is
 written here: the graph is the core's arithmetic, operation for operation.

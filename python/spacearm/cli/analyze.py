@@ -1,7 +1,7 @@
 """``spacearm analyze MODEL --singularities|--workspace|--reactionless --out FIG.png [...]``.
 
-Runs one of the analyses of :mod:`spacearm.analysis` on a model, prints its numbers (with the
-scan's samples per second) and writes its figure atomically. Registered in :mod:`spacearm.cli`.
+Runs one of the analyses of [`spacearm.analysis`][spacearm.analysis] on a model, prints its numbers (with the
+scan's samples per second) and writes its figure atomically. Registered in ``spacearm.cli``.
 """
 
 from __future__ import annotations

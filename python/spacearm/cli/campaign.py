@@ -1,6 +1,6 @@
 """``spacearm campaign MODEL --samples N ...``: an inertia-uncertainty Monte Carlo campaign.
 
-Runs :func:`spacearm.campaign.run_campaign` on native threads (``--workers``) or on a Dask
+Runs [`spacearm.campaign.run_campaign`][spacearm.campaign.run_campaign] on native threads (``--workers``) or on a Dask
 cluster (``--scheduler tcp://host:8786``, with ``--worker-timeout``), writes the results to ``--out`` (.npz, atomically,
 resumable), prints the metrics table and optionally draws ``--plot``.
 """

@@ -1,11 +1,13 @@
 """``spacearm capture MODEL --target-mass M --target-inertia IXX,IYY,IZZ --target-spin WX,WY,WZ ...``:
 the capture of a tumbling target, approach → capture → post-capture → detumble
-(:func:`spacearm.capture.capture`), with a printed summary, the ``.npz`` record and figures.
+([`spacearm.capture.capture`][spacearm.capture.capture]), with a printed summary, the ``.npz`` record and figures.
 
-The target starts at ``--target-at`` (its CM, m in 𝒥; default 0.6 m beyond the end effector,
-away from the base CM), at rest apart from its spin, with its axes along 𝒥's; its grasp point
-is ``--grasp-offset`` from its CM in its axes (default: towards the end effector, 0.1 m short
-of it).
+The arm starts at ``--q0`` (default the model's initial joint coordinates). The target starts
+at ``--target-at`` (its CM, m in 𝒥; default 0.6 m beyond the end effector, away from the base
+CM), at rest apart from its spin, with its axes along 𝒥's; its grasp point is ``--grasp-offset``
+from its CM in its axes (default: towards the end effector, 0.1 m short of it). A grasp point
+farther from the CM than the handle bound (``spacearm.capture.MAX_HANDLE_RATIO`` times the
+target's size) is refused, as is a target out of the arm's reach.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ import sys
 
 import numpy as np
 
-from .model_options import add_model_arguments
+from .model_options import add_model_arguments, joint_values
 from .numbers import parse_numbers
 
 __all__ = ["add_parser", "run"]
@@ -27,6 +29,7 @@ def add_parser(sub) -> None:
                                    "captured system and its detumbling; prints the impulse, the base disturbance, peak "
                                    "wrench and torques, the detumble time and the momentum drift.")
     add_model_arguments(p)
+    p.add_argument("--q0", default=None, help="the arm's initial joint coordinates q1,q2,... (default: the model's initial q)")
     t = p.add_argument_group("target")
     t.add_argument("--target-mass", type=float, required=True, help="kg")
     t.add_argument("--target-inertia", required=True, help="IXX,IYY,IZZ principal moments about its CM, kg m²")
@@ -63,7 +66,7 @@ def run(args, model_from_args, out=None) -> int:
         raise ArgumentError(f"model '{robot.name}' has no end effector to grasp with; give one with the model options")
     inertia = parse_numbers(args.target_inertia, "--target-inertia", 3, "IXX,IYY,IZZ", "kg m²")
     spin = parse_numbers(args.target_spin, "--target-spin", 3, "WX,WY,WZ", "rad/s")
-    x0 = robot.neutral_configuration()
+    x0 = robot.neutral_configuration(None if args.q0 is None else joint_values(args.q0, "--q0", robot))
     ee = robot.point_position(x0)
     if args.target_at is None:
         outward = ee - x0[:3]

@@ -1,7 +1,7 @@
 """``spacearm derive MODEL [--latex OUT.tex] [--python OUT.py] [--c OUT.c] [--symbols ...]``.
 
 Derives the model's closed-form matrices and writes the requested outputs atomically; prints the
-derivation time of each stage. Registered in :mod:`spacearm.cli`. SymPy (the ``symbolic`` extra)
+derivation time of each stage. Registered in ``spacearm.cli``. SymPy (the ``symbolic`` extra)
 is imported only when the command runs, so the parser builds without it.
 """
 
@@ -35,6 +35,10 @@ def run(args, model_from_args, out=None) -> None:
     from ..symbolic.codegen import write_atomic
     from ..symbolic.derivation import derive
 
+    if not (args.latex or args.python or args.c):
+        from .numbers import CliError
+
+        raise CliError("nothing to write: give --latex, --python and/or --c")
     robot = model_from_args(args)
     symbols = None
     if args.symbols:
@@ -45,8 +49,6 @@ def run(args, model_from_args, out=None) -> None:
         d = derive(robot, symbols)
     except ValueError as exc:
         raise SpacearmError(str(exc)) from None
-    if not (args.latex or args.python or args.c):
-        out.write("nothing to write: give --latex, --python and/or --c\n")
     jobs = []
     if args.latex:
         from ..symbolic.latex import latex_document

@@ -1,8 +1,8 @@
 """``spacearm inspect MODEL [--q Q1,Q2,...]``: the model summary (bodies, joints, total mass)
 and, at the given or initial configuration, ``H0``, ``H*`` and the end-effector ``J*`` with
-their conditioning. Registered in :mod:`spacearm.cli`.
+their conditioning. Registered in ``spacearm.cli``.
 
-Above :data:`FULL_REPORT_MAX_DOF` joints the dense part is left out: printing the N×N ``H*``
+Above ``FULL_REPORT_MAX_DOF`` joints the dense part is left out: printing the N×N ``H*``
 and taking SVDs of it costs O(N²) text and O(N³) time (a 10,000-joint model took more than five
 minutes), so a large model gets its summary table and ``H0`` (from the closed-form ``H0⁻¹`` of
 eqs. 52–61, O(N)) with a line saying how to get the rest from Python.
@@ -93,6 +93,12 @@ def inspect(robot: Robot, q=None, out=None) -> None:
         w(_matrix(f"J* of '{robot.end_effector}' (generalized Jacobian, eq. 110)", js, "linear rows m/rad, angular rows 1") + "\n")
         p = robot.point_position(x)
         w(f"  end-effector position: [{', '.join(f'{v:.6g}' for v in p)}] m\n\n")
+    elif robot.n_dof > 0:
+        parents = {link.parent for link in d.links}
+        leaves = [link.name for link in d.links if link.name not in parents]
+        w(f"J* (generalized Jacobian, eq. 110): not computed, '{robot.name}' has no end effector; its chain has "
+          f"{len(leaves)} {'leaf' if len(leaves) == 1 else 'leaves'} ({', '.join(leaves)}): name the point to use with "
+          "--end-effector POINT|LINK\n\n")
     w("conditioning:\n")
     w(_conditioning("H0", h0) + "\n")
     if robot.n_dof > 0:

@@ -1,11 +1,11 @@
 """The model options every ``spacearm`` subcommand that takes MODEL shares, defined once.
 
 ``inspect``, ``derive``, ``analyze``, ``simulate`` and ``campaign`` take the same options, added
-by :func:`add_model_arguments` and turned into a :class:`~spacearm.Robot` by
-:func:`model_from_args` / :func:`load_model`: ``--mount-on SPACECRAFT --at
+by ``add_model_arguments`` and turned into a [`Robot`][spacearm.Robot] by
+``model_from_args`` / ``load_model``: ``--mount-on SPACECRAFT --at
 x,y,z,roll,pitch,yaw`` (mount a URDF arm on a spacecraft base), ``--prefix``, ``--mimic``,
 ``--base-link`` (URDF only) and ``--end-effector`` (any model). Number lists are parsed by
-:func:`spacearm.cli.numbers.parse_numbers`.
+``spacearm.cli.numbers.parse_numbers``.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import sys
 import warnings
 from typing import Optional
 
-from .. import presets
+from .. import examples, presets
 from .numbers import CliError, parse_numbers
 from ..errors import NonPhysicalInertiaWarning, SpacearmError
 from ..io.model_file import load_toml
@@ -26,7 +26,9 @@ __all__ = ["MODEL_HELP", "add_model_arguments", "model_from_args", "load_model",
 
 
 #: What MODEL may be, for the help of every subcommand.
-MODEL_HELP = f"a preset ({', '.join(presets.NAMES)}), a .toml model file or a .urdf file"
+MODEL_HELP = (f"a preset ({', '.join(presets.NAMES)}), a model file shipped with spacearm "
+              f"({', '.join(n for n in examples.NAMES if n not in presets.NAMES)}; spacearm.examples), "
+              "a .toml model file or a .urdf file")
 
 #: Python keyword advice in the URDF importer's messages, as the command line spells it.
 _URDF_ADVICE_AS_OPTIONS = (
@@ -40,12 +42,12 @@ _URDF_ADVICE_AS_OPTIONS = (
 
 def add_model_arguments(parser: argparse.ArgumentParser) -> None:
     """Add MODEL and the model options that every subcommand taking a model shares; turn the
-    parsed ``args`` into the :class:`~spacearm.Robot` with :func:`model_from_args`."""
+    parsed ``args`` into the [`Robot`][spacearm.Robot] with ``model_from_args``."""
     parser.add_argument("model", help=MODEL_HELP)
     g = parser.add_argument_group("model options")
     g.add_argument("--mount-on", metavar="SPACECRAFT",
-                   help="URDF only: mount the URDF arm on this spacecraft (a preset or .toml file, e.g. "
-                        "examples/models/spacecraft_bus.toml) instead of making its root link the free-flying base")
+                   help="URDF only: mount the URDF arm on this spacecraft (a preset, a shipped model such as "
+                        "spacecraft_bus, or a .toml file) instead of making its root link the free-flying base")
     g.add_argument("--at", metavar="X,Y,Z,ROLL,PITCH,YAW",
                    help="with --mount-on: pose of the URDF base link frame in the spacecraft base frame, from its CM "
                         "(m, rad; URDF's R = Rz(yaw) Ry(pitch) Rx(roll); default 0,0,0,0,0,0)")
@@ -67,7 +69,7 @@ def add_model_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def model_from_args(args: argparse.Namespace) -> Robot:
-    """The robot that MODEL and the model options of :func:`add_model_arguments` describe. The
+    """The robot that MODEL and the model options of ``add_model_arguments`` describe. The
     warnings of ``--allow-nonphysical-inertia`` print as ``spacearm: warning: ...`` lines."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", NonPhysicalInertiaWarning)
@@ -85,9 +87,11 @@ def model_from_args(args: argparse.Namespace) -> Robot:
 def load_model(spec: str, mount_on: Optional[str] = None, at=None, prefix: Optional[str] = None,
                mimic: Optional[str] = None, base_link: Optional[str] = None,
                end_effector: Optional[str] = None, allow_nonphysical_inertia: bool = False) -> Robot:
-    """A preset by name, or a model file (``.toml``, ``.urdf``) by path.
+    """A preset by name, a model file shipped with spacearm by name (``spacecraft_bus``,
+    ``spatial6_wheels``: [`spacearm.examples`][spacearm.examples]), or a model file (``.toml``,
+    ``.urdf``) by path.
 
-    URDF only (:func:`spacearm.io.urdf.load_urdf`, docs/urdf.md): ``mount_on`` (a preset or
+    URDF only ([`spacearm.io.urdf.load_urdf`][spacearm.io.load_urdf], docs/urdf.md): ``mount_on`` (a preset or
     ``.toml`` file, the spacecraft) and ``at`` (``"x,y,z,roll,pitch,yaw"`` or 6 numbers, m and
     rad, the URDF base link frame in the spacecraft base frame, from its CM) mount the arm on a
     spacecraft instead of making its root link the free-flying base; ``prefix`` renames its
@@ -101,8 +105,12 @@ def load_model(spec: str, mount_on: Optional[str] = None, at=None, prefix: Optio
     origin in spacearm; a point ``<body>_cm`` is added). ``allow_nonphysical_inertia``: load
     inertias that break the triangle inequality with a warning (``ets7``: the published values).
     """
+    if spec not in presets.NAMES and spec in examples.NAMES and not os.path.exists(spec):
+        spec = str(examples.path(spec))
     if spec not in presets.NAMES and not os.path.exists(spec):
-        raise SpacearmError(f"'{spec}' is neither a preset ({', '.join(presets.NAMES)}) nor an existing model file")
+        shipped = ", ".join(n for n in examples.NAMES if n not in presets.NAMES)
+        raise SpacearmError(f"'{spec}' is neither a preset ({', '.join(presets.NAMES)}), nor a shipped model ({shipped}), "
+                            "nor an existing model file")
     if spec.lower().endswith(".urdf"):
         return _load_urdf_model(spec, mount_on, at, prefix, mimic, base_link, end_effector, allow_nonphysical_inertia)
     given = [option for option, value in (("--mount-on", mount_on), ("--at", at), ("--prefix", prefix),

@@ -1,16 +1,16 @@
 """Comma-separated number lists on the command line, parsed by one function.
 
 Every option of ``spacearm`` that takes several numbers (``--q``, ``--at``, ``--target``,
-``--q0``, ``--joints``, ...) goes through :func:`parse_numbers`, so they all accept the same
+``--q0``, ``--joints``, ...) goes through ``parse_numbers``, so they all accept the same
 spelling (``1,2,3``, ``-0.3, 0.3, 0``, ``1e-3,-2``) and report a bad value the same way: the
 option, how many numbers it expects, what they mean and their unit.
 
-Negative values: :mod:`argparse` treats an argument that starts with ``-`` as an option unless
+Negative values: ``argparse`` treats an argument that starts with ``-`` as an option unless
 it looks like a negative number. Up to Python 3.11 (at least) that means a single number
 (``-0.3``), so ``--target -0.3,0.3,0`` fails with "expected one argument"; recent releases
 accept anything starting ``-`` then a digit. The documented way that works in all of them is
 the attached form
-``--target=-0.3,0.3,0``; :func:`attach_negative_values` rewrites ``--option -0.3,...`` into
+``--target=-0.3,0.3,0``; ``attach_negative_values`` rewrites ``--option -0.3,...`` into
 that form before parsing. No ``spacearm`` option starts with ``-`` followed by a digit, so an
 argument that does can only be a value.
 """
@@ -42,7 +42,7 @@ def parse_numbers(text: str, option: str, count: Optional[int], meaning: str, un
     what they are (``"x,y,z,roll,pitch,yaw"``, ``"one per joint of 'ur5'"``) and ``unit`` their
     unit (``"m, rad"``); both appear in the error. ``integer``: the values must be whole
     numbers (returned as ``int``). Spaces around the values are ignored. Raises
-    :class:`CliError` (an :class:`~spacearm.errors.ArgumentError`).
+    ``CliError`` (an [`ArgumentError`][spacearm.ArgumentError]).
     """
     kind = "integers" if integer else "numbers"
     expected = f"{option} expects {'' if count is None else f'{count} '}comma-separated {kind} ({meaning}; {unit})"

@@ -1,5 +1,5 @@
 """The ``spacearm plan`` command: an optimal point-to-point maneuver of the free-floating
-system (:func:`spacearm.plan.point_to_point`), checked by re-simulation.
+system ([`spacearm.plan.point_to_point`][spacearm.plan.point_to_point]), checked by re-simulation.
 
 ``spacearm plan MODEL --to X,Y,Z`` solves the multiple-shooting problem with IPOPT (progress on
 stderr), re-simulates the plan in the native simulator under computed torque, prints both, and
@@ -8,7 +8,7 @@ its figure (``--plot plan.png``, with the re-simulation). A plan that IPOPT did 
 whose shooting defect or re-simulation is beyond the tolerances of
 :mod:`spacearm.plan.verify`, is an error (``spacearm: error: no plan: ...``, exit 2, no file).
 
-Registered in :mod:`spacearm.cli` by :func:`add_parser` and :func:`run`.
+Registered in ``spacearm.cli`` by ``add_parser`` and ``run``.
 """
 
 from __future__ import annotations

@@ -9,7 +9,7 @@ of the mode's conserved quantities, final tracking error, saturation events).
 floating mode and writes its figures: a computed-torque joint maneuver (the base reacts, the
 system CM stays put) and a torque-free run (momentum and energy conserved).
 
-Registered in :mod:`spacearm.cli` by :func:`add_parsers` and :func:`run`.
+Registered in ``spacearm.cli`` by ``add_parsers`` and ``run``.
 """
 
 from __future__ import annotations
@@ -115,7 +115,7 @@ def _mean_base_inertia(robot) -> float:
 # controllers from the options
 # ---------------------------------------------------------------------------------------------
 def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, move_time=None, kp=None, kd=None):
-    """The :mod:`spacearm.control` object that ``--controller name`` means (``None`` for
+    """The [`spacearm.control`][spacearm.control] object that ``--controller name`` means (``None`` for
     ``"none"``): references start at the initial state and reach ``target`` at ``move_time``."""
     if name == "none":
         return None
@@ -156,7 +156,7 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
         if not wheels:
             raise CliError(f"--controller attitude needs reaction wheels, but '{robot.name}' has none "
                            "(add them with RobotBuilder.add_reaction_wheel, or use a model file with wheel links such as "
-                           "examples/models/spatial6_wheels.toml)")
+                           "the shipped spatial6_wheels)")
         i_base = _mean_base_inertia(robot)
         base = control.AttitudeControl(quat_ref=np.asarray(x0[3:7]), kp=9.0 * i_base if kp is None else kp,
                                        kd=6.0 * i_base if kd is None else kd)
@@ -181,7 +181,7 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
 # ---------------------------------------------------------------------------------------------
 def simulate_command(args, model_from_args, out=None) -> int:
     """Run ``spacearm simulate`` with parsed ``args``; ``model_from_args`` is the CLI's model
-    loader (:func:`spacearm.cli.model_from_args`)."""
+    loader (``spacearm.cli.model_from_args``)."""
     out = sys.stdout if out is None else out
     robot = model_from_args(args)
     if not (np.isfinite(args.duration) and args.duration > 0):
@@ -272,7 +272,7 @@ def run_demo(out_dir, animation: bool = True, out=None, figures: bool = True) ->
 
 
 def run(args, model_from_args) -> int:
-    """Dispatch ``simulate`` or ``demo`` (called by :func:`spacearm.cli.main`)."""
+    """Dispatch ``simulate`` or ``demo`` (called by ``spacearm.cli.main``)."""
     if args.command == "simulate":
         return simulate_command(args, model_from_args)
     if args.command == "demo":

@@ -5,7 +5,7 @@ its momentum ``h = [P; L_origin]`` is constant:
 
     h_robot(x_k, u_k) + Y(x_k, u_k) π = h0        for every sample k                     (1)
 
-(:mod:`spacearm.identify.regressor`; Yoshida & Abiko 2002). With ``h0`` known, (1) is linear in π.
+([`spacearm.identify.regressor`][spacearm.identify.regressor]; Yoshida & Abiko 2002). With ``h0`` known, (1) is linear in π.
 With ``h0`` unknown (the usual case: nothing measures it), it is eliminated by subtracting the
 sample mean of each of the six rows (the least-squares estimate of ``h0`` for any π), leaving
 ``(Y_k − Ȳ) π = −(h_robot,k − h̄_robot)``; ``h0`` is recovered afterwards as the mean of
@@ -36,6 +36,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._util.arrays import number, real_array
+from .._util.summary import summary_repr
 from ..errors import ArgumentError, ShapeError, SingularError, SpacearmTypeError
 from ..model.robot import Robot
 from .parameters import PARAMETER_NAMES, from_parameters, physical_jacobian
@@ -48,9 +50,9 @@ __all__ = ["PayloadEstimate", "identify_payload", "DEFAULT_RCOND"]
 DEFAULT_RCOND = 1e-9
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class PayloadEstimate:
-    """The result of :func:`identify_payload`. Frames: ``com`` from the grasp body's CM in its
+    """The result of [`identify_payload`][spacearm.identify.identify_payload]. Frames: ``com`` from the grasp body's CM in its
     axes, ``inertia`` about the payload's CM in the grasp body's axes, ``momentum`` in 𝒥."""
 
     body: str  #: the grasp body
@@ -65,6 +67,8 @@ class PayloadEstimate:
     noise_std: np.ndarray  #: estimated σ_P (N·s) and σ_L (N·m·s) of the momentum equations
     n_samples: int  #: samples used
 
+    __repr__ = summary_repr
+
     @property
     def identifiable(self) -> bool:
         """Whether the motion determined all ten parameters."""
@@ -73,7 +77,7 @@ class PayloadEstimate:
     @property
     def identifiable_combinations(self) -> np.ndarray:
         """(rank, 10): orthonormal rows ``c`` such that ``c · π`` is determined by the motion
-        (the orthogonal complement of :attr:`null_space`)."""
+        (the orthogonal complement of [`null_space`][spacearm.identify.estimate.PayloadEstimate.null_space])."""
         _, _, vt = np.linalg.svd(np.eye(10) - self.null_space @ self.null_space.T)
         return vt[: self.rank]
 
@@ -141,10 +145,7 @@ def _samples(robot: Robot, trajectory, x, u):
         x, u = trajectory.x, trajectory.u
     if x is None or u is None:
         raise ArgumentError("identify_payload needs a trajectory, or the arrays x (K, 7+N) and u (K, 6+N)")
-    try:
-        xs, us = np.asarray(x, dtype=float), np.asarray(u, dtype=float)
-    except (TypeError, ValueError):
-        raise ShapeError("x and u must be arrays of numbers, of shapes (K, 7+N) and (K, 6+N)") from None
+    xs, us = real_array(x, "x"), real_array(u, "u")  # the one array check: complex, object and text refused
     if xs.ndim != 2 or xs.shape[1] != robot.nx or us.ndim != 2 or us.shape[1] != robot.nu or len(xs) != len(us):
         raise ShapeError(f"x and u must have shapes (K, {robot.nx}) and (K, {robot.nu}) for the robot '{robot.name}' "
                          f"(N = {robot.n_dof}), got {xs.shape} and {us.shape}; the combined system must have the robot's "
@@ -159,7 +160,11 @@ def _samples(robot: Robot, trajectory, x, u):
 def _solve(a: np.ndarray, b: np.ndarray, scale: np.ndarray, threshold: float):
     """Least squares on the columns of ``a`` divided by ``scale``, by SVD, keeping the singular
     values above ``threshold``: ``(π, Cov(π) for unit row noise, singular values, rank, null space)``."""
-    u, s, vt = np.linalg.svd(a / scale, full_matrices=False)
+    try:
+        u, s, vt = np.linalg.svd(a / scale, full_matrices=False)
+    except np.linalg.LinAlgError:
+        raise SingularError("the least-squares problem of the identification has no solution (the SVD of the weighted regressor "
+                            "did not converge): the recording holds too little motion of the grasp body") from None
     rank = int(np.sum(s > threshold))
     z = vt[:rank].T @ ((u[:, :rank].T @ b) / s[:rank])
     pi = z / scale
@@ -197,7 +202,7 @@ def identify_payload(robot: Robot, trajectory=None, *, body, x=None, u=None, mom
     momentum : array of 6, optional
         ``[P; L_origin]`` of robot + payload, if known; by default it is estimated too.
     rcond : float
-        Relative singular-value threshold for identifiability (:data:`DEFAULT_RCOND`).
+        Relative singular-value threshold for identifiability ([`DEFAULT_RCOND`][spacearm.identify.estimate.DEFAULT_RCOND]).
 
     Returns
     -------
@@ -211,7 +216,7 @@ def identify_payload(robot: Robot, trajectory=None, *, body, x=None, u=None, mom
     if not isinstance(robot, Robot):
         raise SpacearmTypeError(f"robot must be a spacearm.Robot (the known robot, without the payload), got {type(robot).__name__}")
     g = robot.body_index(body)
-    rcond = float(rcond)
+    rcond = number(rcond, "rcond")
     if not 0.0 < rcond < 1.0:
         raise ArgumentError(f"rcond must be in (0, 1), got {rcond}")
     xs, us = _samples(robot, trajectory, x, u)
@@ -225,11 +230,16 @@ def identify_payload(robot: Robot, trajectory=None, *, body, x=None, u=None, mom
     if given:
         from .._util.arrays import vector
 
-        h0 = vector(momentum, "momentum", 6)
+        from .._util.arrays import finite
+
+        h0 = finite(vector(momentum, "momentum", 6), "momentum")
         a, b = y, h0[None, :] - h_robot
     else:
         a, b = y - y.mean(axis=0), -(h_robot - h_robot.mean(axis=0))
     a, b = a.reshape(6 * k, 10), b.reshape(6 * k)
+    if not np.any(a):
+        raise SingularError(f"nothing to identify: the grasp body '{robot.body_names[g]}' does not move relative to the system over the "
+                            f"{k} samples (the regressor{'' if given else ' less its mean'} is zero); record a motion of the arm")
     linear = np.tile(np.r_[np.ones(3, bool), np.zeros(3, bool)], k)
 
     # [m, h, Ī] = [m, ℓ h̃, ℓ² Ĩ]: the regressor's columns times 1, ℓ, ℓ² act on parameters in kg.

@@ -53,8 +53,8 @@ def to_parameters(mass: float, com, inertia) -> np.ndarray:
 
 
 def from_parameters(pi) -> tuple:
-    """``(mass, com, inertia)`` from π: the inverse of :func:`to_parameters`. A mass that is
-    not positive has no CM: :class:`~spacearm.errors.SingularError`."""
+    """``(mass, com, inertia)`` from π: the inverse of [`to_parameters`][spacearm.identify.to_parameters]. A mass that is
+    not positive has no CM: [`SingularError`][spacearm.SingularError]."""
     pi = np.asarray(pi, dtype=float).reshape(10)
     m = float(pi[0])
     if not m > 0.0:

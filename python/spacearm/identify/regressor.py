@@ -9,7 +9,7 @@ velocity (both in 𝒥), a point ``ρ`` of the payload (from ``g``'s CM, in ``g`
     L_payload = r_g × P_payload + (R_g h) × v_g + R_g Ī R_gᵀ ω      (about the origin of 𝒥)
 
 with ``h = m c`` and ``Ī`` the payload's inertia about ``g``'s CM in ``g``'s axes. Both are linear
-in the parameter vector π of :mod:`spacearm.identify.parameters`:
+in the parameter vector π of [`spacearm.identify.parameters`][spacearm.identify.parameters]:
 
     [P; L]_payload = Y(x, u) π,
     Y = [[ v_g,        [ω]× R_g,                          0          ],

@@ -1,7 +1,7 @@
 """Interoperability with Pinocchio, MuJoCo, SPART and SpaceDyn: model export and convention converters.
 
-One module per engine — :mod:`~spacearm.interop.pinocchio`, :mod:`~spacearm.interop.mujoco`,
-:mod:`~spacearm.interop.spart`, :mod:`~spacearm.interop.spacedyn` — over the shared model tree
+One module per engine — [`pinocchio`][spacearm.interop.pinocchio], [`mujoco`][spacearm.interop.mujoco],
+[`spart`][spacearm.interop.spart], [`spacedyn`][spacearm.interop.spacedyn] — over the shared model tree
 and joint order of ``_common.py``; every public name is also here, ``spacearm.interop.<name>``.
 
 spacearm, Pinocchio and MuJoCo describe the same free-flying multibody system with different
@@ -10,7 +10,7 @@ accelerations and mass matrices between the three layouts, so that a user (or a 
 compute a quantity in one and compare it with the other.
 
 Conventions (``docs/conventions.md``; every formula below was verified numerically by
-``tests/interop/test_pinocchio.py``, ``tests/interop/test_mujoco.py`` and ``tests/interop/test_interop_spart.py``)::
+``tests/interop/test_pinocchio.py``, ``tests/interop/test_mujoco.py`` and ``tests/interop/test_interop_spart.py``):
 
     spacearm   x = [r0, quat0 (x, y, z, w), q]          u = [v0 (𝒥), ω0 (𝒥), q̇]
     Pinocchio  q = [r0, quat0 (x, y, z, w), P_eᵀ q]      v = [R0ᵀ v0, R0ᵀ ω0, P_eᵀ q̇]
@@ -19,7 +19,7 @@ Conventions (``docs/conventions.md``; every formula below was verified numerical
     SpaceDyn   R0 = r0, A0 = R0, q                      v0, w0 = ω0, qd = q̇
 
 SPART and SpaceDyn are MATLAB libraries: their "state" is a set of separate arrays, returned
-here as the named tuples :class:`SpartState` and :class:`SpaceDynState`. Both put the base
+here as the named tuples [`SpartState`][spacearm.interop.SpartState] and [`SpaceDynState`][spacearm.interop.SpaceDynState]. Both put the base
 frame at the base centre of mass and use a rotation matrix mapping base-frame vectors to the
 inertial frame (SPART's ``R0``, SpaceDyn's ``A0``). SPART's base velocity ``u0`` puts the
 angular velocity first, in the base frame, then the linear velocity of the base CM in the
@@ -35,7 +35,7 @@ that way), so the base "origin velocity" of each engine is the base CM velocity 
 its degrees of freedom in link order, which is only *topological* (each link after its
 parent); Pinocchio's recursive algorithms (their ``nvSubtree`` blocks) and MuJoCo's nested
 body tree both need a *depth-first* order, so the exported models number the joints by a
-depth-first traversal of the tree (children in link order). :func:`engine_dof_order` gives it:
+depth-first traversal of the tree (children in link order). [`engine_dof_order`][spacearm.interop.engine_dof_order] gives it:
 ``q_engine = q[order]``. For a serial chain ``order`` is the identity.
 
 With the block-diagonal matrices

@@ -1,7 +1,7 @@
 """What the engine converters share: the model's tree read from ``Robot.description``, the
 depth-first joint order of the exported models, the block transforms ``blkdiag(R0 or E, R0,
 P_e)``, and the checks of the MATLAB libraries' state arrays (formulas in the docstring of
-:mod:`spacearm.interop`)."""
+[`spacearm.interop`][spacearm.interop])."""
 
 from __future__ import annotations
 
@@ -36,6 +36,11 @@ class _Body:
     mass: float
     inertia: np.ndarray  # 3×3 about the CM, child axes
     dof: Optional[int]  # spacearm dof index, None for the base and fixed joints
+    # the joint's passive dynamics (docs/flexibility.md): motor, spring -k (q - rest), damper -c qd
+    actuated: bool = True
+    stiffness: float = 0.0
+    damping: float = 0.0
+    rest: float = 0.0
 
 
 def _tree(robot) -> Tuple[List[_Body], List[List[int]], Tuple[PointDescription, ...]]:
@@ -51,6 +56,7 @@ def _tree(robot) -> Tuple[List[_Body], List[List[int]], Tuple[PointDescription, 
             k + 1, link.name, link.parent_index, link.type, link.joint,
             np.array(link.origin), quat_to_matrix(link.rotation), np.array(link.axis), np.array(link.com),
             link.mass, np.array(link.inertia), link.dof,
+            link.actuated, link.stiffness, link.damping, link.rest,
         ))
     children: List[List[int]] = [[] for _ in bodies]
     for b in bodies[1:]:
@@ -118,7 +124,7 @@ ROTATION_TOLERANCE = 1e-6
 
 
 def _checked_state(robot, x, u) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """``(r0, R0, q, u)`` of a spacearm state, checked as :class:`~spacearm.Robot` checks it."""
+    """``(r0, R0, q, u)`` of a spacearm state, checked as [`Robot`][spacearm.Robot] checks it."""
     x = vector(x, "x", robot.nx)
     u = vector(u, "u", robot.nu)
     if not (np.all(np.isfinite(x)) and np.all(np.isfinite(u))):

@@ -1,7 +1,7 @@
 """MuJoCo: the MJCF text and compiled ``mujoco.MjModel`` of a spacearm model and the maps of
 states, forces, accelerations, mass matrices and bias forces between the two layouts
-(``T_mj = blkdiag(E, R0, P_e)``: the docstring of :mod:`spacearm.interop`). MuJoCo
-(``pip install mujoco``) is imported only inside :func:`to_mujoco`."""
+(``T_mj = blkdiag(E, R0, P_e)``: the docstring of [`spacearm.interop`][spacearm.interop]). MuJoCo
+(``pip install mujoco``) is imported only inside [`to_mujoco`][spacearm.interop.to_mujoco]."""
 
 from __future__ import annotations
 
@@ -68,8 +68,12 @@ def to_mjcf(robot) -> str:
       frame; a hinge/slide joint at ``pos = -com`` (the joint position, in the link frame)
       about ``axis``. A fixed link is a body without a joint (welded; ``fusestatic`` off keeps
       it as its own body).
-    - ``<option gravity="0 0 0">``, contacts disabled (and there are no geoms), joint damping,
-      stiffness, armature and friction loss explicitly zero, no limits, RK4 (the integrator
+    - A joint's spring–damper (docs/flexibility.md) as the joint's ``stiffness``, ``springref``
+      (the rest coordinate) and ``damping``: MuJoCo's ``qfrc_passive`` is then spacearm's
+      passive force ``-k (q - rest) - c q̇``. There are no actuators (a model's forces are
+      applied as ``qfrc_applied``), so a passive joint needs no marking.
+    - ``<option gravity="0 0 0">``, contacts disabled (and there are no geoms), armature and
+      friction loss explicitly zero (damping and stiffness zero unless the joint has them), no limits, RK4 (the integrator
       changes no term of the continuous-time dynamics), and the ``energy`` flag on so that
       ``MjData.energy`` holds the kinetic energy.
     """
@@ -96,7 +100,8 @@ def to_mjcf(robot) -> str:
             if body.kind != "fixed":
                 ET.SubElement(el, "joint", name=body.joint, type="hinge" if body.kind == "revolute" else "slide",
                               pos=_fmt(-body.com), axis=_fmt(body.axis), limited="false",
-                              damping="0", stiffness="0", armature="0", frictionloss="0")
+                              damping=repr(float(body.damping)), stiffness=repr(float(body.stiffness)),
+                              springref=repr(float(body.rest)), armature="0", frictionloss="0")
         _inertial(el, body.mass, body.inertia)
         for name, offset in points_on.get(b, []):
             ET.SubElement(el, "site", name=name, pos=_fmt(offset))
@@ -109,7 +114,7 @@ def to_mjcf(robot) -> str:
 
 
 def to_mujoco(robot):
-    """The compiled ``mujoco.MjModel`` of :func:`to_mjcf`."""
+    """The compiled ``mujoco.MjModel`` of [`to_mjcf`][spacearm.interop.to_mjcf]."""
     mujoco = _import_mujoco()
     return mujoco.MjModel.from_xml_string(to_mjcf(robot))
 

@@ -1,6 +1,6 @@
 """Pinocchio: the equivalent ``pinocchio.Model`` of a spacearm model and the maps of states,
 forces, accelerations, mass matrices, bias forces and ABA derivatives between the two layouts
-(``T_pin = blkdiag(R0, R0, P_e)``: the docstring of :mod:`spacearm.interop`). Pinocchio
+(``T_pin = blkdiag(R0, R0, P_e)``: the docstring of [`spacearm.interop`][spacearm.interop]). Pinocchio
 (``pip install pin``) is imported only inside the functions that need it."""
 
 from __future__ import annotations
@@ -54,7 +54,7 @@ def to_pinocchio(robot):
     - Frames: a ``BODY`` frame per spacearm body (same name, origin at its CM, link axes) and
       an ``OP_FRAME`` per named point.
 
-    Joints are added depth-first (see :func:`engine_dof_order`), which Pinocchio's algorithms
+    Joints are added depth-first (see [`engine_dof_order`][spacearm.interop.engine_dof_order]), which Pinocchio's algorithms
     require; the joint names are spacearm's joint names.
     """
     pin = _import_pinocchio()
@@ -168,7 +168,7 @@ def mass_matrix_from_pinocchio(robot, x, M) -> np.ndarray:
 
 def bias_from_pinocchio(robot, x, u, nle, M) -> np.ndarray:
     """Pinocchio ``nle`` (with zero gravity: the velocity-product terms) → spacearm
-    ``c = T_pin nle − H[:, :3] (ω0 × v0)`` with ``H`` from :func:`mass_matrix_from_pinocchio`."""
+    ``c = T_pin nle − H[:, :3] (ω0 × v0)`` with ``H`` from [`mass_matrix_from_pinocchio`][spacearm.interop.mass_matrix_from_pinocchio]."""
     h = mass_matrix_from_pinocchio(robot, x, M)
     t = pinocchio_transform(robot, x)
     return t @ vector(nle, "nle", robot.nu) - h @ _omega_cross_v(robot, u)
@@ -187,7 +187,7 @@ def _cross_columns(nu: int, w) -> np.ndarray:
 
 def aba_derivatives_from_pinocchio(robot, x, u, f, ddq_dq, ddq_dv, minv, ddq):
     """Pinocchio's ``computeABADerivatives`` results → spacearm's
-    ``(∂u̇/∂x, ∂u̇/∂u, ∂u̇/∂f)`` (:meth:`spacearm.Robot.forward_dynamics_derivatives`).
+    ``(∂u̇/∂x, ∂u̇/∂u, ∂u̇/∂f)`` ([`spacearm.Robot.forward_dynamics_derivatives`][spacearm.Robot.forward_dynamics_derivatives]).
 
     Pinocchio computes ``a = ABA(q, v, τ_p)`` with ``v = Tᵀ u``, ``τ_p = Tᵀ f`` and spacearm's
     ``u̇ = T a + [ω0 × v0; 0; 0]``, ``T = blkdiag(R0, R0, P_e)``. Its configuration tangent is

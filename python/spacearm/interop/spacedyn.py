@@ -1,5 +1,5 @@
 """SpaceDyn (a MATLAB library): a spacearm state in SpaceDyn's variables and back (states
-only; conventions in the docstring of :mod:`spacearm.interop`)."""
+only; conventions in the docstring of [`spacearm.interop`][spacearm.interop])."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """SPART (a MATLAB library): a spacearm state in SPART's variables and back (states only;
-conventions in the docstring of :mod:`spacearm.interop`)."""
+conventions in the docstring of [`spacearm.interop`][spacearm.interop])."""
 
 from __future__ import annotations
 

@@ -1,11 +1,11 @@
-"""Models in and out of files: the constructors of :class:`~spacearm.Robot` from a source other
+"""Models in and out of files: the constructors of [`Robot`][spacearm.Robot] from a source other
 than Python code, and the writers.
 
-- :func:`load_toml` / :func:`loads_toml` (a model file or its text, ``docs/model-format.md``),
-  :func:`save_toml` / :func:`dumps_toml` (write one back, bit-exact);
-- :func:`load_urdf` / :func:`loads_urdf` (URDF, free-flying or mounted on a spacecraft,
-  ``docs/urdf.md``), :func:`to_urdf` / :func:`save_urdf` (URDF out);
-- :func:`robot_from_dh` (a Denavit–Hartenberg table, ``docs/dh.md``).
+- [`load_toml`][spacearm.io.load_toml] / [`loads_toml`][spacearm.io.loads_toml] (a model file or its text, ``docs/model-format.md``),
+  [`save_toml`][spacearm.io.save_toml] / [`dumps_toml`][spacearm.io.dumps_toml] (write one back, bit-exact);
+- [`load_urdf`][spacearm.io.load_urdf] / [`loads_urdf`][spacearm.io.loads_urdf] (URDF, free-flying or mounted on a spacecraft,
+  ``docs/urdf.md``), [`to_urdf`][spacearm.io.to_urdf] / [`save_urdf`][spacearm.io.save_urdf] (URDF out);
+- [`robot_from_dh`][spacearm.io.robot_from_dh] (a Denavit–Hartenberg table, ``docs/dh.md``).
 
 They live here, not as ``Robot`` classmethods: ``io/`` builds Robots, so it sits a layer above
 ``model/``, which imports nothing from the layers above it (``docs/architecture.md``).

@@ -1,7 +1,7 @@
-"""TOML model files: read and write a :class:`~spacearm.Robot`.
+"""TOML model files: read and write a [`Robot`][spacearm.Robot].
 
 The schema (units, frames, every key and every validation rule) is in
-``docs/model-format.md``. In brief::
+``docs/model-format.md``. In brief:
 
     [model]
     name = "demo"
@@ -25,8 +25,8 @@ The schema (units, frames, every key and every validation rule) is in
     body = "arm"
     offset = [0.5, 0.0, 0.0]
 
-Every problem with a file raises :class:`~spacearm.ModelFileError` (a
-:class:`~spacearm.ModelError`, hence a ``ValueError``) whose message starts with
+Every problem with a file raises [`ModelFileError`][spacearm.ModelFileError] (a
+[`ModelError`][spacearm.ModelError], hence a ``ValueError``) whose message starts with
 ``file:line:column:`` and names the link, joint or point concerned.
 """
 
@@ -51,7 +51,7 @@ def loads_toml(text: str, source: str = "<string>", *, allow_nonphysical_inertia
 
     ``allow_nonphysical_inertia``: accept inertias whose principal moments break the triangle
     inequality ``I1 + I2 >= I3`` (refused by default: no real body has them), with a
-    :class:`~spacearm.errors.NonPhysicalInertiaWarning` per body; published identified datasets
+    [`NonPhysicalInertiaWarning`][spacearm.errors.NonPhysicalInertiaWarning] per body; published identified datasets
     can need it. Symmetry and positive semi-definiteness are still required.
     """
     if isinstance(text, (bytes, bytearray)):
@@ -67,8 +67,8 @@ def loads_toml(text: str, source: str = "<string>", *, allow_nonphysical_inertia
 
 def load_toml(path: PathLike, *, allow_nonphysical_inertia: bool = False) -> Robot:
     """Read a model file (UTF-8 TOML). A missing file raises ``FileNotFoundError``; anything
-    wrong inside it raises :class:`~spacearm.ModelFileError` with the line and column.
-    ``allow_nonphysical_inertia``: see :func:`loads_toml`."""
+    wrong inside it raises [`ModelFileError`][spacearm.ModelFileError] with the line and column.
+    ``allow_nonphysical_inertia``: see [`loads_toml`][spacearm.io.loads_toml]."""
     try:
         path = Path(path)
     except TypeError:
@@ -88,5 +88,5 @@ def dumps_toml(robot: Robot) -> str:
 def save_toml(robot: Robot, path: PathLike) -> Path:
     """Write the model to ``path`` atomically: the text goes to a temporary file in the same
     directory, is flushed to disk, and then replaces ``path`` in one step, so an interrupted
-    run never leaves a truncated file (:mod:`spacearm._util.atomic`). Returns the path written."""
+    run never leaves a truncated file (``spacearm._util.atomic``). Returns the path written."""
     return write_text(path, dumps_toml(robot))

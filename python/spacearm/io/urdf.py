@@ -25,7 +25,7 @@ How URDF frames become spacearm frames (docs/urdf.md has the full story):
   frame in that body's frame (from its CM). The URDF base is then a fixed body, not merged, so
   the bus's own frames and points keep their meaning.
 
-Every problem is a :class:`~spacearm.ModelFileError` naming the element and its line.
+Every problem is a [`ModelFileError`][spacearm.ModelFileError] naming the element and its line.
 """
 
 from __future__ import annotations
@@ -243,7 +243,8 @@ class _Importer:
             self._add(builder, b.joint.line, p + b.name, parent=p + parent.name,
                       joint={"prismatic": "prismatic", "fixed": "fixed"}.get(b.joint.kind, "revolute"),
                       axis=b.axis, origin=b.joint_in_parent.t - parent.com, rotation=quat_from_matrix(b.joint_in_parent.R),
-                      com=b.com, mass=b.mass, inertia=b.inertia, joint_name=p + b.joint.name, limits=dict(b.joint.limits))
+                      com=b.com, mass=b.mass, inertia=b.inertia, joint_name=p + b.joint.name, limits=dict(b.joint.limits),
+                      **b.joint.dynamics)
         points = {}
         for link, body in self.body_of_link.items():
             if self.bodies[body].name != link:
@@ -295,7 +296,7 @@ def loads_urdf(
     fixed: str = "merge",
     allow_nonphysical_inertia: bool = False,
 ) -> Robot:
-    """Build a :class:`~spacearm.Robot` from URDF text (``str`` or ``bytes``); see :func:`load_urdf`."""
+    """Build a [`Robot`][spacearm.Robot] from URDF text (``str`` or ``bytes``); see [`load_urdf`][spacearm.io.load_urdf]."""
     urdf = parse_urdf(text, source, mimic=mimic)
     importer = _Importer(urdf, base_link, fixed)
     return importer.build(name or urdf.name, mount_on, mount_body, at, end_effector, str(prefix), bool(allow_nonphysical_inertia))
@@ -305,7 +306,7 @@ def load_urdf(path, **kwargs) -> Robot:
     """Load a URDF file as a spacearm model.
 
     ``base_link``: the link that becomes the free-flying base (default: the URDF root).
-    ``mount_on``: a spacearm :class:`~spacearm.Robot` (a spacecraft) to attach the URDF's base
+    ``mount_on``: a spacearm [`Robot`][spacearm.Robot] (a spacecraft) to attach the URDF's base
     link to, with a fixed joint on ``mount_body`` (default: its base) at
     ``at = (x, y, z, roll, pitch, yaw)`` (the URDF base link frame in that body's frame, from
     its CM; m and rad, URDF's ``R = Rz(yaw) Ry(pitch) Rx(roll)``). ``end_effector``: a URDF link
@@ -314,14 +315,14 @@ def load_urdf(path, **kwargs) -> Robot:
     ``fixed``: ``"merge"`` (default) welds links on fixed joints into their moving parent;
     ``"keep"`` keeps those with an ``<inertial>`` as fixed bodies (massless frames still become
     points), which keeps the base CM where a spacearm model exported by
-    :func:`spacearm.io.urdf_export.to_urdf` had it.
+    [`spacearm.io.urdf_export.to_urdf`][spacearm.io.to_urdf] had it.
     ``prefix``: prepended to every URDF link, joint and point name (for mounting two arms, or an
     arm whose link names clash with the spacecraft's). ``name``: the model name (default: the
     ``<robot name>``). ``allow_nonphysical_inertia``: accept inertias that break the triangle
     inequality ``I1 + I2 >= I3`` (published identified data), with a
-    :class:`~spacearm.errors.NonPhysicalInertiaWarning` per body, instead of refusing the file.
+    [`NonPhysicalInertiaWarning`][spacearm.errors.NonPhysicalInertiaWarning] per body, instead of refusing the file.
 
-    Raises :class:`~spacearm.ModelFileError` with ``file:line:`` for every problem in the file,
+    Raises [`ModelFileError`][spacearm.ModelFileError] with ``file:line:`` for every problem in the file,
     and ``OSError`` if it cannot be read.
     """
     with open(os.fspath(path), "rb") as fh:

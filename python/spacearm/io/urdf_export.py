@@ -1,6 +1,6 @@
 """URDF export: any spacearm model as a URDF document (docs/urdf.md, "Export").
 
-The inverse of :mod:`spacearm.io.urdf`'s frame conversion. URDF puts a link frame at its joint;
+The inverse of [`spacearm.io.urdf`][spacearm.io.urdf]'s frame conversion. URDF puts a link frame at its joint;
 spacearm puts it at the CM (docs/conventions.md). So each spacearm body becomes a URDF link
 whose frame is at its **joint** with the body's axes, its ``<inertial><origin>`` is the
 spacearm ``com``, and a child joint's URDF ``<origin xyz>`` is the spacearm ``origin`` (from
@@ -81,6 +81,15 @@ def to_urdf(robot) -> str:
                       if np.isfinite(v)}
             if limits:
                 ET.SubElement(joint, "limit", **limits)
+            # The joint's passive dynamics (docs/flexibility.md): URDF's damping, and the
+            # <spacearm> extension element for the spring and passivity.
+            if link.damping != 0.0:
+                ET.SubElement(joint, "dynamics", damping=_num(link.damping))
+            ext = {k: _num(v) for k, v in (("stiffness", link.stiffness), ("rest", link.rest)) if v != 0.0}
+            if not link.actuated:
+                ext["actuated"] = "false"
+            if ext:
+                ET.SubElement(joint, "spacearm", **ext)
     for p in d.points:
         ET.SubElement(root, "link", name=p.name)
         joint = ET.SubElement(root, "joint", name=f"{p.name}_point", type="fixed")
@@ -92,6 +101,6 @@ def to_urdf(robot) -> str:
 
 
 def save_urdf(robot, path) -> None:
-    """Write :func:`to_urdf` to ``path`` atomically (:mod:`spacearm._util.atomic`: temporary
+    """Write [`to_urdf`][spacearm.io.to_urdf] to ``path`` atomically (``spacearm._util.atomic``: temporary
     file, flush, rename; the mode of a normal file)."""
     write_text(path, to_urdf(robot), suffix=".urdf")

@@ -1,15 +1,15 @@
 """Reading URDF text into plain records, safely and with line numbers.
 
-This module only parses: XML → :class:`UrdfRobot` (links, joints, inertials, limits, each with
+This module only parses: XML → ``UrdfRobot`` (links, joints, inertials, limits, each with
 the line of its element). Turning that tree into a spacearm model (frames at the CM, fixed
-joints merged, choice of base) is :mod:`spacearm.io.urdf`.
+joints merged, choice of base) is [`spacearm.io.urdf`][spacearm.io.urdf].
 
 Why this parser: the XML is read by the standard library's expat parser through
 ``defusedxml`` (a small, maintained, pure-Python guard used by pip-installed tools that read
 untrusted XML). With ``forbid_entities`` and ``forbid_external`` it refuses every entity
 declaration and every external DTD or entity reference before anything is expanded, so a
 "billion laughs" document or an ``<!ENTITY x SYSTEM "file:///etc/passwd">`` is a
-:class:`~spacearm.ModelFileError`, never an expansion. ``forbid_dtd`` refuses any
+[`ModelFileError`][spacearm.ModelFileError], never an expansion. ``forbid_dtd`` refuses any
 ``<!DOCTYPE>`` as well: URDF has no DTD, and with an external DTD subset expat would otherwise
 silently skip undefined entity references (nothing is fetched, but a name could become empty). expat also reports the line and column
 of each element, which the error messages cite. A Rust crate (``urdf-rs``, ``roxmltree``)
@@ -18,8 +18,12 @@ itself is still validated by the Rust core when it is built.
 
 URDF (https://wiki.ros.org/urdf/XML) numbers are attribute strings: ``xyz="0 0 0.1"``.
 Elements this reader does not need (``visual``, ``collision``, ``gazebo``, ``transmission``,
-``material``, ``dynamics``, ``calibration``, ``safety_controller``) are ignored; elements that
-change the kinematics in a way spacearm cannot represent (``mimic``) are errors.
+``material``, ``calibration``, ``safety_controller``) are ignored; elements that
+change the kinematics in a way spacearm cannot represent (``mimic``) are errors. A moving
+joint's ``<dynamics damping>`` is its viscous damping (``friction`` is ignored: spacearm has
+no Coulomb friction), and the extension element ``<spacearm stiffness="…" rest="…"
+actuated="false"/>`` inside a ``<joint>`` gives its spring and makes it passive
+(docs/flexibility.md; URDF readers that do not know it ignore it, as they ignore ``<gazebo>``).
 """
 
 from __future__ import annotations
@@ -73,6 +77,8 @@ class UrdfJoint:
     axis: np.ndarray
     limits: Dict[str, float]
     line: int
+    #: ``actuated``, ``stiffness``, ``damping``, ``rest`` as given (docs/flexibility.md).
+    dynamics: Dict[str, object] = field(default_factory=dict)
 
 
 @dataclass
@@ -87,7 +93,7 @@ class UrdfRobot:
 
 
 def urdf_error(source: str, line: int, message: str) -> ModelFileError:
-    """A :class:`ModelFileError` whose message starts ``source:line:`` like the TOML reader's."""
+    """A [`ModelFileError`][spacearm.ModelFileError] whose message starts ``source:line:`` like the TOML reader's."""
     return ModelFileError(f"{source}:{line}: {message}")
 
 
@@ -253,16 +259,34 @@ class _Reader:
             for key in keys:
                 if limit_el.get(key) is not None:
                     limits[key] = self.number(limit_el, key, who)
-        return UrdfJoint(name, kind, links["parent"], links["child"], origin, rotation, axis, limits, self.line(el))
+        dynamics: Dict[str, object] = {}
+        if kind != "fixed":
+            dyn_el = self.single(el, "dynamics", who)
+            if dyn_el is not None and dyn_el.get("damping") is not None:
+                dynamics["damping"] = self.number(dyn_el, "damping", who)
+            ext = self.single(el, "spacearm", who)
+            if ext is not None:
+                unknown = set(ext.attrib) - {"stiffness", "rest", "actuated"}
+                if unknown:
+                    raise self.fail(ext, f"{who}: <spacearm> takes stiffness, rest and actuated, got {sorted(unknown)}")
+                for key in ("stiffness", "rest"):
+                    if ext.get(key) is not None:
+                        dynamics[key] = self.number(ext, key, who)
+                if ext.get("actuated") is not None:
+                    flag = ext.get("actuated").strip().lower()
+                    if flag not in ("true", "false"):
+                        raise self.fail(ext, f"{who}: <spacearm actuated> must be 'true' or 'false', got {ext.get('actuated')!r}")
+                    dynamics["actuated"] = flag == "true"
+        return UrdfJoint(name, kind, links["parent"], links["child"], origin, rotation, axis, limits, self.line(el), dynamics)
 
 
 def parse_urdf(text, source: str = "<string>", mimic: str = "error") -> UrdfRobot:
-    """Parse URDF text (``str`` or ``bytes``) into a :class:`UrdfRobot`.
+    """Parse URDF text (``str`` or ``bytes``) into a ``UrdfRobot``.
 
-    Raises :class:`~spacearm.ModelFileError` (``source:line: message``) for XML that is not
+    Raises [`ModelFileError`][spacearm.ModelFileError] (``source:line: message``) for XML that is not
     well formed or declares entities, a root element other than ``<robot>``, missing or
     malformed attributes, unsupported joints (``floating``, ``planar``, ``<mimic>``) and
-    duplicate link or joint names. The tree structure is checked by :mod:`spacearm.io.urdf`.
+    duplicate link or joint names. The tree structure is checked by [`spacearm.io.urdf`][spacearm.io.urdf].
     ``mimic="independent"`` reads a ``<mimic>`` joint as an ordinary joint instead.
     """
     if mimic not in ("error", "independent"):

@@ -1,6 +1,6 @@
 """The threads that batches run on.
 
-Every per-state method of :class:`~spacearm.Robot` takes a batch of states (``x`` of shape
+Every per-state method of [`Robot`][spacearm.Robot] takes a batch of states (``x`` of shape
 ``(B, 7+N)``, one state per row) and computes the rows in parallel in the extension, with the
 GIL released (``docs/batch.md``). By default the rows share rayon's global pool: one thread per
 core, or ``RAYON_NUM_THREADS`` if that is set before the first batch. Results are bit-identical

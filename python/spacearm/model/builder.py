@@ -6,10 +6,10 @@ Frames (``docs/conventions.md``): every body frame has its origin at the body's 
 ``axis`` is given in the child's frame; ``com`` is the child's CM measured from the joint, in
 the child's frame. See ``docs/model-format.md`` for a worked example.
 
-A model is edited through a builder too: :meth:`RobotBuilder.from_robot` (or
-:meth:`Robot.to_builder`) holds an existing model exactly, and :meth:`~RobotBuilder.add_link`,
-:meth:`~RobotBuilder.attach_payload` and :meth:`~RobotBuilder.remove_body` change it before
-:meth:`~RobotBuilder.build` makes a new, validated Robot (a Robot itself never changes).
+A model is edited through a builder too: [`RobotBuilder.from_robot`][spacearm.RobotBuilder.from_robot] (or
+[`Robot.to_builder`][spacearm.Robot.to_builder]) holds an existing model exactly, and [`add_link`][spacearm.RobotBuilder.add_link],
+[`attach_payload`][spacearm.RobotBuilder.attach_payload] and [`remove_body`][spacearm.RobotBuilder.remove_body] change it before
+[`build`][spacearm.RobotBuilder.build] makes a new, validated Robot (a Robot itself never changes).
 
 >>> import spacearm
 >>> b = spacearm.Robot.builder("demo", base_mass=100.0, base_inertia=[10, 10, 10])
@@ -27,7 +27,7 @@ import numpy as np
 
 from .. import _core
 from .._util.arrays import matrix3, number, quaternion, vector
-from ..errors import ArgumentError, ModelError, NotFoundError
+from ..errors import ArgumentError, ModelError, NotFoundError, SpacearmTypeError
 from ..rotations import IDENTITY_QUAT, quat_from_rpy
 from .robot import Robot, warn_nonphysical_inertia
 
@@ -35,15 +35,15 @@ __all__ = ["RobotBuilder"]
 
 
 class RobotBuilder:
-    """Accumulates a base and links, validating each addition; :meth:`build` returns a
-    :class:`~spacearm.Robot`."""
+    """Accumulates a base and links, validating each addition; [`build`][spacearm.RobotBuilder.build] returns a
+    [`Robot`][spacearm.Robot]."""
 
     def __init__(self, name: str, base_mass: float, base_inertia, base_name: str = "base", *,
                  allow_nonphysical_inertia: bool = False):
         """``allow_nonphysical_inertia``: accept inertias whose principal moments break the
         triangle inequality ``I1 + I2 >= I3`` (refused by default: no real body has them);
-        :meth:`build` then warns once per such body
-        (:class:`~spacearm.errors.NonPhysicalInertiaWarning`). For published identified data."""
+        [`build`][spacearm.RobotBuilder.build] then warns once per such body
+        ([`NonPhysicalInertiaWarning`][spacearm.errors.NonPhysicalInertiaWarning]). For published identified data."""
         self._base = (str(name), str(base_name), number(base_mass, "base_mass"), matrix3(base_inertia, "base_inertia"),
                       bool(allow_nonphysical_inertia))
         self._b = _core.ModelBuilder(*self._base)
@@ -61,13 +61,13 @@ class RobotBuilder:
     def from_robot(cls, robot: Robot, name: Optional[str] = None, *,
                    allow_nonphysical_inertia: Optional[bool] = None) -> "RobotBuilder":
         """A builder holding ``robot``'s model exactly: the base, every link with its joint,
-        limits and mass properties, the points, the end effector and the initial ``q``.
+        limits, passive dynamics and mass properties, the points, the end effector and the initial ``q``.
 
         Building it unchanged gives a model equal to ``robot``: the same mass matrix bit for
         bit where the axes and rotations are exactly unit, else equal to rounding (they are
         normalized again on the way in).
         The initial ``q`` is kept per link, so links added or removed afterwards keep the other
-        joints' initial values (new joints start at 0) unless :meth:`set_initial_q` is called.
+        joints' initial values (new joints start at 0) unless [`set_initial_q`][spacearm.RobotBuilder.set_initial_q] is called.
         ``allow_nonphysical_inertia`` defaults to ``robot``'s own choice.
         """
         if not isinstance(robot, Robot):
@@ -81,7 +81,8 @@ class RobotBuilder:
             limits = None if link.type == "fixed" else dict(lower=lim.lower, upper=lim.upper, velocity=lim.velocity, effort=lim.effort)
             b.add_link(link.name, parent=link.parent, joint=link.type, axis=link.axis.tolist(),
                        origin=link.origin.tolist(), rotation=link.rotation.tolist(), com=link.com.tolist(), mass=link.mass,
-                       inertia=link.inertia.tolist(), joint_name=link.joint, limits=limits)
+                       inertia=link.inertia.tolist(), joint_name=link.joint, limits=limits, actuated=link.actuated,
+                       stiffness=link.stiffness, damping=link.damping, rest=link.rest)
         for p in d.points:
             b.add_point(p.name, body=p.body, offset=p.offset.tolist())
         if d.end_effector is not None:
@@ -104,6 +105,10 @@ class RobotBuilder:
         inertia,
         joint_name: Optional[str] = None,
         limits: Optional[dict] = None,
+        actuated: bool = True,
+        stiffness: float = 0.0,
+        damping: float = 0.0,
+        rest: float = 0.0,
     ) -> "RobotBuilder":
         """Add a link attached to ``parent`` through a joint.
 
@@ -112,6 +117,13 @@ class RobotBuilder:
         the link frame in the parent frame at ``q = 0`` (default: aligned). ``inertia`` is about
         the link CM in link axes (3×3, or its 3 diagonal entries). ``limits``: optional dict
         with any of ``lower``, ``upper``, ``velocity``, ``effort``.
+
+        The joint's passive dynamics (``docs/flexibility.md``): ``actuated=False`` makes it a
+        passive joint (no motor: the simulator applies no torque to it, whatever a controller
+        commands); ``stiffness`` (N·m/rad or N/m), ``damping`` (N·m·s/rad or N·s/m) and
+        ``rest`` (rad or m) give it a linear spring–damper, the generalized force
+        ``-stiffness (q - rest) - damping q̇`` in every forward dynamics and simulation. A
+        fixed joint takes none of them.
         """
         if rotation is not None and rpy is not None:
             raise ArgumentError(f"link '{name}': give rotation or rpy, not both")
@@ -140,10 +152,21 @@ class RobotBuilder:
             matrix3(inertia, f"link '{name}' inertia"),
             joint_name,
             lim,
+            self._joint_dynamics(name, actuated, stiffness, damping, rest),
         )
         self._b.add_link(*args)
         self._links.append((str(name), str(parent), str(joint), joint_name, args))
         return self
+
+    @staticmethod
+    def _joint_dynamics(name, actuated, stiffness, damping, rest) -> Optional[tuple]:
+        """``(actuated, stiffness, damping, rest)`` for the core builder, ``None`` for an actuated
+        joint without spring (the core's rules check the values)."""
+        if not isinstance(actuated, (bool, np.bool_)):
+            raise SpacearmTypeError(f"link '{name}': actuated must be True or False, got {type(actuated).__name__} {actuated!r}")
+        values = (bool(actuated), number(stiffness, f"link '{name}' stiffness"), number(damping, f"link '{name}' damping"),
+                  number(rest, f"link '{name}' rest"))
+        return None if values == (True, 0.0, 0.0, 0.0) else values
 
     def attach_payload(
         self,
@@ -169,7 +192,7 @@ class RobotBuilder:
 
     def remove_body(self, name: str) -> "RobotBuilder":
         """Remove link ``name``, every link below it, and the points on them (the end effector
-        too, if it is one of them: set another with :meth:`set_end_effector`). The base cannot be
+        too, if it is one of them: set another with [`set_end_effector`][spacearm.RobotBuilder.set_end_effector]). The base cannot be
         removed. The remaining links are added again, in order, through the core's validation.
         """
         name = str(name)
@@ -269,7 +292,7 @@ class RobotBuilder:
         return self
 
     def build(self) -> Robot:
-        """Validate the whole model and return the immutable :class:`~spacearm.Robot`."""
+        """Validate the whole model and return the immutable [`Robot`][spacearm.Robot]."""
         if self._initial_q is not None:
             self._b.set_initial_q(self._initial_q)
         elif self._initial_q_by_link:

@@ -1,15 +1,15 @@
-"""The typed description of a model: what :attr:`Robot.description` returns.
+"""The typed description of a model: what [`Robot.description`][spacearm.Robot.description] returns.
 
-A :class:`ModelDescription` states a model's parameters as the Rust core holds them, with each
+A [`ModelDescription`][spacearm.ModelDescription] states a model's parameters as the Rust core holds them, with each
 field's frame and unit (``docs/conventions.md``, "A model's frames, concretely"): every body
 frame has its origin at the body's centre of mass (CM); a joint's ``origin`` and ``rotation``
 are in the parent's frame; its ``axis`` is in the link frame; a link's ``com`` is measured from
 its joint in the link frame; inertias are about the CM in the body's axes. SI units throughout.
 
 The classes are the extension's own (``crates/spacearm-py/src/description_py.rs``), re-exported
-here: frozen, built once per model, their arrays read-only. :meth:`ModelDescription.to_dict`
-gives the plain-data form that :meth:`Robot.describe` returns; :meth:`ModelDescription.link` and
-:meth:`ModelDescription.point` look items up by name.
+here: frozen, built once per model, their arrays read-only. [`ModelDescription.to_dict`][spacearm.ModelDescription.to_dict]
+gives the plain-data form that [`Robot.describe`][spacearm.Robot.describe] returns; [`ModelDescription.link`][spacearm.ModelDescription.link] and
+[`ModelDescription.point`][spacearm.ModelDescription.point] look items up by name.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The :class:`Robot`: a validated spacecraft-manipulator model and every quantity of the
+"""The [`Robot`][spacearm.Robot]: a validated spacecraft-manipulator model and every quantity of the
 Generalized Jacobian Matrix formulation.
 
 Conventions (``docs/conventions.md``): SI units; vectors in the inertial frame
@@ -89,8 +89,8 @@ def _frozen(a: np.ndarray) -> np.ndarray:
 class Robot:
     """A spacecraft base carrying a tree of links (one or more arms).
 
-    Build one with :meth:`Robot.builder`, a preset from :mod:`spacearm.presets`, or a loader of
-    :mod:`spacearm.io` (``load_toml``, ``loads_toml``, ``load_urdf``, ``robot_from_dh``: they
+    Build one with [`Robot.builder`][spacearm.Robot.builder], a preset from [`spacearm.presets`][spacearm.presets], or a loader of
+    [`spacearm.io`][spacearm.io] (``load_toml``, ``loads_toml``, ``load_urdf``, ``robot_from_dh``: they
     live in ``io/``, a layer above this one, which imports nothing from above). A ``Robot`` is
     immutable; its methods are functions of the state passed in.
     """
@@ -110,13 +110,13 @@ class Robot:
     # ---- construction -------------------------------------------------------------------
     @staticmethod
     def builder(name: str, base_mass: float, base_inertia, base_name: str = "base", *, allow_nonphysical_inertia: bool = False):
-        """Start building a model: see :class:`spacearm.model.builder.RobotBuilder`."""
+        """Start building a model: see [`spacearm.model.builder.RobotBuilder`][spacearm.RobotBuilder]."""
         from .builder import RobotBuilder
 
         return RobotBuilder(name, base_mass, base_inertia, base_name=base_name, allow_nonphysical_inertia=allow_nonphysical_inertia)
 
     def to_builder(self, name=None):
-        """A :class:`~spacearm.model.builder.RobotBuilder` holding this model exactly, to edit
+        """A [`RobotBuilder`][spacearm.RobotBuilder] holding this model exactly, to edit
         (add or remove bodies, attach a payload) and build into a new Robot; this one is unchanged."""
         from .builder import RobotBuilder
 
@@ -163,6 +163,12 @@ class Robot:
         return 6 + self._m.n_dof
 
     @property
+    def actuated_dofs(self) -> np.ndarray:
+        """``(N,)`` bool: whether each joint coordinate has a motor (``False``: a passive joint,
+        which the simulator gives no torque; docs/flexibility.md)."""
+        return np.array(self._m.actuated_dofs, dtype=bool)
+
+    @property
     def total_mass(self) -> float:
         return self._m.total_mass
 
@@ -200,7 +206,7 @@ class Robot:
         """Joint type of each LINK, in link order (length ``n_bodies - 1``), fixed joints
         included: ``"revolute"``, ``"prismatic"`` or ``"fixed"``. It does not line up with ``q``
         when the model has fixed joints; for one entry per degree of freedom use
-        :attr:`dof_types` and :attr:`joint_names`."""
+        [`dof_types`][spacearm.Robot.dof_types] and [`joint_names`][spacearm.Robot.joint_names]."""
         return list(self._m.joint_types())
 
     @property
@@ -212,7 +218,7 @@ class Robot:
     @property
     def dof_types(self) -> list:
         """Type of each degree of freedom, in ``q`` order (length ``N``): ``"revolute"`` (rad,
-        N·m) or ``"prismatic"`` (m, N). Unlike :attr:`joint_types`, fixed joints are excluded."""
+        N·m) or ``"prismatic"`` (m, N). Unlike [`joint_types`][spacearm.Robot.joint_types], fixed joints are excluded."""
         return [kind for _, kind in self._dofs()]
 
     def _dofs(self) -> tuple:
@@ -228,13 +234,13 @@ class Robot:
     def wheel_dofs(self) -> list:
         """The degrees of freedom the simulation treats as reaction wheels by default (the
         core's rule: a revolute joint on the base whose link has no children and a rotor
-        symmetric about the axis, i.e. what :meth:`RobotBuilder.add_reaction_wheel` creates)."""
+        symmetric about the axis, i.e. what [`RobotBuilder.add_reaction_wheel`][spacearm.RobotBuilder.add_reaction_wheel] creates)."""
         return sorted(int(d) for d in _core.default_wheel_dofs(self._m))
 
     @property
     def arm_dofs(self) -> list:
-        """Every degree of freedom that is not a default reaction wheel (:attr:`wheel_dofs`), in
-        ``q`` order: the joints the arm controllers of :mod:`spacearm.control` act on."""
+        """Every degree of freedom that is not a default reaction wheel ([`wheel_dofs`][spacearm.Robot.wheel_dofs]), in
+        ``q`` order: the joints the arm controllers of [`spacearm.control`][spacearm.control] act on."""
         wheels = set(self.wheel_dofs)
         return [d for d in range(self.n_dof) if d not in wheels]
 
@@ -246,7 +252,7 @@ class Robot:
     @property
     def description(self) -> ModelDescription:
         """The model's parameters, typed, with each field's frame and unit
-        (:class:`~spacearm.ModelDescription`); built once (the model is immutable)."""
+        ([`ModelDescription`][spacearm.ModelDescription]); built once (the model is immutable)."""
         desc = self.__dict__.get("_description")
         if desc is None:
             desc = self._description = self._m.describe()
@@ -254,7 +260,7 @@ class Robot:
 
     def describe(self) -> dict:
         """The model as plain Python data (base, links in tree order, points): a new dict at
-        each call. :attr:`description` is the typed form of the same data."""
+        each call. [`description`][spacearm.Robot.description] is the typed form of the same data."""
         return self.description.to_dict()
 
     def body_index(self, body: Union[str, int]) -> int:
@@ -269,7 +275,7 @@ class Robot:
         """``(body index, offset)`` of a point, the form every point-taking core call uses:
         ``None`` (the end effector), a point name, a body name (its CM: zero offset), or
         ``(body, offset)`` with ``offset`` in the body's frame from its CM (m). A named point's
-        offset is resolved once and returned read-only. Unknown names raise :class:`~spacearm.errors.NotFoundError`."""
+        offset is resolved once and returned read-only. Unknown names raise [`NotFoundError`][spacearm.NotFoundError]."""
         return self._point(point)
 
     def _point(self, point: PointLike):
@@ -384,8 +390,20 @@ class Robot:
             ))
         return out
 
+    def passive_forces(self, x, u) -> np.ndarray:
+        """The joints' passive generalized force ``Q = [0 (6); -K (q - q_rest) - C q̇]``
+        (``6+N``; MuJoCo's ``qfrc_passive``), which every forward dynamics adds to the applied
+        force: ``H u̇ + c = f + Q`` (docs/flexibility.md)."""
+        return self._m.passive_forces(x, u)
+
+    def spring_energy(self, x) -> float:
+        """The joint springs' potential energy ``½ Σ k_j (q_j - rest_j)²``, J (the simulation
+        records' ``energy`` is the kinetic energy plus this)."""
+        return self._m.spring_energy(x)
+
     def inverse_dynamics(self, x, u, du, wrenches=None) -> np.ndarray:
-        """Generalized force ``f = H du + c - J^T w_ext`` producing ``du`` (RNEA, Featherstone §5.3)."""
+        """Generalized force ``f = H du + c - Q_passive - J^T w_ext`` producing ``du`` (RNEA,
+        Featherstone §5.3; ``Q_passive``: [`passive_forces`][spacearm.Robot.passive_forces])."""
         return self._m.inverse_dynamics(x, u, du, None if wrenches is None else self._wrenches(wrenches))
 
     def forward_dynamics(self, x, u, f=None, *, tau=None, base_wrench=None, wrenches=None, method: str = "aba") -> np.ndarray:
@@ -396,8 +414,9 @@ class Robot:
         bit-identical results, each in one call to the extension (which assembles ``f`` from
         the parts; ``benchmarks/forward_dynamics_forms.py`` times both).
         ``method``: ``"aba"`` (O(N) articulated-body algorithm), ``"mass_matrix"``
-        (``H⁻¹(f + J^T w - c)``) or ``"reduced"`` (``qdd = H*⁻¹(tau - c* - H0m^T H0⁻¹ F_b)``,
-        the reduction of eqs. 39–50, ``docs/physics.md``; no external wrenches).
+        (``H⁻¹(f + Q + J^T w - c)``) or ``"reduced"`` (``qdd = H*⁻¹(tau + Q_m - c* - H0m^T H0⁻¹ F_b)``,
+        the reduction of eqs. 39–50, ``docs/physics.md``; no external wrenches). Every method adds
+        the joints' springs and dampers, ``Q`` = [`passive_forces`][spacearm.Robot.passive_forces] (docs/flexibility.md).
         """
         # One native call per form and method: x, u and the force arrays go to the extension
         # unconverted (see _x above); it checks them in the order force, x, u.
@@ -447,7 +466,7 @@ class Robot:
     def momentum_scales(self, x, u) -> np.ndarray:
         """The magnitudes against which the drift of the momenta and the energy is measured, per
         state: ``(T, 4)`` columns ``[Σ|p_i|, Σ(|r_i × p_i| + |I_i w_i|) about the origin, the
-        same about the system CM, kinetic energy]`` (sums over the bodies of their own
+        same about the system CM, kinetic plus spring energy]`` (sums over the bodies of their own
         contributions' norms: the core's drift scales, docs/simulation-core.md). ``x`` (T, 7+N)
         or (7+N,), ``u`` likewise."""
         xs = np.ascontiguousarray(np.atleast_2d(np.asarray(x, dtype=float)))
@@ -499,7 +518,7 @@ class Robot:
 
     def configuration_difference(self, x1, x0) -> np.ndarray:
         """The tangent increment ``dx`` (length 6+N) with ``x0 ⊕ dx = x1``
-        (see :meth:`configuration_plus`; the attitude part is ``log(R1 R0^T)``)."""
+        (see [`configuration_plus`][spacearm.Robot.configuration_plus]; the attitude part is ``log(R1 R0^T)``)."""
         from .tangent import configuration_difference
 
         return configuration_difference(x1, x0, self.n_dof)
@@ -559,8 +578,8 @@ class Robot:
         ``ddu_dx`` is with respect to the tangent coordinates ``[dr0, dtheta, dq]`` (its ``dr0``
         columns are zero); ``ddu_df = H⁻¹``. From ``ID(x, u, FD(x, u, f)) = f``:
         ``ddu_dx = -H⁻¹ dID/dx``, ``ddu_du = -H⁻¹ dID/du`` (Carpentier & Mansard 2018). Give ``f``
-        or ``tau`` and ``base_wrench`` as in :meth:`forward_dynamics`. ``wrenches``
-        (:class:`spacearm.ExternalWrench`) keep their force and torque fixed in 𝒥 while their
+        or ``tau`` and ``base_wrench`` as in [`forward_dynamics`][spacearm.Robot.forward_dynamics]. ``wrenches``
+        ([`spacearm.ExternalWrench`][spacearm.ExternalWrench]) keep their force and torque fixed in 𝒥 while their
         point moves with its body. ``method="analytic"`` (default) uses the analytic partials of
         inverse dynamics; ``"dual"`` the dual-number route (slower; the test oracle).
         """
@@ -585,7 +604,7 @@ class Robot:
     def inverse_dynamics_partials(self, x, u, du, wrenches=None, *, method: str = "analytic") -> "InverseDynamicsPartials":
         """Partials of inverse dynamics ``f = ID(x, u, du) = H du + c - J^T w_ext``:
         ``(df_dx, df_du)``, each (6+N)², ``x`` in the tangent coordinates ``[dr0, dtheta, dq]``
-        (the ``dr0`` columns are zero); ``df/d(du)`` is :meth:`mass_matrix`. External
+        (the ``dr0`` columns are zero); ``df/d(du)`` is [`mass_matrix`][spacearm.Robot.mass_matrix]. External
         ``wrenches`` keep their force and torque fixed in 𝒥 while their point moves with its body.
         Analytic recursions of Carpentier & Mansard (2018) in spacearm's frames
         (docs/derivatives.md); ``method="dual"`` for the dual-number route.
@@ -603,8 +622,8 @@ class Robot:
         (from ``R0 = exp(dtheta^) R0_ref``: ``dtheta' = dw0 + w0 × dtheta``), and
         ``B = [[0], [H⁻¹ columns]]``: ``inputs="joints"`` gives the N joint-torque columns
         (free-floating control), ``inputs="all"`` the 6+N columns of ``f = [F0, N0, tau]``.
-        Apply a state increment with :meth:`configuration_plus`. ``method`` as in
-        :meth:`forward_dynamics_derivatives`.
+        Apply a state increment with [`configuration_plus`][spacearm.Robot.configuration_plus]. ``method`` as in
+        [`forward_dynamics_derivatives`][spacearm.Robot.forward_dynamics_derivatives].
         """
         if f is not None and tau is None and base_wrench is None and inputs == "joints" and method == "analytic":
             d = self.__dict__.get("_deriv_core") or self._derivatives()
@@ -622,7 +641,7 @@ _tuple_new = tuple.__new__
 
 
 class ForwardDynamicsDerivatives(NamedTuple):
-    """Jacobians of forward dynamics ``du = FD(x, u, f)`` (see :meth:`Robot.forward_dynamics_derivatives`)."""
+    """Jacobians of forward dynamics ``du = FD(x, u, f)`` (see [`Robot.forward_dynamics_derivatives`][spacearm.Robot.forward_dynamics_derivatives])."""
 
     ddu_dx: np.ndarray  #: (6+N)², with respect to the tangent coordinates [dr0, dtheta, dq]
     ddu_du: np.ndarray  #: (6+N)², with respect to the generalized velocity u
@@ -630,21 +649,21 @@ class ForwardDynamicsDerivatives(NamedTuple):
 
 
 class InverseDynamicsPartials(NamedTuple):
-    """Partials of inverse dynamics ``f = ID(x, u, du)`` (see :meth:`Robot.inverse_dynamics_partials`)."""
+    """Partials of inverse dynamics ``f = ID(x, u, du)`` (see [`Robot.inverse_dynamics_partials`][spacearm.Robot.inverse_dynamics_partials])."""
 
     df_dx: np.ndarray  #: (6+N)², with respect to the tangent coordinates [dr0, dtheta, dq]
     df_du: np.ndarray  #: (6+N)², with respect to the generalized velocity u
 
 
 class Linearization(NamedTuple):
-    """``(A, B)`` of the linearized state equation (see :meth:`Robot.linearize`)."""
+    """``(A, B)`` of the linearized state equation (see [`Robot.linearize`][spacearm.Robot.linearize])."""
 
     A: np.ndarray  #: 2(6+N) square
     B: np.ndarray  #: 2(6+N) × N (inputs="joints") or 2(6+N) × (6+N) (inputs="all")
 
 
 def warn_nonphysical_inertia(robot: Robot) -> Robot:
-    """Issue one :class:`~spacearm.errors.NonPhysicalInertiaWarning` per body of ``robot``
+    """Issue one [`NonPhysicalInertiaWarning`][spacearm.errors.NonPhysicalInertiaWarning] per body of ``robot``
     whose inertia breaks the triangle inequality (loaded under ``allow_nonphysical_inertia``),
     and return ``robot``. Every loading door calls it; the warnings point at the first line
     outside the spacearm package (the user's call), however deep the door."""

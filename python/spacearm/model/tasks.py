@@ -30,7 +30,7 @@ def is_planar(robot) -> bool:
 
 
 def task_rows(robot, task: TaskLike) -> list:
-    """Rows of the twist for ``task``: a name of :data:`TASKS`, a sequence of row indices, or
+    """Rows of the twist for ``task``: a name of [`TASKS`][spacearm.model.tasks.TASKS], a sequence of row indices, or
     ``None``/``"auto"`` (``"planar"`` for a planar arm with every joint axis along z, else
     ``"position"``)."""
     if task is None or (isinstance(task, str) and task == "auto"):

@@ -1,6 +1,6 @@
 """Optimal point-to-point maneuvers of a free-floating spacecraft manipulator (optional extra
 ``optimal-control``): direct multiple shooting with IPOPT through CasADi on the functions of
-:mod:`spacearm.casadi`, warm-started from the reactionless resolved-motion-rate motion.
+[`spacearm.casadi`][spacearm.casadi], warm-started from the reactionless resolved-motion-rate motion.
 docs/optimal-control.md gives the transcription, the cost and the constraints.
 """
 
@@ -72,7 +72,7 @@ def point_to_point(
         Initial state (default: ``robot.neutral_configuration()``, at rest).
     position_limits, velocity_limit, effort_limit : optional
         Override the model's joint limits: ``(lower, upper)``, and a number or one per joint
-        (:class:`JointBounds`). Infinite means unbounded; the presets have no limits.
+        ([`JointBounds`][spacearm.plan.JointBounds]). Infinite means unbounded; the presets have no limits.
     rest_at_end : bool
         Joint speeds zero at ``T`` (with zero momentum, the whole system at rest).
     reactionless_end : bool
@@ -102,17 +102,17 @@ def point_to_point(
     Returns
     -------
     Plan
-        Verified before it is returned (:mod:`spacearm.plan.verify`): :attr:`Plan.success` holds
+        Verified before it is returned (`spacearm.plan.verify`): [`Plan.success`][spacearm.plan.Plan.success] holds
         only if IPOPT converged *and* the plan's shooting defect and its re-simulation in the
-        native simulator (:attr:`Plan.resimulation`) are within tolerance; otherwise a
-        :class:`~spacearm.errors.PlanCheckWarning` is issued and :attr:`Plan.failure` says why.
+        native simulator ([`Plan.resimulation`][spacearm.plan.Plan.resimulation]) are within tolerance; otherwise a
+        [`PlanCheckWarning`][spacearm.errors.PlanCheckWarning] is issued and [`Plan.failure`][spacearm.plan.Plan.failure] says why.
 
     Raises
     ------
     ArgumentError
         Before any solve: a target out of reach of the free-floating system, off the plane of
         a planar one, an initial configuration outside the joint limits
-        (:mod:`spacearm.plan.target`), a problem larger than the bounds above.
+        (`spacearm.plan.target`), a problem larger than the bounds above.
     KeyboardInterrupt
         Ctrl-C during the solve (IPOPT is stopped).
     """

@@ -9,7 +9,7 @@ Constraints:
 - ``y_0`` is the given initial state;
 - continuity ``y_k+1 = Φ(y_k, tau_k, tau_k+1, T/K)``, ``Φ`` being ``substeps`` RK4 steps of the
   free-floating dynamics (no base wrench) with the quaternion renormalised
-  (:func:`spacearm.casadi.rk4_step` with ``torque="linear"``);
+  ([`spacearm.casadi.rk4_step`][spacearm.casadi.rk4_step] with ``torque="linear"``);
 - the point reaches ``target`` at ``t_K``;
 - joint positions, speeds and torques within their bounds at every knot;
 - optionally zero joint speeds at ``t_K`` (``rest_at_end``) and zero base angular velocity at
@@ -35,6 +35,8 @@ from .._util.optional import require
 from ..casadi import point_position, rk4_step
 from ..errors import ArgumentError
 
+#: The objectives of [`point_to_point`][spacearm.plan.point_to_point]: the base attitude excursion, or the
+#: control effort (docs/optimal-control.md).
 OBJECTIVES = ("attitude", "effort")
 #: How IPOPT gets the Hessian of the Lagrangian: the objective's only, or the exact one.
 HESSIANS = ("objective", "exact")

@@ -3,12 +3,12 @@ computed-torque controller.
 
 The reference is the plan's own motion between the knots, not a spline through them: each
 interval is cut into the plan's RK4 sub-steps, the states there come from the same RK4 map the
-plan was built with (:func:`spacearm.casadi.rk4_step`, torque linear between knots), and the
+plan was built with ([`spacearm.casadi.rk4_step`][spacearm.casadi.rk4_step], torque linear between knots), and the
 joint accelerations from forward dynamics under the torque of that instant. Those sub-step
-states are the knots of a :class:`~spacearm.control.SampledJoint`, which the core interpolates
+states are the knots of a [`SampledJoint`][spacearm.control.SampledJoint], which the core interpolates
 by quintic Hermite segments matching ``q``, ``qd`` and ``qdd`` at both ends (the torque is
 continuous, so is the reference's ``qdd``). The native
-:class:`~spacearm.control.ComputedTorque` on the reduced equations (paper eqs. 112–115),
+[`ComputedTorque`][spacearm.control.ComputedTorque] on the reduced equations (paper eqs. 112–115),
 ``tau = H* (qdd_ref + kd ė + kp e) + c*``, then drives the plant; with the exact model it follows
 the plan to integration accuracy, so the re-simulation checks the plan with an independent
 integrator step rather than the optimiser's own report.

@@ -1,4 +1,4 @@
-"""The result of :func:`spacearm.plan.point_to_point`: the plan, the solver's report, the
+"""The result of [`spacearm.plan.point_to_point`][spacearm.plan.point_to_point]: the plan, the solver's report, the
 re-simulation and the figure."""
 
 from __future__ import annotations
@@ -102,12 +102,12 @@ class Plan:
         return float(np.sum(0.5 * (sq[1:] + sq[:-1]) * np.diff(self.t)))
 
     def resimulate(self, kp: float = 400.0, kd: float = 40.0, dt: Optional[float] = None):
-        """Run the plan in the native simulator (:func:`spacearm.simulate`, floating mode, RK4)
-        under the native computed torque tracking the plan's joint motion (:mod:`spacearm.plan.reference`),
+        """Run the plan in the native simulator ([`spacearm.simulate`][spacearm.simulate], floating mode, RK4)
+        under the native computed torque tracking the plan's joint motion (``spacearm.plan.reference``),
         from the plan's initial state. ``dt`` defaults to a quarter of the plan's RK4 step (at
         most 0.01 s, so that the stiff tracking loop is integrated accurately), so the check uses
         another discretisation than the plan. Returns the
-        :class:`~spacearm.trajectory.Trajectory`."""
+        [`Trajectory`][spacearm.Trajectory]."""
         from ..control import ComputedTorque
         from ..sim.simulation import simulate
         from .reference import plan_reference
@@ -171,13 +171,13 @@ class Plan:
     def figure(self, title: Optional[str] = None):
         """Base attitude change, joint-torque norm and point path (inertial x–y) of the plan,
         a quintic joint move to the same end configuration and the RMRC motion
-        (:meth:`comparison`). Returns the matplotlib ``Figure`` (:func:`spacearm.viz.plan.plan_figure`)."""
+        ([`comparison`][spacearm.plan.Plan.comparison]). Returns the matplotlib ``Figure`` (``spacearm.viz.plan.plan_figure``)."""
         from ..viz.plan import plan_figure
 
         return plan_figure(self, title)
 
     def plot(self, path, title: Optional[str] = None) -> str:
-        """Write :meth:`figure` to ``path`` in the format its suffix names (atomically); returns the path."""
+        """Write [`figure`][spacearm.plan.Plan.figure] to ``path`` in the format its suffix names (atomically); returns the path."""
         from ..viz.figures import plot_to
 
         return plot_to(path, lambda: self.figure(title), bbox_inches="tight")

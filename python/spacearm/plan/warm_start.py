@@ -1,5 +1,5 @@
 """The initial guess of a plan: the reactionless resolved-motion-rate motion
-(:func:`spacearm.analysis.reactionless.move_to`) sampled at the knots."""
+([`spacearm.analysis.reactionless.move_to`][spacearm.analysis.move_to]) sampled at the knots."""
 
 from __future__ import annotations
 

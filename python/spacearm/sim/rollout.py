@@ -1,11 +1,11 @@
-"""Many simulations at once on native threads: :func:`rollout` and its result :class:`Rollouts`.
+"""Many simulations at once on native threads: [`rollout`][spacearm.rollout] and its result [`Rollouts`][spacearm.Rollouts].
 
-Each rollout is the run :func:`spacearm.simulate` would make from its initial state, with its
+Each rollout is the run [`spacearm.simulate`][spacearm.simulate] would make from its initial state, with its
 own plant (the robot, or one perturbed model per rollout) and its own controller instance; the
 rollouts run in parallel on the core's threads with the GIL released. A rollout's records are
 bit-identical to ``simulate`` of the same inputs whatever the number of threads. A rollout that
-fails (the motion diverges, a controller raises) is reported in :attr:`Rollouts.ok` and
-:attr:`Rollouts.reason` and its rows are NaN; the others run on.
+fails (the motion diverges, a controller raises) is reported in [`Rollouts.ok`][spacearm.Rollouts.ok] and
+[`Rollouts.reason`][spacearm.Rollouts.reason] and its rows are NaN; the others run on.
 
 >>> import numpy as np, spacearm
 >>> robot = spacearm.presets.spatial6()
@@ -86,6 +86,8 @@ def rollout(
     record_every: int = DEFAULTS["record_every"],
     record_dtype: str = "float64",
     threads: Optional[int] = None,
+    orbit=None,
+    gravity_gradient: Optional[bool] = None,
 ) -> "Rollouts":
     """Simulate ``B`` rollouts of ``robot`` for ``duration`` seconds on native threads.
 
@@ -100,15 +102,15 @@ def rollout(
     u0 : array (B, 6+N) or (6+N,), optional
         Initial velocities (default: zero).
     controller : controller or list of B controllers, optional
-        One :mod:`spacearm.control` controller for every rollout (each rollout runs its own
+        One [`spacearm.control`][spacearm.control] controller for every rollout (each rollout runs its own
         instance of it), or one per rollout (per-rollout gains or references). ``None``: zero
-        torques. A :class:`~spacearm.control.Callback` works but runs its Python function under
+        torques. A [`Callback`][spacearm.control.Callback] works but runs its Python function under
         the GIL, so its rollouts do not run in parallel.
     plants : list of B Robots, optional
         One plant per rollout, e.g. models perturbed with
-        :func:`spacearm.control.perturbed_model`; they must have the robot's joints.
-    mode, integrator, dt, rtol, atol, wheels, thrusters, joint_limits, max_steps, record_every, record_dtype
-        As for :func:`spacearm.simulate`, the same for every rollout. ``record_every`` (RK4)
+        [`spacearm.control.perturbed_model`][spacearm.control.perturbed_model]; they must have the robot's joints.
+    mode, integrator, dt, rtol, atol, wheels, thrusters, joint_limits, max_steps, record_every, record_dtype, orbit, gravity_gradient
+        As for [`spacearm.simulate`][spacearm.simulate], the same for every rollout. ``record_every`` (RK4)
         and ``record_dtype="float32"`` keep the records small: with ``record_every`` at least
         the number of steps only the initial and final samples are kept.
     threads : int, optional
@@ -123,13 +125,14 @@ def rollout(
     ------
     ArgumentError, ShapeError, NonFiniteError, QuaternionError
         Bad options or initial states (an initial state's error names its rollout). A rollout
-        that fails while running raises nothing: see :attr:`Rollouts.ok`.
+        that fails while running raises nothing: see [`Rollouts.ok`][spacearm.Rollouts.ok].
     """
     _check_robot(robot, "rollout")
     duration = _check_duration(duration)
     options = _options(
         robot, mode=mode, integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=wheels, thrusters=thrusters,
         record_every=record_every, joint_limits=joint_limits, max_steps=max_steps, record_dtype=record_dtype,
+        orbit=orbit, gravity_gradient=gravity_gradient,
     )
     if threads is not None and (isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1):
         raise ArgumentError(f"threads must be None or an integer >= 1, got {threads!r}")
@@ -169,12 +172,12 @@ def rollout(
 
 
 class Rollouts:
-    """The records of ``B`` rollouts (what :func:`rollout` returns).
+    """The records of ``B`` rollouts (what [`rollout`][spacearm.rollout] returns).
 
     ``runs[name]`` (or ``runs.x``, ``runs.t``, ...) is the record ``name`` of
-    :func:`spacearm.simulate` with a leading rollout axis: ``(B, K, ...)``, NaN rows for a
-    rollout that failed. :attr:`ok` and :attr:`reason` say which failed and why;
-    :meth:`trajectory` gives one rollout as a :class:`~spacearm.Trajectory`. The arrays are
+    [`spacearm.simulate`][spacearm.simulate] with a leading rollout axis: ``(B, K, ...)``, NaN rows for a
+    rollout that failed. [`ok`][spacearm.Rollouts.ok] and [`reason`][spacearm.Rollouts.reason] say which failed and why;
+    [`trajectory`][spacearm.Rollouts.trajectory] gives one rollout as a [`Trajectory`][spacearm.Trajectory]. The arrays are
     read-only.
     """
 
@@ -226,7 +229,7 @@ class Rollouts:
 
     @property
     def error_class(self) -> List[Optional[str]]:
-        """The :mod:`spacearm.errors` class of each failure (``"SimulationError"``, ...), or ``None``."""
+        """The [`spacearm.errors`][spacearm.errors] class of each failure (``"SimulationError"``, ...), or ``None``."""
         return list(self._error_class)
 
     @property
@@ -244,7 +247,7 @@ class Rollouts:
         return np.concatenate([self._data["x"][:, -1, :], self._data["u"][:, -1, :]], axis=1)
 
     def raise_failures(self) -> None:
-        """Raise :class:`~spacearm.errors.SimulationError` listing the failed rollouts, if any."""
+        """Raise [`SimulationError`][spacearm.SimulationError] listing the failed rollouts, if any."""
         failed = np.flatnonzero(~self._ok)
         if failed.size:
             lines = [f"rollout {i}: {self._reason[i]}" for i in failed[:10]]
@@ -252,8 +255,8 @@ class Rollouts:
             raise SimulationError(f"{failed.size} of {len(self)} rollouts failed{more}:\n" + "\n".join(lines))
 
     def trajectory(self, i: int):
-        """Rollout ``i`` as a :class:`~spacearm.Trajectory` (its plant as the robot); raises
-        :class:`~spacearm.errors.SimulationError` with its reason if it failed."""
+        """Rollout ``i`` as a [`Trajectory`][spacearm.Trajectory] (its plant as the robot); raises
+        [`SimulationError`][spacearm.SimulationError] with its reason if it failed."""
         from .trajectory import Trajectory
 
         if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not -len(self) <= i < len(self):

@@ -1,8 +1,8 @@
-"""Simulation of a spacecraft-manipulator system: :func:`simulate`.
+"""Simulation of a spacecraft-manipulator system: [`simulate`][spacearm.simulate].
 
 The whole loop — integrator, maneuvering mode, actuator limits, controller, recording — runs in
 the Rust core (``spacearm_core::simulate``); this module checks and converts the arguments and
-wraps the records in a :class:`~spacearm.sim.trajectory.Trajectory`. Integrators, modes, actuators
+wraps the records in a [`Trajectory`][spacearm.Trajectory]. Integrators, modes, actuators
 and controllers are described with their equations in ``docs/simulation-core.md``.
 
 >>> import spacearm
@@ -111,7 +111,7 @@ def _check_controller(controller, what: str = "controller"):
 
 
 def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, record_every, joint_limits, max_steps, record_dtype,
-             progress=None) -> _core.RunOptions:
+             progress=None, orbit=None, gravity_gradient=None) -> _core.RunOptions:
     """The options of the core's simulation entry points (``_core.simulate``, ``_core.rollout``,
     ``_core.Simulator``), every value checked; ``progress``: None or a callable(fraction)."""
     if not isinstance(mode, str) or mode not in MODES:
@@ -138,7 +138,22 @@ def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, reco
         max_steps=int(max_steps),
         progress=progress,
         record_dtype=record_dtype,
+        orbit=orbit,
+        gravity_gradient=gravity_gradient,
     )
+
+
+def orbit_meta(options: _core.RunOptions) -> dict:
+    """The orbit of a run for ``Trajectory.meta`` (plain data, JSON): the body's constants, J2
+    on or off, the gravity gradient, the ECI state and osculating elements at t = 0."""
+    orbit = options.orbit
+    el = orbit.elements()
+    return {
+        "mu": orbit.body.mu, "radius": orbit.body.radius, "j2_coefficient": orbit.body.j2, "j2": orbit.j2,
+        "gravity_gradient": options.gravity_gradient, "r0_eci": orbit.r0.tolist(), "v0_eci": orbit.v0.tolist(),
+        "elements": {"a": el.a, "e": el.e, "i": el.i, "raan": el.raan, "argp": el.argp, "true_anomaly": el.true_anomaly},
+        "period": orbit.period, "mean_motion": orbit.mean_motion,
+    }
 
 
 def _warn_dropped(mode: str, meta: dict, stacklevel: int) -> None:
@@ -148,6 +163,20 @@ def _warn_dropped(mode: str, meta: dict, stacklevel: int) -> None:
         warnings.warn(
             f"mode '{mode}' does not allow part of the base wrench the controller commanded; it was dropped in "
             f"{dropped['count']} evaluations (largest dropped norm {dropped['max_norm']:.3g}); see meta['dropped_base_wrench']",
+            RuntimeWarning,
+            stacklevel=stacklevel + 1,
+        )
+
+
+def _warn_unreachable(meta: dict, stacklevel: int) -> None:
+    """Warn that a point controller (RMRC) stopped short of its goal with its damping active:
+    ``meta["goal"]["unreachable"]`` (docs/singularities.md, "Goals out of reach")."""
+    goal = meta.get("goal")
+    if goal and goal["unreachable"]:
+        warnings.warn(
+            f"the controller's goal is out of reach: the point ended {goal['distance']:.4g} m from its reference with the task "
+            f"Jacobian nearly singular (smallest singular value {goal['sigma_min']:.3g}, damped least squares active); "
+            "see meta['goal']",
             RuntimeWarning,
             stacklevel=stacklevel + 1,
         )
@@ -172,6 +201,8 @@ def _run(
     joint_limits: bool = DEFAULTS["joint_limits"],
     max_steps: int = DEFAULTS["max_steps"],
     record_dtype: str = "float64",
+    orbit=None,
+    gravity_gradient: Optional[bool] = None,
 ):
     """The simulation proper: ``(data, meta)`` dicts of numpy arrays and run description."""
     _check_robot(robot, "simulate")
@@ -179,6 +210,7 @@ def _run(
     option_args = dict(
         mode=mode, integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=wheels, thrusters=thrusters,
         record_every=record_every, joint_limits=joint_limits, max_steps=max_steps, record_dtype=record_dtype,
+        orbit=orbit, gravity_gradient=gravity_gradient,
     )
     options = _options(robot, **option_args)
     x0 = robot.neutral_configuration() if x0 is None else vector(x0, "x0")
@@ -201,7 +233,10 @@ def _run(
     meta = result.meta.to_dict()
     meta["duration"] = duration
     meta["robot"] = robot.name
+    if orbit is not None:
+        meta["orbit"] = orbit_meta(options)
     _warn_dropped(mode, meta, stacklevel=3)
+    _warn_unreachable(meta, stacklevel=3)
     return data, meta
 
 
@@ -224,8 +259,10 @@ def simulate(
     joint_limits: bool = DEFAULTS["joint_limits"],
     max_steps: int = DEFAULTS["max_steps"],
     record_dtype: str = "float64",
+    orbit=None,
+    gravity_gradient: Optional[bool] = None,
 ):
-    """Simulate ``robot`` for ``duration`` seconds and return a :class:`~spacearm.sim.trajectory.Trajectory`.
+    """Simulate ``robot`` for ``duration`` seconds and return a [`Trajectory`][spacearm.Trajectory].
 
     Parameters
     ----------
@@ -247,7 +284,7 @@ def simulate(
         ``"rk4"`` (fixed step ``dt``) or ``"dopri5"`` (adaptive Dormand–Prince 5(4) with
         ``rtol``/``atol``; ``dt`` is then the output interval, filled by dense output).
     controller : spacearm.control controller, optional
-        ``None``: zero torques. See :mod:`spacearm.control`.
+        ``None``: zero torques. See [`spacearm.control`][spacearm.control].
     wheels : list of joint names, link names or dof indices, optional
         The reaction wheels (default: every symmetric rotor on a revolute joint of the base,
         i.e. what ``RobotBuilder.add_reaction_wheel`` creates). Their torque and speed limits
@@ -267,6 +304,16 @@ def simulate(
     record_dtype : str
         ``"float64"`` (default) or ``"float32"``: the dtype of the recorded arrays (half the
         memory; the time ``t`` stays float64). The run itself is float64 either way.
+    orbit : spacearm.Orbit, optional
+        Run in orbit (docs/orbit.md): the origin of the run's frame follows ``orbit`` (point
+        mass, two-body + J2) with ECI's axes; ``x``, ``u`` stay relative to it (start with the
+        system CM at the origin and zero momentum for the CM to ride the orbit; an offset or a
+        momentum puts the CM on a neighbouring orbit, its relative motion in ``com``). Adds the
+        records ``r_cm_eci``, ``v_cm_eci``, ``gravity_wrench`` and ``meta["orbit"]``.
+    gravity_gradient : bool, optional
+        With ``orbit``: whether the tidal force and torque act on every body (default ``True``).
+        The mode's conserved momenta are then monitored as balances (``meta["drift"]``: the
+        residual of change = integral of the tidal wrenches).
 
     Returns
     -------
@@ -309,6 +356,8 @@ def simulate(
         joint_limits=joint_limits,
         max_steps=max_steps,
         record_dtype=record_dtype,
+        orbit=orbit,
+        gravity_gradient=gravity_gradient,
     )
     from .trajectory import Trajectory
 

@@ -1,7 +1,7 @@
-"""A simulation stepped from Python: :class:`Simulator`, the building block of RL environments
+"""A simulation stepped from Python: [`Simulator`][spacearm.Simulator], the building block of RL environments
 and MPC loops.
 
-The stepping runs the native RK4 loop of :func:`spacearm.simulate` (one code path in the core),
+The stepping runs the native RK4 loop of [`spacearm.simulate`][spacearm.simulate] (one code path in the core),
 so stepping a simulator ``n`` times of ``dt`` records exactly what ``simulate`` records for a
 duration of ``n·dt``. Between steps, a joint torque (and a base wrench) can be held over the
 next steps, added to the controller's command.
@@ -37,23 +37,25 @@ class Simulator:
     robot : Robot
         The plant.
     mode, dt, wheels, thrusters, joint_limits
-        As for :func:`spacearm.simulate`.
+        As for [`spacearm.simulate`][spacearm.simulate].
     integrator : str
         ``"rk4"`` (the only one a step-by-step simulation supports: an adaptive step has no
-        fixed grid to stop on; use :func:`spacearm.simulate` for ``"dopri5"``).
+        fixed grid to stop on; use [`spacearm.simulate`][spacearm.simulate] for ``"dopri5"``).
     controller : spacearm.control controller, optional
-        Evaluated at every integrator stage; ``None``: zero torques. Each :meth:`reset` starts
+        Evaluated at every integrator stage; ``None``: zero torques. Each [`reset`][spacearm.Simulator.reset] starts
         a fresh instance.
     record_every : int, optional
-        Record every k-th step for :meth:`trajectory`; ``None`` (default): record nothing (the
+        Record every k-th step for [`trajectory`][spacearm.Simulator.trajectory]; ``None`` (default): record nothing (the
         fastest stepping).
     record_dtype : str
-        ``"float64"`` or ``"float32"`` for :meth:`trajectory`'s arrays.
+        ``"float64"`` or ``"float32"`` for [`trajectory`][spacearm.Simulator.trajectory]'s arrays.
+    orbit, gravity_gradient
+        As for [`spacearm.simulate`][spacearm.simulate] (docs/orbit.md).
 
     Notes
     -----
-    Call :meth:`reset` before the first :meth:`step`. A failed step (the motion diverged)
-    raises :class:`~spacearm.errors.SimulationError` and leaves the simulator needing a reset.
+    Call [`reset`][spacearm.Simulator.reset] before the first [`step`][spacearm.Simulator.step]. A failed step (the motion diverged)
+    raises [`SimulationError`][spacearm.SimulationError] and leaves the simulator needing a reset.
     """
 
     def __init__(
@@ -69,6 +71,8 @@ class Simulator:
         joint_limits: bool = DEFAULTS["joint_limits"],
         record_every: Optional[int] = None,
         record_dtype: str = "float64",
+        orbit=None,
+        gravity_gradient: Optional[bool] = None,
     ):
         _check_robot(robot, "Simulator")
         _check_controller(controller)
@@ -79,6 +83,7 @@ class Simulator:
         options = _options(
             robot, mode=mode, integrator=integrator, dt=dt, rtol=DEFAULTS["rtol"], atol=DEFAULTS["atol"], wheels=wheels,
             thrusters=thrusters, record_every=1, joint_limits=joint_limits, max_steps=DEFAULTS["max_steps"], record_dtype=record_dtype,
+            orbit=orbit, gravity_gradient=gravity_gradient,
         )
         spec = None if controller is None else controller._spec(robot)
         self._robot = robot
@@ -91,10 +96,12 @@ class Simulator:
         (default: zero), with empty records and a fresh controller."""
         self._core.reset(self._robot.neutral_configuration() if x0 is None else x0, self._robot.zero_velocity() if u0 is None else u0)
 
-    def step(self, tau=None, n: int = 1, base_wrench=None) -> None:  # replaced per instance by the core's method
-        """Advance ``n`` steps of ``dt`` with ``tau`` (N joint torques) and ``base_wrench``
-        (``[F0, N0]`` in 𝒥, as the mode allows) added to the controller's command over these
-        steps (``None``: nothing added). Steps land on ``t = i·dt``."""
+    def step(self, tau=None, n: Optional[int] = None, base_wrench=None) -> None:  # replaced per instance by the core's method
+        """Advance ``n`` steps of ``dt`` (an int >= 1; ``None``: one) with ``tau`` (N joint
+        torques) and ``base_wrench`` (``[F0, N0]`` in 𝒥, as the mode allows) added to the
+        controller's command over these steps (``None``: nothing added). Steps land on
+        ``t = i·dt``. The records the steps would add are admitted first (``ResourceLimitError``);
+        Ctrl-C stops a long call within 0.1 s, the steps taken so far kept."""
         self._core.step(tau, n, base_wrench)
 
     @property
@@ -124,7 +131,7 @@ class Simulator:
 
     def trajectory(self):
         """The records so far, the current state as the last sample, as a
-        :class:`~spacearm.Trajectory` (the simulation goes on unchanged). Without
+        [`Trajectory`][spacearm.Trajectory] (the simulation goes on unchanged). Without
         ``record_every`` it holds only the current state."""
         from .trajectory import Trajectory
 

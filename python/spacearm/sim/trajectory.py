@@ -1,4 +1,4 @@
-"""Simulation results: the :class:`Trajectory` that :func:`spacearm.simulate` returns.
+"""Simulation results: the [`Trajectory`][spacearm.Trajectory] that [`spacearm.simulate`][spacearm.simulate] returns.
 
 A trajectory holds the recorded samples of one run (times, states, accelerations, applied and
 commanded torques, base wrench, momenta, kinetic energy, system CM, end-effector pose,
@@ -10,10 +10,10 @@ Conventions (``docs/conventions.md``): ``x = [r0, quat0 (x, y, z, w), q]``, ``u 
 ``base_wrench = [F0, N0]`` in 𝒥; momenta ``P``, ``L_origin`` (about the origin of 𝒥) and
 ``L_com`` (about the system CM) in 𝒥. SI units throughout.
 
-Output: :meth:`Trajectory.save` / :meth:`Trajectory.load` (``.npz``, the model embedded as
-TOML so a loaded run can be plotted and animated), :meth:`Trajectory.to_csv` (one row per
-sample, a header naming every column with its unit), :meth:`Trajectory.plot` (a multi-panel
-PNG) and :meth:`Trajectory.animate` (a 3-D GIF). Every file is written atomically.
+Output: [`Trajectory.save`][spacearm.Trajectory.save] / [`Trajectory.load`][spacearm.Trajectory.load] (``.npz``, the model embedded as
+TOML so a loaded run can be plotted and animated), [`Trajectory.to_csv`][spacearm.Trajectory.to_csv] (one row per
+sample, a header naming every column with its unit), [`Trajectory.plot`][spacearm.Trajectory.plot] (a multi-panel
+PNG) and [`Trajectory.animate`][spacearm.Trajectory.animate] (a 3-D GIF). Every file is written atomically.
 """
 
 from __future__ import annotations
@@ -37,14 +37,14 @@ PathLike = Union[str, "os.PathLike[str]"]
 #: ``saturation_kind`` codes of the simulation dict (docs/simulation.md).
 SATURATION_KINDS = {0: "torque limit", 1: "speed limit", 2: "force limit"}
 
-#: Format tag stored in saved files, checked by :meth:`Trajectory.load`.
+#: Format tag stored in saved files, checked by [`Trajectory.load`][spacearm.Trajectory.load].
 FILE_FORMAT = "spacearm.Trajectory/1"
 
 # Per-sample arrays: name -> (trailing shape as a function of N, W, n_ref; required?)
 _REQUIRED = ("t", "x", "u")
 _PER_SAMPLE = (
     "t", "x", "u", "du", "tau", "tau_cmd", "base_wrench", "P", "L_origin", "L_com", "energy", "com",
-    "ee_position", "ee_quat", "reference", "tracking_error", "wheel_speed",
+    "ee_position", "ee_quat", "reference", "tracking_error", "wheel_speed", "r_cm_eci", "v_cm_eci", "gravity_wrench",
 )
 _EVENTS = ("saturation_t", "saturation_actuator", "saturation_kind")
 # Dtypes of a run's records adopted without conversion (a run may record float32).
@@ -98,11 +98,11 @@ def _jsonable(value):
 class Trajectory:
     """The recorded samples of one simulation run.
 
-    Built by :func:`spacearm.simulate` (or :meth:`load`); ``data`` maps the names of
+    Built by [`spacearm.simulate`][spacearm.simulate] (or [`load`][spacearm.Trajectory.load]); ``data`` maps the names of
     ``docs/simulation.md`` (``t``, ``x``, ``u``, ``du``, ``tau``, …) to numpy arrays with one
     row per sample, ``meta`` describes the run. ``robot`` (the simulated
-    :class:`~spacearm.Robot`) is needed by :meth:`animate`, the CSV column names and the
-    momentum scales of :meth:`drift`; a trajectory without it still gives every recorded array.
+    [`Robot`][spacearm.Robot]) is needed by [`animate`][spacearm.Trajectory.animate], the CSV column names and the
+    momentum scales of [`drift`][spacearm.Trajectory.drift]; a trajectory without it still gives every recorded array.
 
     The arrays are read-only views: copy them (``np.array(traj.q)``) to modify.
     """
@@ -164,7 +164,7 @@ class Trajectory:
     # ---- raw access ------------------------------------------------------------------------
     @property
     def robot(self):
-        """The simulated :class:`~spacearm.Robot` (``None`` if unknown)."""
+        """The simulated [`Robot`][spacearm.Robot] (``None`` if unknown)."""
         return self._robot
 
     @property
@@ -361,7 +361,7 @@ class Trajectory:
     @property
     def tracking_error(self) -> np.ndarray:
         """Tracking error ``(K,)``: ``|q_ref − q|`` (rad) or ``|p_ref − p|`` (m), see
-        :attr:`tracking_error_kind`."""
+        [`tracking_error_kind`][spacearm.Trajectory.tracking_error_kind]."""
         return self._get("tracking_error", "the controller tracks no reference")
 
     @property
@@ -373,6 +373,34 @@ class Trajectory:
     def wheel_speed(self) -> np.ndarray:
         """Reaction-wheel speeds ``(K, W)``, rad/s (relative to the base)."""
         return self._get("wheel_speed", "the run had no reaction wheels")
+
+    @property
+    def r_cm_eci(self) -> np.ndarray:
+        """An orbital run's system CM in ECI ``(K, 3)``, m: the orbit's point plus [`com`][spacearm.Trajectory.com]
+        (docs/orbit.md)."""
+        return self._get("r_cm_eci", "the run was not in orbit (simulate(..., orbit=spacearm.Orbit...))")
+
+    @property
+    def v_cm_eci(self) -> np.ndarray:
+        """An orbital run's system CM velocity in ECI ``(K, 3)``, m/s."""
+        return self._get("v_cm_eci", "the run was not in orbit (simulate(..., orbit=spacearm.Orbit...))")
+
+    @property
+    def gravity_wrench(self) -> np.ndarray:
+        """An orbital run's total tidal wrench ``(K, 6)``: force (N) and torque about the origin
+        of the run's frame (N·m), zeros with ``gravity_gradient=False``."""
+        return self._get("gravity_wrench", "the run was not in orbit (simulate(..., orbit=spacearm.Orbit...))")
+
+    def attitude_lvlh(self) -> np.ndarray:
+        """The base attitude relative to the LVLH frame of the system CM's orbit, ``(K, 3, 3)``
+        rotation matrices base → LVLH (LVLH: x radial, y along-track, z orbit normal;
+        docs/orbit.md). Orbital runs only."""
+        from ..orbit import Orbit
+        from ..rotations import quat_to_matrix
+
+        lvlh = Orbit.lvlh_to_eci(np.asarray(self.r_cm_eci, dtype=float), np.asarray(self.v_cm_eci, dtype=float))
+        base = quat_to_matrix(np.asarray(self.x[:, 3:7], dtype=float))
+        return np.einsum("kji,kjl->kil", lvlh, base)
 
     @property
     def saturation_events(self) -> List[SaturationEvent]:
@@ -424,11 +452,11 @@ class Trajectory:
 
     # ---- conservation ----------------------------------------------------------------------
     def drift_scale(self, name: str) -> float:
-        """The magnitude against which :meth:`drift` measures deviations of ``name``, when the
+        """The magnitude against which [`drift`][spacearm.Trajectory.drift] measures deviations of ``name``, when the
         initial value is smaller (e.g. zero momentum): the core's drift scale
-        (:meth:`Robot.momentum_scales`, the sums over the bodies of their own contributions'
+        ([`Robot.momentum_scales`][spacearm.Robot.momentum_scales], the sums over the bodies of their own contributions'
         norms), its largest value over the recorded states — what the simulator records as
-        ``meta["drift_scales"]``. ``energy`` → the largest kinetic energy. Without a robot the
+        ``meta["drift_scales"]``. ``energy`` → the largest mechanical energy (kinetic plus the joint springs'). Without a robot the
         momentum scales are 0.
         """
         columns = {"P": 0, "L_origin": 1, "L_com": 2, "energy": 3}
@@ -448,8 +476,8 @@ class Trajectory:
         (``scale={"P": 1.0}``): the simulator's own scale for the quantities its mode conserves
         (``meta["drift_scales"]``: the running maximum of the bodies' individual
         contributions, which only the simulator sees), so that for a simulated run this equals
-        ``meta["drift"]``; otherwise :meth:`drift_scale`. ``names`` defaults to the quantities
-        the run's mode conserves (:attr:`conserved`); for those the result is the integration
+        ``meta["drift"]``; otherwise [`drift_scale`][spacearm.Trajectory.drift_scale]. ``names`` defaults to the quantities
+        the run's mode conserves ([`conserved`][spacearm.Trajectory.conserved]); for those the result is the integration
         error, for the others the physical change.
         """
         names = self.conserved if names is None else list(names)
@@ -497,6 +525,10 @@ class Trajectory:
             unit = {"joint": "rad", "cartesian": "m"}.get(self.tracking_error_kind or "", "")
             e = self.tracking_error
             lines.append(f"  tracking error ({self.tracking_error_kind or '?'}): final {e[-1]:.3g} {unit}, max {np.max(e):.3g} {unit}")
+        goal = m.get("goal")
+        if goal and goal["unreachable"]:
+            lines.append(f"  GOAL OUT OF REACH: the point stopped {goal['distance']:.3g} m short with the task Jacobian nearly "
+                         f"singular (smallest singular value {goal['sigma_min']:.3g}); choose a reachable goal")
         if self.has("ee_position"):
             p = self.ee_position[-1]
             lines.append(f"  end effector final position [{', '.join(f'{v:.4g}' for v in p)}] m")
@@ -527,7 +559,7 @@ class Trajectory:
     def save(self, path: PathLike) -> str:
         """Write the trajectory to ``path`` as a compressed ``.npz`` (atomically): every
         recorded array under its own name, ``meta`` as JSON and the model as TOML text (so
-        :meth:`load` can rebuild it). Returns the path."""
+        [`load`][spacearm.Trajectory.load] can rebuild it). Returns the path."""
         payload = {k: np.asarray(v) for k, v in self._data.items()}
         payload["__format__"] = np.array(FILE_FORMAT)
         payload["__meta__"] = np.array(json.dumps(_jsonable(self._meta), allow_nan=True))
@@ -541,7 +573,7 @@ class Trajectory:
 
     @classmethod
     def load(cls, path: PathLike, robot=None) -> "Trajectory":
-        """Read a file written by :meth:`save`. The robot is rebuilt from the embedded model
+        """Read a file written by [`save`][spacearm.Trajectory.save]. The robot is rebuilt from the embedded model
         unless ``robot`` is given (it must have the same number of joints)."""
         with open_npz(path, "spacearm trajectory") as files:
             files = dict(files)
@@ -624,7 +656,7 @@ class Trajectory:
         describe the run (read them with ``comment="#"``); the header row names every column
         with its unit in brackets, e.g. ``q_joint1 [rad]``; numbers are written with 17
         significant digits (exact round trip). Saturation events are summarized in the
-        comments (the ``.npz`` of :meth:`save` keeps each one). Returns the path."""
+        comments (the ``.npz`` of [`save`][spacearm.Trajectory.save] keeps each one). Returns the path."""
         cols = self.columns()
         header = ",".join(f"{n} [{u}]" for n, u, _ in cols)
         table = np.column_stack([c for _, _, c in cols])
@@ -641,14 +673,14 @@ class Trajectory:
     def plot(self, path: Optional[PathLike] = None, **kwargs):
         """A multi-panel figure of the run (joints and reference, base attitude and position,
         conservation, torques and wheel speeds, tracking error); written as PNG to ``path`` if
-        given. Returns the matplotlib ``Figure``. See :func:`spacearm.viz.plotting.plot_trajectory`."""
+        given. Returns the matplotlib ``Figure``. See ``spacearm.viz.plotting.plot_trajectory``."""
         from ..viz.plotting import plot_trajectory
 
         return plot_trajectory(self, path, **kwargs)
 
     def animate(self, path: PathLike, **kwargs) -> str:
         """A 3-D GIF of the base (box) and the arm (segments joint to joint). Needs the robot.
-        See :func:`spacearm.viz.animation.animate_trajectory` for the options."""
+        See ``spacearm.viz.animation.animate_trajectory`` for the options."""
         from ..viz.animation import animate_trajectory
 
         return animate_trajectory(self, path, **kwargs)

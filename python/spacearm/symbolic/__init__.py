@@ -3,7 +3,7 @@ matrices, the Schur-complement inverse of ``H0``, ``H*``, ``c*``, ``J*``, ``Ḣ`
 with LaTeX, NumPy and C output. Tutorial: ``docs/symbolic.md``.
 
 Needs SymPy (``pip install "spacearm[symbolic]"``); without it, importing this package raises
-:class:`~spacearm.errors.MissingDependencyError` naming that extra.
+[`MissingDependencyError`][spacearm.MissingDependencyError] naming that extra.
 """
 
 from .._util.optional import require

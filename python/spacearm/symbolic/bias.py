@@ -11,7 +11,7 @@ rows of ``H u``). The ``ω0 × L`` terms cancel and
 
 ``c = Ḣ u − [0; −v0 × P; (½ uᵀ ∂H/∂q_k u)_k]``,
 
-with ``Ḣ`` the total time derivative of the world-frame ``H`` (:mod:`.derivatives`). A single
+with ``Ḣ`` the total time derivative of the world-frame ``H`` (``.derivatives``). A single
 rigid body checks the signs: ``c = [0; ω × Iω]`` (Euler). In the base frame this is evaluated as
 ``c_b = Σ_k q̇_k ∂H_b/∂q_k u_b + [ω × P; ω × L + v × P; 0] − H_b[:, 0:3](ω × v) − [0; 0; ½ u_bᵀ ∂H_b/∂q_k u_b]``
 with ``u_b = Tᵀ u = [v; ω; q̇]``; the world bias is ``T c_b``. The test suite holds it against

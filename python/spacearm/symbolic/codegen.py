@@ -3,7 +3,7 @@ names of its inputs, plus atomic file output.
 
 A generated kernel computes the base-frame form of a quantity from ``q``, ``u_b`` and ``p``; a
 wrapper turns the world state ``(x, u)`` into ``(q, u_b = Tᵀu)`` and rotates the result back
-(:mod:`spacearm.symbolic.frames`).
+(``spacearm.symbolic.frames``).
 """
 
 from __future__ import annotations
@@ -44,6 +44,6 @@ def kernel(d: Derivation, q: Quantity) -> Kernel:
 
 
 def write_atomic(path: str, text: str) -> None:
-    """Write ``text`` to ``path`` atomically (:mod:`spacearm._util.atomic`), so an interrupted
+    """Write ``text`` to ``path`` atomically (``spacearm._util.atomic``), so an interrupted
     run never leaves a truncated file."""
     write_text(path, text)

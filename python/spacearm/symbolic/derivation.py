@@ -1,4 +1,4 @@
-"""A :class:`Derivation`: every closed-form quantity of one model, derived once and cached.
+"""A [`Derivation`][spacearm.symbolic.Derivation]: every closed-form quantity of one model, derived once and cached.
 
 >>> import spacearm
 >>> from spacearm.symbolic import derive
@@ -7,11 +7,11 @@
 (4, 4)
 
 Everything is derived in the base frame (base CM at the origin, ``R0 = E``; see
-:mod:`spacearm.symbolic.frames` for why that loses nothing and how the world form follows) as
+``spacearm.symbolic.frames`` for why that loses nothing and how the world form follows) as
 functions of the joint coordinates ``q``, the parameters chosen to be symbols, and — for
 velocity-dependent quantities — ``u_b = [v_b; ω_b; q̇]``, the base velocities in base axes.
-:meth:`Derivation.world` gives the world form with the base attitude as a DCM or a quaternion;
-:meth:`Derivation.evaluate` evaluates any quantity numerically at a world state ``(x, u)``.
+[`Derivation.world`][spacearm.symbolic.Derivation.world] gives the world form with the base attitude as a DCM or a quaternion;
+[`Derivation.evaluate`][spacearm.symbolic.Derivation.evaluate] evaluates any quantity numerically at a world state ``(x, u)``.
 """
 
 from __future__ import annotations
@@ -56,8 +56,8 @@ class Quantity:
 
 
 def derive(robot, symbols=None) -> "Derivation":
-    """The :class:`Derivation` of ``robot`` (a :class:`spacearm.Robot`). ``symbols``: which
-    parameters become symbols (:mod:`spacearm.symbolic.parameters`; default none)."""
+    """The [`Derivation`][spacearm.symbolic.Derivation] of ``robot`` (a [`spacearm.Robot`][spacearm.Robot]). ``symbols``: which
+    parameters become symbols (``spacearm.symbolic.parameters``; default none)."""
     return Derivation(robot, symbols)
 
 
@@ -182,7 +182,7 @@ class Derivation:
     @cached_property
     def c(self) -> sp.Matrix:
         """Bias ``c`` (base-frame form, a function of ``q`` and ``u_b``) from ``Ḣ`` and ``∂H/∂q``
-        with the quasi-coordinate correction (:mod:`spacearm.symbolic.bias`)."""
+        with the quasi-coordinate correction (``spacearm.symbolic.bias``)."""
         return self._timed("c", lambda: bias_from_lagrangian(self.H, self.dH_dq, self.u_b))
 
     @cached_property
@@ -221,12 +221,12 @@ class Derivation:
             cat.append(("c_star", "c_star", lambda: Q("c_star", self.c_star, 0, 0, True, "generalized bias c* = c_m - H0m^T H0^-1 c0")))
         return cat
 
-    #: The groups of :meth:`quantities`.
+    #: The groups of [`quantities`][spacearm.symbolic.Derivation.quantities].
     GROUPS = ("blocks", "jacobians", "H0_inv", "H_star", "J_star", "dH_dq", "H_dot", "c", "c_star")
 
     def quantities(self, include=None) -> List[Quantity]:
         """The quantities the code generators emit. ``include``: groups or names to keep
-        (default everything); groups are :attr:`GROUPS`."""
+        (default everything); groups are [`GROUPS`][spacearm.symbolic.derivation.Derivation.GROUPS]."""
         want = None if include is None else set(include)
         if want is not None:
             known = set(self.GROUPS) | {n for _, n, _ in self._catalogue()}
@@ -235,7 +235,7 @@ class Derivation:
         return [f() for g, n, f in self._catalogue() if want is None or g in want or n in want]
 
     def quantity(self, name: str) -> Quantity:
-        """One quantity of :meth:`quantities` by name."""
+        """One quantity of [`quantities`][spacearm.symbolic.Derivation.quantities] by name."""
         for _, n, f in self._catalogue():
             if n == name:
                 return f()
@@ -280,12 +280,12 @@ class Derivation:
 
     def evaluate(self, quantity, x, u=None, p=None) -> np.ndarray:
         """Numeric value at the world state ``(x, u)`` (and parameters ``p``, default the
-        model's) of a :class:`Quantity` or a quantity name from :meth:`quantities`. Column
+        model's) of a [`Quantity`][spacearm.symbolic.Quantity] or a quantity name from [`quantities`][spacearm.symbolic.Derivation.quantities]. Column
         quantities (``c``, ``c_star``, ``r_0g``) come back as 1-D arrays."""
         return self.evaluate_many([quantity], x, u, p)[0]
 
     def evaluate_many(self, quantities, x, u=None, p=None) -> List[np.ndarray]:
-        """:meth:`evaluate` for several quantities at once, sharing one CSE (much cheaper than
+        """[`evaluate`][spacearm.symbolic.Derivation.evaluate] for several quantities at once, sharing one CSE (much cheaper than
         one call each, since ``H*``, ``J*``, ``H0⁻¹`` share most of their subexpressions)."""
         qs = [self.quantity(q) if isinstance(q, str) else q for q in quantities]
         x = np.asarray(x, dtype=float)

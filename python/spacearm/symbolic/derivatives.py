@@ -4,7 +4,7 @@
 ``T (∂X_b/∂q_k) Tᵀ``, since ``R0`` does not depend on ``q``).
 
 The total time derivative in the world frame of a quantity ``X = Tr X_b Tcᵀ``
-(:mod:`spacearm.symbolic.frames`), with ``Ṫ = Ω̃ T`` (``Ω̃ = blkdiag(ω̃0, ω̃0, 0)``), is
+(``spacearm.symbolic.frames``), with ``Ṫ = Ω̃ T`` (``Ω̃ = blkdiag(ω̃0, ω̃0, 0)``), is
 ``Ẋ = Tr (Σ_k ∂X_b/∂q_k q̇_k + Ω̃_b X_b − X_b Ω̃_bᵀ...)`` — precisely
 ``Ẋ_b = Σ_k ∂X_b/∂q_k q̇_k + Ω̃_r X_b − X_b Ω̃_c`` with ``Ω̃_r``/``Ω̃_c`` the row/column
 rotation generators built from the base-frame angular velocity ``ω_b = R0ᵀ ω0``.

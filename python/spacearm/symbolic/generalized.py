@@ -8,7 +8,7 @@ Writing ``A = J_TS``, ``B = H_Sq`` and ``H0m = [A; B]``, the Schur-form inverse 
 - ``c* = c_m − H0mᵀ H0⁻¹ c0 = c_m − Aᵀ c_v/M − Gᵀ S⁻¹ (c_w − r̃_0g c_v)`` (``c0 = [c_v; c_w]``),
 - ``J* = J_mX − J_0X H0⁻¹ H0m = J_mX − [A/M + (r̃_0g − r̃_0X) Y; Y]`` (eq. 110),
 
-with ``S⁻¹ = adj(S)/det(S)`` from :mod:`spacearm.symbolic.schur`.
+with ``S⁻¹ = adj(S)/det(S)`` from ``spacearm.symbolic.schur``.
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@ For every dof ``j`` on the path from the base to body ``i``:
 ``J_Ti[:, j] = k_j × (r_i − p_j)``, ``J_Ri[:, j] = k_j`` (revolute);
 ``J_Ti[:, j] = k_j``, ``J_Ri[:, j] = 0`` (prismatic); zero columns elsewhere.
 Point ``X`` on body ``i``: ``J_0X = [[E, −r̃_0X], [0, E]]``, ``J_mX[:, j] = [k_j × (x − p_j); k_j]``.
-All in the base frame (``r0 = 0``, ``R0 = E``); see :mod:`spacearm.symbolic.frames`.
+All in the base frame (``r0 = 0``, ``R0 = E``); see ``spacearm.symbolic.frames``.
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ Every body frame has its origin at the body's CM. For link ``i`` with parent ``p
 
 The chain is derived in the **base frame** (base CM at the origin, ``R0 = E``): every inertia
 matrix is a function of the joint coordinates there, and the world form is a rotation of it
-(:mod:`spacearm.symbolic.frames`). :meth:`Kinematics.world` gives the world form with the base
+(``spacearm.symbolic.frames``). ``Kinematics.world`` gives the world form with the base
 attitude as a direction-cosine matrix of symbols or as a unit quaternion.
 """
 

@@ -1,6 +1,6 @@
 """A LaTeX document of a model's closed-form matrices, with the paper's names and equation numbers.
 
-Entries are tidied (:func:`tidy`, when they have at most ``TIDY_OPS`` operations); large ones are printed after common-subexpression elimination as a
+Entries are tidied (``tidy``, when they have at most ``TIDY_OPS`` operations); large ones are printed after common-subexpression elimination as a
 list of intermediate quantities ``t_k``. Long entries are broken across lines by ``breqn``.
 The document compiles with ``pdflatex`` (packages amsmath, breqn, geometry).
 """

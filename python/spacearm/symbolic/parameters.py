@@ -1,6 +1,6 @@
 """Model parameters as SymPy quantities: numbers, or symbols where the user asks for them.
 
-A :class:`Parameters` turns ``Robot.description`` (a :class:`~spacearm.ModelDescription`) into SymPy values. Every numeric parameter can
+A [`Parameters`][spacearm.symbolic.Parameters] turns ``Robot.description`` (a [`ModelDescription`][spacearm.ModelDescription]) into SymPy values. Every numeric parameter can
 be replaced by a symbol; joint coordinates are always symbols. Parameter names:
 
 | name | meaning |

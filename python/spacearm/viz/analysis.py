@@ -1,4 +1,4 @@
-"""The figures of the analyses (:mod:`spacearm.analysis`): a singularity map, a point-to-point
+"""The figures of the analyses ([`spacearm.analysis`][spacearm.analysis]): a singularity map, a point-to-point
 motion, the workspaces. Each result's ``.figure()`` / ``.plot()`` calls these."""
 
 from __future__ import annotations
@@ -46,22 +46,35 @@ def _unit(smap, dof: int) -> str:
     return "m" if smap.joint_kinds and smap.joint_kinds[dof] == "prismatic" else "rad"
 
 
+def motion_plane(paths) -> tuple:
+    """The coordinate plane ``(i, j)`` (``i < j``) of the inertial axes along which the points of
+    ``paths`` (arrays of shape (K, 3)) extend the most: the axis of the smallest extent is the
+    one dropped (a motion in x–z is drawn in x–z)."""
+    pts = np.vstack([np.asarray(p, dtype=float).reshape(-1, 3) for p in paths])
+    drop = int(np.argmin(np.ptp(pts, axis=0)))
+    i, j = (a for a in range(3) if a != drop)
+    return i, j
+
+
 def motion_figure(motion, others=(), title: Optional[str] = None):
-    """Point path (x–y), base attitude change and σ_min against time, for this motion and
-    any ``others`` (e.g. a naive motion to the same target). Returns the matplotlib ``Figure``."""
+    """Point path (in the coordinate plane of the motion, `motion_plane`), base attitude
+    change and σ_min against time, for this motion and any ``others`` (e.g. a naive motion to the
+    same target). Returns the matplotlib ``Figure``."""
     fig = new_figure(figsize=(13, 4.2))
     ax_path, ax_att, ax_sig = fig.subplots(1, 3)
+    i, j = motion_plane([m.point_position for m in (motion, *others)] + [np.asarray(motion.target)])
+    names = "xyz"
     for m in (motion, *others):
-        ax_path.plot(m.point_position[:, 0], m.point_position[:, 1], label=m.strategy)
+        ax_path.plot(m.point_position[:, i], m.point_position[:, j], label=m.strategy)
         ax_att.plot(m.times, np.degrees(m.attitude_change), label=f"{m.strategy} (max {np.degrees(m.max_attitude_change):.3g}°)")
         ax_sig.plot(m.times, m.sigma_min, label=m.strategy)
     p0 = motion.point_position[0]
-    ax_path.plot([p0[0]], [p0[1]], "ko", label="start")
-    ax_path.plot([motion.target[0]], [motion.target[1]], "r*", ms=12, label="target")
-    ax_path.set_xlabel("x (m)")
-    ax_path.set_ylabel("y (m)")
+    ax_path.plot([p0[i]], [p0[j]], "ko", label="start")
+    ax_path.plot([motion.target[i]], [motion.target[j]], "r*", ms=12, label="target")
+    ax_path.set_xlabel(f"{names[i]} (m)")
+    ax_path.set_ylabel(f"{names[j]} (m)")
     ax_path.set_aspect("equal", adjustable="datalim")
-    ax_path.set_title("end-effector path (inertial x–y)", fontsize=10)
+    ax_path.set_title(f"end-effector path (inertial {names[i]}–{names[j]}, the plane of the motion)", fontsize=10)
     ax_path.legend(fontsize=8)
     ax_att.set_xlabel("t (s)")
     ax_att.set_ylabel("base attitude change (deg)")

@@ -1,5 +1,5 @@
-"""The figure of a campaign (:func:`campaign_figure`): the distribution of each metric and its
-strongest driver, drawn from the rows :func:`spacearm.campaign.report.report_rows` computes."""
+"""The figure of a campaign (``campaign_figure``): the distribution of each metric and its
+strongest driver, drawn from the rows ``spacearm.campaign.report.report_rows`` computes."""
 
 from __future__ import annotations
 

@@ -1,9 +1,9 @@
 """The one home of figure creation and saving: a matplotlib ``Figure`` on its own Agg canvas
 (no pyplot global state) and its atomic write in the format the file name asks for.
 
-Every figure of the package goes through :func:`save_figure`: ``run.pdf`` is a PDF, ``x.svg`` an
+Every figure of the package goes through ``save_figure``: ``run.pdf`` is a PDF, ``x.svg`` an
 SVG, ``run.png`` a PNG (a name without a suffix gets PNG); a suffix matplotlib cannot write is an
-:class:`~spacearm.errors.ArgumentError` naming the formats it can, raised before anything is drawn
+[`ArgumentError`][spacearm.ArgumentError] naming the formats it can, raised before anything is drawn
 or written. Files are written atomically (no partial file).
 """
 
@@ -44,9 +44,12 @@ def figure_format(path) -> str:
 
 
 def save_figure(fig, path, *, dpi: int = 130, **savefig) -> str:
-    """Write ``fig`` to ``path`` in the format its suffix names (:func:`figure_format`),
-    atomically; returns the path."""
+    """Write ``fig`` to ``path`` in the format its suffix names (``figure_format``),
+    atomically; returns the path. A PNG is deflated at zlib level 1 (Pillow's default 6 took
+    about twice the time for a file some 10 % smaller; benchmarks/README.md)."""
     fmt = figure_format(path)
+    if fmt == "png":
+        savefig.setdefault("pil_kwargs", {"compress_level": 1})
     path = os.fspath(path)
     with atomic_path(path, suffix="." + fmt) as tmp:
         fig.savefig(tmp, format=fmt, dpi=dpi, **savefig)

@@ -1,6 +1,6 @@
-"""The figure of a plan (:func:`plan_figure`): the plan and its re-simulation in the native
+"""The figure of a plan (``plan_figure``): the plan and its re-simulation in the native
 simulator beside a quintic joint move and the RMRC motion to the same target
-(:meth:`spacearm.plan.result.Plan.comparison`)."""
+([`spacearm.plan.result.Plan.comparison`][spacearm.plan.Plan.comparison])."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ __all__ = ["plan_figure"]
 def plan_figure(plan, title: Optional[str] = None):
     """Base attitude change, joint-torque norm and point path (inertial x–y) of the plan, its
     re-simulation (dashed), a quintic joint move to the same end configuration and the RMRC motion
-    (:meth:`Plan.comparison`). Returns the matplotlib ``Figure``."""
+    ([`Plan.comparison`][spacearm.plan.Plan.comparison]). Returns the matplotlib ``Figure``."""
     fig = new_figure(figsize=(13, 4.2))
     ax_att, ax_tau, ax_path = fig.subplots(1, 3)
     for name, (t, angle, torque, path) in plan.comparison().items():

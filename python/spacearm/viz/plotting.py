@@ -1,4 +1,4 @@
-"""Figures of a simulation run: one multi-panel PNG per :class:`~spacearm.Trajectory`.
+"""Figures of a simulation run: one multi-panel PNG per [`Trajectory`][spacearm.Trajectory].
 
 The figure is drawn on matplotlib's Agg canvas directly (no ``pyplot``, so no global state and
 no display is needed, and an interactive session's backend is left alone). Panels appear only
@@ -7,11 +7,13 @@ for what was recorded:
 - joint coordinates, with the joint reference dashed: revolute joints in one panel (rad),
   prismatic joints in another (m);
 - end-effector position against the Cartesian reference (Cartesian controllers);
-- base attitude (roll, pitch, yaw) and base CM displacement, with the system CM's;
-- momentum: relative change of ``P``, ``L_origin`` and ``L_com`` from their initial values
-  (log scale; the mode's conserved quantities are marked);
-- kinetic energy: its signed relative change, on a linear axis of its own (it is conserved only
-  in torque-free floating runs, so it does not share the log panel of the momenta);
+- base attitude (roll, pitch, yaw: the Z-Y-X Euler angles of ``R0 = Rz(yaw) Ry(pitch) Rx(roll)``)
+  and base CM displacement, with the system CM's;
+- momentum: the change ``|v(t) − v(0)|`` of ``P`` (N s), ``L_origin`` and ``L_com`` (N m s)
+  from their initial values (log scale; the mode's conserved quantities are marked; the relative
+  drifts are ``Trajectory.drift``);
+- kinetic energy: its signed change ``T(t) − T(0)`` in J, on a linear axis of its own (it is
+  conserved only in torque-free floating runs, so it does not share the log panel of the momenta);
 - arm joint torques (revolute, N m) and forces (prismatic, N) in separate panels (applied solid,
   commanded dashed where saturation clipped them), unless all are zero;
 - reaction-wheel speeds (and wheel torques); the base wrench (flying modes);
@@ -142,7 +144,7 @@ def _panel_attitude(ax, traj):
     e = np.degrees(traj.base_euler)
     for i, lab in enumerate(("roll", "pitch", "yaw")):
         ax.plot(traj.t, e[:, i], lw=1.2, label=lab)
-    ax.set_title("base attitude")
+    ax.set_title("base attitude, Z-Y-X Euler angles (R0 = Rz(yaw) Ry(pitch) Rx(roll))")
     ax.set_ylabel("angle [deg]")
     ax.legend(fontsize=7, loc="best")
 
@@ -169,27 +171,27 @@ def _panel_momentum(ax, traj):
         if not traj.has(name):
             continue
         v = np.asarray(traj[name], dtype=float).reshape(len(traj), -1)
-        ref = max(float(np.linalg.norm(v[0])), traj.drift_scale(name))
-        rel = np.linalg.norm(v - v[0], axis=1) / (ref if ref > 0 else 1.0)
-        label = f"{name} (conserved)" if name in conserved else name
+        change = np.linalg.norm(v - v[0], axis=1)
+        unit = "N s" if name == "P" else "N m s"
+        label = f"{name} [{unit}]" + (" (conserved)" if name in conserved else "")
         # From the second sample on: the first is zero by definition.
-        ax.semilogy(traj.t[1:], np.maximum(rel[1:], _FLOOR), lw=1.5 if name in conserved else 1.0,
+        ax.semilogy(traj.t[1:], np.maximum(change[1:], _FLOOR), lw=1.5 if name in conserved else 1.0,
                     ls="-" if name in conserved else "--", label=label)
         plotted = True
-    ax.set_title("momentum: relative change from the initial value")
-    ax.set_ylabel("|v(t) − v(0)| / scale [-]")
+    ax.set_title("momentum: change from the initial value")
+    ax.set_ylabel("|v(t) − v(0)| [N s (P), N m s (L)]")
     if plotted:
         ax.legend(fontsize=7, loc="best")
 
 
 def _panel_energy(ax, traj):
-    """Signed relative change of the kinetic energy, ``(T − T(0)) / max(|T(0)|, T_max)``."""
+    """Signed change of the kinetic energy from its initial value, ``T(t) − T(0)`` in J."""
     energy = np.asarray(traj["energy"], dtype=float)
-    scale = max(abs(float(energy[0])), traj.drift_scale("energy"))
-    ax.plot(traj.t, (energy - energy[0]) / (scale if scale > 0 else 1.0), lw=1.4, color="C4")
+    ax.plot(traj.t, energy - energy[0], lw=1.4, color="C4", label=f"T(0) = {float(energy[0]):.4g} J")
     conserved = "energy" in set(traj.conserved)
-    ax.set_title("kinetic energy: relative change" + (" (conserved)" if conserved else ""))
-    ax.set_ylabel("(T(t) − T(0)) / scale [-]")
+    ax.set_title("kinetic energy: change from T(0)" + (" (conserved)" if conserved else ""))
+    ax.legend(fontsize=7, loc="best")
+    ax.set_ylabel("T(t) − T(0) [J]")
 
 
 def _panel_torques(ax, fig, traj, names, dofs, kind, colours):

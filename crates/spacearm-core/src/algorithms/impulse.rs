@@ -156,6 +156,82 @@ pub fn impulse_dynamics(
     Ok(ImpulseDynamics { u_after: &u + &du, du, impulse, delassus: r.delassus, locking_impulse })
 }
 
+/// The inverse inertia at a point of `model` (docs/capture.md, "The grasp impact"): an impulse
+/// `Λ = [f̂; n̂]` (in 𝒥) at the body point `point` changes the point's twist `[v; ω]` by `G Λ`,
+/// `G = J_m H_m⁻¹ J_mᵀ` (6×6) with `J = [J_0X, J_mX]` the point's Jacobian (eqs. 104–108) over
+/// the coordinates that may jump (all of `u`, or the base's six with the joints locked:
+/// `J_0X H0⁻¹ J_0Xᵀ`). The contact response of the point's six rows ([`contact_response`]).
+pub fn point_inverse_inertia(model: &Model, data: &mut Data, x: &[f64], point: BodyPoint, joints: JointsAtImpact) -> Result<Matrix6<f64>> {
+    Ok(matrix6(&point_response(model, data, x, point, joints)?.1.delassus))
+}
+
+/// The point's Jacobian `[J_0X, J_mX]` (6 × (6+N)) at `x` and the model's response through it.
+fn point_response(model: &Model, data: &mut Data, x: &[f64], point: BodyPoint, joints: JointsAtImpact) -> Result<(DMatrix<f64>, ContactResponse)> {
+    check_body(model, point.body)?;
+    check_finite("the point's offset", point.offset.as_slice())?;
+    let h = crba(model, data, x)?.clone(); // (runs the forward kinematics the Jacobian needs)
+    let j = jacobian_of(model, data, point.body, &point.offset)?;
+    let r = response_from(&h, &j, joints)?;
+    Ok((j, r))
+}
+
+/// Yoshida's virtual mass at `point` along `direction` (kg; Yoshida et al. 2004):
+/// `1 / (nᵀ G_vv n)`, `n` the unit `direction` (in 𝒥) and `G_vv` the translational block of
+/// [`point_inverse_inertia`]: the mass a collision along `n` at the point feels.
+pub fn virtual_mass(model: &Model, data: &mut Data, x: &[f64], point: BodyPoint, direction: &Vector3<f64>, joints: JointsAtImpact) -> Result<f64> {
+    let norm = direction.norm();
+    if !(norm.is_finite() && norm >= 1e-12) {
+        return Err(SpacearmError::argument(format!("direction must be a non-zero finite 3-vector, got {:?}", direction.as_slice())));
+    }
+    let n = direction / norm;
+    let g = point_inverse_inertia(model, data, x, point, joints)?;
+    let g_vv: Matrix3<f64> = g.fixed_view::<3, 3>(0, 0).into_owned();
+    Ok(1.0 / n.dot(&(g_vv * n)))
+}
+
+/// What [`impulse_momentum_split`] returns: where an impulse's momentum goes, about the base CM
+/// (`[P; L_base]`, eq. 42), `base + arm == total == J_0Xᵀ Λ`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MomentumSplit {
+    /// `H0 Δẋ0`: the momentum the base's own jump carries.
+    pub base: Vector6<f64>,
+    /// `H0m Δq̇`: the coupling momentum the joints take up.
+    pub arm: Vector6<f64>,
+    /// `J_0Xᵀ Λ`: the impulse's momentum about the base CM.
+    pub total: Vector6<f64>,
+    /// `B` with `Δẋ0 = B Λ` (the base rows of `H⁻¹ Jᵀ`): impulses in its null space leave the
+    /// base still (the reaction null space at impact, Nenchev & Yoshida 1999).
+    pub base_jump_map: Matrix6<f64>,
+    /// The singular values of `B`, largest first: a zero one means a reaction-null impulse
+    /// direction exists.
+    pub base_jump_singular_values: Vector6<f64>,
+}
+
+/// How the impulse `Λ` (`[f̂; n̂]` in 𝒥) at `point` divides between the base and the arm, the
+/// joints free (impedance matching, Yoshida et al. 2004): `Δu = H⁻¹ Jᵀ Λ`, the base's jump
+/// `Δẋ0` carries `H0 Δẋ0`, the joints' jump `Δq̇` the coupling momentum `H0m Δq̇`.
+pub fn impulse_momentum_split(model: &Model, data: &mut Data, x: &[f64], point: BodyPoint, impulse: &Vector6<f64>) -> Result<MomentumSplit> {
+    check_finite("impulse", impulse.as_slice())?;
+    let (j, r) = point_response(model, data, x, point, JointsAtImpact::Free)?;
+    let lam = DVector::from_column_slice(impulse.as_slice());
+    let du = &r.response * &lam;
+    let h = &r.mass_matrix;
+    let n = model.n_dof();
+    let base = h.view((0, 0), (6, 6)) * du.rows(0, 6);
+    let arm = h.view((0, 6), (6, n)) * du.rows(6, n);
+    let total = j.columns(0, 6).transpose() * &lam;
+    let b = Matrix6::from_fn(|i, k| r.response[(i, k)]);
+    let mut sv = b.singular_values();
+    sv.as_mut_slice().sort_by(|a, c| c.total_cmp(a));
+    Ok(MomentumSplit {
+        base: Vector6::from_column_slice(base.as_slice()),
+        arm: Vector6::from_column_slice(arm.as_slice()),
+        total: Vector6::from_column_slice(total.as_slice()),
+        base_jump_map: b,
+        base_jump_singular_values: sv,
+    })
+}
+
 fn check_restitution(e: f64) -> Result<()> {
     if !(0.0..=1.0).contains(&e) {
         return Err(SpacearmError::argument(format!("restitution must be in [0, 1], got {e}")));
@@ -224,11 +300,48 @@ fn matrix6(m: &DMatrix<f64>) -> Matrix6<f64> {
     Matrix6::from_fn(|i, j| m[(i, j)])
 }
 
+/// The farthest a target's grasp point may lie from the CM of the body it is on, in units of
+/// that body's size ([`body_size`]): a handle longer than this is no grasp the rigid-lock and
+/// impulse models describe (docs/capture.md, "Grasps that are refused").
+pub const MAX_HANDLE_RATIO: f64 = 2.0;
+
+/// The size of a body from its mass properties: the half-diagonal of the uniform box with the
+/// same mass and principal moments, `√(1.5 tr(I) / m)` m (for a box of sides `a, b, c`,
+/// `tr(I) = m (a² + b² + c²) / 6`); a point mass has size 0.
+pub fn body_size(model: &Model, body: usize) -> f64 {
+    let mp = model.mass_properties(body);
+    if mp.mass > 0.0 {
+        (1.5 * mp.inertia.trace() / mp.mass).max(0.0).sqrt()
+    } else {
+        0.0
+    }
+}
+
+/// Refuse a grasp point `offset` (from the CM of `body`, in its axes) farther from the CM than
+/// [`MAX_HANDLE_RATIO`] times the body's size: an `InvalidArgument` naming both lengths.
+pub fn check_grasp_handle(model: &Model, body: usize, offset: &Vector3<f64>) -> Result<()> {
+    check_body(model, body)?;
+    check_finite("the target's grasp offset", offset.as_slice())?;
+    let size = body_size(model, body);
+    let length = offset.norm();
+    if length > MAX_HANDLE_RATIO * size {
+        return Err(SpacearmError::argument(format!(
+            "the grasp point is {length:.4} m from the CM of body {body} of '{}', more than {MAX_HANDLE_RATIO} × its size \
+             {size:.4} m (the half-diagonal of the uniform box of its mass and inertia): no handle that long is a rigid \
+             grasp; put the grasp point on the body",
+            model.name()
+        )));
+    }
+    Ok(())
+}
+
 /// The impact between the robot's grasp point and a target model (module docs): the robot at
 /// `(x, u)` grasps at `robot_point`; the target at `(x_target, u_target)` is hit on the body of
 /// its grasp point `target_grasp`, at its material point that coincides with the robot's point
 /// `X`. `restitution` `e` in [0, 1] (`J v⁺ = −e J v⁻` on the contact rows); `joints`: the
-/// robot's joints free or locked (the target's are always free).
+/// robot's joints free or locked (the target's are always free). Refused: a target grasp point
+/// beyond [`check_grasp_handle`]'s bound, and grasp points more than `gap_tolerance` (m) apart
+/// (the gripper does not touch the handle: no impact).
 ///
 /// Rigid: `Λ = −(1 + e) (G_r + G_t)⁻¹ v_rel⁻`. Point: `Λ = [λ n; 0]`,
 /// `λ = −(1 + e) nᵀv_rel⁻ / (nᵀ (G_r + G_t)_vv n)` when `nᵀv_rel⁻ < 0`, else no impulse.
@@ -247,8 +360,12 @@ pub fn grasp_impact(
     contact: GraspContact,
     restitution: f64,
     joints: JointsAtImpact,
+    gap_tolerance: f64,
 ) -> Result<GraspImpact> {
     check_restitution(restitution)?;
+    if !(gap_tolerance >= 0.0) {
+        return Err(SpacearmError::argument(format!("the capture tolerance must be >= 0 m, got {gap_tolerance}")));
+    }
     check_velocity(robot, "u", u)?;
     check_velocity(target, "the target's u", u_target)?;
     check_body(robot, robot_point.body)?;
@@ -267,6 +384,14 @@ pub fn grasp_impact(
     let body_cm = target_data.com_in_world[tb];
     let rot_t: Matrix3<f64> = target_data.body_to_world[tb];
     let t_offset = rot_t.transpose() * (point - body_cm);
+    check_grasp_handle(target, tb, &target_grasp.offset)?;
+    let gap = (point - grasp_world).norm();
+    if gap > gap_tolerance {
+        return Err(SpacearmError::argument(format!(
+            "the grasp points are {gap:.4} m apart at the impact, more than the capture tolerance {gap_tolerance} m: the \
+             gripper does not touch the target's grasp point, so there is no impact to compute"
+        )));
+    }
     let j_t = jacobian_of(target, target_data, tb, &t_offset)?;
 
     let resp_r = response_from(&h_r, &j_r, joints)?;
@@ -326,7 +451,7 @@ pub fn grasp_impact(
         u_after,
         target_u_after,
         point,
-        gap: (point - grasp_world).norm(),
+        gap,
         normal,
         relative_twist_before: Vector6::from_column_slice(v_rel.as_slice()),
         relative_twist_after: Vector6::from_column_slice(v_rel_after.as_slice()),
@@ -374,6 +499,27 @@ mod tests {
         (xt, ut, BodyPoint { body: 0, offset: Vector3::new(-0.5, 0.0, 0.0) })
     }
 
+    #[test]
+    fn a_gap_beyond_the_tolerance_and_a_long_handle_are_refused() {
+        let (robot, tgt) = (spatial6(), target());
+        let (x, u) = state(&robot);
+        let (xt, ut, grasp) = target_state(&robot, &x); // grasp points 0.0224 m apart
+        let run = |tol: f64, grasp: BodyPoint| {
+            grasp_impact(&robot, &mut Data::new(&robot), &x, &u, ee(&robot), &tgt, &mut Data::new(&tgt), &xt, &ut, grasp,
+                         GraspContact::Rigid, 0.0, JointsAtImpact::Free, tol)
+        };
+        assert!(run(0.03, grasp).is_ok());
+        let err = run(0.02, grasp).unwrap_err().to_string();
+        assert!(err.contains("0.0224 m apart") && err.contains("capture tolerance 0.02 m"), "{err}");
+        // The target's size: tr(I) = 15 kg m², 50 kg → √(1.5·15/50) = 0.6708 m; the bound 1.3416 m.
+        assert!((body_size(&tgt, 0) - (1.5f64 * 15.0 / 50.0).sqrt()).abs() < 1e-15);
+        assert!(check_grasp_handle(&tgt, 0, &Vector3::new(1.34, 0.0, 0.0)).is_ok());
+        let err = check_grasp_handle(&tgt, 0, &Vector3::new(0.0, 1.35, 0.0)).unwrap_err().to_string();
+        assert!(err.contains("1.3500 m from the CM") && err.contains("0.6708 m"), "{err}");
+        let far = BodyPoint { offset: Vector3::new(-2.0, 0.0, 0.0), ..grasp };
+        assert!(run(f64::INFINITY, far).unwrap_err().to_string().contains("no handle that long"));
+    }
+
     fn total(robot: &Model, x: &[f64], u: &[f64], target: &Model, xt: &[f64], ut: &[f64]) -> (Vector3<f64>, Vector3<f64>, f64) {
         let (mut dr, mut dt) = (Data::new(robot), Data::new(target));
         let (a, b) = (momentum(robot, &mut dr, x, u).unwrap(), momentum(target, &mut dt, xt, ut).unwrap());
@@ -386,10 +532,85 @@ mod tests {
         let (x, u) = state(&robot);
         let (xt, ut, grasp) = target_state(&robot, &x);
         let (mut dr, mut dt) = (Data::new(&robot), Data::new(&tgt));
-        let g = grasp_impact(&robot, &mut dr, &x, &u, ee(&robot), &tgt, &mut dt, &xt, &ut, grasp, contact, e, joints).unwrap();
+        let g = grasp_impact(&robot, &mut dr, &x, &u, ee(&robot), &tgt, &mut dt, &xt, &ut, grasp, contact, e, joints, f64::INFINITY).unwrap();
         let before = total(&robot, &x, &u, &tgt, &xt, &ut);
         let after = total(&robot, &x, g.u_after.as_slice(), &tgt, &xt, g.target_u_after.as_slice());
         (g, [before, after])
+    }
+
+    #[test]
+    fn the_inverse_inertia_at_a_point_is_the_point_acceleration_aba_gives_an_impulse_from_rest() {
+        // Independent of CRBA + Cholesky: from rest (no bias forces in space) the generalized
+        // impulse Jᵀ Λ gives Δu = ABA(x, 0, Jᵀ Λ), and the point's twist jumps by J Δu = G Λ.
+        let robot = spatial6();
+        let (x, _) = state(&robot);
+        let p = ee(&robot);
+        let mut d = Data::new(&robot);
+        let g = point_inverse_inertia(&robot, &mut d, &x, p, JointsAtImpact::Free).unwrap();
+        let j = jacobian_of(&robot, &d, p.body, &p.offset).unwrap();
+        let zero = vec![0.0; robot.nu()];
+        for k in 0..6 {
+            let mut lam = DVector::zeros(6);
+            lam[k] = 1.0 + 0.3 * k as f64;
+            let f = j.transpose() * &lam;
+            let du = crate::algorithms::aba::aba(&robot, &mut Data::new(&robot), &x, &zero, f.as_slice(), &[]).unwrap().clone();
+            let want = &j * du;
+            let got = g * Vector6::from_column_slice(lam.as_slice());
+            assert!((got - Vector6::from_column_slice(want.as_slice())).norm() < 1e-12 * want.norm(), "column {k}");
+        }
+        // G is symmetric positive definite; the locked arm is stiffer (G_locked ≤ G_free).
+        assert!((g - g.transpose()).norm() < 1e-14 * g.norm());
+        let gl = point_inverse_inertia(&robot, &mut d, &x, p, JointsAtImpact::Locked).unwrap();
+        assert!((g - gl).symmetric_eigenvalues().min() > -1e-12 * g.norm());
+        // Yoshida's virtual mass along n: 1 / (nᵀ G_vv n), any length of n.
+        let n = Vector3::new(0.3, -0.5, 0.8);
+        let m = virtual_mass(&robot, &mut d, &x, p, &(2.0 * n), JointsAtImpact::Free).unwrap();
+        let u = n.normalize();
+        assert!((m * u.dot(&(g.fixed_view::<3, 3>(0, 0) * u)) - 1.0).abs() < 1e-13);
+        assert!(virtual_mass(&robot, &mut d, &x, p, &Vector3::zeros(), JointsAtImpact::Free).is_err());
+    }
+
+    #[test]
+    fn a_rigid_body_s_inverse_inertia_is_the_closed_form() {
+        // One rigid body (mass m, inertia I about its CM, identity attitude), point r from the CM:
+        // Δv_X = f / m + (I⁻¹ (n + r × f)) × r, Δω = I⁻¹ (n + r × f).
+        let body = target();
+        let x = [0.2, -0.1, 0.4, 0.0, 0.0, 0.0, 1.0];
+        let r = Vector3::new(-0.5, 0.2, 0.1);
+        let i_inv = Matrix3::new(4.0, 0.1, 0.0, 0.1, 5.0, 0.0, 0.0, 0.0, 6.0).try_inverse().unwrap();
+        for joints in [JointsAtImpact::Free, JointsAtImpact::Locked] {
+            let g = point_inverse_inertia(&body, &mut Data::new(&body), &x, BodyPoint { body: 0, offset: r }, joints).unwrap();
+            for k in 0..6 {
+                let mut lam = Vector6::zeros();
+                lam[k] = 1.0;
+                let (f, n) = (lam.fixed_rows::<3>(0).into_owned(), lam.fixed_rows::<3>(3).into_owned());
+                let dw = i_inv * (n + r.cross(&f));
+                let dv = f / 50.0 + dw.cross(&r);
+                let want = Vector6::new(dv.x, dv.y, dv.z, dw.x, dw.y, dw.z);
+                assert!((g * lam - want).norm() < 1e-14, "column {k}: {:?} vs {want:?}", g * lam);
+            }
+        }
+    }
+
+    #[test]
+    fn an_impulse_s_momentum_splits_into_the_base_s_and_the_arm_s_shares() {
+        let robot = spatial6();
+        let (x, _) = state(&robot);
+        let p = ee(&robot);
+        let lam = Vector6::new(1.0, -2.0, 0.5, 0.1, 0.3, -0.2);
+        let mut d = Data::new(&robot);
+        let s = impulse_momentum_split(&robot, &mut d, &x, p, &lam).unwrap();
+        assert!((s.base + s.arm - s.total).norm() < 1e-12 * s.total.norm());
+        assert!(s.arm.norm() > 1e-3 * s.total.norm(), "the arm takes a share");
+        // B Λ is the base's jump that ABA gives the generalized impulse Jᵀ Λ from rest.
+        let j = jacobian_of(&robot, &d, p.body, &p.offset).unwrap();
+        let f = j.transpose() * DVector::from_column_slice(lam.as_slice());
+        let du = crate::algorithms::aba::aba(&robot, &mut Data::new(&robot), &x, &vec![0.0; robot.nu()], f.as_slice(), &[]).unwrap().clone();
+        let want = Vector6::from_column_slice(&du.as_slice()[..6]);
+        assert!((s.base_jump_map * lam - want).norm() < 1e-12 * want.norm());
+        let sv = s.base_jump_singular_values;
+        assert!(sv.iter().zip(sv.iter().skip(1)).all(|(a, b)| a >= b) && sv[5] >= 0.0);
+        assert!(impulse_momentum_split(&robot, &mut d, &x, p, &Vector6::repeat(f64::NAN)).is_err());
     }
 
     #[test]
@@ -438,7 +659,7 @@ mod tests {
         let (x, u) = state(&robot);
         let (xt, ut, grasp) = target_state(&robot, &x);
         let err = grasp_impact(&robot, &mut Data::new(&robot), &x, &u, ee(&robot), &tgt, &mut Data::new(&tgt), &xt, &ut, grasp,
-                               GraspContact::Point { normal: Some(Vector3::zeros()) }, 0.0, JointsAtImpact::Free)
+                               GraspContact::Point { normal: Some(Vector3::zeros()) }, 0.0, JointsAtImpact::Free, f64::INFINITY)
             .unwrap_err();
         assert!(matches!(err, SpacearmError::InvalidArgument(_)), "{err}");
     }
@@ -473,7 +694,7 @@ mod tests {
         xt[0] -= 0.5;
         let grasp = BodyPoint { offset: Vector3::zeros(), ..grasp };
         let g = grasp_impact(&robot, &mut data, &x, &u, p, &heavy, &mut Data::new(&heavy), &xt, &[0.0; 6], grasp, GraspContact::Rigid, 0.0,
-                             JointsAtImpact::Free)
+                             JointsAtImpact::Free, f64::INFINITY)
             .unwrap();
         let r = impulse_dynamics(&robot, &mut data, &x, &u, &j, 0.0, JointsAtImpact::Free).unwrap();
         assert!((&g.du - &r.du).norm() < 1e-9 * r.du.norm(), "{:e}", (&g.du - &r.du).norm() / r.du.norm());

@@ -93,6 +93,32 @@ impl TrackingKind {
     }
 }
 
+/// The farthest a point controller may end from its reference, m, while its damped least
+/// squares is active, before the goal counts as unreachable ([`GoalReport::unreachable`];
+/// docs/singularities.md, "Goals out of reach").
+pub const GOAL_TOLERANCE: f64 = 1e-3;
+
+/// What a controller that drives a point found at its last evaluation (the final sample of a
+/// run): how far the point was from its reference and how singular the task Jacobian was.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GoalReport {
+    /// `|p_ref − p|` at the last evaluation, m.
+    pub distance: f64,
+    /// The smallest singular value `σ_min` of the task Jacobian there (m per rad on the
+    /// translational rows).
+    pub sigma_min: f64,
+    /// Whether the damping law was active there (`σ_min` below its threshold).
+    pub damped: bool,
+}
+
+impl GoalReport {
+    /// Stopped short: more than [`GOAL_TOLERANCE`] from the reference with the damping active —
+    /// the arm stretched into a singularity and the damped least squares holds it there.
+    pub fn unreachable(&self) -> bool {
+        self.damped && !(self.distance <= GOAL_TOLERANCE)
+    }
+}
+
 /// The plant and the split of its joints that a controller is set up against.
 #[derive(Debug, Clone, Copy)]
 pub struct ControlContext<'a> {
@@ -144,6 +170,12 @@ pub trait Controller: Send {
     fn is_torque_free(&self) -> bool {
         false
     }
+
+    /// A point controller's report on its goal at the last evaluation (`None`: it drives no
+    /// point through a Jacobian).
+    fn goal_report(&self) -> Option<GoalReport> {
+        None
+    }
 }
 
 /// A borrowed controller is a controller: [`crate::sim::simulate::Plant`] owns a boxed
@@ -169,6 +201,9 @@ impl<C: Controller + ?Sized> Controller for &mut C {
     }
     fn is_torque_free(&self) -> bool {
         (**self).is_torque_free()
+    }
+    fn goal_report(&self) -> Option<GoalReport> {
+        (**self).goal_report()
     }
 }
 
@@ -290,6 +325,11 @@ impl Controller for Combined {
 
     fn reports_attitude_error(&self) -> bool {
         self.base.reports_attitude_error()
+    }
+
+    /// The arm's report, else the base's.
+    fn goal_report(&self) -> Option<GoalReport> {
+        self.arm.goal_report().or(self.base.goal_report())
     }
 }
 

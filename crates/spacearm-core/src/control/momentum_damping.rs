@@ -128,6 +128,9 @@ impl Controller for JointTorqueLimit {
         }
         self.inner.setup(ctx)
     }
+    fn goal_report(&self) -> Option<super::GoalReport> {
+        self.inner.goal_report()
+    }
     fn command(&mut self, t: f64, x: &[f64], u: &[f64], out: &mut Command) -> Result<()> {
         self.inner.command(t, x, u, out)?;
         for v in &mut out.tau {

@@ -59,6 +59,9 @@ pub struct ResolvedMotionRate {
     qdd_cmd: Vec<f64>,
     /// Damping λ² of the last evaluation (for tests and diagnostics).
     pub last_damping_sq: f64,
+    /// `σ_min` of the task Jacobian and `|p_ref − p|` at the last evaluation (NaN before the first).
+    last_sigma_min: f64,
+    last_distance: f64,
 }
 
 impl ResolvedMotionRate {
@@ -86,6 +89,8 @@ impl ResolvedMotionRate {
             orientation: None,
             qdd_cmd: vec![],
             last_damping_sq: 0.0,
+            last_sigma_min: f64::NAN,
+            last_distance: f64::NAN,
         }
     }
 
@@ -171,6 +176,7 @@ impl Controller for ResolvedMotionRate {
         let desired: Vector6<f64> = desired_twist(&p_ref, &v_ref, &p, &r_ref, &r, self.gain);
         let d = solver.solve(model, data, x, Some(u), self.body, &self.offset, &desired)?;
         self.last_damping_sq = d.damping_sq;
+        self.last_sigma_min = d.sigma_min;
         let qd = solver.rates();
         for (i, &dof) in self.arm.iter().enumerate() {
             self.qdd_cmd[i] = self.velocity_gain * (qd[i] - u[6 + dof]);
@@ -178,7 +184,17 @@ impl Controller for ResolvedMotionRate {
         inner.arm_torques(x, u, &self.qdd_cmd, out)?;
         out.reference[..3].copy_from_slice(p_ref.as_slice());
         out.tracking_error = (p_ref - p).norm();
+        self.last_distance = out.tracking_error;
         Ok(())
+    }
+
+    /// The distance and `σ_min` of the last evaluation; damped when `λ² > 0` there.
+    fn goal_report(&self) -> Option<super::GoalReport> {
+        self.last_distance.is_finite().then_some(super::GoalReport {
+            distance: self.last_distance,
+            sigma_min: self.last_sigma_min,
+            damped: self.last_damping_sq > 0.0,
+        })
     }
 
     fn reference_len(&self) -> usize {

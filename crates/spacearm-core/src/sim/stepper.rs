@@ -57,6 +57,16 @@ impl<'a> Rk4Stepper<'a> {
         })
     }
 
+    /// Admission of the records that `n` more steps would hold ([`admit_records`]: all the
+    /// samples so far and to come), before any is taken; nothing to admit when not recording.
+    pub fn admit_steps(&self, n: usize) -> Result<()> {
+        if let Some((_, every)) = &self.recording {
+            let samples = self.n_steps.saturating_add(n).div_ceil(*every) as f64 + 1.0;
+            admit_records(IntegratorKind::Rk4, samples, samples * Recorder::values_per_sample_of(&self.plant) as f64)?;
+        }
+        Ok(())
+    }
+
     /// Advance one step from the current time to `t_next` (> the current time), recording the
     /// state at the start of the step if it is a recorded step.
     pub fn step_to(&mut self, t_next: f64) -> Result<()> {

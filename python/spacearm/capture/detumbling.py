@@ -1,9 +1,9 @@
-"""Detumbling the captured system (:func:`detumble`), and the wrench at the grasp from a run.
+"""Detumbling the captured system ([`detumble`][spacearm.capture.detumble]), and the wrench at the grasp from a run.
 
 Joints (both modes): the arm holds the posture it had at capture through the reduced dynamics,
 ``τ = H* (k_p (q_hold − q) − k_d q̇) + c*`` (eq. 45 and its bias), clamped to
 ``±max_joint_torque``: the relative motion of base, arm and target is damped out. This is the
-native :class:`~spacearm.control.ComputedTorque` with a constant reference (paper eqs. 112–115);
+native [`ComputedTorque`][spacearm.control.ComputedTorque] with a constant reference (paper eqs. 112–115);
 in the flying mode it also compensates the thrusters' wrench (the ``H0mᵀ H0⁻¹ F_b`` term), so
 the arm holds its posture exactly while the base is driven. Reaction wheels (the model's default
 wheels) are not arm joints: nothing drives them here.
@@ -16,8 +16,8 @@ wheels) are not arm joints: nothing drives them here.
   time constant ``time_constant``: ``F0 = −P / τ_d`` and ``N0 = −L_com / τ_d − (r0 − r_g) × F0``
   (so that ``dL_com/dt = N0 + (r0 − r_g) × F0 = −L_com / τ_d`` exactly), each clamped to
   ``max_force`` / ``max_torque``. Detumbled: base angular velocity and joint rates below
-  ``rate_tolerance``. This is the native :class:`~spacearm.control.MomentumDamping`, composed
-  with the joint law by :class:`~spacearm.control.Combined`.
+  ``rate_tolerance``. This is the native [`MomentumDamping`][spacearm.control.MomentumDamping], composed
+  with the joint law by [`Combined`][spacearm.control.Combined].
 """
 
 from __future__ import annotations
@@ -27,6 +27,7 @@ from typing import NamedTuple, Optional
 
 import numpy as np
 
+from .._util.summary import summary_repr
 from .._util.arrays import number
 from ..control import Combined, ComputedTorque, MomentumDamping, TorqueLimit
 from ..errors import ArgumentError
@@ -43,6 +44,8 @@ class DetumbleRun(NamedTuple):
     time_to_detumble: float  #: s from the start of the run (inf when not reached)
     peak_joint_torque: float  #: N·m, largest |τ_j| applied
     residual_spin: float  #: |ω0| at the end, rad/s
+
+    __repr__ = summary_repr
 
 
 def detumble_controller(robot, x, *, mode: str, q_hold, kp: float, kd: float, time_constant: float, max_joint_torque: float,
@@ -95,7 +98,7 @@ def detumble(robot, x, u, duration: float, *, mode: str = "floating", q_hold=Non
     with an estimated target inertia: ``H*``, ``c*`` and the momenta of the laws come from it.
     ``rtol``: adaptive DOPRI5 with this relative tolerance (``dt`` the output interval), or
     ``None`` for fixed-step RK4 with step ``dt``. The laws run natively in the simulation loop
-    (:func:`detumble_controller`)."""
+    (``detumble_controller``)."""
     if mode not in DETUMBLE_MODES:
         raise ArgumentError(f"mode must be one of {list(DETUMBLE_MODES)}, got {mode!r}")
     x = np.asarray(x, dtype=float)

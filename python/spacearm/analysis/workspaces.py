@@ -2,7 +2,7 @@
 Dubowsky's virtual manipulator), path-dependent and path-independent workspaces (Papadopoulos
 & Dubowsky 1991, 1993) and the fixed-base workspace for comparison. ``docs/workspace.md``.
 
-:class:`Workspace` is a subclass of the extension's ``WorkspaceShells`` (the shells, computed
+[`Workspace`][spacearm.analysis.Workspace] is a subclass of the extension's ``WorkspaceShells`` (the shells, computed
 in the core when it is constructed): it adds the samples and scan columns they came from, how
 they were sampled, the timing, and the figure; the shells' fields are the extension's own.
 """
@@ -37,14 +37,14 @@ class Workspace(_core.WorkspaceShells):
                  "singular_threshold", "seconds", "samples_per_second")
 
     def plot(self, path, plane: str = "xy", slab: Optional[float] = None, title: Optional[str] = None) -> str:
-        """Write :meth:`figure` to ``path`` in the format its suffix names (atomically); returns the path."""
+        """Write [`figure`][spacearm.analysis.Workspace.figure] to ``path`` in the format its suffix names (atomically); returns the path."""
         from ..viz.figures import plot_to
 
         return plot_to(path, lambda: self.figure(plane, slab, title), bbox_inches="tight")
 
     def figure(self, plane: str = "xy", slab: Optional[float] = None, title: Optional[str] = None):
         """The fixed-base and free-floating workspaces in ``plane``
-        (:func:`spacearm.viz.analysis.workspace_figure`). Returns the matplotlib ``Figure``."""
+        (``spacearm.viz.analysis.workspace_figure``). Returns the matplotlib ``Figure``."""
         from ..viz.analysis import workspace_figure
 
         return workspace_figure(self, plane, slab, title)
