@@ -6,7 +6,7 @@ stderr), re-simulates the plan in the native simulator under computed torque, pr
 writes the plan (``--out plan.npz``: ``t``, ``x``, ``u``, ``tau`` in spacearm's conventions) and
 its figure (``--plot plan.png``, with the re-simulation). A plan that IPOPT did not solve, or
 whose shooting defect or re-simulation is beyond the tolerances of
-:mod:`spacearm.plan.verify`, is an error (``spacearm: error: no plan: ...``, exit 2, no file).
+[`spacearm.plan.verify`][spacearm.plan.verify], is an error (``spacearm: error: no plan: ...``, exit 2, no file).
 
 Registered in ``spacearm.cli`` by ``add_parser`` and ``run``.
 """
@@ -40,9 +40,6 @@ def add_parser(sub) -> None:
     p.add_argument("--duration", type=float, default=4.0, help="maneuver time, s (default 4)")
     p.add_argument("--nodes", type=int, default=20, help="knot intervals; torques are constant on each (default 20)")
     p.add_argument("--substeps", type=int, default=2, help="RK4 steps per interval (default 2)")
-    p.add_argument("--max-step-angle", type=float, default=0.1,
-                   help="largest revolute joint rotation per RK4 step, rad: bounds the joint speeds so that the "
-                        "transcription resolves the motion (default 0.1; inf: no bound; docs/optimal-control.md)")
     p.add_argument("--effort-limit", help="joint torque bound(s), N·m or N: one number or one per joint (default: the model's)")
     p.add_argument("--velocity-limit", help="joint speed bound(s), rad/s or m/s (default: the model's)")
     p.add_argument("--no-rest", action="store_true", help="do not require zero joint speeds at the end")
@@ -87,7 +84,7 @@ def run(args, model_from_args) -> None:
                               objective=args.objective, effort_limit=_limit(args.effort_limit, "--effort-limit", robot),
                               velocity_limit=_limit(args.velocity_limit, "--velocity-limit", robot), rest_at_end=not args.no_rest,
                               reactionless_end=args.reactionless_end, max_iter=args.max_iter, hessian=args.hessian,
-                              max_step_angle=args.max_step_angle, progress=progress)
+                              progress=progress)
     if sys.stderr.isatty():
         print(file=sys.stderr)
     check = plan.verification

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -47,14 +47,6 @@ class JointBounds:
             if np.any(v <= 0) or np.any(np.isnan(v)):
                 raise ArgumentError(f"{what} limits must be > 0 (inf for none), got {v}")
         return cls(lower, upper, vel, eff)
-
-
-def resolution_bounds(robot, bounds: JointBounds, speed: float) -> JointBounds:
-    """``bounds`` with the speed of every revolute joint also bounded by ``speed`` (rad/s): the
-    speed at which a joint turns ``max_step_angle`` in one RK4 step of the transcription
-    (:func:`spacearm.plan.point_to_point`)."""
-    revolute = np.array([kind == "revolute" for kind in robot.dof_types])
-    return replace(bounds, velocity=np.where(revolute, np.minimum(bounds.velocity, speed), bounds.velocity))
 
 
 def _per_joint(value, n: int, name: str) -> np.ndarray:

@@ -20,7 +20,12 @@ Objectives (both divided by ``T`` so that their size does not depend on the dura
 - ``"attitude"``: ``(1/T) Σ_k |θ_k|² Δt`` (k = 1..K) with ``θ_k = 2 vec(quat_k ⊗ quat_0*)`` (for small
   angles the base rotation vector since ``t_0``), plus ``effort_weight (1/T) Σ |tau_k|² Δt``
   so that the torques are defined where the attitude does not decide them;
-- ``"effort"``: ``(1/T) Σ_k ½ (|tau_k|² + |tau_k+1|²) Δt`` (trapezoidal rule).
+- ``"effort"``: ``(1/T) Σ_k ½ (|tau_k|² + |tau_k+1|²) Δt`` (trapezoidal rule);
+
+and with either, the torque-rate term ``smoothness_weight (1/T) Σ_k |tau_k+1 − tau_k|² / Δt``.
+
+The K intervals share one shooting map: ``rk4_step`` expanded to ``SX`` (its RK4 stages
+inlined) and mapped over the knots, so its derivatives are built once for one interval.
 """
 
 from __future__ import annotations

@@ -4,13 +4,13 @@ Two numbers decide whether a plan is one:
 
 - the **defect** of the transcription: the largest residual of the shooting constraints
   ``y_k+1 − Φ(y_k, tau_k, tau_k+1, T/K)`` at the returned knots, ``Φ`` being the plan's own RK4
-  map (:func:`spacearm.casadi.rk4_step`); a plan whose knots do not follow its own dynamics is
+  map ([`rk4_step`][spacearm.casadi.rk4_step]); a plan whose knots do not follow its own dynamics is
   no plan, whatever the solver's status;
 - the **re-simulation**: the plan's joint motion tracked by the native computed-torque
-  controller in the native simulator (:meth:`Plan.resimulate`, another step size). The
-  re-simulated point must end within :data:`POINT_TOLERANCE` of the target, and the
-  re-simulated base attitude must stay, at every knot, within :data:`ATTITUDE_RELATIVE` of the
-  plan's largest base rotation (at least :data:`ATTITUDE_FLOOR`) of the planned attitude. This
+  controller in the native simulator ([`Plan.resimulate`][spacearm.plan.Plan.resimulate], another step size). The
+  re-simulated point must end within ``POINT_TOLERANCE`` of the target, and the
+  re-simulated base attitude must stay, at every knot, within ``ATTITUDE_RELATIVE`` of the
+  plan's largest base rotation (at least ``ATTITUDE_FLOOR``) of the planned attitude. This
   catches a plan that exploits the error of its own discretisation: its knots satisfy the
   shooting constraints, but the continuous dynamics along the same joint path turn the base
   otherwise and miss the target.
@@ -45,11 +45,11 @@ def quaternion_angle(qa: np.ndarray, qb: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Verification:
-    """What the check of a plan found (:func:`verify`); ``passed`` if every number is within
+    """What the check of a plan found ([`verify`][spacearm.plan.verify.verify]); ``passed`` if every number is within
     its tolerance. ``failures`` says, in words, which are not."""
 
     defect: float  #: largest shooting-constraint residual at the knots
-    transcription_error: float  #: estimate of the RK4 map's local error (:func:`transcription_error`)
+    transcription_error: float  #: estimate of the RK4 map's local error ([`transcription_error`][spacearm.plan.verify.transcription_error])
     point_error: float  #: m, re-simulated point at ``T`` from the target (inf if it failed)
     attitude_error: float  #: rad, largest angle between re-simulated and planned base attitude at the knots
     attitude_tolerance: float  #: rad, the bound ``attitude_error`` is held to
@@ -63,7 +63,7 @@ class Verification:
 
 def _interval_ends(plan, substeps: int) -> np.ndarray:
     """``[x; u]`` at the end of every interval (K, 13+2N): ``substeps`` RK4 steps of the plan's
-    map (:func:`spacearm.casadi.rk4_step`, torque linear) from each knot under its torques."""
+    map ([`rk4_step`][spacearm.casadi.rk4_step], torque linear) from each knot under its torques."""
     from ..casadi import rk4_step
 
     K = len(plan.t) - 1
