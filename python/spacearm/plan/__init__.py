@@ -49,7 +49,7 @@ def point_to_point(
     effort_weight: float = 1e-6,
     max_iter: int = 500,
     hessian: str = "objective",
-    smoothness_weight: float = 1e-7,
+    smoothness_weight: float = 1e-8,
     progress: Optional[Callable[[int, float], None]] = None,
 ) -> Plan:
     """Plan a motion of ``point`` (default: the end effector) to ``target`` (3 values, m, in 𝒥)
