@@ -30,7 +30,7 @@ class Plan:
     ``t`` (K+1,) knot times; ``x`` (K+1, 7+N), ``u`` (K+1, 6+N) and ``tau`` (K+1, N) the
     states and joint torques at the knots, the torque linear between knots. ``status`` is
     IPOPT's return status and ``solver_success`` whether it converged; ``verification`` is the
-    check of the plan by its shooting defect and its re-simulation (``spacearm.plan.verify``),
+    check of the plan by its shooting defect and its re-simulation ([`spacearm.plan.verify`][spacearm.plan.verify]),
     and ``success`` holds only if both the solver and the check passed (``failure`` says why
     not). A plan that did not succeed holds IPOPT's last iterate, which need not satisfy the
     constraints; [`point_to_point`][spacearm.plan.point_to_point] warns about it (``PlanCheckWarning``).
@@ -73,7 +73,7 @@ class Plan:
     @property
     def resimulation(self):
         """The re-simulation of the check ([`resimulate`][spacearm.plan.Plan.resimulate] with its default gains), a
-        ``Trajectory``, or ``None`` if it failed."""
+        [`Trajectory`][spacearm.Trajectory], or ``None`` if it failed."""
         return None if self.verification is None else self.verification.trajectory
 
     @property

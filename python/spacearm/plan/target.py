@@ -23,7 +23,7 @@ PLANE_TOLERANCE = 1e-6
 
 
 def check_target(robot, x0: np.ndarray, u0: np.ndarray, target: np.ndarray, point, duration: float, bounds) -> None:
-    """Raise [`ArgumentError`][spacearm.ArgumentError] naming the reason if ``point`` of
+    """Raise [`ArgumentError`][spacearm.errors.ArgumentError] naming the reason if ``point`` of
     ``robot`` cannot be at ``target`` after ``duration`` s from ``(x0, u0)`` (module docstring)."""
     q0 = x0[7:]
     outside = np.flatnonzero((q0 < bounds.lower) | (q0 > bounds.upper))
