@@ -108,13 +108,22 @@ impl<W> Default for Pool<W> {
 /// `RAYON_NUM_THREADS`).
 static THREADS: Mutex<Option<Arc<rayon::ThreadPool>>> = Mutex::new(None);
 
-/// Run batches on `threads` threads from now on (`None`: rayon's global pool).
+/// Run batches on `threads` threads from now on (1 to `MAX_THREADS` = 1024; `None`: rayon's
+/// global pool).
 #[pyfunction]
 #[pyo3(signature = (threads=None))]
 pub fn set_batch_threads(py: Python<'_>, threads: Option<usize>) -> PyResult<()> {
     let pool = match threads {
         None => None,
         Some(0) => return Err(new_error(py, ErrorClass::Argument, "threads must be a positive integer or None (all cores), got 0".into())),
+        // The one bound of a thread count (the rollouts' too): no request starts threads without limit.
+        Some(n) if n > spacearm_core::sim::rollout::MAX_THREADS => {
+            return Err(new_error(
+                py,
+                ErrorClass::Argument,
+                format!("threads must be at most {} (or None: one per core), got {n}", spacearm_core::sim::rollout::MAX_THREADS),
+            ))
+        }
         Some(n) => Some(Arc::new(
             rayon::ThreadPoolBuilder::new()
                 .num_threads(n)
