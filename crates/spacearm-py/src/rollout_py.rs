@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyList;
 use rayon::prelude::*;
 use spacearm_core::control::{Controller, ZeroTorque};
-use spacearm_core::sim::rollout::{rollout as core_rollout, RolloutSpec};
+use spacearm_core::sim::rollout::{rollout_cancellable as core_rollout, RolloutSpec};
 use spacearm_core::sim::simulate::{check_initial_state, sample_count, SimResult};
 use spacearm_core::{Model, SpacearmError};
 
@@ -106,7 +106,8 @@ pub fn rollout<'py>(
         .enumerate()
         .map(|(i, controller)| RolloutSpec { model: plant(i), x0: &x0[i * nx..(i + 1) * nx], u0: &u0[i * nu..(i + 1) * nu], controller })
         .collect();
-    let results = py.detach(|| core_rollout(specs, &opts, threads)).or_raise(py)?;
+    // Ctrl-C stops the rollouts within 0.1 s (crate::interrupt).
+    let results = crate::interrupt::run_interruptible(py, |cancel| core_rollout(specs, &opts, threads, cancel))?.or_raise(py)?;
     stack(py, results, &opts, float32, (nx, nu, n))
 }
 

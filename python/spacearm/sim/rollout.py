@@ -23,6 +23,7 @@ from typing import List, Optional, Sequence
 import numpy as np
 
 from .. import _core
+from .._util.arrays import real_array
 from ..errors import ArgumentError, NotFoundError, ShapeError, SimulationError
 from .simulation import DEFAULTS, _check_controller, _check_duration, _check_robot, _options, _warn_dropped
 
@@ -55,10 +56,7 @@ def _states(value, default, width: int, b: int, name: str) -> np.ndarray:
     row, one row → repeated, ``(b, width)`` → as given."""
     if value is None:
         value = default
-    try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ArgumentError(f"{name} must be an array of numbers") from exc
+    a = real_array(value, name)  # the one array check: complex, object and text arrays refused
     if a.ndim == 1:
         a = np.broadcast_to(a, (b, a.shape[0]))
     if a.ndim != 2 or a.shape[1] != width:
