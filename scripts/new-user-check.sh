@@ -50,6 +50,9 @@ for cmd in $subcommands; do
     "$work/plain/bin/spacearm" "$cmd" --help >/dev/null
 done
 "$work/plain/bin/spacearm" inspect spatial6 >/dev/null
+# The example model files ship in the wheel (spacearm.examples): found by name from any directory.
+"$work/plain/bin/spacearm" inspect spatial6_wheels >/dev/null
+"$work/plain/bin/python" -c "import spacearm; assert spacearm.examples.path('spacecraft_bus').is_file()"
 
 # A feature whose extra is missing: one line naming the extra, exit 2, no traceback.
 expect_missing_extra() {

@@ -5,5 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 python3 -m pip install -e ".[test]"
 cargo test -p spacearm-core
+# The C ABI: header check, C test (also sanitized) and C example; builds the library the FMU tests use.
+bash scripts/c-tests.sh
 # The suite runs on every core (pytest-xdist); tests are independent (each writes under tmp_path).
 python3 -m pytest tests -q -n auto

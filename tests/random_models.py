@@ -38,6 +38,7 @@ __all__ = [
     "SEEDS",
     "RandomModel",
     "random_model",
+    "with_joint_springs",
     "random_state",
     "random_quaternion",
     "random_inertia",
@@ -154,6 +155,28 @@ def random_model(seed: int) -> RandomModel:
     robot = b.build()
     assert robot.n_dof == n_dof
     return RandomModel(seed, robot, parents, kinds, specs, tree_features(parents, kinds))
+
+
+def with_joint_springs(robot: spacearm.Robot, rng: np.random.Generator) -> tuple:
+    """``robot`` rebuilt with a random spring–damper (``stiffness`` 0–50, ``damping`` 0–5),
+    ``rest`` (±1) and actuation on every moving joint (docs/flexibility.md), and the list of
+    those joints' keyword arguments in ``q`` order."""
+    d = robot.description
+    b = spacearm.Robot.builder(d.name, base_mass=d.base.mass, base_inertia=d.base.inertia, base_name=d.base.name)
+    dynamics = []
+    for link in d.links:
+        extra = {}
+        if link.type != "fixed":
+            extra = dict(actuated=bool(rng.random() < 0.5), stiffness=float(rng.uniform(0, 50)),
+                         damping=float(rng.uniform(0, 5)), rest=float(rng.uniform(-1, 1)))
+            dynamics.append(extra)
+        b.add_link(link.name, parent=link.parent, joint=link.type, axis=link.axis, origin=link.origin,
+                   rotation=link.rotation, com=link.com, mass=link.mass, inertia=link.inertia, joint_name=link.joint, **extra)
+    for p in d.points:
+        b.add_point(p.name, body=p.body, offset=p.offset)
+    if d.end_effector is not None:
+        b.set_end_effector(d.end_effector)
+    return b.build(), dynamics
 
 
 def random_state(robot: spacearm.Robot, rng: np.random.Generator):

@@ -11,6 +11,7 @@ from ._core import __version__
 from .model.batch import batch_threads, set_batch_threads
 from .model.builder import RobotBuilder
 from .capture import Target
+from .orbit import CentralBody, Orbit, OrbitalElements
 from .model.description import BaseDescription, JointLimits, LinkDescription, ModelDescription, PointDescription
 from .errors import (
     ArgumentError,
@@ -80,6 +81,9 @@ __all__ = [
     "presets",
     "capture",
     "Target",
+    "Orbit",
+    "CentralBody",
+    "OrbitalElements",
     "simulate",
     "rollout",
     "Rollouts",

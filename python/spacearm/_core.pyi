@@ -14,12 +14,12 @@ _Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 
 __version__: str
 __all__ = [
-    "ArgumentError", "AttitudeSpec", "BaseDescription", "BaseThrustersSpec", "CallbackSpec",
+    "ArgumentError", "CentralBody", "Orbit", "OrbitalElements", "AttitudeSpec", "BaseDescription", "BaseThrustersSpec", "CallbackSpec",
     "CartesianReference", "ClosedChainResult", "CombinedSpec", "ComputedTorqueSpec", "ConservedDrift",
     "CoordinatedFlyingSpec", "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
     "FreeBodyReference", "GraspImpulse", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimits", "JointPdSpec", "JointReference",
     "JointTorqueLimitSpec", "LoopClosureTerms", "MomentumDampingSpec",
-    "LinkDescription", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds",
+    "LinkDescription", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds", "MomentumSplit",
     "ModelBuilder", "ModelDescription", "ModelError", "ModelFileError", "NonFiniteError",
     "NotFoundError", "PointDescription", "QUATERNION_TOLERANCE", "QuaternionError",
     "ReactionNullSpace", "ResourceLimitError", "RmrcMotion", "RmrcOptions", "RmrcRates",
@@ -28,12 +28,12 @@ __all__ = [
     "SingularError", "SingularityReport", "SoftCaptureResult", "SpacearmError", "SpacearmTypeError", "Tape",
     "ThrusterLimits", "WorkspaceShells", "ZeroTorqueSpec", "__version__", "analysis_damping",
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
-    "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
+    "analysis_reach", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_singularity", "batch_threads", "body_mass_properties_error", "check_grasp_handle", "GOAL_TOLERANCE", "MAX_HANDLE_RATIO",
-    "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
-    "model_to_toml", "momentum_scales", "perturbed", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
+    "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
+    "model_to_toml", "momentum_scales", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
-    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "soft_capture",
+    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "soft_capture", "virtual_mass",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -95,6 +95,7 @@ class ModelBuilder:
         inertia: Sequence[Sequence[float]],
         joint_name: Optional[str] = None,
         limits: Optional[Sequence[float]] = None,
+        dynamics: Optional[tuple[bool, float, float, float]] = None,  # (actuated, stiffness, damping, rest)
     ) -> None: ...
     def add_point(self, name: str, body: str, offset: Sequence[float]) -> None: ...
     def set_end_effector(self, name: str) -> None: ...
@@ -186,6 +187,18 @@ class LinkDescription:
     @property
     def dof(self) -> Optional[int]:
         """Index of the joint's coordinate in ``q``; ``None`` for a fixed joint."""
+    @property
+    def actuated(self) -> bool:
+        """Whether a motor drives the joint (``False``: a passive joint, docs/flexibility.md)."""
+    @property
+    def stiffness(self) -> float:
+        """Joint spring stiffness, N·m/rad (revolute) or N/m (prismatic); 0: none."""
+    @property
+    def damping(self) -> float:
+        """Joint damping, N·m·s/rad (revolute) or N·s/m (prismatic); 0: none."""
+    @property
+    def rest(self) -> float:
+        """The spring's rest coordinate, rad or m."""
 
 @final
 class PointDescription:
@@ -248,6 +261,7 @@ class Model:
     end_effector: Optional[str]
     initial_q: _Vec
     body_of_dof: list[int]
+    actuated_dofs: list[bool]
     def body_index(self, name: str) -> int: ...
     def point(self, name: str) -> tuple[int, list[float]]: ...
     def describe(self) -> ModelDescription: ...
@@ -282,6 +296,8 @@ class Model:
     def momentum(self, x: _ArrayLike, u: _ArrayLike) -> tuple[_Vec, _Vec, _Vec, _Vec]: ...  # (P, L_origin, L_base, L_com), each (3,) in 𝒥
     def kinetic_energy(self, x: _ArrayLike, u: _ArrayLike) -> Union[float, _Vec]: ...
     def center_of_mass(self, x: _ArrayLike) -> _Vec: ...
+    def passive_forces(self, x: _ArrayLike, u: _ArrayLike) -> _Vec: ...  # (6+N,): [0 (6); -k (q - rest) - c qd]
+    def spring_energy(self, x: _ArrayLike) -> Union[float, _Vec]: ...
 
 # ---- the core's rules and defaults (crates/spacearm-py/src/rules_py.rs, rule_tables_py.rs) -----
 # The tables are frozen instances with typed attributes; each is also a read-only mapping of its
@@ -641,6 +657,24 @@ class GraspImpulse:
     def locking_impulse(self) -> _Vec:
         """(N,) the locking joint impulses ``τ̂`` (zeros with ``arm="free"``)."""
 
+@final
+class MomentumSplit:
+    """Where an impulse's momentum goes, about the base CM ([P; L_base]): base + arm == total."""
+
+    @property
+    def base(self) -> _Vec: ...  # (6,) H0 dx0
+    @property
+    def arm(self) -> _Vec: ...  # (6,) H0m dq
+    @property
+    def total(self) -> _Vec: ...  # (6,) J_0X^T Lambda
+    @property
+    def base_jump_map(self) -> _Vec: ...  # (6, 6) B, dx0 = B Lambda
+    @property
+    def base_jump_singular_values(self) -> _Vec: ...  # (6,) of B, largest first
+
+def point_inverse_inertia(model: Model, x: _ArrayLike, body: int, offset: _ArrayLike, arm: str = "free") -> _Vec: ...
+def virtual_mass(model: Model, x: _ArrayLike, body: int, offset: _ArrayLike, direction: _ArrayLike, arm: str = "free") -> float: ...
+def impulse_momentum_split(model: Model, x: _ArrayLike, body: int, offset: _ArrayLike, impulse: _ArrayLike) -> MomentumSplit: ...
 def impulse_dynamics(model: Model, x: _ArrayLike, u_before: _ArrayLike, jacobian: _Vec, restitution: float = 0.0,
                      arm: str = "free") -> ImpulseDynamics: ...
 def grasp_impact(robot: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: _ArrayLike, target: Model, x_target: _ArrayLike,
@@ -709,6 +743,8 @@ def analysis_damping(sigma_min: float, threshold: float, max_damping: float) -> 
 def analysis_joint_grid(lower: Sequence[float], upper: Sequence[float], resolution: int) -> _Vec: ...
 def analysis_scan(m: Model, samples: _Vec, body: int, offset: _Vec, rows: list[int]) -> ScanResult: ...
 def analysis_reaction_null_space(m: Model, x: _ArrayLike, which: str, tolerance: float) -> ReactionNullSpace: ...
+def analysis_reach(m: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: _Vec,
+                   duration: float) -> tuple[_Vec, float | None, tuple[_Vec, _Vec] | None]: ...
 def analysis_integrate_prescribed(m: Model, x0: _ArrayLike, dt: float, q_half: _Vec, qd_half: _Vec, linear_momentum: _Vec, angular_momentum: _Vec) -> _Vec: ...
 @final
 class RmrcOptions:
@@ -748,7 +784,13 @@ class RunOptions:
         max_steps: Optional[int] = None,
         progress: Optional[Callable[[float], Any]] = None,
         record_dtype: Optional[str] = None,
+        orbit: Optional[Orbit] = None,
+        gravity_gradient: Optional[bool] = None,
     ) -> RunOptions: ...
+    @property
+    def orbit(self) -> Optional[Orbit]: ...
+    @property
+    def gravity_gradient(self) -> bool: ...
     @property
     def mode(self) -> str: ...
     @property
@@ -998,6 +1040,9 @@ class RunRecords:
     tracking_error: Optional[_Record]       # (K,) |reference − actual|, rad or m (RunMeta.tracking_error_kind)
     attitude_error: Optional[_Record]       # (K,) base attitude error of an attitude controller, rad
     wheel_speed: Optional[_Record]          # (K, W) reaction-wheel speeds, rad/s (RunMeta.wheel_dofs)
+    r_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM in ECI, m (float64)
+    v_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM velocity in ECI, m/s (float64)
+    gravity_wrench: Optional[_Record]       # (K, 6) orbital runs: total tidal [force; torque about the origin], N, N·m
 
 @final
 class RunEvents:
@@ -1145,3 +1190,79 @@ class Derivatives:
         self, x: _ArrayLike, u: _ArrayLike, du: _ArrayLike, wrenches: Optional[list[_Wrench]] = None, dual: bool = False
     ) -> tuple[_Vec, _Vec]: ...
     def linearize(self, x: _ArrayLike, u: _ArrayLike, f: _ArrayLike, joints_only: bool, dual: bool = False) -> tuple[_Vec, _Vec]: ...
+
+# --- orbits (orbit_py.rs; docs/orbit.md) ---
+
+@final
+class CentralBody:
+    """A central body's gravity constants: mu (m^3/s^2), equatorial radius (m), J2."""
+    def __new__(cls, *, mu: float, radius: float, j2: float) -> CentralBody: ...
+    @staticmethod
+    def earth() -> CentralBody: ...
+    @property
+    def mu(self) -> float: ...
+    @property
+    def radius(self) -> float: ...
+    @property
+    def j2(self) -> float: ...
+
+@final
+class OrbitalElements:
+    """Osculating two-body elements: a (m), e, i, raan, argp, true_anomaly (rad)."""
+    @property
+    def a(self) -> float: ...
+    @property
+    def e(self) -> float: ...
+    @property
+    def i(self) -> float: ...
+    @property
+    def raan(self) -> float: ...
+    @property
+    def argp(self) -> float: ...
+    @property
+    def true_anomaly(self) -> float: ...
+
+@final
+class Orbit:
+    """An orbit: central body, J2 on or off, ECI state at t = 0."""
+    @staticmethod
+    def circular(
+        altitude: float,
+        *,
+        inclination: float = 0.0,
+        raan: float = 0.0,
+        arg_latitude: float = 0.0,
+        body: str | CentralBody | None = None,
+        j2: bool = False,
+    ) -> Orbit: ...
+    @staticmethod
+    def from_elements(
+        a: float,
+        e: float,
+        i: float,
+        raan: float,
+        argp: float,
+        true_anomaly: float,
+        *,
+        body: str | CentralBody | None = None,
+        j2: bool = False,
+    ) -> Orbit: ...
+    @staticmethod
+    def from_state(r: _ArrayLike, v: _ArrayLike, *, body: str | CentralBody | None = None, j2: bool = False) -> Orbit: ...
+    @property
+    def body(self) -> CentralBody: ...
+    @property
+    def j2(self) -> bool: ...
+    @property
+    def r0(self) -> _Vec: ...
+    @property
+    def v0(self) -> _Vec: ...
+    def elements(self) -> OrbitalElements: ...
+    @property
+    def mean_motion(self) -> float: ...
+    @property
+    def period(self) -> float: ...
+    def j2_secular_rates(self) -> tuple[float, float]: ...
+    def propagate(self, times: _ArrayLike, *, rtol: float = 1e-12) -> tuple[_Vec, _Vec]: ...
+    @staticmethod
+    def lvlh_to_eci(r: _ArrayLike, v: _ArrayLike) -> _Vec: ...

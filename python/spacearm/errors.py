@@ -23,9 +23,10 @@ kind per class below (the bindings map each onto its class).
 | `CampaignError` | `RuntimeError` | a campaign cannot run, go on or report for reasons outside its samples (a script without a main guard under the spawn start method, an unreachable Dask scheduler, lost workers, nothing that ran to plot) |
 | `MissingDependencyError` | `ImportError` | an optional package is not installed (the message names the extra to install) |
 
-One warning class: [`NonPhysicalInertiaWarning`][spacearm.errors.NonPhysicalInertiaWarning] (a ``UserWarning``), issued when a model
-is loaded with ``allow_nonphysical_inertia=True`` and a body's inertia breaks the triangle
-inequality.
+Two warning classes (both ``UserWarning``): [`NonPhysicalInertiaWarning`][spacearm.errors.NonPhysicalInertiaWarning], issued when a
+model is loaded with ``allow_nonphysical_inertia=True`` and a body's inertia breaks the triangle
+inequality, and [`PlanCheckWarning`][spacearm.errors.PlanCheckWarning], issued when a planned maneuver fails its check
+(``spacearm.plan``: IPOPT did not solve it, or its defect or re-simulation is beyond tolerance).
 
 ``NotFoundError`` is a lookup failure (``robot.body_index("nope")``, ``results.metric("x")``),
 hence a ``KeyError``; a name that does not exist is also an invalid argument value, hence a
@@ -51,6 +52,7 @@ __all__ = [
     "CampaignError",
     "MissingDependencyError",
     "NonPhysicalInertiaWarning",
+    "PlanCheckWarning",
 ]
 
 
@@ -130,3 +132,10 @@ class NonPhysicalInertiaWarning(UserWarning):
     distribution has such moments) and was loaded because ``allow_nonphysical_inertia=True``
     (command line: ``--allow-nonphysical-inertia``) asked for it; the message names the body.
     Published identified inertias of flown robots can be of this kind (ETS-VII)."""
+
+
+class PlanCheckWarning(UserWarning):
+    """A maneuver planned by :func:`spacearm.plan.point_to_point` is not a plan: IPOPT did not
+    solve it, or its shooting defect or its re-simulation in the native simulator is beyond the
+    tolerance of docs/optimal-control.md ("Checks"), whatever IPOPT's status. The plan returned
+    has ``success`` False and ``failure`` saying why."""

@@ -258,3 +258,19 @@ def test_core_soft_capture_against_the_numpy_rk4(law):
     np.testing.assert_allclose(tight.u, U, rtol=0, atol=1e-8 * np.abs(U).max())
     np.testing.assert_allclose(tight.target, S, rtol=0, atol=1e-8 * np.abs(S).max())
     assert tight.drift["P"] < 1e-9 and tight.drift["L"] < 1e-9
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"duration": 0.0}, "duration must be finite and > 0"),
+    ({"dt": float("nan")}, "dt must be finite and > 0"),
+    ({"frequency": 0.0}, "frequency must be > 0 and damping_ratio >= 0"),
+    ({"damping_ratio": -0.1}, "frequency must be > 0 and damping_ratio >= 0"),
+    ({"stiffness": -1.0}, "got stiffness = -1"),
+    ({"rotational_damping": float("inf")}, "got rotational_damping = inf"),
+])
+def test_soft_capture_refuses_bad_values_naming_them(kwargs, message):
+    # The core judges these values (Python only converts them): its message names the argument.
+    robot, x, u, target, s = _scene()
+    args = {"duration": 0.05, "dt": 1e-2, **kwargs}
+    with pytest.raises(spacearm.ArgumentError, match=message):
+        soft_capture(robot, x, u, target, s, args.pop("duration"), **args)

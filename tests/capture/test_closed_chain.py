@@ -206,3 +206,17 @@ def test_core_closed_chain_against_the_numpy_rk4(law):
     assert np.abs(tight.pose_error).max() < 1e-9
     if law == "zero":
         assert max(run.trajectory.meta["drift"].values()) < 1e-9
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"duration": -1.0}, "duration must be finite and > 0"),
+    ({"dt": 0.0}, "dt must be finite and > 0"),
+    ({"stabilization": -1.0}, "stabilization must be finite and >= 0, got -1"),
+    ({"stabilization": float("nan")}, "stabilization must be finite and >= 0, got NaN"),
+])
+def test_closed_chain_refuses_bad_values_naming_them(kwargs, message):
+    # The core judges these values (Python only converts them): its message names the argument.
+    robot, x = _dual_arm()
+    args = {"duration": 0.01, "dt": 1e-3, **kwargs}
+    with pytest.raises(spacearm.ArgumentError, match=message):
+        simulate_closed_chain(robot, x, np.zeros(robot.nu), args.pop("duration"), "target", "grip_b", **args)

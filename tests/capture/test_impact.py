@@ -169,6 +169,11 @@ def test_momentum_split_adds_up():
     np.testing.assert_allclose(split.base + split.arm, total, rtol=1e-9, atol=1e-10)
     assert np.linalg.norm(split.arm) > 1e-3 * np.linalg.norm(total)
     assert split.base_jump_singular_values.shape == (6,)
+    # B Λ is the base's jump H⁻¹ Jᵀ Λ (from the mass matrix, independently of the core's solve)
+    J = np.hstack(robot.point_jacobian(x))
+    np.testing.assert_allclose(split.base_jump_map @ lam, np.linalg.solve(robot.mass_matrix(x), J.T @ lam)[:6], rtol=1e-10, atol=1e-12)
+    # one type: the extension's class, read-only
+    assert type(split) is spacearm._core.MomentumSplit and not split.base.flags.writeable
 
 
 

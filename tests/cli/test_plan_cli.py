@@ -36,10 +36,31 @@ def test_plan_writes_the_plan_and_the_figure(tmp_path, capsys):
     (["plan", "planar4", "--to", "3.4,0.3,0", "--out", "p.txt"], ".npz"),
     (["plan", "planar4", "--to", "3.4,0.3,0", "--nodes", "1", "--out", "p.npz"], "nodes"),
     (["plan", "planar4", "--to", "3.4,0.3,0", "--effort-limit", "1,2", "--out", "p.npz"], "--effort-limit"),
+    # issue 26: refused before any solve, with the reason
+    (["plan", "planar4", "--to=20,0,0", "--out", "p.npz"], "out of reach"),
+    (["plan", "planar4", "--to=3.46,0.3,0.5", "--out", "p.npz"], "off the plane"),
+    (["plan", "planar4", "--to=3.4,0.3,0", "--max-iter=-1", "--out", "p.npz"], "max_iter"),
+    (["plan", "planar4", "--to=3.4,0.3,0", "--nodes=1000000", "--out", "p.npz"], "nodes must be between"),
 ])
 def test_bad_arguments_exit_2_without_a_file(argv, needle, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert err.startswith("spacearm: error:") and needle in err, err
+    assert not list(tmp_path.iterdir())
+
+
+def test_a_plan_that_fails_its_check_exits_2_without_a_file(tmp_path, monkeypatch, capsys):
+    # IPOPT solves it, its re-simulation refutes it (tests/plan/test_plan_checks.py, coarse_plan).
+    monkeypatch.chdir(tmp_path)
+    robot = spacearm.presets.planar4()
+    target = robot.point_position(robot.neutral_configuration()) + np.array([-0.25, 0.35, 0.0])
+    code = main(["plan", "planar4", "--to", ",".join(repr(float(v)) for v in target), "--duration", "3", "--nodes", "3",
+                 "--substeps", "1", "--out", "p.npz", "--plot", "p.png"])
+    captured = capsys.readouterr()
+    assert code == 2
+    assert "IPOPT: Solve_Succeeded" in captured.out and "re-simulation" in captured.out
+    last = captured.err.strip().splitlines()[-1]  # after the progress lines
+    assert last.startswith("spacearm: error: no plan:") and "re-simulat" in last, captured.err
+    assert "Warning" not in captured.err
     assert not list(tmp_path.iterdir())

@@ -1,4 +1,5 @@
-"""Figures of a capture: units on every axis, one legend entry per joint, the phases shaded,
+"""Figures of a capture: units on every axis, one label per joint in its line's colour, the phases
+shaded and keyed,
 the animation's frames, and the envelope's axes."""
 
 from __future__ import annotations
@@ -32,9 +33,10 @@ def test_capture_figure_and_animation(tmp_path):
         assert "[" in ax.get_ylabel(), f"no unit on '{ax.get_title()}'"
     assert all("[s]" in ax.get_xlabel() for ax in axes[2:])
     torques = next(ax for ax in axes if ax.get_title() == "joint torques")
-    assert [t.get_text() for t in torques.get_legend().get_texts()] == robot.joint_names
-    ledger = axes[0]
-    assert {t.get_text() for t in ledger.get_legend().get_texts()} >= {"post-capture", "detumble"}
+    assert [t.get_text() for t in torques.texts] == robot.joint_names
+    assert [t.get_color() for t in torques.texts] == [line.get_color() for line in torques.get_lines()]
+    (key,) = fig.legends
+    assert {t.get_text() for t in key.get_texts()} >= {"post-capture", "detumble"}
     from spacearm.viz.capture import animate_capture  # (res.animate draws 40 frames: slow for a test)
 
     path = animate_capture(res, tmp_path / "cap.gif", frames=3)

@@ -133,6 +133,8 @@ pub enum ModelField {
     InitialQ,
     /// The geometric parameters of a DH row (`d`, `theta`, `a`, `alpha`, CM vectors).
     DhParameters,
+    /// A joint's passive dynamics: `actuated`, `stiffness`, `damping`, `rest`.
+    JointDynamics,
 }
 
 /// A model description that breaks a rule: the message (naming the body, joint or point, what

@@ -27,6 +27,7 @@ use crate::model::joint::JointType;
 use crate::algorithms::kinematics::{check_body, check_joint_vector, check_velocity, forward_kinematics, point_position};
 use crate::model::Model;
 use crate::math::scalar::Real;
+use crate::algorithms::passive::add_joint_passive_forces;
 use crate::algorithms::rnea::rnea_after_kinematics;
 use crate::math::spatial::spatial;
 
@@ -311,6 +312,8 @@ pub fn compute_reduced_forward_dynamics<'d>(
     for j in 0..n {
         rhs[j] = tau[j] - data.tau[6 + j];
     }
+    // The joints' springs and dampers act as a joint force (docs/flexibility.md).
+    add_joint_passive_forces(model, &x[7..], &u[6..], rhs.as_mut_slice());
     add_h0m_t_h0_inv(model, data, &inv, &w, -1.0, &mut rhs);
     let factor = std::mem::take(&mut data.factor_n);
     let Some(chol) = factor.cholesky() else {

@@ -43,5 +43,5 @@ pub mod taped;
 
 pub use algorithms::wrench::ExternalWrench;
 pub use error::{Result, SpacearmError};
-pub use model::joint::{JointLimits, JointType};
+pub use model::joint::{JointDynamics, JointLimits, JointType};
 pub use model::{Data, DataT, LinkSpec, Model, ModelBuilder};

@@ -26,6 +26,7 @@ use crate::algorithms::aba::aba_after_kinematics;
 use crate::algorithms::crba::crba_after_kinematics;
 use crate::algorithms::kinematics::{check_body, forward_kinematics_at, point_position};
 use crate::algorithms::momentum::momentum_about_base;
+use crate::algorithms::passive::subtract_joint_passive_forces;
 use crate::algorithms::rnea::{rnea_after_kinematics, velocity_pass};
 use crate::error::{Result, SpacearmError};
 use crate::gjm::{
@@ -207,7 +208,7 @@ pub fn record(model: &Model, function: &TapedFunction) -> Result<Tape> {
             let tau = rec.inputs(&vec![0.0; n]);
             let wrench = rec.inputs(&[0.0; 6]);
             let f: Vec<Var> = wrench.iter().chain(tau.iter()).copied().collect();
-            aba_after_kinematics(model, &mut data, &u, &f)?;
+            aba_after_kinematics(model, &mut data, &x[7..], &u, &f)?;
             if *function == TapedFunction::ForwardDynamics {
                 data.accel.iter().copied().collect()
             } else {
@@ -220,6 +221,7 @@ pub fn record(model: &Model, function: &TapedFunction) -> Result<Tape> {
             let u = rec.inputs(&vec![0.0; nu]);
             let du = rec.inputs(&vec![0.0; nu]);
             rnea_after_kinematics(model, &mut data, &u, Some(&du), &[]);
+            subtract_joint_passive_forces(model, &x[7..], &u[6..], &mut data.tau.as_mut_slice()[6..]);
             data.tau.iter().copied().collect()
         }
         TapedFunction::BiasForces => {

@@ -4,10 +4,10 @@
 //! Python package `spacearm.analysis` is the face users see. Scans release the GIL while rayon runs.
 
 use nalgebra::{Vector3, Vector6};
-use numpy::{PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use spacearm_core::analysis::{
-    free_floating_kinematics as ffk, reaction_null_space as rns, redundancy, scan, singularity, workspace, Task,
+    free_floating_kinematics as ffk, reach, reaction_null_space as rns, redundancy, scan, singularity, workspace, Task,
 };
 use spacearm_core::SpacearmError;
 
@@ -248,6 +248,27 @@ pub(crate) fn move_to<'py>(
     Ok(PyRmrcMotion::of(py, &r, m.model.n_dof(), m.model.name().to_string(), strategy_name(o.strategy), &target))
 }
 
+/// The reach of a point from the state (x, u) after `duration` s: (system CM then, R_max or
+/// None, (plane normal, plane point) or None) — `spacearm_core::analysis::reach`.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+pub fn analysis_reach<'py>(
+    py: Python<'py>,
+    m: PyRef<'_, PyModel>,
+    x: &Bound<'py, PyAny>,
+    u: &Bound<'py, PyAny>,
+    body: usize,
+    offset: &Bound<'py, PyAny>,
+    duration: f64,
+) -> PyResult<(Bound<'py, PyArray1<f64>>, Option<f64>, Option<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)>)> {
+    let off = vec3(offset, "offset")?;
+    let x = vec_arg(x, "x")?;
+    let u = vec_arg(u, "u")?;
+    let r = m.with_data(|model, data| reach::reach(model, data, x.as_slice(), u.as_slice(), body, &off, duration)).or_raise(py)?;
+    let plane = r.plane.map(|p| (array1(py, p.normal.as_slice()), array1(py, p.point.as_slice())));
+    Ok((array1(py, r.center.as_slice()), r.radius, plane))
+}
+
 /// Register the analysis functions on the extension module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analysis_singularity, m)?)?;
@@ -258,5 +279,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analysis_reaction_null_space, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_integrate_prescribed, m)?)?;
     m.add_function(wrap_pyfunction!(analysis_rmrc_rates, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis_reach, m)?)?;
     Ok(())
 }

@@ -2,7 +2,7 @@
 //! `spacearm.RobotBuilder`).
 
 use pyo3::prelude::*;
-use spacearm_core::{JointLimits, JointType, LinkSpec, ModelBuilder, SpacearmError};
+use spacearm_core::{JointDynamics, JointLimits, JointType, LinkSpec, ModelBuilder, SpacearmError};
 
 use crate::convert::*;
 use crate::model_py::PyModel;
@@ -45,7 +45,7 @@ impl PyModelBuilder {
     }
 
     #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (name, parent, joint_type, origin, rotation, axis, com, mass, inertia, joint_name=None, limits=None))]
+    #[pyo3(signature = (name, parent, joint_type, origin, rotation, axis, com, mass, inertia, joint_name=None, limits=None, dynamics=None))]
     fn add_link(
         &mut self,
         py: Python<'_>,
@@ -60,6 +60,7 @@ impl PyModelBuilder {
         inertia: [[f64; 3]; 3],
         joint_name: Option<String>,
         limits: Option<[f64; 4]>,
+        dynamics: Option<(bool, f64, f64, f64)>,
     ) -> PyResult<()> {
         let kind = self::joint_type(py, joint_type)?;
         let limits = match limits {
@@ -82,6 +83,13 @@ impl PyModelBuilder {
             })
             .map_err(SpacearmError::from)
             .or_raise(py)?;
+        // `(actuated, stiffness, damping, rest)`: the joint's passive dynamics (docs/flexibility.md).
+        if let Some((actuated, stiffness, damping, rest)) = dynamics {
+            self.inner
+                .set_joint_dynamics(name, JointDynamics { actuated, stiffness, damping, rest })
+                .map_err(SpacearmError::from)
+                .or_raise(py)?;
+        }
         Ok(())
     }
 

@@ -47,6 +47,103 @@ impl PyImpulseDynamics {
     }
 }
 
+/// Where an impulse's momentum goes, about the base CM (`[P; L_base]`, eq. 42):
+/// `spacearm_core::algorithms::impulse::MomentumSplit`, the public
+/// `spacearm.capture.MomentumSplit` (`capture.impulse_momentum_split` returns it). Read-only arrays.
+#[pyclass(module = "spacearm._core", name = "MomentumSplit", frozen)]
+pub struct PyMomentumSplit {
+    /// (6,) H0 Δẋ0: the momentum the base's own jump carries.
+    #[pyo3(get)]
+    base: Py<PyArray1<f64>>,
+    /// (6,) H0m Δq̇: the coupling momentum the joints take up.
+    #[pyo3(get)]
+    arm: Py<PyArray1<f64>>,
+    /// (6,) J_0Xᵀ Λ: the impulse's momentum about the base CM (base + arm).
+    #[pyo3(get)]
+    total: Py<PyArray1<f64>>,
+    /// (6, 6) B with Δẋ0 = B Λ: impulses in its null space leave the base still.
+    #[pyo3(get)]
+    base_jump_map: Py<PyArray2<f64>>,
+    /// (6,) the singular values of B, largest first: a zero one means a reaction-null impulse
+    /// direction exists.
+    #[pyo3(get)]
+    base_jump_singular_values: Py<PyArray1<f64>>,
+}
+
+#[pymethods]
+impl PyMomentumSplit {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let norm = |a: &Py<PyArray1<f64>>| a.bind(py).to_vec().unwrap_or_default().iter().map(|v| v * v).sum::<f64>().sqrt();
+        format!("<spacearm._core.MomentumSplit |base| {:.4e}, |arm| {:.4e}, |total| {:.4e}>", norm(&self.base), norm(&self.arm), norm(&self.total))
+    }
+}
+
+/// The inverse inertia G (6×6) at the point `(body, offset)` of `model` at `x`: an impulse
+/// [f̂; n̂] there changes the point's twist by G Λ; `arm` "free" (J H⁻¹ Jᵀ) or "locked"
+/// (J_0X H0⁻¹ J_0Xᵀ).
+#[pyfunction]
+#[pyo3(signature = (model, x, body, offset, arm = "free"))]
+pub fn point_inverse_inertia<'py>(
+    py: Python<'py>,
+    model: PyRef<'_, PyModel>,
+    x: &Bound<'_, PyAny>,
+    body: usize,
+    offset: &Bound<'_, PyAny>,
+    arm: &str,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let joints = joints(py, arm)?;
+    let point = BodyPoint { body, offset: finite3(offset, "offset")? };
+    let x = vec_arg(x, "x")?;
+    let g = model.with_data(|m, d| impulse::point_inverse_inertia(m, d, x.as_slice(), point, joints)).or_raise(py)?;
+    Ok(matrix(py, &g))
+}
+
+/// Yoshida's virtual mass (kg) at the point `(body, offset)` along `direction` (any non-zero
+/// length, in 𝒥): 1 / (nᵀ G_vv n).
+#[pyfunction]
+#[pyo3(signature = (model, x, body, offset, direction, arm = "free"))]
+pub fn virtual_mass(
+    py: Python<'_>,
+    model: PyRef<'_, PyModel>,
+    x: &Bound<'_, PyAny>,
+    body: usize,
+    offset: &Bound<'_, PyAny>,
+    direction: &Bound<'_, PyAny>,
+    arm: &str,
+) -> PyResult<f64> {
+    let joints = joints(py, arm)?;
+    let point = BodyPoint { body, offset: finite3(offset, "offset")? };
+    let n = vec3(direction, "direction")?;
+    let x = vec_arg(x, "x")?;
+    model.with_data(|m, d| impulse::virtual_mass(m, d, x.as_slice(), point, &n, joints)).or_raise(py)
+}
+
+/// How the impulse Λ (6, [f̂; n̂] in 𝒥) at the point `(body, offset)` divides between the base
+/// and the arm (joints free).
+#[pyfunction]
+#[pyo3(signature = (model, x, body, offset, impulse))]
+pub fn impulse_momentum_split(
+    py: Python<'_>,
+    model: PyRef<'_, PyModel>,
+    x: &Bound<'_, PyAny>,
+    body: usize,
+    offset: &Bound<'_, PyAny>,
+    impulse: &Bound<'_, PyAny>,
+) -> PyResult<PyMomentumSplit> {
+    let point = BodyPoint { body, offset: finite3(offset, "offset")? };
+    let lam = vec6(impulse, "impulse")?;
+    let x = vec_arg(x, "x")?;
+    let s = model.with_data(|m, d| impulse::impulse_momentum_split(m, d, x.as_slice(), point, &lam)).or_raise(py)?;
+    let ro = |v: &[f64]| read_only(array1(py, v));
+    Ok(PyMomentumSplit {
+        base: ro(s.base.as_slice()),
+        arm: ro(s.arm.as_slice()),
+        total: ro(s.total.as_slice()),
+        base_jump_map: read_only(matrix(py, &s.base_jump_map)),
+        base_jump_singular_values: ro(s.base_jump_singular_values.as_slice()),
+    })
+}
+
 /// The result of `grasp_impact` (`spacearm_core::algorithms::impulse::GraspImpact`), every
 /// vector in 𝒥: the public `spacearm.capture.GraspImpulse` (`capture.grasp_impulse` returns it;
 /// no Python copy of its fields). Built once; the arrays are read-only.
@@ -477,6 +574,10 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyGraspImpulse>()?;
     m.add_function(wrap_pyfunction!(impulse_dynamics, m)?)?;
     m.add_function(wrap_pyfunction!(grasp_impact, m)?)?;
+    m.add_class::<PyMomentumSplit>()?;
+    m.add_function(wrap_pyfunction!(point_inverse_inertia, m)?)?;
+    m.add_function(wrap_pyfunction!(virtual_mass, m)?)?;
+    m.add_function(wrap_pyfunction!(impulse_momentum_split, m)?)?;
     m.add_function(wrap_pyfunction!(check_grasp_handle, m)?)?;
     m.add_class::<PySoftCaptureResult>()?;
     m.add_function(wrap_pyfunction!(soft_capture, m)?)?;

@@ -132,6 +132,18 @@ pub struct PyLinkDescription {
     /// Index of the joint's coordinate in `q`; None for a fixed joint.
     #[pyo3(get)]
     dof: Option<usize>,
+    /// Whether a motor drives the joint (False: a passive joint, docs/flexibility.md).
+    #[pyo3(get)]
+    actuated: bool,
+    /// Joint spring stiffness, N·m/rad (revolute) or N/m (prismatic); 0: none.
+    #[pyo3(get)]
+    stiffness: f64,
+    /// Joint damping, N·m·s/rad (revolute) or N·s/m (prismatic); 0: none.
+    #[pyo3(get)]
+    damping: f64,
+    /// The spring's rest coordinate, rad or m.
+    #[pyo3(get)]
+    rest: f64,
 }
 
 #[pymethods]
@@ -229,6 +241,10 @@ impl PyModelDescription {
             d.set_item("inertia", to_list(py, &link.inertia)?)?;
             d.set_item("limits", link.limits.get().to_list().to_vec())?;
             d.set_item("dof", link.dof)?;
+            d.set_item("actuated", link.actuated)?;
+            d.set_item("stiffness", link.stiffness)?;
+            d.set_item("damping", link.damping)?;
+            d.set_item("rest", link.rest)?;
             links.append(d)?;
         }
         let points = PyList::empty(py);
@@ -301,6 +317,10 @@ impl PyModelDescription {
                 inertia: matrix3(py, &l.mass.inertia),
                 limits: Py::new(py, limits)?,
                 dof: m.dof_of_body(k + 1),
+                actuated: j.dynamics.actuated,
+                stiffness: j.dynamics.stiffness,
+                damping: j.dynamics.damping,
+                rest: j.dynamics.rest,
             });
         }
         let points = m.points().iter().map(|p| PyPointDescription {

@@ -18,6 +18,7 @@ mod errors_py;
 mod interrupt;
 mod model_io_py;
 mod model_py;
+mod orbit_py;
 mod records_py;
 mod rollout_py;
 mod rotations_py;
@@ -81,6 +82,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<analysis_results_py::PyRmrcMotion>()?;
     rules_py::register(m)?;
     rotations_py::register(m)?;
+    orbit_py::register(m)?;
     m.add_function(wrap_pyfunction!(simulate_py::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(rollout_py::rollout, m)?)?;
     m.add_class::<simulator_py::PySimulator>()?;

@@ -10,7 +10,7 @@ use pyo3::intern;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use spacearm_core as core;
-use spacearm_core::algorithms::{aba, crba, dynamics, inertia, kinematics, momentum, rnea};
+use spacearm_core::algorithms::{aba, crba, dynamics, inertia, kinematics, momentum, passive, rnea};
 use spacearm_core::{gjm, Data, ExternalWrench, JointType};
 
 use crate::batch::{run, Input, Pool};
@@ -150,6 +150,11 @@ impl PyModel {
     #[getter]
     fn initial_q<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         array1(py, self.model.initial_q())
+    }
+    /// Whether each degree of freedom has a motor (dof order; docs/flexibility.md).
+    #[getter]
+    fn actuated_dofs(&self) -> Vec<bool> {
+        self.model.actuated_dofs()
     }
     /// Body index moved by each degree of freedom.
     #[getter]
@@ -510,6 +515,25 @@ impl PyModel {
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
         run(py, "kinetic_energy", inputs, [&[]], &self.workspaces, || Data::new(m), |d, [x, u], [out]| {
             out[0] = momentum::kinetic_energy(m, d, x, u)?;
+            Ok(())
+        })
+    }
+
+    fn passive_forces<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let nu = m.nu();
+        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?];
+        run(py, "passive_forces", inputs, [&[nu]], &self.workspaces, || Data::new(m), |_, [x, u], [out]| {
+            out.copy_from_slice(passive::passive_forces(m, x, u)?.as_slice());
+            Ok(())
+        })
+    }
+
+    fn spring_energy<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let inputs = [Input::arg(x, "x", m.nx())?];
+        run(py, "spring_energy", inputs, [&[]], &self.workspaces, || Data::new(m), |_, [x], [out]| {
+            out[0] = passive::spring_energy(m, x)?;
             Ok(())
         })
     }

@@ -32,6 +32,9 @@ pub enum Record {
     TrackingError,
     AttitudeError,
     WheelSpeed,
+    RCmEci,
+    VCmEci,
+    GravityWrench,
 }
 
 impl Record {
@@ -56,13 +59,17 @@ impl Record {
             Record::TrackingError => "tracking_error",
             Record::AttitudeError => "attitude_error",
             Record::WheelSpeed => "wheel_speed",
+            Record::RCmEci => "r_cm_eci",
+            Record::VCmEci => "v_cm_eci",
+            Record::GravityWrench => "gravity_wrench",
         }
     }
 
     /// Whether the record stays float64 when the run asks for float32 records: the time does
     /// (float32 cannot tell apart the steps of a long run).
     pub fn stays_float64(self) -> bool {
-        self == Record::T
+        // The ECI position of an orbit needs float64 (float32 resolves ~0.5 m at 7000 km).
+        matches!(self, Record::T | Record::RCmEci | Record::VCmEci)
     }
 }
 
@@ -111,6 +118,11 @@ pub fn take_fields(res: &mut SimResult, nx: usize, nu: usize, n: usize) -> Vec<F
     }
     if let Some(v) = r.wheel_speed.take() {
         out.push(f(Record::WheelSpeed, v, n_wheels, false));
+    }
+    if let (Some(rc), Some(vc), Some(gw)) = (r.r_cm_eci.take(), r.v_cm_eci.take(), r.gravity_wrench.take()) {
+        out.push(f(Record::RCmEci, rc, 3, false));
+        out.push(f(Record::VCmEci, vc, 3, false));
+        out.push(f(Record::GravityWrench, gw, 6, false));
     }
     out
 }
@@ -205,6 +217,15 @@ pub struct PyRunRecords {
     /// `(K, W)` reaction-wheel speeds (rad/s), one column per wheel of `RunMeta.wheel_dofs`; None without wheels.
     #[pyo3(get)]
     wheel_speed: Option<Array>,
+    /// `(K, 3)` an orbital run's system CM in ECI (m, always float64), or None.
+    #[pyo3(get)]
+    r_cm_eci: Option<Array>,
+    /// `(K, 3)` an orbital run's system CM velocity in ECI (m/s, always float64), or None.
+    #[pyo3(get)]
+    v_cm_eci: Option<Array>,
+    /// `(K, 6)` an orbital run's total tidal wrench `[force; torque about the origin]` in 𝒥 (N, N·m), or None.
+    #[pyo3(get)]
+    gravity_wrench: Option<Array>,
     /// The records made, in the order of [`take_fields`].
     made: Vec<Record>,
 }
@@ -234,6 +255,9 @@ impl PyRunRecords {
                 Record::TrackingError => &mut r.tracking_error,
                 Record::AttitudeError => &mut r.attitude_error,
                 Record::WheelSpeed => &mut r.wheel_speed,
+                Record::RCmEci => &mut r.r_cm_eci,
+                Record::VCmEci => &mut r.v_cm_eci,
+                Record::GravityWrench => &mut r.gravity_wrench,
             };
             *slot = Some(array.cast_into::<PyUntypedArray>()?.unbind());
             r.made.push(record);

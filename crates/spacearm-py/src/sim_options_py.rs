@@ -12,7 +12,7 @@ use pyo3::PyTypeInfo;
 use spacearm_core::sim::actuators::ThrusterLimits;
 use spacearm_core::sim::integrate::IntegratorKind;
 use spacearm_core::sim::modes::Mode;
-use spacearm_core::sim::simulate::SimOptions;
+use spacearm_core::sim::simulate::{OrbitOptions, SimOptions};
 use spacearm_core::SpacearmError;
 
 use crate::convert::*;
@@ -131,7 +131,7 @@ impl PyRunOptions {
     /// Every keyword is optional; None keeps the core's default.
     #[new]
     #[pyo3(signature = (*, mode=None, integrator=None, dt=None, rtol=None, atol=None, record_every=None, wheels=None, thrusters=None,
-                        joint_limits=None, max_steps=None, progress=None, record_dtype=None, **unknown))]
+                        joint_limits=None, max_steps=None, progress=None, record_dtype=None, orbit=None, gravity_gradient=None, **unknown))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -147,6 +147,8 @@ impl PyRunOptions {
         max_steps: Option<&Bound<'_, PyAny>>,
         progress: Option<&Bound<'_, PyAny>>,
         record_dtype: Option<&Bound<'_, PyAny>>,
+        orbit: Option<&Bound<'_, PyAny>>,
+        gravity_gradient: Option<&Bound<'_, PyAny>>,
         unknown: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         refuse_unknown::<Self>(py, unknown)?;
@@ -183,6 +185,18 @@ impl PyRunOptions {
         }
         if let Some(v) = joint_limits {
             opts.joint_limits = v.extract().map_err(|_| to_py_err(py, bad("joint_limits must be True or False".into())))?;
+        }
+        let gg = match gravity_gradient {
+            None => None,
+            Some(v) => Some(v.extract::<bool>().map_err(|_| to_py_err(py, bad("gravity_gradient must be True or False".into())))?),
+        };
+        match orbit {
+            Some(o) => {
+                let o = o.cast::<crate::orbit_py::PyOrbit>().map_err(|_| to_py_err(py, bad(format!("orbit must be a spacearm.Orbit, got {}", type_name(o)))))?;
+                opts.orbit = Some(OrbitOptions { orbit: o.get().inner, gravity_gradient: gg.unwrap_or(true) });
+            }
+            None if gg == Some(true) => return Err(to_py_err(py, bad("gravity_gradient=True needs an orbit (orbit=spacearm.Orbit...)".into()))),
+            None => {}
         }
         let float32 = match record_dtype {
             None => false,
@@ -264,6 +278,18 @@ impl PyRunOptions {
     #[getter]
     fn progress(&self, py: Python<'_>) -> Option<Py<PyAny>> {
         self.progress_fn(py)
+    }
+
+    /// The orbit of the run's origin (the system CM's reference point), or None: empty space.
+    #[getter]
+    fn orbit(&self) -> Option<crate::orbit_py::PyOrbit> {
+        self.sim.orbit.map(|o| crate::orbit_py::PyOrbit { inner: o.orbit })
+    }
+
+    /// Whether the tidal (gravity-gradient) wrenches act on every body (orbital runs).
+    #[getter]
+    fn gravity_gradient(&self) -> bool {
+        self.sim.orbit.is_some_and(|o| o.gravity_gradient)
     }
 
     /// The dtype of the records but the time: "float64" or "float32".

@@ -75,9 +75,8 @@ def simulate_closed_chain(robot, x0, u0, duration: float, point_a, point_b, *, d
     ``dt``.
     """
     x0, u0 = vector(x0, "x0", robot.nx), vector(u0, "u0", robot.nu)
+    # The core judges duration, dt and stabilization; Python converts them.
     duration, dt, alpha = number(duration, "duration"), number(dt, "dt"), number(stabilization, "stabilization")
-    if not (duration > 0 and dt > 0 and alpha >= 0):
-        raise ArgumentError(f"duration and dt must be > 0 and stabilization >= 0, got {duration}, {dt}, {alpha}")
     frames = _frames(robot, point_a, point_b)
     _check_controller(controller)
     rtol = number(rtol, "rtol")

@@ -47,12 +47,12 @@ the uniform box of its mass and inertia; docs/capture.md, "Grasps that are refus
 
 from __future__ import annotations
 
-from typing import NamedTuple, Optional, Sequence
+from typing import Optional, Sequence
 
 import numpy as np
 
 from .. import _core
-from .._core import GraspImpulse
+from .._core import GraspImpulse, MomentumSplit
 from .._util.arrays import number, vector, vector3
 from ..errors import ArgumentError, SingularError, SpacearmTypeError
 
@@ -80,17 +80,6 @@ KINDS = ("rigid", "point")
 ARMS = ("free", "locked")
 
 
-class MomentumSplit(NamedTuple):
-    """Where an impulse's momentum goes, about the base CM (``[P; L_base]``, eq. 42):
-    ``base + arm == total == J_0Xᵀ Λ``."""
-
-    base: np.ndarray  #: H0 Δẋ0: momentum carried by the base's own jump (6)
-    arm: np.ndarray  #: H0m Δq̇: the coupling momentum the joints take up (6)
-    total: np.ndarray  #: the impulse's momentum about the base CM (6)
-    base_jump_map: np.ndarray  #: B with Δẋ0 = B Λ (6×6); impulses in its null space leave the base still
-    base_jump_singular_values: np.ndarray  #: of B: a zero one means a reaction-null impulse direction exists
-
-
 def _robot_point(robot, x, point, grasp_offset):
     """``(body, offset)`` of the robot's grasp point: ``point`` moved by ``grasp_offset`` (in the
     gripper body's frame)."""
@@ -98,62 +87,42 @@ def _robot_point(robot, x, point, grasp_offset):
     return body, np.asarray(offset, dtype=float) + vector3(grasp_offset, "grasp_offset")
 
 
-def _jacobian(robot, x, body, offset) -> np.ndarray:
-    j0, jm = robot.point_jacobian(x, (body, offset))
-    return np.hstack([j0, jm])
-
-
-def _solve(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.ndarray:
-    try:
-        return np.linalg.solve(matrix, rhs)
-    except np.linalg.LinAlgError:
-        raise SingularError(f"{what} is singular") from None
-
-
-def _mobility(robot, x, body, offset, arm: str, j=None, h=None):
-    """``(J, M)``: the Jacobian of the point over the coordinates that may jump, and their mass
-    matrix (all of ``u``; or the base's six with the arm locked). ``j`` and ``h``: the full
-    point Jacobian and mass matrix when the caller has them."""
-    j = _jacobian(robot, x, body, offset) if j is None else j
-    h = robot.mass_matrix(x) if h is None else h
-    if arm == "locked":
-        return j[:, :6], h[:6, :6]
-    return j, h
-
-
 def inverse_inertia(robot, x, point=None, *, form: str = "mass_matrix", arm: str = "free") -> np.ndarray:
     """The inverse inertia ``G`` (6×6) at a point of ``robot``: an impulse ``Λ = [f̂; n̂]`` at
     the point changes its twist ``[v; ω]`` by ``G Λ``.
 
-    ``form="mass_matrix"``: ``J H⁻¹ Jᵀ``; ``form="generalized"``: ``J_0X H0⁻¹ J_0Xᵀ + J* H*⁻¹ J*ᵀ``
-    (floating base, Yoshida et al. 2004); the two are equal, computed independently.
-    ``arm="locked"``: the joint rates held (``Δq̇ = 0``), ``J_0X H0⁻¹ J_0Xᵀ``. ``point``: as everywhere (name,
-    body, ``(body, offset)``; default the end effector).
+    ``form="mass_matrix"``: ``J H⁻¹ Jᵀ``, the core's (``spacearm_core::algorithms::impulse::
+    point_inverse_inertia``); ``form="generalized"``: ``J_0X H0⁻¹ J_0Xᵀ + J* H*⁻¹ J*ᵀ`` composed
+    here from the core's GJM quantities (floating base, Yoshida et al. 2004): the two are equal,
+    computed independently. ``arm="locked"``: the joint rates held (``Δq̇ = 0``),
+    ``J_0X H0⁻¹ J_0Xᵀ``. ``point``: as everywhere (name, body, ``(body, offset)``; default the end
+    effector).
     """
-    xv = vector(x, "x")
     body, offset = robot.resolve_point(point)
-    if arm not in ARMS:
-        raise ArgumentError(f"arm must be one of {list(ARMS)}, got {arm!r}")
     if form == "mass_matrix":
-        j, m = _mobility(robot, xv, body, offset, arm)
-        return j @ _solve(m, j.T, "the mass matrix")
+        return _core.point_inverse_inertia(robot.core_model, x, int(body), offset, arm=arm)
     if form != "generalized":
         raise ArgumentError(f"form must be 'mass_matrix' or 'generalized', got {form!r}")
+    if arm not in ARMS:
+        raise ArgumentError(f"arm must be one of {list(ARMS)}, got {arm!r}")
+    xv = vector(x, "x")
     j0, _ = robot.point_jacobian(xv, (body, offset))
     g = j0 @ robot.base_inertia_inverse(xv) @ j0.T
     if arm == "free" and robot.n_dof:
         js = robot.generalized_jacobian(xv, (body, offset))
-        g = g + js @ _solve(robot.generalized_inertia(xv), js.T, "the generalized inertia H*")
+        try:
+            g = g + js @ np.linalg.solve(robot.generalized_inertia(xv), js.T)
+        except np.linalg.LinAlgError:
+            raise SingularError("the generalized inertia H* is singular") from None
     return g
 
 
 def virtual_mass(robot, x, direction, point=None, *, arm: str = "free") -> float:
     """Yoshida's virtual mass of ``robot`` at ``point`` along ``direction`` (kg):
     ``1 / (nᵀ G_vv n)``, ``G_vv`` the translational block of [`inverse_inertia`][spacearm.capture.inverse_inertia]: the mass a
-    collision along ``n`` at the point feels."""
-    n = _unit(direction, "direction")
-    g = inverse_inertia(robot, x, point, arm=arm)
-    return float(1.0 / (n @ g[:3, :3] @ n))
+    collision along ``n`` at the point feels (the core's ``impulse::virtual_mass``)."""
+    body, offset = robot.resolve_point(point)
+    return _core.virtual_mass(robot.core_model, x, int(body), offset, direction, arm=arm)
 
 
 def impulse_momentum_split(robot, x, impulse, point=None) -> MomentumSplit:
@@ -161,26 +130,10 @@ def impulse_momentum_split(robot, x, impulse, point=None) -> MomentumSplit:
     arm: the base's jump ``Δẋ0`` carries ``H0 Δẋ0``, the joints' jump ``Δq̇`` the coupling
     momentum ``H0m Δq̇`` (impedance matching, Yoshida et al. 2004). The base is undisturbed by
     impulses in the null space of ``B`` (``Δẋ0 = B Λ``): the reaction null space at impact
-    (Nenchev & Yoshida 1999)."""
-    xv = vector(x, "x")
-    lam = vector(impulse, "impulse", 6)
+    (Nenchev & Yoshida 1999). The core's ``impulse::impulse_momentum_split``; the result is the
+    extension's [`MomentumSplit`][spacearm.capture.MomentumSplit] (read-only arrays)."""
     body, offset = robot.resolve_point(point)
-    j = _jacobian(robot, xv, body, offset)
-    h = robot.mass_matrix(xv)
-    response = _solve(h, j.T, "the mass matrix")  # H⁻¹ Jᵀ
-    du = response @ lam
-    base = h[:6, :6] @ du[:6]
-    arm = h[:6, 6:] @ du[6:]
-    b = response[:6, :]
-    return MomentumSplit(base, arm, j[:, :6].T @ lam, b, np.linalg.svd(b, compute_uv=False))
-
-
-def _unit(value, name: str) -> np.ndarray:
-    n = vector3(value, name)
-    norm = np.linalg.norm(n)
-    if not np.isfinite(norm) or norm < 1e-12:
-        raise ArgumentError(f"{name} must be a non-zero finite 3-vector, got {n}")
-    return n / norm
+    return _core.impulse_momentum_split(robot.core_model, x, int(body), offset, impulse)
 
 
 def _check_target(target):

@@ -12,7 +12,8 @@ spacearm's conventions (docs/conventions.md):
 >>> x, u = robot.neutral_configuration(), robot.zero_velocity()
 >>> du = fd(x, u, [1.0, 0, 0, 0], [0.0] * 6)
 
-See docs/optimal-control.md for the equations and the planner [`spacearm.plan`][spacearm.plan] built on them.
+See docs/optimal-control.md for the equations and the planner [`spacearm.plan`][spacearm.plan] built on them,
+and docs/c-api.md ("Embedded code") for [`generate_c`][spacearm.casadi.generate_c], their C code.
 """
 
 from .functions import (
@@ -29,4 +30,7 @@ from .functions import (
     rk4_step,
 )
 
-from .functions import __all__  # noqa: E402,F401  (the one list of the public names)
+from .codegen import GENERATED, generate_c  # noqa: E402
+from . import codegen as _codegen, functions as _functions  # noqa: E402
+
+__all__ = [*_functions.__all__, *_codegen.__all__]  # each module's list, once

@@ -66,13 +66,15 @@ def forward_dynamics(robot):
     """``forward_dynamics(x, u, tau, base_wrench) -> du``: the state derivative
     ``du = [dv0/dt, dw0/dt, qdd]`` under joint torques ``tau`` (N) and the base wrench
     ``base_wrench = [F0, N0]`` (6, in 𝒥, about the base CM; zero for free floating), by the
-    articulated-body algorithm (the core's ``Robot.forward_dynamics(method="aba")``)."""
+    articulated-body algorithm (the core's ``Robot.forward_dynamics(method="aba")``), the joints'
+    springs and dampers included (docs/flexibility.md)."""
     return _taped(robot, "forward_dynamics")
 
 
 def inverse_dynamics(robot):
     """``inverse_dynamics(x, u, du) -> f``: the generalized force ``f = [F0, N0, tau]`` with
-    ``H du + c = f``, by RNEA (the core's ``Robot.inverse_dynamics``)."""
+    ``H du + c = f + Q_passive``, by RNEA (the core's ``Robot.inverse_dynamics``; ``Q_passive``
+    the joints' springs and dampers, docs/flexibility.md)."""
     return _taped(robot, "inverse_dynamics")
 
 

@@ -2,8 +2,8 @@
 
 ``inspect`` (``spacearm.cli.inspect``), ``derive`` (``spacearm.cli.derive``), ``analyze``
 (``spacearm.cli.analyze``), ``simulate`` and ``demo`` (``spacearm.cli.simulate``),
-``campaign`` (``spacearm.cli.campaign``), ``capture`` (``spacearm.cli.capture``) and
-``plan`` (``spacearm.cli.plan``). ``MODEL`` is a preset name (``planar4``,
+``campaign`` (``spacearm.cli.campaign``), ``capture`` (``spacearm.cli.capture``),
+``plan`` (``spacearm.cli.plan``) and ``fmu`` (``spacearm.cli.fmu``). ``MODEL`` is a preset name (``planar4``,
 ``spatial6``, ...), a TOML model file (``docs/model-format.md``) or a URDF file
 (``docs/urdf.md``), with the model options of ``spacearm.cli.model_options``. Optional packages are
 imported only inside the subcommand that needs them, so the command starts on a plain install.
@@ -16,7 +16,9 @@ with its path. Ctrl-C exits with status 130 and one line.
 from __future__ import annotations
 
 import argparse
+import functools
 import os
+import shutil
 import sys
 
 from .._core import __version__
@@ -24,6 +26,7 @@ from . import analyze as cli_analyze
 from . import campaign as cli_campaign
 from . import capture as cli_capture
 from . import derive as cli_derive
+from . import fmu as cli_fmu
 from . import inspect as cli_inspect
 from . import plan as cli_plan
 from . import simulate as cli_simulate
@@ -44,6 +47,7 @@ OUTPUT_OPTIONS = {
     "derive": ("latex", "python", "c"),
     "capture": ("out", "plot"),
     "plan": ("out", "plot"),
+    "fmu": ("out",),
 }
 
 
@@ -57,12 +61,17 @@ def describe_os_error(exc: OSError) -> str:
 
 
 def main(argv=None) -> int:
+    # The terminal's width read once: argparse's HelpFormatter asks the terminal at each
+    # add_argument (85 times for these parsers, about 12 ms of a capture; benchmarks/README.md).
+    formatter = functools.partial(argparse.HelpFormatter, width=shutil.get_terminal_size().columns - 2)
     parser = argparse.ArgumentParser(
         prog="spacearm",
         description="Equations of motion of spacecraft-manipulator systems (GJM formulation).",
+        formatter_class=formatter,
     )
     parser.add_argument("--version", action="version", version=f"spacearm {__version__}")
-    sub = parser.add_subparsers(dest="command", required=True)
+    sub = parser.add_subparsers(dest="command", required=True,
+                                parser_class=functools.partial(argparse.ArgumentParser, formatter_class=formatter))
     cli_inspect.add_parser(sub)
     cli_derive.add_parser(sub)
     cli_analyze.add_parser(sub)
@@ -70,6 +79,7 @@ def main(argv=None) -> int:
     cli_campaign.add_parser(sub)
     cli_capture.add_parser(sub)
     cli_plan.add_parser(sub)
+    cli_fmu.add_parser(sub)
     # "--target -0.3,0.3,0" would be read as two options: pass such values as "--target=-0.3,...".
     args = parser.parse_args(attach_negative_values(sys.argv[1:] if argv is None else argv))
     try:
@@ -90,6 +100,8 @@ def main(argv=None) -> int:
             return cli_capture.run(args, model_from_args)
         elif args.command == "plan":
             cli_plan.run(args, model_from_args)
+        elif args.command == "fmu":
+            cli_fmu.run(args, model_from_args)
     except SpacearmError as exc:
         print(f"spacearm: error: {exc}", file=sys.stderr)
         return 2

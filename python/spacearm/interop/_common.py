@@ -36,6 +36,11 @@ class _Body:
     mass: float
     inertia: np.ndarray  # 3×3 about the CM, child axes
     dof: Optional[int]  # spacearm dof index, None for the base and fixed joints
+    # the joint's passive dynamics (docs/flexibility.md): motor, spring -k (q - rest), damper -c qd
+    actuated: bool = True
+    stiffness: float = 0.0
+    damping: float = 0.0
+    rest: float = 0.0
 
 
 def _tree(robot) -> Tuple[List[_Body], List[List[int]], Tuple[PointDescription, ...]]:
@@ -51,6 +56,7 @@ def _tree(robot) -> Tuple[List[_Body], List[List[int]], Tuple[PointDescription, 
             k + 1, link.name, link.parent_index, link.type, link.joint,
             np.array(link.origin), quat_to_matrix(link.rotation), np.array(link.axis), np.array(link.com),
             link.mass, np.array(link.inertia), link.dof,
+            link.actuated, link.stiffness, link.damping, link.rest,
         ))
     children: List[List[int]] = [[] for _ in bodies]
     for b in bodies[1:]:

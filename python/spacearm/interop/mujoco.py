@@ -68,8 +68,12 @@ def to_mjcf(robot) -> str:
       frame; a hinge/slide joint at ``pos = -com`` (the joint position, in the link frame)
       about ``axis``. A fixed link is a body without a joint (welded; ``fusestatic`` off keeps
       it as its own body).
-    - ``<option gravity="0 0 0">``, contacts disabled (and there are no geoms), joint damping,
-      stiffness, armature and friction loss explicitly zero, no limits, RK4 (the integrator
+    - A joint's spring–damper (docs/flexibility.md) as the joint's ``stiffness``, ``springref``
+      (the rest coordinate) and ``damping``: MuJoCo's ``qfrc_passive`` is then spacearm's
+      passive force ``-k (q - rest) - c q̇``. There are no actuators (a model's forces are
+      applied as ``qfrc_applied``), so a passive joint needs no marking.
+    - ``<option gravity="0 0 0">``, contacts disabled (and there are no geoms), armature and
+      friction loss explicitly zero (damping and stiffness zero unless the joint has them), no limits, RK4 (the integrator
       changes no term of the continuous-time dynamics), and the ``energy`` flag on so that
       ``MjData.energy`` holds the kinetic energy.
     """
@@ -96,7 +100,8 @@ def to_mjcf(robot) -> str:
             if body.kind != "fixed":
                 ET.SubElement(el, "joint", name=body.joint, type="hinge" if body.kind == "revolute" else "slide",
                               pos=_fmt(-body.com), axis=_fmt(body.axis), limited="false",
-                              damping="0", stiffness="0", armature="0", frictionloss="0")
+                              damping=repr(float(body.damping)), stiffness=repr(float(body.stiffness)),
+                              springref=repr(float(body.rest)), armature="0", frictionloss="0")
         _inertial(el, body.mass, body.inertia)
         for name, offset in points_on.get(b, []):
             ET.SubElement(el, "site", name=name, pos=_fmt(offset))

@@ -243,7 +243,8 @@ class _Importer:
             self._add(builder, b.joint.line, p + b.name, parent=p + parent.name,
                       joint={"prismatic": "prismatic", "fixed": "fixed"}.get(b.joint.kind, "revolute"),
                       axis=b.axis, origin=b.joint_in_parent.t - parent.com, rotation=quat_from_matrix(b.joint_in_parent.R),
-                      com=b.com, mass=b.mass, inertia=b.inertia, joint_name=p + b.joint.name, limits=dict(b.joint.limits))
+                      com=b.com, mass=b.mass, inertia=b.inertia, joint_name=p + b.joint.name, limits=dict(b.joint.limits),
+                      **b.joint.dynamics)
         points = {}
         for link, body in self.body_of_link.items():
             if self.bodies[body].name != link:

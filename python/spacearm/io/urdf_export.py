@@ -81,6 +81,15 @@ def to_urdf(robot) -> str:
                       if np.isfinite(v)}
             if limits:
                 ET.SubElement(joint, "limit", **limits)
+            # The joint's passive dynamics (docs/flexibility.md): URDF's damping, and the
+            # <spacearm> extension element for the spring and passivity.
+            if link.damping != 0.0:
+                ET.SubElement(joint, "dynamics", damping=_num(link.damping))
+            ext = {k: _num(v) for k, v in (("stiffness", link.stiffness), ("rest", link.rest)) if v != 0.0}
+            if not link.actuated:
+                ext["actuated"] = "false"
+            if ext:
+                ET.SubElement(joint, "spacearm", **ext)
     for p in d.points:
         ET.SubElement(root, "link", name=p.name)
         joint = ET.SubElement(root, "joint", name=f"{p.name}_point", type="fixed")

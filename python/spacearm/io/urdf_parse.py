@@ -18,8 +18,12 @@ itself is still validated by the Rust core when it is built.
 
 URDF (https://wiki.ros.org/urdf/XML) numbers are attribute strings: ``xyz="0 0 0.1"``.
 Elements this reader does not need (``visual``, ``collision``, ``gazebo``, ``transmission``,
-``material``, ``dynamics``, ``calibration``, ``safety_controller``) are ignored; elements that
-change the kinematics in a way spacearm cannot represent (``mimic``) are errors.
+``material``, ``calibration``, ``safety_controller``) are ignored; elements that
+change the kinematics in a way spacearm cannot represent (``mimic``) are errors. A moving
+joint's ``<dynamics damping>`` is its viscous damping (``friction`` is ignored: spacearm has
+no Coulomb friction), and the extension element ``<spacearm stiffness="…" rest="…"
+actuated="false"/>`` inside a ``<joint>`` gives its spring and makes it passive
+(docs/flexibility.md; URDF readers that do not know it ignore it, as they ignore ``<gazebo>``).
 """
 
 from __future__ import annotations
@@ -73,6 +77,8 @@ class UrdfJoint:
     axis: np.ndarray
     limits: Dict[str, float]
     line: int
+    #: ``actuated``, ``stiffness``, ``damping``, ``rest`` as given (docs/flexibility.md).
+    dynamics: Dict[str, object] = field(default_factory=dict)
 
 
 @dataclass
@@ -253,7 +259,25 @@ class _Reader:
             for key in keys:
                 if limit_el.get(key) is not None:
                     limits[key] = self.number(limit_el, key, who)
-        return UrdfJoint(name, kind, links["parent"], links["child"], origin, rotation, axis, limits, self.line(el))
+        dynamics: Dict[str, object] = {}
+        if kind != "fixed":
+            dyn_el = self.single(el, "dynamics", who)
+            if dyn_el is not None and dyn_el.get("damping") is not None:
+                dynamics["damping"] = self.number(dyn_el, "damping", who)
+            ext = self.single(el, "spacearm", who)
+            if ext is not None:
+                unknown = set(ext.attrib) - {"stiffness", "rest", "actuated"}
+                if unknown:
+                    raise self.fail(ext, f"{who}: <spacearm> takes stiffness, rest and actuated, got {sorted(unknown)}")
+                for key in ("stiffness", "rest"):
+                    if ext.get(key) is not None:
+                        dynamics[key] = self.number(ext, key, who)
+                if ext.get("actuated") is not None:
+                    flag = ext.get("actuated").strip().lower()
+                    if flag not in ("true", "false"):
+                        raise self.fail(ext, f"{who}: <spacearm actuated> must be 'true' or 'false', got {ext.get('actuated')!r}")
+                    dynamics["actuated"] = flag == "true"
+        return UrdfJoint(name, kind, links["parent"], links["child"], origin, rotation, axis, limits, self.line(el), dynamics)
 
 
 def parse_urdf(text, source: str = "<string>", mimic: str = "error") -> UrdfRobot:

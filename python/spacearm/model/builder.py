@@ -27,7 +27,7 @@ import numpy as np
 
 from .. import _core
 from .._util.arrays import matrix3, number, quaternion, vector
-from ..errors import ArgumentError, ModelError, NotFoundError
+from ..errors import ArgumentError, ModelError, NotFoundError, SpacearmTypeError
 from ..rotations import IDENTITY_QUAT, quat_from_rpy
 from .robot import Robot, warn_nonphysical_inertia
 
@@ -61,7 +61,7 @@ class RobotBuilder:
     def from_robot(cls, robot: Robot, name: Optional[str] = None, *,
                    allow_nonphysical_inertia: Optional[bool] = None) -> "RobotBuilder":
         """A builder holding ``robot``'s model exactly: the base, every link with its joint,
-        limits and mass properties, the points, the end effector and the initial ``q``.
+        limits, passive dynamics and mass properties, the points, the end effector and the initial ``q``.
 
         Building it unchanged gives a model equal to ``robot``: the same mass matrix bit for
         bit where the axes and rotations are exactly unit, else equal to rounding (they are
@@ -81,7 +81,8 @@ class RobotBuilder:
             limits = None if link.type == "fixed" else dict(lower=lim.lower, upper=lim.upper, velocity=lim.velocity, effort=lim.effort)
             b.add_link(link.name, parent=link.parent, joint=link.type, axis=link.axis.tolist(),
                        origin=link.origin.tolist(), rotation=link.rotation.tolist(), com=link.com.tolist(), mass=link.mass,
-                       inertia=link.inertia.tolist(), joint_name=link.joint, limits=limits)
+                       inertia=link.inertia.tolist(), joint_name=link.joint, limits=limits, actuated=link.actuated,
+                       stiffness=link.stiffness, damping=link.damping, rest=link.rest)
         for p in d.points:
             b.add_point(p.name, body=p.body, offset=p.offset.tolist())
         if d.end_effector is not None:
@@ -104,6 +105,10 @@ class RobotBuilder:
         inertia,
         joint_name: Optional[str] = None,
         limits: Optional[dict] = None,
+        actuated: bool = True,
+        stiffness: float = 0.0,
+        damping: float = 0.0,
+        rest: float = 0.0,
     ) -> "RobotBuilder":
         """Add a link attached to ``parent`` through a joint.
 
@@ -112,6 +117,13 @@ class RobotBuilder:
         the link frame in the parent frame at ``q = 0`` (default: aligned). ``inertia`` is about
         the link CM in link axes (3×3, or its 3 diagonal entries). ``limits``: optional dict
         with any of ``lower``, ``upper``, ``velocity``, ``effort``.
+
+        The joint's passive dynamics (``docs/flexibility.md``): ``actuated=False`` makes it a
+        passive joint (no motor: the simulator applies no torque to it, whatever a controller
+        commands); ``stiffness`` (N·m/rad or N/m), ``damping`` (N·m·s/rad or N·s/m) and
+        ``rest`` (rad or m) give it a linear spring–damper, the generalized force
+        ``-stiffness (q - rest) - damping q̇`` in every forward dynamics and simulation. A
+        fixed joint takes none of them.
         """
         if rotation is not None and rpy is not None:
             raise ArgumentError(f"link '{name}': give rotation or rpy, not both")
@@ -140,10 +152,21 @@ class RobotBuilder:
             matrix3(inertia, f"link '{name}' inertia"),
             joint_name,
             lim,
+            self._joint_dynamics(name, actuated, stiffness, damping, rest),
         )
         self._b.add_link(*args)
         self._links.append((str(name), str(parent), str(joint), joint_name, args))
         return self
+
+    @staticmethod
+    def _joint_dynamics(name, actuated, stiffness, damping, rest) -> Optional[tuple]:
+        """``(actuated, stiffness, damping, rest)`` for the core builder, ``None`` for an actuated
+        joint without spring (the core's rules check the values)."""
+        if not isinstance(actuated, (bool, np.bool_)):
+            raise SpacearmTypeError(f"link '{name}': actuated must be True or False, got {type(actuated).__name__} {actuated!r}")
+        values = (bool(actuated), number(stiffness, f"link '{name}' stiffness"), number(damping, f"link '{name}' damping"),
+                  number(rest, f"link '{name}' rest"))
+        return None if values == (True, 0.0, 0.0, 0.0) else values
 
     def attach_payload(
         self,

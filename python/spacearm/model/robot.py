@@ -163,6 +163,12 @@ class Robot:
         return 6 + self._m.n_dof
 
     @property
+    def actuated_dofs(self) -> np.ndarray:
+        """``(N,)`` bool: whether each joint coordinate has a motor (``False``: a passive joint,
+        which the simulator gives no torque; docs/flexibility.md)."""
+        return np.array(self._m.actuated_dofs, dtype=bool)
+
+    @property
     def total_mass(self) -> float:
         return self._m.total_mass
 
@@ -384,8 +390,20 @@ class Robot:
             ))
         return out
 
+    def passive_forces(self, x, u) -> np.ndarray:
+        """The joints' passive generalized force ``Q = [0 (6); -K (q - q_rest) - C q̇]``
+        (``6+N``; MuJoCo's ``qfrc_passive``), which every forward dynamics adds to the applied
+        force: ``H u̇ + c = f + Q`` (docs/flexibility.md)."""
+        return self._m.passive_forces(x, u)
+
+    def spring_energy(self, x) -> float:
+        """The joint springs' potential energy ``½ Σ k_j (q_j - rest_j)²``, J (the simulation
+        records' ``energy`` is the kinetic energy plus this)."""
+        return self._m.spring_energy(x)
+
     def inverse_dynamics(self, x, u, du, wrenches=None) -> np.ndarray:
-        """Generalized force ``f = H du + c - J^T w_ext`` producing ``du`` (RNEA, Featherstone §5.3)."""
+        """Generalized force ``f = H du + c - Q_passive - J^T w_ext`` producing ``du`` (RNEA,
+        Featherstone §5.3; ``Q_passive``: [`passive_forces`][spacearm.Robot.passive_forces])."""
         return self._m.inverse_dynamics(x, u, du, None if wrenches is None else self._wrenches(wrenches))
 
     def forward_dynamics(self, x, u, f=None, *, tau=None, base_wrench=None, wrenches=None, method: str = "aba") -> np.ndarray:
@@ -396,8 +414,9 @@ class Robot:
         bit-identical results, each in one call to the extension (which assembles ``f`` from
         the parts; ``benchmarks/forward_dynamics_forms.py`` times both).
         ``method``: ``"aba"`` (O(N) articulated-body algorithm), ``"mass_matrix"``
-        (``H⁻¹(f + J^T w - c)``) or ``"reduced"`` (``qdd = H*⁻¹(tau - c* - H0m^T H0⁻¹ F_b)``,
-        the reduction of eqs. 39–50, ``docs/physics.md``; no external wrenches).
+        (``H⁻¹(f + Q + J^T w - c)``) or ``"reduced"`` (``qdd = H*⁻¹(tau + Q_m - c* - H0m^T H0⁻¹ F_b)``,
+        the reduction of eqs. 39–50, ``docs/physics.md``; no external wrenches). Every method adds
+        the joints' springs and dampers, ``Q`` = [`passive_forces`][spacearm.Robot.passive_forces] (docs/flexibility.md).
         """
         # One native call per form and method: x, u and the force arrays go to the extension
         # unconverted (see _x above); it checks them in the order force, x, u.
@@ -447,7 +466,7 @@ class Robot:
     def momentum_scales(self, x, u) -> np.ndarray:
         """The magnitudes against which the drift of the momenta and the energy is measured, per
         state: ``(T, 4)`` columns ``[Σ|p_i|, Σ(|r_i × p_i| + |I_i w_i|) about the origin, the
-        same about the system CM, kinetic energy]`` (sums over the bodies of their own
+        same about the system CM, kinetic plus spring energy]`` (sums over the bodies of their own
         contributions' norms: the core's drift scales, docs/simulation-core.md). ``x`` (T, 7+N)
         or (7+N,), ``u`` likewise."""
         xs = np.ascontiguousarray(np.atleast_2d(np.asarray(x, dtype=float)))

@@ -6,17 +6,27 @@ docs/optimal-control.md gives the transcription, the cost and the constraints.
 
 from __future__ import annotations
 
+import warnings
 from typing import Callable, Optional
 
 import numpy as np
 
 from .._util.arrays import integer, number, vector
-from ..errors import ArgumentError, SpacearmTypeError
+from ..errors import ArgumentError, PlanCheckWarning, SpacearmTypeError
 from .limits import JointBounds
 from .problem import OBJECTIVES
 from .result import Plan
+from .verify import Verification
 
-__all__ = ["point_to_point", "Plan", "JointBounds", "OBJECTIVES"]
+__all__ = ["point_to_point", "Plan", "JointBounds", "Verification", "OBJECTIVES", "MAX_NODES", "MAX_STEPS", "MAX_ITER"]
+
+#: The largest number of knot intervals a plan takes (the problem grows linearly with it; the
+#: presets need 10–40).
+MAX_NODES = 400
+#: The largest number of RK4 steps of the transcription, ``nodes * substeps``.
+MAX_STEPS = 2000
+#: The largest IPOPT iteration limit.
+MAX_ITER = 10000
 
 
 def point_to_point(
@@ -52,7 +62,7 @@ def point_to_point(
     duration : float
         Maneuver time ``T`` (s).
     nodes : int
-        Number of knot intervals ``K`` (torques are piecewise constant on them).
+        Number of knot intervals ``K`` (torques are linear on them), at most :data:`MAX_NODES`.
     objective : ``"attitude"`` or ``"effort"``
         Minimise the base attitude disturbance ``(1/T) ∫ |θ|² dt`` (plus ``effort_weight``
         times the effort term) or the joint effort ``(1/T) ∫ |tau|² dt``.
@@ -66,26 +76,41 @@ def point_to_point(
     reactionless_end : bool
         Base angular velocity zero at ``T``.
     substeps : int
-        RK4 steps per interval in the shooting map.
+        RK4 steps per interval in the shooting map (``nodes * substeps`` at most :data:`MAX_STEPS`).
     warm_start : ``"reactionless"`` or ``"hold"``
         Initial guess: the reactionless RMRC motion to the target (the minimum-disturbance
         one where the reactionless motion cannot reach it), or the initial state held.
     max_iter : int
-        IPOPT's iteration limit.
+        IPOPT's iteration limit (1 to :data:`MAX_ITER`).
     hessian : ``"objective"`` or ``"exact"``
         The Hessian IPOPT uses: the objective's alone (default; the shooting constraints'
         curvature left out, a Gauss–Newton-type approximation) or the exact Hessian of the
         Lagrangian (several times slower per iteration; docs/optimal-control.md).
     progress : callable, optional
-        Called after each IPOPT iteration with ``(iteration, objective value)``.
+        Called after each IPOPT iteration with ``(iteration, objective value)``; an exception
+        it raises stops the solve and is raised.
 
     Returns
     -------
     Plan
-        Check ``Plan.success``; [`Plan.resimulate`][spacearm.plan.Plan.resimulate] runs it in the native simulator.
+        Verified before it is returned (`spacearm.plan.verify`): [`Plan.success`][spacearm.plan.Plan.success] holds
+        only if IPOPT converged *and* the plan's shooting defect and its re-simulation in the
+        native simulator ([`Plan.resimulation`][spacearm.plan.Plan.resimulation]) are within tolerance; otherwise a
+        [`PlanCheckWarning`][spacearm.errors.PlanCheckWarning] is issued and [`Plan.failure`][spacearm.plan.Plan.failure] says why.
+
+    Raises
+    ------
+    ArgumentError
+        Before any solve: a target out of reach of the free-floating system, off the plane of
+        a planar one, an initial configuration outside the joint limits
+        (`spacearm.plan.target`), a problem larger than the bounds above.
+    KeyboardInterrupt
+        Ctrl-C during the solve (IPOPT is stopped).
     """
     from ..model.robot import Robot
     from .problem import solve
+    from .target import check_target
+    from .verify import verify
     from .warm_start import hold_guess, reactionless_guess
 
     if not isinstance(robot, Robot):
@@ -101,24 +126,34 @@ def point_to_point(
     if not (np.isfinite(T) and T > 0):
         raise ArgumentError(f"duration must be a positive number of seconds, got {duration!r}")
     K = integer(nodes, "nodes")
-    if K < 2:
-        raise ArgumentError(f"nodes must be at least 2, got {K}")
+    if not 2 <= K <= MAX_NODES:
+        raise ArgumentError(f"nodes must be between 2 and {MAX_NODES} (the planner's bound on the problem size, "
+                            f"docs/optimal-control.md), got {K}")
     m = integer(substeps, "substeps")
     if m < 1:
         raise ArgumentError(f"substeps must be at least 1, got {m}")
+    if K * m > MAX_STEPS:
+        raise ArgumentError(f"nodes * substeps must be at most {MAX_STEPS} RK4 steps (the planner's bound on the problem "
+                            f"size, docs/optimal-control.md), got {K} * {m} = {K * m}")
+    iterations = integer(max_iter, "max_iter")
+    if not 1 <= iterations <= MAX_ITER:
+        raise ArgumentError(f"max_iter must be between 1 and {MAX_ITER} IPOPT iterations, got {iterations}")
+    if progress is not None and not callable(progress):
+        raise SpacearmTypeError(f"progress must be a callable (iteration, objective) or None, got {type(progress).__name__}")
     xs = robot.neutral_configuration() if x0 is None else robot.configuration_plus(x0, np.zeros(robot.nu))
     us = robot.zero_velocity() if u0 is None else vector(u0, "u0", robot.nu)
     robot.resolve_point(point)  # an unknown point fails here, before any work
     bounds = JointBounds.of(robot, position_limits, velocity_limit, effort_limit)
-    q0 = xs[7:]
-    if np.any(q0 < bounds.lower) or np.any(q0 > bounds.upper):
-        raise ArgumentError(f"the initial joint configuration {q0} is outside the position limits")
+    check_target(robot, xs, us, tgt, point, T, bounds)  # an impossible target is refused here, before any work
     times = np.linspace(0.0, T, K + 1)
     if warm_start == "reactionless":
         xg, ug, taug, motion = reactionless_guess(robot, xs, us, tgt, point, times, bounds)
     else:
         xg, ug, taug, motion = hold_guess(robot, xs, us, times)
     report = solve(robot, xs, us, tgt, point, T, K, m, objective, bounds, (xg, ug, taug), bool(rest_at_end),
-                   bool(reactionless_end), number(effort_weight, "effort_weight"), integer(max_iter, "max_iter"), progress,
-                   hessian)
-    return Plan(robot=robot, objective=objective, target=tgt, point=point, t=times, substeps=m, warm_start=motion, **report)
+                   bool(reactionless_end), number(effort_weight, "effort_weight"), iterations, progress, hessian)
+    plan = Plan(robot=robot, objective=objective, target=tgt, point=point, t=times, substeps=m, warm_start=motion, **report)
+    plan.verification = verify(plan)
+    if not plan.success:
+        warnings.warn(PlanCheckWarning(f"the plan of {robot.name} to {tgt} is not a plan: {plan.failure}"), stacklevel=2)
+    return plan

@@ -25,6 +25,8 @@ Objectives (both divided by ``T`` so that their size does not depend on the dura
 
 from __future__ import annotations
 
+import signal
+import threading
 import time
 
 import numpy as np
@@ -47,6 +49,31 @@ def _attitude_error(ca, quat, quat0: np.ndarray):
     return 2.0 * (qw * c[:3] + c[3] * qv + ca.cross(qv, c[:3]))
 
 
+class _Interrupts:
+    """Ctrl-C during the solve: CasADi turns a ``KeyboardInterrupt`` raised inside IPOPT into a
+    stop of the solver and a normal return (status ``NonIpopt_Exception_Thrown`` or
+    ``User_Requested_Stop``). In the main thread, with Python's default SIGINT handler, this
+    records the signal (and still raises inside, so that IPOPT stops at once), so that the solve
+    can raise ``KeyboardInterrupt`` afterwards instead of returning a plan."""
+
+    caught = False
+
+    def __enter__(self):
+        self._previous = None
+        if threading.current_thread() is threading.main_thread() and signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+            self._previous = signal.signal(signal.SIGINT, self._handler)
+        return self
+
+    def _handler(self, signum, frame):
+        self.caught = True
+        raise KeyboardInterrupt
+
+    def __exit__(self, *exc):
+        if self._previous is not None:
+            signal.signal(signal.SIGINT, self._previous)
+        return False
+
+
 def solve(robot, x0, u0, target, point, duration, nodes, substeps, objective, bounds, guess, rest_at_end, reactionless_end,
           effort_weight, max_iter, progress, hessian="objective"):
     """Build and solve the NLP; returns a dict of the plan arrays and the solver's report."""
@@ -58,7 +85,9 @@ def solve(robot, x0, u0, target, point, duration, nodes, substeps, objective, bo
     n, nx, nu = robot.n_dof, robot.nx, robot.nu
     K = nodes
     dt = duration / K
-    step = rk4_step(robot, substeps, torque="linear")
+    # One interval's shooting map on SX (the RK4 stages inlined), mapped over the K intervals:
+    # its derivatives, and the Hessian of the Lagrangian, are built once for one interval.
+    step = rk4_step(robot, substeps, torque="linear").expand().map(K)
     position = point_position(robot, point)
 
     opti = ca.Opti()
@@ -67,17 +96,16 @@ def solve(robot, x0, u0, target, point, duration, nodes, substeps, objective, bo
     TAU = opti.variable(n, K + 1)
     opti.subject_to(X[:, 0] == x0)
     opti.subject_to(U[:, 0] == u0)
-    zero_wrench = ca.DM.zeros(6)
-    cost = 0
-    for k in range(K):
-        x_next, u_next = step(X[:, k], U[:, k], TAU[:, k], TAU[:, k + 1], zero_wrench, dt)
-        opti.subject_to(X[:, k + 1] == x_next)
-        opti.subject_to(U[:, k + 1] == u_next)
-        effort = 0.5 * (ca.sumsqr(TAU[:, k]) + ca.sumsqr(TAU[:, k + 1])) * dt / duration
-        if objective == "effort":
-            cost += effort
-        else:
-            cost += ca.sumsqr(_attitude_error(ca, X[3:7, k + 1], x0[3:7])) * dt / duration + effort_weight * effort
+    x_next, u_next = step(X[:, :K], U[:, :K], TAU[:, :K], TAU[:, 1:], ca.DM.zeros(6, K), ca.DM.ones(1, K) * dt)
+    opti.subject_to(X[:, 1:] == x_next)
+    opti.subject_to(U[:, 1:] == u_next)
+    sq = ca.sum1(TAU ** 2)
+    effort = ca.sum2(0.5 * (sq[:, :K] + sq[:, 1:])) * dt / duration
+    if objective == "effort":
+        cost = effort
+    else:
+        theta = ca.horzcat(*[_attitude_error(ca, X[3:7, k], x0[3:7]) for k in range(1, K + 1)])
+        cost = ca.sumsqr(theta) * dt / duration + effort_weight * effort
     opti.minimize(cost)
     opti.subject_to(position(X[:, K]) == target)
     for j in range(n):
@@ -110,14 +138,28 @@ def solve(robot, x0, u0, target, point, duration, nodes, substeps, objective, bo
         options["hess_lag"] = ca.Function("nlp_hess_l", [opti.x, opti.p, lam_f, lam_g], [hess], ["x", "p", "lam_f", "lam_g"], ["hess_gamma_x_x"])
     opti.solver("ipopt", {**options, "print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.max_iter": int(max_iter),
                           "ipopt.tol": 1e-9, "ipopt.constr_viol_tol": 1e-10})
+    raised = []  # an exception of the progress callback, re-raised once IPOPT has stopped
+
+    def callback(i):
+        try:
+            progress(int(i), float(opti.debug.value(cost)))
+        except BaseException as exc:
+            raised.append(exc)
+            raise
+
     if progress is not None:
-        opti.callback(lambda i: progress(int(i), float(opti.debug.value(cost))))
+        opti.callback(callback)
     start = time.perf_counter()
-    try:
-        sol = opti.solve()
-        value, stats = sol.value, sol.stats()
-    except RuntimeError:  # IPOPT stopped without success: keep its last iterate and report it
-        value, stats = opti.debug.value, opti.debug.stats()
+    with _Interrupts() as interrupts:
+        try:
+            sol = opti.solve()
+            value, stats = sol.value, sol.stats()
+        except RuntimeError:  # IPOPT stopped without success: keep its last iterate and report it
+            value, stats = opti.debug.value, opti.debug.stats()
+    if interrupts.caught:
+        raise KeyboardInterrupt("the plan was interrupted during the IPOPT solve")
+    if raised:
+        raise raised[0]
     elapsed = time.perf_counter() - start
     x = np.ascontiguousarray(np.atleast_2d(np.array(value(X))).T)
     # Unit quaternions at the knots: exact to the constraint tolerance after a successful
@@ -130,7 +172,7 @@ def solve(robot, x0, u0, target, point, duration, nodes, substeps, objective, bo
         "u": u,
         "tau": tau,
         "status": str(stats.get("return_status", "unknown")),
-        "success": bool(stats.get("success", False)),
+        "solver_success": bool(stats.get("success", False)),
         "iterations": int(stats.get("iter_count", -1)),
         "cost": float(value(cost)),
         "solve_time": elapsed,

@@ -29,8 +29,11 @@ class Plan:
 
     ``t`` (K+1,) knot times; ``x`` (K+1, 7+N), ``u`` (K+1, 6+N) and ``tau`` (K+1, N) the
     states and joint torques at the knots, the torque linear between knots. ``status`` is
-    IPOPT's return status and ``success`` whether it converged; a plan that did not converge
-    holds IPOPT's last iterate, which need not satisfy the constraints.
+    IPOPT's return status and ``solver_success`` whether it converged; ``verification`` is the
+    check of the plan by its shooting defect and its re-simulation (:mod:`spacearm.plan.verify`),
+    and ``success`` holds only if both the solver and the check passed (``failure`` says why
+    not). A plan that did not succeed holds IPOPT's last iterate, which need not satisfy the
+    constraints; :func:`~spacearm.plan.point_to_point` warns about it (``PlanCheckWarning``).
     """
 
     robot: Any = field(repr=False)
@@ -42,12 +45,36 @@ class Plan:
     u: np.ndarray
     tau: np.ndarray
     status: str
-    success: bool
+    solver_success: bool
     iterations: int
     cost: float
     solve_time: float  #: s, IPOPT's wall time
     substeps: int  #: RK4 steps per knot interval in the transcription
     warm_start: Any = field(default=None, repr=False)  #: the RMRC Motion used as initial guess, if any
+    verification: Any = field(default=None, repr=False)  #: the check of the plan (``spacearm.plan.verify.Verification``)
+
+    @property
+    def success(self) -> bool:
+        """IPOPT converged and the plan passed its check (defect and re-simulation)."""
+        return bool(self.solver_success and self.verification is not None and self.verification.passed)
+
+    @property
+    def failure(self) -> Optional[str]:
+        """Why the plan is not a success, in words (``None`` if it is)."""
+        if self.success:
+            return None
+        reasons = [] if self.solver_success else [f"IPOPT did not solve it ({self.status} after {self.iterations} iterations)"]
+        if self.verification is None:
+            reasons.append("it was not checked")
+        else:
+            reasons.extend(self.verification.failures)
+        return "; ".join(reasons)
+
+    @property
+    def resimulation(self):
+        """The re-simulation of the check (:meth:`resimulate` with its default gains), a
+        :class:`~spacearm.trajectory.Trajectory`, or ``None`` if it failed."""
+        return None if self.verification is None else self.verification.trajectory
 
     @property
     def duration(self) -> float:
@@ -100,13 +127,17 @@ class Plan:
             raise ArgumentError(f"a plan is saved as .npz, got {path!r}")
         with atomic_open(path, "wb", suffix=".npz") as f:
             np.savez(f, t=self.t, x=self.x, u=self.u, tau=self.tau, target=self.target, objective=self.objective,
-                     status=self.status, success=self.success, iterations=self.iterations, cost=self.cost,
+                     status=self.status, solver_success=self.solver_success, success=self.success,
+                     defect=self.verification.defect if self.verification else np.nan,
+                     resim_point_error=self.verification.point_error if self.verification else np.nan,
+                     resim_attitude_error=self.verification.attitude_error if self.verification else np.nan, iterations=self.iterations, cost=self.cost,
                      robot=self.robot.name)
         return path
 
     def comparison(self):
-        """The plan beside two other ways to make the same move, each over the plan's
-        duration from its initial state: a rest-to-rest quintic joint move to the plan's final
+        """The plan, its re-simulation (the check's: the native simulator under computed torque
+        tracking the plan, :attr:`resimulation`) and two other ways to make the same move, each
+        over the plan's duration from its initial state: a rest-to-rest quintic joint move to the plan's final
         joint configuration (simulated under computed torque) and the RMRC motion to the target
         the plan was warm-started from (reactionless, or minimum-disturbance where the
         reactionless motion cannot reach the target). Returns ``{name: (t, attitude angle, |tau|, point path)}``."""
@@ -116,6 +147,10 @@ class Plan:
 
         robot = self.robot
         out = {f"plan ({self.objective})": (self.t, self.attitude_change, np.linalg.norm(self.tau, axis=1), self.point_position)}
+        resim = self.resimulation
+        if resim is not None:
+            path = np.array([robot.point_position(xk, self.point) for xk in resim.x])
+            out["re-simulation of the plan"] = (resim.t, resim.base_rotation_angle, np.linalg.norm(resim.tau, axis=1), path)
         ref = QuinticJoint(self.x[0][7:], self.x[-1][7:], 0.0, self.duration)
         traj = simulate(robot, self.duration, x0=self.x[0], u0=self.u[0], dt=self.duration / 400, joint_limits=False,
                         controller=ComputedTorque(kp=400.0, kd=40.0, reference=ref))

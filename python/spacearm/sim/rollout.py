@@ -84,6 +84,8 @@ def rollout(
     record_every: int = DEFAULTS["record_every"],
     record_dtype: str = "float64",
     threads: Optional[int] = None,
+    orbit=None,
+    gravity_gradient: Optional[bool] = None,
 ) -> "Rollouts":
     """Simulate ``B`` rollouts of ``robot`` for ``duration`` seconds on native threads.
 
@@ -105,7 +107,7 @@ def rollout(
     plants : list of B Robots, optional
         One plant per rollout, e.g. models perturbed with
         [`spacearm.control.perturbed_model`][spacearm.control.perturbed_model]; they must have the robot's joints.
-    mode, integrator, dt, rtol, atol, wheels, thrusters, joint_limits, max_steps, record_every, record_dtype
+    mode, integrator, dt, rtol, atol, wheels, thrusters, joint_limits, max_steps, record_every, record_dtype, orbit, gravity_gradient
         As for [`spacearm.simulate`][spacearm.simulate], the same for every rollout. ``record_every`` (RK4)
         and ``record_dtype="float32"`` keep the records small: with ``record_every`` at least
         the number of steps only the initial and final samples are kept.
@@ -128,6 +130,7 @@ def rollout(
     options = _options(
         robot, mode=mode, integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=wheels, thrusters=thrusters,
         record_every=record_every, joint_limits=joint_limits, max_steps=max_steps, record_dtype=record_dtype,
+        orbit=orbit, gravity_gradient=gravity_gradient,
     )
     if threads is not None and (isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1):
         raise ArgumentError(f"threads must be None or an integer >= 1, got {threads!r}")

@@ -111,7 +111,7 @@ def _check_controller(controller, what: str = "controller"):
 
 
 def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, record_every, joint_limits, max_steps, record_dtype,
-             progress=None) -> _core.RunOptions:
+             progress=None, orbit=None, gravity_gradient=None) -> _core.RunOptions:
     """The options of the core's simulation entry points (``_core.simulate``, ``_core.rollout``,
     ``_core.Simulator``), every value checked; ``progress``: None or a callable(fraction)."""
     if not isinstance(mode, str) or mode not in MODES:
@@ -138,7 +138,22 @@ def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, reco
         max_steps=int(max_steps),
         progress=progress,
         record_dtype=record_dtype,
+        orbit=orbit,
+        gravity_gradient=gravity_gradient,
     )
+
+
+def orbit_meta(options: _core.RunOptions) -> dict:
+    """The orbit of a run for ``Trajectory.meta`` (plain data, JSON): the body's constants, J2
+    on or off, the gravity gradient, the ECI state and osculating elements at t = 0."""
+    orbit = options.orbit
+    el = orbit.elements()
+    return {
+        "mu": orbit.body.mu, "radius": orbit.body.radius, "j2_coefficient": orbit.body.j2, "j2": orbit.j2,
+        "gravity_gradient": options.gravity_gradient, "r0_eci": orbit.r0.tolist(), "v0_eci": orbit.v0.tolist(),
+        "elements": {"a": el.a, "e": el.e, "i": el.i, "raan": el.raan, "argp": el.argp, "true_anomaly": el.true_anomaly},
+        "period": orbit.period, "mean_motion": orbit.mean_motion,
+    }
 
 
 def _warn_dropped(mode: str, meta: dict, stacklevel: int) -> None:
@@ -186,6 +201,8 @@ def _run(
     joint_limits: bool = DEFAULTS["joint_limits"],
     max_steps: int = DEFAULTS["max_steps"],
     record_dtype: str = "float64",
+    orbit=None,
+    gravity_gradient: Optional[bool] = None,
 ):
     """The simulation proper: ``(data, meta)`` dicts of numpy arrays and run description."""
     _check_robot(robot, "simulate")
@@ -193,6 +210,7 @@ def _run(
     option_args = dict(
         mode=mode, integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=wheels, thrusters=thrusters,
         record_every=record_every, joint_limits=joint_limits, max_steps=max_steps, record_dtype=record_dtype,
+        orbit=orbit, gravity_gradient=gravity_gradient,
     )
     options = _options(robot, **option_args)
     x0 = robot.neutral_configuration() if x0 is None else vector(x0, "x0")
@@ -215,6 +233,8 @@ def _run(
     meta = result.meta.to_dict()
     meta["duration"] = duration
     meta["robot"] = robot.name
+    if orbit is not None:
+        meta["orbit"] = orbit_meta(options)
     _warn_dropped(mode, meta, stacklevel=3)
     _warn_unreachable(meta, stacklevel=3)
     return data, meta
@@ -239,6 +259,8 @@ def simulate(
     joint_limits: bool = DEFAULTS["joint_limits"],
     max_steps: int = DEFAULTS["max_steps"],
     record_dtype: str = "float64",
+    orbit=None,
+    gravity_gradient: Optional[bool] = None,
 ):
     """Simulate ``robot`` for ``duration`` seconds and return a [`Trajectory`][spacearm.Trajectory].
 
@@ -282,6 +304,16 @@ def simulate(
     record_dtype : str
         ``"float64"`` (default) or ``"float32"``: the dtype of the recorded arrays (half the
         memory; the time ``t`` stays float64). The run itself is float64 either way.
+    orbit : spacearm.Orbit, optional
+        Run in orbit (docs/orbit.md): the origin of the run's frame follows ``orbit`` (point
+        mass, two-body + J2) with ECI's axes; ``x``, ``u`` stay relative to it (start with the
+        system CM at the origin and zero momentum for the CM to ride the orbit; an offset or a
+        momentum puts the CM on a neighbouring orbit, its relative motion in ``com``). Adds the
+        records ``r_cm_eci``, ``v_cm_eci``, ``gravity_wrench`` and ``meta["orbit"]``.
+    gravity_gradient : bool, optional
+        With ``orbit``: whether the tidal force and torque act on every body (default ``True``).
+        The mode's conserved momenta are then monitored as balances (``meta["drift"]``: the
+        residual of change = integral of the tidal wrenches).
 
     Returns
     -------
@@ -324,6 +356,8 @@ def simulate(
         joint_limits=joint_limits,
         max_steps=max_steps,
         record_dtype=record_dtype,
+        orbit=orbit,
+        gravity_gradient=gravity_gradient,
     )
     from .trajectory import Trajectory
 

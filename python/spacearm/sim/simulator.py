@@ -49,6 +49,8 @@ class Simulator:
         fastest stepping).
     record_dtype : str
         ``"float64"`` or ``"float32"`` for [`trajectory`][spacearm.Simulator.trajectory]'s arrays.
+    orbit, gravity_gradient
+        As for [`spacearm.simulate`][spacearm.simulate] (docs/orbit.md).
 
     Notes
     -----
@@ -69,6 +71,8 @@ class Simulator:
         joint_limits: bool = DEFAULTS["joint_limits"],
         record_every: Optional[int] = None,
         record_dtype: str = "float64",
+        orbit=None,
+        gravity_gradient: Optional[bool] = None,
     ):
         _check_robot(robot, "Simulator")
         _check_controller(controller)
@@ -79,6 +83,7 @@ class Simulator:
         options = _options(
             robot, mode=mode, integrator=integrator, dt=dt, rtol=DEFAULTS["rtol"], atol=DEFAULTS["atol"], wheels=wheels,
             thrusters=thrusters, record_every=1, joint_limits=joint_limits, max_steps=DEFAULTS["max_steps"], record_dtype=record_dtype,
+            orbit=orbit, gravity_gradient=gravity_gradient,
         )
         spec = None if controller is None else controller._spec(robot)
         self._robot = robot

@@ -44,7 +44,7 @@ FILE_FORMAT = "spacearm.Trajectory/1"
 _REQUIRED = ("t", "x", "u")
 _PER_SAMPLE = (
     "t", "x", "u", "du", "tau", "tau_cmd", "base_wrench", "P", "L_origin", "L_com", "energy", "com",
-    "ee_position", "ee_quat", "reference", "tracking_error", "wheel_speed",
+    "ee_position", "ee_quat", "reference", "tracking_error", "wheel_speed", "r_cm_eci", "v_cm_eci", "gravity_wrench",
 )
 _EVENTS = ("saturation_t", "saturation_actuator", "saturation_kind")
 # Dtypes of a run's records adopted without conversion (a run may record float32).
@@ -375,6 +375,34 @@ class Trajectory:
         return self._get("wheel_speed", "the run had no reaction wheels")
 
     @property
+    def r_cm_eci(self) -> np.ndarray:
+        """An orbital run's system CM in ECI ``(K, 3)``, m: the orbit's point plus [`com`][spacearm.Trajectory.com]
+        (docs/orbit.md)."""
+        return self._get("r_cm_eci", "the run was not in orbit (simulate(..., orbit=spacearm.Orbit...))")
+
+    @property
+    def v_cm_eci(self) -> np.ndarray:
+        """An orbital run's system CM velocity in ECI ``(K, 3)``, m/s."""
+        return self._get("v_cm_eci", "the run was not in orbit (simulate(..., orbit=spacearm.Orbit...))")
+
+    @property
+    def gravity_wrench(self) -> np.ndarray:
+        """An orbital run's total tidal wrench ``(K, 6)``: force (N) and torque about the origin
+        of the run's frame (N·m), zeros with ``gravity_gradient=False``."""
+        return self._get("gravity_wrench", "the run was not in orbit (simulate(..., orbit=spacearm.Orbit...))")
+
+    def attitude_lvlh(self) -> np.ndarray:
+        """The base attitude relative to the LVLH frame of the system CM's orbit, ``(K, 3, 3)``
+        rotation matrices base → LVLH (LVLH: x radial, y along-track, z orbit normal;
+        docs/orbit.md). Orbital runs only."""
+        from ..orbit import Orbit
+        from ..rotations import quat_to_matrix
+
+        lvlh = Orbit.lvlh_to_eci(np.asarray(self.r_cm_eci, dtype=float), np.asarray(self.v_cm_eci, dtype=float))
+        base = quat_to_matrix(np.asarray(self.x[:, 3:7], dtype=float))
+        return np.einsum("kji,kjl->kil", lvlh, base)
+
+    @property
     def saturation_events(self) -> List[SaturationEvent]:
         """Every step at which an actuator hit its limit, in time order."""
         if "saturation_t" not in self._data:
@@ -428,7 +456,7 @@ class Trajectory:
         initial value is smaller (e.g. zero momentum): the core's drift scale
         ([`Robot.momentum_scales`][spacearm.Robot.momentum_scales], the sums over the bodies of their own contributions'
         norms), its largest value over the recorded states — what the simulator records as
-        ``meta["drift_scales"]``. ``energy`` → the largest kinetic energy. Without a robot the
+        ``meta["drift_scales"]``. ``energy`` → the largest mechanical energy (kinetic plus the joint springs'). Without a robot the
         momentum scales are 0.
         """
         columns = {"P": 0, "L_origin": 1, "L_com": 2, "energy": 3}

@@ -26,50 +26,65 @@ def _save(fig, path):
     return fig
 
 
-def _shade(ax, result, labelled: bool):
-    """Background colour per phase (after the approach), with legend labels if ``labelled``."""
+def _shade(ax, result):
+    """Background colour per phase (after the approach); returns the phases shaded, for the key."""
     t, phase = result.t, result.phase
+    shaded = []
     for k, name in enumerate(result.phase_names):
         idx = np.nonzero(phase == k)[0]
         if idx.size and k > 0:
-            ax.axvspan(t[idx[0]], t[idx[-1]], color=_PHASE_COLOURS[k], alpha=0.8, lw=0, label=name if labelled else None)
+            ax.axvspan(t[idx[0]], t[idx[-1]], color=_PHASE_COLOURS[k], alpha=0.8, lw=0)
+            shaded.append(k)
+    return shaded
+
+
+def _name_lines(ax, fontsize=7):
+    """Each line's label in its colour, stacked in the axes' upper right corner (direct labels:
+    a legend's box packing cost more than the rest of the panel, benchmarks/README.md)."""
+    for k, line in enumerate(ax.get_lines()):
+        ax.annotate(line.get_label(), xy=(1.0, 1.0), xycoords="axes fraction", xytext=(-4, -3 - 1.2 * fontsize * k),
+                    textcoords="offset points", ha="right", va="top", color=line.get_color(), fontsize=fontsize)
 
 
 def plot_capture(result, path=None):
     """Four panels against time, phases shaded (capture orange, post-capture green, detumble
-    blue): the momentum ledger's change ``P − P(0)`` and ``L − L(0)`` of robot + target; the base
-    angular velocity; the joint torques; the grasp force and moment."""
-    # A fixed layout, fixed legend corners and fixed title positions (y=1.0): constrained layout,
-    # loc="best" (which scans every plotted point) and the automatic title placement took most of
-    # the figure's time for a 3,000-sample run (benchmarks/README.md, "Profiler history").
+    blue; the key above the panels): the momentum ledger's change ``P − P(0)`` and ``L − L(0)``
+    of robot + target; the base angular velocity; the joint torques; the grasp force and moment.
+    Each line is named in its colour in the panel's upper right corner."""
+    # What the figure's time goes to is matplotlib's per-artist work (benchmarks/README.md,
+    # "Profiler history"): a fixed layout and title positions (y=1.0), direct labels instead of
+    # legends, at most 5 y ticks, no x axis on the upper panels (they share the lower ones'),
+    # plain log tick labels, and one figure-level key of the phases.
+    ticker = require("matplotlib.ticker", "figures")
+    Patch = require("matplotlib.patches", "figures").Patch
     fig = _figure(9.0, 7.0, layout=None)
-    fig.subplots_adjust(left=0.09, right=0.98, bottom=0.08, top=0.95, wspace=0.25, hspace=0.18)
+    fig.subplots_adjust(left=0.09, right=0.98, bottom=0.08, top=0.93, wspace=0.25, hspace=0.18)
     axes = fig.subplots(2, 2, sharex=True)
     t = result.t
     (a0, a1), (a2, a3) = axes
+    for ax in (a0, a1):
+        ax.xaxis.set_visible(False)
     for ax in axes.ravel():
-        _shade(ax, result, labelled=ax is a0)
+        shaded = _shade(ax, result)
+        ax.yaxis.set_major_locator(ticker.MaxNLocator(4))
     dP = np.linalg.norm(result.P - result.P[0], axis=1)
     dL = np.linalg.norm(result.L - result.L[0], axis=1)
     a0.semilogy(t, np.maximum(dP, 1e-18), label="|P − P(0)| [N s]")
     a0.semilogy(t, np.maximum(dL, 1e-18), label="|L − L(0)| [N m s]")
     # Plain "1e-10" tick labels on the log axis (mathtext labels cost a parse each).
-    ticker = require("matplotlib.ticker", "figures")
+    a0.yaxis.set_major_locator(ticker.LogLocator(numticks=5))
     a0.yaxis.set_major_formatter(ticker.LogFormatter(labelOnlyBase=True))
     a0.yaxis.set_minor_locator(ticker.NullLocator())
     a0.set_title(f"momentum ledger, robot + target ({result.mode})", fontsize=9, y=1.0)
     a0.set_ylabel("change [N s], [N m s]")
-    a0.legend(fontsize=7, loc="upper right")
     w0 = result.u[:, 3:6]
     for k, c in enumerate("xyz"):
         a1.plot(t, w0[:, k], label=f"ω0{c}")
     a1.set_title("base angular velocity", fontsize=9, y=1.0)
     a1.set_ylabel("ω0 [rad/s]")
-    a1.legend(fontsize=7, loc="upper right")
     if result.tau.size:
         for k, name in enumerate(result.robot.joint_names):
             a2.plot(t, result.tau[:, k], lw=0.8, label=name)
-        a2.legend(fontsize=6, ncol=2, loc="upper right")
     a2.set_title("joint torques", fontsize=9, y=1.0)
     a2.set_ylabel("τ [N m]")
     a2.set_xlabel("t [s]")
@@ -78,7 +93,11 @@ def plot_capture(result, path=None):
     a3.set_title("wrench holding the target", fontsize=9, y=1.0)
     a3.set_ylabel("|f| [N], |n| [N m]")
     a3.set_xlabel("t [s]")
-    a3.legend(fontsize=7, loc="upper right")
+    for ax in axes.ravel():
+        _name_lines(ax, fontsize=6 if ax is a2 else 7)
+    if shaded:
+        fig.legend([Patch(color=_PHASE_COLOURS[k]) for k in shaded], [result.phase_names[k] for k in shaded],
+                   loc="upper center", bbox_to_anchor=(0.5, 1.0), ncol=len(shaded), fontsize=7, frameon=False)
     return _save(fig, path)
 
 

@@ -45,8 +45,11 @@ def figure_format(path) -> str:
 
 def save_figure(fig, path, *, dpi: int = 130, **savefig) -> str:
     """Write ``fig`` to ``path`` in the format its suffix names (``figure_format``),
-    atomically; returns the path."""
+    atomically; returns the path. A PNG is deflated at zlib level 1 (Pillow's default 6 took
+    about twice the time for a file some 10 % smaller; benchmarks/README.md)."""
     fmt = figure_format(path)
+    if fmt == "png":
+        savefig.setdefault("pil_kwargs", {"compress_level": 1})
     path = os.fspath(path)
     with atomic_path(path, suffix="." + fmt) as tmp:
         fig.savefig(tmp, format=fmt, dpi=dpi, **savefig)

@@ -29,34 +29,36 @@ pub fn aba<'d>(
     for w in external {
         w.check(model)?;
     }
-    aba_passes_1_2(model, data, u, f, external)?;
+    aba_passes_1_2(model, data, &x[7..], u, f, external)?;
     aba_pass_3(model, data, u, f)?;
     Ok(&data.accel)
 }
 
-/// ABA on the kinematics already in `data` (forward kinematics done by the caller, `u` and `f`
-/// checked): the simulator computes the system CM from the same kinematics before choosing the
+/// ABA on the kinematics already in `data` (forward kinematics done by the caller at the joint
+/// coordinates `q`, `u` and `f` checked; the joints' passive force at `(q, q̇)` is added to `f`,
+/// [`crate::algorithms::passive`]): the simulator computes the system CM from the same kinematics before choosing the
 /// base wrench, so it runs forward kinematics once per stage. Fills `data.accel`. Any scalar:
 /// the one implementation behind [`aba`] and the recorded forward dynamics of [`crate::taped`].
-pub(crate) fn aba_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>, u: &[T], f: &[T]) -> Result<()> {
-    aba_passes_1_2(model, data, u, f, &[])?;
+pub(crate) fn aba_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>, q: &[T], u: &[T], f: &[T]) -> Result<()> {
+    aba_passes_1_2(model, data, q, u, f, &[])?;
     aba_pass_3(model, data, u, f)
 }
 
 /// [`aba_after_kinematics`] with external wrenches on bodies (checked by the caller): the
 /// simulator's plant under a coupling wrench ([`crate::sim::soft_capture`]).
-pub(crate) fn aba_with_wrenches_after_kinematics(model: &Model, data: &mut Data, u: &[f64], f: &[f64], external: &[ExternalWrench]) -> Result<()> {
-    aba_passes_1_2(model, data, u, f, external)?;
+pub(crate) fn aba_with_wrenches_after_kinematics(model: &Model, data: &mut Data, q: &[f64], u: &[f64], f: &[f64], external: &[ExternalWrench]) -> Result<()> {
+    aba_passes_1_2(model, data, q, u, f, external)?;
     aba_pass_3(model, data, u, f)
 }
 
 /// ABA passes 1 and 2 on the kinematics already in `data`, inputs checked: body velocities,
-/// articulated inertias and bias forces folded down to the base.
+/// articulated inertias and bias forces folded down to the base. The joint force of each
+/// degree of freedom is `f[6 + d]` plus its passive force at `(q, q̇)`.
 ///
 /// Generic over the scalar; its one value test (`D > 0` relative to the size of `Iᴬ`) is a
 /// validity check that holds at every state of a valid model, so a recorded tape
 /// ([`crate::math::tape`]) takes the branch every state takes.
-fn aba_passes_1_2<T: Real>(model: &Model, data: &mut DataT<T>, u: &[T], f: &[T], external: &[ExternalWrench]) -> Result<()> {
+fn aba_passes_1_2<T: Real>(model: &Model, data: &mut DataT<T>, q: &[T], u: &[T], f: &[T], external: &[ExternalWrench]) -> Result<()> {
     velocity_pass(model, data, u);
     let nb = model.n_bodies();
     // Pass 1: articulated inertias start as rigid-body inertias, bias forces as gyroscopic
@@ -88,7 +90,11 @@ fn aba_passes_1_2<T: Real>(model: &Model, data: &mut DataT<T>, u: &[T], f: &[T],
                         d_scalar.value()
                     )));
                 }
-                let small_u = f[6 + d] - dot6(&s, &pa);
+                let mut small_u = f[6 + d] - dot6(&s, &pa);
+                if model.has_passive_forces() {
+                    let jd = &model.dof_dynamics()[d];
+                    small_u -= (q[d] - T::c(jd.rest)) * T::c(jd.stiffness) + u[6 + d] * T::c(jd.damping);
+                }
                 data.aba_u[b] = u_vec;
                 data.aba_d[b] = d_scalar;
                 data.aba_small_u[b] = small_u;

@@ -26,6 +26,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
 
 use crate::algorithms::crba::crba_after_kinematics;
 use crate::algorithms::kinematics::{check_body, check_velocity, forward_kinematics, joint_jacobian_of_point, point_position, BodyPoint};
+use crate::algorithms::passive::add_joint_passive_forces;
 use crate::algorithms::rnea::rnea_after_kinematics;
 use crate::error::{check_finite, Result, SpacearmError};
 use crate::math::rotations::rotation_vector;
@@ -41,12 +42,14 @@ pub struct ConstrainedDynamics {
     pub lambda: DVector<f64>,
 }
 
-/// [`constrained_forward_dynamics`] on the kinematics already in `data` (inputs checked): the
-/// simulator's constrained plant. Leaves `c` in `data.tau`, `H` in `data.mass_matrix` and the
+/// [`constrained_forward_dynamics`] on the kinematics already in `data` at the joint coordinates
+/// `q` (inputs checked; the joints' passive force at `(q, q̇)` added to `f`,
+/// [`crate::algorithms::passive`]): the simulator's constrained plant. Leaves `c` in `data.tau`, `H` in `data.mass_matrix` and the
 /// body velocities at `u`.
 pub(crate) fn constrained_forward_dynamics_after_kinematics(
     model: &Model,
     data: &mut Data,
+    q: &[f64],
     u: &[f64],
     f: &[f64],
     jacobian: &DMatrix<f64>,
@@ -55,7 +58,8 @@ pub(crate) fn constrained_forward_dynamics_after_kinematics(
     rnea_after_kinematics(model, data, u, None, &[]);
     crba_after_kinematics(model, data, true)?;
     let chol = data.mass_matrix.clone().cholesky().ok_or_else(|| SpacearmError::Singular("the mass matrix H".into()))?;
-    let rhs = DVector::from_fn(model.nu(), |i, _| f[i] - data.tau[i]);
+    let mut rhs = DVector::from_fn(model.nu(), |i, _| f[i] - data.tau[i]);
+    add_joint_passive_forces(model, q, &u[6..], &mut rhs.as_mut_slice()[6..]);
     let a0 = chol.solve(&rhs);
     let y = chol.solve(&jacobian.transpose()); // H⁻¹ Jᵀ
     let schur = jacobian * &y;
@@ -90,7 +94,7 @@ pub fn constrained_forward_dynamics(
     }
     check_finite("constraint Jacobian", jacobian.as_slice())?;
     check_finite("gamma", gamma)?;
-    constrained_forward_dynamics_after_kinematics(model, data, u, f, jacobian, &DVector::from_column_slice(gamma))
+    constrained_forward_dynamics_after_kinematics(model, data, &x[7..], u, f, jacobian, &DVector::from_column_slice(gamma))
 }
 
 /// Two frames welded at their relative pose (module docs).

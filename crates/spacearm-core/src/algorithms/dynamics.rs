@@ -1,4 +1,4 @@
-//! Forward dynamics through the mass matrix, `u̇ = H⁻¹ (f + Jᵀ w_ext − c)` (the O(N³) route,
+//! Forward dynamics through the mass matrix, `u̇ = H⁻¹ (f + Q_passive + Jᵀ w_ext − c)` (the O(N³) route,
 //! independent of the articulated-body recursion in [`crate::algorithms::aba`]).
 
 use nalgebra::{DMatrix, DVector};
@@ -8,6 +8,7 @@ use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
 use crate::algorithms::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
+use crate::algorithms::passive::add_joint_passive_forces;
 use crate::algorithms::rnea::rnea_after_kinematics;
 use crate::algorithms::wrench::ExternalWrench;
 
@@ -42,6 +43,7 @@ pub fn compute_forward_dynamics_via_mass_matrix<'d>(
     for i in 0..nu {
         data.accel[i] = f[i] - data.tau[i];
     }
+    add_joint_passive_forces(model, &x[7..], &u[6..], &mut data.accel.as_mut_slice()[6..]);
     chol.solve_mut(&mut data.accel);
     data.factor = chol.unpack_dirty();
     Ok(&data.accel)

@@ -156,6 +156,82 @@ pub fn impulse_dynamics(
     Ok(ImpulseDynamics { u_after: &u + &du, du, impulse, delassus: r.delassus, locking_impulse })
 }
 
+/// The inverse inertia at a point of `model` (docs/capture.md, "The grasp impact"): an impulse
+/// `Λ = [f̂; n̂]` (in 𝒥) at the body point `point` changes the point's twist `[v; ω]` by `G Λ`,
+/// `G = J_m H_m⁻¹ J_mᵀ` (6×6) with `J = [J_0X, J_mX]` the point's Jacobian (eqs. 104–108) over
+/// the coordinates that may jump (all of `u`, or the base's six with the joints locked:
+/// `J_0X H0⁻¹ J_0Xᵀ`). The contact response of the point's six rows ([`contact_response`]).
+pub fn point_inverse_inertia(model: &Model, data: &mut Data, x: &[f64], point: BodyPoint, joints: JointsAtImpact) -> Result<Matrix6<f64>> {
+    Ok(matrix6(&point_response(model, data, x, point, joints)?.1.delassus))
+}
+
+/// The point's Jacobian `[J_0X, J_mX]` (6 × (6+N)) at `x` and the model's response through it.
+fn point_response(model: &Model, data: &mut Data, x: &[f64], point: BodyPoint, joints: JointsAtImpact) -> Result<(DMatrix<f64>, ContactResponse)> {
+    check_body(model, point.body)?;
+    check_finite("the point's offset", point.offset.as_slice())?;
+    let h = crba(model, data, x)?.clone(); // (runs the forward kinematics the Jacobian needs)
+    let j = jacobian_of(model, data, point.body, &point.offset)?;
+    let r = response_from(&h, &j, joints)?;
+    Ok((j, r))
+}
+
+/// Yoshida's virtual mass at `point` along `direction` (kg; Yoshida et al. 2004):
+/// `1 / (nᵀ G_vv n)`, `n` the unit `direction` (in 𝒥) and `G_vv` the translational block of
+/// [`point_inverse_inertia`]: the mass a collision along `n` at the point feels.
+pub fn virtual_mass(model: &Model, data: &mut Data, x: &[f64], point: BodyPoint, direction: &Vector3<f64>, joints: JointsAtImpact) -> Result<f64> {
+    let norm = direction.norm();
+    if !(norm.is_finite() && norm >= 1e-12) {
+        return Err(SpacearmError::argument(format!("direction must be a non-zero finite 3-vector, got {:?}", direction.as_slice())));
+    }
+    let n = direction / norm;
+    let g = point_inverse_inertia(model, data, x, point, joints)?;
+    let g_vv: Matrix3<f64> = g.fixed_view::<3, 3>(0, 0).into_owned();
+    Ok(1.0 / n.dot(&(g_vv * n)))
+}
+
+/// What [`impulse_momentum_split`] returns: where an impulse's momentum goes, about the base CM
+/// (`[P; L_base]`, eq. 42), `base + arm == total == J_0Xᵀ Λ`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MomentumSplit {
+    /// `H0 Δẋ0`: the momentum the base's own jump carries.
+    pub base: Vector6<f64>,
+    /// `H0m Δq̇`: the coupling momentum the joints take up.
+    pub arm: Vector6<f64>,
+    /// `J_0Xᵀ Λ`: the impulse's momentum about the base CM.
+    pub total: Vector6<f64>,
+    /// `B` with `Δẋ0 = B Λ` (the base rows of `H⁻¹ Jᵀ`): impulses in its null space leave the
+    /// base still (the reaction null space at impact, Nenchev & Yoshida 1999).
+    pub base_jump_map: Matrix6<f64>,
+    /// The singular values of `B`, largest first: a zero one means a reaction-null impulse
+    /// direction exists.
+    pub base_jump_singular_values: Vector6<f64>,
+}
+
+/// How the impulse `Λ` (`[f̂; n̂]` in 𝒥) at `point` divides between the base and the arm, the
+/// joints free (impedance matching, Yoshida et al. 2004): `Δu = H⁻¹ Jᵀ Λ`, the base's jump
+/// `Δẋ0` carries `H0 Δẋ0`, the joints' jump `Δq̇` the coupling momentum `H0m Δq̇`.
+pub fn impulse_momentum_split(model: &Model, data: &mut Data, x: &[f64], point: BodyPoint, impulse: &Vector6<f64>) -> Result<MomentumSplit> {
+    check_finite("impulse", impulse.as_slice())?;
+    let (j, r) = point_response(model, data, x, point, JointsAtImpact::Free)?;
+    let lam = DVector::from_column_slice(impulse.as_slice());
+    let du = &r.response * &lam;
+    let h = &r.mass_matrix;
+    let n = model.n_dof();
+    let base = h.view((0, 0), (6, 6)) * du.rows(0, 6);
+    let arm = h.view((0, 6), (6, n)) * du.rows(6, n);
+    let total = j.columns(0, 6).transpose() * &lam;
+    let b = Matrix6::from_fn(|i, k| r.response[(i, k)]);
+    let mut sv = b.singular_values();
+    sv.as_mut_slice().sort_by(|a, c| c.total_cmp(a));
+    Ok(MomentumSplit {
+        base: Vector6::from_column_slice(base.as_slice()),
+        arm: Vector6::from_column_slice(arm.as_slice()),
+        total: Vector6::from_column_slice(total.as_slice()),
+        base_jump_map: b,
+        base_jump_singular_values: sv,
+    })
+}
+
 fn check_restitution(e: f64) -> Result<()> {
     if !(0.0..=1.0).contains(&e) {
         return Err(SpacearmError::argument(format!("restitution must be in [0, 1], got {e}")));
@@ -460,6 +536,81 @@ mod tests {
         let before = total(&robot, &x, &u, &tgt, &xt, &ut);
         let after = total(&robot, &x, g.u_after.as_slice(), &tgt, &xt, g.target_u_after.as_slice());
         (g, [before, after])
+    }
+
+    #[test]
+    fn the_inverse_inertia_at_a_point_is_the_point_acceleration_aba_gives_an_impulse_from_rest() {
+        // Independent of CRBA + Cholesky: from rest (no bias forces in space) the generalized
+        // impulse Jᵀ Λ gives Δu = ABA(x, 0, Jᵀ Λ), and the point's twist jumps by J Δu = G Λ.
+        let robot = spatial6();
+        let (x, _) = state(&robot);
+        let p = ee(&robot);
+        let mut d = Data::new(&robot);
+        let g = point_inverse_inertia(&robot, &mut d, &x, p, JointsAtImpact::Free).unwrap();
+        let j = jacobian_of(&robot, &d, p.body, &p.offset).unwrap();
+        let zero = vec![0.0; robot.nu()];
+        for k in 0..6 {
+            let mut lam = DVector::zeros(6);
+            lam[k] = 1.0 + 0.3 * k as f64;
+            let f = j.transpose() * &lam;
+            let du = crate::algorithms::aba::aba(&robot, &mut Data::new(&robot), &x, &zero, f.as_slice(), &[]).unwrap().clone();
+            let want = &j * du;
+            let got = g * Vector6::from_column_slice(lam.as_slice());
+            assert!((got - Vector6::from_column_slice(want.as_slice())).norm() < 1e-12 * want.norm(), "column {k}");
+        }
+        // G is symmetric positive definite; the locked arm is stiffer (G_locked ≤ G_free).
+        assert!((g - g.transpose()).norm() < 1e-14 * g.norm());
+        let gl = point_inverse_inertia(&robot, &mut d, &x, p, JointsAtImpact::Locked).unwrap();
+        assert!((g - gl).symmetric_eigenvalues().min() > -1e-12 * g.norm());
+        // Yoshida's virtual mass along n: 1 / (nᵀ G_vv n), any length of n.
+        let n = Vector3::new(0.3, -0.5, 0.8);
+        let m = virtual_mass(&robot, &mut d, &x, p, &(2.0 * n), JointsAtImpact::Free).unwrap();
+        let u = n.normalize();
+        assert!((m * u.dot(&(g.fixed_view::<3, 3>(0, 0) * u)) - 1.0).abs() < 1e-13);
+        assert!(virtual_mass(&robot, &mut d, &x, p, &Vector3::zeros(), JointsAtImpact::Free).is_err());
+    }
+
+    #[test]
+    fn a_rigid_body_s_inverse_inertia_is_the_closed_form() {
+        // One rigid body (mass m, inertia I about its CM, identity attitude), point r from the CM:
+        // Δv_X = f / m + (I⁻¹ (n + r × f)) × r, Δω = I⁻¹ (n + r × f).
+        let body = target();
+        let x = [0.2, -0.1, 0.4, 0.0, 0.0, 0.0, 1.0];
+        let r = Vector3::new(-0.5, 0.2, 0.1);
+        let i_inv = Matrix3::new(4.0, 0.1, 0.0, 0.1, 5.0, 0.0, 0.0, 0.0, 6.0).try_inverse().unwrap();
+        for joints in [JointsAtImpact::Free, JointsAtImpact::Locked] {
+            let g = point_inverse_inertia(&body, &mut Data::new(&body), &x, BodyPoint { body: 0, offset: r }, joints).unwrap();
+            for k in 0..6 {
+                let mut lam = Vector6::zeros();
+                lam[k] = 1.0;
+                let (f, n) = (lam.fixed_rows::<3>(0).into_owned(), lam.fixed_rows::<3>(3).into_owned());
+                let dw = i_inv * (n + r.cross(&f));
+                let dv = f / 50.0 + dw.cross(&r);
+                let want = Vector6::new(dv.x, dv.y, dv.z, dw.x, dw.y, dw.z);
+                assert!((g * lam - want).norm() < 1e-14, "column {k}: {:?} vs {want:?}", g * lam);
+            }
+        }
+    }
+
+    #[test]
+    fn an_impulse_s_momentum_splits_into_the_base_s_and_the_arm_s_shares() {
+        let robot = spatial6();
+        let (x, _) = state(&robot);
+        let p = ee(&robot);
+        let lam = Vector6::new(1.0, -2.0, 0.5, 0.1, 0.3, -0.2);
+        let mut d = Data::new(&robot);
+        let s = impulse_momentum_split(&robot, &mut d, &x, p, &lam).unwrap();
+        assert!((s.base + s.arm - s.total).norm() < 1e-12 * s.total.norm());
+        assert!(s.arm.norm() > 1e-3 * s.total.norm(), "the arm takes a share");
+        // B Λ is the base's jump that ABA gives the generalized impulse Jᵀ Λ from rest.
+        let j = jacobian_of(&robot, &d, p.body, &p.offset).unwrap();
+        let f = j.transpose() * DVector::from_column_slice(lam.as_slice());
+        let du = crate::algorithms::aba::aba(&robot, &mut Data::new(&robot), &x, &vec![0.0; robot.nu()], f.as_slice(), &[]).unwrap().clone();
+        let want = Vector6::from_column_slice(&du.as_slice()[..6]);
+        assert!((s.base_jump_map * lam - want).norm() < 1e-12 * want.norm());
+        let sv = s.base_jump_singular_values;
+        assert!(sv.iter().zip(sv.iter().skip(1)).all(|(a, b)| a >= b) && sv[5] >= 0.0);
+        assert!(impulse_momentum_split(&robot, &mut d, &x, p, &Vector6::repeat(f64::NAN)).is_err());
     }
 
     #[test]

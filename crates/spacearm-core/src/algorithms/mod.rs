@@ -3,7 +3,7 @@
 //! forward kinematics and Jacobians ([`kinematics`]), impulse dynamics ([`impulse`]), forward
 //! dynamics under constraints and the loop closure ([`constrained`]), the paper-form inertia blocks
 //! ([`inertia`], eqs. 27–36), CRBA ([`crba`]), RNEA ([`rnea`]), ABA ([`aba`]), forward
-//! dynamics through `H` ([`dynamics`]), momentum and energy ([`momentum`]) and external
+//! dynamics through `H` ([`dynamics`]), momentum and energy ([`momentum`]), the joints' springs and dampers ([`passive`]) and external
 //! wrenches ([`wrench`]).
 //!
 //! Imports: [`crate::math`], [`crate::model`] and [`crate::error`].
@@ -16,5 +16,6 @@ pub mod impulse;
 pub mod inertia;
 pub mod kinematics;
 pub mod momentum;
+pub mod passive;
 pub mod rnea;
 pub mod wrench;

@@ -66,8 +66,8 @@ pub fn momentum_from_data(model: &Model, data: &Data) -> Momentum {
 
 /// The magnitudes against which the drift of a conserved quantity is measured
 /// ([`conserved_drift`]): the sums over the bodies of their own contributions' norms,
-/// `Σ |pᵢ|`, `Σ (|rᵢ × pᵢ| + |Iᵢ ωᵢ|)` about the origin and about the system CM, and the kinetic
-/// energy (a sum of non-negative terms). A sum of norms bounds the norm of the sum and does not
+/// `Σ |pᵢ|`, `Σ (|rᵢ × pᵢ| + |Iᵢ ωᵢ|)` about the origin and about the system CM, and the
+/// mechanical energy, kinetic plus the joint springs' (a sum of non-negative terms). A sum of norms bounds the norm of the sum and does not
 /// cancel when the total is zero, so the relative drift stays meaningful for a system at zero
 /// momentum (docs/simulation-core.md, "Records and meta").
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -78,7 +78,9 @@ pub struct MomentumScales {
     pub angular_about_origin: f64,
     /// The same about the system CM, N·m·s.
     pub angular_about_com: f64,
-    /// Kinetic energy, J.
+    /// Mechanical energy: kinetic plus the joint springs' potential energy
+    /// ([`crate::algorithms::passive`]; [`momentum_scales_from_data`] has no `q` and gives the
+    /// kinetic part alone), J.
     pub energy: f64,
 }
 
@@ -95,7 +97,8 @@ impl MomentumScales {
 }
 
 /// [`MomentumScales`] from the body velocities already in `data` (after forward kinematics and
-/// the velocity pass), body by body.
+/// the velocity pass), body by body; the energy is the kinetic energy alone (the caller adds the
+/// springs', which need `q`).
 pub fn momentum_scales_from_data(model: &Model, data: &Data) -> MomentumScales {
     let r0 = data.base_position;
     let rg = center_of_mass_from_data(model, data);
@@ -119,7 +122,9 @@ pub fn momentum_scales(model: &Model, data: &mut Data, x: &[f64], u: &[f64]) -> 
     forward_kinematics(model, data, x)?;
     check_velocity(model, "u", u)?;
     velocity_pass(model, data, u);
-    Ok(momentum_scales_from_data(model, data))
+    let mut s = momentum_scales_from_data(model, data);
+    s.energy += crate::algorithms::passive::spring_energy_of_q(model, &x[7..]);
+    Ok(s)
 }
 
 /// The drift of a conserved quantity over samples: `max_k |v_k − v_0| / max(|v_0|, scale)`,

@@ -13,6 +13,7 @@ use crate::algorithms::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
 use crate::math::scalar::Real;
 use crate::math::spatial::{angular, cross_force, cross_motion, dot6, linear, mul6, spatial};
+use crate::algorithms::passive::subtract_joint_passive_forces;
 use crate::algorithms::wrench::ExternalWrench;
 
 /// Forward pass of body velocities `Vᵢ = V_λ(i) + Sᵢ q̇ᵢ` and velocity-product accelerations
@@ -45,7 +46,8 @@ pub(crate) fn base_spatial_acceleration<T: Real>(u: &[T], du: &[T]) -> Vector6<T
 }
 
 /// Inverse dynamics: the generalized force `f = [F0; N0; τ]` that produces `u̇` at `(x, u)`,
-/// given external wrenches, i.e. `f = H u̇ + c − Jᵀ w_ext`. Left in `data.tau`.
+/// given external wrenches and the joints' passive forces, i.e.
+/// `f = H u̇ + c − Q_passive − Jᵀ w_ext` ([`crate::algorithms::passive`]). Left in `data.tau`.
 pub fn rnea<'d>(
     model: &Model,
     data: &'d mut Data,
@@ -61,6 +63,7 @@ pub fn rnea<'d>(
         w.check(model)?;
     }
     rnea_after_kinematics(model, data, u, Some(du), external);
+    subtract_joint_passive_forces(model, &x[7..], &u[6..], &mut data.tau.as_mut_slice()[6..]);
     Ok(&data.tau)
 }
 

@@ -23,6 +23,7 @@ use crate::algorithms::kinematics::forward_kinematics_at;
 use crate::error::{Result, SpacearmError};
 use crate::algorithms::kinematics::check_velocity;
 use crate::model::Model;
+use crate::algorithms::passive::add_joint_passive_forces;
 use crate::algorithms::rnea::rnea_after_kinematics;
 use crate::math::spatial::skew;
 
@@ -96,6 +97,7 @@ pub fn forward_dynamics_derivatives_with<'w>(
     for ((a, fi), c) in work.data.accel.iter_mut().zip(f).zip(work.data.tau.iter()) {
         *a = fi - c;
     }
+    add_joint_passive_forces(model, pose.q, &u[6..], &mut work.data.accel.as_mut_slice()[6..]);
     work.du_scratch.gemv(1.0, &work.accel_wrt_force, &work.data.accel, 0.0);
     work.data.accel.copy_from(&work.du_scratch);
     // ∂ID/∂(x, u) at fixed u̇ (= work.du_scratch).
@@ -107,7 +109,7 @@ pub fn forward_dynamics_derivatives_with<'w>(
     Ok((&work.accel_wrt_configuration, &work.accel_wrt_velocity, &work.accel_wrt_force))
 }
 
-/// Partials of inverse dynamics `ID(x, u, u̇) = H u̇ + c − Jᵀ w_ext` at `(x, u, u̇)`:
+/// Partials of inverse dynamics `ID(x, u, u̇) = H u̇ + c − Q_passive − Jᵀ w_ext` at `(x, u, u̇)`:
 /// `(∂ID/∂x, ∂ID/∂u)`, each `(6+N)²`, `x` in tangent coordinates `[δr0, δθ, δq]` (the `δr0`
 /// columns are zero); `∂ID/∂u̇ = H`. External wrenches keep their force and couple fixed in 𝒥
 /// while their application point moves with its body. Left in `work.id_wrt_configuration` and
@@ -137,7 +139,8 @@ pub fn inverse_dynamics_partials<'w>(
 }
 
 /// `work.id_partials` ← the partials of inverse dynamics at `(x, u, u̇ = work.du_scratch)`,
-/// columns `[δθ (3), δq (N), δu (6+N)]`. Requires forward kinematics in `work.data`; validated
+/// columns `[δθ (3), δq (N), δu (6+N)]`, the joints' springs and dampers included
+/// (`∂(−Q_passive)/∂q = K`, `∂(−Q_passive)/∂q̇ = C`, diagonal; [`crate::algorithms::passive`]). Requires forward kinematics in `work.data`; validated
 /// inputs.
 fn fill_id_partials(model: &Model, work: &mut DerivativeData, pose: &Pose, u: &[f64], external: &[ExternalWrench], method: DerivativeMethod) {
     match method {
@@ -165,6 +168,13 @@ fn fill_id_partials(model: &Model, work: &mut DerivativeData, pose: &Pose, u: &[
                     }
                 }
             }
+        }
+    }
+    if model.has_passive_forces() {
+        let n = model.n_dof();
+        for (j, jd) in model.dof_dynamics().iter().enumerate() {
+            work.id_partials[(6 + j, 3 + j)] += jd.stiffness;
+            work.id_partials[(6 + j, 3 + n + 6 + j)] += jd.damping;
         }
     }
 }

@@ -44,7 +44,7 @@ use toml::{Spanned, Value};
 
 use crate::error::{ModelError, ModelField, ModelItem, Result, SpacearmError};
 use crate::io::dh::{ClassicDhLink, DhArm, DhTable, PaperDhLink};
-use crate::model::joint::{JointLimits, JointType};
+use crate::model::joint::{JointDynamics, JointLimits, JointType};
 use crate::math::rotations::xyzw_from_rpy;
 use crate::model::{LinkSpec, Model, ModelBuilder, TriangleInequality};
 
@@ -109,6 +109,30 @@ struct JointDoc {
     rpy: Option<Spanned<[f64; 3]>>,
     axis: Option<Spanned<[f64; 3]>>,
     limits: Option<Spanned<LimitsDoc>>,
+    /// The joint's passive dynamics (docs/flexibility.md): motor, spring, damper.
+    actuated: Option<Spanned<bool>>,
+    stiffness: Option<Spanned<f64>>,
+    damping: Option<Spanned<f64>>,
+    rest: Option<Spanned<f64>>,
+}
+
+impl JointDoc {
+    /// The joint dynamics the table gives, and the span of its first dynamics key; `None` when it
+    /// gives none (an actuated joint without spring).
+    fn dynamics(&self) -> Option<(JointDynamics, Span)> {
+        let d = JointDynamics::default();
+        let spans = [self.actuated.as_ref().map(sp), self.stiffness.as_ref().map(sp), self.damping.as_ref().map(sp), self.rest.as_ref().map(sp)];
+        let span = spans.into_iter().flatten().min_by_key(|s| s.start)?;
+        Some((
+            JointDynamics {
+                actuated: self.actuated.as_ref().map_or(d.actuated, |v| *v.get_ref()),
+                stiffness: self.stiffness.as_ref().map_or(d.stiffness, |v| *v.get_ref()),
+                damping: self.damping.as_ref().map_or(d.damping, |v| *v.get_ref()),
+                rest: self.rest.as_ref().map_or(d.rest, |v| *v.get_ref()),
+            },
+            span,
+        ))
+    }
 }
 
 #[derive(Deserialize)]
@@ -548,6 +572,7 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
             limits: limits(&j.limits),
         };
         let joint_span = j.name.as_ref().map_or_else(|| sp(&l.joint), sp);
+        let dynamics = j.dynamics();
         let rotation_span = j.rotation.as_ref().map(sp).or_else(|| j.rpy.as_ref().map(sp)).unwrap_or_else(|| sp(&l.joint));
         at.links.push(ItemSpans {
             whole: sp(ld),
@@ -562,12 +587,16 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
                 (ModelField::Mass, sp(&l.mass)),
                 (ModelField::Inertia, sp(&l.inertia)),
                 (ModelField::Limits, j.limits.as_ref().map_or_else(|| sp(&l.joint), sp)),
+                (ModelField::JointDynamics, dynamics.as_ref().map_or_else(|| sp(&l.joint), |(_, s)| s.clone())),
             ],
         });
         at.bodies.push((name.clone(), sp(&l.name)));
         known.insert(name.clone());
         at.joints.push((spec.joint_name.clone().unwrap_or_else(|| format!("{name}_joint")), joint_span));
         builder.add_link(spec).map_err(|e| at.err(e))?;
+        if let Some((d, _)) = dynamics {
+            builder.set_joint_dynamics(name, d).map_err(|e| at.err(e))?;
+        }
     }
 
     // [[point]]s.
@@ -802,6 +831,15 @@ pub fn model_to_toml(model: &Model) -> String {
         }
         if !parts.is_empty() {
             let _ = writeln!(s, "limits = {{ {} }}", parts.join(", "));
+        }
+        let (d, none) = (j.dynamics, JointDynamics::default());
+        if d.actuated != none.actuated {
+            let _ = writeln!(s, "actuated = {}", d.actuated);
+        }
+        for (key, v, dv) in [("stiffness", d.stiffness, none.stiffness), ("damping", d.damping, none.damping), ("rest", d.rest, none.rest)] {
+            if v != dv {
+                let _ = writeln!(s, "{key} = {}", num(v));
+            }
         }
     }
     for p in model.points() {

@@ -8,7 +8,7 @@ use nalgebra::Matrix3;
 
 use crate::error::{ModelError, ModelField, ModelItem};
 use crate::model::body::{MassProperties, TriangleInequality};
-use crate::model::joint::{JointLimits, JointType};
+use crate::model::joint::{JointDynamics, JointLimits, JointType};
 use crate::model::system::{Link, Model, Point};
 use crate::model::validate;
 
@@ -148,6 +148,27 @@ impl ModelBuilder {
         self.body_by_name.insert(spec.name.clone(), self.links.len() + 1);
         self.joint_names.insert(joint_name);
         self.links.push(Link::from_spec(spec, parent, rotation, axis, mass));
+        Ok(self)
+    }
+
+    /// Set the passive dynamics of the joint of the link called `link` (added before):
+    /// actuation and the spring–damper ([`JointDynamics`], docs/flexibility.md), checked by
+    /// [`validate::joint_dynamics`]. A link's joint is actuated and without spring until then.
+    pub fn set_joint_dynamics(&mut self, link: &str, dynamics: JointDynamics) -> Result<&mut Self, ModelError> {
+        let k = match self.body_index(link) {
+            Some(b) if b > 0 => b - 1,
+            _ => {
+                let links: Vec<&str> = self.links.iter().map(|l| l.name.as_str()).collect();
+                return Err(ModelError::new(
+                    ModelItem::Model,
+                    ModelField::JointDynamics,
+                    format!("joint dynamics: '{link}' is not a link of the model (the base has no joint); links: {links:?}"),
+                ));
+            }
+        };
+        let joint = &self.links[k].joint;
+        validate::joint_dynamics(ModelItem::Link(k), &format!("joint '{}' of link '{link}'", joint.name), joint.kind, &dynamics)?;
+        self.links[k].joint.dynamics = dynamics;
         Ok(self)
     }
 

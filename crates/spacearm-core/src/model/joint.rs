@@ -60,6 +60,50 @@ impl JointLimits {
     }
 }
 
+/// The passive dynamics of a joint (docs/flexibility.md): whether a motor drives it, and the
+/// linear spring–damper it carries. The joint's passive generalized force is
+/// `Q = −stiffness·(q − rest) − damping·q̇` (MuJoCo's `qfrc_passive` of a joint with
+/// `stiffness`, `springref` and `damping`), added to the applied force in every forward
+/// dynamics; the spring stores `½ stiffness (q − rest)²`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct JointDynamics {
+    /// Whether a motor applies the commanded torque (or force); a passive joint (`false`) gets
+    /// none, whatever is commanded.
+    pub actuated: bool,
+    /// Spring stiffness `k` ≥ 0: N·m/rad (revolute) or N/m (prismatic).
+    pub stiffness: f64,
+    /// Viscous damping `c` ≥ 0: N·m·s/rad (revolute) or N·s/m (prismatic).
+    pub damping: f64,
+    /// The spring's rest coordinate (rad or m).
+    pub rest: f64,
+}
+
+impl Default for JointDynamics {
+    /// An actuated joint without spring or damper (a rigid model's joint).
+    fn default() -> Self {
+        JointDynamics { actuated: true, stiffness: 0.0, damping: 0.0, rest: 0.0 }
+    }
+}
+
+impl JointDynamics {
+    /// Whether the joint contributes a passive force (a spring or a damper).
+    pub fn has_passive_force(&self) -> bool {
+        self.stiffness != 0.0 || self.damping != 0.0
+    }
+
+    /// The passive generalized force `−k (q − rest) − c q̇`.
+    #[inline]
+    pub fn force(&self, q: f64, qd: f64) -> f64 {
+        -self.stiffness * (q - self.rest) - self.damping * qd
+    }
+
+    /// The spring's potential energy `½ k (q − rest)²`, J.
+    #[inline]
+    pub fn spring_energy(&self, q: f64) -> f64 {
+        0.5 * self.stiffness * (q - self.rest) * (q - self.rest)
+    }
+}
+
 /// A joint: where it sits on the parent, how the child frame is oriented at `q = 0`, and the
 /// axis it moves about or along.
 ///
@@ -81,4 +125,6 @@ pub struct Joint {
     pub axis: UnitVector3<f64>,
     /// Position, velocity and effort limits.
     pub limits: JointLimits,
+    /// Actuation and the spring–damper ([`JointDynamics`]).
+    pub dynamics: JointDynamics,
 }

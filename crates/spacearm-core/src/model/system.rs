@@ -13,7 +13,7 @@ use nalgebra::{UnitQuaternion, UnitVector3, Vector3};
 use crate::error::{ModelError, Result, SpacearmError};
 use crate::model::body::{MassProperties, TriangleInequality};
 use crate::model::builder::LinkSpec;
-use crate::model::joint::{Joint, JointType};
+use crate::model::joint::{Joint, JointDynamics, JointType};
 use crate::model::validate::check_structure;
 
 /// A link: a rigid body attached to its parent body through one joint.
@@ -48,6 +48,7 @@ impl Link {
                 rotation_in_parent: rotation,
                 axis,
                 limits: spec.limits,
+                dynamics: JointDynamics::default(),
             },
             com_from_joint: Vector3::from(spec.com_from_joint),
             mass,
@@ -87,6 +88,10 @@ pub struct Model {
     /// Degrees of freedom on the path from the base to each body (see [`Model::path_dofs`]).
     path_dofs: Vec<usize>,
     total_mass: f64,
+    /// Each degree of freedom's joint dynamics (actuation, spring–damper), dof order.
+    dof_dynamics: Vec<JointDynamics>,
+    /// Whether some joint carries a spring or damper.
+    has_passive_forces: bool,
     /// Whether inertias breaking the triangle inequality were accepted, and the warnings they
     /// gave (set by the builder; see [`TriangleInequality`]).
     triangle_inequality: TriangleInequality,
@@ -125,6 +130,8 @@ impl Model {
             path_dofs[k + 1] = path_dofs[link.parent] + usize::from(dof_of_body[k + 1].is_some());
         }
         let total_mass = links.iter().fold(base.mass, |m, l| m + l.mass.mass);
+        let dof_dynamics: Vec<JointDynamics> = body_of_dof.iter().map(|&b| links[b - 1].joint.dynamics).collect();
+        let has_passive_forces = dof_dynamics.iter().any(JointDynamics::has_passive_force);
         Ok(Model {
             name,
             base_name,
@@ -137,6 +144,8 @@ impl Model {
             body_of_dof,
             path_dofs,
             total_mass,
+            dof_dynamics,
+            has_passive_forces,
             triangle_inequality: TriangleInequality::Enforce,
             inertia_warnings: Vec::new(),
         })
@@ -220,6 +229,24 @@ impl Model {
     /// Total mass `M = m0 + Σ mᵢ`, kg.
     pub fn total_mass(&self) -> f64 {
         self.total_mass
+    }
+
+    /// Each degree of freedom's joint dynamics — actuation and spring–damper — in dof order
+    /// (docs/flexibility.md).
+    #[inline]
+    pub fn dof_dynamics(&self) -> &[JointDynamics] {
+        &self.dof_dynamics
+    }
+
+    /// Whether some joint carries a spring or a damper (a passive force in the dynamics).
+    #[inline]
+    pub fn has_passive_forces(&self) -> bool {
+        self.has_passive_forces
+    }
+
+    /// Whether each degree of freedom is driven by a motor (dof order).
+    pub fn actuated_dofs(&self) -> Vec<bool> {
+        self.dof_dynamics.iter().map(|d| d.actuated).collect()
     }
 
     /// Degree-of-freedom index of a body's joint (`None` for the base and fixed joints).

@@ -18,7 +18,7 @@ use nalgebra::{Quaternion, Unit, UnitQuaternion, UnitVector3, Vector3};
 use crate::error::{ModelError, ModelField, ModelItem};
 use crate::math::rotations::unit_quaternion_from_xyzw;
 use crate::model::body::MassProperties;
-use crate::model::joint::{JointLimits, JointType};
+use crate::model::joint::{JointDynamics, JointLimits, JointType};
 use crate::model::system::{Link, Point};
 
 /// A moving joint's axis is refused when its largest component (in magnitude) is at most this:
@@ -148,6 +148,34 @@ pub fn joint_limits(item: ModelItem, who: &str, limits: &JointLimits) -> Result<
             item,
             ModelField::Limits,
             format!("{who}: velocity and effort limits must be >= 0, got {} and {}", l.velocity, l.effort),
+        ));
+    }
+    Ok(())
+}
+
+/// Largest joint stiffness or damping accepted (N·m/rad, N/m, N·m·s/rad, N·s/m): larger values
+/// are a units mistake, and they make the motion too stiff for any step.
+pub const MAX_JOINT_STIFFNESS: f64 = 1e12;
+
+/// A joint's passive dynamics (docs/flexibility.md): stiffness and damping finite, `>= 0` and at
+/// most [`MAX_JOINT_STIFFNESS`]; `rest` finite within [`MAX_LENGTH`]; a fixed joint has no
+/// coordinate, so it can carry no spring, damper or rest value and cannot be passive.
+pub fn joint_dynamics(item: ModelItem, who: &str, kind: JointType, d: &JointDynamics) -> Result<(), ModelError> {
+    let bad = |msg: String| Err(ModelError::new(item, ModelField::JointDynamics, format!("{who}: {msg}")));
+    for (what, v) in [("stiffness", d.stiffness), ("damping", d.damping)] {
+        if !(v.is_finite() && v >= 0.0) {
+            return bad(format!("{what} must be finite and >= 0, got {v}"));
+        }
+        if v > MAX_JOINT_STIFFNESS {
+            return bad(format!("{what} {v:e} exceeds {MAX_JOINT_STIFFNESS:e} (check the units)"));
+        }
+    }
+    if !d.rest.is_finite() || d.rest.abs() > MAX_LENGTH {
+        return bad(format!("rest must be finite and within {MAX_LENGTH:e} (m or rad) in magnitude, got {}", d.rest));
+    }
+    if kind == JointType::Fixed && *d != JointDynamics::default() {
+        return bad(format!(
+            "a fixed joint has no coordinate: it takes no stiffness, damping, rest or actuated = false, got {d:?}"
         ));
     }
     Ok(())

@@ -69,6 +69,8 @@ impl ThrusterLimits {
 /// six thruster channels `[Fx, Fy, Fz, Nx, Ny, Nz]` (actuators `N..N+6`).
 #[derive(Debug, Clone)]
 pub struct Actuators {
+    /// Whether each joint has a motor (a passive joint's torque is always zero).
+    actuated: Vec<bool>,
     effort: Vec<f64>,
     speed: Vec<f64>,
     thrusters: Option<ThrusterLimits>,
@@ -90,7 +92,7 @@ impl Actuators {
                 speed[d] = lim.velocity;
             }
         }
-        Actuators { effort, speed, thrusters }
+        Actuators { actuated: model.actuated_dofs(), effort, speed, thrusters }
     }
 
     /// Actuator names: the joint names (dof order), then [`THRUSTER_CHANNELS`].
@@ -102,9 +104,14 @@ impl Actuators {
     }
 
     /// Clamp joint torques `tau` (in place) given the joint rates `qd`; OR the saturation bits
-    /// into `flags[0..N]`.
+    /// into `flags[0..N]`. A passive joint (no motor) gets zero, unflagged: it has no actuator
+    /// to saturate, and the record's `tau_cmd` keeps what was commanded.
     pub fn saturate_joints(&self, tau: &mut [f64], qd: &[f64], flags: &mut [u8]) {
         for d in 0..tau.len() {
+            if !self.actuated[d] {
+                tau[d] = 0.0;
+                continue;
+            }
             let t = tau[d];
             let max = self.effort[d];
             let mut out = t;
@@ -151,8 +158,8 @@ impl Actuators {
 /// The reaction wheels of a model: degrees of freedom of revolute joints of the base whose
 /// link has no children, its CM on the joint axis (within 1e-9 m) and an inertia symmetric
 /// about the axis (the axis is a principal axis and the two transverse moments are equal within
-/// 1e-9 relative) — a symmetric rotor, whose spin changes nothing but its own angle. This is
-/// exactly what `RobotBuilder.add_reaction_wheel` creates.
+/// 1e-9 relative) — a symmetric rotor, whose spin changes nothing but its own angle — and that
+/// has a motor (an actuated joint). This is exactly what `RobotBuilder.add_reaction_wheel` creates.
 pub fn detect_reaction_wheels(model: &Model) -> Vec<usize> {
     let mut has_children = vec![false; model.n_bodies()];
     for l in model.links() {
@@ -161,7 +168,7 @@ pub fn detect_reaction_wheels(model: &Model) -> Vec<usize> {
     let mut wheels = Vec::new();
     for (k, link) in model.links().iter().enumerate() {
         let body = k + 1;
-        if link.parent != 0 || link.joint.kind != JointType::Revolute || has_children[body] {
+        if link.parent != 0 || link.joint.kind != JointType::Revolute || has_children[body] || !link.joint.dynamics.actuated {
             continue;
         }
         let axis = link.joint.axis.into_inner();
@@ -199,6 +206,9 @@ pub fn check_wheels(model: &Model, wheels: &[usize]) -> Result<()> {
         let joint = &model.links()[model.body_of_dof(d) - 1].joint;
         if joint.kind != JointType::Revolute {
             return Err(SpacearmError::argument(format!("wheel joint '{}' must be revolute, it is {}", joint.name, joint.kind.as_str())));
+        }
+        if !joint.dynamics.actuated {
+            return Err(SpacearmError::argument(format!("wheel joint '{}' is passive (actuated = false): a wheel needs a motor", joint.name)));
         }
     }
     Ok(())

@@ -51,7 +51,7 @@ impl ClosureState {
         let ju = &j * &uv;
         let a = self.alpha;
         let gamma = DVector::from_fn(6, |r, _| jdot_u[r] + 2.0 * a * ju[r] + a * a * self.error[r]);
-        let sol = constrained_forward_dynamics_after_kinematics(model, data, u, f, &j, &gamma)?;
+        let sol = constrained_forward_dynamics_after_kinematics(model, data, &x[7..], u, f, &j, &gamma)?;
         self.lambda = Vector6::from_column_slice(sol.lambda.as_slice());
         data.accel.copy_from(&sol.du);
         Ok(())

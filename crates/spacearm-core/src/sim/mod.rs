@@ -14,6 +14,7 @@ pub mod closed_chain;
 pub mod free_body;
 pub mod integrate;
 pub mod modes;
+pub mod orbit;
 pub mod record;
 pub mod reference;
 pub mod rollout;

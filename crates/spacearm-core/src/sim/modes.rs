@@ -45,7 +45,8 @@ pub enum Conserved {
     AngularMomentumOrigin,
     /// Angular momentum about the system CM.
     AngularMomentumCom,
-    /// Kinetic energy (only with zero joint torques and no base wrench).
+    /// Mechanical energy, kinetic plus the joint springs' (only with zero joint torques, no base
+    /// wrench and no joint damper).
     Energy,
 }
 

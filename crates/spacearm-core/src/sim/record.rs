@@ -3,6 +3,7 @@
 //! [`crate::sim::simulate`] (both integrators) and the step-by-step [`crate::sim::stepper`].
 //! The quantities and the drift's definition are in the docs of [`crate::sim::simulate`].
 
+use crate::algorithms::passive::spring_energy_of_q;
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 
 use crate::algorithms::kinematics::point_position;
@@ -22,6 +23,9 @@ pub(crate) struct Recorder {
     n_ref: usize,
     scales: MomentumScales,
     last_quat: Option<UnitQuaternion<f64>>,
+    /// Whether the drift is a momentum balance against the recorded tidal wrench (an orbital
+    /// run with the gravity gradient).
+    balance: bool,
 }
 
 impl Recorder {
@@ -34,6 +38,12 @@ impl Recorder {
             rec.rec.constraint_wrench = Some(Vec::with_capacity(6 * capacity));
             rec.rec.constraint_error = Some(Vec::with_capacity(6 * capacity));
         }
+        if plant.orbit.is_some() {
+            rec.rec.r_cm_eci = Some(Vec::with_capacity(3 * capacity));
+            rec.rec.v_cm_eci = Some(Vec::with_capacity(3 * capacity));
+            rec.rec.gravity_wrench = Some(Vec::with_capacity(6 * capacity));
+            rec.balance = plant.has_gravity_gradient();
+        }
         rec
     }
 
@@ -41,7 +51,8 @@ impl Recorder {
     pub(crate) fn values_per_sample_of(plant: &Plant<'_>) -> usize {
         let c = &plant.controller;
         let closure = if plant.closure.is_some() { 12 } else { 0 };
-        closure + Recorder::values_per_sample(plant.model(), plant.wheels.len(), c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
+        let orbit = if plant.orbit.is_some() { 12 } else { 0 };
+        orbit + closure + Recorder::values_per_sample(plant.model(), plant.wheels.len(), c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
     }
 
     /// Values recorded per sample: the sum of the widths that [`Recorder::new`] reserves (keep
@@ -80,7 +91,11 @@ impl Recorder {
                 wheel_speed: (!wheels.is_empty()).then(|| v(wheels.len())),
                 constraint_wrench: None,
                 constraint_error: None,
+                r_cm_eci: None,
+                v_cm_eci: None,
+                gravity_wrench: None,
             },
+            balance: false,
             ee,
             wheels: wheels.to_vec(),
             n_ref,
@@ -107,7 +122,9 @@ impl Recorder {
         // with the scale of each sum's terms for the drift (module docs).
         let momentum = momentum_from_data(model, data);
         let rg = center_of_mass_from_data(model, data);
-        let scales = momentum_scales_from_data(model, data);
+        let mut scales = momentum_scales_from_data(model, data);
+        // The mechanical energy: kinetic plus the joint springs' potential (docs/flexibility.md).
+        scales.energy += spring_energy_of_q(model, &y[7..nx]);
         let energy = scales.energy;
         r.linear_momentum.extend_from_slice(momentum.linear.as_slice());
         r.angular_momentum_origin.extend_from_slice(momentum.angular_about_origin.as_slice());
@@ -146,6 +163,12 @@ impl Recorder {
             w.extend_from_slice(c.lambda.as_slice());
             e.extend_from_slice(c.error.as_slice());
         }
+        if let (Some(rc), Some(vc), Some(gw)) = (r.r_cm_eci.as_mut(), r.v_cm_eci.as_mut(), r.gravity_wrench.as_mut()) {
+            let (ro, vo) = plant.orbit_state;
+            rc.extend_from_slice((ro + rg).as_slice());
+            vc.extend_from_slice((vo + momentum.linear / model.total_mass()).as_slice());
+            gw.extend_from_slice(if plant.has_gravity_gradient() { plant.gravity_wrench.as_slice() } else { &[0.0; 6] });
+        }
     }
 
     /// The scale of a conserved quantity's drift: the running maximum of its magnitude scale.
@@ -158,8 +181,13 @@ impl Recorder {
         }
     }
 
-    /// Drift of each conserved quantity over the recorded samples (see the module docs).
+    /// Drift of each conserved quantity over the recorded samples (see the module docs); in an
+    /// orbital run with the gravity gradient, the residual of its balance instead
+    /// ([`Recorder::balanced`]).
     pub(crate) fn drift(&self, conserved: &[Conserved]) -> Vec<(Conserved, f64)> {
+        if self.balance {
+            return conserved.iter().map(|&c| (c, conserved_drift(&self.balanced(c), if c == Conserved::Energy { 1 } else { 3 }, self.scale(c)))).collect();
+        }
         let r = &self.rec;
         conserved
             .iter()
@@ -173,6 +201,44 @@ impl Recorder {
                 (c, d)
             })
             .collect()
+    }
+}
+
+impl Recorder {
+    /// A momentum minus the integral of the tidal wrench since `t = 0` (trapezoid over the
+    /// samples), per sample: constant when the balance `Δ(momentum) = ∫ wrench dt` holds. The
+    /// force for `P`, the torque about `O` for `L_origin`, about the system CM
+    /// (`N_O − r_g × F`) for `L_com`.
+    pub(crate) fn balanced(&self, c: Conserved) -> Vec<f64> {
+        let r = &self.rec;
+        let gw = r.gravity_wrench.as_deref().unwrap_or(&[]);
+        let values: &[f64] = match c {
+            Conserved::LinearMomentum => &r.linear_momentum,
+            Conserved::AngularMomentumOrigin => &r.angular_momentum_origin,
+            Conserved::AngularMomentumCom => &r.angular_momentum_com,
+            Conserved::Energy => return r.energy.clone(),
+        };
+        let rate = |k: usize| -> Vector3<f64> {
+            let w = &gw[6 * k..6 * k + 6];
+            let f = Vector3::new(w[0], w[1], w[2]);
+            let n = Vector3::new(w[3], w[4], w[5]);
+            match c {
+                Conserved::LinearMomentum => f,
+                Conserved::AngularMomentumOrigin => n,
+                _ => n - Vector3::new(r.com[3 * k], r.com[3 * k + 1], r.com[3 * k + 2]).cross(&f),
+            }
+        };
+        let mut out = Vec::with_capacity(values.len());
+        let mut integral = Vector3::zeros();
+        for k in 0..r.n_samples {
+            if k > 0 {
+                integral += 0.5 * (r.t[k] - r.t[k - 1]) * (rate(k) + rate(k - 1));
+            }
+            for i in 0..3 {
+                out.push(values[3 * k + i] - integral[i]);
+            }
+        }
+        out
     }
 }
 

@@ -22,9 +22,9 @@
 //! (rotational) block of `G_r + G_t`, the inverse inertias at the two grasp points
 //! ([`crate::algorithms::impulse::contact_response`]).
 //!
-//! The run's state is `y = [x_r; u_r; x_t; u_t]`; RK4 steps at `t_i = i·dt` or DOPRI5 with
-//! error control over all of `y` and samples every `dt`, as [`crate::sim::simulate`] does for
-//! one plant.
+//! The run's state is `y = [x_r; u_r; x_t; u_t]`; RK4 steps at `t_i = i·dt`, or the simulation's
+//! one DOPRI5 loop ([`crate::sim::simulate::dopri5_loop`]) with error control over all of `y`
+//! and samples every `dt`.
 
 use nalgebra::{DMatrix, Matrix3, SymmetricEigen, Vector3, Vector6};
 
@@ -38,10 +38,13 @@ use crate::error::{check_finite, Result, SpacearmError};
 use crate::math::rotations::rotation_vector;
 use crate::model::data::Data;
 use crate::model::Model;
-use crate::sim::integrate::{Dopri5, IntegratorKind, OdeSystem, Rk4, StepOutcome};
+use crate::sim::integrate::{IntegratorKind, OdeSystem, Rk4};
 use crate::sim::modes::Mode;
 use crate::sim::record::{onsets, Recorder};
-use crate::sim::simulate::{admit_records, check_initial_state, finish_result, rk4_step_count, sample_count, Plant, Progress, SaturationEvent, SimOptions, SimResult};
+use crate::sim::simulate::{
+    admit_records, check_initial_state, dopri5_loop, finish_result, rk4_step_count, sample_count, DopriWords, Plant, Progress, SaturationEvent, SimOptions,
+    SimResult, StepWatch,
+};
 
 /// The wrist impedance: translational and rotational stiffness and damping.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -146,6 +149,20 @@ impl SoftCapture<'_> {
         self.pair[0] = ExternalWrench { body: tb, offset: at_target, force: -f, torque: -n };
         self.target.set_body_wrenches(&self.pair)?;
         Ok(())
+    }
+}
+
+impl StepWatch for SoftCapture<'_> {
+    fn clear_step_flags(&mut self) {
+        self.robot.clear_step_flags();
+    }
+
+    fn step_flags(&self) -> &[u8] {
+        self.robot.step_flags()
+    }
+
+    fn take_nonfinite_stage(&mut self) -> bool {
+        self.robot.take_nonfinite_stage()
     }
 }
 
@@ -358,64 +375,9 @@ pub fn soft_capture(
             recs.record(&sys, opts.duration, &y, &dy);
         }
         IntegratorKind::Dopri5 => {
-            let mut dp = Dopri5::new(dim, opts.rtol, opts.atol);
-            sys.rhs(0.0, &y, &mut dy)?;
-            recs.record(&sys, 0.0, &y, &dy);
-            let mut k_out = 1;
-            let mut t = 0.0;
-            let mut h = dp.initial_step(&mut sys, t, &y, opts.duration)?;
-            let mut y_out = vec![0.0; dim];
-            while t < opts.duration {
-                if n_steps + n_rejected >= opts.max_steps {
-                    return Err(SpacearmError::Simulation(format!(
-                        "DOPRI5 used its budget of {} steps and reached only t = {t} s of {} s of the soft capture",
-                        opts.max_steps, opts.duration
-                    )));
-                }
-                let remaining = opts.duration - t;
-                if h >= remaining || remaining - h < 1e-10 * opts.duration {
-                    h = remaining;
-                }
-                sys.robot.flags_step.fill(0);
-                let outcome = match dp.try_step(&mut sys, t, h, &mut y) {
-                    Ok(o) => o,
-                    Err(SpacearmError::Simulation(_)) if sys.robot.nonfinite_stage => {
-                        sys.robot.nonfinite_stage = false;
-                        StepOutcome { accepted: false, error: f64::INFINITY, next_h: 0.25 * h }
-                    }
-                    Err(e) => return Err(e),
-                };
-                if outcome.accepted {
-                    n_steps += 1;
-                    onsets(t, &mut prev_flags, &sys.robot.flags_step, &mut events);
-                    let t_new = if h == remaining { opts.duration } else { t + h };
-                    while k_out <= n_out && out_time(k_out) <= t_new {
-                        let t_o = out_time(k_out);
-                        if t_o == t_new {
-                            y_out.copy_from_slice(&y);
-                        } else {
-                            dp.dense_output(t_o, &mut y_out);
-                            sys.project(&mut y_out);
-                        }
-                        sys.rhs(t_o, &y_out, &mut dy)?;
-                        recs.record(&sys, t_o, &y_out, &dy);
-                        k_out += 1;
-                    }
-                    t = t_new;
-                    if t >= next_progress {
-                        progress(t / opts.duration)?;
-                        next_progress = t + progress_every;
-                    }
-                } else {
-                    n_rejected += 1;
-                }
-                h = outcome.next_h;
-                if !(h.is_finite() && h > 1e-14 * t.abs().max(opts.duration)) {
-                    return Err(SpacearmError::Simulation(format!(
-                        "DOPRI5 step size fell to {h:e} s at t = {t} s of the soft capture: lower the impedance's gains or use rk4"
-                    )));
-                }
-            }
+            let words = DopriWords { of_run: " of the soft capture", budget_remedy: "", stiff_remedy: "lower the impedance's gains or use rk4" };
+            let run = dopri5_loop(&mut sys, &mut y, opts, &words, &mut *progress, &mut |sys, t, y, dy| recs.record(sys, t, y, dy))?;
+            (n_steps, n_rejected, events) = (run.n_steps, run.n_rejected, run.events);
         }
     }
     progress(1.0)?;

@@ -29,6 +29,13 @@ fn inertia(r: &mut ChaCha8Rng, mass: f64) -> [[f64; 3]; 3] {
 
 /// A random tree with `n_links` links, branches at the base and mid-chain, mixed joint types.
 pub fn random_model(r: &mut ChaCha8Rng, n_links: usize) -> Model {
+    random_builder(r, n_links).build().unwrap()
+}
+
+/// The builder of [`random_model`] before it is built (links `link1..`, a point `tip` as end
+/// effector), for tests that add to it.
+#[allow(dead_code)]
+pub fn random_builder(r: &mut ChaCha8Rng, n_links: usize) -> ModelBuilder {
     let base_mass = r.random_range(50.0..500.0);
     let mut b = ModelBuilder::new("random", "base", base_mass, inertia(r, base_mass)).unwrap();
     let mut names = vec!["base".to_string()];
@@ -59,7 +66,7 @@ pub fn random_model(r: &mut ChaCha8Rng, n_links: usize) -> Model {
     }
     b.add_point("tip", names.last().unwrap(), [0.1, -0.2, 0.3]).unwrap();
     b.set_end_effector("tip");
-    b.build().unwrap()
+    b
 }
 
 pub fn random_state(r: &mut ChaCha8Rng, model: &Model) -> (Vec<f64>, Vec<f64>) {

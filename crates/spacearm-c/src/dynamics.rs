@@ -1,0 +1,322 @@
+//! Every GJM quantity and the forward and inverse dynamics, one thin entry point per core
+//! function (docs/c-api.md, "Quantities"; the equations: docs/physics.md).
+//!
+//! Layouts (docs/conventions.md): `x = [r0, quat0 (x, y, z, w), q]` (7 + N), `u = [v0, ω0, q̇]`
+//! (6 + N), `f = [F0, N0, τ]` (6 + N), every vector in the inertial frame 𝒥, spatial vectors
+//! linear first. Every matrix is written **row-major** into a caller-owned buffer: element
+//! `(i, j)` of an `r × c` matrix at `out[i * c + j]`.
+
+use nalgebra::{Dim, Matrix, RawStorage, Vector3, Vector6};
+use spacearm_core::algorithms::{aba, crba, inertia, kinematics, momentum, rnea};
+use spacearm_core::gjm;
+
+use crate::model::{model_ref, SpacearmModel};
+use crate::status::{guard, input, optional_input, optional_output, output, Failure, Outcome, SpacearmStatus};
+
+/// Write a matrix row-major into `out` (of exactly its size).
+pub(crate) fn put_row_major<R: Dim, C: Dim, S: RawStorage<f64, R, C>>(m: &Matrix<f64, R, C, S>, out: &mut [f64]) {
+    let cols = m.ncols();
+    for ((i, j), v) in (0..m.nrows()).flat_map(|i| (0..cols).map(move |j| (i, j))).zip(out.iter_mut()) {
+        *v = m[(i, j)];
+    }
+}
+
+fn vec3(v: &[f64]) -> Vector3<f64> {
+    Vector3::new(v[0], v[1], v[2])
+}
+
+/// A point's body and offset from the caller.
+///
+/// # Safety
+/// `offset` 3 readable doubles.
+unsafe fn point(m: &SpacearmModel, body: usize, offset: *const f64) -> Outcome<Vector3<f64>> {
+    kinematics::check_body(&m.model, body)?;
+    // SAFETY: the caller's contract.
+    Ok(vec3(unsafe { input(offset, 3, "offset") }?))
+}
+
+/// The mass matrix `H` ((6+N)×(6+N), row-major; paper eq. 36) by CRBA.
+///
+/// # Safety
+/// `model` a live handle; `x` 7+N doubles; `h_out` (6+N)² writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_mass_matrix(model: *const SpacearmModel, x: *const f64, h_out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let m = unsafe { model_ref(model) }?;
+        let (nx, nu) = (m.model.nx(), m.model.nu());
+        let x = unsafe { input(x, nx, "x") }?;
+        let out = unsafe { output(h_out, nu * nu, "h_out") }?;
+        m.with_data(|model, data| -> Outcome {
+            put_row_major(crba::crba(model, data, x)?, out);
+            Ok(())
+        })
+    })
+}
+
+/// The blocks of `H` in the paper's form (eqs. 30, 31, 34): `H0` (6×6), `H0m` (6×N) and `H_m`
+/// (N×N), row-major. Any output may be NULL (not written).
+///
+/// # Safety
+/// `model` a live handle; `x` 7+N doubles; each output NULL or of its size.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_inertia_blocks(model: *const SpacearmModel, x: *const f64, h0_out: *mut f64, h0m_out: *mut f64, hm_out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let m = unsafe { model_ref(model) }?;
+        let n = m.model.n_dof();
+        let x = unsafe { input(x, m.model.nx(), "x") }?;
+        let blocks = m.with_data(|model, data| inertia::inertia_blocks(model, data, x))?;
+        if let Some(o) = unsafe { optional_output(h0_out, 36) } {
+            put_row_major(&blocks.h0, o);
+        }
+        if let Some(o) = unsafe { optional_output(h0m_out, 6 * n) } {
+            put_row_major(&blocks.h0m, o);
+        }
+        if let Some(o) = unsafe { optional_output(hm_out, n * n) } {
+            put_row_major(&blocks.hm, o);
+        }
+        Ok(())
+    })
+}
+
+/// The generalized inertia matrix `H* = H_m − H0mᵀ H0⁻¹ H0m` (N×N, row-major; paper eq. 45).
+///
+/// # Safety
+/// `model` a live handle; `x` 7+N doubles; `out` N² writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_generalized_inertia(model: *const SpacearmModel, x: *const f64, out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let m = unsafe { model_ref(model) }?;
+        let n = m.model.n_dof();
+        let x = unsafe { input(x, m.model.nx(), "x") }?;
+        let out = unsafe { output(out, n * n, "out") }?;
+        m.with_data(|model, data| -> Outcome {
+            put_row_major(gjm::compute_generalized_inertia(model, data, x)?, out);
+            Ok(())
+        })
+    })
+}
+
+/// The generalized Jacobian `J*` (6×N, row-major, linear rows first; paper eq. 110) of the
+/// point fixed to `body` at `offset` (body frame, from the body's CM; see
+/// `spacearm_model_point`).
+///
+/// # Safety
+/// `model` a live handle; `x` 7+N doubles; `offset` 3 doubles; `out` 6N writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_generalized_jacobian(model: *const SpacearmModel, x: *const f64, body: usize, offset: *const f64, out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let m = unsafe { model_ref(model) }?;
+        let n = m.model.n_dof();
+        let x = unsafe { input(x, m.model.nx(), "x") }?;
+        let p = unsafe { point(m, body, offset) }?;
+        let out = unsafe { output(out, 6 * n, "out") }?;
+        m.with_data(|model, data| -> Outcome {
+            put_row_major(gjm::compute_generalized_jacobian(model, data, x, body, &p)?, out);
+            Ok(())
+        })
+    })
+}
+
+/// The bias forces `c(x, u)` (6+N): Coriolis and centrifugal terms of `H u̇ + c = f`.
+///
+/// # Safety
+/// `model` a live handle; `x` 7+N, `u` 6+N doubles; `out` 6+N writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_bias_forces(model: *const SpacearmModel, x: *const f64, u: *const f64, out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let m = unsafe { model_ref(model) }?;
+        let (nx, nu) = (m.model.nx(), m.model.nu());
+        let (x, u) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?) };
+        let out = unsafe { output(out, nu, "out") }?;
+        m.with_data(|model, data| -> Outcome {
+            out.copy_from_slice(rnea::bias_forces(model, data, x, u)?.as_slice());
+            Ok(())
+        })
+    })
+}
+
+/// The generalized bias `c* = c_m − H0mᵀ H0⁻¹ c0` (N; paper eq. 46, the base velocity `u[0..6]`
+/// taken as given).
+///
+/// # Safety
+/// `model` a live handle; `x` 7+N, `u` 6+N doubles; `out` N writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_generalized_bias(model: *const SpacearmModel, x: *const f64, u: *const f64, out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let m = unsafe { model_ref(model) }?;
+        let (nx, nu, n) = (m.model.nx(), m.model.nu(), m.model.n_dof());
+        let (x, u) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?) };
+        let out = unsafe { output(out, n, "out") }?;
+        m.with_data(|model, data| -> Outcome {
+            out.copy_from_slice(gjm::compute_generalized_bias(model, data, x, u)?.as_slice());
+            Ok(())
+        })
+    })
+}
+
+/// Forward dynamics by ABA: `u̇` (6+N) from the generalized force `f = [F0, N0, τ]` (6+N; base
+/// force at the base CM and torque about it, in 𝒥).
+///
+/// # Safety
+/// `model` a live handle; `x` 7+N, `u` and `f` 6+N doubles; `du_out` 6+N writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_forward_dynamics(model: *const SpacearmModel, x: *const f64, u: *const f64, f: *const f64, du_out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let m = unsafe { model_ref(model) }?;
+        let (nx, nu) = (m.model.nx(), m.model.nu());
+        let (x, u, f) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?, input(f, nu, "f")?) };
+        let out = unsafe { output(du_out, nu, "du_out") }?;
+        m.with_data(|model, data| -> Outcome {
+            out.copy_from_slice(aba::aba(model, data, x, u, f, &[])?.as_slice());
+            Ok(())
+        })
+    })
+}
+
+/// Reduced (GJM) forward dynamics: `q̈ = H*⁻¹ (τ − c* − H0mᵀ H0⁻¹ F_b)`,
+/// `ẍ0 = H0⁻¹ (F_b − H0m q̈ − c0)` (docs/physics.md), written as the full `u̇` (6+N). `tau` is
+/// N joint torques; `base_wrench` `[F0, N0]` (6) or NULL for a free-floating base (`F_b = 0`).
+///
+/// # Safety
+/// `model` a live handle; `x` 7+N, `u` 6+N, `tau` N doubles; `base_wrench` NULL or 6 doubles;
+/// `du_out` 6+N writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_reduced_forward_dynamics(model: *const SpacearmModel, x: *const f64, u: *const f64, tau: *const f64, base_wrench: *const f64, du_out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let m = unsafe { model_ref(model) }?;
+        let (nx, nu, n) = (m.model.nx(), m.model.nu(), m.model.n_dof());
+        let (x, u, tau) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?, input(tau, n, "tau")?) };
+        let w = unsafe { optional_input(base_wrench, 6) }.map(Vector6::from_column_slice).unwrap_or_else(Vector6::zeros);
+        let out = unsafe { output(du_out, nu, "du_out") }?;
+        m.with_data(|model, data| -> Outcome {
+            out.copy_from_slice(gjm::compute_reduced_forward_dynamics(model, data, x, u, tau, &w)?.as_slice());
+            Ok(())
+        })
+    })
+}
+
+/// Inverse dynamics by RNEA: the generalized force `f = H u̇ + c` (6+N) that produces `du`.
+///
+/// # Safety
+/// `model` a live handle; `x` 7+N, `u` and `du` 6+N doubles; `f_out` 6+N writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_inverse_dynamics(model: *const SpacearmModel, x: *const f64, u: *const f64, du: *const f64, f_out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let m = unsafe { model_ref(model) }?;
+        let (nx, nu) = (m.model.nx(), m.model.nu());
+        let (x, u, du) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?, input(du, nu, "du")?) };
+        let out = unsafe { output(f_out, nu, "f_out") }?;
+        m.with_data(|model, data| -> Outcome {
+            out.copy_from_slice(rnea::rnea(model, data, x, u, du, &[])?.as_slice());
+            Ok(())
+        })
+    })
+}
+
+/// The system's momenta at `(x, u)`, 9 doubles: linear momentum `P` (N·s), angular momentum
+/// about the origin of 𝒥 and about the system CM (N·m·s), all in 𝒥 (paper eqs. 37–38).
+///
+/// # Safety
+/// `model` a live handle; `x` 7+N, `u` 6+N doubles; `out` 9 writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_momentum(model: *const SpacearmModel, x: *const f64, u: *const f64, out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let m = unsafe { model_ref(model) }?;
+        let (nx, nu) = (m.model.nx(), m.model.nu());
+        let (x, u) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?) };
+        let out = unsafe { output(out, 9, "out") }?;
+        let p = m.with_data(|model, data| momentum::momentum(model, data, x, u))?;
+        out[0..3].copy_from_slice(p.linear.as_slice());
+        out[3..6].copy_from_slice(p.angular_about_origin.as_slice());
+        out[6..9].copy_from_slice(p.angular_about_com.as_slice());
+        Ok(())
+    })
+}
+
+/// The momentum map: the base velocity `[v0, ω0] = H0⁻¹ (M0 − H0m q̇)` (6; paper eq. 43/109)
+/// that gives the system linear momentum `p` (3) and angular momentum `l` (3, about the origin
+/// of 𝒥) while the joints move at `qd` (N).
+///
+/// # Safety
+/// `model` a live handle; `x` 7+N, `qd` N, `p` and `l` 3 doubles; `out` 6 writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_base_velocity_from_momentum(model: *const SpacearmModel, x: *const f64, qd: *const f64, p: *const f64, l: *const f64, out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let m = unsafe { model_ref(model) }?;
+        let (nx, n) = (m.model.nx(), m.model.n_dof());
+        let (x, qd) = unsafe { (input(x, nx, "x")?, input(qd, n, "qd")?) };
+        let (p, l) = unsafe { (vec3(input(p, 3, "p")?), vec3(input(l, 3, "l")?)) };
+        let out = unsafe { output(out, 6, "out") }?;
+        let v = m.with_data(|model, data| gjm::base_velocity_from_momentum(model, data, x, qd, &p, &l))?;
+        out.copy_from_slice(v.as_slice());
+        Ok(())
+    })
+}
+
+/// The pose of the point fixed to `body` at `offset`: its position in 𝒥 (3) and its body's
+/// rotation body→𝒥 (3×3, row-major). Either output may be NULL.
+///
+/// # Safety
+/// `model` a live handle; `x` 7+N, `offset` 3 doubles; `position_out` NULL or 3 and
+/// `rotation_out` NULL or 9 writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_point_pose(model: *const SpacearmModel, x: *const f64, body: usize, offset: *const f64, position_out: *mut f64, rotation_out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let m = unsafe { model_ref(model) }?;
+        let x = unsafe { input(x, m.model.nx(), "x") }?;
+        let p = unsafe { point(m, body, offset) }?;
+        let (pos, rot) = m.with_data(|model, data| -> Outcome<_> {
+            kinematics::forward_kinematics(model, data, x)?;
+            Ok((kinematics::point_position(data, body, &p), data.body_to_world[body]))
+        })?;
+        if let Some(o) = unsafe { optional_output(position_out, 3) } {
+            o.copy_from_slice(pos.as_slice());
+        }
+        if let Some(o) = unsafe { optional_output(rotation_out, 9) } {
+            put_row_major(&rot, o);
+        }
+        Ok(())
+    })
+}
+
+/// Jacobians of forward dynamics at `(x, u, f)`: `∂u̇/∂x`, `∂u̇/∂u`, `∂u̇/∂f = H⁻¹`, each
+/// (6+N)×(6+N) row-major, with `x` in tangent coordinates `[δr0, δθ, δq]` (docs/derivatives.md;
+/// the `δr0` columns are zero). Any output may be NULL.
+///
+/// # Safety
+/// `model` a live handle; `x` 7+N, `u` and `f` 6+N doubles; each output NULL or (6+N)²
+/// writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_forward_dynamics_derivatives(model: *const SpacearmModel, x: *const f64, u: *const f64, f: *const f64, d_dx_out: *mut f64, d_du_out: *mut f64, d_df_out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let m = unsafe { model_ref(model) }?;
+        let (nx, nu) = (m.model.nx(), m.model.nu());
+        let (x, u, f) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?, input(f, nu, "f")?) };
+        let outs = unsafe { [optional_output(d_dx_out, nu * nu), optional_output(d_du_out, nu * nu), optional_output(d_df_out, nu * nu)] };
+        if outs.iter().all(Option::is_none) {
+            return Err(Failure::new(SpacearmStatus::NullPointer, "every output is NULL; expected at least one of d_dx_out, d_du_out, d_df_out"));
+        }
+        m.with_derivatives(|model, work| -> Outcome {
+            let (a, b, c) = spacearm_core::derivatives::forward_dynamics_derivatives(model, work, x, u, f)?;
+            for (o, mat) in outs.into_iter().zip([a, b, c]) {
+                if let Some(o) = o {
+                    put_row_major(mat, o);
+                }
+            }
+            Ok(())
+        })
+    })
+}

@@ -1,0 +1,277 @@
+//! The FMI co-simulation unit (docs/fmi.md): one [`Instance`] per instantiated FMU, shared by
+//! the FMI 2 ([`fmi2`]) and FMI 3 ([`fmi3`]) entry points, and the model description
+//! ([`variables`]) that `spacearm.fmi.export` asks this library for.
+//!
+//! An FMU's `resources/` holds `model.toml` (the model, docs/model-format.md) and
+//! `options.toml` (the stepper options of [`crate::stepper`]: mode, RK4 step, controller). A
+//! communication step of `h` is `h / dt` RK4 steps of the core's loop with the inputs held
+//! (the loop of `spacearm.simulate`), so an FMU run equals `spacearm.simulate` of the same model
+//! and inputs (tests/fmi/test_fmu.py).
+
+pub mod fmi2;
+pub mod fmi3;
+pub mod variables;
+
+use std::ffi::c_char;
+use std::path::Path;
+
+use nalgebra::{Rotation3, UnitQuaternion, Vector3};
+use spacearm_core::algorithms::{kinematics, momentum};
+use spacearm_core::{Data, Model};
+
+use crate::status::{guard, text, write_text, Failure, Outcome, SpacearmStatus};
+use crate::stepper::{SpacearmStepper, StepperOptions};
+use variables::{Causality, FmiVersion, Layout};
+
+/// Where an instance is in the FMI state machine (the states both versions share).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Phase {
+    Instantiated,
+    Initialization,
+    Stepping,
+    Terminated,
+    /// A step failed: only reset or free may follow.
+    Failed,
+}
+
+/// How an instance reports: `(is_error, message)`.
+pub(crate) type Logger = Box<dyn Fn(bool, &str)>;
+
+/// One FMU instance: its model, the variable table, the values (indexed by value reference)
+/// and the stepper.
+pub(crate) struct Instance {
+    pub name: String,
+    model: Model,
+    data: Data,
+    layout: Layout,
+    options: StepperOptions,
+    stepper: Option<SpacearmStepper>,
+    values: Vec<f64>,
+    last_quat: Option<UnitQuaternion<f64>>,
+    pub phase: Phase,
+    pub logger: Logger,
+    pub logging_on: bool,
+}
+
+fn read(dir: &Path, file: &str) -> Outcome<String> {
+    let p = dir.join(file);
+    std::fs::read_to_string(&p).map_err(|e| Failure::new(SpacearmStatus::Io, format!("cannot read the FMU resource '{}': {e}", p.display())))
+}
+
+impl Instance {
+    /// An instance from the FMU's `resources/` folder.
+    pub(crate) fn from_resources(dir: &Path, name: String, logger: Logger, logging_on: bool) -> Outcome<Instance> {
+        let model = spacearm_core::io::toml::model_from_toml_str(&read(dir, "model.toml")?, "resources/model.toml")?;
+        let options = StepperOptions::parse(&model, &read(dir, "options.toml")?)?;
+        let layout = Layout::new(&model, &options);
+        let values = layout.vars.iter().map(|v| v.start).collect();
+        Ok(Instance { name, data: Data::new(&model), model, layout, options, stepper: None, values, last_quat: None, phase: Phase::Instantiated, logger, logging_on })
+    }
+
+    pub(crate) fn log_info(&self, msg: &str) {
+        if self.logging_on {
+            (self.logger)(false, msg);
+        }
+    }
+
+    fn variable(&self, vr: u32) -> Result<usize, String> {
+        let i = vr as usize;
+        if i < self.values.len() {
+            Ok(i)
+        } else {
+            Err(format!("value reference {vr} does not exist (this FMU has 0..{})", self.values.len() - 1))
+        }
+    }
+
+    /// Set the variables `vrs` to `values`.
+    pub(crate) fn set(&mut self, vrs: &[u32], values: &[f64]) -> Result<(), String> {
+        if vrs.len() != values.len() {
+            return Err(format!("{} value references but {} values", vrs.len(), values.len()));
+        }
+        for (&vr, &v) in vrs.iter().zip(values) {
+            let i = self.variable(vr)?;
+            let var = &self.layout.vars[i];
+            match var.causality {
+                Causality::Input => {}
+                Causality::Parameter if matches!(self.phase, Phase::Instantiated | Phase::Initialization) => {}
+                Causality::Parameter => return Err(format!("parameter '{}' is fixed: it can be set only before the end of initialization", var.name)),
+                _ => return Err(format!("variable '{}' is an {}; only inputs and parameters can be set", var.name, if var.causality == Causality::Output { "output" } else { "independent variable" })),
+            }
+            if !v.is_finite() {
+                return Err(format!("variable '{}' must be finite, got {v}", var.name));
+            }
+            self.values[i] = v;
+        }
+        Ok(())
+    }
+
+    /// The values of the variables `vrs` into `out`.
+    pub(crate) fn get(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), String> {
+        if vrs.len() != out.len() {
+            return Err(format!("{} value references but room for {} values", vrs.len(), out.len()));
+        }
+        if self.phase == Phase::Initialization {
+            // The outputs of the initial state as the parameters now give it.
+            let (x0, u0) = (self.values[self.layout.x0.clone()].to_vec(), self.values[self.layout.u0.clone()].to_vec());
+            self.last_quat = None;
+            self.outputs(&x0, &u0).map_err(|f| f.message)?;
+        }
+        for (&vr, o) in vrs.iter().zip(out.iter_mut()) {
+            *o = self.values[self.variable(vr)?];
+        }
+        Ok(())
+    }
+
+    /// Compute the outputs of the state `(x, u)` into the values.
+    fn outputs(&mut self, x: &[f64], u: &[f64]) -> Outcome {
+        let l = &self.layout;
+        self.values[l.x.clone()].copy_from_slice(x);
+        self.values[l.u.clone()].copy_from_slice(u);
+        let p = momentum::momentum(&self.model, &mut self.data, x, u)?;
+        let m = l.momentum.start;
+        self.values[m..m + 3].copy_from_slice(p.linear.as_slice());
+        self.values[m + 3..m + 6].copy_from_slice(p.angular_about_origin.as_slice());
+        if let (Some(pos), Some(quat), Some(ee)) = (l.ee_position.clone(), l.ee_quat.clone(), self.model.end_effector()) {
+            let point = &self.model.points()[ee];
+            kinematics::forward_kinematics(&self.model, &mut self.data, x)?;
+            let r: Vector3<f64> = kinematics::point_position(&self.data, point.body, &point.offset);
+            self.values[pos].copy_from_slice(r.as_slice());
+            // As the simulation records it (sim::record): the body's attitude, sign continuous.
+            let mut q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(self.data.body_to_world[point.body]));
+            if let Some(last) = self.last_quat {
+                if last.coords.dot(&q.coords) < 0.0 {
+                    q = UnitQuaternion::new_unchecked(-q.into_inner());
+                }
+            }
+            self.last_quat = Some(q);
+            self.values[quat].copy_from_slice(q.coords.as_slice());
+        }
+        Ok(())
+    }
+
+    fn state_outputs(&mut self) -> Outcome {
+        let s = self.stepper.as_ref().and_then(|s| s.state()).ok_or_else(|| Failure::argument("the FMU has no state"))?.to_vec();
+        let nx = self.model.nx();
+        self.values[0] = self.stepper.as_ref().and_then(|s| s.stepper.as_ref()).map(|s| s.time()).unwrap_or(0.0);
+        self.outputs(&s[..nx], &s[nx..])
+    }
+
+    pub(crate) fn enter_initialization(&mut self) -> Result<(), String> {
+        if self.phase != Phase::Instantiated {
+            return Err(format!("initialization mode can be entered only once after instantiation or reset (the FMU is {:?})", self.phase));
+        }
+        self.phase = Phase::Initialization;
+        Ok(())
+    }
+
+    /// Start the simulation from the parameters' initial state, gains and set point.
+    pub(crate) fn exit_initialization(&mut self) -> Result<(), String> {
+        if self.phase != Phase::Initialization {
+            return Err(format!("exit initialization mode called outside initialization mode (the FMU is {:?})", self.phase));
+        }
+        let l = &self.layout;
+        let mut options = self.options.clone();
+        for (range, target) in [(&l.kp, &mut options.kp), (&l.kd, &mut options.kd), (&l.q_ref, &mut options.q_ref)] {
+            if let Some(r) = range {
+                target.copy_from_slice(&self.values[r.clone()]);
+            }
+        }
+        if options.kp.iter().chain(&options.kd).any(|g| *g < 0.0) {
+            return Err("the gains kp and kd must be >= 0".into());
+        }
+        let (x0, u0) = (self.values[l.x0.clone()].to_vec(), self.values[l.u0.clone()].to_vec());
+        let mut stepper = SpacearmStepper::new(self.model.clone(), options);
+        stepper.reset(&x0, &u0).map_err(|f| f.message)?;
+        self.stepper = Some(stepper);
+        self.last_quat = None;
+        self.state_outputs().map_err(|f| f.message)?;
+        self.phase = Phase::Stepping;
+        self.log_info(&format!("{}: initialized at t = 0 with {} RK4 steps of {} s per second", self.name, (1.0 / self.options.sim.dt).round(), self.options.sim.dt));
+        Ok(())
+    }
+
+    /// One communication step from `t` to `t + h`: `h / dt` RK4 steps with the inputs held.
+    pub(crate) fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
+        if self.phase != Phase::Stepping {
+            return Err(format!("doStep needs an initialized FMU (the FMU is {:?})", self.phase));
+        }
+        let dt = self.options.sim.dt;
+        let now = self.values[0];
+        if (t - now).abs() > 1e-9 * dt.max(now.abs()) {
+            return Err(format!("the communication point {t} s is not the FMU's time {now} s"));
+        }
+        let steps = (h / dt).round();
+        if !(h > 0.0) || steps < 1.0 || (steps * dt - h).abs() > 1e-6 * dt {
+            return Err(format!("the communication step {h} s must be a positive multiple of the FMU's RK4 step {dt} s (set when the FMU was exported)"));
+        }
+        let l = &self.layout;
+        let tau = self.values[l.tau.clone()].to_vec();
+        let wrench = l.base_wrench.clone().map(|r| self.values[r].to_vec());
+        let stepper = self.stepper.as_mut().ok_or("the FMU has no state")?;
+        if let Err(f) = stepper.step(Some(&tau), wrench.as_deref(), steps as usize) {
+            self.phase = Phase::Failed;
+            return Err(format!("the step from t = {t} s failed: {}", f.message));
+        }
+        self.state_outputs().map_err(|f| f.message)
+    }
+
+    /// Back to the state just after instantiation (start values, no simulation).
+    pub(crate) fn reset(&mut self) {
+        self.values = self.layout.vars.iter().map(|v| v.start).collect();
+        self.stepper = None;
+        self.last_quat = None;
+        self.phase = Phase::Instantiated;
+    }
+}
+
+/// Run an FMI entry point's body: a failure is logged through the instance's logger and
+/// returned as `Err`; a panic is caught and reported the same way.
+pub(crate) fn run_fmi(inst: &mut Instance, body: impl FnOnce(&mut Instance) -> Result<(), String>) -> Result<(), ()> {
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| body(inst)));
+    let msg = match result {
+        Ok(Ok(())) => return Ok(()),
+        Ok(Err(m)) => m,
+        Err(_) => "internal error in spacearm (a Rust panic, caught at the FMI boundary)".to_string(),
+    };
+    let logger = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| (inst.logger)(true, &msg)));
+    let _ = logger;
+    Err(())
+}
+
+/// The `modelDescription.xml` of an FMU of the model TOML `model_toml` with the stepper options
+/// TOML `options_toml`, for FMI `fmi_version` (2 or 3), with the binary's `model_identifier`,
+/// the `token` (GUID / instantiation token) and the default experiment's `stop_time`; written
+/// NUL-terminated into `buf` (`len` bytes, `*needed` the size needed). Used by
+/// `spacearm.fmi.export`; the FMU's binary reads the same variable table.
+///
+/// # Safety
+/// The strings NUL-terminated; `buf` NULL or `len` writable bytes; `needed` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_fmu_model_description(
+    model_toml: *const c_char,
+    options_toml: *const c_char,
+    fmi_version: u32,
+    model_identifier: *const c_char,
+    token: *const c_char,
+    stop_time: f64,
+    buf: *mut c_char,
+    len: usize,
+    needed: *mut usize,
+) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let (m, o, id, tok) = unsafe { (text(model_toml, "model_toml")?, text(options_toml, "options_toml")?, text(model_identifier, "model_identifier")?, text(token, "token")?) };
+        let version = match fmi_version {
+            2 => FmiVersion::Fmi2,
+            3 => FmiVersion::Fmi3,
+            v => return Err(Failure::argument(format!("fmi_version must be 2 or 3, got {v}"))),
+        };
+        if !(stop_time.is_finite() && stop_time > 0.0) {
+            return Err(Failure::argument(format!("stop_time must be finite and > 0, got {stop_time}")));
+        }
+        let model = spacearm_core::io::toml::model_from_toml_str(m, "<model TOML>")?;
+        let options = StepperOptions::parse(&model, o)?;
+        let xml = variables::model_description(&model, &options, version, id, tok, stop_time);
+        unsafe { write_text(&xml, buf, len, needed) }
+    })
+}

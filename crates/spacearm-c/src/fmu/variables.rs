@@ -1,0 +1,209 @@
+//! The variables of a spacearm FMU and its model description (docs/fmi.md, "Variables"): the one
+//! table that both the `modelDescription.xml` that `spacearm.fmi.export` writes and the FMU's
+//! binary read, so the two cannot disagree.
+//!
+//! Every variable is a Float64 (FMI 3) / Real (FMI 2) scalar; its value reference is its index
+//! in the table. In order: `time`; the outputs `r0[1..3]`, `quat0[1..4]` (x, y, z, w), `q[1..N]`,
+//! `v0[1..3]`, `w0[1..3]`, `qd[1..N]` (the state `x`, `u` of docs/conventions.md), `P[1..3]`
+//! (linear momentum), `L[1..3]` (angular momentum about the origin of 𝒥), and, if the model has
+//! an end effector, `ee_position[1..3]` and `ee_quat[1..4]`; the inputs `tau[1..N]` and, in the
+//! flying modes, `base_wrench[1..6]` (`[F0, N0]` in 𝒥 at the base CM); the parameters
+//! `x0[1..7+N]`, `u0[1..6+N]` and, with a controller, `kp`, `kd`, `q_ref` (one per arm joint).
+
+use std::fmt::Write;
+use std::ops::Range;
+
+use spacearm_core::Model;
+
+use crate::stepper::{ControllerKind, StepperOptions};
+
+/// What a variable is to the importer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Causality {
+    Independent,
+    Output,
+    Input,
+    Parameter,
+}
+
+#[derive(Debug, Clone)]
+pub(crate) struct Variable {
+    pub name: String,
+    pub causality: Causality,
+    pub description: String,
+    pub start: f64,
+}
+
+/// The table, with the value-reference range of each group.
+#[derive(Debug, Clone)]
+pub(crate) struct Layout {
+    pub vars: Vec<Variable>,
+    pub x: Range<usize>,
+    pub u: Range<usize>,
+    pub momentum: Range<usize>,
+    pub ee_position: Option<Range<usize>>,
+    pub ee_quat: Option<Range<usize>>,
+    pub tau: Range<usize>,
+    pub base_wrench: Option<Range<usize>>,
+    pub x0: Range<usize>,
+    pub u0: Range<usize>,
+    pub kp: Option<Range<usize>>,
+    pub kd: Option<Range<usize>>,
+    pub q_ref: Option<Range<usize>>,
+}
+
+struct Table(Vec<Variable>);
+
+impl Table {
+    /// Add `names.len()` variables `group[k]` (1-based), returning their range.
+    fn group(&mut self, group: &str, causality: Causality, what: &str, starts: &[f64]) -> Range<usize> {
+        let first = self.0.len();
+        for (k, &start) in starts.iter().enumerate() {
+            self.0.push(Variable { name: format!("{group}[{}]", k + 1), causality, description: format!("{what}, entry {}", k + 1), start });
+        }
+        first..self.0.len()
+    }
+}
+
+impl Layout {
+    pub(crate) fn new(model: &Model, options: &StepperOptions) -> Layout {
+        let n = model.n_dof();
+        let mut t = Table(vec![Variable { name: "time".into(), causality: Causality::Independent, description: "simulation time, s".into(), start: 0.0 }]);
+        let out = Causality::Output;
+        let zeros = |k: usize| vec![0.0; k];
+        let r0 = t.group("r0", out, "base CM position in the inertial frame, m", &zeros(3));
+        let _quat0 = t.group("quat0", out, "base attitude quaternion [x, y, z, w] (base to inertial)", &zeros(4));
+        let _q = t.group("q", out, "joint coordinate, rad or m", &zeros(n));
+        let x = r0.start.._q.end;
+        let v0 = t.group("v0", out, "base CM velocity in the inertial frame, m/s", &zeros(3));
+        let _w0 = t.group("w0", out, "base angular velocity in the inertial frame, rad/s", &zeros(3));
+        let qd = t.group("qd", out, "joint rate, rad/s or m/s", &zeros(n));
+        let u = v0.start..qd.end;
+        let p = t.group("P", out, "linear momentum in the inertial frame, N s", &zeros(3));
+        let l = t.group("L", out, "angular momentum about the inertial origin, N m s", &zeros(3));
+        let momentum = p.start..l.end;
+        let (ee_position, ee_quat) = match model.end_effector() {
+            Some(_) => (
+                Some(t.group("ee_position", out, "end-effector position in the inertial frame, m", &zeros(3))),
+                Some(t.group("ee_quat", out, "end-effector body attitude [x, y, z, w], sign kept continuous", &zeros(4))),
+            ),
+            None => (None, None),
+        };
+        let tau = t.group("tau", Causality::Input, "joint torque (force) added to the controller's, N m or N", &zeros(n));
+        let mode = options.sim.mode;
+        let base_wrench = (mode.allows_force() || mode.allows_torque()).then(|| t.group("base_wrench", Causality::Input, "base wrench [F0, N0] in the inertial frame at the base CM (as the mode allows), N and N m", &zeros(6)));
+        let x0_start = spacearm_core::model::presets::initial_configuration(model);
+        let x0 = t.group("x0", Causality::Parameter, "initial configuration [r0, quat0 (x, y, z, w), q]", &x0_start);
+        let u0 = t.group("u0", Causality::Parameter, "initial velocity [v0, w0, qd]", &zeros(6 + n));
+        let (kp, kd, q_ref) = if options.controller == ControllerKind::None {
+            (None, None, None)
+        } else {
+            (
+                Some(t.group("kp", Causality::Parameter, "controller stiffness gain of an arm joint", &options.kp)),
+                Some(t.group("kd", Causality::Parameter, "controller damping gain of an arm joint", &options.kd)),
+                Some(t.group("q_ref", Causality::Parameter, "controller set point of an arm joint", &options.q_ref)),
+            )
+        };
+        Layout { vars: t.0, x, u, momentum, ee_position, ee_quat, tau, base_wrench, x0, u0, kp, kd, q_ref }
+    }
+}
+
+/// Which FMI version a description is for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum FmiVersion {
+    Fmi2,
+    Fmi3,
+}
+
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+/// A number as XML text: the shortest form that reads back to the same double.
+fn num(v: f64) -> String {
+    format!("{v:?}")
+}
+
+/// The `modelDescription.xml` of a co-simulation FMU of `model` with `options`.
+pub(crate) fn model_description(model: &Model, options: &StepperOptions, version: FmiVersion, identifier: &str, token: &str, stop_time: f64) -> String {
+    let layout = Layout::new(model, options);
+    let mut s = String::new();
+    let name = escape(model.name());
+    let tool = format!("spacearm {}", env!("CARGO_PKG_VERSION"));
+    let dt = num(options.sim.dt);
+    let descr = escape(&format!(
+        "spacearm model '{}' ({} joints), mode {}, controller {}, RK4 at {} s",
+        model.name(),
+        model.n_dof(),
+        options.sim.mode.name(),
+        options.controller.name(),
+        options.sim.dt
+    ));
+    let id = escape(identifier);
+    let outputs: Vec<usize> = (0..layout.vars.len()).filter(|&i| layout.vars[i].causality == Causality::Output).collect();
+    let _ = writeln!(s, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+    match version {
+        FmiVersion::Fmi3 => {
+            let _ = writeln!(
+                s,
+                r#"<fmiModelDescription fmiVersion="3.0" modelName="{name}" description="{descr}" instantiationToken="{token}" generationTool="{tool}" variableNamingConvention="flat">"#
+            );
+            let _ = writeln!(s, r#"  <CoSimulation modelIdentifier="{id}" canHandleVariableCommunicationStepSize="true" fixedInternalStepSize="{dt}" canGetAndSetFMUState="false" canSerializeFMUState="false" providesIntermediateUpdate="false" hasEventMode="false"/>"#);
+            let _ = writeln!(s, r#"  <DefaultExperiment startTime="0.0" stopTime="{}" stepSize="{dt}"/>"#, num(stop_time));
+            let _ = writeln!(s, "  <ModelVariables>");
+            for (vr, v) in layout.vars.iter().enumerate() {
+                let (n, d) = (escape(&v.name), escape(&v.description));
+                let attrs = match v.causality {
+                    Causality::Independent => r#"causality="independent" variability="continuous""#.to_string(),
+                    Causality::Output => r#"causality="output" variability="continuous""#.to_string(),
+                    Causality::Input => format!(r#"causality="input" variability="continuous" start="{}""#, num(v.start)),
+                    Causality::Parameter => format!(r#"causality="parameter" variability="fixed" start="{}""#, num(v.start)),
+                };
+                let _ = writeln!(s, r#"    <Float64 name="{n}" valueReference="{vr}" description="{d}" {attrs}/>"#);
+            }
+            let _ = writeln!(s, "  </ModelVariables>");
+            let _ = writeln!(s, "  <ModelStructure>");
+            for &i in &outputs {
+                let _ = writeln!(s, r#"    <Output valueReference="{i}"/>"#);
+            }
+            for &i in &outputs {
+                let _ = writeln!(s, r#"    <InitialUnknown valueReference="{i}"/>"#);
+            }
+            let _ = writeln!(s, "  </ModelStructure>");
+        }
+        FmiVersion::Fmi2 => {
+            let _ = writeln!(
+                s,
+                r#"<fmiModelDescription fmiVersion="2.0" modelName="{name}" description="{descr}" guid="{token}" generationTool="{tool}" variableNamingConvention="flat" numberOfEventIndicators="0">"#
+            );
+            let _ = writeln!(s, r#"  <CoSimulation modelIdentifier="{id}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUstate="false" canSerializeFMUstate="false" canNotUseMemoryManagementFunctions="true"/>"#);
+            let _ = writeln!(s, r#"  <DefaultExperiment startTime="0.0" stopTime="{}" stepSize="{dt}"/>"#, num(stop_time));
+            let _ = writeln!(s, "  <ModelVariables>");
+            for (vr, v) in layout.vars.iter().enumerate() {
+                let (n, d) = (escape(&v.name), escape(&v.description));
+                let (attrs, real) = match v.causality {
+                    Causality::Independent => (r#"causality="independent" variability="continuous""#.to_string(), "<Real/>".to_string()),
+                    Causality::Output => (r#"causality="output" variability="continuous" initial="calculated""#.to_string(), "<Real/>".to_string()),
+                    Causality::Input => (r#"causality="input" variability="continuous""#.to_string(), format!(r#"<Real start="{}"/>"#, num(v.start))),
+                    Causality::Parameter => (r#"causality="parameter" variability="fixed" initial="exact""#.to_string(), format!(r#"<Real start="{}"/>"#, num(v.start))),
+                };
+                let _ = writeln!(s, r#"    <ScalarVariable name="{n}" valueReference="{vr}" description="{d}" {attrs}>{real}</ScalarVariable>"#);
+            }
+            let _ = writeln!(s, "  </ModelVariables>");
+            let _ = writeln!(s, "  <ModelStructure>");
+            let _ = writeln!(s, "    <Outputs>");
+            for &i in &outputs {
+                let _ = writeln!(s, r#"      <Unknown index="{}"/>"#, i + 1);
+            }
+            let _ = writeln!(s, "    </Outputs>");
+            let _ = writeln!(s, "    <InitialUnknowns>");
+            for &i in &outputs {
+                let _ = writeln!(s, r#"      <Unknown index="{}"/>"#, i + 1);
+            }
+            let _ = writeln!(s, "    </InitialUnknowns>");
+            let _ = writeln!(s, "  </ModelStructure>");
+        }
+    }
+    let _ = writeln!(s, "</fmiModelDescription>");
+    s
+}

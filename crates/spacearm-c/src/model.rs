@@ -1,0 +1,235 @@
+//! The model handle: a validated core `Model` with its workspaces, built from TOML text, a TOML
+//! file or a preset (docs/c-api.md, "Models").
+
+use std::ffi::c_char;
+use std::sync::Mutex;
+
+use spacearm_core::derivatives::DerivativeData;
+use spacearm_core::model::presets;
+use spacearm_core::{Data, Model};
+
+use crate::status::{guard, guard_value, output, text, write_text, Failure, Outcome, SpacearmStatus};
+
+/// An opaque, immutable model with its own workspaces. Safe to share between threads (the
+/// workspaces are behind locks); free it with `spacearm_model_free`.
+pub struct SpacearmModel {
+    pub(crate) model: Model,
+    data: Mutex<Data>,
+    derivatives: Mutex<Option<DerivativeData>>,
+}
+
+impl SpacearmModel {
+    pub(crate) fn new(model: Model) -> Self {
+        let data = Mutex::new(Data::new(&model));
+        SpacearmModel { model, data, derivatives: Mutex::new(None) }
+    }
+
+    /// Run `f` with the model and its workspace.
+    pub(crate) fn with_data<R>(&self, f: impl FnOnce(&Model, &mut Data) -> R) -> R {
+        // A poisoned lock only means a panic inside an earlier call (reported then); the
+        // workspace is overwritten by every algorithm, so it is safe to go on with it.
+        let mut d = self.data.lock().unwrap_or_else(|p| p.into_inner());
+        f(&self.model, &mut d)
+    }
+
+    /// Run `f` with the model and its derivative workspace (made on first use).
+    pub(crate) fn with_derivatives<R>(&self, f: impl FnOnce(&Model, &mut DerivativeData) -> R) -> R {
+        let mut d = self.derivatives.lock().unwrap_or_else(|p| p.into_inner());
+        let work = d.get_or_insert_with(|| DerivativeData::new(&self.model));
+        f(&self.model, work)
+    }
+}
+
+/// The model behind a handle, or a NullPointer failure.
+///
+/// # Safety
+/// `m` must be NULL or a handle from this library not yet freed.
+pub(crate) unsafe fn model_ref<'a>(m: *const SpacearmModel) -> Outcome<&'a SpacearmModel> {
+    // SAFETY: the caller's contract.
+    unsafe { m.as_ref() }.ok_or_else(|| Failure::new(SpacearmStatus::NullPointer, "model is NULL; expected a handle from spacearm_model_from_*"))
+}
+
+/// Store a new handle in `*out`.
+///
+/// # Safety
+/// `out` must be NULL or writable.
+unsafe fn give(model: Model, out: *mut *mut SpacearmModel) -> Outcome {
+    if out.is_null() {
+        return Err(Failure::new(SpacearmStatus::NullPointer, "out is NULL; expected the address of a SpacearmModel*"));
+    }
+    // SAFETY: `out` is writable (caller's contract).
+    unsafe { *out = Box::into_raw(Box::new(SpacearmModel::new(model))) };
+    Ok(())
+}
+
+/// A model from TOML text (docs/model-format.md). `*out` receives a new handle.
+///
+/// # Safety
+/// `toml` a NUL-terminated string; `out` writable.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_model_from_toml(toml: *const c_char, out: *mut *mut SpacearmModel) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY: the caller's contract.
+        let s = unsafe { text(toml, "toml") }?;
+        let model = spacearm_core::io::toml::model_from_toml_str(s, "<TOML text given to spacearm_model_from_toml>")?;
+        // SAFETY: the caller's contract.
+        unsafe { give(model, out) }
+    })
+}
+
+/// A model from a TOML file (docs/model-format.md). `*out` receives a new handle.
+///
+/// # Safety
+/// `path` a NUL-terminated string; `out` writable.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_model_from_toml_file(path: *const c_char, out: *mut *mut SpacearmModel) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY: the caller's contract.
+        let p = unsafe { text(path, "path") }?;
+        let body = std::fs::read_to_string(p).map_err(|e| Failure::new(SpacearmStatus::Io, format!("cannot read the model file '{p}': {e}")))?;
+        let model = spacearm_core::io::toml::model_from_toml_str(&body, p)?;
+        // SAFETY: the caller's contract.
+        unsafe { give(model, out) }
+    })
+}
+
+/// A preset model by name: `"planar4"`, `"spatial6"`, `"spatial7"`, `"dual_arm"`, `"ets7"`.
+///
+/// # Safety
+/// `name` a NUL-terminated string; `out` writable.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_model_preset(name: *const c_char, out: *mut *mut SpacearmModel) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY: the caller's contract.
+        let n = unsafe { text(name, "name") }?;
+        let model = presets::by_name(n).ok_or_else(|| Failure::new(SpacearmStatus::NotFound, format!("unknown preset '{n}'; expected one of planar4, spatial6, spatial7, dual_arm, ets7")))?;
+        // SAFETY: the caller's contract.
+        unsafe { give(model, out) }
+    })
+}
+
+/// Free a model handle (NULL is ignored). Steppers made from it keep their own copy.
+///
+/// # Safety
+/// `model` NULL or a handle not yet freed; it must not be used afterwards.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_model_free(model: *mut SpacearmModel) {
+    if !model.is_null() {
+        // SAFETY: a handle from `Box::into_raw`, freed once (caller's contract). Dropping
+        // cannot panic (plain memory).
+        drop(unsafe { Box::from_raw(model) });
+    }
+}
+
+/// Number of joint degrees of freedom `N` (0 for a NULL handle).
+///
+/// # Safety
+/// `model` NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_model_n_dof(model: *const SpacearmModel) -> usize {
+    // SAFETY: the caller's contract.
+    guard_value(0, || Ok(unsafe { model_ref(model) }?.model.n_dof()))
+}
+
+/// Length of a configuration `x = [r0, quat0 (x, y, z, w), q]`: `7 + N` (0 for NULL).
+///
+/// # Safety
+/// `model` NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_model_nx(model: *const SpacearmModel) -> usize {
+    // SAFETY: the caller's contract.
+    guard_value(0, || Ok(unsafe { model_ref(model) }?.model.nx()))
+}
+
+/// Length of a generalized velocity `u = [v0, ω0, q̇]`: `6 + N` (0 for NULL).
+///
+/// # Safety
+/// `model` NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_model_nu(model: *const SpacearmModel) -> usize {
+    // SAFETY: the caller's contract.
+    guard_value(0, || Ok(unsafe { model_ref(model) }?.model.nu()))
+}
+
+/// Number of bodies, the base (body 0) included (0 for NULL).
+///
+/// # Safety
+/// `model` NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_model_n_bodies(model: *const SpacearmModel) -> usize {
+    // SAFETY: the caller's contract.
+    guard_value(0, || Ok(unsafe { model_ref(model) }?.model.n_bodies()))
+}
+
+/// Total mass, kg (0 for NULL).
+///
+/// # Safety
+/// `model` NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_model_total_mass(model: *const SpacearmModel) -> f64 {
+    // SAFETY: the caller's contract.
+    guard_value(0.0, || Ok(unsafe { model_ref(model) }?.model.total_mass()))
+}
+
+/// The initial configuration `x` (7 + N): base at the origin aligned with 𝒥, the model's
+/// initial joint angles.
+///
+/// # Safety
+/// `model` a live handle; `x_out` 7 + N writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_model_initial_configuration(model: *const SpacearmModel, x_out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY: the caller's contract.
+        let m = unsafe { model_ref(model) }?;
+        // SAFETY: the caller's contract.
+        let out = unsafe { output(x_out, m.model.nx(), "x_out") }?;
+        out.copy_from_slice(&presets::initial_configuration(&m.model));
+        Ok(())
+    })
+}
+
+/// A named point: its body index and its offset in that body's frame from the body's CM.
+/// `name = NULL` asks for the end effector.
+///
+/// # Safety
+/// `model` a live handle; `name` NULL or a NUL-terminated string; `body` writable; `offset_out`
+/// 3 writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_model_point(model: *const SpacearmModel, name: *const c_char, body: *mut usize, offset_out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY: the caller's contract.
+        let m = unsafe { model_ref(model) }?;
+        let index = if name.is_null() {
+            m.model.end_effector().ok_or_else(|| Failure::new(SpacearmStatus::NotFound, format!("model '{}' has no end effector", m.model.name())))?
+        } else {
+            // SAFETY: the caller's contract.
+            m.model.point_index(unsafe { text(name, "name") }?)?
+        };
+        let p = &m.model.points()[index];
+        if body.is_null() {
+            return Err(Failure::new(SpacearmStatus::NullPointer, "body is NULL; expected the address of a size_t"));
+        }
+        // SAFETY: the caller's contract.
+        let out = unsafe { output(offset_out, 3, "offset_out") }?;
+        // SAFETY: checked not NULL; writable by the caller's contract.
+        unsafe { *body = p.body };
+        out.copy_from_slice(p.offset.as_slice());
+        Ok(())
+    })
+}
+
+/// The model as TOML text (NUL-terminated) in the caller's buffer `buf` of `len` bytes;
+/// `*needed` (if not NULL) receives the size needed. Call with `len = 0` to learn it.
+///
+/// # Safety
+/// `model` a live handle; `buf` NULL or `len` writable bytes; `needed` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_model_to_toml(model: *const SpacearmModel, buf: *mut c_char, len: usize, needed: *mut usize) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY: the caller's contract.
+        let m = unsafe { model_ref(model) }?;
+        let s = spacearm_core::io::toml::model_to_toml(&m.model);
+        // SAFETY: the caller's contract.
+        unsafe { write_text(&s, buf, len, needed) }
+    })
+}

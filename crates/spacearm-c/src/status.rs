@@ -1,0 +1,271 @@
+//! Status codes, the thread-local last-error message, and the guard every entry point runs its
+//! body in (docs/c-api.md, "Errors").
+//!
+//! Every function of the C ABI returns a [`SpacearmStatus`]. On anything but
+//! [`SpacearmStatus::Ok`] the message that names what was wrong and what was expected is kept
+//! per thread and read with [`spacearm_last_error`]. A Rust panic never crosses the boundary:
+//! [`guard`] catches it (`std::panic::catch_unwind`) and turns it into
+//! [`SpacearmStatus::Internal`].
+
+use std::cell::RefCell;
+use std::ffi::{c_char, CStr, CString};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use spacearm_core::SpacearmError;
+
+/// What a call of the C ABI returned. `0` is success; every other value names the kind of
+/// failure (the same kinds as the Python exceptions of `spacearm.errors`), and
+/// `spacearm_last_error()` gives the message.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpacearmStatus {
+    /// Success.
+    Ok = 0,
+    /// The model description breaks a physical or structural rule.
+    InvalidModel = 1,
+    /// An array has the wrong length.
+    Dimension = 2,
+    /// An input holds NaN or an infinity.
+    NonFinite = 3,
+    /// A quaternion is not of unit length.
+    NotUnitQuaternion = 4,
+    /// A name or index refers to nothing in the model.
+    NotFound = 5,
+    /// A matrix that must be invertible is singular at this state.
+    Singular = 6,
+    /// A model or options text could not be parsed (the message has line and column).
+    Parse = 7,
+    /// An option or argument has an invalid value.
+    InvalidArgument = 8,
+    /// A simulation could not go on.
+    Simulation = 9,
+    /// A request would allocate more than the core allows.
+    ResourceLimit = 10,
+    /// A pointer argument that must not be NULL was NULL.
+    NullPointer = 11,
+    /// A caller-owned buffer is too small (the message and the `needed` argument say how large).
+    BufferTooSmall = 12,
+    /// A file could not be read.
+    Io = 13,
+    /// A defect inside spacearm (a Rust panic, caught at the boundary). Please report it.
+    Internal = 14,
+}
+
+/// A failure inside an entry point: its status and message.
+#[derive(Debug)]
+pub(crate) struct Failure {
+    pub status: SpacearmStatus,
+    pub message: String,
+}
+
+impl Failure {
+    pub(crate) fn new(status: SpacearmStatus, message: impl Into<String>) -> Self {
+        Failure { status, message: message.into() }
+    }
+    pub(crate) fn argument(message: impl Into<String>) -> Self {
+        Failure::new(SpacearmStatus::InvalidArgument, message)
+    }
+}
+
+impl From<SpacearmError> for Failure {
+    fn from(e: SpacearmError) -> Self {
+        let status = match &e {
+            SpacearmError::InvalidModel(_) => SpacearmStatus::InvalidModel,
+            SpacearmError::Dimension { .. } => SpacearmStatus::Dimension,
+            SpacearmError::NonFinite { .. } => SpacearmStatus::NonFinite,
+            SpacearmError::NotUnitQuaternion { .. } => SpacearmStatus::NotUnitQuaternion,
+            SpacearmError::NotFound(_) => SpacearmStatus::NotFound,
+            SpacearmError::Singular(_) => SpacearmStatus::Singular,
+            SpacearmError::Parse(_) => SpacearmStatus::Parse,
+            SpacearmError::InvalidArgument(_) => SpacearmStatus::InvalidArgument,
+            SpacearmError::Simulation(_) => SpacearmStatus::Simulation,
+            SpacearmError::ResourceLimit(_) => SpacearmStatus::ResourceLimit,
+        };
+        Failure::new(status, e.to_string())
+    }
+}
+
+pub(crate) type Outcome<T = ()> = Result<T, Failure>;
+
+thread_local! {
+    static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
+}
+
+pub(crate) fn set_last_error(message: &str) {
+    // An interior NUL cannot be represented in a C string: cut the message there.
+    let cut = message.split('\0').next().unwrap_or("");
+    let text = CString::new(cut).unwrap_or_default();
+    LAST_ERROR.with(|e| *e.borrow_mut() = text);
+}
+
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    if let Some(s) = payload.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = payload.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "a panic without a message".to_string()
+    }
+}
+
+/// Run the body of an entry point: its failure becomes a status code with the message kept for
+/// [`spacearm_last_error`]; a panic is caught and becomes [`SpacearmStatus::Internal`]. Success
+/// clears the message.
+pub(crate) fn guard(body: impl FnOnce() -> Outcome) -> SpacearmStatus {
+    match catch_unwind(AssertUnwindSafe(body)) {
+        Ok(Ok(())) => {
+            set_last_error("");
+            SpacearmStatus::Ok
+        }
+        Ok(Err(f)) => {
+            set_last_error(&f.message);
+            f.status
+        }
+        Err(payload) => {
+            set_last_error(&format!("internal error in spacearm (a Rust panic, caught at the C boundary): {}", panic_message(payload.as_ref())));
+            SpacearmStatus::Internal
+        }
+    }
+}
+
+/// Like [`guard`] for the entry points that return a value rather than a status (sizes):
+/// `fallback` on failure or panic, with the message kept.
+pub(crate) fn guard_value<T>(fallback: T, body: impl FnOnce() -> Outcome<T>) -> T {
+    match catch_unwind(AssertUnwindSafe(body)) {
+        Ok(Ok(v)) => v,
+        Ok(Err(f)) => {
+            set_last_error(&f.message);
+            fallback
+        }
+        Err(payload) => {
+            set_last_error(&format!("internal error in spacearm (a Rust panic, caught at the C boundary): {}", panic_message(payload.as_ref())));
+            fallback
+        }
+    }
+}
+
+/// The message of the last failed call on this thread (empty after a successful call). The
+/// text is owned by the library and stays valid until the next spacearm call on this thread;
+/// copy it to keep it. Never NULL.
+#[no_mangle]
+pub extern "C" fn spacearm_last_error() -> *const c_char {
+    LAST_ERROR.with(|e| e.borrow().as_ptr())
+}
+
+/// A short name of a status code (`"dimension"` for `SPACEARM_STATUS_DIMENSION`); a static
+/// string, never NULL.
+#[no_mangle]
+pub extern "C" fn spacearm_status_name(status: SpacearmStatus) -> *const c_char {
+    let name: &'static CStr = match status {
+        SpacearmStatus::Ok => c"ok",
+        SpacearmStatus::InvalidModel => c"invalid model",
+        SpacearmStatus::Dimension => c"dimension",
+        SpacearmStatus::NonFinite => c"non-finite",
+        SpacearmStatus::NotUnitQuaternion => c"not a unit quaternion",
+        SpacearmStatus::NotFound => c"not found",
+        SpacearmStatus::Singular => c"singular",
+        SpacearmStatus::Parse => c"parse",
+        SpacearmStatus::InvalidArgument => c"invalid argument",
+        SpacearmStatus::Simulation => c"simulation",
+        SpacearmStatus::ResourceLimit => c"resource limit",
+        SpacearmStatus::NullPointer => c"null pointer",
+        SpacearmStatus::BufferTooSmall => c"buffer too small",
+        SpacearmStatus::Io => c"io",
+        SpacearmStatus::Internal => c"internal",
+    };
+    name.as_ptr()
+}
+
+// ---- argument helpers (caller-owned memory) ----
+
+/// A caller's input array of `len` values; NULL is refused (unless `len == 0`).
+///
+/// # Safety
+/// `p` must point at `len` readable `f64` (or be NULL).
+pub(crate) unsafe fn input<'a>(p: *const f64, len: usize, what: &str) -> Outcome<&'a [f64]> {
+    if len == 0 {
+        return Ok(&[]);
+    }
+    if p.is_null() {
+        return Err(Failure::new(SpacearmStatus::NullPointer, format!("{what} is NULL; expected a pointer to {len} doubles")));
+    }
+    // SAFETY: the caller's contract (documented on every entry point): `len` readable doubles.
+    Ok(unsafe { std::slice::from_raw_parts(p, len) })
+}
+
+/// An optional caller's input array: `None` for NULL.
+///
+/// # Safety
+/// `p` must point at `len` readable `f64` or be NULL.
+pub(crate) unsafe fn optional_input<'a>(p: *const f64, len: usize) -> Option<&'a [f64]> {
+    // SAFETY: as for `input`.
+    (!p.is_null()).then(|| unsafe { std::slice::from_raw_parts(p, len) })
+}
+
+/// A caller's output buffer of `len` values; NULL is refused (unless `len == 0`).
+///
+/// # Safety
+/// `p` must point at `len` writable `f64` (or be NULL) not aliased by any input.
+pub(crate) unsafe fn output<'a>(p: *mut f64, len: usize, what: &str) -> Outcome<&'a mut [f64]> {
+    if len == 0 {
+        return Ok(&mut []);
+    }
+    if p.is_null() {
+        return Err(Failure::new(SpacearmStatus::NullPointer, format!("{what} is NULL; expected a buffer of {len} doubles")));
+    }
+    // SAFETY: the caller's contract: `len` writable doubles.
+    Ok(unsafe { std::slice::from_raw_parts_mut(p, len) })
+}
+
+/// An optional output buffer: `None` for NULL (the quantity is then not written).
+///
+/// # Safety
+/// `p` must point at `len` writable `f64` or be NULL.
+pub(crate) unsafe fn optional_output<'a>(p: *mut f64, len: usize) -> Option<&'a mut [f64]> {
+    // SAFETY: as for `output`.
+    (!p.is_null()).then(|| unsafe { std::slice::from_raw_parts_mut(p, len) })
+}
+
+/// A NUL-terminated UTF-8 string argument.
+///
+/// # Safety
+/// `p` must be NULL or point at a NUL-terminated string.
+pub(crate) unsafe fn text<'a>(p: *const c_char, what: &str) -> Outcome<&'a str> {
+    if p.is_null() {
+        return Err(Failure::new(SpacearmStatus::NullPointer, format!("{what} is NULL; expected a NUL-terminated UTF-8 string")));
+    }
+    // SAFETY: the caller's contract: a NUL-terminated string.
+    let s = unsafe { CStr::from_ptr(p) };
+    s.to_str().map_err(|e| Failure::argument(format!("{what} is not valid UTF-8: {e}")))
+}
+
+/// Write `s` NUL-terminated into the caller's buffer `buf` of `len` bytes; `needed` (if not
+/// NULL) receives the size the text needs, NUL included. A NULL or short `buf` gives
+/// [`SpacearmStatus::BufferTooSmall`] (call once with `len = 0` to learn the size).
+///
+/// # Safety
+/// `buf` must be NULL or point at `len` writable bytes; `needed` NULL or writable.
+pub(crate) unsafe fn write_text(s: &str, buf: *mut c_char, len: usize, needed: *mut usize) -> Outcome {
+    let size = s.len() + 1;
+    if !needed.is_null() {
+        // SAFETY: the caller's contract: `needed` is writable.
+        unsafe { *needed = size };
+    }
+    if buf.is_null() || len < size {
+        return Err(Failure::new(SpacearmStatus::BufferTooSmall, format!("the text needs a buffer of {size} bytes (NUL included), got {len}")));
+    }
+    // SAFETY: `buf` has `len >= size` writable bytes.
+    unsafe {
+        std::ptr::copy_nonoverlapping(s.as_ptr(), buf.cast::<u8>(), s.len());
+        *buf.add(s.len()) = 0;
+    }
+    Ok(())
+}
+
+/// Every value of `v` finite, or a NonFinite failure naming the first that is not.
+pub(crate) fn finite(what: &str, v: &[f64]) -> Outcome {
+    match v.iter().position(|x| !x.is_finite()) {
+        None => Ok(()),
+        Some(index) => Err(SpacearmError::NonFinite { what: what.into(), index, value: v[index] }.into()),
+    }
+}

@@ -1,0 +1,318 @@
+//! The stepper handle: the core's fixed-step RK4 loop (`spacearm_core::sim::stepper`, the loop
+//! of `spacearm.simulate` and `spacearm.Simulator`) with a native controller, stepped from C
+//! with a joint torque and base wrench held over each step (docs/c-api.md, "Stepping").
+//!
+//! The options are TOML text, so that new options never change the ABI:
+//!
+//! ```toml
+//! mode = "floating"        # or rotation-floating, rotation-flying, translation-flying, flying
+//! dt = 0.001               # the RK4 step, s
+//! joint_limits = true      # the joints' effort and velocity limits apply
+//! [controller]             # optional; default: none (only the held torque acts)
+//! kind = "joint_pd"        # "none", "joint_pd" or "computed_torque"
+//! kp = [100.0]             # one gain or one per arm joint
+//! kd = [20.0]
+//! q_ref = [0.1, 0.2, ...]  # the constant set point, one per arm joint
+//! ```
+
+use std::ffi::c_char;
+
+use nalgebra::Vector6;
+use serde::Deserialize;
+use spacearm_core::control::{broadcast_gains, ComputedTorque, Controller, JointPd, ZeroTorque};
+use spacearm_core::sim::actuators::detect_reaction_wheels;
+use spacearm_core::sim::integrate::IntegratorKind;
+use spacearm_core::sim::modes::Mode;
+use spacearm_core::sim::reference::JointReference;
+use spacearm_core::sim::simulate::{check_initial_state, Plant, SimOptions};
+use spacearm_core::sim::stepper::Rk4Stepper;
+use spacearm_core::{Model, SpacearmError};
+
+use crate::model::{model_ref, SpacearmModel};
+use crate::status::{guard, guard_value, input, optional_input, output, text, Failure, Outcome, SpacearmStatus};
+
+/// The native controllers a stepper (and an FMU) can run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub(crate) enum ControllerKind {
+    /// Zero torque: only the held input acts.
+    None,
+    /// `τ = K_p (q_ref − q) − K_d q̇` on the arm joints (docs/simulation-core.md).
+    JointPd,
+    /// Computed torque on the reduced EOM (paper eqs. 112–115) to a constant set point.
+    ComputedTorque,
+}
+
+impl ControllerKind {
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            ControllerKind::None => "none",
+            ControllerKind::JointPd => "joint_pd",
+            ControllerKind::ComputedTorque => "computed_torque",
+        }
+    }
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ControllerText {
+    kind: ControllerKind,
+    #[serde(default)]
+    kp: Option<Vec<f64>>,
+    #[serde(default)]
+    kd: Option<Vec<f64>>,
+    #[serde(default)]
+    q_ref: Option<Vec<f64>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct OptionsText {
+    #[serde(default = "default_mode")]
+    mode: String,
+    #[serde(default = "default_dt")]
+    dt: f64,
+    #[serde(default = "default_true")]
+    joint_limits: bool,
+    #[serde(default)]
+    controller: Option<ControllerText>,
+}
+
+fn default_mode() -> String {
+    "floating".into()
+}
+fn default_dt() -> f64 {
+    1e-3
+}
+fn default_true() -> bool {
+    true
+}
+
+/// Checked stepper options: the simulation options and the controller with its gains and set
+/// point, one entry per arm joint (the gains broadcast).
+#[derive(Debug, Clone)]
+pub(crate) struct StepperOptions {
+    pub sim: SimOptions,
+    pub controller: ControllerKind,
+    pub kp: Vec<f64>,
+    pub kd: Vec<f64>,
+    pub q_ref: Vec<f64>,
+}
+
+impl StepperOptions {
+    /// Parse and check the options TOML against `model`.
+    pub(crate) fn parse(model: &Model, text: &str) -> Outcome<Self> {
+        let o: OptionsText = toml::from_str(text).map_err(|e| Failure::new(SpacearmStatus::Parse, format!("stepper options: {e}")))?;
+        let sim = SimOptions { mode: Mode::from_name(&o.mode)?, integrator: IntegratorKind::Rk4, duration: o.dt, dt: o.dt, joint_limits: o.joint_limits, ..SimOptions::default() };
+        sim.validate()?;
+        let n_arm = Self::n_arm(model);
+        let arm_q: Vec<f64> = {
+            let wheels = detect_reaction_wheels(model);
+            (0..model.n_dof()).filter(|d| !wheels.contains(d)).map(|d| model.initial_q()[d]).collect()
+        };
+        let (controller, kp, kd, q_ref) = match o.controller {
+            None => (ControllerKind::None, vec![], vec![], vec![]),
+            Some(c) if c.kind == ControllerKind::None => {
+                if c.kp.is_some() || c.kd.is_some() || c.q_ref.is_some() {
+                    return Err(Failure::argument("controller kind 'none' takes no kp, kd or q_ref"));
+                }
+                (ControllerKind::None, vec![], vec![], vec![])
+            }
+            Some(c) => {
+                let need = |v: Option<Vec<f64>>, what: &str| v.ok_or_else(|| Failure::argument(format!("controller '{}' needs {what}", c.kind.name())));
+                let kp = broadcast_gains("kp", &need(c.kp, "kp")?, n_arm)?;
+                let kd = broadcast_gains("kd", &need(c.kd, "kd")?, n_arm)?;
+                let q_ref = c.q_ref.unwrap_or(arm_q);
+                if q_ref.len() != n_arm {
+                    return Err(SpacearmError::Dimension { what: "q_ref".into(), expected: format!("the number of arm joints {n_arm}"), got: q_ref.len() }.into());
+                }
+                crate::status::finite("q_ref", &q_ref)?;
+                (c.kind, kp, kd, q_ref)
+            }
+        };
+        Ok(StepperOptions { sim, controller, kp, kd, q_ref })
+    }
+
+    /// The number of arm joints (the joints that are not reaction wheels).
+    pub(crate) fn n_arm(model: &Model) -> usize {
+        model.n_dof() - detect_reaction_wheels(model).len()
+    }
+
+    /// A fresh controller.
+    pub(crate) fn build_controller(&self) -> Outcome<Box<dyn Controller>> {
+        let reference = || JointReference::constant(self.q_ref.clone());
+        Ok(match self.controller {
+            ControllerKind::None => Box::new(ZeroTorque),
+            ControllerKind::JointPd => Box::new(JointPd::new(self.kp.clone(), self.kd.clone(), reference()?)),
+            ControllerKind::ComputedTorque => Box::new(ComputedTorque::new(self.kp.clone(), self.kd.clone(), reference()?, None)),
+        })
+    }
+}
+
+/// A stepping simulation of its own copy of a model: RK4 at a fixed step with a native
+/// controller; free it with `spacearm_stepper_free`. Not for use by two threads at once.
+pub struct SpacearmStepper {
+    pub(crate) model: Model,
+    pub(crate) options: StepperOptions,
+    pub(crate) stepper: Option<Rk4Stepper<'static>>,
+    tau: Vec<f64>,
+}
+
+impl SpacearmStepper {
+    pub(crate) fn new(model: Model, options: StepperOptions) -> Self {
+        let n = model.n_dof();
+        SpacearmStepper { model, options, stepper: None, tau: vec![0.0; n] }
+    }
+
+    /// Start again at `t = 0` from `(x0, u0)` with a fresh controller.
+    pub(crate) fn reset(&mut self, x0: &[f64], u0: &[f64]) -> Outcome {
+        check_initial_state(&self.model, x0, u0)?;
+        let plant = Plant::owned(self.model.clone(), &self.options.sim, self.options.build_controller()?)?;
+        self.stepper = Some(Rk4Stepper::new(plant, x0, u0, None)?);
+        Ok(())
+    }
+
+    fn running(&mut self) -> Outcome<&mut Rk4Stepper<'static>> {
+        self.stepper.as_mut().ok_or_else(|| Failure::argument("the stepper has no state yet; call spacearm_stepper_reset first"))
+    }
+
+    /// `n` steps of `dt` with `tau` (N) and `base_wrench` (6) held, landing on `t = i·dt`.
+    pub(crate) fn step(&mut self, tau: Option<&[f64]>, base_wrench: Option<&[f64]>, n: usize) -> Outcome {
+        if let Some(t) = tau {
+            crate::status::finite("tau", t)?;
+        }
+        if let Some(w) = base_wrench {
+            crate::status::finite("base_wrench", w)?;
+        }
+        let dt = self.options.sim.dt;
+        match tau {
+            Some(t) => self.tau.copy_from_slice(t),
+            None => self.tau.fill(0.0),
+        }
+        let w = base_wrench.map(Vector6::from_column_slice).unwrap_or_else(Vector6::zeros);
+        let held = (tau.is_some() || base_wrench.is_some()).then_some(w);
+        let tau_buf = std::mem::take(&mut self.tau);
+        let result = (|| {
+            let s = self.running()?;
+            s.plant_mut().set_held_input(held.map(|w| (tau_buf.as_slice(), w)));
+            for _ in 0..n {
+                let t_next = (s.n_steps() + 1) as f64 * dt;
+                s.step_to(t_next)?;
+            }
+            Ok(())
+        })();
+        self.tau = tau_buf;
+        result
+    }
+
+    pub(crate) fn state(&self) -> Option<&[f64]> {
+        self.stepper.as_ref().map(|s| s.state())
+    }
+}
+
+/// # Safety
+/// `s` NULL or a live stepper handle.
+unsafe fn stepper_mut<'a>(s: *mut SpacearmStepper) -> Outcome<&'a mut SpacearmStepper> {
+    // SAFETY: the caller's contract.
+    unsafe { s.as_mut() }.ok_or_else(|| Failure::new(SpacearmStatus::NullPointer, "stepper is NULL; expected a handle from spacearm_stepper_new"))
+}
+
+/// A stepper for a copy of `model` with the options TOML `options` (NULL: the defaults,
+/// floating mode, dt = 1 ms, no controller; see docs/c-api.md). Call `spacearm_stepper_reset`
+/// before stepping.
+///
+/// # Safety
+/// `model` a live handle; `options` NULL or a NUL-terminated string; `out` writable.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_stepper_new(model: *const SpacearmModel, options: *const c_char, out: *mut *mut SpacearmStepper) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let m = unsafe { model_ref(model) }?;
+        let text = if options.is_null() { "" } else { unsafe { text(options, "options") }? };
+        let opts = StepperOptions::parse(&m.model, text)?;
+        if out.is_null() {
+            return Err(Failure::new(SpacearmStatus::NullPointer, "out is NULL; expected the address of a SpacearmStepper*"));
+        }
+        unsafe { *out = Box::into_raw(Box::new(SpacearmStepper::new(m.model.clone(), opts))) };
+        Ok(())
+    })
+}
+
+/// Free a stepper (NULL is ignored).
+///
+/// # Safety
+/// `stepper` NULL or a handle not yet freed; not used afterwards.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_stepper_free(stepper: *mut SpacearmStepper) {
+    if !stepper.is_null() {
+        // SAFETY: a handle from `Box::into_raw`, freed once (caller's contract).
+        drop(unsafe { Box::from_raw(stepper) });
+    }
+}
+
+/// Start at `t = 0` from `x0` (7+N) and `u0` (6+N) with a fresh controller.
+///
+/// # Safety
+/// `stepper` a live handle; `x0` 7+N and `u0` 6+N doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_stepper_reset(stepper: *mut SpacearmStepper, x0: *const f64, u0: *const f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let s = unsafe { stepper_mut(stepper) }?;
+        let (nx, nu) = (s.model.nx(), s.model.nu());
+        let (x0, u0) = unsafe { (input(x0, nx, "x0")?, input(u0, nu, "u0")?) };
+        s.reset(x0, u0)
+    })
+}
+
+/// Advance `n` RK4 steps of `dt` with the joint torque `tau` (N, NULL: zero) and the base wrench
+/// `base_wrench` (`[F0, N0]` in 𝒥 at the base CM, 6, NULL: zero) added to the controller's
+/// command and held over the steps; the mode's mask and the actuator limits apply as in
+/// `spacearm.simulate`. A failed step leaves the stepper needing a reset.
+///
+/// # Safety
+/// `stepper` a live handle; `tau` NULL or N doubles; `base_wrench` NULL or 6 doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_stepper_step(stepper: *mut SpacearmStepper, tau: *const f64, base_wrench: *const f64, n: usize) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let s = unsafe { stepper_mut(stepper) }?;
+        let nd = s.model.n_dof();
+        let (tau, w) = unsafe { (optional_input(tau, nd), optional_input(base_wrench, 6)) };
+        s.step(tau, w, n)
+    })
+}
+
+/// The current time, s (NaN for a NULL or not yet reset stepper).
+///
+/// # Safety
+/// `stepper` NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_stepper_time(stepper: *const SpacearmStepper) -> f64 {
+    guard_value(f64::NAN, || {
+        // SAFETY: the caller's contract.
+        let s = unsafe { stepper.as_ref() }.ok_or_else(|| Failure::new(SpacearmStatus::NullPointer, "stepper is NULL"))?;
+        s.stepper.as_ref().map(|s| s.time()).ok_or_else(|| Failure::argument("the stepper has no state yet; call spacearm_stepper_reset first"))
+    })
+}
+
+/// The current state: `x_out` (7+N) and `u_out` (6+N); either may be NULL.
+///
+/// # Safety
+/// `stepper` a live handle; `x_out` NULL or 7+N, `u_out` NULL or 6+N writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_stepper_state(stepper: *const SpacearmStepper, x_out: *mut f64, u_out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let s = unsafe { stepper.as_ref() }.ok_or_else(|| Failure::new(SpacearmStatus::NullPointer, "stepper is NULL"))?;
+        let nx = s.model.nx();
+        let y = s.state().ok_or_else(|| Failure::argument("the stepper has no state yet; call spacearm_stepper_reset first"))?;
+        if !x_out.is_null() {
+            unsafe { output(x_out, nx, "x_out") }?.copy_from_slice(&y[..nx]);
+        }
+        if !u_out.is_null() {
+            unsafe { output(u_out, y.len() - nx, "u_out") }?.copy_from_slice(&y[nx..]);
+        }
+        Ok(())
+    })
+}

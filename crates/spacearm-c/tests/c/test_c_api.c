@@ -1,0 +1,235 @@
+/* Tests of the spacearm C ABI from C (run by scripts/c-tests.sh, also under AddressSanitizer
+ * and UBSan). The checks are independent of the library's own code paths where they can be:
+ * H* is recomputed here from the blocks H0, H0m, Hm (H* = Hm - H0m^T H0^-1 H0m, paper eq. 45,
+ * with a 6x6 solve written here), forward dynamics is inverted by inverse dynamics, the momentum
+ * map gives a state of zero momentum, and every error path answers its status and a message. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "spacearm.h"
+
+static int failures = 0;
+#define CHECK(cond, ...)                                                   \
+    do {                                                                   \
+        if (!(cond)) {                                                     \
+            failures++;                                                    \
+            fprintf(stderr, "%s:%d: check failed: %s: ", __FILE__, __LINE__, #cond); \
+            fprintf(stderr, __VA_ARGS__);                                  \
+            fprintf(stderr, "\n");                                         \
+        }                                                                  \
+    } while (0)
+#define OK(call)                                                           \
+    do {                                                                   \
+        SpacearmStatus s_ = (call);                                        \
+        CHECK(s_ == SPACEARM_STATUS_OK, "%s -> %s: %s", #call, spacearm_status_name(s_), spacearm_last_error()); \
+    } while (0)
+
+static double max_abs_diff(const double *a, const double *b, size_t n) {
+    double m = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        double d = fabs(a[i] - b[i]);
+        if (d > m) m = d;
+    }
+    return m;
+}
+
+/* Solve A X = B for X (A 6x6 row-major, B 6xn row-major, both overwritten) by Gaussian
+ * elimination with partial pivoting. */
+static void solve6(double *a, double *b, size_t n) {
+    for (int k = 0; k < 6; k++) {
+        int p = k;
+        for (int i = k + 1; i < 6; i++)
+            if (fabs(a[i * 6 + k]) > fabs(a[p * 6 + k])) p = i;
+        for (int j = 0; j < 6; j++) { double t = a[k * 6 + j]; a[k * 6 + j] = a[p * 6 + j]; a[p * 6 + j] = t; }
+        for (size_t j = 0; j < n; j++) { double t = b[k * n + j]; b[k * n + j] = b[p * n + j]; b[p * n + j] = t; }
+        for (int i = k + 1; i < 6; i++) {
+            double f = a[i * 6 + k] / a[k * 6 + k];
+            for (int j = k; j < 6; j++) a[i * 6 + j] -= f * a[k * 6 + j];
+            for (size_t j = 0; j < n; j++) b[i * n + j] -= f * b[k * n + j];
+        }
+    }
+    for (int k = 5; k >= 0; k--) {
+        for (size_t j = 0; j < n; j++) {
+            double s = b[k * n + j];
+            for (int i = k + 1; i < 6; i++) s -= a[k * 6 + i] * b[i * n + j];
+            b[k * n + j] = s / a[k * 6 + k];
+        }
+    }
+}
+
+static void test_quantities(void) {
+    SpacearmModel *m = NULL;
+    OK(spacearm_model_preset("spatial6", &m));
+    size_t n = spacearm_model_n_dof(m), nx = spacearm_model_nx(m), nu = spacearm_model_nu(m);
+    CHECK(n == 6 && nx == 13 && nu == 12, "sizes %zu %zu %zu", n, nx, nu);
+    double x[13], u[12], f[12], du[12], f_back[12];
+    OK(spacearm_model_initial_configuration(m, x));
+    /* A generic state: base rotated (unit quaternion), joints away from the initial pose. */
+    double qx = 0.1, qy = -0.2, qz = 0.3, qw = sqrt(1.0 - 0.01 - 0.04 - 0.09);
+    x[3] = qx; x[4] = qy; x[5] = qz; x[6] = qw;
+    for (size_t i = 0; i < n; i++) x[7 + i] += 0.1 * (double)(i + 1);
+    for (size_t i = 0; i < nu; i++) { u[i] = 0.05 * (double)i - 0.2; f[i] = 1.0 - 0.3 * (double)i; }
+
+    /* H symmetric; H* from the blocks. */
+    double h[144], h0[36], h0m[36], hm[36], hs[36];
+    OK(spacearm_mass_matrix(m, x, h));
+    double asym = 0.0;
+    for (size_t i = 0; i < nu; i++)
+        for (size_t j = 0; j < nu; j++) asym = fmax(asym, fabs(h[i * nu + j] - h[j * nu + i]));
+    CHECK(asym < 1e-12, "H not symmetric: %g", asym);
+    OK(spacearm_inertia_blocks(m, x, h0, h0m, hm));
+    CHECK(max_abs_diff(h0, h, 6) < 1e-12 && fabs(h0m[1] - h[7]) < 1e-12, "blocks are not those of H");
+    OK(spacearm_generalized_inertia(m, x, hs));
+    double y[36];
+    memcpy(y, h0m, sizeof y);
+    solve6(h0, y, n); /* y = H0^-1 H0m */
+    double ref[36];
+    for (size_t i = 0; i < n; i++)
+        for (size_t j = 0; j < n; j++) {
+            double s = hm[i * n + j];
+            for (int k = 0; k < 6; k++) s -= h0m[k * n + i] * y[k * n + j];
+            ref[i * n + j] = s;
+        }
+    CHECK(max_abs_diff(hs, ref, 36) < 1e-9, "H* differs from Hm - H0m^T H0^-1 H0m by %g", max_abs_diff(hs, ref, 36));
+
+    /* Forward dynamics inverted by inverse dynamics. */
+    OK(spacearm_forward_dynamics(m, x, u, f, du));
+    OK(spacearm_inverse_dynamics(m, x, u, du, f_back));
+    CHECK(max_abs_diff(f, f_back, nu) < 1e-9, "ID(FD(f)) - f = %g", max_abs_diff(f, f_back, nu));
+
+    /* Reduced dynamics without a base wrench = ABA with f = [0; tau]; with one = ABA with [w; tau]. */
+    double tau[6], w[6] = {3, -2, 1, 0.5, -0.4, 0.2}, f0[12] = {0}, du_r[12];
+    for (size_t i = 0; i < n; i++) { tau[i] = f[6 + i]; f0[6 + i] = tau[i]; }
+    OK(spacearm_forward_dynamics(m, x, u, f0, du));
+    OK(spacearm_reduced_forward_dynamics(m, x, u, tau, NULL, du_r));
+    CHECK(max_abs_diff(du, du_r, nu) < 1e-9, "reduced FD (floating) vs ABA: %g", max_abs_diff(du, du_r, nu));
+    memcpy(f0, w, sizeof w);
+    OK(spacearm_forward_dynamics(m, x, u, f0, du));
+    OK(spacearm_reduced_forward_dynamics(m, x, u, tau, w, du_r));
+    CHECK(max_abs_diff(du, du_r, nu) < 1e-9, "reduced FD (base wrench) vs ABA: %g", max_abs_diff(du, du_r, nu));
+
+    /* c = ID at zero acceleration; c* and J* of the end effector are finite and have their sizes. */
+    double c[12], zero[12] = {0}, cs[6], js[36], off[3];
+    size_t body = 99;
+    OK(spacearm_bias_forces(m, x, u, c));
+    OK(spacearm_inverse_dynamics(m, x, u, zero, f_back));
+    CHECK(max_abs_diff(c, f_back, nu) < 1e-12, "c vs ID(u_dot = 0): %g", max_abs_diff(c, f_back, nu));
+    OK(spacearm_generalized_bias(m, x, u, cs));
+    OK(spacearm_model_point(m, NULL, &body, off));
+    CHECK(body == n, "end effector on body %zu", body);
+    OK(spacearm_generalized_jacobian(m, x, body, off, js));
+
+    /* The momentum map: the base velocity it gives makes the momentum zero. */
+    double qd[6], p0[3] = {0}, v0[6], mom[9], uu[12];
+    for (size_t i = 0; i < n; i++) qd[i] = u[6 + i];
+    OK(spacearm_base_velocity_from_momentum(m, x, qd, p0, p0, v0));
+    memcpy(uu, v0, sizeof v0);
+    memcpy(uu + 6, qd, sizeof qd);
+    OK(spacearm_momentum(m, x, uu, mom));
+    CHECK(max_abs_diff(mom, zero, 6) < 1e-9, "momentum after the momentum map: %g", max_abs_diff(mom, zero, 6));
+
+    /* Derivatives: d(u_dot)/df = H^-1, so H (d u_dot/df) = I. */
+    double hinv[144];
+    OK(spacearm_forward_dynamics_derivatives(m, x, u, f, NULL, NULL, hinv));
+    double worst = 0.0;
+    for (size_t i = 0; i < nu; i++)
+        for (size_t j = 0; j < nu; j++) {
+            double s = 0.0;
+            for (size_t k = 0; k < nu; k++) s += h[i * nu + k] * hinv[k * nu + j];
+            worst = fmax(worst, fabs(s - (i == j ? 1.0 : 0.0)));
+        }
+    CHECK(worst < 1e-9, "H * dFD/df - I = %g", worst);
+
+    /* The TOML round trip gives the same model. */
+    size_t needed = 0;
+    CHECK(spacearm_model_to_toml(m, NULL, 0, &needed) == SPACEARM_STATUS_BUFFER_TOO_SMALL && needed > 10, "needed %zu", needed);
+    char *text = malloc(needed);
+    OK(spacearm_model_to_toml(m, text, needed, &needed));
+    SpacearmModel *again = NULL;
+    OK(spacearm_model_from_toml(text, &again));
+    double h2[144];
+    OK(spacearm_mass_matrix(again, x, h2));
+    CHECK(max_abs_diff(h, h2, 144) == 0.0, "round trip changed H by %g", max_abs_diff(h, h2, 144));
+    free(text);
+    spacearm_model_free(again);
+    spacearm_model_free(m);
+}
+
+static void test_errors(void) {
+    SpacearmModel *m = NULL;
+    CHECK(spacearm_model_from_toml("[base\nmass = 1", &m) == SPACEARM_STATUS_PARSE && m == NULL, "bad TOML");
+    CHECK(strlen(spacearm_last_error()) > 0, "no message for bad TOML");
+    CHECK(spacearm_model_preset("nope", &m) == SPACEARM_STATUS_NOT_FOUND, "unknown preset");
+    CHECK(strstr(spacearm_last_error(), "nope") != NULL, "message: %s", spacearm_last_error());
+    CHECK(spacearm_model_preset(NULL, &m) == SPACEARM_STATUS_NULL_POINTER, "NULL name");
+    CHECK(spacearm_model_from_toml_file("/nonexistent/model.toml", &m) == SPACEARM_STATUS_IO, "missing file");
+    OK(spacearm_model_preset("planar4", &m));
+    CHECK(strlen(spacearm_last_error()) == 0, "a success leaves a message: %s", spacearm_last_error());
+    double x[11] = {0, 0, 0, 0, 0, 0, 2.0, 0, 0, 0, 0}, h[100];
+    CHECK(spacearm_mass_matrix(m, x, h) == SPACEARM_STATUS_NOT_UNIT_QUATERNION, "quaternion");
+    x[6] = NAN;
+    CHECK(spacearm_mass_matrix(m, x, h) == SPACEARM_STATUS_NON_FINITE, "NaN: %s", spacearm_last_error());
+    CHECK(spacearm_mass_matrix(m, x, NULL) == SPACEARM_STATUS_NULL_POINTER, "NULL output");
+    CHECK(spacearm_mass_matrix(NULL, x, h) == SPACEARM_STATUS_NULL_POINTER, "NULL model");
+    CHECK(spacearm_model_n_dof(NULL) == 0, "n_dof of NULL");
+    double off[3] = {0};
+    size_t body;
+    x[6] = 1.0;
+    CHECK(spacearm_generalized_jacobian(m, x, 42, off, h) == SPACEARM_STATUS_NOT_FOUND, "body 42: %s", spacearm_last_error());
+    CHECK(spacearm_model_point(m, "no such point", &body, off) == SPACEARM_STATUS_NOT_FOUND, "point");
+    SpacearmStepper *s = NULL;
+    CHECK(spacearm_stepper_new(m, "mode = \"hovering\"", &s) == SPACEARM_STATUS_INVALID_ARGUMENT, "mode: %s", spacearm_last_error());
+    CHECK(spacearm_stepper_new(m, "dt = -1", &s) == SPACEARM_STATUS_INVALID_ARGUMENT, "dt");
+    CHECK(spacearm_stepper_new(m, "speed = 3", &s) == SPACEARM_STATUS_PARSE, "unknown option");
+    OK(spacearm_stepper_new(m, NULL, &s));
+    CHECK(spacearm_stepper_step(s, NULL, NULL, 1) == SPACEARM_STATUS_INVALID_ARGUMENT, "step before reset");
+    CHECK(isnan(spacearm_stepper_time(s)), "time before reset");
+    spacearm_stepper_free(s);
+    spacearm_model_free(m);
+    spacearm_model_free(NULL);
+    spacearm_stepper_free(NULL);
+}
+
+static void test_stepper(void) {
+    SpacearmModel *m = NULL;
+    OK(spacearm_model_preset("spatial6", &m));
+    SpacearmStepper *s = NULL;
+    OK(spacearm_stepper_new(m, "mode = \"floating\"\ndt = 0.001\n", &s));
+    double x0[13], u0[12] = {0}, tau[6] = {1, -1, 0.5, 0.2, -0.1, 0.1}, x[13], u[12], mom[9];
+    OK(spacearm_model_initial_configuration(m, x0));
+    spacearm_model_free(m); /* the stepper keeps its own copy */
+    OK(spacearm_stepper_reset(s, x0, u0));
+    OK(spacearm_stepper_step(s, tau, NULL, 200));
+    CHECK(fabs(spacearm_stepper_time(s) - 0.2) < 1e-12, "time %g", spacearm_stepper_time(s));
+    OK(spacearm_stepper_state(s, x, u));
+    CHECK(fabs(u[6] - u0[6]) > 1e-3, "the joints did not move");
+    /* Joint torques are internal: the momentum stays zero (with the model's own momentum). */
+    OK(spacearm_model_preset("spatial6", &m));
+    OK(spacearm_momentum(m, x, u, mom));
+    CHECK(fabs(mom[0]) + fabs(mom[1]) + fabs(mom[2]) + fabs(mom[3]) + fabs(mom[4]) + fabs(mom[5]) < 1e-9, "momentum drifted");
+    /* Reset gives the same run again, bit for bit. */
+    double x2[13];
+    OK(spacearm_stepper_reset(s, x0, u0));
+    OK(spacearm_stepper_step(s, tau, NULL, 200));
+    OK(spacearm_stepper_state(s, x2, NULL));
+    CHECK(max_abs_diff(x, x2, 13) == 0.0, "reset did not repeat the run");
+    double bad[6] = {NAN, 0, 0, 0, 0, 0};
+    CHECK(spacearm_stepper_step(s, bad, NULL, 1) == SPACEARM_STATUS_NON_FINITE, "NaN torque");
+    spacearm_stepper_free(s);
+    spacearm_model_free(m);
+}
+
+int main(void) {
+    CHECK(spacearm_abi_version() == SPACEARM_ABI_VERSION, "ABI %u vs header %u", spacearm_abi_version(), SPACEARM_ABI_VERSION);
+    test_quantities();
+    test_errors();
+    test_stepper();
+    if (failures) {
+        fprintf(stderr, "%d check(s) failed\n", failures);
+        return 1;
+    }
+    printf("spacearm C ABI tests passed (ABI %u, spacearm %s)\n", spacearm_abi_version(), spacearm_version());
+    return 0;
+}

@@ -1,0 +1,127 @@
+"""Export a :class:`~spacearm.Robot` as an FMI co-simulation unit (docs/fmi.md).
+
+The FMU's binary is the spacearm C library (:mod:`spacearm.fmi.library`), which exports the
+``fmi2*`` and ``fmi3*`` functions; the model travels as ``resources/model.toml`` and the stepper
+options (mode, RK4 step, controller) as ``resources/options.toml``; ``modelDescription.xml`` is
+written by the library from the same variable table its binary reads.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import platform
+import re
+import sys
+import uuid
+import zipfile
+from pathlib import Path
+from typing import Optional
+
+from .. import _core
+from .._util.atomic import atomic_path
+from ..control import ComputedTorque, JointPD, QuinticJoint
+from ..errors import ArgumentError, SpacearmTypeError
+from ..model.robot import Robot
+from ..sim.simulation import MODES  # the core's mode table
+from . import library
+
+__all__ = ["export", "binary_folder"]
+
+
+def binary_folder(fmi_version: int) -> str:
+    """The folder under ``binaries/`` for this platform (FMI 3 §2.5.1.1, FMI 2 §2.3)."""
+    machine = {"amd64": "x86_64", "arm64": "aarch64"}.get(platform.machine().lower(), platform.machine().lower())
+    system = {"linux": "linux", "darwin": "darwin", "win32": "windows"}.get(sys.platform, sys.platform)
+    if fmi_version == 3:
+        return f"{machine}-{system}"
+    fmi2 = {("x86_64", "linux"): "linux64", ("x86_64", "darwin"): "darwin64", ("x86_64", "windows"): "win64"}
+    if (machine, system) not in fmi2:
+        raise ArgumentError(f"FMI 2 names no binary folder for {machine} {system}; export with fmi_version=3")
+    return fmi2[(machine, system)]
+
+
+def _toml_list(values) -> str:
+    return "[" + ", ".join(repr(float(v)) for v in values) + "]"
+
+
+def _options_toml(mode: str, dt: float, joint_limits: bool, controller) -> str:
+    lines = [f'mode = "{mode}"', f"dt = {float(dt)!r}", f"joint_limits = {'true' if joint_limits else 'false'}"]
+    if controller is not None:
+        if not isinstance(controller, (JointPD, ComputedTorque)):
+            raise SpacearmTypeError("an FMU's controller is a spacearm.control.JointPD or ComputedTorque with a constant "
+                                    f"set point (or None), got {type(controller).__name__}")
+        if isinstance(controller, ComputedTorque) and controller.model is not None:
+            raise ArgumentError("an FMU's ComputedTorque uses the plant's own model; model= is not supported")
+        if isinstance(controller.reference, QuinticJoint):
+            raise ArgumentError("an FMU's controller takes a constant set point (one value per arm joint, an FMU "
+                                "parameter q_ref), not a QuinticJoint")
+        kind = "joint_pd" if isinstance(controller, JointPD) else "computed_torque"
+        gains = {name: [float(v) for v in (getattr(controller, name) if hasattr(getattr(controller, name), "__len__")
+                                            else [getattr(controller, name)])] for name in ("kp", "kd")}
+        lines += ["[controller]", f'kind = "{kind}"', f"kp = {_toml_list(gains['kp'])}", f"kd = {_toml_list(gains['kd'])}",
+                  f"q_ref = {_toml_list(controller.reference)}"]
+    return "\n".join(lines) + "\n"
+
+
+def export(robot: Robot, path, *, mode: str = "floating", controller=None, dt: float = 1e-3, fmi_version: int = 3,
+           joint_limits: bool = True, stop_time: float = 1.0, model_identifier: Optional[str] = None) -> Path:
+    """Write ``robot`` as a co-simulation FMU to ``path`` (``.fmu``) and return the path.
+
+    Parameters
+    ----------
+    robot : Robot
+        The plant.
+    path : str or os.PathLike
+        The file to write (atomically).
+    mode : str
+        A mode of :func:`spacearm.simulate`; the flying modes give the FMU the ``base_wrench`` inputs.
+    controller : JointPD or ComputedTorque, optional
+        A native controller with a constant set point, run inside the FMU at every RK4 stage;
+        its gains and set point become the FMU parameters ``kp``, ``kd``, ``q_ref``. ``None``:
+        only the ``tau`` inputs act.
+    dt : float
+        The FMU's RK4 step, s; every communication step must be a multiple of it.
+    fmi_version : int
+        3 (default) or 2.
+    joint_limits : bool
+        Whether the joints' effort and velocity limits apply (as in :func:`spacearm.simulate`).
+    stop_time : float
+        The default experiment's stop time, s.
+    model_identifier : str, optional
+        The binary's name (default: ``spacearm_`` and the model name, as an identifier).
+
+    Raises
+    ------
+    MissingDependencyError
+        The C library is not available (see :mod:`spacearm.fmi.library`).
+    ArgumentError, SpacearmTypeError
+        A bad option.
+    """
+    if not isinstance(robot, Robot):
+        raise SpacearmTypeError(f"export expects a spacearm.Robot, got {type(robot).__name__}")
+    if fmi_version not in (2, 3):
+        raise ArgumentError(f"fmi_version must be 2 or 3, got {fmi_version!r}")
+    if not isinstance(mode, str) or mode not in MODES:
+        raise ArgumentError(f"mode must be one of {list(MODES)}, got {mode!r}")
+    if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
+        raise ArgumentError(f"dt must be a finite number > 0 s, got {dt!r}")
+    identifier = model_identifier or "spacearm_" + re.sub(r"\W", "_", robot.name)
+    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", identifier):
+        raise ArgumentError(f"model_identifier must be a C identifier, got {identifier!r}")
+    lib = library.load()
+    model_toml = _core.model_to_toml(robot.core_model)
+    options_toml = _options_toml(mode, dt, joint_limits, controller)
+    digest = hashlib.sha256(f"{fmi_version}\0{identifier}\0{model_toml}\0{options_toml}".encode()).hexdigest()
+    token = "{" + str(uuid.UUID(digest[:32])) + "}"
+    description = lib.model_description(model_toml, options_toml, fmi_version, identifier, token, float(stop_time))
+    binary = lib.file.read_bytes()
+    suffix = lib.file.suffix
+    folder = binary_folder(fmi_version)
+    with atomic_path(path, suffix=".fmu") as tmp:
+        with zipfile.ZipFile(tmp, "w", compression=zipfile.ZIP_DEFLATED) as z:
+            z.writestr("modelDescription.xml", description)
+            z.writestr(f"binaries/{folder}/{identifier}{suffix}", binary)
+            z.writestr("resources/model.toml", model_toml)
+            z.writestr("resources/options.toml", options_toml)
+    return Path(path)

@@ -1,0 +1,114 @@
+"""The spacearm C library (``libspacearm_c``, crates/spacearm-c; docs/c-api.md) through
+:mod:`ctypes`: where it is, and the few entry points Python calls (the FMU's binary is the same
+file, see :mod:`spacearm.fmi.export`).
+
+Where the library is looked for, in order:
+
+1. the path in the environment variable ``SPACEARM_C_LIBRARY``;
+2. ``spacearm/fmi/libspacearm_c.so`` inside the installed package (a wheel that ships it);
+3. in a source checkout (the editable install of ``scripts/test.sh``), ``target/release/`` of the
+   repository, built by ``cargo build --release -p spacearm-c``.
+
+Otherwise :func:`path` raises a :class:`~spacearm.errors.MissingDependencyError` saying how to
+get it.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import os
+import sys
+from functools import lru_cache
+from pathlib import Path
+
+from .. import errors
+from ..errors import MissingDependencyError
+
+__all__ = ["path", "load", "ABI_VERSION", "LIBRARY_NAME"]
+
+#: The version of the C ABI these declarations follow (``SPACEARM_ABI_VERSION`` of
+#: crates/spacearm-c/include/spacearm.h); a library of another version is refused.
+ABI_VERSION = 1
+
+#: The library's file name on this platform.
+LIBRARY_NAME = {"darwin": "libspacearm_c.dylib", "win32": "spacearm_c.dll"}.get(sys.platform, "libspacearm_c.so")
+
+_PACKAGE = Path(__file__).resolve().parent
+_CHECKOUT = _PACKAGE.parents[2]
+
+
+def path() -> Path:
+    """The C library's path (see the module docs for where it is looked for)."""
+    env = os.environ.get("SPACEARM_C_LIBRARY")
+    if env:
+        p = Path(env)
+        if not p.is_file():
+            raise MissingDependencyError(f"SPACEARM_C_LIBRARY is '{env}', which is not a file; point it at {LIBRARY_NAME}")
+        return p
+    for candidate in (_PACKAGE / LIBRARY_NAME, _CHECKOUT / "target" / "release" / LIBRARY_NAME):
+        if candidate.is_file():
+            return candidate
+    hint = ("run `cargo build --release -p spacearm-c` in the repository" if (_CHECKOUT / "crates" / "spacearm-c").is_dir()
+            else "build it from the source repository with `cargo build --release -p spacearm-c`")
+    raise MissingDependencyError(
+        f"the spacearm C library ({LIBRARY_NAME}) is not in this installation; {hint} and set SPACEARM_C_LIBRARY "
+        "to the file it writes (docs/c-api.md, 'Getting the library')")
+
+
+#: The Python class of each SpacearmStatus code (docs/c-api.md, "Errors"): the same kinds as
+#: the core's errors, which the extension maps the same way.
+_ERRORS = {
+    1: errors.ModelError, 2: errors.ShapeError, 3: errors.NonFiniteError, 4: errors.QuaternionError,
+    5: errors.NotFoundError, 6: errors.SingularError, 7: errors.ModelFileError, 8: errors.ArgumentError,
+    9: errors.SimulationError, 10: errors.ResourceLimitError, 11: errors.ArgumentError, 12: errors.ArgumentError,
+    13: errors.ArgumentError, 14: errors.ArgumentError,
+}
+
+
+class _Library:
+    """The loaded library with the signatures Python uses."""
+
+    def __init__(self, file: Path):
+        lib = ctypes.CDLL(str(file))
+        lib.spacearm_abi_version.restype = ctypes.c_uint32
+        lib.spacearm_abi_version.argtypes = []
+        found = lib.spacearm_abi_version()
+        if found != ABI_VERSION:
+            raise MissingDependencyError(f"the C library '{file}' has ABI version {found}; this spacearm needs {ABI_VERSION} "
+                                         "(rebuild it from the same source)")
+        lib.spacearm_last_error.restype = ctypes.c_char_p
+        lib.spacearm_last_error.argtypes = []
+        lib.spacearm_fmu_model_description.restype = ctypes.c_int
+        lib.spacearm_fmu_model_description.argtypes = [
+            ctypes.c_char_p, ctypes.c_char_p, ctypes.c_uint32, ctypes.c_char_p, ctypes.c_char_p, ctypes.c_double,
+            ctypes.c_char_p, ctypes.c_size_t, ctypes.POINTER(ctypes.c_size_t)]
+        self.lib = lib
+        self.file = file
+
+    def check(self, status: int) -> None:
+        """Raise the error of a failed call (a status other than 0)."""
+        if status != 0:
+            message = (self.lib.spacearm_last_error() or b"").decode("utf-8", "replace")
+            raise _ERRORS.get(status, errors.ArgumentError)(message)
+
+    def model_description(self, model_toml: str, options_toml: str, fmi_version: int, identifier: str, token: str,
+                          stop_time: float) -> str:
+        """The ``modelDescription.xml`` the library writes for these resources."""
+        args = [model_toml.encode(), options_toml.encode(), fmi_version, identifier.encode(), token.encode(), stop_time]
+        needed = ctypes.c_size_t(0)
+        status = self.lib.spacearm_fmu_model_description(*args, None, 0, ctypes.byref(needed))
+        if status != 12:  # SPACEARM_STATUS_BUFFER_TOO_SMALL: the size is in `needed`
+            self.check(status)
+        buf = ctypes.create_string_buffer(needed.value)
+        self.check(self.lib.spacearm_fmu_model_description(*args, buf, needed.value, ctypes.byref(needed)))
+        return buf.value.decode()
+
+
+@lru_cache(maxsize=None)
+def _load(file: str) -> _Library:
+    return _Library(Path(file))
+
+
+def load() -> _Library:
+    """The library, loaded once per path."""
+    return _load(str(path()))
