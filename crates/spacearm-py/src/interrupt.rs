@@ -16,6 +16,13 @@ pub const SIGNAL_CHECK_INTERVAL: Duration = Duration::from_millis(100);
 /// [`SIGNAL_CHECK_INTERVAL`]; `work` must return soon after `cancel` is set. The result, or the
 /// signal handler's exception (`KeyboardInterrupt`) once the work has stopped.
 pub fn run_interruptible<R: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> R + Send) -> PyResult<R> {
+    run_until(py, None, work)
+}
+
+/// [`run_interruptible`] that also stops when `stop` (an object with `is_set()`, such as a
+/// `threading.Event`: the way to stop a call running on a thread other than the main one,
+/// where no signal arrives) is set; the call then raises `SimulationError("stopped ...")`.
+pub fn run_until<R: Send>(py: Python<'_>, stop: Option<Py<PyAny>>, work: impl FnOnce(&AtomicBool) -> R + Send) -> PyResult<R> {
     let cancel = AtomicBool::new(false);
     let (result, interrupted) = py.detach(|| {
         std::thread::scope(|s| {
@@ -31,7 +38,20 @@ pub fn run_interruptible<R: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool)
                     Ok(r) => break (Some(r), interrupted),
                     Err(mpsc::RecvTimeoutError::Timeout) => {
                         if interrupted.is_none() {
-                            if let Err(e) = Python::attach(|py| py.check_signals()) {
+                            let checked = Python::attach(|py| {
+                                py.check_signals()?;
+                                if let Some(stop) = &stop {
+                                    if stop.bind(py).call_method0("is_set")?.is_truthy()? {
+                                        return Err(crate::errors_py::new_error(
+                                            py,
+                                            crate::errors_py::ErrorClass::Simulation,
+                                            "stopped: the call's stop event was set".into(),
+                                        ));
+                                    }
+                                }
+                                Ok(())
+                            });
+                            if let Err(e) = checked {
                                 interrupted = Some(e);
                                 cancel.store(true, Ordering::Relaxed);
                             }

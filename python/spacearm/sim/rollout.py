@@ -86,6 +86,7 @@ def rollout(
     threads: Optional[int] = None,
     orbit=None,
     gravity_gradient: Optional[bool] = None,
+    stop=None,
 ) -> "Rollouts":
     """Simulate ``B`` rollouts of ``robot`` for ``duration`` seconds on native threads.
 
@@ -113,6 +114,9 @@ def rollout(
         the number of steps only the initial and final samples are kept.
     threads : int, optional
         Number of threads (default: one per core).
+    stop : threading.Event, optional
+        Setting it stops the rollouts within 0.1 s (a ``SimulationError``): how a rollout running
+        on another thread is stopped (Ctrl-C stops one on the main thread by itself).
 
     Returns
     -------
@@ -157,7 +161,9 @@ def rollout(
     else:
         _check_controller(controller)
         specs = None if controller is None else controller._spec(robot)
-    batch = _core.rollout(models, x0, u0, duration, options, specs, None if threads is None else int(threads))
+    if stop is not None and not callable(getattr(stop, "is_set", None)):
+        raise ArgumentError(f"stop must be None or an object with is_set() (a threading.Event), got {type(stop).__name__}")
+    batch = _core.rollout(models, x0, u0, duration, options, specs, None if threads is None else int(threads), stop)
     meta = [None if m is None else m.to_dict() for m in batch.meta]
     for m in meta:
         if m is not None:
