@@ -4,13 +4,11 @@ when a daemon thread was still in a native rollout at exit; issue 26)."""
 
 from __future__ import annotations
 
-import signal
-import subprocess
 import sys
 import textwrap
-import time
 
 import pytest
+from interrupt_child import interrupt_child
 
 CHILD = textwrap.dedent("""
     import sys, threading
@@ -32,16 +30,7 @@ CHILD = textwrap.dedent("""
 
 @pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process")
 def test_an_interrupted_threads_campaign_ends_its_threads_and_exits_cleanly():
-    child = subprocess.Popen([sys.executable, "-c", CHILD], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        assert child.stdout.readline().strip() == "started"
-        time.sleep(1.5)  # inside the first batch's native rollouts
-        sent = time.monotonic()
-        child.send_signal(signal.SIGINT)
-        out, err = child.communicate(timeout=60)
-        waited = time.monotonic() - sent
-    finally:
-        child.kill()
-    assert "FATAL" not in err and child.returncode == 130, (child.returncode, err[-2000:])
-    assert out.strip() == "interrupted []", out  # no campaign thread left running
-    assert waited < 5.0, f"took {waited:.1f} s"
+    a = interrupt_child(CHILD, 1.5)  # inside the first batch's native rollouts
+    assert "FATAL" not in a.err and a.returncode == 130, (a.returncode, a.err[-2000:])
+    assert a.out.strip() == "interrupted []", a.out  # no campaign thread left running
+    assert a.waited < 5.0, f"took {a.waited:.1f} s"

@@ -4,16 +4,14 @@ thread count is bounded (issue 26, item 7)."""
 
 from __future__ import annotations
 
-import signal
-import subprocess
 import sys
 import textwrap
-import time
 
 import numpy as np
 import pytest
 
 import spacearm
+from interrupt_child import interrupt_child
 
 
 def test_a_batch_input_beyond_the_memory_limit_is_refused_before_it_is_copied():
@@ -71,16 +69,7 @@ CHILD = textwrap.dedent("""
 
 @pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process")
 def test_ctrl_c_stops_a_rollout_within_a_second():
-    child = subprocess.Popen([sys.executable, "-c", CHILD], stdout=subprocess.PIPE, text=True)
-    try:
-        assert child.stdout.readline().strip() == "started"
-        time.sleep(0.5)
-        sent = time.monotonic()
-        child.send_signal(signal.SIGINT)
-        out, _ = child.communicate(timeout=60)
-        waited = time.monotonic() - sent
-    finally:
-        child.kill()
-    assert out.strip() == "interrupted", out
-    assert child.returncode == 130
-    assert waited < 1.0, f"took {waited:.2f} s to answer Ctrl-C"
+    a = interrupt_child(CHILD, 0.5)
+    assert a.out.strip() == "interrupted", a.out
+    assert a.returncode == 130
+    assert a.waited < 1.0, f"took {a.waited:.2f} s to answer Ctrl-C"
