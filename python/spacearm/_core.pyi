@@ -1195,6 +1195,7 @@ def rollout(
     options: RunOptions,
     controllers: Optional[Union[_ControllerSpec, list[_ControllerSpec]]] = None,
     threads: Optional[int] = None,
+    stop: Optional[Any] = None,
 ) -> RolloutBatch:
     """Run B rollouts on native threads without the GIL (crates/spacearm-py/src/rollout_py.rs).
     ``models``: one model or one per rollout; ``x0`` (B, 7+N), ``u0`` (B, 6+N) float64;

@@ -15,6 +15,7 @@ mod convert;
 mod derivatives_py;
 mod description_py;
 mod errors_py;
+mod interrupt;
 mod model_io_py;
 mod model_py;
 mod orbit_py;

@@ -26,7 +26,7 @@ from typing import NamedTuple, Sequence, Union
 import numpy as np
 
 from .. import _core
-from .._util.arrays import quaternion, real_array, vector, vector3
+from .._util.arrays import finite, quaternion, real_array, vector, vector3
 from .description import ModelDescription
 from ..errors import ArgumentError, NonPhysicalInertiaWarning, NotFoundError, ShapeError, SpacearmTypeError
 
@@ -513,6 +513,7 @@ class Robot:
             for arr, name, width in ((t, "tau", self.n_dof), (b, "base_wrench", 6)):
                 if arr.ndim not in (1, 2) or arr.shape[-1] != width:
                     raise ShapeError(f"{name} must have length {width} (or shape (B, {width}) for a batch), got shape {arr.shape}")
+                finite(arr, name)  # named here: the core would name the f they are joined into
             if t.ndim == 1 and b.ndim == 1:
                 return np.concatenate([b, t])
             lead = t.shape[0] if t.ndim == 2 else b.shape[0]
