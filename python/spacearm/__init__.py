@@ -38,6 +38,7 @@ from .model.robot import (
     Kinematics,
     Linearization,
     Momentum,
+    PassiveModes,
     Robot,
 )
 from .sim.rollout import Rollouts, rollout
@@ -48,7 +49,7 @@ from .sim.trajectory import Trajectory
 #: The subpackages imported on first use (PEP 562): ``spacearm.plan`` after ``import spacearm``
 #: imports ``spacearm.plan`` then, so ``import spacearm`` does not pay for them (CasADi, SymPy,
 #: Dask and the engines load only with the subpackage that needs them).
-_LAZY_SUBPACKAGES = ("analysis", "campaign", "casadi", "examples", "identify", "interop", "plan", "symbolic")
+_LAZY_SUBPACKAGES = ("analysis", "campaign", "casadi", "examples", "fmi", "identify", "interop", "plan", "symbolic")
 
 
 def __getattr__(name: str):
@@ -74,6 +75,7 @@ __all__ = [
     "ForwardDynamicsDerivatives",
     "InverseDynamicsPartials",
     "Linearization",
+    "PassiveModes",
     "ModelDescription",
     "BaseDescription",
     "LinkDescription",

@@ -30,10 +30,10 @@ __all__ = [
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
     "analysis_reach", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_singularity", "batch_threads", "body_mass_properties_error", "box_of_moments", "check_grasp_handle", "GOAL_TOLERANCE", "MAX_HANDLE_RATIO",
-    "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
+    "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "joint_wrenches", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
     "model_to_toml", "momentum_scales", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
-    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "soft_capture", "virtual_mass",
+    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "soft_capture", "virtual_mass",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -77,6 +77,10 @@ def model_from_paper_dh(
     tip_point: Optional[str],
     initial_q: Optional[Sequence[float]] = None,
 ) -> Model: ...
+
+def slosh_links(name: str, parent: str, model: str, mass: float, position: Sequence[float], axis: Sequence[float],
+                hinge: Optional[Sequence[float]], length: Optional[float], stiffness: Optional[float],
+                frequency: Optional[float], damping: float) -> list[tuple]: ...  # ModelBuilder.add_link arguments per link
 
 @final
 class ModelBuilder:
@@ -362,6 +366,7 @@ class Model:
     def center_of_mass(self, x: _ArrayLike) -> _Vec: ...
     def passive_forces(self, x: _ArrayLike, u: _ArrayLike) -> _Vec: ...  # (6+N,): [0 (6); -k (q - rest) - c qd]
     def spring_energy(self, x: _ArrayLike) -> Union[float, _Vec]: ...
+    def passive_modes(self, x: _ArrayLike, held: bool) -> tuple[list[int], _Vec, _Vec, _Vec]: ...  # (dofs, frequencies, damping_ratios, shapes)
 
 # ---- the core's rules and defaults (crates/spacearm-py/src/rules_py.rs, rule_tables_py.rs) -----
 # The tables are frozen instances with typed attributes; each is also a read-only mapping of its
@@ -739,6 +744,7 @@ class MomentumSplit:
 
 def point_inverse_inertia(model: Model, x: _ArrayLike, body: int, offset: _ArrayLike, arm: str = "free") -> _Vec: ...
 def virtual_mass(model: Model, x: _ArrayLike, body: int, offset: _ArrayLike, direction: _ArrayLike, arm: str = "free") -> float: ...
+def joint_wrenches(model: Model, x: _Vec, u: _Vec, du: _Vec, body: int) -> _Vec: ...
 def impulse_momentum_split(model: Model, x: _ArrayLike, body: int, offset: _ArrayLike, impulse: _ArrayLike) -> MomentumSplit: ...
 def impulse_dynamics(model: Model, x: _ArrayLike, u_before: _ArrayLike, jacobian: _Vec, restitution: float = 0.0,
                      arm: str = "free") -> ImpulseDynamics: ...
@@ -1097,7 +1103,7 @@ class RunRecords:
     P: Optional[_Record]                    # (K, 3) linear momentum, kg·m/s
     L_origin: Optional[_Record]             # (K, 3) angular momentum about the origin, kg·m²/s
     L_com: Optional[_Record]                # (K, 3) angular momentum about the system CM, kg·m²/s
-    energy: Optional[_Record]               # (K,) kinetic energy, J
+    energy: Optional[_Record]               # (K,) mechanical energy (kinetic + joint springs), J
     com: Optional[_Record]                  # (K, 3) system CM, m
     ee_position: Optional[_Record]          # (K, 3) end-effector position, m (robots with an end effector)
     ee_quat: Optional[_Record]              # (K, 4) end-effector attitude [x, y, z, w]
@@ -1189,6 +1195,7 @@ def rollout(
     options: RunOptions,
     controllers: Optional[Union[_ControllerSpec, list[_ControllerSpec]]] = None,
     threads: Optional[int] = None,
+    stop: Optional[Any] = None,
 ) -> RolloutBatch:
     """Run B rollouts on native threads without the GIL (crates/spacearm-py/src/rollout_py.rs).
     ``models``: one model or one per rollout; ``x0`` (B, 7+N), ``u0`` (B, 6+N) float64;
@@ -1223,7 +1230,7 @@ def perturbed(
 ) -> Model: ...
 def default_wheel_dofs(model: Model) -> list[int]: ...
 def momentum_scales(model: Model, x: npt.NDArray[np.float64], u: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
-    """(T, 4): Σ|p_i|, Σ(|r_i×p_i| + |I_i w_i|) about the origin and the system CM, kinetic energy."""
+    """(T, 4): Σ|p_i|, Σ(|r_i×p_i| + |I_i w_i|) about the origin and the system CM, kinetic + spring energy."""
 def conserved_drift(values: npt.NDArray[np.float64], scale: float) -> float:
     """max_k |v_k - v_0| / max(|v_0|, scale)."""
 @final
@@ -1331,3 +1338,7 @@ class Orbit:
     def propagate(self, times: _ArrayLike, *, rtol: float = 1e-12) -> tuple[_Vec, _Vec]: ...
     @staticmethod
     def lvlh_to_eci(r: _ArrayLike, v: _ArrayLike) -> _Vec: ...
+    def relative_motion(self, rel0: _ArrayLike, times: _ArrayLike, *, rtol: float = 1e-12) -> _Vec: ...
+    def clohessy_wiltshire(self, rel0: _ArrayLike, times: _ArrayLike) -> _Vec: ...
+    def safety_ellipse(self, radial: float, *, cross_track: float = 0.0, along_track: float = 0.0) -> _Vec: ...
+    def tidal_torques(self, model: Model, x: _ArrayLike, *, t: float = 0.0) -> tuple[_Vec, _Vec, _Vec]: ...

@@ -154,3 +154,46 @@ def test_momentum_balance_replaces_the_drift_in_orbit():
     r, v = orbit.propagate(traj.t)
     np.testing.assert_allclose(traj.r_cm_eci, r + traj.com, rtol=0, atol=1e-6)
     np.testing.assert_allclose(traj.v_cm_eci, v + traj.P / robot.total_mass, rtol=0, atol=1e-8)
+
+
+def test_the_arms_gravity_gradient_torque_on_the_system_as_an_analysis_quantity():
+    robot = spacearm.presets.spatial6()
+    x = robot.neutral_configuration(robot.initial_q + 0.4)
+    orbit = spacearm.Orbit.circular(500e3, inclination=0.6, arg_latitude=1.0)
+    t = 300.0
+    wrenches, total, arm = orbit.tidal_torques(robot.core_model, x, t=t)
+    r_o = orbit.propagate([t])[0][0]
+    bodies = _tidal_wrenches(robot, x, r_o)
+    rg = robot.center_of_mass(x)
+    about = [np.cross(p - rg, f).sum(axis=0) for p, f, _ in bodies]
+    np.testing.assert_allclose(total, sum(about), rtol=1e-5)
+    np.testing.assert_allclose(arm, sum(about[1:]), rtol=1e-5)
+    assert np.linalg.norm(arm) > 0.1 * np.linalg.norm(total)  # the extended arm is a real share
+    scale = np.abs(wrenches).max()
+    for (p, f, c), w in zip(bodies, wrenches):
+        np.testing.assert_allclose(w[:3], f.sum(axis=0), rtol=1e-5, atol=1e-5 * scale)
+        np.testing.assert_allclose(w[3:], np.cross(p - c, f).sum(axis=0), rtol=1e-5, atol=1e-5 * scale)
+
+
+@pytest.mark.parametrize("mode", ["floating", "rotation-floating", "rotation-flying", "translation-flying", "flying"])
+def test_every_mode_and_entry_point_runs_in_orbit(mode):
+    """simulate, rollout and Simulator give the same orbital run (one loop), in all five modes;
+    the flying modes' thrusters act as in empty space."""
+    robot = spacearm.presets.spatial6()
+    orbit = spacearm.Orbit.circular(500e3, inclination=0.9, j2=True)
+    ctrl = None
+    if mode != "floating" and mode != "rotation-floating":
+        ctrl = spacearm.control.MomentumDamping(2.0)
+    args = dict(mode=mode, dt=0.01, orbit=orbit)
+    traj = spacearm.simulate(robot, 0.2, controller=ctrl, **args)
+    rolls = spacearm.rollout(robot, 0.2, x0=np.stack([robot.neutral_configuration()] * 2), controller=ctrl, **args)
+    assert rolls.ok.all()
+    np.testing.assert_array_equal(rolls["x"][1], traj.x)
+    np.testing.assert_array_equal(rolls["r_cm_eci"][1], traj.r_cm_eci)
+    sim = spacearm.Simulator(robot, controller=ctrl, record_every=1, **args)
+    sim.reset()
+    sim.step(n=20)
+    stepped = sim.trajectory()
+    np.testing.assert_array_equal(stepped.x, traj.x)
+    np.testing.assert_array_equal(stepped.r_cm_eci, traj.r_cm_eci)
+    assert traj.meta["orbit"]["j2"] is True and len(traj.meta["drift"]) == len(traj.meta["conserved"])

@@ -142,3 +142,47 @@ impl PyModelBuilder {
         Ok(PyModel::new(self.inner.build().map_err(SpacearmError::from).or_raise(py)?))
     }
 }
+
+/// The links of a slosh mode (core `model::slosh::slosh_links`, docs/flexibility.md), each as
+/// the arguments of `ModelBuilder.add_link`: `(name, parent, joint_type, origin, rotation, axis,
+/// com, mass, inertia, joint_name, limits, dynamics)`. Give `stiffness` or `frequency`.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (name, parent, model, mass, position, axis, hinge, length, stiffness, frequency, damping))]
+pub fn slosh_links(
+    py: Python<'_>,
+    name: &str,
+    parent: &str,
+    model: &str,
+    mass: f64,
+    position: [f64; 3],
+    axis: [f64; 3],
+    hinge: Option<[f64; 3]>,
+    length: Option<f64>,
+    stiffness: Option<f64>,
+    frequency: Option<f64>,
+    damping: f64,
+) -> PyResult<Vec<Py<PyAny>>> {
+    use spacearm_core::error::ModelItem;
+    use spacearm_core::model::slosh::{self, SloshModel, SloshRestoring, SloshSpec};
+    let invalid = |msg: String| to_py_err(py, SpacearmError::InvalidModel(msg));
+    let kind = SloshModel::from_name(model)
+        .ok_or_else(|| invalid(format!("slosh '{name}': model must be one of {:?}, got '{model}'", SloshModel::NAMES)))?;
+    let restoring = match (stiffness, frequency) {
+        (Some(k), None) => SloshRestoring::Stiffness(k),
+        (None, Some(w)) => SloshRestoring::Frequency(w),
+        _ => return Err(invalid(format!("slosh '{name}': give stiffness or frequency (one of them)"))),
+    };
+    let spec = SloshSpec { name: name.into(), parent: parent.into(), model: kind, mass, position, axis, hinge, length, restoring, damping };
+    let links = slosh::slosh_links(&spec, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
+    links
+        .into_iter()
+        .map(|(l, d)| {
+            let kind = l.kind.as_str();
+            Ok((l.name, l.parent, kind, l.origin_in_parent, l.rotation_in_parent, l.axis, l.com_from_joint, l.mass, l.inertia, l.joint_name, None::<[f64; 4]>, (d.actuated, d.stiffness, d.damping, d.rest))
+                .into_pyobject(py)?
+                .into_any()
+                .unbind())
+        })
+        .collect()
+}

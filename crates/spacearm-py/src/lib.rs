@@ -15,6 +15,7 @@ mod convert;
 mod derivatives_py;
 mod description_py;
 mod errors_py;
+mod interrupt;
 mod model_io_py;
 mod model_py;
 mod orbit_py;
@@ -54,6 +55,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model_py::PyModel>()?;
     m.add_class::<model_py::PyTape>()?;
     m.add_class::<builder_py::PyModelBuilder>()?;
+    m.add_function(wrap_pyfunction!(builder_py::slosh_links, m)?)?;
     m.add_class::<derivatives_py::PyDerivatives>()?;
     m.add_class::<description_py::PyModelDescription>()?;
     m.add_class::<description_py::PyBaseDescription>()?;

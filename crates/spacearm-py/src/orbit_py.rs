@@ -8,7 +8,7 @@ use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use spacearm_core::sim::orbit::{lvlh_to_eci, CentralBody, Elements, Orbit, EARTH};
+use spacearm_core::sim::orbit::{clohessy_wiltshire, lvlh_to_eci, safety_ellipse, CentralBody, Elements, Orbit, RelativeState, EARTH};
 use spacearm_core::SpacearmError;
 
 use crate::convert::*;
@@ -273,6 +273,68 @@ impl PyOrbit {
         }
     }
 
+    /// The exact relative motion in this orbit's LVLH of a point mass started at `rel0`
+    /// (`[x, y, z, vx, vy, vz]`: LVLH position, m, and its rate in LVLH, m/s) and propagated on
+    /// its own orbit: (T, 6) at `times`.
+    #[pyo3(signature = (rel0, times, *, rtol=1e-12))]
+    fn relative_motion<'py>(&self, py: Python<'py>, rel0: &Bound<'py, PyAny>, times: &Bound<'py, PyAny>, rtol: f64) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let rel = rel6(py, rel0)?;
+        let t = vec_arg(times, "times")?.as_slice().to_vec();
+        let orbit = self.inner;
+        let states = py.detach(|| orbit.relative_motion(&rel, &t, rtol)).or_raise(py)?;
+        Ok(rows(py, &states))
+    }
+
+    /// The Clohessy–Wiltshire closed form about this orbit (its mean motion at t = 0) from
+    /// `rel0` (LVLH): (T, 6) at `times`. Linear: for a target near a circular orbit.
+    fn clohessy_wiltshire<'py>(&self, py: Python<'py>, rel0: &Bound<'py, PyAny>, times: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let rel = rel6(py, rel0)?;
+        let t = vec_arg(times, "times")?;
+        check_finite(py, "times", t.as_slice())?;
+        let n = self.inner.mean_motion();
+        let states: Vec<RelativeState> = t.as_slice().iter().map(|&t| clohessy_wiltshire(n, &rel, t)).collect();
+        Ok(rows(py, &states))
+    }
+
+    /// The relative state (LVLH) of a drift-free safety ellipse about this orbit: radial
+    /// half-axis `radial` (m; along-track half-axis twice it), cross-track amplitude
+    /// `cross_track`, centred `along_track` m ahead.
+    #[pyo3(signature = (radial, *, cross_track=0.0, along_track=0.0))]
+    fn safety_ellipse<'py>(&self, py: Python<'py>, radial: f64, cross_track: f64, along_track: f64) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        check_finite(py, "safety ellipse", &[radial, cross_track, along_track])?;
+        Ok(array1(py, &safety_ellipse(self.inner.mean_motion(), radial, cross_track, along_track)))
+    }
+
+    /// The gravity-gradient torques on `model` at configuration `x` (relative to this orbit's
+    /// point at time `t`, s): `(wrenches, total, arm)` — per body `[force (N); torque about its CM
+    /// (N·m)]` in ECI axes, shape (n_bodies, 6); the total torque about the system CM; the part of
+    /// it from every body but the base.
+    #[pyo3(signature = (model, x, *, t=0.0))]
+    fn tidal_torques<'py>(
+        &self,
+        py: Python<'py>,
+        model: &Bound<'py, crate::model_py::PyModel>,
+        x: &Bound<'py, PyAny>,
+        t: f64,
+    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+        let x = vec_arg(x, "x")?.as_slice().to_vec();
+        if !(t.is_finite() && t >= 0.0) {
+            return Err(to_py_err(py, bad(format!("t must be finite and >= 0 s, got {t}"))));
+        }
+        let orbit = self.inner;
+        let m = model.borrow();
+        let core = &m.model;
+        let (rows_, total, arm) = py
+            .detach(|| -> spacearm_core::Result<_> {
+                let r = orbit.propagate(&[t], 1e-12)?[0].0;
+                spacearm_core::sim::orbit::tidal_torques(core, &x, orbit.body.mu, &r)
+            })
+            .or_raise(py)?;
+        let flat: Vec<f64> = rows_.iter().flatten().copied().collect();
+        let w = numpy::ndarray::Array2::from_shape_vec((rows_.len(), 6), flat).expect("shape").into_pyarray(py);
+        Ok((w, array1(py, total.as_slice()), array1(py, arm.as_slice())))
+    }
+
     fn __repr__(&self) -> String {
         let e = self.inner.elements();
         format!(
@@ -280,6 +342,19 @@ impl PyOrbit {
             e.a, e.e, e.i, e.raan, self.inner.j2, self.inner.body.mu
         )
     }
+}
+
+/// A relative state argument (6 finite values).
+fn rel6(py: Python<'_>, v: &Bound<'_, PyAny>) -> PyResult<RelativeState> {
+    let v = vec6(v, "rel0")?;
+    check_finite(py, "rel0", v.as_slice())?;
+    Ok([v[0], v[1], v[2], v[3], v[4], v[5]])
+}
+
+/// Relative states as a (T, 6) array.
+fn rows<'py>(py: Python<'py>, states: &[RelativeState]) -> Bound<'py, PyArray2<f64>> {
+    let flat: Vec<f64> = states.iter().flatten().copied().collect();
+    numpy::ndarray::Array2::from_shape_vec((states.len(), 6), flat).expect("shape").into_pyarray(py)
 }
 
 /// Register the orbit classes.

@@ -14,6 +14,7 @@ Registered in ``spacearm.cli`` by ``add_parsers`` and ``run``.
 
 from __future__ import annotations
 
+import math
 import sys
 from pathlib import Path
 from typing import List
@@ -21,6 +22,7 @@ from typing import List
 import numpy as np
 
 from .. import _core, control, presets
+from ..orbit import Orbit
 from .model_options import add_model_arguments, joint_values
 from .numbers import CliError, parse_numbers
 from ..sim.simulation import MODES, simulate  # MODES: the core's mode table
@@ -72,6 +74,7 @@ def add_parsers(sub) -> None:
     p.add_argument("--base-velocity", help="initial base velocity v0x,v0y,v0z,w0x,w0y,w0z in the inertial frame "
                                            "(default 0)")
     p.add_argument("--record-every", type=int, default=1, help="rk4: keep every k-th step (default 1)")
+    add_orbit_options(p)
     p.add_argument("--out", help="write the trajectory to this .npz file")
     p.add_argument("--csv", help="write one row per sample to this CSV file (header with units)")
     p.add_argument("--plot", help="write the multi-panel figure to this PNG file")
@@ -90,6 +93,36 @@ def add_parsers(sub) -> None:
     d.add_argument("--no-animation", action="store_true", help="skip the GIF (the slowest part)")
     d.add_argument("--no-figures", action="store_true",
                    help="print the summaries and save the trajectory only (no matplotlib needed)")
+
+
+def add_orbit_options(p) -> None:
+    """``--orbit circular:ALT_KM[,INC_DEG]`` and ``--no-gravity-gradient`` (docs/orbit.md)."""
+    p.add_argument("--orbit", help="run in orbit: circular:ALT_KM[,INC_DEG] (a circular Earth orbit of that altitude, km, "
+                   "and inclination, deg, default 0); the system CM starts on it; gravity gradient on every body")
+    p.add_argument("--no-gravity-gradient", action="store_true", help="with --orbit: no tidal force or torque")
+
+
+def orbit_from_args(args):
+    """The ``spacearm.Orbit`` of ``--orbit`` (None without it), refused with a ``CliError``
+    naming the option and the expected form."""
+    text = getattr(args, "orbit", None)
+    if text is None:
+        if getattr(args, "no_gravity_gradient", False):
+            raise CliError("--no-gravity-gradient needs --orbit")
+        return None
+    kind, _, rest = text.partition(":")
+    if kind.strip() != "circular" or not rest.strip():
+        raise CliError(f"--orbit must be circular:ALT_KM[,INC_DEG], got {text!r}")
+    values = parse_numbers(rest, "--orbit circular:", None, "ALT_KM[,INC_DEG]", "km, deg")
+    if len(values) not in (1, 2):
+        raise CliError(f"--orbit must be circular:ALT_KM[,INC_DEG] (one or two numbers), got {text!r}")
+    altitude_km = float(values[0])
+    if altitude_km <= 0:
+        raise CliError(f"--orbit: the altitude must be > 0 km, got {altitude_km}")
+    inclination = math.radians(float(values[1])) if len(values) == 2 else 0.0
+    if not 0.0 <= inclination <= math.pi:
+        raise CliError(f"--orbit: the inclination must be in [0, 180] deg, got {values[1]}")
+    return Orbit.circular(altitude_km * 1e3, inclination=inclination)
 
 
 def _require_figures(what: str) -> None:
@@ -202,11 +235,15 @@ def simulate_command(args, model_from_args, out=None) -> int:
     controller = build_controller(args.controller, robot, x0, u0, duration=args.duration, target=args.target,
                                   move_time=args.move_time, kp=args.kp, kd=args.kd)
     mode = args.mode or DEFAULT_MODE[args.controller]
+    orbit = orbit_from_args(args)
+    if orbit is not None:
+        x0[:3] -= robot.center_of_mass(x0)  # the system CM on the orbit
     steps = args.duration / args.dt
     show = (steps >= PROGRESS_STEPS) if args.progress is None else bool(args.progress)
     traj = simulate(robot, args.duration, x0=x0, u0=u0, mode=mode, integrator=args.integrator,
                              dt=args.dt, rtol=args.rtol, atol=args.atol, controller=controller,
-                             record_every=args.record_every, progress=show)  # True: a tqdm bar
+                             record_every=args.record_every, progress=show,  # True: a tqdm bar
+                             orbit=orbit, gravity_gradient=None if orbit is None else not args.no_gravity_gradient)
     out.write(traj.summary() + "\n")
     written = []
     if args.out:
@@ -216,6 +253,10 @@ def simulate_command(args, model_from_args, out=None) -> int:
     if args.plot:
         traj.plot(args.plot)
         written.append(("figure", str(args.plot)))
+        if orbit is not None:
+            lvlh = Path(args.plot).with_name(Path(args.plot).stem + "_lvlh" + Path(args.plot).suffix)
+            traj.plot_lvlh(lvlh)
+            written.append(("LVLH attitude figure", str(lvlh)))
     if args.animate:
         traj.animate(args.animate, frames=args.frames)
         written.append(("animation", str(args.animate)))

@@ -174,6 +174,50 @@ class RobotBuilder:
                   number(rest, f"link '{name}' rest"))
         return None if values == (True, 0.0, 0.0, 0.0) else values
 
+    def add_slosh(
+        self,
+        name: str,
+        *,
+        parent: str = "base",
+        model: str,
+        mass: float,
+        position: Sequence[float],
+        axis: Sequence[float],
+        stiffness: Optional[float] = None,
+        frequency: Optional[float] = None,
+        damping: float = 0.0,
+        length: Optional[float] = None,
+        hinge: Optional[Sequence[float]] = None,
+    ) -> "RobotBuilder":
+        """Add a propellant slosh mode as passive links (docs/flexibility.md, "Fuel slosh"; the
+        geometry is the core's, ``model/slosh.rs``).
+
+        ``model``: ``"spring-mass"`` (a point mass on a passive prismatic joint at ``position``,
+        in ``parent``'s frame from its CM, sliding along ``axis``: the mass is at
+        ``position + q·axis``, force ``-k q - c q̇``), ``"pendulum"`` (a point bob at
+        ``length`` along ``axis`` from the pivot at ``position`` at ``q = 0``, one passive
+        revolute joint about ``hinge``, perpendicular to ``axis``) or ``"spherical-pendulum"``
+        (two passive revolute joints at the pivot, about ``hinge`` then ``axis × hinge``, with a
+        massless link ``<name>_gimbal`` between them; singular at ``q₂ = ±π/2``). Give the
+        restoring spring as ``stiffness`` (N/m, or N·m/rad per pendulum joint) or as the mode's
+        ``frequency`` on a clamped tank (rad/s: ``k = m ω²``, ``k = m L² ω²``). ``damping`` acts
+        per joint (N·s/m or N·m·s/rad). The fixed part of the propellant is a rigid mass: add it
+        with [`attach_payload`][spacearm.RobotBuilder.attach_payload].
+        """
+        links = _core.slosh_links(
+            str(name), str(parent), str(model), number(mass, f"slosh '{name}' mass"),
+            list(vector(position, f"slosh '{name}' position", 3)), list(vector(axis, f"slosh '{name}' axis", 3)),
+            None if hinge is None else list(vector(hinge, f"slosh '{name}' hinge", 3)),
+            None if length is None else number(length, f"slosh '{name}' length"),
+            None if stiffness is None else number(stiffness, f"slosh '{name}' stiffness"),
+            None if frequency is None else number(frequency, f"slosh '{name}' frequency"),
+            number(damping, f"slosh '{name}' damping"),
+        )
+        for args in links:
+            self._b.add_link(*args)
+            self._links.append((args[0], args[1], args[2], args[9], tuple(args)))
+        return self
+
     def attach_payload(
         self,
         name: str,

@@ -19,6 +19,7 @@ PNG) and [`Trajectory.animate`][spacearm.Trajectory.animate] (a 3-D GIF). Every 
 from __future__ import annotations
 
 import json
+import math
 import os
 from typing import Dict, Iterable, List, NamedTuple, Optional, Union
 
@@ -402,6 +403,14 @@ class Trajectory:
         base = quat_to_matrix(np.asarray(self.x[:, 3:7], dtype=float))
         return np.einsum("kji,kjl->kil", lvlh, base)
 
+    def plot_lvlh(self, path: Optional[PathLike] = None):
+        """The base attitude relative to LVLH against time in orbits (orbital runs;
+        docs/orbit.md), written to ``path`` if given (extra ``plot``)."""
+        from ..viz.orbit import plot_lvlh_attitude
+
+        self.r_cm_eci  # an orbital run, or a clear error
+        return plot_lvlh_attitude(self, path)
+
     @property
     def saturation_events(self) -> List[SaturationEvent]:
         """Every step at which an actuator hit its limit, in time order."""
@@ -514,9 +523,16 @@ class Trajectory:
             # The simulator's figures when it gave them (its scale: the bodies' summed
             # contributions), else this class's recomputation from the samples.
             d = m.get("drift") if isinstance(m.get("drift"), dict) and set(conserved) <= set(m["drift"]) else self.drift(conserved)
-            lines.append("  conservation (max relative drift): " + ", ".join(f"{k} {d[k]:.3g}" for k in conserved))
+            label = ("momentum balance in orbit (max relative residual of change = integral of the tidal wrench)"
+                     if (m.get("orbit") or {}).get("gravity_gradient") else "conservation (max relative drift)")
+            lines.append(f"  {label}: " + ", ".join(f"{k} {d[k]:.3g}" for k in conserved))
         elif m.get("mode"):
             lines.append(f"  conservation: mode {m['mode']} conserves none of P, L, energy")
+        if m.get("orbit"):
+            o = m["orbit"]
+            lines.append(f"  in orbit: a = {o['elements']['a'] / 1e3:.1f} km, i = {math.degrees(o['elements']['i']):.2f} deg, "
+                         f"period {o['period']:.0f} s, J2 {'on' if o['j2'] else 'off'}, gravity gradient "
+                         f"{'on' if o['gravity_gradient'] else 'off'}")
         if self.has("com"):
             lines.append(f"  system CM moved {np.max(np.linalg.norm(self.com - self.com[0], axis=1)):.3g} m (max)")
         lines.append(f"  base: moved {np.linalg.norm(self.base_position[-1] - self.base_position[0]):.4g} m, "

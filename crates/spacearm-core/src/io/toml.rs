@@ -47,6 +47,7 @@ use crate::io::dh::{ClassicDhLink, DhArm, DhTable, PaperDhLink};
 use crate::model::joint::{JointDynamics, JointLimits, JointType};
 use crate::math::rotations::xyzw_from_rpy;
 use crate::model::geometry::ShapeParts;
+use crate::model::slosh::{slosh_links, SloshModel, SloshRestoring, SloshSpec};
 use crate::model::{GeometryRole, GeometrySpec, LinkSpec, Model, ModelBuilder, Shape, TriangleInequality};
 
 /// The file format version written by [`model_to_toml`] and accepted by the reader
@@ -68,9 +69,30 @@ struct FileDoc {
     point: Vec<Spanned<PointDoc>>,
     #[serde(default)]
     geometry: Vec<Spanned<GeometryDoc>>,
+    #[serde(default)]
+    slosh: Vec<Spanned<SloshDoc>>,
     dh: Option<Spanned<DhDoc>>,
     end_effector: Option<Spanned<String>>,
     initial_q: Option<Spanned<Vec<f64>>>,
+}
+
+/// A `[[slosh]]` table: an equivalent mechanical slosh model (docs/flexibility.md), added as
+/// passive links by [`ModelBuilder::add_slosh`].
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SloshDoc {
+    name: Spanned<String>,
+    parent: Option<Spanned<String>>,
+    model: Spanned<String>,
+    mass: Spanned<f64>,
+    position: Spanned<[f64; 3]>,
+    axis: Spanned<[f64; 3]>,
+    hinge: Option<Spanned<[f64; 3]>>,
+    length: Option<Spanned<f64>>,
+    stiffness: Option<Spanned<f64>>,
+    frequency: Option<Spanned<f64>>,
+    #[serde(default)]
+    damping: f64,
 }
 
 #[derive(Deserialize)]
@@ -621,6 +643,40 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
         builder.add_link(spec).map_err(|e| at.err(e))?;
         if let Some((d, _)) = dynamics {
             builder.set_joint_dynamics(name, d).map_err(|e| at.err(e))?;
+        }
+    }
+
+    // [[slosh]] modes: passive links on bodies defined above.
+    for sd in &doc.slosh {
+        let s = sd.get_ref();
+        let name = s.name.get_ref();
+        let model = SloshModel::from_name(s.model.get_ref())
+            .ok_or_else(|| ctx.err(&sp(&s.model), format!("slosh '{name}': model must be one of {:?}, got '{}'", SloshModel::NAMES, s.model.get_ref())))?;
+        let restoring = match (&s.stiffness, &s.frequency) {
+            (Some(k), None) => SloshRestoring::Stiffness(*k.get_ref()),
+            (None, Some(w)) => SloshRestoring::Frequency(*w.get_ref()),
+            _ => return Err(ctx.err(&sp(sd), format!("slosh '{name}': give stiffness or frequency (one of them)"))),
+        };
+        let spec = SloshSpec {
+            name: name.clone(),
+            parent: s.parent.as_ref().map_or_else(|| base_name.clone(), |p| p.get_ref().clone()),
+            model,
+            mass: *s.mass.get_ref(),
+            position: *s.position.get_ref(),
+            axis: *s.axis.get_ref(),
+            hinge: s.hinge.as_ref().map(|h| *h.get_ref()),
+            length: s.length.as_ref().map(|l| *l.get_ref()),
+            restoring,
+            damping: s.damping,
+        };
+        let links = slosh_links(&spec, ModelItem::Link(at.links.len())).map_err(|e| ctx.err(&sp(sd), e))?;
+        for (link, dynamics) in links {
+            at.bodies.push((link.name.clone(), sp(&s.name)));
+            at.joints.push((link.joint_name.clone().unwrap_or_default(), sp(sd)));
+            at.links.push(ItemSpans::uniform(sp(sd)));
+            let link_name = link.name.clone();
+            builder.add_link(link).map_err(|e| at.err(e))?;
+            builder.set_joint_dynamics(&link_name, dynamics).map_err(|e| at.err(e))?;
         }
     }
 

@@ -177,6 +177,11 @@ impl ModelBuilder {
         Ok(self)
     }
 
+    /// Number of links added so far.
+    pub(crate) fn n_links(&self) -> usize {
+        self.links.len()
+    }
+
     /// Add a named point fixed to `body` at `offset` (body frame, from its CM).
     pub fn add_point(&mut self, name: &str, body: &str, offset: [f64; 3]) -> Result<&mut Self, ModelError> {
         let item = ModelItem::Point(self.points.len());

@@ -21,7 +21,12 @@
 
 use nalgebra::{Matrix3, Vector3};
 
+use crate::algorithms::kinematics::forward_kinematics;
+use crate::algorithms::momentum::center_of_mass_from_data;
+use crate::algorithms::wrench::ExternalWrench;
 use crate::error::{Result, SpacearmError};
+use crate::model::data::Data;
+use crate::model::Model;
 use crate::sim::integrate::{Dopri5, OdeSystem};
 
 /// A central body's gravity constants.
@@ -361,6 +366,102 @@ pub fn lvlh_rate(r: &Vector3<f64>, v: &Vector3<f64>) -> Vector3<f64> {
     r.cross(v) / r.norm_squared()
 }
 
+/// A relative state in LVLH: position `[x radial, y along-track, z orbit normal]` (m) and its
+/// rate of change seen in the rotating LVLH frame (m/s).
+pub type RelativeState = [f64; 6];
+
+/// The Clohessy–Wiltshire (Hill) closed-form solution at `t` (s) of the linearized relative
+/// motion about a circular orbit of mean motion `n` (rad/s), from `rel0` at `t = 0` (Schaub &
+/// Junkins, §14.4; Vallado eq. 6-66, with x radial, y along-track, z orbit normal):
+/// `ẍ − 3n²x − 2nẏ = 0`, `ÿ + 2nẋ = 0`, `z̈ + n²z = 0`.
+pub fn clohessy_wiltshire(n: f64, rel0: &RelativeState, t: f64) -> RelativeState {
+    let [x0, y0, z0, vx0, vy0, vz0] = *rel0;
+    let (s, c) = (n * t).sin_cos();
+    let x = (4.0 - 3.0 * c) * x0 + s / n * vx0 + 2.0 / n * (1.0 - c) * vy0;
+    let y = 6.0 * (s - n * t) * x0 + y0 - 2.0 / n * (1.0 - c) * vx0 + (4.0 * s - 3.0 * n * t) / n * vy0;
+    let z = c * z0 + s / n * vz0;
+    let vx = 3.0 * n * s * x0 + c * vx0 + 2.0 * s * vy0;
+    let vy = -6.0 * n * (1.0 - c) * x0 - 2.0 * s * vx0 + (4.0 * c - 3.0) * vy0;
+    let vz = -n * s * z0 + c * vz0;
+    [x, y, z, vx, vy, vz]
+}
+
+/// The initial relative state of a drift-free CW "safety ellipse" about a point `along_track`
+/// metres ahead (or behind): `x = a sin nt`, `y = y_c + 2a cos nt`, `z = b cos nt`, so the
+/// target never crosses the chaser's along-track line inside the ellipse (a radial half-axis
+/// `a`, along-track half-axis `2a`, cross-track amplitude `b`).
+pub fn safety_ellipse(n: f64, radial: f64, cross_track: f64, along_track: f64) -> RelativeState {
+    [0.0, along_track + 2.0 * radial, cross_track, radial * n, 0.0, 0.0]
+}
+
+impl Orbit {
+    /// The ECI state of a point at relative state `rel` (LVLH of `(r, v)`) from `(r, v)`:
+    /// position `r + C ρ`, velocity `v + C ρ̇ + ω × C ρ` with `C` LVLH → ECI and `ω` the LVLH rate.
+    pub fn relative_to_eci(r: &Vector3<f64>, v: &Vector3<f64>, rel: &RelativeState) -> (Vector3<f64>, Vector3<f64>) {
+        let c = lvlh_to_eci(r, v);
+        let rho = c * Vector3::new(rel[0], rel[1], rel[2]);
+        let rho_dot = c * Vector3::new(rel[3], rel[4], rel[5]);
+        (r + rho, v + rho_dot + lvlh_rate(r, v).cross(&rho))
+    }
+
+    /// The relative state in the LVLH of `(r, v)` of a point at ECI `(r2, v2)`.
+    pub fn eci_to_relative(r: &Vector3<f64>, v: &Vector3<f64>, r2: &Vector3<f64>, v2: &Vector3<f64>) -> RelativeState {
+        let c = lvlh_to_eci(r, v);
+        let rho = r2 - r;
+        let rho_dot = v2 - v - lvlh_rate(r, v).cross(&rho);
+        let p = c.transpose() * rho;
+        let q = c.transpose() * rho_dot;
+        [p.x, p.y, p.z, q.x, q.y, q.z]
+    }
+
+    /// The exact relative motion, in this orbit's LVLH, of a second point mass started at
+    /// `rel0` (LVLH at `t = 0`) and propagated on its own orbit (the same body, J2 as this orbit):
+    /// one relative state per time of `times`.
+    pub fn relative_motion(&self, rel0: &RelativeState, times: &[f64], rtol: f64) -> Result<Vec<RelativeState>> {
+        if let Some(k) = rel0.iter().position(|v| !v.is_finite()) {
+            return Err(SpacearmError::argument(format!("relative state: entry {k} must be finite, got {}", rel0[k])));
+        }
+        let (r2, v2) = Orbit::relative_to_eci(&self.r0, &self.v0, rel0);
+        let other = Orbit::from_state(self.body, r2, v2, self.j2)?;
+        let mine = self.propagate(times, rtol)?;
+        let theirs = other.propagate(times, rtol)?;
+        Ok(mine.iter().zip(&theirs).map(|((r, v), (r2, v2))| Orbit::eci_to_relative(r, v, r2, v2)).collect())
+    }
+}
+
+/// Each body's tidal wrench under gradient `g`, the kinematics in `data` current and the
+/// positions measured from the point where `g` is taken: force `mᵢ G ρᵢ` at the CM and torque
+/// `axial(Iᵢ G − G Iᵢ)` about it, in the frame of `data` (the one rule of the simulation loop and
+/// of [`tidal_torques`]).
+pub fn tidal_wrenches_into(model: &Model, data: &Data, g: &Matrix3<f64>, out: &mut Vec<ExternalWrench>) {
+    for b in 0..model.n_bodies() {
+        let force = model.mass_properties(b).mass * (g * data.com_in_world[b]);
+        let torque = gravity_gradient_torque(g, &data.inertia_in_world[b]);
+        out.push(ExternalWrench { body: b, offset: Vector3::zeros(), force, torque });
+    }
+}
+
+/// The gravity-gradient torques on a system at configuration `x` (relative to the orbit's
+/// point at ECI `r`, ECI axes): the per-body wrenches `[force; torque about the body's CM]`, the
+/// total torque about the system CM, and the part of it from every body but the base (the arm's
+/// disturbance of the attitude). An analysis quantity (docs/orbit.md).
+pub fn tidal_torques(model: &Model, x: &[f64], mu: f64, r: &Vector3<f64>) -> Result<(Vec<[f64; 6]>, Vector3<f64>, Vector3<f64>)> {
+    if !(r.iter().all(|v| v.is_finite()) && r.norm() > 0.0) {
+        return Err(SpacearmError::argument("the orbit position must be finite and non-zero"));
+    }
+    let mut data = Data::new(model);
+    forward_kinematics(model, &mut data, x)?;
+    let g = gravity_gradient_tensor(mu, r);
+    let mut w = Vec::with_capacity(model.n_bodies());
+    tidal_wrenches_into(model, &data, &g, &mut w);
+    let rg = center_of_mass_from_data(model, &data);
+    let about = |e: &ExternalWrench| (data.com_in_world[e.body] - rg).cross(&e.force) + e.torque;
+    let total: Vector3<f64> = w.iter().map(about).sum();
+    let arm: Vector3<f64> = w.iter().skip(1).map(about).sum();
+    let rows = w.iter().map(|e| [e.force.x, e.force.y, e.force.z, e.torque.x, e.torque.y, e.torque.z]).collect();
+    Ok((rows, total, arm))
+}
+
 /// The point-mass equations as an ODE `y = [r; v]`.
 struct PointMass {
     orbit: Orbit,
@@ -396,18 +497,20 @@ pub struct OrbitTrack {
 /// a micrometre in low orbit).
 pub const TRACK_NODES_PER_PERIOD: f64 = 1000.0;
 
+/// Nodes per propagated chunk of an [`OrbitTrack`] (a tenth of a period).
+pub const TRACK_CHUNK: usize = 100;
+
 impl OrbitTrack {
-    /// Propagate `orbit` over `[0, end]` (rtol 1e-13).
+    /// Propagate `orbit` over (at least) `[0, end]` (rtol 1e-13). The nodes are
+    /// [`TRACK_NODES_PER_PERIOD`] per period whatever `end` is, propagated in chunks of
+    /// [`TRACK_CHUNK`] nodes each from the last node of the one before: a track built for a
+    /// long run and one extended step by step ([`OrbitTrack::extend_to`]) hold the same nodes, so
+    /// stepping a run and simulating it give the same records.
     pub fn new(orbit: &Orbit, end: f64) -> Result<OrbitTrack> {
-        let end = end.max(0.0);
-        let h0 = orbit.period() / TRACK_NODES_PER_PERIOD;
-        let n = ((end / h0).ceil() as usize).max(1);
-        let h = if end > 0.0 { end / n as f64 } else { h0 };
-        crate::admission::admit(format_args!("an orbit track of {} nodes", n + 1), crate::admission::bytes_of::<f64>(9.0 * (n + 1) as f64), "simulate a shorter duration")?;
-        let times: Vec<f64> = (0..=n).map(|k| if k == n { n as f64 * h } else { k as f64 * h }).collect();
-        let states = orbit.propagate(&times, 1e-13)?;
-        let nodes = states.into_iter().map(|(r, v)| (r, v, orbit.acceleration(&r))).collect();
-        Ok(OrbitTrack { orbit: *orbit, h, nodes })
+        let h = orbit.period() / TRACK_NODES_PER_PERIOD;
+        let mut track = OrbitTrack { orbit: *orbit, h, nodes: vec![(orbit.r0, orbit.v0, orbit.acceleration(&orbit.r0))] };
+        track.extend_to(end.max(h))?;
+        Ok(track)
     }
 
     /// The orbit tracked.
@@ -420,26 +523,27 @@ impl OrbitTrack {
         (self.nodes.len() - 1) as f64 * self.h
     }
 
-    /// Extend the track (same node spacing) so that it covers `[0, t]`: the orbit propagated on
+    /// Extend the track by whole chunks so that it covers `[0, t]`: the orbit propagated on
     /// from its last node (a run stepped past the duration it was built for).
     pub fn extend_to(&mut self, t: f64) -> Result<()> {
         if t <= self.end() {
             return Ok(());
         }
-        // Extend by at least a tenth of a period, so that a stepped run extends rarely.
-        let want = t.max(self.end() + 0.1 * self.orbit.period());
-        let extra = ((want - self.end()) / self.h).ceil() as usize;
+        let chunks = ((t - self.end()) / (TRACK_CHUNK as f64 * self.h)).ceil().max(1.0) as usize;
+        let total = self.nodes.len() + chunks * TRACK_CHUNK;
         crate::admission::admit(
-            format_args!("an orbit track of {} nodes", self.nodes.len() + extra),
-            crate::admission::bytes_of::<f64>(9.0 * (self.nodes.len() + extra) as f64),
+            format_args!("an orbit track of {total} nodes"),
+            crate::admission::bytes_of::<f64>(9.0 * total as f64),
             "simulate a shorter duration",
         )?;
-        let (r, v, _) = *self.nodes.last().expect("a track has nodes");
-        let from = Orbit { r0: r, v0: v, ..self.orbit };
-        let times: Vec<f64> = (1..=extra).map(|k| k as f64 * self.h).collect();
-        for (r, v) in from.propagate(&times, 1e-13)? {
-            let a = self.orbit.acceleration(&r);
-            self.nodes.push((r, v, a));
+        let times: Vec<f64> = (1..=TRACK_CHUNK).map(|k| k as f64 * self.h).collect();
+        for _ in 0..chunks {
+            let (r, v, _) = *self.nodes.last().expect("a track has nodes");
+            let from = Orbit { r0: r, v0: v, ..self.orbit };
+            for (r, v) in from.propagate(&times, 1e-13)? {
+                let a = self.orbit.acceleration(&r);
+                self.nodes.push((r, v, a));
+            }
         }
         Ok(())
     }

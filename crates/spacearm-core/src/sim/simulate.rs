@@ -33,7 +33,7 @@ use crate::model::Model;
 use crate::sim::actuators::{check_wheels, detect_reaction_wheels, Actuators, SaturationKind, ThrusterLimits};
 use crate::sim::integrate::{Dopri5, IntegratorKind, OdeSystem, StepOutcome};
 use crate::sim::modes::{Conserved, Mode};
-use crate::sim::orbit::{gravity_gradient_tensor, gravity_gradient_torque, Orbit, OrbitTrack};
+use crate::sim::orbit::{gravity_gradient_tensor, tidal_wrenches_into, Orbit, OrbitTrack};
 use crate::sim::record::{onsets, Recorder};
 use crate::sim::stepper::Rk4Stepper;
 
@@ -389,14 +389,12 @@ impl Plant<'_> {
         let g = gravity_gradient_tensor(track.orbit().body.mu, &self.orbit_state.0);
         self.wrench_buf.clear();
         self.wrench_buf.extend_from_slice(&self.body_wrenches);
+        let first = self.wrench_buf.len();
+        tidal_wrenches_into(&self.model, &self.data, &g, &mut self.wrench_buf);
         let mut total = Vector6::zeros();
-        for b in 0..self.model.n_bodies() {
-            let rho = self.data.com_in_world[b];
-            let force = self.model.mass_properties(b).mass * (g * rho);
-            let torque = gravity_gradient_torque(&g, &self.data.inertia_in_world[b]);
-            let about_o = rho.cross(&force) + torque;
-            total += Vector6::new(force.x, force.y, force.z, about_o.x, about_o.y, about_o.z);
-            self.wrench_buf.push(ExternalWrench { body: b, offset: Vector3::zeros(), force, torque });
+        for w in &self.wrench_buf[first..] {
+            let about_o = self.data.com_in_world[w.body].cross(&w.force) + w.torque;
+            total += Vector6::new(w.force.x, w.force.y, w.force.z, about_o.x, about_o.y, about_o.z);
         }
         self.gravity_wrench = total;
         Ok(true)
