@@ -64,7 +64,7 @@ def _inertial(parent: ET.Element, mass: float, inertia: np.ndarray) -> None:
 #: MJCF geom groups of the two geometry roles (MuJoCo's viewer shows groups 0-2 by default).
 GEOM_GROUP = {"visual": 1, "collision": 3}
 
-#: Mesh formats MuJoCo reads itself (others: [`spacearm.io.mesh.with_mesh_format`][spacearm.io.mesh.with_mesh_format]).
+#: Mesh formats MuJoCo reads itself (others: `spacearm.io.mesh.with_mesh_format`).
 MUJOCO_MESH_FORMATS = (".stl", ".obj")
 
 #: Names of the world site the base actuators' forces are expressed in, and of the base CM site.

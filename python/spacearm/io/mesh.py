@@ -1,5 +1,5 @@
 """Mesh files of a model's geometry (docs/geometry.md), through trimesh (the ``mesh`` extra):
-[`with_mesh_format`][spacearm.io.mesh.with_mesh_format] gives a copy of a model whose meshes
+`with_mesh_format` gives a copy of a model whose meshes
 are all in one format (STL by default), converting the others (DAE, PLY, GLB, ...) into a
 folder, for engines that read only some formats (MuJoCo reads STL and OBJ).
 
