@@ -185,3 +185,26 @@ def test_urdf_materials_and_relative_meshes(tmp_path):
     assert (g[2].role, g[2].shape) == ("collision", "capsule")
     with pytest.raises(spacearm.ModelFileError, match=r":3: link 'a' <visual>: unknown geometry <cone>"):
         spacearm.io.loads_urdf(text.replace("<box size=\"1 2 3\"/>", "<cone/>"))
+
+
+def test_meshes_convert_to_a_format_mujoco_reads(tmp_path):
+    """A COLLADA box of 0.2 × 0.4 × 0.6 m becomes an STL of the same extents, and the exported
+    MJCF then compiles in MuJoCo with the mesh's bounding box."""
+    trimesh = pytest.importorskip("trimesh")
+    pytest.importorskip("collada")
+    mujoco = pytest.importorskip("mujoco")
+    dae = tmp_path / "part.dae"
+    dae.write_bytes(trimesh.creation.box(extents=(0.2, 0.4, 0.6)).export(file_type="dae"))
+    robot = _robot().add_geometry("arm", "mesh", file=str(dae)).build()
+    from spacearm.interop import mujoco as smj
+    from spacearm.io.mesh import with_mesh_format
+    with pytest.raises(ArgumentError, match="not '.dae'"):
+        smj.to_mjcf(robot)
+    converted = with_mesh_format(robot, tmp_path / "meshes")
+    (g,) = converted.description.geometries
+    assert g.file.endswith(".stl") and Path(g.file).parent == tmp_path / "meshes"
+    np.testing.assert_allclose(trimesh.load(g.file).extents, [0.2, 0.4, 0.6], atol=1e-9)
+    m = smj.to_mujoco(converted)
+    np.testing.assert_allclose(m.mesh_vert.max(axis=0) - m.mesh_vert.min(axis=0), [0.2, 0.4, 0.6], atol=1e-6)
+    np.testing.assert_array_equal(converted.mass_matrix(converted.neutral_configuration()),
+                                  robot.mass_matrix(robot.neutral_configuration()))
