@@ -3,7 +3,7 @@
 one RK4 step costs through each.
 
 Match: ``fmpy.simulate_fmu`` of the FMU of spatial6 (floating, constant torques, a moving start)
-and of the UR5 of example-robot-data on examples/models/spacecraft_bus.toml (flying, torques
+and of the UR5 of example-robot-data on the example bus ``spacearm.examples.path("spacecraft_bus")`` (flying, torques
 and a base wrench) against ``spacearm.simulate`` of the same model and inputs (the inputs held by
 a ``control.Callback``), FMI 3 and FMI 2: the largest difference of the state over the run.
 
@@ -136,7 +136,7 @@ def main():
 
             urdf = Path(str(metadata.distribution("example-robot-data").locate_file(
                 "cmeel.prefix/share/example-robot-data/robots/ur_description/urdf/ur5_robot.urdf")))
-            ur5 = load_urdf(str(urdf), mount_on=spacearm.io.load_toml(ROOT / "examples/models/spacecraft_bus.toml"), at=(0.6, 0, 0, 0, 0, 0))
+            ur5 = load_urdf(str(urdf), mount_on=spacearm.io.load_toml(spacearm.examples.path("spacecraft_bus")), at=(0.6, 0, 0, 0, 0, 0))
             x0 = ur5.neutral_configuration()
             x0[7:] = [-0.4, -1.1, 1.3, -0.7, 0.5, 0.3]
             cases.append(("UR5 on the bus, flying", ur5, dict(duration=1.0, tau=[1.0, -2.0, 1.5, 0.4, -0.2, 0.1],

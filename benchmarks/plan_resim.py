@@ -15,6 +15,7 @@ The CPU time (``time.process_time``) is the number to compare on a shared machin
 from __future__ import annotations
 
 import argparse
+import ast
 import statistics
 import time
 import warnings
@@ -50,8 +51,17 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--case", choices=sorted(CASES), default="planar4")
     ap.add_argument("--repeat", type=int, default=7)
+    ap.add_argument("--option", action="append", default=[], metavar="NAME=VALUE",
+                    help="a point_to_point keyword (Python literal or string), e.g. hessian=exact")
     ns = ap.parse_args()
     make, target, options = CASES[ns.case]
+    options = dict(options)
+    for item in ns.option:
+        name, _, text = item.partition("=")
+        try:
+            options[name] = ast.literal_eval(text)
+        except (ValueError, SyntaxError):
+            options[name] = text
     robot = make()
     wall, cpu = time.perf_counter(), time.process_time()
     with warnings.catch_warnings(record=True) as caught:
@@ -66,7 +76,9 @@ def main():
     knots = np.searchsorted(traj.t, plan.t - 1e-9 * plan.duration)
     p_end = robot.point_position(traj.x[-1])
     att = np.degrees(np.max(angles_between(traj.x[knots, 3:7], plan.x[:, 3:7])))
-    print(f"spacearm {spacearm.__file__}")
+    print(f"spacearm {spacearm.__file__}, options {options}")
+    print(f"joint speeds at the knots: max {np.max(np.abs(plan.u[:, 6:])):.3g} rad/s; torque steps between knots: max "
+          f"{np.max(np.abs(np.diff(plan.tau, axis=0))):.3g} N·m")
     print(f"case {ns.case}: IPOPT {plan.status}, {plan.iterations} iterations; point_to_point {wall:.1f} s wall, {cpu:.1f} s CPU; "
           f"success {plan.success}; warnings: {[str(w.message)[:120] for w in caught if 'plan' in str(w.message)]}")
     print(f"plan: max base rotation {np.degrees(np.max(attitude_angle(plan.x[:, 3:7]))):.4g} deg, "

@@ -6,8 +6,8 @@ The solve times depend on the machine; the wall time also on its load (the CPU t
 
 At every control period the controller solves, with IPOPT (CasADi's own NLP solver; warm
 started from the previous solution), a multiple-shooting problem over a horizon of ``--horizon``
-periods: the free-floating dynamics are the RK4 step of :func:`spacearm.casadi.rk4_step` (the
-same map as the C code of :func:`spacearm.casadi.generate_c`), the cost the joint error to the
+periods: the free-floating dynamics are the RK4 step of [`spacearm.casadi.rk4_step`][spacearm.casadi.rk4_step] (the
+same map as the C code of [`spacearm.casadi.generate_c`][spacearm.casadi.generate_c]), the cost the joint error to the
 goal plus a small effort term, the torques bounded by the model's effort limits. The first
 torque is applied to the plant, the native simulator (``spacearm.Simulator``, RK4 at a tenth of
 the period), and the horizon moves on.

@@ -7,6 +7,9 @@ package has:
   constant (``#: Preset names, as accepted by get and the CLI.`` above ``NAMES = (...)``):
   griffe only knows docstrings placed after the assignment, so these become the attribute's
   docstring here;
+- result types built by the library (a [`Robot`][spacearm.Robot] from a preset or a loader, the
+  records [`rollout`][spacearm.rollout] returns, a plan, a capture...): their constructor is
+  internal, so the page shows the class without it (INTERNAL_CONSTRUCTORS);
 - docstrings set at import time (``spacearm/errors.py`` gives the extension's exception classes
   their ``__doc__``) or written in Rust (the extension's classes, declared in ``_core.pyi``
   without one): an object the static pass leaves without a docstring gets its runtime
@@ -23,6 +26,18 @@ from typing import Any
 import griffe
 
 _logger = griffe.get_logger("griffe_spacearm")
+
+#: Classes users get from the library, never build: the API pages show no constructor signature.
+INTERNAL_CONSTRUCTORS = {
+    "spacearm.model.robot.Robot",
+    "spacearm.sim.rollout.Rollouts",
+    "spacearm.sim.trajectory.Trajectory",
+    "spacearm.capture.sequence.CaptureResult",
+    "spacearm.campaign.results.CampaignResult",
+    "spacearm.plan.result.Plan",
+    "spacearm.analysis.singularities.SingularityMap",
+    "spacearm.identify.estimate.PayloadEstimate",
+}
 
 
 def _comment_above(lines: list[str], lineno: int) -> str | None:
@@ -76,6 +91,16 @@ class SpacearmDocs(griffe.Extension):
     def on_package(self, *, pkg: griffe.Module, **kwargs: Any) -> None:
         if pkg.name != "spacearm":
             return
+        for path in INTERNAL_CONSTRUCTORS:
+            try:
+                cls = pkg.modules_collection.get_member(path) if hasattr(pkg, "modules_collection") else None
+            except (KeyError, AttributeError):
+                cls = None
+            if cls is None:
+                cls = pkg.get_member(path.split(".", 1)[1])
+            cls.members.pop("__init__", None)
+            # A dataclass would get its __init__ back from griffe's dataclasses extension.
+            cls.decorators = [d for d in cls.decorators if "dataclass" not in str(d.value)]
         self._fill(pkg.get_member("_core"))
         self._exports(pkg)
 

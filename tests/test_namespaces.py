@@ -8,7 +8,7 @@ import importlib
 import pytest
 
 
-@pytest.mark.parametrize("name", ["spacearm.rotations"])
+@pytest.mark.parametrize("name", ["spacearm.rotations", "spacearm.control"])
 def test_the_public_names_are_the_api(name):
     mod = importlib.import_module(name)
     public = {n for n in vars(mod) if not n.startswith("_")}

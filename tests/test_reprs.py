@@ -50,3 +50,4 @@ def test_analysis_and_identification_results():
     traj = spacearm.simulate(robot, 0.2, dt=0.01, u0=np.r_[np.zeros(6), 0.3 * np.ones(robot.n_dof)])
     est = identify_payload(robot, traj, body=robot.body_names[-1])
     assert "parameters=array(10,) float64" in _check(est)
+

@@ -12,7 +12,8 @@ from .model.batch import batch_threads, set_batch_threads
 from .model.builder import RobotBuilder
 from .capture import Target
 from .orbit import CentralBody, Orbit, OrbitalElements
-from .model.description import BaseDescription, JointLimits, LinkDescription, ModelDescription, PointDescription
+from .model.description import (BaseDescription, GeometryDescription, JointLimits, LinkDescription, ModelDescription,
+                                PointDescription)
 from .errors import (
     ArgumentError,
     CampaignError,
@@ -37,6 +38,7 @@ from .model.robot import (
     Kinematics,
     Linearization,
     Momentum,
+    PassiveModes,
     Robot,
 )
 from .sim.rollout import Rollouts, rollout
@@ -47,7 +49,7 @@ from .sim.trajectory import Trajectory
 #: The subpackages imported on first use (PEP 562): ``spacearm.plan`` after ``import spacearm``
 #: imports ``spacearm.plan`` then, so ``import spacearm`` does not pay for them (CasADi, SymPy,
 #: Dask and the engines load only with the subpackage that needs them).
-_LAZY_SUBPACKAGES = ("analysis", "campaign", "casadi", "examples", "identify", "interop", "plan", "symbolic")
+_LAZY_SUBPACKAGES = ("analysis", "campaign", "casadi", "examples", "fmi", "identify", "interop", "plan", "symbolic")
 
 
 def __getattr__(name: str):
@@ -73,10 +75,12 @@ __all__ = [
     "ForwardDynamicsDerivatives",
     "InverseDynamicsPartials",
     "Linearization",
+    "PassiveModes",
     "ModelDescription",
     "BaseDescription",
     "LinkDescription",
     "PointDescription",
+    "GeometryDescription",
     "JointLimits",
     "presets",
     "capture",

@@ -21,7 +21,7 @@ __all__ = [
     "JointTorqueLimitSpec", "LoopClosureTerms", "MomentumDampingSpec",
     "LinkDescription", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds", "MomentumSplit",
     "ModelBuilder", "ModelDescription", "ModelError", "ModelFileError", "NonFiniteError",
-    "NotFoundError", "PointDescription", "QUATERNION_TOLERANCE", "QuaternionError",
+    "NotFoundError", "PointDescription", "GeometryDescription", "QUATERNION_TOLERANCE", "QuaternionError",
     "ReactionNullSpace", "ResourceLimitError", "RmrcMotion", "RmrcOptions", "RmrcRates",
     "RmrcSpec", "RolloutBatch", "RunEvents", "RunMeta", "RunOptions", "RunRecords", "RunResult",
     "SIM_DEFAULTS", "ScanResult", "ShapeError", "SimDefaults", "SimulationError", "Simulator",
@@ -29,11 +29,11 @@ __all__ = [
     "ThrusterLimits", "WorkspaceShells", "ZeroTorqueSpec", "__version__", "analysis_damping",
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
     "analysis_reach", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
-    "analysis_singularity", "batch_threads", "body_mass_properties_error", "check_grasp_handle", "GOAL_TOLERANCE", "MAX_HANDLE_RATIO",
-    "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
+    "analysis_singularity", "batch_threads", "body_mass_properties_error", "box_of_moments", "check_grasp_handle", "GOAL_TOLERANCE", "MAX_HANDLE_RATIO",
+    "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "joint_wrenches", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
     "model_to_toml", "momentum_scales", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
-    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "soft_capture", "virtual_mass",
+    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "soft_capture", "virtual_mass",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -78,6 +78,10 @@ def model_from_paper_dh(
     initial_q: Optional[Sequence[float]] = None,
 ) -> Model: ...
 
+def slosh_links(name: str, parent: str, model: str, mass: float, position: Sequence[float], axis: Sequence[float],
+                hinge: Optional[Sequence[float]], length: Optional[float], stiffness: Optional[float],
+                frequency: Optional[float], damping: float) -> list[tuple]: ...  # ModelBuilder.add_link arguments per link
+
 @final
 class ModelBuilder:
     def __new__(cls, name: str, base_name: str, base_mass: float, base_inertia: Sequence[Sequence[float]],
@@ -98,6 +102,21 @@ class ModelBuilder:
         dynamics: Optional[tuple[bool, float, float, float]] = None,  # (actuated, stiffness, damping, rest)
     ) -> None: ...
     def add_point(self, name: str, body: str, offset: Sequence[float]) -> None: ...
+    def add_geometry(
+        self,
+        body: str,
+        role: str,
+        shape: str,
+        origin: Sequence[float],
+        rotation: Sequence[float],
+        size: Optional[Sequence[float]] = None,
+        radius: Optional[float] = None,
+        length: Optional[float] = None,
+        file: Optional[str] = None,
+        scale: Optional[Sequence[float]] = None,
+        rgba: Optional[Sequence[float]] = None,
+        name: Optional[str] = None,
+    ) -> None: ...
     def set_end_effector(self, name: str) -> None: ...
     def set_initial_q(self, q: Sequence[float]) -> None: ...
     def build(self) -> Model: ...
@@ -218,6 +237,52 @@ class PointDescription:
         """(3,) m, read-only: from the body's CM, in the body frame."""
 
 @final
+class GeometryDescription:
+    """A visual or collision shape fixed to a body (docs/geometry.md), placed in the body frame
+    (origin at the body's CM) by ``origin`` and ``rotation``; the keys of other shape kinds are
+    ``None``."""
+
+    @property
+    def name(self) -> str:
+        """The geometry's name."""
+    @property
+    def body(self) -> str:
+        """Name of the body it is fixed to."""
+    @property
+    def body_index(self) -> int:
+        """Index of that body (0 = base)."""
+    @property
+    def role(self) -> str:
+        """``"visual"`` or ``"collision"``."""
+    @property
+    def shape(self) -> str:
+        """``"box"``, ``"cylinder"``, ``"sphere"``, ``"capsule"`` or ``"mesh"``."""
+    @property
+    def size(self) -> Optional[_Vec]:
+        """(3,) m, read-only: a box's full side lengths."""
+    @property
+    def radius(self) -> Optional[float]:
+        """m: the radius of a sphere, cylinder or capsule."""
+    @property
+    def length(self) -> Optional[float]:
+        """m: the length of a cylinder or of a capsule's cylinder part (along z)."""
+    @property
+    def file(self) -> Optional[str]:
+        """A mesh's file, as the model states it."""
+    @property
+    def scale(self) -> Optional[_Vec]:
+        """(3,) read-only: a mesh's scale along its x, y, z."""
+    @property
+    def origin(self) -> _Vec:
+        """(3,) m, read-only: the geometry frame's origin in the body frame, from its CM."""
+    @property
+    def rotation(self) -> _Vec:
+        """(4,) read-only: unit quaternion ``[x, y, z, w]`` of the geometry frame in the body frame."""
+    @property
+    def rgba(self) -> _Vec:
+        """(4,) read-only: red, green, blue, alpha in [0, 1]."""
+
+@final
 class ModelDescription:
     """A whole model: base, links in tree order (a parent before its children; link ``i`` is
     body ``i + 1``), named points, end effector and initial joint coordinates
@@ -235,6 +300,9 @@ class ModelDescription:
     @property
     def points(self) -> tuple[PointDescription, ...]:
         """The named points in the order they were added."""
+    @property
+    def geometries(self) -> tuple[GeometryDescription, ...]:
+        """The visual and collision shapes in the order they were added."""
     @property
     def end_effector(self) -> Optional[str]:
         """Name of the end-effector point, or ``None``."""
@@ -298,6 +366,7 @@ class Model:
     def center_of_mass(self, x: _ArrayLike) -> _Vec: ...
     def passive_forces(self, x: _ArrayLike, u: _ArrayLike) -> _Vec: ...  # (6+N,): [0 (6); -k (q - rest) - c qd]
     def spring_energy(self, x: _ArrayLike) -> Union[float, _Vec]: ...
+    def passive_modes(self, x: _ArrayLike, held: bool) -> tuple[list[int], _Vec, _Vec, _Vec]: ...  # (dofs, frequencies, damping_ratios, shapes)
 
 # ---- the core's rules and defaults (crates/spacearm-py/src/rules_py.rs, rule_tables_py.rs) -----
 # The tables are frozen instances with typed attributes; each is also a read-only mapping of its
@@ -348,6 +417,7 @@ MEMORY_LIMIT_BYTES: int
 GOAL_TOLERANCE: float    # m: RMRC ends farther than this from its reference with its damping active -> unreachable
 MAX_HANDLE_RATIO: float  # a target grasp point at most this many body sizes from the body's CM
 def quintic_scaling(t: _Vec, t_start: float, t_end: float) -> tuple[_Vec, _Vec, _Vec]: ...
+def box_of_moments(mass: float, moments: Sequence[float]) -> list[float]: ...
 def body_mass_properties_error(
     who: str, mass: float, inertia: Sequence[Sequence[float]], *, triangle_inequality: bool = True
 ) -> Optional[tuple[str, str]]: ...  # None, or ("mass" | "inertia", the core's message naming `who`)
@@ -674,6 +744,7 @@ class MomentumSplit:
 
 def point_inverse_inertia(model: Model, x: _ArrayLike, body: int, offset: _ArrayLike, arm: str = "free") -> _Vec: ...
 def virtual_mass(model: Model, x: _ArrayLike, body: int, offset: _ArrayLike, direction: _ArrayLike, arm: str = "free") -> float: ...
+def joint_wrenches(model: Model, x: _Vec, u: _Vec, du: _Vec, body: int) -> _Vec: ...
 def impulse_momentum_split(model: Model, x: _ArrayLike, body: int, offset: _ArrayLike, impulse: _ArrayLike) -> MomentumSplit: ...
 def impulse_dynamics(model: Model, x: _ArrayLike, u_before: _ArrayLike, jacobian: _Vec, restitution: float = 0.0,
                      arm: str = "free") -> ImpulseDynamics: ...
@@ -1032,7 +1103,7 @@ class RunRecords:
     P: Optional[_Record]                    # (K, 3) linear momentum, kg·m/s
     L_origin: Optional[_Record]             # (K, 3) angular momentum about the origin, kg·m²/s
     L_com: Optional[_Record]                # (K, 3) angular momentum about the system CM, kg·m²/s
-    energy: Optional[_Record]               # (K,) kinetic energy, J
+    energy: Optional[_Record]               # (K,) mechanical energy (kinetic + joint springs), J
     com: Optional[_Record]                  # (K, 3) system CM, m
     ee_position: Optional[_Record]          # (K, 3) end-effector position, m (robots with an end effector)
     ee_quat: Optional[_Record]              # (K, 4) end-effector attitude [x, y, z, w]
@@ -1124,6 +1195,7 @@ def rollout(
     options: RunOptions,
     controllers: Optional[Union[_ControllerSpec, list[_ControllerSpec]]] = None,
     threads: Optional[int] = None,
+    stop: Optional[Any] = None,
 ) -> RolloutBatch:
     """Run B rollouts on native threads without the GIL (crates/spacearm-py/src/rollout_py.rs).
     ``models``: one model or one per rollout; ``x0`` (B, 7+N), ``u0`` (B, 6+N) float64;
@@ -1138,7 +1210,7 @@ class Simulator:
 
     def __new__(cls, model: Model, options: RunOptions, controller_spec: Optional[_ControllerSpec] = None, record_every: Optional[int] = None) -> Simulator: ...
     def reset(self, x0: _ArrayLike, u0: _ArrayLike) -> None: ...
-    def step(self, tau: Optional[_ArrayLike] = None, n: Optional[int] = None, base_wrench: Optional[_ArrayLike] = None) -> None: ...
+    def step(self, tau: Optional[_ArrayLike] = None, n: Optional[int] = None, base_wrench: Optional[_ArrayLike] = None) -> _Vec: ...
     @property
     def time(self) -> float: ...
     @property
@@ -1158,7 +1230,7 @@ def perturbed(
 ) -> Model: ...
 def default_wheel_dofs(model: Model) -> list[int]: ...
 def momentum_scales(model: Model, x: npt.NDArray[np.float64], u: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
-    """(T, 4): Σ|p_i|, Σ(|r_i×p_i| + |I_i w_i|) about the origin and the system CM, kinetic energy."""
+    """(T, 4): Σ|p_i|, Σ(|r_i×p_i| + |I_i w_i|) about the origin and the system CM, kinetic + spring energy."""
 def conserved_drift(values: npt.NDArray[np.float64], scale: float) -> float:
     """max_k |v_k - v_0| / max(|v_0|, scale)."""
 @final

@@ -20,15 +20,21 @@ for a robot without wheels.
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
-from typing import Any, Callable, Sequence, Union
+import math as _math
+from dataclasses import dataclass as _dataclass
+from typing import TYPE_CHECKING as _TYPE_CHECKING
 
-import numpy as np
+import numpy as _np
 
 from . import _core
-from ._util.arrays import quaternion, vector
-from .errors import ArgumentError
+from ._util.arrays import quaternion as _quaternion, vector as _vector
+from .errors import ArgumentError as _ArgumentError
+
+if _TYPE_CHECKING:  # the annotations' names (not evaluated at run time: no module-level name)
+    from typing import Any, Callable, Sequence, Union
+
+# The module exports its API only (__all__): every helper above is imported under a private name.
+del annotations
 
 __all__ = [
     "QuinticJoint",
@@ -53,9 +59,9 @@ __all__ = [
 
 def _gains(value, name: str) -> list:
     """A gain: one number or one per arm joint, as a list of floats (checked in Rust)."""
-    arr = np.atleast_1d(np.asarray(value, dtype=float))
+    arr = _np.atleast_1d(_np.asarray(value, dtype=float))
     if arr.ndim != 1 or arr.size == 0:
-        raise ArgumentError(f"{name} must be a number or a 1-D sequence of numbers, got {value!r}")
+        raise _ArgumentError(f"{name} must be a number or a 1-D sequence of numbers, got {value!r}")
     return arr.tolist()
 
 
@@ -63,33 +69,33 @@ def _float(value, name: str) -> float:
     try:
         return float(value)
     except (TypeError, ValueError) as exc:
-        raise ArgumentError(f"{name} must be a number, got {value!r}") from exc
+        raise _ArgumentError(f"{name} must be a number, got {value!r}") from exc
 
 
 def _finite_float(value, name: str) -> float:
     v = _float(value, name)
-    if not math.isfinite(v):
-        raise ArgumentError(f"{name} must be finite, got {v}")
+    if not _math.isfinite(v):
+        raise _ArgumentError(f"{name} must be finite, got {v}")
     return v
 
 
 def _strategy(value, name: str) -> str:
     """A strategy name, checked by the core (``"naive"``, ``"reactionless"``, ``"minimum_disturbance"``)."""
     if not isinstance(value, str):
-        raise ArgumentError(f"{name} must be 'naive', 'reactionless' or 'minimum_disturbance', got {value!r}")
+        raise _ArgumentError(f"{name} must be 'naive', 'reactionless' or 'minimum_disturbance', got {value!r}")
     return value
 
 
 def _quintic(t, t_start: float, t_end: float):
     """Rest-to-rest quintic time scaling ``s = 10τ³ − 15τ⁴ + 6τ⁵`` and its derivatives: the
     core's (the one the native controllers follow), evaluated at each time of ``t``."""
-    t = np.asarray(t, dtype=float)
-    s, sd, sdd = _core.quintic_scaling(np.ascontiguousarray(t.reshape(-1)), float(t_start), float(t_end))
+    t = _np.asarray(t, dtype=float)
+    s, sd, sdd = _core.quintic_scaling(_np.ascontiguousarray(t.reshape(-1)), float(t_start), float(t_end))
     return s.reshape(t.shape), sd.reshape(t.shape), sdd.reshape(t.shape)
 
 
 # ---- references ------------------------------------------------------------------------------
-@dataclass(frozen=True)
+@_dataclass(frozen=True)
 class QuinticJoint:
     """Joint-space rest-to-rest quintic from ``q_start`` to ``q_goal`` over ``[t_start, t_end]``
     (one entry per arm joint); holds ``q_start`` before and ``q_goal`` after."""
@@ -100,15 +106,15 @@ class QuinticJoint:
     t_end: float
 
     def __post_init__(self):
-        a = vector(self.q_start, "QuinticJoint q_start")
-        b = vector(self.q_goal, "QuinticJoint q_goal", a.shape[0])
+        a = _vector(self.q_start, "QuinticJoint q_start")
+        b = _vector(self.q_goal, "QuinticJoint q_goal", a.shape[0])
         t0 = _finite_float(self.t_start, "QuinticJoint t_start")
         t1 = _finite_float(self.t_end, "QuinticJoint t_end")
         if not t1 > t0:
-            raise ArgumentError(f"QuinticJoint needs t_end > t_start, got t_start = {t0}, t_end = {t1}")
+            raise _ArgumentError(f"QuinticJoint needs t_end > t_start, got t_start = {t0}, t_end = {t1}")
         for what, arr in (("q_start", a), ("q_goal", b)):
-            if not np.all(np.isfinite(arr)):
-                raise ArgumentError(f"QuinticJoint {what} must be finite, got {arr}")
+            if not _np.all(_np.isfinite(arr)):
+                raise _ArgumentError(f"QuinticJoint {what} must be finite, got {arr}")
         object.__setattr__(self, "q_start", a)
         object.__setattr__(self, "q_goal", b)
         object.__setattr__(self, "t_start", t0)
@@ -118,14 +124,14 @@ class QuinticJoint:
         """``(q, qd, qdd)`` at time(s) ``t``; arrays of shape ``(len(t), n)`` for an array ``t``."""
         s, sd, sdd = _quintic(t, self.t_start, self.t_end)
         delta = self.q_goal - self.q_start
-        s, sd, sdd = (np.asarray(v)[..., None] for v in (s, sd, sdd))
+        s, sd, sdd = (_np.asarray(v)[..., None] for v in (s, sd, sdd))
         return self.q_start + s * delta, sd * delta, sdd * delta
 
     def _spec(self) -> _core.JointReference:
         return _core.JointReference.quintic(q_start=self.q_start, q_goal=self.q_goal, t_start=self.t_start, t_end=self.t_end)
 
 
-@dataclass(frozen=True)
+@_dataclass(frozen=True)
 class CartesianLine:
     """Straight-line path of a point from ``p_start`` to ``p_goal`` (m, in 𝒥) with quintic
     timing over ``[t_start, t_end]``. ``point``: the point that follows it (a point name, a
@@ -138,15 +144,15 @@ class CartesianLine:
     point: Any = None
 
     def __post_init__(self):
-        a = vector(self.p_start, "CartesianLine p_start", 3)
-        b = vector(self.p_goal, "CartesianLine p_goal", 3)
+        a = _vector(self.p_start, "CartesianLine p_start", 3)
+        b = _vector(self.p_goal, "CartesianLine p_goal", 3)
         t0 = _finite_float(self.t_start, "CartesianLine t_start")
         t1 = _finite_float(self.t_end, "CartesianLine t_end")
         if not t1 > t0:
-            raise ArgumentError(f"CartesianLine needs t_end > t_start, got t_start = {t0}, t_end = {t1}")
+            raise _ArgumentError(f"CartesianLine needs t_end > t_start, got t_start = {t0}, t_end = {t1}")
         for what, arr in (("p_start", a), ("p_goal", b)):
-            if not np.all(np.isfinite(arr)):
-                raise ArgumentError(f"CartesianLine {what} must be finite, got {arr}")
+            if not _np.all(_np.isfinite(arr)):
+                raise _ArgumentError(f"CartesianLine {what} must be finite, got {arr}")
         object.__setattr__(self, "p_start", a)
         object.__setattr__(self, "p_goal", b)
         object.__setattr__(self, "t_start", t0)
@@ -156,14 +162,14 @@ class CartesianLine:
         """``(p, pd, pdd)`` at time(s) ``t``."""
         s, sd, sdd = _quintic(t, self.t_start, self.t_end)
         delta = self.p_goal - self.p_start
-        s, sd, sdd = (np.asarray(v)[..., None] for v in (s, sd, sdd))
+        s, sd, sdd = (_np.asarray(v)[..., None] for v in (s, sd, sdd))
         return self.p_start + s * delta, sd * delta, sdd * delta
 
     def _spec(self) -> _core.CartesianReference:
         return _core.CartesianReference(p_start=self.p_start, p_goal=self.p_goal, t_start=self.t_start, t_end=self.t_end)
 
 
-@dataclass(frozen=True)
+@_dataclass(frozen=True)
 class SampledJoint:
     """A sampled joint trajectory: knot times ``t`` (K ≥ 2, strictly increasing, s) and the
     positions ``q``, velocities ``qd`` and accelerations ``qdd`` at the knots, each (K, n).
@@ -180,21 +186,21 @@ class SampledJoint:
     qdd: Any
 
     def __post_init__(self):
-        object.__setattr__(self, "t", np.ascontiguousarray(self.t, dtype=float).reshape(-1))
+        object.__setattr__(self, "t", _np.ascontiguousarray(self.t, dtype=float).reshape(-1))
         for key in ("q", "qd", "qdd"):
-            arr = np.asarray(getattr(self, key), dtype=float)
-            object.__setattr__(self, key, np.ascontiguousarray(arr.reshape(len(self.t), -1) if arr.ndim == 1 else arr))
+            arr = _np.asarray(getattr(self, key), dtype=float)
+            object.__setattr__(self, key, _np.ascontiguousarray(arr.reshape(len(self.t), -1) if arr.ndim == 1 else arr))
         object.__setattr__(self, "_core_ref", _core.JointReference.sampled(t=self.t, q=self.q, qd=self.qd, qdd=self.qdd))
 
     def evaluate(self, t):
         """``(q, qd, qdd)`` at the times ``t``, each (len(t), n): what the controllers follow."""
-        return self._core_ref.evaluate(np.atleast_1d(np.asarray(t, dtype=float)))
+        return self._core_ref.evaluate(_np.atleast_1d(_np.asarray(t, dtype=float)))
 
     def _spec(self) -> _core.JointReference:
         return self._core_ref
 
 
-@dataclass(frozen=True)
+@_dataclass(frozen=True)
 class FreeBodyPoint:
     """A point fixed to a torque-free rigid body — the grasp point of a tumbling target — as a
     reference for [`ResolvedMotionRate`][spacearm.control.ResolvedMotionRate].
@@ -213,20 +219,20 @@ class FreeBodyPoint:
     point: Any = None
 
     def __post_init__(self):
-        inertia = np.asarray(self.inertia, dtype=float)
+        inertia = _np.asarray(self.inertia, dtype=float)
         if inertia.shape == (3,):
-            inertia = np.diag(inertia)
-        core = _core.FreeBodyReference(inertia=inertia.reshape(-1), state=vector(self.state, "FreeBodyPoint state", 13),
-                                       offset=vector(self.offset, "FreeBodyPoint offset", 3), step=_float(self.step, "FreeBodyPoint step"))
+            inertia = _np.diag(inertia)
+        core = _core.FreeBodyReference(inertia=inertia.reshape(-1), state=_vector(self.state, "FreeBodyPoint state", 13),
+                                       offset=_vector(self.offset, "FreeBodyPoint offset", 3), step=_float(self.step, "FreeBodyPoint step"))
         object.__setattr__(self, "_core_ref", core)
 
-    def states(self, t) -> np.ndarray:
+    def states(self, t) -> _np.ndarray:
         """The body's 13-states at the times ``t`` (s ≥ 0), shape (len(t), 13)."""
-        return self._core_ref.states(np.atleast_1d(np.asarray(t, dtype=float)))
+        return self._core_ref.states(_np.atleast_1d(_np.asarray(t, dtype=float)))
 
     def evaluate(self, t):
         """``(p, pd)`` of the point at the times ``t``, each (len(t), 3), in 𝒥."""
-        return self._core_ref.points(np.atleast_1d(np.asarray(t, dtype=float)))
+        return self._core_ref.points(_np.atleast_1d(_np.asarray(t, dtype=float)))
 
     def _spec(self) -> _core.FreeBodyReference:
         return self._core_ref
@@ -236,33 +242,33 @@ def _joint_reference(ref, name: str) -> _core.JointReference:
     if isinstance(ref, (QuinticJoint, SampledJoint)):
         return ref._spec()
     if isinstance(ref, CartesianLine):
-        raise ArgumentError(f"{name} takes a joint reference (QuinticJoint or a joint set point), got a CartesianLine")
-    q = vector(ref, f"{name} reference")
-    if not np.all(np.isfinite(q)):
-        raise ArgumentError(f"{name} reference must be finite, got {q}")
+        raise _ArgumentError(f"{name} takes a joint reference (QuinticJoint or a joint set point), got a CartesianLine")
+    q = _vector(ref, f"{name} reference")
+    if not _np.all(_np.isfinite(q)):
+        raise _ArgumentError(f"{name} reference must be finite, got {q}")
     return _core.JointReference.constant(q=q)
 
 
 # ---- actuators -------------------------------------------------------------------------------
-@dataclass(frozen=True)
+@_dataclass(frozen=True)
 class Thrusters:
     """Base thruster limits per axis of 𝒥: ``|F0_i| <= max_force`` (N) and ``|N0_i| <= max_torque``
     (N·m); a number applies to all three axes, ``inf`` means no limit. A command beyond a
     limit is clamped and recorded as a saturation event (kind 2)."""
 
-    max_force: Union[float, Sequence[float]] = math.inf
-    max_torque: Union[float, Sequence[float]] = math.inf
+    max_force: Union[float, Sequence[float]] = float("inf")
+    max_torque: Union[float, Sequence[float]] = float("inf")
 
     def _spec(self) -> _core.ThrusterLimits:
         out = {}
         for key in ("max_force", "max_torque"):
             value = getattr(self, key)
-            if np.ndim(value) == 0:
-                v = np.full(3, _float(value, f"Thrusters {key}"))
+            if _np.ndim(value) == 0:
+                v = _np.full(3, _float(value, f"Thrusters {key}"))
             else:
-                v = vector(value, f"Thrusters {key}", 3)
-            if not np.all(v > 0):
-                raise ArgumentError(f"Thrusters {key} must be > 0 on every axis (inf for no limit), got {v}")
+                v = _vector(value, f"Thrusters {key}", 3)
+            if not _np.all(v > 0):
+                raise _ArgumentError(f"Thrusters {key} must be > 0 on every axis (inf for no limit), got {v}")
             out[key] = v
         return _core.ThrusterLimits(**out)
 
@@ -273,7 +279,7 @@ class _Controller:
         raise NotImplementedError
 
 
-@dataclass(frozen=True)
+@_dataclass(frozen=True)
 class JointPD(_Controller):
     """Joint PD on the arm joints: ``tau = kp (q_ref - q) + kd (qd_ref - qd)``.
 
@@ -289,7 +295,7 @@ class JointPD(_Controller):
         return _core.JointPdSpec(kp=_gains(self.kp, "kp"), kd=_gains(self.kd, "kd"), reference=_joint_reference(self.reference, "JointPD"))
 
 
-@dataclass(frozen=True)
+@_dataclass(frozen=True)
 class ComputedTorque(_Controller):
     """Computed torque on the reduced equations of motion (paper eqs. 112–115):
     ``tau = H* (qdd_ref + kd (qd_ref - qd) + kp (q_ref - q)) + c*``.
@@ -312,7 +318,7 @@ class ComputedTorque(_Controller):
         return _core.ComputedTorqueSpec(kp=kp, kd=kd, reference=reference, model=_own_model(self.model, "ComputedTorque"))
 
 
-@dataclass(frozen=True)
+@_dataclass(frozen=True)
 class ResolvedMotionRate(_Controller):
     """Resolved-motion-rate control of a point through the generalized Jacobian ``J*``
     (paper eq. 110) with damped least squares.
@@ -349,13 +355,13 @@ class ResolvedMotionRate(_Controller):
     point: Any = None
     threshold: float = _core.DLS_DEFAULTS.threshold
     velocity_gain: float = 50.0
-    max_joint_rate: float = math.inf
+    max_joint_rate: float = float("inf")
     task: Any = "position"
     strategy: str = "naive"
 
     def _spec(self, robot) -> _core.RmrcSpec:
         if not isinstance(self.reference_cartesian, (CartesianLine, FreeBodyPoint, SampledJoint)):
-            raise ArgumentError("ResolvedMotionRate needs a CartesianLine, a FreeBodyPoint or a SampledJoint path of 3 coordinates, "
+            raise _ArgumentError("ResolvedMotionRate needs a CartesianLine, a FreeBodyPoint or a SampledJoint path of 3 coordinates, "
                                 f"got {type(self.reference_cartesian).__name__}")
         point = self.point if self.point is not None else getattr(self.reference_cartesian, "point", None)
         body, offset = robot.resolve_point(point)
@@ -368,14 +374,14 @@ class ResolvedMotionRate(_Controller):
             threshold=_finite_float(self.threshold, "ResolvedMotionRate threshold"),
             velocity_gain=_finite_float(self.velocity_gain, "ResolvedMotionRate velocity_gain"),
             body=int(body),
-            offset=np.asarray(offset, dtype=float),
+            offset=_np.asarray(offset, dtype=float),
             max_joint_rate=_float(self.max_joint_rate, "ResolvedMotionRate max_joint_rate"),
             task=task_rows(robot, self.task),
             strategy=_strategy(self.strategy, "ResolvedMotionRate strategy"),
         )
 
 
-@dataclass(frozen=True)
+@_dataclass(frozen=True)
 class AttitudeControl(_Controller):
     """Base attitude control with reaction wheels (mode ``"rotation-floating"``).
 
@@ -393,11 +399,11 @@ class AttitudeControl(_Controller):
     kd: float
 
     def _spec(self, robot) -> _core.AttitudeSpec:
-        q = quaternion(self.quat_ref, "AttitudeControl quat_ref")
+        q = _quaternion(self.quat_ref, "AttitudeControl quat_ref")
         return _core.AttitudeSpec(quat_ref=q, kp=_finite_float(self.kp, "AttitudeControl kp"), kd=_finite_float(self.kd, "AttitudeControl kd"))
 
 
-@dataclass(frozen=True)
+@_dataclass(frozen=True)
 class BaseThrusterControl(_Controller):
     """Base regulation by thrusters in the flying modes, each part only where the mode allows
     it: the system CM position by a force through the CM (``"translation-flying"``,
@@ -420,8 +426,8 @@ class BaseThrusterControl(_Controller):
 
     def _spec(self, robot) -> _core.BaseThrustersSpec:
         gains = {key: _finite_float(getattr(self, key), f"BaseThrusterControl {key}") for key in ("kp_position", "kd_position", "kp_attitude", "kd_attitude")}
-        com_ref = None if self.com_ref is None else vector(self.com_ref, "BaseThrusterControl com_ref", 3)
-        quat_ref = None if self.quat_ref is None else quaternion(self.quat_ref, "BaseThrusterControl quat_ref")
+        com_ref = None if self.com_ref is None else _vector(self.com_ref, "BaseThrusterControl com_ref", 3)
+        quat_ref = None if self.quat_ref is None else _quaternion(self.quat_ref, "BaseThrusterControl quat_ref")
         return _core.BaseThrustersSpec(com_ref=com_ref, quat_ref=quat_ref, **gains)
 
 
@@ -436,12 +442,12 @@ def inertia_scaled_gains(robot, x, joints, natural_frequency: float = 4.0, dampi
     w = _finite_float(natural_frequency, "natural_frequency")
     zeta = _finite_float(damping_ratio, "damping_ratio")
     if not (w > 0 and zeta >= 0):
-        raise ArgumentError(f"inertia_scaled_gains needs natural_frequency > 0 and damping_ratio >= 0, got {w} and {zeta}")
-    h = np.diag(robot.generalized_inertia(x))[list(joints)]
+        raise _ArgumentError(f"inertia_scaled_gains needs natural_frequency > 0 and damping_ratio >= 0, got {w} and {zeta}")
+    h = _np.diag(robot.generalized_inertia(x))[list(joints)]
     return w**2 * h, 2.0 * zeta * w * h
 
 
-@dataclass(frozen=True)
+@_dataclass(frozen=True)
 class Combined(_Controller):
     """An arm controller and a base controller together: the base controller (e.g.
     [`AttitudeControl`][spacearm.control.AttitudeControl]) runs first, then the arm controller, which sees its command."""
@@ -452,11 +458,11 @@ class Combined(_Controller):
     def _spec(self, robot) -> _core.CombinedSpec:
         for what, c in (("arm", self.arm), ("base", self.base)):
             if not isinstance(c, _Controller):
-                raise ArgumentError(f"Combined {what} must be a spacearm.control controller, got {type(c).__name__}")
+                raise _ArgumentError(f"Combined {what} must be a spacearm.control controller, got {type(c).__name__}")
         return _core.CombinedSpec(arm=self.arm._spec(robot), base=self.base._spec(robot))
 
 
-@dataclass(frozen=True)
+@_dataclass(frozen=True)
 class CoordinatedFlying(_Controller):
     """Coordinated base-and-arm control in the ``"flying"`` mode: the end effector follows
     ``ee_reference`` while the base holds ``base_pose_ref``.
@@ -486,7 +492,7 @@ class CoordinatedFlying(_Controller):
 
     def _spec(self, robot) -> _core.CoordinatedFlyingSpec:
         if not isinstance(self.ee_reference, CartesianLine):
-            raise ArgumentError(f"CoordinatedFlying needs a CartesianLine ee_reference, got {type(self.ee_reference).__name__}")
+            raise _ArgumentError(f"CoordinatedFlying needs a CartesianLine ee_reference, got {type(self.ee_reference).__name__}")
         point = self.point if self.point is not None else self.ee_reference.point
         body, offset = robot.resolve_point(point)
         reference = self.ee_reference._spec()
@@ -498,11 +504,11 @@ class CoordinatedFlying(_Controller):
             try:
                 r0, quat = self.base_pose_ref
             except (TypeError, ValueError) as exc:
-                raise ArgumentError(f"CoordinatedFlying base_pose_ref must be (r0, quat), got {self.base_pose_ref!r}") from exc
-            base_position = vector(r0, "CoordinatedFlying base position", 3)
-            base_quat = quaternion(quat, "CoordinatedFlying base quaternion")
+                raise _ArgumentError(f"CoordinatedFlying base_pose_ref must be (r0, quat), got {self.base_pose_ref!r}") from exc
+            base_position = _vector(r0, "CoordinatedFlying base position", 3)
+            base_quat = _quaternion(quat, "CoordinatedFlying base quaternion")
         return _core.CoordinatedFlyingSpec(
-            reference=reference, body=int(body), offset=np.asarray(offset, dtype=float), max_damping=max_damping, threshold=threshold,
+            reference=reference, body=int(body), offset=_np.asarray(offset, dtype=float), max_damping=max_damping, threshold=threshold,
             base_position=base_position, base_quat=base_quat, **gains,
         )
 
@@ -514,11 +520,11 @@ def _own_model(model, name: str):
     from .model.robot import Robot
 
     if not isinstance(model, Robot):
-        raise ArgumentError(f"{name} model must be a spacearm.Robot, got {type(model).__name__}")
+        raise _ArgumentError(f"{name} model must be a spacearm.Robot, got {type(model).__name__}")
     return model.core_model
 
 
-@dataclass(frozen=True)
+@_dataclass(frozen=True)
 class MomentumDamping(_Controller):
     """Damp the system momentum with the base thrusters (flying modes; the detumbling law):
     ``F0 = -P / time_constant`` and ``N0 = -L_G / time_constant - (r0 - r_g) x F0`` (``L_G``
@@ -528,8 +534,8 @@ class MomentumDamping(_Controller):
     default the plant). Compose with an arm controller through [`Combined`][spacearm.control.Combined]."""
 
     time_constant: float
-    max_force: float = math.inf
-    max_torque: float = math.inf
+    max_force: float = float("inf")
+    max_torque: float = float("inf")
     model: Any = None
 
     def _spec(self, robot) -> _core.MomentumDampingSpec:
@@ -539,7 +545,7 @@ class MomentumDamping(_Controller):
                                          model=_own_model(self.model, "MomentumDamping"))
 
 
-@dataclass(frozen=True)
+@_dataclass(frozen=True)
 class TorqueLimit(_Controller):
     """Another controller's joint torques clamped to ``±limit`` on every joint (N·m; N for
     prismatic joints), inside the loop (the simulation's own effort limits apply on top)."""
@@ -549,11 +555,11 @@ class TorqueLimit(_Controller):
 
     def _spec(self, robot) -> _core.JointTorqueLimitSpec:
         if not isinstance(self.controller, _Controller):
-            raise ArgumentError(f"TorqueLimit controller must be a spacearm.control controller, got {type(self.controller).__name__}")
+            raise _ArgumentError(f"TorqueLimit controller must be a spacearm.control controller, got {type(self.controller).__name__}")
         return _core.JointTorqueLimitSpec(controller=self.controller._spec(robot), limit=_float(self.limit, "TorqueLimit limit"))
 
 
-@dataclass(frozen=True)
+@_dataclass(frozen=True)
 class Callback(_Controller):
     """A Python controller ``fn(t, x, u) -> tau`` (length N, every joint including wheels) or
     ``-> (tau, base_wrench)`` (``[F0, N0]`` in 𝒥, applied as the mode allows).
@@ -567,7 +573,7 @@ class Callback(_Controller):
 
     def _spec(self, robot) -> _core.CallbackSpec:
         if not callable(self.fn):
-            raise ArgumentError(f"Callback needs a callable fn(t, x, u), got {self.fn!r}")
+            raise _ArgumentError(f"Callback needs a callable fn(t, x, u), got {self.fn!r}")
         return _core.CallbackSpec(fn=self.fn)
 
 
@@ -593,14 +599,14 @@ def perturbed_model(
     from .model.robot import Robot
 
     if not isinstance(robot, Robot):
-        raise ArgumentError(f"perturbed_model needs a spacearm.Robot, got {type(robot).__name__}")
+        raise _ArgumentError(f"perturbed_model needs a spacearm.Robot, got {type(robot).__name__}")
     m = _core.perturbed(
         robot.core_model,
         _finite_float(base_mass_scale, "base_mass_scale"),
         _finite_float(base_inertia_scale, "base_inertia_scale"),
         _finite_float(link_mass_scale, "link_mass_scale"),
         _finite_float(slosh_fraction, "slosh_fraction"),
-        vector(slosh_offset, "slosh_offset", 3),
+        _vector(slosh_offset, "slosh_offset", 3),
         bool(slosh_removed),
     )
     return Robot(m)

@@ -135,7 +135,7 @@ class NonPhysicalInertiaWarning(UserWarning):
 
 
 class PlanCheckWarning(UserWarning):
-    """A maneuver planned by :func:`spacearm.plan.point_to_point` is not a plan: IPOPT did not
+    """A maneuver planned by [`point_to_point`][spacearm.plan.point_to_point] is not a plan: IPOPT did not
     solve it, or its shooting defect or its re-simulation in the native simulator is beyond the
     tolerance of docs/optimal-control.md ("Checks"), whatever IPOPT's status. The plan returned
     has ``success`` False and ``failure`` saying why."""

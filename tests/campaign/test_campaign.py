@@ -252,3 +252,24 @@ def test_cli_campaign_writes_results_and_figure(tmp_path, capsys):
     # The watchdog's timeout is for a Dask cluster only: a clear error, not a silently ignored option.
     assert main(["campaign", "planar4", "--samples", "2", "--worker-timeout", "5", "--out", str(out)]) == 2
     assert "worker_timeout is the Dask watchdog's" in capsys.readouterr().err
+
+
+def test_a_campaign_whose_every_sample_fails_exits_2(tmp_path, monkeypatch, capsys):
+    import spacearm.campaign.scenario as scenario_module
+
+    def failing(nominal, scenario, params):
+        raise spacearm.SingularError("synthetic failure of every plant")
+
+    from spacearm.cli import main
+
+    monkeypatch.setattr(scenario_module, "evaluate", failing)
+    out = tmp_path / "all_failed.npz"
+    code = main(["campaign", "planar4", "--samples", "3", "--workers", "0", "--duration", "0.4", "--dt", "0.01",
+                 "--no-progress", "--out", str(out)])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "every sample of the campaign failed (3 of 3" in err and "synthetic failure" in err
+    assert out.exists()  # the record of the failures is kept
+    # a campaign that resumes into a file of another campaign names the CLI's option
+    code = main(["campaign", "planar4", "--samples", "4", "--workers", "0", "--no-progress", "--out", str(out)])
+    assert code == 2 and "--no-resume" in capsys.readouterr().err

@@ -80,11 +80,11 @@ def test_a_batch_lost_outside_its_samples_stays_pending(spatial6, reference, tmp
 
     real, calls = local.fly, []
 
-    def second_batch_breaks(prepared, threads):
+    def second_batch_breaks(prepared, threads, stop=None):
         calls.append(len(prepared.flying))
         if len(calls) == 2:
             raise MemoryError("synthetic: no memory for the records")
-        return real(prepared, threads)
+        return real(prepared, threads, stop)
 
     monkeypatch.setattr(local, "fly", second_batch_breaks)
     out = tmp_path / "lost.npz"

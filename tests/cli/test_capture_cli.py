@@ -40,7 +40,8 @@ def test_flying_point_contact(capsys):
 @pytest.mark.parametrize("extra, message", [
     (["--restitution", "2"], "--restitution must be in [0, 1]"),
     (["--target-at", "1,2"], "--target-at expects 3"),
-    (["--target-at", "40,0,0"], "did not reach the grasp point"),
+    (["--target-at", "40,0,0"], "no handle that long"),  # the default handle: 37 m towards the gripper
+    (["--target-at", "40,0,0", "--grasp-offset", "0.3,0,0"], "cannot reach the target"),
 ])
 def test_errors_are_clean(extra, message, capsys):
     argv = BASE + extra + (["--approach-time", "0.5"] if "40,0,0" in extra else [])

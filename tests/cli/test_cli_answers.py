@@ -34,3 +34,16 @@ def test_inspect_asks_for_an_end_effector_when_the_model_has_none(tmp_path, caps
     # named, J* is printed
     assert main(["inspect", str(path), "--end-effector", "left_tool"]) == 0
     assert "J* of 'left_tool'" in capsys.readouterr().out
+
+
+def test_a_degenerate_workspace_is_said_in_words(tmp_path, capsys):
+    # planar4 on a grid of 5: the singular samples are the folded and stretched configurations the
+    # grid hits exactly, every path-dependent "shell" a single radius.
+    assert main(["analyze", "planar4", "--workspace", "--resolution", "5", "--no-progress", "--out", str(tmp_path / "ws.png")]) == 0
+    out = capsys.readouterr().out
+    from spacearm import analysis
+
+    ws = analysis.workspace(spacearm.presets.planar4(), resolution=5)
+    zero = sum(1 for a, b in ws.path_dependent if b - a <= 0.0)
+    assert zero > 0
+    assert f"degenerate: {zero} of the {len(ws.path_dependent)} path-dependent shells have zero width" in out

@@ -1,9 +1,9 @@
 """FMI co-simulation units (docs/fmi.md), imported by FMPy (a maintained FMU importer, the
 independent side of these checks): FMPy's validation passes, and ``fmpy.simulate_fmu`` of the FMU
 equals ``spacearm.simulate`` of the same model and inputs, for FMI 3 and FMI 2, for spatial6 and
-for the UR5 of example-robot-data mounted on examples/models/spacecraft_bus.toml.
+for the UR5 of example-robot-data mounted on the shipped example bus (``spacearm.examples.path("spacecraft_bus")``).
 
-The reference run applies the same held inputs through a :class:`spacearm.control.Callback`
+The reference run applies the same held inputs through a [`Callback`][spacearm.control.Callback]
 (or the same native controller), with the FMU's RK4 step; the FMU's outputs at every
 communication point must equal the recorded states and derived quantities to 1e-9 (relative to
 each quantity's scale): the same integrator on the same model, so anything more is a defect.
@@ -28,7 +28,7 @@ fmpy = pytest.importorskip("fmpy", reason="FMPy (a test extra) validates and run
 from fmpy.validation import validate_fmu  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-BUS = os.path.join(ROOT, "examples", "models", "spacecraft_bus.toml")
+BUS = str(spacearm.examples.path("spacecraft_bus"))
 DT = 2e-3
 OUTPUT = 0.01
 

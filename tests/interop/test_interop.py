@@ -88,7 +88,12 @@ def test_mjcf_text():
     assert root.find("option").get("gravity") == "0 0 0"
     assert root.find("option/flag").get("contact") == "disable"
     assert root.find("worldbody/body/freejoint") is not None
-    assert root.find(".//geom") is None
+    # The preset's shapes, massless and without contacts: a box per body.
+    geoms = list(root.iter("geom"))
+    assert [g.get("type") for g in geoms] == ["box"] * 5
+    assert all(g.get("mass") == "0" and g.get("contype") == "0" and g.get("conaffinity") == "0" for g in geoms)
+    assert [a.get("joint") for a in root.iter("motor")] == [f"joint{k}" for k in range(1, 5)]
+    assert interop.to_mjcf(r, geometry=(), actuators=False).count("<geom") == 0
     assert [j.get("type") for j in root.iter("joint")] == ["hinge"] * 4
     assert all(i.get("fullinertia") for i in root.iter("inertial"))
     assert [s.get("name") for s in root.iter("site")] == ["end_effector"]

@@ -101,7 +101,9 @@ def test_mjcf_model_has_no_extra_physics():
     assert m.nq == c.robot.nx and m.nv == c.robot.nu
     assert np.all(m.opt.gravity == 0.0)
     assert m.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_CONTACT
-    assert m.ngeom == 0 and m.nu == 0 and m.neq == 0
+    # Geoms carry no mass and make no contacts; the motors act only through ctrl (zero here).
+    assert m.neq == 0 and m.nu == sum(1 for link in c.robot.description.links if link.dof is not None and link.actuated)
+    assert not np.any(m.geom_contype) and not np.any(m.geom_conaffinity)
     assert np.all(m.dof_damping == 0) and np.all(m.dof_armature == 0) and np.all(m.dof_frictionloss == 0)
     assert np.all(m.jnt_stiffness == 0) and not np.any(m.jnt_limited)
     assert m.opt.density == 0 and m.opt.viscosity == 0

@@ -177,7 +177,9 @@ def test_bias(case, robot_name, mode):
 @pytest.mark.parametrize("robot_name,mode", CASES)
 def test_forward_dynamics(case, robot_name, mode):
     c = case(robot_name, mode)
-    tau = np.linalg.solve(c.T.T, c.f)  # f = Tᵀ τ_pin
+    # f = Tᵀ τ_pin; the URDF's <dynamics damping> is a passive force −c q̇ in spacearm's dynamics,
+    # which Pinocchio's ABA leaves to the caller (its parser keeps the coefficients in model.damping).
+    tau = np.linalg.solve(c.T.T, c.f) - c.model.damping * c.v
     a = pin.aba(c.model, c.data, c.q, c.v, tau)
     ref = np.linalg.solve(c.T, a - c.tdot_u)
     assert_rel_close(c.robot.forward_dynamics(c.x, c.u, c.f), ref, f"urdf {robot_name} {mode} forward dynamics")

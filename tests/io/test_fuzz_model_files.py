@@ -36,7 +36,7 @@ FUZZ = settings(max_examples=FUZZ_EXAMPLES, deadline=None, derandomize=True, dat
                 suppress_health_check=list(HealthCheck))
 COUNTS: collections.Counter = collections.Counter()
 
-MODELS_DIR = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "models")
+MODELS_DIR = os.path.dirname(spacearm.examples.path("spatial6"))  # the shipped model files
 TOML_SEEDS = [open(p).read() for p in sorted(glob.glob(os.path.join(MODELS_DIR, "*.toml")))] + [
     model_file.dumps_toml(random_model(s).robot) for s in SEEDS[:6]
 ]

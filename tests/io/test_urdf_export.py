@@ -13,7 +13,7 @@ from spacearm.io.urdf import load_urdf, loads_urdf
 from spacearm.io.urdf_export import save_urdf, to_urdf
 from random_models import SEEDS, random_model
 
-MODELS_DIR = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "models")
+MODELS_DIR = os.path.dirname(spacearm.examples.path("spatial6"))  # the shipped model files
 CASES = sorted(glob.glob(os.path.join(MODELS_DIR, "*.toml"))) + ["dual_arm"] + [f"seed{s}" for s in SEEDS[:8]]
 
 

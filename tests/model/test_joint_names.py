@@ -166,7 +166,7 @@ def test_toml_model_with_fixed_joints():
                 assert bodies.index(other) not in moved
 
 
-@pytest.mark.parametrize("path", sorted(glob.glob(os.path.join(ROOT, "examples", "models", "*.toml"))),
+@pytest.mark.parametrize("path", sorted(glob.glob(os.path.join(os.path.dirname(spacearm.examples.path("spatial6")), "*.toml"))),
                          ids=os.path.basename)
 def test_example_model_files(path):
     robot = spacearm.io.load_toml(path)

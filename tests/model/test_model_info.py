@@ -119,6 +119,11 @@ def _describe_from_model_file(robot: spacearm.Robot) -> dict:
             "limits": [float(limits.get("lower", -math.inf)), float(limits.get("upper", math.inf)),
                        float(limits.get("velocity", math.inf)), float(limits.get("effort", math.inf))],
             "dof": n_moving if moving else None,
+            # the joint's dynamics (docs/model-format.md: actuated, a spring-damper; defaults)
+            "actuated": bool(joint.get("actuated", True)),
+            "stiffness": float(joint.get("stiffness", 0.0)),
+            "damping": float(joint.get("damping", 0.0)),
+            "rest": float(joint.get("rest", 0.0)),
         })
         n_moving += moving
     return {

@@ -98,9 +98,11 @@ def test_simulated_spring_mass_follows_the_reduced_mass_ode():
     assert np.ptp(q) > amp  # it moves
     np.testing.assert_allclose(q, ref.y[0], rtol=0, atol=1e-9 * amp)
     # A passive joint takes no torque, whatever is commanded.
-    pushed = spacearm.simulate(robot, 0.2, x0=x0, dt=1e-3,
-                               controller=spacearm.control.JointPD(kp=100.0, kd=1.0, reference=[0.5]))
+    with pytest.warns(RuntimeWarning, match=r"commanded torque on the passive joints \['slug_joint'\]"):
+        pushed = spacearm.simulate(robot, 0.2, x0=x0, dt=1e-3,
+                                   controller=spacearm.control.JointPD(kp=100.0, kd=1.0, reference=[0.5]))
     assert not pushed.tau.any() and pushed.tau_cmd.any()
+    assert pushed.meta["passive_joints_commanded"] == ["slug_joint"] and traj.meta["passive_joints_commanded"] == []
 
 
 def test_undamped_energy_record_includes_the_spring():
@@ -173,3 +175,133 @@ def test_trajectory_drift_recomputed_from_the_records_equals_the_simulators():
     assert traj.drift_scale("energy") == pytest.approx(traj.meta["drift_scales"]["energy"], rel=1e-12)
     assert traj.drift(["energy"], scale={"energy": traj.drift_scale("energy")})["energy"] == pytest.approx(
         traj.meta["drift"]["energy"], rel=1e-6, abs=1e-15)
+
+
+def hinged_panel(k=30.0, c=0.0, base_mass=100.0, base_izz=10.0) -> spacearm.Robot:
+    """A panel (10 kg, I_zz 0.8 kg m², CM 0.5 m out) hinged about z at 1 m from the hub's CM."""
+    b = spacearm.Robot.builder("hinged", base_mass=base_mass, base_inertia=[0.8 * base_izz, 0.9 * base_izz, base_izz])
+    b.add_link("panel", joint="revolute", axis=(0, 0, 1), origin=(1.0, 0, 0), com=(0.5, 0, 0), mass=10.0,
+               inertia=[0.1, 0.75, 0.8], actuated=False, stiffness=k, damping=c)
+    return b.build()
+
+
+def hinge_frequency_closed_form(k, base_mass, base_izz, m=10.0, i1=0.8, a=1.0, b=0.5) -> float:
+    """``√(k / I_red)``, ``I_red = det M₂ / (1ᵀ M₂ 1)`` (docs/flexibility.md, the hinged panel)."""
+    mu = base_mass * m / (base_mass + m)
+    m11, m12, m22 = mu * a * a + base_izz, mu * a * b, mu * b * b + i1
+    return float(np.sqrt(k * (m11 + 2 * m12 + m22) / (m11 * m22 - m12 * m12)))
+
+
+@pytest.mark.parametrize("base_mass, base_izz", [(20.0, 2.0), (100.0, 10.0), (1e7, 1e6)])
+def test_hinged_panel_frequency_shift_on_a_free_hub(base_mass, base_izz):
+    k = 30.0
+    robot = hinged_panel(k, base_mass=base_mass, base_izz=base_izz)
+    modes = robot.natural_frequencies()
+    expected = hinge_frequency_closed_form(k, base_mass, base_izz)
+    assert modes.frequencies[0] == pytest.approx(expected, rel=1e-12)
+    fixed_hub = np.sqrt(k / (0.8 + 10.0 * 0.5**2))  # a clamped panel: the inertia about the hinge
+    assert modes.frequencies[0] > fixed_hub  # a free hub always raises it
+    if base_mass > 1e6:
+        assert modes.frequencies[0] == pytest.approx(fixed_hub, rel=1e-3)  # and a heavy one tends to the clamped value
+    # The linearization's eigenvalues say the same (zero damping, at rest).
+    x, u = robot.neutral_configuration(), np.zeros(robot.nu)
+    lin = robot.linearize(x, u, np.zeros(robot.nu))
+    assert np.max(np.linalg.eigvals(lin.A).imag) == pytest.approx(expected, rel=1e-9)
+
+
+def test_modal_damping_ratio_of_a_damped_panel():
+    k, c = 30.0, 0.5
+    robot = hinged_panel(k, c)
+    modes = robot.natural_frequencies()
+    omega = hinge_frequency_closed_form(k, 100.0, 10.0)
+    i_red = k / omega**2
+    assert modes.damping_ratios[0] == pytest.approx(c / (2 * np.sqrt(k * i_red)), rel=1e-12)
+    # The linearization's eigenvalues are −ζω ± iω√(1−ζ²).
+    lin = robot.linearize(robot.neutral_configuration(), np.zeros(robot.nu), np.zeros(robot.nu))
+    lam = np.linalg.eigvals(lin.A)
+    top = lam[np.argmax(lam.imag)]
+    zeta = modes.damping_ratios[0]
+    assert top.real == pytest.approx(-zeta * omega, rel=1e-9)
+    assert top.imag == pytest.approx(omega * np.sqrt(1 - zeta**2), rel=1e-9)
+    with pytest.raises(errors.ArgumentError, match="actuated must be 'held' or 'free'"):
+        robot.natural_frequencies(actuated="locked")
+
+
+SLOSH_TOML = """
+[model]
+name = "tanker"
+
+[base]
+mass = 1.0e9
+inertia = [1.0e9, 1.0e9, 1.0e9]
+
+[[link]]
+name = "boom"
+parent = "base"
+com = [0.5, 0.0, 0.0]
+mass = 5.0
+inertia = [0.01, 0.4, 0.4]
+joint = { type = "revolute", origin = [1.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0] }
+
+[[slosh]]
+name = "fuel"
+model = "spherical-pendulum"
+mass = 20.0
+position = [0.0, 0.0, -0.2]
+axis = [0.0, 0.0, -1.0]
+length = 0.3
+frequency = 2.0
+damping = 0.1
+
+[[slosh]]
+name = "oxidizer"
+parent = "boom"
+model = "spring-mass"
+mass = 3.0
+position = [0.2, 0.0, 0.0]
+axis = [0.0, 1.0, 0.0]
+stiffness = 48.0
+"""
+
+
+def test_slosh_from_the_builder_and_toml():
+    robot = spacearm.io.loads_toml(SLOSH_TOML)
+    b = spacearm.Robot.builder("tanker", base_mass=1e9, base_inertia=[1e9, 1e9, 1e9])
+    b.add_link("boom", joint="revolute", axis=(0, 0, 1), origin=(1, 0, 0), com=(0.5, 0, 0), mass=5.0, inertia=[0.01, 0.4, 0.4])
+    b.add_slosh("fuel", model="spherical-pendulum", mass=20.0, position=(0, 0, -0.2), axis=(0, 0, -1), length=0.3,
+                frequency=2.0, damping=0.1)
+    b.add_slosh("oxidizer", parent="boom", model="spring-mass", mass=3.0, position=(0.2, 0, 0), axis=(0, 1, 0), stiffness=48.0)
+    built = b.build()
+    assert built.describe() == robot.describe()
+    assert robot.body_names == ["base", "boom", "fuel_gimbal", "fuel", "oxidizer"]
+    assert robot.actuated_dofs.tolist() == [True, False, False, False]
+    # The bob hangs at position + length·axis at q = 0; the gimbal is massless.
+    kin = robot.forward_kinematics(robot.neutral_configuration())
+    np.testing.assert_allclose(kin.com_in_world[3], [0.0, 0.0, -0.5], atol=1e-15)
+    assert robot.description.link("fuel_gimbal").mass == 0.0
+    # On this (nearly clamped) base the pendulum modes are the given frequency, the spring-mass √(k/m).
+    w = robot.natural_frequencies().frequencies
+    np.testing.assert_allclose(w, [2.0, 2.0, 4.0], rtol=1e-6)
+    assert robot.describe() == spacearm.RobotBuilder.from_robot(robot).build().describe()
+    assert spacearm.io.loads_toml(spacearm.io.dumps_toml(robot)).describe() == robot.describe()
+    # Removing the gimbal removes the bob below it.
+    assert "fuel" not in spacearm.RobotBuilder.from_robot(robot).remove_body("fuel_gimbal").build().body_names
+
+
+@pytest.mark.parametrize("kwargs, needle", [
+    (dict(model="slushy", length=0.3, frequency=1.0), "model must be one of"),
+    (dict(model="pendulum", frequency=1.0), "a pendulum needs a length"),
+    (dict(model="pendulum", length=0.3), "give stiffness or frequency"),
+    (dict(model="pendulum", length=0.3, stiffness=1.0, frequency=1.0), "give stiffness or frequency"),
+    (dict(model="pendulum", length=0.3, frequency=1.0, hinge=(0, 0, 1)), "must be perpendicular"),
+])
+def test_bad_slosh_is_refused(kwargs, needle):
+    b = spacearm.Robot.builder("m", base_mass=100.0, base_inertia=[10, 10, 10])
+    with pytest.raises(errors.ModelError, match=needle):
+        b.add_slosh("fuel", mass=5.0, position=(0, 0, 0), axis=(0, 0, 1), **kwargs)
+
+
+def test_slosh_toml_errors_point_at_the_table():
+    text = SLOSH_TOML.replace('model = "spherical-pendulum"', 'model = "slushy"')
+    with pytest.raises(errors.ModelFileError, match=r"<string>:19:9: slosh .fuel.: model must be one of"):
+        spacearm.io.loads_toml(text)

@@ -1,4 +1,4 @@
-"""The generated C code of the equations of motion (:func:`spacearm.casadi.generate_c`,
+"""The generated C code of the equations of motion ([`spacearm.casadi.generate_c`][spacearm.casadi.generate_c],
 docs/c-api.md "Embedded code"), compiled with the system C compiler and run, against the core:
 the forward dynamics, ``H*`` and ``J*`` against the Robot's (the core's own recursions in
 float64, not the taped graph), and the RK4 step against one step of the native simulator

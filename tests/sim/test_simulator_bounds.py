@@ -3,16 +3,14 @@ second of a long call (issue 26, item 7)."""
 
 from __future__ import annotations
 
-import signal
-import subprocess
 import sys
 import textwrap
-import time
 
 import numpy as np
 import pytest
 
 import spacearm
+from interrupt_child import interrupt_child
 
 
 @pytest.fixture
@@ -63,16 +61,7 @@ CHILD = textwrap.dedent("""
 
 @pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process")
 def test_ctrl_c_stops_a_long_step_call_within_a_second():
-    child = subprocess.Popen([sys.executable, "-c", CHILD], stdout=subprocess.PIPE, text=True)
-    try:
-        assert child.stdout.readline().strip() == "started"
-        time.sleep(0.3)
-        sent = time.monotonic()
-        child.send_signal(signal.SIGINT)
-        out, _ = child.communicate(timeout=60)
-        waited = time.monotonic() - sent
-    finally:
-        child.kill()
-    assert out.strip() == "interrupted True", out
-    assert child.returncode == 130
-    assert waited < 1.0, f"took {waited:.2f} s to answer Ctrl-C"
+    a = interrupt_child(CHILD, 0.3)
+    assert a.out.strip() == "interrupted True", a.out
+    assert a.returncode == 130
+    assert a.waited < 1.0, f"took {a.waited:.2f} s to answer Ctrl-C"

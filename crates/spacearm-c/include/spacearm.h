@@ -222,7 +222,7 @@ enum SpacearmStatus spacearm_inverse_dynamics(const struct SpacearmModel *model,
 
 /**
  * The system's momenta at `(x, u)`, 9 doubles: linear momentum `P` (N·s), angular momentum
- * about the origin of 𝒥 and about the system CM (N·m·s), all in 𝒥 (paper eqs. 37–38).
+ * about the origin of 𝒥 and about the system CM (N·m·s), all in 𝒥 (paper eq. 27).
  *
  * # Safety
  * `model` a live handle; `x` 7+N, `u` 6+N doubles; `out` 9 writable doubles.
@@ -233,7 +233,7 @@ enum SpacearmStatus spacearm_momentum(const struct SpacearmModel *model,
                                       double *out);
 
 /**
- * The momentum map: the base velocity `[v0, ω0] = H0⁻¹ (M0 − H0m q̇)` (6; paper eq. 43/109)
+ * The momentum map: the base velocity `[v0, ω0] = H0⁻¹ (M0 − H0m q̇)` (6; paper eqs. 42–43, 109)
  * that gives the system linear momentum `p` (3) and angular momentum `l` (3, about the origin
  * of 𝒥) while the joints move at `qd` (N).
  *

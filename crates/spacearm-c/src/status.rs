@@ -269,3 +269,56 @@ pub(crate) fn finite(what: &str, v: &[f64]) -> Outcome {
         Some(index) => Err(SpacearmError::NonFinite { what: what.into(), index, value: v[index] }.into()),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn last() -> String {
+        // SAFETY: the pointer of this thread's message, valid until the next call here.
+        unsafe { CStr::from_ptr(spacearm_last_error()) }.to_str().unwrap().to_string()
+    }
+
+    #[test]
+    fn a_panic_becomes_the_internal_status_with_its_message() {
+        let status = guard(|| panic!("index 7 out of range"));
+        assert_eq!(status, SpacearmStatus::Internal);
+        assert!(last().contains("index 7 out of range"), "{}", last());
+        assert_eq!(guard_value(-1, || -> Outcome<i32> { panic!("boom") }), -1);
+        assert!(last().contains("boom"));
+    }
+
+    #[test]
+    fn failures_keep_their_kind_and_message_and_success_clears_it() {
+        let status = guard(|| Err(SpacearmError::Dimension { what: "x".into(), expected: "13".into(), got: 2 }.into()));
+        assert_eq!(status, SpacearmStatus::Dimension);
+        assert_eq!(last(), "x must have length 13, got 2");
+        assert_eq!(guard(|| Ok(())), SpacearmStatus::Ok);
+        assert_eq!(last(), "");
+        // A message with an interior NUL is cut there, never dropped.
+        assert_eq!(guard(|| Err(Failure::argument("before\0after"))), SpacearmStatus::InvalidArgument);
+        assert_eq!(last(), "before");
+    }
+
+    #[test]
+    fn the_message_is_per_thread() {
+        let _ = guard(|| Err(Failure::argument("main thread")));
+        std::thread::spawn(|| assert_eq!(last(), "")).join().unwrap();
+        assert_eq!(last(), "main thread");
+    }
+
+    #[test]
+    fn short_text_buffers_say_the_size_they_need() {
+        let mut needed = 0usize;
+        let mut buf = [0 as c_char; 4];
+        // SAFETY: a 4-byte buffer and a writable size.
+        let r = unsafe { write_text("hello", buf.as_mut_ptr(), buf.len(), &mut needed) };
+        assert_eq!(r.unwrap_err().status, SpacearmStatus::BufferTooSmall);
+        assert_eq!(needed, 6);
+        let mut big = [0 as c_char; 6];
+        // SAFETY: a 6-byte buffer.
+        unsafe { write_text("hello", big.as_mut_ptr(), big.len(), &mut needed) }.unwrap();
+        // SAFETY: NUL-terminated by write_text.
+        assert_eq!(unsafe { CStr::from_ptr(big.as_ptr()) }.to_str().unwrap(), "hello");
+    }
+}

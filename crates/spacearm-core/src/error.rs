@@ -98,6 +98,8 @@ pub enum ModelItem {
     DhArm,
     /// Row `k` of a Denavit–Hartenberg table (from 0).
     DhRow(usize),
+    /// The `k`-th geometry given to the builder (model/geometry.rs).
+    Geometry(usize),
 }
 
 /// Which field of a [`ModelItem`] breaks a rule.
@@ -133,6 +135,10 @@ pub enum ModelField {
     InitialQ,
     /// The geometric parameters of a DH row (`d`, `theta`, `a`, `alpha`, CM vectors).
     DhParameters,
+    /// A geometry's shape (its dimensions, mesh file or scale).
+    Shape,
+    /// A geometry's colour.
+    Color,
     /// A joint's passive dynamics: `actuated`, `stiffness`, `damping`, `rest`.
     JointDynamics,
 }

@@ -405,3 +405,178 @@ fn toml_reads_and_writes_the_joint_dynamics() {
     let e = model_from_toml_str(&SPRUNG_TOML.replace("damping = 0.5", "damping = -0.5"), "bad.toml").unwrap_err().to_string();
     assert!(e.contains("bad.toml:15") && e.contains("damping must be finite and >= 0"), "{e}");
 }
+
+/// A base, an arm link (actuated, or welded when `held`), a sprung panel on the arm and a sprung
+/// slosh mass on the base.
+fn arm_panel_slosh(held: bool) -> Model {
+    let mut b = ModelBuilder::new("aps", "base", 300.0, [[40.0, 1.0, 0.0], [1.0, 50.0, 0.0], [0.0, 0.0, 60.0]]).unwrap();
+    let link = |name: &str, parent: &str, kind: JointType, origin: [f64; 3], axis: [f64; 3], com: [f64; 3], mass: f64| LinkSpec {
+        name: name.into(),
+        parent: parent.into(),
+        joint_name: None,
+        kind,
+        origin_in_parent: origin,
+        rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
+        axis,
+        com_from_joint: com,
+        mass,
+        inertia: [[0.2, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 0.6]],
+        limits: JointLimits::unlimited(),
+    };
+    let arm_kind = if held { JointType::Fixed } else { JointType::Revolute };
+    b.add_link(link("arm", "base", arm_kind, [0.8, 0.1, 0.0], [0.0, 0.0, 1.0], [0.6, 0.0, 0.1], 12.0)).unwrap();
+    b.add_link(link("panel", "arm", JointType::Revolute, [0.6, 0.0, 0.0], [0.0, 1.0, 1.0], [0.7, 0.0, 0.0], 8.0)).unwrap();
+    b.add_link(link("slosh", "base", JointType::Prismatic, [0.0, 0.3, -0.2], [1.0, 0.0, 0.2], [0.0; 3], 40.0)).unwrap();
+    b.set_joint_dynamics("panel", JointDynamics { actuated: false, stiffness: 25.0, damping: 0.0, rest: 0.3 }).unwrap();
+    b.set_joint_dynamics("slosh", JointDynamics { actuated: false, stiffness: 900.0, damping: 0.0, rest: -0.05 }).unwrap();
+    b.build().unwrap()
+}
+
+/// The positive imaginary parts of the linearization's eigenvalues at rest at `x`, ascending.
+fn linearized_frequencies(model: &Model, x: &[f64]) -> Vec<f64> {
+    let mut work = DerivativeData::new(model);
+    let zeros = vec![0.0; model.nu()];
+    let (a, _) = linearize(model, &mut work, x, &zeros, &zeros, LinearizationInputs::Joints).unwrap();
+    let mut w: Vec<f64> = a.clone().complex_eigenvalues().iter().map(|z| z.im).filter(|im| *im > 1e-6).collect();
+    w.sort_by(f64::total_cmp);
+    w
+}
+
+#[test]
+fn natural_frequencies_equal_the_linearizations_with_joints_free_or_held() {
+    use spacearm_core::analysis::passive_modes::{passive_modes, ActuatedJoints};
+    let free_model = arm_panel_slosh(false);
+    let mut x = presets::initial_configuration(&free_model);
+    x[7..].copy_from_slice(&[0.0, 0.3, -0.05]); // the springs at rest: an equilibrium
+    let free = passive_modes(&free_model, &mut Data::new(&free_model), &x, ActuatedJoints::Free).unwrap();
+    assert_eq!(free.dofs, vec![0, 1, 2]);
+    assert!(free.frequencies[0].abs() < 1e-9, "the unsprung arm joint is a zero-frequency mode");
+    let lin = linearized_frequencies(&free_model, &x);
+    assert_eq!(lin.len(), 2);
+    for (got, want) in free.frequencies[1..].iter().zip(&lin) {
+        assert!((got / want - 1.0).abs() < 1e-9, "free: {got} rad/s, linearization {want}");
+    }
+    // Held: the same as the model with the arm joint welded at its angle (0 here).
+    let held = passive_modes(&free_model, &mut Data::new(&free_model), &x, ActuatedJoints::Held).unwrap();
+    assert_eq!(held.dofs, vec![1, 2]);
+    let welded = arm_panel_slosh(true);
+    let mut xw = presets::initial_configuration(&welded);
+    xw[7..].copy_from_slice(&[0.3, -0.05]);
+    let lin = linearized_frequencies(&welded, &xw);
+    for (got, want) in held.frequencies.iter().zip(&lin) {
+        assert!((got / want - 1.0).abs() < 1e-9, "held: {got} rad/s, linearization of the welded model {want}");
+    }
+    // Holding one joint is one constraint: the frequencies interlace (Rayleigh), free[i] ≤ held[i] ≤ free[i+1].
+    for i in 0..2 {
+        assert!(free.frequencies[i] <= held.frequencies[i] + 1e-12 && held.frequencies[i] <= free.frequencies[i + 1] + 1e-12);
+    }
+    assert!((held.frequencies[0] / free.frequencies[1] - 1.0).abs() > 1e-3, "holding the arm must matter");
+    // Mass-normalized shapes, zero on the held joint.
+    let h = generalized_inertia(&free_model, &mut Data::new(&free_model), &x).unwrap();
+    for i in 0..2 {
+        let v = held.shapes.column(i);
+        assert_eq!(v[0], 0.0);
+        assert!(((v.transpose() * &h * v)[(0, 0)] - 1.0).abs() < 1e-12);
+    }
+}
+
+mod slosh {
+    use super::*;
+    use spacearm_core::algorithms::kinematics::forward_kinematics;
+    use spacearm_core::analysis::passive_modes::{passive_modes, ActuatedJoints};
+    use spacearm_core::model::slosh::{SloshModel, SloshRestoring, SloshSpec};
+
+    fn spec(model: SloshModel, length: Option<f64>) -> SloshSpec {
+        SloshSpec {
+            name: "fuel".into(),
+            parent: "base".into(),
+            model,
+            mass: 20.0,
+            position: [0.6, 0.0, 0.0],
+            axis: [1.0, 0.0, 0.0],
+            hinge: Some([0.0, 0.0, 1.0]),
+            length,
+            restoring: SloshRestoring::Frequency(2.0),
+            damping: 0.0,
+        }
+    }
+
+    fn with(base_mass: f64, base_izz: f64, s: SloshSpec) -> Model {
+        let mut b = ModelBuilder::new("tank", "base", base_mass, [[0.9 * base_izz, 0.0, 0.0], [0.0, 0.95 * base_izz, 0.0], [0.0, 0.0, base_izz]]).unwrap();
+        b.add_slosh(s).unwrap();
+        b.build().unwrap()
+    }
+
+    fn frequencies(m: &Model) -> Vec<f64> {
+        let x = presets::initial_configuration(m);
+        passive_modes(m, &mut Data::new(m), &x, ActuatedJoints::Held).unwrap().frequencies
+    }
+
+    #[test]
+    fn spring_mass_is_a_passive_prismatic_point_mass_at_position_plus_q_axis() {
+        let m = with(100.0, 10.0, SloshSpec { hinge: None, ..spec(SloshModel::SpringMass, None) });
+        let l = &m.links()[0];
+        assert_eq!((l.joint.kind, l.joint.dynamics.actuated, l.joint.dynamics.stiffness), (JointType::Prismatic, false, 20.0 * 4.0));
+        let mut x = presets::initial_configuration(&m);
+        x[7] = 0.1;
+        let mut d = Data::new(&m);
+        forward_kinematics(&m, &mut d, &x).unwrap();
+        assert!((d.com_in_world[1] - nalgebra::Vector3::new(0.7, 0.0, 0.0)).norm() < 1e-15);
+        // Reduced mass on the free base: ω² = k / μ.
+        let mu = 100.0 * 20.0 / 120.0;
+        assert!((frequencies(&m)[0] / (80.0_f64 / mu).sqrt() - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn pendulum_frequency_is_the_given_one_on_a_heavy_base_and_the_reduced_one_on_a_free_base() {
+        let heavy = with(1e9, 1e9, spec(SloshModel::Pendulum, Some(0.3)));
+        assert!((frequencies(&heavy)[0] / 2.0 - 1.0).abs() < 1e-7, "{:?}", frequencies(&heavy));
+        let m = with(100.0, 10.0, spec(SloshModel::Pendulum, Some(0.3)));
+        // The bob at position + length·axis at q = 0.
+        let mut d = Data::new(&m);
+        forward_kinematics(&m, &mut d, &presets::initial_configuration(&m)).unwrap();
+        assert!((d.com_in_world[1] - nalgebra::Vector3::new(0.9, 0.0, 0.0)).norm() < 1e-15);
+        // The hinged-body closed form with a point bob: a = 0.6, b = 0.3, I1 = 0.
+        let (mu, a, b, i0): (f64, f64, f64, f64) = (100.0 * 20.0 / 120.0, 0.6, 0.3, 10.0);
+        let (m11, m12, m22) = (mu * a * a + i0, mu * a * b, mu * b * b);
+        let i_red = (m11 * m22 - m12 * m12) / (m11 + 2.0 * m12 + m22);
+        let k: f64 = 20.0 * 0.09 * 4.0;
+        assert!((frequencies(&m)[0] / (k / i_red).sqrt() - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn spherical_pendulum_has_two_equal_modes_and_refuses_its_singular_posture() {
+        let heavy = with(1e9, 1e9, spec(SloshModel::SphericalPendulum, Some(0.3)));
+        assert_eq!(heavy.n_dof(), 2);
+        assert_eq!(heavy.links()[0].mass.mass, 0.0, "the gimbal link is massless");
+        for w in frequencies(&heavy) {
+            assert!((w / 2.0 - 1.0).abs() < 1e-7, "{w}");
+        }
+        // Joint axes: e1 = hinge (z), e2 = axis × e1 = x × z = −y.
+        assert_eq!(heavy.links()[0].joint.axis.into_inner(), nalgebra::Vector3::z());
+        assert_eq!(heavy.links()[1].joint.axis.into_inner(), -nalgebra::Vector3::y());
+        let m = with(100.0, 10.0, spec(SloshModel::SphericalPendulum, Some(0.3)));
+        let mut x = presets::initial_configuration(&m);
+        x[8] = std::f64::consts::FRAC_PI_2;
+        let e = aba(&m, &mut Data::new(&m), &x, &vec![0.0; m.nu()], &vec![0.0; m.nu()], &[]).unwrap_err();
+        assert!(matches!(e, SpacearmError::Singular(_)), "{e}");
+    }
+
+    #[test]
+    fn bad_slosh_specs_are_refused() {
+        let mut b = ModelBuilder::new("tank", "base", 100.0, BASE_INERTIA).unwrap();
+        for (s, needle) in [
+            (SloshSpec { mass: 0.0, ..spec(SloshModel::SpringMass, None) }, "mass must be finite and > 0"),
+            (SloshSpec { hinge: None, ..spec(SloshModel::SpringMass, Some(1.0)) }, "takes no length"),
+            (spec(SloshModel::Pendulum, None), "needs a length"),
+            (spec(SloshModel::Pendulum, Some(-1.0)), "length must be finite and > 0"),
+            (SloshSpec { hinge: Some([1.0, 0.0, 0.0]), ..spec(SloshModel::Pendulum, Some(1.0)) }, "must be perpendicular"),
+            (SloshSpec { restoring: SloshRestoring::Stiffness(-1.0), ..spec(SloshModel::Pendulum, Some(1.0)) }, "stiffness must be finite and >= 0"),
+            (SloshSpec { restoring: SloshRestoring::Frequency(f64::NAN), ..spec(SloshModel::Pendulum, Some(1.0)) }, "frequency must be finite"),
+            (SloshSpec { parent: "tank".into(), ..spec(SloshModel::Pendulum, Some(1.0)) }, "parent body 'tank' is not defined"),
+        ] {
+            let e = b.add_slosh(s).map(|_| ()).unwrap_err();
+            assert!(e.message.contains(needle), "{}", e.message);
+        }
+    }
+}

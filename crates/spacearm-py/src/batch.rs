@@ -15,7 +15,7 @@
 //! conversion, never share one.
 
 use std::ptr;
-use std::sync::atomic::{AtomicPtr, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicPtr, Ordering};
 use std::sync::{Arc, Mutex};
 
 use numpy::{IxDyn, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
@@ -104,17 +104,30 @@ impl<W> Default for Pool<W> {
     }
 }
 
+/// Batches of at least this many rows run interruptibly (Ctrl-C within 0.1 s,
+/// [`crate::interrupt`]); a smaller one is over before a helper thread would have started.
+const INTERRUPTIBLE_ROWS: usize = 4096;
+
 /// The thread pool batches run on: `None` is rayon's global pool (all cores, or
 /// `RAYON_NUM_THREADS`).
 static THREADS: Mutex<Option<Arc<rayon::ThreadPool>>> = Mutex::new(None);
 
-/// Run batches on `threads` threads from now on (`None`: rayon's global pool).
+/// Run batches on `threads` threads from now on (1 to `MAX_THREADS` = 1024; `None`: rayon's
+/// global pool).
 #[pyfunction]
 #[pyo3(signature = (threads=None))]
 pub fn set_batch_threads(py: Python<'_>, threads: Option<usize>) -> PyResult<()> {
     let pool = match threads {
         None => None,
         Some(0) => return Err(new_error(py, ErrorClass::Argument, "threads must be a positive integer or None (all cores), got 0".into())),
+        // The one bound of a thread count (the rollouts' too): no request starts threads without limit.
+        Some(n) if n > spacearm_core::sim::rollout::MAX_THREADS => {
+            return Err(new_error(
+                py,
+                ErrorClass::Argument,
+                format!("threads must be at most {} (or None: one per core), got {n}", spacearm_core::sim::rollout::MAX_THREADS),
+            ))
+        }
         Some(n) => Some(Arc::new(
             rayon::ThreadPoolBuilder::new()
                 .num_threads(n)
@@ -420,8 +433,11 @@ fn run_batch<'py, W, const I: usize, const O: usize>(
     // SAFETY: fresh contiguous arrays, not yet visible to Python.
     let ptrs: [OutPtr; O] = std::array::from_fn(|k| OutPtr(unsafe { arrays[k].as_slice_mut() }.expect("a new array is contiguous").as_mut_ptr()));
     let first_error: Mutex<Option<(usize, RowError)>> = Mutex::new(None);
-    let work = || {
+    let work = |cancel: &AtomicBool| {
         (0..rows).into_par_iter().with_min_len(16).for_each_init(&make, |w, i| {
+            if cancel.load(Ordering::Relaxed) {
+                return; // Ctrl-C: the remaining rows are skipped, the call raises the interrupt
+            }
             let args: [&[f64]; I] = std::array::from_fn(|k| sources[k].row(i));
             // SAFETY: row i of output k is [i·len, (i+1)·len) of a buffer of rows·len
             // elements; no other row touches it.
@@ -440,10 +456,17 @@ fn run_batch<'py, W, const I: usize, const O: usize>(
         })
     };
     let pool = THREADS.lock().unwrap_or_else(|e| e.into_inner()).clone();
-    py.detach(|| match pool {
-        Some(p) => p.install(work),
-        None => work(),
-    });
+    let run = |cancel: &AtomicBool| match &pool {
+        Some(p) => p.install(|| work(cancel)),
+        None => work(cancel),
+    };
+    if rows >= INTERRUPTIBLE_ROWS {
+        // A long batch: Ctrl-C stops it within 0.1 s (crate::interrupt).
+        crate::interrupt::run_interruptible(py, run)?;
+    } else {
+        let never = AtomicBool::new(false);
+        py.detach(|| run(&never));
+    }
     if let Some((i, err)) = first_error.into_inner().unwrap_or_else(|e| e.into_inner()) {
         return Err(raise(py, call, Some(i), err));
     }

@@ -2,7 +2,8 @@
 //! `spacearm.RobotBuilder`).
 
 use pyo3::prelude::*;
-use spacearm_core::{JointDynamics, JointLimits, JointType, LinkSpec, ModelBuilder, SpacearmError};
+use spacearm_core::model::geometry::ShapeParts;
+use spacearm_core::{GeometryRole, GeometrySpec, JointDynamics, JointLimits, JointType, LinkSpec, ModelBuilder, Shape, SpacearmError};
 
 use crate::convert::*;
 use crate::model_py::PyModel;
@@ -98,6 +99,37 @@ impl PyModelBuilder {
         Ok(())
     }
 
+    /// Add a visual or collision shape to `body` (model/geometry.rs: the shape from `shape`
+    /// and its keys, checked with the placement and colour by the core's builder).
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (body, role, shape, origin, rotation, size=None, radius=None, length=None, file=None, scale=None, rgba=None, name=None))]
+    fn add_geometry(
+        &mut self,
+        py: Python<'_>,
+        body: &str,
+        role: &str,
+        shape: &str,
+        origin: [f64; 3],
+        rotation: [f64; 4],
+        size: Option<[f64; 3]>,
+        radius: Option<f64>,
+        length: Option<f64>,
+        file: Option<String>,
+        scale: Option<[f64; 3]>,
+        rgba: Option<[f64; 4]>,
+        name: Option<String>,
+    ) -> PyResult<()> {
+        let who = name.as_ref().map_or_else(|| format!("geometry on '{body}'"), |n| format!("geometry '{n}'"));
+        let invalid = |m: String| to_py_err(py, SpacearmError::InvalidModel(format!("{who}: {m}")));
+        let role = GeometryRole::from_name(role).ok_or_else(|| invalid(format!("role must be 'visual' or 'collision', got '{role}'")))?;
+        let shape = Shape::from_parts(shape, ShapeParts { size, radius, length, file, scale }).map_err(invalid)?;
+        self.inner
+            .add_geometry(GeometrySpec { name, body: body.to_string(), role, shape, origin, rotation, rgba })
+            .map_err(SpacearmError::from)
+            .or_raise(py)?;
+        Ok(())
+    }
+
     fn set_end_effector(&mut self, name: &str) {
         self.inner.set_end_effector(name);
     }
@@ -109,4 +141,48 @@ impl PyModelBuilder {
     fn build(&self, py: Python<'_>) -> PyResult<PyModel> {
         Ok(PyModel::new(self.inner.build().map_err(SpacearmError::from).or_raise(py)?))
     }
+}
+
+/// The links of a slosh mode (core `model::slosh::slosh_links`, docs/flexibility.md), each as
+/// the arguments of `ModelBuilder.add_link`: `(name, parent, joint_type, origin, rotation, axis,
+/// com, mass, inertia, joint_name, limits, dynamics)`. Give `stiffness` or `frequency`.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (name, parent, model, mass, position, axis, hinge, length, stiffness, frequency, damping))]
+pub fn slosh_links(
+    py: Python<'_>,
+    name: &str,
+    parent: &str,
+    model: &str,
+    mass: f64,
+    position: [f64; 3],
+    axis: [f64; 3],
+    hinge: Option<[f64; 3]>,
+    length: Option<f64>,
+    stiffness: Option<f64>,
+    frequency: Option<f64>,
+    damping: f64,
+) -> PyResult<Vec<Py<PyAny>>> {
+    use spacearm_core::error::ModelItem;
+    use spacearm_core::model::slosh::{self, SloshModel, SloshRestoring, SloshSpec};
+    let invalid = |msg: String| to_py_err(py, SpacearmError::InvalidModel(msg));
+    let kind = SloshModel::from_name(model)
+        .ok_or_else(|| invalid(format!("slosh '{name}': model must be one of {:?}, got '{model}'", SloshModel::NAMES)))?;
+    let restoring = match (stiffness, frequency) {
+        (Some(k), None) => SloshRestoring::Stiffness(k),
+        (None, Some(w)) => SloshRestoring::Frequency(w),
+        _ => return Err(invalid(format!("slosh '{name}': give stiffness or frequency (one of them)"))),
+    };
+    let spec = SloshSpec { name: name.into(), parent: parent.into(), model: kind, mass, position, axis, hinge, length, restoring, damping };
+    let links = slosh::slosh_links(&spec, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
+    links
+        .into_iter()
+        .map(|(l, d)| {
+            let kind = l.kind.as_str();
+            Ok((l.name, l.parent, kind, l.origin_in_parent, l.rotation_in_parent, l.axis, l.com_from_joint, l.mass, l.inertia, l.joint_name, None::<[f64; 4]>, (d.actuated, d.stiffness, d.damping, d.rest))
+                .into_pyobject(py)?
+                .into_any()
+                .unbind())
+        })
+        .collect()
 }

@@ -144,6 +144,42 @@ pub fn impulse_momentum_split(
     })
 }
 
+/// The wrench `[f; n]` (𝒥, the moment about the body's CM) that the joint of `body` transmits to
+/// the subtree it carries, at each row of `x` (B, 7+N), `u` and `du` (B, 6+N): RNEA's joint force
+/// (`spacearm_core::algorithms::rnea::joint_wrench`); for a captured payload, the wrench that
+/// holds it on its motion. Returns (B, 6).
+#[pyfunction]
+#[pyo3(signature = (model, x, u, du, body))]
+pub fn joint_wrenches<'py>(
+    py: Python<'py>,
+    model: PyRef<'_, PyModel>,
+    x: PyReadonlyArray2<'_, f64>,
+    u: PyReadonlyArray2<'_, f64>,
+    du: PyReadonlyArray2<'_, f64>,
+    body: usize,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let (xs, us, dus) = (x.as_array(), u.as_array(), du.as_array());
+    let rows = xs.nrows();
+    if us.nrows() != rows || dus.nrows() != rows {
+        return Err(to_py_err(
+            py,
+            SpacearmError::InvalidArgument(format!("x, u and du must have one row per sample, got {rows}, {} and {} rows", us.nrows(), dus.nrows())),
+        ));
+    }
+    let mut out = DMatrix::<f64>::zeros(6, rows);
+    model
+        .with_data(|m, d| {
+            for k in 0..rows {
+                let row = |a: &numpy::ndarray::ArrayView2<'_, f64>| a.row(k).iter().copied().collect::<Vec<f64>>();
+                let w = spacearm_core::algorithms::rnea::joint_wrench(m, d, &row(&xs), &row(&us), &row(&dus), body)?;
+                out.column_mut(k).copy_from(&w);
+            }
+            Ok::<(), SpacearmError>(())
+        })
+        .or_raise(py)?;
+    Ok(matrix(py, &out.transpose()))
+}
+
 /// The result of `grasp_impact` (`spacearm_core::algorithms::impulse::GraspImpact`), every
 /// vector in 𝒥: the public `spacearm.capture.GraspImpulse` (`capture.grasp_impulse` returns it;
 /// no Python copy of its fields). Built once; the arrays are read-only.
@@ -578,6 +614,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(point_inverse_inertia, m)?)?;
     m.add_function(wrap_pyfunction!(virtual_mass, m)?)?;
     m.add_function(wrap_pyfunction!(impulse_momentum_split, m)?)?;
+    m.add_function(wrap_pyfunction!(joint_wrenches, m)?)?;
     m.add_function(wrap_pyfunction!(check_grasp_handle, m)?)?;
     m.add_class::<PySoftCaptureResult>()?;
     m.add_function(wrap_pyfunction!(soft_capture, m)?)?;

@@ -74,13 +74,18 @@ impl VecArg<'_> {
     }
 }
 
-/// Whether `arr` is native-order float64, C-contiguous and aligned: usable as a slice.
-fn is_plain_float64(arr: &Bound<'_, PyUntypedArray>) -> bool {
+/// Whether `arr` holds native-order float64 (in any layout).
+fn is_native_float64(arr: &Bound<'_, PyUntypedArray>) -> bool {
     // Cheaper than `cast::<PyArray1<f64>>()`, whose dtype test goes through numpy's casting
     // tables.
     let dtype = arr.dtype();
     let native = matches!(dtype.byteorder(), b'=' | b'|') || (cfg!(target_endian = "little") && dtype.byteorder() == b'<');
-    if dtype.num() != NPY_TYPES::NPY_DOUBLE as c_int || !native {
+    dtype.num() == NPY_TYPES::NPY_DOUBLE as c_int && native
+}
+
+/// Whether `arr` is native-order float64, C-contiguous and aligned: usable as a slice.
+fn is_plain_float64(arr: &Bound<'_, PyUntypedArray>) -> bool {
+    if !is_native_float64(arr) {
         return false;
     }
     // SAFETY: `arr` is a live numpy array; reading its flags field is what PyArray_FLAGS does.
@@ -108,8 +113,24 @@ fn numpy_function<'py>(py: Python<'py>, cell: &'static PyOnceLock<Py<PyAny>>, na
 /// numbers) — else a `SpacearmTypeError` naming `what` and the dtype; a ragged sequence is a
 /// `ShapeError`.
 pub fn real_array<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, PyUntypedArray>> {
-    static ASARRAY: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+    let arr = real_array_as_given(obj, what)?;
+    if is_plain_float64(&arr) {
+        return Ok(arr);
+    }
+    contiguous_float64(arr)
+}
+
+/// `arr` converted by numpy to a C-contiguous float64 array (a copy).
+fn contiguous_float64<'py>(arr: Bound<'py, PyUntypedArray>) -> PyResult<Bound<'py, PyUntypedArray>> {
     static CONTIGUOUS: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+    let converted = numpy_function(arr.py(), &CONTIGUOUS, "ascontiguousarray")?.call1((arr, "float64"))?;
+    converted.cast_into::<PyUntypedArray>().map_err(PyErr::from)
+}
+
+/// [`real_array`]'s reading and checks without its conversion: `obj` as a numpy array of real
+/// numbers in whatever layout and real dtype it has (a numpy array is not copied).
+fn real_array_as_given<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, PyUntypedArray>> {
+    static ASARRAY: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
     let py = obj.py();
     let type_name = || obj.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "object".into());
     let arr = match obj.cast::<PyUntypedArray>() {
@@ -133,11 +154,7 @@ pub fn real_array<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'p
         let got = if arr.ndim() == 0 && dtype.kind() == b'O' { format!("a {}", type_name()) } else { format!("an array of dtype {described}") };
         return Err(type_error(py, format!("{what} must hold real numbers (bool, int or float), got {got}")));
     }
-    if is_plain_float64(&arr) {
-        return Ok(arr);
-    }
-    let converted = numpy_function(py, &CONTIGUOUS, "ascontiguousarray")?.call1((arr, "float64"))?;
-    converted.cast_into::<PyUntypedArray>().map_err(PyErr::from)
+    Ok(arr)
 }
 
 /// Convert a vector argument named `what` (see [`VecArg`]): one state, 1-D.
@@ -174,19 +191,44 @@ pub fn batch_arg<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<ArgValue<
 
 /// [`batch_arg`] of anything that is not a float64 vector usable in place (lists, other dtypes,
 /// batches): out of line, so that the common case stays a few instructions in its caller.
+///
+/// A batch is admitted before it is copied ([`spacearm_core::admission`]), counting every copy
+/// it takes: one (the rows read into the call's buffer, through the array's strides: a
+/// broadcast or sliced float64 view is not made contiguous first), or two for another dtype
+/// (numpy's float64 conversion, then the rows).
 #[inline(never)]
 fn converted_batch_arg<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<ArgValue<'py>> {
-    let arr = real_array(obj, what)?;
+    let arr = real_array_as_given(obj, what)?;
     match arr.ndim() {
-        1 => match usable_in_place(arr.as_any()) {
-            Some(a) => Ok(ArgValue::One(VecArg(a))),
-            None => Err(shape_error(obj.py(), format!("{what} could not be read as a float64 vector"))),
-        },
+        1 => {
+            let arr = if is_plain_float64(&arr) { arr } else { contiguous_float64(arr)? };
+            match usable_in_place(arr.as_any()) {
+                Some(a) => Ok(ArgValue::One(VecArg(a))),
+                None => Err(shape_error(obj.py(), format!("{what} could not be read as a float64 vector"))),
+            }
+        }
         2 => {
             let (rows, width) = (arr.shape()[0], arr.shape()[1]);
-            // SAFETY: `real_array` returns a C-contiguous float64 array; it is copied at once.
-            let typed = unsafe { arr.cast_unchecked::<PyArray2<f64>>() };
-            let values = unsafe { typed.as_slice() }.map_err(PyErr::from)?.to_vec();
+            // SAFETY: `arr` is a live numpy array; reading its flags field is what PyArray_FLAGS does.
+            let aligned = unsafe { (*arr.as_array_ptr()).flags } & NPY_ARRAY_ALIGNED != 0;
+            let float64 = is_native_float64(&arr) && aligned;
+            let copies = if float64 { 1.0 } else { 2.0 };
+            let bytes = copies * spacearm_core::admission::bytes_of::<f64>(rows as f64 * width as f64);
+            spacearm_core::admission::admit(
+                format_args!("reading {what} ({rows} rows of {width}, {} cop{})", copies, if float64 { "y" } else { "ies" }),
+                bytes,
+                "pass a smaller batch (split it into chunks), as a float64 array",
+            )
+            .map_err(|e| to_py_err(obj.py(), e))?;
+            let arr = if float64 { arr } else { contiguous_float64(arr)? };
+            // An aligned native float64 array of any strides: numpy's own typed view, read row
+            // by row into one buffer (the one copy; the call then runs without the GIL).
+            let typed = arr.cast::<PyArray2<f64>>().map_err(PyErr::from)?;
+            let view = typed.try_readonly().map_err(|e| shape_error(obj.py(), format!("{what} could not be read: {e}")))?;
+            let values: Vec<f64> = match view.as_slice() {
+                Ok(s) => s.to_vec(),
+                Err(_) => view.as_array().iter().copied().collect(),
+            };
             Ok(ArgValue::Many { values, rows, width })
         }
         _ => Err(shape_error(

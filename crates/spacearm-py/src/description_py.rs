@@ -180,6 +180,95 @@ impl PyPointDescription {
     }
 }
 
+/// A visual or collision shape fixed to a body (docs/geometry.md): `shape` is "box" (`size`:
+/// full side lengths), "cylinder" or "capsule" (`radius`, `length`, along the geometry's z),
+/// "sphere" (`radius`) or "mesh" (`file` as the model states it, `scale`); the keys of other
+/// kinds are None. Placed in the body frame (origin at the body's CM) by `origin` and `rotation`.
+#[pyclass(module = "spacearm._core", name = "GeometryDescription", frozen)]
+pub struct PyGeometryDescription {
+    /// The geometry's name.
+    #[pyo3(get)]
+    name: String,
+    /// Name of the body it is fixed to.
+    #[pyo3(get)]
+    body: String,
+    /// Index of that body (0 = base).
+    #[pyo3(get)]
+    body_index: usize,
+    /// "visual" or "collision".
+    #[pyo3(get)]
+    role: &'static str,
+    /// "box", "cylinder", "sphere", "capsule" or "mesh".
+    #[pyo3(get)]
+    shape: &'static str,
+    /// (3,) m, read-only: a box's full side lengths; None for other shapes.
+    #[pyo3(get)]
+    size: Option<Py<PyArray1<f64>>>,
+    /// m: the radius of a sphere, cylinder or capsule; None for other shapes.
+    #[pyo3(get)]
+    radius: Option<f64>,
+    /// m: the length of a cylinder or of a capsule's cylinder part; None for other shapes.
+    #[pyo3(get)]
+    length: Option<f64>,
+    /// A mesh's file, as the model states it; None for other shapes.
+    #[pyo3(get)]
+    file: Option<String>,
+    /// (3,) read-only: a mesh's scale along its x, y, z; None for other shapes.
+    #[pyo3(get)]
+    scale: Option<Py<PyArray1<f64>>>,
+    /// (3,) m, read-only: the geometry frame's origin in the body frame, from its CM.
+    #[pyo3(get)]
+    origin: Py<PyArray1<f64>>,
+    /// (4,) unit quaternion `[x, y, z, w]`, read-only: the geometry frame in the body frame.
+    #[pyo3(get)]
+    rotation: Py<PyArray1<f64>>,
+    /// (4,) read-only: red, green, blue, alpha in [0, 1].
+    #[pyo3(get)]
+    rgba: Py<PyArray1<f64>>,
+}
+
+#[pymethods]
+impl PyGeometryDescription {
+    fn __repr__(&self) -> String {
+        format!("<spacearm.GeometryDescription '{}': {} {} on '{}'>", self.name, self.role, self.shape, self.body)
+    }
+}
+
+impl PyGeometryDescription {
+    fn of(py: Python<'_>, m: &core::Model, g: &core::Geometry) -> PyGeometryDescription {
+        use core::Shape;
+        let (mut size, mut radius, mut length, mut file, mut scale) = (None, None, None, None, None);
+        match &g.shape {
+            Shape::Box { size: s } => size = Some(vector(py, s)),
+            Shape::Sphere { radius: r } => radius = Some(*r),
+            Shape::Cylinder { radius: r, length: l } | Shape::Capsule { radius: r, length: l } => {
+                radius = Some(*r);
+                length = Some(*l);
+            }
+            Shape::Mesh { file: f, scale: s } => {
+                file = Some(f.clone());
+                scale = Some(vector(py, s));
+            }
+        }
+        let q = g.rotation;
+        PyGeometryDescription {
+            name: g.name.clone(),
+            body: m.body_name(g.body).to_string(),
+            body_index: g.body,
+            role: g.role.as_str(),
+            shape: g.shape.kind(),
+            size,
+            radius,
+            length,
+            file,
+            scale,
+            origin: vector3(py, &g.origin),
+            rotation: vector(py, &[q.i, q.j, q.k, q.w]),
+            rgba: vector(py, &g.rgba),
+        }
+    }
+}
+
 /// A whole model: base, links in tree order (a parent before its children; link `i` is body
 /// `i + 1`), named points, end effector and initial joint coordinates.
 #[pyclass(module = "spacearm._core", name = "ModelDescription", frozen)]
@@ -196,6 +285,10 @@ pub struct PyModelDescription {
     /// The named points in the order they were added, a tuple of `PointDescription`.
     #[pyo3(get)]
     points: Py<PyTuple>,
+    /// The visual and collision shapes in the order they were added, a tuple of
+    /// `GeometryDescription` (docs/geometry.md).
+    #[pyo3(get)]
+    geometries: Py<PyTuple>,
     /// Name of the end-effector point, or None.
     #[pyo3(get)]
     end_effector: Option<String>,
@@ -334,6 +427,7 @@ impl PyModelDescription {
             base: Py::new(py, base)?,
             links: PyTuple::new(py, links)?.unbind(),
             points: PyTuple::new(py, points)?.unbind(),
+            geometries: PyTuple::new(py, m.geometries().iter().map(|g| PyGeometryDescription::of(py, m, g)))?.unbind(),
             end_effector: m.end_effector().map(|i| m.points()[i].name.clone()),
             initial_q: vector(py, m.initial_q()),
         })

@@ -192,6 +192,17 @@ impl PyModel {
         Ok(())
     }
 
+    /// The small-oscillation modes of the joints' springs at `x` (core
+    /// `analysis::passive_modes`): `(dofs, frequencies rad/s, damping ratios, shapes N × modes)`;
+    /// `held`: the actuated joints are held still, else every joint moves.
+    fn passive_modes<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, held: bool) -> PyResult<Bound<'py, PyTuple>> {
+        use spacearm_core::analysis::passive_modes::{passive_modes, ActuatedJoints};
+        let x = vec_arg(x, "x")?;
+        let which = if held { ActuatedJoints::Held } else { ActuatedJoints::Free };
+        let modes = self.with_data(|m, d| passive_modes(m, d, x.as_slice(), which)).or_raise(py)?;
+        (modes.dofs, array1(py, &modes.frequencies), array1(py, &modes.damping_ratios), matrix(py, &modes.shapes)).into_pyobject(py)
+    }
+
     /// Forward kinematics: (body_to_world (nb,3,3), com_in_world (nb,3),
     /// joint_position_in_world (nb,3), joint_axis_in_world (nb,3)).
     fn forward_kinematics<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {

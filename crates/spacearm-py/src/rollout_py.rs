@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyList;
 use rayon::prelude::*;
 use spacearm_core::control::{Controller, ZeroTorque};
-use spacearm_core::sim::rollout::{rollout as core_rollout, RolloutSpec};
+use spacearm_core::sim::rollout::{rollout_cancellable as core_rollout, RolloutSpec};
 use spacearm_core::sim::simulate::{check_initial_state, sample_count, SimResult};
 use spacearm_core::{Model, SpacearmError};
 
@@ -41,7 +41,7 @@ fn rows(a: &PyReadonlyArray2<'_, f64>, what: &str, width: usize) -> PyResult<(Ve
 /// (`(B, K, ...)`, NaN rows for a failed rollout), and each rollout's status, description and
 /// saturation onsets.
 #[pyfunction]
-#[pyo3(signature = (models, x0, u0, duration, options, controllers=None, threads=None))]
+#[pyo3(signature = (models, x0, u0, duration, options, controllers=None, threads=None, stop=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn rollout<'py>(
     py: Python<'py>,
@@ -52,7 +52,9 @@ pub fn rollout<'py>(
     options: PyRef<'py, PyRunOptions>,
     controllers: Option<&Bound<'py, PyAny>>,
     threads: Option<usize>,
+    stop: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<PyRolloutBatch> {
+    let stop = stop.filter(|s| !s.is_none()).map(|s| s.clone().unbind());
     let bad = |msg: String| to_py_err(py, SpacearmError::InvalidArgument(msg));
     let plants: Vec<Model> = models
         .iter()
@@ -106,7 +108,8 @@ pub fn rollout<'py>(
         .enumerate()
         .map(|(i, controller)| RolloutSpec { model: plant(i), x0: &x0[i * nx..(i + 1) * nx], u0: &u0[i * nu..(i + 1) * nu], controller })
         .collect();
-    let results = py.detach(|| core_rollout(specs, &opts, threads)).or_raise(py)?;
+    // Ctrl-C stops the rollouts within 0.1 s (crate::interrupt).
+    let results = crate::interrupt::run_until(py, stop, |cancel| core_rollout(specs, &opts, threads, cancel))?.or_raise(py)?;
     stack(py, results, &opts, float32, (nx, nu, n))
 }
 

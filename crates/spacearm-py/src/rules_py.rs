@@ -1,8 +1,8 @@
 //! The core's rules and defaults, read by the Python package instead of restating them:
 //! the mode and integrator names, the simulation defaults, the damped-least-squares defaults
 //! (those tables and the model bounds are typed classes: `rule_tables_py.rs`), the quintic time scaling of the references (docs/simulation-core.md), the tolerance on input
-//! quaternions, the physical bounds of a model, the rule of one body's mass properties and the
-//! memory limit of one request.
+//! quaternions, the physical bounds of a model, the rule of one body's mass properties, the
+//! memory limit of one request and the box drawn for a body of given moments.
 
 use nalgebra::Matrix3;
 use numpy::{PyArray1, PyReadonlyArray1};
@@ -52,6 +52,14 @@ fn body_mass_properties_error(who: &str, mass: f64, inertia: [[f64; 3]; 3], tria
     }
 }
 
+/// Side lengths (m) of the uniform box whose principal moments about its centre are
+/// `moments` (kg·m²) for `mass` (kg): the default shape of a body whose shape the data do not
+/// give (model/geometry.rs, `box_of_moments`).
+#[pyfunction]
+fn box_of_moments(mass: f64, moments: [f64; 3]) -> [f64; 3] {
+    spacearm_core::model::geometry::box_of_moments(mass, moments)
+}
+
 /// Register the rules on the extension module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("MODES", Mode::NAMES.to_vec())?;
@@ -63,5 +71,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     crate::rule_tables_py::add_tables(m)?;
     m.add_function(wrap_pyfunction!(quintic_scaling, m)?)?;
     m.add_function(wrap_pyfunction!(body_mass_properties_error, m)?)?;
+    m.add_function(wrap_pyfunction!(box_of_moments, m)?)?;
     Ok(())
 }

@@ -110,7 +110,14 @@ impl PySimulator {
     /// controller's command throughout (None: nothing added). Steps land on `t = i·dt`. The
     /// records the steps would add are admitted first; Ctrl-C stops a long call within 0.1 s.
     #[pyo3(signature = (tau=None, n=None, base_wrench=None))]
-    fn step(&mut self, py: Python<'_>, tau: Option<&Bound<'_, PyAny>>, n: Option<&Bound<'_, PyAny>>, base_wrench: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+    /// Advance `n` steps and return the new state `[x; u]` (a new array).
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        tau: Option<&Bound<'_, PyAny>>,
+        n: Option<&Bound<'_, PyAny>>,
+        base_wrench: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let n = match n {
             Some(n) => step_count(py, n)?,
             None => 1,
@@ -170,7 +177,8 @@ impl PySimulator {
         if let Some(e) = interrupted {
             return Err(e);
         }
-        result.map_err(|e| take_error(&self.slot).unwrap_or_else(|| to_py_err(py, e)))
+        result.map_err(|e| take_error(&self.slot).unwrap_or_else(|| to_py_err(py, e)))?;
+        Ok(PyArray1::from_slice(py, stepper.state()))
     }
 
     /// The current time, s.

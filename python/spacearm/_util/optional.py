@@ -27,6 +27,7 @@ EXTRAS = {
     "distributed": "campaign",
     "dask": "campaign",
     "casadi": "optimal-control",
+    "trimesh": "mesh",
 }
 
 

@@ -74,10 +74,11 @@ def prepare(spec, indices: Sequence[int]) -> Prepared:
     return Prepared(spec, flying, plants, failed)
 
 
-def fly(prepared: Prepared, threads: int):
+def fly(prepared: Prepared, threads: int, stop=None):
     """``(rollouts, seconds)``: every plant of ``prepared`` flown on ``threads`` threads (GIL
     released), or the failure message shared by every sample when the scenario itself cannot be
-    flown (e.g. a goal of the wrong length)."""
+    flown (e.g. a goal of the wrong length). ``stop``: a threading.Event that stops the
+    rollouts within 0.1 s (the threads back end's, when the campaign ends early)."""
     from ..sim.rollout import rollout
 
     if not prepared.plants:
@@ -89,7 +90,7 @@ def fly(prepared: Prepared, threads: int):
         tracker = controller(nominal, spec.scenario)
         x0 = np.stack([p.neutral_configuration() for p in prepared.plants])
         runs = rollout(nominal, spec.scenario.duration, x0, controller=tracker, plants=prepared.plants,
-                       mode=spec.scenario.mode, dt=spec.scenario.dt, threads=threads)
+                       mode=spec.scenario.mode, dt=spec.scenario.dt, threads=threads, stop=stop)
     except Exception as exc:  # noqa: BLE001 — the scenario cannot be flown by any sample
         return failure_message(exc), time.perf_counter() - start
     return runs, time.perf_counter() - start

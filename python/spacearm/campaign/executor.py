@@ -204,7 +204,8 @@ def run_campaign(
         result = CampaignResult.load(out)
         if result.spec_json != spec_json:
             raise ArgumentError(f"'{out}' holds a different campaign (model, perturbations, scenario, samples or "
-                                "seed differ); choose another output path or pass resume=False to overwrite it")
+                                "seed differ); choose another output path, or overwrite it (resume=False; on the command line "
+                                "--no-resume)")
     if result is None:
         result = CampaignResult(spec_json, PARAMETER_NAMES, METRIC_NAMES, spec.samples)
     todo = result.status == PENDING

@@ -116,7 +116,7 @@ def thread_outcomes(spec, indices: Sequence[int], threads: int, batch_size: int,
                 break
             if isinstance(item, Prepared):
                 try:
-                    item = (item, *fly(item, threads))
+                    item = (item, *fly(item, threads, stop))
                 except Exception as exc:  # noqa: BLE001 — not a sample's failure (fly returns those)
                     item = _Failed([index for index, _ in item.flying], exc)
             if not _put(flown, item, stop):
@@ -140,7 +140,13 @@ def thread_outcomes(spec, indices: Sequence[int], threads: int, batch_size: int,
             batch, runs, seconds = item
             yield from outcomes(batch, runs, seconds, threads)
     finally:
-        stop.set()  # the threads end after the step they are in
+        # The threads end after the step they are in: the batch in flight is stopped within
+        # 0.1 s (the rollout's stop event). Joined before returning, so that no thread is still
+        # in native code when the interpreter exits (it aborted then: "FATAL: exception not
+        # rethrown", issue 26).
+        stop.set()
+        for w in workers:
+            w.join(timeout=30.0)
 
 
 def process_outcomes(spec, indices: Sequence[int], workers: int, batch_size: int) -> Iterator[Outcome]:

@@ -27,11 +27,11 @@ from typing import NamedTuple, Optional
 
 import numpy as np
 
+from .. import _core
 from .._util.summary import summary_repr
 from .._util.arrays import number
 from ..control import Combined, ComputedTorque, MomentumDamping, TorqueLimit
 from ..errors import ArgumentError
-from ..rotations import quat_to_matrix
 from ..sim.simulation import simulate
 
 __all__ = ["DetumbleRun", "detumble", "detumble_controller", "grasp_wrench", "time_to_rest", "DETUMBLE_MODES"]
@@ -73,17 +73,14 @@ def time_to_rest(t: np.ndarray, rates: np.ndarray, tolerance: float) -> float:
     return float(t[above[-1] + 1])
 
 
-def grasp_wrench(t: np.ndarray, target_states: np.ndarray, mass: float, inertia: np.ndarray) -> np.ndarray:
-    """The wrench ``[f; n]`` (T, 6, in 𝒥) that holds a rigid target on its recorded motion:
-    ``f = d(m v)/dt`` and ``n = dL/dt`` about its CM, by central differences of the recorded
-    states (second order; the ends one-sided)."""
-    t = np.asarray(t, dtype=float)
-    if t.size < 3:
-        return np.zeros((t.size, 6))
-    P = mass * target_states[:, 7:10]
-    R = quat_to_matrix(target_states[:, 3:7])
-    L = np.einsum("bij,jk,blk,bl->bi", R, inertia, R, target_states[:, 10:13])
-    return np.hstack([np.gradient(P, t, axis=0), np.gradient(L, t, axis=0)])
+def grasp_wrench(captured, trajectory) -> np.ndarray:
+    """The wrench ``[f; n]`` (T, 6, in 𝒥, the moment about the target's CM) that holds the
+    captured target (the payload of ``captured``, [`attach_target`][spacearm.capture.attach_target])
+    on the motion of ``trajectory`` (a run of ``captured.robot``): ``f = m a_c`` and
+    ``n = d(I ω)/dt``, exactly, from the recorded states and accelerations: the core's RNEA force
+    across the payload's joint (``spacearm_core::algorithms::rnea::joint_wrench``)."""
+    robot = captured.robot
+    return _core.joint_wrenches(robot.core_model, trajectory.x, trajectory.u, trajectory.du, robot.body_index(captured.payload))
 
 
 def detumble(robot, x, u, duration: float, *, mode: str = "floating", q_hold=None, kp: float = 1.0, kd: float = 2.0,

@@ -24,7 +24,6 @@ from ..errors import ArgumentError, SimulationError
 from .captured import attach_target
 from .impact import grasp_impulse
 from .detumbling import detumble, grasp_wrench
-from .sequence import _payload_states
 from .target import Target
 
 __all__ = ["CaptureEnvelope", "capture_envelope"]
@@ -88,7 +87,7 @@ def capture_envelope(robot, target, *, spin_rates: Sequence[float] = (0.05, 0.1,
             except SimulationError:  # a diverging sample is a failed sample, not a failed sweep
                 continue
             tr = run.trajectory
-            w = grasp_wrench(tr.t, _payload_states(cap, tr.x, tr.u), target.mass, target.inertia)
+            w = grasp_wrench(cap, tr)
             f_peak[i, j] = float(np.linalg.norm(w[:, :3], axis=1).max())
             n_peak[i, j] = float(np.linalg.norm(w[:, 3:], axis=1).max())
             tau_peak[i, j] = run.peak_joint_torque

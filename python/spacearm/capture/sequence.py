@@ -392,7 +392,7 @@ def capture(
                        rate_tolerance=rate_tolerance, dt=dt, rtol=rtol)
         tr = run.trajectory
         ss = _payload_states(captured, tr.x, tr.u) if captured is not None else _target_states(target, sc, tr.t)
-        w = grasp_wrench(tr.t, ss, target.mass, target.inertia) if captured is not None else np.zeros((len(tr.t), 6))
+        w = grasp_wrench(captured, tr) if captured is not None else np.zeros((len(tr.t), 6))
         add(t_cap + tr.t[1:], phase, tr.x[1:], tr.u[1:], ss[1:], tr.tau[1:], tr.base_wrench[1:], w[1:], captured is not None)
         runs.append(run)
         t_cap, x_start, u_start, sc = t_cap + float(tr.t[-1]), tr.x[-1], tr.u[-1], ss[-1]

@@ -22,10 +22,11 @@ import numpy as np
 import math
 
 from .. import _core
-from .._util.arrays import number, quaternion, vector, vector3
+from .._util.arrays import matrix3, number, quaternion, vector, vector3
 from ..control import FreeBodyPoint, SampledJoint
 from ..errors import ArgumentError, ModelError, NotFoundError, ShapeError
 from ..model.robot import Robot
+from ..rotations import quat_from_matrix
 from ..sim.simulation import simulate
 
 __all__ = ["Target", "TargetState"]
@@ -37,6 +38,16 @@ class TargetState(NamedTuple):
     quaternion: np.ndarray  #: attitude [x, y, z, w] (target axes -> 𝒥)
     velocity: np.ndarray  #: CM velocity, m/s
     angular_velocity: np.ndarray  #: rad/s
+
+
+def _box_of_moments(mass: float, inertia) -> dict:
+    """The uniform box of the target's principal moments (the core's ``box_of_moments``),
+    turned onto its principal axes."""
+    moments, axes = np.linalg.eigh(np.asarray(inertia, dtype=float))
+    if np.linalg.det(axes) < 0:
+        axes[:, 2] = -axes[:, 2]
+    size = _core.box_of_moments(float(mass), [float(m) for m in moments])
+    return {"shape": "box", "size": size, "rotation": quat_from_matrix(axes), "rgba": (0.6, 0.65, 0.75, 1.0)}
 
 
 class Target:
@@ -56,10 +67,16 @@ class Target:
         ``grasp1``, ...; default: one point ``"grasp"`` at the CM. Each at most
         ``MAX_HANDLE_RATIO`` (2) times the target's size ``√(1.5 tr(I) / m)`` from the CM
         (farther: ``ArgumentError``; docs/capture.md, "Grasps that are refused").
+    shape : mapping, optional
+        The target's visual shape: the keyword arguments of
+        [`RobotBuilder.add_geometry`][spacearm.RobotBuilder.add_geometry] but the body (``{"shape": "cylinder",
+        "radius": 0.5, "length": 1.2}``; docs/geometry.md). Default: the uniform box with the
+        target's principal moments, along its principal axes. It carries no mass.
     """
 
     def __init__(self, mass: float, inertia, *, name: Optional[str] = None,
-                 grasp_points: Union[Mapping[str, Sequence[float]], Sequence[Sequence[float]], None] = None):
+                 grasp_points: Union[Mapping[str, Sequence[float]], Sequence[Sequence[float]], None] = None,
+                 shape: Optional[Mapping] = None):
         self.name = "target" if name is None else str(name)
         mass = number(mass, "target mass")
         try:
@@ -82,6 +99,16 @@ class Target:
                 raise ArgumentError(f"target grasp point '{key}' must be finite, got {off}")
             self.grasp_points[str(key)] = off
             builder.add_point(str(key), body=self.name, offset=off)
+        if shape is None:
+            shape = _box_of_moments(mass, matrix3(inertia, "target inertia"))
+        elif not isinstance(shape, Mapping) or "shape" not in shape:
+            raise ArgumentError(f"target '{self.name}': shape must be a mapping with a 'shape' key and the "
+                                f"add_geometry keywords, e.g. {{'shape': 'sphere', 'radius': 0.5}}; got {shape!r}")
+        shape = dict(shape)
+        try:
+            builder.add_geometry(self.name, shape.pop("shape"), **shape)
+        except TypeError as exc:
+            raise ArgumentError(f"target '{self.name}': shape: {exc}") from None
         try:
             #: The target as a spacearm model with no joints: state ``[x (7), u (6)]``.
             self.body = builder.build()

@@ -1,7 +1,7 @@
 """C code of the equations of motion for embedded use (docs/c-api.md, "Embedded code"):
-:func:`generate_c` writes, with ``casadi.CodeGenerator``, one self-contained C file and its
+[`generate_c`][spacearm.casadi.generate_c] writes, with ``casadi.CodeGenerator``, one self-contained C file and its
 header holding the forward dynamics, ``H*``, ``J*`` of a point and an RK4 step of a model (the
-Functions of :mod:`spacearm.casadi.functions`: the core's recursions recorded and replayed on
+Functions of ``spacearm.casadi.functions``: the core's recursions recorded and replayed on
 CasADi symbols). The code needs only a C compiler and ``libm``; no spacearm, no CasADi.
 
 Each exported function follows CasADi's calling convention (``int f(const casadi_real** arg,
@@ -19,7 +19,7 @@ from .functions import _casadi_for, forward_dynamics, generalized_inertia, gener
 
 __all__ = ["generate_c", "GENERATED"]
 
-#: The functions :func:`generate_c` writes, as ``<prefix>_<name>``.
+#: The functions [`generate_c`][spacearm.casadi.generate_c] writes, as ``<prefix>_<name>``.
 GENERATED = ("forward_dynamics", "generalized_inertia", "generalized_jacobian", "rk4_step")
 
 

@@ -98,6 +98,12 @@ def run(args, model_from_args, out=None) -> None:
         w(f"  path-dependent shells (dynamic singularities, sigma_min < {ws.singular_threshold:.3g}, merged at "
           f"{ws.radial_resolution:.3g} m): {fmt(ws.path_dependent)}\n")
         w(f"  path-independent shells: {fmt(ws.path_independent)}\n")
+        points = [iv for iv in ws.path_dependent if iv[1] - iv[0] <= 0.0]
+        if points:
+            w(f"  degenerate: {len(points)} of the {len(ws.path_dependent)} path-dependent shells have zero width (a single radius): "
+              "the sampling met a singularity only at isolated samples (on a grid, joints at exactly 0 or ±π), so the shells "
+              "between them are not resolved at this sampling; the path-independent shells are the gaps between those radii, "
+              "not a measured region. Denser samples (--samples, --resolution) resolve more of them\n")
         path = ws.plot(args.out, plane=args.plane)
     else:
         planar = rows == [0, 1]

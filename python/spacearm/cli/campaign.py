@@ -86,3 +86,8 @@ def run(args, model_from_args, out=None) -> None:
             out.write(f"figure: {args.plot}\n")
         else:
             out.write("no sample ran successfully: no figure written\n")
+    if failures and not result.n_ok and not result.n_pending:
+        from .numbers import CliError
+
+        raise CliError(f"every sample of the campaign failed ({len(failures)} of {len(failures)}; the record is {args.out}): "
+                       f"e.g. sample {first[0]}: {first[1]}")

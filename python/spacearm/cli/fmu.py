@@ -1,12 +1,12 @@
 """The ``spacearm fmu`` command: write MODEL as an FMI co-simulation unit
-(:func:`spacearm.fmi.export`, docs/fmi.md).
+([`spacearm.fmi.export`][spacearm.fmi.export], docs/fmi.md).
 
 ``spacearm fmu MODEL --out M.fmu [--fmi-version 3|2] [--mode MODE] [--controller none|pd|ct
 --kp K --kd D [--q-ref Q]] [--dt DT]``. The FMU's inputs are the joint torques ``tau[k]`` (and
 ``base_wrench[k]`` in the flying modes); its outputs the state, the momenta and the end-effector
 pose; its parameters the initial state and the controller's gains and set point.
 
-Registered in :mod:`spacearm.cli` by :func:`add_parser` and :func:`run`.
+Registered in ``spacearm.cli`` by ``add_parser`` and ``run``.
 """
 
 from __future__ import annotations

@@ -1,6 +1,8 @@
-"""``spacearm inspect MODEL [--q Q1,Q2,...]``: the model summary (bodies, joints, total mass)
-and, at the given or initial configuration, ``H0``, ``H*`` and the end-effector ``J*`` with
-their conditioning. Registered in ``spacearm.cli``.
+"""``spacearm inspect MODEL [--q Q1,Q2,...]``: the model summary (bodies, joints, total mass),
+the passive joints and joint springs with the natural frequencies of their small oscillations
+about the configuration (``Robot.natural_frequencies``, docs/flexibility.md) and, at the given
+or initial configuration, ``H0``, ``H*`` and the end-effector ``J*`` with their conditioning.
+Registered in ``spacearm.cli``.
 
 Above ``FULL_REPORT_MAX_DOF`` joints the dense part is left out: printing the N×N ``H*``
 and taking SVDs of it costs O(N²) text and O(N³) time (a 10,000-joint model took more than five
@@ -50,6 +52,28 @@ def _conditioning(name: str, m: np.ndarray) -> str:
     return f"  {name}: singular values [{', '.join(f'{v:.4g}' for v in s)}], condition number {cond:.4g}"
 
 
+def _passive(robot: Robot, x, w) -> None:
+    """The passive joints and joint springs, and the natural frequencies of their small
+    oscillations at ``x`` with the actuated joints held (docs/flexibility.md)."""
+    sprung = [link for link in robot.description.links if link.type != "fixed"
+              and (not link.actuated or link.stiffness > 0 or link.damping > 0)]
+    if not sprung:
+        return
+    w("passive joints and joint springs (stiffness N m/rad or N/m, damping N m s/rad or N s/m, rest rad or m):\n")
+    for link in sprung:
+        w(f"  {link.joint}: {'actuated' if link.actuated else 'passive'}, stiffness {link.stiffness:.6g}, "
+          f"damping {link.damping:.6g}, rest {link.rest:.6g}\n")
+    if not robot.actuated_dofs.all() and robot.n_dof <= FULL_REPORT_MAX_DOF:
+        modes = robot.natural_frequencies(x, actuated="held")
+        w("natural frequencies of the passive joints at this configuration, actuated joints held:\n")
+        names = [link.joint for link in robot.description.links if link.type != "fixed"]
+        for i, (omega, zeta) in enumerate(zip(modes.frequencies, modes.damping_ratios)):
+            shape = modes.shapes[:, i]
+            main = names[int(np.argmax(np.abs(shape)))]
+            w(f"  mode {i + 1}: {omega:.6g} rad/s = {omega / (2 * np.pi):.6g} Hz, damping ratio {zeta:.4g}, mostly {main}\n")
+    w("\n")
+
+
 def inspect(robot: Robot, q=None, out=None) -> None:
     """Print the model summary and the GJM quantities at ``q`` (default: initial angles)."""
     # Resolve the stream at call time, not at import time, so redirections of sys.stdout count.
@@ -72,6 +96,7 @@ def inspect(robot: Robot, q=None, out=None) -> None:
     x = robot.neutral_configuration(q)
     qs = ", ".join(f"{v:.4g}" for v in x[7:])
     w(f"\nconfiguration: base at the origin aligned with the inertial frame, q = [{qs}]\n\n")
+    _passive(robot, x, w)
     np.set_printoptions(linewidth=160)
     if robot.n_dof > FULL_REPORT_MAX_DOF:
         h0 = np.linalg.inv(robot.base_inertia_inverse(x))

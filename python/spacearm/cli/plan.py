@@ -6,7 +6,7 @@ stderr), re-simulates the plan in the native simulator under computed torque, pr
 writes the plan (``--out plan.npz``: ``t``, ``x``, ``u``, ``tau`` in spacearm's conventions) and
 its figure (``--plot plan.png``, with the re-simulation). A plan that IPOPT did not solve, or
 whose shooting defect or re-simulation is beyond the tolerances of
-:mod:`spacearm.plan.verify`, is an error (``spacearm: error: no plan: ...``, exit 2, no file).
+[`spacearm.plan.verify`][spacearm.plan.verify], is an error (``spacearm: error: no plan: ...``, exit 2, no file).
 
 Registered in ``spacearm.cli`` by ``add_parser`` and ``run``.
 """
@@ -90,7 +90,8 @@ def run(args, model_from_args) -> None:
     check = plan.verification
     print(f"IPOPT: {plan.status}, {plan.iterations} iterations, {plan.solve_time:.2f} s")
     print(f"plan: max base attitude change {np.degrees(plan.attitude_change.max()):.4g} deg, "
-          f"effort {plan.effort:.4g} N²m²s, final point error {plan.final_position_error:.3g} m, shooting defect {check.defect:.3g}")
+          f"effort {plan.effort:.4g} N²m²s, final point error {plan.final_position_error:.3g} m, shooting defect {check.defect:.3g}, "
+          f"RK4 local error estimate {check.transcription_error:.3g}")
     if check.trajectory is not None:
         traj = check.trajectory
         print(f"re-simulation (computed torque, rk4 dt = {traj.t[1] - traj.t[0]:.3g} s): final point error "

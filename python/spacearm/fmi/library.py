@@ -1,6 +1,6 @@
 """The spacearm C library (``libspacearm_c``, crates/spacearm-c; docs/c-api.md) through
-:mod:`ctypes`: where it is, and the few entry points Python calls (the FMU's binary is the same
-file, see :mod:`spacearm.fmi.export`).
+``ctypes``: where it is, and the few entry points Python calls (the FMU's binary is the same
+file, see ``spacearm.fmi.fmu``).
 
 Where the library is looked for, in order:
 
@@ -9,7 +9,7 @@ Where the library is looked for, in order:
 3. in a source checkout (the editable install of ``scripts/test.sh``), ``target/release/`` of the
    repository, built by ``cargo build --release -p spacearm-c``.
 
-Otherwise :func:`path` raises a :class:`~spacearm.errors.MissingDependencyError` saying how to
+Otherwise ``path`` raises a [`MissingDependencyError`][spacearm.errors.MissingDependencyError] saying how to
 get it.
 """
 

@@ -5,19 +5,24 @@ states, forces, accelerations, mass matrices and bias forces between the two lay
 
 from __future__ import annotations
 
+import os
 import xml.etree.ElementTree as ET
 from typing import Tuple
 
 import numpy as np
 
 from .._util.arrays import vector
-from ..errors import MissingDependencyError
+from .._util.atomic import atomic_open, write_text
+from ..errors import ArgumentError, MissingDependencyError, ModelFileError
 from ..rotations import quat_from_matrix
 from ._common import ROOT_JOINT, _block_transform, _split_x, _square, _tree, engine_dof_order
 
 __all__ = [
     "to_mjcf",
     "to_mujoco",
+    "save_mjcf",
+    "actuator_controls",
+    "mjcf_body_name",
     "to_mujoco_state",
     "from_mujoco_state",
     "to_mujoco_force",
@@ -56,7 +61,69 @@ def _inertial(parent: ET.Element, mass: float, inertia: np.ndarray) -> None:
                   fullinertia=_fmt([i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]]))
 
 
-def to_mjcf(robot) -> str:
+#: MJCF geom groups of the two geometry roles (MuJoCo's viewer shows groups 0-2 by default).
+GEOM_GROUP = {"visual": 1, "collision": 3}
+
+#: Mesh formats MuJoCo reads itself (others: [`spacearm.io.mesh.with_mesh_format`][spacearm.io.mesh.with_mesh_format]).
+MUJOCO_MESH_FORMATS = (".stl", ".obj")
+
+#: Names of the world site the base actuators' forces are expressed in, and of the base CM site.
+WORLD_SITE = "world_frame"
+BASE_SITE = "base_cm"
+
+
+def _geom(parent: ET.Element, g, meshes: dict) -> None:
+    """``g`` (a GeometryDescription) as a massless ``<geom>`` in its body: MuJoCo's sizes are
+    half lengths (a box's half sides; a cylinder's and capsule's radius and half length)."""
+    attrs = dict(name=g.name, pos=_fmt(g.origin), quat=_fmt(np.array([g.rotation[3], *g.rotation[:3]])),
+                 rgba=_fmt(g.rgba), group=str(GEOM_GROUP[g.role]), contype="0", conaffinity="0", mass="0")
+    if g.shape == "box":
+        attrs.update(type="box", size=_fmt(np.asarray(g.size) / 2))
+    elif g.shape in ("cylinder", "capsule"):
+        attrs.update(type=g.shape, size=_fmt([g.radius, g.length / 2]))
+    elif g.shape == "sphere":
+        attrs.update(type="sphere", size=_fmt([g.radius]))
+    else:
+        key = (g.file, tuple(float(v) for v in g.scale))
+        attrs.update(type="mesh", mesh=meshes.setdefault(key, f"mesh{len(meshes)}"))
+    ET.SubElement(parent, "geom", **attrs)
+
+
+def _mesh_assets(root: ET.Element, meshes: dict, assets) -> None:
+    """The ``<asset><mesh>`` of each mesh used: its file by path, or, with ``assets`` a dict, by
+    a file name whose bytes are put in ``assets`` (MuJoCo's in-memory VFS)."""
+    if not meshes:
+        return
+    asset = ET.Element("asset")
+    root.insert(2, asset)
+    for (file, scale), name in meshes.items():
+        suffix = os.path.splitext(file)[1].lower()
+        if suffix not in MUJOCO_MESH_FORMATS:
+            raise ArgumentError(f"mesh '{file}': MuJoCo reads {', '.join(MUJOCO_MESH_FORMATS)} meshes, not '{suffix}'; convert "
+                                "the model's meshes first with spacearm.io.mesh.with_mesh_format(robot, folder)")
+        if not os.path.isfile(file):
+            raise ModelFileError(f"mesh '{file}' of the model does not exist (a package:// file not found when the URDF was "
+                                 "read? pass package_dirs=[...] to load_urdf)")
+        if assets is None:
+            ET.SubElement(asset, "mesh", name=name, file=os.path.abspath(file), scale=_fmt(scale))
+        else:
+            asset_name = f"{name}{suffix}"
+            with open(file, "rb") as fh:
+                assets[asset_name] = fh.read()
+            ET.SubElement(asset, "mesh", name=name, file=asset_name, scale=_fmt(scale))
+
+
+#: MuJoCo's name of its world body: a spacearm body of that name is exported as ``world_body``.
+MUJOCO_WORLD = "world"
+
+
+def mjcf_body_name(name: str) -> str:
+    """The MJCF name of the spacearm body ``name`` (itself, but ``world`` → ``world_body``)."""
+    return f"{name}_body" if name == MUJOCO_WORLD else name
+
+
+def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, base_actuators: bool = False,
+            assets=None) -> str:
     """The MJCF (MuJoCo XML) text of ``robot``.
 
     - Every MuJoCo body frame IS the spacearm body frame (origin at the CM, link axes), so the
@@ -70,12 +137,26 @@ def to_mjcf(robot) -> str:
       it as its own body).
     - A joint's spring–damper (docs/flexibility.md) as the joint's ``stiffness``, ``springref``
       (the rest coordinate) and ``damping``: MuJoCo's ``qfrc_passive`` is then spacearm's
-      passive force ``-k (q - rest) - c q̇``. There are no actuators (a model's forces are
-      applied as ``qfrc_applied``), so a passive joint needs no marking.
-    - ``<option gravity="0 0 0">``, contacts disabled (and there are no geoms), armature and
-      friction loss explicitly zero (damping and stiffness zero unless the joint has them), no limits, RK4 (the integrator
-      changes no term of the continuous-time dynamics), and the ``energy`` flag on so that
-      ``MjData.energy`` holds the kinetic energy.
+      passive force ``-k (q - rest) - c q̇``.
+    - Bodies keep their names, but one called ``world`` (MuJoCo's world body) becomes
+      ``world_body`` ([`mjcf_body_name`][spacearm.interop.mjcf_body_name]).
+    - ``geometry`` (the roles exported; ``()``: none): each of the model's shapes
+      (docs/geometry.md) as a massless ``<geom>``
+      (``mass="0"``, ``inertiafromgeom="false"``: they change no inertia), visual ones in geom
+      group 1, collision ones in group 3, contacts off. Meshes (STL, OBJ) are referenced by
+      their absolute paths, or, with ``assets`` a dict, by names whose bytes are put in it (for
+      ``MjModel.from_xml_string(text, assets)``; [`save_mjcf`][spacearm.interop.save_mjcf]
+      writes them beside the file).
+    - ``actuators``: a ``<motor>`` (gear 1, so ``ctrl`` is the joint torque or force) for every
+      actuated moving joint, reaction wheels included, in spacearm's ``q`` order, its
+      ``ctrlrange`` the joint's effort limit where it is finite; a passive joint gets none.
+    - ``base_actuators`` (the flying modes): six motors on the base CM site ``base_cm``, the
+      force ``F0`` and torque ``N0`` along the axes of the world site ``world_frame``
+      (``refsite``): ``ctrl[-6:] = [F0, N0]`` in 𝒥, as spacearm's base wrench.
+    - ``<option gravity="0 0 0">``, contacts disabled, armature and friction loss explicitly
+      zero (damping and stiffness zero unless the joint has them), no limits, RK4 (the
+      integrator changes no term of the continuous-time dynamics), and the ``energy`` flag on
+      so that ``MjData.energy`` holds the kinetic energy.
     """
     bodies, children, points = _tree(robot)
     root = ET.Element("mujoco", model=robot.name)
@@ -84,39 +165,102 @@ def to_mjcf(robot) -> str:
     option = ET.SubElement(root, "option", gravity="0 0 0", integrator="RK4", density="0", viscosity="0")
     ET.SubElement(option, "flag", contact="disable", energy="enable")
     world = ET.SubElement(root, "worldbody")
+    if base_actuators:
+        ET.SubElement(world, "site", name=WORLD_SITE, pos="0 0 0", size="0.01")
+    ET.SubElement(world, "light", name="sun", directional="true", pos="0 0 10", dir="0 0 -1")
 
     points_on = {}
     for p in points:
         points_on.setdefault(robot.body_index(p.body), []).append((p.name, p.offset))
+    geoms_on = {}
+    for g in robot.description.geometries:
+        if g.role in tuple(geometry):
+            geoms_on.setdefault(g.body_index, []).append(g)
+    meshes: dict = {}
 
     def emit(parent_el: ET.Element, b: int) -> None:
         body = bodies[b]
         if b == 0:
-            el = ET.SubElement(parent_el, "body", name=body.name, pos="0 0 0")
+            el = ET.SubElement(parent_el, "body", name=mjcf_body_name(body.name), pos="0 0 0")
             ET.SubElement(el, "freejoint", name=ROOT_JOINT, align="false")
         else:
             pos = body.origin + body.rotation @ body.com
-            el = ET.SubElement(parent_el, "body", name=body.name, pos=_fmt(pos), quat=_fmt(_quat_wxyz(body.rotation)))
+            el = ET.SubElement(parent_el, "body", name=mjcf_body_name(body.name), pos=_fmt(pos), quat=_fmt(_quat_wxyz(body.rotation)))
             if body.kind != "fixed":
                 ET.SubElement(el, "joint", name=body.joint, type="hinge" if body.kind == "revolute" else "slide",
                               pos=_fmt(-body.com), axis=_fmt(body.axis), limited="false",
                               damping=repr(float(body.damping)), stiffness=repr(float(body.stiffness)),
                               springref=repr(float(body.rest)), armature="0", frictionloss="0")
         _inertial(el, body.mass, body.inertia)
+        if b == 0 and base_actuators:
+            ET.SubElement(el, "site", name=BASE_SITE, pos="0 0 0", size="0.01")
+        for g in geoms_on.get(b, []):
+            _geom(el, g, meshes)
         for name, offset in points_on.get(b, []):
-            ET.SubElement(el, "site", name=name, pos=_fmt(offset))
+            ET.SubElement(el, "site", name=name, pos=_fmt(offset), size="0.01")
         for c in children[b]:
             emit(el, c)
 
     emit(world, 0)
+    _mesh_assets(root, meshes, assets)
+    if actuators or base_actuators:
+        act = ET.SubElement(root, "actuator")
+        if actuators:
+            moving = sorted((b for b in bodies if b.dof is not None and b.actuated), key=lambda b: b.dof)
+            effort = {link.name: link.limits.effort for link in robot.description.links}
+            for b in moving:
+                attrs = dict(name=f"{b.joint}_motor", joint=b.joint, gear="1")
+                if np.isfinite(effort[b.name]):
+                    attrs.update(ctrlrange=_fmt([-effort[b.name], effort[b.name]]), ctrllimited="true")
+                ET.SubElement(act, "motor", **attrs)
+        if base_actuators:
+            for k, axis in enumerate(("fx", "fy", "fz", "tx", "ty", "tz")):
+                gear = np.zeros(6)
+                gear[k] = 1.0
+                ET.SubElement(act, "motor", name=f"base_{axis}", site=BASE_SITE, refsite=WORLD_SITE, gear=_fmt(gear))
     ET.indent(root)
     return ET.tostring(root, encoding="unicode")
 
 
-def to_mujoco(robot):
-    """The compiled ``mujoco.MjModel`` of [`to_mjcf`][spacearm.interop.to_mjcf]."""
+def to_mujoco(robot, **options):
+    """The compiled ``mujoco.MjModel`` of [`to_mjcf`][spacearm.interop.to_mjcf] (same
+    keywords but ``assets``: meshes travel in memory)."""
     mujoco = _import_mujoco()
-    return mujoco.MjModel.from_xml_string(to_mjcf(robot))
+    assets: dict = {}
+    return mujoco.MjModel.from_xml_string(to_mjcf(robot, assets=assets, **options), assets)
+
+
+def save_mjcf(robot, path, **options) -> None:
+    """Write [`to_mjcf`][spacearm.interop.to_mjcf] to ``path`` with its meshes copied beside it
+    (``<stem>_meshes/``, referenced relative to the file), so the folder is self-contained;
+    every file written atomically."""
+    path = os.fspath(path)
+    assets: dict = {}
+    text = to_mjcf(robot, assets=assets, **options)
+    folder = os.path.splitext(os.path.basename(path))[0] + "_meshes"
+    if assets:
+        os.makedirs(os.path.join(os.path.dirname(os.path.abspath(path)), folder), exist_ok=True)
+        for name, data in assets.items():
+            with atomic_open(os.path.join(os.path.dirname(os.path.abspath(path)), folder, name), "wb") as fh:
+                fh.write(data)
+        text = text.replace('<compiler ', f'<compiler meshdir="{folder}" ', 1)
+    write_text(path, text, suffix=".xml")
+
+
+def actuator_controls(robot, tau=None, base_wrench=None, *, base_actuators: bool = False) -> np.ndarray:
+    """MuJoCo ``ctrl`` of the exported actuators: the actuated joints' torques ``tau`` (N, in
+    spacearm's ``q`` order; a passive joint's entry must be 0) then, with ``base_actuators``,
+    ``base_wrench = [F0, N0]`` in 𝒥."""
+    tau = np.zeros(robot.n_dof) if tau is None else vector(tau, "tau", robot.n_dof)
+    actuated = [link.dof for link in sorted((l for l in robot.description.links if l.dof is not None and l.actuated),
+                                            key=lambda l: l.dof)]
+    passive = sorted(set(range(robot.n_dof)) - set(actuated))
+    if passive and np.any(tau[passive] != 0):
+        raise ArgumentError(f"tau drives passive joints (dofs {passive}): they have no actuator")
+    ctrl = [tau[actuated]]
+    if base_actuators:
+        ctrl.append(np.zeros(6) if base_wrench is None else vector(base_wrench, "base_wrench", 6))
+    return np.concatenate(ctrl)
 
 
 def mujoco_transform(robot, x) -> np.ndarray:

@@ -210,7 +210,7 @@ class _Importer:
 
     # ---- model --------------------------------------------------------------------------
     def build(self, name: str, mount_on: Optional[Robot], mount_body: Optional[str], at, end_effector: Optional[str],
-              prefix: str = "", allow_nonphysical_inertia: bool = False) -> Robot:
+              prefix: str = "", allow_nonphysical_inertia: bool = False, package_dirs: Sequence[str] = ()) -> Robot:
         p = prefix
         base = self.bodies[0]
         base_line = self.urdf.links[self.base_link].line
@@ -267,10 +267,53 @@ class _Importer:
                 raise self.fail(self.urdf.links[link].line, f"link '{link}': {exc}") from None
         if ee_point is not None:
             builder.set_end_effector(p + ee_point)
+        self._add_geometries(builder, p, package_dirs)
         try:
             return builder.build()
         except SpacearmError as exc:
             raise ModelFileError(f"{self.urdf.source}: {exc}") from None
+
+    def _mesh_file(self, file: str, folder: Optional[str], package_dirs: Sequence[str]) -> str:
+        """A mesh ``filename`` as a path: a relative one against the URDF's folder; a
+        ``package://NAME/rest`` one as ``DIR/NAME/rest`` for the first of ``package_dirs`` that
+        has it, else the ``rest`` below the nearest folder called ``NAME`` above the URDF (a ROS
+        package layout). Kept as written when no such file exists."""
+        if file.startswith("package://"):
+            package, _, rest = file[len("package://"):].partition("/")
+            candidates = [os.path.join(d, package, rest) for d in package_dirs]
+            here = folder
+            while here and os.path.dirname(here) != here:
+                if os.path.basename(here) == package:
+                    candidates.append(os.path.join(here, rest))
+                here = os.path.dirname(here)
+            for c in candidates:
+                if os.path.isfile(c):
+                    return os.path.normpath(c)
+            return file
+        if file.startswith("file://"):
+            return file[len("file://"):]
+        if folder is not None and "://" not in file and not os.path.isabs(file):
+            return os.path.normpath(os.path.join(folder, file))
+        return file
+
+    def _add_geometries(self, builder: RobotBuilder, p: str, package_dirs: Sequence[str]) -> None:
+        """Each link's visuals and collisions on the body it became: the URDF pose in the link
+        frame, carried into the body's J frame and measured from the body's CM; mesh files
+        resolved by `_mesh_file`."""
+        folder = os.path.dirname(os.path.abspath(self.urdf.source)) if os.path.isfile(self.urdf.source) else None
+        for link, body in self.body_of_link.items():
+            b = self.bodies[body]
+            for g in self.urdf.links[link].geometries:
+                pose = self.pose_of_link[link].then(_Pose(g.rotation, g.origin))
+                dims = dict(g.dims)
+                if isinstance(dims.get("file"), str):
+                    dims["file"] = self._mesh_file(dims["file"], folder, package_dirs)
+                try:
+                    builder.add_geometry(p + b.name, g.shape, role=g.role, origin=pose.t - b.com,
+                                         rotation=quat_from_matrix(pose.R), rgba=g.rgba,
+                                         name=None if g.name is None else p + g.name, **dims)
+                except SpacearmError as exc:
+                    raise self.fail(g.line, f"link '{link}': {exc}") from None
 
     def _add(self, builder: RobotBuilder, line: int, name: str, **kwargs) -> None:
         try:
@@ -295,11 +338,14 @@ def loads_urdf(
     prefix: str = "",
     fixed: str = "merge",
     allow_nonphysical_inertia: bool = False,
+    package_dirs: Sequence[str] = (),
 ) -> Robot:
     """Build a [`Robot`][spacearm.Robot] from URDF text (``str`` or ``bytes``); see [`load_urdf`][spacearm.io.load_urdf]."""
     urdf = parse_urdf(text, source, mimic=mimic)
     importer = _Importer(urdf, base_link, fixed)
-    return importer.build(name or urdf.name, mount_on, mount_body, at, end_effector, str(prefix), bool(allow_nonphysical_inertia))
+    dirs = [package_dirs] if isinstance(package_dirs, (str, os.PathLike)) else list(package_dirs)
+    return importer.build(name or urdf.name, mount_on, mount_body, at, end_effector, str(prefix), bool(allow_nonphysical_inertia),
+                          [os.fspath(d) for d in dirs])
 
 
 def load_urdf(path, **kwargs) -> Robot:
@@ -321,6 +367,9 @@ def load_urdf(path, **kwargs) -> Robot:
     ``<robot name>``). ``allow_nonphysical_inertia``: accept inertias that break the triangle
     inequality ``I1 + I2 >= I3`` (published identified data), with a
     [`NonPhysicalInertiaWarning`][spacearm.errors.NonPhysicalInertiaWarning] per body, instead of refusing the file.
+    ``package_dirs``: folders holding ROS packages, where ``package://NAME/...`` mesh files
+    are looked up (as Pinocchio's ``package_dirs``); the folders above the URDF are searched
+    too. Every ``<visual>`` and ``<collision>`` becomes a geometry of its body (docs/geometry.md).
 
     Raises [`ModelFileError`][spacearm.ModelFileError] with ``file:line:`` for every problem in the file,
     and ``OSError`` if it cannot be read.

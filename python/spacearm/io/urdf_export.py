@@ -6,7 +6,11 @@ whose frame is at its **joint** with the body's axes, its ``<inertial><origin>``
 spacearm ``com``, and a child joint's URDF ``<origin xyz>`` is the spacearm ``origin`` (from
 the parent CM) plus the parent's ``com``. The base becomes the root link with its frame at the
 base CM. Named points become massless links on fixed joints (a URDF has no other way to name a
-frame); reading the file back merges them into their bodies as points again.
+frame); reading the file back merges them into their bodies as points again. Each geometry
+(docs/geometry.md) becomes a ``<visual>`` or ``<collision>`` of its body's link, its origin
+moved by the body's ``com`` like the joints'; a capsule is written as ``<capsule>`` (the
+extension Drake and SDFormat read; ROS's urdfdom skips it), a visual's colour as an inline
+``<material>``.
 
 Joints without position limits are written as ``continuous`` (revolute) or as ``prismatic``
 without ``lower``/``upper``; infinite velocity or effort limits are left out (URDF cannot
@@ -54,6 +58,27 @@ def _inertial(link: ET.Element, mass: float, com, inertia) -> None:
                   iyy=_num(i[1, 1]), iyz=_num(i[1, 2]), izz=_num(i[2, 2]))
 
 
+def _geometry(link: ET.Element, g, com) -> None:
+    """``g`` (a GeometryDescription) as a ``<visual>`` or ``<collision>`` of ``link``, whose
+    frame is at the joint: the geometry's origin from the CM plus the body's ``com``."""
+    el = ET.Element(g.role, name=g.name)
+    # URDF wants <inertial> first by convention; visuals and collisions follow it.
+    link.append(el)
+    ET.SubElement(el, "origin", xyz=_vec(g.origin + com), rpy=_vec(_rpy(g.rotation)))
+    geometry = ET.SubElement(el, "geometry")
+    if g.shape == "box":
+        ET.SubElement(geometry, "box", size=_vec(g.size))
+    elif g.shape in ("cylinder", "capsule"):
+        ET.SubElement(geometry, g.shape, radius=_num(g.radius), length=_num(g.length))
+    elif g.shape == "sphere":
+        ET.SubElement(geometry, "sphere", radius=_num(g.radius))
+    else:
+        ET.SubElement(geometry, "mesh", filename=g.file, scale=_vec(g.scale))
+    if g.role == "visual":
+        material = ET.SubElement(el, "material", name=f"{g.name}_color")
+        ET.SubElement(material, "color", rgba=_vec(g.rgba))
+
+
 def to_urdf(robot) -> str:
     """The model as URDF text (``<robot name>`` = the model name)."""
     d = robot.description
@@ -62,8 +87,10 @@ def to_urdf(robot) -> str:
     com = {d.base.name: np.zeros(3)}
     base = ET.SubElement(root, "link", name=d.base.name)
     _inertial(base, d.base.mass, np.zeros(3), d.base.inertia)
+    elements = {d.base.name: base}
     for link in d.links:
         el = ET.SubElement(root, "link", name=link.name)
+        elements[link.name] = el
         _inertial(el, link.mass, link.com, link.inertia)
         com[link.name] = link.com
         lim = link.limits
@@ -90,6 +117,8 @@ def to_urdf(robot) -> str:
                 ext["actuated"] = "false"
             if ext:
                 ET.SubElement(joint, "spacearm", **ext)
+    for g in d.geometries:
+        _geometry(elements[g.body], g, com[g.body])
     for p in d.points:
         ET.SubElement(root, "link", name=p.name)
         joint = ET.SubElement(root, "joint", name=f"{p.name}_point", type="fixed")

@@ -17,8 +17,10 @@ would have meant a second XML stack in the core and a rebuild for every change; 
 itself is still validated by the Rust core when it is built.
 
 URDF (https://wiki.ros.org/urdf/XML) numbers are attribute strings: ``xyz="0 0 0.1"``.
-Elements this reader does not need (``visual``, ``collision``, ``gazebo``, ``transmission``,
-``material``, ``calibration``, ``safety_controller``) are ignored; elements that
+A link's ``<visual>`` and ``<collision>`` elements become ``UrdfGeometry`` records
+(box, cylinder, sphere, ``<capsule>`` as Drake and SDFormat write it, mesh with its filename as
+written; a visual's colour from its ``<material>``, inline or named at the robot level).
+Elements this reader does not need (``gazebo``, ``transmission``, ``calibration``, ``safety_controller``) are ignored; elements that
 change the kinematics in a way spacearm cannot represent (``mimic``) are errors. A moving
 joint's ``<dynamics damping>`` is its viscous damping (``friction`` is ignored: spacearm has
 no Coulomb friction), and the extension element ``<spacearm stiffness="…" rest="…"
@@ -41,7 +43,7 @@ from .. import _core
 from ..errors import ArgumentError, ModelFileError
 from ..rotations import quat_from_rpy, quat_to_matrix
 
-__all__ = ["UrdfInertial", "UrdfLink", "UrdfJoint", "UrdfRobot", "parse_urdf", "urdf_error"]
+__all__ = ["UrdfGeometry", "UrdfInertial", "UrdfLink", "UrdfJoint", "UrdfRobot", "parse_urdf", "urdf_error"]
 
 
 @dataclass
@@ -57,10 +59,27 @@ class UrdfInertial:
 
 
 @dataclass
+class UrdfGeometry:
+    """A link's ``<visual>`` or ``<collision>``: ``role``, ``shape`` and its dimension keys (as
+    [`RobotBuilder.add_geometry`][spacearm.RobotBuilder.add_geometry] takes them), the pose ``origin``/``rotation``
+    (matrix) in the URDF link frame, the colour (None: not given) and the name (None: not given)."""
+
+    role: str
+    shape: str
+    dims: Dict[str, object]
+    origin: np.ndarray
+    rotation: np.ndarray
+    rgba: Optional[Tuple[float, float, float, float]]
+    name: Optional[str]
+    line: int
+
+
+@dataclass
 class UrdfLink:
     name: str
     inertial: Optional[UrdfInertial]
     line: int
+    geometries: List[UrdfGeometry] = field(default_factory=list)
 
 
 @dataclass
@@ -132,10 +151,11 @@ def _xml_tree(text, source: str) -> Tuple[ET.Element, Dict[int, int]]:
 class _Reader:
     """Turns the element tree into records; every error names the element and its line."""
 
-    def __init__(self, lines: Dict[int, int], source: str, mimic: str):
+    def __init__(self, lines: Dict[int, int], source: str, mimic: str, materials: Optional[Dict[str, tuple]] = None):
         self.lines = lines
         self.source = source
         self.mimic = mimic
+        self.materials = {} if materials is None else materials  # robot-level <material name> -> rgba
 
     def line(self, el: ET.Element) -> int:
         return self.lines.get(id(el), 0)
@@ -218,12 +238,51 @@ class _Reader:
             raise self.fail(m_el if field == "mass" else i_el, message)
         return UrdfInertial(mass, origin, rotation, inertia, self.line(el))
 
+    def color(self, material: Optional[ET.Element], who: str) -> Optional[tuple]:
+        """A ``<material>``'s rgba: its own ``<color>``, else the robot-level material it names."""
+        if material is None:
+            return None
+        color = material.find("color")
+        if color is not None:
+            rgba = self.numbers(color, "rgba", 4, [0.7, 0.7, 0.7, 1.0], who)
+            if np.any(rgba < 0) or np.any(rgba > 1):
+                raise self.fail(color, f"{who}: <color rgba> must be 4 numbers in [0, 1]")
+            return tuple(float(c) for c in rgba)
+        return self.materials.get((material.get("name") or "").strip())
+
+    def geometry(self, el: ET.Element, who: str) -> UrdfGeometry:
+        origin, rotation = self.pose(el, who)
+        g = self.single(el, "geometry", who)
+        if g is None or len(g) != 1:
+            raise self.fail(el if g is None else g, f"{who}: <{el.tag}> needs a <geometry> with one shape "
+                                                    "(box, cylinder, sphere, capsule or mesh)")
+        shape = g[0]
+        dims: Dict[str, object] = {}
+        if shape.tag == "box":
+            dims["size"] = self.numbers(shape, "size", 3, None, who) if shape.get("size") else None
+        elif shape.tag in ("cylinder", "capsule"):
+            dims["radius"] = self.number(shape, "radius", who)
+            dims["length"] = self.number(shape, "length", who)
+        elif shape.tag == "sphere":
+            dims["radius"] = self.number(shape, "radius", who)
+        elif shape.tag == "mesh":
+            dims["file"] = self.attr(shape, "filename", who)
+            dims["scale"] = self.numbers(shape, "scale", 3, [1.0, 1.0, 1.0], who)
+        else:
+            raise self.fail(shape, f"{who}: unknown geometry <{shape.tag}>; expected box, cylinder, sphere, capsule or mesh")
+        if dims.get("size", 0) is None:
+            raise self.fail(shape, f"{who}: <box> needs a 'size' attribute")
+        rgba = self.color(self.single(el, "material", who), who) if el.tag == "visual" else None
+        name = (el.get("name") or "").strip() or None
+        return UrdfGeometry(el.tag, shape.tag, dims, origin, rotation, rgba, name, self.line(el))
+
     def link(self, el: ET.Element) -> UrdfLink:
         name = self.attr(el, "name", "<link>")
         who = f"link '{name}'"
         inertial_el = self.single(el, "inertial", who)
         inertial = None if inertial_el is None else self.inertial(inertial_el, who)
-        return UrdfLink(name, inertial, self.line(el))
+        geometries = [self.geometry(g, f"{who} <{g.tag}>") for g in el if g.tag in ("visual", "collision")]
+        return UrdfLink(name, inertial, self.line(el), geometries)
 
     def joint(self, el: ET.Element) -> UrdfJoint:
         name = self.attr(el, "name", "<joint>")
@@ -295,6 +354,10 @@ def parse_urdf(text, source: str = "<string>", mimic: str = "error") -> UrdfRobo
     reader = _Reader(lines, source, mimic)
     if root.tag != "robot":
         raise reader.fail(root, f"the root element must be <robot>, got <{root.tag}>")
+    for el in root.findall("material"):
+        rgba = reader.color(el, "<material>")
+        if rgba is not None and el.get("name"):
+            reader.materials[el.get("name").strip()] = rgba
     robot = UrdfRobot(name=(root.get("name") or "robot").strip() or "robot", source=source)
     joint_lines: Dict[str, int] = {}
     for el in root:

@@ -20,7 +20,8 @@ __all__ = ["set_batch_threads", "batch_threads"]
 
 def set_batch_threads(threads: Optional[int] = None) -> None:
     """Run batches on ``threads`` threads from now on (a pool of that size, shared by every
-    Robot); ``None`` returns to the default (one per core, or ``RAYON_NUM_THREADS``)."""
+    Robot), at most 1024 (``ArgumentError`` beyond: no call starts threads without limit);
+    ``None`` returns to the default (one per core, or ``RAYON_NUM_THREADS``)."""
     if threads is None:
         _core.set_batch_threads(None)
         return

@@ -53,13 +53,14 @@ class RobotBuilder:
         # builder (which validates every addition).
         self._links: list = []  # (name, parent, joint kind, joint name, core add_link args)
         self._points: list = []  # (name, body, offset)
+        self._geometries: list = []  # (body, core add_geometry keyword arguments)
         self._end_effector: Optional[str] = None
         self._initial_q: Optional[list] = None
         self._initial_q_by_link: dict = {}  # from from_robot / remove_body: link name -> q
 
     @classmethod
     def from_robot(cls, robot: Robot, name: Optional[str] = None, *,
-                   allow_nonphysical_inertia: Optional[bool] = None) -> "RobotBuilder":
+                   allow_nonphysical_inertia: Optional[bool] = None, geometry: bool = True) -> "RobotBuilder":
         """A builder holding ``robot``'s model exactly: the base, every link with its joint,
         limits, passive dynamics and mass properties, the points, the end effector and the initial ``q``.
 
@@ -68,7 +69,8 @@ class RobotBuilder:
         normalized again on the way in).
         The initial ``q`` is kept per link, so links added or removed afterwards keep the other
         joints' initial values (new joints start at 0) unless [`set_initial_q`][spacearm.RobotBuilder.set_initial_q] is called.
-        ``allow_nonphysical_inertia`` defaults to ``robot``'s own choice.
+        ``allow_nonphysical_inertia`` defaults to ``robot``'s own choice. ``geometry=False``
+        leaves out the model's shapes (docs/geometry.md).
         """
         if not isinstance(robot, Robot):
             raise ArgumentError(f"from_robot needs a spacearm.Robot, got {type(robot).__name__}")
@@ -85,6 +87,10 @@ class RobotBuilder:
                        stiffness=link.stiffness, damping=link.damping, rest=link.rest)
         for p in d.points:
             b.add_point(p.name, body=p.body, offset=p.offset.tolist())
+        for g in (d.geometries if geometry else ()):
+            dims = {key: getattr(g, key) for key in ("size", "radius", "length", "file", "scale") if getattr(g, key) is not None}
+            b.add_geometry(g.body, g.shape, role=g.role, origin=g.origin, rotation=g.rotation, rgba=g.rgba,
+                           name=g.name, **dims)
         if d.end_effector is not None:
             b.set_end_effector(d.end_effector)
         b._initial_q_by_link = dict(zip(b._moving_links(), d.initial_q.tolist()))
@@ -168,6 +174,50 @@ class RobotBuilder:
                   number(rest, f"link '{name}' rest"))
         return None if values == (True, 0.0, 0.0, 0.0) else values
 
+    def add_slosh(
+        self,
+        name: str,
+        *,
+        parent: str = "base",
+        model: str,
+        mass: float,
+        position: Sequence[float],
+        axis: Sequence[float],
+        stiffness: Optional[float] = None,
+        frequency: Optional[float] = None,
+        damping: float = 0.0,
+        length: Optional[float] = None,
+        hinge: Optional[Sequence[float]] = None,
+    ) -> "RobotBuilder":
+        """Add a propellant slosh mode as passive links (docs/flexibility.md, "Fuel slosh"; the
+        geometry is the core's, ``model/slosh.rs``).
+
+        ``model``: ``"spring-mass"`` (a point mass on a passive prismatic joint at ``position``,
+        in ``parent``'s frame from its CM, sliding along ``axis``: the mass is at
+        ``position + q·axis``, force ``-k q - c q̇``), ``"pendulum"`` (a point bob at
+        ``length`` along ``axis`` from the pivot at ``position`` at ``q = 0``, one passive
+        revolute joint about ``hinge``, perpendicular to ``axis``) or ``"spherical-pendulum"``
+        (two passive revolute joints at the pivot, about ``hinge`` then ``axis × hinge``, with a
+        massless link ``<name>_gimbal`` between them; singular at ``q₂ = ±π/2``). Give the
+        restoring spring as ``stiffness`` (N/m, or N·m/rad per pendulum joint) or as the mode's
+        ``frequency`` on a clamped tank (rad/s: ``k = m ω²``, ``k = m L² ω²``). ``damping`` acts
+        per joint (N·s/m or N·m·s/rad). The fixed part of the propellant is a rigid mass: add it
+        with [`attach_payload`][spacearm.RobotBuilder.attach_payload].
+        """
+        links = _core.slosh_links(
+            str(name), str(parent), str(model), number(mass, f"slosh '{name}' mass"),
+            list(vector(position, f"slosh '{name}' position", 3)), list(vector(axis, f"slosh '{name}' axis", 3)),
+            None if hinge is None else list(vector(hinge, f"slosh '{name}' hinge", 3)),
+            None if length is None else number(length, f"slosh '{name}' length"),
+            None if stiffness is None else number(stiffness, f"slosh '{name}' stiffness"),
+            None if frequency is None else number(frequency, f"slosh '{name}' frequency"),
+            number(damping, f"slosh '{name}' damping"),
+        )
+        for args in links:
+            self._b.add_link(*args)
+            self._links.append((args[0], args[1], args[2], args[9], tuple(args)))
+        return self
+
     def attach_payload(
         self,
         name: str,
@@ -210,6 +260,7 @@ class RobotBuilder:
             self._initial_q = None
         links = [link for link in self._links if link[0] not in removed]
         points = [p for p in self._points if p[1] not in removed]
+        geometries = [g for g in self._geometries if g[0] not in removed]
         end_effector = self._end_effector if any(p[0] == self._end_effector for p in points) else None
         self._b = _core.ModelBuilder(*self._base)
         self._links, self._points, self._end_effector = [], [], None
@@ -218,6 +269,10 @@ class RobotBuilder:
         self._links = links
         for point, body, offset in points:
             self.add_point(point, body=body, offset=offset)
+        self._geometries = []
+        for body, kwargs in geometries:
+            self._b.add_geometry(body, **kwargs)
+        self._geometries = geometries
         if end_effector is not None:
             self.set_end_effector(end_effector)
         return self
@@ -277,6 +332,57 @@ class RobotBuilder:
         offset = list(vector(offset, f"point '{name}' offset", 3))
         self._b.add_point(str(name), str(body), offset)
         self._points.append((str(name), str(body), offset))
+        return self
+
+    def add_geometry(
+        self,
+        body: str,
+        shape: str,
+        *,
+        role: str = "visual",
+        size: Optional[Sequence[float]] = None,
+        radius: Optional[float] = None,
+        length: Optional[float] = None,
+        file: Optional[str] = None,
+        scale: Optional[Sequence[float]] = None,
+        origin: Sequence[float] = (0.0, 0.0, 0.0),
+        rotation: Optional[Sequence[float]] = None,
+        rpy: Optional[Sequence[float]] = None,
+        rgba: Optional[Sequence[float]] = None,
+        name: Optional[str] = None,
+    ) -> "RobotBuilder":
+        """Add a visual or collision shape fixed to ``body`` (``docs/geometry.md``); it carries
+        no mass (the body's mass properties are its own).
+
+        ``shape``: ``"box"`` (``size``: full side lengths, m), ``"sphere"`` (``radius``),
+        ``"cylinder"`` or ``"capsule"`` (``radius``, ``length``; along the geometry's z; a
+        capsule's ``length`` is its cylinder part), ``"mesh"`` (``file``, STL, OBJ or DAE, and
+        ``scale``). ``origin`` (m, from the body's CM, body frame) and ``rotation`` (quaternion
+        ``[x, y, z, w]``) or ``rpy`` place the geometry frame in the body frame. ``role``:
+        ``"visual"`` or ``"collision"``. ``rgba``: colour, each in [0, 1]. ``name``: unique
+        (default ``<body>_<role><k>``).
+        """
+        who = f"geometry '{name}'" if name is not None else f"geometry on '{body}'"
+        if rotation is not None and rpy is not None:
+            raise ArgumentError(f"{who}: give rotation or rpy, not both")
+        if rpy is not None:
+            quat = quat_from_rpy(*vector(rpy, f"{who} rpy", 3))
+        elif rotation is not None:
+            quat = quaternion(rotation, f"{who} rotation")
+        else:
+            quat = IDENTITY_QUAT
+        kwargs = dict(
+            role=str(role), shape=str(shape), origin=list(vector(origin, f"{who} origin", 3)), rotation=list(quat),
+            size=None if size is None else list(vector(size, f"{who} size", 3)),
+            radius=None if radius is None else number(radius, f"{who} radius"),
+            length=None if length is None else number(length, f"{who} length"),
+            file=None if file is None else str(file),
+            scale=None if scale is None else list(vector(scale, f"{who} scale", 3)),
+            rgba=None if rgba is None else list(vector(rgba, f"{who} rgba", 4)),
+            name=None if name is None else str(name),
+        )
+        self._b.add_geometry(str(body), **kwargs)
+        self._geometries.append((str(body), kwargs))
         return self
 
     def set_end_effector(self, name: str) -> "RobotBuilder":

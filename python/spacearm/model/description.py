@@ -1,6 +1,7 @@
 """The typed description of a model: what [`Robot.description`][spacearm.Robot.description] returns.
 
-A [`ModelDescription`][spacearm.ModelDescription] states a model's parameters as the Rust core holds them, with each
+A [`ModelDescription`][spacearm.ModelDescription] states a model's parameters as the Rust core holds them (its visual and collision shapes too,
+[`GeometryDescription`][spacearm.GeometryDescription], docs/geometry.md), with each
 field's frame and unit (``docs/conventions.md``, "A model's frames, concretely"): every body
 frame has its origin at the body's centre of mass (CM); a joint's ``origin`` and ``rotation``
 are in the parent's frame; its ``axis`` is in the link frame; a link's ``com`` is measured from
@@ -14,6 +15,6 @@ gives the plain-data form that [`Robot.describe`][spacearm.Robot.describe] retur
 
 from __future__ import annotations
 
-from .._core import BaseDescription, JointLimits, LinkDescription, ModelDescription, PointDescription
+from .._core import BaseDescription, GeometryDescription, JointLimits, LinkDescription, ModelDescription, PointDescription
 
-__all__ = ["ModelDescription", "BaseDescription", "LinkDescription", "PointDescription", "JointLimits"]
+__all__ = ["ModelDescription", "BaseDescription", "LinkDescription", "PointDescription", "GeometryDescription", "JointLimits"]

@@ -26,11 +26,11 @@ from typing import NamedTuple, Sequence, Union
 import numpy as np
 
 from .. import _core
-from .._util.arrays import quaternion, real_array, vector, vector3
+from .._util.arrays import finite, quaternion, real_array, vector, vector3
 from .description import ModelDescription
 from ..errors import ArgumentError, NonPhysicalInertiaWarning, NotFoundError, ShapeError, SpacearmTypeError
 
-__all__ = ["Robot", "ExternalWrench", "Kinematics", "Momentum", "InertiaBlocks", "ForwardDynamicsDerivatives", "Linearization"]
+__all__ = ["Robot", "ExternalWrench", "Kinematics", "Momentum", "InertiaBlocks", "ForwardDynamicsDerivatives", "Linearization", "PassiveModes"]
 
 PointLike = Union[str, tuple, None]
 
@@ -401,6 +401,20 @@ class Robot:
         records' ``energy`` is the kinetic energy plus this)."""
         return self._m.spring_energy(x)
 
+    def natural_frequencies(self, x=None, *, actuated: str = "held") -> "PassiveModes":
+        """The small oscillations of the joints' springs about the configuration ``x`` (default:
+        the neutral configuration): the modes of ``K v = ω² H*(q) v`` (docs/flexibility.md,
+        "Natural frequencies"), ascending. ``actuated="held"``: the motors hold the actuated
+        joints still and only the passive joints move; ``"free"``: every joint moves (an unsprung
+        one is a mode at 0 rad/s). Exact small-oscillation frequencies where ``q`` is an
+        equilibrium (the springs at ``rest``); equal there to the linearization's
+        ([`linearize`][spacearm.Robot.linearize]) eigenvalues ``±iω`` without damping."""
+        if actuated not in ("held", "free"):
+            raise ArgumentError(f"actuated must be 'held' or 'free', got {actuated!r}")
+        x = self.neutral_configuration() if x is None else x
+        dofs, w, zeta, shapes = self._m.passive_modes(x, actuated == "held")
+        return PassiveModes(np.asarray(dofs, dtype=int), w, zeta, shapes)
+
     def inverse_dynamics(self, x, u, du, wrenches=None) -> np.ndarray:
         """Generalized force ``f = H du + c - Q_passive - J^T w_ext`` producing ``du`` (RNEA,
         Featherstone §5.3; ``Q_passive``: [`passive_forces`][spacearm.Robot.passive_forces])."""
@@ -499,6 +513,7 @@ class Robot:
             for arr, name, width in ((t, "tau", self.n_dof), (b, "base_wrench", 6)):
                 if arr.ndim not in (1, 2) or arr.shape[-1] != width:
                     raise ShapeError(f"{name} must have length {width} (or shape (B, {width}) for a batch), got shape {arr.shape}")
+                finite(arr, name)  # named here: the core would name the f they are joined into
             if t.ndim == 1 and b.ndim == 1:
                 return np.concatenate([b, t])
             lead = t.shape[0] if t.ndim == 2 else b.shape[0]
@@ -653,6 +668,15 @@ class InverseDynamicsPartials(NamedTuple):
 
     df_dx: np.ndarray  #: (6+N)², with respect to the tangent coordinates [dr0, dtheta, dq]
     df_du: np.ndarray  #: (6+N)², with respect to the generalized velocity u
+
+
+class PassiveModes(NamedTuple):
+    """The modes of [`Robot.natural_frequencies`][spacearm.Robot.natural_frequencies], ascending in frequency."""
+
+    dofs: np.ndarray  #: the joint coordinates that move (the passive ones, or all)
+    frequencies: np.ndarray  #: undamped natural frequencies ω, rad/s
+    damping_ratios: np.ndarray  #: modal damping ratios ζ = vᵀ C v / (2ω)
+    shapes: np.ndarray  #: N × modes, column i mode i's joint displacement, vᵀ H* v = 1
 
 
 class Linearization(NamedTuple):

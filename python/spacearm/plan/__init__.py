@@ -49,6 +49,7 @@ def point_to_point(
     effort_weight: float = 1e-6,
     max_iter: int = 500,
     hessian: str = "objective",
+    smoothness_weight: float = 1e-8,
     progress: Optional[Callable[[int, float], None]] = None,
 ) -> Plan:
     """Plan a motion of ``point`` (default: the end effector) to ``target`` (3 values, m, in 𝒥)
@@ -62,7 +63,7 @@ def point_to_point(
     duration : float
         Maneuver time ``T`` (s).
     nodes : int
-        Number of knot intervals ``K`` (torques are linear on them), at most :data:`MAX_NODES`.
+        Number of knot intervals ``K`` (torques are linear on them), at most ``MAX_NODES``.
     objective : ``"attitude"`` or ``"effort"``
         Minimise the base attitude disturbance ``(1/T) ∫ |θ|² dt`` (plus ``effort_weight``
         times the effort term) or the joint effort ``(1/T) ∫ |tau|² dt``.
@@ -76,16 +77,22 @@ def point_to_point(
     reactionless_end : bool
         Base angular velocity zero at ``T``.
     substeps : int
-        RK4 steps per interval in the shooting map (``nodes * substeps`` at most :data:`MAX_STEPS`).
+        RK4 steps per interval in the shooting map (``nodes * substeps`` at most ``MAX_STEPS``).
     warm_start : ``"reactionless"`` or ``"hold"``
         Initial guess: the reactionless RMRC motion to the target (the minimum-disturbance
         one where the reactionless motion cannot reach it), or the initial state held.
     max_iter : int
-        IPOPT's iteration limit (1 to :data:`MAX_ITER`).
+        IPOPT's iteration limit (1 to ``MAX_ITER``).
     hessian : ``"objective"`` or ``"exact"``
         The Hessian IPOPT uses: the objective's alone (default; the shooting constraints'
         curvature left out, a Gauss–Newton-type approximation) or the exact Hessian of the
         Lagrangian (several times slower per iteration; docs/optimal-control.md).
+    smoothness_weight : float
+        Weight ``w`` of the torque-rate term ``w (1/T) Σ |tau_k+1 − tau_k|² / Δt`` added to the
+        cost (≈ ``w (1/T) ∫ |dtau/dt|² dt``; 0 drops it). Without it the attitude objective
+        leaves the torques nearly free and the optimiser spends them on knot-to-knot zigzags
+        that exploit the error of the RK4 map: a plan that its re-simulation refutes
+        (docs/optimal-control.md, spatial6).
     progress : callable, optional
         Called after each IPOPT iteration with ``(iteration, objective value)``; an exception
         it raises stops the solve and is raised.
@@ -135,6 +142,9 @@ def point_to_point(
     if K * m > MAX_STEPS:
         raise ArgumentError(f"nodes * substeps must be at most {MAX_STEPS} RK4 steps (the planner's bound on the problem "
                             f"size, docs/optimal-control.md), got {K} * {m} = {K * m}")
+    smoothness = number(smoothness_weight, "smoothness_weight")
+    if not (np.isfinite(smoothness) and smoothness >= 0):
+        raise ArgumentError(f"smoothness_weight must be finite and >= 0, got {smoothness_weight!r}")
     iterations = integer(max_iter, "max_iter")
     if not 1 <= iterations <= MAX_ITER:
         raise ArgumentError(f"max_iter must be between 1 and {MAX_ITER} IPOPT iterations, got {iterations}")
@@ -151,7 +161,8 @@ def point_to_point(
     else:
         xg, ug, taug, motion = hold_guess(robot, xs, us, times)
     report = solve(robot, xs, us, tgt, point, T, K, m, objective, bounds, (xg, ug, taug), bool(rest_at_end),
-                   bool(reactionless_end), number(effort_weight, "effort_weight"), iterations, progress, hessian)
+                   bool(reactionless_end), number(effort_weight, "effort_weight"), iterations, progress, hessian,
+                   smoothness)
     plan = Plan(robot=robot, objective=objective, target=tgt, point=point, t=times, substeps=m, warm_start=motion, **report)
     plan.verification = verify(plan)
     if not plan.success:

@@ -20,7 +20,12 @@ Objectives (both divided by ``T`` so that their size does not depend on the dura
 - ``"attitude"``: ``(1/T) Σ_k |θ_k|² Δt`` (k = 1..K) with ``θ_k = 2 vec(quat_k ⊗ quat_0*)`` (for small
   angles the base rotation vector since ``t_0``), plus ``effort_weight (1/T) Σ |tau_k|² Δt``
   so that the torques are defined where the attitude does not decide them;
-- ``"effort"``: ``(1/T) Σ_k ½ (|tau_k|² + |tau_k+1|²) Δt`` (trapezoidal rule).
+- ``"effort"``: ``(1/T) Σ_k ½ (|tau_k|² + |tau_k+1|²) Δt`` (trapezoidal rule);
+
+and with either, the torque-rate term ``smoothness_weight (1/T) Σ_k |tau_k+1 − tau_k|² / Δt``.
+
+The K intervals share one shooting map: ``rk4_step`` expanded to ``SX`` (its RK4 stages
+inlined) and mapped over the knots, so its derivatives are built once for one interval.
 """
 
 from __future__ import annotations
@@ -75,7 +80,7 @@ class _Interrupts:
 
 
 def solve(robot, x0, u0, target, point, duration, nodes, substeps, objective, bounds, guess, rest_at_end, reactionless_end,
-          effort_weight, max_iter, progress, hessian="objective"):
+          effort_weight, max_iter, progress, hessian="objective", smoothness_weight=0.0):
     """Build and solve the NLP; returns a dict of the plan arrays and the solver's report."""
     if objective not in OBJECTIVES:
         raise ArgumentError(f"objective must be one of {OBJECTIVES}, got {objective!r}")
@@ -106,6 +111,8 @@ def solve(robot, x0, u0, target, point, duration, nodes, substeps, objective, bo
     else:
         theta = ca.horzcat(*[_attitude_error(ca, X[3:7, k], x0[3:7]) for k in range(1, K + 1)])
         cost = ca.sumsqr(theta) * dt / duration + effort_weight * effort
+    if smoothness_weight:
+        cost += smoothness_weight * ca.sumsqr(TAU[:, 1:] - TAU[:, :K]) / (dt * duration)
     opti.minimize(cost)
     opti.subject_to(position(X[:, K]) == target)
     for j in range(n):

@@ -30,10 +30,10 @@ class Plan:
     ``t`` (K+1,) knot times; ``x`` (K+1, 7+N), ``u`` (K+1, 6+N) and ``tau`` (K+1, N) the
     states and joint torques at the knots, the torque linear between knots. ``status`` is
     IPOPT's return status and ``solver_success`` whether it converged; ``verification`` is the
-    check of the plan by its shooting defect and its re-simulation (:mod:`spacearm.plan.verify`),
+    check of the plan by its shooting defect and its re-simulation ([`spacearm.plan.verify`][spacearm.plan.verify]),
     and ``success`` holds only if both the solver and the check passed (``failure`` says why
     not). A plan that did not succeed holds IPOPT's last iterate, which need not satisfy the
-    constraints; :func:`~spacearm.plan.point_to_point` warns about it (``PlanCheckWarning``).
+    constraints; [`point_to_point`][spacearm.plan.point_to_point] warns about it (``PlanCheckWarning``).
     """
 
     robot: Any = field(repr=False)
@@ -72,8 +72,8 @@ class Plan:
 
     @property
     def resimulation(self):
-        """The re-simulation of the check (:meth:`resimulate` with its default gains), a
-        :class:`~spacearm.trajectory.Trajectory`, or ``None`` if it failed."""
+        """The re-simulation of the check ([`resimulate`][spacearm.plan.Plan.resimulate] with its default gains), a
+        [`Trajectory`][spacearm.Trajectory], or ``None`` if it failed."""
         return None if self.verification is None else self.verification.trajectory
 
     @property
@@ -136,7 +136,7 @@ class Plan:
 
     def comparison(self):
         """The plan, its re-simulation (the check's: the native simulator under computed torque
-        tracking the plan, :attr:`resimulation`) and two other ways to make the same move, each
+        tracking the plan, [`resimulation`][spacearm.plan.Plan.resimulation]) and two other ways to make the same move, each
         over the plan's duration from its initial state: a rest-to-rest quintic joint move to the plan's final
         joint configuration (simulated under computed torque) and the RMRC motion to the target
         the plan was warm-started from (reactionless, or minimum-disturbance where the

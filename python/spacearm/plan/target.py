@@ -6,7 +6,7 @@ The numbers are the core's (``spacearm_core::analysis::reach``): where the syste
 at the end of the maneuver, the largest distance of the point from it in any configuration
 (Vafa & Dubowsky's virtual manipulator, ``R_max = Σ |V_b|``) and, for a planar system in a
 planar state, the plane the point cannot leave. The joint limits enter through the initial
-configuration (it must satisfy them) and through :class:`~spacearm.plan.JointBounds`; ``R_max``
+configuration (it must satisfy them) and through [`JointBounds`][spacearm.plan.JointBounds]; ``R_max``
 ignores position limits, so a target inside it may still be out of reach of a limited arm
 (then IPOPT's status and the plan's check say so).
 """
@@ -23,7 +23,7 @@ PLANE_TOLERANCE = 1e-6
 
 
 def check_target(robot, x0: np.ndarray, u0: np.ndarray, target: np.ndarray, point, duration: float, bounds) -> None:
-    """Raise :class:`~spacearm.errors.ArgumentError` naming the reason if ``point`` of
+    """Raise [`ArgumentError`][spacearm.errors.ArgumentError] naming the reason if ``point`` of
     ``robot`` cannot be at ``target`` after ``duration`` s from ``(x0, u0)`` (module docstring)."""
     q0 = x0[7:]
     outside = np.flatnonzero((q0 < bounds.lower) | (q0 > bounds.upper))

@@ -4,13 +4,13 @@ Two numbers decide whether a plan is one:
 
 - the **defect** of the transcription: the largest residual of the shooting constraints
   ``y_k+1 − Φ(y_k, tau_k, tau_k+1, T/K)`` at the returned knots, ``Φ`` being the plan's own RK4
-  map (:func:`spacearm.casadi.rk4_step`); a plan whose knots do not follow its own dynamics is
+  map ([`rk4_step`][spacearm.casadi.rk4_step]); a plan whose knots do not follow its own dynamics is
   no plan, whatever the solver's status;
 - the **re-simulation**: the plan's joint motion tracked by the native computed-torque
-  controller in the native simulator (:meth:`Plan.resimulate`, another step size). The
-  re-simulated point must end within :data:`POINT_TOLERANCE` of the target, and the
-  re-simulated base attitude must stay, at every knot, within :data:`ATTITUDE_RELATIVE` of the
-  plan's largest base rotation (at least :data:`ATTITUDE_FLOOR`) of the planned attitude. This
+  controller in the native simulator ([`Plan.resimulate`][spacearm.plan.Plan.resimulate], another step size). The
+  re-simulated point must end within ``POINT_TOLERANCE`` of the target, and the
+  re-simulated base attitude must stay, at every knot, within ``ATTITUDE_RELATIVE`` of the
+  plan's largest base rotation (at least ``ATTITUDE_FLOOR``) of the planned attitude. This
   catches a plan that exploits the error of its own discretisation: its knots satisfy the
   shooting constraints, but the continuous dynamics along the same joint path turn the base
   otherwise and miss the target.
@@ -45,10 +45,11 @@ def quaternion_angle(qa: np.ndarray, qb: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Verification:
-    """What the check of a plan found (:func:`verify`); ``passed`` if every number is within
+    """What the check of a plan found ([`verify`][spacearm.plan.verify.verify]); ``passed`` if every number is within
     its tolerance. ``failures`` says, in words, which are not."""
 
     defect: float  #: largest shooting-constraint residual at the knots
+    transcription_error: float  #: estimate of the RK4 map's local error ([`transcription_error`][spacearm.plan.verify.transcription_error])
     point_error: float  #: m, re-simulated point at ``T`` from the target (inf if it failed)
     attitude_error: float  #: rad, largest angle between re-simulated and planned base attitude at the knots
     attitude_tolerance: float  #: rad, the bound ``attitude_error`` is held to
@@ -60,16 +61,33 @@ class Verification:
         return not self.failures
 
 
-def shooting_defect(plan) -> float:
-    """Largest residual of the plan's shooting constraints at its knots (module docstring)."""
+def _interval_ends(plan, substeps: int) -> np.ndarray:
+    """``[x; u]`` at the end of every interval (K, 13+2N): ``substeps`` RK4 steps of the plan's
+    map ([`rk4_step`][spacearm.casadi.rk4_step], torque linear) from each knot under its torques."""
     from ..casadi import rk4_step
 
-    step = rk4_step(plan.robot, plan.substeps, torque="linear")
     K = len(plan.t) - 1
-    out = step.map(K)(plan.x[:-1].T, plan.u[:-1].T, plan.tau[:-1].T, plan.tau[1:].T, np.zeros((6, K)), np.diff(plan.t)[None, :])
-    x_next, u_next = (np.array(v, dtype=float).T for v in out)
-    residual = np.concatenate([x_next - plan.x[1:], u_next - plan.u[1:]], axis=1)
-    return float(np.max(np.abs(residual))) if np.all(np.isfinite(residual)) else float("inf")
+    step = rk4_step(plan.robot, substeps, torque="linear").map(K)
+    x_next, u_next = step(plan.x[:-1].T, plan.u[:-1].T, plan.tau[:-1].T, plan.tau[1:].T, np.zeros((6, K)), np.diff(plan.t)[None, :])
+    return np.concatenate([np.array(x_next, dtype=float).T, np.array(u_next, dtype=float).T], axis=1)
+
+
+def _max_abs(a: np.ndarray) -> float:
+    return float(np.max(np.abs(a))) if np.all(np.isfinite(a)) else float("inf")
+
+
+def shooting_defect(plan) -> float:
+    """Largest residual of the plan's shooting constraints at its knots (module docstring)."""
+    return _max_abs(_interval_ends(plan, plan.substeps) - np.concatenate([plan.x[1:], plan.u[1:]], axis=1))
+
+
+def transcription_error(plan) -> float:
+    """Estimate of the local error of the plan's RK4 map: the largest difference, over the
+    intervals, between ``substeps`` and ``2 * substeps`` RK4 steps from the same knot under the
+    same torques (Richardson: RK4's local error falls 32-fold when the step halves, so this is
+    the coarse map's error to within 1/31). State units; reported, not a criterion (the
+    re-simulation is)."""
+    return _max_abs(_interval_ends(plan, plan.substeps) - _interval_ends(plan, 2 * plan.substeps))
 
 
 def verify(plan) -> Verification:
@@ -78,6 +96,7 @@ def verify(plan) -> Verification:
     defect = shooting_defect(plan)
     if not defect <= DEFECT_TOLERANCE:
         failures.append(f"its knots do not follow its own dynamics (shooting defect {defect:.3g}, tolerance {DEFECT_TOLERANCE:g})")
+    terr = transcription_error(plan)
     planned_rotation = float(np.max(plan.attitude_change))
     attitude_tolerance = max(ATTITUDE_RELATIVE * planned_rotation, ATTITUDE_FLOOR)
     trajectory: Optional[Any] = None
@@ -85,7 +104,7 @@ def verify(plan) -> Verification:
         trajectory = plan.resimulate()
     except SpacearmError as exc:
         failures.append(f"its re-simulation failed ({exc})")
-        return Verification(defect, float("inf"), float("inf"), attitude_tolerance, tuple(failures))
+        return Verification(defect, terr, float("inf"), float("inf"), attitude_tolerance, tuple(failures))
     point_error = float(np.linalg.norm(plan.robot.point_position(trajectory.x[-1], plan.point) - plan.target))
     knots = np.clip(np.searchsorted(trajectory.t, plan.t - 1e-9 * plan.duration), 0, len(trajectory.t) - 1)
     attitude_error = float(np.max(quaternion_angle(trajectory.x[knots, 3:7], plan.x[:, 3:7])))
@@ -95,4 +114,5 @@ def verify(plan) -> Verification:
         failures.append(f"its re-simulated base attitude departs from the plan's by {np.degrees(attitude_error):.3g} deg "
                         f"(tolerance {np.degrees(attitude_tolerance):.3g} deg: {ATTITUDE_RELATIVE:g} of the planned "
                         f"{np.degrees(planned_rotation):.3g} deg, at least {np.degrees(ATTITUDE_FLOOR):.2g} deg)")
-    return Verification(defect, point_error, attitude_error, attitude_tolerance, tuple(failures), trajectory)
+    return Verification(defect, terr, point_error, attitude_error, attitude_tolerance, tuple(failures), trajectory)
+

@@ -23,6 +23,7 @@ from typing import List, Optional, Sequence
 import numpy as np
 
 from .. import _core
+from .._util.arrays import real_array
 from ..errors import ArgumentError, NotFoundError, ShapeError, SimulationError
 from .simulation import DEFAULTS, _check_controller, _check_duration, _check_robot, _options, _warn_dropped
 
@@ -55,10 +56,7 @@ def _states(value, default, width: int, b: int, name: str) -> np.ndarray:
     row, one row → repeated, ``(b, width)`` → as given."""
     if value is None:
         value = default
-    try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ArgumentError(f"{name} must be an array of numbers") from exc
+    a = real_array(value, name)  # the one array check: complex, object and text arrays refused
     if a.ndim == 1:
         a = np.broadcast_to(a, (b, a.shape[0]))
     if a.ndim != 2 or a.shape[1] != width:
@@ -88,6 +86,7 @@ def rollout(
     threads: Optional[int] = None,
     orbit=None,
     gravity_gradient: Optional[bool] = None,
+    stop=None,
 ) -> "Rollouts":
     """Simulate ``B`` rollouts of ``robot`` for ``duration`` seconds on native threads.
 
@@ -115,6 +114,9 @@ def rollout(
         the number of steps only the initial and final samples are kept.
     threads : int, optional
         Number of threads (default: one per core).
+    stop : threading.Event, optional
+        Setting it stops the rollouts within 0.1 s (a ``SimulationError``): how a rollout running
+        on another thread is stopped (Ctrl-C stops one on the main thread by itself).
 
     Returns
     -------
@@ -159,7 +161,9 @@ def rollout(
     else:
         _check_controller(controller)
         specs = None if controller is None else controller._spec(robot)
-    batch = _core.rollout(models, x0, u0, duration, options, specs, None if threads is None else int(threads))
+    if stop is not None and not callable(getattr(stop, "is_set", None)):
+        raise ArgumentError(f"stop must be None or an object with is_set() (a threading.Event), got {type(stop).__name__}")
+    batch = _core.rollout(models, x0, u0, duration, options, specs, None if threads is None else int(threads), stop)
     meta = [None if m is None else m.to_dict() for m in batch.meta]
     for m in meta:
         if m is not None:

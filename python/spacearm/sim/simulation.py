@@ -182,6 +182,26 @@ def _warn_unreachable(meta: dict, stacklevel: int) -> None:
         )
 
 
+def _warn_passive_commanded(robot, data: dict, meta: dict, stacklevel: int) -> None:
+    """Flag and warn when the controller commanded a torque on a passive joint (which has no
+    motor, so the torque was not applied; docs/flexibility.md): ``meta["passive_joints_commanded"]``
+    lists those joints (empty when none)."""
+    passive = np.flatnonzero(~robot.actuated_dofs)
+    tau_cmd = data.get("tau_cmd")
+    names = []
+    if passive.size and tau_cmd is not None:
+        joint_names = [link.joint for link in robot.description.links if link.type != "fixed"]
+        names = [joint_names[d] for d in passive if np.any(np.asarray(tau_cmd)[:, d] != 0.0)]
+    meta["passive_joints_commanded"] = names
+    if names:
+        warnings.warn(
+            f"the controller commanded torque on the passive joints {names}, which have no motor: it was not applied "
+            "(the records' tau is zero there, tau_cmd keeps the command); see meta['passive_joints_commanded']",
+            RuntimeWarning,
+            stacklevel=stacklevel + 1,
+        )
+
+
 def _run(
     robot,
     duration,
@@ -237,6 +257,7 @@ def _run(
         meta["orbit"] = orbit_meta(options)
     _warn_dropped(mode, meta, stacklevel=3)
     _warn_unreachable(meta, stacklevel=3)
+    _warn_passive_commanded(robot, data, meta, stacklevel=3)
     return data, meta
 
 

@@ -11,7 +11,7 @@ next steps, added to the controller's command.
 >>> sim = spacearm.Simulator(robot, dt=1e-3, record_every=10)
 >>> sim.reset(robot.neutral_configuration(), robot.zero_velocity())
 >>> for _ in range(100):
-...     sim.step(tau=[0.1, 0, 0, 0, 0, 0])
+...     state = sim.step(tau=[0.1, 0, 0, 0, 0, 0])
 >>> round(sim.time, 9), sim.trajectory()["x"].shape
 (0.1, (11, 13))
 """
@@ -96,13 +96,18 @@ class Simulator:
         (default: zero), with empty records and a fresh controller."""
         self._core.reset(self._robot.neutral_configuration() if x0 is None else x0, self._robot.zero_velocity() if u0 is None else u0)
 
-    def step(self, tau=None, n: Optional[int] = None, base_wrench=None) -> None:  # replaced per instance by the core's method
+    def step(self, tau=None, n: Optional[int] = None, base_wrench=None) -> np.ndarray:  # replaced per instance by the core's method
         """Advance ``n`` steps of ``dt`` (an int >= 1; ``None``: one) with ``tau`` (N joint
         torques) and ``base_wrench`` (``[F0, N0]`` in 𝒥, as the mode allows) added to the
-        controller's command over these steps (``None``: nothing added). Steps land on
-        ``t = i·dt``. The records the steps would add are admitted first (``ResourceLimitError``);
-        Ctrl-C stops a long call within 0.1 s, the steps taken so far kept."""
-        self._core.step(tau, n, base_wrench)
+        controller's command over these steps (``None``: nothing added), and return the new
+        state ``[x; u]`` (length 13+2N; a new array, as [`state`][spacearm.Simulator.state]).
+        Steps land on ``t = i·dt``. The records the steps would add are admitted first
+        (``ResourceLimitError``); Ctrl-C stops a long call within 0.1 s, the steps taken so far
+        kept.
+
+        Used without Gym, this is the whole loop of a learning environment or a hardware
+        test: ``state = sim.step(tau)`` once per control period."""
+        return self._core.step(tau, n, base_wrench)
 
     @property
     def time(self) -> float:

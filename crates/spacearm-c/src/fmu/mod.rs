@@ -201,7 +201,7 @@ impl Instance {
             return Err(format!("the communication point {t} s is not the FMU's time {now} s"));
         }
         let steps = (h / dt).round();
-        if !(h > 0.0) || steps < 1.0 || (steps * dt - h).abs() > 1e-6 * dt {
+        if !h.is_finite() || h <= 0.0 || steps < 1.0 || (steps * dt - h).abs() > 1e-6 * dt {
             return Err(format!("the communication step {h} s must be a positive multiple of the FMU's RK4 step {dt} s (set when the FMU was exported)"));
         }
         let l = &self.layout;
@@ -233,8 +233,8 @@ pub(crate) fn run_fmi(inst: &mut Instance, body: impl FnOnce(&mut Instance) -> R
         Ok(Err(m)) => m,
         Err(_) => "internal error in spacearm (a Rust panic, caught at the FMI boundary)".to_string(),
     };
-    let logger = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| (inst.logger)(true, &msg)));
-    let _ = logger;
+    // A panicking logger (the importer's code) must not unwind through the FMI boundary either.
+    let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| (inst.logger)(true, &msg)));
     Err(())
 }
 

@@ -105,6 +105,23 @@ pub(crate) fn rnea_after_kinematics<T: Real>(model: &Model, data: &mut DataT<T>,
     data.tau.fixed_rows_mut::<6>(0).copy_from(&f0);
 }
 
+/// The wrench `[f; n]` (𝒥) that the joint of `body` (≥ 1) transmits from its parent to the
+/// subtree it carries at `(x, u, u̇)`, the moment about `body`'s CM: RNEA's joint force
+/// (Featherstone 2008, §5.3) moved from the base CM to the body's CM. For a leaf body on a fixed
+/// joint (a captured payload, docs/capture.md) it is the wrench that holds the body on its
+/// motion, `f = m a_c`, `n = d(I ω)/dt`: the exact derivative of the body's momentum.
+pub fn joint_wrench(model: &Model, data: &mut Data, x: &[f64], u: &[f64], du: &[f64], body: usize) -> Result<Vector6<f64>> {
+    crate::algorithms::kinematics::check_body(model, body)?;
+    if body == 0 {
+        return Err(crate::error::SpacearmError::argument("body 0 is the base: it has no joint to transmit a wrench (give a link, >= 1)"));
+    }
+    rnea(model, data, x, u, du, &[])?;
+    let w = data.body_force[body];
+    let (f, n_base) = (linear(&w), angular(&w));
+    let n = n_base - (data.com_in_world[body] - data.base_position).cross(&f);
+    Ok(spatial(&f, &n))
+}
+
 /// Bias vector `c(x, u)` (Coriolis and centrifugal terms; no gravity in orbit): the inverse
 /// dynamics at `u̇ = 0` with no external wrench.
 pub fn bias_forces<'d>(model: &Model, data: &'d mut Data, x: &[f64], u: &[f64]) -> Result<&'d DVector<f64>> {
@@ -112,4 +129,33 @@ pub fn bias_forces<'d>(model: &Model, data: &'d mut Data, x: &[f64], u: &[f64]) 
     check_velocity(model, "u", u)?;
     rnea_after_kinematics(model, data, u, None, &[]);
     Ok(&data.tau)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::algorithms::kinematics::point_jacobians;
+    use crate::model::presets::{initial_configuration, spatial6};
+    use nalgebra::Vector3;
+
+    #[test]
+    fn from_rest_the_last_link_s_joint_wrench_is_its_mass_times_the_jacobian_acceleration() {
+        // At rest (u = 0) a body's CM accelerates by J_v u̇ and its frame by J_ω u̇ (J̇u = 0), so
+        // the wrench holding the last link is [m J_v u̇; I_w J_ω u̇]: independent of the RNEA passes.
+        let robot = spatial6();
+        let mut x = initial_configuration(&robot);
+        x[7..].iter_mut().enumerate().for_each(|(j, q)| *q += 0.4 * (j as f64 + 0.5).sin());
+        let du: Vec<f64> = (0..robot.nu()).map(|k| 0.3 * ((k as f64) * 0.7 + 0.2).cos()).collect();
+        let b = robot.n_bodies() - 1;
+        let mut d = Data::new(&robot);
+        let w = joint_wrench(&robot, &mut d, &x, &vec![0.0; robot.nu()], &du, b).unwrap();
+        let (j0, jm) = point_jacobians(&robot, &d, b, &Vector3::zeros()).unwrap();
+        let a = j0 * Vector6::from_column_slice(&du[..6]) + Vector6::from_column_slice((jm * DVector::from_column_slice(&du[6..])).as_slice());
+        let m = robot.links()[b - 1].mass.mass;
+        let f = linear(&a) * m;
+        let n = d.inertia_in_world[b] * angular(&a);
+        let want = spatial(&f, &n);
+        assert!((w - want).norm() < 1e-12 * want.norm(), "{w:?} vs {want:?}");
+        assert!(joint_wrench(&robot, &mut d, &x, &du, &du, 0).is_err());
+    }
 }

@@ -2,8 +2,9 @@
 //! [`crate::gjm`]: dynamic singularities ([`singularity`]), workspaces ([`workspace`]), the
 //! reaction null space ([`reaction_null_space`]), the resolved-motion-rate solver through `J*`
 //! ([`rmrc_solver`], shared with the native controller of [`crate::control::rmrc`]), redundancy
-//! resolution with it ([`redundancy`]), the reach and plane of a point ([`reach`]), and the kinematics of free-floating motion with
-//! conserved momentum ([`free_floating_kinematics`]).
+//! resolution with it ([`redundancy`]), the reach and plane of a point ([`reach`]), the kinematics
+//! of free-floating motion with conserved momentum ([`free_floating_kinematics`]), and the small
+//! oscillations of the joints' springs ([`passive_modes`]).
 //!
 //! Shared here: the selection of task rows of a point twist ([`Task`]) and the singular value
 //! decomposition with sorted singular values and full right singular vectors ([`Svd`]); the
@@ -17,6 +18,7 @@
 //! peer); nothing from `control` (which imports [`rmrc_solver`] and [`Task`] from here).
 
 pub mod free_floating_kinematics;
+pub mod passive_modes;
 pub mod reach;
 pub mod reaction_null_space;
 pub mod redundancy;

@@ -46,7 +46,9 @@ use crate::error::{ModelError, ModelField, ModelItem, Result, SpacearmError};
 use crate::io::dh::{ClassicDhLink, DhArm, DhTable, PaperDhLink};
 use crate::model::joint::{JointDynamics, JointLimits, JointType};
 use crate::math::rotations::xyzw_from_rpy;
-use crate::model::{LinkSpec, Model, ModelBuilder, TriangleInequality};
+use crate::model::geometry::ShapeParts;
+use crate::model::slosh::{slosh_links, SloshModel, SloshRestoring, SloshSpec};
+use crate::model::{GeometryRole, GeometrySpec, LinkSpec, Model, ModelBuilder, Shape, TriangleInequality};
 
 /// The file format version written by [`model_to_toml`] and accepted by the reader
 /// (`[model] format_version`, optional).
@@ -65,9 +67,32 @@ struct FileDoc {
     link: Vec<Spanned<LinkDoc>>,
     #[serde(default)]
     point: Vec<Spanned<PointDoc>>,
+    #[serde(default)]
+    geometry: Vec<Spanned<GeometryDoc>>,
+    #[serde(default)]
+    slosh: Vec<Spanned<SloshDoc>>,
     dh: Option<Spanned<DhDoc>>,
     end_effector: Option<Spanned<String>>,
     initial_q: Option<Spanned<Vec<f64>>>,
+}
+
+/// A `[[slosh]]` table: an equivalent mechanical slosh model (docs/flexibility.md), added as
+/// passive links by [`ModelBuilder::add_slosh`].
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SloshDoc {
+    name: Spanned<String>,
+    parent: Option<Spanned<String>>,
+    model: Spanned<String>,
+    mass: Spanned<f64>,
+    position: Spanned<[f64; 3]>,
+    axis: Spanned<[f64; 3]>,
+    hinge: Option<Spanned<[f64; 3]>>,
+    length: Option<Spanned<f64>>,
+    stiffness: Option<Spanned<f64>>,
+    frequency: Option<Spanned<f64>>,
+    #[serde(default)]
+    damping: f64,
 }
 
 #[derive(Deserialize)]
@@ -150,6 +175,25 @@ struct PointDoc {
     name: Spanned<String>,
     body: Spanned<String>,
     offset: Spanned<[f64; 3]>,
+}
+
+/// A `[[geometry]]` table (docs/geometry.md): `shape` says which dimension keys it takes.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GeometryDoc {
+    name: Option<Spanned<String>>,
+    body: Spanned<String>,
+    role: Option<Spanned<String>>,
+    shape: Spanned<String>,
+    size: Option<Spanned<[f64; 3]>>,
+    radius: Option<Spanned<f64>>,
+    length: Option<Spanned<f64>>,
+    file: Option<Spanned<String>>,
+    scale: Option<Spanned<[f64; 3]>>,
+    origin: Option<Spanned<[f64; 3]>>,
+    rotation: Option<Spanned<[f64; 4]>>,
+    rpy: Option<Spanned<[f64; 3]>>,
+    rgba: Option<Spanned<[f64; 4]>>,
 }
 
 #[derive(Deserialize, Clone, Copy, PartialEq)]
@@ -409,6 +453,7 @@ struct Located<'a> {
     base: ItemSpans,
     links: Vec<ItemSpans>,
     points: Vec<ItemSpans>,
+    geometries: Vec<ItemSpans>,
     dh_arm: ItemSpans,
     dh_rows: Vec<Span>,
     /// Body names with the span of their definition, base first, in the builder's order.
@@ -424,6 +469,7 @@ impl Located<'_> {
             ModelItem::Base => self.base.of(e.field),
             ModelItem::Link(k) => self.links.get(k).map_or_else(|| self.model.whole.clone(), |s| s.of(e.field)),
             ModelItem::Point(k) => self.points.get(k).map_or_else(|| self.model.whole.clone(), |s| s.of(e.field)),
+            ModelItem::Geometry(k) => self.geometries.get(k).map_or_else(|| self.model.whole.clone(), |s| s.of(e.field)),
             ModelItem::DhArm => self.dh_arm.of(e.field),
             ModelItem::DhRow(k) => self.dh_rows.get(k).cloned().unwrap_or_else(|| self.dh_arm.whole.clone()),
         }
@@ -495,6 +541,7 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
         },
         links: Vec::new(),
         points: Vec::new(),
+        geometries: Vec::new(),
         dh_arm: ItemSpans::uniform(dh_span.clone()),
         dh_rows: Vec::new(),
         bodies: vec![(base_name.clone(), base_name_span)],
@@ -599,6 +646,40 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
         }
     }
 
+    // [[slosh]] modes: passive links on bodies defined above.
+    for sd in &doc.slosh {
+        let s = sd.get_ref();
+        let name = s.name.get_ref();
+        let model = SloshModel::from_name(s.model.get_ref())
+            .ok_or_else(|| ctx.err(&sp(&s.model), format!("slosh '{name}': model must be one of {:?}, got '{}'", SloshModel::NAMES, s.model.get_ref())))?;
+        let restoring = match (&s.stiffness, &s.frequency) {
+            (Some(k), None) => SloshRestoring::Stiffness(*k.get_ref()),
+            (None, Some(w)) => SloshRestoring::Frequency(*w.get_ref()),
+            _ => return Err(ctx.err(&sp(sd), format!("slosh '{name}': give stiffness or frequency (one of them)"))),
+        };
+        let spec = SloshSpec {
+            name: name.clone(),
+            parent: s.parent.as_ref().map_or_else(|| base_name.clone(), |p| p.get_ref().clone()),
+            model,
+            mass: *s.mass.get_ref(),
+            position: *s.position.get_ref(),
+            axis: *s.axis.get_ref(),
+            hinge: s.hinge.as_ref().map(|h| *h.get_ref()),
+            length: s.length.as_ref().map(|l| *l.get_ref()),
+            restoring,
+            damping: s.damping,
+        };
+        let links = slosh_links(&spec, ModelItem::Link(at.links.len())).map_err(|e| ctx.err(&sp(sd), e))?;
+        for (link, dynamics) in links {
+            at.bodies.push((link.name.clone(), sp(&s.name)));
+            at.joints.push((link.joint_name.clone().unwrap_or_default(), sp(sd)));
+            at.links.push(ItemSpans::uniform(sp(sd)));
+            let link_name = link.name.clone();
+            builder.add_link(link).map_err(|e| at.err(e))?;
+            builder.set_joint_dynamics(&link_name, dynamics).map_err(|e| at.err(e))?;
+        }
+    }
+
     // [[point]]s.
     for pd in &doc.point {
         let p = pd.get_ref();
@@ -607,6 +688,13 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
             fields: vec![(ModelField::Name, sp(&p.name)), (ModelField::Body, sp(&p.body)), (ModelField::Offset, sp(&p.offset))],
         });
         builder.add_point(p.name.get_ref(), p.body.get_ref(), *p.offset.get_ref()).map_err(|e| at.err(e))?;
+    }
+
+    // [[geometry]]s.
+    for gd in &doc.geometry {
+        let (spec, spans) = geometry_spec(ctx, gd)?;
+        at.geometries.push(spans);
+        builder.add_geometry(spec).map_err(|e| at.err(e))?;
     }
 
     // End effector, initial q, and the rules that need the whole model.
@@ -651,6 +739,61 @@ fn missing_parent(ctx: &Ctx<'_>, doc: &FileDoc, all_links: &HashMap<&str, (usize
     }
     let known: Vec<&str> = bodies.iter().map(|(n, _)| n.as_str()).collect();
     format!("link '{name}': parent '{parent}' is not a body of the model; bodies defined so far: {known:?}")
+}
+
+/// A `[[geometry]]` table as the builder's spec, with the spans of its fields: the shape's
+/// dimension keys are those of its kind (docs/geometry.md), each required, no other allowed.
+fn geometry_spec(ctx: &Ctx<'_>, gd: &Spanned<GeometryDoc>) -> Result<(GeometrySpec, ItemSpans)> {
+    let g = gd.get_ref();
+    let who = g.name.as_ref().map_or_else(|| format!("geometry on '{}'", g.body.get_ref()), |n| format!("geometry '{}'", n.get_ref()));
+    let role = match &g.role {
+        None => GeometryRole::Visual,
+        Some(r) => GeometryRole::from_name(r.get_ref())
+            .ok_or_else(|| ctx.err(&sp(r), format!("{who}: role must be \"visual\" or \"collision\", got {:?}", r.get_ref())))?,
+    };
+    let present: [(&str, Option<Span>); 5] = [
+        ("size", g.size.as_ref().map(sp)),
+        ("radius", g.radius.as_ref().map(sp)),
+        ("length", g.length.as_ref().map(sp)),
+        ("file", g.file.as_ref().map(sp)),
+        ("scale", g.scale.as_ref().map(sp)),
+    ];
+    let parts = ShapeParts {
+        size: g.size.as_ref().map(|v| *v.get_ref()),
+        radius: g.radius.as_ref().map(|v| *v.get_ref()),
+        length: g.length.as_ref().map(|v| *v.get_ref()),
+        file: g.file.as_ref().map(|v| v.get_ref().clone()),
+        scale: g.scale.as_ref().map(|v| *v.get_ref()),
+    };
+    let shape = Shape::from_parts(g.shape.get_ref(), parts).map_err(|m| {
+        // Point at the key named in the message (an extra key), else at the shape.
+        let span = present.iter().find(|(k, s)| s.is_some() && m.contains(&format!("`{k}`"))).and_then(|(_, s)| s.clone());
+        let span = span.unwrap_or_else(|| if m.contains("needs") { sp(gd) } else { sp(&g.shape) });
+        ctx.err(&span, format!("{who}: {m}"))
+    })?;
+    let rotation = rotation_xyzw(ctx, &who, &g.rotation, &g.rpy, ("rotation", "rpy"))?;
+    let shape_span = present.iter().find_map(|(_, s)| s.clone()).unwrap_or_else(|| sp(&g.shape));
+    let spans = ItemSpans {
+        whole: sp(gd),
+        fields: vec![
+            (ModelField::Name, g.name.as_ref().map_or_else(|| sp(gd), sp)),
+            (ModelField::Body, sp(&g.body)),
+            (ModelField::Shape, shape_span),
+            (ModelField::Origin, g.origin.as_ref().map_or_else(|| sp(gd), sp)),
+            (ModelField::Rotation, g.rotation.as_ref().map(sp).or_else(|| g.rpy.as_ref().map(sp)).unwrap_or_else(|| sp(gd))),
+            (ModelField::Color, g.rgba.as_ref().map_or_else(|| sp(gd), sp)),
+        ],
+    };
+    let spec = GeometrySpec {
+        name: g.name.as_ref().map(|n| n.get_ref().clone()),
+        body: g.body.get_ref().clone(),
+        role,
+        shape,
+        origin: g.origin.as_ref().map_or([0.0; 3], |o| *o.get_ref()),
+        rotation,
+        rgba: g.rgba.as_ref().map(|c| *c.get_ref()),
+    };
+    Ok((spec, spans))
 }
 
 /// The `[dh]` section as a [`DhArm`] on the base, with the span of each row.
@@ -847,6 +990,33 @@ pub fn model_to_toml(model: &Model) -> String {
         let _ = writeln!(s, "name = {}", string(&p.name));
         let _ = writeln!(s, "body = {}", string(model.body_name(p.body)));
         let _ = writeln!(s, "offset = {}", vec_str(p.offset.as_slice()));
+    }
+    for g in model.geometries() {
+        let _ = writeln!(s, "\n[[geometry]]");
+        let _ = writeln!(s, "name = {}", string(&g.name));
+        let _ = writeln!(s, "body = {}", string(model.body_name(g.body)));
+        let _ = writeln!(s, "role = {}", string(g.role.as_str()));
+        let _ = writeln!(s, "shape = {}", string(g.shape.kind()));
+        match &g.shape {
+            Shape::Box { size } => {
+                let _ = writeln!(s, "size = {}", vec_str(size));
+            }
+            Shape::Sphere { radius } => {
+                let _ = writeln!(s, "radius = {}", num(*radius));
+            }
+            Shape::Cylinder { radius, length } | Shape::Capsule { radius, length } => {
+                let _ = writeln!(s, "radius = {}\nlength = {}", num(*radius), num(*length));
+            }
+            Shape::Mesh { file, scale } => {
+                let _ = writeln!(s, "file = {}\nscale = {}", string(file), vec_str(scale));
+            }
+        }
+        let _ = writeln!(s, "origin = {}", vec_str(g.origin.as_slice()));
+        let q = g.rotation;
+        if !(q.i == 0.0 && q.j == 0.0 && q.k == 0.0 && q.w == 1.0) {
+            let _ = writeln!(s, "rotation = {}", vec_str(&[q.i, q.j, q.k, q.w]));
+        }
+        let _ = writeln!(s, "rgba = {}", vec_str(&g.rgba));
     }
     s
 }
@@ -1121,4 +1291,51 @@ joint1_origin = [0.25, 0.0, 0.0]
         let e = err(&DEMO.replace("inertia = [0.01, 0.4, 0.4]", "inertia = [[1e308, 1e308, 1e308], [1e308, 1e308, 1e308], [1e308, 1e308, 1e308]]"));
         assert!(e.contains("link 'arm'"), "{e}");
     }
+
+    #[test]
+    fn geometry_tables_read_write_and_round_trip() {
+        let text = format!(
+            "{DEMO}\n[[geometry]]\nbody = \"base\"\nshape = \"box\"\nsize = [1.0, 0.8, 0.6]\nrgba = [0.9, 0.7, 0.3, 1.0]\n\
+             [[geometry]]\nname = \"arm_rod\"\nbody = \"arm\"\nshape = \"capsule\"\nradius = 0.05\nlength = 0.9\nrpy = [0.0, 1.5707963267948966, 0.0]\n\
+             [[geometry]]\nbody = \"arm\"\nrole = \"collision\"\nshape = \"cylinder\"\nradius = 0.06\nlength = 1.0\norigin = [0.0, 0.0, 0.1]\n\
+             [[geometry]]\nbody = \"slider\"\nshape = \"sphere\"\nradius = 0.1\n\
+             [[geometry]]\nbody = \"slider\"\nshape = \"mesh\"\nfile = \"meshes/hand.stl\"\nscale = [0.001, 0.001, 0.001]\n"
+        );
+        let m = model_from_toml_str(&text, "g.toml").unwrap();
+        let g = m.geometries();
+        assert_eq!(g.len(), 5);
+        assert_eq!((g[0].name.as_str(), g[0].body, g[0].role), ("base_visual0", 0, GeometryRole::Visual));
+        assert_eq!(g[0].shape, Shape::Box { size: [1.0, 0.8, 0.6] });
+        assert_eq!(g[0].rgba, [0.9, 0.7, 0.3, 1.0]);
+        assert_eq!(g[1].name, "arm_rod");
+        // rpy (0, π/2, 0) is Ry(π/2): it turns the capsule's z onto the body's x.
+        let z = g[1].rotation * Vector3::z();
+        assert!((z - Vector3::x()).norm() < 1e-15, "{z:?}");
+        assert_eq!((g[2].name.as_str(), g[2].role), ("arm_collision0", GeometryRole::Collision));
+        assert_eq!(g[2].origin, Vector3::new(0.0, 0.0, 0.1));
+        assert_eq!(g[3].shape, Shape::Sphere { radius: 0.1 });
+        assert_eq!(g[4].shape, Shape::Mesh { file: "meshes/hand.stl".into(), scale: [0.001; 3] });
+        assert_eq!(g[4].rgba, crate::model::geometry::DEFAULT_RGBA);
+        let again = model_from_toml_str(&model_to_toml(&m), "again.toml").unwrap();
+        assert_eq!(again, m);
+        // Errors point at the offending key.
+        let bad = |geometry: &str| err(&format!("{DEMO}\n[[geometry]]\n{geometry}"));
+        let e = bad("body = \"ghost\"\nshape = \"sphere\"\nradius = 1.0\n");
+        assert!(e.contains("'ghost': not a body") && e.contains("body = \"ghost\""), "{e}");
+        let e = bad("body = \"arm\"\nshape = \"sphere\"\nradius = -1.0\n");
+        assert!(e.contains("sphere radius must be a finite length > 0") && e.contains("radius = -1.0"), "{e}");
+        let e = bad("body = \"arm\"\nshape = \"box\"\nradius = 1.0\n");
+        assert!(e.contains("a box takes size, not `radius`"), "{e}");
+        let e = bad("body = \"arm\"\nshape = \"cylinder\"\nradius = 1.0\n");
+        assert!(e.contains("a cylinder needs `length`"), "{e}");
+        let e = bad("body = \"arm\"\nshape = \"cone\"\nradius = 1.0\n");
+        assert!(e.contains("shape must be \"box\""), "{e}");
+        let e = bad("body = \"arm\"\nrole = \"both\"\nshape = \"sphere\"\nradius = 1.0\n");
+        assert!(e.contains("role must be \"visual\" or \"collision\""), "{e}");
+        let e = bad("body = \"arm\"\nshape = \"sphere\"\nradius = 1.0\nrgba = [1.0, 1.0, 1.0, 2.0]\n");
+        assert!(e.contains("rgba must be 4 numbers in [0, 1]") && e.contains("rgba = [1.0"), "{e}");
+        let e = bad("name = \"g\"\nbody = \"arm\"\nshape = \"sphere\"\nradius = 1.0\n[[geometry]]\nname = \"g\"\nbody = \"arm\"\nshape = \"sphere\"\nradius = 1.0\n");
+        assert!(e.contains("geometry name 'g' is used twice"), "{e}");
+    }
+
 }

@@ -8,6 +8,7 @@ use nalgebra::Matrix3;
 
 use crate::error::{ModelError, ModelField, ModelItem};
 use crate::model::body::{MassProperties, TriangleInequality};
+use crate::model::geometry::{self, Geometry, GeometrySpec, DEFAULT_RGBA};
 use crate::model::joint::{JointDynamics, JointLimits, JointType};
 use crate::model::system::{Link, Model, Point};
 use crate::model::validate;
@@ -60,6 +61,8 @@ pub struct ModelBuilder {
     triangle_inequality: TriangleInequality,
     /// Warnings of the bodies accepted under [`TriangleInequality::Warn`].
     inertia_warnings: Vec<String>,
+    geometries: Vec<Geometry>,
+    geometry_names: HashSet<String>,
 }
 
 fn matrix3(rows: &[[f64; 3]; 3]) -> Matrix3<f64> {
@@ -99,6 +102,8 @@ impl ModelBuilder {
             joint_names: HashSet::new(),
             triangle_inequality,
             inertia_warnings: warning.into_iter().collect(),
+            geometries: Vec::new(),
+            geometry_names: HashSet::new(),
         })
     }
 
@@ -172,6 +177,11 @@ impl ModelBuilder {
         Ok(self)
     }
 
+    /// Number of links added so far.
+    pub(crate) fn n_links(&self) -> usize {
+        self.links.len()
+    }
+
     /// Add a named point fixed to `body` at `offset` (body frame, from its CM).
     pub fn add_point(&mut self, name: &str, body: &str, offset: [f64; 3]) -> Result<&mut Self, ModelError> {
         let item = ModelItem::Point(self.points.len());
@@ -188,6 +198,45 @@ impl ModelBuilder {
         let offset = validate::position(item, ModelField::Offset, &who, "offset", &offset)?;
         self.point_names.insert(name.to_string());
         self.points.push(Point { name: name.to_string(), body: b, offset });
+        Ok(self)
+    }
+
+    /// Add a visual or collision shape fixed to `spec.body` (model/geometry.rs): its shape,
+    /// placement and colour are checked here; its name (default `<body>_<role><k>`) must differ
+    /// from every geometry's given before.
+    pub fn add_geometry(&mut self, spec: GeometrySpec) -> Result<&mut Self, ModelError> {
+        let item = ModelItem::Geometry(self.geometries.len());
+        let body = self.body_index(&spec.body).ok_or_else(|| {
+            ModelError::new(
+                item,
+                ModelField::Body,
+                format!("geometry on '{}': not a body of the model; bodies defined so far: {:?}", spec.body, self.body_names()),
+            )
+        })?;
+        let name = match spec.name {
+            Some(n) => {
+                validate::non_empty_name(item, ModelField::Name, "geometry name", &n)?;
+                n
+            }
+            None => {
+                let k = self.geometries.iter().filter(|g| g.body == body && g.role == spec.role).count();
+                let mut n = format!("{}_{}{k}", spec.body, spec.role.as_str());
+                while self.geometry_names.contains(&n) {
+                    n.push('_');
+                }
+                n
+            }
+        };
+        if self.geometry_names.contains(&name) {
+            return Err(ModelError::new(item, ModelField::Name, format!("geometry name '{name}' is used twice")));
+        }
+        let who = format!("geometry '{name}'");
+        geometry::check_shape(item, &who, &spec.shape)?;
+        let rgba = spec.rgba.unwrap_or(DEFAULT_RGBA);
+        geometry::check_rgba(item, &who, &rgba)?;
+        let (origin, rotation) = geometry::check_placement(item, &who, &spec.origin, &spec.rotation)?;
+        self.geometry_names.insert(name.clone());
+        self.geometries.push(Geometry { name, body, role: spec.role, shape: spec.shape, origin, rotation, rgba });
         Ok(self)
     }
 
@@ -221,7 +270,8 @@ impl ModelBuilder {
             ee,
             self.initial_q.clone(),
         )?
-        .with_triangle_inequality(self.triangle_inequality, self.inertia_warnings.clone()))
+        .with_triangle_inequality(self.triangle_inequality, self.inertia_warnings.clone())
+        .with_geometries(self.geometries.clone()))
     }
 }
 

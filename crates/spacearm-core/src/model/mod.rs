@@ -1,7 +1,8 @@
 //! The constant description of a spacecraft-manipulator system and its per-configuration
 //! workspace: mass properties ([`body`]), joints ([`joint`]), the validated [`Model`]
 //! ([`system`]), the one way to build one ([`builder`], checked by [`validate`]), the
-//! workspace [`Data`] ([`data`]) and the paper's case-study models ([`presets`]).
+//! workspace [`Data`] ([`data`]), the bodies' visual and collision shapes ([`geometry`]), the
+//! paper's case-study models ([`presets`]) and the slosh models built from passive joints ([`slosh`]).
 //!
 //! Imports: [`crate::math`] and [`crate::error`] only (the presets use the builder of this
 //! folder).
@@ -9,12 +10,15 @@
 pub mod body;
 pub mod builder;
 pub mod data;
+pub mod geometry;
 pub mod joint;
 pub mod presets;
+pub mod slosh;
 pub mod system;
 pub mod validate;
 
 pub use body::TriangleInequality;
 pub use builder::{LinkSpec, ModelBuilder};
 pub use data::{Data, DataT};
+pub use geometry::{Geometry, GeometryRole, GeometrySpec, Shape};
 pub use system::{Link, Model, Point};

@@ -13,7 +13,8 @@ use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 use crate::error::Result;
 use crate::math::rotations::xyzw_from_rpy;
 use crate::model::joint::{JointLimits, JointType};
-use crate::model::{LinkSpec, Model, ModelBuilder, TriangleInequality};
+use crate::model::geometry::{box_of_moments, segment};
+use crate::model::{GeometryRole, GeometrySpec, LinkSpec, Model, ModelBuilder, Shape, TriangleInequality};
 
 /// Names of the presets, as accepted by [`by_name`].
 pub const NAMES: [&str; 5] = ["planar4", "spatial6", "dual_arm", "spatial7", "ets7"];
@@ -39,6 +40,24 @@ struct SerialArm<'a> {
     limits: &'a [JointLimits],
 }
 
+/// Colours of the presets' shapes: the base a pale gold (foil), the links a light grey.
+const BASE_RGBA: [f64; 4] = [0.85, 0.72, 0.35, 1.0];
+const LINK_RGBA: [f64; 4] = [0.75, 0.77, 0.8, 1.0];
+
+/// A visual box of full sides `size` centred at the CM of `body`, in its axes.
+fn add_box(b: &mut ModelBuilder, body: &str, size: [f64; 3], rgba: [f64; 4]) -> Result<()> {
+    b.add_geometry(GeometrySpec {
+        name: None,
+        body: body.to_string(),
+        role: GeometryRole::Visual,
+        shape: Shape::Box { size },
+        origin: [0.0; 3],
+        rotation: [0.0, 0.0, 0.0, 1.0],
+        rgba: Some(rgba),
+    })?;
+    Ok(())
+}
+
 /// Add a chain of bars on the base (links `{prefix}link1..`, joints `{prefix}joint1..`) and
 /// return the last link's name with the tip's offset from its CM.
 fn add_chain(b: &mut ModelBuilder, prefix: &str, spec: &SerialArm<'_>) -> Result<(String, [f64; 3])> {
@@ -59,6 +78,8 @@ fn add_chain(b: &mut ModelBuilder, prefix: &str, spec: &SerialArm<'_>) -> Result
             inertia: bar_inertia(m, l, spec.width),
             limits: spec.limits.get(i).copied().unwrap_or_else(JointLimits::unlimited),
         })?;
+        // The bar itself: l × w × w about its CM, along the link's x.
+        add_box(b, &name, [l, spec.width, spec.width], LINK_RGBA)?;
         parent = name;
         // The next joint is at this link's tip, half a length beyond its CM.
         origin = [l / 2.0, 0.0, 0.0];
@@ -69,6 +90,7 @@ fn add_chain(b: &mut ModelBuilder, prefix: &str, spec: &SerialArm<'_>) -> Result
 fn serial_arm(spec: SerialArm<'_>) -> Result<Model> {
     let [ixx, iyy, izz] = spec.base_inertia;
     let mut b = ModelBuilder::new(spec.name, "base", spec.base_mass, [[ixx, 0.0, 0.0], [0.0, iyy, 0.0], [0.0, 0.0, izz]])?;
+    add_box(&mut b, "base", box_of_moments(spec.base_mass, spec.base_inertia), BASE_RGBA)?;
     let (parent, origin) = add_chain(&mut b, "", &spec)?;
     b.add_point("end_effector", &parent, origin)?;
     b.set_end_effector("end_effector");
@@ -124,6 +146,7 @@ pub fn dual_arm() -> Model {
     let (x, y, z) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]);
     let build = || -> Result<Model> {
         let mut b = ModelBuilder::new("dual_arm", "base", 600.0, [[100.0, 0.0, 0.0], [0.0, 122.0, 0.0], [0.0, 0.0, 122.0]])?;
+        add_box(&mut b, "base", [1.2, 1.0, 1.0], BASE_RGBA)?;
         let mut initial_q = Vec::new();
         for (side, sign) in [("left", 1.0), ("right", -1.0)] {
             let arm = SerialArm {
@@ -246,6 +269,8 @@ pub fn flatten_negative_second_moment(moments: [f64; 3]) -> [f64; 3] {
 pub fn ets7_with(triangle_inequality: TriangleInequality) -> Model {
     let build = || -> Result<Model> {
         let mut b = ModelBuilder::with_triangle_inequality("ets7", "base", ETS7_BASE_MASS, ETS7_BASE_INERTIA, triangle_inequality)?;
+        let i = ETS7_BASE_INERTIA;
+        add_box(&mut b, "base", box_of_moments(ETS7_BASE_MASS, [i[0][0], i[1][1], i[2][2]]), BASE_RGBA)?;
         let mut parent = "base".to_string();
         for (i, link) in ETS7_LINKS.iter().enumerate() {
             let [ixx, iyy, izz] = match triangle_inequality {
@@ -266,6 +291,19 @@ pub fn ets7_with(triangle_inequality: TriangleInequality) -> Model {
                 inertia: [[ixx, 0.0, 0.0], [0.0, iyy, 0.0], [0.0, 0.0, izz]],
                 limits: JointLimits::unlimited(),
             })?;
+            // A 0.06 m radius capsule from this joint to the next (or to the end effector).
+            let next = ETS7_LINKS.get(i + 1).map_or(ETS7_END_EFFECTOR, |l| l.origin);
+            if let Some((origin, rotation, length)) = segment([0.0; 3], next) {
+                b.add_geometry(GeometrySpec {
+                    name: None,
+                    body: name.clone(),
+                    role: GeometryRole::Visual,
+                    shape: Shape::Capsule { radius: 0.06, length },
+                    origin,
+                    rotation,
+                    rgba: Some(LINK_RGBA),
+                })?;
+            }
             parent = name;
         }
         b.add_point("end_effector", &parent, ETS7_END_EFFECTOR)?;

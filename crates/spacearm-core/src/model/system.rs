@@ -13,6 +13,7 @@ use nalgebra::{UnitQuaternion, UnitVector3, Vector3};
 use crate::error::{ModelError, Result, SpacearmError};
 use crate::model::body::{MassProperties, TriangleInequality};
 use crate::model::builder::LinkSpec;
+use crate::model::geometry::Geometry;
 use crate::model::joint::{Joint, JointDynamics, JointType};
 use crate::model::validate::check_structure;
 
@@ -96,6 +97,8 @@ pub struct Model {
     /// gave (set by the builder; see [`TriangleInequality`]).
     triangle_inequality: TriangleInequality,
     inertia_warnings: Vec<String>,
+    /// Visual and collision shapes fixed to the bodies (model/geometry.rs); no mass.
+    geometries: Vec<Geometry>,
 }
 
 impl Model {
@@ -148,7 +151,20 @@ impl Model {
             has_passive_forces,
             triangle_inequality: TriangleInequality::Enforce,
             inertia_warnings: Vec::new(),
+            geometries: Vec::new(),
         })
+    }
+
+    /// The model with its geometry (checked by the builder: each on a body of this model).
+    pub(crate) fn with_geometries(mut self, geometries: Vec<Geometry>) -> Self {
+        self.geometries = geometries;
+        self
+    }
+
+    /// Visual and collision geometry, in the order given to the builder; each placed in its
+    /// body's frame (origin at the CM). Carries no mass.
+    pub fn geometries(&self) -> &[Geometry] {
+        &self.geometries
     }
 
     /// The model with the triangle-inequality rule it was built under and the warnings of the

@@ -6,6 +6,8 @@
 //! threads and whichever thread runs it. A rollout that fails (diverges, meets a singular mass
 //! matrix, a controller error) gives its error in its slot of the result; the others run on.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use rayon::prelude::*;
 
 use crate::control::Controller;
@@ -35,6 +37,13 @@ pub const MAX_THREADS: usize = 1024;
 /// The options are checked first (an error there is the whole call's); after that each rollout
 /// succeeds or fails on its own. Nothing is printed or reported while the rollouts run.
 pub fn rollout(specs: Vec<RolloutSpec<'_>>, opts: &SimOptions, threads: Option<usize>) -> Result<Vec<Result<SimResult>>> {
+    rollout_cancellable(specs, opts, threads, &AtomicBool::new(false))
+}
+
+/// [`rollout`] that stops soon after `cancel` is set: every run checks it at each of its
+/// progress reports (~1000 a run) and the runs not yet started do not start; each stopped run
+/// gives `SimulationError("interrupted")` in its slot.
+pub fn rollout_cancellable(specs: Vec<RolloutSpec<'_>>, opts: &SimOptions, threads: Option<usize>, cancel: &AtomicBool) -> Result<Vec<Result<SimResult>>> {
     opts.validate()?;
     // Admission of every rollout's records together (they are all held at the end), counting
     // each model's own values per sample (the controller's few extra columns aside).
@@ -42,7 +51,15 @@ pub fn rollout(specs: Vec<RolloutSpec<'_>>, opts: &SimOptions, threads: Option<u
     let samples = sample_count(opts) as f64;
     admit_records(opts.integrator, samples * specs.len() as f64, values * samples)?;
     let run = move || -> Vec<Result<SimResult>> {
-        specs.into_par_iter().with_max_len(1).map(|mut s| simulate(s.model, s.x0, s.u0, opts, s.controller.as_mut(), &mut |_| Ok(()))).collect()
+        specs
+            .into_par_iter()
+            .with_max_len(1)
+            .map(|mut s| {
+                let mut stop = |_: f64| if cancel.load(Ordering::Relaxed) { Err(SpacearmError::Simulation("interrupted".into())) } else { Ok(()) };
+                stop(0.0)?;
+                simulate(s.model, s.x0, s.u0, opts, s.controller.as_mut(), &mut stop)
+            })
+            .collect()
     };
     match threads {
         None => Ok(run()),

@@ -1,6 +1,6 @@
-"""Export a :class:`~spacearm.Robot` as an FMI co-simulation unit (docs/fmi.md).
+"""Export a [`Robot`][spacearm.Robot] as an FMI co-simulation unit (docs/fmi.md).
 
-The FMU's binary is the spacearm C library (:mod:`spacearm.fmi.library`), which exports the
+The FMU's binary is the spacearm C library (``spacearm.fmi.library``), which exports the
 ``fmi2*`` and ``fmi3*`` functions; the model travels as ``resources/model.toml`` and the stepper
 options (mode, RK4 step, controller) as ``resources/options.toml``; ``modelDescription.xml`` is
 written by the library from the same variable table its binary reads.
@@ -75,7 +75,7 @@ def export(robot: Robot, path, *, mode: str = "floating", controller=None, dt: f
     path : str or os.PathLike
         The file to write (atomically).
     mode : str
-        A mode of :func:`spacearm.simulate`; the flying modes give the FMU the ``base_wrench`` inputs.
+        A mode of [`spacearm.simulate`][spacearm.simulate]; the flying modes give the FMU the ``base_wrench`` inputs.
     controller : JointPD or ComputedTorque, optional
         A native controller with a constant set point, run inside the FMU at every RK4 stage;
         its gains and set point become the FMU parameters ``kp``, ``kd``, ``q_ref``. ``None``:
@@ -85,7 +85,7 @@ def export(robot: Robot, path, *, mode: str = "floating", controller=None, dt: f
     fmi_version : int
         3 (default) or 2.
     joint_limits : bool
-        Whether the joints' effort and velocity limits apply (as in :func:`spacearm.simulate`).
+        Whether the joints' effort and velocity limits apply (as in [`spacearm.simulate`][spacearm.simulate]).
     stop_time : float
         The default experiment's stop time, s.
     model_identifier : str, optional
@@ -94,7 +94,7 @@ def export(robot: Robot, path, *, mode: str = "floating", controller=None, dt: f
     Raises
     ------
     MissingDependencyError
-        The C library is not available (see :mod:`spacearm.fmi.library`).
+        The C library is not available (see ``spacearm.fmi.library``).
     ArgumentError, SpacearmTypeError
         A bad option.
     """
