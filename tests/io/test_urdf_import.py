@@ -107,6 +107,25 @@ def test_mount_on_a_spacecraft_and_prefix():
     assert r.total_mass == pytest.approx(504.0)
 
 
+def test_mount_on_takes_a_model_file_or_a_shipped_name(tmp_path):
+    """mount_on as the CLI's --mount-on takes it: a TOML path or a shipped model's name gives the
+    same model as the Robot loaded by hand; anything else is a SpacearmTypeError (not a raw
+    AttributeError, issue 26)."""
+    path = spacearm.examples.path("spacecraft_bus")
+    bus = spacearm.io.load_toml(path)
+    at = (0.6, 0, 0, 0, 0, 0)
+    ref = loads_urdf(two_link(), mount_on=bus, at=at, prefix="arm_")
+    x = ref.neutral_configuration(np.array([0.4]))
+    for spec in (path, str(path), "spacecraft_bus", "spacecraft_bus.toml"):
+        r = loads_urdf(two_link(), mount_on=spec, at=at, prefix="arm_")
+        assert r.body_names == ref.body_names
+        np.testing.assert_array_equal(r.mass_matrix(x), ref.mass_matrix(x))
+    with pytest.raises(spacearm.errors.SpacearmTypeError, match="mount_on must be a spacearm Robot"):
+        loads_urdf(two_link(), mount_on=3, at=at)
+    with pytest.raises(OSError):
+        loads_urdf(two_link(), mount_on=str(tmp_path / "missing.toml"), at=at)
+
+
 # ---- refusals: element and line ----------------------------------------------------------------
 @pytest.mark.parametrize(
     "text,expected",

@@ -36,8 +36,9 @@ from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
+from .. import examples
 from ..model.builder import RobotBuilder
-from ..errors import ArgumentError, ModelFileError, ShapeError, SpacearmError
+from ..errors import ArgumentError, ModelFileError, ShapeError, SpacearmError, SpacearmTypeError
 from ..model.robot import Robot
 from ..rotations import quat_from_matrix, quat_from_rpy
 from .urdf_parse import UrdfJoint, UrdfRobot, parse_urdf
@@ -324,6 +325,22 @@ class _Importer:
             raise self.fail(line, str(exc)) from None
 
 
+def _mount_robot(mount_on):
+    """``mount_on`` as a Robot: a Robot as it is, a TOML model file's path or a shipped example
+    model's name (``"spacecraft_bus"``, [`spacearm.examples`][spacearm.examples]) loaded, the CLI's
+    ``--mount-on`` in Python; anything else a [`SpacearmTypeError`][spacearm.errors.SpacearmTypeError]."""
+    if mount_on is None or isinstance(mount_on, Robot):
+        return mount_on
+    if isinstance(mount_on, (str, os.PathLike)):
+        from .model_file import load_toml
+        spec = os.fspath(mount_on)
+        if not os.path.exists(spec) and (spec in examples.NAMES or spec[:-5] in examples.NAMES):
+            spec = str(examples.path(spec))
+        return load_toml(spec)
+    raise SpacearmTypeError(f"mount_on must be a spacearm Robot, a TOML model file's path or a shipped example "
+                            f"model's name ({', '.join(examples.NAMES)}), got {type(mount_on).__name__}")
+
+
 def loads_urdf(
     text,
     source: str = "<string>",
@@ -341,6 +358,7 @@ def loads_urdf(
     package_dirs: Sequence[str] = (),
 ) -> Robot:
     """Build a [`Robot`][spacearm.Robot] from URDF text (``str`` or ``bytes``); see [`load_urdf`][spacearm.io.load_urdf]."""
+    mount_on = _mount_robot(mount_on)
     urdf = parse_urdf(text, source, mimic=mimic)
     importer = _Importer(urdf, base_link, fixed)
     dirs = [package_dirs] if isinstance(package_dirs, (str, os.PathLike)) else list(package_dirs)
@@ -352,7 +370,8 @@ def load_urdf(path, **kwargs) -> Robot:
     """Load a URDF file as a spacearm model.
 
     ``base_link``: the link that becomes the free-flying base (default: the URDF root).
-    ``mount_on``: a spacearm [`Robot`][spacearm.Robot] (a spacecraft) to attach the URDF's base
+    ``mount_on``: a spacearm [`Robot`][spacearm.Robot] (a spacecraft), a TOML model file's path or a
+    shipped example model's name (``"spacecraft_bus"``) to attach the URDF's base
     link to, with a fixed joint on ``mount_body`` (default: its base) at
     ``at = (x, y, z, roll, pitch, yaw)`` (the URDF base link frame in that body's frame, from
     its CM; m and rad, URDF's ``R = Rz(yaw) Ry(pitch) Rx(roll)``). ``end_effector``: a URDF link
