@@ -9,6 +9,8 @@ through every door that can express it and checks that each door refuses it with
 
 from __future__ import annotations
 
+import re
+
 import pytest
 
 import spacearm
@@ -128,3 +130,46 @@ def test_bad_mass_properties_get_the_builders_message_from_every_door(what, bad,
     for door, error in doors.items():
         assert isinstance(error, spacearm.ModelError), (door, error)
         assert message in str(error), (door, str(error))
+
+
+# ---- names: short printable labels (issue 26: NUL characters loaded, a 100 kB name was echoed) --
+NAMED_TOML = """
+[model]
+name = "doors"
+
+[base]
+name = "base"
+mass = 100.0
+inertia = [10.0, 10.0, 10.0]
+
+[[link]]
+name = "{name}"
+parent = "base"
+mass = 5.0
+inertia = [0.01, 0.4, 0.4]
+com = [0.5, 0.0, 0.0]
+[link.joint]
+type = "revolute"
+origin = [0.5, 0.0, 0.0]
+axis = [0.0, 0.0, 1.0]
+"""
+
+
+@pytest.mark.parametrize("name, expected", [
+    ("arm\\u0000x", "link name must not contain control characters, got U+0000"),
+    ("arm\\nx", "link name must not contain control characters, got U+000A"),
+    ("x" * 100_000, "link name must be at most 256 characters, got 100000"),
+])
+def test_names_are_short_printable_labels_at_every_door(name, expected):
+    with pytest.raises(spacearm.ModelFileError, match=re.escape(expected)) as info:
+        loads_toml(NAMED_TOML.format(name=name), source="named.toml")
+    assert "named.toml:" in str(info.value) and len(str(info.value)) < 1000
+    real = name.encode().decode("unicode_escape")
+    b = spacearm.Robot.builder("doors", base_mass=100.0, base_inertia=BASE_INERTIA)
+    with pytest.raises(spacearm.ModelError, match=re.escape(expected)) as info:
+        b.add_link(real, parent="base", joint="revolute", axis=(0, 0, 1), origin=(0.5, 0, 0),
+                   com=(0.5, 0, 0), mass=5.0, inertia=GOOD_INERTIA)
+    assert len(str(info.value)) < 1000
+    # the model's own name too
+    with pytest.raises(spacearm.ModelError, match="model name must not contain control characters"):
+        spacearm.Robot.builder("doors\x00", base_mass=100.0, base_inertia=BASE_INERTIA)

@@ -89,6 +89,29 @@ fn names_must_not_be_empty() {
 }
 
 #[test]
+fn names_are_short_printable_labels() {
+    use spacearm_core::model::validate::MAX_NAME_CHARS;
+    // At the bound: accepted; one character more: refused, the message echoing 40 of them.
+    let at_bound = "n".repeat(MAX_NAME_CHARS);
+    assert!(add_one(link(&at_bound, "bus")).is_ok());
+    let long = "x".repeat(100_000);
+    let e = add_one(link(&long, "bus")).unwrap_err();
+    let msg = e.to_string();
+    assert!(msg.len() < 400, "the message echoes the whole name: {} bytes", msg.len());
+    refused(e, ModelItem::Link(0), ModelField::Name, &["link name must be at most 256 characters, got 100000"]);
+    // Control characters (NUL, newline, escape) in any name.
+    for bad in ["a\0b", "a\nb", "\u{1b}[31m"] {
+        refused(add_one(link(bad, "bus")).unwrap_err(), ModelItem::Link(0), ModelField::Name, &["link name must not contain control characters"]);
+    }
+    let e = ModelBuilder::new("m\0", "b", 100.0, BASE_INERTIA).unwrap_err();
+    refused(e, ModelItem::Model, ModelField::Name, &["model name must not contain control characters, got U+0000"]);
+    let e = ModelBuilder::new("", "b", 100.0, BASE_INERTIA).unwrap_err();
+    refused(e, ModelItem::Model, ModelField::Name, &["model name must not be empty"]);
+    // Unicode letters are names like any other.
+    assert!(add_one(link("Gelenk_ä_λ", "bus")).is_ok());
+}
+
+#[test]
 fn a_link_name_must_be_new_among_bodies_points_and_joints() {
     // A body name used twice: the base's, or a link's.
     let mut b = builder();

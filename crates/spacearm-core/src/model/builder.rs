@@ -86,6 +86,7 @@ impl ModelBuilder {
         base_inertia: [[f64; 3]; 3],
         triangle_inequality: TriangleInequality,
     ) -> Result<Self, ModelError> {
+        validate::non_empty_name(ModelItem::Model, ModelField::Name, "model name", name)?;
         validate::non_empty_name(ModelItem::Base, ModelField::Name, "base name", base_name)?;
         let (base, warning) =
             MassProperties::checked(ModelItem::Base, &format!("base '{base_name}'"), base_mass, matrix3(&base_inertia), true, triangle_inequality)?;

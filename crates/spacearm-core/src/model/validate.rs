@@ -29,10 +29,25 @@ pub const MIN_AXIS_COMPONENT: f64 = 1e-9;
 /// normalized again, so that a model written to a file reads back identical.
 const UNIT_NORM_KEPT: f64 = 4.0 * f64::EPSILON;
 
-/// A name must not be empty (`what` says which name, for the message).
+/// Longest name of a model, body, joint, point or geometry, in characters: names are labels in
+/// files, messages and figures; a longer one is garbage (and would be echoed into every message).
+pub const MAX_NAME_CHARS: usize = 256;
+
+/// A name must not be empty, longer than [`MAX_NAME_CHARS`], or hold control characters (NUL,
+/// newlines, escapes: a name is one printable label); `what` says which name, for the message,
+/// which shows at most the name's first 40 characters.
 pub fn non_empty_name(item: ModelItem, field: ModelField, what: &str, name: &str) -> Result<(), ModelError> {
     if name.is_empty() {
         return Err(ModelError::new(item, field, format!("{what} must not be empty")));
+    }
+    let n = name.chars().count();
+    if n > MAX_NAME_CHARS {
+        let head: String = name.chars().take(40).collect();
+        return Err(ModelError::new(item, field, format!("{what} must be at most {MAX_NAME_CHARS} characters, got {n} ('{head}...')")));
+    }
+    if let Some(c) = name.chars().find(|c| c.is_control()) {
+        let shown: String = name.chars().take(40).map(|c| if c.is_control() { '?' } else { c }).collect();
+        return Err(ModelError::new(item, field, format!("{what} must not contain control characters, got U+{:04X} in '{shown}'", c as u32)));
     }
     Ok(())
 }
