@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 import spacearm
+from spacearm import errors
 from spacearm import (
     ModelError,
     NonFiniteError,
@@ -122,6 +123,19 @@ def test_body_index_out_of_range(robot):
     x = robot.neutral_configuration()
     with pytest.raises(NotFoundError, match="body index 99 does not exist"):
         robot.generalized_jacobian(x, (99, [0, 0, 0]))
+
+
+@pytest.mark.parametrize("body", [True, False, np.bool_(True), 1.0, None, [1]])
+def test_a_body_is_a_name_or_an_index_not_a_bool(robot, body):
+    """``link_jacobians(x, True)`` was body 1 (a bool is an int to Python); issue 26."""
+    x = robot.neutral_configuration()
+    with pytest.raises(errors.SpacearmTypeError, match="body must be a body name .str. or index .int."):
+        robot.link_jacobians(x, body)
+    # the index and the name still give the same body, checked against the kinematics
+    jt, jr = robot.link_jacobians(x, 1)
+    jt_n, _ = robot.link_jacobians(x, robot.body_names[1])
+    np.testing.assert_array_equal(jt, jt_n)
+    assert np.linalg.norm(jr[:, 0]) == pytest.approx(1.0)  # body 1 turns about the first joint's unit axis
 
 
 def test_point_offset_shape(robot):

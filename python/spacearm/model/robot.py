@@ -264,7 +264,10 @@ class Robot:
         return self.description.to_dict()
 
     def body_index(self, body: Union[str, int]) -> int:
-        """Index of a body given by name or index (0 = base)."""
+        """Index of a body given by name or index (0 = base); a bool or any other type is a
+        [`SpacearmTypeError`][spacearm.errors.SpacearmTypeError] (``True`` is not body 1)."""
+        if isinstance(body, (bool, np.bool_)) or not isinstance(body, (str, int, np.integer)):
+            raise SpacearmTypeError(f"body must be a body name (str) or index (int), got {type(body).__name__} {body!r:.60}")
         if isinstance(body, (int, np.integer)):
             if not 0 <= int(body) < self.n_bodies:
                 raise NotFoundError(f"body index {body} does not exist (the model has bodies 0..{self.n_bodies - 1})")
