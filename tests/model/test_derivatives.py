@@ -116,6 +116,12 @@ def test_configuration_plus_and_difference():
         robot.configuration_plus(x, dx[1:])
     with pytest.raises(spacearm.NonFiniteError):
         robot.configuration_plus(x, np.full(robot.nu, np.nan))
+    # finite inputs whose sum overflows: an error naming the components, not a silent inf/NaN (issue 26)
+    huge_x, huge_dx = x.copy(), np.zeros(robot.nu)
+    huge_x[0], huge_dx[0], huge_dx[-1] = 1.5e308, 1.5e308, 1.7e308
+    huge_x[-1] = 1.7e308
+    with pytest.raises(spacearm.NonFiniteError, match=r"overflows: components \[0, %d\]" % (robot.nu)):
+        robot.configuration_plus(huge_x, huge_dx)
     bad = x.copy()
     bad[3:7] *= 1.1
     with pytest.raises(spacearm.QuaternionError):

@@ -36,7 +36,13 @@ def configuration_plus(x, dx, n_dof: int) -> np.ndarray:
     if not np.all(np.isfinite(dx)):
         raise NonFiniteError(f"dx must be finite, got {dx}")
     quat = quat_multiply(quat_exp(dx[3:6]), x[3:7])
-    return np.concatenate([x[0:3] + dx[0:3], quat / np.linalg.norm(quat), x[7:] + dx[6:]])
+    with np.errstate(over="ignore", invalid="ignore"):
+        out = np.concatenate([x[0:3] + dx[0:3], quat / np.linalg.norm(quat), x[7:] + dx[6:]])
+    if not np.all(np.isfinite(out)):
+        bad = np.flatnonzero(~np.isfinite(out))
+        raise NonFiniteError(f"x ⊕ dx overflows: components {bad.tolist()} of the result are not finite "
+                             f"(|x| + |dx| beyond the largest float, {np.finfo(float).max:.3g})")
+    return out
 
 
 def configuration_difference(x1, x0, n_dof: int) -> np.ndarray:
