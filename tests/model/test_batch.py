@@ -138,6 +138,23 @@ def test_an_empty_batch_gives_empty_results():
     assert out.shape == (0, robot.nu, robot.nu)
 
 
+@pytest.mark.parametrize("tau, error, match", [
+    (np.ones(3), "ShapeError", "tau must have length 6, got 3"),
+    (np.full(6, np.nan), "NonFiniteError", "tau must be finite, but entry 0 is NaN"),
+])
+def test_an_empty_batch_checks_the_shared_arguments_as_one_state_does(tau, error, match):
+    """B = 0 runs no row, but a shared argument gets the verdict it gets with B = 1 (issue 26:
+    an empty batch skipped the checks of the other arguments)."""
+    robot = presets.spatial6()
+    x, u = robot.neutral_configuration(), np.zeros(robot.nu)
+    cls = getattr(spacearm.errors, error)
+    with pytest.raises(cls, match=match):
+        robot.forward_dynamics(x, u, tau=tau)  # the one-state verdict, from the kernel
+    with pytest.raises(cls, match=match):
+        robot.forward_dynamics(np.zeros((0, robot.nx)), np.zeros((0, robot.nu)), tau=tau)
+    assert robot.forward_dynamics(np.zeros((0, robot.nx)), np.zeros((0, robot.nu)), tau=np.ones(6)).shape == (0, robot.nu)
+
+
 def test_a_bad_row_is_reported_by_its_index():
     robot = presets.spatial6()
     xs, us, taus, fs = states(robot, 2)

@@ -302,6 +302,26 @@ fn rows_disagree(py: Python<'_>, inputs: &[Input<'_>], rows: usize, name: &str, 
     shape_error(py, format!("the batch arguments disagree on the number of rows: {first} has {rows}, {name} has {other}"))
 }
 
+/// An empty batch (B = 0) runs no kernel, which checks the single vectors shared by every row:
+/// they are checked here instead, with the kernel's messages, so that the verdict on the other
+/// arguments does not depend on B (out of line, like [`rows_disagree`]).
+#[cold]
+#[inline(never)]
+fn empty_batch_arguments(py: Python<'_>, inputs: &[Input<'_>]) -> PyResult<()> {
+    for input in inputs {
+        if let Value::Arg(ArgValue::One(v)) = &input.value {
+            let v = v.as_slice();
+            if v.len() != input.width {
+                return Err(shape_error(py, format!("{} must have length {}, got {}", input.name, input.width, v.len())));
+            }
+            if let Some(k) = v.iter().position(|x| !x.is_finite()) {
+                return Err(new_error(py, ErrorClass::NonFinite, format!("{} must be finite, but entry {k} is {}", input.name, v[k])));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The refusal of outputs beyond the core's memory limit, with the way out for `call`
 /// (out of line, like [`rows_disagree`]).
 #[cold]
@@ -426,6 +446,9 @@ fn run_batch<'py, W, const I: usize, const O: usize>(
                 ));
             }
         }
+    }
+    if rows == 0 {
+        empty_batch_arguments(py, inputs)?;
     }
     let sources: [RowSource; I] = std::array::from_fn(|k| inputs[k].rows_source());
     let arrays: [Bound<'py, PyArrayDyn<f64>>; O] = std::array::from_fn(|k| new_output(py, Some(rows), outputs[k]));
