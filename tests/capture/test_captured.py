@@ -49,6 +49,27 @@ def test_attach_carries_momentum_energy_and_pose():
         attach_target(robot, x, u, target, s)
 
 
+@pytest.mark.parametrize("quat, error", [
+    ((0, 0, 0, 0), spacearm.errors.QuaternionError),
+    ((0, 0, 0, 1e-300), spacearm.errors.QuaternionError),
+    ((np.nan, 0, 0, 1), spacearm.errors.NonFiniteError),
+])
+def test_a_target_attitude_is_a_quaternion_with_a_direction(quat, error):
+    """A zero, round-off or NaN quaternion is refused by Target.state and check_state (issue 26:
+    Target.state accepted a zero quaternion); any other is normalized, to the attitude the
+    rotation matrix of the unit quaternion gives."""
+    target = spacearm.Target(50.0, [4.0, 5.0, 6.0])
+    with pytest.raises(error, match="target quaternion"):
+        target.state(quaternion=quat)
+    good = target.state(quaternion=(0, 0, 0, 1))
+    bad = good.copy()
+    bad[3:7] = quat
+    with pytest.raises(error, match="target"):
+        target.check_state(bad)
+    s = target.state(quaternion=(0.0, 0.0, 2.0, 2.0))  # 90 deg about z, not of unit norm
+    np.testing.assert_allclose(quat_to_matrix(s[3:7]), [[0, -1, 0], [1, 0, 0], [0, 0, 1]], atol=1e-15)
+
+
 def test_target_propagation_against_euler_equations():
     from scipy.integrate import solve_ivp
     from scipy.spatial.transform import Rotation

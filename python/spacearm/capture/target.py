@@ -24,7 +24,7 @@ import math
 from .. import _core
 from .._util.arrays import matrix3, number, quaternion, vector, vector3
 from ..control import FreeBodyPoint, SampledJoint
-from ..errors import ArgumentError, ModelError, NotFoundError, ShapeError
+from ..errors import ArgumentError, ModelError, NonFiniteError, NotFoundError, QuaternionError, ShapeError
 from ..model.robot import Robot
 from ..rotations import quat_from_matrix
 from ..sim.simulation import simulate
@@ -179,7 +179,7 @@ class Target:
                       else f"[x, u] of model '{self.body.name}'")
             raise ShapeError(f"target_state has length {self.state_size} ({layout}), got {s.size}")
         if not np.all(np.isfinite(s)):
-            raise ArgumentError(f"target_state must be finite, got {s}")
+            raise NonFiniteError(f"target_state must be finite, got {s}")
         s = s.copy()
         s[3:7] = _quat(s[3:7])
         return s
@@ -298,5 +298,19 @@ class Target:
         return self.free_body(s, step=duration / n).states([duration])[0]
 
 
+#: Smallest norm of a target quaternion that is normalized rather than refused: below it the
+#: direction (the attitude) is round-off.
+MIN_QUATERNION_NORM = 1e-6
+
+
 def _quat(value) -> np.ndarray:
-    return quaternion(value, "target quaternion")
+    """The target's attitude quaternion, finite and non-zero, normalized (a zero or near-zero
+    quaternion has no attitude: a [`QuaternionError`][spacearm.errors.QuaternionError])."""
+    q = quaternion(value, "target quaternion")
+    if not np.all(np.isfinite(q)):
+        raise NonFiniteError(f"target quaternion must be finite, got {q}")
+    norm = float(np.linalg.norm(q))
+    if norm < MIN_QUATERNION_NORM:
+        raise QuaternionError(f"target quaternion [x, y, z, w] must be non-zero (norm >= {MIN_QUATERNION_NORM:g}; "
+                              f"it is normalized), got norm {norm:.3g}; the identity attitude is [0, 0, 0, 1]")
+    return q / norm
