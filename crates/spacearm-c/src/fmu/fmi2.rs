@@ -8,7 +8,7 @@
 use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
 use std::path::PathBuf;
 
-use super::{run_fmi, Instance, Phase};
+use super::{run_fmi, slice, slice_mut, Instance, Phase};
 
 type Fmi2Status = c_int;
 const OK: Fmi2Status = 0;
@@ -81,28 +81,6 @@ unsafe fn with(c: Fmi2Component, body: impl FnOnce(&mut Instance) -> Result<(), 
             Err(()) => ERROR,
         },
     }
-}
-
-unsafe fn slice<'a, T>(p: *const T, n: usize) -> Result<&'a [T], String> {
-    if n == 0 {
-        return Ok(&[]);
-    }
-    if p.is_null() {
-        return Err("a NULL array was passed with a non-zero length".into());
-    }
-    // SAFETY: the importer's contract: `n` readable elements.
-    Ok(unsafe { std::slice::from_raw_parts(p, n) })
-}
-
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Result<&'a mut [T], String> {
-    if n == 0 {
-        return Ok(&mut []);
-    }
-    if p.is_null() {
-        return Err("a NULL array was passed with a non-zero length".into());
-    }
-    // SAFETY: the importer's contract: `n` writable elements.
-    Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
 }
 
 #[no_mangle]

@@ -9,7 +9,7 @@
 use std::ffi::{c_char, c_void, CStr, CString};
 use std::path::PathBuf;
 
-use super::{run_fmi, Instance, Phase};
+use super::{run_fmi, slice, slice_mut, Instance, Phase};
 
 type Fmi3Status = i32;
 const OK: Fmi3Status = 0;
@@ -41,28 +41,6 @@ unsafe fn with(c: Fmi3Instance, body: impl FnOnce(&mut Instance) -> Result<(), S
             Err(()) => ERROR,
         },
     }
-}
-
-unsafe fn slice<'a, T>(p: *const T, n: usize) -> Result<&'a [T], String> {
-    if n == 0 {
-        return Ok(&[]);
-    }
-    if p.is_null() {
-        return Err("a NULL array was passed with a non-zero length".into());
-    }
-    // SAFETY: the importer's contract: `n` readable elements.
-    Ok(unsafe { std::slice::from_raw_parts(p, n) })
-}
-
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Result<&'a mut [T], String> {
-    if n == 0 {
-        return Ok(&mut []);
-    }
-    if p.is_null() {
-        return Err("a NULL array was passed with a non-zero length".into());
-    }
-    // SAFETY: the importer's contract: `n` writable elements.
-    Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
 }
 
 #[no_mangle]

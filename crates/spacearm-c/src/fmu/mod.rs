@@ -224,6 +224,37 @@ impl Instance {
     }
 }
 
+/// The importer's array `p` of `n` elements as a slice (FMI 2 and 3 alike): empty for `n = 0`,
+/// an error for a NULL pointer with a non-zero length.
+///
+/// # Safety
+/// `p` NULL or `n` readable elements (the importer's contract).
+pub(crate) unsafe fn slice<'a, T>(p: *const T, n: usize) -> Result<&'a [T], String> {
+    if n == 0 {
+        return Ok(&[]);
+    }
+    if p.is_null() {
+        return Err("a NULL array was passed with a non-zero length".into());
+    }
+    // SAFETY: the importer's contract: `n` readable elements.
+    Ok(unsafe { std::slice::from_raw_parts(p, n) })
+}
+
+/// [`slice`] for an output array.
+///
+/// # Safety
+/// `p` NULL or `n` writable elements (the importer's contract).
+pub(crate) unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Result<&'a mut [T], String> {
+    if n == 0 {
+        return Ok(&mut []);
+    }
+    if p.is_null() {
+        return Err("a NULL array was passed with a non-zero length".into());
+    }
+    // SAFETY: the importer's contract: `n` writable elements.
+    Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
+}
+
 /// Run an FMI entry point's body: a failure is logged through the instance's logger and
 /// returned as `Err`; a panic is caught and reported the same way.
 pub(crate) fn run_fmi(inst: &mut Instance, body: impl FnOnce(&mut Instance) -> Result<(), String>) -> Result<(), ()> {
