@@ -112,6 +112,25 @@ fn names_are_short_printable_labels() {
 }
 
 #[test]
+fn a_base_resists_rotation_about_every_axis() {
+    use spacearm_core::model::body::MIN_RADIUS_OF_GYRATION;
+    let diag = |a: f64, b: f64, c: f64| [[a, 0.0, 0.0], [0.0, b, 0.0], [0.0, 0.0, c]];
+    // A 50 kg base: the floor is m k² = 50 · (1e-6 m)² = 5e-11 kg·m² (independent arithmetic).
+    let floor = 50.0 * MIN_RADIUS_OF_GYRATION.powi(2);
+    assert!((floor - 5e-11).abs() < 1e-24);
+    assert!(ModelBuilder::new("m", "b", 50.0, diag(6e-11, 6e-11, 6e-11)).is_ok());
+    let e = ModelBuilder::new("m", "b", 50.0, diag(4e-11, 4e-11, 4e-11)).unwrap_err();
+    refused(e, ModelItem::Base, ModelField::Inertia, &["smallest principal moment 4.000000e-11", "radius of", "gyration"]);
+    // issue 26: a 50 kg target of 1e-20 kg·m² was accepted (its rigid lock left a twist of 1.7e4)
+    let e = ModelBuilder::new("target", "t", 50.0, diag(1e-20, 1e-20, 1e-20)).unwrap_err();
+    refused(e, ModelItem::Base, ModelField::Inertia, &["below m·k²"]);
+    // a thin rod (1 cm radius, 50 kg) about its axis is a real body
+    assert!(ModelBuilder::new("m", "b", 50.0, diag(0.5 * 50.0 * 1e-4, 4.0, 4.0)).is_ok());
+    // a link may still be a point mass (zero inertia): the rule is the base's
+    assert!(add_one(with("tip", |s| s.inertia = diag(0.0, 0.0, 0.0))).is_ok());
+}
+
+#[test]
 fn a_link_name_must_be_new_among_bodies_points_and_joints() {
     // A body name used twice: the base's, or a link's.
     let mut b = builder();

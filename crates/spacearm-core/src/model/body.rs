@@ -12,6 +12,12 @@ pub const INERTIA_TOLERANCE: f64 = 1e-9;
 /// Smallest non-zero mass of a body, kg (a microgram; a massless link, mass 0, is allowed).
 pub const MIN_MASS: f64 = 1e-9;
 
+/// Smallest radius of gyration `k = √(I_min / m)` of a base (a free-flying body: the
+/// spacecraft, a target), m: a micrometre. A base must resist rotation about every axis (its
+/// inertia is positive definite); below `m·k²` the moment is a units mistake or garbage (a 50 kg
+/// target of 1e-20 kg·m² has k = 1.4e-11 m) and the base's response to any torque is round-off.
+pub const MIN_RADIUS_OF_GYRATION: f64 = 1e-6;
+
 /// Largest mass of a body, kg (10⁹ t, far above any spacecraft). Larger masses are a units
 /// mistake, and near the top of the floats they make the mass matrix non-finite.
 pub const MAX_MASS: f64 = 1e12;
@@ -122,6 +128,14 @@ impl MassProperties {
         if require_positive_mass && a <= tol {
             return Err(inertia_error(format!(
                 "{who}: the base inertia tensor must be positive definite, but its smallest principal moment is {a:.6e} kg·m²"
+            )));
+        }
+        let floor = mass * MIN_RADIUS_OF_GYRATION * MIN_RADIUS_OF_GYRATION;
+        if require_positive_mass && a < floor {
+            return Err(inertia_error(format!(
+                "{who}: the base's smallest principal moment {a:.6e} kg·m² is below m·k² = {floor:.3e} kg·m² with the smallest radius of \
+                 gyration k = {MIN_RADIUS_OF_GYRATION:e} m of a real body of {mass} kg (check the units): a body that small cannot \
+                 turn against anything, and its dynamics are round-off"
             )));
         }
         // A physical body's principal moments obey I_a + I_b >= I_c (the second moments of
