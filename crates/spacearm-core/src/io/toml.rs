@@ -1104,7 +1104,7 @@ offset = [0.2, 0.0, 0.0]
     #[test]
     fn round_trip_of_awkward_values() {
         let rotation = xyzw(&UnitQuaternion::from_euler_angles(0.1, 0.2, 0.3));
-        let mut b = ModelBuilder::new("we\"ird\\ name\n\u{1}é", "base", 100.0, [[10.0, 0.5, 0.0], [0.5, 12.0, 0.0], [0.0, 0.0, 14.0]]).unwrap();
+        let mut b = ModelBuilder::new("we\"ird\\ name 'é' #[x] = λ", "base", 100.0, [[10.0, 0.5, 0.0], [0.5, 12.0, 0.0], [0.0, 0.0, 14.0]]).unwrap();
         b.add_link(LinkSpec {
             name: "arm".into(),
             parent: "base".into(),
