@@ -36,7 +36,6 @@ from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
-from .. import examples
 from ..model.builder import RobotBuilder
 from ..errors import ArgumentError, ModelFileError, ShapeError, SpacearmError, SpacearmTypeError
 from ..model.robot import Robot
@@ -331,6 +330,7 @@ def _mount_robot(mount_on):
     ``--mount-on`` in Python; anything else a [`SpacearmTypeError`][spacearm.errors.SpacearmTypeError]."""
     if mount_on is None or isinstance(mount_on, Robot):
         return mount_on
+    from .. import examples  # here, not at import: spacearm.examples loads on first use
     if isinstance(mount_on, (str, os.PathLike)):
         from .model_file import load_toml
         spec = os.fspath(mount_on)
