@@ -90,9 +90,10 @@ def arm_segments(robot, x, skip_dofs: Sequence[int] = ()) -> List[Tuple[np.ndarr
 
 def trajectory_scene(traj, idx, *, figsize: Tuple[float, float], dpi: float = 100.0, trail: bool = True,
                      elev: float = 25.0, azim: float = -60.0, title: Optional[str] = None):
-    """The figure of ``traj`` and ``draw(j)``, which poses it at sample ``idx[j]``: the base box,
-    the arm, the end-effector trail so far and the system CM, in a fixed view box that holds
-    every frame at equal scale. The one drawing of a run, shared by the GIF
+    """The figure of ``traj`` and ``draw(j)``, which poses it at sample ``idx[j]`` and returns
+    the artists it moved: the base box, the arm, the end-effector trail so far and the system
+    CM, in a fixed view box that holds every frame at equal scale (so the rest of the figure
+    is the same in every frame). The one drawing of a run, shared by the GIF
     ([`animate_trajectory`][spacearm.viz.animation.animate_trajectory]) and the video
     (``spacearm.viz.video``)."""
     from .._util.optional import require
@@ -161,7 +162,9 @@ def trajectory_scene(traj, idx, *, figsize: Tuple[float, float], dpi: float = 10
             g = com[idx[j]]
             com_dot.set_data_3d([g[0]], [g[1]], [g[2]])
         text.set_text(f"{heading}\nt = {traj.t[idx[j]]:.2f} s")
+        return moving
 
+    moving = [box, *links] + [a for a in (trail_line, com_dot) if a is not None] + [text]
     return fig, draw
 
 

@@ -102,7 +102,8 @@ def plot_capture(result, path=None):
 
 
 def capture_scene(result, idx, *, figsize, dpi: float = 100.0):
-    """The figure of a capture and ``draw(j)``, which poses it at sample ``idx[j]``: the base
+    """The figure of a capture and ``draw(j)``, which poses it at sample ``idx[j]`` and returns
+    the artists it moved (the rest of the figure is the same in every frame): the base
     (its equivalent box), the arm, the target (its equivalent box; a jointed target's links as
     segments) in a fixed view box; the title gives the phase and time. The one drawing of a
     capture, shared by the GIF ([`animate_capture`][spacearm.viz.capture.animate_capture]) and
@@ -151,7 +152,9 @@ def capture_scene(result, idx, *, figsize, dpi: float = 100.0):
             line.set_data_3d([a[0], b[0]], [a[1], b[1]], [a[2], b[2]])
         title.set_text(f"{robot.name} capturing {target.name} ({result.kind}, {result.mode})\n"
                        f"{result.phase_names[result.phase[k]]}, t = {result.t[k]:.2f} s")
+        return moving
 
+    moving = [base_box, target_box, *links, title]
     return fig, draw
 
 
