@@ -113,6 +113,9 @@ def _mesh_assets(root: ET.Element, meshes: dict, assets) -> None:
             ET.SubElement(asset, "mesh", name=name, file=asset_name, scale=_fmt(scale))
 
 
+#: The export's headlight (``<visual><headlight ambient diffuse>``), grey levels in [0, 1].
+HEADLIGHT = ((0.35, 0.35, 0.35), (0.6, 0.6, 0.6))
+
 #: MuJoCo's name of its world body: a spacearm body of that name is exported as ``world_body``.
 MUJOCO_WORLD = "world"
 
@@ -197,6 +200,7 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
       robot's ``qpos0`` (the core's kinematics). MuJoCo's state then has 7 ``qpos`` and 6
       ``qvel`` more per welded body, after the robot's
       ([`to_mujoco_state`][spacearm.interop.to_mujoco_state] with the same ``weld``).
+    - ``<visual><headlight>`` brighter than MuJoCo's default (``HEADLIGHT``).
     - ``<option gravity="0 0 0">``, contacts disabled, armature and friction loss explicitly
       zero (damping and stiffness zero unless the joint has them), no limits, RK4 (the
       integrator changes no term of the continuous-time dynamics), and the ``energy`` flag on
@@ -208,6 +212,8 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
                   alignfree="false", fusestatic="false", boundmass="0", boundinertia="0", balanceinertia="false")
     option = ET.SubElement(root, "option", gravity="0 0 0", integrator="RK4", density="0", viscosity="0")
     ET.SubElement(option, "flag", contact="disable", energy="enable")
+    visual = ET.SubElement(root, "visual")  # a brighter headlight than MuJoCo's: the model shows on the black sky
+    ET.SubElement(visual, "headlight", ambient=_fmt(HEADLIGHT[0]), diffuse=_fmt(HEADLIGHT[1]))
     world = ET.SubElement(root, "worldbody")
     if base_actuators:
         ET.SubElement(world, "site", name=WORLD_SITE, pos="0 0 0", size="0.01")

@@ -276,8 +276,6 @@ def _mujoco_model(robot, weld=()):
 def _open_renderer(mujoco, model, width: int, height: int):
     model.vis.global_.offwidth = max(int(model.vis.global_.offwidth), width)
     model.vis.global_.offheight = max(int(model.vis.global_.offheight), height)
-    model.vis.headlight.ambient[:] = 0.35
-    model.vis.headlight.diffuse[:] = 0.6
     try:
         return mujoco.Renderer(model, height, width)
     except Exception as exc:  # the GL context could not be made: no EGL/OSMesa, no display
