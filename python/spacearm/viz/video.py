@@ -336,7 +336,7 @@ def _mujoco_frames(mujoco, model, renderer, qpos_frames, trail, camera) -> Itera
     try:
         for j, qpos in enumerate(qpos_frames):
             data.qpos[:] = qpos
-            mujoco.mj_kinematics(model, data)
+            mujoco.mj_fwdPosition(model, data)  # the poses, and the lights' (mj_camlight)
             renderer.update_scene(data, cam, option)
             if trail is not None and j > 0:
                 step = max(1, j // 300)  # at most ~300 segments
