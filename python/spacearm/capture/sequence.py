@@ -206,7 +206,7 @@ class CaptureResult:
     def video(self, path, *, width: int = 1280, height: int = 720, fps: int = 30, renderer: str = "auto", speed: float = 1.0,
               camera=None, progress=None):
         """Write an H.264 ``.mp4`` of the capture (robot and target, every phase), rendered
-        offscreen, atomically; returns the [`Video`][spacearm.viz.video.Video]. The options are
+        offscreen, atomically; returns the ``spacearm.viz.video.Video``. The options are
         [`Trajectory.video`][spacearm.Trajectory.video]'s; MuJoCo draws the MJCF of the captured
         system (the target a free body at its recorded pose). docs/video.md."""
         from ..viz.video import capture_video

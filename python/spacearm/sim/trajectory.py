@@ -705,7 +705,7 @@ class Trajectory:
     def video(self, path: PathLike, *, width: int = 1280, height: int = 720, fps: int = 30, renderer: str = "auto",
               speed: float = 1.0, camera=None, trail: bool = True, progress=None):
         """Write an H.264 ``.mp4`` of the run, rendered offscreen, atomically; returns the
-        [`Video`][spacearm.viz.video.Video] (its ``path``, the ``renderer`` that drew it, ``frames``, ...).
+        ``spacearm.viz.video.Video`` (its ``path``, the ``renderer`` that drew it, ``frames``, ...).
 
         ``width`` × ``height`` pixels (even), ``fps`` frames per second, ``speed`` times real
         time (each frame shows the recorded sample nearest its time). ``renderer``: ``"mujoco"``
