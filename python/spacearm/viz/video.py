@@ -402,25 +402,26 @@ def trajectory_video(traj, path, *, width: int = 1280, height: int = 720, fps: i
     return Video(os.fspath(path), name, len(idx), w, h, f)
 
 
-def _capture_render_model(result):
-    """The MJCF model of robot + target (the target a free body) and the target's body name."""
+def _capture_render_model(result, system):
+    """The MJCF model of robot + target (the target a free body) and the combined model."""
     target = result.target_model
     if not target.is_rigid:
         raise _Unavailable(f"target '{target.name}' is a jointed model; MuJoCo draws a rigid target only")
-    if result.captured is not None:
-        combined, payload = result.captured.robot, result.captured.payload
-    else:  # a point contact: the target never rides; any attachment serves the drawing's model
-        from ..capture.captured import combined_model
-
-        combined = combined_model(result.robot, target, result.robot.body_names[0], np.zeros(3), np.array([0.0, 0.0, 0.0, 1.0]))
-        payload = target.name
+    if system is None:
+        if result.captured is None:
+            raise _Unavailable("a point-contact capture has no captured system; pass system=(combined model, payload name)")
+        system = (result.captured.robot, result.captured.payload)
+    combined, payload = system
     return _mujoco_model(combined, weld=(payload,)), combined
 
 
 def capture_video(result, path, *, width: int = 1280, height: int = 720, fps: int = 30, renderer: str = "auto",
-                  speed: float = 1.0, camera=None, progress: Optional[bool] = None) -> Video:
+                  speed: float = 1.0, camera=None, progress: Optional[bool] = None, system=None) -> Video:
     """Write the video of a capture (a ``CaptureResult``) to ``path``: the robot and the target,
-    every phase (module docstring); returns the [`Video`][spacearm.viz.video.Video]."""
+    every phase (module docstring); returns the [`Video`][spacearm.viz.video.Video].
+    ``system``: ``(combined model, payload name)``, robot and target in one model, the target
+    the payload link that MuJoCo draws as a free body at its recorded pose (default: the
+    captured system; ``CaptureResult.video`` passes one for a point contact too)."""
     opts = check_video_options(path, width=width, height=height, fps=fps, speed=speed, renderer=renderer)
     if camera is not None and renderer == "matplotlib":
         raise ArgumentError("camera sets MuJoCo's camera; the matplotlib renderer takes none")
@@ -431,7 +432,7 @@ def capture_video(result, path, *, width: int = 1280, height: int = 720, fps: in
 
     def setup():
         mujoco = _import_mujoco_offscreen()
-        model, combined = _capture_render_model(result)
+        model, combined = _capture_render_model(result, system)
         from ..interop.mujoco import to_mujoco_state
 
         zero = np.zeros(combined.nu)
