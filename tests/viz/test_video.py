@@ -217,3 +217,31 @@ def test_capture_video_mujoco_draws_robot_and_target(captured, tmp_path):
     with_target, without = picture(True), picture(False)
     same = np.abs(frames[0] - with_target).mean()
     assert same < 1.0 and np.abs(frames[0] - without).mean() > 4 * same, same
+
+
+def test_auto_falls_back_to_matplotlib_with_a_warning(run, tmp_path, monkeypatch):
+    pytest.importorskip("mujoco")
+
+    def no_gl(*args, **kwargs):
+        raise sv._Unavailable("no offscreen OpenGL (test)")
+
+    monkeypatch.setattr(sv, "_open_renderer", no_gl)
+    with pytest.warns(RuntimeWarning, match="no offscreen OpenGL"):
+        v = run.video(tmp_path / "auto.mp4", width=W, height=H, fps=FPS, speed=4.0)
+    assert v.renderer == "matplotlib" and _read(v.path)[1].shape == (3, H, W, 3)
+    with pytest.raises(spacearm.MissingDependencyError, match="no offscreen OpenGL"):
+        run.video(tmp_path / "mj.mp4", width=W, height=H, fps=FPS, renderer="mujoco")
+    assert not (tmp_path / "mj.mp4").exists()
+
+
+def test_point_capture_video_mujoco(tmp_path):
+    _mujoco_or_skip()
+    robot = spacearm.presets.spatial6()
+    x = robot.neutral_configuration()
+    target = spacearm.Target(50.0, [4.0, 5.0, 6.0], grasp_points={"handle": (-0.5, 0.0, 0.0)})
+    s = target.state(position=robot.point_position(x) + np.array([0.6, 0.0, 0.0]), angular_velocity=(0.0, 0.0, 0.1))
+    res = spacearm.capture.capture(robot, target, s, kind="point", restitution=0.5, detumble_time=0.5, post_time=0.2)
+    assert res.captured is None
+    v = res.video(tmp_path / "point.mp4", width=W, height=H, fps=FPS, renderer="mujoco", speed=4.0)
+    _, frames = _read(v.path)
+    assert v.renderer == "mujoco" and len(frames) == v.frames and frames[0].std() > 5
