@@ -84,7 +84,7 @@ def add_parsers(sub) -> None:
     p.add_argument("--frames", type=int, default=100, help="GIF frames (default 100)")
     add_video_options(p)
     p.add_argument("--progress", dest="progress", action="store_true", default=None,
-                   help=f"show a progress bar (default: for runs of {PROGRESS_STEPS} steps or more)")
+                   help=f"show a progress bar (default: for runs of {PROGRESS_STEPS} steps or more, videos of 100 frames or more)")
     p.add_argument("--no-progress", dest="progress", action="store_false", help="never show a progress bar")
 
     d = sub.add_parser("demo", help="run the spatial 6-DOF example and write its figures",
@@ -302,7 +302,7 @@ def simulate_command(args, model_from_args, out=None) -> int:
         traj.animate(args.animate, frames=args.frames)
         written.append(("animation", str(args.animate)))
     if video:
-        written.append(("video", describe_video(traj.video(args.video, **video))))
+        written.append(("video", describe_video(traj.video(args.video, progress=args.progress, **video))))
     for what, path in written:
         out.write(f"wrote {what}: {path}\n")
     return 0

@@ -25,8 +25,8 @@ several frames).
   capture's in ``spacearm.viz.capture``): the base's equivalent box, the arm as segments, the
   end-effector trail, the time in the title.
 - ``"auto"`` (default): MuJoCo where it can render this model here, else matplotlib; when
-  MuJoCo is installed but cannot (no offscreen OpenGL, a mesh format it does not read, a model
-  without geometry) a ``RuntimeWarning`` says why. The result's ``renderer`` says which one drew.
+  MuJoCo is installed but cannot (no offscreen OpenGL, a mesh format it does not read or a mesh
+  file not found, a model without geometry) a ``RuntimeWarning`` says why. The result's ``renderer`` says which one drew.
 
 **Encoding.** The ffmpeg binary that the pip package ``imageio-ffmpeg`` ships (extra ``video``):
 raw RGB frames piped into ``libx264`` (CRF 18), ``yuv420p`` so that every player opens the file
@@ -50,7 +50,7 @@ import numpy as np
 
 from .._util.atomic import atomic_path
 from .._util.optional import require
-from ..errors import ArgumentError, MissingDependencyError, SpacearmTypeError
+from ..errors import ArgumentError, MissingDependencyError, ModelFileError, SpacearmTypeError
 
 __all__ = ["Video", "RENDERERS", "VIDEO_SUFFIX", "check_video_options", "frame_samples", "trajectory_video", "capture_video",
            "PROGRESS_FRAMES", "MAX_FRAMES", "MAX_WIDTH", "MAX_HEIGHT", "MAX_FPS"]
@@ -269,7 +269,7 @@ def _mujoco_model(robot, weld=()):
 
     try:
         return to_mujoco(robot, geometry=_render_roles(robot), actuators=False, weld=weld)
-    except (ArgumentError, SpacearmTypeError) as exc:  # e.g. a mesh format MuJoCo does not read
+    except (ArgumentError, SpacearmTypeError, ModelFileError) as exc:  # a mesh MuJoCo does not read, or not found
         raise _Unavailable(str(exc)) from None
 
 
