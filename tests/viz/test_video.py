@@ -245,3 +245,13 @@ def test_point_capture_video_mujoco(tmp_path):
     v = res.video(tmp_path / "point.mp4", width=W, height=H, fps=FPS, renderer="mujoco", speed=4.0)
     _, frames = _read(v.path)
     assert v.renderer == "mujoco" and len(frames) == v.frames and frames[0].std() > 5
+
+
+def test_mujoco_renders_beyond_its_default_framebuffer(tmp_path):
+    _mujoco_or_skip()
+    robot = spacearm.presets.spatial6()
+    traj = spacearm.simulate(robot, 0.02, dt=1e-2)  # one frame at 30 fps
+    v = traj.video(tmp_path / "hd.mp4", renderer="mujoco")  # the defaults: 1280x720, wider than MuJoCo's 640x480 buffer
+    meta, frames = _read(v.path)
+    assert (v.width, v.height, v.frames) == (1280, 720, 1) and tuple(meta["size"]) == (1280, 720) and meta["fps"] == 30
+    assert frames.shape == (1, 720, 1280, 3) and frames[0].std() > 5
