@@ -255,3 +255,12 @@ def test_mujoco_renders_beyond_its_default_framebuffer(tmp_path):
     meta, frames = _read(v.path)
     assert (v.width, v.height, v.frames) == (1280, 720, 1) and tuple(meta["size"]) == (1280, 720) and meta["fps"] == 30
     assert frames.shape == (1, 720, 1280, 3) and frames[0].std() > 5
+
+
+def test_an_encoder_failure_is_an_os_error_naming_the_file(run, tmp_path, monkeypatch):
+    monkeypatch.setattr(sv, "_ffmpeg", lambda: "/bin/false")  # an encoder that fails at once
+    path = tmp_path / "run.mp4"
+    with pytest.raises(OSError, match="ffmpeg could not write the video") as info:
+        run.video(path, width=W, height=H, fps=FPS, renderer="matplotlib", speed=4.0)
+    assert info.value.filename == str(path)
+    assert not list(tmp_path.iterdir())

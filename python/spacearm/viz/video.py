@@ -38,6 +38,7 @@ or Ctrl-C leaves no partial file. A progress bar (tqdm) is shown for renders of 
 
 from __future__ import annotations
 
+import errno
 import math
 import os
 import subprocess
@@ -162,11 +163,11 @@ def _encode(path, frames: Iterator[np.ndarray], n: int, width: int, height: int,
     exe = _ffmpeg()
     show = n >= PROGRESS_FRAMES if progress is None else bool(progress)
     bar = None
-    if show:
-        from tqdm.auto import tqdm
-
-        bar = tqdm(total=n, desc="video", unit="frame", leave=False)
     with atomic_path(path, suffix=VIDEO_SUFFIX) as tmp, tempfile.TemporaryFile() as log:
+        if show:
+            from tqdm.auto import tqdm
+
+            bar = tqdm(total=n, desc="video", unit="frame", leave=False)
         cmd = [exe, "-y", "-loglevel", "error", "-f", "rawvideo", "-vcodec", "rawvideo", "-pix_fmt", "rgb24",
                "-s", f"{width}x{height}", "-r", str(fps), "-i", "-", "-an", "-c:v", "libx264", "-preset", "medium",
                "-crf", str(CRF), "-pix_fmt", "yuv420p", "-movflags", "+faststart", "-f", "mp4", str(tmp)]
@@ -199,8 +200,6 @@ def _encode(path, frames: Iterator[np.ndarray], n: int, width: int, height: int,
             log.seek(0)
             text = log.read().decode("utf-8", "replace").strip().splitlines()
             reason = text[-1] if text else f"exit status {code}"
-            import errno
-
             err = errno.ENOSPC if "No space left" in reason else errno.EIO
             raise OSError(err, f"ffmpeg could not write the video ({written} of {n} frames): {reason}", os.fspath(path))
 
