@@ -43,7 +43,7 @@ from ..control import Combined, MomentumDamping, ResolvedMotionRate, TorqueLimit
 from ..errors import ArgumentError, SimulationError
 from ..rotations import quat_from_matrix
 from ..sim.simulation import simulate
-from .captured import attach_target, soft_capture
+from .captured import attach_target, combined_model, soft_capture
 from .detumbling import DETUMBLE_MODES, detumble, detumble_controller, grasp_wrench
 from .impact import CAPTURE_TOLERANCE, _check_target, grasp_impulse
 
@@ -202,6 +202,23 @@ class CaptureResult:
         from ..viz.capture import animate_capture
 
         return animate_capture(self, path, fps=fps)
+
+    def video(self, path, *, width: int = 1280, height: int = 720, fps: int = 30, renderer: str = "auto", speed: float = 1.0,
+              camera=None, progress=None):
+        """Write an H.264 ``.mp4`` of the capture (robot and target, every phase), rendered
+        offscreen, atomically; returns the ``spacearm.viz.video.Video``. The options are
+        [`Trajectory.video`][spacearm.Trajectory.video]'s; MuJoCo draws the MJCF of the captured
+        system (the target a free body at its recorded pose). docs/video.md."""
+        from ..viz.video import capture_video
+
+        system = None
+        if self.captured is None and self.target_model.is_rigid:
+            # a point contact: the target never rides; attached anywhere, it is only drawn (posed
+            # by its recorded states), so MuJoCo has robot and target in one model
+            system = (combined_model(self.robot, self.target_model, self.robot.body_names[0], np.zeros(3),
+                                     np.array([0.0, 0.0, 0.0, 1.0])), self.target_model.name)
+        return capture_video(self, path, width=width, height=height, fps=fps, renderer=renderer, speed=speed,
+                             camera=camera, progress=progress, system=system)
 
 
 def _ledger(plant, target, xs, us, ss, combined: bool):

@@ -41,11 +41,11 @@ __all__ = ["main", "load_model", "add_model_arguments", "model_from_args", "MODE
 #: The options of each subcommand that name a file to write: checked before the command
 #: computes anything (``spacearm._util.atomic.check_writable``).
 OUTPUT_OPTIONS = {
-    "simulate": ("out", "csv", "plot", "animate"),
+    "simulate": ("out", "csv", "plot", "animate", "video"),
     "campaign": ("out", "plot"),
     "analyze": ("out",),
     "derive": ("latex", "python", "c"),
-    "capture": ("out", "plot"),
+    "capture": ("out", "plot", "animate", "video"),
     "plan": ("out", "plot"),
     "fmu": ("out",),
 }
