@@ -440,7 +440,8 @@ def _arrow(scene: Scene, name: str, origins: np.ndarray, vectors: np.ndarray, le
            unit: str, floor: float) -> None:
     """An animated arrow ``/spacearm/momentum/<name>`` from ``origins`` along ``vectors``
     (K, 3), the largest ``length`` m long. A vector that stays below ``floor`` (its numerical
-    zero) is not drawn, and the scene says so."""
+    zero: a millionth of the bodies' own momentum scale, ``Robot.momentum_scales``, above the
+    drift of a conserving run's integration) is not drawn, and the legend says so."""
     mc = scene._mc
     norms = np.linalg.norm(vectors, axis=1)
     peak = float(norms.max()) if norms.size else 0.0
@@ -581,9 +582,9 @@ def trajectory_scene(
         com = np.asarray(traj.com[idx]) if traj.has("com") else robot.center_of_mass(xs)
         scales = robot.momentum_scales(xs, us)
         _arrow(scene, "P", com, np.asarray(m.P), span, _P_COLOR, "P, linear momentum", "N s",
-               1e-9 * max(float(scales[:, 0].max()), 1e-300))
+               1e-6 * max(float(scales[:, 0].max()), 1e-300))
         _arrow(scene, "L", com, np.asarray(m.L_com), span, _L_COLOR, "L, angular momentum about the CM", "N m s",
-               1e-9 * max(float(scales[:, 2].max()), 1e-300))
+               1e-6 * max(float(scales[:, 2].max()), 1e-300))
     _finish(scene, np.vstack(extent), play, repetitions)
     return scene
 
@@ -644,9 +645,9 @@ def capture_scene(
         origin = np.zeros((len(idx), 3))
         scales = robot.momentum_scales(xs, np.ascontiguousarray(result.u[idx]))
         span = 1.6 * _base_radius(robot) + 0.2 * size
-        _arrow(scene, "P", origin, P, span, _P_COLOR, "P, robot + target", "N s", 1e-9 * max(float(scales[:, 0].max()), 1e-300))
+        _arrow(scene, "P", origin, P, span, _P_COLOR, "P, robot + target", "N s", 1e-6 * max(float(scales[:, 0].max()), 1e-300))
         _arrow(scene, "L", origin, L, span, _L_COLOR, "L about the origin, robot + target", "N m s",
-               1e-9 * max(float(scales[:, 1].max()), 1e-300))
+               1e-6 * max(float(scales[:, 1].max()), 1e-300))
     _finish(scene, np.vstack(extent), play, repetitions)
     return scene
 
