@@ -456,7 +456,7 @@ def _arrow(scene: Scene, name: str, origins: np.ndarray, vectors: np.ndarray, le
     shaft_len = np.maximum(lengths - head, 0.0)
     quats = np.array([_y_to(v) for v in vectors])
     root = f"/spacearm/momentum/{name}"
-    radius = 0.015 * length / 0.5
+    radius = 0.012 * length
     mat = _material(mc, color)
     scene._add(f"{root}/shaft/body", mc.geometry.Mesh(mc.geometry.Cylinder(1.0, radius), mat), _transform((0.0, 0.5, 0.0)))
     scene._add(f"{root}/head/body", mc.geometry.Mesh(mc.geometry.Cylinder(head, radiusTop=0.0, radiusBottom=2.5 * radius), mat),
