@@ -518,7 +518,7 @@ def _finish(scene: Scene, points: np.ndarray, play: bool, repetitions: int) -> N
     scene.extent = (centre, max(radius, 1e-3))
     reach = float(np.max(np.linalg.norm(pts, axis=1))) if len(pts) else 1.0
     distance = 1.6 * max(reach, 0.25)
-    direction = np.array([1.0, -1.1, 0.75]) / np.linalg.norm([1.0, -1.1, 0.75])
+    direction = np.array([0.9, 1.2, 0.75]) / np.linalg.norm([0.9, 1.2, 0.75])  # +x to the left, away from the controls
     eye = distance * direction  # in 𝒥 (z up); meshcat's camera node is y up: (x, z, -y)
     scene._properties.append(("/Cameras/default/rotated/<object>", "position", [float(eye[0]), float(eye[2]), float(-eye[1])]))
     scene._properties.append(("/Grid", "visible", False))
