@@ -191,7 +191,7 @@ class CaptureResult:
         """Write the arrays to an ``.npz`` file (atomically: no partial file), with the robot's
         and the target's models as TOML text (``__model_toml__``, ``__target_toml__``), the
         grasp and mode (``kind``, ``mode``) and the format tag ``__format__`` =
-        [`FILE_FORMAT`][spacearm.capture.sequence.FILE_FORMAT], so that ``spacearm view`` can
+        ``FILE_FORMAT`` (``spacearm.CaptureResult/1``), so that ``spacearm view`` can
         draw the record."""
         from .._util.atomic import atomic_open
         from ..io.model_file import dumps_toml
