@@ -110,6 +110,8 @@ def test_body_poses_are_the_core_kinematics(spatial6_run, spatial6_html):
         # the static transform is the first key frame's pose
         np.testing.assert_allclose(static[node][:3, 3], kin.com_in_world[0, b], atol=1e-12)
         np.testing.assert_allclose(static[node][:3, :3], kin.body_to_world[0, b], atol=1e-12)
+    # below /spacearm the coordinates are 𝒥's; /spacearm itself is only shifted (the camera's centre)
+    np.testing.assert_array_equal(static["/spacearm"][:3, :3], np.eye(3))
     # the base's pose is the recorded configuration itself
     times, pos = tracks[f"/spacearm/robot/bodies/0_{names[0]}"]["position"]
     k = np.array([int(np.argmin(np.abs(rel - t))) for t in times])

@@ -24,6 +24,9 @@ Scene tree (meshcat paths; a body's name has its ``/`` replaced):
 - ``/spacearm/momentum/P`` and ``/spacearm/momentum/L``: the arrows (``shaft``, ``head``).
 - ``/spacearm/target/bodies/...``: a capture's target; ``/spacearm/grasp``: the grasp point,
   shown from the capture instant on.
+
+Below ``/spacearm`` the coordinates are 𝒥's; ``/spacearm`` itself is shifted by minus the centre
+of the drawn scene (``Scene.extent``), so that the camera turns about the scene.
 """
 
 from __future__ import annotations
@@ -509,17 +512,19 @@ def _check_options(fps, max_frames, geometry) -> Tuple[float, int]:
 
 
 def _finish(scene: Scene, points: np.ndarray, play: bool, repetitions: int) -> None:
-    """The extent and the camera: looking at 𝒥's origin from a fixed direction, far enough to
-    hold every drawn point; the grid and meshcat's axes hidden (space has no floor)."""
+    """The extent and the camera. The ``/spacearm`` node is shifted by minus the centre of every
+    drawn point, so that meshcat's camera, which orbits the viewer's origin, turns about the
+    scene; it looks from a fixed direction, far enough to hold the scene. The grid and meshcat's
+    axes are hidden (space has no floor)."""
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     pts = pts[np.all(np.isfinite(pts), axis=1)]
     centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0)) if len(pts) else np.zeros(3)
     radius = float(np.max(np.linalg.norm(pts - centre, axis=1))) if len(pts) else 1.0
     scene.extent = (centre, max(radius, 1e-3))
-    reach = float(np.max(np.linalg.norm(pts, axis=1))) if len(pts) else 1.0
-    distance = 1.6 * max(reach, 0.25)
+    scene._set_transform("/spacearm", _transform(-centre))
+    distance = 2.0 * max(radius, 0.25)
     direction = np.array([0.9, 1.2, 0.75]) / np.linalg.norm([0.9, 1.2, 0.75])  # +x to the left, away from the controls
-    eye = distance * direction  # in 𝒥 (z up); meshcat's camera node is y up: (x, z, -y)
+    eye = distance * direction  # in 𝒥's axes (z up); meshcat's camera node is y up: (x, z, -y)
     scene._properties.append(("/Cameras/default/rotated/<object>", "position", [float(eye[0]), float(eye[2]), float(-eye[1])]))
     scene._properties.append(("/Grid", "visible", False))
     scene._properties.append(("/Axes", "visible", False))
