@@ -2,7 +2,7 @@
 
 Runs the UR5 on the spacecraft bus (the README's resolved-motion-rate run) and a spatial6
 capture of a tumbling target, saves each run's scene as a self-contained HTML file under
-``docs/viewer/`` (the collision meshes for the UR5, to keep the file small) and screenshots it
+``docs/scenes/`` (the collision meshes for the UR5, to keep the file small) and screenshots it
 with headless Chromium through ``tests/browser.py`` into ``docs/figures/viewer_*.png`` (the UR5
 with its visual meshes).
 
@@ -28,7 +28,7 @@ from spacearm.cli import main  # noqa: E402
 from browser import screenshot  # noqa: E402  (tests/browser.py: the one Chromium helper)
 
 FIGURES = ROOT / "docs" / "figures"
-GALLERY = ROOT / "docs" / "viewer"
+GALLERY = ROOT / "docs" / "scenes"
 WIDTH, HEIGHT = 1200, 760
 
 
@@ -60,7 +60,7 @@ def main_() -> None:
         tmp = Path(d)
         ur5 = ur5_run(tmp)
         ur5.view(GALLERY / "ur5_on_bus.html", fps=20, geometry="collision")
-        ur5.view(tmp / "ur5_visual.html", fps=20)
+        ur5.view(tmp / "ur5_visual.html", fps=20, play=False)  # the first pose, still: SwiftShader renders the 95k triangles slowly
         screenshot(tmp / "ur5_visual.html", FIGURES / "viewer_ur5_on_bus.png", width=WIDTH, height=HEIGHT, budget_ms=2500, timeout=400)
         cap = capture_run()
         cap.view(GALLERY / "spatial6_capture.html", fps=15)

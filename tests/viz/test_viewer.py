@@ -331,7 +331,7 @@ def _warm(img):
 def test_chromium_draws_the_robot(which, tmp_path):
     robot = _ur5_on_bus() if which == "ur5_on_bus" else spacearm.presets.spatial6()
     page = tmp_path / f"{which}.html"
-    _moving_run(robot, duration=0.5).view(page, fps=20)
+    _moving_run(robot, duration=0.5).view(page, fps=20, geometry="collision")  # the light meshes: SwiftShader is slow
     from spacearm.viz.viewer import Scene
 
     empty = tmp_path / "empty.html"

@@ -53,8 +53,9 @@ PathLike = Union[str, "os.PathLike[str]"]
 
 #: Which shapes are drawn (``geometry=``): a body with none of the chosen role shows its others.
 GEOMETRY_ROLES = ("visual", "collision")
-#: Root of the robot's nodes and of a capture target's nodes in the scene tree.
+#: Root of the robot's nodes in the scene tree.
 ROBOT_PREFIX = "/spacearm/robot"
+#: Root of a capture target's nodes in the scene tree.
 TARGET_PREFIX = "/spacearm/target"
 
 _STICK_COLOR = (0.12, 0.47, 0.71, 1.0)  # links without geometry
@@ -511,7 +512,7 @@ def _check_options(fps, max_frames, geometry) -> Tuple[float, int]:
     return fps, max_frames
 
 
-def _finish(scene: Scene, points: np.ndarray, play: bool, repetitions: int) -> None:
+def _finish(scene: Scene, points: np.ndarray, play: bool, repetitions: int, pad: float = 0.0) -> None:
     """The extent and the camera. The ``/spacearm`` node is shifted by minus the centre of every
     drawn point, so that meshcat's camera, which orbits the viewer's origin, turns about the
     scene; it looks from a fixed direction, far enough to hold the scene. The grid and meshcat's
@@ -519,10 +520,10 @@ def _finish(scene: Scene, points: np.ndarray, play: bool, repetitions: int) -> N
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     pts = pts[np.all(np.isfinite(pts), axis=1)]
     centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0)) if len(pts) else np.zeros(3)
-    radius = float(np.max(np.linalg.norm(pts - centre, axis=1))) if len(pts) else 1.0
+    radius = (float(np.max(np.linalg.norm(pts - centre, axis=1))) if len(pts) else 1.0) + float(pad)  # pad: the bases' size
     scene.extent = (centre, max(radius, 1e-3))
     scene._set_transform("/spacearm", _transform(-centre))
-    distance = 2.0 * max(radius, 0.25)
+    distance = 1.45 * max(radius, 0.25)
     direction = np.array([0.9, 1.2, 0.75]) / np.linalg.norm([0.9, 1.2, 0.75])  # +x to the left, away from the controls
     eye = distance * direction  # in 𝒥's axes (z up); meshcat's camera node is y up: (x, z, -y)
     scene._properties.append(("/Cameras/default/rotated/<object>", "position", [float(eye[0]), float(eye[2]), float(-eye[1])]))
@@ -590,7 +591,7 @@ def trajectory_scene(
                1e-6 * max(float(scales[:, 0].max()), 1e-300))
         _arrow(scene, "L", com, np.asarray(m.L_com), span, _L_COLOR, "L, angular momentum about the CM", "N m s",
                1e-6 * max(float(scales[:, 2].max()), 1e-300))
-    _finish(scene, np.vstack(extent), play, repetitions)
+    _finish(scene, np.vstack(extent), play, repetitions, pad=_base_radius(robot))
     return scene
 
 
@@ -653,7 +654,7 @@ def capture_scene(
         _arrow(scene, "P", origin, P, span, _P_COLOR, "P, robot + target", "N s", 1e-6 * max(float(scales[:, 0].max()), 1e-300))
         _arrow(scene, "L", origin, L, span, _L_COLOR, "L about the origin, robot + target", "N m s",
                1e-6 * max(float(scales[:, 1].max()), 1e-300))
-    _finish(scene, np.vstack(extent), play, repetitions)
+    _finish(scene, np.vstack(extent), play, repetitions, pad=max(_base_radius(robot), _base_radius(body)))
     return scene
 
 
