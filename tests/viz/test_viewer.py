@@ -11,8 +11,7 @@ from __future__ import annotations
 import base64
 import json
 import re
-import warnings
-from importlib import metadata
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -348,3 +347,52 @@ def test_chromium_draws_the_robot(which, tmp_path):
     bg_like, bg_gold = _warm(bg)  # meshcat's grid and axes only
     assert robot_like > 2 * bg_like and gold > 10 * max(bg_gold, 10), (robot_like, gold, bg_like, bg_gold)
     assert np.abs(img - bg).sum(axis=2).astype(bool).mean() > 0.02  # and differs from an empty scene
+
+
+def test_ur5_meshes_are_sent_with_normals():
+    robot = _ur5_on_bus()
+    traj = spacearm.simulate(robot, 0.05, dt=0.01)
+    from spacearm.viz.viewer import trajectory_scene
+
+    scene = trajectory_scene(traj, geometry="collision")
+    assert not scene.notes
+    objects = {c.path.lower(): c.object.lower() for c in scene.commands() if type(c).__name__ == "SetObject"}
+    names = [robot.description.base.name] + [link.name for link in robot.description.links]
+    meshes = [g for g in robot.description.geometries if g.role == "collision" and g.shape == "mesh"]
+    assert len(meshes) == 7
+    for g in meshes:
+        geometry = objects[f"/spacearm/robot/bodies/{g.body_index}_{names[g.body_index]}/geometry/{g.name}"]["geometries"][0]
+        attrs = geometry["data"]["attributes"]
+        n_vertices = len(attrs["position"]["array"].data) // 12
+        assert n_vertices > 100 and len(attrs["normal"]["array"].data) // 12 == n_vertices
+        faces = np.frombuffer(geometry["data"]["index"]["array"].data, dtype=np.uint32)
+        assert faces.size % 3 == 0 and faces.max() < n_vertices
+        normals = np.frombuffer(attrs["normal"]["array"].data, dtype=np.float32).reshape(-1, 3)
+        np.testing.assert_allclose(np.linalg.norm(normals, axis=1), 1.0, atol=1e-5)
+
+
+def test_cli_live_view_serves_until_interrupted(tmp_path):
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    run = tmp_path / "run.npz"
+    assert main(["simulate", "spatial6", "--duration", "0.2", "--out", str(run)]) == 0
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(Path(spacearm.__file__).parents[1])] + sys.path))
+    proc = subprocess.Popen([sys.executable, "-m", "spacearm", "view", str(run), "--no-browser"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        lines = []
+        for line in proc.stdout:
+            lines.append(line)
+            if "serving the scene at" in line:
+                break
+        assert any("serving the scene at http://" in line for line in lines), lines
+        proc.send_signal(signal.SIGINT)
+        out, _ = proc.communicate(timeout=60)
+        assert proc.returncode == 0 and "stopped" in out
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()

@@ -38,7 +38,7 @@ import math
 import os
 import warnings
 import webbrowser
-from typing import Dict, List, Optional, Sequence, Tuple, Union
+from typing import Dict, List, Optional, Tuple, Union
 
 import numpy as np
 
