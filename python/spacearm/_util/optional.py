@@ -30,6 +30,7 @@ EXTRAS = {
     "casadi": "optimal-control",
     "trimesh": "mesh",
     "imageio_ffmpeg": "video",
+    "meshcat": "view",
 }
 
 

@@ -13,8 +13,10 @@ Conventions (``docs/conventions.md``): ``x = [r0, quat0 (x, y, z, w), q]``, ``u 
 Output: [`Trajectory.save`][spacearm.Trajectory.save] / [`Trajectory.load`][spacearm.Trajectory.load] (``.npz``, the model embedded as
 TOML so a loaded run can be plotted and animated), [`Trajectory.to_csv`][spacearm.Trajectory.to_csv] (one row per
 sample, a header naming every column with its unit), [`Trajectory.plot`][spacearm.Trajectory.plot] (a multi-panel
-PNG), [`Trajectory.animate`][spacearm.Trajectory.animate] (a 3-D GIF) and
-[`Trajectory.video`][spacearm.Trajectory.video] (an H.264 mp4). Every file is written atomically.
+PNG), [`Trajectory.animate`][spacearm.Trajectory.animate] (a 3-D GIF),
+[`Trajectory.video`][spacearm.Trajectory.video] (an H.264 mp4) and
+[`Trajectory.view`][spacearm.Trajectory.view] (the 3-D browser viewer, a self-contained HTML file or
+a live view). Every file is written atomically.
 """
 
 from __future__ import annotations
@@ -719,3 +721,15 @@ class Trajectory:
 
         return trajectory_video(self, path, width=width, height=height, fps=fps, renderer=renderer, speed=speed,
                                 camera=camera, trail=trail, progress=progress)
+    def view(self, path: Optional[PathLike] = None, *, fps: float = 30.0, open: Optional[bool] = None, **kwargs):
+        """The run in the 3-D browser viewer (meshcat, the ``view`` extra; docs/viewer.md).
+
+        With ``path``: writes one self-contained ``.html`` file (opened from ``file://``, no
+        server) and returns the path; ``open=True`` also opens it in the web browser. Without a
+        path: serves the scene live and returns the ``meshcat.Visualizer`` (opened in the browser
+        unless ``open=False``). ``fps``: key frames per second of the run. Needs the robot. Other
+        options (``geometry``, ``momentum``, ``path``, ``frames``, ...): see
+        ``spacearm.viz.viewer.trajectory_scene``."""
+        from ..viz.viewer import trajectory_scene, view
+
+        return view(trajectory_scene(self, fps=fps, **kwargs), path, open=open)
