@@ -115,9 +115,9 @@ def run(args, out=None) -> int:
             webbrowser.open(os.path.abspath(args.out))
         return 0
     vis = scene.show(open=not args.no_browser)
-    out.write(f"serving the scene at {vis.window.web_url} (Ctrl-C to stop)\n")
-    out.flush()
-    try:
+    try:  # the announcement inside: a Ctrl-C right after it is the stop asked for, not an error
+        out.write(f"serving the scene at {vis.window.web_url} (Ctrl-C to stop)\n")
+        out.flush()
         while True:
             time.sleep(1.0)
     except KeyboardInterrupt:
