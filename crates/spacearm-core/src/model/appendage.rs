@@ -16,9 +16,10 @@
 //!   fixed to the parent (`<name>_root`), `N − 1` elements of length `l` and a tip half-element of
 //!   length `l/2` (`<name>_1 … <name>_N`). Each station has a passive revolute joint per bending
 //!   axis with `k = EI/l` and, with `GJ`, one about the beam axis with `k = GJ/l`. Element `j` of
-//!   length `s` has mass `ρA s` at its middle and the slender-rod inertia
-//!   `(ρA s³/12)(E − a aᵀ) + ρJ s a aᵀ` about it (`ρJ`: mass moment of inertia per length about
-//!   the axis). The rigid-body dynamics of the chain is exact, so the centrifugal (geometric)
+//!   length `s` has mass `ρA s` at its middle and the inertia
+//!   `(ρA s³/12 + ρJ s/2)(E − a aᵀ) + ρJ s a aᵀ` about it (`ρJ`: mass moment of inertia per length
+//!   about the axis; `ρJ/2` per length about each transverse axis is the rotary inertia of an
+//!   axisymmetric section, neglected by Euler–Bernoulli, which keeps each element physical). The rigid-body dynamics of the chain is exact, so the centrifugal (geometric)
 //!   stiffening of a spinning beam is kept.
 //! - [`compliant_parts`]: a **compliant (elastic) joint** in the manner of Spong (1987): the link's
 //!   joint becomes an actuated motor joint carrying a rotor body (`<link>_rotor`, axial inertia
@@ -377,7 +378,12 @@ pub fn beam_parts(spec: &BeamSpec, item: ModelItem) -> Result<Parts, ModelError>
     let spec = BeamSpec { axis, bending, ..spec.clone() };
     let n = spec.segments;
     let l = spec.length / n as f64;
-    let element = |s: f64| (spec.rho_a * s, axial(&axis, spec.rho_a * s * s * s / 12.0, spec.rho_j * s - spec.rho_a * s * s * s / 12.0));
+    // Transverse: the slender rod's ρA s³/12 plus the section's rotary inertia ρJ s/2 (an
+    // axisymmetric section, I_y = I_z = J/2), which keeps every element a physical body.
+    let element = |s: f64| {
+        let transverse = spec.rho_a * s * s * s / 12.0 + spec.rho_j * s / 2.0;
+        (spec.rho_a * s, axial(&axis, transverse, spec.rho_j * s - transverse))
+    };
     let mut parts = Parts::default();
     let root = format!("{}_root", spec.name);
     let (m0, i0) = element(l / 2.0);
