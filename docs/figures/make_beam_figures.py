@@ -43,13 +43,13 @@ def main() -> None:
     print("\n| N | peak tip deflection (m) | at t (s) | max deviation from reference / peak |")
     print("| --- | --- | --- | --- |")
     runs = {}
-    for n in (2, 4, 8, 12, 16):
+    for n in (2, 4, 8, 12):
         tip = t.krb_spacearm(n, times)
         runs[n] = tip
         k = int(np.argmin(tip))
         print(f"| {n} | {tip[k]:.4f} | {times[k]:.2f} | {np.max(np.abs(tip - ref)) / np.max(np.abs(ref)):.2e} |")
     k = int(np.argmin(ref))
-    print(f"| assumed modes (5, stiffened) | {ref[k]:.4f} | {times[k]:.2f} | |")
+    print(f"| assumed modes (3 modes of 6 trial functions, stiffened) | {ref[k]:.4f} | {times[k]:.2f} | |")
 
     fig, ax = plt.subplots(figsize=(7.5, 4.0), constrained_layout=True)
     ax.plot(times, ref, "k-", lw=2.5, label="assumed modes with geometric stiffening (reference)")
