@@ -33,7 +33,7 @@ __all__ = [
     "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "joint_wrenches", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
     "model_to_toml", "momentum_scales", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
-    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "soft_capture", "virtual_mass",
+    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts", "soft_capture", "virtual_mass",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -81,6 +81,19 @@ def model_from_paper_dh(
 def slosh_links(name: str, parent: str, model: str, mass: float, position: Sequence[float], axis: Sequence[float],
                 hinge: Optional[Sequence[float]], length: Optional[float], stiffness: Optional[float],
                 frequency: Optional[float], damping: float) -> list[tuple]: ...  # ModelBuilder.add_link arguments per link
+
+# (links: ModelBuilder.add_link arguments per link, points: (name, body, offset), geometries: (name, body, size, origin, rotation, rgba))
+def panel_parts(name: str, parent: str, hinge_position: Sequence[float], hinge_axis: Sequence[float],
+                direction: Sequence[float], mass: float, size: Optional[Sequence[float]],
+                inertia: Optional[Sequence[Sequence[float]]], com_distance: Optional[float], stiffness: Optional[float],
+                frequency: Optional[float], damping: float, rest: float) -> tuple[list[tuple], list[tuple], list[tuple]]: ...
+def beam_parts(name: str, parent: str, root_position: Sequence[float], axis: Sequence[float], length: float,
+               segments: int, bending_axes: Optional[Sequence[Sequence[float]]], ei: Sequence[float], torsion: Optional[float], rho_a: float,
+               rho_j: float, damping: Optional[float], damping_ratio: Optional[float]) -> tuple[list[tuple], list[tuple], list[tuple]]: ...
+def compliant_parts(name: str, parent: str, joint_type: str, origin: Sequence[float], rotation: Sequence[float],
+                    axis: Sequence[float], com: Sequence[float], mass: float, inertia: Sequence[Sequence[float]],
+                    joint_name: Optional[str], limits: Optional[Sequence[float]], stiffness: float, rotor_inertia: float,
+                    damping: float, gear_ratio: float) -> tuple[list[tuple], list[tuple], list[tuple]]: ...
 
 @final
 class ModelBuilder:

@@ -186,3 +186,151 @@ pub fn slosh_links(
         })
         .collect()
 }
+
+/// `(links, points, geometries)` of an appendage (core `model::appendage`): each link as the
+/// arguments of `ModelBuilder.add_link`, each point as `(name, body, offset)`, each geometry as
+/// `(name, body, size, origin, rotation, rgba)` of a box.
+fn parts_to_py(py: Python<'_>, parts: spacearm_core::model::appendage::Parts) -> PyResult<Py<PyAny>> {
+    let mut links = Vec::new();
+    for (l, d) in parts.links {
+        let lim = l.limits;
+        let limits = (l.kind != JointType::Fixed).then_some([lim.lower, lim.upper, lim.velocity, lim.effort]);
+        let dynamics = (d != JointDynamics::default()).then_some((d.actuated, d.stiffness, d.damping, d.rest));
+        links.push(
+            (l.name, l.parent, l.kind.as_str(), l.origin_in_parent, l.rotation_in_parent, l.axis, l.com_from_joint, l.mass, l.inertia, l.joint_name, limits, dynamics)
+                .into_pyobject(py)?
+                .into_any()
+                .unbind(),
+        );
+    }
+    let mut geometries = Vec::new();
+    for g in parts.geometries {
+        let Shape::Box { size } = g.shape else { continue };
+        geometries.push((g.name, g.body, size, g.origin, g.rotation, g.rgba).into_pyobject(py)?.into_any().unbind());
+    }
+    Ok((links, parts.points, geometries).into_pyobject(py)?.into_any().unbind())
+}
+
+/// A hinged rigid panel's parts (core `model::appendage::panel_parts`, docs/flexibility.md):
+/// `size` `(length, width, thickness)` or `inertia` with `com_distance`; `stiffness` or `frequency`.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (name, parent, hinge_position, hinge_axis, direction, mass, size, inertia, com_distance, stiffness, frequency, damping, rest))]
+pub fn panel_parts(
+    py: Python<'_>,
+    name: &str,
+    parent: &str,
+    hinge_position: [f64; 3],
+    hinge_axis: [f64; 3],
+    direction: [f64; 3],
+    mass: f64,
+    size: Option<[f64; 3]>,
+    inertia: Option<[[f64; 3]; 3]>,
+    com_distance: Option<f64>,
+    stiffness: Option<f64>,
+    frequency: Option<f64>,
+    damping: f64,
+    rest: f64,
+) -> PyResult<Py<PyAny>> {
+    use spacearm_core::error::ModelItem;
+    use spacearm_core::model::appendage::{self, PanelBody, PanelSpec, Restoring};
+    let invalid = |msg: String| to_py_err(py, SpacearmError::InvalidModel(format!("panel '{name}': {msg}")));
+    let restoring = match (stiffness, frequency) {
+        (Some(k), None) => Restoring::Stiffness(k),
+        (None, Some(w)) => Restoring::Frequency(w),
+        _ => return Err(invalid("give stiffness or frequency (one of them)".into())),
+    };
+    let body = match (size, inertia, com_distance) {
+        (Some(s), None, None) => PanelBody::Size(s),
+        (None, Some(i), Some(d)) => PanelBody::Inertia { com_distance: d, inertia: i },
+        _ => return Err(invalid("give size = (length, width, thickness), or inertia and com_distance".into())),
+    };
+    let spec = PanelSpec { name: name.into(), parent: parent.into(), hinge_position, hinge_axis, direction, body, mass, restoring, damping, rest };
+    let parts = appendage::panel_parts(&spec, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
+    parts_to_py(py, parts)
+}
+
+/// A flexible beam's parts by the rigid finite element method (core
+/// `model::appendage::beam_parts`, docs/flexibility.md). `bending_axes` (default:
+/// `appendage::bending`) with `ei` (one, or one per axis);
+/// `damping` (per joint) or `damping_ratio`.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (name, parent, root_position, axis, length, segments, bending_axes, ei, torsion, rho_a, rho_j, damping, damping_ratio))]
+pub fn beam_parts(
+    py: Python<'_>,
+    name: &str,
+    parent: &str,
+    root_position: [f64; 3],
+    axis: [f64; 3],
+    length: f64,
+    segments: usize,
+    bending_axes: Option<Vec<[f64; 3]>>,
+    ei: Vec<f64>,
+    torsion: Option<f64>,
+    rho_a: f64,
+    rho_j: f64,
+    damping: Option<f64>,
+    damping_ratio: Option<f64>,
+) -> PyResult<Py<PyAny>> {
+    use spacearm_core::error::ModelItem;
+    use spacearm_core::model::appendage::{self, BeamDamping, BeamSpec};
+    let damping = match (damping, damping_ratio) {
+        (Some(c), None) => BeamDamping::PerJoint(c),
+        (None, Some(z)) => BeamDamping::Ratio(z),
+        (None, None) => BeamDamping::PerJoint(0.0),
+        _ => return Err(to_py_err(py, SpacearmError::InvalidModel(format!("beam '{name}': give damping or damping_ratio, not both")))),
+    };
+    let bending = appendage::bending(name, &axis, bending_axes, &ei).map_err(SpacearmError::from).or_raise(py)?;
+    let spec = BeamSpec { name: name.into(), parent: parent.into(), root_position, axis, length, segments, bending, torsion, rho_a, rho_j, damping };
+    let parts = appendage::beam_parts(&spec, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
+    parts_to_py(py, parts)
+}
+
+/// The two links of a compliant revolute joint (core `model::appendage::compliant_parts`): the
+/// link's own `ModelBuilder.add_link` arguments (without dynamics) and the series elasticity.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (name, parent, joint_type, origin, rotation, axis, com, mass, inertia, joint_name, limits, stiffness, rotor_inertia, damping, gear_ratio))]
+pub fn compliant_parts(
+    py: Python<'_>,
+    name: &str,
+    parent: &str,
+    joint_type: &str,
+    origin: [f64; 3],
+    rotation: [f64; 4],
+    axis: [f64; 3],
+    com: [f64; 3],
+    mass: f64,
+    inertia: [[f64; 3]; 3],
+    joint_name: Option<String>,
+    limits: Option<[f64; 4]>,
+    stiffness: f64,
+    rotor_inertia: f64,
+    damping: f64,
+    gear_ratio: f64,
+) -> PyResult<Py<PyAny>> {
+    use spacearm_core::error::ModelItem;
+    use spacearm_core::model::appendage::{self, CompliantSpec};
+    let kind = self::joint_type(py, joint_type)?;
+    let limits = match limits {
+        None => JointLimits::unlimited(),
+        Some([lower, upper, velocity, effort]) => JointLimits { lower, upper, velocity, effort },
+    };
+    let link = LinkSpec {
+        name: name.into(),
+        parent: parent.into(),
+        joint_name,
+        kind,
+        origin_in_parent: origin,
+        rotation_in_parent: rotation,
+        axis,
+        com_from_joint: com,
+        mass,
+        inertia,
+        limits,
+    };
+    let spec = CompliantSpec { stiffness, rotor_inertia, damping, gear_ratio };
+    let parts = appendage::compliant_parts(&link, &spec, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
+    parts_to_py(py, parts)
+}

@@ -56,6 +56,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model_py::PyTape>()?;
     m.add_class::<builder_py::PyModelBuilder>()?;
     m.add_function(wrap_pyfunction!(builder_py::slosh_links, m)?)?;
+    m.add_function(wrap_pyfunction!(builder_py::panel_parts, m)?)?;
+    m.add_function(wrap_pyfunction!(builder_py::beam_parts, m)?)?;
+    m.add_function(wrap_pyfunction!(builder_py::compliant_parts, m)?)?;
     m.add_class::<derivatives_py::PyDerivatives>()?;
     m.add_class::<description_py::PyModelDescription>()?;
     m.add_class::<description_py::PyBaseDescription>()?;

@@ -56,9 +56,18 @@ def _quat_wxyz(r: np.ndarray) -> np.ndarray:
 
 
 def _inertial(parent: ET.Element, mass: float, inertia: np.ndarray) -> None:
-    i = inertia
-    ET.SubElement(parent, "inertial", pos="0 0 0", mass=repr(float(mass)),
-                  fullinertia=_fmt([i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]]))
+    """The full tensor; a semi-definite one (a massless link, a point mass, a slender rod),
+    which MuJoCo's ``fullinertia`` refuses, as its principal moments and axes."""
+    i = np.asarray(inertia, dtype=float)
+    moments, axes = np.linalg.eigh(i)
+    if moments[0] > 0:
+        ET.SubElement(parent, "inertial", pos="0 0 0", mass=repr(float(mass)),
+                      fullinertia=_fmt([i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]]))
+        return
+    if np.linalg.det(axes) < 0:
+        axes[:, 2] = -axes[:, 2]
+    ET.SubElement(parent, "inertial", pos="0 0 0", mass=repr(float(mass)), quat=_fmt(_quat_wxyz(axes)),
+                  diaginertia=_fmt(np.maximum(moments, 0.0)))
 
 
 #: MJCF geom groups of the two geometry roles (MuJoCo's viewer shows groups 0-2 by default).

@@ -115,6 +115,7 @@ class RobotBuilder:
         stiffness: float = 0.0,
         damping: float = 0.0,
         rest: float = 0.0,
+        compliant: Optional[dict] = None,
     ) -> "RobotBuilder":
         """Add a link attached to ``parent`` through a joint.
 
@@ -130,6 +131,15 @@ class RobotBuilder:
         ``rest`` (rad or m) give it a linear spring–damper, the generalized force
         ``-stiffness (q - rest) - damping q̇`` in every forward dynamics and simulation. A
         fixed joint takes none of them.
+
+        ``compliant={"stiffness": k, "rotor_inertia": B, "damping": c, "gear_ratio": n}``
+        (``damping`` default 0, ``gear_ratio`` default 1) makes a revolute joint elastic in
+        Spong's manner (docs/flexibility.md, "Compliant joints"; the core's
+        ``model/appendage.rs``): the joint (its name, origin, axis, limits) becomes an actuated
+        motor joint carrying the rotor ``<name>_rotor`` (axial inertia ``n² B``), and the link
+        follows on the passive joint ``<joint>_deflection`` about the same axis, whose coordinate
+        ``δ = q_link − θ`` carries the series spring ``-k δ - c δ̇``. It takes no
+        ``actuated``/``stiffness``/``damping``/``rest`` of its own.
         """
         if rotation is not None and rpy is not None:
             raise ArgumentError(f"link '{name}': give rotation or rpy, not both")
@@ -146,6 +156,9 @@ class RobotBuilder:
                 raise ArgumentError(f"link '{name}': unknown limit keys {sorted(unknown)}; expected lower, upper, velocity, effort")
             lim = [number(limits.get(key, default), f"link '{name}' limit {key}")
                    for key, default in (("lower", -np.inf), ("upper", np.inf), ("velocity", np.inf), ("effort", np.inf))]
+        if compliant is not None:
+            return self._add_compliant(name, parent, joint, origin, quat, axis, com, mass, inertia, joint_name, lim,
+                                       compliant, (actuated, stiffness, damping, rest))
         args = (
             str(name),
             str(parent),
@@ -163,6 +176,129 @@ class RobotBuilder:
         self._b.add_link(*args)
         self._links.append((str(name), str(parent), str(joint), joint_name, args))
         return self
+
+    def _add_compliant(self, name, parent, joint, origin, quat, axis, com, mass, inertia, joint_name, lim, compliant,
+                       dynamics) -> "RobotBuilder":
+        if not isinstance(compliant, dict):
+            raise SpacearmTypeError(f"link '{name}': compliant must be a dict with stiffness, rotor_inertia, damping, "
+                                    f"gear_ratio, got {type(compliant).__name__}")
+        unknown = set(compliant) - {"stiffness", "rotor_inertia", "damping", "gear_ratio"}
+        missing = {"stiffness", "rotor_inertia"} - set(compliant)
+        if unknown or missing:
+            raise ArgumentError(f"link '{name}': compliant takes stiffness, rotor_inertia (both needed), damping and "
+                                f"gear_ratio; unknown {sorted(unknown)}, missing {sorted(missing)}")
+        if self._joint_dynamics(name, *dynamics) is not None:
+            raise ArgumentError(f"link '{name}': a compliant joint takes no actuated, stiffness, damping or rest of its "
+                                "own (the motor joint is actuated, the spring is compliant['stiffness'])")
+        parts = _core.compliant_parts(
+            str(name), str(parent), str(joint), list(vector(origin, f"link '{name}' origin", 3)), list(quat),
+            list(vector(axis, f"link '{name}' axis", 3)), list(vector(com, f"link '{name}' com", 3)),
+            number(mass, f"link '{name}' mass"), matrix3(inertia, f"link '{name}' inertia"), joint_name, lim,
+            number(compliant["stiffness"], f"link '{name}' compliant stiffness"),
+            number(compliant["rotor_inertia"], f"link '{name}' compliant rotor_inertia"),
+            number(compliant.get("damping", 0.0), f"link '{name}' compliant damping"),
+            number(compliant.get("gear_ratio", 1.0), f"link '{name}' compliant gear_ratio"))
+        return self._add_parts(parts)
+
+    def _add_parts(self, parts) -> "RobotBuilder":
+        """Add the core's ``(links, points, geometries)`` of an appendage (``model/appendage.rs``)."""
+        links, points, geometries = parts
+        for args in links:
+            self._b.add_link(*args)
+            self._links.append((args[0], args[1], args[2], args[9], tuple(args)))
+        for point, body, offset in points:
+            self.add_point(point, body=body, offset=offset)
+        for gname, body, size, origin, rotation, rgba in geometries:
+            self.add_geometry(body, "box", size=size, origin=origin, rotation=rotation, rgba=rgba, name=gname)
+        return self
+
+    def add_panel(
+        self,
+        name: str,
+        *,
+        parent: str = "base",
+        hinge_position: Sequence[float],
+        hinge_axis: Sequence[float],
+        direction: Sequence[float],
+        mass: float,
+        size: Optional[Sequence[float]] = None,
+        inertia=None,
+        com_distance: Optional[float] = None,
+        stiffness: Optional[float] = None,
+        frequency: Optional[float] = None,
+        damping: float = 0.0,
+        rest: float = 0.0,
+    ) -> "RobotBuilder":
+        """Add a hinged rigid panel: a plate on a passive revolute joint ``<name>_hinge`` with a
+        torsional spring (docs/flexibility.md, "Hinged panels"; the core's ``model/appendage.rs``).
+
+        The hinge is at ``hinge_position`` (``parent``'s frame, from its CM) about
+        ``hinge_axis``; the plate extends from the hinge line along ``direction``
+        (perpendicular to the hinge). ``size = (length, width, thickness)``: a uniform plate,
+        length along ``direction``, width along the hinge, CM at ``length/2`` (drawn as a box);
+        or ``inertia`` (about the CM, parent axes, 3×3 or its diagonal) with ``com_distance``
+        (the CM's distance from the hinge along ``direction``). The spring: ``stiffness``
+        (N·m/rad) or ``frequency`` (rad/s on a clamped parent: ``k = I_h ω²``, ``I_h`` the
+        moment about the hinge line). ``damping`` N·m·s/rad, ``rest`` rad.
+        """
+        parts = _core.panel_parts(
+            str(name), str(parent), list(vector(hinge_position, f"panel '{name}' hinge_position", 3)),
+            list(vector(hinge_axis, f"panel '{name}' hinge_axis", 3)), list(vector(direction, f"panel '{name}' direction", 3)),
+            number(mass, f"panel '{name}' mass"), None if size is None else list(vector(size, f"panel '{name}' size", 3)),
+            None if inertia is None else matrix3(inertia, f"panel '{name}' inertia"),
+            None if com_distance is None else number(com_distance, f"panel '{name}' com_distance"),
+            None if stiffness is None else number(stiffness, f"panel '{name}' stiffness"),
+            None if frequency is None else number(frequency, f"panel '{name}' frequency"),
+            number(damping, f"panel '{name}' damping"), number(rest, f"panel '{name}' rest"))
+        return self._add_parts(parts)
+
+    def add_beam(
+        self,
+        name: str,
+        *,
+        parent: str = "base",
+        root_position: Sequence[float],
+        axis: Sequence[float],
+        length: float,
+        segments: int,
+        EI,
+        rho_A: float,
+        bending_axes: Optional[Sequence[Sequence[float]]] = None,
+        GJ: Optional[float] = None,
+        rho_J: float = 0.0,
+        damping: Optional[float] = None,
+        damping_ratio: Optional[float] = None,
+    ) -> "RobotBuilder":
+        """Add a flexible beam by the rigid finite element method (docs/flexibility.md, "Flexible
+        beams"; the core's ``model/appendage.rs``): ``segments`` = N primary segments of
+        ``l = length/N``; a root half-element ``<name>_root`` clamped to ``parent`` at
+        ``root_position``, then at ``(i − ½) l`` along ``axis`` (``i = 1..N``) a passive revolute
+        joint per bending axis with ``k = EI/l`` (and about ``axis`` with ``k = GJ/l`` when
+        ``GJ`` is given) and the rigid element ``<name>_i`` (mass ``ρA`` per length), the last
+        one of length ``l/2``; the point ``<name>_tip`` at the free end.
+
+        ``bending_axes``: one or two axes perpendicular to ``axis`` (parent frame); default two:
+        ``b₁``, the parent axis along ``axis``'s smallest component made perpendicular to it, and
+        ``b₂ = axis × b₁``. ``EI`` (N·m²): one number for every bending axis or one per axis.
+        ``rho_J``: mass moment of inertia per length about the axis (kg·m; needed with ``GJ``).
+        ``damping`` (N·m·s/rad on every joint) or ``damping_ratio`` ζ (stiffness-proportional,
+        ``c = 2ζk/ω₁`` with ``ω₁`` the first clamped Euler–Bernoulli frequency).
+        """
+        who = f"beam '{name}'"
+        axes = None if bending_axes is None else [list(vector(b, f"{who} bending axis", 3)) for b in bending_axes]
+        try:
+            ei = [float(v) for v in np.atleast_1d(np.asarray(EI, dtype=float))]
+        except (TypeError, ValueError):
+            raise SpacearmTypeError(f"{who}: EI must be a number or a sequence of numbers, got {EI!r}") from None
+        if isinstance(segments, bool) or not isinstance(segments, (int, np.integer)) or segments < 0:
+            raise SpacearmTypeError(f"{who}: segments must be a positive integer, got {type(segments).__name__} {segments!r}")
+        parts = _core.beam_parts(
+            str(name), str(parent), list(vector(root_position, f"{who} root_position", 3)), list(vector(axis, f"{who} axis", 3)),
+            number(length, f"{who} length"), int(segments), axes, ei,
+            None if GJ is None else number(GJ, f"{who} GJ"), number(rho_A, f"{who} rho_A"), number(rho_J, f"{who} rho_J"),
+            None if damping is None else number(damping, f"{who} damping"),
+            None if damping_ratio is None else number(damping_ratio, f"{who} damping_ratio"))
+        return self._add_parts(parts)
 
     @staticmethod
     def _joint_dynamics(name, actuated, stiffness, damping, rest) -> Optional[tuple]:

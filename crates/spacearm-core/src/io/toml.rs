@@ -47,6 +47,7 @@ use crate::io::dh::{ClassicDhLink, DhArm, DhTable, PaperDhLink};
 use crate::model::joint::{JointDynamics, JointLimits, JointType};
 use crate::math::rotations::xyzw_from_rpy;
 use crate::model::geometry::ShapeParts;
+use crate::model::appendage::{self, beam_parts, compliant_parts, panel_parts, BeamDamping, BeamSpec, CompliantSpec, PanelBody, PanelSpec, Parts, Restoring};
 use crate::model::slosh::{slosh_links, SloshModel, SloshRestoring, SloshSpec};
 use crate::model::{GeometryRole, GeometrySpec, LinkSpec, Model, ModelBuilder, Shape, TriangleInequality};
 
@@ -71,6 +72,10 @@ struct FileDoc {
     geometry: Vec<Spanned<GeometryDoc>>,
     #[serde(default)]
     slosh: Vec<Spanned<SloshDoc>>,
+    #[serde(default)]
+    panel: Vec<Spanned<PanelDoc>>,
+    #[serde(default)]
+    beam: Vec<Spanned<BeamDoc>>,
     dh: Option<Spanned<DhDoc>>,
     end_effector: Option<Spanned<String>>,
     initial_q: Option<Spanned<Vec<f64>>>,
@@ -93,6 +98,62 @@ struct SloshDoc {
     frequency: Option<Spanned<f64>>,
     #[serde(default)]
     damping: f64,
+}
+
+/// A `[[panel]]` table: a hinged rigid panel (docs/flexibility.md), added by
+/// [`crate::model::appendage::panel_parts`].
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PanelDoc {
+    name: Spanned<String>,
+    parent: Option<Spanned<String>>,
+    hinge_position: [f64; 3],
+    hinge_axis: [f64; 3],
+    direction: [f64; 3],
+    mass: f64,
+    size: Option<[f64; 3]>,
+    inertia: Option<Value>,
+    com_distance: Option<f64>,
+    stiffness: Option<f64>,
+    frequency: Option<f64>,
+    #[serde(default)]
+    damping: f64,
+    #[serde(default)]
+    rest: f64,
+}
+
+/// A `[[beam]]` table: a flexible beam by the rigid finite element method
+/// (docs/flexibility.md), added by [`crate::model::appendage::beam_parts`].
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+struct BeamDoc {
+    name: Spanned<String>,
+    parent: Option<Spanned<String>>,
+    root_position: [f64; 3],
+    axis: [f64; 3],
+    length: f64,
+    segments: usize,
+    EI: Value,
+    bending_axes: Option<Vec<[f64; 3]>>,
+    GJ: Option<f64>,
+    rho_A: f64,
+    #[serde(default)]
+    rho_J: f64,
+    damping: Option<f64>,
+    damping_ratio: Option<f64>,
+}
+
+/// A joint table's `compliant = { stiffness, rotor_inertia, damping, gear_ratio }` (Spong's
+/// elastic joint, [`crate::model::appendage::compliant_parts`]).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CompliantDoc {
+    stiffness: f64,
+    rotor_inertia: f64,
+    #[serde(default)]
+    damping: f64,
+    gear_ratio: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -139,6 +200,8 @@ struct JointDoc {
     stiffness: Option<Spanned<f64>>,
     damping: Option<Spanned<f64>>,
     rest: Option<Spanned<f64>>,
+    /// Spong's elastic joint: a motor rotor and a series spring (docs/flexibility.md).
+    compliant: Option<Spanned<CompliantDoc>>,
 }
 
 impl JointDoc {
@@ -499,6 +562,29 @@ impl Located<'_> {
     }
 }
 
+/// Add an appendage's parts (model/appendage.rs) from the table at `span`: every link, point
+/// and shape it makes is located there.
+fn add_parts(at: &mut Located<'_>, builder: &mut ModelBuilder, parts: &Parts, span: &Span) -> Result<()> {
+    for (link, dynamics) in &parts.links {
+        at.bodies.push((link.name.clone(), span.clone()));
+        at.joints.push((link.joint_name.clone().unwrap_or_else(|| format!("{}_joint", link.name)), span.clone()));
+        at.links.push(ItemSpans::uniform(span.clone()));
+        builder.add_link(link.clone()).map_err(|e| at.err(e))?;
+        if *dynamics != JointDynamics::default() {
+            builder.set_joint_dynamics(&link.name, *dynamics).map_err(|e| at.err(e))?;
+        }
+    }
+    for (name, body, offset) in &parts.points {
+        at.points.push(ItemSpans::uniform(span.clone()));
+        builder.add_point(name, body, *offset).map_err(|e| at.err(e))?;
+    }
+    for g in &parts.geometries {
+        at.geometries.push(ItemSpans::uniform(span.clone()));
+        builder.add_geometry(g.clone()).map_err(|e| at.err(e))?;
+    }
+    Ok(())
+}
+
 fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -> Result<Model> {
     let model_doc = doc.model.get_ref();
     if let Some(v) = &model_doc.format_version {
@@ -639,6 +725,18 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
         });
         at.bodies.push((name.clone(), sp(&l.name)));
         known.insert(name.clone());
+        if let Some(c) = &j.compliant {
+            if let Some((_, s)) = &dynamics {
+                return Err(ctx.err(s, format!("{who}: a compliant joint takes no actuated, stiffness, damping or rest of its own")));
+            }
+            let cd = c.get_ref();
+            let cspec = CompliantSpec { stiffness: cd.stiffness, rotor_inertia: cd.rotor_inertia, damping: cd.damping, gear_ratio: cd.gear_ratio.unwrap_or(1.0) };
+            let parts = compliant_parts(&spec, &cspec, ModelItem::Link(at.links.len())).map_err(|e| ctx.err(&sp(c), e))?;
+            at.links.pop();
+            at.bodies.pop();
+            add_parts(&mut at, &mut builder, &parts, &sp(ld))?;
+            continue;
+        }
         at.joints.push((spec.joint_name.clone().unwrap_or_else(|| format!("{name}_joint")), joint_span));
         builder.add_link(spec).map_err(|e| at.err(e))?;
         if let Some((d, _)) = dynamics {
@@ -678,6 +776,71 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
             builder.add_link(link).map_err(|e| at.err(e))?;
             builder.set_joint_dynamics(&link_name, dynamics).map_err(|e| at.err(e))?;
         }
+    }
+
+    // [[panel]]s and [[beam]]s: passive links on bodies defined above.
+    for pd in &doc.panel {
+        let p = pd.get_ref();
+        let name = p.name.get_ref();
+        let who = format!("panel '{name}'");
+        let restoring = match (p.stiffness, p.frequency) {
+            (Some(k), None) => Restoring::Stiffness(k),
+            (None, Some(w)) => Restoring::Frequency(w),
+            _ => return Err(ctx.err(&sp(pd), format!("{who}: give stiffness or frequency (one of them)"))),
+        };
+        let body = match (&p.size, &p.inertia, p.com_distance) {
+            (Some(s), None, None) => PanelBody::Size(*s),
+            (None, Some(i), Some(d)) => PanelBody::Inertia { com_distance: d, inertia: inertia_from_value(i).map_err(|m| ctx.err(&sp(pd), format!("{who}: {m}")))? },
+            _ => return Err(ctx.err(&sp(pd), format!("{who}: give size = [length, width, thickness], or inertia and com_distance"))),
+        };
+        let spec = PanelSpec {
+            name: name.clone(),
+            parent: p.parent.as_ref().map_or_else(|| base_name.clone(), |v| v.get_ref().clone()),
+            hinge_position: p.hinge_position,
+            hinge_axis: p.hinge_axis,
+            direction: p.direction,
+            body,
+            mass: p.mass,
+            restoring,
+            damping: p.damping,
+            rest: p.rest,
+        };
+        let parts = panel_parts(&spec, ModelItem::Link(at.links.len())).map_err(|e| ctx.err(&sp(pd), e))?;
+        add_parts(&mut at, &mut builder, &parts, &sp(pd))?;
+    }
+    for bd in &doc.beam {
+        let b = bd.get_ref();
+        let name = b.name.get_ref();
+        let who = format!("beam '{name}'");
+        let ei: Vec<f64> = match &b.EI {
+            Value::Float(v) => vec![*v],
+            Value::Integer(v) => vec![*v as f64],
+            Value::Array(a) => a.iter().map(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64))).collect::<Option<Vec<f64>>>()
+                .ok_or_else(|| ctx.err(&sp(bd), format!("{who}: EI must be a number or an array of numbers")))?,
+            _ => return Err(ctx.err(&sp(bd), format!("{who}: EI must be a number or an array of numbers"))),
+        };
+        let damping = match (b.damping, b.damping_ratio) {
+            (Some(c), None) => BeamDamping::PerJoint(c),
+            (None, Some(z)) => BeamDamping::Ratio(z),
+            (None, None) => BeamDamping::PerJoint(0.0),
+            _ => return Err(ctx.err(&sp(bd), format!("{who}: give damping or damping_ratio, not both"))),
+        };
+        let bending = appendage::bending(name, &b.axis, b.bending_axes.clone(), &ei).map_err(|e| ctx.err(&sp(bd), e))?;
+        let spec = BeamSpec {
+            name: name.clone(),
+            parent: b.parent.as_ref().map_or_else(|| base_name.clone(), |v| v.get_ref().clone()),
+            root_position: b.root_position,
+            axis: b.axis,
+            length: b.length,
+            segments: b.segments,
+            bending,
+            torsion: b.GJ,
+            rho_a: b.rho_A,
+            rho_j: b.rho_J,
+            damping,
+        };
+        let parts = beam_parts(&spec, ModelItem::Link(at.links.len())).map_err(|e| ctx.err(&sp(bd), e))?;
+        add_parts(&mut at, &mut builder, &parts, &sp(bd))?;
     }
 
     // [[point]]s.

@@ -2,11 +2,13 @@
 //! workspace: mass properties ([`body`]), joints ([`joint`]), the validated [`Model`]
 //! ([`system`]), the one way to build one ([`builder`], checked by [`validate`]), the
 //! workspace [`Data`] ([`data`]), the bodies' visual and collision shapes ([`geometry`]), the
-//! paper's case-study models ([`presets`]) and the slosh models built from passive joints ([`slosh`]).
+//! paper's case-study models ([`presets`]) and the slosh models built from passive joints ([`slosh`]) and the panels, beams and compliant
+//! joints built from them ([`appendage`]).
 //!
 //! Imports: [`crate::math`] and [`crate::error`] only (the presets use the builder of this
 //! folder).
 
+pub mod appendage;
 pub mod body;
 pub mod builder;
 pub mod data;
