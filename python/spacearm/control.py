@@ -210,6 +210,10 @@ class FreeBodyPoint:
     ``offset``: the point from the CM in body axes (m); ``step``: the attitude step (s) of the
     core's propagation (``spacearm_core::sim::free_body``: momentum conserved exactly, the
     attitude by RK4). ``point``: the robot's point that follows it (default: the end effector).
+    ``orbit``: the run's [`Orbit`][spacearm.Orbit] (``state`` relative to its point at time 0,
+    ECI axes; docs/orbit.md): the body then moves under gravity's tidal part (exact relative
+    two-body + J2 acceleration) and turns under its gravity-gradient torque, both integrated by
+    RK4 on the same grid; ``None``: torque-free.
     """
 
     inertia: Any
@@ -217,14 +221,24 @@ class FreeBodyPoint:
     offset: Any = (0.0, 0.0, 0.0)
     step: float = 1e-3
     point: Any = None
+    orbit: Any = None
 
     def __post_init__(self):
         inertia = _np.asarray(self.inertia, dtype=float)
         if inertia.shape == (3,):
             inertia = _np.diag(inertia)
+        if self.orbit is not None and not isinstance(self.orbit, _core.Orbit):
+            raise _ArgumentError(f"FreeBodyPoint orbit must be a spacearm.Orbit or None, got {type(self.orbit).__name__}")
         core = _core.FreeBodyReference(inertia=inertia.reshape(-1), state=_vector(self.state, "FreeBodyPoint state", 13),
-                                       offset=_vector(self.offset, "FreeBodyPoint offset", 3), step=_float(self.step, "FreeBodyPoint step"))
+                                       offset=_vector(self.offset, "FreeBodyPoint offset", 3), step=_float(self.step, "FreeBodyPoint step"),
+                                       orbit=self.orbit)
         object.__setattr__(self, "_core_ref", core)
+
+    def external_wrenches(self, t, mass: float) -> _np.ndarray:
+        """The external wrench on the body of mass ``mass`` (kg) at the times ``t``, (len(t), 6):
+        in orbit the tidal force (N) and its moment about the run's origin (N·m); zeros
+        torque-free (the core's ``FreeBody::external_wrench``)."""
+        return self._core_ref.external_wrenches(_np.atleast_1d(_np.asarray(t, dtype=float)), _float(mass, "mass"))
 
     def states(self, t) -> _np.ndarray:
         """The body's 13-states at the times ``t`` (s ≥ 0), shape (len(t), 13)."""

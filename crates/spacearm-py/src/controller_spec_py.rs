@@ -230,15 +230,28 @@ pub struct PyFreeBodyReference {
 impl PyFreeBodyReference {
     /// A body of `inertia` (3×3 about its CM in its axes, kg·m², symmetric positive definite;
     /// 9 numbers row-major) in `state` (13: `[r, quat xyzw, v, w]` in 𝒥, at simulation time 0),
-    /// the point at `offset` (m, body axes, from the CM); attitude grid `step` (s).
+    /// the point at `offset` (m, body axes, from the CM); attitude grid `step` (s). `orbit`: the
+    /// run's `Orbit` (the state relative to its point at time 0, ECI axes): the body then moves
+    /// under gravity's tidal part and turns under its gravity-gradient torque (docs/orbit.md).
     #[new]
-    #[pyo3(signature = (*, inertia, state, offset, step, **unknown))]
-    fn new(py: Python<'_>, inertia: &Bound<'_, PyAny>, state: &Bound<'_, PyAny>, offset: &Bound<'_, PyAny>, step: f64, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+    #[pyo3(signature = (*, inertia, state, offset, step, orbit=None, **unknown))]
+    fn new(
+        py: Python<'_>,
+        inertia: &Bound<'_, PyAny>,
+        state: &Bound<'_, PyAny>,
+        offset: &Bound<'_, PyAny>,
+        step: f64,
+        orbit: Option<PyRef<'_, crate::orbit_py::PyOrbit>>,
+        unknown: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
         refuse_unknown::<Self>(py, unknown)?;
         let i = vec_arg_n(inertia, "free-body 'inertia' (9 numbers, row-major 3×3)", 9)?;
         let i = nalgebra::Matrix3::from_row_slice(i.as_slice());
         let s = vec_arg_n(state, "free-body 'state' ([r, quat xyzw, v, w])", 13)?;
-        let inner = FreeBody::new(i, s.as_slice(), vec3(offset, "free-body 'offset'")?, step).or_raise(py)?;
+        let mut inner = FreeBody::new(i, s.as_slice(), vec3(offset, "free-body 'offset'")?, step).or_raise(py)?;
+        if let Some(o) = orbit {
+            inner = inner.in_orbit(&o.inner).or_raise(py)?;
+        }
         Ok(PyFreeBodyReference { inner })
     }
 
@@ -264,6 +277,30 @@ impl PyFreeBodyReference {
             v.extend_from_slice(vi.as_slice());
         }
         Ok((PyArray1::from_vec(py, p).reshape([times.len(), 3])?, PyArray1::from_vec(py, v).reshape([times.len(), 3])?))
+    }
+
+    /// The external wrench on the body (mass `mass`, kg) at the times `t`, (T, 6): in orbit the
+    /// tidal force (N) and its moment about the run's origin (N·m, with the gravity-gradient
+    /// torque about the CM); zeros for a torque-free body.
+    fn external_wrenches<'py>(&self, py: Python<'py>, t: &Bound<'_, PyAny>, mass: f64) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let times = vector(t, "free-body times")?;
+        if !(mass.is_finite() && mass > 0.0) {
+            return Err(to_py_err(py, bad(format!("free-body mass must be finite and > 0 kg, got {mass}"))));
+        }
+        let mut body = self.inner.clone();
+        let mut out = Vec::with_capacity(times.len() * 6);
+        for &ti in &times {
+            let (f, n) = body.external_wrench(ti, mass).or_raise(py)?;
+            out.extend_from_slice(f.as_slice());
+            out.extend_from_slice(n.as_slice());
+        }
+        Ok(PyArray1::from_vec(py, out).reshape([times.len(), 6])?)
+    }
+
+    /// Whether the body moves in orbit (built with `orbit=`).
+    #[getter]
+    fn in_orbit(&self) -> bool {
+        self.inner.is_in_orbit()
     }
 
     fn __repr__(&self) -> String {
