@@ -91,12 +91,10 @@ def test_target_drift_in_the_approach_is_cw_and_exact_two_body():
     # the record: the target's CM about the chaser CM in LVLH; the chaser CM stays at the origin
     assert np.abs(res.target_lvlh[app, :3] - _cw(n, rel0, t)).max() < 1e-7
     # it did drift: the straight line of empty space is off by the tidal displacement
-    straight = rel0[:3] + t[:, None] * rel0[3:] - 0.0
     drift = np.abs(res.target[app, :3] - res.target[0, :3] - t[:, None] * res.target[0, 7:10]).max()
-    assert drift > 1e-5
+    assert drift > 1e-6  # a few micrometres in the 2 s approach
     exact = _scipy_relative(ORBIT, res.target[0, :3], res.target[0, 7:10], t)
-    assert np.abs(res.target[app, :3] - exact).max() < 1e-8
-    del straight
+    assert np.abs(res.target[app, :3] - exact).max() < 1e-3 * drift
 
 
 def test_free_target_over_half_an_orbit_against_scipy_and_cw():
@@ -123,8 +121,8 @@ def test_tumble_under_its_gravity_gradient_against_scipy():
 
     from spacearm.rotations import quat_to_matrix
 
-    inertia = np.diag([40.0, 10.0, 60.0])
-    target = spacearm.Target(50.0, [40.0, 10.0, 60.0])
+    inertia = np.diag([30.0, 20.0, 45.0])
+    target = spacearm.Target(50.0, [30.0, 20.0, 45.0])
     s = target.state(angular_velocity=(0.0, 0.0, 2e-3), quaternion=(0.1, 0.2, 0.0, 1.0))
     t = np.linspace(0.0, 1500.0, 6)
     got = target.free_body(s, step=0.5, orbit=ORBIT).states(t)
@@ -149,12 +147,11 @@ def test_tumble_under_its_gravity_gradient_against_scipy():
         R = quat_to_matrix(sol.y[6:10, k] / np.linalg.norm(sol.y[6:10, k]))
         w_ref.append(np.linalg.solve(R @ inertia @ R.T, sol.y[10:13, k]))
     w_ref = np.array(w_ref)
-    change = np.abs(w_ref - w_ref[0]).max()
-    assert change > 1e-5  # the gradient does turn it
-    assert np.abs(got[:, 10:13] - w_ref).max() < 1e-3 * change
-    # torque-free, it keeps its spin about the major axis
+    # torque-free (the core's free body without an orbit) the tumble is another one
     free = target.free_body(s, step=0.5).states(t)
-    assert np.abs(free[:, 10:13] - free[0, 10:13]).max() < 1e-12
+    effect = np.abs(w_ref - free[:, 10:13]).max()
+    assert effect > 1e-6  # the gradient does turn it
+    assert np.abs(got[:, 10:13] - w_ref).max() < 1e-3 * effect
 
 
 @pytest.mark.parametrize("mode, kind", [("floating", "rigid"), ("floating", "point"), ("flying", "rigid")])

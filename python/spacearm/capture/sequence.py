@@ -176,11 +176,11 @@ class CaptureResult:
 
     def balance_residual(self) -> np.ndarray:
         """In orbit: ``[P − P(0) − ∫F dt, L − L(0) − ∫N dt]`` (T, 6) of robot + target, the
-        external wrench ``external_wrench`` integrated by the trapezoid rule (the ledger's
-        balance, module docstring)."""
+        external wrench ``external_wrench`` integrated by the trapezoid rule (``external_impulse``;
+        the ledger's balance, module docstring)."""
         if not self.in_orbit:
             raise ArgumentError("the capture did not run in orbit: its ledger is conservation (P - P(0), L - L(0))")
-        return _balance_residual(self.t, self.P, self.L, self.external_wrench)
+        return _balance_residual(self.P, self.L, self.external_impulse)
 
     def phase_start(self, name: str) -> float:
         """Time at which a phase starts."""
@@ -217,7 +217,7 @@ class CaptureResult:
         the tidal torque's integral, the final attitude relative to LVLH."""
         el = self.orbit.elements()
         k = int(np.nonzero(self.phase >= 1)[0][0])
-        impulse = _cumulative_impulse(self.t, self.external_wrench)[-1]
+        impulse = self.external_impulse[-1]
         r = self.attitude_lvlh()[-1]
         angle = float(np.degrees(np.arccos(np.clip(0.5 * (np.trace(r) - 1.0), -1.0, 1.0))))
         return {
@@ -238,7 +238,7 @@ class CaptureResult:
             "impulse": self.impact.impulse, "du": self.impact.du, "target_dtwist": self.impact.target_dtwist,
             "impact_point": self.impact.point, "phase_names": np.array(PHASES),
         } | ({"r_cm_eci": self.r_cm_eci, "v_cm_eci": self.v_cm_eci, "target_lvlh": self.target_lvlh,
-              "external_wrench": self.external_wrench} if self.in_orbit else {})
+              "external_wrench": self.external_wrench, "external_impulse": self.external_impulse} if self.in_orbit else {})
 
     def save(self, path) -> None:
         """Write the arrays to an ``.npz`` file (atomically: no partial file)."""
@@ -452,6 +452,7 @@ def capture(
         captured = attach_target(robot, xc, uc, target, sc, point=point)
         plant = captured.robot
     runs = []
+    seg_left = {}  # segment index -> the external wrench at the start of its run (a thruster wrench jumps there)
     x_start, u_start = xc, uc
     for phase, duration, run_mode, gains in ((2, post_time, "floating", (0.0, kd)), (3, detumble_time, mode, (kp, kd))):
         phase_orbit = _orbit_at(orbit, t_cap)
@@ -471,6 +472,8 @@ def capture(
         if phase == 2:
             seg_gw[-1] = gw[:1]  # the grasp sample: the same instant as this run's first
         add(t_cap + tr.t[1:], phase, tr.x[1:], tr.u[1:], ss[1:], tr.tau[1:], tr.base_wrench[1:], w[1:], captured is not None, gw[1:])
+        if orbit is not None:  # the run's own wrench at its start: the left end of its first interval
+            seg_left[len(seg_t) - 1] = gw[0] + _thruster_wrench_about_origin(plant, plant, [tr.x[:1]], [tr.base_wrench[:1]], [True])[0]
         runs.append(run)
         t_cap, x_start, u_start, sc = t_cap + float(tr.t[-1]), tr.x[-1], tr.u[-1], ss[-1]
 
@@ -499,14 +502,19 @@ def capture(
             gw_target = reference.external_wrenches(ta[: k + 1], target.mass) if gg else np.zeros((k + 1, 6))
             seg_gw[0] = seg_gw[0] + gw_target
         ext = np.concatenate(seg_gw) + _thruster_wrench_about_origin(robot, plant, seg_x, seg_bw, seg_combined)
-        drift = _balance(T, P, L, ext, scales)
+        left = np.vstack([ext[:1], ext[:-1]])
+        starts = np.cumsum([0] + [len(v) for v in seg_t])
+        for j, w0 in seg_left.items():
+            left[starts[j]] = w0
+        impulse = _cumulative_impulse(T, ext, left)
+        drift = _balance(T, P, L, impulse, scales)
         owners = [plant if comb else robot for comb in seg_combined]
         r_cm = np.concatenate([o.center_of_mass(xs) for o, xs in zip(owners, seg_x)])
         v_cm = np.concatenate([np.asarray(o.momentum(xs, us).P) / o.total_mass for o, xs, us in zip(owners, seg_x, seg_u)])
         rO, vO = orbit.propagate(T, rtol=1e-13)
         S = np.concatenate(seg_s)
         extra.update(
-            ledger="balance", external_wrench=ext, r_cm_eci=rO + r_cm, v_cm_eci=vO + v_cm,
+            ledger="balance", external_wrench=ext, external_impulse=impulse, r_cm_eci=rO + r_cm, v_cm_eci=vO + v_cm,
             target_lvlh=orbit.run_to_lvlh(T, np.hstack([r_cm, v_cm]), np.hstack([S[:, 0:3], S[:, 7:10]])),
         )
     return CaptureResult(
@@ -561,22 +569,23 @@ def _thruster_wrench_about_origin(robot, plant, seg_x, seg_bw, seg_combined) -> 
     return np.concatenate(out)
 
 
-def _cumulative_impulse(t, wrench) -> np.ndarray:
-    """``∫_0^t w dt`` at every sample (T, 6), the trapezoid rule over the samples."""
+def _cumulative_impulse(t, wrench, left) -> np.ndarray:
+    """``∫_0^t w dt`` at every sample (T, 6), the trapezoid rule over the samples; the interval
+    ending at sample ``j`` starts from ``left[j]`` (the previous sample's wrench, or the wrench a
+    phase's run starts with: the thrusters' jumps between phases)."""
     dt = np.diff(t)[:, None]
-    return np.vstack([np.zeros((1, 6)), np.cumsum(0.5 * dt * (wrench[1:] + wrench[:-1]), axis=0)])
+    return np.vstack([np.zeros((1, 6)), np.cumsum(0.5 * dt * (wrench[1:] + left[1:]), axis=0)])
 
 
-def _balance_residual(t, P, L, wrench) -> np.ndarray:
+def _balance_residual(P, L, impulse) -> np.ndarray:
     """``[P − P(0) − ∫F, L − L(0) − ∫N]`` at every sample (T, 6)."""
-    integral = _cumulative_impulse(t, wrench)
-    return np.hstack([P - P[0] - integral[:, :3], L - L[0] - integral[:, 3:]])
+    return np.hstack([P - P[0] - impulse[:, :3], L - L[0] - impulse[:, 3:]])
 
 
-def _balance(t, P, L, wrench, scales) -> dict:
-    """The momentum balance residuals ``max |c(t) − c(0) − ∫ w dt|`` (trapezoid over the samples)
-    relative to the drift's scales."""
-    res = _balance_residual(t, P, L, wrench)
+def _balance(t, P, L, impulse, scales) -> dict:
+    """The momentum balance residuals ``max |c(t) − c(0) − ∫ w dt|`` (``impulse`` the integral at
+    every sample) relative to the drift's scales."""
+    res = _balance_residual(P, L, impulse)
     res_p = np.linalg.norm(res[:, :3], axis=1).max()
     res_l = np.linalg.norm(res[:, 3:], axis=1).max()
     return {"P": float(res_p / max(float(scales[:, 0].max()), 1e-300)), "L": float(res_l / max(float(scales[:, 1].max()), 1e-300))}
