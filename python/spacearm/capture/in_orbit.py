@@ -45,6 +45,8 @@ class OrbitComparison(NamedTuple):
 def _fmt(v) -> str:
     if isinstance(v, str):
         return v
+    if math.isnan(v):
+        return "-"
     if not math.isfinite(v):
         return "never" if v > 0 else str(v)
     return f"{v:.4g}"
@@ -82,14 +84,15 @@ def compare_in_orbit(robot, target, relative, orbit, *, quaternion=(0.0, 0.0, 0.
     rows = {
         "grasp time": (se["capture_time"], so["capture_time"], "s"),
         "target CM shift at the grasp (orbit - empty)": (0.0, drift, "m"),
-        "grasp impulse |f|": (se["impulse_force_norm"], so["impulse_force_norm"], "N s"),
-        "grasp impulse |n|": (se["impulse_moment_norm"], so["impulse_moment_norm"], "N m s"),
-        "base jump |dw0|": (float(np.linalg.norm(se["base_dw"])), float(np.linalg.norm(so["base_dw"])), "rad/s"),
+        "grasp impulse, force": (se["impulse_force_norm"], so["impulse_force_norm"], "N s"),
+        "grasp impulse, moment": (se["impulse_moment_norm"], so["impulse_moment_norm"], "N m s"),
+        "base angular-rate jump": (float(np.linalg.norm(se["base_dw"])), float(np.linalg.norm(so["base_dw"])), "rad/s"),
         "time to detumble": (se["time_to_detumble"], so["time_to_detumble"], "s"),
         "residual base spin": (se["residual_spin"], so["residual_spin"], "rad/s"),
         "final base attitude, orbit vs empty": (0.0, _angle_deg(_base_rotation(empty, -1).T @ _base_rotation(orbital, -1)), "deg"),
-        "final base attitude from LVLH": ("-", so["final_lvlh_angle_deg"], "deg"),
+        "base angle from LVLH, start / end": ("-", f"{_angle_deg(orbital.attitude_lvlh()[0]):.4g} / {so['final_lvlh_angle_deg']:.4g}",
+                                              "deg"),
         "integral of the tidal torque (floating)": (0.0, tidal, "N m s"),
-        "momentum drift / balance residual, L": (se["drift_L"], so["drift_L"], "relative"),
+        "L: drift (empty space) / balance residual (orbit)": (se["drift_L"], so["drift_L"], "relative"),
     }
     return OrbitComparison(empty, orbital, rows)
