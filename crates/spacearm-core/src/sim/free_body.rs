@@ -320,14 +320,15 @@ mod tests {
     fn in_orbit_the_point_rates_are_consistent_and_the_torque_turns_l() {
         use crate::sim::orbit::EARTH;
         let orbit = Orbit::circular(EARTH, 500e3, 0.9, 0.2, 0.1, true).unwrap();
-        let mut b = body(1e-2).in_orbit(&orbit).unwrap();
-        let h = 1e-3;
+        let mut b = body(1e-3).in_orbit(&orbit).unwrap();
+        let h = 1e-5;
         for &t in &[0.5, 7.3] {
             let (_, v, a) = b.point(t).unwrap();
             let (pp, vp, _) = b.point(t + h).unwrap();
             let (pm, vm, _) = b.point(t - h).unwrap();
-            assert!(((pp - pm) / (2.0 * h) - v).norm() < 1e-9, "velocity");
-            assert!(((vp - vm) / (2.0 * h) - a).norm() < 1e-7, "acceleration");
+            assert!(((pp - pm) / (2.0 * h) - v).norm() < 1e-8, "velocity");
+            // below the tidal acceleration (~5e-6 m/s² here): it is part of a
+            assert!(((vp - vm) / (2.0 * h) - a).norm() < 1e-8, "acceleration");
         }
         // The tidal torque changes L (torque-free it is constant to round-off).
         let s0 = b.state(0.0).unwrap();
