@@ -1030,7 +1030,8 @@ class CoordinatedFlyingSpec:
 class BaseThrustersSpec:
     """Base regulation by thrusters (system CM position, base attitude)."""
     def __new__(cls, *, kp_position: float, kd_position: float, kp_attitude: float, kd_attitude: float,
-                 com_ref: Optional[_ArrayLike] = None, quat_ref: Optional[_ArrayLike] = None) -> BaseThrustersSpec: ...
+                 com_ref: Optional[_ArrayLike] = None, quat_ref: Optional[_ArrayLike] = None,
+                 orbit: Orbit | None = None) -> BaseThrustersSpec: ...
     kp_position: float  # 1/s² (read-only)
     kd_position: float  # 1/s (read-only)
     kp_attitude: float  # N·m/rad (read-only)
@@ -1045,7 +1046,7 @@ class BaseThrustersSpec:
 @final
 class AttitudeSpec:
     """Base attitude control with reaction wheels."""
-    def __new__(cls, *, quat_ref: _ArrayLike, kp: float, kd: float) -> AttitudeSpec: ...
+    def __new__(cls, *, quat_ref: _ArrayLike, kp: float, kd: float, orbit: Orbit | None = None) -> AttitudeSpec: ...
     kp: float  # N·m/rad (read-only)
     kd: float  # N·m·s/rad (read-only)
     @property
