@@ -934,11 +934,16 @@ class JointReference:
 @final
 class FreeBodyReference:
     """A point on a torque-free rigid body (a tumbling capture target), propagated by the core."""
-    def __new__(cls, *, inertia: _ArrayLike, state: _ArrayLike, offset: _ArrayLike, step: float) -> FreeBodyReference: ...
+    def __new__(cls, *, inertia: _ArrayLike, state: _ArrayLike, offset: _ArrayLike, step: float,
+                orbit: Orbit | None = None) -> FreeBodyReference: ...
     def states(self, t: _ArrayLike) -> npt.NDArray[np.float64]:
         """The body's 13-states at the times t, (T, 13)."""
     def points(self, t: _ArrayLike) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
         """The point's positions and velocities at the times t, each (T, 3)."""
+    def external_wrenches(self, t: _ArrayLike, mass: float) -> npt.NDArray[np.float64]:
+        """The tidal force and its moment about the run's origin at the times t, (T, 6)."""
+    @property
+    def in_orbit(self) -> bool: ...
 
 @final
 class CartesianReference:
@@ -1038,7 +1043,8 @@ class CoordinatedFlyingSpec:
 class BaseThrustersSpec:
     """Base regulation by thrusters (system CM position, base attitude)."""
     def __new__(cls, *, kp_position: float, kd_position: float, kp_attitude: float, kd_attitude: float,
-                 com_ref: Optional[_ArrayLike] = None, quat_ref: Optional[_ArrayLike] = None) -> BaseThrustersSpec: ...
+                 com_ref: Optional[_ArrayLike] = None, quat_ref: Optional[_ArrayLike] = None,
+                 orbit: Orbit | None = None) -> BaseThrustersSpec: ...
     kp_position: float  # 1/s² (read-only)
     kd_position: float  # 1/s (read-only)
     kp_attitude: float  # N·m/rad (read-only)
@@ -1053,7 +1059,7 @@ class BaseThrustersSpec:
 @final
 class AttitudeSpec:
     """Base attitude control with reaction wheels."""
-    def __new__(cls, *, quat_ref: _ArrayLike, kp: float, kd: float) -> AttitudeSpec: ...
+    def __new__(cls, *, quat_ref: _ArrayLike, kp: float, kd: float, orbit: Orbit | None = None) -> AttitudeSpec: ...
     kp: float  # N·m/rad (read-only)
     kd: float  # N·m·s/rad (read-only)
     @property
@@ -1354,4 +1360,6 @@ class Orbit:
     def relative_motion(self, rel0: _ArrayLike, times: _ArrayLike, *, rtol: float = 1e-12) -> _Vec: ...
     def clohessy_wiltshire(self, rel0: _ArrayLike, times: _ArrayLike) -> _Vec: ...
     def safety_ellipse(self, radial: float, *, cross_track: float = 0.0, along_track: float = 0.0) -> _Vec: ...
+    def lvlh_to_run(self, rel: _ArrayLike, *, center: _ArrayLike | None = None, t: float = 0.0) -> _Vec: ...
+    def run_to_lvlh(self, t: _ArrayLike, center: _ArrayLike, points: _ArrayLike) -> _Vec: ...
     def tidal_torques(self, model: Model, x: _ArrayLike, *, t: float = 0.0) -> tuple[_Vec, _Vec, _Vec]: ...

@@ -210,6 +210,10 @@ class FreeBodyPoint:
     ``offset``: the point from the CM in body axes (m); ``step``: the attitude step (s) of the
     core's propagation (``spacearm_core::sim::free_body``: momentum conserved exactly, the
     attitude by RK4). ``point``: the robot's point that follows it (default: the end effector).
+    ``orbit``: the run's [`Orbit`][spacearm.Orbit] (``state`` relative to its point at time 0,
+    ECI axes; docs/orbit.md): the body then moves under gravity's tidal part (exact relative
+    two-body + J2 acceleration) and turns under its gravity-gradient torque, both integrated by
+    RK4 on the same grid; ``None``: torque-free.
     """
 
     inertia: Any
@@ -217,14 +221,24 @@ class FreeBodyPoint:
     offset: Any = (0.0, 0.0, 0.0)
     step: float = 1e-3
     point: Any = None
+    orbit: Any = None
 
     def __post_init__(self):
         inertia = _np.asarray(self.inertia, dtype=float)
         if inertia.shape == (3,):
             inertia = _np.diag(inertia)
+        if self.orbit is not None and not isinstance(self.orbit, _core.Orbit):
+            raise _ArgumentError(f"FreeBodyPoint orbit must be a spacearm.Orbit or None, got {type(self.orbit).__name__}")
         core = _core.FreeBodyReference(inertia=inertia.reshape(-1), state=_vector(self.state, "FreeBodyPoint state", 13),
-                                       offset=_vector(self.offset, "FreeBodyPoint offset", 3), step=_float(self.step, "FreeBodyPoint step"))
+                                       offset=_vector(self.offset, "FreeBodyPoint offset", 3), step=_float(self.step, "FreeBodyPoint step"),
+                                       orbit=self.orbit)
         object.__setattr__(self, "_core_ref", core)
+
+    def external_wrenches(self, t, mass: float) -> _np.ndarray:
+        """The external wrench on the body of mass ``mass`` (kg) at the times ``t``, (len(t), 6):
+        in orbit the tidal force (N) and its moment about the run's origin (N·m); zeros
+        torque-free (the core's ``FreeBody::external_wrench``)."""
+        return self._core_ref.external_wrenches(_np.atleast_1d(_np.asarray(t, dtype=float)), _float(mass, "mass"))
 
     def states(self, t) -> _np.ndarray:
         """The body's 13-states at the times ``t`` (s ≥ 0), shape (len(t), 13)."""
@@ -391,16 +405,20 @@ class AttitudeControl(_Controller):
     ``-sum tau_j k_j``, get ``tau_W = -A^+ N`` with ``A = [k_1 ... k_W]`` the wheel axes in 𝒥 and
     ``A^+`` its Moore–Penrose pseudo-inverse. ``quat_ref``: ``[x, y, z, w]`` or a scipy
     ``Rotation``; ``kp`` (N·m/rad),
-    ``kd`` (N·m·s/rad).
+    ``kd`` (N·m·s/rad). ``orbit``: the run's [`Orbit`][spacearm.Orbit]: hold ``quat_ref`` (base →
+    LVLH) relative to its LVLH frame, which turns at the orbit rate: ``q_ref(t) = q_LVLH(t) ⊗
+    quat_ref`` and ``N = -kp e - kd (w0 - w_LVLH)`` (docs/orbit.md).
     """
 
     quat_ref: Sequence[float]
     kp: float
     kd: float
+    orbit: Any = None
 
     def _spec(self, robot) -> _core.AttitudeSpec:
         q = _quaternion(self.quat_ref, "AttitudeControl quat_ref")
-        return _core.AttitudeSpec(quat_ref=q, kp=_finite_float(self.kp, "AttitudeControl kp"), kd=_finite_float(self.kd, "AttitudeControl kd"))
+        return _core.AttitudeSpec(quat_ref=q, kp=_finite_float(self.kp, "AttitudeControl kp"), kd=_finite_float(self.kd, "AttitudeControl kd"),
+                                  orbit=_orbit(self.orbit, "AttitudeControl"))
 
 
 @_dataclass(frozen=True)
@@ -415,6 +433,9 @@ class BaseThrusterControl(_Controller):
     ``quat_ref`` (``[x, y, z, w]`` or a scipy ``Rotation``) default to the initial CM and attitude. Gains:
     ``kp_position`` (1/s²), ``kd_position`` (1/s), ``kp_attitude`` (N·m/rad), ``kd_attitude``
     (N·m·s/rad). Combine with an arm controller through [`Combined`][spacearm.control.Combined].
+    ``orbit``: the run's [`Orbit`][spacearm.Orbit]: hold the attitude relative to its LVLH frame
+    (``quat_ref`` base → LVLH, default the initial one relative to LVLH), with the LVLH rate as
+    the rate reference (docs/orbit.md).
     """
 
     com_ref: Any = None
@@ -423,12 +444,20 @@ class BaseThrusterControl(_Controller):
     kd_position: float = 2.0
     kp_attitude: float = 0.0
     kd_attitude: float = 0.0
+    orbit: Any = None
 
     def _spec(self, robot) -> _core.BaseThrustersSpec:
         gains = {key: _finite_float(getattr(self, key), f"BaseThrusterControl {key}") for key in ("kp_position", "kd_position", "kp_attitude", "kd_attitude")}
         com_ref = None if self.com_ref is None else _vector(self.com_ref, "BaseThrusterControl com_ref", 3)
         quat_ref = None if self.quat_ref is None else _quaternion(self.quat_ref, "BaseThrusterControl quat_ref")
-        return _core.BaseThrustersSpec(com_ref=com_ref, quat_ref=quat_ref, **gains)
+        return _core.BaseThrustersSpec(com_ref=com_ref, quat_ref=quat_ref, orbit=_orbit(self.orbit, "BaseThrusterControl"), **gains)
+
+
+def _orbit(orbit, what: str):
+    """``orbit`` checked: a spacearm.Orbit or None."""
+    if orbit is not None and not isinstance(orbit, _core.Orbit):
+        raise _ArgumentError(f"{what} orbit must be a spacearm.Orbit or None, got {type(orbit).__name__}")
+    return orbit
 
 
 def inertia_scaled_gains(robot, x, joints, natural_frequency: float = 4.0, damping_ratio: float = 1.0):

@@ -15,6 +15,17 @@ radial, z along the orbit normal.
 
 from __future__ import annotations
 
-from ._core import CentralBody, Orbit, OrbitalElements
+import numpy as np
 
-__all__ = ["Orbit", "CentralBody", "OrbitalElements"]
+from ._core import CentralBody, Orbit, OrbitalElements
+from .rotations import quat_to_matrix
+
+__all__ = ["Orbit", "CentralBody", "OrbitalElements", "attitude_lvlh"]
+
+
+def attitude_lvlh(r_cm_eci, v_cm_eci, quaternions) -> np.ndarray:
+    """Attitudes ``quaternions`` (K, 4: body → ECI) relative to the LVLH frames of the ECI
+    states ``r_cm_eci``, ``v_cm_eci`` (K, 3): rotation matrices body → LVLH, (K, 3, 3) (the one
+    composition behind ``Trajectory.attitude_lvlh`` and ``CaptureResult.attitude_lvlh``)."""
+    lvlh = Orbit.lvlh_to_eci(np.asarray(r_cm_eci, dtype=float), np.asarray(v_cm_eci, dtype=float))
+    return np.einsum("kji,kjl->kil", lvlh, quat_to_matrix(np.asarray(quaternions, dtype=float)))

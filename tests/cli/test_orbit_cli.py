@@ -41,3 +41,39 @@ def test_simulate_in_orbit_is_the_python_run(tmp_path, capsys):
 def test_bad_orbits_are_cli_errors(value, needle, capsys):
     assert main(["simulate", "planar4", "--duration", "0.01", f"--orbit={value}", "--no-progress"]) == 2
     assert needle in capsys.readouterr().err
+
+
+def test_capture_in_orbit_from_the_cli(tmp_path, capsys):
+    """`spacearm capture --orbit`: the capture in orbit, floating and flying, with the balance,
+    the record's orbital arrays and the figure with the LVLH panels."""
+    out, png = tmp_path / "cap.npz", tmp_path / "cap.png"
+    for mode in ("floating", "flying"):
+        code = main(["capture", "spatial6", "--target-mass", "50", "--target-inertia", "4,5,6", "--target-spin", "0,0,0.1",
+                     "--mode", mode, "--detumble-time", "2", "--max-joint-torque", "20", "--max-force", "10", "--max-torque", "5",
+                     "--orbit", "circular:500,51.6", "--out", str(out)] + (["--plot", str(png)] if mode == "floating" else []))
+        assert code == 0
+        text = capsys.readouterr().out
+        assert "in orbit: 500 km, 51.6 deg, gravity gradient on" in text
+        assert "momentum balance of robot + target" in text
+        data = np.load(out)
+        assert data["r_cm_eci"].shape == (len(data["t"]), 3) and data["target_lvlh"].shape == (len(data["t"]), 6)
+    assert png.stat().st_size > 0
+
+
+def test_capture_target_lvlh_needs_an_orbit(capsys):
+    code = main(["capture", "spatial6", "--target-mass", "50", "--target-inertia", "4,5,6", "--target-lvlh", "0,1,0"])
+    assert code == 2
+    assert "--target-lvlh needs --orbit" in capsys.readouterr().err
+
+
+def test_campaign_in_orbit_from_the_cli(tmp_path, capsys):
+    out = tmp_path / "c.npz"
+    code = main(["campaign", "planar4", "--samples", "2", "--workers", "0", "--duration", "0.1", "--dt", "0.01",
+                 "--orbit", "circular:500", "--out", str(out), "--no-progress"])
+    assert code == 0
+    from spacearm.campaign.spec import CampaignSpec
+    from spacearm.campaign.scenario import Scenario
+
+    sc = Scenario(orbit=spacearm.Orbit.circular(500e3))
+    back = CampaignSpec.from_json(CampaignSpec("", 1, scenario=sc).to_json()).scenario
+    assert back == sc and back.orbit_model().period == pytest.approx(spacearm.Orbit.circular(500e3).period, rel=1e-12)

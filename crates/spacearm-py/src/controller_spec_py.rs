@@ -13,7 +13,7 @@ use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use spacearm_core::control::{
-    AttitudeControl, BaseThrusterControl, Combined, Command, ComputedTorque, ControlContext, Controller, CoordinatedFlying, CoordinatedGains, JointPd,
+    AttitudeControl, BaseThrusterControl, Combined, LvlhReference, Command, ComputedTorque, ControlContext, Controller, CoordinatedFlying, CoordinatedGains, JointPd,
     JointTorqueLimit, MomentumDamping, ResolvedMotionRate, ZeroTorque,
 };
 use spacearm_core::analysis::redundancy::Strategy;
@@ -230,15 +230,28 @@ pub struct PyFreeBodyReference {
 impl PyFreeBodyReference {
     /// A body of `inertia` (3×3 about its CM in its axes, kg·m², symmetric positive definite;
     /// 9 numbers row-major) in `state` (13: `[r, quat xyzw, v, w]` in 𝒥, at simulation time 0),
-    /// the point at `offset` (m, body axes, from the CM); attitude grid `step` (s).
+    /// the point at `offset` (m, body axes, from the CM); attitude grid `step` (s). `orbit`: the
+    /// run's `Orbit` (the state relative to its point at time 0, ECI axes): the body then moves
+    /// under gravity's tidal part and turns under its gravity-gradient torque (docs/orbit.md).
     #[new]
-    #[pyo3(signature = (*, inertia, state, offset, step, **unknown))]
-    fn new(py: Python<'_>, inertia: &Bound<'_, PyAny>, state: &Bound<'_, PyAny>, offset: &Bound<'_, PyAny>, step: f64, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+    #[pyo3(signature = (*, inertia, state, offset, step, orbit=None, **unknown))]
+    fn new(
+        py: Python<'_>,
+        inertia: &Bound<'_, PyAny>,
+        state: &Bound<'_, PyAny>,
+        offset: &Bound<'_, PyAny>,
+        step: f64,
+        orbit: Option<PyRef<'_, crate::orbit_py::PyOrbit>>,
+        unknown: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
         refuse_unknown::<Self>(py, unknown)?;
         let i = vec_arg_n(inertia, "free-body 'inertia' (9 numbers, row-major 3×3)", 9)?;
         let i = nalgebra::Matrix3::from_row_slice(i.as_slice());
         let s = vec_arg_n(state, "free-body 'state' ([r, quat xyzw, v, w])", 13)?;
-        let inner = FreeBody::new(i, s.as_slice(), vec3(offset, "free-body 'offset'")?, step).or_raise(py)?;
+        let mut inner = FreeBody::new(i, s.as_slice(), vec3(offset, "free-body 'offset'")?, step).or_raise(py)?;
+        if let Some(o) = orbit {
+            inner = inner.in_orbit(&o.inner).or_raise(py)?;
+        }
         Ok(PyFreeBodyReference { inner })
     }
 
@@ -264,6 +277,30 @@ impl PyFreeBodyReference {
             v.extend_from_slice(vi.as_slice());
         }
         Ok((PyArray1::from_vec(py, p).reshape([times.len(), 3])?, PyArray1::from_vec(py, v).reshape([times.len(), 3])?))
+    }
+
+    /// The external wrench on the body (mass `mass`, kg) at the times `t`, (T, 6): in orbit the
+    /// tidal force (N) and its moment about the run's origin (N·m, with the gravity-gradient
+    /// torque about the CM); zeros for a torque-free body.
+    fn external_wrenches<'py>(&self, py: Python<'py>, t: &Bound<'_, PyAny>, mass: f64) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let times = vector(t, "free-body times")?;
+        if !(mass.is_finite() && mass > 0.0) {
+            return Err(to_py_err(py, bad(format!("free-body mass must be finite and > 0 kg, got {mass}"))));
+        }
+        let mut body = self.inner.clone();
+        let mut out = Vec::with_capacity(times.len() * 6);
+        for &ti in &times {
+            let (f, n) = body.external_wrench(ti, mass).or_raise(py)?;
+            out.extend_from_slice(f.as_slice());
+            out.extend_from_slice(n.as_slice());
+        }
+        Ok(PyArray1::from_vec(py, out).reshape([times.len(), 6])?)
+    }
+
+    /// Whether the body moves in orbit (built with `orbit=`).
+    #[getter]
+    fn in_orbit(&self) -> bool {
+        self.inner.is_in_orbit()
     }
 
     fn __repr__(&self) -> String {
@@ -606,12 +643,14 @@ pub struct PyBaseThrustersSpec {
     /// Attitude damping, N·m·s/rad.
     #[pyo3(get)]
     kd_attitude: f64,
+    /// In orbit: hold the attitude relative to this orbit's LVLH (quat_ref then relative to LVLH).
+    orbit: Option<spacearm_core::sim::orbit::Orbit>,
 }
 
 #[pymethods]
 impl PyBaseThrustersSpec {
     #[new]
-    #[pyo3(signature = (*, kp_position, kd_position, kp_attitude, kd_attitude, com_ref=None, quat_ref=None, **unknown))]
+    #[pyo3(signature = (*, kp_position, kd_position, kp_attitude, kd_attitude, com_ref=None, quat_ref=None, orbit=None, **unknown))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -621,12 +660,13 @@ impl PyBaseThrustersSpec {
         kd_attitude: f64,
         com_ref: Option<&Bound<'_, PyAny>>,
         quat_ref: Option<&Bound<'_, PyAny>>,
+        orbit: Option<PyRef<'_, crate::orbit_py::PyOrbit>>,
         unknown: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         refuse_unknown::<Self>(py, unknown)?;
         let com_ref = com_ref.map(|v| vec3(v, "thruster control com_ref")).transpose()?;
         let quat_ref = quat_ref.map(|v| quat(v, "thruster control quat_ref")).transpose()?;
-        Ok(PyBaseThrustersSpec { com_ref, quat_ref, kp_position, kd_position, kp_attitude, kd_attitude })
+        Ok(PyBaseThrustersSpec { com_ref, quat_ref, kp_position, kd_position, kp_attitude, kd_attitude, orbit: orbit.map(|o| o.inner) })
     }
 
     /// The system CM position held, shape (3,), m, in 𝒥 (None: the initial one).
@@ -650,6 +690,8 @@ impl PyBaseThrustersSpec {
 #[pyclass(module = "spacearm._core", name = "AttitudeSpec", frozen)]
 pub struct PyAttitudeSpec {
     quat_ref: [f64; 4],
+    /// In orbit: hold `quat_ref` relative to this orbit's LVLH.
+    orbit: Option<spacearm_core::sim::orbit::Orbit>,
     /// Attitude stiffness, N·m/rad.
     #[pyo3(get)]
     kp: f64,
@@ -661,10 +703,10 @@ pub struct PyAttitudeSpec {
 #[pymethods]
 impl PyAttitudeSpec {
     #[new]
-    #[pyo3(signature = (*, quat_ref, kp, kd, **unknown))]
-    fn new(py: Python<'_>, quat_ref: &Bound<'_, PyAny>, kp: f64, kd: f64, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+    #[pyo3(signature = (*, quat_ref, kp, kd, orbit=None, **unknown))]
+    fn new(py: Python<'_>, quat_ref: &Bound<'_, PyAny>, kp: f64, kd: f64, orbit: Option<PyRef<'_, crate::orbit_py::PyOrbit>>, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
         refuse_unknown::<Self>(py, unknown)?;
-        Ok(PyAttitudeSpec { quat_ref: quat(quat_ref, "attitude quat_ref")?, kp, kd })
+        Ok(PyAttitudeSpec { quat_ref: quat(quat_ref, "attitude quat_ref")?, kp, kd, orbit: orbit.map(|o| o.inner) })
     }
 
     /// The base attitude held, quaternion [x, y, z, w] of 𝒥, shape (4,).
@@ -903,8 +945,20 @@ pub fn build_controller(obj: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<Bo
                 .with_task(s.task.clone())
                 .with_strategy(s.strategy),
         ),
-        Spec::Attitude(s) => Box::new(AttitudeControl::new(s.quat_ref, s.kp, s.kd)),
-        Spec::BaseThrusters(s) => Box::new(BaseThrusterControl::new(s.com_ref, s.quat_ref, s.kp_position, s.kd_position, s.kp_attitude, s.kd_attitude)),
+        Spec::Attitude(s) => {
+            let c = AttitudeControl::new(s.quat_ref, s.kp, s.kd);
+            match &s.orbit {
+                Some(o) => Box::new(c.with_lvlh(LvlhReference::new(o, Some(s.quat_ref)).map_err(|e| to_py_err(py, e))?)),
+                None => Box::new(c),
+            }
+        }
+        Spec::BaseThrusters(s) => {
+            let c = BaseThrusterControl::new(s.com_ref, s.quat_ref, s.kp_position, s.kd_position, s.kp_attitude, s.kd_attitude);
+            match &s.orbit {
+                Some(o) => Box::new(c.with_lvlh(LvlhReference::new(o, s.quat_ref).map_err(|e| to_py_err(py, e))?)),
+                None => Box::new(c),
+            }
+        }
         Spec::CoordinatedFlying(s) => {
             Box::new(CoordinatedFlying::new(line(&s.reference), s.body, s.offset, s.base_ref, s.gains, s.max_damping, s.threshold))
         }

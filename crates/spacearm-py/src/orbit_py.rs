@@ -285,6 +285,58 @@ impl PyOrbit {
         Ok(rows(py, &states))
     }
 
+    /// A run's state `(position, velocity)` (relative to this orbit's point `O` at time `t`,
+    /// ECI axes; docs/orbit.md) of a point at relative state `rel` (`[x, y, z, vx, vy, vz]`, LVLH
+    /// position and its rate in LVLH) about a centre at run state `center` (6: position,
+    /// velocity; default `O` itself), the LVLH that of the centre's orbit.
+    #[pyo3(signature = (rel, *, center=None, t=0.0))]
+    fn lvlh_to_run<'py>(&self, py: Python<'py>, rel: &Bound<'py, PyAny>, center: Option<&Bound<'py, PyAny>>, t: f64) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let rel = rel6(py, rel)?;
+        let c = match center {
+            Some(c) => rel6(py, c)?,
+            None => [0.0; 6],
+        };
+        if !(t.is_finite() && t >= 0.0) {
+            return Err(to_py_err(py, bad(format!("t must be finite and >= 0 s, got {t}"))));
+        }
+        let orbit = self.inner;
+        let (ro, vo) = py.detach(|| orbit.propagate(&[t], 1e-13)).or_raise(py)?[0];
+        let (p, v) = Orbit::lvlh_to_run(&ro, &vo, &Vector3::new(c[0], c[1], c[2]), &Vector3::new(c[3], c[4], c[5]), &rel);
+        Ok(array1(py, &[p.x, p.y, p.z, v.x, v.y, v.z]))
+    }
+
+    /// The LVLH relative states (T, 6) about centres `center` (T, 6: run positions and
+    /// velocities) of points `points` (T, 6), at the times `t` (T,) of a run of this orbit (run
+    /// states relative to `O`, ECI axes): the inverse of `lvlh_to_run` sample by sample.
+    fn run_to_lvlh<'py>(&self, py: Python<'py>, t: &Bound<'py, PyAny>, center: &Bound<'py, PyAny>, points: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let times = vec_arg(t, "t")?.as_slice().to_vec();
+        let flat = |a: &Bound<'py, PyAny>, what: &str| -> PyResult<Vec<f64>> {
+            Ok(match batch_arg(a, what)? {
+                ArgValue::One(v) => v.as_slice().to_vec(),
+                ArgValue::Many { values, .. } => values,
+            })
+        };
+        let c = flat(center, "center")?;
+        let p = flat(points, "points")?;
+        if c.len() != 6 * times.len() || p.len() != 6 * times.len() {
+            return Err(shape_error(py, format!("center and points must have shape ({}, 6) for {} times, got {} and {} numbers", times.len(), times.len(), c.len(), p.len())));
+        }
+        check_finite(py, "center", &c)?;
+        check_finite(py, "points", &p)?;
+        let orbit = self.inner;
+        let states = py.detach(|| orbit.propagate(&times, 1e-13)).or_raise(py)?;
+        let v3 = |s: &[f64]| Vector3::new(s[0], s[1], s[2]);
+        let out: Vec<RelativeState> = states
+            .iter()
+            .enumerate()
+            .map(|(k, (ro, vo))| {
+                let (ck, pk) = (&c[6 * k..6 * k + 6], &p[6 * k..6 * k + 6]);
+                Orbit::run_to_lvlh(ro, vo, &v3(ck), &v3(&ck[3..]), &v3(pk), &v3(&pk[3..]))
+            })
+            .collect();
+        Ok(rows(py, &out))
+    }
+
     /// The Clohessy–Wiltshire closed form about this orbit (its mean motion at t = 0) from
     /// `rel0` (LVLH): (T, 6) at `times`. Linear: for a target near a circular orbit.
     fn clohessy_wiltshire<'py>(&self, py: Python<'py>, rel0: &Bound<'py, PyAny>, times: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {

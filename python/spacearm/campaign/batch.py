@@ -88,9 +88,9 @@ def fly(prepared: Prepared, threads: int, stop=None):
     start = time.perf_counter()
     try:
         tracker = controller(nominal, spec.scenario)
-        x0 = np.stack([p.neutral_configuration() for p in prepared.plants])
+        x0 = np.stack([spec.scenario.initial_configuration(p) for p in prepared.plants])
         runs = rollout(nominal, spec.scenario.duration, x0, controller=tracker, plants=prepared.plants,
-                       mode=spec.scenario.mode, dt=spec.scenario.dt, threads=threads, stop=stop)
+                       mode=spec.scenario.mode, dt=spec.scenario.dt, threads=threads, stop=stop, **spec.scenario.run_options())
     except Exception as exc:  # noqa: BLE001 — the scenario cannot be flown by any sample
         return failure_message(exc), time.perf_counter() - start
     return runs, time.perf_counter() - start

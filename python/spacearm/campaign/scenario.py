@@ -64,6 +64,9 @@ class Scenario:
     joint ``q_offset`` rad further) over ``motion_fraction`` of ``duration``, then held.
     ``kp`` (1/s²) and ``kd`` (1/s) are the computed-torque gains; for PD they are joint
     stiffness (N·m/rad) and damping (N·m·s/rad). ``dt``: RK4 step (s).
+    ``orbit``: a [`spacearm.Orbit`][spacearm.Orbit] to fly every sample in (docs/orbit.md; each
+    plant's system CM put on it), kept as plain numbers (``r0``, ``v0``, μ, R, J2, whether J2
+    acts) so that the spec travels as JSON; ``gravity_gradient``: whether the tidal wrenches act.
     """
 
     mode: str = "floating"
@@ -75,8 +78,23 @@ class Scenario:
     motion_fraction: float = 0.75
     kp: float = 100.0
     kd: float = 20.0
+    orbit: Optional[Tuple[float, ...]] = None
+    gravity_gradient: bool = True
 
     def __post_init__(self):
+        from ..orbit import Orbit
+
+        if isinstance(self.orbit, Orbit):
+            o = self.orbit
+            object.__setattr__(self, "orbit", tuple(float(v) for v in (*o.r0, *o.v0, o.body.mu, o.body.radius, o.body.j2,
+                                                                       1.0 if o.j2 else 0.0)))
+        elif self.orbit is not None:
+            values = np.asarray(self.orbit, dtype=float)
+            if values.shape != (10,) or not np.all(np.isfinite(values)):
+                raise ArgumentError(f"Scenario.orbit must be a spacearm.Orbit (or its 10 numbers r0, v0, mu, R, J2, j2), got {self.orbit!r}")
+            object.__setattr__(self, "orbit", tuple(float(v) for v in values))
+        if not isinstance(self.gravity_gradient, bool):
+            raise ArgumentError(f"Scenario.gravity_gradient must be True or False, got {self.gravity_gradient!r}")
         if self.controller not in _CONTROLLERS:
             raise ArgumentError(f"Scenario.controller must be one of {', '.join(_CONTROLLERS)}, got {self.controller!r}")
         for name in ("duration", "dt", "kp", "kd"):
@@ -103,6 +121,28 @@ class Scenario:
 
     def to_dict(self) -> dict:
         return asdict(self)
+
+    def orbit_model(self):
+        """The scenario's [`spacearm.Orbit`][spacearm.Orbit] (``None`` in empty space)."""
+        if self.orbit is None:
+            return None
+        from ..orbit import CentralBody, Orbit
+
+        o = self.orbit
+        return Orbit.from_state(o[0:3], o[3:6], body=CentralBody(mu=o[6], radius=o[7], j2=o[8]), j2=bool(o[9]))
+
+    def run_options(self) -> dict:
+        """The orbit keywords of the runs (``orbit``, ``gravity_gradient``), empty in empty space."""
+        orbit = self.orbit_model()
+        return {} if orbit is None else {"orbit": orbit, "gravity_gradient": self.gravity_gradient}
+
+    def initial_configuration(self, robot) -> np.ndarray:
+        """The sample's initial configuration: the neutral one, in orbit shifted so that the
+        system CM is on the orbit (docs/orbit.md)."""
+        x0 = np.array(robot.neutral_configuration(), dtype=float)
+        if self.orbit is not None:
+            x0[:3] -= robot.center_of_mass(x0)
+        return x0
 
 
 def attitude_angle_deg(quat0: np.ndarray, quats: np.ndarray) -> np.ndarray:
@@ -191,8 +231,9 @@ def controller(nominal, scenario: Scenario):
 def evaluate(nominal, scenario: Scenario, params: Dict[str, float]) -> Dict[str, float]:
     """Fly one sample with [`spacearm.simulate`][spacearm.simulate]: the metrics of [`METRIC_NAMES`][spacearm.campaign.scenario.METRIC_NAMES] for the
     plant drawn as ``params``. The reference every batched run is checked against."""
-    traj = simulate(plant(nominal, params), scenario.duration, mode=scenario.mode, dt=scenario.dt,
-                    controller=controller(nominal, scenario))
+    p = plant(nominal, params)
+    traj = simulate(p, scenario.duration, x0=scenario.initial_configuration(p), mode=scenario.mode, dt=scenario.dt,
+                    controller=controller(nominal, scenario), **scenario.run_options())
     saturation = len(traj["saturation_t"]) if traj.has("saturation_t") else 0
     row = metrics_from_records(traj["tracking_error"][None], traj["x"][None], np.array([saturation]))[0]
     message = non_finite_message(row)

@@ -54,7 +54,8 @@ class CampaignSpec:
     def from_json(cls, text: str) -> "CampaignSpec":
         d = json.loads(text)
         scenario = dict(d["scenario"])
-        if scenario.get("q_goal") is not None:
-            scenario["q_goal"] = tuple(scenario["q_goal"])
+        for key in ("q_goal", "orbit"):
+            if scenario.get(key) is not None:
+                scenario[key] = tuple(scenario[key])
         return cls(d["model_toml"], int(d["samples"]), int(d["seed"]), Perturbations(**d["perturbations"]),
                    Scenario(**scenario))

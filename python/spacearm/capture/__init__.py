@@ -9,13 +9,15 @@
   impedance between two free bodies);
 - [`simulate_closed_chain`][spacearm.capture.simulate_closed_chain]: a two-arm grasp as a closed chain;
 - [`detumble`][spacearm.capture.detumble]; [`capture`][spacearm.capture.capture], the whole sequence with phases and the momentum ledger;
-- [`capture_envelope`][spacearm.capture.capture_envelope]: success over target spin rates and inertia errors.
+- [`capture_envelope`][spacearm.capture.capture_envelope]: success over target spin rates and inertia errors;
+- [`compare_in_orbit`][spacearm.capture.compare_in_orbit]: the same capture in empty space and in orbit (docs/orbit.md).
 """
 
 from .closed_chain import ClosedChainRun, simulate_closed_chain
 from .captured import CapturedSystem, SoftCaptureRun, attach_target, relative_twist, soft_capture
 from .detumbling import DetumbleRun, detumble
 from .envelope import CaptureEnvelope, capture_envelope
+from .in_orbit import OrbitComparison, compare_in_orbit
 from .impact import CAPTURE_TOLERANCE, MAX_HANDLE_RATIO, GraspImpulse, MomentumSplit, grasp_impulse, impulse_momentum_split, inverse_inertia, virtual_mass
 from .sequence import MAX_CAPTURE_SAMPLES, MAX_TURN_PER_SAMPLE, PHASES, CaptureResult, capture
 from .target import Target, TargetState
@@ -47,4 +49,6 @@ __all__ = [
     "capture",
     "CaptureEnvelope",
     "capture_envelope",
+    "OrbitComparison",
+    "compare_in_orbit",
 ]

@@ -86,7 +86,7 @@ def grasp_wrench(captured, trajectory) -> np.ndarray:
 def detumble(robot, x, u, duration: float, *, mode: str = "floating", q_hold=None, kp: float = 1.0, kd: float = 2.0,
              time_constant: float = 5.0, max_joint_torque: float = math.inf, max_force: float = math.inf,
              max_torque: float = math.inf, rate_tolerance: float = 1e-3, dt: float = 0.01, model=None,
-             rtol: Optional[float] = 1e-10) -> DetumbleRun:
+             rtol: Optional[float] = 1e-10, orbit=None, gravity_gradient: Optional[bool] = None) -> DetumbleRun:
     """Run the detumbling controller of the module docstring on ``robot`` (the captured system)
     from ``(x, u)`` for ``duration`` s (``spacearm.simulate``; ``rtol`` below says how).
     ``q_hold`` defaults to the joint angles of ``x``; gains ``kp`` (1/s²) and ``kd`` (1/s) act
@@ -95,7 +95,8 @@ def detumble(robot, x, u, duration: float, *, mode: str = "floating", q_hold=Non
     with an estimated target inertia: ``H*``, ``c*`` and the momenta of the laws come from it.
     ``rtol``: adaptive DOPRI5 with this relative tolerance (``dt`` the output interval), or
     ``None`` for fixed-step RK4 with step ``dt``. The laws run natively in the simulation loop
-    (``detumble_controller``)."""
+    (``detumble_controller``). ``orbit``, ``gravity_gradient``: run in orbit, as
+    [`simulate`][spacearm.simulate] (``x``, ``u`` relative to the orbit's point; docs/orbit.md)."""
     if mode not in DETUMBLE_MODES:
         raise ArgumentError(f"mode must be one of {list(DETUMBLE_MODES)}, got {mode!r}")
     x = np.asarray(x, dtype=float)
@@ -112,10 +113,11 @@ def detumble(robot, x, u, duration: float, *, mode: str = "floating", q_hold=Non
     ctrl = detumble_controller(robot, x, mode=mode, q_hold=q_hold, kp=kp, kd=kd, time_constant=tc, max_joint_torque=mjt,
                                max_force=mf, max_torque=mt, model=None if model is robot else model)
     if rtol is None:
-        traj = simulate(robot, duration, x0=x, u0=u, mode=mode, dt=dt, controller=ctrl)
+        traj = simulate(robot, duration, x0=x, u0=u, mode=mode, dt=dt, controller=ctrl, orbit=orbit,
+                        gravity_gradient=gravity_gradient)
     else:
         traj = simulate(robot, duration, x0=x, u0=u, mode=mode, dt=dt, controller=ctrl, integrator="dopri5",
-                        rtol=rtol, atol=rtol * 1e-2)
+                        rtol=rtol, atol=rtol * 1e-2, orbit=orbit, gravity_gradient=gravity_gradient)
     uu = traj.u
     rates = uu[:, 6:] if mode == "floating" else uu[:, 3:]
     if rates.shape[1] == 0:

@@ -28,6 +28,20 @@ floating mode nothing external acts, and their drift is the integration error
 (``result.drift``): the core's drift (``max |v − v(0)|`` relative to the largest sum of the
 bodies' own momentum magnitudes, robot and target; docs/simulation-core.md), the one definition
 ``Trajectory.drift`` and the simulator use.
+
+**In orbit** (``orbit=``; docs/orbit.md, "Capture in orbit"): every phase runs in the orbit's
+frame (states relative to the orbit's point ``O``, ECI axes), each phase's run starting from
+``O``'s state at its start time; the free target is the core's free body in orbit (tidal drift,
+its own gravity-gradient tumble), the approach's reference with it. Momentum is no longer
+conserved, and the ledger reports the **balance** instead (``result.ledger == "balance"``):
+``result.drift`` is ``max |c(t) − c(0) − ∫ w dt|`` over ``P`` and ``L_origin`` (``w`` the
+external wrenches: the tidal wrenches of the robot, of the captured system and of the free
+target, and in the flying mode the thrusters'; the integral by the trapezoid rule over the
+samples), relative to the same scale as the drift. The result also holds ``r_cm_eci``,
+``v_cm_eci`` (the chaser's system CM: the robot before the grasp, robot + target after),
+``external_wrench`` (T, 6), ``target_lvlh`` (T, 6: the target's CM relative to the chaser's CM
+in its LVLH) and ``attitude_lvlh()``. Not in orbit: ``kind="soft"`` and jointed targets
+(an ``ArgumentError`` says so).
 """
 
 from __future__ import annotations
@@ -149,6 +163,28 @@ class CaptureResult:
                 f"grasp at {self.phase_start('capture'):.4g} s, detumbled "
                 f"{'never' if not math.isfinite(detumble) else f'{detumble:.4g} s after the detumble starts'}>")
 
+    @property
+    def in_orbit(self) -> bool:
+        """Whether the capture ran in orbit (``orbit=``)."""
+        return getattr(self, "orbit", None) is not None
+
+    def attitude_lvlh(self) -> np.ndarray:
+        """The base attitude relative to the LVLH of the chaser's system CM, (T, 3, 3) base →
+        LVLH (docs/orbit.md). Captures in orbit only."""
+        if not self.in_orbit:
+            raise ArgumentError("the capture did not run in orbit (capture(..., orbit=spacearm.Orbit...))")
+        from ..orbit import attitude_lvlh
+
+        return attitude_lvlh(self.r_cm_eci, self.v_cm_eci, self.x[:, 3:7])
+
+    def balance_residual(self) -> np.ndarray:
+        """In orbit: ``[P − P(0) − ∫F dt, L − L(0) − ∫N dt]`` (T, 6) of robot + target, the
+        external wrench ``external_wrench`` integrated by the trapezoid rule (``external_impulse``;
+        the ledger's balance, module docstring)."""
+        if not self.in_orbit:
+            raise ArgumentError("the capture did not run in orbit: its ledger is conservation (P - P(0), L - L(0))")
+        return _balance_residual(self.P, self.L, self.external_impulse)
+
     def phase_start(self, name: str) -> float:
         """Time at which a phase starts."""
         idx = np.nonzero(self.phase == PHASES.index(name))[0]
@@ -176,6 +212,25 @@ class CaptureResult:
             "residual_spin": self.residual_spin,
             "drift_P": self.drift["P"],
             "drift_L": self.drift["L"],
+            "ledger": self.ledger,
+        } | (self._orbit_summary() if self.in_orbit else {})
+
+    def _orbit_summary(self) -> dict:
+        """The orbital figures of the summary: the orbit, the target's LVLH offset at the grasp,
+        the tidal torque's integral, the final attitude relative to LVLH."""
+        el = self.orbit.elements()
+        k = int(np.nonzero(self.phase >= 1)[0][0])
+        impulse = self.external_impulse[-1]
+        r = self.attitude_lvlh()[-1]
+        angle = float(np.degrees(np.arccos(np.clip(0.5 * (np.trace(r) - 1.0), -1.0, 1.0))))
+        return {
+            "orbit_altitude_km": (el.a - self.orbit.body.radius) / 1e3,
+            "orbit_inclination_deg": float(np.degrees(el.i)),
+            "gravity_gradient": self.gravity_gradient,
+            "target_lvlh_at_grasp": self.target_lvlh[k, :3].copy(),
+            "external_impulse_norm": float(np.linalg.norm(impulse[:3])),
+            "external_angular_impulse_norm": float(np.linalg.norm(impulse[3:])),
+            "final_lvlh_angle_deg": angle,
         }
 
     def arrays(self) -> dict:
@@ -185,7 +240,8 @@ class CaptureResult:
             "base_wrench": self.base_wrench, "target": self.target, "grasp_wrench": self.grasp_wrench,
             "impulse": self.impact.impulse, "du": self.impact.du, "target_dtwist": self.impact.target_dtwist,
             "impact_point": self.impact.point, "phase_names": np.array(PHASES),
-        }
+        } | ({"r_cm_eci": self.r_cm_eci, "v_cm_eci": self.v_cm_eci, "target_lvlh": self.target_lvlh,
+              "external_wrench": self.external_wrench, "external_impulse": self.external_impulse} if self.in_orbit else {})
 
     def save(self, path) -> None:
         """Write the arrays to an ``.npz`` file (atomically: no partial file), with the robot's
@@ -309,6 +365,8 @@ def capture(
     max_force: float = math.inf,
     max_torque: float = math.inf,
     rate_tolerance: float = 1e-3,
+    orbit=None,
+    gravity_gradient: Optional[bool] = None,
 ) -> CaptureResult:
     """Simulate the capture of ``target`` (state ``target_state``) by ``robot`` (module docstring).
 
@@ -322,7 +380,11 @@ def capture(
     ``rmrc_damping`` (m: ``λ_max`` of the damping law, docs/singularities.md), ``velocity_gain`` (1/s) of the approach; ``kp``, ``kd``,
     ``time_constant`` of [`detumble`][spacearm.capture.detumble].
     Raises ``SimulationError`` when the approach does not bring the grasp points within
-    ``capture_tolerance`` (m).
+    ``capture_tolerance`` (m). ``orbit`` (a [`spacearm.Orbit`][spacearm.Orbit]) and
+    ``gravity_gradient`` (default ``True`` with an orbit): the capture in orbit (module
+    docstring); ``x0``, ``u0`` and ``target_state`` are then relative to the orbit's point at
+    time 0 ([`Target.state_in_orbit`][spacearm.capture.Target.state_in_orbit] places the target
+    in LVLH).
     """
     _check_target(target)
     if mode not in DETUMBLE_MODES:
@@ -330,6 +392,7 @@ def capture(
     if kind not in CAPTURE_KINDS:
         raise ArgumentError(f"kind must be one of {list(CAPTURE_KINDS)}, got {kind!r}")
     s0 = target.check_state(target_state)
+    orbit, gg = _check_orbit(orbit, gravity_gradient, kind, target)
     if kind != "point" and not target.is_rigid:
         raise ArgumentError(f"target '{target.name}' is a jointed model: kind='{kind}' attaches it as a payload, which needs a rigid "
                             "target; use kind='point'")
@@ -356,7 +419,7 @@ def capture(
     # run, cut at the first sample within capture_tolerance.
     half = 0.5 * times["dt"]
     if target.is_rigid:
-        reference = target.free_body(s0, grasp, step=half, point=point)
+        reference = target.free_body(s0, grasp, step=half, point=point, orbit=orbit if gg else None)
     else:
         reference = target.grasp_path(s0, approach_time, dt, grasp)
     rmrc = ResolvedMotionRate(reference, gain=rmrc_gain, max_damping=rmrc_damping, velocity_gain=velocity_gain, point=point,
@@ -365,7 +428,7 @@ def capture(
     if math.isfinite(mjt):
         ctrl = TorqueLimit(ctrl, mjt)
     tr = simulate(robot, approach_time, x0=x0, u0=u0, mode=mode, dt=dt, controller=ctrl, integrator="dopri5", rtol=rtol,
-                  atol=rtol * 1e-2)
+                  atol=rtol * 1e-2, orbit=orbit, gravity_gradient=gg)
     ta, xa, ua, taua, bwa = tr.t, tr.x, tr.u, tr.tau, tr.base_wrench
     if target.is_rigid:
         sa = reference.states(ta)
@@ -385,11 +448,14 @@ def capture(
     seg_bw = [bwa[: k + 1]]
     seg_w = [np.zeros((k + 1, 6))]
     seg_combined = [False]
+    # In orbit: the robot's (plant's) tidal wrench about the origin, per sample (zeros otherwise).
+    seg_gw = [tr.gravity_wrench[: k + 1] if orbit is not None else np.zeros((k + 1, 6))]
     t_cap, xc, uc, sc = float(ta[k]), xa[k], ua[k], sa[k]
 
-    def add(t, phase, xs, us, ss, tau, bw, w, combined):
+    def add(t, phase, xs, us, ss, tau, bw, w, combined, gw=None):
         seg_t.append(t), seg_phase.append(np.full(len(t), phase)), seg_x.append(xs), seg_u.append(us), seg_s.append(ss)
         seg_tau.append(tau), seg_bw.append(bw), seg_w.append(w), seg_combined.append(combined)
+        seg_gw.append(np.zeros((len(t), 6)) if gw is None else gw)
 
     # ---- 1. capture -------------------------------------------------------------------------
     n = robot.n_dof
@@ -417,6 +483,7 @@ def capture(
         soft_impact = None
     uc, sc = impact.u_after, impact.target_state_after
     add(np.array([t_cap]), 1, xc[None], uc[None], sc[None], np.zeros((1, n)), np.zeros((1, 6)), np.zeros((1, 6)), kind != "point")
+    cap_index = sum(len(v) for v in seg_t) - 1  # the sample just after the grasp: its tidal wrench from the next run
 
     # ---- 2. post-capture, 3. detumble ------------------------------------------------------------
     captured = None
@@ -425,15 +492,28 @@ def capture(
         captured = attach_target(robot, xc, uc, target, sc, point=point)
         plant = captured.robot
     runs = []
+    seg_left = {}  # segment index -> the external wrench at the start of its run (a thruster wrench jumps there)
     x_start, u_start = xc, uc
     for phase, duration, run_mode, gains in ((2, post_time, "floating", (0.0, kd)), (3, detumble_time, mode, (kp, kd))):
+        phase_orbit = _orbit_at(orbit, t_cap)
         run = detumble(plant, x_start, u_start, duration, mode=run_mode, q_hold=q_hold, kp=gains[0], kd=gains[1],
                        time_constant=time_constant, max_joint_torque=mjt, max_force=max_force, max_torque=max_torque,
-                       rate_tolerance=rate_tolerance, dt=dt, rtol=rtol)
+                       rate_tolerance=rate_tolerance, dt=dt, rtol=rtol, orbit=phase_orbit, gravity_gradient=gg)
         tr = run.trajectory
-        ss = _payload_states(captured, tr.x, tr.u) if captured is not None else _target_states(target, sc, tr.t)
+        gw = tr.gravity_wrench.copy() if orbit is not None else np.zeros((len(tr.t), 6))
+        if captured is not None:
+            ss = _payload_states(captured, tr.x, tr.u)
+        else:  # the point contact's target flies off: free, in orbit under its own tidal wrench
+            free = target.free_body(sc, step=0.5 * dt, orbit=phase_orbit if gg else None) if target.is_rigid else None
+            ss = _target_states(target, sc, tr.t) if free is None else free.states(tr.t - tr.t[0])
+            if free is not None and orbit is not None:
+                gw = gw + free.external_wrenches(tr.t - tr.t[0], target.mass)
         w = grasp_wrench(captured, tr) if captured is not None else np.zeros((len(tr.t), 6))
-        add(t_cap + tr.t[1:], phase, tr.x[1:], tr.u[1:], ss[1:], tr.tau[1:], tr.base_wrench[1:], w[1:], captured is not None)
+        if phase == 2:
+            seg_gw[-1] = gw[:1]  # the grasp sample: the same instant as this run's first
+        add(t_cap + tr.t[1:], phase, tr.x[1:], tr.u[1:], ss[1:], tr.tau[1:], tr.base_wrench[1:], w[1:], captured is not None, gw[1:])
+        if orbit is not None:  # the run's own wrench at its start: the left end of its first interval
+            seg_left[len(seg_t) - 1] = gw[0] + _thruster_wrench_about_origin(plant, plant, [tr.x[:1]], [tr.base_wrench[:1]], [True])[0]
         runs.append(run)
         t_cap, x_start, u_start, sc = t_cap + float(tr.t[-1]), tr.x[-1], tr.u[-1], ss[-1]
 
@@ -449,14 +529,104 @@ def capture(
             s = s + target.body.momentum_scales(ss[:, :nxt], ss[:, nxt:])[:, :2]
         scales.append(s)
     P, L, scales = (np.concatenate(v) for v in (P, L, scales))
-    # The core's drift (one definition, docs/simulation-core.md): the deviation from the first
-    # sample relative to the largest sum of the bodies' own momentum magnitudes, robot and target.
-    drift = {"P": _core.conserved_drift(P, float(scales[:, 0].max())), "L": _core.conserved_drift(L, float(scales[:, 1].max()))}
+    T = np.concatenate(seg_t)
+    extra = {"ledger": "conservation", "orbit": orbit, "gravity_gradient": gg}
+    if orbit is None:
+        # The core's drift (one definition, docs/simulation-core.md): the deviation from the first
+        # sample relative to the largest sum of the bodies' own momentum magnitudes, robot and target.
+        drift = {"P": _core.conserved_drift(P, float(scales[:, 0].max())), "L": _core.conserved_drift(L, float(scales[:, 1].max()))}
+    else:
+        # The balance: the external wrenches are the tidal ones (the robot's or the captured
+        # system's from the runs, the free target's from its core propagation) and the thrusters'.
+        if target.is_rigid:
+            gw_target = reference.external_wrenches(ta[: k + 1], target.mass) if gg else np.zeros((k + 1, 6))
+            seg_gw[0] = seg_gw[0] + gw_target
+        ext = np.concatenate(seg_gw) + _thruster_wrench_about_origin(robot, plant, seg_x, seg_bw, seg_combined)
+        left = np.vstack([ext[:1], ext[:-1]])
+        starts = np.cumsum([0] + [len(v) for v in seg_t])
+        for j, w0 in seg_left.items():
+            left[starts[j]] = w0
+        impulse = _cumulative_impulse(T, ext, left)
+        drift = _balance(T, P, L, impulse, scales)
+        owners = [plant if comb else robot for comb in seg_combined]
+        r_cm = np.concatenate([o.center_of_mass(xs) for o, xs in zip(owners, seg_x)])
+        v_cm = np.concatenate([np.asarray(o.momentum(xs, us).P) / o.total_mass for o, xs, us in zip(owners, seg_x, seg_u)])
+        rO, vO = orbit.propagate(T, rtol=1e-13)
+        S = np.concatenate(seg_s)
+        extra.update(
+            ledger="balance", external_wrench=ext, external_impulse=impulse, r_cm_eci=rO + r_cm, v_cm_eci=vO + v_cm,
+            target_lvlh=orbit.run_to_lvlh(T, np.hstack([r_cm, v_cm]), np.hstack([S[:, 0:3], S[:, 7:10]])),
+        )
     return CaptureResult(
         t=np.concatenate(seg_t), phase=np.concatenate(seg_phase), x=np.concatenate(seg_x), u=np.concatenate(seg_u),
         tau=np.concatenate(seg_tau), base_wrench=np.concatenate(seg_bw), target=np.concatenate(seg_s), P=P, L=L,
         grasp_wrench=np.concatenate(seg_w), impact=impact, soft_impact=soft_impact, robot=robot, captured=captured,
         target_model=target, mode=mode, kind=kind, time_to_detumble=runs[-1].time_to_detumble,
-        residual_spin=runs[-1].residual_spin, drift=drift,
+        residual_spin=runs[-1].residual_spin, drift=drift, **extra,
     )
+
+
+def _check_orbit(orbit, gravity_gradient, kind, target):
+    """``(orbit, gravity_gradient)`` checked: an orbit and a rigid, non-soft capture."""
+    if orbit is None:
+        if gravity_gradient:
+            raise ArgumentError("gravity_gradient=True needs an orbit (orbit=spacearm.Orbit...)")
+        return None, None
+    from ..orbit import Orbit
+
+    if not isinstance(orbit, Orbit):
+        raise ArgumentError(f"orbit must be a spacearm.Orbit, got {type(orbit).__name__}")
+    if kind == "soft":
+        raise ArgumentError("kind='soft' is not implemented in orbit (the core's soft-capture plant runs in empty space); "
+                            "use kind='rigid' or kind='point' with orbit=")
+    if not target.is_rigid:
+        raise ArgumentError(f"target '{target.name}' is a jointed model: a capture in orbit needs a rigid target (not implemented "
+                            "for jointed ones)")
+    return orbit, True if gravity_gradient is None else bool(gravity_gradient)
+
+
+def _orbit_at(orbit, t: float):
+    """The orbit whose point starts where ``orbit``'s is at ``t`` (a phase's run starts at its own
+    time 0), or ``None``."""
+    if orbit is None:
+        return None
+    if t == 0.0:
+        return orbit
+    from ..orbit import Orbit
+
+    r, v = orbit.propagate([float(t)], rtol=1e-13)
+    return Orbit.from_state(r[0], v[0], body=orbit.body, j2=orbit.j2)
+
+
+def _thruster_wrench_about_origin(robot, plant, seg_x, seg_bw, seg_combined) -> np.ndarray:
+    """The thrusters' wrench ``[F0; (r_0 − o) × F0 + N0]`` about the origin per sample (the
+    force acts at the base CM)."""
+    out = []
+    for xs, bw, comb in zip(seg_x, seg_bw, seg_combined):
+        owner = plant if comb else robot
+        r0 = owner.forward_kinematics(xs).com_in_world[:, 0]
+        out.append(np.hstack([bw[:, :3], np.cross(r0, bw[:, :3]) + bw[:, 3:]]))
+    return np.concatenate(out)
+
+
+def _cumulative_impulse(t, wrench, left) -> np.ndarray:
+    """``∫_0^t w dt`` at every sample (T, 6), the trapezoid rule over the samples; the interval
+    ending at sample ``j`` starts from ``left[j]`` (the previous sample's wrench, or the wrench a
+    phase's run starts with: the thrusters' jumps between phases)."""
+    dt = np.diff(t)[:, None]
+    return np.vstack([np.zeros((1, 6)), np.cumsum(0.5 * dt * (wrench[1:] + left[1:]), axis=0)])
+
+
+def _balance_residual(P, L, impulse) -> np.ndarray:
+    """``[P − P(0) − ∫F, L − L(0) − ∫N]`` at every sample (T, 6)."""
+    return np.hstack([P - P[0] - impulse[:, :3], L - L[0] - impulse[:, 3:]])
+
+
+def _balance(t, P, L, impulse, scales) -> dict:
+    """The momentum balance residuals ``max |c(t) − c(0) − ∫ w dt|`` (``impulse`` the integral at
+    every sample) relative to the drift's scales."""
+    res = _balance_residual(P, L, impulse)
+    res_p = np.linalg.norm(res[:, :3], axis=1).max()
+    res_l = np.linalg.norm(res[:, 3:], axis=1).max()
+    return {"P": float(res_p / max(float(scales[:, 0].max()), 1e-300)), "L": float(res_l / max(float(scales[:, 1].max()), 1e-300))}
 

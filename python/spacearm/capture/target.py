@@ -171,6 +171,30 @@ class Target:
         return np.concatenate([vector(position, "target position", 3), _quat(quaternion),
                                vector(velocity, "target velocity", 3), vector(angular_velocity, "target angular velocity", 3)])
 
+    def state_in_orbit(self, orbit, relative, *, center=None, quaternion=(0.0, 0.0, 0.0, 1.0),
+                       angular_velocity=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """The 13-state, in an orbital run's frame (relative to the orbit's point at time 0, ECI
+        axes; docs/orbit.md), of a rigid target whose CM is at ``relative`` in LVLH:
+        ``[x radial, y along-track, z orbit normal, ẋ, ẏ, ż]`` (m, and its rate seen in the
+        rotating LVLH, m/s) about ``center`` (the chaser's system CM as a run state ``[position,
+        velocity]`` (6), e.g. ``robot.center_of_mass(x0)`` and ``P / M``; default the orbit's
+        point). ``orbit.safety_ellipse(...)`` gives a drift-free relative state; a V-bar placement
+        is ``[0, d, 0, 0, 0, 0]``, an R-bar one ``[d, 0, 0, 0, 0, 0]``. ``quaternion`` and
+        ``angular_velocity`` (inertial) are in ECI axes (𝒥). The conversion is the core's
+        (``Orbit::lvlh_to_run``)."""
+        from ..orbit import Orbit
+
+        if not isinstance(orbit, Orbit):
+            raise ArgumentError(f"orbit must be a spacearm.Orbit, got {type(orbit).__name__}")
+        if not self.is_rigid:
+            raise ArgumentError(f"target '{self.name}' is a jointed model: only a rigid target is placed in LVLH")
+        rel = vector(relative, "relative state (LVLH)", 6)
+        c = np.zeros(6) if center is None else vector(center, "center (run state of the chaser's CM)", 6)
+        run = orbit.lvlh_to_run(rel, center=c)
+        q = _quat(quaternion)
+        w = vector(angular_velocity, "target angular velocity", 3)
+        return np.concatenate([run[:3], q, run[3:], w])
+
     def check_state(self, state) -> np.ndarray:
         """``state`` as a checked float array (length 13 for a rigid target; the quaternion normalized)."""
         s = vector(state, "target_state")
@@ -232,16 +256,19 @@ class Target:
             raise ArgumentError(f"{what} must be finite and > 0, got {dt}")
         return dt
 
-    def free_body(self, state, grasp: Optional[str] = None, *, step: float = 1e-3, point=None) -> FreeBodyPoint:
+    def free_body(self, state, grasp: Optional[str] = None, *, step: float = 1e-3, point=None, orbit=None) -> FreeBodyPoint:
         """The rigid target in ``state`` (at simulation time 0) as a [`FreeBodyPoint`][spacearm.control.FreeBodyPoint]
         of its grasp point: the reference [`capture`][spacearm.capture.capture] hands the native
         resolved-motion-rate controller, and the core's propagation of the target
         (``spacearm_core::sim::free_body``; attitude step ``step``, s). ``point``: the robot's
-        point that follows it."""
+        point that follows it. ``orbit``: the run's orbit (the state relative to its point at
+        time 0): the target drifts under gravity's tidal part and tumbles under its own gravity
+        gradient (docs/orbit.md)."""
         if not self.is_rigid:
             raise ArgumentError(f"target '{self.name}' is a jointed model: its motion is not a free rigid body; use Target.trajectory")
         _, offset = self.point(grasp)
-        return FreeBodyPoint(self.inertia, self.check_state(state), offset=offset, step=self._check_step(step, "step"), point=point)
+        return FreeBodyPoint(self.inertia, self.check_state(state), offset=offset, step=self._check_step(step, "step"), point=point,
+                             orbit=orbit)
 
     def trajectory(self, state, duration: float, dt: float):
         """``(t, states)`` of the torque-free target from ``state`` on the grid ``0, dt, ...,

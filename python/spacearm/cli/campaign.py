@@ -45,6 +45,9 @@ def add_parser(sub) -> None:
     s.add_argument("--q-offset", type=float, default=0.5, help="goal = initial q + this, rad (default 0.5)")
     s.add_argument("--kp", type=float, default=100.0)
     s.add_argument("--kd", type=float, default=20.0)
+    from .simulate import add_orbit_options
+
+    add_orbit_options(p)
     e = p.add_argument_group("inertia errors")
     e.add_argument("--base-mass-sigma", type=float, default=0.05, help="log-std of the base mass scale (default 0.05)")
     e.add_argument("--base-inertia-sigma", type=float, default=0.10, help="log-std of the base inertia scale (default 0.10)")
@@ -59,12 +62,16 @@ def run(args, model_from_args, out=None) -> None:
     from ..errors import SpacearmError
 
     out = sys.stdout if out is None else out
+    from .simulate import orbit_from_args
+
     robot = model_from_args(args)
+    orbit = orbit_from_args(args)
     try:
         perturbations = Perturbations(args.base_mass_sigma, args.base_inertia_sigma, args.link_mass_sigma,
                                       args.slosh_fraction_max, args.slosh_offset, args.payload_mass_max)
         scenario = Scenario(mode=args.mode, controller=args.controller, duration=args.duration, dt=args.dt,
-                            q_offset=args.q_offset, kp=args.kp, kd=args.kd)
+                            q_offset=args.q_offset, kp=args.kp, kd=args.kd, orbit=orbit,
+                            gravity_gradient=orbit is None or not args.no_gravity_gradient)
         result = run_campaign(robot, args.samples, seed=args.seed, perturbations=perturbations, scenario=scenario,
                               workers=args.workers, scheduler=args.scheduler, batch_size=args.batch_size,
                               worker_timeout=args.worker_timeout, out=args.out,

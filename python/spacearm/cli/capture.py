@@ -8,6 +8,12 @@ CM), at rest apart from its spin, with its axes along 𝒥's; its grasp point is
 from its CM in its axes (default: towards the end effector, 0.1 m short of it). A grasp point
 farther from the CM than the handle bound (``spacearm.capture.MAX_HANDLE_RATIO`` times the
 target's size) is refused, as is a target out of the arm's reach.
+
+``--orbit circular:ALT_KM[,INC_DEG]`` (the parser of ``spacearm simulate``) runs the capture in
+orbit (docs/orbit.md, "Capture in orbit"): the robot's system CM put on the orbit, the target
+placed by ``--target-at`` (run frame) or ``--target-lvlh X,Y,Z[,VX,VY,VZ]`` (its CM relative to the
+chaser's CM in LVLH), the momentum balance in place of the drift; ``--plot`` also shows the
+attitude relative to LVLH and the target's relative path.
 """
 
 from __future__ import annotations
@@ -37,6 +43,9 @@ def add_parser(sub) -> None:
     t.add_argument("--target-spin", default="0,0,0", help="WX,WY,WZ angular velocity in 𝒥, rad/s (default 0,0,0)")
     t.add_argument("--target-at", default=None, help="X,Y,Z of its CM in 𝒥, m (default 0.6 m beyond the end effector)")
     t.add_argument("--grasp-offset", default=None, help="X,Y,Z of the grasp point from its CM, target axes, m")
+    t.add_argument("--target-lvlh", default=None,
+                   help="with --orbit: X,Y,Z[,VX,VY,VZ] of its CM relative to the chaser's CM in LVLH (x radial, y along-track, "
+                        "z orbit normal), m and m/s (instead of --target-at)")
     c = p.add_argument_group("capture")
     c.add_argument("--kind", default="rigid", choices=("rigid", "point", "soft"), help="grasp model (default rigid)")
     c.add_argument("--restitution", type=float, default=0.0, help="e in [0, 1] for --kind point (default 0)")
@@ -47,6 +56,9 @@ def add_parser(sub) -> None:
     c.add_argument("--max-joint-torque", type=float, default=math.inf, help="N m, every joint (default none)")
     c.add_argument("--max-force", type=float, default=math.inf, help="base thruster force limit, N (flying; default none)")
     c.add_argument("--max-torque", type=float, default=math.inf, help="base thruster torque limit, N m (flying; default none)")
+    from .simulate import add_orbit_options
+
+    add_orbit_options(p)
     o = p.add_argument_group("output")
     o.add_argument("--out", default=None, help="write the record (.npz: t, phase, P, L, impulse, ...)")
     o.add_argument("--plot", default=None, help="write the figure (PNG)")
@@ -69,9 +81,27 @@ def run(args, model_from_args, out=None) -> int:
     video = video_options(args)
     inertia = parse_numbers(args.target_inertia, "--target-inertia", 3, "IXX,IYY,IZZ", "kg m²")
     spin = parse_numbers(args.target_spin, "--target-spin", 3, "WX,WY,WZ", "rad/s")
+    from .numbers import CliError
+    from .simulate import orbit_from_args
+
+    orbit = orbit_from_args(args)
     x0 = robot.neutral_configuration(None if args.q0 is None else joint_values(args.q0, "--q0", robot))
+    if orbit is not None:
+        x0[:3] -= robot.center_of_mass(x0)  # the system CM on the orbit
     ee = robot.point_position(x0)
-    if args.target_at is None:
+    rel = None
+    if args.target_lvlh is not None:
+        if orbit is None:
+            raise CliError("--target-lvlh needs --orbit")
+        if args.target_at is not None:
+            raise CliError("give --target-at or --target-lvlh, not both")
+        values = parse_numbers(args.target_lvlh, "--target-lvlh", None, "X,Y,Z[,VX,VY,VZ]", "m, m/s")
+        if len(values) not in (3, 6):
+            raise CliError(f"--target-lvlh takes 3 or 6 numbers (X,Y,Z[,VX,VY,VZ]), got {len(values)}")
+        rel = np.concatenate([values, np.zeros(6 - len(values))])
+        center = np.concatenate([robot.center_of_mass(x0), np.zeros(3)])
+        at = orbit.lvlh_to_run(rel, center=center)[:3]
+    elif args.target_at is None:
         outward = ee - x0[:3]
         outward = outward / np.linalg.norm(outward) if np.linalg.norm(outward) > 1e-9 else np.array([1.0, 0.0, 0.0])
         at = ee + 0.6 * outward
@@ -86,10 +116,14 @@ def run(args, model_from_args, out=None) -> int:
     if not 0.0 <= args.restitution <= 1.0:
         raise ArgumentError(f"--restitution must be in [0, 1], got {args.restitution}")
     target = Target(args.target_mass, inertia, grasp_points={"grasp": grasp})
-    state = target.state(position=at, angular_velocity=spin)
+    if rel is not None:
+        state = target.state_in_orbit(orbit, rel, center=center, angular_velocity=spin)
+    else:
+        state = target.state(position=at, angular_velocity=spin)
     res = capture(robot, target, state, x0=x0, mode=args.mode, kind=args.kind, restitution=args.restitution,
                   approach_time=args.approach_time, detumble_time=args.detumble_time, dt=args.dt,
-                  max_joint_torque=args.max_joint_torque, max_force=args.max_force, max_torque=args.max_torque)
+                  max_joint_torque=args.max_joint_torque, max_force=args.max_force, max_torque=args.max_torque,
+                  orbit=orbit, gravity_gradient=None if orbit is None else not args.no_gravity_gradient)
     s = res.summary()
     w = out.write
     w(f"capture of a {target.mass:g} kg target spinning at {np.linalg.norm(spin):.4g} rad/s by {robot.name}: "
@@ -109,7 +143,14 @@ def run(args, model_from_args, out=None) -> int:
     detumble = s["time_to_detumble"]
     w(f"  detumbled: {'not within the run' if not math.isfinite(detumble) else f'{detumble:.2f} s after the detumble starts'}"
       f" (residual base spin {s['residual_spin']:.3g} rad/s)\n")
-    if args.mode == "floating":
+    if orbit is not None:
+        rel_g = s["target_lvlh_at_grasp"]
+        w(f"  in orbit: {s['orbit_altitude_km']:.6g} km, {s['orbit_inclination_deg']:.4g} deg, gravity gradient "
+          f"{'on' if s['gravity_gradient'] else 'off'}; target at the grasp {_vec(rel_g)} m in LVLH\n")
+        w(f"  external impulse (tidal + thrusters): {s['external_impulse_norm']:.4g} N s, "
+          f"{s['external_angular_impulse_norm']:.4g} N m s; final base attitude {s['final_lvlh_angle_deg']:.4g} deg from LVLH\n")
+        w(f"  momentum balance of robot + target (relative residual): P {s['drift_P']:.2e}, L {s['drift_L']:.2e}\n")
+    elif args.mode == "floating":
         w(f"  momentum drift of robot + target (relative): P {s['drift_P']:.2e}, L {s['drift_L']:.2e}\n")
     else:
         w(f"  momentum change by the thrusters (relative): P {s['drift_P']:.3g}, L {s['drift_L']:.3g}\n")

@@ -399,12 +399,9 @@ class Trajectory:
         """The base attitude relative to the LVLH frame of the system CM's orbit, ``(K, 3, 3)``
         rotation matrices base → LVLH (LVLH: x radial, y along-track, z orbit normal;
         docs/orbit.md). Orbital runs only."""
-        from ..orbit import Orbit
-        from ..rotations import quat_to_matrix
+        from ..orbit import attitude_lvlh
 
-        lvlh = Orbit.lvlh_to_eci(np.asarray(self.r_cm_eci, dtype=float), np.asarray(self.v_cm_eci, dtype=float))
-        base = quat_to_matrix(np.asarray(self.x[:, 3:7], dtype=float))
-        return np.einsum("kji,kjl->kil", lvlh, base)
+        return attitude_lvlh(self.r_cm_eci, self.v_cm_eci, self.x[:, 3:7])
 
     def plot_lvlh(self, path: Optional[PathLike] = None):
         """The base attitude relative to LVLH against time in orbits (orbital runs;

@@ -50,32 +50,40 @@ def plot_capture(result, path=None):
     """Four panels against time, phases shaded (capture orange, post-capture green, detumble
     blue; the key above the panels): the momentum ledger's change ``P − P(0)`` and ``L − L(0)``
     of robot + target; the base angular velocity; the joint torques; the grasp force and moment.
-    Each line is named in its colour in the panel's upper right corner."""
+    Each line is named in its colour in the panel's upper right corner. A capture in orbit adds a
+    row: the base attitude relative to LVLH (roll, pitch, yaw) and the target's CM relative to the
+    chaser's CM in LVLH (radial x, along-track y, orbit-normal z), and its ledger panel is the
+    momentum balance's residual."""
     # What the figure's time goes to is matplotlib's per-artist work (benchmarks/README.md,
     # "Profiler history"): a fixed layout and title positions (y=1.0), direct labels instead of
     # legends, at most 5 y ticks, no x axis on the upper panels (they share the lower ones'),
     # plain log tick labels, and one figure-level key of the phases.
     ticker = require("matplotlib.ticker", "figures")
     Patch = require("matplotlib.patches", "figures").Patch
-    fig = _figure(9.0, 7.0, layout=None)
-    fig.subplots_adjust(left=0.09, right=0.98, bottom=0.08, top=0.93, wspace=0.25, hspace=0.18)
-    axes = fig.subplots(2, 2, sharex=True)
+    orbital = getattr(result, "in_orbit", False)
+    fig = _figure(9.0, 9.6 if orbital else 7.0, layout=None)
+    fig.subplots_adjust(left=0.09, right=0.98, bottom=0.06 if orbital else 0.08, top=0.94 if orbital else 0.93, wspace=0.25,
+                        hspace=0.18)
+    axes = fig.subplots(3 if orbital else 2, 2, sharex=True)
     t = result.t
-    (a0, a1), (a2, a3) = axes
-    for ax in (a0, a1):
+    (a0, a1), (a2, a3) = axes[:2]
+    for ax in axes[:-1].ravel():
         ax.xaxis.set_visible(False)
     for ax in axes.ravel():
         shaded = _shade(ax, result)
         ax.yaxis.set_major_locator(ticker.MaxNLocator(4))
     dP = np.linalg.norm(result.P - result.P[0], axis=1)
     dL = np.linalg.norm(result.L - result.L[0], axis=1)
-    a0.semilogy(t, np.maximum(dP, 1e-18), label="|P − P(0)| [N s]")
-    a0.semilogy(t, np.maximum(dL, 1e-18), label="|L − L(0)| [N m s]")
+    if orbital:  # the balance: the change less the integral of the external wrenches
+        res = result.balance_residual()
+        dP, dL = np.linalg.norm(res[:, :3], axis=1), np.linalg.norm(res[:, 3:], axis=1)
+    a0.semilogy(t, np.maximum(dP, 1e-18), label="|P − P(0) − ∫F| [N s]" if orbital else "|P − P(0)| [N s]")
+    a0.semilogy(t, np.maximum(dL, 1e-18), label="|L − L(0) − ∫N| [N m s]" if orbital else "|L − L(0)| [N m s]")
     # Plain "1e-10" tick labels on the log axis (mathtext labels cost a parse each).
     a0.yaxis.set_major_locator(ticker.LogLocator(numticks=5))
     a0.yaxis.set_major_formatter(ticker.LogFormatter(labelOnlyBase=True))
     a0.yaxis.set_minor_locator(ticker.NullLocator())
-    a0.set_title(f"momentum ledger, robot + target ({result.mode})", fontsize=9, y=1.0)
+    a0.set_title(f"momentum {'balance' if orbital else 'ledger'}, robot + target ({result.mode})", fontsize=9, y=1.0)
     a0.set_ylabel("change [N s], [N m s]")
     w0 = result.u[:, 3:6]
     for k, c in enumerate("xyz"):
@@ -87,12 +95,26 @@ def plot_capture(result, path=None):
             a2.plot(t, result.tau[:, k], lw=0.8, label=name)
     a2.set_title("joint torques", fontsize=9, y=1.0)
     a2.set_ylabel("τ [N m]")
-    a2.set_xlabel("t [s]")
     a3.plot(t, np.linalg.norm(result.grasp_wrench[:, :3], axis=1), label="|f| [N]")
     a3.plot(t, np.linalg.norm(result.grasp_wrench[:, 3:], axis=1), label="|n| [N m]")
     a3.set_title("wrench holding the target", fontsize=9, y=1.0)
     a3.set_ylabel("|f| [N], |n| [N m]")
-    a3.set_xlabel("t [s]")
+    if orbital:
+        from .orbit import lvlh_angles
+
+        a4, a5 = axes[2]
+        ang = np.degrees(lvlh_angles(result.attitude_lvlh()))
+        for k, name in enumerate(("roll", "pitch", "yaw")):
+            a4.plot(t, ang[:, k], label=name)
+        a4.set_title("base attitude relative to LVLH", fontsize=9, y=1.0)
+        a4.set_ylabel("[deg]")
+        rel = result.target_lvlh
+        for k, name in enumerate(("x radial", "y along-track", "z normal")):
+            a5.plot(t, rel[:, k] - rel[0, k], label=name)
+        a5.set_title("target CM relative to chaser CM (LVLH), change from start", fontsize=9, y=1.0)
+        a5.set_ylabel("[m]")
+    for ax in axes[-1]:
+        ax.set_xlabel("t [s]")
     for ax in axes.ravel():
         _name_lines(ax, fontsize=6 if ax is a2 else 7)
     if shaded:

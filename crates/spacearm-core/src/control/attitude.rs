@@ -8,6 +8,11 @@
 //! base with `−τ_j k_j`, so the wheel torques are `τ_W = −A⁺ N` with `A = [k_1 … k_W]` (axes in
 //! 𝒥) and `A⁺ = Aᵀ (A Aᵀ)⁺` its Moore–Penrose pseudo-inverse (the minimum-norm torques; with
 //! fewer than three independent axes, the component of `N` they cannot produce is left out).
+//!
+//! **Holding LVLH in orbit** ([`LvlhReference`], docs/orbit.md): the reference turns with the
+//! LVLH frame of the orbit's point `O` (read from an [`OrbitTrack`] of the run's orbit, the same
+//! nodes as the loop's): `q_ref(t) = q_LVLH(t) ⊗ q_L` (`q_L` the attitude held relative to
+//! LVLH) and the rate feedforward `ω_ref = (r × v)/|r|²`, so `N = −K_p e − K_d (ω0 − ω_ref)`.
 
 use nalgebra::{Matrix3, SymmetricEigen, UnitQuaternion, Vector3};
 
@@ -17,6 +22,53 @@ use crate::algorithms::kinematics::forward_kinematics;
 use crate::math::rotations::quaternion_from_xyzw;
 use crate::model::Model;
 use crate::sim::modes::Mode;
+use crate::sim::orbit::{lvlh_rate, lvlh_to_eci, Orbit, OrbitTrack};
+use nalgebra::Rotation3;
+
+/// An attitude reference that turns with the LVLH frame of an orbit (module docs).
+#[derive(Debug, Clone)]
+pub struct LvlhReference {
+    track: Box<OrbitTrack>,
+    /// The attitude held relative to LVLH (body → LVLH); `None`: latched from the first state.
+    quat_in_lvlh: Option<UnitQuaternion<f64>>,
+}
+
+impl LvlhReference {
+    /// The reference of `orbit` (the run's orbit, at `t = 0`) holding `quat_in_lvlh`
+    /// (`[x, y, z, w]`, body → LVLH; `None`: the attitude relative to LVLH at the first command).
+    pub fn new(orbit: &Orbit, quat_in_lvlh: Option<[f64; 4]>) -> Result<Self> {
+        let q = quat_in_lvlh.map(|q| crate::math::rotations::unit_quaternion_from_xyzw("LVLH attitude reference", &q)).transpose()?;
+        Ok(LvlhReference { track: Box::new(OrbitTrack::new(orbit, 1.0)?), quat_in_lvlh: q })
+    }
+
+    /// The LVLH frame (LVLH → ECI) and its angular velocity at `t`.
+    fn frame(&mut self, t: f64) -> Result<(UnitQuaternion<f64>, Vector3<f64>)> {
+        self.track.extend_to(t)?;
+        let (r, v) = self.track.state(t);
+        let c = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(lvlh_to_eci(&r, &v)));
+        Ok((c, lvlh_rate(&r, &v)))
+    }
+
+    /// The desired attitude (body → 𝒥) and angular velocity at `t`, given the base attitude
+    /// `quat` (`[x, y, z, w]`) to latch the relative attitude from on the first call.
+    pub fn at(&mut self, t: f64, quat: &[f64]) -> Result<(UnitQuaternion<f64>, Vector3<f64>)> {
+        let (c, w) = self.frame(t)?;
+        let q_l = match self.quat_in_lvlh {
+            Some(q) => q,
+            None => {
+                let q = c.inverse() * UnitQuaternion::new_normalize(quaternion_from_xyzw(quat));
+                self.quat_in_lvlh = Some(q);
+                q
+            }
+        };
+        Ok((c * q_l, w))
+    }
+}
+
+/// `[x, y, z, w]` of a unit quaternion.
+fn xyzw(q: &UnitQuaternion<f64>) -> [f64; 4] {
+    [q.i, q.j, q.k, q.w]
+}
 
 use super::{Command, ControlContext, Controller};
 
@@ -31,6 +83,7 @@ pub struct AttitudeControl {
     data: Option<Data>,
     wheels: Vec<usize>,
     axes_body: Vec<usize>,
+    lvlh: Option<LvlhReference>,
 }
 
 impl AttitudeControl {
@@ -46,7 +99,15 @@ impl AttitudeControl {
             data: None,
             wheels: vec![],
             axes_body: vec![],
+            lvlh: None,
         }
+    }
+
+    /// Hold an attitude relative to the LVLH frame of `reference` instead of a fixed one (the
+    /// `quat_ref` given to [`AttitudeControl::new`] is then unused).
+    pub fn with_lvlh(mut self, reference: LvlhReference) -> Self {
+        self.lvlh = Some(reference);
+        self
     }
 
     /// Set the reference attitude `[x, y, z, w]` (checked: unit within
@@ -98,14 +159,21 @@ impl Controller for AttitudeControl {
         Ok(())
     }
 
-    fn command(&mut self, _t: f64, x: &[f64], u: &[f64], out: &mut Command) -> Result<()> {
+    fn command(&mut self, t: f64, x: &[f64], u: &[f64], out: &mut Command) -> Result<()> {
+        let mut w_ref = Vector3::zeros();
+        if let Some(l) = self.lvlh.as_mut() {
+            let (q, w) = l.at(t, &x[3..7])?;
+            self.quat_ref = q;
+            self.quat_ref_xyzw = xyzw(&q);
+            w_ref = w;
+        }
         let (e, angle) = self.error(&x[3..7]);
         let (Some(model), Some(data)) = (self.model.as_ref(), self.data.as_mut()) else {
             return Err(SpacearmError::Simulation("attitude control used before setup".into()));
         };
         forward_kinematics(model, data, x)?;
         let w0 = Vector3::new(u[3], u[4], u[5]);
-        let torque = -e * self.kp - w0 * self.kd;
+        let torque = -e * self.kp - (w0 - w_ref) * self.kd;
         // τ_W = −Aᵀ (A Aᵀ)⁺ N.
         let mut aat = Matrix3::zeros();
         for &b in &self.axes_body {

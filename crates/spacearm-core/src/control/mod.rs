@@ -36,7 +36,7 @@ use crate::error::{Result, SpacearmError};
 use crate::model::Model;
 use crate::sim::modes::Mode;
 
-pub use attitude::AttitudeControl;
+pub use attitude::{AttitudeControl, LvlhReference};
 pub use computed_torque::ComputedTorque;
 pub use coordinated::{CoordinatedFlying, CoordinatedGains};
 pub use momentum_damping::{JointTorqueLimit, MomentumDamping};

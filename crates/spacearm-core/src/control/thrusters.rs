@@ -17,7 +17,7 @@ use crate::algorithms::kinematics::forward_kinematics;
 use crate::model::Model;
 use crate::algorithms::momentum::{center_of_mass_from_data, momentum};
 
-use super::attitude::AttitudeControl;
+use super::attitude::{AttitudeControl, LvlhReference};
 use super::{Command, ControlContext, Controller};
 
 /// Thruster regulation of the system CM position and the base attitude.
@@ -35,6 +35,7 @@ pub struct BaseThrusterControl {
     data: Option<Data>,
     attitude: Option<AttitudeControl>,
     com_target: Vector3<f64>,
+    lvlh: Option<LvlhReference>,
 }
 
 impl BaseThrusterControl {
@@ -54,7 +55,16 @@ impl BaseThrusterControl {
             data: None,
             attitude: None,
             com_target: Vector3::zeros(),
+            lvlh: None,
         }
+    }
+
+    /// Hold the attitude relative to the LVLH frame of `reference` (its own attitude, or the
+    /// initial one relative to LVLH), with the LVLH rate as the rate reference
+    /// ([`super::attitude`]); the `quat_ref` of [`BaseThrusterControl::new`] is then unused.
+    pub fn with_lvlh(mut self, reference: LvlhReference) -> Self {
+        self.lvlh = Some(reference);
+        self
     }
 }
 
@@ -90,7 +100,7 @@ impl Controller for BaseThrusterControl {
         Ok(())
     }
 
-    fn command(&mut self, _t: f64, x: &[f64], u: &[f64], out: &mut Command) -> Result<()> {
+    fn command(&mut self, t: f64, x: &[f64], u: &[f64], out: &mut Command) -> Result<()> {
         let (Some(model), Some(data)) = (self.model.as_ref(), self.data.as_mut()) else {
             return Err(SpacearmError::Simulation("thruster control used before setup".into()));
         };
@@ -101,6 +111,12 @@ impl Controller for BaseThrusterControl {
             let mut att = AttitudeControl::new(q, self.kp_attitude, self.kd_attitude);
             att.set_reference(q)?;
             self.attitude = Some(att);
+        }
+        let mut w_ref = Vector3::zeros();
+        if let Some(l) = self.lvlh.as_mut() {
+            let (q, w) = l.at(t, &x[3..7])?;
+            self.attitude.as_mut().expect("latched above").set_reference([q.i, q.j, q.k, q.w])?;
+            w_ref = w;
         }
         let att = self.attitude.as_ref().expect("latched above");
         if self.use_force {
@@ -114,7 +130,7 @@ impl Controller for BaseThrusterControl {
         }
         let (e, angle) = att.error(&x[3..7]);
         if self.use_torque {
-            let n = -e * self.kp_attitude - Vector3::new(u[3], u[4], u[5]) * self.kd_attitude;
+            let n = -e * self.kp_attitude - (Vector3::new(u[3], u[4], u[5]) - w_ref) * self.kd_attitude;
             out.base_wrench[3] = n.x;
             out.base_wrench[4] = n.y;
             out.base_wrench[5] = n.z;

@@ -12,6 +12,15 @@
 //! therefore conserved exactly and only the attitude carries integration error (fourth order
 //! in the step).
 //!
+//! **In orbit** ([`FreeBody::in_orbit`]): the state is relative to the orbit's point `O` of the
+//! run (ECI axes, docs/orbit.md), and gravity's non-uniform part acts: the CM moves under the
+//! exact relative acceleration `ρ̈ = g(r_O + ρ) − g(r_O)` (two-body, plus J2 if the orbit has it;
+//! `r_O` from the run's [`OrbitTrack`], the same nodes as the simulation loop's), and the angular
+//! momentum about the CM under the gravity-gradient torque `L̇ = axial(I_𝒥 G − G I_𝒥)` (`G` the
+//! two-body gradient at `r_O`, [`crate::sim::orbit::gravity_gradient_torque`]). Then the whole
+//! state `[r, v, quat, L]` is integrated by classical RK4 on the grid (momenta are no longer
+//! constant).
+//!
 //! Times are measured from the state the body was built with. The attitude is kept on a grid of
 //! fixed steps `h` (extended as later times are asked for, so evaluating the body at the
 //! integrator's stage times costs one RK4 step at most); a time between two grid points is
@@ -21,6 +30,17 @@ use nalgebra::{Matrix3, UnitQuaternion, Quaternion, Vector3};
 
 use crate::error::{check_finite, Result, SpacearmError};
 use crate::math::rotations::{normalize_xyzw, quaternion_rate};
+use crate::sim::orbit::{gravity_gradient_tensor, gravity_gradient_torque, Orbit, OrbitTrack};
+
+/// A node of the grid: attitude `[x, y, z, w]`, and in orbit the CM position and velocity and
+/// the angular momentum about the CM (in 𝒥); torque-free, only `q` evolves.
+#[derive(Debug, Clone, Copy)]
+struct Node {
+    q: [f64; 4],
+    r: Vector3<f64>,
+    v: Vector3<f64>,
+    l: Vector3<f64>,
+}
 
 /// A torque-free rigid body with a point fixed to it.
 #[derive(Debug, Clone)]
@@ -33,7 +53,9 @@ pub struct FreeBody {
     l_world: Vector3<f64>,
     offset: Vector3<f64>,
     step: f64,
-    grid: Vec<[f64; 4]>,
+    grid: Vec<Node>,
+    /// In orbit: the track of the run's point `O` (the tidal field's source).
+    track: Option<Box<OrbitTrack>>,
 }
 
 fn rotation(q: &[f64; 4]) -> Matrix3<f64> {
@@ -78,8 +100,39 @@ impl FreeBody {
             l_world,
             offset,
             step,
-            grid: vec![q],
+            grid: vec![Node { q, r: Vector3::new(state[0], state[1], state[2]), v: Vector3::new(state[7], state[8], state[9]), l: l_world }],
+            track: None,
         })
+    }
+
+    /// The same body in orbit (module docs): its state relative to the point `O` of `orbit` (the
+    /// run's origin, ECI axes) at time 0, moving under gravity's tidal part and turning under
+    /// its gravity-gradient torque.
+    pub fn in_orbit(mut self, orbit: &Orbit) -> Result<Self> {
+        let track = OrbitTrack::new(orbit, 16.0 * self.step)?;
+        self.track = Some(Box::new(track));
+        Ok(self)
+    }
+
+    /// Whether the body moves in orbit ([`FreeBody::in_orbit`]).
+    pub fn is_in_orbit(&self) -> bool {
+        self.track.is_some()
+    }
+
+    /// In orbit: the tidal acceleration of the CM and the gravity-gradient torque at time `t`
+    /// for a node; torque-free: zeros.
+    fn tidal(&mut self, t: f64, n: &Node) -> Result<(Vector3<f64>, Vector3<f64>)> {
+        let Some(track) = self.track.as_mut() else {
+            return Ok((Vector3::zeros(), Vector3::zeros()));
+        };
+        track.extend_to(t)?;
+        let (ro, _) = track.state(t);
+        let orbit = *track.orbit();
+        let acc = orbit.acceleration(&(ro + n.r)) - orbit.acceleration(&ro);
+        let g = gravity_gradient_tensor(orbit.body.mu, &ro);
+        let rot = rotation(&n.q);
+        let torque = gravity_gradient_torque(&g, &(rot * self.inertia * rot.transpose()));
+        Ok((acc, torque))
     }
 
     /// The body's inertia about its CM, body axes.
@@ -87,33 +140,52 @@ impl FreeBody {
         &self.inertia
     }
 
-    /// The angular velocity in 𝒥 at attitude `q`: `ω = R I⁻¹ Rᵀ L`.
-    fn omega(&self, q: &[f64; 4]) -> Vector3<f64> {
+    /// The angular velocity in 𝒥 at attitude `q` with angular momentum `l` (𝒥, about the CM):
+    /// `ω = R I⁻¹ Rᵀ L`.
+    fn omega(&self, q: &[f64; 4], l: &Vector3<f64>) -> Vector3<f64> {
         let r = rotation(q);
-        r * (self.inertia_inv * (r.transpose() * self.l_world))
+        r * (self.inertia_inv * (r.transpose() * l))
     }
 
-    fn rate(&self, q: &[f64; 4]) -> [f64; 4] {
-        quaternion_rate(q, &self.omega(q))
+    /// The node's rates at `t`: `(q̇, ṙ, v̇, L̇)`.
+    fn rates(&mut self, t: f64, n: &Node) -> Result<([f64; 4], Vector3<f64>, Vector3<f64>, Vector3<f64>)> {
+        let qd = quaternion_rate(&n.q, &self.omega(&n.q, &n.l));
+        let (acc, torque) = self.tidal(t, n)?;
+        Ok((qd, n.v, acc, torque))
     }
 
-    /// One classical RK4 step of the attitude (re-normalized).
-    fn rk4(&self, q: &[f64; 4], h: f64) -> [f64; 4] {
-        let shifted = |k: &[f64; 4], c: f64| [q[0] + c * k[0], q[1] + c * k[1], q[2] + c * k[2], q[3] + c * k[3]];
-        let k1 = self.rate(q);
-        let k2 = self.rate(&shifted(&k1, 0.5 * h));
-        let k3 = self.rate(&shifted(&k2, 0.5 * h));
-        let k4 = self.rate(&shifted(&k3, h));
-        let mut out = [0.0; 4];
+    /// One classical RK4 step from node `n` at time `t` (the quaternion re-normalized; without
+    /// an orbit `r`, `v`, `L` stay as they are: the CM's motion is in closed form).
+    fn rk4(&mut self, n: &Node, t: f64, h: f64) -> Result<Node> {
+        let shifted = |k: &([f64; 4], Vector3<f64>, Vector3<f64>, Vector3<f64>), c: f64| Node {
+            q: [n.q[0] + c * k.0[0], n.q[1] + c * k.0[1], n.q[2] + c * k.0[2], n.q[3] + c * k.0[3]],
+            r: n.r + k.1 * c,
+            v: n.v + k.2 * c,
+            l: n.l + k.3 * c,
+        };
+        let k1 = self.rates(t, n)?;
+        let k2 = self.rates(t + 0.5 * h, &shifted(&k1, 0.5 * h))?;
+        let k3 = self.rates(t + 0.5 * h, &shifted(&k2, 0.5 * h))?;
+        let k4 = self.rates(t + h, &shifted(&k3, h))?;
+        let mut q = [0.0; 4];
         for i in 0..4 {
-            out[i] = q[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+            q[i] = n.q[i] + h / 6.0 * (k1.0[i] + 2.0 * k2.0[i] + 2.0 * k3.0[i] + k4.0[i]);
         }
-        normalize_xyzw(&mut out);
-        out
+        normalize_xyzw(&mut q);
+        if self.track.is_none() {
+            return Ok(Node { q, ..*n });
+        }
+        let comb = |a: Vector3<f64>, b: Vector3<f64>, c: Vector3<f64>, d: Vector3<f64>| (a + 2.0 * b + 2.0 * c + d) * (h / 6.0);
+        Ok(Node {
+            q,
+            r: n.r + comb(k1.1, k2.1, k3.1, k4.1),
+            v: n.v + comb(k1.2, k2.2, k3.2, k4.2),
+            l: n.l + comb(k1.3, k2.3, k3.3, k4.3),
+        })
     }
 
-    /// The attitude `[x, y, z, w]` at time `t ≥ 0` (s after the initial state).
-    pub fn attitude(&mut self, t: f64) -> Result<[f64; 4]> {
+    /// The node (attitude; in orbit also the CM's state and `L`) at time `t ≥ 0`.
+    fn node(&mut self, t: f64) -> Result<Node> {
         if !(t.is_finite() && t >= 0.0) {
             return Err(SpacearmError::argument(format!("a free body is propagated forward from its initial state: t must be finite and >= 0, got {t}")));
         }
@@ -126,34 +198,58 @@ impl FreeBody {
         }
         let i = steps as usize;
         while self.grid.len() <= i {
-            let next = self.rk4(self.grid.last().expect("the grid starts with the initial attitude"), self.step);
+            let k = self.grid.len() - 1;
+            let last = self.grid[k];
+            let next = self.rk4(&last, k as f64 * self.step, self.step)?;
             self.grid.push(next);
         }
         let rest = t - i as f64 * self.step;
-        let q = self.grid[i];
-        Ok(if rest <= 1e-12 * self.step.max(1.0) { q } else { self.rk4(&q, rest) })
+        let n = self.grid[i];
+        let mut out = if rest <= 1e-12 * self.step.max(1.0) { n } else { self.rk4(&n, i as f64 * self.step, rest)? };
+        if self.track.is_none() {
+            out.r = self.r0 + self.v * t;
+            out.v = self.v;
+            out.l = self.l_world;
+        }
+        Ok(out)
+    }
+
+    /// The attitude `[x, y, z, w]` at time `t ≥ 0` (s after the initial state).
+    pub fn attitude(&mut self, t: f64) -> Result<[f64; 4]> {
+        Ok(self.node(t)?.q)
     }
 
     /// The 13-state at time `t ≥ 0`.
     pub fn state(&mut self, t: f64) -> Result<[f64; 13]> {
-        let q = self.attitude(t)?;
-        let r = self.r0 + self.v * t;
-        let w = self.omega(&q);
-        Ok([r.x, r.y, r.z, q[0], q[1], q[2], q[3], self.v.x, self.v.y, self.v.z, w.x, w.y, w.z])
+        let n = self.node(t)?;
+        let w = self.omega(&n.q, &n.l);
+        Ok([n.r.x, n.r.y, n.r.z, n.q[0], n.q[1], n.q[2], n.q[3], n.v.x, n.v.y, n.v.z, w.x, w.y, w.z])
+    }
+
+    /// The external wrench on the body at time `t ≥ 0` if its mass is `mass` (kg): in orbit the
+    /// tidal force `m (g(r_O + ρ) − g(r_O))` and its moment about the run's origin `ρ × f + N`
+    /// (`N` the gravity-gradient torque about the CM); torque-free, zeros. What a momentum
+    /// ledger integrates for the free target.
+    pub fn external_wrench(&mut self, t: f64, mass: f64) -> Result<(Vector3<f64>, Vector3<f64>)> {
+        let n = self.node(t)?;
+        let (acc, torque) = self.tidal(t, &n)?;
+        let f = acc * mass;
+        Ok((f, n.r.cross(&f) + torque))
     }
 
     /// Position, velocity and acceleration (in 𝒥) of the body's point at time `t ≥ 0`:
-    /// `p = r + R o`, `ṗ = v + ω × R o`, `p̈ = ω̇ × R o + ω × (ω × R o)` with the Euler rate
-    /// `ω̇ = I_𝒥⁻¹ (L × ω)`.
+    /// `p = r + R o`, `ṗ = v + ω × R o`, `p̈ = a + ω̇ × R o + ω × (ω × R o)` with the Euler rate
+    /// `ω̇ = I_𝒥⁻¹ (N + L × ω)` (`a` and `N` the tidal acceleration and torque in orbit, else 0).
     pub fn point(&mut self, t: f64) -> Result<(Vector3<f64>, Vector3<f64>, Vector3<f64>)> {
-        let q = self.attitude(t)?;
-        let rot = rotation(&q);
+        let n = self.node(t)?;
+        let (acc, torque) = self.tidal(t, &n)?;
+        let rot = rotation(&n.q);
         let arm = rot * self.offset;
-        let w = rot * (self.inertia_inv * (rot.transpose() * self.l_world));
-        let wd = rot * (self.inertia_inv * (rot.transpose() * self.l_world.cross(&w)));
-        let p = self.r0 + self.v * t + arm;
-        let v = self.v + w.cross(&arm);
-        let a = wd.cross(&arm) + w.cross(&w.cross(&arm));
+        let w = self.omega(&n.q, &n.l);
+        let wd = rot * (self.inertia_inv * (rot.transpose() * (torque + n.l.cross(&w))));
+        let p = n.r + arm;
+        let v = n.v + w.cross(&arm);
+        let a = acc + wd.cross(&arm) + w.cross(&w.cross(&arm));
         Ok((p, v, a))
     }
 }
@@ -218,6 +314,30 @@ mod tests {
             assert!(((vp - vm) / (2.0 * h) - a).norm() < 1e-6);
             let _ = p;
         }
+    }
+
+    #[test]
+    fn in_orbit_the_point_rates_are_consistent_and_the_torque_turns_l() {
+        use crate::sim::orbit::EARTH;
+        let orbit = Orbit::circular(EARTH, 500e3, 0.9, 0.2, 0.1, true).unwrap();
+        let mut b = body(1e-3).in_orbit(&orbit).unwrap();
+        let h = 1e-5;
+        for &t in &[0.5, 7.3] {
+            let (_, v, a) = b.point(t).unwrap();
+            let (pp, vp, _) = b.point(t + h).unwrap();
+            let (pm, vm, _) = b.point(t - h).unwrap();
+            assert!(((pp - pm) / (2.0 * h) - v).norm() < 1e-8, "velocity");
+            // below the tidal acceleration (~5e-6 m/s² here): it is part of a
+            assert!(((vp - vm) / (2.0 * h) - a).norm() < 1e-8, "acceleration");
+        }
+        // The tidal torque changes L (torque-free it is constant to round-off).
+        let s0 = b.state(0.0).unwrap();
+        let s1 = b.state(20.0).unwrap();
+        let l = |s: [f64; 13]| {
+            let rot = rotation(&[s[3], s[4], s[5], s[6]]);
+            rot * b.inertia * rot.transpose() * Vector3::new(s[10], s[11], s[12])
+        };
+        assert!((l(s1) - l(s0)).norm() > 1e-9);
     }
 
     #[test]

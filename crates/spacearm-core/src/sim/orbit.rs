@@ -414,6 +414,28 @@ impl Orbit {
         [p.x, p.y, p.z, q.x, q.y, q.z]
     }
 
+    /// A run's state (relative to the orbit's point `O`, ECI axes; docs/orbit.md) of a point at
+    /// relative state `rel` in the LVLH of a centre at run state `(c, c_dot)`, `O` at ECI
+    /// `(r_o, v_o)`: `ρ = c + C ρ_L`, `ρ̇ = ċ + C ρ̇_L + ω × C ρ_L` with `C` (LVLH → ECI) and `ω`
+    /// the frame and rate of the centre's orbit (computed without forming ECI-sized differences).
+    pub fn lvlh_to_run(r_o: &Vector3<f64>, v_o: &Vector3<f64>, c: &Vector3<f64>, c_dot: &Vector3<f64>, rel: &RelativeState) -> (Vector3<f64>, Vector3<f64>) {
+        let (rc, vc) = (r_o + c, v_o + c_dot);
+        let m = lvlh_to_eci(&rc, &vc);
+        let rho = m * Vector3::new(rel[0], rel[1], rel[2]);
+        (c + rho, c_dot + m * Vector3::new(rel[3], rel[4], rel[5]) + lvlh_rate(&rc, &vc).cross(&rho))
+    }
+
+    /// The inverse of [`Orbit::lvlh_to_run`]: the LVLH relative state about the centre `(c,
+    /// c_dot)` of a point at run state `(p, p_dot)`, `O` at ECI `(r_o, v_o)`.
+    pub fn run_to_lvlh(r_o: &Vector3<f64>, v_o: &Vector3<f64>, c: &Vector3<f64>, c_dot: &Vector3<f64>, p: &Vector3<f64>, p_dot: &Vector3<f64>) -> RelativeState {
+        let (rc, vc) = (r_o + c, v_o + c_dot);
+        let m = lvlh_to_eci(&rc, &vc);
+        let rho = p - c;
+        let rho_dot = p_dot - c_dot - lvlh_rate(&rc, &vc).cross(&rho);
+        let (a, b) = (m.transpose() * rho, m.transpose() * rho_dot);
+        [a.x, a.y, a.z, b.x, b.y, b.z]
+    }
+
     /// The exact relative motion, in this orbit's LVLH, of a second point mass started at
     /// `rel0` (LVLH at `t = 0`) and propagated on its own orbit (the same body, J2 as this orbit):
     /// one relative state per time of `times`.
@@ -607,6 +629,20 @@ mod tests {
         let rh = r.normalize();
         let closed = 3.0 * EARTH.mu / r.norm().powi(3) * rh.cross(&(i * rh));
         assert!((gravity_gradient_torque(&g, &i) - closed).norm() < 1e-12 * closed.norm());
+    }
+
+    #[test]
+    fn lvlh_to_run_round_trips_and_agrees_with_eci() {
+        let o = Orbit::circular(EARTH, 500e3, 0.9, 0.3, 0.2, false).unwrap();
+        let (c, cd) = (Vector3::new(0.3, -0.1, 0.2), Vector3::new(1e-3, 2e-3, -1e-3));
+        let rel = [1.0, -20.0, 3.0, 0.01, -0.02, 0.005];
+        let (p, pd) = Orbit::lvlh_to_run(&o.r0, &o.v0, &c, &cd, &rel);
+        let back = Orbit::run_to_lvlh(&o.r0, &o.v0, &c, &cd, &p, &pd);
+        for k in 0..6 {
+            assert!((back[k] - rel[k]).abs() < 1e-12, "{k}");
+        }
+        let (r2, v2) = Orbit::relative_to_eci(&(o.r0 + c), &(o.v0 + cd), &rel);
+        assert!(((r2 - o.r0) - p).norm() < 1e-8 && ((v2 - o.v0) - pd).norm() < 1e-11);
     }
 
     #[test]
