@@ -56,6 +56,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model_py::PyTape>()?;
     m.add_class::<builder_py::PyModelBuilder>()?;
     m.add_function(wrap_pyfunction!(builder_py::slosh_links, m)?)?;
+    m.add_function(wrap_pyfunction!(builder_py::cylinder_slosh, m)?)?;
     m.add_class::<derivatives_py::PyDerivatives>()?;
     m.add_class::<description_py::PyModelDescription>()?;
     m.add_class::<description_py::PyBaseDescription>()?;
@@ -92,6 +93,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<sim_options_py::PyRunOptions>()?;
     m.add_class::<sim_options_py::PyThrusterLimits>()?;
     m.add_class::<controller_spec_py::PyJointReference>()?;
+    m.add_class::<controller_spec_py::PyInputShaper>()?;
     m.add_class::<controller_spec_py::PyCartesianReference>()?;
     m.add_class::<controller_spec_py::PyFreeBodyReference>()?;
     m.add_class::<controller_spec_py::PyMomentumDampingSpec>()?;
