@@ -895,8 +895,8 @@ class RunOptions:
 
 @final
 class JointReference:
-    """A joint-space reference of the arm joints: a rest-to-rest quintic, a constant or a
-    sampled trajectory (piecewise quintic Hermite)."""
+    """A joint-space reference of the arm joints: a rest-to-rest quintic, a constant, a
+    sampled trajectory (piecewise quintic Hermite) or an input-shaped one (InputShaper.shape)."""
     @staticmethod
     def quintic(*, q_start: _ArrayLike, q_goal: _ArrayLike, t_start: float, t_end: float) -> JointReference: ...
     @staticmethod
@@ -907,7 +907,7 @@ class JointReference:
         """(q, qd, qdd) at each time, each (T, n)."""
     @property
     def kind(self) -> str:
-        """"quintic", "constant" or "sampled"."""
+        """"quintic", "constant", "sampled" or "shaped"."""
     @property
     def q_start(self) -> _Vec:
         """Shape (n,), rad or m (a constant's set point)."""

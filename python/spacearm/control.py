@@ -8,7 +8,11 @@ The equations, with the paper's numbers, are in ``docs/simulation-core.md``.
 Joint-space controllers act on the **arm joints**: every joint that is not a reaction wheel
 (wheels are what [`RobotBuilder.add_reaction_wheel`][spacearm.RobotBuilder.add_reaction_wheel] creates, or what ``simulate(wheels=...)``
 names). Their references and per-joint gains therefore have one entry per arm joint — ``N``
-for a robot without wheels.
+for a robot without wheels. [`ComputedTorque`][spacearm.control.ComputedTorque] and
+[`ResolvedMotionRate`][spacearm.control.ResolvedMotionRate] command the **actuated** arm joints
+only (passive joints — slosh, hinged panels — get zero torque and are treated as measured drift;
+docs/flexibility.md), so a computed-torque reference has one entry per actuated arm joint.
+[`input_shaper`][spacearm.control.input_shaper] shapes a joint reference against a flexible mode.
 
 >>> import spacearm
 >>> from spacearm.control import ComputedTorque, QuinticJoint
