@@ -10,6 +10,7 @@ from . import capture, control, io, presets
 from ._core import __version__
 from .model.batch import batch_threads, set_batch_threads
 from .model.builder import RobotBuilder
+from .model.slosh import SloshMode, SloshParameters, slosh_parameters
 from .capture import Target
 from .orbit import CentralBody, Orbit, OrbitalElements
 from .model.description import (BaseDescription, GeometryDescription, JointLimits, LinkDescription, ModelDescription,
@@ -76,6 +77,9 @@ __all__ = [
     "InverseDynamicsPartials",
     "Linearization",
     "PassiveModes",
+    "slosh_parameters",
+    "SloshParameters",
+    "SloshMode",
     "ModelDescription",
     "BaseDescription",
     "LinkDescription",

@@ -33,7 +33,8 @@ __all__ = [
     "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "joint_wrenches", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
     "model_to_toml", "momentum_scales", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
-    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts", "soft_capture", "virtual_mass",
+    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts",
+    "cylinder_slosh", "InputShaper", "soft_capture", "virtual_mass",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -77,6 +78,9 @@ def model_from_paper_dh(
     tip_point: Optional[str],
     initial_q: Optional[Sequence[float]] = None,
 ) -> Model: ...
+
+def cylinder_slosh(radius: float, fill_height: float, liquid_mass: float, axial_acceleration: float, modes: int = 1) -> dict[str, Any]:
+    """The equivalent mechanical model of the liquid in an upright flat-bottomed cylinder (Abramson 1966, Dodge 2000)."""
 
 def slosh_links(name: str, parent: str, model: str, mass: float, position: Sequence[float], axis: Sequence[float],
                 hinge: Optional[Sequence[float]], length: Optional[float], stiffness: Optional[float],
@@ -905,8 +909,8 @@ class RunOptions:
 
 @final
 class JointReference:
-    """A joint-space reference of the arm joints: a rest-to-rest quintic, a constant or a
-    sampled trajectory (piecewise quintic Hermite)."""
+    """A joint-space reference of the arm joints: a rest-to-rest quintic, a constant, a
+    sampled trajectory (piecewise quintic Hermite) or an input-shaped one (InputShaper.shape)."""
     @staticmethod
     def quintic(*, q_start: _ArrayLike, q_goal: _ArrayLike, t_start: float, t_end: float) -> JointReference: ...
     @staticmethod
@@ -917,7 +921,7 @@ class JointReference:
         """(q, qd, qdd) at each time, each (T, n)."""
     @property
     def kind(self) -> str:
-        """"quintic", "constant" or "sampled"."""
+        """"quintic", "constant", "sampled" or "shaped"."""
     @property
     def q_start(self) -> _Vec:
         """Shape (n,), rad or m (a constant's set point)."""
@@ -977,14 +981,35 @@ class JointPdSpec:
 @final
 class ComputedTorqueSpec:
     """Computed torque on the reduced equations of motion (paper eqs. 112-115)."""
-    def __new__(cls, *, kp: Sequence[float], kd: Sequence[float], reference: JointReference, model: Optional[Model] = None) -> ComputedTorqueSpec: ...
-    kp: list[float]  # 1/s², one or one per arm joint (read-only)
+    def __new__(cls, *, kp: Sequence[float], kd: Sequence[float], reference: JointReference, model: Optional[Model] = None,
+                passive: str = "drift") -> ComputedTorqueSpec: ...
+    kp: list[float]  # 1/s², one or one per actuated arm joint (read-only)
     kd: list[float]  # 1/s (read-only)
+    @property
+    def passive(self) -> str:
+        """``"drift"`` or ``"frozen"``: how the passive joints are treated."""
     @property
     def reference(self) -> JointReference: ...
     @property
     def has_model(self) -> bool:
         """Whether the controller has a model of its own (else the plant's)."""
+
+@final
+class InputShaper:
+    """A ZV or ZVD input shaper (Singer & Seering 1990)."""
+    def __new__(cls, kind: str, *, frequency: float, damping: float = 0.0) -> InputShaper: ...
+    @property
+    def kind(self) -> str: ...
+    @property
+    def frequency(self) -> float: ...
+    @property
+    def damping(self) -> float: ...
+    @property
+    def amplitudes(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def times(self) -> npt.NDArray[np.float64]: ...
+    def residual_vibration(self, frequency: float, damping: float = 0.0) -> float: ...
+    def shape(self, reference: JointReference) -> JointReference: ...
 
 @final
 class RmrcSpec:

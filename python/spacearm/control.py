@@ -8,7 +8,11 @@ The equations, with the paper's numbers, are in ``docs/simulation-core.md``.
 Joint-space controllers act on the **arm joints**: every joint that is not a reaction wheel
 (wheels are what [`RobotBuilder.add_reaction_wheel`][spacearm.RobotBuilder.add_reaction_wheel] creates, or what ``simulate(wheels=...)``
 names). Their references and per-joint gains therefore have one entry per arm joint — ``N``
-for a robot without wheels.
+for a robot without wheels. [`ComputedTorque`][spacearm.control.ComputedTorque] and
+[`ResolvedMotionRate`][spacearm.control.ResolvedMotionRate] command the **actuated** arm joints
+only (passive joints — slosh, hinged panels — get zero torque and are treated as measured drift;
+docs/flexibility.md), so a computed-torque reference has one entry per actuated arm joint.
+[`input_shaper`][spacearm.control.input_shaper] shapes a joint reference against a flexible mode.
 
 >>> import spacearm
 >>> from spacearm.control import ComputedTorque, QuinticJoint
@@ -54,6 +58,9 @@ __all__ = [
     "Callback",
     "perturbed_model",
     "inertia_scaled_gains",
+    "InputShaper",
+    "ShapedJoint",
+    "input_shaper",
 ]
 
 
@@ -252,8 +259,75 @@ class FreeBodyPoint:
         return self._core_ref
 
 
+@_dataclass(frozen=True)
+class InputShaper:
+    """A ZV or ZVD input shaper (Singer & Seering 1990) designed for the mode of natural
+    ``frequency`` (rad/s) and ``damping`` ratio (0 ≤ ζ < 1): impulses ``amplitudes`` at
+    ``times`` (the core's ``control/shaping.rs``). [`shape`][spacearm.control.InputShaper.shape]
+    convolves a joint reference with them; the shaped move is ``times[-1]`` longer. Build one
+    with [`input_shaper`][spacearm.control.input_shaper]."""
+
+    kind: str
+    frequency: float
+    damping: float = 0.0
+
+    def __post_init__(self):
+        core = _core.InputShaper(str(self.kind), frequency=_float(self.frequency, "InputShaper frequency"),
+                                 damping=_float(self.damping, "InputShaper damping"))
+        object.__setattr__(self, "_core_shaper", core)
+
+    @property
+    def amplitudes(self) -> _np.ndarray:
+        """The impulse amplitudes (sum 1)."""
+        return self._core_shaper.amplitudes
+
+    @property
+    def times(self) -> _np.ndarray:
+        """The impulse times, s (the first 0)."""
+        return self._core_shaper.times
+
+    def residual_vibration(self, frequency: float, damping: float = 0.0) -> float:
+        """The residual vibration of the mode ``(frequency, damping)`` after the shaped move,
+        relative to the unshaped one: 0 at the design mode."""
+        return self._core_shaper.residual_vibration(_float(frequency, "frequency"), _float(damping, "damping"))
+
+    def shape(self, reference) -> "ShapedJoint":
+        """The shaped joint reference ``sum_i A_i r(t - t_i)`` of ``reference`` (a
+        [`QuinticJoint`][spacearm.control.QuinticJoint] or a [`SampledJoint`][spacearm.control.SampledJoint])."""
+        return ShapedJoint(reference, self)
+
+
+def input_shaper(kind: str, *, frequency: float, damping: float = 0.0) -> InputShaper:
+    """The ``"zv"`` or ``"zvd"`` [`InputShaper`][spacearm.control.InputShaper] for the mode of
+    natural ``frequency`` (rad/s) and ``damping`` ratio, e.g. the first flexible mode from
+    [`Robot.natural_frequencies`][spacearm.Robot.natural_frequencies]."""
+    return InputShaper(kind, frequency, damping)
+
+
+@_dataclass(frozen=True)
+class ShapedJoint:
+    """A joint reference convolved with an [`InputShaper`][spacearm.control.InputShaper]:
+    ``q_s(t) = sum_i A_i q(t - t_i)`` (and so its rates), evaluated in the core."""
+
+    reference: Any
+    shaper: InputShaper
+
+    def __post_init__(self):
+        if not isinstance(self.shaper, InputShaper):
+            raise _ArgumentError(f"ShapedJoint needs an InputShaper, got {type(self.shaper).__name__}")
+        base = _joint_reference(self.reference, "ShapedJoint")
+        object.__setattr__(self, "_core_ref", self.shaper._core_shaper.shape(base))
+
+    def evaluate(self, t):
+        """``(q, qd, qdd)`` at the times ``t``, each (len(t), n): what the controllers follow."""
+        return self._core_ref.evaluate(_np.atleast_1d(_np.asarray(t, dtype=float)))
+
+    def _spec(self) -> _core.JointReference:
+        return self._core_ref
+
+
 def _joint_reference(ref, name: str) -> _core.JointReference:
-    if isinstance(ref, (QuinticJoint, SampledJoint)):
+    if isinstance(ref, (QuinticJoint, SampledJoint, ShapedJoint)):
         return ref._spec()
     if isinstance(ref, CartesianLine):
         raise _ArgumentError(f"{name} takes a joint reference (QuinticJoint or a joint set point), got a CartesianLine")
@@ -319,17 +393,27 @@ class ComputedTorque(_Controller):
     arm follows the reference to integration accuracy. When combined with a base controller
     ([`Combined`][spacearm.control.Combined]), the wheel torques and base wrench it commands are compensated exactly
     (the ``H0m^T H0^-1 F_b`` term of the flying-regime reduced EOM).
+
+    Only the **actuated** arm joints are commanded (``reference`` and the gains have one entry per
+    actuated arm joint; a passive joint gets zero torque, docs/flexibility.md). ``passive``:
+    ``"drift"`` (default) measures the passive coordinates and realizes the commanded
+    accelerations of the actuated joints exactly through the coupling (collocated partial
+    feedback linearization, Spong 1994); ``"frozen"`` designs the controller on the rigid model,
+    the passive joints locked at their rest position with zero rate (it does not see the fuel and
+    panels move: the model error of the flexibility risk study).
     """
 
     kp: Any
     kd: Any
     reference: Any
     model: Any = None
+    passive: str = "drift"
 
     def _spec(self, robot) -> _core.ComputedTorqueSpec:
         kp, kd = _gains(self.kp, "kp"), _gains(self.kd, "kd")
         reference = _joint_reference(self.reference, "ComputedTorque")
-        return _core.ComputedTorqueSpec(kp=kp, kd=kd, reference=reference, model=_own_model(self.model, "ComputedTorque"))
+        return _core.ComputedTorqueSpec(kp=kp, kd=kd, reference=reference, model=_own_model(self.model, "ComputedTorque"),
+                                        passive=str(self.passive))
 
 
 @_dataclass(frozen=True)

@@ -334,3 +334,37 @@ pub fn compliant_parts(
     let parts = appendage::compliant_parts(&link, &spec, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
     parts_to_py(py, parts)
 }
+
+/// The equivalent mechanical model of the liquid in an upright flat-bottomed cylinder (core
+/// `model::slosh_tank::cylinder_slosh`): a dict with `liquid_mass`, `fill_height`, `radius`,
+/// `axial_acceleration`, `liquid_cm_height`, `fixed_mass`, `fixed_height` and `modes`, a list of
+/// dicts with `mass`, `height`, `frequency`, `stiffness`, `length`.
+#[pyfunction]
+#[pyo3(signature = (radius, fill_height, liquid_mass, axial_acceleration, modes=1))]
+pub fn cylinder_slosh(py: Python<'_>, radius: f64, fill_height: f64, liquid_mass: f64, axial_acceleration: f64, modes: usize) -> PyResult<Py<PyAny>> {
+    use pyo3::types::PyDict;
+    let t = spacearm_core::model::slosh_tank::cylinder_slosh(radius, fill_height, liquid_mass, axial_acceleration, modes).or_raise(py)?;
+    let out = PyDict::new(py);
+    out.set_item("liquid_mass", t.liquid_mass)?;
+    out.set_item("fill_height", t.fill_height)?;
+    out.set_item("radius", t.radius)?;
+    out.set_item("axial_acceleration", t.axial_acceleration)?;
+    out.set_item("liquid_cm_height", t.liquid_cm_height)?;
+    out.set_item("fixed_mass", t.fixed_mass)?;
+    out.set_item("fixed_height", t.fixed_height)?;
+    let list = t
+        .modes
+        .iter()
+        .map(|m| {
+            let d = PyDict::new(py);
+            d.set_item("mass", m.mass)?;
+            d.set_item("height", m.height)?;
+            d.set_item("frequency", m.frequency)?;
+            d.set_item("stiffness", m.stiffness)?;
+            d.set_item("length", m.length)?;
+            Ok(d)
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    out.set_item("modes", list)?;
+    Ok(out.into_any().unbind())
+}

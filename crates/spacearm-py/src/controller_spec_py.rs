@@ -14,9 +14,10 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use spacearm_core::control::{
     AttitudeControl, BaseThrusterControl, Combined, LvlhReference, Command, ComputedTorque, ControlContext, Controller, CoordinatedFlying, CoordinatedGains, JointPd,
-    JointTorqueLimit, MomentumDamping, ResolvedMotionRate, ZeroTorque,
+    JointTorqueLimit, MomentumDamping, PassiveTreatment, ResolvedMotionRate, ZeroTorque,
 };
 use spacearm_core::analysis::redundancy::Strategy;
+use spacearm_core::control::shaping::{InputShaper, ShaperKind};
 use spacearm_core::analysis::Task;
 use spacearm_core::sim::free_body::FreeBody;
 use spacearm_core::sim::reference::{CartesianLine, JointReference, PointReference};
@@ -101,13 +102,14 @@ impl PyJointReference {
         Ok(PyJointReference { inner: JointReference::constant(vector(q, "joint reference 'q'")?).or_raise(py)? })
     }
 
-    /// `"quintic"` or `"constant"`.
+    /// `"quintic"`, `"constant"`, `"sampled"` or `"shaped"`.
     #[getter]
     fn kind(&self) -> &'static str {
         match self.inner {
             JointReference::Quintic { .. } => "quintic",
             JointReference::Constant(_) => "constant",
             JointReference::Sampled { .. } => "sampled",
+            JointReference::Shaped { .. } => "shaped",
         }
     }
 
@@ -115,42 +117,27 @@ impl PyJointReference {
     /// the first knot of a sampled reference).
     #[getter]
     fn q_start<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        match &self.inner {
-            JointReference::Quintic { q_start, .. } => array(py, q_start),
-            JointReference::Constant(q) => array(py, q),
-            JointReference::Sampled { q, n, .. } => array(py, &q[..*n]),
-        }
+        array(py, self.inner.end_values().0)
     }
 
     /// The joint coordinates at and after `t_end`, shape (n,) (the set point of a constant; the
     /// last knot of a sampled reference).
     #[getter]
     fn q_goal<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        match &self.inner {
-            JointReference::Quintic { q_goal, .. } => array(py, q_goal),
-            JointReference::Constant(q) => array(py, q),
-            JointReference::Sampled { q, n, .. } => array(py, &q[q.len() - *n..]),
-        }
+        array(py, self.inner.end_values().1)
     }
 
     /// Start of the motion, s (None for a constant; the first knot time of a sampled reference).
     #[getter]
     fn t_start(&self) -> Option<f64> {
-        match &self.inner {
-            JointReference::Quintic { t_start, .. } => Some(*t_start),
-            JointReference::Constant(_) => None,
-            JointReference::Sampled { t, .. } => t.first().copied(),
-        }
+        self.inner.time_span().map(|s| s.0)
     }
 
-    /// End of the motion, s (None for a constant; the last knot time of a sampled reference).
+    /// End of the motion, s (None for a constant; the last knot time of a sampled reference; a
+    /// shaped reference ends the shaper's length after its base).
     #[getter]
     fn t_end(&self) -> Option<f64> {
-        match &self.inner {
-            JointReference::Quintic { t_end, .. } => Some(*t_end),
-            JointReference::Constant(_) => None,
-            JointReference::Sampled { t, .. } => t.last().copied(),
-        }
+        self.inner.time_span().map(|s| s.1)
     }
 
     /// `(q, qd, qdd)` at each time of `t`, each of shape (T, n): the values the controllers
@@ -169,6 +156,72 @@ impl PyJointReference {
 
     fn __repr__(&self) -> String {
         format!("<spacearm._core.JointReference {} of {} joints>", self.kind(), self.inner.len())
+    }
+}
+
+/// An input shaper (ZV or ZVD) designed for one mode (`spacearm_core::control::shaping`).
+#[pyclass(module = "spacearm._core", name = "InputShaper", frozen)]
+pub struct PyInputShaper {
+    inner: InputShaper,
+}
+
+#[pymethods]
+impl PyInputShaper {
+    /// `kind` `"zv"` or `"zvd"` for the mode of natural frequency `frequency` (rad/s) and damping
+    /// ratio `damping` (0 ≤ ζ < 1).
+    #[new]
+    #[pyo3(signature = (kind, *, frequency, damping=0.0, **unknown))]
+    fn new(py: Python<'_>, kind: &str, frequency: f64, damping: f64, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        refuse_unknown::<Self>(py, unknown)?;
+        let k = ShaperKind::from_name(kind)
+            .ok_or_else(|| bad(format!("an input shaper's kind must be one of {:?}, got {kind:?}", ShaperKind::NAMES)))
+            .or_raise(py)?;
+        Ok(PyInputShaper { inner: InputShaper::new(k, frequency, damping).or_raise(py)? })
+    }
+
+    /// `"zv"` or `"zvd"`.
+    #[getter]
+    fn kind(&self) -> &'static str {
+        self.inner.kind.name()
+    }
+
+    /// The design natural frequency, rad/s.
+    #[getter]
+    fn frequency(&self) -> f64 {
+        self.inner.frequency
+    }
+
+    /// The design damping ratio.
+    #[getter]
+    fn damping(&self) -> f64 {
+        self.inner.damping
+    }
+
+    /// Impulse amplitudes (sum 1), shape (n,).
+    #[getter]
+    fn amplitudes<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array(py, &self.inner.amplitudes)
+    }
+
+    /// Impulse times, s, shape (n,).
+    #[getter]
+    fn times<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array(py, &self.inner.times)
+    }
+
+    /// The residual vibration of the mode `(frequency, damping)` relative to an unshaped move.
+    #[pyo3(signature = (frequency, damping=0.0))]
+    fn residual_vibration(&self, frequency: f64, damping: f64) -> f64 {
+        self.inner.residual_vibration(frequency, damping)
+    }
+
+    /// The shaped reference `sum_i A_i r(t - t_i)`.
+    fn shape(&self, reference: &PyJointReference) -> PyJointReference {
+        PyJointReference { inner: self.inner.shape(reference.inner.clone()) }
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<spacearm._core.InputShaper {} at {} rad/s, damping {}>", self.inner.kind.name(), self.inner.frequency, self.inner.damping)
     }
 }
 
@@ -398,23 +451,35 @@ pub struct PyComputedTorqueSpec {
     reference: Py<PyJointReference>,
     /// The controller's model (None: the plant's).
     model: Option<Model>,
+    passive: PassiveTreatment,
 }
 
 #[pymethods]
 impl PyComputedTorqueSpec {
     #[new]
-    #[pyo3(signature = (*, kp, kd, reference, model=None, **unknown))]
+    #[pyo3(signature = (*, kp, kd, reference, model=None, passive="drift", **unknown))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
         kp: &Bound<'_, PyAny>,
         kd: &Bound<'_, PyAny>,
         reference: Py<PyJointReference>,
         model: Option<&Bound<'_, PyAny>>,
+        passive: &str,
         unknown: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         refuse_unknown::<Self>(py, unknown)?;
         let model = controller_model(py, model)?;
-        Ok(PyComputedTorqueSpec { kp: vector(kp, "computed_torque 'kp'")?, kd: vector(kd, "computed_torque 'kd'")?, reference, model })
+        let passive = PassiveTreatment::from_name(passive).ok_or_else(|| {
+            bad(format!("computed_torque 'passive' must be one of {:?}, got {passive:?}", PassiveTreatment::NAMES))
+        }).or_raise(py)?;
+        Ok(PyComputedTorqueSpec { kp: vector(kp, "computed_torque 'kp'")?, kd: vector(kd, "computed_torque 'kd'")?, reference, model, passive })
+    }
+
+    /// How the passive joints are treated: ``"drift"`` (measured) or ``"frozen"`` (a rigid model).
+    #[getter]
+    fn passive(&self) -> &'static str {
+        self.passive.name()
     }
 
     /// The joint reference.
@@ -938,7 +1003,7 @@ pub fn build_controller(obj: &Bound<'_, PyAny>, slot: &ErrorSlot) -> PyResult<Bo
     Ok(match spec_of(obj)? {
         Spec::ZeroTorque => Box::new(ZeroTorque),
         Spec::JointPd(s) => Box::new(JointPd::new(s.kp.clone(), s.kd.clone(), joint_ref(&s.reference))),
-        Spec::ComputedTorque(s) => Box::new(ComputedTorque::new(s.kp.clone(), s.kd.clone(), joint_ref(&s.reference), s.model.clone())),
+        Spec::ComputedTorque(s) => Box::new(ComputedTorque::new(s.kp.clone(), s.kd.clone(), joint_ref(&s.reference), s.model.clone()).with_passive(s.passive)),
         Spec::Rmrc(s) => Box::new(
             ResolvedMotionRate::new(point_reference(s.reference.bind(py))?, s.gain, s.max_damping, s.threshold, s.velocity_gain, s.body, s.offset)
                 .with_max_joint_rate(s.max_joint_rate)

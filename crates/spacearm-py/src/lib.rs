@@ -59,6 +59,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(builder_py::panel_parts, m)?)?;
     m.add_function(wrap_pyfunction!(builder_py::beam_parts, m)?)?;
     m.add_function(wrap_pyfunction!(builder_py::compliant_parts, m)?)?;
+    m.add_function(wrap_pyfunction!(builder_py::cylinder_slosh, m)?)?;
     m.add_class::<derivatives_py::PyDerivatives>()?;
     m.add_class::<description_py::PyModelDescription>()?;
     m.add_class::<description_py::PyBaseDescription>()?;
@@ -95,6 +96,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<sim_options_py::PyRunOptions>()?;
     m.add_class::<sim_options_py::PyThrusterLimits>()?;
     m.add_class::<controller_spec_py::PyJointReference>()?;
+    m.add_class::<controller_spec_py::PyInputShaper>()?;
     m.add_class::<controller_spec_py::PyCartesianReference>()?;
     m.add_class::<controller_spec_py::PyFreeBodyReference>()?;
     m.add_class::<controller_spec_py::PyMomentumDampingSpec>()?;

@@ -165,7 +165,8 @@ impl Controller for CoordinatedFlying {
         }
         let model = ctx.plant.clone();
         self.data = Some(Data::new(&model));
-        self.inner = Some(ReducedInverseDynamics::new(model.clone(), ctx)?);
+        // Every arm joint commanded, passive ones too (issue 24: not yet partial feedback linearization here).
+        self.inner = Some(ReducedInverseDynamics::commanding_every_arm_joint(model.clone(), ctx)?);
         self.model = Some(model);
         self.arm = ctx.arm_dofs.to_vec();
         self.jac = vec![Vector3::zeros(); ctx.plant.n_dof()];

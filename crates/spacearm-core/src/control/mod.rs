@@ -27,6 +27,7 @@ pub mod mismatch;
 pub mod momentum_damping;
 pub mod pd;
 pub mod rmrc;
+pub mod shaping;
 pub mod thrusters;
 
 use nalgebra::Vector6;
@@ -37,11 +38,12 @@ use crate::model::Model;
 use crate::sim::modes::Mode;
 
 pub use attitude::{AttitudeControl, LvlhReference};
-pub use computed_torque::ComputedTorque;
+pub use computed_torque::{ComputedTorque, PassiveTreatment};
 pub use coordinated::{CoordinatedFlying, CoordinatedGains};
 pub use momentum_damping::{JointTorqueLimit, MomentumDamping};
 pub use pd::JointPd;
 pub use rmrc::ResolvedMotionRate;
+pub use shaping::{InputShaper, ShaperKind};
 pub use thrusters::BaseThrusterControl;
 
 /// What a controller commands at one instant.

@@ -30,14 +30,23 @@ impl JointPd {
 
 /// Check that a joint reference has one entry per arm joint.
 pub(crate) fn check_reference_len(reference: &JointReference, ctx: &ControlContext<'_>) -> Result<()> {
-    let n_arm = ctx.arm_dofs.len();
+    check_len(reference, ctx.arm_dofs.len(), 0, ctx)
+}
+
+/// Check that a joint reference has `n_arm` entries: the arm joints less `n_passive` passive
+/// ones (which a model-based controller does not command).
+pub(crate) fn check_len(reference: &JointReference, n_arm: usize, n_passive: usize, ctx: &ControlContext<'_>) -> Result<()> {
     if reference.len() != n_arm {
-        let wheels = if ctx.wheel_dofs.is_empty() { String::new() } else { format!(" (N = {} minus {} reaction wheels)", ctx.plant.n_dof(), ctx.wheel_dofs.len()) };
-        return Err(SpacearmError::Dimension {
-            what: "the joint reference".into(),
-            expected: format!("the number of arm joints {n_arm}{wheels}"),
-            got: reference.len(),
-        });
+        let mut less = vec![];
+        if !ctx.wheel_dofs.is_empty() {
+            less.push(format!("{} reaction wheels", ctx.wheel_dofs.len()));
+        }
+        if n_passive > 0 {
+            less.push(format!("{n_passive} passive joints"));
+        }
+        let note = if less.is_empty() { String::new() } else { format!(" (N = {} minus {})", ctx.plant.n_dof(), less.join(" and ")) };
+        let what = if n_passive > 0 { "actuated arm joints" } else { "arm joints" };
+        return Err(SpacearmError::Dimension { what: "the joint reference".into(), expected: format!("the number of {what} {n_arm}{note}"), got: reference.len() });
     }
     Ok(())
 }

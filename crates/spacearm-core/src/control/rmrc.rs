@@ -22,6 +22,10 @@
 //! singularities, bounded joint rates near them, and no damping of the directions that are
 //! well conditioned (a planar arm keeps exact tracking in its plane although `J` has rank 2). The joints follow `q̇_cmd` through the
 //! reduced EOM (a computed-torque velocity loop): `τ = H* K_v (q̇_cmd − q̇) + c*`.
+//!
+//! Passive joints (no motor: slosh, hinged panels) are not resolved: like the wheels, their
+//! measured rates add drift to the point twist, and the velocity loop on the actuated joints is
+//! the partial feedback linearization of [`super::computed_torque`] (zero torque on them).
 
 use nalgebra::{Matrix3, Vector3, Vector6};
 
@@ -34,7 +38,7 @@ use crate::model::data::Data;
 use crate::model::Model;
 use crate::sim::reference::PointReference;
 
-use super::computed_torque::ReducedInverseDynamics;
+use super::computed_torque::{split_passive, ReducedInverseDynamics};
 use super::{positive, Command, ControlContext, Controller, TrackingKind};
 
 /// Resolved-motion-rate control of a point along a [`PointReference`].
@@ -148,17 +152,20 @@ impl Controller for ResolvedMotionRate {
         }
         check_body(ctx.plant, self.body)?;
         crate::error::check_finite("resolved-motion-rate point offset", self.offset.as_slice())?;
-        if ctx.arm_dofs.is_empty() {
-            return Err(SpacearmError::argument("resolved-motion-rate control needs at least one arm joint"));
+        // The actuated arm joints are resolved; the wheels and the passive joints add drift.
+        let (arm, passive) = split_passive(ctx);
+        if arm.is_empty() {
+            return Err(SpacearmError::argument("resolved-motion-rate control needs at least one actuated arm joint"));
         }
         let model = ctx.plant.clone();
         let options = RmrcOptions { strategy: self.strategy, ..RmrcOptions::task(self.task.clone(), self.law(), self.gain) };
-        let caps = vec![self.max_joint_rate; ctx.arm_dofs.len()];
-        self.solver = Some(RmrcSolver::new(&model, options, ctx.arm_dofs.to_vec(), ctx.wheel_dofs.to_vec(), caps, false)?);
+        let caps = vec![self.max_joint_rate; arm.len()];
+        let drift: Vec<usize> = ctx.wheel_dofs.iter().chain(passive.iter()).copied().collect();
+        self.solver = Some(RmrcSolver::new(&model, options, arm.clone(), drift, caps, false)?);
         self.data = Some(Data::new(&model));
         self.inner = Some(ReducedInverseDynamics::new(model.clone(), ctx)?);
         self.model = Some(model);
-        self.arm = ctx.arm_dofs.to_vec();
+        self.arm = arm;
         self.orientation = None;
         self.qdd_cmd = vec![0.0; self.arm.len()];
         Ok(())

@@ -100,6 +100,15 @@ pub enum JointReference {
         /// Number of joints.
         n: usize,
     },
+    /// An input-shaped reference (`crate::control::shaping`): `Σ Aᵢ base(t − tᵢ)`.
+    Shaped {
+        /// The reference being shaped (any joint reference).
+        base: Box<JointReference>,
+        /// Impulse amplitudes (sum 1).
+        amplitudes: Vec<f64>,
+        /// Impulse times (delays), s, ≥ 0.
+        delays: Vec<f64>,
+    },
 }
 
 impl JointReference {
@@ -152,6 +161,32 @@ impl JointReference {
             JointReference::Constant(q) => q.len(),
             JointReference::Quintic { q_start, .. } => q_start.len(),
             JointReference::Sampled { n, .. } => *n,
+            JointReference::Shaped { base, .. } => base.len(),
+        }
+    }
+
+    /// The coordinates where the reference starts and ends (a constant: its set point twice;
+    /// a sampled reference: its first and last knot; a shaped one: its base's).
+    pub fn end_values(&self) -> (&[f64], &[f64]) {
+        match self {
+            JointReference::Constant(q) => (q, q),
+            JointReference::Quintic { q_start, q_goal, .. } => (q_start, q_goal),
+            JointReference::Sampled { q, n, .. } => (&q[..*n], &q[q.len() - *n..]),
+            JointReference::Shaped { base, .. } => base.end_values(),
+        }
+    }
+
+    /// When the motion starts and ends, s (`None` for a constant; a shaped reference ends its
+    /// last delay after its base).
+    pub fn time_span(&self) -> Option<(f64, f64)> {
+        match self {
+            JointReference::Constant(_) => None,
+            JointReference::Quintic { t_start, t_end, .. } => Some((*t_start, *t_end)),
+            JointReference::Sampled { t, .. } => Some((t[0], t[t.len() - 1])),
+            JointReference::Shaped { base, delays, .. } => {
+                let last = delays.iter().copied().fold(0.0, f64::max);
+                base.time_span().map(|(a, b)| (a, b + last))
+            }
         }
     }
 
@@ -201,6 +236,21 @@ impl JointReference {
                     q[j] = p;
                     qd[j] = v;
                     qdd[j] = acc;
+                }
+            }
+            JointReference::Shaped { base, amplitudes, delays } => {
+                let n = q.len();
+                let (mut bq, mut bqd, mut bqdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+                q.fill(0.0);
+                qd.fill(0.0);
+                qdd.fill(0.0);
+                for (&a, &d) in amplitudes.iter().zip(delays) {
+                    base.eval(t - d, &mut bq, &mut bqd, &mut bqdd);
+                    for j in 0..n {
+                        q[j] += a * bq[j];
+                        qd[j] += a * bqd[j];
+                        qdd[j] += a * bqdd[j];
+                    }
                 }
             }
         }

@@ -1,0 +1,153 @@
+//! From a tank to the parameters of its slosh modes' equivalent mechanical model
+//! (docs/flexibility.md, "From a tank to the slosh parameters").
+//!
+//! An upright circular cylinder of radius `R` with a flat bottom, filled to the height `h` with a
+//! liquid of mass `m_L`, in an axial acceleration `a` (the thrust's, toward the bottom): the
+//! linear potential-flow solution of its lateral sloshing (Abramson, *The Dynamic Behavior of
+//! Liquids in Moving Containers*, NASA SP-106, 1966, Table 6.1; Dodge, *The New "Dynamic Behavior
+//! of Liquids in Moving Containers"*, SwRI, 2000, §3.2 and Fig. 3.3) gives, for the antisymmetric
+//! modes `n = 1, 2, …` with `ξₙ` the zeros of `J₁′` (1.8412, 5.3314, 8.5363, …):
+//!
+//! - frequency `ωₙ² = (a/R) ξₙ tanh(ξₙ h/R)`;
+//! - sloshing mass `mₙ/m_L = 2 tanh(ξₙ h/R) / (ξₙ (ξₙ² − 1) h/R)`;
+//! - the spring–mass model's mass at `ℓₙ = h/2 − (R/ξₙ) tanh(ξₙ h/(2R))` above the liquid's
+//!   centre of mass (along the tank axis, toward the free surface), spring `kₙ = mₙ ωₙ²`;
+//! - the pendulum model's bob at the same place, on a rod of `Lₙ = a/ωₙ² = R/(ξₙ tanh(ξₙ h/R))`
+//!   from a hinge at `ℓₙ + Lₙ` (the moment of the pendulum's rod force about the tank then equals
+//!   the spring–mass model's, its force and its displaced weight);
+//! - the fixed (non-sloshing) mass `m₀ = m_L − Σ mₙ` at `ℓ₀ = −Σ mₙ ℓₙ / m₀`, so that the model's
+//!   centre of mass is the liquid's.
+//!
+//! In weightless coasting (`a → 0`) the restoring force vanishes: `ω → 0` and the liquid's
+//! position is set by surface tension (a low-Bond-number regime this model does not describe),
+//! so `a` must be > 0: the axial acceleration of the phase being studied (thrust / vehicle mass
+//! during a burn or a settling burn). The frequency scales as `√a`; the masses and positions do
+//! not depend on `a`. Damping is not part of the inviscid solution: the caller gives a damping
+//! ratio `ζ` (from tests or the viscous estimates of Dodge 2000, §3.2; of the order of 0.001–0.01
+//! for a smooth-walled tank, more with baffles), and the damper is `cₙ = 2 ζ mₙ ωₙ`.
+
+use crate::error::{Result, SpacearmError};
+
+/// The first zeros of `J₁′(ξ)` (the antisymmetric slosh modes of a circular cylinder).
+pub const BESSEL_J1_PRIME_ZEROS: [f64; 5] = [1.841_183_781_340_659, 5.331_442_773_525_033, 8.536_316_366_346_286, 11.706_004_902_592_063, 14.863_588_633_909_034];
+
+/// One slosh mode of a tank.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SloshMode {
+    /// The sloshing mass `mₙ`, kg.
+    pub mass: f64,
+    /// Its height above the liquid's centre of mass along the tank axis, m (`ℓₙ`).
+    pub height: f64,
+    /// The natural frequency `ωₙ` in the acceleration `a`, rad/s.
+    pub frequency: f64,
+    /// The spring–mass model's stiffness `mₙ ωₙ²`, N/m.
+    pub stiffness: f64,
+    /// The pendulum model's rod length `a/ωₙ²`, m (the hinge is at `height + length`).
+    pub length: f64,
+}
+
+/// The equivalent mechanical model of a tank's liquid (module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TankSlosh {
+    /// The liquid's mass `m_L`, kg.
+    pub liquid_mass: f64,
+    /// The fill height `h`, m.
+    pub fill_height: f64,
+    /// The tank radius `R`, m.
+    pub radius: f64,
+    /// The axial acceleration `a`, m/s².
+    pub axial_acceleration: f64,
+    /// The liquid's centre of mass above the tank bottom, m (`h/2`).
+    pub liquid_cm_height: f64,
+    /// The slosh modes, the first first.
+    pub modes: Vec<SloshMode>,
+    /// The fixed mass `m₀`, kg.
+    pub fixed_mass: f64,
+    /// Its height above the liquid's centre of mass, m (`ℓ₀`).
+    pub fixed_height: f64,
+}
+
+fn positive(what: &str, v: f64) -> Result<f64> {
+    if !(v.is_finite() && v > 0.0) {
+        return Err(SpacearmError::argument(format!("{what} must be finite and > 0, got {v}")));
+    }
+    Ok(v)
+}
+
+/// The equivalent mechanical model of the liquid in an upright flat-bottomed cylinder of
+/// `radius` R, filled to `fill_height` h with `liquid_mass` m_L, in the axial acceleration `a`,
+/// with `n_modes` modes (1 to 5; module docs).
+pub fn cylinder_slosh(radius: f64, fill_height: f64, liquid_mass: f64, axial_acceleration: f64, n_modes: usize) -> Result<TankSlosh> {
+    let r = positive("the tank radius (m)", radius)?;
+    let h = positive("the fill height (m)", fill_height)?;
+    let m_l = positive("the liquid mass (kg)", liquid_mass)?;
+    if !(axial_acceleration.is_finite() && axial_acceleration > 0.0) {
+        return Err(SpacearmError::argument(format!(
+            "the axial acceleration must be finite and > 0 m/s^2 (the thrust's; at 0 the liquid has no restoring force and \
+             surface tension sets it, which this model does not describe), got {axial_acceleration}"
+        )));
+    }
+    if !(1..=BESSEL_J1_PRIME_ZEROS.len()).contains(&n_modes) {
+        return Err(SpacearmError::argument(format!("the number of slosh modes must be 1 to {}, got {n_modes}", BESSEL_J1_PRIME_ZEROS.len())));
+    }
+    let a = axial_acceleration;
+    let modes: Vec<SloshMode> = BESSEL_J1_PRIME_ZEROS[..n_modes]
+        .iter()
+        .map(|&xi| {
+            let t = (xi * h / r).tanh();
+            let mass = m_l * 2.0 * t / (xi * (xi * xi - 1.0) * h / r);
+            let w2 = a / r * xi * t;
+            SloshMode { mass, height: 0.5 * h - r / xi * (0.5 * xi * h / r).tanh(), frequency: w2.sqrt(), stiffness: mass * w2, length: a / w2 }
+        })
+        .collect();
+    let sloshing: f64 = modes.iter().map(|m| m.mass).sum();
+    let fixed_mass = m_l - sloshing;
+    if !(fixed_mass > 0.0) {
+        return Err(SpacearmError::argument(format!("the slosh masses ({sloshing} kg) exceed the liquid's ({m_l} kg)")));
+    }
+    let fixed_height = -modes.iter().map(|m| m.mass * m.height).sum::<f64>() / fixed_mass;
+    Ok(TankSlosh { liquid_mass: m_l, fill_height: h, radius: r, axial_acceleration: a, liquid_cm_height: 0.5 * h, modes, fixed_mass, fixed_height })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_first_zero_is_that_of_j1_prime() {
+        // J1'(x) = J0(x) − J1(x)/x; J0, J1 by their power series (converges fast for x < 3).
+        let series = |x: f64, n: i32| {
+            let (mut term, mut sum) = ((x / 2.0).powi(n) / (1..=n).map(f64::from).product::<f64>(), 0.0);
+            for k in 0..40 {
+                sum += term;
+                term *= -(x * x / 4.0) / (f64::from(k + 1) * f64::from(k + 1 + n));
+            }
+            sum
+        };
+        let x = BESSEL_J1_PRIME_ZEROS[0];
+        assert!((series(x, 0) - series(x, 1) / x).abs() < 1e-13);
+    }
+
+    #[test]
+    fn deep_and_shallow_limits() {
+        // Deep: m1/mL → 2R/(ξ(ξ²−1)h), ω² → a ξ/R, the mass R/ξ below the surface.
+        let (r, a, m) = (0.5, 0.2, 100.0);
+        let deep = cylinder_slosh(r, 20.0, m, a, 1).unwrap();
+        let xi = BESSEL_J1_PRIME_ZEROS[0];
+        let md = &deep.modes[0];
+        assert!((md.mass / m - 2.0 * r / (xi * (xi * xi - 1.0) * 20.0)).abs() < 1e-12);
+        assert!((md.frequency.powi(2) - a * xi / r).abs() < 1e-12);
+        assert!((md.height - (10.0 - r / xi)).abs() < 1e-12);
+        // Shallow: tanh(x) → x, the first mode's mass fraction → 2/(ξ²−1) = 0.837 (Σₙ 2/(ξₙ²−1) = 1:
+        // all of a shallow layer sloshes).
+        let shallow = cylinder_slosh(r, 1e-4, m, a, 1).unwrap();
+        assert!((shallow.modes[0].mass / m - 2.0 / (xi * xi - 1.0)).abs() < 1e-6);
+        for t in [&deep, &shallow] {
+            let total = t.fixed_mass + t.modes.iter().map(|m| m.mass).sum::<f64>();
+            assert!((total - m).abs() < 1e-12);
+            let moment = t.fixed_mass * t.fixed_height + t.modes.iter().map(|m| m.mass * m.height).sum::<f64>();
+            assert!(moment.abs() < 1e-12);
+        }
+        assert!(cylinder_slosh(r, 1.0, m, 0.0, 1).is_err());
+    }
+}
