@@ -7,8 +7,16 @@ operation for operation, as the core's numbers. The functions follow spacearm's 
 exactly (docs/conventions.md): ``x = [r0, quat0 [x, y, z, w], q]`` (7+N), ``u = [v0, w0, qd]``
 (6+N) with ``v0``, ``w0`` in 𝒥, ``f = [F0, N0, tau]``, ``EOM H du + c = f``. The quaternion
 input is normalised inside each function (as the core normalises its input), so derivatives
-with respect to it are tangent to the unit sphere; a zero quaternion has no direction and gives
-NaN (a CasADi function cannot raise at evaluation).
+with respect to it are tangent to the unit sphere.
+
+Called with numbers, each function checks them before CasADi evaluates (a CasADi function cannot
+raise once it runs): a wrong size is a [`ShapeError`][spacearm.errors.ShapeError], NaN or an
+infinity a [`NonFiniteError`][spacearm.errors.NonFiniteError], and a zero base quaternion, which
+has no direction to normalise to, a [`QuaternionError`][spacearm.errors.QuaternionError].
+Called with symbols (``SX``/``MX``, in a graph or an NLP) nothing can be checked: a zero
+quaternion there evaluates to NaN, so a problem must keep it away from zero itself (a start on
+the unit sphere propagated by [`rk4_step`][spacearm.casadi.rk4_step], which renormalises, or a
+unit-norm constraint).
 
 Evaluated at a numeric state each function equals the core's result to rounding; its CasADi
 derivatives are exact derivatives of the same recursions (docs/optimal-control.md).
@@ -19,6 +27,7 @@ from __future__ import annotations
 from .._util.optional import require
 from ..errors import ArgumentError, SpacearmTypeError
 from . import _tape
+from ._checked import checked_function
 
 __all__ = [
     "forward_dynamics",
@@ -49,7 +58,7 @@ def _casadi_for(robot):
 
 
 def _function(ca, name: str, inputs: dict, outputs: dict):
-    return ca.Function(name, list(inputs.values()), list(outputs.values()), list(inputs), list(outputs))
+    return checked_function(ca, name, inputs.values(), outputs.values(), inputs, outputs)
 
 
 def _taped(robot, name: str, point=None, with_point: bool = False):
