@@ -98,7 +98,18 @@ def quat_multiply(a, b) -> _np.ndarray:
 def quat_exp(theta) -> _np.ndarray:
     """Unit quaternion ``[x, y, z, w]`` of the rotation vector ``theta`` (rotation by
     ``|theta|`` about ``theta / |theta|``); exact near zero."""
-    return _core.quat_exp(_finite(_vector(theta, "theta", 3), "theta"))
+    theta = _finite(_vector(theta, "theta", 3), "theta")
+    _finite_rotation_angle(theta, "theta")
+    return _core.quat_exp(theta)
+
+
+def _finite_rotation_angle(theta: _np.ndarray, name: str) -> None:
+    """Refuse a finite rotation vector whose norm (the angle) overflows: its quaternion would be NaN."""
+    with _np.errstate(over="ignore"):
+        angle = float(_np.sqrt(_np.dot(theta, theta)))
+    if not _np.isfinite(angle):
+        raise _NonFiniteError(f"{name} = {theta.tolist()}: its norm, the rotation angle, overflows (beyond "
+                             f"{_np.finfo(float).max:.3g} rad); a rotation vector must have a finite norm")
 
 
 def quat_log(q) -> _np.ndarray:

@@ -14,7 +14,7 @@ import numpy as np
 
 from .._util.arrays import vector
 from ..errors import NonFiniteError, QuaternionError
-from ..rotations import quat_exp, quat_log, quat_multiply
+from ..rotations import _finite_rotation_angle, quat_exp, quat_log, quat_multiply
 
 __all__ = ["configuration_plus", "configuration_difference"]
 
@@ -35,6 +35,7 @@ def configuration_plus(x, dx, n_dof: int) -> np.ndarray:
     dx = vector(dx, "dx", 6 + n_dof)
     if not np.all(np.isfinite(dx)):
         raise NonFiniteError(f"dx must be finite, got {dx}")
+    _finite_rotation_angle(dx[3:6], "dx[3:6] (the attitude increment)")
     quat = quat_multiply(quat_exp(dx[3:6]), x[3:7])
     with np.errstate(over="ignore", invalid="ignore"):
         out = np.concatenate([x[0:3] + dx[0:3], quat / np.linalg.norm(quat), x[7:] + dx[6:]])
