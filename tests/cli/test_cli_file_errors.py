@@ -84,3 +84,18 @@ def test_disk_full(tmp_path, monkeypatch, capsys):
     err = capsys.readouterr().err
     assert err == f"spacearm: error: cannot use '{out_npz}': No space left on device\n"
     assert list(tmp_path.iterdir()) == []  # no partial file, no temporary
+
+
+@pytest.mark.parametrize("command", [
+    ["capture", "spatial6", "--target-mass", "50", "--target-inertia", "4,5,6", "--out", "{d}/cap.npz", "--plot", "{d}/cap.xyz"],
+    ["analyze", "planar4", "--workspace", "--no-progress", "--out", "{d}/ws.npz"],
+    ["simulate", "planar4", "--duration", "0.05", "--no-progress", "--out", "{d}/run.npz", "--plot", "{d}/run.xyz"],
+])
+def test_a_figure_format_that_cannot_be_written_is_refused_before_the_run(tmp_path, capsys, command):
+    # issue 26: `capture --plot x.xyz` wrote its record, then failed on the figure; `analyze --out
+    # x.npz` computed the workspace first. Now: exit 2 before any work, and no file at all.
+    args = [a.format(d=tmp_path) for a in command]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("spacearm: error: cannot write a figure as '.") and "the formats are" in err and ".png" in err
+    assert list(tmp_path.iterdir()) == []

@@ -51,6 +51,18 @@ OUTPUT_OPTIONS = {
 }
 
 
+#: The options that name a figure: their format (the suffix) is checked before the command
+#: computes anything (``spacearm.viz.figures.figure_format``), so that ``--plot run.xyz`` costs
+#: an error message, not a run whose other files were written before the figure was refused.
+FIGURE_OPTIONS = {
+    "simulate": ("plot",),
+    "campaign": ("plot",),
+    "analyze": ("out",),
+    "capture": ("plot",),
+    "plan": ("plot",),
+}
+
+
 def describe_os_error(exc: OSError) -> str:
     """An ``OSError`` as one line naming the path: ``cannot use 'out/run.csv': No space left on
     device`` (Python's own text repeats the errno and quotes a temporary name)."""
@@ -86,6 +98,11 @@ def main(argv=None) -> int:
         for option in OUTPUT_OPTIONS.get(args.command, ()):
             if getattr(args, option, None):
                 check_writable(getattr(args, option))
+        for option in FIGURE_OPTIONS.get(args.command, ()):
+            if getattr(args, option, None):
+                from ..viz.figures import figure_format
+
+                figure_format(getattr(args, option))
         if args.command == "inspect":
             cli_inspect.run(args, model_from_args)
         elif args.command == "derive":
