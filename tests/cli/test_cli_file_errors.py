@@ -99,3 +99,11 @@ def test_a_figure_format_that_cannot_be_written_is_refused_before_the_run(tmp_pa
     err = capsys.readouterr().err
     assert err.startswith("spacearm: error: cannot write a figure as '.") and "the formats are" in err and ".png" in err
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("token", ["--duration=--", "--dt=--", "--duration=-"])
+def test_an_option_given_dashes_for_a_value_is_a_clean_error(token):
+    # issue 26: `--opt=--` (argparse reads it as an empty list before Python 3.12) ended in a
+    # ValueError traceback from the command.
+    out = run("simulate", "planar4", token)
+    assert_clean_error(out, f"argument {token.split('=')[0]}: expected a value, got '{token.split('=')[1]}'")

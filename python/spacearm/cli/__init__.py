@@ -93,7 +93,16 @@ def main(argv=None) -> int:
     cli_plan.add_parser(sub)
     cli_fmu.add_parser(sub)
     # "--target -0.3,0.3,0" would be read as two options: pass such values as "--target=-0.3,...".
-    args = parser.parse_args(attach_negative_values(sys.argv[1:] if argv is None else argv))
+    argv = list(sys.argv[1:] if argv is None else argv)
+    for token in argv:
+        # argparse (before Python 3.12) reads `--duration=--` as an empty list, which then fails
+        # deep in the command: refused here, as argparse refuses a missing value.
+        if token == "--":
+            break
+        if token.startswith("--") and token.partition("=")[1] and token.partition("=")[2].strip("-") == "" and token.partition("=")[2]:
+            sys.stderr.write(f"spacearm: error: argument {token.partition('=')[0]}: expected a value, got '{token.partition('=')[2]}'\n")
+            return 2
+    args = parser.parse_args(attach_negative_values(argv))
     try:
         for option in OUTPUT_OPTIONS.get(args.command, ()):
             if getattr(args, option, None):
