@@ -98,20 +98,20 @@ def bias_forces(robot):
 
 
 def generalized_inertia(robot):
-    """``generalized_inertia(x) -> H_star``: ``H* = Hm − H0mᵀ H0⁻¹ H0m`` (N×N, paper eq. 45),
-    with the core's closed-form ``H0⁻¹`` (eqs. 52–61)."""
+    """``generalized_inertia(x) -> H_star``: $H^* = H_m - H_{0m}^T H_0^{-1} H_{0m}$ (N×N, paper eq. 45),
+    with the core's closed-form $H_0^{-1}$ (eqs. 52–61)."""
     return _taped(robot, "generalized_inertia")
 
 
 def generalized_bias(robot):
-    """``generalized_bias(x, u) -> c_star``: ``c* = c_m − H0mᵀ H0⁻¹ c0`` (N)."""
+    """``generalized_bias(x, u) -> c_star``: $c^* = c_m - H_{0m}^T H_0^{-1} c_0$ (N)."""
     return _taped(robot, "generalized_bias")
 
 
 def generalized_jacobian(robot, point=None):
-    """``generalized_jacobian(x) -> J_star``: ``J* = J_mX − J_0X H0⁻¹ H0m`` (6×N, paper eq. 110)
+    r"""``generalized_jacobian(x) -> J_star``: $J^* = J_{mX} - J_{0X} H_0^{-1} H_{0m}$ (6×N, paper eq. 110)
     of a point (a point name, a body name, ``(body, offset)``, or ``None`` for the end
-    effector): with zero momentum the point's twist ``[v_X; ω]`` in 𝒥 is ``J* qd``."""
+    effector): with zero momentum the point's twist $[v_X; \omega]$ in 𝒥 is $J^* \dot q$."""
     return _taped(robot, "generalized_jacobian", point, with_point=True)
 
 
@@ -127,8 +127,8 @@ def momentum(robot):
 
 
 def base_velocity_from_momentum(robot):
-    """``base_velocity_from_momentum(x, qd, P, L_origin) -> base_twist``: ``[v0; w0] =
-    H0⁻¹ (M0 − H0m qd)`` (paper eqs. 43, 109), the base velocity that gives the system the
+    r"""``base_velocity_from_momentum(x, qd, P, L_origin) -> base_twist``: $[v_0; \omega_0] =
+    H_0^{-1} (M_0 - H_{0m} \dot q)$ (paper eqs. 43, 109), the base velocity that gives the system the
     momentum ``P``, ``L_origin`` while the joints move at ``qd``."""
     return _taped(robot, "base_velocity_from_momentum")
 
@@ -140,12 +140,12 @@ def _project(ca, y):
 
 
 def rk4_step(robot, substeps: int = 1, torque: str = "constant"):
-    """``rk4_step(x, u, tau, base_wrench, dt) -> (x_next, u_next)``: ``substeps`` classical
+    r"""``rk4_step(x, u, tau, base_wrench, dt) -> (x_next, u_next)``: ``substeps`` classical
     Runge–Kutta 4 steps of size ``dt / substeps`` with ``tau`` and ``base_wrench`` held.
 
     The quaternion is kept on the unit sphere by **renormalisation**, exactly as the native
     simulator's RK4 (``spacearm.simulate(integrator="rk4")``): it is integrated as four
-    components of ``quaṫ = ½ [ω0; 0] ⊗ quat``, every stage value is normalised before the
+    components of $\dot{\mathrm{quat}} = \tfrac12 [\omega_0; 0] \otimes \mathrm{quat}$, every stage value is normalised before the
     dynamics are evaluated, and the step result is normalised again (the projection method,
     which keeps the order 4). The state derivative of each stage is the core's, recorded like
     the other functions (``[v0, quaṫ, qd, du]``, ``du`` by ABA: the simulator's
