@@ -66,7 +66,11 @@ def test_unwritable_directory(tmp_path, monkeypatch, capsys, code, reason):
     def refuse(*args, **kwargs):
         raise OSError(code, os.strerror(code), kwargs.get("dir"))
 
+    def refuse_unnamed(directory):  # open(dir, O_TMPFILE) fails as the kernel would
+        raise OSError(code, os.strerror(code))
+
     monkeypatch.setattr(atomic.tempfile, "mkstemp", refuse)
+    monkeypatch.setattr(atomic, "_open_unnamed", refuse_unnamed)
     target = tmp_path / "run.csv"
     assert main(["simulate", "planar4", "--duration", "0.01", "--no-progress", "--csv", str(target)]) == 2
     err = capsys.readouterr().err
