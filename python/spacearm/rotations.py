@@ -88,27 +88,38 @@ def _quaternions(value, name: str) -> _np.ndarray:
 
 
 def quat_multiply(a, b) -> _np.ndarray:
-    """Hamilton product ``a ⊗ b`` of quaternions ``[x, y, z, w]``: for unit ones the rotation
-    ``R(a) R(b)``. Either may be one quaternion (or a scipy ``Rotation``) or ``(K, 4)`` rows, the
+    r"""Hamilton product $a \otimes b$ of quaternions ``[x, y, z, w]``: for unit ones the rotation
+    $R(a)\, R(b)$. Either may be one quaternion (or a scipy ``Rotation``) or ``(K, 4)`` rows, the
     product row by row (one quaternion is used for every row). No unit norm is required (the
-    configuration rate ``½ [ω; 0] ⊗ q`` is a product too)."""
+    configuration rate $\tfrac12 [\omega; 0] \otimes q$ is a product too)."""
     return _core.quat_multiply(_quaternions(a, "a"), _quaternions(b, "b"))
 
 
 def quat_exp(theta) -> _np.ndarray:
     """Unit quaternion ``[x, y, z, w]`` of the rotation vector ``theta`` (rotation by
     ``|theta|`` about ``theta / |theta|``); exact near zero."""
-    return _core.quat_exp(_finite(_vector(theta, "theta", 3), "theta"))
+    theta = _finite(_vector(theta, "theta", 3), "theta")
+    _finite_rotation_angle(theta, "theta")
+    return _core.quat_exp(theta)
+
+
+def _finite_rotation_angle(theta: _np.ndarray, name: str) -> None:
+    """Refuse a finite rotation vector whose norm (the angle) overflows: its quaternion would be NaN."""
+    with _np.errstate(over="ignore"):
+        angle = float(_np.sqrt(_np.dot(theta, theta)))
+    if not _np.isfinite(angle):
+        raise _NonFiniteError(f"{name} = {theta.tolist()}: its norm, the rotation angle, overflows (beyond "
+                             f"{_np.finfo(float).max:.3g} rad); a rotation vector must have a finite norm")
 
 
 def quat_log(q) -> _np.ndarray:
-    """Rotation vector (length ≤ π) of a quaternion ``[x, y, z, w]`` (or scipy ``Rotation``),
+    r"""Rotation vector (length $\le \pi$) of a quaternion ``[x, y, z, w]`` (or scipy ``Rotation``),
     normalized first."""
     return _core.quat_log(_finite(_quaternion(q, "q"), "q"))
 
 
 def skew(v) -> _np.ndarray:
-    """The cross-product matrix ``[v]×`` (``[v]× w = v × w``) of a 3-vector, or of each row of
+    r"""The cross-product matrix $[v]_\times$ ($[v]_\times w = v \times w$) of a 3-vector, or of each row of
     ``(..., 3)`` (shape ``(..., 3, 3)``)."""
     v = _finite(_real_array(v, "v"), "v")
     if v.ndim == 0 or v.shape[-1] != 3:
@@ -167,8 +178,8 @@ def _rotation_matrix(r, batch: bool = False) -> _np.ndarray:
 
 
 def rotation_vector(r) -> _np.ndarray:
-    """The rotation vector ``θ`` (``|θ| ≤ π``) with ``exp([θ]×) = r`` of a rotation matrix
-    (a proper one within [`MATRIX_TOLERANCE`][spacearm.rotations.MATRIX_TOLERANCE]): ``log(r)``."""
+    r"""The rotation vector $\theta$ ($\lVert\theta\rVert \le \pi$) with $\exp([\theta]_\times) = r$ of a rotation matrix
+    (a proper one within [`MATRIX_TOLERANCE`][spacearm.rotations.MATRIX_TOLERANCE]): $\log(r)$."""
     return _core.rotation_vector(_rotation_matrix(r))
 
 

@@ -316,3 +316,19 @@ def test_grasp_wrench_is_the_exact_rate_of_the_payload_s_momentum():
     scale = np.abs(w).max()
     assert scale > 1e-2, "the grasp must carry load"
     np.testing.assert_allclose(w[2:-2], fd[2:-2], atol=1e-5 * scale)
+
+
+@pytest.mark.parametrize("dt", [float("nan"), 0.0, float("inf"), -1e-3])
+def test_target_propagate_refuses_a_step_that_is_not_finite_and_positive(dt):
+    # issue 26: dt=nan was a ValueError, dt=0 a ZeroDivisionError, dt=inf accepted
+    target = spacearm.Target(50.0, [4.0, 5.0, 6.0])
+    with pytest.raises(spacearm.ArgumentError, match="dt must be finite and > 0"):
+        target.propagate(target.state(angular_velocity=(0.0, 0.0, 0.2)), 1.0, dt=dt)
+
+
+def test_a_target_with_an_inertia_no_real_body_has_is_refused():
+    # issue 26: a 50 kg target of 1e-20 kg·m² was accepted and its rigid lock left a relative
+    # twist of 1.7e4. The bound is the core's: smallest moment >= m k², k = 1 µm.
+    with pytest.raises(spacearm.ModelError, match="below m·k² = 5.000e-11 kg·m²"):
+        spacearm.Target(50.0, [1e-20, 1e-20, 1e-20])
+    assert spacearm.Target(50.0, [6e-11, 6e-11, 6e-11]).body.total_mass == 50.0

@@ -47,3 +47,53 @@ def test_a_degenerate_workspace_is_said_in_words(tmp_path, capsys):
     zero = sum(1 for a, b in ws.path_dependent if b - a <= 0.0)
     assert zero > 0
     assert f"degenerate: {zero} of the {len(ws.path_dependent)} path-dependent shells have zero width" in out
+
+
+def _readme_workspace_command():
+    import pathlib
+    import shlex
+
+    readme = pathlib.Path(__file__).resolve().parents[2] / "README.md"
+    lines = [line for line in readme.read_text(encoding="utf-8").splitlines()
+             if line.startswith("spacearm analyze ") and "--workspace" in line]
+    assert len(lines) == 1, lines
+    return shlex.split(lines[0].split("#")[0])[1:]
+
+
+def _printed_shells(out):
+    import re
+
+    line = next(line for line in out.splitlines() if "path-dependent shells" in line)
+    return [(float(a), float(b)) for a, b in re.findall(r"\[([-0-9.e]+), ([-0-9.e]+)\]", line.split(":", 1)[1])]
+
+
+def test_the_readme_workspace_example_is_not_degenerate(tmp_path, capsys):
+    # The README's `analyze ... --workspace` line, run as written (figure into tmp_path): every
+    # path-dependent shell has width, nothing is reported degenerate, and a finer grid changes the
+    # shells (a sampled answer that does not move with the sampling measured nothing).
+    args = _readme_workspace_command()
+    args[args.index("--out") + 1] = str(tmp_path / "ws.png")
+    assert main(args + ["--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert "degenerate" not in out
+    shells = _printed_shells(out)
+    assert len(shells) >= 2 and all(b > a for a, b in shells), shells
+    res = args.index("--resolution") + 1
+    coarser = list(args)
+    coarser[res] = str(int(args[res]) - 1)
+    assert main(coarser + ["--no-progress"]) == 0
+    assert _printed_shells(capsys.readouterr().out) != shells
+    assert (tmp_path / "ws.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_redundant_degenerate_workspace_says_why(tmp_path, capsys):
+    # planar4's planar task (2 rows, 4 joints): 50,000 random samples meet no singular sample at
+    # all (the singular set is thin), so the message must not promise that denser sampling helps.
+    from spacearm import analysis
+
+    ws = analysis.workspace(spacearm.presets.planar4(), random_samples=20000)
+    assert ws.path_dependent == [] or all(b - a <= 0.0 for a, b in ws.path_dependent)
+    assert main(["analyze", "planar4", "--workspace", "--resolution", "5", "--no-progress", "--out", str(tmp_path / "ws.png")]) == 0
+    out = capsys.readouterr().out
+    assert "The task is redundant (2 rows, 4 joints)" in out and "does not widen" in out
+    assert "Denser samples" not in out

@@ -66,7 +66,11 @@ def test_unwritable_directory(tmp_path, monkeypatch, capsys, code, reason):
     def refuse(*args, **kwargs):
         raise OSError(code, os.strerror(code), kwargs.get("dir"))
 
+    def refuse_unnamed(directory):  # open(dir, O_TMPFILE) fails as the kernel would
+        raise OSError(code, os.strerror(code))
+
     monkeypatch.setattr(atomic.tempfile, "mkstemp", refuse)
+    monkeypatch.setattr(atomic, "_open_unnamed", refuse_unnamed)
     target = tmp_path / "run.csv"
     assert main(["simulate", "planar4", "--duration", "0.01", "--no-progress", "--csv", str(target)]) == 2
     err = capsys.readouterr().err
@@ -84,3 +88,26 @@ def test_disk_full(tmp_path, monkeypatch, capsys):
     err = capsys.readouterr().err
     assert err == f"spacearm: error: cannot use '{out_npz}': No space left on device\n"
     assert list(tmp_path.iterdir()) == []  # no partial file, no temporary
+
+
+@pytest.mark.parametrize("command", [
+    ["capture", "spatial6", "--target-mass", "50", "--target-inertia", "4,5,6", "--out", "{d}/cap.npz", "--plot", "{d}/cap.xyz"],
+    ["analyze", "planar4", "--workspace", "--no-progress", "--out", "{d}/ws.npz"],
+    ["simulate", "planar4", "--duration", "0.05", "--no-progress", "--out", "{d}/run.npz", "--plot", "{d}/run.xyz"],
+])
+def test_a_figure_format_that_cannot_be_written_is_refused_before_the_run(tmp_path, capsys, command):
+    # issue 26: `capture --plot x.xyz` wrote its record, then failed on the figure; `analyze --out
+    # x.npz` computed the workspace first. Now: exit 2 before any work, and no file at all.
+    args = [a.format(d=tmp_path) for a in command]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("spacearm: error: cannot write a figure as '.") and "the formats are" in err and ".png" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("token", ["--duration=--", "--dt=--", "--duration=-"])
+def test_an_option_given_dashes_for_a_value_is_a_clean_error(token):
+    # issue 26: `--opt=--` (argparse reads it as an empty list before Python 3.12) ended in a
+    # ValueError traceback from the command.
+    out = run("simulate", "planar4", token)
+    assert_clean_error(out, f"argument {token.split('=')[0]}: expected a value, got '{token.split('=')[1]}'")

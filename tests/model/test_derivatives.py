@@ -122,6 +122,15 @@ def test_configuration_plus_and_difference():
     huge_x[-1] = 1.7e308
     with pytest.raises(spacearm.NonFiniteError, match=r"overflows: components \[0, %d\]" % (robot.nu)):
         robot.configuration_plus(huge_x, huge_dx)
+    # a finite attitude increment whose norm (the angle) overflows: named, not "a must be finite, got [nan ...]"
+    huge_turn = np.zeros(robot.nu)
+    huge_turn[3:6] = 1e200
+    with pytest.raises(spacearm.NonFiniteError, match=r"dx\[3:6\] \(the attitude increment\) = .*rotation angle, overflows"):
+        robot.configuration_plus(x, huge_turn)
+    with pytest.raises(spacearm.NonFiniteError, match=r"theta = .*rotation angle, overflows"):
+        spacearm.rotations.quat_exp([1e308, 0.0, 1e308])
+    huge_turn[3:6] = 1e150  # large but finite: a unit quaternion
+    assert np.isclose(np.linalg.norm(robot.configuration_plus(x, huge_turn)[3:7]), 1.0)
     bad = x.copy()
     bad[3:7] *= 1.1
     with pytest.raises(spacearm.QuaternionError):

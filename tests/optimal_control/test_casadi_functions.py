@@ -195,13 +195,50 @@ def test_values_on_both_sides_of_the_cores_branches(robot):
         assert_rel_close(_np(Js(scaled)), robot.generalized_jacobian(x, _point(robot)), "casadi J*", rtol=1e-12)
 
 
-def test_a_zero_quaternion_gives_nan():
-    """A zero quaternion has no direction: the Functions, which cannot raise at evaluation,
-    return NaN (docs/optimal-control.md)."""
+def test_numeric_inputs_are_checked_before_evaluation():
+    """A zero quaternion has no direction (the normalised quaternion would be 0/0 = NaN): called
+    with numbers, every Function refuses it, and NaN, a wrong size and complex numbers, with a
+    spacearm error, in each calling style; called with symbols nothing is checked and the graph
+    is unchanged (docs/optimal-control.md)."""
     robot = spacearm.presets.planar4()
-    x = robot.neutral_configuration()
-    x[3:7] = 0.0
-    assert np.isnan(_np(sc.mass_matrix(robot)(x))).any()
+    x, u = robot.neutral_configuration(), robot.zero_velocity()
+    zero = x.copy()
+    zero[3:7] = 0.0
+    n = robot.n_dof
+    builders = {
+        "mass_matrix": (sc.mass_matrix, lambda x: (x,)),
+        "forward_dynamics": (sc.forward_dynamics, lambda x: (x, u, np.zeros(n), np.zeros(6))),
+        "generalized_jacobian": (sc.generalized_jacobian, lambda x: (x,)),
+        "rk4_step": (sc.rk4_step, lambda x: (x, u, np.zeros(n), np.zeros(6), 0.01)),
+    }
+    for name, (build, args) in builders.items():
+        f = build(robot)
+        assert np.isfinite(_np(f(*args(x))[0] if name == "rk4_step" else f(*args(x)))).all()
+        with pytest.raises(spacearm.QuaternionError, match="has no direction"):
+            f(*args(zero))
+        with pytest.raises(spacearm.QuaternionError):
+            f(*args(ca.DM(zero)))
+        with pytest.raises(spacearm.QuaternionError):
+            f(**dict(zip(f.name_in(), args(list(zero)))))
+        with pytest.raises(spacearm.QuaternionError):
+            f.call(list(args(zero)))
+        tiny = x.copy()
+        tiny[3:7] = [0.0, 0.0, 0.0, 1e-200]  # its square underflows: no direction in floating point
+        with pytest.raises(spacearm.QuaternionError):
+            f(*args(tiny))
+        bad = x.copy()
+        bad[8] = np.nan
+        with pytest.raises(spacearm.NonFiniteError, match=f"{name}: input 'x' must be finite, but entry 8 is nan"):
+            f(*args(bad))
+        with pytest.raises(spacearm.ShapeError, match=f"must have {robot.nx} entries, got {robot.nx - 1}"):
+            f(*args(x[:-1]))
+        with pytest.raises(spacearm.SpacearmTypeError, match="complex"):
+            f(*args(x.astype(complex)))
+    # Symbols pass unchecked: the graph of a zero quaternion is built, and evaluates to NaN.
+    H = sc.mass_matrix(robot)
+    xs = ca.MX.sym("x", robot.nx)
+    g = ca.Function("g", [xs], [H(xs)])
+    assert np.isnan(_np(g(zero))).any()
 
 
 def test_the_graph_is_the_cores_tape():

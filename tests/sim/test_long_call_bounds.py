@@ -73,3 +73,36 @@ def test_ctrl_c_stops_a_rollout_within_a_second():
     assert a.out.strip() == "interrupted", a.out
     assert a.returncode == 130
     assert a.waited < 1.0, f"took {a.waited:.2f} s to answer Ctrl-C"
+
+
+BATCH_CHILD = textwrap.dedent("""
+    import sys
+    import numpy as np
+    import spacearm
+    robot = spacearm.presets.spatial6()
+    spacearm.set_batch_threads(1)
+    B = 4_000_000  # seconds of work on one thread; the inputs are views (no copy), the output 380 MB
+    x = np.broadcast_to(robot.neutral_configuration(), (B, robot.nx))
+    u = np.broadcast_to(robot.zero_velocity(), (B, robot.nu))
+    robot.forward_dynamics(x[:1000], u[:1000])
+    print("started", flush=True)
+    try:
+        robot.forward_dynamics(x, u)
+    except KeyboardInterrupt:
+        print("interrupted", flush=True)
+        sys.exit(130)
+    print("finished", flush=True)
+""")
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process")
+@pytest.mark.xfail(strict=False, reason="known defect (h-trust report): the batch inputs are read into a buffer (a strided "
+                   "read for a view) before the interruptible rows start, and that pass checks no signal: on 4e6 broadcast rows "
+                   "of spatial6 the SIGINT handler ran 6.1 s after the signal on a loaded 2-core machine. Not strict: how long the "
+                   "pass takes depends on the machine")
+def test_ctrl_c_stops_a_long_batch_call_within_a_second():
+    # issue 26: "a long batch call stops only when it returns"
+    a = interrupt_child(BATCH_CHILD, 0.5)
+    assert a.out.strip() == "interrupted", (a.out, a.err[-500:])
+    assert a.returncode == 130
+    assert a.waited < 1.0, f"took {a.waited:.2f} s to answer Ctrl-C"

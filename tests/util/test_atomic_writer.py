@@ -92,54 +92,151 @@ def test_disk_full_during_write_leaves_nothing(tmp_path, monkeypatch):
     assert [p.name for p in tmp_path.iterdir()] == ["a.csv"]
 
 
-WRITER = textwrap.dedent("""
+NAMED_WRITER = textwrap.dedent("""
     import sys, time
-    from spacearm._util.atomic import atomic_open
-    with atomic_open(sys.argv[1], "w", suffix=".csv") as f:
-        f.write("t,x\\n" * 1000)
-        f.flush()
+    from spacearm._util.atomic import atomic_path
+    with atomic_path(sys.argv[1], suffix=".gif") as tmp:
+        open(tmp, "wb").write(b"GIF89a" * 1000)
         print("writing", flush=True)
         time.sleep(60)
 """)
 
+# The real `simulate --out/--csv` of the issue, stopped (by a slow fsync) after its data is
+# written and before it is put in place: the moment a SIGKILL used to leave a hidden file.
+SIMULATE = textwrap.dedent("""
+    import os, sys, time
+    def stalled(fd):
+        print("writing", flush=True)
+        time.sleep(60)
+    os.fsync = stalled
+    from spacearm.cli import main
+    main(["simulate", "planar4", "--duration", "0.05", "--no-progress", sys.argv[1], sys.argv[2]])
+""")
 
-def _start_writer(target):
-    child = subprocess.Popen([sys.executable, "-c", WRITER, str(target)], stdout=subprocess.PIPE, text=True)
-    line = child.stdout.readline()  # blocks until the temporary exists
-    assert line.strip() == "writing"
-    return child
+
+def _start(code, *args):
+    child = subprocess.Popen([sys.executable, "-c", code, *map(str, args)], stdout=subprocess.PIPE, text=True)
+    for line in child.stdout:  # blocks until the data is being written (the CLI prints first)
+        if line.strip() == "writing":
+            return child
+    child.kill()
+    raise AssertionError(f"the writer ended before writing (exit status {child.wait()})")
 
 
-def _temporaries(directory, name):
-    return sorted(p.name for p in directory.iterdir() if p.name.startswith(f".{name}."))
-
-
-def test_temporaries_of_a_killed_writer_are_removed_on_the_next_write(tmp_path):
-    target = tmp_path / "run.csv"
-    killed = _start_writer(target)
+def _kill(child):
     try:
-        os.kill(killed.pid, signal.SIGKILL)
-        killed.wait(timeout=10)
+        os.kill(child.pid, signal.SIGKILL)
+        child.wait(timeout=10)
     finally:
-        killed.kill()
-    stale = _temporaries(tmp_path, "run.csv")
-    assert len(stale) == 1 and f".{killed.pid}." in stale[0]
+        child.kill()
+
+
+def _hidden(directory):
+    return sorted(p.name for p in directory.iterdir() if p.name.startswith("."))
+
+
+def _unnamed_files_link(directory) -> bool:
+    """Whether this system gives atomic_open its unnamed files (O_TMPFILE, then linked)."""
+    fd = atomic._open_unnamed(directory)
+    if fd is None:
+        return False
+    try:
+        probe = directory / "probe"
+        linked = atomic._link_unnamed(fd, probe)
+        if linked:
+            probe.unlink()
+        return linked
+    finally:
+        os.close(fd)
+
+
+@pytest.mark.parametrize("option", ["--out", "--csv"])
+def test_a_simulate_killed_while_writing_leaves_no_hidden_file(tmp_path, option):
+    target = tmp_path / ("run.npz" if option == "--out" else "run.csv")
+    unnamed = _unnamed_files_link(tmp_path)
+    child = _start(SIMULATE, option, target)
+    _kill(child)
     assert not target.exists()  # the interrupted write never produced a partial target
-    # The next write to the path (here another writer, which then stays alive) removes the
-    # dead writer's temporary; a live writer's temporary is left alone.
-    live = _start_writer(target)
+    if unnamed:
+        # Linux O_TMPFILE: the data had no name; nothing at all is left.
+        assert list(tmp_path.iterdir()) == []
+    else:  # a named temporary, swept by the next write into the directory
+        assert len(_hidden(tmp_path)) == 1 and _hidden(tmp_path)[0].startswith(f"{atomic.TEMPORARY_PREFIX}{child.pid}-")
+        atomic.write_text(tmp_path / "other.txt", "x\n")
+        assert _hidden(tmp_path) == []
+    # and the same command, not interrupted, writes a complete file that loads
+    from spacearm.cli import main
+
+    assert main(["simulate", "planar4", "--duration", "0.05", "--no-progress", option, str(target)]) == 0
+    assert _hidden(tmp_path) == []
+    if option == "--out":
+        assert spacearm.Trajectory.load(target).t.shape == (51,)
+    else:
+        assert len([line for line in target.read_text().splitlines() if not line.startswith("#")]) == 52  # header + 51 samples
+
+
+def test_atomic_open_uses_unnamed_files_on_linux(tmp_path):
+    # On Linux (CI) the file-object writer must take the O_TMPFILE path, not the named fallback.
+    if not sys.platform.startswith("linux"):
+        pytest.skip("O_TMPFILE is Linux's")
+    assert _unnamed_files_link(tmp_path)
+    with atomic.atomic_open(tmp_path / "a.csv") as f:
+        f.write("t\n")
+        assert _hidden(tmp_path) == [] and list(tmp_path.iterdir()) == []
+    assert (tmp_path / "a.csv").read_text() == "t\n"
+    with atomic.atomic_open(tmp_path / "a.csv") as f:  # over an existing target
+        f.write("u\n")
+    assert (tmp_path / "a.csv").read_text() == "u\n" and [p.name for p in tmp_path.iterdir()] == ["a.csv"]
+
+
+def test_named_temporaries_of_a_killed_writer_are_swept_on_the_next_write_to_the_directory(tmp_path):
+    target = tmp_path / "run.gif"
+    killed = _start(NAMED_WRITER, target)
+    _kill(killed)
+    stale = _hidden(tmp_path)
+    assert len(stale) == 1 and stale[0].startswith(f"{atomic.TEMPORARY_PREFIX}{killed.pid}-") and stale[0].endswith("-run.gif.gif")
+    assert not target.exists()
+    # A write of another file into the same directory (here by a writer that stays alive) removes
+    # the dead writer's temporary; a live writer's temporary is left alone.
+    live = _start(NAMED_WRITER, tmp_path / "live.gif")
     try:
-        assert _temporaries(tmp_path, "run.csv") != stale
-        assert len(_temporaries(tmp_path, "run.csv")) == 1
-        atomic.write_text(target, "t,x\n0,1\n")
-        left = _temporaries(tmp_path, "run.csv")
-        assert len(left) == 1 and f".{live.pid}." in left[0]
-        assert target.read_text() == "t,x\n0,1\n"
+        left = _hidden(tmp_path)
+        assert len(left) == 1 and left[0].startswith(f"{atomic.TEMPORARY_PREFIX}{live.pid}-")
+        atomic.write_text(tmp_path / "other.txt", "t,x\n0,1\n")
+        assert _hidden(tmp_path) == left
     finally:
-        live.kill()
-        live.wait(timeout=10)
-    atomic.write_text(target, "again\n")
-    assert _temporaries(tmp_path, "run.csv") == []
+        _kill(live)
+    with atomic.atomic_path(target, suffix=".gif") as tmp:
+        tmp.write_bytes(b"GIF89a")
+    assert _hidden(tmp_path) == [] and target.read_bytes() == b"GIF89a"
+
+
+def test_temporaries_of_earlier_versions_are_still_swept(tmp_path):
+    # `.<name>.<pid>.<random><suffix>`, the names before `.spacearm-tmp-`: a dead writer's goes.
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    pid = int(dead.stdout)
+    old = tmp_path / f".run.csv.{pid}.abc123.csv"
+    old.write_text("partial")
+    atomic.write_text(tmp_path / "run.csv", "t\n")
+    assert _hidden(tmp_path) == []
+
+
+@pytest.mark.parametrize("missing", ["O_TMPFILE", "linking"])
+def test_the_fallbacks_write_the_same_files(tmp_path, monkeypatch, missing, umask_027):
+    # Without O_TMPFILE (another system): a named temporary; without a way to link the unnamed
+    # file (no /proc links, no AT_EMPTY_PATH): its bytes copied into a named temporary.
+    if missing == "O_TMPFILE":
+        monkeypatch.setattr(atomic, "_open_unnamed", lambda directory: None)
+    else:
+        monkeypatch.setattr(atomic, "_link_unnamed", lambda fd, destination: False)
+    for ext, write in _writers(tmp_path):
+        path = tmp_path / f"out.{ext}"
+        write(path)
+        assert _mode(path) == umask_027, ext
+        write(path)
+    assert _hidden(tmp_path) == []
+    assert spacearm.Trajectory.load(tmp_path / "out.npz").t.shape == (11,)
+    assert (tmp_path / "out.txt").read_text() == "generated code\n"
 
 
 def test_a_truncated_npz_is_a_clear_error(tmp_path):

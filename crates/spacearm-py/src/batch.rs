@@ -196,25 +196,25 @@ impl<'py> Input<'py> {
         }
     }
 
-    /// The values as rows that may cross to other threads (a single vector is copied and
-    /// repeated for every row, stride 0).
-    fn rows_source(&self) -> RowSource {
+    /// The values as rows that may cross to other threads, borrowed (no copy of the batch: a
+    /// single vector is repeated for every row, stride 0).
+    fn rows_source(&self) -> RowSource<'_> {
         match &self.value {
-            Value::Arg(ArgValue::Many { values, width, .. }) => RowSource { values: values.clone(), stride: *width },
-            _ => RowSource { values: self.single().to_vec(), stride: 0 },
+            Value::Arg(ArgValue::Many { values, width, .. }) => RowSource { values, stride: *width },
+            _ => RowSource { values: self.single(), stride: 0 },
         }
     }
 }
 
-struct RowSource {
-    values: Vec<f64>,
+struct RowSource<'a> {
+    values: &'a [f64],
     stride: usize,
 }
 
-impl RowSource {
+impl RowSource<'_> {
     fn row(&self, i: usize) -> &[f64] {
         if self.stride == 0 {
-            &self.values
+            self.values
         } else {
             &self.values[i * self.stride..(i + 1) * self.stride]
         }
@@ -450,7 +450,7 @@ fn run_batch<'py, W, const I: usize, const O: usize>(
     if rows == 0 {
         empty_batch_arguments(py, inputs)?;
     }
-    let sources: [RowSource; I] = std::array::from_fn(|k| inputs[k].rows_source());
+    let sources: [RowSource<'_>; I] = std::array::from_fn(|k| inputs[k].rows_source());
     let arrays: [Bound<'py, PyArrayDyn<f64>>; O] = std::array::from_fn(|k| new_output(py, Some(rows), outputs[k]));
     let row_len: [usize; O] = std::array::from_fn(|k| outputs[k].iter().product());
     // SAFETY: fresh contiguous arrays, not yet visible to Python.

@@ -1,6 +1,6 @@
-"""Free-floating kinematics: the base motion that follows from prescribed joint motion when the
+r"""Free-floating kinematics: the base motion that follows from prescribed joint motion when the
 system momentum is conserved (zero by default). Exact by momentum conservation — no dynamics
-or joint torques are involved: ``[v0; w0] = H0⁻¹ (M0 − H0m q̇)`` (paper eqs. 43, 109) is
+or joint torques are involved: $[v_0; \omega_0] = H_0^{-1} (M_0 - H_{0m} \dot q)$ (paper eqs. 43, 109) is
 integrated with RK4 on the quaternion (renormalized). See ``docs/reactionless.md``.
 """
 

@@ -25,10 +25,10 @@ STRATEGIES = ("naive", "reactionless", "minimum_disturbance")
 
 
 def reaction_null_space(robot, x=None, base_motion: str = "angular", tolerance: float = 1e-9) -> ReactionNullSpace:
-    """The reaction null space at ``x`` (default: initial configuration): the null space of the
+    r"""The reaction null space at ``x`` (default: initial configuration): the null space of the
     angular rows (``base_motion="angular"``, Nenchev's RNS: null space of the coupling inertia
-    about the system CM) or of all rows (``"full"``) of ``−H0⁻¹ H0m``; rank at
-    ``tolerance · σ_max``."""
+    about the system CM) or of all rows (``"full"``) of $-H_0^{-1} H_{0m}$; rank at
+    ``tolerance`` $\cdot\, \sigma_\text{max}$."""
     x = robot.neutral_configuration() if x is None else x
     if not isinstance(base_motion, str):
         raise SpacearmTypeError(f"base_motion must be 'angular' or 'full', got {type(base_motion).__name__} {base_motion!r}")

@@ -36,13 +36,13 @@ def analyze(robot, x=None, point=None, task: TaskLike = None) -> SingularityRepo
 
 
 def damping(sigma_min: float, threshold: float, max_damping: float) -> float:
-    """``λ(σ_min)`` with ``λ² = λ_max² (1 − (σ_min/ε)²)`` for ``σ_min < ε``, else 0."""
+    r"""$\lambda(\sigma_\text{min})$ with $\lambda^2 = \lambda_\text{max}^2 \bigl(1 - (\sigma_\text{min}/\varepsilon)^2\bigr)$ for $\sigma_\text{min} < \varepsilon$, else 0."""
     return _core.analysis_damping(number(sigma_min, "sigma_min"), number(threshold, "threshold"), number(max_damping, "max_damping"))
 
 
 def detect(robot, x, point=None, task: TaskLike = None, threshold: float = _core.DLS_DEFAULTS.threshold, max_damping: float = _core.DLS_DEFAULTS.max_damping) -> Detection:
-    """Singularity detector for RMRC: ``σ_min`` and condition of the task rows of ``J*`` and
-    the recommended DLS damping (``threshold`` = ε, ``max_damping`` = λ_max)."""
+    r"""Singularity detector for RMRC: $\sigma_\text{min}$ and condition of the task rows of $J^*$ and
+    the recommended DLS damping (``threshold`` $= \varepsilon$, ``max_damping`` $= \lambda_\text{max}$)."""
     body, off = robot.resolve_point(point)
     return _core.analysis_detect(robot.core_model, x, body, off, task_rows(robot, task), number(threshold, "threshold"),
                                  number(max_damping, "max_damping"))
@@ -63,7 +63,7 @@ def scan(robot, samples, point=None, task: TaskLike = None, progress: bool = Fal
 
 @dataclass(repr=False)
 class SingularityMap:
-    """``σ_min`` of ``J*`` and ``J_m`` on a grid over two joints (the others fixed)."""
+    r"""$\sigma_\text{min}$ of $J^*$ and $J_m$ on a grid over two joints (the others fixed)."""
 
     robot_name: str
     joints: tuple  #: the two joints varied (0-based dof indices)
@@ -82,7 +82,7 @@ class SingularityMap:
     __repr__ = summary_repr
 
     def singular_mask(self, relative: float = 0.02) -> np.ndarray:
-        """Grid cells with ``σ_min(J*) < relative · max σ_min(J*)`` over the map."""
+        r"""Grid cells with $\sigma_\text{min}(J^*) < \text{relative} \cdot \max \sigma_\text{min}(J^*)$ over the map."""
         return self.sigma_min_generalized < relative * np.nanmax(self.sigma_min_generalized)
 
     def plot(self, path, title: Optional[str] = None) -> str:

@@ -52,12 +52,12 @@ class Workspace(_core.WorkspaceShells):
 
 def workspace(robot, resolution: int = 15, samples=None, point=None, task: TaskLike = None, singular_threshold: Optional[float] = None,
               radial_resolution: Optional[float] = None, progress: bool = False, seed: int = 0, random_samples: Optional[int] = None) -> Workspace:
-    """Sample the joint space and compute the workspaces.
+    r"""Sample the joint space and compute the workspaces.
 
     Sampling: a full grid with ``resolution`` values per joint over the joint limits (±π where
     unlimited), or ``random_samples`` uniform samples (seeded), or explicit ``samples`` (M×N).
-    A dynamic singularity is a sample with ``σ_min(J*) < singular_threshold`` (default 1 % of the
-    largest σ_min seen) or, on a grid with a square task, a sign change of ``det J*`` between grid
+    A dynamic singularity is a sample with $\sigma_\text{min}(J^*) <$ ``singular_threshold`` (default 1 % of the
+    largest $\sigma_\text{min}$ seen) or, on a grid with a square task, a sign change of $\det J^*$ between grid
     neighbours. ``radial_resolution`` (default 1 % of R_max) merges singular radii into PDW shells.
     """
     rows = task_rows(robot, task)

@@ -5,7 +5,8 @@ The Rust core records a function of the equations of motion by running its own r
 (``spacearm_core::math::tape``, ``spacearm_core::taped``): a flat list of nodes, each an input,
 a constant, or a unary or binary operation on earlier nodes. ``function`` replays that
 list on ``SX`` scalars, one ``SX.binary`` / ``SX.unary`` call per node, and wraps the result
-in a ``casadi.Function`` with the core's input and output names. Nothing of the physics is
+in a ``casadi.Function`` with the core's input and output names (one that checks numeric
+inputs before it evaluates, ``._checked``). Nothing of the physics is
 written here: the graph is the core's arithmetic, operation for operation.
 """
 
@@ -83,4 +84,6 @@ def function(ca, robot, name: str, body: Optional[int] = None, offset: Optional[
     recorded = tape(robot, name, body, offset)
     symbols = [ca.SX.sym(n, k) for n, k in recorded.inputs]
     outputs = replay(ca, recorded, symbols)
-    return ca.Function(name, symbols, outputs, [n for n, _ in recorded.inputs], [n for n, _, _ in recorded.outputs_shapes])
+    from ._checked import checked_function
+
+    return checked_function(ca, name, symbols, outputs, [n for n, _ in recorded.inputs], [n for n, _, _ in recorded.outputs_shapes])

@@ -7,8 +7,16 @@ operation for operation, as the core's numbers. The functions follow spacearm's 
 exactly (docs/conventions.md): ``x = [r0, quat0 [x, y, z, w], q]`` (7+N), ``u = [v0, w0, qd]``
 (6+N) with ``v0``, ``w0`` in 𝒥, ``f = [F0, N0, tau]``, ``EOM H du + c = f``. The quaternion
 input is normalised inside each function (as the core normalises its input), so derivatives
-with respect to it are tangent to the unit sphere; a zero quaternion has no direction and gives
-NaN (a CasADi function cannot raise at evaluation).
+with respect to it are tangent to the unit sphere.
+
+Called with numbers, each function checks them before CasADi evaluates (a CasADi function cannot
+raise once it runs): a wrong size is a [`ShapeError`][spacearm.errors.ShapeError], NaN or an
+infinity a [`NonFiniteError`][spacearm.errors.NonFiniteError], and a zero base quaternion, which
+has no direction to normalise to, a [`QuaternionError`][spacearm.errors.QuaternionError].
+Called with symbols (``SX``/``MX``, in a graph or an NLP) nothing can be checked: a zero
+quaternion there evaluates to NaN, so a problem must keep it away from zero itself (a start on
+the unit sphere propagated by [`rk4_step`][spacearm.casadi.rk4_step], which renormalises, or a
+unit-norm constraint).
 
 Evaluated at a numeric state each function equals the core's result to rounding; its CasADi
 derivatives are exact derivatives of the same recursions (docs/optimal-control.md).
@@ -19,6 +27,7 @@ from __future__ import annotations
 from .._util.optional import require
 from ..errors import ArgumentError, SpacearmTypeError
 from . import _tape
+from ._checked import checked_function
 
 __all__ = [
     "forward_dynamics",
@@ -49,7 +58,7 @@ def _casadi_for(robot):
 
 
 def _function(ca, name: str, inputs: dict, outputs: dict):
-    return ca.Function(name, list(inputs.values()), list(outputs.values()), list(inputs), list(outputs))
+    return checked_function(ca, name, inputs.values(), outputs.values(), inputs, outputs)
 
 
 def _taped(robot, name: str, point=None, with_point: bool = False):
@@ -89,20 +98,20 @@ def bias_forces(robot):
 
 
 def generalized_inertia(robot):
-    """``generalized_inertia(x) -> H_star``: ``H* = Hm − H0mᵀ H0⁻¹ H0m`` (N×N, paper eq. 45),
-    with the core's closed-form ``H0⁻¹`` (eqs. 52–61)."""
+    """``generalized_inertia(x) -> H_star``: $H^* = H_m - H_{0m}^T H_0^{-1} H_{0m}$ (N×N, paper eq. 45),
+    with the core's closed-form $H_0^{-1}$ (eqs. 52–61)."""
     return _taped(robot, "generalized_inertia")
 
 
 def generalized_bias(robot):
-    """``generalized_bias(x, u) -> c_star``: ``c* = c_m − H0mᵀ H0⁻¹ c0`` (N)."""
+    """``generalized_bias(x, u) -> c_star``: $c^* = c_m - H_{0m}^T H_0^{-1} c_0$ (N)."""
     return _taped(robot, "generalized_bias")
 
 
 def generalized_jacobian(robot, point=None):
-    """``generalized_jacobian(x) -> J_star``: ``J* = J_mX − J_0X H0⁻¹ H0m`` (6×N, paper eq. 110)
+    r"""``generalized_jacobian(x) -> J_star``: $J^* = J_{mX} - J_{0X} H_0^{-1} H_{0m}$ (6×N, paper eq. 110)
     of a point (a point name, a body name, ``(body, offset)``, or ``None`` for the end
-    effector): with zero momentum the point's twist ``[v_X; ω]`` in 𝒥 is ``J* qd``."""
+    effector): with zero momentum the point's twist $[v_X; \omega]$ in 𝒥 is $J^* \dot q$."""
     return _taped(robot, "generalized_jacobian", point, with_point=True)
 
 
@@ -118,8 +127,8 @@ def momentum(robot):
 
 
 def base_velocity_from_momentum(robot):
-    """``base_velocity_from_momentum(x, qd, P, L_origin) -> base_twist``: ``[v0; w0] =
-    H0⁻¹ (M0 − H0m qd)`` (paper eqs. 43, 109), the base velocity that gives the system the
+    r"""``base_velocity_from_momentum(x, qd, P, L_origin) -> base_twist``: $[v_0; \omega_0] =
+    H_0^{-1} (M_0 - H_{0m} \dot q)$ (paper eqs. 43, 109), the base velocity that gives the system the
     momentum ``P``, ``L_origin`` while the joints move at ``qd``."""
     return _taped(robot, "base_velocity_from_momentum")
 
@@ -131,12 +140,12 @@ def _project(ca, y):
 
 
 def rk4_step(robot, substeps: int = 1, torque: str = "constant"):
-    """``rk4_step(x, u, tau, base_wrench, dt) -> (x_next, u_next)``: ``substeps`` classical
+    r"""``rk4_step(x, u, tau, base_wrench, dt) -> (x_next, u_next)``: ``substeps`` classical
     Runge–Kutta 4 steps of size ``dt / substeps`` with ``tau`` and ``base_wrench`` held.
 
     The quaternion is kept on the unit sphere by **renormalisation**, exactly as the native
     simulator's RK4 (``spacearm.simulate(integrator="rk4")``): it is integrated as four
-    components of ``quaṫ = ½ [ω0; 0] ⊗ quat``, every stage value is normalised before the
+    components of $\dot{\mathrm{quat}} = \tfrac12 [\omega_0; 0] \otimes \mathrm{quat}$, every stage value is normalised before the
     dynamics are evaluated, and the step result is normalised again (the projection method,
     which keeps the order 4). The state derivative of each stage is the core's, recorded like
     the other functions (``[v0, quaṫ, qd, du]``, ``du`` by ABA: the simulator's

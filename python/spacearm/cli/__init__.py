@@ -53,6 +53,18 @@ OUTPUT_OPTIONS = {
 }
 
 
+#: The options that name a figure: their format (the suffix) is checked before the command
+#: computes anything (``spacearm.viz.figures.figure_format``), so that ``--plot run.xyz`` costs
+#: an error message, not a run whose other files were written before the figure was refused.
+FIGURE_OPTIONS = {
+    "simulate": ("plot",),
+    "campaign": ("plot",),
+    "analyze": ("out",),
+    "capture": ("plot",),
+    "plan": ("plot",),
+}
+
+
 def describe_os_error(exc: OSError) -> str:
     """An ``OSError`` as one line naming the path: ``cannot use 'out/run.csv': No space left on
     device`` (Python's own text repeats the errno and quotes a temporary name)."""
@@ -84,11 +96,25 @@ def main(argv=None) -> int:
     cli_fmu.add_parser(sub)
     cli_view.add_parser(sub)
     # "--target -0.3,0.3,0" would be read as two options: pass such values as "--target=-0.3,...".
-    args = parser.parse_args(attach_negative_values(sys.argv[1:] if argv is None else argv))
+    argv = list(sys.argv[1:] if argv is None else argv)
+    for token in argv:
+        # argparse (before Python 3.12) reads `--duration=--` as an empty list, which then fails
+        # deep in the command: refused here, as argparse refuses a missing value.
+        if token == "--":
+            break
+        if token.startswith("--") and token.partition("=")[1] and token.partition("=")[2].strip("-") == "" and token.partition("=")[2]:
+            sys.stderr.write(f"spacearm: error: argument {token.partition('=')[0]}: expected a value, got '{token.partition('=')[2]}'\n")
+            return 2
+    args = parser.parse_args(attach_negative_values(argv))
     try:
         for option in OUTPUT_OPTIONS.get(args.command, ()):
             if getattr(args, option, None):
                 check_writable(getattr(args, option))
+        for option in FIGURE_OPTIONS.get(args.command, ()):
+            if getattr(args, option, None):
+                from ..viz.figures import figure_format
+
+                figure_format(getattr(args, option))
         if args.command == "inspect":
             cli_inspect.run(args, model_from_args)
         elif args.command == "derive":

@@ -101,9 +101,14 @@ def run(args, model_from_args, out=None) -> None:
         points = [iv for iv in ws.path_dependent if iv[1] - iv[0] <= 0.0]
         if points:
             w(f"  degenerate: {len(points)} of the {len(ws.path_dependent)} path-dependent shells have zero width (a single radius): "
-              "the sampling met a singularity only at isolated samples (on a grid, joints at exactly 0 or ±π), so the shells "
-              "between them are not resolved at this sampling; the path-independent shells are the gaps between those radii, "
-              "not a measured region. Denser samples (--samples, --resolution) resolve more of them\n")
+              "the sampling met a singularity only at isolated samples (on a grid, joints at exactly 0 or ±π), so these "
+              "shells are radii, not measured regions, and the path-independent shells between them are gaps between radii")
+            if len(rows) < robot.n_dof:
+                w(f". The task is redundant ({len(rows)} rows, {robot.n_dof} joints): J* loses rank only on a thin set of "
+                  "configurations (e.g. the arm stretched or folded), which denser sampling does not widen; a square task "
+                  "(as many rows as joints, e.g. spatial6 with --task full) has singular surfaces that sweep shells with width\n")
+            else:
+                w(". Denser samples (--resolution, --samples) resolve more of them\n")
         path = ws.plot(args.out, plane=args.plane)
     else:
         planar = rows == [0, 1]

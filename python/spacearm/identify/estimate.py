@@ -1,26 +1,28 @@
-"""Least-squares estimate of a payload's inertial parameters from momentum conservation.
+r"""Least-squares estimate of a payload's inertial parameters from momentum conservation.
 
 The combined system (robot + payload fixed to the grasp body) moves with no external wrench, so
-its momentum ``h = [P; L_origin]`` is constant:
+its momentum $h = [P; L_\text{origin}]$ is constant:
 
-    h_robot(x_k, u_k) + Y(x_k, u_k) π = h0        for every sample k                     (1)
+$$
+h_\text{robot}(x_k, u_k) + Y(x_k, u_k)\, \pi = h_0 \quad \text{for every sample } k \tag{1}
+$$
 
-([`spacearm.identify.regressor`][spacearm.identify.regressor]; Yoshida & Abiko 2002). With ``h0`` known, (1) is linear in π.
+([`spacearm.identify.regressor`][spacearm.identify.regressor]; Yoshida & Abiko 2002). With $h_0$ known, (1) is linear in $\pi$.
 With ``h0`` unknown (the usual case: nothing measures it), it is eliminated by subtracting the
-sample mean of each of the six rows (the least-squares estimate of ``h0`` for any π), leaving
-``(Y_k − Ȳ) π = −(h_robot,k − h̄_robot)``; ``h0`` is recovered afterwards as the mean of
-``h_robot + Y π``.
+sample mean of each of the six rows (the least-squares estimate of $h_0$ for any $\pi$), leaving
+$(Y_k - \bar Y)\, \pi = -(h_{\text{robot},k} - \bar h_\text{robot})$; $h_0$ is recovered afterwards as the mean of
+$h_\text{robot} + Y \pi$.
 
 Noise model (what the covariance means): the errors of the six momentum equations are
-independent between samples, zero-mean, with one standard deviation ``σ_P`` for the three linear
-rows and one ``σ_L`` for the three angular rows. Both are estimated from the residuals of an
-ordinary least-squares pass; a second pass weights the rows by ``1/σ`` and gives
-``Cov(π) = (Aᵀ W A)⁻¹`` restricted to the identifiable subspace. Measurement noise on the joint
+independent between samples, zero-mean, with one standard deviation $\sigma_P$ for the three linear
+rows and one $\sigma_L$ for the three angular rows. Both are estimated from the residuals of an
+ordinary least-squares pass; a second pass weights the rows by $1/\sigma$ and gives
+$\operatorname{Cov}(\pi) = (A^T W A)^{-1}$ restricted to the identifiable subspace. Measurement noise on the joint
 and base velocities enters (1) this way to first order (on both sides: the regressor holds
-measured velocities too, which biases the estimate by a term of order σ², not corrected here).
+measured velocities too, which biases the estimate by a term of order $\sigma^2$, not corrected here).
 
-Identifiability: the parameters are made commensurable with a characteristic length ``ℓ`` (the
-RMS distance of the grasp body's CM from the base CM over the samples): ``[m, h/ℓ, Ī/ℓ²]`` all
+Identifiability: the parameters are made commensurable with a characteristic length $\ell$ (the
+RMS distance of the grasp body's CM from the base CM over the samples): $[m, h/\ell, \bar I/\ell^2]$ all
 have units of mass, and their columns of the weighted regressor units of momentum per kg. The
 SVD of that matrix gives the rank: singular values below ``rcond`` times the largest singular
 value of the same matrix before the mean is removed (the size of the parameters' contribution
@@ -56,15 +58,15 @@ class PayloadEstimate:
     axes, ``inertia`` about the payload's CM in the grasp body's axes, ``momentum`` in 𝒥."""
 
     body: str  #: the grasp body
-    parameters: np.ndarray  #: π (10): m, m·c, Ī about the grasp body's CM (PARAMETER_NAMES)
-    covariance: np.ndarray  #: Cov(π) (10×10) under the noise model; zero along the null space
+    parameters: np.ndarray  #: $\pi$ (10): $m$, $m c$, $\bar I$ about the grasp body's CM (PARAMETER_NAMES)
+    covariance: np.ndarray  #: $\operatorname{Cov}(\pi)$ (10×10) under the noise model; zero along the null space
     momentum: np.ndarray  #: [P; L_origin] of robot + payload (6): estimated, or as given
     momentum_estimated: bool  #: whether ``momentum`` was estimated (True) or given
     singular_values: np.ndarray  #: of the column-scaled, weighted regressor (10, descending)
     rank: int  #: number of identified directions of π (10: all)
-    null_space: np.ndarray  #: (10, 10 − rank): orthonormal directions of π not identified
+    null_space: np.ndarray  #: (10, 10 − rank): orthonormal directions of $\pi$ not identified
     condition_number: float  #: largest / smallest singular value (inf when rank < 10)
-    noise_std: np.ndarray  #: estimated σ_P (N·s) and σ_L (N·m·s) of the momentum equations
+    noise_std: np.ndarray  #: estimated $\sigma_P$ (N·s) and $\sigma_L$ (N·m·s) of the momentum equations
     n_samples: int  #: samples used
 
     __repr__ = summary_repr

@@ -1,4 +1,4 @@
-"""The ten inertial parameters of a rigid payload and their physical form.
+r"""The ten inertial parameters of a rigid payload and their physical form.
 
 A rigid body carried by a body ``g`` of the robot (the grasp body: a gripper link holding a
 captured target) is described, in ``g``'s frame (origin at ``g``'s CM, ``docs/conventions.md``),
@@ -9,8 +9,8 @@ by the parameter vector
 with ``m`` its mass, ``c`` its CM measured from ``g``'s CM in ``g``'s axes, and ``Ī`` its
 inertia about ``g``'s CM (not its own), in ``g``'s axes, as a tensor (``Īxy`` is the
 off-diagonal entry, not its negative). The payload's momentum is linear in π (Yoshida & Abiko
-2002); the physical parameters are not: ``c = h/m`` and, by the parallel-axis theorem,
-``I = Ī − m (|c|² E − c cᵀ)`` about the payload's own CM.
+2002); the physical parameters are not: $c = h/m$ and, by the parallel-axis theorem,
+$I = \bar I - m (\lVert c \rVert^2 E - c c^T)$ about the payload's own CM.
 """
 
 from __future__ import annotations

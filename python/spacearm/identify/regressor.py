@@ -1,23 +1,29 @@
-"""The momentum regressor of a payload carried by one body of a robot (Yoshida & Abiko 2002).
+r"""The momentum regressor of a payload carried by one body of a robot (Yoshida & Abiko 2002).
 
 A rigid payload fixed to the grasp body ``g`` moves with it: with ``r_g`` the position of ``g``'s
-CM in 𝒥, ``R_g`` its rotation (body to 𝒥), ``v_g`` the velocity of its CM and ``ω`` its angular
-velocity (both in 𝒥), a point ``ρ`` of the payload (from ``g``'s CM, in ``g``'s axes) is at
-``r = r_g + R_g ρ`` with velocity ``v_g + ω × R_g ρ``. Integrating over the payload's mass,
+CM in 𝒥, $R_g$ its rotation (body to 𝒥), $v_g$ the velocity of its CM and $\omega$ its angular
+velocity (both in 𝒥), a point $\rho$ of the payload (from ``g``'s CM, in ``g``'s axes) is at
+$r = r_g + R_g \rho$ with velocity $v_g + \omega \times R_g \rho$. Integrating over the payload's mass,
 
-    P_payload = m v_g + [ω]× R_g h
-    L_payload = r_g × P_payload + (R_g h) × v_g + R_g Ī R_gᵀ ω      (about the origin of 𝒥)
+$$
+\begin{aligned}
+P_\text{payload} &= m\, v_g + [\omega]_\times R_g h \\
+L_\text{payload} &= r_g \times P_\text{payload} + (R_g h) \times v_g + R_g \bar I R_g^T \omega \qquad \text{(about the origin of } \mathcal{J}\text{)}
+\end{aligned}
+$$
 
-with ``h = m c`` and ``Ī`` the payload's inertia about ``g``'s CM in ``g``'s axes. Both are linear
-in the parameter vector π of [`spacearm.identify.parameters`][spacearm.identify.parameters]:
+with $h = m c$ and $\bar I$ the payload's inertia about ``g``'s CM in ``g``'s axes. Both are linear
+in the parameter vector $\pi$ of [`spacearm.identify.parameters`][spacearm.identify.parameters]:
 
-    [P; L]_payload = Y(x, u) π,
-    Y = [[ v_g,        [ω]× R_g,                          0          ],
-         [ r_g × v_g,  ([r_g]× [ω]× − [v_g]×) R_g,   R_g Λ(R_gᵀ ω) ]]
+$$
+\begin{bmatrix} P \\ L \end{bmatrix}_\text{payload} = Y(x, u)\, \pi, \qquad
+Y = \begin{bmatrix} v_g & [\omega]_\times R_g & 0 \\
+r_g \times v_g & \bigl([r_g]_\times [\omega]_\times - [v_g]_\times\bigr) R_g & R_g \Lambda(R_g^T \omega) \end{bmatrix}
+$$
 
-where ``Λ(w)`` maps the six tensor entries to ``Ī w``. The robot's own momentum ``[P; L_origin]``
+where $\Lambda(w)$ maps the six tensor entries to $\bar I w$. The robot's own momentum ``[P; L_origin]``
 comes from the known model. With no external wrench, the combined system's momentum
-``h_robot(x, u) + Y(x, u) π`` stays constant along the motion: the equation the estimator solves.
+$h_\text{robot}(x, u) + Y(x, u)\, \pi$ stays constant along the motion: the equation the estimator solves.
 """
 
 from __future__ import annotations

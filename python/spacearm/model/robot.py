@@ -343,13 +343,13 @@ class Robot:
         return self._m.point_position(x, body, off)
 
     def point_jacobian(self, x, point: PointLike = None):
-        """Point Jacobians ``(J_0X, J_mX)`` (6×6, 6×N; eqs. 104–108) of a point: its twist
-        ``[v_X; w]`` in 𝒥 is ``J_0X xd0 + J_mX qd``."""
+        r"""Point Jacobians $(J_{0X}, J_{mX})$ (6×6, 6×N; eqs. 104–108) of a point: its twist
+        $[v_X; \omega]$ in 𝒥 is $J_{0X}\,\dot x_0 + J_{mX}\,\dot q$."""
         body, off = self._point(point)
         return self._m.point_jacobians(x, body, off)
 
     def link_jacobians(self, x, body):
-        """``(J_Ti, J_Ri)`` (3×N each; eqs. 20–21) of the CM of ``body``."""
+        """$(J_{Ti}, J_{Ri})$ (3×N each; eqs. 20–21) of the CM of ``body``."""
         return self._m.link_jacobians(x, self.body_index(body))
 
     # ---- inertia ---------------------------------------------------------------------------
@@ -358,7 +358,7 @@ class Robot:
         return InertiaBlocks(*self._m.inertia_blocks(x))
 
     def mass_matrix(self, x, method: str = "crba") -> np.ndarray:
-        """Generalized mass matrix ``H(x)`` ((6+N)², eq. 36).
+        """Generalized mass matrix $H(x)$ ((6+N)², eq. 36).
 
         ``method="crba"`` (composite-rigid-body algorithm, Featherstone §6.2) or ``"paper"``
         (the Jacobian sums of eqs. 27–36); the two are independent computations.
@@ -370,12 +370,12 @@ class Robot:
         raise ArgumentError(f"method must be 'crba' or 'paper', got {method!r}")
 
     def base_inertia_inverse(self, x) -> np.ndarray:
-        """``H0⁻¹`` by the closed-form Schur complement (eqs. 52–61)."""
+        """$H_0^{-1}$ by the closed-form Schur complement (eqs. 52–61)."""
         return self._m.base_inertia_inverse(x)
 
     # ---- dynamics --------------------------------------------------------------------------
     def bias_forces(self, x, u) -> np.ndarray:
-        """Bias vector ``c(x, u)`` (velocity-product terms; no gravity in orbit) by RNEA."""
+        """Bias vector $c(x, u)$ (velocity-product terms; no gravity in orbit) by RNEA."""
         return self._m.bias_forces(x, u)
 
     def _wrenches(self, wrenches):
@@ -394,24 +394,24 @@ class Robot:
         return out
 
     def passive_forces(self, x, u) -> np.ndarray:
-        """The joints' passive generalized force ``Q = [0 (6); -K (q - q_rest) - C q̇]``
+        r"""The joints' passive generalized force $Q = [0_6;\ -K (q - q_\text{rest}) - C \dot q]$
         (``6+N``; MuJoCo's ``qfrc_passive``), which every forward dynamics adds to the applied
-        force: ``H u̇ + c = f + Q`` (docs/flexibility.md)."""
+        force: $H \dot u + c = f + Q$ (docs/flexibility.md)."""
         return self._m.passive_forces(x, u)
 
     def spring_energy(self, x) -> float:
-        """The joint springs' potential energy ``½ Σ k_j (q_j - rest_j)²``, J (the simulation
+        r"""The joint springs' potential energy $\tfrac12 \sum_j k_j (q_j - q_{\text{rest},j})^2$, J (the simulation
         records' ``energy`` is the kinetic energy plus this)."""
         return self._m.spring_energy(x)
 
     def natural_frequencies(self, x=None, *, actuated: str = "held") -> "PassiveModes":
-        """The small oscillations of the joints' springs about the configuration ``x`` (default:
-        the neutral configuration): the modes of ``K v = ω² H*(q) v`` (docs/flexibility.md,
+        r"""The small oscillations of the joints' springs about the configuration ``x`` (default:
+        the neutral configuration): the modes of $K v = \omega^2 H^*(q)\, v$ (docs/flexibility.md,
         "Natural frequencies"), ascending. ``actuated="held"``: the motors hold the actuated
         joints still and only the passive joints move; ``"free"``: every joint moves (an unsprung
         one is a mode at 0 rad/s). Exact small-oscillation frequencies where ``q`` is an
         equilibrium (the springs at ``rest``); equal there to the linearization's
-        ([`linearize`][spacearm.Robot.linearize]) eigenvalues ``±iω`` without damping."""
+        ([`linearize`][spacearm.Robot.linearize]) eigenvalues $\pm i\omega$ without damping."""
         if actuated not in ("held", "free"):
             raise ArgumentError(f"actuated must be 'held' or 'free', got {actuated!r}")
         x = self.neutral_configuration() if x is None else x
@@ -419,19 +419,19 @@ class Robot:
         return PassiveModes(np.asarray(dofs, dtype=int), w, zeta, shapes)
 
     def inverse_dynamics(self, x, u, du, wrenches=None) -> np.ndarray:
-        """Generalized force ``f = H du + c - Q_passive - J^T w_ext`` producing ``du`` (RNEA,
+        r"""Generalized force $f = H \dot u + c - Q_\text{passive} - J^T w_\text{ext}$ producing ``du`` $= \dot u$ (RNEA,
         Featherstone §5.3; ``Q_passive``: [`passive_forces`][spacearm.Robot.passive_forces])."""
         return self._m.inverse_dynamics(x, u, du, None if wrenches is None else self._wrenches(wrenches))
 
     def forward_dynamics(self, x, u, f=None, *, tau=None, base_wrench=None, wrenches=None, method: str = "aba") -> np.ndarray:
-        """State derivative ``du = [dv0, dw0, qdd]`` under generalized force ``f``.
+        r"""State derivative ``du`` $= \dot u = [\dot v_0; \dot\omega_0; \ddot q]$ under generalized force ``f``.
 
         Give either ``f = [F0, N0, tau]`` or ``tau`` (joint torques, default zero) and
         optionally ``base_wrench = [F0, N0]`` (default zero: free-floating); the two forms give
         bit-identical results, each in one call to the extension (which assembles ``f`` from
         the parts; ``benchmarks/forward_dynamics_forms.py`` times both).
         ``method``: ``"aba"`` (O(N) articulated-body algorithm), ``"mass_matrix"``
-        (``H⁻¹(f + Q + J^T w - c)``) or ``"reduced"`` (``qdd = H*⁻¹(tau + Q_m - c* - H0m^T H0⁻¹ F_b)``,
+        ($H^{-1}(f + Q + J^T w - c)$) or ``"reduced"`` ($\ddot q = H^{*-1}(\tau + Q_m - c^* - H_{0m}^T H_0^{-1} F_b)$,
         the reduction of eqs. 39–50, ``docs/physics.md``; no external wrenches). Every method adds
         the joints' springs and dampers, ``Q`` = [`passive_forces`][spacearm.Robot.passive_forces] (docs/flexibility.md).
         """
@@ -446,28 +446,28 @@ class Robot:
 
     # ---- generalized (reduced) quantities ------------------------------------------------
     def generalized_inertia(self, x) -> np.ndarray:
-        """Generalized inertia matrix ``H* = Hm - H0m^T H0⁻¹ H0m`` (N×N, eq. 45)."""
+        """Generalized inertia matrix $H^* = H_m - H_{0m}^T H_0^{-1} H_{0m}$ (N×N, eq. 45)."""
         return self._m.generalized_inertia(x)
 
     def generalized_bias(self, x, u) -> np.ndarray:
-        """Generalized bias ``c* = c_m - H0m^T H0⁻¹ c0`` (N) at the state ``(x, u)``."""
+        """Generalized bias $c^* = c_m - H_{0m}^T H_0^{-1} c_0$ (N) at the state ``(x, u)``."""
         return self._m.generalized_bias(x, u)
 
     def generalized_jacobian(self, x, point: PointLike = None) -> np.ndarray:
-        """Generalized Jacobian ``J* = J_mX - J_0X H0⁻¹ H0m`` (6×N, eq. 110) of a point
-        (default: the end effector). With zero momentum the point twist is ``J* qd``."""
+        r"""Generalized Jacobian $J^* = J_{mX} - J_{0X} H_0^{-1} H_{0m}$ (6×N, eq. 110) of a point
+        (default: the end effector). With zero momentum the point twist is $J^* \dot q$."""
         body, off = self._point(point)
         return self._m.generalized_jacobian(x, body, off)
 
     def point_twist(self, x, qd, point: PointLike = None, P=(0.0, 0.0, 0.0), L=(0.0, 0.0, 0.0)) -> np.ndarray:
-        """Twist ``[v_X; w]`` of a point when the joints move at ``qd`` and the system has
+        r"""Twist $[v_X; \omega]$ of a point when the joints move at ``qd`` $= \dot q$ and the system has
         linear momentum ``P`` and angular momentum ``L`` about the origin of 𝒥:
-        ``J* qd + J_0X H0⁻¹ M0`` (the non-zero-momentum GJM)."""
+        $J^* \dot q + J_{0X} H_0^{-1} M_0$ (the non-zero-momentum GJM)."""
         body, off = self._point(point)
         return self._m.point_twist(x, qd, body, off, P, L)
 
     def base_velocity_from_momentum(self, x, qd, P=(0.0, 0.0, 0.0), L=(0.0, 0.0, 0.0)) -> np.ndarray:
-        """Base velocity ``[v0; w0] = H0⁻¹ (M0 - H0m qd)`` (eqs. 43, 109) that gives the system
+        r"""Base velocity $[v_0; \omega_0] = H_0^{-1} (M_0 - H_{0m} \dot q)$ (eqs. 43, 109) that gives the system
         linear momentum ``P`` and angular momentum ``L`` about the origin of 𝒥."""
         return self._m.base_velocity_from_momentum(x, qd, P, L)
 
@@ -477,13 +477,13 @@ class Robot:
         return Momentum(*self._m.momentum(x, u))
 
     def kinetic_energy(self, x, u) -> float:
-        """``T = ½ Σ (m_i |v_i|² + w_i^T I_i w_i)`` (equal to ``½ u^T H u``, eq. 27)."""
+        r"""$T = \tfrac12 \sum_i (m_i \lVert v_i \rVert^2 + \omega_i^T I_i \omega_i)$ (equal to $\tfrac12 u^T H u$, eq. 27)."""
         return self._m.kinetic_energy(x, u)
 
     def momentum_scales(self, x, u) -> np.ndarray:
-        """The magnitudes against which the drift of the momenta and the energy is measured, per
-        state: ``(T, 4)`` columns ``[Σ|p_i|, Σ(|r_i × p_i| + |I_i w_i|) about the origin, the
-        same about the system CM, kinetic plus spring energy]`` (sums over the bodies of their own
+        r"""The magnitudes against which the drift of the momenta and the energy is measured, per
+        state: ``(T, 4)`` columns $\sum_i \lVert p_i \rVert$, $\sum_i (\lVert r_i \times p_i \rVert + \lVert I_i \omega_i \rVert)$ about the origin, the
+        same about the system CM, and the kinetic plus spring energy (sums over the bodies of their own
         contributions' norms: the core's drift scales, docs/simulation-core.md). ``x`` (T, 7+N)
         or (7+N,), ``u`` likewise."""
         xs = np.ascontiguousarray(np.atleast_2d(np.asarray(x, dtype=float)))
@@ -491,7 +491,7 @@ class Robot:
         return _core.momentum_scales(self._m, xs, us)
 
     def center_of_mass(self, x) -> np.ndarray:
-        """System CM ``r_g`` in 𝒥."""
+        """System CM $r_g$ in 𝒥."""
         return self._m.center_of_mass(x)
 
     # ---- exact derivatives (docs/derivatives.md) -----------------------------------------
@@ -528,15 +528,15 @@ class Robot:
         return f
 
     def configuration_plus(self, x, dx) -> np.ndarray:
-        """``x ⊕ dx`` for a tangent increment ``dx = [dr0, dtheta, dq]`` (length 6+N):
-        ``r0 + dr0``, ``R0 <- exp(dtheta^) R0`` (rotation about the axes of 𝒥), ``q + dq``."""
+        r"""$x \oplus \delta x$ for a tangent increment ``dx`` $= \delta x = [\delta r_0; \delta\theta; \delta q]$ (length 6+N):
+        $r_0 + \delta r_0$, $R_0 \leftarrow \exp([\delta\theta]_\times) R_0$ (rotation about the axes of 𝒥), $q + \delta q$."""
         from .tangent import configuration_plus
 
         return configuration_plus(x, dx, self.n_dof)
 
     def configuration_difference(self, x1, x0) -> np.ndarray:
-        """The tangent increment ``dx`` (length 6+N) with ``x0 ⊕ dx = x1``
-        (see [`configuration_plus`][spacearm.Robot.configuration_plus]; the attitude part is ``log(R1 R0^T)``)."""
+        r"""The tangent increment ``dx`` $= \delta x$ (length 6+N) with $x_0 \oplus \delta x = x_1$
+        (see [`configuration_plus`][spacearm.Robot.configuration_plus]; the attitude part is $\log(R_1 R_0^T)$)."""
         from .tangent import configuration_difference
 
         return configuration_difference(x1, x0, self.n_dof)
@@ -551,7 +551,7 @@ class Robot:
         return self._derivatives().mass_matrix_partials(x)
 
     def mass_matrix_derivative(self, x, u) -> np.ndarray:
-        """Time derivative ``dH/dt = sum_k dH/dx_k u_k`` ((6+N)², symmetric) of the mass matrix
+        r"""Time derivative $\dot H = \sum_k \frac{\partial H}{\partial x_k} u_k$ ((6+N)², symmetric) of the mass matrix
         along the generalized velocity ``u`` (the tangent velocity of ``x``)."""
         return self._derivatives().mass_matrix_derivative(x, u)
 
@@ -564,7 +564,7 @@ class Robot:
         return self._derivatives().generalized_inertia_partials(x)
 
     def generalized_inertia_derivative(self, x, u) -> np.ndarray:
-        """Time derivative ``dH*/dt = sum_k dH*/dq_k qd_k`` (N×N) at the state ``(x, u)``."""
+        r"""Time derivative $\dot H^* = \sum_k \frac{\partial H^*}{\partial q_k} \dot q_k$ (N×N) at the state ``(x, u)``."""
         return self._derivatives().generalized_inertia_derivative(x, u)
 
     def generalized_jacobian_partials(self, x, point: PointLike = None) -> np.ndarray:
@@ -575,9 +575,9 @@ class Robot:
         return self._derivatives().generalized_jacobian_partials(x, body, off)
 
     def generalized_jacobian_derivative(self, x, u, point: PointLike = None) -> np.ndarray:
-        """Time derivative ``dJ*/dt = sum_k dJ*/dx_k u_k`` (6×N) of a point's generalized
+        r"""Time derivative $\dot J^* = \sum_k \frac{\partial J^*}{\partial x_k} u_k$ (6×N) of a point's generalized
         Jacobian along ``u``; e.g. the point's acceleration with zero momentum is
-        ``J* qdd + dJ*/dt qd``."""
+        $J^* \ddot q + \dot J^* \dot q$."""
         body, off = self._point(point)
         return self._derivatives().generalized_jacobian_derivative(x, u, body, off)
 
@@ -590,12 +590,12 @@ class Robot:
 
     def forward_dynamics_derivatives(self, x, u, f=None, *, tau=None, base_wrench=None, wrenches=None,
                                      method: str = "analytic") -> "ForwardDynamicsDerivatives":
-        """Jacobians of forward dynamics ``du = FD(x, u, f)``: ``(ddu_dx, ddu_du, ddu_df)``,
+        r"""Jacobians of forward dynamics $\dot u = \mathrm{FD}(x, u, f)$: ``(ddu_dx, ddu_du, ddu_df)``,
         each (6+N)².
 
         ``ddu_dx`` is with respect to the tangent coordinates ``[dr0, dtheta, dq]`` (its ``dr0``
-        columns are zero); ``ddu_df = H⁻¹``. From ``ID(x, u, FD(x, u, f)) = f``:
-        ``ddu_dx = -H⁻¹ dID/dx``, ``ddu_du = -H⁻¹ dID/du`` (Carpentier & Mansard 2018). Give ``f``
+        columns are zero); ``ddu_df`` $= H^{-1}$. From $\mathrm{ID}(x, u, \mathrm{FD}(x, u, f)) = f$:
+        ``ddu_dx`` $= -H^{-1} \partial\mathrm{ID}/\partial x$, ``ddu_du`` $= -H^{-1} \partial\mathrm{ID}/\partial u$ (Carpentier & Mansard 2018). Give ``f``
         or ``tau`` and ``base_wrench`` as in [`forward_dynamics`][spacearm.Robot.forward_dynamics]. ``wrenches``
         ([`spacearm.ExternalWrench`][spacearm.ExternalWrench]) keep their force and torque fixed in 𝒥 while their
         point moves with its body. ``method="analytic"`` (default) uses the analytic partials of
@@ -620,7 +620,7 @@ class Robot:
         return ForwardDynamicsDerivatives(*self._derivatives().forward_dynamics_derivatives(x, u, f, ext, dual))
 
     def inverse_dynamics_partials(self, x, u, du, wrenches=None, *, method: str = "analytic") -> "InverseDynamicsPartials":
-        """Partials of inverse dynamics ``f = ID(x, u, du) = H du + c - J^T w_ext``:
+        r"""Partials of inverse dynamics $f = \mathrm{ID}(x, u, \dot u) = H \dot u + c - J^T w_\text{ext}$:
         ``(df_dx, df_du)``, each (6+N)², ``x`` in the tangent coordinates ``[dr0, dtheta, dq]``
         (the ``dr0`` columns are zero); ``df/d(du)`` is [`mass_matrix`][spacearm.Robot.mass_matrix]. External
         ``wrenches`` keep their force and torque fixed in 𝒥 while their point moves with its body.
@@ -633,12 +633,12 @@ class Robot:
 
     def linearize(self, x, u, f=None, *, tau=None, base_wrench=None, inputs: str = "joints",
                   method: str = "analytic") -> "Linearization":
-        """Linearization ``d(dz)/dt = A dz + B df`` of the state equation ``z' = [u; FD(x, u, f)]``
-        about ``(x, u, f)``, in the tangent state ``dz = [dx (6+N); du (6+N)]``.
+        r"""Linearization $\dot{\delta z} = A\, \delta z + B\, \delta f$ of the state equation $\dot z = [u; \mathrm{FD}(x, u, f)]$
+        about ``(x, u, f)``, in the tangent state $\delta z = [\delta x\ (6+N); \delta u\ (6+N)]$.
 
-        ``A = [[Omega, E], [ddu_dx, ddu_du]]`` (2(6+N) square) with ``Omega = blkdiag(0, w0^, 0)``
-        (from ``R0 = exp(dtheta^) R0_ref``: ``dtheta' = dw0 + w0 × dtheta``), and
-        ``B = [[0], [H⁻¹ columns]]``: ``inputs="joints"`` gives the N joint-torque columns
+        $A = \begin{bmatrix} \Omega & E \\ \partial\dot u/\partial x & \partial\dot u/\partial u \end{bmatrix}$ (2(6+N) square) with $\Omega = \operatorname{blkdiag}(0, [\omega_0]_\times, 0)$
+        (from $R_0 = \exp([\delta\theta]_\times) R_{0,\text{ref}}$: $\dot{\delta\theta} = \delta\omega_0 + \omega_0 \times \delta\theta$), and
+        $B = \begin{bmatrix} 0 \\ H^{-1}\ \text{columns} \end{bmatrix}$: ``inputs="joints"`` gives the N joint-torque columns
         (free-floating control), ``inputs="all"`` the 6+N columns of ``f = [F0, N0, tau]``.
         Apply a state increment with [`configuration_plus`][spacearm.Robot.configuration_plus]. ``method`` as in
         [`forward_dynamics_derivatives`][spacearm.Robot.forward_dynamics_derivatives].
@@ -659,15 +659,15 @@ _tuple_new = tuple.__new__
 
 
 class ForwardDynamicsDerivatives(NamedTuple):
-    """Jacobians of forward dynamics ``du = FD(x, u, f)`` (see [`Robot.forward_dynamics_derivatives`][spacearm.Robot.forward_dynamics_derivatives])."""
+    r"""Jacobians of forward dynamics $\dot u = \mathrm{FD}(x, u, f)$ (see [`Robot.forward_dynamics_derivatives`][spacearm.Robot.forward_dynamics_derivatives])."""
 
     ddu_dx: np.ndarray  #: (6+N)², with respect to the tangent coordinates [dr0, dtheta, dq]
     ddu_du: np.ndarray  #: (6+N)², with respect to the generalized velocity u
-    ddu_df: np.ndarray  #: (6+N)², H⁻¹: with respect to the generalized force f
+    ddu_df: np.ndarray  #: (6+N)², $H^{-1}$: with respect to the generalized force f
 
 
 class InverseDynamicsPartials(NamedTuple):
-    """Partials of inverse dynamics ``f = ID(x, u, du)`` (see [`Robot.inverse_dynamics_partials`][spacearm.Robot.inverse_dynamics_partials])."""
+    r"""Partials of inverse dynamics $f = \mathrm{ID}(x, u, \dot u)$ (see [`Robot.inverse_dynamics_partials`][spacearm.Robot.inverse_dynamics_partials])."""
 
     df_dx: np.ndarray  #: (6+N)², with respect to the tangent coordinates [dr0, dtheta, dq]
     df_du: np.ndarray  #: (6+N)², with respect to the generalized velocity u
@@ -677,9 +677,9 @@ class PassiveModes(NamedTuple):
     """The modes of [`Robot.natural_frequencies`][spacearm.Robot.natural_frequencies], ascending in frequency."""
 
     dofs: np.ndarray  #: the joint coordinates that move (the passive ones, or all)
-    frequencies: np.ndarray  #: undamped natural frequencies ω, rad/s
-    damping_ratios: np.ndarray  #: modal damping ratios ζ = vᵀ C v / (2ω)
-    shapes: np.ndarray  #: N × modes, column i mode i's joint displacement, vᵀ H* v = 1
+    frequencies: np.ndarray  #: undamped natural frequencies $\omega$, rad/s
+    damping_ratios: np.ndarray  #: modal damping ratios $\zeta = v^T C v / (2\omega)$
+    shapes: np.ndarray  #: N × modes, column i mode i's joint displacement, $v^T H^* v = 1$
 
 
 class Linearization(NamedTuple):

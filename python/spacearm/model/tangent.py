@@ -14,7 +14,7 @@ import numpy as np
 
 from .._util.arrays import vector
 from ..errors import NonFiniteError, QuaternionError
-from ..rotations import quat_exp, quat_log, quat_multiply
+from ..rotations import _finite_rotation_angle, quat_exp, quat_log, quat_multiply
 
 __all__ = ["configuration_plus", "configuration_difference"]
 
@@ -30,11 +30,12 @@ def _checked(x: np.ndarray, name: str) -> np.ndarray:
 
 
 def configuration_plus(x, dx, n_dof: int) -> np.ndarray:
-    """``x ⊕ dx``: ``r0 + dr0``, ``R0 <- exp(dtheta^) R0``, ``q + dq`` (``dx`` of length 6+N)."""
+    r"""$x \oplus \delta x$: $r_0 + \delta r_0$, $R_0 \leftarrow \exp([\delta\theta]_\times) R_0$, $q + \delta q$ (``dx`` $= \delta x$ of length 6+N)."""
     x = _checked(vector(x, "x", 7 + n_dof), "x")
     dx = vector(dx, "dx", 6 + n_dof)
     if not np.all(np.isfinite(dx)):
         raise NonFiniteError(f"dx must be finite, got {dx}")
+    _finite_rotation_angle(dx[3:6], "dx[3:6] (the attitude increment)")
     quat = quat_multiply(quat_exp(dx[3:6]), x[3:7])
     with np.errstate(over="ignore", invalid="ignore"):
         out = np.concatenate([x[0:3] + dx[0:3], quat / np.linalg.norm(quat), x[7:] + dx[6:]])
@@ -46,7 +47,7 @@ def configuration_plus(x, dx, n_dof: int) -> np.ndarray:
 
 
 def configuration_difference(x1, x0, n_dof: int) -> np.ndarray:
-    """``dx`` with ``x0 ⊕ dx = x1`` (the attitude part is ``log(R1 R0ᵀ)``, length ≤ π)."""
+    r"""``dx`` $= \delta x$ with $x_0 \oplus \delta x = x_1$ (the attitude part is $\log(R_1 R_0^T)$, length $\le \pi$)."""
     x1 = _checked(vector(x1, "x1", 7 + n_dof), "x1")
     x0 = _checked(vector(x0, "x0", 7 + n_dof), "x0")
     q0 = x0[3:7]

@@ -52,7 +52,7 @@ def point_to_point(
     smoothness_weight: float = 1e-8,
     progress: Optional[Callable[[int, float], None]] = None,
 ) -> Plan:
-    """Plan a motion of ``point`` (default: the end effector) to ``target`` (3 values, m, in 𝒥)
+    r"""Plan a motion of ``point`` (default: the end effector) to ``target`` (3 values, m, in 𝒥)
     in ``duration`` seconds with the base free floating (no base wrench).
 
     Parameters
@@ -65,8 +65,8 @@ def point_to_point(
     nodes : int
         Number of knot intervals ``K`` (torques are linear on them), at most ``MAX_NODES``.
     objective : ``"attitude"`` or ``"effort"``
-        Minimise the base attitude disturbance ``(1/T) ∫ |θ|² dt`` (plus ``effort_weight``
-        times the effort term) or the joint effort ``(1/T) ∫ |tau|² dt``.
+        Minimise the base attitude disturbance $\frac1T \int_0^T \lVert\theta\rVert^2 dt$ (plus ``effort_weight``
+        times the effort term) or the joint effort $\frac1T \int_0^T \lVert\tau\rVert^2 dt$.
     x0, u0 : arrays, optional
         Initial state (default: ``robot.neutral_configuration()``, at rest).
     position_limits, velocity_limit, effort_limit : optional
@@ -88,8 +88,8 @@ def point_to_point(
         curvature left out, a Gauss–Newton-type approximation) or the exact Hessian of the
         Lagrangian (several times slower per iteration; docs/optimal-control.md).
     smoothness_weight : float
-        Weight ``w`` of the torque-rate term ``w (1/T) Σ |tau_k+1 − tau_k|² / Δt`` added to the
-        cost (≈ ``w (1/T) ∫ |dtau/dt|² dt``; 0 drops it). Without it the attitude objective
+        Weight $w$ of the torque-rate term $\frac{w}{T} \sum_k \lVert\tau_{k+1} - \tau_k\rVert^2 / \Delta t$ added to the
+        cost ($\approx \frac{w}{T} \int_0^T \lVert\dot\tau\rVert^2 dt$; 0 drops it). Without it the attitude objective
         leaves the torques nearly free and the optimiser spends them on knot-to-knot zigzags
         that exploit the error of the RK4 map: a plan that its re-simulation refutes
         (docs/optimal-control.md, spatial6).

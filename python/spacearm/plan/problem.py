@@ -1,4 +1,4 @@
-"""The transcription: point-to-point maneuvers of a free-floating system by direct multiple
+r"""The transcription: point-to-point maneuvers of a free-floating system by direct multiple
 shooting, solved by IPOPT through CasADi (docs/optimal-control.md).
 
 Unknowns: the state ``y_k = [x_k; u_k]`` and the joint torques ``tau_k`` at the knots
@@ -17,12 +17,12 @@ Constraints:
 
 Objectives (both divided by ``T`` so that their size does not depend on the duration):
 
-- ``"attitude"``: ``(1/T) Σ_k |θ_k|² Δt`` (k = 1..K) with ``θ_k = 2 vec(quat_k ⊗ quat_0*)`` (for small
-  angles the base rotation vector since ``t_0``), plus ``effort_weight (1/T) Σ |tau_k|² Δt``
+- ``"attitude"``: $\frac1T \sum_{k=1}^K \lVert\theta_k\rVert^2 \Delta t$ with $\theta_k = 2 \operatorname{vec}(\mathrm{quat}_k \otimes \mathrm{quat}_0^*)$ (for small
+  angles the base rotation vector since $t_0$), plus ``effort_weight`` $\cdot \frac1T \sum_k \lVert\tau_k\rVert^2 \Delta t$
   so that the torques are defined where the attitude does not decide them;
-- ``"effort"``: ``(1/T) Σ_k ½ (|tau_k|² + |tau_k+1|²) Δt`` (trapezoidal rule);
+- ``"effort"``: $\frac1T \sum_k \tfrac12 (\lVert\tau_k\rVert^2 + \lVert\tau_{k+1}\rVert^2) \Delta t$ (trapezoidal rule);
 
-and with either, the torque-rate term ``smoothness_weight (1/T) Σ_k |tau_k+1 − tau_k|² / Δt``.
+and with either, the torque-rate term ``smoothness_weight`` $\cdot \frac1T \sum_k \lVert\tau_{k+1} - \tau_k\rVert^2 / \Delta t$.
 
 The K intervals share one shooting map: ``rk4_step`` expanded to ``SX`` (its RK4 stages
 inlined) and mapped over the knots, so its derivatives are built once for one interval.

@@ -1,9 +1,9 @@
-"""The check of a plan after the solve, whatever IPOPT said (docs/optimal-control.md, "Checks").
+r"""The check of a plan after the solve, whatever IPOPT said (docs/optimal-control.md, "Checks").
 
 Two numbers decide whether a plan is one:
 
 - the **defect** of the transcription: the largest residual of the shooting constraints
-  ``y_k+1 − Φ(y_k, tau_k, tau_k+1, T/K)`` at the returned knots, ``Φ`` being the plan's own RK4
+  $y_{k+1} - \Phi(y_k, \tau_k, \tau_{k+1}, T/K)$ at the returned knots, $\Phi$ being the plan's own RK4
   map ([`rk4_step`][spacearm.casadi.rk4_step]); a plan whose knots do not follow its own dynamics is
   no plan, whatever the solver's status;
 - the **re-simulation**: the plan's joint motion tracked by the native computed-torque

@@ -280,9 +280,9 @@ class Trajectory:
 
     @property
     def base_rotation_angle(self) -> np.ndarray:
-        """Angle ``(K,)`` (rad, in [0, π]) of the base rotation since the first sample,
-        ``R0(t) R0(t_0)ᵀ``: how far the base has turned, whatever the axis. Computed from the
-        relative quaternion as ``2 atan2(|vector part|, |scalar part|)``, accurate for small
+        r"""Angle ``(K,)`` (rad, in $[0, \pi]$) of the base rotation since the first sample,
+        $R_0(t)\, R_0(t_0)^T$: how far the base has turned, whatever the axis. Computed from the
+        relative quaternion as $2 \operatorname{atan2}(\lVert \text{vector part} \rVert, \lvert \text{scalar part} \rvert)$, accurate for small
         angles too."""
         q = self.base_quat / np.linalg.norm(self.base_quat, axis=1, keepdims=True)
         q0 = q[0] * np.array([-1.0, -1.0, -1.0, 1.0])  # conjugate of the first attitude
@@ -301,7 +301,7 @@ class Trajectory:
 
     @property
     def base_angular_velocity_in_base(self) -> np.ndarray:
-        """Base angular velocity in the base frame ``R0ᵀ w0`` ``(K, 3)``, rad/s."""
+        r"""Base angular velocity in the base frame $R_0^T \omega_0$ ``(K, 3)``, rad/s."""
         return np.einsum("kji,kj->ki", self.base_rotation, self.base_angular_velocity)
 
     # ---- forces --------------------------------------------------------------------------
@@ -478,9 +478,9 @@ class Trajectory:
         return float(np.max(self._robot.momentum_scales(self.x, self.u)[:, columns[name]]))
 
     def drift(self, names: Optional[Iterable[str]] = None, scale: Optional[Dict[str, float]] = None) -> Dict[str, float]:
-        """Largest relative deviation of each quantity from its value at the first sample.
+        r"""Largest relative deviation of each quantity from its value at the first sample.
 
-        ``drift[name] = max_k |v_k − v_0| / max(|v_0|, scale)`` over the recorded samples (the
+        $\text{drift}[\text{name}] = \max_k \lVert v_k - v_0 \rVert / \max(\lVert v_0 \rVert, \text{scale})$ over the recorded samples (the
         simulator's definition, ``docs/simulation-core.md``). ``scale`` is, unless given
         (``scale={"P": 1.0}``): the simulator's own scale for the quantities its mode conserves
         (``meta["drift_scales"]``: the running maximum of the bodies' individual
