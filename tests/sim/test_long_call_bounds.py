@@ -96,10 +96,6 @@ BATCH_CHILD = textwrap.dedent("""
 
 
 @pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process")
-@pytest.mark.xfail(strict=False, reason="known defect (h-trust report): the batch inputs are read into a buffer (a strided "
-                   "read for a view) before the interruptible rows start, and that pass checks no signal: on 4e6 broadcast rows "
-                   "of spatial6 the SIGINT handler ran 6.1 s after the signal on a loaded 2-core machine. Not strict: how long the "
-                   "pass takes depends on the machine")
 def test_ctrl_c_stops_a_long_batch_call_within_a_second():
     # issue 26: "a long batch call stops only when it returns"
     a = interrupt_child(BATCH_CHILD, 0.5)

@@ -225,10 +225,29 @@ fn converted_batch_arg<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Arg
             // by row into one buffer (the one copy; the call then runs without the GIL).
             let typed = arr.cast::<PyArray2<f64>>().map_err(PyErr::from)?;
             let view = typed.try_readonly().map_err(|e| shape_error(obj.py(), format!("{what} could not be read: {e}")))?;
-            let values: Vec<f64> = match view.as_slice() {
-                Ok(s) => s.to_vec(),
-                Err(_) => view.as_array().iter().copied().collect(),
-            };
+            // In chunks, with a check for Ctrl-C between them: reading a large batch (a
+            // broadcast view of millions of rows) takes seconds, and a pending SIGINT is
+            // answered within one chunk (docs/simulation-core.md, "Errors").
+            const CHUNK_VALUES: usize = 1 << 20;
+            let py = obj.py();
+            let mut values: Vec<f64> = Vec::with_capacity(rows * width);
+            match view.as_slice() {
+                Ok(s) => {
+                    for chunk in s.chunks(CHUNK_VALUES) {
+                        py.check_signals()?;
+                        values.extend_from_slice(chunk);
+                    }
+                }
+                Err(_) => {
+                    let chunk_rows = (CHUNK_VALUES / width.max(1)).max(1);
+                    for (i, row) in view.as_array().rows().into_iter().enumerate() {
+                        if i % chunk_rows == 0 {
+                            py.check_signals()?;
+                        }
+                        values.extend(row.iter().copied());
+                    }
+                }
+            }
             Ok(ArgValue::Many { values, rows, width })
         }
         _ => Err(shape_error(
