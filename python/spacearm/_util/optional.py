@@ -28,6 +28,7 @@ EXTRAS = {
     "dask": "campaign",
     "casadi": "optimal-control",
     "trimesh": "mesh",
+    "gymnasium": "rl",
 }
 
 
