@@ -40,7 +40,7 @@ def _mujoco_ee(robot, x):
 
 
 def test_reach_observation_and_reward_terms_are_independently_recomputed():
-    env = sgym.ReachEnv()
+    env = sgym.ReachEnv(max_joint_rate=100.0)
     robot = env.task.robot
     n = robot.n_dof
     obs, info = env.reset(seed=4)
@@ -75,7 +75,7 @@ def test_the_goal_is_the_end_effector_of_a_configuration_within_range():
 
 
 def test_a_reach_step_is_the_simulator_step_of_the_scaled_torque():
-    env = sgym.ReachEnv(max_torque=7.0, frame_skip=3, dt=0.02)
+    env = sgym.ReachEnv(max_torque=7.0, frame_skip=3, dt=0.02, max_joint_rate=100.0)
     env.reset(seed=2)
     robot = env.task.robot
     sim = spacearm.Simulator(robot, dt=0.02)

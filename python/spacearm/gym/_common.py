@@ -14,7 +14,7 @@ import numpy as np
 
 from ..campaign import scenario as _scenario
 from ..campaign.perturbation import Perturbations
-from ..errors import ArgumentError
+from ..errors import ArgumentError, SimulationError
 
 #: The render modes every environment supports.
 RENDER_MODES = ("rgb_array",)
@@ -47,6 +47,15 @@ def count(value, name: str) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
         raise ArgumentError(f"{name} must be an integer >= 1, got {value!r}")
     return int(value)
+
+
+def check_finite(states: np.ndarray, what: str) -> np.ndarray:
+    """``states`` ``(B, dim)`` if every value is finite, else a SimulationError naming the copy."""
+    bad = ~np.all(np.isfinite(states), axis=1)
+    if bad.any():
+        raise SimulationError(f"{what}: copy {int(np.flatnonzero(bad)[0])} diverged (a non-finite state); "
+                              "lower max_torque or dt, or max_joint_rate")
+    return states
 
 
 def check_render_mode(render_mode: Optional[str]) -> Optional[str]:

@@ -17,7 +17,8 @@ p_ee‖``; on the grasp (``d < capture_tolerance``) the core's rigid grasp impul
 ``Λ = [f̂; n̂]`` (``spacearm.capture.grasp_impulse``) is applied, the robot becomes the captured
 system (``spacearm.capture.attach_target``: the target a payload of the gripper) and the step
 adds ``capture_bonus − w_impulse ‖Λ‖`` (``‖Λ‖`` the 2-norm of the six SI components) and
-terminates. Truncated after ``max_episode_steps``. ``info["captured"]`` is the
+terminates. A step that ends with a joint faster than ``max_joint_rate`` (rad/s) costs
+``runaway_penalty`` and terminates (``info["runaway"]``). Truncated after ``max_episode_steps``. ``info["captured"]`` is the
 [`CapturedSystem`][spacearm.capture.CapturedSystem] after a grasp (None before).
 """
 
@@ -82,10 +83,11 @@ class CaptureEnv(gymnasium.Env):
 
     metadata = {"render_modes": list(_common.RENDER_MODES), "render_fps": 20}
 
-    def __init__(self, robot=None, target: Optional[Target] = None, *, dt: float = 0.01, frame_skip: int = 5, max_torque=20.0,
+    def __init__(self, robot=None, target: Optional[Target] = None, *, dt: float = 0.01, frame_skip: int = 5, max_torque=5.0,
                  approach_distance=(0.2, 0.4), spin_rate=(0.02, 0.08), capture_tolerance: float = 0.05,
                  base_rate_weight: float = 10.0, action_weight: float = 1e-3, impulse_weight: float = 0.1, capture_bonus: float = 50.0,
-                 max_episode_steps: int = 300, randomize=None, render_mode: Optional[str] = None):
+                 max_joint_rate: float = 3.0, runaway_penalty: float = 100.0, max_episode_steps: int = 300, randomize=None,
+                 render_mode: Optional[str] = None):
         self.robot = spatial6() if robot is None else robot
         if self.robot.end_effector is None or self.robot.n_dof == 0:
             raise ArgumentError("Capture needs a robot with joints and an end effector")
@@ -102,6 +104,8 @@ class CaptureEnv(gymnasium.Env):
         self.action_weight = _common.non_negative(action_weight, "action_weight")
         self.impulse_weight = _common.non_negative(impulse_weight, "impulse_weight")
         self.capture_bonus = _common.non_negative(capture_bonus, "capture_bonus")
+        self.max_joint_rate = _common.positive(max_joint_rate, "max_joint_rate")
+        self.runaway_penalty = _common.non_negative(runaway_penalty, "runaway_penalty")
         self.max_episode_steps = _common.count(max_episode_steps, "max_episode_steps")
         self.perturbations = _common.check_randomization(randomize)
         self.render_mode = _common.check_render_mode(render_mode)
@@ -143,14 +147,15 @@ class CaptureEnv(gymnasium.Env):
         if a.shape != (self.robot.n_dof,):
             raise ArgumentError(f"action must have {self.robot.n_dof} values (one per joint), got {a.shape[0]}")
         nx = self.robot.nx
-        self._state = self._sim.step(a * self.torque_scale, self.frame_skip)
+        self._state = _common.check_finite(self._sim.step(a * self.torque_scale, self.frame_skip)[None], "Capture")[0]
         self._target_state = self.target.propagate(self._target_state, self.dt * self.frame_skip, dt=self.dt)
         self._steps += 1
         x, u = self._state[:nx], self._state[nx:]
         distance = float(np.linalg.norm(self.target.grasp_position(self._target_state) - self._plant.point_position(x)))
         base_rate = float(np.linalg.norm(u[3:6]))
-        reward = -distance - self.base_rate_weight * base_rate - self.action_weight * float(a @ a)
-        info = {"distance": distance, "base_rate": base_rate, "is_success": False, "impulse": None, "captured": None}
+        runaway = bool(np.max(np.abs(u[6:])) > self.max_joint_rate)
+        reward = -distance - self.base_rate_weight * base_rate - self.action_weight * float(a @ a) - self.runaway_penalty * runaway
+        info = {"distance": distance, "base_rate": base_rate, "is_success": False, "runaway": runaway, "impulse": None, "captured": None}
         if distance < self.capture_tolerance:
             impact = grasp_impulse(self._plant, x, u, self.target, self._target_state, capture_tolerance=self.capture_tolerance)
             self.captured = attach_target(self._plant, x, impact.u_after, self.target, impact.target_state_after)
@@ -161,7 +166,7 @@ class CaptureEnv(gymnasium.Env):
             impulse = np.asarray(impact.impulse, dtype=float)
             reward += self.capture_bonus - self.impulse_weight * float(np.linalg.norm(impulse))
             info.update(is_success=True, impulse=impulse, captured=self.captured, base_rate=float(np.linalg.norm(self._state[nx + 3 : nx + 6])))
-        terminated = self.captured is not None
+        terminated = self.captured is not None or runaway
         return self._observe(), float(reward), terminated, self._steps >= self.max_episode_steps, info
 
     def render(self):

@@ -16,8 +16,10 @@ Action (float32, ``M``, in ``[-1, 1]``): torques of every dof (arm joints and wh
 fractions of their scales ``τ = a · τ_max`` (the arm's ``max_torque``; each wheel's effort
 limit).
 
-Reward (docs/rl.md): ``r = −‖ω0‖ − w_action ‖a‖²``; terminated when ``‖ω0‖ < rate_tolerance``,
-truncated after ``max_episode_steps``.
+Reward (docs/rl.md): ``r = −‖ω0‖ − w_action ‖a‖²``, minus ``runaway_penalty`` on a step that
+ends with an arm joint faster than ``max_joint_rate`` (rad/s; the wheels are free to spin up to
+their own limits); terminated when ``‖ω0‖ < rate_tolerance`` or on such a runaway, truncated
+after ``max_episode_steps``.
 """
 
 from __future__ import annotations
@@ -53,8 +55,9 @@ class DetumbleEnv(gymnasium.Env):
 
     metadata = {"render_modes": list(_common.RENDER_MODES), "render_fps": 20}
 
-    def __init__(self, robot=None, target=None, *, dt: float = 0.01, frame_skip: int = 5, max_torque=20.0, spin_rate=(0.02, 0.08),
-                 rate_tolerance: float = 1e-3, action_weight: float = 1e-3, max_episode_steps: int = 300, randomize=None,
+    def __init__(self, robot=None, target=None, *, dt: float = 0.01, frame_skip: int = 5, max_torque=5.0, spin_rate=(0.02, 0.08),
+                 rate_tolerance: float = 1e-3, action_weight: float = 1e-3, max_joint_rate: float = 3.0, runaway_penalty: float = 100.0,
+                 max_episode_steps: int = 300, randomize=None,
                  render_mode: Optional[str] = None):
         self.robot = wheeled_robot() if robot is None else robot
         if self.robot.end_effector is None or self.robot.n_dof == 0:
@@ -72,6 +75,9 @@ class DetumbleEnv(gymnasium.Env):
         self.spin_rate = _range(spin_rate, "spin_rate")
         self.rate_tolerance = _common.positive(rate_tolerance, "rate_tolerance")
         self.action_weight = _common.non_negative(action_weight, "action_weight")
+        self.max_joint_rate = _common.positive(max_joint_rate, "max_joint_rate")
+        self.runaway_penalty = _common.non_negative(runaway_penalty, "runaway_penalty")
+        self._arm = np.array(arm, dtype=int)
         self.max_episode_steps = _common.count(max_episode_steps, "max_episode_steps")
         self.perturbations = _common.check_randomization(randomize)
         self.render_mode = _common.check_render_mode(render_mode)
@@ -106,13 +112,15 @@ class DetumbleEnv(gymnasium.Env):
         a = np.clip(np.asarray(action, dtype=float).reshape(-1), -1.0, 1.0)
         if a.shape != (self.robot.n_dof,):
             raise ArgumentError(f"action must have {self.robot.n_dof} values (one per dof), got {a.shape[0]}")
-        self._state = self._sim.step(a * self.torque_scale, self.frame_skip)
+        self._state = _common.check_finite(self._sim.step(a * self.torque_scale, self.frame_skip)[None], "Detumble")[0]
         self._steps += 1
         nx = self.robot.nx
         rate = float(np.linalg.norm(self._state[nx + 3 : nx + 6]))
-        reward = -rate - self.action_weight * float(a @ a)
-        done = rate < self.rate_tolerance
-        return self._observe(), reward, done, self._steps >= self.max_episode_steps, {"base_rate": rate, "is_success": done}
+        runaway = bool(self._arm.size and np.max(np.abs(self._state[nx + 6 + self._arm])) > self.max_joint_rate)
+        reward = -rate - self.action_weight * float(a @ a) - self.runaway_penalty * runaway
+        success = rate < self.rate_tolerance
+        info = {"base_rate": rate, "is_success": success, "runaway": runaway}
+        return self._observe(), reward, success or runaway, self._steps >= self.max_episode_steps, info
 
     def render(self):
         if self.render_mode != "rgb_array" or self._sim is None:

@@ -7,8 +7,11 @@ p_goal − p_ee (3, m, in 𝒥), ω0 (3, rad/s, in 𝒥)]``.
 Action (float32, ``N``, in ``[-1, 1]``): joint torques as fractions of ``max_torque``,
 ``τ = a · τ_max``, held over the control period (``frame_skip`` RK4 steps of ``dt``).
 
-Reward (docs/rl.md): ``r = −‖p_goal − p_ee‖ − w_base ‖ω0‖ − w_action ‖a‖²`` after the step.
-Terminated when ``‖p_goal − p_ee‖ < success_tolerance``; truncated after ``max_episode_steps``.
+Reward (docs/rl.md): ``r = −‖p_goal − p_ee‖ − w_base ‖ω0‖ − w_action ‖a‖²`` after the step,
+minus ``runaway_penalty`` on a step that ends with a joint faster than ``max_joint_rate``
+(rad/s). Terminated when ``‖p_goal − p_ee‖ < success_tolerance`` (``info["is_success"]``) or on
+such a runaway (``info["runaway"]``: an arm spun up by a random policy would otherwise run to
+rates the integration step cannot follow); truncated after ``max_episode_steps``.
 
 The goal is the end-effector position of a joint configuration drawn uniformly within
 ``goal_range`` (rad) of the initial one, with the base at its initial pose (reachable with the
@@ -42,9 +45,9 @@ class ReachTask:
     masses, not the link frames, so its end effector is the nominal one's at the same
     configuration)."""
 
-    def __init__(self, robot=None, *, dt: float = 0.01, frame_skip: int = 5, max_torque=20.0, goal_range: float = 0.5,
+    def __init__(self, robot=None, *, dt: float = 0.01, frame_skip: int = 5, max_torque=5.0, goal_range: float = 0.5,
                  success_tolerance: float = 0.02, base_rate_weight: float = 10.0, action_weight: float = 1e-3,
-                 max_episode_steps: int = 200, randomize=None):
+                 max_joint_rate: float = 3.0, runaway_penalty: float = 100.0, max_episode_steps: int = 200, randomize=None):
         self.robot = spatial6() if robot is None else robot
         if self.robot.end_effector is None or self.robot.n_dof == 0:
             raise ArgumentError("Reach needs a robot with joints and an end effector")
@@ -55,6 +58,8 @@ class ReachTask:
         self.success_tolerance = _common.positive(success_tolerance, "success_tolerance")
         self.base_rate_weight = _common.non_negative(base_rate_weight, "base_rate_weight")
         self.action_weight = _common.non_negative(action_weight, "action_weight")
+        self.max_joint_rate = _common.positive(max_joint_rate, "max_joint_rate")
+        self.runaway_penalty = _common.non_negative(runaway_penalty, "runaway_penalty")
         self.max_episode_steps = _common.count(max_episode_steps, "max_episode_steps")
         self.perturbations = _common.check_randomization(randomize)
         n = self.robot.n_dof
@@ -76,19 +81,21 @@ class ReachTask:
     def observe(self, states: np.ndarray, goals: np.ndarray) -> np.ndarray:
         """Observations ``(B, 2N+9)`` of states ``(B, 13+2N)`` and goals ``(B, 3)``."""
         n, nx = self.robot.n_dof, self.robot.nx
+        _common.check_finite(states, "Reach")
         x = states[:, :nx]
         p = np.asarray(self.robot.point_position(x), dtype=float).reshape(-1, 3)
         return np.concatenate([x[:, 7:], states[:, nx + 6 : nx + 6 + n], p, goals - p, states[:, nx + 3 : nx + 6]], axis=1)
 
     def reward(self, obs: np.ndarray, actions) -> tuple:
-        """``(reward (B,), distance (B,), success (B,))`` of observations ``(B, 2N+9)`` after
-        actions ``(B, N)``."""
+        """``(reward (B,), distance (B,), success (B,), runaway (B,))`` of observations
+        ``(B, 2N+9)`` after actions ``(B, N)``."""
         n = self.robot.n_dof
         a = np.clip(np.asarray(actions, dtype=float), -1.0, 1.0)
         distance = np.linalg.norm(obs[:, 2 * n + 3 : 2 * n + 6], axis=1)
         base_rate = np.linalg.norm(obs[:, 2 * n + 6 : 2 * n + 9], axis=1)
-        reward = -distance - self.base_rate_weight * base_rate - self.action_weight * np.sum(a * a, axis=1)
-        return reward, distance, distance < self.success_tolerance
+        runaway = np.max(np.abs(obs[:, n : 2 * n]), axis=1) > self.max_joint_rate
+        reward = -distance - self.base_rate_weight * base_rate - self.action_weight * np.sum(a * a, axis=1) - self.runaway_penalty * runaway
+        return reward, distance, distance < self.success_tolerance, runaway
 
 
 class ReachEnv(gymnasium.Env):
@@ -130,10 +137,10 @@ class ReachEnv(gymnasium.Env):
         self._state = self._sim.step(task.torque(a)[0], task.frame_skip)
         self._steps += 1
         obs = task.observe(self._state[None], self.goal[None])
-        reward, distance, success = task.reward(obs, a)
+        reward, distance, success, runaway = task.reward(obs, a)
         info = {"distance": float(distance[0]), "base_rate": float(np.linalg.norm(self._state[task.robot.nx + 3 : task.robot.nx + 6])),
-                "is_success": bool(success[0])}
-        return obs[0], float(reward[0]), bool(success[0]), self._steps >= task.max_episode_steps, info
+                "is_success": bool(success[0]), "runaway": bool(runaway[0])}
+        return obs[0], float(reward[0]), bool(success[0] or runaway[0]), self._steps >= task.max_episode_steps, info
 
     def render(self):
         if self.render_mode != "rgb_array" or self._sim is None:

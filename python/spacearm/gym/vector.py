@@ -6,7 +6,7 @@ Gymnasium 1.x vector semantics: ``reset(seed=s)`` seeds copy ``i`` with ``s + i`
 ``gymnasium.vector.SyncVectorEnv`` does), so copy ``i`` follows exactly the episode of a
 [`ReachEnv`][spacearm.gym.ReachEnv] reset with seed ``s + i``; autoreset is ``NEXT_STEP``: the step after a copy
 terminates or truncates resets it (its action ignored, reward 0) and returns its first
-observation. ``info`` holds ``distance``, ``base_rate`` and ``is_success`` arrays with their
+observation. ``info`` holds ``distance``, ``base_rate``, ``is_success`` and ``runaway`` arrays with their
 ``_name`` masks.
 """
 
@@ -107,13 +107,13 @@ class ReachVectorEnv(_vector.VectorEnv):
         self._states = states
         self._steps[~resetting] += 1
         obs = t.observe(states, self._goals)
-        reward, distance, success = t.reward(obs, a)
-        terminated = success & ~resetting
+        reward, distance, success, runaway = t.reward(obs, a)
+        terminated = (success | runaway) & ~resetting
         truncated = (self._steps >= t.max_episode_steps) & ~resetting
         reward = np.where(resetting, 0.0, reward)
         self._needs_reset = terminated | truncated
         nx = t.robot.nx
         live = ~resetting
         info = {"distance": distance, "_distance": live, "base_rate": np.linalg.norm(states[:, nx + 3 : nx + 6], axis=1), "_base_rate": live,
-                "is_success": success & live, "_is_success": live}
+                "is_success": success & live, "_is_success": live, "runaway": runaway & live, "_runaway": live}
         return obs, reward, terminated, truncated, info
