@@ -2,7 +2,7 @@
 reaction wheels (floating mode).
 
 The robot (default: the ``spatial6`` preset with three reaction wheels on the base axes,
-[`wheeled_robot`][spacearm.gym.detumble.wheeled_robot]) has grasped a tumbling target at reset: the target of
+``wheeled_robot``) has grasped a tumbling target at reset: the target of
 ``spacearm/Capture-v0`` with its handle at the end effector, spinning at ``spin_rate`` (rad/s, a
 range) about a uniform axis, is locked to the gripper by the core's rigid grasp impulse
 (``spacearm.capture.grasp_impulse``) and attached as a payload (``spacearm.capture.attach_target``);
