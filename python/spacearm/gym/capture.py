@@ -1,25 +1,6 @@
 """``spacearm/Capture-v0``: approach and grasp a tumbling target (floating mode).
 
-The target is a rigid [`Target`][spacearm.Target] with one grasp point (its handle), drawn at each reset:
-handle ``approach_distance`` (m, a range) from the end effector in a uniform direction, a
-uniform attitude, a tumble of ``spin_rate`` (rad/s, a range) about a uniform axis, and the CM at
-rest. It moves torque-free by the core's free-body propagation (``Target.propagate``) over each
-control period while the robot steps in the core's RK4 stepper.
-
-Observation (float64, ``2N + 15``): ``[q (N, rad), q̇ (N, rad/s), p_ee (3, m, 𝒥),
-p_handle − p_ee (3, m, 𝒥), v_handle − v_ee (3, m/s, 𝒥; the linear part of the relative twist),
-ω_target (3, rad/s, 𝒥), ω0 (3, rad/s, 𝒥)]``.
-
-Action (float32, ``N``, in ``[-1, 1]``): joint torques ``τ = a · τ_max``.
-
-Reward (docs/rl.md): every step ``−d − w_base ‖ω0‖ − w_action ‖a‖²`` with ``d = ‖p_handle −
-p_ee‖``; on the grasp (``d < capture_tolerance``) the core's rigid grasp impulse
-``Λ = [f̂; n̂]`` (``spacearm.capture.grasp_impulse``) is applied, the robot becomes the captured
-system (``spacearm.capture.attach_target``: the target a payload of the gripper) and the step
-adds ``capture_bonus − w_impulse ‖Λ‖`` (``‖Λ‖`` the 2-norm of the six SI components) and
-terminates. A step that ends with a joint faster than ``max_joint_rate`` (rad/s) costs
-``runaway_penalty`` and terminates (``info["runaway"]``). Truncated after ``max_episode_steps``. ``info["captured"]`` is the
-[`CapturedSystem`][spacearm.capture.CapturedSystem] after a grasp (None before).
+The environment's class docstring gives its observation, action and reward (docs/rl.md).
 """
 
 from __future__ import annotations
@@ -79,7 +60,29 @@ def _range(value, name: str):
 
 
 class CaptureEnv(gymnasium.Env):
-    """``spacearm/Capture-v0`` (module docstring)."""
+    """``spacearm/Capture-v0``: approach and grasp a tumbling target (floating mode).
+
+    The target is a rigid [`Target`][spacearm.Target] with one grasp point (its handle), drawn at each reset:
+    handle ``approach_distance`` (m, a range) from the end effector in a uniform direction, a
+    uniform attitude, a tumble of ``spin_rate`` (rad/s, a range) about a uniform axis, and the CM at
+    rest. It moves torque-free by the core's free-body propagation (``Target.propagate``) over each
+    control period while the robot steps in the core's RK4 stepper.
+
+    Observation (float64, ``2N + 15``): ``[q (N, rad), q̇ (N, rad/s), p_ee (3, m, 𝒥),
+    p_handle − p_ee (3, m, 𝒥), v_handle − v_ee (3, m/s, 𝒥; the linear part of the relative twist),
+    ω_target (3, rad/s, 𝒥), ω0 (3, rad/s, 𝒥)]``.
+
+    Action (float32, ``N``, in ``[-1, 1]``): joint torques ``τ = a · τ_max``.
+
+    Reward (docs/rl.md): every step ``−d − w_base ‖ω0‖ − w_action ‖a‖²`` with ``d = ‖p_handle −
+    p_ee‖``; on the grasp (``d < capture_tolerance``) the core's rigid grasp impulse
+    ``Λ = [f̂; n̂]`` (``spacearm.capture.grasp_impulse``) is applied, the robot becomes the captured
+    system (``spacearm.capture.attach_target``: the target a payload of the gripper) and the step
+    adds ``capture_bonus − w_impulse ‖Λ‖`` (``‖Λ‖`` the 2-norm of the six SI components) and
+    terminates. A step that ends with a joint faster than ``max_joint_rate`` (rad/s) costs
+    ``runaway_penalty`` and terminates (``info["runaway"]``). Truncated after ``max_episode_steps``. ``info["captured"]`` is the
+    [`CapturedSystem`][spacearm.capture.CapturedSystem] after a grasp (None before).
+    """
 
     metadata = {"render_modes": list(_common.RENDER_MODES), "render_fps": 20}
 

@@ -1,25 +1,7 @@
 """``spacearm/Detumble-v0``: after a capture, null the spin of the base with the arm and the
 reaction wheels (floating mode).
 
-The robot (default: the ``spatial6`` preset with three reaction wheels on the base axes,
-``wheeled_robot``) has grasped a tumbling target at reset: the target of
-``spacearm/Capture-v0`` with its handle at the end effector, spinning at ``spin_rate`` (rad/s, a
-range) about a uniform axis, is locked to the gripper by the core's rigid grasp impulse
-(``spacearm.capture.grasp_impulse``) and attached as a payload (``spacearm.capture.attach_target``);
-the episode steps that captured system. Internal torques conserve the system's angular momentum,
-so the base can stop turning only by moving it into the wheels (and the arm).
-
-Observation (float64, ``2M + 3``, ``M`` the dofs, arm then wheels): ``[q (M, rad), q̇ (M, rad/s),
-ω0 (3, rad/s, 𝒥)]``.
-
-Action (float32, ``M``, in ``[-1, 1]``): torques of every dof (arm joints and wheels) as
-fractions of their scales ``τ = a · τ_max`` (the arm's ``max_torque``; each wheel's effort
-limit).
-
-Reward (docs/rl.md): ``r = −‖ω0‖ − w_action ‖a‖²``, minus ``runaway_penalty`` on a step that
-ends with an arm joint faster than ``max_joint_rate`` (rad/s; the wheels are free to spin up to
-their own limits); terminated when ``‖ω0‖ < rate_tolerance`` or on such a runaway, truncated
-after ``max_episode_steps``.
+The environment's class docstring gives its observation, action and reward (docs/rl.md).
 """
 
 from __future__ import annotations
@@ -51,7 +33,29 @@ def wheeled_robot(robot=None, *, rotor_inertia: float = 0.5, max_torque: float =
 
 
 class DetumbleEnv(gymnasium.Env):
-    """``spacearm/Detumble-v0`` (module docstring)."""
+    """``spacearm/Detumble-v0``: after a capture, null the spin of the base with the arm and the
+    reaction wheels (floating mode).
+
+    The robot (default: the ``spatial6`` preset with three reaction wheels on the base axes,
+    ``wheeled_robot``) has grasped a tumbling target at reset: the target of
+    ``spacearm/Capture-v0`` with its handle at the end effector, spinning at ``spin_rate`` (rad/s, a
+    range) about a uniform axis, is locked to the gripper by the core's rigid grasp impulse
+    (``spacearm.capture.grasp_impulse``) and attached as a payload (``spacearm.capture.attach_target``);
+    the episode steps that captured system. Internal torques conserve the system's angular momentum,
+    so the base can stop turning only by moving it into the wheels (and the arm).
+
+    Observation (float64, ``2M + 3``, ``M`` the dofs, arm then wheels): ``[q (M, rad), q̇ (M, rad/s),
+    ω0 (3, rad/s, 𝒥)]``.
+
+    Action (float32, ``M``, in ``[-1, 1]``): torques of every dof (arm joints and wheels) as
+    fractions of their scales ``τ = a · τ_max`` (the arm's ``max_torque``; each wheel's effort
+    limit).
+
+    Reward (docs/rl.md): ``r = −‖ω0‖ − w_action ‖a‖²``, minus ``runaway_penalty`` on a step that
+    ends with an arm joint faster than ``max_joint_rate`` (rad/s; the wheels are free to spin up to
+    their own limits); terminated when ``‖ω0‖ < rate_tolerance`` or on such a runaway, truncated
+    after ``max_episode_steps``.
+    """
 
     metadata = {"render_modes": list(_common.RENDER_MODES), "render_fps": 20}
 

@@ -1,24 +1,7 @@
 """``spacearm/Reach-v0``: bring the end effector to a goal point with the least base disturbance
 (floating mode: no base actuation, so every joint torque also turns the base).
 
-Observation (float64, ``2N + 9``): ``[q (N, rad), q̇ (N, rad/s), p_ee (3, m, in 𝒥),
-p_goal − p_ee (3, m, in 𝒥), ω0 (3, rad/s, in 𝒥)]``.
-
-Action (float32, ``N``, in ``[-1, 1]``): joint torques as fractions of ``max_torque``,
-``τ = a · τ_max``, held over the control period (``frame_skip`` RK4 steps of ``dt``).
-
-Reward (docs/rl.md): ``r = −‖p_goal − p_ee‖ − w_base ‖ω0‖ − w_action ‖a‖²`` after the step,
-minus ``runaway_penalty`` on a step that ends with a joint faster than ``max_joint_rate``
-(rad/s). Terminated when ``‖p_goal − p_ee‖ < success_tolerance`` (``info["is_success"]``) or on
-such a runaway (``info["runaway"]``: an arm spun up by a random policy would otherwise run to
-rates the integration step cannot follow); truncated after ``max_episode_steps``.
-
-The goal is the end-effector position of a joint configuration drawn uniformly within
-``goal_range`` (rad) of the initial one, with the base at its initial pose (reachable with the
-base fixed; the floating base moves a little, so the goal is nearly but not exactly reachable).
-
-[`ReachTask`][spacearm.gym.ReachTask] holds the observation and the reward of a batch of states, so the single
-environment and [`ReachVectorEnv`][spacearm.gym.ReachVectorEnv] share them.
+The environment's class docstring gives its observation, action and reward (docs/rl.md).
 """
 
 from __future__ import annotations
@@ -99,10 +82,33 @@ class ReachTask:
 
 
 class ReachEnv(gymnasium.Env):
-    """``spacearm/Reach-v0`` (module docstring). Keywords: those of [`ReachTask`][spacearm.gym.ReachTask] and
+    """``spacearm/Reach-v0``: bring the end effector to a goal point with the least base disturbance
+    (floating mode: no base actuation, so every joint torque also turns the base).
+
+    Observation (float64, ``2N + 9``): ``[q (N, rad), q̇ (N, rad/s), p_ee (3, m, in 𝒥),
+    p_goal − p_ee (3, m, in 𝒥), ω0 (3, rad/s, in 𝒥)]``.
+
+    Action (float32, ``N``, in ``[-1, 1]``): joint torques as fractions of ``max_torque``,
+    ``τ = a · τ_max``, held over the control period (``frame_skip`` RK4 steps of ``dt``).
+
+    Reward (docs/rl.md): ``r = −‖p_goal − p_ee‖ − w_base ‖ω0‖ − w_action ‖a‖²`` after the step,
+    minus ``runaway_penalty`` on a step that ends with a joint faster than ``max_joint_rate``
+    (rad/s). Terminated when ``‖p_goal − p_ee‖ < success_tolerance`` (``info["is_success"]``) or on
+    such a runaway (``info["runaway"]``: an arm spun up by a random policy would otherwise run to
+    rates the integration step cannot follow); truncated after ``max_episode_steps``.
+
+    The goal is the end-effector position of a joint configuration drawn uniformly within
+    ``goal_range`` (rad) of the initial one, with the base at its initial pose (reachable with the
+    base fixed; the floating base moves a little, so the goal is nearly but not exactly reachable).
+
+    [`ReachTask`][spacearm.gym.ReachTask] holds the observation and the reward of a batch of states, so the single
+    environment and [`ReachVectorEnv`][spacearm.gym.ReachVectorEnv] share them.
+
+    Keywords: those of [`ReachTask`][spacearm.gym.ReachTask] and
     ``render_mode`` (None or ``"rgb_array"``). ``randomize``: None (the nominal plant), True
     or a [`spacearm.campaign.Perturbations`][spacearm.campaign.Perturbations]: a perturbed plant
-    drawn at every reset."""
+    drawn at every reset.
+    """
 
     metadata = {"render_modes": list(_common.RENDER_MODES), "render_fps": 20}
 
