@@ -2,7 +2,8 @@
 # Build the documentation site into site/ (strict: any warning — a broken link, a docstring
 # mkdocstrings cannot parse, a cross-reference that resolves nowhere — fails the build), then
 # check it (scripts/check_site.py: no raw Sphinx role, every public name has an API entry,
-# nothing loaded from the network). Works on a fresh clone by itself: it installs what it needs.
+# nothing loaded from the network; scripts/check_site_browser.py: the maths typeset in
+# Chromium). Works on a fresh clone by itself: it installs what it needs.
 #
 # - the documentation tools (the `docs` extra's packages);
 # - spacearm itself with the `test` extra, when it is not importable: the tutorials are executed
@@ -34,4 +35,7 @@ fi
 export MPLBACKEND=Agg NO_MKDOCS_2_WARNING=1
 python3 -m mkdocs build --strict --site-dir site "$@"
 python3 scripts/check_site.py site
+# The pages as a reader sees them: every page with maths loaded in headless Chromium, its maths
+# typeset by the bundled KaTeX (skipped without Chromium, unless SPACEARM_REQUIRE_BROWSER=1 as in CI).
+python3 scripts/check_site_browser.py site --screenshots "${TMPDIR:-/tmp}/spacearm-site-screenshots"
 echo "site built: $(pwd)/site/index.html"

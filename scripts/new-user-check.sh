@@ -29,7 +29,7 @@ say "plain install of $(basename "$wheel") into a fresh venv (no extras)"
 python3 -m venv "$work/plain"
 "$work/plain/bin/pip" install --quiet --upgrade pip
 "$work/plain/bin/pip" install --quiet "$wheel"
-for pkg in matplotlib sympy distributed; do
+for pkg in matplotlib sympy distributed imageio_ffmpeg; do
     if "$work/plain/bin/python" -c "import $pkg" 2>/dev/null; then
         echo "new-user check is void: '$pkg' is installed in the plain venv" >&2; exit 1
     fi
@@ -72,6 +72,7 @@ expect_missing_extra() {
 expect_missing_extra symbolic "$work/plain/bin/spacearm" derive planar4 --python d.py
 expect_missing_extra plot "$work/plain/bin/spacearm" demo --no-animation
 expect_missing_extra plot "$work/plain/bin/spacearm" simulate planar4 --duration 0.01 --plot run.png
+expect_missing_extra video "$work/plain/bin/spacearm" simulate planar4 --duration 0.01 --video run.mp4
 "$work/plain/bin/spacearm" demo --no-figures --out-dir "$work/demo" >/dev/null
 test -s "$work/demo/spatial6_computed_torque.npz"
 cd "$root"

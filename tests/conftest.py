@@ -5,6 +5,11 @@ tree, not only on serial chains."""
 import os
 import sys
 
+# MuJoCo's renderer offscreen (EGL) in every test process, whichever test imports mujoco first
+# (MuJoCo reads MUJOCO_GL when it is imported; tests/viz/test_video.py renders with it).
+if sys.platform.startswith("linux"):  # MuJoCo accepts egl on Linux only
+    os.environ.setdefault("MUJOCO_GL", "egl")
+
 import numpy as np
 import pytest
 

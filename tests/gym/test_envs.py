@@ -191,3 +191,13 @@ def test_bad_arguments_are_spacearm_errors():
     env.reset(seed=0)
     with pytest.raises(ArgumentError):
         env.step(np.zeros(5))
+
+
+def test_auto_torque_scale_brings_each_joint_to_the_rate_limit_in_a_second():
+    env = sgym.ReachEnv(max_joint_rate=2.0)
+    robot = env.task.robot
+    h = np.diag(robot.mass_matrix(robot.neutral_configuration()))[6:]
+    assert np.allclose(env.task.torque_scale, 2.0 * h, rtol=1e-15)
+    assert np.array_equal(sgym.ReachEnv(max_torque=4.0).task.torque_scale, np.full(robot.n_dof, 4.0))
+    with pytest.raises(ArgumentError):
+        sgym.ReachEnv(max_torque="big")

@@ -2,7 +2,8 @@
 
 The plain install (``pip install spacearm``) holds the numerical core and the CLI: numpy,
 defusedxml and tqdm. Figures need matplotlib (extra ``plot``), closed-form derivation needs
-SymPy (extra ``symbolic``), and cluster campaigns need Dask (extra ``campaign``); ``all`` holds
+SymPy (extra ``symbolic``), cluster campaigns need Dask (extra ``campaign``), and videos need
+imageio-ffmpeg's ffmpeg (extra ``video``, with MuJoCo for its renderer); ``all`` holds
 every extra. Each optional package is imported through ``require``, never at module level,
 so ``import spacearm`` and every ``spacearm`` command start without them, and a missing one
 gives a [`MissingDependencyError`][spacearm.MissingDependencyError] that names the extra to install (the
@@ -28,6 +29,8 @@ EXTRAS = {
     "dask": "campaign",
     "casadi": "optimal-control",
     "trimesh": "mesh",
+    "imageio_ffmpeg": "video",
+    "meshcat": "view",
     "gymnasium": "rl",
 }
 

@@ -93,11 +93,21 @@ def attach_target(robot, x, u, target, target_state, *, point=None, grasp_offset
     payload = target.name if name is None else str(name)
     if payload in robot.body_names:
         raise ArgumentError(f"the robot already has a body named '{payload}'; pass name= for the payload")
-    combined = (robot.to_builder(name=f"{robot.name}+{payload}")
-                .attach_payload(payload, body=gripper, mass=target.mass, inertia=target.inertia,
-                                origin=Rb.T @ (s[:3] - rb), rotation=quat_from_matrix(Rb.T @ Rt))
-                .build())
+    combined = combined_model(robot, target, gripper, Rb.T @ (s[:3] - rb), quat_from_matrix(Rb.T @ Rt), payload)
     return CapturedSystem(combined, xv.copy(), uv.copy(), payload, gripper)
+
+
+def combined_model(robot, target, gripper: str, origin, rotation, payload: Optional[str] = None):
+    """``robot`` with the rigid ``target`` attached to body ``gripper`` as the payload link
+    ``payload`` (default: the target's name), its CM at ``origin`` and its axes at ``rotation``
+    (quaternion ``[x, y, z, w]``) in the gripper's frame; the target's shapes ride with it."""
+    payload = target.name if payload is None else str(payload)
+    builder = (robot.to_builder(name=f"{robot.name}+{payload}")
+               .attach_payload(payload, body=gripper, mass=target.mass, inertia=target.inertia, origin=origin, rotation=rotation))
+    for g in target.body.description.geometries:  # docs/geometry.md
+        builder.add_geometry(payload, g.shape, role=g.role, size=g.size, radius=g.radius, length=g.length, file=g.file,
+                             scale=g.scale, origin=g.origin, rotation=g.rotation, rgba=g.rgba, name=g.name)
+    return builder.build()
 
 
 class SoftCaptureRun(NamedTuple):

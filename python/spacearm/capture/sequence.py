@@ -43,7 +43,7 @@ from ..control import Combined, MomentumDamping, ResolvedMotionRate, TorqueLimit
 from ..errors import ArgumentError, SimulationError
 from ..rotations import quat_from_matrix
 from ..sim.simulation import simulate
-from .captured import attach_target, soft_capture
+from .captured import attach_target, combined_model, soft_capture
 from .detumbling import DETUMBLE_MODES, detumble, detumble_controller, grasp_wrench
 from .impact import CAPTURE_TOLERANCE, _check_target, grasp_impulse
 
@@ -115,6 +115,9 @@ def _check_work_and_reach(robot, x0, u0, target, s0, grasp, body, offset, mode, 
             f"(closest at t = {when:.3g} s of the {times['approach_time']:g} s approach), farther than the {point_reach + body_reach:.4g} m "
             f"that any configuration of '{robot.name}' reaches (its chain's lengths); place the target within reach")
 
+#: Format tag of the ``.npz`` that [`CaptureResult.save`][spacearm.capture.CaptureResult.save] writes.
+FILE_FORMAT = "spacearm.CaptureResult/1"
+
 #: The phases of [`capture`][spacearm.capture.capture], in order (docs/capture.md).
 PHASES = ("approach", "capture", "post-capture", "detumble")
 #: The grasp models [`capture`][spacearm.capture.capture] accepts as ``kind``.
@@ -185,11 +188,22 @@ class CaptureResult:
         }
 
     def save(self, path) -> None:
-        """Write the arrays to an ``.npz`` file (atomically: no partial file)."""
+        """Write the arrays to an ``.npz`` file (atomically: no partial file), with the robot's
+        and the target's models as TOML text (``__model_toml__``, ``__target_toml__``), the
+        grasp and mode (``kind``, ``mode``) and the format tag ``__format__`` =
+        ``FILE_FORMAT`` (``spacearm.CaptureResult/1``), so that ``spacearm view`` can
+        draw the record."""
         from .._util.atomic import atomic_open
+        from ..io.model_file import dumps_toml
 
+        payload = dict(self.arrays())
+        payload["__format__"] = np.array(FILE_FORMAT)
+        payload["__model_toml__"] = np.array(dumps_toml(self.robot))
+        payload["__target_toml__"] = np.array(dumps_toml(self.target_model.body))
+        payload["__target_name__"] = np.array(self.target_model.name)
+        payload["kind"], payload["mode"] = np.array(self.kind), np.array(self.mode)
         with atomic_open(path, "wb") as fh:
-            np.savez(fh, **self.arrays())
+            np.savez(fh, **payload)
 
     def plot(self, path=None):
         """A figure of the capture; written to ``path`` if given. See ``spacearm.viz.capture``."""
@@ -202,6 +216,32 @@ class CaptureResult:
         from ..viz.capture import animate_capture
 
         return animate_capture(self, path, fps=fps)
+
+    def video(self, path, *, width: int = 1280, height: int = 720, fps: int = 30, renderer: str = "auto", speed: float = 1.0,
+              camera=None, progress=None):
+        """Write an H.264 ``.mp4`` of the capture (robot and target, every phase), rendered
+        offscreen, atomically; returns the ``spacearm.viz.video.Video``. The options are
+        [`Trajectory.video`][spacearm.Trajectory.video]'s; MuJoCo draws the MJCF of the captured
+        system (the target a free body at its recorded pose). docs/video.md."""
+        from ..viz.video import capture_video
+
+        system = None
+        if self.captured is None and self.target_model.is_rigid:
+            # a point contact: the target never rides; attached anywhere, it is only drawn (posed
+            # by its recorded states), so MuJoCo has robot and target in one model
+            system = (combined_model(self.robot, self.target_model, self.robot.body_names[0], np.zeros(3),
+                                     np.array([0.0, 0.0, 0.0, 1.0])), self.target_model.name)
+        return capture_video(self, path, width=width, height=height, fps=fps, renderer=renderer, speed=speed,
+                             camera=camera, progress=progress, system=system)
+    def view(self, path=None, *, fps: float = 30.0, open=None, **kwargs):
+        """The capture in the 3-D browser viewer (meshcat, the ``view`` extra; docs/viewer.md):
+        the robot, the target moving, the grasp point from the capture on, the momentum of robot
+        + target. With ``path``: one self-contained ``.html`` file (returns the path); without:
+        a live view (returns the ``meshcat.Visualizer``). Options: see
+        ``spacearm.viz.viewer.capture_scene``."""
+        from ..viz.viewer import capture_scene, view
+
+        return view(capture_scene(self, fps=fps, **kwargs), path, open=open)
 
 
 def _ledger(plant, target, xs, us, ss, combined: bool):

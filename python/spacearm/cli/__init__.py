@@ -3,7 +3,7 @@
 ``inspect`` (``spacearm.cli.inspect``), ``derive`` (``spacearm.cli.derive``), ``analyze``
 (``spacearm.cli.analyze``), ``simulate`` and ``demo`` (``spacearm.cli.simulate``),
 ``campaign`` (``spacearm.cli.campaign``), ``capture`` (``spacearm.cli.capture``),
-``plan`` (``spacearm.cli.plan``) and ``fmu`` (``spacearm.cli.fmu``). ``MODEL`` is a preset name (``planar4``,
+``plan`` (``spacearm.cli.plan``), ``fmu`` (``spacearm.cli.fmu``) and ``view`` (``spacearm.cli.view``). ``MODEL`` is a preset name (``planar4``,
 ``spatial6``, ...), a TOML model file (``docs/model-format.md``) or a URDF file
 (``docs/urdf.md``), with the model options of ``spacearm.cli.model_options``. Optional packages are
 imported only inside the subcommand that needs them, so the command starts on a plain install.
@@ -30,6 +30,7 @@ from . import fmu as cli_fmu
 from . import inspect as cli_inspect
 from . import plan as cli_plan
 from . import simulate as cli_simulate
+from . import view as cli_view
 from .model_options import MODEL_HELP, add_model_arguments, load_model, model_from_args
 from .numbers import attach_negative_values
 from .._util.atomic import check_writable
@@ -41,13 +42,14 @@ __all__ = ["main", "load_model", "add_model_arguments", "model_from_args", "MODE
 #: The options of each subcommand that name a file to write: checked before the command
 #: computes anything (``spacearm._util.atomic.check_writable``).
 OUTPUT_OPTIONS = {
-    "simulate": ("out", "csv", "plot", "animate"),
+    "simulate": ("out", "csv", "plot", "animate", "video"),
     "campaign": ("out", "plot"),
     "analyze": ("out",),
     "derive": ("latex", "python", "c"),
-    "capture": ("out", "plot"),
+    "capture": ("out", "plot", "animate", "video"),
     "plan": ("out", "plot"),
     "fmu": ("out",),
+    "view": ("out",),
 }
 
 
@@ -80,6 +82,7 @@ def main(argv=None) -> int:
     cli_capture.add_parser(sub)
     cli_plan.add_parser(sub)
     cli_fmu.add_parser(sub)
+    cli_view.add_parser(sub)
     # "--target -0.3,0.3,0" would be read as two options: pass such values as "--target=-0.3,...".
     args = parser.parse_args(attach_negative_values(sys.argv[1:] if argv is None else argv))
     try:
@@ -102,6 +105,8 @@ def main(argv=None) -> int:
             cli_plan.run(args, model_from_args)
         elif args.command == "fmu":
             cli_fmu.run(args, model_from_args)
+        elif args.command == "view":
+            return cli_view.run(args)
     except SpacearmError as exc:
         print(f"spacearm: error: {exc}", file=sys.stderr)
         return 2

@@ -1,6 +1,6 @@
 """``spacearm capture MODEL --target-mass M --target-inertia IXX,IYY,IZZ --target-spin WX,WY,WZ ...``:
 the capture of a tumbling target, approach → capture → post-capture → detumble
-([`spacearm.capture.capture`][spacearm.capture.capture]), with a printed summary, the ``.npz`` record and figures.
+([`spacearm.capture.capture`][spacearm.capture.capture]), with a printed summary, the ``.npz`` record, figures and a video (``--video capture.mp4``).
 
 The arm starts at ``--q0`` (default the model's initial joint coordinates). The target starts
 at ``--target-at`` (its CM, m in 𝒥; default 0.6 m beyond the end effector, away from the base
@@ -19,6 +19,7 @@ import numpy as np
 
 from .model_options import add_model_arguments, joint_values
 from .numbers import parse_numbers
+from .simulate import add_video_options, describe_video, video_options
 
 __all__ = ["add_parser", "run"]
 
@@ -50,6 +51,7 @@ def add_parser(sub) -> None:
     o.add_argument("--out", default=None, help="write the record (.npz: t, phase, P, L, impulse, ...)")
     o.add_argument("--plot", default=None, help="write the figure (PNG)")
     o.add_argument("--animate", default=None, help="write an animation (GIF)")
+    add_video_options(p)
 
 
 def _vec(v) -> str:
@@ -64,6 +66,7 @@ def run(args, model_from_args, out=None) -> int:
     robot = model_from_args(args)
     if robot.end_effector is None:
         raise ArgumentError(f"model '{robot.name}' has no end effector to grasp with; give one with the model options")
+    video = video_options(args)
     inertia = parse_numbers(args.target_inertia, "--target-inertia", 3, "IXX,IYY,IZZ", "kg m²")
     spin = parse_numbers(args.target_spin, "--target-spin", 3, "WX,WY,WZ", "rad/s")
     x0 = robot.neutral_configuration(None if args.q0 is None else joint_values(args.q0, "--q0", robot))
@@ -119,4 +122,6 @@ def run(args, model_from_args, out=None) -> int:
     if args.animate:
         res.animate(args.animate)
         w(f"animation: {args.animate}\n")
+    if video:
+        w(f"video: {describe_video(res.video(args.video, **video))}\n")
     return 0

@@ -2,7 +2,8 @@
 
 ``spacearm simulate MODEL`` runs one simulation (mode, controller, integrator, step, target)
 and writes any of: the trajectory (``--out run.npz``), a CSV table (``--csv``), the figure
-(``--plot``) and an animation (``--animate``); it prints the run's summary (conservation drift
+(``--plot``), an animation (``--animate``) and a video (``--video run.mp4``, with
+``--video-size``, ``--fps``, ``--renderer``, ``--speed``); it prints the run's summary (conservation drift
 of the mode's conserved quantities, final tracking error, saturation events).
 
 ``spacearm demo`` runs the spatial 6-DOF example (the project-defined preset ``spatial6``) in
@@ -27,7 +28,8 @@ from .model_options import add_model_arguments, joint_values
 from .numbers import CliError, parse_numbers
 from ..sim.simulation import MODES, simulate  # MODES: the core's mode table
 
-__all__ = ["add_parsers", "run", "build_controller", "reaction_wheel_dofs", "run_demo"]
+__all__ = ["add_parsers", "run", "build_controller", "reaction_wheel_dofs", "run_demo", "add_video_options", "video_options",
+           "describe_video"]
 
 CONTROLLERS = ("none", "pd", "computed-torque", "rmrc", "attitude", "coordinated")
 #: The mode each controller runs in unless --mode says otherwise.
@@ -44,7 +46,7 @@ def add_parsers(sub) -> None:
     """Add the ``simulate`` and ``demo`` sub-commands to ``spacearm``'s sub-parsers."""
     p = sub.add_parser("simulate", help="simulate a model under a controller and write the results",
                        description="Simulate MODEL in a maneuvering mode under a controller; print a summary and "
-                                   "write the trajectory (.npz), a CSV table, a figure (PNG) and an animation (GIF).")
+                                   "write the trajectory (.npz), a CSV table, a figure (PNG), an animation (GIF) and a video (MP4).")
 
     add_model_arguments(p)
     p.add_argument("--mode", choices=MODES, help="maneuvering mode (default: floating; rotation-floating for "
@@ -80,8 +82,9 @@ def add_parsers(sub) -> None:
     p.add_argument("--plot", help="write the multi-panel figure to this PNG file")
     p.add_argument("--animate", help="write a 3-D animation to this GIF file")
     p.add_argument("--frames", type=int, default=100, help="GIF frames (default 100)")
+    add_video_options(p)
     p.add_argument("--progress", dest="progress", action="store_true", default=None,
-                   help=f"show a progress bar (default: for runs of {PROGRESS_STEPS} steps or more)")
+                   help=f"show a progress bar (default: for runs of {PROGRESS_STEPS} steps or more, videos of 100 frames or more)")
     p.add_argument("--no-progress", dest="progress", action="store_false", help="never show a progress bar")
 
     d = sub.add_parser("demo", help="run the spatial 6-DOF example and write its figures",
@@ -100,6 +103,43 @@ def add_orbit_options(p) -> None:
     p.add_argument("--orbit", help="run in orbit: circular:ALT_KM[,INC_DEG] (a circular Earth orbit of that altitude, km, "
                    "and inclination, deg, default 0); the system CM starts on it; gravity gradient on every body")
     p.add_argument("--no-gravity-gradient", action="store_true", help="with --orbit: no tidal force or torque")
+
+
+def add_video_options(p) -> None:
+    """``--video run.mp4`` and its ``--video-size``, ``--fps``, ``--renderer``, ``--speed``
+    (spacearm.viz.video)."""
+    g = p.add_argument_group("video")
+    g.add_argument("--video", help="write an H.264 video to this .mp4 file (extra video: imageio-ffmpeg; MuJoCo renders it "
+                                   "where it can, else matplotlib)")
+    g.add_argument("--video-size", default="1280x720", help="WIDTHxHEIGHT in pixels, both even (default 1280x720)")
+    g.add_argument("--fps", type=int, default=30, help="video frames per second (default 30)")
+    g.add_argument("--renderer", choices=("auto", "mujoco", "matplotlib"), default="auto",
+                   help="auto (MuJoCo where it can render offscreen, else matplotlib), mujoco or matplotlib")
+    g.add_argument("--speed", type=float, default=1.0, help="playback speed, times real time (default 1)")
+
+
+def video_options(args) -> dict:
+    """The keywords of ``.video(...)`` from the options, checked before any work (an error of
+    an option names it); ``{}`` without ``--video``. Checks that the encoder is installed."""
+    if not getattr(args, "video", None):
+        return {}
+    from ..viz.video import _ffmpeg, check_video_options
+
+    w, sep, h = str(args.video_size).lower().partition("x")
+    try:
+        width, height = int(w), int(h)
+    except ValueError:
+        raise CliError(f"--video-size must be WIDTHxHEIGHT in pixels (e.g. 1280x720), got {args.video_size!r}") from None
+    if not sep:
+        raise CliError(f"--video-size must be WIDTHxHEIGHT in pixels (e.g. 1280x720), got {args.video_size!r}")
+    opts = check_video_options(args.video, width=width, height=height, fps=args.fps, speed=args.speed, renderer=args.renderer)
+    _ffmpeg()
+    return opts
+
+
+def describe_video(video) -> str:
+    """What the CLI prints of a written video."""
+    return f"{video.path} ({video.width}x{video.height}, {video.frames} frames at {video.fps} fps, {video.renderer} renderer)"
 
 
 def orbit_from_args(args):
@@ -225,6 +265,7 @@ def simulate_command(args, model_from_args, out=None) -> int:
         raise CliError(f"--frames must be >= 1, got {args.frames}")
     if args.plot or args.animate:
         _require_figures("--plot and --animate")
+    video = video_options(args)
     x0 = robot.neutral_configuration(None if args.q0 is None else joint_values(args.q0, "--q0", robot))
     u0 = np.zeros(robot.nu)
     if args.qd0 is not None:
@@ -260,6 +301,8 @@ def simulate_command(args, model_from_args, out=None) -> int:
     if args.animate:
         traj.animate(args.animate, frames=args.frames)
         written.append(("animation", str(args.animate)))
+    if video:
+        written.append(("video", describe_video(traj.video(args.video, progress=args.progress, **video))))
     for what, path in written:
         out.write(f"wrote {what}: {path}\n")
     return 0

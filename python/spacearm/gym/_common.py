@@ -64,13 +64,26 @@ def check_render_mode(render_mode: Optional[str]) -> Optional[str]:
     return render_mode
 
 
-def torque_scale(robot, max_torque, dofs=None) -> np.ndarray:
+#: The time (s) in which a full action spins a joint alone from rest up to ``max_joint_rate``
+#: with ``max_torque="auto"``.
+AUTO_RAMP_TIME = 1.0
+
+
+def torque_scale(robot, max_torque, dofs=None, *, max_joint_rate: float = 3.0) -> np.ndarray:
     """The torque (N·m, or N for a prismatic joint) that an action of 1 commands on each dof of
-    ``dofs`` (default: all): ``max_torque`` (a number or one per dof), or where it is None the
-    joint's finite effort limit (an error where a joint has none)."""
+    ``dofs`` (default: all): ``max_torque`` (a number or one per dof); ``"auto"``:
+    ``H_ii(x0) · max_joint_rate / AUTO_RAMP_TIME`` (``H_ii`` the joint's diagonal element of the
+    core's mass matrix at the neutral configuration: a full action brings that joint alone to
+    ``max_joint_rate`` in about a second, whatever its size); None: the joint's finite effort
+    limit (an error where a joint has none)."""
     dofs = list(range(robot.n_dof)) if dofs is None else list(dofs)
     effort = {link.dof: link.limits.effort for link in robot.description.links if link.dof is not None}
-    if max_torque is None:
+    if isinstance(max_torque, str):
+        if max_torque != "auto":
+            raise ArgumentError(f"max_torque must be 'auto', None, a number or one per joint, got {max_torque!r}")
+        h = np.diag(np.asarray(robot.mass_matrix(robot.neutral_configuration()), dtype=float))[6:]
+        scale = h[dofs] * float(max_joint_rate) / AUTO_RAMP_TIME
+    elif max_torque is None:
         scale = np.array([effort[d] for d in dofs], dtype=float)
         missing = [robot.joint_names[d] for d, s in zip(dofs, scale) if not np.isfinite(s)]
         if missing:

@@ -86,7 +86,7 @@ class CaptureEnv(gymnasium.Env):
 
     metadata = {"render_modes": list(_common.RENDER_MODES), "render_fps": 20}
 
-    def __init__(self, robot=None, target: Optional[Target] = None, *, dt: float = 0.01, frame_skip: int = 5, max_torque=5.0,
+    def __init__(self, robot=None, target: Optional[Target] = None, *, dt: float = 0.01, frame_skip: int = 5, max_torque="auto",
                  approach_distance=(0.2, 0.4), spin_rate=(0.02, 0.08), capture_tolerance: float = 0.05,
                  base_rate_weight: float = 10.0, action_weight: float = 1e-3, impulse_weight: float = 0.1, capture_bonus: float = 50.0,
                  max_joint_rate: float = 3.0, runaway_penalty: float = 100.0, max_episode_steps: int = 300, randomize=None,
@@ -99,7 +99,7 @@ class CaptureEnv(gymnasium.Env):
             raise ArgumentError("target must be a rigid spacearm.Target")
         self.dt = _common.positive(dt, "dt")
         self.frame_skip = _common.count(frame_skip, "frame_skip")
-        self.torque_scale = _common.torque_scale(self.robot, max_torque)
+        self.torque_scale = _common.torque_scale(self.robot, max_torque, max_joint_rate=_common.positive(max_joint_rate, "max_joint_rate"))
         self.approach_distance = _range(approach_distance, "approach_distance")
         self.spin_rate = _range(spin_rate, "spin_rate")
         self.capture_tolerance = _common.positive(capture_tolerance, "capture_tolerance")

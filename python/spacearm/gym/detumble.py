@@ -59,7 +59,7 @@ class DetumbleEnv(gymnasium.Env):
 
     metadata = {"render_modes": list(_common.RENDER_MODES), "render_fps": 20}
 
-    def __init__(self, robot=None, target=None, *, dt: float = 0.01, frame_skip: int = 5, max_torque=5.0, spin_rate=(0.02, 0.08),
+    def __init__(self, robot=None, target=None, *, dt: float = 0.01, frame_skip: int = 5, max_torque="auto", spin_rate=(0.02, 0.08),
                  rate_tolerance: float = 1e-3, action_weight: float = 1e-3, max_joint_rate: float = 3.0, runaway_penalty: float = 100.0,
                  max_episode_steps: int = 300, randomize=None,
                  render_mode: Optional[str] = None):
@@ -72,7 +72,7 @@ class DetumbleEnv(gymnasium.Env):
         wheels = list(self.robot.wheel_dofs)
         arm = [d for d in range(self.robot.n_dof) if d not in wheels]
         scale = np.zeros(self.robot.n_dof)
-        scale[arm] = _common.torque_scale(self.robot, max_torque, arm)
+        scale[arm] = _common.torque_scale(self.robot, max_torque, arm, max_joint_rate=_common.positive(max_joint_rate, "max_joint_rate"))
         if wheels:
             scale[wheels] = _common.torque_scale(self.robot, None, wheels)
         self.torque_scale = scale

@@ -28,7 +28,7 @@ class ReachTask:
     masses, not the link frames, so its end effector is the nominal one's at the same
     configuration)."""
 
-    def __init__(self, robot=None, *, dt: float = 0.01, frame_skip: int = 5, max_torque=5.0, goal_range: float = 0.5,
+    def __init__(self, robot=None, *, dt: float = 0.01, frame_skip: int = 5, max_torque="auto", goal_range: float = 0.5,
                  success_tolerance: float = 0.02, base_rate_weight: float = 10.0, action_weight: float = 1e-3,
                  max_joint_rate: float = 3.0, runaway_penalty: float = 100.0, max_episode_steps: int = 200, randomize=None):
         self.robot = spatial6() if robot is None else robot
@@ -36,7 +36,7 @@ class ReachTask:
             raise ArgumentError("Reach needs a robot with joints and an end effector")
         self.dt = _common.positive(dt, "dt")
         self.frame_skip = _common.count(frame_skip, "frame_skip")
-        self.torque_scale = _common.torque_scale(self.robot, max_torque)
+        self.torque_scale = _common.torque_scale(self.robot, max_torque, max_joint_rate=_common.positive(max_joint_rate, "max_joint_rate"))
         self.goal_range = _common.non_negative(goal_range, "goal_range")
         self.success_tolerance = _common.positive(success_tolerance, "success_tolerance")
         self.base_rate_weight = _common.non_negative(base_rate_weight, "base_rate_weight")

@@ -13,7 +13,7 @@ import numpy as np
 
 from .._util.arrays import vector
 from .._util.atomic import atomic_open, write_text
-from ..errors import ArgumentError, MissingDependencyError, ModelFileError
+from ..errors import ArgumentError, MissingDependencyError, ModelFileError, NotFoundError
 from ..rotations import quat_from_matrix
 from ._common import ROOT_JOINT, _block_transform, _split_x, _square, _tree, engine_dof_order
 
@@ -113,6 +113,9 @@ def _mesh_assets(root: ET.Element, meshes: dict, assets) -> None:
             ET.SubElement(asset, "mesh", name=name, file=asset_name, scale=_fmt(scale))
 
 
+#: The export's headlight (``<visual><headlight ambient diffuse>``), grey levels in [0, 1].
+HEADLIGHT = ((0.35, 0.35, 0.35), (0.6, 0.6, 0.6))
+
 #: MuJoCo's name of its world body: a spacearm body of that name is exported as ``world_body``.
 MUJOCO_WORLD = "world"
 
@@ -122,8 +125,43 @@ def mjcf_body_name(name: str) -> str:
     return f"{name}_body" if name == MUJOCO_WORLD else name
 
 
+#: The weld's constraint softness (MuJoCo's ``solref`` time constant, s, and damping ratio; its
+#: ``solimp``): stiffer than MuJoCo's defaults, the time constant at the 2-step floor of the
+#: default 2 ms step (MuJoCo's ``refsafe``), the impedance near 1.
+WELD_SOLREF = (0.004, 1.0)
+WELD_SOLIMP = (0.99, 0.999, 0.001, 0.5, 2.0)
+
+
+def _welded_bodies(robot, weld) -> list:
+    """The body indices of the links named in ``weld``, checked: each a fixed link of
+    ``robot`` below which no joint moves (its whole subtree rides on it)."""
+    if isinstance(weld, str):
+        weld = (weld,)
+    names = robot.body_names
+    out = []
+    links = robot.description.links
+    for w in weld:
+        w = str(w)
+        if w not in names or names.index(w) == 0:
+            raise NotFoundError(f"weld: '{w}' is not a link of '{robot.name}'; the links are {list(names[1:])}")
+        b = names.index(w)
+        if links[b - 1].type != "fixed":
+            raise ArgumentError(f"weld: link '{w}' is on a {links[b - 1].type} joint; only a fixed link (a payload, "
+                                "a captured target) is exported as a free body held by a weld")
+        sub = {b}
+        for k, link in enumerate(links):  # links come after their parents
+            if link.parent_index in sub:
+                sub.add(k + 1)
+                if link.type != "fixed":
+                    raise ArgumentError(f"weld: joint '{link.joint}' below '{w}' moves; a welded body's subtree must be rigid")
+        if b in out:
+            raise ArgumentError(f"weld: '{w}' is named twice")
+        out.append(b)
+    return out
+
+
 def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, base_actuators: bool = False,
-            assets=None) -> str:
+            assets=None, weld=()) -> str:
     """The MJCF (MuJoCo XML) text of ``robot``.
 
     - Every MuJoCo body frame IS the spacearm body frame (origin at the CM, link axes), so the
@@ -153,6 +191,16 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
     - ``base_actuators`` (the flying modes): six motors on the base CM site ``base_cm``, the
       force ``F0`` and torque ``N0`` along the axes of the world site ``world_frame``
       (``refsite``): ``ctrl[-6:] = [F0, N0]`` in 𝒥, as spacearm's base wrench.
+    - ``weld`` (names of fixed links, e.g. the payload of a captured target,
+      [`attach_target`][spacearm.capture.attach_target]): each is written as a free body of
+      the world (``<freejoint name="<link>_free">``, its subtree with it) held to its parent by
+      ``<equality><weld body1="<parent>" body2="<link>" relpose="...">`` at the fixed joint's
+      pose (``relpose``: the link's frame in the parent's, position then quaternion wxyz),
+      ``solref`` ``WELD_SOLREF`` and ``solimp`` ``WELD_SOLIMP`` (stiffer than MuJoCo's defaults). Its XML pose is its pose at the
+      robot's ``qpos0`` (the core's kinematics). MuJoCo's state then has 7 ``qpos`` and 6
+      ``qvel`` more per welded body, after the robot's
+      ([`to_mujoco_state`][spacearm.interop.to_mujoco_state] with the same ``weld``).
+    - ``<visual><headlight>`` brighter than MuJoCo's default (``HEADLIGHT``).
     - ``<option gravity="0 0 0">``, contacts disabled, armature and friction loss explicitly
       zero (damping and stiffness zero unless the joint has them), no limits, RK4 (the
       integrator changes no term of the continuous-time dynamics), and the ``energy`` flag on
@@ -164,6 +212,8 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
                   alignfree="false", fusestatic="false", boundmass="0", boundinertia="0", balanceinertia="false")
     option = ET.SubElement(root, "option", gravity="0 0 0", integrator="RK4", density="0", viscosity="0")
     ET.SubElement(option, "flag", contact="disable", energy="enable")
+    visual = ET.SubElement(root, "visual")  # a brighter headlight than MuJoCo's: the model shows on the black sky
+    ET.SubElement(visual, "headlight", ambient=_fmt(HEADLIGHT[0]), diffuse=_fmt(HEADLIGHT[1]))
     world = ET.SubElement(root, "worldbody")
     if base_actuators:
         ET.SubElement(world, "site", name=WORLD_SITE, pos="0 0 0", size="0.01")
@@ -177,12 +227,18 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
         if g.role in tuple(geometry):
             geoms_on.setdefault(g.body_index, []).append(g)
     meshes: dict = {}
+    welded = _welded_bodies(robot, weld)
+    kin0 = robot.forward_kinematics(robot.neutral_configuration(np.zeros(robot.n_dof))) if welded else None
 
     def emit(parent_el: ET.Element, b: int) -> None:
         body = bodies[b]
         if b == 0:
             el = ET.SubElement(parent_el, "body", name=mjcf_body_name(body.name), pos="0 0 0")
             ET.SubElement(el, "freejoint", name=ROOT_JOINT, align="false")
+        elif b in welded:  # a free body of the world at its pose in the robot's qpos0
+            el = ET.SubElement(parent_el, "body", name=mjcf_body_name(body.name), pos=_fmt(kin0.com_in_world[b]),
+                               quat=_fmt(_quat_wxyz(kin0.body_to_world[b])))
+            ET.SubElement(el, "freejoint", name=f"{body.name}_free", align="false")
         else:
             pos = body.origin + body.rotation @ body.com
             el = ET.SubElement(parent_el, "body", name=mjcf_body_name(body.name), pos=_fmt(pos), quat=_fmt(_quat_wxyz(body.rotation)))
@@ -199,9 +255,19 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
         for name, offset in points_on.get(b, []):
             ET.SubElement(el, "site", name=name, pos=_fmt(offset), size="0.01")
         for c in children[b]:
-            emit(el, c)
+            if c not in welded:
+                emit(el, c)
 
     emit(world, 0)
+    for b in welded:
+        emit(world, b)
+    if welded:
+        eq = ET.SubElement(root, "equality")
+        for b in welded:
+            body = bodies[b]
+            rel = np.concatenate([body.origin + body.rotation @ body.com, _quat_wxyz(body.rotation)])
+            ET.SubElement(eq, "weld", name=f"{body.name}_weld", body1=mjcf_body_name(bodies[body.parent].name),
+                          body2=mjcf_body_name(body.name), relpose=_fmt(rel), solref=_fmt(WELD_SOLREF), solimp=_fmt(WELD_SOLIMP))
     _mesh_assets(root, meshes, assets)
     if actuators or base_actuators:
         act = ET.SubElement(root, "actuator")
@@ -268,24 +334,42 @@ def mujoco_transform(robot, x) -> np.ndarray:
     return _block_transform(robot, x, linear_rotated=False)
 
 
-def to_mujoco_state(robot, x, u) -> Tuple[np.ndarray, np.ndarray]:
+def to_mujoco_state(robot, x, u, *, weld=()) -> Tuple[np.ndarray, np.ndarray]:
     """spacearm ``(x, u)`` → MuJoCo ``(qpos, qvel)``.
 
     ``qpos = [r0, w, x, y, z, q[order]]`` (quaternion scalar first) and
-    ``qvel = T_mjᵀ u = [v0, R0ᵀ ω0, q̇[order]]``.
+    ``qvel = T_mjᵀ u = [v0, R0ᵀ ω0, q̇[order]]``; with ``weld`` (the links exported as free
+    bodies, [`to_mjcf`][spacearm.interop.to_mjcf]) each one's free joint follows: its CM and
+    attitude ``[r_b, w, x, y, z]``, then ``[v_b, R_bᵀ ω_b]``, from the core's kinematics of
+    ``robot`` at ``(x, u)`` (where the weld holds it).
     """
     r0, quat, q = _split_x(robot, x)
     u = vector(u, "u", robot.nu)
     order = engine_dof_order(robot)
     qpos = np.concatenate([r0, [quat[3]], quat[:3], q[order]])
-    return qpos, mujoco_transform(robot, x).T @ u
+    qvel = mujoco_transform(robot, x).T @ u
+    welded = _welded_bodies(robot, weld)
+    if not welded:
+        return qpos, qvel
+    xv = np.asarray(x, dtype=float)
+    kin = robot.forward_kinematics(xv)
+    extra_pos, extra_vel = [qpos], [qvel]
+    for b in welded:
+        rb = kin.body_to_world[b]
+        j0, jm = robot.point_jacobian(xv, (b, np.zeros(3)))
+        twist = j0 @ u[:6] + jm @ u[6:]
+        extra_pos.append(np.concatenate([kin.com_in_world[b], _quat_wxyz(rb)]))
+        extra_vel.append(np.concatenate([twist[:3], rb.T @ twist[3:]]))
+    return np.concatenate(extra_pos), np.concatenate(extra_vel)
 
 
-def from_mujoco_state(robot, qpos, qvel) -> Tuple[np.ndarray, np.ndarray]:
+def from_mujoco_state(robot, qpos, qvel, *, weld=()) -> Tuple[np.ndarray, np.ndarray]:
     """MuJoCo ``(qpos, qvel)`` → spacearm ``(x, u)``: the quaternion goes scalar last and
-    ``u = T_mj qvel``."""
-    qpos = vector(qpos, "qpos", robot.nx)
-    qvel = vector(qvel, "qvel", robot.nu)
+    ``u = T_mj qvel``. With ``weld``, the welded bodies' free joints (the last ``7`` and ``6``
+    entries per body) are dropped: in the spacearm model they ride on their parents."""
+    k = len(_welded_bodies(robot, weld))
+    qpos = vector(qpos, "qpos", robot.nx + 7 * k)[: robot.nx]
+    qvel = vector(qvel, "qvel", robot.nu + 6 * k)[: robot.nu]
     order = engine_dof_order(robot)
     joints = np.empty(robot.n_dof)
     joints[order] = qpos[7:]

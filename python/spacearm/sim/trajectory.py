@@ -13,7 +13,10 @@ Conventions (``docs/conventions.md``): ``x = [r0, quat0 (x, y, z, w), q]``, ``u 
 Output: [`Trajectory.save`][spacearm.Trajectory.save] / [`Trajectory.load`][spacearm.Trajectory.load] (``.npz``, the model embedded as
 TOML so a loaded run can be plotted and animated), [`Trajectory.to_csv`][spacearm.Trajectory.to_csv] (one row per
 sample, a header naming every column with its unit), [`Trajectory.plot`][spacearm.Trajectory.plot] (a multi-panel
-PNG) and [`Trajectory.animate`][spacearm.Trajectory.animate] (a 3-D GIF). Every file is written atomically.
+PNG), [`Trajectory.animate`][spacearm.Trajectory.animate] (a 3-D GIF),
+[`Trajectory.video`][spacearm.Trajectory.video] (an H.264 mp4) and
+[`Trajectory.view`][spacearm.Trajectory.view] (the 3-D browser viewer, a self-contained HTML file or
+a live view). Every file is written atomically.
 """
 
 from __future__ import annotations
@@ -700,3 +703,33 @@ class Trajectory:
         from ..viz.animation import animate_trajectory
 
         return animate_trajectory(self, path, **kwargs)
+
+    def video(self, path: PathLike, *, width: int = 1280, height: int = 720, fps: int = 30, renderer: str = "auto",
+              speed: float = 1.0, camera=None, trail: bool = True, progress=None):
+        """Write an H.264 ``.mp4`` of the run, rendered offscreen, atomically; returns the
+        ``spacearm.viz.video.Video`` (its ``path``, the ``renderer`` that drew it, ``frames``, ...).
+
+        ``width`` × ``height`` pixels (even), ``fps`` frames per second, ``speed`` times real
+        time (each frame shows the recorded sample nearest its time). ``renderer``: ``"mujoco"``
+        (MuJoCo's offscreen renderer of the MJCF export: needs mujoco and EGL or OSMesa),
+        ``"matplotlib"`` (the 3-D drawing of [`animate`][spacearm.Trajectory.animate]) or
+        ``"auto"`` (MuJoCo where it can, else matplotlib). ``camera``: MuJoCo's free camera
+        (``lookat``, ``distance``, ``azimuth``, ``elevation``; default: the whole run in view).
+        ``trail``: the end-effector path so far. ``progress``: a bar (default: renders of 100
+        frames or more). Needs the extra ``video`` (imageio-ffmpeg's ffmpeg). docs/video.md."""
+        from ..viz.video import trajectory_video
+
+        return trajectory_video(self, path, width=width, height=height, fps=fps, renderer=renderer, speed=speed,
+                                camera=camera, trail=trail, progress=progress)
+    def view(self, path: Optional[PathLike] = None, *, fps: float = 30.0, open: Optional[bool] = None, **kwargs):
+        """The run in the 3-D browser viewer (meshcat, the ``view`` extra; docs/viewer.md).
+
+        With ``path``: writes one self-contained ``.html`` file (opened from ``file://``, no
+        server) and returns the path; ``open=True`` also opens it in the web browser. Without a
+        path: serves the scene live and returns the ``meshcat.Visualizer`` (opened in the browser
+        unless ``open=False``). ``fps``: key frames per second of the run. Needs the robot. Other
+        options (``geometry``, ``momentum``, ``path``, ``frames``, ...): see
+        ``spacearm.viz.viewer.trajectory_scene``."""
+        from ..viz.viewer import trajectory_scene, view
+
+        return view(trajectory_scene(self, fps=fps, **kwargs), path, open=open)

@@ -23,7 +23,7 @@ import numpy as np
 from .._util.atomic import atomic_path
 from ..errors import ArgumentError
 
-__all__ = ["animate_trajectory", "equivalent_box", "arm_segments", "box_faces"]
+__all__ = ["animate_trajectory", "trajectory_scene", "equivalent_box", "arm_segments", "box_faces"]
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -88,42 +88,22 @@ def arm_segments(robot, x, skip_dofs: Sequence[int] = ()) -> List[Tuple[np.ndarr
     return segments
 
 
-def animate_trajectory(
-    traj,
-    path: PathLike,
-    *,
-    frames: int = 100,
-    fps: int = 20,
-    dpi: int = 80,
-    size: float = 4.5,
-    trail: bool = True,
-    elev: float = 25.0,
-    azim: float = -60.0,
-    title: Optional[str] = None,
-) -> str:
-    """Write a GIF of ``traj`` to ``path`` (atomically) and return the path.
-
-    ``frames`` (≤ the number of samples) are spread evenly over the run and played at ``fps``;
-    the image is ``size`` inches square at ``dpi`` (default 360 × 360 pixels). ``trail``
-    draws the end-effector path so far. The view is fixed (``elev``, ``azim`` in degrees) and
-    its box holds the whole run at equal scale on the three axes.
-    """
-    robot = traj.robot
-    if robot is None:
-        raise ArgumentError("animate needs the robot: build the Trajectory with robot=..., or load() a file saved with one")
-    if int(frames) < 1:
-        raise ArgumentError(f"frames must be >= 1, got {frames}")
-    if int(fps) < 1:
-        raise ArgumentError(f"fps must be >= 1, got {fps}")
+def trajectory_scene(traj, idx, *, figsize: Tuple[float, float], dpi: float = 100.0, trail: bool = True,
+                     elev: float = 25.0, azim: float = -60.0, title: Optional[str] = None):
+    """The figure of ``traj`` and ``draw(j)``, which poses it at sample ``idx[j]`` and returns
+    the artists it moved: the base box, the arm, the end-effector trail so far and the system
+    CM, in a fixed view box that holds every frame at equal scale (so the rest of the figure
+    is the same in every frame). The one drawing of a run, shared by the GIF
+    ([`animate_trajectory`][spacearm.viz.animation.animate_trajectory]) and the video
+    (``spacearm.viz.video``)."""
     from .._util.optional import require
 
-    PillowWriter = require("matplotlib.animation", "animations").PillowWriter
     FigureCanvasAgg = require("matplotlib.backends.backend_agg", "animations").FigureCanvasAgg
     Figure = require("matplotlib.figure", "animations").Figure
     Poly3DCollection = require("mpl_toolkits.mplot3d.art3d", "animations").Poly3DCollection
 
-    k_total = len(traj)
-    idx = np.unique(np.linspace(0, k_total - 1, min(int(frames), k_total)).round().astype(int))
+    robot = traj.robot
+    idx = np.asarray(idx, dtype=int)
     wheel_dofs = [int(d) for d in (traj.meta.get("wheel_dofs") or [])]
     base = robot.description.base
     sides, axes = equivalent_box(base.mass, base.inertia)
@@ -146,7 +126,7 @@ def animate_trajectory(
     lo, hi = allpts.min(axis=0), allpts.max(axis=0)
     centre, half = 0.5 * (lo + hi), 0.5 * float(np.max(hi - lo)) * 1.08 + 1e-6
 
-    fig = Figure(figsize=(size, size))
+    fig = Figure(figsize=figsize, dpi=dpi)
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(projection="3d")
     ax.set_xlim(centre[0] - half, centre[0] + half)
@@ -182,6 +162,46 @@ def animate_trajectory(
             g = com[idx[j]]
             com_dot.set_data_3d([g[0]], [g[1]], [g[2]])
         text.set_text(f"{heading}\nt = {traj.t[idx[j]]:.2f} s")
+        return moving
+
+    moving = [box, *links] + [a for a in (trail_line, com_dot) if a is not None] + [text]
+    return fig, draw
+
+
+def animate_trajectory(
+    traj,
+    path: PathLike,
+    *,
+    frames: int = 100,
+    fps: int = 20,
+    dpi: int = 80,
+    size: float = 4.5,
+    trail: bool = True,
+    elev: float = 25.0,
+    azim: float = -60.0,
+    title: Optional[str] = None,
+) -> str:
+    """Write a GIF of ``traj`` to ``path`` (atomically) and return the path.
+
+    ``frames`` (≤ the number of samples) are spread evenly over the run and played at ``fps``;
+    the image is ``size`` inches square at ``dpi`` (default 360 × 360 pixels). ``trail``
+    draws the end-effector path so far. The view is fixed (``elev``, ``azim`` in degrees) and
+    its box holds the whole run at equal scale on the three axes.
+    """
+    robot = traj.robot
+    if robot is None:
+        raise ArgumentError("animate needs the robot: build the Trajectory with robot=..., or load() a file saved with one")
+    if int(frames) < 1:
+        raise ArgumentError(f"frames must be >= 1, got {frames}")
+    if int(fps) < 1:
+        raise ArgumentError(f"fps must be >= 1, got {fps}")
+    from .._util.optional import require
+
+    PillowWriter = require("matplotlib.animation", "animations").PillowWriter
+
+    k_total = len(traj)
+    idx = np.unique(np.linspace(0, k_total - 1, min(int(frames), k_total)).round().astype(int))
+    fig, draw = trajectory_scene(traj, idx, figsize=(size, size), trail=trail, elev=elev, azim=azim, title=title)
 
     # The writer is driven directly rather than through FuncAnimation.save, which draws every
     # frame twice on a non-interactive canvas (once to "show" it, once to grab it).

@@ -11,7 +11,7 @@ from .._util.optional import require
 from .animation import arm_segments, box_faces, equivalent_box
 from .figures import new_figure, save_figure
 
-__all__ = ["plot_capture", "animate_capture", "plot_envelope"]
+__all__ = ["plot_capture", "animate_capture", "capture_scene", "plot_envelope"]
 
 _PHASE_COLOURS = ("#ffffff", "#fde0c5", "#e3f0d6", "#dbe7f5")
 
@@ -101,13 +101,16 @@ def plot_capture(result, path=None):
     return _save(fig, path)
 
 
-def animate_capture(result, path, *, frames: int = 40, fps: int = 10, dpi: int = 72, size: float = 4.5) -> str:
-    """A GIF: the base (its equivalent box), the arm, the target (its equivalent box) and the
-    grasp point's path; the title gives the phase and time."""
-    PillowWriter = require("matplotlib.animation", "animations").PillowWriter
+def capture_scene(result, idx, *, figsize, dpi: float = 100.0):
+    """The figure of a capture and ``draw(j)``, which poses it at sample ``idx[j]`` and returns
+    the artists it moved (the rest of the figure is the same in every frame): the base
+    (its equivalent box), the arm, the target (its equivalent box; a jointed target's links as
+    segments) in a fixed view box; the title gives the phase and time. The one drawing of a
+    capture, shared by the GIF ([`animate_capture`][spacearm.viz.capture.animate_capture]) and
+    the video (``spacearm.viz.video``)."""
     Poly3DCollection = require("mpl_toolkits.mplot3d.art3d", "animations").Poly3DCollection
     robot, target = result.robot, result.target_model
-    idx = np.unique(np.linspace(0, len(result.t) - 1, min(int(frames), len(result.t))).round().astype(int))
+    idx = np.asarray(idx, dtype=int)
     base = robot.description.base
     b_sides, b_axes = equivalent_box(base.mass, base.inertia)
     # a jointed target: its base as a box and its links as segments
@@ -126,7 +129,7 @@ def animate_capture(result, path, *, frames: int = 40, fps: int = 10, dpi: int =
                     + [np.vstack([np.vstack(seg) for seg in segs]) for _, segs, _ in geo if segs])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     centre, half = 0.5 * (lo + hi), 0.5 * float(np.max(hi - lo)) * 1.08 + 1e-6
-    fig = _figure(size, size, layout=None)
+    fig = new_figure(figsize=figsize, dpi=dpi, layout=None)
     fig.subplots_adjust(left=0.0, right=1.0, bottom=0.02, top=0.9)
     ax = fig.add_subplot(projection="3d")
     for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre):
@@ -139,17 +142,33 @@ def animate_capture(result, path, *, frames: int = 40, fps: int = 10, dpi: int =
     ax.add_collection3d(target_box)
     links = [ax.plot([], [], [], "-o", color="C0", lw=2.5, ms=3)[0] for _ in geo[0][1]]
     title = ax.set_title("", fontsize=8)
+
+    def draw(j):
+        k = idx[j]
+        faces, segs, tfaces = geo[j]
+        base_box.set_verts(faces)
+        target_box.set_verts(tfaces)
+        for line, (a, b) in zip(links, segs):
+            line.set_data_3d([a[0], b[0]], [a[1], b[1]], [a[2], b[2]])
+        title.set_text(f"{robot.name} capturing {target.name} ({result.kind}, {result.mode})\n"
+                       f"{result.phase_names[result.phase[k]]}, t = {result.t[k]:.2f} s")
+        return moving
+
+    moving = [base_box, target_box, *links, title]
+    return fig, draw
+
+
+def animate_capture(result, path, *, frames: int = 40, fps: int = 10, dpi: int = 72, size: float = 4.5) -> str:
+    """A GIF: the base (its equivalent box), the arm, the target (its equivalent box) and the
+    grasp point's path; the title gives the phase and time."""
+    PillowWriter = require("matplotlib.animation", "animations").PillowWriter
+    idx = np.unique(np.linspace(0, len(result.t) - 1, min(int(frames), len(result.t))).round().astype(int))
+    fig, draw = capture_scene(result, idx, figsize=(size, size))
     writer = PillowWriter(fps=int(fps))
     with atomic_path(path, suffix=".gif") as tmp:
         with writer.saving(fig, str(tmp), dpi=dpi):
-            for j, k in enumerate(idx):
-                faces, segs, tfaces = geo[j]
-                base_box.set_verts(faces)
-                target_box.set_verts(tfaces)
-                for line, (a, b) in zip(links, segs):
-                    line.set_data_3d([a[0], b[0]], [a[1], b[1]], [a[2], b[2]])
-                title.set_text(f"{robot.name} capturing {target.name} ({result.kind}, {result.mode})\n"
-                               f"{result.phase_names[result.phase[k]]}, t = {result.t[k]:.2f} s")
+            for j in range(len(idx)):
+                draw(j)
                 writer.grab_frame()
     return str(path)
 
