@@ -24,7 +24,7 @@ __all__ = [
     "NotFoundError", "PointDescription", "GeometryDescription", "QUATERNION_TOLERANCE", "QuaternionError",
     "ReactionNullSpace", "ResourceLimitError", "RmrcMotion", "RmrcOptions", "RmrcRates",
     "RmrcSpec", "RolloutBatch", "RunEvents", "RunMeta", "RunOptions", "RunRecords", "RunResult",
-    "SIM_DEFAULTS", "ScanResult", "ShapeError", "SimDefaults", "SimulationError", "Simulator",
+    "SIM_DEFAULTS", "ScanResult", "ShapeError", "SimDefaults", "SimulationError", "Simulator", "BatchSimulator",
     "SingularError", "SingularityReport", "SoftCaptureResult", "SpacearmError", "SpacearmTypeError", "Tape",
     "ThrusterLimits", "WorkspaceShells", "ZeroTorqueSpec", "__version__", "analysis_damping",
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
@@ -1262,6 +1262,22 @@ class Simulator:
     @property
     def n_steps(self) -> int: ...
     def result(self) -> RunResult: ...
+
+@final
+class BatchSimulator:
+    """B plants stepped one call at a time on native threads, the GIL released
+    (crates/spacearm-py/src/batch_simulator_py.rs over sim/batch_stepper.rs)."""
+
+    def __new__(cls, models: list[Model], x0: _ArrayLike, u0: _ArrayLike, options: RunOptions, threads: Optional[int] = None) -> BatchSimulator: ...
+    def __len__(self) -> int: ...
+    def reset(self, index: int, x0: _ArrayLike, u0: _ArrayLike, model: Optional[Model] = None) -> None: ...
+    def step(self, tau: _ArrayLike, base_wrench: Optional[_ArrayLike] = None, n: int = 1) -> npt.NDArray[np.float64]: ...
+    @property
+    def states(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def times(self) -> _Vec: ...
+    @property
+    def n_steps(self) -> list[int]: ...
 
 def perturbed(
     model: Model,

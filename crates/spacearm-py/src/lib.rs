@@ -8,6 +8,7 @@
 mod analysis_py;
 mod analysis_results_py;
 mod batch;
+mod batch_simulator_py;
 mod builder_py;
 mod contact_py;
 mod controller_spec_py;
@@ -92,6 +93,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate_py::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(rollout_py::rollout, m)?)?;
     m.add_class::<simulator_py::PySimulator>()?;
+    m.add_class::<batch_simulator_py::PyBatchSimulator>()?;
     // The typed inputs of simulate, rollout and Simulator.
     m.add_class::<sim_options_py::PyRunOptions>()?;
     m.add_class::<sim_options_py::PyThrusterLimits>()?;

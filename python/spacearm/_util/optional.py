@@ -31,6 +31,7 @@ EXTRAS = {
     "trimesh": "mesh",
     "imageio_ffmpeg": "video",
     "meshcat": "view",
+    "gymnasium": "rl",
 }
 
 

@@ -1,7 +1,7 @@
 //! The native simulation loop: time integrators on the quaternion manifold ([`integrate`]),
 //! maneuvering modes ([`modes`]), actuator limits ([`actuators`]), reference trajectories
 //! ([`reference`]), the loop ([`simulate`]) with its records ([`record`]), the same loop one
-//! RK4 step at a time ([`stepper`]), the longest RK4 step the fastest mode allows ([`step_limit`]), many runs on threads ([`rollout`]) and the soft capture of a
+//! RK4 step at a time ([`stepper`]), many steppers one step each in one call ([`batch_stepper`]), the longest RK4 step the fastest mode allows ([`step_limit`]), many runs on threads ([`rollout`]) and the soft capture of a
 //! free target by a wrist impedance ([`soft_capture`]) and closed chains under a loop closure
 //! ([`closed_chain`]);
 //! docs/simulation-core.md.
@@ -10,6 +10,7 @@
 //! [`crate::control`], which in turn use [`modes`], [`actuators`] and [`reference`].
 
 pub mod actuators;
+pub mod batch_stepper;
 pub mod closed_chain;
 pub mod free_body;
 pub mod integrate;

@@ -105,6 +105,16 @@ impl<'a> Rk4Stepper<'a> {
         &self.y
     }
 
+    /// The plant's model.
+    pub fn model(&self) -> &crate::model::Model {
+        self.plant.model()
+    }
+
+    /// Joints of the plant.
+    pub fn n_dof(&self) -> usize {
+        self.plant.model().n_dof()
+    }
+
     /// Accepted steps so far.
     pub fn n_steps(&self) -> usize {
         self.n_steps

@@ -1,0 +1,172 @@
+//! `spacearm._core.BatchSimulator`: `B` plants stepped one RK4 step each per call on native
+//! threads with the GIL released (`spacearm_core::sim::batch_stepper::BatchStepper`), each
+//! copy holding its own joint torque (and base wrench) over its step. Behind the vectorized
+//! environments of `spacearm.gym`.
+
+use std::sync::Mutex;
+
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyList;
+use spacearm_core::control::ZeroTorque;
+use spacearm_core::sim::batch_stepper::BatchStepper;
+use spacearm_core::sim::integrate::IntegratorKind;
+use spacearm_core::sim::simulate::{check_initial_state, Plant, SimOptions};
+use spacearm_core::sim::stepper::Rk4Stepper;
+use spacearm_core::{Model, SpacearmError};
+
+use crate::convert::*;
+use crate::model_py::PyModel;
+use crate::sim_options_py::PyRunOptions;
+
+fn bad(msg: String) -> SpacearmError {
+    SpacearmError::InvalidArgument(msg)
+}
+
+/// `err` with `copy {i}: ` before its message, as the same Python class.
+fn for_copy(py: Python<'_>, i: usize, err: SpacearmError) -> PyErr {
+    let e = to_py_err(py, err);
+    let message = format!("copy {i}: {}", e.value(py));
+    match e.get_type(py).call1((message,)) {
+        Ok(instance) => PyErr::from_value(instance),
+        Err(other) => other,
+    }
+}
+
+/// A batch of plants stepped together.
+#[pyclass(module = "spacearm._core", name = "BatchSimulator")]
+pub struct PyBatchSimulator {
+    opts: SimOptions,
+    n_dof: usize,
+    nx: usize,
+    nu: usize,
+    batch: Mutex<BatchStepper>,
+    tau: Vec<f64>,
+    wrench: Vec<f64>,
+}
+
+fn new_copy(py: Python<'_>, model: Model, opts: &SimOptions, x0: &[f64], u0: &[f64], i: usize) -> PyResult<Rk4Stepper<'static>> {
+    check_initial_state(&model, x0, u0).map_err(|e| for_copy(py, i, e))?;
+    let plant = Plant::owned(model, opts, Box::new(ZeroTorque)).map_err(|e| for_copy(py, i, e))?;
+    Rk4Stepper::new(plant, x0, u0, None).map_err(|e| for_copy(py, i, e))
+}
+
+fn core_model(py: Python<'_>, m: &Bound<'_, PyAny>) -> PyResult<Model> {
+    m.cast::<PyModel>().map(|m| m.borrow().model.clone()).map_err(|_| to_py_err(py, bad("models must be spacearm core models".into())))
+}
+
+#[pymethods]
+impl PyBatchSimulator {
+    /// `models`: one core model per copy (all with the same joints); `x0` (B·nx) and `u0`
+    /// (B·nu): the copies' initial states, row after row; `threads`: None (rayon's pool) or
+    /// 1..=1024.
+    #[new]
+    #[pyo3(signature = (models, x0, u0, options, threads=None))]
+    fn new(py: Python<'_>, models: &Bound<'_, PyList>, x0: &Bound<'_, PyAny>, u0: &Bound<'_, PyAny>, options: PyRef<'_, PyRunOptions>, threads: Option<usize>) -> PyResult<Self> {
+        let opts = options.sim_options(1.0);
+        if opts.integrator != IntegratorKind::Rk4 {
+            return Err(to_py_err(py, bad("the BatchSimulator steps with integrator 'rk4' only".into())));
+        }
+        opts.validate().or_raise(py)?;
+        let models: Vec<Model> = models.iter().map(|m| core_model(py, &m)).collect::<PyResult<_>>()?;
+        let first = models.first().ok_or_else(|| to_py_err(py, bad("a batch needs at least one model".into())))?;
+        let (nx, nu, n_dof, b) = (first.nx(), first.nu(), first.n_dof(), models.len());
+        let x0 = vec_arg_n(x0, "x0", b * nx)?;
+        let u0 = vec_arg_n(u0, "u0", b * nu)?;
+        let (x0, u0) = (x0.as_slice().to_vec(), u0.as_slice().to_vec());
+        let mut copies = Vec::with_capacity(b);
+        for (i, m) in models.into_iter().enumerate() {
+            if m.n_dof() != n_dof {
+                return Err(to_py_err(py, bad(format!("model {i} has {} joints, model 0 has {n_dof}; every copy needs the same joints", m.n_dof()))));
+            }
+            copies.push(new_copy(py, m, &opts, &x0[i * nx..(i + 1) * nx], &u0[i * nu..(i + 1) * nu], i)?);
+        }
+        let batch = BatchStepper::new(copies, opts.dt, threads).or_raise(py)?;
+        Ok(PyBatchSimulator { opts, n_dof, nx, nu, batch: Mutex::new(batch), tau: vec![0.0; b * n_dof], wrench: vec![0.0; b * 6] })
+    }
+
+    /// The number of copies.
+    fn __len__(&mut self) -> usize {
+        self.batch.get_mut().map(|b| b.len()).unwrap_or(0)
+    }
+
+    /// Start copy `index` again at `t = 0` from `(x0, u0)`, with the plant `model` (None: its
+    /// current one).
+    #[pyo3(signature = (index, x0, u0, model=None))]
+    fn reset(&mut self, py: Python<'_>, index: usize, x0: &Bound<'_, PyAny>, u0: &Bound<'_, PyAny>, model: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let x0 = vec_arg_n(x0, "x0", self.nx)?;
+        let u0 = vec_arg_n(u0, "u0", self.nu)?;
+        let model = model.filter(|m| !m.is_none()).map(|m| core_model(py, m)).transpose()?;
+        let batch = self.batch.get_mut().map_err(|_| to_py_err(py, bad("the batch is poisoned".into())))?;
+        if index >= batch.len() {
+            return Err(to_py_err(py, bad(format!("copy index {index} out of range for a batch of {}", batch.len()))));
+        }
+        let model = match model {
+            Some(m) if m.n_dof() != self.n_dof => {
+                return Err(to_py_err(py, bad(format!("the new model has {} joints, the batch {}", m.n_dof(), self.n_dof))));
+            }
+            Some(m) => m,
+            None => batch.copy(index).model().clone(),
+        };
+        let stepper = new_copy(py, model, &self.opts, x0.as_slice(), u0.as_slice(), index)?;
+        batch.replace(index, stepper).or_raise(py)
+    }
+
+    /// `n` (>= 1) steps of `dt` of every copy, copy `i` holding the joint torque `tau[i]` (N)
+    /// and base wrench `base_wrench[i]` (6; None: zero) over them (steps land on `t = k·dt`, as
+    /// `Simulator.step`'s); `tau` (B·N) and `base_wrench` (B·6)
+    /// row after row. Returns the new states, (B, 13+2N). The GIL is released while the copies
+    /// step. A copy that fails raises its error (`copy i: ...`) after all have stepped; it
+    /// needs a reset.
+    #[pyo3(signature = (tau, base_wrench=None, n=1))]
+    fn step<'py>(&mut self, py: Python<'py>, tau: &Bound<'_, PyAny>, base_wrench: Option<&Bound<'_, PyAny>>, n: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let b = self.wrench.len() / 6;
+        {
+            let t = vec_arg_n(tau, "tau", b * self.n_dof)?;
+            check_finite(py, "tau", t.as_slice())?;
+            self.tau.copy_from_slice(t.as_slice());
+        }
+        let with_wrench = match base_wrench.filter(|w| !w.is_none()) {
+            Some(w) => {
+                let w = vec_arg_n(w, "base_wrench", b * 6)?;
+                check_finite(py, "base_wrench", w.as_slice())?;
+                self.wrench.copy_from_slice(w.as_slice());
+                true
+            }
+            None => false,
+        };
+        let dim = self.nx + self.nu;
+        let mut out = vec![0.0; b * dim];
+        let (tau, wrench) = (&self.tau, &self.wrench);
+        let batch = self.batch.get_mut().map_err(|_| to_py_err(py, bad("the batch is poisoned".into())))?;
+        let outcomes = py.detach(|| batch.step(tau, with_wrench.then_some(wrench.as_slice()), n, &mut out)).or_raise(py)?;
+        if let Some((i, e)) = outcomes.into_iter().enumerate().find_map(|(i, r)| r.err().map(|e| (i, e))) {
+            return Err(for_copy(py, i, e));
+        }
+        Ok(PyArray1::from_vec(py, out).reshape([b, dim])?)
+    }
+
+    /// The copies' current states, (B, 13+2N) (a new array).
+    #[getter]
+    fn states<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let batch = self.batch.get_mut().map_err(|_| to_py_err(py, bad("the batch is poisoned".into())))?;
+        let dim = batch.state_dim();
+        let flat: Vec<f64> = (0..batch.len()).flat_map(|i| batch.copy(i).state().to_vec()).collect();
+        Ok(PyArray1::from_vec(py, flat).reshape([batch.len(), dim])?)
+    }
+
+    /// The copies' current times, s, (B,).
+    #[getter]
+    fn times<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let batch = self.batch.get_mut().map_err(|_| to_py_err(py, bad("the batch is poisoned".into())))?;
+        let t: Vec<f64> = (0..batch.len()).map(|i| batch.copy(i).time()).collect();
+        Ok(PyArray1::from_vec(py, t))
+    }
+
+    /// Steps each copy took since its last reset, (B,).
+    #[getter]
+    fn n_steps(&mut self, py: Python<'_>) -> PyResult<Vec<usize>> {
+        let batch = self.batch.get_mut().map_err(|_| to_py_err(py, bad("the batch is poisoned".into())))?;
+        Ok((0..batch.len()).map(|i| batch.copy(i).n_steps()).collect())
+    }
+}
