@@ -17,6 +17,7 @@ Docs: ``docs/campaigns.md``.
 """
 
 from .executor import run_campaign
+from .flexibility import Fixed, Flexibility, LogNormal, Normal, Panel, Tank, Uniform
 from .perturbation import PARAMETER_NAMES, PARAMETER_UNITS, Perturbations
 from .results import FAILED, OK, PENDING, CampaignResult
 from .scenario import METRIC_NAMES, METRIC_UNITS, Scenario, evaluate
@@ -28,6 +29,13 @@ __all__ = [
     "CampaignResult",
     "Perturbations",
     "Scenario",
+    "Flexibility",
+    "Tank",
+    "Panel",
+    "Fixed",
+    "Uniform",
+    "Normal",
+    "LogNormal",
     "evaluate",
     "PARAMETER_NAMES",
     "PARAMETER_UNITS",

@@ -28,7 +28,7 @@ from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
-from .scenario import METRIC_NAMES, controller, metrics_from_records, non_finite_message, plant
+from .scenario import METRIC_NAMES, control_model, controller, metrics_from_records, non_finite_message, plant
 from .worker import SampleOutcome, failure_message, nominal_robot
 
 __all__ = ["Job", "Prepared", "prepare", "fly", "outcomes", "run_batch", "split_into_batches",
@@ -65,9 +65,9 @@ def prepare(spec, indices: Sequence[int]) -> Prepared:
     nominal = nominal_robot(spec.model_toml)
     flying, plants, failed = [], [], []
     for index in indices:
-        job = (index, spec.perturbations.draw(spec.seed, index))
+        job = (index, spec.draw(index))
         try:
-            plants.append(plant(nominal, job[1]))
+            plants.append(plant(nominal, job[1], spec.scenario.flexibility))
             flying.append(job)
         except Exception as exc:  # noqa: BLE001 — an invalid plant is the sample's failure
             failed.append((job, failure_message(exc)))
@@ -89,7 +89,7 @@ def fly(prepared: Prepared, threads: int, stop=None):
     try:
         tracker = controller(nominal, spec.scenario)
         x0 = np.stack([spec.scenario.initial_configuration(p) for p in prepared.plants])
-        runs = rollout(nominal, spec.scenario.duration, x0, controller=tracker, plants=prepared.plants,
+        runs = rollout(control_model(nominal, spec.scenario), spec.scenario.duration, x0, controller=tracker, plants=prepared.plants,
                        mode=spec.scenario.mode, dt=spec.scenario.dt, threads=threads, stop=stop, **spec.scenario.run_options())
     except Exception as exc:  # noqa: BLE001 — the scenario cannot be flown by any sample
         return failure_message(exc), time.perf_counter() - start
@@ -136,6 +136,7 @@ def record_bytes_per_sample(spec, nominal: Optional[object] = None) -> int:
 
     nominal = nominal if nominal is not None else nominal_robot(spec.model_toml)
     scenario = spec.scenario
+    nominal = control_model(nominal, scenario)
     probe = rollout(nominal, 2 * scenario.dt, nominal.neutral_configuration()[None], mode=scenario.mode,
                     dt=scenario.dt, threads=1)
     rows = probe["t"].shape[1]

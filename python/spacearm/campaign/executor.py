@@ -33,7 +33,7 @@ from typing import Callable, Optional, Union
 
 from ..errors import ArgumentError, CampaignError
 from ._main_guard import GUARD_ADVICE, check_caller_is_guarded, stop_if_reimported_by_a_worker
-from .perturbation import PARAMETER_NAMES, Perturbations
+from .perturbation import Perturbations
 from .results import FAILED, PENDING, CampaignResult
 from .scenario import METRIC_NAMES, Scenario
 from .spec import CampaignSpec
@@ -207,7 +207,7 @@ def run_campaign(
                                 "seed differ); choose another output path, or overwrite it (resume=False; on the command line "
                                 "--no-resume)")
     if result is None:
-        result = CampaignResult(spec_json, PARAMETER_NAMES, METRIC_NAMES, spec.samples)
+        result = CampaignResult(spec_json, spec.param_names, METRIC_NAMES, spec.samples)
     todo = result.status == PENDING
     if retry_failed:
         todo |= result.status == FAILED

@@ -19,7 +19,7 @@ Metrics of a run (the result file's ``metrics`` columns, [`METRIC_NAMES`][spacea
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from typing import Dict, Optional, Tuple
 
 import numpy as np
@@ -27,8 +27,9 @@ import numpy as np
 from .. import control
 from ..errors import ArgumentError, ShapeError, SimulationError
 from ..sim.simulation import simulate
+from .flexibility import Flexibility
 
-__all__ = ["Scenario", "METRIC_NAMES", "METRIC_UNITS", "evaluate", "plant", "controller", "with_payload",
+__all__ = ["Scenario", "METRIC_NAMES", "METRIC_UNITS", "evaluate", "plant", "control_model", "controller", "with_payload",
            "metrics_from_records", "non_finite_message", "attitude_angle_deg"]
 
 #: The metrics of each campaign sample, in the order of the result's columns (docs/campaigns.md).
@@ -67,6 +68,9 @@ class Scenario:
     ``orbit``: a [`spacearm.Orbit`][spacearm.Orbit] to fly every sample in (docs/orbit.md; each
     plant's system CM put on it), kept as plain numbers (``r0``, ``v0``, μ, R, J2, whether J2
     acts) so that the spec travels as JSON; ``gravity_gradient``: whether the tidal wrenches act.
+    ``flexibility``: a [`Flexibility`][spacearm.campaign.Flexibility] recipe: every plant gets a sloshing tank and/or a
+    hinged panel with parameters drawn per sample, and computed torque is designed on the nominal
+    flexible model with its passive joints frozen (the rigid lumped model, docs/campaigns.md).
     """
 
     mode: str = "floating"
@@ -80,9 +84,16 @@ class Scenario:
     kd: float = 20.0
     orbit: Optional[Tuple[float, ...]] = None
     gravity_gradient: bool = True
+    flexibility: Optional[Flexibility] = None
 
     def __post_init__(self):
         from ..orbit import Orbit
+
+        if isinstance(self.flexibility, dict):
+            object.__setattr__(self, "flexibility", Flexibility.from_dict(self.flexibility))
+        if self.flexibility is not None and not isinstance(self.flexibility, Flexibility):
+            raise ArgumentError("Scenario.flexibility must be a spacearm.campaign.Flexibility, "
+                                f"got {type(self.flexibility).__name__}")
 
         if isinstance(self.orbit, Orbit):
             o = self.orbit
@@ -120,7 +131,12 @@ class Scenario:
         return np.asarray(self.q_goal)
 
     def to_dict(self) -> dict:
-        return asdict(self)
+        """Plain data for the JSON spec (no ``flexibility`` key without one, so a rigid campaign's
+        spec is what it was before flexible plants existed)."""
+        d = {k: getattr(self, k) for k in self.__dataclass_fields__ if k != "flexibility"}
+        if self.flexibility is not None:
+            d["flexibility"] = self.flexibility.to_dict()
+        return d
 
     def orbit_model(self):
         """The scenario's [`spacearm.Orbit`][spacearm.Orbit] (``None`` in empty space)."""
@@ -204,9 +220,10 @@ def with_payload(robot, mass: float):
     return builder.build()
 
 
-def plant(nominal, params: Dict[str, float]):
+def plant(nominal, params: Dict[str, float], flexibility: Optional[Flexibility] = None):
     """The plant of a sample: ``nominal`` with the inertia errors ``params`` (the
-    [`PARAMETER_NAMES`][spacearm.campaign.perturbation.PARAMETER_NAMES]) and its payload."""
+    [`PARAMETER_NAMES`][spacearm.campaign.perturbation.PARAMETER_NAMES]) and its payload, then the flexible parts of
+    ``flexibility`` with the drawn values in ``params``."""
     perturbed = control.perturbed_model(
         nominal,
         base_mass_scale=params["base_mass_scale"],
@@ -215,15 +232,29 @@ def plant(nominal, params: Dict[str, float]):
         slosh_fraction=params["slosh_fraction"],
         slosh_offset=(params["slosh_offset_x"], params["slosh_offset_y"], params["slosh_offset_z"]),
     )
-    return with_payload(perturbed, params["payload_mass"])
+    rigid = with_payload(perturbed, params["payload_mass"])
+    return rigid if flexibility is None else flexibility.apply(rigid, params)
+
+
+def control_model(nominal, scenario: Scenario):
+    """The model the controller is designed on and the rollouts are keyed by: ``nominal``, or with
+    a flexibility recipe the nominal robot with its flexible parts at their nominal values."""
+    if scenario.flexibility is None:
+        return nominal
+    return scenario.flexibility.apply(nominal, scenario.flexibility.nominal())
 
 
 def controller(nominal, scenario: Scenario):
     """The controller every sample flies with, built on the *nominal* model: the quintic reference
-    tracked by computed torque or joint PD."""
+    tracked by computed torque or joint PD. With a flexibility recipe, computed torque uses
+    [`control_model`][spacearm.campaign.scenario.control_model] with its passive joints frozen at rest; the reference is over
+    ``nominal``'s joints (the plant's actuated ones)."""
     q0 = np.asarray(nominal.initial_q, dtype=float)
     reference = control.QuinticJoint(q0, scenario.goal(nominal), 0.0, scenario.motion_fraction * scenario.duration)
     if scenario.controller == "computed-torque":
+        if scenario.flexibility is not None:
+            return control.ComputedTorque(scenario.kp, scenario.kd, reference, model=control_model(nominal, scenario),
+                                          passive="frozen")
         return control.ComputedTorque(scenario.kp, scenario.kd, reference, model=nominal)
     return control.JointPD(scenario.kp, scenario.kd, reference)
 
@@ -231,7 +262,7 @@ def controller(nominal, scenario: Scenario):
 def evaluate(nominal, scenario: Scenario, params: Dict[str, float]) -> Dict[str, float]:
     """Fly one sample with [`spacearm.simulate`][spacearm.simulate]: the metrics of [`METRIC_NAMES`][spacearm.campaign.scenario.METRIC_NAMES] for the
     plant drawn as ``params``. The reference every batched run is checked against."""
-    p = plant(nominal, params)
+    p = plant(nominal, params, scenario.flexibility)
     traj = simulate(p, scenario.duration, x0=scenario.initial_configuration(p), mode=scenario.mode, dt=scenario.dt,
                     controller=controller(nominal, scenario), **scenario.run_options())
     saturation = len(traj["saturation_t"]) if traj.has("saturation_t") else 0

@@ -12,7 +12,7 @@ import json
 from dataclasses import dataclass, field
 
 from ..errors import ArgumentError
-from .perturbation import Perturbations
+from .perturbation import PARAMETER_NAMES, Perturbations
 from .scenario import Scenario
 
 __all__ = ["CampaignSpec"]
@@ -37,6 +37,20 @@ class CampaignSpec:
             raise ArgumentError(f"the number of samples must be an integer >= 1, got {self.samples!r}")
         if not isinstance(self.seed, int) or isinstance(self.seed, bool) or self.seed < 0:
             raise ArgumentError(f"the seed must be an integer >= 0, got {self.seed!r}")
+
+    @property
+    def param_names(self):
+        """The columns of the result's ``params``: [`PARAMETER_NAMES`][spacearm.campaign.perturbation.PARAMETER_NAMES], then
+        the scenario's [`Flexibility.names`][spacearm.campaign.Flexibility.names] if it has a flexibility recipe."""
+        flex = self.scenario.flexibility
+        return PARAMETER_NAMES + (() if flex is None else flex.names)
+
+    def draw(self, index: int):
+        """Every parameter of sample ``index``: its inertia errors and its flexible-plant values."""
+        params = self.perturbations.draw(self.seed, index)
+        if self.scenario.flexibility is not None:
+            params.update(self.scenario.flexibility.draw(self.seed, index))
+        return params
 
     def to_json(self) -> str:
         return json.dumps(

@@ -67,7 +67,7 @@ def run_sample(spec, index: int) -> SampleOutcome:
     from .scenario import evaluate
 
     start = time.perf_counter()
-    params = spec.perturbations.draw(spec.seed, index)
+    params = spec.draw(index)
     try:
         metrics = evaluate(nominal_robot(spec.model_toml), spec.scenario, params)
         return SampleOutcome(index, params, metrics, "", time.perf_counter() - start)

@@ -1,0 +1,322 @@
+"""A flexible-plant recipe for campaigns: a propellant tank and a hinged panel whose fill
+fraction, slosh frequency and damping, and panel stiffness are drawn per sample.
+
+[`Flexibility`][spacearm.campaign.Flexibility] is carried by a [`Scenario`][spacearm.campaign.Scenario]. Every sample's plant is the
+nominal robot (with the sample's inertia errors, [`Perturbations`][spacearm.campaign.Perturbations]) plus the tank's
+equivalent mechanical model ([`spacearm.slosh_parameters`][spacearm.slosh_parameters] at the drawn fill fraction,
+added with ``SloshParameters.add_to``) and the panel ([`RobotBuilder.add_panel`][spacearm.RobotBuilder.add_panel] with the
+drawn stiffness), rebuilt by the builder in the worker. The controller is designed on the
+*nominal* flexible model (every distribution at its ``nominal`` value) with
+``ComputedTorque(passive="frozen")``: the rigid lumped model, the fuel and the panel locked at rest.
+
+The values of sample ``i`` are drawn from ``numpy.random.SeedSequence(seed, spawn_key=(i, 1))``
+(the inertia errors use ``spawn_key=(i,)``), in the order of
+[`Flexibility.names`][spacearm.campaign.Flexibility.names], one draw per parameter whether it varies or not: reproducible,
+independent of the workers, and a campaign without flexibility draws exactly what it drew before.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Dict, Optional, Tuple, Union
+
+import numpy as np
+
+from ..errors import ArgumentError
+
+__all__ = ["Fixed", "Uniform", "Normal", "LogNormal", "Tank", "Panel", "Flexibility", "FLEX_PARAMETER_UNITS"]
+
+#: The unit of each flexibility parameter (a result file's extra ``params`` columns).
+FLEX_PARAMETER_UNITS = {
+    "fill_fraction": "-",
+    "slosh_frequency_scale": "-",
+    "slosh_damping_ratio": "-",
+    "panel_stiffness": "N·m/rad",
+}
+
+
+def _finite(value, what: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value):
+        raise ArgumentError(f"{what} must be a finite number, got {value!r}")
+    return float(value)
+
+
+@dataclass(frozen=True)
+class Fixed:
+    """Always ``value`` (the nominal value too)."""
+
+    value: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "value", _finite(self.value, "Fixed.value"))
+
+    @property
+    def nominal(self) -> float:
+        return self.value
+
+    def sample(self, z: float, u: float) -> float:
+        return self.value
+
+    def to_dict(self) -> dict:
+        return {"kind": "fixed", "value": self.value}
+
+
+@dataclass(frozen=True)
+class Uniform:
+    """Uniform on ``[low, high]``; nominal value the midpoint."""
+
+    low: float
+    high: float
+
+    def __post_init__(self):
+        lo, hi = _finite(self.low, "Uniform.low"), _finite(self.high, "Uniform.high")
+        if not lo <= hi:
+            raise ArgumentError(f"Uniform needs low <= high, got low={lo}, high={hi}")
+        object.__setattr__(self, "low", lo)
+        object.__setattr__(self, "high", hi)
+
+    @property
+    def nominal(self) -> float:
+        return 0.5 * (self.low + self.high)
+
+    def sample(self, z: float, u: float) -> float:
+        return self.low + (self.high - self.low) * u
+
+    def to_dict(self) -> dict:
+        return {"kind": "uniform", "low": self.low, "high": self.high}
+
+
+@dataclass(frozen=True)
+class Normal:
+    """Normal with ``mean`` and standard deviation ``std``; nominal value the mean."""
+
+    mean: float
+    std: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "mean", _finite(self.mean, "Normal.mean"))
+        object.__setattr__(self, "std", _finite(self.std, "Normal.std"))
+        if self.std < 0:
+            raise ArgumentError(f"Normal.std must be >= 0, got {self.std}")
+
+    @property
+    def nominal(self) -> float:
+        return self.mean
+
+    def sample(self, z: float, u: float) -> float:
+        return self.mean + self.std * z
+
+    def to_dict(self) -> dict:
+        return {"kind": "normal", "mean": self.mean, "std": self.std}
+
+
+@dataclass(frozen=True)
+class LogNormal:
+    """``median · exp(sigma z)``, ``z ~ N(0, 1)``: always of the median's sign; nominal value the median."""
+
+    median: float
+    sigma: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "median", _finite(self.median, "LogNormal.median"))
+        object.__setattr__(self, "sigma", _finite(self.sigma, "LogNormal.sigma"))
+        if self.sigma < 0:
+            raise ArgumentError(f"LogNormal.sigma must be >= 0, got {self.sigma}")
+
+    @property
+    def nominal(self) -> float:
+        return self.median
+
+    def sample(self, z: float, u: float) -> float:
+        return self.median * math.exp(self.sigma * z)
+
+    def to_dict(self) -> dict:
+        return {"kind": "lognormal", "median": self.median, "sigma": self.sigma}
+
+
+Distribution = Union[Fixed, Uniform, Normal, LogNormal]
+_KINDS = {"fixed": Fixed, "uniform": Uniform, "normal": Normal, "lognormal": LogNormal}
+
+
+def _distribution(value, what: str) -> Distribution:
+    if isinstance(value, (Fixed, Uniform, Normal, LogNormal)):
+        return value
+    if isinstance(value, dict):
+        d = dict(value)
+        kind = d.pop("kind", None)
+        if kind not in _KINDS:
+            raise ArgumentError(f"{what}: unknown distribution kind {kind!r}; one of {', '.join(_KINDS)}")
+        return _KINDS[kind](**d)
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return Fixed(value)
+    raise ArgumentError(f"{what} must be a number or a distribution (Fixed, Uniform, Normal, LogNormal), got {value!r}")
+
+
+def _vec3(value, what: str) -> Tuple[float, float, float]:
+    a = np.asarray(value, dtype=float)
+    if a.shape != (3,) or not np.all(np.isfinite(a)):
+        raise ArgumentError(f"{what} must be 3 finite numbers, got {value!r}")
+    return tuple(float(v) for v in a)
+
+
+@dataclass(frozen=True)
+class Tank:
+    """An upright flat-bottomed cylindrical propellant tank on the nominal model (the shape of
+    [`spacearm.slosh_parameters`][spacearm.slosh_parameters]): ``radius``, ``height`` (m), the
+    liquid's ``density`` (kg/m³; its mass follows the fill), ``axial_acceleration`` (m/s²),
+    ``modes`` slosh modes. ``bottom``: the centre of the tank's bottom in ``parent``'s frame (from
+    its CM); ``axis``: toward the free surface; ``lateral``: the slosh direction; ``model``: as
+    ``SloshParameters.add_to``. Its bodies are named ``name_1``, …, ``name_fixed``."""
+
+    radius: float
+    height: float
+    density: float
+    axial_acceleration: float
+    bottom: Tuple[float, float, float] = (0.0, 0.0, 0.0)
+    axis: Tuple[float, float, float] = (0.0, 0.0, 1.0)
+    lateral: Optional[Tuple[float, float, float]] = None
+    parent: str = "base"
+    model: str = "pendulum"
+    modes: int = 1
+    name: str = "fuel"
+
+    def __post_init__(self):
+        for key in ("radius", "height", "density", "axial_acceleration"):
+            v = _finite(getattr(self, key), f"Tank.{key}")
+            if v <= 0:
+                raise ArgumentError(f"Tank.{key} must be > 0, got {v}")
+            object.__setattr__(self, key, v)
+        object.__setattr__(self, "bottom", _vec3(self.bottom, "Tank.bottom"))
+        object.__setattr__(self, "axis", _vec3(self.axis, "Tank.axis"))
+        if self.lateral is not None:
+            object.__setattr__(self, "lateral", _vec3(self.lateral, "Tank.lateral"))
+        if self.model not in ("spring-mass", "pendulum", "spherical-pendulum"):
+            raise ArgumentError(f"Tank.model must be 'spring-mass', 'pendulum' or 'spherical-pendulum', got {self.model!r}")
+
+    def to_dict(self) -> dict:
+        return {k: getattr(self, k) for k in self.__dataclass_fields__}
+
+
+@dataclass(frozen=True)
+class Panel:
+    """A hinged panel ([`RobotBuilder.add_panel`][spacearm.RobotBuilder.add_panel]): a uniform plate of
+    ``size = (length, width, thickness)`` and ``mass`` on a hinge at ``hinge_position`` about
+    ``hinge_axis``, extending along ``direction``; ``damping`` (N·m·s/rad). Its stiffness is drawn."""
+
+    hinge_position: Tuple[float, float, float]
+    hinge_axis: Tuple[float, float, float]
+    direction: Tuple[float, float, float]
+    mass: float
+    size: Tuple[float, float, float]
+    damping: float = 0.0
+    parent: str = "base"
+    name: str = "panel"
+
+    def __post_init__(self):
+        for key in ("hinge_position", "hinge_axis", "direction", "size"):
+            object.__setattr__(self, key, _vec3(getattr(self, key), f"Panel.{key}"))
+        object.__setattr__(self, "mass", _finite(self.mass, "Panel.mass"))
+        object.__setattr__(self, "damping", _finite(self.damping, "Panel.damping"))
+
+    def to_dict(self) -> dict:
+        return {k: getattr(self, k) for k in self.__dataclass_fields__}
+
+
+@dataclass(frozen=True)
+class Flexibility:
+    """The flexible parts of every sample's plant and the distributions of their parameters.
+
+    ``tank`` (a [`Tank`][spacearm.campaign.Tank]) with ``fill_fraction`` (of its height, in (0, 1]),
+    ``slosh_frequency_scale`` (every mode's frequency times it, as an axial acceleration times
+    its square would do; the masses, heights and pendulum lengths unchanged, the springs stiffer) and ``slosh_damping_ratio`` (ζ of every mode);
+    ``panel`` (a [`Panel`][spacearm.campaign.Panel]) with ``panel_stiffness`` (N·m/rad). Each is a number or a
+    distribution ([`Fixed`][spacearm.campaign.Fixed], [`Uniform`][spacearm.campaign.Uniform],
+    [`Normal`][spacearm.campaign.Normal], [`LogNormal`][spacearm.campaign.LogNormal]); the controller's model uses their
+    ``nominal`` values.
+    """
+
+    tank: Optional[Tank] = None
+    fill_fraction: Distribution = field(default_factory=lambda: Fixed(0.5))
+    slosh_frequency_scale: Distribution = field(default_factory=lambda: Fixed(1.0))
+    slosh_damping_ratio: Distribution = field(default_factory=lambda: Fixed(0.0))
+    panel: Optional[Panel] = None
+    panel_stiffness: Distribution = field(default_factory=lambda: Fixed(10.0))
+
+    def __post_init__(self):
+        if isinstance(self.tank, dict):
+            object.__setattr__(self, "tank", Tank(**self.tank))
+        if isinstance(self.panel, dict):
+            object.__setattr__(self, "panel", Panel(**self.panel))
+        if self.tank is not None and not isinstance(self.tank, Tank):
+            raise ArgumentError(f"Flexibility.tank must be a spacearm.campaign.Tank, got {type(self.tank).__name__}")
+        if self.panel is not None and not isinstance(self.panel, Panel):
+            raise ArgumentError(f"Flexibility.panel must be a spacearm.campaign.Panel, got {type(self.panel).__name__}")
+        if self.tank is None and self.panel is None:
+            raise ArgumentError("Flexibility needs a tank, a panel or both")
+        for key in ("fill_fraction", "slosh_frequency_scale", "slosh_damping_ratio", "panel_stiffness"):
+            object.__setattr__(self, key, _distribution(getattr(self, key), f"Flexibility.{key}"))
+
+    @property
+    def names(self) -> Tuple[str, ...]:
+        """The parameters drawn (the result file's extra ``params`` columns): those of the tank
+        (``fill_fraction``, ``slosh_frequency_scale``, ``slosh_damping_ratio``) if there is one,
+        ``panel_stiffness`` if there is a panel."""
+        names = ()
+        if self.tank is not None:
+            names += ("fill_fraction", "slosh_frequency_scale", "slosh_damping_ratio")
+        if self.panel is not None:
+            names += ("panel_stiffness",)
+        return names
+
+    def nominal(self) -> Dict[str, float]:
+        """The nominal value of every parameter (the controller's model)."""
+        return {name: getattr(self, name).nominal for name in self.names}
+
+    def draw(self, seed: int, index: int) -> Dict[str, float]:
+        """The parameters of sample ``index`` of the campaign seeded ``seed``: for each name, in
+        order, one ``z ~ N(0, 1)`` and one ``u ~ U(0, 1)`` from ``SeedSequence(seed, spawn_key=(index, 1))``."""
+        rng = np.random.default_rng(np.random.SeedSequence(int(seed), spawn_key=(int(index), 1)))
+        values = {}
+        for name in self.names:
+            z, u = float(rng.standard_normal()), float(rng.uniform())
+            values[name] = float(getattr(self, name).sample(z, u))
+        return values
+
+    def apply(self, robot, values: Dict[str, float]):
+        """``robot`` with the tank and the panel added through its builder, with ``values``
+        (a [`draw`][spacearm.campaign.Flexibility.draw] or [`nominal`][spacearm.campaign.Flexibility.nominal])."""
+        from ..model.slosh import slosh_parameters
+
+        builder = robot.to_builder()
+        if self.tank is not None:
+            t = self.tank
+            fill = values["fill_fraction"]
+            scale = values["slosh_frequency_scale"]
+            if not scale > 0:
+                raise ArgumentError(f"slosh_frequency_scale must be > 0, got {scale}")
+            # Frequencies scale as sqrt(a) in the core's formulas with every mass and height fixed:
+            # the frequency times `scale` is the acceleration times scale².
+            params = slosh_parameters("cylinder", radius=t.radius, fill_fraction=fill, tank_height=t.height,
+                                      density=t.density, axial_acceleration=t.axial_acceleration * scale**2,
+                                      modes=t.modes, damping_ratio=values["slosh_damping_ratio"])
+            center = np.asarray(t.bottom) + np.asarray(t.axis) / np.linalg.norm(t.axis) * (params.fill_height / 2)
+            params.add_to(builder, t.name, parent=t.parent, center=center, axis=t.axis, lateral=t.lateral, model=t.model)
+        if self.panel is not None:
+            p = self.panel
+            builder.add_panel(p.name, parent=p.parent, hinge_position=p.hinge_position, hinge_axis=p.hinge_axis,
+                              direction=p.direction, mass=p.mass, size=p.size, stiffness=values["panel_stiffness"],
+                              damping=p.damping)
+        return builder.build()
+
+    def to_dict(self) -> dict:
+        return {
+            "tank": None if self.tank is None else self.tank.to_dict(),
+            "panel": None if self.panel is None else self.panel.to_dict(),
+            **{k: getattr(self, k).to_dict() for k in ("fill_fraction", "slosh_frequency_scale", "slosh_damping_ratio",
+                                                       "panel_stiffness")},
+        }
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "Flexibility":
+        return cls(**d)
