@@ -169,4 +169,6 @@ def test_bad_recipes_are_errors():
         Flexibility(tank=TANK, fill_fraction="half")
     with pytest.raises(ArgumentError, match="Tank.radius"):
         Tank(radius=-1.0, height=0.8, density=1000.0, axial_acceleration=0.1)
+    with pytest.raises(ArgumentError, match="computed-torque"):
+        Scenario(controller="pd", flexibility=Flexibility(panel=PANEL))
     assert Fixed(0.3).nominal == 0.3

@@ -94,6 +94,9 @@ class Scenario:
         if self.flexibility is not None and not isinstance(self.flexibility, Flexibility):
             raise ArgumentError("Scenario.flexibility must be a spacearm.campaign.Flexibility, "
                                 f"got {type(self.flexibility).__name__}")
+        if self.flexibility is not None and self.controller != "computed-torque":
+            raise ArgumentError("Scenario.flexibility needs controller='computed-torque' (joint PD on the actuated "
+                                f"joints only is not built yet, docs/flexibility.md), got {self.controller!r}")
 
         if isinstance(self.orbit, Orbit):
             o = self.orbit
