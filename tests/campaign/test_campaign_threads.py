@@ -62,10 +62,10 @@ def test_a_plant_that_cannot_be_built_fails_alone(spatial6, monkeypatch):
 
     real = batch.plant
 
-    def fragile(nominal, params):
+    def fragile(nominal, params, *rest):
         if params["payload_mass"] > 2.5:
             raise spacearm.errors.ModelError("synthetic: this payload breaks the model")
-        return real(nominal, params)
+        return real(nominal, params, *rest)
 
     monkeypatch.setattr(batch, "plant", fragile)
     result = run_campaign(spatial6, 8, seed=3, perturbations=ERRORS, scenario=QUICK, workers=2, progress=False)
