@@ -5,7 +5,8 @@ File layout (``numpy.load(path)`` reads it without spacearm):
 ====================  =====================================================================
 ``index``             (n,) sample indices 0 … n−1
 ``status``            (n,) 0 = not run yet, 1 = ok, 2 = failed
-``params``            (n, p) the sampled inertia errors (columns ``param_names``); drawn before
+``params``            (n, p) the sampled inertia errors, then any flexible-plant values
+                      (columns ``param_names``); drawn before
                       the run, so present for failed samples too
 ``metrics``           (n, m) the run's metrics (columns ``metric_names``), NaN unless ok
 ``error``             (n,) the failure message of failed samples ('' otherwise)
