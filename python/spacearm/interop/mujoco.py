@@ -267,6 +267,21 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
       frame; a hinge/slide joint at ``pos = -com`` (the joint position, in the link frame)
       about ``axis``. A fixed link is a body without a joint (welded; ``fusestatic`` off keeps
       it as its own body).
+    - Massless moving links (zero mass and inertia: the links between the joints of a beam
+      station, the spherical slosh pendulum's gimbal), which MuJoCo refuses, are merged into the
+      body of their only child: that body carries their joints first, then its own, each joint's
+      ``pos`` and ``axis`` expressed in the child's body frame at the zero of the later joints
+      (MuJoCo applies a body's joints in order, each in the frame the earlier ones moved), so
+      ``qpos`` keeps spacearm's depth-first joint order. A massless link with points, shapes or
+      other than one child is a [`ModelError`][spacearm.ModelError].
+    - A zero-mass link with inertia on a revolute joint with its CM on the axis (a compliant
+      joint's rotor, a reaction wheel of ``mass=0``) borrows ``LENT_MASS`` of its parent's mass
+      as a point at its CM, taken from the parent's inertial (moved CM, parallel axes): that
+      point never moves in the parent, so the dynamics are unchanged. Other zero-mass links
+      with inertia are a [`ModelError`][spacearm.ModelError].
+    - A zero principal moment of a moving body with mass (a point mass: a slosh bob, a
+      spring–mass) is written as ``POINT_INERTIA`` (1e-13 kg·m²; MuJoCo refuses less than
+      ``mjMINVAL``): the one inexact entry, below the rounding of an SI model's mass matrix.
     - A joint's spring–damper (docs/flexibility.md) as the joint's ``stiffness``, ``springref``
       (the rest coordinate) and ``damping``: MuJoCo's ``qfrc_passive`` is then spacearm's
       passive force ``-k (q - rest) - c q̇``.
