@@ -88,6 +88,22 @@ def test_massless_links_are_merged_and_the_mass_matrix_is_spacearms():
     assert model.nu == int(robot.actuated_dofs.sum()) == 1
 
 
+def test_wheels_and_point_masses_load_with_spacearms_mass_matrix():
+    """Zero-mass reaction wheels (rotors that borrow a point mass from the base) and point masses
+    (a spring–mass, a pendulum bob: the POINT_INERTIA floor), which MuJoCo refused before."""
+    b = spacearm.Robot.builder("wheels", base_mass=30.0, base_inertia=[2.0, 2.5, 3.0])
+    for k, axis in enumerate(np.eye(3)):
+        b.add_reaction_wheel(axis, 0.02, position=0.1 * axis + [0, 0, 0.05], name=f"w{k}")
+    b.add_slosh("tank", model="spring-mass", mass=3.0, position=(0.1, 0, -0.2), axis=(0, 0.6, 0.8), frequency=2.0)
+    b.add_slosh("tank2", model="pendulum", mass=2.0, position=(-0.1, 0.2, 0), axis=(0, 0, -1), length=0.2, frequency=3.0)
+    robot = b.build()
+    assert all(link.mass == 0.0 for link in robot.description.links if link.name.startswith("w"))
+    rng = np.random.default_rng(3)
+    x = robot.neutral_configuration(q=rng.uniform(-0.5, 0.5, robot.n_dof))
+    _, h = _mujoco_mass_matrix(robot, x, rng.normal(size=robot.nu))
+    assert_rel_close(h, robot.mass_matrix(x), "H from MuJoCo vs spacearm (wheels, point masses)", rtol=1e-10)
+
+
 def test_massless_sat_trajectory_matches_mujoco_rk4():
     robot = massless_sat()
     rng = np.random.default_rng(11)
@@ -133,6 +149,15 @@ def test_massless_links_that_cannot_be_merged_are_refused_before_mujoco():
     b.add_point("tip", body="hub", offset=(0.1, 0, 0))
     with pytest.raises(spacearm.ModelError, match="'hub'.*points or shapes"):
         interop.to_mjcf(b.build())
+    b = spacearm.Robot.builder("m", base_mass=40.0, base_inertia=[3.0, 3.5, 4.0])
+    b.add_link("hub", joint="revolute", axis=(0, 0, 1), origin=(0.4, 0, 0), com=(0, 0, 0), mass=0.0, inertia=[0, 0, 0])
+    b.add_link("pay", parent="hub", joint="fixed", origin=(0.1, 0, 0.1), com=(0.1, 0, 0), mass=1.0, inertia=[0.01, 0.02, 0.03])
+    robot = b.build()
+    x = robot.neutral_configuration(q=[0.7])
+    _, h = _mujoco_mass_matrix(robot, x, np.ones(robot.nu))  # merged into a fixed child: fine
+    assert_rel_close(h, robot.mass_matrix(x), "H, massless link on a fixed child", rtol=1e-10)
+    with pytest.raises(spacearm.ArgumentError, match="'pay' hangs on the massless link 'hub'"):
+        interop.to_mjcf(robot, weld=["pay"])
     b = spacearm.Robot.builder("m", base_mass=40.0, base_inertia=[3.0, 3.5, 4.0])
     b.add_link("spinner", joint="revolute", axis=(0, 0, 1), origin=(0.4, 0, 0), com=(0.1, 0, 0), mass=0.0,
                inertia=[0.01, 0.01, 0.01])

@@ -340,6 +340,10 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
     kin0 = robot.forward_kinematics(robot.neutral_configuration(np.zeros(robot.n_dof))) if welded else None
 
     chains = _merged_chains(robot, bodies, children, points_on, geoms_on)
+    for b in welded:
+        if chains.get(b):
+            raise ArgumentError(f"weld: '{bodies[b].name}' hangs on the massless link '{bodies[chains[b][-1]].name}', "
+                                "whose joint would be lost in a free body: weld a link below a link with mass")
     lent = _lent_masses(robot, bodies, chains)
     lenders = {b for b in lent}
 
@@ -351,11 +355,9 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
 
     def emit(parent_el: ET.Element, b: int) -> None:
         body = bodies[b]
-        if b in chains and b not in welded:
+        if b in chains:
             chain = [bodies[m] for m in chains[b]]
             top = chain[0] if chain else body
-            if top.index in welded:
-                raise ArgumentError(f"weld: '{top.name}' is massless")
             # G_i: the joint frame of chain[i] → the merged body's frame at the zero of the later joints
             g = _hom(translation=body.com)
             frames = [g]
