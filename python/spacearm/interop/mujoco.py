@@ -390,6 +390,9 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
             _inertial(el, LENT_MASS * bodies[body.parent].mass, body.inertia)  # a rotor: the mass its parent lends
         else:
             moves = b == 0 or b in welded or bool(chains.get(b)) or body.kind != "fixed"
+            if moves and body.mass <= 0.0:
+                raise ModelError(f"MJCF export of '{robot.name}': body '{body.name}' moves in MuJoCo (a free body, or the "
+                                 "child a massless link is merged into) but has no mass, which MuJoCo refuses: give it a mass")
             _inertial(el, body.mass, body.inertia, floor=POINT_INERTIA if moves else 0.0)
         if b == 0 and base_actuators:
             ET.SubElement(el, "site", name=BASE_SITE, pos="0 0 0", size="0.01")
