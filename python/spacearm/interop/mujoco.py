@@ -13,7 +13,7 @@ import numpy as np
 
 from .._util.arrays import vector
 from .._util.atomic import atomic_open, write_text
-from ..errors import ArgumentError, MissingDependencyError, ModelFileError, NotFoundError
+from ..errors import ArgumentError, MissingDependencyError, ModelError, ModelFileError, NotFoundError
 from ..rotations import quat_from_matrix
 from ._common import ROOT_JOINT, _block_transform, _split_x, _square, _tree, engine_dof_order
 
@@ -55,19 +55,104 @@ def _quat_wxyz(r: np.ndarray) -> np.ndarray:
     return np.array([w, x, y, z])
 
 
-def _inertial(parent: ET.Element, mass: float, inertia: np.ndarray) -> None:
-    """The full tensor; a semi-definite one (a massless link, a point mass, a slender rod),
-    which MuJoCo's ``fullinertia`` refuses, as its principal moments and axes."""
+#: The principal moment (kg·m²) written for a zero principal moment of a moving body with mass
+#: (a point mass: a slosh bob, a spring–mass; a slender rod without ``rho_J``), which MuJoCo
+#: refuses below ``mjMINVAL = 1e-15``: the only inexact entry of the export, below rounding
+#: of any model's mass matrix in SI units.
+POINT_INERTIA = 1e-13
+
+#: The fraction of its parent's mass lent to a zero-mass moving body with inertia whose CM is
+#: on its revolute axis (a compliant joint's rotor) and taken from the parent's inertial at the
+#: same point: the point never moves in the parent, so the dynamics are unchanged (exact).
+LENT_MASS = 1e-6
+
+
+def _inertial(parent: ET.Element, mass: float, inertia: np.ndarray, pos=(0.0, 0.0, 0.0), floor: float = 0.0) -> None:
+    """The full tensor about ``pos``; a semi-definite one (a massless link, a point mass, a slender
+    rod), which MuJoCo's ``fullinertia`` refuses, as its principal moments (at least ``floor``)
+    and axes."""
     i = np.asarray(inertia, dtype=float)
     moments, axes = np.linalg.eigh(i)
     if moments[0] > 0:
-        ET.SubElement(parent, "inertial", pos="0 0 0", mass=repr(float(mass)),
+        ET.SubElement(parent, "inertial", pos=_fmt(pos), mass=repr(float(mass)),
                       fullinertia=_fmt([i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]]))
         return
     if np.linalg.det(axes) < 0:
         axes[:, 2] = -axes[:, 2]
-    ET.SubElement(parent, "inertial", pos="0 0 0", mass=repr(float(mass)), quat=_fmt(_quat_wxyz(axes)),
-                  diaginertia=_fmt(np.maximum(moments, 0.0)))
+    ET.SubElement(parent, "inertial", pos=_fmt(pos), mass=repr(float(mass)), quat=_fmt(_quat_wxyz(axes)),
+                  diaginertia=_fmt(np.maximum(moments, floor)))
+
+
+def _hom(rotation=None, translation=None) -> np.ndarray:
+    t = np.eye(4)
+    if rotation is not None:
+        t[:3, :3] = rotation
+    if translation is not None:
+        t[:3, 3] = translation
+    return t
+
+
+def _massless(body) -> bool:
+    return body.kind not in ("base", "fixed") and body.mass == 0.0 and not np.any(np.asarray(body.inertia))
+
+
+def _merged_chains(robot, bodies, children, points_on, geoms_on) -> dict:
+    """``{b: [m1, ..., mk]}``: the massless moving links (zero mass and inertia) merged into the
+    MuJoCo body of ``b``, top first: each has ``b`` (or the next of them) as its only child and
+    no point or shape (they would move with the child's joints). Anything else is refused."""
+    chains = {}
+    for body in bodies:
+        if not _massless(body) or (body.parent >= 0 and _massless(bodies[body.parent])):
+            continue
+        chain, b = [], body.index
+        while _massless(bodies[b]):
+            what = f"MJCF export of '{robot.name}': link '{bodies[b].name}' (joint '{bodies[b].joint}') has no mass and no inertia"
+            if points_on.get(b) or geoms_on.get(b):
+                raise ModelError(f"{what} and carries points or shapes; MuJoCo refuses a massless moving body, and they "
+                                 "cannot move to its child's body (the child's joint moves them): put them on the child")
+            if len(children[b]) != 1:
+                raise ModelError(f"{what} and {len(children[b])} child links; MuJoCo refuses a massless moving body, and "
+                                 "only one with exactly one child is exported (merged into the child's body as a joint)")
+            chain.append(b)
+            b = children[b][0]
+        chains[b] = chain
+    return chains
+
+
+def _lent_masses(robot, bodies, chains) -> dict:
+    """``{parent: [(mass, point in the parent frame)]}`` for the zero-mass moving links with
+    inertia (rotors): the point mass ``LENT_MASS·m_parent`` each takes from its parent."""
+    lent = {}
+    merged = {m for chain in chains.values() for m in chain}
+    for body in bodies[1:]:
+        if body.kind == "fixed" or body.mass != 0.0 or _massless(body) or body.index in merged:
+            continue
+        what = f"MJCF export of '{robot.name}': link '{body.name}' has inertia but no mass, which MuJoCo refuses"
+        on_axis = body.kind == "revolute" and np.linalg.norm(np.cross(body.com, body.axis)) <= 1e-12 * max(1.0, np.linalg.norm(body.com))
+        parent = bodies[body.parent]
+        if not on_axis or body.index in chains or parent.mass <= 0.0:
+            raise ModelError(f"{what}; it is exported only on a revolute joint with its CM on the axis, directly on a "
+                             "parent with mass (a rotor: it then borrows a point mass from its parent at its CM)")
+        lent.setdefault(body.parent, []).append((LENT_MASS * parent.mass, body.origin + body.rotation @ body.com))
+    return lent
+
+
+def _lender_inertial(el: ET.Element, body, loans) -> None:
+    """The inertial of ``body`` less the point masses it lends (CM moved, inertia by parallel
+    axes), checked physical."""
+    given = sum(m for m, _ in loans)
+    mass = body.mass - given
+    first = sum(m * d for m, d in loans)
+    i_origin = np.array(body.inertia, dtype=float)
+    for m, d in loans:
+        i_origin -= m * (d @ d * np.eye(3) - np.outer(d, d))
+    com = -first / mass
+    i_com = i_origin - mass * (com @ com * np.eye(3) - np.outer(com, com))
+    moments = np.linalg.eigvalsh(i_com)
+    if moments[0] <= 0 or moments[2] > moments[0] + moments[1]:
+        raise ModelError(f"MJCF export: body '{body.name}' cannot lend its rotors' point masses ({given:g} kg): "
+                         f"its remaining inertia {moments} would not be physical")
+    _inertial(el, mass, i_com, pos=com)
 
 
 #: MJCF geom groups of the two geometry roles (MuJoCo's viewer shows groups 0-2 by default).
@@ -182,6 +267,21 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
       frame; a hinge/slide joint at ``pos = -com`` (the joint position, in the link frame)
       about ``axis``. A fixed link is a body without a joint (welded; ``fusestatic`` off keeps
       it as its own body).
+    - Massless moving links (zero mass and inertia: the links between the joints of a beam
+      station, the spherical slosh pendulum's gimbal), which MuJoCo refuses, are merged into the
+      body of their only child: that body carries their joints first, then its own, each joint's
+      ``pos`` and ``axis`` expressed in the child's body frame at the zero of the later joints
+      (MuJoCo applies a body's joints in order, each in the frame the earlier ones moved), so
+      ``qpos`` keeps spacearm's depth-first joint order. A massless link with points, shapes or
+      other than one child is a [`ModelError`][spacearm.ModelError].
+    - A zero-mass link with inertia on a revolute joint with its CM on the axis (a compliant
+      joint's rotor, a reaction wheel of ``mass=0``) borrows ``LENT_MASS`` of its parent's mass
+      as a point at its CM, taken from the parent's inertial (moved CM, parallel axes): that
+      point never moves in the parent, so the dynamics are unchanged. Other zero-mass links
+      with inertia are a [`ModelError`][spacearm.ModelError].
+    - A zero principal moment of a moving body with mass (a point mass: a slosh bob, a
+      spring–mass) is written as ``POINT_INERTIA`` (1e-13 kg·m²; MuJoCo refuses less than
+      ``mjMINVAL``): the one inexact entry, below the rounding of an SI model's mass matrix.
     - A joint's spring–damper (docs/flexibility.md) as the joint's ``stiffness``, ``springref``
       (the rest coordinate) and ``damping``: MuJoCo's ``qfrc_passive`` is then spacearm's
       passive force ``-k (q - rest) - c q̇``.
@@ -239,9 +339,40 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
     welded = _welded_bodies(robot, weld)
     kin0 = robot.forward_kinematics(robot.neutral_configuration(np.zeros(robot.n_dof))) if welded else None
 
+    chains = _merged_chains(robot, bodies, children, points_on, geoms_on)
+    for b in welded:
+        if chains.get(b):
+            raise ArgumentError(f"weld: '{bodies[b].name}' hangs on the massless link '{bodies[chains[b][-1]].name}', "
+                                "whose joint would be lost in a free body: weld a link below a link with mass")
+    lent = _lent_masses(robot, bodies, chains)
+    lenders = {b for b in lent}
+
+    def joint_el(el: ET.Element, j, pos, axis) -> None:
+        ET.SubElement(el, "joint", name=j.joint, type="hinge" if j.kind == "revolute" else "slide",
+                      pos=_fmt(pos), axis=_fmt(axis), limited="false",
+                      damping=repr(float(j.damping)), stiffness=repr(float(j.stiffness)),
+                      springref=repr(float(j.rest)), armature="0", frictionloss="0")
+
     def emit(parent_el: ET.Element, b: int) -> None:
         body = bodies[b]
-        if b == 0:
+        if b in chains:
+            chain = [bodies[m] for m in chains[b]]
+            top = chain[0] if chain else body
+            # G_i: the joint frame of chain[i] → the merged body's frame at the zero of the later joints
+            g = _hom(translation=body.com)
+            frames = [g]
+            for upper, lower in zip(reversed(chain), [body] + list(reversed(chain[1:]))):
+                g = _hom(translation=upper.com) @ _hom(lower.rotation, lower.origin) @ g
+                frames.append(g)
+            frames.reverse()  # frames[i] belongs to chain[i]; frames[-1] to body
+            pose = _hom(top.rotation, top.origin) @ frames[0]
+            el = ET.SubElement(parent_el, "body", name=mjcf_body_name(body.name), pos=_fmt(pose[:3, 3]),
+                               quat=_fmt(_quat_wxyz(pose[:3, :3])))
+            for j, gi in zip(chain + [body], frames):
+                if j.kind != "fixed":
+                    r, t = gi[:3, :3], gi[:3, 3]
+                    joint_el(el, j, -r.T @ t, r.T @ j.axis)
+        elif b == 0:
             el = ET.SubElement(parent_el, "body", name=mjcf_body_name(body.name), pos="0 0 0")
             ET.SubElement(el, "freejoint", name=ROOT_JOINT, align="false")
         elif b in welded:  # a free body of the world at its pose in the robot's qpos0
@@ -252,11 +383,17 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
             pos = body.origin + body.rotation @ body.com
             el = ET.SubElement(parent_el, "body", name=mjcf_body_name(body.name), pos=_fmt(pos), quat=_fmt(_quat_wxyz(body.rotation)))
             if body.kind != "fixed":
-                ET.SubElement(el, "joint", name=body.joint, type="hinge" if body.kind == "revolute" else "slide",
-                              pos=_fmt(-body.com), axis=_fmt(body.axis), limited="false",
-                              damping=repr(float(body.damping)), stiffness=repr(float(body.stiffness)),
-                              springref=repr(float(body.rest)), armature="0", frictionloss="0")
-        _inertial(el, body.mass, body.inertia)
+                joint_el(el, body, -body.com, body.axis)
+        if b in lenders:
+            _lender_inertial(el, body, lent[b])
+        elif body.mass == 0.0 and body.kind not in ("base", "fixed") and np.any(np.asarray(body.inertia)):
+            _inertial(el, LENT_MASS * bodies[body.parent].mass, body.inertia)  # a rotor: the mass its parent lends
+        else:
+            moves = b == 0 or b in welded or bool(chains.get(b)) or body.kind != "fixed"
+            if moves and body.mass <= 0.0:
+                raise ModelError(f"MJCF export of '{robot.name}': body '{body.name}' moves in MuJoCo (a free body, or the "
+                                 "child a massless link is merged into) but has no mass, which MuJoCo refuses: give it a mass")
+            _inertial(el, body.mass, body.inertia, floor=POINT_INERTIA if moves else 0.0)
         if b == 0 and base_actuators:
             ET.SubElement(el, "site", name=BASE_SITE, pos="0 0 0", size="0.01")
         for g in geoms_on.get(b, []):
@@ -264,6 +401,8 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
         for name, offset in points_on.get(b, []):
             ET.SubElement(el, "site", name=name, pos=_fmt(offset), size="0.01")
         for c in children[b]:
+            while _massless(bodies[c]):  # merged into the body of its (only) child
+                c = children[c][0]
             if c not in welded:
                 emit(el, c)
 
