@@ -169,3 +169,20 @@ mod tests {
         assert!((spatial_inertia(m, &c, &ic) - blocks).abs().max() < 1e-14);
     }
 }
+
+/// The unit vector along `v` as an array, or `None` for a zero, tiny (< 1e-9) or non-finite `v`
+/// (model geometry given as `[f64; 3]`: slosh mounts, appendages).
+pub fn unit3(v: &[f64; 3]) -> Option<[f64; 3]> {
+    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    (n.is_finite() && n > 1e-9).then(|| [v[0] / n, v[1] / n, v[2] / n])
+}
+
+/// `a × b` of two arrays.
+pub fn cross3(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+/// `a · b` of two arrays.
+pub fn dot3(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}

@@ -33,6 +33,7 @@ use crate::error::{ModelError, ModelField, ModelItem};
 use crate::model::builder::{LinkSpec, ModelBuilder};
 use crate::model::geometry::{GeometryRole, GeometrySpec, Shape};
 use crate::model::joint::{JointDynamics, JointLimits, JointType};
+use crate::math::spatial::{cross3 as cross, dot3 as dot, unit3 as normalized};
 
 /// The first Euler–Bernoulli cantilever eigenvalue `β₁L` (`cos βL cosh βL = −1`).
 pub const CANTILEVER_BETA1_L: f64 = 1.875_104_068_711_961;
@@ -149,19 +150,6 @@ pub struct CompliantSpec {
     pub gear_ratio: f64,
 }
 
-fn normalized(v: &[f64; 3]) -> Option<[f64; 3]> {
-    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    (n.is_finite() && n > 1e-9).then(|| [v[0] / n, v[1] / n, v[2] / n])
-}
-
-fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-
-fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
 fn scaled(a: &[f64; 3], s: f64) -> [f64; 3] {
     [a[0] * s, a[1] * s, a[2] * s]
 }
@@ -201,11 +189,11 @@ fn link(name: String, parent: String, joint: String, kind: JointType, origin: [f
     }
 }
 
-/// The quaternion `[x, y, z, w]` of the rotation whose columns are `c0, c1, c2` (right-handed, orthonormal).
+/// The quaternion `[x, y, z, w]` of the rotation whose columns are `c0, c1, c2` (right-handed,
+/// orthonormal), by the one rotation home (`math::rotations::xyzw_from_matrix`).
 fn quat_from_columns(c0: &[f64; 3], c1: &[f64; 3], c2: &[f64; 3]) -> [f64; 4] {
     let m = nalgebra::Matrix3::new(c0[0], c1[0], c2[0], c0[1], c1[1], c2[1], c0[2], c1[2], c2[2]);
-    let q = nalgebra::UnitQuaternion::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(m));
-    [q.i, q.j, q.k, q.w]
+    crate::math::rotations::xyzw_from_matrix(&m)
 }
 
 /// A hinged rigid panel (module docs): one link on a passive revolute joint `<name>_hinge`, and

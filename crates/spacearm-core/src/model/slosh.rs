@@ -26,6 +26,7 @@
 use crate::error::{ModelError, ModelField, ModelItem};
 use crate::model::builder::{LinkSpec, ModelBuilder};
 use crate::model::joint::{JointDynamics, JointLimits, JointType};
+use crate::math::spatial::{cross3 as cross, dot3 as dot, unit3 as normalized};
 
 /// Which equivalent mechanical model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -86,19 +87,6 @@ pub struct SloshSpec {
     pub restoring: SloshRestoring,
     /// Viscous damping per joint (N·s/m or N·m·s/rad), ≥ 0.
     pub damping: f64,
-}
-
-fn normalized(v: &[f64; 3]) -> Option<[f64; 3]> {
-    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    (n.is_finite() && n > 1e-9).then(|| [v[0] / n, v[1] / n, v[2] / n])
-}
-
-fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-
-fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// The links of a slosh mode, in the order they are added, each with its joint's dynamics
