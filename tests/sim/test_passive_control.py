@@ -139,7 +139,7 @@ def cylinder_closed_form(r, h, m, a):
     t = math.tanh(xi * h / r)
     m1 = m * 2 * r * t / (xi * (xi**2 - 1) * h)
     w1 = math.sqrt(a / r * xi * t)
-    l1 = h / 2 - r / xi * math.tanh(xi * h / (2 * r))
+    l1 = h / 2 - 2 * r / xi * math.tanh(xi * h / (2 * r))  # wall + bottom pressure (tests/model/test_slosh_potential_flow.py)
     return m1, w1, l1
 
 
@@ -166,7 +166,7 @@ def test_cylinder_slosh_limits_and_fill_options():
     xi = 1.8411837813406593
     deep = spacearm.slosh_parameters(radius=r, fill_height=50.0, propellant_mass=10.0, axial_acceleration=a)
     assert deep.modes[0].frequency ** 2 == pytest.approx(a * xi / r, rel=1e-12)  # tanh -> 1
-    assert deep.modes[0].height == pytest.approx(25.0 - r / xi, rel=1e-12)  # R/xi below the surface
+    assert deep.modes[0].height == pytest.approx(25.0 - 2 * r / xi, rel=1e-12)  # 2R/xi below the surface
     shallow = spacearm.slosh_parameters(radius=r, fill_height=1e-5, propellant_mass=10.0, axial_acceleration=a)
     assert shallow.modes[0].mass / 10.0 == pytest.approx(2 / (xi**2 - 1), rel=1e-6)
     three = spacearm.slosh_parameters(radius=r, fill_height=1e-5, propellant_mass=10.0, axial_acceleration=a, modes=3)

@@ -10,8 +10,15 @@
 //!
 //! - frequency `ωₙ² = (a/R) ξₙ tanh(ξₙ h/R)`;
 //! - sloshing mass `mₙ/m_L = 2 tanh(ξₙ h/R) / (ξₙ (ξₙ² − 1) h/R)`;
-//! - the spring–mass model's mass at `ℓₙ = h/2 − (R/ξₙ) tanh(ξₙ h/(2R))` above the liquid's
-//!   centre of mass (along the tank axis, toward the free surface), spring `kₙ = mₙ ωₙ²`;
+//! - the spring–mass model's mass at `ℓₙ = h/2 − (2R/ξₙ) tanh(ξₙ h/(2R))` above the liquid's
+//!   centre of mass (along the tank axis, toward the free surface), spring `kₙ = mₙ ωₙ²`. This is
+//!   the mode's angular momentum over its momentum, `ℓₙ = H_y/P`: the height at which one mass
+//!   has the mode's coupling to the tank's rotation as well as its translation, so that the
+//!   model reproduces the moment on the tank of the wall *and* bottom pressures. The wall
+//!   pressure alone acts at `h/2 − (R/ξₙ) tanh(ξₙ h/(2R))` (the height some tables quote,
+//!   "excluding bottom pressure"); a rigid tank feels both. Checked against the mode's
+//!   potential flow integrated by quadrature in `tests/model/test_slosh_potential_flow.py`
+//!   (docs/flexibility.md);
 //! - the pendulum model's bob at the same place, on a rod of `Lₙ = a/ωₙ² = R/(ξₙ tanh(ξₙ h/R))`
 //!   from a hinge at `ℓₙ + Lₙ` (the moment of the pendulum's rod force about the tank then equals
 //!   the spring–mass model's, its force and its displaced weight);
@@ -97,7 +104,7 @@ pub fn cylinder_slosh(radius: f64, fill_height: f64, liquid_mass: f64, axial_acc
             let t = (xi * h / r).tanh();
             let mass = m_l * 2.0 * t / (xi * (xi * xi - 1.0) * h / r);
             let w2 = a / r * xi * t;
-            SloshMode { mass, height: 0.5 * h - r / xi * (0.5 * xi * h / r).tanh(), frequency: w2.sqrt(), stiffness: mass * w2, length: a / w2 }
+            SloshMode { mass, height: 0.5 * h - 2.0 * r / xi * (0.5 * xi * h / r).tanh(), frequency: w2.sqrt(), stiffness: mass * w2, length: a / w2 }
         })
         .collect();
     let sloshing: f64 = modes.iter().map(|m| m.mass).sum();
@@ -130,18 +137,22 @@ mod tests {
 
     #[test]
     fn deep_and_shallow_limits() {
-        // Deep: m1/mL → 2R/(ξ(ξ²−1)h), ω² → a ξ/R, the mass R/ξ below the surface.
+        // Deep: m1/mL → 2R/(ξ(ξ²−1)h), ω² → a ξ/R, the mass 2R/ξ below the surface (H_y/P of
+        // a mode decaying as e^{ξ(z−h)/R}: the wall's lever R/ξ below the surface, and as much
+        // again from the bottom and surface terms).
         let (r, a, m) = (0.5, 0.2, 100.0);
         let deep = cylinder_slosh(r, 20.0, m, a, 1).unwrap();
         let xi = BESSEL_J1_PRIME_ZEROS[0];
         let md = &deep.modes[0];
         assert!((md.mass / m - 2.0 * r / (xi * (xi * xi - 1.0) * 20.0)).abs() < 1e-12);
         assert!((md.frequency.powi(2) - a * xi / r).abs() < 1e-12);
-        assert!((md.height - (10.0 - r / xi)).abs() < 1e-12);
+        assert!((md.height - (10.0 - 2.0 * r / xi)).abs() < 1e-12);
         // Shallow: tanh(x) → x, the first mode's mass fraction → 2/(ξ²−1) = 0.837 (Σₙ 2/(ξₙ²−1) = 1:
         // all of a shallow layer sloshes).
         let shallow = cylinder_slosh(r, 1e-4, m, a, 1).unwrap();
         assert!((shallow.modes[0].mass / m - 2.0 / (xi * xi - 1.0)).abs() < 1e-6);
+        // ... at the bottom (ℓ → −h/2: the bottom pressure's moment dominates a thin layer's).
+        assert!((shallow.modes[0].height + 0.5e-4).abs() < 1e-10);
         for t in [&deep, &shallow] {
             let total = t.fixed_mass + t.modes.iter().map(|m| m.mass).sum::<f64>();
             assert!((total - m).abs() < 1e-12);
