@@ -470,6 +470,7 @@ mod tests {
         // Convergence in N: the Ritz values are upper bounds that decrease.
         let dom = AxisymmetricDomain::sphere_cap(1.0, 120);
         let lam: Vec<f64> = [4, 8, 12, 16, 24].iter().map(|&n| ritz_lateral_modes(&dom, n, 1).unwrap()[0].lambda).collect();
+        eprintln!("λ₁R at h = R for N = 4, 8, 12, 16, 24: {lam:?}");
         for w in lam.windows(2) {
             assert!(w[1] <= w[0] + 1e-12, "{lam:?}");
         }
@@ -511,6 +512,12 @@ mod tests {
             assert!(moment.abs() < 1e-10);
             assert!(t.modes.iter().all(|m| m.mass > 0.0) && t.fixed_mass > 0.0);
             assert!(t.modes.windows(2).all(|w| w[1].frequency > w[0].frequency));
+            // The wall pressure is normal to the sphere: its resultant passes through the centre,
+            // so each mode's pendulum hinge (ℓₙ + Lₙ above the liquid's CM) is at the centre.
+            for m in &t.modes {
+                let hinge = t.liquid_cm_height + m.height + m.length;
+                assert!((hinge - 1.2).abs() < 1e-9, "fill {f}: hinge {hinge}");
+            }
         }
     }
 
