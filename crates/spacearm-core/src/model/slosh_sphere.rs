@@ -19,7 +19,7 @@
 //! turns every volume integral into one over the meridian boundary (the `ϕ` integrals of
 //! `cos² ϕ` give `π`):
 //!
-//! - `K_ij = ∫|∇φ_i·∇φ_j| dV = π ∫_{W∪S} f_i ∂_n f_j r ds`, `M_ij = π ∫_S f_i f_j r dr`
+//! - `K_ij = ∫ ∇φ_i·∇φ_j dV = π ∫_{W∪S} f_i ∂_n f_j r ds`, `M_ij = π ∫_S f_i f_j r dr`
 //!   (`f_l = r g_l`, the meridian part of `φ_l`);
 //! - the momentum amplitude `P = ∫ ∂_x φ dV = π ∫ f n_r r ds`;
 //! - the angular momentum about the lateral axis through the liquid's centre of mass,
@@ -41,7 +41,11 @@
 //!
 //! `ωₙ² = a λₙ`, `kₙ = mₙ ωₙ²`, `Lₙ = a/ωₙ²`, `m₀ = m_L − Σ mₙ` at `ℓ₀ = −Σ mₙ ℓₙ / m₀`, as for
 //! any tank. The same solver run on a flat-bottomed cylinder ([`AxisymmetricDomain::flat_cylinder`])
-//! reproduces its closed form (Abramson 1966; the unit tests). The contact line where the free
+//! reproduces the closed-form `ωₙ` and `mₙ` of `slosh_tank::cylinder_slosh` (Abramson 1966) and
+//! the `ℓₙ = H_y/P` of the exact cylinder potential, `h/2 − (2R/ξₙ) tanh(ξₙh/2R)` (the unit
+//! tests; `cylinder_slosh`'s own `ℓₙ` has `R/ξₙ` there). For the sphere, every mode's pendulum
+//! hinge (`ℓₙ + Lₙ` above the liquid's CM) falls on the sphere's centre: the wall pressure is
+//! normal to the sphere, so its resultant passes through the centre. The contact line where the free
 //! surface meets the wall above the equator (`h > R`) makes the potential singular there and the
 //! convergence algebraic instead of exponential, so [`sphere_slosh`] solves at two basis sizes
 //! and refuses a result whose modes differ by more than its tolerances.
