@@ -34,7 +34,7 @@ __all__ = [
     "model_to_toml", "momentum_scales", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
     "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts",
-    "cylinder_slosh", "InputShaper", "soft_capture", "virtual_mass",
+    "cylinder_slosh", "sphere_slosh", "sphere_fill_height", "InputShaper", "soft_capture", "virtual_mass",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -81,6 +81,12 @@ def model_from_paper_dh(
 
 def cylinder_slosh(radius: float, fill_height: float, liquid_mass: float, axial_acceleration: float, modes: int = 1) -> dict[str, Any]:
     """The equivalent mechanical model of the liquid in an upright flat-bottomed cylinder (Abramson 1966, Dodge 2000)."""
+
+def sphere_slosh(radius: float, fill_height: float, liquid_mass: float, axial_acceleration: float, modes: int = 1) -> dict[str, Any]:
+    """The equivalent mechanical model of the liquid in a spherical tank (a Ritz-Trefftz solution; same dict as cylinder_slosh)."""
+
+def sphere_fill_height(radius: float, fill_fraction: float) -> float:
+    """The fill height (m) of a sphere of ``radius`` holding ``fill_fraction`` of its volume."""
 
 def slosh_links(name: str, parent: str, model: str, mass: float, position: Sequence[float], axis: Sequence[float],
                 hinge: Optional[Sequence[float]], length: Optional[float], stiffness: Optional[float],

@@ -342,8 +342,29 @@ pub fn compliant_parts(
 #[pyfunction]
 #[pyo3(signature = (radius, fill_height, liquid_mass, axial_acceleration, modes=1))]
 pub fn cylinder_slosh(py: Python<'_>, radius: f64, fill_height: f64, liquid_mass: f64, axial_acceleration: f64, modes: usize) -> PyResult<Py<PyAny>> {
-    use pyo3::types::PyDict;
     let t = spacearm_core::model::slosh_tank::cylinder_slosh(radius, fill_height, liquid_mass, axial_acceleration, modes).or_raise(py)?;
+    tank_slosh_to_py(py, &t)
+}
+
+/// The equivalent mechanical model of the liquid in a spherical tank (core
+/// `model::slosh_sphere::sphere_slosh`, a Ritz-Trefftz solution): the same dict as
+/// `cylinder_slosh` (`liquid_cm_height` above the bottom pole).
+#[pyfunction]
+#[pyo3(signature = (radius, fill_height, liquid_mass, axial_acceleration, modes=1))]
+pub fn sphere_slosh(py: Python<'_>, radius: f64, fill_height: f64, liquid_mass: f64, axial_acceleration: f64, modes: usize) -> PyResult<Py<PyAny>> {
+    let t = spacearm_core::model::slosh_sphere::sphere_slosh(radius, fill_height, liquid_mass, axial_acceleration, modes).or_raise(py)?;
+    tank_slosh_to_py(py, &t)
+}
+
+/// The fill height (m) of a sphere of `radius` holding `fill_fraction` of its volume (core
+/// `model::slosh_sphere::sphere_fill_height`).
+#[pyfunction]
+pub fn sphere_fill_height(py: Python<'_>, radius: f64, fill_fraction: f64) -> PyResult<f64> {
+    spacearm_core::model::slosh_sphere::sphere_fill_height(radius, fill_fraction).or_raise(py)
+}
+
+fn tank_slosh_to_py(py: Python<'_>, t: &spacearm_core::model::slosh_tank::TankSlosh) -> PyResult<Py<PyAny>> {
+    use pyo3::types::PyDict;
     let out = PyDict::new(py);
     out.set_item("liquid_mass", t.liquid_mass)?;
     out.set_item("fill_height", t.fill_height)?;

@@ -1,8 +1,10 @@
 """From a propellant tank to its slosh modes' equivalent mechanical model, and onto a
 [`RobotBuilder`][spacearm.RobotBuilder] (docs/flexibility.md, "From a tank to the slosh
-parameters"). The formulas live once, in the core (``crates/spacearm-core/src/model/slosh_tank.rs``:
-Abramson, NASA SP-106, 1966, Table 6.1; Dodge, SwRI 2000, §3.2); this module checks the
-arguments, calls the core and adds the links."""
+parameters"). The computations live once, in the core: the cylinder's closed form in
+``crates/spacearm-core/src/model/slosh_tank.rs`` (Abramson, NASA SP-106, 1966, Table 6.1; Dodge,
+SwRI 2000, §3.2), the sphere's Ritz–Trefftz solution in
+``crates/spacearm-core/src/model/slosh_sphere.rs``; this module checks the arguments, calls the
+core and adds the links."""
 
 from __future__ import annotations
 
@@ -16,7 +18,7 @@ from .. import _core
 from .._util.arrays import number, vector
 from ..errors import ArgumentError
 
-TANKS = ("cylinder",)
+TANKS = ("cylinder", "sphere")
 
 
 @dataclass(frozen=True)
@@ -105,40 +107,64 @@ def slosh_parameters(tank: str = "cylinder", *, radius: float, axial_acceleratio
     ``tank="cylinder"``: an upright circular cylinder of ``radius`` (m) with a flat bottom
     (Abramson 1966, Table 6.1; Dodge 2000, §3.2). The fill is ``fill_height`` (m) or
     ``fill_fraction`` of ``tank_height``; the liquid's mass is ``propellant_mass`` (kg) or
-    ``density`` (kg/m³) times ``π R² h``. ``axial_acceleration`` (m/s², > 0) is the vehicle's
-    acceleration along the tank axis during the phase studied (thrust / mass): the frequencies
-    scale as its square root, and in coasting flight (0) the model does not apply (the liquid is
-    held by surface tension). ``modes``: how many antisymmetric modes (1 to 5).
+    ``density`` (kg/m³) times ``π R² h``. ``modes``: how many antisymmetric modes (1 to 5).
+
+    ``tank="sphere"``: a spherical tank of ``radius`` (m), computed by a Ritz–Trefftz method in
+    the core (checked against McIver 1989: ω²R/a = 1.5602 half full). The fill is
+    ``fill_height`` (m above the bottom pole, below 2R) or ``fill_fraction`` of the sphere's
+    volume (then ``tank_height`` is not needed; if given it must equal 2R); the liquid's mass is
+    ``propellant_mass`` or ``density`` times the cap volume ``π h² (3R − h)/3``. ``modes``: 1 to
+    3. ``fill_height`` in the result is above the bottom pole; the modes' heights are above the
+    liquid's CM.
+
+    ``axial_acceleration`` (m/s², > 0) is the vehicle's acceleration along the tank axis during
+    the phase studied (thrust / mass): the frequencies scale as its square root, and in coasting
+    flight (0) the model does not apply (the liquid is held by surface tension).
     ``damping_ratio``: the modes' viscous damping ratio ζ (not part of the inviscid solution;
     from tests, of the order of 0.001–0.01 for smooth walls).
     """
-    if tank != "cylinder":
-        if tank == "sphere":
-            raise ArgumentError(
-                "slosh_parameters: the spherical tank is not implemented yet (its parameters are tabulated curves in "
-                "Dodge 2000, Fig. 3.9, not yet digitized); use tank='cylinder'")
+    if tank not in TANKS:
         raise ArgumentError(f"slosh_parameters: tank must be one of {TANKS}, got {tank!r}")
     r = number(radius, "radius")
+    if not (math.isfinite(r) and r > 0.0):
+        raise ArgumentError(f"slosh_parameters: radius must be finite and > 0 (m), got {r}")
     if (fill_height is None) == (fill_fraction is None):
-        raise ArgumentError("slosh_parameters: give fill_height or fill_fraction (with tank_height), one of them")
+        what = "fill_fraction (of the sphere's volume)" if tank == "sphere" else "fill_fraction (with tank_height)"
+        raise ArgumentError(f"slosh_parameters: give fill_height or {what}, one of them")
+    if tank == "sphere" and tank_height is not None:
+        th = number(tank_height, "tank_height")
+        if not abs(th - 2.0 * r) <= 1e-9 * r:
+            raise ArgumentError(
+                f"slosh_parameters: a spherical tank's height is its diameter 2R = {2.0 * r} m; tank_height={th} "
+                "contradicts it (leave tank_height out for a sphere)")
     if fill_fraction is not None:
-        if tank_height is None:
-            raise ArgumentError("slosh_parameters: fill_fraction needs tank_height (m)")
         f = number(fill_fraction, "fill_fraction")
         if not 0.0 < f <= 1.0:
             raise ArgumentError(f"slosh_parameters: fill_fraction must be in (0, 1], got {f}")
-        h = f * number(tank_height, "tank_height")
+        if tank == "sphere":
+            h = _core.sphere_fill_height(r, f)
+        else:
+            if tank_height is None:
+                raise ArgumentError("slosh_parameters: fill_fraction needs tank_height (m)")
+            h = f * number(tank_height, "tank_height")
     else:
         h = number(fill_height, "fill_height")
     if (propellant_mass is None) == (density is None):
         raise ArgumentError("slosh_parameters: give propellant_mass or density, one of them")
-    mass = number(propellant_mass, "propellant_mass") if propellant_mass is not None else number(density, "density") * math.pi * r * r * h
+    if propellant_mass is not None:
+        mass = number(propellant_mass, "propellant_mass")
+    else:
+        volume = math.pi * h * h * (3.0 * r - h) / 3.0 if tank == "sphere" else math.pi * r * r * h
+        mass = number(density, "density") * volume
     zeta = number(damping_ratio, "damping_ratio")
     if not 0.0 <= zeta < 1.0:
         raise ArgumentError(f"slosh_parameters: damping_ratio must be in [0, 1), got {zeta}")
     if isinstance(modes, bool) or not isinstance(modes, (int, np.integer)):
         raise ArgumentError(f"slosh_parameters: modes must be an integer, got {modes!r}")
-    out = _core.cylinder_slosh(r, h, mass, number(axial_acceleration, "axial_acceleration"), int(modes))
+    if int(modes) < 1:
+        raise ArgumentError(f"slosh_parameters: modes must be >= 1, got {modes}")
+    solve = _core.sphere_slosh if tank == "sphere" else _core.cylinder_slosh
+    out = solve(r, h, mass, number(axial_acceleration, "axial_acceleration"), int(modes))
     return SloshParameters(
         tank=tank, radius=out["radius"], fill_height=out["fill_height"], liquid_mass=out["liquid_mass"],
         axial_acceleration=out["axial_acceleration"], damping_ratio=zeta, modes=tuple(SloshMode(**m) for m in out["modes"]),

@@ -16,6 +16,7 @@ pub mod geometry;
 pub mod joint;
 pub mod presets;
 pub mod slosh;
+pub mod slosh_sphere;
 pub mod slosh_tank;
 pub mod system;
 pub mod validate;
