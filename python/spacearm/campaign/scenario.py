@@ -253,7 +253,11 @@ def controller(nominal, scenario: Scenario):
     [`control_model`][spacearm.campaign.scenario.control_model] with its passive joints frozen at rest; the reference is over
     ``nominal``'s joints (the plant's actuated ones)."""
     q0 = np.asarray(nominal.initial_q, dtype=float)
-    reference = control.QuinticJoint(q0, scenario.goal(nominal), 0.0, scenario.motion_fraction * scenario.duration)
+    goal = scenario.goal(nominal)
+    actuated = np.asarray(nominal.actuated_dofs, dtype=bool)
+    if not actuated.all():  # the passive joints of the nominal model take no reference
+        q0, goal = q0[actuated], np.asarray(goal, dtype=float)[actuated]
+    reference = control.QuinticJoint(q0, goal, 0.0, scenario.motion_fraction * scenario.duration)
     if scenario.controller == "computed-torque":
         if scenario.flexibility is not None:
             return control.ComputedTorque(scenario.kp, scenario.kd, reference, model=control_model(nominal, scenario),
