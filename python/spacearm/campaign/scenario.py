@@ -95,8 +95,8 @@ class Scenario:
             raise ArgumentError("Scenario.flexibility must be a spacearm.campaign.Flexibility, "
                                 f"got {type(self.flexibility).__name__}")
         if self.flexibility is not None and self.controller != "computed-torque":
-            raise ArgumentError("Scenario.flexibility needs controller='computed-torque' (joint PD on the actuated "
-                                f"joints only is not built yet, docs/flexibility.md), got {self.controller!r}")
+            raise ArgumentError("Scenario.flexibility needs controller='computed-torque' (the flexible-plant study "
+                                f"designs computed torque on the rigid model, docs/flexibility.md), got {self.controller!r}")
 
         if isinstance(self.orbit, Orbit):
             o = self.orbit

@@ -206,7 +206,7 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
             raise CliError(f"--controller {name} moves the arm joints, but '{robot.name}' has none (only reaction wheels)")
         if target is None:
             return q_arm0 + 0.3
-        return parse_numbers(target, "--target", len(arm), f"joint goal, one per actuated arm joint of '{robot.name}'",
+        return parse_numbers(target, "--target", len(arm), f"joint goal, one per {'arm' if actuated.all() else 'actuated arm'} joint of '{robot.name}'",
                              "rad, or m for prismatic joints")
 
     def cartesian_goal(p0):
