@@ -371,8 +371,12 @@ class _Controller:
 class JointPD(_Controller):
     """Joint PD on the arm joints: ``tau = kp (q_ref - q) + kd (qd_ref - qd)``.
 
-    ``kp``, ``kd``: one gain or one per arm joint (N·m/rad, N·m·s/rad). ``reference``: a
-    [`QuinticJoint`][spacearm.control.QuinticJoint] or a constant set point (one entry per arm joint).
+    ``kp``, ``kd``: one gain or one per actuated arm joint (N·m/rad, N·m·s/rad). ``reference``: a
+    [`QuinticJoint`][spacearm.control.QuinticJoint] or a constant set point (one entry per actuated arm joint,
+    [`Robot.actuated_arm_dofs`][spacearm.Robot.actuated_arm_dofs]). Only the **actuated** arm joints are
+    commanded: a passive joint (slosh, panel, a compliant joint's deflection; docs/flexibility.md)
+    gets exactly zero torque and is left out of the tracking error. On a rigid model every arm
+    joint is actuated.
     """
 
     kp: Any
@@ -588,6 +592,12 @@ class CoordinatedFlying(_Controller):
     the velocity-product acceleration of the point). Forces: the base wrench ``F_b = H0 xdd0 +
     H0m qdd + c0`` and the joint torques from the flying-regime reduced EOM
     ``tau = H* qdd + c* + H0m^T H0^-1 F_b``.
+
+    Only the **actuated** arm joints are commanded. On a plant with passive joints (zero torque
+    there) the law is the collocated partial feedback linearization of docs/flexibility.md: the
+    passive accelerations follow from their rows of the equations of motion, and ``J`` becomes
+    ``J_A - J_P H_PP^-1 H_PA`` (the passive joints' drift leaves the right-hand side), so the
+    end-effector and base errors still obey ``e'' + kd e' + kp e = 0`` with the exact model.
 
     ``base_pose_ref``: ``(r0, quat [x, y, z, w] or scipy Rotation)``, or ``None`` to hold the initial pose.
     Gains are acceleration-level (1/s², 1/s). ``point``: overrides the reference's point.

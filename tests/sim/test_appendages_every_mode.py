@@ -130,7 +130,8 @@ def test_flying_modes_change_the_momenta_by_the_applied_wrench(robot, mode):
         com_ref=com_ref, quat_ref=quat_from_axis_angle([0.3, -0.5, 0.8], 0.2),
         kp_position=1.0 if force else 0.0, kd_position=2.0 if force else 0.0,
         kp_attitude=20.0 if torque else 0.0, kd_attitude=30.0 if torque else 0.0)
-    arm = control.JointPD(kp=[0, 0, 0, 5.0, 0, 0], kd=[0, 0, 0, 1.0, 0, 0], reference=[0, 0, 0, 0.3, 0, 0])  # the motor only
+    assert robot.actuated_arm_dofs == [3]  # the compliant joint's motor: the one reference entry
+    arm = control.JointPD(kp=5.0, kd=1.0, reference=[0.3])
     traj = spacearm.simulate(robot, 3.0, x0=x0, mode=mode, dt=DT, controller=control.Combined(arm=arm, base=base))
     assert traj.meta["dropped_base_wrench"]["count"] == 0
     rel_p, rel_l, dp, dl = _check_momentum_balance(robot, traj)

@@ -196,3 +196,61 @@ def test_tank_model_on_a_builder(model):
     # On a heavy base the mode runs at the tank's frequency (reduced mass within 1.2 %).
     w = robot.natural_frequencies(x).frequencies[0]
     assert w == pytest.approx(p.modes[0].frequency, rel=2e-2)
+
+
+# ---- joint PD and coordinated flying on the actuated joints only (issue 24, item 5) ----------
+def test_joint_pd_takes_a_reference_for_the_actuated_joints_only():
+    robot = arm_with_fuel()
+    assert robot.actuated_arm_dofs == [0, 2]
+    q0 = np.array([0.3, 0.2, -0.2])
+    x0 = robot.neutral_configuration(q=q0)
+    with pytest.raises(errors.SpacearmError, match=r"actuated arm joints 2 .*1 passive joints"):
+        spacearm.simulate(robot, 0.01, x0=x0, controller=spacearm.control.JointPD(kp=10.0, kd=1.0, reference=[0.0, 0.0, 0.0]))
+    kp, kd, goal = np.array([40.0, 25.0]), np.array([12.0, 6.0]), np.array([0.6, -0.5])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no "commanded torque on the passive joints" warning
+        traj = spacearm.simulate(robot, 1.0, x0=x0, dt=1e-3, record_every=10,
+                                 controller=spacearm.control.JointPD(kp=kp, kd=kd, reference=goal))
+    assert traj.meta["passive_joints_commanded"] == [] and not np.any(traj.tau_cmd[:, 1])
+    assert np.ptp(traj.q[:, 1]) > 1e-3  # the fuel sloshes, uncommanded
+    # The PD law by hand over the actuated joints, and the tracking error over them alone.
+    np.testing.assert_allclose(traj.tau_cmd[:, [0, 2]], kp * (goal - traj.q[:, [0, 2]]) - kd * traj["u"][:, [6, 8]],
+                               rtol=0, atol=1e-12)
+    np.testing.assert_allclose(traj["tracking_error"], np.linalg.norm(goal - traj.q[:, [0, 2]], axis=1), rtol=0, atol=1e-14)
+
+
+def spatial6_with_fuel_and_panel() -> spacearm.Robot:
+    b = spacearm.RobotBuilder.from_robot(spacearm.presets.spatial6(), "spatial6-flex")
+    b.add_slosh("fuel", model="pendulum", mass=40.0, position=(0.0, 0.2, 0.3), axis=(0, 0, -1), hinge=(1, 0, 0),
+                length=0.4, frequency=1.5, damping=0.3)
+    b.add_panel("wing", hinge_position=(0.0, -0.8, 0.0), hinge_axis=(1, 0, 0), direction=(0, -1, 0), size=(1.0, 0.6, 0.02),
+                mass=5.0, frequency=2.0)
+    return b.build()
+
+
+def test_coordinated_flying_with_passive_joints_follows_the_closed_form_error_dynamics():
+    """Partial feedback linearization (docs/flexibility.md): with the exact model the end-effector
+    and base-position errors obey e'' + kd e' + kp e = 0 from rest, critically damped:
+    e(t) = e0 (1 + w t) exp(-w t) with w = 10 (kp = 100, kd = 20) and w = 5 (kp = 25, kd = 10),
+    while the fuel and the panel swing with zero commanded torque."""
+    robot = spatial6_with_fuel_and_panel()
+    passive = ~robot.actuated_dofs
+    assert passive.sum() == 2
+    q0 = np.array(robot.initial_q, dtype=float)
+    q0[passive] = [0.25, -0.15]
+    x0 = robot.neutral_configuration(q=q0)
+    p0 = robot.point_position(x0)
+    target = p0 + np.array([0.03, -0.02, 0.04])
+    r_ref = x0[:3] + np.array([0.05, -0.03, 0.02])
+    ctrl = spacearm.control.CoordinatedFlying(spacearm.control.CartesianLine(target, target, 0.0, 1.0),
+                                             base_pose_ref=(r_ref, x0[3:7]), kp_ee=100.0, kd_ee=20.0, kp_base=25.0, kd_base=10.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        traj = spacearm.simulate(robot, 1.5, x0=x0, mode="flying", dt=1e-3, record_every=10, controller=ctrl)
+    assert traj.meta["passive_joints_commanded"] == [] and not np.any(traj.tau_cmd[:, passive])
+    assert np.ptp(traj.q[:, passive], axis=0).min() > 1e-3  # they move
+    t = traj.t[:, None]
+    p = np.array([robot.point_position(x) for x in traj.x])
+    np.testing.assert_allclose(p, target - (target - p0) * (1 + 10 * t) * np.exp(-10 * t), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(traj.x[:, :3], r_ref + (x0[:3] - r_ref) * (1 + 5 * t) * np.exp(-5 * t), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(traj.x[:, 3:7], np.broadcast_to(x0[3:7], traj.x[:, 3:7].shape), rtol=0, atol=1e-9)

@@ -108,7 +108,8 @@ impl StepperOptions {
         let n_arm = Self::n_arm(model);
         let arm_q: Vec<f64> = {
             let wheels = detect_reaction_wheels(model);
-            (0..model.n_dof()).filter(|d| !wheels.contains(d)).map(|d| model.initial_q()[d]).collect()
+            let dynamics = model.dof_dynamics();
+            (0..model.n_dof()).filter(|&d| !wheels.contains(&d) && dynamics[d].actuated).map(|d| model.initial_q()[d]).collect()
         };
         let (controller, kp, kd, q_ref) = match o.controller {
             None => (ControllerKind::None, vec![], vec![], vec![]),
@@ -124,7 +125,7 @@ impl StepperOptions {
                 let kd = broadcast_gains("kd", &need(c.kd, "kd")?, n_arm)?;
                 let q_ref = c.q_ref.unwrap_or(arm_q);
                 if q_ref.len() != n_arm {
-                    return Err(SpacearmError::Dimension { what: "q_ref".into(), expected: format!("the number of arm joints {n_arm}"), got: q_ref.len() }.into());
+                    return Err(SpacearmError::Dimension { what: "q_ref".into(), expected: format!("the number of actuated arm joints {n_arm}"), got: q_ref.len() }.into());
                 }
                 crate::status::finite("q_ref", &q_ref)?;
                 (c.kind, kp, kd, q_ref)
@@ -133,9 +134,12 @@ impl StepperOptions {
         Ok(StepperOptions { sim, controller, kp, kd, q_ref })
     }
 
-    /// The number of arm joints (the joints that are not reaction wheels).
+    /// The number of actuated arm joints (the joints that are not reaction wheels and have a
+    /// motor: the passive ones take no reference, docs/flexibility.md).
     pub(crate) fn n_arm(model: &Model) -> usize {
-        model.n_dof() - detect_reaction_wheels(model).len()
+        let wheels = detect_reaction_wheels(model);
+        let dynamics = model.dof_dynamics();
+        (0..model.n_dof()).filter(|&d| !wheels.contains(&d) && dynamics[d].actuated).count()
     }
 
     /// A fresh controller.
@@ -315,4 +319,46 @@ pub unsafe extern "C" fn spacearm_stepper_state(stepper: *const SpacearmStepper,
         }
         Ok(())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use spacearm_core::model::builder::{LinkSpec, ModelBuilder};
+    use spacearm_core::model::joint::{JointDynamics, JointLimits, JointType};
+
+    /// Two actuated links and a passive sprung panel between them in dof order.
+    fn arm_with_panel() -> Model {
+        let mut b = ModelBuilder::new("p", "base", 100.0, [[10.0, 0.0, 0.0], [0.0, 10.0, 0.0], [0.0, 0.0, 10.0]]).unwrap();
+        let link = |name: &str, parent: &str, origin: [f64; 3]| LinkSpec {
+            name: name.into(),
+            parent: parent.into(),
+            joint_name: None,
+            kind: JointType::Revolute,
+            origin_in_parent: origin,
+            rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
+            axis: [0.0, 1.0, 0.0],
+            com_from_joint: [0.4, 0.0, 0.0],
+            mass: 3.0,
+            inertia: [[0.05, 0.0, 0.0], [0.0, 0.3, 0.0], [0.0, 0.0, 0.3]],
+            limits: JointLimits::unlimited(),
+        };
+        b.add_link(link("l1", "base", [0.6, 0.0, 0.0])).unwrap();
+        b.add_link(link("panel", "base", [-0.6, 0.0, 0.0])).unwrap();
+        b.set_joint_dynamics("panel", JointDynamics { actuated: false, stiffness: 20.0, damping: 0.1, rest: 0.0 }).unwrap();
+        b.add_link(link("l2", "l1", [0.8, 0.0, 0.0])).unwrap();
+        b.build().unwrap()
+    }
+
+    #[test]
+    fn the_set_point_has_one_entry_per_actuated_arm_joint() {
+        let m = arm_with_panel();
+        assert_eq!(StepperOptions::n_arm(&m), 2);
+        let ok = StepperOptions::parse(&m, "mode = \"floating\"\ndt = 0.001\n[controller]\nkind = \"joint_pd\"\nkp = [2.0]\nkd = [0.5]\nq_ref = [0.1, 0.2]\n");
+        assert!(ok.is_ok());
+        let default = StepperOptions::parse(&m, "mode = \"floating\"\ndt = 0.001\n[controller]\nkind = \"computed_torque\"\nkp = [2.0]\nkd = [0.5]\n");
+        assert_eq!(default.ok().unwrap().q_ref.len(), 2);
+        let all = StepperOptions::parse(&m, "mode = \"floating\"\ndt = 0.001\n[controller]\nkind = \"joint_pd\"\nkp = [2.0]\nkd = [0.5]\nq_ref = [0.1, 0.0, 0.2]\n");
+        assert!(all.is_err());
+    }
 }

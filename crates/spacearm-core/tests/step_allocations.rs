@@ -35,6 +35,31 @@ unsafe impl GlobalAlloc for Counting {
 static GLOBAL: Counting = Counting;
 
 /// spatial6 plus three reaction wheels.
+/// spatial6 with its fourth joint passive and sprung (on the path to the end effector).
+fn with_passive_joint() -> Model {
+    let base = presets::spatial6();
+    let mut b = ModelBuilder::new("p", "base", base.base().mass, [[68.33, 0.0, 0.0], [0.0, 86.67, 0.0], [0.0, 0.0, 101.67]]).unwrap();
+    for l in base.links() {
+        b.add_link(LinkSpec {
+            name: l.name.clone(),
+            parent: base.body_name(l.parent).to_string(),
+            joint_name: Some(l.joint.name.clone()),
+            kind: l.joint.kind,
+            origin_in_parent: l.joint.origin_in_parent.into(),
+            rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
+            axis: l.joint.axis.into_inner().into(),
+            com_from_joint: l.com_from_joint.into(),
+            mass: l.mass.mass,
+            inertia: l.mass.inertia.into(),
+            limits: JointLimits::unlimited(),
+        })
+        .unwrap();
+    }
+    let name = base.links()[3].name.clone();
+    b.set_joint_dynamics(&name, spacearm_core::model::joint::JointDynamics { actuated: false, stiffness: 5.0, damping: 0.1, rest: 0.0 }).unwrap();
+    b.build().unwrap()
+}
+
 fn wheeled() -> Model {
     let base = presets::spatial6();
     let mut b = ModelBuilder::new("w", "base", base.base().mass, [[68.33, 0.0, 0.0], [0.0, 86.67, 0.0], [0.0, 0.0, 101.67]]).unwrap();
@@ -110,6 +135,7 @@ fn steps_allocate_nothing_under_every_native_controller() {
     let line = CartesianLine::new(Vector3::new(2.6, 0.0, 0.1), Vector3::new(2.7, 0.1, 0.1), 0.0, 1.0).unwrap();
     let gains = CoordinatedGains { kp_ee: 100.0, kd_ee: 20.0, kp_base: 25.0, kd_base: 10.0 };
     let wheels = wheeled();
+    let passive = with_passive_joint();
     let cases: Vec<(&str, &Model, Mode, Box<dyn Controller>)> = vec![
         ("zero", &arm, Mode::Floating, Box::new(ZeroTorque)),
         ("pd", &arm, Mode::Floating, Box::new(JointPd::new(vec![1.0], vec![0.5], quintic()))),
@@ -133,6 +159,13 @@ fn steps_allocate_nothing_under_every_native_controller() {
             Box::new(ResolvedMotionRate::new(line, 5.0, 0.05, 0.1, 50.0, ee.body, ee.offset).with_strategy(Strategy::MinimumBaseDisturbance)),
         ),
         ("coordinated", &arm, Mode::Flying, Box::new(CoordinatedFlying::new(line, ee.body, ee.offset, None, gains, 0.05, 0.1))),
+        (
+            "coordinated, a passive joint (partial feedback linearization)",
+            &passive,
+            Mode::Flying,
+            Box::new(CoordinatedFlying::new(line, ee.body, ee.offset, None, gains, 0.05, 0.1)),
+        ),
+        ("pd, a passive joint", &passive, Mode::Floating, Box::new(JointPd::new(vec![1.0], vec![0.5], JointReference::quintic(q0[..5].to_vec(), q1[..5].to_vec(), 0.0, 1.0).unwrap()))),
         ("thrusters", &arm, Mode::Flying, Box::new(BaseThrusterControl::new(None, None, 1.0, 2.0, 100.0, 50.0))),
         (
             "wheels + computed torque",

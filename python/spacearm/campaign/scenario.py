@@ -95,8 +95,8 @@ class Scenario:
             raise ArgumentError("Scenario.flexibility must be a spacearm.campaign.Flexibility, "
                                 f"got {type(self.flexibility).__name__}")
         if self.flexibility is not None and self.controller != "computed-torque":
-            raise ArgumentError("Scenario.flexibility needs controller='computed-torque' (joint PD on the actuated "
-                                f"joints only is not built yet, docs/flexibility.md), got {self.controller!r}")
+            raise ArgumentError("Scenario.flexibility needs controller='computed-torque' (the flexible-plant study "
+                                f"designs computed torque on the rigid model, docs/flexibility.md), got {self.controller!r}")
 
         if isinstance(self.orbit, Orbit):
             o = self.orbit
@@ -253,7 +253,11 @@ def controller(nominal, scenario: Scenario):
     [`control_model`][spacearm.campaign.scenario.control_model] with its passive joints frozen at rest; the reference is over
     ``nominal``'s joints (the plant's actuated ones)."""
     q0 = np.asarray(nominal.initial_q, dtype=float)
-    reference = control.QuinticJoint(q0, scenario.goal(nominal), 0.0, scenario.motion_fraction * scenario.duration)
+    goal = scenario.goal(nominal)
+    actuated = np.asarray(nominal.actuated_dofs, dtype=bool)
+    if not actuated.all():  # the passive joints of the nominal model take no reference
+        q0, goal = q0[actuated], np.asarray(goal, dtype=float)[actuated]
+    reference = control.QuinticJoint(q0, goal, 0.0, scenario.motion_fraction * scenario.duration)
     if scenario.controller == "computed-torque":
         if scenario.flexibility is not None:
             return control.ComputedTorque(scenario.kp, scenario.kd, reference, model=control_model(nominal, scenario),

@@ -52,7 +52,7 @@ def detumble_controller(robot, x, *, mode: str, q_hold, kp: float, kd: float, ti
                         max_force: float, max_torque: float, model=None):
     """The native controller of the module docstring for ``robot`` (a spacearm.control
     controller, or ``None`` when there is nothing to drive)."""
-    arm_dofs = robot.arm_dofs
+    arm_dofs = robot.actuated_arm_dofs  # the passive joints take no reference (docs/flexibility.md)
     arm = (ComputedTorque(kp=kp, kd=kd, reference=np.asarray(q_hold, dtype=float)[arm_dofs], model=model) if arm_dofs else None)
     ctrl = arm
     if mode == "flying":

@@ -61,7 +61,7 @@ def add_parsers(sub) -> None:
     p.add_argument("--integrator", choices=("rk4", "dopri5"), default="rk4")
     p.add_argument("--rtol", type=float, default=1e-9, help="dopri5 relative tolerance (default 1e-9)")
     p.add_argument("--atol", type=float, default=1e-12, help="dopri5 absolute tolerance (default 1e-12)")
-    p.add_argument("--target", help="pd, computed-torque, attitude: joint goal q1,q2,... (rad or m, one per arm joint; "
+    p.add_argument("--target", help="pd, computed-torque, attitude: joint goal q1,q2,... (rad or m, one per actuated arm joint; "
                                     "default: initial q + 0.3); rmrc, coordinated: end-effector goal x,y,z in the "
                                     "inertial frame (m; default: 0.2 m from the start along each axis)")
     p.add_argument("--move-time", type=float, help="duration of the reference maneuver from t = 0, s "
@@ -193,7 +193,9 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
     if name == "none":
         return None
     wheels = reaction_wheel_dofs(robot)
-    arm = [j for j in range(robot.n_dof) if j not in wheels]
+    # The actuated arm joints: the passive ones (slosh, panels) take no reference (docs/flexibility.md).
+    actuated = robot.actuated_dofs
+    arm = [j for j in range(robot.n_dof) if j not in wheels and actuated[j]]
     t_move = 0.6 * duration if move_time is None else float(move_time)
     if not t_move > 0:
         raise CliError(f"--move-time must be > 0 s, got {t_move}")
@@ -204,7 +206,7 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
             raise CliError(f"--controller {name} moves the arm joints, but '{robot.name}' has none (only reaction wheels)")
         if target is None:
             return q_arm0 + 0.3
-        return parse_numbers(target, "--target", len(arm), f"joint goal, one per arm joint of '{robot.name}'",
+        return parse_numbers(target, "--target", len(arm), f"joint goal, one per {'arm' if actuated.all() else 'actuated arm'} joint of '{robot.name}'",
                              "rad, or m for prismatic joints")
 
     def cartesian_goal(p0):

@@ -245,6 +245,14 @@ class Robot:
         return [d for d in range(self.n_dof) if d not in wheels]
 
     @property
+    def actuated_arm_dofs(self) -> list:
+        """The [`arm_dofs`][spacearm.Robot.arm_dofs] that have a motor ([`actuated_dofs`][spacearm.Robot.actuated_dofs]), in ``q`` order:
+        the joints a joint reference of [`JointPD`][spacearm.control.JointPD] or [`ComputedTorque`][spacearm.control.ComputedTorque] has
+        one entry for (the passive joints are not commanded, docs/flexibility.md)."""
+        actuated = self.actuated_dofs
+        return [d for d in self.arm_dofs if actuated[d]]
+
+    @property
     def body_of_dof(self) -> list:
         """Body index moved by each degree of freedom."""
         return list(self._m.body_of_dof)

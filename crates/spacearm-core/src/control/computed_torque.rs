@@ -101,17 +101,6 @@ impl ReducedInverseDynamics {
         Self::with_passive(model, ctx, PassiveTreatment::Drift)
     }
 
-    /// For `model` with the plant's degrees of freedom, commanding **every** arm joint, the
-    /// passive ones included (their torques are computed as if they had motors; the simulator
-    /// drops them and warns): for controllers that do not yet treat passive joints as drift
-    /// ([`super::CoordinatedFlying`]).
-    pub fn commanding_every_arm_joint(model: Model, ctx: &ControlContext<'_>) -> Result<Self> {
-        let mut r = Self::with_passive(model, ctx, PassiveTreatment::Frozen)?;
-        r.arm = ctx.arm_dofs.to_vec();
-        r.passive.clear();
-        Ok(r)
-    }
-
     /// For `model` with the plant's degrees of freedom, the passive joints treated as `treatment`.
     pub fn with_passive(model: Model, ctx: &ControlContext<'_>, treatment: PassiveTreatment) -> Result<Self> {
         if model.n_dof() != ctx.plant.n_dof() {
