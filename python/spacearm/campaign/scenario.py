@@ -214,7 +214,8 @@ def metrics_from_records(tracking_error: np.ndarray, x: np.ndarray, saturation_e
     """The metrics (columns [`METRIC_NAMES`][spacearm.campaign.scenario.METRIC_NAMES]) of ``B`` runs from their records.
 
     ``tracking_error`` ``(B, K)`` (rad), ``x`` ``(B, K, 7+N)``, ``saturation_events`` ``(B,)`` and
-    ``u`` ``(B, K, 6+N)`` (``[v0, w0, qd]``), every step recorded. Each row of the result depends on its own run only, computed with the
+    ``u`` ``(B, K, 6+N)`` (``[v0, w0, qd]``), every step recorded. Each row of the result
+    depends on its own run only, computed with the
     same operations whatever ``B`` (so one run alone and the same run in a batch agree bit for
     bit); a row with a non-finite metric is the caller's to report.
     """
@@ -315,7 +316,8 @@ def reference(nominal, scenario: Scenario):
 
 def controller(nominal, scenario: Scenario):
     """The controller every sample flies with, built on the *nominal* model: the
-    [`reference`][spacearm.campaign.scenario.reference] tracked by computed torque or joint PD. With a flexibility recipe, computed torque uses
+    [`reference`][spacearm.campaign.scenario.reference] tracked by computed torque or joint PD.
+    With a flexibility recipe, computed torque uses
     [`control_model`][spacearm.campaign.scenario.control_model] with its passive joints frozen at rest; the reference is over
     ``nominal``'s joints (the plant's actuated ones)."""
     reference_ = reference(nominal, scenario)
