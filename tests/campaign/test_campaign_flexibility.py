@@ -99,6 +99,9 @@ def test_spec_round_trips_through_json(bus):
     spec = CampaignSpec(dumps_toml(bus), 5, seed=1, scenario=Scenario(duration=1.0, flexibility=flex))
     again = CampaignSpec.from_json(spec.to_json())
     assert again == spec
+    shaped = CampaignSpec(dumps_toml(bus), 5, seed=1, scenario=Scenario(duration=1.0, flexibility=flex, shaping="zvd",
+                                                                         shaping_damping=0.01))
+    assert CampaignSpec.from_json(shaped.to_json()) == shaped != spec
     assert again.to_json() == spec.to_json()
     assert again.draw(2) == spec.draw(2)
 
@@ -172,3 +175,70 @@ def test_bad_recipes_are_errors():
     with pytest.raises(ArgumentError, match="computed-torque"):
         Scenario(controller="pd", flexibility=Flexibility(panel=PANEL))
     assert Fixed(0.3).nominal == 0.3
+
+
+def test_shaped_campaign_matches_a_direct_simulation_and_its_base_rate(bus):
+    """Each sample's fill fraction, tracking error and largest base rate equal a direct simulate
+    of the hand-built plant under a hand-built ZVD-shaped rigid-model controller; the error and
+    |w0| are computed here from the states, the velocities and the shaped reference."""
+    from spacearm.control import input_shaper
+
+    flex = Flexibility(tank=TANK, fill_fraction=Uniform(0.1, 0.9), slosh_damping_ratio=0.005, panel=PANEL,
+                       panel_stiffness=Uniform(15.0, 35.0))
+    scenario = Scenario(duration=6.0, dt=1e-2, kp=4.0, kd=4.0, q_offset=0.8, motion_fraction=0.5, flexibility=flex,
+                        shaping="zvd")
+    result = run_campaign(bus, samples=3, seed=9, perturbations=NO_ERRORS, scenario=scenario, workers=0,
+                          progress=False)
+    assert result.n_ok == 3
+    model, _ = _hand_plant(0.5, 0.005, 25.0)
+    # the shaper's mode, by hand: the controller's model's first mode, actuated joint held
+    w1 = model.natural_frequencies(model.neutral_configuration()).frequencies[0]
+    assert w1 > 0.1
+    move = input_shaper("zvd", frequency=w1).shape(QuinticJoint([0.0], [0.8], 0.0, 3.0))
+    draws = [scenario.flexibility.draw(9, i) for i in range(3)]
+    assert np.array_equal(result.parameter("fill_fraction"), [d["fill_fraction"] for d in draws])
+    col = result.metric_names.index
+    for i, d in enumerate(draws):
+        hand, _ = _hand_plant(d["fill_fraction"], 0.005, d["panel_stiffness"])
+        traj = spacearm.simulate(hand, 6.0, x0=hand.neutral_configuration(), dt=1e-2,
+                                 controller=ComputedTorque(4.0, 4.0, move, model=model, passive="frozen"))
+        q_ref, _, _ = move.evaluate(traj.t)
+        err = np.abs(traj.x[:, 7] - q_ref[:, 0])
+        rate = np.linalg.norm(traj.u[:, 3:6], axis=1)
+        assert result.metrics[i, col("tracking_error_max")] == pytest.approx(err.max(), rel=1e-9)
+        assert result.metrics[i, col("base_rate_max")] == pytest.approx(rate.max(), rel=1e-12)
+        assert rate.max() > 1e-3  # the arm's reaction turns the base: the metric measures something
+    # the shaped reference is what was flown: an unshaped controller gives another error
+    plain = run_campaign(bus, samples=3, seed=9, perturbations=NO_ERRORS, progress=False, workers=0,
+                         scenario=Scenario(duration=6.0, dt=1e-2, kp=4.0, kd=4.0, q_offset=0.8, motion_fraction=0.5,
+                                           flexibility=flex))
+    assert not np.allclose(plain.metric("tracking_error_max"), result.metric("tracking_error_max"), rtol=1e-3)
+
+
+def test_base_rate_of_a_rigid_campaign_is_the_momentum_balance(bus):
+    """On a rigid floating robot with zero momentum, w0 follows from the momentum map
+    (H0 [v0; w0] = -H0m qd); the campaign's base_rate_max equals that, from the states alone."""
+    scenario = Scenario(duration=1.0, dt=1e-2, kp=50.0, kd=14.0, q_offset=0.6)
+    r = run_campaign(bus, samples=1, seed=0, perturbations=NO_ERRORS, scenario=scenario, workers=0, progress=False)
+    traj = spacearm.simulate(bus, 1.0, x0=bus.neutral_configuration(), dt=1e-2,
+                             controller=ComputedTorque(50.0, 14.0, QuinticJoint([0.0], [0.6], 0.0, 0.75), model=bus))
+    rates = []
+    for x, u in zip(traj.x, traj.u):
+        blocks = bus.inertia_blocks(x)
+        base = np.linalg.solve(blocks.H0, -blocks.H0m @ u[6:])
+        rates.append(np.linalg.norm(base[3:6]))
+    assert r.metric("base_rate_max")[0] == pytest.approx(max(rates), rel=1e-6)
+
+
+def test_bad_shaping_is_an_error():
+    with pytest.raises(ArgumentError, match="shaping must be"):
+        Scenario(shaping="zvdd", shaping_frequency=1.0)
+    with pytest.raises(ArgumentError, match="needs a flexibility recipe"):
+        Scenario(shaping="zv")
+    with pytest.raises(ArgumentError, match="shaping_frequency must be"):
+        Scenario(shaping="zv", shaping_frequency=-1.0)
+    with pytest.raises(ArgumentError, match="need shaping"):
+        Scenario(shaping_frequency=1.0)
+    # a rigid campaign's spec carries no shaping keys
+    assert "shaping" not in Scenario().to_dict()
+    assert Scenario(shaping="zv", shaping_frequency=1.0).to_dict()["shaping"] == "zv"

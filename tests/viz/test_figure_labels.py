@@ -185,7 +185,7 @@ def test_campaign_axes_carry_units():
     units = {"payload_mass": "kg", "slosh_offset_x": "m", "slosh_offset_y": "m", "slosh_offset_z": "m",
              "base_mass_scale": "-", "base_inertia_scale": "-", "link_mass_scale": "-", "slosh_fraction": "-",
              "tracking_error_max": "rad", "tracking_error_rms": "rad", "tracking_error_final": "rad",
-             "attitude_excursion_max": "deg", "base_displacement_max": "m"}
+             "attitude_excursion_max": "deg", "base_displacement_max": "m", "base_rate_max": "rad/s"}
     # Every parameter and metric has its unit in the tables the figure reads.
     from spacearm.campaign import METRIC_NAMES, METRIC_UNITS, PARAMETER_NAMES, PARAMETER_UNITS
 

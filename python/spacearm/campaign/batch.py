@@ -106,7 +106,7 @@ def outcomes(prepared: Prepared, runs, seconds: float, threads: int) -> List[Sam
     if isinstance(runs, str):
         return result + [SampleOutcome(i, p, None, runs, per_sample) for i, p in prepared.flying]
     if runs.ok.any():
-        metrics = metrics_from_records(runs["tracking_error"], runs["x"], runs.saturation_count)
+        metrics = metrics_from_records(runs["tracking_error"], runs["x"], runs.saturation_count, runs["u"])
     else:  # every rollout failed: there are no records to compute metrics from
         metrics = np.full((len(prepared.flying), len(METRIC_NAMES)), np.nan)
     for k, (index, params) in enumerate(prepared.flying):

@@ -13,6 +13,8 @@ Metrics of a run (the result file's ``metrics`` columns, [`METRIC_NAMES`][spacea
   ``q_ref − q`` (rad), over the run and at its end;
 - ``attitude_excursion_max``: the largest rotation of the base from its initial attitude (deg);
 - ``base_displacement_max``: the largest distance of the base CM from its start (m);
+- ``base_rate_max``: the largest base angular rate ``|w0|`` over the run (rad/s), the base
+  disturbance of the manoeuvre;
 - ``saturation_events``: actuator saturation events (wheel torque or speed, thruster limits).
 """
 
@@ -30,7 +32,7 @@ from ..sim.simulation import simulate
 from .flexibility import Flexibility
 
 __all__ = ["Scenario", "METRIC_NAMES", "METRIC_UNITS", "evaluate", "plant", "control_model", "controller", "with_payload",
-           "metrics_from_records", "non_finite_message", "attitude_angle_deg"]
+           "metrics_from_records", "non_finite_message", "attitude_angle_deg", "reference", "shaping_frequency"]
 
 #: The metrics of each campaign sample, in the order of the result's columns (docs/campaigns.md).
 METRIC_NAMES = (
@@ -39,6 +41,7 @@ METRIC_NAMES = (
     "tracking_error_final",
     "attitude_excursion_max",
     "base_displacement_max",
+    "base_rate_max",
     "saturation_events",
 )
 
@@ -49,10 +52,12 @@ METRIC_UNITS = {
     "tracking_error_final": "rad",
     "attitude_excursion_max": "deg",
     "base_displacement_max": "m",
+    "base_rate_max": "rad/s",
     "saturation_events": "count",
 }
 
 _CONTROLLERS = ("computed-torque", "pd")
+_SHAPERS = ("zv", "zvd")
 
 
 @dataclass(frozen=True)
@@ -71,6 +76,12 @@ class Scenario:
     ``flexibility``: a [`Flexibility`][spacearm.campaign.Flexibility] recipe: every plant gets a sloshing tank and/or a
     hinged panel with parameters drawn per sample, and computed torque is designed on the nominal
     flexible model with its passive joints frozen (the rigid lumped model, docs/campaigns.md).
+    ``shaping``: ``"zv"`` or ``"zvd"`` to fly the quintic convolved with that input shaper
+    ([`spacearm.control.input_shaper`][spacearm.control.input_shaper]; the shaped move is longer by
+    the shaper's duration) designed for ``shaping_frequency`` (rad/s) and ``shaping_damping``;
+    without a frequency, the first mode of the controller's model
+    ([`Robot.natural_frequencies`][spacearm.Robot.natural_frequencies] at its neutral
+    configuration, the actuated joints held), which needs a flexibility recipe.
     """
 
     mode: str = "floating"
@@ -85,6 +96,9 @@ class Scenario:
     orbit: Optional[Tuple[float, ...]] = None
     gravity_gradient: bool = True
     flexibility: Optional[Flexibility] = None
+    shaping: Optional[str] = None
+    shaping_frequency: Optional[float] = None
+    shaping_damping: float = 0.0
 
     def __post_init__(self):
         from ..orbit import Orbit
@@ -107,6 +121,22 @@ class Scenario:
             if values.shape != (10,) or not np.all(np.isfinite(values)):
                 raise ArgumentError(f"Scenario.orbit must be a spacearm.Orbit (or its 10 numbers r0, v0, mu, R, J2, j2), got {self.orbit!r}")
             object.__setattr__(self, "orbit", tuple(float(v) for v in values))
+        if self.shaping is not None and self.shaping not in _SHAPERS:
+            raise ArgumentError(f"Scenario.shaping must be None, 'zv' or 'zvd', got {self.shaping!r}")
+        if self.shaping_frequency is not None:
+            f = self.shaping_frequency
+            if isinstance(f, bool) or not isinstance(f, (int, float)) or not (math.isfinite(f) and f > 0):
+                raise ArgumentError(f"Scenario.shaping_frequency must be None or a finite number > 0 (rad/s), got {f!r}")
+            object.__setattr__(self, "shaping_frequency", float(f))
+        z = self.shaping_damping
+        if isinstance(z, bool) or not isinstance(z, (int, float)) or not (0.0 <= z < 1.0):
+            raise ArgumentError(f"Scenario.shaping_damping must be a number in [0, 1), got {z!r}")
+        object.__setattr__(self, "shaping_damping", float(z))
+        if self.shaping is None and (self.shaping_frequency is not None or self.shaping_damping != 0.0):
+            raise ArgumentError("Scenario.shaping_frequency and shaping_damping need shaping='zv' or 'zvd'")
+        if self.shaping is not None and self.shaping_frequency is None and self.flexibility is None:
+            raise ArgumentError("Scenario.shaping without shaping_frequency takes the first flexible mode of the "
+                                "controller's model, which needs a flexibility recipe; give shaping_frequency (rad/s)")
         if not isinstance(self.gravity_gradient, bool):
             raise ArgumentError(f"Scenario.gravity_gradient must be True or False, got {self.gravity_gradient!r}")
         if self.controller not in _CONTROLLERS:
@@ -134,11 +164,15 @@ class Scenario:
         return np.asarray(self.q_goal)
 
     def to_dict(self) -> dict:
-        """Plain data for the JSON spec (no ``flexibility`` key without one, so a rigid campaign's
-        spec is what it was before flexible plants existed)."""
-        d = {k: getattr(self, k) for k in self.__dataclass_fields__ if k != "flexibility"}
+        """Plain data for the JSON spec (no ``flexibility`` key without one and no ``shaping*``
+        keys without shaping, so a rigid campaign's spec is what it was before flexible plants
+        and shaped references existed)."""
+        optional = ("flexibility", "shaping", "shaping_frequency", "shaping_damping")
+        d = {k: getattr(self, k) for k in self.__dataclass_fields__ if k not in optional}
         if self.flexibility is not None:
             d["flexibility"] = self.flexibility.to_dict()
+        if self.shaping is not None:
+            d.update(shaping=self.shaping, shaping_frequency=self.shaping_frequency, shaping_damping=self.shaping_damping)
         return d
 
     def orbit_model(self):
@@ -175,11 +209,13 @@ def attitude_angle_deg(quat0: np.ndarray, quats: np.ndarray) -> np.ndarray:
     return np.degrees(2.0 * np.arccos(np.clip(np.abs(dots), 0.0, 1.0)))
 
 
-def metrics_from_records(tracking_error: np.ndarray, x: np.ndarray, saturation_events: np.ndarray) -> np.ndarray:
+def metrics_from_records(tracking_error: np.ndarray, x: np.ndarray, saturation_events: np.ndarray,
+                         u: np.ndarray) -> np.ndarray:
     """The metrics (columns [`METRIC_NAMES`][spacearm.campaign.scenario.METRIC_NAMES]) of ``B`` runs from their records.
 
-    ``tracking_error`` ``(B, K)`` (rad), ``x`` ``(B, K, 7+N)`` and ``saturation_events`` ``(B,)``,
-    every step recorded. Each row of the result depends on its own run only, computed with the
+    ``tracking_error`` ``(B, K)`` (rad), ``x`` ``(B, K, 7+N)``, ``saturation_events`` ``(B,)`` and
+    ``u`` ``(B, K, 6+N)`` (``[v0, w0, qd]``), every step recorded. Each row of the result
+    depends on its own run only, computed with the
     same operations whatever ``B`` (so one run alone and the same run in a batch agree bit for
     bit); a row with a non-finite metric is the caller's to report.
     """
@@ -187,12 +223,17 @@ def metrics_from_records(tracking_error: np.ndarray, x: np.ndarray, saturation_e
     x = np.asarray(x, dtype=float)
     displacement = np.linalg.norm(x[:, :, 0:3] - x[:, :1, 0:3], axis=-1)
     quats = x[:, :, 3:7]
+    u = np.asarray(u, dtype=float)
+    # |w0| written out term by term, like the attitude angle: the same bits for one run or many.
+    w = u[:, :, 3:6]
+    rate = np.sqrt((w[..., 0] * w[..., 0] + w[..., 1] * w[..., 1]) + w[..., 2] * w[..., 2])
     columns = {
         "tracking_error_max": np.max(error, axis=1),
         "tracking_error_rms": np.sqrt(np.mean(error**2, axis=1)),
         "tracking_error_final": error[:, -1],
         "attitude_excursion_max": np.max(attitude_angle_deg(quats[:, 0, :], quats), axis=1),
         "base_displacement_max": np.max(displacement, axis=1),
+        "base_rate_max": np.max(rate, axis=1),
         "saturation_events": np.asarray(saturation_events, dtype=float),
     }
     return np.stack([columns[name] for name in METRIC_NAMES], axis=1)
@@ -247,23 +288,49 @@ def control_model(nominal, scenario: Scenario):
     return scenario.flexibility.apply(nominal, scenario.flexibility.nominal())
 
 
-def controller(nominal, scenario: Scenario):
-    """The controller every sample flies with, built on the *nominal* model: the quintic reference
-    tracked by computed torque or joint PD. With a flexibility recipe, computed torque uses
-    [`control_model`][spacearm.campaign.scenario.control_model] with its passive joints frozen at rest; the reference is over
-    ``nominal``'s joints (the plant's actuated ones)."""
+def shaping_frequency(nominal, scenario: Scenario) -> float:
+    """The frequency (rad/s) the scenario's input shaper is designed for: ``shaping_frequency``, or
+    the first mode of [`control_model`][spacearm.campaign.scenario.control_model] at its neutral
+    configuration with the actuated joints held ([`Robot.natural_frequencies`][spacearm.Robot.natural_frequencies])."""
+    if scenario.shaping_frequency is not None:
+        return scenario.shaping_frequency
+    model = control_model(nominal, scenario)
+    modes = model.natural_frequencies(model.neutral_configuration()).frequencies
+    if len(modes) == 0 or not (math.isfinite(modes[0]) and modes[0] > 0):
+        raise ArgumentError("Scenario.shaping: the controller's model has no flexible mode to shape against "
+                            f"(natural frequencies {list(modes)}); give shaping_frequency (rad/s)")
+    return float(modes[0])
+
+
+def reference(nominal, scenario: Scenario):
+    """The joint reference every sample tracks: the quintic from ``nominal``'s initial ``q`` to the
+    goal over ``motion_fraction · duration``, convolved with the scenario's input shaper if it has one."""
     q0 = np.asarray(nominal.initial_q, dtype=float)
-    goal = scenario.goal(nominal)
+    goal = np.asarray(scenario.goal(nominal), dtype=float)
     actuated = np.asarray(nominal.actuated_dofs, dtype=bool)
     if not actuated.all():  # the passive joints of the nominal model take no reference
-        q0, goal = q0[actuated], np.asarray(goal, dtype=float)[actuated]
-    reference = control.QuinticJoint(q0, goal, 0.0, scenario.motion_fraction * scenario.duration)
+        q0, goal = q0[actuated], goal[actuated]
+    move = control.QuinticJoint(q0, goal, 0.0, scenario.motion_fraction * scenario.duration)
+    if scenario.shaping is None:
+        return move
+    shaper = control.input_shaper(scenario.shaping, frequency=shaping_frequency(nominal, scenario),
+                                  damping=scenario.shaping_damping)
+    return shaper.shape(move)
+
+
+def controller(nominal, scenario: Scenario):
+    """The controller every sample flies with, built on the *nominal* model: the
+    [`reference`][spacearm.campaign.scenario.reference] tracked by computed torque or joint PD.
+    With a flexibility recipe, computed torque uses
+    [`control_model`][spacearm.campaign.scenario.control_model] with its passive joints frozen at rest; the reference is over
+    ``nominal``'s joints (the plant's actuated ones)."""
+    reference_ = reference(nominal, scenario)
     if scenario.controller == "computed-torque":
         if scenario.flexibility is not None:
-            return control.ComputedTorque(scenario.kp, scenario.kd, reference, model=control_model(nominal, scenario),
+            return control.ComputedTorque(scenario.kp, scenario.kd, reference_, model=control_model(nominal, scenario),
                                           passive="frozen")
-        return control.ComputedTorque(scenario.kp, scenario.kd, reference, model=nominal)
-    return control.JointPD(scenario.kp, scenario.kd, reference)
+        return control.ComputedTorque(scenario.kp, scenario.kd, reference_, model=nominal)
+    return control.JointPD(scenario.kp, scenario.kd, reference_)
 
 
 def evaluate(nominal, scenario: Scenario, params: Dict[str, float]) -> Dict[str, float]:
@@ -273,7 +340,7 @@ def evaluate(nominal, scenario: Scenario, params: Dict[str, float]) -> Dict[str,
     traj = simulate(p, scenario.duration, x0=scenario.initial_configuration(p), mode=scenario.mode, dt=scenario.dt,
                     controller=controller(nominal, scenario), **scenario.run_options())
     saturation = len(traj["saturation_t"]) if traj.has("saturation_t") else 0
-    row = metrics_from_records(traj["tracking_error"][None], traj["x"][None], np.array([saturation]))[0]
+    row = metrics_from_records(traj["tracking_error"][None], traj["x"][None], np.array([saturation]), traj["u"][None])[0]
     message = non_finite_message(row)
     if message:
         raise SimulationError(message)
