@@ -51,7 +51,7 @@
 
 use nalgebra::{DMatrix, SymmetricEigen};
 
-use super::slosh_tank::{SloshMode, TankSlosh};
+use super::slosh_tank::{axial, positive, SloshMode, TankSlosh};
 use crate::error::{Result, SpacearmError};
 
 /// The most slosh modes [`sphere_slosh`] returns (higher ones converge slowly near full).
@@ -289,13 +289,6 @@ pub fn ritz_lateral_modes(domain: &AxisymmetricDomain, n_basis: usize, n_modes: 
     Ok(modes)
 }
 
-fn positive(what: &str, v: f64) -> Result<f64> {
-    if !(v.is_finite() && v > 0.0) {
-        return Err(SpacearmError::argument(format!("{what} must be finite and > 0, got {v}")));
-    }
-    Ok(v)
-}
-
 /// The fill height `h` of a sphere of `radius` R holding the `fill_fraction` f of its volume:
 /// the root in `(0, 2R]` of `(h/R)² (3 − h/R) / 4 = f` (the cap volume `π h² (3R − h)/3`), by a
 /// Newton iteration safeguarded by bisection.
@@ -336,12 +329,7 @@ pub fn sphere_slosh(radius: f64, fill_height: f64, liquid_mass: f64, axial_accel
     let r = positive("the tank radius (m)", radius)?;
     let h = positive("the fill height (m)", fill_height)?;
     let m_l = positive("the liquid mass (kg)", liquid_mass)?;
-    if !(axial_acceleration.is_finite() && axial_acceleration > 0.0) {
-        return Err(SpacearmError::argument(format!(
-            "the axial acceleration must be finite and > 0 m/s^2 (the thrust's; at 0 the liquid has no restoring force and \
-             surface tension sets it, which this model does not describe), got {axial_acceleration}"
-        )));
-    }
+    axial(axial_acceleration)?;
     if !(1..=SPHERE_MAX_MODES).contains(&n_modes) {
         return Err(SpacearmError::argument(format!(
             "the number of slosh modes of a spherical tank must be 1 to {SPHERE_MAX_MODES} (higher modes converge too slowly near full), got {n_modes}"

@@ -74,11 +74,23 @@ pub struct TankSlosh {
     pub fixed_height: f64,
 }
 
-fn positive(what: &str, v: f64) -> Result<f64> {
+/// `v`, when finite and > 0; else an argument error naming `what`.
+pub(crate) fn positive(what: &str, v: f64) -> Result<f64> {
     if !(v.is_finite() && v > 0.0) {
         return Err(SpacearmError::argument(format!("{what} must be finite and > 0, got {v}")));
     }
     Ok(v)
+}
+
+/// Check the axial acceleration of a slosh model (> 0: at 0 the model does not apply; module docs).
+pub(crate) fn axial(axial_acceleration: f64) -> Result<f64> {
+    if !(axial_acceleration.is_finite() && axial_acceleration > 0.0) {
+        return Err(SpacearmError::argument(format!(
+            "the axial acceleration must be finite and > 0 m/s^2 (the thrust's; at 0 the liquid has no restoring force and \
+             surface tension sets it, which this model does not describe), got {axial_acceleration}"
+        )));
+    }
+    Ok(axial_acceleration)
 }
 
 /// The equivalent mechanical model of the liquid in an upright flat-bottomed cylinder of
@@ -88,12 +100,7 @@ pub fn cylinder_slosh(radius: f64, fill_height: f64, liquid_mass: f64, axial_acc
     let r = positive("the tank radius (m)", radius)?;
     let h = positive("the fill height (m)", fill_height)?;
     let m_l = positive("the liquid mass (kg)", liquid_mass)?;
-    if !(axial_acceleration.is_finite() && axial_acceleration > 0.0) {
-        return Err(SpacearmError::argument(format!(
-            "the axial acceleration must be finite and > 0 m/s^2 (the thrust's; at 0 the liquid has no restoring force and \
-             surface tension sets it, which this model does not describe), got {axial_acceleration}"
-        )));
-    }
+    axial(axial_acceleration)?;
     if !(1..=BESSEL_J1_PRIME_ZEROS.len()).contains(&n_modes) {
         return Err(SpacearmError::argument(format!("the number of slosh modes must be 1 to {}, got {n_modes}", BESSEL_J1_PRIME_ZEROS.len())));
     }
