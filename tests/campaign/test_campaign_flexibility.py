@@ -242,3 +242,66 @@ def test_bad_shaping_is_an_error():
     # a rigid campaign's spec carries no shaping keys
     assert "shaping" not in Scenario().to_dict()
     assert Scenario(shaping="zv", shaping_frequency=1.0).to_dict()["shaping"] == "zv"
+
+
+SPHERE = Tank(radius=0.35, height=0.7, density=1000.0, axial_acceleration=0.1, bottom=(0.0, 0.0, -0.4),
+              lateral=(0.0, 1.0, 0.0), model="pendulum", shape="sphere")
+
+
+def test_a_spherical_tank_puts_the_liquid_at_the_caps_centre_of_mass(bus):
+    """A sample's plant with a spherical tank: its mass is the bus's plus the cap's ρπh²(3R − h)/3,
+    and its CM (pendulums hanging at rest) is where the bus's CM and the cap's CM put it. The
+    cap's fill height solves the volume fraction and its CM h(8R − 3h)/(4(3R − h)) above the pole:
+    both computed here from the cap's geometry, not by the core."""
+    from scipy.optimize import brentq
+
+    flex = Flexibility(tank=SPHERE, fill_fraction=Uniform(0.2, 0.8))
+    spec = CampaignSpec(dumps_toml(bus), 3, seed=4, perturbations=NO_ERRORS, scenario=Scenario(flexibility=flex))
+    r_ = 0.35
+    for i in range(3):
+        params = spec.draw(i)
+        f = params["fill_fraction"]
+        h = brentq(lambda z: np.pi * z * z * (3 * r_ - z) / 3 - f * 4 / 3 * np.pi * r_**3, 0.0, 2 * r_, xtol=1e-15)
+        m_liquid = 1000.0 * np.pi * h * h * (3 * r_ - h) / 3
+        z_cm = -0.4 + h * (8 * r_ - 3 * h) / (4 * (3 * r_ - h))
+        p = plant(bus, params, flex)
+        assert p.total_mass == pytest.approx(bus.total_mass + m_liquid, rel=1e-12)
+        x_bus, x = bus.neutral_configuration(), p.neutral_configuration()
+        expected = (bus.total_mass * np.asarray(bus.center_of_mass(x_bus)) + m_liquid * np.array([0.0, 0.0, z_cm]))
+        assert np.allclose(p.center_of_mass(x), expected / (bus.total_mass + m_liquid), atol=1e-12)
+        # the pendulum's hinge is at the sphere's centre (docs/flexibility.md)
+        assert list(p.actuated_dofs) == [True, False]
+    # the cylinder default leaves the spec as it was; the sphere says so
+    assert "shape" not in TANK.to_dict() and SPHERE.to_dict()["shape"] == "sphere"
+    assert CampaignSpec.from_json(spec.to_json()) == spec
+    with pytest.raises(ArgumentError, match="diameter"):
+        Tank(radius=0.35, height=0.8, density=1000.0, axial_acceleration=0.1, shape="sphere")
+    with pytest.raises(ArgumentError, match="Tank.shape"):
+        Tank(radius=0.35, height=0.8, density=1000.0, axial_acceleration=0.1, shape="cone")
+
+
+def test_a_drift_controller_on_its_own_plant_tracks_exactly(bus):
+    """passive='drift' (collocated partial feedback linearization) on a plant equal to its model:
+    the actuated joint's error obeys e'' + kd e' + kp e = 0 from e(0) = e'(0) = 0, so it stays at
+    integration error; the frozen controller on the same plant errs by far more. The drift
+    campaign's error equals a direct simulate under a hand-built drift controller."""
+    flex = Flexibility(tank=TANK, fill_fraction=0.5, slosh_damping_ratio=0.005, panel=PANEL, panel_stiffness=25.0)
+    kw = dict(duration=3.0, dt=1e-2, kp=4.0, kd=4.0, q_offset=0.8, flexibility=flex)
+    drift = run_campaign(bus, samples=2, seed=5, perturbations=NO_ERRORS, scenario=Scenario(passive="drift", **kw),
+                         workers=0, progress=False)
+    frozen = run_campaign(bus, samples=2, seed=5, perturbations=NO_ERRORS, scenario=Scenario(**kw), workers=0,
+                          progress=False)
+    e_drift, e_frozen = drift.metric("tracking_error_max"), frozen.metric("tracking_error_max")
+    assert drift.n_ok == frozen.n_ok == 2
+    assert e_drift.max() < 1e-8 and e_frozen.min() > 1e-4
+    model, _ = _hand_plant(0.5, 0.005, 25.0)
+    move = QuinticJoint([0.0], [0.8], 0.0, 0.75 * 3.0)
+    traj = spacearm.simulate(model, 3.0, x0=model.neutral_configuration(), dt=1e-2,
+                             controller=ComputedTorque(4.0, 4.0, move, model=model, passive="drift"))
+    q_ref, _, _ = move.evaluate(traj.t)
+    assert e_drift[0] == pytest.approx(np.abs(traj.x[:, 7] - q_ref[:, 0]).max(), rel=1e-6, abs=1e-14)
+    assert Scenario(passive="drift", **kw).to_dict()["passive"] == "drift" and "passive" not in Scenario().to_dict()
+    with pytest.raises(ArgumentError, match="passive must be"):
+        Scenario(passive="locked", flexibility=flex)
+    with pytest.raises(ArgumentError, match="needs a flexibility recipe"):
+        Scenario(passive="drift")

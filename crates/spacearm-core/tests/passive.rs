@@ -410,18 +410,8 @@ fn toml_reads_and_writes_the_joint_dynamics() {
 /// slosh mass on the base.
 fn arm_panel_slosh(held: bool) -> Model {
     let mut b = ModelBuilder::new("aps", "base", 300.0, [[40.0, 1.0, 0.0], [1.0, 50.0, 0.0], [0.0, 0.0, 60.0]]).unwrap();
-    let link = |name: &str, parent: &str, kind: JointType, origin: [f64; 3], axis: [f64; 3], com: [f64; 3], mass: f64| LinkSpec {
-        name: name.into(),
-        parent: parent.into(),
-        joint_name: None,
-        kind,
-        origin_in_parent: origin,
-        rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-        axis,
-        com_from_joint: com,
-        mass,
-        inertia: [[0.2, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 0.6]],
-        limits: JointLimits::unlimited(),
+    let link = |name: &str, parent: &str, kind: JointType, origin: [f64; 3], axis: [f64; 3], com: [f64; 3], mass: f64| {
+        LinkSpec::new(name, parent, kind, origin, axis, com, mass, [0.2, 0.5, 0.6])
     };
     let arm_kind = if held { JointType::Fixed } else { JointType::Revolute };
     b.add_link(link("arm", "base", arm_kind, [0.8, 0.1, 0.0], [0.0, 0.0, 1.0], [0.6, 0.0, 0.1], 12.0)).unwrap();

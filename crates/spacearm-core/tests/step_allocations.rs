@@ -34,11 +34,10 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static GLOBAL: Counting = Counting;
 
-/// spatial6 plus three reaction wheels.
-/// spatial6 with its fourth joint passive and sprung (on the path to the end effector).
-fn with_passive_joint() -> Model {
+/// A builder holding spatial6's base and links (unlimited joints), named `name`, and spatial6.
+fn spatial6_builder(name: &str) -> (ModelBuilder, Model) {
     let base = presets::spatial6();
-    let mut b = ModelBuilder::new("p", "base", base.base().mass, [[68.33, 0.0, 0.0], [0.0, 86.67, 0.0], [0.0, 0.0, 101.67]]).unwrap();
+    let mut b = ModelBuilder::new(name, "base", base.base().mass, [[68.33, 0.0, 0.0], [0.0, 86.67, 0.0], [0.0, 0.0, 101.67]]).unwrap();
     for l in base.links() {
         b.add_link(LinkSpec {
             name: l.name.clone(),
@@ -55,30 +54,20 @@ fn with_passive_joint() -> Model {
         })
         .unwrap();
     }
+    (b, base)
+}
+
+/// spatial6 with its fourth joint passive and sprung (on the path to the end effector).
+fn with_passive_joint() -> Model {
+    let (mut b, base) = spatial6_builder("p");
     let name = base.links()[3].name.clone();
     b.set_joint_dynamics(&name, spacearm_core::model::joint::JointDynamics { actuated: false, stiffness: 5.0, damping: 0.1, rest: 0.0 }).unwrap();
     b.build().unwrap()
 }
 
+/// spatial6 plus three reaction wheels.
 fn wheeled() -> Model {
-    let base = presets::spatial6();
-    let mut b = ModelBuilder::new("w", "base", base.base().mass, [[68.33, 0.0, 0.0], [0.0, 86.67, 0.0], [0.0, 0.0, 101.67]]).unwrap();
-    for l in base.links() {
-        b.add_link(LinkSpec {
-            name: l.name.clone(),
-            parent: base.body_name(l.parent).to_string(),
-            joint_name: Some(l.joint.name.clone()),
-            kind: l.joint.kind,
-            origin_in_parent: l.joint.origin_in_parent.into(),
-            rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-            axis: l.joint.axis.into_inner().into(),
-            com_from_joint: l.com_from_joint.into(),
-            mass: l.mass.mass,
-            inertia: l.mass.inertia.into(),
-            limits: JointLimits::unlimited(),
-        })
-        .unwrap();
-    }
+    let (mut b, _) = spatial6_builder("w");
     for (i, axis) in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]].into_iter().enumerate() {
         b.add_link(LinkSpec {
             name: format!("wheel{i}"),

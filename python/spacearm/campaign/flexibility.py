@@ -162,12 +162,15 @@ def _vec3(value, what: str) -> Tuple[float, float, float]:
 
 @dataclass(frozen=True)
 class Tank:
-    """An upright flat-bottomed cylindrical propellant tank on the nominal model (the shape of
-    [`spacearm.slosh_parameters`][spacearm.slosh_parameters]): ``radius``, ``height`` (m), the
+    """A propellant tank on the nominal model, of the shapes of
+    [`spacearm.slosh_parameters`][spacearm.slosh_parameters]: ``shape="cylinder"`` (upright,
+    flat-bottomed; ``fill_fraction`` is of its ``height``) or ``"sphere"`` (``height`` is its
+    diameter, ``2 * radius``; ``fill_fraction`` is of its volume). ``radius``, ``height`` (m), the
     liquid's ``density`` (kg/m³; its mass follows the fill), ``axial_acceleration`` (m/s²),
-    ``modes`` slosh modes. ``bottom``: the centre of the tank's bottom in ``parent``'s frame (from
-    its CM); ``axis``: toward the free surface; ``lateral``: the slosh direction; ``model``: as
-    ``SloshParameters.add_to``. Its bodies are named ``name_1``, …, ``name_fixed``."""
+    ``modes`` slosh modes. ``bottom``: the centre of the tank's bottom (a sphere's bottom pole) in
+    ``parent``'s frame (from its CM); ``axis``: toward the free surface; ``lateral``: the slosh
+    direction; ``model``: as ``SloshParameters.add_to``. Its bodies are named ``name_1``, …,
+    ``name_fixed``."""
 
     radius: float
     height: float
@@ -180,6 +183,7 @@ class Tank:
     model: str = "pendulum"
     modes: int = 1
     name: str = "fuel"
+    shape: str = "cylinder"
 
     def __post_init__(self):
         for key in ("radius", "height", "density", "axial_acceleration"):
@@ -193,9 +197,33 @@ class Tank:
             object.__setattr__(self, "lateral", _vec3(self.lateral, "Tank.lateral"))
         if self.model not in ("spring-mass", "pendulum", "spherical-pendulum"):
             raise ArgumentError(f"Tank.model must be 'spring-mass', 'pendulum' or 'spherical-pendulum', got {self.model!r}")
+        if self.shape not in ("cylinder", "sphere"):
+            raise ArgumentError(f"Tank.shape must be 'cylinder' or 'sphere', got {self.shape!r}")
+        if self.shape == "sphere" and not abs(self.height - 2.0 * self.radius) <= 1e-9 * self.radius:
+            raise ArgumentError(f"Tank: a spherical tank's height is its diameter 2 * radius = {2.0 * self.radius} m, "
+                                f"got height={self.height}")
+
+    def slosh_parameters(self, fill_fraction: float, *, frequency_scale: float = 1.0, damping_ratio: float = 0.0):
+        """The tank's [`SloshParameters`][spacearm.SloshParameters] at ``fill_fraction``, every
+        mode's frequency times ``frequency_scale`` (the axial acceleration times its square; the
+        masses, heights and lengths unchanged), with ``damping_ratio``."""
+        from ..model.slosh import slosh_parameters
+
+        if not frequency_scale > 0:
+            raise ArgumentError(f"slosh_frequency_scale must be > 0, got {frequency_scale}")
+        # Frequencies scale as sqrt(a) in the core's formulas with every mass and height fixed:
+        # the frequency times `scale` is the acceleration times scale².
+        height = None if self.shape == "sphere" else self.height
+        return slosh_parameters(self.shape, radius=self.radius, fill_fraction=fill_fraction, tank_height=height,
+                                density=self.density, axial_acceleration=self.axial_acceleration * frequency_scale**2,
+                                modes=self.modes, damping_ratio=damping_ratio)
 
     def to_dict(self) -> dict:
-        return {k: getattr(self, k) for k in self.__dataclass_fields__}
+        """Plain data (no ``shape`` key for a cylinder, so a spec is what it was before spheres)."""
+        d = {k: getattr(self, k) for k in self.__dataclass_fields__}
+        if self.shape == "cylinder":
+            del d["shape"]
+        return d
 
 
 @dataclass(frozen=True)
@@ -227,7 +255,8 @@ class Panel:
 class Flexibility:
     """The flexible parts of every sample's plant and the distributions of their parameters.
 
-    ``tank`` (a [`Tank`][spacearm.campaign.Tank]) with ``fill_fraction`` (of its height, in (0, 1]),
+    ``tank`` (a [`Tank`][spacearm.campaign.Tank]) with ``fill_fraction`` (in (0, 1]: of a
+    cylinder's height, of a sphere's volume),
     ``slosh_frequency_scale`` (every mode's frequency times it, as an axial acceleration times
     its square would do; the masses, heights and pendulum lengths unchanged, the springs stiffer) and ``slosh_damping_ratio`` (ζ of every mode);
     ``panel`` (a [`Panel`][spacearm.campaign.Panel]) with ``panel_stiffness`` (N·m/rad). Each is a number or a
@@ -286,21 +315,12 @@ class Flexibility:
     def apply(self, robot, values: Dict[str, float]):
         """``robot`` with the tank and the panel added through its builder, with ``values``
         (a [`draw`][spacearm.campaign.Flexibility.draw] or [`nominal`][spacearm.campaign.Flexibility.nominal])."""
-        from ..model.slosh import slosh_parameters
-
         builder = robot.to_builder()
         if self.tank is not None:
             t = self.tank
-            fill = values["fill_fraction"]
-            scale = values["slosh_frequency_scale"]
-            if not scale > 0:
-                raise ArgumentError(f"slosh_frequency_scale must be > 0, got {scale}")
-            # Frequencies scale as sqrt(a) in the core's formulas with every mass and height fixed:
-            # the frequency times `scale` is the acceleration times scale².
-            params = slosh_parameters("cylinder", radius=t.radius, fill_fraction=fill, tank_height=t.height,
-                                      density=t.density, axial_acceleration=t.axial_acceleration * scale**2,
-                                      modes=t.modes, damping_ratio=values["slosh_damping_ratio"])
-            center = np.asarray(t.bottom) + np.asarray(t.axis) / np.linalg.norm(t.axis) * (params.fill_height / 2)
+            params = t.slosh_parameters(values["fill_fraction"], frequency_scale=values["slosh_frequency_scale"],
+                                        damping_ratio=values["slosh_damping_ratio"])
+            center = np.asarray(t.bottom) + np.asarray(t.axis) / np.linalg.norm(t.axis) * params.liquid_cm_height
             params.add_to(builder, t.name, parent=t.parent, center=center, axis=t.axis, lateral=t.lateral, model=t.model)
         if self.panel is not None:
             p = self.panel

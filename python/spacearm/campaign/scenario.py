@@ -76,6 +76,9 @@ class Scenario:
     ``flexibility``: a [`Flexibility`][spacearm.campaign.Flexibility] recipe: every plant gets a sloshing tank and/or a
     hinged panel with parameters drawn per sample, and computed torque is designed on the nominal
     flexible model with its passive joints frozen (the rigid lumped model, docs/campaigns.md).
+    ``passive``: how that controller treats the passive joints, ``"frozen"`` (default: locked at
+    rest in its model) or ``"drift"`` (measured from the plant's state, collocated partial
+    feedback linearization; [`spacearm.control.ComputedTorque`][spacearm.control.ComputedTorque]); only with a flexibility recipe.
     ``shaping``: ``"zv"`` or ``"zvd"`` to fly the quintic convolved with that input shaper
     ([`spacearm.control.input_shaper`][spacearm.control.input_shaper]; the shaped move is longer by
     the shaper's duration) designed for ``shaping_frequency`` (rad/s) and ``shaping_damping``;
@@ -96,6 +99,7 @@ class Scenario:
     orbit: Optional[Tuple[float, ...]] = None
     gravity_gradient: bool = True
     flexibility: Optional[Flexibility] = None
+    passive: str = "frozen"
     shaping: Optional[str] = None
     shaping_frequency: Optional[float] = None
     shaping_damping: float = 0.0
@@ -111,6 +115,11 @@ class Scenario:
         if self.flexibility is not None and self.controller != "computed-torque":
             raise ArgumentError("Scenario.flexibility needs controller='computed-torque' (the flexible-plant study "
                                 f"designs computed torque on the rigid model, docs/flexibility.md), got {self.controller!r}")
+
+        if self.passive not in ("frozen", "drift"):
+            raise ArgumentError(f"Scenario.passive must be 'frozen' or 'drift', got {self.passive!r}")
+        if self.passive != "frozen" and self.flexibility is None:
+            raise ArgumentError("Scenario.passive='drift' needs a flexibility recipe (a rigid plant has no passive joints)")
 
         if isinstance(self.orbit, Orbit):
             o = self.orbit
@@ -164,13 +173,14 @@ class Scenario:
         return np.asarray(self.q_goal)
 
     def to_dict(self) -> dict:
-        """Plain data for the JSON spec (no ``flexibility`` key without one and no ``shaping*``
-        keys without shaping, so a rigid campaign's spec is what it was before flexible plants
-        and shaped references existed)."""
-        optional = ("flexibility", "shaping", "shaping_frequency", "shaping_damping")
+        """Plain data for the JSON spec (no ``flexibility`` or ``passive`` key without a recipe and
+        no ``shaping*`` keys without shaping, so a rigid campaign's spec is what it was before
+        flexible plants and shaped references existed)."""
+        optional = ("flexibility", "passive", "shaping", "shaping_frequency", "shaping_damping")
         d = {k: getattr(self, k) for k in self.__dataclass_fields__ if k not in optional}
         if self.flexibility is not None:
             d["flexibility"] = self.flexibility.to_dict()
+            d["passive"] = self.passive
         if self.shaping is not None:
             d.update(shaping=self.shaping, shaping_frequency=self.shaping_frequency, shaping_damping=self.shaping_damping)
         return d
@@ -322,13 +332,14 @@ def controller(nominal, scenario: Scenario):
     """The controller every sample flies with, built on the *nominal* model: the
     [`reference`][spacearm.campaign.scenario.reference] tracked by computed torque or joint PD.
     With a flexibility recipe, computed torque uses
-    [`control_model`][spacearm.campaign.scenario.control_model] with its passive joints frozen at rest; the reference is over
+    [`control_model`][spacearm.campaign.scenario.control_model] with its passive joints treated as
+    ``scenario.passive`` says (frozen at rest, or measured drift); the reference is over
     ``nominal``'s joints (the plant's actuated ones)."""
     reference_ = reference(nominal, scenario)
     if scenario.controller == "computed-torque":
         if scenario.flexibility is not None:
             return control.ComputedTorque(scenario.kp, scenario.kd, reference_, model=control_model(nominal, scenario),
-                                          passive="frozen")
+                                          passive=scenario.passive)
         return control.ComputedTorque(scenario.kp, scenario.kd, reference_, model=nominal)
     return control.JointPD(scenario.kp, scenario.kd, reference_)
 

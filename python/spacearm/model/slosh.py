@@ -39,7 +39,9 @@ class SloshParameters:
     """The equivalent mechanical model of a tank's liquid (from
     [`slosh_parameters`][spacearm.slosh_parameters]): ``modes``, the fixed (non-sloshing)
     ``fixed_mass`` at ``fixed_height`` above the liquid's CM (so the model's CM is the liquid's),
-    the ``damping_ratio`` given and the tank it came from."""
+    the ``damping_ratio`` given and the tank it came from. ``liquid_cm_height``: the liquid's CM
+    above the tank's bottom (``fill_height / 2`` in a cylinder, ``h (8R − 3h) / (4 (3R − h))``
+    above the bottom pole of a sphere; from the core), where ``add_to``'s ``center`` goes."""
 
     tank: str
     radius: float
@@ -50,6 +52,7 @@ class SloshParameters:
     modes: tuple
     fixed_mass: float
     fixed_height: float
+    liquid_cm_height: float
 
     def add_to(self, builder, name: str, *, parent: str = "base", center: Sequence[float] = (0.0, 0.0, 0.0),
                axis: Sequence[float] = (0.0, 0.0, 1.0), lateral: Optional[Sequence[float]] = None,
@@ -168,5 +171,5 @@ def slosh_parameters(tank: str = "cylinder", *, radius: float, axial_acceleratio
     return SloshParameters(
         tank=tank, radius=out["radius"], fill_height=out["fill_height"], liquid_mass=out["liquid_mass"],
         axial_acceleration=out["axial_acceleration"], damping_ratio=zeta, modes=tuple(SloshMode(**m) for m in out["modes"]),
-        fixed_mass=out["fixed_mass"], fixed_height=out["fixed_height"],
+        fixed_mass=out["fixed_mass"], fixed_height=out["fixed_height"], liquid_cm_height=out["liquid_cm_height"],
     )

@@ -321,7 +321,7 @@ mod tests {
     use super::*;
     use crate::algorithms::dynamics::forward_dynamics_via_mass_matrix;
     use crate::model::builder::{LinkSpec, ModelBuilder};
-    use crate::model::joint::{JointDynamics, JointLimits, JointType};
+    use crate::model::joint::{JointDynamics, JointType};
     use crate::model::slosh::{SloshModel, SloshRestoring, SloshSpec};
     use crate::sim::actuators::Actuators;
 
@@ -329,18 +329,8 @@ mod tests {
     /// a torsional spring), the passive joints between and after the actuated ones.
     fn flexible_arm() -> Model {
         let mut b = ModelBuilder::new("flex", "base", 200.0, [[20.0, 0.0, 0.0], [0.0, 25.0, 0.0], [0.0, 0.0, 30.0]]).unwrap();
-        let link = |name: &str, parent: &str, origin: [f64; 3], axis: [f64; 3], com: [f64; 3], mass: f64| LinkSpec {
-            name: name.into(),
-            parent: parent.into(),
-            joint_name: Some(format!("{name}_joint")),
-            kind: JointType::Revolute,
-            origin_in_parent: origin,
-            rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-            axis,
-            com_from_joint: com,
-            mass,
-            inertia: [[0.05, 0.0, 0.0], [0.0, 0.4, 0.0], [0.0, 0.0, 0.4]],
-            limits: JointLimits::unlimited(),
+        let link = |name: &str, parent: &str, origin: [f64; 3], axis: [f64; 3], com: [f64; 3], mass: f64| {
+            LinkSpec::new(name, parent, JointType::Revolute, origin, axis, com, mass, [0.05, 0.4, 0.4])
         };
         b.add_link(link("l1", "base", [0.6, 0.0, 0.2], [0.0, 0.0, 1.0], [0.5, 0.0, 0.0], 8.0)).unwrap();
         b.add_slosh(SloshSpec {

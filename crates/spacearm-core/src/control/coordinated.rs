@@ -416,21 +416,11 @@ pub(crate) mod tests {
     /// elbow (rest ≠ 0) between the second and third, on the path to the end effector.
     pub(crate) fn flexible_spatial3() -> Model {
         use crate::model::builder::{LinkSpec, ModelBuilder};
-        use crate::model::joint::{JointDynamics, JointLimits};
+        use crate::model::joint::JointDynamics;
         use crate::model::slosh::{SloshModel, SloshRestoring, SloshSpec};
         let mut b = ModelBuilder::new("flex3", "base", 150.0, [[15.0, 0.0, 0.0], [0.0, 18.0, 0.0], [0.0, 0.0, 20.0]]).unwrap();
-        let link = |name: &str, parent: &str, origin: [f64; 3], axis: [f64; 3], com: [f64; 3], mass: f64| LinkSpec {
-            name: name.into(),
-            parent: parent.into(),
-            joint_name: Some(format!("{name}_joint")),
-            kind: JointType::Revolute,
-            origin_in_parent: origin,
-            rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-            axis,
-            com_from_joint: com,
-            mass,
-            inertia: [[0.05, 0.0, 0.0], [0.0, 0.3, 0.0], [0.0, 0.0, 0.3]],
-            limits: JointLimits::unlimited(),
+        let link = |name: &str, parent: &str, origin: [f64; 3], axis: [f64; 3], com: [f64; 3], mass: f64| {
+            LinkSpec::new(name, parent, JointType::Revolute, origin, axis, com, mass, [0.05, 0.3, 0.3])
         };
         b.add_link(link("l1", "base", [0.6, 0.0, 0.2], [0.0, 0.0, 1.0], [0.0, 0.0, 0.2], 6.0)).unwrap();
         b.add_slosh(SloshSpec {

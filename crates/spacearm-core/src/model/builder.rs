@@ -40,6 +40,29 @@ pub struct LinkSpec {
     pub limits: JointLimits,
 }
 
+impl LinkSpec {
+    /// A link with a principal-axes inertia `principal` (kg·m², diagonal in the link frame), the
+    /// link frame parallel to the parent's at `q = 0`, no limits and the default joint name:
+    /// the common case, written once (the fields are public for everything else).
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(name: &str, parent: &str, kind: JointType, origin_in_parent: [f64; 3], axis: [f64; 3], com_from_joint: [f64; 3],
+               mass: f64, principal: [f64; 3]) -> Self {
+        LinkSpec {
+            name: name.into(),
+            parent: parent.into(),
+            joint_name: None,
+            kind,
+            origin_in_parent,
+            rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
+            axis,
+            com_from_joint,
+            mass,
+            inertia: [[principal[0], 0.0, 0.0], [0.0, principal[1], 0.0], [0.0, 0.0, principal[2]]],
+            limits: JointLimits::unlimited(),
+        }
+    }
+}
+
 /// Incremental builder for [`Model`]. Names are resolved when a link or point is added, each
 /// link's own fields are checked then, and the rules that need the whole model when
 /// [`ModelBuilder::build`] runs. Every error is a [`ModelError`] that names the item (the base,

@@ -364,16 +364,10 @@ pub fn sphere_slosh(radius: f64, fill_height: f64, liquid_mass: f64, axial_accel
         .map(|md| {
             let mass = m_l * md.mass_fraction;
             let w2 = a * md.lambda / r;
-            SloshMode { mass, height: r * md.height, frequency: w2.sqrt(), stiffness: mass * w2, length: a / w2 }
+            SloshMode::from_frequency_squared(mass, r * md.height, w2, a)
         })
         .collect();
-    let sloshing: f64 = modes.iter().map(|m| m.mass).sum();
-    let fixed_mass = m_l - sloshing;
-    if !(fixed_mass > 0.0) {
-        return Err(SpacearmError::argument(format!("the slosh masses ({sloshing} kg) exceed the liquid's ({m_l} kg)")));
-    }
-    let fixed_height = -modes.iter().map(|m| m.mass * m.height).sum::<f64>() / fixed_mass;
-    Ok(TankSlosh { liquid_mass: m_l, fill_height: h, radius: r, axial_acceleration: a, liquid_cm_height: r * sphere_cap_cm_height(depth), modes, fixed_mass, fixed_height })
+    TankSlosh::from_modes(m_l, h, r, a, r * sphere_cap_cm_height(depth), modes)
 }
 
 #[cfg(test)]

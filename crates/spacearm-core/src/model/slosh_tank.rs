@@ -53,6 +53,14 @@ pub struct SloshMode {
     pub length: f64,
 }
 
+impl SloshMode {
+    /// The mode of `mass` at `height` whose squared frequency is `w2` in the acceleration `a`:
+    /// the spring `mₙ ωₙ²` and the pendulum rod `a/ωₙ²` follow (module docs).
+    pub fn from_frequency_squared(mass: f64, height: f64, w2: f64, a: f64) -> Self {
+        SloshMode { mass, height, frequency: w2.sqrt(), stiffness: mass * w2, length: a / w2 }
+    }
+}
+
 /// The equivalent mechanical model of a tank's liquid (module docs).
 #[derive(Debug, Clone, PartialEq)]
 pub struct TankSlosh {
@@ -72,6 +80,23 @@ pub struct TankSlosh {
     pub fixed_mass: f64,
     /// Its height above the liquid's centre of mass, m (`ℓ₀`).
     pub fixed_height: f64,
+}
+
+impl TankSlosh {
+    /// The model of the liquid (`liquid_mass`, `fill_height`, `radius`, `axial_acceleration`,
+    /// its CM `liquid_cm_height` above the bottom) with these `modes`: the rest of the liquid is
+    /// the fixed mass `m₀ = m_L − Σ mₙ`, at the height `ℓ₀ = −Σ mₙ ℓₙ / m₀` that keeps the model's
+    /// CM at the liquid's. An error if the modes hold all the liquid or more.
+    pub fn from_modes(liquid_mass: f64, fill_height: f64, radius: f64, axial_acceleration: f64, liquid_cm_height: f64,
+                      modes: Vec<SloshMode>) -> Result<Self> {
+        let sloshing: f64 = modes.iter().map(|m| m.mass).sum();
+        let fixed_mass = liquid_mass - sloshing;
+        if !(fixed_mass > 0.0) {
+            return Err(SpacearmError::argument(format!("the slosh masses ({sloshing} kg) exceed the liquid's ({liquid_mass} kg)")));
+        }
+        let fixed_height = -modes.iter().map(|m| m.mass * m.height).sum::<f64>() / fixed_mass;
+        Ok(TankSlosh { liquid_mass, fill_height, radius, axial_acceleration, liquid_cm_height, modes, fixed_mass, fixed_height })
+    }
 }
 
 /// `v`, when finite and > 0; else an argument error naming `what`.
@@ -111,16 +136,10 @@ pub fn cylinder_slosh(radius: f64, fill_height: f64, liquid_mass: f64, axial_acc
             let t = (xi * h / r).tanh();
             let mass = m_l * 2.0 * t / (xi * (xi * xi - 1.0) * h / r);
             let w2 = a / r * xi * t;
-            SloshMode { mass, height: 0.5 * h - 2.0 * r / xi * (0.5 * xi * h / r).tanh(), frequency: w2.sqrt(), stiffness: mass * w2, length: a / w2 }
+            SloshMode::from_frequency_squared(mass, 0.5 * h - 2.0 * r / xi * (0.5 * xi * h / r).tanh(), w2, a)
         })
         .collect();
-    let sloshing: f64 = modes.iter().map(|m| m.mass).sum();
-    let fixed_mass = m_l - sloshing;
-    if !(fixed_mass > 0.0) {
-        return Err(SpacearmError::argument(format!("the slosh masses ({sloshing} kg) exceed the liquid's ({m_l} kg)")));
-    }
-    let fixed_height = -modes.iter().map(|m| m.mass * m.height).sum::<f64>() / fixed_mass;
-    Ok(TankSlosh { liquid_mass: m_l, fill_height: h, radius: r, axial_acceleration: a, liquid_cm_height: 0.5 * h, modes, fixed_mass, fixed_height })
+    TankSlosh::from_modes(m_l, h, r, a, 0.5 * h, modes)
 }
 
 #[cfg(test)]
