@@ -64,6 +64,7 @@ fn box_of_moments(mass: f64, moments: [f64; 3]) -> [f64; 3] {
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("MODES", Mode::NAMES.to_vec())?;
     m.add("INTEGRATORS", IntegratorKind::NAMES.to_vec())?;
+    m.add("PASSIVE_TREATMENTS", spacearm_core::control::PassiveTreatment::NAMES.to_vec())?;
     m.add("QUATERNION_TOLERANCE", spacearm_core::math::rotations::QUATERNION_TOLERANCE)?;
     m.add("MEMORY_LIMIT_BYTES", spacearm_core::admission::MEMORY_LIMIT_BYTES)?;
     m.add("GOAL_TOLERANCE", spacearm_core::control::GOAL_TOLERANCE)?;

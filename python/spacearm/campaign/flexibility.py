@@ -24,6 +24,7 @@ from typing import Dict, Optional, Tuple, Union
 import numpy as np
 
 from ..errors import ArgumentError
+from ..model.slosh import TANKS
 
 __all__ = ["Fixed", "Uniform", "Normal", "LogNormal", "Tank", "Panel", "Flexibility", "FLEX_PARAMETER_UNITS"]
 
@@ -197,8 +198,8 @@ class Tank:
             object.__setattr__(self, "lateral", _vec3(self.lateral, "Tank.lateral"))
         if self.model not in ("spring-mass", "pendulum", "spherical-pendulum"):
             raise ArgumentError(f"Tank.model must be 'spring-mass', 'pendulum' or 'spherical-pendulum', got {self.model!r}")
-        if self.shape not in ("cylinder", "sphere"):
-            raise ArgumentError(f"Tank.shape must be 'cylinder' or 'sphere', got {self.shape!r}")
+        if self.shape not in TANKS:
+            raise ArgumentError(f"Tank.shape must be one of {TANKS}, got {self.shape!r}")
         if self.shape == "sphere" and not abs(self.height - 2.0 * self.radius) <= 1e-9 * self.radius:
             raise ArgumentError(f"Tank: a spherical tank's height is its diameter 2 * radius = {2.0 * self.radius} m, "
                                 f"got height={self.height}")
@@ -213,8 +214,7 @@ class Tank:
             raise ArgumentError(f"slosh_frequency_scale must be > 0, got {frequency_scale}")
         # Frequencies scale as sqrt(a) in the core's formulas with every mass and height fixed:
         # the frequency times `scale` is the acceleration times scale².
-        height = None if self.shape == "sphere" else self.height
-        return slosh_parameters(self.shape, radius=self.radius, fill_fraction=fill_fraction, tank_height=height,
+        return slosh_parameters(self.shape, radius=self.radius, fill_fraction=fill_fraction, tank_height=self.height,
                                 density=self.density, axial_acceleration=self.axial_acceleration * frequency_scale**2,
                                 modes=self.modes, damping_ratio=damping_ratio)
 

@@ -26,7 +26,7 @@ from typing import Dict, Optional, Tuple
 
 import numpy as np
 
-from .. import control
+from .. import _core, control
 from ..errors import ArgumentError, ShapeError, SimulationError
 from ..sim.simulation import simulate
 from .flexibility import Flexibility
@@ -116,8 +116,8 @@ class Scenario:
             raise ArgumentError("Scenario.flexibility needs controller='computed-torque' (the flexible-plant study "
                                 f"designs computed torque on the rigid model, docs/flexibility.md), got {self.controller!r}")
 
-        if self.passive not in ("frozen", "drift"):
-            raise ArgumentError(f"Scenario.passive must be 'frozen' or 'drift', got {self.passive!r}")
+        if self.passive not in _core.PASSIVE_TREATMENTS:
+            raise ArgumentError(f"Scenario.passive must be one of {_core.PASSIVE_TREATMENTS}, got {self.passive!r}")
         if self.passive != "frozen" and self.flexibility is None:
             raise ArgumentError("Scenario.passive='drift' needs a flexibility recipe (a rigid plant has no passive joints)")
 
