@@ -4,7 +4,7 @@
 //! Python package `spacearm.analysis` is the face users see. Scans release the GIL while rayon runs.
 
 use nalgebra::{Vector3, Vector6};
-use numpy::{PyArray1, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use spacearm_core::analysis::{
     free_floating_kinematics as ffk, reach, reaction_null_space as rns, redundancy, scan, singularity, workspace, Task,
@@ -19,12 +19,6 @@ pub(crate) fn task(py: Python<'_>, rows: Vec<usize>) -> PyResult<Task> {
     Task::new(&rows).or_raise(py)
 }
 
-/// A 2-D float64 array (any layout) as a row-major Vec with its shape.
-fn rows_of(a: &PyReadonlyArray2<'_, f64>) -> (Vec<f64>, usize, usize) {
-    let shape = a.shape();
-    let v = a.as_array().iter().copied().collect();
-    (v, shape[0], shape[1])
-}
 
 /// Singular values, condition, manipulability, singular directions of J* and J_m.
 #[pyfunction]
@@ -62,8 +56,8 @@ pub fn analysis_joint_grid<'py>(py: Python<'py>, lower: Vec<f64>, upper: Vec<f64
     Ok(row_major(py, &g, g.len() / n.max(1), n))
 }
 
-fn run_scan(py: Python<'_>, m: &PyModel, samples: &PyReadonlyArray2<'_, f64>, body: usize, off: &Vector3<f64>, t: &Task) -> PyResult<Vec<scan::ScanSample>> {
-    let (v, _, cols) = rows_of(samples);
+fn run_scan(py: Python<'_>, m: &PyModel, samples: &Bound<'_, PyAny>, body: usize, off: &Vector3<f64>, t: &Task) -> PyResult<Vec<scan::ScanSample>> {
+    let (v, _, cols) = matrix_arg(samples, "samples")?;
     let n = m.model.n_dof();
     if cols != n {
         return Err(to_py_err(py, SpacearmError::Dimension { what: "joint samples (columns)".into(), expected: format!("N = {n}"), got: cols }));
@@ -74,10 +68,10 @@ fn run_scan(py: Python<'_>, m: &PyModel, samples: &PyReadonlyArray2<'_, f64>, bo
 
 /// Parallel scan of joint samples (M×N): σ, manipulability, det of J* and J_m, positions.
 #[pyfunction]
-pub fn analysis_scan<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, samples: PyReadonlyArray2<'py, f64>, body: usize, offset: &Bound<'py, PyAny>, rows: Vec<usize>) -> PyResult<PyScanResult> {
+pub fn analysis_scan<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, samples: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>, rows: Vec<usize>) -> PyResult<PyScanResult> {
     let off = vec3(offset, "offset")?;
     let t = task(py, rows)?;
-    let s = run_scan(py, &m, &samples, body, &off, &t)?;
+    let s = run_scan(py, &m, samples, body, &off, &t)?;
     Ok(PyScanResult::new(py, &s))
 }
 
@@ -88,14 +82,14 @@ pub(crate) fn shells<'py>(
     py: Python<'py>,
     sigma_min_generalized: Vec<f64>,
     det_generalized: Vec<f64>,
-    point_from_com: PyReadonlyArray2<'py, f64>,
-    point_from_base: PyReadonlyArray2<'py, f64>,
+    point_from_com: &Bound<'py, PyAny>,
+    point_from_base: &Bound<'py, PyAny>,
     singular_threshold: f64,
     radial_resolution: f64,
     grid: Option<(usize, usize)>,
 ) -> PyResult<PyWorkspaceShells> {
-    let (com, m1, c1) = rows_of(&point_from_com);
-    let (base, m2, c2) = rows_of(&point_from_base);
+    let (com, m1, c1) = matrix_arg(point_from_com, "point_from_com")?;
+    let (base, m2, c2) = matrix_arg(point_from_base, "point_from_base")?;
     let m = sigma_min_generalized.len();
     if det_generalized.len() != m || m1 != m || m2 != m || c1 != 3 || c2 != 3 {
         return Err(to_py_err(py, SpacearmError::Dimension { what: "scan arrays".into(), expected: format!("{m} samples (positions M×3)"), got: det_generalized.len() }));
@@ -139,8 +133,8 @@ pub fn analysis_integrate_prescribed<'py>(
     m: PyRef<'_, PyModel>,
     x0: &Bound<'py, PyAny>,
     dt: f64,
-    q_half: PyReadonlyArray2<'py, f64>,
-    qd_half: PyReadonlyArray2<'py, f64>,
+    q_half: &Bound<'py, PyAny>,
+    qd_half: &Bound<'py, PyAny>,
     linear_momentum: &Bound<'py, PyAny>,
     angular_momentum: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
@@ -148,8 +142,8 @@ pub fn analysis_integrate_prescribed<'py>(
     let l = vec3(angular_momentum, "angular momentum")?;
     let x0 = vec_arg(x0, "x0")?;
     let n = m.model.n_dof();
-    let (q, _, qc) = rows_of(&q_half);
-    let (qd, _, qdc) = rows_of(&qd_half);
+    let (q, _, qc) = matrix_arg(q_half, "prescribed q")?;
+    let (qd, _, qdc) = matrix_arg(qd_half, "prescribed qd")?;
     for (what, c) in [("prescribed q (columns)", qc), ("prescribed qd (columns)", qdc)] {
         if c != n {
             return Err(to_py_err(py, SpacearmError::Dimension { what: what.into(), expected: format!("N = {n}"), got: c }));

@@ -317,6 +317,10 @@ fn empty_batch_arguments(py: Python<'_>, inputs: &[Input<'_>]) -> PyResult<()> {
             if let Some(k) = v.iter().position(|x| !x.is_finite()) {
                 return Err(new_error(py, ErrorClass::NonFinite, format!("{} must be finite, but entry {k} is {}", input.name, v[k])));
             }
+            // A configuration's one rule beyond length and finiteness: its unit quaternion.
+            if input.name == "x" && v.len() >= 7 {
+                spacearm_core::algorithms::kinematics::base_quaternion(v).map_err(|e| to_py_err(py, e))?;
+            }
         }
     }
     Ok(())

@@ -4,7 +4,7 @@
 //! package `spacearm.capture` is the face users see (docs/capture.md).
 
 use nalgebra::DMatrix;
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use spacearm_core::algorithms::impulse::{self, BodyPoint, GraspContact, JointsAtImpact};
 use spacearm_core::SpacearmError;
@@ -153,25 +153,25 @@ pub fn impulse_momentum_split(
 pub fn joint_wrenches<'py>(
     py: Python<'py>,
     model: PyRef<'_, PyModel>,
-    x: PyReadonlyArray2<'_, f64>,
-    u: PyReadonlyArray2<'_, f64>,
-    du: PyReadonlyArray2<'_, f64>,
+    x: &Bound<'py, PyAny>,
+    u: &Bound<'py, PyAny>,
+    du: &Bound<'py, PyAny>,
     body: usize,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let (xs, us, dus) = (x.as_array(), u.as_array(), du.as_array());
-    let rows = xs.nrows();
-    if us.nrows() != rows || dus.nrows() != rows {
+    let (xs, rows, nx) = matrix_arg(x, "x")?;
+    let (us, urows, nu) = matrix_arg(u, "u")?;
+    let (dus, durows, ndu) = matrix_arg(du, "du")?;
+    if urows != rows || durows != rows {
         return Err(to_py_err(
             py,
-            SpacearmError::InvalidArgument(format!("x, u and du must have one row per sample, got {rows}, {} and {} rows", us.nrows(), dus.nrows())),
+            SpacearmError::InvalidArgument(format!("x, u and du must have one row per sample, got {rows}, {urows} and {durows} rows")),
         ));
     }
     let mut out = DMatrix::<f64>::zeros(6, rows);
     model
         .with_data(|m, d| {
             for k in 0..rows {
-                let row = |a: &numpy::ndarray::ArrayView2<'_, f64>| a.row(k).iter().copied().collect::<Vec<f64>>();
-                let w = spacearm_core::algorithms::rnea::joint_wrench(m, d, &row(&xs), &row(&us), &row(&dus), body)?;
+                let w = spacearm_core::algorithms::rnea::joint_wrench(m, d, &xs[k * nx..(k + 1) * nx], &us[k * nu..(k + 1) * nu], &dus[k * ndu..(k + 1) * ndu], body)?;
                 out.column_mut(k).copy_from(&w);
             }
             Ok::<(), SpacearmError>(())
@@ -264,14 +264,14 @@ pub fn impulse_dynamics(
     model: PyRef<'_, PyModel>,
     x: &Bound<'_, PyAny>,
     u_before: &Bound<'_, PyAny>,
-    jacobian: PyReadonlyArray2<'_, f64>,
+    jacobian: &Bound<'_, PyAny>,
     restitution: f64,
     arm: &str,
 ) -> PyResult<PyImpulseDynamics> {
     let joints = joints(py, arm)?;
     let (x, u) = (vec_arg(x, "x")?, vec_arg(u_before, "u_before")?);
-    let shape = jacobian.shape();
-    let j = DMatrix::from_row_iterator(shape[0], shape[1], jacobian.as_array().iter().copied());
+    let (j, rows, cols) = matrix_arg(jacobian, "jacobian")?;
+    let j = DMatrix::from_row_slice(rows, cols, &j);
     let r = model.with_data(|m, d| impulse::impulse_dynamics(m, d, x.as_slice(), u.as_slice(), &j, restitution, joints)).or_raise(py)?;
     Ok(PyImpulseDynamics {
         u_after: dvec(py, &r.u_after).unbind(),

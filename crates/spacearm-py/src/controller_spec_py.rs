@@ -21,7 +21,7 @@ use spacearm_core::control::shaping::{InputShaper, ShaperKind};
 use spacearm_core::analysis::Task;
 use spacearm_core::sim::free_body::FreeBody;
 use spacearm_core::sim::reference::{CartesianLine, JointReference, PointReference};
-use numpy::{PyArray2, PyReadonlyArray2, PyArrayMethods};
+use numpy::{PyArray2, PyArrayMethods};
 use spacearm_core::{Model, SpacearmError};
 
 use crate::convert::*;
@@ -70,7 +70,7 @@ impl PyJointReference {
 
     /// The piecewise quintic Hermite interpolant of knots: times `t` (K ≥ 2, strictly
     /// increasing, s) and positions `q`, velocities `qd`, accelerations `qdd` at the knots, each
-    /// of shape (K, n) (float64, C-contiguous).
+    /// of shape (K, n) (real numbers, any layout).
     #[staticmethod]
     #[pyo3(signature = (*, t, q, qd, qdd))]
     fn sampled(py: Python<'_>, t: &Bound<'_, PyAny>, q: &Bound<'_, PyAny>, qd: &Bound<'_, PyAny>, qdd: &Bound<'_, PyAny>) -> PyResult<Self> {
@@ -78,15 +78,13 @@ impl PyJointReference {
         let mut parts = Vec::with_capacity(3);
         let mut n = None;
         for (what, v) in [("q", q), ("qd", qd), ("qdd", qdd)] {
-            let a: PyReadonlyArray2<'_, f64> = v
-                .extract()
-                .map_err(|_| shape_error(py, format!("sampled reference '{what}' must be a float64 array of shape (K, n), got {}", type_name(v))))?;
-            let shape = a.as_array().shape().to_vec();
-            if shape[0] != t.len() || n.is_some_and(|n| n != shape[1]) {
+            let a = array_values(v, &format!("sampled reference '{what}'"))?;
+            let shape = a.shape;
+            if shape.len() != 2 || shape[0] != t.len() || n.is_some_and(|n| n != shape[1]) {
                 return Err(shape_error(py, format!("sampled reference '{what}' has shape {shape:?}; expected ({}, n) with the same n for q, qd and qdd", t.len())));
             }
             n = Some(shape[1]);
-            parts.push(a.as_array().iter().copied().collect::<Vec<f64>>());
+            parts.push(a.values);
         }
         let qdd = parts.pop().expect("three arrays");
         let qd = parts.pop().expect("three arrays");

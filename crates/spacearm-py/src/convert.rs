@@ -107,11 +107,13 @@ fn numpy_function<'py>(py: Python<'py>, cell: &'static PyOnceLock<Py<PyAny>>, na
     Ok(cell.get_or_try_init(py, || py.import("numpy")?.getattr(name).map(Bound::unbind))?.bind(py).clone())
 }
 
-/// `obj` as a C-contiguous float64 numpy array, refusing anything that is not real numbers:
-/// numpy's `asarray` reads it, then its dtype must be bool, integer or float (complex would
-/// lose its imaginary part, and object, datetime, timedelta, string and void arrays are not
-/// numbers) — else a `SpacearmTypeError` naming `what` and the dtype; a ragged sequence is a
-/// `ShapeError`.
+/// `obj` as a C-contiguous, aligned float64 numpy array, refusing anything that is not real
+/// numbers: numpy's `asarray` reads it, then its dtype must be bool, integer or float (complex
+/// would lose its imaginary part, and object, datetime, timedelta, string and void arrays are
+/// not numbers) — else a `SpacearmTypeError` naming `what` and the dtype; a ragged sequence is a
+/// `ShapeError`. An array in any other layout (Fortran order, transposed, sliced, negative or
+/// zero strides, unaligned, byte-swapped, read-only) is copied once into a new C-ordered array
+/// holding the same values at the same indices (docs/conventions.md, "Arrays").
 pub fn real_array<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, PyUntypedArray>> {
     let arr = real_array_as_given(obj, what)?;
     if is_plain_float64(&arr) {
@@ -120,11 +122,138 @@ pub fn real_array<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'p
     contiguous_float64(arr)
 }
 
-/// `arr` converted by numpy to a C-contiguous float64 array (a copy).
+/// `arr` copied into a new C-ordered, aligned, native float64 array with the same values at the
+/// same indices. A native float64 array of any strides and alignment is read by
+/// [`read_c_order`]; any other real dtype is converted by numpy (`np.require(arr, float64,
+/// ["C", "A"])`: C order and alignment both demanded; `np.ascontiguousarray` alone leaves an
+/// unaligned array unaligned).
 fn contiguous_float64<'py>(arr: Bound<'py, PyUntypedArray>) -> PyResult<Bound<'py, PyUntypedArray>> {
-    static CONTIGUOUS: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
-    let converted = numpy_function(arr.py(), &CONTIGUOUS, "ascontiguousarray")?.call1((arr, "float64"))?;
+    let py = arr.py();
+    if is_native_float64(&arr) {
+        let mut values = Vec::new();
+        read_c_order(&arr, &mut values)?;
+        let shape = arr.shape().to_vec();
+        let out = numpy::ndarray::ArrayD::from_shape_vec(numpy::ndarray::IxDyn(&shape), values).expect("values of the array's shape");
+        return Ok(numpy::IntoPyArray::into_pyarray(out, py).into_any().cast_into::<PyUntypedArray>().map_err(PyErr::from)?);
+    }
+    static REQUIRE: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+    let converted = numpy_function(py, &REQUIRE, "require")?.call1((arr, "float64", ["C", "A"]))?;
     converted.cast_into::<PyUntypedArray>().map_err(PyErr::from)
+}
+
+/// Values read between two checks for Ctrl-C while an array is read (reading a large batch,
+/// e.g. a broadcast view of millions of rows, takes seconds; a pending SIGINT is answered
+/// within one chunk, docs/simulation-core.md, "Errors").
+const CHUNK_VALUES: usize = 1 << 20;
+
+/// Append the values of `arr`, a native-order float64 array, to `out` in C (row-major) order:
+/// element `(i0, i1, …)` is read at `data + Σ ik·stride_k` bytes, so every layout reads right —
+/// C or Fortran order, transposed and sliced views, negative and zero (broadcast) strides — and
+/// each element is read unaligned, so an array at an odd byte offset reads right too. This is
+/// the one place where the extension reads an array's memory; everything else goes through it
+/// or through a C-contiguous aligned array it checked ([`usable_in_place`]).
+fn read_c_order(arr: &Bound<'_, PyUntypedArray>, out: &mut Vec<f64>) -> PyResult<()> {
+    debug_assert!(is_native_float64(arr));
+    let py = arr.py();
+    let shape = arr.shape();
+    let strides = arr.strides();
+    let total: usize = shape.iter().product();
+    if total == 0 {
+        return Ok(());
+    }
+    out.reserve(total);
+    // SAFETY: `arr` is a live numpy array; `data` is what PyArray_DATA returns.
+    let base = unsafe { (*arr.as_array_ptr()).data } as *const u8;
+    // SAFETY: as in `is_plain_float64`.
+    let flags = unsafe { (*arr.as_array_ptr()).flags };
+    if flags & (NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED) == NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED {
+        // SAFETY: a C-contiguous aligned float64 array holds `total` values in order from `data`.
+        let values = unsafe { std::slice::from_raw_parts(base as *const f64, total) };
+        for chunk in values.chunks(CHUNK_VALUES) {
+            py.check_signals()?;
+            out.extend_from_slice(chunk);
+        }
+        return Ok(());
+    }
+    let nd = shape.len();
+    let (inner, inner_stride) = (shape[nd - 1], strides[nd - 1]);
+    let outer = total / inner;
+    let rows_per_check = (CHUNK_VALUES / inner).max(1);
+    // The index of the current row over the leading axes, and its byte offset.
+    let mut index = vec![0usize; nd - 1];
+    let mut offset: isize = 0;
+    for k in 0..outer {
+        if k % rows_per_check == 0 {
+            py.check_signals()?;
+        }
+        for j in 0..inner {
+            // SAFETY: every index is within the array's shape, so the offset is within the
+            // memory numpy holds for it (strides may be negative or zero); read unaligned.
+            out.push(unsafe { std::ptr::read_unaligned(base.offset(offset + j as isize * inner_stride) as *const f64) });
+        }
+        // The next row: the last leading axis advances, carrying into the ones before it.
+        let mut d = nd - 1;
+        while d > 0 {
+            d -= 1;
+            index[d] += 1;
+            offset += strides[d];
+            if index[d] < shape[d] {
+                break;
+            }
+            offset -= strides[d] * shape[d] as isize;
+            index[d] = 0;
+        }
+    }
+    Ok(())
+}
+
+/// The values of an array argument in C order, with its shape: what every door reads an array
+/// through (docs/conventions.md, "Arrays").
+pub struct ArrayValues {
+    pub values: Vec<f64>,
+    pub shape: Vec<usize>,
+}
+
+/// Read argument `obj` named `what` as real numbers in C order, whatever its layout, alignment,
+/// byte order or real dtype (the rules of [`real_array`]). The copy is admitted first
+/// ([`spacearm_core::admission`]), counting one copy for a native float64 array (read through
+/// its strides) and two for any other dtype (numpy's conversion, then the read).
+pub fn array_values(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<ArrayValues> {
+    let arr = real_array_as_given(obj, what)?;
+    let shape = arr.shape().to_vec();
+    let float64 = is_native_float64(&arr);
+    let count: f64 = shape.iter().map(|d| *d as f64).product();
+    let copies = if float64 { 1.0 } else { 2.0 };
+    let bytes = copies * spacearm_core::admission::bytes_of::<f64>(count);
+    spacearm_core::admission::admit(
+        format_args!("reading {what} (shape {shape:?}, {} cop{})", copies, if float64 { "y" } else { "ies" }),
+        bytes,
+        "pass a smaller batch (split it into chunks), as a float64 array",
+    )
+    .map_err(|e| to_py_err(obj.py(), e))?;
+    let arr = if float64 { arr } else { contiguous_float64(arr)? };
+    let mut values = Vec::new();
+    read_c_order(&arr, &mut values)?;
+    Ok(ArrayValues { values, shape })
+}
+
+/// [`array_values`] of a 2-D argument with rows of `width`: `(values, rows)`, or a
+/// `ShapeError` naming `what` and the expected shape.
+pub fn rows_arg(obj: &Bound<'_, PyAny>, what: &str, width: usize) -> PyResult<(Vec<f64>, usize)> {
+    let a = array_values(obj, what)?;
+    if a.shape.len() != 2 || a.shape[1] != width {
+        return Err(shape_error(obj.py(), format!("{what} must have shape (B, {width}), got an array of shape {:?}", a.shape)));
+    }
+    Ok((a.values, a.shape[0]))
+}
+
+/// [`array_values`] of a 2-D argument of any width: `(values, rows, cols)`, or a `ShapeError`.
+pub fn matrix_arg(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<(Vec<f64>, usize, usize)> {
+    let a = array_values(obj, what)?;
+    if a.shape.len() != 2 {
+        return Err(shape_error(obj.py(), format!("{what} must be a 2-D array, got an array of shape {:?}", a.shape)));
+    }
+    Ok((a.values, a.shape[0], a.shape[1]))
 }
 
 /// [`real_array`]'s reading and checks without its conversion: `obj` as a numpy array of real
@@ -157,18 +286,26 @@ fn real_array_as_given<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Bou
     Ok(arr)
 }
 
-/// Convert a vector argument named `what` (see [`VecArg`]): one state, 1-D.
+/// Convert a vector argument named `what` (see [`VecArg`]): one state, 1-D. A 1-D array in any
+/// other layout or dtype is copied once into a C-contiguous aligned float64 array.
 pub fn vec_arg<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<VecArg<'py>> {
     if let Some(arr) = usable_in_place(obj) {
         return Ok(VecArg(arr));
     }
-    let arr = real_array(obj, what)?;
+    let arr = real_array_as_given(obj, what)?;
     if arr.ndim() != 1 {
         return Err(shape_error(obj.py(), format!("{what} must be a 1-D array, got an array of shape {:?}", arr.shape())));
     }
+    one_vector(obj.py(), arr, what)
+}
+
+/// A 1-D real array as a [`VecArg`]: used in place when it is plain float64, else copied once.
+fn one_vector<'py>(py: Python<'py>, arr: Bound<'py, PyUntypedArray>, what: &str) -> PyResult<VecArg<'py>> {
+    let arr = if is_plain_float64(&arr) { arr } else { contiguous_float64(arr)? };
     match usable_in_place(arr.as_any()) {
         Some(a) => Ok(VecArg(a)),
-        None => Err(shape_error(obj.py(), format!("{what} could not be read as a float64 vector"))),
+        // Not reached: `contiguous_float64` returns a C-contiguous aligned float64 array.
+        None => Err(shape_error(py, format!("{what} could not be read as a float64 vector"))),
     }
 }
 
@@ -190,65 +327,16 @@ pub fn batch_arg<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<ArgValue<
 }
 
 /// [`batch_arg`] of anything that is not a float64 vector usable in place (lists, other dtypes,
-/// batches): out of line, so that the common case stays a few instructions in its caller.
-///
-/// A batch is admitted before it is copied ([`spacearm_core::admission`]), counting every copy
-/// it takes: one (the rows read into the call's buffer, through the array's strides: a
-/// broadcast or sliced float64 view is not made contiguous first), or two for another dtype
-/// (numpy's float64 conversion, then the rows).
+/// layouts, batches): out of line, so that the common case stays a few instructions in its
+/// caller. A batch is read by [`array_values`] (admitted first, read through its strides).
 #[inline(never)]
 fn converted_batch_arg<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<ArgValue<'py>> {
     let arr = real_array_as_given(obj, what)?;
     match arr.ndim() {
-        1 => {
-            let arr = if is_plain_float64(&arr) { arr } else { contiguous_float64(arr)? };
-            match usable_in_place(arr.as_any()) {
-                Some(a) => Ok(ArgValue::One(VecArg(a))),
-                None => Err(shape_error(obj.py(), format!("{what} could not be read as a float64 vector"))),
-            }
-        }
+        1 => Ok(ArgValue::One(one_vector(obj.py(), arr, what)?)),
         2 => {
-            let (rows, width) = (arr.shape()[0], arr.shape()[1]);
-            // SAFETY: `arr` is a live numpy array; reading its flags field is what PyArray_FLAGS does.
-            let aligned = unsafe { (*arr.as_array_ptr()).flags } & NPY_ARRAY_ALIGNED != 0;
-            let float64 = is_native_float64(&arr) && aligned;
-            let copies = if float64 { 1.0 } else { 2.0 };
-            let bytes = copies * spacearm_core::admission::bytes_of::<f64>(rows as f64 * width as f64);
-            spacearm_core::admission::admit(
-                format_args!("reading {what} ({rows} rows of {width}, {} cop{})", copies, if float64 { "y" } else { "ies" }),
-                bytes,
-                "pass a smaller batch (split it into chunks), as a float64 array",
-            )
-            .map_err(|e| to_py_err(obj.py(), e))?;
-            let arr = if float64 { arr } else { contiguous_float64(arr)? };
-            // An aligned native float64 array of any strides: numpy's own typed view, read row
-            // by row into one buffer (the one copy; the call then runs without the GIL).
-            let typed = arr.cast::<PyArray2<f64>>().map_err(PyErr::from)?;
-            let view = typed.try_readonly().map_err(|e| shape_error(obj.py(), format!("{what} could not be read: {e}")))?;
-            // In chunks, with a check for Ctrl-C between them: reading a large batch (a
-            // broadcast view of millions of rows) takes seconds, and a pending SIGINT is
-            // answered within one chunk (docs/simulation-core.md, "Errors").
-            const CHUNK_VALUES: usize = 1 << 20;
-            let py = obj.py();
-            let mut values: Vec<f64> = Vec::with_capacity(rows * width);
-            match view.as_slice() {
-                Ok(s) => {
-                    for chunk in s.chunks(CHUNK_VALUES) {
-                        py.check_signals()?;
-                        values.extend_from_slice(chunk);
-                    }
-                }
-                Err(_) => {
-                    let chunk_rows = (CHUNK_VALUES / width.max(1)).max(1);
-                    for (i, row) in view.as_array().rows().into_iter().enumerate() {
-                        if i % chunk_rows == 0 {
-                            py.check_signals()?;
-                        }
-                        values.extend(row.iter().copied());
-                    }
-                }
-            }
-            Ok(ArgValue::Many { values, rows, width })
+            let a = array_values(arr.as_any(), what)?;
+            Ok(ArgValue::Many { values: a.values, rows: a.shape[0], width: a.shape[1] })
         }
         _ => Err(shape_error(
             obj.py(),

@@ -2,7 +2,7 @@
 //! (`spacearm_core::sim::rollout`), their records stacked into arrays with a leading rollout
 //! axis. Wrapped by `spacearm.rollout`.
 
-use numpy::{PyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyList;
 use rayon::prelude::*;
@@ -27,16 +27,6 @@ fn for_rollout(py: Python<'_>, i: usize, err: SpacearmError) -> PyErr {
     }
 }
 
-/// `(B, width)` float64 rows as one row-major Vec.
-fn rows(a: &PyReadonlyArray2<'_, f64>, what: &str, width: usize) -> PyResult<(Vec<f64>, usize)> {
-    let shape = a.shape();
-    if shape[1] != width {
-        let e = SpacearmError::Dimension { what: what.into(), expected: format!("(B, {width})"), got: shape[1] };
-        return Err(to_py_err(a.py(), e));
-    }
-    Ok((a.as_array().iter().copied().collect(), shape[0]))
-}
-
 /// Run `B` rollouts; returns a `RolloutBatch`: every record with a leading rollout axis
 /// (`(B, K, ...)`, NaN rows for a failed rollout), and each rollout's status, description and
 /// saturation onsets.
@@ -46,8 +36,8 @@ fn rows(a: &PyReadonlyArray2<'_, f64>, what: &str, width: usize) -> PyResult<(Ve
 pub fn rollout<'py>(
     py: Python<'py>,
     models: &Bound<'py, PyList>,
-    x0: PyReadonlyArray2<'py, f64>,
-    u0: PyReadonlyArray2<'py, f64>,
+    x0: &Bound<'py, PyAny>,
+    u0: &Bound<'py, PyAny>,
     duration: f64,
     options: PyRef<'py, PyRunOptions>,
     controllers: Option<&Bound<'py, PyAny>>,
@@ -62,8 +52,8 @@ pub fn rollout<'py>(
         .collect::<PyResult<_>>()?;
     let first = plants.first().ok_or_else(|| bad("rollout: no model given".into()))?;
     let (nx, nu, n) = (first.nx(), first.nu(), first.n_dof());
-    let (x0, b) = rows(&x0, "x0", nx)?;
-    let (u0, b_u) = rows(&u0, "u0", nu)?;
+    let (x0, b) = rows_arg(x0, "x0", nx)?;
+    let (u0, b_u) = rows_arg(u0, "u0", nu)?;
     if b_u != b {
         return Err(bad(format!("x0 has {b} rows but u0 has {b_u}; give one initial velocity per rollout")));
     }

@@ -4,21 +4,21 @@
 //! (finite values, unit norm, proper rotation matrices) and calls these; here only the shape is
 //! checked (a `ShapeError`), so any float64 array of the right shape is computed.
 
-use std::borrow::Cow;
 
 use nalgebra::{Matrix3, Vector3};
 use numpy::ndarray::{ArrayD, IxDyn};
-use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{IntoPyArray, PyArrayDyn};
 use pyo3::prelude::*;
 use spacearm_core::math::rotations as core;
 use spacearm_core::math::spatial::skew as core_skew;
 
-use crate::convert::shape_error;
+use crate::convert::{array_values, shape_error};
 
 /// `arr`'s rows of `item` shape: `(None, values)` for one item, `(Some(B), values)` for `(B, …)`
 /// rows; values in C order (borrowed when the array is C-contiguous).
-fn items<'a>(py: Python<'_>, arr: &'a PyReadonlyArrayDyn<'_, f64>, what: &str, item: &[usize]) -> PyResult<(Option<usize>, Cow<'a, [f64]>)> {
-    let shape = arr.shape();
+fn items(py: Python<'_>, arr: &Bound<'_, PyAny>, what: &str, item: &[usize]) -> PyResult<(Option<usize>, Vec<f64>)> {
+    let read = array_values(arr, what)?;
+    let shape = &read.shape[..];
     let count = if shape == item {
         None
     } else if shape.len() == item.len() + 1 && &shape[1..] == item {
@@ -30,12 +30,7 @@ fn items<'a>(py: Python<'_>, arr: &'a PyReadonlyArrayDyn<'_, f64>, what: &str, i
         let got = if shape.len() == 1 { format!("({got},)") } else { format!("({got})") };
         return Err(shape_error(py, format!("{what} must have shape {one} or (B, {item_text}), got {got}")));
     };
-    let view = arr.as_array();
-    let values = match view.to_slice() {
-        Some(s) => Cow::Borrowed(s),
-        None => Cow::Owned(view.iter().copied().collect()),
-    };
-    Ok((count, values))
+    Ok((count, read.values))
 }
 
 /// `values` as an array of shape `item` (one) or `(B, …item)` (rows).
@@ -77,7 +72,7 @@ fn put_mat3(m: &Matrix3<f64>, dst: &mut [f64]) {
 /// quaternions `[x, y, z, w]`, row by row; one quaternion (or one row) pairs with every row of
 /// the other.
 #[pyfunction]
-pub fn quat_multiply<'py>(py: Python<'py>, a: PyReadonlyArrayDyn<'py, f64>, b: PyReadonlyArrayDyn<'py, f64>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+pub fn quat_multiply<'py>(py: Python<'py>, a: &Bound<'py, PyAny>, b: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let (na, va) = items(py, &a, "a", &[4])?;
     let (nb, vb) = items(py, &b, "b", &[4])?;
     let (ra, rb) = (na.unwrap_or(1), nb.unwrap_or(1));
@@ -99,7 +94,7 @@ pub fn quat_multiply<'py>(py: Python<'py>, a: PyReadonlyArrayDyn<'py, f64>, b: P
 /// Rotation matrices (`math::rotations::matrix_from_xyzw`, each quaternion divided by its
 /// norm) of `(4,)` or `(B, 4)` quaternions: `(3, 3)` or `(B, 3, 3)`.
 #[pyfunction]
-pub fn quat_to_matrix<'py>(py: Python<'py>, q: PyReadonlyArrayDyn<'py, f64>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+pub fn quat_to_matrix<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let (n, v) = items(py, &q, "q", &[4])?;
     let out = map_rows(&v, 4, 9, |row, dst| put_mat3(&core::matrix_from_xyzw(&quat(row)), dst));
     Ok(output(py, n, &[3, 3], out))
@@ -108,7 +103,7 @@ pub fn quat_to_matrix<'py>(py: Python<'py>, q: PyReadonlyArrayDyn<'py, f64>) -> 
 /// Unit quaternions `[x, y, z, w]` with `w ≥ 0` (`math::rotations::xyzw_from_matrix`,
 /// Shepperd's method) of `(3, 3)` or `(B, 3, 3)` rotation matrices: `(4,)` or `(B, 4)`.
 #[pyfunction]
-pub fn quat_from_matrix<'py>(py: Python<'py>, r: PyReadonlyArrayDyn<'py, f64>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+pub fn quat_from_matrix<'py>(py: Python<'py>, r: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let (n, v) = items(py, &r, "r", &[3, 3])?;
     let out = map_rows(&v, 9, 4, |row, dst| dst.copy_from_slice(&core::xyzw_from_matrix(&mat3(row))));
     Ok(output(py, n, &[4], out))
@@ -117,7 +112,7 @@ pub fn quat_from_matrix<'py>(py: Python<'py>, r: PyReadonlyArrayDyn<'py, f64>) -
 /// Rotation vectors `log(R)` (`math::rotations::rotation_vector`, `|θ| ≤ π`) of `(3, 3)` or
 /// `(B, 3, 3)` rotation matrices: `(3,)` or `(B, 3)`.
 #[pyfunction]
-pub fn rotation_vector<'py>(py: Python<'py>, r: PyReadonlyArrayDyn<'py, f64>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+pub fn rotation_vector<'py>(py: Python<'py>, r: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let (n, v) = items(py, &r, "r", &[3, 3])?;
     let out = map_rows(&v, 9, 3, |row, dst| dst.copy_from_slice(core::rotation_vector(&mat3(row)).as_slice()));
     Ok(output(py, n, &[3], out))
@@ -126,7 +121,7 @@ pub fn rotation_vector<'py>(py: Python<'py>, r: PyReadonlyArrayDyn<'py, f64>) ->
 /// Unit quaternions `[x, y, z, w]` of `(3,)` or `(B, 3)` rotation vectors
 /// (`math::rotations::xyzw_exp`): `(4,)` or `(B, 4)`.
 #[pyfunction]
-pub fn quat_exp<'py>(py: Python<'py>, theta: PyReadonlyArrayDyn<'py, f64>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+pub fn quat_exp<'py>(py: Python<'py>, theta: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let (n, v) = items(py, &theta, "theta", &[3])?;
     let out = map_rows(&v, 3, 4, |row, dst| dst.copy_from_slice(&core::xyzw_exp(&Vector3::from_row_slice(row))));
     Ok(output(py, n, &[4], out))
@@ -135,7 +130,7 @@ pub fn quat_exp<'py>(py: Python<'py>, theta: PyReadonlyArrayDyn<'py, f64>) -> Py
 /// Rotation vectors (`|θ| ≤ π`, `math::rotations::xyzw_log`, each quaternion normalized first)
 /// of `(4,)` or `(B, 4)` quaternions: `(3,)` or `(B, 3)`.
 #[pyfunction]
-pub fn quat_log<'py>(py: Python<'py>, q: PyReadonlyArrayDyn<'py, f64>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+pub fn quat_log<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let (n, v) = items(py, &q, "q", &[4])?;
     let out = map_rows(&v, 4, 3, |row, dst| dst.copy_from_slice(core::xyzw_log(&quat(row)).as_slice()));
     Ok(output(py, n, &[3], out))
@@ -144,7 +139,7 @@ pub fn quat_log<'py>(py: Python<'py>, q: PyReadonlyArrayDyn<'py, f64>) -> PyResu
 /// Cross-product matrices `[v]×` (`math::spatial::skew`) of `(3,)` or `(B, 3)` vectors:
 /// `(3, 3)` or `(B, 3, 3)`.
 #[pyfunction]
-pub fn skew<'py>(py: Python<'py>, v: PyReadonlyArrayDyn<'py, f64>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+pub fn skew<'py>(py: Python<'py>, v: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let (n, vals) = items(py, &v, "v", &[3])?;
     let out = map_rows(&vals, 3, 9, |row, dst| put_mat3(&core_skew(&Vector3::from_row_slice(row)), dst));
     Ok(output(py, n, &[3, 3], out))

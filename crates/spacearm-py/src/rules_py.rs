@@ -5,7 +5,7 @@
 //! memory limit of one request and the box drawn for a body of given moments.
 
 use nalgebra::Matrix3;
-use numpy::{PyArray1, PyReadonlyArray1};
+use numpy::PyArray1;
 use pyo3::prelude::*;
 use spacearm_core::error::{ModelItem, SpacearmError};
 use spacearm_core::model::body::{MassProperties, TriangleInequality};
@@ -17,11 +17,12 @@ use spacearm_core::sim::reference::quintic_scaling as core_quintic_scaling;
 #[pyfunction]
 fn quintic_scaling<'py>(
     py: Python<'py>,
-    t: PyReadonlyArray1<'py, f64>,
+    t: &Bound<'py, PyAny>,
     t_start: f64,
     t_end: f64,
 ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
-    let t = t.as_slice()?;
+    let t = crate::convert::vec_arg(t, "t")?;
+    let t = t.as_slice();
     let (mut s, mut sd, mut sdd) = (Vec::with_capacity(t.len()), Vec::with_capacity(t.len()), Vec::with_capacity(t.len()));
     for &ti in t {
         let (a, b, c) = core_quintic_scaling(ti, t_start, t_end);

@@ -127,24 +127,20 @@ pub fn default_wheel_dofs(model: &Bound<'_, PyModel>) -> Vec<usize> {
 pub fn momentum_scales<'py>(
     py: Python<'py>,
     model: &Bound<'py, PyModel>,
-    x: numpy::PyReadonlyArray2<'py, f64>,
-    u: numpy::PyReadonlyArray2<'py, f64>,
+    x: &Bound<'py, PyAny>,
+    u: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
     use numpy::PyArrayMethods;
     let m = model.borrow();
-    let (xs, us) = (x.as_array(), u.as_array());
-    if xs.shape()[0] != us.shape()[0] {
-        return Err(shape_error(py, format!("momentum_scales: x has {} rows but u has {}", xs.shape()[0], us.shape()[0])));
+    let (xs, rows, nx) = matrix_arg(x, "x")?;
+    let (us, urows, nu) = matrix_arg(u, "u")?;
+    if rows != urows {
+        return Err(shape_error(py, format!("momentum_scales: x has {rows} rows but u has {urows}")));
     }
-    let rows = xs.shape()[0];
     let mut out = Vec::with_capacity(rows * 4);
-    let (mut xr, mut ur) = (Vec::new(), Vec::new());
     for k in 0..rows {
-        xr.clear();
-        xr.extend(xs.row(k).iter().copied());
-        ur.clear();
-        ur.extend(us.row(k).iter().copied());
-        let s = m.with_data(|model, data| spacearm_core::algorithms::momentum::momentum_scales(model, data, &xr, &ur)).or_raise(py)?;
+        let (xr, ur) = (&xs[k * nx..(k + 1) * nx], &us[k * nu..(k + 1) * nu]);
+        let s = m.with_data(|model, data| spacearm_core::algorithms::momentum::momentum_scales(model, data, xr, ur)).or_raise(py)?;
         out.extend_from_slice(&[s.linear, s.angular_about_origin, s.angular_about_com, s.energy]);
     }
     Ok(numpy::PyArray1::from_vec(py, out).reshape([rows, 4])?)
@@ -153,10 +149,8 @@ pub fn momentum_scales<'py>(
 /// The drift of a conserved quantity over samples (`spacearm_core::algorithms::momentum::conserved_drift`):
 /// `max_k |v_k − v_0| / max(|v_0|, scale)` for `values` (T, d) or (T,).
 #[pyfunction]
-pub fn conserved_drift(values: numpy::PyReadonlyArrayDyn<'_, f64>, scale: f64) -> PyResult<f64> {
-    use numpy::PyUntypedArrayMethods;
-    let shape = values.shape().to_vec();
-    let dim = if shape.len() <= 1 { 1 } else { shape[1..].iter().product() };
-    let flat: Vec<f64> = values.as_array().iter().copied().collect();
-    Ok(spacearm_core::algorithms::momentum::conserved_drift(&flat, dim, scale))
+pub fn conserved_drift(values: &Bound<'_, PyAny>, scale: f64) -> PyResult<f64> {
+    let a = array_values(values, "values")?;
+    let dim = if a.shape.len() <= 1 { 1 } else { a.shape[1..].iter().product() };
+    Ok(spacearm_core::algorithms::momentum::conserved_drift(&a.values, dim, scale))
 }

@@ -23,16 +23,25 @@ pub fn split_configuration<'a>(model: &Model, x: &'a [f64]) -> Result<(Vector3<f
         });
     }
     check_finite("x", x)?;
+    let quat = base_quaternion(x)?;
+    Ok((Vector3::new(x[0], x[1], x[2]), UnitQuaternion::from_quaternion(quat), &x[7..]))
+}
+
+/// The base quaternion `x[3:7]` of a configuration of at least 7 entries, or
+/// `NotUnitQuaternion` when its norm is off 1 by more than [`QUATERNION_TOLERANCE`]: the one
+/// check of a configuration's quaternion (also what a door applies to a one-state `x` shared
+/// by an empty batch, which runs no kernel).
+pub fn base_quaternion(x: &[f64]) -> Result<nalgebra::Quaternion<f64>> {
     let quat = quaternion_from_xyzw(&x[3..7]);
     let norm = quat.norm();
-    if (norm - 1.0).abs() > QUATERNION_TOLERANCE {
+    if (norm - 1.0).abs() > QUATERNION_TOLERANCE || norm.is_nan() {
         return Err(SpacearmError::NotUnitQuaternion {
             what: "the base quaternion x[3:7]".into(),
             norm,
             tolerance: QUATERNION_TOLERANCE,
         });
     }
-    Ok((Vector3::new(x[0], x[1], x[2]), UnitQuaternion::from_quaternion(quat), &x[7..]))
+    Ok(quat)
 }
 
 /// Check a generalized velocity `u = [v0, ω0, q̇]` (length `6+N`, finite).
