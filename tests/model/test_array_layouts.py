@@ -307,3 +307,45 @@ def test_workspace_scans_read_every_layout(robot):
         got = _core.analysis_scan(m, make(samples), body, [0.0, 0.0, 0.0], [0, 1, 2])
         assert np.array_equal(got.sigma_min_generalized, expected.sigma_min_generalized), layout
         assert np.array_equal(got.point_from_base, expected.point_from_base), layout
+
+
+def test_simulator_reads_every_layout(robot, data):
+    x0, u0 = np.ascontiguousarray(data["x"][0]), np.ascontiguousarray(data["u"][0]) * 0.1
+    tau = np.ascontiguousarray(data["tau"][0])
+
+    def run(x, u, t):
+        sim = spacearm.Simulator(robot, dt=0.01)
+        sim.reset(x, u)
+        return sim.step(t, n=3)
+
+    expected = run(x0, u0, tau)
+    for layout, make in LAYOUTS.items():
+        assert np.array_equal(run(make(x0), make(u0), make(tau)), expected), layout
+
+
+def test_identification_reads_every_layout(robot):
+    from spacearm.identify import identify_payload
+
+    traj = spacearm.simulate(robot, 0.2, dt=0.01, u0=np.r_[np.zeros(6), 0.3 * np.ones(robot.n_dof)])
+    x, u = np.ascontiguousarray(traj.x), np.ascontiguousarray(traj.u)
+    body = robot.n_bodies - 1
+    expected = identify_payload(robot, x=x, u=u, body=body)
+    for layout in ["Fortran", "negative strides", "unaligned", "big-endian"]:
+        got = identify_payload(robot, x=LAYOUTS[layout](x), u=LAYOUTS[layout](u), body=body)
+        assert np.array_equal(got.parameters, expected.parameters), layout
+
+
+def test_vector_env_actions_read_every_layout():
+    pytest.importorskip("gymnasium")
+    from spacearm import gym as sgym
+
+    def run(make):
+        env = sgym.make_vec(3)
+        env.reset(seed=7)
+        actions = np.random.default_rng(5).uniform(-1, 1, (3, env.task.robot.n_dof))
+        obs, *_ = env.step(make(actions))
+        return obs
+
+    expected = run(np.ascontiguousarray)
+    for layout in ["Fortran", "negative strides", "unaligned", "big-endian", "transposed view"]:
+        assert np.array_equal(run(LAYOUTS[layout]), expected), layout

@@ -226,7 +226,15 @@ pub fn array_values(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<ArrayValues>
     let copies = if float64 { 1.0 } else { 2.0 };
     let bytes = copies * spacearm_core::admission::bytes_of::<f64>(count);
     spacearm_core::admission::admit(
-        format_args!("reading {what} (shape {shape:?}, {} cop{})", copies, if float64 { "y" } else { "ies" }),
+        format_args!(
+            "reading {what} ({}, {} cop{})",
+            match shape[..] {
+                [rows, width] => format!("{rows} rows of {width}"),
+                _ => format!("shape {shape:?}"),
+            },
+            copies,
+            if float64 { "y" } else { "ies" }
+        ),
         bytes,
         "pass a smaller batch (split it into chunks), as a float64 array",
     )
