@@ -64,3 +64,13 @@ def test_a_plan_that_fails_its_check_exits_2_without_a_file(tmp_path, monkeypatc
     assert last.startswith("spacearm: error: no plan:") and "re-simulat" in last, captured.err
     assert "Warning" not in captured.err
     assert not list(tmp_path.iterdir())
+
+
+def test_the_help_says_what_the_transcription_does(capsys):
+    # The plan's torque is a first-order hold (plan/problem.py, docs/optimal-control.md);
+    # the help said "constant on each" knot interval (issue 37 item 6).
+    with pytest.raises(SystemExit):
+        main(["plan", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "linear between knots" in text
+    assert "constant on each" not in text

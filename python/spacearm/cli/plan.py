@@ -38,7 +38,7 @@ def add_parser(sub) -> None:
     p.add_argument("--objective", "--minimize", dest="objective", choices=("attitude", "effort"), default="attitude",
                    help="minimise the base attitude disturbance (default) or the joint effort")
     p.add_argument("--duration", type=float, default=4.0, help="maneuver time, s (default 4)")
-    p.add_argument("--nodes", type=int, default=20, help="knot intervals; torques are constant on each (default 20)")
+    p.add_argument("--nodes", type=int, default=20, help="knot intervals; the torque is linear between knots, a first-order hold (default 20)")
     p.add_argument("--substeps", type=int, default=2, help="RK4 steps per interval (default 2)")
     p.add_argument("--effort-limit", help="joint torque bound(s), N·m or N: one number or one per joint (default: the model's)")
     p.add_argument("--velocity-limit", help="joint speed bound(s), rad/s or m/s (default: the model's)")
