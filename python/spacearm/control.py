@@ -200,8 +200,9 @@ class SampledJoint:
         object.__setattr__(self, "_core_ref", _core.JointReference.sampled(t=self.t, q=self.q, qd=self.qd, qdd=self.qdd))
 
     def evaluate(self, t):
-        """``(q, qd, qdd)`` at the times ``t``, each (len(t), n): what the controllers follow."""
-        return self._core_ref.evaluate(_np.atleast_1d(_np.asarray(t, dtype=float)))
+        """``(q, qd, qdd)`` at time(s) ``t``: what the controllers follow; each (n,) for a scalar
+        ``t``, (len(t), n) for an array (as [`QuinticJoint.evaluate`][spacearm.control.QuinticJoint.evaluate])."""
+        return _at_times(self._core_ref.evaluate, t)
 
     def _spec(self) -> _core.JointReference:
         return self._core_ref
@@ -248,12 +249,12 @@ class FreeBodyPoint:
         return self._core_ref.external_wrenches(_np.atleast_1d(_np.asarray(t, dtype=float)), _float(mass, "mass"))
 
     def states(self, t) -> _np.ndarray:
-        """The body's 13-states at the times ``t`` (s ≥ 0), shape (len(t), 13)."""
-        return self._core_ref.states(_np.atleast_1d(_np.asarray(t, dtype=float)))
+        """The body's 13-states at time(s) ``t`` (s ≥ 0): (13,) for a scalar ``t``, (len(t), 13) for an array."""
+        return _at_times(self._core_ref.states, t)
 
     def evaluate(self, t):
-        """``(p, pd)`` of the point at the times ``t``, each (len(t), 3), in 𝒥."""
-        return self._core_ref.points(_np.atleast_1d(_np.asarray(t, dtype=float)))
+        """``(p, pd)`` of the point at time(s) ``t``, in 𝒥: each (3,) for a scalar ``t``, (len(t), 3) for an array."""
+        return _at_times(self._core_ref.points, t)
 
     def _spec(self) -> _core.FreeBodyReference:
         return self._core_ref
@@ -319,11 +320,23 @@ class ShapedJoint:
         object.__setattr__(self, "_core_ref", self.shaper._core_shaper.shape(base))
 
     def evaluate(self, t):
-        """``(q, qd, qdd)`` at the times ``t``, each (len(t), n): what the controllers follow."""
-        return self._core_ref.evaluate(_np.atleast_1d(_np.asarray(t, dtype=float)))
+        """``(q, qd, qdd)`` at time(s) ``t``: what the controllers follow; each (n,) for a scalar
+        ``t``, (len(t), n) for an array (as [`QuinticJoint.evaluate`][spacearm.control.QuinticJoint.evaluate])."""
+        return _at_times(self._core_ref.evaluate, t)
 
     def _spec(self) -> _core.JointReference:
         return self._core_ref
+
+
+def _at_times(evaluate, t):
+    """``evaluate`` (a core reference's, which takes an array of times) at time(s) ``t``: one
+    row per time for an array ``t``, the row itself for a scalar ``t`` (the one shape rule of
+    every reference's ``evaluate``)."""
+    times = _np.asarray(t, dtype=float)
+    out = evaluate(_np.atleast_1d(times).reshape(-1))
+    if times.ndim == 0:
+        return tuple(a[0] for a in out) if isinstance(out, tuple) else out[0]
+    return out
 
 
 def _joint_reference(ref, name: str) -> _core.JointReference:

@@ -447,3 +447,22 @@ def test_inertia_scaled_gains_follow_the_diagonal_of_the_schur_complement():
     np.testing.assert_allclose(kd, 2 * 0.7 * 3.0 * np.diag(h_star)[joints], rtol=1e-12)
     with pytest.raises(spacearm.ArgumentError, match="natural_frequency"):
         spacearm.control.inertia_scaled_gains(robot, x, joints, natural_frequency=0.0)
+
+
+def test_every_joint_reference_evaluates_a_scalar_time_to_one_row():
+    from spacearm import control
+
+    # One shape rule (issue 37 item 8): ShapedJoint.evaluate(0.5) gave (1, n) where
+    # QuinticJoint.evaluate(0.5) gives (n,); an array of times gives (len(t), n) for all.
+    q = control.QuinticJoint([0.0, 1.0], [1.0, 2.0], t_start=0.0, t_end=1.0)
+    shaped = control.ShapedJoint(q, control.input_shaper("zv", frequency=3.0))
+    t = np.linspace(0.0, 1.0, 5)
+    qs, qds, qdds = q.evaluate(t)
+    sampled = control.SampledJoint(t=t, q=qs, qd=qds, qdd=qdds)
+    for ref in (q, shaped, sampled):
+        one = ref.evaluate(0.5)
+        many = ref.evaluate([0.25, 0.5])
+        assert [np.shape(a) for a in one] == [(2,)] * 3, type(ref).__name__
+        assert [np.shape(a) for a in many] == [(2, 2)] * 3, type(ref).__name__
+        for a, b in zip(one, many):
+            assert np.array_equal(a, b[1])
