@@ -202,6 +202,14 @@ def test_base_inertia_must_be_positive_definite():
         spacearm.Robot.builder("t", base_mass=10.0, base_inertia=[0.0, 1.0, 1.0])
 
 
+def test_an_ill_conditioned_base_inertia_is_refused_for_its_conditioning():
+    # [1e12, 1e12, 2.34] is positive definite: the refusal is about its conditioning, and says
+    # so (it said "must be positive definite", issue 37 item 8).
+    with pytest.raises(ModelError, match=r"too ill-conditioned: its principal moments .* span a ratio of 4\.274e\+?11") as e:
+        spacearm.Robot.builder("t", base_mass=10.0, base_inertia=[1e12, 1e12, 2.34])
+    assert "must be positive definite" not in str(e.value)
+
+
 def test_inertia_shape():
     with pytest.raises(ShapeError, match="3x3"):
         one_link(inertia=[1.0, 2.0])

@@ -126,6 +126,17 @@ impl MassProperties {
             )));
         }
         if require_positive_mass && a <= tol {
+            // A positive smallest moment this far below the largest is positive definite in
+            // exact arithmetic, but not distinguishable from singular in double precision: say
+            // that it is the conditioning that is refused (issue 37 item 8).
+            if a > 0.0 {
+                return Err(inertia_error(format!(
+                    "{who}: the base inertia tensor is too ill-conditioned: its principal moments [{a:.6e}, {b:.6e}, {c:.6e}] kg·m² span a \
+                     ratio of {:.3e}, and a smallest moment below {INERTIA_TOLERANCE:e} × the largest ({tol:.3e} kg·m²) cannot be told \
+                     from zero in double precision (the mass matrix would be numerically singular); check the units of the moments",
+                    c / a
+                )));
+            }
             return Err(inertia_error(format!(
                 "{who}: the base inertia tensor must be positive definite, but its smallest principal moment is {a:.6e} kg·m²"
             )));
