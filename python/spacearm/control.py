@@ -288,8 +288,11 @@ class InputShaper:
         return self._core_shaper.times
 
     def residual_vibration(self, frequency: float, damping: float = 0.0) -> float:
-        """The residual vibration of the mode ``(frequency, damping)`` after the shaped move,
-        relative to the unshaped one: 0 at the design mode."""
+        r"""Singer & Seering's residual vibration $V(\omega, \zeta) = e^{-\zeta\omega t_N}\sqrt{C^2 + S^2}$
+        of the mode ``(frequency, damping)``: its amplitude after the shaper's last impulse (at
+        $t_N$) relative to that of one unit impulse applied at $t_N$; 0 at the design mode. For
+        ``damping = 0`` this is also the ratio to the unshaped move (a unit impulse at 0); for
+        $\zeta > 0$ that ratio is $V e^{\zeta\omega t_N}$."""
         return self._core_shaper.residual_vibration(_float(frequency, "frequency"), _float(damping, "damping"))
 
     def shape(self, reference) -> "ShapedJoint":

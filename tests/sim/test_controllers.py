@@ -466,3 +466,32 @@ def test_every_joint_reference_evaluates_a_scalar_time_to_one_row():
         assert [np.shape(a) for a in many] == [(2, 2)] * 3, type(ref).__name__
         for a, b in zip(one, many):
             assert np.array_equal(a, b[1])
+
+
+def test_residual_vibration_is_singer_seerings_v():
+    # Independently of the core: superpose the damped impulse responses
+    # h(t) = e^{-ζω t} sin(ω_d t) of the shaper's impulses and compare the residual amplitude
+    # with one unit impulse at t_N (V's definition) and at 0 (the unshaped move); they agree
+    # only for ζ = 0 (issue 37 item 8: the docstring said "relative to the unshaped one").
+    from spacearm import control
+
+    omega = 3.0
+    shaper = control.input_shaper("zv", frequency=2.5, damping=0.05)  # off the design mode
+    amps, times = np.asarray(shaper.amplitudes), np.asarray(shaper.times)
+    t_n = times[-1]
+    t = t_n + 1.7
+
+    def amplitude(impulses, zeta):
+        # y(t) = Σ a e^{-ζω(t-τ)} sin(ω_d (t-τ)) = e^{-ζωt} (A sin ω_d t - B cos ω_d t): amplitude e^{-ζωt} √(A²+B²)
+        wd = omega * np.sqrt(1 - zeta**2)
+        a = sum(c * np.exp(zeta * omega * tau) * np.cos(wd * tau) for c, tau in impulses)
+        b = sum(c * np.exp(zeta * omega * tau) * np.sin(wd * tau) for c, tau in impulses)
+        return np.exp(-zeta * omega * t) * np.hypot(a, b)
+
+    shaped = list(zip(amps, times))
+    for zeta in (0.15, 0.0):
+        v = shaper.residual_vibration(omega, zeta)
+        assert v == pytest.approx(amplitude(shaped, zeta) / amplitude([(1.0, t_n)], zeta), rel=1e-12)
+        relative_to_unshaped = amplitude(shaped, zeta) / amplitude([(1.0, 0.0)], zeta)
+        assert v * np.exp(zeta * omega * t_n) == pytest.approx(relative_to_unshaped, rel=1e-12)
+        assert (v == pytest.approx(relative_to_unshaped, rel=1e-12)) == (zeta == 0.0)

@@ -94,8 +94,11 @@ impl InputShaper {
         self.times.last().copied().unwrap_or(0.0)
     }
 
-    /// The residual vibration of a mode `(frequency, damping)` after the last impulse, relative
-    /// to an unshaped unit impulse (module docs): 0 at the design mode.
+    /// Singer & Seering's residual vibration `V(ω, ζ) = e^{−ζω t_N} √(C² + S²)` of a mode
+    /// `(frequency, damping)`: the amplitude of the mode after the last impulse (at `t_N`),
+    /// relative to that left by one unit impulse applied at `t_N`; 0 at the design mode. For
+    /// `ζ = 0` it is also the ratio to the unshaped move (a unit impulse at 0); for `ζ > 0` that
+    /// ratio is `V e^{ζω t_N}` (the unshaped move's vibration has decayed by `e^{−ζω t_N}` more).
     pub fn residual_vibration(&self, frequency: f64, damping: f64) -> f64 {
         let wd = frequency * (1.0 - damping * damping).max(0.0).sqrt();
         let (mut c, mut s) = (0.0, 0.0);
