@@ -51,3 +51,15 @@ def test_analysis_and_identification_results():
     est = identify_payload(robot, traj, body=robot.body_names[-1])
     assert "parameters=array(10,) float64" in _check(est)
 
+
+
+def test_simulator():
+    # It had the default repr (issue 37 item 7).
+    robot = spacearm.presets.spatial6()
+    sim = spacearm.Simulator(robot, dt=0.01)
+    assert "not reset yet" in _check(sim)
+    sim.reset()
+    sim.step(None, n=3)
+    text = _check(sim)
+    assert "'spatial6'" in text and "floating mode" in text and "dt = 0.01 s" in text and "after 3 steps" in text
+    assert "t = 0.03 s" in text

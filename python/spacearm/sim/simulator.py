@@ -87,9 +87,18 @@ class Simulator:
         )
         spec = None if controller is None else controller._spec(robot)
         self._robot = robot
+        self._what = (mode, float(dt), "no controller" if controller is None else type(controller).__name__)
         self._core = _core.Simulator(robot.core_model, options, spec, None if record_every is None else int(record_every))
         # The step itself, bound once: each call goes straight to the core.
         self.step = self._core.step
+
+    def __repr__(self) -> str:
+        mode, dt, controller = self._what
+        try:
+            where = f"t = {self._core.time:.6g} s after {self._core.n_steps} steps"
+        except ArgumentError:  # not reset yet
+            where = "not reset yet"
+        return f"<Simulator of {self._robot.name!r}: {mode} mode, RK4 dt = {dt:g} s, {controller}; {where}>"
 
     def reset(self, x0=None, u0=None) -> None:
         """Start at ``t = 0`` from ``x0`` (default: the neutral configuration) and ``u0``
