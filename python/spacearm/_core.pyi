@@ -1190,7 +1190,8 @@ class RunMeta:
     rtol: float
     atol: float
     controller: str
-    drift: list[ConservedDrift]            # one per conserved quantity, in the mode's order
+    drift: list[ConservedDrift]            # one per conserved quantity (per balanced one when balance), in the mode's order
+    balance: bool                          # drift holds balance residuals: an orbital run with the gravity gradient
     n_steps: int
     n_rejected: int
     n_rhs_evals: int

@@ -227,13 +227,14 @@ def test_to_dict_is_the_public_plain_form(robot, torque_free):
     assert all(events[k] is getattr(res.events, k) for k in events)
     meta, m = res.meta.to_dict(), res.meta
     public = {a for a in dir(m) if not a.startswith("_") and a != "to_dict"}
-    renamed = {"drift", "dropped_base_wrench_max_norm", "dropped_base_wrench_count",
+    renamed = {"drift", "balance", "dropped_base_wrench_max_norm", "dropped_base_wrench_count",
                "goal_distance", "goal_sigma_min", "goal_unreachable"}  # meta["goal"], an RMRC run's
     assert public - renamed <= set(meta)
     assert "goal" not in meta and m.goal_distance is None  # a torque-free run has no goal
     for name in public - renamed:
         assert meta[name] == getattr(m, name), name
     assert meta["conserved"] == [d.quantity for d in m.drift] == list(meta["drift"]) == list(meta["drift_scales"])
+    assert m.balance is False and meta["balanced"] == []
     assert meta["drift"] == {d.quantity: d.drift for d in m.drift} and meta["drift_scales"] == {d.quantity: d.scale for d in m.drift}
     assert meta["dropped_base_wrench"] == {"max_norm": m.dropped_base_wrench_max_norm, "count": m.dropped_base_wrench_count}
     traj = spacearm.simulate(robot, 0.05, dt=0.01)

@@ -212,3 +212,21 @@ def test_without_a_robot_the_joint_units_say_they_are_unknown():
     assert axes["joint coordinates (dashed: reference)"].get_ylabel() == "q [rad or m]"
     assert axes["joint torques and forces applied (dashed: commanded)"].get_ylabel() == "τ [N m or N]"
     assert axes["tracking error (joint)"].get_ylabel() == "‖e‖ [rad or m]"
+
+
+def test_in_orbit_the_momenta_are_not_labelled_conserved():
+    # With the gravity gradient the tidal wrench changes P and L (issue 37 item 4: the legend said
+    # "P (conserved)" while L changed by 0.1 N m s). The change is measured here from the states.
+    robot = spacearm.presets.planar4()
+    orbit = spacearm.Orbit.circular(400e3, inclination=0.5)
+    q = np.array([0.3, 0.1, 0.2, 0.927]) / np.linalg.norm([0.3, 0.1, 0.2, 0.927])
+    traj = spacearm.simulate(robot, 20.0, x0=robot.neutral_configuration(quat0=q), orbit=orbit, dt=0.05)
+    momentum = _axes_by_title(traj.plot())["momentum: change from the initial value"]
+    texts = _legend_texts(momentum)
+    assert not any("conserved" in t for t in texts), texts
+    assert "L_origin [N m s] (changed by the tidal wrench)" in texts
+    m = robot.momentum(traj.x, traj.u)
+    assert np.linalg.norm(m.L_origin[-1] - m.L_origin[0]) > 1e3 * max(traj.meta["drift"].values()) * np.linalg.norm(m.L_origin[0]) + 1e-12
+    # Off orbit the same run conserves them and says so.
+    free = spacearm.simulate(robot, 1.0, x0=robot.neutral_configuration(quat0=q), dt=0.05)
+    assert "L_origin [N m s] (conserved)" in _legend_texts(_axes_by_title(free.plot())["momentum: change from the initial value"])

@@ -395,9 +395,14 @@ pub struct PyRunMeta {
     /// The name of the controller that ran.
     #[pyo3(get)]
     controller: String,
-    /// One entry per quantity the mode conserves, in the mode's order.
+    /// One entry per quantity the mode conserves, in the mode's order (in an orbital run with the
+    /// gravity gradient: per quantity whose balance was checked, see `balance`).
     #[pyo3(get)]
     drift: Vec<Py<PyConservedDrift>>,
+    /// Whether `drift` holds balance residuals (an orbital run with the gravity gradient: the
+    /// quantities are not conserved) rather than drifts of conserved quantities.
+    #[pyo3(get)]
+    balance: bool,
     /// Accepted integration steps.
     #[pyo3(get)]
     n_steps: usize,
@@ -464,6 +469,7 @@ impl PyRunMeta {
             atol: opts.atol,
             controller: res.controller.clone(),
             drift,
+            balance: res.balance,
             n_steps: res.n_steps,
             n_rejected: res.n_rejected,
             n_rhs_evals: res.n_rhs_evals,
@@ -497,7 +503,12 @@ impl PyRunMeta {
         d.set_item("atol", self.atol)?;
         d.set_item("controller", &self.controller)?;
         let drift: Vec<&PyConservedDrift> = self.drift.iter().map(|c| c.get()).collect();
-        d.set_item("conserved", drift.iter().map(|c| c.quantity.as_str()).collect::<Vec<_>>())?;
+        // In an orbital run with the gravity gradient the monitored quantities are not conserved:
+        // their drift is the residual of their balance (`SimResult::balance`, docs/orbit.md).
+        let names = drift.iter().map(|c| c.quantity.as_str()).collect::<Vec<_>>();
+        let none: Vec<&str> = Vec::new();
+        d.set_item("conserved", if self.balance { &none } else { &names })?;
+        d.set_item("balanced", if self.balance { &names } else { &none })?;
         let (values, scales) = (PyDict::new(py), PyDict::new(py));
         for c in &drift {
             values.set_item(&c.quantity, c.drift)?;

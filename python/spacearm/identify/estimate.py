@@ -141,9 +141,11 @@ def _samples(robot: Robot, trajectory, x, u):
             raise SpacearmTypeError(f"trajectory must be a spacearm Trajectory, got {type(trajectory).__name__}")
         conserved = set(trajectory.meta.get("conserved", ()))
         if not {"P", "L_origin"} <= conserved:
+            why = (" (in orbit the gravity gradient's tidal wrenches change it; run with gravity_gradient=False or "
+                   "off orbit)" if trajectory.meta.get("balanced") else "")
             raise ArgumentError(f"identification needs a motion that conserves the momentum (P and L_origin: mode "
                                 f"'floating'), but this trajectory ({trajectory.meta.get('mode')!r} mode) conserves "
-                                f"only {sorted(conserved)}")
+                                f"only {sorted(conserved)}{why}")
         x, u = trajectory.x, trajectory.u
     if x is None or u is None:
         raise ArgumentError("identify_payload needs a trajectory, or the arrays x (K, 7+N) and u (K, 6+N)")

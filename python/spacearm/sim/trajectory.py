@@ -439,9 +439,18 @@ class Trajectory:
 
     @property
     def conserved(self) -> List[str]:
-        """Names of the quantities the run's mode conserves (among ``P``, ``L_origin``,
-        ``L_com``, ``energy``)."""
+        """Names of the quantities the run conserves (among ``P``, ``L_origin``, ``L_com``,
+        ``energy``): those of its mode, none in an orbital run with the gravity gradient, whose
+        tidal wrenches change the momenta (see [`balanced`][spacearm.Trajectory.balanced])."""
         return list(self._meta.get("conserved") or [])
+
+    @property
+    def balanced(self) -> List[str]:
+        """In an orbital run with the gravity gradient, the momenta whose balance the simulator
+        checked: their change equals the time integral of the recorded tidal wrench, and
+        ``meta["drift"]`` holds the largest relative residual of that balance (docs/orbit.md);
+        empty otherwise."""
+        return list(self._meta.get("balanced") or [])
 
     # ---- names and units ----------------------------------------------------------------------
     def joint_names(self) -> List[str]:
@@ -519,13 +528,16 @@ class Trajectory:
                            ((k, m[k]) for k in ("n_steps", "n_rejected", "n_rhs_evals") if k in m))
         lines.append("; ".join(p for p in (f"  t = {self.t[0]:g} .. {self.t[-1]:g} s, {len(self)} samples", step, counts) if p))
         conserved = [c for c in self.conserved if self.has(c)]
-        if conserved:
+        balanced = [c for c in self.balanced if isinstance(m.get("drift"), dict) and c in m["drift"]]
+        if balanced:
+            d = m["drift"]
+            lines.append("  momentum balance in orbit (max relative residual of change = integral of the tidal wrench; "
+                         "not conserved): " + ", ".join(f"{k} {d[k]:.3g}" for k in balanced))
+        elif conserved:
             # The simulator's figures when it gave them (its scale: the bodies' summed
             # contributions), else this class's recomputation from the samples.
             d = m.get("drift") if isinstance(m.get("drift"), dict) and set(conserved) <= set(m["drift"]) else self.drift(conserved)
-            label = ("momentum balance in orbit (max relative residual of change = integral of the tidal wrench)"
-                     if (m.get("orbit") or {}).get("gravity_gradient") else "conservation (max relative drift)")
-            lines.append(f"  {label}: " + ", ".join(f"{k} {d[k]:.3g}" for k in conserved))
+            lines.append("  conservation (max relative drift): " + ", ".join(f"{k} {d[k]:.3g}" for k in conserved))
         elif m.get("mode"):
             lines.append(f"  conservation: mode {m['mode']} conserves none of P, L, energy")
         if m.get("orbit"):

@@ -165,7 +165,7 @@ def _panel_position(ax, traj):
 
 
 def _panel_momentum(ax, traj):
-    conserved = set(traj.conserved)
+    conserved, balanced = set(traj.conserved), set(traj.balanced)
     plotted = False
     for name in ("P", "L_origin", "L_com"):
         if not traj.has(name):
@@ -173,7 +173,10 @@ def _panel_momentum(ax, traj):
         v = np.asarray(traj[name], dtype=float).reshape(len(traj), -1)
         change = np.linalg.norm(v - v[0], axis=1)
         unit = "N s" if name == "P" else "N m s"
-        label = f"{name} [{unit}]" + (" (conserved)" if name in conserved else "")
+        # In orbit with the gravity gradient nothing is conserved: the tidal wrench changes the
+        # momenta, and the simulator checks their balance instead (Trajectory.balanced).
+        note = " (conserved)" if name in conserved else " (changed by the tidal wrench)" if name in balanced else ""
+        label = f"{name} [{unit}]{note}"
         # From the second sample on: the first is zero by definition.
         ax.semilogy(traj.t[1:], np.maximum(change[1:], _FLOOR), lw=1.5 if name in conserved else 1.0,
                     ls="-" if name in conserved else "--", label=label)

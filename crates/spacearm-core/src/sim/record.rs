@@ -25,7 +25,7 @@ pub(crate) struct Recorder {
     last_quat: Option<UnitQuaternion<f64>>,
     /// Whether the drift is a momentum balance against the recorded tidal wrench (an orbital
     /// run with the gravity gradient).
-    balance: bool,
+    pub(crate) balance: bool,
 }
 
 impl Recorder {

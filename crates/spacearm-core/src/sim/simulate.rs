@@ -209,6 +209,11 @@ pub struct SimResult {
     /// The scale each drift was measured against when the initial value is smaller (see the
     /// module docs), so that a recomputation from the records gives the same number.
     pub drift_scales: Vec<(Conserved, f64)>,
+    /// `true` in an orbital run with the gravity gradient: the quantities of [`Self::drift`] are
+    /// not conserved (the tidal wrenches change them), and each drift is the residual of the
+    /// quantity's balance — its change less the time integral of the recorded tidal wrench
+    /// (docs/orbit.md); `false`: they are conserved and each drift is their change.
+    pub balance: bool,
     /// Accepted integration steps.
     pub n_steps: usize,
     /// Rejected steps (adaptive integrator only).
@@ -761,7 +766,9 @@ pub(crate) fn finish_result(plant: &Plant<'_>, rec: Recorder, events: Vec<Satura
     }
     let drift = rec.drift(&conserved);
     let drift_scales = conserved.iter().map(|&c| (c, rec.scale(c))).collect();
+    let balance = rec.balance;
     SimResult {
+        balance,
         reference_width: plant.controller.reference_len(),
         records: rec.rec,
         events,
