@@ -6,7 +6,7 @@
 //!
 //! ```toml
 //! mode = "floating"        # or rotation-floating, rotation-flying, translation-flying, flying
-//! dt = 0.001               # the RK4 step, s
+//! dt = 0.001               # the RK4 step, s, within [SPACEARM_MIN_DT, SPACEARM_MAX_DT]
 //! joint_limits = true      # the joints' effort and velocity limits apply
 //! [controller]             # optional; default: none (only the held torque acts)
 //! kind = "joint_pd"        # "none", "joint_pd" or "computed_torque"
@@ -29,7 +29,35 @@ use spacearm_core::sim::stepper::Rk4Stepper;
 use spacearm_core::{Model, SpacearmError};
 
 use crate::model::{model_ref, SpacearmModel};
-use crate::status::{guard, guard_value, input, optional_input, output, text, Failure, Outcome, SpacearmStatus};
+use crate::status::{guard, guard_value, input, optional_input, output, put, text, Failure, Outcome, SpacearmStatus};
+
+/// The most RK4 steps one call may take: `n` of `spacearm_stepper_step`, and `h / dt` of one
+/// communication step `h` of an FMU (`fmi3DoStep`, `fmi2DoStep`). A call asking for more is
+/// refused with `SPACEARM_STATUS_INVALID_ARGUMENT` (an FMU: `fmi3Error`/`fmi2Error` with a logged
+/// message) before any step is taken, so no call runs unbounded (about a second per 10⁵ steps
+/// of a 6-joint arm; split a longer run into several calls).
+pub const SPACEARM_MAX_STEPS_PER_CALL: usize = 1_000_000;
+
+/// The smallest RK4 step `dt` a stepper or an FMU accepts, s: with it, one call of
+/// `SPACEARM_MAX_STEPS_PER_CALL` steps still covers 1 s.
+pub const SPACEARM_MIN_DT: f64 = 1e-6;
+
+/// The largest RK4 step `dt` a stepper or an FMU accepts, s (far beyond where a fixed-step RK4 of
+/// an arm's dynamics is accurate; `1e300` is refused rather than overflowing the state).
+pub const SPACEARM_MAX_DT: f64 = 10.0;
+
+/// The one check of a number of RK4 steps asked of one call (see
+/// [`SPACEARM_MAX_STEPS_PER_CALL`]); `steps` is a float so that an FMU's `h / dt` is checked
+/// before it is converted (a cast of `1e300` would saturate to `usize::MAX`).
+pub(crate) fn check_steps_per_call(steps: f64, what: &str) -> Outcome<usize> {
+    if !(steps >= 0.0 && steps <= SPACEARM_MAX_STEPS_PER_CALL as f64) {
+        return Err(Failure::argument(format!(
+            "{what} needs {steps:e} RK4 steps in one call, more than the {SPACEARM_MAX_STEPS_PER_CALL} allowed \
+             (SPACEARM_MAX_STEPS_PER_CALL); split it into several calls"
+        )));
+    }
+    Ok(steps as usize)
+}
 
 /// The native controllers a stepper (and an FMU) can run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
@@ -105,6 +133,12 @@ impl StepperOptions {
         let o: OptionsText = toml::from_str(text).map_err(|e| Failure::new(SpacearmStatus::Parse, format!("stepper options: {e}")))?;
         let sim = SimOptions { mode: Mode::from_name(&o.mode)?, integrator: IntegratorKind::Rk4, duration: o.dt, dt: o.dt, joint_limits: o.joint_limits, ..SimOptions::default() };
         sim.validate()?;
+        if !(SPACEARM_MIN_DT..=SPACEARM_MAX_DT).contains(&o.dt) {
+            return Err(Failure::argument(format!(
+                "dt must be between {SPACEARM_MIN_DT:e} s and {SPACEARM_MAX_DT} s (SPACEARM_MIN_DT, SPACEARM_MAX_DT), got {:e} s",
+                o.dt
+            )));
+        }
         let n_arm = Self::n_arm(model);
         let arm_q: Vec<f64> = {
             let wheels = detect_reaction_wheels(model);
@@ -180,8 +214,10 @@ impl SpacearmStepper {
         self.stepper.as_mut().ok_or_else(|| Failure::argument("the stepper has no state yet; call spacearm_stepper_reset first"))
     }
 
-    /// `n` steps of `dt` with `tau` (N) and `base_wrench` (6) held, landing on `t = i·dt`.
+    /// `n` steps of `dt` with `tau` (N) and `base_wrench` (6) held, landing on `t = i·dt`; at
+    /// most [`SPACEARM_MAX_STEPS_PER_CALL`].
     pub(crate) fn step(&mut self, tau: Option<&[f64]>, base_wrench: Option<&[f64]>, n: usize) -> Outcome {
+        check_steps_per_call(n as f64, &format!("n = {n}"))?;
         if let Some(t) = tau {
             crate::status::finite("tau", t)?;
         }
@@ -272,7 +308,9 @@ pub unsafe extern "C" fn spacearm_stepper_reset(stepper: *mut SpacearmStepper, x
 /// Advance `n` RK4 steps of `dt` with the joint torque `tau` (N, NULL: zero) and the base wrench
 /// `base_wrench` (`[F0, N0]` in 𝒥 at the base CM, 6, NULL: zero) added to the controller's
 /// command and held over the steps; the mode's mask and the actuator limits apply as in
-/// `spacearm.simulate`. A failed step leaves the stepper needing a reset.
+/// `spacearm.simulate`. `n` is at most `SPACEARM_MAX_STEPS_PER_CALL` (more is refused with
+/// `SPACEARM_STATUS_INVALID_ARGUMENT` before any step). A failed step leaves the stepper needing
+/// a reset.
 ///
 /// # Safety
 /// `stepper` a live handle; `tau` NULL or N doubles; `base_wrench` NULL or 6 doubles.
@@ -282,7 +320,7 @@ pub unsafe extern "C" fn spacearm_stepper_step(stepper: *mut SpacearmStepper, ta
         // SAFETY (this block and below): the caller's contract, documented above.
         let s = unsafe { stepper_mut(stepper) }?;
         let nd = s.model.n_dof();
-        let (tau, w) = unsafe { (optional_input(tau, nd), optional_input(base_wrench, 6)) };
+        let (tau, w) = unsafe { (optional_input(tau, nd, "tau")?, optional_input(base_wrench, 6, "base_wrench")?) };
         s.step(tau, w, n)
     })
 }
@@ -312,10 +350,10 @@ pub unsafe extern "C" fn spacearm_stepper_state(stepper: *const SpacearmStepper,
         let nx = s.model.nx();
         let y = s.state().ok_or_else(|| Failure::argument("the stepper has no state yet; call spacearm_stepper_reset first"))?;
         if !x_out.is_null() {
-            unsafe { output(x_out, nx, "x_out") }?.copy_from_slice(&y[..nx]);
+            put("the state x_out", &y[..nx], unsafe { output(x_out, nx, "x_out") }?)?;
         }
         if !u_out.is_null() {
-            unsafe { output(u_out, y.len() - nx, "u_out") }?.copy_from_slice(&y[nx..]);
+            put("the state u_out", &y[nx..], unsafe { output(u_out, y.len() - nx, "u_out") }?)?;
         }
         Ok(())
     })
