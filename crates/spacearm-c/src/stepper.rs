@@ -132,13 +132,13 @@ impl StepperOptions {
     pub(crate) fn parse(model: &Model, text: &str) -> Outcome<Self> {
         let o: OptionsText = toml::from_str(text).map_err(|e| Failure::new(SpacearmStatus::Parse, format!("stepper options: {e}")))?;
         let sim = SimOptions { mode: Mode::from_name(&o.mode)?, integrator: IntegratorKind::Rk4, duration: o.dt, dt: o.dt, joint_limits: o.joint_limits, ..SimOptions::default() };
-        sim.validate()?;
         if !(SPACEARM_MIN_DT..=SPACEARM_MAX_DT).contains(&o.dt) {
             return Err(Failure::argument(format!(
                 "dt must be between {SPACEARM_MIN_DT:e} s and {SPACEARM_MAX_DT} s (SPACEARM_MIN_DT, SPACEARM_MAX_DT), got {:e} s",
                 o.dt
             )));
         }
+        sim.validate()?;
         let n_arm = Self::n_arm(model);
         let arm_q: Vec<f64> = {
             let wheels = detect_reaction_wheels(model);
