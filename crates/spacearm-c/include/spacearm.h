@@ -19,8 +19,8 @@
  * The most RK4 steps one call may take: `n` of `spacearm_stepper_step`, and `h / dt` of one
  * communication step `h` of an FMU (`fmi3DoStep`, `fmi2DoStep`). A call asking for more is
  * refused with `SPACEARM_STATUS_INVALID_ARGUMENT` (an FMU: `fmi3Error`/`fmi2Error` with a logged
- * message) before any step is taken, so no call runs unbounded (about a second per 10⁵ steps
- * of a 6-joint arm; split a longer run into several calls).
+ * message) before any step is taken, so no call runs unbounded (10⁵ steps of the 6-joint
+ * spatial6 take about 0.5 s; split a longer run into several calls).
  */
 #define SPACEARM_MAX_STEPS_PER_CALL 1000000
 

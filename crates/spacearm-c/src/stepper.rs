@@ -34,8 +34,8 @@ use crate::status::{guard, guard_value, input, optional_input, output, put, text
 /// The most RK4 steps one call may take: `n` of `spacearm_stepper_step`, and `h / dt` of one
 /// communication step `h` of an FMU (`fmi3DoStep`, `fmi2DoStep`). A call asking for more is
 /// refused with `SPACEARM_STATUS_INVALID_ARGUMENT` (an FMU: `fmi3Error`/`fmi2Error` with a logged
-/// message) before any step is taken, so no call runs unbounded (about a second per 10⁵ steps
-/// of a 6-joint arm; split a longer run into several calls).
+/// message) before any step is taken, so no call runs unbounded (10⁵ steps of the 6-joint
+/// spatial6 take about 0.5 s; split a longer run into several calls).
 pub const SPACEARM_MAX_STEPS_PER_CALL: usize = 1_000_000;
 
 /// The smallest RK4 step `dt` a stepper or an FMU accepts, s: with it, one call of
