@@ -1,9 +1,10 @@
 """Export a [`Robot`][spacearm.Robot] as an FMI co-simulation unit (docs/fmi.md).
 
 The FMU's binary is the spacearm C library (``spacearm.fmi.library``), which exports the
-``fmi2*`` and ``fmi3*`` functions; the model travels as ``resources/model.toml`` and the stepper
-options (mode, RK4 step, controller) as ``resources/options.toml``; ``modelDescription.xml`` is
-written by the library from the same variable table its binary reads.
+``fmi2*`` and ``fmi3*`` functions; the model travels as ``resources/model.toml``, the stepper
+options (mode, RK4 step, controller) as ``resources/options.toml`` and the instantiation token
+(checked by the binary when it is instantiated) as ``resources/token.txt``;
+``modelDescription.xml`` is written by the library from the same variable table its binary reads.
 """
 
 from __future__ import annotations
@@ -144,4 +145,6 @@ def export(robot: Robot, path, *, mode: str = "floating", controller=None, dt: f
             z.writestr(f"binaries/{folder}/{identifier}{suffix}", binary)
             z.writestr("resources/model.toml", model_toml)
             z.writestr("resources/options.toml", options_toml)
+            # The binary checks the token an importer instantiates it with against this copy.
+            z.writestr("resources/token.txt", token)
     return Path(path)

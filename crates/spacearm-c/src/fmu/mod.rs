@@ -2,8 +2,9 @@
 //! the FMI 2 ([`fmi2`]) and FMI 3 ([`fmi3`]) entry points, and the model description
 //! ([`variables`]) that `spacearm.fmi.export` asks this library for.
 //!
-//! An FMU's `resources/` holds `model.toml` (the model, docs/model-format.md) and
-//! `options.toml` (the stepper options of [`crate::stepper`]: mode, RK4 step, controller). A
+//! An FMU's `resources/` holds `model.toml` (the model, docs/model-format.md),
+//! `options.toml` (the stepper options of [`crate::stepper`]: mode, RK4 step, controller) and
+//! `token.txt` (the instantiation token, checked at instantiation). A
 //! communication step of `h` is `h / dt` RK4 steps of the core's loop with the inputs held
 //! (the loop of `spacearm.simulate`), so an FMU run equals `spacearm.simulate` of the same model
 //! and inputs (tests/fmi/test_fmu.py).
@@ -58,33 +59,22 @@ fn read(dir: &Path, file: &str) -> Outcome<String> {
     std::fs::read_to_string(&p).map_err(|e| Failure::new(SpacearmStatus::Io, format!("cannot read the FMU resource '{}': {e}", p.display())))
 }
 
-/// The value of the attribute `attribute` of the `<fmiModelDescription>` element of the XML
-/// text `xml` (entities decoded), if it has one.
-fn root_attribute(xml: &str, attribute: &str) -> Option<String> {
-    let start = xml.find("<fmiModelDescription")?;
-    let tag = &xml[start..start + xml[start..].find('>')?];
-    let key = format!("{attribute}=\"");
-    // The attribute's name follows whitespace (a value cannot hold a raw '"', so a match is
-    // never inside another attribute's value).
-    let at = tag.match_indices(&key).map(|(i, _)| i).find(|&i| tag[..i].ends_with(char::is_whitespace))?;
-    let rest = &tag[at + key.len()..];
-    let value = &rest[..rest.find('"')?];
-    Some(value.replace("&quot;", "\"").replace("&apos;", "'").replace("&lt;", "<").replace("&gt;", ">").replace("&amp;", "&"))
-}
+/// The file of `resources/` that holds the FMU's instantiation token (FMI 3
+/// `instantiationToken`, FMI 2 `guid`), the same text as in its `modelDescription.xml`; written
+/// by `spacearm.fmi.export`. (The folder above `resources/` is not read: importers such as FMPy
+/// extract only `binaries/` and `resources/` to run an FMU.)
+pub(crate) const TOKEN_FILE: &str = "token.txt";
 
 /// Check the instantiation token an importer passed (FMI 3 `instantiationToken`, FMI 2 `guid`)
-/// against the one of the FMU's model description (`modelDescription.xml`, the folder above
-/// `resources/`, FMI 3 §2.3.1, FMI 2 §2.1.5): a binary instantiated with another FMU's token
-/// (or none) is refused.
+/// against the FMU's own ([`TOKEN_FILE`]): a binary instantiated with another FMU's token (or
+/// with none) is refused, as FMI 3 §2.3.1 and FMI 2 §2.1.5 ask.
 pub(crate) fn check_token(resources: &Path, version: FmiVersion, given: Option<&str>) -> Outcome {
     let attribute = match version {
         FmiVersion::Fmi3 => "instantiationToken",
         FmiVersion::Fmi2 => "guid",
     };
-    let file = resources.parent().unwrap_or(resources).join("modelDescription.xml");
-    let xml = std::fs::read_to_string(&file)
-        .map_err(|e| Failure::new(SpacearmStatus::Io, format!("cannot read '{}' to check the {attribute}: {e}", file.display())))?;
-    let expected = root_attribute(&xml, attribute).ok_or_else(|| Failure::argument(format!("'{}' has no {attribute}", file.display())))?;
+    let expected = read(resources, TOKEN_FILE)?;
+    let expected = expected.trim_end_matches(['\n', '\r']);
     match given {
         Some(g) if g == expected => Ok(()),
         Some(g) => Err(Failure::argument(format!(
