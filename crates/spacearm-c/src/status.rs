@@ -377,6 +377,43 @@ mod tests {
     }
 
     #[test]
+    fn every_int_has_a_status_name() {
+        let name = |s: i32| unsafe { CStr::from_ptr(spacearm_status_name(s)) }.to_str().unwrap().to_string();
+        for s in SpacearmStatus::ALL {
+            assert_ne!(name(s as i32), "unknown status");
+        }
+        assert_eq!(name(SpacearmStatus::Internal as i32), "internal");
+        for s in [-1, 15, i32::MIN, i32::MAX] {
+            assert_eq!(name(s), "unknown status");
+        }
+    }
+
+    #[test]
+    fn a_non_finite_result_is_refused_and_not_written() {
+        let mut out = [7.0; 3];
+        let f = put("du_out", &[1.0, f64::INFINITY, 2.0], &mut out).unwrap_err();
+        assert_eq!(f.status, SpacearmStatus::NonFinite);
+        assert!(f.message.contains("du_out") && f.message.contains("entry 1 is inf"), "{}", f.message);
+        assert_eq!(out, [7.0; 3]);
+        let m = nalgebra::Matrix2::new(1.0, 2.0, f64::NAN, 4.0);
+        let mut o = [7.0; 4];
+        assert_eq!(put_row_major("H", &m, &mut o).unwrap_err().status, SpacearmStatus::NonFinite);
+        assert_eq!(o, [7.0; 4]);
+        put_row_major("H", &nalgebra::Matrix2::new(1.0, 2.0, 3.0, 4.0), &mut o).unwrap();
+        assert_eq!(o, [1.0, 2.0, 3.0, 4.0]);
+        // SAFETY: a 2-element array.
+        let e = unsafe { input([0.0, f64::NAN].as_ptr(), 2, "offset") }.unwrap_err();
+        assert_eq!((e.status, e.message.as_str()), (SpacearmStatus::NonFinite, "offset must be finite, but entry 1 is NaN"));
+    }
+
+    #[test]
+    fn success_clears_the_message_of_value_calls_too() {
+        let _ = guard(|| Err(Failure::argument("earlier")));
+        assert_eq!(guard_value(0, || Ok(3)), 3);
+        assert_eq!(last(), "");
+    }
+
+    #[test]
     fn the_message_is_per_thread() {
         let _ = guard(|| Err(Failure::argument("main thread")));
         std::thread::spawn(|| assert_eq!(last(), "")).join().unwrap();

@@ -389,6 +389,27 @@ mod tests {
     }
 
     #[test]
+    fn the_steps_of_one_call_and_dt_are_bounded() {
+        assert_eq!(check_steps_per_call(SPACEARM_MAX_STEPS_PER_CALL as f64, "n").unwrap(), SPACEARM_MAX_STEPS_PER_CALL);
+        for steps in [SPACEARM_MAX_STEPS_PER_CALL as f64 + 1.0, 1e303, f64::INFINITY, f64::NAN, usize::MAX as f64] {
+            assert_eq!(check_steps_per_call(steps, "n").unwrap_err().status, SpacearmStatus::InvalidArgument, "{steps}");
+        }
+        let m = arm_with_panel();
+        for dt in ["1e-300", "1e300", "9.99e-7", "10.01", "nan", "-inf", "0.0"] {
+            let e = StepperOptions::parse(&m, &format!("dt = {dt}\n")).unwrap_err();
+            assert!(e.status == SpacearmStatus::InvalidArgument && e.message.starts_with("dt must be between"), "{dt}: {}", e.message);
+        }
+        for dt in [SPACEARM_MIN_DT, SPACEARM_MAX_DT] {
+            assert!(StepperOptions::parse(&m, &format!("dt = {dt:?}\n")).is_ok());
+        }
+        let mut s = SpacearmStepper::new(m.clone(), StepperOptions::parse(&m, "").unwrap());
+        let (x0, u0) = (spacearm_core::model::presets::initial_configuration(&m), vec![0.0; m.nu()]);
+        s.reset(&x0, &u0).unwrap();
+        assert_eq!(s.step(None, None, usize::MAX).unwrap_err().status, SpacearmStatus::InvalidArgument);
+        assert_eq!(s.stepper.as_ref().unwrap().n_steps(), 0);
+    }
+
+    #[test]
     fn the_set_point_has_one_entry_per_actuated_arm_joint() {
         let m = arm_with_panel();
         assert_eq!(StepperOptions::n_arm(&m), 2);
