@@ -161,6 +161,8 @@ def test_the_fmu_command_answers_bad_options_in_one_line(tmp_path, capsys):
     assert "spacearm: error: --kp needs --controller pd or ct" in capsys.readouterr().err
     assert main(["fmu", "spatial6", "--out", str(tmp_path / "a.fmu"), "--controller", "ct", "--kp", "1,2", "--kd", "1"]) == 2
     assert "kp" in capsys.readouterr().err
+    assert main(["fmu", "spatial6", "--out", str(tmp_path / "a.fmu"), "--dt", "1e300"]) == 2
+    assert "spacearm: error: dt must be between" in capsys.readouterr().err
     assert not (tmp_path / "a.fmu").exists()
 
 
