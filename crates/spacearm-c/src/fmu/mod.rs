@@ -243,7 +243,14 @@ impl Instance {
             self.phase = Phase::Failed;
             return Err(format!("the step from t = {t} s failed: {}", f.message));
         }
-        self.state_outputs().map_err(|f| f.message)
+        match self.state_outputs() {
+            Ok(()) => Ok(()),
+            Err(f) => {
+                // An output that is not finite (a state beyond double precision): no going on.
+                self.phase = Phase::Failed;
+                Err(format!("after the step from t = {t} s: {}", f.message))
+            }
+        }
     }
 
     /// Back to the state just after instantiation (start values, no simulation).
