@@ -192,8 +192,6 @@ def instantiate(fmu, version: int, messages: list) -> None:
     import ctypes
 
     if version == 3:
-        from fmpy.fmi3 import fmi3LogMessageCallback  # noqa: F401  (the type FMPy wraps the callback in)
-
         fmu.instantiate(logMessage=lambda env, status, category, message: messages.append((status, message.decode())))
     else:
         from fmpy.fmi2 import fmi2CallbackFunctions, defaultCallbacks
