@@ -40,6 +40,10 @@ def lib():
     lib.spacearm_inertia_blocks.argtypes = [ctypes.c_void_p, D, D, D, D]
     lib.spacearm_model_point.argtypes = [ctypes.c_void_p, ctypes.c_char_p, ctypes.POINTER(ctypes.c_size_t), D]
     lib.spacearm_abi_version.restype = ctypes.c_uint32
+    lib.spacearm_status_name.argtypes = [ctypes.c_int32]
+    lib.spacearm_status_name.restype = ctypes.c_char_p
+    lib.spacearm_forward_dynamics.argtypes = [ctypes.c_void_p, D, D, D, D]
+    lib.spacearm_inverse_dynamics.argtypes = [ctypes.c_void_p, D, D, D, D]
     return lib
 
 
@@ -98,6 +102,11 @@ def test_errors_come_back_as_status_and_message(lib):
     assert lib.spacearm_model_from_toml(b"[base]\nmass = -1\n", ctypes.byref(handle)) != 0
     assert not handle.value
     assert lib.spacearm_last_error()
+    # A success clears the message, in a call that returns a value too.
+    assert lib.spacearm_model_preset(b"planar4", ctypes.byref(handle)) == 0
+    assert lib.spacearm_model_preset(b"nope", ctypes.byref(ctypes.c_void_p())) == 5 and lib.spacearm_last_error()
+    assert lib.spacearm_model_nx(handle) == 11 and lib.spacearm_last_error() == b""
+    lib.spacearm_model_free(handle)
     assert lib.spacearm_model_preset(b"spatial6", ctypes.byref(handle)) == 0
     try:
         x = np.zeros(13)  # a zero quaternion
@@ -105,5 +114,58 @@ def test_errors_come_back_as_status_and_message(lib):
         assert lib.spacearm_mass_matrix(handle, ptr(x), ptr(h)) == 4  # SPACEARM_STATUS_NOT_UNIT_QUATERNION
         assert b"unit quaternion" in lib.spacearm_last_error()
         assert lib.spacearm_mass_matrix(handle, ptr(x), None) == 11  # SPACEARM_STATUS_NULL_POINTER
+    finally:
+        lib.spacearm_model_free(handle)
+
+
+# ---- issue 38: the status contract ----
+
+NON_FINITE, INVALID_MODEL, PARSE = 3, 1, 7
+
+
+def test_every_int_has_a_status_name(lib):
+    names = [lib.spacearm_status_name(s) for s in range(15)]
+    assert len(set(names)) == 15 and b"unknown status" not in names
+    for s in (-1, 15, 2**31 - 1, -2**31):
+        assert lib.spacearm_status_name(s) == b"unknown status"
+
+
+def test_a_model_rule_is_invalid_model_and_bad_syntax_is_parse(lib):
+    handle = ctypes.c_void_p()
+    text = b'[model]\nname = "neg"\n[base]\nmass = -100.0\ninertia = [10.0, 10.0, 10.0]\n'
+    assert lib.spacearm_model_from_toml(text, ctypes.byref(handle)) == INVALID_MODEL and not handle.value
+    assert b":4:" in lib.spacearm_last_error()  # the line of the mass
+    with pytest.raises(spacearm.errors.ModelError):  # Python: ModelFileError, a ModelError
+        spacearm.io.loads_toml(text.decode())
+    assert lib.spacearm_model_from_toml(b"[model\nname = 1", ctypes.byref(handle)) == PARSE and not handle.value
+
+
+@pytest.mark.parametrize("case", ["u=+1e300", "u=-1e300", "f=DBL_MAX", "du=DBL_MAX", "u=nan"])
+def test_non_finite_results_are_refused_where_python_refuses_them(lib, case):
+    """Where the binding raises NonFiniteError the C ABI answers NON_FINITE (with a message) and
+    leaves the output as it was; before issue 38 it answered OK with NaN or inf."""
+    robot = spacearm.presets.spatial6()
+    x, u = generic_state(robot)
+    f = np.zeros(robot.nu)
+    big = np.finfo(float).max
+    what, value = case.split("=")
+    value = {"+1e300": 1e300, "-1e300": -1e300, "DBL_MAX": big, "nan": np.nan}[value]
+    if what == "u":
+        u = np.full(robot.nu, value)
+    else:
+        f = np.full(robot.nu, value)
+    handle = ctypes.c_void_p()
+    assert lib.spacearm_model_preset(b"spatial6", ctypes.byref(handle)) == 0
+    try:
+        for name, python in (("spacearm_forward_dynamics", lambda: robot.forward_dynamics(x, u, f)),
+                             ("spacearm_inverse_dynamics", lambda: robot.inverse_dynamics(x, u, f))):
+            if what == "du" and name == "spacearm_forward_dynamics" or what == "f" and name == "spacearm_inverse_dynamics":
+                continue
+            with pytest.raises(spacearm.errors.NonFiniteError):
+                python()
+            out = np.full(robot.nu, 7.0)
+            assert getattr(lib, name)(handle, ptr(x), ptr(u), ptr(f), ptr(out)) == NON_FINITE, name
+            assert b"finite" in lib.spacearm_last_error()
+            assert (out == 7.0).all()
     finally:
         lib.spacearm_model_free(handle)

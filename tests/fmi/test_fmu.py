@@ -19,7 +19,7 @@ import pytest
 import spacearm
 import spacearm.fmi
 from spacearm.control import Callback, JointPD
-from spacearm.errors import ArgumentError, MissingDependencyError
+from spacearm.errors import ArgumentError, MissingDependencyError, SpacearmTypeError
 from spacearm.io.urdf import load_urdf
 
 from robot_data import robot_urdf
@@ -161,4 +161,114 @@ def test_the_fmu_command_answers_bad_options_in_one_line(tmp_path, capsys):
     assert "spacearm: error: --kp needs --controller pd or ct" in capsys.readouterr().err
     assert main(["fmu", "spatial6", "--out", str(tmp_path / "a.fmu"), "--controller", "ct", "--kp", "1,2", "--kd", "1"]) == 2
     assert "kp" in capsys.readouterr().err
+    assert main(["fmu", "spatial6", "--out", str(tmp_path / "a.fmu"), "--dt", "1e300"]) == 2
+    assert "spacearm: error: dt must be between" in capsys.readouterr().err
     assert not (tmp_path / "a.fmu").exists()
+
+
+# ---- issue 38: bounded steps, checked options and tokens ----
+
+MAX_STEPS_PER_CALL = 1_000_000  # SPACEARM_MAX_STEPS_PER_CALL of crates/spacearm-c/include/spacearm.h
+
+
+def test_the_header_states_the_cap_this_file_uses():
+    header = open(os.path.join(ROOT, "crates", "spacearm-c", "include", "spacearm.h")).read()
+    assert f"#define SPACEARM_MAX_STEPS_PER_CALL {MAX_STEPS_PER_CALL}\n" in header
+
+
+def slave(path, version: int, token=None):
+    """An FMPy co-simulation instance of the FMU at ``path`` (not yet instantiated)."""
+    from fmpy.fmi2 import FMU2Slave
+    from fmpy.fmi3 import FMU3Slave
+
+    md = fmpy.read_model_description(str(path))
+    cls = FMU3Slave if version == 3 else FMU2Slave
+    return cls(guid=md.guid if token is None else token, unzipDirectory=fmpy.extract(str(path)),
+               modelIdentifier=md.coSimulation.modelIdentifier, instanceName="t")
+
+
+def instantiate(fmu, version: int, messages: list) -> None:
+    """Instantiate with a logger that appends ``(status, message)`` to ``messages``."""
+    import ctypes
+
+    if version == 3:
+        fmu.instantiate(logMessage=lambda env, status, category, message: messages.append((status, message.decode())))
+    else:
+        from fmpy.fmi2 import fmi2CallbackFunctions, defaultCallbacks
+
+        # The FMU calls the (variadic) logger with the format "%s" and the message as the next
+        # argument: declare that argument to read it (the same registers on the platforms tested).
+        logger_type = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_char_p,
+                                       ctypes.c_char_p)
+        logger = logger_type(lambda env, name, status, category, fmt, message: messages.append((status, message.decode())))
+        callbacks = fmi2CallbackFunctions()
+        callbacks.logger = ctypes.cast(logger, type(defaultCallbacks.logger))
+        callbacks.allocateMemory = defaultCallbacks.allocateMemory
+        callbacks.freeMemory = defaultCallbacks.freeMemory
+        fmu._keep_logger = logger  # alive as long as the instance
+        fmu.instantiate(callbacks=callbacks)
+
+
+@pytest.mark.parametrize("version", [3, 2])
+def test_instantiation_checks_the_token(tmp_path, version):
+    path = spacearm.fmi.export(spacearm.presets.planar4(), tmp_path / "p4.fmu", dt=DT, fmi_version=version)
+    other = "{00000000-0000-0000-0000-000000000000}"
+    messages: list = []
+    with pytest.raises(Exception, match="instantiate"):
+        instantiate(slave(path, version, token=other), version, messages)
+    assert any(status == 3 and other in m and ("instantiationToken" if version == 3 else "guid") in m for status, m in messages), messages
+    messages.clear()
+    fmu = slave(path, version)
+    instantiate(fmu, version, messages)
+    assert not [m for status, m in messages if status == 3], messages
+    fmu.freeInstance()
+
+
+@pytest.mark.parametrize("version", [3, 2])
+def test_a_communication_step_of_more_than_the_cap_is_refused_before_any_step(tmp_path, version):
+    from fmpy.fmi1 import FMICallException
+
+    path = spacearm.fmi.export(spacearm.presets.planar4(), tmp_path / "p4.fmu", dt=DT, fmi_version=version)
+    fmu = slave(path, version)
+    messages: list = []
+    instantiate(fmu, version, messages)
+    if version == 2:
+        fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    fmu.exitInitializationMode()
+    # One RK4 step more than the cap (an exact multiple of dt), then a step that would saturate
+    # the step count (1e300 / dt): both refused at once, the FMU still at t = 0.
+    for h in ((MAX_STEPS_PER_CALL + 1) * DT, 1e300):
+        messages.clear()
+        with pytest.raises(FMICallException):
+            fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=h)
+        assert any(status == 3 and "SPACEARM_MAX_STEPS_PER_CALL" in m for status, m in messages), messages
+    fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=DT)
+    vr = next(v.valueReference for v in fmpy.read_model_description(str(path)).modelVariables if v.name == "time")
+    assert (fmu.getFloat64 if version == 3 else fmu.getReal)([vr]) == [DT]
+    fmu.terminate()
+    fmu.freeInstance()
+
+
+def test_export_refuses_option_values_out_of_range_or_of_the_wrong_type(tmp_path):
+    robot = spacearm.presets.planar4()
+    out = tmp_path / "a.fmu"
+    for dt in (1e300, 1e-300, 1e-7, 11.0, float("nan"), float("inf"), 0.0, -1e-3):
+        with pytest.raises(ArgumentError, match="dt"):
+            spacearm.fmi.export(robot, out, dt=dt)
+    for dt in (True, "0.001", 1e-3 + 0j, None):
+        with pytest.raises(SpacearmTypeError, match="dt"):
+            spacearm.fmi.export(robot, out, dt=dt)
+    for joint_limits in ("no", 1, None):
+        with pytest.raises(SpacearmTypeError, match="joint_limits"):
+            spacearm.fmi.export(robot, out, joint_limits=joint_limits)
+    with pytest.raises(SpacearmTypeError, match="stop_time"):
+        spacearm.fmi.export(robot, out, stop_time=True)
+    with pytest.raises(ArgumentError, match="stop_time"):
+        spacearm.fmi.export(robot, out, stop_time=-1.0)
+    with pytest.raises(ArgumentError, match="fmi_version"):
+        spacearm.fmi.export(robot, out, fmi_version=True)
+    assert not out.exists()
+    # The bounds themselves are accepted.
+    for dt in (1e-6, 10.0, np.float64(2e-3)):
+        spacearm.fmi.export(robot, out, dt=dt, joint_limits=np.bool_(False))

@@ -16,6 +16,27 @@
 #define SPACEARM_ABI_VERSION 1
 
 /**
+ * The most RK4 steps one call may take: `n` of `spacearm_stepper_step`, and `h / dt` of one
+ * communication step `h` of an FMU (`fmi3DoStep`, `fmi2DoStep`). A call asking for more is
+ * refused with `SPACEARM_STATUS_INVALID_ARGUMENT` (an FMU: `fmi3Error`/`fmi2Error` with a logged
+ * message) before any step is taken, so no call runs unbounded (10⁵ steps of the 6-joint
+ * spatial6 take about 0.5 s; split a longer run into several calls).
+ */
+#define SPACEARM_MAX_STEPS_PER_CALL 1000000
+
+/**
+ * The smallest RK4 step `dt` a stepper or an FMU accepts, s: with it, one call of
+ * `SPACEARM_MAX_STEPS_PER_CALL` steps still covers 1 s.
+ */
+#define SPACEARM_MIN_DT 1e-6
+
+/**
+ * The largest RK4 step `dt` a stepper or an FMU accepts, s (far beyond where a fixed-step RK4 of
+ * an arm's dynamics is accurate; `1e300` is refused rather than overflowing the state).
+ */
+#define SPACEARM_MAX_DT 10.0
+
+/**
  * What a call of the C ABI returned. `0` is success; every other value names the kind of
  * failure (the same kinds as the Python exceptions of `spacearm.errors`), and
  * `spacearm_last_error()` gives the message.
@@ -34,7 +55,8 @@ typedef enum SpacearmStatus {
    */
   SPACEARM_STATUS_DIMENSION = 2,
   /**
-   * An input holds NaN or an infinity.
+   * An input holds NaN or an infinity, or a result computed from finite inputs would (the
+   * output is then not written).
    */
   SPACEARM_STATUS_NON_FINITE = 3,
   /**
@@ -265,7 +287,8 @@ enum SpacearmStatus spacearm_point_pose(const struct SpacearmModel *model,
 /**
  * Jacobians of forward dynamics at `(x, u, f)`: `∂u̇/∂x`, `∂u̇/∂u`, `∂u̇/∂f = H⁻¹`, each
  * (6+N)×(6+N) row-major, with `x` in tangent coordinates `[δr0, δθ, δq]` (docs/derivatives.md;
- * the `δr0` columns are zero). Any output may be NULL.
+ * the `δr0` columns are zero). Any output may be NULL (not written); all three NULL is a valid
+ * call that writes nothing (the inputs are still checked).
  *
  * # Safety
  * `model` a live handle; `x` 7+N, `u` and `f` 6+N doubles; each output NULL or (6+N)²
@@ -395,9 +418,10 @@ const char *spacearm_last_error(void);
 
 /**
  * A short name of a status code (`"dimension"` for `SPACEARM_STATUS_DIMENSION`); a static
- * string, never NULL.
+ * string, never NULL. Any value that is not a status code (negative, or above
+ * `SPACEARM_STATUS_INTERNAL`) gives `"unknown status"`.
  */
-const char *spacearm_status_name(enum SpacearmStatus status);
+const char *spacearm_status_name(int32_t status);
 
 /**
  * A stepper for a copy of `model` with the options TOML `options` (NULL: the defaults,
@@ -433,7 +457,9 @@ enum SpacearmStatus spacearm_stepper_reset(struct SpacearmStepper *stepper,
  * Advance `n` RK4 steps of `dt` with the joint torque `tau` (N, NULL: zero) and the base wrench
  * `base_wrench` (`[F0, N0]` in 𝒥 at the base CM, 6, NULL: zero) added to the controller's
  * command and held over the steps; the mode's mask and the actuator limits apply as in
- * `spacearm.simulate`. A failed step leaves the stepper needing a reset.
+ * `spacearm.simulate`. `n` is at most `SPACEARM_MAX_STEPS_PER_CALL` (more is refused with
+ * `SPACEARM_STATUS_INVALID_ARGUMENT` before any step). A failed step leaves the stepper needing
+ * a reset.
  *
  * # Safety
  * `stepper` a live handle; `tau` NULL or N doubles; `base_wrench` NULL or 6 doubles.

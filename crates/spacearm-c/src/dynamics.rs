@@ -6,20 +6,12 @@
 //! linear first. Every matrix is written **row-major** into a caller-owned buffer: element
 //! `(i, j)` of an `r × c` matrix at `out[i * c + j]`.
 
-use nalgebra::{Dim, Matrix, RawStorage, Vector3, Vector6};
+use nalgebra::{Vector3, Vector6};
 use spacearm_core::algorithms::{aba, crba, inertia, kinematics, momentum, rnea};
 use spacearm_core::gjm;
 
 use crate::model::{model_ref, SpacearmModel};
-use crate::status::{guard, input, optional_input, optional_output, output, Failure, Outcome, SpacearmStatus};
-
-/// Write a matrix row-major into `out` (of exactly its size).
-pub(crate) fn put_row_major<R: Dim, C: Dim, S: RawStorage<f64, R, C>>(m: &Matrix<f64, R, C, S>, out: &mut [f64]) {
-    let cols = m.ncols();
-    for ((i, j), v) in (0..m.nrows()).flat_map(|i| (0..cols).map(move |j| (i, j))).zip(out.iter_mut()) {
-        *v = m[(i, j)];
-    }
-}
+use crate::status::{guard, input, optional_input, optional_output, output, put, put_row_major, Outcome, SpacearmStatus};
 
 fn vec3(v: &[f64]) -> Vector3<f64> {
     Vector3::new(v[0], v[1], v[2])
@@ -48,8 +40,7 @@ pub unsafe extern "C" fn spacearm_mass_matrix(model: *const SpacearmModel, x: *c
         let x = unsafe { input(x, nx, "x") }?;
         let out = unsafe { output(h_out, nu * nu, "h_out") }?;
         m.with_data(|model, data| -> Outcome {
-            put_row_major(crba::crba(model, data, x)?, out);
-            Ok(())
+            put_row_major("the mass matrix H", crba::crba(model, data, x)?, out)
         })
     })
 }
@@ -68,13 +59,13 @@ pub unsafe extern "C" fn spacearm_inertia_blocks(model: *const SpacearmModel, x:
         let x = unsafe { input(x, m.model.nx(), "x") }?;
         let blocks = m.with_data(|model, data| inertia::inertia_blocks(model, data, x))?;
         if let Some(o) = unsafe { optional_output(h0_out, 36) } {
-            put_row_major(&blocks.h0, o);
+            put_row_major("H0", &blocks.h0, o)?;
         }
         if let Some(o) = unsafe { optional_output(h0m_out, 6 * n) } {
-            put_row_major(&blocks.h0m, o);
+            put_row_major("H0m", &blocks.h0m, o)?;
         }
         if let Some(o) = unsafe { optional_output(hm_out, n * n) } {
-            put_row_major(&blocks.hm, o);
+            put_row_major("H_m", &blocks.hm, o)?;
         }
         Ok(())
     })
@@ -93,8 +84,7 @@ pub unsafe extern "C" fn spacearm_generalized_inertia(model: *const SpacearmMode
         let x = unsafe { input(x, m.model.nx(), "x") }?;
         let out = unsafe { output(out, n * n, "out") }?;
         m.with_data(|model, data| -> Outcome {
-            put_row_major(gjm::compute_generalized_inertia(model, data, x)?, out);
-            Ok(())
+            put_row_major("the generalized inertia H*", gjm::compute_generalized_inertia(model, data, x)?, out)
         })
     })
 }
@@ -115,8 +105,7 @@ pub unsafe extern "C" fn spacearm_generalized_jacobian(model: *const SpacearmMod
         let p = unsafe { point(m, body, offset) }?;
         let out = unsafe { output(out, 6 * n, "out") }?;
         m.with_data(|model, data| -> Outcome {
-            put_row_major(gjm::compute_generalized_jacobian(model, data, x, body, &p)?, out);
-            Ok(())
+            put_row_major("the generalized Jacobian J*", gjm::compute_generalized_jacobian(model, data, x, body, &p)?, out)
         })
     })
 }
@@ -134,8 +123,7 @@ pub unsafe extern "C" fn spacearm_bias_forces(model: *const SpacearmModel, x: *c
         let (x, u) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?) };
         let out = unsafe { output(out, nu, "out") }?;
         m.with_data(|model, data| -> Outcome {
-            out.copy_from_slice(rnea::bias_forces(model, data, x, u)?.as_slice());
-            Ok(())
+            put("the bias forces c", rnea::bias_forces(model, data, x, u)?.as_slice(), out)
         })
     })
 }
@@ -154,8 +142,7 @@ pub unsafe extern "C" fn spacearm_generalized_bias(model: *const SpacearmModel, 
         let (x, u) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?) };
         let out = unsafe { output(out, n, "out") }?;
         m.with_data(|model, data| -> Outcome {
-            out.copy_from_slice(gjm::compute_generalized_bias(model, data, x, u)?.as_slice());
-            Ok(())
+            put("the generalized bias c*", gjm::compute_generalized_bias(model, data, x, u)?.as_slice(), out)
         })
     })
 }
@@ -174,8 +161,7 @@ pub unsafe extern "C" fn spacearm_forward_dynamics(model: *const SpacearmModel, 
         let (x, u, f) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?, input(f, nu, "f")?) };
         let out = unsafe { output(du_out, nu, "du_out") }?;
         m.with_data(|model, data| -> Outcome {
-            out.copy_from_slice(aba::aba(model, data, x, u, f, &[])?.as_slice());
-            Ok(())
+            put("forward dynamics du_out", aba::aba(model, data, x, u, f, &[])?.as_slice(), out)
         })
     })
 }
@@ -194,11 +180,10 @@ pub unsafe extern "C" fn spacearm_reduced_forward_dynamics(model: *const Spacear
         let m = unsafe { model_ref(model) }?;
         let (nx, nu, n) = (m.model.nx(), m.model.nu(), m.model.n_dof());
         let (x, u, tau) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?, input(tau, n, "tau")?) };
-        let w = unsafe { optional_input(base_wrench, 6) }.map(Vector6::from_column_slice).unwrap_or_else(Vector6::zeros);
+        let w = unsafe { optional_input(base_wrench, 6, "base_wrench") }?.map(Vector6::from_column_slice).unwrap_or_else(Vector6::zeros);
         let out = unsafe { output(du_out, nu, "du_out") }?;
         m.with_data(|model, data| -> Outcome {
-            out.copy_from_slice(gjm::compute_reduced_forward_dynamics(model, data, x, u, tau, &w)?.as_slice());
-            Ok(())
+            put("reduced forward dynamics du_out", gjm::compute_reduced_forward_dynamics(model, data, x, u, tau, &w)?.as_slice(), out)
         })
     })
 }
@@ -216,8 +201,7 @@ pub unsafe extern "C" fn spacearm_inverse_dynamics(model: *const SpacearmModel, 
         let (x, u, du) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?, input(du, nu, "du")?) };
         let out = unsafe { output(f_out, nu, "f_out") }?;
         m.with_data(|model, data| -> Outcome {
-            out.copy_from_slice(rnea::rnea(model, data, x, u, du, &[])?.as_slice());
-            Ok(())
+            put("inverse dynamics f_out", rnea::rnea(model, data, x, u, du, &[])?.as_slice(), out)
         })
     })
 }
@@ -236,10 +220,11 @@ pub unsafe extern "C" fn spacearm_momentum(model: *const SpacearmModel, x: *cons
         let (x, u) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?) };
         let out = unsafe { output(out, 9, "out") }?;
         let p = m.with_data(|model, data| momentum::momentum(model, data, x, u))?;
-        out[0..3].copy_from_slice(p.linear.as_slice());
-        out[3..6].copy_from_slice(p.angular_about_origin.as_slice());
-        out[6..9].copy_from_slice(p.angular_about_com.as_slice());
-        Ok(())
+        let mut all = [0.0; 9];
+        all[0..3].copy_from_slice(p.linear.as_slice());
+        all[3..6].copy_from_slice(p.angular_about_origin.as_slice());
+        all[6..9].copy_from_slice(p.angular_about_com.as_slice());
+        put("the momenta", &all, out)
     })
 }
 
@@ -259,8 +244,7 @@ pub unsafe extern "C" fn spacearm_base_velocity_from_momentum(model: *const Spac
         let (p, l) = unsafe { (vec3(input(p, 3, "p")?), vec3(input(l, 3, "l")?)) };
         let out = unsafe { output(out, 6, "out") }?;
         let v = m.with_data(|model, data| gjm::base_velocity_from_momentum(model, data, x, qd, &p, &l))?;
-        out.copy_from_slice(v.as_slice());
-        Ok(())
+        put("the base velocity", v.as_slice(), out)
     })
 }
 
@@ -282,10 +266,10 @@ pub unsafe extern "C" fn spacearm_point_pose(model: *const SpacearmModel, x: *co
             Ok((kinematics::point_position(data, body, &p), data.body_to_world[body]))
         })?;
         if let Some(o) = unsafe { optional_output(position_out, 3) } {
-            o.copy_from_slice(pos.as_slice());
+            put("the point's position", pos.as_slice(), o)?;
         }
         if let Some(o) = unsafe { optional_output(rotation_out, 9) } {
-            put_row_major(&rot, o);
+            put_row_major("the body's rotation", &rot, o)?;
         }
         Ok(())
     })
@@ -293,7 +277,8 @@ pub unsafe extern "C" fn spacearm_point_pose(model: *const SpacearmModel, x: *co
 
 /// Jacobians of forward dynamics at `(x, u, f)`: `∂u̇/∂x`, `∂u̇/∂u`, `∂u̇/∂f = H⁻¹`, each
 /// (6+N)×(6+N) row-major, with `x` in tangent coordinates `[δr0, δθ, δq]` (docs/derivatives.md;
-/// the `δr0` columns are zero). Any output may be NULL.
+/// the `δr0` columns are zero). Any output may be NULL (not written); all three NULL is a valid
+/// call that writes nothing (the inputs are still checked).
 ///
 /// # Safety
 /// `model` a live handle; `x` 7+N, `u` and `f` 6+N doubles; each output NULL or (6+N)²
@@ -306,14 +291,13 @@ pub unsafe extern "C" fn spacearm_forward_dynamics_derivatives(model: *const Spa
         let (nx, nu) = (m.model.nx(), m.model.nu());
         let (x, u, f) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?, input(f, nu, "f")?) };
         let outs = unsafe { [optional_output(d_dx_out, nu * nu), optional_output(d_du_out, nu * nu), optional_output(d_df_out, nu * nu)] };
-        if outs.iter().all(Option::is_none) {
-            return Err(Failure::new(SpacearmStatus::NullPointer, "every output is NULL; expected at least one of d_dx_out, d_du_out, d_df_out"));
-        }
+        // Every output NULL is a valid call (the header allows each to be NULL): the inputs are
+        // still checked and the derivatives computed, nothing is written.
         m.with_derivatives(|model, work| -> Outcome {
             let (a, b, c) = spacearm_core::derivatives::forward_dynamics_derivatives(model, work, x, u, f)?;
-            for (o, mat) in outs.into_iter().zip([a, b, c]) {
+            for ((o, mat), what) in outs.into_iter().zip([a, b, c]).zip(["d_dx_out", "d_du_out", "d_df_out"]) {
                 if let Some(o) = o {
-                    put_row_major(mat, o);
+                    put_row_major(what, mat, o)?;
                 }
             }
             Ok(())

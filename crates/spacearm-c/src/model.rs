@@ -8,7 +8,7 @@ use spacearm_core::derivatives::DerivativeData;
 use spacearm_core::model::presets;
 use spacearm_core::{Data, Model};
 
-use crate::status::{guard, guard_value, output, text, write_text, Failure, Outcome, SpacearmStatus};
+use crate::status::{guard, guard_value, output, put, text, write_text, Failure, Outcome, SpacearmStatus};
 
 /// An opaque, immutable model with its own workspaces. Safe to share between threads (the
 /// workspaces are behind locks); free it with `spacearm_model_free`.
@@ -49,6 +49,24 @@ pub(crate) unsafe fn model_ref<'a>(m: *const SpacearmModel) -> Outcome<&'a Space
     unsafe { m.as_ref() }.ok_or_else(|| Failure::new(SpacearmStatus::NullPointer, "model is NULL; expected a handle from spacearm_model_from_*"))
 }
 
+/// A model from TOML text (docs/model-format.md), with the status of its failure: text that is
+/// not TOML (a syntax error) is [`SpacearmStatus::Parse`]; TOML that is not a valid model (an
+/// unknown key, a value of the wrong type, a missing field, a negative mass, an unknown
+/// parent...) is [`SpacearmStatus::InvalidModel`]. The message is the core's either way: the
+/// source, line and column and what was expected. (The core reports both as one kind, for the
+/// Python class `ModelFileError`, which is a `ModelError`; C has no class hierarchy, so the
+/// door tells them apart by whether the text is TOML at all.)
+pub(crate) fn model_from_toml(text: &str, source: &str) -> Outcome<Model> {
+    spacearm_core::io::toml::model_from_toml_str(text, source).map_err(|e| {
+        let syntax = matches!(e, spacearm_core::SpacearmError::Parse(_)) && text.parse::<toml::Table>().is_err();
+        let mut failure = Failure::from(e);
+        if failure.status == SpacearmStatus::Parse && !syntax {
+            failure.status = SpacearmStatus::InvalidModel;
+        }
+        failure
+    })
+}
+
 /// Store a new handle in `*out`.
 ///
 /// # Safety
@@ -71,7 +89,7 @@ pub unsafe extern "C" fn spacearm_model_from_toml(toml: *const c_char, out: *mut
     guard(|| {
         // SAFETY: the caller's contract.
         let s = unsafe { text(toml, "toml") }?;
-        let model = spacearm_core::io::toml::model_from_toml_str(s, "<TOML text given to spacearm_model_from_toml>")?;
+        let model = model_from_toml(s, "<TOML text given to spacearm_model_from_toml>")?;
         // SAFETY: the caller's contract.
         unsafe { give(model, out) }
     })
@@ -87,7 +105,7 @@ pub unsafe extern "C" fn spacearm_model_from_toml_file(path: *const c_char, out:
         // SAFETY: the caller's contract.
         let p = unsafe { text(path, "path") }?;
         let body = std::fs::read_to_string(p).map_err(|e| Failure::new(SpacearmStatus::Io, format!("cannot read the model file '{p}': {e}")))?;
-        let model = spacearm_core::io::toml::model_from_toml_str(&body, p)?;
+        let model = model_from_toml(&body, p)?;
         // SAFETY: the caller's contract.
         unsafe { give(model, out) }
     })
@@ -183,8 +201,7 @@ pub unsafe extern "C" fn spacearm_model_initial_configuration(model: *const Spac
         let m = unsafe { model_ref(model) }?;
         // SAFETY: the caller's contract.
         let out = unsafe { output(x_out, m.model.nx(), "x_out") }?;
-        out.copy_from_slice(&presets::initial_configuration(&m.model));
-        Ok(())
+        put("the initial configuration", &presets::initial_configuration(&m.model), out)
     })
 }
 
@@ -211,9 +228,9 @@ pub unsafe extern "C" fn spacearm_model_point(model: *const SpacearmModel, name:
         }
         // SAFETY: the caller's contract.
         let out = unsafe { output(offset_out, 3, "offset_out") }?;
+        put("the point's offset", p.offset.as_slice(), out)?;
         // SAFETY: checked not NULL; writable by the caller's contract.
         unsafe { *body = p.body };
-        out.copy_from_slice(p.offset.as_slice());
         Ok(())
     })
 }

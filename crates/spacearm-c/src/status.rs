@@ -11,6 +11,7 @@ use std::cell::RefCell;
 use std::ffi::{c_char, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
+use nalgebra::{Dim, Matrix, RawStorage};
 use spacearm_core::SpacearmError;
 
 /// What a call of the C ABI returned. `0` is success; every other value names the kind of
@@ -25,7 +26,8 @@ pub enum SpacearmStatus {
     InvalidModel = 1,
     /// An array has the wrong length.
     Dimension = 2,
-    /// An input holds NaN or an infinity.
+    /// An input holds NaN or an infinity, or a result computed from finite inputs would (the
+    /// output is then not written).
     NonFinite = 3,
     /// A quaternion is not of unit length.
     NotUnitQuaternion = 4,
@@ -49,6 +51,27 @@ pub enum SpacearmStatus {
     Io = 13,
     /// A defect inside spacearm (a Rust panic, caught at the boundary). Please report it.
     Internal = 14,
+}
+
+impl SpacearmStatus {
+    /// Every status, in code order (the names of `spacearm_status_name` are looked up here).
+    pub(crate) const ALL: [SpacearmStatus; 15] = [
+        SpacearmStatus::Ok,
+        SpacearmStatus::InvalidModel,
+        SpacearmStatus::Dimension,
+        SpacearmStatus::NonFinite,
+        SpacearmStatus::NotUnitQuaternion,
+        SpacearmStatus::NotFound,
+        SpacearmStatus::Singular,
+        SpacearmStatus::Parse,
+        SpacearmStatus::InvalidArgument,
+        SpacearmStatus::Simulation,
+        SpacearmStatus::ResourceLimit,
+        SpacearmStatus::NullPointer,
+        SpacearmStatus::BufferTooSmall,
+        SpacearmStatus::Io,
+        SpacearmStatus::Internal,
+    ];
 }
 
 /// A failure inside an entry point: its status and message.
@@ -129,10 +152,14 @@ pub(crate) fn guard(body: impl FnOnce() -> Outcome) -> SpacearmStatus {
 }
 
 /// Like [`guard`] for the entry points that return a value rather than a status (sizes):
-/// `fallback` on failure or panic, with the message kept.
+/// `fallback` on failure or panic, with the message kept. Success clears the message, as
+/// [`guard`] does.
 pub(crate) fn guard_value<T>(fallback: T, body: impl FnOnce() -> Outcome<T>) -> T {
     match catch_unwind(AssertUnwindSafe(body)) {
-        Ok(Ok(v)) => v,
+        Ok(Ok(v)) => {
+            set_last_error("");
+            v
+        }
         Ok(Err(f)) => {
             set_last_error(&f.message);
             fallback
@@ -153,32 +180,38 @@ pub extern "C" fn spacearm_last_error() -> *const c_char {
 }
 
 /// A short name of a status code (`"dimension"` for `SPACEARM_STATUS_DIMENSION`); a static
-/// string, never NULL.
+/// string, never NULL. Any value that is not a status code (negative, or above
+/// `SPACEARM_STATUS_INTERNAL`) gives `"unknown status"`.
 #[no_mangle]
-pub extern "C" fn spacearm_status_name(status: SpacearmStatus) -> *const c_char {
-    let name: &'static CStr = match status {
-        SpacearmStatus::Ok => c"ok",
-        SpacearmStatus::InvalidModel => c"invalid model",
-        SpacearmStatus::Dimension => c"dimension",
-        SpacearmStatus::NonFinite => c"non-finite",
-        SpacearmStatus::NotUnitQuaternion => c"not a unit quaternion",
-        SpacearmStatus::NotFound => c"not found",
-        SpacearmStatus::Singular => c"singular",
-        SpacearmStatus::Parse => c"parse",
-        SpacearmStatus::InvalidArgument => c"invalid argument",
-        SpacearmStatus::Simulation => c"simulation",
-        SpacearmStatus::ResourceLimit => c"resource limit",
-        SpacearmStatus::NullPointer => c"null pointer",
-        SpacearmStatus::BufferTooSmall => c"buffer too small",
-        SpacearmStatus::Io => c"io",
-        SpacearmStatus::Internal => c"internal",
+pub extern "C" fn spacearm_status_name(status: i32) -> *const c_char {
+    // The argument is a plain int, not the enum: a C caller may pass any value, and a Rust enum
+    // holding a value outside its variants would be undefined behaviour.
+    let name: &'static CStr = match SpacearmStatus::ALL.into_iter().find(|s| *s as i32 == status) {
+        None => c"unknown status",
+        Some(SpacearmStatus::Ok) => c"ok",
+        Some(SpacearmStatus::InvalidModel) => c"invalid model",
+        Some(SpacearmStatus::Dimension) => c"dimension",
+        Some(SpacearmStatus::NonFinite) => c"non-finite",
+        Some(SpacearmStatus::NotUnitQuaternion) => c"not a unit quaternion",
+        Some(SpacearmStatus::NotFound) => c"not found",
+        Some(SpacearmStatus::Singular) => c"singular",
+        Some(SpacearmStatus::Parse) => c"parse",
+        Some(SpacearmStatus::InvalidArgument) => c"invalid argument",
+        Some(SpacearmStatus::Simulation) => c"simulation",
+        Some(SpacearmStatus::ResourceLimit) => c"resource limit",
+        Some(SpacearmStatus::NullPointer) => c"null pointer",
+        Some(SpacearmStatus::BufferTooSmall) => c"buffer too small",
+        Some(SpacearmStatus::Io) => c"io",
+        Some(SpacearmStatus::Internal) => c"internal",
     };
     name.as_ptr()
 }
 
 // ---- argument helpers (caller-owned memory) ----
 
-/// A caller's input array of `len` values; NULL is refused (unless `len == 0`).
+/// A caller's input array of `len` values; NULL is refused (unless `len == 0`), and so is any
+/// value that is not finite (NaN or an infinity: a [`SpacearmStatus::NonFinite`] naming `what`
+/// and the entry), as the Python binding refuses it.
 ///
 /// # Safety
 /// `p` must point at `len` readable `f64` (or be NULL).
@@ -190,16 +223,18 @@ pub(crate) unsafe fn input<'a>(p: *const f64, len: usize, what: &str) -> Outcome
         return Err(Failure::new(SpacearmStatus::NullPointer, format!("{what} is NULL; expected a pointer to {len} doubles")));
     }
     // SAFETY: the caller's contract (documented on every entry point): `len` readable doubles.
-    Ok(unsafe { std::slice::from_raw_parts(p, len) })
+    let v = unsafe { std::slice::from_raw_parts(p, len) };
+    finite(what, v)?;
+    Ok(v)
 }
 
-/// An optional caller's input array: `None` for NULL.
+/// An optional caller's input array: `None` for NULL; otherwise as [`input`] (finite values).
 ///
 /// # Safety
 /// `p` must point at `len` readable `f64` or be NULL.
-pub(crate) unsafe fn optional_input<'a>(p: *const f64, len: usize) -> Option<&'a [f64]> {
+pub(crate) unsafe fn optional_input<'a>(p: *const f64, len: usize, what: &str) -> Outcome<Option<&'a [f64]>> {
     // SAFETY: as for `input`.
-    (!p.is_null()).then(|| unsafe { std::slice::from_raw_parts(p, len) })
+    if p.is_null() { Ok(None) } else { unsafe { input(p, len, what) }.map(Some) }
 }
 
 /// A caller's output buffer of `len` values; NULL is refused (unless `len == 0`).
@@ -270,6 +305,47 @@ pub(crate) fn finite(what: &str, v: &[f64]) -> Outcome {
     }
 }
 
+// ---- results: the one check of every value the C ABI writes ----
+
+/// The check of every result before it is written to a caller's buffer (as the Python binding
+/// checks each result, crates/spacearm-py/src/batch.rs): a value that is not finite, computed
+/// from finite inputs (which [`input`] has checked), is a [`SpacearmStatus::NonFinite`] failure
+/// naming the output, the entry and its value, and nothing is written to that output.
+fn finite_result(what: &str, values: impl Iterator<Item = f64>) -> Outcome {
+    for (index, value) in values.enumerate() {
+        if !value.is_finite() {
+            return Err(Failure::new(
+                SpacearmStatus::NonFinite,
+                format!(
+                    "{what} would be non-finite (entry {index} is {value}) from finite inputs: the state is beyond what double \
+                     precision can represent (e.g. velocities of 1e200 overflow the velocity products); reduce the magnitudes \
+                     of the inputs"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Write the result `values` to the caller's buffer `out` (of the same length) after
+/// [`finite_result`].
+pub(crate) fn put(what: &str, values: &[f64], out: &mut [f64]) -> Outcome {
+    finite_result(what, values.iter().copied())?;
+    out.copy_from_slice(values);
+    Ok(())
+}
+
+/// Write the result matrix `m` **row-major** (element `(i, j)` at `out[i * ncols + j]`) to the
+/// caller's buffer `out` (of its size) after [`finite_result`].
+pub(crate) fn put_row_major<R: Dim, C: Dim, S: RawStorage<f64, R, C>>(what: &str, m: &Matrix<f64, R, C, S>, out: &mut [f64]) -> Outcome {
+    finite_result(what, m.iter().copied())?;
+    let cols = m.ncols();
+    for ((i, j), v) in (0..m.nrows()).flat_map(|i| (0..cols).map(move |j| (i, j))).zip(out.iter_mut()) {
+        *v = m[(i, j)];
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -298,6 +374,43 @@ mod tests {
         // A message with an interior NUL is cut there, never dropped.
         assert_eq!(guard(|| Err(Failure::argument("before\0after"))), SpacearmStatus::InvalidArgument);
         assert_eq!(last(), "before");
+    }
+
+    #[test]
+    fn every_int_has_a_status_name() {
+        let name = |s: i32| unsafe { CStr::from_ptr(spacearm_status_name(s)) }.to_str().unwrap().to_string();
+        for s in SpacearmStatus::ALL {
+            assert_ne!(name(s as i32), "unknown status");
+        }
+        assert_eq!(name(SpacearmStatus::Internal as i32), "internal");
+        for s in [-1, 15, i32::MIN, i32::MAX] {
+            assert_eq!(name(s), "unknown status");
+        }
+    }
+
+    #[test]
+    fn a_non_finite_result_is_refused_and_not_written() {
+        let mut out = [7.0; 3];
+        let f = put("du_out", &[1.0, f64::INFINITY, 2.0], &mut out).unwrap_err();
+        assert_eq!(f.status, SpacearmStatus::NonFinite);
+        assert!(f.message.contains("du_out") && f.message.contains("entry 1 is inf"), "{}", f.message);
+        assert_eq!(out, [7.0; 3]);
+        let m = nalgebra::Matrix2::new(1.0, 2.0, f64::NAN, 4.0);
+        let mut o = [7.0; 4];
+        assert_eq!(put_row_major("H", &m, &mut o).unwrap_err().status, SpacearmStatus::NonFinite);
+        assert_eq!(o, [7.0; 4]);
+        put_row_major("H", &nalgebra::Matrix2::new(1.0, 2.0, 3.0, 4.0), &mut o).unwrap();
+        assert_eq!(o, [1.0, 2.0, 3.0, 4.0]);
+        // SAFETY: a 2-element array.
+        let e = unsafe { input([0.0, f64::NAN].as_ptr(), 2, "offset") }.unwrap_err();
+        assert_eq!((e.status, e.message.as_str()), (SpacearmStatus::NonFinite, "offset must be finite, but entry 1 is NaN"));
+    }
+
+    #[test]
+    fn success_clears_the_message_of_value_calls_too() {
+        let _ = guard(|| Err(Failure::argument("earlier")));
+        assert_eq!(guard_value(0, || Ok(3)), 3);
+        assert_eq!(last(), "");
     }
 
     #[test]

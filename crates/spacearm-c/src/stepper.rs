@@ -6,7 +6,7 @@
 //!
 //! ```toml
 //! mode = "floating"        # or rotation-floating, rotation-flying, translation-flying, flying
-//! dt = 0.001               # the RK4 step, s
+//! dt = 0.001               # the RK4 step, s, within [SPACEARM_MIN_DT, SPACEARM_MAX_DT]
 //! joint_limits = true      # the joints' effort and velocity limits apply
 //! [controller]             # optional; default: none (only the held torque acts)
 //! kind = "joint_pd"        # "none", "joint_pd" or "computed_torque"
@@ -29,7 +29,35 @@ use spacearm_core::sim::stepper::Rk4Stepper;
 use spacearm_core::{Model, SpacearmError};
 
 use crate::model::{model_ref, SpacearmModel};
-use crate::status::{guard, guard_value, input, optional_input, output, text, Failure, Outcome, SpacearmStatus};
+use crate::status::{guard, guard_value, input, optional_input, output, put, text, Failure, Outcome, SpacearmStatus};
+
+/// The most RK4 steps one call may take: `n` of `spacearm_stepper_step`, and `h / dt` of one
+/// communication step `h` of an FMU (`fmi3DoStep`, `fmi2DoStep`). A call asking for more is
+/// refused with `SPACEARM_STATUS_INVALID_ARGUMENT` (an FMU: `fmi3Error`/`fmi2Error` with a logged
+/// message) before any step is taken, so no call runs unbounded (10⁵ steps of the 6-joint
+/// spatial6 take about 0.5 s; split a longer run into several calls).
+pub const SPACEARM_MAX_STEPS_PER_CALL: usize = 1_000_000;
+
+/// The smallest RK4 step `dt` a stepper or an FMU accepts, s: with it, one call of
+/// `SPACEARM_MAX_STEPS_PER_CALL` steps still covers 1 s.
+pub const SPACEARM_MIN_DT: f64 = 1e-6;
+
+/// The largest RK4 step `dt` a stepper or an FMU accepts, s (far beyond where a fixed-step RK4 of
+/// an arm's dynamics is accurate; `1e300` is refused rather than overflowing the state).
+pub const SPACEARM_MAX_DT: f64 = 10.0;
+
+/// The one check of a number of RK4 steps asked of one call (see
+/// [`SPACEARM_MAX_STEPS_PER_CALL`]); `steps` is a float so that an FMU's `h / dt` is checked
+/// before it is converted (a cast of `1e300` would saturate to `usize::MAX`).
+pub(crate) fn check_steps_per_call(steps: f64, what: &str) -> Outcome<usize> {
+    if !(steps >= 0.0 && steps <= SPACEARM_MAX_STEPS_PER_CALL as f64) {
+        return Err(Failure::argument(format!(
+            "{what} needs {steps:e} RK4 steps in one call, more than the {SPACEARM_MAX_STEPS_PER_CALL} allowed \
+             (SPACEARM_MAX_STEPS_PER_CALL); split it into several calls"
+        )));
+    }
+    Ok(steps as usize)
+}
 
 /// The native controllers a stepper (and an FMU) can run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
@@ -104,6 +132,12 @@ impl StepperOptions {
     pub(crate) fn parse(model: &Model, text: &str) -> Outcome<Self> {
         let o: OptionsText = toml::from_str(text).map_err(|e| Failure::new(SpacearmStatus::Parse, format!("stepper options: {e}")))?;
         let sim = SimOptions { mode: Mode::from_name(&o.mode)?, integrator: IntegratorKind::Rk4, duration: o.dt, dt: o.dt, joint_limits: o.joint_limits, ..SimOptions::default() };
+        if !(SPACEARM_MIN_DT..=SPACEARM_MAX_DT).contains(&o.dt) {
+            return Err(Failure::argument(format!(
+                "dt must be between {SPACEARM_MIN_DT:e} s and {SPACEARM_MAX_DT} s (SPACEARM_MIN_DT, SPACEARM_MAX_DT), got {:e} s",
+                o.dt
+            )));
+        }
         sim.validate()?;
         let n_arm = Self::n_arm(model);
         let arm_q: Vec<f64> = {
@@ -180,8 +214,10 @@ impl SpacearmStepper {
         self.stepper.as_mut().ok_or_else(|| Failure::argument("the stepper has no state yet; call spacearm_stepper_reset first"))
     }
 
-    /// `n` steps of `dt` with `tau` (N) and `base_wrench` (6) held, landing on `t = i·dt`.
+    /// `n` steps of `dt` with `tau` (N) and `base_wrench` (6) held, landing on `t = i·dt`; at
+    /// most [`SPACEARM_MAX_STEPS_PER_CALL`].
     pub(crate) fn step(&mut self, tau: Option<&[f64]>, base_wrench: Option<&[f64]>, n: usize) -> Outcome {
+        check_steps_per_call(n as f64, &format!("n = {n}"))?;
         if let Some(t) = tau {
             crate::status::finite("tau", t)?;
         }
@@ -272,7 +308,9 @@ pub unsafe extern "C" fn spacearm_stepper_reset(stepper: *mut SpacearmStepper, x
 /// Advance `n` RK4 steps of `dt` with the joint torque `tau` (N, NULL: zero) and the base wrench
 /// `base_wrench` (`[F0, N0]` in 𝒥 at the base CM, 6, NULL: zero) added to the controller's
 /// command and held over the steps; the mode's mask and the actuator limits apply as in
-/// `spacearm.simulate`. A failed step leaves the stepper needing a reset.
+/// `spacearm.simulate`. `n` is at most `SPACEARM_MAX_STEPS_PER_CALL` (more is refused with
+/// `SPACEARM_STATUS_INVALID_ARGUMENT` before any step). A failed step leaves the stepper needing
+/// a reset.
 ///
 /// # Safety
 /// `stepper` a live handle; `tau` NULL or N doubles; `base_wrench` NULL or 6 doubles.
@@ -282,7 +320,7 @@ pub unsafe extern "C" fn spacearm_stepper_step(stepper: *mut SpacearmStepper, ta
         // SAFETY (this block and below): the caller's contract, documented above.
         let s = unsafe { stepper_mut(stepper) }?;
         let nd = s.model.n_dof();
-        let (tau, w) = unsafe { (optional_input(tau, nd), optional_input(base_wrench, 6)) };
+        let (tau, w) = unsafe { (optional_input(tau, nd, "tau")?, optional_input(base_wrench, 6, "base_wrench")?) };
         s.step(tau, w, n)
     })
 }
@@ -312,10 +350,10 @@ pub unsafe extern "C" fn spacearm_stepper_state(stepper: *const SpacearmStepper,
         let nx = s.model.nx();
         let y = s.state().ok_or_else(|| Failure::argument("the stepper has no state yet; call spacearm_stepper_reset first"))?;
         if !x_out.is_null() {
-            unsafe { output(x_out, nx, "x_out") }?.copy_from_slice(&y[..nx]);
+            put("the state x_out", &y[..nx], unsafe { output(x_out, nx, "x_out") }?)?;
         }
         if !u_out.is_null() {
-            unsafe { output(u_out, y.len() - nx, "u_out") }?.copy_from_slice(&y[nx..]);
+            put("the state u_out", &y[nx..], unsafe { output(u_out, y.len() - nx, "u_out") }?)?;
         }
         Ok(())
     })
@@ -348,6 +386,27 @@ mod tests {
         b.set_joint_dynamics("panel", JointDynamics { actuated: false, stiffness: 20.0, damping: 0.1, rest: 0.0 }).unwrap();
         b.add_link(link("l2", "l1", [0.8, 0.0, 0.0])).unwrap();
         b.build().unwrap()
+    }
+
+    #[test]
+    fn the_steps_of_one_call_and_dt_are_bounded() {
+        assert_eq!(check_steps_per_call(SPACEARM_MAX_STEPS_PER_CALL as f64, "n").unwrap(), SPACEARM_MAX_STEPS_PER_CALL);
+        for steps in [SPACEARM_MAX_STEPS_PER_CALL as f64 + 1.0, 1e303, f64::INFINITY, f64::NAN, usize::MAX as f64] {
+            assert_eq!(check_steps_per_call(steps, "n").unwrap_err().status, SpacearmStatus::InvalidArgument, "{steps}");
+        }
+        let m = arm_with_panel();
+        for dt in ["1e-300", "1e300", "9.99e-7", "10.01", "nan", "-inf", "0.0"] {
+            let e = StepperOptions::parse(&m, &format!("dt = {dt}\n")).unwrap_err();
+            assert!(e.status == SpacearmStatus::InvalidArgument && e.message.starts_with("dt must be between"), "{dt}: {}", e.message);
+        }
+        for dt in [SPACEARM_MIN_DT, SPACEARM_MAX_DT] {
+            assert!(StepperOptions::parse(&m, &format!("dt = {dt:?}\n")).is_ok());
+        }
+        let mut s = SpacearmStepper::new(m.clone(), StepperOptions::parse(&m, "").unwrap());
+        let (x0, u0) = (spacearm_core::model::presets::initial_configuration(&m), vec![0.0; m.nu()]);
+        s.reset(&x0, &u0).unwrap();
+        assert_eq!(s.step(None, None, usize::MAX).unwrap_err().status, SpacearmStatus::InvalidArgument);
+        assert_eq!(s.stepper.as_ref().unwrap().n_steps(), 0);
     }
 
     #[test]

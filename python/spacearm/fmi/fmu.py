@@ -1,15 +1,16 @@
 """Export a [`Robot`][spacearm.Robot] as an FMI co-simulation unit (docs/fmi.md).
 
 The FMU's binary is the spacearm C library (``spacearm.fmi.library``), which exports the
-``fmi2*`` and ``fmi3*`` functions; the model travels as ``resources/model.toml`` and the stepper
-options (mode, RK4 step, controller) as ``resources/options.toml``; ``modelDescription.xml`` is
-written by the library from the same variable table its binary reads.
+``fmi2*`` and ``fmi3*`` functions; the model travels as ``resources/model.toml``, the stepper
+options (mode, RK4 step, controller) as ``resources/options.toml`` and the instantiation token
+(checked by the binary when it is instantiated) as ``resources/token.txt``;
+``modelDescription.xml`` is written by the library from the same variable table its binary reads.
 """
 
 from __future__ import annotations
 
 import hashlib
-import math
+import numbers
 import platform
 import re
 import sys
@@ -17,6 +18,8 @@ import uuid
 import zipfile
 from pathlib import Path
 from typing import Optional
+
+import numpy as np
 
 from .. import _core
 from .._util.atomic import atomic_path
@@ -64,6 +67,13 @@ def _options_toml(mode: str, dt: float, joint_limits: bool, controller) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _number(name: str, value) -> float:
+    """A real number argument as a float (a bool, a string or a complex number is refused)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise SpacearmTypeError(f"{name} must be a real number of seconds, got {value!r} ({type(value).__name__})")
+    return float(value)
+
+
 def export(robot: Robot, path, *, mode: str = "floating", controller=None, dt: float = 1e-3, fmi_version: int = 3,
            joint_limits: bool = True, stop_time: float = 1.0, model_identifier: Optional[str] = None) -> Path:
     """Write ``robot`` as a co-simulation FMU to ``path`` (``.fmu``) and return the path.
@@ -81,7 +91,9 @@ def export(robot: Robot, path, *, mode: str = "floating", controller=None, dt: f
         its gains and set point become the FMU parameters ``kp``, ``kd``, ``q_ref``. ``None``:
         only the ``tau`` inputs act.
     dt : float
-        The FMU's RK4 step, s; every communication step must be a multiple of it.
+        The FMU's RK4 step, s, between ``SPACEARM_MIN_DT`` = 1e-6 s and ``SPACEARM_MAX_DT`` = 10 s
+        (docs/c-api.md); every communication step must be a multiple of it, of at most
+        ``SPACEARM_MAX_STEPS_PER_CALL`` = 10⁶ RK4 steps.
     fmi_version : int
         3 (default) or 2.
     joint_limits : bool
@@ -95,17 +107,26 @@ def export(robot: Robot, path, *, mode: str = "floating", controller=None, dt: f
     ------
     MissingDependencyError
         The C library is not available (see ``spacearm.fmi.library``).
-    ArgumentError, SpacearmTypeError
-        A bad option.
+    ArgumentError
+        An option out of its range (a ``dt`` outside [1e-6, 10] s, a ``stop_time`` that is not > 0).
+    SpacearmTypeError
+        An option of the wrong type (a ``dt`` that is a bool or not a number, a ``joint_limits`` that is
+        not a bool).
     """
     if not isinstance(robot, Robot):
         raise SpacearmTypeError(f"export expects a spacearm.Robot, got {type(robot).__name__}")
-    if fmi_version not in (2, 3):
+    if isinstance(fmi_version, bool) or fmi_version not in (2, 3):
         raise ArgumentError(f"fmi_version must be 2 or 3, got {fmi_version!r}")
     if not isinstance(mode, str) or mode not in MODES:
         raise ArgumentError(f"mode must be one of {list(MODES)}, got {mode!r}")
-    if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
-        raise ArgumentError(f"dt must be a finite number > 0 s, got {dt!r}")
+    # Types here; the ranges of dt and stop_time are the C library's rules (dt within
+    # [SPACEARM_MIN_DT, SPACEARM_MAX_DT], docs/c-api.md), answered when it writes the description.
+    dt = _number("dt", dt)
+    stop_time = _number("stop_time", stop_time)
+    if not isinstance(joint_limits, (bool, np.bool_)):
+        raise SpacearmTypeError(f"joint_limits must be True or False, got {joint_limits!r}")
+    if model_identifier is not None and not isinstance(model_identifier, str):
+        raise SpacearmTypeError(f"model_identifier must be a str or None, got {type(model_identifier).__name__}")
     identifier = model_identifier or "spacearm_" + re.sub(r"\W", "_", robot.name)
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", identifier):
         raise ArgumentError(f"model_identifier must be a C identifier, got {identifier!r}")
@@ -124,4 +145,6 @@ def export(robot: Robot, path, *, mode: str = "floating", controller=None, dt: f
             z.writestr(f"binaries/{folder}/{identifier}{suffix}", binary)
             z.writestr("resources/model.toml", model_toml)
             z.writestr("resources/options.toml", options_toml)
+            # The binary checks the token an importer instantiates it with against this copy.
+            z.writestr("resources/token.txt", token)
     return Path(path)

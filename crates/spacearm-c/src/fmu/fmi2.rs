@@ -8,6 +8,7 @@
 use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
 use std::path::PathBuf;
 
+use super::variables::FmiVersion;
 use super::{run_fmi, slice, slice_mut, Instance, Phase};
 
 type Fmi2Status = c_int;
@@ -112,7 +113,7 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(c: Fmi2Component, logging_on: Fmi2B
 pub unsafe extern "C" fn fmi2Instantiate(
     instance_name: *const c_char,
     fmu_type: c_int,
-    _guid: *const c_char,
+    guid: *const c_char,
     resource_location: *const c_char,
     functions: *const Fmi2CallbackFunctions,
     _visible: Fmi2Boolean,
@@ -139,7 +140,9 @@ pub unsafe extern "C" fn fmi2Instantiate(
                 return std::ptr::null_mut();
             }
         };
-        match Instance::from_resources(&dir, name, logger, logging_on != 0) {
+        // SAFETY: FMI 2 contract: a NUL-terminated string or NULL.
+        let token = if guid.is_null() { None } else { Some(unsafe { CStr::from_ptr(guid) }.to_string_lossy().into_owned()) };
+        match Instance::from_resources(&dir, FmiVersion::Fmi2, token.as_deref(), name, logger, logging_on != 0) {
             Ok(inst) => Box::into_raw(Box::new(inst)).cast::<c_void>(),
             Err(f) => {
                 // The logger moved into the failed instance attempt; make another to report.

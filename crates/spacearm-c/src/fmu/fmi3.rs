@@ -9,6 +9,7 @@
 use std::ffi::{c_char, c_void, CStr, CString};
 use std::path::PathBuf;
 
+use super::variables::FmiVersion;
 use super::{run_fmi, slice, slice_mut, Instance, Phase};
 
 type Fmi3Status = i32;
@@ -67,7 +68,7 @@ pub unsafe extern "C" fn fmi3SetDebugLogging(c: Fmi3Instance, logging_on: bool, 
 #[no_mangle]
 pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     instance_name: *const c_char,
-    _token: *const c_char,
+    token: *const c_char,
     resource_path: *const c_char,
     _visible: bool,
     logging_on: bool,
@@ -93,7 +94,9 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
         }
         // SAFETY: FMI 3 contract.
         let dir = PathBuf::from(unsafe { CStr::from_ptr(resource_path) }.to_string_lossy().into_owned());
-        match Instance::from_resources(&dir, name, logger, logging_on) {
+        // SAFETY: FMI 3 contract: a NUL-terminated string or NULL.
+        let token = if token.is_null() { None } else { Some(unsafe { CStr::from_ptr(token) }.to_string_lossy().into_owned()) };
+        match Instance::from_resources(&dir, FmiVersion::Fmi3, token.as_deref(), name, logger, logging_on) {
             Ok(inst) => Box::into_raw(Box::new(inst)).cast::<c_void>(),
             Err(f) => {
                 logger_of(log_message, instance_environment)(true, &f.message);

@@ -2,8 +2,9 @@
 //! the FMI 2 ([`fmi2`]) and FMI 3 ([`fmi3`]) entry points, and the model description
 //! ([`variables`]) that `spacearm.fmi.export` asks this library for.
 //!
-//! An FMU's `resources/` holds `model.toml` (the model, docs/model-format.md) and
-//! `options.toml` (the stepper options of [`crate::stepper`]: mode, RK4 step, controller). A
+//! An FMU's `resources/` holds `model.toml` (the model, docs/model-format.md),
+//! `options.toml` (the stepper options of [`crate::stepper`]: mode, RK4 step, controller) and
+//! `token.txt` (the instantiation token, checked at instantiation). A
 //! communication step of `h` is `h / dt` RK4 steps of the core's loop with the inputs held
 //! (the loop of `spacearm.simulate`), so an FMU run equals `spacearm.simulate` of the same model
 //! and inputs (tests/fmi/test_fmu.py).
@@ -19,8 +20,8 @@ use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use spacearm_core::algorithms::{kinematics, momentum};
 use spacearm_core::{Data, Model};
 
-use crate::status::{guard, text, write_text, Failure, Outcome, SpacearmStatus};
-use crate::stepper::{SpacearmStepper, StepperOptions};
+use crate::status::{guard, put, text, write_text, Failure, Outcome, SpacearmStatus};
+use crate::stepper::{check_steps_per_call, SpacearmStepper, StepperOptions};
 use variables::{Causality, FmiVersion, Layout};
 
 /// Where an instance is in the FMI state machine (the states both versions share).
@@ -58,10 +59,37 @@ fn read(dir: &Path, file: &str) -> Outcome<String> {
     std::fs::read_to_string(&p).map_err(|e| Failure::new(SpacearmStatus::Io, format!("cannot read the FMU resource '{}': {e}", p.display())))
 }
 
+/// The file of `resources/` that holds the FMU's instantiation token (FMI 3
+/// `instantiationToken`, FMI 2 `guid`), the same text as in its `modelDescription.xml`; written
+/// by `spacearm.fmi.export`. (The folder above `resources/` is not read: importers such as FMPy
+/// extract only `binaries/` and `resources/` to run an FMU.)
+pub(crate) const TOKEN_FILE: &str = "token.txt";
+
+/// Check the instantiation token an importer passed (FMI 3 `instantiationToken`, FMI 2 `guid`)
+/// against the FMU's own ([`TOKEN_FILE`]): a binary instantiated with another FMU's token (or
+/// with none) is refused, as FMI 3 §2.3.1 and FMI 2 §2.1.5 ask.
+pub(crate) fn check_token(resources: &Path, version: FmiVersion, given: Option<&str>) -> Outcome {
+    let attribute = match version {
+        FmiVersion::Fmi3 => "instantiationToken",
+        FmiVersion::Fmi2 => "guid",
+    };
+    let expected = read(resources, TOKEN_FILE)?;
+    let expected = expected.trim_end_matches(['\n', '\r']);
+    match given {
+        Some(g) if g == expected => Ok(()),
+        Some(g) => Err(Failure::argument(format!(
+            "the {attribute} '{g}' passed to instantiate is not this FMU's '{expected}' (its modelDescription.xml): \
+             the importer took the token of another FMU or of another export of this one"
+        ))),
+        None => Err(Failure::argument(format!("the {attribute} passed to instantiate is NULL; this FMU's is '{expected}'"))),
+    }
+}
+
 impl Instance {
-    /// An instance from the FMU's `resources/` folder.
-    pub(crate) fn from_resources(dir: &Path, name: String, logger: Logger, logging_on: bool) -> Outcome<Instance> {
-        let model = spacearm_core::io::toml::model_from_toml_str(&read(dir, "model.toml")?, "resources/model.toml")?;
+    /// An instance from the FMU's `resources/` folder, after [`check_token`].
+    pub(crate) fn from_resources(dir: &Path, version: FmiVersion, token: Option<&str>, name: String, logger: Logger, logging_on: bool) -> Outcome<Instance> {
+        check_token(dir, version, token)?;
+        let model = crate::model::model_from_toml(&read(dir, "model.toml")?, "resources/model.toml")?;
         let options = StepperOptions::parse(&model, &read(dir, "options.toml")?)?;
         let layout = Layout::new(&model, &options);
         let values = layout.vars.iter().map(|v| v.start).collect();
@@ -125,17 +153,17 @@ impl Instance {
     /// Compute the outputs of the state `(x, u)` into the values.
     fn outputs(&mut self, x: &[f64], u: &[f64]) -> Outcome {
         let l = &self.layout;
-        self.values[l.x.clone()].copy_from_slice(x);
-        self.values[l.u.clone()].copy_from_slice(u);
+        put("the output x", x, &mut self.values[l.x.clone()])?;
+        put("the output u", u, &mut self.values[l.u.clone()])?;
         let p = momentum::momentum(&self.model, &mut self.data, x, u)?;
         let m = l.momentum.start;
-        self.values[m..m + 3].copy_from_slice(p.linear.as_slice());
-        self.values[m + 3..m + 6].copy_from_slice(p.angular_about_origin.as_slice());
+        put("the output P", p.linear.as_slice(), &mut self.values[m..m + 3])?;
+        put("the output L", p.angular_about_origin.as_slice(), &mut self.values[m + 3..m + 6])?;
         if let (Some(pos), Some(quat), Some(ee)) = (l.ee_position.clone(), l.ee_quat.clone(), self.model.end_effector()) {
             let point = &self.model.points()[ee];
             kinematics::forward_kinematics(&self.model, &mut self.data, x)?;
             let r: Vector3<f64> = kinematics::point_position(&self.data, point.body, &point.offset);
-            self.values[pos].copy_from_slice(r.as_slice());
+            put("the output ee_position", r.as_slice(), &mut self.values[pos])?;
             // As the simulation records it (sim::record): the body's attitude, sign continuous.
             let mut q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(self.data.body_to_world[point.body]));
             if let Some(last) = self.last_quat {
@@ -144,7 +172,7 @@ impl Instance {
                 }
             }
             self.last_quat = Some(q);
-            self.values[quat].copy_from_slice(q.coords.as_slice());
+            put("the output ee_quat", q.coords.as_slice(), &mut self.values[quat])?;
         }
         Ok(())
     }
@@ -190,7 +218,9 @@ impl Instance {
         Ok(())
     }
 
-    /// One communication step from `t` to `t + h`: `h / dt` RK4 steps with the inputs held.
+    /// One communication step from `t` to `t + h`: `h / dt` RK4 steps with the inputs held, at
+    /// most [`crate::stepper::SPACEARM_MAX_STEPS_PER_CALL`] (a longer step is refused before any
+    /// RK4 step is taken).
     pub(crate) fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
         if self.phase != Phase::Stepping {
             return Err(format!("doStep needs an initialized FMU (the FMU is {:?})", self.phase));
@@ -204,15 +234,23 @@ impl Instance {
         if !h.is_finite() || h <= 0.0 || steps < 1.0 || (steps * dt - h).abs() > 1e-6 * dt {
             return Err(format!("the communication step {h} s must be a positive multiple of the FMU's RK4 step {dt} s (set when the FMU was exported)"));
         }
+        let steps = check_steps_per_call(steps, &format!("the communication step {h} s (RK4 steps of {dt} s)")).map_err(|f| f.message)?;
         let l = &self.layout;
         let tau = self.values[l.tau.clone()].to_vec();
         let wrench = l.base_wrench.clone().map(|r| self.values[r].to_vec());
         let stepper = self.stepper.as_mut().ok_or("the FMU has no state")?;
-        if let Err(f) = stepper.step(Some(&tau), wrench.as_deref(), steps as usize) {
+        if let Err(f) = stepper.step(Some(&tau), wrench.as_deref(), steps) {
             self.phase = Phase::Failed;
             return Err(format!("the step from t = {t} s failed: {}", f.message));
         }
-        self.state_outputs().map_err(|f| f.message)
+        match self.state_outputs() {
+            Ok(()) => Ok(()),
+            Err(f) => {
+                // An output that is not finite (a state beyond double precision): no going on.
+                self.phase = Phase::Failed;
+                Err(format!("after the step from t = {t} s: {}", f.message))
+            }
+        }
     }
 
     /// Back to the state just after instantiation (start values, no simulation).
@@ -300,7 +338,7 @@ pub unsafe extern "C" fn spacearm_fmu_model_description(
         if !(stop_time.is_finite() && stop_time > 0.0) {
             return Err(Failure::argument(format!("stop_time must be finite and > 0, got {stop_time}")));
         }
-        let model = spacearm_core::io::toml::model_from_toml_str(m, "<model TOML>")?;
+        let model = crate::model::model_from_toml(m, "<model TOML>")?;
         let options = StepperOptions::parse(&model, o)?;
         let xml = variables::model_description(&model, &options, version, id, tok, stop_time);
         unsafe { write_text(&xml, buf, len, needed) }

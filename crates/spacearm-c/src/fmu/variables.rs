@@ -129,6 +129,7 @@ pub(crate) fn model_description(model: &Model, options: &StepperOptions, version
     let layout = Layout::new(model, options);
     let mut s = String::new();
     let name = escape(model.name());
+    let token = escape(token);
     let tool = format!("spacearm {}", env!("CARGO_PKG_VERSION"));
     let dt = num(options.sim.dt);
     let descr = escape(&format!(

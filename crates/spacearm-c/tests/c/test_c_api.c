@@ -3,7 +3,9 @@
  * H* is recomputed here from the blocks H0, H0m, Hm (H* = Hm - H0m^T H0^-1 H0m, paper eq. 45,
  * with a 6x6 solve written here), forward dynamics is inverted by inverse dynamics, the momentum
  * map gives a state of zero momentum, and every error path answers its status and a message. */
+#include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -171,12 +173,12 @@ static void test_errors(void) {
     CHECK(spacearm_mass_matrix(m, x, h) == SPACEARM_STATUS_NOT_UNIT_QUATERNION, "quaternion");
     x[6] = NAN;
     CHECK(spacearm_mass_matrix(m, x, h) == SPACEARM_STATUS_NON_FINITE, "NaN: %s", spacearm_last_error());
+    x[6] = 1.0;
     CHECK(spacearm_mass_matrix(m, x, NULL) == SPACEARM_STATUS_NULL_POINTER, "NULL output");
     CHECK(spacearm_mass_matrix(NULL, x, h) == SPACEARM_STATUS_NULL_POINTER, "NULL model");
     CHECK(spacearm_model_n_dof(NULL) == 0, "n_dof of NULL");
     double off[3] = {0};
     size_t body;
-    x[6] = 1.0;
     CHECK(spacearm_generalized_jacobian(m, x, 42, off, h) == SPACEARM_STATUS_NOT_FOUND, "body 42: %s", spacearm_last_error());
     CHECK(spacearm_model_point(m, "no such point", &body, off) == SPACEARM_STATUS_NOT_FOUND, "point");
     SpacearmStepper *s = NULL;
@@ -221,11 +223,163 @@ static void test_stepper(void) {
     spacearm_model_free(m);
 }
 
+/* Issue 38: every status has a name, and any other int gives a fixed string (no read out of
+ * bounds: the sanitized run would catch one). */
+static void test_status_names(void) {
+    for (int32_t s = 0; s <= SPACEARM_STATUS_INTERNAL; s++) {
+        const char *name = spacearm_status_name(s);
+        CHECK(name != NULL && strlen(name) > 0 && strcmp(name, "unknown status") != 0, "status %d has no name", (int)s);
+        for (int32_t t = 0; t < s; t++) CHECK(strcmp(name, spacearm_status_name(t)) != 0, "statuses %d and %d share a name", (int)s, (int)t);
+    }
+    const int32_t outside[] = {-1, SPACEARM_STATUS_INTERNAL + 1, 1000, INT32_MIN, INT32_MAX};
+    for (size_t i = 0; i < sizeof outside / sizeof outside[0]; i++)
+        CHECK(strcmp(spacearm_status_name(outside[i]), "unknown status") == 0, "status %d: %s", (int)outside[i], spacearm_status_name(outside[i]));
+}
+
+/* Issue 38: a result that would be non-finite from finite inputs is NON_FINITE with a message,
+ * and its buffer is left as it was; a non-finite input (an offset, a base wrench, P, L) is
+ * refused as NON_FINITE. */
+static void test_non_finite(void) {
+    SpacearmModel *m = NULL;
+    OK(spacearm_model_preset("spatial6", &m));
+    double x[13], u[12] = {0}, f[12] = {0}, out[144], off[3] = {0, 0, 0}, w[6] = {0}, p[3] = {0}, l[3] = {0}, qd[6] = {0};
+    OK(spacearm_model_initial_configuration(m, x));
+    /* UNWRITTEN(n): the first and n-th values of `out` are still the 7.0 that FRESH() put there. */
+#define FRESH() for (size_t k_ = 0; k_ < 144; k_++) out[k_] = 7.0
+#define UNWRITTEN(n) (out[0] == 7.0 && out[(n) - 1] == 7.0)
+    for (int sign = -1; sign <= 1; sign += 2) {
+        for (size_t i = 0; i < 12; i++) u[i] = sign * 1e300;
+        FRESH();
+        CHECK(spacearm_forward_dynamics(m, x, u, f, out) == SPACEARM_STATUS_NON_FINITE && UNWRITTEN(12), "FD at u = %g", u[0]);
+        CHECK(strstr(spacearm_last_error(), "non-finite") != NULL, "message: %s", spacearm_last_error());
+        FRESH();
+        CHECK(spacearm_bias_forces(m, x, u, out) == SPACEARM_STATUS_NON_FINITE && UNWRITTEN(12), "c at u = %g", u[0]);
+        FRESH();
+        CHECK(spacearm_generalized_bias(m, x, u, out) == SPACEARM_STATUS_NON_FINITE && UNWRITTEN(6), "c* at u = %g", u[0]);
+        FRESH();
+        CHECK(spacearm_inverse_dynamics(m, x, u, f, out) == SPACEARM_STATUS_NON_FINITE && UNWRITTEN(12), "ID at u = %g", u[0]);
+        FRESH();
+        FRESH();
+        CHECK(spacearm_forward_dynamics_derivatives(m, x, u, f, out, NULL, NULL) == SPACEARM_STATUS_NON_FINITE && UNWRITTEN(144), "derivatives at u = %g", u[0]);
+    }
+    for (size_t i = 0; i < 12; i++) { u[i] = 0.0; f[i] = DBL_MAX; }
+    FRESH();
+    CHECK(spacearm_forward_dynamics(m, x, u, f, out) == SPACEARM_STATUS_NON_FINITE && UNWRITTEN(12), "FD at f = DBL_MAX");
+    FRESH();
+    CHECK(spacearm_inverse_dynamics(m, x, u, f, out) == SPACEARM_STATUS_NON_FINITE && UNWRITTEN(12), "ID at du = DBL_MAX");
+    for (size_t i = 0; i < 6; i++) w[i] = DBL_MAX;
+    FRESH();
+    CHECK(spacearm_reduced_forward_dynamics(m, x, u, f, w, out) == SPACEARM_STATUS_NON_FINITE && UNWRITTEN(12), "reduced FD at DBL_MAX");
+    /* Non-finite inputs of every kind. */
+    size_t body = 6;
+    off[1] = NAN;
+    FRESH();
+    CHECK(spacearm_generalized_jacobian(m, x, body, off, out) == SPACEARM_STATUS_NON_FINITE && UNWRITTEN(36), "NaN offset: %s", spacearm_last_error());
+    CHECK(strstr(spacearm_last_error(), "offset") != NULL, "message: %s", spacearm_last_error());
+    FRESH();
+    CHECK(spacearm_point_pose(m, x, body, off, out, NULL) == SPACEARM_STATUS_NON_FINITE && UNWRITTEN(3), "NaN offset (pose)");
+    w[3] = INFINITY;
+    for (size_t i = 0; i < 12; i++) f[i] = 0.0;
+    CHECK(spacearm_reduced_forward_dynamics(m, x, u, f, w, out) == SPACEARM_STATUS_NON_FINITE && strstr(spacearm_last_error(), "base_wrench"), "inf base wrench: %s", spacearm_last_error());
+    p[0] = NAN;
+    CHECK(spacearm_base_velocity_from_momentum(m, x, qd, p, l, out) == SPACEARM_STATUS_NON_FINITE, "NaN p");
+    qd[2] = NAN;
+    CHECK(spacearm_base_velocity_from_momentum(m, x, qd, l, l, out) == SPACEARM_STATUS_NON_FINITE, "NaN qd");
+#undef UNWRITTEN
+#undef FRESH
+    /* A large but representable state still answers OK with finite values. */
+    for (size_t i = 0; i < 12; i++) u[i] = 1e3;
+    OK(spacearm_forward_dynamics(m, x, u, f, out));
+    for (size_t i = 0; i < 12; i++) CHECK(isfinite(out[i]), "FD entry %zu = %g", i, out[i]);
+    spacearm_model_free(m);
+}
+
+/* Issue 38: a TOML text that is not TOML is PARSE; TOML that breaks a model rule is
+ * INVALID_MODEL (as docs/c-api.md says), with the line in the message. */
+static void test_model_rules(void) {
+    SpacearmModel *m = NULL;
+    const char *negative_mass = "[model]\nname = \"neg\"\n[base]\nmass = -100.0\ninertia = [10.0, 10.0, 10.0]\n";
+    CHECK(spacearm_model_from_toml(negative_mass, &m) == SPACEARM_STATUS_INVALID_MODEL && m == NULL, "negative mass: %s", spacearm_last_error());
+    CHECK(strstr(spacearm_last_error(), ":4:") != NULL, "no line in: %s", spacearm_last_error());
+    const char *unknown_key = "[model]\nname = \"k\"\n[base]\nmass = 100.0\ninertia = [10.0, 10.0, 10.0]\ncolour = 3\n";
+    CHECK(spacearm_model_from_toml(unknown_key, &m) == SPACEARM_STATUS_INVALID_MODEL && m == NULL, "unknown key: %s", spacearm_last_error());
+    CHECK(spacearm_model_from_toml("[model\nname = 1", &m) == SPACEARM_STATUS_PARSE && m == NULL, "syntax: %s", spacearm_last_error());
+    OK(spacearm_model_from_toml("[model]\nname = \"ok\"\n[base]\nmass = 100.0\ninertia = [10.0, 10.0, 10.0]\n", &m));
+    spacearm_model_free(m);
+}
+
+/* Issue 38: a success clears the message of an earlier failure, in the calls that return a
+ * status and in those that return a value. */
+static void test_success_clears_the_message(void) {
+    SpacearmModel *m = NULL;
+    OK(spacearm_model_preset("planar4", &m));
+    CHECK(spacearm_model_preset("nope", NULL) != SPACEARM_STATUS_OK && strlen(spacearm_last_error()) > 0, "a failure");
+    CHECK(spacearm_model_nx(m) == 11, "nx");
+    CHECK(strlen(spacearm_last_error()) == 0, "spacearm_model_nx left: %s", spacearm_last_error());
+    CHECK(spacearm_model_n_dof(NULL) == 0 && strlen(spacearm_last_error()) > 0, "n_dof(NULL) has a message");
+    CHECK(spacearm_model_total_mass(m) > 0.0 && strlen(spacearm_last_error()) == 0, "total_mass left: %s", spacearm_last_error());
+    CHECK(spacearm_model_nu(NULL) == 0, "nu(NULL)");
+    double x[11];
+    OK(spacearm_model_initial_configuration(m, x));
+    CHECK(strlen(spacearm_last_error()) == 0, "a status call left: %s", spacearm_last_error());
+    spacearm_model_free(m);
+}
+
+/* Issue 38: the derivatives with every output NULL are a valid call (the header allows each
+ * output to be NULL) that still checks its inputs. */
+static void test_derivatives_null_outputs(void) {
+    SpacearmModel *m = NULL;
+    OK(spacearm_model_preset("spatial6", &m));
+    double x[13], u[12] = {0}, f[12] = {0};
+    OK(spacearm_model_initial_configuration(m, x));
+    OK(spacearm_forward_dynamics_derivatives(m, x, u, f, NULL, NULL, NULL));
+    x[6] = 2.0;
+    CHECK(spacearm_forward_dynamics_derivatives(m, x, u, f, NULL, NULL, NULL) == SPACEARM_STATUS_NOT_UNIT_QUATERNION, "inputs not checked");
+    spacearm_model_free(m);
+}
+
+/* Issue 38: no stepper call runs unbounded: dt within [SPACEARM_MIN_DT, SPACEARM_MAX_DT], at
+ * most SPACEARM_MAX_STEPS_PER_CALL steps per call, refused before any step. */
+static void test_stepper_bounds(void) {
+    SpacearmModel *m = NULL;
+    OK(spacearm_model_preset("planar4", &m));
+    SpacearmStepper *s = NULL;
+    const char *bad_dt[] = {"dt = 1e-300", "dt = 1e300", "dt = 1e-7", "dt = 11.0", "dt = nan", "dt = inf", "dt = 0.0"};
+    for (size_t i = 0; i < sizeof bad_dt / sizeof bad_dt[0]; i++) {
+        CHECK(spacearm_stepper_new(m, bad_dt[i], &s) == SPACEARM_STATUS_INVALID_ARGUMENT && s == NULL, "%s: %s", bad_dt[i], spacearm_last_error());
+        CHECK(strstr(spacearm_last_error(), "dt") != NULL, "message: %s", spacearm_last_error());
+    }
+    OK(spacearm_stepper_new(m, "dt = 1e-6", &s));
+    spacearm_stepper_free(s);
+    OK(spacearm_stepper_new(m, "dt = 10.0", &s));
+    spacearm_stepper_free(s);
+    OK(spacearm_stepper_new(m, "dt = 0.001", &s));
+    double x0[11], u0[10] = {0};
+    OK(spacearm_model_initial_configuration(m, x0));
+    OK(spacearm_stepper_reset(s, x0, u0));
+    const size_t too_many[] = {SIZE_MAX, (size_t)SPACEARM_MAX_STEPS_PER_CALL + 1};
+    for (size_t i = 0; i < 2; i++) {
+        CHECK(spacearm_stepper_step(s, NULL, NULL, too_many[i]) == SPACEARM_STATUS_INVALID_ARGUMENT, "%zu steps", too_many[i]);
+        CHECK(strstr(spacearm_last_error(), "SPACEARM_MAX_STEPS_PER_CALL") != NULL, "message: %s", spacearm_last_error());
+        CHECK(spacearm_stepper_time(s) == 0.0, "steps were taken before the refusal: t = %g", spacearm_stepper_time(s));
+    }
+    OK(spacearm_stepper_step(s, NULL, NULL, 10));
+    CHECK(fabs(spacearm_stepper_time(s) - 0.01) < 1e-15, "t = %g", spacearm_stepper_time(s));
+    spacearm_stepper_free(s);
+    spacearm_model_free(m);
+}
+
 int main(void) {
     CHECK(spacearm_abi_version() == SPACEARM_ABI_VERSION, "ABI %u vs header %u", spacearm_abi_version(), SPACEARM_ABI_VERSION);
     test_quantities();
     test_errors();
     test_stepper();
+    test_status_names();
+    test_non_finite();
+    test_model_rules();
+    test_success_clears_the_message();
+    test_derivatives_null_outputs();
+    test_stepper_bounds();
     if (failures) {
         fprintf(stderr, "%d check(s) failed\n", failures);
         return 1;
