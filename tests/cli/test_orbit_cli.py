@@ -3,6 +3,7 @@ orbital run (the system CM put on the orbit), the files include the LVLH figure,
 keeps its orbit through a save and load, and bad orbits are `spacearm: error:` with exit 2."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -56,6 +57,16 @@ def test_capture_in_orbit_from_the_cli(tmp_path, capsys):
         assert "in orbit: 500 km, 51.6 deg, gravity gradient on" in text
         assert "momentum balance of robot + target" in text
         data = np.load(out)
+        # The start is given with the end (issue 37 item 4: only "final base attitude 51.89 deg
+        # from LVLH" was printed, for a base that started 51.60 deg from LVLH). The start,
+        # independently: the CLI starts the base aligned with ECI, so its angle from LVLH is
+        # that of the LVLH frame of the initial orbital state.
+        m = re.search(r"base attitude from LVLH ([0-9.]+) deg at the start, ([0-9.]+) deg at the end", text)
+        assert m, text
+        lvlh = spacearm.Orbit.lvlh_to_eci(data["r_cm_eci"][0], data["v_cm_eci"][0])
+        assert np.allclose(data["x"][0, 3:7], [0, 0, 0, 1])
+        start = np.degrees(np.arccos(np.clip(0.5 * (np.trace(lvlh) - 1.0), -1.0, 1.0)))
+        assert float(m.group(1)) == pytest.approx(start, abs=1e-3 + 1e-4 * start)
         assert data["r_cm_eci"].shape == (len(data["t"]), 3) and data["target_lvlh"].shape == (len(data["t"]), 6)
     assert png.stat().st_size > 0
 

@@ -19,6 +19,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..errors import ArgumentError
+from ..rotations import rotation_vector
 from .sequence import CaptureResult, capture
 
 __all__ = ["OrbitComparison", "compare_in_orbit"]
@@ -53,7 +54,8 @@ def _fmt(v) -> str:
 
 
 def _angle_deg(r) -> float:
-    return float(np.degrees(np.arccos(np.clip(0.5 * (np.trace(r) - 1.0), -1.0, 1.0))))
+    """The rotation angle of `r` in degrees (the norm of the core's rotation vector)."""
+    return float(np.degrees(np.linalg.norm(rotation_vector(r))))
 
 
 def _base_rotation(result: CaptureResult, k: int) -> np.ndarray:
@@ -90,7 +92,7 @@ def compare_in_orbit(robot, target, relative, orbit, *, quaternion=(0.0, 0.0, 0.
         "time to detumble": (se["time_to_detumble"], so["time_to_detumble"], "s"),
         "residual base spin": (se["residual_spin"], so["residual_spin"], "rad/s"),
         "final base attitude, orbit vs empty": (0.0, _angle_deg(_base_rotation(empty, -1).T @ _base_rotation(orbital, -1)), "deg"),
-        "base angle from LVLH, start / end": ("-", f"{_angle_deg(orbital.attitude_lvlh()[0]):.4g} / {so['final_lvlh_angle_deg']:.4g}",
+        "base angle from LVLH, start / end": ("-", f"{so['initial_lvlh_angle_deg']:.4g} / {so['final_lvlh_angle_deg']:.4g}",
                                               "deg"),
         "integral of the tidal torque (floating)": (0.0, tidal, "N m s"),
         "L: drift (empty space) / balance residual (orbit)": (se["drift_L"], so["drift_L"], "relative"),

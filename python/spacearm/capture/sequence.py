@@ -55,7 +55,7 @@ from .. import _core
 from .._util.arrays import number, vector
 from ..control import Combined, MomentumDamping, ResolvedMotionRate, TorqueLimit
 from ..errors import ArgumentError, SimulationError
-from ..rotations import quat_from_matrix
+from ..rotations import quat_from_matrix, rotation_vector
 from ..sim.simulation import simulate
 from .captured import attach_target, combined_model, soft_capture
 from .detumbling import DETUMBLE_MODES, detumble, detumble_controller, grasp_wrench
@@ -221,8 +221,10 @@ class CaptureResult:
         el = self.orbit.elements()
         k = int(np.nonzero(self.phase >= 1)[0][0])
         impulse = self.external_impulse[-1]
-        r = self.attitude_lvlh()[-1]
-        angle = float(np.degrees(np.arccos(np.clip(0.5 * (np.trace(r) - 1.0), -1.0, 1.0))))
+        # The base's rotation angle from LVLH at the start and at the end (the rotation vector's
+        # norm, the core's rotations): the start is given too, since a run need not start in LVLH.
+        r = self.attitude_lvlh()
+        start, end = (np.degrees(np.linalg.norm(rotation_vector(r[k]))) for k in (0, -1))
         return {
             "orbit_altitude_km": (el.a - self.orbit.body.radius) / 1e3,
             "orbit_inclination_deg": float(np.degrees(el.i)),
@@ -230,7 +232,8 @@ class CaptureResult:
             "target_lvlh_at_grasp": self.target_lvlh[k, :3].copy(),
             "external_impulse_norm": float(np.linalg.norm(impulse[:3])),
             "external_angular_impulse_norm": float(np.linalg.norm(impulse[3:])),
-            "final_lvlh_angle_deg": angle,
+            "initial_lvlh_angle_deg": float(start),
+            "final_lvlh_angle_deg": float(end),
         }
 
     def arrays(self) -> dict:

@@ -148,7 +148,8 @@ def run(args, model_from_args, out=None) -> int:
         w(f"  in orbit: {s['orbit_altitude_km']:.6g} km, {s['orbit_inclination_deg']:.4g} deg, gravity gradient "
           f"{'on' if s['gravity_gradient'] else 'off'}; target at the grasp {_vec(rel_g)} m in LVLH\n")
         w(f"  external impulse (tidal + thrusters): {s['external_impulse_norm']:.4g} N s, "
-          f"{s['external_angular_impulse_norm']:.4g} N m s; final base attitude {s['final_lvlh_angle_deg']:.4g} deg from LVLH\n")
+          f"{s['external_angular_impulse_norm']:.4g} N m s; base attitude from LVLH {s['initial_lvlh_angle_deg']:.4g} deg at the "
+          f"start, {s['final_lvlh_angle_deg']:.4g} deg at the end\n")
         w(f"  momentum balance of robot + target (relative residual): P {s['drift_P']:.2e}, L {s['drift_L']:.2e}\n")
     elif args.mode == "floating":
         w(f"  momentum drift of robot + target (relative): P {s['drift_P']:.2e}, L {s['drift_L']:.2e}\n")
