@@ -88,3 +88,18 @@ def test_campaign_in_orbit_from_the_cli(tmp_path, capsys):
     sc = Scenario(orbit=spacearm.Orbit.circular(500e3))
     back = CampaignSpec.from_json(CampaignSpec("", 1, scenario=sc).to_json()).scenario
     assert back == sc and back.orbit_model().period == pytest.approx(spacearm.Orbit.circular(500e3).period, rel=1e-12)
+
+
+def test_the_orbit_pages_capture_command_detumbles(capsys):
+    # The command of docs/orbit.md, as written there (issue 37 item 4: it ended "detumbled: not
+    # within the run"); its detumble time as the page states it.
+    import shlex
+    from pathlib import Path
+
+    page = (Path(__file__).resolve().parents[2] / "docs" / "orbit.md").read_text(encoding="utf-8")
+    (line,) = [ln for ln in page.splitlines() if ln.startswith("spacearm capture ") and "--orbit" in ln]
+    assert main(shlex.split(line)[1:]) == 0
+    text = capsys.readouterr().out
+    m = re.search(r"detumbled: ([0-9.]+) s after the detumble starts", text)
+    assert m, text
+    assert f"`detumbled: {m.group(1)} s after the detumble starts`" in page
