@@ -208,3 +208,22 @@ def test_refusals_in_orbit():
         capture(robot, target, s, x0=x, gravity_gradient=True)
     with pytest.raises(spacearm.errors.ArgumentError, match="Orbit"):
         capture(robot, target, s, x0=x, orbit="leo")
+
+
+@pytest.mark.parametrize("mode", ["floating", "flying"])
+def test_the_target_does_not_jump_in_lvlh_at_the_grasp(mode):
+    # target_lvlh is measured from the robot's own CM before and after the grasp (issue 37 item 4:
+    # it switched from the robot's CM to robot + target's and the target "jumped" 0.26 m at the
+    # grasp). The grasp sample repeats its time (dt = 0): the target cannot have moved there.
+    res = _run(mode)
+    same_time = np.flatnonzero(np.diff(res.t) == 0.0)
+    assert same_time.size >= 1
+    for k in same_time:
+        # (1e-8: the robot's velocity jumps at the impact, and with it, by ~1e-9 rad, the LVLH axes)
+        assert np.linalg.norm(res.target_lvlh[k + 1, :3] - res.target_lvlh[k, :3]) < 1e-8
+    # and the LVLH offset is the target's CM less the robot's CM in the robot's LVLH axes, here
+    # at the first sample, from the states directly
+    robot = spacearm.presets.spatial6()
+    frame = spacearm.Orbit.lvlh_to_eci(ORBIT.r0, ORBIT.v0)
+    expected = frame.T @ (res.target[0, :3] - robot.center_of_mass(res.x[0]))
+    np.testing.assert_allclose(res.target_lvlh[0, :3], expected, atol=1e-9)

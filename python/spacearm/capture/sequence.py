@@ -39,8 +39,8 @@ external wrenches: the tidal wrenches of the robot, of the captured system and o
 target, and in the flying mode the thrusters'; the integral by the trapezoid rule over the
 samples), relative to the same scale as the drift. The result also holds ``r_cm_eci``,
 ``v_cm_eci`` (the chaser's system CM: the robot before the grasp, robot + target after),
-``external_wrench`` (T, 6), ``target_lvlh`` (T, 6: the target's CM relative to the chaser's CM
-in its LVLH) and ``attitude_lvlh()``. Not in orbit: ``kind="soft"`` and jointed targets
+``external_wrench`` (T, 6), ``target_lvlh`` (T, 6: the target's CM relative to the robot's own
+CM, the same reference before and after the grasp, in the robot's LVLH) and ``attitude_lvlh()``. Not in orbit: ``kind="soft"`` and jointed targets
 (an ``ArgumentError`` says so).
 """
 
@@ -556,9 +556,14 @@ def capture(
         v_cm = np.concatenate([np.asarray(o.momentum(xs, us).P) / o.total_mass for o, xs, us in zip(owners, seg_x, seg_u)])
         rO, vO = orbit.propagate(T, rtol=1e-13)
         S = np.concatenate(seg_s)
+        # The target relative to the robot's own CM (the captured payload adds no joints, so the
+        # robot's model reads every sample): one reference through the grasp, where the chaser's
+        # system CM jumps from the robot's to robot + target's.
+        X, U = np.concatenate(seg_x), np.concatenate(seg_u)
+        r_robot, v_robot = robot.center_of_mass(X), np.asarray(robot.momentum(X, U).P) / robot.total_mass
         extra.update(
             ledger="balance", external_wrench=ext, external_impulse=impulse, r_cm_eci=rO + r_cm, v_cm_eci=vO + v_cm,
-            target_lvlh=orbit.run_to_lvlh(T, np.hstack([r_cm, v_cm]), np.hstack([S[:, 0:3], S[:, 7:10]])),
+            target_lvlh=orbit.run_to_lvlh(T, np.hstack([r_robot, v_robot]), np.hstack([S[:, 0:3], S[:, 7:10]])),
         )
     return CaptureResult(
         t=np.concatenate(seg_t), phase=np.concatenate(seg_phase), x=np.concatenate(seg_x), u=np.concatenate(seg_u),

@@ -111,7 +111,7 @@ def plot_capture(result, path=None):
         rel = result.target_lvlh
         for k, name in enumerate(("x radial", "y along-track", "z normal")):
             a5.plot(t, rel[:, k] - rel[0, k], label=name)
-        a5.set_title("target CM relative to chaser CM (LVLH), change from start", fontsize=9, y=1.0)
+        a5.set_title("target CM relative to the robot's CM (LVLH), change from start", fontsize=9, y=1.0)
         a5.set_ylabel("[m]")
     for ax in axes[-1]:
         ax.set_xlabel("t [s]")
