@@ -230,3 +230,28 @@ def test_in_orbit_the_momenta_are_not_labelled_conserved():
     # Off orbit the same run conserves them and says so.
     free = spacearm.simulate(robot, 1.0, x0=robot.neutral_configuration(quat0=q), dt=0.05)
     assert "L_origin [N m s] (conserved)" in _legend_texts(_axes_by_title(free.plot())["momentum: change from the initial value"])
+
+
+def test_passive_coordinates_have_a_panel_of_their_own():
+    # Issue 37 item 5: a panel's and a beam's coordinates (~1e-2 rad) were drawn in the arm's
+    # ±1.5 rad panel with their names in its legend.
+    b = spacearm.Robot.builder("flex-sat", base_mass=40.0, base_inertia=[3.0, 3.5, 4.0])
+    b.add_panel("wing", hinge_position=(0.5, 0, 0), hinge_axis=(0, 1, 0), direction=(1, 0, 0), size=(1.2, 0.8, 0.02),
+                mass=4.0, frequency=2.0, damping=0.05)
+    b.add_beam("boom", root_position=(0, 0.4, 0), axis=(0, 1, 0), length=2.0, segments=3, EI=40.0,
+               bending_axes=[(1, 0, 0)], rho_A=0.6, rho_J=0.002, damping_ratio=0.01)
+    b.add_link("arm", joint="revolute", axis=(0, 0, 1), origin=(-0.4, 0, 0), com=(-0.3, 0, 0), mass=2.0,
+               inertia=[0.01, 0.06, 0.06])
+    robot = b.build()
+    names = robot.joint_names
+    active = [names[j] for j in range(robot.n_dof) if robot.actuated_dofs[j]]
+    passive = [names[j] for j in range(robot.n_dof) if not robot.actuated_dofs[j]]
+    assert active and len(passive) >= 2
+    ref = control.QuinticJoint([0.0], [1.0], t_start=0.0, t_end=0.4)
+    traj = spacearm.simulate(robot, 0.5, dt=0.01, controller=control.JointPD(kp=20.0, kd=5.0, reference=ref))
+    axes = _axes_by_title(traj.plot())
+    arm_ax = next(ax for title, ax in axes.items() if title.startswith("joint angles"))
+    passive_ax = axes["passive coordinates (no motor: slosh, panels, beams, compliant links)"]
+    assert sorted(_legend_texts(arm_ax)) == sorted(active)
+    assert sorted(_legend_texts(passive_ax)) == sorted(passive)
+    assert passive_ax.get_ylabel() == "q [rad]"

@@ -128,6 +128,17 @@ def _panel_joints(ax, fig, traj, names, dofs, kind, colours):
     colours.label(ax, fig, len(dofs))
 
 
+def _panel_passive(ax, fig, traj, names, dofs):
+    """The passive coordinates, in their own units and with their own legend or colour bar."""
+    colours = _JointColours(dofs)
+    kinds = {_dof_kinds(traj)[j] for j in dofs}
+    for j in dofs:
+        ax.plot(traj.t, traj.q[:, j], lw=1.0, color=colours[j], label=names[j])
+    ax.set_title("passive coordinates (no motor: slosh, panels, beams, compliant links)")
+    ax.set_ylabel({frozenset({"revolute"}): "q [rad]", frozenset({"prismatic"}): "q [m]"}.get(frozenset(kinds), "q [rad or m]"))
+    colours.label(ax, fig, len(dofs))
+
+
 def _panel_ee(ax, traj):
     p = traj.ee_position
     ref = traj.reference if traj.tracking_error_kind == "cartesian" and traj.has("reference") else None
@@ -264,12 +275,18 @@ def plot_trajectory(traj, path: Optional[PathLike] = None, *, title: Optional[st
     figure there as PNG (atomically). Returns the matplotlib ``Figure``."""
     names = traj.joint_names()
     wheels = _wheel_dofs(traj)
-    arm = [j for j in range(traj.n_dof) if j not in wheels]
+    # The passive coordinates (slosh, panels, beams, compliant links: no motor) get a panel of
+    # their own: their ~1e-2 rad would be lost in the arm's scale, and their legend in its.
+    actuated = traj.robot.actuated_dofs if traj.robot is not None else np.ones(traj.n_dof, dtype=bool)
+    arm = [j for j in range(traj.n_dof) if j not in wheels and actuated[j]]
+    passive = [j for j in range(traj.n_dof) if j not in wheels and not actuated[j]]
     colours = _JointColours(arm)
     groups = _groups_by_kind(traj, arm)
     panels = []
     for kind, dofs in groups:
         panels.append(lambda ax, fig, dofs=dofs, kind=kind: _panel_joints(ax, fig, traj, names, dofs, kind, colours))
+    if passive:
+        panels.append(lambda ax, fig: _panel_passive(ax, fig, traj, names, passive))
     if traj.has("ee_position") and traj.tracking_error_kind == "cartesian":
         panels.append(lambda ax, fig: _panel_ee(ax, traj))
     panels.append(lambda ax, fig: _panel_attitude(ax, traj))
