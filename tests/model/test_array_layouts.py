@@ -111,6 +111,7 @@ def data(robot):
         "qd": rng.normal(size=(B, n)),
         "P": rng.normal(size=(B, 3)),
         "L": rng.normal(size=(B, 3)),
+        "dx": rng.normal(scale=0.1, size=(B, robot.nu)),
     }
 
 
@@ -142,6 +143,11 @@ METHODS = [
     ("forward_dynamics_derivatives", ["x", "u", "tau", "base_wrench"], ["tau", "base_wrench"]),
     ("forward_dynamics_derivatives", ["x", "u", "f"], []),
     ("linearize", ["x", "u", "tau"], ["tau"]),
+    ("generalized_inertia_partials", ["x"], []),
+    ("generalized_jacobian_partials", ["x"], []),
+    ("inverse_dynamics_partials", ["x", "u", "du"], []),
+    ("spring_energy", ["x"], []),
+    ("momentum_scales", ["x", "u"], []),
 ]
 
 
@@ -349,3 +355,34 @@ def test_vector_env_actions_read_every_layout():
     expected = run(np.ascontiguousarray)
     for layout in ["Fortran", "negative strides", "unaligned", "big-endian", "transposed view"]:
         assert np.array_equal(run(LAYOUTS[layout]), expected), layout
+
+
+def _configurations(robot, rng, rows):
+    quat = rng.normal(size=(rows, 4))
+    quat /= np.linalg.norm(quat, axis=1, keepdims=True)
+    return np.hstack([rng.normal(size=(rows, 3)), quat, rng.uniform(-1, 1, (rows, robot.n_dof))])
+
+
+def test_configuration_algebra_reads_every_layout(robot, data):
+    rng = np.random.default_rng(9)
+    x0, x1 = _configurations(robot, rng, B), _configurations(robot, rng, B)
+    dx = data["dx"]
+    plus = np.stack([robot.configuration_plus(x0[i], dx[i]) for i in range(B)])
+    diff = np.stack([robot.configuration_difference(x1[i], x0[i]) for i in range(B)])
+    for layout, make in LAYOUTS.items():
+        for i in range(B):
+            assert np.array_equal(robot.configuration_plus(make(x0[i]), make(dx[i])), plus[i]), layout
+            assert np.array_equal(robot.configuration_difference(make(x1[i]), make(x0[i])), diff[i]), layout
+
+
+def test_sampled_references_read_every_layout():
+    from spacearm import control
+
+    t = np.linspace(0.0, 1.0, 6)
+    rng = np.random.default_rng(2)
+    q, qd, qdd = (rng.normal(size=(6, 3)) for _ in range(3))
+    expected = control.SampledJoint(t=t, q=q, qd=qd, qdd=qdd).evaluate([0.1, 0.55, 0.9])
+    for layout, make in LAYOUTS.items():
+        got = control.SampledJoint(t=make(t), q=make(q), qd=make(qd), qdd=make(qdd)).evaluate([0.1, 0.55, 0.9])
+        for g, e in zip(got, expected):
+            assert np.array_equal(g, e), layout

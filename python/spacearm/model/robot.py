@@ -493,10 +493,12 @@ class Robot:
         state: ``(T, 4)`` columns $\sum_i \lVert p_i \rVert$, $\sum_i (\lVert r_i \times p_i \rVert + \lVert I_i \omega_i \rVert)$ about the origin, the
         same about the system CM, and the kinetic plus spring energy (sums over the bodies of their own
         contributions' norms: the core's drift scales, docs/simulation-core.md). ``x`` (T, 7+N)
-        or (7+N,), ``u`` likewise."""
-        xs = np.ascontiguousarray(np.atleast_2d(np.asarray(x, dtype=float)))
-        us = np.ascontiguousarray(np.atleast_2d(np.asarray(u, dtype=float)))
-        return _core.momentum_scales(self._m, xs, us)
+        and ``u`` (T, 6+N) give ``(T, 4)``; one state, ``x`` (7+N,) and ``u`` (6+N,), gives
+        ``(4,)``, as every per-state method does. The arrays are read by the extension in any
+        layout (docs/conventions.md, "Arrays")."""
+        one = np.ndim(x) == 1 and np.ndim(u) == 1
+        scales = _core.momentum_scales(self._m, np.atleast_2d(x), np.atleast_2d(u))
+        return scales[0] if one else scales
 
     def center_of_mass(self, x) -> np.ndarray:
         """System CM $r_g$ in 𝒥."""
