@@ -82,8 +82,19 @@ def potential_flow_mode(radius, h, n, a, rho):
     w2 = 2.0 * a * t / (rho * surface)
     eta = math.sqrt(w2_surface) * phi_h / a
     v = 0.5 * rho * a * np.sum(da * eta**2)  # with the surface's ω: T = V is then Green's identity
+    # The pressure on the tank (at rest, in the acceleration a): p = −ρ φ_t − ρ a (z − h), the
+    # hydrostatic part symmetric (no moment); its moment about the liquid's CM, y component, from
+    # the wall (outward normal r̂) and the bottom (−ẑ): amplitude −ρ ω (∫_wall (z − h/2) Φ cos θ R dθ dz
+    # + ∫_bottom x Φ dA) cos ωt, against the mass's displacement X = −P/(m ω) cos ωt.
+    tw, zw = np.meshgrid(th, z, indexing="ij")
+    wall = np.sum(np.einsum("j,k->jk", wth, wz) * radius * np.cos(tw) ** 2 * jv(1, xi) * np.cosh(k * zw) / np.cosh(k * h)
+                  * (zw - h / 2.0))
+    bottom = np.sum(da * np.cos(ts) ** 2 * jv(1, k * rs) / np.cosh(k * h) * rs)
     return {"xi": xi, "mass": p**2 / (2.0 * t), "height": hy / p, "w2": w2, "w2_surface": w2_surface, "T": t, "V": v,
-            "surface_residual": residual, "wall_residual": abs(jvp(1, xi))}
+            "surface_residual": residual, "wall_residual": abs(jvp(1, xi)),
+            # the moment per unit displacement of the equivalent mass, N·m/m: m ω² ρ (wall + bottom)/P
+            "pressure_moment": (p**2 / (2.0 * t)) * w2 * rho * (wall + bottom) / p,
+            "wall_moment": (p**2 / (2.0 * t)) * w2 * rho * wall / p}
 
 
 @pytest.fixture(scope="module")
@@ -179,3 +190,58 @@ def test_built_models_put_the_masses_where_the_flow_does(flows, hr, model):
     w = np.sort(robot.natural_frequencies(x).frequencies)
     expected = np.sort([math.sqrt(flows[(hr, n)]["w2"]) for n in range(1, MODES + 1)])
     np.testing.assert_allclose(w, expected, rtol=1e-6)
+
+
+def test_the_pressure_moment_on_the_tank_acts_at_the_hinge(flows):
+    # The wall and bottom pressures of the mode (the displaced liquid's weight included: the
+    # hydrostatic pressure under the raised surface) put on the tank the moment k X (ℓ + L) about
+    # the liquid's CM: the spring force at ℓ plus the displaced weight m a X, or the pendulum's
+    # rod force at its hinge (docs/flexibility.md, "Slosh under thrust"). Against the quadrature's
+    # own m, ω² and ℓ = H_y/P: ℓ + a/ω², not ℓ (the arm of the free-space stand-in's springs).
+    for (hr, n), f in flows.items():
+        k = f["mass"] * f["w2"]
+        assert f["pressure_moment"] == pytest.approx(k * (f["height"] + A / f["w2"]), rel=1e-11)
+        # the displaced weight is part of it: without it the arm would be ℓ
+        assert abs(f["pressure_moment"] - k * f["height"]) == pytest.approx(f["mass"] * A, rel=1e-11)
+
+
+def _moment_on_tank(robot, params, n, model, thrust):
+    """The moment (y, about the liquid's CM at the base CM) that mode n's sloshing mass, moved by a
+    small X, puts on a tank translating with the acceleration ``A`` along z (``thrust``) or at
+    rest, per unit X: by inverse dynamics, the base held from turning and the slosh joint free."""
+    names = list(robot.body_names)
+    dof, body = n - 1, names.index(f"prop_{n}")
+    x0 = robot.neutral_configuration()
+    u = robot.zero_velocity()
+    out = []
+    for dq in (0.0, 1e-6):
+        x = x0.copy()
+        x[7 + dof] = dq
+        du = np.zeros(robot.nu)
+        du[2] = A if thrust else 0.0
+        tau0 = robot.inverse_dynamics(x, u, du)[6 + dof]
+        du[6 + dof] = -tau0 / robot.mass_matrix(x)[6 + dof, 6 + dof]  # the joint free: τ = 0
+        f = robot.inverse_dynamics(x, u, du)
+        assert abs(f[6 + dof]) < 1e-12 * (1.0 + abs(tau0))
+        # the base does not turn: the applied N0 balances the liquid's moment
+        out.append((-f[4], robot.forward_kinematics(x)[1][body][0]))
+    (m0, x0_), (m1, x1_) = out
+    return (m1 - m0) / (x1_ - x0_)
+
+
+@pytest.mark.parametrize("hr", [0.5, 2.0])
+@pytest.mark.parametrize("model", ["spring-mass", "pendulum"])
+def test_in_field_models_put_the_pressure_moment_on_the_tank(flows, hr, model):
+    # SloshParameters.add_to(thrust=True), the tank accelerated by the thrust: the core's moment
+    # on the tank equals the potential flow's wall + bottom pressure moment (both models); the
+    # default stand-in (joint springs, no thrust) gives k X ℓ, without the displaced weight.
+    params = _tank(hr)
+    for thrust in (True, False):
+        b = spacearm.Robot.builder("tank-sat", base_mass=500.0, base_inertia=[50.0] * 3)
+        params.add_to(b, "prop", center=(0, 0, 0), axis=(0, 0, 1), lateral=(1, 0, 0), model=model, thrust=thrust)
+        robot = b.build()
+        for n in range(1, MODES + 1):
+            f = flows[(hr, n)]
+            got = _moment_on_tank(robot, params, n, model, thrust)
+            want = f["pressure_moment"] if thrust else f["mass"] * f["w2"] * f["height"]
+            assert got == pytest.approx(want, rel=1e-9)

@@ -56,7 +56,7 @@ class SloshParameters:
 
     def add_to(self, builder, name: str, *, parent: str = "base", center: Sequence[float] = (0.0, 0.0, 0.0),
                axis: Sequence[float] = (0.0, 0.0, 1.0), lateral: Optional[Sequence[float]] = None,
-               model: str = "spring-mass"):
+               model: str = "spring-mass", thrust: bool = False):
         """Add the modes (``name_1``, ``name_2``, …) with
         [`RobotBuilder.add_slosh`][spacearm.RobotBuilder.add_slosh] and the fixed mass
         (``name_fixed``, a point mass) with
@@ -69,7 +69,22 @@ class SloshParameters:
         ``center + height·axis``, sliding along ``lateral``), ``"pendulum"`` (hinged at
         ``center + (height + length)·axis``, the bob hanging along ``-axis``, swinging along
         ``lateral``) or ``"spherical-pendulum"``. The dampers are ``2 ζ m ω`` (per joint, times
-        ``length²`` for the pendulums)."""
+        ``length²`` for the pendulums).
+
+        ``thrust``: how the vehicle's axial acceleration ``a`` acts on the modes
+        (docs/flexibility.md, "Slosh under thrust: which model holds which moment").
+        ``False`` (the default): the joint springs stand for it (``k = m ω²``, or ``m a L`` on a
+        pendulum joint), for a simulation with no thrust force: the lateral forces and the
+        clamped-tank frequencies are right, but the moment on the tank is ``k x ℓ`` (arm ``ℓ``),
+        without the displaced weight ``m a x``, and the spring-mass and pendulum are the same
+        model. ``True``: the in-field models, for a simulation that applies the thrust (``M a``
+        along ``axis``, ``M`` the vehicle's mass) as a force on the vehicle: the pendulums get no
+        joint spring (the vehicle's acceleration restores them, ``ω² = a/L`` on a clamped tank),
+        the spring-mass keeps its spring and its joint carries the mass's axial inertia force;
+        both then put the moment ``k x (ℓ + L)`` on the tank, the wall and bottom pressure moment
+        of the potential flow."""
+        if not isinstance(thrust, (bool, np.bool_)):
+            raise ArgumentError(f"add_to: thrust must be True or False, got {thrust!r}")
         if model not in ("spring-mass", "pendulum", "spherical-pendulum"):
             raise ArgumentError(f"slosh model must be 'spring-mass', 'pendulum' or 'spherical-pendulum', got {model!r}")
         c = vector(center, "tank center", 3)
@@ -94,8 +109,10 @@ class SloshParameters:
                 builder.add_slosh(mode_name, parent=parent, model=model, mass=m.mass, position=c + m.height * e, axis=lat,
                                   frequency=m.frequency, damping=2.0 * zeta * m.mass * m.frequency)
             else:
+                # In the field (thrust=True) the vehicle's acceleration restores the bob: no spring.
+                restoring = {"stiffness": 0.0} if thrust else {"frequency": m.frequency}
                 builder.add_slosh(mode_name, parent=parent, model=model, mass=m.mass, position=c + (m.height + m.length) * e,
-                                  axis=-e, length=m.length, hinge=np.cross(e, lat), frequency=m.frequency,
+                                  axis=-e, length=m.length, hinge=np.cross(e, lat), **restoring,
                                   damping=2.0 * zeta * m.mass * m.length**2 * m.frequency)
         builder.attach_payload(f"{name}_fixed", body=parent, mass=self.fixed_mass, origin=c + self.fixed_height * e)
         return builder
