@@ -245,3 +245,73 @@ def test_in_field_models_put_the_pressure_moment_on_the_tank(flows, hr, model):
             got = _moment_on_tank(robot, params, n, model, thrust)
             want = f["pressure_moment"] if thrust else f["mass"] * f["w2"] * f["height"]
             assert got == pytest.approx(want, rel=1e-9)
+
+
+def lid_inertia_ritz(radius, h, order=12, nq=60):
+    """The pitching inertia per unit density about the CM of liquid filling a closed cylinder
+    (radius, height h), by the Ritz method, independent of the core's series: the lid flow's
+    potential Ψ (∇²Ψ = 0, ∂Ψ/∂n = (ŷ × r)·n on the wall, the bottom and the lid) maximizes
+    2∮ψ g dA − ∫|∇ψ|² dV, whose maximum is J/ρ = ∫|∇Ψ|² dV (Kelvin): a lower bound that rises
+    to J as the trial space grows. Trial functions ψ = cos θ · r Z(z) S(r²/R²) (odd Legendre
+    polynomials Z in z/c, Legendre S in 2r²/R² − 1; c = h/2, z from the CM), the θ integrals
+    done by hand (∫cos² = ∫sin² = π), r and z by Gauss–Legendre (exact for these polynomials)."""
+    from numpy.polynomial import legendre as leg
+
+    c = h / 2.0
+    r, wr = _gauss(nq, 0.0, radius)
+    z, wz = _gauss(nq, -c, c)
+    s = (r / radius) ** 2
+    zs = [np.eye(a + 1)[a] for a in range(1, 2 * order, 2)]
+    ss = [np.eye(b + 1)[b] for b in range(order)]
+    f, fr, fo, fz, g = [], [], [], [], []
+    for cz in zs:
+        zv, dz = leg.legval(z / c, cz), leg.legval(z / c, leg.legder(cz)) / c
+        for cs in ss:
+            sv, ds = leg.legval(2 * s - 1, cs), 2.0 * leg.legval(2 * s - 1, leg.legder(cs))
+            fo.append(np.outer(sv, zv))  # f / r
+            fr.append(np.outer(sv + 2 * s * ds, zv))  # ∂f/∂r
+            fz.append(np.outer(r * sv, dz))  # ∂f/∂z
+            # g: the wall (z cos θ, f at r = R) and the lid and bottom (∓ r cos θ, f odd in z)
+            wall = np.pi * radius * np.sum(wz * radius * leg.legval(1.0, cs) * zv * z)
+            lids = -2.0 * np.pi * np.sum(wr * r * sv * leg.legval(1.0, cz) * r * r)
+            g.append(wall + lids)
+    w = np.outer(wr * r, wz)
+    k = np.pi * sum(np.einsum("irz,jrz,rz->ij", d, d, w) for d in (np.array(fr), np.array(fo), np.array(fz)))
+    g = np.array(g)
+    return float(g @ np.linalg.solve(k, g))
+
+
+@pytest.mark.parametrize("hr", H_OVER_R)
+def test_fixed_inertia_is_the_lid_inertia_less_the_masses(flows, hr):
+    # I0 = J − m0 l0² − Σ mn ln², with J by the Ritz method and mn, ln (and so m0, l0) from the
+    # potential-flow quadrature: the model's kinetic energy in any motion of the tank is the
+    # liquid's (docs/flexibility.md, "The fixed liquid's moment of inertia").
+    h = hr * R
+    params = _tank(hr)
+    m_liquid = RHO * math.pi * R * R * h
+    j = RHO * lid_inertia_ritz(R, h)
+    sloshing = [flows[(hr, n)] for n in range(1, MODES + 1)]
+    m0 = m_liquid - sum(f["mass"] for f in sloshing)
+    l0 = -sum(f["mass"] * f["height"] for f in sloshing) / m0
+    i0 = j - m0 * l0**2 - sum(f["mass"] * f["height"] ** 2 for f in sloshing)
+    rigid = m_liquid * (R * R / 4 + h * h / 12)
+    assert params.fixed_inertia == pytest.approx(i0, abs=1e-8 * rigid)
+    # The Ritz value is a lower bound: the core's J is not below it.
+    j_core = params.fixed_inertia + params.fixed_mass * params.fixed_height**2 + sum(m.mass * m.height**2 for m in params.modes)
+    assert j_core >= j - 1e-12 * rigid
+    assert 0.0 < params.fixed_inertia < j_core < rigid  # the lid flow lags the rigid body
+
+
+@pytest.mark.parametrize("model", ["spring-mass", "pendulum"])
+def test_built_tank_pitches_with_the_lid_inertia(model):
+    # With the sloshing masses held at rest, the built model (masses at ln, fixed mass with I0)
+    # has the liquid's rigid-lid pitching inertia J about the liquid's CM, and none about the
+    # tank axis (an ideal liquid does not turn with an axisymmetric tank).
+    h = 1.0 * R
+    params = _tank(1.0)
+    b = spacearm.Robot.builder("tank-sat", base_mass=500.0, base_inertia=[50.0, 60.0, 70.0])
+    params.add_to(b, "prop", center=(0, 0, 0), axis=(0, 0, 1), lateral=(1, 0, 0), model=model)
+    robot = b.build()
+    h0 = robot.mass_matrix(robot.neutral_configuration())[3:6, 3:6]
+    j = RHO * lid_inertia_ritz(R, h)
+    np.testing.assert_allclose(np.diag(h0) - [50.0, 60.0, 70.0], [j, j, 0.0], atol=1e-8 * params.liquid_mass * R * R)

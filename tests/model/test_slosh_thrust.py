@@ -113,8 +113,8 @@ def test_the_free_space_stand_in_has_the_bobs_moment_arm(big_m, inertia, m, leng
     assert w[0] ** 2 == pytest.approx(w2, rel=1e-9)
 
 
-# A shallow fill (h/R = 0.3: most of the liquid sloshes, m1 = 0.76 m_L) on the axis of a light base.
-R, H, RHO, A = 0.4, 0.12, 850.0, 0.7
+# A shallow fill (h/R = 0.2: most of the liquid sloshes, m1 = 0.80 m_L) on the axis of a light base.
+R, H, RHO, A = 0.4, 0.08, 850.0, 0.7
 
 
 def _tank_robot(model, thrust, base_inertia, center_z):
@@ -128,8 +128,9 @@ def _tank_robot(model, thrust, base_inertia, center_z):
 @pytest.mark.parametrize("model", ["pendulum", "spring-mass"])
 def test_tank_models_under_thrust_have_the_in_field_pitch(model, base_inertia):
     # SloshParameters.add_to(thrust=True) with the thrust M a applied: the closed form with the
-    # rigid part (base + fixed liquid m0 at l0) as the body, its CM and inertia by hand, and the
-    # hinge at l + L above the liquid's CM; the spring-mass and the pendulum agree (linearly).
+    # rigid part (base + fixed liquid m0 at l0, with its own I0) as the body, its CM and inertia by
+    # hand, and the hinge at l + L above the liquid's CM; the spring-mass and the pendulum agree
+    # (linearly).
     p = spacearm.slosh_parameters("cylinder", radius=R, fill_height=H, density=RHO, axial_acceleration=A, modes=1)
     mode = p.modes[0]
     # The liquid's CM placed so that the rigid part's CM falls midway between the bob and the hinge.
@@ -138,7 +139,7 @@ def test_tank_models_under_thrust_have_the_in_field_pitch(model, base_inertia):
     m0, z0 = p.fixed_mass, center_z + p.fixed_height
     big_m = 60.0 + m0
     z_rigid = m0 * z0 / big_m
-    inertia = base_inertia + 60.0 * z_rigid**2 + m0 * (z0 - z_rigid) ** 2
+    inertia = base_inertia + 60.0 * z_rigid**2 + m0 * (z0 - z_rigid) ** 2 + p.fixed_inertia
     d = center_z + mode.height + mode.length - z_rigid
     total = big_m + mode.mass
     assert robot.total_mass == pytest.approx(total, rel=1e-14)

@@ -41,7 +41,10 @@ class SloshParameters:
     ``fixed_mass`` at ``fixed_height`` above the liquid's CM (so the model's CM is the liquid's),
     the ``damping_ratio`` given and the tank it came from. ``liquid_cm_height``: the liquid's CM
     above the tank's bottom (``fill_height / 2`` in a cylinder, ``h (8R − 3h) / (4 (3R − h))``
-    above the bottom pole of a sphere; from the core), where ``add_to``'s ``center`` goes."""
+    above the bottom pole of a sphere; from the core), where ``add_to``'s ``center`` goes.
+    ``fixed_inertia``: the fixed mass's moment of inertia ``I₀`` about a lateral axis through its
+    CM (kg·m², the liquid's rigid-lid pitching inertia less the masses' ``m ℓ²``; from the core)
+    for a cylinder, ``None`` for a sphere (not computed: docs/flexibility.md)."""
 
     tank: str
     radius: float
@@ -53,13 +56,15 @@ class SloshParameters:
     fixed_mass: float
     fixed_height: float
     liquid_cm_height: float
+    fixed_inertia: Optional[float] = None
 
     def add_to(self, builder, name: str, *, parent: str = "base", center: Sequence[float] = (0.0, 0.0, 0.0),
                axis: Sequence[float] = (0.0, 0.0, 1.0), lateral: Optional[Sequence[float]] = None,
                model: str = "spring-mass", thrust: bool = False):
         """Add the modes (``name_1``, ``name_2``, …) with
         [`RobotBuilder.add_slosh`][spacearm.RobotBuilder.add_slosh] and the fixed mass
-        (``name_fixed``, a point mass) with
+        (``name_fixed``: a point mass with the moment of inertia ``fixed_inertia`` about the
+        lateral axes, none about the tank axis; a point mass where it is ``None``) with
         [`RobotBuilder.attach_payload`][spacearm.RobotBuilder.attach_payload]; returns ``builder``.
 
         ``center``: the liquid's CM in ``parent``'s frame (from its CM, m); ``axis``: the tank's
@@ -114,7 +119,9 @@ class SloshParameters:
                 builder.add_slosh(mode_name, parent=parent, model=model, mass=m.mass, position=c + (m.height + m.length) * e,
                                   axis=-e, length=m.length, hinge=np.cross(e, lat), **restoring,
                                   damping=2.0 * zeta * m.mass * m.length**2 * m.frequency)
-        builder.attach_payload(f"{name}_fixed", body=parent, mass=self.fixed_mass, origin=c + self.fixed_height * e)
+        i0 = 0.0 if self.fixed_inertia is None else float(self.fixed_inertia)
+        builder.attach_payload(f"{name}_fixed", body=parent, mass=self.fixed_mass, origin=c + self.fixed_height * e,
+                               inertia=i0 * (np.eye(3) - np.outer(e, e)))
         return builder
 
 
@@ -189,4 +196,5 @@ def slosh_parameters(tank: str = "cylinder", *, radius: float, axial_acceleratio
         tank=tank, radius=out["radius"], fill_height=out["fill_height"], liquid_mass=out["liquid_mass"],
         axial_acceleration=out["axial_acceleration"], damping_ratio=zeta, modes=tuple(SloshMode(**m) for m in out["modes"]),
         fixed_mass=out["fixed_mass"], fixed_height=out["fixed_height"], liquid_cm_height=out["liquid_cm_height"],
+        fixed_inertia=out["fixed_inertia"],
     )
