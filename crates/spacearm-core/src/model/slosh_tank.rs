@@ -128,7 +128,8 @@ impl TankSlosh {
 
 /// The `n`-th zero of `J₁′` (from 1): the table, then McMahon's expansion
 /// `β − 7/(8β) − 4·431/(3 (8β)³)`, `β = (n − 1/4) π` (Abramowitz & Stegun 9.5.13 with μ = 4; its
-/// error at n = 5 is 6e-7, and falls as n⁻⁵).
+/// error is 2.7e-6 at n = 5, 1.0e-6 at n = 6, and falls about as n⁻⁵; in the sum it moves `J` by
+/// under 1e-10 of itself).
 fn j1_prime_zero(n: usize) -> f64 {
     if n <= BESSEL_J1_PRIME_ZEROS.len() {
         return BESSEL_J1_PRIME_ZEROS[n - 1];
@@ -238,10 +239,10 @@ mod tests {
 
     #[test]
     fn lid_inertia_limits_and_mcmahon_zeros() {
-        // McMahon's expansion continues the table: at n = 5 it is within 1e-6 of the zero.
+        // McMahon's expansion continues the table: at n = 5 it is within 3e-6 of the zero.
         let beta = 4.75 * std::f64::consts::PI;
         let b8 = 8.0 * beta;
-        assert!((beta - 7.0 / b8 - 4.0 * 431.0 / (3.0 * b8.powi(3)) - BESSEL_J1_PRIME_ZEROS[4]).abs() < 1e-6);
+        assert!((beta - 7.0 / b8 - 4.0 * 431.0 / (3.0 * b8.powi(3)) - BESSEL_J1_PRIME_ZEROS[4]).abs() < 3e-6);
         // Deep and shallow fills: the rigid liquid's m (R²/4 + h²/12), to O(R/h) and O(h²).
         let rigid = |r: f64, h: f64| r * r / 4.0 + h * h / 12.0;
         assert!((cylinder_lid_inertia(1.0, 200.0, 1.0) / rigid(1.0, 200.0) - 1.0).abs() < 1e-3);
