@@ -44,7 +44,7 @@ class SloshParameters:
     above the bottom pole of a sphere; from the core), where ``add_to``'s ``center`` goes.
     ``fixed_inertia``: the fixed mass's moment of inertia ``I₀`` about a lateral axis through its
     CM (kg·m², the liquid's rigid-lid pitching inertia less the masses' ``m ℓ²``; from the core)
-    for a cylinder, ``None`` for a sphere (none that a rigid body could carry: docs/flexibility.md)."""
+    for a cylinder, ``None`` for a sphere (not computed: docs/flexibility.md)."""
 
     tank: str
     radius: float
