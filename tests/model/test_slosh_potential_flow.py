@@ -82,8 +82,19 @@ def potential_flow_mode(radius, h, n, a, rho):
     w2 = 2.0 * a * t / (rho * surface)
     eta = math.sqrt(w2_surface) * phi_h / a
     v = 0.5 * rho * a * np.sum(da * eta**2)  # with the surface's ω: T = V is then Green's identity
+    # The pressure on the tank (at rest, in the acceleration a): p = −ρ φ_t − ρ a (z − h), the
+    # hydrostatic part symmetric (no moment); its moment about the liquid's CM, y component, from
+    # the wall (outward normal r̂) and the bottom (−ẑ): amplitude −ρ ω (∫_wall (z − h/2) Φ cos θ R dθ dz
+    # + ∫_bottom x Φ dA) cos ωt, against the mass's displacement X = −P/(m ω) cos ωt.
+    tw, zw = np.meshgrid(th, z, indexing="ij")
+    wall = np.sum(np.einsum("j,k->jk", wth, wz) * radius * np.cos(tw) ** 2 * jv(1, xi) * np.cosh(k * zw) / np.cosh(k * h)
+                  * (zw - h / 2.0))
+    bottom = np.sum(da * np.cos(ts) ** 2 * jv(1, k * rs) / np.cosh(k * h) * rs)
     return {"xi": xi, "mass": p**2 / (2.0 * t), "height": hy / p, "w2": w2, "w2_surface": w2_surface, "T": t, "V": v,
-            "surface_residual": residual, "wall_residual": abs(jvp(1, xi))}
+            "surface_residual": residual, "wall_residual": abs(jvp(1, xi)),
+            # the moment per unit displacement of the equivalent mass, N·m/m: m ω² ρ (wall + bottom)/P
+            "pressure_moment": (p**2 / (2.0 * t)) * w2 * rho * (wall + bottom) / p,
+            "wall_moment": (p**2 / (2.0 * t)) * w2 * rho * wall / p}
 
 
 @pytest.fixture(scope="module")
@@ -179,3 +190,128 @@ def test_built_models_put_the_masses_where_the_flow_does(flows, hr, model):
     w = np.sort(robot.natural_frequencies(x).frequencies)
     expected = np.sort([math.sqrt(flows[(hr, n)]["w2"]) for n in range(1, MODES + 1)])
     np.testing.assert_allclose(w, expected, rtol=1e-6)
+
+
+def test_the_pressure_moment_on_the_tank_acts_at_the_hinge(flows):
+    # The wall and bottom pressures of the mode (the displaced liquid's weight included: the
+    # hydrostatic pressure under the raised surface) put on the tank the moment k X (ℓ + L) about
+    # the liquid's CM: the spring force at ℓ plus the displaced weight m a X, or the pendulum's
+    # rod force at its hinge (docs/flexibility.md, "Slosh under thrust"). Against the quadrature's
+    # own m, ω² and ℓ = H_y/P: ℓ + a/ω², not ℓ (the arm of the free-space stand-in's springs).
+    for (hr, n), f in flows.items():
+        k = f["mass"] * f["w2"]
+        assert f["pressure_moment"] == pytest.approx(k * (f["height"] + A / f["w2"]), rel=1e-11)
+        # the displaced weight is part of it: without it the arm would be ℓ
+        assert abs(f["pressure_moment"] - k * f["height"]) == pytest.approx(f["mass"] * A, rel=1e-11)
+
+
+def _moment_on_tank(robot, params, n, model, thrust):
+    """The moment (y, about the liquid's CM at the base CM) that mode n's sloshing mass, moved by a
+    small X, puts on a tank translating with the acceleration ``A`` along z (``thrust``) or at
+    rest, per unit X: by inverse dynamics, the base held from turning and the slosh joint free."""
+    names = list(robot.body_names)
+    dof, body = n - 1, names.index(f"prop_{n}")
+    x0 = robot.neutral_configuration()
+    u = robot.zero_velocity()
+    out = []
+    for dq in (0.0, 1e-6):
+        x = x0.copy()
+        x[7 + dof] = dq
+        du = np.zeros(robot.nu)
+        du[2] = A if thrust else 0.0
+        tau0 = robot.inverse_dynamics(x, u, du)[6 + dof]
+        du[6 + dof] = -tau0 / robot.mass_matrix(x)[6 + dof, 6 + dof]  # the joint free: τ = 0
+        f = robot.inverse_dynamics(x, u, du)
+        assert abs(f[6 + dof]) < 1e-12 * (1.0 + abs(tau0))
+        # the base does not turn: the applied N0 balances the liquid's moment
+        out.append((-f[4], robot.forward_kinematics(x)[1][body][0]))
+    (m0, x0_), (m1, x1_) = out
+    return (m1 - m0) / (x1_ - x0_)
+
+
+@pytest.mark.parametrize("hr", [0.5, 2.0])
+@pytest.mark.parametrize("model", ["spring-mass", "pendulum"])
+def test_in_field_models_put_the_pressure_moment_on_the_tank(flows, hr, model):
+    # SloshParameters.add_to(thrust=True), the tank accelerated by the thrust: the core's moment
+    # on the tank equals the potential flow's wall + bottom pressure moment (both models); the
+    # default stand-in (joint springs, no thrust) gives k X ℓ, without the displaced weight.
+    params = _tank(hr)
+    for thrust in (True, False):
+        b = spacearm.Robot.builder("tank-sat", base_mass=500.0, base_inertia=[50.0] * 3)
+        params.add_to(b, "prop", center=(0, 0, 0), axis=(0, 0, 1), lateral=(1, 0, 0), model=model, thrust=thrust)
+        robot = b.build()
+        for n in range(1, MODES + 1):
+            f = flows[(hr, n)]
+            got = _moment_on_tank(robot, params, n, model, thrust)
+            want = f["pressure_moment"] if thrust else f["mass"] * f["w2"] * f["height"]
+            assert got == pytest.approx(want, rel=1e-9)
+
+
+def lid_inertia_ritz(radius, h, order=12, nq=60):
+    """The pitching inertia per unit density about the CM of liquid filling a closed cylinder
+    (radius, height h), by the Ritz method, independent of the core's series: the lid flow's
+    potential Ψ (∇²Ψ = 0, ∂Ψ/∂n = (ŷ × r)·n on the wall, the bottom and the lid) maximizes
+    2∮ψ g dA − ∫|∇ψ|² dV, whose maximum is J/ρ = ∫|∇Ψ|² dV (Kelvin): a lower bound that rises
+    to J as the trial space grows. Trial functions ψ = cos θ · r Z(z) S(r²/R²) (odd Legendre
+    polynomials Z in z/c, Legendre S in 2r²/R² − 1; c = h/2, z from the CM), the θ integrals
+    done by hand (∫cos² = ∫sin² = π), r and z by Gauss–Legendre (exact for these polynomials)."""
+    from numpy.polynomial import legendre as leg
+
+    c = h / 2.0
+    r, wr = _gauss(nq, 0.0, radius)
+    z, wz = _gauss(nq, -c, c)
+    s = (r / radius) ** 2
+    zs = [np.eye(a + 1)[a] for a in range(1, 2 * order, 2)]
+    ss = [np.eye(b + 1)[b] for b in range(order)]
+    f, fr, fo, fz, g = [], [], [], [], []
+    for cz in zs:
+        zv, dz = leg.legval(z / c, cz), leg.legval(z / c, leg.legder(cz)) / c
+        for cs in ss:
+            sv, ds = leg.legval(2 * s - 1, cs), 2.0 * leg.legval(2 * s - 1, leg.legder(cs))
+            fo.append(np.outer(sv, zv))  # f / r
+            fr.append(np.outer(sv + 2 * s * ds, zv))  # ∂f/∂r
+            fz.append(np.outer(r * sv, dz))  # ∂f/∂z
+            # g: the wall (z cos θ, f at r = R) and the lid and bottom (∓ r cos θ, f odd in z)
+            wall = np.pi * radius * np.sum(wz * radius * leg.legval(1.0, cs) * zv * z)
+            lids = -2.0 * np.pi * np.sum(wr * r * sv * leg.legval(1.0, cz) * r * r)
+            g.append(wall + lids)
+    w = np.outer(wr * r, wz)
+    k = np.pi * sum(np.einsum("irz,jrz,rz->ij", d, d, w) for d in (np.array(fr), np.array(fo), np.array(fz)))
+    g = np.array(g)
+    return float(g @ np.linalg.solve(k, g))
+
+
+@pytest.mark.parametrize("hr", H_OVER_R)
+def test_fixed_inertia_is_the_lid_inertia_less_the_masses(flows, hr):
+    # I0 = J − m0 l0² − Σ mn ln², with J by the Ritz method and mn, ln (and so m0, l0) from the
+    # potential-flow quadrature: the model's kinetic energy in any motion of the tank is the
+    # liquid's (docs/flexibility.md, "The fixed liquid's moment of inertia").
+    h = hr * R
+    params = _tank(hr)
+    m_liquid = RHO * math.pi * R * R * h
+    j = RHO * lid_inertia_ritz(R, h)
+    sloshing = [flows[(hr, n)] for n in range(1, MODES + 1)]
+    m0 = m_liquid - sum(f["mass"] for f in sloshing)
+    l0 = -sum(f["mass"] * f["height"] for f in sloshing) / m0
+    i0 = j - m0 * l0**2 - sum(f["mass"] * f["height"] ** 2 for f in sloshing)
+    rigid = m_liquid * (R * R / 4 + h * h / 12)
+    assert params.fixed_inertia == pytest.approx(i0, abs=1e-8 * rigid)
+    # The Ritz value is a lower bound: the core's J is not below it.
+    j_core = params.fixed_inertia + params.fixed_mass * params.fixed_height**2 + sum(m.mass * m.height**2 for m in params.modes)
+    assert j_core >= j - 1e-12 * rigid
+    assert 0.0 < params.fixed_inertia < j_core < rigid  # the lid flow lags the rigid body
+
+
+@pytest.mark.parametrize("model", ["spring-mass", "pendulum"])
+def test_built_tank_pitches_with_the_lid_inertia(model):
+    # With the sloshing masses held at rest, the built model (masses at ln, fixed mass with I0)
+    # has the liquid's rigid-lid pitching inertia J about the liquid's CM, and none about the
+    # tank axis (an ideal liquid does not turn with an axisymmetric tank).
+    h = 1.0 * R
+    params = _tank(1.0)
+    b = spacearm.Robot.builder("tank-sat", base_mass=500.0, base_inertia=[50.0, 60.0, 70.0])
+    params.add_to(b, "prop", center=(0, 0, 0), axis=(0, 0, 1), lateral=(1, 0, 0), model=model)
+    robot = b.build()
+    h0 = robot.mass_matrix(robot.neutral_configuration())[3:6, 3:6]
+    j = RHO * lid_inertia_ritz(R, h)
+    np.testing.assert_allclose(np.diag(h0) - [50.0, 60.0, 70.0], [j, j, 0.0], atol=1e-8 * params.liquid_mass * R * R)

@@ -337,7 +337,8 @@ pub fn compliant_parts(
 
 /// The equivalent mechanical model of the liquid in an upright flat-bottomed cylinder (core
 /// `model::slosh_tank::cylinder_slosh`): a dict with `liquid_mass`, `fill_height`, `radius`,
-/// `axial_acceleration`, `liquid_cm_height`, `fixed_mass`, `fixed_height` and `modes`, a list of
+/// `axial_acceleration`, `liquid_cm_height`, `fixed_mass`, `fixed_height`, `fixed_inertia` (None for a
+/// sphere) and `modes`, a list of
 /// dicts with `mass`, `height`, `frequency`, `stiffness`, `length`.
 #[pyfunction]
 #[pyo3(signature = (radius, fill_height, liquid_mass, axial_acceleration, modes=1))]
@@ -373,6 +374,7 @@ fn tank_slosh_to_py(py: Python<'_>, t: &spacearm_core::model::slosh_tank::TankSl
     out.set_item("liquid_cm_height", t.liquid_cm_height)?;
     out.set_item("fixed_mass", t.fixed_mass)?;
     out.set_item("fixed_height", t.fixed_height)?;
+    out.set_item("fixed_inertia", t.fixed_inertia)?;
     let list = t
         .modes
         .iter()

@@ -41,7 +41,10 @@ class SloshParameters:
     ``fixed_mass`` at ``fixed_height`` above the liquid's CM (so the model's CM is the liquid's),
     the ``damping_ratio`` given and the tank it came from. ``liquid_cm_height``: the liquid's CM
     above the tank's bottom (``fill_height / 2`` in a cylinder, ``h (8R − 3h) / (4 (3R − h))``
-    above the bottom pole of a sphere; from the core), where ``add_to``'s ``center`` goes."""
+    above the bottom pole of a sphere; from the core), where ``add_to``'s ``center`` goes.
+    ``fixed_inertia``: the fixed mass's moment of inertia ``I₀`` about a lateral axis through its
+    CM (kg·m², the liquid's rigid-lid pitching inertia less the masses' ``m ℓ²``; from the core)
+    for a cylinder, ``None`` for a sphere (not computed: docs/flexibility.md)."""
 
     tank: str
     radius: float
@@ -53,13 +56,15 @@ class SloshParameters:
     fixed_mass: float
     fixed_height: float
     liquid_cm_height: float
+    fixed_inertia: Optional[float] = None
 
     def add_to(self, builder, name: str, *, parent: str = "base", center: Sequence[float] = (0.0, 0.0, 0.0),
                axis: Sequence[float] = (0.0, 0.0, 1.0), lateral: Optional[Sequence[float]] = None,
-               model: str = "spring-mass"):
+               model: str = "spring-mass", thrust: bool = False):
         """Add the modes (``name_1``, ``name_2``, …) with
         [`RobotBuilder.add_slosh`][spacearm.RobotBuilder.add_slosh] and the fixed mass
-        (``name_fixed``, a point mass) with
+        (``name_fixed``: a point mass with the moment of inertia ``fixed_inertia`` about the
+        lateral axes, none about the tank axis; a point mass where it is ``None``) with
         [`RobotBuilder.attach_payload`][spacearm.RobotBuilder.attach_payload]; returns ``builder``.
 
         ``center``: the liquid's CM in ``parent``'s frame (from its CM, m); ``axis``: the tank's
@@ -69,7 +74,22 @@ class SloshParameters:
         ``center + height·axis``, sliding along ``lateral``), ``"pendulum"`` (hinged at
         ``center + (height + length)·axis``, the bob hanging along ``-axis``, swinging along
         ``lateral``) or ``"spherical-pendulum"``. The dampers are ``2 ζ m ω`` (per joint, times
-        ``length²`` for the pendulums)."""
+        ``length²`` for the pendulums).
+
+        ``thrust``: how the vehicle's axial acceleration ``a`` acts on the modes
+        (docs/flexibility.md, "Slosh under thrust: which model holds which moment").
+        ``False`` (the default): the joint springs stand for it (``k = m ω²``, or ``m a L`` on a
+        pendulum joint), for a simulation with no thrust force: the lateral forces and the
+        clamped-tank frequencies are right, but the moment on the tank is ``k x ℓ`` (arm ``ℓ``),
+        without the displaced weight ``m a x``, and the spring-mass and pendulum are the same
+        model. ``True``: the in-field models, for a simulation that applies the thrust (``M a``
+        along ``axis``, ``M`` the vehicle's mass) as a force on the vehicle: the pendulums get no
+        joint spring (the vehicle's acceleration restores them, ``ω² = a/L`` on a clamped tank),
+        the spring-mass keeps its spring and its joint carries the mass's axial inertia force;
+        both then put the moment ``k x (ℓ + L)`` on the tank, the wall and bottom pressure moment
+        of the potential flow."""
+        if not isinstance(thrust, (bool, np.bool_)):
+            raise ArgumentError(f"add_to: thrust must be True or False, got {thrust!r}")
         if model not in ("spring-mass", "pendulum", "spherical-pendulum"):
             raise ArgumentError(f"slosh model must be 'spring-mass', 'pendulum' or 'spherical-pendulum', got {model!r}")
         c = vector(center, "tank center", 3)
@@ -94,10 +114,14 @@ class SloshParameters:
                 builder.add_slosh(mode_name, parent=parent, model=model, mass=m.mass, position=c + m.height * e, axis=lat,
                                   frequency=m.frequency, damping=2.0 * zeta * m.mass * m.frequency)
             else:
+                # In the field (thrust=True) the vehicle's acceleration restores the bob: no spring.
+                restoring = {"stiffness": 0.0} if thrust else {"frequency": m.frequency}
                 builder.add_slosh(mode_name, parent=parent, model=model, mass=m.mass, position=c + (m.height + m.length) * e,
-                                  axis=-e, length=m.length, hinge=np.cross(e, lat), frequency=m.frequency,
+                                  axis=-e, length=m.length, hinge=np.cross(e, lat), **restoring,
                                   damping=2.0 * zeta * m.mass * m.length**2 * m.frequency)
-        builder.attach_payload(f"{name}_fixed", body=parent, mass=self.fixed_mass, origin=c + self.fixed_height * e)
+        i0 = 0.0 if self.fixed_inertia is None else float(self.fixed_inertia)
+        builder.attach_payload(f"{name}_fixed", body=parent, mass=self.fixed_mass, origin=c + self.fixed_height * e,
+                               inertia=i0 * (np.eye(3) - np.outer(e, e)))
         return builder
 
 
@@ -172,4 +196,5 @@ def slosh_parameters(tank: str = "cylinder", *, radius: float, axial_acceleratio
         tank=tank, radius=out["radius"], fill_height=out["fill_height"], liquid_mass=out["liquid_mass"],
         axial_acceleration=out["axial_acceleration"], damping_ratio=zeta, modes=tuple(SloshMode(**m) for m in out["modes"]),
         fixed_mass=out["fixed_mass"], fixed_height=out["fixed_height"], liquid_cm_height=out["liquid_cm_height"],
+        fixed_inertia=out["fixed_inertia"],
     )

@@ -21,7 +21,11 @@
 //! model, given as a `stiffness` or as the mode's `frequency` ω on a clamped tank: `k = m ω²`
 //! for the spring–mass, `k = m L² ω²` for each pendulum joint (the small-swing frequency of
 //! a pendulum in an acceleration field `a` is `√(a/L)`, so `ω` is that of the design
-//! acceleration).
+//! acceleration). A joint spring is an internal force: it gives the mode's lateral force but not
+//! the thrust's moment on the vehicle when the liquid is displaced (the displaced weight
+//! `m a x`); for that, a pendulum takes no spring (`Stiffness(0.0)`) and the thrust is applied
+//! to the vehicle as a base force, which accelerates the tank and so restores the bob
+//! (docs/flexibility.md, "Slosh under thrust: which model holds which moment").
 
 use crate::error::{ModelError, ModelField, ModelItem};
 use crate::model::builder::{LinkSpec, ModelBuilder};

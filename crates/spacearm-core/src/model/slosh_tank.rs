@@ -23,7 +23,19 @@
 //!   from a hinge at `ℓₙ + Lₙ` (the moment of the pendulum's rod force about the tank then equals
 //!   the spring–mass model's, its force and its displaced weight);
 //! - the fixed (non-sloshing) mass `m₀ = m_L − Σ mₙ` at `ℓ₀ = −Σ mₙ ℓₙ / m₀`, so that the model's
-//!   centre of mass is the liquid's.
+//!   centre of mass is the liquid's;
+//! - the fixed mass's moment of inertia about a lateral axis through its CM,
+//!   `I₀ = J − m₀ ℓ₀² − Σ mₙ ℓₙ²`, with `J` the pitching inertia of the liquid under a rigid lid
+//!   about its CM (the Stokes–Zhukovsky potential `Ψ = x z + χ` of the closed cylinder; `χ` a
+//!   Dini series in `J₁(ξₙ r/R) sinh(ξₙ z/R)`):
+//!   `J = m_L [h²/12 − 3R²/4 + (16R³/h) Σₙ tanh(ξₙ h/2R) / (ξₙ³ (ξₙ² − 1))]`, the sum over all
+//!   the zeros of `J₁′`. With the liquid's velocity split into the lid flow and the sloshing
+//!   modes, the model then has the liquid's kinetic energy in any motion of the tank: the modes'
+//!   coupling to the lid flow is `mₙ ℓₙ` (their `H_y`), the modes not in the model move with the
+//!   fixed mass. `J → m_L (R²/4 + h²/12)` (the rigid liquid's) for a deep or a shallow fill, and
+//!   dips to about `0.16` of it near `h = 2R`. About the tank axis the ideal liquid does not turn
+//!   with an axisymmetric tank: no axial moment. Checked against a Ritz solution by quadrature in
+//!   `tests/model/test_slosh_potential_flow.py`.
 //!
 //! In weightless coasting (`a → 0`) the restoring force vanishes: `ω → 0` and the liquid's
 //! position is set by surface tension (a low-Bond-number regime this model does not describe),
@@ -80,6 +92,9 @@ pub struct TankSlosh {
     pub fixed_mass: f64,
     /// Its height above the liquid's centre of mass, m (`ℓ₀`).
     pub fixed_height: f64,
+    /// Its moment of inertia about a lateral axis through its CM, kg·m² (`I₀`, module docs), where
+    /// the model defines it (the cylinder); `None` where it does not (the sphere).
+    pub fixed_inertia: Option<f64>,
 }
 
 impl TankSlosh {
@@ -95,8 +110,42 @@ impl TankSlosh {
             return Err(SpacearmError::argument(format!("the slosh masses ({sloshing} kg) exceed the liquid's ({liquid_mass} kg)")));
         }
         let fixed_height = -modes.iter().map(|m| m.mass * m.height).sum::<f64>() / fixed_mass;
-        Ok(TankSlosh { liquid_mass, fill_height, radius, axial_acceleration, liquid_cm_height, modes, fixed_mass, fixed_height })
+        Ok(TankSlosh { liquid_mass, fill_height, radius, axial_acceleration, liquid_cm_height, modes, fixed_mass, fixed_height, fixed_inertia: None })
     }
+
+    /// This model with the fixed mass's moment of inertia `I₀ = J − m₀ ℓ₀² − Σ mₙ ℓₙ²` for the
+    /// liquid's pitching inertia `J` under a rigid lid about its CM (module docs). An error if
+    /// it is negative (a `J` below the masses' own: not this model's liquid).
+    pub fn with_lid_inertia(mut self, lid_inertia: f64) -> Result<Self> {
+        let i0 = lid_inertia - self.fixed_mass * self.fixed_height.powi(2) - self.modes.iter().map(|m| m.mass * m.height.powi(2)).sum::<f64>();
+        if !(i0.is_finite() && i0 >= 0.0) {
+            return Err(SpacearmError::argument(format!("the fixed liquid's moment of inertia came out as {i0} kg m^2 (from the lid inertia {lid_inertia})")));
+        }
+        self.fixed_inertia = Some(i0);
+        Ok(self)
+    }
+}
+
+/// The `n`-th zero of `J₁′` (from 1): the table, then McMahon's expansion
+/// `β − 7/(8β) − 4·431/(3 (8β)³)`, `β = (n − 1/4) π` (Abramowitz & Stegun 9.5.13 with μ = 4; its
+/// error is 2.7e-6 at n = 5, 1.0e-6 at n = 6, and falls about as n⁻⁵; in the sum it moves `J` by
+/// under 1e-10 of itself).
+fn j1_prime_zero(n: usize) -> f64 {
+    if n <= BESSEL_J1_PRIME_ZEROS.len() {
+        return BESSEL_J1_PRIME_ZEROS[n - 1];
+    }
+    let beta = (n as f64 - 0.25) * std::f64::consts::PI;
+    let b8 = 8.0 * beta;
+    beta - 7.0 / b8 - 4.0 * 431.0 / (3.0 * b8.powi(3))
+}
+
+/// The pitching moment of inertia about its CM of the liquid filling a closed upright cylinder
+/// of radius `R` and height `h` (a rigid lid at the free surface), kg·m² (module docs).
+pub fn cylinder_lid_inertia(radius: f64, fill_height: f64, liquid_mass: f64) -> f64 {
+    let (r, h) = (radius, fill_height);
+    // Σ tanh(ξ h/2R)/(ξ³ (ξ² − 1)): terms fall as ξ⁻⁵ (≈ (π n)⁻⁵); 400 terms leave < 1e-14.
+    let sum: f64 = (1..=400).map(j1_prime_zero).map(|xi| (0.5 * xi * h / r).tanh() / (xi.powi(3) * (xi * xi - 1.0))).sum();
+    liquid_mass * (h * h / 12.0 - 0.75 * r * r + 16.0 * r.powi(3) / h * sum)
 }
 
 /// `v`, when finite and > 0; else an argument error naming `what`.
@@ -139,7 +188,7 @@ pub fn cylinder_slosh(radius: f64, fill_height: f64, liquid_mass: f64, axial_acc
             SloshMode::from_frequency_squared(mass, 0.5 * h - 2.0 * r / xi * (0.5 * xi * h / r).tanh(), w2, a)
         })
         .collect();
-    TankSlosh::from_modes(m_l, h, r, a, 0.5 * h, modes)
+    TankSlosh::from_modes(m_l, h, r, a, 0.5 * h, modes)?.with_lid_inertia(cylinder_lid_inertia(r, h, m_l))
 }
 
 #[cfg(test)]
@@ -186,5 +235,21 @@ mod tests {
             assert!(moment.abs() < 1e-12);
         }
         assert!(cylinder_slosh(r, 1.0, m, 0.0, 1).is_err());
+    }
+
+    #[test]
+    fn lid_inertia_limits_and_mcmahon_zeros() {
+        // McMahon's expansion continues the table: at n = 5 it is within 3e-6 of the zero.
+        let beta = 4.75 * std::f64::consts::PI;
+        let b8 = 8.0 * beta;
+        assert!((beta - 7.0 / b8 - 4.0 * 431.0 / (3.0 * b8.powi(3)) - BESSEL_J1_PRIME_ZEROS[4]).abs() < 3e-6);
+        // Deep and shallow fills: the rigid liquid's m (R²/4 + h²/12), to O(R/h) and O(h²).
+        let rigid = |r: f64, h: f64| r * r / 4.0 + h * h / 12.0;
+        assert!((cylinder_lid_inertia(1.0, 200.0, 1.0) / rigid(1.0, 200.0) - 1.0).abs() < 1e-3);
+        let shallow = cylinder_lid_inertia(1.0, 1e-3, 1.0);
+        assert!((shallow - (0.25 - 0.25e-6)).abs() < 1e-9, "{shallow}");
+        // The cylinder model has it, non-negative; the modes and m₀ hold less than J.
+        let t = cylinder_slosh(0.5, 0.5, 100.0, 0.2, 3).unwrap();
+        assert!(t.fixed_inertia.unwrap() > 0.0);
     }
 }
