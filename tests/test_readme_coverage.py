@@ -44,3 +44,12 @@ def test_the_readme_and_getting_started_name_every_extra():
     words = {8: "eight", 9: "nine", 10: "ten", 7: "seven"}
     assert f"every one of these {words[n]}" in paragraph
     assert f"| `all` | the {words[n]} above |" in GETTING_STARTED
+
+
+def test_no_page_lists_as_missing_what_it_documents():
+    # Issue 37 item 6: flexibility.md's "Not yet" listed spherical tanks, documented on the
+    # same page ("Spherical tanks").
+    page = (ROOT / "docs" / "flexibility.md").read_text(encoding="utf-8")
+    not_yet = page[page.index("## Not yet"):]
+    assert "## Spherical tanks" in page or "Spherical tanks" in page
+    assert "route for a **spherical** tank" not in not_yet
