@@ -27,7 +27,7 @@ from ..errors import ArgumentError, SpacearmError
 from ..model.slosh import TANKS
 from .._util.pickling import reduce_through_constructor as _reduce_through_constructor
 
-__all__ = ["Fixed", "Uniform", "Normal", "LogNormal", "Tank", "Panel", "Flexibility", "FLEX_PARAMETER_UNITS"]
+__all__ = ["Fixed", "Uniform", "Normal", "LogNormal", "Tank", "Panel", "Flexibility", "FLEX_PARAMETER_UNITS", "FLEX_PARAMETER_DOMAINS"]
 
 #: The unit of each flexibility parameter (a result file's extra ``params`` columns).
 FLEX_PARAMETER_UNITS = {
