@@ -56,3 +56,16 @@ def test_velocities_that_overflow_the_impact_are_refused_not_returned_as_nan(kin
     s[:3] = robot.point_position(x) - target.grasp_position(s)
     with pytest.raises(spacearm.errors.NonFiniteError, match="overflow"):
         grasp_impulse(robot, x, u, target, s, kind=kind)
+
+
+def test_impulse_dynamics_of_an_ill_conditioned_contact_is_refused():
+    # The one-model impact solves the same kind of system, J H⁻¹ Jᵀ Λ = −(1 + e) J u⁻.
+    robot, x, u, _, _ = _case(1e12, 1e9, 1e-8, 1.0)
+    j0, jm = robot.point_jacobian(x, "ee")
+    jac = np.hstack([j0, jm])
+    with pytest.raises(spacearm.SingularError, match="contact velocity .* more than the 1e-6 allowed"):
+        spacearm._core.impulse_dynamics(robot.core_model, x, u, jac)
+    good, xg, ug, _, _ = _case(300.0, 20.0, 5.0, 100.0)
+    j0, jm = good.point_jacobian(xg, "ee")
+    r = spacearm._core.impulse_dynamics(good.core_model, xg, ug, np.hstack([j0, jm]))
+    assert np.linalg.norm(np.hstack([j0, jm]) @ r.u_after) <= 1e-12 * np.linalg.norm(np.hstack([j0, jm]) @ ug)

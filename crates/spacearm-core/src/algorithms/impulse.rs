@@ -135,7 +135,9 @@ pub struct ImpulseDynamics {
 
 /// Impulse dynamics of one model (Pinocchio's `impulseDynamics`): the velocity after an impact
 /// through the contact Jacobian `jacobian` (m × (6+N)) from `u_before`, with Newton's
-/// restitution `e` in [0, 1] (`J u⁺ = −e J u⁻`) and the joints free or locked.
+/// restitution `e` in [0, 1] (`J u⁺ = −e J u⁻`) and the joints free or locked. An impulse that
+/// does not meet that law to within [`GRASP_RESIDUAL_TOLERANCE`] (an ill-conditioned `J H⁻¹ Jᵀ`)
+/// is a `Singular` error, an overflow a `NonFinite` one.
 pub fn impulse_dynamics(
     model: &Model,
     data: &mut Data,
@@ -153,7 +155,10 @@ pub fn impulse_dynamics(
     let impulse = solve_delassus(&r.delassus, &rhs, "the Delassus operator J H⁻¹ Jᵀ (the contact rows are dependent)")?;
     let du = &r.response * &impulse;
     let locking_impulse = (&r.mass_matrix * &du - jacobian.transpose() * &impulse).rows(6, model.n_dof()).into_owned();
-    Ok(ImpulseDynamics { u_after: &u + &du, du, impulse, delassus: r.delassus, locking_impulse })
+    let u_after = &u + &du;
+    // The contact law the impulse was solved from, checked as the grasp's is.
+    check_rows_law(&r.delassus, &impulse, &(jacobian * &u), &(jacobian * &u_after), restitution)?;
+    Ok(ImpulseDynamics { u_after, du, impulse, delassus: r.delassus, locking_impulse })
 }
 
 /// The inverse inertia at a point of `model` (docs/capture.md, "The grasp impact"): an impulse
@@ -398,13 +403,43 @@ fn check_contact_law(
     };
     if residual > GRASP_RESIDUAL_TOLERANCE * scale {
         return Err(SpacearmError::Singular(format!(
-            "the grasp's inverse inertia G_robot + G_target (condition number {:.2e}): the solved impulse leaves a relative \
+            "the grasp's inverse inertia G_robot + G_target (condition number {}): the solved impulse leaves a relative \
              twist of {residual:.3e} against {scale:.3e} before the impact, more than the {GRASP_RESIDUAL_TOLERANCE:e} allowed \
              (masses or inertias too many orders of magnitude apart for double precision)",
-            spd_condition(g)
+            condition_words(spd_condition(g))
         )));
     }
     Ok(())
+}
+
+/// [`check_contact_law`] for contact rows of any number: every row meets `J u⁺ = −e J u⁻`.
+fn check_rows_law(g: &DMatrix<f64>, lam: &DVector<f64>, v_before: &DVector<f64>, v_after: &DVector<f64>, restitution: f64) -> Result<()> {
+    if let Some(index) = lam.iter().chain(v_after.iter()).position(|v| !v.is_finite()) {
+        let value = lam.iter().chain(v_after.iter()).nth(index).copied().unwrap_or(f64::NAN);
+        return Err(SpacearmError::NonFinite {
+            what: format!("the contact impulse and velocity (from a contact velocity of norm {:.3e}: velocities that large overflow)", v_before.norm()),
+            index,
+            value,
+        });
+    }
+    let (residual, scale) = ((v_after + restitution * v_before).norm(), v_before.norm());
+    if residual > GRASP_RESIDUAL_TOLERANCE * scale {
+        return Err(SpacearmError::Singular(format!(
+            "the Delassus operator J H⁻¹ Jᵀ (condition number {}): the solved impulse leaves a contact velocity of {residual:.3e} \
+             against {scale:.3e} before the impact, more than the {GRASP_RESIDUAL_TOLERANCE:e} allowed",
+            condition_words(spd_condition(g))
+        )));
+    }
+    Ok(())
+}
+
+/// A condition number for a message: `1.2e17`, or "beyond double precision" when infinite.
+fn condition_words(c: f64) -> String {
+    if c.is_finite() {
+        format!("{c:.2e}")
+    } else {
+        "beyond double precision".to_string()
+    }
 }
 
 /// The impact between the robot's grasp point and a target model (module docs): the robot at
