@@ -183,6 +183,16 @@ mod tests {
     }
 
     #[test]
+    fn a_batch_too_large_for_memory_is_refused_before_it_is_built() {
+        let model = spatial6();
+        assert!(admit_batch(&model, 1000).is_ok());
+        let err = admit_batch(&model, 1_000_000).unwrap_err();
+        assert!(matches!(err, SpacearmError::ResourceLimit(_)), "{err}");
+        assert!(err.to_string().contains("a batch of 1000000 copies of"), "{err}");
+        assert!(admit_batch(&model, 0).is_err());
+    }
+
+    #[test]
     fn a_batch_step_is_each_copy_stepped_alone() {
         let model = spatial6();
         let opts = SimOptions { dt: 1e-3, ..SimOptions::default() };

@@ -623,6 +623,17 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_circular_orbit_is_above_the_surface_and_a_propagation_has_a_budget() {
+        for h in [0.0, -100e3, -EARTH.radius + 1.0, f64::NAN] {
+            let err = Orbit::circular(EARTH, h, 0.0, 0.0, 0.0, false).unwrap_err().to_string();
+            assert!(err.contains("above the central body's surface"), "{err}");
+        }
+        let o = Orbit::circular(EARTH, 1.0, 0.0, 0.0, 0.0, false).unwrap();
+        let err = o.propagate(&[1e12], 1e-12).unwrap_err().to_string();
+        assert!(err.contains(&format!("budget of {ORBIT_MAX_STEPS} DOPRI5 steps")) && err.contains("reached only t = "), "{err}");
+    }
+
+    #[test]
     fn elements_round_trip() {
         let el = Elements { a: 7.2e6, e: 0.05, i: 0.9, raan: 1.1, argp: 2.3, true_anomaly: 4.0 };
         let (r, v) = el.to_state(EARTH.mu);
