@@ -126,3 +126,15 @@ def test_a_pickle_cannot_rebuild_other_classes_through_the_helper():
 
     with pytest.raises(errors.SpacearmTypeError):
         rebuild(dict, {})
+
+
+def test_a_tampered_trajectory_is_refused():
+    robot = spacearm.presets.planar4()
+    traj = spacearm.simulate(robot, 0.02, dt=0.01)
+    back = pickle.loads(pickle.dumps(traj))
+    assert np.array_equal(back.x, traj.x) and back.meta == traj.meta
+    bad = copy.copy(traj)
+    bad._data = dict(traj._data, u=traj.u[:, :3])
+    # Before: loaded with a u of the wrong width.
+    with pytest.raises(errors.ShapeError, match="'u' must have shape"):
+        pickle.loads(pickle.dumps(bad))
