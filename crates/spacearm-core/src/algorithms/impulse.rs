@@ -360,10 +360,43 @@ fn spd_condition(g: &DMatrix<f64>) -> f64 {
     }
 }
 
-/// Refuse a grasp impact whose numbers are not finite (velocities so large that the impact
-/// overflows) or whose impulse does not meet the contact law it was solved from (module docs;
-/// [`GRASP_RESIDUAL_TOLERANCE`]): a `NonFinite` or a `Singular` error naming the residual and
-/// the condition number of `G_r + G_t`, never a result with a residual twist or a NaN energy.
+/// A `NonFinite` error for the first value of `parts` that is not finite (velocities so large
+/// that the impact's arithmetic overflows; `v_before` is the contact velocity before).
+fn check_impact_finite(parts: &[(&str, &[f64])], v_before: &DVector<f64>) -> Result<()> {
+    for (what, values) in parts {
+        if let Some(index) = values.iter().position(|v| !v.is_finite()) {
+            return Err(SpacearmError::NonFinite {
+                what: format!(
+                    "{what} (from a contact velocity of norm {:.3e} before the impact: velocities that large overflow the impact's \
+                     arithmetic)",
+                    v_before.norm()
+                ),
+                index,
+                value: values[index],
+            });
+        }
+    }
+    Ok(())
+}
+
+/// A `Singular` error naming `system` (`g`, with its condition number) when the solved impulse
+/// leaves the `residual` of the contact law against the contact velocity `scale` before the
+/// impact, more than [`GRASP_RESIDUAL_TOLERANCE`] of it.
+fn check_residual(system: &str, g: &DMatrix<f64>, residual: f64, scale: f64) -> Result<()> {
+    if residual > GRASP_RESIDUAL_TOLERANCE * scale {
+        return Err(SpacearmError::Singular(format!(
+            "{system} (condition number {}): the solved impulse leaves a contact velocity of {residual:.3e} against {scale:.3e} \
+             before the impact, more than the {GRASP_RESIDUAL_TOLERANCE:e} allowed (masses or inertias too many orders of \
+             magnitude apart for double precision)",
+            condition_words(spd_condition(g))
+        )));
+    }
+    Ok(())
+}
+
+/// Refuse a grasp impact whose numbers are not finite or whose impulse does not meet the
+/// contact law it was solved from (module docs; [`GRASP_RESIDUAL_TOLERANCE`]): rigid, all six
+/// rows `v⁺ = −e v⁻`; point, the normal row (nothing to meet when the contact separates).
 #[allow(clippy::too_many_arguments)]
 fn check_contact_law(
     g: &DMatrix<f64>,
@@ -377,23 +410,10 @@ fn check_contact_law(
 ) -> Result<()> {
     let parts: [(&str, &[f64]); 3] =
         [("the grasp impulse", lam.as_slice()), ("the relative twist after the grasp", v_after.as_slice()), ("the grasp's energy lost", &[energy_lost])];
-    for (what, values) in parts {
-        if let Some(index) = values.iter().position(|v| !v.is_finite()) {
-            return Err(SpacearmError::NonFinite {
-                what: format!(
-                    "{what} (from a relative twist of norm {:.3e} before the impact: velocities that large overflow the impact's \
-                     arithmetic)",
-                    v_before.norm()
-                ),
-                index,
-                value: values[index],
-            });
-        }
-    }
+    check_impact_finite(&parts, v_before)?;
     let (residual, scale) = match (contact, normal) {
         (GraspContact::Point { .. }, Some(n)) => {
             let (vb, va) = (n.dot(&v_before.fixed_rows::<3>(0)), n.dot(&v_after.fixed_rows::<3>(0)));
-            // A separating contact gets no impulse: nothing to meet.
             if vb >= 0.0 {
                 return Ok(());
             }
@@ -401,36 +421,13 @@ fn check_contact_law(
         }
         _ => ((v_after + restitution * v_before).norm(), v_before.norm()),
     };
-    if residual > GRASP_RESIDUAL_TOLERANCE * scale {
-        return Err(SpacearmError::Singular(format!(
-            "the grasp's inverse inertia G_robot + G_target (condition number {}): the solved impulse leaves a relative \
-             twist of {residual:.3e} against {scale:.3e} before the impact, more than the {GRASP_RESIDUAL_TOLERANCE:e} allowed \
-             (masses or inertias too many orders of magnitude apart for double precision)",
-            condition_words(spd_condition(g))
-        )));
-    }
-    Ok(())
+    check_residual("the grasp's inverse inertia G_robot + G_target", g, residual, scale)
 }
 
 /// [`check_contact_law`] for contact rows of any number: every row meets `J u⁺ = −e J u⁻`.
 fn check_rows_law(g: &DMatrix<f64>, lam: &DVector<f64>, v_before: &DVector<f64>, v_after: &DVector<f64>, restitution: f64) -> Result<()> {
-    if let Some(index) = lam.iter().chain(v_after.iter()).position(|v| !v.is_finite()) {
-        let value = lam.iter().chain(v_after.iter()).nth(index).copied().unwrap_or(f64::NAN);
-        return Err(SpacearmError::NonFinite {
-            what: format!("the contact impulse and velocity (from a contact velocity of norm {:.3e}: velocities that large overflow)", v_before.norm()),
-            index,
-            value,
-        });
-    }
-    let (residual, scale) = ((v_after + restitution * v_before).norm(), v_before.norm());
-    if residual > GRASP_RESIDUAL_TOLERANCE * scale {
-        return Err(SpacearmError::Singular(format!(
-            "the Delassus operator J H⁻¹ Jᵀ (condition number {}): the solved impulse leaves a contact velocity of {residual:.3e} \
-             against {scale:.3e} before the impact, more than the {GRASP_RESIDUAL_TOLERANCE:e} allowed",
-            condition_words(spd_condition(g))
-        )));
-    }
-    Ok(())
+    check_impact_finite(&[("the contact impulse", lam.as_slice()), ("the contact velocity after the impact", v_after.as_slice())], v_before)?;
+    check_residual("the Delassus operator J H⁻¹ Jᵀ", g, (v_after + restitution * v_before).norm(), v_before.norm())
 }
 
 /// A condition number for a message: `1.2e17`, or "beyond double precision" when infinite.
