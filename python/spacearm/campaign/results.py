@@ -97,8 +97,6 @@ class CampaignResult:
         for key in ("params", "metrics", "seconds"):
             if getattr(self, key).dtype != np.float64:
                 bad(f"{key} must be float64, got {getattr(self, key).dtype}")
-        if np.any(np.isinf(self.params)) or np.any(np.isinf(self.metrics)):
-            bad("params and metrics must not hold infinities")
         if np.any(self.seconds[~np.isnan(self.seconds)] < 0):
             bad("seconds must be >= 0 (or NaN for a sample not run)")
         if not all(isinstance(e, str) for e in self.error):
