@@ -138,3 +138,19 @@ def test_a_tampered_trajectory_is_refused():
     # Before: loaded with a u of the wrong width.
     with pytest.raises(errors.ShapeError, match="'u' must have shape"):
         pickle.loads(pickle.dumps(bad))
+
+
+def test_tampered_rollouts_are_refused():
+    robot = spacearm.presets.planar4()
+    x0 = np.tile(robot.neutral_configuration(), (2, 1))
+    runs = spacearm.rollout(robot, 0.02, x0, np.zeros((2, robot.nu)))
+    back = pickle.loads(pickle.dumps(runs))
+    assert np.array_equal(back.x, runs.x) and back.reason == runs.reason and not back.x.flags.writeable
+    for key, value in (("_ok", np.ones(3, dtype=bool)), ("_reason", [None]), ("_data", dict(runs._data, u=runs.u[:, :, :2]))):
+        state = dict(runs.__dict__)
+        state[key] = value
+        bad = object.__new__(type(runs))
+        bad.__dict__.update(state)
+        # Before: loaded with 3 flags for 2 rollouts, one reason, a u of the wrong width.
+        with pytest.raises(errors.ArgumentError, match="not a valid Rollouts"):
+            pickle.loads(pickle.dumps(bad))
