@@ -34,7 +34,7 @@ __all__ = [
     "model_to_toml", "momentum_scales", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
     "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts",
-    "cylinder_slosh", "sphere_slosh", "sphere_fill_height", "InputShaper", "soft_capture", "virtual_mass",
+    "cylinder_slosh", "sphere_slosh", "sphere_fill_height", "cylinder_fill_height", "InputShaper", "soft_capture", "virtual_mass",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -87,6 +87,9 @@ def sphere_slosh(radius: float, fill_height: float, liquid_mass: float, axial_ac
 
 def sphere_fill_height(radius: float, fill_fraction: float) -> float:
     """The fill height (m) of a sphere of ``radius`` holding ``fill_fraction`` of its volume."""
+
+def cylinder_fill_height(tank_height: float, fill_fraction: float) -> float:
+    """The fill height (m) of an upright cylinder of ``tank_height`` holding ``fill_fraction`` (in (0, 1)) of its height."""
 
 def slosh_links(name: str, parent: str, model: str, mass: float, position: Sequence[float], axis: Sequence[float],
                 hinge: Optional[Sequence[float]], length: Optional[float], stiffness: Optional[float],
@@ -1277,6 +1280,8 @@ class BatchSimulator:
     (crates/spacearm-py/src/batch_simulator_py.rs over sim/batch_stepper.rs)."""
 
     def __new__(cls, models: list[Model], x0: _ArrayLike, u0: _ArrayLike, options: RunOptions, threads: Optional[int] = None) -> BatchSimulator: ...
+    @staticmethod
+    def admit(model: Model, copies: int) -> None: ...
     def __len__(self) -> int: ...
     def reset(self, index: int, x0: _ArrayLike, u0: _ArrayLike, model: Optional[Model] = None) -> None: ...
     def step(self, tau: _ArrayLike, base_wrench: Optional[_ArrayLike] = None, n: int = 1) -> npt.NDArray[np.float64]: ...
@@ -1411,4 +1416,4 @@ class Orbit:
     def safety_ellipse(self, radial: float, *, cross_track: float = 0.0, along_track: float = 0.0) -> _Vec: ...
     def lvlh_to_run(self, rel: _ArrayLike, *, center: _ArrayLike | None = None, t: float = 0.0) -> _Vec: ...
     def run_to_lvlh(self, t: _ArrayLike, center: _ArrayLike, points: _ArrayLike) -> _Vec: ...
-    def tidal_torques(self, model: Model, x: _ArrayLike, *, t: float = 0.0) -> tuple[_Vec, _Vec, _Vec]: ...
+    def tidal_torques(self, model: Union[Model, Any], x: _ArrayLike, *, t: float = 0.0) -> tuple[_Vec, _Vec, _Vec]: ...

@@ -33,6 +33,7 @@ import numpy as _np
 from . import _core
 from ._util.arrays import quaternion as _quaternion, vector as _vector
 from .errors import ArgumentError as _ArgumentError
+from ._util.pickling import reduce_through_constructor as _reduce_through_constructor
 
 if _TYPE_CHECKING:  # the annotations' names (not evaluated at run time: no module-level name)
     from typing import Any, Callable, Sequence, Union
@@ -107,6 +108,8 @@ class QuinticJoint:
     """Joint-space rest-to-rest quintic from ``q_start`` to ``q_goal`` over ``[t_start, t_end]``
     (one entry per arm joint); holds ``q_start`` before and ``q_goal`` after."""
 
+    __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
+
     q_start: Sequence[float]
     q_goal: Sequence[float]
     t_start: float
@@ -143,6 +146,8 @@ class CartesianLine:
     """Straight-line path of a point from ``p_start`` to ``p_goal`` (m, in 𝒥) with quintic
     timing over ``[t_start, t_end]``. ``point``: the point that follows it (a point name, a
     body name, or ``(body, offset)``; default: the end effector)."""
+
+    __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
 
     p_start: Sequence[float]
     p_goal: Sequence[float]

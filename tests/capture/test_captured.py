@@ -52,12 +52,15 @@ def test_attach_carries_momentum_energy_and_pose():
 @pytest.mark.parametrize("quat, error", [
     ((0, 0, 0, 0), spacearm.errors.QuaternionError),
     ((0, 0, 0, 1e-300), spacearm.errors.QuaternionError),
+    ((0.0, 0.0, 2.0, 2.0), spacearm.errors.QuaternionError),
+    ((0, 0, 0, 1 + 2e-6), spacearm.errors.QuaternionError),
     ((np.nan, 0, 0, 1), spacearm.errors.NonFiniteError),
 ])
-def test_a_target_attitude_is_a_quaternion_with_a_direction(quat, error):
-    """A zero, round-off or NaN quaternion is refused by Target.state and check_state (issue 26:
-    Target.state accepted a zero quaternion); any other is normalized, to the attitude the
-    rotation matrix of the unit quaternion gives."""
+def test_a_target_attitude_is_a_unit_quaternion(quat, error):
+    """A zero, round-off, NaN or non-unit quaternion is refused by Target.state and check_state
+    (issue 26: a zero one was accepted; issue 38: one of any norm was normalized, where every
+    configuration's quaternion must be unit within the core's QUATERNION_TOLERANCE); one of
+    unit norm within the tolerance is normalized exactly."""
     target = spacearm.Target(50.0, [4.0, 5.0, 6.0])
     with pytest.raises(error, match="target quaternion"):
         target.state(quaternion=quat)
@@ -66,7 +69,9 @@ def test_a_target_attitude_is_a_quaternion_with_a_direction(quat, error):
     bad[3:7] = quat
     with pytest.raises(error, match="target"):
         target.check_state(bad)
-    s = target.state(quaternion=(0.0, 0.0, 2.0, 2.0))  # 90 deg about z, not of unit norm
+    h = np.sqrt(0.5) * (1 + 5e-7)  # 90 deg about z, norm 1 + 5e-7: within the tolerance
+    s = target.state(quaternion=(0.0, 0.0, h, h))
+    assert np.linalg.norm(s[3:7]) == pytest.approx(1.0, abs=1e-15)
     np.testing.assert_allclose(quat_to_matrix(s[3:7]), [[0, -1, 0], [1, 0, 0], [0, 0, 1]], atol=1e-15)
 
 

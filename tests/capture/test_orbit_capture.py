@@ -123,7 +123,7 @@ def test_tumble_under_its_gravity_gradient_against_scipy():
 
     inertia = np.diag([30.0, 20.0, 45.0])
     target = spacearm.Target(50.0, [30.0, 20.0, 45.0])
-    s = target.state(angular_velocity=(0.0, 0.0, 2e-3), quaternion=(0.1, 0.2, 0.0, 1.0))
+    s = target.state(angular_velocity=(0.0, 0.0, 2e-3), quaternion=np.array([0.1, 0.2, 0.0, 1.0]) / np.linalg.norm([0.1, 0.2, 0.0, 1.0]))
     t = np.linspace(0.0, 1500.0, 6)
     got = target.free_body(s, step=0.5, orbit=ORBIT).states(t)
 

@@ -364,6 +364,13 @@ pub fn sphere_fill_height(py: Python<'_>, radius: f64, fill_fraction: f64) -> Py
     spacearm_core::model::slosh_sphere::sphere_fill_height(radius, fill_fraction).or_raise(py)
 }
 
+/// The fill height (m) of an upright cylinder of `tank_height` holding `fill_fraction` of its
+/// height, in (0, 1) (core `model::slosh_tank::cylinder_fill_height`: a full tank does not slosh).
+#[pyfunction]
+pub fn cylinder_fill_height(py: Python<'_>, tank_height: f64, fill_fraction: f64) -> PyResult<f64> {
+    spacearm_core::model::slosh_tank::cylinder_fill_height(tank_height, fill_fraction).or_raise(py)
+}
+
 fn tank_slosh_to_py(py: Python<'_>, t: &spacearm_core::model::slosh_tank::TankSlosh) -> PyResult<Py<PyAny>> {
     use pyo3::types::PyDict;
     let out = PyDict::new(py);

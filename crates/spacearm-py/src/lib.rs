@@ -63,6 +63,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(builder_py::cylinder_slosh, m)?)?;
     m.add_function(wrap_pyfunction!(builder_py::sphere_slosh, m)?)?;
     m.add_function(wrap_pyfunction!(builder_py::sphere_fill_height, m)?)?;
+    m.add_function(wrap_pyfunction!(builder_py::cylinder_fill_height, m)?)?;
     m.add_class::<derivatives_py::PyDerivatives>()?;
     m.add_class::<description_py::PyModelDescription>()?;
     m.add_class::<description_py::PyBaseDescription>()?;

@@ -7,7 +7,7 @@ use nalgebra::Vector3;
 use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBool, PyDict};
 use spacearm_core::sim::orbit::{clohessy_wiltshire, lvlh_to_eci, safety_ellipse, CentralBody, Elements, Orbit, RelativeState, EARTH};
 use spacearm_core::SpacearmError;
 
@@ -16,6 +16,20 @@ use crate::sim_options_py::{refuse_unknown, type_name};
 
 fn bad(msg: String) -> SpacearmError {
     SpacearmError::InvalidArgument(msg)
+}
+
+/// The core model of `obj`: a `spacearm.Robot` (its `core_model`) or a `spacearm._core.Model`;
+/// anything else a `SpacearmTypeError` naming what was given.
+fn model_of<'py>(py: Python<'py>, obj: &Bound<'py, PyAny>) -> PyResult<Bound<'py, crate::model_py::PyModel>> {
+    if let Ok(m) = obj.cast::<crate::model_py::PyModel>() {
+        return Ok(m.clone());
+    }
+    let refuse = || type_error(py, format!("model must be a spacearm.Robot (or its core_model), got {}", type_name(obj)));
+    if !obj.hasattr("core_model").unwrap_or(false) {
+        return Err(refuse());
+    }
+    let inner = obj.getattr("core_model")?;
+    inner.cast::<crate::model_py::PyModel>().map(|m| m.clone()).map_err(|_| refuse())
 }
 
 /// A central body's gravity constants: μ (m³/s²), the equatorial radius R (m) and J2.
@@ -141,7 +155,14 @@ impl PyOrbit {
     /// and starting argument of latitude in rad; speed √(μ/a) (also with `j2=True`).
     #[staticmethod]
     #[pyo3(signature = (altitude, *, inclination=0.0, raan=0.0, arg_latitude=0.0, body=None, j2=false))]
-    fn circular(py: Python<'_>, altitude: f64, inclination: f64, raan: f64, arg_latitude: f64, body: Option<&Bound<'_, PyAny>>, j2: bool) -> PyResult<Self> {
+    fn circular(py: Python<'_>, altitude: &Bound<'_, PyAny>, inclination: f64, raan: f64, arg_latitude: f64, body: Option<&Bound<'_, PyAny>>, j2: bool) -> PyResult<Self> {
+        // A bool is not an altitude (Python would read True as 1 m).
+        if altitude.is_instance_of::<PyBool>() || matches!(type_name(altitude).as_str(), "bool" | "bool_") {
+            return Err(type_error(py, format!("orbit: the altitude must be a number of metres, got the bool {}", altitude.repr()?)));
+        }
+        let altitude: f64 = altitude
+            .extract()
+            .map_err(|_| type_error(py, format!("orbit: the altitude must be a number of metres, got {}", type_name(altitude))))?;
         let b = match body {
             Some(b) => central_body(py, b)?,
             None => EARTH,
@@ -365,10 +386,11 @@ impl PyOrbit {
     fn tidal_torques<'py>(
         &self,
         py: Python<'py>,
-        model: &Bound<'py, crate::model_py::PyModel>,
+        model: &Bound<'py, PyAny>,
         x: &Bound<'py, PyAny>,
         t: f64,
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+        let model = model_of(py, model)?;
         let x = vec_arg(x, "x")?.as_slice().to_vec();
         if !(t.is_finite() && t >= 0.0) {
             return Err(to_py_err(py, bad(format!("t must be finite and >= 0 s, got {t}"))));

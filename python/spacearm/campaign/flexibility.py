@@ -23,10 +23,11 @@ from typing import Dict, Optional, Tuple, Union
 
 import numpy as np
 
-from ..errors import ArgumentError
+from ..errors import ArgumentError, SpacearmError
 from ..model.slosh import TANKS
+from .._util.pickling import reduce_through_constructor as _reduce_through_constructor
 
-__all__ = ["Fixed", "Uniform", "Normal", "LogNormal", "Tank", "Panel", "Flexibility", "FLEX_PARAMETER_UNITS"]
+__all__ = ["Fixed", "Uniform", "Normal", "LogNormal", "Tank", "Panel", "Flexibility", "FLEX_PARAMETER_UNITS", "FLEX_PARAMETER_DOMAINS"]
 
 #: The unit of each flexibility parameter (a result file's extra ``params`` columns).
 FLEX_PARAMETER_UNITS = {
@@ -47,6 +48,8 @@ def _finite(value, what: str) -> float:
 class Fixed:
     """Always ``value`` (the nominal value too)."""
 
+    __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
+
     value: float
 
     def __post_init__(self):
@@ -59,6 +62,10 @@ class Fixed:
     def sample(self, z: float, u: float) -> float:
         return self.value
 
+    def support(self) -> Tuple[float, bool, float, bool]:
+        """``(low, low attained, high, high attained)``: the bounds of a draw."""
+        return (self.value, True, self.value, True)
+
     def to_dict(self) -> dict:
         return {"kind": "fixed", "value": self.value}
 
@@ -66,6 +73,8 @@ class Fixed:
 @dataclass(frozen=True)
 class Uniform:
     """Uniform on ``[low, high]``; nominal value the midpoint."""
+
+    __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
 
     low: float
     high: float
@@ -84,6 +93,10 @@ class Uniform:
     def sample(self, z: float, u: float) -> float:
         return self.low + (self.high - self.low) * u
 
+    def support(self) -> Tuple[float, bool, float, bool]:
+        """``(low, low attained, high, high attained)``: the bounds of a draw."""
+        return (self.low, True, self.high, True)
+
     def to_dict(self) -> dict:
         return {"kind": "uniform", "low": self.low, "high": self.high}
 
@@ -91,6 +104,8 @@ class Uniform:
 @dataclass(frozen=True)
 class Normal:
     """Normal with ``mean`` and standard deviation ``std``; nominal value the mean."""
+
+    __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
 
     mean: float
     std: float
@@ -108,6 +123,10 @@ class Normal:
     def sample(self, z: float, u: float) -> float:
         return self.mean + self.std * z
 
+    def support(self) -> Tuple[float, bool, float, bool]:
+        """``(low, low attained, high, high attained)``: unbounded unless ``std`` is 0."""
+        return (self.mean, True, self.mean, True) if self.std == 0 else (-math.inf, False, math.inf, False)
+
     def to_dict(self) -> dict:
         return {"kind": "normal", "mean": self.mean, "std": self.std}
 
@@ -115,6 +134,8 @@ class Normal:
 @dataclass(frozen=True)
 class LogNormal:
     """``median · exp(sigma z)``, ``z ~ N(0, 1)``: always of the median's sign; nominal value the median."""
+
+    __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
 
     median: float
     sigma: float
@@ -132,11 +153,46 @@ class LogNormal:
     def sample(self, z: float, u: float) -> float:
         return self.median * math.exp(self.sigma * z)
 
+    def support(self) -> Tuple[float, bool, float, bool]:
+        """``(low, low attained, high, high attained)``: from 0 (never drawn) to infinity, of the
+        median's sign (the median itself if ``sigma`` is 0)."""
+        if self.sigma == 0 or self.median == 0:
+            return (self.median, True, self.median, True)
+        return (0.0, False, math.inf, False) if self.median > 0 else (-math.inf, False, 0.0, False)
+
     def to_dict(self) -> dict:
         return {"kind": "lognormal", "median": self.median, "sigma": self.sigma}
 
 
 Distribution = Union[Fixed, Uniform, Normal, LogNormal]
+
+#: Where each flexibility parameter must lie, ``(low, low included, high, high included)``: a
+#: distribution that can draw outside is refused when the Flexibility is made (every such
+#: sample's plant would be refused). The tank's own rules (a full cylinder does not slosh, the
+#: shallowest fill of ``spacearm._core``'s slosh models) are checked by building the tank at the
+#: ends of the fill's range.
+FLEX_PARAMETER_DOMAINS = {
+    "fill_fraction": (0.0, False, 1.0, False),
+    "slosh_frequency_scale": (0.0, False, math.inf, False),
+    "slosh_damping_ratio": (0.0, True, 1.0, False),
+    "panel_stiffness": (0.0, False, math.inf, False),
+}
+
+
+def _interval(lo: float, lo_in: bool, hi: float, hi_in: bool) -> str:
+    return f"{'[' if lo_in else '('}{lo:g}, {hi:g}{']' if hi_in else ')'}"
+
+
+def _check_support(name: str, dist: "Distribution") -> None:
+    lo, lo_at, hi, hi_at = dist.support()
+    d_lo, lo_in, d_hi, hi_in = FLEX_PARAMETER_DOMAINS[name]
+    low_ok = lo > d_lo or (lo == d_lo and (lo_in or not lo_at))
+    high_ok = hi < d_hi or (hi == d_hi and (hi_in or not hi_at))
+    if not (low_ok and high_ok):
+        raise ArgumentError(
+            f"Flexibility.{name}: {dist!r} draws values in {_interval(lo, lo_at, hi, hi_at)}, outside {name}'s "
+            f"{_interval(d_lo, lo_in, d_hi, hi_in)}: every sample drawn there would fail; use a distribution whose "
+            f"values all lie in {_interval(d_lo, lo_in, d_hi, hi_in)} (a Uniform or a Fixed value)")
 _KINDS = {"fixed": Fixed, "uniform": Uniform, "normal": Normal, "lognormal": LogNormal}
 
 
@@ -172,6 +228,8 @@ class Tank:
     ``parent``'s frame (from its CM); ``axis``: toward the free surface; ``lateral``: the slosh
     direction; ``model``: as ``SloshParameters.add_to``. Its bodies are named ``name_1``, …,
     ``name_fixed``."""
+
+    __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
 
     radius: float
     height: float
@@ -232,6 +290,8 @@ class Panel:
     ``size = (length, width, thickness)`` and ``mass`` on a hinge at ``hinge_position`` about
     ``hinge_axis``, extending along ``direction``; ``damping`` (N·m·s/rad). Its stiffness is drawn."""
 
+    __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
+
     hinge_position: Tuple[float, float, float]
     hinge_axis: Tuple[float, float, float]
     direction: Tuple[float, float, float]
@@ -255,7 +315,7 @@ class Panel:
 class Flexibility:
     """The flexible parts of every sample's plant and the distributions of their parameters.
 
-    ``tank`` (a [`Tank`][spacearm.campaign.Tank]) with ``fill_fraction`` (in (0, 1]: of a
+    ``tank`` (a [`Tank`][spacearm.campaign.Tank]) with ``fill_fraction`` (in (0, 1): of a
     cylinder's height, of a sphere's volume),
     ``slosh_frequency_scale`` (every mode's frequency times it, as an axial acceleration times
     its square would do; the masses, heights and pendulum lengths unchanged, the springs stiffer) and ``slosh_damping_ratio`` (ζ of every mode);
@@ -264,6 +324,8 @@ class Flexibility:
     [`Normal`][spacearm.campaign.Normal], [`LogNormal`][spacearm.campaign.LogNormal]); the controller's model uses their
     ``nominal`` values.
     """
+
+    __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
 
     tank: Optional[Tank] = None
     fill_fraction: Distribution = field(default_factory=lambda: Fixed(0.5))
@@ -285,6 +347,18 @@ class Flexibility:
             raise ArgumentError("Flexibility needs a tank, a panel or both")
         for key in ("fill_fraction", "slosh_frequency_scale", "slosh_damping_ratio", "panel_stiffness"):
             object.__setattr__(self, key, _distribution(getattr(self, key), f"Flexibility.{key}"))
+        for key in self.names:
+            _check_support(key, getattr(self, key))
+        if self.tank is not None:
+            # The tank at the ends of the fill's range, by the core's slosh rules.
+            lo, _, hi, _ = self.fill_fraction.support()
+            for fill in sorted({lo, hi}):
+                try:
+                    self.tank.slosh_parameters(fill, frequency_scale=self.slosh_frequency_scale.nominal,
+                                               damping_ratio=self.slosh_damping_ratio.nominal)
+                except SpacearmError as exc:
+                    raise type(exc)(f"Flexibility.fill_fraction: {self.fill_fraction!r} draws the fill {fill:g}, which the "
+                                    f"tank refuses: {exc}") from None
 
     @property
     def names(self) -> Tuple[str, ...]:

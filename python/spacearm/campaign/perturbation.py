@@ -21,6 +21,7 @@ from typing import Dict
 import numpy as np
 
 from ..errors import ArgumentError
+from .._util.pickling import reduce_through_constructor as _reduce_through_constructor
 
 __all__ = ["Perturbations", "PARAMETER_NAMES", "PARAMETER_UNITS"]
 
@@ -62,6 +63,8 @@ class Perturbations:
       uniform on the sphere (base frame).
     - ``payload_mass_max``: a point payload ``U(0, max)`` kg rigidly held at the end effector.
     """
+
+    __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
 
     base_mass_sigma: float = 0.05
     base_inertia_sigma: float = 0.10

@@ -63,6 +63,56 @@ class CampaignResult:
         self.seconds = np.full(n, np.nan)
         self.run: Dict[str, object] = {}
 
+    # -- checks ------------------------------------------------------------------------------
+    def _validate(self) -> "CampaignResult":
+        """Check that every field holds what a campaign writes (shapes, dtypes, statuses, the
+        failure messages of failed samples): a tampered pickle or file is an ``ArgumentError``
+        naming the field, never a result whose tables and plots are silently wrong."""
+        def bad(msg):
+            raise ArgumentError(f"not a valid CampaignResult: {msg}")
+
+        if not isinstance(self.spec_json, str):
+            bad(f"spec_json must be the campaign's JSON text, got {type(self.spec_json).__name__}")
+        try:
+            spec = json.loads(self.spec_json)
+        except ValueError as exc:
+            bad(f"spec_json is not JSON ({exc})")
+        if not isinstance(spec, dict):
+            bad("spec_json must hold a JSON object")
+        for key in ("param_names", "metric_names"):
+            names = getattr(self, key)
+            if not (isinstance(names, tuple) and all(isinstance(v, str) for v in names) and len(set(names)) == len(names)):
+                bad(f"{key} must be distinct names, got {names!r}")
+        n = self.index.shape[0] if isinstance(self.index, np.ndarray) else -1
+        if not (isinstance(self.index, np.ndarray) and self.index.ndim == 1 and np.array_equal(self.index, np.arange(n))):
+            bad("index must be 0 … n−1")
+        shapes = {"status": (n,), "params": (n, len(self.param_names)), "metrics": (n, len(self.metric_names)), "error": (n,),
+                  "seconds": (n,)}
+        for key, shape in shapes.items():
+            arr = getattr(self, key)
+            if not isinstance(arr, np.ndarray) or arr.shape != shape:
+                bad(f"{key} must be an array of shape {shape}, got {getattr(arr, 'shape', type(arr).__name__)}")
+        if self.status.dtype != np.uint8 or not np.isin(self.status, (PENDING, OK, FAILED)).all():
+            bad(f"status must hold {PENDING} (not run), {OK} (ok) or {FAILED} (failed) as uint8, got {np.unique(self.status)}")
+        for key in ("params", "metrics", "seconds"):
+            if getattr(self, key).dtype != np.float64:
+                bad(f"{key} must be float64, got {getattr(self, key).dtype}")
+        if np.any(self.seconds[~np.isnan(self.seconds)] < 0):
+            bad("seconds must be >= 0 (or NaN for a sample not run)")
+        if not all(isinstance(e, str) for e in self.error):
+            bad("error must hold strings")
+        failed = self.status == FAILED
+        if any(not self.error[i] for i in np.flatnonzero(failed)):
+            bad("a failed sample must keep its message")
+        if not isinstance(self.run, dict):
+            bad(f"run must be a dict, got {type(self.run).__name__}")
+        return self
+
+    def __reduce__(self):
+        # Unpickled through the constructor and _validate: a tampered pickle is refused.
+        state = {k: getattr(self, k) for k in ("status", "params", "metrics", "error", "seconds", "run")}
+        return (_restore, (self.spec_json, self.param_names, self.metric_names, self.n_samples, state))
+
     # -- filling -----------------------------------------------------------------------------
     def record(self, index: int, params: Dict[str, float], metrics: Optional[Dict[str, float]],
                error: str = "", seconds: float = float("nan")) -> None:
@@ -178,7 +228,7 @@ class CampaignResult:
         lost = (result.status == FAILED) & np.array([e.startswith(_LOST_PREFIXES) for e in result.error], dtype=bool)
         result.status[lost] = PENDING
         result.error[lost] = ""
-        return result
+        return result._validate()
 
     def figure(self, metrics: Optional[Sequence[str]] = None):
         """The figure of [`plot`][spacearm.campaign.CampaignResult.plot] as a matplotlib ``Figure``, not written anywhere."""
@@ -194,3 +244,15 @@ class CampaignResult:
         from ..viz.figures import plot_to
 
         return Path(plot_to(path, lambda: self.figure(metrics), dpi=110))
+
+
+def _restore(spec_json, param_names, metric_names, n, state) -> CampaignResult:
+    """A pickled [`CampaignResult`][spacearm.campaign.CampaignResult], rebuilt by its constructor and checked."""
+    from .._util.arrays import integer
+
+    result = CampaignResult(spec_json, param_names, metric_names, integer(n, "the number of samples"))
+    if not isinstance(state, dict) or set(state) != {"status", "params", "metrics", "error", "seconds", "run"}:
+        raise ArgumentError("not a valid CampaignResult: a pickle carries status, params, metrics, error, seconds and run")
+    for key, value in state.items():
+        setattr(result, key, value)
+    return result._validate()

@@ -30,6 +30,7 @@ from .. import _core, control
 from ..errors import ArgumentError, ShapeError, SimulationError
 from ..sim.simulation import simulate
 from .flexibility import Flexibility
+from .._util.pickling import reduce_through_constructor as _reduce_through_constructor
 
 __all__ = ["Scenario", "METRIC_NAMES", "METRIC_UNITS", "evaluate", "plant", "control_model", "controller", "with_payload",
            "metrics_from_records", "non_finite_message", "attitude_angle_deg", "reference", "shaping_frequency"]
@@ -86,6 +87,8 @@ class Scenario:
     ([`Robot.natural_frequencies`][spacearm.Robot.natural_frequencies] at its neutral
     configuration, the actuated joints held), which needs a flexibility recipe.
     """
+
+    __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
 
     mode: str = "floating"
     controller: str = "computed-torque"

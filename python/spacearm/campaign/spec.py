@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from ..errors import ArgumentError
 from .perturbation import PARAMETER_NAMES, Perturbations
 from .scenario import Scenario
+from .._util.pickling import reduce_through_constructor as _reduce_through_constructor
 
 __all__ = ["CampaignSpec"]
 
@@ -25,6 +26,8 @@ class CampaignSpec:
     CLI's model options) are all in the text, so workers need nothing else to rebuild it;
     ``samples``: how many; ``seed``: the campaign's seed (sample ``i`` draws from
     ``SeedSequence(seed, spawn_key=(i,))``)."""
+
+    __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
 
     model_toml: str
     samples: int

@@ -24,7 +24,7 @@ import math
 from .. import _core
 from .._util.arrays import matrix3, number, quaternion, vector, vector3
 from ..control import FreeBodyPoint, SampledJoint
-from ..errors import ArgumentError, ModelError, NonFiniteError, NotFoundError, QuaternionError, ShapeError
+from ..errors import ArgumentError, ModelError, NonFiniteError, NotFoundError, QuaternionError, ResourceLimitError, ShapeError, SpacearmTypeError
 from ..model.robot import Robot
 from ..rotations import quat_from_matrix
 from ..sim.simulation import simulate
@@ -168,8 +168,8 @@ class Target:
         rigid target (a jointed one: ``np.concatenate([x, u])`` of its model)."""
         if not self.is_rigid:
             raise ArgumentError(f"target '{self.name}' is a jointed model: its state is np.concatenate([x, u]) of that model")
-        return np.concatenate([vector(position, "target position", 3), _quat(quaternion),
-                               vector(velocity, "target velocity", 3), vector(angular_velocity, "target angular velocity", 3)])
+        return np.concatenate([vector3(position, "target position"), _quat(quaternion),
+                               vector3(velocity, "target velocity"), vector3(angular_velocity, "target angular velocity")])
 
     def state_in_orbit(self, orbit, relative, *, center=None, quaternion=(0.0, 0.0, 0.0, 1.0),
                        angular_velocity=(0.0, 0.0, 0.0)) -> np.ndarray:
@@ -192,7 +192,7 @@ class Target:
         c = np.zeros(6) if center is None else vector(center, "center (run state of the chaser's CM)", 6)
         run = orbit.lvlh_to_run(rel, center=c)
         q = _quat(quaternion)
-        w = vector(angular_velocity, "target angular velocity", 3)
+        w = vector3(angular_velocity, "target angular velocity")
         return np.concatenate([run[:3], q, run[3:], w])
 
     def check_state(self, state) -> np.ndarray:
@@ -251,6 +251,8 @@ class Target:
 
     # ---- motion -----------------------------------------------------------------------------
     def _check_step(self, dt: float, what: str = "dt") -> float:
+        if isinstance(dt, (bool, np.bool_)):
+            raise SpacearmTypeError(f"{what} must be a number of seconds, got the bool {dt!r}")
         dt = number(dt, what)
         if not (math.isfinite(dt) and dt > 0):
             raise ArgumentError(f"{what} must be finite and > 0, got {dt}")
@@ -276,10 +278,15 @@ class Target:
         a jointed one by ``spacearm.simulate`` (free-floating, zero joint torques, adaptive DOPRI5)."""
         s = self.check_state(state)
         duration, dt = number(duration, "duration"), self._check_step(dt)
-        if not duration >= 0:
-            raise ArgumentError(f"duration must be >= 0, got {duration}")
+        if not (duration >= 0 and math.isfinite(duration)):
+            raise ArgumentError(f"duration must be finite and >= 0, got {duration}")
         if self.is_rigid:
-            n = int(round(duration / dt))
+            n = round(duration / dt)
+            if (n + 1) * self.state_size * 8 > _core.MEMORY_LIMIT_BYTES:
+                raise ResourceLimitError(f"a trajectory of {n + 1:.3e} samples (duration {duration:g} s / dt {dt:g} s) needs more "
+                                         f"than the {_core.MEMORY_LIMIT_BYTES / 2**30:g} GiB allowed (spacearm._core.MEMORY_LIMIT_BYTES); "
+                                         "raise dt or shorten the duration")
+            n = int(n)
             t = np.arange(n + 1) * dt
             return t, self.free_body(s, step=0.5 * dt).states(t)
         x, u = self.xu(s)
@@ -325,19 +332,16 @@ class Target:
         return self.free_body(s, step=duration / n).states([duration])[0]
 
 
-#: Smallest norm of a target quaternion that is normalized rather than refused: below it the
-#: direction (the attitude) is round-off.
-MIN_QUATERNION_NORM = 1e-6
-
-
 def _quat(value) -> np.ndarray:
-    """The target's attitude quaternion, finite and non-zero, normalized (a zero or near-zero
-    quaternion has no attitude: a [`QuaternionError`][spacearm.errors.QuaternionError])."""
+    """The target's attitude quaternion by the rule of every configuration's quaternion (the
+    core's): finite, of unit norm within ``_core.QUATERNION_TOLERANCE`` (1e-6), then normalized
+    exactly; anything else is a [`QuaternionError`][spacearm.errors.QuaternionError] (a NaN one a
+    [`NonFiniteError`][spacearm.errors.NonFiniteError])."""
     q = quaternion(value, "target quaternion")
     if not np.all(np.isfinite(q)):
         raise NonFiniteError(f"target quaternion must be finite, got {q}")
     norm = float(np.linalg.norm(q))
-    if norm < MIN_QUATERNION_NORM:
-        raise QuaternionError(f"target quaternion [x, y, z, w] must be non-zero (norm >= {MIN_QUATERNION_NORM:g}; "
-                              f"it is normalized), got norm {norm:.3g}; the identity attitude is [0, 0, 0, 1]")
+    if not abs(norm - 1.0) <= _core.QUATERNION_TOLERANCE:
+        raise QuaternionError(f"target quaternion must be a unit quaternion [x, y, z, w] (|q| = 1 within "
+                              f"{_core.QUATERNION_TOLERANCE:g}), got norm {norm:.6g}; the identity attitude is [0, 0, 0, 1]")
     return q / norm

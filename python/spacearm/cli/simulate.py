@@ -156,9 +156,7 @@ def orbit_from_args(args):
     values = parse_numbers(rest, "--orbit circular:", None, "ALT_KM[,INC_DEG]", "km, deg")
     if len(values) not in (1, 2):
         raise CliError(f"--orbit must be circular:ALT_KM[,INC_DEG] (one or two numbers), got {text!r}")
-    altitude_km = float(values[0])
-    if altitude_km <= 0:
-        raise CliError(f"--orbit: the altitude must be > 0 km, got {altitude_km}")
+    altitude_km = float(values[0])  # > 0: the core's rule (Orbit.circular refuses an orbit at or below the surface)
     inclination = math.radians(float(values[1])) if len(values) == 2 else 0.0
     if not 0.0 <= inclination <= math.pi:
         raise CliError(f"--orbit: the inclination must be in [0, 180] deg, got {values[1]}")

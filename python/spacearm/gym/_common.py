@@ -14,7 +14,7 @@ import numpy as np
 
 from ..campaign import scenario as _scenario
 from ..campaign.perturbation import Perturbations
-from ..errors import ArgumentError, SimulationError
+from ..errors import ArgumentError, NonFiniteError, SimulationError, SpacearmTypeError
 
 #: The render modes every environment supports.
 RENDER_MODES = ("rgb_array",)
@@ -47,6 +47,31 @@ def count(value, name: str) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
         raise ArgumentError(f"{name} must be an integer >= 1, got {value!r}")
     return int(value)
+
+
+def actions(value, shape: tuple, what: str = "action") -> np.ndarray:
+    """An action (``shape`` ``(N,)``) or a batch of actions (``(B, N)``) as float64: real numbers
+    (not text, complex or objects: a ``SpacearmTypeError``) of exactly ``shape`` (else an
+    ``ArgumentError``, as every other wrong argument of an environment), finite (else a ``NonFiniteError`` naming the copy and the entry); each
+    names what was given and what is expected."""
+    expected = f"real numbers (float32 in [-1, 1]) of shape {shape}"
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError):
+        raise ArgumentError(f"{what} must be {expected}, got {type(value).__name__} {value!r:.80}") from None
+    if arr.dtype.kind not in "biuf":
+        got = f"{type(value).__name__} {value!r:.80}" if arr.ndim == 0 else f"an array of dtype {arr.dtype}"
+        raise SpacearmTypeError(f"{what} must be {expected}, got {got}")
+    if arr.shape != tuple(shape):
+        raise ArgumentError(f"{what} must be {expected}, got shape {arr.shape}")
+    arr = np.asarray(arr, dtype=np.float64)
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        where = np.argwhere(bad)[0]
+        if arr.ndim == 2:
+            raise NonFiniteError(f"{what} of copy {int(where[0])} must be finite, but entry {int(where[1])} is {arr[tuple(where)]}")
+        raise NonFiniteError(f"{what} must be finite, but entry {int(where[0])} is {arr[tuple(where)]}")
+    return arr
 
 
 def check_finite(states: np.ndarray, what: str) -> np.ndarray:

@@ -146,9 +146,7 @@ class CaptureEnv(gymnasium.Env):
             raise ArgumentError("call reset() before step()")
         if self.captured is not None:
             raise ArgumentError("the episode ended with the capture; call reset()")
-        a = np.clip(np.asarray(action, dtype=float).reshape(-1), -1.0, 1.0)
-        if a.shape != (self.robot.n_dof,):
-            raise ArgumentError(f"action must have {self.robot.n_dof} values (one per joint), got {a.shape[0]}")
+        a = np.clip(_common.actions(action, (self.robot.n_dof,)), -1.0, 1.0)
         nx = self.robot.nx
         self._state = _common.check_finite(self._sim.step(a * self.torque_scale, self.frame_skip)[None], "Capture")[0]
         self._target_state = self.target.propagate(self._target_state, self.dt * self.frame_skip, dt=self.dt)

@@ -113,9 +113,7 @@ class DetumbleEnv(gymnasium.Env):
     def step(self, action):
         if self._sim is None:
             raise ArgumentError("call reset() before step()")
-        a = np.clip(np.asarray(action, dtype=float).reshape(-1), -1.0, 1.0)
-        if a.shape != (self.robot.n_dof,):
-            raise ArgumentError(f"action must have {self.robot.n_dof} values (one per dof), got {a.shape[0]}")
+        a = np.clip(_common.actions(action, (self.robot.n_dof,)), -1.0, 1.0)
         self._state = _common.check_finite(self._sim.step(a * self.torque_scale, self.frame_skip)[None], "Detumble")[0]
         self._steps += 1
         nx = self.robot.nx

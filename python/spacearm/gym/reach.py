@@ -137,9 +137,7 @@ class ReachEnv(gymnasium.Env):
         task = self.task
         if self._sim is None:
             raise ArgumentError("call reset() before step()")
-        a = np.asarray(action, dtype=float).reshape(1, -1)
-        if a.shape[1] != task.robot.n_dof:
-            raise ArgumentError(f"action must have {task.robot.n_dof} values (one per joint), got {a.shape[1]}")
+        a = _common.actions(action, (task.robot.n_dof,))[None]
         self._state = self._sim.step(task.torque(a)[0], task.frame_skip)
         self._steps += 1
         obs = task.observe(self._state[None], self.goal[None])

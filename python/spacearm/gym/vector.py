@@ -12,13 +12,14 @@ observation. ``info`` holds ``distance``, ``base_rate``, ``is_success`` and ``ru
 
 from __future__ import annotations
 
+import threading
 from typing import Optional
 
 import numpy as np
 
 from .. import _core
 from .._util.optional import require
-from ..errors import ArgumentError
+from ..errors import ArgumentError, SimulationError
 from ..sim.simulation import DEFAULTS, _options
 from . import _common
 from .reach import ReachTask
@@ -38,11 +39,16 @@ class ReachVectorEnv(_vector.VectorEnv):
 
     metadata = {"render_modes": [], "autoreset_mode": _vector.AutoresetMode.NEXT_STEP}
 
-    def __init__(self, num_envs: int = 8, robot=None, *, threads: Optional[int] = None, **task):
+    def __init__(self, num_envs: int = 8, robot=None, *, threads: Optional[int] = None, render_mode: Optional[str] = None, **task):
         self.num_envs = _common.count(num_envs, "num_envs")
         if threads is not None:
             threads = _common.count(threads, "threads")
+        if render_mode is not None:
+            raise ArgumentError(f"ReachVectorEnv renders nothing: render_mode must be None, got {render_mode!r} (render a "
+                                "single ReachEnv with render_mode='rgb_array')")
         self.task = ReachTask(robot, **task)
+        # One call at a time: a second thread stepping the same env gets a SimulationError.
+        self._lock = threading.Lock()
         self.single_observation_space = self.task.observation_space
         self.single_action_space = self.task.action_space
         self.observation_space = _batch_space(self.single_observation_space, self.num_envs)
@@ -53,6 +59,8 @@ class ReachVectorEnv(_vector.VectorEnv):
                            thrusters=None, record_every=1, joint_limits=DEFAULTS["joint_limits"], max_steps=DEFAULTS["max_steps"],
                            record_dtype="float64")
         b = self.num_envs
+        # The core's admission first (a ResourceLimitError), before the copies' states are tiled.
+        _core.BatchSimulator.admit(t.robot.core_model, b)
         self._core = _core.BatchSimulator([t.robot.core_model] * b, np.tile(t.x0, b), np.tile(t.u0, b), options, threads)
         self._rngs = [_seeding.np_random()[0] for _ in range(b)]
         self._goals = np.zeros((b, 3))
@@ -67,9 +75,23 @@ class ReachVectorEnv(_vector.VectorEnv):
         self._core.reset(i, t.x0, t.u0, None if t.perturbations is None else plant.core_model)
         self._steps[i] = 0
 
+    def _exclusive(self):
+        """The env's lock for one call, or a SimulationError when another thread holds it."""
+        if not self._lock.acquire(blocking=False):
+            raise SimulationError("this ReachVectorEnv is in use by another thread: step and reset it from one thread at a "
+                                  "time (one env per thread)")
+        return self._lock
+
     def reset(self, *, seed=None, options: Optional[dict] = None):
         """Reset every copy; ``seed``: an int (copy ``i`` gets ``seed + i``), a list of one per
         copy (None entries keep their stream), or None."""
+        lock = self._exclusive()
+        try:
+            return self._reset(seed)
+        finally:
+            lock.release()
+
+    def _reset(self, seed):
         if seed is None:
             seeds = [None] * self.num_envs
         elif isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
@@ -89,12 +111,17 @@ class ReachVectorEnv(_vector.VectorEnv):
         return self.task.observe(self._states, self._goals), {}
 
     def step(self, actions):
+        lock = self._exclusive()
+        try:
+            return self._step(actions)
+        finally:
+            lock.release()
+
+    def _step(self, actions):
         if self._states is None:
             raise ArgumentError("call reset() before step()")
         t = self.task
-        a = np.asarray(actions, dtype=float)
-        if a.shape != (self.num_envs, t.robot.n_dof):
-            raise ArgumentError(f"actions must have shape ({self.num_envs}, {t.robot.n_dof}), got {a.shape}")
+        a = _common.actions(actions, (self.num_envs, t.robot.n_dof), "actions")
         # One native call steps every copy (the copies due for an autoreset too: they are
         # reset just after, so their step is discarded).
         states = self._core.step(np.ascontiguousarray(t.torque(a)).ravel(), None, t.frame_skip)

@@ -40,7 +40,8 @@ import numpy as np
 
 from .._util.arrays import number, real_array
 from .._util.summary import summary_repr
-from ..errors import ArgumentError, ShapeError, SingularError, SpacearmTypeError
+from .._util.pickling import reduce_through_constructor as _reduce_through_constructor
+from ..errors import ArgumentError, NonFiniteError, ShapeError, SingularError, SpacearmTypeError
 from ..model.robot import Robot
 from .parameters import PARAMETER_NAMES, from_parameters, physical_jacobian
 from .regressor import momentum_regressor, robot_momentum
@@ -70,6 +71,56 @@ class PayloadEstimate:
     n_samples: int  #: samples used
 
     __repr__ = summary_repr
+    __reduce__ = _reduce_through_constructor  # unpickled through __post_init__'s checks
+
+    def __post_init__(self):
+        """Check every value (what [`identify_payload`][spacearm.identify.identify_payload] produces; a
+        tampered or bit-flipped pickle is refused the same way)."""
+        if not isinstance(self.body, str):
+            raise SpacearmTypeError(f"PayloadEstimate.body must be a body name (str), got {type(self.body).__name__}")
+        for key in ("momentum_estimated",):
+            if not isinstance(getattr(self, key), (bool, np.bool_)):
+                raise SpacearmTypeError(f"PayloadEstimate.{key} must be a bool, got {getattr(self, key)!r}")
+        for key in ("rank", "n_samples"):
+            v = getattr(self, key)
+            if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, np.integer)):
+                raise SpacearmTypeError(f"PayloadEstimate.{key} must be an integer, got {v!r}")
+        rank, n = int(self.rank), int(self.n_samples)
+        if not 0 <= rank <= 10:
+            raise ArgumentError(f"PayloadEstimate.rank must be in 0..10, got {rank}")
+        if n < 2:
+            raise ArgumentError(f"PayloadEstimate.n_samples must be >= 2 (an estimate needs at least 2 samples), got {n}")
+        shapes = {"parameters": (10,), "covariance": (10, 10), "momentum": (6,), "singular_values": (10,),
+                  "null_space": (10, 10 - rank), "noise_std": (2,)}
+        arrays = {}
+        for key, shape in shapes.items():
+            arr = np.array(real_array(getattr(self, key), f"PayloadEstimate.{key}"), dtype=float)
+            if arr.shape != shape:
+                raise ShapeError(f"PayloadEstimate.{key} must have shape {shape} (rank {rank}), got {arr.shape}")
+            if not np.all(np.isfinite(arr)):
+                raise NonFiniteError(f"PayloadEstimate.{key} must be finite, got {arr}")
+            arrays[key] = arr
+        cov, sv, null = arrays["covariance"], arrays["singular_values"], arrays["null_space"]
+        tol = 1e-9 * max(float(np.abs(cov).max()), np.finfo(float).tiny)
+        if not (np.abs(cov - cov.T).max() <= tol and np.all(np.diag(cov) >= -tol)):
+            raise ArgumentError("PayloadEstimate.covariance must be symmetric with a non-negative diagonal")
+        if np.any(sv < 0) or np.any(np.diff(sv) > 0):
+            raise ArgumentError(f"PayloadEstimate.singular_values must be >= 0 and descending, got {sv}")
+        if null.size and not np.abs(null.T @ null - np.eye(10 - rank)).max() <= 1e-9:
+            raise ArgumentError("PayloadEstimate.null_space must have orthonormal columns")
+        if np.any(arrays["noise_std"] < 0):
+            raise ArgumentError(f"PayloadEstimate.noise_std must be >= 0, got {arrays['noise_std']}")
+        cond = number(self.condition_number, "PayloadEstimate.condition_number")
+        expected = float(sv[0] / sv[-1]) if rank == 10 and sv[-1] > 0 else float("inf")
+        if not (cond == expected or (np.isfinite(expected) and abs(cond - expected) <= 1e-12 * expected)):
+            raise ArgumentError(f"PayloadEstimate.condition_number must be the ratio of the extreme singular values "
+                                f"({expected:.6g}; inf below rank 10), got {cond!r}")
+        for key, arr in arrays.items():
+            object.__setattr__(self, key, arr)
+        object.__setattr__(self, "condition_number", cond)
+        object.__setattr__(self, "rank", rank)
+        object.__setattr__(self, "n_samples", n)
+        object.__setattr__(self, "momentum_estimated", bool(self.momentum_estimated))
 
     @property
     def identifiable(self) -> bool:

@@ -173,7 +173,7 @@ def slosh_parameters(tank: str = "cylinder", *, radius: float, axial_acceleratio
         else:
             if tank_height is None:
                 raise ArgumentError("slosh_parameters: fill_fraction needs tank_height (m)")
-            h = f * number(tank_height, "tank_height")
+            h = _core.cylinder_fill_height(number(tank_height, "tank_height"), f)
     else:
         h = number(fill_height, "fill_height")
     if (propellant_mass is None) == (density is None):

@@ -199,6 +199,34 @@ class Rollouts:
         self._ok.setflags(write=False)
         self._data = data
 
+    def __setstate__(self, state: dict) -> None:
+        """Unpickling: the fields a pickle carries are checked as a run makes them (one entry per
+        rollout everywhere, the records' shapes), so a tampered pickle is an ``ArgumentError``."""
+        def bad(msg):
+            raise ArgumentError(f"not a valid Rollouts: {msg}")
+
+        if not isinstance(state, dict) or not {"_robot", "_plants", "_ok", "_reason", "_error_class", "_events", "_meta", "_data"} <= set(state):
+            bad("a pickle carries its robot, plants, ok, reason, error_class, events, meta and records")
+        ok, data = state["_ok"], state["_data"]
+        if not (isinstance(ok, np.ndarray) and ok.dtype == bool and ok.ndim == 1):
+            bad("ok must be a 1-D bool array")
+        b = ok.shape[0]
+        for key in ("_reason", "_error_class", "_events", "_meta"):
+            if not (isinstance(state[key], list) and len(state[key]) == b):
+                bad(f"{key[1:]} must be a list of one entry per rollout ({b})")
+        if state["_plants"] is not None and not (isinstance(state["_plants"], list) and len(state["_plants"]) == b):
+            bad(f"plants must be None or one per rollout ({b})")
+        if not (isinstance(data, dict) and {"t", "x", "u"} <= set(data) and all(isinstance(a, np.ndarray) for a in data.values())):
+            bad("the records must be a dict of arrays with t, x and u")
+        t, x, u = data["t"], data["x"], data["u"]
+        if t.ndim != 2 or t.shape[0] != b or x.ndim != 3 or x.shape[:2] != t.shape or x.shape[2] < 7 or u.shape != t.shape + (x.shape[2] - 1,):
+            bad(f"t, x and u must have shapes (B, K), (B, K, 7+N) and (B, K, 6+N) with B = {b}, got {t.shape}, {x.shape}, {u.shape}")
+        if any(a.shape[:1] != (b,) for a in data.values()):
+            bad(f"every record must have one row per rollout ({b})")
+        for a in (*data.values(), ok):
+            a.setflags(write=False)
+        self.__dict__.update(state)
+
     def __len__(self) -> int:
         return len(self._ok)
 

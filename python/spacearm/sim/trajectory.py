@@ -114,6 +114,11 @@ class Trajectory:
     def __init__(self, robot=None, data: Optional[dict] = None, meta: Optional[dict] = None):
         self._init(robot, data, meta, copy=True)
 
+    def __reduce__(self):
+        # Unpickled through the constructor: a tampered pickle's arrays pass the same shape
+        # checks as a caller's (docs/batch.md, "Pickling").
+        return (Trajectory, (self._robot, dict(self._data), self._meta))
+
     @classmethod
     def _adopt(cls, robot, data: dict, meta: dict) -> "Trajectory":
         """A trajectory that takes the arrays of a run as they are (read-only views, no copy):

@@ -135,7 +135,9 @@ pub struct ImpulseDynamics {
 
 /// Impulse dynamics of one model (Pinocchio's `impulseDynamics`): the velocity after an impact
 /// through the contact Jacobian `jacobian` (m × (6+N)) from `u_before`, with Newton's
-/// restitution `e` in [0, 1] (`J u⁺ = −e J u⁻`) and the joints free or locked.
+/// restitution `e` in [0, 1] (`J u⁺ = −e J u⁻`) and the joints free or locked. An impulse that
+/// does not meet that law to within [`GRASP_RESIDUAL_TOLERANCE`] (an ill-conditioned `J H⁻¹ Jᵀ`)
+/// is a `Singular` error, an overflow a `NonFinite` one.
 pub fn impulse_dynamics(
     model: &Model,
     data: &mut Data,
@@ -153,7 +155,10 @@ pub fn impulse_dynamics(
     let impulse = solve_delassus(&r.delassus, &rhs, "the Delassus operator J H⁻¹ Jᵀ (the contact rows are dependent)")?;
     let du = &r.response * &impulse;
     let locking_impulse = (&r.mass_matrix * &du - jacobian.transpose() * &impulse).rows(6, model.n_dof()).into_owned();
-    Ok(ImpulseDynamics { u_after: &u + &du, du, impulse, delassus: r.delassus, locking_impulse })
+    let u_after = &u + &du;
+    // The contact law the impulse was solved from, checked as the grasp's is.
+    check_rows_law(&r.delassus, &impulse, &(jacobian * &u), &(jacobian * &u_after), restitution)?;
+    Ok(ImpulseDynamics { u_after, du, impulse, delassus: r.delassus, locking_impulse })
 }
 
 /// The inverse inertia at a point of `model` (docs/capture.md, "The grasp impact"): an impulse
@@ -335,13 +340,114 @@ pub fn check_grasp_handle(model: &Model, body: usize, offset: &Vector3<f64>) -> 
     Ok(())
 }
 
+/// The largest relative residual of the contact law a grasp impact may leave and still be
+/// returned (docs/capture.md, "Grasps that are refused"): after the solve, the relative twist on
+/// the contact rows must meet Newton's law `J v⁺ = −e J v⁻` to within this fraction of
+/// `|J v⁻|` (rigid: all six rows; point: the normal row). Beyond it the system
+/// `(G_r + G_t) Λ = −(1 + e) v⁻` was too ill-conditioned for double precision (masses or
+/// inertias many orders of magnitude apart) and the impulse is not the impact's.
+pub const GRASP_RESIDUAL_TOLERANCE: f64 = 1e-6;
+
+/// The condition number (2-norm) of the symmetric positive semi-definite `g`: the ratio of its
+/// largest to its smallest eigenvalue (infinite when the smallest is not positive).
+fn spd_condition(g: &DMatrix<f64>) -> f64 {
+    let ev = g.clone().symmetric_eigenvalues();
+    let (lo, hi) = ev.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &v| (lo.min(v), hi.max(v.abs())));
+    if lo > 0.0 {
+        hi / lo
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// A `NonFinite` error for the first value of `parts` that is not finite (velocities so large
+/// that the impact's arithmetic overflows; `v_before` is the contact velocity before).
+fn check_impact_finite(parts: &[(&str, &[f64])], v_before: &DVector<f64>) -> Result<()> {
+    for (what, values) in parts {
+        if let Some(index) = values.iter().position(|v| !v.is_finite()) {
+            return Err(SpacearmError::NonFinite {
+                what: format!(
+                    "{what} (from a contact velocity of norm {:.3e} before the impact: velocities that large overflow the impact's \
+                     arithmetic)",
+                    v_before.norm()
+                ),
+                index,
+                value: values[index],
+            });
+        }
+    }
+    Ok(())
+}
+
+/// A `Singular` error naming `system` (`g`, with its condition number) when the solved impulse
+/// leaves the `residual` of the contact law against the contact velocity `scale` before the
+/// impact, more than [`GRASP_RESIDUAL_TOLERANCE`] of it.
+fn check_residual(system: &str, g: &DMatrix<f64>, residual: f64, scale: f64) -> Result<()> {
+    if residual > GRASP_RESIDUAL_TOLERANCE * scale {
+        return Err(SpacearmError::Singular(format!(
+            "{system} (condition number {}): the solved impulse leaves a contact velocity of {residual:.3e} against {scale:.3e} \
+             before the impact, more than the {GRASP_RESIDUAL_TOLERANCE:e} allowed (masses or inertias too many orders of \
+             magnitude apart for double precision)",
+            condition_words(spd_condition(g))
+        )));
+    }
+    Ok(())
+}
+
+/// Refuse a grasp impact whose numbers are not finite or whose impulse does not meet the
+/// contact law it was solved from (module docs; [`GRASP_RESIDUAL_TOLERANCE`]): rigid, all six
+/// rows `v⁺ = −e v⁻`; point, the normal row (nothing to meet when the contact separates).
+#[allow(clippy::too_many_arguments)]
+fn check_contact_law(
+    g: &DMatrix<f64>,
+    lam: &DVector<f64>,
+    v_before: &DVector<f64>,
+    v_after: &DVector<f64>,
+    contact: GraspContact,
+    normal: Option<&Vector3<f64>>,
+    restitution: f64,
+    energy_lost: f64,
+) -> Result<()> {
+    let parts: [(&str, &[f64]); 3] =
+        [("the grasp impulse", lam.as_slice()), ("the relative twist after the grasp", v_after.as_slice()), ("the grasp's energy lost", &[energy_lost])];
+    check_impact_finite(&parts, v_before)?;
+    let (residual, scale) = match (contact, normal) {
+        (GraspContact::Point { .. }, Some(n)) => {
+            let (vb, va) = (n.dot(&v_before.fixed_rows::<3>(0)), n.dot(&v_after.fixed_rows::<3>(0)));
+            if vb >= 0.0 {
+                return Ok(());
+            }
+            ((va + restitution * vb).abs(), vb.abs())
+        }
+        _ => ((v_after + restitution * v_before).norm(), v_before.norm()),
+    };
+    check_residual("the grasp's inverse inertia G_robot + G_target", g, residual, scale)
+}
+
+/// [`check_contact_law`] for contact rows of any number: every row meets `J u⁺ = −e J u⁻`.
+fn check_rows_law(g: &DMatrix<f64>, lam: &DVector<f64>, v_before: &DVector<f64>, v_after: &DVector<f64>, restitution: f64) -> Result<()> {
+    check_impact_finite(&[("the contact impulse", lam.as_slice()), ("the contact velocity after the impact", v_after.as_slice())], v_before)?;
+    check_residual("the Delassus operator J H⁻¹ Jᵀ", g, (v_after + restitution * v_before).norm(), v_before.norm())
+}
+
+/// A condition number for a message: `1.2e17`, or "beyond double precision" when infinite.
+fn condition_words(c: f64) -> String {
+    if c.is_finite() {
+        format!("{c:.2e}")
+    } else {
+        "beyond double precision".to_string()
+    }
+}
+
 /// The impact between the robot's grasp point and a target model (module docs): the robot at
 /// `(x, u)` grasps at `robot_point`; the target at `(x_target, u_target)` is hit on the body of
 /// its grasp point `target_grasp`, at its material point that coincides with the robot's point
 /// `X`. `restitution` `e` in [0, 1] (`J v⁺ = −e J v⁻` on the contact rows); `joints`: the
 /// robot's joints free or locked (the target's are always free). Refused: a target grasp point
 /// beyond [`check_grasp_handle`]'s bound, and grasp points more than `gap_tolerance` (m) apart
-/// (the gripper does not touch the handle: no impact).
+/// (the gripper does not touch the handle: no impact). An impulse that does not meet the
+/// contact law to within [`GRASP_RESIDUAL_TOLERANCE`] (an ill-conditioned `G_r + G_t`) is a
+/// `SingularError`, numbers that overflow a `NonFinite` error: no residual twist, no NaN energy.
 ///
 /// Rigid: `Λ = −(1 + e) (G_r + G_t)⁻¹ v_rel⁻`. Point: `Λ = [λ n; 0]`,
 /// `λ = −(1 + e) nᵀv_rel⁻ / (nᵀ (G_r + G_t)_vv n)` when `nᵀv_rel⁻ < 0`, else no impulse.
@@ -436,6 +542,7 @@ pub fn grasp_impact(
     // The contact pair's work over the impact (velocities jump linearly in the impulse, so the
     // work is the impulse times the mean of the velocities before and after).
     let energy_lost = -lam.dot(&(&v_rel + &v_rel_after)) / 2.0;
+    check_contact_law(&g, &lam, &v_rel, &v_rel_after, contact, normal.as_ref(), restitution, energy_lost)?;
     let n = robot.n_dof();
     let (locking_impulse, locking_work) = if joints == JointsAtImpact::Locked && n > 0 {
         let tau = (&h_r * &du - j_r.transpose() * &lam).rows(6, n).into_owned();

@@ -167,12 +167,50 @@ pub(crate) fn axial(axial_acceleration: f64) -> Result<f64> {
     Ok(axial_acceleration)
 }
 
+/// The shallowest fill a slosh model describes, as the fill height over the tank radius `h/R`:
+/// a layer thinner than this is a film whose motion viscosity and surface tension set (its
+/// boundary layer and meniscus are as deep as the layer), not the inviscid potential flow of
+/// these models, whose cylinder pendulum would grow without bound (`Lₙ → R²/(ξₙ² h)`; at this
+/// bound about 3000 R). Shallower fills are refused (docs/flexibility.md).
+pub const MIN_FILL_DEPTH_RATIO: f64 = 1e-4;
+
+/// Check a fill height `h` (m, finite and > 0) against [`MIN_FILL_DEPTH_RATIO`] of `radius`.
+pub(crate) fn fill_depth(radius: f64, fill_height: f64) -> Result<f64> {
+    let h = positive("the fill height (m)", fill_height)?;
+    if h < MIN_FILL_DEPTH_RATIO * radius {
+        return Err(SpacearmError::argument(format!(
+            "the fill height {h:e} m is below {MIN_FILL_DEPTH_RATIO:e} of the tank radius {radius} m: a layer that thin has no slosh \
+             modes this model describes (viscosity and surface tension hold it); model the liquid as a fixed mass"
+        )));
+    }
+    Ok(h)
+}
+
+/// The fill height `h = f H` (m) of an upright cylinder of height `tank_height` H holding the
+/// `fill_fraction` f of its height, f in (0, 1): a full tank (f = 1) has no free surface and
+/// does not slosh (its liquid moves with the tank: a fixed mass), so it is refused, as the
+/// sphere's ([`crate::model::slosh_sphere::sphere_slosh`]).
+pub fn cylinder_fill_height(tank_height: f64, fill_fraction: f64) -> Result<f64> {
+    let big_h = positive("the tank height (m)", tank_height)?;
+    if !(fill_fraction.is_finite() && fill_fraction > 0.0 && fill_fraction <= 1.0) {
+        return Err(SpacearmError::argument(format!("the fill fraction of a cylindrical tank must be in (0, 1) (of its height), got {fill_fraction}")));
+    }
+    if fill_fraction == 1.0 {
+        return Err(SpacearmError::argument(
+            "the fill fraction of a cylindrical tank must be below 1: a full tank has no free surface and does not slosh (model its \
+             liquid as a fixed mass)"
+                .to_string(),
+        ));
+    }
+    Ok(fill_fraction * big_h)
+}
+
 /// The equivalent mechanical model of the liquid in an upright flat-bottomed cylinder of
 /// `radius` R, filled to `fill_height` h with `liquid_mass` m_L, in the axial acceleration `a`,
 /// with `n_modes` modes (1 to 5; module docs).
 pub fn cylinder_slosh(radius: f64, fill_height: f64, liquid_mass: f64, axial_acceleration: f64, n_modes: usize) -> Result<TankSlosh> {
     let r = positive("the tank radius (m)", radius)?;
-    let h = positive("the fill height (m)", fill_height)?;
+    let h = fill_depth(r, fill_height)?;
     let m_l = positive("the liquid mass (kg)", liquid_mass)?;
     axial(axial_acceleration)?;
     if !(1..=BESSEL_J1_PRIME_ZEROS.len()).contains(&n_modes) {

@@ -14,6 +14,32 @@ use crate::error::{Result, SpacearmError};
 use crate::sim::rollout::MAX_THREADS;
 use crate::sim::stepper::Rk4Stepper;
 
+/// The memory one copy of a batch holds beyond its bodies, bytes: its stepper, RK4 stages and
+/// held input (measured: about 4 kB for the presets, whatever their size).
+pub const BATCH_COPY_BYTES: f64 = 4096.0;
+
+/// The memory each body adds to one copy, bytes: the copy's own model and its kinematic and
+/// dynamic workspace (measured: about 2.0 kB per body for planar4, spatial6 and dual_arm;
+/// 2.3 kB here, a margin).
+pub const BATCH_BODY_BYTES: f64 = 2304.0;
+
+/// Admit a batch of `copies` copies of `model` ([`BATCH_COPY_BYTES`] + [`BATCH_BODY_BYTES`] per
+/// body each, and their states), or refuse it with a `ResourceLimit` error before anything is
+/// allocated ([`crate::admission`]): a batch of a million copies would otherwise allocate
+/// gigabytes and abort.
+pub fn admit_batch(model: &crate::Model, copies: usize) -> Result<()> {
+    if copies == 0 {
+        return Err(SpacearmError::argument("a batch needs at least one copy".to_string()));
+    }
+    let state = crate::admission::bytes_of::<f64>((model.nx() + model.nu()) as f64);
+    let per_copy = BATCH_COPY_BYTES + BATCH_BODY_BYTES * model.n_bodies() as f64 + 2.0 * state;
+    crate::admission::admit(
+        format_args!("a batch of {copies} copies of '{}' ({} bodies)", model.name(), model.n_bodies()),
+        copies as f64 * per_copy,
+        "use fewer copies (num_envs), or several batches",
+    )
+}
+
 /// `N` steppers of plants with the same joints, stepped together with steps of `dt`.
 pub struct BatchStepper {
     copies: Vec<Rk4Stepper<'static>>,
@@ -154,6 +180,16 @@ mod tests {
         u0[5] = 0.01;
         let plant = Plant::owned(model.clone(), opts, Box::new(ZeroTorque)).unwrap();
         Rk4Stepper::new(plant, &x0, &u0, None).unwrap()
+    }
+
+    #[test]
+    fn a_batch_too_large_for_memory_is_refused_before_it_is_built() {
+        let model = spatial6();
+        assert!(admit_batch(&model, 1000).is_ok());
+        let err = admit_batch(&model, 1_000_000).unwrap_err();
+        assert!(matches!(err, SpacearmError::ResourceLimit(_)), "{err}");
+        assert!(err.to_string().contains("a batch of 1000000 copies of"), "{err}");
+        assert!(admit_batch(&model, 0).is_err());
     }
 
     #[test]

@@ -211,6 +211,16 @@ impl FreeBody {
             out.v = self.v;
             out.l = self.l_world;
         }
+        // A finite state whose motion overflows the step (an angular velocity so large that
+        // the RK4 stages leave the finite numbers) is refused, never returned as NaN.
+        if out.q.iter().chain(out.r.iter()).chain(out.v.iter()).chain(out.l.iter()).any(|v| !v.is_finite()) {
+            return Err(SpacearmError::Simulation(format!(
+                "free-body propagation left the finite numbers before t = {t:.6e} s (step {:.6e} s, initial |L| = {:.6e} N m s): \
+                 the body turns too fast for its numbers; check the state's angular velocity",
+                self.step,
+                self.l_world.norm()
+            )));
+        }
         Ok(out)
     }
 

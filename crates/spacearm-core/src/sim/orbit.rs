@@ -190,6 +190,12 @@ pub struct Orbit {
     pub v0: Vector3<f64>,
 }
 
+/// The most DOPRI5 steps (accepted and rejected) one [`Orbit::propagate`] may take: beyond it
+/// the propagation stops with a `SimulationError` naming the time reached and this budget
+/// instead of running for minutes (a span of thousands of years, or a step that the error
+/// control keeps shrinking). About 1.5 s of propagation, some years of a low orbit.
+pub const ORBIT_MAX_STEPS: usize = 5_000_000;
+
 impl Orbit {
     /// An orbit from its osculating elements at `t = 0`.
     pub fn from_elements(body: CentralBody, elements: &Elements, j2: bool) -> Result<Orbit> {
@@ -203,9 +209,15 @@ impl Orbit {
     /// argument of latitude `arg_latitude`; the velocity is the two-body circular speed
     /// `√(μ/a)` (also with J2, whose osculating orbit from this state is then slightly
     /// eccentric; docs/orbit.md).
+    ///
+    /// The altitude must be finite and > 0: a circular orbit at or below the body's surface
+    /// (`altitude <= 0`) runs through the body.
     pub fn circular(body: CentralBody, altitude: f64, inclination: f64, raan: f64, arg_latitude: f64, j2: bool) -> Result<Orbit> {
-        if !(altitude.is_finite() && altitude + body.radius > 0.0) {
-            return Err(SpacearmError::argument(format!("orbit: the altitude must be finite and above -R (the body's centre), got {altitude} m")));
+        if !(altitude.is_finite() && altitude > 0.0) {
+            return Err(SpacearmError::argument(format!(
+                "orbit: the altitude must be finite and > 0 m (above the central body's surface, radius {} m), got {altitude} m",
+                body.radius
+            )));
         }
         let el = Elements { a: body.radius + altitude, e: 0.0, i: inclination, raan, argp: 0.0, true_anomaly: arg_latitude };
         Orbit::from_elements(body, &el, j2)
@@ -270,12 +282,14 @@ impl Orbit {
         }
         let mut h = dp.initial_step(&mut sys, t, &y, end)?;
         let mut y_out = [0.0; 6];
-        let max_steps = 100_000_000usize;
         let mut steps = 0usize;
         while k < times.len() {
             steps += 1;
-            if steps > max_steps {
-                return Err(SpacearmError::Simulation(format!("orbit propagation used {max_steps} steps and reached only t = {t} s")));
+            if steps > ORBIT_MAX_STEPS {
+                return Err(SpacearmError::Simulation(format!(
+                    "orbit propagation used its budget of {ORBIT_MAX_STEPS} DOPRI5 steps (spacearm_core::sim::orbit::ORBIT_MAX_STEPS) \
+                     and reached only t = {t:.6e} s of {end:.6e} s; propagate over a shorter span or loosen rtol"
+                )));
             }
             let remaining = end - t;
             if h >= remaining || remaining - h < 1e-12 * end {
@@ -607,6 +621,17 @@ impl OrbitTrack {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_circular_orbit_is_above_the_surface_and_a_propagation_has_a_budget() {
+        for h in [0.0, -100e3, -EARTH.radius + 1.0, f64::NAN] {
+            let err = Orbit::circular(EARTH, h, 0.0, 0.0, 0.0, false).unwrap_err().to_string();
+            assert!(err.contains("above the central body's surface"), "{err}");
+        }
+        let o = Orbit::circular(EARTH, 1.0, 0.0, 0.0, 0.0, false).unwrap();
+        let err = o.propagate(&[1e12], 1e-12).unwrap_err().to_string();
+        assert!(err.contains(&format!("budget of {ORBIT_MAX_STEPS} DOPRI5 steps")) && err.contains("reached only t = "), "{err}");
+    }
 
     #[test]
     fn elements_round_trip() {
