@@ -31,7 +31,7 @@ __all__ = [
     "analysis_reach", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_singularity", "batch_threads", "body_mass_properties_error", "box_of_moments", "check_grasp_handle", "GOAL_TOLERANCE", "MAX_HANDLE_RATIO",
     "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "joint_wrenches", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
-    "model_to_toml", "momentum_scales", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
+    "model_to_toml", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
     "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts",
     "cylinder_slosh", "sphere_slosh", "sphere_fill_height", "cylinder_fill_height", "InputShaper", "soft_capture", "virtual_mass",
@@ -389,6 +389,7 @@ class Model:
     def base_velocity_from_momentum(self, x: _ArrayLike, qd: _ArrayLike, linear: _ArrayLike, angular_origin: _ArrayLike) -> _Vec: ...
     def momentum(self, x: _ArrayLike, u: _ArrayLike) -> tuple[_Vec, _Vec, _Vec, _Vec]: ...  # (P, L_origin, L_base, L_com), each (3,) in 𝒥
     def kinetic_energy(self, x: _ArrayLike, u: _ArrayLike) -> Union[float, _Vec]: ...
+    def momentum_scales(self, x: _ArrayLike, u: _ArrayLike) -> npt.NDArray[np.float64]: ...
     def center_of_mass(self, x: _ArrayLike) -> _Vec: ...
     def passive_forces(self, x: _ArrayLike, u: _ArrayLike) -> _Vec: ...  # (6+N,): [0 (6); -k (q - rest) - c qd]
     def spring_energy(self, x: _ArrayLike) -> Union[float, _Vec]: ...
@@ -1302,8 +1303,6 @@ def perturbed(
     slosh_removed: bool,
 ) -> Model: ...
 def default_wheel_dofs(model: Model) -> list[int]: ...
-def momentum_scales(model: Model, x: npt.NDArray[np.float64], u: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
-    """(T, 4): Σ|p_i|, Σ(|r_i×p_i| + |I_i w_i|) about the origin and the system CM, kinetic + spring energy."""
 def conserved_drift(values: npt.NDArray[np.float64], scale: float) -> float:
     """max_k |v_k - v_0| / max(|v_0|, scale)."""
 @final

@@ -123,7 +123,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<records_py::PyRunResult>()?;
     m.add_class::<records_py::PyRolloutBatch>()?;
     m.add_function(wrap_pyfunction!(simulate_py::perturbed, m)?)?;
-    m.add_function(wrap_pyfunction!(simulate_py::momentum_scales, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_py::conserved_drift, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_py::default_wheel_dofs, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -530,6 +530,19 @@ impl PyModel {
         })
     }
 
+    /// The drift scales of the momenta and the energy at `(x, u)`: `[Σ|pᵢ|, Σ(|rᵢ×pᵢ| + |Iᵢωᵢ|)
+    /// about the origin, the same about the system CM, kinetic plus spring energy]`
+    /// (`algorithms::momentum::momentum_scales`), (4,) for one state, (B, 4) for a batch.
+    fn momentum_scales<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let m = &self.model;
+        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
+        run(py, "momentum_scales", inputs, [&[4]], &self.workspaces, || Data::new(m), |d, [x, u], [out]| {
+            let s = momentum::momentum_scales(m, d, x, u)?;
+            out.copy_from_slice(&[s.linear, s.angular_about_origin, s.angular_about_com, s.energy]);
+            Ok(())
+        })
+    }
+
     fn passive_forces<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let m = &self.model;
         let nu = m.nu();

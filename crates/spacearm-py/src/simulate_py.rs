@@ -120,32 +120,6 @@ pub fn default_wheel_dofs(model: &Bound<'_, PyModel>) -> Vec<usize> {
     spacearm_core::sim::actuators::detect_reaction_wheels(&model.borrow().model)
 }
 
-/// The drift scales of each sample (`spacearm_core::algorithms::momentum::MomentumScales`):
-/// `(T, 4)` columns `[Σ|pᵢ|, Σ(|rᵢ×pᵢ| + |Iᵢωᵢ|) about the origin, the same about the system CM,
-/// kinetic energy]` for the states `x` (T, 7+N) and `u` (T, 6+N).
-#[pyfunction]
-pub fn momentum_scales<'py>(
-    py: Python<'py>,
-    model: &Bound<'py, PyModel>,
-    x: &Bound<'py, PyAny>,
-    u: &Bound<'py, PyAny>,
-) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
-    use numpy::PyArrayMethods;
-    let m = model.borrow();
-    let (xs, rows, nx) = matrix_arg(x, "x")?;
-    let (us, urows, nu) = matrix_arg(u, "u")?;
-    if rows != urows {
-        return Err(shape_error(py, format!("momentum_scales: x has {rows} rows but u has {urows}")));
-    }
-    let mut out = Vec::with_capacity(rows * 4);
-    for k in 0..rows {
-        let (xr, ur) = (&xs[k * nx..(k + 1) * nx], &us[k * nu..(k + 1) * nu]);
-        let s = m.with_data(|model, data| spacearm_core::algorithms::momentum::momentum_scales(model, data, xr, ur)).or_raise(py)?;
-        out.extend_from_slice(&[s.linear, s.angular_about_origin, s.angular_about_com, s.energy]);
-    }
-    Ok(numpy::PyArray1::from_vec(py, out).reshape([rows, 4])?)
-}
-
 /// The drift of a conserved quantity over samples (`spacearm_core::algorithms::momentum::conserved_drift`):
 /// `max_k |v_k − v_0| / max(|v_0|, scale)` for `values` (T, d) or (T,).
 #[pyfunction]

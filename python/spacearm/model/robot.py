@@ -494,11 +494,9 @@ class Robot:
         same about the system CM, and the kinetic plus spring energy (sums over the bodies of their own
         contributions' norms: the core's drift scales, docs/simulation-core.md). ``x`` (T, 7+N)
         and ``u`` (T, 6+N) give ``(T, 4)``; one state, ``x`` (7+N,) and ``u`` (6+N,), gives
-        ``(4,)``, as every per-state method does. The arrays are read by the extension in any
-        layout (docs/conventions.md, "Arrays")."""
-        one = np.ndim(x) == 1 and np.ndim(u) == 1
-        scales = _core.momentum_scales(self._m, np.atleast_2d(x), np.atleast_2d(u))
-        return scales[0] if one else scales
+        ``(4,)``; like every per-state method it takes a batch with one row of either used for
+        every state (docs/batch.md)."""
+        return self._m.momentum_scales(x, u)
 
     def center_of_mass(self, x) -> np.ndarray:
         """System CM $r_g$ in 𝒥."""
