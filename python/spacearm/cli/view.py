@@ -11,7 +11,9 @@ spacearm, which stored no models, is refused with the way to re-record it.
 
 from __future__ import annotations
 
+import signal
 import sys
+import threading
 import time
 import warnings
 
@@ -114,12 +116,34 @@ def run(args, out=None) -> int:
 
             webbrowser.open(os.path.abspath(args.out))
         return 0
-    vis = scene.show(open=not args.no_browser)
+    # SIGTERM and SIGHUP (a closed terminal) stop the server as Ctrl-C does; the server also
+    # ends by itself when this process is gone however it ends (SIGKILL: viz/viewer.py).
+    handled = [getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name)]
+    previous = {}
+    if threading.current_thread() is threading.main_thread():
+        previous = {sig: signal.signal(sig, _stop) for sig in handled}
+    vis = None
     try:  # the announcement inside: a Ctrl-C right after it is the stop asked for, not an error
+        vis = scene.show(open=not args.no_browser)
         out.write(f"serving the scene at {vis.window.web_url} (Ctrl-C to stop)\n")
         out.flush()
         while True:
             time.sleep(1.0)
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, _Stopped):
         out.write("stopped\n")
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        proc = getattr(getattr(vis, "window", None), "server_proc", None)
+        if proc is not None and proc.poll() is None:
+            proc.kill()
+            proc.wait()
     return 0
+
+
+class _Stopped(Exception):
+    """A SIGTERM or SIGHUP asked the live view to stop."""
+
+
+def _stop(signum, frame):
+    raise _Stopped(signum)
