@@ -40,6 +40,11 @@ def add_parser(sub) -> None:
     p.add_argument("--no-momentum", action="store_true", help="leave out the momentum arrows")
     p.add_argument("--open", action="store_true", help="with --out: open the file in the web browser")
     p.add_argument("--no-browser", action="store_true", help="live view: do not open the web browser")
+    p.add_argument("--mesh-dir", action="append", default=[], metavar="DIR",
+                   help="a folder mesh files of the record's models may be read from, besides the record's own "
+                        "folder (repeatable); a mesh elsewhere is not read")
+    p.add_argument("--allow-outside-meshes", action="store_true",
+                   help="read the record's mesh files wherever they are (only for records you trust)")
 
 
 class _SavedCapture:
@@ -101,7 +106,11 @@ def run(args, out=None) -> int:
 
     out = sys.stdout if out is None else out
     record = _read(args.result, args.model)
-    options = dict(fps=args.fps, geometry=args.geometry, momentum=not args.no_momentum)
+    import os
+
+    # The record's models name their mesh files: read only those in its folder or a --mesh-dir.
+    mesh_dirs = None if args.allow_outside_meshes else [os.path.dirname(os.path.abspath(args.result))] + list(args.mesh_dir)
+    options = dict(fps=args.fps, geometry=args.geometry, momentum=not args.no_momentum, mesh_dirs=mesh_dirs)
     with warnings.catch_warnings():  # the scene's notes are printed below, once
         warnings.simplefilter("ignore", UserWarning)
         scene = capture_scene(record, **options) if isinstance(record, _SavedCapture) else trajectory_scene(record, **options)
@@ -111,7 +120,6 @@ def run(args, out=None) -> int:
         scene.save(args.out)
         out.write(f"wrote scene: {args.out} ({len(scene.times)} key frames over {scene.times[-1]:.4g} s)\n")
         if args.open:
-            import os
             import webbrowser
 
             webbrowser.open(os.path.abspath(args.out))

@@ -36,6 +36,7 @@ from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
+from .._util.paths import inside
 from ..model.builder import RobotBuilder
 from ..errors import ArgumentError, ModelFileError, ShapeError, SpacearmError, SpacearmTypeError
 from ..model.robot import Robot
@@ -287,7 +288,7 @@ class _Importer:
         anything else (``../../etc/passwd``, ``file:///etc/shadow``, ``package://pkg/../..``)
         is a [`ModelFileError`][spacearm.ModelFileError] naming the line."""
         def confined(path: str, roots: Sequence[str], what: str) -> str:
-            if allow_outside or _inside(path, roots):
+            if allow_outside or inside(path, roots):
                 return path
             raise self.fail(line, f"mesh '{file[:200]}' resolves to '{path[:200]}', outside {what}: refused (mesh "
                                   "files are read from the URDF's folder and the package folders only; pass "
@@ -343,19 +344,6 @@ class _Importer:
             # The core's message names the link or joint and the broken rule (one message from
             # every door, model/validate.rs); the URDF adds the file and the joint's line.
             raise self.fail(line, str(exc)) from None
-
-
-def _inside(path: str, roots: Sequence[str]) -> bool:
-    """Whether ``path`` (symbolic links resolved) lies in one of the folders ``roots``."""
-    real = os.path.realpath(path)
-    for root in roots:
-        r = os.path.realpath(root)
-        try:
-            if os.path.commonpath([real, r]) == r:
-                return True
-        except ValueError:  # another drive
-            continue
-    return False
 
 
 def _mount_robot(mount_on):

@@ -38,12 +38,13 @@ import math
 import os
 import warnings
 import webbrowser
-from typing import Dict, List, Optional, Tuple, Union
+from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from .._util.atomic import write_text
 from .._util.optional import require
+from .._util.paths import inside
 from ..errors import ArgumentError, MissingDependencyError
 from ..rotations import quat_exp, quat_from_matrix, quat_to_matrix
 
@@ -191,6 +192,7 @@ class Scene:
         self.legend: List[Tuple[Tuple[float, ...], str]] = []
         self.notes: List[str] = []
         self.extent = (np.zeros(3), 1.0)  # centre, radius of what is drawn
+        self.mesh_dirs: Optional[List[str]] = None  # the folders mesh files are read from (None: any)
 
     # ---- building --------------------------------------------------------------------------
     def _drawable(self, path: str, what: str, values) -> np.ndarray:
@@ -380,7 +382,20 @@ def _start_server():
 def _mesh_object(scene: Scene, g, material):
     """A mesh geometry as a meshcat mesh (through trimesh), or ``None`` with a note."""
     mc = scene._mc
-    if not g.file or not os.path.isfile(g.file):
+    file = g.file
+    roots = scene.mesh_dirs
+    if roots is not None and file:  # confined: a model from a file (spacearm view of a record)
+        if "://" in file:
+            scene._note(f"mesh '{file[:200]}' of geometry '{g.name}' is a URL, not a file: not read, not drawn")
+            return None
+        if not os.path.isabs(file):
+            file = os.path.join(roots[0], file)
+        if not inside(file, roots):
+            scene._note(f"mesh '{file[:200]}' of geometry '{g.name}' (body '{g.body}') is outside the mesh folders "
+                        f"({', '.join(str(r)[:120] for r in roots)}): not read, not drawn (CLI --allow-outside-meshes reads it, "
+                        "--mesh-dir DIR adds a folder; in Python mesh_dirs=None or [...])")
+            return None
+    if not file or not os.path.isfile(file):
         scene._note(f"mesh '{g.file}' of geometry '{g.name}' (body '{g.body}') does not exist: not drawn")
         return None
     try:
@@ -389,7 +404,7 @@ def _mesh_object(scene: Scene, g, material):
         scene._note(f"geometry '{g.name}' (body '{g.body}') not drawn: {exc}")
         return None
     try:
-        mesh = trimesh.load(g.file, force="mesh")
+        mesh = trimesh.load(file, force="mesh")
         vertices, faces = np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int64)
     except Exception as exc:  # trimesh raises many kinds; the note names the file
         scene._note(f"mesh '{g.file}' of geometry '{g.name}' could not be read ({type(exc).__name__}: {exc}): not drawn")
@@ -605,6 +620,17 @@ def _key_samples(t: np.ndarray, fps: float, max_frames: int) -> np.ndarray:
     return np.unique(later)
 
 
+def _mesh_dirs(dirs) -> Optional[List[str]]:
+    if dirs is None:
+        return None
+    if isinstance(dirs, (str, os.PathLike)):
+        dirs = [dirs]
+    out = [os.path.abspath(os.fspath(d)) for d in dirs]
+    if not out:
+        raise ArgumentError("mesh_dirs must name at least one folder (None reads meshes from anywhere)")
+    return out
+
+
 def _check_times(t) -> np.ndarray:
     """The run's sample times: finite and never decreasing (equal at an impact's jump), else an
     [`ArgumentError`][spacearm.ArgumentError] naming the first sample at fault."""
@@ -674,6 +700,7 @@ def trajectory_scene(
     play: bool = True,
     repetitions: int = 1,
     title: Optional[str] = None,
+    mesh_dirs: Optional[Sequence[PathLike]] = None,
 ) -> Scene:
     """The [`Scene`][spacearm.viz.viewer.Scene] of a [`Trajectory`][spacearm.Trajectory] (it needs its robot).
 
@@ -683,7 +710,11 @@ def trajectory_scene(
     the system CM ``L_com`` as arrows from the system CM, each scaled so that its largest value
     reaches out of the base (1.6 times the half-diagonal of the base's box of moments, plus a
     fifth of the arm's size; the legend gives the scale). ``path``: the end-effector path;
-    ``frames``: the base and end-effector triads; ``points``: the named points.
+    ``frames``: the base and end-effector triads; ``points``: the named points. ``mesh_dirs``:
+    the folders mesh files may be read from (a relative mesh path is taken from the first), for
+    a model that came from a file not trusted (``spacearm view`` passes the record's folder); a
+    mesh outside them is not read (a note says so). ``None`` (the default): any path, as the
+    caller's own model gives it.
     """
     robot = traj.robot
     if robot is None:
@@ -693,6 +724,7 @@ def trajectory_scene(
     name = robot.name
     heading = title or f"{name}: {traj.meta.get('mode', '')} ({traj.meta.get('controller') or 'no control'})"
     scene = Scene(heading, fps)
+    scene.mesh_dirs = _mesh_dirs(mesh_dirs)
     scene.samples = idx
     scene.times = np.asarray(traj.t[idx] - traj.t[0], dtype=float)
     xs = np.ascontiguousarray(traj.x[idx])
@@ -733,6 +765,7 @@ def capture_scene(
     play: bool = True,
     repetitions: int = 1,
     title: Optional[str] = None,
+    mesh_dirs: Optional[Sequence[PathLike]] = None,
 ) -> Scene:
     """The [`Scene`][spacearm.viz.viewer.Scene] of a [`CaptureResult`][spacearm.capture.CaptureResult]: the robot, the target moving
     (its bodies at the core's poses of its recorded states), the grasp point (a marker from the
@@ -744,6 +777,7 @@ def capture_scene(
     idx = _key_samples(_check_times(result.t), fps, max_frames)
     heading = title or f"{robot.name} capturing {target.name} ({result.kind} grasp, {result.mode})"
     scene = Scene(heading, fps)
+    scene.mesh_dirs = _mesh_dirs(mesh_dirs)
     scene.samples = idx
     scene.times = np.asarray(result.t[idx] - result.t[0], dtype=float)
     xs = np.ascontiguousarray(result.x[idx])
