@@ -129,3 +129,14 @@ def test_huge_numbers_in_messages_are_compact():
 
     assert shown(10**130) == "~1e+130 (131 digits)" and shown(7) == "7" and shown(1e308) == "1e+308"
     assert shown(np.float64(0.1)) == "0.1" and len(shown("x" * 10_000)) == 80
+
+
+def test_cli_refuses_outside_meshes_unless_allowed(tree, capsys):
+    from spacearm.cli import main
+
+    path = tree / "robot" / "r.urdf"
+    path.write_text(_urdf("../secret.stl"))
+    assert main(["inspect", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("spacearm: error:") and "outside" in err and "--allow-outside-meshes" in err, err
+    assert main(["inspect", str(path), "--allow-outside-meshes"]) == 0
