@@ -11,6 +11,7 @@ spacearm, which stored no models, is refused with the way to re-record it.
 
 from __future__ import annotations
 
+import os
 import signal
 import sys
 import threading
@@ -106,8 +107,6 @@ def run(args, out=None) -> int:
 
     out = sys.stdout if out is None else out
     record = _read(args.result, args.model)
-    import os
-
     # The record's models name their mesh files: read only those in its folder or a --mesh-dir.
     mesh_dirs = None if args.allow_outside_meshes else [os.path.dirname(os.path.abspath(args.result))] + list(args.mesh_dir)
     options = dict(fps=args.fps, geometry=args.geometry, momentum=not args.no_momentum, mesh_dirs=mesh_dirs)
