@@ -45,7 +45,7 @@ import numpy as np
 from .._util.atomic import write_text
 from .._util.optional import require
 from .._util.paths import inside
-from .._util.show import shown
+from .._util.show import shown as _shown
 from ..errors import ArgumentError, MissingDependencyError
 from ..rotations import quat_exp, quat_from_matrix, quat_to_matrix
 
@@ -654,12 +654,12 @@ def _check_options(fps, max_frames, geometry) -> Tuple[float, int]:
         fps = float(fps)
         max_frames = int(max_frames)
     except (TypeError, ValueError):
-        raise ArgumentError(f"fps must be a number > 0 and max_frames an integer >= 2, got {shown(fps)} and "
-                            f"{shown(max_frames)}") from None
+        raise ArgumentError(f"fps must be a number > 0 and max_frames an integer >= 2, got {_shown(fps)} and "
+                            f"{_shown(max_frames)}") from None
     if not (math.isfinite(fps) and fps > 0):
-        raise ArgumentError(f"fps must be a finite number > 0 (key frames per second of the run), got {shown(fps)}")
+        raise ArgumentError(f"fps must be a finite number > 0 (key frames per second of the run), got {_shown(fps)}")
     if max_frames < 2:
-        raise ArgumentError(f"max_frames must be >= 2, got {shown(max_frames)}")
+        raise ArgumentError(f"max_frames must be >= 2, got {_shown(max_frames)}")
     if geometry not in GEOMETRY_ROLES:
         raise ArgumentError(f"geometry must be one of {list(GEOMETRY_ROLES)}, got {geometry!r}")
     return fps, max_frames
