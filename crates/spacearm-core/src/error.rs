@@ -15,7 +15,7 @@ pub enum SpacearmError {
     /// The model description violates a physical or structural rule (the rules:
     /// [`crate::model::validate`]; docs/model-format.md). Raised from a [`ModelError`], which
     /// also says where the rule is broken.
-    #[error("invalid model: {0}")]
+    #[error("invalid model: {}", compact_numbers(.0))]
     InvalidModel(String),
 
     /// An array argument has the wrong length.
@@ -42,7 +42,7 @@ pub enum SpacearmError {
 
     /// A quaternion is not unit length within the stated tolerance.
     #[error(
-        "{what} must be a unit quaternion [x, y, z, w] (|q| = 1 within {tolerance:e}), got norm {norm}"
+        "{what} must be a unit quaternion [x, y, z, w] (|q| = 1 within {tolerance:e}), got norm {}", compact_numbers(&norm.to_string())
     )]
     NotUnitQuaternion {
         /// The argument.
@@ -54,7 +54,7 @@ pub enum SpacearmError {
     },
 
     /// A name or index does not refer to anything in the model.
-    #[error("{0}")]
+    #[error("{}", compact_numbers(.0))]
     NotFound(String),
 
     /// A matrix that must be invertible is singular (or numerically so).
@@ -62,23 +62,23 @@ pub enum SpacearmError {
     Singular(String),
 
     /// A model file could not be parsed; the message carries line and column.
-    #[error("{0}")]
+    #[error("{}", compact_numbers(.0))]
     Parse(String),
 
     /// An option or numerical argument has an invalid value (a negative duration, an unknown
     /// mode name, a limit that is not positive, a tolerance, gain, step or resolution out of
     /// range); the message names it and what was expected.
-    #[error("{0}")]
+    #[error("{}", compact_numbers(.0))]
     InvalidArgument(String),
 
     /// A simulation could not continue (the state diverged, the adaptive step size fell below
     /// its floor, the step budget ran out, or a controller failed); the message says when.
-    #[error("{0}")]
+    #[error("{}", compact_numbers(.0))]
     Simulation(String),
 
     /// A request would allocate more than [`crate::admission::MEMORY_LIMIT_BYTES`]; the message
     /// names the request, its size and the way out. Refused before anything is allocated.
-    #[error("{0}")]
+    #[error("{}", compact_numbers(.0))]
     ResourceLimit(String),
 }
 
@@ -148,7 +148,7 @@ pub enum ModelField {
 /// model file can point at the offending text from its own parse tree. Becomes
 /// [`SpacearmError::InvalidModel`] with the same message.
 #[derive(Debug, Clone, PartialEq, Error)]
-#[error("invalid model: {message}")]
+#[error("invalid model: {}", compact_numbers(.message))]
 pub struct ModelError {
     /// The item the message is about.
     pub item: ModelItem,
@@ -177,6 +177,64 @@ impl SpacearmError {
     }
 }
 
+/// Digits a number of a message may have before it is shown in scientific notation.
+const MAX_MESSAGE_DIGITS: usize = 17;
+
+/// `message` with every number of more than 17 digits in its first line written in scientific
+/// notation with 7 significant digits (`1e130`, `5.542982e37`): Rust writes an `f64` in full
+/// (`1e130` as 131 digits), and a message quoting a user's value must stay readable. The lines
+/// after the first (a model file's quoted line) are kept as they are. Every error's `Display`
+/// applies it, so every door (Python, C, the CLI) shows the same compact message.
+pub fn compact_numbers(message: &str) -> std::borrow::Cow<'_, str> {
+    let first = message.split('\n').next().unwrap_or("");
+    let b = first.as_bytes();
+    let mut digits_in_a_row = 0;
+    if !b.iter().any(|c| {
+        digits_in_a_row = if c.is_ascii_digit() { digits_in_a_row + 1 } else { 0 };
+        digits_in_a_row > MAX_MESSAGE_DIGITS
+    }) {
+        return std::borrow::Cow::Borrowed(message);
+    }
+    let mut out = String::with_capacity(message.len());
+    let mut i = 0;
+    while i < b.len() {
+        let word_before = i > 0 && (b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.');
+        if b[i].is_ascii_digit() && !word_before {
+            let mut j = i;
+            while j < b.len() && b[j].is_ascii_digit() {
+                j += 1;
+            }
+            if j + 1 < b.len() && b[j] == b'.' && b[j + 1].is_ascii_digit() {
+                j += 1;
+                while j < b.len() && b[j].is_ascii_digit() {
+                    j += 1;
+                }
+            }
+            let token = &first[i..j];
+            let word_after = j < b.len() && (b[j].is_ascii_alphanumeric() || b[j] == b'_');
+            let n_digits = token.bytes().filter(u8::is_ascii_digit).count();
+            match token.parse::<f64>() {
+                Ok(v) if n_digits > MAX_MESSAGE_DIGITS && !word_after && v.is_finite() => {
+                    let sci = format!("{v:.6e}");
+                    let (mantissa, exponent) = sci.split_once('e').unwrap_or((&sci, "0"));
+                    let mantissa = if mantissa.contains('.') { mantissa.trim_end_matches('0').trim_end_matches('.') } else { mantissa };
+                    out.push_str(mantissa);
+                    out.push('e');
+                    out.push_str(exponent);
+                }
+                _ => out.push_str(token),
+            }
+            i = j;
+        } else {
+            let len = first[i..].chars().next().map_or(1, char::len_utf8);
+            out.push_str(&first[i..i + len]);
+            i += len;
+        }
+    }
+    out.push_str(&message[first.len()..]);
+    std::borrow::Cow::Owned(out)
+}
+
 /// Check that `values` has `expected` entries and that all are finite.
 pub(crate) fn check_vector(what: &str, values: &[f64], expected: usize) -> Result<()> {
     if values.len() != expected {
@@ -198,5 +256,29 @@ pub(crate) fn check_finite(what: &str, values: &[f64]) -> Result<()> {
             value: values[index],
         }),
         None => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_numbers_in_messages_are_compact() {
+        // A user's 1e130 was printed in full, 131 digits, by every message quoting it (issue 38).
+        let huge = format!("box size x must be at most 1e6 m, got {}", 1e130_f64);
+        assert!(huge.len() > 150);
+        let e = SpacearmError::InvalidModel(huge).to_string();
+        assert_eq!(e, "invalid model: box size x must be at most 1e6 m, got 1e130");
+        let e = SpacearmError::argument(format!("mode λ = {} at t = 0 s, dt = 0.01 s", 55429823419145777172668967157528713605.0_f64));
+        assert_eq!(e.to_string(), "mode λ = 5.542982e37 at t = 0 s, dt = 0.01 s");
+        assert_eq!(SpacearmError::argument(format!("got {}", -1e-19_f64)).to_string(), "got -1e-19");
+        let q = SpacearmError::NotUnitQuaternion { what: "x[3:7]".into(), norm: 2e51, tolerance: 1e-6 };
+        assert!(q.to_string().ends_with("got norm 2e51"), "{q}");
+        let m = ModelError::new(ModelItem::Base, ModelField::Mass, format!("got {}", -1e18_f64));
+        assert_eq!(m.to_string(), "invalid model: got -1e18");
+        // Short numbers, names with digits, and the lines after the first (a quoted file line) stay.
+        let kept = "link 'arm_123456789012345678901' at 0.125 m, 12345678901234567 steps\n 4 | mass = 100000000000000000000";
+        assert_eq!(SpacearmError::Parse(kept.into()).to_string(), kept);
     }
 }

@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ArgumentError, NonFiniteError, ShapeError, SpacearmTypeError
+from .show import shown
 
 
 #: numpy dtype kinds accepted as numbers: bool, signed and unsigned integers, floats. Complex
@@ -65,9 +66,9 @@ def number(value, name: str) -> float:
     try:
         return float(value)
     except ValueError:
-        raise ArgumentError(f"{name} must be a number, got {value!r}") from None
+        raise ArgumentError(f"{name} must be a number, got {shown(value)}") from None
     except TypeError:
-        raise SpacearmTypeError(f"{name} must be a number, got {type(value).__name__} {value!r}") from None
+        raise SpacearmTypeError(f"{name} must be a number, got {type(value).__name__} {shown(value)}") from None
 
 
 def integer(value, name: str) -> int:
@@ -78,7 +79,7 @@ def integer(value, name: str) -> int:
         return int(value)
     as_float = number(value, name)
     if not as_float.is_integer():
-        raise ArgumentError(f"{name} must be an integer, got {value!r}")
+        raise ArgumentError(f"{name} must be an integer, got {shown(value)}")
     return int(as_float)
 
 

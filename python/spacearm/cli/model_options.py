@@ -37,6 +37,7 @@ _URDF_ADVICE_AS_OPTIONS = (
     ("name another base_link", "name another --base-link"),
     ("(mount_on=...)", "(--mount-on SPACECRAFT)"),
     ("(prefix='arm_', CLI --prefix)", "(--prefix arm_)"),
+    ("allow_outside_meshes=True", "--allow-outside-meshes"),
 )
 
 
@@ -66,6 +67,9 @@ def add_model_arguments(parser: argparse.ArgumentParser) -> None:
                    help="load inertias that break the triangle inequality I1 + I2 >= I3 (published identified data) "
                         "with a warning instead of refusing them; for the ets7 preset, its published link inertias "
                         "instead of their documented correction")
+    g.add_argument("--allow-outside-meshes", action="store_true",
+                   help="URDF only: read mesh files outside the URDF's folder and its package folders (refused "
+                        "by default: ../ or file:// paths of a URDF you did not write)")
 
 
 def model_from_args(args: argparse.Namespace) -> Robot:
@@ -75,7 +79,8 @@ def model_from_args(args: argparse.Namespace) -> Robot:
         warnings.simplefilter("always", NonPhysicalInertiaWarning)
         robot = load_model(args.model, mount_on=args.mount_on, at=args.at, prefix=args.prefix, mimic=args.mimic,
                            base_link=args.base_link, end_effector=args.end_effector,
-                           allow_nonphysical_inertia=getattr(args, "allow_nonphysical_inertia", False))
+                           allow_nonphysical_inertia=getattr(args, "allow_nonphysical_inertia", False),
+                           allow_outside_meshes=getattr(args, "allow_outside_meshes", False))
     for w in caught:
         if issubclass(w.category, NonPhysicalInertiaWarning):
             print(f"spacearm: warning: {w.message}", file=sys.stderr)
@@ -86,7 +91,8 @@ def model_from_args(args: argparse.Namespace) -> Robot:
 
 def load_model(spec: str, mount_on: Optional[str] = None, at=None, prefix: Optional[str] = None,
                mimic: Optional[str] = None, base_link: Optional[str] = None,
-               end_effector: Optional[str] = None, allow_nonphysical_inertia: bool = False) -> Robot:
+               end_effector: Optional[str] = None, allow_nonphysical_inertia: bool = False,
+               allow_outside_meshes: bool = False) -> Robot:
     """A preset by name, a model file shipped with spacearm by name (``spacecraft_bus``,
     ``spatial6_wheels``: [`spacearm.examples`][spacearm.examples]), or a model file (``.toml``,
     ``.urdf``) by path.
@@ -104,6 +110,8 @@ def load_model(spec: str, mount_on: Optional[str] = None, at=None, prefix: Optio
     ``<link>_frame``); or a body of a preset or ``.toml`` model (its CM, which is its frame
     origin in spacearm; a point ``<body>_cm`` is added). ``allow_nonphysical_inertia``: load
     inertias that break the triangle inequality with a warning (``ets7``: the published values).
+    ``allow_outside_meshes`` (URDF only): read mesh files outside the URDF's folder and its
+    package folders (``load_urdf(allow_outside_meshes=True)``).
     """
     if spec not in presets.NAMES and spec in examples.NAMES and not os.path.exists(spec):
         spec = str(examples.path(spec))
@@ -112,7 +120,8 @@ def load_model(spec: str, mount_on: Optional[str] = None, at=None, prefix: Optio
         raise SpacearmError(f"'{spec}' is neither a preset ({', '.join(presets.NAMES)}), nor a shipped model ({shipped}), "
                             "nor an existing model file")
     if spec.lower().endswith(".urdf"):
-        return _load_urdf_model(spec, mount_on, at, prefix, mimic, base_link, end_effector, allow_nonphysical_inertia)
+        return _load_urdf_model(spec, mount_on, at, prefix, mimic, base_link, end_effector, allow_nonphysical_inertia,
+                                allow_outside_meshes)
     given = [option for option, value in (("--mount-on", mount_on), ("--at", at), ("--prefix", prefix),
                                           ("--mimic", mimic), ("--base-link", base_link)) if value is not None]
     if given:
@@ -127,7 +136,8 @@ def load_model(spec: str, mount_on: Optional[str] = None, at=None, prefix: Optio
     return robot if end_effector is None else _with_end_effector(robot, end_effector)
 
 
-def _load_urdf_model(path, mount_on, at, prefix, mimic, base_link, end_effector, allow_nonphysical_inertia) -> Robot:
+def _load_urdf_model(path, mount_on, at, prefix, mimic, base_link, end_effector, allow_nonphysical_inertia,
+                     allow_outside_meshes=False) -> Robot:
     from ..errors import ModelFileError
     from ..io.urdf import load_urdf
     from ..io.urdf_parse import parse_urdf
@@ -137,6 +147,8 @@ def _load_urdf_model(path, mount_on, at, prefix, mimic, base_link, end_effector,
     options = {k: v for k, v in (("prefix", prefix), ("mimic", mimic), ("base_link", base_link)) if v is not None}
     if allow_nonphysical_inertia:
         options["allow_nonphysical_inertia"] = True
+    if allow_outside_meshes:
+        options["allow_outside_meshes"] = True
     if mount_on is not None:
         pose = parse_numbers(at, "--at", 6, "x,y,z,roll,pitch,yaw", "m, rad") if isinstance(at, str) else at
         try:

@@ -11,7 +11,10 @@ spacearm, which stored no models, is refused with the way to re-record it.
 
 from __future__ import annotations
 
+import os
+import signal
 import sys
+import threading
 import time
 import warnings
 
@@ -38,6 +41,11 @@ def add_parser(sub) -> None:
     p.add_argument("--no-momentum", action="store_true", help="leave out the momentum arrows")
     p.add_argument("--open", action="store_true", help="with --out: open the file in the web browser")
     p.add_argument("--no-browser", action="store_true", help="live view: do not open the web browser")
+    p.add_argument("--mesh-dir", action="append", default=[], metavar="DIR",
+                   help="a folder mesh files of the record's models may be read from, besides the record's own "
+                        "folder (repeatable); a mesh elsewhere is not read")
+    p.add_argument("--allow-outside-meshes", action="store_true",
+                   help="read the record's mesh files wherever they are (only for records you trust)")
 
 
 class _SavedCapture:
@@ -99,7 +107,9 @@ def run(args, out=None) -> int:
 
     out = sys.stdout if out is None else out
     record = _read(args.result, args.model)
-    options = dict(fps=args.fps, geometry=args.geometry, momentum=not args.no_momentum)
+    # The record's models name their mesh files: read only those in its folder or a --mesh-dir.
+    mesh_dirs = None if args.allow_outside_meshes else [os.path.dirname(os.path.abspath(args.result))] + list(args.mesh_dir)
+    options = dict(fps=args.fps, geometry=args.geometry, momentum=not args.no_momentum, mesh_dirs=mesh_dirs)
     with warnings.catch_warnings():  # the scene's notes are printed below, once
         warnings.simplefilter("ignore", UserWarning)
         scene = capture_scene(record, **options) if isinstance(record, _SavedCapture) else trajectory_scene(record, **options)
@@ -109,17 +119,38 @@ def run(args, out=None) -> int:
         scene.save(args.out)
         out.write(f"wrote scene: {args.out} ({len(scene.times)} key frames over {scene.times[-1]:.4g} s)\n")
         if args.open:
-            import os
             import webbrowser
 
             webbrowser.open(os.path.abspath(args.out))
         return 0
-    vis = scene.show(open=not args.no_browser)
+    # SIGTERM and SIGHUP (a closed terminal) stop the server as Ctrl-C does; the server also
+    # ends by itself when this process is gone however it ends (SIGKILL: viz/viewer.py).
+    handled = [getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name)]
+    previous = {}
+    if threading.current_thread() is threading.main_thread():
+        previous = {sig: signal.signal(sig, _stop) for sig in handled}
+    vis = None
     try:  # the announcement inside: a Ctrl-C right after it is the stop asked for, not an error
+        vis = scene.show(open=not args.no_browser)
         out.write(f"serving the scene at {vis.window.web_url} (Ctrl-C to stop)\n")
         out.flush()
         while True:
             time.sleep(1.0)
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, _Stopped):
         out.write("stopped\n")
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        proc = getattr(getattr(vis, "window", None), "server_proc", None)
+        if proc is not None and proc.poll() is None:
+            proc.kill()
+            proc.wait()
     return 0
+
+
+class _Stopped(Exception):
+    """A SIGTERM or SIGHUP asked the live view to stop."""
+
+
+def _stop(signum, frame):
+    raise _Stopped(signum)

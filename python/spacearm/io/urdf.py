@@ -36,6 +36,7 @@ from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
+from .._util.paths import inside
 from ..model.builder import RobotBuilder
 from ..errors import ArgumentError, ModelFileError, ShapeError, SpacearmError, SpacearmTypeError
 from ..model.robot import Robot
@@ -210,7 +211,8 @@ class _Importer:
 
     # ---- model --------------------------------------------------------------------------
     def build(self, name: str, mount_on: Optional[Robot], mount_body: Optional[str], at, end_effector: Optional[str],
-              prefix: str = "", allow_nonphysical_inertia: bool = False, package_dirs: Sequence[str] = ()) -> Robot:
+              prefix: str = "", allow_nonphysical_inertia: bool = False, package_dirs: Sequence[str] = (),
+              allow_outside_meshes: bool = False) -> Robot:
         p = prefix
         base = self.bodies[0]
         base_line = self.urdf.links[self.base_link].line
@@ -267,36 +269,56 @@ class _Importer:
                 raise self.fail(self.urdf.links[link].line, f"link '{link}': {exc}") from None
         if ee_point is not None:
             builder.set_end_effector(p + ee_point)
-        self._add_geometries(builder, p, package_dirs)
+        self._add_geometries(builder, p, package_dirs, allow_outside_meshes)
         try:
             return builder.build()
         except SpacearmError as exc:
             raise ModelFileError(f"{self.urdf.source}: {exc}") from None
 
-    def _mesh_file(self, file: str, folder: Optional[str], package_dirs: Sequence[str]) -> str:
+    def _mesh_file(self, file: str, folder: Optional[str], package_dirs: Sequence[str], line: int,
+                   allow_outside: bool) -> str:
         """A mesh ``filename`` as a path: a relative one against the URDF's folder; a
         ``package://NAME/rest`` one as ``DIR/NAME/rest`` for the first of ``package_dirs`` that
         has it, else the ``rest`` below the nearest folder called ``NAME`` above the URDF (a ROS
-        package layout). Kept as written when no such file exists."""
+        package layout). Kept as written when no such file exists.
+
+        Confined (unless ``allow_outside``): a ``package://`` file must stay inside its package's
+        folder, and every other file (relative, absolute or ``file://``) inside the URDF's folder
+        (the current folder for URDF text) or one of ``package_dirs``, symbolic links resolved;
+        anything else (``../../etc/passwd``, ``file:///etc/shadow``, ``package://pkg/../..``)
+        is a [`ModelFileError`][spacearm.ModelFileError] naming the line."""
+        def confined(path: str, roots: Sequence[str], what: str) -> str:
+            if allow_outside or inside(path, roots):
+                return path
+            raise self.fail(line, f"mesh '{file[:200]}' resolves to '{path[:200]}', outside {what}: refused (mesh "
+                                  "files are read from the URDF's folder and the package folders only; pass "
+                                  "allow_outside_meshes=True to read it anyway, or package_dirs=[...])")
+
         if file.startswith("package://"):
             package, _, rest = file[len("package://"):].partition("/")
-            candidates = [os.path.join(d, package, rest) for d in package_dirs]
+            roots = [os.path.join(d, package) for d in package_dirs]
             here = folder
             while here and os.path.dirname(here) != here:
                 if os.path.basename(here) == package:
-                    candidates.append(os.path.join(here, rest))
+                    roots.append(here)
                 here = os.path.dirname(here)
-            for c in candidates:
+            for root in roots:
+                c = os.path.join(root, rest)
                 if os.path.isfile(c):
-                    return os.path.normpath(c)
+                    return confined(os.path.normpath(c), [root], f"the folder of package '{package[:80]}' ({root[:200]})")
             return file
+        local = list(package_dirs) + [folder if folder is not None else os.getcwd()]
+        where = "the URDF's folder and the package folders"
         if file.startswith("file://"):
-            return file[len("file://"):]
-        if folder is not None and "://" not in file and not os.path.isabs(file):
-            return os.path.normpath(os.path.join(folder, file))
+            return confined(file[len("file://"):], local, where)
+        if "://" in file:
+            return file  # a URL: not a file of this machine, never read
+        if folder is not None and not os.path.isabs(file):
+            return confined(os.path.normpath(os.path.join(folder, file)), local, where)
+        confined(file, local, where)
         return file
 
-    def _add_geometries(self, builder: RobotBuilder, p: str, package_dirs: Sequence[str]) -> None:
+    def _add_geometries(self, builder: RobotBuilder, p: str, package_dirs: Sequence[str], allow_outside: bool) -> None:
         """Each link's visuals and collisions on the body it became: the URDF pose in the link
         frame, carried into the body's J frame and measured from the body's CM; mesh files
         resolved by `_mesh_file`."""
@@ -307,7 +329,7 @@ class _Importer:
                 pose = self.pose_of_link[link].then(_Pose(g.rotation, g.origin))
                 dims = dict(g.dims)
                 if isinstance(dims.get("file"), str):
-                    dims["file"] = self._mesh_file(dims["file"], folder, package_dirs)
+                    dims["file"] = self._mesh_file(dims["file"], folder, package_dirs, g.line, allow_outside)
                 try:
                     builder.add_geometry(p + b.name, g.shape, role=g.role, origin=pose.t - b.com,
                                          rotation=quat_from_matrix(pose.R), rgba=g.rgba,
@@ -356,6 +378,7 @@ def loads_urdf(
     fixed: str = "merge",
     allow_nonphysical_inertia: bool = False,
     package_dirs: Sequence[str] = (),
+    allow_outside_meshes: bool = False,
 ) -> Robot:
     """Build a [`Robot`][spacearm.Robot] from URDF text (``str`` or ``bytes``); see [`load_urdf`][spacearm.io.load_urdf]."""
     mount_on = _mount_robot(mount_on)
@@ -363,7 +386,7 @@ def loads_urdf(
     importer = _Importer(urdf, base_link, fixed)
     dirs = [package_dirs] if isinstance(package_dirs, (str, os.PathLike)) else list(package_dirs)
     return importer.build(name or urdf.name, mount_on, mount_body, at, end_effector, str(prefix), bool(allow_nonphysical_inertia),
-                          [os.fspath(d) for d in dirs])
+                          [os.fspath(d) for d in dirs], bool(allow_outside_meshes))
 
 
 def load_urdf(path, **kwargs) -> Robot:
@@ -389,6 +412,9 @@ def load_urdf(path, **kwargs) -> Robot:
     ``package_dirs``: folders holding ROS packages, where ``package://NAME/...`` mesh files
     are looked up (as Pinocchio's ``package_dirs``); the folders above the URDF are searched
     too. Every ``<visual>`` and ``<collision>`` becomes a geometry of its body (docs/geometry.md).
+    Mesh files are confined: a ``package://`` one to its package's folder, any other (relative,
+    absolute, ``file://``) to the URDF's folder and ``package_dirs``, symbolic links resolved;
+    one outside is refused unless ``allow_outside_meshes=True``.
 
     Raises [`ModelFileError`][spacearm.ModelFileError] with ``file:line:`` for every problem in the file,
     and ``OSError`` if it cannot be read.

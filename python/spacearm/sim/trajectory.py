@@ -96,6 +96,40 @@ def _jsonable(value):
     return str(value)
 
 
+# The types of the meta keys this module and the viewer read, checked when a file is loaded.
+_META_TYPES = {
+    "mode": (str, type(None)), "controller": (str, type(None)), "tracking_error_kind": (str, type(None)),
+    "robot": (str, type(None)), "conserved": list, "actuator_names": list, "wheel_dofs": list,
+    "drift": dict, "drift_scales": dict,
+}
+
+
+def _read_meta(path, raw) -> dict:
+    """The ``__meta__`` of a trajectory file: a JSON object whose known keys have their types
+    (``_META_TYPES``; ``wheel_dofs`` integers, ``conserved`` and ``actuator_names`` strings),
+    else an [`ArgumentError`][spacearm.ArgumentError] naming the file (not a JSON traceback)."""
+    if raw is None:
+        return {}
+    try:
+        meta = json.loads(str(raw))
+    except (ValueError, RecursionError) as exc:
+        raise ArgumentError(f"{path}: the trajectory's __meta__ is not valid JSON ({type(exc).__name__}: "
+                            f"{str(exc)[:120]}): a damaged or edited file") from None
+    if not isinstance(meta, dict):
+        raise ArgumentError(f"{path}: the trajectory's __meta__ must be a JSON object, got a {type(meta).__name__}")
+    for key, types in _META_TYPES.items():
+        if key in meta and not isinstance(meta[key], types):
+            raise ArgumentError(f"{path}: the trajectory's __meta__['{key}'] has the wrong type "
+                                f"({type(meta[key]).__name__}): a damaged or edited file")
+    items = {"conserved": str, "actuator_names": str, "wheel_dofs": int}
+    for key, kind in items.items():
+        bad = [v for v in meta.get(key) or [] if not isinstance(v, kind) or isinstance(v, bool)]
+        if bad:
+            raise ArgumentError(f"{path}: the trajectory's __meta__['{key}'] must hold {kind.__name__} values, got "
+                                f"{type(bad[0]).__name__}: a damaged or edited file")
+    return meta
+
+
 # ---------------------------------------------------------------------------------------------
 # the trajectory
 # ---------------------------------------------------------------------------------------------
@@ -613,7 +647,7 @@ class Trajectory:
         fmt = str(files.pop("__format__", ""))
         if fmt != FILE_FORMAT:
             raise ArgumentError(f"{path}: not a spacearm trajectory file (format tag {fmt!r}, expected {FILE_FORMAT!r})")
-        meta = json.loads(str(files.pop("__meta__", "{}")))
+        meta = _read_meta(path, files.pop("__meta__", None))
         model = files.pop("__model_toml__", None)
         if robot is None and model is not None:
             from ..io.model_file import loads_toml

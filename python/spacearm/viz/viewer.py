@@ -38,16 +38,19 @@ import math
 import os
 import warnings
 import webbrowser
-from typing import Dict, List, Optional, Tuple, Union
+from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from .._util.atomic import write_text
 from .._util.optional import require
+from .._util.paths import inside
+from .._util.show import shown as _shown
 from ..errors import ArgumentError, MissingDependencyError
 from ..rotations import quat_exp, quat_from_matrix, quat_to_matrix
 
-__all__ = ["Scene", "trajectory_scene", "capture_scene", "view", "GEOMETRY_ROLES", "ROBOT_PREFIX", "TARGET_PREFIX"]
+__all__ = ["Scene", "trajectory_scene", "capture_scene", "view", "GEOMETRY_ROLES", "MAX_COORDINATE",
+           "ROBOT_PREFIX", "TARGET_PREFIX"]
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -65,6 +68,9 @@ _L_COLOR = (0.85, 0.15, 0.75, 1.0)  # angular momentum arrow
 _PATH_COLOR = (0.85, 0.1, 0.1, 1.0)
 _GRASP_COLOR = (1.0, 0.45, 0.0, 1.0)
 _TINY = 1e-6  # the scale of a hidden node (three.js needs an invertible matrix)
+#: The largest coordinate the viewer draws, m (three.js computes in 32-bit floats, which end at
+#: 3.4e38; a scene wider than this shows nothing anyway): a larger or non-finite one is refused.
+MAX_COORDINATE = 1e15
 
 
 def _meshcat():
@@ -118,6 +124,26 @@ def _y_to(direction) -> np.ndarray:
     return quat_exp(axis / s * math.atan2(s, c))
 
 
+def _vertex_normals(vertices, faces) -> np.ndarray:
+    """Unit vertex normals of a triangle mesh, in O(faces): each vertex's is the sum of the
+    (unnormalized) normals ``(b - a) × (c - a)`` of the triangles that use it, so weighted by
+    their areas, then normalized; a vertex with none (unused, or only degenerate triangles)
+    gets ``+z``. (trimesh's ``vertex_normals`` is quadratic in the faces without scipy: a
+    100k-triangle STL took 267 s.)"""
+    v = np.asarray(vertices, dtype=float).reshape(-1, 3)
+    f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    cross = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+    acc = np.zeros_like(v)
+    for c in range(3):
+        for k in range(3):
+            acc[:, c] += np.bincount(f[:, k], weights=cross[:, c], minlength=len(v))
+    norms = np.linalg.norm(acc, axis=1)
+    out = np.tile([0.0, 0.0, 1.0], (len(v), 1))
+    ok = np.isfinite(norms) & (norms > 0)
+    out[ok] = acc[ok] / norms[ok, None]
+    return out
+
+
 class _MeshData:
     """A triangle mesh with vertex normals for meshcat (its ``TriangularMeshGeometry`` sends no
     normals, and three.js shades a mesh without them black)."""
@@ -167,19 +193,36 @@ class Scene:
         self.legend: List[Tuple[Tuple[float, ...], str]] = []
         self.notes: List[str] = []
         self.extent = (np.zeros(3), 1.0)  # centre, radius of what is drawn
+        self.mesh_dirs: Optional[List[str]] = None  # the folders mesh files are read from (None: any)
 
     # ---- building --------------------------------------------------------------------------
+    def _drawable(self, path: str, what: str, values) -> np.ndarray:
+        """``values`` as floats, each finite and within ``MAX_COORDINATE`` m, or an
+        [`ArgumentError`][spacearm.ArgumentError] naming the node and the key frame (a NaN or an
+        overflow written into the page draws nothing, silently)."""
+        v = np.asarray(values, dtype=float)
+        with np.errstate(invalid="ignore"):
+            ok = np.isfinite(v) & (np.abs(v) <= MAX_COORDINATE)
+        if not ok.all():
+            bad = np.argwhere(~ok)[0]
+            frame = ""
+            if v.ndim == 2 and what != "line" and len(self.times) == len(v):
+                frame = f" at key frame {int(bad[0])} (t = {float(self.times[bad[0]]):.6g} s)"
+            raise ArgumentError(f"the run cannot be drawn: the {what} of '{path}'{frame} is {float(v[tuple(bad)]):.6g}, "
+                                f"not a finite number within {MAX_COORDINATE:.0e} m (non-finite or overflowing states?)")
+        return v
+
     def _add(self, path: str, obj, transform: Optional[np.ndarray] = None) -> None:
         self._objects.append((path, obj))
         if transform is not None:
-            self._transforms[path] = np.asarray(transform, dtype=float)
+            self._transforms[path] = self._drawable(path, "placement", transform)
 
     def _set_transform(self, path: str, transform: np.ndarray) -> None:
-        self._transforms[path] = np.asarray(transform, dtype=float)
+        self._transforms[path] = self._drawable(path, "placement", transform)
 
     def _animate(self, path: str, prop: str, values: np.ndarray) -> None:
         """A track of ``prop`` (``position``, ``quaternion`` or ``scale``) at the key frames."""
-        self._tracks.setdefault(path, {})[prop] = np.asarray(values, dtype=float)
+        self._tracks.setdefault(path, {})[prop] = self._drawable(path, prop, values)
 
     def _note(self, message: str) -> None:
         self.notes.append(message)
@@ -256,15 +299,82 @@ class Scene:
 
     def show(self, *, open: bool = True, zmq_url: Optional[str] = None):
         """Send the scene to a live meshcat viewer and return its ``meshcat.Visualizer``:
-        a new server (a subprocess serving http://127.0.0.1:7000/static/ or the next free port)
-        unless ``zmq_url`` names a running one. ``open`` opens it in the web browser."""
+        a new server (a subprocess serving http://127.0.0.1:7000/static/ or the next free port,
+        ``vis.window.server_proc``, which ends when this process ends, however it ends: it
+        watches its parent) unless ``zmq_url`` names a running one. ``open`` opens it in the
+        web browser."""
         mc = self._mc
-        vis = mc.Visualizer(zmq_url=zmq_url)
+        if zmq_url is None:
+            proc, zmq_url = _start_server()
+            try:
+                vis = mc.Visualizer(zmq_url=zmq_url)
+            except BaseException:
+                _stop_server(proc)
+                raise
+            vis.window.server_proc = proc
+        else:
+            vis = mc.Visualizer(zmq_url=zmq_url)
         for command in self.commands():
             vis.window.send(command)
         if open:
             vis.open()
         return vis
+
+
+# The live server: meshcat's own, run by a small wrapper that ends it when its parent process is
+# gone (its parent id changes when the parent dies, whatever killed it: SIGTERM, SIGHUP, SIGKILL).
+# meshcat's start_zmq_server_as_subprocess only kills it at a normal exit (atexit), so a viewer
+# killed by a signal left its server running, holding its ports, for ever.
+_SERVER_WRAPPER = """
+import os, sys, threading, time
+parent = int(sys.argv[1])
+def watch():
+    while os.getppid() == parent:
+        time.sleep(0.2)
+    os._exit(0)
+if os.getppid() != parent:
+    os._exit(0)
+threading.Thread(target=watch, daemon=True).start()
+sys.argv = ["meshcat-server"] + sys.argv[2:]
+import runpy
+runpy.run_module("meshcat.servers.zmqserver", run_name="__main__", alter_sys=True)
+"""
+
+
+def _stop_server(proc) -> None:
+    if proc.poll() is None:
+        proc.kill()
+    proc.wait()
+
+
+def _start_server():
+    """A meshcat server subprocess that ends with this process: ``(process, zmq_url)``."""
+    import atexit
+    import subprocess
+    import sys
+
+    from meshcat.servers.zmqserver import match_zmq_url
+
+    env = dict(os.environ)
+    meshcat_root = os.path.dirname(os.path.dirname(os.path.abspath(_meshcat().__file__)))
+    env["PYTHONPATH"] = os.pathsep.join([meshcat_root] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
+    proc = subprocess.Popen([sys.executable, "-u", "-c", _SERVER_WRAPPER, str(os.getpid())], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, env=env, start_new_session=True)
+    atexit.register(_stop_server, proc)
+    try:
+        line = ""
+        while "zmq_url" not in line:
+            raw = proc.stdout.readline()
+            if not raw and proc.poll() is not None:
+                err = proc.stderr.read().decode("utf-8", "replace").strip().splitlines()
+                raise MissingDependencyError(f"the meshcat server ended at its start (exit code {proc.returncode}): "
+                                             f"{err[-1] if err else 'no message'}", package="meshcat", extra="view")
+            line = raw.decode("utf-8", "replace").strip()
+        proc.stdout.readline()  # the web URL, asked of the server by the Visualizer
+    except BaseException:
+        _stop_server(proc)
+        raise
+    return proc, match_zmq_url(line)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -273,7 +383,20 @@ class Scene:
 def _mesh_object(scene: Scene, g, material):
     """A mesh geometry as a meshcat mesh (through trimesh), or ``None`` with a note."""
     mc = scene._mc
-    if not g.file or not os.path.isfile(g.file):
+    file = g.file
+    roots = scene.mesh_dirs
+    if roots is not None and file:  # confined: a model from a file (spacearm view of a record)
+        if "://" in file:
+            scene._note(f"mesh '{file[:200]}' of geometry '{g.name}' is a URL, not a file: not read, not drawn")
+            return None
+        if not os.path.isabs(file):
+            file = os.path.join(roots[0], file)
+        if not inside(file, roots):
+            scene._note(f"mesh '{file[:200]}' of geometry '{g.name}' (body '{g.body}') is outside the mesh folders "
+                        f"({', '.join(str(r)[:120] for r in roots)}): not read, not drawn (CLI --allow-outside-meshes reads it, "
+                        "--mesh-dir DIR adds a folder; in Python mesh_dirs=None or [...])")
+            return None
+    if not file or not os.path.isfile(file):
         scene._note(f"mesh '{g.file}' of geometry '{g.name}' (body '{g.body}') does not exist: not drawn")
         return None
     try:
@@ -282,14 +405,15 @@ def _mesh_object(scene: Scene, g, material):
         scene._note(f"geometry '{g.name}' (body '{g.body}') not drawn: {exc}")
         return None
     try:
-        mesh = trimesh.load(g.file, force="mesh")
-        vertices, faces, normals = mesh.vertices, mesh.faces, mesh.vertex_normals
+        mesh = trimesh.load(file, force="mesh")
+        vertices, faces = np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int64)
     except Exception as exc:  # trimesh raises many kinds; the note names the file
         scene._note(f"mesh '{g.file}' of geometry '{g.name}' could not be read ({type(exc).__name__}: {exc}): not drawn")
         return None
     if len(faces) == 0:
         scene._note(f"mesh '{g.file}' of geometry '{g.name}' has no faces: not drawn")
         return None
+    normals = _vertex_normals(vertices, faces)
     return mc.geometry.Mesh(_MeshData(mc, vertices, faces, normals).build(), material)
 
 
@@ -433,7 +557,7 @@ def _pose_model(scene: Scene, robot, nodes: List[str], xs: np.ndarray) -> np.nda
 
 def _line(scene: Scene, path: str, points: np.ndarray, color) -> None:
     mc = scene._mc
-    pts = np.asarray(points, dtype=np.float32)
+    pts = scene._drawable(path, "line", points).astype(np.float32)
     if len(pts) < 2:
         return
     scene._add(path, mc.geometry.Line(mc.geometry.PointsGeometry(pts.T),
@@ -497,16 +621,45 @@ def _key_samples(t: np.ndarray, fps: float, max_frames: int) -> np.ndarray:
     return np.unique(later)
 
 
+def _mesh_dirs(dirs) -> Optional[List[str]]:
+    if dirs is None:
+        return None
+    if isinstance(dirs, (str, os.PathLike)):
+        dirs = [dirs]
+    out = [os.path.abspath(os.fspath(d)) for d in dirs]
+    if not out:
+        raise ArgumentError("mesh_dirs must name at least one folder (None reads meshes from anywhere)")
+    return out
+
+
+def _check_times(t) -> np.ndarray:
+    """The run's sample times: finite and never decreasing (equal at an impact's jump), else an
+    [`ArgumentError`][spacearm.ArgumentError] naming the first sample at fault."""
+    t = np.asarray(t, dtype=float).reshape(-1)
+    if t.size == 0:
+        raise ArgumentError("the run has no samples to draw")
+    bad = np.flatnonzero(~np.isfinite(t))
+    if bad.size:
+        raise ArgumentError(f"the run's times must be finite, got t[{bad[0]}] = {t[bad[0]]}")
+    back = np.flatnonzero(np.diff(t) < 0)
+    if back.size:
+        k = int(back[0]) + 1
+        raise ArgumentError(f"the run's times must increase (equal only at an impact's jump), got t[{k}] = {t[k]:.6g} s "
+                            f"after t[{k - 1}] = {t[k - 1]:.6g} s")
+    return t
+
+
 def _check_options(fps, max_frames, geometry) -> Tuple[float, int]:
     try:
         fps = float(fps)
         max_frames = int(max_frames)
     except (TypeError, ValueError):
-        raise ArgumentError(f"fps must be a number > 0 and max_frames an integer >= 2, got {fps!r} and {max_frames!r}") from None
+        raise ArgumentError(f"fps must be a number > 0 and max_frames an integer >= 2, got {_shown(fps)} and "
+                            f"{_shown(max_frames)}") from None
     if not (math.isfinite(fps) and fps > 0):
-        raise ArgumentError(f"fps must be a finite number > 0 (key frames per second of the run), got {fps}")
+        raise ArgumentError(f"fps must be a finite number > 0 (key frames per second of the run), got {_shown(fps)}")
     if max_frames < 2:
-        raise ArgumentError(f"max_frames must be >= 2, got {max_frames}")
+        raise ArgumentError(f"max_frames must be >= 2, got {_shown(max_frames)}")
     if geometry not in GEOMETRY_ROLES:
         raise ArgumentError(f"geometry must be one of {list(GEOMETRY_ROLES)}, got {geometry!r}")
     return fps, max_frames
@@ -549,6 +702,7 @@ def trajectory_scene(
     play: bool = True,
     repetitions: int = 1,
     title: Optional[str] = None,
+    mesh_dirs: Optional[Sequence[PathLike]] = None,
 ) -> Scene:
     """The [`Scene`][spacearm.viz.viewer.Scene] of a [`Trajectory`][spacearm.Trajectory] (it needs its robot).
 
@@ -558,16 +712,21 @@ def trajectory_scene(
     the system CM ``L_com`` as arrows from the system CM, each scaled so that its largest value
     reaches out of the base (1.6 times the half-diagonal of the base's box of moments, plus a
     fifth of the arm's size; the legend gives the scale). ``path``: the end-effector path;
-    ``frames``: the base and end-effector triads; ``points``: the named points.
+    ``frames``: the base and end-effector triads; ``points``: the named points. ``mesh_dirs``:
+    the folders mesh files may be read from (a relative mesh path is taken from the first), for
+    a model that came from a file not trusted (``spacearm view`` passes the record's folder); a
+    mesh outside them is not read (a note says so). ``None`` (the default): any path, as the
+    caller's own model gives it.
     """
     robot = traj.robot
     if robot is None:
         raise ArgumentError("view needs the robot: build the Trajectory with robot=..., or load() a file saved with one")
     fps, max_frames = _check_options(fps, max_frames, geometry)
-    idx = _key_samples(traj.t, fps, max_frames)
+    idx = _key_samples(_check_times(traj.t), fps, max_frames)
     name = robot.name
     heading = title or f"{name}: {traj.meta.get('mode', '')} ({traj.meta.get('controller') or 'no control'})"
     scene = Scene(heading, fps)
+    scene.mesh_dirs = _mesh_dirs(mesh_dirs)
     scene.samples = idx
     scene.times = np.asarray(traj.t[idx] - traj.t[0], dtype=float)
     xs = np.ascontiguousarray(traj.x[idx])
@@ -608,6 +767,7 @@ def capture_scene(
     play: bool = True,
     repetitions: int = 1,
     title: Optional[str] = None,
+    mesh_dirs: Optional[Sequence[PathLike]] = None,
 ) -> Scene:
     """The [`Scene`][spacearm.viz.viewer.Scene] of a [`CaptureResult`][spacearm.capture.CaptureResult]: the robot, the target moving
     (its bodies at the core's poses of its recorded states), the grasp point (a marker from the
@@ -616,9 +776,10 @@ def capture_scene(
     [`trajectory_scene`][spacearm.viz.viewer.trajectory_scene]."""
     robot, target = result.robot, result.target_model
     fps, max_frames = _check_options(fps, max_frames, geometry)
-    idx = _key_samples(result.t, fps, max_frames)
+    idx = _key_samples(_check_times(result.t), fps, max_frames)
     heading = title or f"{robot.name} capturing {target.name} ({result.kind} grasp, {result.mode})"
     scene = Scene(heading, fps)
+    scene.mesh_dirs = _mesh_dirs(mesh_dirs)
     scene.samples = idx
     scene.times = np.asarray(result.t[idx] - result.t[0], dtype=float)
     xs = np.ascontiguousarray(result.x[idx])

@@ -336,6 +336,38 @@ impl Ctx<'_> {
         SpacearmError::Parse(out)
     }
 
+    /// An error of the TOML reader. A line of the text is quoted only when the text is a
+    /// model file: TOML with a `[model]` table (it breaks the schema), or text with a `[model]`
+    /// header line (a model file with a syntax error). Any other file is one the reader was
+    /// pointed at by mistake or by an attacker (`/etc/shadow`, a credentials file): it is
+    /// refused as not TOML, or not a model, without a line of its content (issue 38).
+    fn parse_error(&self, e: toml::de::Error) -> SpacearmError {
+        let table = toml::from_str::<toml::Table>(self.text);
+        let model_like = match &table {
+            Ok(t) => t.get("model").is_some_and(toml::Value::is_table),
+            Err(_) => self.text.lines().any(|l| l.trim_start().starts_with("[model]")),
+        };
+        if model_like {
+            return self.at(e.span(), e.message());
+        }
+        if table.is_ok() {
+            return SpacearmError::Parse(format!(
+                "{}: not a spacearm model file: it is TOML, but has no [model] table (docs/model-format.md)",
+                self.source
+            ));
+        }
+        let at = e.span().map(|span| {
+            let (line, col) = line_col(self.text, span.start);
+            format!(":{line}:{col}")
+        });
+        SpacearmError::Parse(format!(
+            "{}{}: not a spacearm model file: not TOML ({}); a model file is TOML with a [model] table (docs/model-format.md)",
+            self.source,
+            at.unwrap_or_default(),
+            e.message().trim_end()
+        ))
+    }
+
     fn err(&self, span: &Span, message: impl std::fmt::Display) -> SpacearmError {
         self.at(Some(span.clone()), message)
     }
@@ -459,7 +491,7 @@ pub fn model_from_toml_str(text: &str, source: &str) -> Result<Model> {
 pub fn model_from_toml_str_with(text: &str, source: &str, triangle_inequality: TriangleInequality) -> Result<Model> {
     admit_document(text, source)?;
     let ctx = Ctx { text, source };
-    let doc: FileDoc = toml::from_str(text).map_err(|e| ctx.at(e.span(), e.message()))?;
+    let doc: FileDoc = toml::from_str(text).map_err(|e| ctx.parse_error(e))?;
     build(&ctx, doc, triangle_inequality)
 }
 
@@ -1186,6 +1218,24 @@ pub fn model_to_toml(model: &Model) -> String {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn errors_quote_lines_of_model_files_only() {
+        // Pointed at any file, the reader quoted the line of its first syntax error: the
+        // content of /etc/shadow or a credentials file ended up in the message (issue 38).
+        for (text, want) in [
+            ("root:SECRETHASH:19000:0:99999:7:::\ndaemon:*:19000\n", "not TOML"),
+            ("token = \"SECRET-abc\"\ntoken = \"SECRET-abc\"\n", "not TOML"),
+            ("[server]\npassword = \"SECRET-abc\"\n", "no [model] table"),
+            ("\u{0}\u{1}SECRET\u{ff}", "not TOML"),
+        ] {
+            let e = model_from_toml_str(text, "secrets.txt").unwrap_err().to_string();
+            assert!(e.starts_with("secrets.txt") && e.contains(want) && !e.contains("SECRET") && !e.contains('\n'), "{e}");
+        }
+        // A model file that breaks the schema still gets its line quoted, with the caret.
+        let e = model_from_toml_str("[model]\nname = 5\n", "m.toml").unwrap_err().to_string();
+        assert!(e.starts_with("m.toml:2:8: ") && e.contains("\n 2 | name = 5\n"), "{e}");
+    }
+
     use super::*;
     use crate::math::rotations::xyzw;
     use crate::model::presets;

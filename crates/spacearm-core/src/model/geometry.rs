@@ -15,7 +15,7 @@ use crate::error::{ModelError, ModelField, ModelItem};
 use crate::model::validate::{self, MAX_LENGTH};
 
 /// What a geometry is for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum GeometryRole {
     /// Drawn (URDF `<visual>`, an MJCF geom of group 1 without contacts).
     Visual,
@@ -186,8 +186,12 @@ pub struct GeometrySpec {
     pub rgba: Option<[f64; 4]>,
 }
 
+/// The longest mesh file name a model accepts, in characters (a path's `PATH_MAX`).
+pub const MAX_FILE_CHARS: usize = 4096;
+
 /// A shape's dimensions: each length finite, `> 0` and at most [`MAX_LENGTH`]; a mesh's file
-/// name not empty and its scale finite and non-zero.
+/// name not empty, at most [`MAX_FILE_CHARS`] characters and free of control characters, and
+/// its scale finite and non-zero.
 pub fn check_shape(item: ModelItem, who: &str, shape: &Shape) -> Result<(), ModelError> {
     let bad = |m: String| Err(ModelError::new(item, ModelField::Shape, format!("{who}: {m}")));
     let lengths: Vec<(&str, f64)> = match shape {
@@ -198,6 +202,17 @@ pub fn check_shape(item: ModelItem, who: &str, shape: &Shape) -> Result<(), Mode
         Shape::Mesh { file, scale } => {
             if file.trim().is_empty() {
                 return bad("a mesh needs a file name, got an empty one".into());
+            }
+            // The file name is written into exported URDFs and read back as a path: a control
+            // character (NUL, newline, ...) would make a malformed file, an overlong one no path.
+            let n = file.chars().count();
+            if n > MAX_FILE_CHARS {
+                let head: String = file.chars().take(40).collect();
+                return bad(format!("a mesh file name must be at most {MAX_FILE_CHARS} characters, got {n} ('{head}...')"));
+            }
+            if let Some(c) = file.chars().find(|c| c.is_control()) {
+                let shown: String = file.chars().take(60).map(|c| if c.is_control() { '?' } else { c }).collect();
+                return bad(format!("a mesh file name must not contain control characters (NUL, newline, ...), got U+{:04X} in '{shown}'", c as u32));
             }
             if scale.iter().any(|s| !s.is_finite() || *s == 0.0 || s.abs() > MAX_LENGTH) {
                 return bad(format!("mesh scale must be 3 finite non-zero numbers within {MAX_LENGTH:e}, got {scale:?}"));
@@ -308,6 +323,21 @@ mod tests {
             assert!(e.message.starts_with("geometry 'g': "), "{e}");
         }
         assert_eq!(check_rgba(item, "g", &[0.0, 0.5, 1.0, 1.5]).unwrap_err().field, ModelField::Color);
+        assert!(check_shape(item, "g", &Shape::Mesh { file: "package://arm/meshes/link 1.stl".into(), scale: [1.0; 3] }).is_ok());
+    }
+
+    #[test]
+    fn mesh_file_names_refuse_control_characters_and_overlong_names() {
+        // A NUL or newline in a mesh file name was written as it is into exported URDFs
+        // (malformed XML / a path no OS opens) (issue 38).
+        let item = ModelItem::Geometry(0);
+        for file in ["a\0.stl", "a\n.stl", "meshes/\r\nb.stl", "x\u{1b}[31m.stl"] {
+            let e = check_shape(item, "geometry 'g'", &Shape::Mesh { file: file.into(), scale: [1.0; 3] }).unwrap_err();
+            assert!(e.message.contains("control characters") && !e.message.contains('\0') && !e.message.contains('\n'), "{e}");
+        }
+        let long = "a/".repeat(MAX_FILE_CHARS) + "b.stl";
+        let e = check_shape(item, "geometry 'g'", &Shape::Mesh { file: long, scale: [1.0; 3] }).unwrap_err();
+        assert!(e.message.contains(&format!("at most {MAX_FILE_CHARS} characters")) && e.message.len() < 300, "{e}");
         assert!(check_rgba(item, "g", &[0.0, 0.5, 1.0, 1.0]).is_ok());
         let e = check_placement(item, "geometry 'g'", &[0.0; 3], &[0.0, 0.0, 0.0, 2.0]).unwrap_err();
         assert!(e.field == ModelField::Rotation && e.message.contains("geometry rotation"), "{e}");
