@@ -179,6 +179,18 @@ def with_joint_springs(robot: spacearm.Robot, rng: np.random.Generator) -> tuple
     return b.build(), dynamics
 
 
+def flexible_sat() -> spacearm.Robot:
+    """A 40 kg bus with a flexible panel, a three-segment beam and one motorized arm link."""
+    b = spacearm.Robot.builder("flex-sat", base_mass=40.0, base_inertia=[3.0, 3.5, 4.0])
+    b.add_panel("wing", hinge_position=(0.5, 0, 0), hinge_axis=(0, 1, 0), direction=(1, 0, 0), size=(1.2, 0.8, 0.02),
+                mass=4.0, frequency=2.0, damping=0.05)
+    b.add_beam("boom", root_position=(0, 0.4, 0), axis=(0, 1, 0), length=2.0, segments=3, EI=40.0,
+               bending_axes=[(1, 0, 0)], rho_A=0.6, rho_J=0.002, damping_ratio=0.01)
+    b.add_link("arm", joint="revolute", axis=(0, 0, 1), origin=(-0.4, 0, 0), com=(-0.3, 0, 0), mass=2.0,
+               inertia=[0.01, 0.06, 0.06])
+    return b.build()
+
+
 def random_state(robot: spacearm.Robot, rng: np.random.Generator):
     """A random state ``(x, u)``: base sometimes far from the origin (1–5 km), random attitude,
     joint coordinates (revolute ±π rad, prismatic ±0.5 m) and velocities of order one."""

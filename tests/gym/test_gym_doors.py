@@ -95,21 +95,19 @@ def test_render_modes_the_env_does_not_have_are_refused_at_construction(make):
         make()
 
 
-def test_one_vector_env_stepped_from_two_threads_says_so():
-    # Before: RuntimeError: Already borrowed (PyO3's), or a torn episode.
-    env = sgym.ReachVectorEnv(256, threads=1)
-    env.reset(seed=0)
-    zeros = np.zeros(env.action_space.shape)
-    errors_seen, others = [], []
+def _two_threads(call, repeats):
+    """Run ``call`` from two threads at once, ``repeats`` times each: the messages of the
+    SimulationErrors raised, and the reprs of any other exception (the defect)."""
     start = threading.Barrier(2)
+    seen, others = [], []
 
     def worker():
         start.wait()
-        for _ in range(40):
+        for _ in range(repeats):
             try:
-                env.step(zeros)
+                call()
             except errors.SimulationError as exc:
-                errors_seen.append(str(exc))
+                seen.append(str(exc))
             except Exception as exc:  # noqa: BLE001 - anything else is the defect
                 others.append(repr(exc))
 
@@ -118,9 +116,18 @@ def test_one_vector_env_stepped_from_two_threads_says_so():
         t.start()
     for t in threads:
         t.join()
+    return seen, others
+
+
+def test_one_vector_env_stepped_from_two_threads_says_so():
+    # Before: RuntimeError: Already borrowed (PyO3's), or a torn episode.
+    env = sgym.ReachVectorEnv(256, threads=1)
+    env.reset(seed=0)
+    zeros = np.zeros(env.action_space.shape)
+    seen, others = _two_threads(lambda: env.step(zeros), 40)
     assert others == []
-    assert errors_seen, "the two threads never overlapped"
-    assert all("in use by another thread" in e for e in errors_seen)
+    assert seen, "the two threads never overlapped"
+    assert all("in use by another thread" in e for e in seen)
 
 
 def test_the_batch_simulator_from_two_threads_says_so():
@@ -129,22 +136,7 @@ def test_the_batch_simulator_from_two_threads_says_so():
     batch = _core.BatchSimulator([robot.core_model] * b, np.tile(robot.neutral_configuration(), b), np.tile(robot.zero_velocity(), b),
                                  _opts(robot), 1)
     tau = np.zeros(b * robot.n_dof)
-    seen, others = [], []
-
-    def worker():
-        for _ in range(20):
-            try:
-                batch.step(tau, None, 5)
-            except errors.SimulationError as exc:
-                seen.append(str(exc))
-            except Exception as exc:  # noqa: BLE001
-                others.append(repr(exc))
-
-    threads = [threading.Thread(target=worker) for _ in range(2)]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join()
+    seen, others = _two_threads(lambda: batch.step(tau, None, 5), 20)
     assert others == [] and seen and all("in use by another thread" in s for s in seen)
 
 

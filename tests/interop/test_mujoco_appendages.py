@@ -17,18 +17,7 @@ mujoco = pytest.importorskip("mujoco")
 
 import spacearm  # noqa: E402
 from spacearm import interop  # noqa: E402
-from random_models import assert_rel_close  # noqa: E402
-
-
-def flexible_sat() -> spacearm.Robot:
-    b = spacearm.Robot.builder("flex-sat", base_mass=40.0, base_inertia=[3.0, 3.5, 4.0])
-    b.add_panel("wing", hinge_position=(0.5, 0, 0), hinge_axis=(0, 1, 0), direction=(1, 0, 0), size=(1.2, 0.8, 0.02),
-                mass=4.0, frequency=2.0, damping=0.05)
-    b.add_beam("boom", root_position=(0, 0.4, 0), axis=(0, 1, 0), length=2.0, segments=3, EI=40.0,
-               bending_axes=[(1, 0, 0)], rho_A=0.6, rho_J=0.002, damping_ratio=0.01)
-    b.add_link("arm", joint="revolute", axis=(0, 0, 1), origin=(-0.4, 0, 0), com=(-0.3, 0, 0), mass=2.0,
-               inertia=[0.01, 0.06, 0.06])
-    return b.build()
+from random_models import assert_rel_close, flexible_sat  # noqa: E402
 
 
 def test_export_writes_springs_dampers_and_actuators_only_on_motors():

@@ -235,14 +235,9 @@ def test_in_orbit_the_momenta_are_not_labelled_conserved():
 def test_passive_coordinates_have_a_panel_of_their_own():
     # Issue 37 item 5: a panel's and a beam's coordinates (~1e-2 rad) were drawn in the arm's
     # ±1.5 rad panel with their names in its legend.
-    b = spacearm.Robot.builder("flex-sat", base_mass=40.0, base_inertia=[3.0, 3.5, 4.0])
-    b.add_panel("wing", hinge_position=(0.5, 0, 0), hinge_axis=(0, 1, 0), direction=(1, 0, 0), size=(1.2, 0.8, 0.02),
-                mass=4.0, frequency=2.0, damping=0.05)
-    b.add_beam("boom", root_position=(0, 0.4, 0), axis=(0, 1, 0), length=2.0, segments=3, EI=40.0,
-               bending_axes=[(1, 0, 0)], rho_A=0.6, rho_J=0.002, damping_ratio=0.01)
-    b.add_link("arm", joint="revolute", axis=(0, 0, 1), origin=(-0.4, 0, 0), com=(-0.3, 0, 0), mass=2.0,
-               inertia=[0.01, 0.06, 0.06])
-    robot = b.build()
+    from random_models import flexible_sat
+
+    robot = flexible_sat()
     names = robot.joint_names
     active = [names[j] for j in range(robot.n_dof) if robot.actuated_dofs[j]]
     passive = [names[j] for j in range(robot.n_dof) if not robot.actuated_dofs[j]]

@@ -12,6 +12,7 @@ observation. ``info`` holds ``distance``, ``base_rate``, ``is_success`` and ``ru
 
 from __future__ import annotations
 
+import contextlib
 import threading
 from typing import Optional
 
@@ -75,21 +76,23 @@ class ReachVectorEnv(_vector.VectorEnv):
         self._core.reset(i, t.x0, t.u0, None if t.perturbations is None else plant.core_model)
         self._steps[i] = 0
 
+    @contextlib.contextmanager
     def _exclusive(self):
-        """The env's lock for one call, or a SimulationError when another thread holds it."""
+        """Hold the env's lock for one call, or raise a SimulationError when another thread
+        holds it."""
         if not self._lock.acquire(blocking=False):
             raise SimulationError("this ReachVectorEnv is in use by another thread: step and reset it from one thread at a "
                                   "time (one env per thread)")
-        return self._lock
+        try:
+            yield
+        finally:
+            self._lock.release()
 
     def reset(self, *, seed=None, options: Optional[dict] = None):
         """Reset every copy; ``seed``: an int (copy ``i`` gets ``seed + i``), a list of one per
         copy (None entries keep their stream), or None."""
-        lock = self._exclusive()
-        try:
+        with self._exclusive():
             return self._reset(seed)
-        finally:
-            lock.release()
 
     def _reset(self, seed):
         if seed is None:
@@ -111,11 +114,8 @@ class ReachVectorEnv(_vector.VectorEnv):
         return self.task.observe(self._states, self._goals), {}
 
     def step(self, actions):
-        lock = self._exclusive()
-        try:
+        with self._exclusive():
             return self._step(actions)
-        finally:
-            lock.release()
 
     def _step(self, actions):
         if self._states is None:
