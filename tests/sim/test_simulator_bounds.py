@@ -65,3 +65,20 @@ def test_ctrl_c_stops_a_long_step_call_within_a_second():
     assert a.out.strip() == "interrupted True", a.out
     assert a.returncode == 130
     assert a.waited < 1.0, f"took {a.waited:.2f} s to answer Ctrl-C"
+
+
+def test_counts_beyond_what_the_core_takes_are_argument_errors():
+    # Issue 38: Simulator(record_every=10**130) and gym.make_vec(10**130) raised a builtin
+    # OverflowError from the conversion to the core's usize; one count rule now answers.
+    import spacearm
+    from spacearm.errors import ArgumentError
+
+    robot = spacearm.presets.planar4()
+    with pytest.raises(ArgumentError, match=r"record_every must be an integer from 1 to 2\*\*63 - 1, got ~1e\+130 \(131 digits\)"):
+        spacearm.Simulator(robot, record_every=10**130)
+    with pytest.raises(ArgumentError, match="max_steps must be an integer from 1 to"):
+        spacearm.simulate(robot, 0.1, max_steps=2**64)
+    gym = pytest.importorskip("spacearm.gym")
+    pytest.importorskip("gymnasium")
+    with pytest.raises(ArgumentError, match="num_envs must be an integer from 1 to"):
+        gym.make_vec(10**130)

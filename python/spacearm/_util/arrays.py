@@ -83,6 +83,19 @@ def integer(value, name: str) -> int:
     return int(as_float)
 
 
+#: The largest count a door passes to the core (its `usize`; PyO3 raises a builtin
+#: OverflowError beyond it).
+MAX_COUNT = 2**63 - 1
+
+
+def count(value, name: str) -> int:
+    """A count (copies, steps, a recording stride): an integer in ``[1, MAX_COUNT]``, else an
+    [`ArgumentError`][spacearm.ArgumentError] (a bool, a float, 0, 10**130...)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 1 <= value <= MAX_COUNT:
+        raise ArgumentError(f"{name} must be an integer from 1 to 2**63 - 1, got {shown(value)}")
+    return int(value)
+
+
 def vector3(value, name: str) -> np.ndarray:
     arr = vector(value, name, 3)
     if not np.all(np.isfinite(arr)):

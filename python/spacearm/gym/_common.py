@@ -12,6 +12,7 @@ from typing import Optional
 
 import numpy as np
 
+from .._util.arrays import count  # noqa: F401 - the one count rule, used by the envs
 from ..campaign import scenario as _scenario
 from ..campaign.perturbation import Perturbations
 from ..errors import ArgumentError, NonFiniteError, SimulationError, SpacearmTypeError
@@ -42,11 +43,6 @@ def non_negative(value, name: str) -> float:
     return v
 
 
-def count(value, name: str) -> int:
-    """An integer >= 1, else ArgumentError."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise ArgumentError(f"{name} must be an integer >= 1, got {value!r}")
-    return int(value)
 
 
 def actions(value, shape: tuple, what: str = "action") -> np.ndarray:

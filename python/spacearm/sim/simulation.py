@@ -21,7 +21,7 @@ from typing import Callable, Optional, Sequence, Union
 import numpy as np
 
 from .. import _core
-from .._util.arrays import vector
+from .._util.arrays import count, vector
 from ..control import Thrusters, _Controller
 from ..errors import ArgumentError, NotFoundError
 
@@ -120,9 +120,7 @@ def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, reco
         raise ArgumentError(f"integrator must be one of {list(INTEGRATORS)}, got {integrator!r}")
     if thrusters is not None and not isinstance(thrusters, Thrusters):
         raise ArgumentError(f"thrusters must be a spacearm.control.Thrusters, got {type(thrusters).__name__}")
-    for name, value in (("record_every", record_every), ("max_steps", max_steps)):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-            raise ArgumentError(f"{name} must be an integer >= 1, got {value!r}")
+    record_every, max_steps = count(record_every, "record_every"), count(max_steps, "max_steps")
     if record_dtype not in RECORD_DTYPES:
         raise ArgumentError(f"record_dtype must be one of {list(RECORD_DTYPES)}, got {record_dtype!r}")
     return _core.RunOptions(

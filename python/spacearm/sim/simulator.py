@@ -23,6 +23,7 @@ from typing import Optional
 import numpy as np
 
 from .. import _core
+from .._util.arrays import count
 from ..errors import ArgumentError
 from .simulation import DEFAULTS, _check_controller, _check_robot, _options
 
@@ -78,8 +79,8 @@ class Simulator:
         _check_controller(controller)
         if integrator != "rk4":
             raise ArgumentError(f"Simulator steps with integrator 'rk4' only (got {integrator!r}); use spacearm.simulate for 'dopri5'")
-        if record_every is not None and (isinstance(record_every, bool) or not isinstance(record_every, (int, np.integer)) or record_every < 1):
-            raise ArgumentError(f"record_every must be None or an integer >= 1, got {record_every!r}")
+        if record_every is not None:
+            record_every = count(record_every, "record_every")
         options = _options(
             robot, mode=mode, integrator=integrator, dt=dt, rtol=DEFAULTS["rtol"], atol=DEFAULTS["atol"], wheels=wheels,
             thrusters=thrusters, record_every=1, joint_limits=joint_limits, max_steps=DEFAULTS["max_steps"], record_dtype=record_dtype,
