@@ -201,3 +201,64 @@ def test_auto_torque_scale_brings_each_joint_to_the_rate_limit_in_a_second():
     assert np.array_equal(sgym.ReachEnv(max_torque=4.0).task.torque_scale, np.full(robot.n_dof, 4.0))
     with pytest.raises(ArgumentError):
         sgym.ReachEnv(max_torque="big")
+
+
+# ---- trainable defaults (issue 37 item 3) ------------------------------------------------------
+
+def test_the_registered_episode_limits_are_the_envs_own():
+    import inspect
+
+    import gymnasium
+
+    from spacearm.gym import CaptureEnv, DetumbleEnv, ReachTask
+
+    for env_id, cls in zip(sgym.ENV_IDS, (ReachTask, CaptureEnv, DetumbleEnv)):
+        limit = inspect.signature(cls).parameters["max_episode_steps"].default
+        assert gymnasium.spec(env_id).max_episode_steps == limit  # was None
+
+
+def test_ending_a_reach_episode_on_purpose_never_pays():
+    # Full wrist torque spins the wrist past max_joint_rate ("runaway") within ~20 steps; with
+    # the goal farther than about 0.5 m that used to beat doing nothing (return about -115 against
+    # -140 ... -211). The zero policy's return is measured here on the same goals.
+    from spacearm.gym.reach import ReachEnv
+
+    env = ReachEnv()
+    far = 0
+    for seed in range(10):
+        returns = {}
+        for policy in ("zero", "wrist"):
+            obs, info = env.reset(seed=seed)
+            distance = float(np.linalg.norm(obs[2 * env.task.robot.n_dof + 3 : 2 * env.task.robot.n_dof + 6]))
+            total, done = 0.0, False
+            while not done:
+                a = np.zeros(env.task.robot.n_dof, dtype=np.float32)
+                if policy == "wrist":
+                    a[-1] = 1.0
+                obs, r, terminated, truncated, info = env.step(a)
+                total += r
+                done = terminated or truncated
+            returns[policy] = (total, info["runaway"])
+        assert returns["wrist"][1], "the wrist policy ends by a runaway"
+        assert returns["wrist"][0] < returns["zero"][0], (seed, returns)
+        far += distance > 0.5
+    assert far >= 2  # the goals where terminating used to pay are among those tried
+
+
+def test_detumble_episodes_start_unsolved():
+    # 31 of 100 resets started with the base already below rate_tolerance (an episode solved
+    # before its first action).
+    env = sgym.DetumbleEnv()
+    nx = env.robot.nx
+    rates = []
+    for seed in range(100):
+        env.reset(seed=seed)
+        rates.append(np.linalg.norm(env._state[nx + 3 : nx + 6]))
+    assert min(rates) >= env.rate_tolerance
+
+
+def test_the_captured_system_prints_a_summary():
+    env = sgym.DetumbleEnv()
+    env.reset(seed=0)
+    text = repr(env.captured)
+    assert text.startswith("<CapturedSystem ") and "array(" not in text and len(text) < 200

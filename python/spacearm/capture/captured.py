@@ -51,6 +51,12 @@ class CapturedSystem(NamedTuple):
     payload: str  #: the target's link name in the combined model
     gripper: str  #: the body it is attached to
 
+    def __repr__(self) -> str:
+        # A summary, not the arrays (issue 37 item 3: info["captured"] of the Capture env
+        # printed every array of the state).
+        return (f"<CapturedSystem {self.robot.name!r}: payload {self.payload!r} on {self.gripper!r}, "
+                f"N = {self.robot.n_dof}, total mass {self.robot.total_mass:.6g} kg>")
+
 
 def relative_twist(robot, x, u, target, target_state, point=None, grasp_offset=(0.0, 0.0, 0.0)) -> np.ndarray:
     """Twist of the robot's grasp point minus the twist of the target's material point there (6, in 𝒥)."""

@@ -12,6 +12,8 @@ tasks: observations, actions, rewards, resets and the frames of ``render()`` (do
 
 from __future__ import annotations
 
+import inspect
+
 from .._util.optional import require
 
 _gymnasium = require("gymnasium", "the Gymnasium environments (spacearm.gym)")
@@ -34,14 +36,19 @@ def make_vec(num_envs: int = 8, *, threads=None, **task) -> ReachVectorEnv:
 
 
 def _register() -> None:
+    # The episode limits are the envs' own defaults (their max_episode_steps), registered so that
+    # `spec.max_episode_steps` says them and gymnasium's TimeLimit wrapper agrees.
+    def limit(cls):
+        return inspect.signature(cls).parameters["max_episode_steps"].default
+
     entries = {
-        "spacearm/Reach-v0": ("spacearm.gym.reach:ReachEnv", "spacearm.gym.vector:ReachVectorEnv"),
-        "spacearm/Capture-v0": ("spacearm.gym.capture:CaptureEnv", None),
-        "spacearm/Detumble-v0": ("spacearm.gym.detumble:DetumbleEnv", None),
+        "spacearm/Reach-v0": ("spacearm.gym.reach:ReachEnv", "spacearm.gym.vector:ReachVectorEnv", limit(ReachTask)),
+        "spacearm/Capture-v0": ("spacearm.gym.capture:CaptureEnv", None, limit(CaptureEnv)),
+        "spacearm/Detumble-v0": ("spacearm.gym.detumble:DetumbleEnv", None, limit(DetumbleEnv)),
     }
-    for env_id, (entry, vector_entry) in entries.items():
+    for env_id, (entry, vector_entry, steps) in entries.items():
         if env_id not in _gymnasium.registry:
-            _gymnasium.register(id=env_id, entry_point=entry, vector_entry_point=vector_entry)
+            _gymnasium.register(id=env_id, entry_point=entry, vector_entry_point=vector_entry, max_episode_steps=steps)
 
 
 _register()

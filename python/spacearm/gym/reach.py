@@ -69,15 +69,21 @@ class ReachTask:
         p = np.asarray(self.robot.point_position(x), dtype=float).reshape(-1, 3)
         return np.concatenate([x[:, 7:], states[:, nx + 6 : nx + 6 + n], p, goals - p, states[:, nx + 3 : nx + 6]], axis=1)
 
-    def reward(self, obs: np.ndarray, actions) -> tuple:
+    def reward(self, obs: np.ndarray, actions, steps) -> tuple:
         """``(reward (B,), distance (B,), success (B,), runaway (B,))`` of observations
-        ``(B, 2N+9)`` after actions ``(B, N)``."""
+        ``(B, 2N+9)`` after actions ``(B, N)``, the episodes at ``steps`` (B,) steps taken.
+
+        A runaway ends the episode; so that ending it on purpose never pays, its step also pays
+        the rest of the episode, ``max_episode_steps − steps`` steps, at the cost of the state
+        it ended in (as if the arm stayed there), besides ``runaway_penalty``."""
         n = self.robot.n_dof
         a = np.clip(np.asarray(actions, dtype=float), -1.0, 1.0)
         distance = np.linalg.norm(obs[:, 2 * n + 3 : 2 * n + 6], axis=1)
         base_rate = np.linalg.norm(obs[:, 2 * n + 6 : 2 * n + 9], axis=1)
         runaway = np.max(np.abs(obs[:, n : 2 * n]), axis=1) > self.max_joint_rate
-        reward = -distance - self.base_rate_weight * base_rate - self.action_weight * np.sum(a * a, axis=1) - self.runaway_penalty * runaway
+        state_cost = distance + self.base_rate_weight * base_rate
+        remaining = np.maximum(self.max_episode_steps - np.asarray(steps, dtype=float), 0.0)
+        reward = -state_cost - self.action_weight * np.sum(a * a, axis=1) - runaway * (self.runaway_penalty + remaining * state_cost)
         return reward, distance, distance < self.success_tolerance, runaway
 
 
@@ -93,7 +99,9 @@ class ReachEnv(gymnasium.Env):
 
     Reward (docs/rl.md): ``r = −‖p_goal − p_ee‖ − w_base ‖ω0‖ − w_action ‖a‖²`` after the step,
     minus ``runaway_penalty`` on a step that ends with a joint faster than ``max_joint_rate``
-    (rad/s). Terminated when ``‖p_goal − p_ee‖ < success_tolerance`` (``info["is_success"]``) or on
+    (rad/s), and on that step the rest of the episode at the cost of the state it ended in
+    (``(max_episode_steps − steps)(‖p_goal − p_ee‖ + w_base ‖ω0‖)``: ending the episode on purpose
+    never pays). Terminated when ``‖p_goal − p_ee‖ < success_tolerance`` (``info["is_success"]``) or on
     such a runaway (``info["runaway"]``: an arm spun up by a random policy would otherwise run to
     rates the integration step cannot follow); truncated after ``max_episode_steps``.
 
@@ -141,7 +149,7 @@ class ReachEnv(gymnasium.Env):
         self._state = self._sim.step(task.torque(a)[0], task.frame_skip)
         self._steps += 1
         obs = task.observe(self._state[None], self.goal[None])
-        reward, distance, success, runaway = task.reward(obs, a)
+        reward, distance, success, runaway = task.reward(obs, a, [self._steps])
         info = {"distance": float(distance[0]), "base_rate": float(np.linalg.norm(self._state[task.robot.nx + 3 : task.robot.nx + 6])),
                 "is_success": bool(success[0]), "runaway": bool(runaway[0])}
         return obs[0], float(reward[0]), bool(success[0] or runaway[0]), self._steps >= task.max_episode_steps, info

@@ -134,7 +134,7 @@ class ReachVectorEnv(_vector.VectorEnv):
         self._states = states
         self._steps[~resetting] += 1
         obs = t.observe(states, self._goals)
-        reward, distance, success, runaway = t.reward(obs, a)
+        reward, distance, success, runaway = t.reward(obs, a, self._steps)
         terminated = (success | runaway) & ~resetting
         truncated = (self._steps >= t.max_episode_steps) & ~resetting
         reward = np.where(resetting, 0.0, reward)
