@@ -122,5 +122,30 @@ def test_effort_limits_and_bad_meshes(tmp_path):
         smj.to_mujoco(robot)
     m = smj.to_mujoco(robot, geometry=())
     np.testing.assert_array_equal(m.actuator_ctrlrange[0], [-3.0, 3.0])
+    dae = tmp_path / "x.dae"
+    dae.write_text("not read: a path-only export refuses the format first")
     with pytest.raises(ArgumentError, match="MuJoCo reads .stl, .obj meshes, not '.dae'"):
-        smj.to_mjcf(spacearm.RobotBuilder.from_robot(robot, geometry=False).add_geometry("a", "mesh", file="x.dae").build())
+        smj.to_mjcf(spacearm.RobotBuilder.from_robot(robot, geometry=False).add_geometry("a", "mesh", file=str(dae)).build())
+
+
+def test_the_real_arm_with_its_collada_meshes_exports_in_one_call(ur5_on_bus, tmp_path):
+    # Issue 37 item 2: the UR5's visual meshes are COLLADA, which MuJoCo cannot read; the export
+    # refused them and named spacearm.io.mesh.with_mesh_format, which failed as written. Now
+    # save_mjcf converts them (to STL, beside the MJCF) and MuJoCo loads the file as it is.
+    collada = pytest.importorskip("collada")
+    path = tmp_path / "ur5_bus.xml"
+    smj.save_mjcf(ur5_on_bus, path)
+    m = mujoco.MjModel.from_xml_path(str(path))
+    dae = sorted({g.file for g in ur5_on_bus.description.geometries if g.shape == "mesh" and g.file.endswith(".dae")})
+    assert dae and m.ngeom == len(ur5_on_bus.description.geometries)
+    # Each COLLADA mesh arrives whole: its triangle count, read by pycollada directly, is a
+    # MuJoCo mesh's face count.
+    faces = set(int(n) for n in m.mesh_facenum)
+    for file in dae:
+        triangles = sum(len(p) for geom in collada.Collada(file).geometries for p in geom.primitives)
+        assert triangles in faces, file
+    # The message of a path-only export names what converts them, and the module it used to
+    # name is reachable as written.
+    with pytest.raises(ArgumentError, match=r"save_mjcf\(robot, path\) converts it"):
+        smj.to_mjcf(ur5_on_bus)
+    assert callable(spacearm.io.mesh.with_mesh_format)

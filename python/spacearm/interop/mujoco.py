@@ -158,7 +158,7 @@ def _lender_inertial(el: ET.Element, body, loans) -> None:
 #: MJCF geom groups of the two geometry roles (MuJoCo's viewer shows groups 0-2 by default).
 GEOM_GROUP = {"visual": 1, "collision": 3}
 
-#: Mesh formats MuJoCo reads itself (others: `spacearm.io.mesh.with_mesh_format`).
+#: Mesh formats MuJoCo reads itself (others are converted to STL by `save_mjcf` and `to_mjcf(assets=...)`).
 MUJOCO_MESH_FORMATS = (".stl", ".obj")
 
 #: Names of the world site the base actuators' forces are expressed in, and of the base CM site.
@@ -192,18 +192,28 @@ def _mesh_assets(root: ET.Element, meshes: dict, assets) -> None:
     root.insert(2, asset)
     for (file, scale), name in meshes.items():
         suffix = os.path.splitext(file)[1].lower()
-        if suffix not in MUJOCO_MESH_FORMATS:
-            raise ArgumentError(f"mesh '{file}': MuJoCo reads {', '.join(MUJOCO_MESH_FORMATS)} meshes, not '{suffix}'; convert "
-                                "the model's meshes first with spacearm.io.mesh.with_mesh_format(robot, folder)")
         if not os.path.isfile(file):
             raise ModelFileError(f"mesh '{file}' of the model does not exist (a package:// file not found when the URDF was "
                                  "read? pass package_dirs=[...] to load_urdf)")
+        readable = suffix in MUJOCO_MESH_FORMATS
         if assets is None:
+            if not readable:
+                raise ArgumentError(f"mesh '{file}': MuJoCo reads {', '.join(MUJOCO_MESH_FORMATS)} meshes, not '{suffix}'; "
+                                    "save_mjcf(robot, path) converts it into a folder beside the MJCF (to_mjcf(robot, "
+                                    "assets={}) into MuJoCo's in-memory files)")
             ET.SubElement(asset, "mesh", name=name, file=os.path.abspath(file), scale=_fmt(scale))
         else:
-            asset_name = f"{name}{suffix}"
-            with open(file, "rb") as fh:
-                assets[asset_name] = fh.read()
+            # A format MuJoCo cannot read (COLLADA, PLY, glTF...) is converted to STL here
+            # (trimesh, the `mesh` extra), in the file's units; `scale` still applies on top.
+            if readable:
+                asset_name = f"{name}{suffix}"
+                with open(file, "rb") as fh:
+                    assets[asset_name] = fh.read()
+            else:
+                from ..io.mesh import converted_bytes
+
+                asset_name = f"{name}.stl"
+                assets[asset_name] = converted_bytes(file, "stl")
             ET.SubElement(asset, "mesh", name=name, file=asset_name, scale=_fmt(scale))
 
 

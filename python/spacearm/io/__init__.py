@@ -16,4 +16,17 @@ from .model_file import dumps_toml, load_toml, loads_toml, save_toml
 from .urdf import load_urdf, loads_urdf
 from .urdf_export import save_urdf, to_urdf
 
+
+
+def __getattr__(name):
+    # `spacearm.io.mesh` (the `mesh` extra's converters) is reachable without an import of its
+    # own (issue 37 item 2: an error message named spacearm.io.mesh.with_mesh_format, which
+    # failed as written); it is loaded on first use, so `import spacearm` needs no trimesh.
+    if name == "mesh":
+        from . import mesh
+
+        return mesh
+    raise AttributeError(f"module 'spacearm.io' has no attribute {name!r}")
+
+
 __all__ = ["load_toml", "loads_toml", "save_toml", "dumps_toml", "load_urdf", "loads_urdf", "to_urdf", "save_urdf", "robot_from_dh"]
