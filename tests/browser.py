@@ -70,9 +70,10 @@ def url_of(path) -> str:
     return Path(path).resolve().as_uri()
 
 
-def dump_dom(path, *, budget_ms: int = 5000, timeout: float = 120.0) -> str:
-    """The page's DOM (serialized HTML) after its scripts have run for ``budget_ms`` of virtual time."""
-    proc = _run([f"--virtual-time-budget={budget_ms}", "--dump-dom", url_of(path)], timeout)
+def dump_dom(path, *, budget_ms: int = 5000, timeout: float = 120.0, extra: List[str] = ()) -> str:
+    """The page's DOM (serialized HTML) after its scripts have run for ``budget_ms`` of virtual
+    time; ``extra``: more Chromium switches (``--disable-webgl``)."""
+    proc = _run([*extra, f"--virtual-time-budget={budget_ms}", "--dump-dom", url_of(path)], timeout)
     if proc.returncode != 0 or not proc.stdout.strip():
         raise AssertionError(f"chromium --dump-dom failed ({proc.returncode}): {proc.stderr[-2000:]}")
     return proc.stdout

@@ -396,3 +396,15 @@ def test_cli_live_view_serves_until_interrupted(tmp_path):
         if proc.poll() is None:
             proc.kill()
             proc.wait()
+
+
+def test_without_webgl_the_page_says_so(tmp_path):
+    # Issue 37 item 7: where WebGL cannot start the page stayed blank, with no message.
+    from spacearm.viz.viewer import NO_WEBGL, Scene
+
+    page = tmp_path / "empty.html"
+    Scene("empty", 20).save(page)
+    without = dump_dom(page, budget_ms=2000, extra=["--disable-webgl", "--disable-3d-apis"])
+    assert 'id="spacearm-no-webgl"' in without and NO_WEBGL in without
+    with_gl = dump_dom(page, budget_ms=2000)
+    assert "spacearm-no-webgl" not in with_gl.split("</script>")[-1]  # drawn: no message element added

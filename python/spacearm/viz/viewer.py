@@ -169,6 +169,11 @@ class _MeshData:
 # ---------------------------------------------------------------------------------------------
 # the scene
 # ---------------------------------------------------------------------------------------------
+#: What the page says where the browser cannot start WebGL (the 3-D view needs it).
+NO_WEBGL = ("This 3-D view needs WebGL, which this browser could not start: enable hardware acceleration or "
+            "WebGL in its settings, or open the page in another browser.")
+
+
 class Scene:
     """The meshcat commands of one scene and its animation.
 
@@ -283,6 +288,18 @@ class Scene:
             "</head>\n<body>\n<div id=\"meshcat-pane\"></div>\n"
             "<div id=\"spacearm-legend\"><b>" + _html.escape(self.title) + "</b>" + legend + "</div>\n"
             "<script>\n" + js.replace("</script", "<\\/script") + "\n</script>\n"
+            # Without WebGL meshcat draws nothing and the page stayed blank: say so on the page.
+            "<script>\n(function () {\n"
+            "  var gl = null;\n"
+            "  try { var c = document.createElement(\"canvas\"); gl = c.getContext(\"webgl2\") || c.getContext(\"webgl\"); } catch (e) {}\n"
+            "  if (!gl) {\n"
+            "    var note = document.createElement(\"div\");\n"
+            "    note.id = \"spacearm-no-webgl\";\n"
+            "    note.style.cssText = \"position:absolute;left:0;right:0;top:40%;text-align:center;font:16px sans-serif;color:#222\";\n"
+            "    note.textContent = \"" + NO_WEBGL + "\";\n"
+            "    document.body.appendChild(note);\n"
+            "  }\n"
+            "})();\n</script>\n"
             "<script>\nvar viewer = new MeshCat.Viewer(document.getElementById(\"meshcat-pane\"));\n"
             "var spacearm_commands = " + commands + ";\n"
             "spacearm_commands.forEach(function (b64) {\n"
