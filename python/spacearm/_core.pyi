@@ -21,7 +21,7 @@ __all__ = [
     "JointTorqueLimitSpec", "LoopClosureTerms", "MomentumDampingSpec",
     "LinkDescription", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds", "MomentumSplit",
     "ModelBuilder", "ModelDescription", "ModelError", "ModelFileError", "NonFiniteError",
-    "NotFoundError", "PASSIVE_TREATMENTS", "PointDescription", "GeometryDescription", "QUATERNION_TOLERANCE", "QuaternionError",
+    "NotFoundError", "PASSIVE_TREATMENTS", "CONTROLLER_LABELS", "PointDescription", "GeometryDescription", "QUATERNION_TOLERANCE", "QuaternionError",
     "ReactionNullSpace", "ResourceLimitError", "RmrcMotion", "RmrcOptions", "RmrcRates",
     "RmrcSpec", "RolloutBatch", "RunEvents", "RunMeta", "RunOptions", "RunRecords", "RunResult",
     "SIM_DEFAULTS", "ScanResult", "ShapeError", "SimDefaults", "SimulationError", "Simulator", "BatchSimulator",
@@ -437,6 +437,7 @@ class DlsDefaults:
 MODES: list[str]
 INTEGRATORS: list[str]
 PASSIVE_TREATMENTS: list[str]  # how computed torque treats passive joints: "drift", "frozen"
+CONTROLLER_LABELS: dict[str, str]  # the words a person reads for each controller name of the records
 SIM_DEFAULTS: SimDefaults
 MODEL_BOUNDS: ModelBounds
 DLS_DEFAULTS: DlsDefaults

@@ -23,7 +23,7 @@ def test_simulate_computed_torque_writes_every_output(tmp_path, capsys):
                  "--animate", str(paths["gif"]), "--frames", "3", "--no-progress"])
     assert code == 0
     text = capsys.readouterr().out
-    for needle in ("mode floating", "controller computed_torque", "conservation (max relative drift): P",
+    for needle in ("mode floating", "controller: computed torque", "conservation (max relative drift): P",
                    "tracking error (joint): final", "saturation: none", "wrote trajectory", "wrote animation"):
         assert needle in text, needle
     traj = Trajectory.load(paths["npz"])
@@ -57,7 +57,7 @@ def test_simulate_pd_with_target_and_initial_state(tmp_path, capsys):
     ref = control.QuinticJoint([0.1, 0.2, 0.3, 0.4], [0.5, -0.5, 0.2, 0.1], 0.0, 0.4)
     direct = spacearm.simulate(robot, 0.5, x0=x0, u0=u0, controller=control.JointPD(kp=50.0, kd=30.0, reference=ref))
     np.testing.assert_array_equal(Trajectory.load(out).x, direct.x)
-    assert "controller joint_pd" in capsys.readouterr().out
+    assert "controller: joint PD" in capsys.readouterr().out
 
 
 def test_zero_torque_run_reports_conservation(capsys):

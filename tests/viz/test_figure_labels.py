@@ -250,3 +250,18 @@ def test_passive_coordinates_have_a_panel_of_their_own():
     assert sorted(_legend_texts(arm_ax)) == sorted(active)
     assert sorted(_legend_texts(passive_ax)) == sorted(passive)
     assert passive_ax.get_ylabel() == "q [rad]"
+
+
+def test_titles_name_the_controller_in_words():
+    # Issue 37 item 7: titles read "controller computed_torque" and "(none)".
+    from spacearm import _core
+
+    robot = spacearm.presets.planar4()
+    q0 = robot.initial_q
+    ref = control.QuinticJoint(q0, q0 + 0.2, 0.0, 0.05)
+    for ctrl, words in ((control.ComputedTorque(kp=25.0, kd=10.0, reference=ref), "computed torque"), (None, "no control")):
+        traj = spacearm.simulate(robot, 0.05, dt=0.01, controller=ctrl)
+        title = traj.plot()._suptitle.get_text()
+        assert words in title and "_" not in title.split(":", 1)[1], title
+        assert words == _core.CONTROLLER_LABELS[traj.meta["controller"]]
+        assert f"controller: {words}" in traj.summary()

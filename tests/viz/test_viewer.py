@@ -198,7 +198,7 @@ def test_page_is_self_contained(spatial6_html):
     assert urls <= {"http://www.w3.org/1999/xhtml"}, urls  # an XML namespace name, never fetched
     assert not re.search(r"<(script|link|img|iframe)[^>]*\s(src|href)\s*=", text, re.I)
     assert "fetch(" not in text.split("var spacearm_commands")[1]
-    assert text.count("<script>") == 2 and "MeshCat.Viewer" in text
+    assert text.count("<script>") == 3 and "MeshCat.Viewer" in text  # meshcat, the WebGL check, the scene
 
 
 def test_capture_scene_moves_the_target_and_shows_the_grasp(tmp_path):

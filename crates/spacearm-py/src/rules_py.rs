@@ -66,6 +66,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("MODES", Mode::NAMES.to_vec())?;
     m.add("INTEGRATORS", IntegratorKind::NAMES.to_vec())?;
     m.add("PASSIVE_TREATMENTS", spacearm_core::control::PassiveTreatment::NAMES.to_vec())?;
+    m.add("CONTROLLER_LABELS", spacearm_core::control::CONTROLLER_LABELS.iter().copied().collect::<std::collections::HashMap<_, _>>())?;
     m.add("QUATERNION_TOLERANCE", spacearm_core::math::rotations::QUATERNION_TOLERANCE)?;
     m.add("MEMORY_LIMIT_BYTES", spacearm_core::admission::MEMORY_LIMIT_BYTES)?;
     m.add("GOAL_TOLERANCE", spacearm_core::control::GOAL_TOLERANCE)?;

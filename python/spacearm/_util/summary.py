@@ -32,3 +32,14 @@ def summary_repr(obj) -> str:
     else:
         names = list(obj._fields)
     return f"<{type(obj).__name__}: " + ", ".join(f"{n}={_field(getattr(obj, n))}" for n in names) + ">"
+
+
+def controller_label(name) -> str:
+    """The words a person reads for a controller name of a run's records (``meta["controller"]``:
+    ``"computed_torque"`` → ``"computed torque"``), from the core's one table
+    (``_core.CONTROLLER_LABELS``); a name it lacks, with its underscores as spaces; none: "no control"."""
+    from .. import _core
+
+    if not name or name == "none":
+        return _core.CONTROLLER_LABELS["none"]
+    return _core.CONTROLLER_LABELS.get(name, str(name).replace("_", " "))

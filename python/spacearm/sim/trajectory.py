@@ -28,6 +28,7 @@ from typing import Dict, Iterable, List, NamedTuple, Optional, Union
 
 import numpy as np
 
+from .._util.summary import controller_label
 from .. import _core
 from .._util.atomic import atomic_open
 from .._util.npz import open_npz
@@ -559,7 +560,7 @@ class Trajectory:
         m = self._meta
         name = self._robot.name if self._robot is not None else "?"
         lines = [f"simulation of '{name}' (N = {self._n}): mode {m.get('mode', '?')}, "
-                 f"controller {m.get('controller') or 'none'}, integrator {m.get('integrator', '?')}"]
+                 f"controller: {controller_label(m.get('controller'))}, integrator {m.get('integrator', '?')}"]
         step = f"dt = {m['dt']:g} s" if "dt" in m else ""
         if m.get("integrator") == "dopri5":
             step = f"rtol = {m.get('rtol', float('nan')):g}, atol = {m.get('atol', float('nan')):g}, output every {m.get('dt', float('nan')):g} s"

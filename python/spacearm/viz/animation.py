@@ -20,6 +20,7 @@ from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+from .._util.summary import controller_label
 from .._util.atomic import atomic_path
 from ..errors import ArgumentError
 
@@ -147,7 +148,7 @@ def trajectory_scene(traj, idx, *, figsize: Tuple[float, float], dpi: float = 10
     trail_line = ax.plot([], [], [], "-", color="C3", lw=1.0, alpha=0.8)[0] if (trail and ee is not None) else None
     com_dot = ax.plot([], [], [], "x", color="k", ms=6)[0] if com is not None else None
     name = robot.name
-    heading = title or f"{name}: {traj.meta.get('mode', '')} ({traj.meta.get('controller') or 'no control'})"
+    heading = title or f"{name}: {traj.meta.get('mode', '')} ({controller_label(traj.meta.get('controller'))})"
     text = ax.set_title("", fontsize=8)
 
     def draw(j):

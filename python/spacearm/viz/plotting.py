@@ -31,6 +31,7 @@ from typing import Optional, Union
 
 import numpy as np
 
+from .._util.summary import controller_label
 from .figures import figure_format, new_figure, save_figure
 
 __all__ = ["plot_trajectory"]
@@ -319,7 +320,7 @@ def plot_trajectory(traj, path: Optional[PathLike] = None, *, title: Optional[st
     if title is None:
         m = traj.meta
         name = traj.robot.name if traj.robot is not None else "run"
-        title = f"{name}: {m.get('mode', '?')} mode, controller {m.get('controller') or 'none'}, {m.get('integrator', '?')}"
+        title = f"{name}: {m.get('mode', '?')} mode, {controller_label(m.get('controller'))}, {m.get('integrator', '?')}"
     fig.suptitle(title)
     if path is not None:
         save_figure(fig, path, dpi=dpi)

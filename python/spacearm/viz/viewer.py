@@ -42,6 +42,7 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+from .._util.summary import controller_label
 from .._util.atomic import write_text
 from .._util.optional import require
 from .._util.paths import inside
@@ -741,7 +742,7 @@ def trajectory_scene(
     fps, max_frames = _check_options(fps, max_frames, geometry)
     idx = _key_samples(_check_times(traj.t), fps, max_frames)
     name = robot.name
-    heading = title or f"{name}: {traj.meta.get('mode', '')} ({traj.meta.get('controller') or 'no control'})"
+    heading = title or f"{name}: {traj.meta.get('mode', '')} ({controller_label(traj.meta.get('controller'))})"
     scene = Scene(heading, fps)
     scene.mesh_dirs = _mesh_dirs(mesh_dirs)
     scene.samples = idx

@@ -136,6 +136,20 @@ pub struct ControlContext<'a> {
     pub actuators: &'a Actuators,
 }
 
+/// The words a person reads for each controller name of [`Controller::name`] (figure titles,
+/// summaries): the one table of them, exported to Python as `_core.CONTROLLER_LABELS`.
+pub const CONTROLLER_LABELS: &[(&str, &str)] = &[
+    ("none", "no control"),
+    ("joint_pd", "joint PD"),
+    ("computed_torque", "computed torque"),
+    ("resolved_motion_rate", "resolved motion rate (RMRC)"),
+    ("attitude", "attitude control"),
+    ("momentum_damping", "momentum damping"),
+    ("coordinated_flying", "coordinated flying"),
+    ("base_thrusters", "base thrusters"),
+    ("combined", "arm and base laws combined"),
+];
+
 /// A control law evaluated inside the integration loop.
 ///
 /// `Send`, so that a controller can move to the thread that runs its simulation (batch
