@@ -211,6 +211,13 @@ def test_failed_samples_are_recorded_not_fatal(planar4, tmp_path, monkeypatch):
     assert all("synthetic failure" in msg and "SingularError" in msg for msg in result.failures().values())
     assert np.all(np.isnan(result.metrics[heavy])) and np.all(np.isfinite(result.metrics[~heavy]))
     assert "failed" in result.table()
+    # Every metric row carries its unit (issue 37 item 7: the table had none).
+    from spacearm.campaign.scenario import METRIC_UNITS
+
+    rows = [line for line in result.table().splitlines() if line.startswith("| ") and "---" not in line][1:]
+    assert len(rows) == len(result.metric_names)
+    for name, row in zip(result.metric_names, rows):
+        assert row.startswith(f"| {name} [{METRIC_UNITS[name]}] |"), row
 
 
 def test_failures_in_worker_processes_are_recorded(planar4):

@@ -162,8 +162,11 @@ class CampaignResult:
         return {int(i): str(self.error[i]) for i in np.flatnonzero(self.status == FAILED)}
 
     def table(self, percentiles=(50, 90, 99)) -> str:
-        """A Markdown table of each metric's distribution over the samples that ran."""
-        head = "| metric | " + " | ".join(f"p{p:g}" for p in percentiles) + " | max | mean |"
+        """A Markdown table of each metric's distribution over the samples that ran, each metric
+        with its unit (``tracking_error_max [rad]``)."""
+        from .report import axis_label
+
+        head = "| metric [unit] | " + " | ".join(f"p{p:g}" for p in percentiles) + " | max | mean |"
         rows = [head, "|" + "---|" * (len(percentiles) + 3)]
         for name in self.metric_names:
             v = self.metric(name)
@@ -171,7 +174,7 @@ class CampaignResult:
                 cells = ["–"] * (len(percentiles) + 2)
             else:
                 cells = [f"{x:.4g}" for x in np.percentile(v, percentiles)] + [f"{v.max():.4g}", f"{v.mean():.4g}"]
-            rows.append(f"| {name} | " + " | ".join(cells) + " |")
+            rows.append(f"| {axis_label(name)} | " + " | ".join(cells) + " |")
         rows.append(f"\n{self.n_ok} samples ran, {self.n_failed} failed, {self.n_pending} not run.")
         return "\n".join(rows)
 
