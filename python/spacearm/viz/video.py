@@ -345,6 +345,36 @@ def _mujoco_frames(mujoco, model, renderer, qpos_frames, trail, camera) -> Itera
         renderer.close()
 
 
+def caption_size(height: int) -> int:
+    """The caption's text height in pixels for a frame ``height`` pixels high; the caption sits
+    in a band of ``caption_band(height)`` pixels at the top (what) and at the bottom (when)."""
+    return max(8, height // 30)
+
+
+def caption_band(height: int) -> int:
+    return caption_size(height) + 2 * (2 + max(1, height // 240)) + 2
+
+
+def _captioned(frames: Iterator[np.ndarray], caption: str, times) -> Iterator[np.ndarray]:
+    """MuJoCo's frames with what they show (``caption``, top left) and the run's time of each
+    recorded sample (``t = … s``, bottom left), white with a dark outline, drawn by Pillow (matplotlib's
+    dependency, so in the ``video`` extra)."""
+    from PIL import Image, ImageDraw, ImageFont
+
+    font = None
+    for frame, t in zip(frames, times):
+        h = frame.shape[0]
+        size, pad, stroke = caption_size(h), 2 + max(1, h // 240), max(1, h // 240)
+        if font is None:
+            font = ImageFont.load_default(size=size)
+        img = Image.fromarray(frame)
+        draw = ImageDraw.Draw(img)
+        style = dict(font=font, fill=(255, 255, 255), stroke_width=stroke, stroke_fill=(0, 0, 0))
+        draw.text((pad, pad), caption, **style)
+        draw.text((pad, h - caption_band(h) + pad), f"t = {t:.2f} s", **style)
+        yield np.asarray(img)
+
+
 # ---------------------------------------------------------------------------------------------
 # the two entry points
 # ---------------------------------------------------------------------------------------------
@@ -392,7 +422,10 @@ def trajectory_video(traj, path, *, width: int = 1280, height: int = 720, fps: i
         ee = None
         if trail and robot.end_effector is not None and robot.n_dof > 0:
             ee = traj.ee_position[idx] if traj.has("ee_position") else np.asarray(robot.point_position(traj.x[idx]))
-        frames = _mujoco_frames(mujoco, model, rend, qpos, ee, camera)
+        from .._util.summary import controller_label
+
+        caption = f"{robot.name}: {traj.meta.get('mode', '')} mode, {controller_label(traj.meta.get('controller'))}"
+        frames = _captioned(_mujoco_frames(mujoco, model, rend, qpos, ee, camera), caption, traj.t[idx])
     else:
         from .animation import trajectory_scene
 
@@ -446,7 +479,8 @@ def capture_video(result, path, *, width: int = 1280, height: int = 720, fps: in
     if name == "mujoco":
         mujoco, model, rend, qpos = mj
         grip = np.asarray(robot.point_position(result.x[idx])) if robot.end_effector is not None else None
-        frames = _mujoco_frames(mujoco, model, rend, qpos, grip, camera)
+        caption = f"{robot.name} captures {result.target_model.name}: {result.kind} grasp, {result.mode} mode"
+        frames = _captioned(_mujoco_frames(mujoco, model, rend, qpos, grip, camera), caption, result.t[idx])
     else:
         from .capture import capture_scene
 
