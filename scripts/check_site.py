@@ -82,9 +82,15 @@ def check(site: Path) -> List[str]:
     if not pages:
         return [f"{site}: no HTML pages (build the site first: bash scripts/docs.sh)"]
     renderer = (site / MATH_RENDERER).is_file()
+    from importlib.metadata import version
+
+    versioned = f"spacearm {version('spacearm')}"
     for page in pages:
         html = page.read_text(encoding="utf-8")
         rel = page.relative_to(site)
+        title = re.search(r"<title>(.*?)</title>", html, re.S)
+        if rel.name != "404.html" and (title is None or versioned not in title.group(1)):
+            problems.append(f"{rel}: its title does not name the version ({versioned!r})")
         for snippet in raw_roles(html):
             problems.append(f"{rel}: a raw Sphinx role: ...{snippet}...")
         for url in remote_assets(html):

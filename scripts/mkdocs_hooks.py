@@ -38,6 +38,11 @@ def katex_dir() -> Path:
 
 def on_config(config, **kwargs):
     katex_dir()  # fail before building, not after
+    # The header and every page title name the version documented (the installed package's,
+    # the one the API pages are read from): "spacearm 0.1.0".
+    from importlib.metadata import version
+
+    config["site_name"] = f"spacearm {version('spacearm')}"
     return config
 
 

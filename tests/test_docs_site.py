@@ -174,3 +174,15 @@ def test_the_escape_check_sees_each_kind():
     assert _broken_latex("$|\nabla\\phi|$")  # "\nabla": a line break, then "abla"
     assert _broken_latex("$\\phi = \nho^l$")  # "\rho" after line endings were normalized
     assert not _broken_latex("$\\nabla\\phi = \\rho\\,\\frac{1}{2}$\nhow it works")
+
+
+def test_every_page_title_names_the_version(tmp_path):
+    # Issue 37 item 7: the docs header had no version. The hook names it in site_name, so every
+    # page title carries it; the checker refuses a page without it.
+    from importlib.metadata import version
+
+    site = _write_site(tmp_path, [], html="<title>Home - spacearm</title>")
+    assert any("does not name the version" in p for p in check_site.check(site))
+    (tmp_path / "b").mkdir()
+    site = _write_site(tmp_path / "b", [], html=f"<title>Home - spacearm {version('spacearm')}</title>")
+    assert not any("does not name the version" in p for p in check_site.check(site))
