@@ -373,3 +373,29 @@ def test_toml_equals_the_builder(tmp_path):
     again = spacearm.io.load_toml(spacearm.io.save_toml(from_file, tmp_path / "again.toml"))
     assert np.array_equal(again.mass_matrix(x), built.mass_matrix(x))
     assert np.array_equal(again.passive_forces(x, u), built.passive_forces(x, u))
+
+
+def test_an_initial_q_of_the_listed_links_starts_the_appendages_at_rest(tmp_path):
+    # Issue 37 item 5: appending a [[panel]] and a [[beam]] to a model with an initial_q was
+    # refused until the user counted the generated passive coordinates. The listed links here:
+    # the compliant arm (its motor and its link: two coordinates). The panel's hinge starts at
+    # its spring's rest (0.2 rad, given), the beam's joints at 0.
+    text = TOML.replace('name = "flex-sat"', 'name = "flex-sat"\ninitial_q = [0.3, 0.25]').replace(
+        "damping = 0.1\n", "damping = 0.1\nrest = 0.2\n", 1)
+    path = tmp_path / "flex.toml"
+    path.write_text(text)
+    robot = spacearm.io.load_toml(path)
+    q0 = robot.initial_q
+    names = robot.joint_names
+    assert len(q0) == robot.n_dof > 2
+    assert list(q0[:2]) == [0.3, 0.25]
+    hinge = names.index("wing_hinge")
+    assert q0[hinge] == 0.2
+    assert all(q0[j] == 0.0 for j in range(2, robot.n_dof) if j != hinge)
+    # An initial_q of every coordinate is taken as it is; any other length is refused.
+    full = np.arange(robot.n_dof) * 0.01
+    path.write_text(TOML.replace('name = "flex-sat"', f'name = "flex-sat"\ninitial_q = {[float(v) for v in full]}'))
+    assert np.array_equal(spacearm.io.load_toml(path).initial_q, full)
+    path.write_text(TOML.replace('name = "flex-sat"', 'name = "flex-sat"\ninitial_q = [0.3]'))
+    with pytest.raises(errors.ModelError, match="initial_q"):
+        spacearm.io.load_toml(path)

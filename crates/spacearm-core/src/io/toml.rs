@@ -776,6 +776,8 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
         }
     }
 
+    // The links the file lists itself; the appendages below add passive links after them.
+    let listed_links = at.links.len();
     // [[slosh]] modes: passive links on bodies defined above.
     for sd in &doc.slosh {
         let s = sd.get_ref();
@@ -897,7 +899,12 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
         builder.set_end_effector(e.get_ref());
     }
     if let Some(q) = initial_q {
-        builder.set_initial_q(q.get_ref().clone());
+        // An initial_q of the listed links' coordinates only is completed with the appendages'
+        // passive coordinates at their springs' rest (issue 37 item 5: a model with an initial_q
+        // was refused once a [[slosh]], [[panel]] or [[beam]] was appended, until the user
+        // counted the generated coordinates); one of every coordinate is taken as it is.
+        let q = builder.initial_q_completed_at_rest(q.get_ref(), listed_links).unwrap_or_else(|| q.get_ref().clone());
+        builder.set_initial_q(q);
     }
     builder.build().map_err(|e| at.err(e))
 }

@@ -282,6 +282,23 @@ impl ModelBuilder {
         self
     }
 
+    /// The number of degrees of freedom of the first `links` links (in the order they were added).
+    pub fn dofs_of_first(&self, links: usize) -> usize {
+        self.links.iter().take(links).map(|l| l.joint.kind.dof()).sum()
+    }
+
+    /// `q`, the initial coordinates of the degrees of freedom of the first `links` links,
+    /// completed with the spring rest of every later one (the passive coordinates that
+    /// appendages — slosh modes, panels, beams — add after them start at rest): the initial `q`
+    /// of the whole model. `None` when `q` does not have the first links' length.
+    pub fn initial_q_completed_at_rest(&self, q: &[f64], links: usize) -> Option<Vec<f64>> {
+        if q.len() != self.dofs_of_first(links) {
+            return None;
+        }
+        let rest = self.links.iter().skip(links).filter(|l| l.joint.kind.dof() == 1).map(|l| l.joint.dynamics.rest);
+        Some(q.iter().copied().chain(rest).collect())
+    }
+
     /// Apply the whole-model rules and produce the immutable model.
     pub fn build(&self) -> Result<Model, ModelError> {
         let ee = match &self.end_effector {
