@@ -45,6 +45,9 @@ def add_parser(sub) -> None:
     s.add_argument("--q-offset", type=float, default=0.5, help="goal = initial q + this, rad (default 0.5)")
     s.add_argument("--kp", type=float, default=100.0)
     s.add_argument("--kd", type=float, default=20.0)
+    s.add_argument("--flexibility", default=None, metavar="FILE.toml",
+                   help="flexible plants: a TOML file with a [tank] and/or a [panel] table and the drawn parameters "
+                        "(fill_fraction = {kind = \"uniform\", low = 0.3, high = 0.7}, ...; docs/campaigns.md)")
     from .simulate import add_orbit_options
 
     add_orbit_options(p)
@@ -55,6 +58,34 @@ def add_parser(sub) -> None:
     e.add_argument("--slosh-fraction-max", type=float, default=0.05, help="max fraction of base mass displaced (default 0.05)")
     e.add_argument("--slosh-offset", type=float, default=0.5, help="distance of the displaced mass, m (default 0.5)")
     e.add_argument("--payload-mass-max", type=float, default=0.0, help="max payload at the end effector, kg (default 0)")
+
+
+def _flexibility(path):
+    """The [`Flexibility`][spacearm.campaign.Flexibility] recipe of a TOML file: its tables and
+    keys are `Flexibility.to_dict()`'s (``[tank]``, ``[panel]``, and each drawn parameter as
+    ``{kind = ..., ...}``); data only, read by the standard library's TOML parser."""
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python < 3.11
+        import tomli as tomllib
+    from ..campaign import Flexibility
+    from ..errors import ArgumentError, ModelFileError
+
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh)
+    except OSError as exc:
+        raise ModelFileError(f"--flexibility: cannot read {path}: {exc.strerror}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ModelFileError(f"--flexibility: {path} is not valid TOML: {exc}") from None
+    known = {"tank", "panel", "fill_fraction", "slosh_frequency_scale", "slosh_damping_ratio", "panel_stiffness"}
+    unknown = sorted(set(data) - known)
+    if unknown:
+        raise ArgumentError(f"--flexibility: {path}: unknown key(s) {unknown}; expected some of {sorted(known)}")
+    try:
+        return Flexibility.from_dict(data)
+    except TypeError as exc:  # a table with a key the Tank/Panel/distribution does not take
+        raise ArgumentError(f"--flexibility: {path}: {exc}") from None
 
 
 def run(args, model_from_args, out=None) -> None:
@@ -71,7 +102,8 @@ def run(args, model_from_args, out=None) -> None:
                                       args.slosh_fraction_max, args.slosh_offset, args.payload_mass_max)
         scenario = Scenario(mode=args.mode, controller=args.controller, duration=args.duration, dt=args.dt,
                             q_offset=args.q_offset, kp=args.kp, kd=args.kd, orbit=orbit,
-                            gravity_gradient=orbit is None or not args.no_gravity_gradient)
+                            gravity_gradient=orbit is None or not args.no_gravity_gradient,
+                            flexibility=None if args.flexibility is None else _flexibility(args.flexibility))
         result = run_campaign(robot, args.samples, seed=args.seed, perturbations=perturbations, scenario=scenario,
                               workers=args.workers, scheduler=args.scheduler, batch_size=args.batch_size,
                               worker_timeout=args.worker_timeout, out=args.out,
