@@ -33,3 +33,15 @@ def test_the_old_top_level_paths_are_gone(old):
     with pytest.raises(ModuleNotFoundError):
         importlib.import_module(f"spacearm.{old}")
     assert not hasattr(spacearm, old)
+
+
+def test_the_mesh_converters_are_reachable_as_spacearm_io_mesh():
+    # Issue 37 item 2: an error message named spacearm.io.mesh.with_mesh_format, which failed as
+    # written ("module 'spacearm.io' has no attribute 'mesh'") until imported. In a fresh
+    # interpreter, so that no other test has imported the submodule first.
+    import subprocess
+    import sys
+
+    code = "import spacearm; print(callable(spacearm.io.mesh.with_mesh_format))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0 and out.stdout.strip() == "True", out.stderr

@@ -210,7 +210,7 @@ def _mesh_assets(root: ET.Element, meshes: dict, assets) -> None:
                 with open(file, "rb") as fh:
                     assets[asset_name] = fh.read()
             else:
-                from ..io.mesh import converted_bytes
+                from .._util.meshes import converted_bytes
 
                 asset_name = f"{name}.stl"
                 assets[asset_name] = converted_bytes(file, "stl")

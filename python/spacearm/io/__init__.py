@@ -23,9 +23,10 @@ def __getattr__(name):
     # own (issue 37 item 2: an error message named spacearm.io.mesh.with_mesh_format, which
     # failed as written); it is loaded on first use, so `import spacearm` needs no trimesh.
     if name == "mesh":
-        from . import mesh
+        import importlib
 
-        return mesh
+        # (`from . import mesh` would ask this function again for the attribute: recursion)
+        return importlib.import_module(f"{__name__}.mesh")
     raise AttributeError(f"module 'spacearm.io' has no attribute {name!r}")
 
 
