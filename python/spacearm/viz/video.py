@@ -366,7 +366,10 @@ def _captioned(frames: Iterator[np.ndarray], caption: str, times) -> Iterator[np
         h = frame.shape[0]
         size, pad, stroke = caption_size(h), 2 + max(1, h // 240), max(1, h // 240)
         if font is None:
-            font = ImageFont.load_default(size=size)
+            try:
+                font = ImageFont.load_default(size=size)  # Pillow >= 10.1: a scalable font
+            except TypeError:  # an older Pillow: its one bitmap font
+                font = ImageFont.load_default()
         img = Image.fromarray(frame)
         draw = ImageDraw.Draw(img)
         style = dict(font=font, fill=(255, 255, 255), stroke_width=stroke, stroke_fill=(0, 0, 0))
