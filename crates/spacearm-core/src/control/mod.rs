@@ -28,6 +28,7 @@ pub mod momentum_damping;
 pub mod pd;
 pub mod rmrc;
 pub mod shaping;
+pub mod spec;
 pub mod thrusters;
 
 use nalgebra::Vector6;
