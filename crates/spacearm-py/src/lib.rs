@@ -102,19 +102,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<sim_options_py::PyThrusterLimits>()?;
     m.add_class::<controller_spec_py::PyJointReference>()?;
     m.add_class::<controller_spec_py::PyInputShaper>()?;
-    m.add_class::<controller_spec_py::PyCartesianReference>()?;
     m.add_class::<controller_spec_py::PyFreeBodyReference>()?;
-    m.add_class::<controller_spec_py::PyMomentumDampingSpec>()?;
-    m.add_class::<controller_spec_py::PyJointTorqueLimitSpec>()?;
-    m.add_class::<controller_spec_py::PyZeroTorqueSpec>()?;
-    m.add_class::<controller_spec_py::PyJointPdSpec>()?;
-    m.add_class::<controller_spec_py::PyComputedTorqueSpec>()?;
-    m.add_class::<controller_spec_py::PyRmrcSpec>()?;
-    m.add_class::<controller_spec_py::PyAttitudeSpec>()?;
-    m.add_class::<controller_spec_py::PyBaseThrustersSpec>()?;
-    m.add_class::<controller_spec_py::PyCoordinatedFlyingSpec>()?;
-    m.add_class::<controller_spec_py::PyCombinedSpec>()?;
-    m.add_class::<controller_spec_py::PyCallbackSpec>()?;
+    m.add_class::<controller_spec_py::PyControllerSpec>()?;
+    m.add_function(wrap_pyfunction!(controller_spec_py::check_spec, m)?)?;
     // The typed results of simulate, rollout and Simulator.
     m.add_class::<records_py::PyRunRecords>()?;
     m.add_class::<records_py::PyRunEvents>()?;

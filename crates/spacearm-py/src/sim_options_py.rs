@@ -58,13 +58,11 @@ pub struct PyThrusterLimits {
 
 #[pymethods]
 impl PyThrusterLimits {
-    #[new]
-    #[pyo3(signature = (*, max_force, max_torque, **unknown))]
-    fn new(py: Python<'_>, max_force: &Bound<'_, PyAny>, max_torque: &Bound<'_, PyAny>, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
-        refuse_unknown::<Self>(py, unknown)?;
-        let f = vec3(max_force, "thrusters 'max_force'")?;
-        let t = vec3(max_torque, "thrusters 'max_torque'")?;
-        Ok(PyThrusterLimits { inner: ThrusterLimits::new(f, t).or_raise(py)? })
+    /// From the data of a `ThrusterLimitsSpec` (`{max_force, max_torque}`: one number for the three
+    /// axes, or three; absent or inf: no limit).
+    #[staticmethod]
+    fn from_spec(data: &Bound<'_, PyAny>) -> PyResult<Self> {
+        Ok(PyThrusterLimits { inner: crate::controller_spec_py::thruster_limits(data)? })
     }
 
     /// Largest base force per axis of 𝒥, shape (3,), N (inf: no limit).

@@ -96,7 +96,7 @@ impl PySimulator {
         let u0 = vec_arg(u0, "u0")?;
         check_initial_state(&self.model, x0.as_slice(), u0.as_slice()).or_raise(py)?;
         let controller: Box<dyn Controller> = match &self.spec {
-            Some(s) => build_controller(s.bind(py), &self.slot)?,
+            Some(s) => build_controller(s.bind(py), &self.model, &self.slot)?,
             None => Box::new(ZeroTorque),
         };
         let plant = Plant::owned(self.model.clone(), &self.opts, controller).or_raise(py)?;

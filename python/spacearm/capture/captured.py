@@ -25,6 +25,7 @@ from typing import NamedTuple, Optional
 
 import numpy as np
 
+from .._util.spec import controller_spec
 from .. import _core
 from .._util.summary import summary_repr
 from .._util.arrays import number, vector
@@ -171,7 +172,7 @@ def soft_capture(robot, x, u, target, target_state, duration: float, *, frequenc
     atol = rtol * 1e-2 if atol is None else number(atol, "atol")
     options = _options(robot, mode="floating", integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=None, thrusters=None,
                        record_every=1, joint_limits=DEFAULTS["joint_limits"], max_steps=DEFAULTS["max_steps"], record_dtype="float64")
-    spec = None if controller is None else controller._spec(robot)
+    spec = None if controller is None else controller_spec(controller)
     tx, tu = target.xu(s)
     res = _core.soft_capture(robot.core_model, xv, uv, int(body), np.asarray(offset, dtype=float), target.body.core_model, tx, tu,
                              int(tbody), np.asarray(tpoint, dtype=float), duration, options, spec, frequency=omega, damping_ratio=zeta,

@@ -312,6 +312,11 @@ class Robot:
             return self.body_index(point[0]), vector3(point[1], "point offset")
         raise ShapeError(f"a point is a point name, a body name, or (body, offset), got {point!r}")
 
+    def _data(self) -> str:
+        """The model as the text of a model file: how a controller's own model travels in a run's
+        description (``spacearm._util.spec``; bit-exact)."""
+        return self._m.to_toml()
+
     def __reduce__(self):
         # Pickled through the extension's model (its TOML text, floats in shortest round-trip
         # form: bit-exact); caches are rebuilt on demand.

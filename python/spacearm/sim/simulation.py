@@ -20,6 +20,7 @@ from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 
+from .._util.spec import controller_spec, data as spec_data
 from .. import _core
 from .._util.arrays import count, vector
 from ..control import Thrusters, _Controller
@@ -131,7 +132,7 @@ def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, reco
         atol=atol,
         record_every=int(record_every),
         wheels=_wheel_dofs(robot, wheels),
-        thrusters=None if thrusters is None else thrusters._spec(),
+        thrusters=None if thrusters is None else _core.ThrusterLimits.from_spec(spec_data(thrusters, [], "thrusters")),
         joint_limits=bool(joint_limits),
         max_steps=int(max_steps),
         progress=progress,
@@ -235,7 +236,7 @@ def _run(
     u0 = robot.zero_velocity() if u0 is None else vector(u0, "u0")
     _check_controller(controller)
     callback, close = _progress_callable(progress)
-    spec = None if controller is None else controller._spec(robot)
+    spec = None if controller is None else controller_spec(controller)
     try:
         if callback is not None:
             # The options were checked first, before the progress callable (maybe a bar) was

@@ -50,6 +50,86 @@ fn bad(msg: impl Into<String>) -> SpacearmError {
     SpacearmError::argument(msg.into())
 }
 
+// ---- the `kind` tag, with the path of a wrong field -------------------------------------------
+
+// A spec tagged by `kind` is read as a generic table first, turned into serde's externally
+// tagged form `{<kind> = {fields}}` and read by the enum's derived (`remote = "Self"`) code through
+// `serde_path_to_error`: serde's own internally tagged form buffers the table and loses the
+// path, so an error would not say which field was wrong. Written back the same way round.
+
+fn external_form(v: toml::Value) -> std::result::Result<toml::Value, String> {
+    let toml::Value::Table(mut t) = v else {
+        return Err(format!("expected a table with a 'kind', got {}", v.type_str()));
+    };
+    match t.remove("kind") {
+        Some(toml::Value::String(k)) => Ok(toml::Value::Table(toml::map::Map::from_iter([(k, toml::Value::Table(t))]))),
+        Some(other) => Err(format!("'kind' must be a string, got {}", other.type_str())),
+        None => Err("missing field `kind`".into()),
+    }
+}
+
+fn internal_form(v: toml::Value) -> std::result::Result<toml::Value, String> {
+    match v {
+        toml::Value::String(k) => Ok(toml::Value::Table(toml::map::Map::from_iter([("kind".to_string(), toml::Value::String(k))]))),
+        toml::Value::Table(t) if t.len() == 1 => {
+            let (k, inner) = t.into_iter().next().expect("one entry");
+            let mut out = toml::map::Map::new();
+            out.insert("kind".into(), toml::Value::String(k));
+            match inner {
+                toml::Value::Table(fields) => out.extend(fields),
+                other => return Err(format!("a tagged spec's fields must be a table, got {}", other.type_str())),
+            }
+            Ok(toml::Value::Table(out))
+        }
+        other => Err(format!("not a tagged spec: {}", other.type_str())),
+    }
+}
+
+/// `'field.path': message`, the path without its first segment (the kind).
+fn with_path(path: &serde_path_to_error::Path, msg: &str) -> String {
+    let path = path.to_string();
+    let rest = path.split_once('.').map(|(_, r)| r).unwrap_or("");
+    // toml's errors end with a line "in `field`" of their own: the path says it.
+    let msg = msg.trim().lines().next().unwrap_or("");
+    if rest.is_empty() || path == "." {
+        msg.to_string()
+    } else {
+        format!("'{rest}': {msg}")
+    }
+}
+
+/// Read an enum tagged by `kind` from `v` through its derived externally tagged code `read`.
+fn read_tagged<T, E: de::Error>(v: toml::Value, read: impl FnOnce(serde_path_to_error::Deserializer<'_, '_, toml::Value>) -> std::result::Result<T, toml::de::Error>) -> std::result::Result<T, E> {
+    let external = external_form(v).map_err(E::custom)?;
+    let mut track = serde_path_to_error::Track::new();
+    let out = read(serde_path_to_error::Deserializer::new(external, &mut track));
+    out.map_err(|e| E::custom(with_path(&track.path(), &e.to_string())))
+}
+
+/// `Serialize` and `Deserialize` of an enum whose derive is `remote = "Self"`, in the form
+/// `{kind = "<variant>", <fields>}`.
+macro_rules! tagged_by_kind {
+    ($t:ty) => {
+        impl Serialize for $t {
+            fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+                struct External<'a>(&'a $t);
+                impl Serialize for External<'_> {
+                    fn serialize<S2: serde::Serializer>(&self, s: S2) -> std::result::Result<S2::Ok, S2::Error> {
+                        <$t>::serialize(self.0, s)
+                    }
+                }
+                let v = toml::Value::try_from(External(self)).map_err(serde::ser::Error::custom)?;
+                internal_form(v).map_err(serde::ser::Error::custom)?.serialize(s)
+            }
+        }
+        impl<'de> Deserialize<'de> for $t {
+            fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+                read_tagged(toml::Value::deserialize(d)?, |de| <$t>::deserialize(de))
+            }
+        }
+    };
+}
+
 // ---- value forms shared by the specs ---------------------------------------------------------
 
 /// One number or a list of them (gains: one for every joint, or one per joint).
@@ -271,8 +351,8 @@ fn orbit(o: &Option<Orbit>) -> Result<Option<Orbit>> {
 
 /// A joint-space reference of the arm joints ([`JointReference`]); a plain list of numbers is a
 /// constant set point.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
 pub enum JointReferenceSpec {
     /// Hold `q` (rad or m per arm joint).
     Constant {
@@ -311,32 +391,28 @@ pub enum JointReferenceSpec {
     },
 }
 
-/// The tagged form of [`JointReferenceSpec`] (its `Deserialize` accepts a set point too).
-#[derive(Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-enum JointReferenceTagged {
-    Constant { q: Vec<f64> },
-    Quintic { q_start: Vec<f64>, q_goal: Vec<f64>, t_start: f64, t_end: f64 },
-    Sampled { t: Vec<f64>, q: Rows, qd: Rows, qdd: Rows },
-    Shaped { reference: Box<JointReferenceSpec>, shaper: ShaperSpec },
+impl Serialize for JointReferenceSpec {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        struct External<'a>(&'a JointReferenceSpec);
+        impl Serialize for External<'_> {
+            fn serialize<S2: serde::Serializer>(&self, s: S2) -> std::result::Result<S2::Ok, S2::Error> {
+                JointReferenceSpec::serialize(self.0, s)
+            }
+        }
+        let v = toml::Value::try_from(External(self)).map_err(serde::ser::Error::custom)?;
+        internal_form(v).map_err(serde::ser::Error::custom)?.serialize(s)
+    }
 }
 
 impl<'de> Deserialize<'de> for JointReferenceSpec {
     fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
-        // A set point (a list) or a table tagged by `kind`: read once into a generic value, then
-        // into the one form it is, so that a tagged table's own error reaches the user.
+        // A set point (a list of numbers) is a constant reference.
         let v = toml::Value::deserialize(d)?;
         if let toml::Value::Array(_) = v {
-            let q: Vec<f64> = v.try_into().map_err(de::Error::custom)?;
+            let q: Vec<f64> = v.try_into().map_err(|e: toml::de::Error| de::Error::custom(e.to_string().trim()))?;
             return Ok(JointReferenceSpec::Constant { q });
         }
-        let t: JointReferenceTagged = v.try_into().map_err(de::Error::custom)?;
-        Ok(match t {
-            JointReferenceTagged::Constant { q } => JointReferenceSpec::Constant { q },
-            JointReferenceTagged::Quintic { q_start, q_goal, t_start, t_end } => JointReferenceSpec::Quintic { q_start, q_goal, t_start, t_end },
-            JointReferenceTagged::Sampled { t, q, qd, qdd } => JointReferenceSpec::Sampled { t, q, qd, qdd },
-            JointReferenceTagged::Shaped { reference, shaper } => JointReferenceSpec::Shaped { reference, shaper },
-        })
+        read_tagged(v, |de| JointReferenceSpec::deserialize(de))
     }
 }
 
@@ -421,7 +497,7 @@ impl InertiaSpec {
 /// A moving point that a point controller follows ([`PointReference`]), with the robot's point
 /// that follows it (absent: the end effector, or the controller's own `point`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
 pub enum PointReferenceSpec {
     /// A straight line from `p_start` to `p_goal` (m, in 𝒥) with quintic timing.
     Line {
@@ -468,6 +544,8 @@ pub enum PointReferenceSpec {
         qdd: Rows,
     },
 }
+
+tagged_by_kind!(PointReferenceSpec);
 
 fn default_free_body_step() -> f64 {
     1e-3
@@ -599,10 +677,10 @@ fn ten() -> f64 {
 /// name ([`CONTROLLER_KINDS`]); each variant's fields are the law's parameters, with the units
 /// and defaults of `spacearm.control` (docs/simulation-core.md).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
 pub enum ControllerSpec {
     /// No control: zero joint torques and no base wrench.
-    None,
+    None {},
     /// Joint PD on the actuated arm joints ([`JointPd`]).
     JointPd {
         /// Proportional gains, one or one per actuated arm joint, N·m/rad.
@@ -629,10 +707,10 @@ pub enum ControllerSpec {
     },
     /// Resolved-motion-rate control of a point through `J*` ([`ResolvedMotionRate`], paper eq. 110).
     ResolvedMotionRate {
-        /// The point's path.
+        /// The point's path (`reference_cartesian`: Python's spelling).
+        #[serde(alias = "reference_cartesian")]
         reference: PointReferenceSpec,
         /// Position feedback gain, 1/s.
-        #[serde(default = "one")]
         gain: f64,
         /// The largest damping λ_max, m.
         #[serde(default = "dls_max_damping")]
@@ -756,6 +834,8 @@ pub enum ControllerSpec {
     },
 }
 
+tagged_by_kind!(ControllerSpec);
+
 /// The controller kinds (the serde tags of [`ControllerSpec`]), each with the words a person
 /// reads ([`super::CONTROLLER_LABELS`] names the controllers that ran).
 pub const CONTROLLER_KINDS: &[&str] = &[
@@ -794,7 +874,7 @@ impl ControllerSpec {
     /// The kind (the serde tag).
     pub fn kind(&self) -> &'static str {
         match self {
-            ControllerSpec::None => "none",
+            ControllerSpec::None {} => "none",
             ControllerSpec::JointPd { .. } => "joint_pd",
             ControllerSpec::ComputedTorque { .. } => "computed_torque",
             ControllerSpec::ResolvedMotionRate { .. } => "resolved_motion_rate",
@@ -806,6 +886,15 @@ impl ControllerSpec {
             ControllerSpec::TorqueLimit { .. } => "torque_limit",
             ControllerSpec::External { .. } => "external",
         }
+    }
+
+    /// The spec as the TOML text of a `[controller]` table (what the C stepper and the FMUs read);
+    /// refused for an `external` controller, which only its door can run.
+    pub fn to_toml(&self) -> Result<String> {
+        if self.walk().iter().any(|s| matches!(s, ControllerSpec::External { .. })) {
+            return Err(bad("a Python callback controller cannot be written to a file: it runs only from Python"));
+        }
+        toml::to_string(self).map_err(|e| bad(format!("controller to TOML: {e}")))
     }
 
     /// The controllers inside this one, this one first (depth first).
@@ -828,7 +917,7 @@ impl ControllerSpec {
     pub fn validate(&self) -> Result<()> {
         let w = self.kind();
         match self {
-            ControllerSpec::None | ControllerSpec::External { .. } => {}
+            ControllerSpec::None {} | ControllerSpec::External { .. } => {}
             ControllerSpec::JointPd { kp, kd, reference } => {
                 gains(w, "kp", kp)?;
                 gains(w, "kd", kd)?;
@@ -910,7 +999,7 @@ impl ControllerSpec {
 
     fn build_checked(&self, plant: &Model, external: &mut dyn FnMut(usize) -> Result<Box<dyn Controller>>) -> Result<Box<dyn Controller>> {
         Ok(match self {
-            ControllerSpec::None => Box::new(ZeroTorque),
+            ControllerSpec::None {} => Box::new(ZeroTorque),
             ControllerSpec::JointPd { kp, kd, reference } => Box::new(JointPd::new(kp.0.clone(), kd.0.clone(), reference.build()?)),
             ControllerSpec::ComputedTorque { kp, kd, reference, model, passive } => {
                 Box::new(ComputedTorque::new(kp.0.clone(), kd.0.clone(), reference.build()?, ModelText::build(model)?).with_passive(passive_treatment(passive)?))
@@ -1027,6 +1116,24 @@ mod tests {
         assert!(e.contains("time_constant"), "{e}");
         let e = spec("kind = 'joint_pd'\nkp = -1\nkd = 1\nreference = [0.0]").unwrap().validate().unwrap_err().to_string();
         assert!(e.contains("kp"), "{e}");
+    }
+
+    #[test]
+    fn a_wrong_value_is_named_by_its_path() {
+        let e = spec("kind = 'joint_pd'\nkp = 'a'\nkd = 1\nreference = [0.0]").unwrap_err().to_string();
+        assert!(e.contains("'kp'") && e.contains("a number or a list of numbers"), "{e}");
+        let e = spec("kind = 'combined'\n[arm]\nkind = 'joint_pd'\nkp = 1\nkd = 1\nreference = {kind = 'quintic', q_start = [0.0], q_goal = [1.0], t_start = 0.0, t_end = 'late'}\n[base]\nkind = 'none'")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("'arm'") && e.contains("'reference'") && e.contains("'t_end'"), "{e}");
+        let e = spec("kind = 'resolved_motion_rate'\ngain = 1.0\nstrategy = 1\nreference = {kind = 'line', p_start = [0.0, 0.0, 0.0], p_goal = [1.0, 0.0, 0.0], t_start = 0.0, t_end = 1.0}")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("'strategy'"), "{e}");
+        assert!(spec("kp = 1").unwrap_err().to_string().contains("missing field `kind`"));
+        // And written back in the same form: `kind` and the fields side by side.
+        let s = spec("kind = 'none'").unwrap();
+        assert_eq!(toml::to_string(&s).unwrap().trim(), "kind = \"none\"");
     }
 
     #[test]
