@@ -854,7 +854,7 @@ pub const CONTROLLER_KINDS: &[&str] = &[
 
 /// Short names the CLI and campaigns accept for a kind (besides the kind itself and its
 /// hyphenated spelling, `computed-torque`).
-pub const CONTROLLER_ALIASES: &[(&str, &str)] = &[("pd", "joint_pd"), ("ct", "computed_torque"), ("rmrc", "resolved_motion_rate")];
+pub const CONTROLLER_ALIASES: &[(&str, &str)] = &[("pd", "joint_pd"), ("ct", "computed_torque"), ("rmrc", "resolved_motion_rate"), ("coordinated", "coordinated_flying")];
 
 /// The kind a user's name means: a kind of [`CONTROLLER_KINDS`], its hyphenated spelling, or an
 /// alias of [`CONTROLLER_ALIASES`].
