@@ -10,6 +10,9 @@ A model is edited through a builder too: [`RobotBuilder.from_robot`][spacearm.Ro
 [`Robot.to_builder`][spacearm.Robot.to_builder]) holds an existing model exactly, and [`add_link`][spacearm.RobotBuilder.add_link],
 [`attach_payload`][spacearm.RobotBuilder.attach_payload] and [`remove_body`][spacearm.RobotBuilder.remove_body] change it before
 [`build`][spacearm.RobotBuilder.build] makes a new, validated Robot (a Robot itself never changes).
+One edit at a time is the core's, without replaying the model:
+[`Robot.attach_body`][spacearm.Robot.attach_body], [`Robot.attach`][spacearm.Robot.attach] (a whole model) and
+[`Robot.remove_subtree`][spacearm.Robot.remove_subtree] (``model/edit.rs``).
 
 >>> import spacearm
 >>> b = spacearm.Robot.builder("demo", base_mass=100.0, base_inertia=[10, 10, 10])
