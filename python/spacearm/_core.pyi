@@ -34,7 +34,8 @@ __all__ = [
     "model_to_toml", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
     "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts",
-    "cylinder_slosh", "sphere_slosh", "sphere_fill_height", "cylinder_fill_height", "InputShaper", "soft_capture", "virtual_mass",
+    "cylinder_slosh", "sphere_slosh", "sphere_fill_height", "cylinder_fill_height", "model_attach_body", "model_attach_model",
+    "model_remove_subtree", "InputShaper", "soft_capture", "virtual_mass",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -107,6 +108,15 @@ def compliant_parts(name: str, parent: str, joint_type: str, origin: Sequence[fl
                     axis: Sequence[float], com: Sequence[float], mass: float, inertia: Sequence[Sequence[float]],
                     joint_name: Optional[str], limits: Optional[Sequence[float]], stiffness: float, rotor_inertia: float,
                     damping: float, gear_ratio: float) -> tuple[list[tuple], list[tuple], list[tuple]]: ...
+
+# The core's model edits (model/edit.rs): a new Model each, the rest of the model bit for bit.
+def model_attach_body(model: Model, name: str, parent: str, origin: Sequence[float], rotation: Sequence[float], mass: float,
+                      inertia: Sequence[Sequence[float]], joint_type: str = ..., axis: Sequence[float] = ...,
+                      com: Sequence[float] = ..., joint_name: Optional[str] = None, limits: Optional[Sequence[float]] = None,
+                      dynamics: Optional[tuple[bool, float, float, float]] = None, model_name: Optional[str] = None) -> Model: ...
+def model_attach_model(model: Model, other: Model, parent: str, origin: Sequence[float], rotation: Sequence[float], prefix: str,
+                       base_link: Optional[str] = None, model_name: Optional[str] = None) -> Model: ...
+def model_remove_subtree(model: Model, body: str, model_name: Optional[str] = None) -> Model: ...
 
 @final
 class ModelBuilder:

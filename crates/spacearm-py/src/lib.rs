@@ -15,6 +15,7 @@ mod controller_spec_py;
 mod convert;
 mod derivatives_py;
 mod description_py;
+mod edit_py;
 mod errors_py;
 mod interrupt;
 mod model_io_py;
@@ -64,6 +65,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(builder_py::sphere_slosh, m)?)?;
     m.add_function(wrap_pyfunction!(builder_py::sphere_fill_height, m)?)?;
     m.add_function(wrap_pyfunction!(builder_py::cylinder_fill_height, m)?)?;
+    m.add_function(wrap_pyfunction!(edit_py::model_attach_body, m)?)?;
+    m.add_function(wrap_pyfunction!(edit_py::model_attach_model, m)?)?;
+    m.add_function(wrap_pyfunction!(edit_py::model_remove_subtree, m)?)?;
     m.add_class::<derivatives_py::PyDerivatives>()?;
     m.add_class::<description_py::PyModelDescription>()?;
     m.add_class::<description_py::PyBaseDescription>()?;

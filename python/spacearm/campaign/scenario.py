@@ -274,18 +274,15 @@ def with_payload(robot, mass: float):
 
     The payload is a point mass on a fixed joint at the end-effector point (so the joint space
     is unchanged and the end-effector body's mass properties merge by the model's own
-    parallel-axis rules), attached with [`spacearm.model.builder.RobotBuilder.attach_payload`][spacearm.RobotBuilder.attach_payload].
+    parallel-axis rules), attached by the core's model edit ([`Robot.attach_body`][spacearm.Robot.attach_body],
+    ``model/edit.rs``: the rest of the model bit for bit, no builder replay).
     """
     if mass == 0:
         return robot
     if robot.end_effector is None:
         raise ArgumentError("a payload needs an end effector to hold it; the model defines none")
-    # The point straight from the model (body index, offset): the full description is built once,
-    # by to_builder, not twice.
     body, offset = robot.resolve_point(robot.end_effector)
-    builder = robot.to_builder()
-    builder.attach_payload("campaign_payload", body=robot.body_names[body], mass=float(mass), origin=list(offset))
-    return builder.build()
+    return robot.attach_body("campaign_payload", body=robot.body_names[body], mass=float(mass), origin=list(offset))
 
 
 def plant(nominal, params: Dict[str, float], flexibility: Optional[Flexibility] = None):
