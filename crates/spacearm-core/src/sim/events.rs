@@ -14,9 +14,11 @@
 //!   reference), so it costs nothing at the end of a step where the integrator evaluated `f`
 //!   anyway (DOPRI5's first-same-as-last stage).
 //!
-//! **Location.** `g` is evaluated at every step end `t_{n+1}`; the first step with
-//! `g(t_n) > 0 ≥ g(t_{n+1})` holds the event, and its time `t*` is the root of
-//! `g(t, y(t)) = 0` in `[t_n, t_{n+1}]` found by the Illinois variant of regula falsi (every
+//! **Location.** `g` is evaluated at every step end and (DOPRI5) at every output sample within
+//! the step, in time order — points where `f` is evaluated anyway, so a grid of `dt` watches at
+//! least every `dt` even where the error control takes long steps; the first such point `t_b`
+//! with `g(t_b) ≤ 0` after a point `t_a` with `g(t_a) > 0` brackets the event, and its time `t*`
+//! is the root of `g(t, y(t)) = 0` in `[t_a, t_b]` found by the Illinois variant of regula falsi (every
 //! fourth iterate a bisection), on the integrator's own continuation of the step: DOPRI5's
 //! dense output of order 4 (Hairer et al. I, §II.6) projected onto the manifold; RK4's step
 //! re-taken from `(t_n, y_n)` with the shorter step `t − t_n`. The bracket shrinks until its
@@ -24,8 +26,8 @@
 //! last state satisfies the condition). Its accuracy is then that of the continuation: the
 //! state at `t*` carries the step's local error (O(h⁵) for both), and `t*` the error of `g`
 //! divided by `|ġ|`. A condition that holds at `t = 0` stops the run there (one sample); a
-//! condition that holds only strictly inside one step, not at its end, is not seen (steps are
-//! short against the motion of a controlled approach; the DOPRI5 step is error-controlled).
+//! condition that holds only strictly between two watched points is not seen (the output
+//! interval `dt` bounds their spacing for DOPRI5, the step for RK4).
 
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -163,6 +165,11 @@ impl StopWatch {
         for &(i, body, offset, tol) in &self.gaps {
             out[i] = gap_of(plant, body, &offset) - tol;
         }
+    }
+
+    /// Whether a gap condition holds in `values` (of [`StopWatch::values_into`]).
+    pub(crate) fn any_holds(&self, values: &[f64]) -> bool {
+        self.gaps.iter().any(|g| values[g.0] <= 0.0)
     }
 
     /// The indices of the gap conditions, in order.

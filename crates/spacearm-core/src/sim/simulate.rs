@@ -772,8 +772,8 @@ pub(crate) struct DopriRun {
 /// `progress(1.0)` when it has finished.
 ///
 /// With gap conditions (`gaps`), their values are read at every accepted step's end from the
-/// last stage's evaluation (at the new point: first same as last); in the first step where one
-/// holds, the event is located on the dense output ([`crate::sim::events`]), the samples before
+/// last stage's evaluation (at the new point: first same as last) and at every sample's
+/// evaluation; at the first of these where one holds, the event is located on the dense output ([`crate::sim::events`]), the samples before
 /// it are recorded, the last sample is the event's and `y` ends there.
 pub(crate) fn dopri5_loop<S: StepWatch>(
     sys: &mut S,
@@ -798,6 +798,7 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
         return Ok(DopriRun { n_steps, n_rejected, events, stop: Some(StopEvent { condition, t: 0.0, value: gap }) });
     }
     let mut g_prev = vec![0.0; opts.stop.len()];
+    let (mut g_end, mut g_sample) = (g_prev.clone(), g_prev.clone());
     if let Some(w) = gaps {
         w.values_into(sys.watched_plant(), &mut g_prev);
     }
@@ -832,30 +833,16 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
             n_steps += 1;
             onsets(t, &mut prev_flags, sys.step_flags(), &mut events);
             let t_new = if h == remaining { opts.duration } else { t + h };
-            // Stop conditions at the step's end (the last stage evaluated f there), and the
-            // earliest located event of those that hold.
+            // Stop conditions: their values at the step's end (the last stage evaluated f
+            // there), then at each sample in the step (evaluated for the record anyway) and
+            // the end, in time order; the first point where one holds brackets the event with
+            // the last point where none did.
             let mut stop: Option<StopEvent> = None;
             if let Some(w) = gaps {
-                let g_start = g_prev.clone();
-                w.values_into(sys.watched_plant(), &mut g_prev);
-                for condition in w.gap_conditions() {
-                    if g_prev[condition] > 0.0 {
-                        continue;
-                    }
-                    let mut g_at = |tc: f64| -> Result<f64> {
-                        dp.dense_output(tc, &mut y_try);
-                        sys.project(&mut y_try);
-                        sys.rhs(tc, &y_try, &mut dy)?;
-                        Ok(w.value(sys.watched_plant(), condition))
-                    };
-                    let (t_s, g_s) = locate_root(&mut g_at, (t, g_start[condition]), (t_new, g_prev[condition]))?;
-                    if stop.is_none_or(|s| t_s < s.t) {
-                        stop = Some(StopEvent { condition, t: t_s, value: g_s + w.tolerance(condition) });
-                    }
-                }
+                w.values_into(sys.watched_plant(), &mut g_end);
             }
-            let t_end = stop.map_or(f64::INFINITY, |s| s.t);
-            while k_out <= n_out && out_time(k_out) <= t_new && out_time(k_out) < t_end {
+            let mut t_a = t;
+            while k_out <= n_out && out_time(k_out) <= t_new {
                 let t_o = out_time(k_out);
                 if t_o == t_new {
                     y_out.copy_from_slice(y);
@@ -864,6 +851,15 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
                     sys.project(&mut y_out);
                 }
                 sys.rhs(t_o, &y_out, &mut dy)?;
+                if let Some(w) = gaps {
+                    w.values_into(sys.watched_plant(), &mut g_sample);
+                    if w.any_holds(&g_sample) {
+                        stop = locate_on_dense_output(sys, &dp, w, (t_a, &g_prev), (t_o, &g_sample), &mut y_try, &mut dy)?;
+                        break;
+                    }
+                    t_a = t_o;
+                    g_prev.copy_from_slice(&g_sample);
+                }
                 record(sys, t_o, &y_out, &dy);
                 k_out += 1;
                 // A dense output grid can put many samples in one step: report (and let
@@ -871,6 +867,13 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
                 if t_o >= next_progress {
                     progress(t_o / opts.duration)?;
                     next_progress = t_o + progress_every;
+                }
+            }
+            if let (None, Some(w)) = (stop, gaps) {
+                if t_a < t_new && w.any_holds(&g_end) {
+                    stop = locate_on_dense_output(sys, &dp, w, (t_a, &g_prev), (t_new, &g_end), &mut y_try, &mut dy)?;
+                } else {
+                    g_prev.copy_from_slice(&g_end);
                 }
             }
             if let Some(s) = stop {
@@ -898,6 +901,37 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
         }
     }
     Ok(DopriRun { n_steps, n_rejected, events, stop: None })
+}
+
+/// The earliest event of the gap conditions that hold at `b` (values `gb`), none holding at `a`
+/// (values `ga`): each located on the last step's dense output, projected
+/// ([`crate::sim::events`]).
+fn locate_on_dense_output<S: StepWatch>(
+    sys: &mut S,
+    dp: &Dopri5,
+    w: &StopWatch,
+    (a, ga): (f64, &[f64]),
+    (b, gb): (f64, &[f64]),
+    y_try: &mut [f64],
+    dy: &mut [f64],
+) -> Result<Option<StopEvent>> {
+    let mut stop: Option<StopEvent> = None;
+    for condition in w.gap_conditions() {
+        if gb[condition] > 0.0 {
+            continue;
+        }
+        let mut g_at = |tc: f64| -> Result<f64> {
+            dp.dense_output(tc, y_try);
+            sys.project(y_try);
+            sys.rhs(tc, y_try, dy)?;
+            Ok(w.value(sys.watched_plant(), condition))
+        };
+        let (t_s, g_s) = locate_root(&mut g_at, (a, ga[condition]), (b, gb[condition]))?;
+        if stop.is_none_or(|s| t_s < s.t) {
+            stop = Some(StopEvent { condition, t: t_s, value: g_s + w.tolerance(condition) });
+        }
+    }
+    Ok(stop)
 }
 
 /// The largest relative drift of a conserved quantity that a run may show and still be returned
