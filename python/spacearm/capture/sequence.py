@@ -12,8 +12,9 @@ Phases (``PHASES``; ``result.phase`` holds the index at every sample):
    at most ``max_joint_rate``, followed through ``τ = H* k_v (q̇_cmd − q̇) + c*``. Reaction wheels
    are not arm joints: the approach gives them no torque. In the flying mode the native
    [`MomentumDamping`][spacearm.control.MomentumDamping] holds the system momentum at zero meanwhile. The
-   approach ends at the first sample where the two grasp points are within
-   ``capture_tolerance``.
+   approach ends at the grasp: the core stops the run when the two grasp points come within
+   ``capture_tolerance`` ([`StopAtGap`][spacearm.sim.events.StopAtGap]), at the instant it
+   locates within the step (docs/simulation-core.md, "Events"), not at the next sample.
 1. **capture** — ``rigid`` and ``point``: the impulse of [`grasp_impulse`][spacearm.capture.grasp_impulse] (one extra
    sample at the same instant, after the jump); ``soft``: the wrist impedance of
    [`soft_capture`][spacearm.capture.soft_capture] for ``soft_time``, then a rigid lock of what relative motion remains.
@@ -56,6 +57,7 @@ from .._util.arrays import number, vector
 from ..control import Combined, MomentumDamping, ResolvedMotionRate, TorqueLimit
 from ..errors import ArgumentError, SimulationError
 from ..rotations import quat_from_matrix, rotation_vector
+from ..sim.events import StopAtGap
 from ..sim.simulation import simulate
 from .captured import attach_target, combined_model, soft_capture
 from .detumbling import DETUMBLE_MODES, detumble, detumble_controller, grasp_wrench
@@ -419,7 +421,8 @@ def capture(
 
     # ---- 0. approach ------------------------------------------------------------------------
     # The target's grasp point as the native RMRC's reference; the whole approach is one native
-    # run, cut at the first sample within capture_tolerance.
+    # run that the core stops at the grasp: the first time the grasp points are within
+    # capture_tolerance, located within its step (docs/simulation-core.md, "Events").
     half = 0.5 * times["dt"]
     if target.is_rigid:
         reference = target.free_body(s0, grasp, step=half, point=point, orbit=orbit if gg else None)
@@ -431,20 +434,24 @@ def capture(
     if math.isfinite(mjt):
         ctrl = TorqueLimit(ctrl, mjt)
     tr = simulate(robot, approach_time, x0=x0, u0=u0, mode=mode, dt=dt, controller=ctrl, integrator="dopri5", rtol=rtol,
-                  atol=rtol * 1e-2, orbit=orbit, gravity_gradient=gg)
+                  atol=rtol * 1e-2, orbit=orbit, gravity_gradient=gg, stop=StopAtGap((body, offset), times["capture_tolerance"]))
     ta, xa, ua, taua, bwa = tr.t, tr.x, tr.u, tr.tau, tr.base_wrench
-    if target.is_rigid:
-        sa = reference.states(ta)
-    else:
-        sa = target.trajectory(s0, approach_time, dt)[1][: len(ta)]
-    nxt = target.body.nx
-    gaps = np.linalg.norm(robot.point_position(xa, (body, offset)) - target.body.point_position(sa[:, :nxt], target.point(grasp)), axis=1)
-    within = np.nonzero(gaps < capture_tolerance)[0]
-    if not within.size:
+    if tr.meta["stop"] is None:
+        if target.is_rigid:
+            sa = reference.states(ta)
+        else:
+            sa = target.trajectory(s0, approach_time, dt)[1][: len(ta)]
+        nxt = target.body.nx
+        gaps = np.linalg.norm(robot.point_position(xa, (body, offset)) - target.body.point_position(sa[:, :nxt], target.point(grasp)), axis=1)
         raise SimulationError(
             f"the approach did not reach the grasp point: closest {gaps.min():.3g} m at t = {ta[gaps.argmin()]:.3g} s "
             f"(capture_tolerance {capture_tolerance} m); lengthen approach_time, place the target within reach or raise rmrc_gain")
-    k = int(within[0])
+    # The target over the approach, up to the grasp (the run's last sample).
+    sa = reference.states(ta) if target.is_rigid else target.trajectory(s0, float(ta[-1]), dt)[1]
+    if len(sa) != len(ta):
+        raise SimulationError(f"the target's states ({len(sa)}) do not match the approach's samples ({len(ta)}) up to the grasp at "
+                              f"t = {ta[-1]!r} s")
+    k = len(ta) - 1
     seg_t, seg_phase = [ta[: k + 1]], [np.zeros(k + 1, dtype=int)]
     seg_x, seg_u, seg_s = [xa[: k + 1]], [ua[: k + 1]], [sa[: k + 1]]
     seg_tau = [taua[: k + 1]]

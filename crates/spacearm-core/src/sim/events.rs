@@ -81,7 +81,7 @@ pub struct StopEvent {
 }
 
 /// Check the conditions' values (those that need no plant).
-pub(crate) fn validate(stop: &[StopCondition]) -> Result<()> {
+pub fn validate(stop: &[StopCondition]) -> Result<()> {
     for (i, c) in stop.iter().enumerate() {
         match c {
             StopCondition::Time { t } => {
