@@ -14,7 +14,8 @@ Phases (``PHASES``; ``result.phase`` holds the index at every sample):
    [`MomentumDamping`][spacearm.control.MomentumDamping] holds the system momentum at zero meanwhile. The
    approach ends at the grasp: the core stops the run when the two grasp points come within
    ``capture_tolerance`` ([`StopAtGap`][spacearm.sim.events.StopAtGap]), at the instant it
-   locates within the step (docs/simulation-core.md, "Events"), not at the next sample.
+   locates within the step (docs/simulation-core.md, "Events"), not at the next sample (a
+   jointed target, whose reference is a sampled path: at the first sample within the tolerance).
 1. **capture** — ``rigid`` and ``point``: the impulse of [`grasp_impulse`][spacearm.capture.grasp_impulse] (one extra
    sample at the same instant, after the jump); ``soft``: the wrist impedance of
    [`soft_capture`][spacearm.capture.soft_capture] for ``soft_time``, then a rigid lock of what relative motion remains.
@@ -433,25 +434,22 @@ def capture(
     ctrl = rmrc if mode == "floating" else Combined(arm=rmrc, base=MomentumDamping(time_constant, max_force=max_force, max_torque=max_torque))
     if math.isfinite(mjt):
         ctrl = TorqueLimit(ctrl, mjt)
+    # A jointed target's reference is its grasp point's path sampled every dt and interpolated in
+    # between, so only at the samples is the reference's gap the gap to the target's own state:
+    # its approach runs whole and ends at the first sample within the tolerance (not yet an event).
+    stop = StopAtGap((body, offset), times["capture_tolerance"]) if target.is_rigid else None
     tr = simulate(robot, approach_time, x0=x0, u0=u0, mode=mode, dt=dt, controller=ctrl, integrator="dopri5", rtol=rtol,
-                  atol=rtol * 1e-2, orbit=orbit, gravity_gradient=gg, stop=StopAtGap((body, offset), times["capture_tolerance"]))
+                  atol=rtol * 1e-2, orbit=orbit, gravity_gradient=gg, stop=stop)
     ta, xa, ua, taua, bwa = tr.t, tr.x, tr.u, tr.tau, tr.base_wrench
-    if tr.meta["stop"] is None:
-        if target.is_rigid:
-            sa = reference.states(ta)
-        else:
-            sa = target.trajectory(s0, approach_time, dt)[1][: len(ta)]
-        nxt = target.body.nx
-        gaps = np.linalg.norm(robot.point_position(xa, (body, offset)) - target.body.point_position(sa[:, :nxt], target.point(grasp)), axis=1)
+    sa = reference.states(ta) if target.is_rigid else target.trajectory(s0, approach_time, dt)[1][: len(ta)]
+    nxt = target.body.nx
+    gaps = np.linalg.norm(robot.point_position(xa, (body, offset)) - target.body.point_position(sa[:, :nxt], target.point(grasp)), axis=1)
+    within = [len(ta) - 1] if tr.meta["stop"] is not None else np.nonzero(gaps < capture_tolerance)[0] if stop is None else []
+    if not len(within):
         raise SimulationError(
             f"the approach did not reach the grasp point: closest {gaps.min():.3g} m at t = {ta[gaps.argmin()]:.3g} s "
             f"(capture_tolerance {capture_tolerance} m); lengthen approach_time, place the target within reach or raise rmrc_gain")
-    # The target over the approach, up to the grasp (the run's last sample).
-    sa = reference.states(ta) if target.is_rigid else target.trajectory(s0, float(ta[-1]), dt)[1]
-    if len(sa) != len(ta):
-        raise SimulationError(f"the target's states ({len(sa)}) do not match the approach's samples ({len(ta)}) up to the grasp at "
-                              f"t = {ta[-1]!r} s")
-    k = len(ta) - 1
+    k = int(within[0])
     seg_t, seg_phase = [ta[: k + 1]], [np.zeros(k + 1, dtype=int)]
     seg_x, seg_u, seg_s = [xa[: k + 1]], [ua[: k + 1]], [sa[: k + 1]]
     seg_tau = [taua[: k + 1]]
