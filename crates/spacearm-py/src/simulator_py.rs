@@ -73,6 +73,7 @@ impl PySimulator {
             return Err(to_py_err(py, bad("the Simulator steps with integrator 'rk4' only; use spacearm.simulate for 'dopri5'".into())));
         }
         opts.validate().or_raise(py)?;
+        opts.refuse_stop("the Simulator").or_raise(py)?;
         if record_every == Some(0) {
             return Err(to_py_err(py, bad("record_every must be an integer >= 1".into())));
         }
