@@ -8,14 +8,17 @@
 //! (linear momentum), `L[1..3]` (angular momentum about the origin of 𝒥), and, if the model has
 //! an end effector, `ee_position[1..3]` and `ee_quat[1..4]`; the inputs `tau[1..N]` and, in the
 //! flying modes, `base_wrench[1..6]` (`[F0, N0]` in 𝒥 at the base CM); the parameters
-//! `x0[1..7+N]`, `u0[1..6+N]` and, with a controller, `kp`, `kd`, `q_ref` (one per arm joint).
+//! `x0[1..7+N]`, `u0[1..6+N]` and the controller's numbers ([`super::parameters`]: e.g. `kp[k]`,
+//! `kd[k]`, `reference[k]` of a joint PD, `quat_ref[1..4]`, `kp`, `kd` of an attitude law).
 
 use std::fmt::Write;
 use std::ops::Range;
 
 use spacearm_core::Model;
 
-use crate::stepper::{ControllerKind, StepperOptions};
+use super::parameters::ControllerParameters;
+use crate::status::Outcome;
+use crate::stepper::StepperOptions;
 
 /// What a variable is to the importer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -47,9 +50,9 @@ pub(crate) struct Layout {
     pub base_wrench: Option<Range<usize>>,
     pub x0: Range<usize>,
     pub u0: Range<usize>,
-    pub kp: Option<Range<usize>>,
-    pub kd: Option<Range<usize>>,
-    pub q_ref: Option<Range<usize>>,
+    /// The controller's parameters, in the order of [`ControllerParameters::list`].
+    pub controller: Range<usize>,
+    pub parameters: ControllerParameters,
 }
 
 struct Table(Vec<Variable>);
@@ -66,7 +69,7 @@ impl Table {
 }
 
 impl Layout {
-    pub(crate) fn new(model: &Model, options: &StepperOptions) -> Layout {
+    pub(crate) fn new(model: &Model, options: &StepperOptions) -> Outcome<Layout> {
         let n = model.n_dof();
         let mut t = Table(vec![Variable { name: "time".into(), causality: Causality::Independent, description: "simulation time, s".into(), start: 0.0 }]);
         let out = Causality::Output;
@@ -95,16 +98,17 @@ impl Layout {
         let x0_start = spacearm_core::model::presets::initial_configuration(model);
         let x0 = t.group("x0", Causality::Parameter, "initial configuration [r0, quat0 (x, y, z, w), q]", &x0_start);
         let u0 = t.group("u0", Causality::Parameter, "initial velocity [v0, w0, qd]", &zeros(6 + n));
-        let (kp, kd, q_ref) = if options.controller == ControllerKind::None {
-            (None, None, None)
-        } else {
-            (
-                Some(t.group("kp", Causality::Parameter, "controller stiffness gain of an arm joint", &options.kp)),
-                Some(t.group("kd", Causality::Parameter, "controller damping gain of an arm joint", &options.kd)),
-                Some(t.group("q_ref", Causality::Parameter, "controller set point of an arm joint", &options.q_ref)),
-            )
-        };
-        Layout { vars: t.0, x, u, momentum, ee_position, ee_quat, tau, base_wrench, x0, u0, kp, kd, q_ref }
+        let parameters = ControllerParameters::new(&options.controller)?;
+        let first = t.0.len();
+        for p in &parameters.list {
+            t.0.push(Variable { name: p.name.clone(), causality: Causality::Parameter, description: p.description.clone(), start: p.start });
+        }
+        let controller = first..t.0.len();
+        let mut seen = std::collections::HashSet::new();
+        if let Some(v) = t.0.iter().find(|v| !seen.insert(v.name.as_str())) {
+            return Err(crate::status::Failure::new(crate::status::SpacearmStatus::Internal, format!("two FMU variables are named '{}'", v.name)));
+        }
+        Ok(Layout { vars: t.0, x, u, momentum, ee_position, ee_quat, tau, base_wrench, x0, u0, controller, parameters })
     }
 }
 
@@ -125,8 +129,8 @@ fn num(v: f64) -> String {
 }
 
 /// The `modelDescription.xml` of a co-simulation FMU of `model` with `options`.
-pub(crate) fn model_description(model: &Model, options: &StepperOptions, version: FmiVersion, identifier: &str, token: &str, stop_time: f64) -> String {
-    let layout = Layout::new(model, options);
+pub(crate) fn model_description(model: &Model, options: &StepperOptions, version: FmiVersion, identifier: &str, token: &str, stop_time: f64) -> Outcome<String> {
+    let layout = Layout::new(model, options)?;
     let mut s = String::new();
     let name = escape(model.name());
     let token = escape(token);
@@ -137,7 +141,7 @@ pub(crate) fn model_description(model: &Model, options: &StepperOptions, version
         model.name(),
         model.n_dof(),
         options.sim.mode.name(),
-        options.controller.name(),
+        options.controller.kind(),
         options.sim.dt
     ));
     let id = escape(identifier);
@@ -206,5 +210,5 @@ pub(crate) fn model_description(model: &Model, options: &StepperOptions, version
         }
     }
     let _ = writeln!(s, "</fmiModelDescription>");
-    s
+    Ok(s)
 }
