@@ -32,7 +32,7 @@ use spacearm_core::sim::stepper::Rk4Stepper;
 use spacearm_core::Model;
 
 use crate::model::{model_ref, SpacearmModel};
-use crate::status::{guard, guard_value, input, optional_input, output, put, text, Failure, Outcome, SpacearmStatus};
+use crate::status::{guard, guard_value, input, optional_input, output, put, text, write_text, Failure, Outcome, SpacearmStatus};
 
 /// The most RK4 steps one call may take: `n` of `spacearm_stepper_step`, and `h / dt` of one
 /// communication step `h` of an FMU (`fmi3DoStep`, `fmi2DoStep`). A call asking for more is
@@ -137,6 +137,49 @@ impl StepperOptions {
     pub(crate) fn build_controller(&self, model: &Model) -> Outcome<Box<dyn Controller>> {
         Ok(self.controller.build(model, &mut no_external)?)
     }
+}
+
+/// `options` (stepper options TOML without a `[controller]` table) with the controller spec
+/// TOML `controller` (a `ControllerSpec` document, as `ControllerSpec.to_toml()` of the Python
+/// binding writes it) as its `[controller]` table: the one document the stepper and an FMU read.
+/// Both are parsed and the result written by the TOML serializer (numbers in shortest
+/// round-trip form, so the spec is carried bit for bit); nothing is checked against a model.
+pub(crate) fn options_with_controller(options: &str, controller: &str) -> Outcome<String> {
+    let mut doc: toml::Table = toml::from_str(options).map_err(|e| Failure::new(SpacearmStatus::Parse, format!("options_toml: {e}")))?;
+    if doc.contains_key("controller") {
+        return Err(Failure::argument("options_toml already has a [controller] table; pass the options without it"));
+    }
+    let spec: ControllerSpec = toml::from_str(controller).map_err(|e| Failure::new(SpacearmStatus::Parse, format!("controller_toml: {e}")))?;
+    let table = toml::Value::try_from(&spec).map_err(|e| Failure::new(SpacearmStatus::Internal, format!("the controller spec as TOML: {e}")))?;
+    doc.insert("controller".into(), table);
+    toml::to_string(&doc).map_err(|e| Failure::new(SpacearmStatus::Internal, format!("the options as TOML: {e}")))
+}
+
+/// The stepper options TOML `options_toml` (without a `[controller]` table; NULL: the
+/// defaults) with the controller spec TOML `controller_toml` (the fields of a `[controller]`
+/// table as a document of their own: `kind = ...`, nested tables as `[reference]`) as its
+/// `[controller]` table, written NUL-terminated into `buf` (`len` bytes, `*needed` the size
+/// needed; `len = 0` asks for it). Used by `spacearm.fmi.export` to write an FMU's
+/// `options.toml` from the spec `spacearm.simulate` runs.
+///
+/// # Safety
+/// `options_toml` NULL or NUL-terminated; `controller_toml` NUL-terminated; `buf` NULL or `len`
+/// writable bytes; `needed` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_options_with_controller(
+    options_toml: *const c_char,
+    controller_toml: *const c_char,
+    buf: *mut c_char,
+    len: usize,
+    needed: *mut usize,
+) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let options = if options_toml.is_null() { "" } else { unsafe { text(options_toml, "options_toml") }? };
+        let controller = unsafe { text(controller_toml, "controller_toml") }?;
+        let out = options_with_controller(options, controller)?;
+        unsafe { write_text(&out, buf, len, needed) }
+    })
 }
 
 /// A stepping simulation of its own copy of a model: RK4 at a fixed step with a native
@@ -373,5 +416,26 @@ mod tests {
         // The old key of the schema the core's spec replaced is an unknown field.
         let e = StepperOptions::parse(&m, "[controller]\nkind = \"joint_pd\"\nkp = 2.0\nkd = 0.5\nq_ref = [0.1, 0.2]\n").unwrap_err();
         assert!(e.status == SpacearmStatus::Parse && e.message.contains("q_ref"), "{}", e.message);
+    }
+
+    #[test]
+    fn a_controller_document_becomes_the_options_controller_table() {
+        let spec = "kind = \"combined\"\n\n[arm]\nkind = \"joint_pd\"\nkp = [60.0]\nkd = [20.0]\nreference = [0.1, 0.2]\n\n[base]\nkind = \"none\"\n";
+        let text = options_with_controller("mode = \"floating\"\ndt = 0.002\n", spec).unwrap();
+        let m = arm_with_panel();
+        let o = StepperOptions::parse(&m, &text).unwrap();
+        assert_eq!(o.sim.dt, 0.002);
+        assert_eq!(o.controller, toml::from_str::<ControllerSpec>(spec).unwrap());
+        // A number keeps its last bit through the text.
+        let third = 1.0 / 3.0;
+        let text = options_with_controller("", &format!("kind = \"joint_pd\"\nkp = {third:?}\nkd = 1.0\nreference = [{third:?}, 0.0]\n")).unwrap();
+        match StepperOptions::parse(&m, &text).unwrap().controller {
+            ControllerSpec::JointPd { kp, .. } => assert_eq!(kp.0, vec![third]),
+            other => panic!("{other:?}"),
+        }
+        let e = options_with_controller("[controller]\nkind = \"none\"\n", "kind = \"none\"").unwrap_err();
+        assert_eq!(e.status, SpacearmStatus::InvalidArgument);
+        let e = options_with_controller("", "kind = \"pid\"").unwrap_err();
+        assert!(e.status == SpacearmStatus::Parse && e.message.contains("pid"), "{}", e.message);
     }
 }
