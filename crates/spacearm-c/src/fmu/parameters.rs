@@ -224,4 +224,33 @@ mod tests {
     fn a_law_without_numbers_has_no_parameters() {
         assert!(ControllerParameters::new(&ControllerSpec::None).unwrap().list.is_empty());
     }
+
+    #[test]
+    fn the_exported_values_give_back_every_kind_of_spec() {
+        let specs = [
+            "kind = 'none'",
+            "kind = 'joint_pd'\nkp = [1.0, 2.0]\nkd = [0.5, 0.5]\nreference = {kind = 'quintic', q_start = [0.0, 0.1], q_goal = [0.2, 0.3], t_start = 0.5, t_end = 1.5}",
+            "kind = 'computed_torque'\nkp = [4.0]\nkd = [4.0]\npassive = 'frozen'\nreference = {kind = 'shaped', reference = {kind = 'quintic', q_start = [0.0], q_goal = [1.0], t_start = 0.0, t_end = 1.0}, shaper = {kind = 'zvd', frequency = 3.0, damping = 0.05}}",
+            "kind = 'joint_pd'\nkp = [1.0]\nkd = [1.0]\nreference = {kind = 'sampled', t = [0.0, 1.0], q = [[0.0, 0.0], [1.0, 2.0]], qd = [[0.0, 0.0], [0.0, 0.0]], qdd = [[0.0, 0.0], [0.0, 0.0]]}",
+            "kind = 'resolved_motion_rate'\npoint = ['link2', [0.1, 0.0, 0.0]]\ntask = [0, 1, 5]\nstrategy = 'reactionless'\nmax_joint_rate = 2.0\nreference = {kind = 'free_body', inertia = [1.0, 2.0, 3.0], state = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.1], offset = [0.1, 0.0, 0.0]}",
+            "kind = 'base_thrusters'\ncom_ref = [0.1, 0.2, 0.3]\nkp_attitude = 3.0",
+            "kind = 'coordinated_flying'\nbase_pose_ref = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]]\nee_reference = {kind = 'line', p_start = [1.0, 0.0, 0.0], p_goal = [1.1, 0.0, 0.0], t_start = 0.0, t_end = 2.0, point = 'end_effector'}",
+            "kind = 'momentum_damping'\ntime_constant = 2.0\nmax_force = 5.0",
+            "kind = 'torque_limit'\nlimit = 3.0\ncontroller = {kind = 'joint_pd', kp = 2.0, kd = 1.0, reference = [0.1, 0.2, 0.3]}",
+        ];
+        for text in specs {
+            let s = spec(text);
+            let p = ControllerParameters::new(&s).unwrap();
+            let values: Vec<f64> = p.list.iter().map(|q| q.start).collect();
+            let back = p.spec(&values).unwrap();
+            assert_eq!(back, per_joint(&s).unwrap(), "{text}");
+            assert!(p.list.iter().all(|q| q.start.is_finite()));
+        }
+        // The tuple of a base pose and a body point's offset are nested lists.
+        let p = ControllerParameters::new(&spec(specs[6])).unwrap();
+        assert!(names(&p).contains(&"base_pose_ref[2][4]"), "{:?}", names(&p));
+        let p = ControllerParameters::new(&spec(specs[4])).unwrap();
+        assert!(names(&p).contains(&"point[2][1]") && names(&p).contains(&"reference.state[13]"), "{:?}", names(&p));
+        assert!(!names(&p).iter().any(|n| n.starts_with("task")), "{:?}", names(&p));
+    }
 }
