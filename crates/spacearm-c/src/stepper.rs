@@ -121,7 +121,7 @@ impl StepperOptions {
             ..SimOptions::default()
         };
         sim.validate()?;
-        StepperOptions { sim, controller: ControllerSpec::None }.with_controller(model, o.controller.unwrap_or(ControllerSpec::None))
+        StepperOptions { sim, controller: ControllerSpec::None {} }.with_controller(model, o.controller.unwrap_or(ControllerSpec::None {}))
     }
 
     /// These options with the controller `spec`, checked against `model`: the spec's own checks,

@@ -311,7 +311,7 @@ static void test_errors(void) {
         {"[controller]\nkind = \"joint_pd\"\nkp = 1.0\nkd = 1.0\nreference = [0, 0, 0]\n", SPACEARM_STATUS_DIMENSION, "reference"},
         {"mode = \"rotation-flying\"\n[controller]\nkind = \"attitude\"\nquat_ref = [0, 0, 0, 2]\nkp = 1\nkd = 1\n", SPACEARM_STATUS_NOT_UNIT_QUATERNION, "quat_ref"},
         {"mode = \"flying\"\n[controller]\nkind = \"momentum_damping\"\ntime_constant = 0.0\n", SPACEARM_STATUS_INVALID_ARGUMENT, "time_constant"},
-        {"[controller]\nkind = \"resolved_motion_rate\"\npoint = \"elbow\"\n"
+        {"[controller]\nkind = \"resolved_motion_rate\"\ngain = 1.0\npoint = \"elbow\"\n"
          "reference = { kind = \"line\", p_start = [0, 0, 0], p_goal = [1, 0, 0], t_start = 0.0, t_end = 1.0 }\n",
          SPACEARM_STATUS_NOT_FOUND, "elbow"},
         {"[controller]\nkind = \"external\"\nindex = 0\n", SPACEARM_STATUS_INVALID_ARGUMENT, "external"},
