@@ -480,6 +480,24 @@ const char *spacearm_last_error(void);
 const char *spacearm_status_name(int32_t status);
 
 /**
+ * The stepper options TOML `options_toml` (without a `[controller]` table; NULL: the
+ * defaults) with the controller spec TOML `controller_toml` (the fields of a `[controller]`
+ * table as a document of their own: `kind = ...`, nested tables as `[reference]`) as its
+ * `[controller]` table, written NUL-terminated into `buf` (`len` bytes, `*needed` the size
+ * needed; `len = 0` asks for it). Used by `spacearm.fmi.export` to write an FMU's
+ * `options.toml` from the spec `spacearm.simulate` runs.
+ *
+ * # Safety
+ * `options_toml` NULL or NUL-terminated; `controller_toml` NUL-terminated; `buf` NULL or `len`
+ * writable bytes; `needed` NULL or writable.
+ */
+enum SpacearmStatus spacearm_options_with_controller(const char *options_toml,
+                                                     const char *controller_toml,
+                                                     char *buf,
+                                                     size_t len,
+                                                     size_t *needed);
+
+/**
  * A stepper for a copy of `model` with the options TOML `options` (NULL: the defaults,
  * floating mode, dt = 1 ms, no controller; see docs/c-api.md). Call `spacearm_stepper_reset`
  * before stepping.
