@@ -924,11 +924,15 @@ class RunOptions:
         record_dtype: Optional[str] = None,
         orbit: Optional[Orbit] = None,
         gravity_gradient: Optional[bool] = None,
+        stop: Optional[Sequence[_SpecData]] = None,
     ) -> RunOptions: ...
     @property
     def orbit(self) -> Optional[Orbit]: ...
     @property
     def gravity_gradient(self) -> bool: ...
+    @property
+    def stop(self) -> _SpecData:
+        """The stop conditions' data (sim/events.rs; empty: the run goes its duration)."""
     @property
     def mode(self) -> str: ...
     @property

@@ -125,6 +125,6 @@ def test_bad_stop_arguments_are_refused():
     # The step-by-step simulator cannot stop early: its door refuses the options.
     from spacearm import _core
 
-    options = _core.RunOptions(integrator="rk4", stop=[_core.StopCondition.time(0.5)])
+    options = _core.RunOptions(integrator="rk4", stop=[{"kind": "time", "t": 0.5}])
     with pytest.raises(spacearm.ArgumentError, match="the Simulator does not take stop conditions"):
         _core.Simulator(robot.core_model, options)

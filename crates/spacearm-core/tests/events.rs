@@ -7,6 +7,7 @@
 use nalgebra::Vector3;
 use spacearm_core::control::{JointTorqueLimit, ResolvedMotionRate, ZeroTorque};
 use spacearm_core::model::presets;
+use spacearm_core::control::spec::{BodySpec, PointSpec};
 use spacearm_core::sim::events::StopCondition;
 use spacearm_core::sim::integrate::IntegratorKind;
 use spacearm_core::sim::reference::{quintic_scaling, CartesianLine};
@@ -81,7 +82,7 @@ fn opts(integrator: IntegratorKind, stop: Vec<StopCondition>) -> SimOptions {
 }
 
 fn gap(s: &Setup, tol: f64) -> StopCondition {
-    StopCondition::Gap { body: s.body, offset: [s.offset.x, s.offset.y, s.offset.z], tolerance: tol }
+    StopCondition::Gap { point: Some(PointSpec::At(BodySpec::Index(s.body), [s.offset.x, s.offset.y, s.offset.z])), tolerance: tol }
 }
 
 #[test]
@@ -172,8 +173,8 @@ fn conditions_are_checked() {
     let s = setup();
     let bad = |stop: Vec<StopCondition>| run(&s, &opts(IntegratorKind::Dopri5, stop)).unwrap_err();
     assert!(matches!(bad(vec![StopCondition::Time { t: -1.0 }]), SpacearmError::InvalidArgument(_)));
-    assert!(matches!(bad(vec![StopCondition::Gap { body: 99, offset: [0.0; 3], tolerance: 0.1 }]), SpacearmError::NotFound(_)));
-    assert!(matches!(bad(vec![StopCondition::Gap { body: 1, offset: [0.0; 3], tolerance: 0.0 }]), SpacearmError::InvalidArgument(_)));
+    assert!(matches!(bad(vec![StopCondition::Gap { point: Some(PointSpec::At(BodySpec::Index(99), [0.0; 3])), tolerance: 0.1 }]), SpacearmError::NotFound(_)));
+    assert!(matches!(bad(vec![StopCondition::Gap { point: Some(PointSpec::At(BodySpec::Index(1), [0.0; 3])), tolerance: 0.0 }]), SpacearmError::InvalidArgument(_)));
     // A gap needs a controller with a point reference.
     let e = simulate(&s.model, &s.x0, &s.u0, &opts(IntegratorKind::Dopri5, vec![gap(&s, 0.1)]), &mut ZeroTorque, &mut |_| Ok(())).unwrap_err();
     assert!(e.to_string().contains("tracks no point"), "{e}");

@@ -10,7 +10,6 @@ mod analysis_results_py;
 mod batch;
 mod batch_simulator_py;
 mod builder_py;
-mod events_py;
 mod contact_py;
 mod controller_spec_py;
 mod convert;
@@ -105,7 +104,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // The typed inputs of simulate, rollout and Simulator.
     m.add_class::<sim_options_py::PyRunOptions>()?;
     m.add_class::<sim_options_py::PyThrusterLimits>()?;
-    m.add_class::<events_py::PyStopCondition>()?;
     m.add_class::<controller_spec_py::PyJointReference>()?;
     m.add_class::<controller_spec_py::PyInputShaper>()?;
     m.add_class::<controller_spec_py::PyFreeBodyReference>()?;

@@ -198,16 +198,10 @@ impl PyRunOptions {
             None => {}
         }
         if let Some(v) = stop {
-            let items: Vec<Bound<'_, PyAny>> = v
-                .try_iter()
-                .and_then(|it| it.collect::<PyResult<Vec<_>>>())
-                .map_err(|_| to_py_err(py, bad(format!("stop must be a list of StopCondition, got {}", type_name(v)))))?;
-            for item in items {
-                let c = item
-                    .cast::<crate::events_py::PyStopCondition>()
-                    .map_err(|_| to_py_err(py, bad(format!("stop must be a list of StopCondition, got an item of type {}", type_name(&item)))))?;
-                opts.stop.push(c.get().inner.clone());
-            }
+            // The data of the stop conditions (spacearm.sim.events through spacearm._util.spec).
+            let stop: Vec<spacearm_core::sim::events::StopCondition> = crate::controller_spec_py::from_data(v, "stop")?;
+            spacearm_core::sim::events::validate(&stop).or_raise(py)?;
+            opts.stop = stop;
         }
         let float32 = match record_dtype {
             None => false,
@@ -305,8 +299,8 @@ impl PyRunOptions {
 
     /// The stop conditions of the run (empty: it runs its duration).
     #[getter]
-    fn stop(&self) -> Vec<crate::events_py::PyStopCondition> {
-        self.sim.stop.iter().map(|c| crate::events_py::PyStopCondition { inner: c.clone() }).collect()
+    fn stop<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::controller_spec_py::to_data(py, &self.sim.stop)
     }
 
     /// The dtype of the records but the time: "float64" or "float32".

@@ -25,7 +25,7 @@ from .. import _core
 from .._util.arrays import count, vector
 from ..control import Thrusters, _Controller
 from ..errors import ArgumentError, NotFoundError
-from .events import stop_specs
+from .events import stop_data
 
 __all__ = ["simulate", "MODES", "INTEGRATORS", "DEFAULTS", "RECORD_DTYPES"]
 
@@ -140,7 +140,7 @@ def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, reco
         record_dtype=record_dtype,
         orbit=orbit,
         gravity_gradient=gravity_gradient,
-        stop=stop_specs(robot, stop) if stop is not None else None,
+        stop=stop_data(stop) if stop is not None else None,
     )
 
 

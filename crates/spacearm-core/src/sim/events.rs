@@ -33,6 +33,7 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::algorithms::kinematics::{check_body, point_position};
+use crate::control::spec::PointSpec;
 use crate::control::TrackingKind;
 use crate::error::{Result, SpacearmError};
 use crate::sim::simulate::Plant;
@@ -46,13 +47,13 @@ pub enum StopCondition {
         /// The time, s.
         t: f64,
     },
-    /// Stop when the robot point `(body, offset)` comes within `tolerance` of the controller's
-    /// point reference: `|p_ref − p| ≤ tolerance`.
+    /// Stop when the robot's `point` comes within `tolerance` of the controller's point
+    /// reference: `|p_ref − p| ≤ tolerance`.
     Gap {
-        /// The body of the robot point.
-        body: usize,
-        /// The point's offset from the body's CM, in the body's frame, m.
-        offset: [f64; 3],
+        /// The robot point: a point or body name, or `[body, offset]` (offset from the body's CM
+        /// in its frame, m); absent: the end effector. Resolved on the plant when the run starts.
+        #[serde(default)]
+        point: Option<PointSpec>,
         /// The distance at which the run stops, m (> 0).
         tolerance: f64,
     },
@@ -89,8 +90,7 @@ pub fn validate(stop: &[StopCondition]) -> Result<()> {
                     return Err(SpacearmError::argument(format!("stop condition {i} (time): t must be finite and > 0 s, got {t}")));
                 }
             }
-            StopCondition::Gap { offset, tolerance, .. } => {
-                crate::error::check_finite(&format!("stop condition {i} (gap): offset"), offset)?;
+            StopCondition::Gap { tolerance, .. } => {
                 if !(tolerance.is_finite() && *tolerance > 0.0) {
                     return Err(SpacearmError::argument(format!("stop condition {i} (gap): tolerance must be finite and > 0 m, got {tolerance}")));
                 }
@@ -123,7 +123,8 @@ impl StopWatch {
                         time = Some((i, t));
                     }
                 }
-                StopCondition::Gap { body, offset, tolerance } => {
+                StopCondition::Gap { ref point, tolerance } => {
+                    let (body, offset) = PointSpec::resolve(point.as_ref(), plant.model())?;
                     check_body(plant.model(), body)?;
                     let c = &plant.controller;
                     if c.tracking() != Some(TrackingKind::Cartesian) || c.reference_len() < 3 {
@@ -133,7 +134,7 @@ impl StopWatch {
                             c.name()
                         )));
                     }
-                    gaps.push((i, body, Vector3::from(offset), tolerance));
+                    gaps.push((i, body, offset, tolerance));
                 }
             }
         }
@@ -236,6 +237,7 @@ pub fn locate_root(g: &mut dyn FnMut(f64) -> Result<f64>, (mut a, mut ga): (f64,
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::control::spec::BodySpec;
 
     #[test]
     fn the_root_of_a_smooth_function_is_found_to_rounding() {
@@ -268,7 +270,7 @@ mod tests {
         struct Run {
             stop: Vec<StopCondition>,
         }
-        let run = Run { stop: vec![StopCondition::Time { t: 1.5 }, StopCondition::Gap { body: 6, offset: [0.0, 0.1, 0.0], tolerance: 0.02 }] };
+        let run = Run { stop: vec![StopCondition::Time { t: 1.5 }, StopCondition::Gap { point: Some(PointSpec::At(BodySpec::Index(6), [0.0, 0.1, 0.0])), tolerance: 0.02 }] };
         let text = toml::to_string(&run).unwrap();
         assert!(text.contains("kind = \"gap\""), "{text}");
         assert_eq!(toml::from_str::<Run>(&text).unwrap(), run);
@@ -279,7 +281,6 @@ mod tests {
     fn bad_values_are_refused() {
         assert!(validate(&[StopCondition::Time { t: 0.0 }]).is_err());
         assert!(validate(&[StopCondition::Time { t: f64::NAN }]).is_err());
-        assert!(validate(&[StopCondition::Gap { body: 1, offset: [0.0; 3], tolerance: -1.0 }]).is_err());
-        assert!(validate(&[StopCondition::Gap { body: 1, offset: [f64::INFINITY, 0.0, 0.0], tolerance: 1.0 }]).is_err());
+        assert!(validate(&[StopCondition::Gap { point: None, tolerance: -1.0 }]).is_err());
     }
 }
