@@ -3,7 +3,7 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use spacearm_core::model::body::MassProperties;
-use spacearm_core::{JointLimits, JointType, LinkSpec, Model, ModelBuilder};
+use spacearm_core::{Data, JointLimits, JointType, LinkSpec, Model, ModelBuilder};
 
 pub fn rng(seed: u64) -> ChaCha8Rng {
     ChaCha8Rng::seed_from_u64(seed)
@@ -79,4 +79,49 @@ pub fn random_state(r: &mut ChaCha8Rng, model: &Model) -> (Vec<f64>, Vec<f64>) {
 
 pub fn random_vector(r: &mut ChaCha8Rng, n: usize, scale: f64) -> Vec<f64> {
     (0..n).map(|_| r.random_range(-scale..scale)).collect()
+}
+
+/// Runs `check(trial, rng, model, data, x, u)` on `trials` random trees, trial `k`'s made by
+/// `model_for(rng, k)`, each at a random state drawn after its model from the same generator.
+#[allow(dead_code)]
+pub fn on_random_states(
+    seed: u64,
+    trials: usize,
+    mut model_for: impl FnMut(&mut ChaCha8Rng, usize) -> Model,
+    mut check: impl FnMut(usize, &mut ChaCha8Rng, &Model, &mut Data, &[f64], &[f64]),
+) {
+    let mut r = rng(seed);
+    for trial in 0..trials {
+        let model = model_for(&mut r, trial);
+        let mut data = Data::new(&model);
+        let (x, u) = random_state(&mut r, &model);
+        check(trial, &mut r, &model, &mut data, &x, &u);
+    }
+}
+
+/// `x` moved for time `s` at velocity `u` (tangent coordinates; `R0 ← exp(s ω0^) R0`).
+#[allow(dead_code)]
+pub fn advance(x: &[f64], u: &[f64], s: f64) -> Vec<f64> {
+    let mut y = x.to_vec();
+    for i in 0..3 {
+        y[i] += s * u[i];
+    }
+    let q0 = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(x[6], x[3], x[4], x[5]));
+    let q1 = nalgebra::UnitQuaternion::from_scaled_axis(nalgebra::Vector3::new(u[3], u[4], u[5]) * s) * q0;
+    y[3] = q1.i;
+    y[4] = q1.j;
+    y[5] = q1.k;
+    y[6] = q1.w;
+    for j in 0..u.len() - 6 {
+        y[7 + j] += s * u[6 + j];
+    }
+    y
+}
+
+/// `x ⊕ h e_k` in tangent coordinates `[δr0, δθ (world, left), δq]`: `R0 ← exp(h ẽ) R0`.
+#[allow(dead_code)]
+pub fn perturb(x: &[f64], k: usize, h: f64) -> Vec<f64> {
+    let mut e = vec![0.0; x.len() - 1];
+    e[k] = 1.0;
+    advance(x, &e, h)
 }
