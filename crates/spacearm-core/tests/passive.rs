@@ -133,20 +133,7 @@ const BASE_INERTIA: [[f64; 3]; 3] = [[8.0, 0.0, 0.0], [0.0, 9.0, 0.0], [0.0, 0.0
 /// with a spring `k` (N/m) and damper `c` (N·s/m) about `rest`.
 fn spring_mass(k: f64, c: f64, rest: f64) -> Model {
     let mut b = ModelBuilder::new("spring-mass", "base", 100.0, BASE_INERTIA).unwrap();
-    b.add_link(LinkSpec {
-        name: "slug".into(),
-        parent: "base".into(),
-        joint_name: None,
-        kind: JointType::Prismatic,
-        origin_in_parent: [0.5, 0.0, 0.0],
-        rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-        axis: [1.0, 0.0, 0.0],
-        com_from_joint: [0.0, 0.0, 0.0],
-        mass: 5.0,
-        inertia: [[1e-3, 0.0, 0.0], [0.0, 1e-3, 0.0], [0.0, 0.0, 1e-3]],
-        limits: JointLimits::unlimited(),
-    })
-    .unwrap();
+    b.add_link(LinkSpec::new("slug", "base", JointType::Prismatic, [0.5, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0], 5.0, [1e-3, 1e-3, 1e-3])).unwrap();
     b.set_joint_dynamics("slug", JointDynamics { actuated: false, stiffness: k, damping: c, rest }).unwrap();
     b.build().unwrap()
 }
@@ -158,20 +145,7 @@ const HINGE: (f64, f64, f64, f64, f64, f64) = (100.0, 10.0, 10.0, 0.8, 1.0, 0.5)
 fn hinged(k: f64) -> Model {
     let (_, _, m, i1, a, bb) = HINGE;
     let mut b = ModelBuilder::new("hinged", "base", 100.0, BASE_INERTIA).unwrap();
-    b.add_link(LinkSpec {
-        name: "panel".into(),
-        parent: "base".into(),
-        joint_name: None,
-        kind: JointType::Revolute,
-        origin_in_parent: [a, 0.0, 0.0],
-        rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-        axis: [0.0, 0.0, 1.0],
-        com_from_joint: [bb, 0.0, 0.0],
-        mass: m,
-        inertia: [[0.1, 0.0, 0.0], [0.0, 0.75, 0.0], [0.0, 0.0, i1]],
-        limits: JointLimits::unlimited(),
-    })
-    .unwrap();
+    b.add_link(LinkSpec::new("panel", "base", JointType::Revolute, [a, 0.0, 0.0], [0.0, 0.0, 1.0], [bb, 0.0, 0.0], m, [0.1, 0.75, i1])).unwrap();
     b.set_joint_dynamics("panel", JointDynamics { actuated: false, stiffness: k, damping: 0.0, rest: 0.0 }).unwrap();
     b.build().unwrap()
 }
@@ -316,20 +290,7 @@ fn a_passive_joint_gets_no_torque_and_is_no_wheel() {
     assert!(pushed.events.is_empty(), "a passive joint has no actuator to saturate");
     // A symmetric rotor on a passive joint is a free spinning body, not a wheel.
     let mut b = ModelBuilder::new("rotor", "base", 100.0, BASE_INERTIA).unwrap();
-    b.add_link(LinkSpec {
-        name: "rotor".into(),
-        parent: "base".into(),
-        joint_name: None,
-        kind: JointType::Revolute,
-        origin_in_parent: [0.1, 0.0, 0.0],
-        rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-        axis: [0.0, 0.0, 1.0],
-        com_from_joint: [0.0; 3],
-        mass: 1.0,
-        inertia: [[0.03, 0.0, 0.0], [0.0, 0.03, 0.0], [0.0, 0.0, 0.05]],
-        limits: JointLimits::unlimited(),
-    })
-    .unwrap();
+    b.add_link(LinkSpec::new("rotor", "base", JointType::Revolute, [0.1, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, 0.0], 1.0, [0.03, 0.03, 0.05])).unwrap();
     assert_eq!(detect_reaction_wheels(&b.build().unwrap()), vec![0]);
     b.set_joint_dynamics("rotor", JointDynamics { actuated: false, ..JointDynamics::default() }).unwrap();
     assert!(detect_reaction_wheels(&b.build().unwrap()).is_empty());
@@ -340,20 +301,7 @@ fn bad_joint_dynamics_are_refused_with_the_field_named() {
     let model_b = || {
         let mut b = ModelBuilder::new("m", "base", 100.0, BASE_INERTIA).unwrap();
         for (name, kind) in [("arm", JointType::Revolute), ("bolt", JointType::Fixed)] {
-            b.add_link(LinkSpec {
-                name: name.into(),
-                parent: "base".into(),
-                joint_name: None,
-                kind,
-                origin_in_parent: [0.5, 0.0, 0.0],
-                rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-                axis: [0.0, 0.0, 1.0],
-                com_from_joint: [0.5, 0.0, 0.0],
-                mass: 2.0,
-                inertia: [[0.01, 0.0, 0.0], [0.0, 0.4, 0.0], [0.0, 0.0, 0.4]],
-                limits: JointLimits::unlimited(),
-            })
-            .unwrap();
+            b.add_link(LinkSpec::new(name, "base", kind, [0.5, 0.0, 0.0], [0.0, 0.0, 1.0], [0.5, 0.0, 0.0], 2.0, [0.01, 0.4, 0.4])).unwrap();
         }
         b
     };

@@ -207,19 +207,7 @@ fn modes_apply_only_their_wrench_and_obey_newton_euler() {
 /// A 100 kg base with one reaction wheel about z (rotor 0.05 kg·m², limits 0.2 N·m, 5 rad/s).
 fn one_wheel() -> Model {
     let mut b = ModelBuilder::new("wheel", "base", 100.0, [[8.0, 0.0, 0.0], [0.0, 9.0, 0.0], [0.0, 0.0, 10.0]]).unwrap();
-    b.add_link(LinkSpec {
-        name: "wheel1".into(),
-        parent: "base".into(),
-        joint_name: Some("wheel1_joint".into()),
-        kind: JointType::Revolute,
-        origin_in_parent: [0.1, 0.0, 0.0],
-        rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-        axis: [0.0, 0.0, 1.0],
-        com_from_joint: [0.0, 0.0, 0.0],
-        mass: 1.0,
-        inertia: [[0.03, 0.0, 0.0], [0.0, 0.03, 0.0], [0.0, 0.0, 0.05]],
-        limits: JointLimits { lower: f64::NEG_INFINITY, upper: f64::INFINITY, velocity: 5.0, effort: 0.2 },
-    })
+    b.add_link(LinkSpec { limits: JointLimits { lower: f64::NEG_INFINITY, upper: f64::INFINITY, velocity: 5.0, effort: 0.2 }, ..LinkSpec::new("wheel1", "base", JointType::Revolute, [0.1, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, 0.0], 1.0, [0.03, 0.03, 0.05]) })
     .unwrap();
     b.build().unwrap()
 }

@@ -22,19 +22,7 @@ fn builder() -> ModelBuilder {
 
 /// A valid revolute link `name` on `parent`.
 fn link(name: &str, parent: &str) -> LinkSpec {
-    LinkSpec {
-        name: name.into(),
-        parent: parent.into(),
-        joint_name: None,
-        kind: JointType::Revolute,
-        origin_in_parent: [0.5, 0.1, 0.0],
-        rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-        axis: [0.0, 0.0, 1.0],
-        com_from_joint: [0.4, 0.0, 0.0],
-        mass: 5.0,
-        inertia: [[0.01, 0.0, 0.0], [0.0, 0.3, 0.0], [0.0, 0.0, 0.3]],
-        limits: JointLimits::unlimited(),
-    }
+    LinkSpec::new(name, parent, JointType::Revolute, [0.5, 0.1, 0.0], [0.0, 0.0, 1.0], [0.4, 0.0, 0.0], 5.0, [0.01, 0.3, 0.3])
 }
 
 fn with(name: &str, f: impl FnOnce(&mut LinkSpec)) -> LinkSpec {
