@@ -5,7 +5,7 @@
 
 mod common;
 
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DMatrix, Vector3};
 use spacearm_core::derivatives::{self, DerivativeData, LinearizationInputs};
 use spacearm_core::algorithms::{aba, crba};
 use spacearm_core::gjm;
@@ -14,14 +14,6 @@ use spacearm_core::{Data, Model};
 /// Central difference of a matrix function of the configuration along tangent coordinate `k`.
 fn central<F: FnMut(&[f64]) -> DMatrix<f64>>(mut f: F, x: &[f64], k: usize, h: f64) -> DMatrix<f64> {
     (f(&common::perturb(x, k, h)) - f(&common::perturb(x, k, -h))) / (2.0 * h)
-}
-
-/// Central difference of a vector function of a plain vector `v` along its coordinate `k`.
-fn central_flat(mut f: impl FnMut(&[f64]) -> DVector<f64>, v: &[f64], k: usize, h: f64) -> DVector<f64> {
-    let (mut plus, mut minus) = (v.to_vec(), v.to_vec());
-    plus[k] += h;
-    minus[k] -= h;
-    (f(&plus) - f(&minus)) / (2.0 * h)
 }
 
 /// `‖a − b‖ / ‖b‖`, asserting the reference is not trivially small.
@@ -164,8 +156,8 @@ fn forward_dynamics_derivatives_match_finite_differences() {
         for k in 0..nu {
             let col = central(|y| DMatrix::from_column_slice(nu, 1, aba::aba(&model, &mut data, y, &u, &f, &[]).unwrap().as_slice()), &x, k, H);
             fd_x.column_mut(k).copy_from(&col.column(0));
-            fd_u.column_mut(k).copy_from(&central_flat(|w| aba::aba(&model, &mut data, &x, w, &f, &[]).unwrap().clone(), &u, k, H));
-            fd_f.column_mut(k).copy_from(&central_flat(|w| aba::aba(&model, &mut data, &x, &u, w, &[]).unwrap().clone(), &f, k, H));
+            fd_u.column_mut(k).copy_from(&common::central_flat(|w| aba::aba(&model, &mut data, &x, w, &f, &[]).unwrap().clone(), &u, k, H));
+            fd_f.column_mut(k).copy_from(&common::central_flat(|w| aba::aba(&model, &mut data, &x, &u, w, &[]).unwrap().clone(), &f, k, H));
         }
         for (what, ad, fd) in [("du/dx", &dx, &fd_x), ("du/du", &du, &fd_u), ("du/df", &df, &fd_f)] {
             let e = rel_err(ad, fd, what);

@@ -14,12 +14,12 @@
 
 mod common;
 
-use nalgebra::{DMatrix, DVector, Vector6};
+use nalgebra::{DMatrix, Vector6};
 use spacearm_core::algorithms::aba::aba;
 use spacearm_core::algorithms::dynamics::forward_dynamics_via_mass_matrix;
 use spacearm_core::algorithms::passive::{passive_forces, spring_energy};
 use spacearm_core::algorithms::rnea::rnea;
-use spacearm_core::control::{Command, ControlContext, Controller, ZeroTorque};
+use spacearm_core::control::{Command, Controller, ZeroTorque};
 use spacearm_core::derivatives::{forward_dynamics_derivatives, linearize, DerivativeData, LinearizationInputs};
 use spacearm_core::gjm::{generalized_inertia, reduced_forward_dynamics};
 use spacearm_core::io::toml::{model_from_toml_str, model_to_toml};
@@ -112,16 +112,10 @@ fn forward_dynamics_jacobians_with_springs_match_central_differences() {
     let fd = |x: &[f64], u: &[f64]| aba(&sprung, &mut Data::new(&sprung), x, u, &f, &[]).unwrap().clone();
     let h = 1e-6;
     for j in 0..n {
-        let (mut xp, mut xm) = (x.clone(), x.clone());
-        xp[7 + j] += h;
-        xm[7 + j] -= h;
-        let col: DVector<f64> = (fd(&xp, &u) - fd(&xm, &u)) / (2.0 * h);
+        let col = common::central_flat(|y| fd(y, &u), &x, 7 + j, h);
         let e = rel(dx.column(6 + j).as_slice(), col.as_slice());
         assert!(e < 1e-6, "∂u̇/∂q_{j}: {e:e}");
-        let (mut up, mut um) = (u.clone(), u.clone());
-        up[6 + j] += h;
-        um[6 + j] -= h;
-        let col: DVector<f64> = (fd(&x, &up) - fd(&x, &um)) / (2.0 * h);
+        let col = common::central_flat(|w| fd(&x, w), &u, 6 + j, h);
         let e = rel(du.column(6 + j).as_slice(), col.as_slice());
         assert!(e < 1e-6, "∂u̇/∂q̇_{j}: {e:e}");
     }
@@ -260,29 +254,13 @@ fn hinged_link_on_a_free_base_oscillates_at_the_reduced_inertia_frequency() {
     assert!(linearized_frequency(&hinged(0.0), &x0) < 1e-9);
 }
 
-/// A constant joint command.
-struct Push(f64);
-
-impl Controller for Push {
-    fn name(&self) -> &str {
-        "push"
-    }
-    fn setup(&mut self, _ctx: &ControlContext<'_>) -> Result<()> {
-        Ok(())
-    }
-    fn command(&mut self, _t: f64, _x: &[f64], _u: &[f64], out: &mut Command) -> Result<()> {
-        out.tau.fill(self.0);
-        Ok(())
-    }
-}
-
 #[test]
 fn a_passive_joint_gets_no_torque_and_is_no_wheel() {
     let model = hinged(30.0);
     let mut x0 = presets::initial_configuration(&model);
     x0[7] = 0.05;
     let u0 = vec![0.0; model.nu()];
-    let pushed = run(&model, &x0, &u0, 0.5, 1e-2, &mut Push(3.0));
+    let pushed = run(&model, &x0, &u0, 0.5, 1e-2, &mut common::Scripted { name: "push", command: |_, out: &mut Command| out.tau.fill(3.0) });
     let free = run(&model, &x0, &u0, 0.5, 1e-2, &mut ZeroTorque);
     assert!(pushed.records.tau.iter().all(|t| *t == 0.0), "applied torque on a passive joint");
     assert!(pushed.records.tau_cmd.iter().all(|t| *t == 3.0), "the command is recorded as given");
