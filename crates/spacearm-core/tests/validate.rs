@@ -329,51 +329,41 @@ fn links_must_come_after_their_parents() {
 
 #[test]
 fn a_moving_joint_must_carry_mass_or_inertia() {
-    let massless = |s: &mut LinkSpec| {
-        s.mass = 0.0;
-        s.inertia = [[0.0; 3]; 3];
+    // A link of `kind` on the bus with zero mass and inertia.
+    let massless = |name: &str, kind: JointType| {
+        with(name, |s| {
+            s.kind = kind;
+            s.mass = 0.0;
+            s.inertia = [[0.0; 3]; 3];
+        })
     };
     // A massless leaf on a moving joint.
     let mut b = builder();
     b.add_link(link("arm", "bus")).unwrap();
-    b.add_link(with("ghost", massless).tap_parent("arm")).unwrap();
+    b.add_link(massless("ghost", JointType::Revolute).tap_parent("arm")).unwrap();
     let e = b.build().unwrap_err();
     refused(e, ModelItem::Link(1), ModelField::Mass, &["joint 'ghost_joint' moves link 'ghost'", "zero mass and inertia"]);
     // A massless link carrying only massless fixed links is as empty.
     let mut b = builder();
-    b.add_link(with("ghost", massless)).unwrap();
-    b.add_link(with("plate", |s| {
-        massless(s);
-        s.kind = JointType::Fixed
-    })
-    .tap_parent("ghost"))
-    .unwrap();
+    b.add_link(massless("ghost", JointType::Revolute)).unwrap();
+    b.add_link(massless("plate", JointType::Fixed).tap_parent("ghost")).unwrap();
     refused(b.build().unwrap_err(), ModelItem::Link(0), ModelField::Mass, &["joint 'ghost_joint' moves link 'ghost'"]);
     // Prismatic joints too.
     let mut b = builder();
-    b.add_link(with("slider", |s| {
-        massless(s);
-        s.kind = JointType::Prismatic
-    }))
-    .unwrap();
+    b.add_link(massless("slider", JointType::Prismatic)).unwrap();
     refused(b.build().unwrap_err(), ModelItem::Link(0), ModelField::Mass, &["link 'slider'"]);
     // The nearest valid: something downstream has mass, or the link has inertia only, or the
     // massless link is fixed.
     let mut b = builder();
-    b.add_link(with("ghost", massless)).unwrap();
+    b.add_link(massless("ghost", JointType::Revolute)).unwrap();
     b.add_link(link("hand", "ghost")).unwrap();
     assert_eq!(b.build().unwrap().n_dof(), 2);
     // ... also when what is downstream has only mass (a point mass) or only inertia (a rotor),
     // through a fixed link: each sum is carried up the tree on its own.
     for (mass, inertia) in [(2.0, 0.0), (0.0, 1e-3)] {
         let mut b = builder();
-        b.add_link(with("ghost", massless)).unwrap();
-        b.add_link(with("mount", |s| {
-            massless(s);
-            s.kind = JointType::Fixed
-        })
-        .tap_parent("ghost"))
-        .unwrap();
+        b.add_link(massless("ghost", JointType::Revolute)).unwrap();
+        b.add_link(massless("mount", JointType::Fixed).tap_parent("ghost")).unwrap();
         b.add_link(with("bob", |s| {
             s.kind = JointType::Fixed;
             s.mass = mass;
@@ -391,11 +381,7 @@ fn a_moving_joint_must_carry_mass_or_inertia() {
     .unwrap();
     assert_eq!(b.build().unwrap().n_dof(), 1);
     let mut b = builder();
-    b.add_link(with("mount", |s| {
-        massless(s);
-        s.kind = JointType::Fixed
-    }))
-    .unwrap();
+    b.add_link(massless("mount", JointType::Fixed)).unwrap();
     assert_eq!(b.build().unwrap().n_dof(), 0);
 }
 
