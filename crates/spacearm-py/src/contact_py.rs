@@ -403,35 +403,11 @@ pub fn soft_capture(
     let ut = vec_arg(u_target, "u_target")?.as_slice().to_vec();
     let (opts, float32) = (options.sim_options(duration), options.records_float32());
     let spec = ImpedanceSpec { frequency, damping_ratio, stiffness, damping, rotational_stiffness, rotational_damping };
-    let slot = error_slot();
-    let mut controller: Box<dyn Controller> = match controller_spec {
-        Some(s) if !s.is_none() => build_controller(s, &slot)?,
-        _ => Box::new(ZeroTorque),
-    };
     // Copies of the models: the run holds no borrow of the Python objects.
     let (rm, tm) = (robot.model.clone(), target.model.clone());
-    let mut interrupted: Option<PyErr> = None;
-    let result = py.detach(|| {
-        let mut progress = |_fraction: f64| -> spacearm_core::Result<()> {
-            Python::attach(|py| py.check_signals()).map_err(|e| {
-                interrupted.get_or_insert(e);
-                SpacearmError::Simulation("interrupted".into())
-            })
-        };
-        soft::soft_capture(&rm, &x, &u, robot_point, &tm, &xt, &ut, target_point, &spec, &opts, controller.as_mut(), &mut progress)
-    });
-    let res = match result {
-        Ok(r) => r,
-        Err(e) => {
-            if let Some(err) = take_error(&slot) {
-                return Err(err);
-            }
-            if let Some(err) = interrupted {
-                return Err(err);
-            }
-            return Err(to_py_err(py, e));
-        }
-    };
+    let res = run_controlled(py, controller_spec, |controller, progress| {
+        soft::soft_capture(&rm, &x, &u, robot_point, &tm, &xt, &ut, target_point, &spec, &opts, controller, progress)
+    })?;
     let k = res.wrench.len() / 6;
     let wrench = numpy::PyArray1::from_slice(py, &res.wrench).reshape([k, 6])?.unbind();
     let g = res.gains;
@@ -531,12 +507,27 @@ pub fn simulate_closed_chain(
     let x0 = vec_arg(x0, "x0")?.as_slice().to_vec();
     let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
     let (opts, float32) = (options.sim_options(duration), options.records_float32());
+    let m = model.model.clone();
+    let mut res = run_controlled(py, controller_spec, |controller, progress| core_closed_chain(&m, &x0, &u0, a, b, stabilization, &opts, controller, progress))?;
+    let constraint_wrench = rows6(py, res.records.constraint_wrench.take())?;
+    let pose_error = rows6(py, res.records.constraint_error.take())?;
+    let run = Py::new(py, PyRunResult::of_run(py, res, &opts, float32, (m.nx(), m.nu(), m.n_dof()))?)?;
+    Ok(PyClosedChainResult { run, constraint_wrench, pose_error })
+}
+
+/// Run `work(controller, progress)` without the GIL, the controller that of `controller_spec`
+/// (None: zero torques) and Ctrl-C checked at each progress report; a failed run raises the
+/// callback controller's exception, else the interrupt, else the core's error.
+fn run_controlled<R: Send>(
+    py: Python<'_>,
+    controller_spec: Option<&Bound<'_, PyAny>>,
+    work: impl FnOnce(&mut dyn Controller, &mut dyn FnMut(f64) -> spacearm_core::Result<()>) -> spacearm_core::Result<R> + Send,
+) -> PyResult<R> {
     let slot = error_slot();
     let mut controller: Box<dyn Controller> = match controller_spec {
         Some(s) if !s.is_none() => build_controller(s, &slot)?,
         _ => Box::new(ZeroTorque),
     };
-    let m = model.model.clone();
     let mut interrupted: Option<PyErr> = None;
     let result = py.detach(|| {
         let mut progress = |_fraction: f64| -> spacearm_core::Result<()> {
@@ -545,24 +536,9 @@ pub fn simulate_closed_chain(
                 SpacearmError::Simulation("interrupted".into())
             })
         };
-        core_closed_chain(&m, &x0, &u0, a, b, stabilization, &opts, controller.as_mut(), &mut progress)
+        work(controller.as_mut(), &mut progress)
     });
-    let mut res = match result {
-        Ok(r) => r,
-        Err(e) => {
-            if let Some(err) = take_error(&slot) {
-                return Err(err);
-            }
-            if let Some(err) = interrupted {
-                return Err(err);
-            }
-            return Err(to_py_err(py, e));
-        }
-    };
-    let constraint_wrench = rows6(py, res.records.constraint_wrench.take())?;
-    let pose_error = rows6(py, res.records.constraint_error.take())?;
-    let run = Py::new(py, PyRunResult::of_run(py, res, &opts, float32, (m.nx(), m.nu(), m.n_dof()))?)?;
-    Ok(PyClosedChainResult { run, constraint_wrench, pose_error })
+    result.map_err(|e| take_error(&slot).or(interrupted).unwrap_or_else(|| to_py_err(py, e)))
 }
 
 /// Add the contact functions and classes to the module.
