@@ -16,7 +16,9 @@ use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use spacearm_core::analysis::{reaction_null_space as rns, redundancy, scan, singularity, workspace};
 
-use crate::convert::{array1, dmat, dvec};
+use spacearm_core::SpacearmError;
+
+use crate::convert::{array1, dmat, dvec, matrix_arg, to_py_err, OrRaise};
 
 /// A numpy array's shape as Python writes it: `(3, 6)`, `(3,)`.
 fn shape_of<T: Element, D: numpy::ndarray::Dimension>(py: Python<'_>, a: &Py<PyArray<T, D>>) -> String {
@@ -254,7 +256,28 @@ impl PyWorkspaceShells {
         radial_resolution: f64,
         grid: Option<(usize, usize)>,
     ) -> PyResult<Self> {
-        crate::analysis_py::shells(py, sigma_min_generalized, det_generalized, point_from_com, point_from_base, singular_threshold, radial_resolution, grid)
+        let (com, m1, c1) = matrix_arg(point_from_com, "point_from_com")?;
+        let (base, m2, c2) = matrix_arg(point_from_base, "point_from_base")?;
+        let m = sigma_min_generalized.len();
+        if det_generalized.len() != m || m1 != m || m2 != m || c1 != 3 || c2 != 3 {
+            return Err(to_py_err(py, SpacearmError::Dimension { what: "scan arrays".into(), expected: format!("{m} samples (positions M×3)"), got: det_generalized.len() }));
+        }
+        let samples: Vec<scan::ScanSample> = (0..m)
+            .map(|i| scan::ScanSample {
+                sigma_min_generalized: sigma_min_generalized[i],
+                sigma_max_generalized: f64::NAN,
+                manipulability_generalized: f64::NAN,
+                det_generalized: det_generalized[i],
+                sigma_min_fixed: f64::NAN,
+                manipulability_fixed: f64::NAN,
+                det_fixed: f64::NAN,
+                point_from_base: Vector3::new(base[3 * i], base[3 * i + 1], base[3 * i + 2]),
+                point_from_com: Vector3::new(com[3 * i], com[3 * i + 1], com[3 * i + 2]),
+            })
+            .collect();
+        let grid = grid.map(|(resolution, n_joints)| workspace::GridShape { resolution, n_joints });
+        let w = workspace::workspace_shells(&samples, singular_threshold, radial_resolution, grid).or_raise(py)?;
+        Ok(Self::of(py, &w))
     }
 
     fn __repr__(&self, py: Python<'_>) -> String {

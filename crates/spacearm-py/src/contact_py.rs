@@ -543,21 +543,10 @@ fn run_controlled<R: Send>(
 
 /// Add the contact functions and classes to the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<PyImpulseDynamics>()?;
-    m.add_class::<PyGraspImpulse>()?;
-    m.add_function(wrap_pyfunction!(impulse_dynamics, m)?)?;
-    m.add_function(wrap_pyfunction!(grasp_impact, m)?)?;
-    m.add_class::<PyMomentumSplit>()?;
-    m.add_function(wrap_pyfunction!(point_inverse_inertia, m)?)?;
-    m.add_function(wrap_pyfunction!(virtual_mass, m)?)?;
-    m.add_function(wrap_pyfunction!(impulse_momentum_split, m)?)?;
-    m.add_function(wrap_pyfunction!(joint_wrenches, m)?)?;
-    m.add_function(wrap_pyfunction!(check_grasp_handle, m)?)?;
-    m.add_class::<PySoftCaptureResult>()?;
-    m.add_function(wrap_pyfunction!(soft_capture, m)?)?;
-    m.add_class::<PyClosedChainResult>()?;
-    m.add_class::<PyLoopClosureTerms>()?;
-    m.add_function(wrap_pyfunction!(simulate_closed_chain, m)?)?;
-    m.add_function(wrap_pyfunction!(loop_closure, m)?)?;
+    add_to_module!(
+        m,
+        functions: [impulse_dynamics, grasp_impact, point_inverse_inertia, virtual_mass, impulse_momentum_split, joint_wrenches, check_grasp_handle, soft_capture, simulate_closed_chain, loop_closure],
+        classes: [PyImpulseDynamics, PyGraspImpulse, PyMomentumSplit, PySoftCaptureResult, PyClosedChainResult, PyLoopClosureTerms],
+    );
     Ok(())
 }

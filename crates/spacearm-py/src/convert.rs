@@ -449,3 +449,16 @@ pub fn triangle_inequality(allow_nonphysical_inertia: bool) -> spacearm_core::mo
         spacearm_core::model::TriangleInequality::Enforce
     }
 }
+
+/// Add the `#[pyfunction]`s `functions` and the `#[pyclass]`es `classes` to the module `m`: a
+/// door's `register` as two lists (`add_to_module!(m, functions: [f, g], classes: [A, B])`).
+macro_rules! add_to_module {
+    ($m:expr, functions: [$($f:path),* $(,)?] $(, classes: [$($c:ty),* $(,)?])? $(,)?) => {{
+        $($m.add_function(pyo3::wrap_pyfunction!($f, $m)?)?;)*
+        $($($m.add_class::<$c>()?;)*)?
+    }};
+    ($m:expr, classes: [$($c:ty),* $(,)?] $(,)?) => {{
+        $($m.add_class::<$c>()?;)*
+    }};
+}
+pub(crate) use add_to_module;
