@@ -121,15 +121,6 @@ pub(crate) fn strategy(py: Python<'_>, s: &str) -> PyResult<redundancy::Strategy
     redundancy::Strategy::from_name(s).or_raise(py)
 }
 
-/// The name `strategy` reads.
-fn strategy_name(s: redundancy::Strategy) -> &'static str {
-    match s {
-        redundancy::Strategy::Naive => "naive",
-        redundancy::Strategy::Reactionless => "reactionless",
-        redundancy::Strategy::MinimumBaseDisturbance => "minimum_disturbance",
-    }
-}
-
 /// The options of the resolved-motion-rate law (`spacearm_core::analysis::redundancy::RmrcOptions`)
 /// as one typed, keyword-only object: the task rows of the point twist, the damping law
 /// (`threshold` ε and `max_damping` λ_max), the feedback gain (1/s; used by the `RmrcMotion` constructor),
@@ -181,28 +172,6 @@ pub fn analysis_rmrc_rates<'py>(
     let o = &options.inner;
     let r = m.with_data(|model, data| redundancy::rmrc_rates(model, data, x.as_slice(), body, &off, &v, o)).or_raise(py)?;
     Ok(PyRmrcRates::new(py, &r))
-}
-
-/// Closed-loop point-to-point RMRC motion (zero momentum): the constructor of `RmrcMotion`.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn move_to<'py>(
-    py: Python<'py>,
-    m: PyRef<'_, PyModel>,
-    x0: &Bound<'py, PyAny>,
-    body: usize,
-    offset: &Bound<'py, PyAny>,
-    target: &Bound<'py, PyAny>,
-    duration: f64,
-    settle: f64,
-    dt: f64,
-    options: PyRef<'_, PyRmrcOptions>,
-) -> PyResult<PyRmrcMotion> {
-    let off = vec3(offset, "offset")?;
-    let target = vec3(target, "target")?;
-    let x0 = vec_arg(x0, "x0")?;
-    let o = &options.inner;
-    let r = m.with_data(|model, data| redundancy::move_to(model, data, x0.as_slice(), body, &off, &target, duration, settle, dt, o)).or_raise(py)?;
-    Ok(PyRmrcMotion::of(py, &r, m.model.n_dof(), m.model.name().to_string(), strategy_name(o.strategy), &target))
 }
 
 /// The reach of a point from the state (x, u) after `duration` s: (system CM then, R_max or

@@ -18,7 +18,7 @@ use spacearm_core::analysis::{reaction_null_space as rns, redundancy, scan, sing
 
 use spacearm_core::SpacearmError;
 
-use crate::convert::{array1, dmat, dvec, matrix_arg, to_py_err, OrRaise};
+use crate::convert::{array1, dmat, dvec, matrix_arg, to_py_err, vec3, vec_arg, OrRaise};
 
 /// A numpy array's shape as Python writes it: `(3, 6)`, `(3,)`.
 fn shape_of<T: Element, D: numpy::ndarray::Dimension>(py: Python<'_>, a: &Py<PyArray<T, D>>) -> String {
@@ -447,7 +447,12 @@ impl PyRmrcMotion {
         dt: f64,
         options: PyRef<'_, crate::analysis_py::PyRmrcOptions>,
     ) -> PyResult<Self> {
-        crate::analysis_py::move_to(py, model, x0, body, offset, target, duration, settle, dt, options)
+        let off = vec3(offset, "offset")?;
+        let target = vec3(target, "target")?;
+        let x0 = vec_arg(x0, "x0")?;
+        let o = &options.inner;
+        let r = model.with_data(|m, data| redundancy::move_to(m, data, x0.as_slice(), body, &off, &target, duration, settle, dt, o)).or_raise(py)?;
+        Ok(Self::of(py, &r, model.model.n_dof(), model.model.name().to_string(), o.strategy.name(), &target))
     }
 
     fn __repr__(&self, py: Python<'_>) -> String {
