@@ -144,36 +144,12 @@ pub unsafe extern "C" fn fmi2SetupExperiment(c: Fmi2Component, _tol_defined: Fmi
     unsafe { with(c, |_| check_start_time(start_time)) }
 }
 
-/// # Safety
-/// FMI 2 contract.
-#[no_mangle]
-pub unsafe extern "C" fn fmi2EnterInitializationMode(c: Fmi2Component) -> Fmi2Status {
-    // SAFETY: FMI 2 contract.
-    unsafe { with(c, Instance::enter_initialization) }
-}
-
-/// # Safety
-/// FMI 2 contract.
-#[no_mangle]
-pub unsafe extern "C" fn fmi2ExitInitializationMode(c: Fmi2Component) -> Fmi2Status {
-    // SAFETY: FMI 2 contract.
-    unsafe { with(c, Instance::exit_initialization) }
-}
-
-/// # Safety
-/// FMI 2 contract.
-#[no_mangle]
-pub unsafe extern "C" fn fmi2Terminate(c: Fmi2Component) -> Fmi2Status {
-    // SAFETY: FMI 2 contract.
-    unsafe { with(c, Instance::terminate) }
-}
-
-/// # Safety
-/// FMI 2 contract.
-#[no_mangle]
-pub unsafe extern "C" fn fmi2Reset(c: Fmi2Component) -> Fmi2Status {
-    // SAFETY: FMI 2 contract.
-    unsafe { with(c, Instance::reset) }
+super::instance_entry_points! {
+    Fmi2Component, Fmi2Status;
+    fmi2EnterInitializationMode => Instance::enter_initialization,
+    fmi2ExitInitializationMode => Instance::exit_initialization,
+    fmi2Terminate => Instance::terminate,
+    fmi2Reset => Instance::reset,
 }
 
 /// # Safety

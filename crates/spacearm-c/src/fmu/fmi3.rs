@@ -127,12 +127,11 @@ pub unsafe extern "C" fn fmi3EnterInitializationMode(c: Fmi3Instance, _tol_defin
     }
 }
 
-/// # Safety
-/// FMI 3 contract.
-#[no_mangle]
-pub unsafe extern "C" fn fmi3ExitInitializationMode(c: Fmi3Instance) -> Fmi3Status {
-    // SAFETY: FMI 3 contract.
-    unsafe { with(c, Instance::exit_initialization) }
+super::instance_entry_points! {
+    Fmi3Instance, Fmi3Status;
+    fmi3ExitInitializationMode => Instance::exit_initialization,
+    fmi3Terminate => Instance::terminate,
+    fmi3Reset => Instance::reset,
 }
 
 /// The unit has no event mode; step mode is where it always is after initialization.
@@ -143,22 +142,6 @@ pub unsafe extern "C" fn fmi3ExitInitializationMode(c: Fmi3Instance) -> Fmi3Stat
 pub unsafe extern "C" fn fmi3EnterStepMode(c: Fmi3Instance) -> Fmi3Status {
     // SAFETY: FMI 3 contract.
     unsafe { with(c, |i| if i.phase == Phase::Stepping { Ok(()) } else { Err("step mode follows initialization".into()) }) }
-}
-
-/// # Safety
-/// FMI 3 contract.
-#[no_mangle]
-pub unsafe extern "C" fn fmi3Terminate(c: Fmi3Instance) -> Fmi3Status {
-    // SAFETY: FMI 3 contract.
-    unsafe { with(c, Instance::terminate) }
-}
-
-/// # Safety
-/// FMI 3 contract.
-#[no_mangle]
-pub unsafe extern "C" fn fmi3Reset(c: Fmi3Instance) -> Fmi3Status {
-    // SAFETY: FMI 3 contract.
-    unsafe { with(c, Instance::reset) }
 }
 
 /// # Safety

@@ -295,6 +295,23 @@ pub(crate) unsafe fn with(c: *mut c_void, body: impl FnOnce(&mut Instance) -> Re
     if done.is_ok() { FMI_OK } else { FMI_ERROR }
 }
 
+/// Entry points `fn name(c: Handle) -> Status` of FMI 2 or 3 that are one call on the instance
+/// (`name => Instance::method`): the state-machine steps both versions share.
+macro_rules! instance_entry_points {
+    ($handle:ty, $status:ty; $($name:ident => $body:expr),* $(,)?) => {
+        $(
+            /// # Safety
+            /// The FMI contract: `c` NULL or an instance of this library.
+            #[no_mangle]
+            pub unsafe extern "C" fn $name(c: $handle) -> $status {
+                // SAFETY: the FMI contract.
+                unsafe { super::with(c, $body) }
+            }
+        )*
+    };
+}
+pub(crate) use instance_entry_points;
+
 /// The instance name the importer gave (`"spacearm"` for NULL).
 ///
 /// # Safety
