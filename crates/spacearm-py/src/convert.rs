@@ -37,6 +37,11 @@ pub fn to_py_err(py: Python<'_>, err: SpacearmError) -> PyErr {
     new_error(py, class_of_error(&err), err.to_string())
 }
 
+/// [`to_py_err`] with `context: ` before the message (`rollout 3: ...`, `copy 0: ...`).
+pub fn to_py_err_in(py: Python<'_>, context: &str, err: SpacearmError) -> PyErr {
+    new_error(py, class_of_error(&err), format!("{context}: {err}"))
+}
+
 /// A `ShapeError` with `message`.
 pub fn shape_error(py: Python<'_>, message: String) -> PyErr {
     new_error(py, ErrorClass::Shape, message)
