@@ -449,3 +449,18 @@ fn initial_q_must_have_one_finite_bounded_entry_per_moving_joint() {
     b.set_initial_q(vec![0.25]);
     assert_eq!(b.build().unwrap().initial_q(), &[0.25]);
 }
+
+#[test]
+fn joint_type_names_are_read_back_and_a_wrong_name_is_refused() {
+    for kind in [JointType::Revolute, JointType::Prismatic, JointType::Fixed] {
+        assert_eq!(JointType::from_name(kind.as_str()).unwrap(), kind);
+    }
+    for bad in ["ball", "Revolute", ""] {
+        match JointType::from_name(bad) {
+            Err(SpacearmError::InvalidModel(m)) => {
+                assert!(m.contains("'revolute', 'prismatic' or 'fixed'") && m.contains(&format!("got '{bad}'")), "{m}")
+            }
+            other => panic!("{bad:?}: {other:?}"),
+        }
+    }
+}
