@@ -6,29 +6,12 @@
 
 mod common;
 
-use nalgebra::{DMatrix, DVector, Quaternion, UnitQuaternion, Vector3};
+use nalgebra::{DMatrix, DVector, Vector3};
 use rand::Rng;
 use spacearm_core::algorithms::rnea;
 use spacearm_core::algorithms::wrench::ExternalWrench;
 use spacearm_core::derivatives::{self, DerivativeData, DerivativeMethod, LinearizationInputs};
 use spacearm_core::{Data, Model};
-
-/// `x ⊕ h e_k` in tangent coordinates `[δr0, δθ (world, left), δq]`.
-fn perturb(x: &[f64], k: usize, h: f64) -> Vec<f64> {
-    let mut y = x.to_vec();
-    if k < 3 {
-        y[k] += h;
-    } else if k < 6 {
-        let mut th = Vector3::zeros();
-        th[k - 3] = h;
-        let q0 = UnitQuaternion::from_quaternion(Quaternion::new(x[6], x[3], x[4], x[5]));
-        let q1 = UnitQuaternion::from_scaled_axis(th) * q0;
-        y[3..7].copy_from_slice(&[q1.i, q1.j, q1.k, q1.w]);
-    } else {
-        y[7 + k - 6] += h;
-    }
-    y
-}
 
 fn random_wrenches(r: &mut rand_chacha::ChaCha8Rng, model: &Model, count: usize) -> Vec<ExternalWrench> {
     (0..count)
@@ -108,7 +91,7 @@ fn analytic_inverse_dynamics_partials_match_finite_differences() {
         let mut fx = DMatrix::zeros(nu, nu);
         let mut fu = DMatrix::zeros(nu, nu);
         for k in 0..nu {
-            fx.set_column(k, &((id(&perturb(&x, k, H), &c.u) - id(&perturb(&x, k, -H), &c.u)) / (2.0 * H)));
+            fx.set_column(k, &((id(&common::perturb(&x, k, H), &c.u) - id(&common::perturb(&x, k, -H), &c.u)) / (2.0 * H)));
             let (mut up, mut um) = (c.u.clone(), c.u.clone());
             up[k] += H;
             um[k] -= H;

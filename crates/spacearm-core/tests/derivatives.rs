@@ -5,35 +5,15 @@
 
 mod common;
 
-use nalgebra::{DMatrix, Quaternion, UnitQuaternion, Vector3};
+use nalgebra::{DMatrix, Vector3};
 use spacearm_core::derivatives::{self, DerivativeData, LinearizationInputs};
 use spacearm_core::algorithms::{aba, crba};
 use spacearm_core::gjm;
 use spacearm_core::{Data, Model};
 
-/// `x ⊕ h e_k` in tangent coordinates `[δr0, δθ (world), δq]`: `R0 ← exp(h ẽ) R0`.
-fn perturb(x: &[f64], k: usize, h: f64) -> Vec<f64> {
-    let mut y = x.to_vec();
-    if k < 3 {
-        y[k] += h;
-    } else if k < 6 {
-        let mut th = Vector3::zeros();
-        th[k - 3] = h;
-        let q0 = UnitQuaternion::from_quaternion(Quaternion::new(x[6], x[3], x[4], x[5]));
-        let q1 = UnitQuaternion::from_scaled_axis(th) * q0;
-        y[3] = q1.i;
-        y[4] = q1.j;
-        y[5] = q1.k;
-        y[6] = q1.w;
-    } else {
-        y[7 + k - 6] += h;
-    }
-    y
-}
-
 /// Central difference of a matrix function of the configuration along tangent coordinate `k`.
 fn central<F: FnMut(&[f64]) -> DMatrix<f64>>(mut f: F, x: &[f64], k: usize, h: f64) -> DMatrix<f64> {
-    (f(&perturb(x, k, h)) - f(&perturb(x, k, -h))) / (2.0 * h)
+    (f(&common::perturb(x, k, h)) - f(&common::perturb(x, k, -h))) / (2.0 * h)
 }
 
 /// `‖a − b‖ / ‖b‖`, asserting the reference is not trivially small.
@@ -176,20 +156,8 @@ fn forward_dynamics_derivatives_match_finite_differences() {
         for k in 0..nu {
             let col = central(|y| DMatrix::from_column_slice(nu, 1, aba::aba(&model, &mut data, y, &u, &f, &[]).unwrap().as_slice()), &x, k, H);
             fd_x.column_mut(k).copy_from(&col.column(0));
-            let mut up = u.clone();
-            let mut um = u.clone();
-            up[k] += H;
-            um[k] -= H;
-            let a = aba::aba(&model, &mut data, &x, &up, &f, &[]).unwrap().clone();
-            let b = aba::aba(&model, &mut data, &x, &um, &f, &[]).unwrap().clone();
-            fd_u.column_mut(k).copy_from(&((a - b) / (2.0 * H)));
-            let mut fp = f.clone();
-            let mut fm = f.clone();
-            fp[k] += H;
-            fm[k] -= H;
-            let a = aba::aba(&model, &mut data, &x, &u, &fp, &[]).unwrap().clone();
-            let b = aba::aba(&model, &mut data, &x, &u, &fm, &[]).unwrap().clone();
-            fd_f.column_mut(k).copy_from(&((a - b) / (2.0 * H)));
+            fd_u.column_mut(k).copy_from(&common::central_flat(|w| aba::aba(&model, &mut data, &x, w, &f, &[]).unwrap().clone(), &u, k, H));
+            fd_f.column_mut(k).copy_from(&common::central_flat(|w| aba::aba(&model, &mut data, &x, &u, w, &[]).unwrap().clone(), &f, k, H));
         }
         for (what, ad, fd) in [("du/dx", &dx, &fd_x), ("du/du", &du, &fd_u), ("du/df", &df, &fd_f)] {
             let e = rel_err(ad, fd, what);

@@ -107,30 +107,12 @@ fn recursive_point_twist(model: &Model, data: &mut Data, x: &[f64], u: &[f64], b
     (Vector6::new(lin.x, lin.y, lin.z, w.x, w.y, w.z), mom)
 }
 
-/// `x` moved for time `s` at velocity `u` (tangent coordinates; `R0 ← exp(s ω0^) R0`).
-fn advance(x: &[f64], u: &[f64], s: f64) -> Vec<f64> {
-    let mut y = x.to_vec();
-    for i in 0..3 {
-        y[i] += s * u[i];
-    }
-    let q0 = UnitQuaternion::from_quaternion(Quaternion::new(x[6], x[3], x[4], x[5]));
-    let q1 = UnitQuaternion::from_scaled_axis(Vector3::new(u[3], u[4], u[5]) * s) * q0;
-    y[3] = q1.i;
-    y[4] = q1.j;
-    y[5] = q1.k;
-    y[6] = q1.w;
-    for j in 0..u.len() - 6 {
-        y[7 + j] += s * u[6 + j];
-    }
-    y
-}
-
 /// The point twist by central differences of the point's position and its body's attitude
 /// along `x(t) = x ⊕ t u`.
 fn finite_difference_twist(model: &Model, data: &mut Data, x: &[f64], u: &[f64], body: usize, offset: &Vector3<f64>) -> Vector6<f64> {
     let h = 1e-6;
     let mut pose = |s: f64| {
-        kinematics::forward_kinematics(model, data, &advance(x, u, s)).unwrap();
+        kinematics::forward_kinematics(model, data, &common::advance(x, u, s)).unwrap();
         (kinematics::point_position(data, body, offset), data.body_to_world[body])
     };
     let (p_plus, r_plus) = pose(h);
@@ -158,106 +140,108 @@ fn test_bodies(model: &Model) -> Vec<usize> {
     bodies
 }
 
+/// Runs `check(trial, rng, model, data, x, u)` on `trials` random moving trees of
+/// `2 + trial % span` links, each at a random state, and asserts that the trees covered
+/// prismatic and fixed joints and branches.
+fn on_random_trees(seed: u64, trials: usize, span: usize, mut check: impl FnMut(usize, &mut rand_chacha::ChaCha8Rng, &Model, &mut Data, &[f64], &[f64])) {
+    let mut seen = Coverage::default();
+    common::on_random_states(seed, trials, |r, trial| random_moving_model(r, 2 + trial % span), |trial, r, model, data, x, u| {
+        seen.see(model);
+        check(trial, r, model, data, x, u)
+    });
+    seen.assert_all();
+}
+
+/// The velocity `u = [ẋ0; q̇]` of base velocity `xd0` and joint rates `qd`.
+fn velocity(xd0: &[f64], qd: &[f64]) -> Vec<f64> {
+    let mut u = xd0.to_vec();
+    u.extend_from_slice(qd);
+    u
+}
+
+/// `ẋ0 = −H0⁻¹ H0m q̇`, the base velocity zero momentum implies (eq. 109), by the dense route.
+fn zero_momentum_base_velocity(h0: &Matrix6<f64>, h0m: &DMatrix<f64>, qd: &DVector<f64>) -> DMatrix<f64> {
+    -h0_solve(h0, &DMatrix::from_column_slice(6, 1, (h0m * qd).as_slice()))
+}
+
+/// `M0 = [P; L_origin − r0 × P]`, the momentum about the base CM at `x` as a column.
+fn base_momentum(x: &[f64], p: &Vector3<f64>, l: &Vector3<f64>) -> DMatrix<f64> {
+    let r0 = Vector3::new(x[0], x[1], x[2]);
+    let lb = l - r0.cross(p);
+    DMatrix::from_column_slice(6, 1, &[p.x, p.y, p.z, lb.x, lb.y, lb.z])
+}
+
 #[test]
 fn generalized_inertia_is_the_schur_complement_of_both_mass_matrices() {
-    let mut r = common::rng(101);
-    let mut seen = Coverage::default();
-    for trial in 0..30 {
-        let model = random_moving_model(&mut r, 2 + trial % 11);
-        seen.see(&model);
-        let mut data = Data::new(&model);
-        let (x, _) = common::random_state(&mut r, &model);
-        let hs = gjm::generalized_inertia(&model, &mut data, &x).unwrap();
+    on_random_trees(101, 30, 11, |trial, _, model, data, x, _| {
+        let hs = gjm::generalized_inertia(model, data, x).unwrap();
         // Paper form: Jacobian sums, dense Cholesky of H0.
-        let (h0, h0m, hm) = paper_blocks(&model, &mut data, &x);
+        let (h0, h0m, hm) = paper_blocks(model, data, x);
         let reference = schur(&h0, &h0m, &hm);
         // The coupling term is a sizeable part of H*: dropping it would fail the comparison.
         assert!(rel_err(&hm, &reference) > 1e-3, "trial {trial}: H0m^T H0^-1 H0m is negligible");
         let e = rel_err(&hs, &reference);
         assert!(e < TOL, "trial {trial}: H* vs paper-form Schur complement: {e:e}");
         // CRBA blocks, split here, same dense inversion.
-        let h = crba::crba(&model, &mut data, &x).unwrap().clone();
+        let h = crba::crba(model, data, x).unwrap().clone();
         let (h0c, h0mc, hmc) = gjm::split_mass_matrix(&h);
         let e = rel_err(&hs, &schur(&h0c, &h0mc, &hmc));
         assert!(e < TOL, "trial {trial}: H* vs CRBA Schur complement: {e:e}");
         // The compute_ form leaves the same matrix in the workspace.
-        let mut data2 = Data::new(&model);
-        assert_eq!(gjm::compute_generalized_inertia(&model, &mut data2, &x).unwrap(), &hs);
-    }
-    seen.assert_all();
+        let mut data2 = Data::new(model);
+        assert_eq!(gjm::compute_generalized_inertia(model, &mut data2, x).unwrap(), &hs);
+    });
 }
 
 #[test]
 fn generalized_inertia_is_the_kinetic_energy_at_zero_momentum() {
     // T(q̇) = ½ q̇ᵀ H* q̇ when the base moves at ẋ0 = −H0⁻¹ H0m q̇ (eqs. 44–45); by polarization
     // H*_ij = T(e_i + e_j) − T(e_i) − T(e_j), with T summed body by body.
-    let mut r = common::rng(102);
-    let mut seen = Coverage::default();
-    for trial in 0..16 {
-        let model = random_moving_model(&mut r, 2 + trial % 8);
-        seen.see(&model);
+    on_random_trees(102, 16, 8, |trial, _, model, data, x, _| {
         let n = model.n_dof();
-        let mut data = Data::new(&model);
-        let (x, _) = common::random_state(&mut r, &model);
-        let hs = gjm::generalized_inertia(&model, &mut data, &x).unwrap();
-        let (h0, h0m, _) = paper_blocks(&model, &mut data, &x);
+        let hs = gjm::generalized_inertia(model, data, x).unwrap();
+        let (h0, h0m, _) = paper_blocks(model, data, x);
         let mut energy = |qd: &DVector<f64>| {
-            let xd0 = -h0_solve(&h0, &DMatrix::from_column_slice(6, 1, (&h0m * qd).as_slice()));
-            let mut u: Vec<f64> = xd0.as_slice().to_vec();
-            u.extend(qd.iter());
-            momentum::kinetic_energy(&model, &mut data, &x, &u).unwrap()
+            let u = velocity(zero_momentum_base_velocity(&h0, &h0m, qd).as_slice(), qd.as_slice());
+            momentum::kinetic_energy(model, data, x, &u).unwrap()
         };
         let unit = |i: usize| DVector::from_fn(n, |k, _| if k == i { 1.0 } else { 0.0 });
         let t: Vec<f64> = (0..n).map(|i| energy(&unit(i))).collect();
         let polarized = DMatrix::from_fn(n, n, |i, j| if i == j { 2.0 * t[i] } else { energy(&(unit(i) + unit(j))) - t[i] - t[j] });
         let e = rel_err(&hs, &polarized);
         assert!(e < TOL, "trial {trial}: H* vs kinetic-energy polarization: {e:e}");
-    }
-    seen.assert_all();
+    });
 }
 
 #[test]
 fn generalized_inertia_inverts_the_articulated_body_response() {
     // At rest (u = 0, so c = 0) and with no base wrench, ABA's q̈ under τ satisfies H* q̈ = τ.
-    let mut r = common::rng(103);
-    let mut seen = Coverage::default();
-    for trial in 0..20 {
-        let model = random_moving_model(&mut r, 2 + trial % 10);
-        seen.see(&model);
+    on_random_trees(103, 20, 10, |trial, _, model, data, x, _| {
         let n = model.n_dof();
-        let mut data = Data::new(&model);
-        let (x, _) = common::random_state(&mut r, &model);
-        let hs = gjm::generalized_inertia(&model, &mut data, &x).unwrap();
+        let hs = gjm::generalized_inertia(model, data, x).unwrap();
         let rest = vec![0.0; model.nu()];
         let mut qdd = DMatrix::zeros(n, n);
         for j in 0..n {
             let mut f = vec![0.0; model.nu()];
             f[6 + j] = 1.0;
-            let du = aba::aba(&model, &mut data, &x, &rest, &f, &[]).unwrap();
+            let du = aba::aba(model, data, x, &rest, &f, &[]).unwrap();
             qdd.column_mut(j).copy_from(&du.rows(6, n));
         }
         let e = rel_err(&(&hs * &qdd), &DMatrix::identity(n, n));
         // H* q̈ = I to the conditioning of H* times rounding.
         let cond = hs.abs().max() * qdd.abs().max();
         assert!(e < TOL * cond.max(1.0), "trial {trial}: H* · ABA response: {e:e} (scale {cond:e})");
-    }
-    seen.assert_all();
+    });
 }
 
 #[test]
 fn generalized_bias_equals_the_rnea_reduction_and_the_aba_response() {
-    let mut r = common::rng(104);
-    let mut seen = Coverage::default();
-    for trial in 0..30 {
-        let model = random_moving_model(&mut r, 2 + trial % 11);
-        seen.see(&model);
+    on_random_trees(104, 30, 11, |trial, r, model, data, x, u| {
         let n = model.n_dof();
-        let mut data = Data::new(&model);
-        let (x, u) = common::random_state(&mut r, &model);
-        let cs = gjm::generalized_bias(&model, &mut data, &x, &u).unwrap();
+        let cs = gjm::generalized_bias(model, data, x, u).unwrap();
         // c* = c_m − H0mᵀ H0⁻¹ c0 with c from RNEA and the paper-form blocks.
-        let c = rnea::bias_forces(&model, &mut data, &x, &u).unwrap().clone();
-        let (h0, h0m, hm) = paper_blocks(&model, &mut data, &x);
+        let c = rnea::bias_forces(model, data, x, u).unwrap().clone();
+        let (h0, h0m, hm) = paper_blocks(model, data, x);
         let c0 = DMatrix::from_column_slice(6, 1, &c.as_slice()[..6]);
         let cm = DVector::from_column_slice(&c.as_slice()[6..]);
         let coupling = DVector::from_column_slice((h0m.transpose() * h0_solve(&h0, &c0)).as_slice());
@@ -267,42 +251,34 @@ fn generalized_bias_equals_the_rnea_reduction_and_the_aba_response() {
         assert!(e < TOL * (cm.abs().max() / reference.abs().max()).max(1.0), "trial {trial}: c* vs RNEA reduction: {e:e}");
         // ABA with f = [0; τ] at (x, u): its q̈ satisfies H* q̈ + c* = τ (eq. 46, the base
         // velocity as given).
-        let tau = common::random_vector(&mut r, n, 5.0);
+        let tau = common::random_vector(r, n, 5.0);
         let mut f = vec![0.0; 6];
         f.extend(&tau);
-        let du = aba::aba(&model, &mut data, &x, &u, &f, &[]).unwrap().clone();
+        let du = aba::aba(model, data, x, u, &f, &[]).unwrap().clone();
         let hs = schur(&h0, &h0m, &hm);
         let qdd = DVector::from_column_slice(&du.as_slice()[6..]);
         let lhs = &hs * &qdd + &cs;
         let scale = (hs.abs().max() * qdd.abs().max()).max(cs.abs().max()).max(5.0);
         let e = (&lhs - DVector::from_column_slice(&tau)).abs().max() / scale;
         assert!(e < 1e-11, "trial {trial}: H* q̈_ABA + c* − τ: {e:e}");
-    }
-    seen.assert_all();
+    });
 }
 
 #[test]
 fn generalized_jacobian_equals_the_dense_formula_and_the_zero_momentum_twist() {
-    let mut r = common::rng(105);
-    let mut seen = Coverage::default();
     let mut points = 0;
-    for trial in 0..24 {
-        let model = random_moving_model(&mut r, 2 + trial % 10);
-        seen.see(&model);
-        let mut data = Data::new(&model);
-        let (x, _) = common::random_state(&mut r, &model);
-        let qd = DVector::from_column_slice(&common::random_vector(&mut r, model.n_dof(), 1.0));
-        let (h0, h0m, _) = paper_blocks(&model, &mut data, &x);
+    on_random_trees(105, 24, 10, |trial, r, model, data, x, _| {
+        let qd = DVector::from_column_slice(&common::random_vector(r, model.n_dof(), 1.0));
+        let (h0, h0m, _) = paper_blocks(model, data, x);
         // Eq. 109: the base velocity zero momentum implies, by the dense route.
-        let xd0 = -h0_solve(&h0, &DMatrix::from_column_slice(6, 1, (&h0m * &qd).as_slice()));
-        let mut u: Vec<f64> = xd0.as_slice().to_vec();
-        u.extend(qd.iter());
-        for body in test_bodies(&model) {
-            let offset = Vector3::new(r_f(&mut r), r_f(&mut r), r_f(&mut r));
-            let jstar = gjm::generalized_jacobian(&model, &mut data, &x, body, &offset).unwrap();
+        let xd0 = zero_momentum_base_velocity(&h0, &h0m, &qd);
+        let u = velocity(xd0.as_slice(), qd.as_slice());
+        for body in test_bodies(model) {
+            let offset = Vector3::new(r_f(r), r_f(r), r_f(r));
+            let jstar = gjm::generalized_jacobian(model, data, x, body, &offset).unwrap();
             // Dense J_mX − J_0X H0⁻¹ H0m (eq. 110).
-            kinematics::forward_kinematics(&model, &mut data, &x).unwrap();
-            let (j0x, jmx) = kinematics::point_jacobians(&model, &data, body, &offset).unwrap();
+            kinematics::forward_kinematics(model, data, x).unwrap();
+            let (j0x, jmx) = kinematics::point_jacobians(model, data, body, &offset).unwrap();
             let reference = &jmx - dyn6(&j0x) * h0_solve(&h0, &h0m);
             let e = rel_err(&jstar, &reference);
             assert!(e < TOL, "trial {trial}, body {body}: J* vs dense formula: {e:e}");
@@ -310,7 +286,7 @@ fn generalized_jacobian_equals_the_dense_formula_and_the_zero_momentum_twist() {
             assert!(rel_err(&jmx, &reference) > 1e-3, "trial {trial}, body {body}: J_0X H0^-1 H0m is negligible");
             // J* q̇ is the point twist of the recursion at the base velocity of eq. 109, and
             // that motion has zero momentum by the body-by-body sum.
-            let (twist, mom) = recursive_point_twist(&model, &mut data, &x, &u, body, &offset);
+            let (twist, mom) = recursive_point_twist(model, data, x, &u, body, &offset);
             let scale = xd0.abs().max() * 1e3 + qd.abs().max();
             assert!(mom.linear.amax() < 1e-12 * scale && mom.angular_about_origin.amax() < 1e-11 * scale, "trial {trial}: momentum {mom:?}");
             let jq = DVector::from_column_slice((&jstar * &qd).as_slice());
@@ -319,14 +295,13 @@ fn generalized_jacobian_equals_the_dense_formula_and_the_zero_momentum_twist() {
             let e = rel_err_v(&jq, &tw);
             assert!(e < TOL, "trial {trial}, body {body}: J* q̇ vs recursive twist: {e:e}");
             // ... and the central differences of the point's position and attitude.
-            let fd = DVector::from_column_slice(finite_difference_twist(&model, &mut data, &x, &u, body, &offset).as_slice());
+            let fd = DVector::from_column_slice(finite_difference_twist(model, data, x, &u, body, &offset).as_slice());
             let e = rel_err_v(&jq, &fd);
             assert!(e < 1e-7, "trial {trial}, body {body}: J* q̇ vs finite differences: {e:e}");
             points += 1;
         }
-    }
+    });
     assert!(points >= 60);
-    seen.assert_all();
 }
 
 fn r_f(r: &mut rand_chacha::ChaCha8Rng) -> f64 {
@@ -335,72 +310,52 @@ fn r_f(r: &mut rand_chacha::ChaCha8Rng) -> f64 {
 
 #[test]
 fn base_velocity_from_momentum_gives_the_system_that_momentum() {
-    let mut r = common::rng(106);
-    let mut seen = Coverage::default();
-    for trial in 0..24 {
-        let model = random_moving_model(&mut r, 2 + trial % 10);
-        seen.see(&model);
-        let mut data = Data::new(&model);
-        let (x, _) = common::random_state(&mut r, &model);
-        let qd = common::random_vector(&mut r, model.n_dof(), 1.0);
-        let p = Vector3::from_column_slice(&common::random_vector(&mut r, 3, 50.0));
-        let l = Vector3::from_column_slice(&common::random_vector(&mut r, 3, 50.0));
-        let xd0 = gjm::base_velocity_from_momentum(&model, &mut data, &x, &qd, &p, &l).unwrap();
-        let mut u: Vec<f64> = xd0.as_slice().to_vec();
-        u.extend(&qd);
-        let mom = momentum::momentum(&model, &mut data, &x, &u).unwrap();
+    on_random_trees(106, 24, 10, |trial, r, model, data, x, _| {
+        let qd = common::random_vector(r, model.n_dof(), 1.0);
+        let p = Vector3::from_column_slice(&common::random_vector(r, 3, 50.0));
+        let l = Vector3::from_column_slice(&common::random_vector(r, 3, 50.0));
+        let xd0 = gjm::base_velocity_from_momentum(model, data, x, &qd, &p, &l).unwrap();
+        let u = velocity(xd0.as_slice(), &qd);
+        let mom = momentum::momentum(model, data, x, &u).unwrap();
         let scale = p.amax().max(l.amax());
         assert!((mom.linear - p).amax() < TOL * scale * 10.0, "trial {trial}: P {} vs {p}", mom.linear);
         assert!((mom.angular_about_origin - l).amax() < TOL * scale * 10.0 * (1.0 + x[..3].iter().map(|v| v.abs()).fold(0.0, f64::max)), "trial {trial}: L {} vs {l}", mom.angular_about_origin);
         // The dense route: H0⁻¹ (M0 − H0m q̇), M0 = [P; L_origin − r0 × P].
-        let (h0, h0m, _) = paper_blocks(&model, &mut data, &x);
-        let r0 = Vector3::new(x[0], x[1], x[2]);
-        let lb = l - r0.cross(&p);
-        let m0 = DMatrix::from_column_slice(6, 1, &[p.x, p.y, p.z, lb.x, lb.y, lb.z]);
+        let (h0, h0m, _) = paper_blocks(model, data, x);
+        let m0 = base_momentum(x, &p, &l);
         let reference = h0_solve(&h0, &(m0 - &h0m * DMatrix::from_column_slice(qd.len(), 1, &qd)));
         let e = rel_err(&DMatrix::from_column_slice(6, 1, xd0.as_slice()), &reference);
         assert!(e < TOL, "trial {trial}: base velocity vs dense formula: {e:e}");
-    }
-    seen.assert_all();
+    });
 }
 
 #[test]
 fn momentum_twist_is_the_base_jacobian_times_h0_inverse_momentum() {
-    let mut r = common::rng(107);
-    let mut seen = Coverage::default();
-    for trial in 0..24 {
-        let model = random_moving_model(&mut r, 2 + trial % 10);
-        seen.see(&model);
-        let mut data = Data::new(&model);
-        let (x, _) = common::random_state(&mut r, &model);
-        let qd = DVector::from_column_slice(&common::random_vector(&mut r, model.n_dof(), 1.0));
-        let p = Vector3::from_column_slice(&common::random_vector(&mut r, 3, 50.0));
-        let l = Vector3::from_column_slice(&common::random_vector(&mut r, 3, 50.0));
-        let (h0, _, _) = paper_blocks(&model, &mut data, &x);
-        let r0 = Vector3::new(x[0], x[1], x[2]);
-        let lb = l - r0.cross(&p);
-        let m0 = DMatrix::from_column_slice(6, 1, &[p.x, p.y, p.z, lb.x, lb.y, lb.z]);
-        for body in test_bodies(&model) {
-            let offset = Vector3::new(r_f(&mut r), r_f(&mut r), r_f(&mut r));
-            let mt = gjm::momentum_twist(&model, &mut data, &x, body, &offset, &p, &l).unwrap();
-            kinematics::forward_kinematics(&model, &mut data, &x).unwrap();
-            let (j0x, _) = kinematics::point_jacobians(&model, &data, body, &offset).unwrap();
+    on_random_trees(107, 24, 10, |trial, r, model, data, x, _| {
+        let qd = DVector::from_column_slice(&common::random_vector(r, model.n_dof(), 1.0));
+        let p = Vector3::from_column_slice(&common::random_vector(r, 3, 50.0));
+        let l = Vector3::from_column_slice(&common::random_vector(r, 3, 50.0));
+        let (h0, _, _) = paper_blocks(model, data, x);
+        let m0 = base_momentum(x, &p, &l);
+        for body in test_bodies(model) {
+            let offset = Vector3::new(r_f(r), r_f(r), r_f(r));
+            let mt = gjm::momentum_twist(model, data, x, body, &offset, &p, &l).unwrap();
+            kinematics::forward_kinematics(model, data, x).unwrap();
+            let (j0x, _) = kinematics::point_jacobians(model, data, body, &offset).unwrap();
             let reference = dyn6(&j0x) * h0_solve(&h0, &m0);
             let e = rel_err(&DMatrix::from_column_slice(6, 1, mt.as_slice()), &reference);
             assert!(e < TOL, "trial {trial}, body {body}: momentum twist vs dense formula: {e:e}");
             // With momentum M0 the point twist is J* q̇ + J_0X H0⁻¹ M0 (eq. 109 generalized).
-            let xd0 = gjm::base_velocity_from_momentum(&model, &mut data, &x, qd.as_slice(), &p, &l).unwrap();
-            let mut u: Vec<f64> = xd0.as_slice().to_vec();
-            u.extend(qd.iter());
-            let jstar = gjm::generalized_jacobian(&model, &mut data, &x, body, &offset).unwrap();
+            let xd0 = gjm::base_velocity_from_momentum(model, data, x, qd.as_slice(), &p, &l).unwrap();
+            let u = velocity(xd0.as_slice(), qd.as_slice());
+            let jstar = gjm::generalized_jacobian(model, data, x, body, &offset).unwrap();
             let predicted = DVector::from_column_slice((&jstar * &qd).as_slice()) + DVector::from_column_slice(mt.as_slice());
-            let (twist, _) = recursive_point_twist(&model, &mut data, &x, &u, body, &offset);
+            let (twist, _) = recursive_point_twist(model, data, x, &u, body, &offset);
             let e = rel_err_v(&predicted, &DVector::from_column_slice(twist.as_slice()));
             assert!(e < TOL * 10.0, "trial {trial}, body {body}: J* q̇ + momentum twist vs recursive twist: {e:e}");
             assert!(mt.norm() > 1e-3 * twist.norm(), "trial {trial}: the momentum term is negligible");
         }
-    }
-    seen.assert_all();
+    });
 }
 
 #[test]

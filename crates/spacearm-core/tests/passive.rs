@@ -14,12 +14,12 @@
 
 mod common;
 
-use nalgebra::{DMatrix, DVector, Vector6};
+use nalgebra::{DMatrix, Vector6};
 use spacearm_core::algorithms::aba::aba;
 use spacearm_core::algorithms::dynamics::forward_dynamics_via_mass_matrix;
 use spacearm_core::algorithms::passive::{passive_forces, spring_energy};
 use spacearm_core::algorithms::rnea::rnea;
-use spacearm_core::control::{Command, ControlContext, Controller, ZeroTorque};
+use spacearm_core::control::{Command, Controller, ZeroTorque};
 use spacearm_core::derivatives::{forward_dynamics_derivatives, linearize, DerivativeData, LinearizationInputs};
 use spacearm_core::gjm::{generalized_inertia, reduced_forward_dynamics};
 use spacearm_core::io::toml::{model_from_toml_str, model_to_toml};
@@ -112,16 +112,10 @@ fn forward_dynamics_jacobians_with_springs_match_central_differences() {
     let fd = |x: &[f64], u: &[f64]| aba(&sprung, &mut Data::new(&sprung), x, u, &f, &[]).unwrap().clone();
     let h = 1e-6;
     for j in 0..n {
-        let (mut xp, mut xm) = (x.clone(), x.clone());
-        xp[7 + j] += h;
-        xm[7 + j] -= h;
-        let col: DVector<f64> = (fd(&xp, &u) - fd(&xm, &u)) / (2.0 * h);
+        let col = common::central_flat(|y| fd(y, &u), &x, 7 + j, h);
         let e = rel(dx.column(6 + j).as_slice(), col.as_slice());
         assert!(e < 1e-6, "∂u̇/∂q_{j}: {e:e}");
-        let (mut up, mut um) = (u.clone(), u.clone());
-        up[6 + j] += h;
-        um[6 + j] -= h;
-        let col: DVector<f64> = (fd(&x, &up) - fd(&x, &um)) / (2.0 * h);
+        let col = common::central_flat(|w| fd(&x, w), &u, 6 + j, h);
         let e = rel(du.column(6 + j).as_slice(), col.as_slice());
         assert!(e < 1e-6, "∂u̇/∂q̇_{j}: {e:e}");
     }
@@ -133,20 +127,7 @@ const BASE_INERTIA: [[f64; 3]; 3] = [[8.0, 0.0, 0.0], [0.0, 9.0, 0.0], [0.0, 0.0
 /// with a spring `k` (N/m) and damper `c` (N·s/m) about `rest`.
 fn spring_mass(k: f64, c: f64, rest: f64) -> Model {
     let mut b = ModelBuilder::new("spring-mass", "base", 100.0, BASE_INERTIA).unwrap();
-    b.add_link(LinkSpec {
-        name: "slug".into(),
-        parent: "base".into(),
-        joint_name: None,
-        kind: JointType::Prismatic,
-        origin_in_parent: [0.5, 0.0, 0.0],
-        rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-        axis: [1.0, 0.0, 0.0],
-        com_from_joint: [0.0, 0.0, 0.0],
-        mass: 5.0,
-        inertia: [[1e-3, 0.0, 0.0], [0.0, 1e-3, 0.0], [0.0, 0.0, 1e-3]],
-        limits: JointLimits::unlimited(),
-    })
-    .unwrap();
+    b.add_link(LinkSpec::new("slug", "base", JointType::Prismatic, [0.5, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0], 5.0, [1e-3, 1e-3, 1e-3])).unwrap();
     b.set_joint_dynamics("slug", JointDynamics { actuated: false, stiffness: k, damping: c, rest }).unwrap();
     b.build().unwrap()
 }
@@ -158,20 +139,7 @@ const HINGE: (f64, f64, f64, f64, f64, f64) = (100.0, 10.0, 10.0, 0.8, 1.0, 0.5)
 fn hinged(k: f64) -> Model {
     let (_, _, m, i1, a, bb) = HINGE;
     let mut b = ModelBuilder::new("hinged", "base", 100.0, BASE_INERTIA).unwrap();
-    b.add_link(LinkSpec {
-        name: "panel".into(),
-        parent: "base".into(),
-        joint_name: None,
-        kind: JointType::Revolute,
-        origin_in_parent: [a, 0.0, 0.0],
-        rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-        axis: [0.0, 0.0, 1.0],
-        com_from_joint: [bb, 0.0, 0.0],
-        mass: m,
-        inertia: [[0.1, 0.0, 0.0], [0.0, 0.75, 0.0], [0.0, 0.0, i1]],
-        limits: JointLimits::unlimited(),
-    })
-    .unwrap();
+    b.add_link(LinkSpec::new("panel", "base", JointType::Revolute, [a, 0.0, 0.0], [0.0, 0.0, 1.0], [bb, 0.0, 0.0], m, [0.1, 0.75, i1])).unwrap();
     b.set_joint_dynamics("panel", JointDynamics { actuated: false, stiffness: k, damping: 0.0, rest: 0.0 }).unwrap();
     b.build().unwrap()
 }
@@ -286,29 +254,13 @@ fn hinged_link_on_a_free_base_oscillates_at_the_reduced_inertia_frequency() {
     assert!(linearized_frequency(&hinged(0.0), &x0) < 1e-9);
 }
 
-/// A constant joint command.
-struct Push(f64);
-
-impl Controller for Push {
-    fn name(&self) -> &str {
-        "push"
-    }
-    fn setup(&mut self, _ctx: &ControlContext<'_>) -> Result<()> {
-        Ok(())
-    }
-    fn command(&mut self, _t: f64, _x: &[f64], _u: &[f64], out: &mut Command) -> Result<()> {
-        out.tau.fill(self.0);
-        Ok(())
-    }
-}
-
 #[test]
 fn a_passive_joint_gets_no_torque_and_is_no_wheel() {
     let model = hinged(30.0);
     let mut x0 = presets::initial_configuration(&model);
     x0[7] = 0.05;
     let u0 = vec![0.0; model.nu()];
-    let pushed = run(&model, &x0, &u0, 0.5, 1e-2, &mut Push(3.0));
+    let pushed = run(&model, &x0, &u0, 0.5, 1e-2, &mut common::Scripted { name: "push", command: |_, out: &mut Command| out.tau.fill(3.0) });
     let free = run(&model, &x0, &u0, 0.5, 1e-2, &mut ZeroTorque);
     assert!(pushed.records.tau.iter().all(|t| *t == 0.0), "applied torque on a passive joint");
     assert!(pushed.records.tau_cmd.iter().all(|t| *t == 3.0), "the command is recorded as given");
@@ -316,20 +268,7 @@ fn a_passive_joint_gets_no_torque_and_is_no_wheel() {
     assert!(pushed.events.is_empty(), "a passive joint has no actuator to saturate");
     // A symmetric rotor on a passive joint is a free spinning body, not a wheel.
     let mut b = ModelBuilder::new("rotor", "base", 100.0, BASE_INERTIA).unwrap();
-    b.add_link(LinkSpec {
-        name: "rotor".into(),
-        parent: "base".into(),
-        joint_name: None,
-        kind: JointType::Revolute,
-        origin_in_parent: [0.1, 0.0, 0.0],
-        rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-        axis: [0.0, 0.0, 1.0],
-        com_from_joint: [0.0; 3],
-        mass: 1.0,
-        inertia: [[0.03, 0.0, 0.0], [0.0, 0.03, 0.0], [0.0, 0.0, 0.05]],
-        limits: JointLimits::unlimited(),
-    })
-    .unwrap();
+    b.add_link(LinkSpec::new("rotor", "base", JointType::Revolute, [0.1, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, 0.0], 1.0, [0.03, 0.03, 0.05])).unwrap();
     assert_eq!(detect_reaction_wheels(&b.build().unwrap()), vec![0]);
     b.set_joint_dynamics("rotor", JointDynamics { actuated: false, ..JointDynamics::default() }).unwrap();
     assert!(detect_reaction_wheels(&b.build().unwrap()).is_empty());
@@ -340,20 +279,7 @@ fn bad_joint_dynamics_are_refused_with_the_field_named() {
     let model_b = || {
         let mut b = ModelBuilder::new("m", "base", 100.0, BASE_INERTIA).unwrap();
         for (name, kind) in [("arm", JointType::Revolute), ("bolt", JointType::Fixed)] {
-            b.add_link(LinkSpec {
-                name: name.into(),
-                parent: "base".into(),
-                joint_name: None,
-                kind,
-                origin_in_parent: [0.5, 0.0, 0.0],
-                rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-                axis: [0.0, 0.0, 1.0],
-                com_from_joint: [0.5, 0.0, 0.0],
-                mass: 2.0,
-                inertia: [[0.01, 0.0, 0.0], [0.0, 0.4, 0.0], [0.0, 0.0, 0.4]],
-                limits: JointLimits::unlimited(),
-            })
-            .unwrap();
+            b.add_link(LinkSpec::new(name, "base", kind, [0.5, 0.0, 0.0], [0.0, 0.0, 1.0], [0.5, 0.0, 0.0], 2.0, [0.01, 0.4, 0.4])).unwrap();
         }
         b
     };

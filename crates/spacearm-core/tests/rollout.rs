@@ -2,34 +2,16 @@
 //! the thread count, per-rollout plants and controllers, and a failed rollout reported in its
 //! slot while the others run on. Also the step-by-step RK4 stepper against `simulate`.
 
+mod common;
+
 use spacearm_core::control::mismatch::{perturbed_model, Slosh};
-use spacearm_core::control::{Command, ComputedTorque, ControlContext, Controller, JointPd};
+use spacearm_core::control::{Command, ComputedTorque, Controller, JointPd};
 use spacearm_core::model::presets;
 use spacearm_core::sim::reference::JointReference;
 use spacearm_core::sim::rollout::{rollout, RolloutSpec};
 use spacearm_core::sim::simulate::{simulate, Plant, SimOptions, SimResult};
 use spacearm_core::sim::stepper::Rk4Stepper;
 use spacearm_core::{Model, SpacearmError};
-
-/// A controller that commands joint torques that are NaN from `t_bad` on.
-struct NanAfter {
-    t_bad: f64,
-}
-
-impl Controller for NanAfter {
-    fn name(&self) -> &str {
-        "nan_after"
-    }
-    fn setup(&mut self, _ctx: &ControlContext<'_>) -> spacearm_core::Result<()> {
-        Ok(())
-    }
-    fn command(&mut self, t: f64, _x: &[f64], _u: &[f64], out: &mut Command) -> spacearm_core::Result<()> {
-        if t >= self.t_bad {
-            out.tau.fill(f64::NAN);
-        }
-        Ok(())
-    }
-}
 
 fn initial_state(model: &Model, k: usize) -> (Vec<f64>, Vec<f64>) {
     let x = presets::initial_configuration(model);
@@ -89,7 +71,15 @@ fn a_failed_rollout_is_reported_and_the_others_run_on() {
     let opts = SimOptions { duration: 0.2, dt: 1e-3, ..SimOptions::default() };
     let make = |k: usize| -> Box<dyn Controller> {
         if k == 1 {
-            Box::new(NanAfter { t_bad: 0.1 })
+            // Joint torques that are NaN from t = 0.1 s on.
+            Box::new(common::Scripted {
+                name: "nan_after",
+                command: |t, out: &mut Command| {
+                    if t >= 0.1 {
+                        out.tau.fill(f64::NAN);
+                    }
+                },
+            })
         } else {
             Box::new(ComputedTorque::new(vec![10.0], vec![5.0], JointReference::constant(vec![0.1; 6]).unwrap(), None))
         }

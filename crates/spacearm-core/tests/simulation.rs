@@ -4,9 +4,11 @@
 //! laws (dP/dt = F0, dL/dt = applied couple: closed forms independent of the ABA), and
 //! actuator saturation.
 
+mod common;
+
 use nalgebra::Vector3;
 use spacearm_core::sim::actuators::{SaturationKind, ThrusterLimits};
-use spacearm_core::control::{Command, ComputedTorque, ControlContext, Controller, ZeroTorque};
+use spacearm_core::control::{Command, ComputedTorque, Controller, ZeroTorque};
 use spacearm_core::sim::integrate::IntegratorKind;
 use spacearm_core::sim::modes::{Conserved, Mode};
 use spacearm_core::model::presets;
@@ -15,22 +17,13 @@ use spacearm_core::sim::simulate::{simulate, SimOptions, SimResult};
 use spacearm_core::{JointLimits, JointType, LinkSpec, Model, ModelBuilder};
 
 /// A constant command: joint torques and a base wrench.
-struct Constant {
-    tau: Vec<f64>,
-    wrench: [f64; 6],
-}
-
-impl Controller for Constant {
-    fn name(&self) -> &str {
-        "constant"
-    }
-    fn setup(&mut self, _ctx: &ControlContext<'_>) -> spacearm_core::Result<()> {
-        Ok(())
-    }
-    fn command(&mut self, _t: f64, _x: &[f64], _u: &[f64], out: &mut Command) -> spacearm_core::Result<()> {
-        out.tau.copy_from_slice(&self.tau);
-        out.base_wrench = nalgebra::Vector6::from_column_slice(&self.wrench);
-        Ok(())
+fn constant(tau: Vec<f64>, wrench: [f64; 6]) -> common::Scripted<impl FnMut(f64, &mut Command)> {
+    common::Scripted {
+        name: "constant",
+        command: move |_, out: &mut Command| {
+            out.tau.copy_from_slice(&tau);
+            out.base_wrench = nalgebra::Vector6::from_column_slice(&wrench);
+        },
     }
 }
 
@@ -153,7 +146,7 @@ fn modes_apply_only_their_wrench_and_obey_newton_euler() {
     let tq = Vector3::from(tq);
     for mode in [Mode::Floating, Mode::RotationFloating, Mode::RotationFlying, Mode::TranslationFlying, Mode::Flying] {
         let opts = SimOptions { mode, duration, dt: 2e-3, ..SimOptions::default() };
-        let r = run(&model, &x0, &u0, &opts, &mut Constant { tau: tau.clone(), wrench });
+        let r = run(&model, &x0, &u0, &opts, &mut constant(tau.clone(), wrench));
         let k_last = r.records.n_samples - 1;
         let p0 = row3(&r.records.linear_momentum, 0);
         let p1 = row3(&r.records.linear_momentum, k_last);
@@ -207,19 +200,7 @@ fn modes_apply_only_their_wrench_and_obey_newton_euler() {
 /// A 100 kg base with one reaction wheel about z (rotor 0.05 kg·m², limits 0.2 N·m, 5 rad/s).
 fn one_wheel() -> Model {
     let mut b = ModelBuilder::new("wheel", "base", 100.0, [[8.0, 0.0, 0.0], [0.0, 9.0, 0.0], [0.0, 0.0, 10.0]]).unwrap();
-    b.add_link(LinkSpec {
-        name: "wheel1".into(),
-        parent: "base".into(),
-        joint_name: Some("wheel1_joint".into()),
-        kind: JointType::Revolute,
-        origin_in_parent: [0.1, 0.0, 0.0],
-        rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-        axis: [0.0, 0.0, 1.0],
-        com_from_joint: [0.0, 0.0, 0.0],
-        mass: 1.0,
-        inertia: [[0.03, 0.0, 0.0], [0.0, 0.03, 0.0], [0.0, 0.0, 0.05]],
-        limits: JointLimits { lower: f64::NEG_INFINITY, upper: f64::INFINITY, velocity: 5.0, effort: 0.2 },
-    })
+    b.add_link(LinkSpec { limits: JointLimits { lower: f64::NEG_INFINITY, upper: f64::INFINITY, velocity: 5.0, effort: 0.2 }, ..LinkSpec::new("wheel1", "base", JointType::Revolute, [0.1, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, 0.0], 1.0, [0.03, 0.03, 0.05]) })
     .unwrap();
     b.build().unwrap()
 }
@@ -231,7 +212,7 @@ fn wheel_torque_and_speed_limits_clamp_and_record_events() {
     let u0 = vec![0.0; model.nu()];
     let dt = 2e-3;
     let opts = SimOptions { mode: Mode::RotationFloating, duration: 2.0, dt, ..SimOptions::default() };
-    let r = run(&model, &x0, &u0, &opts, &mut Constant { tau: vec![1.0], wrench: [0.0; 6] });
+    let r = run(&model, &x0, &u0, &opts, &mut constant(vec![1.0], [0.0; 6]));
     assert_eq!(r.wheel_dofs, vec![0]);
     // Torque limit: hit from the first step, applied torque exactly the limit.
     let first = r.events[0];
@@ -265,7 +246,7 @@ fn thruster_limits_clamp_each_axis_and_record_events() {
     let u0 = vec![0.0; model.nu()];
     let lim = ThrusterLimits::new(Vector3::new(1.0, 1.0, 1.0), Vector3::new(0.5, 0.5, 0.5)).unwrap();
     let opts = SimOptions { mode: Mode::Flying, duration: 0.1, dt: 1e-3, thrusters: Some(lim), ..SimOptions::default() };
-    let r = run(&model, &x0, &u0, &opts, &mut Constant { tau: vec![0.0; 4], wrench: [3.0, -0.5, 0.0, 0.0, 0.0, -2.0] });
+    let r = run(&model, &x0, &u0, &opts, &mut constant(vec![0.0; 4], [3.0, -0.5, 0.0, 0.0, 0.0, -2.0]));
     assert_eq!(&r.records.base_wrench[0..6], &[1.0, -0.5, 0.0, 0.0, 0.0, -0.5]);
     let n = model.n_dof();
     let kinds: Vec<(usize, SaturationKind)> = r.events.iter().map(|e| (e.actuator, e.kind)).collect();

@@ -69,20 +69,8 @@ fn with_passive_joint() -> Model {
 fn wheeled() -> Model {
     let (mut b, _) = spatial6_builder("w");
     for (i, axis) in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]].into_iter().enumerate() {
-        b.add_link(LinkSpec {
-            name: format!("wheel{i}"),
-            parent: "base".into(),
-            joint_name: None,
-            kind: JointType::Revolute,
-            origin_in_parent: [0.0, 0.0, -0.3],
-            rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-            axis,
-            com_from_joint: [0.0; 3],
-            mass: 1.0,
-            inertia: [[0.3, 0.0, 0.0], [0.0, 0.3, 0.0], [0.0, 0.0, 0.3]],
-            limits: JointLimits { lower: f64::NEG_INFINITY, upper: f64::INFINITY, velocity: 100.0, effort: 1.0 },
-        })
-        .unwrap();
+        let wheel = LinkSpec::new(&format!("wheel{i}"), "base", JointType::Revolute, [0.0, 0.0, -0.3], axis, [0.0; 3], 1.0, [0.3, 0.3, 0.3]);
+        b.add_link(LinkSpec { limits: JointLimits { lower: f64::NEG_INFINITY, upper: f64::INFINITY, velocity: 100.0, effort: 1.0 }, ..wheel }).unwrap();
     }
     b.build().unwrap()
 }

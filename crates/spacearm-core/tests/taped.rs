@@ -14,7 +14,7 @@ use spacearm_core::math::rotations::quaternion_rate;
 use spacearm_core::math::tape::Tape;
 use spacearm_core::model::presets;
 use spacearm_core::taped::{record, TapedFunction};
-use spacearm_core::{Data, JointLimits, JointType, LinkSpec, Model, ModelBuilder};
+use spacearm_core::{Data, JointType, LinkSpec, Model, ModelBuilder};
 
 fn assert_close(got: &[f64], want: &[f64], what: &str) {
     assert_eq!(got.len(), want.len(), "{what}: length");
@@ -180,20 +180,8 @@ fn tapes_are_linear_in_the_size_for_the_recursions() {
         let mut b = ModelBuilder::new("chain", "base", 500.0, diag(50.0, 60.0, 70.0)).unwrap();
         for i in 0..n {
             let axis = [[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]][i % 3];
-            b.add_link(LinkSpec {
-                name: format!("l{i}"),
-                parent: if i == 0 { "base".into() } else { format!("l{}", i - 1) },
-                joint_name: None,
-                kind: JointType::Revolute,
-                origin_in_parent: [if i == 0 { 1.0 } else { 0.3 }, 0.0, 0.0],
-                rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-                axis,
-                com_from_joint: [0.15, 0.0, 0.0],
-                mass: 2.0,
-                inertia: diag(0.01, 0.02, 0.02),
-                limits: JointLimits::unlimited(),
-            })
-            .unwrap();
+            let parent = if i == 0 { "base".to_string() } else { format!("l{}", i - 1) };
+            b.add_link(LinkSpec::new(&format!("l{i}"), &parent, JointType::Revolute, [if i == 0 { 1.0 } else { 0.3 }, 0.0, 0.0], axis, [0.15, 0.0, 0.0], 2.0, [0.01, 0.02, 0.02])).unwrap();
         }
         b.build().unwrap()
     };

@@ -22,19 +22,7 @@ fn builder() -> ModelBuilder {
 
 /// A valid revolute link `name` on `parent`.
 fn link(name: &str, parent: &str) -> LinkSpec {
-    LinkSpec {
-        name: name.into(),
-        parent: parent.into(),
-        joint_name: None,
-        kind: JointType::Revolute,
-        origin_in_parent: [0.5, 0.1, 0.0],
-        rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-        axis: [0.0, 0.0, 1.0],
-        com_from_joint: [0.4, 0.0, 0.0],
-        mass: 5.0,
-        inertia: [[0.01, 0.0, 0.0], [0.0, 0.3, 0.0], [0.0, 0.0, 0.3]],
-        limits: JointLimits::unlimited(),
-    }
+    LinkSpec::new(name, parent, JointType::Revolute, [0.5, 0.1, 0.0], [0.0, 0.0, 1.0], [0.4, 0.0, 0.0], 5.0, [0.01, 0.3, 0.3])
 }
 
 fn with(name: &str, f: impl FnOnce(&mut LinkSpec)) -> LinkSpec {
@@ -341,51 +329,41 @@ fn links_must_come_after_their_parents() {
 
 #[test]
 fn a_moving_joint_must_carry_mass_or_inertia() {
-    let massless = |s: &mut LinkSpec| {
-        s.mass = 0.0;
-        s.inertia = [[0.0; 3]; 3];
+    // A link of `kind` on the bus with zero mass and inertia.
+    let massless = |name: &str, kind: JointType| {
+        with(name, |s| {
+            s.kind = kind;
+            s.mass = 0.0;
+            s.inertia = [[0.0; 3]; 3];
+        })
     };
     // A massless leaf on a moving joint.
     let mut b = builder();
     b.add_link(link("arm", "bus")).unwrap();
-    b.add_link(with("ghost", massless).tap_parent("arm")).unwrap();
+    b.add_link(massless("ghost", JointType::Revolute).tap_parent("arm")).unwrap();
     let e = b.build().unwrap_err();
     refused(e, ModelItem::Link(1), ModelField::Mass, &["joint 'ghost_joint' moves link 'ghost'", "zero mass and inertia"]);
     // A massless link carrying only massless fixed links is as empty.
     let mut b = builder();
-    b.add_link(with("ghost", massless)).unwrap();
-    b.add_link(with("plate", |s| {
-        massless(s);
-        s.kind = JointType::Fixed
-    })
-    .tap_parent("ghost"))
-    .unwrap();
+    b.add_link(massless("ghost", JointType::Revolute)).unwrap();
+    b.add_link(massless("plate", JointType::Fixed).tap_parent("ghost")).unwrap();
     refused(b.build().unwrap_err(), ModelItem::Link(0), ModelField::Mass, &["joint 'ghost_joint' moves link 'ghost'"]);
     // Prismatic joints too.
     let mut b = builder();
-    b.add_link(with("slider", |s| {
-        massless(s);
-        s.kind = JointType::Prismatic
-    }))
-    .unwrap();
+    b.add_link(massless("slider", JointType::Prismatic)).unwrap();
     refused(b.build().unwrap_err(), ModelItem::Link(0), ModelField::Mass, &["link 'slider'"]);
     // The nearest valid: something downstream has mass, or the link has inertia only, or the
     // massless link is fixed.
     let mut b = builder();
-    b.add_link(with("ghost", massless)).unwrap();
+    b.add_link(massless("ghost", JointType::Revolute)).unwrap();
     b.add_link(link("hand", "ghost")).unwrap();
     assert_eq!(b.build().unwrap().n_dof(), 2);
     // ... also when what is downstream has only mass (a point mass) or only inertia (a rotor),
     // through a fixed link: each sum is carried up the tree on its own.
     for (mass, inertia) in [(2.0, 0.0), (0.0, 1e-3)] {
         let mut b = builder();
-        b.add_link(with("ghost", massless)).unwrap();
-        b.add_link(with("mount", |s| {
-            massless(s);
-            s.kind = JointType::Fixed
-        })
-        .tap_parent("ghost"))
-        .unwrap();
+        b.add_link(massless("ghost", JointType::Revolute)).unwrap();
+        b.add_link(massless("mount", JointType::Fixed).tap_parent("ghost")).unwrap();
         b.add_link(with("bob", |s| {
             s.kind = JointType::Fixed;
             s.mass = mass;
@@ -403,11 +381,7 @@ fn a_moving_joint_must_carry_mass_or_inertia() {
     .unwrap();
     assert_eq!(b.build().unwrap().n_dof(), 1);
     let mut b = builder();
-    b.add_link(with("mount", |s| {
-        massless(s);
-        s.kind = JointType::Fixed
-    }))
-    .unwrap();
+    b.add_link(massless("mount", JointType::Fixed)).unwrap();
     assert_eq!(b.build().unwrap().n_dof(), 0);
 }
 
@@ -474,4 +448,19 @@ fn initial_q_must_have_one_finite_bounded_entry_per_moving_joint() {
     refused(b.build().unwrap_err(), ModelItem::Model, ModelField::InitialQ, &["N = 1 entries", "got 2"]);
     b.set_initial_q(vec![0.25]);
     assert_eq!(b.build().unwrap().initial_q(), &[0.25]);
+}
+
+#[test]
+fn joint_type_names_are_read_back_and_a_wrong_name_is_refused() {
+    for kind in [JointType::Revolute, JointType::Prismatic, JointType::Fixed] {
+        assert_eq!(JointType::from_name(kind.as_str()).unwrap(), kind);
+    }
+    for bad in ["ball", "Revolute", ""] {
+        match JointType::from_name(bad) {
+            Err(SpacearmError::InvalidModel(m)) => {
+                assert!(m.contains("'revolute', 'prismatic' or 'fixed'") && m.contains(&format!("got '{bad}'")), "{m}")
+            }
+            other => panic!("{bad:?}: {other:?}"),
+        }
+    }
 }

@@ -7,7 +7,7 @@ use nalgebra::{Vector3, Vector6};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use spacearm_core::analysis::{
-    free_floating_kinematics as ffk, reach, reaction_null_space as rns, redundancy, scan, singularity, workspace, Task,
+    free_floating_kinematics as ffk, reach, reaction_null_space as rns, redundancy, scan, singularity, Task,
 };
 use spacearm_core::SpacearmError;
 
@@ -75,43 +75,6 @@ pub fn analysis_scan<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, samples: &Boun
     Ok(PyScanResult::new(py, &s))
 }
 
-/// Workspace shells of a scan's samples: the constructor of `WorkspaceShells` (a scan of M
-/// samples: σ_min and det of J*, the point from the system CM and from the base CM).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn shells<'py>(
-    py: Python<'py>,
-    sigma_min_generalized: Vec<f64>,
-    det_generalized: Vec<f64>,
-    point_from_com: &Bound<'py, PyAny>,
-    point_from_base: &Bound<'py, PyAny>,
-    singular_threshold: f64,
-    radial_resolution: f64,
-    grid: Option<(usize, usize)>,
-) -> PyResult<PyWorkspaceShells> {
-    let (com, m1, c1) = matrix_arg(point_from_com, "point_from_com")?;
-    let (base, m2, c2) = matrix_arg(point_from_base, "point_from_base")?;
-    let m = sigma_min_generalized.len();
-    if det_generalized.len() != m || m1 != m || m2 != m || c1 != 3 || c2 != 3 {
-        return Err(to_py_err(py, SpacearmError::Dimension { what: "scan arrays".into(), expected: format!("{m} samples (positions M×3)"), got: det_generalized.len() }));
-    }
-    let samples: Vec<scan::ScanSample> = (0..m)
-        .map(|i| scan::ScanSample {
-            sigma_min_generalized: sigma_min_generalized[i],
-            sigma_max_generalized: f64::NAN,
-            manipulability_generalized: f64::NAN,
-            det_generalized: det_generalized[i],
-            sigma_min_fixed: f64::NAN,
-            manipulability_fixed: f64::NAN,
-            det_fixed: f64::NAN,
-            point_from_base: Vector3::new(base[3 * i], base[3 * i + 1], base[3 * i + 2]),
-            point_from_com: Vector3::new(com[3 * i], com[3 * i + 1], com[3 * i + 2]),
-        })
-        .collect();
-    let grid = grid.map(|(resolution, n_joints)| workspace::GridShape { resolution, n_joints });
-    let w = workspace::workspace_shells(&samples, singular_threshold, radial_resolution, grid).or_raise(py)?;
-    Ok(PyWorkspaceShells::of(py, &w))
-}
-
 /// Reaction null space at x: `which` is "angular" or "full".
 #[pyfunction]
 pub fn analysis_reaction_null_space<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, x: &Bound<'py, PyAny>, which: &str, tolerance: f64) -> PyResult<PyReactionNullSpace> {
@@ -156,15 +119,6 @@ pub fn analysis_integrate_prescribed<'py>(
 
 pub(crate) fn strategy(py: Python<'_>, s: &str) -> PyResult<redundancy::Strategy> {
     redundancy::Strategy::from_name(s).or_raise(py)
-}
-
-/// The name `strategy` reads.
-fn strategy_name(s: redundancy::Strategy) -> &'static str {
-    match s {
-        redundancy::Strategy::Naive => "naive",
-        redundancy::Strategy::Reactionless => "reactionless",
-        redundancy::Strategy::MinimumBaseDisturbance => "minimum_disturbance",
-    }
 }
 
 /// The options of the resolved-motion-rate law (`spacearm_core::analysis::redundancy::RmrcOptions`)
@@ -220,28 +174,6 @@ pub fn analysis_rmrc_rates<'py>(
     Ok(PyRmrcRates::new(py, &r))
 }
 
-/// Closed-loop point-to-point RMRC motion (zero momentum): the constructor of `RmrcMotion`.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn move_to<'py>(
-    py: Python<'py>,
-    m: PyRef<'_, PyModel>,
-    x0: &Bound<'py, PyAny>,
-    body: usize,
-    offset: &Bound<'py, PyAny>,
-    target: &Bound<'py, PyAny>,
-    duration: f64,
-    settle: f64,
-    dt: f64,
-    options: PyRef<'_, PyRmrcOptions>,
-) -> PyResult<PyRmrcMotion> {
-    let off = vec3(offset, "offset")?;
-    let target = vec3(target, "target")?;
-    let x0 = vec_arg(x0, "x0")?;
-    let o = &options.inner;
-    let r = m.with_data(|model, data| redundancy::move_to(model, data, x0.as_slice(), body, &off, &target, duration, settle, dt, o)).or_raise(py)?;
-    Ok(PyRmrcMotion::of(py, &r, m.model.n_dof(), m.model.name().to_string(), strategy_name(o.strategy), &target))
-}
-
 /// The reach of a point from the state (x, u) after `duration` s: (system CM then, R_max or
 /// None, (plane normal, plane point) or None) — `spacearm_core::analysis::reach`.
 #[pyfunction]
@@ -265,14 +197,9 @@ pub fn analysis_reach<'py>(
 
 /// Register the analysis functions on the extension module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(analysis_singularity, m)?)?;
-    m.add_function(wrap_pyfunction!(analysis_detect, m)?)?;
-    m.add_function(wrap_pyfunction!(analysis_damping, m)?)?;
-    m.add_function(wrap_pyfunction!(analysis_joint_grid, m)?)?;
-    m.add_function(wrap_pyfunction!(analysis_scan, m)?)?;
-    m.add_function(wrap_pyfunction!(analysis_reaction_null_space, m)?)?;
-    m.add_function(wrap_pyfunction!(analysis_integrate_prescribed, m)?)?;
-    m.add_function(wrap_pyfunction!(analysis_rmrc_rates, m)?)?;
-    m.add_function(wrap_pyfunction!(analysis_reach, m)?)?;
+    add_to_module!(
+        m,
+        functions: [analysis_singularity, analysis_detect, analysis_damping, analysis_joint_grid, analysis_scan, analysis_reaction_null_space, analysis_integrate_prescribed, analysis_rmrc_rates, analysis_reach],
+    );
     Ok(())
 }

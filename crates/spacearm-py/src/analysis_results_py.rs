@@ -16,7 +16,9 @@ use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use spacearm_core::analysis::{reaction_null_space as rns, redundancy, scan, singularity, workspace};
 
-use crate::convert::{array1, dmat, dvec};
+use spacearm_core::SpacearmError;
+
+use crate::convert::{array1, dmat, dvec, matrix_arg, to_py_err, vec3, vec_arg, OrRaise};
 
 /// A numpy array's shape as Python writes it: `(3, 6)`, `(3,)`.
 fn shape_of<T: Element, D: numpy::ndarray::Dimension>(py: Python<'_>, a: &Py<PyArray<T, D>>) -> String {
@@ -35,31 +37,24 @@ pub(crate) fn row_major<'py>(py: Python<'py>, v: &[f64], rows: usize, cols: usiz
 
 /// Measures of one task Jacobian (`spacearm_core::analysis::singularity::JacobianMeasures`):
 /// its singular value decomposition and the numbers derived from it.
-#[pyclass(module = "spacearm._core", name = "JacobianMeasures", frozen)]
+#[pyclass(module = "spacearm._core", name = "JacobianMeasures", frozen, get_all)]
 pub struct PyJacobianMeasures {
     /// (m, N) float64: the task rows of the Jacobian analysed (rows of the point twist in 𝒥 per
     /// joint rate).
-    #[pyo3(get)]
     jacobian: Py<PyArray2<f64>>,
     /// (min(m, N),) float64: its singular values, decreasing; units of the Jacobian's rows.
-    #[pyo3(get)]
     singular_values: Py<PyArray1<f64>>,
     /// σ_min, the smallest singular value (the last of `singular_values`; NaN when there are none).
-    #[pyo3(get)]
     sigma_min: f64,
     /// σ_max / σ_min, dimensionless (inf at a singularity).
-    #[pyo3(get)]
     condition: f64,
     /// Yoshikawa's manipulability Π σᵢ.
-    #[pyo3(get)]
     manipulability: f64,
     /// (m, min(m, N)) float64: left singular vectors, unit columns in task space (𝒥); the last
     /// is the worst task direction.
-    #[pyo3(get)]
     task_directions: Py<PyArray2<f64>>,
     /// (N, N) float64: right singular vectors, unit columns in joint space; the columns beyond
     /// the rank span the null space (self-motions).
-    #[pyo3(get)]
     joint_directions: Py<PyArray2<f64>>,
 }
 
@@ -95,16 +90,13 @@ impl PyJacobianMeasures {
 /// `spacearm.analysis.SingularityReport`: J* (free-floating, zero momentum) and J_m (base held
 /// fixed) at one configuration (`spacearm_core::analysis::singularity::SingularityAnalysis`,
 /// with the task rows analysed).
-#[pyclass(module = "spacearm._core", name = "SingularityReport", frozen)]
+#[pyclass(module = "spacearm._core", name = "SingularityReport", frozen, get_all)]
 pub struct PySingularityReport {
     /// Measures of the task rows of J* (free-floating, zero momentum; paper eq. 110).
-    #[pyo3(get)]
     generalized: Py<PyJacobianMeasures>,
     /// Measures of the task rows of J_m (base held fixed; paper eq. 106).
-    #[pyo3(get)]
     fixed_base: Py<PyJacobianMeasures>,
     /// The twist rows analysed (0-5 of [v; ω]), a tuple.
-    #[pyo3(get)]
     task: Py<PyTuple>,
 }
 
@@ -128,19 +120,15 @@ impl PySingularityReport {
 
 /// What the singularity detector tells a resolved-motion-rate controller
 /// (`spacearm_core::analysis::singularity::Detection`).
-#[pyclass(module = "spacearm._core", name = "Detection", frozen)]
+#[pyclass(module = "spacearm._core", name = "Detection", frozen, get_all)]
 pub struct PyDetection {
     /// Smallest singular value of the task rows of J*.
-    #[pyo3(get)]
     sigma_min: f64,
     /// Condition number σ_max / σ_min, dimensionless.
-    #[pyo3(get)]
     condition: f64,
     /// Recommended damping λ(σ_min) of the damped least-squares inverse (units of σ).
-    #[pyo3(get)]
     damping: f64,
     /// σ_min < ε: inside the singular region.
-    #[pyo3(get)]
     near_singular: bool,
 }
 
@@ -165,34 +153,25 @@ impl PyDetection {
 
 /// A joint-space scan of M samples, one entry per sample in each column (the columns of
 /// `spacearm_core::analysis::scan::ScanSample`).
-#[pyclass(module = "spacearm._core", name = "ScanResult", frozen)]
+#[pyclass(module = "spacearm._core", name = "ScanResult", frozen, get_all)]
 pub struct PyScanResult {
     /// (M,) float64: smallest singular value of the task rows of J*.
-    #[pyo3(get)]
     sigma_min_generalized: Py<PyArray1<f64>>,
     /// (M,) float64: largest singular value of the task rows of J*.
-    #[pyo3(get)]
     sigma_max_generalized: Py<PyArray1<f64>>,
     /// (M,) float64: manipulability Π σᵢ of the task rows of J*.
-    #[pyo3(get)]
     manipulability_generalized: Py<PyArray1<f64>>,
     /// (M,) float64: determinant of the task rows of J* when square, else NaN.
-    #[pyo3(get)]
     det_generalized: Py<PyArray1<f64>>,
     /// (M,) float64: smallest singular value of the task rows of J_m (base held fixed).
-    #[pyo3(get)]
     sigma_min_fixed: Py<PyArray1<f64>>,
     /// (M,) float64: manipulability of the task rows of J_m.
-    #[pyo3(get)]
     manipulability_fixed: Py<PyArray1<f64>>,
     /// (M,) float64: determinant of the task rows of J_m when square, else NaN.
-    #[pyo3(get)]
     det_fixed: Py<PyArray1<f64>>,
     /// (M, 3) float64: the point from the base CM, base frame, m (the fixed-base workspace).
-    #[pyo3(get)]
     point_from_base: Py<PyArray2<f64>>,
     /// (M, 3) float64: the point from the system CM, base frame, m (the free-floating workspace).
-    #[pyo3(get)]
     point_from_com: Py<PyArray2<f64>>,
 }
 
@@ -228,25 +207,19 @@ impl PyScanResult {
 /// Radial description of the workspaces (`spacearm_core::analysis::workspace::WorkspaceShells`).
 /// Constructing one computes the shells of a scan (`analysis_py::shells`);
 /// `spacearm.analysis.Workspace` is its Python subclass (the samples, timing and figure).
-#[pyclass(module = "spacearm._core", name = "WorkspaceShells", frozen, subclass)]
+#[pyclass(module = "spacearm._core", name = "WorkspaceShells", frozen, subclass, get_all)]
 pub struct PyWorkspaceShells {
     /// (R_min, R_max) of the free-floating reachable workspace about the system CM, m.
-    #[pyo3(get)]
     reachable: (f64, f64),
     /// (min, max) distance of the point from the base CM with the base held fixed, m.
-    #[pyo3(get)]
     fixed_base: (f64, f64),
     /// (K,) float64: barycentric radii of the singular samples and crossings found, sorted, m.
-    #[pyo3(get)]
     singular_radii: Py<PyArray1<f64>>,
     /// Path-dependent shells [(a, b), ...], m.
-    #[pyo3(get)]
     path_dependent: Vec<(f64, f64)>,
     /// Path-independent shells [(a, b), ...]: the reachable shell minus the path-dependent ones, m.
-    #[pyo3(get)]
     path_independent: Vec<(f64, f64)>,
     /// The radial resolution that merged the singular radii into shells, m.
-    #[pyo3(get)]
     radial_resolution: f64,
 }
 
@@ -283,7 +256,28 @@ impl PyWorkspaceShells {
         radial_resolution: f64,
         grid: Option<(usize, usize)>,
     ) -> PyResult<Self> {
-        crate::analysis_py::shells(py, sigma_min_generalized, det_generalized, point_from_com, point_from_base, singular_threshold, radial_resolution, grid)
+        let (com, m1, c1) = matrix_arg(point_from_com, "point_from_com")?;
+        let (base, m2, c2) = matrix_arg(point_from_base, "point_from_base")?;
+        let m = sigma_min_generalized.len();
+        if det_generalized.len() != m || m1 != m || m2 != m || c1 != 3 || c2 != 3 {
+            return Err(to_py_err(py, SpacearmError::Dimension { what: "scan arrays".into(), expected: format!("{m} samples (positions M×3)"), got: det_generalized.len() }));
+        }
+        let samples: Vec<scan::ScanSample> = (0..m)
+            .map(|i| scan::ScanSample {
+                sigma_min_generalized: sigma_min_generalized[i],
+                sigma_max_generalized: f64::NAN,
+                manipulability_generalized: f64::NAN,
+                det_generalized: det_generalized[i],
+                sigma_min_fixed: f64::NAN,
+                manipulability_fixed: f64::NAN,
+                det_fixed: f64::NAN,
+                point_from_base: Vector3::new(base[3 * i], base[3 * i + 1], base[3 * i + 2]),
+                point_from_com: Vector3::new(com[3 * i], com[3 * i + 1], com[3 * i + 2]),
+            })
+            .collect();
+        let grid = grid.map(|(resolution, n_joints)| workspace::GridShape { resolution, n_joints });
+        let w = workspace::workspace_shells(&samples, singular_threshold, radial_resolution, grid).or_raise(py)?;
+        Ok(Self::of(py, &w))
     }
 
     fn __repr__(&self, py: Python<'_>) -> String {
@@ -301,26 +295,20 @@ impl PyWorkspaceShells {
 
 /// The reaction null space at one configuration
 /// (`spacearm_core::analysis::reaction_null_space::ReactionNullSpace`).
-#[pyclass(module = "spacearm._core", name = "ReactionNullSpace", frozen)]
+#[pyclass(module = "spacearm._core", name = "ReactionNullSpace", frozen, get_all)]
 pub struct PyReactionNullSpace {
     /// (3, N) or (6, N) float64: rows of −H0⁻¹ H0m (zero momentum), joint rates → base angular
     /// velocity ω0 (rad/s) or base twist [v0; ω0] (m/s, rad/s), in 𝒥.
-    #[pyo3(get)]
     base_motion_map: Py<PyArray2<f64>>,
     /// (min(rows, N),) float64: singular values of the map, decreasing.
-    #[pyo3(get)]
     singular_values: Py<PyArray1<f64>>,
     /// Numerical rank of the map (singular values above tolerance · σ_max).
-    #[pyo3(get)]
     rank: usize,
     /// (N, N − rank) float64: orthonormal basis of the null space, in joint space.
-    #[pyo3(get)]
     basis: Py<PyArray2<f64>>,
     /// Dimension of the null space, N − rank (the columns of `basis`).
-    #[pyo3(get)]
     dimension: usize,
     /// (N, N) float64: orthogonal projector onto the null space.
-    #[pyo3(get)]
     projector: Py<PyArray2<f64>>,
 }
 
@@ -352,19 +340,15 @@ impl PyReactionNullSpace {
 }
 
 /// One evaluation of the resolved-motion-rate law (`spacearm_core::analysis::redundancy::RmrcRates`).
-#[pyclass(module = "spacearm._core", name = "RmrcRates", frozen)]
+#[pyclass(module = "spacearm._core", name = "RmrcRates", frozen, get_all)]
 pub struct PyRmrcRates {
     /// (N,) float64: joint rates q̇, rad/s (m/s for a prismatic joint).
-    #[pyo3(get)]
     qd: Py<PyArray1<f64>>,
     /// σ_min of the (projected) task Jacobian.
-    #[pyo3(get)]
     sigma_min: f64,
     /// Damping λ of the damped least-squares inverse used (units of σ).
-    #[pyo3(get)]
     damping: f64,
     /// (3,) float64: base angular velocity ω0 these rates produce (zero momentum), rad/s, in 𝒥.
-    #[pyo3(get)]
     base_angular_velocity: Py<PyArray1<f64>>,
 }
 
@@ -396,43 +380,31 @@ impl PyRmrcRates {
 /// its K+1 time nodes (`spacearm_core::analysis::redundancy::RmrcMotion`, with the model's name,
 /// the strategy and the target). Constructing one runs the motion (`analysis_py::move_to`);
 /// `spacearm.analysis.Motion` is its Python subclass, which adds the figure and nothing else.
-#[pyclass(module = "spacearm._core", name = "RmrcMotion", frozen, subclass)]
+#[pyclass(module = "spacearm._core", name = "RmrcMotion", frozen, subclass, get_all)]
 pub struct PyRmrcMotion {
     /// Name of the model moved.
-    #[pyo3(get)]
     robot_name: String,
     /// The strategy: "naive", "reactionless" or "minimum_disturbance".
-    #[pyo3(get)]
     strategy: &'static str,
     /// (3,) float64: the point's target in 𝒥, m.
-    #[pyo3(get)]
     target: Py<PyArray1<f64>>,
     /// (K+1,) float64: times k·dt, s.
-    #[pyo3(get)]
     times: Py<PyArray1<f64>>,
     /// (K+1, 7+N) float64: configurations [r0, quat [x, y, z, w], q].
-    #[pyo3(get)]
     x: Py<PyArray2<f64>>,
     /// (K+1, N) float64: joint rates, rad/s (m/s for a prismatic joint).
-    #[pyo3(get)]
     qd: Py<PyArray2<f64>>,
     /// (K+1, 3) float64: the point's position in 𝒥, m.
-    #[pyo3(get)]
     point_position: Py<PyArray2<f64>>,
     /// (K+1,) float64: σ_min of the (projected) task Jacobian.
-    #[pyo3(get)]
     sigma_min: Py<PyArray1<f64>>,
     /// (K+1,) float64: damping λ used.
-    #[pyo3(get)]
     damping: Py<PyArray1<f64>>,
     /// (K+1,) float64: base rotation angle from the start, rad.
-    #[pyo3(get)]
     attitude_change: Py<PyArray1<f64>>,
     /// The largest base rotation from the start over the motion (max of `attitude_change`), rad.
-    #[pyo3(get)]
     max_attitude_change: f64,
     /// Distance of the point from the target at the end (linear task rows only), m.
-    #[pyo3(get)]
     final_position_error: f64,
 }
 
@@ -475,7 +447,12 @@ impl PyRmrcMotion {
         dt: f64,
         options: PyRef<'_, crate::analysis_py::PyRmrcOptions>,
     ) -> PyResult<Self> {
-        crate::analysis_py::move_to(py, model, x0, body, offset, target, duration, settle, dt, options)
+        let off = vec3(offset, "offset")?;
+        let target = vec3(target, "target")?;
+        let x0 = vec_arg(x0, "x0")?;
+        let o = &options.inner;
+        let r = model.with_data(|m, data| redundancy::move_to(m, data, x0.as_slice(), body, &off, &target, duration, settle, dt, o)).or_raise(py)?;
+        Ok(Self::of(py, &r, model.model.n_dof(), model.model.name().to_string(), o.strategy.name(), &target))
     }
 
     fn __repr__(&self, py: Python<'_>) -> String {

@@ -23,16 +23,6 @@ fn bad(msg: String) -> SpacearmError {
     SpacearmError::InvalidArgument(msg)
 }
 
-/// `err` with `copy {i}: ` before its message, as the same Python class.
-fn for_copy(py: Python<'_>, i: usize, err: SpacearmError) -> PyErr {
-    let e = to_py_err(py, err);
-    let message = format!("copy {i}: {}", e.value(py));
-    match e.get_type(py).call1((message,)) {
-        Ok(instance) => PyErr::from_value(instance),
-        Err(other) => other,
-    }
-}
-
 /// What one call holds while it works: the copies and the held inputs.
 struct Inner {
     batch: BatchStepper,
@@ -54,9 +44,10 @@ pub struct PyBatchSimulator {
 }
 
 fn new_copy(py: Python<'_>, model: Model, opts: &SimOptions, x0: &[f64], u0: &[f64], i: usize) -> PyResult<Rk4Stepper<'static>> {
-    check_initial_state(&model, x0, u0).map_err(|e| for_copy(py, i, e))?;
-    let plant = Plant::owned(model, opts, Box::new(ZeroTorque)).map_err(|e| for_copy(py, i, e))?;
-    Rk4Stepper::new(plant, x0, u0, None).map_err(|e| for_copy(py, i, e))
+    let for_copy = |e| to_py_err_in(py, &format!("copy {i}"), e);
+    check_initial_state(&model, x0, u0).map_err(for_copy)?;
+    let plant = Plant::owned(model, opts, Box::new(ZeroTorque)).map_err(for_copy)?;
+    Rk4Stepper::new(plant, x0, u0, None).map_err(for_copy)
 }
 
 fn core_model(py: Python<'_>, m: &Bound<'_, PyAny>) -> PyResult<Model> {
@@ -207,7 +198,7 @@ impl PyBatchSimulator {
             }
             let outcomes = py.detach(|| batch.step(tau, with_wrench.then_some(wrench.as_slice()), 1, &mut out)).or_raise(py)?;
             if let Some((i, e)) = outcomes.into_iter().enumerate().find_map(|(i, r)| r.err().map(|e| (i, e))) {
-                return Err(for_copy(py, i, e));
+                return Err(to_py_err_in(py, &format!("copy {i}"), e));
             }
         }
         Ok(PyArray1::from_vec(py, out).reshape([b, dim])?)

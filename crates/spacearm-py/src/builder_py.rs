@@ -13,16 +13,43 @@ pub struct PyModelBuilder {
     inner: ModelBuilder,
 }
 
-fn joint_type(py: Python<'_>, s: &str) -> PyResult<JointType> {
-    match s {
-        "revolute" => Ok(JointType::Revolute),
-        "prismatic" => Ok(JointType::Prismatic),
-        "fixed" => Ok(JointType::Fixed),
-        other => Err(to_py_err(
-            py,
-            SpacearmError::InvalidModel(format!("joint type must be 'revolute', 'prismatic' or 'fixed', got '{other}'")),
-        )),
+/// The joint limits of the doors' `[lower, upper, velocity, effort]` (None: unlimited).
+pub(crate) fn joint_limits(limits: Option<[f64; 4]>) -> JointLimits {
+    match limits {
+        None => JointLimits::unlimited(),
+        Some([lower, upper, velocity, effort]) => JointLimits { lower, upper, velocity, effort },
     }
+}
+
+/// The [`LinkSpec`] of `ModelBuilder.add_link`'s arguments (also `compliant_parts`').
+#[allow(clippy::too_many_arguments)]
+fn link_spec(
+    py: Python<'_>,
+    name: &str,
+    parent: &str,
+    joint_type: &str,
+    origin: [f64; 3],
+    rotation: [f64; 4],
+    axis: [f64; 3],
+    com: [f64; 3],
+    mass: f64,
+    inertia: [[f64; 3]; 3],
+    joint_name: Option<String>,
+    limits: Option<[f64; 4]>,
+) -> PyResult<LinkSpec> {
+    Ok(LinkSpec {
+        name: name.into(),
+        parent: parent.into(),
+        joint_name,
+        kind: JointType::from_name(joint_type).or_raise(py)?,
+        origin_in_parent: origin,
+        rotation_in_parent: rotation,
+        axis,
+        com_from_joint: com,
+        mass,
+        inertia,
+        limits: joint_limits(limits),
+    })
 }
 
 #[pymethods]
@@ -63,27 +90,8 @@ impl PyModelBuilder {
         limits: Option<[f64; 4]>,
         dynamics: Option<(bool, f64, f64, f64)>,
     ) -> PyResult<()> {
-        let kind = self::joint_type(py, joint_type)?;
-        let limits = match limits {
-            None => JointLimits::unlimited(),
-            Some([lower, upper, velocity, effort]) => JointLimits { lower, upper, velocity, effort },
-        };
-        self.inner
-            .add_link(LinkSpec {
-                name: name.to_string(),
-                parent: parent.to_string(),
-                joint_name,
-                kind,
-                origin_in_parent: origin,
-                rotation_in_parent: rotation,
-                axis,
-                com_from_joint: com,
-                mass,
-                inertia,
-                limits,
-            })
-            .map_err(SpacearmError::from)
-            .or_raise(py)?;
+        let link = link_spec(py, name, parent, joint_type, origin, rotation, axis, com, mass, inertia, joint_name, limits)?;
+        self.inner.add_link(link).map_err(SpacearmError::from).or_raise(py)?;
         // `(actuated, stiffness, damping, rest)`: the joint's passive dynamics (docs/flexibility.md).
         if let Some((actuated, stiffness, damping, rest)) = dynamics {
             self.inner
@@ -312,24 +320,7 @@ pub fn compliant_parts(
 ) -> PyResult<Py<PyAny>> {
     use spacearm_core::error::ModelItem;
     use spacearm_core::model::appendage::{self, CompliantSpec};
-    let kind = self::joint_type(py, joint_type)?;
-    let limits = match limits {
-        None => JointLimits::unlimited(),
-        Some([lower, upper, velocity, effort]) => JointLimits { lower, upper, velocity, effort },
-    };
-    let link = LinkSpec {
-        name: name.into(),
-        parent: parent.into(),
-        joint_name,
-        kind,
-        origin_in_parent: origin,
-        rotation_in_parent: rotation,
-        axis,
-        com_from_joint: com,
-        mass,
-        inertia,
-        limits,
-    };
+    let link = link_spec(py, name, parent, joint_type, origin, rotation, axis, com, mass, inertia, joint_name, limits)?;
     let spec = CompliantSpec { stiffness, rotor_inertia, damping, gear_ratio };
     let parts = appendage::compliant_parts(&link, &spec, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
     parts_to_py(py, parts)

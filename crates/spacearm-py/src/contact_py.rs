@@ -21,22 +21,17 @@ use spacearm_core::derivatives::{loop_closure_bias, ClosureBiasWork};
 use spacearm_core::sim::closed_chain::simulate_closed_chain as core_closed_chain;
 
 /// The result of `impulse_dynamics` (`spacearm_core::algorithms::impulse::ImpulseDynamics`).
-#[pyclass(module = "spacearm._core", name = "ImpulseDynamics", frozen)]
+#[pyclass(module = "spacearm._core", name = "ImpulseDynamics", frozen, get_all)]
 pub struct PyImpulseDynamics {
     /// (6+N,) the generalized velocity after the impact.
-    #[pyo3(get)]
     u_after: Py<PyArray1<f64>>,
     /// (6+N,) the jump Δu = H⁻¹ Jᵀ Λ (zero on locked coordinates).
-    #[pyo3(get)]
     du: Py<PyArray1<f64>>,
     /// (m,) the contact impulse Λ.
-    #[pyo3(get)]
     impulse: Py<PyArray1<f64>>,
     /// (m, m) the Delassus operator J H⁻¹ Jᵀ over the mobile coordinates.
-    #[pyo3(get)]
     delassus: Py<PyArray2<f64>>,
     /// (N,) the impulsive joint torques that hold locked joints (zeros with free joints).
-    #[pyo3(get)]
     locking_impulse: Py<PyArray1<f64>>,
 }
 
@@ -50,23 +45,18 @@ impl PyImpulseDynamics {
 /// Where an impulse's momentum goes, about the base CM (`[P; L_base]`, eq. 42):
 /// `spacearm_core::algorithms::impulse::MomentumSplit`, the public
 /// `spacearm.capture.MomentumSplit` (`capture.impulse_momentum_split` returns it). Read-only arrays.
-#[pyclass(module = "spacearm._core", name = "MomentumSplit", frozen)]
+#[pyclass(module = "spacearm._core", name = "MomentumSplit", frozen, get_all)]
 pub struct PyMomentumSplit {
     /// (6,) H0 Δẋ0: the momentum the base's own jump carries.
-    #[pyo3(get)]
     base: Py<PyArray1<f64>>,
     /// (6,) H0m Δq̇: the coupling momentum the joints take up.
-    #[pyo3(get)]
     arm: Py<PyArray1<f64>>,
     /// (6,) J_0Xᵀ Λ: the impulse's momentum about the base CM (base + arm).
-    #[pyo3(get)]
     total: Py<PyArray1<f64>>,
     /// (6, 6) B with Δẋ0 = B Λ: impulses in its null space leave the base still.
-    #[pyo3(get)]
     base_jump_map: Py<PyArray2<f64>>,
     /// (6,) the singular values of B, largest first: a zero one means a reaction-null impulse
     /// direction exists.
-    #[pyo3(get)]
     base_jump_singular_values: Py<PyArray1<f64>>,
 }
 
@@ -183,58 +173,43 @@ pub fn joint_wrenches<'py>(
 /// The result of `grasp_impact` (`spacearm_core::algorithms::impulse::GraspImpact`), every
 /// vector in 𝒥: the public `spacearm.capture.GraspImpulse` (`capture.grasp_impulse` returns it;
 /// no Python copy of its fields). Built once; the arrays are read-only.
-#[pyclass(module = "spacearm._core", name = "GraspImpulse", frozen)]
+#[pyclass(module = "spacearm._core", name = "GraspImpulse", frozen, get_all)]
 pub struct PyGraspImpulse {
     /// "rigid" or "point".
-    #[pyo3(get)]
     kind: String,
     /// (6+N,) the robot's velocity jump [Δv0, Δω0, Δq̇].
-    #[pyo3(get)]
     du: Py<PyArray1<f64>>,
     /// The target's jump of its model's u: [v; ω] (CM velocity, angular velocity, 6) of a rigid target.
-    #[pyo3(get)]
     target_dtwist: Py<PyArray1<f64>>,
     /// (6,) Λ = [f̂; n̂] on the robot at the grasp point (N·s, N·m·s); the target gets −Λ.
-    #[pyo3(get)]
     impulse: Py<PyArray1<f64>>,
     /// (3,) the grasp point X (the robot's point), m.
-    #[pyo3(get)]
     point: Py<PyArray1<f64>>,
     /// Distance from X to the target's grasp point, m: zero for a perfect approach.
-    #[pyo3(get)]
     gap: f64,
     /// (6+N,) the robot's velocity after the impact.
-    #[pyo3(get)]
     u_after: Py<PyArray1<f64>>,
     /// The target's state after the impact: its x followed by its u after.
-    #[pyo3(get)]
     target_state_after: Py<PyArray1<f64>>,
     /// (6,) the relative twist at X (gripper minus target) before the impact.
-    #[pyo3(get)]
     relative_twist_before: Py<PyArray1<f64>>,
     /// (6,) the relative twist at X after the impact.
-    #[pyo3(get)]
     relative_twist_after: Py<PyArray1<f64>>,
     /// (6, 6) the robot's inverse inertia at X.
-    #[pyo3(get, name = "G_robot")]
+    #[pyo3(name = "G_robot")]
     g_robot: Py<PyArray2<f64>>,
     /// (6, 6) the target's inverse inertia at X.
-    #[pyo3(get, name = "G_target")]
+    #[pyo3(name = "G_target")]
     g_target: Py<PyArray2<f64>>,
     /// Energy the grasp dissipates, −Λᵀ(v_rel⁻ + v_rel⁺)/2, J (>= 0 to rounding; excludes locking_work).
-    #[pyo3(get)]
     energy_lost: f64,
     /// Work of the locking joint impulses τ̂ᵀq̇, J (either sign; 0 with the arm free).
-    #[pyo3(get)]
     locking_work: f64,
     /// The target's velocity after the impact (of its model's u).
-    #[pyo3(get)]
     target_u_after: Py<PyArray1<f64>>,
     /// (3,) the unit contact normal of a point contact, or None.
-    #[pyo3(get)]
     normal: Option<Py<PyArray1<f64>>>,
     /// (N,) the locking joint impulses τ̂ (zeros with the arm free).
-    #[pyo3(get)]
     locking_impulse: Py<PyArray1<f64>>,
 }
 
@@ -360,34 +335,25 @@ pub fn grasp_impact(
 }
 
 /// The result of `soft_capture` (`spacearm_core::sim::soft_capture::SoftCaptureResult`).
-#[pyclass(module = "spacearm._core", name = "SoftCaptureResult", frozen)]
+#[pyclass(module = "spacearm._core", name = "SoftCaptureResult", frozen, get_all)]
 pub struct PySoftCaptureResult {
     /// The robot's run (its records, onsets, description).
-    #[pyo3(get)]
     robot: Py<PyRunResult>,
     /// The target's run (zero torques).
-    #[pyo3(get)]
     target: Py<PyRunResult>,
     /// (K, 6) the impedance's wrench [f; n] on the robot at its grasp point, in the inertial frame.
-    #[pyo3(get)]
     wrench: Py<PyArray2<f64>>,
     /// K, N/m.
-    #[pyo3(get)]
     stiffness: f64,
     /// D, N s/m.
-    #[pyo3(get)]
     damping: f64,
     /// K_r, N m/rad.
-    #[pyo3(get)]
     rotational_stiffness: f64,
     /// D_r, N m s/rad.
-    #[pyo3(get)]
     rotational_damping: f64,
     /// Drift of robot + target P over the samples (relative, the core's definition).
-    #[pyo3(get)]
     drift_linear: f64,
     /// Drift of robot + target L about the origin over the samples.
-    #[pyo3(get)]
     drift_angular: f64,
 }
 
@@ -437,35 +403,11 @@ pub fn soft_capture(
     let ut = vec_arg(u_target, "u_target")?.as_slice().to_vec();
     let (opts, float32) = (options.sim_options(duration), options.records_float32());
     let spec = ImpedanceSpec { frequency, damping_ratio, stiffness, damping, rotational_stiffness, rotational_damping };
-    let slot = error_slot();
-    let mut controller: Box<dyn Controller> = match controller_spec {
-        Some(s) if !s.is_none() => build_controller(s, &robot.model, &slot)?,
-        _ => Box::new(ZeroTorque),
-    };
     // Copies of the models: the run holds no borrow of the Python objects.
     let (rm, tm) = (robot.model.clone(), target.model.clone());
-    let mut interrupted: Option<PyErr> = None;
-    let result = py.detach(|| {
-        let mut progress = |_fraction: f64| -> spacearm_core::Result<()> {
-            Python::attach(|py| py.check_signals()).map_err(|e| {
-                interrupted.get_or_insert(e);
-                SpacearmError::Simulation("interrupted".into())
-            })
-        };
-        soft::soft_capture(&rm, &x, &u, robot_point, &tm, &xt, &ut, target_point, &spec, &opts, controller.as_mut(), &mut progress)
-    });
-    let res = match result {
-        Ok(r) => r,
-        Err(e) => {
-            if let Some(err) = take_error(&slot) {
-                return Err(err);
-            }
-            if let Some(err) = interrupted {
-                return Err(err);
-            }
-            return Err(to_py_err(py, e));
-        }
-    };
+    let res = run_controlled(py, &rm, controller_spec, |controller, progress| {
+        soft::soft_capture(&rm, &x, &u, robot_point, &tm, &xt, &ut, target_point, &spec, &opts, controller, progress)
+    })?;
     let k = res.wrench.len() / 6;
     let wrench = numpy::PyArray1::from_slice(py, &res.wrench).reshape([k, 6])?.unbind();
     let g = res.gains;
@@ -484,16 +426,13 @@ pub fn soft_capture(
 }
 
 /// A closed chain's run (`spacearm_core::sim::closed_chain`).
-#[pyclass(module = "spacearm._core", name = "ClosedChainResult", frozen)]
+#[pyclass(module = "spacearm._core", name = "ClosedChainResult", frozen, get_all)]
 pub struct PyClosedChainResult {
     /// The run (records, onsets, description).
-    #[pyo3(get)]
     run: Py<PyRunResult>,
     /// (K, 6) λ: the wrench on frame b at its origin, [force; torque] in the inertial frame (body a gets −λ).
-    #[pyo3(get)]
     constraint_wrench: Py<PyArray2<f64>>,
     /// (K, 6) e = [position error (m); rotation error (rad)].
-    #[pyo3(get)]
     pose_error: Py<PyArray2<f64>>,
 }
 
@@ -505,13 +444,11 @@ impl PyClosedChainResult {
 }
 
 /// The loop-closure terms at one state (`LoopClosure::jacobian`, `derivatives::loop_closure_bias`).
-#[pyclass(module = "spacearm._core", name = "LoopClosureTerms", frozen)]
+#[pyclass(module = "spacearm._core", name = "LoopClosureTerms", frozen, get_all)]
 pub struct PyLoopClosureTerms {
     /// (6, 6+N) J_c = J_b − J_a at b's origin.
-    #[pyo3(get)]
     jacobian: Py<PyArray2<f64>>,
     /// (6,) the exact J̇_c u.
-    #[pyo3(get)]
     jdot_u: Py<PyArray1<f64>>,
 }
 
@@ -570,12 +507,28 @@ pub fn simulate_closed_chain(
     let x0 = vec_arg(x0, "x0")?.as_slice().to_vec();
     let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
     let (opts, float32) = (options.sim_options(duration), options.records_float32());
+    let m = model.model.clone();
+    let mut res = run_controlled(py, &m, controller_spec, |controller, progress| core_closed_chain(&m, &x0, &u0, a, b, stabilization, &opts, controller, progress))?;
+    let constraint_wrench = rows6(py, res.records.constraint_wrench.take())?;
+    let pose_error = rows6(py, res.records.constraint_error.take())?;
+    let run = Py::new(py, PyRunResult::of_run(py, res, &opts, float32, (m.nx(), m.nu(), m.n_dof()))?)?;
+    Ok(PyClosedChainResult { run, constraint_wrench, pose_error })
+}
+
+/// Run `work(controller, progress)` without the GIL, the controller that of `controller_spec`
+/// (None: zero torques) and Ctrl-C checked at each progress report; a failed run raises the
+/// callback controller's exception, else the interrupt, else the core's error.
+fn run_controlled<R: Send>(
+    py: Python<'_>,
+    plant: &spacearm_core::Model,
+    controller_spec: Option<&Bound<'_, PyAny>>,
+    work: impl FnOnce(&mut dyn Controller, &mut dyn FnMut(f64) -> spacearm_core::Result<()>) -> spacearm_core::Result<R> + Send,
+) -> PyResult<R> {
     let slot = error_slot();
     let mut controller: Box<dyn Controller> = match controller_spec {
-        Some(s) if !s.is_none() => build_controller(s, &model.model, &slot)?,
+        Some(s) if !s.is_none() => build_controller(s, plant, &slot)?,
         _ => Box::new(ZeroTorque),
     };
-    let m = model.model.clone();
     let mut interrupted: Option<PyErr> = None;
     let result = py.detach(|| {
         let mut progress = |_fraction: f64| -> spacearm_core::Result<()> {
@@ -584,43 +537,17 @@ pub fn simulate_closed_chain(
                 SpacearmError::Simulation("interrupted".into())
             })
         };
-        core_closed_chain(&m, &x0, &u0, a, b, stabilization, &opts, controller.as_mut(), &mut progress)
+        work(controller.as_mut(), &mut progress)
     });
-    let mut res = match result {
-        Ok(r) => r,
-        Err(e) => {
-            if let Some(err) = take_error(&slot) {
-                return Err(err);
-            }
-            if let Some(err) = interrupted {
-                return Err(err);
-            }
-            return Err(to_py_err(py, e));
-        }
-    };
-    let constraint_wrench = rows6(py, res.records.constraint_wrench.take())?;
-    let pose_error = rows6(py, res.records.constraint_error.take())?;
-    let run = Py::new(py, PyRunResult::of_run(py, res, &opts, float32, (m.nx(), m.nu(), m.n_dof()))?)?;
-    Ok(PyClosedChainResult { run, constraint_wrench, pose_error })
+    result.map_err(|e| take_error(&slot).or(interrupted).unwrap_or_else(|| to_py_err(py, e)))
 }
 
 /// Add the contact functions and classes to the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<PyImpulseDynamics>()?;
-    m.add_class::<PyGraspImpulse>()?;
-    m.add_function(wrap_pyfunction!(impulse_dynamics, m)?)?;
-    m.add_function(wrap_pyfunction!(grasp_impact, m)?)?;
-    m.add_class::<PyMomentumSplit>()?;
-    m.add_function(wrap_pyfunction!(point_inverse_inertia, m)?)?;
-    m.add_function(wrap_pyfunction!(virtual_mass, m)?)?;
-    m.add_function(wrap_pyfunction!(impulse_momentum_split, m)?)?;
-    m.add_function(wrap_pyfunction!(joint_wrenches, m)?)?;
-    m.add_function(wrap_pyfunction!(check_grasp_handle, m)?)?;
-    m.add_class::<PySoftCaptureResult>()?;
-    m.add_function(wrap_pyfunction!(soft_capture, m)?)?;
-    m.add_class::<PyClosedChainResult>()?;
-    m.add_class::<PyLoopClosureTerms>()?;
-    m.add_function(wrap_pyfunction!(simulate_closed_chain, m)?)?;
-    m.add_function(wrap_pyfunction!(loop_closure, m)?)?;
+    add_to_module!(
+        m,
+        functions: [impulse_dynamics, grasp_impact, point_inverse_inertia, virtual_mass, impulse_momentum_split, joint_wrenches, check_grasp_handle, soft_capture, simulate_closed_chain, loop_closure],
+        classes: [PyImpulseDynamics, PyGraspImpulse, PyMomentumSplit, PySoftCaptureResult, PyClosedChainResult, PyLoopClosureTerms],
+    );
     Ok(())
 }

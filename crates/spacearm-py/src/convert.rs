@@ -37,6 +37,11 @@ pub fn to_py_err(py: Python<'_>, err: SpacearmError) -> PyErr {
     new_error(py, class_of_error(&err), err.to_string())
 }
 
+/// [`to_py_err`] with `context: ` before the message (`rollout 3: ...`, `copy 0: ...`).
+pub fn to_py_err_in(py: Python<'_>, context: &str, err: SpacearmError) -> PyErr {
+    new_error(py, class_of_error(&err), format!("{context}: {err}"))
+}
+
 /// A `ShapeError` with `message`.
 pub fn shape_error(py: Python<'_>, message: String) -> PyErr {
     new_error(py, ErrorClass::Shape, message)
@@ -449,3 +454,16 @@ pub fn triangle_inequality(allow_nonphysical_inertia: bool) -> spacearm_core::mo
         spacearm_core::model::TriangleInequality::Enforce
     }
 }
+
+/// Add the `#[pyfunction]`s `functions` and the `#[pyclass]`es `classes` to the module `m`: a
+/// door's `register` as two lists (`add_to_module!(m, functions: [f, g], classes: [A, B])`).
+macro_rules! add_to_module {
+    ($m:expr, functions: [$($f:path),* $(,)?] $(, classes: [$($c:ty),* $(,)?])? $(,)?) => {{
+        $($m.add_function(pyo3::wrap_pyfunction!($f, $m)?)?;)*
+        $($($m.add_class::<$c>()?;)*)?
+    }};
+    ($m:expr, classes: [$($c:ty),* $(,)?] $(,)?) => {{
+        $($m.add_class::<$c>()?;)*
+    }};
+}
+pub(crate) use add_to_module;

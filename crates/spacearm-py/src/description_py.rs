@@ -36,16 +36,13 @@ fn to_list<'py, D>(py: Python<'py>, a: &Py<PyArray<f64, D>>) -> PyResult<Bound<'
 }
 
 /// The spacecraft base (body 0). Its frame has its origin at the base CM.
-#[pyclass(module = "spacearm._core", name = "BaseDescription", frozen)]
+#[pyclass(module = "spacearm._core", name = "BaseDescription", frozen, get_all)]
 pub struct PyBaseDescription {
     /// The base's name.
-    #[pyo3(get)]
     name: String,
     /// Mass, kg.
-    #[pyo3(get)]
     mass: f64,
     /// (3, 3) kg·m², read-only: inertia about the base CM, in base-frame axes.
-    #[pyo3(get)]
     inertia: Py<PyArray2<f64>>,
 }
 
@@ -59,19 +56,15 @@ impl PyBaseDescription {
 /// A joint's limits. `lower`/`upper`: position bounds (rad for a revolute joint, m for a
 /// prismatic one); `velocity`: speed bound (rad/s or m/s); `effort`: torque (N·m) or force (N)
 /// bound. An absent bound is infinite (`-inf` for `lower`, `inf` for the others).
-#[pyclass(module = "spacearm._core", name = "JointLimits", frozen)]
+#[pyclass(module = "spacearm._core", name = "JointLimits", frozen, get_all)]
 pub struct PyJointLimits {
     /// Lower position bound: rad (revolute) or m (prismatic); `-inf` when unbounded.
-    #[pyo3(get)]
     lower: f64,
     /// Upper position bound: rad (revolute) or m (prismatic); `inf` when unbounded.
-    #[pyo3(get)]
     upper: f64,
     /// Speed bound: rad/s or m/s; `inf` when unbounded.
-    #[pyo3(get)]
     velocity: f64,
     /// Effort bound: N·m (revolute) or N (prismatic); `inf` when unbounded.
-    #[pyo3(get)]
     effort: f64,
 }
 
@@ -90,59 +83,43 @@ impl PyJointLimits {
 /// One link (body `k + 1` for the `k`-th link) and the joint connecting it to its parent. The
 /// link frame has its origin at the link CM; at `q = 0` its axes are the parent's rotated by
 /// `rotation`.
-#[pyclass(module = "spacearm._core", name = "LinkDescription", frozen)]
+#[pyclass(module = "spacearm._core", name = "LinkDescription", frozen, get_all)]
 pub struct PyLinkDescription {
     /// The link's name.
-    #[pyo3(get)]
     name: String,
     /// Name of the parent body (the base's name for a link on the base).
-    #[pyo3(get)]
     parent: String,
     /// Body index of the parent (0 = base).
-    #[pyo3(get)]
     parent_index: usize,
     /// Name of the joint.
-    #[pyo3(get)]
     joint: String,
     /// Joint type: "revolute", "prismatic" or "fixed".
-    #[pyo3(get, name = "type")]
+    #[pyo3(name = "type")]
     kind: &'static str,
     /// (3,) m, read-only: joint position in the parent frame, measured from the parent's CM.
-    #[pyo3(get)]
     origin: Py<PyArray1<f64>>,
     /// (4,) unit quaternion `[x, y, z, w]`, read-only: the link frame in the parent frame at `q = 0`.
-    #[pyo3(get)]
     rotation: Py<PyArray1<f64>>,
     /// (3,) read-only: unit joint axis in the link frame (unused by a fixed joint: as given, or
     /// z if given zero).
-    #[pyo3(get)]
     axis: Py<PyArray1<f64>>,
     /// (3,) m, read-only: the link's CM measured from its joint, in the link frame.
-    #[pyo3(get)]
     com: Py<PyArray1<f64>>,
     /// Mass, kg.
-    #[pyo3(get)]
     mass: f64,
     /// (3, 3) kg·m², read-only: inertia about the link's CM, in link-frame axes.
-    #[pyo3(get)]
     inertia: Py<PyArray2<f64>>,
     /// The joint's limits.
-    #[pyo3(get)]
     limits: Py<PyJointLimits>,
     /// Index of the joint's coordinate in `q`; None for a fixed joint.
-    #[pyo3(get)]
     dof: Option<usize>,
     /// Whether a motor drives the joint (False: a passive joint, docs/flexibility.md).
-    #[pyo3(get)]
     actuated: bool,
     /// Joint spring stiffness, N·m/rad (revolute) or N/m (prismatic); 0: none.
-    #[pyo3(get)]
     stiffness: f64,
     /// Joint damping, N·m·s/rad (revolute) or N·s/m (prismatic); 0: none.
-    #[pyo3(get)]
     damping: f64,
     /// The spring's rest coordinate, rad or m.
-    #[pyo3(get)]
     rest: f64,
 }
 
@@ -157,19 +134,15 @@ impl PyLinkDescription {
 }
 
 /// A named point fixed to a body (an end effector, a grasp point).
-#[pyclass(module = "spacearm._core", name = "PointDescription", frozen)]
+#[pyclass(module = "spacearm._core", name = "PointDescription", frozen, get_all)]
 pub struct PyPointDescription {
     /// The point's name.
-    #[pyo3(get)]
     name: String,
     /// Name of the body carrying the point.
-    #[pyo3(get)]
     body: String,
     /// Index of the body carrying the point (0 = base).
-    #[pyo3(get)]
     body_index: usize,
     /// (3,) m, read-only: the point from the body's CM, in the body frame.
-    #[pyo3(get)]
     offset: Py<PyArray1<f64>>,
 }
 
@@ -184,46 +157,33 @@ impl PyPointDescription {
 /// full side lengths), "cylinder" or "capsule" (`radius`, `length`, along the geometry's z),
 /// "sphere" (`radius`) or "mesh" (`file` as the model states it, `scale`); the keys of other
 /// kinds are None. Placed in the body frame (origin at the body's CM) by `origin` and `rotation`.
-#[pyclass(module = "spacearm._core", name = "GeometryDescription", frozen)]
+#[pyclass(module = "spacearm._core", name = "GeometryDescription", frozen, get_all)]
 pub struct PyGeometryDescription {
     /// The geometry's name.
-    #[pyo3(get)]
     name: String,
     /// Name of the body it is fixed to.
-    #[pyo3(get)]
     body: String,
     /// Index of that body (0 = base).
-    #[pyo3(get)]
     body_index: usize,
     /// "visual" or "collision".
-    #[pyo3(get)]
     role: &'static str,
     /// "box", "cylinder", "sphere", "capsule" or "mesh".
-    #[pyo3(get)]
     shape: &'static str,
     /// (3,) m, read-only: a box's full side lengths; None for other shapes.
-    #[pyo3(get)]
     size: Option<Py<PyArray1<f64>>>,
     /// m: the radius of a sphere, cylinder or capsule; None for other shapes.
-    #[pyo3(get)]
     radius: Option<f64>,
     /// m: the length of a cylinder or of a capsule's cylinder part; None for other shapes.
-    #[pyo3(get)]
     length: Option<f64>,
     /// A mesh's file, as the model states it; None for other shapes.
-    #[pyo3(get)]
     file: Option<String>,
     /// (3,) read-only: a mesh's scale along its x, y, z; None for other shapes.
-    #[pyo3(get)]
     scale: Option<Py<PyArray1<f64>>>,
     /// (3,) m, read-only: the geometry frame's origin in the body frame, from its CM.
-    #[pyo3(get)]
     origin: Py<PyArray1<f64>>,
     /// (4,) unit quaternion `[x, y, z, w]`, read-only: the geometry frame in the body frame.
-    #[pyo3(get)]
     rotation: Py<PyArray1<f64>>,
     /// (4,) read-only: red, green, blue, alpha in [0, 1].
-    #[pyo3(get)]
     rgba: Py<PyArray1<f64>>,
 }
 
@@ -271,29 +231,22 @@ impl PyGeometryDescription {
 
 /// A whole model: base, links in tree order (a parent before its children; link `i` is body
 /// `i + 1`), named points, end effector and initial joint coordinates.
-#[pyclass(module = "spacearm._core", name = "ModelDescription", frozen)]
+#[pyclass(module = "spacearm._core", name = "ModelDescription", frozen, get_all)]
 pub struct PyModelDescription {
     /// The model's name.
-    #[pyo3(get)]
     name: String,
     /// The base (body 0).
-    #[pyo3(get)]
     base: Py<PyBaseDescription>,
     /// The links in tree order (link `k` is body `k + 1`), a tuple of `LinkDescription`.
-    #[pyo3(get)]
     links: Py<PyTuple>,
     /// The named points in the order they were added, a tuple of `PointDescription`.
-    #[pyo3(get)]
     points: Py<PyTuple>,
     /// The visual and collision shapes in the order they were added, a tuple of
     /// `GeometryDescription` (docs/geometry.md).
-    #[pyo3(get)]
     geometries: Py<PyTuple>,
     /// Name of the end-effector point, or None.
-    #[pyo3(get)]
     end_effector: Option<String>,
     /// (N,) read-only: initial joint coordinates, rad (revolute) or m (prismatic), in `q` order.
-    #[pyo3(get)]
     initial_q: Py<PyArray1<f64>>,
 }
 

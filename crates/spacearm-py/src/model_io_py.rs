@@ -4,7 +4,9 @@
 
 use pyo3::prelude::*;
 use spacearm_core::io::dh::{ClassicDhLink, DhArm, DhTable, PaperDhLink};
-use spacearm_core::{JointLimits, JointType, SpacearmError};
+use spacearm_core::JointType;
+
+use crate::builder_py::joint_limits;
 
 use crate::convert::*;
 use crate::model_py::PyModel;
@@ -24,22 +26,6 @@ pub fn model_from_toml(py: Python<'_>, text: &str, source: &str, allow_nonphysic
 #[pyfunction]
 pub fn model_to_toml(model: PyRef<'_, PyModel>) -> String {
     spacearm_core::io::toml::model_to_toml(&model.model)
-}
-
-fn joint_type(s: &str) -> spacearm_core::Result<JointType> {
-    match s {
-        "revolute" => Ok(JointType::Revolute),
-        "prismatic" => Ok(JointType::Prismatic),
-        "fixed" => Ok(JointType::Fixed),
-        other => Err(SpacearmError::InvalidModel(format!("joint type must be 'revolute', 'prismatic' or 'fixed', got '{other}'"))),
-    }
-}
-
-fn limits(l: Option<[f64; 4]>) -> JointLimits {
-    match l {
-        None => JointLimits::unlimited(),
-        Some([lower, upper, velocity, effort]) => JointLimits { lower, upper, velocity, effort },
-    }
 }
 
 /// One classic DH row: `(name, joint_name, type, d, theta, a, alpha, com, mass, inertia,
@@ -86,7 +72,7 @@ pub fn model_from_classic_dh(
 ) -> PyResult<PyModel> {
     let mut table = Vec::with_capacity(rows.len());
     for (name, joint_name, kind, d, theta, a, alpha, com, mass, inertia, lim) in rows {
-        table.push(ClassicDhLink { name, joint_name, kind: joint_type(&kind).or_raise(py)?, d, theta, a, alpha, com, mass, inertia, limits: limits(lim) });
+        table.push(ClassicDhLink { name, joint_name, kind: JointType::from_name(&kind).or_raise(py)?, d, theta, a, alpha, com, mass, inertia, limits: joint_limits(lim) });
     }
     build(name, base_name, base_mass, base_inertia, DhTable::Classic(table), joint1_origin, joint1_rotation, tool_offset, tip_point, initial_q)
         .map(PyModel::new)
@@ -115,14 +101,14 @@ pub fn model_from_paper_dh(
         table.push(PaperDhLink {
             name,
             joint_name,
-            kind: joint_type(&kind).or_raise(py)?,
+            kind: JointType::from_name(&kind).or_raise(py)?,
             theta,
             alpha,
             joint_to_com,
             com_to_next,
             mass,
             inertia,
-            limits: limits(lim),
+            limits: joint_limits(lim),
         });
     }
     build(name, base_name, base_mass, base_inertia, DhTable::Paper(table), joint1_origin, joint1_rotation, tool_offset, tip_point, initial_q)

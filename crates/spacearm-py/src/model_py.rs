@@ -732,28 +732,21 @@ pub(crate) fn with_assembled_force<R>(nu: usize, tau: &[f64], base_wrench: &[f64
 /// (`constants[args[i, 0]]`). Operation codes: 0 input, 1 constant, 2 add, 3 sub, 4 mul, 5 div,
 /// 6 atan2, 16 neg, 17 sqrt, 18 sin, 19 cos, 20 tan, 21 asin, 22 acos, 23 atan, 24 exp, 25 ln,
 /// 26 abs.
-#[pyclass(module = "spacearm._core", name = "Tape", frozen)]
+#[pyclass(module = "spacearm._core", name = "Tape", frozen, get_all)]
 pub struct PyTape {
     /// (n,) uint8: the operation of each node.
-    #[pyo3(get)]
     ops: Py<PyArray1<u8>>,
     /// (n, 2) uint32: the operands of each node (the second is 0 for a unary operation).
-    #[pyo3(get)]
     args: Py<numpy::PyArray2<u32>>,
     /// float64: the constants of the `Const` nodes.
-    #[pyo3(get)]
     constants: Py<PyArray1<f64>>,
     /// uint32: the node of each output value (outputs concatenated, matrices column-major).
-    #[pyo3(get)]
     outputs: Py<PyArray1<u32>>,
     /// Number of inputs (the inputs concatenated).
-    #[pyo3(get)]
     n_inputs: usize,
     /// `[(name, length)]` of the inputs, in order.
-    #[pyo3(get)]
     inputs: Vec<(String, usize)>,
     /// `[(name, rows, columns)]` of the outputs, in order.
-    #[pyo3(get)]
     outputs_shapes: Vec<(String, usize, usize)>,
 }
 

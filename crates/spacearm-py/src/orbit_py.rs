@@ -439,8 +439,6 @@ fn rows<'py>(py: Python<'py>, states: &[RelativeState]) -> Bound<'py, PyArray2<f
 
 /// Register the orbit classes.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<PyCentralBody>()?;
-    m.add_class::<PyOrbitalElements>()?;
-    m.add_class::<PyOrbit>()?;
+    add_to_module!(m, classes: [PyCentralBody, PyOrbitalElements, PyOrbit]);
     Ok(())
 }

@@ -307,16 +307,13 @@ impl PyRunRecords {
 
 /// The saturation onsets of a run, in time order (`E` events): the accepted step in which an
 /// actuator started saturating.
-#[pyclass(module = "spacearm._core", name = "RunEvents", frozen)]
+#[pyclass(module = "spacearm._core", name = "RunEvents", frozen, get_all)]
 pub struct PyRunEvents {
     /// `(E,)` float64: start time of the step in which each saturation began, s.
-    #[pyo3(get)]
     saturation_t: Py<PyArray1<f64>>,
     /// `(E,)` int64: the actuator, dof `0..N` then the six thruster channels `N..N+6` (named by `RunMeta.actuator_names`).
-    #[pyo3(get)]
     saturation_actuator: Py<PyArray1<i64>>,
     /// `(E,)` int64: the limit reached, 0 joint torque, 1 joint speed, 2 thruster.
-    #[pyo3(get)]
     saturation_kind: Py<PyArray1<i64>>,
 }
 
@@ -351,19 +348,16 @@ impl PyRunEvents {
 }
 
 /// The drift of one quantity the run's mode conserves.
-#[pyclass(module = "spacearm._core", name = "ConservedDrift", frozen)]
+#[pyclass(module = "spacearm._core", name = "ConservedDrift", frozen, get_all)]
 pub struct PyConservedDrift {
     /// The quantity, by its record name: `"P"`, `"L_origin"`, `"L_com"` or `"energy"`.
-    #[pyo3(get)]
     quantity: String,
     /// Largest deviation from the initial value over the recorded samples, relative to
     /// `max(|initial|, scale)` (dimensionless).
-    #[pyo3(get)]
     drift: f64,
     /// The magnitude the drift is measured against when the initial value is smaller: the largest
     /// over the samples of the sum of the bodies' contributions, in the quantity's unit
     /// (kg·m/s, kg·m²/s or J).
-    #[pyo3(get)]
     scale: f64,
 }
 
@@ -375,76 +369,54 @@ impl PyConservedDrift {
 }
 
 /// The description of a run (what `Trajectory.meta` holds, less what Python adds).
-#[pyclass(module = "spacearm._core", name = "RunMeta", frozen)]
+#[pyclass(module = "spacearm._core", name = "RunMeta", frozen, get_all)]
 pub struct PyRunMeta {
     /// The maneuvering mode (`"floating"`, `"rotation-floating"`, ...).
-    #[pyo3(get)]
     mode: &'static str,
     /// `"rk4"` or `"dopri5"`.
-    #[pyo3(get)]
     integrator: &'static str,
     /// Step (RK4) or output interval (DOPRI5), s.
-    #[pyo3(get)]
     dt: f64,
     /// DOPRI5 relative tolerance.
-    #[pyo3(get)]
     rtol: f64,
     /// DOPRI5 absolute tolerance.
-    #[pyo3(get)]
     atol: f64,
     /// The name of the controller that ran.
-    #[pyo3(get)]
     controller: String,
     /// One entry per quantity the mode conserves, in the mode's order (in an orbital run with the
     /// gravity gradient: per quantity whose balance was checked, see `balance`).
-    #[pyo3(get)]
     drift: Vec<Py<PyConservedDrift>>,
     /// Whether `drift` holds balance residuals (an orbital run with the gravity gradient: the
     /// quantities are not conserved) rather than drifts of conserved quantities.
-    #[pyo3(get)]
     balance: bool,
     /// Accepted integration steps.
-    #[pyo3(get)]
     n_steps: usize,
     /// Rejected steps (DOPRI5 only).
-    #[pyo3(get)]
     n_rejected: usize,
     /// Evaluations of the right-hand side (each a forward-dynamics solve).
-    #[pyo3(get)]
     n_rhs_evals: usize,
     /// The name of each actuator index of `RunEvents.saturation_actuator`.
-    #[pyo3(get)]
     actuator_names: Vec<String>,
     /// The degrees of freedom (indices into q) that are reaction wheels.
-    #[pyo3(get)]
     wheel_dofs: Vec<usize>,
     /// What `RunRecords.tracking_error` measures, or None.
-    #[pyo3(get)]
     tracking_error_kind: Option<&'static str>,
     /// RK4: every how many steps a sample was kept.
-    #[pyo3(get)]
     record_every: usize,
     /// `"float64"` or `"float32"`: the dtype of the records.
-    #[pyo3(get)]
     record_dtype: &'static str,
     /// Whether the joints' effort and velocity limits applied.
-    #[pyo3(get)]
     joint_limits: bool,
     /// Largest norm of a commanded base-wrench part the mode does not allow (N or N·m; 0 if none).
-    #[pyo3(get)]
     dropped_base_wrench_max_norm: f64,
     /// Number of evaluations that commanded such a part (dropped).
-    #[pyo3(get)]
     dropped_base_wrench_count: usize,
     /// A point controller (RMRC) at the final sample: `|p_ref − p|` (m), None for other controllers.
-    #[pyo3(get)]
     goal_distance: Option<f64>,
     /// ... the smallest singular value of its task Jacobian there.
-    #[pyo3(get)]
     goal_sigma_min: Option<f64>,
     /// ... whether it stopped short of an unreachable goal (farther than `GOAL_TOLERANCE` with
     /// its damping active: the arm stretched into a singularity).
-    #[pyo3(get)]
     goal_unreachable: Option<bool>,
     /// The stop condition that ended the run: `(index, kind, t, value)`; None: it ran its duration.
     stop: Option<(usize, &'static str, f64, f64)>,
@@ -567,16 +539,13 @@ impl PyRunMeta {
 
 /// One run: its records, saturation onsets and description (what `simulate` and
 /// `Simulator.result` return).
-#[pyclass(module = "spacearm._core", name = "RunResult", frozen)]
+#[pyclass(module = "spacearm._core", name = "RunResult", frozen, get_all)]
 pub struct PyRunResult {
     /// The recorded samples, `(K, ...)` arrays.
-    #[pyo3(get)]
     records: Py<PyRunRecords>,
     /// The saturation onsets.
-    #[pyo3(get)]
     events: Py<PyRunEvents>,
     /// The run's description.
-    #[pyo3(get)]
     meta: Py<PyRunMeta>,
 }
 
@@ -600,26 +569,20 @@ impl PyRunResult {
 
 /// The results of `B` rollouts (what `rollout` returns): the records stacked along a leading
 /// rollout axis, and each rollout's status, description and saturation onsets.
-#[pyclass(module = "spacearm._core", name = "RolloutBatch", frozen)]
+#[pyclass(module = "spacearm._core", name = "RolloutBatch", frozen, get_all)]
 pub struct PyRolloutBatch {
     /// The records, `(B, K, ...)` arrays: row `i` is rollout `i`'s, NaN for a failed rollout.
     /// When every rollout failed, only `t`, `x` and `u` are there.
-    #[pyo3(get)]
     pub records: Py<PyRunRecords>,
     /// `(B,)` bool: whether each rollout ran to the end.
-    #[pyo3(get)]
     pub ok: Py<PyArray1<bool>>,
     /// The error message of each failed rollout, None for the others.
-    #[pyo3(get)]
     pub reason: Vec<Option<String>>,
     /// The `spacearm.errors` class name of each failure (`"SimulationError"`, ...), None for the others.
-    #[pyo3(get)]
     pub error_class: Vec<Option<String>>,
     /// Each rollout's description, None for a failed one.
-    #[pyo3(get)]
     pub meta: Vec<Option<Py<PyRunMeta>>>,
     /// Each rollout's saturation onsets, None for a failed one.
-    #[pyo3(get)]
     pub events: Vec<Option<Py<PyRunEvents>>>,
 }
 

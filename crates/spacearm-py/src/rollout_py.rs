@@ -17,16 +17,6 @@ use crate::controller_spec_py::{build_controller, error_slot};
 use crate::records_py::{take_fields, Field, Record, PyRolloutBatch, PyRunEvents, PyRunMeta, PyRunRecords};
 use crate::sim_options_py::PyRunOptions;
 
-/// The error `err` with `rollout {i}: ` before its message, as the same Python class.
-fn for_rollout(py: Python<'_>, i: usize, err: SpacearmError) -> PyErr {
-    let e = to_py_err(py, err);
-    let message = format!("rollout {i}: {}", e.value(py));
-    match e.get_type(py).call1((message,)) {
-        Ok(instance) => PyErr::from_value(instance),
-        Err(other) => other,
-    }
-}
-
 /// Run `B` rollouts; returns a `RolloutBatch`: every record with a leading rollout axis
 /// (`(B, K, ...)`, NaN rows for a failed rollout), and each rollout's status, description and
 /// saturation onsets.
@@ -67,7 +57,7 @@ pub fn rollout<'py>(
         }
     }
     for i in 0..b {
-        check_initial_state(plant(i), &x0[i * nx..(i + 1) * nx], &u0[i * nu..(i + 1) * nu]).map_err(|e| for_rollout(py, i, e))?;
+        check_initial_state(plant(i), &x0[i * nx..(i + 1) * nx], &u0[i * nu..(i + 1) * nu]).map_err(|e| to_py_err_in(py, &format!("rollout {i}"), e))?;
     }
     let (opts, float32) = (options.sim_options(duration), options.records_float32());
     // One controller instance per rollout (controllers keep workspaces): a shared spec builds

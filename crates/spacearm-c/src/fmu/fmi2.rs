@@ -9,12 +9,12 @@ use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
 use std::path::PathBuf;
 
 use super::variables::FmiVersion;
-use super::{run_fmi, slice, slice_mut, Instance, Phase};
+use super::{check_start_time, free_handle, instance_name, instantiate, slice, slice_mut, with, Instance};
 
 type Fmi2Status = c_int;
-const OK: Fmi2Status = 0;
+const OK: Fmi2Status = super::FMI_OK;
 const DISCARD: Fmi2Status = 2;
-const ERROR: Fmi2Status = 3;
+const ERROR: Fmi2Status = super::FMI_ERROR;
 type Fmi2Component = *mut c_void;
 type Fmi2Boolean = c_int;
 type Fmi2ValueReference = c_uint;
@@ -71,19 +71,6 @@ fn logger_of(functions: *const Fmi2CallbackFunctions, name: &str) -> super::Logg
     })
 }
 
-/// # Safety
-/// `c` NULL or an instance from `fmi2Instantiate`.
-unsafe fn with(c: Fmi2Component, body: impl FnOnce(&mut Instance) -> Result<(), String>) -> Fmi2Status {
-    // SAFETY: the importer's contract: `c` is an instance of this library.
-    match unsafe { c.cast::<Instance>().as_mut() } {
-        None => ERROR,
-        Some(inst) => match run_fmi(inst, body) {
-            Ok(()) => OK,
-            Err(()) => ERROR,
-        },
-    }
-}
-
 #[no_mangle]
 pub extern "C" fn fmi2GetTypesPlatform() -> *const c_char {
     c"default".as_ptr()
@@ -99,19 +86,14 @@ pub extern "C" fn fmi2GetVersion() -> *const c_char {
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetDebugLogging(c: Fmi2Component, logging_on: Fmi2Boolean, _n: usize, _categories: *const *const c_char) -> Fmi2Status {
     // SAFETY: FMI 2 contract.
-    unsafe {
-        with(c, |i| {
-            i.logging_on = logging_on != 0;
-            Ok(())
-        })
-    }
+    unsafe { with(c, |i| i.set_logging(logging_on != 0)) }
 }
 
 /// # Safety
 /// FMI 2 contract: NUL-terminated strings, a callbacks struct that outlives the instance.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2Instantiate(
-    instance_name: *const c_char,
+    instance_name_ptr: *const c_char,
     fmu_type: c_int,
     guid: *const c_char,
     resource_location: *const c_char,
@@ -121,7 +103,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
 ) -> Fmi2Component {
     let made = std::panic::catch_unwind(|| {
         // SAFETY: FMI 2 contract: NUL-terminated strings or NULL.
-        let name = if instance_name.is_null() { String::from("spacearm") } else { unsafe { CStr::from_ptr(instance_name) }.to_string_lossy().into_owned() };
+        let name = unsafe { instance_name(instance_name_ptr) };
         let logger = logger_of(functions, &name);
         if fmu_type != 1 {
             logger(true, "this FMU supports co-simulation only (fmi2CoSimulation); model exchange is not implemented");
@@ -140,16 +122,8 @@ pub unsafe extern "C" fn fmi2Instantiate(
                 return std::ptr::null_mut();
             }
         };
-        // SAFETY: FMI 2 contract: a NUL-terminated string or NULL.
-        let token = if guid.is_null() { None } else { Some(unsafe { CStr::from_ptr(guid) }.to_string_lossy().into_owned()) };
-        match Instance::from_resources(&dir, FmiVersion::Fmi2, token.as_deref(), name, logger, logging_on != 0) {
-            Ok(inst) => Box::into_raw(Box::new(inst)).cast::<c_void>(),
-            Err(f) => {
-                // The logger moved into the failed instance attempt; make another to report.
-                logger_of(functions, "spacearm")(true, &f.message);
-                std::ptr::null_mut()
-            }
-        }
+        // SAFETY: FMI 2 contract: `guid` a NUL-terminated string or NULL.
+        unsafe { instantiate(&dir, FmiVersion::Fmi2, guid, name, logger, logging_on != 0, |m| logger_of(functions, "spacearm")(true, m)) }
     });
     made.unwrap_or(std::ptr::null_mut())
 }
@@ -158,10 +132,8 @@ pub unsafe extern "C" fn fmi2Instantiate(
 /// FMI 2 contract.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2FreeInstance(c: Fmi2Component) {
-    if !c.is_null() {
-        // SAFETY: an instance from `fmi2Instantiate`, freed once.
-        let _ = std::panic::catch_unwind(|| drop(unsafe { Box::from_raw(c.cast::<Instance>()) }));
-    }
+    // SAFETY: an instance from `fmi2Instantiate`, freed once.
+    unsafe { free_handle(c) }
 }
 
 /// # Safety
@@ -169,56 +141,15 @@ pub unsafe extern "C" fn fmi2FreeInstance(c: Fmi2Component) {
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetupExperiment(c: Fmi2Component, _tol_defined: Fmi2Boolean, _tol: f64, start_time: f64, _stop_defined: Fmi2Boolean, _stop: f64) -> Fmi2Status {
     // SAFETY: FMI 2 contract.
-    unsafe {
-        with(c, |_| {
-            if start_time != 0.0 {
-                return Err(format!("the FMU starts at t = 0 s; got startTime {start_time}"));
-            }
-            Ok(())
-        })
-    }
+    unsafe { with(c, |_| check_start_time(start_time)) }
 }
 
-/// # Safety
-/// FMI 2 contract.
-#[no_mangle]
-pub unsafe extern "C" fn fmi2EnterInitializationMode(c: Fmi2Component) -> Fmi2Status {
-    // SAFETY: FMI 2 contract.
-    unsafe { with(c, Instance::enter_initialization) }
-}
-
-/// # Safety
-/// FMI 2 contract.
-#[no_mangle]
-pub unsafe extern "C" fn fmi2ExitInitializationMode(c: Fmi2Component) -> Fmi2Status {
-    // SAFETY: FMI 2 contract.
-    unsafe { with(c, Instance::exit_initialization) }
-}
-
-/// # Safety
-/// FMI 2 contract.
-#[no_mangle]
-pub unsafe extern "C" fn fmi2Terminate(c: Fmi2Component) -> Fmi2Status {
-    // SAFETY: FMI 2 contract.
-    unsafe {
-        with(c, |i| {
-            i.phase = Phase::Terminated;
-            Ok(())
-        })
-    }
-}
-
-/// # Safety
-/// FMI 2 contract.
-#[no_mangle]
-pub unsafe extern "C" fn fmi2Reset(c: Fmi2Component) -> Fmi2Status {
-    // SAFETY: FMI 2 contract.
-    unsafe {
-        with(c, |i| {
-            i.reset();
-            Ok(())
-        })
-    }
+super::instance_entry_points! {
+    Fmi2Component, Fmi2Status;
+    fmi2EnterInitializationMode => Instance::enter_initialization,
+    fmi2ExitInitializationMode => Instance::exit_initialization,
+    fmi2Terminate => Instance::terminate,
+    fmi2Reset => Instance::reset,
 }
 
 /// # Safety

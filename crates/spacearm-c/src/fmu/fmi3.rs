@@ -10,11 +10,11 @@ use std::ffi::{c_char, c_void, CStr, CString};
 use std::path::PathBuf;
 
 use super::variables::FmiVersion;
-use super::{run_fmi, slice, slice_mut, Instance, Phase};
+use super::{check_start_time, free_handle, instance_name, instantiate, slice, slice_mut, with, Instance, Phase};
 
 type Fmi3Status = i32;
-const OK: Fmi3Status = 0;
-const ERROR: Fmi3Status = 3;
+const OK: Fmi3Status = super::FMI_OK;
+const ERROR: Fmi3Status = super::FMI_ERROR;
 type Fmi3Instance = *mut c_void;
 type Fmi3ValueReference = u32;
 /// `fmi3LogMessageCallback`.
@@ -31,19 +31,6 @@ fn logger_of(log: Option<LogMessage>, env: *mut c_void) -> super::Logger {
     })
 }
 
-/// # Safety
-/// `c` NULL or an instance from `fmi3InstantiateCoSimulation`.
-unsafe fn with(c: Fmi3Instance, body: impl FnOnce(&mut Instance) -> Result<(), String>) -> Fmi3Status {
-    // SAFETY: the importer's contract: `c` is an instance of this library.
-    match unsafe { c.cast::<Instance>().as_mut() } {
-        None => ERROR,
-        Some(inst) => match run_fmi(inst, body) {
-            Ok(()) => OK,
-            Err(()) => ERROR,
-        },
-    }
-}
-
 #[no_mangle]
 pub extern "C" fn fmi3GetVersion() -> *const c_char {
     c"3.0".as_ptr()
@@ -54,12 +41,7 @@ pub extern "C" fn fmi3GetVersion() -> *const c_char {
 #[no_mangle]
 pub unsafe extern "C" fn fmi3SetDebugLogging(c: Fmi3Instance, logging_on: bool, _n: usize, _categories: *const *const c_char) -> Fmi3Status {
     // SAFETY: FMI 3 contract.
-    unsafe {
-        with(c, |i| {
-            i.logging_on = logging_on;
-            Ok(())
-        })
-    }
+    unsafe { with(c, |i| i.set_logging(logging_on)) }
 }
 
 /// # Safety
@@ -67,7 +49,7 @@ pub unsafe extern "C" fn fmi3SetDebugLogging(c: Fmi3Instance, logging_on: bool, 
 /// a trailing separator.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
-    instance_name: *const c_char,
+    instance_name_ptr: *const c_char,
     token: *const c_char,
     resource_path: *const c_char,
     _visible: bool,
@@ -83,7 +65,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     let made = std::panic::catch_unwind(|| {
         let logger = logger_of(log_message, instance_environment);
         // SAFETY: FMI 3 contract: NUL-terminated strings or NULL.
-        let name = if instance_name.is_null() { String::from("spacearm") } else { unsafe { CStr::from_ptr(instance_name) }.to_string_lossy().into_owned() };
+        let name = unsafe { instance_name(instance_name_ptr) };
         if event_mode_used {
             logger(true, "this FMU has no event mode (hasEventMode=false); instantiate it with eventModeUsed = false");
             return std::ptr::null_mut();
@@ -94,15 +76,8 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
         }
         // SAFETY: FMI 3 contract.
         let dir = PathBuf::from(unsafe { CStr::from_ptr(resource_path) }.to_string_lossy().into_owned());
-        // SAFETY: FMI 3 contract: a NUL-terminated string or NULL.
-        let token = if token.is_null() { None } else { Some(unsafe { CStr::from_ptr(token) }.to_string_lossy().into_owned()) };
-        match Instance::from_resources(&dir, FmiVersion::Fmi3, token.as_deref(), name, logger, logging_on) {
-            Ok(inst) => Box::into_raw(Box::new(inst)).cast::<c_void>(),
-            Err(f) => {
-                logger_of(log_message, instance_environment)(true, &f.message);
-                std::ptr::null_mut()
-            }
-        }
+        // SAFETY: FMI 3 contract: `token` a NUL-terminated string or NULL.
+        unsafe { instantiate(&dir, FmiVersion::Fmi3, token, name, logger, logging_on, |m| logger_of(log_message, instance_environment)(true, m)) }
     });
     made.unwrap_or(std::ptr::null_mut())
 }
@@ -135,10 +110,8 @@ pub extern "C" fn fmi3InstantiateScheduledExecution() -> Fmi3Instance {
 /// FMI 3 contract.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3FreeInstance(c: Fmi3Instance) {
-    if !c.is_null() {
-        // SAFETY: an instance from `fmi3InstantiateCoSimulation`, freed once.
-        let _ = std::panic::catch_unwind(|| drop(unsafe { Box::from_raw(c.cast::<Instance>()) }));
-    }
+    // SAFETY: an instance from `fmi3InstantiateCoSimulation`, freed once.
+    unsafe { free_handle(c) }
 }
 
 /// # Safety
@@ -148,20 +121,17 @@ pub unsafe extern "C" fn fmi3EnterInitializationMode(c: Fmi3Instance, _tol_defin
     // SAFETY: FMI 3 contract.
     unsafe {
         with(c, |i| {
-            if start_time != 0.0 {
-                return Err(format!("the FMU starts at t = 0 s; got startTime {start_time}"));
-            }
+            check_start_time(start_time)?;
             i.enter_initialization()
         })
     }
 }
 
-/// # Safety
-/// FMI 3 contract.
-#[no_mangle]
-pub unsafe extern "C" fn fmi3ExitInitializationMode(c: Fmi3Instance) -> Fmi3Status {
-    // SAFETY: FMI 3 contract.
-    unsafe { with(c, Instance::exit_initialization) }
+super::instance_entry_points! {
+    Fmi3Instance, Fmi3Status;
+    fmi3ExitInitializationMode => Instance::exit_initialization,
+    fmi3Terminate => Instance::terminate,
+    fmi3Reset => Instance::reset,
 }
 
 /// The unit has no event mode; step mode is where it always is after initialization.
@@ -172,32 +142,6 @@ pub unsafe extern "C" fn fmi3ExitInitializationMode(c: Fmi3Instance) -> Fmi3Stat
 pub unsafe extern "C" fn fmi3EnterStepMode(c: Fmi3Instance) -> Fmi3Status {
     // SAFETY: FMI 3 contract.
     unsafe { with(c, |i| if i.phase == Phase::Stepping { Ok(()) } else { Err("step mode follows initialization".into()) }) }
-}
-
-/// # Safety
-/// FMI 3 contract.
-#[no_mangle]
-pub unsafe extern "C" fn fmi3Terminate(c: Fmi3Instance) -> Fmi3Status {
-    // SAFETY: FMI 3 contract.
-    unsafe {
-        with(c, |i| {
-            i.phase = Phase::Terminated;
-            Ok(())
-        })
-    }
-}
-
-/// # Safety
-/// FMI 3 contract.
-#[no_mangle]
-pub unsafe extern "C" fn fmi3Reset(c: Fmi3Instance) -> Fmi3Status {
-    // SAFETY: FMI 3 contract.
-    unsafe {
-        with(c, |i| {
-            i.reset();
-            Ok(())
-        })
-    }
 }
 
 /// # Safety

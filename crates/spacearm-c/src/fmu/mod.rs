@@ -16,7 +16,7 @@ pub mod fmi3;
 pub mod parameters;
 pub mod variables;
 
-use std::ffi::c_char;
+use std::ffi::{c_char, c_int, c_void, CStr};
 use std::path::Path;
 
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
@@ -249,13 +249,109 @@ impl Instance {
         }
     }
 
-    /// Back to the state just after instantiation (start values, no simulation).
-    pub(crate) fn reset(&mut self) {
+    /// `fmi2SetDebugLogging`, `fmi3SetDebugLogging`: log the informational messages or not.
+    pub(crate) fn set_logging(&mut self, on: bool) -> Result<(), String> {
+        self.logging_on = on;
+        Ok(())
+    }
+
+    /// `fmi2Terminate`, `fmi3Terminate`.
+    pub(crate) fn terminate(&mut self) -> Result<(), String> {
+        self.phase = Phase::Terminated;
+        Ok(())
+    }
+
+    /// Back to the state just after instantiation (start values, no simulation): `fmi2Reset`,
+    /// `fmi3Reset` (it cannot fail).
+    pub(crate) fn reset(&mut self) -> Result<(), String> {
         self.values = self.layout.vars.iter().map(|v| v.start).collect();
         self.stepper = None;
         self.last_quat = None;
         self.phase = Phase::Instantiated;
+        Ok(())
     }
+}
+
+/// `fmi2OK` / `fmi3OK` (the status codes are the same in both versions).
+pub(crate) const FMI_OK: c_int = 0;
+/// `fmi2Error` / `fmi3Error`.
+pub(crate) const FMI_ERROR: c_int = 3;
+
+/// The instance of the importer's handle `c` (FMI 2's component, FMI 3's instance) running
+/// `body` through [`run_fmi`], as the entry point's status; a NULL handle is an error.
+///
+/// # Safety
+/// `c` NULL or an instance from [`instantiate`].
+pub(crate) unsafe fn with(c: *mut c_void, body: impl FnOnce(&mut Instance) -> Result<(), String>) -> c_int {
+    // SAFETY: the importer's contract: `c` is an instance of this library.
+    let done = match unsafe { c.cast::<Instance>().as_mut() } {
+        None => Err(()),
+        Some(inst) => run_fmi(inst, body),
+    };
+    if done.is_ok() { FMI_OK } else { FMI_ERROR }
+}
+
+/// Entry points `fn name(c: Handle) -> Status` of FMI 2 or 3 that are one call on the instance
+/// (`name => Instance::method`): the state-machine steps both versions share.
+macro_rules! instance_entry_points {
+    ($handle:ty, $status:ty; $($name:ident => $body:expr),* $(,)?) => {
+        $(
+            /// # Safety
+            /// The FMI contract: `c` NULL or an instance of this library.
+            #[no_mangle]
+            pub unsafe extern "C" fn $name(c: $handle) -> $status {
+                // SAFETY: the FMI contract.
+                unsafe { super::with(c, $body) }
+            }
+        )*
+    };
+}
+pub(crate) use instance_entry_points;
+
+/// The instance name the importer gave (`"spacearm"` for NULL).
+///
+/// # Safety
+/// `name` NULL or a NUL-terminated string.
+pub(crate) unsafe fn instance_name(name: *const c_char) -> String {
+    // SAFETY: the caller's contract.
+    if name.is_null() { String::from("spacearm") } else { unsafe { CStr::from_ptr(name) }.to_string_lossy().into_owned() }
+}
+
+/// A new instance from the `resources/` folder `dir` as the importer's handle, checked against
+/// the importer's `token` (GUID / instantiation token); NULL after `report` (a fresh logger:
+/// `logger` moved into the failed attempt) when it cannot be made.
+///
+/// # Safety
+/// `token` NULL or a NUL-terminated string.
+pub(crate) unsafe fn instantiate(dir: &Path, version: FmiVersion, token: *const c_char, name: String, logger: Logger, logging_on: bool, report: impl FnOnce(&str)) -> *mut c_void {
+    // SAFETY: the caller's contract.
+    let token = if token.is_null() { None } else { Some(unsafe { CStr::from_ptr(token) }.to_string_lossy().into_owned()) };
+    match Instance::from_resources(dir, version, token.as_deref(), name, logger, logging_on) {
+        Ok(inst) => Box::into_raw(Box::new(inst)).cast::<c_void>(),
+        Err(f) => {
+            report(&f.message);
+            std::ptr::null_mut()
+        }
+    }
+}
+
+/// Free the instance of the importer's handle `c` (NULL: nothing), a panic caught.
+///
+/// # Safety
+/// `c` NULL or an instance from [`instantiate`], freed once.
+pub(crate) unsafe fn free_handle(c: *mut c_void) {
+    if !c.is_null() {
+        // SAFETY: the caller's contract.
+        let _ = std::panic::catch_unwind(|| drop(unsafe { Box::from_raw(c.cast::<Instance>()) }));
+    }
+}
+
+/// The unit starts at `t = 0` (the experiment's start time the importer passes).
+pub(crate) fn check_start_time(start_time: f64) -> Result<(), String> {
+    if start_time != 0.0 {
+        return Err(format!("the FMU starts at t = 0 s; got startTime {start_time}"));
+    }
+    Ok(())
 }
 
 /// The importer's array `p` of `n` elements as a slice (FMI 2 and 3 alike): empty for `n = 0`,

@@ -159,6 +159,7 @@ mod tests {
     use crate::gjm::compute_generalized_jacobian;
     use crate::math::dls::DampingLaw;
     use crate::model::presets;
+    use crate::model::system::Point;
 
     fn options(strategy: Strategy) -> RmrcOptions {
         RmrcOptions {
@@ -171,12 +172,18 @@ mod tests {
         }
     }
 
-    #[test]
-    fn reactionless_rates_do_not_rotate_the_base() {
+    /// planar4, a workspace, its initial configuration and its end effector.
+    fn planar4_at_start() -> (Model, Data, Vec<f64>, Point) {
         let m = presets::planar4();
-        let mut d = Data::new(&m);
+        let d = Data::new(&m);
         let x = presets::initial_configuration(&m);
         let ee = m.points()[m.end_effector().unwrap()].clone();
+        (m, d, x, ee)
+    }
+
+    #[test]
+    fn reactionless_rates_do_not_rotate_the_base() {
+        let (m, mut d, x, ee) = planar4_at_start();
         let desired = Vector6::new(0.1, -0.05, 0.0, 0.0, 0.0, 0.0);
         let r = rmrc_rates(&m, &mut d, &x, ee.body, &ee.offset, &desired, &options(Strategy::Reactionless)).unwrap();
         assert!(r.base_angular_velocity.norm() < 1e-12);
@@ -190,10 +197,7 @@ mod tests {
 
     #[test]
     fn reactionless_motion_keeps_attitude() {
-        let m = presets::planar4();
-        let mut d = Data::new(&m);
-        let x0 = presets::initial_configuration(&m);
-        let ee = m.points()[m.end_effector().unwrap()].clone();
+        let (m, mut d, x0, ee) = planar4_at_start();
         crate::algorithms::kinematics::forward_kinematics(&m, &mut d, &x0).unwrap();
         let p0 = point_position(&d, ee.body, &ee.offset);
         let target = p0 + Vector3::new(-0.5, 0.6, 0.0);

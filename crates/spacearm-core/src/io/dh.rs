@@ -136,6 +136,40 @@ pub struct DhArm {
     pub tip_point: Option<String>,
 }
 
+/// Row `k`'s link name (default `link{k+1}`), the subject of its error messages and its item.
+fn row_identity(k: usize, name: &Option<String>) -> (String, String, ModelItem) {
+    let name = name.clone().unwrap_or_else(|| format!("link{}", k + 1));
+    let who = format!("DH link {} ('{name}')", k + 1);
+    (name, who, ModelItem::DhRow(k))
+}
+
+/// Joint `k` of a converted table: its kind, its position in the parent's CM frame, the child
+/// frame's rotation `[x, y, z, w]` at `q = 0` and its axis in the child frame.
+struct DhJoint {
+    kind: JointType,
+    origin: Vector3<f64>,
+    rotation: [f64; 4],
+    axis: [f64; 3],
+}
+
+/// The [`LinkSpec`] of row `k` (joint name default `joint{k+1}`), both conventions.
+#[allow(clippy::too_many_arguments)]
+fn row_link(k: usize, name: &str, parent: &str, joint_name: &Option<String>, joint: DhJoint, com_from_joint: [f64; 3], mass: f64, inertia: [[f64; 3]; 3], limits: JointLimits) -> LinkSpec {
+    LinkSpec {
+        name: name.to_string(),
+        parent: parent.to_string(),
+        joint_name: Some(joint_name.clone().unwrap_or_else(|| format!("joint{}", k + 1))),
+        kind: joint.kind,
+        origin_in_parent: joint.origin.into(),
+        rotation_in_parent: joint.rotation,
+        axis: joint.axis,
+        com_from_joint,
+        mass,
+        inertia,
+        limits,
+    }
+}
+
 /// The links of a converted arm and its tip point.
 #[derive(Debug, Clone)]
 pub struct ConvertedArm {
@@ -195,9 +229,7 @@ impl DhArm {
             DhTable::Classic(rows) => {
                 let mut to_next = Vector3::zeros();
                 for (k, row) in rows.iter().enumerate() {
-                    let name = row.name.clone().unwrap_or_else(|| format!("link{}", k + 1));
-                    let who = format!("DH link {} ('{name}')", k + 1);
-                    let item = ModelItem::DhRow(k);
+                    let (name, who, item) = row_identity(k, &row.name);
                     check_finite(item, ModelField::DhParameters, &who, "d, theta, a and alpha", &[row.d, row.theta, row.a, row.alpha])?;
                     check_finite(item, ModelField::DhParameters, &who, "com", &row.com)?;
                     let p = if k == 0 { &p1 } else { &identity };
@@ -205,19 +237,8 @@ impl DhArm {
                     let (s, c) = sin_cos(row.alpha);
                     let joint_to_origin = Vector3::new(row.a, row.d * s, row.d * c);
                     let com = Vector3::from(row.com);
-                    links.push(LinkSpec {
-                        name: name.clone(),
-                        parent: parent.clone(),
-                        joint_name: Some(row.joint_name.clone().unwrap_or_else(|| format!("joint{}", k + 1))),
-                        kind: row.kind,
-                        origin_in_parent: origin.into(),
-                        rotation_in_parent: rotation,
-                        axis,
-                        com_from_joint: (joint_to_origin + com).into(),
-                        mass: row.mass,
-                        inertia: row.inertia,
-                        limits: row.limits,
-                    });
+                    let joint = DhJoint { kind: row.kind, origin, rotation, axis };
+                    links.push(row_link(k, &name, &parent, &row.joint_name, joint, (joint_to_origin + com).into(), row.mass, row.inertia, row.limits));
                     // Joint i+1 sits at DH origin i, i.e. at -c_i from the CM.
                     to_next = Vector3::zeros() - com;
                     origin = to_next;
@@ -228,27 +249,14 @@ impl DhArm {
             DhTable::Paper(rows) => {
                 let mut to_next = Vector3::zeros();
                 for (k, row) in rows.iter().enumerate() {
-                    let name = row.name.clone().unwrap_or_else(|| format!("link{}", k + 1));
-                    let who = format!("DH link {} ('{name}')", k + 1);
-                    let item = ModelItem::DhRow(k);
+                    let (name, who, item) = row_identity(k, &row.name);
                     check_finite(item, ModelField::DhParameters, &who, "theta and alpha", &[row.theta, row.alpha])?;
                     check_finite(item, ModelField::DhParameters, &who, "joint_to_com", &row.joint_to_com)?;
                     check_finite(item, ModelField::DhParameters, &who, "com_to_next", &row.com_to_next)?;
                     let p = if k == 0 { &p1 } else { &identity };
                     let (rotation, axis) = dh_rotation(p, row.theta, row.alpha);
-                    links.push(LinkSpec {
-                        name: name.clone(),
-                        parent: parent.clone(),
-                        joint_name: Some(row.joint_name.clone().unwrap_or_else(|| format!("joint{}", k + 1))),
-                        kind: row.kind,
-                        origin_in_parent: origin.into(),
-                        rotation_in_parent: rotation,
-                        axis,
-                        com_from_joint: row.joint_to_com,
-                        mass: row.mass,
-                        inertia: row.inertia,
-                        limits: row.limits,
-                    });
+                    let joint = DhJoint { kind: row.kind, origin, rotation, axis };
+                    links.push(row_link(k, &name, &parent, &row.joint_name, joint, row.joint_to_com, row.mass, row.inertia, row.limits));
                     to_next = Vector3::from(row.com_to_next);
                     origin = to_next;
                     parent = name;

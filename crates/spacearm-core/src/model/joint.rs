@@ -3,6 +3,8 @@
 use nalgebra::{UnitQuaternion, UnitVector3, Vector3};
 use serde::{Deserialize, Serialize};
 
+use crate::error::{Result, SpacearmError};
+
 /// The kind of a joint connecting a link to its parent.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -31,6 +33,15 @@ impl JointType {
             JointType::Prismatic => "prismatic",
             JointType::Fixed => "fixed",
         }
+    }
+
+    /// The joint type named `name` (a name of [`JointType::as_str`]); any other name is an
+    /// invalid model.
+    pub fn from_name(name: &str) -> Result<JointType> {
+        [JointType::Revolute, JointType::Prismatic, JointType::Fixed]
+            .into_iter()
+            .find(|kind| kind.as_str() == name)
+            .ok_or_else(|| SpacearmError::InvalidModel(format!("joint type must be 'revolute', 'prismatic' or 'fixed', got '{name}'")))
     }
 }
 

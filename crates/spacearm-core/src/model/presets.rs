@@ -21,9 +21,9 @@ pub const NAMES: [&str; 5] = ["planar4", "spatial6", "dual_arm", "spatial7", "et
 
 /// Inertia of a square bar of length `l` along x and side `w`: `Ixx = m w²/6`,
 /// `Iyy = Izz = m (l² + w²)/12`.
-fn bar_inertia(m: f64, l: f64, w: f64) -> [[f64; 3]; 3] {
+fn bar_moments(m: f64, l: f64, w: f64) -> [f64; 3] {
     let iyy = m * (l * l + w * w) / 12.0;
-    [[m * w * w / 6.0, 0.0, 0.0], [0.0, iyy, 0.0], [0.0, 0.0, iyy]]
+    [m * w * w / 6.0, iyy, iyy]
 }
 
 struct SerialArm<'a> {
@@ -66,17 +66,9 @@ fn add_chain(b: &mut ModelBuilder, prefix: &str, spec: &SerialArm<'_>) -> Result
     for (i, ((axis, &l), &m)) in spec.axes.iter().zip(spec.lengths).zip(spec.masses).enumerate() {
         let name = format!("{prefix}link{}", i + 1);
         b.add_link(LinkSpec {
-            name: name.clone(),
-            parent: parent.clone(),
             joint_name: Some(format!("{prefix}joint{}", i + 1)),
-            kind: JointType::Revolute,
-            origin_in_parent: origin,
-            rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-            axis: *axis,
-            com_from_joint: [l / 2.0, 0.0, 0.0],
-            mass: m,
-            inertia: bar_inertia(m, l, spec.width),
             limits: spec.limits.get(i).copied().unwrap_or_else(JointLimits::unlimited),
+            ..LinkSpec::new(&name, &parent, JointType::Revolute, origin, *axis, [l / 2.0, 0.0, 0.0], m, bar_moments(m, l, spec.width))
         })?;
         // The bar itself: l × w × w about its CM, along the link's x.
         add_box(b, &name, [l, spec.width, spec.width], LINK_RGBA)?;
@@ -279,17 +271,9 @@ pub fn ets7_with(triangle_inequality: TriangleInequality) -> Model {
             };
             let name = format!("link{}", i + 1);
             b.add_link(LinkSpec {
-                name: name.clone(),
-                parent: parent.clone(),
                 joint_name: Some(format!("joint{}", i + 1)),
-                kind: JointType::Revolute,
-                origin_in_parent: link.origin,
                 rotation_in_parent: xyzw_from_rpy(&link.rpy),
-                axis: [0.0, 0.0, 1.0],
-                com_from_joint: [0.0; 3],
-                mass: link.mass,
-                inertia: [[ixx, 0.0, 0.0], [0.0, iyy, 0.0], [0.0, 0.0, izz]],
-                limits: JointLimits::unlimited(),
+                ..LinkSpec::new(&name, &parent, JointType::Revolute, link.origin, [0.0, 0.0, 1.0], [0.0; 3], link.mass, [ixx, iyy, izz])
             })?;
             // A 0.06 m radius capsule from this joint to the next (or to the end effector).
             let next = ETS7_LINKS.get(i + 1).map_or(ETS7_END_EFFECTOR, |l| l.origin);

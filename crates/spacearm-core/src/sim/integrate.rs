@@ -127,45 +127,28 @@ impl Rk4 {
     }
 }
 
-// Dormand–Prince 5(4) tableau (Hairer et al. I, Table II.5.2).
-const C2: f64 = 1.0 / 5.0;
-const C3: f64 = 3.0 / 10.0;
-const C4: f64 = 4.0 / 5.0;
-const C5: f64 = 8.0 / 9.0;
-const A21: f64 = 1.0 / 5.0;
-const A31: f64 = 3.0 / 40.0;
-const A32: f64 = 9.0 / 40.0;
-const A41: f64 = 44.0 / 45.0;
-const A42: f64 = -56.0 / 15.0;
-const A43: f64 = 32.0 / 9.0;
-const A51: f64 = 19372.0 / 6561.0;
-const A52: f64 = -25360.0 / 2187.0;
-const A53: f64 = 64448.0 / 6561.0;
-const A54: f64 = -212.0 / 729.0;
-const A61: f64 = 9017.0 / 3168.0;
-const A62: f64 = -355.0 / 33.0;
-const A63: f64 = 46732.0 / 5247.0;
-const A64: f64 = 49.0 / 176.0;
-const A65: f64 = -5103.0 / 18656.0;
-const A71: f64 = 35.0 / 384.0;
-const A73: f64 = 500.0 / 1113.0;
-const A74: f64 = 125.0 / 192.0;
-const A75: f64 = -2187.0 / 6784.0;
-const A76: f64 = 11.0 / 84.0;
-// Error coefficients b − b̂ (fifth- minus fourth-order weights).
-const E1: f64 = 71.0 / 57600.0;
-const E3: f64 = -71.0 / 16695.0;
-const E4: f64 = 71.0 / 1920.0;
-const E5: f64 = -17253.0 / 339200.0;
-const E6: f64 = 22.0 / 525.0;
-const E7: f64 = -1.0 / 40.0;
-// Dense output (Hairer et al. I, §II.6, the continuous extension of order 4 used by DOPRI5).
-const D1: f64 = -12715105075.0 / 11282082432.0;
-const D3: f64 = 87487479700.0 / 32700410799.0;
-const D4: f64 = -10690763975.0 / 1880347072.0;
-const D5: f64 = 701980252875.0 / 199316789632.0;
-const D6: f64 = -1453857185.0 / 822651844.0;
-const D7: f64 = 69997945.0 / 29380423.0;
+// Dormand–Prince 5(4) tableau (Hairer et al. I, Table II.5.2), a row a line: the nodes
+// `c2..c5`, the stage rows `a_i = [a_i1, …]` (row 7 holds the fifth-order weights `b`: FSAL),
+// the error coefficients `b − b̂` (fifth- minus fourth-order weights) and the dense output
+// (Hairer et al. I, §II.6, the continuous extension of order 4 used by DOPRI5). Index `j`
+// holds the coefficient of `k_{j+1}`; the zero ones (of `k2` in rows 7, E and D) are skipped.
+const C: [f64; 4] = [1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0];
+const A2: [f64; 1] = [1.0 / 5.0];
+const A3: [f64; 2] = [3.0 / 40.0, 9.0 / 40.0];
+const A4: [f64; 3] = [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0];
+const A5: [f64; 4] = [19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0];
+const A6: [f64; 5] = [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0];
+const A7: [f64; 6] = [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0];
+const E: [f64; 7] = [71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0];
+const D: [f64; 7] = [
+    -12715105075.0 / 11282082432.0,
+    0.0,
+    87487479700.0 / 32700410799.0,
+    -10690763975.0 / 1880347072.0,
+    701980252875.0 / 199316789632.0,
+    -1453857185.0 / 822651844.0,
+    69997945.0 / 29380423.0,
+];
 
 /// Outcome of one attempted adaptive step.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -266,29 +249,29 @@ impl Dopri5 {
             self.k1_valid = true;
         }
         let [k1, k2, k3, k4, k5, k6, k7] = &mut self.k;
-        combine(&mut self.stage, y, h, &[(A21, k1)]);
+        combine(&mut self.stage, y, h, &[(A2[0], k1)]);
         sys.project(&mut self.stage);
-        sys.rhs(t + C2 * h, &self.stage, k2)?;
-        combine(&mut self.stage, y, h, &[(A31, k1), (A32, k2)]);
+        sys.rhs(t + C[0] * h, &self.stage, k2)?;
+        combine(&mut self.stage, y, h, &[(A3[0], k1), (A3[1], k2)]);
         sys.project(&mut self.stage);
-        sys.rhs(t + C3 * h, &self.stage, k3)?;
-        combine(&mut self.stage, y, h, &[(A41, k1), (A42, k2), (A43, k3)]);
+        sys.rhs(t + C[1] * h, &self.stage, k3)?;
+        combine(&mut self.stage, y, h, &[(A4[0], k1), (A4[1], k2), (A4[2], k3)]);
         sys.project(&mut self.stage);
-        sys.rhs(t + C4 * h, &self.stage, k4)?;
-        combine(&mut self.stage, y, h, &[(A51, k1), (A52, k2), (A53, k3), (A54, k4)]);
+        sys.rhs(t + C[2] * h, &self.stage, k4)?;
+        combine(&mut self.stage, y, h, &[(A5[0], k1), (A5[1], k2), (A5[2], k3), (A5[3], k4)]);
         sys.project(&mut self.stage);
-        sys.rhs(t + C5 * h, &self.stage, k5)?;
-        combine(&mut self.stage, y, h, &[(A61, k1), (A62, k2), (A63, k3), (A64, k4), (A65, k5)]);
+        sys.rhs(t + C[3] * h, &self.stage, k5)?;
+        combine(&mut self.stage, y, h, &[(A6[0], k1), (A6[1], k2), (A6[2], k3), (A6[3], k4), (A6[4], k5)]);
         sys.project(&mut self.stage);
         sys.rhs(t + h, &self.stage, k6)?;
-        combine(&mut self.y_new, y, h, &[(A71, k1), (A73, k3), (A74, k4), (A75, k5), (A76, k6)]);
+        combine(&mut self.y_new, y, h, &[(A7[0], k1), (A7[2], k3), (A7[3], k4), (A7[4], k5), (A7[5], k6)]);
         sys.project(&mut self.y_new);
         sys.rhs(t + h, &self.y_new, k7)?;
         // Scaled RMS error norm (Hairer et al. I, eq. II.4.11).
         let n = y.len();
         let mut err = 0.0;
         for i in 0..n {
-            let e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
+            let e = h * (E[0] * k1[i] + E[2] * k3[i] + E[3] * k4[i] + E[4] * k5[i] + E[5] * k6[i] + E[6] * k7[i]);
             let sk = self.atol + self.rtol * y[i].abs().max(self.y_new[i].abs());
             err += (e / sk).powi(2);
         }
@@ -316,7 +299,7 @@ impl Dopri5 {
                 c2[i] = ydiff;
                 c3[i] = bspl;
                 c4[i] = ydiff - h * k7[i] - bspl;
-                c5[i] = h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
+                c5[i] = h * (D[0] * k1[i] + D[2] * k3[i] + D[3] * k4[i] + D[4] * k5[i] + D[5] * k6[i] + D[6] * k7[i]);
             }
             y.copy_from_slice(&self.y_new);
             // First same as last: f at the new point starts the next step.

@@ -1,9 +1,12 @@
-//! Random spacecraft-manipulator trees for the core's tests.
+//! Random spacecraft-manipulator trees, tangent steps and a scripted controller for the
+//! core's tests (each test crate uses a part of it).
+#![allow(dead_code)]
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use spacearm_core::model::body::MassProperties;
-use spacearm_core::{JointLimits, JointType, LinkSpec, Model, ModelBuilder};
+use spacearm_core::control::{Command, ControlContext, Controller};
+use spacearm_core::{Data, JointLimits, JointType, LinkSpec, Model, ModelBuilder};
 
 pub fn rng(seed: u64) -> ChaCha8Rng {
     ChaCha8Rng::seed_from_u64(seed)
@@ -34,7 +37,6 @@ pub fn random_model(r: &mut ChaCha8Rng, n_links: usize) -> Model {
 
 /// The builder of [`random_model`] before it is built (links `link1..`, a point `tip` as end
 /// effector), for tests that add to it.
-#[allow(dead_code)]
 pub fn random_builder(r: &mut ChaCha8Rng, n_links: usize) -> ModelBuilder {
     let base_mass = r.random_range(50.0..500.0);
     let mut b = ModelBuilder::new("random", "base", base_mass, inertia(r, base_mass)).unwrap();
@@ -79,4 +81,74 @@ pub fn random_state(r: &mut ChaCha8Rng, model: &Model) -> (Vec<f64>, Vec<f64>) {
 
 pub fn random_vector(r: &mut ChaCha8Rng, n: usize, scale: f64) -> Vec<f64> {
     (0..n).map(|_| r.random_range(-scale..scale)).collect()
+}
+
+/// Runs `check(trial, rng, model, data, x, u)` on `trials` random trees, trial `k`'s made by
+/// `model_for(rng, k)`, each at a random state drawn after its model from the same generator.
+pub fn on_random_states(
+    seed: u64,
+    trials: usize,
+    mut model_for: impl FnMut(&mut ChaCha8Rng, usize) -> Model,
+    mut check: impl FnMut(usize, &mut ChaCha8Rng, &Model, &mut Data, &[f64], &[f64]),
+) {
+    let mut r = rng(seed);
+    for trial in 0..trials {
+        let model = model_for(&mut r, trial);
+        let mut data = Data::new(&model);
+        let (x, u) = random_state(&mut r, &model);
+        check(trial, &mut r, &model, &mut data, &x, &u);
+    }
+}
+
+/// `x` moved for time `s` at velocity `u` (tangent coordinates; `R0 ← exp(s ω0^) R0`).
+pub fn advance(x: &[f64], u: &[f64], s: f64) -> Vec<f64> {
+    let mut y = x.to_vec();
+    for i in 0..3 {
+        y[i] += s * u[i];
+    }
+    let q0 = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(x[6], x[3], x[4], x[5]));
+    let q1 = nalgebra::UnitQuaternion::from_scaled_axis(nalgebra::Vector3::new(u[3], u[4], u[5]) * s) * q0;
+    y[3] = q1.i;
+    y[4] = q1.j;
+    y[5] = q1.k;
+    y[6] = q1.w;
+    for j in 0..u.len() - 6 {
+        y[7 + j] += s * u[6 + j];
+    }
+    y
+}
+
+/// `x ⊕ h e_k` in tangent coordinates `[δr0, δθ (world, left), δq]`: `R0 ← exp(h ẽ) R0`.
+pub fn perturb(x: &[f64], k: usize, h: f64) -> Vec<f64> {
+    let mut e = vec![0.0; x.len() - 1];
+    e[k] = 1.0;
+    advance(x, &e, h)
+}
+
+/// A controller that writes `command(t, out)`: the tests' fixed and scripted commands, one
+/// `Controller` impl for all of them.
+pub struct Scripted<F> {
+    pub name: &'static str,
+    pub command: F,
+}
+
+impl<F: FnMut(f64, &mut Command) + Send> Controller for Scripted<F> {
+    fn name(&self) -> &str {
+        self.name
+    }
+    fn setup(&mut self, _ctx: &ControlContext<'_>) -> spacearm_core::Result<()> {
+        Ok(())
+    }
+    fn command(&mut self, t: f64, _x: &[f64], _u: &[f64], out: &mut Command) -> spacearm_core::Result<()> {
+        (self.command)(t, out);
+        Ok(())
+    }
+}
+
+/// Central difference of a vector function of a plain vector `v` along its coordinate `k`.
+pub fn central_flat(mut f: impl FnMut(&[f64]) -> nalgebra::DVector<f64>, v: &[f64], k: usize, h: f64) -> nalgebra::DVector<f64> {
+    let (mut plus, mut minus) = (v.to_vec(), v.to_vec());
+    plus[k] += h;
+    minus[k] -= h;
+    (f(&plus) - f(&minus)) / (2.0 * h)
 }
