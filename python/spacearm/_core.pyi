@@ -1077,6 +1077,7 @@ class RunMeta:
     controller: str
     drift: list[ConservedDrift]            # one per conserved quantity (per balanced one when balance), in the mode's order
     balance: bool                          # drift holds balance residuals: an orbital run with the gravity gradient
+    stop: Optional[tuple[int, str, float, float]]  # the stop condition that ended the run: (index, kind, t, value); None: its duration
     n_steps: int
     n_rejected: int
     n_rhs_evals: int
