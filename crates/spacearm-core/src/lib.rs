@@ -38,6 +38,7 @@ pub mod gjm;
 pub mod io;
 pub mod math;
 pub mod model;
+pub mod scenario;
 pub mod sim;
 pub mod taped;
 

@@ -29,8 +29,8 @@ use crate::gjm::{compute_generalized_bias, compute_generalized_inertia};
 use crate::algorithms::inertia::BaseInverse;
 use crate::algorithms::passive::subtract_joint_passive_forces;
 use crate::model::Model;
-use crate::sim::modes::Mode;
-use crate::sim::reference::JointReference;
+use crate::scenario::modes::Mode;
+use crate::scenario::reference::JointReference;
 
 use super::pd::check_len;
 use super::{broadcast_gains, cholesky_solve_in_place, Command, ControlContext, Controller, TrackingKind};
@@ -323,7 +323,7 @@ mod tests {
     use crate::model::builder::{LinkSpec, ModelBuilder};
     use crate::model::joint::{JointDynamics, JointType};
     use crate::model::slosh::{SloshModel, SloshRestoring, SloshSpec};
-    use crate::sim::actuators::Actuators;
+    use crate::scenario::actuators::Actuators;
 
     /// Two actuated links on a base carrying a slosh pendulum and a hinged panel (passive, with
     /// a torsional spring), the passive joints between and after the actuated ones.

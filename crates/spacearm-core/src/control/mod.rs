@@ -4,7 +4,7 @@
 //! law, so the right-hand side stays smooth and the integrators keep their order). It receives
 //! the plant's state `(t, x, u)` and writes a [`Command`]: joint torques `τ` (N) and a base
 //! wrench `[F0; N0]` (in 𝒥, at the base CM). The simulator then applies the maneuvering mode's
-//! mask and the actuator limits ([`crate::sim::modes`], [`crate::sim::actuators`]).
+//! mask and the actuator limits ([`crate::scenario::modes`], [`crate::scenario::actuators`]).
 //!
 //! Joint degrees of freedom are split into the **arm** joints and the **reaction wheels**
 //! ([`ControlContext`]): arm controllers (joint PD, computed torque, resolved motion rate) act
@@ -32,10 +32,10 @@ pub mod thrusters;
 
 use nalgebra::Vector6;
 
-use crate::sim::actuators::Actuators;
+use crate::scenario::actuators::Actuators;
 use crate::error::{Result, SpacearmError};
 use crate::model::Model;
-use crate::sim::modes::Mode;
+use crate::scenario::modes::Mode;
 
 pub use attitude::{AttitudeControl, LvlhReference};
 pub use computed_torque::{ComputedTorque, PassiveTreatment};

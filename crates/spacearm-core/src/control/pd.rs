@@ -5,7 +5,7 @@
 //! drift the law does not see, and the tracking error is over the actuated joints.
 
 use crate::error::{Result, SpacearmError};
-use crate::sim::reference::JointReference;
+use crate::scenario::reference::JointReference;
 
 use super::computed_torque::split_passive;
 use super::{broadcast_gains, Command, ControlContext, Controller, TrackingKind};
@@ -100,8 +100,8 @@ impl Controller for JointPd {
 mod tests {
     use super::*;
     use crate::control::coordinated::tests::flexible_spatial3;
-    use crate::sim::actuators::Actuators;
-    use crate::sim::modes::Mode;
+    use crate::scenario::actuators::Actuators;
+    use crate::scenario::modes::Mode;
 
     #[test]
     fn passive_joints_get_no_reference_no_torque_and_no_error() {

@@ -101,7 +101,7 @@ mod tests {
     use crate::control::ZeroTorque;
     use crate::math::rotations::{quaternion_from_xyzw, xyzw};
     use crate::model::presets::{dual_arm, initial_configuration};
-    use crate::sim::integrate::IntegratorKind;
+    use crate::math::integrate::IntegratorKind;
     use nalgebra::{DMatrix, UnitQuaternion, Vector3};
 
     /// `x ⊕ h u`: the base moved by `h v0`, turned by `exp(h ω0)` (in 𝒥), the joints by `h q̇`.

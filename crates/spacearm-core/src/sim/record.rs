@@ -9,8 +9,8 @@ use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use crate::algorithms::kinematics::point_position;
 use crate::algorithms::momentum::{center_of_mass_from_data, conserved_drift, momentum_from_data, momentum_scales_from_data, MomentumScales};
 use crate::model::Model;
-use crate::sim::actuators::SaturationKind;
-use crate::sim::modes::Conserved;
+use crate::scenario::actuators::SaturationKind;
+use crate::scenario::modes::Conserved;
 use crate::sim::simulate::{Plant, Records, SaturationEvent};
 
 /// The records of one run and what is needed to extend them; [`Recorder::new`] is the one place

@@ -30,10 +30,10 @@ use crate::error::{Result, SpacearmError};
 use crate::math::rotations::quaternion_rate;
 use crate::model::data::Data;
 use crate::model::Model;
-use crate::sim::actuators::{check_wheels, detect_reaction_wheels, Actuators, SaturationKind, ThrusterLimits};
-use crate::sim::integrate::{Dopri5, IntegratorKind, OdeSystem, StepOutcome};
-use crate::sim::modes::{Conserved, Mode};
-use crate::sim::orbit::{gravity_gradient_tensor, tidal_wrenches_into, Orbit, OrbitTrack};
+use crate::scenario::actuators::{check_wheels, detect_reaction_wheels, Actuators, SaturationKind, ThrusterLimits};
+use crate::math::integrate::{Dopri5, IntegratorKind, OdeSystem, StepOutcome};
+use crate::scenario::modes::{Conserved, Mode};
+use crate::scenario::orbit::{gravity_gradient_tensor, tidal_wrenches_into, Orbit, OrbitTrack};
 use crate::sim::record::{onsets, Recorder};
 use crate::sim::stepper::Rk4Stepper;
 
@@ -70,7 +70,7 @@ pub struct SimOptions {
 /// own (point mass, two-body + J2, [`OrbitTrack`]), with 𝒥's axes those of ECI; the states stay
 /// relative to `O`. With `gravity_gradient`, every body feels the tidal force `mᵢ G ρᵢ` at its CM
 /// (`ρᵢ` its CM from `O`) and the torque `axial(Iᵢ G − G Iᵢ)` about it, `G` the gradient at `O`
-/// ([`crate::sim::orbit`]); the uniform part of gravity moves `O` and with it everything. The
+/// ([`crate::scenario::orbit`]); the uniform part of gravity moves `O` and with it everything. The
 /// conserved quantities of the mode are then monitored as balances: the change of each equals
 /// the integral of the tidal wrenches (trapezoid over the samples), the energy is dropped.
 #[derive(Debug, Clone, Copy, PartialEq)]

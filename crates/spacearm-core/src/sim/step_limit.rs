@@ -14,7 +14,7 @@
 use nalgebra::{Complex, DMatrix};
 
 use crate::error::{Result, SpacearmError};
-use crate::sim::integrate::OdeSystem;
+use crate::math::integrate::OdeSystem;
 use crate::sim::simulate::Plant;
 
 /// How much more than `max(1, |e^{λh}|)` an RK4 step may amplify a mode of the linearization

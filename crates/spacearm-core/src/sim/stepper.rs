@@ -5,7 +5,7 @@
 //! plant to a time and simulating it to that time give the same records bit for bit.
 
 use crate::error::{Result, SpacearmError};
-use crate::sim::integrate::{IntegratorKind, OdeSystem, Rk4};
+use crate::math::integrate::{IntegratorKind, OdeSystem, Rk4};
 use crate::sim::record::{onsets, Recorder};
 use crate::sim::simulate::{admit_records, finish_result, Plant, SaturationEvent, SimResult};
 
