@@ -32,7 +32,7 @@ use crate::model::Model;
 use crate::scenario::modes::Mode;
 use crate::scenario::reference::JointReference;
 
-use super::pd::check_len;
+use super::controller::{check_len, split_passive};
 use super::{broadcast_gains, cholesky_solve_in_place, Command, ControlContext, Controller, TrackingKind};
 
 /// How a model-based arm controller treats the passive joints (no motor) of the plant.
@@ -67,13 +67,6 @@ impl PassiveTreatment {
             PassiveTreatment::Frozen => "frozen",
         }
     }
-}
-
-/// The arm dofs of `ctx` split into the actuated ones and the passive ones (the plant's
-/// `actuated` flags), each ascending.
-pub fn split_passive(ctx: &ControlContext<'_>) -> (Vec<usize>, Vec<usize>) {
-    let dynamics = ctx.plant.dof_dynamics();
-    ctx.arm_dofs.iter().partition(|&&d| dynamics[d].actuated)
 }
 
 /// Joint torques from the reduced EOM of a (controller's) model for desired accelerations of

@@ -13,6 +13,7 @@ use crate::scenario::actuators::Actuators;
 use crate::error::{Result, SpacearmError};
 use crate::model::Model;
 use crate::scenario::modes::Mode;
+use crate::scenario::reference::JointReference;
 
 /// What a controller commands at one instant.
 #[derive(Debug, Clone, PartialEq)]
@@ -379,6 +380,31 @@ pub fn cholesky_solve_in_place(a: &mut [f64], n: usize, b: &mut [f64]) -> bool {
 /// The arm joints: every dof not in `wheels`, ascending.
 pub fn arm_dofs(n_dof: usize, wheels: &[usize]) -> Vec<usize> {
     (0..n_dof).filter(|d| !wheels.contains(d)).collect()
+}
+
+/// The arm dofs of `ctx` split into the actuated ones and the passive ones (the plant's
+/// `actuated` flags), each ascending.
+pub fn split_passive(ctx: &ControlContext<'_>) -> (Vec<usize>, Vec<usize>) {
+    let dynamics = ctx.plant.dof_dynamics();
+    ctx.arm_dofs.iter().partition(|&&d| dynamics[d].actuated)
+}
+
+/// Check that a joint reference has `n_arm` entries: the arm joints less `n_passive` passive
+/// ones (which no arm controller commands).
+pub(crate) fn check_len(reference: &JointReference, n_arm: usize, n_passive: usize, ctx: &ControlContext<'_>) -> Result<()> {
+    if reference.len() != n_arm {
+        let mut less = vec![];
+        if !ctx.wheel_dofs.is_empty() {
+            less.push(format!("{} reaction wheels", ctx.wheel_dofs.len()));
+        }
+        if n_passive > 0 {
+            less.push(format!("{n_passive} passive joints"));
+        }
+        let note = if less.is_empty() { String::new() } else { format!(" (N = {} minus {})", ctx.plant.n_dof(), less.join(" and ")) };
+        let what = if n_passive > 0 { "actuated arm joints" } else { "arm joints" };
+        return Err(SpacearmError::Dimension { what: "the joint reference".into(), expected: format!("the number of {what} {n_arm}{note}"), got: reference.len() });
+    }
+    Ok(())
 }
 
 #[cfg(test)]

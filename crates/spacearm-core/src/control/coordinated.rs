@@ -42,7 +42,8 @@ use crate::algorithms::rnea::rnea_after_kinematics;
 use crate::math::spatial::{angular, linear};
 
 use super::attitude::AttitudeControl;
-use super::computed_torque::{split_passive, ReducedInverseDynamics};
+use super::computed_torque::ReducedInverseDynamics;
+use super::controller::split_passive;
 use crate::algorithms::passive::add_joint_passive_forces;
 use crate::math::dls::{DampingLaw, RowSvd};
 use super::{cholesky_solve_in_place, positive, Command, ControlContext, Controller, TrackingKind};

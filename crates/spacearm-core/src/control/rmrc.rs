@@ -38,7 +38,8 @@ use crate::model::data::Data;
 use crate::model::Model;
 use crate::scenario::reference::PointReference;
 
-use super::computed_torque::{split_passive, ReducedInverseDynamics};
+use super::computed_torque::ReducedInverseDynamics;
+use super::controller::split_passive;
 use super::{positive, Command, ControlContext, Controller, TrackingKind};
 
 /// Resolved-motion-rate control of a point along a [`PointReference`].
