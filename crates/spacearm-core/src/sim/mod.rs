@@ -11,7 +11,11 @@
 
 pub mod batch_stepper;
 pub mod closed_chain;
+pub mod closure;
+pub mod options;
+pub mod plant;
 pub mod record;
+pub mod result;
 pub mod rollout;
 pub mod simulate;
 pub mod soft_capture;

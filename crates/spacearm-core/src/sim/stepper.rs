@@ -7,7 +7,9 @@
 use crate::error::{Result, SpacearmError};
 use crate::math::integrate::{IntegratorKind, OdeSystem, Rk4};
 use crate::sim::record::{onsets, Recorder};
-use crate::sim::simulate::{admit_records, finish_result, Plant, SaturationEvent, SimResult};
+use crate::sim::plant::Plant;
+use crate::sim::record::{admit_records, finish_result};
+use crate::sim::result::{SaturationEvent, SimResult};
 
 /// A plant, its state `y = [x; u]` at time `t`, an RK4 workspace and the records so far.
 pub struct Rk4Stepper<'a> {
