@@ -279,6 +279,7 @@ impl ModelBuilder {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::joint::{JointLimits, JointType};
     use crate::io::dh::{ClassicDhLink, DhArm, DhTable};
     use crate::io::toml::model_from_toml_str;
     use crate::SpacearmError;

@@ -62,6 +62,7 @@ pub fn simulate_closed_chain(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::derivatives::{loop_closure_bias, ClosureBiasWork};
     use crate::algorithms::kinematics::forward_kinematics;
     use crate::control::ZeroTorque;
     use crate::math::rotations::{quaternion_from_xyzw, xyzw};
