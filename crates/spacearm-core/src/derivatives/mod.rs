@@ -33,7 +33,7 @@
 //! The dual-number evaluation the files share (the seeding of directions, the workspaces) is
 //! `dual.rs`; this file declares the files and re-exports the public names.
 //!
-//! Imports: `math`, `model`, `algorithms` and [`crate::gjm`].
+//! Imports: `math`, `model`, `algorithms`, [`crate::gjm`], `error` and `admission`.
 
 mod dense;
 mod dual;

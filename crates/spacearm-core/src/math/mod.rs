@@ -2,9 +2,10 @@
 //! and quaternions, the scalar type the algorithms are generic over (and a recording scalar, [`tape`]), damped least squares, and the time integrators
 //! (RK4, DOPRI5) of the state on the quaternion manifold ([`integrate`]).
 //!
-//! Imports: nothing else from this crate (the bottom layer). The allowed direction of imports
-//! across the crate is `math ← model ← io, algorithms ← gjm, derivatives ← sim, control,
-//! analysis` (docs/architecture.md).
+//! Imports: [`crate::error`] only (the bottom folder). The allowed direction of imports across
+//! the crate is `error ← admission ← math ← model ← io, algorithms ← gjm ← derivatives, taped ←
+//! scenario ← analysis ← control ← sim` (docs/architecture.md, "The core's layers";
+//! tests/test_core_module_graph.py).
 
 pub mod dls;
 pub mod integrate;

@@ -5,8 +5,8 @@
 //! paper's case-study models ([`presets`]) and the slosh models built from passive joints ([`slosh`]) and the panels, beams and compliant
 //! joints built from them ([`appendage`]).
 //!
-//! Imports: [`crate::math`] and [`crate::error`] only (the presets use the builder of this
-//! folder).
+//! Imports: [`crate::math`], [`crate::error`] and [`crate::admission`] only (the presets use the
+//! builder of this folder).
 
 pub mod appendage;
 pub mod body;
