@@ -307,33 +307,33 @@ pub struct DerivativeData {
     pub(crate) chunk: DualWork<DualChunk>,
     pub(crate) single: DualWork<Dual64>,
     /// `∂H/∂x_k` for the `6+N` tangent coordinates `k` (each `(6+N)²`), filled by
-    /// [`mass_matrix_partials`].
+    /// [`mass_matrix_partials`](crate::derivatives::mass_matrix_partials).
     pub mass_matrix_partials: Vec<DMatrix<f64>>,
-    /// `Ḣ` (`(6+N)²`), filled by [`mass_matrix_derivative`].
+    /// `Ḣ` (`(6+N)²`), filled by [`mass_matrix_derivative`](crate::derivatives::mass_matrix_derivative).
     pub mass_matrix_derivative: DMatrix<f64>,
     /// `∂H*/∂q_k` for the `N` joint coordinates (each N×N), filled by
-    /// [`generalized_inertia_partials`].
+    /// [`generalized_inertia_partials`](crate::derivatives::generalized_inertia_partials).
     pub generalized_inertia_partials: Vec<DMatrix<f64>>,
-    /// `Ḣ*` (N×N), filled by [`generalized_inertia_derivative`].
+    /// `Ḣ*` (N×N), filled by [`generalized_inertia_derivative`](crate::derivatives::generalized_inertia_derivative).
     pub generalized_inertia_derivative: DMatrix<f64>,
     /// `∂J*/∂x_k` for the `6+N` tangent coordinates (each 6×N), filled by
-    /// [`generalized_jacobian_partials`].
+    /// [`generalized_jacobian_partials`](crate::derivatives::generalized_jacobian_partials).
     pub generalized_jacobian_partials: Vec<DMatrix<f64>>,
-    /// `J̇*` (6×N), filled by [`generalized_jacobian_derivative`].
+    /// `J̇*` (6×N), filled by [`generalized_jacobian_derivative`](crate::derivatives::generalized_jacobian_derivative).
     pub generalized_jacobian_derivative: DMatrix<f64>,
-    /// `∂u̇/∂x` ((6+N)², tangent coordinates), filled by [`forward_dynamics_derivatives`].
+    /// `∂u̇/∂x` ((6+N)², tangent coordinates), filled by [`forward_dynamics_derivatives`](crate::derivatives::forward_dynamics_derivatives).
     pub accel_wrt_configuration: DMatrix<f64>,
-    /// `∂u̇/∂u` ((6+N)²), filled by [`forward_dynamics_derivatives`].
+    /// `∂u̇/∂u` ((6+N)²), filled by [`forward_dynamics_derivatives`](crate::derivatives::forward_dynamics_derivatives).
     pub accel_wrt_velocity: DMatrix<f64>,
-    /// `∂u̇/∂f = H⁻¹` ((6+N)²), filled by [`forward_dynamics_derivatives`].
+    /// `∂u̇/∂f = H⁻¹` ((6+N)²), filled by [`forward_dynamics_derivatives`](crate::derivatives::forward_dynamics_derivatives).
     pub accel_wrt_force: DMatrix<f64>,
-    /// `A` of the linearized state equation (2(6+N) square), filled by [`linearize`].
+    /// `A` of the linearized state equation (2(6+N) square), filled by [`linearize`](crate::derivatives::linearize).
     pub state_matrix: DMatrix<f64>,
-    /// `B` of the linearized state equation (2(6+N) × (6+N) or × N), filled by [`linearize`].
+    /// `B` of the linearized state equation (2(6+N) × (6+N) or × N), filled by [`linearize`](crate::derivatives::linearize).
     pub input_matrix: DMatrix<f64>,
-    /// `∂ID/∂x` ((6+N)², tangent coordinates), filled by [`inverse_dynamics_partials`].
+    /// `∂ID/∂x` ((6+N)², tangent coordinates), filled by [`inverse_dynamics_partials`](crate::derivatives::inverse_dynamics_partials).
     pub id_wrt_configuration: DMatrix<f64>,
-    /// `∂ID/∂u` ((6+N)²), filled by [`inverse_dynamics_partials`].
+    /// `∂ID/∂u` ((6+N)²), filled by [`inverse_dynamics_partials`](crate::derivatives::inverse_dynamics_partials).
     pub id_wrt_velocity: DMatrix<f64>,
     /// Scratch: derivatives of the inverse dynamics, (6+N) × (9+2N), columns `[δθ, δq, δu]`.
     pub(crate) id_partials: DMatrix<f64>,

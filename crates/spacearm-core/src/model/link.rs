@@ -6,7 +6,7 @@ use nalgebra::{UnitQuaternion, UnitVector3, Vector3};
 use crate::model::body::MassProperties;
 use crate::model::joint::{Joint, JointDynamics, JointLimits, JointType};
 
-/// Everything that describes one link to [`ModelBuilder::add_link`].
+/// Everything that describes one link to [`ModelBuilder::add_link`](crate::model::ModelBuilder::add_link).
 #[derive(Debug, Clone)]
 pub struct LinkSpec {
     /// Unique link (body) name.

@@ -11,7 +11,7 @@
 
 pub mod batch_stepper;
 pub mod closed_chain;
-pub mod closure;
+pub(crate) mod closure;
 pub mod options;
 pub mod plant;
 pub mod record;

@@ -1,7 +1,7 @@
 //! The simulation loop: integrate `y = [x; u]` under a controller in a maneuvering mode, with
 //! actuator limits, recording every quantity into buffers allocated before the first step.
 //!
-//! Per right-hand-side evaluation (every integrator stage): the controller's [`Command`] →
+//! Per right-hand-side evaluation (every integrator stage): the controller's [`Command`](crate::control::Command) →
 //! joint motor limits → the mode's base-wrench mask → thruster limits → the wrench at the base
 //! CM (through the system CM in translation-flying) → forward dynamics by the articulated-body
 //! algorithm with `f = [F0; N0; τ]` → `ẏ = [v0; ½ [ω0; 0] ⊗ quat; q̇; u̇]`.

@@ -29,13 +29,13 @@
 //! A `[dh]` section with `[[dh.link]]` rows builds a serial arm on the base from a
 //! Denavit–Hartenberg table ([`crate::io::dh`], `docs/dh.md`).
 //!
-//! Every error is [`SpacearmError::Parse`] and starts with `source:line:column:`; the
+//! Every error is [`SpacearmError::Parse`](crate::SpacearmError::Parse) and starts with `source:line:column:`; the
 //! structural ones (syntax, unknown key, wrong type, missing field) come from the TOML parser,
 //! the semantic ones (unknown parent, negative mass, ...) name the link, joint or point and
 //! point at the offending value. No input makes this module panic.
 //!
 //! The file's schema is [`schema`] (serde types), the reading [`read`] (schema → builder),
-//! the writing [`write`] (model → text).
+//! the writing [`write`](mod@write) (model → text).
 
 pub mod read;
 pub mod schema;

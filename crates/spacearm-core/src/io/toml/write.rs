@@ -55,7 +55,7 @@ fn inertia_str(m: &Matrix3<f64>) -> String {
 }
 
 /// Write a model as a TOML model file (format [`FORMAT_VERSION`]). Reading the text back with
-/// [`model_from_toml_str`] gives a model equal to `model` (every number is written in its
+/// [`model_from_toml_str`](super::read::model_from_toml_str) gives a model equal to `model` (every number is written in its
 /// shortest exact form).
 pub fn model_to_toml(model: &Model) -> String {
     let mut s = String::new();
