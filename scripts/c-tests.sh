@@ -15,12 +15,19 @@ inc=crates/spacearm-c/include
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 flags=(-std=c11 -Wall -Wextra -Werror -I "$inc")
-"$cc" "${flags[@]}" crates/spacearm-c/tests/c/test_c_api.c -L "$lib" -lspacearm_c -lm -Wl,-rpath,"$lib" -o "$out/test_c_api"
-"$out/test_c_api"
+# The C tests (the controllers' test reads python/spacearm/examples/spatial6_wheels.toml from
+# the repository root, where this script runs).
+tests=(test_c_api test_c_controllers)
+for t in "${tests[@]}"; do
+    "$cc" "${flags[@]}" "crates/spacearm-c/tests/c/$t.c" -L "$lib" -lspacearm_c -lm -Wl,-rpath,"$lib" -o "$out/$t"
+    "$out/$t"
+done
 if echo 'int main(void){return 0;}' | "$cc" -fsanitize=address,undefined -x c - -o "$out/probe" 2>/dev/null; then
-    "$cc" "${flags[@]}" -g -fsanitize=address,undefined -fno-omit-frame-pointer crates/spacearm-c/tests/c/test_c_api.c \
-        -L "$lib" -lspacearm_c -lm -Wl,-rpath,"$lib" -o "$out/test_c_api_san"
-    UBSAN_OPTIONS=halt_on_error=1 "$out/test_c_api_san"
+    for t in "${tests[@]}"; do
+        "$cc" "${flags[@]}" -g -fsanitize=address,undefined -fno-omit-frame-pointer "crates/spacearm-c/tests/c/$t.c" \
+            -L "$lib" -lspacearm_c -lm -Wl,-rpath,"$lib" -o "$out/${t}_san"
+        UBSAN_OPTIONS=halt_on_error=1 "$out/${t}_san"
+    done
 else
     echo "c-tests: $cc has no AddressSanitizer/UBSan runtime here; the sanitized run is skipped" >&2
 fi

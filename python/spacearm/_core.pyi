@@ -14,19 +14,19 @@ _Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 
 __version__: str
 __all__ = [
-    "ArgumentError", "CentralBody", "Orbit", "OrbitalElements", "AttitudeSpec", "BaseDescription", "BaseThrustersSpec", "CallbackSpec",
-    "CartesianReference", "ClosedChainResult", "CombinedSpec", "ComputedTorqueSpec", "ConservedDrift",
-    "CoordinatedFlyingSpec", "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
-    "FreeBodyReference", "GraspImpulse", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimits", "JointPdSpec", "JointReference",
-    "JointTorqueLimitSpec", "LoopClosureTerms", "MomentumDampingSpec",
+    "ArgumentError", "CentralBody", "Orbit", "OrbitalElements", "BaseDescription", "ControllerSpec", "CONTROLLER_KINDS", "CONTROLLER_ALIASES", "TASKS", "check_spec", "controller_kind",
+    "ClosedChainResult", "ConservedDrift",
+    "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
+    "FreeBodyReference", "GraspImpulse", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimits", "JointReference",
+    "LoopClosureTerms", 
     "LinkDescription", "MEMORY_LIMIT_BYTES", "MODEL_BOUNDS", "MODES", "Model", "ModelBounds", "MomentumSplit",
     "ModelBuilder", "ModelDescription", "ModelError", "ModelFileError", "NonFiniteError",
     "NotFoundError", "PASSIVE_TREATMENTS", "CONTROLLER_LABELS", "PointDescription", "GeometryDescription", "QUATERNION_TOLERANCE", "QuaternionError",
     "ReactionNullSpace", "ResourceLimitError", "RmrcMotion", "RmrcOptions", "RmrcRates",
-    "RmrcSpec", "RolloutBatch", "RunEvents", "RunMeta", "RunOptions", "RunRecords", "RunResult",
+    "RolloutBatch", "RunEvents", "RunMeta", "RunOptions", "RunRecords", "RunResult",
     "SIM_DEFAULTS", "ScanResult", "ShapeError", "SimDefaults", "SimulationError", "Simulator", "BatchSimulator",
     "SingularError", "SingularityReport", "SoftCaptureResult", "SpacearmError", "SpacearmTypeError", "Tape",
-    "ThrusterLimits", "WorkspaceShells", "ZeroTorqueSpec", "__version__", "analysis_damping",
+    "ThrusterLimits", "WorkspaceShells", "__version__", "analysis_damping",
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
     "analysis_reach", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_singularity", "batch_threads", "body_mass_properties_error", "box_of_moments", "check_grasp_handle", "GOAL_TOLERANCE", "MAX_HANDLE_RATIO",
@@ -34,7 +34,8 @@ __all__ = [
     "model_to_toml", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
     "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts",
-    "cylinder_slosh", "sphere_slosh", "sphere_fill_height", "cylinder_fill_height", "InputShaper", "soft_capture", "virtual_mass",
+    "cylinder_slosh", "sphere_slosh", "sphere_fill_height", "cylinder_fill_height", "model_attach_body", "model_attach_model",
+    "model_remove_subtree", "InputShaper", "soft_capture", "virtual_mass",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -107,6 +108,15 @@ def compliant_parts(name: str, parent: str, joint_type: str, origin: Sequence[fl
                     axis: Sequence[float], com: Sequence[float], mass: float, inertia: Sequence[Sequence[float]],
                     joint_name: Optional[str], limits: Optional[Sequence[float]], stiffness: float, rotor_inertia: float,
                     damping: float, gear_ratio: float) -> tuple[list[tuple], list[tuple], list[tuple]]: ...
+
+# The core's model edits (model/edit.rs): a new Model each, the rest of the model bit for bit.
+def model_attach_body(model: Model, name: str, parent: str, origin: Sequence[float], rotation: Sequence[float], mass: float,
+                      inertia: Sequence[Sequence[float]], joint_type: str = ..., axis: Sequence[float] = ...,
+                      com: Sequence[float] = ..., joint_name: Optional[str] = None, limits: Optional[Sequence[float]] = None,
+                      dynamics: Optional[tuple[bool, float, float, float]] = None, model_name: Optional[str] = None) -> Model: ...
+def model_attach_model(model: Model, other: Model, parent: str, origin: Sequence[float], rotation: Sequence[float], prefix: str,
+                       base_link: Optional[str] = None, model_name: Optional[str] = None) -> Model: ...
+def model_remove_subtree(model: Model, body: str, model_name: Optional[str] = None) -> Model: ...
 
 @final
 class ModelBuilder:
@@ -364,6 +374,8 @@ class Model:
     # the other vectors with as many rows or one row for all) and then returns its results with
     # a leading axis of length B (crates/spacearm-py/src/batch.rs).
     def __reduce__(self) -> tuple: ...
+    def to_toml(self) -> str:
+        """The model as the text of a model file (bit-exact)."""
     def check_configuration(self, x: _ArrayLike) -> None: ...
     # The per-state methods return arrays (a tuple of them where named below), the fastest form for
     # the one-state path and the batch axis alike; the public Robot methods wrap them in NamedTuples.
@@ -807,7 +819,7 @@ class SoftCaptureResult:
 
 def soft_capture(robot: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: _ArrayLike, target: Model, x_target: _ArrayLike,
                  u_target: _ArrayLike, target_body: int, target_offset: _ArrayLike, duration: float, options: RunOptions,
-                 controller_spec: _ControllerSpec | None = None, *, frequency: float = 3.0, damping_ratio: float = 0.7,
+                 controller_spec: ControllerSpec | None = None, *, frequency: float = 3.0, damping_ratio: float = 0.7,
                  stiffness: float | None = None, damping: float | None = None, rotational_stiffness: float | None = None,
                  rotational_damping: float | None = None) -> SoftCaptureResult: ...
 
@@ -834,7 +846,7 @@ class LoopClosureTerms:
 def loop_closure(model: Model, x: _ArrayLike, u: _ArrayLike, body_a: int, offset_a: _ArrayLike, body_b: int,
                  offset_b: _ArrayLike) -> LoopClosureTerms: ...
 def simulate_closed_chain(model: Model, x0: _ArrayLike, u0: _ArrayLike, duration: float, body_a: int, offset_a: _ArrayLike,
-                          body_b: int, offset_b: _ArrayLike, options: RunOptions, controller_spec: _ControllerSpec | None = None, *,
+                          body_b: int, offset_b: _ArrayLike, options: RunOptions, controller_spec: ControllerSpec | None = None, *,
                           stabilization: float = 20.0) -> ClosedChainResult: ...
 
 def analysis_singularity(m: Model, x: _ArrayLike, body: int, offset: _Vec, rows: list[int]) -> SingularityReport: ...
@@ -853,11 +865,37 @@ class RmrcOptions:
                  manipulability_gain: float = 0.0, joint_limit_gain: float = 0.0) -> RmrcOptions: ...
 def analysis_rmrc_rates(m: Model, x: _ArrayLike, body: int, offset: _Vec, desired_twist: _Vec, options: RmrcOptions) -> RmrcRates: ...
 # ---- simulation inputs (crates/spacearm-py/src/sim_options_py.rs, controller_spec_py.rs) ------
-# Frozen, keyword-only; checked when built; an unknown keyword is an ArgumentError.
+# A run's controller, references, shapers and thruster limits are the core's serde data
+# (crates/spacearm-core/src/control/spec.rs): plain dicts, lists and numbers tagged by "kind".
+_SpecData = Any
+
+@final
+class ControllerSpec:
+    """A native control law as the core's data (control/spec.rs), checked when made; externals:
+    the Python callables of its ``kind = "external"`` controllers, by index."""
+    def __new__(cls, data: _SpecData, externals: Sequence[Callable[[float, _Vec, _Vec], Any]] = ...) -> ControllerSpec: ...
+    @property
+    def kind(self) -> str:
+        """A name of CONTROLLER_KINDS."""
+    def to_data(self) -> _SpecData:
+        """The spec as plain data."""
+    def to_toml(self) -> str:
+        """The spec as the TOML text of a [controller] table (the C stepper's and the FMUs' options)."""
+
+def check_spec(family: str, data: _SpecData) -> None:
+    """Check the data of a "controller", "joint_reference", "point_reference", "shaper" or "thrusters" spec."""
+def controller_kind(name: str) -> str:
+    """The controller kind a name means (a kind, its hyphenated spelling, or an alias)."""
+CONTROLLER_KINDS: list[str]
+CONTROLLER_ALIASES: dict[str, str]
+TASKS: list[tuple[str, list[int]]]
+
 @final
 class ThrusterLimits:
     """Base thruster limits per axis of the inertial frame (> 0; inf: no limit)."""
-    def __new__(cls, *, max_force: _ArrayLike, max_torque: _ArrayLike) -> ThrusterLimits: ...
+    @staticmethod
+    def from_spec(data: _SpecData) -> ThrusterLimits:
+        """From {max_force, max_torque}: one number for the three axes, or three."""
     @property
     def max_force(self) -> _Vec:
         """Shape (3,), N."""
@@ -921,14 +959,10 @@ class RunOptions:
 
 @final
 class JointReference:
-    """A joint-space reference of the arm joints: a rest-to-rest quintic, a constant, a
-    sampled trajectory (piecewise quintic Hermite) or an input-shaped one (InputShaper.shape)."""
+    """The evaluator of a joint-space reference of the arm joints (a quintic, a constant, a
+    sampled trajectory or an input-shaped one), built from its spec data."""
     @staticmethod
-    def quintic(*, q_start: _ArrayLike, q_goal: _ArrayLike, t_start: float, t_end: float) -> JointReference: ...
-    @staticmethod
-    def constant(*, q: _ArrayLike) -> JointReference: ...
-    @staticmethod
-    def sampled(*, t: _ArrayLike, q: _ArrayLike, qd: _ArrayLike, qdd: _ArrayLike) -> JointReference: ...
+    def from_spec(data: _SpecData) -> JointReference: ...
     def evaluate(self, t: _ArrayLike) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]:
         """(q, qd, qdd) at each time, each (T, n)."""
     @property
@@ -949,9 +983,9 @@ class JointReference:
 
 @final
 class FreeBodyReference:
-    """A point on a torque-free rigid body (a tumbling capture target), propagated by the core."""
-    def __new__(cls, *, inertia: _ArrayLike, state: _ArrayLike, offset: _ArrayLike, step: float,
-                orbit: Orbit | None = None) -> FreeBodyReference: ...
+    """A point on a rigid body moving freely (a tumbling capture target), propagated by the core."""
+    @staticmethod
+    def from_spec(data: _SpecData) -> FreeBodyReference: ...
     def states(self, t: _ArrayLike) -> npt.NDArray[np.float64]:
         """The body's 13-states at the times t, (T, 13)."""
     def points(self, t: _ArrayLike) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
@@ -962,54 +996,10 @@ class FreeBodyReference:
     def in_orbit(self) -> bool: ...
 
 @final
-class CartesianReference:
-    """A straight line of a point in the inertial frame with quintic timing."""
-    def __new__(cls, *, p_start: _ArrayLike, p_goal: _ArrayLike, t_start: float, t_end: float) -> CartesianReference: ...
-    @property
-    def p_start(self) -> _Vec:
-        """Shape (3,), m, inertial frame."""
-    @property
-    def p_goal(self) -> _Vec:
-        """Shape (3,), m, inertial frame."""
-    @property
-    def t_start(self) -> float: ...
-    @property
-    def t_end(self) -> float: ...
-
-@final
-class ZeroTorqueSpec:
-    """No control: zero joint torques, no base wrench."""
-    def __new__(cls) -> ZeroTorqueSpec: ...
-
-@final
-class JointPdSpec:
-    """Joint PD on the arm joints."""
-    def __new__(cls, *, kp: Sequence[float], kd: Sequence[float], reference: JointReference) -> JointPdSpec: ...
-    kp: list[float]  # N·m/rad, one or one per arm joint (read-only)
-    kd: list[float]  # N·m·s/rad (read-only)
-    @property
-    def reference(self) -> JointReference: ...
-
-@final
-class ComputedTorqueSpec:
-    """Computed torque on the reduced equations of motion (paper eqs. 112-115)."""
-    def __new__(cls, *, kp: Sequence[float], kd: Sequence[float], reference: JointReference, model: Optional[Model] = None,
-                passive: str = "drift") -> ComputedTorqueSpec: ...
-    kp: list[float]  # 1/s², one or one per actuated arm joint (read-only)
-    kd: list[float]  # 1/s (read-only)
-    @property
-    def passive(self) -> str:
-        """``"drift"`` or ``"frozen"``: how the passive joints are treated."""
-    @property
-    def reference(self) -> JointReference: ...
-    @property
-    def has_model(self) -> bool:
-        """Whether the controller has a model of its own (else the plant's)."""
-
-@final
 class InputShaper:
-    """A ZV or ZVD input shaper (Singer & Seering 1990)."""
-    def __new__(cls, kind: str, *, frequency: float, damping: float = 0.0) -> InputShaper: ...
+    """A ZV or ZVD input shaper (Singer & Seering 1990), built from its spec data."""
+    @staticmethod
+    def from_spec(data: _SpecData) -> InputShaper: ...
     @property
     def kind(self) -> str: ...
     @property
@@ -1021,120 +1011,6 @@ class InputShaper:
     @property
     def times(self) -> npt.NDArray[np.float64]: ...
     def residual_vibration(self, frequency: float, damping: float = 0.0) -> float: ...
-    def shape(self, reference: JointReference) -> JointReference: ...
-
-@final
-class RmrcSpec:
-    """Resolved-motion-rate control of a point through J* (paper eq. 110), damped least squares."""
-    def __new__(cls, *, reference: Union[CartesianReference, FreeBodyReference, JointReference], gain: float, max_damping: float,
-                 threshold: float, velocity_gain: float, body: int, offset: _ArrayLike, max_joint_rate: float = ...,
-                 task: list[int] = ..., strategy: str = ...) -> RmrcSpec: ...
-    gain: float  # 1/s (read-only)
-    max_joint_rate: float  # rad/s, inf: no cap (read-only)
-    max_damping: float  # m, the largest damping λ_max (read-only)
-    threshold: float  # m (read-only)
-    velocity_gain: float  # 1/s (read-only)
-    body: int  # (read-only)
-    @property
-    def reference(self) -> Union[CartesianReference, FreeBodyReference, JointReference]: ...
-    @property
-    def offset(self) -> _Vec:
-        """Shape (3,), m, in the body's frame."""
-    @property
-    def task(self) -> list[int]:
-        """Rows of the point twist driven (0-2 linear, 3-5 angular velocity); default [0, 1, 2]."""
-    @property
-    def strategy(self) -> str:
-        """"naive" (default), "reactionless" or "minimum_disturbance"."""
-
-@final
-class CoordinatedFlyingSpec:
-    """Coordinated base-and-arm control in the flying mode."""
-    def __new__(cls, *, reference: CartesianReference, body: int, offset: _ArrayLike, kp_ee: float, kd_ee: float, kp_base: float,
-                 kd_base: float, max_damping: float, threshold: float, base_position: Optional[_ArrayLike] = None,
-                 base_quat: Optional[_ArrayLike] = None) -> CoordinatedFlyingSpec: ...
-    body: int  # (read-only)
-    max_damping: float  # m, the largest damping λ_max (read-only)
-    threshold: float  # m (read-only)
-    @property
-    def reference(self) -> CartesianReference: ...
-    @property
-    def offset(self) -> _Vec:
-        """Shape (3,), m, in the body's frame."""
-    @property
-    def base_position(self) -> Optional[_Vec]:
-        """Shape (3,), m, inertial frame; None: the initial one."""
-    @property
-    def base_quat(self) -> Optional[_Vec]:
-        """Shape (4,), [x, y, z, w]; None: the initial one."""
-    @property
-    def kp_ee(self) -> float: ...
-    @property
-    def kd_ee(self) -> float: ...
-    @property
-    def kp_base(self) -> float: ...
-    @property
-    def kd_base(self) -> float: ...
-
-@final
-class BaseThrustersSpec:
-    """Base regulation by thrusters (system CM position, base attitude)."""
-    def __new__(cls, *, kp_position: float, kd_position: float, kp_attitude: float, kd_attitude: float,
-                 com_ref: Optional[_ArrayLike] = None, quat_ref: Optional[_ArrayLike] = None,
-                 orbit: Orbit | None = None) -> BaseThrustersSpec: ...
-    kp_position: float  # 1/s² (read-only)
-    kd_position: float  # 1/s (read-only)
-    kp_attitude: float  # N·m/rad (read-only)
-    kd_attitude: float  # N·m·s/rad (read-only)
-    @property
-    def com_ref(self) -> Optional[_Vec]:
-        """Shape (3,), m, inertial frame; None: the initial CM."""
-    @property
-    def quat_ref(self) -> Optional[_Vec]:
-        """Shape (4,), [x, y, z, w]; None: the initial attitude."""
-
-@final
-class AttitudeSpec:
-    """Base attitude control with reaction wheels."""
-    def __new__(cls, *, quat_ref: _ArrayLike, kp: float, kd: float, orbit: Orbit | None = None) -> AttitudeSpec: ...
-    kp: float  # N·m/rad (read-only)
-    kd: float  # N·m·s/rad (read-only)
-    @property
-    def quat_ref(self) -> _Vec:
-        """Shape (4,), [x, y, z, w]."""
-
-_ControllerSpec = Union[ZeroTorqueSpec, JointPdSpec, ComputedTorqueSpec, RmrcSpec, CoordinatedFlyingSpec, BaseThrustersSpec, AttitudeSpec,
-                       "MomentumDampingSpec", "CombinedSpec", "JointTorqueLimitSpec", "CallbackSpec"]
-
-@final
-class MomentumDampingSpec:
-    """Thruster damping of the system momentum (flying modes): F0 = -P/τ, N0 = -L_G/τ - (r0 - r_g) × F0."""
-    def __new__(cls, *, time_constant: float, max_force: float = ..., max_torque: float = ..., model: Optional[Model] = None) -> MomentumDampingSpec: ...
-    time_constant: float  # s (read-only)
-    max_force: float  # N (read-only)
-    max_torque: float  # N·m (read-only)
-    @property
-    def has_model(self) -> bool: ...
-
-@final
-class JointTorqueLimitSpec:
-    """Another controller's joint torques clamped to ±limit."""
-    def __new__(cls, *, controller: _ControllerSpec, limit: float) -> JointTorqueLimitSpec: ...
-    controller: _ControllerSpec  # (read-only)
-    limit: float  # N·m (read-only)
-
-@final
-class CombinedSpec:
-    """An arm controller and a base controller; the base runs first."""
-    def __new__(cls, *, arm: _ControllerSpec, base: _ControllerSpec) -> CombinedSpec: ...
-    arm: _ControllerSpec  # (read-only)
-    base: _ControllerSpec  # (read-only)
-
-@final
-class CallbackSpec:
-    """A Python controller fn(t, x, u) -> tau or (tau, base_wrench), called at every stage."""
-    def __new__(cls, *, fn: Callable[[float, _Vec, _Vec], Any]) -> CallbackSpec: ...
-    fn: Callable[[float, _Vec, _Vec], Any]  # (read-only)
 
 # ---- simulation (crates/spacearm-py/src/simulate_py.rs) --------------------------------------
 # ---- results of a run (crates/spacearm-py/src/records_py.rs) ------------------------------------
@@ -1238,7 +1114,7 @@ def simulate(
     u0: _ArrayLike,
     duration: float,
     options: RunOptions,
-    controller_spec: Optional[_ControllerSpec] = None,
+    controller_spec: Optional[ControllerSpec] = None,
 ) -> RunResult:
     """Run the native simulation loop (None: no control). Runs without the GIL; the records are
     handed to numpy without a copy. Returns the records, saturation onsets and description of the run."""
@@ -1250,7 +1126,7 @@ def rollout(
     u0: _Vec,
     duration: float,
     options: RunOptions,
-    controllers: Optional[Union[_ControllerSpec, list[_ControllerSpec]]] = None,
+    controllers: Optional[Union[ControllerSpec, list[ControllerSpec]]] = None,
     threads: Optional[int] = None,
     stop: Optional[Any] = None,
 ) -> RolloutBatch:
@@ -1265,7 +1141,7 @@ def rollout(
 class Simulator:
     """RK4 stepping of a plant from Python (crates/spacearm-py/src/simulator_py.rs)."""
 
-    def __new__(cls, model: Model, options: RunOptions, controller_spec: Optional[_ControllerSpec] = None, record_every: Optional[int] = None) -> Simulator: ...
+    def __new__(cls, model: Model, options: RunOptions, controller_spec: Optional[ControllerSpec] = None, record_every: Optional[int] = None) -> Simulator: ...
     def reset(self, x0: _ArrayLike, u0: _ArrayLike) -> None: ...
     def step(self, tau: Optional[_ArrayLike] = None, n: Optional[int] = None, base_wrench: Optional[_ArrayLike] = None) -> _Vec: ...
     @property

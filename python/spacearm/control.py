@@ -31,9 +31,12 @@ from typing import TYPE_CHECKING as _TYPE_CHECKING
 import numpy as _np
 
 from . import _core
-from ._util.arrays import quaternion as _quaternion, vector as _vector
-from .errors import ArgumentError as _ArgumentError
+from typing import ClassVar as _ClassVar
+
+from ._util.arrays import vector as _vector
 from ._util.pickling import reduce_through_constructor as _reduce_through_constructor
+from ._util.spec import check as _check, data as _spec_data
+from .errors import ArgumentError as _ArgumentError
 
 if _TYPE_CHECKING:  # the annotations' names (not evaluated at run time: no module-level name)
     from typing import Any, Callable, Sequence, Union
@@ -65,33 +68,14 @@ __all__ = [
 ]
 
 
-def _gains(value, name: str) -> list:
-    """A gain: one number or one per arm joint, as a list of floats (checked in Rust)."""
-    arr = _np.atleast_1d(_np.asarray(value, dtype=float))
-    if arr.ndim != 1 or arr.size == 0:
-        raise _ArgumentError(f"{name} must be a number or a 1-D sequence of numbers, got {value!r}")
-    return arr.tolist()
-
-
-def _float(value, name: str) -> float:
+def _finite_float(value, name: str) -> float:
     try:
-        return float(value)
+        v = float(value)
     except (TypeError, ValueError) as exc:
         raise _ArgumentError(f"{name} must be a number, got {value!r}") from exc
-
-
-def _finite_float(value, name: str) -> float:
-    v = _float(value, name)
     if not _math.isfinite(v):
         raise _ArgumentError(f"{name} must be finite, got {v}")
     return v
-
-
-def _strategy(value, name: str) -> str:
-    """A strategy name, checked by the core (``"naive"``, ``"reactionless"``, ``"minimum_disturbance"``)."""
-    if not isinstance(value, str):
-        raise _ArgumentError(f"{name} must be 'naive', 'reactionless' or 'minimum_disturbance', got {value!r}")
-    return value
 
 
 def _quintic(t, t_start: float, t_end: float):
@@ -115,30 +99,15 @@ class QuinticJoint:
     t_start: float
     t_end: float
 
+    _kind: _ClassVar[str] = "quintic"
+
     def __post_init__(self):
-        a = _vector(self.q_start, "QuinticJoint q_start")
-        b = _vector(self.q_goal, "QuinticJoint q_goal", a.shape[0])
-        t0 = _finite_float(self.t_start, "QuinticJoint t_start")
-        t1 = _finite_float(self.t_end, "QuinticJoint t_end")
-        if not t1 > t0:
-            raise _ArgumentError(f"QuinticJoint needs t_end > t_start, got t_start = {t0}, t_end = {t1}")
-        for what, arr in (("q_start", a), ("q_goal", b)):
-            if not _np.all(_np.isfinite(arr)):
-                raise _ArgumentError(f"QuinticJoint {what} must be finite, got {arr}")
-        object.__setattr__(self, "q_start", a)
-        object.__setattr__(self, "q_goal", b)
-        object.__setattr__(self, "t_start", t0)
-        object.__setattr__(self, "t_end", t1)
+        _reference(self)
 
     def evaluate(self, t):
-        """``(q, qd, qdd)`` at time(s) ``t``; arrays of shape ``(len(t), n)`` for an array ``t``."""
-        s, sd, sdd = _quintic(t, self.t_start, self.t_end)
-        delta = self.q_goal - self.q_start
-        s, sd, sdd = (_np.asarray(v)[..., None] for v in (s, sd, sdd))
-        return self.q_start + s * delta, sd * delta, sdd * delta
-
-    def _spec(self) -> _core.JointReference:
-        return _core.JointReference.quintic(q_start=self.q_start, q_goal=self.q_goal, t_start=self.t_start, t_end=self.t_end)
+        """``(q, qd, qdd)`` at time(s) ``t``: what the controllers follow; each (n,) for a scalar
+        ``t``, (len(t), n) for an array."""
+        return _at_times(self._core_ref.evaluate, t)
 
 
 @_dataclass(frozen=True)
@@ -155,31 +124,18 @@ class CartesianLine:
     t_end: float
     point: Any = None
 
+    _kind: _ClassVar[str] = "line"
+
     def __post_init__(self):
-        a = _vector(self.p_start, "CartesianLine p_start", 3)
-        b = _vector(self.p_goal, "CartesianLine p_goal", 3)
-        t0 = _finite_float(self.t_start, "CartesianLine t_start")
-        t1 = _finite_float(self.t_end, "CartesianLine t_end")
-        if not t1 > t0:
-            raise _ArgumentError(f"CartesianLine needs t_end > t_start, got t_start = {t0}, t_end = {t1}")
-        for what, arr in (("p_start", a), ("p_goal", b)):
-            if not _np.all(_np.isfinite(arr)):
-                raise _ArgumentError(f"CartesianLine {what} must be finite, got {arr}")
-        object.__setattr__(self, "p_start", a)
-        object.__setattr__(self, "p_goal", b)
-        object.__setattr__(self, "t_start", t0)
-        object.__setattr__(self, "t_end", t1)
+        _check("point_reference", self)
 
     def evaluate(self, t):
         """``(p, pd, pdd)`` at time(s) ``t``."""
         s, sd, sdd = _quintic(t, self.t_start, self.t_end)
-        delta = self.p_goal - self.p_start
+        p_start, p_goal = _np.asarray(self.p_start, dtype=float), _np.asarray(self.p_goal, dtype=float)
+        delta = p_goal - p_start
         s, sd, sdd = (_np.asarray(v)[..., None] for v in (s, sd, sdd))
-        return self.p_start + s * delta, sd * delta, sdd * delta
-
-    def _spec(self) -> _core.CartesianReference:
-        return _core.CartesianReference(p_start=self.p_start, p_goal=self.p_goal, t_start=self.t_start, t_end=self.t_end)
-
+        return p_start + s * delta, sd * delta, sdd * delta
 
 @_dataclass(frozen=True)
 class SampledJoint:
@@ -197,21 +153,15 @@ class SampledJoint:
     qd: Any
     qdd: Any
 
+    _kind: _ClassVar[str] = "sampled"
+
     def __post_init__(self):
-        object.__setattr__(self, "t", _np.ascontiguousarray(self.t, dtype=float).reshape(-1))
-        for key in ("q", "qd", "qdd"):
-            arr = _np.asarray(getattr(self, key), dtype=float)
-            object.__setattr__(self, key, _np.ascontiguousarray(arr.reshape(len(self.t), -1) if arr.ndim == 1 else arr))
-        object.__setattr__(self, "_core_ref", _core.JointReference.sampled(t=self.t, q=self.q, qd=self.qd, qdd=self.qdd))
+        _reference(self)
 
     def evaluate(self, t):
         """``(q, qd, qdd)`` at time(s) ``t``: what the controllers follow; each (n,) for a scalar
         ``t``, (len(t), n) for an array (as [`QuinticJoint.evaluate`][spacearm.control.QuinticJoint.evaluate])."""
         return _at_times(self._core_ref.evaluate, t)
-
-    def _spec(self) -> _core.JointReference:
-        return self._core_ref
-
 
 @_dataclass(frozen=True)
 class FreeBodyPoint:
@@ -236,22 +186,16 @@ class FreeBodyPoint:
     point: Any = None
     orbit: Any = None
 
+    _kind: _ClassVar[str] = "free_body"
+
     def __post_init__(self):
-        inertia = _np.asarray(self.inertia, dtype=float)
-        if inertia.shape == (3,):
-            inertia = _np.diag(inertia)
-        if self.orbit is not None and not isinstance(self.orbit, _core.Orbit):
-            raise _ArgumentError(f"FreeBodyPoint orbit must be a spacearm.Orbit or None, got {type(self.orbit).__name__}")
-        core = _core.FreeBodyReference(inertia=inertia.reshape(-1), state=_vector(self.state, "FreeBodyPoint state", 13),
-                                       offset=_vector(self.offset, "FreeBodyPoint offset", 3), step=_float(self.step, "FreeBodyPoint step"),
-                                       orbit=self.orbit)
-        object.__setattr__(self, "_core_ref", core)
+        object.__setattr__(self, "_core_ref", _core.FreeBodyReference.from_spec(_data(self)))
 
     def external_wrenches(self, t, mass: float) -> _np.ndarray:
         """The external wrench on the body of mass ``mass`` (kg) at the times ``t``, (len(t), 6):
         in orbit the tidal force (N) and its moment about the run's origin (N·m); zeros
         torque-free (the core's ``FreeBody::external_wrench``)."""
-        return self._core_ref.external_wrenches(_np.atleast_1d(_np.asarray(t, dtype=float)), _float(mass, "mass"))
+        return self._core_ref.external_wrenches(_np.atleast_1d(_np.asarray(t, dtype=float)), mass)
 
     def states(self, t) -> _np.ndarray:
         """The body's 13-states at time(s) ``t`` (s ≥ 0): (13,) for a scalar ``t``, (len(t), 13) for an array."""
@@ -260,10 +204,6 @@ class FreeBodyPoint:
     def evaluate(self, t):
         """``(p, pd)`` of the point at time(s) ``t``, in 𝒥: each (3,) for a scalar ``t``, (len(t), 3) for an array."""
         return _at_times(self._core_ref.points, t)
-
-    def _spec(self) -> _core.FreeBodyReference:
-        return self._core_ref
-
 
 @_dataclass(frozen=True)
 class InputShaper:
@@ -278,9 +218,7 @@ class InputShaper:
     damping: float = 0.0
 
     def __post_init__(self):
-        core = _core.InputShaper(str(self.kind), frequency=_float(self.frequency, "InputShaper frequency"),
-                                 damping=_float(self.damping, "InputShaper damping"))
-        object.__setattr__(self, "_core_shaper", core)
+        object.__setattr__(self, "_core_shaper", _core.InputShaper.from_spec(_data(self)))
 
     @property
     def amplitudes(self) -> _np.ndarray:
@@ -298,7 +236,7 @@ class InputShaper:
         $t_N$) relative to that of one unit impulse applied at $t_N$; 0 at the design mode. For
         ``damping = 0`` this is also the ratio to the unshaped move (a unit impulse at 0); for
         $\zeta > 0$ that ratio is $V e^{\zeta\omega t_N}$."""
-        return self._core_shaper.residual_vibration(_float(frequency, "frequency"), _float(damping, "damping"))
+        return self._core_shaper.residual_vibration(frequency, damping)
 
     def shape(self, reference) -> "ShapedJoint":
         """The shaped joint reference ``sum_i A_i r(t - t_i)`` of ``reference`` (a
@@ -321,20 +259,15 @@ class ShapedJoint:
     reference: Any
     shaper: InputShaper
 
+    _kind: _ClassVar[str] = "shaped"
+
     def __post_init__(self):
-        if not isinstance(self.shaper, InputShaper):
-            raise _ArgumentError(f"ShapedJoint needs an InputShaper, got {type(self.shaper).__name__}")
-        base = _joint_reference(self.reference, "ShapedJoint")
-        object.__setattr__(self, "_core_ref", self.shaper._core_shaper.shape(base))
+        _reference(self)
 
     def evaluate(self, t):
         """``(q, qd, qdd)`` at time(s) ``t``: what the controllers follow; each (n,) for a scalar
         ``t``, (len(t), n) for an array (as [`QuinticJoint.evaluate`][spacearm.control.QuinticJoint.evaluate])."""
         return _at_times(self._core_ref.evaluate, t)
-
-    def _spec(self) -> _core.JointReference:
-        return self._core_ref
-
 
 def _at_times(evaluate, t):
     """``evaluate`` (a core reference's, which takes an array of times) at time(s) ``t``: one
@@ -347,15 +280,14 @@ def _at_times(evaluate, t):
     return out
 
 
-def _joint_reference(ref, name: str) -> _core.JointReference:
-    if isinstance(ref, (QuinticJoint, SampledJoint, ShapedJoint)):
-        return ref._spec()
-    if isinstance(ref, CartesianLine):
-        raise _ArgumentError(f"{name} takes a joint reference (QuinticJoint or a joint set point), got a CartesianLine")
-    q = _vector(ref, f"{name} reference")
-    if not _np.all(_np.isfinite(q)):
-        raise _ArgumentError(f"{name} reference must be finite, got {q}")
-    return _core.JointReference.constant(q=q)
+def _data(obj):
+    """The core's data of a reference or shaper (``spacearm._util.spec``)."""
+    return _spec_data(obj, [], type(obj).__name__)
+
+
+def _reference(ref) -> None:
+    """Make ``ref``'s evaluator (the core's, from its data; checked there)."""
+    object.__setattr__(ref, "_core_ref", _core.JointReference.from_spec(_data(ref)))
 
 
 # ---- actuators -------------------------------------------------------------------------------
@@ -368,24 +300,19 @@ class Thrusters:
     max_force: Union[float, Sequence[float]] = float("inf")
     max_torque: Union[float, Sequence[float]] = float("inf")
 
-    def _spec(self) -> _core.ThrusterLimits:
-        out = {}
-        for key in ("max_force", "max_torque"):
-            value = getattr(self, key)
-            if _np.ndim(value) == 0:
-                v = _np.full(3, _float(value, f"Thrusters {key}"))
-            else:
-                v = _vector(value, f"Thrusters {key}", 3)
-            if not _np.all(v > 0):
-                raise _ArgumentError(f"Thrusters {key} must be > 0 on every axis (inf for no limit), got {v}")
-            out[key] = v
-        return _core.ThrusterLimits(**out)
+    def __post_init__(self):
+        _check("thrusters", self)
 
 
 # ---- controllers -----------------------------------------------------------------------------
 class _Controller:
-    def _spec(self, robot):  # pragma: no cover - every subclass overrides
-        raise NotImplementedError
+    """A native control law: a dataclass whose fields are the core's spec of kind ``_kind``
+    (``control/spec.rs``), checked by the core when it is made."""
+
+    _kind: _ClassVar[str]
+
+    def __post_init__(self):
+        _check("controller", self)
 
 
 @_dataclass(frozen=True)
@@ -400,12 +327,11 @@ class JointPD(_Controller):
     joint is actuated.
     """
 
+    _kind: _ClassVar[str] = "joint_pd"
+
     kp: Any
     kd: Any
     reference: Any
-
-    def _spec(self, robot) -> _core.JointPdSpec:
-        return _core.JointPdSpec(kp=_gains(self.kp, "kp"), kd=_gains(self.kd, "kd"), reference=_joint_reference(self.reference, "JointPD"))
 
 
 @_dataclass(frozen=True)
@@ -428,17 +354,13 @@ class ComputedTorque(_Controller):
     panels move: the model error of the flexibility risk study).
     """
 
+    _kind: _ClassVar[str] = "computed_torque"
+
     kp: Any
     kd: Any
     reference: Any
     model: Any = None
     passive: str = "drift"
-
-    def _spec(self, robot) -> _core.ComputedTorqueSpec:
-        kp, kd = _gains(self.kp, "kp"), _gains(self.kd, "kd")
-        reference = _joint_reference(self.reference, "ComputedTorque")
-        return _core.ComputedTorqueSpec(kp=kp, kd=kd, reference=reference, model=_own_model(self.model, "ComputedTorque"),
-                                        passive=str(self.passive))
 
 
 @_dataclass(frozen=True)
@@ -472,6 +394,8 @@ class ResolvedMotionRate(_Controller):
     base rotation as its null space allows).
     """
 
+    _kind: _ClassVar[str] = "resolved_motion_rate"
+
     reference_cartesian: Any
     gain: float
     max_damping: float = _core.DLS_DEFAULTS.max_damping
@@ -481,27 +405,6 @@ class ResolvedMotionRate(_Controller):
     max_joint_rate: float = float("inf")
     task: Any = "position"
     strategy: str = "naive"
-
-    def _spec(self, robot) -> _core.RmrcSpec:
-        if not isinstance(self.reference_cartesian, (CartesianLine, FreeBodyPoint, SampledJoint)):
-            raise _ArgumentError("ResolvedMotionRate needs a CartesianLine, a FreeBodyPoint or a SampledJoint path of 3 coordinates, "
-                                f"got {type(self.reference_cartesian).__name__}")
-        point = self.point if self.point is not None else getattr(self.reference_cartesian, "point", None)
-        body, offset = robot.resolve_point(point)
-        from .model.tasks import task_rows  # the one home of the task names
-
-        return _core.RmrcSpec(
-            reference=self.reference_cartesian._spec(),
-            gain=_finite_float(self.gain, "ResolvedMotionRate gain"),
-            max_damping=_finite_float(self.max_damping, "ResolvedMotionRate max_damping"),
-            threshold=_finite_float(self.threshold, "ResolvedMotionRate threshold"),
-            velocity_gain=_finite_float(self.velocity_gain, "ResolvedMotionRate velocity_gain"),
-            body=int(body),
-            offset=_np.asarray(offset, dtype=float),
-            max_joint_rate=_float(self.max_joint_rate, "ResolvedMotionRate max_joint_rate"),
-            task=task_rows(robot, self.task),
-            strategy=_strategy(self.strategy, "ResolvedMotionRate strategy"),
-        )
 
 
 @_dataclass(frozen=True)
@@ -519,15 +422,12 @@ class AttitudeControl(_Controller):
     quat_ref`` and ``N = -kp e - kd (w0 - w_LVLH)`` (docs/orbit.md).
     """
 
+    _kind: _ClassVar[str] = "attitude"
+
     quat_ref: Sequence[float]
     kp: float
     kd: float
     orbit: Any = None
-
-    def _spec(self, robot) -> _core.AttitudeSpec:
-        q = _quaternion(self.quat_ref, "AttitudeControl quat_ref")
-        return _core.AttitudeSpec(quat_ref=q, kp=_finite_float(self.kp, "AttitudeControl kp"), kd=_finite_float(self.kd, "AttitudeControl kd"),
-                                  orbit=_orbit(self.orbit, "AttitudeControl"))
 
 
 @_dataclass(frozen=True)
@@ -547,6 +447,8 @@ class BaseThrusterControl(_Controller):
     the rate reference (docs/orbit.md).
     """
 
+    _kind: _ClassVar[str] = "base_thrusters"
+
     com_ref: Any = None
     quat_ref: Any = None
     kp_position: float = 1.0
@@ -554,19 +456,6 @@ class BaseThrusterControl(_Controller):
     kp_attitude: float = 0.0
     kd_attitude: float = 0.0
     orbit: Any = None
-
-    def _spec(self, robot) -> _core.BaseThrustersSpec:
-        gains = {key: _finite_float(getattr(self, key), f"BaseThrusterControl {key}") for key in ("kp_position", "kd_position", "kp_attitude", "kd_attitude")}
-        com_ref = None if self.com_ref is None else _vector(self.com_ref, "BaseThrusterControl com_ref", 3)
-        quat_ref = None if self.quat_ref is None else _quaternion(self.quat_ref, "BaseThrusterControl quat_ref")
-        return _core.BaseThrustersSpec(com_ref=com_ref, quat_ref=quat_ref, orbit=_orbit(self.orbit, "BaseThrusterControl"), **gains)
-
-
-def _orbit(orbit, what: str):
-    """``orbit`` checked: a spacearm.Orbit or None."""
-    if orbit is not None and not isinstance(orbit, _core.Orbit):
-        raise _ArgumentError(f"{what} orbit must be a spacearm.Orbit or None, got {type(orbit).__name__}")
-    return orbit
 
 
 def inertia_scaled_gains(robot, x, joints, natural_frequency: float = 4.0, damping_ratio: float = 1.0):
@@ -590,14 +479,10 @@ class Combined(_Controller):
     """An arm controller and a base controller together: the base controller (e.g.
     [`AttitudeControl`][spacearm.control.AttitudeControl]) runs first, then the arm controller, which sees its command."""
 
+    _kind: _ClassVar[str] = "combined"
+
     arm: Any
     base: Any
-
-    def _spec(self, robot) -> _core.CombinedSpec:
-        for what, c in (("arm", self.arm), ("base", self.base)):
-            if not isinstance(c, _Controller):
-                raise _ArgumentError(f"Combined {what} must be a spacearm.control controller, got {type(c).__name__}")
-        return _core.CombinedSpec(arm=self.arm._spec(robot), base=self.base._spec(robot))
 
 
 @_dataclass(frozen=True)
@@ -624,6 +509,8 @@ class CoordinatedFlying(_Controller):
     Gains are acceleration-level (1/s², 1/s). ``point``: overrides the reference's point.
     """
 
+    _kind: _ClassVar[str] = "coordinated_flying"
+
     ee_reference: CartesianLine
     base_pose_ref: Any = None
     kp_ee: float = 100.0
@@ -633,39 +520,6 @@ class CoordinatedFlying(_Controller):
     point: Any = None
     max_damping: float = _core.DLS_DEFAULTS.max_damping
     threshold: float = _core.DLS_DEFAULTS.threshold
-
-    def _spec(self, robot) -> _core.CoordinatedFlyingSpec:
-        if not isinstance(self.ee_reference, CartesianLine):
-            raise _ArgumentError(f"CoordinatedFlying needs a CartesianLine ee_reference, got {type(self.ee_reference).__name__}")
-        point = self.point if self.point is not None else self.ee_reference.point
-        body, offset = robot.resolve_point(point)
-        reference = self.ee_reference._spec()
-        max_damping = _finite_float(self.max_damping, "CoordinatedFlying max_damping")
-        threshold = _finite_float(self.threshold, "CoordinatedFlying threshold")
-        gains = {key: _finite_float(getattr(self, key), f"CoordinatedFlying {key}") for key in ("kp_ee", "kd_ee", "kp_base", "kd_base")}
-        base_position = base_quat = None
-        if self.base_pose_ref is not None:
-            try:
-                r0, quat = self.base_pose_ref
-            except (TypeError, ValueError) as exc:
-                raise _ArgumentError(f"CoordinatedFlying base_pose_ref must be (r0, quat), got {self.base_pose_ref!r}") from exc
-            base_position = _vector(r0, "CoordinatedFlying base position", 3)
-            base_quat = _quaternion(quat, "CoordinatedFlying base quaternion")
-        return _core.CoordinatedFlyingSpec(
-            reference=reference, body=int(body), offset=_np.asarray(offset, dtype=float), max_damping=max_damping, threshold=threshold,
-            base_position=base_position, base_quat=base_quat, **gains,
-        )
-
-
-def _own_model(model, name: str):
-    """The core model of a controller's own ``model`` (a Robot), or None for the plant's."""
-    if model is None:
-        return None
-    from .model.robot import Robot
-
-    if not isinstance(model, Robot):
-        raise _ArgumentError(f"{name} model must be a spacearm.Robot, got {type(model).__name__}")
-    return model.core_model
 
 
 @_dataclass(frozen=True)
@@ -677,16 +531,12 @@ class MomentumDamping(_Controller):
     ``model``: the law's model of the plant (e.g. the captured system with an estimated target;
     default the plant). Compose with an arm controller through [`Combined`][spacearm.control.Combined]."""
 
+    _kind: _ClassVar[str] = "momentum_damping"
+
     time_constant: float
     max_force: float = float("inf")
     max_torque: float = float("inf")
     model: Any = None
-
-    def _spec(self, robot) -> _core.MomentumDampingSpec:
-        return _core.MomentumDampingSpec(time_constant=_float(self.time_constant, "MomentumDamping time_constant"),
-                                         max_force=_float(self.max_force, "MomentumDamping max_force"),
-                                         max_torque=_float(self.max_torque, "MomentumDamping max_torque"),
-                                         model=_own_model(self.model, "MomentumDamping"))
 
 
 @_dataclass(frozen=True)
@@ -694,13 +544,10 @@ class TorqueLimit(_Controller):
     """Another controller's joint torques clamped to ``±limit`` on every joint (N·m; N for
     prismatic joints), inside the loop (the simulation's own effort limits apply on top)."""
 
+    _kind: _ClassVar[str] = "torque_limit"
+
     controller: Any
     limit: float
-
-    def _spec(self, robot) -> _core.JointTorqueLimitSpec:
-        if not isinstance(self.controller, _Controller):
-            raise _ArgumentError(f"TorqueLimit controller must be a spacearm.control controller, got {type(self.controller).__name__}")
-        return _core.JointTorqueLimitSpec(controller=self.controller._spec(robot), limit=_float(self.limit, "TorqueLimit limit"))
 
 
 @_dataclass(frozen=True)
@@ -713,12 +560,9 @@ class Callback(_Controller):
     arm of a [`Combined`][spacearm.control.Combined], its ``tau`` replaces every joint torque, wheels included.
     """
 
-    fn: Callable
+    _kind: _ClassVar[str] = "external"
 
-    def _spec(self, robot) -> _core.CallbackSpec:
-        if not callable(self.fn):
-            raise _ArgumentError(f"Callback needs a callable fn(t, x, u), got {self.fn!r}")
-        return _core.CallbackSpec(fn=self.fn)
+    fn: Callable
 
 
 def perturbed_model(

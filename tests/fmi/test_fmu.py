@@ -107,7 +107,7 @@ def test_native_controller_in_the_fmu_with_its_set_point_a_parameter(tmp_path):
     path = spacearm.fmi.export(robot, tmp_path / "pd.fmu", controller=exported, dt=DT, fmi_version=3)
     assert validate_fmu(str(path)) == []
     q_ref = q0 + np.array([0.2, -0.1, 0.15, 0.1, -0.2, 0.3])
-    start = {f"q_ref[{k + 1}]": v for k, v in enumerate(q_ref)}
+    start = {f"reference[{k + 1}]": v for k, v in enumerate(q_ref)}
     duration = 0.2
     result = fmu_run(path, robot, duration, np.zeros(6), start=start)
     traj = spacearm.simulate(robot, duration, dt=DT, controller=JointPD(kp=2.0, kd=0.5, reference=q_ref))
@@ -126,9 +126,13 @@ def test_export_errors(tmp_path, monkeypatch):
         spacearm.fmi.export(robot, tmp_path / "a.fmu", fmi_version=1)
     with pytest.raises(ArgumentError, match="mode"):
         spacearm.fmi.export(robot, tmp_path / "a.fmu", mode="hovering")
-    from spacearm.control import QuinticJoint
-    with pytest.raises(ArgumentError, match="constant set point"):
-        spacearm.fmi.export(robot, tmp_path / "a.fmu", controller=JointPD(1.0, 1.0, QuinticJoint(robot.initial_q, robot.initial_q, 0, 1)))
+    with pytest.raises(ArgumentError, match="callback"):
+        spacearm.fmi.export(robot, tmp_path / "a.fmu", controller=Callback(lambda t, x, u: np.zeros(4)))
+    with pytest.raises(ArgumentError, match="controller"):
+        spacearm.fmi.export(robot, tmp_path / "a.fmu", controller="pd")
+    # A law the mode cannot run: the core's message, at export.
+    with pytest.raises(ArgumentError, match="rotation-floating"):
+        spacearm.fmi.export(robot, tmp_path / "a.fmu", controller=spacearm.control.AttitudeControl([0, 0, 0, 1], kp=1.0, kd=1.0))
     monkeypatch.setenv("SPACEARM_C_LIBRARY", str(tmp_path / "nowhere.so"))
     with pytest.raises(MissingDependencyError, match="SPACEARM_C_LIBRARY"):
         spacearm.fmi.export(robot, tmp_path / "a.fmu")
@@ -151,14 +155,22 @@ def test_the_fmu_command_writes_an_fmu_with_the_controller_parameters(tmp_path):
     assert root.get("fmiVersion") == "2.0"
     starts = {v.get("name"): float(v.find("Real").get("start")) for v in root.iter("ScalarVariable") if v.find("Real").get("start")}
     assert starts["kp[1]"] == 3.0 and starts["kd[6]"] == 1.0 and "base_wrench[6]" in starts
-    assert np.allclose([starts[f"q_ref[{k}]"] for k in range(1, 7)], spacearm.presets.spatial6().initial_q)
+    assert np.allclose([starts[f"reference[{k}]"] for k in range(1, 7)], spacearm.presets.spatial6().initial_q)
+    # The names of the core: computed-torque and ct are computed_torque; other laws go through export().
+    assert main(["fmu", "spatial6", "--out", str(out), "--controller", "computed-torque", "--kp", "4", "--kd", "4"]) == 0
+    with zipfile.ZipFile(out) as z:
+        assert b'kind = "computed_torque"' in z.read("resources/options.toml")
 
 
 def test_the_fmu_command_answers_bad_options_in_one_line(tmp_path, capsys):
     from spacearm.cli import main
 
     assert main(["fmu", "spatial6", "--out", str(tmp_path / "a.fmu"), "--kp", "3"]) == 2
-    assert "spacearm: error: --kp needs --controller pd or ct" in capsys.readouterr().err
+    assert "spacearm: error: --kp needs --controller joint_pd or computed_torque" in capsys.readouterr().err
+    assert main(["fmu", "spatial6", "--out", str(tmp_path / "a.fmu"), "--controller", "pid"]) == 2
+    assert "unknown controller 'pid'" in capsys.readouterr().err
+    assert main(["fmu", "spatial6", "--out", str(tmp_path / "a.fmu"), "--controller", "attitude"]) == 2
+    assert "spacearm.fmi.export" in capsys.readouterr().err
     assert main(["fmu", "spatial6", "--out", str(tmp_path / "a.fmu"), "--controller", "ct", "--kp", "1,2", "--kd", "1"]) == 2
     assert "kp" in capsys.readouterr().err
     assert main(["fmu", "spatial6", "--out", str(tmp_path / "a.fmu"), "--dt", "1e300"]) == 2

@@ -112,7 +112,7 @@ TANK = Tank(radius=0.5, height=2.0, density=1000.0, axial_acceleration=0.1)
     (Flexibility(tank=TANK), dict(fill_fraction=Fixed(1.0)), errors.ArgumentError),
     (Perturbations(), dict(base_mass_sigma=-1.0), errors.ArgumentError),
     (QuinticJoint([0.0], [1.0], 0.0, 1.0), dict(t_end=-1.0), errors.ArgumentError),
-    (CartesianLine([0, 0, 0], [1, 0, 0], 0.0, 1.0), dict(p_goal=np.array([np.nan, 0, 0])), errors.ArgumentError),
+    (CartesianLine([0, 0, 0], [1, 0, 0], 0.0, 1.0), dict(p_goal=np.array([np.nan, 0, 0])), errors.NonFiniteError),
 ])
 def test_tampered_data_classes_are_refused(obj, values, error):
     back = pickle.loads(pickle.dumps(obj))

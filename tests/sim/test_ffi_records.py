@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import spacearm
+from spacearm._util.spec import controller_spec
 from spacearm import _core, control, errors
 from spacearm.sim.simulation import DEFAULTS, _options
 
@@ -119,7 +120,7 @@ def test_events_and_dropped_counters_follow_the_command(robot):
     saturates the thruster channel base_torque_z (index N + 5) once, from the first step."""
     command = control.Callback(lambda t, x, u: (np.zeros(6), np.array([0.6, 0.0, 0.8, 0.0, 0.0, 2.0])))
     options = core_options(robot, mode="rotation-flying", thrusters=control.Thrusters(max_force=1.0, max_torque=0.5))
-    res = _core.simulate(robot.core_model, robot.neutral_configuration(), robot.zero_velocity(), 0.01, options, command._spec(robot))
+    res = _core.simulate(robot.core_model, robot.neutral_configuration(), robot.zero_velocity(), 0.01, options, controller_spec(command))
     ev, m = res.events, res.meta
     assert ev.saturation_t.dtype == np.float64 and ev.saturation_actuator.dtype == np.int64
     np.testing.assert_array_equal(ev.saturation_t, [0.0])
@@ -157,7 +158,7 @@ def test_rollout_batch_rows_are_the_single_runs(robot):
     q0 = x0[0, 7:]
     pd = control.JointPD(20.0, 8.0, control.QuinticJoint(q0, q0 + 0.3, 0.0, 0.2))
     options = core_options(robot, record_every=20)
-    batch = _core.rollout([robot.core_model], x0, u0, 0.2, options, pd._spec(robot), 2)
+    batch = _core.rollout([robot.core_model], x0, u0, 0.2, options, controller_spec(pd), 2)
     assert isinstance(batch, _core.RolloutBatch) and isinstance(batch.records, _core.RunRecords)
     np.testing.assert_array_equal(batch.ok, [True, True, False])
     assert batch.reason[:2] == [None, None] and "fastest mode" in batch.reason[2]  # 1e8 rad/s: refused before its first step
@@ -167,7 +168,7 @@ def test_rollout_batch_rows_are_the_single_runs(robot):
     assert isinstance(batch.meta[0], _core.RunMeta) and isinstance(batch.events[0], _core.RunEvents)
     assert "tracking_error" in batch.records.fields and batch.records.wheel_speed is None
     for i in range(2):
-        single = _core.simulate(robot.core_model, x0[i], u0[i], 0.2, options, pd._spec(robot))
+        single = _core.simulate(robot.core_model, x0[i], u0[i], 0.2, options, controller_spec(pd))
         for name in single.records.fields:
             np.testing.assert_array_equal(getattr(batch.records, name)[i], getattr(single.records, name), err_msg=name)
         assert [(d.quantity, d.drift) for d in batch.meta[i].drift] == [(d.quantity, d.drift) for d in single.meta.drift]

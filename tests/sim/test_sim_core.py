@@ -199,17 +199,30 @@ def robot():
         (dict(u0=np.r_[np.zeros(9), np.inf]), errors.NonFiniteError, "u0"),
         (dict(wheels=["no_such_joint"]), errors.NotFoundError, "no_such_joint"),
         (dict(wheels=[9]), errors.NotFoundError, "wheel dof 9"),
-        (dict(thrusters=Thrusters(max_force=0.0)), errors.ArgumentError, "max_force must be > 0"),
-        (dict(thrusters=Thrusters(max_torque=[1.0, -1.0, 1.0])), errors.ArgumentError, "max_torque must be > 0"),
         (dict(controller="pd"), errors.ArgumentError, "controller must be None or"),
         (dict(controller=JointPD(1.0, 1.0, np.zeros(3))), errors.ShapeError, "number of arm joints 4"),
-        (dict(controller=JointPD(-1.0, 1.0, np.zeros(4))), errors.ArgumentError, "kp must be finite and >= 0"),
         (dict(controller=JointPD([1.0, 2.0], 1.0, np.zeros(4))), errors.ShapeError, "kp"),
     ],
 )
 def test_bad_input_raises_a_clear_error(robot, kwargs, exc, match):
     with pytest.raises(exc, match=match):
         spacearm.simulate(robot, 0.01, **kwargs)
+
+
+@pytest.mark.parametrize(
+    "make, match",
+    [
+        (lambda: Thrusters(max_force=0.0), "max_force must be > 0"),
+        (lambda: Thrusters(max_torque=[1.0, -1.0, 1.0]), "max_torque must be > 0"),
+        (lambda: Thrusters(max_torque=[1.0, 1.0]), "one number or three"),
+        (lambda: JointPD(-1.0, 1.0, np.zeros(4)), "kp' must be finite and >= 0"),
+        (lambda: JointPD("a", 1.0, np.zeros(4)), "expected a number or a list of numbers"),
+    ],
+)
+def test_bad_values_are_refused_where_they_are_made(make, match):
+    """The core checks a description when it is made (control/spec.rs), not first at the run."""
+    with pytest.raises(errors.ArgumentError, match=match):
+        make()
 
 
 @pytest.mark.parametrize("duration", [0.0, -1.0, np.nan, np.inf, "long"])
@@ -226,14 +239,17 @@ def test_bad_references_options_and_specs(robot):
     x0, u0 = robot.neutral_configuration(), robot.zero_velocity()
     with pytest.raises(errors.ArgumentError, match="unknown key 'dtt'"):
         spacearm._core.RunOptions(dtt=1e-3)
-    with pytest.raises(errors.ArgumentError, match="controller type must be one of"):
+    with pytest.raises(errors.ArgumentError, match="a controller must be a spacearm.control controller"):
         spacearm._core.simulate(robot.core_model, x0, u0, 1.0, spacearm._core.RunOptions(), {"type": "lqr"})
-    reference = spacearm._core.JointReference.constant(q=np.zeros(4))
-    with pytest.raises(errors.ArgumentError, match="unknown key 'ki'"):
-        spacearm._core.JointPdSpec(kp=[1.0], kd=[1.0], ki=[1.0], reference=reference)
-    # A missing keyword is Python's own TypeError, naming it.
+    with pytest.raises(errors.ArgumentError, match="unknown variant `lqr`"):
+        spacearm._core.ControllerSpec({"kind": "lqr"})
+    with pytest.raises(errors.ArgumentError, match="unknown field `ki`"):
+        spacearm._core.ControllerSpec({"kind": "joint_pd", "kp": 1.0, "kd": 1.0, "ki": 1.0, "reference": [0.0] * 4})
+    with pytest.raises(errors.ArgumentError, match="missing field `kd`"):
+        spacearm._core.ControllerSpec({"kind": "joint_pd", "kp": 1.0, "reference": [0.0] * 4})
+    # A missing keyword of a spacearm.control class is Python's own TypeError, naming it.
     with pytest.raises(TypeError, match="'kd'"):
-        spacearm._core.JointPdSpec(kp=[1.0], reference=reference)
+        JointPD(kp=1.0, reference=np.zeros(4))
 
 
 def test_rk4_equals_a_numpy_rk4_on_the_mass_matrix_dynamics():

@@ -410,6 +410,62 @@ enum SpacearmStatus spacearm_model_to_toml(const struct SpacearmModel *model,
                                            size_t *needed);
 
 /**
+ * A new model: `model` with a rigid payload `name` attached to the body `parent` on a fixed
+ * joint: its CM at `origin` (3, `parent`'s frame, from its CM, m), its axes at `rotation`
+ * (4, quaternion `[x, y, z, w]` in `parent`'s frame; NULL: aligned), mass `mass` (kg) and
+ * `inertia` (9, row-major, about its CM in its own axes, kg·m²; NULL: a point mass). The
+ * model's rules judge it (status `SPACEARM_STATUS_INVALID_MODEL` and the message otherwise);
+ * every other quantity of `model` is kept bit for bit. `*out` receives a new handle.
+ *
+ * # Safety
+ * `model` a live handle; `name`, `parent` NUL-terminated strings; `origin` 3 readable doubles;
+ * `rotation` NULL or 4; `inertia` NULL or 9; `out` writable.
+ */
+enum SpacearmStatus spacearm_model_attach_body(const struct SpacearmModel *model,
+                                               const char *name,
+                                               const char *parent,
+                                               const double *origin,
+                                               const double *rotation,
+                                               double mass,
+                                               const double *inertia,
+                                               struct SpacearmModel **out);
+
+/**
+ * A new model: `model` with the whole model `other` attached to the body `parent`: `other`'s
+ * base becomes the link `base_link` (NULL: `<prefix><its base name>`) on a fixed joint, its CM
+ * at `origin` (3) and its axes at `rotation` (4, `[x, y, z, w]`; NULL: aligned) in `parent`'s
+ * frame; its links (joints, limits, passive dynamics, initial `q`, appended to `model`'s),
+ * points and geometry follow, every name prefixed with `prefix` (may be ""). A name clash or
+ * any broken rule is `SPACEARM_STATUS_INVALID_MODEL` with the message. `*out` receives a new
+ * handle; `model` and `other` are unchanged.
+ *
+ * # Safety
+ * `model`, `other` live handles; `parent`, `prefix` NUL-terminated strings; `base_link` NULL or
+ * one; `origin` 3 readable doubles; `rotation` NULL or 4; `out` writable.
+ */
+enum SpacearmStatus spacearm_model_attach_model(const struct SpacearmModel *model,
+                                                const struct SpacearmModel *other,
+                                                const char *parent,
+                                                const double *origin,
+                                                const double *rotation,
+                                                const char *prefix,
+                                                const char *base_link,
+                                                struct SpacearmModel **out);
+
+/**
+ * A new model: `model` without the link `body`, every link below it, and the points and
+ * geometry on them (the end effector too when it is one of them). The base cannot be removed
+ * (`SPACEARM_STATUS_INVALID_MODEL`, as for a name that is not a link). `*out` receives a new
+ * handle.
+ *
+ * # Safety
+ * `model` a live handle; `body` a NUL-terminated string; `out` writable.
+ */
+enum SpacearmStatus spacearm_model_remove_subtree(const struct SpacearmModel *model,
+                                                  const char *body,
+                                                  struct SpacearmModel **out);
+
+/**
  * The message of the last failed call on this thread (empty after a successful call). The
  * text is owned by the library and stays valid until the next spacearm call on this thread;
  * copy it to keep it. Never NULL.
@@ -422,6 +478,24 @@ const char *spacearm_last_error(void);
  * `SPACEARM_STATUS_INTERNAL`) gives `"unknown status"`.
  */
 const char *spacearm_status_name(int32_t status);
+
+/**
+ * The stepper options TOML `options_toml` (without a `[controller]` table; NULL: the
+ * defaults) with the controller spec TOML `controller_toml` (the fields of a `[controller]`
+ * table as a document of their own: `kind = ...`, nested tables as `[reference]`) as its
+ * `[controller]` table, written NUL-terminated into `buf` (`len` bytes, `*needed` the size
+ * needed; `len = 0` asks for it). Used by `spacearm.fmi.export` to write an FMU's
+ * `options.toml` from the spec `spacearm.simulate` runs.
+ *
+ * # Safety
+ * `options_toml` NULL or NUL-terminated; `controller_toml` NUL-terminated; `buf` NULL or `len`
+ * writable bytes; `needed` NULL or writable.
+ */
+enum SpacearmStatus spacearm_options_with_controller(const char *options_toml,
+                                                     const char *controller_toml,
+                                                     char *buf,
+                                                     size_t len,
+                                                     size_t *needed);
 
 /**
  * A stepper for a copy of `model` with the options TOML `options` (NULL: the defaults,

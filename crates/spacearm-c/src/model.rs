@@ -8,7 +8,7 @@ use spacearm_core::derivatives::DerivativeData;
 use spacearm_core::model::presets;
 use spacearm_core::{Data, Model};
 
-use crate::status::{guard, guard_value, output, put, text, write_text, Failure, Outcome, SpacearmStatus};
+use crate::status::{guard, guard_value, input, optional_input, output, put, text, write_text, Failure, Outcome, SpacearmStatus};
 
 /// An opaque, immutable model with its own workspaces. Safe to share between threads (the
 /// workspaces are behind locks); free it with `spacearm_model_free`.
@@ -248,5 +248,120 @@ pub unsafe extern "C" fn spacearm_model_to_toml(model: *const SpacearmModel, buf
         let s = spacearm_core::io::toml::model_to_toml(&m.model);
         // SAFETY: the caller's contract.
         unsafe { write_text(&s, buf, len, needed) }
+    })
+}
+
+// ---- editing (the core's model/edit.rs): each edit is a new handle; the input is unchanged ----
+
+/// A mount for an edit from C arrays: `origin` 3 doubles, `rotation` 4 doubles `[x, y, z, w]`
+/// (NULL: the identity).
+///
+/// # Safety
+/// `parent` a NUL-terminated string; `origin` 3 readable doubles; `rotation` NULL or 4.
+unsafe fn mount(parent: *const c_char, origin: *const f64, rotation: *const f64) -> Outcome<spacearm_core::Mount> {
+    // SAFETY: the caller's contract.
+    let parent = unsafe { text(parent, "parent") }?;
+    // SAFETY: the caller's contract.
+    let origin = unsafe { input(origin, 3, "origin") }?;
+    // SAFETY: the caller's contract.
+    let rotation = unsafe { optional_input(rotation, 4, "rotation") }?.unwrap_or(&[0.0, 0.0, 0.0, 1.0]);
+    Ok(spacearm_core::Mount::new(parent, [origin[0], origin[1], origin[2]], [rotation[0], rotation[1], rotation[2], rotation[3]]))
+}
+
+/// A new model: `model` with a rigid payload `name` attached to the body `parent` on a fixed
+/// joint: its CM at `origin` (3, `parent`'s frame, from its CM, m), its axes at `rotation`
+/// (4, quaternion `[x, y, z, w]` in `parent`'s frame; NULL: aligned), mass `mass` (kg) and
+/// `inertia` (9, row-major, about its CM in its own axes, kg·m²; NULL: a point mass). The
+/// model's rules judge it (status `SPACEARM_STATUS_INVALID_MODEL` and the message otherwise);
+/// every other quantity of `model` is kept bit for bit. `*out` receives a new handle.
+///
+/// # Safety
+/// `model` a live handle; `name`, `parent` NUL-terminated strings; `origin` 3 readable doubles;
+/// `rotation` NULL or 4; `inertia` NULL or 9; `out` writable.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn spacearm_model_attach_body(
+    model: *const SpacearmModel,
+    name: *const c_char,
+    parent: *const c_char,
+    origin: *const f64,
+    rotation: *const f64,
+    mass: f64,
+    inertia: *const f64,
+    out: *mut *mut SpacearmModel,
+) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY: the caller's contract.
+        let m = unsafe { model_ref(model) }?;
+        // SAFETY: the caller's contract.
+        let name = unsafe { text(name, "name") }?;
+        // SAFETY: the caller's contract.
+        let at = unsafe { mount(parent, origin, rotation) }?;
+        // SAFETY: the caller's contract.
+        let i = unsafe { optional_input(inertia, 9, "inertia") }?.unwrap_or(&[0.0; 9]);
+        let inertia = [[i[0], i[1], i[2]], [i[3], i[4], i[5]], [i[6], i[7], i[8]]];
+        let edited = m.model.attach_body(spacearm_core::LinkSpec::payload(name, &at, mass, inertia), None).map_err(spacearm_core::SpacearmError::from)?;
+        // SAFETY: the caller's contract.
+        unsafe { give(edited, out) }
+    })
+}
+
+/// A new model: `model` with the whole model `other` attached to the body `parent`: `other`'s
+/// base becomes the link `base_link` (NULL: `<prefix><its base name>`) on a fixed joint, its CM
+/// at `origin` (3) and its axes at `rotation` (4, `[x, y, z, w]`; NULL: aligned) in `parent`'s
+/// frame; its links (joints, limits, passive dynamics, initial `q`, appended to `model`'s),
+/// points and geometry follow, every name prefixed with `prefix` (may be ""). A name clash or
+/// any broken rule is `SPACEARM_STATUS_INVALID_MODEL` with the message. `*out` receives a new
+/// handle; `model` and `other` are unchanged.
+///
+/// # Safety
+/// `model`, `other` live handles; `parent`, `prefix` NUL-terminated strings; `base_link` NULL or
+/// one; `origin` 3 readable doubles; `rotation` NULL or 4; `out` writable.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn spacearm_model_attach_model(
+    model: *const SpacearmModel,
+    other: *const SpacearmModel,
+    parent: *const c_char,
+    origin: *const f64,
+    rotation: *const f64,
+    prefix: *const c_char,
+    base_link: *const c_char,
+    out: *mut *mut SpacearmModel,
+) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY: the caller's contract.
+        let m = unsafe { model_ref(model) }?;
+        // SAFETY: the caller's contract.
+        let o = unsafe { other.as_ref() }.ok_or_else(|| Failure::new(SpacearmStatus::NullPointer, "other is NULL; expected a model handle to attach"))?;
+        // SAFETY: the caller's contract.
+        let at = unsafe { mount(parent, origin, rotation) }?;
+        // SAFETY: the caller's contract.
+        let prefix = unsafe { text(prefix, "prefix") }?;
+        // SAFETY: the caller's contract.
+        let base_link = if base_link.is_null() { None } else { Some(unsafe { text(base_link, "base_link") }?) };
+        let edited = m.model.attach_model(&o.model, &at, prefix, base_link).map_err(spacearm_core::SpacearmError::from)?;
+        // SAFETY: the caller's contract.
+        unsafe { give(edited, out) }
+    })
+}
+
+/// A new model: `model` without the link `body`, every link below it, and the points and
+/// geometry on them (the end effector too when it is one of them). The base cannot be removed
+/// (`SPACEARM_STATUS_INVALID_MODEL`, as for a name that is not a link). `*out` receives a new
+/// handle.
+///
+/// # Safety
+/// `model` a live handle; `body` a NUL-terminated string; `out` writable.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_model_remove_subtree(model: *const SpacearmModel, body: *const c_char, out: *mut *mut SpacearmModel) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY: the caller's contract.
+        let m = unsafe { model_ref(model) }?;
+        // SAFETY: the caller's contract.
+        let body = unsafe { text(body, "body") }?;
+        let edited = m.model.remove_subtree(body).map_err(spacearm_core::SpacearmError::from)?;
+        // SAFETY: the caller's contract.
+        unsafe { give(edited, out) }
     })
 }

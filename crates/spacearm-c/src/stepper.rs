@@ -2,34 +2,37 @@
 //! of `spacearm.simulate` and `spacearm.Simulator`) with a native controller, stepped from C
 //! with a joint torque and base wrench held over each step (docs/c-api.md, "Stepping").
 //!
-//! The options are TOML text, so that new options never change the ABI:
+//! The options are TOML text, so that new options never change the ABI; the `[controller]`
+//! table is the core's controller spec (`spacearm_core::control::spec::ControllerSpec`, the
+//! same data `spacearm.simulate` runs; docs/c-api.md, "Controllers"):
 //!
 //! ```toml
 //! mode = "floating"        # or rotation-floating, rotation-flying, translation-flying, flying
 //! dt = 0.001               # the RK4 step, s, within [SPACEARM_MIN_DT, SPACEARM_MAX_DT]
 //! joint_limits = true      # the joints' effort and velocity limits apply
-//! [controller]             # optional; default: none (only the held torque acts)
-//! kind = "joint_pd"        # "none", "joint_pd" or "computed_torque"
-//! kp = [100.0]             # one gain or one per arm joint
-//! kd = [20.0]
-//! q_ref = [0.1, 0.2, ...]  # the constant set point, one per arm joint
+//! wheels = [6, 7, 8]       # optional: the reaction-wheel dofs (default: detected)
+//! thrusters = { max_force = 50.0, max_torque = [5.0, 5.0, 2.0] }  # optional, per axis of 𝒥
+//! [controller]             # optional; default: kind = "none" (only the held torque acts)
+//! kind = "joint_pd"        # any native kind of CONTROLLER_KINDS but "external"
+//! kp = 100.0               # one gain or one per actuated arm joint
+//! kd = [20.0, 20.0]
+//! reference = [0.1, 0.2]   # a list: a constant set point; or a table, e.g. kind = "quintic"
 //! ```
 
 use std::ffi::c_char;
 
 use nalgebra::Vector6;
 use serde::Deserialize;
-use spacearm_core::control::{broadcast_gains, ComputedTorque, Controller, JointPd, ZeroTorque};
-use spacearm_core::sim::actuators::detect_reaction_wheels;
+use spacearm_core::control::spec::{no_external, ControllerSpec, ThrusterLimitsSpec};
+use spacearm_core::control::Controller;
 use spacearm_core::sim::integrate::IntegratorKind;
 use spacearm_core::sim::modes::Mode;
-use spacearm_core::sim::reference::JointReference;
 use spacearm_core::sim::simulate::{check_initial_state, Plant, SimOptions};
 use spacearm_core::sim::stepper::Rk4Stepper;
-use spacearm_core::{Model, SpacearmError};
+use spacearm_core::Model;
 
 use crate::model::{model_ref, SpacearmModel};
-use crate::status::{guard, guard_value, input, optional_input, output, put, text, Failure, Outcome, SpacearmStatus};
+use crate::status::{guard, guard_value, input, optional_input, output, put, text, write_text, Failure, Outcome, SpacearmStatus};
 
 /// The most RK4 steps one call may take: `n` of `spacearm_stepper_step`, and `h / dt` of one
 /// communication step `h` of an FMU (`fmi3DoStep`, `fmi2DoStep`). A call asking for more is
@@ -59,40 +62,6 @@ pub(crate) fn check_steps_per_call(steps: f64, what: &str) -> Outcome<usize> {
     Ok(steps as usize)
 }
 
-/// The native controllers a stepper (and an FMU) can run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub(crate) enum ControllerKind {
-    /// Zero torque: only the held input acts.
-    None,
-    /// `τ = K_p (q_ref − q) − K_d q̇` on the arm joints (docs/simulation-core.md).
-    JointPd,
-    /// Computed torque on the reduced EOM (paper eqs. 112–115) to a constant set point.
-    ComputedTorque,
-}
-
-impl ControllerKind {
-    pub(crate) fn name(self) -> &'static str {
-        match self {
-            ControllerKind::None => "none",
-            ControllerKind::JointPd => "joint_pd",
-            ControllerKind::ComputedTorque => "computed_torque",
-        }
-    }
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct ControllerText {
-    kind: ControllerKind,
-    #[serde(default)]
-    kp: Option<Vec<f64>>,
-    #[serde(default)]
-    kd: Option<Vec<f64>>,
-    #[serde(default)]
-    q_ref: Option<Vec<f64>>,
-}
-
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct OptionsText {
@@ -103,7 +72,11 @@ struct OptionsText {
     #[serde(default = "default_true")]
     joint_limits: bool,
     #[serde(default)]
-    controller: Option<ControllerText>,
+    wheels: Option<Vec<usize>>,
+    #[serde(default)]
+    thrusters: Option<ThrusterLimitsSpec>,
+    #[serde(default)]
+    controller: Option<ControllerSpec>,
 }
 
 fn default_mode() -> String {
@@ -116,75 +89,97 @@ fn default_true() -> bool {
     true
 }
 
-/// Checked stepper options: the simulation options and the controller with its gains and set
-/// point, one entry per arm joint (the gains broadcast).
+/// Checked stepper options: the core's simulation options (as `spacearm.simulate` builds them
+/// for an RK4 run of step `dt`) and the controller, as the core's spec.
 #[derive(Debug, Clone)]
 pub(crate) struct StepperOptions {
     pub sim: SimOptions,
-    pub controller: ControllerKind,
-    pub kp: Vec<f64>,
-    pub kd: Vec<f64>,
-    pub q_ref: Vec<f64>,
+    pub controller: ControllerSpec,
 }
 
 impl StepperOptions {
-    /// Parse and check the options TOML against `model`.
+    /// Parse and check the options TOML against `model`: a TOML or serde error (an unknown key,
+    /// an unknown controller kind, a value of the wrong type) is `Parse`; a value the core's
+    /// checks refuse has the core's status (`InvalidArgument`, `Dimension`, `NotFound`, ...).
     pub(crate) fn parse(model: &Model, text: &str) -> Outcome<Self> {
         let o: OptionsText = toml::from_str(text).map_err(|e| Failure::new(SpacearmStatus::Parse, format!("stepper options: {e}")))?;
-        let sim = SimOptions { mode: Mode::from_name(&o.mode)?, integrator: IntegratorKind::Rk4, duration: o.dt, dt: o.dt, joint_limits: o.joint_limits, ..SimOptions::default() };
         if !(SPACEARM_MIN_DT..=SPACEARM_MAX_DT).contains(&o.dt) {
             return Err(Failure::argument(format!(
                 "dt must be between {SPACEARM_MIN_DT:e} s and {SPACEARM_MAX_DT} s (SPACEARM_MIN_DT, SPACEARM_MAX_DT), got {:e} s",
                 o.dt
             )));
         }
+        let thrusters = o.thrusters.map(|t| t.build()).transpose()?;
+        let sim = SimOptions {
+            mode: Mode::from_name(&o.mode)?,
+            integrator: IntegratorKind::Rk4,
+            duration: o.dt,
+            dt: o.dt,
+            joint_limits: o.joint_limits,
+            wheels: o.wheels,
+            thrusters,
+            ..SimOptions::default()
+        };
         sim.validate()?;
-        let n_arm = Self::n_arm(model);
-        let arm_q: Vec<f64> = {
-            let wheels = detect_reaction_wheels(model);
-            let dynamics = model.dof_dynamics();
-            (0..model.n_dof()).filter(|&d| !wheels.contains(&d) && dynamics[d].actuated).map(|d| model.initial_q()[d]).collect()
-        };
-        let (controller, kp, kd, q_ref) = match o.controller {
-            None => (ControllerKind::None, vec![], vec![], vec![]),
-            Some(c) if c.kind == ControllerKind::None => {
-                if c.kp.is_some() || c.kd.is_some() || c.q_ref.is_some() {
-                    return Err(Failure::argument("controller kind 'none' takes no kp, kd or q_ref"));
-                }
-                (ControllerKind::None, vec![], vec![], vec![])
-            }
-            Some(c) => {
-                let need = |v: Option<Vec<f64>>, what: &str| v.ok_or_else(|| Failure::argument(format!("controller '{}' needs {what}", c.kind.name())));
-                let kp = broadcast_gains("kp", &need(c.kp, "kp")?, n_arm)?;
-                let kd = broadcast_gains("kd", &need(c.kd, "kd")?, n_arm)?;
-                let q_ref = c.q_ref.unwrap_or(arm_q);
-                if q_ref.len() != n_arm {
-                    return Err(SpacearmError::Dimension { what: "q_ref".into(), expected: format!("the number of actuated arm joints {n_arm}"), got: q_ref.len() }.into());
-                }
-                crate::status::finite("q_ref", &q_ref)?;
-                (c.kind, kp, kd, q_ref)
-            }
-        };
-        Ok(StepperOptions { sim, controller, kp, kd, q_ref })
+        StepperOptions { sim, controller: ControllerSpec::None {} }.with_controller(model, o.controller.unwrap_or(ControllerSpec::None {}))
     }
 
-    /// The number of actuated arm joints (the joints that are not reaction wheels and have a
-    /// motor: the passive ones take no reference, docs/flexibility.md).
-    pub(crate) fn n_arm(model: &Model) -> usize {
-        let wheels = detect_reaction_wheels(model);
-        let dynamics = model.dof_dynamics();
-        (0..model.n_dof()).filter(|&d| !wheels.contains(&d) && dynamics[d].actuated).count()
+    /// These options with the controller `spec`, checked against `model`: the spec's own checks,
+    /// its construction on the plant (points, tasks) and the controller's setup (dimensions, the
+    /// mode), as a run would do them.
+    pub(crate) fn with_controller(&self, model: &Model, spec: ControllerSpec) -> Outcome<Self> {
+        let options = StepperOptions { sim: self.sim.clone(), controller: spec };
+        Plant::owned(model.clone(), &options.sim, options.build_controller(model)?)?;
+        Ok(options)
     }
 
-    /// A fresh controller.
-    pub(crate) fn build_controller(&self) -> Outcome<Box<dyn Controller>> {
-        let reference = || JointReference::constant(self.q_ref.clone());
-        Ok(match self.controller {
-            ControllerKind::None => Box::new(ZeroTorque),
-            ControllerKind::JointPd => Box::new(JointPd::new(self.kp.clone(), self.kd.clone(), reference()?)),
-            ControllerKind::ComputedTorque => Box::new(ComputedTorque::new(self.kp.clone(), self.kd.clone(), reference()?, None)),
-        })
+    /// A fresh controller for a run on `model`.
+    pub(crate) fn build_controller(&self, model: &Model) -> Outcome<Box<dyn Controller>> {
+        Ok(self.controller.build(model, &mut no_external)?)
     }
+}
+
+/// `options` (stepper options TOML without a `[controller]` table) with the controller spec
+/// TOML `controller` (a `ControllerSpec` document, as `ControllerSpec.to_toml()` of the Python
+/// binding writes it) as its `[controller]` table: the one document the stepper and an FMU read.
+/// Both are parsed and the result written by the TOML serializer (numbers in shortest
+/// round-trip form, so the spec is carried bit for bit); nothing is checked against a model.
+pub(crate) fn options_with_controller(options: &str, controller: &str) -> Outcome<String> {
+    let mut doc: toml::Table = toml::from_str(options).map_err(|e| Failure::new(SpacearmStatus::Parse, format!("options_toml: {e}")))?;
+    if doc.contains_key("controller") {
+        return Err(Failure::argument("options_toml already has a [controller] table; pass the options without it"));
+    }
+    let spec: ControllerSpec = toml::from_str(controller).map_err(|e| Failure::new(SpacearmStatus::Parse, format!("controller_toml: {e}")))?;
+    let table = toml::Value::try_from(&spec).map_err(|e| Failure::new(SpacearmStatus::Internal, format!("the controller spec as TOML: {e}")))?;
+    doc.insert("controller".into(), table);
+    toml::to_string(&doc).map_err(|e| Failure::new(SpacearmStatus::Internal, format!("the options as TOML: {e}")))
+}
+
+/// The stepper options TOML `options_toml` (without a `[controller]` table; NULL: the
+/// defaults) with the controller spec TOML `controller_toml` (the fields of a `[controller]`
+/// table as a document of their own: `kind = ...`, nested tables as `[reference]`) as its
+/// `[controller]` table, written NUL-terminated into `buf` (`len` bytes, `*needed` the size
+/// needed; `len = 0` asks for it). Used by `spacearm.fmi.export` to write an FMU's
+/// `options.toml` from the spec `spacearm.simulate` runs.
+///
+/// # Safety
+/// `options_toml` NULL or NUL-terminated; `controller_toml` NUL-terminated; `buf` NULL or `len`
+/// writable bytes; `needed` NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_options_with_controller(
+    options_toml: *const c_char,
+    controller_toml: *const c_char,
+    buf: *mut c_char,
+    len: usize,
+    needed: *mut usize,
+) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let options = if options_toml.is_null() { "" } else { unsafe { text(options_toml, "options_toml") }? };
+        let controller = unsafe { text(controller_toml, "controller_toml") }?;
+        let out = options_with_controller(options, controller)?;
+        unsafe { write_text(&out, buf, len, needed) }
+    })
 }
 
 /// A stepping simulation of its own copy of a model: RK4 at a fixed step with a native
@@ -205,7 +200,7 @@ impl SpacearmStepper {
     /// Start again at `t = 0` from `(x0, u0)` with a fresh controller.
     pub(crate) fn reset(&mut self, x0: &[f64], u0: &[f64]) -> Outcome {
         check_initial_state(&self.model, x0, u0)?;
-        let plant = Plant::owned(self.model.clone(), &self.options.sim, self.options.build_controller()?)?;
+        let plant = Plant::owned(self.model.clone(), &self.options.sim, self.options.build_controller(&self.model)?)?;
         self.stepper = Some(Rk4Stepper::new(plant, x0, u0, None)?);
         Ok(())
     }
@@ -412,12 +407,35 @@ mod tests {
     #[test]
     fn the_set_point_has_one_entry_per_actuated_arm_joint() {
         let m = arm_with_panel();
-        assert_eq!(StepperOptions::n_arm(&m), 2);
-        let ok = StepperOptions::parse(&m, "mode = \"floating\"\ndt = 0.001\n[controller]\nkind = \"joint_pd\"\nkp = [2.0]\nkd = [0.5]\nq_ref = [0.1, 0.2]\n");
-        assert!(ok.is_ok());
-        let default = StepperOptions::parse(&m, "mode = \"floating\"\ndt = 0.001\n[controller]\nkind = \"computed_torque\"\nkp = [2.0]\nkd = [0.5]\n");
-        assert_eq!(default.ok().unwrap().q_ref.len(), 2);
-        let all = StepperOptions::parse(&m, "mode = \"floating\"\ndt = 0.001\n[controller]\nkind = \"joint_pd\"\nkp = [2.0]\nkd = [0.5]\nq_ref = [0.1, 0.0, 0.2]\n");
-        assert!(all.is_err());
+        let pd = |reference: &str| StepperOptions::parse(&m, &format!("[controller]\nkind = \"joint_pd\"\nkp = [2.0]\nkd = [0.5]\nreference = {reference}\n"));
+        assert!(pd("[0.1, 0.2]").is_ok());
+        // The passive panel takes no reference: three entries are refused at parse, by the
+        // controller's setup on the plant.
+        let e = pd("[0.1, 0.0, 0.2]").unwrap_err();
+        assert_eq!(e.status, SpacearmStatus::Dimension, "{}", e.message);
+        // The old key of the schema the core's spec replaced is an unknown field.
+        let e = StepperOptions::parse(&m, "[controller]\nkind = \"joint_pd\"\nkp = 2.0\nkd = 0.5\nq_ref = [0.1, 0.2]\n").unwrap_err();
+        assert!(e.status == SpacearmStatus::Parse && e.message.contains("q_ref"), "{}", e.message);
+    }
+
+    #[test]
+    fn a_controller_document_becomes_the_options_controller_table() {
+        let spec = "kind = \"combined\"\n\n[arm]\nkind = \"joint_pd\"\nkp = [60.0]\nkd = [20.0]\nreference = [0.1, 0.2]\n\n[base]\nkind = \"none\"\n";
+        let text = options_with_controller("mode = \"floating\"\ndt = 0.002\n", spec).unwrap();
+        let m = arm_with_panel();
+        let o = StepperOptions::parse(&m, &text).unwrap();
+        assert_eq!(o.sim.dt, 0.002);
+        assert_eq!(o.controller, toml::from_str::<ControllerSpec>(spec).unwrap());
+        // A number keeps its last bit through the text.
+        let third = 1.0 / 3.0;
+        let text = options_with_controller("", &format!("kind = \"joint_pd\"\nkp = {third:?}\nkd = 1.0\nreference = [{third:?}, 0.0]\n")).unwrap();
+        match StepperOptions::parse(&m, &text).unwrap().controller {
+            ControllerSpec::JointPd { kp, .. } => assert_eq!(kp.0, vec![third]),
+            other => panic!("{other:?}"),
+        }
+        let e = options_with_controller("[controller]\nkind = \"none\"\n", "kind = \"none\"").unwrap_err();
+        assert_eq!(e.status, SpacearmStatus::InvalidArgument);
+        let e = options_with_controller("", "kind = \"pid\"").unwrap_err();
+        assert!(e.status == SpacearmStatus::Parse && e.message.contains("pid"), "{}", e.message);
     }
 }

@@ -51,4 +51,4 @@ pub mod taped;
 pub use algorithms::wrench::ExternalWrench;
 pub use error::{Result, SpacearmError};
 pub use model::joint::{JointDynamics, JointLimits, JointType};
-pub use model::{Data, DataT, Geometry, GeometryRole, GeometrySpec, LinkSpec, Model, ModelBuilder, Shape};
+pub use model::{Data, DataT, Geometry, GeometryRole, GeometrySpec, LinkSpec, Model, ModelBuilder, Mount, Shape};

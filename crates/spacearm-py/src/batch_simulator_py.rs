@@ -105,6 +105,7 @@ impl PyBatchSimulator {
             return Err(to_py_err(py, bad("the BatchSimulator steps with integrator 'rk4' only".into())));
         }
         opts.validate().or_raise(py)?;
+        opts.refuse_stop("the BatchSimulator").or_raise(py)?;
         let b = models.len();
         let first = match models.iter().next() {
             Some(m) => core_model(py, &m)?,

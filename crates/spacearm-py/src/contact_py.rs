@@ -439,7 +439,7 @@ pub fn soft_capture(
     let spec = ImpedanceSpec { frequency, damping_ratio, stiffness, damping, rotational_stiffness, rotational_damping };
     let slot = error_slot();
     let mut controller: Box<dyn Controller> = match controller_spec {
-        Some(s) if !s.is_none() => build_controller(s, &slot)?,
+        Some(s) if !s.is_none() => build_controller(s, &robot.model, &slot)?,
         _ => Box::new(ZeroTorque),
     };
     // Copies of the models: the run holds no borrow of the Python objects.
@@ -572,7 +572,7 @@ pub fn simulate_closed_chain(
     let (opts, float32) = (options.sim_options(duration), options.records_float32());
     let slot = error_slot();
     let mut controller: Box<dyn Controller> = match controller_spec {
-        Some(s) if !s.is_none() => build_controller(s, &slot)?,
+        Some(s) if !s.is_none() => build_controller(s, &model.model, &slot)?,
         _ => Box::new(ZeroTorque),
     };
     let m = model.model.clone();

@@ -10,11 +10,13 @@ mod analysis_results_py;
 mod batch;
 mod batch_simulator_py;
 mod builder_py;
+mod events_py;
 mod contact_py;
 mod controller_spec_py;
 mod convert;
 mod derivatives_py;
 mod description_py;
+mod edit_py;
 mod errors_py;
 mod interrupt;
 mod model_io_py;
@@ -64,6 +66,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(builder_py::sphere_slosh, m)?)?;
     m.add_function(wrap_pyfunction!(builder_py::sphere_fill_height, m)?)?;
     m.add_function(wrap_pyfunction!(builder_py::cylinder_fill_height, m)?)?;
+    m.add_function(wrap_pyfunction!(edit_py::model_attach_body, m)?)?;
+    m.add_function(wrap_pyfunction!(edit_py::model_attach_model, m)?)?;
+    m.add_function(wrap_pyfunction!(edit_py::model_remove_subtree, m)?)?;
     m.add_class::<derivatives_py::PyDerivatives>()?;
     m.add_class::<description_py::PyModelDescription>()?;
     m.add_class::<description_py::PyBaseDescription>()?;
@@ -100,21 +105,12 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // The typed inputs of simulate, rollout and Simulator.
     m.add_class::<sim_options_py::PyRunOptions>()?;
     m.add_class::<sim_options_py::PyThrusterLimits>()?;
+    m.add_class::<events_py::PyStopCondition>()?;
     m.add_class::<controller_spec_py::PyJointReference>()?;
     m.add_class::<controller_spec_py::PyInputShaper>()?;
-    m.add_class::<controller_spec_py::PyCartesianReference>()?;
     m.add_class::<controller_spec_py::PyFreeBodyReference>()?;
-    m.add_class::<controller_spec_py::PyMomentumDampingSpec>()?;
-    m.add_class::<controller_spec_py::PyJointTorqueLimitSpec>()?;
-    m.add_class::<controller_spec_py::PyZeroTorqueSpec>()?;
-    m.add_class::<controller_spec_py::PyJointPdSpec>()?;
-    m.add_class::<controller_spec_py::PyComputedTorqueSpec>()?;
-    m.add_class::<controller_spec_py::PyRmrcSpec>()?;
-    m.add_class::<controller_spec_py::PyAttitudeSpec>()?;
-    m.add_class::<controller_spec_py::PyBaseThrustersSpec>()?;
-    m.add_class::<controller_spec_py::PyCoordinatedFlyingSpec>()?;
-    m.add_class::<controller_spec_py::PyCombinedSpec>()?;
-    m.add_class::<controller_spec_py::PyCallbackSpec>()?;
+    m.add_class::<controller_spec_py::PyControllerSpec>()?;
+    m.add_function(wrap_pyfunction!(controller_spec_py::check_spec, m)?)?;
     // The typed results of simulate, rollout and Simulator.
     m.add_class::<records_py::PyRunRecords>()?;
     m.add_class::<records_py::PyRunEvents>()?;

@@ -175,6 +175,12 @@ impl PyModel {
         PyModelDescription::of(py, &self.model)
     }
 
+    /// The model as the TOML text of a model file (floats in shortest round-trip form: read
+    /// back bit-identical); what a controller's own model travels as in a run's description.
+    fn to_toml(&self) -> String {
+        core::io::toml::model_to_toml(&self.model)
+    }
+
     /// The model as TOML text, the form it pickles in (the core's writer prints every float
     /// in its shortest round-trip form, so a model read back is bit-identical).
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {

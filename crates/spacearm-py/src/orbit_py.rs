@@ -409,6 +409,12 @@ impl PyOrbit {
         Ok((w, array1(py, total.as_slice()), array1(py, arm.as_slice())))
     }
 
+    /// The orbit as plain data (`{body: {mu, radius, j2}, j2, r0, v0}`): the form a run's
+    /// description carries it in (`spacearm_core::control::spec`).
+    fn _data<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::controller_spec_py::to_data(py, &self.inner)
+    }
+
     fn __repr__(&self) -> String {
         let e = self.inner.elements();
         format!(

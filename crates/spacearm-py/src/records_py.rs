@@ -446,6 +446,8 @@ pub struct PyRunMeta {
     /// its damping active: the arm stretched into a singularity).
     #[pyo3(get)]
     goal_unreachable: Option<bool>,
+    /// The stop condition that ended the run: `(index, kind, t, value)`; None: it ran its duration.
+    stop: Option<(usize, &'static str, f64, f64)>,
 }
 
 impl PyRunMeta {
@@ -483,7 +485,8 @@ impl PyRunMeta {
             dropped_base_wrench_count: res.dropped_wrench_count,
             goal_distance: res.goal.map(|g| g.distance),
             goal_sigma_min: res.goal.map(|g| g.sigma_min),
-            goal_unreachable: res.goal.map(|g| g.unreachable()),
+            goal_unreachable: res.goal_unreachable(),
+            stop: res.stop.map(|s| (s.condition, opts.stop[s.condition].kind(), s.t, s.value)),
         })
     }
 }
@@ -535,6 +538,17 @@ impl PyRunMeta {
             goal.set_item("sigma_min", sigma_min)?;
             goal.set_item("unreachable", unreachable)?;
             d.set_item("goal", goal)?;
+        }
+        match self.stop {
+            Some((condition, kind, t, value)) => {
+                let stop = PyDict::new(py);
+                stop.set_item("condition", condition)?;
+                stop.set_item("kind", kind)?;
+                stop.set_item("t", t)?;
+                stop.set_item("value", value)?;
+                d.set_item("stop", stop)?;
+            }
+            None => d.set_item("stop", py.None())?,
         }
         Ok(d)
     }

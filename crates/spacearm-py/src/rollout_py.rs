@@ -82,13 +82,13 @@ pub fn rollout<'py>(
                 if list.len() != b {
                     return Err(bad(format!("controllers: got {} for {b} rollouts; give one controller, or one per rollout", list.len())));
                 }
-                for spec in list.iter() {
-                    boxed.push(build_controller(&spec, &slot)?);
+                for (i, spec) in list.iter().enumerate() {
+                    boxed.push(build_controller(&spec, plant(i), &slot)?);
                 }
             }
             Err(_) => {
-                for _ in 0..b {
-                    boxed.push(build_controller(c, &slot)?);
+                for i in 0..b {
+                    boxed.push(build_controller(c, plant(i), &slot)?);
                 }
             }
         },

@@ -13,7 +13,7 @@ use spacearm_core::model::{body, validate};
 use spacearm_core::sim::simulate::SimOptions;
 use spacearm_core::SpacearmError;
 
-use crate::convert::to_py_err;
+use crate::convert::{to_py_err, OrRaise};
 
 /// A frozen class of documented, typed fields with the read-only mapping view of the module doc.
 macro_rules! rule_table {
@@ -153,5 +153,18 @@ pub fn add_tables(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("MODEL_BOUNDS", bounds)?;
     let law = DampingLaw::default();
     m.add("DLS_DEFAULTS", PyDlsDefaults { threshold: law.threshold, max_damping: law.max_damping })?;
+    // The run's names (control/spec.rs): the controller kinds, the CLI's aliases, the tasks.
+    use spacearm_core::control::spec;
+    m.add("CONTROLLER_KINDS", spec::CONTROLLER_KINDS.to_vec())?;
+    m.add("CONTROLLER_ALIASES", spec::CONTROLLER_ALIASES.iter().map(|(a, k)| (*a, *k)).collect::<std::collections::BTreeMap<_, _>>())?;
+    m.add("TASKS", spec::TASK_NAMES.iter().map(|(k, r)| (*k, r.to_vec())).collect::<Vec<_>>())?;
+    m.add_function(pyo3::wrap_pyfunction!(controller_kind, m)?)?;
     Ok(())
+}
+
+/// The controller kind a user's name means (a kind, its hyphenated spelling, or an alias of
+/// `CONTROLLER_ALIASES`): the core's `control::spec::controller_kind`.
+#[pyfunction]
+fn controller_kind(py: Python<'_>, name: &str) -> PyResult<&'static str> {
+    spacearm_core::control::spec::controller_kind(name).or_raise(py)
 }

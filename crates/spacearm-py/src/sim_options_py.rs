@@ -58,13 +58,11 @@ pub struct PyThrusterLimits {
 
 #[pymethods]
 impl PyThrusterLimits {
-    #[new]
-    #[pyo3(signature = (*, max_force, max_torque, **unknown))]
-    fn new(py: Python<'_>, max_force: &Bound<'_, PyAny>, max_torque: &Bound<'_, PyAny>, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
-        refuse_unknown::<Self>(py, unknown)?;
-        let f = vec3(max_force, "thrusters 'max_force'")?;
-        let t = vec3(max_torque, "thrusters 'max_torque'")?;
-        Ok(PyThrusterLimits { inner: ThrusterLimits::new(f, t).or_raise(py)? })
+    /// From the data of a `ThrusterLimitsSpec` (`{max_force, max_torque}`: one number for the three
+    /// axes, or three; absent or inf: no limit).
+    #[staticmethod]
+    fn from_spec(data: &Bound<'_, PyAny>) -> PyResult<Self> {
+        Ok(PyThrusterLimits { inner: crate::controller_spec_py::thruster_limits(data)? })
     }
 
     /// Largest base force per axis of 𝒥, shape (3,), N (inf: no limit).
@@ -131,7 +129,7 @@ impl PyRunOptions {
     /// Every keyword is optional; None keeps the core's default.
     #[new]
     #[pyo3(signature = (*, mode=None, integrator=None, dt=None, rtol=None, atol=None, record_every=None, wheels=None, thrusters=None,
-                        joint_limits=None, max_steps=None, progress=None, record_dtype=None, orbit=None, gravity_gradient=None, **unknown))]
+                        joint_limits=None, max_steps=None, progress=None, record_dtype=None, orbit=None, gravity_gradient=None, stop=None, **unknown))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -149,6 +147,7 @@ impl PyRunOptions {
         record_dtype: Option<&Bound<'_, PyAny>>,
         orbit: Option<&Bound<'_, PyAny>>,
         gravity_gradient: Option<&Bound<'_, PyAny>>,
+        stop: Option<&Bound<'_, PyAny>>,
         unknown: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         refuse_unknown::<Self>(py, unknown)?;
@@ -197,6 +196,18 @@ impl PyRunOptions {
             }
             None if gg == Some(true) => return Err(to_py_err(py, bad("gravity_gradient=True needs an orbit (orbit=spacearm.Orbit...)".into()))),
             None => {}
+        }
+        if let Some(v) = stop {
+            let items: Vec<Bound<'_, PyAny>> = v
+                .try_iter()
+                .and_then(|it| it.collect::<PyResult<Vec<_>>>())
+                .map_err(|_| to_py_err(py, bad(format!("stop must be a list of StopCondition, got {}", type_name(v)))))?;
+            for item in items {
+                let c = item
+                    .cast::<crate::events_py::PyStopCondition>()
+                    .map_err(|_| to_py_err(py, bad(format!("stop must be a list of StopCondition, got an item of type {}", type_name(&item)))))?;
+                opts.stop.push(c.get().inner.clone());
+            }
         }
         let float32 = match record_dtype {
             None => false,
@@ -290,6 +301,12 @@ impl PyRunOptions {
     #[getter]
     fn gravity_gradient(&self) -> bool {
         self.sim.orbit.is_some_and(|o| o.gravity_gradient)
+    }
+
+    /// The stop conditions of the run (empty: it runs its duration).
+    #[getter]
+    fn stop(&self) -> Vec<crate::events_py::PyStopCondition> {
+        self.sim.stop.iter().map(|c| crate::events_py::PyStopCondition { inner: c.clone() }).collect()
     }
 
     /// The dtype of the records but the time: "float64" or "float32".

@@ -43,7 +43,7 @@ pub fn simulate<'py>(
     let (opts, progress_fn, float32) = (options.sim_options(duration), options.progress_fn(py), options.records_float32());
     let slot = error_slot();
     let mut controller: Box<dyn Controller> = match controller_spec {
-        Some(s) if !s.is_none() => build_controller(s, &slot)?,
+        Some(s) if !s.is_none() => build_controller(s, &plant, &slot)?,
         _ => Box::new(ZeroTorque),
     };
     let mut progress_error: Option<PyErr> = None;

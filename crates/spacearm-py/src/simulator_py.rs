@@ -73,6 +73,7 @@ impl PySimulator {
             return Err(to_py_err(py, bad("the Simulator steps with integrator 'rk4' only; use spacearm.simulate for 'dopri5'".into())));
         }
         opts.validate().or_raise(py)?;
+        opts.refuse_stop("the Simulator").or_raise(py)?;
         if record_every == Some(0) {
             return Err(to_py_err(py, bad("record_every must be an integer >= 1".into())));
         }
@@ -96,7 +97,7 @@ impl PySimulator {
         let u0 = vec_arg(u0, "u0")?;
         check_initial_state(&self.model, x0.as_slice(), u0.as_slice()).or_raise(py)?;
         let controller: Box<dyn Controller> = match &self.spec {
-            Some(s) => build_controller(s.bind(py), &self.slot)?,
+            Some(s) => build_controller(s.bind(py), &self.model, &self.slot)?,
             None => Box::new(ZeroTorque),
         };
         let plant = Plant::owned(self.model.clone(), &self.opts, controller).or_raise(py)?;

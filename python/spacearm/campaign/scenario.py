@@ -57,7 +57,17 @@ METRIC_UNITS = {
     "saturation_events": "count",
 }
 
-_CONTROLLERS = ("computed-torque", "pd")
+#: The control laws a campaign flies, as the core's kinds (control/spec.rs); the names a user
+#: gives ("computed-torque", "pd", ...) resolve through the core's table (_core.controller_kind).
+_CONTROLLERS = ("computed_torque", "joint_pd")
+
+
+def _kind(name) -> "str | None":
+    """The core's kind of a controller name, or None if it names none."""
+    try:
+        return _core.controller_kind(name) if isinstance(name, str) else None
+    except ArgumentError:
+        return None
 _SHAPERS = ("zv", "zvd")
 
 
@@ -115,7 +125,7 @@ class Scenario:
         if self.flexibility is not None and not isinstance(self.flexibility, Flexibility):
             raise ArgumentError("Scenario.flexibility must be a spacearm.campaign.Flexibility, "
                                 f"got {type(self.flexibility).__name__}")
-        if self.flexibility is not None and self.controller != "computed-torque":
+        if self.flexibility is not None and _kind(self.controller) != "computed_torque":
             raise ArgumentError("Scenario.flexibility needs controller='computed-torque' (the flexible-plant study "
                                 f"designs computed torque on the rigid model, docs/flexibility.md), got {self.controller!r}")
 
@@ -151,8 +161,9 @@ class Scenario:
                                 "controller's model, which needs a flexibility recipe; give shaping_frequency (rad/s)")
         if not isinstance(self.gravity_gradient, bool):
             raise ArgumentError(f"Scenario.gravity_gradient must be True or False, got {self.gravity_gradient!r}")
-        if self.controller not in _CONTROLLERS:
-            raise ArgumentError(f"Scenario.controller must be one of {', '.join(_CONTROLLERS)}, got {self.controller!r}")
+        if _kind(self.controller) not in _CONTROLLERS:
+            raise ArgumentError(f"Scenario.controller must be 'computed-torque' or 'pd' (the core's {' or '.join(_CONTROLLERS)}), "
+                                f"got {self.controller!r}")
         for name in ("duration", "dt", "kp", "kd"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
@@ -263,18 +274,15 @@ def with_payload(robot, mass: float):
 
     The payload is a point mass on a fixed joint at the end-effector point (so the joint space
     is unchanged and the end-effector body's mass properties merge by the model's own
-    parallel-axis rules), attached with [`spacearm.model.builder.RobotBuilder.attach_payload`][spacearm.RobotBuilder.attach_payload].
+    parallel-axis rules), attached by the core's model edit ([`Robot.attach_body`][spacearm.Robot.attach_body],
+    ``model/edit.rs``: the rest of the model bit for bit, no builder replay).
     """
     if mass == 0:
         return robot
     if robot.end_effector is None:
         raise ArgumentError("a payload needs an end effector to hold it; the model defines none")
-    # The point straight from the model (body index, offset): the full description is built once,
-    # by to_builder, not twice.
     body, offset = robot.resolve_point(robot.end_effector)
-    builder = robot.to_builder()
-    builder.attach_payload("campaign_payload", body=robot.body_names[body], mass=float(mass), origin=list(offset))
-    return builder.build()
+    return robot.attach_body("campaign_payload", body=robot.body_names[body], mass=float(mass), origin=list(offset))
 
 
 def plant(nominal, params: Dict[str, float], flexibility: Optional[Flexibility] = None):
@@ -339,7 +347,7 @@ def controller(nominal, scenario: Scenario):
     ``scenario.passive`` says (frozen at rest, or measured drift); the reference is over
     ``nominal``'s joints (the plant's actuated ones)."""
     reference_ = reference(nominal, scenario)
-    if scenario.controller == "computed-torque":
+    if _kind(scenario.controller) == "computed_torque":
         if scenario.flexibility is not None:
             return control.ComputedTorque(scenario.kp, scenario.kd, reference_, model=control_model(nominal, scenario),
                                           passive=scenario.passive)

@@ -2,8 +2,9 @@
 ([`attach_target`][spacearm.capture.attach_target]); before it, in a soft capture, a spring–damper at the grasp couples two
 free bodies ([`soft_capture`][spacearm.capture.soft_capture]).
 
-Rigid: the target becomes a link on a fixed joint of the gripper body
-(``RobotBuilder.attach_payload``) at the relative pose it has at that instant. The joint space is
+Rigid: the target becomes a link on a fixed joint of the gripper body at the relative pose it
+has at that instant: the core attaches the target's model to the robot's
+([`Robot.attach`][spacearm.Robot.attach], ``model/edit.rs``), no builder replay. The joint space is
 unchanged and the base is the same body, so the state maps identically: ``x`` and ``u`` of the
 robot are the combined model's, and since the grasp impulse left no relative twist, the payload
 moves exactly as the target did — momentum and energy carry over to rounding.
@@ -25,6 +26,7 @@ from typing import NamedTuple, Optional
 
 import numpy as np
 
+from .._util.spec import controller_spec
 from .. import _core
 from .._util.summary import summary_repr
 from .._util.arrays import number, vector
@@ -106,14 +108,13 @@ def attach_target(robot, x, u, target, target_state, *, point=None, grasp_offset
 def combined_model(robot, target, gripper: str, origin, rotation, payload: Optional[str] = None):
     """``robot`` with the rigid ``target`` attached to body ``gripper`` as the payload link
     ``payload`` (default: the target's name), its CM at ``origin`` and its axes at ``rotation``
-    (quaternion ``[x, y, z, w]``) in the gripper's frame; the target's shapes ride with it."""
+    (quaternion ``[x, y, z, w]``) in the gripper's frame: the core's model edit
+    ([`Robot.attach`][spacearm.Robot.attach], ``model/edit.rs``), the robot's part bit for bit.
+    The target's shapes (docs/geometry.md) and grasp points ride with it, named
+    ``<payload>_<name>``."""
     payload = target.name if payload is None else str(payload)
-    builder = (robot.to_builder(name=f"{robot.name}+{payload}")
-               .attach_payload(payload, body=gripper, mass=target.mass, inertia=target.inertia, origin=origin, rotation=rotation))
-    for g in target.body.description.geometries:  # docs/geometry.md
-        builder.add_geometry(payload, g.shape, role=g.role, size=g.size, radius=g.radius, length=g.length, file=g.file,
-                             scale=g.scale, origin=g.origin, rotation=g.rotation, rgba=g.rgba, name=g.name)
-    return builder.build()
+    return robot.attach(target.body, body=gripper, origin=origin, rotation=rotation, prefix=f"{payload}_", name=payload,
+                        model_name=f"{robot.name}+{payload}")
 
 
 class SoftCaptureRun(NamedTuple):
@@ -171,7 +172,7 @@ def soft_capture(robot, x, u, target, target_state, duration: float, *, frequenc
     atol = rtol * 1e-2 if atol is None else number(atol, "atol")
     options = _options(robot, mode="floating", integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=None, thrusters=None,
                        record_every=1, joint_limits=DEFAULTS["joint_limits"], max_steps=DEFAULTS["max_steps"], record_dtype="float64")
-    spec = None if controller is None else controller._spec(robot)
+    spec = None if controller is None else controller_spec(controller)
     tx, tu = target.xu(s)
     res = _core.soft_capture(robot.core_model, xv, uv, int(body), np.asarray(offset, dtype=float), target.body.core_model, tx, tu,
                              int(tbody), np.asarray(tpoint, dtype=float), duration, options, spec, frequency=omega, damping_ratio=zeta,

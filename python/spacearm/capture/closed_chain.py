@@ -22,6 +22,7 @@ from typing import NamedTuple, Optional
 
 import numpy as np
 
+from .._util.spec import controller_spec
 from .. import _core
 from .._util.summary import summary_repr
 from .._util.arrays import number, vector
@@ -83,7 +84,7 @@ def simulate_closed_chain(robot, x0, u0, duration: float, point_a, point_b, *, d
     atol = rtol * 1e-2 if atol is None else number(atol, "atol")
     options = _options(robot, mode="floating", integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=None, thrusters=None,
                        record_every=1, joint_limits=DEFAULTS["joint_limits"], max_steps=DEFAULTS["max_steps"], record_dtype="float64")
-    spec = None if controller is None else controller._spec(robot)
+    spec = None if controller is None else controller_spec(controller)
     res = _core.simulate_closed_chain(robot.core_model, x0, u0, duration, *frames, options, spec, stabilization=alpha)
     data = {**res.run.records.to_dict(), **res.run.events.to_dict()}
     meta = res.run.meta.to_dict()

@@ -12,8 +12,10 @@ Phases (``PHASES``; ``result.phase`` holds the index at every sample):
    at most ``max_joint_rate``, followed through ``τ = H* k_v (q̇_cmd − q̇) + c*``. Reaction wheels
    are not arm joints: the approach gives them no torque. In the flying mode the native
    [`MomentumDamping`][spacearm.control.MomentumDamping] holds the system momentum at zero meanwhile. The
-   approach ends at the first sample where the two grasp points are within
-   ``capture_tolerance``.
+   approach ends at the grasp: the core stops the run when the two grasp points come within
+   ``capture_tolerance`` ([`StopAtGap`][spacearm.sim.events.StopAtGap]), at the instant it
+   locates within the step (docs/simulation-core.md, "Events"), not at the next sample (a
+   jointed target, whose reference is a sampled path: at the first sample within the tolerance).
 1. **capture** — ``rigid`` and ``point``: the impulse of [`grasp_impulse`][spacearm.capture.grasp_impulse] (one extra
    sample at the same instant, after the jump); ``soft``: the wrist impedance of
    [`soft_capture`][spacearm.capture.soft_capture] for ``soft_time``, then a rigid lock of what relative motion remains.
@@ -56,6 +58,7 @@ from .._util.arrays import number, vector
 from ..control import Combined, MomentumDamping, ResolvedMotionRate, TorqueLimit
 from ..errors import ArgumentError, SimulationError
 from ..rotations import quat_from_matrix, rotation_vector
+from ..sim.events import StopAtGap
 from ..sim.simulation import simulate
 from .captured import attach_target, combined_model, soft_capture
 from .detumbling import DETUMBLE_MODES, detumble, detumble_controller, grasp_wrench
@@ -419,7 +422,8 @@ def capture(
 
     # ---- 0. approach ------------------------------------------------------------------------
     # The target's grasp point as the native RMRC's reference; the whole approach is one native
-    # run, cut at the first sample within capture_tolerance.
+    # run that the core stops at the grasp: the first time the grasp points are within
+    # capture_tolerance, located within its step (docs/simulation-core.md, "Events").
     half = 0.5 * times["dt"]
     if target.is_rigid:
         reference = target.free_body(s0, grasp, step=half, point=point, orbit=orbit if gg else None)
@@ -430,17 +434,18 @@ def capture(
     ctrl = rmrc if mode == "floating" else Combined(arm=rmrc, base=MomentumDamping(time_constant, max_force=max_force, max_torque=max_torque))
     if math.isfinite(mjt):
         ctrl = TorqueLimit(ctrl, mjt)
+    # A jointed target's reference is its grasp point's path sampled every dt and interpolated in
+    # between, so only at the samples is the reference's gap the gap to the target's own state:
+    # its approach runs whole and ends at the first sample within the tolerance (not yet an event).
+    stop = StopAtGap((body, offset), times["capture_tolerance"]) if target.is_rigid else None
     tr = simulate(robot, approach_time, x0=x0, u0=u0, mode=mode, dt=dt, controller=ctrl, integrator="dopri5", rtol=rtol,
-                  atol=rtol * 1e-2, orbit=orbit, gravity_gradient=gg)
+                  atol=rtol * 1e-2, orbit=orbit, gravity_gradient=gg, stop=stop)
     ta, xa, ua, taua, bwa = tr.t, tr.x, tr.u, tr.tau, tr.base_wrench
-    if target.is_rigid:
-        sa = reference.states(ta)
-    else:
-        sa = target.trajectory(s0, approach_time, dt)[1][: len(ta)]
+    sa = reference.states(ta) if target.is_rigid else target.trajectory(s0, approach_time, dt)[1][: len(ta)]
     nxt = target.body.nx
     gaps = np.linalg.norm(robot.point_position(xa, (body, offset)) - target.body.point_position(sa[:, :nxt], target.point(grasp)), axis=1)
-    within = np.nonzero(gaps < capture_tolerance)[0]
-    if not within.size:
+    within = [len(ta) - 1] if tr.meta["stop"] is not None else np.nonzero(gaps < capture_tolerance)[0] if stop is None else []
+    if not len(within):
         raise SimulationError(
             f"the approach did not reach the grasp point: closest {gaps.min():.3g} m at t = {ta[gaps.argmin()]:.3g} s "
             f"(capture_tolerance {capture_tolerance} m); lengthen approach_time, place the target within reach or raise rmrc_gain")

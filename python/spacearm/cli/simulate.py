@@ -212,20 +212,21 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
             return p0 + 0.2
         return parse_numbers(target, "--target", 3, "end-effector goal x,y,z in the inertial frame", "m")
 
-    if name in ("pd", "computed-torque"):
+    kind = _core.controller_kind(name)  # the core's one table of names (control/spec.rs)
+    if kind in ("joint_pd", "computed_torque"):
         ref = control.QuinticJoint(q_arm0, joint_goal(), 0.0, t_move)
-        if name == "pd":
+        if kind == "joint_pd":
             kp_d, kd_d = control.inertia_scaled_gains(robot, x0, arm)
             return control.JointPD(kp=kp_d if kp is None else kp, kd=kd_d if kd is None else kd, reference=ref)
         return control.ComputedTorque(kp=25.0 if kp is None else kp, kd=10.0 if kd is None else kd, reference=ref)
-    if name == "rmrc":
+    if kind == "resolved_motion_rate":
         if robot.end_effector is None:
             raise CliError(f"--controller rmrc moves the end effector, but '{robot.name}' has none: name one with "
                            f"--end-effector (points: {', '.join(robot.point_names) or 'none'})")
         p0 = robot.point_position(x0)
         line = control.CartesianLine(p0, cartesian_goal(p0), 0.0, t_move)
         return control.ResolvedMotionRate(line, gain=2.0 if kp is None else kp)
-    if name == "attitude":
+    if kind == "attitude":
         if not wheels:
             raise CliError(f"--controller attitude needs reaction wheels, but '{robot.name}' has none "
                            "(add them with RobotBuilder.add_reaction_wheel, or use a model file with wheel links such as "
@@ -237,7 +238,7 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
             return base
         ref = control.QuinticJoint(q_arm0, joint_goal(), 0.0, t_move)
         return control.Combined(arm=control.ComputedTorque(kp=25.0, kd=10.0, reference=ref), base=base)
-    if name == "coordinated":
+    if kind == "coordinated_flying":
         if robot.end_effector is None:
             raise CliError(f"--controller coordinated moves the end effector, but '{robot.name}' has none: name one with "
                            f"--end-effector (points: {', '.join(robot.point_names) or 'none'})")

@@ -23,7 +23,7 @@ import numpy as np
 
 from .. import _core
 from .._util.atomic import atomic_path
-from ..control import ComputedTorque, JointPD, QuinticJoint
+from .._util.spec import controller_spec
 from ..errors import ArgumentError, SpacearmTypeError
 from ..model.robot import Robot
 from ..sim.simulation import MODES  # the core's mode table
@@ -44,27 +44,16 @@ def binary_folder(fmi_version: int) -> str:
     return fmi2[(machine, system)]
 
 
-def _toml_list(values) -> str:
-    return "[" + ", ".join(repr(float(v)) for v in values) + "]"
-
-
-def _options_toml(mode: str, dt: float, joint_limits: bool, controller) -> str:
-    lines = [f'mode = "{mode}"', f"dt = {float(dt)!r}", f"joint_limits = {'true' if joint_limits else 'false'}"]
-    if controller is not None:
-        if not isinstance(controller, (JointPD, ComputedTorque)):
-            raise SpacearmTypeError("an FMU's controller is a spacearm.control.JointPD or ComputedTorque with a constant "
-                                    f"set point (or None), got {type(controller).__name__}")
-        if isinstance(controller, ComputedTorque) and controller.model is not None:
-            raise ArgumentError("an FMU's ComputedTorque uses the plant's own model; model= is not supported")
-        if isinstance(controller.reference, QuinticJoint):
-            raise ArgumentError("an FMU's controller takes a constant set point (one value per arm joint, an FMU "
-                                "parameter q_ref), not a QuinticJoint")
-        kind = "joint_pd" if isinstance(controller, JointPD) else "computed_torque"
-        gains = {name: [float(v) for v in (getattr(controller, name) if hasattr(getattr(controller, name), "__len__")
-                                            else [getattr(controller, name)])] for name in ("kp", "kd")}
-        lines += ["[controller]", f'kind = "{kind}"', f"kp = {_toml_list(gains['kp'])}", f"kd = {_toml_list(gains['kd'])}",
-                  f"q_ref = {_toml_list(controller.reference)}"]
-    return "\n".join(lines) + "\n"
+def _options_toml(lib, mode: str, dt: float, joint_limits: bool, controller) -> str:
+    """The FMU's ``options.toml``: the run options and, as its ``[controller]`` table, the
+    controller's spec as the core writes it (``ControllerSpec.to_toml()``), composed by the C
+    library (``spacearm_options_with_controller``, docs/c-api.md)."""
+    run = f'mode = "{mode}"\ndt = {float(dt)!r}\njoint_limits = {"true" if joint_limits else "false"}\n'
+    if controller is None:
+        return run
+    # The core refuses what is not a controller and a Callback (Python code, which the FMU's
+    # binary cannot call).
+    return lib.options_with_controller(run, controller_spec(controller).to_toml())
 
 
 def _number(name: str, value) -> float:
@@ -86,9 +75,13 @@ def export(robot: Robot, path, *, mode: str = "floating", controller=None, dt: f
         The file to write (atomically).
     mode : str
         A mode of [`spacearm.simulate`][spacearm.simulate]; the flying modes give the FMU the ``base_wrench`` inputs.
-    controller : JointPD or ComputedTorque, optional
-        A native controller with a constant set point, run inside the FMU at every RK4 stage;
-        its gains and set point become the FMU parameters ``kp``, ``kd``, ``q_ref``. ``None``:
+    controller : a native controller of spacearm.control, optional
+        Any native law (``JointPD``, ``ComputedTorque``, ``ResolvedMotionRate``,
+        ``AttitudeControl``, ``BaseThrusterControl``, ``CoordinatedFlying``, ``MomentumDamping``,
+        ``Combined``, ``TorqueLimit``; not a ``Callback``), run inside the FMU at every RK4 stage
+        as ``spacearm.simulate`` runs it; every finite number of its spec becomes an FMU
+        parameter named by its path (``kp[k]``, ``kd[k]``, ``reference[k]`` of a joint PD with a
+        set point; ``quat_ref[k]``, ``kp``, ``kd`` of an attitude law; docs/fmi.md). ``None``:
         only the ``tau`` inputs act.
     dt : float
         The FMU's RK4 step, s, between ``SPACEARM_MIN_DT`` = 1e-6 s and ``SPACEARM_MAX_DT`` = 10 s
@@ -108,7 +101,9 @@ def export(robot: Robot, path, *, mode: str = "floating", controller=None, dt: f
     MissingDependencyError
         The C library is not available (see ``spacearm.fmi.library``).
     ArgumentError
-        An option out of its range (a ``dt`` outside [1e-6, 10] s, a ``stop_time`` that is not > 0).
+        An option out of its range (a ``dt`` outside [1e-6, 10] s, a ``stop_time`` that is not > 0),
+        a ``controller`` that is not a native spacearm.control controller (a ``Callback``), or one
+        the plant or the mode cannot run (the core's message).
     SpacearmTypeError
         An option of the wrong type (a ``dt`` that is a bool or not a number, a ``joint_limits`` that is
         not a bool).
@@ -132,7 +127,7 @@ def export(robot: Robot, path, *, mode: str = "floating", controller=None, dt: f
         raise ArgumentError(f"model_identifier must be a C identifier, got {identifier!r}")
     lib = library.load()
     model_toml = _core.model_to_toml(robot.core_model)
-    options_toml = _options_toml(mode, dt, joint_limits, controller)
+    options_toml = _options_toml(lib, mode, dt, joint_limits, controller)
     digest = hashlib.sha256(f"{fmi_version}\0{identifier}\0{model_toml}\0{options_toml}".encode()).hexdigest()
     token = "{" + str(uuid.UUID(digest[:32])) + "}"
     description = lib.model_description(model_toml, options_toml, fmi_version, identifier, token, float(stop_time))

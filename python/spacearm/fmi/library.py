@@ -82,6 +82,9 @@ class _Library:
         lib.spacearm_fmu_model_description.argtypes = [
             ctypes.c_char_p, ctypes.c_char_p, ctypes.c_uint32, ctypes.c_char_p, ctypes.c_char_p, ctypes.c_double,
             ctypes.c_char_p, ctypes.c_size_t, ctypes.POINTER(ctypes.c_size_t)]
+        lib.spacearm_options_with_controller.restype = ctypes.c_int
+        lib.spacearm_options_with_controller.argtypes = [
+            ctypes.c_char_p, ctypes.c_char_p, ctypes.c_char_p, ctypes.c_size_t, ctypes.POINTER(ctypes.c_size_t)]
         self.lib = lib
         self.file = file
 
@@ -91,17 +94,26 @@ class _Library:
             message = (self.lib.spacearm_last_error() or b"").decode("utf-8", "replace")
             raise _ERRORS.get(status, errors.ArgumentError)(message)
 
+    def _text(self, fn, *args) -> str:
+        """The text a ``(args..., buf, len, needed)`` entry point writes (asked its size first)."""
+        needed = ctypes.c_size_t(0)
+        status = fn(*args, None, 0, ctypes.byref(needed))
+        if status != 12:  # SPACEARM_STATUS_BUFFER_TOO_SMALL: the size is in `needed`
+            self.check(status)
+        buf = ctypes.create_string_buffer(needed.value)
+        self.check(fn(*args, buf, needed.value, ctypes.byref(needed)))
+        return buf.value.decode()
+
+    def options_with_controller(self, options_toml: str, controller_toml: str) -> str:
+        """The stepper options ``options_toml`` with the controller spec document ``controller_toml``
+        (``ControllerSpec.to_toml()``) as their ``[controller]`` table (docs/c-api.md)."""
+        return self._text(self.lib.spacearm_options_with_controller, options_toml.encode(), controller_toml.encode())
+
     def model_description(self, model_toml: str, options_toml: str, fmi_version: int, identifier: str, token: str,
                           stop_time: float) -> str:
         """The ``modelDescription.xml`` the library writes for these resources."""
         args = [model_toml.encode(), options_toml.encode(), fmi_version, identifier.encode(), token.encode(), stop_time]
-        needed = ctypes.c_size_t(0)
-        status = self.lib.spacearm_fmu_model_description(*args, None, 0, ctypes.byref(needed))
-        if status != 12:  # SPACEARM_STATUS_BUFFER_TOO_SMALL: the size is in `needed`
-            self.check(status)
-        buf = ctypes.create_string_buffer(needed.value)
-        self.check(self.lib.spacearm_fmu_model_description(*args, buf, needed.value, ctypes.byref(needed)))
-        return buf.value.decode()
+        return self._text(self.lib.spacearm_fmu_model_description, *args)
 
 
 @lru_cache(maxsize=None)

@@ -9,8 +9,8 @@ combinations, the condition number and a covariance (``docs/identification.md``)
 >>> import numpy as np, spacearm
 >>> from spacearm.identify import identify_payload
 >>> robot = spacearm.presets.spatial6()
->>> combined = robot.to_builder().attach_payload("target", body="link6", mass=40.0,
-...     inertia=[2.0, 3.0, 4.0], origin=(0.4, 0.05, -0.02)).build()
+>>> combined = robot.attach_body("target", body="link6", mass=40.0, inertia=[2.0, 3.0, 4.0],
+...     origin=(0.4, 0.05, -0.02))
 >>> u0 = combined.zero_velocity(); u0[3:6] = [0.02, -0.01, 0.03]; u0[6:] = 0.3
 >>> traj = spacearm.simulate(combined, 4.0, u0=u0, integrator="dopri5", rtol=1e-12, atol=1e-12, dt=0.02)
 >>> est = identify_payload(robot, traj, body="link6")

@@ -10,6 +10,9 @@ A model is edited through a builder too: [`RobotBuilder.from_robot`][spacearm.Ro
 [`Robot.to_builder`][spacearm.Robot.to_builder]) holds an existing model exactly, and [`add_link`][spacearm.RobotBuilder.add_link],
 [`attach_payload`][spacearm.RobotBuilder.attach_payload] and [`remove_body`][spacearm.RobotBuilder.remove_body] change it before
 [`build`][spacearm.RobotBuilder.build] makes a new, validated Robot (a Robot itself never changes).
+One edit at a time is the core's, without replaying the model:
+[`Robot.attach_body`][spacearm.Robot.attach_body], [`Robot.attach`][spacearm.Robot.attach] (a whole model) and
+[`Robot.remove_subtree`][spacearm.Robot.remove_subtree] (``model/edit.rs``).
 
 >>> import spacearm
 >>> b = spacearm.Robot.builder("demo", base_mass=100.0, base_inertia=[10, 10, 10])
@@ -32,6 +35,30 @@ from ..rotations import IDENTITY_QUAT, quat_from_rpy
 from .robot import Robot, warn_nonphysical_inertia
 
 __all__ = ["RobotBuilder"]
+
+
+def link_rotation(name: str, rotation, rpy) -> list:
+    """The quaternion ``[x, y, z, w]`` of link ``name``'s axes in its parent's from ``rotation``
+    (quaternion or scipy ``Rotation``) or ``rpy`` (rad), identity when neither is given."""
+    if rotation is not None and rpy is not None:
+        raise ArgumentError(f"link '{name}': give rotation or rpy, not both")
+    if rpy is not None:
+        return quat_from_rpy(*vector(rpy, f"link '{name}' rpy", 3))
+    if rotation is not None:
+        return quaternion(rotation, f"link '{name}' rotation")
+    return IDENTITY_QUAT
+
+
+def link_limits(name: str, limits: Optional[dict]) -> Optional[list]:
+    """``[lower, upper, velocity, effort]`` for the core from the dict ``limits`` (missing keys
+    unlimited), ``None`` for none."""
+    if limits is None:
+        return None
+    unknown = set(limits) - {"lower", "upper", "velocity", "effort"}
+    if unknown:
+        raise ArgumentError(f"link '{name}': unknown limit keys {sorted(unknown)}; expected lower, upper, velocity, effort")
+    return [number(limits.get(key, default), f"link '{name}' limit {key}")
+            for key, default in (("lower", -np.inf), ("upper", np.inf), ("velocity", np.inf), ("effort", np.inf))]
 
 
 class RobotBuilder:
@@ -141,21 +168,8 @@ class RobotBuilder:
         ``δ = q_link − θ`` carries the series spring ``-k δ - c δ̇``. It takes no
         ``actuated``/``stiffness``/``damping``/``rest`` of its own.
         """
-        if rotation is not None and rpy is not None:
-            raise ArgumentError(f"link '{name}': give rotation or rpy, not both")
-        if rpy is not None:
-            quat = quat_from_rpy(*vector(rpy, f"link '{name}' rpy", 3))
-        elif rotation is not None:
-            quat = quaternion(rotation, f"link '{name}' rotation")
-        else:
-            quat = IDENTITY_QUAT
-        lim = None
-        if limits is not None:
-            unknown = set(limits) - {"lower", "upper", "velocity", "effort"}
-            if unknown:
-                raise ArgumentError(f"link '{name}': unknown limit keys {sorted(unknown)}; expected lower, upper, velocity, effort")
-            lim = [number(limits.get(key, default), f"link '{name}' limit {key}")
-                   for key, default in (("lower", -np.inf), ("upper", np.inf), ("velocity", np.inf), ("effort", np.inf))]
+        quat = link_rotation(name, rotation, rpy)
+        lim = link_limits(name, limits)
         if compliant is not None:
             return self._add_compliant(name, parent, joint, origin, quat, axis, com, mass, inertia, joint_name, lim,
                                        compliant, (actuated, stiffness, damping, rest))

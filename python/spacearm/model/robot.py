@@ -26,7 +26,7 @@ from typing import NamedTuple, Sequence, Union
 import numpy as np
 
 from .. import _core
-from .._util.arrays import finite, quaternion, real_array, vector, vector3
+from .._util.arrays import finite, matrix3, number, quaternion, real_array, vector, vector3
 from .description import ModelDescription
 from ..errors import ArgumentError, NonPhysicalInertiaWarning, NotFoundError, ShapeError, SpacearmTypeError
 
@@ -121,6 +121,73 @@ class Robot:
         from .builder import RobotBuilder
 
         return RobotBuilder.from_robot(self, name=name)
+
+    # ---- editing (the core's model/edit.rs: one validation, the rest of the model bit for bit) --
+    def attach_body(self, name: str, *, body: str, mass: float, inertia=(0.0, 0.0, 0.0), origin=(0.0, 0.0, 0.0),
+                    rotation=None, rpy=None, joint: str = "fixed", axis=(0.0, 0.0, 1.0), com=(0.0, 0.0, 0.0),
+                    joint_name=None, limits=None, actuated: bool = True, stiffness: float = 0.0, damping: float = 0.0,
+                    rest: float = 0.0, model_name=None) -> "Robot":
+        """A new Robot: this one with the body ``name`` attached to ``body``; this one is unchanged.
+
+        By default a rigid payload (``joint="fixed"``): its CM at ``origin`` in ``body``'s frame
+        (from its CM, m), its axes at ``rotation`` (quaternion ``[x, y, z, w]`` or scipy
+        ``Rotation``) or ``rpy``, ``inertia`` about its CM in its own axes (3×3 or the diagonal;
+        default 0, a point mass). With ``joint="revolute"`` or ``"prismatic"`` the joint sits at
+        ``origin`` about or along ``axis`` and the CM is at ``com`` from it; ``limits``,
+        ``actuated``, ``stiffness``, ``damping``, ``rest`` as in
+        [`RobotBuilder.add_link`][spacearm.RobotBuilder.add_link] (a new joint's initial ``q``
+        is its ``rest``). Every other body, joint, point, shape and initial ``q`` is kept bit for
+        bit. ``model_name`` renames the result.
+        """
+        from .builder import RobotBuilder, link_limits, link_rotation
+
+        who = f"link '{name}'"
+        dynamics = RobotBuilder._joint_dynamics(name, actuated, stiffness, damping, rest)
+        core = _core.model_attach_body(
+            self._m, str(name), str(body), list(vector(origin, f"{who} origin", 3)), list(link_rotation(name, rotation, rpy)),
+            number(mass, f"{who} mass"), matrix3(inertia, f"{who} inertia"),
+            joint_type=str(joint), axis=list(vector(axis, f"{who} axis", 3)), com=list(vector(com, f"{who} com", 3)),
+            joint_name=None if joint_name is None else str(joint_name), limits=link_limits(name, limits), dynamics=dynamics,
+            model_name=None if model_name is None else str(model_name))
+        return self._edited(core)
+
+    def attach(self, other: "Robot", *, body: str, origin=(0.0, 0.0, 0.0), rotation=None, rpy=None,
+               prefix: Union[str, None] = None, name: Union[str, None] = None, model_name=None) -> "Robot":
+        """A new Robot: this one with the whole model ``other`` attached to ``body``; both are unchanged.
+
+        ``other``'s base becomes the link ``name`` (default ``<prefix><other's base name>``) on a
+        fixed joint, its CM at ``origin`` and its axes at ``rotation`` (or ``rpy``) in ``body``'s
+        frame; its links follow with their joints, limits, passive dynamics and initial ``q``
+        (appended to this one's), its points and shapes ride along, every name it brings
+        prefixed by ``prefix`` (default ``"<other's name>_"``) so that nothing clashes; its end
+        effector is not carried (this model keeps its own). This model's part is kept bit for
+        bit. A rigid grasp is this edit ([`attach_target`][spacearm.capture.attach_target]).
+        """
+        if not isinstance(other, Robot):
+            raise SpacearmTypeError(f"attach needs a spacearm.Robot to attach, got {type(other).__name__}")
+        from .builder import link_rotation
+
+        prefix = f"{other.name}_" if prefix is None else str(prefix)
+        core = _core.model_attach_model(
+            self._m, other._m, str(body), list(vector(origin, "attach origin", 3)),
+            list(link_rotation(other.name if name is None else name, rotation, rpy)), prefix,
+            base_link=None if name is None else str(name), model_name=None if model_name is None else str(model_name))
+        return self._edited(core)
+
+    def remove_subtree(self, body: str, *, model_name=None) -> "Robot":
+        """A new Robot: this one without the link ``body``, every link below it, and the points
+        and shapes on them (the end effector too when it is one of them); the other links keep
+        their order, parts and initial ``q`` bit for bit. The base cannot be removed
+        (``ModelError``); an unknown name is a ``ModelError`` listing the links."""
+        core = _core.model_remove_subtree(self._m, str(body), model_name=None if model_name is None else str(model_name))
+        return self._edited(core)
+
+    def _edited(self, core_model) -> "Robot":
+        """The Robot of an edit of this one, warning about the bodies it added that break the
+        triangle inequality (this model's own warnings were given when it was made)."""
+        robot = Robot(core_model)
+        known = set(self.inertia_warnings)
+        return warn_nonphysical_inertia(robot, [w for w in robot.inertia_warnings if w not in known])
 
     # ---- description --------------------------------------------------------------------
     @property
@@ -311,6 +378,11 @@ class Robot:
         if isinstance(point, (tuple, list)) and len(point) == 2:
             return self.body_index(point[0]), vector3(point[1], "point offset")
         raise ShapeError(f"a point is a point name, a body name, or (body, offset), got {point!r}")
+
+    def _data(self) -> str:
+        """The model as the text of a model file: how a controller's own model travels in a run's
+        description (``spacearm._util.spec``; bit-exact)."""
+        return self._m.to_toml()
 
     def __reduce__(self):
         # Pickled through the extension's model (its TOML text, floats in shortest round-trip
@@ -697,17 +769,19 @@ class Linearization(NamedTuple):
     B: np.ndarray  #: 2(6+N) × N (inputs="joints") or 2(6+N) × (6+N) (inputs="all")
 
 
-def warn_nonphysical_inertia(robot: Robot) -> Robot:
+def warn_nonphysical_inertia(robot: Robot, messages=None) -> Robot:
     """Issue one [`NonPhysicalInertiaWarning`][spacearm.errors.NonPhysicalInertiaWarning] per body of ``robot``
     whose inertia breaks the triangle inequality (loaded under ``allow_nonphysical_inertia``),
     and return ``robot``. Every loading door calls it; the warnings point at the first line
-    outside the spacearm package (the user's call), however deep the door."""
-    if not robot.inertia_warnings:
+    outside the spacearm package (the user's call), however deep the door. ``messages``: only
+    these of its warnings (an edit's new bodies)."""
+    messages = robot.inertia_warnings if messages is None else messages
+    if not messages:
         return robot
     package = os.path.dirname(sys.modules[__name__.partition(".")[0]].__file__)
     frame, level = sys._getframe(1), 2  # level 1 is this function, 2 its caller
     while frame.f_back is not None and frame.f_code.co_filename.startswith(package):
         frame, level = frame.f_back, level + 1
-    for message in robot.inertia_warnings:
+    for message in messages:
         warnings.warn(message, NonPhysicalInertiaWarning, stacklevel=level)
     return robot

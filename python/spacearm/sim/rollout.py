@@ -22,6 +22,7 @@ from typing import List, Optional, Sequence
 
 import numpy as np
 
+from .._util.spec import controller_spec
 from .. import _core
 from .._util.arrays import real_array
 from ..errors import ArgumentError, NotFoundError, ShapeError, SimulationError
@@ -155,12 +156,10 @@ def rollout(
     if isinstance(controller, (list, tuple)):
         for i, c in enumerate(controller):
             _check_controller(c, f"controller[{i}]")
-        specs = [None if c is None else c._spec(robot) for c in controller]
-        if any(s is None for s in specs):
-            specs = [_core.ZeroTorqueSpec() if s is None else s for s in specs]
+        specs = [controller_spec(c) for c in controller]
     else:
         _check_controller(controller)
-        specs = None if controller is None else controller._spec(robot)
+        specs = None if controller is None else controller_spec(controller)
     if stop is not None and not callable(getattr(stop, "is_set", None)):
         raise ArgumentError(f"stop must be None or an object with is_set() (a threading.Event), got {type(stop).__name__}")
     batch = _core.rollout(models, x0, u0, duration, options, specs, None if threads is None else int(threads), stop)

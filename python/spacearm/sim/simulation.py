@@ -20,10 +20,12 @@ from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 
+from .._util.spec import controller_spec, data as spec_data
 from .. import _core
 from .._util.arrays import count, vector
 from ..control import Thrusters, _Controller
 from ..errors import ArgumentError, NotFoundError
+from .events import stop_specs
 
 __all__ = ["simulate", "MODES", "INTEGRATORS", "DEFAULTS", "RECORD_DTYPES"]
 
@@ -111,7 +113,7 @@ def _check_controller(controller, what: str = "controller"):
 
 
 def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, record_every, joint_limits, max_steps, record_dtype,
-             progress=None, orbit=None, gravity_gradient=None) -> _core.RunOptions:
+             progress=None, orbit=None, gravity_gradient=None, stop=None) -> _core.RunOptions:
     """The options of the core's simulation entry points (``_core.simulate``, ``_core.rollout``,
     ``_core.Simulator``), every value checked; ``progress``: None or a callable(fraction)."""
     if not isinstance(mode, str) or mode not in MODES:
@@ -131,13 +133,14 @@ def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, reco
         atol=atol,
         record_every=int(record_every),
         wheels=_wheel_dofs(robot, wheels),
-        thrusters=None if thrusters is None else thrusters._spec(),
+        thrusters=None if thrusters is None else _core.ThrusterLimits.from_spec(spec_data(thrusters, [], "thrusters")),
         joint_limits=bool(joint_limits),
         max_steps=int(max_steps),
         progress=progress,
         record_dtype=record_dtype,
         orbit=orbit,
         gravity_gradient=gravity_gradient,
+        stop=stop_specs(robot, stop) if stop is not None else None,
     )
 
 
@@ -221,6 +224,7 @@ def _run(
     record_dtype: str = "float64",
     orbit=None,
     gravity_gradient: Optional[bool] = None,
+    stop=None,
 ):
     """The simulation proper: ``(data, meta)`` dicts of numpy arrays and run description."""
     _check_robot(robot, "simulate")
@@ -228,14 +232,14 @@ def _run(
     option_args = dict(
         mode=mode, integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=wheels, thrusters=thrusters,
         record_every=record_every, joint_limits=joint_limits, max_steps=max_steps, record_dtype=record_dtype,
-        orbit=orbit, gravity_gradient=gravity_gradient,
+        orbit=orbit, gravity_gradient=gravity_gradient, stop=stop,
     )
     options = _options(robot, **option_args)
     x0 = robot.neutral_configuration() if x0 is None else vector(x0, "x0")
     u0 = robot.zero_velocity() if u0 is None else vector(u0, "u0")
     _check_controller(controller)
     callback, close = _progress_callable(progress)
-    spec = None if controller is None else controller._spec(robot)
+    spec = None if controller is None else controller_spec(controller)
     try:
         if callback is not None:
             # The options were checked first, before the progress callable (maybe a bar) was
@@ -280,6 +284,7 @@ def simulate(
     record_dtype: str = "float64",
     orbit=None,
     gravity_gradient: Optional[bool] = None,
+    stop=None,
 ):
     """Simulate ``robot`` for ``duration`` seconds and return a [`Trajectory`][spacearm.Trajectory].
 
@@ -333,6 +338,12 @@ def simulate(
         With ``orbit``: whether the tidal force and torque act on every body (default ``True``).
         The mode's conserved momenta are then monitored as balances (``meta["drift"]``: the
         residual of change = integral of the tidal wrenches).
+    stop : StopAtTime, StopAtGap or a list of them, optional
+        Conditions that end the run early ([`spacearm.sim.events`][spacearm.sim.events]): the
+        core locates the first event within its step and stops there; the last sample is the
+        event's, and ``meta["stop"]`` holds ``{"condition", "kind", "t", "value"}`` (``None``
+        when the run reached ``duration``). A point controller's goal is judged only at a
+        run's natural end (no "out of reach" warning after an event stop).
 
     Returns
     -------
@@ -377,6 +388,7 @@ def simulate(
         record_dtype=record_dtype,
         orbit=orbit,
         gravity_gradient=gravity_gradient,
+        stop=stop,
     )
     from .trajectory import Trajectory
 

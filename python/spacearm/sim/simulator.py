@@ -22,6 +22,7 @@ from typing import Optional
 
 import numpy as np
 
+from .._util.spec import controller_spec
 from .. import _core
 from .._util.arrays import count
 from ..errors import ArgumentError
@@ -86,7 +87,7 @@ class Simulator:
             thrusters=thrusters, record_every=1, joint_limits=joint_limits, max_steps=DEFAULTS["max_steps"], record_dtype=record_dtype,
             orbit=orbit, gravity_gradient=gravity_gradient,
         )
-        spec = None if controller is None else controller._spec(robot)
+        spec = None if controller is None else controller_spec(controller)
         self._robot = robot
         self._what = (mode, float(dt), "no controller" if controller is None else type(controller).__name__)
         self._core = _core.Simulator(robot.core_model, options, spec, None if record_every is None else int(record_every))

@@ -3,7 +3,9 @@
 //! ([`variables`]) that `spacearm.fmi.export` asks this library for.
 //!
 //! An FMU's `resources/` holds `model.toml` (the model, docs/model-format.md),
-//! `options.toml` (the stepper options of [`crate::stepper`]: mode, RK4 step, controller) and
+//! `options.toml` (the stepper options of [`crate::stepper`]: mode, RK4 step, actuators and the
+//! controller as the core's `ControllerSpec`, whose numbers are the FMU's parameters,
+//! [`parameters`]) and
 //! `token.txt` (the instantiation token, checked at instantiation). A
 //! communication step of `h` is `h / dt` RK4 steps of the core's loop with the inputs held
 //! (the loop of `spacearm.simulate`), so an FMU run equals `spacearm.simulate` of the same model
@@ -11,6 +13,7 @@
 
 pub mod fmi2;
 pub mod fmi3;
+pub mod parameters;
 pub mod variables;
 
 use std::ffi::c_char;
@@ -91,7 +94,7 @@ impl Instance {
         check_token(dir, version, token)?;
         let model = crate::model::model_from_toml(&read(dir, "model.toml")?, "resources/model.toml")?;
         let options = StepperOptions::parse(&model, &read(dir, "options.toml")?)?;
-        let layout = Layout::new(&model, &options);
+        let layout = Layout::new(&model, &options)?;
         let values = layout.vars.iter().map(|v| v.start).collect();
         Ok(Instance { name, data: Data::new(&model), model, layout, options, stepper: None, values, last_quat: None, phase: Phase::Instantiated, logger, logging_on })
     }
@@ -198,15 +201,8 @@ impl Instance {
             return Err(format!("exit initialization mode called outside initialization mode (the FMU is {:?})", self.phase));
         }
         let l = &self.layout;
-        let mut options = self.options.clone();
-        for (range, target) in [(&l.kp, &mut options.kp), (&l.kd, &mut options.kd), (&l.q_ref, &mut options.q_ref)] {
-            if let Some(r) = range {
-                target.copy_from_slice(&self.values[r.clone()]);
-            }
-        }
-        if options.kp.iter().chain(&options.kd).any(|g| *g < 0.0) {
-            return Err("the gains kp and kd must be >= 0".into());
-        }
+        let spec = l.parameters.spec(&self.values[l.controller.clone()]).map_err(|f| f.message)?;
+        let options = self.options.with_controller(&self.model, spec).map_err(|f| format!("the controller's parameters: {}", f.message))?;
         let (x0, u0) = (self.values[l.x0.clone()].to_vec(), self.values[l.u0.clone()].to_vec());
         let mut stepper = SpacearmStepper::new(self.model.clone(), options);
         stepper.reset(&x0, &u0).map_err(|f| f.message)?;
@@ -340,7 +336,7 @@ pub unsafe extern "C" fn spacearm_fmu_model_description(
         }
         let model = crate::model::model_from_toml(m, "<model TOML>")?;
         let options = StepperOptions::parse(&model, o)?;
-        let xml = variables::model_description(&model, &options, version, id, tok, stop_time);
+        let xml = variables::model_description(&model, &options, version, id, tok, stop_time)?;
         unsafe { write_text(&xml, buf, len, needed) }
     })
 }

@@ -8,14 +8,18 @@
 //! (linear momentum), `L[1..3]` (angular momentum about the origin of 𝒥), and, if the model has
 //! an end effector, `ee_position[1..3]` and `ee_quat[1..4]`; the inputs `tau[1..N]` and, in the
 //! flying modes, `base_wrench[1..6]` (`[F0, N0]` in 𝒥 at the base CM); the parameters
-//! `x0[1..7+N]`, `u0[1..6+N]` and, with a controller, `kp`, `kd`, `q_ref` (one per arm joint).
+//! `x0[1..7+N]`, `u0[1..6+N]` and the controller's numbers ([`super::parameters`]: e.g. `kp[k]`,
+//! `kd[k]`, `reference[k]` of a joint PD, `quat_ref[1..4]`, `kp`, `kd` of an attitude law).
 
 use std::fmt::Write;
 use std::ops::Range;
 
+use spacearm_core::model::joint::JointType;
 use spacearm_core::Model;
 
-use crate::stepper::{ControllerKind, StepperOptions};
+use super::parameters::ControllerParameters;
+use crate::status::Outcome;
+use crate::stepper::StepperOptions;
 
 /// What a variable is to the importer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -32,6 +36,34 @@ pub(crate) struct Variable {
     pub causality: Causality,
     pub description: String,
     pub start: f64,
+    /// The unit, a name of [`UNITS`] (`None`: dimensionless or not known, as the controller's
+    /// parameters).
+    pub unit: Option<&'static str>,
+}
+
+/// The units the variables use, with their SI base-unit exponents as FMI writes them
+/// (`<BaseUnit kg="1" m="2" s="-2"/>`).
+pub(crate) const UNITS: &[(&str, &str)] = &[
+    ("s", r#"s="1""#),
+    ("m", r#"m="1""#),
+    ("rad", r#"rad="1""#),
+    ("m/s", r#"m="1" s="-1""#),
+    ("rad/s", r#"s="-1" rad="1""#),
+    ("N", r#"kg="1" m="1" s="-2""#),
+    ("N.m", r#"kg="1" m="2" s="-2""#),
+    ("N.s", r#"kg="1" m="1" s="-1""#),
+    ("N.m.s", r#"kg="1" m="2" s="-1""#),
+];
+
+/// The unit of a joint coordinate, rate and effort for each dof: rad, rad/s, N·m for a revolute
+/// joint; m, m/s, N for a prismatic one.
+fn joint_units(model: &Model) -> Vec<[&'static str; 3]> {
+    (0..model.n_dof())
+        .map(|d| match model.links()[model.body_of_dof(d) - 1].joint.kind {
+            JointType::Prismatic => ["m", "m/s", "N"],
+            _ => ["rad", "rad/s", "N.m"],
+        })
+        .collect()
 }
 
 /// The table, with the value-reference range of each group.
@@ -47,9 +79,9 @@ pub(crate) struct Layout {
     pub base_wrench: Option<Range<usize>>,
     pub x0: Range<usize>,
     pub u0: Range<usize>,
-    pub kp: Option<Range<usize>>,
-    pub kd: Option<Range<usize>>,
-    pub q_ref: Option<Range<usize>>,
+    /// The controller's parameters, in the order of [`ControllerParameters::list`].
+    pub controller: Range<usize>,
+    pub parameters: ControllerParameters,
 }
 
 struct Table(Vec<Variable>);
@@ -59,52 +91,76 @@ impl Table {
     fn group(&mut self, group: &str, causality: Causality, what: &str, starts: &[f64]) -> Range<usize> {
         let first = self.0.len();
         for (k, &start) in starts.iter().enumerate() {
-            self.0.push(Variable { name: format!("{group}[{}]", k + 1), causality, description: format!("{what}, entry {}", k + 1), start });
+            self.0.push(Variable { name: format!("{group}[{}]", k + 1), causality, description: format!("{what}, entry {}", k + 1), start, unit: None });
         }
         first..self.0.len()
+    }
+
+    /// Give the variables from `first` on the units `units`, in order.
+    fn units(&mut self, first: usize, units: &[&'static str]) {
+        for (v, u) in self.0[first..].iter_mut().zip(units) {
+            v.unit = Some(u).filter(|u| !u.is_empty()).copied();
+        }
     }
 }
 
 impl Layout {
-    pub(crate) fn new(model: &Model, options: &StepperOptions) -> Layout {
+    pub(crate) fn new(model: &Model, options: &StepperOptions) -> Outcome<Layout> {
         let n = model.n_dof();
-        let mut t = Table(vec![Variable { name: "time".into(), causality: Causality::Independent, description: "simulation time, s".into(), start: 0.0 }]);
+        let mut t = Table(vec![Variable { name: "time".into(), causality: Causality::Independent, description: "simulation time, s".into(), start: 0.0, unit: Some("s") }]);
+        let joints = joint_units(model);
+        let q_units: Vec<&str> = joints.iter().map(|j| j[0]).collect();
+        let qd_units: Vec<&str> = joints.iter().map(|j| j[1]).collect();
+        let tau_units: Vec<&str> = joints.iter().map(|j| j[2]).collect();
+        let x_units: Vec<&str> = ["m", "m", "m", "", "", "", ""].into_iter().chain(q_units.iter().copied()).collect();
+        let u_units: Vec<&str> = ["m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s"].into_iter().chain(qd_units.iter().copied()).collect();
         let out = Causality::Output;
         let zeros = |k: usize| vec![0.0; k];
         let r0 = t.group("r0", out, "base CM position in the inertial frame, m", &zeros(3));
         let _quat0 = t.group("quat0", out, "base attitude quaternion [x, y, z, w] (base to inertial)", &zeros(4));
         let _q = t.group("q", out, "joint coordinate, rad or m", &zeros(n));
         let x = r0.start.._q.end;
+        t.units(x.start, &x_units);
         let v0 = t.group("v0", out, "base CM velocity in the inertial frame, m/s", &zeros(3));
         let _w0 = t.group("w0", out, "base angular velocity in the inertial frame, rad/s", &zeros(3));
         let qd = t.group("qd", out, "joint rate, rad/s or m/s", &zeros(n));
         let u = v0.start..qd.end;
+        t.units(u.start, &u_units);
         let p = t.group("P", out, "linear momentum in the inertial frame, N s", &zeros(3));
         let l = t.group("L", out, "angular momentum about the inertial origin, N m s", &zeros(3));
         let momentum = p.start..l.end;
+        t.units(momentum.start, &["N.s", "N.s", "N.s", "N.m.s", "N.m.s", "N.m.s"]);
         let (ee_position, ee_quat) = match model.end_effector() {
-            Some(_) => (
-                Some(t.group("ee_position", out, "end-effector position in the inertial frame, m", &zeros(3))),
-                Some(t.group("ee_quat", out, "end-effector body attitude [x, y, z, w], sign kept continuous", &zeros(4))),
-            ),
+            Some(_) => {
+                let position = t.group("ee_position", out, "end-effector position in the inertial frame, m", &zeros(3));
+                t.units(position.start, &["m", "m", "m"]);
+                (Some(position), Some(t.group("ee_quat", out, "end-effector body attitude [x, y, z, w], sign kept continuous", &zeros(4))))
+            }
             None => (None, None),
         };
         let tau = t.group("tau", Causality::Input, "joint torque (force) added to the controller's, N m or N", &zeros(n));
+        t.units(tau.start, &tau_units);
         let mode = options.sim.mode;
         let base_wrench = (mode.allows_force() || mode.allows_torque()).then(|| t.group("base_wrench", Causality::Input, "base wrench [F0, N0] in the inertial frame at the base CM (as the mode allows), N and N m", &zeros(6)));
+        if let Some(w) = &base_wrench {
+            t.units(w.start, &["N", "N", "N", "N.m", "N.m", "N.m"]);
+        }
         let x0_start = spacearm_core::model::presets::initial_configuration(model);
         let x0 = t.group("x0", Causality::Parameter, "initial configuration [r0, quat0 (x, y, z, w), q]", &x0_start);
+        t.units(x0.start, &x_units);
         let u0 = t.group("u0", Causality::Parameter, "initial velocity [v0, w0, qd]", &zeros(6 + n));
-        let (kp, kd, q_ref) = if options.controller == ControllerKind::None {
-            (None, None, None)
-        } else {
-            (
-                Some(t.group("kp", Causality::Parameter, "controller stiffness gain of an arm joint", &options.kp)),
-                Some(t.group("kd", Causality::Parameter, "controller damping gain of an arm joint", &options.kd)),
-                Some(t.group("q_ref", Causality::Parameter, "controller set point of an arm joint", &options.q_ref)),
-            )
-        };
-        Layout { vars: t.0, x, u, momentum, ee_position, ee_quat, tau, base_wrench, x0, u0, kp, kd, q_ref }
+        t.units(u0.start, &u_units);
+        let parameters = ControllerParameters::new(&options.controller)?;
+        let first = t.0.len();
+        for p in &parameters.list {
+            t.0.push(Variable { name: p.name.clone(), causality: Causality::Parameter, description: p.description.clone(), start: p.start, unit: None });
+        }
+        let controller = first..t.0.len();
+        let mut seen = std::collections::HashSet::new();
+        if let Some(v) = t.0.iter().find(|v| !seen.insert(v.name.as_str())) {
+            return Err(crate::status::Failure::new(crate::status::SpacearmStatus::Internal, format!("two FMU variables are named '{}'", v.name)));
+        }
+        Ok(Layout { vars: t.0, x, u, momentum, ee_position, ee_quat, tau, base_wrench, x0, u0, controller, parameters })
     }
 }
 
@@ -124,9 +180,22 @@ fn num(v: f64) -> String {
     format!("{v:?}")
 }
 
+/// The `<UnitDefinitions>` of the units `layout` uses (FMI 3 and FMI 2 write them alike).
+fn unit_definitions(s: &mut String, layout: &Layout) {
+    let used: Vec<&(&str, &str)> = UNITS.iter().filter(|(name, _)| layout.vars.iter().any(|v| v.unit == Some(*name))).collect();
+    if used.is_empty() {
+        return;
+    }
+    let _ = writeln!(s, "  <UnitDefinitions>");
+    for (name, base) in used {
+        let _ = writeln!(s, r#"    <Unit name="{name}"><BaseUnit {base}/></Unit>"#);
+    }
+    let _ = writeln!(s, "  </UnitDefinitions>");
+}
+
 /// The `modelDescription.xml` of a co-simulation FMU of `model` with `options`.
-pub(crate) fn model_description(model: &Model, options: &StepperOptions, version: FmiVersion, identifier: &str, token: &str, stop_time: f64) -> String {
-    let layout = Layout::new(model, options);
+pub(crate) fn model_description(model: &Model, options: &StepperOptions, version: FmiVersion, identifier: &str, token: &str, stop_time: f64) -> Outcome<String> {
+    let layout = Layout::new(model, options)?;
     let mut s = String::new();
     let name = escape(model.name());
     let token = escape(token);
@@ -137,7 +206,7 @@ pub(crate) fn model_description(model: &Model, options: &StepperOptions, version
         model.name(),
         model.n_dof(),
         options.sim.mode.name(),
-        options.controller.name(),
+        options.controller.kind(),
         options.sim.dt
     ));
     let id = escape(identifier);
@@ -150,17 +219,19 @@ pub(crate) fn model_description(model: &Model, options: &StepperOptions, version
                 r#"<fmiModelDescription fmiVersion="3.0" modelName="{name}" description="{descr}" instantiationToken="{token}" generationTool="{tool}" variableNamingConvention="flat">"#
             );
             let _ = writeln!(s, r#"  <CoSimulation modelIdentifier="{id}" canHandleVariableCommunicationStepSize="true" fixedInternalStepSize="{dt}" canGetAndSetFMUState="false" canSerializeFMUState="false" providesIntermediateUpdate="false" hasEventMode="false"/>"#);
+            unit_definitions(&mut s, &layout);
             let _ = writeln!(s, r#"  <DefaultExperiment startTime="0.0" stopTime="{}" stepSize="{dt}"/>"#, num(stop_time));
             let _ = writeln!(s, "  <ModelVariables>");
             for (vr, v) in layout.vars.iter().enumerate() {
                 let (n, d) = (escape(&v.name), escape(&v.description));
+                let unit = v.unit.map(|u| format!(r#" unit="{u}""#)).unwrap_or_default();
                 let attrs = match v.causality {
                     Causality::Independent => r#"causality="independent" variability="continuous""#.to_string(),
                     Causality::Output => r#"causality="output" variability="continuous""#.to_string(),
                     Causality::Input => format!(r#"causality="input" variability="continuous" start="{}""#, num(v.start)),
                     Causality::Parameter => format!(r#"causality="parameter" variability="fixed" start="{}""#, num(v.start)),
                 };
-                let _ = writeln!(s, r#"    <Float64 name="{n}" valueReference="{vr}" description="{d}" {attrs}/>"#);
+                let _ = writeln!(s, r#"    <Float64 name="{n}" valueReference="{vr}" description="{d}" {attrs}{unit}/>"#);
             }
             let _ = writeln!(s, "  </ModelVariables>");
             let _ = writeln!(s, "  <ModelStructure>");
@@ -178,15 +249,17 @@ pub(crate) fn model_description(model: &Model, options: &StepperOptions, version
                 r#"<fmiModelDescription fmiVersion="2.0" modelName="{name}" description="{descr}" guid="{token}" generationTool="{tool}" variableNamingConvention="flat" numberOfEventIndicators="0">"#
             );
             let _ = writeln!(s, r#"  <CoSimulation modelIdentifier="{id}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUstate="false" canSerializeFMUstate="false" canNotUseMemoryManagementFunctions="true"/>"#);
+            unit_definitions(&mut s, &layout);
             let _ = writeln!(s, r#"  <DefaultExperiment startTime="0.0" stopTime="{}" stepSize="{dt}"/>"#, num(stop_time));
             let _ = writeln!(s, "  <ModelVariables>");
             for (vr, v) in layout.vars.iter().enumerate() {
                 let (n, d) = (escape(&v.name), escape(&v.description));
+                let unit = v.unit.map(|u| format!(r#" unit="{u}""#)).unwrap_or_default();
                 let (attrs, real) = match v.causality {
-                    Causality::Independent => (r#"causality="independent" variability="continuous""#.to_string(), "<Real/>".to_string()),
-                    Causality::Output => (r#"causality="output" variability="continuous" initial="calculated""#.to_string(), "<Real/>".to_string()),
-                    Causality::Input => (r#"causality="input" variability="continuous""#.to_string(), format!(r#"<Real start="{}"/>"#, num(v.start))),
-                    Causality::Parameter => (r#"causality="parameter" variability="fixed" initial="exact""#.to_string(), format!(r#"<Real start="{}"/>"#, num(v.start))),
+                    Causality::Independent => (r#"causality="independent" variability="continuous""#.to_string(), format!("<Real{unit}/>")),
+                    Causality::Output => (r#"causality="output" variability="continuous" initial="calculated""#.to_string(), format!("<Real{unit}/>")),
+                    Causality::Input => (r#"causality="input" variability="continuous""#.to_string(), format!(r#"<Real{unit} start="{}"/>"#, num(v.start))),
+                    Causality::Parameter => (r#"causality="parameter" variability="fixed" initial="exact""#.to_string(), format!(r#"<Real{unit} start="{}"/>"#, num(v.start))),
                 };
                 let _ = writeln!(s, r#"    <ScalarVariable name="{n}" valueReference="{vr}" description="{d}" {attrs}>{real}</ScalarVariable>"#);
             }
@@ -206,5 +279,5 @@ pub(crate) fn model_description(model: &Model, options: &StepperOptions, version
         }
     }
     let _ = writeln!(s, "</fmiModelDescription>");
-    s
+    Ok(s)
 }

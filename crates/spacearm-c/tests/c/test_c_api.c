@@ -369,6 +369,96 @@ static void test_stepper_bounds(void) {
     spacearm_model_free(m);
 }
 
+/* Model editing (the core's model/edit.rs): a payload attached to a bare base has the composite
+ * mass properties of the parallel-axis theorem, computed here (the base block of H at the
+ * identity pose is the kinetic energy's Hessian of base + payload: M E, -m [p]x — the CM — and
+ * I0 + R Ip R^T + m (|p|^2 E - p p^T)); a payload on spatial6 gives the H of the same model
+ * written as TOML with the payload a fixed link (the builder's path, as Python's); a whole model
+ * attached and removed again gives the host's H back bit for bit; bad edits answer a status. */
+static void test_model_editing(void) {
+    SpacearmModel *bus = NULL, *sat = NULL;
+    OK(spacearm_model_from_toml("[model]\nname = \"sat\"\n[base]\nname = \"bus\"\nmass = 300.0\ninertia = [40.0, 55.0, 61.0]\n", &bus));
+    const double m0 = 300.0, m = 25.0, p[3] = {0.8, -0.3, 1.2}, ip[3] = {2.0, 3.0, 4.0};
+    const double qz = sin(0.2), qw = cos(0.2), rot[4] = {0.0, 0.0, qz, qw};
+    const double inertia[9] = {ip[0], 0, 0, 0, ip[1], 0, 0, 0, ip[2]};
+    OK(spacearm_model_attach_body(bus, "tank", "bus", p, rot, m, inertia, &sat));
+    CHECK(spacearm_model_n_dof(sat) == 0 && spacearm_model_n_bodies(sat) == 2, "attached: %zu dof, %zu bodies", spacearm_model_n_dof(sat), spacearm_model_n_bodies(sat));
+    CHECK(spacearm_model_total_mass(sat) == m0 + m, "total mass %.17g", spacearm_model_total_mass(sat));
+    CHECK(spacearm_model_n_bodies(bus) == 1, "the input model changed");
+    double x[7] = {0, 0, 0, 0, 0, 0, 1}, h[36];
+    OK(spacearm_mass_matrix(sat, x, h));
+    /* R = Rz(0.4); R Ip R^T; the parallel-axis term. */
+    double c = cos(0.4), s = sin(0.4), r[9] = {c, -s, 0, s, c, 0, 0, 0, 1}, expect[36] = {0};
+    double p2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2], i0[3] = {40.0, 55.0, 61.0};
+    for (int i = 0; i < 3; i++) {
+        expect[i * 6 + i] = m0 + m;
+        for (int j = 0; j < 3; j++) {
+            double rir = 0.0;
+            for (int k = 0; k < 3; k++) rir += r[i * 3 + k] * ip[k] * r[j * 3 + k];
+            expect[(3 + i) * 6 + 3 + j] = (i == j ? i0[i] + m * p2 : 0.0) + rir - m * p[i] * p[j];
+        }
+    }
+    /* -m [p]x: the coupling of v0 and w0 (the CM offset m p / M times M). */
+    double px[9] = {0, -p[2], p[1], p[2], 0, -p[0], -p[1], p[0], 0};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) { expect[i * 6 + 3 + j] = -m * px[i * 3 + j]; expect[(3 + i) * 6 + j] = -m * px[j * 3 + i]; }
+    CHECK(max_abs_diff(h, expect, 36) < 1e-12, "H of base + payload vs the parallel-axis theorem: %g", max_abs_diff(h, expect, 36));
+
+    /* A payload on spatial6's link6 against the same model written as TOML. */
+    SpacearmModel *arm = NULL, *held = NULL, *by_text = NULL;
+    OK(spacearm_model_preset("spatial6", &arm));
+    OK(spacearm_model_attach_body(arm, "payload", "link6", p, rot, m, inertia, &held));
+    size_t needed = 0;
+    spacearm_model_to_toml(arm, NULL, 0, &needed);
+    char *text = malloc(needed + 512);
+    OK(spacearm_model_to_toml(arm, text, needed, NULL));
+    snprintf(text + strlen(text), 512,
+             "\n[[link]]\nname = \"payload\"\nparent = \"link6\"\ncom = [0.0, 0.0, 0.0]\nmass = %.17g\ninertia = [%.17g, %.17g, %.17g]\n"
+             "joint = { name = \"payload_joint\", type = \"fixed\", origin = [%.17g, %.17g, %.17g], rotation = [0.0, 0.0, %.17g, %.17g] }\n",
+             m, ip[0], ip[1], ip[2], p[0], p[1], p[2], qz, qw);
+    OK(spacearm_model_from_toml(text, &by_text));
+    free(text);
+    double xa[13], ha[144], hb[144];
+    OK(spacearm_model_initial_configuration(arm, xa));
+    for (size_t i = 0; i < 6; i++) xa[7 + i] += 0.2 * (double)i - 0.5;
+    OK(spacearm_mass_matrix(held, xa, ha));
+    OK(spacearm_mass_matrix(by_text, xa, hb));
+    CHECK(max_abs_diff(ha, hb, 144) == 0.0, "attached vs TOML-built payload: H differs by %g", max_abs_diff(ha, hb, 144));
+    CHECK(spacearm_model_total_mass(held) == spacearm_model_total_mass(arm) + m, "total mass with the payload");
+
+    /* A whole model attached, then removed: the host back, bit for bit. */
+    SpacearmModel *planar = NULL, *both = NULL, *back = NULL;
+    OK(spacearm_model_preset("planar4", &planar));
+    const double at[3] = {1.5, 0.0, 0.0};
+    OK(spacearm_model_attach_model(arm, planar, "base", at, NULL, "p4_", "mount", &both));
+    CHECK(spacearm_model_n_dof(both) == 6 + spacearm_model_n_dof(planar), "attached model: N = %zu", spacearm_model_n_dof(both));
+    CHECK(fabs(spacearm_model_total_mass(both) - spacearm_model_total_mass(arm) - spacearm_model_total_mass(planar)) < 1e-12, "attached model's mass");
+    size_t body = 0;
+    double off[3];
+    OK(spacearm_model_point(both, "p4_end_effector", &body, off));
+    CHECK(body == 7 + spacearm_model_n_bodies(planar) - 1, "the attached end-effector point is on body %zu", body);
+    OK(spacearm_model_remove_subtree(both, "mount", &back));
+    OK(spacearm_mass_matrix(back, xa, hb));
+    OK(spacearm_mass_matrix(arm, xa, ha));
+    CHECK(max_abs_diff(ha, hb, 144) == 0.0, "remove_subtree(attach_model) changed H by %g", max_abs_diff(ha, hb, 144));
+
+    /* Refusals: a status and a message naming what was wrong. */
+    SpacearmModel *none = NULL;
+    CHECK(spacearm_model_remove_subtree(arm, "base", &none) == SPACEARM_STATUS_INVALID_MODEL && none == NULL, "removing the base");
+    CHECK(strstr(spacearm_last_error(), "is the base") != NULL, "message: %s", spacearm_last_error());
+    CHECK(spacearm_model_attach_body(arm, "p", "ghost", p, NULL, 1.0, NULL, &none) == SPACEARM_STATUS_INVALID_MODEL, "unknown parent");
+    CHECK(strstr(spacearm_last_error(), "ghost") != NULL, "message: %s", spacearm_last_error());
+    CHECK(spacearm_model_attach_body(arm, "p", "base", p, NULL, -1.0, NULL, &none) == SPACEARM_STATUS_INVALID_MODEL, "negative mass");
+    CHECK(spacearm_model_attach_model(arm, arm, "base", at, NULL, "", "copy", &none) == SPACEARM_STATUS_INVALID_MODEL, "name clash");
+    CHECK(strstr(spacearm_last_error(), "used twice") != NULL, "message: %s", spacearm_last_error());
+    CHECK(spacearm_model_attach_model(arm, NULL, "base", at, NULL, "c_", NULL, &none) == SPACEARM_STATUS_NULL_POINTER, "NULL other");
+    CHECK(spacearm_model_attach_body(arm, "p", "base", NULL, NULL, 1.0, NULL, &none) == SPACEARM_STATUS_NULL_POINTER, "NULL origin");
+    CHECK(spacearm_model_attach_body(arm, "p", "base", p, NULL, 1.0, NULL, NULL) == SPACEARM_STATUS_NULL_POINTER, "NULL out");
+    CHECK(none == NULL, "a refused edit wrote a handle");
+    spacearm_model_free(bus); spacearm_model_free(sat); spacearm_model_free(arm); spacearm_model_free(held);
+    spacearm_model_free(by_text); spacearm_model_free(planar); spacearm_model_free(both); spacearm_model_free(back);
+}
+
 int main(void) {
     CHECK(spacearm_abi_version() == SPACEARM_ABI_VERSION, "ABI %u vs header %u", spacearm_abi_version(), SPACEARM_ABI_VERSION);
     test_quantities();
@@ -380,6 +470,7 @@ int main(void) {
     test_success_clears_the_message();
     test_derivatives_null_outputs();
     test_stepper_bounds();
+    test_model_editing();
     if (failures) {
         fprintf(stderr, "%d check(s) failed\n", failures);
         return 1;

@@ -33,6 +33,7 @@ pub mod momentum_damping;
 pub mod pd;
 pub mod rmrc;
 pub mod shaping;
+pub mod spec;
 pub mod thrusters;
 
 pub use attitude::{AttitudeControl, LvlhReference};

@@ -23,27 +23,31 @@ pub use crate::model::link::LinkSpec;
 /// the `k`-th link or point given, the model) and the field at fault.
 #[derive(Debug, Clone)]
 pub struct ModelBuilder {
-    name: String,
-    base_name: String,
-    base: MassProperties,
-    links: Vec<Link>,
-    points: Vec<Point>,
-    end_effector: Option<String>,
-    initial_q: Option<Vec<f64>>,
+    pub(super) name: String,
+    pub(super) base_name: String,
+    pub(super) base: MassProperties,
+    pub(super) links: Vec<Link>,
+    pub(super) points: Vec<Point>,
+    pub(super) end_effector: Option<String>,
+    pub(super) initial_q: Option<Vec<f64>>,
     /// Body index by name (base 0), point and joint names: name look-ups in O(1), so that a
     /// model of N items builds in O(N).
-    body_by_name: HashMap<String, usize>,
-    point_names: HashSet<String>,
-    joint_names: HashSet<String>,
-    triangle_inequality: TriangleInequality,
+    pub(super) body_by_name: HashMap<String, usize>,
+    pub(super) point_names: HashSet<String>,
+    pub(super) joint_names: HashSet<String>,
+    pub(super) triangle_inequality: TriangleInequality,
     /// Warnings of the bodies accepted under [`TriangleInequality::Warn`].
-    inertia_warnings: Vec<String>,
-    geometries: Vec<Geometry>,
-    geometry_names: HashSet<String>,
+    pub(super) inertia_warnings: Vec<String>,
+    pub(super) geometries: Vec<Geometry>,
+    pub(super) geometry_names: HashSet<String>,
     /// Geometries given so far per (body, role): the `k` of a default name `<body>_<role><k>`
     /// in O(1), so that N unnamed geometries load in O(N) (a scan per geometry was O(N²):
     /// 160k unnamed URDF `<visual>`s took 49.5 s).
-    geometry_counts: HashMap<(usize, GeometryRole), usize>,
+    pub(super) geometry_counts: HashMap<(usize, GeometryRole), usize>,
+    /// Initial coordinates per moving link, by link name, of a builder seeded from a model
+    /// (model/edit.rs): used by [`ModelBuilder::build`] when no `initial_q` is set, so that the
+    /// links edited in keep theirs and new joints start at their spring rest (0 unless set).
+    pub(super) initial_q_by_link: HashMap<String, f64>,
 }
 
 fn matrix3(rows: &[[f64; 3]; 3]) -> Matrix3<f64> {
@@ -87,6 +91,7 @@ impl ModelBuilder {
             geometries: Vec::new(),
             geometry_names: HashSet::new(),
             geometry_counts: HashMap::new(),
+            initial_q_by_link: HashMap::new(),
         })
     }
 
@@ -269,7 +274,7 @@ impl ModelBuilder {
             self.links.clone(),
             self.points.clone(),
             ee,
-            self.initial_q.clone(),
+            self.initial_q.clone().or_else(|| self.seeded_initial_q()),
         )?
         .with_triangle_inequality(self.triangle_inequality, self.inertia_warnings.clone())
         .with_geometries(self.geometries.clone()))

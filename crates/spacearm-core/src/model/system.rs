@@ -13,7 +13,8 @@ use crate::error::{ModelError, Result, SpacearmError};
 use crate::model::body::{MassProperties, TriangleInequality};
 use crate::model::geometry::Geometry;
 use crate::model::joint::{JointDynamics, JointType};
-use crate::model::link::{Link, Point};
+/// At their former path too (`model::system::Link`, ...).
+pub use crate::model::link::{Link, Point};
 use crate::model::structure::check_structure;
 
 /// Spacecraft-manipulator model: base + tree of links + named points. Made by

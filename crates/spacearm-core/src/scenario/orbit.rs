@@ -30,7 +30,8 @@ use crate::model::Model;
 use crate::math::integrate::{Dopri5, OdeSystem};
 
 /// A central body's gravity constants.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct CentralBody {
     /// Gravitational parameter μ, m³/s².
     pub mu: f64,
@@ -178,7 +179,8 @@ fn perifocal_to_eci(raan: f64, i: f64, argp: f64) -> Matrix3<f64> {
 }
 
 /// An orbit: the central body, whether J2 acts, and the ECI state at `t = 0`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Orbit {
     /// The central body.
     pub body: CentralBody,

@@ -1,7 +1,7 @@
 //! The native simulation loop: the loop ([`simulate`]) with its records ([`record`]), the same loop one
 //! RK4 step at a time ([`stepper`]), many steppers one step each in one call ([`batch_stepper`]), the longest RK4 step the fastest mode allows ([`step_limit`]), many runs on threads ([`rollout`]) and the soft capture of a
 //! free target by a wrist impedance ([`soft_capture`]) and closed chains under a loop closure
-//! ([`closed_chain`]);
+//! ([`closed_chain`]); the conditions that stop a run early ([`stop`], watched by [`events`]);
 //! docs/simulation-core.md.
 //!
 //! Imports: everything below it (`math` with its time integrators, `model`, `algorithms`, `gjm`,
@@ -12,6 +12,7 @@
 pub mod batch_stepper;
 pub mod closed_chain;
 pub(crate) mod closure;
+pub mod events;
 pub mod options;
 pub mod plant;
 pub mod record;
@@ -20,6 +21,7 @@ pub mod rollout;
 pub mod simulate;
 pub mod soft_capture;
 pub mod step_limit;
+pub mod stop;
 pub mod stepper;
 
 pub use crate::math::integrate;

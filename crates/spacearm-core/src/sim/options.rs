@@ -6,6 +6,7 @@ use crate::math::integrate::IntegratorKind;
 use crate::scenario::actuators::ThrusterLimits;
 use crate::scenario::modes::Mode;
 use crate::scenario::orbit::Orbit;
+use crate::sim::stop::StopCondition;
 
 /// Options of a simulation.
 #[derive(Debug, Clone, PartialEq)]
@@ -34,6 +35,11 @@ pub struct SimOptions {
     pub max_steps: usize,
     /// The orbit of the run ([`OrbitOptions`]); `None`: empty, inertial space.
     pub orbit: Option<OrbitOptions>,
+    /// Conditions that stop the run before its duration, the first to hold wins
+    /// ([`crate::sim::events`]; [`SimResult::stop`](crate::sim::result::SimResult::stop) says which and when); empty: none. Honoured
+    /// by [`simulate`](crate::sim::simulate::simulate) (both integrators); the entry points that stack equal-length runs or step
+    /// a plant refuse them ([`SimOptions::refuse_stop`]).
+    pub stop: Vec<StopCondition>,
 }
 
 /// A run in orbit (docs/orbit.md): the origin of 𝒥 is the orbit's point `O`, propagated on its
@@ -71,6 +77,7 @@ impl Default for SimOptions {
             joint_limits: true,
             max_steps: DEFAULT_MAX_STEPS,
             orbit: None,
+            stop: Vec::new(),
         }
     }
 }
@@ -100,6 +107,16 @@ impl SimOptions {
         if self.max_steps == 0 {
             return arg("max_steps must be >= 1".into());
         }
-        Ok(())
+        crate::sim::stop::validate(&self.stop)
+    }
+
+    /// Refuse stop conditions where `entry` (a run that is not [`simulate`](crate::sim::simulate::simulate)'s) cannot honour them.
+    pub fn refuse_stop(&self, entry: &str) -> Result<()> {
+        if self.stop.is_empty() {
+            return Ok(());
+        }
+        Err(SpacearmError::argument(format!(
+            "{entry} does not take stop conditions (a run that stops early has its own length): use simulate for a run with stop="
+        )))
     }
 }

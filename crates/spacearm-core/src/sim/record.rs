@@ -310,5 +310,6 @@ pub(crate) fn finish_result(plant: &Plant<'_>, rec: Recorder, events: Vec<Satura
         dropped_wrench_count: plant.dropped_count,
         wheel_dofs: plant.wheels.clone(),
         goal: plant.controller.goal_report(),
+        stop: None,
     }
 }

@@ -5,6 +5,7 @@
 use crate::control::TrackingKind;
 use crate::scenario::actuators::SaturationKind;
 use crate::scenario::modes::Conserved;
+use crate::sim::stop::StopEvent;
 
 /// A saturation onset.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -112,4 +113,16 @@ pub struct SimResult {
     pub dropped_wrench_count: usize,
     /// A point controller's report on its goal at the final sample ([`Controller::goal_report`](crate::control::Controller::goal_report)).
     pub goal: Option<crate::control::GoalReport>,
+    /// The stop condition that ended the run ([`SimOptions::stop`](crate::sim::options::SimOptions::stop)); `None`: it ran its duration.
+    pub stop: Option<StopEvent>,
+}
+
+impl SimResult {
+    /// Whether the point controller's goal was out of reach ([`crate::control::GoalReport::unreachable`]),
+    /// judged at the natural end of a run only: a run stopped by an event ended before its
+    /// goal's time, so its last distance says nothing about reach (`Some(false)`); `None`
+    /// without a point controller.
+    pub fn goal_unreachable(&self) -> Option<bool> {
+        self.goal.map(|g| self.stop.is_none() && g.unreachable())
+    }
 }

@@ -45,6 +45,7 @@ pub fn rollout(specs: Vec<RolloutSpec<'_>>, opts: &SimOptions, threads: Option<u
 /// gives `SimulationError("interrupted")` in its slot.
 pub fn rollout_cancellable(specs: Vec<RolloutSpec<'_>>, opts: &SimOptions, threads: Option<usize>, cancel: &AtomicBool) -> Result<Vec<Result<SimResult>>> {
     opts.validate()?;
+    opts.refuse_stop("rollout")?;
     // Admission of every rollout's records together (they are all held at the end), counting
     // each model's own values per sample (the controller's few extra columns aside).
     let values: f64 = specs.iter().map(|s| Recorder::values_per_sample(s.model, 0, 0, false, false) as f64).sum();

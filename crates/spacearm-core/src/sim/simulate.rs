@@ -21,7 +21,9 @@ use crate::algorithms::kinematics::{check_velocity, split_configuration};
 use crate::control::Controller;
 use crate::error::{Result, SpacearmError};
 use crate::model::Model;
-use crate::math::integrate::{Dopri5, IntegratorKind, OdeSystem, StepOutcome};
+use crate::math::integrate::{Dopri5, IntegratorKind, OdeSystem, Rk4, StepOutcome};
+use crate::sim::events::{locate_root, StopWatch};
+use crate::sim::stop::StopEvent;
 use crate::sim::record::{onsets, Recorder};
 use crate::sim::stepper::Rk4Stepper;
 
@@ -51,13 +53,30 @@ pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, contro
 
 /// Run a plant set up for `opts` from `(x0, u0)` (checked by the caller): admission of the
 /// records, then the RK4 or DOPRI5 loop.
+///
+/// Stop conditions ([`crate::sim::events`]): a time condition within the duration makes the run
+/// the run of that duration (its last step lands on it); gap conditions are watched at every
+/// step end and located within the step.
 pub(crate) fn run_plant(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, progress: Progress<'_>) -> Result<SimResult> {
+    let watch = StopWatch::new(&opts.stop, opts.duration, &plant)?;
+    let end = watch.end(opts.duration);
+    let cut;
+    let opts = if end < opts.duration {
+        cut = SimOptions { duration: end, ..opts.clone() };
+        &cut
+    } else {
+        opts
+    };
     let samples = sample_count(opts) as f64;
     admit_records(opts.integrator, samples, samples * Recorder::values_per_sample_of(&plant) as f64)?;
-    let result = match opts.integrator {
-        IntegratorKind::Rk4 => simulate_rk4(plant, x0, u0, opts, progress)?,
-        IntegratorKind::Dopri5 => simulate_dopri5(plant, x0, u0, opts, progress)?,
+    let gaps = watch.has_gaps().then_some(&watch);
+    let mut result = match opts.integrator {
+        IntegratorKind::Rk4 => simulate_rk4(plant, x0, u0, opts, gaps, progress)?,
+        IntegratorKind::Dopri5 => simulate_dopri5(plant, x0, u0, opts, gaps, progress)?,
     };
+    if result.stop.is_none() {
+        result.stop = watch.time.map(|(condition, t)| StopEvent { condition, t, value: t });
+    }
     check_divergence(&result)?;
     Ok(result)
 }
@@ -90,8 +109,10 @@ pub fn sample_count(opts: &SimOptions) -> usize {
 }
 
 /// The RK4 loop: steps at `t_i = i·dt` (computed by multiplication, not accumulation), the last
-/// one landing on the duration.
-fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, progress: Progress<'_>) -> Result<SimResult> {
+/// one landing on the duration. With gap conditions (`gaps`), `f` is evaluated at every step's
+/// end for their values, and the step in which one first holds is re-taken from its start with
+/// shorter steps to locate the event ([`crate::sim::events`]); the run ends there.
+fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, gaps: Option<&StopWatch>, progress: Progress<'_>) -> Result<SimResult> {
     let n_steps = rk4_step_count(opts);
     let mut stepper = Rk4Stepper::new(plant, x0, u0, Some((sample_count(opts), opts.record_every)))?;
     // A step longer than the fastest mode allows is refused before the first step.
@@ -99,21 +120,78 @@ fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, pro
     crate::sim::step_limit::check_rk4_step(stepper.plant_mut(), 0.0, &y0, opts.dt.min(opts.duration))?;
     let progress_every = opts.duration / 1000.0;
     let mut next_progress = 0.0;
+    // The event watch's workspaces: the state at the step's start, a stage, f, an RK4 for re-taking it.
+    let dim = y0.len();
+    let (mut y_prev, mut y_try, mut dy) = (y0.clone(), vec![0.0; dim], vec![0.0; dim]);
+    let mut rk = Rk4::new(dim);
+    let mut stop = None;
+    let mut g_prev = vec![0.0; opts.stop.len()];
+    if let Some(w) = gaps {
+        stepper.plant_mut().rhs(0.0, &y0, &mut dy)?;
+        if let Some((condition, _, gap)) = w.holding(stepper.plant_mut()) {
+            stop = Some(StopEvent { condition, t: 0.0, value: gap });
+        }
+        w.values_into(stepper.plant_mut(), &mut g_prev);
+    }
+    let mut t_prev = 0.0;
     for i in 0..n_steps {
+        if stop.is_some() {
+            break;
+        }
         let t_next = if i + 1 == n_steps { opts.duration } else { (i + 1) as f64 * opts.dt };
+        if gaps.is_some() {
+            y_prev.copy_from_slice(stepper.state());
+        }
         stepper.step_to(t_next)?;
+        if let Some(w) = gaps {
+            y_try.copy_from_slice(stepper.state());
+            let plant = stepper.plant_mut();
+            plant.rhs(t_next, &y_try, &mut dy)?;
+            let g_start = g_prev.clone();
+            w.values_into(plant, &mut g_prev);
+            let mut found: Option<(usize, f64, f64)> = None;
+            for condition in w.gap_conditions() {
+                if g_prev[condition] > 0.0 {
+                    continue;
+                }
+                // g(t_prev) > 0: no condition held at the previous step's end.
+                let mut g_at = |t: f64| -> Result<f64> {
+                    y_try.copy_from_slice(&y_prev);
+                    rk.step(&mut *plant, t_prev, t - t_prev, &mut y_try, false)?;
+                    plant.rhs(t, &y_try, &mut dy)?;
+                    Ok(w.value(plant, condition))
+                };
+                let (t_s, g_s) = locate_root(&mut g_at, (t_prev, g_start[condition]), (t_next, g_prev[condition]))?;
+                if found.is_none_or(|f| t_s < f.1) {
+                    found = Some((condition, t_s, g_s));
+                }
+            }
+            if let Some((condition, t_s, g_s)) = found {
+                // The state at the event: the step re-taken to it (or the step's own end).
+                if t_s < t_next {
+                    y_try.copy_from_slice(&y_prev);
+                    rk.step(&mut *plant, t_prev, t_s - t_prev, &mut y_try, false)?;
+                } else {
+                    y_try.copy_from_slice(stepper.state());
+                }
+                stepper.land(t_s, &y_try);
+                stop = Some(StopEvent { condition, t: t_s, value: g_s + w.tolerance(condition) });
+            }
+        }
         if t_next >= next_progress {
             progress(t_next / opts.duration)?;
             next_progress = t_next + progress_every;
         }
+        t_prev = t_next;
     }
-    let result = stepper.finish()?;
+    let mut result = stepper.finish()?;
+    result.stop = stop;
     progress(1.0)?;
     Ok(result)
 }
 
 /// The DOPRI5 run of one plant: [`dopri5_loop`] over the plant, its recorder recording.
-fn simulate_dopri5(mut plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, progress: Progress<'_>) -> Result<SimResult> {
+fn simulate_dopri5(mut plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, gaps: Option<&StopWatch>, progress: Progress<'_>) -> Result<SimResult> {
     let mut y: Vec<f64> = x0.iter().chain(u0).copied().collect();
     plant.project(&mut y);
     let mut rec = Recorder::for_plant(&plant, sample_count(opts));
@@ -123,9 +201,11 @@ fn simulate_dopri5(mut plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptio
         stiff_remedy: "the dynamics are too stiff or discontinuous there (a saturating actuator switching, a very high gain); loosen \
                        rtol/atol or use rk4",
     };
-    let run = dopri5_loop(&mut plant, &mut y, opts, &words, &mut *progress, &mut |p, t, y, dy| rec.record(p, t, y, dy))?;
+    let run = dopri5_loop(&mut plant, &mut y, opts, &words, gaps, &mut *progress, &mut |p, t, y, dy| rec.record(p, t, y, dy))?;
     progress(1.0)?;
-    Ok(finish_result(&plant, rec, run.events, run.n_steps, run.n_rejected))
+    let mut result = finish_result(&plant, rec, run.events, run.n_steps, run.n_rejected);
+    result.stop = run.stop;
+    Ok(result)
 }
 
 /// What [`dopri5_loop`] watches of a system besides its ODE: the actuator saturation flags of
@@ -138,6 +218,8 @@ pub(crate) trait StepWatch: OdeSystem {
     fn step_flags(&self) -> &[u8];
     /// Whether a stage value of the last step was not finite; clears the mark.
     fn take_nonfinite_stage(&mut self) -> bool;
+    /// The plant whose evaluation the stop conditions read ([`crate::sim::events`]).
+    fn watched_plant(&self) -> &Plant<'_>;
 }
 
 impl StepWatch for Plant<'_> {
@@ -152,6 +234,10 @@ impl StepWatch for Plant<'_> {
     fn take_nonfinite_stage(&mut self) -> bool {
         std::mem::take(&mut self.nonfinite_stage)
     }
+
+    fn watched_plant(&self) -> &Plant<'_> {
+        self
+    }
 }
 
 /// How a DOPRI5 run's errors name it: ``"DOPRI5 used its budget of … s{of_run}{budget_remedy}"``
@@ -162,11 +248,12 @@ pub(crate) struct DopriWords {
     pub stiff_remedy: &'static str,
 }
 
-/// The counters and saturation onsets of a DOPRI5 run.
+/// The counters, saturation onsets and stop event of a DOPRI5 run.
 pub(crate) struct DopriRun {
     pub n_steps: usize,
     pub n_rejected: usize,
     pub events: Vec<SaturationEvent>,
+    pub stop: Option<StopEvent>,
 }
 
 /// The one DOPRI5 loop (docs/simulation-core.md): adaptive steps over `sys` from `y` (projected
@@ -175,11 +262,17 @@ pub(crate) struct DopriRun {
 /// each handed to `record` with `f(t_k, y_k)` evaluated there; `y` ends at the duration. Used by
 /// [`simulate`] (one plant) and [`crate::sim::soft_capture`] (robot + target); the caller reports
 /// `progress(1.0)` when it has finished.
+///
+/// With gap conditions (`gaps`), their values are read at every accepted step's end from the
+/// last stage's evaluation (at the new point: first same as last) and at every sample's
+/// evaluation; at the first of these where one holds, the event is located on the dense output ([`crate::sim::events`]), the samples before
+/// it are recorded, the last sample is the event's and `y` ends there.
 pub(crate) fn dopri5_loop<S: StepWatch>(
     sys: &mut S,
     y: &mut [f64],
     opts: &SimOptions,
     words: &DopriWords,
+    gaps: Option<&StopWatch>,
     progress: Progress<'_>,
     record: &mut dyn FnMut(&S, f64, &[f64], &[f64]),
 ) -> Result<DopriRun> {
@@ -193,6 +286,15 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
     let mut dp = Dopri5::new(dim, opts.rtol, opts.atol);
     sys.rhs(0.0, y, &mut dy)?;
     record(sys, 0.0, y, &dy);
+    if let Some((condition, _, gap)) = gaps.and_then(|w| w.holding(sys.watched_plant())) {
+        return Ok(DopriRun { n_steps, n_rejected, events, stop: Some(StopEvent { condition, t: 0.0, value: gap }) });
+    }
+    let mut g_prev = vec![0.0; opts.stop.len()];
+    let (mut g_end, mut g_sample) = (g_prev.clone(), g_prev.clone());
+    if let Some(w) = gaps {
+        w.values_into(sys.watched_plant(), &mut g_prev);
+    }
+    let mut y_try = vec![0.0; dim];
     let n_out = rk4_step_count(opts);
     let mut k_out = 1;
     let out_time = |k: usize| if k == n_out { opts.duration } else { k as f64 * opts.dt };
@@ -223,6 +325,15 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
             n_steps += 1;
             onsets(t, &mut prev_flags, sys.step_flags(), &mut events);
             let t_new = if h == remaining { opts.duration } else { t + h };
+            // Stop conditions: their values at the step's end (the last stage evaluated f
+            // there), then at each sample in the step (evaluated for the record anyway) and
+            // the end, in time order; the first point where one holds brackets the event with
+            // the last point where none did.
+            let mut stop: Option<StopEvent> = None;
+            if let Some(w) = gaps {
+                w.values_into(sys.watched_plant(), &mut g_end);
+            }
+            let mut t_a = t;
             while k_out <= n_out && out_time(k_out) <= t_new {
                 let t_o = out_time(k_out);
                 if t_o == t_new {
@@ -232,6 +343,15 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
                     sys.project(&mut y_out);
                 }
                 sys.rhs(t_o, &y_out, &mut dy)?;
+                if let Some(w) = gaps {
+                    w.values_into(sys.watched_plant(), &mut g_sample);
+                    if w.any_holds(&g_sample) {
+                        stop = locate_on_dense_output(sys, &dp, w, (t_a, &g_prev), (t_o, &g_sample), &mut y_try, &mut dy)?;
+                        break;
+                    }
+                    t_a = t_o;
+                    g_prev.copy_from_slice(&g_sample);
+                }
                 record(sys, t_o, &y_out, &dy);
                 k_out += 1;
                 // A dense output grid can put many samples in one step: report (and let
@@ -240,6 +360,24 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
                     progress(t_o / opts.duration)?;
                     next_progress = t_o + progress_every;
                 }
+            }
+            if let (None, Some(w)) = (stop, gaps) {
+                if t_a < t_new && w.any_holds(&g_end) {
+                    stop = locate_on_dense_output(sys, &dp, w, (t_a, &g_prev), (t_new, &g_end), &mut y_try, &mut dy)?;
+                } else {
+                    g_prev.copy_from_slice(&g_end);
+                }
+            }
+            if let Some(s) = stop {
+                // The last sample: the state at the event.
+                if s.t < t_new {
+                    dp.dense_output(s.t, &mut y_try);
+                    sys.project(&mut y_try);
+                    y.copy_from_slice(&y_try);
+                }
+                sys.rhs(s.t, y, &mut dy)?;
+                record(sys, s.t, y, &dy);
+                return Ok(DopriRun { n_steps, n_rejected, events, stop });
             }
             t = t_new;
             if t >= next_progress {
@@ -254,7 +392,38 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
             return Err(SpacearmError::Simulation(format!("DOPRI5 step size fell to {h:e} s at t = {t} s{}: {}", words.of_run, words.stiff_remedy)));
         }
     }
-    Ok(DopriRun { n_steps, n_rejected, events })
+    Ok(DopriRun { n_steps, n_rejected, events, stop: None })
+}
+
+/// The earliest event of the gap conditions that hold at `b` (values `gb`), none holding at `a`
+/// (values `ga`): each located on the last step's dense output, projected
+/// ([`crate::sim::events`]).
+fn locate_on_dense_output<S: StepWatch>(
+    sys: &mut S,
+    dp: &Dopri5,
+    w: &StopWatch,
+    (a, ga): (f64, &[f64]),
+    (b, gb): (f64, &[f64]),
+    y_try: &mut [f64],
+    dy: &mut [f64],
+) -> Result<Option<StopEvent>> {
+    let mut stop: Option<StopEvent> = None;
+    for condition in w.gap_conditions() {
+        if gb[condition] > 0.0 {
+            continue;
+        }
+        let mut g_at = |tc: f64| -> Result<f64> {
+            dp.dense_output(tc, y_try);
+            sys.project(y_try);
+            sys.rhs(tc, y_try, dy)?;
+            Ok(w.value(sys.watched_plant(), condition))
+        };
+        let (t_s, g_s) = locate_root(&mut g_at, (a, ga[condition]), (b, gb[condition]))?;
+        if stop.is_none_or(|s| t_s < s.t) {
+            stop = Some(StopEvent { condition, t: t_s, value: g_s + w.tolerance(condition) });
+        }
+    }
+    Ok(stop)
 }
 
 /// The largest relative drift of a conserved quantity that a run may show and still be returned

@@ -164,6 +164,10 @@ impl StepWatch for SoftCapture<'_> {
     fn take_nonfinite_stage(&mut self) -> bool {
         self.robot.take_nonfinite_stage()
     }
+
+    fn watched_plant(&self) -> &Plant<'_> {
+        &self.robot
+    }
 }
 
 impl OdeSystem for SoftCapture<'_> {
@@ -293,6 +297,7 @@ pub fn soft_capture(
     progress: Progress<'_>,
 ) -> Result<SoftCaptureResult> {
     opts.validate()?;
+    opts.refuse_stop("soft_capture")?;
     if opts.mode != Mode::Floating {
         return Err(SpacearmError::argument(format!("the soft capture runs in floating mode (no base actuation), got mode '{}'", opts.mode.name())));
     }
@@ -376,7 +381,7 @@ pub fn soft_capture(
         }
         IntegratorKind::Dopri5 => {
             let words = DopriWords { of_run: " of the soft capture", budget_remedy: "", stiff_remedy: "lower the impedance's gains or use rk4" };
-            let run = dopri5_loop(&mut sys, &mut y, opts, &words, &mut *progress, &mut |sys, t, y, dy| recs.record(sys, t, y, dy))?;
+            let run = dopri5_loop(&mut sys, &mut y, opts, &words, None, &mut *progress, &mut |sys, t, y, dy| recs.record(sys, t, y, dy))?;
             (n_steps, n_rejected, events) = (run.n_steps, run.n_rejected, run.events);
         }
     }

@@ -97,6 +97,13 @@ impl<'a> Rk4Stepper<'a> {
         Ok(())
     }
 
+    /// Put the stepper at `(t, y)` within its last step (an event located there,
+    /// [`crate::sim::events`]): the run's final sample is then taken there.
+    pub(crate) fn land(&mut self, t: f64, y: &[f64]) {
+        self.t = t;
+        self.y.copy_from_slice(y);
+    }
+
     /// The current time, s.
     pub fn time(&self) -> f64 {
         self.t
