@@ -11,9 +11,11 @@
 //! angular velocity, both in 𝒥; generalized force `f = [F0, N0, τ]`; spatial vectors linear
 //! first. EOM: `H(x) u̇ + c(x, u) = f + Jᵀ w_ext`.
 //!
-//! Layout (docs/architecture.md), each folder importing only from those before it:
+//! Layout (docs/architecture.md, "The core's layers"), each folder importing only from its own
+//! files and those before it (with [`error`] and [`admission`] below all; checked by
+//! tests/test_core_module_graph.py):
 //!
-//! * [`math`] — spatial vectors, rotations and quaternions, the scalar type;
+//! * [`math`] — spatial vectors, rotations and quaternions, the scalar type, the time integrators;
 //! * [`model`] — [`Model`] (constant, validated, built only by [`ModelBuilder`]) and [`Data`]
 //!   (workspace), as in Pinocchio; mass properties, joints, presets;
 //! * [`io`] — TOML model files and Denavit–Hartenberg tables, both through the builder;
@@ -23,8 +25,12 @@
 //!   their exact derivatives;
 //! * [`taped`] — the same algorithms recorded on tapes ([`math::tape`]) for replay on other
 //!   systems' symbols (the CasADi functions of `spacearm.casadi`);
-//! * [`sim`], [`control`], [`analysis`] — the simulation loop, the controllers, and the
-//!   singularity, workspace and redundancy analyses.
+//! * [`scenario`] — what a run is set in: maneuvering modes, actuator limits, references, the
+//!   orbit and free bodies;
+//! * [`analysis`] — the singularity, workspace and redundancy analyses, the resolved-motion-rate
+//!   solver;
+//! * [`control`] — the controllers and their interface;
+//! * [`sim`] — the simulation loop, which runs the controllers.
 
 #![deny(missing_docs)]
 
@@ -38,6 +44,7 @@ pub mod gjm;
 pub mod io;
 pub mod math;
 pub mod model;
+pub mod scenario;
 pub mod sim;
 pub mod taped;
 

@@ -10,7 +10,8 @@
 
 use spacearm_core::error::{ModelError, ModelField, ModelItem};
 use spacearm_core::model::body::MassProperties;
-use spacearm_core::model::validate::{self, MAX_LENGTH, MIN_AXIS_COMPONENT};
+use spacearm_core::model::validate::{MAX_LENGTH, MIN_AXIS_COMPONENT};
+use spacearm_core::model::structure;
 use spacearm_core::model::{Link, Point};
 use spacearm_core::{JointLimits, JointType, LinkSpec, Model, ModelBuilder, SpacearmError};
 
@@ -309,17 +310,17 @@ fn parts() -> (MassProperties, Vec<Link>, Vec<Point>, Vec<f64>) {
 #[test]
 fn links_must_come_after_their_parents() {
     let (base, mut links, points, q) = parts();
-    assert!(validate::check_structure(&base, &links, &points, Some(0), &q).is_ok());
+    assert!(structure::check_structure(&base, &links, &points, Some(0), &q).is_ok());
     // Link 1 ('b') naming itself (body 2) or a later link (body 3) as its parent.
     for parent in [2, 3] {
         links[1].parent = parent;
-        let e = validate::check_structure(&base, &links, &points, Some(0), &q).unwrap_err();
+        let e = structure::check_structure(&base, &links, &points, Some(0), &q).unwrap_err();
         refused(e, ModelItem::Link(1), ModelField::Parent, &["link 'b'", &format!("parent index {parent}"), "(1..=1)"]);
     }
     // The nearest valid: the link before it, or the base.
     for parent in [0, 1] {
         links[1].parent = parent;
-        assert!(validate::check_structure(&base, &links, &points, Some(0), &q).is_ok());
+        assert!(structure::check_structure(&base, &links, &points, Some(0), &q).is_ok());
     }
     // Through the builder: a parent not (yet) defined.
     let mut b = builder();
@@ -400,10 +401,10 @@ impl TapParent for LinkSpec {
 fn points_must_name_existing_bodies() {
     let (base, links, mut points, q) = parts();
     points[1].body = links.len() + 1;
-    let e = validate::check_structure(&base, &links, &points, Some(0), &q).unwrap_err();
+    let e = structure::check_structure(&base, &links, &points, Some(0), &q).unwrap_err();
     refused(e, ModelItem::Point(1), ModelField::Body, &["point 'dock'", "body index 4 does not exist", "0..=3"]);
     points[1].body = links.len();
-    assert!(validate::check_structure(&base, &links, &points, Some(0), &q).is_ok());
+    assert!(structure::check_structure(&base, &links, &points, Some(0), &q).is_ok());
     // Through the builder: a body name not defined.
     let mut b = builder();
     let e = b.add_point("tip", "arm", [0.0; 3]).unwrap_err();
@@ -414,10 +415,10 @@ fn points_must_name_existing_bodies() {
 #[test]
 fn the_end_effector_must_name_a_point() {
     let (base, links, points, q) = parts();
-    let e = validate::check_structure(&base, &links, &points, Some(2), &q).unwrap_err();
+    let e = structure::check_structure(&base, &links, &points, Some(2), &q).unwrap_err();
     refused(e, ModelItem::Model, ModelField::EndEffector, &["end effector index 2 does not name a point"]);
-    assert!(validate::check_structure(&base, &links, &points, Some(1), &q).is_ok());
-    assert!(validate::check_structure(&base, &links, &points, None, &q).is_ok());
+    assert!(structure::check_structure(&base, &links, &points, Some(1), &q).is_ok());
+    assert!(structure::check_structure(&base, &links, &points, None, &q).is_ok());
     // Through the builder: by name.
     let mut b = builder();
     b.add_link(link("arm", "bus")).unwrap();
@@ -431,7 +432,7 @@ fn the_end_effector_must_name_a_point() {
 #[test]
 fn initial_q_must_have_one_finite_bounded_entry_per_moving_joint() {
     let (base, links, points, _) = parts();
-    let check = |q: &[f64]| validate::check_structure(&base, &links, &points, Some(0), q);
+    let check = |q: &[f64]| structure::check_structure(&base, &links, &points, Some(0), q);
     for q in [vec![], vec![0.0], vec![0.0; 3]] {
         refused(check(&q).unwrap_err(), ModelItem::Model, ModelField::InitialQ, &["initial_q must have N = 2 entries", &format!("got {}", q.len())]);
     }

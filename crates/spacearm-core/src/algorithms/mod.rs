@@ -6,7 +6,7 @@
 //! dynamics through `H` ([`dynamics`]), momentum and energy ([`momentum`]), the joints' springs and dampers ([`passive`]) and external
 //! wrenches ([`wrench`]).
 //!
-//! Imports: [`crate::math`], [`crate::model`] and [`crate::error`].
+//! Imports: [`crate::math`], [`crate::model`], [`crate::error`] and [`crate::admission`].
 
 pub mod aba;
 pub mod constrained;

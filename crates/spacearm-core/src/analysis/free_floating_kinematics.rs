@@ -22,7 +22,7 @@ use crate::gjm::base_velocity_from_momentum;
 use crate::algorithms::kinematics::split_configuration;
 use crate::math::rotations::{normalize_xyzw, quaternion_from_xyzw, quaternion_rate};
 use crate::model::Model;
-use crate::sim::integrate::{OdeSystem, Rk4};
+use crate::math::integrate::{OdeSystem, Rk4};
 
 /// Conserved momenta of the free-floating system: linear momentum `P` and angular momentum
 /// about the origin of 𝒥. `Default` is zero momentum (a system that starts at rest).

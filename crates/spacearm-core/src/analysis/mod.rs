@@ -14,8 +14,8 @@
 //! workspace from its own input only, so the results do not depend on the number of threads.
 //!
 //! Imports: everything below it (`math`, `model`, `algorithms`, `gjm`), the RK4 integrator
-//! of [`crate::sim::integrate`] and the point references of [`crate::sim::reference`] (its
-//! peer); nothing from `control` (which imports [`rmrc_solver`] and [`Task`] from here).
+//! of [`crate::math::integrate`] and the point references of [`crate::scenario::reference`]
+//! (below it); nothing from `control` (which imports [`rmrc_solver`] and [`Task`] from here).
 
 pub mod free_floating_kinematics;
 pub mod passive_modes;

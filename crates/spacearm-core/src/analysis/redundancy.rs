@@ -8,7 +8,7 @@
 //!
 //! [`move_to`] commands the twist `v_d = [ṗ_d + K (p_d − p); K e_R]` of
 //! [`super::rmrc_solver::desired_twist`]: `p_d(t)` a straight line from the start to the target
-//! with the quintic timing of [`crate::sim::reference::quintic_scaling`] (a
+//! with the quintic timing of [`crate::scenario::reference::quintic_scaling`] (a
 //! [`CartesianLine`]), `e_R` the rotation vector of `R_d Rᵀ`, `R_d` the point's initial
 //! orientation (used by angular task rows). The closed loop is integrated with the
 //! free-floating kinematics of [`super::free_floating_kinematics`] (zero momentum).
@@ -22,7 +22,7 @@ use crate::algorithms::kinematics::{check_body, forward_kinematics, point_positi
 use crate::error::{Result, SpacearmError};
 use crate::model::data::Data;
 use crate::model::Model;
-use crate::sim::reference::CartesianLine;
+use crate::scenario::reference::CartesianLine;
 
 /// The joint rates of one controller evaluation and what the detector saw.
 #[derive(Debug, Clone)]

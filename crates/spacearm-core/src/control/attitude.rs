@@ -21,8 +21,8 @@ use crate::error::{Result, SpacearmError};
 use crate::algorithms::kinematics::forward_kinematics;
 use crate::math::rotations::quaternion_from_xyzw;
 use crate::model::Model;
-use crate::sim::modes::Mode;
-use crate::sim::orbit::{lvlh_rate, lvlh_to_eci, Orbit, OrbitTrack};
+use crate::scenario::modes::Mode;
+use crate::scenario::orbit::{lvlh_rate, lvlh_to_eci, Orbit, OrbitTrack};
 use nalgebra::Rotation3;
 
 /// An attitude reference that turns with the LVLH frame of an orbit (module docs).

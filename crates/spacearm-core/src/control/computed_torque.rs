@@ -29,10 +29,10 @@ use crate::gjm::{compute_generalized_bias, compute_generalized_inertia};
 use crate::algorithms::inertia::BaseInverse;
 use crate::algorithms::passive::subtract_joint_passive_forces;
 use crate::model::Model;
-use crate::sim::modes::Mode;
-use crate::sim::reference::JointReference;
+use crate::scenario::modes::Mode;
+use crate::scenario::reference::JointReference;
 
-use super::pd::check_len;
+use super::controller::{check_len, split_passive};
 use super::{broadcast_gains, cholesky_solve_in_place, Command, ControlContext, Controller, TrackingKind};
 
 /// How a model-based arm controller treats the passive joints (no motor) of the plant.
@@ -67,13 +67,6 @@ impl PassiveTreatment {
             PassiveTreatment::Frozen => "frozen",
         }
     }
-}
-
-/// The arm dofs of `ctx` split into the actuated ones and the passive ones (the plant's
-/// `actuated` flags), each ascending.
-pub fn split_passive(ctx: &ControlContext<'_>) -> (Vec<usize>, Vec<usize>) {
-    let dynamics = ctx.plant.dof_dynamics();
-    ctx.arm_dofs.iter().partition(|&&d| dynamics[d].actuated)
 }
 
 /// Joint torques from the reduced EOM of a (controller's) model for desired accelerations of
@@ -323,7 +316,7 @@ mod tests {
     use crate::model::builder::{LinkSpec, ModelBuilder};
     use crate::model::joint::{JointDynamics, JointType};
     use crate::model::slosh::{SloshModel, SloshRestoring, SloshSpec};
-    use crate::sim::actuators::Actuators;
+    use crate::scenario::actuators::Actuators;
 
     /// Two actuated links on a base carrying a slosh pendulum and a hinged panel (passive, with
     /// a torsional spring), the passive joints between and after the actuated ones.

@@ -36,13 +36,14 @@ use crate::error::{Result, SpacearmError};
 use crate::model::joint::JointType;
 use crate::algorithms::kinematics::{check_body, forward_kinematics, point_position};
 use crate::model::Model;
-use crate::sim::modes::Mode;
-use crate::sim::reference::CartesianLine;
+use crate::scenario::modes::Mode;
+use crate::scenario::reference::CartesianLine;
 use crate::algorithms::rnea::rnea_after_kinematics;
 use crate::math::spatial::{angular, linear};
 
 use super::attitude::AttitudeControl;
-use super::computed_torque::{split_passive, ReducedInverseDynamics};
+use super::computed_torque::ReducedInverseDynamics;
+use super::controller::split_passive;
 use crate::algorithms::passive::add_joint_passive_forces;
 use crate::math::dls::{DampingLaw, RowSvd};
 use super::{cholesky_solve_in_place, positive, Command, ControlContext, Controller, TrackingKind};
@@ -451,7 +452,7 @@ pub(crate) mod tests {
     #[test]
     fn passive_plant_gets_the_desired_base_and_point_accelerations_with_zero_passive_torque() {
         use crate::algorithms::dynamics::forward_dynamics_via_mass_matrix;
-        use crate::sim::actuators::Actuators;
+        use crate::scenario::actuators::Actuators;
         let m = flexible_spatial3();
         let dyn_ = m.dof_dynamics();
         let passive: Vec<usize> = (0..m.n_dof()).filter(|&d| !dyn_[d].actuated).collect();

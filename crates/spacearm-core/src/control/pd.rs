@@ -4,10 +4,10 @@
 //! joint; docs/flexibility.md) get exactly zero torque and no reference — their coordinates are
 //! drift the law does not see, and the tracking error is over the actuated joints.
 
-use crate::error::{Result, SpacearmError};
-use crate::sim::reference::JointReference;
+use crate::error::Result;
+use crate::scenario::reference::JointReference;
 
-use super::computed_torque::split_passive;
+use super::controller::{check_len, split_passive};
 use super::{broadcast_gains, Command, ControlContext, Controller, TrackingKind};
 
 /// Joint PD with a constant or quintic reference.
@@ -31,24 +31,6 @@ impl JointPd {
     pub fn new(kp: Vec<f64>, kd: Vec<f64>, reference: JointReference) -> Self {
         JointPd { kp_given: kp, kd_given: kd, reference, kp: vec![], kd: vec![], arm: vec![], passive: vec![], q_ref: vec![], qd_ref: vec![], qdd_ref: vec![] }
     }
-}
-
-/// Check that a joint reference has `n_arm` entries: the arm joints less `n_passive` passive
-/// ones (which no arm controller commands).
-pub(crate) fn check_len(reference: &JointReference, n_arm: usize, n_passive: usize, ctx: &ControlContext<'_>) -> Result<()> {
-    if reference.len() != n_arm {
-        let mut less = vec![];
-        if !ctx.wheel_dofs.is_empty() {
-            less.push(format!("{} reaction wheels", ctx.wheel_dofs.len()));
-        }
-        if n_passive > 0 {
-            less.push(format!("{n_passive} passive joints"));
-        }
-        let note = if less.is_empty() { String::new() } else { format!(" (N = {} minus {})", ctx.plant.n_dof(), less.join(" and ")) };
-        let what = if n_passive > 0 { "actuated arm joints" } else { "arm joints" };
-        return Err(SpacearmError::Dimension { what: "the joint reference".into(), expected: format!("the number of {what} {n_arm}{note}"), got: reference.len() });
-    }
-    Ok(())
 }
 
 impl Controller for JointPd {
@@ -100,8 +82,8 @@ impl Controller for JointPd {
 mod tests {
     use super::*;
     use crate::control::coordinated::tests::flexible_spatial3;
-    use crate::sim::actuators::Actuators;
-    use crate::sim::modes::Mode;
+    use crate::scenario::actuators::Actuators;
+    use crate::scenario::modes::Mode;
 
     #[test]
     fn passive_joints_get_no_reference_no_torque_and_no_error() {

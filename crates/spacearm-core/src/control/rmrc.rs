@@ -36,9 +36,10 @@ use crate::error::{Result, SpacearmError};
 use crate::math::dls::DampingLaw;
 use crate::model::data::Data;
 use crate::model::Model;
-use crate::sim::reference::PointReference;
+use crate::scenario::reference::PointReference;
 
-use super::computed_torque::{split_passive, ReducedInverseDynamics};
+use super::computed_torque::ReducedInverseDynamics;
+use super::controller::split_passive;
 use super::{positive, Command, ControlContext, Controller, TrackingKind};
 
 /// Resolved-motion-rate control of a point along a [`PointReference`].
@@ -216,7 +217,7 @@ impl Controller for ResolvedMotionRate {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::reference::CartesianLine;
+    use crate::scenario::reference::CartesianLine;
 
     #[test]
     fn damping_rises_as_the_smallest_singular_value_falls() {
@@ -233,8 +234,8 @@ mod tests {
     fn the_command_is_the_analysis_rmrc_rates() {
         use crate::analysis::redundancy::rmrc_rates;
         use crate::model::presets;
-        use crate::sim::actuators::Actuators;
-        use crate::sim::modes::Mode;
+        use crate::scenario::actuators::Actuators;
+        use crate::scenario::modes::Mode;
         let m = presets::spatial7();
         let x = presets::initial_configuration(&m);
         let u = vec![0.0; m.nu()];

@@ -18,7 +18,7 @@
 //! zero at the design mode for both shapers, and for ZVD also its derivative in `ω`.
 
 use crate::error::{Result, SpacearmError};
-use crate::sim::reference::JointReference;
+use crate::scenario::reference::JointReference;
 
 /// Which shaper.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -41,10 +41,10 @@ use crate::analysis::Task;
 use crate::error::{Result, SpacearmError};
 use crate::math::rotations::QUATERNION_TOLERANCE;
 use crate::model::{Data, Model};
-use crate::sim::actuators::ThrusterLimits;
-use crate::sim::free_body::FreeBody;
-use crate::sim::orbit::Orbit;
-use crate::sim::reference::{CartesianLine, JointReference, PointReference};
+use crate::scenario::actuators::ThrusterLimits;
+use crate::scenario::free_body::FreeBody;
+use crate::scenario::orbit::Orbit;
+use crate::scenario::reference::{CartesianLine, JointReference, PointReference};
 
 fn bad(msg: impl Into<String>) -> SpacearmError {
     SpacearmError::argument(msg.into())

@@ -14,7 +14,7 @@
 use nalgebra::{DMatrix, DMatrixView};
 
 use super::rnea_partials::fill_rnea_partials;
-use super::{lanes, pose_and_velocity, seed_chunk, seed_chunk_from_kinematics, DerivativeData, Pose, CHUNK};
+use super::dual::{lanes, pose_and_velocity, seed_chunk, seed_chunk_from_kinematics, DerivativeData, Pose, CHUNK};
 use crate::algorithms::kinematics::forward_kinematics;
 use crate::algorithms::wrench::ExternalWrench;
 use super::dense::{neg_product, spd_inverse};
@@ -150,7 +150,7 @@ fn fill_id_partials(model: &Model, work: &mut DerivativeData, pose: &Pose, u: &[
         }
         DerivativeMethod::DualNumbers => {
             for (k, v) in work.chunk.du.iter_mut().enumerate() {
-                *v = super::DualChunk::from_re(work.du_scratch[k]);
+                *v = super::dual::DualChunk::from_re(work.du_scratch[k]);
             }
             for (c, chunk) in work.dynamics_dirs.chunks(CHUNK).enumerate() {
                 if external.is_empty() {

@@ -4,7 +4,7 @@
 
 use nalgebra::{DMatrix, Vector3};
 
-use super::{lanes, pose_and_velocity, seed_along_velocity, seed_chunk, seed_chunk_from_kinematics, DerivativeData, Pose, CHUNK};
+use super::dual::{lanes, pose_and_velocity, seed_along_velocity, seed_chunk, seed_chunk_from_kinematics, DerivativeData, Pose, CHUNK};
 use crate::error::Result;
 use crate::gjm::{fill_generalized_inertia, generalized_jacobian_after_reduction, reduce_after_kinematics, reduction_columns};
 use crate::algorithms::kinematics::{check_body, forward_kinematics};

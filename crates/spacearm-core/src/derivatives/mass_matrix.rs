@@ -3,7 +3,7 @@
 
 use nalgebra::DMatrix;
 
-use super::{lanes, pose_and_velocity, seed_along_velocity, seed_chunk_from_kinematics, DerivativeData, Pose, CHUNK};
+use super::dual::{lanes, pose_and_velocity, seed_along_velocity, seed_chunk_from_kinematics, DerivativeData, Pose, CHUNK};
 use crate::algorithms::crba::crba_after_kinematics;
 use crate::error::Result;
 use crate::algorithms::kinematics::forward_kinematics;

@@ -9,59 +9,13 @@ use nalgebra::Matrix3;
 use crate::error::{ModelError, ModelField, ModelItem};
 use crate::model::body::{MassProperties, TriangleInequality};
 use crate::model::geometry::{self, Geometry, GeometryRole, GeometrySpec, DEFAULT_RGBA};
-use crate::model::joint::{JointDynamics, JointLimits, JointType};
-use crate::model::system::{Link, Model, Point};
+use crate::model::joint::JointDynamics;
+use crate::model::link::{Link, Point};
+use crate::model::system::Model;
 use crate::model::validate;
 
-/// Everything that describes one link to [`ModelBuilder::add_link`].
-#[derive(Debug, Clone)]
-pub struct LinkSpec {
-    /// Unique link (body) name.
-    pub name: String,
-    /// Name of the parent body (the base or a link added before).
-    pub parent: String,
-    /// Unique joint name (default `<name>_joint`).
-    pub joint_name: Option<String>,
-    /// Revolute, prismatic or fixed.
-    pub kind: JointType,
-    /// Joint position in the parent frame (from the parent's CM), m.
-    pub origin_in_parent: [f64; 3],
-    /// Quaternion `[x, y, z, w]` of the child frame in the parent frame at `q = 0`.
-    pub rotation_in_parent: [f64; 4],
-    /// Joint axis in the link frame (normalized by the builder).
-    pub axis: [f64; 3],
-    /// Link CM from the joint, in the link frame (at `q = 0` for a prismatic joint), m.
-    pub com_from_joint: [f64; 3],
-    /// Mass, kg.
-    pub mass: f64,
-    /// Inertia about the CM in the link frame, row-major 3×3, kg·m².
-    pub inertia: [[f64; 3]; 3],
-    /// Position, velocity and effort limits.
-    pub limits: JointLimits,
-}
-
-impl LinkSpec {
-    /// A link with a principal-axes inertia `principal` (kg·m², diagonal in the link frame), the
-    /// link frame parallel to the parent's at `q = 0`, no limits and the default joint name:
-    /// the common case, written once (the fields are public for everything else).
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(name: &str, parent: &str, kind: JointType, origin_in_parent: [f64; 3], axis: [f64; 3], com_from_joint: [f64; 3],
-               mass: f64, principal: [f64; 3]) -> Self {
-        LinkSpec {
-            name: name.into(),
-            parent: parent.into(),
-            joint_name: None,
-            kind,
-            origin_in_parent,
-            rotation_in_parent: [0.0, 0.0, 0.0, 1.0],
-            axis,
-            com_from_joint,
-            mass,
-            inertia: [[principal[0], 0.0, 0.0], [0.0, principal[1], 0.0], [0.0, 0.0, principal[2]]],
-            limits: JointLimits::unlimited(),
-        }
-    }
-}
+/// At its former path too (`model::builder::LinkSpec`).
+pub use crate::model::link::LinkSpec;
 
 /// Incremental builder for [`Model`]. Names are resolved when a link or point is added, each
 /// link's own fields are checked then, and the rules that need the whole model when
@@ -330,6 +284,7 @@ impl ModelBuilder {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::joint::{JointLimits, JointType};
     use crate::io::dh::{ClassicDhLink, DhArm, DhTable};
     use crate::io::toml::model_from_toml_str;
     use crate::SpacearmError;

@@ -6,8 +6,8 @@
 //! paper's case-study models ([`presets`]) and the slosh models built from passive joints ([`slosh`]) and the panels, beams and compliant
 //! joints built from them ([`appendage`]).
 //!
-//! Imports: [`crate::math`] and [`crate::error`] only (the presets use the builder of this
-//! folder).
+//! Imports: [`crate::math`], [`crate::error`] and [`crate::admission`] only (the presets use the
+//! builder of this folder).
 
 pub mod appendage;
 pub mod body;
@@ -16,16 +16,19 @@ pub mod data;
 pub mod edit;
 pub mod geometry;
 pub mod joint;
+pub mod link;
 pub mod presets;
 pub mod slosh;
 pub mod slosh_sphere;
 pub mod slosh_tank;
+pub mod structure;
 pub mod system;
 pub mod validate;
 
 pub use body::TriangleInequality;
-pub use builder::{LinkSpec, ModelBuilder};
+pub use builder::ModelBuilder;
 pub use data::{Data, DataT};
 pub use edit::Mount;
 pub use geometry::{Geometry, GeometryRole, GeometrySpec, Shape};
-pub use system::{Link, Model, Point};
+pub use link::{Link, LinkSpec, Point};
+pub use system::Model;

@@ -8,65 +8,14 @@
 //! `1..=n_links` (the links, each listed after its parent). Degrees of freedom are numbered in
 //! link order over the non-fixed joints, so `q` has `N = n_dof` entries.
 
-use nalgebra::{UnitQuaternion, UnitVector3, Vector3};
 
 use crate::error::{ModelError, Result, SpacearmError};
 use crate::model::body::{MassProperties, TriangleInequality};
-use crate::model::builder::LinkSpec;
 use crate::model::geometry::Geometry;
-use crate::model::joint::{Joint, JointDynamics, JointType};
-use crate::model::validate::check_structure;
-
-/// A link: a rigid body attached to its parent body through one joint.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Link {
-    /// Unique link name.
-    pub name: String,
-    /// Parent body index: 0 for the base, `k` for `links[k - 1]`.
-    pub parent: usize,
-    /// The joint connecting this link to its parent.
-    pub joint: Joint,
-    /// Position of the link CM relative to the joint, in the link frame (at `q = 0` for a
-    /// prismatic joint), m.
-    pub com_from_joint: Vector3<f64>,
-    /// Mass and inertia about the CM, in the link frame.
-    pub mass: MassProperties,
-}
-
-impl Link {
-    /// Assemble a link from its description once the parent index, the normalized rotation and
-    /// axis and the validated mass properties are known (by the builder). The joint name
-    /// defaults to `<link>_joint`.
-    pub(crate) fn from_spec(spec: LinkSpec, parent: usize, rotation: UnitQuaternion<f64>, axis: UnitVector3<f64>, mass: MassProperties) -> Link {
-        let joint_name = spec.joint_name.clone().unwrap_or_else(|| format!("{}_joint", spec.name));
-        Link {
-            name: spec.name,
-            parent,
-            joint: Joint {
-                name: joint_name,
-                kind: spec.kind,
-                origin_in_parent: Vector3::from(spec.origin_in_parent),
-                rotation_in_parent: rotation,
-                axis,
-                limits: spec.limits,
-                dynamics: JointDynamics::default(),
-            },
-            com_from_joint: Vector3::from(spec.com_from_joint),
-            mass,
-        }
-    }
-}
-
-/// A named point fixed to a body (an end effector, a grasp point, a sensor).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Point {
-    /// Unique point name.
-    pub name: String,
-    /// Body index the point is fixed to (0 = base).
-    pub body: usize,
-    /// Position in that body's frame (from its CM), m.
-    pub offset: Vector3<f64>,
-}
+use crate::model::joint::{JointDynamics, JointType};
+/// At their former path too (`model::system::Link`, ...).
+pub use crate::model::link::{Link, Point};
+use crate::model::structure::check_structure;
 
 /// Spacecraft-manipulator model: base + tree of links + named points. Made by
 /// [`crate::model::ModelBuilder`]; read through its accessors.

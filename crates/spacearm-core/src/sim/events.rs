@@ -30,75 +30,15 @@
 //! interval `dt` bounds their spacing for DOPRI5, the step for RK4).
 
 use nalgebra::Vector3;
-use serde::{Deserialize, Serialize};
 
 use crate::algorithms::kinematics::{check_body, point_position};
 use crate::control::spec::PointSpec;
 use crate::control::TrackingKind;
 use crate::error::{Result, SpacearmError};
-use crate::sim::simulate::Plant;
+use crate::sim::plant::Plant;
 
-/// A condition that stops a run when it holds (module docs).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-pub enum StopCondition {
-    /// Stop at time `t`, s (> 0): the run ends there if `t` is within its duration.
-    Time {
-        /// The time, s.
-        t: f64,
-    },
-    /// Stop when the robot's `point` comes within `tolerance` of the controller's point
-    /// reference: `|p_ref − p| ≤ tolerance`.
-    Gap {
-        /// The robot point: a point or body name, or `[body, offset]` (offset from the body's CM
-        /// in its frame, m); absent: the end effector. Resolved on the plant when the run starts.
-        #[serde(default)]
-        point: Option<PointSpec>,
-        /// The distance at which the run stops, m (> 0).
-        tolerance: f64,
-    },
-}
-
-impl StopCondition {
-    /// The condition's kind: `"time"` or `"gap"`.
-    pub fn kind(&self) -> &'static str {
-        match self {
-            StopCondition::Time { .. } => "time",
-            StopCondition::Gap { .. } => "gap",
-        }
-    }
-}
-
-/// The event that stopped a run.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct StopEvent {
-    /// Index of the condition in [`SimOptions::stop`](crate::sim::simulate::SimOptions::stop).
-    pub condition: usize,
-    /// The time at which it held (the run's last sample), s.
-    pub t: f64,
-    /// The condition's quantity there: the time for a time condition, the gap (m, at most the
-    /// tolerance) for a gap condition.
-    pub value: f64,
-}
-
-/// Check the conditions' values (those that need no plant).
-pub fn validate(stop: &[StopCondition]) -> Result<()> {
-    for (i, c) in stop.iter().enumerate() {
-        match c {
-            StopCondition::Time { t } => {
-                if !(t.is_finite() && *t > 0.0) {
-                    return Err(SpacearmError::argument(format!("stop condition {i} (time): t must be finite and > 0 s, got {t}")));
-                }
-            }
-            StopCondition::Gap { tolerance, .. } => {
-                if !(tolerance.is_finite() && *tolerance > 0.0) {
-                    return Err(SpacearmError::argument(format!("stop condition {i} (gap): tolerance must be finite and > 0 m, got {tolerance}")));
-                }
-            }
-        }
-    }
-    Ok(())
-}
+/// The conditions as data, in their own file (`sim/stop.rs`), at their former paths too.
+pub use crate::sim::stop::{validate, StopCondition, StopEvent};
 
 /// The watch over a run's conditions: the earliest time condition (the run's end if within its
 /// duration) and the gap conditions with their last values.
@@ -266,7 +206,7 @@ mod tests {
 
     #[test]
     fn conditions_round_trip_through_serde() {
-        #[derive(Debug, PartialEq, Serialize, Deserialize)]
+        #[derive(Debug, PartialEq, serde::Serialize, serde::Deserialize)]
         struct Run {
             stop: Vec<StopCondition>,
         }

@@ -1,26 +1,28 @@
-//! The native simulation loop: time integrators on the quaternion manifold ([`integrate`]),
-//! maneuvering modes ([`modes`]), actuator limits ([`actuators`]), reference trajectories
-//! ([`reference`]), the loop ([`simulate`]) with its records ([`record`]), the same loop one
+//! The native simulation loop: the loop ([`simulate`]) with its records ([`record`]), the same loop one
 //! RK4 step at a time ([`stepper`]), many steppers one step each in one call ([`batch_stepper`]), the longest RK4 step the fastest mode allows ([`step_limit`]), many runs on threads ([`rollout`]) and the soft capture of a
 //! free target by a wrist impedance ([`soft_capture`]) and closed chains under a loop closure
-//! ([`closed_chain`]); the conditions that stop a run early ([`events`]);
+//! ([`closed_chain`]); the conditions that stop a run early ([`stop`], watched by [`events`]);
 //! docs/simulation-core.md.
 //!
-//! Imports: everything below it (`math`, `model`, `algorithms`, `gjm`) and the controllers of
-//! [`crate::control`], which in turn use [`modes`], [`actuators`] and [`reference`].
+//! Imports: everything below it (`math` with its time integrators, `model`, `algorithms`, `gjm`,
+//! `derivatives`, the run's setting in [`crate::scenario`]) and the controllers of
+//! [`crate::control`]. The modules re-exported here keep their former paths
+//! (`sim::modes`, `sim::integrate`, ...) working for the bindings.
 
-pub mod actuators;
 pub mod batch_stepper;
 pub mod closed_chain;
+pub(crate) mod closure;
 pub mod events;
-pub mod free_body;
-pub mod integrate;
-pub mod modes;
-pub mod orbit;
+pub mod options;
+pub mod plant;
 pub mod record;
-pub mod reference;
+pub mod result;
 pub mod rollout;
 pub mod simulate;
 pub mod soft_capture;
 pub mod step_limit;
+pub mod stop;
 pub mod stepper;
+
+pub use crate::math::integrate;
+pub use crate::scenario::{actuators, free_body, modes, orbit, reference};

@@ -9,9 +9,13 @@ use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use crate::algorithms::kinematics::point_position;
 use crate::algorithms::momentum::{center_of_mass_from_data, conserved_drift, momentum_from_data, momentum_scales_from_data, MomentumScales};
 use crate::model::Model;
-use crate::sim::actuators::SaturationKind;
-use crate::sim::modes::Conserved;
-use crate::sim::simulate::{Plant, Records, SaturationEvent};
+use crate::scenario::actuators::SaturationKind;
+use crate::scenario::modes::Conserved;
+use crate::error::Result;
+use crate::math::integrate::IntegratorKind;
+use crate::scenario::actuators::Actuators;
+use crate::sim::plant::Plant;
+use crate::sim::result::{Records, SaturationEvent, SimResult};
 
 /// The records of one run and what is needed to extend them; [`Recorder::new`] is the one place
 /// where record buffers are allocated.
@@ -254,5 +258,58 @@ pub(crate) fn onsets(t: f64, prev: &mut [u8], now: &[u8], events: &mut Vec<Satur
             }
         }
         *p = n;
+    }
+}
+
+/// Admission control of recorded samples ([`crate::admission`]), the one check of every entry
+/// point that records ([`simulate`](crate::sim::simulate::simulate), [`crate::sim::rollout::rollout`], a recording
+/// [`Rk4Stepper`](crate::sim::stepper::Rk4Stepper)): `samples` samples of `values` values in all, in `f64`, counted twice (the
+/// records and the copy a caller converts them into), refused before any buffer is reserved,
+/// with the way out for `integrator`.
+pub fn admit_records(integrator: IntegratorKind, samples: f64, values: f64) -> Result<()> {
+    let remedy = match integrator {
+        IntegratorKind::Rk4 => "record fewer samples (record_every > 1 keeps every k-th step), or simulate a shorter duration",
+        IntegratorKind::Dopri5 => {
+            "use a coarser output grid (dt is DOPRI5's output interval; the step size adapts on its own), or simulate a shorter duration"
+        }
+    };
+    crate::admission::admit(
+        format_args!("recording {samples} samples ({values:.3e} values)"),
+        2.0 * crate::admission::bytes_of::<f64>(values),
+        remedy,
+    )
+}
+
+/// The result of a run from its plant (counters, controller) and records.
+pub(crate) fn finish_result(plant: &Plant<'_>, rec: Recorder, events: Vec<SaturationEvent>, n_steps: usize, n_rejected: usize) -> SimResult {
+    // The mechanical energy (kinetic plus springs) is conserved without joint torques, base
+    // wrench or joint dampers.
+    let undamped = plant.model().dof_dynamics().iter().all(|d| d.damping == 0.0);
+    let mut conserved = plant.mode.conserved(plant.controller.is_torque_free() && undamped);
+    if plant.has_gravity_gradient() {
+        // The tidal wrenches do work on the system: only the momentum balances are monitored.
+        conserved.retain(|c| *c != Conserved::Energy);
+    }
+    let drift = rec.drift(&conserved);
+    let drift_scales = conserved.iter().map(|&c| (c, rec.scale(c))).collect();
+    let balance = rec.balance;
+    SimResult {
+        balance,
+        reference_width: plant.controller.reference_len(),
+        records: rec.rec,
+        events,
+        drift,
+        drift_scales,
+        n_steps,
+        n_rejected,
+        n_rhs_evals: plant.n_evals,
+        actuator_names: Actuators::names(plant.model()),
+        tracking: plant.controller.tracking(),
+        controller: plant.controller.name().to_string(),
+        dropped_wrench_max: plant.dropped_max,
+        dropped_wrench_count: plant.dropped_count,
+        wheel_dofs: plant.wheels.clone(),
+        goal: plant.controller.goal_report(),
+        stop: None,
     }
 }

@@ -1,5 +1,5 @@
 //! Soft capture: a robot and a free target model coupled by a grasp spring–damper (a wrist
-//! impedance), integrated as one system by the core's integrators ([`crate::sim::integrate`])
+//! impedance), integrated as one system by the core's integrators ([`crate::math::integrate`])
 //! and recorded, body by body, by the simulation's recorder (docs/capture.md, "The captured
 //! system").
 //!
@@ -38,8 +38,8 @@ use crate::error::{check_finite, Result, SpacearmError};
 use crate::math::rotations::rotation_vector;
 use crate::model::data::Data;
 use crate::model::Model;
-use crate::sim::integrate::{IntegratorKind, OdeSystem, Rk4};
-use crate::sim::modes::Mode;
+use crate::math::integrate::{IntegratorKind, OdeSystem, Rk4};
+use crate::scenario::modes::Mode;
 use crate::sim::record::{onsets, Recorder};
 use crate::sim::simulate::{
     admit_records, check_initial_state, dopri5_loop, finish_result, rk4_step_count, sample_count, DopriWords, Plant, Progress, SaturationEvent, SimOptions,

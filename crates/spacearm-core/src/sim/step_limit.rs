@@ -14,8 +14,8 @@
 use nalgebra::{Complex, DMatrix};
 
 use crate::error::{Result, SpacearmError};
-use crate::sim::integrate::OdeSystem;
-use crate::sim::simulate::Plant;
+use crate::math::integrate::OdeSystem;
+use crate::sim::plant::Plant;
 
 /// How much more than `max(1, |e^{λh}|)` an RK4 step may amplify a mode of the linearization
 /// before the step counts as too long (room for the finite-difference estimate of `λ`).

@@ -5,9 +5,11 @@
 //! plant to a time and simulating it to that time give the same records bit for bit.
 
 use crate::error::{Result, SpacearmError};
-use crate::sim::integrate::{IntegratorKind, OdeSystem, Rk4};
+use crate::math::integrate::{IntegratorKind, OdeSystem, Rk4};
 use crate::sim::record::{onsets, Recorder};
-use crate::sim::simulate::{admit_records, finish_result, Plant, SaturationEvent, SimResult};
+use crate::sim::plant::Plant;
+use crate::sim::record::{admit_records, finish_result};
+use crate::sim::result::{SaturationEvent, SimResult};
 
 /// A plant, its state `y = [x; u]` at time `t`, an RK4 workspace and the records so far.
 pub struct Rk4Stepper<'a> {

@@ -1,5 +1,5 @@
 //! A torque-free rigid body (a capture target) and a point fixed to it, propagated natively:
-//! the target's motion for [`crate::sim::reference::PointReference::FreeBody`] (RMRC towards a
+//! the target's motion for [`crate::scenario::reference::PointReference::FreeBody`] (RMRC towards a
 //! tumbling grasp point) and for the capture's records (docs/capture.md).
 //!
 //! State (13): `[r (3), quat [x, y, z, w] (4), v (3), ω (3)]`, the CM position and velocity and
@@ -17,7 +17,7 @@
 //! exact relative acceleration `ρ̈ = g(r_O + ρ) − g(r_O)` (two-body, plus J2 if the orbit has it;
 //! `r_O` from the run's [`OrbitTrack`], the same nodes as the simulation loop's), and the angular
 //! momentum about the CM under the gravity-gradient torque `L̇ = axial(I_𝒥 G − G I_𝒥)` (`G` the
-//! two-body gradient at `r_O`, [`crate::sim::orbit::gravity_gradient_torque`]). Then the whole
+//! two-body gradient at `r_O`, [`crate::scenario::orbit::gravity_gradient_torque`]). Then the whole
 //! state `[r, v, quat, L]` is integrated by classical RK4 on the grid (momenta are no longer
 //! constant).
 //!
@@ -30,7 +30,7 @@ use nalgebra::{Matrix3, UnitQuaternion, Quaternion, Vector3};
 
 use crate::error::{check_finite, Result, SpacearmError};
 use crate::math::rotations::{normalize_xyzw, quaternion_rate};
-use crate::sim::orbit::{gravity_gradient_tensor, gravity_gradient_torque, Orbit, OrbitTrack};
+use crate::scenario::orbit::{gravity_gradient_tensor, gravity_gradient_torque, Orbit, OrbitTrack};
 
 /// A node of the grid: attitude `[x, y, z, w]`, and in orbit the CM position and velocity and
 /// the angular momentum about the CM (in 𝒥); torque-free, only `q` evolves.
@@ -328,7 +328,7 @@ mod tests {
 
     #[test]
     fn in_orbit_the_point_rates_are_consistent_and_the_torque_turns_l() {
-        use crate::sim::orbit::EARTH;
+        use crate::scenario::orbit::EARTH;
         let orbit = Orbit::circular(EARTH, 500e3, 0.9, 0.2, 0.1, true).unwrap();
         let mut b = body(1e-3).in_orbit(&orbit).unwrap();
         let h = 1e-5;

@@ -16,7 +16,7 @@
 use nalgebra::Vector3;
 
 use crate::error::{check_finite, Result, SpacearmError};
-use crate::sim::free_body::FreeBody;
+use crate::scenario::free_body::FreeBody;
 
 /// Quintic time scaling: `(s, ṡ, s̈)` at time `t`.
 pub fn quintic_scaling(t: f64, t_start: f64, t_end: f64) -> (f64, f64, f64) {
@@ -293,7 +293,7 @@ impl CartesianLine {
 pub enum PointReference {
     /// A straight line with quintic timing.
     Line(CartesianLine),
-    /// A point fixed to a torque-free rigid body ([`crate::sim::free_body`]), e.g. the grasp
+    /// A point fixed to a torque-free rigid body ([`crate::scenario::free_body`]), e.g. the grasp
     /// point of a tumbling target; the body's state is the one at simulation time 0.
     FreeBody(Box<FreeBody>),
     /// A sampled path: a [`JointReference::Sampled`] of the point's three coordinates in 𝒥

@@ -27,7 +27,7 @@ use crate::algorithms::wrench::ExternalWrench;
 use crate::error::{Result, SpacearmError};
 use crate::model::data::Data;
 use crate::model::Model;
-use crate::sim::integrate::{Dopri5, OdeSystem};
+use crate::math::integrate::{Dopri5, OdeSystem};
 
 /// A central body's gravity constants.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -289,7 +289,7 @@ impl Orbit {
             steps += 1;
             if steps > ORBIT_MAX_STEPS {
                 return Err(SpacearmError::Simulation(format!(
-                    "orbit propagation used its budget of {ORBIT_MAX_STEPS} DOPRI5 steps (spacearm_core::sim::orbit::ORBIT_MAX_STEPS) \
+                    "orbit propagation used its budget of {ORBIT_MAX_STEPS} DOPRI5 steps (spacearm_core::scenario::orbit::ORBIT_MAX_STEPS) \
                      and reached only t = {t:.6e} s of {end:.6e} s; propagate over a shorter span or loosen rtol"
                 )));
             }
