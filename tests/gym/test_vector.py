@@ -74,3 +74,16 @@ def test_bad_vector_arguments_are_spacearm_errors():
         env.step(np.zeros((3, 6)))
     with pytest.raises(ArgumentError):
         env.reset(seed=[1, 2, 3])
+
+
+def test_numpy_integer_seeds_are_seeds_and_others_are_refused():
+    """seed=[np.int64(...), ...] (what np.arange gives) seeds as the same Python ints; it raised
+    gymnasium's own error ("Seed must be a python integer")."""
+    a, b = sgym.ReachVectorEnv(2), sgym.ReachVectorEnv(2)
+    obs_np, _ = a.reset(seed=list(np.arange(5, 7)))
+    obs_int, _ = b.reset(seed=[5, 6])
+    assert np.array_equal(obs_np, obs_int)
+    with pytest.raises(ArgumentError, match=r"seed\[1\] must be an integer"):
+        a.reset(seed=[1, 2.5])
+    with pytest.raises(ArgumentError, match=r"seed\[0\] must be an integer"):
+        a.reset(seed=[True, 2])

@@ -103,6 +103,10 @@ class ReachVectorEnv(_vector.VectorEnv):
             seeds = list(seed)
             if len(seeds) != self.num_envs:
                 raise ArgumentError(f"seed must be None, an int or {self.num_envs} seeds (one per copy), got {len(seeds)}")
+            for i, s in enumerate(seeds):
+                if s is not None and (isinstance(s, bool) or not isinstance(s, (int, np.integer))):
+                    raise ArgumentError(f"seed[{i}] must be an integer or None, got {type(s).__name__}")
+            seeds = [None if s is None else int(s) for s in seeds]
         if seed is not None:
             self._np_random, self._np_random_seed = _seeding.np_random(seeds[0])
         for i, s in enumerate(seeds):
