@@ -19,6 +19,8 @@ for what was recorded:
 - reaction-wheel speeds (and wheel torques); the base wrench (flying modes);
 - tracking error.
 
+The panels fill two columns; an odd last panel spans both, so no slot of the grid is empty.
+
 Each joint keeps one colour in every panel. Up to 20 joints have a legend (outside the axes
 when there are more than 6); more are coloured along a colormap with a colour bar of the joint
 number.
@@ -310,13 +312,15 @@ def plot_trajectory(traj, path: Optional[PathLike] = None, *, title: Optional[st
     if path is not None:
         figure_format(path)  # an unwritable format fails before anything is drawn
     fig = _new_figure(12.0, 2.9 * rows + 0.6)
-    axes = fig.subplots(rows, 2, squeeze=False).ravel()
-    for ax, draw in zip(axes, panels):
+    # Two columns; an odd last panel spans both, so the grid has no empty slot.
+    grid = fig.add_gridspec(rows, 2)
+    for i, draw in enumerate(panels):
+        row, col = divmod(i, 2)
+        span = i == len(panels) - 1 and col == 0
+        ax = fig.add_subplot(grid[row, :] if span else grid[row, col])
         draw(ax, fig)
         ax.grid(True, alpha=0.3)
         ax.set_xlabel("t [s]")
-    for ax in axes[len(panels):]:
-        ax.set_visible(False)
     if title is None:
         m = traj.meta
         name = traj.robot.name if traj.robot is not None else "run"
