@@ -17,7 +17,7 @@ for what was recorded:
 - arm joint torques (revolute, N m) and forces (prismatic, N) in separate panels (applied solid,
   commanded dashed where saturation clipped them), unless all are zero;
 - reaction-wheel speeds (and wheel torques); the base wrench (flying modes);
-- tracking error.
+- tracking error (with compliant joints: the motors' and the links', motor angle + deflection).
 
 The panels fill two columns; an odd last panel spans both, so no slot of the grid is empty.
 
@@ -266,9 +266,16 @@ def _panel_tracking(ax, traj, arm):
                 frozenset({None}): "rad or m"}.get(kinds, "rad and m")
     else:
         unit = {"cartesian": "m"}.get(traj.tracking_error_kind or "", "?")
-    ax.plot(traj.t, e, lw=1.4, color="C3")
+    link = traj.has("link_tracking_error")
+    ax.plot(traj.t, e, lw=1.4, color="C3", label="motors (θ)" if link else None)
     ax.set_title(f"tracking error ({traj.tracking_error_kind or '?'})")
     ax.set_ylabel(f"‖e‖ [{unit}]")
+    if link:
+        # Compliant joints: the links (motor angle + deflection) against the same reference.
+        e2 = traj.link_tracking_error
+        ax.plot(traj.t, e2, lw=1.2, ls="--", color="C4", label="links (θ + δ)")
+        ax.legend(fontsize=7, loc="best")
+        e = np.concatenate([e, e2])
     if np.all(e > 0) and e.max() / e.min() > 1e3:
         ax.set_yscale("log")
 

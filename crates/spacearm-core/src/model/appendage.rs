@@ -459,6 +459,34 @@ pub fn compliant_parts(link_spec: &LinkSpec, spec: &CompliantSpec, item: ModelIt
     Ok(Parts { links: vec![(rotor, JointDynamics::default()), (body, spring)], points: Vec::new(), geometries: Vec::new() })
 }
 
+/// The compliant joints of a built model: `(motor dof, deflection dof)` for each passive revolute
+/// joint that turns about the same line as its parent's actuated revolute joint (the child's axis,
+/// rotated into the parent's frame, is the parent's axis and the child's joint point lies on the
+/// parent's axis line; [`compliant_parts`] builds exactly this). Two revolute joints about one
+/// line compose by adding their angles, so the link's angle is `q_link = θ + δ` exactly, whatever
+/// the rest of the chain does; the motor's tracking error misses `δ`
+/// ([`crate::sim::simulate::Records::link_tracking_error`]).
+pub fn compliant_pairs(model: &crate::model::Model) -> Vec<(usize, usize)> {
+    const TOL: f64 = 1e-12;
+    let dynamics = model.dof_dynamics();
+    let mut pairs = Vec::new();
+    for (k, link) in model.links().iter().enumerate() {
+        let (Some(delta), Some(theta)) = (model.dof_of_body(k + 1), model.dof_of_body(link.parent)) else { continue };
+        let parent = &model.links()[link.parent - 1];
+        if link.joint.kind != JointType::Revolute || parent.joint.kind != JointType::Revolute || dynamics[delta].actuated || !dynamics[theta].actuated {
+            continue;
+        }
+        let axis = parent.joint.axis.into_inner();
+        let coaxial = (link.joint.rotation_in_parent * link.joint.axis.into_inner() - axis).norm() <= TOL;
+        // From the parent's joint point (at −com_from_joint from its CM) to the child's.
+        let offset = link.joint.origin_in_parent + parent.com_from_joint;
+        if coaxial && offset.cross(&axis).norm() <= TOL * (1.0 + offset.norm()) {
+            pairs.push((theta, delta));
+        }
+    }
+    pairs
+}
+
 impl ModelBuilder {
     /// Add an appendage's links, points and shapes, in order; each is checked by the usual
     /// rules when it is added.
