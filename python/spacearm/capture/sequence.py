@@ -66,7 +66,7 @@ from .captured import attach_target, combined_model, soft_capture
 from .detumbling import DETUMBLE_MODES, detumble, detumble_controller, grasp_wrench
 from .impact import CAPTURE_TOLERANCE, _check_target, grasp_impulse
 
-__all__ = ["capture", "CaptureResult", "PHASES", "CAPTURE_KINDS", "MAX_CAPTURE_SAMPLES", "MAX_TURN_PER_SAMPLE"]
+__all__ = ["capture", "CaptureResult", "RecordedImpulse", "PHASES", "CAPTURE_KINDS", "MAX_CAPTURE_SAMPLES", "MAX_TURN_PER_SAMPLE"]
 
 #: The most samples a capture may record over its phases (``(approach + soft + post +
 #: detumble time) / dt``): more is refused before anything runs (docs/capture.md, "Grasps that
@@ -323,7 +323,7 @@ class CaptureResult:
     def load(cls, path) -> "CaptureResult":
         """Read a capture written by [`save`][spacearm.capture.CaptureResult.save]: every array
         as saved (bit for bit), the robot, the target and the captured system rebuilt from their
-        embedded models, the impact as a [`RecordedImpulse`][spacearm.capture.sequence.RecordedImpulse]
+        embedded models, the impact as a [`RecordedImpulse`][spacearm.capture.RecordedImpulse]
         (the same attributes), the orbit from its initial state. A damaged file, a file of
         another kind or of the older format ``spacearm.CaptureResult/1`` (the arrays only) raises
         [`ArgumentError`][spacearm.ArgumentError] naming what is wrong."""
