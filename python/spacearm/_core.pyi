@@ -1045,6 +1045,7 @@ class RunRecords:
     ee_quat: Optional[_Record]              # (K, 4) end-effector attitude [x, y, z, w]
     reference: Optional[_Record]            # (K, R) the controller's reference
     tracking_error: Optional[_Record]       # (K,) |reference − actual|, rad or m (RunMeta.tracking_error_kind)
+    link_tracking_error: Optional[_Record]  # (K,) compliant joints, joint controller: |q_ref − (θ + δ)|, rad
     attitude_error: Optional[_Record]       # (K,) base attitude error of an attitude controller, rad
     wheel_speed: Optional[_Record]          # (K, W) reaction-wheel speeds, rad/s (RunMeta.wheel_dofs)
     r_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM in ECI, m (float64)

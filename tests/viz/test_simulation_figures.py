@@ -130,3 +130,28 @@ def test_torque_free_run_has_no_torque_panel():
     data["tau_cmd"][3, 2] = 1.0  # commanded but fully clipped: still shown
     titles = _axes_by_title(Trajectory(robot=robot, data=data, meta=meta).plot())
     assert any("joint torques" in t for t in titles)
+
+
+def _empty_axes(fig):
+    """Axes a reader sees as an empty panel: hidden slots of the grid, or visible axes with
+    nothing drawn."""
+    return [ax for ax in fig.axes if not ax.get_visible() or not (ax.lines or ax.collections or ax.patches or ax.images)]
+
+
+@pytest.mark.parametrize("controller", ["computed_torque", None])
+def test_no_panel_of_the_figure_is_empty(controller):
+    # Issue 37 item 7a: an odd number of panels left the 2-column grid's last slot empty. A
+    # computed-torque run has 7 panels (odd), a torque-free one 5 (odd): the last spans the row.
+    robot = spacearm.presets.spatial6()
+    ctrl = spacearm.control.ComputedTorque(kp=50.0, kd=10.0, reference=[0.1] * 6) if controller else None
+    tr = spacearm.simulate(robot, 0.2, dt=1e-2, controller=ctrl)
+    fig = tr.plot()
+    assert _empty_axes(fig) == []
+    main = [ax for ax in fig.axes if ax.get_title()]
+    assert len(main) % 2 == 1
+    # The last panel is as wide as a row of two; every other one is half of it.
+    fig.canvas.draw()
+    widths = [ax.get_position().width for ax in main]
+    assert widths[-1] > 1.8 * max(widths[:-1])
+    # Every panel carries a line of the run's samples (the momentum's from sample 1 on).
+    assert all(any(len(l.get_xdata()) >= len(tr.t) - 1 for l in ax.lines) for ax in main)

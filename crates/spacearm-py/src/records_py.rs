@@ -30,6 +30,7 @@ pub enum Record {
     EeQuat,
     Reference,
     TrackingError,
+    LinkTrackingError,
     AttitudeError,
     WheelSpeed,
     RCmEci,
@@ -57,6 +58,7 @@ impl Record {
             Record::EeQuat => "ee_quat",
             Record::Reference => "reference",
             Record::TrackingError => "tracking_error",
+            Record::LinkTrackingError => "link_tracking_error",
             Record::AttitudeError => "attitude_error",
             Record::WheelSpeed => "wheel_speed",
             Record::RCmEci => "r_cm_eci",
@@ -112,6 +114,9 @@ pub fn take_fields(res: &mut SimResult, nx: usize, nu: usize, n: usize) -> Vec<F
     }
     if let Some(v) = r.tracking_error.take() {
         out.push(f(Record::TrackingError, v, 1, true));
+    }
+    if let Some(v) = r.link_tracking_error.take() {
+        out.push(f(Record::LinkTrackingError, v, 1, true));
     }
     if let Some(v) = r.attitude_error.take() {
         out.push(f(Record::AttitudeError, v, 1, true));
@@ -211,6 +216,10 @@ pub struct PyRunRecords {
     /// `(K,)` `|reference − actual|` (rad or m: `RunMeta.tracking_error_kind`); None if the controller tracks nothing.
     #[pyo3(get)]
     tracking_error: Option<Array>,
+    /// `(K,)` with compliant joints under a joint-space controller: `|q_ref − (θ + δ)|`, the links'
+    /// error (motor angle plus deflection; `tracking_error` is the motors'); None otherwise.
+    #[pyo3(get)]
+    link_tracking_error: Option<Array>,
     /// `(K,)` base attitude error angle (rad) of an attitude controller; None otherwise.
     #[pyo3(get)]
     attitude_error: Option<Array>,
@@ -253,6 +262,7 @@ impl PyRunRecords {
                 Record::EeQuat => &mut r.ee_quat,
                 Record::Reference => &mut r.reference,
                 Record::TrackingError => &mut r.tracking_error,
+                Record::LinkTrackingError => &mut r.link_tracking_error,
                 Record::AttitudeError => &mut r.attitude_error,
                 Record::WheelSpeed => &mut r.wheel_speed,
                 Record::RCmEci => &mut r.r_cm_eci,

@@ -19,7 +19,7 @@ from .detumbling import DetumbleRun, detumble
 from .envelope import CaptureEnvelope, capture_envelope
 from .in_orbit import OrbitComparison, compare_in_orbit
 from .impact import CAPTURE_TOLERANCE, MAX_HANDLE_RATIO, GraspImpulse, MomentumSplit, grasp_impulse, impulse_momentum_split, inverse_inertia, virtual_mass
-from .sequence import MAX_CAPTURE_SAMPLES, MAX_TURN_PER_SAMPLE, PHASES, CaptureResult, capture
+from .sequence import MAX_CAPTURE_SAMPLES, MAX_TURN_PER_SAMPLE, PHASES, CaptureResult, RecordedImpulse, capture
 from .target import Target, TargetState
 
 __all__ = [
@@ -46,6 +46,7 @@ __all__ = [
     "detumble",
     "PHASES",
     "CaptureResult",
+    "RecordedImpulse",
     "capture",
     "CaptureEnvelope",
     "capture_envelope",

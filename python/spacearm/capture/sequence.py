@@ -48,7 +48,9 @@ CM, the same reference before and after the grasp, in the robot's LVLH) and ``at
 
 from __future__ import annotations
 
+import json
 import math
+import os
 from typing import Optional
 
 import numpy as np
@@ -64,7 +66,7 @@ from .captured import attach_target, combined_model, soft_capture
 from .detumbling import DETUMBLE_MODES, detumble, detumble_controller, grasp_wrench
 from .impact import CAPTURE_TOLERANCE, _check_target, grasp_impulse
 
-__all__ = ["capture", "CaptureResult", "PHASES", "CAPTURE_KINDS", "MAX_CAPTURE_SAMPLES", "MAX_TURN_PER_SAMPLE"]
+__all__ = ["capture", "CaptureResult", "RecordedImpulse", "PHASES", "CAPTURE_KINDS", "MAX_CAPTURE_SAMPLES", "MAX_TURN_PER_SAMPLE"]
 
 #: The most samples a capture may record over its phases (``(approach + soft + post +
 #: detumble time) / dt``): more is refused before anything runs (docs/capture.md, "Grasps that
@@ -132,8 +134,42 @@ def _check_work_and_reach(robot, x0, u0, target, s0, grasp, body, offset, mode, 
             f"(closest at t = {when:.3g} s of the {times['approach_time']:g} s approach), farther than the {point_reach + body_reach:.4g} m "
             f"that any configuration of '{robot.name}' reaches (its chain's lengths); place the target within reach")
 
-#: Format tag of the ``.npz`` that [`CaptureResult.save`][spacearm.capture.CaptureResult.save] writes.
-FILE_FORMAT = "spacearm.CaptureResult/1"
+#: Format tag of the ``.npz`` that [`CaptureResult.save`][spacearm.capture.CaptureResult.save] writes
+#: (``/2``: everything [`CaptureResult.load`][spacearm.capture.CaptureResult.load] needs; ``/1`` files
+#: hold the arrays and models only, enough for ``spacearm view``).
+FILE_FORMAT = "spacearm.CaptureResult/2"
+#: The format tags ``spacearm view`` reads.
+VIEWABLE_FORMATS = ("spacearm.CaptureResult/1", FILE_FORMAT)
+
+#: The attributes of a [`GraspImpulse`][spacearm.capture.GraspImpulse] a capture file keeps
+#: (``impact.<name>``; ``normal`` only where it is not None).
+_IMPULSE_FIELDS = ("kind", "du", "target_dtwist", "impulse", "point", "gap", "u_after", "target_state_after",
+                   "relative_twist_before", "relative_twist_after", "G_robot", "G_target", "energy_lost",
+                   "locking_work", "target_u_after", "normal", "locking_impulse")
+#: The scalars of a capture kept in the file's ``__meta__`` JSON.
+_META_FIELDS = ("mode", "kind", "time_to_detumble", "residual_spin", "drift", "ledger", "gravity_gradient")
+
+
+class RecordedImpulse:
+    """A [`GraspImpulse`][spacearm.capture.GraspImpulse] read back from a capture file
+    ([`CaptureResult.load`][spacearm.capture.CaptureResult.load]): the same attributes, the
+    saved values (read-only arrays), nothing recomputed."""
+
+    __slots__ = _IMPULSE_FIELDS
+
+    def __init__(self, **fields):
+        for name in _IMPULSE_FIELDS:
+            value = fields[name]
+            if isinstance(value, np.ndarray):
+                value.setflags(write=False)
+            object.__setattr__(self, name, value)
+
+    def __setattr__(self, name, value):
+        raise AttributeError(f"RecordedImpulse is read-only (attribute '{name}')")
+
+    def __repr__(self) -> str:
+        return (f"<RecordedImpulse {self.kind}: |f̂| {np.linalg.norm(self.impulse[:3]):.4e} N s, "
+                f"|n̂| {np.linalg.norm(self.impulse[3:]):.4e} N m s, energy_lost {self.energy_lost:.4e} J, gap {self.gap:.3e} m>")
 
 #: The phases of [`capture`][spacearm.capture.capture], in order (docs/capture.md).
 PHASES = ("approach", "capture", "post-capture", "detumble")
@@ -264,8 +300,91 @@ class CaptureResult:
         payload["__target_toml__"] = np.array(dumps_toml(self.target_model.body))
         payload["__target_name__"] = np.array(self.target_model.name)
         payload["kind"], payload["mode"] = np.array(self.kind), np.array(self.mode)
+        # What load() needs besides: the scalars, the impact(s), the captured system, the orbit.
+        meta = {key: getattr(self, key) for key in _META_FIELDS}
+        meta["soft_impact"] = self.soft_impact is not None
+        meta["captured"] = None if self.captured is None else {"payload": self.captured.payload, "gripper": self.captured.gripper}
+        if self.in_orbit:
+            body = self.orbit.body
+            meta["orbit"] = {"mu": body.mu, "radius": body.radius, "body_j2": body.j2, "j2": self.orbit.j2}
+            payload["orbit.r0"], payload["orbit.v0"] = np.asarray(self.orbit.r0), np.asarray(self.orbit.v0)
+        payload["__meta__"] = np.array(json.dumps(meta, allow_nan=True))
+        for name in _IMPULSE_FIELDS:
+            value = getattr(self.impact, name)
+            if value is not None:
+                payload[f"impact.{name}"] = np.asarray(value)
+        if self.captured is not None:
+            payload["__captured_toml__"] = np.array(dumps_toml(self.captured.robot))
+            payload["captured.x"], payload["captured.u"] = np.asarray(self.captured.x), np.asarray(self.captured.u)
         with atomic_open(path, "wb") as fh:
             np.savez(fh, **payload)
+
+    @classmethod
+    def load(cls, path) -> "CaptureResult":
+        """Read a capture written by [`save`][spacearm.capture.CaptureResult.save]: every array
+        as saved (bit for bit), the robot, the target and the captured system rebuilt from their
+        embedded models, the impact as a [`RecordedImpulse`][spacearm.capture.RecordedImpulse]
+        (the same attributes), the orbit from its initial state. A damaged file, a file of
+        another kind or of the older format ``spacearm.CaptureResult/1`` (the arrays only) raises
+        [`ArgumentError`][spacearm.ArgumentError] naming what is wrong."""
+        from .._util.npz import open_npz
+        from ..io.model_file import loads_toml
+        from .captured import CapturedSystem
+        from .target import Target
+
+        with open_npz(path, "spacearm capture") as files:
+            files = dict(files)
+        where = f"'{os.fspath(path)}'"
+        fmt = str(files.get("__format__", ""))
+        if fmt in VIEWABLE_FORMATS and fmt != FILE_FORMAT:
+            raise ArgumentError(f"{where}: a capture file of an older spacearm ({fmt!r}: the arrays only, no impact or "
+                                f"summary figures): 'spacearm view' draws it; run the capture again to load it into Python")
+        if fmt != FILE_FORMAT:
+            raise ArgumentError(f"{where}: not a spacearm capture file (format tag {fmt!r}, expected {FILE_FORMAT!r}: "
+                                "what CaptureResult.save and 'spacearm capture --out' write)")
+
+        def take(key):
+            if key not in files:
+                raise ArgumentError(f"{where}: the capture file has no '{key}' (damaged or edited; expected every "
+                                    f"entry CaptureResult.save writes)")
+            return files[key]
+
+        try:
+            meta = json.loads(str(take("__meta__")))
+        except json.JSONDecodeError as exc:
+            raise ArgumentError(f"{where}: the capture file's __meta__ is not JSON ({exc})") from None
+        missing = [k for k in (*_META_FIELDS, "soft_impact", "captured") if not isinstance(meta, dict) or k not in meta]
+        if missing:
+            raise ArgumentError(f"{where}: the capture file's __meta__ lacks {', '.join(missing)}")
+        robot = loads_toml(str(take("__model_toml__")), source=f"{path} (embedded model)")
+        body = loads_toml(str(take("__target_toml__")), source=f"{path} (embedded target model)")
+        target = Target.from_robot(body, name=str(take("__target_name__")))
+        if target.is_rigid:  # a rigid target's inertia about its CM, as Target(mass, inertia) has it
+            target.inertia = np.array(body.description.base.inertia, dtype=float).reshape(3, 3)
+        impact = RecordedImpulse(**{name: _scalar(files[f"impact.{name}"]) if f"impact.{name}" in files
+                                    else None if name == "normal" else take(f"impact.{name}") for name in _IMPULSE_FIELDS})
+        captured = None
+        if meta["captured"] is not None:
+            plant = loads_toml(str(take("__captured_toml__")), source=f"{path} (embedded captured model)")
+            captured = CapturedSystem(plant, take("captured.x"), take("captured.u"), str(meta["captured"]["payload"]),
+                                      str(meta["captured"]["gripper"]))
+        fields = {key: meta[key] for key in _META_FIELDS}
+        fields["orbit"] = None
+        if meta.get("orbit") is not None:
+            from ..orbit import CentralBody, Orbit
+
+            o = meta["orbit"]
+            fields["orbit"] = Orbit.from_state(take("orbit.r0"), take("orbit.v0"), j2=bool(o["j2"]),
+                                               body=CentralBody(mu=o["mu"], radius=o["radius"], j2=o["body_j2"]))
+        arrays = {key: take(key) for key in ("t", "phase", "x", "u", "tau", "base_wrench", "target", "P", "L", "grasp_wrench")}
+        if fields["orbit"] is not None:
+            arrays.update({key: take(key) for key in ("r_cm_eci", "v_cm_eci", "target_lvlh", "external_wrench", "external_impulse")})
+        T = len(arrays["t"])
+        for key, value in arrays.items():
+            if value.ndim == 0 or value.shape[0] != T:
+                raise ArgumentError(f"{where}: '{key}' has shape {value.shape}, expected {T} rows (one per sample of 't')")
+        return cls(**arrays, impact=impact, soft_impact=impact if meta["soft_impact"] else None, robot=robot,
+                   captured=captured, target_model=target, **fields)
 
     def plot(self, path=None):
         """A figure of the capture; written to ``path`` if given. See ``spacearm.viz.capture``."""
@@ -577,6 +696,11 @@ def capture(
         target_model=target, mode=mode, kind=kind, time_to_detumble=runs[-1].time_to_detumble,
         residual_spin=runs[-1].residual_spin, drift=drift, **extra,
     )
+
+
+def _scalar(value: np.ndarray):
+    """A saved 0-d array as the Python scalar it was (a float, a bool or a str); arrays as they are."""
+    return value.item() if value.ndim == 0 else value
 
 
 def _check_orbit(orbit, gravity_gradient, kind, target):

@@ -2,7 +2,7 @@
 (``spacearm.viz.viewer``, the ``view`` extra; docs/viewer.md).
 
 RESULT is what ``simulate --out`` (a trajectory, ``spacearm.Trajectory/1``) or ``capture --out``
-(``spacearm.CaptureResult/1``) wrote; both embed their models as TOML. With ``--out`` the scene is
+(``spacearm.CaptureResult/2``, or the older ``/1``) wrote; both embed their models as TOML. With ``--out`` the scene is
 written as one self-contained HTML file; without it, it is served live (meshcat's server, the
 browser opened unless ``--no-browser``) until Ctrl-C. A trajectory written without its model
 (``Trajectory.save`` of a run with no robot) needs ``--model MODEL``; a capture record of an older
@@ -78,7 +78,7 @@ class _SavedCapture:
 def _read(path, model):
     """The Trajectory or saved capture in ``path``."""
     from .._util.npz import open_npz
-    from ..capture.sequence import FILE_FORMAT as CAPTURE_FORMAT
+    from ..capture.sequence import VIEWABLE_FORMATS
     from ..sim.trajectory import FILE_FORMAT as TRAJECTORY_FORMAT, Trajectory
 
     with open_npz(path, "spacearm record") as files:
@@ -91,7 +91,7 @@ def _read(path, model):
             raise ArgumentError(f"{path}: this trajectory was saved without its model: pass --model MODEL (the model it "
                                 "was simulated with: a preset, a shipped model, a .toml or .urdf file)")
         return traj
-    if fmt == CAPTURE_FORMAT:
+    if fmt in VIEWABLE_FORMATS:
         if model is not None:
             raise ArgumentError(f"{path}: a capture record embeds the robot and the target; --model is for trajectories")
         return _SavedCapture(path, files)
@@ -99,7 +99,7 @@ def _read(path, model):
         raise ArgumentError(f"{path}: a capture record of an older spacearm, without the robot's and the target's models: "
                             "run 'spacearm capture ... --out' again to record them")
     raise ArgumentError(f"{path}: not a record of 'spacearm simulate --out' ({TRAJECTORY_FORMAT!r}) or 'spacearm capture "
-                        f"--out' ({CAPTURE_FORMAT!r}); its format tag is {fmt!r}")
+                        f"--out' ({VIEWABLE_FORMATS[-1]!r}); its format tag is {fmt!r}")
 
 
 def run(args, out=None) -> int:

@@ -49,7 +49,7 @@ FILE_FORMAT = "spacearm.Trajectory/1"
 _REQUIRED = ("t", "x", "u")
 _PER_SAMPLE = (
     "t", "x", "u", "du", "tau", "tau_cmd", "base_wrench", "P", "L_origin", "L_com", "energy", "com",
-    "ee_position", "ee_quat", "reference", "tracking_error", "wheel_speed", "r_cm_eci", "v_cm_eci", "gravity_wrench",
+    "ee_position", "ee_quat", "reference", "tracking_error", "link_tracking_error", "wheel_speed", "r_cm_eci", "v_cm_eci", "gravity_wrench",
 )
 _EVENTS = ("saturation_t", "saturation_actuator", "saturation_kind")
 # Dtypes of a run's records adopted without conversion (a run may record float32).
@@ -409,6 +409,14 @@ class Trajectory:
         return self._get("tracking_error", "the controller tracks no reference")
 
     @property
+    def link_tracking_error(self) -> np.ndarray:
+        """With compliant joints (docs/flexibility.md) under a joint-space controller: the links'
+        tracking error ``(K,)``, ``|q_ref − (θ + δ)|`` (rad), each compliant joint's deflection
+        ``δ`` added to its motor angle ``θ``; [`tracking_error`][spacearm.Trajectory.tracking_error]
+        is the motors' ``|q_ref − θ|``. Recorded by the core only then."""
+        return self._get("link_tracking_error", "no compliant joint is tracked by a joint-space controller")
+
+    @property
     def tracking_error_kind(self) -> Optional[str]:
         """``"joint"`` (rad), ``"cartesian"`` (m) or ``None``."""
         return self._meta.get("tracking_error_kind")
@@ -593,6 +601,9 @@ class Trajectory:
             unit = {"joint": "rad", "cartesian": "m"}.get(self.tracking_error_kind or "", "")
             e = self.tracking_error
             lines.append(f"  tracking error ({self.tracking_error_kind or '?'}): final {e[-1]:.3g} {unit}, max {np.max(e):.3g} {unit}")
+        if self.has("link_tracking_error"):
+            e = self.link_tracking_error
+            lines.append(f"  link tracking error (motor + deflection): final {e[-1]:.3g} rad, max {np.max(e):.3g} rad")
         goal = m.get("goal")
         if goal and goal["unreachable"]:
             lines.append(f"  GOAL OUT OF REACH: the point stopped {goal['distance']:.3g} m short with the task Jacobian nearly "
@@ -711,6 +722,8 @@ class Trajectory:
         if self.has("tracking_error"):
             unit = {"joint": "rad", "cartesian": "m"}.get(self.tracking_error_kind or "", "1")
             cols.append(("tracking_error", unit, self.tracking_error))
+        if self.has("link_tracking_error"):
+            cols.append(("link_tracking_error", "rad", self.link_tracking_error))
         if self.has("wheel_speed"):
             ws = self.wheel_speed.reshape(len(self), -1)
             dofs = list(self._meta.get("wheel_dofs") or [])

@@ -17,7 +17,9 @@ for what was recorded:
 - arm joint torques (revolute, N m) and forces (prismatic, N) in separate panels (applied solid,
   commanded dashed where saturation clipped them), unless all are zero;
 - reaction-wheel speeds (and wheel torques); the base wrench (flying modes);
-- tracking error.
+- tracking error (with compliant joints: the motors' and the links', motor angle + deflection).
+
+The panels fill two columns; an odd last panel spans both, so no slot of the grid is empty.
 
 Each joint keeps one colour in every panel. Up to 20 joints have a legend (outside the axes
 when there are more than 6); more are coloured along a colormap with a colour bar of the joint
@@ -264,9 +266,16 @@ def _panel_tracking(ax, traj, arm):
                 frozenset({None}): "rad or m"}.get(kinds, "rad and m")
     else:
         unit = {"cartesian": "m"}.get(traj.tracking_error_kind or "", "?")
-    ax.plot(traj.t, e, lw=1.4, color="C3")
+    link = traj.has("link_tracking_error")
+    ax.plot(traj.t, e, lw=1.4, color="C3", label="motors (θ)" if link else None)
     ax.set_title(f"tracking error ({traj.tracking_error_kind or '?'})")
     ax.set_ylabel(f"‖e‖ [{unit}]")
+    if link:
+        # Compliant joints: the links (motor angle + deflection) against the same reference.
+        e2 = traj.link_tracking_error
+        ax.plot(traj.t, e2, lw=1.2, ls="--", color="C4", label="links (θ + δ)")
+        ax.legend(fontsize=7, loc="best")
+        e = np.concatenate([e, e2])
     if np.all(e > 0) and e.max() / e.min() > 1e3:
         ax.set_yscale("log")
 
@@ -310,13 +319,15 @@ def plot_trajectory(traj, path: Optional[PathLike] = None, *, title: Optional[st
     if path is not None:
         figure_format(path)  # an unwritable format fails before anything is drawn
     fig = _new_figure(12.0, 2.9 * rows + 0.6)
-    axes = fig.subplots(rows, 2, squeeze=False).ravel()
-    for ax, draw in zip(axes, panels):
+    # Two columns; an odd last panel spans both, so the grid has no empty slot.
+    grid = fig.add_gridspec(rows, 2)
+    for i, draw in enumerate(panels):
+        row, col = divmod(i, 2)
+        span = i == len(panels) - 1 and col == 0
+        ax = fig.add_subplot(grid[row, :] if span else grid[row, col])
         draw(ax, fig)
         ax.grid(True, alpha=0.3)
         ax.set_xlabel("t [s]")
-    for ax in axes[len(panels):]:
-        ax.set_visible(False)
     if title is None:
         m = traj.meta
         name = traj.robot.name if traj.robot is not None else "run"

@@ -459,6 +459,34 @@ pub fn compliant_parts(link_spec: &LinkSpec, spec: &CompliantSpec, item: ModelIt
     Ok(Parts { links: vec![(rotor, JointDynamics::default()), (body, spring)], points: Vec::new(), geometries: Vec::new() })
 }
 
+/// The compliant joints of a built model: `(motor dof, deflection dof)` for each passive revolute
+/// joint that turns about the same line as its parent's actuated revolute joint (the child's axis,
+/// rotated into the parent's frame, is the parent's axis and the child's joint point lies on the
+/// parent's axis line; [`compliant_parts`] builds exactly this). Two revolute joints about one
+/// line compose by adding their angles, so the link's angle is `q_link = θ + δ` exactly, whatever
+/// the rest of the chain does; the motor's tracking error misses `δ`
+/// ([`crate::sim::simulate::Records::link_tracking_error`]).
+pub fn compliant_pairs(model: &crate::model::Model) -> Vec<(usize, usize)> {
+    const TOL: f64 = 1e-12;
+    let dynamics = model.dof_dynamics();
+    let mut pairs = Vec::new();
+    for (k, link) in model.links().iter().enumerate() {
+        let (Some(delta), Some(theta)) = (model.dof_of_body(k + 1), model.dof_of_body(link.parent)) else { continue };
+        let parent = &model.links()[link.parent - 1];
+        if link.joint.kind != JointType::Revolute || parent.joint.kind != JointType::Revolute || dynamics[delta].actuated || !dynamics[theta].actuated {
+            continue;
+        }
+        let axis = parent.joint.axis.into_inner();
+        let coaxial = (link.joint.rotation_in_parent * link.joint.axis.into_inner() - axis).norm() <= TOL;
+        // From the parent's joint point (at −com_from_joint from its CM) to the child's.
+        let offset = link.joint.origin_in_parent + parent.com_from_joint;
+        if coaxial && offset.cross(&axis).norm() <= TOL * (1.0 + offset.norm()) {
+            pairs.push((theta, delta));
+        }
+    }
+    pairs
+}
+
 impl ModelBuilder {
     /// Add an appendage's links, points and shapes, in order; each is checked by the usual
     /// rules when it is added.
@@ -569,5 +597,41 @@ mod tests {
         assert!((p.links[0].1.stiffness - 4.0 * i_h).abs() < 1e-12);
         assert!(panel_parts(&PanelSpec { direction: [1.0, 0.0, 1.0], ..panel.clone() }, ModelItem::Model).is_err());
         assert!(panel_parts(&PanelSpec { mass: 0.0, ..panel }, ModelItem::Model).is_err());
+    }
+
+    #[test]
+    fn compliant_pairs_are_the_coaxial_motor_and_deflection_joints() {
+        let diag = |a: f64, b: f64, c: f64| [[a, 0.0, 0.0], [0.0, b, 0.0], [0.0, 0.0, c]];
+        let mut b = ModelBuilder::new("m", "base", 10.0, diag(1.0, 1.0, 1.0)).unwrap();
+        // dof 0: a rigid actuated joint; dofs 1, 2: a compliant joint on a tilted axis in a
+        // rotated frame; dof 3: a passive spring joint off its actuated parent's axis (a panel,
+        // not a deflection); dof 4: a passive joint on the base.
+        b.add_link(LinkSpec::new("r", "base", JointType::Revolute, [0.3, 0.0, 0.0], [0.0, 1.0, 0.0], [0.2, 0.0, 0.0], 1.0, [0.01, 0.05, 0.05])).unwrap();
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        let c = LinkSpec { rotation_in_parent: [0.0, 0.0, s, s], ..LinkSpec::new("c", "r", JointType::Revolute, [0.4, 0.0, 0.0], [1.0, 1.0, 0.5], [0.3, 0.0, 0.0], 2.0, [0.01, 0.1, 0.1]) };
+        b.add_compliant_link(&c, &CompliantSpec { stiffness: 30.0, rotor_inertia: 0.02, damping: 0.1, gear_ratio: 2.0 }).unwrap();
+        b.add_link(LinkSpec::new("p", "c_rotor", JointType::Revolute, [0.1, 0.0, 0.0], [0.0, 0.0, 1.0], [0.2, 0.0, 0.0], 0.5, [0.01, 0.02, 0.02])).unwrap();
+        b.set_joint_dynamics("p", JointDynamics { actuated: false, stiffness: 5.0, damping: 0.0, rest: 0.0 }).unwrap();
+        b.add_link(LinkSpec::new("q", "base", JointType::Revolute, [0.0, 0.3, 0.0], [0.0, 0.0, 1.0], [0.2, 0.0, 0.0], 0.5, [0.01, 0.02, 0.02])).unwrap();
+        b.set_joint_dynamics("q", JointDynamics { actuated: false, stiffness: 5.0, damping: 0.0, rest: 0.0 }).unwrap();
+        let m = b.build().unwrap();
+        assert_eq!(m.n_dof(), 5);
+        let actuated: Vec<bool> = m.dof_dynamics().iter().map(|d| d.actuated).collect();
+        assert_eq!(actuated, vec![true, true, false, false, false]);
+        assert_eq!(compliant_pairs(&m), vec![(1, 2)]);
+        // The rule the pairs stand for: the link's orientation is that of the motor joint
+        // turned by θ + δ (two turns about one line add).
+        let (theta, delta) = (0.4, -0.15);
+        let link = m.body_index("c").unwrap();
+        let rotation = |q: [f64; 5]| {
+            let mut x = vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
+            x.extend_from_slice(&q);
+            let mut data = crate::model::Data::new(&m);
+            crate::algorithms::kinematics::forward_kinematics(&m, &mut data, &x).unwrap();
+            data.body_to_world[link]
+        };
+        let apart = rotation([0.2, theta, delta, 0.0, 0.0]);
+        assert!((apart - rotation([0.2, theta + delta, 0.0, 0.0, 0.0])).norm() < 1e-14);
+        assert!((apart - rotation([0.2, theta, 0.0, 0.0, 0.0])).norm() > 0.1);
     }
 }

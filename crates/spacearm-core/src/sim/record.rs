@@ -7,6 +7,8 @@ use crate::algorithms::passive::spring_energy_of_q;
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 
 use crate::algorithms::kinematics::point_position;
+use crate::control::{arm_dofs, TrackingKind};
+use crate::model::appendage::compliant_pairs;
 use crate::algorithms::momentum::{center_of_mass_from_data, conserved_drift, momentum_from_data, momentum_scales_from_data, MomentumScales};
 use crate::model::Model;
 use crate::scenario::actuators::SaturationKind;
@@ -27,6 +29,9 @@ pub(crate) struct Recorder {
     n_ref: usize,
     scales: MomentumScales,
     last_quat: Option<UnitQuaternion<f64>>,
+    /// For [`Records::link_tracking_error`]: per joint reference entry, its motor dof and the
+    /// deflection dof of its compliant joint, if it has one.
+    link: Vec<(usize, Option<usize>)>,
     /// Whether the drift is a momentum balance against the recorded tidal wrench (an orbital
     /// run with the gravity gradient).
     pub(crate) balance: bool,
@@ -42,6 +47,10 @@ impl Recorder {
             rec.rec.constraint_wrench = Some(Vec::with_capacity(6 * capacity));
             rec.rec.constraint_error = Some(Vec::with_capacity(6 * capacity));
         }
+        rec.link = Recorder::link_joints(plant);
+        if !rec.link.is_empty() {
+            rec.rec.link_tracking_error = Some(Vec::with_capacity(capacity));
+        }
         if plant.orbit.is_some() {
             rec.rec.r_cm_eci = Some(Vec::with_capacity(3 * capacity));
             rec.rec.v_cm_eci = Some(Vec::with_capacity(3 * capacity));
@@ -56,7 +65,30 @@ impl Recorder {
         let c = &plant.controller;
         let closure = if plant.closure.is_some() { 12 } else { 0 };
         let orbit = if plant.orbit.is_some() { 12 } else { 0 };
-        orbit + closure + Recorder::values_per_sample(plant.model(), plant.wheels.len(), c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
+        let link = usize::from(!Recorder::link_joints(plant).is_empty());
+        link + orbit + closure + Recorder::values_per_sample(plant.model(), plant.wheels.len(), c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
+    }
+
+    /// The joints of a joint-space tracking controller's reference (one entry per actuated arm
+    /// joint, ascending), each with the deflection dof of its compliant joint
+    /// ([`compliant_pairs`]); empty unless the controller tracks joints and one of them is
+    /// compliant (the link's error is then the motor's).
+    fn link_joints(plant: &Plant<'_>) -> Vec<(usize, Option<usize>)> {
+        let (model, c) = (plant.model(), &plant.controller);
+        if c.tracking() != Some(TrackingKind::Joint) {
+            return Vec::new();
+        }
+        let pairs = compliant_pairs(model);
+        let dynamics = model.dof_dynamics();
+        let joints: Vec<(usize, Option<usize>)> = arm_dofs(model.n_dof(), &plant.wheels)
+            .into_iter()
+            .filter(|&d| dynamics[d].actuated)
+            .map(|d| (d, pairs.iter().find(|p| p.0 == d).map(|p| p.1)))
+            .collect();
+        if joints.len() != c.reference_len() || joints.iter().all(|j| j.1.is_none()) {
+            return Vec::new();
+        }
+        joints
     }
 
     /// Values recorded per sample: the sum of the widths that [`Recorder::new`] reserves (keep
@@ -91,6 +123,7 @@ impl Recorder {
                 ee_quat: ee.map(|_| v(4)),
                 reference: (n_ref > 0).then(|| v(n_ref)),
                 tracking_error: tracking.then(|| v(1)),
+                link_tracking_error: None,
                 attitude_error: attitude.then(|| v(1)),
                 wheel_speed: (!wheels.is_empty()).then(|| v(wheels.len())),
                 constraint_wrench: None,
@@ -105,6 +138,7 @@ impl Recorder {
             n_ref,
             scales: MomentumScales::default(),
             last_quat: None,
+            link: Vec::new(),
         }
     }
 
@@ -154,6 +188,12 @@ impl Recorder {
         }
         if let Some(te) = r.tracking_error.as_mut() {
             te.push(plant.cmd.tracking_error);
+        }
+        if let Some(le) = r.link_tracking_error.as_mut() {
+            // The link angle θ + δ against the same reference (module docs of compliant_pairs).
+            let q = &y[7..nx];
+            let err2: f64 = self.link.iter().enumerate().map(|(i, &(d, delta))| (plant.cmd.reference[i] - q[d] - delta.map_or(0.0, |e| q[e])).powi(2)).sum();
+            le.push(err2.sqrt());
         }
         if let Some(ae) = r.attitude_error.as_mut() {
             ae.push(plant.cmd.attitude_error);

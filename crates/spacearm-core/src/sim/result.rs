@@ -55,6 +55,13 @@ pub struct Records {
     pub reference: Option<Vec<f64>>,
     /// The controller's tracking error (see [`SimResult::tracking`]), if it reports one.
     pub tracking_error: Option<Vec<f64>>,
+    /// With a joint-space tracking controller on a plant with compliant joints: the error of the
+    /// links, `|q_ref − (θ + δ)|` over the same joints, the compliant joints' deflection `δ`
+    /// added to their motor angle `θ` ([`crate::model::appendage::compliant_pairs`]; a rigid
+    /// joint's link angle is its own); the motor's is [`Self::tracking_error`]. `None` otherwise
+    /// (no compliant joint tracked, or a Cartesian controller, whose point already moves with the
+    /// links).
+    pub link_tracking_error: Option<Vec<f64>>,
     /// The controller's base attitude error angle, rad, if it reports one.
     pub attitude_error: Option<Vec<f64>>,
     /// Wheel rates relative to the base, rad/s.
