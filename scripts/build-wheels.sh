@@ -66,15 +66,18 @@ have_target() {
 # files of python/spacearm/c/ are the sources and stay.
 c_prefix=python/spacearm/c
 unstage_c() { rm -rf "$c_prefix/include" "$c_prefix/lib"; }
-work=$(mktemp -d)
-trap 'unstage_c; rm -rf "$work"' EXIT
+trap unstage_c EXIT
 
 build_c_library() {
     # The C library for $1 (a Rust target triple), linked through zig against glibc 2.17 like
     # maturin's --zig --compatibility manylinux2014 extension: `maturin zig cc` is the linker.
-    local target=$1 linker=$work/zigcc-$1.sh
-    printf '#!/bin/sh\nexec %q -m maturin zig cc -- -target %s "$@"\n' "$PYTHON" "${target%%-*}-linux-gnu.2.17" >"$linker"
-    chmod +x "$linker"
+    # The wrapper's path is fixed (under target/): cargo's fingerprints include the linker, so a
+    # new path each run would rebuild every crate.
+    local target=$1 linker=$PWD/target/zig-linker/zigcc-$1.sh
+    mkdir -p "$(dirname "$linker")"
+    printf '#!/bin/sh\nexec %q -m maturin zig cc -- -target %s "$@"\n' "$PYTHON" "${target%%-*}-linux-gnu.2.17" >"$linker.new"
+    chmod +x "$linker.new"
+    mv "$linker.new" "$linker"
     local var
     var=CARGO_TARGET_$(tr '[:lower:]-' '[:upper:]_' <<<"$target")_LINKER
     # Only the shared library (the crate's staticlib and rlib are not shipped in the wheel).
