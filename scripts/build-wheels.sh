@@ -19,6 +19,10 @@
 # which pyproject's [tool.maturin] include puts in the wheel. The staged files are removed after
 # the last wheel (they are build products, ignored by git), so the sdist and an editable install
 # have none: there the library comes from target/release/ (spacearm.c, `python -m spacearm.c`).
+# This is one more release build of the core per target: cargo fingerprints the linker, so
+# maturin's build (its own zig wrapper) cannot reuse these crates. Measured on the shared 2-core
+# development machine, x86_64, from cold: 105 s (load ~3) to 249 s (load ~8); the whole
+# --x86_64-only run 9 min at load ~8. A rerun after no change relinks nothing.
 #
 # What it installs itself, when missing: maturin and ziglang (pip, into the running Python's
 # environment) and the Rust standard library of each target (rustup). A target whose standard

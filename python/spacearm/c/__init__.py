@@ -2,7 +2,7 @@
 installation: where its header, shared library, pkg-config file and CMake package are, for a C or
 C++ build, for ``ctypes`` and for the FMUs (``spacearm.fmi``, whose binary is this library).
 
-From a shell, ``python -m spacearm.c --cflags --libs`` prints the compiler and linker flags::
+From a shell, ``python -m spacearm.c --cflags --libs`` prints the compiler and linker flags:
 
     cc app.c $(python -m spacearm.c --cflags --libs) -o app
 

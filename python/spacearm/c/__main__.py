@@ -1,5 +1,5 @@
 """``python -m spacearm.c``: where the spacearm C library of this installation is, for a C or C++
-build (docs/c-api.md, "Getting the library")::
+build (docs/c-api.md, "Getting the library"):
 
     cc app.c $(python -m spacearm.c --cflags --libs) -o app
     PKG_CONFIG_PATH=$(python -m spacearm.c --pkg-config-path) pkg-config --cflags --libs spacearm
