@@ -7,10 +7,11 @@
 #    print no traceback.
 # 2. The C library ships in that wheel (docs/c-api.md, "Getting the library"): the wheel's file
 #    list has the header, the shared library, the pkg-config and CMake files; the C example
-#    builds and runs with `python -m spacearm.c --cflags --libs` and through pkg-config; and the
-#    plain install exports FMUs (`spacearm fmu spatial6 --out s6.fmu`, and spacearm.fmi.export)
-#    that FMPy, installed alone in a third venv as a Simulink user's importer would be, validates
-#    and runs, its states equal to those of spacearm.simulate of the plain install.
+#    builds and runs with `python -m spacearm.c --cflags --libs`, and through pkg-config and
+#    CMake where they are installed; and the plain install exports FMUs (`spacearm fmu spatial6
+#    --out s6.fmu`, and spacearm.fmi.export) that FMPy, installed alone in a third venv as a
+#    Simulink user's importer would be, validates and runs, its states equal to those of
+#    spacearm.simulate of the plain install.
 # 3. In another fresh venv, run the README's main-job command exactly as the README writes it
 #    (scripts/readme_command.py reads it from the block marked `<!-- ci: main-job -->`).
 #
@@ -110,7 +111,21 @@ if command -v pkg-config >/dev/null; then
         $(PKG_CONFIG_PATH=$("$work/plain/bin/python" -m spacearm.c --pkg-config-path) pkg-config --cflags --libs spacearm) \
         -lm -o "$work/cbuild/example_pc"
     "$work/cbuild/example_pc" >/dev/null
-    echo "  the C example built and ran through --cflags --libs and through pkg-config"
+    echo "  the C example built and ran through pkg-config"
+fi
+if command -v cmake >/dev/null; then
+    mkdir "$work/cbuild/cm"
+    cat > "$work/cbuild/cm/CMakeLists.txt" <<CMAKE
+cmake_minimum_required(VERSION 3.16)
+project(spacearm_example C)
+find_package(spacearm REQUIRED)
+add_executable(example "$root/crates/spacearm-c/examples/example.c")
+target_link_libraries(example PRIVATE spacearm::spacearm m)
+CMAKE
+    cmake -S "$work/cbuild/cm" -B "$work/cbuild/cm/build" -Dspacearm_DIR="$("$work/plain/bin/python" -m spacearm.c --cmake-dir)" >/dev/null
+    cmake --build "$work/cbuild/cm/build" >/dev/null
+    "$work/cbuild/cm/build/example" >/dev/null
+    echo "  the C example built and ran through CMake (find_package(spacearm), -Dspacearm_DIR from --cmake-dir)"
 fi
 # The issue's command, exactly: before the wheel shipped the library it exited 2 here.
 "$work/plain/bin/spacearm" fmu spatial6 --out "$work/s6.fmu"
