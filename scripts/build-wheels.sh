@@ -12,6 +12,17 @@
 # is then checked by scripts/check-wheel-glibc.sh. The extension is abi3 (CPython 3.9+), so one
 # wheel per architecture serves every Python version.
 #
+# Each wheel also ships the C library (crates/spacearm-c, docs/c-api.md), the binary of the FMUs
+# that `spacearm fmu` writes: before maturin packs a wheel, the library is built for the same
+# target and glibc, linked by the same zig (`maturin zig cc` as cargo's linker), and staged under
+# python/spacearm/c/ (include/, lib/ with the pkg-config and CMake files: scripts/stage-c-prefix.sh),
+# which pyproject's [tool.maturin] include puts in the wheel. The staged files are removed after
+# the last wheel (they are build products, ignored by git), so the sdist and an editable install
+# have none: there the library comes from target/release/ (spacearm.c, `python -m spacearm.c`).
+# This is one more release build of the core per target (in target/wheel-c/: cargo fingerprints
+# the linker, so maturin's build, with its own zig wrapper, cannot reuse these crates). Measured
+# on the shared 2-core development machine, x86_64, from cold: 105 s (load ~3) to 249 s (load ~8).
+#
 # What it installs itself, when missing: maturin and ziglang (pip, into the running Python's
 # environment) and the Rust standard library of each target (rustup). A target whose standard
 # library cannot be had is reported in one line and skipped; the rest is still built.
@@ -54,6 +65,31 @@ have_target() {
     [ -d "$(rustc --print sysroot)/lib/rustlib/$1/lib" ]
 }
 
+# The C library's files staged for a wheel (the layout of scripts/stage-c-prefix.sh); the .py
+# files of python/spacearm/c/ are the sources and stay.
+c_prefix=python/spacearm/c
+unstage_c() { rm -rf "$c_prefix/include" "$c_prefix/lib"; }
+c_target_dir=target/wheel-c
+trap unstage_c EXIT
+
+build_c_library() {
+    # The C library for $1 (a Rust target triple), linked through zig against glibc 2.17 like
+    # maturin's --zig --compatibility manylinux2014 extension: `maturin zig cc` is the linker.
+    # Its own target directory, target/wheel-c/, and a linker wrapper at a fixed path there:
+    # cargo's fingerprints include the linker but its file names do not, so in maturin's
+    # directory the two builds would overwrite each other's crates and rebuild them all on
+    # every run; apart, each is incremental.
+    local target=$1 linker=$PWD/$c_target_dir/zigcc-$1.sh
+    mkdir -p "$(dirname "$linker")"
+    printf '#!/bin/sh\nexec %q -m maturin zig cc -- -target %s "$@"\n' "$PYTHON" "${target%%-*}-linux-gnu.2.17" >"$linker.new"
+    chmod +x "$linker.new"
+    mv "$linker.new" "$linker"
+    local var
+    var=CARGO_TARGET_$(tr '[:lower:]-' '[:upper:]_' <<<"$target")_LINKER
+    # Only the shared library (the crate's staticlib and rlib are not shipped in the wheel).
+    env "$var=$linker" cargo rustc --release -p spacearm-c --target "$target" --target-dir "$c_target_dir" --crate-type cdylib
+}
+
 mkdir -p "$OUT_DIR"
 # Old artifacts of this project would be checked and shipped with the new ones.
 rm -f "$OUT_DIR"/spacearm-*.whl "$OUT_DIR"/spacearm-*.tar.gz
@@ -69,9 +105,16 @@ for target in "${targets[@]}"; do
         skipped+=("$target")
         continue
     fi
+    echo "build-wheels: building the C library for $target"
+    c_start=$(date +%s)
+    build_c_library "$target"
+    unstage_c
+    bash scripts/stage-c-prefix.sh "$c_prefix" "$c_target_dir/$target/release"
+    echo "build-wheels: the C library for $target took $(( $(date +%s) - c_start )) s"
     echo "build-wheels: building the manylinux2014 wheel for $target"
     "${MATURIN[@]}" build --release --zig --compatibility manylinux2014 \
         --target "$target" --out "$OUT_DIR"
+    unstage_c
     built+=("$target")
 done
 

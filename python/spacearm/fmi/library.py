@@ -1,27 +1,20 @@
 """The spacearm C library (``libspacearm_c``, crates/spacearm-c; docs/c-api.md) through
-``ctypes``: where it is, and the few entry points Python calls (the FMU's binary is the same
-file, see ``spacearm.fmi.fmu``).
-
-Where the library is looked for, in order:
-
-1. the path in the environment variable ``SPACEARM_C_LIBRARY``;
-2. ``spacearm/fmi/libspacearm_c.so`` inside the installed package (a wheel that ships it);
-3. in a source checkout (the editable install of ``scripts/test.sh``), ``target/release/`` of the
-   repository, built by ``cargo build --release -p spacearm-c``.
-
-Otherwise ``path`` raises a [`MissingDependencyError`][spacearm.errors.MissingDependencyError] saying how to
-get it.
+``ctypes``: the few entry points Python calls (the FMU's binary is the same file, see
+``spacearm.fmi.fmu``). Where the library is, is [`spacearm.c`][spacearm.c]'s answer
+(``spacearm.c.library_path``: ``SPACEARM_C_LIBRARY``, a source checkout's ``target/release/``,
+the copy a wheel ships in ``spacearm/c/lib/``); without one, ``path`` raises its
+[`MissingDependencyError`][spacearm.errors.MissingDependencyError] saying how to get it.
 """
 
 from __future__ import annotations
 
 import ctypes
-import os
-import sys
 from functools import lru_cache
 from pathlib import Path
 
 from .. import errors
+from ..c import LIBRARY_NAME
+from ..c import library_path as path
 from ..errors import MissingDependencyError
 
 __all__ = ["path", "load", "ABI_VERSION", "LIBRARY_NAME"]
@@ -29,30 +22,6 @@ __all__ = ["path", "load", "ABI_VERSION", "LIBRARY_NAME"]
 #: The version of the C ABI these declarations follow (``SPACEARM_ABI_VERSION`` of
 #: crates/spacearm-c/include/spacearm.h); a library of another version is refused.
 ABI_VERSION = 1
-
-#: The library's file name on this platform.
-LIBRARY_NAME = {"darwin": "libspacearm_c.dylib", "win32": "spacearm_c.dll"}.get(sys.platform, "libspacearm_c.so")
-
-_PACKAGE = Path(__file__).resolve().parent
-_CHECKOUT = _PACKAGE.parents[2]
-
-
-def path() -> Path:
-    """The C library's path (see the module docs for where it is looked for)."""
-    env = os.environ.get("SPACEARM_C_LIBRARY")
-    if env:
-        p = Path(env)
-        if not p.is_file():
-            raise MissingDependencyError(f"SPACEARM_C_LIBRARY is '{env}', which is not a file; point it at {LIBRARY_NAME}")
-        return p
-    for candidate in (_PACKAGE / LIBRARY_NAME, _CHECKOUT / "target" / "release" / LIBRARY_NAME):
-        if candidate.is_file():
-            return candidate
-    hint = ("run `cargo build --release -p spacearm-c` in the repository" if (_CHECKOUT / "crates" / "spacearm-c").is_dir()
-            else "build it from the source repository with `cargo build --release -p spacearm-c`")
-    raise MissingDependencyError(
-        f"the spacearm C library ({LIBRARY_NAME}) is not in this installation; {hint} and set SPACEARM_C_LIBRARY "
-        "to the file it writes (docs/c-api.md, 'Getting the library')")
 
 
 #: The Python class of each SpacearmStatus code (docs/c-api.md, "Errors"): the same kinds as
