@@ -11,22 +11,7 @@
 #include <string.h>
 
 #include "spacearm.h"
-
-static int failures = 0;
-#define CHECK(cond, ...)                                                   \
-    do {                                                                   \
-        if (!(cond)) {                                                     \
-            failures++;                                                    \
-            fprintf(stderr, "%s:%d: check failed: %s: ", __FILE__, __LINE__, #cond); \
-            fprintf(stderr, __VA_ARGS__);                                  \
-            fprintf(stderr, "\n");                                         \
-        }                                                                  \
-    } while (0)
-#define OK(call)                                                           \
-    do {                                                                   \
-        SpacearmStatus s_ = (call);                                        \
-        CHECK(s_ == SPACEARM_STATUS_OK, "%s -> %s: %s", #call, spacearm_status_name(s_), spacearm_last_error()); \
-    } while (0)
+#include "check.h"
 
 static double max_abs_diff(const double *a, const double *b, size_t n) {
     double m = 0.0;
