@@ -30,7 +30,7 @@ __all__ = [
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
     "analysis_reach", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_singularity", "batch_threads", "body_mass_properties_error", "box_of_moments", "check_grasp_handle", "GOAL_TOLERANCE", "MAX_HANDLE_RATIO",
-    "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "joint_wrenches", "loop_closure", "model_from_classic_dh", "model_from_paper_dh", "model_from_toml",
+    "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "joint_wrenches", "loop_closure", "model_from_dh", "model_from_toml",
     "model_to_toml", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
     "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts",
@@ -55,19 +55,8 @@ class SpacearmTypeError(SpacearmError, TypeError): ...
 def preset(name: str, allow_nonphysical_inertia: bool = ...) -> Model: ...
 def model_from_toml(text: str, source: str = ..., allow_nonphysical_inertia: bool = ...) -> Model: ...
 def model_to_toml(model: Model) -> str: ...
-def model_from_classic_dh(
-    name: str,
-    base_name: str,
-    base_mass: float,
-    base_inertia: Sequence[Sequence[float]],
-    rows: Sequence[tuple],
-    joint1_origin: Sequence[float],
-    joint1_rotation: Sequence[float],
-    tool_offset: Sequence[float],
-    tip_point: Optional[str],
-    initial_q: Optional[Sequence[float]] = None,
-) -> Model: ...
-def model_from_paper_dh(
+def model_from_dh(
+    convention: str,
     name: str,
     base_name: str,
     base_mass: float,

@@ -359,3 +359,19 @@ def test_bad_tables_raise_model_error(rows, kwargs, match):
     kw.update(kwargs)
     with pytest.raises(spacearm.ModelError, match=match):
         robot_from_dh("bad", rows, **kw)
+
+
+def test_the_extension_refuses_an_unknown_convention_itself():
+    # The one extension entry point takes the convention as an argument: a name other than
+    # "classic" or "paper" is refused there too (not only by robot_from_dh), and the same rows
+    # are read as either convention's tuples.
+    from spacearm import _core
+
+    args = ("bad", "base", 10.0, np.eye(3).tolist())
+    tail = ([0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0], [0.0, 0.0, 0.0], None)
+    classic_row = (None, None, "revolute", 0.0, 0.0, 1.0, 0.0, [0.0, 0.0, 0.0], 1.0, np.eye(3).tolist(), None)
+    with pytest.raises(spacearm.ModelError, match="DH convention must be 'classic' or 'paper', got 'craig'"):
+        _core.model_from_dh("craig", *args, [classic_row], *tail)
+    assert _core.model_from_dh("classic", *args, [classic_row], *tail).n_dof == 1
+    with pytest.raises(ValueError, match="length 10"):
+        _core.model_from_dh("paper", *args, [classic_row], *tail)  # an 11-tuple is not a paper row

@@ -180,6 +180,17 @@ impl SpacearmError {
 /// Digits a number of a message may have before it is shown in scientific notation.
 const MAX_MESSAGE_DIGITS: usize = 17;
 
+/// The entry of `values` whose name (same position in `names`) is `name`, for the `from_name`
+/// of the enums with a name table; else [`SpacearmError::InvalidArgument`] "`what` must be one
+/// of [names], got '`name`'".
+pub fn by_name<T: Copy>(what: &str, names: &[&str], values: &[T], name: &str) -> Result<T> {
+    debug_assert_eq!(names.len(), values.len());
+    match names.iter().position(|n| *n == name) {
+        Some(k) => Ok(values[k]),
+        None => Err(SpacearmError::argument(format!("{what} must be one of {names:?}, got '{name}'"))),
+    }
+}
+
 /// `message` with every number of more than 17 digits in its first line written in scientific
 /// notation with 7 significant digits (`1e130`, `5.542982e37`): Rust writes an `f64` in full
 /// (`1e130` as 131 digits), and a message quoting a user's value must stay readable. The lines
@@ -262,6 +273,27 @@ pub(crate) fn check_finite(what: &str, values: &[f64]) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn by_name_reads_every_table_and_refuses_other_names_naming_the_table() {
+        use crate::algorithms::impulse::JointsAtImpact;
+        use crate::math::integrate::IntegratorKind;
+        assert_eq!(IntegratorKind::from_name("rk4").unwrap(), IntegratorKind::Rk4);
+        assert_eq!(IntegratorKind::from_name("dopri5").unwrap(), IntegratorKind::Dopri5);
+        for name in IntegratorKind::NAMES {
+            assert_eq!(IntegratorKind::from_name(name).unwrap().name(), name);
+        }
+        assert_eq!(JointsAtImpact::from_name("free").unwrap(), JointsAtImpact::Free);
+        assert_eq!(JointsAtImpact::from_name("locked").unwrap(), JointsAtImpact::Locked);
+        match IntegratorKind::from_name("euler") {
+            Err(SpacearmError::InvalidArgument(m)) => assert_eq!(m, r#"integrator must be one of ["rk4", "dopri5"], got 'euler'"#),
+            other => panic!("expected an argument error, got {other:?}"),
+        }
+        match JointsAtImpact::from_name("Free") {
+            Err(SpacearmError::InvalidArgument(m)) => assert_eq!(m, r#"arm must be one of ["free", "locked"], got 'Free'"#),
+            other => panic!("expected an argument error, got {other:?}"),
+        }
+    }
 
     #[test]
     fn long_numbers_in_messages_are_compact() {

@@ -340,6 +340,45 @@ fn refuse_outputs(py: Python<'_>, call: &str, rows: usize, bytes: f64) -> PyResu
     spacearm_core::admission::admit(format_args!("{call} ({rows} state(s))"), bytes, remedy).map_err(|e| to_py_err(py, e))
 }
 
+/// A binding object that holds a model and a pool of its workspaces (`Model`: `Data`,
+/// `Derivatives`: `DerivativeData`): its per-state methods are [`Batched::batch`] calls.
+pub trait Batched {
+    type Work;
+    /// How a fresh workspace is made for the model.
+    const WORKSPACE: fn(&spacearm_core::Model) -> Self::Work;
+    /// The model and the pool of its workspaces.
+    fn parts(&self) -> (&spacearm_core::Model, &Pool<Self::Work>);
+
+    /// [`run`] of `kernel` on this object's pool of workspaces.
+    #[inline]
+    fn batch<'py, const I: usize, const O: usize>(
+        &self,
+        py: Python<'py>,
+        call: &str,
+        inputs: [Input<'py>; I],
+        outputs: [&[usize]; O],
+        kernel: impl Fn(&mut Self::Work, [&[f64]; I], &mut [&mut [f64]; O]) -> spacearm_core::Result<()> + Sync,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (model, pool) = self.parts();
+        run(py, call, inputs, outputs, pool, || Self::WORKSPACE(model), kernel)
+    }
+}
+
+/// `impl Batched for $class` with workspaces `$work` (made by `$work::new(&Model)`), for a class
+/// whose fields `model` and `workspaces` hold the model and the pool.
+macro_rules! batched {
+    ($class:ty, $work:ty) => {
+        impl $crate::batch::Batched for $class {
+            type Work = $work;
+            const WORKSPACE: fn(&spacearm_core::Model) -> $work = <$work>::new;
+            fn parts(&self) -> (&spacearm_core::Model, &$crate::batch::Pool<$work>) {
+                (&self.model, &self.workspaces)
+            }
+        }
+    };
+}
+pub(crate) use batched;
+
 /// Compute `kernel` for one state or for a batch (see the module documentation).
 ///
 /// `inputs` in the order their conversion errors should be reported; `outputs[k]` the shape of

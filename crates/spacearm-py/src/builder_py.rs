@@ -21,6 +21,15 @@ pub(crate) fn joint_limits(limits: Option<[f64; 4]>) -> JointLimits {
     }
 }
 
+/// Joint `name`'s passive dynamics from the doors' `(actuated, stiffness, damping, rest)`
+/// (docs/flexibility.md); `None` leaves the joint as built.
+pub(crate) fn set_joint_dynamics(py: Python<'_>, b: &mut ModelBuilder, name: &str, dynamics: Option<(bool, f64, f64, f64)>) -> PyResult<()> {
+    if let Some((actuated, stiffness, damping, rest)) = dynamics {
+        b.set_joint_dynamics(name, JointDynamics { actuated, stiffness, damping, rest }).map_err(SpacearmError::from).or_raise(py)?;
+    }
+    Ok(())
+}
+
 /// The [`LinkSpec`] of `ModelBuilder.add_link`'s arguments (also `compliant_parts`').
 #[allow(clippy::too_many_arguments)]
 fn link_spec(
@@ -92,14 +101,7 @@ impl PyModelBuilder {
     ) -> PyResult<()> {
         let link = link_spec(py, name, parent, joint_type, origin, rotation, axis, com, mass, inertia, joint_name, limits)?;
         self.inner.add_link(link).map_err(SpacearmError::from).or_raise(py)?;
-        // `(actuated, stiffness, damping, rest)`: the joint's passive dynamics (docs/flexibility.md).
-        if let Some((actuated, stiffness, damping, rest)) = dynamics {
-            self.inner
-                .set_joint_dynamics(name, JointDynamics { actuated, stiffness, damping, rest })
-                .map_err(SpacearmError::from)
-                .or_raise(py)?;
-        }
-        Ok(())
+        set_joint_dynamics(py, &mut self.inner, name, dynamics)
     }
 
     fn add_point(&mut self, py: Python<'_>, name: &str, body: &str, offset: [f64; 3]) -> PyResult<()> {

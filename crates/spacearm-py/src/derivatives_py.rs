@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use spacearm_core as core;
 use spacearm_core::derivatives::{self, DerivativeData, DerivativeMethod, LinearizationInputs};
 
-use crate::batch::{run, Input, Pool};
+use crate::batch::{Batched, Input, Pool};
 use crate::convert::*;
 use crate::model_py::{put, with_assembled_force, wrenches as wrench_list, PyModel, WrenchList};
 
@@ -30,6 +30,7 @@ pub struct PyDerivatives {
     model: core::Model,
     workspaces: Pool<DerivativeData>,
 }
+crate::batch::batched!(PyDerivatives, DerivativeData);
 
 /// Write matrices `ms[k]` (all `rows × cols`) into `out` in C order with the derivative index
 /// last: `out[(i·cols + j)·depth + k] = ms[k][(i, j)]`.
@@ -59,7 +60,7 @@ impl PyDerivatives {
         let m = &self.model;
         let nu = m.nu();
         let inputs = [Input::arg(x, "x", m.nx())?];
-        run(py, "mass_matrix_partials", inputs, [&[nu, nu, nu]], &self.workspaces, || DerivativeData::new(m), |w, [x], [out]| {
+        self.batch(py, "mass_matrix_partials", inputs, [&[nu, nu, nu]], |w, [x], [out]| {
             put_last(derivatives::mass_matrix_partials(m, w, x)?, out);
             Ok(())
         })
@@ -70,7 +71,7 @@ impl PyDerivatives {
         let m = &self.model;
         let nu = m.nu();
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?];
-        run(py, "mass_matrix_derivative", inputs, [&[nu, nu]], &self.workspaces, || DerivativeData::new(m), |w, [x, u], [out]| {
+        self.batch(py, "mass_matrix_derivative", inputs, [&[nu, nu]], |w, [x, u], [out]| {
             put(derivatives::mass_matrix_derivative(m, w, x, u)?, out);
             Ok(())
         })
@@ -81,7 +82,7 @@ impl PyDerivatives {
         let m = &self.model;
         let n = m.n_dof();
         let inputs = [Input::arg(x, "x", m.nx())?];
-        run(py, "generalized_inertia_partials", inputs, [&[n, n, n]], &self.workspaces, || DerivativeData::new(m), |w, [x], [out]| {
+        self.batch(py, "generalized_inertia_partials", inputs, [&[n, n, n]], |w, [x], [out]| {
             put_last(derivatives::generalized_inertia_partials(m, w, x)?, out);
             Ok(())
         })
@@ -92,7 +93,7 @@ impl PyDerivatives {
         let m = &self.model;
         let n = m.n_dof();
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
-        run(py, "generalized_inertia_derivative", inputs, [&[n, n]], &self.workspaces, || DerivativeData::new(m), |w, [x, u], [out]| {
+        self.batch(py, "generalized_inertia_derivative", inputs, [&[n, n]], |w, [x, u], [out]| {
             put(derivatives::generalized_inertia_derivative(m, w, x, u)?, out);
             Ok(())
         })
@@ -104,7 +105,7 @@ impl PyDerivatives {
         let m = &self.model;
         let (n, nu) = (m.n_dof(), m.nu());
         let inputs = [Input::arg(x, "x", m.nx())?];
-        run(py, "generalized_jacobian_partials", inputs, [&[6, n, nu]], &self.workspaces, || DerivativeData::new(m), |w, [x], [out]| {
+        self.batch(py, "generalized_jacobian_partials", inputs, [&[6, n, nu]], |w, [x], [out]| {
             put_last(derivatives::generalized_jacobian_partials(m, w, x, body, &off)?, out);
             Ok(())
         })
@@ -123,7 +124,7 @@ impl PyDerivatives {
         let m = &self.model;
         let n = m.n_dof();
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
-        run(py, "generalized_jacobian_derivative", inputs, [&[6, n]], &self.workspaces, || DerivativeData::new(m), |w, [x, u], [out]| {
+        self.batch(py, "generalized_jacobian_derivative", inputs, [&[6, n]], |w, [x, u], [out]| {
             put(derivatives::generalized_jacobian_derivative(m, w, x, u, body, &off)?, out);
             Ok(())
         })
@@ -146,7 +147,7 @@ impl PyDerivatives {
         let ext = wrench_list(py, wrenches)?;
         let route = method(dual);
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?, Input::arg(f, "f", nu)?];
-        run(py, "forward_dynamics_derivatives", inputs, [&[nu, nu], &[nu, nu], &[nu, nu]], &self.workspaces, || DerivativeData::new(m), |w, [x, u, f], [dx, du, df]| {
+        self.batch(py, "forward_dynamics_derivatives", inputs, [&[nu, nu], &[nu, nu], &[nu, nu]], |w, [x, u, f], [dx, du, df]| {
             let (a, b, c) = derivatives::forward_dynamics_derivatives_with(m, w, x, u, f, &ext, route)?;
             put(a, dx);
             put(b, du);
@@ -178,7 +179,7 @@ impl PyDerivatives {
         let ext = wrench_list(py, wrenches)?;
         let route = method(dual);
         let inputs = [tau, base_wrench, Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?];
-        run(py, "forward_dynamics_derivatives", inputs, [&[nu, nu], &[nu, nu], &[nu, nu]], &self.workspaces, || DerivativeData::new(m), |w, [tau, fb, x, u], [dx, du, df]| {
+        self.batch(py, "forward_dynamics_derivatives", inputs, [&[nu, nu], &[nu, nu], &[nu, nu]], |w, [tau, fb, x, u], [dx, du, df]| {
             with_assembled_force(nu, tau, fb, |f| {
                 let (a, b, c) = derivatives::forward_dynamics_derivatives_with(m, w, x, u, f, &ext, route)?;
                 put(a, dx);
@@ -205,7 +206,7 @@ impl PyDerivatives {
         let ext = wrench_list(py, wrenches)?;
         let route = method(dual);
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?, Input::arg(du, "du", nu)?];
-        run(py, "inverse_dynamics_partials", inputs, [&[nu, nu], &[nu, nu]], &self.workspaces, || DerivativeData::new(m), |w, [x, u, du], [dx_out, dv_out]| {
+        self.batch(py, "inverse_dynamics_partials", inputs, [&[nu, nu], &[nu, nu]], |w, [x, u, du], [dx_out, dv_out]| {
             let (dx, dv) = derivatives::inverse_dynamics_partials(m, w, x, u, du, &ext, route)?;
             put(dx, dx_out);
             put(dv, dv_out);
@@ -222,7 +223,7 @@ impl PyDerivatives {
         let route = method(dual);
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?, Input::arg(f, "f", nu)?];
         let (kind, b_cols) = if joints_only { (LinearizationInputs::Joints, m.n_dof()) } else { (LinearizationInputs::All, nu) };
-        run(py, "linearize", inputs, [&[2 * nu, 2 * nu], &[2 * nu, b_cols]], &self.workspaces, || DerivativeData::new(m), |w, [x, u, f], [a_out, b_out]| {
+        self.batch(py, "linearize", inputs, [&[2 * nu, 2 * nu], &[2 * nu, b_cols]], |w, [x, u, f], [a_out, b_out]| {
             let (a, b) = derivatives::linearize_with(m, w, x, u, f, kind, route)?;
             put(a, a_out);
             put(&b, b_out);

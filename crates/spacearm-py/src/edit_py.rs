@@ -3,19 +3,12 @@
 //! `Robot.attach` and `Robot.remove_subtree`). Conversion only: the rules are the core's.
 
 use pyo3::prelude::*;
-use spacearm_core::{JointDynamics, JointLimits, JointType, LinkSpec, Model, ModelBuilder, Mount, SpacearmError};
+use spacearm_core::{JointType, LinkSpec, Model, ModelBuilder, Mount, SpacearmError};
+
+use crate::builder_py::{joint_limits, set_joint_dynamics};
 
 use crate::convert::*;
 use crate::model_py::PyModel;
-
-fn joint_kind(py: Python<'_>, s: &str) -> PyResult<JointType> {
-    match s {
-        "revolute" => Ok(JointType::Revolute),
-        "prismatic" => Ok(JointType::Prismatic),
-        "fixed" => Ok(JointType::Fixed),
-        other => Err(to_py_err(py, SpacearmError::InvalidModel(format!("joint type must be 'revolute', 'prismatic' or 'fixed', got '{other}'")))),
-    }
-}
 
 /// Build the edited model `b`, renamed to `name` when given.
 fn finish(py: Python<'_>, mut b: ModelBuilder, name: Option<&str>) -> PyResult<PyModel> {
@@ -49,18 +42,14 @@ pub fn model_attach_body(
     model_name: Option<&str>,
 ) -> PyResult<PyModel> {
     let mut spec = LinkSpec::payload(name, &Mount::new(parent, origin, rotation), mass, inertia);
-    spec.kind = joint_kind(py, joint_type)?;
+    spec.kind = JointType::from_name(joint_type).or_raise(py)?;
     spec.axis = axis;
     spec.com_from_joint = com;
     spec.joint_name = joint_name;
-    if let Some([lower, upper, velocity, effort]) = limits {
-        spec.limits = JointLimits { lower, upper, velocity, effort };
-    }
+    spec.limits = joint_limits(limits);
     let mut b = model.model.to_builder();
     b.add_link(spec).map_err(SpacearmError::from).or_raise(py)?;
-    if let Some((actuated, stiffness, damping, rest)) = dynamics {
-        b.set_joint_dynamics(name, JointDynamics { actuated, stiffness, damping, rest }).map_err(SpacearmError::from).or_raise(py)?;
-    }
+    set_joint_dynamics(py, &mut b, name, dynamics)?;
     finish(py, b, model_name)
 }
 

@@ -51,74 +51,56 @@ fn preset(py: Python<'_>, name: &str, allow_nonphysical_inertia: bool) -> PyResu
 
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    use convert::add_to_module;
     errors_py::register(m)?;
-    m.add_function(wrap_pyfunction!(batch::set_batch_threads, m)?)?;
-    m.add_function(wrap_pyfunction!(batch::batch_threads, m)?)?;
-    m.add_class::<model_py::PyModel>()?;
-    m.add_class::<model_py::PyTape>()?;
-    m.add_class::<builder_py::PyModelBuilder>()?;
-    m.add_function(wrap_pyfunction!(builder_py::slosh_links, m)?)?;
-    m.add_function(wrap_pyfunction!(builder_py::panel_parts, m)?)?;
-    m.add_function(wrap_pyfunction!(builder_py::beam_parts, m)?)?;
-    m.add_function(wrap_pyfunction!(builder_py::compliant_parts, m)?)?;
-    m.add_function(wrap_pyfunction!(builder_py::cylinder_slosh, m)?)?;
-    m.add_function(wrap_pyfunction!(builder_py::sphere_slosh, m)?)?;
-    m.add_function(wrap_pyfunction!(builder_py::sphere_fill_height, m)?)?;
-    m.add_function(wrap_pyfunction!(builder_py::cylinder_fill_height, m)?)?;
-    m.add_function(wrap_pyfunction!(edit_py::model_attach_body, m)?)?;
-    m.add_function(wrap_pyfunction!(edit_py::model_attach_model, m)?)?;
-    m.add_function(wrap_pyfunction!(edit_py::model_remove_subtree, m)?)?;
-    m.add_class::<derivatives_py::PyDerivatives>()?;
-    m.add_class::<description_py::PyModelDescription>()?;
-    m.add_class::<description_py::PyBaseDescription>()?;
-    m.add_class::<description_py::PyLinkDescription>()?;
-    m.add_class::<description_py::PyJointLimits>()?;
-    m.add_class::<description_py::PyPointDescription>()?;
-    m.add_class::<description_py::PyGeometryDescription>()?;
-    m.add_class::<rule_tables_py::PySimDefaults>()?;
-    m.add_class::<rule_tables_py::PyModelBounds>()?;
-    m.add_class::<rule_tables_py::PyDlsDefaults>()?;
-    m.add_function(wrap_pyfunction!(preset, m)?)?;
-    m.add_function(wrap_pyfunction!(model_io_py::model_from_toml, m)?)?;
-    m.add_function(wrap_pyfunction!(model_io_py::model_to_toml, m)?)?;
-    m.add_function(wrap_pyfunction!(model_io_py::model_from_classic_dh, m)?)?;
-    m.add_function(wrap_pyfunction!(model_io_py::model_from_paper_dh, m)?)?;
+    add_to_module!(
+        m,
+        functions: [
+            batch::set_batch_threads, batch::batch_threads,
+            builder_py::slosh_links, builder_py::panel_parts, builder_py::beam_parts, builder_py::compliant_parts,
+            builder_py::cylinder_slosh, builder_py::sphere_slosh, builder_py::sphere_fill_height, builder_py::cylinder_fill_height,
+            edit_py::model_attach_body, edit_py::model_attach_model, edit_py::model_remove_subtree,
+            preset,
+            model_io_py::model_from_toml, model_io_py::model_to_toml, model_io_py::model_from_dh,
+        ],
+        classes: [
+            model_py::PyModel, model_py::PyTape, builder_py::PyModelBuilder, derivatives_py::PyDerivatives,
+            description_py::PyModelDescription, description_py::PyBaseDescription, description_py::PyLinkDescription,
+            description_py::PyJointLimits, description_py::PyPointDescription, description_py::PyGeometryDescription,
+            rule_tables_py::PySimDefaults, rule_tables_py::PyModelBounds, rule_tables_py::PyDlsDefaults,
+        ],
+    );
     analysis_py::register(m)?;
     contact_py::register(m)?;
-    m.add_class::<analysis_py::PyRmrcOptions>()?;
-    m.add_class::<analysis_results_py::PyJacobianMeasures>()?;
-    m.add_class::<analysis_results_py::PySingularityReport>()?;
-    m.add_class::<analysis_results_py::PyDetection>()?;
-    m.add_class::<analysis_results_py::PyScanResult>()?;
-    m.add_class::<analysis_results_py::PyWorkspaceShells>()?;
-    m.add_class::<analysis_results_py::PyReactionNullSpace>()?;
-    m.add_class::<analysis_results_py::PyRmrcRates>()?;
-    m.add_class::<analysis_results_py::PyRmrcMotion>()?;
+    add_to_module!(
+        m,
+        classes: [
+            analysis_py::PyRmrcOptions,
+            analysis_results_py::PyJacobianMeasures, analysis_results_py::PySingularityReport, analysis_results_py::PyDetection,
+            analysis_results_py::PyScanResult, analysis_results_py::PyWorkspaceShells, analysis_results_py::PyReactionNullSpace,
+            analysis_results_py::PyRmrcRates, analysis_results_py::PyRmrcMotion,
+        ],
+    );
     rules_py::register(m)?;
     rotations_py::register(m)?;
     orbit_py::register(m)?;
-    m.add_function(wrap_pyfunction!(simulate_py::simulate, m)?)?;
-    m.add_function(wrap_pyfunction!(rollout_py::rollout, m)?)?;
-    m.add_class::<simulator_py::PySimulator>()?;
-    m.add_class::<batch_simulator_py::PyBatchSimulator>()?;
-    // The typed inputs of simulate, rollout and Simulator.
-    m.add_class::<sim_options_py::PyRunOptions>()?;
-    m.add_class::<sim_options_py::PyThrusterLimits>()?;
-    m.add_class::<controller_spec_py::PyJointReference>()?;
-    m.add_class::<controller_spec_py::PyInputShaper>()?;
-    m.add_class::<controller_spec_py::PyFreeBodyReference>()?;
-    m.add_class::<controller_spec_py::PyControllerSpec>()?;
-    m.add_function(wrap_pyfunction!(controller_spec_py::check_spec, m)?)?;
-    // The typed results of simulate, rollout and Simulator.
-    m.add_class::<records_py::PyRunRecords>()?;
-    m.add_class::<records_py::PyRunEvents>()?;
-    m.add_class::<records_py::PyConservedDrift>()?;
-    m.add_class::<records_py::PyRunMeta>()?;
-    m.add_class::<records_py::PyRunResult>()?;
-    m.add_class::<records_py::PyRolloutBatch>()?;
-    m.add_function(wrap_pyfunction!(simulate_py::perturbed, m)?)?;
-    m.add_function(wrap_pyfunction!(simulate_py::conserved_drift, m)?)?;
-    m.add_function(wrap_pyfunction!(simulate_py::default_wheel_dofs, m)?)?;
+    add_to_module!(
+        m,
+        functions: [
+            simulate_py::simulate, rollout_py::rollout, controller_spec_py::check_spec,
+            simulate_py::perturbed, simulate_py::conserved_drift, simulate_py::default_wheel_dofs,
+        ],
+        classes: [
+            simulator_py::PySimulator, batch_simulator_py::PyBatchSimulator,
+            // The typed inputs of simulate, rollout and Simulator.
+            sim_options_py::PyRunOptions, sim_options_py::PyThrusterLimits,
+            controller_spec_py::PyJointReference, controller_spec_py::PyInputShaper,
+            controller_spec_py::PyFreeBodyReference, controller_spec_py::PyControllerSpec,
+            // The typed results of simulate, rollout and Simulator.
+            records_py::PyRunRecords, records_py::PyRunEvents, records_py::PyConservedDrift,
+            records_py::PyRunMeta, records_py::PyRunResult, records_py::PyRolloutBatch,
+        ],
+    );
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

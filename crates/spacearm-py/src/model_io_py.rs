@@ -36,82 +36,64 @@ type ClassicRow = (Option<String>, Option<String>, String, f64, f64, f64, f64, [
 /// com_to_next, mass, inertia, limits)`.
 type PaperRow = (Option<String>, Option<String>, String, f64, f64, [f64; 3], [f64; 3], f64, [[f64; 3]; 3], Option<[f64; 4]>);
 
-#[allow(clippy::too_many_arguments)]
-fn build(
-    name: &str,
-    base_name: &str,
-    base_mass: f64,
-    base_inertia: [[f64; 3]; 3],
-    table: DhTable,
-    joint1_origin: [f64; 3],
-    joint1_rotation: [f64; 4],
-    tool_offset: [f64; 3],
-    tip_point: Option<String>,
-    initial_q: Option<Vec<f64>>,
-) -> spacearm_core::Result<spacearm_core::Model> {
-    let arm = DhArm { table, parent: base_name.to_string(), joint1_origin, joint1_rotation, tool_offset, tip_point };
-    spacearm_core::io::dh::model_from_dh(name, base_name, base_mass, base_inertia, &arm, initial_q)
+/// The rows of `convention` (`"classic"` or `"paper"`) as a core DH table.
+fn dh_table(convention: &str, rows: &Bound<'_, PyAny>) -> PyResult<spacearm_core::Result<DhTable>> {
+    Ok(match convention {
+        "classic" => rows
+            .extract::<Vec<ClassicRow>>()?
+            .into_iter()
+            .map(|(name, joint_name, kind, d, theta, a, alpha, com, mass, inertia, lim)| {
+                Ok(ClassicDhLink { name, joint_name, kind: JointType::from_name(&kind)?, d, theta, a, alpha, com, mass, inertia, limits: joint_limits(lim) })
+            })
+            .collect::<spacearm_core::Result<_>>()
+            .map(DhTable::Classic),
+        "paper" => rows
+            .extract::<Vec<PaperRow>>()?
+            .into_iter()
+            .map(|(name, joint_name, kind, theta, alpha, joint_to_com, com_to_next, mass, inertia, lim)| {
+                Ok(PaperDhLink {
+                    name,
+                    joint_name,
+                    kind: JointType::from_name(&kind)?,
+                    theta,
+                    alpha,
+                    joint_to_com,
+                    com_to_next,
+                    mass,
+                    inertia,
+                    limits: joint_limits(lim),
+                })
+            })
+            .collect::<spacearm_core::Result<_>>()
+            .map(DhTable::Paper),
+        other => Err(spacearm_core::SpacearmError::InvalidModel(format!("DH convention must be 'classic' or 'paper', got '{other}'"))),
+    })
 }
 
-/// A model whose arm is given by a classic (distal) DH table (see `docs/dh.md`).
+/// A model whose arm is given by a DH table in `convention`: `"classic"` (distal DH, rows
+/// `ClassicRow`) or `"paper"` (Wilde et al. (2018) §2, rows `PaperRow`); see `docs/dh.md`.
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
-#[pyo3(signature = (name, base_name, base_mass, base_inertia, rows, joint1_origin, joint1_rotation, tool_offset, tip_point, initial_q=None))]
-pub fn model_from_classic_dh(
+#[pyo3(signature = (convention, name, base_name, base_mass, base_inertia, rows, joint1_origin, joint1_rotation, tool_offset, tip_point, initial_q=None))]
+pub fn model_from_dh(
     py: Python<'_>,
+    convention: &str,
     name: &str,
     base_name: &str,
     base_mass: f64,
     base_inertia: [[f64; 3]; 3],
-    rows: Vec<ClassicRow>,
+    rows: &Bound<'_, PyAny>,
     joint1_origin: [f64; 3],
     joint1_rotation: [f64; 4],
     tool_offset: [f64; 3],
     tip_point: Option<String>,
     initial_q: Option<Vec<f64>>,
 ) -> PyResult<PyModel> {
-    let mut table = Vec::with_capacity(rows.len());
-    for (name, joint_name, kind, d, theta, a, alpha, com, mass, inertia, lim) in rows {
-        table.push(ClassicDhLink { name, joint_name, kind: JointType::from_name(&kind).or_raise(py)?, d, theta, a, alpha, com, mass, inertia, limits: joint_limits(lim) });
-    }
-    build(name, base_name, base_mass, base_inertia, DhTable::Classic(table), joint1_origin, joint1_rotation, tool_offset, tip_point, initial_q)
-        .map(PyModel::new)
-        .or_raise(py)
-}
-
-/// A model whose arm is given in the convention of Wilde et al. (2018) §2 (see `docs/dh.md`).
-#[pyfunction]
-#[allow(clippy::too_many_arguments)]
-#[pyo3(signature = (name, base_name, base_mass, base_inertia, rows, joint1_origin, joint1_rotation, tool_offset, tip_point, initial_q=None))]
-pub fn model_from_paper_dh(
-    py: Python<'_>,
-    name: &str,
-    base_name: &str,
-    base_mass: f64,
-    base_inertia: [[f64; 3]; 3],
-    rows: Vec<PaperRow>,
-    joint1_origin: [f64; 3],
-    joint1_rotation: [f64; 4],
-    tool_offset: [f64; 3],
-    tip_point: Option<String>,
-    initial_q: Option<Vec<f64>>,
-) -> PyResult<PyModel> {
-    let mut table = Vec::with_capacity(rows.len());
-    for (name, joint_name, kind, theta, alpha, joint_to_com, com_to_next, mass, inertia, lim) in rows {
-        table.push(PaperDhLink {
-            name,
-            joint_name,
-            kind: JointType::from_name(&kind).or_raise(py)?,
-            theta,
-            alpha,
-            joint_to_com,
-            com_to_next,
-            mass,
-            inertia,
-            limits: joint_limits(lim),
-        });
-    }
-    build(name, base_name, base_mass, base_inertia, DhTable::Paper(table), joint1_origin, joint1_rotation, tool_offset, tip_point, initial_q)
+    dh_table(convention, rows)?
+        .and_then(|table| {
+            let arm = DhArm { table, parent: base_name.to_string(), joint1_origin, joint1_rotation, tool_offset, tip_point };
+            spacearm_core::io::dh::model_from_dh(name, base_name, base_mass, base_inertia, &arm, initial_q)
+        })
         .map(PyModel::new)
         .or_raise(py)
 }

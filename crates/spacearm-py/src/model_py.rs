@@ -13,7 +13,7 @@ use spacearm_core as core;
 use spacearm_core::algorithms::{aba, crba, dynamics, inertia, kinematics, momentum, passive, rnea};
 use spacearm_core::{gjm, Data, ExternalWrench, JointType};
 
-use crate::batch::{run, Input, Pool};
+use crate::batch::{Batched, Input, Pool};
 use crate::description_py::PyModelDescription;
 use crate::convert::*;
 
@@ -25,6 +25,7 @@ pub struct PyModel {
     pub model: core::Model,
     pub workspaces: Pool<Data>,
 }
+crate::batch::batched!(PyModel, Data);
 
 impl PyModel {
     pub fn new(model: core::Model) -> Self {
@@ -215,7 +216,7 @@ impl PyModel {
         let m = &self.model;
         let nb = m.n_bodies();
         let inputs = [Input::arg(x, "x", m.nx())?];
-        run(py, "forward_kinematics", inputs, [&[nb, 3, 3], &[nb, 3], &[nb, 3], &[nb, 3]], &self.workspaces, || Data::new(m), |d, [x], [r, c, p, a]| {
+        self.batch(py, "forward_kinematics", inputs, [&[nb, 3, 3], &[nb, 3], &[nb, 3], &[nb, 3]], |d, [x], [r, c, p, a]| {
             kinematics::forward_kinematics(m, d, x)?;
             for b in 0..nb {
                 put(&d.body_to_world[b], &mut r[9 * b..9 * b + 9]);
@@ -259,7 +260,7 @@ impl PyModel {
         let off = finite3(offset, "offset")?;
         let m = &self.model;
         let inputs = [Input::arg(x, "x", m.nx())?];
-        run(py, "point_position", inputs, [&[3]], &self.workspaces, || Data::new(m), |d, [x], [out]| {
+        self.batch(py, "point_position", inputs, [&[3]], |d, [x], [out]| {
             kinematics::forward_kinematics(m, d, x)?;
             kinematics::check_body(m, body)?;
             out.copy_from_slice(kinematics::point_position(d, body, &off).as_slice());
@@ -273,7 +274,7 @@ impl PyModel {
         let m = &self.model;
         let n = m.n_dof();
         let inputs = [Input::arg(x, "x", m.nx())?];
-        run(py, "point_jacobian", inputs, [&[6, 6], &[6, n]], &self.workspaces, || Data::new(m), |d, [x], [j0, jm]| {
+        self.batch(py, "point_jacobian", inputs, [&[6, 6], &[6, n]], |d, [x], [j0, jm]| {
             kinematics::forward_kinematics(m, d, x)?;
             let (a, b) = kinematics::point_jacobians(m, d, body, &off)?;
             put(&a, j0);
@@ -287,7 +288,7 @@ impl PyModel {
         let m = &self.model;
         let n = m.n_dof();
         let inputs = [Input::arg(x, "x", m.nx())?];
-        run(py, "link_jacobians", inputs, [&[3, n], &[3, n]], &self.workspaces, || Data::new(m), |d, [x], [jt, jr]| {
+        self.batch(py, "link_jacobians", inputs, [&[3, n], &[3, n]], |d, [x], [jt, jr]| {
             kinematics::forward_kinematics(m, d, x)?;
             kinematics::check_body(m, body)?;
             let (a, b) = kinematics::link_jacobians(m, d, body);
@@ -304,7 +305,7 @@ impl PyModel {
         let (n, nu) = (m.n_dof(), m.nu());
         let inputs = [Input::arg(x, "x", m.nx())?];
         let shapes: [&[usize]; 9] = [&[], &[3], &[3, 3], &[3, n], &[3, n], &[6, 6], &[6, n], &[n, n], &[nu, nu]];
-        run(py, "inertia_blocks", inputs, shapes, &self.workspaces, || Data::new(m), |d, [x], [mass, r0g, hs, jts, hsq, h0, h0m, hm, h]| {
+        self.batch(py, "inertia_blocks", inputs, shapes, |d, [x], [mass, r0g, hs, jts, hsq, h0, h0m, hm, h]| {
             let b = inertia::inertia_blocks(m, d, x)?;
             mass[0] = b.total_mass;
             r0g.copy_from_slice(b.base_to_com.as_slice());
@@ -324,7 +325,7 @@ impl PyModel {
         let m = &self.model;
         let nu = m.nu();
         let inputs = [Input::arg(x, "x", m.nx())?];
-        run(py, "mass_matrix", inputs, [&[nu, nu]], &self.workspaces, || Data::new(m), |d, [x], [out]| {
+        self.batch(py, "mass_matrix", inputs, [&[nu, nu]], |d, [x], [out]| {
             put(&inertia::inertia_blocks(m, d, x)?.mass_matrix(), out);
             Ok(())
         })
@@ -334,7 +335,7 @@ impl PyModel {
         let m = &self.model;
         let nu = m.nu();
         let inputs = [Input::arg(x, "x", m.nx())?];
-        run(py, "mass_matrix", inputs, [&[nu, nu]], &self.workspaces, || Data::new(m), |d, [x], [out]| {
+        self.batch(py, "mass_matrix", inputs, [&[nu, nu]], |d, [x], [out]| {
             put(crba::crba(m, d, x)?, out);
             Ok(())
         })
@@ -343,7 +344,7 @@ impl PyModel {
     fn base_inertia_inverse<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let m = &self.model;
         let inputs = [Input::arg(x, "x", m.nx())?];
-        run(py, "base_inertia_inverse", inputs, [&[6, 6]], &self.workspaces, || Data::new(m), |d, [x], [out]| {
+        self.batch(py, "base_inertia_inverse", inputs, [&[6, 6]], |d, [x], [out]| {
             let h0 = crba::crba(m, d, x)?.fixed_view::<6, 6>(0, 0).into_owned();
             put(&inertia::base_inertia_inverse(&h0)?, out);
             Ok(())
@@ -354,7 +355,7 @@ impl PyModel {
         let m = &self.model;
         let nu = m.nu();
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?];
-        run(py, "bias_forces", inputs, [&[nu]], &self.workspaces, || Data::new(m), |d, [x, u], [out]| {
+        self.batch(py, "bias_forces", inputs, [&[nu]], |d, [x, u], [out]| {
             out.copy_from_slice(rnea::bias_forces(m, d, x, u)?.as_slice());
             Ok(())
         })
@@ -373,7 +374,7 @@ impl PyModel {
         let nu = m.nu();
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?, Input::arg(du, "du", nu)?];
         let ext = self::wrenches(py, wrenches)?;
-        run(py, "inverse_dynamics", inputs, [&[nu]], &self.workspaces, || Data::new(m), |d, [x, u, du], [out]| {
+        self.batch(py, "inverse_dynamics", inputs, [&[nu]], |d, [x, u, du], [out]| {
             out.copy_from_slice(rnea::rnea(m, d, x, u, du, &ext)?.as_slice());
             Ok(())
         })
@@ -422,7 +423,7 @@ impl PyModel {
         let m = &self.model;
         let n = m.n_dof();
         let inputs = [Input::arg(x, "x", m.nx())?];
-        run(py, "generalized_inertia", inputs, [&[n, n]], &self.workspaces, || Data::new(m), |d, [x], [out]| {
+        self.batch(py, "generalized_inertia", inputs, [&[n, n]], |d, [x], [out]| {
             put(gjm::compute_generalized_inertia(m, d, x)?, out);
             Ok(())
         })
@@ -432,7 +433,7 @@ impl PyModel {
         let m = &self.model;
         let n = m.n_dof();
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
-        run(py, "generalized_bias", inputs, [&[n]], &self.workspaces, || Data::new(m), |d, [x, u], [out]| {
+        self.batch(py, "generalized_bias", inputs, [&[n]], |d, [x, u], [out]| {
             out.copy_from_slice(gjm::compute_generalized_bias(m, d, x, u)?.as_slice());
             Ok(())
         })
@@ -443,7 +444,7 @@ impl PyModel {
         let m = &self.model;
         let n = m.n_dof();
         let inputs = [Input::arg(x, "x", m.nx())?];
-        run(py, "generalized_jacobian", inputs, [&[6, n]], &self.workspaces, || Data::new(m), |d, [x], [out]| {
+        self.batch(py, "generalized_jacobian", inputs, [&[6, n]], |d, [x], [out]| {
             put(gjm::compute_generalized_jacobian(m, d, x, body, &off)?, out);
             Ok(())
         })
@@ -466,7 +467,7 @@ impl PyModel {
         let m = &self.model;
         let n = m.n_dof();
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(qd, "qd", n)?, Input::arg(linear, "P", 3)?, Input::arg(angular_origin, "L", 3)?];
-        run(py, "point_twist", inputs, [&[6]], &self.workspaces, || Data::new(m), |d, [x, qd, p, l], [out]| {
+        self.batch(py, "point_twist", inputs, [&[6]], |d, [x, qd, p, l], [out]| {
             kinematics::check_joint_vector(m, "qd", qd)?;
             let (p, l) = (momentum3(m, "P", p)?, momentum3(m, "L", l)?);
             let from_joints = gjm::compute_generalized_jacobian(m, d, x, body, &off)? * nalgebra::DVectorView::from_slice(qd, n);
@@ -488,7 +489,7 @@ impl PyModel {
         let off = finite3(offset, "offset")?;
         let m = &self.model;
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(linear, "P", 3)?, Input::arg(angular_origin, "L", 3)?];
-        run(py, "momentum_twist", inputs, [&[6]], &self.workspaces, || Data::new(m), |d, [x, p, l], [out]| {
+        self.batch(py, "momentum_twist", inputs, [&[6]], |d, [x, p, l], [out]| {
             let (p, l) = (momentum3(m, "P", p)?, momentum3(m, "L", l)?);
             out.copy_from_slice(gjm::momentum_twist(m, d, x, body, &off, &p, &l)?.as_slice());
             Ok(())
@@ -506,7 +507,7 @@ impl PyModel {
         let m = &self.model;
         let n = m.n_dof();
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(qd, "qd", n)?, Input::arg(linear, "P", 3)?, Input::arg(angular_origin, "L", 3)?];
-        run(py, "base_velocity_from_momentum", inputs, [&[6]], &self.workspaces, || Data::new(m), |d, [x, qd, p, l], [out]| {
+        self.batch(py, "base_velocity_from_momentum", inputs, [&[6]], |d, [x, qd, p, l], [out]| {
             let (p, l) = (momentum3(m, "P", p)?, momentum3(m, "L", l)?);
             out.copy_from_slice(gjm::base_velocity_from_momentum(m, d, x, qd, &p, &l)?.as_slice());
             Ok(())
@@ -517,7 +518,7 @@ impl PyModel {
     fn momentum<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let m = &self.model;
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
-        run(py, "momentum", inputs, [&[3], &[3], &[3], &[3]], &self.workspaces, || Data::new(m), |d, [x, u], [p, lo, lb, lc]| {
+        self.batch(py, "momentum", inputs, [&[3], &[3], &[3], &[3]], |d, [x, u], [p, lo, lb, lc]| {
             let h = momentum::momentum(m, d, x, u)?;
             p.copy_from_slice(h.linear.as_slice());
             lo.copy_from_slice(h.angular_about_origin.as_slice());
@@ -530,7 +531,7 @@ impl PyModel {
     fn kinetic_energy<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let m = &self.model;
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
-        run(py, "kinetic_energy", inputs, [&[]], &self.workspaces, || Data::new(m), |d, [x, u], [out]| {
+        self.batch(py, "kinetic_energy", inputs, [&[]], |d, [x, u], [out]| {
             out[0] = momentum::kinetic_energy(m, d, x, u)?;
             Ok(())
         })
@@ -542,7 +543,7 @@ impl PyModel {
     fn momentum_scales<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let m = &self.model;
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
-        run(py, "momentum_scales", inputs, [&[4]], &self.workspaces, || Data::new(m), |d, [x, u], [out]| {
+        self.batch(py, "momentum_scales", inputs, [&[4]], |d, [x, u], [out]| {
             let s = momentum::momentum_scales(m, d, x, u)?;
             out.copy_from_slice(&[s.linear, s.angular_about_origin, s.angular_about_com, s.energy]);
             Ok(())
@@ -553,7 +554,7 @@ impl PyModel {
         let m = &self.model;
         let nu = m.nu();
         let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?];
-        run(py, "passive_forces", inputs, [&[nu]], &self.workspaces, || Data::new(m), |_, [x, u], [out]| {
+        self.batch(py, "passive_forces", inputs, [&[nu]], |_, [x, u], [out]| {
             out.copy_from_slice(passive::passive_forces(m, x, u)?.as_slice());
             Ok(())
         })
@@ -562,7 +563,7 @@ impl PyModel {
     fn spring_energy<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let m = &self.model;
         let inputs = [Input::arg(x, "x", m.nx())?];
-        run(py, "spring_energy", inputs, [&[]], &self.workspaces, || Data::new(m), |_, [x], [out]| {
+        self.batch(py, "spring_energy", inputs, [&[]], |_, [x], [out]| {
             out[0] = passive::spring_energy(m, x)?;
             Ok(())
         })
@@ -571,7 +572,7 @@ impl PyModel {
     fn center_of_mass<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let m = &self.model;
         let inputs = [Input::arg(x, "x", m.nx())?];
-        run(py, "center_of_mass", inputs, [&[3]], &self.workspaces, || Data::new(m), |d, [x], [out]| {
+        self.batch(py, "center_of_mass", inputs, [&[3]], |d, [x], [out]| {
             out.copy_from_slice(momentum::center_of_mass(m, d, x)?.as_slice());
             Ok(())
         })
@@ -690,7 +691,7 @@ impl PyModel {
             out.copy_from_slice(du.as_slice());
             Ok(())
         };
-        run(py, "forward_dynamics", inputs, [&[nu]], &self.workspaces, || Data::new(m), |d, [force, fb, x, u], [out]| {
+        self.batch(py, "forward_dynamics", inputs, [&[nu]], |d, [force, fb, x, u], [out]| {
             if !from_parts {
                 return solve(d, x, u, force, out);
             }

@@ -154,13 +154,9 @@ pub fn quat_from_rpy<'py>(py: Python<'py>, roll: f64, pitch: f64, yaw: f64) -> B
 
 /// Register the rotation helpers on the extension module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(quat_multiply, m)?)?;
-    m.add_function(wrap_pyfunction!(quat_to_matrix, m)?)?;
-    m.add_function(wrap_pyfunction!(quat_from_matrix, m)?)?;
-    m.add_function(wrap_pyfunction!(rotation_vector, m)?)?;
-    m.add_function(wrap_pyfunction!(quat_exp, m)?)?;
-    m.add_function(wrap_pyfunction!(quat_log, m)?)?;
-    m.add_function(wrap_pyfunction!(skew, m)?)?;
-    m.add_function(wrap_pyfunction!(quat_from_rpy, m)?)?;
+    crate::convert::add_to_module!(
+        m,
+        functions: [quat_multiply, quat_to_matrix, quat_from_matrix, rotation_vector, quat_exp, quat_log, skew, quat_from_rpy],
+    );
     Ok(())
 }

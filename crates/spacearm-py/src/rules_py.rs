@@ -72,8 +72,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("GOAL_TOLERANCE", spacearm_core::control::GOAL_TOLERANCE)?;
     m.add("MAX_HANDLE_RATIO", spacearm_core::algorithms::impulse::MAX_HANDLE_RATIO)?;
     crate::rule_tables_py::add_tables(m)?;
-    m.add_function(wrap_pyfunction!(quintic_scaling, m)?)?;
-    m.add_function(wrap_pyfunction!(body_mass_properties_error, m)?)?;
-    m.add_function(wrap_pyfunction!(box_of_moments, m)?)?;
+    crate::convert::add_to_module!(m, functions: [quintic_scaling, body_mass_properties_error, box_of_moments]);
     Ok(())
 }

@@ -182,9 +182,9 @@ def robot_from_dh(
         rotation = list(quaternion(joint1_rotation, "joint1_rotation"))
     else:
         rotation = [0.0, 0.0, 0.0, 1.0]
-    build = _core.model_from_classic_dh if convention == "classic" else _core.model_from_paper_dh
     return Robot(
-        build(
+        _core.model_from_dh(
+            convention,
             str(name),
             str(base_name),
             number(base_mass, "base_mass"),

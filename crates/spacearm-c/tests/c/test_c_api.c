@@ -11,7 +11,6 @@
 #include <string.h>
 
 #include "spacearm.h"
-
 #include "check.h"
 
 static double max_abs_diff(const double *a, const double *b, size_t n) {
@@ -457,10 +456,7 @@ int main(void) {
     test_derivatives_null_outputs();
     test_stepper_bounds();
     test_model_editing();
-    if (failures) {
-        fprintf(stderr, "%d check(s) failed\n", failures);
-        return 1;
-    }
+    if (FAILED()) return 1;
     printf("spacearm C ABI tests passed (ABI %u, spacearm %s)\n", spacearm_abi_version(), spacearm_version());
     return 0;
 }

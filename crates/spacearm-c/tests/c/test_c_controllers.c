@@ -13,7 +13,6 @@
 #include <string.h>
 
 #include "spacearm.h"
-
 #include "check.h"
 
 /* The model with three reaction wheels (the rotation-floating example of the Python package). */
@@ -327,10 +326,7 @@ int main(void) {
     test_combined();
     test_torque_limit();
     test_errors();
-    if (failures) {
-        fprintf(stderr, "%d check(s) failed\n", failures);
-        return 1;
-    }
+    if (FAILED()) return 1;
     printf("spacearm C controller tests passed\n");
     return 0;
 }

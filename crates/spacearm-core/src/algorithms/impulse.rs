@@ -27,7 +27,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 use crate::algorithms::crba::crba;
 pub use crate::algorithms::kinematics::BodyPoint;
 use crate::algorithms::kinematics::{check_body, check_velocity, point_jacobians, point_position};
-use crate::error::{check_finite, Result, SpacearmError};
+use crate::error::{by_name, check_finite, Result, SpacearmError};
 use crate::model::data::Data;
 use crate::model::Model;
 
@@ -46,11 +46,7 @@ impl JointsAtImpact {
 
     /// Parse `"free"` or `"locked"`.
     pub fn from_name(name: &str) -> Result<Self> {
-        match name {
-            "free" => Ok(JointsAtImpact::Free),
-            "locked" => Ok(JointsAtImpact::Locked),
-            other => Err(SpacearmError::argument(format!("arm must be one of {:?}, got '{other}'", Self::NAMES))),
-        }
+        by_name("arm", &Self::NAMES, &[JointsAtImpact::Free, JointsAtImpact::Locked], name)
     }
 
     /// Number of coordinates that may jump in a model with `nu` velocity coordinates.

@@ -21,7 +21,7 @@
 //! same inputs give bit-identical results. Workspaces are allocated once; a step allocates
 //! nothing.
 
-use crate::error::{Result, SpacearmError};
+use crate::error::{by_name, Result};
 
 /// A first-order system `ẏ = f(t, y)` on a manifold embedded in ℝⁿ.
 pub trait OdeSystem {
@@ -50,11 +50,7 @@ impl IntegratorKind {
 
     /// Parse `"rk4"` or `"dopri5"`.
     pub fn from_name(name: &str) -> Result<Self> {
-        match name {
-            "rk4" => Ok(IntegratorKind::Rk4),
-            "dopri5" => Ok(IntegratorKind::Dopri5),
-            other => Err(SpacearmError::argument(format!("integrator must be one of {:?}, got '{other}'", Self::NAMES))),
-        }
+        by_name("integrator", &Self::NAMES, &[IntegratorKind::Rk4, IntegratorKind::Dopri5], name)
     }
 
     /// The integrator's name.

@@ -17,7 +17,7 @@
 
 use nalgebra::{Vector3, Vector6};
 
-use crate::error::{Result, SpacearmError};
+use crate::error::{by_name, Result};
 
 /// A maneuvering mode.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -69,14 +69,7 @@ impl Mode {
     /// Parse a mode name (`"floating"`, `"rotation-floating"`, `"rotation-flying"`,
     /// `"translation-flying"`, `"flying"`).
     pub fn from_name(name: &str) -> Result<Mode> {
-        match name {
-            "floating" => Ok(Mode::Floating),
-            "rotation-floating" => Ok(Mode::RotationFloating),
-            "rotation-flying" => Ok(Mode::RotationFlying),
-            "translation-flying" => Ok(Mode::TranslationFlying),
-            "flying" => Ok(Mode::Flying),
-            other => Err(SpacearmError::argument(format!("mode must be one of {:?}, got '{other}'", Self::NAMES))),
-        }
+        by_name("mode", &Self::NAMES, &[Mode::Floating, Mode::RotationFloating, Mode::RotationFlying, Mode::TranslationFlying, Mode::Flying], name)
     }
 
     /// The mode's name.
@@ -152,6 +145,7 @@ impl Mode {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::SpacearmError;
 
     #[test]
     fn names_round_trip_and_bad_names_are_argument_errors() {
