@@ -8,7 +8,8 @@ Like the controllers, a condition is a description: the core's ``StopCondition``
 >>> import spacearm
 >>> from spacearm.sim.events import StopAtTime
 >>> traj = spacearm.simulate(spacearm.presets.spatial6(), 2.0, stop=StopAtTime(0.5))
->>> traj.meta["stop"]["t"], float(traj.t[-1])
+>>> stop = traj.meta["stop"]
+>>> stop["t"], float(traj.t[-1])
 (0.5, 0.5)
 """
 
