@@ -1082,6 +1082,15 @@ mod tests {
             assert!(labelled.contains(k), "{k} has no label");
         }
         assert!(controller_kind("nonsense").is_err());
+        // The table is the enum's tags, no more and no fewer: every kind is a variant (a table
+        // naming it fails on its fields, never on its kind), and a kind not in the table is not.
+        for k in CONTROLLER_KINDS {
+            match spec(&format!("kind = '{k}'")) {
+                Ok(s) => assert_eq!(s.kind(), *k),
+                Err(e) => assert!(e.to_string().contains("missing field"), "{k}: {e}"),
+            }
+        }
+        assert!(spec("kind = 'lqr'").unwrap_err().to_string().contains("unknown variant"));
     }
 
     #[test]
