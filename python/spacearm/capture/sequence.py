@@ -70,69 +70,13 @@ __all__ = ["capture", "CaptureResult", "RecordedImpulse", "PHASES", "CAPTURE_KIN
 
 #: The most samples a capture may record over its phases (``(approach + soft + post +
 #: detumble time) / dt``): more is refused before anything runs (docs/capture.md, "Grasps that
-#: are refused").
-MAX_CAPTURE_SAMPLES = 1_000_000
+#: are refused"; the core's rule, ``sim/capture_spec.rs``).
+MAX_CAPTURE_SAMPLES = _core.MAX_CAPTURE_SAMPLES
 
 #: The largest angle, rad, the target may turn between two samples (``|ω| dt``): a faster spin
-#: is not resolved by the recording nor by the free-body reference, and is refused.
-MAX_TURN_PER_SAMPLE = 1.0
+#: is not resolved by the recording nor by the free-body reference, and is refused (the core's rule).
+MAX_TURN_PER_SAMPLE = _core.MAX_TURN_PER_SAMPLE
 
-
-def _reach_bound(robot, body: int, offset) -> tuple:
-    """Upper bounds on how far the robot's point ``(body, offset)`` and any body's CM can be from
-    the base CM, m: the sums of the joint offsets, CM offsets and prismatic travels along the
-    chain (``inf`` with an unbounded prismatic joint). The system CM is a mass-weighted mean of
-    the bodies' CMs, so ``|p − r_cm| ≤ point bound + body bound`` in every configuration."""
-    links = robot.description.links
-    reach = [0.0]
-    for link in links:
-        travel = 0.0
-        if link.type == "prismatic":
-            travel = max(abs(link.limits.lower), abs(link.limits.upper))
-        reach.append(reach[link.parent_index] + float(np.linalg.norm(link.origin)) + travel + float(np.linalg.norm(link.com)))
-    return reach[body] + float(np.linalg.norm(offset)), max(reach)
-
-
-def _closest_approach(p0, v, duration: float) -> tuple:
-    """``min |p0 + v t|`` over ``t`` in ``[0, duration]`` and the time it is reached."""
-    vv = float(v @ v)
-    t = 0.0 if vv == 0.0 else float(np.clip(-(p0 @ v) / vv, 0.0, duration))
-    return float(np.linalg.norm(p0 + v * t)), t
-
-
-def _check_work_and_reach(robot, x0, u0, target, s0, grasp, body, offset, mode, times):
-    """Refuse, before any run, a capture whose recording would be too large, whose target spins
-    too fast for ``dt``, or whose grasp point stays out of the arm's reach (floating mode: the
-    system CM moves at constant velocity ``P / m``)."""
-    dt = times["dt"]
-    total = sum(times[k] for k in ("approach_time", "soft_time", "post_time", "detumble_time"))
-    if total / dt > MAX_CAPTURE_SAMPLES:
-        raise ArgumentError(f"the capture would record {total / dt:.3g} samples ({total:g} s of phases every dt = {dt:g} s), more "
-                            f"than the {MAX_CAPTURE_SAMPLES:g} allowed: raise dt or shorten the phases")
-    if not target.is_rigid:
-        return
-    state = target.split(s0)
-    spin = float(np.linalg.norm(state.angular_velocity))
-    if spin * dt > MAX_TURN_PER_SAMPLE:
-        raise ArgumentError(f"the target spins at {spin:.4g} rad/s: it turns {spin * dt:.3g} rad between samples (dt = {dt:g} s), "
-                            f"more than the {MAX_TURN_PER_SAMPLE:g} rad the approach can follow; use dt <= "
-                            f"{MAX_TURN_PER_SAMPLE / spin:.3g} s")
-    if mode != "floating":
-        return  # the thrusters move the system CM: no bound from the momentum
-    point_reach, body_reach = _reach_bound(robot, body, offset)
-    if not np.isfinite(point_reach):
-        return
-    m = robot.total_mass
-    cm0 = robot.center_of_mass(x0)
-    v_cm = np.asarray(robot.momentum(x0, u0).P) / m
-    handle = float(np.linalg.norm(target.point(grasp)[1]))
-    # The target's grasp point is within |handle| of its CM, which moves at constant velocity.
-    gap, when = _closest_approach(state.position - cm0, state.velocity - v_cm, times["approach_time"])
-    if gap - handle > point_reach + body_reach:
-        raise SimulationError(
-            f"the approach cannot reach the target: its grasp point stays at least {gap - handle:.4g} m from the robot's system CM "
-            f"(closest at t = {when:.3g} s of the {times['approach_time']:g} s approach), farther than the {point_reach + body_reach:.4g} m "
-            f"that any configuration of '{robot.name}' reaches (its chain's lengths); place the target within reach")
 
 #: Format tag of the ``.npz`` that [`CaptureResult.save`][spacearm.capture.CaptureResult.save] writes
 #: (``/2``: everything [`CaptureResult.load`][spacearm.capture.CaptureResult.load] needs; ``/1`` files
@@ -174,7 +118,7 @@ class RecordedImpulse:
 #: The phases of [`capture`][spacearm.capture.capture], in order (docs/capture.md).
 PHASES = ("approach", "capture", "post-capture", "detumble")
 #: The grasp models [`capture`][spacearm.capture.capture] accepts as ``kind``.
-CAPTURE_KINDS = ("rigid", "point", "soft")
+CAPTURE_KINDS = tuple(_core.CAPTURE_KINDS)
 
 
 class CaptureResult:
@@ -195,6 +139,22 @@ class CaptureResult:
 
     def __init__(self, **fields):
         self.__dict__.update(fields)
+
+    @classmethod
+    def _of_run(cls, run, robot, target, mode: str, kind: str) -> "CaptureResult":
+        """The result of the core's mission (``_core.CaptureRun``, kept as ``run``): its arrays,
+        impact, captured system and ledger, read as they are."""
+        from .captured import CapturedSystem
+
+        captured = None
+        if run.captured is not None:
+            (x, u), (payload, gripper) = run.captured_state, run.captured_names
+            captured = CapturedSystem(robot._edited(run.captured), x, u, payload, gripper)
+        return cls(t=run.t, phase=run.phase, x=run.x, u=run.u, tau=run.tau, base_wrench=run.base_wrench, target=run.target,
+                   P=run.P, L=run.L, grasp_wrench=run.grasp_wrench, impact=run.impact,
+                   soft_impact=run.impact if kind == "soft" else None, robot=robot, captured=captured, target_model=target, mode=mode,
+                   kind=kind, time_to_detumble=run.time_to_detumble, residual_spin=run.residual_spin,
+                   drift={"P": run.drift_p, "L": run.drift_l}, ledger="conservation", orbit=None, gravity_gradient=None, run=run)
 
     def __repr__(self) -> str:
         detumble = self.time_to_detumble
@@ -512,33 +472,46 @@ def capture(
     in LVLH).
     """
     _check_target(target)
-    if mode not in DETUMBLE_MODES:
-        raise ArgumentError(f"mode must be one of {list(DETUMBLE_MODES)}, got {mode!r}")
-    if kind not in CAPTURE_KINDS:
-        raise ArgumentError(f"kind must be one of {list(CAPTURE_KINDS)}, got {kind!r}")
     s0 = target.check_state(target_state)
+    x0 = robot.neutral_configuration() if x0 is None else vector(x0, "x0", robot.nx)
+    u0 = robot.zero_velocity() if u0 is None else vector(u0, "u0", robot.nu)
+    body, offset = robot.resolve_point(point)
+    target.point(grasp)  # an unknown grasp point fails here, before the approach runs
+    # The run's description, the core's CaptureSpec (sim/capture_spec.rs): every rule of its
+    # values (modes, kinds, times, limits, restitution, the work and the reach) is the core's.
+    values = {k: number(v, k) for k, v in (
+        ("approach_time", approach_time), ("soft_time", soft_time), ("post_time", post_time), ("detumble_time", detumble_time),
+        ("dt", dt), ("capture_tolerance", capture_tolerance), ("restitution", restitution), ("rmrc_gain", rmrc_gain),
+        ("rmrc_damping", rmrc_damping), ("velocity_gain", velocity_gain), ("max_joint_rate", max_joint_rate), ("rtol", rtol),
+        ("kp", kp), ("kd", kd), ("time_constant", time_constant), ("max_joint_torque", max_joint_torque), ("max_force", max_force),
+        ("max_torque", max_torque), ("rate_tolerance", rate_tolerance))}
+    spec = {"target_state": s0.tolist(), "grasp": grasp, "name": target.name, "point": [int(body), np.asarray(offset, dtype=float).tolist()],
+            "mode": mode, "kind": kind, **values}
+    if spec["grasp"] is None:
+        del spec["grasp"]
+    _core.check_capture(robot.core_model, x0, u0, target.body.core_model, spec)
     orbit, gg = _check_orbit(orbit, gravity_gradient, kind, target)
     if kind != "point" and not target.is_rigid:
         raise ArgumentError(f"target '{target.name}' is a jointed model: kind='{kind}' attaches it as a payload, which needs a rigid "
                             "target; use kind='point'")
-    x0 = robot.neutral_configuration() if x0 is None else vector(x0, "x0", robot.nx)
-    u0 = robot.zero_velocity() if u0 is None else vector(u0, "u0", robot.nu)
-    times = {k: number(v, k) for k, v in (("approach_time", approach_time), ("soft_time", soft_time), ("post_time", post_time),
-                                           ("detumble_time", detumble_time), ("dt", dt), ("capture_tolerance", capture_tolerance))}
-    for k, v in times.items():
-        if not v > 0:
-            raise ArgumentError(f"{k} must be > 0, got {v}")
-    mjt = number(max_joint_torque, "max_joint_torque")
-    for name, value in (("max_joint_torque", mjt), ("max_force", max_force), ("max_torque", max_torque)):
-        if not number(value, name) > 0:
-            raise ArgumentError(f"{name} must be > 0 (inf: no limit), got {value}")
-    e = number(restitution, "restitution")
-    if not 0.0 <= e <= 1.0 or (kind != "point" and e != 0.0):
-        raise ArgumentError(f"restitution must be in [0, 1] and is for kind='point' only (a grasp is plastic), got {e} with kind={kind!r}")
-    body, offset = robot.resolve_point(point)
-    target.point(grasp)  # an unknown grasp point fails here, before the approach runs
-    _check_work_and_reach(robot, x0, u0, target, s0, grasp, body, offset, mode, times)
+    if orbit is None and target.is_rigid:
+        # The whole mission is one core run (sim/capture.rs): every phase, the grasp, the
+        # attachment and the ledger.
+        run = _core.run_capture(robot.core_model, x0, u0, target.body.core_model, spec)
+        return CaptureResult._of_run(run, robot, target, mode, kind)
+    # In orbit, or a jointed target: the phases below, each a core run, put together here (not
+    # yet the core's mission: docs/capture.md, "Where the mission runs").
+    return _capture_phases(robot, target, s0, x0, u0, body, offset, orbit, gg, mode=mode, kind=kind, point=point, grasp=grasp,
+                           **values)
 
+
+def _capture_phases(robot, target, s0, x0, u0, body, offset, orbit, gg, *, mode, kind, point, grasp, approach_time, soft_time,
+                    post_time, detumble_time, dt, capture_tolerance, restitution, rmrc_gain, rmrc_damping, velocity_gain,
+                    max_joint_rate, rtol, kp, kd, time_constant, max_joint_torque, max_force, max_torque, rate_tolerance):
+    """A capture in orbit or of a jointed target, phase by phase (module docstring)."""
+    times = {"approach_time": approach_time, "soft_time": soft_time, "post_time": post_time, "detumble_time": detumble_time,
+             "dt": dt, "capture_tolerance": capture_tolerance}
+    mjt = max_joint_torque
     # ---- 0. approach ------------------------------------------------------------------------
     # The target's grasp point as the native RMRC's reference; the whole approach is one native
     # run that the core stops at the grasp: the first time the grasp points are within

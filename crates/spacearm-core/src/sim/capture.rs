@@ -1,0 +1,493 @@
+//! The capture mission as one native run of phases (docs/capture.md): approach → capture →
+//! post-capture → detumble, each phase a run of the simulation loop ([`simulate`]) or of the
+//! soft-capture plant ([`crate::sim::soft_capture`]), the grasp the core's impulse
+//! ([`crate::algorithms::impulse::grasp_impact`]) and model edit ([`ModelBuilder::attach_model`]),
+//! the records of every phase put end to end and the momentum ledger of robot + target computed
+//! from them ([`crate::sim::capture_ledger`]).
+//!
+//! 0. **approach** — [`ControllerSpec::ResolvedMotionRate`] of the robot's grasp point towards the
+//!    target's grasp point, a [`PointReferenceSpec::FreeBody`] (paper eq. 110), in the flying mode
+//!    [`ControllerSpec::Combined`] with [`ControllerSpec::MomentumDamping`] of the base, clamped by
+//!    [`ControllerSpec::TorqueLimit`]; stopped by [`StopCondition::Gap`] when the two grasp points
+//!    come within `capture_tolerance` (located within the step, [`crate::sim::events`]). The
+//!    target's states are its free-body propagation at the recorded times.
+//! 1. **capture** — `rigid`/`point`: the impulse, one sample after the jump at the same instant;
+//!    `soft`: the wrist impedance for `soft_time` (samples every `dt / 5`), then a rigid lock.
+//! 2. **post-capture** — the captured system (rigid, soft: the target attached on a fixed joint
+//!    at its relative pose; point: the robot alone, the target flying off) with the joints
+//!    braked (`kp = 0`), floating.
+//! 3. **detumble** — the hold law [`ControllerSpec::ComputedTorque`] with a constant reference
+//!    (in the flying mode with [`ControllerSpec::MomentumDamping`]), in `mode`.
+//!
+//! Rigid targets in empty space; `spacearm.capture.capture` runs captures in orbit and of jointed
+//! targets by its own phases (docs/capture.md says which).
+
+use nalgebra::{DVector, Matrix3, Vector3};
+
+use crate::algorithms::impulse::{grasp_impact, BodyPoint, GraspContact, GraspImpact, JointsAtImpact};
+use crate::algorithms::kinematics::{forward_kinematics, point_jacobians, point_position};
+use crate::algorithms::rnea::joint_wrench;
+use crate::control::spec::{no_external, BodySpec, ControllerSpec, Gains, InertiaSpec, JointReferenceSpec, PointReferenceSpec, PointSpec, TaskSpec};
+use crate::error::{Result, SpacearmError};
+use crate::math::integrate::IntegratorKind;
+use crate::math::rotations::xyzw_from_matrix;
+use crate::model::edit::Mount;
+use crate::model::{Data, Model};
+use crate::scenario::actuators::detect_reaction_wheels;
+use crate::scenario::free_body::FreeBody;
+use crate::scenario::modes::Mode;
+use crate::sim::capture_ledger::{ledger, Ledger};
+use crate::sim::capture_spec::{fmt_g, fmt_repr, CaptureSpec};
+use crate::sim::options::{SimOptions, DEFAULT_MAX_STEPS};
+use crate::sim::simulate::{check_initial_state, simulate, Progress, SimResult};
+use crate::sim::soft_capture::{soft_capture, ImpedanceSpec};
+use crate::sim::stop::{StopCondition, StopEvent};
+
+/// The captured system after a rigid or soft grasp: the combined model (the target a link on a
+/// fixed joint of the gripper) and its state at the grasp.
+#[derive(Debug, Clone)]
+pub struct CapturedSystem {
+    /// The combined model.
+    pub model: Model,
+    /// Configuration at the grasp (the robot's: the payload adds no coordinate).
+    pub x: Vec<f64>,
+    /// Velocity just after the grasp.
+    pub u: Vec<f64>,
+    /// The target's link name.
+    pub payload: String,
+    /// The body it rides on.
+    pub gripper: String,
+}
+
+/// A capture mission's records, every array row-major with one row per sample.
+#[derive(Debug, Clone)]
+pub struct CaptureRun {
+    /// Sample times, s.
+    pub t: Vec<f64>,
+    /// Phase index per sample ([`crate::sim::capture_spec::PHASES`]).
+    pub phase: Vec<i64>,
+    /// Robot configurations (width `7 + N`).
+    pub x: Vec<f64>,
+    /// Robot velocities (width `6 + N`).
+    pub u: Vec<f64>,
+    /// Joint torques applied (width `N`).
+    pub tau: Vec<f64>,
+    /// Base wrench applied (width 6).
+    pub base_wrench: Vec<f64>,
+    /// Target states `[r, quat, v, ω]` (width 13).
+    pub target: Vec<f64>,
+    /// The wrench `[f; n]` holding the target (moment about its CM; zeros while it is free), width 6.
+    pub grasp_wrench: Vec<f64>,
+    /// Whether the target is a link of the captured system at each sample.
+    pub combined: Vec<bool>,
+    /// The momentum ledger of robot + target.
+    pub ledger: Ledger,
+    /// The grasp impact (for `soft`: the lock after the impedance phase).
+    pub impact: GraspImpact,
+    /// The target's configuration at the impact (its velocity after it is `impact.target_u_after`).
+    pub impact_target_x: Vec<f64>,
+    /// The captured system (`None` for a point contact).
+    pub captured: Option<CapturedSystem>,
+    /// Seconds after the detumble phase starts until every rate stays below `rate_tolerance` (inf: never).
+    pub time_to_detumble: f64,
+    /// `|ω0|` at the end, rad/s.
+    pub residual_spin: f64,
+    /// The event that ended the approach.
+    pub approach_stop: Option<StopEvent>,
+    /// `(7 + N, 6 + N, N)` of the robot.
+    pub dims: (usize, usize, usize),
+}
+
+/// Records put end to end, phase by phase.
+#[derive(Default)]
+struct Segments {
+    t: Vec<f64>,
+    phase: Vec<i64>,
+    x: Vec<f64>,
+    u: Vec<f64>,
+    s: Vec<f64>,
+    tau: Vec<f64>,
+    bw: Vec<f64>,
+    w: Vec<f64>,
+    combined: Vec<bool>,
+}
+
+/// One phase's rows `range` of a run: times already shifted, the rest per row.
+struct Rows<'a> {
+    x: &'a [f64],
+    u: &'a [f64],
+    s: &'a [f64],
+    tau: &'a [f64],
+    bw: &'a [f64],
+    w: &'a [f64],
+}
+
+impl Segments {
+    fn add(&mut self, t: &[f64], phase: i64, rows: Rows<'_>, combined: bool) {
+        self.t.extend_from_slice(t);
+        self.phase.extend(std::iter::repeat_n(phase, t.len()));
+        self.x.extend_from_slice(rows.x);
+        self.u.extend_from_slice(rows.u);
+        self.s.extend_from_slice(rows.s);
+        self.tau.extend_from_slice(rows.tau);
+        self.bw.extend_from_slice(rows.bw);
+        self.w.extend_from_slice(rows.w);
+        self.combined.extend(std::iter::repeat_n(combined, t.len()));
+    }
+}
+
+/// The options of a phase's run: DOPRI5 with `rtol` (absolute `rtol · 1e-2`), samples every `dt`.
+fn phase_options(mode: Mode, duration: f64, dt: f64, rtol: f64, stop: Vec<StopCondition>) -> SimOptions {
+    SimOptions {
+        mode,
+        integrator: IntegratorKind::Dopri5,
+        duration,
+        dt,
+        rtol,
+        atol: rtol * 1e-2,
+        record_every: 1,
+        wheels: None,
+        thrusters: None,
+        joint_limits: true,
+        max_steps: DEFAULT_MAX_STEPS,
+        orbit: None,
+        stop,
+    }
+}
+
+/// The hold law of the detumble for `model` (docs/capture.md): computed torque towards
+/// `q_hold` on the actuated arm joints, with momentum damping in the flying mode, clamped to
+/// `max_joint_torque`; `None` when nothing is driven.
+fn hold_law(model: &Model, q_hold: &[f64], mode: Mode, kp: f64, kd: f64, spec: &CaptureSpec, thrusters: (f64, f64)) -> Option<ControllerSpec> {
+    let wheels = detect_reaction_wheels(model);
+    let actuated = model.actuated_dofs();
+    let arm: Vec<f64> = (0..model.n_dof()).filter(|d| !wheels.contains(d) && actuated[*d]).map(|d| q_hold[d]).collect();
+    let arm = (!arm.is_empty()).then(|| ControllerSpec::ComputedTorque {
+        kp: Gains(vec![kp]),
+        kd: Gains(vec![kd]),
+        reference: JointReferenceSpec::Constant { q: arm },
+        model: None,
+        passive: "drift".into(),
+    });
+    let mut ctrl = arm;
+    if mode == Mode::Flying {
+        let base = ControllerSpec::MomentumDamping { time_constant: spec.time_constant, max_force: thrusters.0, max_torque: thrusters.1, model: None };
+        ctrl = Some(match ctrl {
+            Some(arm) => ControllerSpec::Combined { arm: Box::new(arm), base: Box::new(base) },
+            None => base,
+        });
+    }
+    ctrl.map(|c| limited(c, spec.max_joint_torque))
+}
+
+fn limited(c: ControllerSpec, limit: f64) -> ControllerSpec {
+    if limit.is_finite() {
+        ControllerSpec::TorqueLimit { controller: Box::new(c), limit }
+    } else {
+        c
+    }
+}
+
+/// Run `controller` (or zero torques) on `plant` under `opts`.
+fn run(plant: &Model, x: &[f64], u: &[f64], opts: &SimOptions, controller: Option<&ControllerSpec>, progress: Progress<'_>) -> Result<SimResult> {
+    let none = ControllerSpec::None {};
+    let mut c = controller.unwrap_or(&none).build(plant, &mut no_external)?;
+    simulate(plant, x, u, opts, c.as_mut(), progress)
+}
+
+fn row(v: &[f64], width: usize, k: usize) -> &[f64] {
+    &v[k * width..(k + 1) * width]
+}
+
+/// The first time after which every rate stays below `tolerance` (inf if never).
+fn time_to_rest(t: &[f64], u: &[f64], nu: usize, first_rate: usize, tolerance: f64) -> f64 {
+    let above = |k: usize| row(u, nu, k)[first_rate..].iter().fold(0.0_f64, |m, v| m.max(v.abs())) >= tolerance;
+    match (0..t.len()).rev().find(|&k| above(k)) {
+        None => t[0],
+        Some(k) if k == t.len() - 1 => f64::INFINITY,
+        Some(k) => t[k + 1],
+    }
+}
+
+/// The target's 13-state while it rides on the gripper, from the combined model.
+fn payload_state(model: &Model, data: &mut Data, x: &[f64], u: &[f64], body: usize) -> Result<[f64; 13]> {
+    forward_kinematics(model, data, x)?;
+    let (j0, jm) = point_jacobians(model, data, body, &Vector3::zeros())?;
+    let tw = j0 * nalgebra::Vector6::from_column_slice(&u[..6]) + jm * DVector::from_column_slice(&u[6..]);
+    let c = data.com_in_world[body];
+    let q = xyzw_from_matrix(&data.body_to_world[body]);
+    let mut s = [0.0; 13];
+    s[..3].copy_from_slice(c.as_slice());
+    s[3..7].copy_from_slice(&q);
+    s[7..].copy_from_slice(tw.as_slice());
+    Ok(s)
+}
+
+/// Every check of a capture before anything runs (docs/capture.md, "Grasps that are refused"):
+/// the spec's values ([`CaptureSpec::validate`]), the states, the two grasp points, and for a
+/// rigid target the reach ([`CaptureSpec::check_work_and_reach`]). Returns the robot's grasp
+/// point and the target's, `(body, offset)` each.
+pub fn check_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: &CaptureSpec) -> Result<((usize, Vector3<f64>), (usize, Vector3<f64>))> {
+    spec.validate()?;
+    check_initial_state(robot, x0, u0)?;
+    let (tbody, toffset) = match &spec.grasp {
+        Some(name) => {
+            let k = target.point_index(name)?;
+            (target.points()[k].body, target.points()[k].offset)
+        }
+        None => match target.points().first() {
+            Some(p) => (p.body, p.offset),
+            None => return Err(SpacearmError::argument(format!("target '{}' needs at least one grasp point", target.name()))),
+        },
+    };
+    let (body, offset) = PointSpec::resolve(spec.point.as_ref(), robot)?;
+    if target.n_dof() == 0 {
+        spec.check_work_and_reach(robot, x0, u0, body, &offset, toffset.norm())?;
+    }
+    Ok(((body, offset), (tbody, toffset)))
+}
+
+/// Run the capture mission `spec` of the rigid `target` (a model with no joints, its named
+/// points the grasp points) by `robot` from `(x0, u0)` (module docs).
+pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: &CaptureSpec, progress: Progress<'_>) -> Result<CaptureRun> {
+    let ((body, offset), (tbody, toffset)) = check_capture(robot, x0, u0, target, spec)?;
+    let mode = spec.run_mode()?;
+    if target.n_dof() != 0 {
+        return Err(SpacearmError::argument(format!(
+            "target '{}' is a jointed model: the core's capture mission takes a rigid target (spacearm.capture.capture runs jointed ones)",
+            target.name()
+        )));
+    }
+    let s0 = spec.target_state.clone();
+    let (nx, nu, n) = (robot.nx(), robot.nu(), robot.n_dof());
+    let dt = spec.dt;
+    let kind = spec.kind.as_str();
+    let inertia: Matrix3<f64> = target.base().inertia;
+
+    // ---- 0. approach ------------------------------------------------------------------------
+    let reference = PointReferenceSpec::FreeBody {
+        inertia: InertiaSpec::Matrix(std::array::from_fn(|i| std::array::from_fn(|j| inertia[(i, j)]))),
+        state: s0.clone(),
+        offset: toffset.into(),
+        step: 0.5 * dt,
+        point: spec.point.clone(),
+        orbit: None,
+    };
+    let free = reference.free_body()?;
+    let rmrc = ControllerSpec::ResolvedMotionRate {
+        reference,
+        gain: spec.rmrc_gain,
+        max_damping: spec.rmrc_damping,
+        threshold: crate::math::dls::DampingLaw::default().threshold,
+        velocity_gain: spec.velocity_gain,
+        point: spec.point.clone(),
+        max_joint_rate: spec.max_joint_rate,
+        task: TaskSpec::default(),
+        strategy: "naive".into(),
+    };
+    let ctrl = match mode {
+        Mode::Floating => rmrc,
+        _ => ControllerSpec::Combined {
+            arm: Box::new(rmrc),
+            base: Box::new(ControllerSpec::MomentumDamping { time_constant: spec.time_constant, max_force: spec.max_force, max_torque: spec.max_torque, model: None }),
+        },
+    };
+    let ctrl = limited(ctrl, spec.max_joint_torque);
+    let stop = vec![StopCondition::Gap { point: Some(PointSpec::At(BodySpec::Index(body), offset.into())), tolerance: spec.capture_tolerance }];
+    let approach = run(robot, x0, u0, &phase_options(mode, spec.approach_time, dt, spec.rtol, stop), Some(&ctrl), &mut *progress)?;
+    let ra = &approach.records;
+    let ka = ra.n_samples;
+    let mut body_states = free.clone();
+    let mut sa = Vec::with_capacity(13 * ka);
+    for &t in &ra.t {
+        sa.extend_from_slice(&body_states.state(t)?);
+    }
+    if approach.stop.is_none() {
+        // The gap at every sample, for the message.
+        let (mut dr, mut dtg) = (Data::new(robot), Data::new(target));
+        let (mut best, mut at) = (f64::INFINITY, 0.0);
+        for k in 0..ka {
+            forward_kinematics(robot, &mut dr, row(&ra.x, nx, k))?;
+            forward_kinematics(target, &mut dtg, &row(&sa, 13, k)[..7])?;
+            let gap = (point_position(&dr, body, &offset) - point_position(&dtg, tbody, &toffset)).norm();
+            if gap < best {
+                (best, at) = (gap, ra.t[k]);
+            }
+        }
+        return Err(SpacearmError::Simulation(format!(
+            "the approach did not reach the grasp point: closest {} m at t = {} s (capture_tolerance {} m); lengthen approach_time, place the target within reach or raise rmrc_gain",
+            fmt_g(best, 3),
+            fmt_g(at, 3),
+            fmt_repr(spec.capture_tolerance)
+        )));
+    }
+    let mut seg = Segments::default();
+    let zeros6 = vec![0.0; 6 * ka];
+    seg.add(&ra.t, 0, Rows { x: &ra.x, u: &ra.u, s: &sa, tau: &ra.tau, bw: &ra.base_wrench, w: &zeros6 }, false);
+    let k = ka - 1;
+    let mut t_cap = ra.t[k];
+    let mut xc = row(&ra.x, nx, k).to_vec();
+    let mut uc = row(&ra.u, nu, k).to_vec();
+    let mut sc = row(&sa, 13, k).to_vec();
+
+    // ---- 1. capture -------------------------------------------------------------------------
+    let q_hold = xc[7..].to_vec();
+    let robot_point = BodyPoint { body, offset };
+    let target_point = BodyPoint { body: tbody, offset: toffset };
+    let (mut drobot, mut dtarget) = (Data::new(robot), Data::new(target));
+    let contact = if kind == "point" { GraspContact::Point { normal: None } } else { GraspContact::Rigid };
+    if kind == "soft" {
+        let hold = hold_law(robot, &q_hold, Mode::Floating, spec.kp, spec.kd, spec, (f64::INFINITY, f64::INFINITY));
+        let opts = phase_options(Mode::Floating, spec.soft_time, dt / 5.0, spec.rtol, Vec::new());
+        let imp = ImpedanceSpec { frequency: 3.0, damping_ratio: 0.7, stiffness: None, damping: None, rotational_stiffness: None, rotational_damping: None };
+        let none = ControllerSpec::None {};
+        let mut c = hold.as_ref().unwrap_or(&none).build(robot, &mut no_external)?;
+        let soft = soft_capture(robot, &xc, &uc, robot_point, target, &sc[..7], &sc[7..], target_point, &imp, &opts, c.as_mut(), &mut *progress)?;
+        let (rr, rt) = (&soft.robot.records, &soft.target.records);
+        let ks = rr.n_samples;
+        let mut t = Vec::with_capacity(ks - 1);
+        let mut s = Vec::with_capacity(13 * (ks - 1));
+        let mut held = Vec::with_capacity(6 * (ks - 1));
+        for j in 1..ks {
+            t.push(t_cap + rr.t[j]);
+            s.extend_from_slice(row(&rt.x, 7, j));
+            s.extend_from_slice(row(&rt.u, 6, j));
+            // the impedance's wrench on the target, moved from X to the target's CM
+            forward_kinematics(robot, &mut drobot, row(&rr.x, nx, j))?;
+            let x_pt = point_position(&drobot, body, &offset);
+            let w = row(&soft.wrench, 6, j);
+            let f = -Vector3::new(w[0], w[1], w[2]);
+            let cm = Vector3::new(rt.x[7 * j], rt.x[7 * j + 1], rt.x[7 * j + 2]);
+            let m = -Vector3::new(w[3], w[4], w[5]) + (x_pt - cm).cross(&f);
+            held.extend_from_slice(f.as_slice());
+            held.extend_from_slice(m.as_slice());
+        }
+        let bw = vec![0.0; 6 * (ks - 1)];
+        seg.add(&t, 1, Rows { x: &rr.x[nx..], u: &rr.u[nu..], s: &s, tau: &rr.tau[n..], bw: &bw, w: &held }, false);
+        t_cap += rr.t[ks - 1];
+        xc = row(&rr.x, nx, ks - 1).to_vec();
+        uc = row(&rr.u, nu, ks - 1).to_vec();
+        sc = row(&s, 13, ks - 2).to_vec();
+    }
+    let impact = grasp_impact(
+        robot,
+        &mut drobot,
+        &xc,
+        &uc,
+        robot_point,
+        target,
+        &mut dtarget,
+        &sc[..7],
+        &sc[7..],
+        target_point,
+        contact,
+        spec.restitution,
+        JointsAtImpact::Free,
+        spec.capture_tolerance,
+    )?;
+    let impact_target_x = sc[..7].to_vec();
+    uc = impact.u_after.as_slice().to_vec();
+    sc = sc[..7].iter().chain(impact.target_u_after.iter()).copied().collect();
+    let zn = vec![0.0; n];
+    seg.add(&[t_cap], 1, Rows { x: &xc, u: &uc, s: &sc, tau: &zn, bw: &[0.0; 6], w: &[0.0; 6] }, kind != "point");
+
+    // ---- 2. post-capture, 3. detumble ---------------------------------------------------------
+    let captured = if kind != "point" { Some(attach(robot, &xc, &uc, target, &sc, body, spec.name.as_deref(), &impact)?) } else { None };
+    let plant = captured.as_ref().map_or(robot, |c| &c.model);
+    let payload_body = captured.as_ref().map(|c| plant.body_index(&c.payload)).transpose()?;
+    let mut dplant = Data::new(plant);
+    let (mut x_start, mut u_start) = (xc.clone(), uc.clone());
+    let mut detumbled = (f64::INFINITY, 0.0);
+    for (phase, duration, run_mode, kp) in [(2, spec.post_time, Mode::Floating, 0.0), (3, spec.detumble_time, mode, spec.kp)] {
+        let ctrl = hold_law(plant, &q_hold, run_mode, kp, spec.kd, spec, (spec.max_force, spec.max_torque));
+        let res = run(plant, &x_start, &u_start, &phase_options(run_mode, duration, dt, spec.rtol, Vec::new()), ctrl.as_ref(), &mut *progress)?;
+        let r = &res.records;
+        let kr = r.n_samples;
+        let mut s = Vec::with_capacity(13 * kr);
+        let mut w = Vec::with_capacity(6 * kr);
+        match payload_body {
+            Some(pb) => {
+                for j in 0..kr {
+                    let (xj, uj) = (row(&r.x, nx, j), row(&r.u, nu, j));
+                    s.extend_from_slice(&payload_state(plant, &mut dplant, xj, uj, pb)?);
+                    w.extend_from_slice(joint_wrench(plant, &mut dplant, xj, uj, row(&r.du, nu, j), pb)?.as_slice());
+                }
+            }
+            None => {
+                // the point contact's target flies off, free
+                let mut fly = FreeBody::new(inertia, &sc, toffset, 0.5 * dt)?;
+                for &t in &r.t {
+                    s.extend_from_slice(&fly.state(t - r.t[0])?);
+                }
+                w.resize(6 * kr, 0.0);
+            }
+        }
+        let t: Vec<f64> = r.t[1..].iter().map(|tj| t_cap + tj).collect();
+        seg.add(&t, phase, Rows { x: &r.x[nx..], u: &r.u[nu..], s: &s[13..], tau: &r.tau[n..], bw: &r.base_wrench[6..], w: &w[6..] }, captured.is_some());
+        let first_rate = if run_mode == Mode::Floating { 6 } else { 3 };
+        let rest = if nu > first_rate { time_to_rest(&r.t, &r.u, nu, first_rate, spec.rate_tolerance) } else { r.t[0] };
+        let last = row(&r.u, nu, kr - 1);
+        detumbled = (rest, Vector3::new(last[3], last[4], last[5]).norm());
+        t_cap += r.t[kr - 1];
+        x_start = row(&r.x, nx, kr - 1).to_vec();
+        u_start = last.to_vec();
+        sc = row(&s, 13, kr - 1).to_vec();
+    }
+
+    // ---- the ledger -----------------------------------------------------------------------------
+    let ledger = ledger(robot, plant, target, &seg.x, &seg.u, &seg.s, &seg.combined)?;
+    Ok(CaptureRun {
+        t: seg.t,
+        phase: seg.phase,
+        x: seg.x,
+        u: seg.u,
+        tau: seg.tau,
+        base_wrench: seg.bw,
+        target: seg.s,
+        grasp_wrench: seg.w,
+        combined: seg.combined,
+        ledger,
+        impact,
+        impact_target_x,
+        captured,
+        time_to_detumble: detumbled.0,
+        residual_spin: detumbled.1,
+        approach_stop: approach.stop,
+        dims: (nx, nu, n),
+    })
+}
+
+/// The combined model after a rigid grasp (the target a link on a fixed joint of the grasp
+/// point's body at its relative pose; [`ModelBuilder::attach_model`]) and its state, after
+/// checking that the impact left no relative twist.
+#[allow(clippy::too_many_arguments)]
+fn attach(robot: &Model, x: &[f64], u: &[f64], target: &Model, s: &[f64], body: usize, name: Option<&str>, impact: &GraspImpact) -> Result<CapturedSystem> {
+    let rel = impact.relative_twist_after.norm();
+    let scale = DVector::from_column_slice(&s[7..]).norm().max(DVector::from_column_slice(u).norm()).max(1e-300);
+    if rel > 1e-8 * scale {
+        return Err(SpacearmError::argument(format!("the target is not locked to the gripper (relative twist {}); apply grasp_impulse(kind='rigid') first", fmt_g(rel, 3))));
+    }
+    let mut dr = Data::new(robot);
+    forward_kinematics(robot, &mut dr, x)?;
+    let mut dt = Data::new(target);
+    forward_kinematics(target, &mut dt, &s[..7])?;
+    let (rb, pb) = (dr.body_to_world[body], dr.com_in_world[body]);
+    let rt = dt.body_to_world[0];
+    // `Rbᵀ a` as fused multiply-adds over the rows of `Rb` in order: the sums the Python door
+    // made (numpy's BLAS), so that the captured system is placed bit for bit as before.
+    let tmul = |a: &dyn Fn(usize) -> f64, i: usize| rb[(2, i)].mul_add(a(2), rb[(1, i)].mul_add(a(1), rb[(0, i)] * a(0)));
+    let d = Vector3::new(s[0], s[1], s[2]) - pb;
+    let origin = Vector3::from_fn(|i, _| tmul(&|k| d[k], i));
+    let rotation = xyzw_from_matrix(&Matrix3::from_fn(|i, j| tmul(&|k| rt[(k, j)], i)));
+    let gripper = robot.body_name(body).to_string();
+    let payload = name.unwrap_or(target.name()).to_string();
+    if robot.body_names().iter().any(|b| *b == payload) {
+        return Err(SpacearmError::argument(format!("the robot already has a body named '{payload}'; pass name= for the payload")));
+    }
+    let mut b = robot.to_builder();
+    let model_err = |e: crate::error::ModelError| SpacearmError::from(e);
+    b.attach_model(target, &Mount::new(&gripper, origin.into(), rotation), &format!("{payload}_"), Some(&payload)).map_err(model_err)?;
+    b.set_name(&format!("{}+{payload}", robot.name())).map_err(model_err)?;
+    let model = b.build().map_err(model_err)?;
+    Ok(CapturedSystem { model, x: x.to_vec(), u: u.to_vec(), payload, gripper })
+}
