@@ -491,3 +491,60 @@ fn attach(robot: &Model, x: &[f64], u: &[f64], target: &Model, s: &[f64], body: 
     let model = b.build().map_err(model_err)?;
     Ok(CapturedSystem { model, x: x.to_vec(), u: u.to_vec(), payload, gripper })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::algorithms::kinematics::forward_kinematics;
+    use crate::model::ModelBuilder;
+
+    fn scene(kind: &str) -> (Model, Vec<f64>, Vec<f64>, Model, CaptureSpec) {
+        let robot = crate::model::presets::spatial6();
+        let x0: Vec<f64> = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0].iter().copied().chain(robot.initial_q().iter().copied()).collect();
+        let u0 = vec![0.0; robot.nu()];
+        let mut b = ModelBuilder::new("target", "target", 50.0, [[4.0, 0.0, 0.0], [0.0, 5.0, 0.0], [0.0, 0.0, 6.0]]).unwrap();
+        b.add_point("handle", "target", [-0.5, 0.0, 0.0]).unwrap();
+        let target = b.build().unwrap();
+        let mut d = Data::new(&robot);
+        forward_kinematics(&robot, &mut d, &x0).unwrap();
+        let ee = &robot.points()[robot.end_effector().unwrap()];
+        let p = point_position(&d, ee.body, &ee.offset) + Vector3::new(0.6, 0.0, 0.0);
+        let state = vec![p.x, p.y, p.z, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.05, 0.1];
+        let text = format!("target_state = {state:?}\nkind = \"{kind}\"\ndetumble_time = 0.5\npost_time = 0.2\nsoft_time = 0.1\n");
+        (robot, x0, u0, target, toml::from_str(&text).unwrap())
+    }
+
+    #[test]
+    fn the_mission_conserves_its_ledger_and_grasps_at_the_tolerance() {
+        for kind in ["rigid", "point", "soft"] {
+            let (robot, x0, u0, target, spec) = scene(kind);
+            let run = run_capture(&robot, &x0, &u0, &target, &spec, &mut |_| Ok(())).unwrap();
+            let n = run.t.len();
+            assert!(run.t.windows(2).all(|w| w[1] >= w[0]) && run.phase.windows(2).all(|w| w[1] >= w[0]), "{kind}: time and phase in order");
+            assert_eq!((run.phase[0], run.phase[n - 1]), (0, 3));
+            // the drift recomputed from the ledger's arrays by its definition
+            let dev = |v: &[f64]| (0..n).map(|k| (0..3).map(|i| (v[3 * k + i] - v[i]).powi(2)).sum::<f64>().sqrt()).fold(0.0, f64::max);
+            assert!(dev(&run.ledger.l) / run.ledger.scale_l < 1e-9 && run.ledger.drift_l < 1e-9, "{kind}: L drift {}", run.ledger.drift_l);
+            assert!(dev(&run.ledger.p) / run.ledger.scale_p < 1e-9, "{kind}: P drift");
+            assert!(run.ledger.l.iter().any(|v| v.abs() > 0.1), "{kind}: momentum in play");
+            // the grasp: the two grasp points the tolerance apart at the approach's end
+            let grasp_at = run.phase.iter().position(|&p| p == 1).unwrap() - 1;
+            let stop = run.approach_stop.unwrap();
+            assert_eq!(stop.t, run.t[grasp_at]);
+            assert!((stop.value - 0.01).abs() < 1e-8, "{kind}: gap {}", stop.value);
+            assert_eq!(run.captured.is_some(), kind != "point");
+        }
+    }
+
+    #[test]
+    fn bad_specs_are_refused_before_anything_runs() {
+        let (robot, x0, u0, target, mut spec) = scene("rigid");
+        spec.kind = "glue".into();
+        let err = run_capture(&robot, &x0, &u0, &target, &spec, &mut |_| Ok(())).unwrap_err().to_string();
+        assert!(err.contains("kind must be one of ['rigid', 'point', 'soft'], got 'glue'"), "{err}");
+        let (_, _, _, _, mut far) = scene("rigid");
+        far.target_state[0] = 1e5;
+        let err = run_capture(&robot, &x0, &u0, &target, &far, &mut |_| Ok(())).unwrap_err().to_string();
+        assert!(err.contains("the approach cannot reach the target"), "{err}");
+    }
+}
