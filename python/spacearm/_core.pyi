@@ -856,6 +856,18 @@ class CaptureRun:
     def drift_scales(self) -> tuple[float, float]: ...
     @property
     def approach_end(self) -> float: ...
+    @property
+    def ledger(self) -> str: ...  # "conservation" or "balance" (in orbit)
+    @property
+    def external_wrench(self) -> _Vec | None: ...  # in orbit: (T, 6)
+    @property
+    def external_impulse(self) -> _Vec | None: ...  # in orbit: (T, 6)
+    @property
+    def r_cm_eci(self) -> _Vec | None: ...  # in orbit: (T, 3)
+    @property
+    def v_cm_eci(self) -> _Vec | None: ...  # in orbit: (T, 3)
+    @property
+    def target_lvlh(self) -> _Vec | None: ...  # in orbit: (T, 6)
 
 def run_capture(model: Model, x0: _ArrayLike, u0: _ArrayLike, target: Model, spec: dict[str, Any]) -> CaptureRun: ...
 def check_capture(model: Model, x0: _ArrayLike, u0: _ArrayLike, target: Model, spec: dict[str, Any]) -> None: ...

@@ -61,6 +61,19 @@ pub struct PyCaptureRun {
     drift_scales: (f64, f64),
     /// When the approach ended (the grasp event), s.
     approach_end: f64,
+    /// `"conservation"` (empty space: the drifts are the momenta's changes) or `"balance"` (in
+    /// orbit: the residuals of change = integral of the external wrenches).
+    ledger: &'static str,
+    /// In orbit: (T, 6) the external wrench about the origin (tidal + thrusters); else None.
+    external_wrench: Option<Py<PyArray2<f64>>>,
+    /// In orbit: (T, 6) its trapezoid integral from 0.
+    external_impulse: Option<Py<PyArray2<f64>>>,
+    /// In orbit: (T, 3) the chaser's system CM in ECI.
+    r_cm_eci: Option<Py<PyArray2<f64>>>,
+    /// In orbit: (T, 3) its velocity in ECI.
+    v_cm_eci: Option<Py<PyArray2<f64>>>,
+    /// In orbit: (T, 6) the target's CM relative to the robot's own CM in the robot's LVLH.
+    target_lvlh: Option<Py<PyArray2<f64>>>,
 }
 
 fn rows<'py>(py: Python<'py>, v: Vec<f64>, width: usize) -> PyResult<Py<PyArray2<f64>>> {
@@ -81,6 +94,18 @@ impl PyCaptureRun {
                 Some((c.payload, c.gripper)),
             ),
             None => (None, None, None),
+        };
+        let (mut ew, mut ei, mut rc, mut vc, mut tl) = (None, None, None, None, None);
+        let ledger = match run.orbit {
+            Some(o) => {
+                ew = Some(rows(py, o.external_wrench, 6)?);
+                ei = Some(rows(py, o.external_impulse, 6)?);
+                rc = Some(rows(py, o.r_cm_eci, 3)?);
+                vc = Some(rows(py, o.v_cm_eci, 3)?);
+                tl = Some(rows(py, o.target_lvlh, 6)?);
+                "balance"
+            }
+            None => "conservation",
         };
         Ok(PyCaptureRun {
             t: PyArray1::from_vec(py, run.t).unbind(),
@@ -103,6 +128,12 @@ impl PyCaptureRun {
             drift_l: run.ledger.drift_l,
             drift_scales: (run.ledger.scale_p, run.ledger.scale_l),
             approach_end,
+            ledger,
+            external_wrench: ew,
+            external_impulse: ei,
+            r_cm_eci: rc,
+            v_cm_eci: vc,
+            target_lvlh: tl,
         })
     }
 }

@@ -141,7 +141,7 @@ class CaptureResult:
         self.__dict__.update(fields)
 
     @classmethod
-    def _of_run(cls, run, robot, target, mode: str, kind: str) -> "CaptureResult":
+    def _of_run(cls, run, robot, target, mode: str, kind: str, orbit=None, gravity_gradient=None) -> "CaptureResult":
         """The result of the core's mission (``_core.CaptureRun``, kept as ``run``): its arrays,
         impact, captured system and ledger, read as they are."""
         from .captured import CapturedSystem
@@ -154,7 +154,9 @@ class CaptureResult:
                    P=run.P, L=run.L, grasp_wrench=run.grasp_wrench, impact=run.impact,
                    soft_impact=run.impact if kind == "soft" else None, robot=robot, captured=captured, target_model=target, mode=mode,
                    kind=kind, time_to_detumble=run.time_to_detumble, residual_spin=run.residual_spin,
-                   drift={"P": run.drift_p, "L": run.drift_l}, ledger="conservation", orbit=None, gravity_gradient=None, run=run)
+                   drift={"P": run.drift_p, "L": run.drift_l}, ledger=run.ledger, orbit=orbit, gravity_gradient=gravity_gradient, run=run,
+                   **({} if orbit is None else {"external_wrench": run.external_wrench, "external_impulse": run.external_impulse,
+                                               "r_cm_eci": run.r_cm_eci, "v_cm_eci": run.v_cm_eci, "target_lvlh": run.target_lvlh}))
 
     def __repr__(self) -> str:
         detumble = self.time_to_detumble
@@ -489,18 +491,20 @@ def capture(
             "mode": mode, "kind": kind, **values}
     if spec["grasp"] is None:
         del spec["grasp"]
-    _core.check_capture(robot.core_model, x0, u0, target.body.core_model, spec)
     orbit, gg = _check_orbit(orbit, gravity_gradient, kind, target)
+    if orbit is not None:
+        spec["orbit"], spec["gravity_gradient"] = orbit._data(), gg
+    _core.check_capture(robot.core_model, x0, u0, target.body.core_model, spec)
     if kind != "point" and not target.is_rigid:
         raise ArgumentError(f"target '{target.name}' is a jointed model: kind='{kind}' attaches it as a payload, which needs a rigid "
                             "target; use kind='point'")
-    if orbit is None and target.is_rigid:
+    if target.is_rigid:
         # The whole mission is one core run (sim/capture.rs): every phase, the grasp, the
-        # attachment and the ledger.
+        # attachment, the ledger (in orbit its balance).
         run = _core.run_capture(robot.core_model, x0, u0, target.body.core_model, spec)
-        return CaptureResult._of_run(run, robot, target, mode, kind)
-    # In orbit, or a jointed target: the phases below, each a core run, put together here (not
-    # yet the core's mission: docs/capture.md, "Where the mission runs").
+        return CaptureResult._of_run(run, robot, target, mode, kind, orbit, gg)
+    # A jointed target: the phases below, each a core run, put together here (not yet the
+    # core's mission: docs/capture.md, "Where the mission runs").
     return _capture_phases(robot, target, s0, x0, u0, body, offset, orbit, gg, mode=mode, kind=kind, point=point, grasp=grasp,
                            **values)
 

@@ -38,7 +38,8 @@ use crate::scenario::free_body::FreeBody;
 use crate::scenario::modes::Mode;
 use crate::sim::capture_ledger::{ledger, Ledger};
 use crate::sim::capture_spec::{fmt_g, fmt_repr, CaptureSpec};
-use crate::sim::options::{SimOptions, DEFAULT_MAX_STEPS};
+use crate::scenario::orbit::Orbit;
+use crate::sim::options::{OrbitOptions, SimOptions, DEFAULT_MAX_STEPS};
 use crate::sim::simulate::{check_initial_state, simulate, Progress, SimResult};
 use crate::sim::soft_capture::{soft_capture, ImpedanceSpec};
 use crate::sim::stop::{StopCondition, StopEvent};
@@ -57,6 +58,23 @@ pub struct CapturedSystem {
     pub payload: String,
     /// The body it rides on.
     pub gripper: String,
+}
+
+/// A capture's momentum balance in orbit (docs/orbit.md, "Capture in orbit"), every array with
+/// one row per sample.
+#[derive(Debug, Clone)]
+pub struct CaptureInOrbit {
+    /// The external wrench on robot + target about the origin: the tidal wrenches and the
+    /// thrusters', width 6.
+    pub external_wrench: Vec<f64>,
+    /// Its integral from 0 by the trapezoid rule over the samples, width 6.
+    pub external_impulse: Vec<f64>,
+    /// The chaser's system CM in ECI (the robot before the grasp, robot + target after), width 3.
+    pub r_cm_eci: Vec<f64>,
+    /// Its velocity in ECI, width 3.
+    pub v_cm_eci: Vec<f64>,
+    /// The target's CM relative to the robot's own CM in the robot's LVLH, width 6.
+    pub target_lvlh: Vec<f64>,
 }
 
 /// A capture mission's records, every array row-major with one row per sample.
@@ -94,6 +112,9 @@ pub struct CaptureRun {
     pub residual_spin: f64,
     /// The event that ended the approach.
     pub approach_stop: Option<StopEvent>,
+    /// In orbit: the momentum balance and the chaser's orbit (the ledger's drifts are then the
+    /// balance's residuals).
+    pub orbit: Option<CaptureInOrbit>,
     /// `(7 + N, 6 + N, N)` of the robot.
     pub dims: (usize, usize, usize),
 }
@@ -110,6 +131,12 @@ struct Segments {
     bw: Vec<f64>,
     w: Vec<f64>,
     combined: Vec<bool>,
+    /// In orbit: the tidal wrench about the origin per sample (the robot's or the captured
+    /// system's, plus the free target's), width 6.
+    gw: Vec<f64>,
+    /// In orbit: the wrench at the left end of the interval ending at a sample, where it is not
+    /// the previous sample's (a phase's run starts with its own thruster wrench).
+    left: Vec<(usize, [f64; 6])>,
 }
 
 /// One phase's rows `range` of a run: times already shifted, the rest per row.
@@ -137,7 +164,7 @@ impl Segments {
 }
 
 /// The options of a phase's run: DOPRI5 with `rtol` (absolute `rtol · 1e-2`), samples every `dt`.
-fn phase_options(mode: Mode, duration: f64, dt: f64, rtol: f64, stop: Vec<StopCondition>) -> SimOptions {
+fn phase_options(mode: Mode, duration: f64, dt: f64, rtol: f64, stop: Vec<StopCondition>, orbit: Option<OrbitOptions>) -> SimOptions {
     SimOptions {
         mode,
         integrator: IntegratorKind::Dopri5,
@@ -150,7 +177,7 @@ fn phase_options(mode: Mode, duration: f64, dt: f64, rtol: f64, stop: Vec<StopCo
         thrusters: None,
         joint_limits: true,
         max_steps: DEFAULT_MAX_STEPS,
-        orbit: None,
+        orbit,
         stop,
     }
 }
@@ -263,6 +290,18 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
     let dt = spec.dt;
     let kind = spec.kind.as_str();
     let inertia: Matrix3<f64> = target.base().inertia;
+    let tidal = spec.tidal();
+    let orbit_at = |t: f64| -> Result<Option<OrbitOptions>> {
+        let Some(o) = spec.orbit else { return Ok(None) };
+        // each phase's run starts from the orbit's point at its start time
+        let orbit = if t == 0.0 {
+            o
+        } else {
+            let (r, v) = o.propagate(&[t], 1e-13)?[0];
+            Orbit::from_state(o.body, r, v, o.j2)?
+        };
+        Ok(Some(OrbitOptions { orbit, gravity_gradient: tidal }))
+    };
 
     // ---- 0. approach ------------------------------------------------------------------------
     let reference = PointReferenceSpec::FreeBody {
@@ -271,7 +310,7 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
         offset: toffset.into(),
         step: 0.5 * dt,
         point: spec.point.clone(),
-        orbit: None,
+        orbit: if tidal { spec.orbit } else { None },
     };
     let free = reference.free_body()?;
     let rmrc = ControllerSpec::ResolvedMotionRate {
@@ -294,7 +333,7 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
     };
     let ctrl = limited(ctrl, spec.max_joint_torque);
     let stop = vec![StopCondition::Gap { point: Some(PointSpec::At(BodySpec::Index(body), offset.into())), tolerance: spec.capture_tolerance }];
-    let approach = run(robot, x0, u0, &phase_options(mode, spec.approach_time, dt, spec.rtol, stop), Some(&ctrl), &mut *progress)?;
+    let approach = run(robot, x0, u0, &phase_options(mode, spec.approach_time, dt, spec.rtol, stop, orbit_at(0.0)?), Some(&ctrl), &mut *progress)?;
     let ra = &approach.records;
     let ka = ra.n_samples;
     let mut body_states = free.clone();
@@ -324,6 +363,21 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
     let mut seg = Segments::default();
     let zeros6 = vec![0.0; 6 * ka];
     seg.add(&ra.t, 0, Rows { x: &ra.x, u: &ra.u, s: &sa, tau: &ra.tau, bw: &ra.base_wrench, w: &zeros6 }, false);
+    if spec.orbit.is_some() {
+        // the robot's tidal wrench about the origin, and the free target's
+        let mut gw = ra.gravity_wrench.clone().unwrap_or_else(|| vec![0.0; 6 * ka]);
+        if tidal {
+            let mut body_wrench = free.clone();
+            for (k, &t) in ra.t.iter().enumerate() {
+                let (f, m) = body_wrench.external_wrench(t, target.total_mass())?;
+                for i in 0..3 {
+                    gw[6 * k + i] += f[i];
+                    gw[6 * k + 3 + i] += m[i];
+                }
+            }
+        }
+        seg.gw = gw;
+    }
     let k = ka - 1;
     let mut t_cap = ra.t[k];
     let mut xc = row(&ra.x, nx, k).to_vec();
@@ -338,7 +392,7 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
     let contact = if kind == "point" { GraspContact::Point { normal: None } } else { GraspContact::Rigid };
     if kind == "soft" {
         let hold = hold_law(robot, &q_hold, Mode::Floating, spec.kp, spec.kd, spec, (f64::INFINITY, f64::INFINITY));
-        let opts = phase_options(Mode::Floating, spec.soft_time, dt / 5.0, spec.rtol, Vec::new());
+        let opts = phase_options(Mode::Floating, spec.soft_time, dt / 5.0, spec.rtol, Vec::new(), None);
         let imp = ImpedanceSpec { frequency: 3.0, damping_ratio: 0.7, stiffness: None, damping: None, rotational_stiffness: None, rotational_damping: None };
         let none = ControllerSpec::None {};
         let mut c = hold.as_ref().unwrap_or(&none).build(robot, &mut no_external)?;
@@ -390,6 +444,9 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
     sc = sc[..7].iter().chain(impact.target_u_after.iter()).copied().collect();
     let zn = vec![0.0; n];
     seg.add(&[t_cap], 1, Rows { x: &xc, u: &uc, s: &sc, tau: &zn, bw: &[0.0; 6], w: &[0.0; 6] }, kind != "point");
+    if spec.orbit.is_some() {
+        seg.gw.extend_from_slice(&[0.0; 6]);
+    }
 
     // ---- 2. post-capture, 3. detumble ---------------------------------------------------------
     let captured = if kind != "point" { Some(attach(robot, &xc, &uc, target, &sc, body, spec.name.as_deref(), &impact)?) } else { None };
@@ -400,11 +457,13 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
     let mut detumbled = (f64::INFINITY, 0.0);
     for (phase, duration, run_mode, kp) in [(2, spec.post_time, Mode::Floating, 0.0), (3, spec.detumble_time, mode, spec.kp)] {
         let ctrl = hold_law(plant, &q_hold, run_mode, kp, spec.kd, spec, (spec.max_force, spec.max_torque));
-        let res = run(plant, &x_start, &u_start, &phase_options(run_mode, duration, dt, spec.rtol, Vec::new()), ctrl.as_ref(), &mut *progress)?;
+        let phase_orbit = orbit_at(t_cap)?;
+        let res = run(plant, &x_start, &u_start, &phase_options(run_mode, duration, dt, spec.rtol, Vec::new(), phase_orbit), ctrl.as_ref(), &mut *progress)?;
         let r = &res.records;
         let kr = r.n_samples;
         let mut s = Vec::with_capacity(13 * kr);
         let mut w = Vec::with_capacity(6 * kr);
+        let mut gw_target = vec![0.0; 6 * kr];
         match payload_body {
             Some(pb) => {
                 for j in 0..kr {
@@ -416,18 +475,53 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
             None => {
                 // the point contact's target flies off, free
                 let mut fly = FreeBody::new(inertia, &sc, toffset, 0.5 * dt)?;
+                if tidal {
+                    fly = fly.in_orbit(&phase_orbit.expect("in orbit").orbit)?;
+                }
+                let mut fly_wrench = fly.clone();
                 for &t in &r.t {
                     s.extend_from_slice(&fly.state(t - r.t[0])?);
+                }
+                if tidal {
+                    for (j, &t) in r.t.iter().enumerate() {
+                        let (f, m) = fly_wrench.external_wrench(t - r.t[0], target.total_mass())?;
+                        gw_target[6 * j..6 * j + 3].copy_from_slice(f.as_slice());
+                        gw_target[6 * j + 3..6 * j + 6].copy_from_slice(m.as_slice());
+                    }
                 }
                 w.resize(6 * kr, 0.0);
             }
         }
         let t: Vec<f64> = r.t[1..].iter().map(|tj| t_cap + tj).collect();
+        if spec.orbit.is_some() {
+            let mut gw = r.gravity_wrench.clone().unwrap_or_else(|| vec![0.0; 6 * kr]);
+            if tidal && payload_body.is_none() {
+                for (a, b) in gw.iter_mut().zip(&gw_target) {
+                    *a += b;
+                }
+            }
+            if phase == 2 {
+                // the grasp sample: the same instant as this run's first
+                let last = seg.gw.len() - 6;
+                seg.gw[last..].copy_from_slice(&gw[..6]);
+            }
+            // the run's own wrench at its start: the left end of its first interval (the
+            // thrusters' wrench jumps between phases)
+            let mut w0 = [0.0; 6];
+            w0.copy_from_slice(&gw[..6]);
+            let thr = thruster_wrench(plant, &mut dplant, &r.x[..nx], &r.base_wrench[..6])?;
+            for i in 0..6 {
+                w0[i] += thr[i];
+            }
+            seg.left.push((seg.t.len(), w0));
+            seg.gw.extend_from_slice(&gw[6..]);
+        }
         seg.add(&t, phase, Rows { x: &r.x[nx..], u: &r.u[nu..], s: &s[13..], tau: &r.tau[n..], bw: &r.base_wrench[6..], w: &w[6..] }, captured.is_some());
         let first_rate = if run_mode == Mode::Floating { 6 } else { 3 };
         let rest = if nu > first_rate { time_to_rest(&r.t, &r.u, nu, first_rate, spec.rate_tolerance) } else { r.t[0] };
         let last = row(&r.u, nu, kr - 1);
-        detumbled = (rest, Vector3::new(last[3], last[4], last[5]).norm());
+        // |ω0| as fused multiply-adds in order (the sum the Python door's numpy norm made)
+        detumbled = (rest, last[5].mul_add(last[5], last[4].mul_add(last[4], last[3] * last[3])).sqrt());
         t_cap += r.t[kr - 1];
         x_start = row(&r.x, nx, kr - 1).to_vec();
         u_start = last.to_vec();
@@ -435,7 +529,11 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
     }
 
     // ---- the ledger -----------------------------------------------------------------------------
-    let ledger = ledger(robot, plant, target, &seg.x, &seg.u, &seg.s, &seg.combined)?;
+    let mut ledger = ledger(robot, plant, target, &seg.x, &seg.u, &seg.s, &seg.combined)?;
+    let orbit = match spec.orbit {
+        Some(o) => Some(orbit_balance(robot, plant, &o, &seg, &mut ledger)?),
+        None => None,
+    };
     Ok(CaptureRun {
         t: seg.t,
         phase: seg.phase,
@@ -453,8 +551,75 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
         time_to_detumble: detumbled.0,
         residual_spin: detumbled.1,
         approach_stop: approach.stop,
+        orbit,
         dims: (nx, nu, n),
     })
+}
+
+/// The thrusters' wrench about the origin, `[F0; r0 × F0 + N0]` (the force acts at the base CM).
+fn thruster_wrench(model: &Model, data: &mut Data, x: &[f64], bw: &[f64]) -> Result<[f64; 6]> {
+    forward_kinematics(model, data, x)?;
+    let r0 = data.com_in_world[0];
+    let f = Vector3::new(bw[0], bw[1], bw[2]);
+    let m = r0.cross(&f);
+    Ok([bw[0], bw[1], bw[2], m.x + bw[3], m.y + bw[4], m.z + bw[5]])
+}
+
+/// The momentum balance of a capture in orbit: the external wrench (tidal plus thrusters) at
+/// every sample, its trapezoid integral, the residuals `|c(t) − c(0) − ∫ w dt|` of `P` and `L`
+/// relative to the ledger's scales (which replace its drifts), and the chaser's orbit.
+fn orbit_balance(robot: &Model, plant: &Model, orbit: &Orbit, seg: &Segments, ledger: &mut Ledger) -> Result<CaptureInOrbit> {
+    let (nx, nu) = (robot.nx(), robot.nu());
+    let n = seg.t.len();
+    let (mut dr, mut dp) = (Data::new(robot), Data::new(plant));
+    let mut ext = seg.gw.clone();
+    let (mut r_cm, mut v_cm) = (Vec::with_capacity(3 * n), Vec::with_capacity(3 * n));
+    let mut lvlh_points = Vec::with_capacity(n);
+    for k in 0..n {
+        let (xk, uk) = (row(&seg.x, nx, k), row(&seg.u, nu, k));
+        let (owner, d) = if seg.combined[k] { (plant, &mut dp) } else { (robot, &mut dr) };
+        let thr = thruster_wrench(owner, d, xk, row(&seg.bw, 6, k))?;
+        for i in 0..6 {
+            ext[6 * k + i] += thr[i];
+        }
+        let c = crate::algorithms::momentum::center_of_mass(owner, d, xk)?;
+        let v = crate::algorithms::momentum::momentum(owner, d, xk, uk)?.linear / owner.total_mass();
+        r_cm.extend_from_slice(c.as_slice());
+        v_cm.extend_from_slice(v.as_slice());
+        // the target relative to the robot's own CM (one reference through the grasp)
+        let cr = crate::algorithms::momentum::center_of_mass(robot, &mut dr, xk)?;
+        let vr = crate::algorithms::momentum::momentum(robot, &mut dr, xk, uk)?.linear / robot.total_mass();
+        let sk = row(&seg.s, 13, k);
+        lvlh_points.push((cr, vr, Vector3::new(sk[0], sk[1], sk[2]), Vector3::new(sk[7], sk[8], sk[9])));
+    }
+    let mut left: Vec<[f64; 6]> = (0..n).map(|k| std::array::from_fn(|i| ext[6 * k.saturating_sub(1) + i])).collect();
+    for (j, w0) in &seg.left {
+        left[*j] = *w0;
+    }
+    let mut impulse = vec![0.0; 6 * n];
+    for k in 1..n {
+        let h = seg.t[k] - seg.t[k - 1];
+        for i in 0..6 {
+            impulse[6 * k + i] = impulse[6 * (k - 1) + i] + 0.5 * h * (ext[6 * k + i] + left[k][i]);
+        }
+    }
+    let residual = |c: &[f64], first: usize| -> f64 {
+        (0..n)
+            .map(|k| (0..3).map(|i| (c[3 * k + i] - c[i] - impulse[6 * k + first + i]).powi(2)).sum::<f64>().sqrt())
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    ledger.drift_p = residual(&ledger.p, 0) / ledger.scale_p.max(1e-300);
+    ledger.drift_l = residual(&ledger.l, 3) / ledger.scale_l.max(1e-300);
+    let track = orbit.propagate(&seg.t, 1e-13)?;
+    let (mut r_eci, mut v_eci, mut target_lvlh) = (Vec::with_capacity(3 * n), Vec::with_capacity(3 * n), Vec::with_capacity(6 * n));
+    for (k, ((ro, vo), (c, cd, p, pd))) in track.iter().zip(&lvlh_points).enumerate() {
+        for i in 0..3 {
+            r_eci.push(ro[i] + r_cm[3 * k + i]);
+            v_eci.push(vo[i] + v_cm[3 * k + i]);
+        }
+        target_lvlh.extend_from_slice(&Orbit::run_to_lvlh(ro, vo, c, cd, p, pd));
+    }
+    Ok(CaptureInOrbit { external_wrench: ext, external_impulse: impulse, r_cm_eci: r_eci, v_cm_eci: v_eci, target_lvlh })
 }
 
 /// The combined model after a rigid grasp (the target a link on a fixed joint of the grasp
