@@ -483,13 +483,16 @@ def capture(
             "mode": mode, "kind": kind, **values}
     if spec["grasp"] is None:
         del spec["grasp"]
-    orbit, gg = _check_orbit(orbit, gravity_gradient, kind, target)
     if orbit is not None:
-        spec["orbit"], spec["gravity_gradient"] = orbit._data(), gg
+        from ..orbit import Orbit
+
+        if not isinstance(orbit, Orbit):
+            raise ArgumentError(f"orbit must be a spacearm.Orbit, got {type(orbit).__name__}")
+        spec["orbit"] = orbit._data()
+    if gravity_gradient is not None:
+        spec["gravity_gradient"] = bool(gravity_gradient)
     _core.check_capture(robot.core_model, x0, u0, target.body.core_model, spec)
-    if kind != "point" and not target.is_rigid:
-        raise ArgumentError(f"target '{target.name}' is a jointed model: kind='{kind}' attaches it as a payload, which needs a rigid "
-                            "target; use kind='point'")
+    gg = None if orbit is None else gravity_gradient is None or bool(gravity_gradient)
     if target.is_rigid:
         # The whole mission is one core run (sim/capture.rs): every phase, the grasp, the
         # attachment, the ledger (in orbit its balance).
@@ -568,25 +571,6 @@ def _capture_phases(robot, target, s0, x0, u0, body, offset, *, mode, kind, poin
 def _scalar(value: np.ndarray):
     """A saved 0-d array as the Python scalar it was (a float, a bool or a str); arrays as they are."""
     return value.item() if value.ndim == 0 else value
-
-
-def _check_orbit(orbit, gravity_gradient, kind, target):
-    """``(orbit, gravity_gradient)`` checked: an orbit and a rigid, non-soft capture."""
-    if orbit is None:
-        if gravity_gradient:
-            raise ArgumentError("gravity_gradient=True needs an orbit (orbit=spacearm.Orbit...)")
-        return None, None
-    from ..orbit import Orbit
-
-    if not isinstance(orbit, Orbit):
-        raise ArgumentError(f"orbit must be a spacearm.Orbit, got {type(orbit).__name__}")
-    if kind == "soft":
-        raise ArgumentError("kind='soft' is not implemented in orbit (the core's soft-capture plant runs in empty space); "
-                            "use kind='rigid' or kind='point' with orbit=")
-    if not target.is_rigid:
-        raise ArgumentError(f"target '{target.name}' is a jointed model: a capture in orbit needs a rigid target (not implemented "
-                            "for jointed ones)")
-    return orbit, True if gravity_gradient is None else bool(gravity_gradient)
 
 
 def _balance_residual(P, L, impulse) -> np.ndarray:

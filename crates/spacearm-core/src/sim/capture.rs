@@ -257,6 +257,18 @@ fn payload_state(model: &Model, data: &mut Data, x: &[f64], u: &[f64], body: usi
 pub fn check_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: &CaptureSpec) -> Result<((usize, Vector3<f64>), (usize, Vector3<f64>))> {
     spec.validate()?;
     check_initial_state(robot, x0, u0)?;
+    if target.n_dof() != 0 {
+        let name = spec.name.as_deref().unwrap_or(target.name());
+        if spec.orbit.is_some() {
+            return Err(SpacearmError::argument(format!("target '{name}' is a jointed model: a capture in orbit needs a rigid target (not implemented for jointed ones)")));
+        }
+        if spec.kind != "point" {
+            return Err(SpacearmError::argument(format!(
+                "target '{name}' is a jointed model: kind='{}' attaches it as a payload, which needs a rigid target; use kind='point'",
+                spec.kind
+            )));
+        }
+    }
     let (tbody, toffset) = match &spec.grasp {
         Some(name) => {
             let k = target.point_index(name)?;
