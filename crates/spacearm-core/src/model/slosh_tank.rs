@@ -50,8 +50,9 @@ use crate::error::{Result, SpacearmError};
 /// The first zeros of `J₁′(ξ)` (the antisymmetric slosh modes of a circular cylinder).
 pub const BESSEL_J1_PRIME_ZEROS: [f64; 5] = [1.841_183_781_340_659, 5.331_442_773_525_033, 8.536_316_366_346_286, 11.706_004_902_592_063, 14.863_588_633_909_034];
 
-/// One slosh mode of a tank.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// One slosh mode of a tank (serialized as the doors' plain data: `{mass, height, frequency,
+/// stiffness, length}`).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct SloshMode {
     /// The sloshing mass `mₙ`, kg.
     pub mass: f64,
@@ -73,8 +74,9 @@ impl SloshMode {
     }
 }
 
-/// The equivalent mechanical model of a tank's liquid (module docs).
-#[derive(Debug, Clone, PartialEq)]
+/// The equivalent mechanical model of a tank's liquid (module docs); serialized field by field
+/// (the Python door's dict).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct TankSlosh {
     /// The liquid's mass `m_L`, kg.
     pub liquid_mass: f64,
