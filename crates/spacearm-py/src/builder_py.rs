@@ -393,30 +393,8 @@ pub fn cylinder_fill_height(py: Python<'_>, tank_height: f64, fill_fraction: f64
     spacearm_core::model::slosh_tank::cylinder_fill_height(tank_height, fill_fraction).or_raise(py)
 }
 
+/// The dict of a tank's slosh model: the core's `TankSlosh` field by field, `modes` a list of
+/// `SloshMode` dicts.
 fn tank_slosh_to_py(py: Python<'_>, t: &spacearm_core::model::slosh_tank::TankSlosh) -> PyResult<Py<PyAny>> {
-    use pyo3::types::PyDict;
-    let out = PyDict::new(py);
-    out.set_item("liquid_mass", t.liquid_mass)?;
-    out.set_item("fill_height", t.fill_height)?;
-    out.set_item("radius", t.radius)?;
-    out.set_item("axial_acceleration", t.axial_acceleration)?;
-    out.set_item("liquid_cm_height", t.liquid_cm_height)?;
-    out.set_item("fixed_mass", t.fixed_mass)?;
-    out.set_item("fixed_height", t.fixed_height)?;
-    out.set_item("fixed_inertia", t.fixed_inertia)?;
-    let list = t
-        .modes
-        .iter()
-        .map(|m| {
-            let d = PyDict::new(py);
-            d.set_item("mass", m.mass)?;
-            d.set_item("height", m.height)?;
-            d.set_item("frequency", m.frequency)?;
-            d.set_item("stiffness", m.stiffness)?;
-            d.set_item("length", m.length)?;
-            Ok(d)
-        })
-        .collect::<PyResult<Vec<_>>>()?;
-    out.set_item("modes", list)?;
-    Ok(out.into_any().unbind())
+    Ok(crate::controller_spec_py::to_data(py, t)?.unbind())
 }

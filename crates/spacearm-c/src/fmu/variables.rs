@@ -219,12 +219,23 @@ pub(crate) fn model_description(model: &Model, options: &StepperOptions, version
                 r#"<fmiModelDescription fmiVersion="3.0" modelName="{name}" description="{descr}" instantiationToken="{token}" generationTool="{tool}" variableNamingConvention="flat">"#
             );
             let _ = writeln!(s, r#"  <CoSimulation modelIdentifier="{id}" canHandleVariableCommunicationStepSize="true" fixedInternalStepSize="{dt}" canGetAndSetFMUState="false" canSerializeFMUState="false" providesIntermediateUpdate="false" hasEventMode="false"/>"#);
-            unit_definitions(&mut s, &layout);
-            let _ = writeln!(s, r#"  <DefaultExperiment startTime="0.0" stopTime="{}" stepSize="{dt}"/>"#, num(stop_time));
-            let _ = writeln!(s, "  <ModelVariables>");
-            for (vr, v) in layout.vars.iter().enumerate() {
-                let (n, d) = (escape(&v.name), escape(&v.description));
-                let unit = v.unit.map(|u| format!(r#" unit="{u}""#)).unwrap_or_default();
+        }
+        FmiVersion::Fmi2 => {
+            let _ = writeln!(
+                s,
+                r#"<fmiModelDescription fmiVersion="2.0" modelName="{name}" description="{descr}" guid="{token}" generationTool="{tool}" variableNamingConvention="flat" numberOfEventIndicators="0">"#
+            );
+            let _ = writeln!(s, r#"  <CoSimulation modelIdentifier="{id}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUstate="false" canSerializeFMUstate="false" canNotUseMemoryManagementFunctions="true"/>"#);
+        }
+    }
+    unit_definitions(&mut s, &layout);
+    let _ = writeln!(s, r#"  <DefaultExperiment startTime="0.0" stopTime="{}" stepSize="{dt}"/>"#, num(stop_time));
+    let _ = writeln!(s, "  <ModelVariables>");
+    for (vr, v) in layout.vars.iter().enumerate() {
+        let (n, d) = (escape(&v.name), escape(&v.description));
+        let unit = v.unit.map(|u| format!(r#" unit="{u}""#)).unwrap_or_default();
+        match version {
+            FmiVersion::Fmi3 => {
                 let attrs = match v.causality {
                     Causality::Independent => r#"causality="independent" variability="continuous""#.to_string(),
                     Causality::Output => r#"causality="output" variability="continuous""#.to_string(),
@@ -233,28 +244,7 @@ pub(crate) fn model_description(model: &Model, options: &StepperOptions, version
                 };
                 let _ = writeln!(s, r#"    <Float64 name="{n}" valueReference="{vr}" description="{d}" {attrs}{unit}/>"#);
             }
-            let _ = writeln!(s, "  </ModelVariables>");
-            let _ = writeln!(s, "  <ModelStructure>");
-            for &i in &outputs {
-                let _ = writeln!(s, r#"    <Output valueReference="{i}"/>"#);
-            }
-            for &i in &outputs {
-                let _ = writeln!(s, r#"    <InitialUnknown valueReference="{i}"/>"#);
-            }
-            let _ = writeln!(s, "  </ModelStructure>");
-        }
-        FmiVersion::Fmi2 => {
-            let _ = writeln!(
-                s,
-                r#"<fmiModelDescription fmiVersion="2.0" modelName="{name}" description="{descr}" guid="{token}" generationTool="{tool}" variableNamingConvention="flat" numberOfEventIndicators="0">"#
-            );
-            let _ = writeln!(s, r#"  <CoSimulation modelIdentifier="{id}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUstate="false" canSerializeFMUstate="false" canNotUseMemoryManagementFunctions="true"/>"#);
-            unit_definitions(&mut s, &layout);
-            let _ = writeln!(s, r#"  <DefaultExperiment startTime="0.0" stopTime="{}" stepSize="{dt}"/>"#, num(stop_time));
-            let _ = writeln!(s, "  <ModelVariables>");
-            for (vr, v) in layout.vars.iter().enumerate() {
-                let (n, d) = (escape(&v.name), escape(&v.description));
-                let unit = v.unit.map(|u| format!(r#" unit="{u}""#)).unwrap_or_default();
+            FmiVersion::Fmi2 => {
                 let (attrs, real) = match v.causality {
                     Causality::Independent => (r#"causality="independent" variability="continuous""#.to_string(), format!("<Real{unit}/>")),
                     Causality::Output => (r#"causality="output" variability="continuous" initial="calculated""#.to_string(), format!("<Real{unit}/>")),
@@ -263,21 +253,29 @@ pub(crate) fn model_description(model: &Model, options: &StepperOptions, version
                 };
                 let _ = writeln!(s, r#"    <ScalarVariable name="{n}" valueReference="{vr}" description="{d}" {attrs}>{real}</ScalarVariable>"#);
             }
-            let _ = writeln!(s, "  </ModelVariables>");
-            let _ = writeln!(s, "  <ModelStructure>");
-            let _ = writeln!(s, "    <Outputs>");
-            for &i in &outputs {
-                let _ = writeln!(s, r#"      <Unknown index="{}"/>"#, i + 1);
-            }
-            let _ = writeln!(s, "    </Outputs>");
-            let _ = writeln!(s, "    <InitialUnknowns>");
-            for &i in &outputs {
-                let _ = writeln!(s, r#"      <Unknown index="{}"/>"#, i + 1);
-            }
-            let _ = writeln!(s, "    </InitialUnknowns>");
-            let _ = writeln!(s, "  </ModelStructure>");
         }
     }
+    let _ = writeln!(s, "  </ModelVariables>");
+    let _ = writeln!(s, "  <ModelStructure>");
+    match version {
+        FmiVersion::Fmi3 => {
+            for tag in ["Output", "InitialUnknown"] {
+                for &i in &outputs {
+                    let _ = writeln!(s, r#"    <{tag} valueReference="{i}"/>"#);
+                }
+            }
+        }
+        FmiVersion::Fmi2 => {
+            for tag in ["Outputs", "InitialUnknowns"] {
+                let _ = writeln!(s, "    <{tag}>");
+                for &i in &outputs {
+                    let _ = writeln!(s, r#"      <Unknown index="{}"/>"#, i + 1);
+                }
+                let _ = writeln!(s, "    </{tag}>");
+            }
+        }
+    }
+    let _ = writeln!(s, "  </ModelStructure>");
     let _ = writeln!(s, "</fmiModelDescription>");
     Ok(s)
 }

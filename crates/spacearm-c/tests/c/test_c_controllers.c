@@ -72,6 +72,18 @@ static void list(char *buf, const double *v, size_t n) {
     sprintf(buf + k, "]");
 }
 
+/* Options `head` then `key` = a line of the end effector from its position at x0 (into p0) to
+ * p0 + delta (into goal) over t in [0, 1] s: the reference of the Cartesian laws. */
+static void line_options(char *opts, size_t size, const SpacearmModel *m, const double *x0, const double *delta, const char *head, const char *key,
+                         double *p0, double *goal) {
+    char a[256], b[256];
+    ee_position(m, x0, p0);
+    for (int i = 0; i < 3; i++) goal[i] = p0[i] + delta[i];
+    list(a, p0, 3);
+    list(b, goal, 3);
+    snprintf(opts, size, "%s%s = { kind = \"line\", p_start = %s, p_goal = %s, t_start = 0.0, t_end = 1.0 }\n", head, key, a, b);
+}
+
 /* kind = "none": only the held torque acts; the same run as no [controller] table, bit for
  * bit, and a robot at rest stays exactly at rest. */
 static void test_none(void) {
@@ -130,17 +142,11 @@ static void test_computed_torque(void) {
 /* resolved_motion_rate along a line: the end effector follows the line and ends at its goal. */
 static void test_resolved_motion_rate(void) {
     SpacearmModel *m = preset("spatial6");
-    double x0[13], u0[12] = {0}, x[13], u[12], p0[3], p[3], goal[3];
-    char a[256], b[256], opts[1024];
+    double x0[13], u0[12] = {0}, x[13], u[12], p0[3], p[3], goal[3], delta[3] = {0.05, 0.05, -0.05};
+    char opts[1024];
     OK(spacearm_model_initial_configuration(m, x0));
-    ee_position(m, x0, p0);
-    for (int i = 0; i < 3; i++) goal[i] = p0[i] + (i == 2 ? -0.05 : 0.05);
-    list(a, p0, 3);
-    list(b, goal, 3);
-    snprintf(opts, sizeof opts,
-             "dt = 0.002\njoint_limits = false\n[controller]\nkind = \"resolved_motion_rate\"\ngain = 5.0\n"
-             "reference = { kind = \"line\", p_start = %s, p_goal = %s, t_start = 0.0, t_end = 1.0 }\n",
-             a, b);
+    line_options(opts, sizeof opts, m, x0, delta, "dt = 0.002\njoint_limits = false\n[controller]\nkind = \"resolved_motion_rate\"\ngain = 5.0\n", "reference",
+                 p0, goal);
     /* Half way (quintic timing: half the distance at t = 0.5 s). */
     OK(run(m, opts, x0, u0, NULL, 250, x, u));
     ee_position(m, x, p);
@@ -192,17 +198,11 @@ static void test_base_thrusters(void) {
 /* coordinated_flying: the end effector follows its line while the base holds its pose. */
 static void test_coordinated_flying(void) {
     SpacearmModel *m = preset("spatial6");
-    double x0[13], u0[12] = {0}, x[13], u[12], p0[3], p[3], goal[3];
-    char a[256], b[256], opts[1024];
+    double x0[13], u0[12] = {0}, x[13], u[12], p0[3], p[3], goal[3], delta[3] = {-0.1, 0.05, 0.05};
+    char opts[1024];
     OK(spacearm_model_initial_configuration(m, x0));
-    ee_position(m, x0, p0);
-    for (int i = 0; i < 3; i++) goal[i] = p0[i] + (i == 0 ? -0.1 : 0.05);
-    list(a, p0, 3);
-    list(b, goal, 3);
-    snprintf(opts, sizeof opts,
-             "mode = \"flying\"\ndt = 0.002\njoint_limits = false\n[controller]\nkind = \"coordinated_flying\"\n"
-             "ee_reference = { kind = \"line\", p_start = %s, p_goal = %s, t_start = 0.0, t_end = 1.0 }\n",
-             a, b);
+    line_options(opts, sizeof opts, m, x0, delta, "mode = \"flying\"\ndt = 0.002\njoint_limits = false\n[controller]\nkind = \"coordinated_flying\"\n",
+                 "ee_reference", p0, goal);
     OK(run(m, opts, x0, u0, NULL, 1500, x, u));
     ee_position(m, x, p);
     CHECK(dist3(p, goal) < 0.02 * dist3(p0, goal), "end effector %g m from the goal", dist3(p, goal));

@@ -17,32 +17,32 @@ use crate::math::scalar::Real;
 use crate::model::joint::JointDynamics;
 use crate::model::Model;
 
-/// Add the joints' passive force `−k (q − rest) − c q̇` to `tau` (length N, joint rows), any
-/// scalar; nothing when the model has no spring or damper.
+/// Call `apply(d, k (q − rest) + c q̇)` for each joint dof `d` with a spring or a damper (its
+/// passive force is the negative of that); nothing when the model has none.
 #[inline]
-pub fn add_joint_passive_forces<T: Real>(model: &Model, q: &[T], qd: &[T], tau: &mut [T]) {
+fn each_spring_damper<T: Real>(model: &Model, q: &[T], qd: &[T], mut apply: impl FnMut(usize, T)) {
     if !model.has_passive_forces() {
         return;
     }
     for (d, jd) in model.dof_dynamics().iter().enumerate() {
         if jd.has_passive_force() {
-            tau[d] -= (q[d] - T::c(jd.rest)) * T::c(jd.stiffness) + qd[d] * T::c(jd.damping);
+            apply(d, (q[d] - T::c(jd.rest)) * T::c(jd.stiffness) + qd[d] * T::c(jd.damping));
         }
     }
+}
+
+/// Add the joints' passive force `−k (q − rest) − c q̇` to `tau` (length N, joint rows), any
+/// scalar; nothing when the model has no spring or damper.
+#[inline]
+pub fn add_joint_passive_forces<T: Real>(model: &Model, q: &[T], qd: &[T], tau: &mut [T]) {
+    each_spring_damper(model, q, qd, |d, r| tau[d] -= r);
 }
 
 /// Subtract the joints' passive force from `tau` (length N, joint rows): the inverse dynamics'
 /// `f = H u̇ + c − Q_passive`. Any scalar.
 #[inline]
 pub fn subtract_joint_passive_forces<T: Real>(model: &Model, q: &[T], qd: &[T], tau: &mut [T]) {
-    if !model.has_passive_forces() {
-        return;
-    }
-    for (d, jd) in model.dof_dynamics().iter().enumerate() {
-        if jd.has_passive_force() {
-            tau[d] += (q[d] - T::c(jd.rest)) * T::c(jd.stiffness) + qd[d] * T::c(jd.damping);
-        }
-    }
+    each_spring_damper(model, q, qd, |d, r| tau[d] += r);
 }
 
 /// The passive generalized force `Q_passive` at `(x, u)`: length `6+N`, zero on the base rows.

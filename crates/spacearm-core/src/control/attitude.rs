@@ -70,6 +70,7 @@ fn xyzw(q: &UnitQuaternion<f64>) -> [f64; 4] {
     [q.i, q.j, q.k, q.w]
 }
 
+use super::controller::require_mode;
 use super::{Command, ControlContext, Controller};
 
 /// Attitude hold/slew to `quat_ref` with the reaction wheels.
@@ -134,12 +135,7 @@ impl Controller for AttitudeControl {
     }
 
     fn setup(&mut self, ctx: &ControlContext<'_>) -> Result<()> {
-        if ctx.mode != Mode::RotationFloating {
-            return Err(SpacearmError::argument(format!(
-                "attitude control with reaction wheels is the 'rotation-floating' mode, but the simulation mode is '{}'",
-                ctx.mode.name()
-            )));
-        }
+        require_mode(ctx, ctx.mode == Mode::RotationFloating, "attitude control with reaction wheels is the 'rotation-floating' mode")?;
         if ctx.wheel_dofs.is_empty() {
             return Err(SpacearmError::argument(
                 "attitude control needs reaction wheels: add them with RobotBuilder.add_reaction_wheel or name them in wheels=",

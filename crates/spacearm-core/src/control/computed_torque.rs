@@ -32,8 +32,9 @@ use crate::model::Model;
 use crate::scenario::modes::Mode;
 use crate::scenario::reference::JointReference;
 
-use super::controller::{check_len, split_passive};
-use super::{broadcast_gains, cholesky_solve_in_place, Command, ControlContext, Controller, TrackingKind};
+use super::controller::{check_model_dofs, split_passive};
+use super::joint_tracking::{JointLaw, JointTracker, JointTracking};
+use super::{cholesky_solve_in_place, Command, ControlContext};
 
 /// How a model-based arm controller treats the passive joints (no motor) of the plant.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -96,15 +97,7 @@ impl ReducedInverseDynamics {
 
     /// For `model` with the plant's degrees of freedom, the passive joints treated as `treatment`.
     pub fn with_passive(model: Model, ctx: &ControlContext<'_>, treatment: PassiveTreatment) -> Result<Self> {
-        if model.n_dof() != ctx.plant.n_dof() {
-            return Err(SpacearmError::argument(format!(
-                "the controller's model '{}' has {} joint dofs but the plant '{}' has {}",
-                model.name(),
-                model.n_dof(),
-                ctx.plant.name(),
-                ctx.plant.n_dof()
-            )));
-        }
+        check_model_dofs("the controller's model", &model, ctx)?;
         let n = model.n_dof();
         let (arm, passive) = split_passive(ctx);
         let mut given = ctx.wheel_dofs.to_vec();
@@ -215,20 +208,15 @@ impl ReducedInverseDynamics {
 }
 
 /// Computed-torque tracking of a joint reference (paper eqs. 112–115).
+pub type ComputedTorque = JointTracker<ComputedTorqueLaw>;
+
+/// The law of [`ComputedTorque`]: `q̈_cmd = q̈_ref + K_d ė + K_p e` on the actuated arm joints,
+/// realized through the reduced EOM of the controller's model ([`ReducedInverseDynamics`]).
 #[derive(Debug, Clone)]
-pub struct ComputedTorque {
-    kp_given: Vec<f64>,
-    kd_given: Vec<f64>,
-    reference: JointReference,
+pub struct ComputedTorqueLaw {
     model: Option<Model>,
     passive: PassiveTreatment,
     inner: Option<ReducedInverseDynamics>,
-    kp: Vec<f64>,
-    kd: Vec<f64>,
-    arm: Vec<usize>,
-    q_ref: Vec<f64>,
-    qd_ref: Vec<f64>,
-    qdd_ref: Vec<f64>,
     qdd_cmd: Vec<f64>,
 }
 
@@ -237,75 +225,32 @@ impl ComputedTorque {
     /// joint (the passive joints are not commanded); `model`: the controller's model (`None`:
     /// the plant's). Passive joints as measured drift ([`ComputedTorque::with_passive`]).
     pub fn new(kp: Vec<f64>, kd: Vec<f64>, reference: JointReference, model: Option<Model>) -> Self {
-        ComputedTorque {
-            kp_given: kp,
-            kd_given: kd,
-            reference,
-            model,
-            passive: PassiveTreatment::Drift,
-            inner: None,
-            kp: vec![],
-            kd: vec![],
-            arm: vec![],
-            q_ref: vec![],
-            qd_ref: vec![],
-            qdd_ref: vec![],
-            qdd_cmd: vec![],
-        }
+        JointTracker::with_law(kp, kd, reference, ComputedTorqueLaw { model, passive: PassiveTreatment::Drift, inner: None, qdd_cmd: vec![] })
     }
-}
 
-impl ComputedTorque {
     /// How the controller treats the plant's passive joints (default [`PassiveTreatment::Drift`]).
     pub fn with_passive(mut self, passive: PassiveTreatment) -> Self {
-        self.passive = passive;
+        self.law.passive = passive;
         self
     }
 }
 
-impl Controller for ComputedTorque {
-    fn name(&self) -> &str {
-        "computed_torque"
-    }
+impl JointLaw for ComputedTorqueLaw {
+    const NAME: &'static str = "computed_torque";
 
-    fn setup(&mut self, ctx: &ControlContext<'_>) -> Result<()> {
-        let (arm, passive) = split_passive(ctx);
-        check_len(&self.reference, arm.len(), passive.len(), ctx)?;
-        let n = arm.len();
-        self.kp = broadcast_gains("kp", &self.kp_given, n)?;
-        self.kd = broadcast_gains("kd", &self.kd_given, n)?;
+    fn setup(&mut self, ctx: &ControlContext<'_>, tracking: &JointTracking, _passive: Vec<usize>) -> Result<()> {
         let model = self.model.clone().unwrap_or_else(|| ctx.plant.clone());
         self.inner = Some(ReducedInverseDynamics::with_passive(model, ctx, self.passive)?);
-        self.arm = arm;
-        self.q_ref = vec![0.0; n];
-        self.qd_ref = vec![0.0; n];
-        self.qdd_ref = vec![0.0; n];
-        self.qdd_cmd = vec![0.0; n];
+        self.qdd_cmd = vec![0.0; tracking.arm.len()];
         Ok(())
     }
 
-    fn command(&mut self, t: f64, x: &[f64], u: &[f64], out: &mut Command) -> Result<()> {
-        self.reference.eval(t, &mut self.q_ref, &mut self.qd_ref, &mut self.qdd_ref);
-        let mut err2 = 0.0;
-        for (i, &d) in self.arm.iter().enumerate() {
-            let e = self.q_ref[i] - x[7 + d];
-            let ed = self.qd_ref[i] - u[6 + d];
-            self.qdd_cmd[i] = self.qdd_ref[i] + self.kd[i] * ed + self.kp[i] * e;
-            err2 += e * e;
+    fn command(&mut self, j: &JointTracking, x: &[f64], u: &[f64], out: &mut Command) -> Result<()> {
+        for (i, q) in self.qdd_cmd.iter_mut().enumerate() {
+            *q = j.qdd_ref[i] + j.kd[i] * j.ed[i] + j.kp[i] * j.e[i];
         }
         let inner = self.inner.as_mut().ok_or_else(|| SpacearmError::Simulation("computed torque used before setup".into()))?;
-        inner.arm_torques(x, u, &self.qdd_cmd, out)?;
-        out.reference[..self.arm.len()].copy_from_slice(&self.q_ref);
-        out.tracking_error = err2.sqrt();
-        Ok(())
-    }
-
-    fn reference_len(&self) -> usize {
-        self.reference.len()
-    }
-
-    fn tracking(&self) -> Option<TrackingKind> {
-        Some(TrackingKind::Joint)
+        inner.arm_torques(x, u, &self.qdd_cmd, out)
     }
 }
 
@@ -313,32 +258,18 @@ impl Controller for ComputedTorque {
 mod tests {
     use super::*;
     use crate::algorithms::dynamics::forward_dynamics_via_mass_matrix;
-    use crate::model::builder::{LinkSpec, ModelBuilder};
-    use crate::model::joint::{JointDynamics, JointType};
-    use crate::model::slosh::{SloshModel, SloshRestoring, SloshSpec};
+    use crate::control::coordinated::tests::{fuel_pendulum, revolute_links};
+    use crate::model::builder::ModelBuilder;
+    use crate::model::joint::JointDynamics;
     use crate::scenario::actuators::Actuators;
 
     /// Two actuated links on a base carrying a slosh pendulum and a hinged panel (passive, with
     /// a torsional spring), the passive joints between and after the actuated ones.
     fn flexible_arm() -> Model {
         let mut b = ModelBuilder::new("flex", "base", 200.0, [[20.0, 0.0, 0.0], [0.0, 25.0, 0.0], [0.0, 0.0, 30.0]]).unwrap();
-        let link = |name: &str, parent: &str, origin: [f64; 3], axis: [f64; 3], com: [f64; 3], mass: f64| {
-            LinkSpec::new(name, parent, JointType::Revolute, origin, axis, com, mass, [0.05, 0.4, 0.4])
-        };
+        let link = revolute_links([0.05, 0.4, 0.4]);
         b.add_link(link("l1", "base", [0.6, 0.0, 0.2], [0.0, 0.0, 1.0], [0.5, 0.0, 0.0], 8.0)).unwrap();
-        b.add_slosh(SloshSpec {
-            name: "fuel".into(),
-            parent: "base".into(),
-            model: SloshModel::Pendulum,
-            mass: 30.0,
-            position: [0.0, 0.1, 0.3],
-            axis: [0.0, 0.0, -1.0],
-            hinge: Some([1.0, 0.0, 0.0]),
-            length: Some(0.4),
-            restoring: SloshRestoring::Frequency(1.5),
-            damping: 0.3,
-        })
-        .unwrap();
+        b.add_slosh(fuel_pendulum(30.0)).unwrap();
         b.add_link(link("panel", "base", [0.0, -0.7, 0.0], [1.0, 0.0, 0.0], [0.0, -0.8, 0.0], 12.0)).unwrap();
         b.set_joint_dynamics("panel", JointDynamics { actuated: false, stiffness: 40.0, damping: 0.5, rest: 0.1 }).unwrap();
         b.add_link(link("l2", "l1", [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.4, 0.0, 0.0], 5.0)).unwrap();

@@ -389,6 +389,37 @@ pub fn split_passive(ctx: &ControlContext<'_>) -> (Vec<usize>, Vec<usize>) {
     ctx.arm_dofs.iter().partition(|&&d| dynamics[d].actuated)
 }
 
+/// Refuse the simulation mode of `ctx` unless `ok`: "`needs`, but the simulation mode is '…'".
+pub(crate) fn require_mode(ctx: &ControlContext<'_>, ok: bool, needs: &str) -> Result<()> {
+    if ok {
+        return Ok(());
+    }
+    Err(SpacearmError::argument(format!("{needs}, but the simulation mode is '{}'", ctx.mode.name())))
+}
+
+/// The base-thruster axes the mode of `ctx` opens, `(force, torque)`; a mode with neither (not
+/// a flying mode) is refused with "`who` needs a flying mode …".
+pub(crate) fn thruster_axes(ctx: &ControlContext<'_>, who: &str) -> Result<(bool, bool)> {
+    let (force, torque) = (ctx.mode.allows_force(), ctx.mode.allows_torque());
+    require_mode(ctx, force || torque, &format!("{who} needs a flying mode ('rotation-flying', 'translation-flying' or 'flying')"))?;
+    Ok((force, torque))
+}
+
+/// Refuse a controller's own `model` (described as `what`) whose joint dofs differ from the
+/// plant's.
+pub(crate) fn check_model_dofs(what: &str, model: &Model, ctx: &ControlContext<'_>) -> Result<()> {
+    if model.n_dof() != ctx.plant.n_dof() {
+        return Err(SpacearmError::argument(format!(
+            "{what} '{}' has {} joint dofs but the plant '{}' has {}",
+            model.name(),
+            model.n_dof(),
+            ctx.plant.name(),
+            ctx.plant.n_dof()
+        )));
+    }
+    Ok(())
+}
+
 /// Check that a joint reference has `n_arm` entries: the arm joints less `n_passive` passive
 /// ones (which no arm controller commands).
 pub(crate) fn check_len(reference: &JointReference, n_arm: usize, n_passive: usize, ctx: &ControlContext<'_>) -> Result<()> {

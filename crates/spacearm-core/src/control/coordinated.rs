@@ -43,7 +43,7 @@ use crate::math::spatial::{angular, linear};
 
 use super::attitude::AttitudeControl;
 use super::computed_torque::ReducedInverseDynamics;
-use super::controller::split_passive;
+use super::controller::{require_mode, split_passive};
 use crate::algorithms::passive::add_joint_passive_forces;
 use crate::math::dls::{DampingLaw, RowSvd};
 use super::{cholesky_solve_in_place, positive, Command, ControlContext, Controller, TrackingKind};
@@ -167,12 +167,7 @@ impl Controller for CoordinatedFlying {
     }
 
     fn setup(&mut self, ctx: &ControlContext<'_>) -> Result<()> {
-        if ctx.mode != Mode::Flying {
-            return Err(SpacearmError::argument(format!(
-                "coordinated base-and-arm control needs the full base wrench of the 'flying' mode, but the simulation mode is '{}'",
-                ctx.mode.name()
-            )));
-        }
+        require_mode(ctx, ctx.mode == Mode::Flying, "coordinated base-and-arm control needs the full base wrench of the 'flying' mode")?;
         if !ctx.wheel_dofs.is_empty() {
             return Err(SpacearmError::argument(
                 "coordinated flying control does not drive reaction wheels; pass wheels=[] to treat them as joints held at constant speed",
@@ -413,30 +408,39 @@ pub(crate) mod tests {
         assert!((bias - fd).norm() < 1e-7 * fd.norm().max(1.0), "{bias} vs finite differences {fd}");
     }
 
-    /// Three actuated links (z, y, y) with a slosh pendulum on the base and a passive sprung
-    /// elbow (rest ≠ 0) between the second and third, on the path to the end effector.
-    pub(crate) fn flexible_spatial3() -> Model {
-        use crate::model::builder::{LinkSpec, ModelBuilder};
-        use crate::model::joint::JointDynamics;
+    /// The flexible test arms' links: revolute, with the principal moments `inertia`; the
+    /// closure takes `(name, parent, origin, axis, com, mass)`.
+    pub(crate) fn revolute_links(inertia: [f64; 3]) -> impl Fn(&str, &str, [f64; 3], [f64; 3], [f64; 3], f64) -> crate::model::builder::LinkSpec {
+        move |name, parent, origin, axis, com, mass| crate::model::builder::LinkSpec::new(name, parent, JointType::Revolute, origin, axis, com, mass, inertia)
+    }
+
+    /// The flexible test arms' fuel: a slosh pendulum "fuel" of `mass` kg on the base, pivot at
+    /// (0, 0.1, 0.3) m, rod 0.4 m down, hinge x, 1.5 rad/s, damping 0.3.
+    pub(crate) fn fuel_pendulum(mass: f64) -> crate::model::slosh::SloshSpec {
         use crate::model::slosh::{SloshModel, SloshRestoring, SloshSpec};
-        let mut b = ModelBuilder::new("flex3", "base", 150.0, [[15.0, 0.0, 0.0], [0.0, 18.0, 0.0], [0.0, 0.0, 20.0]]).unwrap();
-        let link = |name: &str, parent: &str, origin: [f64; 3], axis: [f64; 3], com: [f64; 3], mass: f64| {
-            LinkSpec::new(name, parent, JointType::Revolute, origin, axis, com, mass, [0.05, 0.3, 0.3])
-        };
-        b.add_link(link("l1", "base", [0.6, 0.0, 0.2], [0.0, 0.0, 1.0], [0.0, 0.0, 0.2], 6.0)).unwrap();
-        b.add_slosh(SloshSpec {
+        SloshSpec {
             name: "fuel".into(),
             parent: "base".into(),
             model: SloshModel::Pendulum,
-            mass: 25.0,
+            mass,
             position: [0.0, 0.1, 0.3],
             axis: [0.0, 0.0, -1.0],
             hinge: Some([1.0, 0.0, 0.0]),
             length: Some(0.4),
             restoring: SloshRestoring::Frequency(1.5),
             damping: 0.3,
-        })
-        .unwrap();
+        }
+    }
+
+    /// Three actuated links (z, y, y) with a slosh pendulum on the base and a passive sprung
+    /// elbow (rest ≠ 0) between the second and third, on the path to the end effector.
+    pub(crate) fn flexible_spatial3() -> Model {
+        use crate::model::builder::ModelBuilder;
+        use crate::model::joint::JointDynamics;
+        let mut b = ModelBuilder::new("flex3", "base", 150.0, [[15.0, 0.0, 0.0], [0.0, 18.0, 0.0], [0.0, 0.0, 20.0]]).unwrap();
+        let link = revolute_links([0.05, 0.3, 0.3]);
+        b.add_link(link("l1", "base", [0.6, 0.0, 0.2], [0.0, 0.0, 1.0], [0.0, 0.0, 0.2], 6.0)).unwrap();
+        b.add_slosh(fuel_pendulum(25.0)).unwrap();
         b.add_link(link("l2", "l1", [0.0, 0.0, 0.4], [0.0, 1.0, 0.0], [0.4, 0.0, 0.0], 5.0)).unwrap();
         // A passive, sprung elbow on the path to the end effector (J_P ≠ 0).
         b.add_link(link("flex", "l2", [0.8, 0.0, 0.0], [0.0, 0.0, 1.0], [0.1, 0.0, 0.0], 1.0)).unwrap();

@@ -28,6 +28,7 @@ pub mod attitude;
 pub mod computed_torque;
 pub mod controller;
 pub mod coordinated;
+pub mod joint_tracking;
 pub mod mismatch;
 pub mod momentum_damping;
 pub mod pd;
@@ -44,6 +45,7 @@ pub use controller::{
 };
 pub use coordinated::{CoordinatedFlying, CoordinatedGains};
 pub use momentum_damping::{JointTorqueLimit, MomentumDamping};
+pub use joint_tracking::{JointLaw, JointTracker};
 pub use pd::JointPd;
 pub use rmrc::ResolvedMotionRate;
 pub use shaping::{InputShaper, ShaperKind};

@@ -18,6 +18,7 @@ use crate::error::{Result, SpacearmError};
 use crate::model::data::Data;
 use crate::model::Model;
 
+use super::controller::{check_model_dofs, thruster_axes};
 use super::{positive, Command, ControlContext, Controller};
 
 /// Thruster damping of the system momentum (module docs).
@@ -62,24 +63,9 @@ impl Controller for MomentumDamping {
                 return Err(SpacearmError::argument(format!("momentum damping {what} must be > 0 (infinity: no limit), got {v}")));
             }
         }
-        self.use_force = ctx.mode.allows_force();
-        self.use_torque = ctx.mode.allows_torque();
-        if !self.use_force && !self.use_torque {
-            return Err(SpacearmError::argument(format!(
-                "momentum damping acts through the base thrusters and needs a flying mode ('rotation-flying', 'translation-flying' or 'flying'), but the simulation mode is '{}'",
-                ctx.mode.name()
-            )));
-        }
+        (self.use_force, self.use_torque) = thruster_axes(ctx, "momentum damping acts through the base thrusters and")?;
         let model = self.model_given.clone().unwrap_or_else(|| ctx.plant.clone());
-        if model.n_dof() != ctx.plant.n_dof() {
-            return Err(SpacearmError::argument(format!(
-                "the momentum-damping model '{}' has {} joint dofs but the plant '{}' has {}",
-                model.name(),
-                model.n_dof(),
-                ctx.plant.name(),
-                ctx.plant.n_dof()
-            )));
-        }
+        check_model_dofs("the momentum-damping model", &model, ctx)?;
         self.data = Some(Data::new(&model));
         self.model = Some(model);
         Ok(())

@@ -7,74 +7,42 @@
 use crate::error::Result;
 use crate::scenario::reference::JointReference;
 
-use super::controller::{check_len, split_passive};
-use super::{broadcast_gains, Command, ControlContext, Controller, TrackingKind};
+use super::joint_tracking::{JointLaw, JointTracker, JointTracking};
+use super::{Command, ControlContext};
 
 /// Joint PD with a constant or quintic reference.
+pub type JointPd = JointTracker<PdLaw>;
+
+/// The law of [`JointPd`]: `τ = K_p e + K_d ė` on the actuated arm joints, zero on the passive ones.
 #[derive(Debug, Clone)]
-pub struct JointPd {
-    kp_given: Vec<f64>,
-    kd_given: Vec<f64>,
-    reference: JointReference,
-    kp: Vec<f64>,
-    kd: Vec<f64>,
-    arm: Vec<usize>,
+pub struct PdLaw {
     passive: Vec<usize>,
-    q_ref: Vec<f64>,
-    qd_ref: Vec<f64>,
-    qdd_ref: Vec<f64>,
 }
 
 impl JointPd {
     /// Gains: one value or one per actuated arm joint (finite, ≥ 0); `reference`: one entry per
     /// actuated arm joint (the passive joints are not commanded).
     pub fn new(kp: Vec<f64>, kd: Vec<f64>, reference: JointReference) -> Self {
-        JointPd { kp_given: kp, kd_given: kd, reference, kp: vec![], kd: vec![], arm: vec![], passive: vec![], q_ref: vec![], qd_ref: vec![], qdd_ref: vec![] }
+        JointTracker::with_law(kp, kd, reference, PdLaw { passive: vec![] })
     }
 }
 
-impl Controller for JointPd {
-    fn name(&self) -> &str {
-        "joint_pd"
-    }
+impl JointLaw for PdLaw {
+    const NAME: &'static str = "joint_pd";
 
-    fn setup(&mut self, ctx: &ControlContext<'_>) -> Result<()> {
-        let (arm, passive) = split_passive(ctx);
-        check_len(&self.reference, arm.len(), passive.len(), ctx)?;
-        let n = arm.len();
-        self.kp = broadcast_gains("kp", &self.kp_given, n)?;
-        self.kd = broadcast_gains("kd", &self.kd_given, n)?;
-        self.arm = arm;
+    fn setup(&mut self, _ctx: &ControlContext<'_>, _tracking: &JointTracking, passive: Vec<usize>) -> Result<()> {
         self.passive = passive;
-        self.q_ref = vec![0.0; n];
-        self.qd_ref = vec![0.0; n];
-        self.qdd_ref = vec![0.0; n];
         Ok(())
     }
 
-    fn command(&mut self, t: f64, x: &[f64], u: &[f64], out: &mut Command) -> Result<()> {
-        self.reference.eval(t, &mut self.q_ref, &mut self.qd_ref, &mut self.qdd_ref);
-        let mut err2 = 0.0;
-        for (i, &d) in self.arm.iter().enumerate() {
-            let e = self.q_ref[i] - x[7 + d];
-            let ed = self.qd_ref[i] - u[6 + d];
-            out.tau[d] = self.kp[i] * e + self.kd[i] * ed;
-            err2 += e * e;
+    fn command(&mut self, j: &JointTracking, _x: &[f64], _u: &[f64], out: &mut Command) -> Result<()> {
+        for (i, &d) in j.arm.iter().enumerate() {
+            out.tau[d] = j.kp[i] * j.e[i] + j.kd[i] * j.ed[i];
         }
         for &d in &self.passive {
             out.tau[d] = 0.0;
         }
-        out.reference[..self.arm.len()].copy_from_slice(&self.q_ref);
-        out.tracking_error = err2.sqrt();
         Ok(())
-    }
-
-    fn reference_len(&self) -> usize {
-        self.reference.len()
-    }
-
-    fn tracking(&self) -> Option<TrackingKind> {
-        Some(TrackingKind::Joint)
     }
 }
 
@@ -82,6 +50,7 @@ impl Controller for JointPd {
 mod tests {
     use super::*;
     use crate::control::coordinated::tests::flexible_spatial3;
+    use crate::control::Controller;
     use crate::scenario::actuators::Actuators;
     use crate::scenario::modes::Mode;
 

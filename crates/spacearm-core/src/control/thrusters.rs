@@ -18,6 +18,7 @@ use crate::model::Model;
 use crate::algorithms::momentum::{center_of_mass_from_data, momentum};
 
 use super::attitude::{AttitudeControl, LvlhReference};
+use super::controller::thruster_axes;
 use super::{Command, ControlContext, Controller};
 
 /// Thruster regulation of the system CM position and the base attitude.
@@ -74,14 +75,7 @@ impl Controller for BaseThrusterControl {
     }
 
     fn setup(&mut self, ctx: &ControlContext<'_>) -> Result<()> {
-        self.use_force = ctx.mode.allows_force();
-        self.use_torque = ctx.mode.allows_torque();
-        if !self.use_force && !self.use_torque {
-            return Err(SpacearmError::argument(format!(
-                "thruster control needs a flying mode ('rotation-flying', 'translation-flying' or 'flying'), but the simulation mode is '{}'",
-                ctx.mode.name()
-            )));
-        }
+        (self.use_force, self.use_torque) = thruster_axes(ctx, "thruster control")?;
         for (what, v) in [("kp_position", self.kp_position), ("kd_position", self.kd_position), ("kp_attitude", self.kp_attitude), ("kd_attitude", self.kd_attitude)] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(SpacearmError::argument(format!("thruster control {what} must be finite and >= 0, got {v}")));

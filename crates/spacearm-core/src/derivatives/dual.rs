@@ -363,6 +363,17 @@ impl DerivativeData {
         )
     }
 
+    /// Size a tensor of partials (`tensor`, `n` matrices of `n×n`) on its function's first use,
+    /// admitting its `n³` values first: `what` names the function and the size, `remedy` the
+    /// way out ([`crate::admission::admit`]).
+    pub(crate) fn size_partials(tensor: &mut Vec<DMatrix<f64>>, n: usize, what: impl std::fmt::Display, remedy: &str) -> Result<()> {
+        if tensor.len() != n {
+            crate::admission::admit(what, crate::admission::bytes_of::<f64>((n as f64).powi(3)), remedy)?;
+            *tensor = vec![DMatrix::zeros(n, n); n];
+        }
+        Ok(())
+    }
+
     /// Allocate the workspace and results for `model` (see [`DerivativeData::admit`]).
     pub fn new(model: &Model) -> Self {
         let n = model.n_dof();

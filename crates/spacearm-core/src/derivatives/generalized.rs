@@ -20,14 +20,12 @@ pub fn generalized_inertia_partials<'w>(model: &Model, work: &'w mut DerivativeD
     let pose = Pose::new(model, x)?;
     forward_kinematics(model, &mut work.data, x)?;
     let n = model.n_dof();
-    if work.generalized_inertia_partials.len() != n {
-        crate::admission::admit(
-            format_args!("generalized_inertia_partials (N³ = {n}³ values)"),
-            crate::admission::bytes_of::<f64>((n as f64).powi(3)),
-            "use generalized_inertia_derivative (Ḣ* along one velocity, N² values) or a smaller model",
-        )?;
-        work.generalized_inertia_partials = vec![DMatrix::zeros(n, n); n];
-    }
+    DerivativeData::size_partials(
+        &mut work.generalized_inertia_partials,
+        n,
+        format_args!("generalized_inertia_partials (N³ = {n}³ values)"),
+        "use generalized_inertia_derivative (Ḣ* along one velocity, N² values) or a smaller model",
+    )?;
     let dirs = &work.joint_dirs;
     for (c, chunk) in dirs.chunks(CHUNK).enumerate() {
         seed_chunk_from_kinematics(model, &work.data, &mut work.chunk, &pose, None, chunk);

@@ -20,14 +20,12 @@ pub fn mass_matrix_partials<'w>(model: &Model, work: &'w mut DerivativeData, x: 
     let pose = Pose::new(model, x)?;
     forward_kinematics(model, &mut work.data, x)?;
     let nu = model.nu();
-    if work.mass_matrix_partials.len() != nu {
-        crate::admission::admit(
-            format_args!("mass_matrix_partials ((6+N)³ = {nu}³ values)"),
-            crate::admission::bytes_of::<f64>((nu as f64).powi(3)),
-            "use mass_matrix_derivative (Ḣ along one velocity, (6+N)² values) or a smaller model",
-        )?;
-        work.mass_matrix_partials = vec![DMatrix::zeros(nu, nu); nu];
-    }
+    DerivativeData::size_partials(
+        &mut work.mass_matrix_partials,
+        nu,
+        format_args!("mass_matrix_partials ((6+N)³ = {nu}³ values)"),
+        "use mass_matrix_derivative (Ḣ along one velocity, (6+N)² values) or a smaller model",
+    )?;
     let dirs = &work.config_dirs;
     for k in 0..3 {
         work.mass_matrix_partials[k].fill(0.0);

@@ -479,6 +479,34 @@ fn unsupported(what: &str) -> ! {
     panic!("{what} is not recorded on a tape: the recursions of spacearm-core do not use it (math::tape)")
 }
 
+/// Trait methods `fn f(self) -> Var` that record the one unary operation `Op::$op`.
+macro_rules! recorded_unary {
+    ($($f:ident => $op:ident),* $(,)?) => {$(
+        fn $f(self) -> Var {
+            self.unary(Op::$op)
+        }
+    )*};
+}
+
+/// Trait methods `fn f(self) -> Var` the tape does not record: they panic naming themselves
+/// ([`unsupported`]).
+macro_rules! unrecorded {
+    ($($f:ident),* $(,)?) => {$(
+        fn $f(self) -> Var {
+            unsupported(stringify!($f))
+        }
+    )*};
+}
+
+/// Trait methods `fn f() -> Var` that return a constant (no operation recorded).
+macro_rules! constants {
+    ($($f:ident => $v:expr),* $(,)?) => {$(
+        fn $f() -> Var {
+            Var::constant($v)
+        }
+    )*};
+}
+
 // ---- Comparisons: structural equality, order of the nominal values ----
 
 impl PartialEq for Var {
@@ -694,17 +722,8 @@ impl simba::scalar::ComplexField for Var {
     fn imaginary(self) -> Var {
         Var::constant(0.0)
     }
-    fn modulus(self) -> Var {
-        self.unary(Op::Abs)
-    }
     fn modulus_squared(self) -> Var {
         self * self
-    }
-    fn argument(self) -> Var {
-        unsupported("argument")
-    }
-    fn norm1(self) -> Var {
-        self.unary(Op::Abs)
     }
     fn scale(self, factor: Var) -> Var {
         self * factor
@@ -712,27 +731,19 @@ impl simba::scalar::ComplexField for Var {
     fn unscale(self, factor: Var) -> Var {
         self / factor
     }
-    fn floor(self) -> Var {
-        unsupported("floor")
-    }
-    fn ceil(self) -> Var {
-        unsupported("ceil")
-    }
-    fn round(self) -> Var {
-        unsupported("round")
-    }
-    fn trunc(self) -> Var {
-        unsupported("trunc")
-    }
-    fn fract(self) -> Var {
-        unsupported("fract")
-    }
+    recorded_unary!(
+        modulus => Abs, norm1 => Abs, abs => Abs,
+        sin => Sin, cos => Cos, tan => Tan, asin => Asin, acos => Acos, atan => Atan,
+        ln => Ln, sqrt => Sqrt, exp => Exp,
+    );
+    unrecorded!(
+        argument, floor, ceil, round, trunc, fract,
+        sinh, cosh, tanh, asinh, acosh, atanh,
+        log2, log10, ln_1p, exp2, exp_m1, cbrt,
+    );
     /// `self · a + b`, as two operations (as nalgebra's `f64` path computes it without FMA).
     fn mul_add(self, a: Var, b: Var) -> Var {
         self * a + b
-    }
-    fn abs(self) -> Var {
-        self.unary(Op::Abs)
     }
     fn hypot(self, other: Var) -> Var {
         (self * self + other * other).unary(Op::Sqrt)
@@ -743,71 +754,11 @@ impl simba::scalar::ComplexField for Var {
     fn conjugate(self) -> Var {
         self
     }
-    fn sin(self) -> Var {
-        self.unary(Op::Sin)
-    }
-    fn cos(self) -> Var {
-        self.unary(Op::Cos)
-    }
     fn sin_cos(self) -> (Var, Var) {
         (self.unary(Op::Sin), self.unary(Op::Cos))
     }
-    fn tan(self) -> Var {
-        self.unary(Op::Tan)
-    }
-    fn asin(self) -> Var {
-        self.unary(Op::Asin)
-    }
-    fn acos(self) -> Var {
-        self.unary(Op::Acos)
-    }
-    fn atan(self) -> Var {
-        self.unary(Op::Atan)
-    }
-    fn sinh(self) -> Var {
-        unsupported("sinh")
-    }
-    fn cosh(self) -> Var {
-        unsupported("cosh")
-    }
-    fn tanh(self) -> Var {
-        unsupported("tanh")
-    }
-    fn asinh(self) -> Var {
-        unsupported("asinh")
-    }
-    fn acosh(self) -> Var {
-        unsupported("acosh")
-    }
-    fn atanh(self) -> Var {
-        unsupported("atanh")
-    }
     fn log(self, base: Var) -> Var {
         self.unary(Op::Ln) / base.unary(Op::Ln)
-    }
-    fn log2(self) -> Var {
-        unsupported("log2")
-    }
-    fn log10(self) -> Var {
-        unsupported("log10")
-    }
-    fn ln(self) -> Var {
-        self.unary(Op::Ln)
-    }
-    fn ln_1p(self) -> Var {
-        unsupported("ln_1p")
-    }
-    fn sqrt(self) -> Var {
-        self.unary(Op::Sqrt)
-    }
-    fn exp(self) -> Var {
-        self.unary(Op::Exp)
-    }
-    fn exp2(self) -> Var {
-        unsupported("exp2")
-    }
-    fn exp_m1(self) -> Var {
-        unsupported("exp_m1")
     }
     /// Repeated products for small integer powers (what the algorithms use: squares).
     fn powi(self, n: i32) -> Var {
@@ -830,9 +781,6 @@ impl simba::scalar::ComplexField for Var {
     }
     fn powc(self, n: Var) -> Var {
         self.powf(n)
-    }
-    fn cbrt(self) -> Var {
-        unsupported("cbrt")
     }
     fn is_finite(&self) -> bool {
         self.value.is_finite()
@@ -879,56 +827,28 @@ impl simba::scalar::RealField for Var {
     fn atan2(self, other: Var) -> Var {
         self.binary(Op::Atan2, other)
     }
+    constants!(
+        pi => std::f64::consts::PI,
+        two_pi => std::f64::consts::TAU,
+        frac_pi_2 => std::f64::consts::FRAC_PI_2,
+        frac_pi_3 => std::f64::consts::FRAC_PI_3,
+        frac_pi_4 => std::f64::consts::FRAC_PI_4,
+        frac_pi_6 => std::f64::consts::FRAC_PI_6,
+        frac_pi_8 => std::f64::consts::FRAC_PI_8,
+        frac_1_pi => std::f64::consts::FRAC_1_PI,
+        frac_2_pi => std::f64::consts::FRAC_2_PI,
+        frac_2_sqrt_pi => std::f64::consts::FRAC_2_SQRT_PI,
+        e => std::f64::consts::E,
+        log2_e => std::f64::consts::LOG2_E,
+        log10_e => std::f64::consts::LOG10_E,
+        ln_2 => std::f64::consts::LN_2,
+        ln_10 => std::f64::consts::LN_10,
+    );
     fn min_value() -> Option<Var> {
         Some(Var::constant(f64::MIN))
     }
     fn max_value() -> Option<Var> {
         Some(Var::constant(f64::MAX))
-    }
-    fn pi() -> Var {
-        Var::constant(std::f64::consts::PI)
-    }
-    fn two_pi() -> Var {
-        Var::constant(std::f64::consts::TAU)
-    }
-    fn frac_pi_2() -> Var {
-        Var::constant(std::f64::consts::FRAC_PI_2)
-    }
-    fn frac_pi_3() -> Var {
-        Var::constant(std::f64::consts::FRAC_PI_3)
-    }
-    fn frac_pi_4() -> Var {
-        Var::constant(std::f64::consts::FRAC_PI_4)
-    }
-    fn frac_pi_6() -> Var {
-        Var::constant(std::f64::consts::FRAC_PI_6)
-    }
-    fn frac_pi_8() -> Var {
-        Var::constant(std::f64::consts::FRAC_PI_8)
-    }
-    fn frac_1_pi() -> Var {
-        Var::constant(std::f64::consts::FRAC_1_PI)
-    }
-    fn frac_2_pi() -> Var {
-        Var::constant(std::f64::consts::FRAC_2_PI)
-    }
-    fn frac_2_sqrt_pi() -> Var {
-        Var::constant(std::f64::consts::FRAC_2_SQRT_PI)
-    }
-    fn e() -> Var {
-        Var::constant(std::f64::consts::E)
-    }
-    fn log2_e() -> Var {
-        Var::constant(std::f64::consts::LOG2_E)
-    }
-    fn log10_e() -> Var {
-        Var::constant(std::f64::consts::LOG10_E)
-    }
-    fn ln_2() -> Var {
-        Var::constant(std::f64::consts::LN_2)
-    }
-    fn ln_10() -> Var {
-        Var::constant(std::f64::consts::LN_10)
     }
 }
 

@@ -51,7 +51,7 @@
 
 use nalgebra::{DMatrix, SymmetricEigen};
 
-use super::slosh_tank::{axial, fill_depth, positive, SloshMode, TankSlosh};
+use super::slosh_tank::{positive, tank_inputs, SloshMode, TankSlosh};
 use crate::error::{Result, SpacearmError};
 
 /// The most slosh modes [`sphere_slosh`] returns (higher ones converge slowly near full).
@@ -326,10 +326,7 @@ pub fn sphere_fill_height(radius: f64, fill_fraction: f64) -> Result<f64> {
 /// `liquid_cm_height` is above the tank's bottom pole; the heights of the modes and of the fixed
 /// mass are above the liquid's centre of mass, along the tank axis.
 pub fn sphere_slosh(radius: f64, fill_height: f64, liquid_mass: f64, axial_acceleration: f64, n_modes: usize) -> Result<TankSlosh> {
-    let r = positive("the tank radius (m)", radius)?;
-    let h = fill_depth(r, fill_height)?;
-    let m_l = positive("the liquid mass (kg)", liquid_mass)?;
-    axial(axial_acceleration)?;
+    let (r, h, m_l) = tank_inputs(radius, fill_height, liquid_mass, axial_acceleration)?;
     if !(1..=SPHERE_MAX_MODES).contains(&n_modes) {
         return Err(SpacearmError::argument(format!(
             "the number of slosh modes of a spherical tank must be 1 to {SPHERE_MAX_MODES} (higher modes converge too slowly near full), got {n_modes}"

@@ -50,8 +50,9 @@ use crate::error::{Result, SpacearmError};
 /// The first zeros of `J₁′(ξ)` (the antisymmetric slosh modes of a circular cylinder).
 pub const BESSEL_J1_PRIME_ZEROS: [f64; 5] = [1.841_183_781_340_659, 5.331_442_773_525_033, 8.536_316_366_346_286, 11.706_004_902_592_063, 14.863_588_633_909_034];
 
-/// One slosh mode of a tank.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// One slosh mode of a tank (serialized as the doors' plain data: `{mass, height, frequency,
+/// stiffness, length}`).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct SloshMode {
     /// The sloshing mass `mₙ`, kg.
     pub mass: f64,
@@ -73,8 +74,9 @@ impl SloshMode {
     }
 }
 
-/// The equivalent mechanical model of a tank's liquid (module docs).
-#[derive(Debug, Clone, PartialEq)]
+/// The equivalent mechanical model of a tank's liquid (module docs); serialized field by field
+/// (the Python door's dict).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct TankSlosh {
     /// The liquid's mass `m_L`, kg.
     pub liquid_mass: f64,
@@ -186,6 +188,17 @@ pub(crate) fn fill_depth(radius: f64, fill_height: f64) -> Result<f64> {
     Ok(h)
 }
 
+/// Check the inputs every tank model shares, in this order: `radius` R and `liquid_mass` m_L
+/// finite and > 0, the fill height ([`fill_depth`]) and the axial acceleration ([`axial`]);
+/// returns `(R, h, m_L)`.
+pub(crate) fn tank_inputs(radius: f64, fill_height: f64, liquid_mass: f64, axial_acceleration: f64) -> Result<(f64, f64, f64)> {
+    let r = positive("the tank radius (m)", radius)?;
+    let h = fill_depth(r, fill_height)?;
+    let m_l = positive("the liquid mass (kg)", liquid_mass)?;
+    axial(axial_acceleration)?;
+    Ok((r, h, m_l))
+}
+
 /// The fill height `h = f H` (m) of an upright cylinder of height `tank_height` H holding the
 /// `fill_fraction` f of its height, f in (0, 1): a full tank (f = 1) has no free surface and
 /// does not slosh (its liquid moves with the tank: a fixed mass), so it is refused, as the
@@ -209,10 +222,7 @@ pub fn cylinder_fill_height(tank_height: f64, fill_fraction: f64) -> Result<f64>
 /// `radius` R, filled to `fill_height` h with `liquid_mass` m_L, in the axial acceleration `a`,
 /// with `n_modes` modes (1 to 5; module docs).
 pub fn cylinder_slosh(radius: f64, fill_height: f64, liquid_mass: f64, axial_acceleration: f64, n_modes: usize) -> Result<TankSlosh> {
-    let r = positive("the tank radius (m)", radius)?;
-    let h = fill_depth(r, fill_height)?;
-    let m_l = positive("the liquid mass (kg)", liquid_mass)?;
-    axial(axial_acceleration)?;
+    let (r, h, m_l) = tank_inputs(radius, fill_height, liquid_mass, axial_acceleration)?;
     if !(1..=BESSEL_J1_PRIME_ZEROS.len()).contains(&n_modes) {
         return Err(SpacearmError::argument(format!("the number of slosh modes must be 1 to {}, got {n_modes}", BESSEL_J1_PRIME_ZEROS.len())));
     }

@@ -182,6 +182,11 @@ fn describe_value(v: &Value) -> String {
     }
 }
 
+/// An appendage's `parent` (slosh, panel, beam), or `base` when the file leaves it out.
+fn parent_or(parent: &Option<Spanned<String>>, base: &str) -> String {
+    parent.as_ref().map_or_else(|| base.to_string(), |p| p.get_ref().clone())
+}
+
 fn limits(doc: &Option<Spanned<LimitsDoc>>) -> JointLimits {
     let u = JointLimits::unlimited();
     match doc {
@@ -532,7 +537,7 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
         };
         let spec = SloshSpec {
             name: name.clone(),
-            parent: s.parent.as_ref().map_or_else(|| base_name.clone(), |p| p.get_ref().clone()),
+            parent: parent_or(&s.parent, &base_name),
             model,
             mass: *s.mass.get_ref(),
             position: *s.position.get_ref(),
@@ -570,7 +575,7 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
         };
         let spec = PanelSpec {
             name: name.clone(),
-            parent: p.parent.as_ref().map_or_else(|| base_name.clone(), |v| v.get_ref().clone()),
+            parent: parent_or(&p.parent, &base_name),
             hinge_position: p.hinge_position,
             hinge_axis: p.hinge_axis,
             direction: p.direction,
@@ -603,7 +608,7 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
         let bending = appendage::bending(name, &b.axis, b.bending_axes.clone(), &ei).map_err(|e| ctx.err(&sp(bd), e))?;
         let spec = BeamSpec {
             name: name.clone(),
-            parent: b.parent.as_ref().map_or_else(|| base_name.clone(), |v| v.get_ref().clone()),
+            parent: parent_or(&b.parent, &base_name),
             root_position: b.root_position,
             axis: b.axis,
             length: b.length,

@@ -132,84 +132,66 @@ fn syntax_errors_carry_line_and_column() {
     assert!(e.starts_with("test.toml:1:"), "{e}");
 }
 
+/// Each case edits DEMO (`from` → `to`, `from` present) and expects an error that starts with
+/// `prefix` and contains every one of `contains`.
+fn assert_demo_errors(cases: &[(&str, &str, &str, &[&str])]) {
+    for (from, to, prefix, contains) in cases {
+        assert!(DEMO.contains(from), "DEMO has no {from:?}");
+        let e = err(&DEMO.replace(from, to));
+        assert!(e.starts_with(prefix) && contains.iter().all(|c| e.contains(c)), "{from:?} -> {to:?}: {e}");
+    }
+}
+
 #[test]
 fn unknown_keys_are_named() {
-    let e = err(&DEMO.replace("mass = 5.0", "mas = 5.0"));
-    assert!(e.contains("unknown field `mas`"), "{e}");
-    assert!(e.starts_with("test.toml:15:"), "{e}");
-    let e = err(&DEMO.replace("[[point]]", "[[points]]"));
-    assert!(e.contains("unknown field `points`"), "{e}");
+    assert_demo_errors(&[
+        ("mass = 5.0", "mas = 5.0", "test.toml:15:", &["unknown field `mas`"]),
+        ("[[point]]", "[[points]]", "", &["unknown field `points`"]),
+    ]);
 }
 
 #[test]
 fn wrong_types_and_missing_fields() {
-    let e = err(&DEMO.replace("mass = 5.0", "mass = \"five\""));
-    assert!(e.starts_with("test.toml:15:") && e.contains("invalid type"), "{e}");
-    let e = err(&DEMO.replace("com = [0.5, 0.0, 0.0]\n", ""));
-    assert!(e.contains("missing field `com`"), "{e}");
-    assert!(e.starts_with("test.toml:"), "{e}");
-    let e = err(&DEMO.replace("offset = [0.2, 0.0, 0.0]", "offset = [0.2, 0.0]"));
-    assert!(e.contains("test.toml:35:") && e.contains("length 3"), "{e}");
-    let e = err(&DEMO.replace("type = \"prismatic\"", "type = \"hinge\""));
-    assert!(e.contains("hinge") && e.contains("revolute"), "{e}");
-    let e = err(&DEMO.replace("inertia = [0.01, 0.4, 0.4]", "inertia = [0.01, 0.4]"));
-    assert!(e.contains("link 'arm': inertia must be [ixx, iyy, izz]"), "{e}");
+    assert_demo_errors(&[
+        ("mass = 5.0", "mass = \"five\"", "test.toml:15:", &["invalid type"]),
+        ("com = [0.5, 0.0, 0.0]\n", "", "test.toml:", &["missing field `com`"]),
+        ("offset = [0.2, 0.0, 0.0]", "offset = [0.2, 0.0]", "", &["test.toml:35:", "length 3"]),
+        ("type = \"prismatic\"", "type = \"hinge\"", "", &["hinge", "revolute"]),
+        ("inertia = [0.01, 0.4, 0.4]", "inertia = [0.01, 0.4]", "", &["link 'arm': inertia must be [ixx, iyy, izz]"]),
+    ]);
 }
 
 #[test]
 fn semantic_errors_name_the_link_and_line() {
-    let e = err(&DEMO.replace("mass = 5.0", "mass = -5.0"));
-    assert!(e.starts_with("test.toml:15:8:") && e.contains("link 'arm'") && e.contains(">= 0"), "{e}");
-    let e = err(&DEMO.replace("inertia = [0.01, 0.4, 0.4]", "inertia = [0.01, 0.4, 1.4]"));
-    assert!(e.contains("link 'arm'") && e.contains("triangle"), "{e}");
-    let e = err(&DEMO.replace("axis = [0.0, 0.0, 2.0]", "axis = [0.0, 0.0, 0.0]"));
-    assert!(e.contains("link 'arm'") && e.contains("non-zero"), "{e}");
-    let e = err(&DEMO.replace("rpy = [0.0, 0.0, 1.5707963267948966]", "rotation = [0.0, 0.0, 0.0, 2.0]"));
-    assert!(e.contains("link 'slider'") && e.contains("unit quaternion") && e.starts_with("test.toml:29:"), "{e}");
-    let e = err(&DEMO.replace("parent = \"arm\"", "parent = \"nope\""));
-    assert!(e.contains("parent 'nope'") && e.contains("\"base\", \"arm\""), "{e}");
-    let e = err(&DEMO.replace("parent = \"base\"", "parent = \"slider\""));
-    assert!(e.contains("cycle 'arm' -> 'slider' -> 'arm'"), "{e}");
-    let e = err(&DEMO.replace("parent = \"base\"", "parent = \"arm\""));
-    assert!(e.contains("its own parent"), "{e}");
-    let e = err(&DEMO.replace("initial_q = [0.3, 0.1]", "initial_q = [0.3]"));
-    assert!(e.contains("N = 2") && e.starts_with("test.toml:5:"), "{e}");
-    let e = err(&DEMO.replace("body = \"slider\"", "body = \"hand\""));
-    assert!(e.contains("point 'tip'") && e.contains("'hand'"), "{e}");
-    let e = err(&DEMO.replace("end_effector = \"tip\"", "end_effector = \"hand\""));
-    assert!(e.contains("end effector 'hand'"), "{e}");
-    let e = err(&DEMO.replace("limits = { lower = -1.0, upper = 1.0 }", "limits = { lower = 1.0, upper = -1.0 }"));
-    assert!(e.contains("lower <= upper") && e.contains("arm_joint"), "{e}");
-    let e = err(&DEMO.replace("name = \"slider\"", "name = \"arm\""));
-    assert!(e.contains("'arm' is used twice"), "{e}");
-    let e = err(&DEMO.replace("[base]\nmass = 100", "[base]\nmass = 0"));
-    assert!(e.contains("base 'base'") && e.contains("> 0"), "{e}");
+    assert_demo_errors(&[
+        ("mass = 5.0", "mass = -5.0", "test.toml:15:8:", &["link 'arm'", ">= 0"]),
+        ("inertia = [0.01, 0.4, 0.4]", "inertia = [0.01, 0.4, 1.4]", "", &["link 'arm'", "triangle"]),
+        ("axis = [0.0, 0.0, 2.0]", "axis = [0.0, 0.0, 0.0]", "", &["link 'arm'", "non-zero"]),
+        ("rpy = [0.0, 0.0, 1.5707963267948966]", "rotation = [0.0, 0.0, 0.0, 2.0]", "test.toml:29:", &["link 'slider'", "unit quaternion"]),
+        ("parent = \"arm\"", "parent = \"nope\"", "", &["parent 'nope'", "\"base\", \"arm\""]),
+        ("parent = \"base\"", "parent = \"slider\"", "", &["cycle 'arm' -> 'slider' -> 'arm'"]),
+        ("parent = \"base\"", "parent = \"arm\"", "", &["its own parent"]),
+        ("initial_q = [0.3, 0.1]", "initial_q = [0.3]", "test.toml:5:", &["N = 2"]),
+        ("body = \"slider\"", "body = \"hand\"", "", &["point 'tip'", "'hand'"]),
+        ("end_effector = \"tip\"", "end_effector = \"hand\"", "", &["end effector 'hand'"]),
+        ("limits = { lower = -1.0, upper = 1.0 }", "limits = { lower = 1.0, upper = -1.0 }", "", &["lower <= upper", "arm_joint"]),
+        ("name = \"slider\"", "name = \"arm\"", "", &["'arm' is used twice"]),
+        ("[base]\nmass = 100", "[base]\nmass = 0", "", &["base 'base'", "> 0"]),
+    ]);
 }
 
 #[test]
 fn forward_reference_is_explained() {
-    let text = r#"
-[model]
-name = "f"
-[base]
-mass = 1
-inertia = [1, 1, 1]
-[[link]]
-name = "b"
-parent = "a"
-com = [0, 0, 0]
-mass = 1
-inertia = [1, 1, 1]
-joint = { type = "revolute", origin = [0, 0, 0], axis = [0, 0, 1] }
-[[link]]
-name = "a"
-parent = "base"
-com = [0, 0, 0]
-mass = 1
-inertia = [1, 1, 1]
-joint = { type = "revolute", origin = [0, 0, 0], axis = [0, 0, 1] }
-"#;
-    let e = err(text);
+    // Link "b" (line 7, its parent on line 9) names "a", which only the next table (line 14)
+    // defines.
+    let link = |name: &str, parent: &str| {
+        format!(
+            "[[link]]\nname = \"{name}\"\nparent = \"{parent}\"\ncom = [0, 0, 0]\nmass = 1\ninertia = [1, 1, 1]\n\
+             joint = {{ type = \"revolute\", origin = [0, 0, 0], axis = [0, 0, 1] }}\n"
+        )
+    };
+    let text = format!("\n[model]\nname = \"f\"\n[base]\nmass = 1\ninertia = [1, 1, 1]\n{}{}", link("b", "a"), link("a", "base"));
+    let e = err(&text);
     assert!(e.starts_with("test.toml:9:") && e.contains("defined later in the file (line 14)"), "{e}");
 }
 
