@@ -370,7 +370,7 @@ max_wheel_speed = 600
     assert_eq!(crate::model::cmg::detect_cmgs(&again), cmgs);
     // A bad table is refused with the CMG's name and the line of its table.
     let e = model_from_toml_str(&text.replace("spin_axis = [1, 0, 0]", "spin_axis = [1, 0, 1]"), "cmg.toml").unwrap_err().to_string();
-    assert!(e.starts_with("cmg.toml:8:") && e.contains("cmg 'c1'") && e.contains("perpendicular"), "{e}");
+    assert!(e.starts_with("cmg.toml:7:") && e.contains("cmg 'c1'") && e.contains("perpendicular"), "{e}");
     let e = model_from_toml_str(&text.replace("max_gimbal_rate", "max_gimbal_speed"), "cmg.toml").unwrap_err().to_string();
     assert!(e.contains("max_gimbal_speed"), "{e}");
 }
