@@ -25,6 +25,8 @@
 //! nothing of [`crate::sim`], which runs the controllers.
 
 pub mod attitude;
+pub mod cmg_jacobian;
+pub mod cmg_sr_inverse;
 pub mod computed_torque;
 pub mod controller;
 pub mod coordinated;
