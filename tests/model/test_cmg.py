@@ -14,31 +14,7 @@ import spacearm
 from spacearm.errors import ModelError, SpacearmError
 from spacearm.cli.inspect import inspect
 
-BETA = np.arccos(1.0 / np.sqrt(3.0))  # 54.74°: the pyramid whose envelope is nearly spherical
-J_S = 0.05  # rotor spin moment, kg m^2
-
-
-def pyramid_axes(beta: float = BETA):
-    """Gimbal axes normal to the faces of a pyramid of skew angle ``beta`` and the spin axes at
-    zero gimbal angle (Wie's 4-CMG pyramid)."""
-    sb, cb = np.sin(beta), np.cos(beta)
-    gimbals = [(sb, 0, cb), (0, sb, cb), (-sb, 0, cb), (0, -sb, cb)]
-    spins = [(0, 1, 0), (-1, 0, 0), (0, -1, 0), (1, 0, 0)]
-    return [np.array(g, float) for g in gimbals], [np.array(s, float) for s in spins]
-
-
-def pyramid_sat(arm: bool = True, variable_speed: bool = False) -> spacearm.Robot:
-    b = spacearm.Robot.builder("cmg-sat", base_mass=200.0, base_inertia=[30.0, 34.0, 38.0])
-    for i, (g, s) in enumerate(zip(*pyramid_axes())):
-        b.add_cmg(f"cmg{i + 1}", position=0.3 * np.cross(g, s), gimbal_axis=g, spin_axis=s, rotor_inertia=J_S,
-                  gimbal_inertia=[0.02, 0.015, 0.018], rotor_mass=3.0, gimbal_mass=1.5, variable_speed=variable_speed,
-                  max_wheel_speed=800.0)
-    if arm:
-        b.add_link("upper", joint="revolute", axis=(0, 1, 0), origin=(0.8, 0, 0.2), com=(0.5, 0, 0), mass=6.0,
-                   inertia=[0.02, 0.5, 0.5])
-        b.add_link("fore", parent="upper", joint="revolute", axis=(0, 0, 1), origin=(1.0, 0, 0), com=(0.4, 0, 0),
-                   mass=4.0, inertia=[0.01, 0.2, 0.2])
-    return b.build()
+from cmg_models import J_S, pyramid_axes, pyramid_sat  # noqa: E402
 
 
 def rodrigues(axis, angle):
@@ -164,3 +140,31 @@ def test_mujoco_mass_matrix_of_the_exported_cmgs_is_spacearms():
         h = interop.mass_matrix_from_mujoco(robot, x, full)
         ref = robot.mass_matrix(x)
         assert np.abs(h - ref).max() <= 1e-12 * np.abs(ref).max()
+
+
+def test_cmg_steering_holds_the_base_while_the_arm_moves():
+    """The pyramid holds the base (rotation-floating) while a joint PD swings the arm: the
+    attitude excursion is below the free base's and returns to zero; the arm law sees only the
+    arm joints (the gimbals and rotors are momentum devices)."""
+    from spacearm.control import CmgSteering, Combined, JointPD
+
+    robot = pyramid_sat()
+    assert robot.arm_dofs == [8, 9]
+    x0, u0 = robot.neutral_configuration(), robot.cmg_velocity(500.0)
+    arm = JointPD(kp=200.0, kd=60.0, reference=[0.8, -0.6])
+    run = (lambda c: spacearm.simulate(robot, 4.0, x0=x0, u0=u0, mode="rotation-floating", controller=c, dt=2e-3))
+    free, held = run(arm), run(Combined(arm=arm, base=CmgSteering([0, 0, 0, 1], kp=200.0, kd=400.0)))
+    angle = (lambda t: 2 * np.arccos(np.clip(np.abs(t.x[:, 6]), 0, 1)))
+    assert angle(free).max() > 0.07 and angle(free)[-1] > 0.06  # the arm turns a free base by ~4°
+    assert angle(held).max() < 0.75 * angle(free).max() and angle(held)[-1] < 0.005
+    np.testing.assert_allclose(held.x[-1, -2:], [0.8, -0.6], atol=1e-3)  # the arm got there
+    gimbals = held.x[:, 7 + np.array([0, 2, 4, 6])]
+    assert np.ptp(gimbals, axis=0).min() > 0.1  # the cluster did the work
+    # Without CMGs, or in another mode, the law refuses with the reason.
+    with pytest.raises(SpacearmError, match="control-moment gyros"):
+        spacearm.simulate(spacearm.presets.spatial6(), 0.01, mode="rotation-floating",
+                          controller=CmgSteering([0, 0, 0, 1], kp=1.0, kd=1.0))
+    with pytest.raises(SpacearmError, match="rotation-floating"):
+        spacearm.simulate(robot, 0.01, u0=u0, controller=CmgSteering([0, 0, 0, 1], kp=1.0, kd=1.0))
+    with pytest.raises(SpacearmError, match="rate_gain"):
+        spacearm.simulate(robot, 0.01, u0=u0, mode="rotation-floating", controller=CmgSteering([0, 0, 0, 1], kp=1.0, kd=1.0, rate_gain=0.0))

@@ -332,9 +332,10 @@ class Robot:
 
     @property
     def arm_dofs(self) -> list:
-        """Every degree of freedom that is not a default reaction wheel ([`wheel_dofs`][spacearm.Robot.wheel_dofs]), in
-        ``q`` order: the joints the arm controllers of [`spacearm.control`][spacearm.control] act on."""
-        wheels = set(self.wheel_dofs)
+        """Every degree of freedom that is not a default reaction wheel ([`wheel_dofs`][spacearm.Robot.wheel_dofs]) nor
+        a CMG's gimbal or rotor ([`cmg_dofs`][spacearm.Robot.cmg_dofs]), in ``q`` order: the joints the arm controllers
+        of [`spacearm.control`][spacearm.control] act on."""
+        wheels = set(self.wheel_dofs) | {d for c in self.cmg_dofs.values() for d in (c["gimbal"], c["rotor"])}
         return [d for d in range(self.n_dof) if d not in wheels]
 
     @property
