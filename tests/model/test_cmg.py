@@ -14,7 +14,7 @@ import spacearm
 from spacearm.errors import ModelError, SpacearmError
 from spacearm.cli.inspect import inspect
 
-from cmg_models import J_S, pyramid_axes, pyramid_sat  # noqa: E402
+from cmg_models import BETA, J_S, pyramid_axes, pyramid_sat  # noqa: E402
 
 
 def rodrigues(axis, angle):
@@ -168,3 +168,21 @@ def test_cmg_steering_holds_the_base_while_the_arm_moves():
         spacearm.simulate(robot, 0.01, u0=u0, controller=CmgSteering([0, 0, 0, 1], kp=1.0, kd=1.0))
     with pytest.raises(SpacearmError, match="rate_gain"):
         spacearm.simulate(robot, 0.01, u0=u0, mode="rotation-floating", controller=CmgSteering([0, 0, 0, 1], kp=1.0, kd=1.0, rate_gain=0.0))
+
+
+def test_the_pyramid_momentum_envelope_has_its_closed_forms():
+    """Along z each rotor gives h sin β; along x the two gimbals in the xz plane give h cos β and
+    the two perpendicular to x give h (docs/cmg.md); a robot's cluster gives the same envelope
+    as its axes and momenta."""
+    from spacearm.analysis import cmg_envelope
+
+    robot = pyramid_sat(arm=False)
+    env = cmg_envelope(robot, wheel_speed=500.0, n=5)
+    h = J_S * 500.0
+    top, side = env.points[-1, 0], env.points[2, 5]  # elevation +90°; elevation 0, azimuth 0
+    np.testing.assert_allclose(env.directions[2, 5], [1, 0, 0], atol=1e-15)
+    np.testing.assert_allclose(top, [0, 0, 4 * h * np.sin(BETA)], atol=1e-12)
+    np.testing.assert_allclose(side, [h * (2 + 2 * np.cos(BETA)), 0, 0], atol=1e-12)
+    again = cmg_envelope(gimbal_axes=pyramid_axes()[0], h=[h] * 4, n=5)
+    np.testing.assert_array_equal(again.points, env.points)
+    assert env.magnitude.max() <= 4 * h + 1e-12 and env.magnitude.min() > 2 * h  # within Σ h_i, nowhere thin
