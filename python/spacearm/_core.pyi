@@ -28,12 +28,12 @@ __all__ = [
     "SingularError", "SingularityReport", "SoftCaptureResult", "SpacearmError", "SpacearmTypeError", "Tape",
     "ThrusterLimits", "WorkspaceShells", "__version__", "analysis_damping",
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
-    "analysis_reach", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
+    "analysis_reach", "analysis_cmg_envelope", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_singularity", "batch_threads", "body_mass_properties_error", "box_of_moments", "check_grasp_handle", "GOAL_TOLERANCE", "MAX_HANDLE_RATIO",
     "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "joint_wrenches", "loop_closure", "model_from_dh", "model_from_toml",
     "model_to_toml", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
-    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts",
+    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts", "cmg_parts", "cmgs", "cmg_velocity",
     "cylinder_slosh", "sphere_slosh", "sphere_fill_height", "cylinder_fill_height", "model_attach_body", "model_attach_model",
     "model_remove_subtree", "InputShaper", "soft_capture", "virtual_mass",
     "CaptureRun", "run_capture", "check_capture", "MAX_CAPTURE_SAMPLES", "MAX_TURN_PER_SAMPLE", "CAPTURE_KINDS",
@@ -98,6 +98,11 @@ def compliant_parts(name: str, parent: str, joint_type: str, origin: Sequence[fl
                     axis: Sequence[float], com: Sequence[float], mass: float, inertia: Sequence[Sequence[float]],
                     joint_name: Optional[str], limits: Optional[Sequence[float]], stiffness: float, rotor_inertia: float,
                     damping: float, gear_ratio: float) -> tuple[list[tuple], list[tuple], list[tuple]]: ...
+def cmg_parts(spec: dict[str, Any], base: str) -> tuple[list[tuple], list[tuple], list[tuple]]: ...
+def cmgs(model: Model) -> list[dict[str, Any]]: ...
+def analysis_cmg_envelope(gimbals: Sequence[Sequence[float]], h: Sequence[float],
+                          directions: Sequence[Sequence[float]]) -> list[list[float]]: ...
+def cmg_velocity(model: Model, wheel_speed: Sequence[float]) -> list[float]: ...
 
 # The core's model edits (model/edit.rs): a new Model each, the rest of the model bit for bit.
 def model_attach_body(model: Model, name: str, parent: str, origin: Sequence[float], rotation: Sequence[float], mass: float,

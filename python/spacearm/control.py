@@ -54,6 +54,7 @@ __all__ = [
     "ComputedTorque",
     "ResolvedMotionRate",
     "AttitudeControl",
+    "CmgSteering",
     "BaseThrusterControl",
     "Combined",
     "CoordinatedFlying",
@@ -428,6 +429,30 @@ class AttitudeControl(_Controller):
     kp: float
     kd: float
     orbit: Any = None
+
+
+@_dataclass(frozen=True)
+class CmgSteering(_Controller):
+    """Base attitude control with the robot's control-moment gyros (mode ``"rotation-floating"``;
+    docs/cmg.md, the core's ``control/cmg_steering.rs``).
+
+    The base torque wanted is the attitude PD of [`AttitudeControl`][spacearm.control.AttitudeControl],
+    ``N = -kp e - kd w0``; the cluster gives the base ``-A(δ) δ̇`` (columns ``h_i (ĝ_i × ŝ_i)``),
+    so the gimbal rates commanded are ``δ̇_c = A# (-N)`` with the singularity-robust inverse
+    ``A# = Aᵀ (A Aᵀ + λ E)⁻¹``, ``λ = lambda0 h̄² exp(-mu m)`` (Bedrossian; ``m = det(A Aᵀ)/h̄⁶``,
+    ``lambda0 = 0``: the pseudo-inverse), scaled into the gimbal-rate limits; each gimbal motor
+    follows with the rate loop ``τ = rate_gain · I_g (δ̇_c - δ̇)``. The rotors and arm joints get
+    no torque: combine with an arm law through [`Combined`][spacearm.control.Combined].
+    """
+
+    _kind: _ClassVar[str] = "cmg_steering"
+
+    quat_ref: Sequence[float]
+    kp: float
+    kd: float
+    lambda0: float = 0.01
+    mu: float = 10.0
+    rate_gain: float = 50.0
 
 
 @_dataclass(frozen=True)

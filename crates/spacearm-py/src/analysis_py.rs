@@ -199,7 +199,19 @@ pub fn analysis_reach<'py>(
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     add_to_module!(
         m,
-        functions: [analysis_singularity, analysis_detect, analysis_damping, analysis_joint_grid, analysis_scan, analysis_reaction_null_space, analysis_integrate_prescribed, analysis_rmrc_rates, analysis_reach],
+        functions: [analysis_singularity, analysis_detect, analysis_damping, analysis_joint_grid, analysis_scan, analysis_reaction_null_space, analysis_integrate_prescribed, analysis_rmrc_rates, analysis_reach, analysis_cmg_envelope],
     );
     Ok(())
+}
+
+/// The momentum envelope of a CMG cluster (core `analysis::cmg_envelope`): for each direction,
+/// the envelope's point `Σ h_i ŝ_i(u)`; `gimbals` the unit gimbal axes, `h` the rotor momenta.
+#[pyfunction]
+pub fn analysis_cmg_envelope(py: Python<'_>, gimbals: Vec<[f64; 3]>, h: Vec<f64>, directions: Vec<[f64; 3]>) -> PyResult<Vec<[f64; 3]>> {
+    if gimbals.len() != h.len() {
+        return Err(to_py_err(py, SpacearmError::InvalidArgument(format!("cmg_envelope: {} gimbal axes but {} rotor momenta", gimbals.len(), h.len()))));
+    }
+    let g: Vec<Vector3<f64>> = gimbals.iter().map(|v| Vector3::from(*v).normalize()).collect();
+    let d: Vec<Vector3<f64>> = directions.iter().map(|v| Vector3::from(*v)).collect();
+    Ok(spacearm_core::analysis::cmg_envelope::cmg_envelope(&g, &h, &d).iter().map(|p| [p.x, p.y, p.z]).collect())
 }

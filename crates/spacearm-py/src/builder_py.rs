@@ -398,3 +398,46 @@ pub fn cylinder_fill_height(py: Python<'_>, tank_height: f64, fill_fraction: f64
 fn tank_slosh_to_py(py: Python<'_>, t: &spacearm_core::model::slosh_tank::TankSlosh) -> PyResult<Py<PyAny>> {
     Ok(crate::controller_spec_py::to_data(py, t)?.unbind())
 }
+
+/// A control-moment gyro's gimbal and rotor links (core `model::cmg::cmg_parts`, docs/cmg.md)
+/// from the plain data of a core `CmgSpec` (the fields of a TOML `[[cmg]]` table); `base` is
+/// the base's name (the parent when `spec` names none).
+#[pyfunction]
+pub fn cmg_parts(py: Python<'_>, spec: &Bound<'_, PyAny>, base: &str) -> PyResult<Py<PyAny>> {
+    use spacearm_core::error::ModelItem;
+    use spacearm_core::model::cmg::{self, CmgSpec};
+    let spec: CmgSpec = crate::controller_spec_py::from_data(spec, "cmg")?;
+    let parts = cmg::cmg_parts(&spec, base, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
+    parts_to_py(py, parts)
+}
+
+/// The CMGs of a model (core `model::cmg::detect_cmgs`), each as a dict: `name`, `parent`
+/// (body index), `gimbal_dof`, `rotor_dof`, `gimbal_axis`, `spin_axis` (parent frame, at zero
+/// gimbal angle), `rotor_inertia`, `variable_speed`, `max_gimbal_rate`, `max_wheel_speed`.
+#[pyfunction]
+pub fn cmgs(py: Python<'_>, model: &Bound<'_, PyModel>) -> PyResult<Vec<Py<PyAny>>> {
+    use pyo3::types::PyDict;
+    let mut out = Vec::new();
+    for c in spacearm_core::model::cmg::detect_cmgs(&model.borrow().model) {
+        let d = PyDict::new(py);
+        d.set_item("name", c.name)?;
+        d.set_item("parent", c.parent_body)?;
+        d.set_item("gimbal_dof", c.gimbal_dof)?;
+        d.set_item("rotor_dof", c.rotor_dof)?;
+        d.set_item("gimbal_axis", c.gimbal_axis)?;
+        d.set_item("spin_axis", c.spin_axis)?;
+        d.set_item("rotor_inertia", c.rotor_inertia)?;
+        d.set_item("variable_speed", c.variable_speed)?;
+        d.set_item("max_gimbal_rate", c.max_gimbal_rate)?;
+        d.set_item("max_wheel_speed", c.max_wheel_speed)?;
+        out.push(d.into_any().unbind());
+    }
+    Ok(out)
+}
+
+/// The generalized velocity with every CMG rotor at `wheel_speed` (one value, or one per CMG)
+/// and everything else at rest (core `model::cmg::cmg_velocity`).
+#[pyfunction]
+pub fn cmg_velocity(py: Python<'_>, model: &Bound<'_, PyModel>, wheel_speed: Vec<f64>) -> PyResult<Vec<f64>> {
+    spacearm_core::model::cmg::cmg_velocity(&model.borrow().model, &wheel_speed).map_err(SpacearmError::from).or_raise(py)
+}

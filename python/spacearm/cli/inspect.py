@@ -74,6 +74,21 @@ def _passive(robot: Robot, x, w) -> None:
     w("\n")
 
 
+def _cmgs(robot: Robot, w) -> None:
+    """The control-moment gyros the core recognizes (docs/cmg.md): dofs, axes, rotor, limits."""
+    cmgs = robot.cmg_dofs
+    if not cmgs:
+        return
+    w("control-moment gyros (axes in the parent frame at zero gimbal angle; rotor speed is the run's u0):\n")
+    vec = (lambda v: "[" + ", ".join(f"{x:.3g}" for x in v) + "]")
+    for name, c in cmgs.items():
+        kind = "VSCMG (spin motor)" if c["variable_speed"] else "SGCMG (free rotor)"
+        w(f"  {name}: {kind}, gimbal dof {c['gimbal']} about {vec(c['gimbal_axis'])}, rotor dof {c['rotor']} "
+          f"spinning about {vec(c['spin_axis'])}, J_s {c['rotor_inertia']:.6g} kg m^2, "
+          f"max gimbal rate {c['max_gimbal_rate']:.6g} rad/s, max wheel speed {c['max_wheel_speed']:.6g} rad/s\n")
+    w("\n")
+
+
 def inspect(robot: Robot, q=None, out=None) -> None:
     """Print the model summary and the GJM quantities at ``q`` (default: initial angles)."""
     # Resolve the stream at call time, not at import time, so redirections of sys.stdout count.
@@ -96,6 +111,7 @@ def inspect(robot: Robot, q=None, out=None) -> None:
     x = robot.neutral_configuration(q)
     qs = ", ".join(f"{v:.4g}" for v in x[7:])
     w(f"\nconfiguration: base at the origin aligned with the inertial frame, q = [{qs}]\n\n")
+    _cmgs(robot, w)
     _passive(robot, x, w)
     np.set_printoptions(linewidth=160)
     if robot.n_dof > FULL_REPORT_MAX_DOF:

@@ -423,6 +423,63 @@ class RobotBuilder:
         self._n_wheels += 1  # counted once added: a refused wheel takes no number
         return self
 
+    def add_cmg(
+        self,
+        name: str,
+        *,
+        parent: Optional[str] = None,
+        position: Sequence[float] = (0.0, 0.0, 0.0),
+        gimbal_axis: Sequence[float],
+        spin_axis: Sequence[float],
+        rotor_inertia: float,
+        rotor_transverse_inertia: Optional[float] = None,
+        gimbal_inertia=0.0,
+        rotor_mass: float = 0.0,
+        gimbal_mass: float = 0.0,
+        variable_speed: bool = False,
+        max_gimbal_rate: Optional[float] = None,
+        max_wheel_speed: Optional[float] = None,
+        max_gimbal_torque: Optional[float] = None,
+        max_wheel_torque: Optional[float] = None,
+    ) -> "RobotBuilder":
+        """Add a control-moment gyro (docs/cmg.md; the core's ``model/cmg.rs``, the same rules
+        as TOML ``[[cmg]]``): the gimbal link ``name`` on the revolute joint ``<name>_gimbal`` of
+        ``parent`` (default: the base) at ``position`` (parent frame, from its CM), turning about
+        ``gimbal_axis``; on it the rotor ``<name>_rotor`` on the joint ``<name>_spin`` about
+        ``spin_axis`` (perpendicular to ``gimbal_axis``, parent frame at zero gimbal angle), both
+        CMs at the gimbal joint.
+
+        ``rotor_inertia`` ``J_s`` (kg·m²) about the spin axis, ``rotor_transverse_inertia``
+        (default ``0.6 J_s``); ``gimbal_inertia``: one moment or three along
+        ``(gimbal, spin, gimbal × spin)``. ``variable_speed=True`` makes a VSCMG (a motor on the
+        spin joint, whose torque is a control); otherwise the rotor is free (no motor) and its
+        absolute spin stays constant (a single-gimbal CMG). The limits are the joints' velocity
+        and effort limits. The rotor's speed is the run's initial condition:
+        ``u0 = robot.cmg_velocity(wheel_speed)``.
+        """
+        gi = np.atleast_1d(np.asarray(gimbal_inertia, dtype=float)).ravel()
+        if gi.size == 1:
+            gi = np.repeat(gi, 3)
+        opt = (lambda v, what: None if v is None else number(v, f"cmg '{name}' {what}"))
+        spec = {
+            "name": str(name),
+            "parent": None if parent is None else str(parent),
+            "position": list(vector(position, f"cmg '{name}' position", 3)),
+            "gimbal_axis": list(vector(gimbal_axis, f"cmg '{name}' gimbal_axis", 3)),
+            "spin_axis": list(vector(spin_axis, f"cmg '{name}' spin_axis", 3)),
+            "rotor_inertia": number(rotor_inertia, f"cmg '{name}' rotor_inertia"),
+            "rotor_transverse_inertia": opt(rotor_transverse_inertia, "rotor_transverse_inertia"),
+            "gimbal_inertia": list(vector(gi, f"cmg '{name}' gimbal_inertia", 3)),
+            "rotor_mass": number(rotor_mass, f"cmg '{name}' rotor_mass"),
+            "gimbal_mass": number(gimbal_mass, f"cmg '{name}' gimbal_mass"),
+            "variable_speed": bool(variable_speed),
+            "max_gimbal_rate": opt(max_gimbal_rate, "max_gimbal_rate"),
+            "max_wheel_speed": opt(max_wheel_speed, "max_wheel_speed"),
+            "max_gimbal_torque": opt(max_gimbal_torque, "max_gimbal_torque"),
+            "max_wheel_torque": opt(max_wheel_torque, "max_wheel_torque"),
+        }
+        return self._add_parts(_core.cmg_parts(spec, self._base_name))
+
     def add_point(self, name: str, *, body: str, offset: Sequence[float] = (0.0, 0.0, 0.0)) -> "RobotBuilder":
         """Add a named point fixed to ``body`` at ``offset`` (body frame, from its CM)."""
         offset = list(vector(offset, f"point '{name}' offset", 3))

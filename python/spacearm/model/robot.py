@@ -305,10 +305,37 @@ class Robot:
         return sorted(int(d) for d in _core.default_wheel_dofs(self._m))
 
     @property
+    def cmg_dofs(self) -> dict:
+        """The control-moment gyros of the model (docs/cmg.md; the core's ``model/cmg.rs``
+        recognizes what [`RobotBuilder.add_cmg`][spacearm.RobotBuilder.add_cmg] and TOML ``[[cmg]]`` make), by name in
+        link order: each a dict with ``gimbal`` and ``rotor`` (their degrees of freedom in ``q``),
+        ``gimbal_axis`` and ``spin_axis`` (parent frame, at zero gimbal angle), ``rotor_inertia``
+        (kg·m²), ``variable_speed`` (the rotor has a motor), ``max_gimbal_rate`` and
+        ``max_wheel_speed`` (rad/s, ``inf`` when unlimited)."""
+        out = {}
+        for c in _core.cmgs(self._m):
+            out[c["name"]] = {
+                "gimbal": int(c["gimbal_dof"]), "rotor": int(c["rotor_dof"]),
+                "gimbal_axis": np.array(c["gimbal_axis"]), "spin_axis": np.array(c["spin_axis"]),
+                "rotor_inertia": float(c["rotor_inertia"]), "variable_speed": bool(c["variable_speed"]),
+                "max_gimbal_rate": float(c["max_gimbal_rate"]), "max_wheel_speed": float(c["max_wheel_speed"]),
+            }
+        return out
+
+    def cmg_velocity(self, wheel_speed) -> np.ndarray:
+        """The generalized velocity ``u`` (``6 + n``) with every CMG rotor spinning at
+        ``wheel_speed`` rad/s (one number, or one per CMG in [`cmg_dofs`][spacearm.Robot.cmg_dofs] order) and everything
+        else at rest: the ``u0`` of a run (a rotor's speed is state, not a model parameter,
+        docs/cmg.md)."""
+        speeds = np.atleast_1d(np.asarray(wheel_speed, dtype=float)).ravel()
+        return np.array(_core.cmg_velocity(self._m, [float(v) for v in speeds]))
+
+    @property
     def arm_dofs(self) -> list:
-        """Every degree of freedom that is not a default reaction wheel ([`wheel_dofs`][spacearm.Robot.wheel_dofs]), in
-        ``q`` order: the joints the arm controllers of [`spacearm.control`][spacearm.control] act on."""
-        wheels = set(self.wheel_dofs)
+        """Every degree of freedom that is not a default reaction wheel ([`wheel_dofs`][spacearm.Robot.wheel_dofs]) nor
+        a CMG's gimbal or rotor ([`cmg_dofs`][spacearm.Robot.cmg_dofs]), in ``q`` order: the joints the arm controllers
+        of [`spacearm.control`][spacearm.control] act on."""
+        wheels = set(self.wheel_dofs) | {d for c in self.cmg_dofs.values() for d in (c["gimbal"], c["rotor"])}
         return [d for d in range(self.n_dof) if d not in wheels]
 
     @property

@@ -17,6 +17,7 @@
 //! of [`crate::math::integrate`] and the point references of [`crate::scenario::reference`]
 //! (below it); nothing from `control` (which imports [`rmrc_solver`] and [`Task`] from here).
 
+pub mod cmg_envelope;
 pub mod free_floating_kinematics;
 pub mod passive_modes;
 pub mod reach;

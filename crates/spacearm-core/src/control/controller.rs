@@ -113,6 +113,7 @@ pub const CONTROLLER_LABELS: &[(&str, &str)] = &[
     ("computed_torque", "computed torque"),
     ("resolved_motion_rate", "resolved motion rate (RMRC)"),
     ("attitude", "attitude control"),
+    ("cmg_steering", "CMG steering"),
     ("momentum_damping", "momentum damping"),
     ("coordinated_flying", "coordinated flying"),
     ("base_thrusters", "base thrusters"),

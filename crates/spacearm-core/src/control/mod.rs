@@ -25,6 +25,9 @@
 //! nothing of [`crate::sim`], which runs the controllers.
 
 pub mod attitude;
+pub mod cmg_jacobian;
+pub mod cmg_sr_inverse;
+pub mod cmg_steering;
 pub mod computed_torque;
 pub mod controller;
 pub mod coordinated;
@@ -38,6 +41,7 @@ pub mod spec;
 pub mod thrusters;
 
 pub use attitude::{AttitudeControl, LvlhReference};
+pub use cmg_steering::CmgSteering;
 pub use computed_torque::{ComputedTorque, PassiveTreatment};
 pub use controller::{
     arm_dofs, broadcast_gains, cholesky_solve_in_place, positive, Combined, Command, ControlContext, Controller, GoalReport, TrackingKind,

@@ -27,6 +27,7 @@ use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
 
 use super::attitude::{AttitudeControl, LvlhReference};
+use super::cmg_steering::CmgSteering;
 use super::computed_torque::{ComputedTorque, PassiveTreatment};
 use super::coordinated::{CoordinatedFlying, CoordinatedGains};
 use super::momentum_damping::{JointTorqueLimit, MomentumDamping};
@@ -657,6 +658,10 @@ fn dls_max_damping() -> f64 {
 fn dls_threshold() -> f64 {
     crate::math::dls::DampingLaw::default().threshold
 }
+fn sr_lambda0() -> f64 {
+    0.01
+}
+
 fn fifty() -> f64 {
     50.0
 }
@@ -745,6 +750,24 @@ pub enum ControllerSpec {
         /// Hold the attitude relative to this orbit's LVLH frame (docs/orbit.md).
         #[serde(default)]
         orbit: Option<Orbit>,
+    },
+    /// Base attitude control with the plant's CMG cluster ([`CmgSteering`], docs/cmg.md).
+    CmgSteering {
+        /// The attitude held, `[x, y, z, w]` of 𝒥.
+        quat_ref: [f64; 4],
+        /// Stiffness, N·m/rad.
+        kp: f64,
+        /// Damping, N·m·s/rad.
+        kd: f64,
+        /// The SR inverse's weight `λ₀` (dimensionless; 0: the pseudo-inverse).
+        #[serde(default = "sr_lambda0")]
+        lambda0: f64,
+        /// The SR inverse's `μ` in `λ = λ₀ h̄² exp(−μ m)`.
+        #[serde(default = "ten")]
+        mu: f64,
+        /// The gimbal rate loop's bandwidth, 1/s.
+        #[serde(default = "fifty")]
+        rate_gain: f64,
     },
     /// Base regulation by thrusters ([`BaseThrusterControl`]).
     BaseThrusters {
@@ -844,6 +867,7 @@ pub const CONTROLLER_KINDS: &[&str] = &[
     "computed_torque",
     "resolved_motion_rate",
     "attitude",
+    "cmg_steering",
     "base_thrusters",
     "coordinated_flying",
     "momentum_damping",
@@ -879,6 +903,7 @@ impl ControllerSpec {
             ControllerSpec::ComputedTorque { .. } => "computed_torque",
             ControllerSpec::ResolvedMotionRate { .. } => "resolved_motion_rate",
             ControllerSpec::Attitude { .. } => "attitude",
+            ControllerSpec::CmgSteering { .. } => "cmg_steering",
             ControllerSpec::BaseThrusters { .. } => "base_thrusters",
             ControllerSpec::CoordinatedFlying { .. } => "coordinated_flying",
             ControllerSpec::MomentumDamping { .. } => "momentum_damping",
@@ -946,6 +971,17 @@ impl ControllerSpec {
                 finite(&format!("{w} 'kp'"), *kp)?;
                 finite(&format!("{w} 'kd'"), *kd)?;
                 orbit(o)?;
+            }
+            ControllerSpec::CmgSteering { quat_ref, kp, kd, lambda0, mu, rate_gain } => {
+                unit_quaternion("cmg_steering 'quat_ref'", *quat_ref)?;
+                for (k, v) in [("kp", kp), ("kd", kd), ("lambda0", lambda0), ("mu", mu)] {
+                    if !(v.is_finite() && *v >= 0.0) {
+                        return Err(bad(format!("{w} '{k}' must be finite and >= 0, got {v}")));
+                    }
+                }
+                if !(rate_gain.is_finite() && *rate_gain > 0.0) {
+                    return Err(bad(format!("{w} 'rate_gain' must be finite and > 0 1/s, got {rate_gain}")));
+                }
             }
             ControllerSpec::BaseThrusters { com_ref, quat_ref, kp_position, kd_position, kp_attitude, kd_attitude, orbit: o } => {
                 for (k, v) in [("kp_position", kp_position), ("kd_position", kd_position), ("kp_attitude", kp_attitude), ("kd_attitude", kd_attitude)] {
@@ -1020,6 +1056,7 @@ impl ControllerSpec {
                     None => Box::new(c),
                 }
             }
+            ControllerSpec::CmgSteering { quat_ref, kp, kd, lambda0, mu, rate_gain } => Box::new(CmgSteering::new(*quat_ref, *kp, *kd, *lambda0, *mu, *rate_gain)),
             ControllerSpec::BaseThrusters { com_ref, quat_ref, kp_position, kd_position, kp_attitude, kd_attitude, orbit: o } => {
                 let c = BaseThrusterControl::new(com_ref.map(Vector3::from), *quat_ref, *kp_position, *kd_position, *kp_attitude, *kd_attitude);
                 match orbit(o)? {

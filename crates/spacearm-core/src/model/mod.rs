@@ -12,6 +12,7 @@
 pub mod appendage;
 pub mod body;
 pub mod builder;
+pub mod cmg;
 pub mod data;
 pub mod edit;
 pub mod geometry;

@@ -86,7 +86,10 @@ impl<'a> Plant<'a> {
             }
             None => detect_reaction_wheels(&model),
         };
-        let arm = arm_dofs(n, &wheels);
+        // The CMGs' gimbals and rotors are momentum devices, not arm joints (docs/cmg.md): an arm
+        // law's reference leaves them out, CMG steering drives them.
+        let devices: Vec<usize> = wheels.iter().copied().chain(crate::model::cmg::detect_cmgs(&model).iter().flat_map(|c| [c.gimbal_dof, c.rotor_dof])).collect();
+        let arm = arm_dofs(n, &devices);
         let actuators = Actuators::new(&model, opts.joint_limits, opts.thrusters);
         let ctx = ControlContext { plant: &model, mode: opts.mode, wheel_dofs: &wheels, arm_dofs: &arm, actuators: &actuators };
         controller.setup(&ctx)?;

@@ -623,6 +623,12 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
         add_parts(&mut at, &mut builder, &parts, &sp(bd))?;
     }
 
+    // [[cmg]]s: a gimbal link and its rotor (model/cmg.rs, docs/cmg.md).
+    for cd in &doc.cmg {
+        let parts = crate::model::cmg::cmg_parts(cd.get_ref(), &base_name, ModelItem::Link(at.links.len())).map_err(|e| ctx.err(&sp(cd), e))?;
+        add_parts(&mut at, &mut builder, &parts, &sp(cd))?;
+    }
+
     // [[point]]s.
     for pd in &doc.point {
         let p = pd.get_ref();

@@ -1,5 +1,5 @@
 //! The TOML model file as serde reads it: one struct per table (`[model]`, `[base]`,
-//! `[[link]]`, `[[point]]`, `[[geometry]]`, `[[slosh]]`, `[[panel]]`, `[[beam]]`, `[dh]`), each
+//! `[[link]]`, `[[point]]`, `[[geometry]]`, `[[slosh]]`, `[[panel]]`, `[[beam]]`, `[[cmg]]`, `[dh]`), each
 //! value [`Spanned`] so the reader can point at it; the schema's words are docs/model-format.md.
 //! Read by [`super::read`]; written by [`super::write`].
 
@@ -31,6 +31,10 @@ pub(super) struct FileDoc {
     pub(super) panel: Vec<Spanned<PanelDoc>>,
     #[serde(default)]
     pub(super) beam: Vec<Spanned<BeamDoc>>,
+    /// `[[cmg]]` tables: control-moment gyros, read straight into the core's
+    /// [`crate::model::cmg::CmgSpec`] (docs/cmg.md).
+    #[serde(default)]
+    pub(super) cmg: Vec<Spanned<crate::model::cmg::CmgSpec>>,
     pub(super) dh: Option<Spanned<DhDoc>>,
     pub(super) end_effector: Option<Spanned<String>>,
     pub(super) initial_q: Option<Spanned<Vec<f64>>>,

@@ -318,3 +318,41 @@ fn geometry_tables_read_write_and_round_trip() {
     let e = bad("name = \"g\"\nbody = \"arm\"\nshape = \"sphere\"\nradius = 1.0\n[[geometry]]\nname = \"g\"\nbody = \"arm\"\nshape = \"sphere\"\nradius = 1.0\n");
     assert!(e.contains("geometry name 'g' is used twice"), "{e}");
 }
+
+#[test]
+fn cmg_tables_make_a_gimbal_and_a_rotor_that_survive_a_round_trip() {
+    let text = r#"
+[model]
+name = "cmg-hub"
+[base]
+mass = 100
+inertia = { ixx = 10, iyy = 12, izz = 14 }
+[[cmg]]
+name = "c1"
+position = [0.2, 0, 0]
+gimbal_axis = [0, 0, 1]
+spin_axis = [1, 0, 0]
+rotor_inertia = 0.05
+gimbal_inertia = [0.01, 0.01, 0.01]
+max_gimbal_rate = 1.5
+[[cmg]]
+name = "c2"
+gimbal_axis = [1, 0, 0]
+spin_axis = [0, 1, 0]
+rotor_inertia = 0.05
+variable_speed = true
+max_wheel_speed = 600
+"#;
+    let m = model_from_toml_str(text, "cmg.toml").unwrap();
+    assert_eq!(m.n_dof(), 4);
+    let cmgs = crate::model::cmg::detect_cmgs(&m);
+    assert_eq!(cmgs.iter().map(|c| (c.name.as_str(), c.gimbal_dof, c.rotor_dof, c.variable_speed)).collect::<Vec<_>>(), vec![("c1", 0, 1, false), ("c2", 2, 3, true)]);
+    assert_eq!((cmgs[0].max_gimbal_rate, cmgs[1].max_wheel_speed), (1.5, 600.0));
+    let again = model_from_toml_str(&model_to_toml(&m), "again.toml").unwrap();
+    assert_eq!(crate::model::cmg::detect_cmgs(&again), cmgs);
+    // A bad table is refused with the CMG's name and the line of its table.
+    let e = model_from_toml_str(&text.replace("spin_axis = [1, 0, 0]", "spin_axis = [1, 0, 1]"), "cmg.toml").unwrap_err().to_string();
+    assert!(e.starts_with("cmg.toml:7:") && e.contains("cmg 'c1'") && e.contains("perpendicular"), "{e}");
+    let e = model_from_toml_str(&text.replace("max_gimbal_rate", "max_gimbal_speed"), "cmg.toml").unwrap_err().to_string();
+    assert!(e.contains("max_gimbal_speed"), "{e}");
+}

@@ -1,0 +1,160 @@
+//! Base attitude control with a CMG cluster (rotation-floating mode; docs/cmg.md).
+//!
+//! The base torque wanted is the attitude PD of [`super::attitude`] (Wie 2008, §7.3):
+//! `N = −K_p e − K_d ω0`. The cluster gives the base `−Ḣ = −A(δ) δ̇`
+//! ([`super::cmg_jacobian`]), so the gimbal rates commanded are `δ̇_c = A# (−N)` with the
+//! singularity-robust inverse `A# = Aᵀ (A Aᵀ + λE)⁻¹`, `λ = λ₀ h̄² exp(−μ m)`
+//! ([`super::cmg_sr_inverse`]; `λ₀ = 0`: the pseudo-inverse). `A` is read from the plant's
+//! kinematics at each call: `ĝ_i`, `ŝ_i` in 𝒥 and `h_i = J_s,i (ŝ_i · ω0 + Ω_i)` (the rotor's
+//! absolute spin; `ĝ_i ⟂ ŝ_i`, so the gimbal rate adds none). `δ̇_c` is scaled down as one
+//! vector (its direction kept) until every gimbal is within its rate limit, and each gimbal
+//! motor follows it with the rate loop `τ_i = k (I_i) (δ̇_c,i − δ̇_i)`, `I_i = ĝ_i·(I_G + I_R) ĝ_i`
+//! the gimbal's and rotor's moment about the gimbal axis and `k` (1/s) the loop's bandwidth.
+//! The rotors get no torque (an SGCMG's has no motor; a VSCMG's spin is not steered by this law
+//! yet, docs/cmg.md), nor do the arm joints: combine with an arm law through [`super::Combined`].
+
+use nalgebra::{Matrix3xX, Vector3};
+
+use crate::algorithms::kinematics::forward_kinematics;
+use crate::error::{Result, SpacearmError};
+use crate::model::cmg::{detect_cmgs, Cmg};
+use crate::model::data::Data;
+use crate::model::Model;
+use crate::scenario::modes::Mode;
+
+use super::attitude::AttitudeControl;
+use super::cmg_jacobian::{cmg_jacobian_from_axes, singularity_measure};
+use super::cmg_sr_inverse::{sr_weight, steering_rates};
+use super::{Command, ControlContext, Controller};
+
+/// Attitude hold with the plant's CMGs (module docs).
+#[derive(Debug, Clone)]
+pub struct CmgSteering {
+    attitude: AttitudeControl,
+    quat_ref: [f64; 4],
+    kp: f64,
+    kd: f64,
+    lambda0: f64,
+    mu: f64,
+    rate_gain: f64,
+    model: Option<Model>,
+    data: Option<Data>,
+    cmgs: Vec<Cmg>,
+    /// Each gimbal's moment about its axis (gimbal and rotor), kg·m².
+    gimbal_moments: Vec<f64>,
+    /// The last singularity measure met.
+    measure: f64,
+}
+
+impl CmgSteering {
+    /// `quat_ref` `[x, y, z, w]`, `kp` (N·m/rad), `kd` (N·m·s/rad), the SR weight `lambda0`
+    /// (dimensionless; 0: the pseudo-inverse) and `mu`, the gimbal rate loop's `rate_gain` (1/s).
+    pub fn new(quat_ref: [f64; 4], kp: f64, kd: f64, lambda0: f64, mu: f64, rate_gain: f64) -> Self {
+        CmgSteering {
+            attitude: AttitudeControl::new(quat_ref, kp, kd),
+            quat_ref,
+            kp,
+            kd,
+            lambda0,
+            mu,
+            rate_gain,
+            model: None,
+            data: None,
+            cmgs: Vec::new(),
+            gimbal_moments: Vec::new(),
+            measure: f64::NAN,
+        }
+    }
+
+    /// The singularity measure `m` at the last command (NaN before the first).
+    pub fn last_measure(&self) -> f64 {
+        self.measure
+    }
+}
+
+impl Controller for CmgSteering {
+    fn name(&self) -> &str {
+        "cmg_steering"
+    }
+
+    fn setup(&mut self, ctx: &ControlContext<'_>) -> Result<()> {
+        if ctx.mode != Mode::RotationFloating {
+            return Err(SpacearmError::argument(format!(
+                "CMG steering holds the attitude in the 'rotation-floating' mode, but the simulation mode is '{}'",
+                ctx.mode.name()
+            )));
+        }
+        for (what, v) in [("kp", self.kp), ("kd", self.kd), ("lambda0", self.lambda0), ("mu", self.mu)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(SpacearmError::argument(format!("cmg_steering {what} must be finite and >= 0, got {v}")));
+            }
+        }
+        if !(self.rate_gain.is_finite() && self.rate_gain > 0.0) {
+            return Err(SpacearmError::argument(format!("cmg_steering rate_gain must be finite and > 0 1/s, got {}", self.rate_gain)));
+        }
+        let cmgs = detect_cmgs(ctx.plant);
+        if cmgs.is_empty() {
+            return Err(SpacearmError::argument("CMG steering needs control-moment gyros: add them with RobotBuilder.add_cmg or [[cmg]] tables"));
+        }
+        if let Some(c) = cmgs.iter().find(|c| c.parent_body != 0) {
+            return Err(SpacearmError::argument(format!("cmg '{}' is not on the base: CMG steering of a cluster on another body is not implemented", c.name)));
+        }
+        if let Some(c) = cmgs.iter().find(|c| !ctx.plant.dof_dynamics()[c.gimbal_dof].actuated) {
+            return Err(SpacearmError::argument(format!("cmg '{}': its gimbal joint has no motor (actuated = false)", c.name)));
+        }
+        self.attitude.set_reference(self.quat_ref)?;
+        let model = ctx.plant.clone();
+        self.gimbal_moments = cmgs
+            .iter()
+            .map(|c| {
+                let gl = &model.links()[model.body_of_dof(c.gimbal_dof) - 1];
+                let rl = &model.links()[model.body_of_dof(c.rotor_dof) - 1];
+                let gi = gl.joint.axis.into_inner();
+                let ri = rl.joint.rotation_in_parent.inverse() * gi;
+                gi.dot(&(gl.mass.inertia * gi)) + ri.dot(&(rl.mass.inertia * ri))
+            })
+            .collect();
+        self.data = Some(Data::new(&model));
+        self.model = Some(model);
+        self.cmgs = cmgs;
+        Ok(())
+    }
+
+    fn command(&mut self, _t: f64, x: &[f64], u: &[f64], out: &mut Command) -> Result<()> {
+        let (e, angle) = self.attitude.error(&x[3..7]);
+        let (Some(model), Some(data)) = (self.model.as_ref(), self.data.as_mut()) else {
+            return Err(SpacearmError::Simulation("CMG steering used before setup".into()));
+        };
+        forward_kinematics(model, data, x)?;
+        let w0 = Vector3::new(u[3], u[4], u[5]);
+        let torque = -e * self.kp - w0 * self.kd;
+        let mut g = Vec::with_capacity(self.cmgs.len());
+        let mut s = Vec::with_capacity(self.cmgs.len());
+        let mut h = Vec::with_capacity(self.cmgs.len());
+        for c in &self.cmgs {
+            let gi = data.joint_axis_in_world[model.body_of_dof(c.gimbal_dof)];
+            let si = data.joint_axis_in_world[model.body_of_dof(c.rotor_dof)];
+            h.push(c.rotor_inertia * (si.dot(&w0) + u[6 + c.rotor_dof]));
+            g.push(gi);
+            s.push(si);
+        }
+        let a: Matrix3xX<f64> = cmg_jacobian_from_axes(&g, &s, &h);
+        let m = singularity_measure(&a, &h);
+        self.measure = m;
+        let hbar = h.iter().map(|v| v.abs()).sum::<f64>() / h.len() as f64;
+        let mut rates = steering_rates(&a, &(-torque), sr_weight(self.lambda0, self.mu, m, hbar))?;
+        let over = self.cmgs.iter().zip(rates.iter()).map(|(c, r)| r.abs() / c.max_gimbal_rate).fold(0.0f64, f64::max);
+        if over > 1.0 {
+            rates /= over;
+        }
+        for ((c, r), inertia) in self.cmgs.iter().zip(rates.iter()).zip(&self.gimbal_moments) {
+            out.tau[c.gimbal_dof] = self.rate_gain * inertia * (r - u[6 + c.gimbal_dof]);
+        }
+        out.attitude_error = angle;
+        Ok(())
+    }
+
+    fn reports_attitude_error(&self) -> bool {
+        true
+    }
+}

@@ -1,0 +1,188 @@
+"""Control-moment gyros as two ordinary links (docs/cmg.md, the core's model/cmg.rs): the builder
+and TOML ``[[cmg]]`` make the same model, the gyroscopic torque of one CMG on a free hub is the
+closed form, the total angular momentum of a pyramid cluster with an arm is conserved in free
+floating, and MuJoCo's mass matrix of the exported MJCF is spacearm's."""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+import pytest
+
+import spacearm
+from spacearm.errors import ModelError, SpacearmError
+from spacearm.cli.inspect import inspect
+
+from cmg_models import BETA, J_S, pyramid_axes, pyramid_sat  # noqa: E402
+
+
+def rodrigues(axis, angle):
+    k = np.asarray(axis, float)
+    kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + np.sin(angle) * kx + (1 - np.cos(angle)) * kx @ kx
+
+
+def test_builder_and_toml_make_the_same_cmgs_and_inspect_shows_them():
+    robot = pyramid_sat(arm=False, variable_speed=True)
+    cmgs = robot.cmg_dofs
+    assert list(cmgs) == ["cmg1", "cmg2", "cmg3", "cmg4"]
+    assert [(c["gimbal"], c["rotor"]) for c in cmgs.values()] == [(0, 1), (2, 3), (4, 5), (6, 7)]
+    assert all(c["variable_speed"] for c in cmgs.values()) and robot.actuated_dofs.all()
+    assert robot.wheel_dofs == []  # neither link is a reaction wheel
+    again = spacearm.io.loads_toml(spacearm.io.dumps_toml(robot))
+    assert again.cmg_dofs.keys() == cmgs.keys()
+    x = robot.neutral_configuration(q=np.linspace(-1, 1, robot.n_dof))
+    np.testing.assert_array_equal(again.mass_matrix(x), robot.mass_matrix(x))
+    g, s = pyramid_axes()
+    fmt = (lambda v: "[" + ", ".join(repr(float(c)) for c in v) + "]")
+    rows = "\n".join(
+        f"[[cmg]]\nname = 'cmg{i + 1}'\nposition = {fmt(0.3 * np.cross(g[i], s[i]))}\ngimbal_axis = {fmt(g[i])}\n"
+        f"spin_axis = {fmt(s[i])}\nrotor_inertia = {J_S}\ngimbal_inertia = [0.02, 0.015, 0.018]\nrotor_mass = 3.0\n"
+        f"gimbal_mass = 1.5\nvariable_speed = true\nmax_wheel_speed = 800.0\n" for i in range(4))
+    text = f"[model]\nname = 'cmg-sat'\n[base]\nmass = 200.0\ninertia = [30.0, 34.0, 38.0]\n{rows}"
+    from_toml = spacearm.io.loads_toml(text)
+    np.testing.assert_allclose(from_toml.mass_matrix(x), robot.mass_matrix(x), rtol=0, atol=1e-15)
+    out = io.StringIO()
+    inspect(robot, out=out)
+    assert "cmg3: VSCMG (spin motor), gimbal dof 4" in out.getvalue()
+    # SGCMG: the rotor has no motor; the initial wheel speed goes into u0.
+    sg = pyramid_sat(arm=False)
+    assert not any(sg.actuated_dofs[[c["rotor"] for c in sg.cmg_dofs.values()]])
+    u0 = sg.cmg_velocity(600.0)
+    assert np.count_nonzero(u0) == 4 and u0[6 + 1] == 600.0
+    with pytest.raises(SpacearmError, match="max_wheel_speed"):
+        sg.cmg_velocity(900.0)
+
+
+def test_bad_cmgs_are_refused_with_their_name():
+    b = spacearm.Robot.builder("hub", base_mass=10.0, base_inertia=[1, 1, 1])
+    with pytest.raises(ModelError, match="cmg 'c'.*perpendicular"):
+        b.add_cmg("c", gimbal_axis=(0, 0, 1), spin_axis=(1, 0, 1), rotor_inertia=0.1)
+    with pytest.raises(ModelError, match="max_wheel_torque needs variable_speed"):
+        b.add_cmg("c", gimbal_axis=(0, 0, 1), spin_axis=(1, 0, 0), rotor_inertia=0.1, max_wheel_torque=1.0)
+    with pytest.raises(ModelError, match="rotor_inertia"):
+        b.add_cmg("c", gimbal_axis=(0, 0, 1), spin_axis=(1, 0, 0), rotor_inertia=-0.1)
+    with pytest.raises(ModelError, match="parent"):
+        b.add_cmg("c", parent="nowhere", gimbal_axis=(0, 0, 1), spin_axis=(1, 0, 0), rotor_inertia=0.1)
+
+
+@pytest.mark.parametrize("delta", [0.0, 0.7, -2.1])
+def test_gyroscopic_torque_of_one_cmg_on_a_free_hub_is_the_closed_form(delta):
+    """A hub at rest, one CMG at its CM with the rotor spinning at Ω and the gimbal turning at a
+    held rate δ̇ (δ̈ = 0, free rotor): the hub feels h × δ̇ĝ, so
+    (I_lock − J_s ŝŝᵀ) ω̇ = −J_s Ω δ̇ (ĝ × ŝ) (docs/cmg.md), with ŝ = R(ĝ, δ) ŝ₀, and the gimbal
+    motor's torque is (I_g + J_t) ĝ·ω̇."""
+    g, s0 = np.array([0.0, 0.6, 0.8]), np.array([1.0, 0.0, 0.0])
+    hub = np.diag([30.0, 34.0, 38.0])
+    gim = [0.02, 0.015, 0.018]
+    b = spacearm.Robot.builder("hub", base_mass=200.0, base_inertia=hub)
+    b.add_cmg("c", gimbal_axis=g, spin_axis=s0, rotor_inertia=J_S, rotor_transverse_inertia=0.03, gimbal_inertia=gim,
+              rotor_mass=3.0, gimbal_mass=1.5)
+    robot = b.build()
+    omega, rate = 600.0, 0.4
+    x = robot.neutral_configuration(q=[delta, 0.3])
+    u = np.zeros(robot.nu)
+    u[6:] = [rate, omega]
+    # Forward dynamics is affine in the gimbal torque: pick the torque that holds δ̈ = 0.
+    a0 = robot.forward_dynamics(x, u, tau=[0.0, 0.0])
+    a1 = robot.forward_dynamics(x, u, tau=[1.0, 0.0]) - a0
+    tau_g = -a0[6] / a1[6]
+    acc = a0 + tau_g * a1
+    s = rodrigues(g, delta) @ s0
+    t = np.cross(g, s)
+    gimbal_inertia = sum(m * np.outer(a, a) for m, a in zip(gim, (g, rodrigues(g, delta) @ s0, t)))
+    rotor_inertia = J_S * np.outer(s, s) + 0.03 * (np.eye(3) - np.outer(s, s))
+    lock = hub + gimbal_inertia + rotor_inertia
+    wdot = np.linalg.solve(lock - J_S * np.outer(s, s), -J_S * omega * rate * np.cross(g, s))
+    assert np.linalg.norm(wdot) > 0.1  # the effect is there
+    np.testing.assert_allclose(acc[3:6], wdot, rtol=1e-12, atol=1e-14)
+    np.testing.assert_allclose(acc[:3], 0.0, atol=1e-13)  # every CM at the hub's
+    # The free rotor keeps its absolute spin: Ω̇ = −ŝ·ω̇. The rotor inertia's rounding (ε|I|, not
+    # exactly symmetric once turned onto a tilted axis) meets Ω² = 3.6e5 rad²/s²: compared at ε Ω².
+    eps = np.finfo(float).eps
+    np.testing.assert_allclose(acc[7], -s @ wdot, rtol=0, atol=2 * eps * omega**2)
+    # τ_g is read off a difference of two forward dynamics: compared at the gyroscopic scale.
+    assert abs(tau_g - (gim[0] + 0.03) * g @ wdot) <= 1e-12 * J_S * omega * rate
+
+
+def test_total_angular_momentum_is_conserved_in_free_floating_with_gimbal_motion():
+    robot = pyramid_sat()
+    u0 = robot.cmg_velocity([500.0, -450.0, 520.0, -480.0])
+    u0[6 + np.array([c["gimbal"] for c in robot.cmg_dofs.values()])] = [0.3, -0.2, 0.25, 0.1]
+    u0[6 + robot.n_dof - 2:] = [0.2, -0.3]  # the arm moves too
+    x0 = robot.neutral_configuration(q=np.r_[np.zeros(8), 0.3, -0.5])
+    traj = spacearm.simulate(robot, 2.0, x0=x0, u0=u0, integrator="dopri5", dt=0.01, rtol=1e-12, atol=1e-12)
+    gimbals = traj.x[:, 7 + np.array([0, 2, 4, 6])]
+    assert np.ptp(gimbals, axis=0).min() > 0.05  # the gimbals did turn
+    L = traj.L_origin
+    drift = np.linalg.norm(L - L[0], axis=1).max() / np.linalg.norm(L[0])
+    assert drift < 1e-12, drift
+    assert np.linalg.norm(L[0]) > 3.0  # the rotors' momenta (25 N m s each) nearly cancel in a pyramid
+    print(f"angular momentum drift over 2 s: {drift:.3g} relative")
+
+
+def test_mujoco_mass_matrix_of_the_exported_cmgs_is_spacearms():
+    mujoco = pytest.importorskip("mujoco")
+    from spacearm import interop
+
+    robot = pyramid_sat()
+    model = interop.to_mujoco(robot)
+    data = mujoco.MjData(model)
+    rng = np.random.default_rng(3)
+    for _ in range(3):
+        x = robot.neutral_configuration(q=rng.uniform(-1.5, 1.5, robot.n_dof))
+        u = rng.normal(size=robot.nu)
+        data.qpos[:], data.qvel[:] = interop.to_mujoco_state(robot, x, u)
+        mujoco.mj_forward(model, data)
+        full = np.zeros((model.nv, model.nv))
+        mujoco.mj_fullM(model, data, full)
+        h = interop.mass_matrix_from_mujoco(robot, x, full)
+        ref = robot.mass_matrix(x)
+        assert np.abs(h - ref).max() <= 1e-12 * np.abs(ref).max()
+
+
+def test_cmg_steering_holds_the_base_while_the_arm_moves():
+    """The pyramid holds the base (rotation-floating) while a joint PD swings the arm: the
+    attitude excursion is below the free base's and returns to zero; the arm law sees only the
+    arm joints (the gimbals and rotors are momentum devices)."""
+    from spacearm.control import CmgSteering, Combined, JointPD
+
+    robot = pyramid_sat()
+    assert robot.arm_dofs == [8, 9]
+    x0, u0 = robot.neutral_configuration(), robot.cmg_velocity(500.0)
+    arm = JointPD(kp=200.0, kd=60.0, reference=[0.8, -0.6])
+    run = (lambda c: spacearm.simulate(robot, 4.0, x0=x0, u0=u0, mode="rotation-floating", controller=c, dt=2e-3))
+    free, held = run(arm), run(Combined(arm=arm, base=CmgSteering([0, 0, 0, 1], kp=200.0, kd=400.0)))
+    angle = (lambda t: 2 * np.arccos(np.clip(np.abs(t.x[:, 6]), 0, 1)))
+    assert angle(free).max() > 0.07 and angle(free)[-1] > 0.06  # the arm turns a free base by ~4°
+    assert angle(held).max() < 0.75 * angle(free).max() and angle(held)[-1] < 0.005
+    np.testing.assert_allclose(held.x[-1, -2:], [0.8, -0.6], atol=1e-3)  # the arm got there
+    gimbals = held.x[:, 7 + np.array([0, 2, 4, 6])]
+    assert np.ptp(gimbals, axis=0).min() > 0.1  # the cluster did the work
+    # Without CMGs, or in another mode, the law refuses with the reason.
+    with pytest.raises(SpacearmError, match="control-moment gyros"):
+        spacearm.simulate(spacearm.presets.spatial6(), 0.01, mode="rotation-floating",
+                          controller=CmgSteering([0, 0, 0, 1], kp=1.0, kd=1.0))
+    with pytest.raises(SpacearmError, match="rotation-floating"):
+        spacearm.simulate(robot, 0.01, u0=u0, controller=CmgSteering([0, 0, 0, 1], kp=1.0, kd=1.0))
+    with pytest.raises(SpacearmError, match="rate_gain"):
+        spacearm.simulate(robot, 0.01, u0=u0, mode="rotation-floating", controller=CmgSteering([0, 0, 0, 1], kp=1.0, kd=1.0, rate_gain=0.0))
+
+
+def test_the_pyramid_momentum_envelope_has_its_closed_forms():
+    """Along z each rotor gives h sin β; along x the two gimbals in the xz plane give h cos β and
+    the two perpendicular to x give h (docs/cmg.md); a robot's cluster gives the same envelope
+    as its axes and momenta."""
+    from spacearm.analysis import cmg_envelope
+
+    robot = pyramid_sat(arm=False)
+    env = cmg_envelope(robot, wheel_speed=500.0, n=5)
+    h = J_S * 500.0
+    top, side = env.points[-1, 0], env.points[2, 5]  # elevation +90°; elevation 0, azimuth 0
+    np.testing.assert_allclose(env.directions[2, 5], [1, 0, 0], atol=1e-15)
+    np.testing.assert_allclose(top, [0, 0, 4 * h * np.sin(BETA)], atol=1e-12)
+    np.testing.assert_allclose(side, [h * (2 + 2 * np.cos(BETA)), 0, 0], atol=1e-12)
+    again = cmg_envelope(gimbal_axes=pyramid_axes()[0], h=[h] * 4, n=5)
+    np.testing.assert_array_equal(again.points, env.points)
+    assert env.magnitude.max() <= 4 * h + 1e-12 and env.magnitude.min() > 2 * h  # within Σ h_i, nowhere thin
