@@ -872,7 +872,11 @@ class ControllerSpec:
         """The spec as the TOML text of a [controller] table (the C stepper's and the FMUs' options)."""
 
 def check_spec(family: str, data: _SpecData) -> None:
-    """Check the data of a "controller", "joint_reference", "point_reference", "shaper" or "thrusters" spec."""
+    """Check the data of a "controller", "joint_reference", "point_reference", "shaper", "thrusters", "stop",
+    "mpc_problem" or "mpc_options" spec."""
+def mpc_solve(model: Model, problem: _SpecData, x0: _ArrayLike, u0: _ArrayLike, options: _SpecData,
+              states: _ArrayLike | None = None, controls: _ArrayLike | None = None) -> dict[str, Any]:
+    """One solve of the core's FDDP (spacearm.mpc.solve)."""
 def controller_kind(name: str) -> str:
     """The controller kind a name means (a kind, its hyphenated spelling, or an alias)."""
 CONTROLLER_KINDS: list[str]

@@ -15,14 +15,14 @@ use crate::model_py::PyModel;
 fn rows_arg(obj: &Bound<'_, PyAny>, what: &str, rows: usize, cols: usize) -> PyResult<Vec<Vec<f64>>> {
     let (v, r, c) = matrix_arg(obj, what)?;
     if r != rows || c != cols {
-        return Err(to_py_err(obj.py(), spacearm_core::SpacearmError::argument(format!("{what} must have shape ({rows}, {cols}), got ({r}, {c})"))));
+        return Err(shape_error(obj.py(), format!("{what} must have shape ({rows}, {cols}), got ({r}, {c})")));
     }
     Ok(v.chunks(cols).map(|s| s.to_vec()).collect())
 }
 
 fn rows_array<'py>(py: Python<'py>, rows: &[Vec<f64>], from: usize, len: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let v: Vec<Vec<f64>> = rows.iter().map(|r| r[from..from + len].to_vec()).collect();
-    PyArray2::from_vec2(py, &v).map_err(|e| to_py_err(py, spacearm_core::SpacearmError::argument(format!("{e}"))))
+    PyArray2::from_vec2(py, &v).map_err(|e| to_py_err(py, spacearm_core::SpacearmError::InvalidArgument(format!("{e}"))))
 }
 
 /// Solve `problem` (the data of a `ProblemSpec`) on `model` from `(x0, u0)` with `options`
