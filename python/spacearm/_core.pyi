@@ -14,7 +14,7 @@ _Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 
 __version__: str
 __all__ = [
-    "ArgumentError", "CentralBody", "Orbit", "OrbitalElements", "BaseDescription", "ControllerSpec", "CONTROLLER_KINDS", "CONTROLLER_ALIASES", "TASKS", "check_spec", "controller_kind",
+    "ArgumentError", "CentralBody", "Orbit", "OrbitalElements", "BaseDescription", "ControllerSpec", "CONTROLLER_KINDS", "CONTROLLER_ALIASES", "TASKS", "check_spec", "mpc_solve", "controller_kind",
     "ClosedChainResult", "ConservedDrift",
     "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
     "FreeBodyReference", "GraspImpulse", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimits", "JointReference",
