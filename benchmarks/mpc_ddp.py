@@ -53,7 +53,7 @@ def main() -> None:
     bound = args.limit if math.isfinite(args.limit) else ca.inf
     solvers = {}
     for name, hess in (("IPOPT exact Hessian", "exact"), ("IPOPT limited-memory", "limited-memory")):
-        solvers[name] = ca.nlpsol(name, "ipopt", {"x": ca.vec(taus), "f": cost}, {"print_time": False, "ipopt": {
+        solvers[name] = ca.nlpsol(hess.replace("-", "_"), "ipopt", {"x": ca.vec(taus), "f": cost}, {"print_time": False, "ipopt": {
             "print_level": 0, "sb": "yes", "tol": 1e-8, "max_iter": 500, "hessian_approximation": hess}})
 
     p, p_moved = problem(goal), problem(goal + 1e-3)

@@ -66,7 +66,7 @@ impl Default for SolverOptions {
 impl SolverOptions {
     /// Check the numbers.
     pub fn validate(&self) -> Result<()> {
-        if !(self.time_limit > 0.0) {
+        if self.time_limit.is_nan() || self.time_limit <= 0.0 {
             return Err(SpacearmError::argument(format!("time_limit must be > 0 s, got {}", self.time_limit)));
         }
         for (what, v) in [("tolerance", self.tolerance), ("gap_tolerance", self.gap_tolerance), ("regularization", self.regularization)] {
@@ -145,9 +145,9 @@ const ALPHAS: usize = 10;
 fn calc_diff(problem: &mut dyn ShootingProblem, traj: &mut Trajectory, knots: &mut [KnotModel]) -> Result<f64> {
     let t = problem.horizon();
     let mut cost = 0.0;
-    for k in 0..t {
+    for (k, knot) in knots.iter_mut().take(t).enumerate() {
         cost += problem.running(k, &traj.zs[k], &traj.cs[k], &mut traj.next[k])?;
-        problem.running_derivatives(k, &traj.zs[k], &traj.cs[k], &mut knots[k])?;
+        problem.running_derivatives(k, &traj.zs[k], &traj.cs[k], knot)?;
     }
     cost += problem.terminal(&traj.zs[t])?;
     problem.terminal_derivatives(&traj.zs[t], &mut knots[t])?;
@@ -242,9 +242,9 @@ pub fn solve(problem: &mut dyn ShootingProblem, zs: Option<&[Vec<f64>]>, cs: Opt
             if cost_try.is_finite() {
                 let mut dv = 0.0;
                 if !feasible {
-                    for k in 0..=t {
+                    for (k, f) in fbar.iter().enumerate() {
                         problem.diff(&traj.zs[k], &trial.zs[k], &mut dz);
-                        dv += fbar[k].dot(&(&bw.pm[k] * DVector::from_column_slice(&dz)));
+                        dv += f.dot(&(&bw.pm[k] * DVector::from_column_slice(&dz)));
                     }
                 }
                 let (d1, d2) = (g + dv, q - 2.0 * dv);
