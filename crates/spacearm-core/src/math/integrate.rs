@@ -34,8 +34,9 @@ pub trait OdeSystem {
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()>;
 }
 
-/// Which integrator a simulation uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Which integrator a simulation uses. As data it is its name ([`IntegratorKind::NAMES`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "String", into = "&'static str")]
 pub enum IntegratorKind {
     /// Classical fourth-order Runge–Kutta with a fixed step `dt`.
     Rk4,
@@ -43,6 +44,8 @@ pub enum IntegratorKind {
     /// fixed interval by its fourth-order dense output.
     Dopri5,
 }
+
+crate::error::named_by!(IntegratorKind);
 
 impl IntegratorKind {
     /// The names accepted by [`IntegratorKind::from_name`].

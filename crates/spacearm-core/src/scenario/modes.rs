@@ -19,8 +19,10 @@ use nalgebra::{Vector3, Vector6};
 
 use crate::error::{by_name, Result};
 
-/// A maneuvering mode.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// A maneuvering mode. As data (a run description, [`crate::sim::options::RunSpec`]) it is its
+/// name ([`Mode::NAMES`]), read through [`Mode::from_name`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "String", into = "&'static str")]
 pub enum Mode {
     /// No base actuation: `F_b = 0`; `P` and `L` conserved.
     Floating,
@@ -61,6 +63,8 @@ impl Conserved {
         }
     }
 }
+
+crate::error::named_by!(Mode);
 
 impl Mode {
     /// The names accepted by [`Mode::from_name`].
