@@ -80,7 +80,7 @@ def main() -> None:
     for name, ts in times.items():
         ts = np.array(ts) * 1e3
         c, it, st = optimum[name]
-        print(f"{name:28s} {np.median(ts):8.3f}ms {ts.min():8.3f}ms {np.median(ts) / (base * 1e3):10.1f}x   {c:.10g}, {it}, {st}")
+        print(f"{name:28s} {np.median(ts):8.3f}ms {ts.min():8.3f}ms {np.median(ts) / (base * 1e3):10.2f}x   {c:.10g}, {it}, {st}")
 
 
 if __name__ == "__main__":
