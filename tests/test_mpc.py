@@ -120,3 +120,14 @@ def test_bad_input_against_the_model_is_refused():
         mpc.solve(robot, mpc.Problem(horizon=3, dt=0.1, terminal=[mpc.ControlCost(1.0)]))
     with pytest.raises(spacearm.errors.ShapeError):
         mpc.solve(robot, mpc.Problem(horizon=3, dt=0.1, running=[mpc.ControlCost(1.0)]), x0=[0.0, 1.0])
+
+
+def test_wrong_types_are_refused():
+    robot = spacearm.presets.planar4()
+    with pytest.raises(spacearm.errors.SpacearmTypeError, match="cost terms"):
+        mpc.Problem(horizon=3, dt=0.1, running=[{"kind": "control", "weights": 1.0}])
+    problem = mpc.Problem(horizon=3, dt=0.1, running=[mpc.ControlCost(1.0)])
+    with pytest.raises(spacearm.errors.SpacearmTypeError, match="warm_start"):
+        mpc.solve(robot, problem, warm_start="previous")
+    with pytest.raises(spacearm.errors.SpacearmTypeError, match="Problem"):
+        mpc.solve(robot, problem.to_data())

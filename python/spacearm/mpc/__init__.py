@@ -105,6 +105,9 @@ class ControlCost:
         return d
 
 
+_COSTS = (JointCost, StateCost, BaseAttitudeCost, PointCost, ControlCost)
+
+
 @dataclass(frozen=True)
 class Problem:
     r"""An optimal-control problem: minimize $\sum_{k<T} h\,\ell(z_k, c_k) + \ell_T(z_T)$ over
@@ -120,6 +123,12 @@ class Problem:
     _data: dict = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
+        from ..errors import SpacearmTypeError
+
+        for where in ("running", "terminal"):
+            for c in getattr(self, where):
+                if not isinstance(c, _COSTS):
+                    raise SpacearmTypeError(f"{where} costs must be spacearm.mpc cost terms ({', '.join(t.__name__ for t in _COSTS)}), got {type(c).__name__}")
         data = {
             "horizon": self.horizon,
             "dt": self.dt,
@@ -187,6 +196,10 @@ def solve(robot, problem: Problem, x0=None, u0=None, *, warm_start: Optional[Sol
         from ..errors import SpacearmTypeError
 
         raise SpacearmTypeError(f"problem must be a spacearm.mpc.Problem, got {type(problem).__name__}")
+    if warm_start is not None and not isinstance(warm_start, Solution):
+        from ..errors import SpacearmTypeError
+
+        raise SpacearmTypeError(f"warm_start must be a spacearm.mpc.Solution, got {type(warm_start).__name__}")
     x0 = robot.neutral_configuration() if x0 is None else vector(x0, "x0", robot.nx)
     u0 = robot.zero_velocity() if u0 is None else vector(u0, "u0", robot.nu)
     options = {"max_iterations": int(max_iterations), "time_limit": float(time_limit), "tolerance": float(tolerance)}
