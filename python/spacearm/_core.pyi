@@ -15,7 +15,7 @@ _Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 __version__: str
 __all__ = [
     "ArgumentError", "CentralBody", "Orbit", "OrbitalElements", "BaseDescription", "ControllerSpec", "CONTROLLER_KINDS", "CONTROLLER_ALIASES", "TASKS", "check_spec", "mpc_solve", "controller_kind",
-    "ClosedChainResult", "ConservedDrift",
+    "ClosedChainResult", "ConservedDrift", "Contact", "contacts",
     "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
     "FreeBodyReference", "GraspImpulse", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimits", "JointReference",
     "LoopClosureTerms", 
@@ -36,6 +36,7 @@ __all__ = [
     "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts",
     "cylinder_slosh", "sphere_slosh", "sphere_fill_height", "cylinder_fill_height", "model_attach_body", "model_attach_model",
     "model_remove_subtree", "InputShaper", "soft_capture", "virtual_mass",
+    "CaptureRun", "run_capture", "check_capture", "MAX_CAPTURE_SAMPLES", "MAX_TURN_PER_SAMPLE", "CAPTURE_KINDS",
 ]
 
 # ---- exceptions (crates/spacearm-py/src/errors_py.rs; spacearm.errors re-exports them) ----------
@@ -812,6 +813,71 @@ class SoftCaptureResult:
     @property
     def drift_angular(self) -> float: ...
 
+# ---- the capture mission (crates/spacearm-py/src/capture_py.rs; core sim/capture.rs) -------------
+MAX_CAPTURE_SAMPLES: int  # the most samples a capture may record over its phases
+MAX_TURN_PER_SAMPLE: float  # rad: the largest turn of the target between two samples
+CAPTURE_KINDS: list[str]  # the grasp models: rigid, point, soft
+
+@final
+class CaptureRun:
+    """The capture mission run by the core (spacearm_core::sim::capture::run_capture): the phases end to end."""
+
+    @property
+    def t(self) -> _Vec: ...  # (T,) s
+    @property
+    def phase(self) -> _Vec: ...  # (T,) int64: 0 approach, 1 capture, 2 post-capture, 3 detumble
+    @property
+    def x(self) -> _Vec: ...  # (T, 7+N)
+    @property
+    def u(self) -> _Vec: ...  # (T, 6+N)
+    @property
+    def tau(self) -> _Vec: ...  # (T, N)
+    @property
+    def base_wrench(self) -> _Vec: ...  # (T, 6)
+    @property
+    def target(self) -> _Vec: ...  # (T, 13)
+    @property
+    def P(self) -> _Vec: ...  # (T, 3) robot + target
+    @property
+    def L(self) -> _Vec: ...  # (T, 3) robot + target, about the origin
+    @property
+    def grasp_wrench(self) -> _Vec: ...  # (T, 6)
+    @property
+    def impact(self) -> GraspImpulse: ...
+    @property
+    def captured(self) -> Model | None: ...
+    @property
+    def captured_state(self) -> tuple[_Vec, _Vec] | None: ...
+    @property
+    def captured_names(self) -> tuple[str, str] | None: ...  # (payload, gripper)
+    @property
+    def time_to_detumble(self) -> float: ...
+    @property
+    def residual_spin(self) -> float: ...
+    @property
+    def drift_p(self) -> float: ...
+    @property
+    def drift_l(self) -> float: ...
+    @property
+    def drift_scales(self) -> tuple[float, float]: ...
+    @property
+    def approach_end(self) -> float: ...
+    @property
+    def ledger(self) -> str: ...  # "conservation" or "balance" (in orbit)
+    @property
+    def external_wrench(self) -> _Vec | None: ...  # in orbit: (T, 6)
+    @property
+    def external_impulse(self) -> _Vec | None: ...  # in orbit: (T, 6)
+    @property
+    def r_cm_eci(self) -> _Vec | None: ...  # in orbit: (T, 3)
+    @property
+    def v_cm_eci(self) -> _Vec | None: ...  # in orbit: (T, 3)
+    @property
+    def target_lvlh(self) -> _Vec | None: ...  # in orbit: (T, 6)
+
+def run_capture(model: Model, x0: _ArrayLike, u0: _ArrayLike, target: Model, spec: dict[str, Any]) -> CaptureRun: ...
+def check_capture(model: Model, x0: _ArrayLike, u0: _ArrayLike, target: Model, spec: dict[str, Any]) -> None: ...
+
 def soft_capture(robot: Model, x: _ArrayLike, u: _ArrayLike, body: int, offset: _ArrayLike, target: Model, x_target: _ArrayLike,
                  u_target: _ArrayLike, target_body: int, target_offset: _ArrayLike, duration: float, options: RunOptions,
                  controller_spec: ControllerSpec | None = None, *, frequency: float = 3.0, damping_ratio: float = 0.7,
@@ -1298,3 +1364,23 @@ class Orbit:
     def lvlh_to_run(self, rel: _ArrayLike, *, center: _ArrayLike | None = None, t: float = 0.0) -> _Vec: ...
     def run_to_lvlh(self, t: _ArrayLike, center: _ArrayLike, points: _ArrayLike) -> _Vec: ...
     def tidal_torques(self, model: Union[Model, Any], x: _ArrayLike, *, t: float = 0.0) -> tuple[_Vec, _Vec, _Vec]: ...
+
+# ---- collision detection (crates/spacearm-py/src/collision_py.rs; spacearm_core::collision) --------
+@final
+class Contact:
+    """A contact between two collision shapes at one state, in the inertial frame."""
+
+    @property
+    def geometries(self) -> tuple[str, str]: ...
+    @property
+    def bodies(self) -> tuple[str, str]: ...
+    @property
+    def point_a(self) -> _Vec: ...
+    @property
+    def point_b(self) -> _Vec: ...
+    @property
+    def normal(self) -> _Vec: ...
+    @property
+    def distance(self) -> float: ...
+
+def contacts(model: Model, x: _ArrayLike, pairs: Optional[Sequence[tuple[str, str]]] = None, margin: float = 0.0) -> list[Contact]: ...

@@ -306,7 +306,14 @@ def test_grasp_wrench_is_the_exact_rate_of_the_payload_s_momentum():
     # The core's RNEA force across the payload's joint against central differences of the
     # payload's momentum along a finely recorded run (second order in dt, independent of RNEA).
     from spacearm.capture.detumbling import grasp_wrench
-    from spacearm.capture.sequence import _payload_states
+    from spacearm.rotations import quat_from_matrix
+
+    def _payload_states(captured, xs, us):  # the payload's 13-state from the combined model's kinematics
+        body = captured.robot.body_index(captured.payload)
+        kin = captured.robot.forward_kinematics(xs)
+        j0, jm = captured.robot.point_jacobian(xs, (body, np.zeros(3)))
+        tw = np.einsum("bij,bj->bi", j0, us[:, :6]) + np.einsum("bij,bj->bi", jm, us[:, 6:])
+        return np.hstack([kin.com_in_world[:, body], quat_from_matrix(kin.body_to_world[:, body]), tw])
 
     robot, x, u, target, s = _scene()
     imp = grasp_impulse(robot, x, u, target, s)

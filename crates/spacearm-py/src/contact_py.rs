@@ -311,9 +311,14 @@ pub fn grasp_impact(
             })
         })
         .or_raise(py)?;
+    Ok(grasp_impulse_of(py, kind, &g, xt.as_slice()))
+}
+
+/// The binding's `GraspImpulse` of a core impact (`x_target`: the target's configuration at it).
+pub(crate) fn grasp_impulse_of(py: Python<'_>, kind: &str, g: &impulse::GraspImpact, x_target: &[f64]) -> PyGraspImpulse {
     let ro1 = |v: &[f64]| read_only(array1(py, v));
-    let target_state_after: Vec<f64> = xt.as_slice().iter().chain(g.target_u_after.iter()).copied().collect();
-    Ok(PyGraspImpulse {
+    let target_state_after: Vec<f64> = x_target.iter().chain(g.target_u_after.iter()).copied().collect();
+    PyGraspImpulse {
         kind: kind.to_owned(),
         du: ro1(g.du.as_slice()),
         target_dtwist: ro1(g.target_du.as_slice()),
@@ -331,7 +336,7 @@ pub fn grasp_impact(
         target_u_after: ro1(g.target_u_after.as_slice()),
         normal: g.normal.map(|n| ro1(n.as_slice())),
         locking_impulse: ro1(g.locking_impulse.as_slice()),
-    })
+    }
 }
 
 /// The result of `soft_capture` (`spacearm_core::sim::soft_capture::SoftCaptureResult`).

@@ -10,6 +10,8 @@ mod analysis_results_py;
 mod batch;
 mod batch_simulator_py;
 mod builder_py;
+mod capture_py;
+mod collision_py;
 mod contact_py;
 mod controller_spec_py;
 mod convert;
@@ -73,6 +75,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     );
     analysis_py::register(m)?;
     contact_py::register(m)?;
+    collision_py::register(m)?;
+    capture_py::register(m)?;
     add_to_module!(
         m,
         classes: [

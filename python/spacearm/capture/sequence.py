@@ -1,6 +1,14 @@
 """The whole capture in one call ([`capture`][spacearm.capture.capture]): approach → capture → post-capture → detumble,
 with phase markers and the momentum ledger of robot + target.
 
+Where it runs: for a rigid target (in empty space or in orbit) the whole mission is **one core
+run** (``spacearm_core::sim::capture::run_capture``; its description the core's ``CaptureSpec``,
+``sim/capture_spec.rs``, with the one validation of every argument): this module reads the
+arguments into that spec, makes the call, and wraps the binding's ``CaptureRun`` (``result.run``)
+in [`CaptureResult`][spacearm.capture.CaptureResult], which adds the figures and the file. A
+jointed target (``kind="point"`` only) still runs phase by phase here, each phase a core run
+(``_capture_phases``; docs/capture.md, "Where the mission runs").
+
 Phases (``PHASES``; ``result.phase`` holds the index at every sample):
 
 0. **approach** — the native [`ResolvedMotionRate`][spacearm.control.ResolvedMotionRate] of the grasp point
@@ -59,80 +67,23 @@ from .. import _core
 from .._util.arrays import number, vector
 from ..control import Combined, MomentumDamping, ResolvedMotionRate, TorqueLimit
 from ..errors import ArgumentError, SimulationError
-from ..rotations import quat_from_matrix, rotation_vector
-from ..sim.events import StopAtGap
+from ..rotations import rotation_vector
 from ..sim.simulation import simulate
-from .captured import attach_target, combined_model, soft_capture
-from .detumbling import DETUMBLE_MODES, detumble, detumble_controller, grasp_wrench
+from .captured import combined_model
+from .detumbling import detumble
 from .impact import CAPTURE_TOLERANCE, _check_target, grasp_impulse
 
 __all__ = ["capture", "CaptureResult", "RecordedImpulse", "PHASES", "CAPTURE_KINDS", "MAX_CAPTURE_SAMPLES", "MAX_TURN_PER_SAMPLE"]
 
 #: The most samples a capture may record over its phases (``(approach + soft + post +
 #: detumble time) / dt``): more is refused before anything runs (docs/capture.md, "Grasps that
-#: are refused").
-MAX_CAPTURE_SAMPLES = 1_000_000
+#: are refused"; the core's rule, ``sim/capture_spec.rs``).
+MAX_CAPTURE_SAMPLES = _core.MAX_CAPTURE_SAMPLES
 
 #: The largest angle, rad, the target may turn between two samples (``|ω| dt``): a faster spin
-#: is not resolved by the recording nor by the free-body reference, and is refused.
-MAX_TURN_PER_SAMPLE = 1.0
+#: is not resolved by the recording nor by the free-body reference, and is refused (the core's rule).
+MAX_TURN_PER_SAMPLE = _core.MAX_TURN_PER_SAMPLE
 
-
-def _reach_bound(robot, body: int, offset) -> tuple:
-    """Upper bounds on how far the robot's point ``(body, offset)`` and any body's CM can be from
-    the base CM, m: the sums of the joint offsets, CM offsets and prismatic travels along the
-    chain (``inf`` with an unbounded prismatic joint). The system CM is a mass-weighted mean of
-    the bodies' CMs, so ``|p − r_cm| ≤ point bound + body bound`` in every configuration."""
-    links = robot.description.links
-    reach = [0.0]
-    for link in links:
-        travel = 0.0
-        if link.type == "prismatic":
-            travel = max(abs(link.limits.lower), abs(link.limits.upper))
-        reach.append(reach[link.parent_index] + float(np.linalg.norm(link.origin)) + travel + float(np.linalg.norm(link.com)))
-    return reach[body] + float(np.linalg.norm(offset)), max(reach)
-
-
-def _closest_approach(p0, v, duration: float) -> tuple:
-    """``min |p0 + v t|`` over ``t`` in ``[0, duration]`` and the time it is reached."""
-    vv = float(v @ v)
-    t = 0.0 if vv == 0.0 else float(np.clip(-(p0 @ v) / vv, 0.0, duration))
-    return float(np.linalg.norm(p0 + v * t)), t
-
-
-def _check_work_and_reach(robot, x0, u0, target, s0, grasp, body, offset, mode, times):
-    """Refuse, before any run, a capture whose recording would be too large, whose target spins
-    too fast for ``dt``, or whose grasp point stays out of the arm's reach (floating mode: the
-    system CM moves at constant velocity ``P / m``)."""
-    dt = times["dt"]
-    total = sum(times[k] for k in ("approach_time", "soft_time", "post_time", "detumble_time"))
-    if total / dt > MAX_CAPTURE_SAMPLES:
-        raise ArgumentError(f"the capture would record {total / dt:.3g} samples ({total:g} s of phases every dt = {dt:g} s), more "
-                            f"than the {MAX_CAPTURE_SAMPLES:g} allowed: raise dt or shorten the phases")
-    if not target.is_rigid:
-        return
-    state = target.split(s0)
-    spin = float(np.linalg.norm(state.angular_velocity))
-    if spin * dt > MAX_TURN_PER_SAMPLE:
-        raise ArgumentError(f"the target spins at {spin:.4g} rad/s: it turns {spin * dt:.3g} rad between samples (dt = {dt:g} s), "
-                            f"more than the {MAX_TURN_PER_SAMPLE:g} rad the approach can follow; use dt <= "
-                            f"{MAX_TURN_PER_SAMPLE / spin:.3g} s")
-    if mode != "floating":
-        return  # the thrusters move the system CM: no bound from the momentum
-    point_reach, body_reach = _reach_bound(robot, body, offset)
-    if not np.isfinite(point_reach):
-        return
-    m = robot.total_mass
-    cm0 = robot.center_of_mass(x0)
-    v_cm = np.asarray(robot.momentum(x0, u0).P) / m
-    handle = float(np.linalg.norm(target.point(grasp)[1]))
-    # The target's grasp point is within |handle| of its CM, which moves at constant velocity.
-    gap, when = _closest_approach(state.position - cm0, state.velocity - v_cm, times["approach_time"])
-    if gap - handle > point_reach + body_reach:
-        raise SimulationError(
-            f"the approach cannot reach the target: its grasp point stays at least {gap - handle:.4g} m from the robot's system CM "
-            f"(closest at t = {when:.3g} s of the {times['approach_time']:g} s approach), farther than the {point_reach + body_reach:.4g} m "
-            f"that any configuration of '{robot.name}' reaches (its chain's lengths); place the target within reach")
 
 #: Format tag of the ``.npz`` that [`CaptureResult.save`][spacearm.capture.CaptureResult.save] writes
 #: (``/2``: everything [`CaptureResult.load`][spacearm.capture.CaptureResult.load] needs; ``/1`` files
@@ -174,7 +125,7 @@ class RecordedImpulse:
 #: The phases of [`capture`][spacearm.capture.capture], in order (docs/capture.md).
 PHASES = ("approach", "capture", "post-capture", "detumble")
 #: The grasp models [`capture`][spacearm.capture.capture] accepts as ``kind``.
-CAPTURE_KINDS = ("rigid", "point", "soft")
+CAPTURE_KINDS = tuple(_core.CAPTURE_KINDS)
 
 
 class CaptureResult:
@@ -195,6 +146,24 @@ class CaptureResult:
 
     def __init__(self, **fields):
         self.__dict__.update(fields)
+
+    @classmethod
+    def _of_run(cls, run, robot, target, mode: str, kind: str, orbit=None, gravity_gradient=None) -> "CaptureResult":
+        """The result of the core's mission (``_core.CaptureRun``, kept as ``run``): its arrays,
+        impact, captured system and ledger, read as they are."""
+        from .captured import CapturedSystem
+
+        captured = None
+        if run.captured is not None:
+            (x, u), (payload, gripper) = run.captured_state, run.captured_names
+            captured = CapturedSystem(robot._edited(run.captured), x, u, payload, gripper)
+        return cls(t=run.t, phase=run.phase, x=run.x, u=run.u, tau=run.tau, base_wrench=run.base_wrench, target=run.target,
+                   P=run.P, L=run.L, grasp_wrench=run.grasp_wrench, impact=run.impact,
+                   soft_impact=run.impact if kind == "soft" else None, robot=robot, captured=captured, target_model=target, mode=mode,
+                   kind=kind, time_to_detumble=run.time_to_detumble, residual_spin=run.residual_spin,
+                   drift={"P": run.drift_p, "L": run.drift_l}, ledger=run.ledger, orbit=orbit, gravity_gradient=gravity_gradient, run=run,
+                   **({} if orbit is None else {"external_wrench": run.external_wrench, "external_impulse": run.external_impulse,
+                                               "r_cm_eci": run.r_cm_eci, "v_cm_eci": run.v_cm_eci, "target_lvlh": run.target_lvlh}))
 
     def __repr__(self) -> str:
         detumble = self.time_to_detumble
@@ -425,35 +394,20 @@ class CaptureResult:
         return view(capture_scene(self, fps=fps, **kwargs), path, open=open)
 
 
-def _ledger(plant, target, xs, us, ss, combined: bool):
-    """Total P, L about the origin over samples (batch calls)."""
-    m = plant.momentum(xs, us)
-    if combined:  # the target is a link of the plant: its share is in the plant's momentum
-        return m.P, m.L_origin
+def _ledger(robot, target, xs, us, ss):
+    """Total P, L about the origin of the robot and a free target over samples (batch calls)."""
+    m = robot.momentum(xs, us)
     nx = target.body.nx
     mt = target.body.momentum(ss[:, :nx], ss[:, nx:])
     return m.P + mt.P, m.L_origin + mt.L_origin
 
 
-def _payload_states(captured, xs, us):
-    """The target's 13-state while it rides on the gripper, from the combined model (batch)."""
-    robot = captured.robot
-    body = robot.body_index(captured.payload)
-    kin = robot.forward_kinematics(xs)
-    j0, jm = robot.point_jacobian(xs, (body, np.zeros(3)))
-    tw = np.einsum("bij,bj->bi", j0, us[:, :6]) + np.einsum("bij,bj->bi", jm, us[:, 6:])
-    quats = quat_from_matrix(kin.body_to_world[:, body])
-    return np.hstack([kin.com_in_world[:, body], quats, tw])
-
-
 def _target_states(target, state, t):
-    """The free target's states at the times ``t`` from ``state`` at ``t[0]``."""
+    """A jointed target's states at the times ``t`` from ``state`` at ``t[0]``: free-floating with
+    zero joint torques, simulated by the core from sample to sample."""
     t = np.asarray(t, dtype=float) - float(t[0])
-    if target.is_rigid:
-        step = 0.5 * float(np.min(np.diff(t))) if len(t) > 1 else 1e-3
-        return target.free_body(state, step=step).states(t)
     out, cur, last = [], state, 0.0
-    for tt in t:  # a jointed target: simulated by the core from sample to sample
+    for tt in t:
         cur = target.propagate(cur, tt - last)
         last = tt
         out.append(cur)
@@ -512,190 +466,106 @@ def capture(
     in LVLH).
     """
     _check_target(target)
-    if mode not in DETUMBLE_MODES:
-        raise ArgumentError(f"mode must be one of {list(DETUMBLE_MODES)}, got {mode!r}")
-    if kind not in CAPTURE_KINDS:
-        raise ArgumentError(f"kind must be one of {list(CAPTURE_KINDS)}, got {kind!r}")
     s0 = target.check_state(target_state)
-    orbit, gg = _check_orbit(orbit, gravity_gradient, kind, target)
-    if kind != "point" and not target.is_rigid:
-        raise ArgumentError(f"target '{target.name}' is a jointed model: kind='{kind}' attaches it as a payload, which needs a rigid "
-                            "target; use kind='point'")
     x0 = robot.neutral_configuration() if x0 is None else vector(x0, "x0", robot.nx)
     u0 = robot.zero_velocity() if u0 is None else vector(u0, "u0", robot.nu)
-    times = {k: number(v, k) for k, v in (("approach_time", approach_time), ("soft_time", soft_time), ("post_time", post_time),
-                                           ("detumble_time", detumble_time), ("dt", dt), ("capture_tolerance", capture_tolerance))}
-    for k, v in times.items():
-        if not v > 0:
-            raise ArgumentError(f"{k} must be > 0, got {v}")
-    mjt = number(max_joint_torque, "max_joint_torque")
-    for name, value in (("max_joint_torque", mjt), ("max_force", max_force), ("max_torque", max_torque)):
-        if not number(value, name) > 0:
-            raise ArgumentError(f"{name} must be > 0 (inf: no limit), got {value}")
-    e = number(restitution, "restitution")
-    if not 0.0 <= e <= 1.0 or (kind != "point" and e != 0.0):
-        raise ArgumentError(f"restitution must be in [0, 1] and is for kind='point' only (a grasp is plastic), got {e} with kind={kind!r}")
     body, offset = robot.resolve_point(point)
     target.point(grasp)  # an unknown grasp point fails here, before the approach runs
-    _check_work_and_reach(robot, x0, u0, target, s0, grasp, body, offset, mode, times)
+    # The run's description, the core's CaptureSpec (sim/capture_spec.rs): every rule of its
+    # values (modes, kinds, times, limits, restitution, the work and the reach) is the core's.
+    values = {k: number(v, k) for k, v in (
+        ("approach_time", approach_time), ("soft_time", soft_time), ("post_time", post_time), ("detumble_time", detumble_time),
+        ("dt", dt), ("capture_tolerance", capture_tolerance), ("restitution", restitution), ("rmrc_gain", rmrc_gain),
+        ("rmrc_damping", rmrc_damping), ("velocity_gain", velocity_gain), ("max_joint_rate", max_joint_rate), ("rtol", rtol),
+        ("kp", kp), ("kd", kd), ("time_constant", time_constant), ("max_joint_torque", max_joint_torque), ("max_force", max_force),
+        ("max_torque", max_torque), ("rate_tolerance", rate_tolerance))}
+    spec = {"target_state": s0.tolist(), "grasp": grasp, "name": target.name, "point": [int(body), np.asarray(offset, dtype=float).tolist()],
+            "mode": mode, "kind": kind, **values}
+    if spec["grasp"] is None:
+        del spec["grasp"]
+    if orbit is not None:
+        from ..orbit import Orbit
 
-    # ---- 0. approach ------------------------------------------------------------------------
-    # The target's grasp point as the native RMRC's reference; the whole approach is one native
-    # run that the core stops at the grasp: the first time the grasp points are within
-    # capture_tolerance, located within its step (docs/simulation-core.md, "Events").
-    half = 0.5 * times["dt"]
+        if not isinstance(orbit, Orbit):
+            raise ArgumentError(f"orbit must be a spacearm.Orbit, got {type(orbit).__name__}")
+        spec["orbit"] = orbit._data()
+    if gravity_gradient is not None:
+        spec["gravity_gradient"] = bool(gravity_gradient)
+    _core.check_capture(robot.core_model, x0, u0, target.body.core_model, spec)
+    gg = None if orbit is None else gravity_gradient is None or bool(gravity_gradient)
     if target.is_rigid:
-        reference = target.free_body(s0, grasp, step=half, point=point, orbit=orbit if gg else None)
-    else:
-        reference = target.grasp_path(s0, approach_time, dt, grasp)
+        # The whole mission is one core run (sim/capture.rs): every phase, the grasp, the
+        # attachment, the ledger (in orbit its balance).
+        run = _core.run_capture(robot.core_model, x0, u0, target.body.core_model, spec)
+        return CaptureResult._of_run(run, robot, target, mode, kind, orbit, gg)
+    # A jointed target: the phases below, each a core run, put together here (not yet the
+    # core's mission: docs/capture.md, "Where the mission runs").
+    return _capture_phases(robot, target, s0, x0, u0, body, offset, mode=mode, kind=kind, point=point, grasp=grasp, **values)
+
+
+def _capture_phases(robot, target, s0, x0, u0, body, offset, *, mode, kind, point, grasp, approach_time, dt, capture_tolerance,
+                    restitution, rmrc_gain, rmrc_damping, velocity_gain, max_joint_rate, rtol, kp, kd, time_constant,
+                    max_joint_torque, max_force, max_torque, rate_tolerance, post_time, detumble_time, **_):
+    """The point-contact capture of a jointed target (empty space), phase by phase: each phase a
+    core run, put together here (docs/capture.md, "Where the mission runs")."""
+    # ---- 0. approach: the native RMRC towards the target's grasp point, its path sampled every
+    # dt and interpolated in between, so only at the samples is the reference's gap the gap to
+    # the target's own state: the approach runs whole and ends at the first sample within the
+    # tolerance.
+    reference = target.grasp_path(s0, approach_time, dt, grasp)
     rmrc = ResolvedMotionRate(reference, gain=rmrc_gain, max_damping=rmrc_damping, velocity_gain=velocity_gain, point=point,
                               max_joint_rate=max_joint_rate)
     ctrl = rmrc if mode == "floating" else Combined(arm=rmrc, base=MomentumDamping(time_constant, max_force=max_force, max_torque=max_torque))
-    if math.isfinite(mjt):
-        ctrl = TorqueLimit(ctrl, mjt)
-    # A jointed target's reference is its grasp point's path sampled every dt and interpolated in
-    # between, so only at the samples is the reference's gap the gap to the target's own state:
-    # its approach runs whole and ends at the first sample within the tolerance (not yet an event).
-    stop = StopAtGap((body, offset), times["capture_tolerance"]) if target.is_rigid else None
+    if math.isfinite(max_joint_torque):
+        ctrl = TorqueLimit(ctrl, max_joint_torque)
     tr = simulate(robot, approach_time, x0=x0, u0=u0, mode=mode, dt=dt, controller=ctrl, integrator="dopri5", rtol=rtol,
-                  atol=rtol * 1e-2, orbit=orbit, gravity_gradient=gg, stop=stop)
-    ta, xa, ua, taua, bwa = tr.t, tr.x, tr.u, tr.tau, tr.base_wrench
-    sa = reference.states(ta) if target.is_rigid else target.trajectory(s0, approach_time, dt)[1][: len(ta)]
+                  atol=rtol * 1e-2)
+    ta, xa, ua = tr.t, tr.x, tr.u
+    sa = target.trajectory(s0, approach_time, dt)[1][: len(ta)]
     nxt = target.body.nx
     gaps = np.linalg.norm(robot.point_position(xa, (body, offset)) - target.body.point_position(sa[:, :nxt], target.point(grasp)), axis=1)
-    within = [len(ta) - 1] if tr.meta["stop"] is not None else np.nonzero(gaps < capture_tolerance)[0] if stop is None else []
+    within = np.nonzero(gaps < capture_tolerance)[0]
     if not len(within):
         raise SimulationError(
             f"the approach did not reach the grasp point: closest {gaps.min():.3g} m at t = {ta[gaps.argmin()]:.3g} s "
             f"(capture_tolerance {capture_tolerance} m); lengthen approach_time, place the target within reach or raise rmrc_gain")
     k = int(within[0])
-    seg_t, seg_phase = [ta[: k + 1]], [np.zeros(k + 1, dtype=int)]
-    seg_x, seg_u, seg_s = [xa[: k + 1]], [ua[: k + 1]], [sa[: k + 1]]
-    seg_tau = [taua[: k + 1]]
-    seg_bw = [bwa[: k + 1]]
-    seg_w = [np.zeros((k + 1, 6))]
-    seg_combined = [False]
-    # In orbit: the robot's (plant's) tidal wrench about the origin, per sample (zeros otherwise).
-    seg_gw = [tr.gravity_wrench[: k + 1] if orbit is not None else np.zeros((k + 1, 6))]
-    t_cap, xc, uc, sc = float(ta[k]), xa[k], ua[k], sa[k]
-
-    def add(t, phase, xs, us, ss, tau, bw, w, combined, gw=None):
-        seg_t.append(t), seg_phase.append(np.full(len(t), phase)), seg_x.append(xs), seg_u.append(us), seg_s.append(ss)
-        seg_tau.append(tau), seg_bw.append(bw), seg_w.append(w), seg_combined.append(combined)
-        seg_gw.append(np.zeros((len(t), 6)) if gw is None else gw)
-
-    # ---- 1. capture -------------------------------------------------------------------------
     n = robot.n_dof
+    seg = {"t": [ta[: k + 1]], "phase": [np.zeros(k + 1, dtype=int)], "x": [xa[: k + 1]], "u": [ua[: k + 1]], "target": [sa[: k + 1]],
+           "tau": [tr.tau[: k + 1]], "base_wrench": [tr.base_wrench[: k + 1]]}
+    t_cap, xc, uc, sc = float(ta[k]), xa[k], ua[k], sa[k]
     q_hold = xc[7:].copy()
-    if kind == "soft":
-        # The hold law of the detumble (native ComputedTorque with a constant reference), the
-        # phase integrated by the core's DOPRI5 like every other phase, sampled every dt / 5.
-        hold = detumble_controller(robot, xc, mode="floating", q_hold=q_hold, kp=kp, kd=kd, time_constant=time_constant,
-                                   max_joint_torque=mjt, max_force=math.inf, max_torque=math.inf)
-        soft = soft_capture(robot, xc, uc, target, sc, soft_time, point=point, grasp=grasp, dt=dt / 5, controller=hold,
-                            integrator="dopri5", rtol=rtol)
-        keep = slice(1, None)
-        # the impedance's wrench on the target, moved from X to the target's CM like the rigid phases'
-        held = -soft.wrench[keep]
-        X = robot.point_position(soft.x[keep], (body, offset))
-        held[:, 3:] += np.cross(X - soft.target[keep][:, :3], held[:, :3])
-        add(t_cap + soft.t[keep], 1, soft.x[keep], soft.u[keep], soft.target[keep], soft.tau[keep], np.zeros((len(soft.t) - 1, 6)),
-            held, False)
-        t_cap, xc, uc, sc = t_cap + float(soft.t[-1]), soft.x[-1], soft.u[-1], soft.target[-1]
-        impact = grasp_impulse(robot, xc, uc, target, sc, point=point, grasp=grasp, kind="rigid", capture_tolerance=times["capture_tolerance"])
-        soft_impact = impact
-    else:
-        impact = grasp_impulse(robot, xc, uc, target, sc, point=point, grasp=grasp, kind=kind, restitution=restitution,
-                               capture_tolerance=times["capture_tolerance"])
-        soft_impact = None
-    uc, sc = impact.u_after, impact.target_state_after
-    add(np.array([t_cap]), 1, xc[None], uc[None], sc[None], np.zeros((1, n)), np.zeros((1, 6)), np.zeros((1, 6)), kind != "point")
-    cap_index = sum(len(v) for v in seg_t) - 1  # the sample just after the grasp: its tidal wrench from the next run
 
-    # ---- 2. post-capture, 3. detumble ------------------------------------------------------------
-    captured = None
-    plant = robot
-    if kind != "point":
-        captured = attach_target(robot, xc, uc, target, sc, point=point)
-        plant = captured.robot
-    runs = []
-    seg_left = {}  # segment index -> the external wrench at the start of its run (a thruster wrench jumps there)
+    def add(**rows):
+        for key, value in rows.items():
+            seg[key].append(value)
+
+    # ---- 1. capture: the point contact's impulse, one sample after the jump --------------------
+    impact = grasp_impulse(robot, xc, uc, target, sc, point=point, grasp=grasp, kind=kind, restitution=restitution,
+                           capture_tolerance=capture_tolerance)
+    uc, sc = impact.u_after, impact.target_state_after
+    add(t=np.array([t_cap]), phase=np.ones(1, dtype=int), x=xc[None], u=uc[None], target=sc[None], tau=np.zeros((1, n)),
+        base_wrench=np.zeros((1, 6)))
+    # ---- 2. post-capture, 3. detumble: the robot alone, the target flying off -----------------
     x_start, u_start = xc, uc
     for phase, duration, run_mode, gains in ((2, post_time, "floating", (0.0, kd)), (3, detumble_time, mode, (kp, kd))):
-        phase_orbit = _orbit_at(orbit, t_cap)
-        run = detumble(plant, x_start, u_start, duration, mode=run_mode, q_hold=q_hold, kp=gains[0], kd=gains[1],
-                       time_constant=time_constant, max_joint_torque=mjt, max_force=max_force, max_torque=max_torque,
-                       rate_tolerance=rate_tolerance, dt=dt, rtol=rtol, orbit=phase_orbit, gravity_gradient=gg)
+        run = detumble(robot, x_start, u_start, duration, mode=run_mode, q_hold=q_hold, kp=gains[0], kd=gains[1],
+                       time_constant=time_constant, max_joint_torque=max_joint_torque, max_force=max_force, max_torque=max_torque,
+                       rate_tolerance=rate_tolerance, dt=dt, rtol=rtol)
         tr = run.trajectory
-        gw = tr.gravity_wrench.copy() if orbit is not None else np.zeros((len(tr.t), 6))
-        if captured is not None:
-            ss = _payload_states(captured, tr.x, tr.u)
-        else:  # the point contact's target flies off: free, in orbit under its own tidal wrench
-            free = target.free_body(sc, step=0.5 * dt, orbit=phase_orbit if gg else None) if target.is_rigid else None
-            ss = _target_states(target, sc, tr.t) if free is None else free.states(tr.t - tr.t[0])
-            if free is not None and orbit is not None:
-                gw = gw + free.external_wrenches(tr.t - tr.t[0], target.mass)
-        w = grasp_wrench(captured, tr) if captured is not None else np.zeros((len(tr.t), 6))
-        if phase == 2:
-            seg_gw[-1] = gw[:1]  # the grasp sample: the same instant as this run's first
-        add(t_cap + tr.t[1:], phase, tr.x[1:], tr.u[1:], ss[1:], tr.tau[1:], tr.base_wrench[1:], w[1:], captured is not None, gw[1:])
-        if orbit is not None:  # the run's own wrench at its start: the left end of its first interval
-            seg_left[len(seg_t) - 1] = gw[0] + _thruster_wrench_about_origin(plant, plant, [tr.x[:1]], [tr.base_wrench[:1]], [True])[0]
-        runs.append(run)
+        ss = _target_states(target, sc, tr.t)
+        add(t=t_cap + tr.t[1:], phase=np.full(len(tr.t) - 1, phase), x=tr.x[1:], u=tr.u[1:], target=ss[1:], tau=tr.tau[1:],
+            base_wrench=tr.base_wrench[1:])
         t_cap, x_start, u_start, sc = t_cap + float(tr.t[-1]), tr.x[-1], tr.u[-1], ss[-1]
-
-    # ---- the ledger -----------------------------------------------------------------------------
-    P, L, scales = [], [], []
-    nxt = target.body.nx
-    for xs, us, ss, comb in zip(seg_x, seg_u, seg_s, seg_combined):
-        owner = plant if comb else robot
-        a, b = _ledger(owner, target, xs, us, ss, comb)
-        P.append(a), L.append(b)
-        s = owner.momentum_scales(xs, us)[:, :2]
-        if not comb:  # the free target's own bodies
-            s = s + target.body.momentum_scales(ss[:, :nxt], ss[:, nxt:])[:, :2]
-        scales.append(s)
-    P, L, scales = (np.concatenate(v) for v in (P, L, scales))
-    T = np.concatenate(seg_t)
-    extra = {"ledger": "conservation", "orbit": orbit, "gravity_gradient": gg}
-    if orbit is None:
-        # The core's drift (one definition, docs/simulation-core.md): the deviation from the first
-        # sample relative to the largest sum of the bodies' own momentum magnitudes, robot and target.
-        drift = {"P": _core.conserved_drift(P, float(scales[:, 0].max())), "L": _core.conserved_drift(L, float(scales[:, 1].max()))}
-    else:
-        # The balance: the external wrenches are the tidal ones (the robot's or the captured
-        # system's from the runs, the free target's from its core propagation) and the thrusters'.
-        if target.is_rigid:
-            gw_target = reference.external_wrenches(ta[: k + 1], target.mass) if gg else np.zeros((k + 1, 6))
-            seg_gw[0] = seg_gw[0] + gw_target
-        ext = np.concatenate(seg_gw) + _thruster_wrench_about_origin(robot, plant, seg_x, seg_bw, seg_combined)
-        left = np.vstack([ext[:1], ext[:-1]])
-        starts = np.cumsum([0] + [len(v) for v in seg_t])
-        for j, w0 in seg_left.items():
-            left[starts[j]] = w0
-        impulse = _cumulative_impulse(T, ext, left)
-        drift = _balance(T, P, L, impulse, scales)
-        owners = [plant if comb else robot for comb in seg_combined]
-        r_cm = np.concatenate([o.center_of_mass(xs) for o, xs in zip(owners, seg_x)])
-        v_cm = np.concatenate([np.asarray(o.momentum(xs, us).P) / o.total_mass for o, xs, us in zip(owners, seg_x, seg_u)])
-        rO, vO = orbit.propagate(T, rtol=1e-13)
-        S = np.concatenate(seg_s)
-        # The target relative to the robot's own CM (the captured payload adds no joints, so the
-        # robot's model reads every sample): one reference through the grasp, where the chaser's
-        # system CM jumps from the robot's to robot + target's.
-        X, U = np.concatenate(seg_x), np.concatenate(seg_u)
-        r_robot, v_robot = robot.center_of_mass(X), np.asarray(robot.momentum(X, U).P) / robot.total_mass
-        extra.update(
-            ledger="balance", external_wrench=ext, external_impulse=impulse, r_cm_eci=rO + r_cm, v_cm_eci=vO + v_cm,
-            target_lvlh=orbit.run_to_lvlh(T, np.hstack([r_robot, v_robot]), np.hstack([S[:, 0:3], S[:, 7:10]])),
-        )
-    return CaptureResult(
-        t=np.concatenate(seg_t), phase=np.concatenate(seg_phase), x=np.concatenate(seg_x), u=np.concatenate(seg_u),
-        tau=np.concatenate(seg_tau), base_wrench=np.concatenate(seg_bw), target=np.concatenate(seg_s), P=P, L=L,
-        grasp_wrench=np.concatenate(seg_w), impact=impact, soft_impact=soft_impact, robot=robot, captured=captured,
-        target_model=target, mode=mode, kind=kind, time_to_detumble=runs[-1].time_to_detumble,
-        residual_spin=runs[-1].residual_spin, drift=drift, **extra,
-    )
+    arrays = {key: np.concatenate(value) for key, value in seg.items()}
+    # ---- the ledger: the robot's momentum and the free target's ---------------------------------
+    X, U, S = arrays["x"], arrays["u"], arrays["target"]
+    P, L = _ledger(robot, target, X, U, S)
+    scales = robot.momentum_scales(X, U)[:, :2] + target.body.momentum_scales(S[:, :nxt], S[:, nxt:])[:, :2]
+    drift = {"P": _core.conserved_drift(P, float(scales[:, 0].max())), "L": _core.conserved_drift(L, float(scales[:, 1].max()))}
+    return CaptureResult(**arrays, P=P, L=L, grasp_wrench=np.zeros((len(arrays["t"]), 6)), impact=impact, soft_impact=None,
+                         robot=robot, captured=None, target_model=target, mode=mode, kind=kind, time_to_detumble=run.time_to_detumble,
+                         residual_spin=run.residual_spin, drift=drift, ledger="conservation", orbit=None, gravity_gradient=None)
 
 
 def _scalar(value: np.ndarray):
@@ -703,67 +573,6 @@ def _scalar(value: np.ndarray):
     return value.item() if value.ndim == 0 else value
 
 
-def _check_orbit(orbit, gravity_gradient, kind, target):
-    """``(orbit, gravity_gradient)`` checked: an orbit and a rigid, non-soft capture."""
-    if orbit is None:
-        if gravity_gradient:
-            raise ArgumentError("gravity_gradient=True needs an orbit (orbit=spacearm.Orbit...)")
-        return None, None
-    from ..orbit import Orbit
-
-    if not isinstance(orbit, Orbit):
-        raise ArgumentError(f"orbit must be a spacearm.Orbit, got {type(orbit).__name__}")
-    if kind == "soft":
-        raise ArgumentError("kind='soft' is not implemented in orbit (the core's soft-capture plant runs in empty space); "
-                            "use kind='rigid' or kind='point' with orbit=")
-    if not target.is_rigid:
-        raise ArgumentError(f"target '{target.name}' is a jointed model: a capture in orbit needs a rigid target (not implemented "
-                            "for jointed ones)")
-    return orbit, True if gravity_gradient is None else bool(gravity_gradient)
-
-
-def _orbit_at(orbit, t: float):
-    """The orbit whose point starts where ``orbit``'s is at ``t`` (a phase's run starts at its own
-    time 0), or ``None``."""
-    if orbit is None:
-        return None
-    if t == 0.0:
-        return orbit
-    from ..orbit import Orbit
-
-    r, v = orbit.propagate([float(t)], rtol=1e-13)
-    return Orbit.from_state(r[0], v[0], body=orbit.body, j2=orbit.j2)
-
-
-def _thruster_wrench_about_origin(robot, plant, seg_x, seg_bw, seg_combined) -> np.ndarray:
-    """The thrusters' wrench ``[F0; (r_0 − o) × F0 + N0]`` about the origin per sample (the
-    force acts at the base CM)."""
-    out = []
-    for xs, bw, comb in zip(seg_x, seg_bw, seg_combined):
-        owner = plant if comb else robot
-        r0 = owner.forward_kinematics(xs).com_in_world[:, 0]
-        out.append(np.hstack([bw[:, :3], np.cross(r0, bw[:, :3]) + bw[:, 3:]]))
-    return np.concatenate(out)
-
-
-def _cumulative_impulse(t, wrench, left) -> np.ndarray:
-    """``∫_0^t w dt`` at every sample (T, 6), the trapezoid rule over the samples; the interval
-    ending at sample ``j`` starts from ``left[j]`` (the previous sample's wrench, or the wrench a
-    phase's run starts with: the thrusters' jumps between phases)."""
-    dt = np.diff(t)[:, None]
-    return np.vstack([np.zeros((1, 6)), np.cumsum(0.5 * dt * (wrench[1:] + left[1:]), axis=0)])
-
-
 def _balance_residual(P, L, impulse) -> np.ndarray:
     """``[P − P(0) − ∫F, L − L(0) − ∫N]`` at every sample (T, 6)."""
     return np.hstack([P - P[0] - impulse[:, :3], L - L[0] - impulse[:, 3:]])
-
-
-def _balance(t, P, L, impulse, scales) -> dict:
-    """The momentum balance residuals ``max |c(t) − c(0) − ∫ w dt|`` (``impulse`` the integral at
-    every sample) relative to the drift's scales."""
-    res = _balance_residual(P, L, impulse)
-    res_p = np.linalg.norm(res[:, :3], axis=1).max()
-    res_l = np.linalg.norm(res[:, 3:], axis=1).max()
-    return {"P": float(res_p / max(float(scales[:, 0].max()), 1e-300)), "L": float(res_l / max(float(scales[:, 1].max()), 1e-300))}
-
