@@ -14,7 +14,7 @@ _Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 
 __version__: str
 __all__ = [
-    "ArgumentError", "CentralBody", "Orbit", "OrbitalElements", "BaseDescription", "ControllerSpec", "CONTROLLER_KINDS", "CONTROLLER_ALIASES", "TASKS", "check_spec", "controller_kind",
+    "ArgumentError", "CentralBody", "Orbit", "OrbitalElements", "BaseDescription", "ControllerSpec", "CONTROLLER_KINDS", "CONTROLLER_ALIASES", "TASKS", "check_spec", "mpc_solve", "controller_kind",
     "ClosedChainResult", "ConservedDrift", "Contact", "contacts",
     "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
     "FreeBodyReference", "GraspImpulse", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimits", "JointReference",
@@ -949,7 +949,11 @@ class ControllerSpec:
         """The spec as the TOML text of a [controller] table (the C stepper's and the FMUs' options)."""
 
 def check_spec(family: str, data: _SpecData) -> None:
-    """Check the data of a "controller", "joint_reference", "point_reference", "shaper" or "thrusters" spec."""
+    """Check the data of a "controller", "joint_reference", "point_reference", "shaper", "thrusters", "stop",
+    "mpc_problem" or "mpc_options" spec."""
+def mpc_solve(model: Model, problem: _SpecData, x0: _ArrayLike, u0: _ArrayLike, options: _SpecData,
+              states: _ArrayLike | None = None, controls: _ArrayLike | None = None) -> dict[str, Any]:
+    """One solve of the core's FDDP (spacearm.mpc.solve)."""
 def controller_kind(name: str) -> str:
     """The controller kind a name means (a kind, its hyphenated spelling, or an alias)."""
 CONTROLLER_KINDS: list[str]

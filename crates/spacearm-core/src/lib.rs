@@ -30,6 +30,8 @@
 //!   orbit and free bodies;
 //! * [`analysis`] — the singularity, workspace and redundancy analyses, the resolved-motion-rate
 //!   solver;
+//! * [`optimal`] — optimal control (beside `analysis`): the box-constrained FDDP solver on the RK4
+//!   step and its exact Jacobians, the cost terms, the run description `ProblemSpec`;
 //! * [`control`] — the controllers and their interface;
 //! * [`sim`] — the simulation loop, which runs the controllers.
 
@@ -46,6 +48,7 @@ pub mod gjm;
 pub mod io;
 pub mod math;
 pub mod model;
+pub mod optimal;
 pub mod scenario;
 pub mod sim;
 pub mod taped;

@@ -120,7 +120,7 @@ pub fn build_controller(obj: &Bound<'_, PyAny>, plant: &Model, slot: &ErrorSlot)
 }
 
 /// Check the data of a spec of `family` (`"controller"`, `"joint_reference"`,
-/// `"point_reference"`, `"shaper"`, `"thrusters"`, `"stop"`) without running anything: what the
+/// `"point_reference"`, `"shaper"`, `"thrusters"`, `"stop"`, `"mpc_problem"`, `"mpc_options"`) without running anything: what the
 /// `spacearm.control` classes call when they are made, so that a wrong value is refused there,
 /// by the core's checks.
 #[pyfunction]
@@ -132,6 +132,8 @@ pub fn check_spec(py: Python<'_>, family: &str, data: &Bound<'_, PyAny>) -> PyRe
         "shaper" => from_data::<ShaperSpec>(data, "input shaper")?.build().map(drop),
         "thrusters" => from_data::<ThrusterLimitsSpec>(data, "thrusters")?.build().map(drop),
         "stop" => spacearm_core::sim::events::validate(&[from_data(data, "stop")?]),
+        "mpc_problem" => from_data::<spacearm_core::optimal::ProblemSpec>(data, "mpc problem")?.validate(),
+        "mpc_options" => from_data::<spacearm_core::optimal::SolverOptions>(data, "mpc solver options")?.validate(),
         other => return Err(to_py_err(py, bad(format!("unknown spec family {other:?}")))),
     }
     .or_raise(py)

@@ -22,6 +22,7 @@ mod errors_py;
 mod interrupt;
 mod model_io_py;
 mod model_py;
+mod mpc_py;
 mod orbit_py;
 mod records_py;
 mod rollout_py;
@@ -92,7 +93,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     add_to_module!(
         m,
         functions: [
-            simulate_py::simulate, rollout_py::rollout, controller_spec_py::check_spec,
+            simulate_py::simulate, rollout_py::rollout, controller_spec_py::check_spec, mpc_py::mpc_solve,
             simulate_py::perturbed, simulate_py::conserved_drift, simulate_py::default_wheel_dofs,
         ],
         classes: [

@@ -1,0 +1,87 @@
+#!/usr/bin/env python
+"""spacearm's DDP (spacearm.mpc.solve: the core's box-FDDP on its RK4 step and exact
+derivatives) against CasADi/IPOPT on the same problem (single shooting on
+spacearm.casadi.rk4_step, the same cost and torque bound; exact Hessian, and the
+limited-memory Hessian of examples/mpc_receding_horizon.py): planar4, a joint goal, horizon
+``--horizon`` steps of ``--dt`` s.
+
+Interleaved rounds (one solve of each per round, in turn), cold solves from zero torques, plus
+spacearm's warm-started solve (from its own solution of a goal moved by 1 mrad: one MPC step);
+prints medians, minima, ratios and the optimum each reached (they must agree).
+
+    python benchmarks/mpc_ddp.py --rounds 20
+"""
+
+import argparse
+import math
+import time
+
+import numpy as np
+
+import spacearm
+import spacearm.mpc as mpc
+
+W_Q, W_QD, W_C, W_QT, W_QDT = 1.0, 0.1, 1e-3, 100.0, 10.0
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--rounds", type=int, default=20)
+    parser.add_argument("--horizon", type=int, default=10)
+    parser.add_argument("--dt", type=float, default=0.1)
+    parser.add_argument("--limit", type=float, default=0.5, help="torque bound, N·m (inf: none)")
+    args = parser.parse_args()
+    import casadi as ca
+    import spacearm.casadi as sc
+
+    robot = spacearm.presets.planar4()
+    n, t, dt = robot.n_dof, args.horizon, args.dt
+    goal = robot.initial_q + np.array([0.4, -0.3, 0.3, -0.2])
+
+    def problem(g):
+        return mpc.Problem(horizon=t, dt=dt, running=[mpc.JointCost(W_Q, g, weight_qd=W_QD), mpc.ControlCost(W_C)],
+                           terminal=[mpc.JointCost(W_QT, g, weight_qd=W_QDT)], control_limit=args.limit)
+
+    step = sc.rk4_step(robot)
+    taus = ca.MX.sym("tau", n, t)
+    x, u = ca.DM(robot.neutral_configuration()), ca.DM(robot.zero_velocity())
+    cost = 0
+    for k in range(t):
+        cost += dt * (0.5 * W_Q * ca.sumsqr(x[7:] - goal) + 0.5 * W_QD * ca.sumsqr(u[6:]) + 0.5 * W_C * ca.sumsqr(taus[:, k]))
+        x, u = step(x, u, taus[:, k], ca.DM.zeros(6), dt)
+    cost += 0.5 * W_QT * ca.sumsqr(x[7:] - goal) + 0.5 * W_QDT * ca.sumsqr(u[6:])
+    bound = args.limit if math.isfinite(args.limit) else ca.inf
+    solvers = {}
+    for name, hess in (("IPOPT exact Hessian", "exact"), ("IPOPT limited-memory", "limited-memory")):
+        solvers[name] = ca.nlpsol(hess.replace("-", "_"), "ipopt", {"x": ca.vec(taus), "f": cost}, {"print_time": False, "ipopt": {
+            "print_level": 0, "sb": "yes", "tol": 1e-8, "max_iter": 500, "hessian_approximation": hess}})
+
+    p, p_moved = problem(goal), problem(goal + 1e-3)
+    previous = mpc.solve(robot, p_moved)
+    times = {k: [] for k in ["spacearm DDP (cold)", "spacearm DDP (warm)", *solvers]}
+    optimum = {}
+    for _ in range(args.rounds):
+        start = time.perf_counter()
+        sol = mpc.solve(robot, p)
+        times["spacearm DDP (cold)"].append(time.perf_counter() - start)
+        optimum["spacearm DDP (cold)"] = (sol.cost, sol.iterations, sol.stop)
+        start = time.perf_counter()
+        warm = mpc.solve(robot, p, warm_start=previous)
+        times["spacearm DDP (warm)"].append(time.perf_counter() - start)
+        optimum["spacearm DDP (warm)"] = (warm.cost, warm.iterations, warm.stop)
+        for name, s in solvers.items():
+            start = time.perf_counter()
+            res = s(x0=np.zeros(n * t), lbx=-bound, ubx=bound)
+            times[name].append(time.perf_counter() - start)
+            optimum[name] = (float(res["f"]), s.stats()["iter_count"], s.stats()["return_status"])
+    base = np.median(times["spacearm DDP (cold)"])
+    print(f"planar4, horizon {t} x {dt:g} s, |tau| <= {args.limit:g}, {args.rounds} interleaved rounds (wall time per solve)")
+    print(f"{'solver':28s} {'median':>10s} {'min':>10s} {'/ DDP cold':>11s}   cost, iterations, status")
+    for name, ts in times.items():
+        ts = np.array(ts) * 1e3
+        c, it, st = optimum[name]
+        print(f"{name:28s} {np.median(ts):8.3f}ms {ts.min():8.3f}ms {np.median(ts) / (base * 1e3):10.2f}x   {c:.10g}, {it}, {st}")
+
+
+if __name__ == "__main__":
+    main()

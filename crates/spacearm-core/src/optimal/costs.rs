@@ -1,0 +1,363 @@
+//! The cost terms of an optimal-control problem ([`CostSpec`], serde data of the run
+//! description [`super::problem::ProblemSpec`]) and their derivatives in the tangent space
+//! ([`super::state`]). Each term is a weighted least-squares residual `ℓ = ½ Σᵢ wᵢ rᵢ²`; its
+//! gradient is exact, its Hessian the Gauss–Newton `Jᵀ W J` (docs/mpc.md):
+//!
+//! * `state`: `r = z ⊖ z_ref` (`2(6+N)` weights on `[δr0, δθ, δq, δv0, δω0, δq̇]`), with
+//!   `J = blkdiag(E₃, J_l⁻¹(r_θ), E)` (`r_θ = log(quat ⊗ quat_ref*)`, the inverse left
+//!   Jacobian of SO(3));
+//! * `joint`: the same on `q` and `q̇` only;
+//! * `base_attitude`: the same on `δθ` and `ω0` only — the base attitude disturbance (a
+//!   reactionless objective when the reference is the initial attitude);
+//! * `point`: `r = p(x) − p_target` of a point fixed to a body, `J = [E₃, −(p − r0)~, J_m]` in
+//!   the configuration's tangent coordinates (the point Jacobian, paper eqs. 104–108, whose
+//!   tangent derivative is the velocity Jacobian because `δẋ = u`, docs/derivatives.md);
+//! * `control`: `r = c − c_ref` (the torque and thrust regularization).
+
+use nalgebra::{DMatrix, DVector, Vector3};
+use serde::{Deserialize, Serialize};
+
+use super::state::{so3_left_jacobian_inverse, StateSpace};
+use crate::algorithms::kinematics::{forward_kinematics, point_jacobians, point_position};
+use crate::error::{Result, SpacearmError};
+use crate::model::{Data, Model};
+
+/// One number for all, or one each.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Numbers {
+    /// The same value for every entry.
+    One(f64),
+    /// One value per entry.
+    Each(Vec<f64>),
+}
+
+impl Numbers {
+    /// The values for `len` entries, each finite (or `±∞` when `infinite_ok`) and, when
+    /// `nonnegative`, `≥ 0`; `what` names them in errors.
+    pub fn expand(&self, len: usize, what: &str, nonnegative: bool, infinite_ok: bool) -> Result<Vec<f64>> {
+        let v = match self {
+            Numbers::One(x) => vec![*x; len],
+            Numbers::Each(v) if v.len() == len => v.clone(),
+            Numbers::Each(v) => return Err(SpacearmError::argument(format!("{what}: expected one number or {len}, got {}", v.len()))),
+        };
+        for x in &v {
+            if x.is_nan() || (!infinite_ok && x.is_infinite()) {
+                return Err(SpacearmError::argument(format!("{what} must be finite numbers, got {x}")));
+            }
+            if nonnegative && *x < 0.0 {
+                return Err(SpacearmError::argument(format!("{what} must be ≥ 0, got {x}")));
+            }
+        }
+        Ok(v)
+    }
+}
+
+/// A body by index (0 is the base) or by name.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum BodyRef {
+    /// The body's index.
+    Index(usize),
+    /// The body's (link's) name.
+    Name(String),
+}
+
+fn zero() -> Numbers {
+    Numbers::One(0.0)
+}
+
+fn identity_quaternion() -> [f64; 4] {
+    [0.0, 0.0, 0.0, 1.0]
+}
+
+/// A cost term as data (module docs); the serde tag `kind` names it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum CostSpec {
+    /// `½ Σ wᵢ (z ⊖ z_ref)ᵢ²` over the whole state.
+    State {
+        /// `2(6+N)` weights (or one) on `[δr0, δθ, δq, δv0, δω0, δq̇]`.
+        weights: Numbers,
+        /// `z_ref = [x_ref (7+N); u_ref (6+N)]`.
+        reference: Vec<f64>,
+    },
+    /// `½ Σ w_q (q − q_ref)² + ½ Σ w_q̇ (q̇ − q̇_ref)²`.
+    Joint {
+        /// Weights on the joint positions (one or N), 1/rad².
+        weight_q: Numbers,
+        /// The joint positions `q_ref` (N).
+        reference: Vec<f64>,
+        /// Weights on the joint rates (one or N; default 0).
+        #[serde(default = "zero")]
+        weight_qd: Numbers,
+        /// The joint rates `q̇_ref` (N; default zeros).
+        #[serde(default)]
+        velocity_reference: Option<Vec<f64>>,
+    },
+    /// `½ w |log(quat ⊗ quat_ref*)|² + ½ w_ω |ω0|²`: the base attitude disturbance.
+    BaseAttitude {
+        /// Weight on the attitude error.
+        weight: f64,
+        /// Weight on the base angular velocity (default 0).
+        #[serde(default)]
+        rate_weight: f64,
+        /// `quat_ref` `[x, y, z, w]` (default: the identity).
+        #[serde(default = "identity_quaternion")]
+        reference: [f64; 4],
+    },
+    /// `½ Σ wᵢ (p(x) − p_target)ᵢ²` of a point fixed to a body.
+    Point {
+        /// The body (index, 0 the base, or link name).
+        body: BodyRef,
+        /// The point's offset from the body's CM in its frame, m (default: the CM).
+        #[serde(default)]
+        offset: [f64; 3],
+        /// The target position in 𝒥, m.
+        target: [f64; 3],
+        /// Weights (one or three), 1/m².
+        weight: Numbers,
+    },
+    /// `½ Σ wᵢ (c − c_ref)ᵢ²` on the controls (running costs only).
+    Control {
+        /// Weights (one or m).
+        weights: Numbers,
+        /// `c_ref` (m; default zeros).
+        #[serde(default)]
+        reference: Option<Vec<f64>>,
+    },
+}
+
+/// A cost term checked against a model and its controls.
+#[derive(Debug, Clone)]
+pub enum Cost {
+    /// `½ Σ wᵢ (z ⊖ z_ref)ᵢ²` (`state`, `joint`, `base_attitude`).
+    Tangent {
+        /// Weights (`nd`).
+        weights: Vec<f64>,
+        /// `z_ref`.
+        reference: Vec<f64>,
+    },
+    /// A point's position.
+    Point {
+        /// Body index.
+        body: usize,
+        /// Offset, m.
+        offset: Vector3<f64>,
+        /// Target, m.
+        target: Vector3<f64>,
+        /// Weights.
+        weights: Vector3<f64>,
+    },
+    /// The controls.
+    Control {
+        /// Weights (`m`).
+        weights: Vec<f64>,
+        /// `c_ref`.
+        reference: Vec<f64>,
+    },
+}
+
+fn check_len(what: &str, v: &[f64], len: usize) -> Result<()> {
+    if v.len() != len {
+        return Err(SpacearmError::argument(format!("{what}: expected {len} numbers, got {}", v.len())));
+    }
+    if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+        return Err(SpacearmError::argument(format!("{what} must be finite, got {x}")));
+    }
+    Ok(())
+}
+
+impl CostSpec {
+    /// The term checked against `model` with `m` controls; `terminal`: a terminal cost (no controls).
+    pub fn build(&self, model: &Model, m: usize, terminal: bool) -> Result<Cost> {
+        let s = StateSpace { n: model.n_dof() };
+        let n = s.n;
+        let neutral_z = || {
+            let mut z = vec![0.0; s.nz()];
+            z[6] = 1.0;
+            z
+        };
+        Ok(match self {
+            CostSpec::State { weights, reference } => {
+                check_len("a state cost's reference [x; u]", reference, s.nz())?;
+                let q = &reference[3..7];
+                let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+                if (norm - 1.0).abs() > 1e-6 {
+                    return Err(SpacearmError::argument(format!("a state cost's reference quaternion must have norm 1, got {norm}")));
+                }
+                Cost::Tangent { weights: weights.expand(s.nd(), "a state cost's weights", true, false)?, reference: reference.clone() }
+            }
+            CostSpec::Joint { weight_q, reference, weight_qd, velocity_reference } => {
+                check_len("a joint cost's reference", reference, n)?;
+                let mut z = neutral_z();
+                z[7..7 + n].copy_from_slice(reference);
+                if let Some(v) = velocity_reference {
+                    check_len("a joint cost's velocity_reference", v, n)?;
+                    z[s.nx() + 6..].copy_from_slice(v);
+                }
+                let mut w = vec![0.0; s.nd()];
+                w[6..6 + n].copy_from_slice(&weight_q.expand(n, "a joint cost's weight_q", true, false)?);
+                w[12 + n..].copy_from_slice(&weight_qd.expand(n, "a joint cost's weight_qd", true, false)?);
+                Cost::Tangent { weights: w, reference: z }
+            }
+            CostSpec::BaseAttitude { weight, rate_weight, reference } => {
+                let norm = reference.iter().map(|v| v * v).sum::<f64>().sqrt();
+                if !(weight.is_finite() && *weight >= 0.0 && rate_weight.is_finite() && *rate_weight >= 0.0) {
+                    return Err(SpacearmError::argument(format!("a base_attitude cost's weights must be finite and ≥ 0, got {weight}, {rate_weight}")));
+                }
+                if !norm.is_finite() || (norm - 1.0).abs() > 1e-6 {
+                    return Err(SpacearmError::argument(format!("a base_attitude cost's reference quaternion must have norm 1, got {norm}")));
+                }
+                let mut z = neutral_z();
+                z[3..7].copy_from_slice(reference);
+                let mut w = vec![0.0; s.nd()];
+                w[3..6].fill(*weight);
+                w[9 + n..12 + n].fill(*rate_weight);
+                Cost::Tangent { weights: w, reference: z }
+            }
+            CostSpec::Point { body, offset, target, weight } => {
+                let body = match body {
+                    BodyRef::Index(i) if *i < model.n_bodies() => *i,
+                    BodyRef::Index(i) => return Err(SpacearmError::argument(format!("a point cost's body {i} does not exist (0..={})", model.n_bodies() - 1))),
+                    BodyRef::Name(name) => model.body_index(name)?,
+                };
+                check_len("a point cost's offset", offset, 3)?;
+                check_len("a point cost's target", target, 3)?;
+                let w = weight.expand(3, "a point cost's weight", true, false)?;
+                Cost::Point { body, offset: Vector3::from(*offset), target: Vector3::from(*target), weights: Vector3::new(w[0], w[1], w[2]) }
+            }
+            CostSpec::Control { weights, reference } => {
+                if terminal {
+                    return Err(SpacearmError::argument("a control cost cannot be a terminal cost (there is no control at the last knot)"));
+                }
+                let reference = match reference {
+                    Some(r) => {
+                        check_len("a control cost's reference", r, m)?;
+                        r.clone()
+                    }
+                    None => vec![0.0; m],
+                };
+                Cost::Control { weights: weights.expand(m, "a control cost's weights", true, false)?, reference }
+            }
+        })
+    }
+}
+
+/// Workspaces of the cost terms.
+pub struct CostWork {
+    space: StateSpace,
+    data: Data,
+    r: Vec<f64>,
+}
+
+impl CostWork {
+    /// Workspaces for `model`.
+    pub fn new(model: &Model) -> Self {
+        let space = StateSpace { n: model.n_dof() };
+        CostWork { space, data: Data::new(model), r: vec![0.0; space.nd()] }
+    }
+}
+
+/// The total cost of `costs` at `(z, c)` times `scale` (`c`: empty at the terminal knot).
+pub fn cost_value(model: &Model, work: &mut CostWork, costs: &[Cost], z: &[f64], c: &[f64], scale: f64) -> Result<f64> {
+    let mut total = 0.0;
+    let mut kinematics = false;
+    for cost in costs {
+        total += match cost {
+            Cost::Tangent { weights, reference } => {
+                work.space.diff(reference, z, &mut work.r);
+                0.5 * weights.iter().zip(&work.r).map(|(w, r)| w * r * r).sum::<f64>()
+            }
+            Cost::Point { body, offset, target, weights } => {
+                if !kinematics {
+                    forward_kinematics(model, &mut work.data, &z[..work.space.nx()])?;
+                    kinematics = true;
+                }
+                let r = point_position(&work.data, *body, offset) - target;
+                0.5 * weights.component_mul(&r).dot(&r)
+            }
+            Cost::Control { weights, reference } => 0.5 * weights.iter().zip(c).zip(reference).map(|((w, c), r)| w * (c - r) * (c - r)).sum::<f64>(),
+        };
+    }
+    Ok(scale * total)
+}
+
+/// Add `scale` times the gradients and Gauss–Newton Hessians of `costs` at `(z, c)` to `lz`,
+/// `lc`, `lzz`, `lcc` (module docs); returns the cost times `scale`.
+#[allow(clippy::too_many_arguments)]
+pub fn cost_derivatives(
+    model: &Model,
+    work: &mut CostWork,
+    costs: &[Cost],
+    z: &[f64],
+    c: &[f64],
+    scale: f64,
+    lz: &mut DVector<f64>,
+    lc: &mut DVector<f64>,
+    lzz: &mut DMatrix<f64>,
+    lcc: &mut DMatrix<f64>,
+) -> Result<f64> {
+    let space = work.space;
+    let mut total = 0.0;
+    let mut kinematics = false;
+    for cost in costs {
+        match cost {
+            Cost::Tangent { weights, reference } => {
+                space.diff(reference, z, &mut work.r);
+                total += 0.5 * weights.iter().zip(&work.r).map(|(w, r)| w * r * r).sum::<f64>() * scale;
+                // J = blkdiag(E, J_l⁻¹(r_θ), E): every entry but the attitude's is diagonal.
+                for (i, (w, r)) in weights.iter().zip(&work.r).enumerate() {
+                    if (3..6).contains(&i) {
+                        continue;
+                    }
+                    lz[i] += scale * w * r;
+                    lzz[(i, i)] += scale * w;
+                }
+                let wa = nalgebra::Matrix3::from_diagonal(&Vector3::new(weights[3], weights[4], weights[5]));
+                if wa.iter().any(|v| *v != 0.0) {
+                    let rt = Vector3::new(work.r[3], work.r[4], work.r[5]);
+                    let j = so3_left_jacobian_inverse(&rt);
+                    let g = j.transpose() * wa * rt * scale;
+                    let h = j.transpose() * wa * j * scale;
+                    for a in 0..3 {
+                        lz[3 + a] += g[a];
+                        for b in 0..3 {
+                            lzz[(3 + a, 3 + b)] += h[(a, b)];
+                        }
+                    }
+                }
+            }
+            Cost::Point { body, offset, target, weights } => {
+                if !kinematics {
+                    forward_kinematics(model, &mut work.data, &z[..space.nx()])?;
+                    kinematics = true;
+                }
+                let p = point_position(&work.data, *body, offset);
+                let r = p - target;
+                total += 0.5 * weights.component_mul(&r).dot(&r) * scale;
+                let (j0, jm) = point_jacobians(model, &work.data, *body, offset)?;
+                // Tangent columns [δr0, δθ, δq] of the configuration: the linear rows.
+                let mut j = DMatrix::zeros(3, space.nu());
+                j.view_mut((0, 0), (3, 6)).copy_from(&j0.fixed_view::<3, 6>(0, 0));
+                j.view_mut((0, 6), (3, space.n)).copy_from(&jm.rows(0, 3));
+                let wj = DMatrix::from_diagonal(&DVector::from_column_slice(weights.as_slice())) * &j;
+                let g = wj.transpose() * DVector::from_column_slice(r.as_slice()) * scale;
+                let h = j.transpose() * wj * scale;
+                let nu = space.nu();
+                let mut lzx = lz.rows_mut(0, nu);
+                lzx += g;
+                let mut lzzx = lzz.view_mut((0, 0), (nu, nu));
+                lzzx += h;
+            }
+            Cost::Control { weights, reference } => {
+                for (i, ((w, ci), r)) in weights.iter().zip(c).zip(reference).enumerate() {
+                    total += 0.5 * w * (ci - r) * (ci - r) * scale;
+                    lc[i] += scale * w * (ci - r);
+                    lcc[(i, i)] += scale * w;
+                }
+            }
+        }
+    }
+    Ok(total)
+}

@@ -1,0 +1,229 @@
+//! The discrete dynamics `z_{k+1} = Φ(z_k, c_k)`: one classical Runge–Kutta 4 step of length
+//! `h` with `c` held, the quaternion renormalised at every stage and at the end — the step of
+//! the native simulator (`math::integrate::Rk4` on `sim::plant`, `integrator = "rk4"`) and of
+//! `spacearm.casadi.rk4_step`, so that a solution re-simulates without a discretisation
+//! mismatch.
+//!
+//! Jacobians by the chain rule through the stages, in ambient coordinates (docs/mpc.md):
+//! with `Z_i = ∂s_i/∂(δz, c)` the sensitivity of stage value `s_i` and `K_i = ∂k_i/∂(δz, c)`,
+//!
+//! `Z_1 = [E(z) | 0]`, `K_i = ∂F/∂z(s_i) Z_i + [0 | ∂F/∂c(s_i)]`,
+//! `Z_2 = N(p_2)(Z_1 + h/2 K_1)`, `Z_3 = N(p_3)(Z_1 + h/2 K_2)`, `Z_4 = N(p_4)(Z_1 + h K_3)`,
+//! `∂z⁺ = N(p⁺)(Z_1 + h/6 (K_1 + 2K_2 + 2K_3 + K_4))`,
+//!
+//! where `N(p) = (E₄ − p̂ p̂ᵀ)/|p|` on the quaternion rows (the derivative of the
+//! renormalisation `p ↦ p/|p|` at the pre-normalised value `p`, identity elsewhere) and
+//! `E(z)` maps the tangent increment to the ambient one ([`super::state`]). The tangent
+//! Jacobians are then `A = T(z⁺) ∂z⁺/∂δz` and `B = T(z⁺) ∂z⁺/∂c`.
+
+use nalgebra::{DMatrix, Vector4};
+
+use super::dynamics::Dynamics;
+use crate::error::Result;
+use crate::model::Model;
+
+/// Workspaces of the RK4 step and its Jacobians.
+pub struct Rk4Discretization {
+    /// The continuous dynamics.
+    pub dynamics: Dynamics,
+    /// The step, s.
+    pub h: f64,
+    k: [Vec<f64>; 4],
+    stage: Vec<f64>,
+    jz: DMatrix<f64>,
+    jc: DMatrix<f64>,
+    z1: DMatrix<f64>,
+    zi: DMatrix<f64>,
+    ki: [DMatrix<f64>; 4],
+    acc: DMatrix<f64>,
+    tan: DMatrix<f64>,
+}
+
+impl Rk4Discretization {
+    /// Workspaces for steps of `h` seconds of `dynamics`.
+    pub fn new(dynamics: Dynamics, h: f64) -> Self {
+        let (nz, nd, m) = (dynamics.space.nz(), dynamics.space.nd(), dynamics.controls.len());
+        let mat = || DMatrix::zeros(nz, nd + m);
+        Rk4Discretization {
+            h,
+            k: std::array::from_fn(|_| vec![0.0; nz]),
+            stage: vec![0.0; nz],
+            jz: DMatrix::zeros(nz, nz),
+            jc: DMatrix::zeros(nz, m),
+            z1: mat(),
+            zi: mat(),
+            ki: std::array::from_fn(|_| mat()),
+            acc: mat(),
+            tan: DMatrix::zeros(nd, nz),
+            dynamics,
+        }
+    }
+
+    /// `z⁺ = Φ(z, c)` into `next`.
+    pub fn step(&mut self, model: &Model, z: &[f64], c: &[f64], next: &mut [f64]) -> Result<()> {
+        let h = self.h;
+        self.dynamics.rhs(model, z, c, &mut self.k[0])?;
+        for (i, a) in [(1usize, 0.5 * h), (2, 0.5 * h), (3, h)] {
+            combine(&mut self.stage, z, a, &self.k[i - 1]);
+            normalize_quaternion(&mut self.stage);
+            self.dynamics.rhs(model, &self.stage, c, &mut self.k[i])?;
+        }
+        for j in 0..z.len() {
+            next[j] = z[j] + h / 6.0 * (self.k[0][j] + 2.0 * self.k[1][j] + 2.0 * self.k[2][j] + self.k[3][j]);
+        }
+        normalize_quaternion(next);
+        Ok(())
+    }
+
+    /// `z⁺ = Φ(z, c)` into `next` and the tangent Jacobians `A = ∂z⁺/∂δz` into `a` (`nd × nd`)
+    /// and `B = ∂z⁺/∂c` into `b` (`nd × m`) (module docs). `z` has a unit quaternion.
+    pub fn step_derivatives(&mut self, model: &Model, z: &[f64], c: &[f64], next: &mut [f64], a: &mut DMatrix<f64>, b: &mut DMatrix<f64>) -> Result<()> {
+        let h = self.h;
+        let space = self.dynamics.space;
+        let (nd, m) = (space.nd(), self.dynamics.controls.len());
+        let mut e = DMatrix::zeros(space.nz(), nd);
+        space.ambient_from_tangent(z, &mut e);
+        self.z1.fill(0.0);
+        self.z1.columns_mut(0, nd).copy_from(&e);
+        self.stage.copy_from_slice(z);
+        for i in 0..4 {
+            if i > 0 {
+                let coef = if i == 3 { h } else { 0.5 * h };
+                combine(&mut self.stage, z, coef, &self.k[i - 1]);
+                // Z_i = N(p_i) (Z_1 + coef K_{i-1}), p_i the stage before renormalisation.
+                self.zi.copy_from(&self.z1);
+                self.zi += &self.ki[i - 1] * coef;
+                normalization_jacobian_rows(&self.stage, &mut self.zi);
+                normalize_quaternion(&mut self.stage);
+            } else {
+                self.zi.copy_from(&self.z1);
+            }
+            self.dynamics.rhs_jacobian(model, &self.stage, c, &mut self.k[i], &mut self.jz, &mut self.jc)?;
+            let ki = &mut self.ki[i];
+            ki.gemm(1.0, &self.jz, &self.zi, 0.0);
+            let mut kc = ki.columns_mut(nd, m);
+            kc += &self.jc;
+        }
+        for j in 0..z.len() {
+            next[j] = z[j] + h / 6.0 * (self.k[0][j] + 2.0 * self.k[1][j] + 2.0 * self.k[2][j] + self.k[3][j]);
+        }
+        self.acc.copy_from(&self.z1);
+        for (i, w) in [1.0, 2.0, 2.0, 1.0].iter().enumerate() {
+            self.acc += &self.ki[i] * (h / 6.0 * w);
+        }
+        normalization_jacobian_rows(next, &mut self.acc);
+        normalize_quaternion(next);
+        space.tangent_from_ambient(next, &mut self.tan);
+        a.gemm(1.0, &self.tan, &self.acc.columns(0, nd), 0.0);
+        b.gemm(1.0, &self.tan, &self.acc.columns(nd, m), 0.0);
+        Ok(())
+    }
+}
+
+/// `out = z + a k`.
+fn combine(out: &mut [f64], z: &[f64], a: f64, k: &[f64]) {
+    for ((o, zi), ki) in out.iter_mut().zip(z).zip(k) {
+        *o = zi + a * ki;
+    }
+}
+
+/// The quaternion `z[3..7]` divided by its norm.
+fn normalize_quaternion(z: &mut [f64]) {
+    crate::math::rotations::normalize_xyzw(&mut z[3..7]);
+}
+
+/// Rows 3..7 of `m` ← `N(p) m[3..7, :]` with `N(p) = (E₄ − p̂ p̂ᵀ)/|p|`, `p = z[3..7]` (before
+/// the renormalisation).
+fn normalization_jacobian_rows(z: &[f64], m: &mut DMatrix<f64>) {
+    let p = Vector4::new(z[3], z[4], z[5], z[6]);
+    let norm = p.norm();
+    let ph = p / norm;
+    let rows = m.rows(3, 4).into_owned();
+    let proj = (nalgebra::Matrix4::identity() - ph * ph.transpose()) / norm;
+    m.rows_mut(3, 4).copy_from(&(proj * rows));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::presets;
+    use crate::scenario::modes::Mode;
+
+    /// `A` and `B` against central differences of the step in tangent coordinates, for a
+    /// spatial arm in every mode with controls, at a tumbling, moving state.
+    #[test]
+    fn step_jacobians_match_finite_differences() {
+        let model = presets::spatial6();
+        for mode in [Mode::Floating, Mode::RotationFlying, Mode::Flying] {
+            let dynamics = Dynamics::new(&model, mode).unwrap();
+            let space = dynamics.space;
+            let m = dynamics.controls.len();
+            let mut disc = Rk4Discretization::new(dynamics, 0.05);
+            let (nz, nd) = (space.nz(), space.nd());
+            let q = {
+                let q = [0.2, -0.1, 0.3, 0.9];
+                let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+                q.map(|v| v / n)
+            };
+            let mut z = vec![0.0; nz];
+            z[0..3].copy_from_slice(&[0.1, -0.2, 0.3]);
+            z[3..7].copy_from_slice(&q);
+            for i in 7..nz {
+                z[i] = 0.3 * ((i * 7) as f64).sin();
+            }
+            let c: Vec<f64> = (0..m).map(|i| 2.0 * ((i * 3 + 1) as f64).cos()).collect();
+            let (mut a, mut b) = (DMatrix::zeros(nd, nd), DMatrix::zeros(nd, m));
+            let mut next = vec![0.0; nz];
+            disc.step_derivatives(&model, &z, &c, &mut next, &mut a, &mut b).unwrap();
+            let mut plain = vec![0.0; nz];
+            disc.step(&model, &z, &c, &mut plain).unwrap();
+            for (p, n) in plain.iter().zip(&next) {
+                // ABA and H⁻¹(f − c) agree to rounding (~1e-12 here: H is ill-conditioned).
+                assert!((p - n).abs() < 1e-9 * (1.0 + p.abs()), "{mode:?}: the two steps differ: {p} vs {n}");
+            }
+            // The accelerations carry rounding noise of ~1e-12 (ill-conditioned H): a step
+            // where that noise over eps and the truncation error eps² are both ~1e-8.
+            let eps = 1e-4;
+            let (mut zp, mut zm, mut np, mut nm) = (vec![0.0; nz], vec![0.0; nz], vec![0.0; nz], vec![0.0; nz]);
+            let (mut dp, mut dm) = (vec![0.0; nd], vec![0.0; nd]);
+            let mut worst: f64 = 0.0;
+            let mut at = (0, 0, 0.0, 0.0);
+            // Central differences with Richardson extrapolation, (4 D(ε/2) − D(ε)) / 3.
+            let mut column = |j: usize, eps: f64| -> Vec<f64> {
+                let mut d = vec![0.0; nd];
+                let (mut cp, mut cm) = (c.clone(), c.clone());
+                if j < nd {
+                    d[j] = eps;
+                    space.integrate(&z, &d, &mut zp);
+                    d[j] = -eps;
+                    space.integrate(&z, &d, &mut zm);
+                } else {
+                    zp.copy_from_slice(&z);
+                    zm.copy_from_slice(&z);
+                    cp[j - nd] += eps;
+                    cm[j - nd] -= eps;
+                }
+                disc.step(&model, &zp, &cp, &mut np).unwrap();
+                disc.step(&model, &zm, &cm, &mut nm).unwrap();
+                space.diff(&next, &np, &mut dp);
+                space.diff(&next, &nm, &mut dm);
+                (0..nd).map(|i| (dp[i] - dm[i]) / (2.0 * eps)).collect()
+            };
+            for j in 0..nd + m {
+                let (coarse, fine) = (column(j, eps), column(j, eps / 2.0));
+                for i in 0..nd {
+                    let fd = (4.0 * fine[i] - coarse[i]) / 3.0;
+                    let an = if j < nd { a[(i, j)] } else { b[(i, j - nd)] };
+                    let e = (fd - an).abs() / (1.0 + an.abs());
+                    if e > worst {
+                        worst = e;
+                        at = (i, j, fd, an);
+                    }
+                }
+            }
+            assert!(worst < 1e-6, "{mode:?}: largest relative difference {worst:e} at {at:?}");
+            assert!(a.norm() > 1.0 && b.norm() > 1e-3, "{mode:?}: a trivial Jacobian");
+        }
+    }
+}
+
