@@ -22,6 +22,8 @@ __all__ = ["ControllerModule", "GravityGradientModule"]
 _sys_model = _bsk.sys_model()
 _messaging = _bsk.messaging()
 _NANO = 1e-9
+#: The modes whose base wrench is always zero (docs/modes.md): no base actuators needed.
+_NO_THRUSTERS = ("floating", "rotation-floating")
 
 
 def _check(robot, actuators):
@@ -46,7 +48,10 @@ class ControllerModule(_sys_model.SysModel):
     actuators): the command is held until the next call (sample and hold at the task rate).
     ``t`` is the simulation time minus ``t_start`` (s). Put the module in a task that runs after
     the scene's (a lower priority, or added after it), so that it reads the state at its own
-    time. ``last_command`` holds the last ``(tau, base_wrench)``.
+    time. ``last_command`` holds the last ``(tau, base_wrench)``. A law that does not fit the
+    plant or the mode is refused here, when the module is made; an error inside Basilisk's
+    ``Reset`` or ``UpdateState`` reaches the caller as SWIG's ``RuntimeError``, the spacearm
+    message printed above it.
     """
 
     def __init__(self, robot, controller, scene, actuators, *, mode: str = "floating", wheels=None,
@@ -61,6 +66,12 @@ class ControllerModule(_sys_model.SysModel):
         # The core evaluates the law: a Simulator's plant, never stepped (dt plays no part).
         self._sim = Simulator(robot, controller=controller, mode=mode, wheels=wheels, thrusters=thrusters,
                               joint_limits=joint_limits)
+        # The core's setup checks (law against plant and mode) here, not inside Basilisk's Reset
+        # (where SWIG would turn them into a bare RuntimeError).
+        self._sim.reset(robot.neutral_configuration(), robot.zero_velocity())
+        if mode not in _NO_THRUSTERS and not actuators.base:
+            raise ArgumentError(f"mode {mode!r} commands a base wrench but the scene has no base actuators: "
+                                "make it with to_mjscene(robot, base_actuators=True)")
         self.actuatorOutMsgs = {}
         for name in actuators.names:
             msg = _messaging.SingleActuatorMsg()
