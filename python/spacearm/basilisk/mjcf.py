@@ -84,7 +84,7 @@ def from_mjcf(source, *, root=None, name=None) -> Robot:
         top = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, str(root))
         if top not in free:
             raise ModelError(f"{where}: root={root!r} is not a body of the world; they are {[body_name(b) for b in free]}")
-    if m.body_jntnum[top] != 1 or m.jnt_type[m.body_jntadr[top]] != mujoco.mjtJoint.mjJNT_FREE:
+    if m.body_jntnum[top] != 1 or int(m.jnt_type[m.body_jntadr[top]]) != int(mujoco.mjtJoint.mjJNT_FREE):
         raise ModelError(f"{where}: the root body '{body_name(top)}' must carry one <freejoint> (a spacecraft flies free); "
                          "a body fixed to the world cannot be imported")
     if m.ntendon:
@@ -96,7 +96,7 @@ def from_mjcf(source, *, root=None, name=None) -> Robot:
     for b in range(top + 1, m.nbody):  # MuJoCo numbers bodies parents first
         if m.body_parentid[b] in subtree:
             subtree.append(b)
-    actuated = {int(m.actuator_trnid[a, 0]) for a in range(m.nu) if m.actuator_trntype[a] == mujoco.mjtTrn.mjTRN_JOINT}
+    actuated = {int(m.actuator_trnid[a, 0]) for a in range(m.nu) if int(m.actuator_trntype[a]) == int(mujoco.mjtTrn.mjTRN_JOINT)}
 
     def inertia(b):
         r = _rot(m.body_iquat[b])
@@ -118,8 +118,9 @@ def from_mjcf(source, *, root=None, name=None) -> Robot:
             raise ModelError(f"{who} has {m.body_jntnum[b]} joints; a spacearm link moves on one (split the body into a "
                              "chain of bodies, one joint each)")
         j = int(m.body_jntadr[b])
-        kind = m.jnt_type[j]
-        if kind not in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE):
+        kind = int(m.jnt_type[j])
+        hinge, slide = int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE)
+        if kind not in (hinge, slide):
             raise ModelError(f"{who}: joint '{joint_name(j)}' is a {mujoco.mjtJoint(kind).name[6:].lower()} joint; only hinge "
                              "and slide joints (and the root's free joint) can be imported")
         d = int(m.jnt_dofadr[j])
@@ -129,7 +130,7 @@ def from_mjcf(source, *, root=None, name=None) -> Robot:
         if m.jnt_limited[j]:
             limits = dict(lower=float(m.jnt_range[j, 0]), upper=float(m.jnt_range[j, 1]))
         jp = np.array(m.jnt_pos[j])
-        builder.add_link(body_name(b), joint="revolute" if kind == mujoco.mjtJoint.mjJNT_HINGE else "prismatic",
+        builder.add_link(body_name(b), joint="revolute" if kind == hinge else "prismatic",
                          joint_name=joint_name(j), axis=np.array(m.jnt_axis[j]),
                          origin=m.body_pos[b] + rb @ jp - ipos[parent], com=ipos[b] - jp, limits=limits,
                          actuated=j in actuated, stiffness=float(m.jnt_stiffness[j]), damping=float(m.dof_damping[d]),
