@@ -46,7 +46,10 @@ class ControllerModule(_sys_model.SysModel):
     the mode's mask, as inside a spacearm run) and writes it to one ``SingleActuatorMsg`` per
     actuator of ``actuators`` (``actuatorOutMsgs[name]``, subscribed here to the scene's
     actuators): the command is held until the next call (sample and hold at the task rate).
-    ``t`` is the simulation time minus ``t_start`` (s). Put the module in a task that runs after
+    ``t`` is the simulation time minus ``t_start`` (s). ``orbit`` (a [`spacearm.Orbit`][spacearm.Orbit]):
+    the scene flies in ECI and the law sees the state relative to the orbit's point O at ``t``,
+    as in a spacearm orbital run (a Cartesian reference, a momentum, an LVLH attitude are then
+    relative to O). Put the module in a task that runs after
     the scene's (a lower priority, or added after it), so that it reads the state at its own
     time. ``last_command`` holds the last ``(tau, base_wrench)``. A law that does not fit the
     plant or the mode is refused here, when the module is made; an error inside Basilisk's
@@ -55,7 +58,7 @@ class ControllerModule(_sys_model.SysModel):
     """
 
     def __init__(self, robot, controller, scene, actuators, *, mode: str = "floating", wheels=None,
-                 thrusters=None, joint_limits: bool = False, t_start: float = 0.0):
+                 thrusters=None, joint_limits: bool = False, t_start: float = 0.0, orbit=None):
         super().__init__()
         _check(robot, actuators)
         if controller is None:
@@ -64,8 +67,11 @@ class ControllerModule(_sys_model.SysModel):
         self.robot, self.scene, self.actuators = robot, scene, actuators
         self.t_start = float(t_start)
         # The core evaluates the law: a Simulator's plant, never stepped (dt plays no part).
+        if orbit is not None and not isinstance(orbit, Orbit):
+            raise SpacearmTypeError(f"orbit must be a spacearm.Orbit, got {type(orbit).__name__}")
+        self.orbit = orbit
         self._sim = Simulator(robot, controller=controller, mode=mode, wheels=wheels, thrusters=thrusters,
-                              joint_limits=joint_limits)
+                              joint_limits=joint_limits, orbit=orbit)
         # The core's setup checks (law against plant and mode) here, not inside Basilisk's Reset
         # (where SWIG would turn them into a bare RuntimeError).
         self._sim.reset(robot.neutral_configuration(), robot.zero_velocity())
@@ -76,18 +82,37 @@ class ControllerModule(_sys_model.SysModel):
         for name in actuators.names:
             msg = _messaging.SingleActuatorMsg()
             msg.write(_messaging.SingleActuatorMsgPayload(input=0.0))
-            scene.getSingleActuator(name).actuatorInMsg.subscribeTo(msg)
             self.actuatorOutMsgs[name] = msg
+        self.connect()
         self.last_command = (np.zeros(robot.n_dof), np.zeros(6))
+
+    def connect(self) -> None:
+        """Subscribe the scene's actuators to this module's messages (done when it is made; call
+        it again to hand the actuators back to this module after another took them: a phase
+        switch, with Basilisk's ``disableTask`` / ``enableTask`` on the modules' tasks)."""
+        for name, msg in self.actuatorOutMsgs.items():
+            self.scene.getSingleActuator(name).actuatorInMsg.subscribeTo(msg)
+
+    def state(self, CurrentSimNanos):
+        """The law's time and state at ``CurrentSimNanos``: ``t`` (s from ``t_start``) and the
+        scene's ``(x, u)``, relative to the orbit's point O at ``t`` with ``orbit`` (the frame of
+        spacearm's orbital runs, docs/orbit.md: the scene's base position is then in ECI)."""
+        t = CurrentSimNanos * _NANO - self.t_start
+        x, u = state_from_scene(self.robot, self.scene)
+        if self.orbit is not None:
+            (r_o,), (v_o,) = self.orbit.propagate([t])
+            x[:3] -= r_o
+            u[:3] -= v_o
+        return t, x, u
 
     def Reset(self, CurrentSimNanos):
         """A fresh controller from the scene's state (its internal state, e.g. a held orientation, starts again)."""
-        x, u = state_from_scene(self.robot, self.scene)
+        _, x, u = self.state(CurrentSimNanos)
         self._sim.reset(x, u)
 
     def UpdateState(self, CurrentSimNanos):
-        x, u = state_from_scene(self.robot, self.scene)
-        tau, wrench = self._sim.command(CurrentSimNanos * _NANO - self.t_start, x, u)
+        t, x, u = self.state(CurrentSimNanos)
+        tau, wrench = self._sim.command(t, x, u)
         if not self.actuators.base and np.any(wrench != 0.0):
             raise ArgumentError("the controller commands a base wrench but the scene has no base actuators: "
                                 "make it with to_mjscene(robot, base_actuators=True)")
@@ -134,13 +159,17 @@ class GravityGradientModule(_sys_model.SysModel):
             self._bodies.append((b, name))
         self.torques = np.zeros((len(robot.body_names), 3))
 
-    def torques_at(self, x, u) -> np.ndarray:
-        """The core's tidal torques about each body's CM (n_bodies, 3), in 𝒥, at the scene state
-        ``(x, u)`` (``x[:3]`` from the central body's centre)."""
+    def torques_at(self, x, u=None) -> np.ndarray:
+        """The core's tidal torques about each body's CM (n_bodies, 3), in 𝒥, at the scene
+        configuration ``x`` (``x[:3]`` from the central body's centre; ``u`` plays no part)."""
         x = np.asarray(x, dtype=float)
         r_cm = self.robot.center_of_mass(x)
-        v_cm = self.robot.momentum(x, u).P / self.robot.total_mass
-        orbit = Orbit.from_state(r_cm, v_cm, body=self._body)
+        # The core's tidal field at r_cm (Orbit.tidal_torques at t = 0 reads only the orbit's
+        # position): an orbit through r_cm with the circular speed, whatever the scene's velocity.
+        axis = np.eye(3)[int(np.argmin(np.abs(r_cm)))]
+        along = np.cross(r_cm, axis)
+        v_circ = np.sqrt(self.mu / np.linalg.norm(r_cm)) * along / np.linalg.norm(along)
+        orbit = Orbit.from_state(r_cm, v_circ, body=self._body)
         x_rel = x.copy()
         x_rel[:3] -= r_cm  # the run's frame: origin at the orbit's point O, here the system CM
         wrenches, _, _ = orbit.tidal_torques(self.robot.core_model, x_rel, t=0.0)

@@ -126,7 +126,7 @@ class Simulator:
         input of the last [`step`][spacearm.Simulator.step]) through the actuator limits and the
         mode's mask, as at every stage of a step. The controller keeps its internal state across
         calls: a flight-software loop samples the law this way
-        ([`spacearm.basilisk.ControllerModule`][spacearm.basilisk.ControllerModule]). Needs a
+        (``spacearm.basilisk.ControllerModule``, docs/basilisk.md). Needs a
         [`reset`][spacearm.Simulator.reset] first."""
         return self._core.command(t, x, u)
 
