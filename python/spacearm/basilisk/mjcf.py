@@ -7,8 +7,10 @@ MuJoCo itself compiles the file (``pip install mujoco``: defaults, includes, ``x
 
 - the root body (on a ``<freejoint>``) is the base, its frame moved to its CM (spacearm's base
   frame, ``docs/conventions.md``), its axes kept;
-- each body below is a link whose frame is the MuJoCo body's axes at its CM, on its one
-  ``hinge`` (revolute) or ``slide`` (prismatic) joint, or on none (fixed): ``rotation`` =
+- each body below is a link whose frame is the MuJoCo body's axes at its CM, on its
+  ``hinge`` (revolute) or ``slide`` (prismatic) joint, or on none (fixed); a body with several
+  joints becomes a chain of massless links named ``<body>__<joint>``, one per joint but the
+  last (MuJoCo applies them in order, each in the frame the earlier ones moved); ``rotation`` =
   ``body_quat``, joint ``origin`` = ``body_pos + R jnt_pos - ipos_parent`` in the parent's
   frame, ``com`` = ``ipos - jnt_pos``, ``axis`` = ``jnt_axis``, inertia
   ``R_i diag(body_inertia) R_iᵀ`` (``R_i`` from ``body_iquat``);
@@ -17,7 +19,7 @@ MuJoCo itself compiles the file (``pip install mujoco``: defaults, includes, ``x
   spring–damper; ``<site>``s become named points.
 
 What cannot be imported is a [`ModelError`][spacearm.ModelError] naming the body or element:
-a ``ball`` joint or several joints on one body, a body fixed to the world, several free
+a ``ball`` joint, a body fixed to the world, several free
 bodies (a formation, a docking pair: pick one tree with ``root``), tendons, equality
 constraints, joint armature or friction loss. Geoms, contacts, gravity and actuator gains are
 not part of spacearm's multibody model and are not read.
@@ -114,27 +116,41 @@ def from_mjcf(source, *, root=None, name=None) -> Robot:
             builder.add_link(body_name(b), joint="fixed", origin=m.body_pos[b] - ipos[parent],
                              com=ipos[b], **kw)
             continue
-        if m.body_jntnum[b] > 1:
-            raise ModelError(f"{who} has {m.body_jntnum[b]} joints; a spacearm link moves on one (split the body into a "
-                             "chain of bodies, one joint each)")
-        j = int(m.body_jntadr[b])
-        kind = int(m.jnt_type[j])
         hinge, slide = int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE)
-        if kind not in (hinge, slide):
-            raise ModelError(f"{who}: joint '{joint_name(j)}' is a {mujoco.mjtJoint(kind).name[6:].lower()} joint; only hinge "
-                             "and slide joints (and the root's free joint) can be imported")
-        d = int(m.jnt_dofadr[j])
-        if m.dof_armature[d] != 0.0 or m.dof_frictionloss[d] != 0.0:
-            raise ModelError(f"{who}: joint '{joint_name(j)}' has armature or friction loss, which spacearm does not model")
-        limits = None
-        if m.jnt_limited[j]:
-            limits = dict(lower=float(m.jnt_range[j, 0]), upper=float(m.jnt_range[j, 1]))
-        jp = np.array(m.jnt_pos[j])
-        builder.add_link(body_name(b), joint="revolute" if kind == hinge else "prismatic",
-                         joint_name=joint_name(j), axis=np.array(m.jnt_axis[j]),
-                         origin=m.body_pos[b] + rb @ jp - ipos[parent], com=ipos[b] - jp, limits=limits,
-                         actuated=j in actuated, stiffness=float(m.jnt_stiffness[j]), damping=float(m.dof_damping[d]),
-                         rest=float(m.qpos_spring[m.jnt_qposadr[j]]), **kw)
+        joints = list(range(int(m.body_jntadr[b]), int(m.body_jntadr[b]) + int(m.body_jntnum[b])))
+        # MuJoCo applies a body's joints in order, each about its axis through its position, both
+        # in the body frame as the earlier joints moved it: a chain of massless links, one per
+        # joint but the last, each with its frame at its joint point (body axes at q = 0).
+        link_parent, at = body_name(parent), m.body_pos[b] - ipos[parent]
+        for k, j in enumerate(joints):
+            kind = int(m.jnt_type[j])
+            if kind not in (hinge, slide):
+                raise ModelError(f"{who}: joint '{joint_name(j)}' is a {mujoco.mjtJoint(kind).name[6:].lower()} joint; only "
+                                 "hinge and slide joints (and the root's free joint) can be imported")
+            d = int(m.jnt_dofadr[j])
+            if m.dof_armature[d] != 0.0 or m.dof_frictionloss[d] != 0.0:
+                raise ModelError(f"{who}: joint '{joint_name(j)}' has armature or friction loss, which spacearm does not model")
+            limits = None
+            if m.jnt_limited[j]:
+                limits = dict(lower=float(m.jnt_range[j, 0]), upper=float(m.jnt_range[j, 1]))
+            jp = np.array(m.jnt_pos[j])
+            last = k == len(joints) - 1
+            common = dict(joint="revolute" if kind == hinge else "prismatic", joint_name=joint_name(j),
+                          axis=np.array(m.jnt_axis[j]), limits=limits, actuated=j in actuated,
+                          stiffness=float(m.jnt_stiffness[j]), damping=float(m.dof_damping[d]),
+                          rest=float(m.qpos_spring[m.jnt_qposadr[j]]), parent=link_parent)
+            if k == 0:
+                origin, rotation = at + rb @ jp, _xyzw(m.body_quat[b])
+            else:
+                origin, rotation = jp - previous, [0.0, 0.0, 0.0, 1.0]
+            if last:
+                builder.add_link(body_name(b), origin=origin, rotation=rotation, com=ipos[b] - jp, mass=kw["mass"],
+                                 inertia=kw["inertia"], **common)
+            else:
+                link_parent = f"{body_name(b)}__{joint_name(j)}"
+                builder.add_link(link_parent, origin=origin, rotation=rotation, com=np.zeros(3), mass=0.0,
+                                 inertia=np.zeros((3, 3)), **common)
+            previous = jp
     for s in range(m.nsite):
         b = int(m.site_bodyid[s])
         if b in subtree:
