@@ -159,3 +159,15 @@ def test_state_of_another_robot_is_refused(free_run):
         sb.state_from_scene(spacearm.presets.planar4(), scene)
     with pytest.raises(SpacearmTypeError, match="spacearm.Robot"):
         sb.to_mjscene("spatial6")
+
+
+def test_a_cm_basilisk_cannot_compile_is_refused():
+    """Basilisk 2.12's MJScene recompiles without end (a crash) when a body's CM sits within about
+    a micrometre of its origin but not on it; to_mjscene refuses that band, naming the body:
+    here the base, which lends a rotor 5 mm from its CM a point mass (to_mjcf's lent mass)."""
+    from spacearm.errors import ModelError
+
+    b = spacearm.Robot.builder("near", 200.0, [20.0, 22.0, 24.0])
+    b.add_reaction_wheel([0, 0, 1], 0.05, position=[0.0, 0.0, 0.005], name="rw")
+    with pytest.raises(ModelError, match="body 'base' of the scene has its CM"):
+        sb.to_mjscene(b.build())

@@ -22,7 +22,7 @@ from typing import Tuple
 
 import numpy as np
 
-from ..errors import ArgumentError, SpacearmTypeError
+from ..errors import ArgumentError, ModelError, SpacearmTypeError
 from ..interop.mujoco import from_mujoco_state, mjcf_body_name, to_mjcf, to_mujoco_state
 from ..model.robot import Robot
 from . import _bsk
@@ -32,6 +32,30 @@ __all__ = ["ActuatorMap", "to_mjscene", "state_from_scene", "state_to_scene", "s
 #: The names of the six base actuators of a scene made with ``base_actuators=True``: the force
 #: ``F0`` and torque ``N0`` on the base CM along the axes of 𝒥 (spacearm's base wrench).
 BASE_ACTUATORS = ("base_fx", "base_fy", "base_fz", "base_tx", "base_ty", "base_tz")
+
+
+#: The fraction of a parent's mass a massless rotor borrows in the scene's MJCF (``to_mjcf``'s
+#: ``lent_mass``; exact: the point sits on the rotor's axis at its CM). Larger than MuJoCo's
+#: export default: it keeps the lender's CM off its origin by well over a micrometre (below).
+LENT_MASS = 1e-3
+#: Basilisk 2.12's MJScene recompiles its model until a body's CM site leaves the body origin's
+#: frame; a CM between 1e-9 m and about 1e-6 m from the origin loops (a crash, measured: 6e-7 m
+#: crashes, 3e-6 m runs). The band refused here:
+_CM_OFFSET_BAND = (1e-9, 1e-5)
+
+
+def _check_body_origins(xml: str) -> None:
+    import xml.etree.ElementTree as ET
+
+    for body in ET.fromstring(xml).iter("body"):
+        inertial = body.find("inertial")
+        if inertial is None:
+            continue
+        offset = float(np.linalg.norm([float(v) for v in inertial.get("pos", "0 0 0").split()]))
+        if _CM_OFFSET_BAND[0] < offset < _CM_OFFSET_BAND[1]:
+            raise ModelError(f"body '{body.get('name')}' of the scene has its CM {offset:.3g} m from its frame's origin, "
+                             f"in ({_CM_OFFSET_BAND[0]:g}, {_CM_OFFSET_BAND[1]:g}) m, where Basilisk's MJScene recompiles "
+                             "without end (it crashes): move the rotors it carries by a few millimetres")
 
 
 @dataclass(frozen=True)
@@ -87,7 +111,8 @@ def to_mjscene(robot: Robot, *, base_actuators: bool = True, geometry=(), wheels
     if not isinstance(robot, Robot):
         raise SpacearmTypeError(f"to_mjscene needs a spacearm.Robot, got {type(robot).__name__}")
     mj = _bsk.mujoco()
-    xml = to_mjcf(robot, geometry=geometry, actuators=True, base_actuators=bool(base_actuators))
+    xml = to_mjcf(robot, geometry=geometry, actuators=True, base_actuators=bool(base_actuators), lent_mass=LENT_MASS)
+    _check_body_origins(xml)
     scene = mj.MJScene(xml, [])
     # The quaternion of qpos integrated as a four-component rate at every stage: Basilisk's
     # default (MuJoCo's exponential map per stage) makes its RK4 second order in the attitude
