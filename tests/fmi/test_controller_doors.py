@@ -183,3 +183,40 @@ def test_the_numbers_of_a_law_are_fmu_parameters_and_checked_by_the_core(tmp_pat
         fmpy.simulate_fmu(str(path), stop_time=DURATION, step_size=H, start_values={"quat_ref[4]": 2.0}, fmi_type="CoSimulation",
                           logger=lambda *args: messages.append(str(args)))
     assert any("quat_ref" in m and "unit" in m for m in messages), messages
+
+
+def _toml_value(v) -> str:
+    """A plain-data value as TOML (inline tables; floats in shortest round-trip form)."""
+    if isinstance(v, dict):
+        return "{ " + ", ".join(f"{k} = {_toml_value(x)}" for k, x in v.items()) + " }"
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    return repr(float(v))
+
+
+def test_the_c_stepper_reads_simulates_run_description_an_orbit_with_its_tidal_torques():
+    """The stepper's options are the core's run description (sim/options.rs ``RunSpec``), so an
+    orbit with the gravity gradient, which the C crate never had an option for, runs from C the
+    way ``spacearm.simulate`` runs it (bit for bit), and differs from the same run in empty space
+    (the tidal torques act)."""
+    robot = spacearm.presets.spatial6()
+    orbit = spacearm.Orbit.circular(400e3, inclination=0.9, raan=0.3, arg_latitude=0.2, j2=True)
+    x0 = robot.neutral_configuration()
+    x0[3:7] = [np.sin(0.3), 0.0, 0.0, np.cos(0.3)]  # tilted: the gradient torque is not zero
+    u0 = robot.zero_velocity()
+    controller = JointPD(kp=30.0, kd=5.0, reference=robot.initial_q + 0.1)
+    traj = spacearm.simulate(robot, DURATION, dt=DT, controller=controller, x0=x0, u0=u0, orbit=orbit, gravity_gradient=True)
+    empty = spacearm.simulate(robot, DURATION, dt=DT, controller=controller, x0=x0, u0=u0)
+    run = f'dt = {DT!r}\norbit = {_toml_value(orbit._data())}\ngravity_gradient = true\n'
+    options = library.load().options_with_controller(run, controller_spec(controller).to_toml())
+    got_x, got_u = c_stepper_states(robot, options, x0, u0)
+    assert np.array_equal(got_x, traj.x[::EVERY]) and np.array_equal(got_u, traj.u[::EVERY])
+    assert np.abs(traj.u[-1, :6] - empty.u[-1, :6]).max() > 0  # the orbit changed the run
+    # What the stepper cannot do is refused with the core's reasons, not ignored.
+    lib = library.load()
+    for text, why in ((f"dt = {DT!r}\nintegrator = \"dopri5\"\n", "RK4"), (f"dt = {DT!r}\ngravity_gradient = true\n", "needs an orbit"),
+                      (f"dt = {DT!r}\nstop = [{{ kind = \"time\", t = 0.5 }}]\n", "stop")):
+        with pytest.raises(Exception, match=why):
+            c_stepper_states(robot, text, x0, u0)

@@ -22,11 +22,10 @@
 use std::ffi::c_char;
 
 use nalgebra::Vector6;
-use serde::Deserialize;
-use spacearm_core::control::spec::{no_external, ControllerSpec, ThrusterLimitsSpec};
+use spacearm_core::control::spec::{no_external, ControllerSpec};
 use spacearm_core::control::Controller;
 use spacearm_core::sim::integrate::IntegratorKind;
-use spacearm_core::sim::modes::Mode;
+use spacearm_core::sim::options::RunSpec;
 use spacearm_core::sim::simulate::{check_initial_state, Plant, SimOptions};
 use spacearm_core::sim::stepper::Rk4Stepper;
 use spacearm_core::Model;
@@ -62,33 +61,6 @@ pub(crate) fn check_steps_per_call(steps: f64, what: &str) -> Outcome<usize> {
     Ok(steps as usize)
 }
 
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct OptionsText {
-    #[serde(default = "default_mode")]
-    mode: String,
-    #[serde(default = "default_dt")]
-    dt: f64,
-    #[serde(default = "default_true")]
-    joint_limits: bool,
-    #[serde(default)]
-    wheels: Option<Vec<usize>>,
-    #[serde(default)]
-    thrusters: Option<ThrusterLimitsSpec>,
-    #[serde(default)]
-    controller: Option<ControllerSpec>,
-}
-
-fn default_mode() -> String {
-    "floating".into()
-}
-fn default_dt() -> f64 {
-    1e-3
-}
-fn default_true() -> bool {
-    true
-}
-
 /// Checked stepper options: the core's simulation options (as `spacearm.simulate` builds them
 /// for an RK4 run of step `dt`) and the controller, as the core's spec.
 #[derive(Debug, Clone)]
@@ -102,25 +74,23 @@ impl StepperOptions {
     /// an unknown controller kind, a value of the wrong type) is `Parse`; a value the core's
     /// checks refuse has the core's status (`InvalidArgument`, `Dimension`, `NotFound`, ...).
     pub(crate) fn parse(model: &Model, text: &str) -> Outcome<Self> {
-        let o: OptionsText = toml::from_str(text).map_err(|e| Failure::new(SpacearmStatus::Parse, format!("stepper options: {e}")))?;
+        // The core's run description (sim/options.rs RunSpec): the same names, defaults and
+        // checks as spacearm.simulate's; the stepper adds its step bounds and steps RK4 only.
+        let o: RunSpec = toml::from_str(text).map_err(|e| Failure::new(SpacearmStatus::Parse, format!("stepper options: {e}")))?;
         if !(SPACEARM_MIN_DT..=SPACEARM_MAX_DT).contains(&o.dt) {
             return Err(Failure::argument(format!(
                 "dt must be between {SPACEARM_MIN_DT:e} s and {SPACEARM_MAX_DT} s (SPACEARM_MIN_DT, SPACEARM_MAX_DT), got {:e} s",
                 o.dt
             )));
         }
-        let thrusters = o.thrusters.map(|t| t.build()).transpose()?;
-        let sim = SimOptions {
-            mode: Mode::from_name(&o.mode)?,
-            integrator: IntegratorKind::Rk4,
-            duration: o.dt,
-            dt: o.dt,
-            joint_limits: o.joint_limits,
-            wheels: o.wheels,
-            thrusters,
-            ..SimOptions::default()
-        };
-        sim.validate()?;
+        if o.integrator != IntegratorKind::Rk4 {
+            return Err(Failure::argument(format!(
+                "integrator = \"{}\": the stepper and an FMU step with fixed RK4 steps of dt (integrator = \"rk4\")",
+                o.integrator.name()
+            )));
+        }
+        let sim = o.options(o.dt)?;
+        sim.refuse_stop("the stepper")?;
         StepperOptions { sim, controller: ControllerSpec::None {} }.with_controller(model, o.controller.unwrap_or(ControllerSpec::None {}))
     }
 

@@ -10,9 +10,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyType};
 use pyo3::PyTypeInfo;
 use spacearm_core::sim::actuators::ThrusterLimits;
-use spacearm_core::sim::integrate::IntegratorKind;
-use spacearm_core::sim::modes::Mode;
-use spacearm_core::sim::simulate::{OrbitOptions, SimOptions};
+use spacearm_core::sim::options::RunSpec;
+use spacearm_core::sim::simulate::SimOptions;
 use spacearm_core::SpacearmError;
 
 use crate::convert::*;
@@ -110,18 +109,27 @@ impl PyRunOptions {
     }
 }
 
-/// `v` as an integer >= 1; `key` names it in the message.
-fn count(py: Python<'_>, key: &str, v: &Bound<'_, PyAny>) -> PyResult<usize> {
-    let i: i64 = v.extract().map_err(|_| to_py_err(py, bad(format!("{key} must be an integer >= 1, got {v}"))))?;
-    if i < 1 {
-        return Err(to_py_err(py, bad(format!("{key} must be an integer >= 1, got {i}"))));
+/// `v` as plain data for the core's reader: a numpy scalar as its Python number (`item()`),
+/// a `ThrusterLimits` as its limits, a `spacearm.Orbit` as its data; anything else as it is.
+fn plain<'py>(py: Python<'py>, key: &str, v: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+    if let Ok(limits) = v.cast::<PyThrusterLimits>() {
+        let t = &limits.get().inner;
+        use spacearm_core::control::spec::{PerAxis, ThrusterLimitsSpec};
+        let spec = ThrusterLimitsSpec { max_force: PerAxis(t.max_force.into()), max_torque: PerAxis(t.max_torque.into()) };
+        return crate::controller_spec_py::to_data(py, &spec);
     }
-    Ok(i as usize)
-}
-
-/// `v` as a number; `key` names it in the message.
-fn number(py: Python<'_>, key: &str, v: &Bound<'_, PyAny>) -> PyResult<f64> {
-    v.extract::<f64>().map_err(|_| to_py_err(py, bad(format!("simulation options: '{key}' must be a number"))))
+    if let Ok(orbit) = v.cast::<crate::orbit_py::PyOrbit>() {
+        return crate::controller_spec_py::to_data(py, &orbit.get().inner);
+    }
+    match key {
+        "thrusters" => return Err(to_py_err(py, bad(format!("thrusters must be a ThrusterLimits, got {}", type_name(v))))),
+        "orbit" => return Err(to_py_err(py, bad(format!("orbit must be a spacearm.Orbit, got {}", type_name(v))))),
+        _ => {}
+    }
+    if v.is_instance(&py.import("numpy")?.getattr("generic")?)? {
+        return v.call_method0("item");
+    }
+    Ok(v.clone())
 }
 
 #[pymethods]
@@ -151,58 +159,23 @@ impl PyRunOptions {
         unknown: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         refuse_unknown::<Self>(py, unknown)?;
-        let mut opts = SimOptions::default();
-        if let Some(m) = mode {
-            let name: String = m.extract().map_err(|_| to_py_err(py, bad("mode must be a string".into())))?;
-            opts.mode = Mode::from_name(&name).or_raise(py)?;
-        }
-        if let Some(m) = integrator {
-            let name: String = m.extract().map_err(|_| to_py_err(py, bad("integrator must be a string".into())))?;
-            opts.integrator = IntegratorKind::from_name(&name).or_raise(py)?;
-        }
-        for (key, value, slot) in [("dt", dt, &mut opts.dt), ("rtol", rtol, &mut opts.rtol), ("atol", atol, &mut opts.atol)] {
+        // The given options as the core's run description (sim/options.rs RunSpec: its names,
+        // defaults and one validation); the progress callable and the records' dtype are the
+        // binding's own.
+        let data = PyDict::new(py);
+        let given = [
+            ("mode", mode), ("integrator", integrator), ("dt", dt), ("rtol", rtol), ("atol", atol), ("record_every", record_every),
+            ("wheels", wheels), ("thrusters", thrusters), ("joint_limits", joint_limits), ("max_steps", max_steps), ("orbit", orbit),
+            ("gravity_gradient", gravity_gradient), ("stop", stop),
+        ];
+        for (key, value) in given {
             if let Some(v) = value {
-                *slot = number(py, key, v)?;
+                data.set_item(key, plain(py, key, v)?)?;
             }
         }
-        if let Some(v) = record_every {
-            opts.record_every = count(py, "record_every", v)?;
-        }
-        if let Some(v) = max_steps {
-            opts.max_steps = count(py, "max_steps", v)?;
-        }
-        if let Some(v) = wheels {
-            let dofs: Vec<i64> = v.extract().map_err(|_| to_py_err(py, bad("wheels must be a list of dof indices".into())))?;
-            if let Some(d) = dofs.iter().find(|d| **d < 0) {
-                return Err(to_py_err(py, SpacearmError::NotFound(format!("wheel dof {d} does not exist"))));
-            }
-            opts.wheels = Some(dofs.into_iter().map(|d| d as usize).collect());
-        }
-        if let Some(v) = thrusters {
-            let limits = v.cast::<PyThrusterLimits>().map_err(|_| to_py_err(py, bad(format!("thrusters must be a ThrusterLimits, got {}", type_name(v)))))?;
-            opts.thrusters = Some(limits.get().inner);
-        }
-        if let Some(v) = joint_limits {
-            opts.joint_limits = v.extract().map_err(|_| to_py_err(py, bad("joint_limits must be True or False".into())))?;
-        }
-        let gg = match gravity_gradient {
-            None => None,
-            Some(v) => Some(v.extract::<bool>().map_err(|_| to_py_err(py, bad("gravity_gradient must be True or False".into())))?),
-        };
-        match orbit {
-            Some(o) => {
-                let o = o.cast::<crate::orbit_py::PyOrbit>().map_err(|_| to_py_err(py, bad(format!("orbit must be a spacearm.Orbit, got {}", type_name(o)))))?;
-                opts.orbit = Some(OrbitOptions { orbit: o.get().inner, gravity_gradient: gg.unwrap_or(true) });
-            }
-            None if gg == Some(true) => return Err(to_py_err(py, bad("gravity_gradient=True needs an orbit (orbit=spacearm.Orbit...)".into()))),
-            None => {}
-        }
-        if let Some(v) = stop {
-            // The data of the stop conditions (spacearm.sim.events through spacearm._util.spec).
-            let stop: Vec<spacearm_core::sim::events::StopCondition> = crate::controller_spec_py::from_data(v, "stop")?;
-            spacearm_core::sim::events::validate(&stop).or_raise(py)?;
-            opts.stop = stop;
-        }
+        let spec: RunSpec = crate::controller_spec_py::from_data(data.as_any(), "simulation options")?;
+        // The duration is each entry point's argument: any positive placeholder checks the rest.
+        let opts = spec.options(1.0).or_raise(py)?;
         let float32 = match record_dtype {
             None => false,
             Some(v) => match v.extract::<String>().ok().as_deref() {

@@ -34,14 +34,28 @@ pub trait OdeSystem {
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()>;
 }
 
-/// Which integrator a simulation uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Which integrator a simulation uses. As data it is its name ([`IntegratorKind::NAMES`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "String", into = "&'static str")]
 pub enum IntegratorKind {
     /// Classical fourth-order Runge–Kutta with a fixed step `dt`.
     Rk4,
     /// Dormand–Prince 5(4), adaptive step with error control (`rtol`, `atol`); output at a
     /// fixed interval by its fourth-order dense output.
     Dopri5,
+}
+
+impl TryFrom<String> for IntegratorKind {
+    type Error = crate::error::SpacearmError;
+    fn try_from(name: String) -> Result<Self> {
+        IntegratorKind::from_name(&name)
+    }
+}
+
+impl From<IntegratorKind> for &'static str {
+    fn from(kind: IntegratorKind) -> &'static str {
+        kind.name()
+    }
 }
 
 impl IntegratorKind {

@@ -19,8 +19,10 @@ use nalgebra::{Vector3, Vector6};
 
 use crate::error::{by_name, Result};
 
-/// A maneuvering mode.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// A maneuvering mode. As data (a run description, [`crate::sim::options::RunSpec`]) it is its
+/// name ([`Mode::NAMES`]), read through [`Mode::from_name`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "String", into = "&'static str")]
 pub enum Mode {
     /// No base actuation: `F_b = 0`; `P` and `L` conserved.
     Floating,
@@ -59,6 +61,19 @@ impl Conserved {
             Conserved::AngularMomentumCom => "L_com",
             Conserved::Energy => "energy",
         }
+    }
+}
+
+impl TryFrom<String> for Mode {
+    type Error = crate::error::SpacearmError;
+    fn try_from(name: String) -> Result<Mode> {
+        Mode::from_name(&name)
+    }
+}
+
+impl From<Mode> for &'static str {
+    fn from(mode: Mode) -> &'static str {
+        mode.name()
     }
 }
 

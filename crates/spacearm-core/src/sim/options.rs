@@ -1,6 +1,12 @@
-//! The options of a run ([`SimOptions`]: mode, integrator, duration, steps, records, actuators,
-//! orbit), checked by [`SimOptions::validate`]; the loop is [`crate::sim::simulate`].
+//! The options of a run: as data, [`RunSpec`] (serde: what every door reads — the Python
+//! `RunOptions`, the C stepper's and an FMU's options TOML), and built and checked,
+//! [`SimOptions`] (mode, integrator, duration, steps, records, actuators, orbit;
+//! [`SimOptions::validate`]); the loop is [`crate::sim::simulate`]. docs/architecture.md, "A run
+//! is data".
 
+use serde::{Deserialize, Serialize};
+
+use crate::control::spec::{ControllerSpec, ThrusterLimitsSpec};
 use crate::error::{Result, SpacearmError};
 use crate::math::integrate::IntegratorKind;
 use crate::scenario::actuators::ThrusterLimits;
@@ -102,10 +108,10 @@ impl SimOptions {
             return arg(format!("atol must be finite and >= 0, got {}", self.atol));
         }
         if self.record_every == 0 {
-            return arg("record_every must be >= 1".into());
+            return arg(format!("record_every must be an integer >= 1, got {}", self.record_every));
         }
         if self.max_steps == 0 {
-            return arg("max_steps must be >= 1".into());
+            return arg(format!("max_steps must be an integer >= 1, got {}", self.max_steps));
         }
         crate::sim::stop::validate(&self.stop)
     }
@@ -118,5 +124,153 @@ impl SimOptions {
         Err(SpacearmError::argument(format!(
             "{entry} does not take stop conditions (a run that stops early has its own length): use simulate for a run with stop="
         )))
+    }
+}
+
+/// A run's description as data: every option of [`SimOptions`] but the duration (an argument of
+/// each entry point), with the controller. Every field may be left out (the defaults are
+/// [`SimOptions::default`]'s); an unknown one is refused. The names are those of the Python
+/// `spacearm.simulate` keywords and of the C stepper's options TOML (docs/c-api.md):
+///
+/// ```toml
+/// mode = "flying"          # Mode::NAMES
+/// integrator = "rk4"       # IntegratorKind::NAMES
+/// dt = 1e-3
+/// thrusters = { max_force = 10.0, max_torque = [1.0, 1.0, 2.0] }
+/// [controller]             # a ControllerSpec (control/spec.rs)
+/// kind = "joint_pd"
+/// kp = 40.0
+/// kd = 12.0
+/// reference = [0.0, 0.5]
+/// ```
+///
+/// [`RunSpec::options`] builds and checks the [`SimOptions`] of a run of a given duration (one
+/// validation: [`SimOptions::validate`]); the controller is built on the plant by the entry point
+/// ([`ControllerSpec::build`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RunSpec {
+    /// Maneuvering mode ([`Mode::NAMES`]).
+    pub mode: Mode,
+    /// Integrator ([`IntegratorKind::NAMES`]).
+    pub integrator: IntegratorKind,
+    /// RK4: the step; DOPRI5: the output interval, s.
+    pub dt: f64,
+    /// DOPRI5 relative tolerance.
+    pub rtol: f64,
+    /// DOPRI5 absolute tolerance.
+    pub atol: f64,
+    /// RK4: keep every k-th step.
+    pub record_every: usize,
+    /// Wheel dofs; absent: those the model's structure shows.
+    pub wheels: Option<Vec<usize>>,
+    /// Thruster limits (flying modes); absent: unlimited.
+    pub thrusters: Option<ThrusterLimitsSpec>,
+    /// Whether the joints' effort and velocity limits apply.
+    pub joint_limits: bool,
+    /// DOPRI5: the most steps attempted.
+    pub max_steps: usize,
+    /// The orbit of the run's origin; absent: empty space.
+    pub orbit: Option<Orbit>,
+    /// In orbit: whether the tidal wrenches act (absent: yes); `true` without an orbit is refused.
+    pub gravity_gradient: Option<bool>,
+    /// Conditions that stop the run early ([`crate::sim::stop`]).
+    pub stop: Vec<StopCondition>,
+    /// The control law; absent: zero torques.
+    pub controller: Option<ControllerSpec>,
+}
+
+impl Default for RunSpec {
+    fn default() -> Self {
+        let d = SimOptions::default();
+        RunSpec {
+            mode: d.mode,
+            integrator: d.integrator,
+            dt: d.dt,
+            rtol: d.rtol,
+            atol: d.atol,
+            record_every: d.record_every,
+            wheels: d.wheels,
+            thrusters: None,
+            joint_limits: d.joint_limits,
+            max_steps: d.max_steps,
+            orbit: None,
+            gravity_gradient: None,
+            stop: d.stop,
+            controller: None,
+        }
+    }
+}
+
+impl RunSpec {
+    /// The checked options of a run of `duration` seconds ([`SimOptions::validate`], the thruster
+    /// limits', the controller spec's own checks that need no plant).
+    pub fn options(&self, duration: f64) -> Result<SimOptions> {
+        let orbit = match (self.orbit, self.gravity_gradient) {
+            // Data from a file is checked as Orbit::from_state checks a made orbit (a bound state).
+            (Some(o), gg) => Some(OrbitOptions { orbit: Orbit::from_state(o.body, o.r0, o.v0, o.j2)?, gravity_gradient: gg.unwrap_or(true) }),
+            (None, Some(true)) => return Err(SpacearmError::argument("gravity_gradient = true needs an orbit (orbit=spacearm.Orbit...)")),
+            (None, _) => None,
+        };
+        let options = SimOptions {
+            mode: self.mode,
+            integrator: self.integrator,
+            duration,
+            dt: self.dt,
+            rtol: self.rtol,
+            atol: self.atol,
+            record_every: self.record_every,
+            wheels: self.wheels.clone(),
+            thrusters: self.thrusters.as_ref().map(ThrusterLimitsSpec::build).transpose()?,
+            joint_limits: self.joint_limits,
+            max_steps: self.max_steps,
+            orbit,
+            stop: self.stop.clone(),
+        };
+        options.validate()?;
+        if let Some(c) = &self.controller {
+            c.validate()?;
+        }
+        Ok(options)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_empty_description_is_the_default_run_and_every_field_has_a_name() {
+        let spec: RunSpec = toml::from_str("").unwrap();
+        assert_eq!(spec, RunSpec::default());
+        assert_eq!(spec.options(2.0).unwrap(), SimOptions { duration: 2.0, ..SimOptions::default() });
+        let text = "mode = \"flying\"\nintegrator = \"dopri5\"\ndt = 0.002\nrtol = 1e-10\natol = 0.0\nrecord_every = 3\n\
+                    wheels = [6]\njoint_limits = false\nmax_steps = 7\nthrusters = { max_force = 2.0 }\n\
+                    stop = [{ kind = \"time\", t = 0.5 }]\n[controller]\nkind = \"none\"\n";
+        let spec: RunSpec = toml::from_str(text).unwrap();
+        let o = spec.options(1.0).unwrap();
+        assert_eq!((o.mode, o.integrator, o.dt, o.rtol, o.atol, o.record_every), (Mode::Flying, IntegratorKind::Dopri5, 0.002, 1e-10, 0.0, 3));
+        assert_eq!((o.wheels, o.joint_limits, o.max_steps, o.stop.len()), (Some(vec![6]), false, 7, 1));
+        assert_eq!(o.thrusters.unwrap().max_force.x, 2.0);
+        assert!(o.thrusters.unwrap().max_torque.z.is_infinite());
+        // Written and read back, the description is the same.
+        let back: RunSpec = toml::from_str(&toml::to_string(&spec).unwrap()).unwrap();
+        assert_eq!(back, spec);
+    }
+
+    #[test]
+    fn names_values_and_keys_are_checked_with_the_cores_messages() {
+        let err = |text: &str| toml::from_str::<RunSpec>(text).unwrap_err().to_string();
+        assert!(err("mode = \"drifting\"").contains("mode"), "{}", err("mode = \"drifting\""));
+        assert!(err("integrator = \"euler\"").contains("integrator"));
+        assert!(err("dtt = 1.0").contains("unknown field `dtt`"));
+        let spec: RunSpec = toml::from_str("dt = -1.0").unwrap();
+        assert!(spec.options(1.0).unwrap_err().to_string().contains("dt must be finite and > 0"));
+        let spec: RunSpec = toml::from_str("gravity_gradient = true").unwrap();
+        assert!(spec.options(1.0).unwrap_err().to_string().contains("needs an orbit"));
+        let spec: RunSpec = toml::from_str("thrusters = { max_force = 0.0 }").unwrap();
+        assert!(spec.options(1.0).is_err());
+        let spec: RunSpec = toml::from_str("[controller]\nkind = \"joint_pd\"\nkp = -1.0\nkd = 1.0\nreference = [0.0]").unwrap();
+        assert!(spec.options(1.0).is_err());
     }
 }
