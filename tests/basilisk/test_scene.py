@@ -107,7 +107,8 @@ def test_state_map_against_basilisk_body_messages(free_run):
 
 def test_mass_matrix_of_basilisk_equals_spacearm(free_run):
     """Basilisk's MJSystemMassMatrix module against spacearm's H (CRBA) after the convention map
-    H = T M Tᵀ (docs/conventions.md), to 1e-12 relative."""
+    H = T M Tᵀ (docs/conventions.md), to 1e-12 relative; H* and the reaction null space on the
+    scene's state against the same matrix."""
     from Basilisk.simulation import MJSystemMassMatrix
     from Basilisk.utilities import SimulationBaseClass, macros
 
@@ -132,6 +133,18 @@ def test_mass_matrix_of_basilisk_equals_spacearm(free_run):
     m = np.asarray(payload.massMatrix).reshape(nv, nv)  # row-major
     h = spacearm.interop.mass_matrix_from_mujoco(robot, x, m)
     assert rel(h, robot.mass_matrix(x)) < 1e-12
+    # spacearm's analysis on the scene's state against Basilisk's matrix (MuJoCo's coordinates;
+    # spatial6 is serial: MuJoCo's joint order is spacearm's): H* is the Schur complement of the
+    # base block, whatever the base's velocity coordinates; a reaction-null-space rate moves no
+    # base angular velocity (MuJoCo's ω0 in base axes) at zero momentum.
+    m0, m0m, mm = m[:6, :6], m[:6, 6:], m[6:, 6:]
+    assert rel(sb.scene_generalized_inertia(robot, scene), mm - m0m.T @ np.linalg.solve(m0, m0m)) < 1e-12
+    rns = sb.scene_reaction_null_space(robot, scene)
+    assert rns.basis.shape == (robot.n_dof, robot.n_dof - 3)
+    base_rates = -np.linalg.solve(m0, m0m @ rns.basis)  # [v0; R0ᵀω0] per basis vector
+    assert np.max(np.abs(base_rates[3:])) < 1e-12 * np.max(np.abs(np.linalg.solve(m0, m0m)[3:]))
+    j_star = sb.scene_generalized_jacobian(robot, scene)
+    np.testing.assert_array_equal(j_star, robot.generalized_jacobian(x))
 
 
 def test_actuator_map_names_every_actuator():
