@@ -31,23 +31,6 @@ def _start(robot):
     return x0, u0
 
 
-def test_command_is_what_a_run_applies(robot):
-    """Simulator.command (the binding) against the torque a spacearm.simulate run records at its
-    first sample: the same core law, evaluated two ways."""
-    x0, u0 = _start(robot)
-    law = control.ComputedTorque(kp=16.0, kd=8.0, reference=control.QuinticJoint(
-        q_start=x0[7:], q_goal=x0[7:] + 0.4, t_start=0.0, t_end=2.0))
-    run = spacearm.simulate(robot, 0.1, x0=x0, u0=u0, controller=law, dt=0.01, integrator="rk4")
-    sim = spacearm.Simulator(robot, controller=law)
-    sim.reset(x0, u0)
-    tau, wrench = sim.command(0.0, x0, u0)
-    assert np.max(np.abs(tau)) > 1e-2  # c* of the tumbling base (the reference starts at rest)
-    np.testing.assert_allclose(tau, run.tau[0], rtol=1e-14, atol=1e-14)
-    assert np.array_equal(wrench, np.zeros(6))  # floating: no thrusters
-    tau_k, _ = sim.command(0.1, run.x[-1], run.u[-1])
-    np.testing.assert_allclose(tau_k, run.tau[-1], rtol=1e-12, atol=1e-12)
-
-
 def test_computed_torque_in_basilisk_matches_spacearm_sample_and_hold(robot):
     """Computed torque on H* (paper eqs. 112–115), a quintic joint move of 0.4 rad in 2 s: the
     module at 20 Hz in Basilisk (RK4 at 0.01 s) against spacearm's run of the same law held over

@@ -200,8 +200,10 @@ impl PySimulator {
         }
         let x = vec_arg(x, "x")?;
         let u = vec_arg(u, "u")?;
+        // The initial-state checks, their messages naming `x` and `u` (not `x0`, `u0`).
         check_initial_state(&self.model, x.as_slice(), u.as_slice()).map_err(|e| to_py_err(py, match e {
             SpacearmError::Dimension { what, expected, got } => SpacearmError::Dimension { what: what.trim_end_matches('0').into(), expected, got },
+            SpacearmError::NonFinite { what, index, value } => SpacearmError::NonFinite { what: what.trim_end_matches('0').into(), index, value },
             other => other,
         }))?;
         let stepper = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?.as_mut().ok_or_else(|| Self::not_reset(py))?;
