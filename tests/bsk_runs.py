@@ -68,6 +68,14 @@ def held_run(robot, controller, x0, u0, dt, hold_steps, samples, mode="floating"
     return plant.x, plant.u
 
 
+def tumbling_start(robot):
+    """The neutral configuration with the base tumbling slowly, everything else at rest."""
+    x0 = np.asarray(robot.neutral_configuration(), float)
+    u0 = np.zeros(robot.nu)
+    u0[3:6] = [0.01, -0.02, 0.03]
+    return x0, u0
+
+
 def rel(a, b) -> float:
     """``‖a − b‖∞ / ‖b‖∞``."""
     return float(np.max(np.abs(np.asarray(a) - np.asarray(b))) / np.max(np.abs(b)))

@@ -13,7 +13,7 @@ pytest.importorskip("Basilisk.simulation.mujoco")
 import spacearm  # noqa: E402
 from spacearm import control  # noqa: E402
 from spacearm.errors import ArgumentError  # noqa: E402
-from bsk_runs import held_run, rel, scene_run  # noqa: E402
+from bsk_runs import held_run, rel, scene_run, tumbling_start  # noqa: E402
 
 DT, FSW_DT, T = 0.01, 0.05, 3.0
 HOLD = 5
@@ -24,12 +24,6 @@ def robot():
     return spacearm.presets.spatial6()
 
 
-def _start(robot):
-    x0 = np.asarray(robot.neutral_configuration(), float)
-    u0 = np.zeros(robot.nu)
-    u0[3:6] = [0.01, -0.02, 0.03]  # a tumbling base
-    return x0, u0
-
 
 def test_computed_torque_in_basilisk_matches_spacearm_sample_and_hold(robot):
     """Computed torque on H* (paper eqs. 112–115), a quintic joint move of 0.4 rad in 2 s: the
@@ -37,7 +31,7 @@ def test_computed_torque_in_basilisk_matches_spacearm_sample_and_hold(robot):
     the same five steps. The two differ only by their integrators' step errors: measured 1e-12
     (x) and 1.2e-10 (u) relative, while each is 3e-9 (u) off the dt/4 solution; asserted below
     the issue's 1e-9 and below the step error."""
-    x0, u0 = _start(robot)
+    x0, u0 = tumbling_start(robot)
     law = control.ComputedTorque(kp=16.0, kd=8.0, reference=control.QuinticJoint(
         q_start=x0[7:], q_goal=x0[7:] + 0.4, t_start=0.0, t_end=2.0))
     xb, ub, _, _, extras = scene_run(robot, x0, u0, DT, T, controller=law, fsw_dt=FSW_DT)

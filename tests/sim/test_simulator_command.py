@@ -11,6 +11,7 @@ import pytest
 import spacearm
 from spacearm import control
 from spacearm.errors import ArgumentError, NonFiniteError, QuaternionError, ShapeError
+from bsk_runs import tumbling_start
 
 
 @pytest.fixture(scope="module")
@@ -18,18 +19,12 @@ def robot():
     return spacearm.presets.spatial6()
 
 
-def _start(robot):
-    x0 = np.asarray(robot.neutral_configuration(), float)
-    u0 = np.zeros(robot.nu)
-    u0[3:6] = [0.01, -0.02, 0.03]
-    return x0, u0
-
 
 def test_command_is_what_a_run_applies(robot):
     """The law at the first and the last sample of a simulate run, evaluated by command on the
     recorded states: the torques the run recorded (computed torque: a law with internal
     dependence on t and the state only)."""
-    x0, u0 = _start(robot)
+    x0, u0 = tumbling_start(robot)
     law = control.ComputedTorque(kp=16.0, kd=8.0, reference=control.QuinticJoint(x0[7:], x0[7:] + 0.4, 0.0, 2.0))
     run = spacearm.simulate(robot, 0.5, x0=x0, u0=u0, controller=law, dt=0.01, integrator="rk4")
     sim = spacearm.Simulator(robot, controller=law)
@@ -60,7 +55,7 @@ def test_command_goes_through_the_limits_and_the_mask(robot):
         commands.append(sim.command(0.0, xl, ul)[0])
     np.testing.assert_allclose(commands[0], [1.0, 1.0], rtol=1e-14)
     np.testing.assert_array_equal(commands[1], [3.0, 7.0])
-    x0, u0 = _start(robot)
+    x0, u0 = tumbling_start(robot)
     damping = control.MomentumDamping(time_constant=1.0)
     flying = spacearm.Simulator(robot, controller=damping, mode="rotation-flying")
     flying.reset(x0, u0)
@@ -69,7 +64,7 @@ def test_command_goes_through_the_limits_and_the_mask(robot):
 
 
 def test_command_refuses_bad_input(robot):
-    x0, u0 = _start(robot)
+    x0, u0 = tumbling_start(robot)
     sim = spacearm.Simulator(robot, controller=control.JointPD(kp=10.0, kd=5.0, reference=x0[7:]))
     with pytest.raises(ArgumentError, match="reset"):
         sim.command(0.0, x0, u0)
