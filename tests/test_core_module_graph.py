@@ -377,7 +377,7 @@ def test_no_cycle_between_the_files_of_a_folder():
 #: The core's layers (lib.rs, docs/architecture.md "The core's layers"): a file imports from its
 #: own folder or from a lower layer, never from its layer's other folders or above.
 LAYERS = {
-    "error": 0, "admission": 1, "math": 2, "model": 3, "io": 4, "algorithms": 4, "gjm": 5,
+    "error": 0, "admission": 1, "math": 2, "model": 3, "io": 4, "algorithms": 4, "gjm": 5, "collision": 5,
     "derivatives": 6, "taped": 6, "scenario": 7, "analysis": 8, "control": 9, "sim": 10, "crate": 11,
 }
 

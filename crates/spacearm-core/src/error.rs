@@ -180,6 +180,27 @@ impl SpacearmError {
 /// Digits a number of a message may have before it is shown in scientific notation.
 const MAX_MESSAGE_DIGITS: usize = 17;
 
+/// Serde for an enum that is data by its name: `#[serde(try_from = "String", into = "&'static
+/// str")]` on the enum and `named_by!(Enum)` beside it read it with its `from_name` (the error
+/// naming the names, [`by_name`]) and write it with its `name`.
+macro_rules! named_by {
+    ($t:ty) => {
+        impl TryFrom<String> for $t {
+            type Error = $crate::error::SpacearmError;
+            fn try_from(name: String) -> $crate::error::Result<Self> {
+                <$t>::from_name(&name)
+            }
+        }
+
+        impl From<$t> for &'static str {
+            fn from(value: $t) -> &'static str {
+                value.name()
+            }
+        }
+    };
+}
+pub(crate) use named_by;
+
 /// The entry of `values` whose name (same position in `names`) is `name`, for the `from_name`
 /// of the enums with a name table; else [`SpacearmError::InvalidArgument`] "`what` must be one
 /// of [names], got '`name`'".

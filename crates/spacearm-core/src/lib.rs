@@ -22,7 +22,8 @@
 //! * [`algorithms`] — kinematics, CRBA, RNEA, ABA, the paper-form inertia, momentum: free
 //!   functions `algo(&model, &mut data, x, ...)`;
 //! * [`gjm`] and [`derivatives`] — the generalized (reduced) dynamics `H*`, `c*`, `J*`, and
-//!   their exact derivatives;
+//!   their exact derivatives; beside `gjm`, [`collision`] — the contacts of a state between the
+//!   model's collision shapes (parry's narrow phase);
 //! * [`taped`] — the same algorithms recorded on tapes ([`math::tape`]) for replay on other
 //!   systems' symbols (the CasADi functions of `spacearm.casadi`);
 //! * [`scenario`] — what a run is set in: maneuvering modes, actuator limits, references, the
@@ -36,6 +37,7 @@
 
 pub mod admission;
 pub mod algorithms;
+pub mod collision;
 pub mod analysis;
 pub mod control;
 pub mod derivatives;

@@ -81,6 +81,35 @@ impl PyModelBuilder {
         })
     }
 
+    /// A builder holding `model` exactly (core `ModelBuilder::from_model`, model/edit.rs), to edit.
+    #[staticmethod]
+    fn from_model(model: &crate::model_py::PyModel) -> Self {
+        PyModelBuilder { inner: ModelBuilder::from_model(&model.model) }
+    }
+
+    /// Rename the model being built.
+    fn set_name(&mut self, py: Python<'_>, name: &str) -> PyResult<()> {
+        self.inner.set_name(name).map_err(SpacearmError::from).or_raise(py)?;
+        Ok(())
+    }
+
+    /// Judge every body's inertia again: refused (`allow_nonphysical_inertia=False`) or warned.
+    fn set_allow_nonphysical_inertia(&mut self, py: Python<'_>, allow_nonphysical_inertia: bool) -> PyResult<()> {
+        self.inner.set_triangle_inequality(triangle_inequality(allow_nonphysical_inertia)).map_err(SpacearmError::from).or_raise(py)?;
+        Ok(())
+    }
+
+    /// Drop every geometry.
+    fn clear_geometries(&mut self) {
+        self.inner.clear_geometries();
+    }
+
+    /// Remove the link `body`, its subtree, and the points and geometries on them.
+    fn remove_subtree(&mut self, py: Python<'_>, body: &str) -> PyResult<()> {
+        self.inner.remove_subtree(body).map_err(SpacearmError::from).or_raise(py)?;
+        Ok(())
+    }
+
     #[allow(clippy::too_many_arguments)]
     #[pyo3(signature = (name, parent, joint_type, origin, rotation, axis, com, mass, inertia, joint_name=None, limits=None, dynamics=None))]
     fn add_link(

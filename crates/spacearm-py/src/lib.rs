@@ -10,6 +10,7 @@ mod analysis_results_py;
 mod batch;
 mod batch_simulator_py;
 mod builder_py;
+mod collision_py;
 mod contact_py;
 mod controller_spec_py;
 mod convert;
@@ -72,6 +73,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     );
     analysis_py::register(m)?;
     contact_py::register(m)?;
+    collision_py::register(m)?;
     add_to_module!(
         m,
         classes: [

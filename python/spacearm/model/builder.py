@@ -30,7 +30,7 @@ import numpy as np
 
 from .. import _core
 from .._util.arrays import matrix3, number, quaternion, vector
-from ..errors import ArgumentError, ModelError, NotFoundError, SpacearmTypeError
+from ..errors import ArgumentError, ModelError, SpacearmTypeError
 from ..rotations import IDENTITY_QUAT, quat_from_rpy
 from .robot import Robot, warn_nonphysical_inertia
 
@@ -71,19 +71,10 @@ class RobotBuilder:
         triangle inequality ``I1 + I2 >= I3`` (refused by default: no real body has them);
         [`build`][spacearm.RobotBuilder.build] then warns once per such body
         ([`NonPhysicalInertiaWarning`][spacearm.errors.NonPhysicalInertiaWarning]). For published identified data."""
-        self._base = (str(name), str(base_name), number(base_mass, "base_mass"), matrix3(base_inertia, "base_inertia"),
-                      bool(allow_nonphysical_inertia))
-        self._b = _core.ModelBuilder(*self._base)
+        self._b = _core.ModelBuilder(str(name), str(base_name), number(base_mass, "base_mass"), matrix3(base_inertia, "base_inertia"),
+                                     bool(allow_nonphysical_inertia))
         self._base_name = str(base_name)
         self._n_wheels = 0
-        # What was added, in order, so that remove_body can replay the rest through the core
-        # builder (which validates every addition).
-        self._links: list = []  # (name, parent, joint kind, joint name, core add_link args)
-        self._points: list = []  # (name, body, offset)
-        self._geometries: list = []  # (body, core add_geometry keyword arguments)
-        self._end_effector: Optional[str] = None
-        self._initial_q: Optional[list] = None
-        self._initial_q_by_link: dict = {}  # from from_robot / remove_body: link name -> q
 
     @classmethod
     def from_robot(cls, robot: Robot, name: Optional[str] = None, *,
@@ -91,36 +82,26 @@ class RobotBuilder:
         """A builder holding ``robot``'s model exactly: the base, every link with its joint,
         limits, passive dynamics and mass properties, the points, the end effector and the initial ``q``.
 
-        Building it unchanged gives a model equal to ``robot``: the same mass matrix bit for
-        bit where the axes and rotations are exactly unit, else equal to rounding (they are
-        normalized again on the way in).
+        It is the core's copy of the model (model/edit.rs ``ModelBuilder::from_model``, no replay
+        through the builder's calls): built unchanged, it gives a model equal to ``robot`` bit for bit.
         The initial ``q`` is kept per link, so links added or removed afterwards keep the other
-        joints' initial values (new joints start at 0) unless [`set_initial_q`][spacearm.RobotBuilder.set_initial_q] is called.
+        joints' initial values (new joints start at their spring rest, 0 unless set) unless [`set_initial_q`][spacearm.RobotBuilder.set_initial_q] is called.
         ``allow_nonphysical_inertia`` defaults to ``robot``'s own choice. ``geometry=False``
         leaves out the model's shapes (docs/geometry.md).
         """
         if not isinstance(robot, Robot):
             raise ArgumentError(f"from_robot needs a spacearm.Robot, got {type(robot).__name__}")
-        d = robot.description
-        allow = robot.allows_nonphysical_inertia if allow_nonphysical_inertia is None else allow_nonphysical_inertia
-        b = cls(d.name if name is None else name, d.base.mass, d.base.inertia.tolist(), base_name=d.base.name,
-                allow_nonphysical_inertia=allow)
-        for link in d.links:
-            lim = link.limits
-            limits = None if link.type == "fixed" else dict(lower=lim.lower, upper=lim.upper, velocity=lim.velocity, effort=lim.effort)
-            b.add_link(link.name, parent=link.parent, joint=link.type, axis=link.axis.tolist(),
-                       origin=link.origin.tolist(), rotation=link.rotation.tolist(), com=link.com.tolist(), mass=link.mass,
-                       inertia=link.inertia.tolist(), joint_name=link.joint, limits=limits, actuated=link.actuated,
-                       stiffness=link.stiffness, damping=link.damping, rest=link.rest)
-        for p in d.points:
-            b.add_point(p.name, body=p.body, offset=p.offset.tolist())
-        for g in (d.geometries if geometry else ()):
-            dims = {key: getattr(g, key) for key in ("size", "radius", "length", "file", "scale") if getattr(g, key) is not None}
-            b.add_geometry(g.body, g.shape, role=g.role, origin=g.origin, rotation=g.rotation, rgba=g.rgba,
-                           name=g.name, **dims)
-        if d.end_effector is not None:
-            b.set_end_effector(d.end_effector)
-        b._initial_q_by_link = dict(zip(b._moving_links(), d.initial_q.tolist()))
+        # The core's own copy of the model (model/edit.rs ModelBuilder::from_model): no replay.
+        b = cls.__new__(cls)
+        b._b = _core.ModelBuilder.from_model(robot.core_model)
+        b._base_name = robot.description.base.name
+        b._n_wheels = 0
+        if name is not None:
+            b._b.set_name(str(name))
+        if allow_nonphysical_inertia is not None and bool(allow_nonphysical_inertia) != robot.allows_nonphysical_inertia:
+            b._b.set_allow_nonphysical_inertia(bool(allow_nonphysical_inertia))
+        if not geometry:
+            b._b.clear_geometries()
         return b
 
     def add_link(
@@ -188,7 +169,6 @@ class RobotBuilder:
             self._joint_dynamics(name, actuated, stiffness, damping, rest),
         )
         self._b.add_link(*args)
-        self._links.append((str(name), str(parent), str(joint), joint_name, args))
         return self
 
     def _add_compliant(self, name, parent, joint, origin, quat, axis, com, mass, inertia, joint_name, lim, compliant,
@@ -219,7 +199,6 @@ class RobotBuilder:
         links, points, geometries = parts
         for args in links:
             self._b.add_link(*args)
-            self._links.append((args[0], args[1], args[2], args[9], tuple(args)))
         for point, body, offset in points:
             self.add_point(point, body=body, offset=offset)
         for gname, body, size, origin, rotation, rgba in geometries:
@@ -365,7 +344,6 @@ class RobotBuilder:
         )
         for args in links:
             self._b.add_link(*args)
-            self._links.append((args[0], args[1], args[2], args[9], tuple(args)))
         return self
 
     def attach_payload(
@@ -391,45 +369,13 @@ class RobotBuilder:
                              com=(0.0, 0.0, 0.0), mass=mass, inertia=inertia, joint_name=f"{name}_joint")
 
     def remove_body(self, name: str) -> "RobotBuilder":
-        """Remove link ``name``, every link below it, and the points on them (the end effector
-        too, if it is one of them: set another with [`set_end_effector`][spacearm.RobotBuilder.set_end_effector]). The base cannot be
-        removed. The remaining links are added again, in order, through the core's validation.
+        """Remove link ``name``, every link below it, and the points and geometries on them (the
+        end effector too, if it is one of them: set another with [`set_end_effector`][spacearm.RobotBuilder.set_end_effector]). The
+        base cannot be removed. The core's edit (model/edit.rs ``remove_subtree``): the other
+        links keep their order, parts and initial coordinates.
         """
-        name = str(name)
-        if name == self._base_name:
-            raise ModelError(f"the base '{name}' cannot be removed; start a new builder instead")
-        if name not in {link[0] for link in self._links}:
-            raise NotFoundError(f"no link named '{name}'; the links are {[link[0] for link in self._links]}")
-        removed = {name}
-        for link_name, parent, *_ in self._links:  # links come after their parents
-            if parent in removed:
-                removed.add(link_name)
-        if self._initial_q is not None:
-            # An explicit initial q no longer matches the joints: keep it per moving link instead.
-            self._initial_q_by_link = dict(zip(self._moving_links(), self._initial_q))
-            self._initial_q = None
-        links = [link for link in self._links if link[0] not in removed]
-        points = [p for p in self._points if p[1] not in removed]
-        geometries = [g for g in self._geometries if g[0] not in removed]
-        end_effector = self._end_effector if any(p[0] == self._end_effector for p in points) else None
-        self._b = _core.ModelBuilder(*self._base)
-        self._links, self._points, self._end_effector = [], [], None
-        for *_, args in links:
-            self._b.add_link(*args)
-        self._links = links
-        for point, body, offset in points:
-            self.add_point(point, body=body, offset=offset)
-        self._geometries = []
-        for body, kwargs in geometries:
-            self._b.add_geometry(body, **kwargs)
-        self._geometries = geometries
-        if end_effector is not None:
-            self.set_end_effector(end_effector)
+        self._b.remove_subtree(str(name))
         return self
-
-    def _moving_links(self) -> list:
-        """Names of the links with a joint coordinate, in ``q`` order (the order of addition)."""
-        return [link[0] for link in self._links if link[2] != "fixed"]
 
     def add_reaction_wheel(
         self,
@@ -481,7 +427,6 @@ class RobotBuilder:
         """Add a named point fixed to ``body`` at ``offset`` (body frame, from its CM)."""
         offset = list(vector(offset, f"point '{name}' offset", 3))
         self._b.add_point(str(name), str(body), offset)
-        self._points.append((str(name), str(body), offset))
         return self
 
     def add_geometry(
@@ -532,25 +477,18 @@ class RobotBuilder:
             name=None if name is None else str(name),
         )
         self._b.add_geometry(str(body), **kwargs)
-        self._geometries.append((str(body), kwargs))
         return self
 
     def set_end_effector(self, name: str) -> "RobotBuilder":
         """Designate the named point as the end effector."""
         self._b.set_end_effector(str(name))
-        self._end_effector = str(name)
         return self
 
     def set_initial_q(self, q: Sequence[float]) -> "RobotBuilder":
         """Initial (nominal) joint coordinates, length N."""
-        self._initial_q = list(vector(q, "initial q"))
-        self._initial_q_by_link = {}
+        self._b.set_initial_q(list(vector(q, "initial q")))
         return self
 
     def build(self) -> Robot:
         """Validate the whole model and return the immutable [`Robot`][spacearm.Robot]."""
-        if self._initial_q is not None:
-            self._b.set_initial_q(self._initial_q)
-        elif self._initial_q_by_link:
-            self._b.set_initial_q([self._initial_q_by_link.get(link, 0.0) for link in self._moving_links()])
         return warn_nonphysical_inertia(Robot(self._b.build()))

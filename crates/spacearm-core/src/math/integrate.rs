@@ -45,18 +45,7 @@ pub enum IntegratorKind {
     Dopri5,
 }
 
-impl TryFrom<String> for IntegratorKind {
-    type Error = crate::error::SpacearmError;
-    fn try_from(name: String) -> Result<Self> {
-        IntegratorKind::from_name(&name)
-    }
-}
-
-impl From<IntegratorKind> for &'static str {
-    fn from(kind: IntegratorKind) -> &'static str {
-        kind.name()
-    }
-}
+crate::error::named_by!(IntegratorKind);
 
 impl IntegratorKind {
     /// The names accepted by [`IntegratorKind::from_name`].

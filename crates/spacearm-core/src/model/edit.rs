@@ -19,7 +19,7 @@
 use std::collections::{HashMap, HashSet};
 
 use crate::error::{ModelError, ModelField, ModelItem};
-use crate::model::body::MassProperties;
+use crate::model::body::{MassProperties, TriangleInequality};
 use crate::model::builder::{LinkSpec, ModelBuilder};
 use crate::model::geometry::Geometry;
 use crate::model::joint::{Joint, JointDynamics, JointLimits, JointType};
@@ -105,6 +105,30 @@ impl ModelBuilder {
             geometry_counts,
             initial_q_by_link,
         }
+    }
+
+    /// Judge every body's inertia again under `rule` (a seeded builder keeps its model's rule):
+    /// the same check and message as [`ModelBuilder::add_link`]'s, the warnings of
+    /// [`TriangleInequality::Warn`] kept anew. Nothing changes when an error is returned.
+    pub fn set_triangle_inequality(&mut self, rule: TriangleInequality) -> Result<&mut Self, ModelError> {
+        let who = format!("base '{}'", self.base_name);
+        let (_, base) = MassProperties::checked(ModelItem::Base, &who, self.base.mass, self.base.inertia, true, rule)?;
+        let mut warnings: Vec<String> = base.into_iter().collect();
+        for (k, link) in self.links.iter().enumerate() {
+            let who = format!("link '{}'", link.name);
+            warnings.extend(MassProperties::checked(ModelItem::Link(k), &who, link.mass.mass, link.mass.inertia, false, rule)?.1);
+        }
+        self.triangle_inequality = rule;
+        self.inertia_warnings = warnings;
+        Ok(self)
+    }
+
+    /// Drop every geometry (the model's shapes, docs/geometry.md); bodies and points stay.
+    pub fn clear_geometries(&mut self) -> &mut Self {
+        self.geometries.clear();
+        self.geometry_names.clear();
+        self.geometry_counts.clear();
+        self
     }
 
     /// Rename the model being built (an edited model is often named after its parts).

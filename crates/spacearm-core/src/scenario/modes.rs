@@ -64,18 +64,7 @@ impl Conserved {
     }
 }
 
-impl TryFrom<String> for Mode {
-    type Error = crate::error::SpacearmError;
-    fn try_from(name: String) -> Result<Mode> {
-        Mode::from_name(&name)
-    }
-}
-
-impl From<Mode> for &'static str {
-    fn from(mode: Mode) -> &'static str {
-        mode.name()
-    }
-}
+crate::error::named_by!(Mode);
 
 impl Mode {
     /// The names accepted by [`Mode::from_name`].

@@ -1,0 +1,44 @@
+"""Contacts between a model's collision shapes (docs/contact.md).
+
+[`contacts`][spacearm.contact.contacts] finds, at one state, the pairs of collision geometries
+(``role="collision"``: boxes, spheres, cylinders, capsules; docs/geometry.md) that touch,
+interpenetrate or come within ``margin`` of each other. The narrow phase is the core's, on
+parry (the rapier project's collision crate): the contact points on both surfaces, the unit
+normal from the first shape to the second and the signed distance (negative: the depth of
+interpenetration). This is collision *detection*; contact forces, impulses and topology events
+are not built yet (docs/contact.md, "What is not handled").
+"""
+
+from __future__ import annotations
+
+from typing import Optional, Sequence
+
+from . import _core
+from ._util.arrays import number
+from .errors import SpacearmTypeError
+
+__all__ = ["contacts", "Contact"]
+
+#: A contact between two collision shapes at one state (the binding's class): ``geometries`` and
+#: ``bodies`` (names, first and second shape), ``point_a``, ``point_b`` (3,) the closest or
+#: deepest point of each surface in 𝒥, m; ``normal`` (3,) from the first shape to the second;
+#: ``distance`` (m, < 0 interpenetrating).
+Contact = _core.Contact
+
+
+def contacts(robot, x, *, pairs: Optional[Sequence[tuple]] = None, margin: float = 0.0) -> list:
+    """The contacts of state ``x`` between ``robot``'s collision shapes.
+
+    ``pairs``: the pairs of bodies to test, as ``(name, name)``; default every pair of bodies
+    but a body and its parent (they meet at their joint by construction). ``margin`` (m, >= 0):
+    also report shapes at most this far apart (default 0: touching or interpenetrating). Pairs on
+    one body are never tested. A mesh collision geometry is refused with an
+    [`ArgumentError`][spacearm.ArgumentError] naming it (its vertices are not in the model).
+    """
+    from .model.robot import Robot
+
+    if not isinstance(robot, Robot):
+        raise SpacearmTypeError(f"contacts needs a spacearm.Robot, got {type(robot).__name__}")
+    if pairs is not None:
+        pairs = [(str(a), str(b)) for a, b in pairs]
+    return _core.contacts(robot.core_model, x, pairs, number(margin, "margin"))
