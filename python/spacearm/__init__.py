@@ -50,7 +50,7 @@ from .sim.trajectory import Trajectory
 #: The subpackages imported on first use (PEP 562): ``spacearm.plan`` after ``import spacearm``
 #: imports ``spacearm.plan`` then, so ``import spacearm`` does not pay for them (CasADi, SymPy,
 #: Dask and the engines load only with the subpackage that needs them).
-_LAZY_SUBPACKAGES = ("analysis", "c", "campaign", "casadi", "examples", "fmi", "gym", "identify", "interop", "mpc", "plan", "symbolic")
+_LAZY_SUBPACKAGES = ("analysis", "basilisk", "c", "campaign", "casadi", "examples", "fmi", "gym", "identify", "interop", "mpc", "plan", "symbolic")
 
 
 def __getattr__(name: str):

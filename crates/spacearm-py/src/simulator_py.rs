@@ -182,6 +182,37 @@ impl PySimulator {
         Ok(PyArray1::from_slice(py, stepper.state()))
     }
 
+    /// The command the plant applies at `(t, x, u)`, without stepping: `(tau, base_wrench)` (N
+    /// joint torques; `[F0, N0]` at the base CM in 𝒥), the controller's law (with the input of
+    /// the last `step`, if any, added) through the actuator limits and the mode's mask, as at
+    /// every stage of a step. The controller keeps its internal state across calls (the state a
+    /// run would give it): a flight-software module samples the law this way
+    /// (`spacearm.basilisk.ControllerModule`). Needs a `reset` first.
+    fn command<'py>(
+        &mut self,
+        py: Python<'py>,
+        t: f64,
+        x: &Bound<'_, PyAny>,
+        u: &Bound<'_, PyAny>,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+        if !t.is_finite() {
+            return Err(to_py_err(py, bad(format!("t must be finite (s), got {t}"))));
+        }
+        let x = vec_arg(x, "x")?;
+        let u = vec_arg(u, "u")?;
+        // The initial-state checks, their messages naming `x` and `u` (not `x0`, `u0`).
+        check_initial_state(&self.model, x.as_slice(), u.as_slice()).map_err(|e| to_py_err(py, match e {
+            SpacearmError::Dimension { what, expected, got } => SpacearmError::Dimension { what: what.trim_end_matches('0').into(), expected, got },
+            SpacearmError::NonFinite { what, index, value } => SpacearmError::NonFinite { what: what.trim_end_matches('0').into(), index, value },
+            other => other,
+        }))?;
+        let stepper = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?.as_mut().ok_or_else(|| Self::not_reset(py))?;
+        let plant = stepper.plant_mut();
+        plant.apply_command(t, x.as_slice(), u.as_slice()).map_err(|e| take_error(&self.slot).unwrap_or_else(|| to_py_err(py, e)))?;
+        let (tau, wrench) = plant.applied();
+        Ok((PyArray1::from_slice(py, tau), PyArray1::from_slice(py, wrench.as_slice())))
+    }
+
     /// The current time, s.
     #[getter]
     fn time(&mut self, py: Python<'_>) -> PyResult<f64> {

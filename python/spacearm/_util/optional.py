@@ -32,6 +32,7 @@ EXTRAS = {
     "imageio_ffmpeg": "video",
     "meshcat": "view",
     "gymnasium": "rl",
+    "Basilisk": "basilisk",
 }
 
 

@@ -119,9 +119,10 @@ def _merged_chains(robot, bodies, children, points_on, geoms_on) -> dict:
     return chains
 
 
-def _lent_masses(robot, bodies, chains) -> dict:
+def _lent_masses(robot, bodies, chains, fraction: float = LENT_MASS) -> dict:
     """``{parent: [(mass, point in the parent frame)]}`` for the zero-mass moving links with
-    inertia (rotors): the point mass ``LENT_MASS·m_parent`` each takes from its parent."""
+    inertia (rotors): the point mass ``fraction·m_parent`` (default ``LENT_MASS``) each takes
+    from its parent."""
     lent = {}
     merged = {m for chain in chains.values() for m in chain}
     for body in bodies[1:]:
@@ -133,7 +134,7 @@ def _lent_masses(robot, bodies, chains) -> dict:
         if not on_axis or body.index in chains or parent.mass <= 0.0:
             raise ModelError(f"{what}; it is exported only on a revolute joint with its CM on the axis, directly on a "
                              "parent with mass (a rotor: it then borrows a point mass from its parent at its CM)")
-        lent.setdefault(body.parent, []).append((LENT_MASS * parent.mass, body.origin + body.rotation @ body.com))
+        lent.setdefault(body.parent, []).append((fraction * parent.mass, body.origin + body.rotation @ body.com))
     return lent
 
 
@@ -265,7 +266,7 @@ def _welded_bodies(robot, weld) -> list:
 
 
 def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, base_actuators: bool = False,
-            assets=None, weld=()) -> str:
+            assets=None, weld=(), lent_mass: float = LENT_MASS) -> str:
     """The MJCF (MuJoCo XML) text of ``robot``.
 
     - Every MuJoCo body frame IS the spacearm body frame (origin at the CM, link axes), so the
@@ -285,7 +286,7 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
       ``qpos`` keeps spacearm's depth-first joint order. A massless link with points, shapes or
       other than one child is a [`ModelError`][spacearm.ModelError].
     - A zero-mass link with inertia on a revolute joint with its CM on the axis (a compliant
-      joint's rotor, a reaction wheel of ``mass=0``) borrows ``LENT_MASS`` of its parent's mass
+      joint's rotor, a reaction wheel of ``mass=0``) borrows ``lent_mass`` (default ``LENT_MASS``) of its parent's mass
       as a point at its CM, taken from the parent's inertial (moved CM, parallel axes): that
       point never moves in the parent, so the dynamics are unchanged. Other zero-mass links
       with inertia are a [`ModelError`][spacearm.ModelError].
@@ -354,7 +355,9 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
         if chains.get(b):
             raise ArgumentError(f"weld: '{bodies[b].name}' hangs on the massless link '{bodies[chains[b][-1]].name}', "
                                 "whose joint would be lost in a free body: weld a link below a link with mass")
-    lent = _lent_masses(robot, bodies, chains)
+    if not (isinstance(lent_mass, (int, float)) and 0.0 < lent_mass < 0.1):
+        raise ArgumentError(f"lent_mass must be a fraction in (0, 0.1) of a rotor's parent mass, got {lent_mass!r}")
+    lent = _lent_masses(robot, bodies, chains, float(lent_mass))
     lenders = {b for b in lent}
 
     def joint_el(el: ET.Element, j, pos, axis) -> None:
@@ -397,7 +400,7 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
         if b in lenders:
             _lender_inertial(el, body, lent[b])
         elif body.mass == 0.0 and body.kind not in ("base", "fixed") and np.any(np.asarray(body.inertia)):
-            _inertial(el, LENT_MASS * bodies[body.parent].mass, body.inertia)  # a rotor: the mass its parent lends
+            _inertial(el, lent_mass * bodies[body.parent].mass, body.inertia)  # a rotor: the mass its parent lends
         else:
             moves = b == 0 or b in welded or bool(chains.get(b)) or body.kind != "fixed"
             if moves and body.mass <= 0.0:

@@ -120,6 +120,16 @@ class Simulator:
         test: ``state = sim.step(tau)`` once per control period."""
         return self._core.step(tau, n, base_wrench)
 
+    def command(self, t: float, x, u):
+        """The command the plant applies at ``(t, x, u)``, without stepping: ``(tau, base_wrench)``
+        (N joint torques; ``[F0, N0]`` at the base CM in 𝒥), the controller's law (plus the
+        input of the last [`step`][spacearm.Simulator.step]) through the actuator limits and the
+        mode's mask, as at every stage of a step. The controller keeps its internal state across
+        calls: a flight-software loop samples the law this way
+        (``spacearm.basilisk.ControllerModule``, docs/basilisk.md). Needs a
+        [`reset`][spacearm.Simulator.reset] first."""
+        return self._core.command(t, x, u)
+
     @property
     def time(self) -> float:
         """The current time, s."""

@@ -193,6 +193,47 @@ impl Plant<'_> {
         Ok(true)
     }
 
+    /// The forces the plant applies at `(t, x, u)`: the controller's command (plus the held
+    /// input), through the actuator limits and the mode's mask (docs/modes.md), into
+    /// [`Plant::applied`]; the kinematics of `x` are left in [`Plant::data`]. What every
+    /// evaluation of the dynamics does first; also called alone to read a controller's command
+    /// at a state measured elsewhere (a flight-software module, `spacearm.basilisk`).
+    pub fn apply_command(&mut self, t: f64, x: &[f64], u: &[f64]) -> Result<()> {
+        let n = self.model.n_dof();
+        self.cmd.clear();
+        self.controller.command(t, x, u, &mut self.cmd)?;
+        if let Some((tau, wrench)) = &self.held_input {
+            for (c, h) in self.cmd.tau.iter_mut().zip(tau) {
+                *c += h;
+            }
+            self.cmd.base_wrench += wrench;
+        }
+        if self.cmd.tau.iter().chain(self.cmd.base_wrench.iter()).any(|v| !v.is_finite()) {
+            return Err(SpacearmError::Simulation(format!("controller '{}' returned a non-finite torque or base wrench at t = {t} s", self.controller.name())));
+        }
+        forward_kinematics(&self.model, &mut self.data, x)?;
+        self.flags_eval.fill(0);
+        self.tau_applied.copy_from_slice(&self.cmd.tau);
+        self.actuators.saturate_joints(&mut self.tau_applied, &u[6..], &mut self.flags_eval[..n]);
+        let (mut kept, dropped) = self.mode.mask(&self.cmd.base_wrench);
+        let dropped_norm = dropped.norm();
+        if dropped_norm > 0.0 {
+            self.dropped_count += 1;
+            self.dropped_max = self.dropped_max.max(dropped_norm);
+        }
+        self.actuators.saturate_thrusters(&mut kept, &mut self.flags_eval[n..]);
+        let base_to_com =
+            if self.mode == Mode::TranslationFlying { center_of_mass_from_data(&self.model, &self.data) - self.data.base_position } else { Vector3::zeros() };
+        self.wrench_applied = self.mode.wrench_at_base(&kept, &base_to_com);
+        Ok(())
+    }
+
+    /// The joint torques (N) and the base wrench (`[F0; N0]` at the base CM, in 𝒥) of the last
+    /// evaluation, after the limits and the mode's mask.
+    pub fn applied(&self) -> (&[f64], &Vector6<f64>) {
+        (&self.tau_applied, &self.wrench_applied)
+    }
+
     /// Whether the plant runs in orbit with the tidal wrenches.
     pub fn has_gravity_gradient(&self) -> bool {
         matches!(self.orbit, Some((_, true)))
@@ -223,33 +264,8 @@ impl OdeSystem for Plant<'_> {
                  rtol/atol or lower the controller gains"
             )));
         }
-        let n = self.model.n_dof();
         let (x, u) = y.split_at(self.nx);
-        self.cmd.clear();
-        self.controller.command(t, x, u, &mut self.cmd)?;
-        if let Some((tau, wrench)) = &self.held_input {
-            for (c, h) in self.cmd.tau.iter_mut().zip(tau) {
-                *c += h;
-            }
-            self.cmd.base_wrench += wrench;
-        }
-        if self.cmd.tau.iter().chain(self.cmd.base_wrench.iter()).any(|v| !v.is_finite()) {
-            return Err(SpacearmError::Simulation(format!("controller '{}' returned a non-finite torque or base wrench at t = {t} s", self.controller.name())));
-        }
-        forward_kinematics(&self.model, &mut self.data, x)?;
-        self.flags_eval.fill(0);
-        self.tau_applied.copy_from_slice(&self.cmd.tau);
-        self.actuators.saturate_joints(&mut self.tau_applied, &u[6..], &mut self.flags_eval[..n]);
-        let (mut kept, dropped) = self.mode.mask(&self.cmd.base_wrench);
-        let dropped_norm = dropped.norm();
-        if dropped_norm > 0.0 {
-            self.dropped_count += 1;
-            self.dropped_max = self.dropped_max.max(dropped_norm);
-        }
-        self.actuators.saturate_thrusters(&mut kept, &mut self.flags_eval[n..]);
-        let base_to_com =
-            if self.mode == Mode::TranslationFlying { center_of_mass_from_data(&self.model, &self.data) - self.data.base_position } else { Vector3::zeros() };
-        self.wrench_applied = self.mode.wrench_at_base(&kept, &base_to_com);
+        self.apply_command(t, x, u)?;
         self.f[..6].copy_from_slice(self.wrench_applied.as_slice());
         self.f[6..].copy_from_slice(&self.tau_applied);
         let tidal = self.tidal_wrenches(t)?;
