@@ -231,26 +231,13 @@ pub fn detect_cmgs(model: &Model) -> Vec<Cmg> {
         if g.dot(&s).abs() > 1e-9 {
             continue;
         }
-        // The rotor's CM (gimbal frame, from the gimbal joint) on the gimbal axis; its own CM on
-        // its spin axis; its inertia symmetric about the spin axis.
-        let axis_r = rl.joint.axis.into_inner();
-        let c = rl.com_from_joint;
+        // The rotor's CM (gimbal frame, from the gimbal joint) on the gimbal axis; the rotor a
+        // symmetric rotor about its spin axis (Link::symmetric_rotor_moment).
         let rotor_cm_on_gimbal_axis = {
-            let p = gl.com_from_joint + rl.joint.origin_in_parent + rl.joint.rotation_in_parent * c;
+            let p = gl.com_from_joint + rl.joint.origin_in_parent + rl.joint.rotation_in_parent * rl.com_from_joint;
             (p - g * g.dot(&p)).norm() <= 1e-9
         };
-        if (c - axis_r * axis_r.dot(&c)).norm() > 1e-9 || !rotor_cm_on_gimbal_axis {
-            continue;
-        }
-        let inertia = rl.mass.inertia;
-        let scale = inertia.norm().max(1e-300);
-        let spin = axis_r.dot(&(inertia * axis_r));
-        let transverse = inertia - axis_r * axis_r.transpose() * spin;
-        let t = 0.5 * transverse.trace();
-        let iso = transverse - (nalgebra::Matrix3::identity() - axis_r * axis_r.transpose()) * t;
-        if (inertia * axis_r - axis_r * spin).norm() > 1e-9 * scale || iso.norm() > 1e-9 * scale {
-            continue;
-        }
+        let Some(spin) = rl.symmetric_rotor_moment().filter(|_| rotor_cm_on_gimbal_axis) else { continue };
         let (Some(gimbal_dof), Some(rotor_dof)) = (model.dof_of_body(body), model.dof_of_body(rb)) else { continue };
         let to_parent = gl.joint.rotation_in_parent;
         let gp = to_parent * g;
