@@ -145,6 +145,9 @@ def test_mass_matrix_of_basilisk_equals_spacearm(free_run):
     assert np.max(np.abs(base_rates[3:])) < 1e-12 * np.max(np.abs(np.linalg.solve(m0, m0m)[3:]))
     j_star = sb.scene_generalized_jacobian(robot, scene)
     np.testing.assert_array_equal(j_star, robot.generalized_jacobian(x))
+    report = sb.scene_singularities(robot, scene)
+    np.testing.assert_allclose(report.generalized.singular_values, np.linalg.svd(j_star[list(report.task)], compute_uv=False), rtol=1e-12)
+    assert report.generalized.sigma_min == spacearm.analysis.singularities.analyze(robot, x).generalized.sigma_min
 
 
 def test_actuator_map_names_every_actuator():
