@@ -34,6 +34,7 @@ use crate::math::spatial::{cross3 as cross, dot3 as dot, unit3 as normalized};
 use crate::model::appendage::Parts;
 use crate::model::builder::LinkSpec;
 use crate::model::joint::{JointDynamics, JointLimits, JointType};
+use crate::model::validate::{non_negative, positive};
 use crate::model::system::Model;
 
 /// Default transverse rotor moment as a fraction of the spin moment (a disc 0.77 radii thick;
@@ -112,10 +113,6 @@ pub struct Cmg {
     pub max_wheel_speed: f64,
 }
 
-fn positive(v: f64) -> bool {
-    v.is_finite() && v > 0.0
-}
-
 fn limit(v: Option<f64>) -> f64 {
     v.unwrap_or(f64::INFINITY)
 }
@@ -154,11 +151,11 @@ pub fn cmg_parts(spec: &CmgSpec, base: &str, item: ModelItem) -> Result<Parts, M
     if !positive(j_t) {
         return bad(ModelField::Inertia, format!("rotor_transverse_inertia must be finite and > 0 kg m^2, got {j_t}"));
     }
-    if !spec.gimbal_inertia.iter().all(|v| v.is_finite() && *v >= 0.0) {
+    if !spec.gimbal_inertia.iter().all(|v| non_negative(*v)) {
         return bad(ModelField::Inertia, format!("gimbal_inertia must be 3 finite moments >= 0 kg m^2 along (gimbal, spin, gimbal x spin), got {:?}", spec.gimbal_inertia));
     }
     for (what, m) in [("rotor_mass", spec.rotor_mass), ("gimbal_mass", spec.gimbal_mass)] {
-        if !(m.is_finite() && m >= 0.0) {
+        if !non_negative(m) {
             return bad(ModelField::Mass, format!("{what} must be finite and >= 0 kg, got {m}"));
         }
     }
