@@ -108,59 +108,30 @@ pub(crate) fn wrenches(py: Python<'_>, list: Option<WrenchList>) -> PyResult<Vec
     Ok(out)
 }
 
+pymethods_with_getters! {
 #[pymethods]
 impl PyModel {
-    #[getter]
-    fn name(&self) -> String {
-        self.model.name().to_string()
+    getters(self) {
+        name: String = self.model.name().to_string();
+        n_dof: usize = self.model.n_dof();
+        n_bodies: usize = self.model.n_bodies();
+        /// Whether the model was built accepting inertias that break the triangle inequality.
+        allows_nonphysical_inertia: bool = self.model.triangle_inequality() == spacearm_core::model::TriangleInequality::Warn;
+        /// One message per body whose inertia breaks the triangle inequality.
+        inertia_warnings: Vec<String> = self.model.inertia_warnings().to_vec();
+        total_mass: f64 = self.model.total_mass();
+        body_names: Vec<String> = self.model.body_names();
+        point_names: Vec<String> = self.model.points().iter().map(|p| p.name.clone()).collect();
+        end_effector: Option<String> = self.model.end_effector().map(|i| self.model.points()[i].name.clone());
+        /// Whether each degree of freedom has a motor (dof order; docs/flexibility.md).
+        actuated_dofs: Vec<bool> = self.model.actuated_dofs();
+        /// Body index moved by each degree of freedom.
+        body_of_dof: Vec<usize> = (0..self.model.n_dof()).map(|d| self.model.body_of_dof(d)).collect();
     }
-    #[getter]
-    fn n_dof(&self) -> usize {
-        self.model.n_dof()
-    }
-    #[getter]
-    fn n_bodies(&self) -> usize {
-        self.model.n_bodies()
-    }
-    /// Whether the model was built accepting inertias that break the triangle inequality.
-    #[getter]
-    fn allows_nonphysical_inertia(&self) -> bool {
-        self.model.triangle_inequality() == spacearm_core::model::TriangleInequality::Warn
-    }
-    /// One message per body whose inertia breaks the triangle inequality.
-    #[getter]
-    fn inertia_warnings(&self) -> Vec<String> {
-        self.model.inertia_warnings().to_vec()
-    }
-    #[getter]
-    fn total_mass(&self) -> f64 {
-        self.model.total_mass()
-    }
-    #[getter]
-    fn body_names(&self) -> Vec<String> {
-        self.model.body_names()
-    }
-    #[getter]
-    fn point_names(&self) -> Vec<String> {
-        self.model.points().iter().map(|p| p.name.clone()).collect()
-    }
-    #[getter]
-    fn end_effector(&self) -> Option<String> {
-        self.model.end_effector().map(|i| self.model.points()[i].name.clone())
-    }
+
     #[getter]
     fn initial_q<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         array1(py, self.model.initial_q())
-    }
-    /// Whether each degree of freedom has a motor (dof order; docs/flexibility.md).
-    #[getter]
-    fn actuated_dofs(&self) -> Vec<bool> {
-        self.model.actuated_dofs()
-    }
-    /// Body index moved by each degree of freedom.
-    #[getter]
-    fn body_of_dof(&self) -> Vec<usize> {
-        (0..self.model.n_dof()).map(|d| self.model.body_of_dof(d)).collect()
     }
     fn body_index(&self, py: Python<'_>, name: &str) -> PyResult<usize> {
         self.model.body_index(name).or_raise(py)
@@ -549,6 +520,7 @@ impl PyModel {
             self.model.links().iter().filter(|l| l.joint.kind == JointType::Fixed).count()
         )
     }
+}
 }
 
 /// `NonFinite` naming `what` and its first non-finite entry, if any (one row's check).
