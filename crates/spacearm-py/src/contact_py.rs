@@ -539,16 +539,7 @@ fn run_controlled<R: Send>(
         Some(s) if !s.is_none() => build_controller(s, plant, &slot)?,
         _ => Box::new(ZeroTorque),
     };
-    let mut interrupted: Option<PyErr> = None;
-    let result = py.detach(|| {
-        let mut progress = |_fraction: f64| -> spacearm_core::Result<()> {
-            Python::attach(|py| py.check_signals()).map_err(|e| {
-                interrupted.get_or_insert(e);
-                SpacearmError::Simulation("interrupted".into())
-            })
-        };
-        work(controller.as_mut(), &mut progress)
-    });
+    let (result, interrupted) = crate::interrupt::run_reporting(py, |progress| work(controller.as_mut(), progress));
     result.map_err(|e| take_error(&slot).or(interrupted).unwrap_or_else(|| to_py_err(py, e)))
 }
 
