@@ -221,3 +221,27 @@ def test_mujoco_runs_the_exported_cmg_cluster_and_arm_as_spacearm_does_for_2_s()
     assert np.abs(traj.u[-1, 6 + rotor] - u0[6 + rotor]).min() > 0.5
     assert np.ptp(traj.x[:, 7 + gimbal], axis=0).min() > 0.1 and np.ptp(traj.x[:, -2:], axis=0).min() > 0.1
     assert np.abs(traj.x[-1, 3:6] - x0[3:6]).max() > 1e-3
+
+
+def test_the_gsr_dither_and_null_motion_options_hold_the_base_too_and_bad_values_are_refused():
+    """The steering law with Wie's dithered GSR inverse and null motion (docs/cmg.md,
+    "Steering") holds the base as the SR inverse does; the options change the gimbal motion
+    (null motion turns the gimbals without torque, so their angles differ) and the run's
+    description carries them; bad values name the option."""
+    from spacearm.control import CmgSteering, Combined, JointPD
+
+    robot = pyramid_sat()
+    x0, u0 = robot.neutral_configuration(), robot.cmg_velocity(500.0)
+    arm = JointPD(kp=200.0, kd=60.0, reference=[0.8, -0.6])
+    run = (lambda **o: spacearm.simulate(robot, 3.0, x0=x0, u0=u0, mode="rotation-floating", dt=2e-3,
+                                         controller=Combined(arm=arm, base=CmgSteering([0, 0, 0, 1], kp=200.0, kd=400.0, **o))))
+    plain, options = run(), run(dither=0.05, null_gain=0.5)
+    angle = (lambda t: 2 * np.arccos(np.clip(np.abs(t.x[:, 6]), 0, 1)))
+    assert angle(options).max() < 1.05 * angle(plain).max() and angle(options)[-1] < 0.005
+    gimbals = 7 + np.array([c["gimbal"] for c in robot.cmg_dofs.values()])
+    assert np.abs(options.x[-1, gimbals] - plain.x[-1, gimbals]).max() > 1e-3  # the options did act
+    assert np.isfinite(options.x).all()
+    for bad, match in [(dict(dither=0.5), "dither must be in"), (dict(dither=0.1, lambda0=0.0), "dither needs lambda0"),
+                       (dict(null_gain=-1.0), "null_gain"), (dict(dither_frequency=float("nan")), "dither_frequency")]:
+        with pytest.raises(SpacearmError, match=match):
+            CmgSteering([0, 0, 0, 1], kp=1.0, kd=1.0, **bad)
