@@ -245,3 +245,39 @@ def test_the_gsr_dither_and_null_motion_options_hold_the_base_too_and_bad_values
                        (dict(null_gain=-1.0), "null_gain"), (dict(dither_frequency=float("nan")), "dither_frequency")]:
         with pytest.raises(SpacearmError, match=match):
             CmgSteering([0, 0, 0, 1], kp=1.0, kd=1.0, **bad)
+
+
+def test_the_run_records_the_clusters_singularity_measure_and_envelope_fraction():
+    """Every sample of a run with CMGs on the base records the measure det(A Aᵀ)/h̄⁶ and the
+    fraction |H|/σ(Ĥ) of the momentum envelope, recomputed here from the recorded states with
+    the kinematics and the envelope's closed form (docs/cmg.md)."""
+    from scipy.spatial.transform import Rotation
+
+    from spacearm.control import CmgSteering, Combined, JointPD
+
+    robot = pyramid_sat()
+    x0, u0 = robot.neutral_configuration(), robot.cmg_velocity(500.0)
+    law = Combined(arm=JointPD(kp=200.0, kd=60.0, reference=[0.8, -0.6]), base=CmgSteering([0, 0, 0, 1], kp=200.0, kd=400.0))
+    traj = spacearm.simulate(robot, 2.0, x0=x0, u0=u0, mode="rotation-floating", controller=law, dt=2e-3, record_every=25)
+    g0, s0 = pyramid_axes()
+    cmgs = list(robot.cmg_dofs.values())
+    for x, u, m, frac in zip(traj.x, traj.u, traj.cmg_measure, traj.cmg_envelope_fraction):
+        r0 = Rotation.from_quat(x[3:7]).as_matrix()
+        g = [r0 @ gi for gi in g0]
+        s = [r0 @ rodrigues(gi, x[7 + c["gimbal"]]) @ si for gi, si, c in zip(g0, s0, cmgs)]
+        h = [J_S * (si @ u[3:6] + u[6 + c["rotor"]]) for si, c in zip(s, cmgs)]
+        a = np.column_stack([hi * np.cross(gi, si) for gi, si, hi in zip(g, s, h)])
+        hbar = np.mean(np.abs(h))
+        assert abs(m - np.linalg.det(a @ a.T) / hbar**6) <= 1e-12 * max(m, 1.0)
+        big_h = sum(hi * si for hi, si in zip(h, s))
+        if np.linalg.norm(big_h) < 1e-12:  # zero momentum (the start): no direction, fraction 0
+            assert frac <= 1e-12
+            continue
+        e = big_h / np.linalg.norm(big_h)
+        extent = sum(abs(hi) * np.linalg.norm(e - (e @ gi) * gi) for gi, hi in zip(g, h))
+        assert abs(frac - np.linalg.norm(big_h) / extent) <= 1e-12
+    assert traj.cmg_measure[0] == pytest.approx(32 / 27, rel=1e-9)  # the pyramid at δ = 0 (docs/cmg.md)
+    assert traj.cmg_envelope_fraction[0] < 1e-12 and traj.cmg_envelope_fraction.max() > 0.01  # zero momentum, then used
+    assert np.ptp(traj.cmg_measure) > 0.01
+    assert "cmg_measure" in [c[0] for c in traj.columns()]
+    assert not spacearm.simulate(spacearm.presets.spatial6(), 0.1).has("cmg_measure")

@@ -28,7 +28,7 @@ use crate::scenario::modes::Mode;
 
 use super::attitude::AttitudeControl;
 use super::cmg_dither::dither_weight;
-use super::cmg_jacobian::{cmg_jacobian_from_axes, singularity_measure};
+use super::cmg_jacobian::{cluster_from_kinematics, cmg_jacobian_from_axes, singularity_measure};
 use super::cmg_null_motion::{null_motion, root_measure_gradient};
 use super::cmg_sr_inverse::{sr_weight, steering_rates_weighted};
 use super::{Command, ControlContext, Controller};
@@ -181,16 +181,7 @@ impl Controller for CmgSteering {
         forward_kinematics(model, data, x)?;
         let w0 = Vector3::new(u[3], u[4], u[5]);
         let torque = -e * self.kp - w0 * self.kd;
-        let mut g = Vec::with_capacity(self.cmgs.len());
-        let mut s = Vec::with_capacity(self.cmgs.len());
-        let mut h = Vec::with_capacity(self.cmgs.len());
-        for c in &self.cmgs {
-            let gi = data.joint_axis_in_world[model.body_of_dof(c.gimbal_dof)];
-            let si = data.joint_axis_in_world[model.body_of_dof(c.rotor_dof)];
-            h.push(c.rotor_inertia * (si.dot(&w0) + u[6 + c.rotor_dof]));
-            g.push(gi);
-            s.push(si);
-        }
+        let (g, s, h) = cluster_from_kinematics(model, data, &self.cmgs, u);
         let a: Matrix3xX<f64> = cmg_jacobian_from_axes(&g, &s, &h);
         let m = singularity_measure(&a, &h);
         self.measure = m;
