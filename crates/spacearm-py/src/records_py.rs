@@ -33,6 +33,10 @@ pub enum Record {
     LinkTrackingError,
     AttitudeError,
     WheelSpeed,
+    SolveTime,
+    SolveIterations,
+    SolveCost,
+    SolveConverged,
     RCmEci,
     VCmEci,
     GravityWrench,
@@ -61,6 +65,10 @@ impl Record {
             Record::LinkTrackingError => "link_tracking_error",
             Record::AttitudeError => "attitude_error",
             Record::WheelSpeed => "wheel_speed",
+            Record::SolveTime => "solve_time",
+            Record::SolveIterations => "solve_iterations",
+            Record::SolveCost => "solve_cost",
+            Record::SolveConverged => "solve_converged",
             Record::RCmEci => "r_cm_eci",
             Record::VCmEci => "v_cm_eci",
             Record::GravityWrench => "gravity_wrench",
@@ -123,6 +131,16 @@ pub fn take_fields(res: &mut SimResult, nx: usize, nu: usize, n: usize) -> Vec<F
     }
     if let Some(v) = r.wheel_speed.take() {
         out.push(f(Record::WheelSpeed, v, n_wheels, false));
+    }
+    for (record, v) in [
+        (Record::SolveTime, r.solve_time.take()),
+        (Record::SolveIterations, r.solve_iterations.take()),
+        (Record::SolveCost, r.solve_cost.take()),
+        (Record::SolveConverged, r.solve_converged.take()),
+    ] {
+        if let Some(v) = v {
+            out.push(f(record, v, 1, true));
+        }
     }
     if let (Some(rc), Some(vc), Some(gw)) = (r.r_cm_eci.take(), r.v_cm_eci.take(), r.gravity_wrench.take()) {
         out.push(f(Record::RCmEci, rc, 3, false));
@@ -226,6 +244,18 @@ pub struct PyRunRecords {
     /// `(K, W)` reaction-wheel speeds (rad/s), one column per wheel of `RunMeta.wheel_dofs`; None without wheels.
     #[pyo3(get)]
     wheel_speed: Option<Array>,
+    /// `(K,)` an optimizing law's (`spacearm.control.MPC`) wall-clock time of the solve that gave the held command, s; None otherwise.
+    #[pyo3(get)]
+    solve_time: Option<Array>,
+    /// `(K,)` that solve's iterations; None otherwise.
+    #[pyo3(get)]
+    solve_iterations: Option<Array>,
+    /// `(K,)` that solve's optimal cost; None otherwise.
+    #[pyo3(get)]
+    solve_cost: Option<Array>,
+    /// `(K,)` 1 if that solve converged, 0 if it stopped at a limit; None otherwise.
+    #[pyo3(get)]
+    solve_converged: Option<Array>,
     /// `(K, 3)` an orbital run's system CM in ECI (m, always float64), or None.
     #[pyo3(get)]
     r_cm_eci: Option<Array>,
@@ -265,6 +295,10 @@ impl PyRunRecords {
                 Record::LinkTrackingError => &mut r.link_tracking_error,
                 Record::AttitudeError => &mut r.attitude_error,
                 Record::WheelSpeed => &mut r.wheel_speed,
+                Record::SolveTime => &mut r.solve_time,
+                Record::SolveIterations => &mut r.solve_iterations,
+                Record::SolveCost => &mut r.solve_cost,
+                Record::SolveConverged => &mut r.solve_converged,
                 Record::RCmEci => &mut r.r_cm_eci,
                 Record::VCmEci => &mut r.v_cm_eci,
                 Record::GravityWrench => &mut r.gravity_wrench,

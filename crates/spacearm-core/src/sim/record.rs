@@ -47,6 +47,12 @@ impl Recorder {
             rec.rec.constraint_wrench = Some(Vec::with_capacity(6 * capacity));
             rec.rec.constraint_error = Some(Vec::with_capacity(6 * capacity));
         }
+        if c.reports_solve() {
+            let r = &mut rec.rec;
+            for v in [&mut r.solve_time, &mut r.solve_iterations, &mut r.solve_cost, &mut r.solve_converged] {
+                *v = Some(Vec::with_capacity(capacity));
+            }
+        }
         rec.link = Recorder::link_joints(plant);
         if !rec.link.is_empty() {
             rec.rec.link_tracking_error = Some(Vec::with_capacity(capacity));
@@ -66,7 +72,8 @@ impl Recorder {
         let closure = if plant.closure.is_some() { 12 } else { 0 };
         let orbit = if plant.orbit.is_some() { 12 } else { 0 };
         let link = usize::from(!Recorder::link_joints(plant).is_empty());
-        link + orbit + closure + Recorder::values_per_sample(plant.model(), plant.wheels.len(), c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
+        let solve = if c.reports_solve() { 4 } else { 0 };
+        solve + link + orbit + closure + Recorder::values_per_sample(plant.model(), plant.wheels.len(), c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
     }
 
     /// The joints of a joint-space tracking controller's reference (one entry per actuated arm
@@ -126,6 +133,10 @@ impl Recorder {
                 link_tracking_error: None,
                 attitude_error: attitude.then(|| v(1)),
                 wheel_speed: (!wheels.is_empty()).then(|| v(wheels.len())),
+                solve_time: None,
+                solve_iterations: None,
+                solve_cost: None,
+                solve_converged: None,
                 constraint_wrench: None,
                 constraint_error: None,
                 r_cm_eci: None,
@@ -197,6 +208,13 @@ impl Recorder {
         }
         if let Some(ae) = r.attitude_error.as_mut() {
             ae.push(plant.cmd.attitude_error);
+        }
+        if let (Some(a), Some(b), Some(c), Some(d)) = (r.solve_time.as_mut(), r.solve_iterations.as_mut(), r.solve_cost.as_mut(), r.solve_converged.as_mut()) {
+            let s = plant.cmd.solve;
+            a.push(s.time);
+            b.push(s.iterations);
+            c.push(s.cost);
+            d.push(s.converged);
         }
         if let Some(ws) = r.wheel_speed.as_mut() {
             for &d in &self.wheels {

@@ -66,6 +66,15 @@ pub struct Records {
     pub attitude_error: Option<Vec<f64>>,
     /// Wheel rates relative to the base, rad/s.
     pub wheel_speed: Option<Vec<f64>>,
+    /// An optimizing law's ([`crate::control::Controller::reports_solve`]) solve that gave the
+    /// held command, per sample: wall-clock time, s (it differs from run to run).
+    pub solve_time: Option<Vec<f64>>,
+    /// Its iterations.
+    pub solve_iterations: Option<Vec<f64>>,
+    /// Its cost.
+    pub solve_cost: Option<Vec<f64>>,
+    /// 1 if it converged, 0 if it stopped at a limit.
+    pub solve_converged: Option<Vec<f64>>,
     /// An orbital run's system CM in ECI, `r_O + r_g`, m (width 3).
     pub r_cm_eci: Option<Vec<f64>>,
     /// An orbital run's system CM velocity in ECI, `v_O + P/M`, m/s (width 3).
