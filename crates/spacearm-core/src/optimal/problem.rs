@@ -198,6 +198,14 @@ impl ShootingProblem for RobotProblem<'_> {
         cost_derivatives(&self.model, &mut self.work, &self.running, z, c, self.step.h, &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)?;
         Ok(())
     }
+    /// One RK4 pass with its Jacobians gives the step end (the derivative routine's
+    /// acceleration, equal to ABA's to rounding) and the cost terms their value with their
+    /// derivatives.
+    fn running_with_derivatives(&mut self, _k: usize, z: &[f64], c: &[f64], next: &mut [f64], out: &mut KnotModel) -> Result<f64> {
+        self.step.step_derivatives(&self.model, z, c, next, &mut out.a, &mut out.b)?;
+        out.clear_cost();
+        cost_derivatives(&self.model, &mut self.work, &self.running, z, c, self.step.h, &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)
+    }
     fn terminal(&mut self, z: &[f64]) -> Result<f64> {
         cost_value(&self.model, &mut self.work, &self.terminal, z, &[], 1.0)
     }
