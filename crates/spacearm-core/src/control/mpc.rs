@@ -23,7 +23,8 @@
 
 use super::controller::{Command, ControlContext, Controller, SolveReport};
 use crate::error::{Result, SpacearmError};
-use crate::optimal::{solve, ProblemSpec, RobotProblem, SolverOptions};
+use crate::optimal::fddp::{solve_in, Workspace};
+use crate::optimal::{ProblemSpec, RobotProblem, SolverOptions};
 use crate::scenario::modes::Mode;
 
 /// The receding-horizon law (module docs).
@@ -31,6 +32,7 @@ pub struct ModelPredictive {
     spec: ProblemSpec,
     options: SolverOptions,
     problem: Option<RobotProblem<'static>>,
+    workspace: Option<Workspace>,
     /// `f[columns[i]] = c[i]` (generalized-force columns: `6..` the joints, `..6` the base wrench).
     columns: Vec<usize>,
     zs: Vec<Vec<f64>>,
@@ -60,6 +62,7 @@ impl ModelPredictive {
             spec,
             options,
             problem: None,
+            workspace: None,
             columns: Vec::new(),
             zs: Vec::new(),
             cs: Vec::new(),
@@ -75,7 +78,7 @@ impl ModelPredictive {
 
     /// Solve from `(x, u)` at sample `k` and hold the first control.
     fn solve_at(&mut self, k: u64, x: &[f64], u: &[f64]) -> Result<()> {
-        let Some(problem) = self.problem.as_mut() else {
+        let (Some(problem), Some(ws)) = (self.problem.as_mut(), self.workspace.as_mut()) else {
             return Err(SpacearmError::Simulation("the mpc law was used before its setup".into()));
         };
         self.z[..x.len()].copy_from_slice(x);
@@ -93,9 +96,9 @@ impl ModelPredictive {
             for c in &mut self.cs[t - shift..] {
                 c.copy_from_slice(&last_c);
             }
-            solve(problem, Some(&self.zs), Some(&self.cs), &self.options)?
+            solve_in(ws, problem, Some(&self.zs), Some(&self.cs), &self.options)?
         } else {
-            solve(problem, None, None, &self.options)?
+            solve_in(ws, problem, None, None, &self.options)?
         };
         self.control.copy_from_slice(&solution.cs[0]);
         self.report = SolveReport {
@@ -133,6 +136,7 @@ impl Controller for ModelPredictive {
         self.columns = problem.control_columns().to_vec();
         self.control = vec![0.0; self.columns.len()];
         self.z = z0;
+        self.workspace = Some(Workspace::new(&problem));
         self.problem = Some(problem);
         self.warm = false;
         self.sampled = false;
