@@ -46,6 +46,10 @@ struct Work {
     vm: DVector<f64>,
     mnd: DMatrix<f64>,
     chol: DMatrix<f64>,
+    at: DMatrix<f64>,
+    bt: DMatrix<f64>,
+    gt: DMatrix<f64>,
+    qczt: DMatrix<f64>,
 }
 
 impl Backward {
@@ -68,6 +72,10 @@ impl Backward {
                 vm: DVector::zeros(m),
                 mnd: DMatrix::zeros(m, nd),
                 chol: DMatrix::zeros(m, m),
+                at: DMatrix::zeros(nd, nd),
+                bt: DMatrix::zeros(m, nd),
+                gt: DMatrix::zeros(nd, m),
+                qczt: DMatrix::zeros(nd, m),
             },
         }
     }
@@ -97,13 +105,17 @@ impl Backward {
             let qc = &mut self.qc[k];
             qc.copy_from(&kn.lc);
             qc.gemv_tr(1.0, &kn.b, &w.pplus, 1.0);
+            // The transposed products through explicit transposes (the blocked gemm is faster
+            // than the dot-product gemm_tr at these sizes).
+            kn.a.transpose_to(&mut w.at);
+            kn.b.transpose_to(&mut w.bt);
             w.qzz.copy_from(&kn.lzz);
-            w.qzz.gemm_tr(1.0, &kn.a, &w.pa, 1.0);
+            w.qzz.gemm(1.0, &w.at, &w.pa, 1.0);
             w.qcz.copy_from(&kn.lcz);
-            w.qcz.gemm_tr(1.0, &kn.b, &w.pa, 1.0);
+            w.qcz.gemm(1.0, &w.bt, &w.pa, 1.0);
             let qcc = &mut self.qcc[k];
             qcc.copy_from(&kn.lcc);
-            qcc.gemm_tr(1.0, &kn.b, &w.pb, 1.0);
+            qcc.gemm(1.0, &w.bt, &w.pb, 1.0);
             for i in 0..qcc.nrows() {
                 qcc[(i, i)] += mu;
             }
@@ -148,8 +160,10 @@ impl Backward {
             w.mnd.gemm(1.0, qcc, gain, 1.0);
             let pk = &mut head[k];
             pk.copy_from(&w.qzz);
-            pk.gemm_tr(1.0, gain, &w.mnd, 1.0);
-            pk.gemm_tr(1.0, &w.qcz, gain, 1.0);
+            gain.transpose_to(&mut w.gt);
+            w.qcz.transpose_to(&mut w.qczt);
+            pk.gemm(1.0, &w.gt, &w.mnd, 1.0);
+            pk.gemm(1.0, &w.qczt, gain, 1.0);
             let n = pk.nrows();
             for i in 0..n {
                 for j in i + 1..n {
