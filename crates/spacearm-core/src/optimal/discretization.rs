@@ -91,7 +91,7 @@ impl Rk4Discretization {
                 combine(&mut self.stage, z, coef, &self.k[i - 1]);
                 // Z_i = N(p_i) (Z_1 + coef K_{i-1}), p_i the stage before renormalisation.
                 self.zi.copy_from(&self.z1);
-                self.zi += &self.ki[i - 1] * coef;
+                add_scaled(&mut self.zi, coef, &self.ki[i - 1]);
                 normalization_jacobian_rows(&self.stage, &mut self.zi);
                 normalize_quaternion(&mut self.stage);
             } else {
@@ -108,7 +108,7 @@ impl Rk4Discretization {
         }
         self.acc.copy_from(&self.z1);
         for (i, w) in [1.0, 2.0, 2.0, 1.0].iter().enumerate() {
-            self.acc += &self.ki[i] * (h / 6.0 * w);
+            add_scaled(&mut self.acc, h / 6.0 * w, &self.ki[i]);
         }
         normalization_jacobian_rows(next, &mut self.acc);
         normalize_quaternion(next);
@@ -158,6 +158,13 @@ fn sparse_rhs_product(nx: usize, jz: &DMatrix<f64>, z: &DMatrix<f64>, out: &mut 
         }
     }
     out.rows_mut(nx, nz - nx).gemm(1.0, &jz.rows(nx, nz - nx), z, 0.0);
+}
+
+/// `m += a k` (no temporary).
+fn add_scaled(m: &mut DMatrix<f64>, a: f64, k: &DMatrix<f64>) {
+    for (v, x) in m.as_mut_slice().iter_mut().zip(k.as_slice()) {
+        *v += a * x;
+    }
 }
 
 /// `out = z + a k`.
