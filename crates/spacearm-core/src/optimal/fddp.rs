@@ -212,6 +212,11 @@ pub fn solve_in(ws: &mut Workspace, problem: &mut dyn ShootingProblem, zs: Optio
         return Err(SpacearmError::argument("the solver's workspace was made for a problem of other sizes"));
     }
     let Workspace { traj, trial, knots, fbar, bw, dz, .. } = ws;
+    // A solve owes nothing to the workspace's last one (the box QPs start from the feedforward
+    // kept there): a kept workspace and a fresh one give the same numbers.
+    for k in bw.k.iter_mut() {
+        k.fill(0.0);
+    }
     for c in traj.cs.iter_mut() {
         c.fill(0.0);
     }
