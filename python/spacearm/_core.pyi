@@ -1122,6 +1122,8 @@ class RunRecords:
     solve_iterations: Optional[_Record]     # (K,) MPC law: that solve's iterations
     solve_cost: Optional[_Record]           # (K,) MPC law: that solve's cost
     solve_converged: Optional[_Record]      # (K,) MPC law: 1 if that solve converged, else 0
+    cmg_measure: Optional[_Record]          # (K,) CMGs on the base: the cluster's singularity measure det(A Aᵀ)/h̄⁶
+    cmg_envelope_fraction: Optional[_Record]  # (K,) CMGs on the base: fraction of the momentum envelope used, |H|/σ(Ĥ)
     r_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM in ECI, m (float64)
     v_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM velocity in ECI, m/s (float64)
     gravity_wrench: Optional[_Record]       # (K, 6) orbital runs: total tidal [force; torque about the origin], N, N·m

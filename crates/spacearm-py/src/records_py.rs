@@ -37,6 +37,8 @@ pub enum Record {
     SolveIterations,
     SolveCost,
     SolveConverged,
+    CmgMeasure,
+    CmgEnvelopeFraction,
     RCmEci,
     VCmEci,
     GravityWrench,
@@ -69,6 +71,8 @@ impl Record {
             Record::SolveIterations => "solve_iterations",
             Record::SolveCost => "solve_cost",
             Record::SolveConverged => "solve_converged",
+            Record::CmgMeasure => "cmg_measure",
+            Record::CmgEnvelopeFraction => "cmg_envelope_fraction",
             Record::RCmEci => "r_cm_eci",
             Record::VCmEci => "v_cm_eci",
             Record::GravityWrench => "gravity_wrench",
@@ -141,6 +145,10 @@ pub fn take_fields(res: &mut SimResult, nx: usize, nu: usize, n: usize) -> Vec<F
         if let Some(v) = v {
             out.push(f(record, v, 1, true));
         }
+    }
+    if let (Some(m), Some(e)) = (r.cmg_measure.take(), r.cmg_envelope_fraction.take()) {
+        out.push(f(Record::CmgMeasure, m, 1, true));
+        out.push(f(Record::CmgEnvelopeFraction, e, 1, true));
     }
     if let (Some(rc), Some(vc), Some(gw)) = (r.r_cm_eci.take(), r.v_cm_eci.take(), r.gravity_wrench.take()) {
         out.push(f(Record::RCmEci, rc, 3, false));
@@ -256,6 +264,12 @@ pub struct PyRunRecords {
     /// `(K,)` 1 if that solve converged, 0 if it stopped at a limit; None otherwise.
     #[pyo3(get)]
     solve_converged: Option<Array>,
+    /// `(K,)` with CMGs on the base: the cluster's singularity measure `det(A Aᵀ)/h̄⁶`; None otherwise.
+    #[pyo3(get)]
+    cmg_measure: Option<Array>,
+    /// `(K,)` with CMGs on the base: the fraction of the momentum envelope used, `|H|/σ(Ĥ)`; None otherwise.
+    #[pyo3(get)]
+    cmg_envelope_fraction: Option<Array>,
     /// `(K, 3)` an orbital run's system CM in ECI (m, always float64), or None.
     #[pyo3(get)]
     r_cm_eci: Option<Array>,
@@ -299,6 +313,8 @@ impl PyRunRecords {
                 Record::SolveIterations => &mut r.solve_iterations,
                 Record::SolveCost => &mut r.solve_cost,
                 Record::SolveConverged => &mut r.solve_converged,
+                Record::CmgMeasure => &mut r.cmg_measure,
+                Record::CmgEnvelopeFraction => &mut r.cmg_envelope_fraction,
                 Record::RCmEci => &mut r.r_cm_eci,
                 Record::VCmEci => &mut r.v_cm_eci,
                 Record::GravityWrench => &mut r.gravity_wrench,
