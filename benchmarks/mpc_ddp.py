@@ -9,7 +9,14 @@ Interleaved rounds (one solve of each per round, in turn), cold solves from zero
 spacearm's warm-started solve (from its own solution of a goal moved by 1 mrad: one MPC step);
 prints medians, minima, ratios and the optimum each reached (they must agree).
 
+``--spatial6``: issue 36's receding-horizon case instead — spatial6, a joint goal, 50 knots of
+20 ms, |tau| <= 5 N·m: the cold solve, the warm solve (from the solution of a goal moved by
+1 mrad), and the native law ``spacearm.control.MPC`` run in closed loop (RK4 at the law's 20 ms,
+``--law-iterations`` per sample), whose recorded per-sample solve times (``solve_time``; the
+first sample is cold) give the median and 99th percentile of the warm-started solves in the loop.
+
     python benchmarks/mpc_ddp.py --rounds 20
+    python benchmarks/mpc_ddp.py --spatial6 --rounds 10
 """
 
 import argparse
@@ -30,7 +37,12 @@ def main() -> None:
     parser.add_argument("--horizon", type=int, default=10)
     parser.add_argument("--dt", type=float, default=0.1)
     parser.add_argument("--limit", type=float, default=0.5, help="torque bound, N·m (inf: none)")
+    parser.add_argument("--spatial6", action="store_true", help="the spatial6, T = 50 receding-horizon case (no IPOPT)")
+    parser.add_argument("--law-iterations", type=int, default=3, help="--spatial6: the native law's max_iterations per sample")
     args = parser.parse_args()
+    if args.spatial6:
+        spatial6_case(args.rounds, args.law_iterations)
+        return
     import casadi as ca
     import spacearm.casadi as sc
 
@@ -81,6 +93,44 @@ def main() -> None:
         ts = np.array(ts) * 1e3
         c, it, st = optimum[name]
         print(f"{name:28s} {np.median(ts):8.3f}ms {ts.min():8.3f}ms {np.median(ts) / (base * 1e3):10.2f}x   {c:.10g}, {it}, {st}")
+
+
+def spatial6_case(rounds: int, law_iterations: int) -> None:
+    from spacearm.control import MPC
+
+    robot = spacearm.presets.spatial6()
+    goal = robot.initial_q + np.array([0.2, -0.1, 0.15, 0.1, -0.2, 0.3])
+
+    def problem(g):
+        return mpc.Problem(horizon=50, dt=0.02, running=[mpc.JointCost(10.0, g, weight_qd=0.1), mpc.ControlCost(1e-2)],
+                           terminal=[mpc.JointCost(100.0, g, weight_qd=1.0)], control_limit=5.0)
+
+    p = problem(goal)
+    previous = mpc.solve(robot, problem(goal + 1e-3))
+    law = MPC(p, max_iterations=law_iterations)
+    cold, warm, loop, info = [], [], [], {}
+    for _ in range(rounds):
+        start = time.perf_counter()
+        sol = mpc.solve(robot, p)
+        cold.append(time.perf_counter() - start)
+        info["cold"] = (sol.cost, sol.iterations, sol.stop)
+        start = time.perf_counter()
+        w = mpc.solve(robot, p, warm_start=previous)
+        warm.append(time.perf_counter() - start)
+        info["warm"] = (w.cost, w.iterations, w.stop)
+        traj = spacearm.simulate(robot, 1.0, dt=0.02, controller=law)
+        loop.extend(traj["solve_time"][1:-1])  # the samples after the cold first; the last row repeats the one before
+        info["law"] = (float(np.abs(traj.x[-1, 7:] - goal).max()), float(np.mean(traj["solve_iterations"][1:-1])),
+                       float(np.mean(traj["solve_converged"][1:-1])))
+    ms = lambda v: np.asarray(v) * 1e3  # noqa: E731
+    print(f"spatial6, horizon 50 x 20 ms, |tau| <= 5 N·m, {rounds} interleaved rounds (wall time per solve)")
+    for name, ts in (("cold solve", cold), ("warm solve (goal moved 1 mrad)", warm)):
+        c, it, st = info["cold" if name.startswith("cold") else "warm"]
+        print(f"{name:34s} median {np.median(ms(ts)):8.3f} ms  min {ms(ts).min():8.3f} ms   cost {c:.10g}, {it} iterations, {st}")
+    err, iters, conv = info["law"]
+    print(f"{'native law, per sample (warm)':34s} median {np.median(ms(loop)):8.3f} ms  p99 {np.percentile(ms(loop), 99):8.3f} ms"
+          f"   ({len(loop)} samples, max_iterations {law_iterations}: mean {iters:.2f} iterations, {100 * conv:.0f}% converged;"
+          f" joint error after 1 s {err:.2e} rad)")
 
 
 if __name__ == "__main__":

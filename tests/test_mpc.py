@@ -2,6 +2,7 @@
 the same problem (the same RK4 step, spacearm.casadi.rk4_step; the same cost), the solution's
 controls re-simulated by the native simulator, and the errors of bad input."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -131,3 +132,82 @@ def test_wrong_types_are_refused():
         mpc.solve(robot, problem, warm_start="previous")
     with pytest.raises(spacearm.errors.SpacearmTypeError, match="Problem"):
         mpc.solve(robot, problem.to_data())
+
+
+# ---- the native law (spacearm.control.MPC, ControllerSpec kind "mpc") ---------------------------
+from spacearm.control import MPC  # noqa: E402
+from spacearm.errors import SimulationError  # noqa: E402
+
+LAW_DT, SIM_DT = 0.05, 0.01  # the law's sample period and the RK4 step (5 steps per sample)
+
+
+def law_problem():
+    robot = spacearm.presets.planar4()
+    goal = robot.initial_q + np.array([0.4, -0.3, 0.3, -0.2])
+    problem = mpc.Problem(horizon=10, dt=LAW_DT, running=[mpc.JointCost(W_Q, goal, weight_qd=W_QD), mpc.ControlCost(W_C)],
+                          terminal=[mpc.JointCost(W_QT, goal, weight_qd=W_QDT)], control_limit=20.0)
+    return robot, goal, problem
+
+
+def test_the_laws_first_control_is_a_one_off_solve_and_it_is_held_between_samples():
+    robot, goal, problem = law_problem()
+    traj = spacearm.simulate(robot, 0.3, dt=SIM_DT, controller=MPC(problem, max_iterations=5))
+    one = mpc.solve(robot, problem, max_iterations=5)
+    # The same problem from the same state through another door (spacearm.mpc.solve): the same numbers.
+    assert np.array_equal(traj["tau_cmd"][0], one.tau[0]), (traj["tau_cmd"][0], one.tau[0])
+    assert np.abs(one.tau[0]).max() > 1.0
+    # Sample and hold: constant over each sample period of 5 steps, a new solve at each instant.
+    tau = traj["tau_cmd"][:30]
+    for k in range(6):
+        assert np.array_equal(tau[5 * k:5 * k + 5], np.repeat(tau[5 * k][None], 5, axis=0)), k
+        if k:
+            assert not np.array_equal(tau[5 * k], tau[5 * k - 1]), k
+    # The solve at each later sample starts from the measured state: the one-off solve from the
+    # state at t = 0.05 s, warm started from the first solution shifted by a knot, agrees.
+    x1, u1 = traj.x[5], traj.u[5]
+    shifted = dataclasses.replace(one, x=np.vstack([one.x[1:], one.x[-1:]]), u=np.vstack([one.u[1:], one.u[-1:]]),
+                                  controls=np.vstack([one.controls[1:], one.controls[-1:]]))
+    again = mpc.solve(robot, problem, x1, u1, warm_start=shifted, max_iterations=5)
+    assert np.array_equal(traj["tau_cmd"][5], again.tau[0])
+    assert traj["solve_iterations"][5] == again.iterations and traj["solve_cost"][5] == again.cost
+
+
+def test_closed_loop_tracking_reaches_the_goal_in_free_floating():
+    robot, goal, problem = law_problem()
+    traj = spacearm.simulate(robot, 3.0, dt=SIM_DT, controller=MPC(problem, max_iterations=10))
+    assert np.abs(traj.x[-1, 7:] - goal).max() < 1e-3, traj.x[-1, 7:] - goal
+    assert np.abs(traj.u[-1, 6:]).max() < 1e-2
+    assert np.abs(traj.x[0, 7:] - goal).max() > 0.2  # it had somewhere to go
+    # Free floating: the joint torques are internal, the momentum stays zero while the base turns.
+    assert np.abs(traj["P"]).max() < 1e-5 and np.abs(traj["L_com"]).max() < 1e-5  # RK4 rounding of large torques
+    assert np.abs(traj.x[-1, 3:7] - traj.x[0, 3:7]).max() > 1e-3
+    # Every sample's solve recorded: converged, with iterations, cost falling towards the goal.
+    assert set(np.unique(traj["solve_converged"])) <= {0.0, 1.0} and traj["solve_converged"].mean() > 0.9
+    assert traj["solve_iterations"].min() >= 1 and np.all(traj["solve_time"] > 0)
+    assert traj["solve_cost"][-1] < 1e-3 * traj["solve_cost"][0]
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    ({"max_iterations": 0}, "max_iterations"),
+    ({"horizon": 0}, "horizon"),
+    ({"dt": -0.1}, "dt"),
+    ({"time_limit": 0.0}, "time_limit"),
+])
+def test_bad_law_specs_are_refused_when_made(kwargs, words):
+    _, _, problem = law_problem()
+    with pytest.raises(ArgumentError, match=words):
+        MPC(problem, **kwargs)
+
+
+def test_bad_laws_are_refused_against_the_run():
+    robot, goal, problem = law_problem()
+    with pytest.raises(ArgumentError, match="mode"):
+        spacearm.simulate(robot, 0.1, dt=SIM_DT, mode="flying", controller=MPC(problem))
+    wrong = mpc.Problem(horizon=5, dt=LAW_DT, running=[mpc.JointCost(1.0, [0.0, 0.0])])
+    with pytest.raises(ArgumentError, match="reference"):
+        spacearm.simulate(robot, 0.1, dt=SIM_DT, controller=MPC(wrong))
+    # A step that overshoots the sample instants (DOPRI5's, or an RK4 step longer than dt).
+    with pytest.raises(SimulationError, match="divides the law's dt"):
+        spacearm.simulate(robot, 0.2, dt=0.08, controller=MPC(problem))
+    with pytest.raises(ArgumentError):
+        MPC({"horizon": 5})

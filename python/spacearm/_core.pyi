@@ -1118,6 +1118,10 @@ class RunRecords:
     link_tracking_error: Optional[_Record]  # (K,) compliant joints, joint controller: |q_ref − (θ + δ)|, rad
     attitude_error: Optional[_Record]       # (K,) base attitude error of an attitude controller, rad
     wheel_speed: Optional[_Record]          # (K, W) reaction-wheel speeds, rad/s (RunMeta.wheel_dofs)
+    solve_time: Optional[_Record]           # (K,) MPC law: wall-clock time of the solve behind the held command, s
+    solve_iterations: Optional[_Record]     # (K,) MPC law: that solve's iterations
+    solve_cost: Optional[_Record]           # (K,) MPC law: that solve's cost
+    solve_converged: Optional[_Record]      # (K,) MPC law: 1 if that solve converged, else 0
     cmg_measure: Optional[_Record]          # (K,) CMGs on the base: the cluster's singularity measure det(A Aᵀ)/h̄⁶
     cmg_envelope_fraction: Optional[_Record]  # (K,) CMGs on the base: fraction of the momentum envelope used, |H|/σ(Ĥ)
     r_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM in ECI, m (float64)

@@ -58,6 +58,7 @@ __all__ = [
     "BaseThrusterControl",
     "Combined",
     "CoordinatedFlying",
+    "MPC",
     "MomentumDamping",
     "TorqueLimit",
     "Callback",
@@ -572,6 +573,29 @@ class MomentumDamping(_Controller):
     max_force: float = float("inf")
     max_torque: float = float("inf")
     model: Any = None
+
+
+@_dataclass(frozen=True)
+class MPC(_Controller):
+    """Receding-horizon model-predictive control (docs/mpc.md, "The native law"): at every
+    sample instant ``k * dt`` the [`spacearm.mpc.Problem`][spacearm.mpc.Problem] ``problem`` is
+    solved from the measured state by the core's box-FDDP over ``horizon`` steps of ``dt``
+    seconds (absent: the problem's own), warm started from the previous solution shifted by one
+    knot, within ``max_iterations`` iterations and ``time_limit`` seconds (``None``: no time
+    limit, and the run is deterministic); its first control is held until the next instant.
+
+    The problem's mode must be the run's. Run it with ``integrator="rk4"`` and a step ``dt``
+    that divides the law's. Each sample's ``solve_time`` (s), ``solve_iterations``,
+    ``solve_cost`` and ``solve_converged`` are in ``traj.records``.
+    """
+
+    _kind: _ClassVar[str] = "mpc"
+
+    problem: Any
+    horizon: Any = None
+    dt: Any = None
+    max_iterations: int = 10
+    time_limit: Any = None
 
 
 @_dataclass(frozen=True)

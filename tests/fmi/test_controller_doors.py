@@ -22,7 +22,7 @@ import spacearm
 import spacearm.fmi
 from spacearm import _core
 from spacearm._util.spec import controller_spec
-from spacearm.control import (AttitudeControl, BaseThrusterControl, CartesianLine, CmgSteering, Combined, ComputedTorque,
+from spacearm.control import (MPC, AttitudeControl, BaseThrusterControl, CartesianLine, CmgSteering, Combined, ComputedTorque,
                               CoordinatedFlying, JointPD, MomentumDamping, QuinticJoint, ResolvedMotionRate, TorqueLimit)
 from spacearm.fmi import library
 
@@ -75,7 +75,15 @@ def _laws():
          lambda r: Combined(arm=JointPD(kp=60.0, kd=[20.0, 20.0, 20.0, 4.0, 4.0, 4.0], reference=r.initial_q[:6] + 0.1),
                             base=AttitudeControl(quat, kp=20.0, kd=80.0)), None),
         ("torque_limit", s6, "floating", lambda r: TorqueLimit(JointPD(kp=1000.0, kd=1.0, reference=q0 + d), limit=0.5), None),
+        ("mpc", s6, "floating", lambda r: MPC(_mpc_problem(q0 + d), max_iterations=3), None),
     ]
+
+
+def _mpc_problem(goal):
+    """Joint tracking over 5 knots of the communication step H (the law samples every 8 RK4 steps)."""
+    import spacearm.mpc as mpc
+    return mpc.Problem(horizon=5, dt=H, running=[mpc.JointCost(10.0, goal, weight_qd=0.1), mpc.ControlCost(1e-2)],
+                       terminal=[mpc.JointCost(100.0, goal, weight_qd=1.0)], control_limit=5.0)
 
 
 LAWS = {law[0]: law[1:] for law in _laws()}

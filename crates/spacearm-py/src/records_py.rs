@@ -33,6 +33,10 @@ pub enum Record {
     LinkTrackingError,
     AttitudeError,
     WheelSpeed,
+    SolveTime,
+    SolveIterations,
+    SolveCost,
+    SolveConverged,
     CmgMeasure,
     CmgEnvelopeFraction,
     RCmEci,
@@ -63,6 +67,10 @@ impl Record {
             Record::LinkTrackingError => "link_tracking_error",
             Record::AttitudeError => "attitude_error",
             Record::WheelSpeed => "wheel_speed",
+            Record::SolveTime => "solve_time",
+            Record::SolveIterations => "solve_iterations",
+            Record::SolveCost => "solve_cost",
+            Record::SolveConverged => "solve_converged",
             Record::CmgMeasure => "cmg_measure",
             Record::CmgEnvelopeFraction => "cmg_envelope_fraction",
             Record::RCmEci => "r_cm_eci",
@@ -127,6 +135,16 @@ pub fn take_fields(res: &mut SimResult, nx: usize, nu: usize, n: usize) -> Vec<F
     }
     if let Some(v) = r.wheel_speed.take() {
         out.push(f(Record::WheelSpeed, v, n_wheels, false));
+    }
+    for (record, v) in [
+        (Record::SolveTime, r.solve_time.take()),
+        (Record::SolveIterations, r.solve_iterations.take()),
+        (Record::SolveCost, r.solve_cost.take()),
+        (Record::SolveConverged, r.solve_converged.take()),
+    ] {
+        if let Some(v) = v {
+            out.push(f(record, v, 1, true));
+        }
     }
     if let (Some(m), Some(e)) = (r.cmg_measure.take(), r.cmg_envelope_fraction.take()) {
         out.push(f(Record::CmgMeasure, m, 1, true));
@@ -234,6 +252,18 @@ pub struct PyRunRecords {
     /// `(K, W)` reaction-wheel speeds (rad/s), one column per wheel of `RunMeta.wheel_dofs`; None without wheels.
     #[pyo3(get)]
     wheel_speed: Option<Array>,
+    /// `(K,)` an optimizing law's (`spacearm.control.MPC`) wall-clock time of the solve that gave the held command, s; None otherwise.
+    #[pyo3(get)]
+    solve_time: Option<Array>,
+    /// `(K,)` that solve's iterations; None otherwise.
+    #[pyo3(get)]
+    solve_iterations: Option<Array>,
+    /// `(K,)` that solve's optimal cost; None otherwise.
+    #[pyo3(get)]
+    solve_cost: Option<Array>,
+    /// `(K,)` 1 if that solve converged, 0 if it stopped at a limit; None otherwise.
+    #[pyo3(get)]
+    solve_converged: Option<Array>,
     /// `(K,)` with CMGs on the base: the cluster's singularity measure `det(A Aᵀ)/h̄⁶`; None otherwise.
     #[pyo3(get)]
     cmg_measure: Option<Array>,
@@ -279,6 +309,10 @@ impl PyRunRecords {
                 Record::LinkTrackingError => &mut r.link_tracking_error,
                 Record::AttitudeError => &mut r.attitude_error,
                 Record::WheelSpeed => &mut r.wheel_speed,
+                Record::SolveTime => &mut r.solve_time,
+                Record::SolveIterations => &mut r.solve_iterations,
+                Record::SolveCost => &mut r.solve_cost,
+                Record::SolveConverged => &mut r.solve_converged,
                 Record::CmgMeasure => &mut r.cmg_measure,
                 Record::CmgEnvelopeFraction => &mut r.cmg_envelope_fraction,
                 Record::RCmEci => &mut r.r_cm_eci,

@@ -208,6 +208,9 @@ impl PySimulator {
         }))?;
         let stepper = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?.as_mut().ok_or_else(|| Self::not_reset(py))?;
         let plant = stepper.plant_mut();
+        // A measured state is a sample of a sampled law (spacearm.control.MPC).
+        let y: Vec<f64> = x.as_slice().iter().chain(u.as_slice()).copied().collect();
+        plant.sample(t, &y).map_err(|e| take_error(&self.slot).unwrap_or_else(|| to_py_err(py, e)))?;
         plant.apply_command(t, x.as_slice(), u.as_slice()).map_err(|e| take_error(&self.slot).unwrap_or_else(|| to_py_err(py, e)))?;
         let (tau, wrench) = plant.applied();
         Ok((PyArray1::from_slice(py, tau), PyArray1::from_slice(py, wrench.as_slice())))

@@ -4,7 +4,8 @@ reference, shaper or thruster limits — into the core's data (``control/spec.rs
 
 It knows no class: a dataclass becomes a dict of its fields (``kind`` from the class's ``_kind``
 where it has one; a field left ``None`` is left out, so the core's default applies), sequences
-become lists, numpy values plain numbers, an object with a ``_data()`` method (a
+become lists, numpy values plain numbers, an object with a ``to_data()`` method (a
+[`spacearm.mpc.Problem`][spacearm.mpc.Problem]) what it returns, an object with a ``_data()`` method (a
 [`Robot`][spacearm.Robot]: its model file text; an [`Orbit`][spacearm.Orbit]) its data, a scipy
 ``Rotation`` its quaternion ``[x, y, z, w]``, and a Python callable in a controller's place an
 ``external`` controller the binding calls. The core's serde types name every field and check
@@ -41,6 +42,8 @@ def data(value, externals: list, where: str = "value"):
     if getattr(type(value), "_kind", None) == "external":
         externals.append(value.fn)
         return {"kind": "external", "index": len(externals) - 1}
+    if callable(getattr(value, "to_data", None)) and not isinstance(value, type):
+        return value.to_data()
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
         out = {} if getattr(type(value), "_kind", None) is None else {"kind": type(value)._kind}
         for f in dataclasses.fields(value):

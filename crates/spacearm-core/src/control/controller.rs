@@ -28,12 +28,34 @@ pub struct Command {
     pub tracking_error: f64,
     /// Attitude error angle of the base, rad (attitude control); NaN otherwise.
     pub attitude_error: f64,
+    /// An optimizing law's last solve (see [`Controller::reports_solve`]); NaNs otherwise.
+    pub solve: SolveReport,
+}
+
+/// What an optimizing law (model-predictive control, [`super::mpc`]) reports of the solve that
+/// gave the command it holds: recorded per sample (`solve_time`, `solve_iterations`,
+/// `solve_cost`, `solve_converged`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolveReport {
+    /// Wall-clock time of the solve, s (the one record that differs from run to run).
+    pub time: f64,
+    /// Iterations of the solver.
+    pub iterations: f64,
+    /// The optimal cost found.
+    pub cost: f64,
+    /// 1 if the solver converged, 0 if it stopped at a limit.
+    pub converged: f64,
+}
+
+impl SolveReport {
+    /// No solve: NaNs.
+    pub const NONE: SolveReport = SolveReport { time: f64::NAN, iterations: f64::NAN, cost: f64::NAN, converged: f64::NAN };
 }
 
 impl Command {
     /// A zero command for `n_dof` joints and a reference of `n_ref` entries.
     pub fn new(n_dof: usize, n_ref: usize) -> Self {
-        Command { tau: vec![0.0; n_dof], base_wrench: Vector6::zeros(), reference: vec![0.0; n_ref], tracking_error: f64::NAN, attitude_error: f64::NAN }
+        Command { tau: vec![0.0; n_dof], base_wrench: Vector6::zeros(), reference: vec![0.0; n_ref], tracking_error: f64::NAN, attitude_error: f64::NAN, solve: SolveReport::NONE }
     }
 
     /// Zero torques and wrench (the reference and errors are overwritten by the controller).
@@ -42,6 +64,7 @@ impl Command {
         self.base_wrench = Vector6::zeros();
         self.tracking_error = f64::NAN;
         self.attitude_error = f64::NAN;
+        self.solve = SolveReport::NONE;
     }
 }
 
@@ -118,6 +141,7 @@ pub const CONTROLLER_LABELS: &[(&str, &str)] = &[
     ("coordinated_flying", "coordinated flying"),
     ("base_thrusters", "base thrusters"),
     ("combined", "arm and base laws combined"),
+    ("mpc", "model-predictive control"),
 ];
 
 /// A control law evaluated inside the integration loop.
@@ -131,6 +155,19 @@ pub trait Controller: Send {
     /// Check the controller against the plant and the mode and allocate its workspaces. Called
     /// once, before the first [`Controller::command`].
     fn setup(&mut self, ctx: &ControlContext<'_>) -> Result<()>;
+
+    /// A sampled law's sample: called by the loops at the start of every integrator step with
+    /// the step's (accepted) state, before any evaluation of the step. A law with a sample
+    /// period computes its held command here when `t` reaches a sample instant
+    /// ([`super::mpc`]); a continuous-time law has nothing to do (the default).
+    fn sample(&mut self, _t: f64, _x: &[f64], _u: &[f64]) -> Result<()> {
+        Ok(())
+    }
+
+    /// Whether the law reports its solves ([`Command::solve`], recorded per sample).
+    fn reports_solve(&self) -> bool {
+        false
+    }
 
     /// The command at `(t, x, u)`. `out` arrives cleared (zero torques and wrench) except inside
     /// [`Combined`], where the arm controller receives what the base controller commanded.
@@ -175,6 +212,12 @@ impl<C: Controller + ?Sized> Controller for &mut C {
     }
     fn command(&mut self, t: f64, x: &[f64], u: &[f64], out: &mut Command) -> Result<()> {
         (**self).command(t, x, u, out)
+    }
+    fn sample(&mut self, t: f64, x: &[f64], u: &[f64]) -> Result<()> {
+        (**self).sample(t, x, u)
+    }
+    fn reports_solve(&self) -> bool {
+        (**self).reports_solve()
     }
     fn reference_len(&self) -> usize {
         (**self).reference_len()
@@ -293,6 +336,9 @@ impl Controller for Combined {
         let n_arm = self.arm.reference_len();
         out.reference[n_arm..].copy_from_slice(&self.base_cmd.reference);
         out.attitude_error = self.base_cmd.attitude_error;
+        if self.base.reports_solve() && !self.arm.reports_solve() {
+            out.solve = self.base_cmd.solve;
+        }
         if self.arm.tracking().is_none() {
             out.tracking_error = self.base_cmd.tracking_error;
         }
@@ -311,6 +357,16 @@ impl Controller for Combined {
 
     fn reports_attitude_error(&self) -> bool {
         self.base.reports_attitude_error()
+    }
+
+    /// Both sample (the base first); the arm's solves are recorded, else the base's.
+    fn sample(&mut self, t: f64, x: &[f64], u: &[f64]) -> Result<()> {
+        self.base.sample(t, x, u)?;
+        self.arm.sample(t, x, u)
+    }
+
+    fn reports_solve(&self) -> bool {
+        self.arm.reports_solve() || self.base.reports_solve()
     }
 
     /// The arm's report, else the base's.

@@ -20,8 +20,9 @@
 //! file only declares the controllers' files and re-exports their public types.
 //!
 //! Imports: everything below it (`math`, `model`, `algorithms`, `gjm`), the maneuvering
-//! modes, actuator limits and references of [`crate::scenario`] and the resolved-motion-rate solver
-//! and task rows of [`crate::analysis`] (`analysis/rmrc_solver.rs`, [`crate::analysis::Task`]);
+//! modes, actuator limits and references of [`crate::scenario`], the resolved-motion-rate solver
+//! and task rows of [`crate::analysis`] (`analysis/rmrc_solver.rs`, [`crate::analysis::Task`]) and
+//! the optimal-control problems and solver of [`crate::optimal`] (the [`mpc`] law);
 //! nothing of [`crate::sim`], which runs the controllers.
 
 pub mod attitude;
@@ -36,6 +37,7 @@ pub mod coordinated;
 pub mod joint_tracking;
 pub mod mismatch;
 pub mod momentum_damping;
+pub mod mpc;
 pub mod pd;
 pub mod rmrc;
 pub mod shaping;
@@ -46,11 +48,12 @@ pub use attitude::{AttitudeControl, LvlhReference};
 pub use cmg_steering::CmgSteering;
 pub use computed_torque::{ComputedTorque, PassiveTreatment};
 pub use controller::{
-    arm_dofs, broadcast_gains, cholesky_solve_in_place, positive, Combined, Command, ControlContext, Controller, GoalReport, TrackingKind,
-    ZeroTorque, CONTROLLER_LABELS, GOAL_TOLERANCE,
+    arm_dofs, broadcast_gains, cholesky_solve_in_place, positive, Combined, Command, ControlContext, Controller, GoalReport, SolveReport,
+    TrackingKind, ZeroTorque, CONTROLLER_LABELS, GOAL_TOLERANCE,
 };
 pub use coordinated::{CoordinatedFlying, CoordinatedGains};
 pub use momentum_damping::{JointTorqueLimit, MomentumDamping};
+pub use mpc::ModelPredictive;
 pub use joint_tracking::{JointLaw, JointTracker};
 pub use pd::JointPd;
 pub use rmrc::ResolvedMotionRate;

@@ -136,4 +136,10 @@ impl Controller for JointTorqueLimit {
     fn is_torque_free(&self) -> bool {
         self.inner.is_torque_free()
     }
+    fn sample(&mut self, t: f64, x: &[f64], u: &[f64]) -> Result<()> {
+        self.inner.sample(t, x, u)
+    }
+    fn reports_solve(&self) -> bool {
+        self.inner.reports_solve()
+    }
 }

@@ -31,12 +31,14 @@ use super::cmg_steering::{CmgSteering, SteeringOptions};
 use super::computed_torque::{ComputedTorque, PassiveTreatment};
 use super::coordinated::{CoordinatedFlying, CoordinatedGains};
 use super::momentum_damping::{JointTorqueLimit, MomentumDamping};
+use super::mpc::ModelPredictive;
 use super::pd::JointPd;
 use super::rmrc::ResolvedMotionRate;
 use super::shaping::{InputShaper, ShaperKind};
 use super::thrusters::BaseThrusterControl;
 use super::{Combined, Controller, ZeroTorque};
 use crate::algorithms::kinematics::forward_kinematics;
+use crate::optimal::ProblemSpec;
 use crate::analysis::redundancy::Strategy;
 use crate::analysis::Task;
 use crate::error::{Result, SpacearmError};
@@ -841,6 +843,25 @@ pub enum ControllerSpec {
         #[serde(default)]
         model: Option<ModelText>,
     },
+    /// Receding-horizon model-predictive control ([`ModelPredictive`], docs/mpc.md): the
+    /// problem solved at every sample, its first control held until the next.
+    Mpc {
+        /// The optimal-control problem (the data of a one-off solve, `spacearm.mpc.Problem`).
+        problem: ProblemSpec,
+        /// The horizon, steps (absent: the problem's).
+        #[serde(default)]
+        horizon: Option<usize>,
+        /// The step of the plan and the sample period of the law, s (absent: the problem's).
+        #[serde(default)]
+        dt: Option<f64>,
+        /// The most solver iterations per sample.
+        #[serde(default = "ten_iterations")]
+        max_iterations: usize,
+        /// The most wall-clock time per solve, s (absent: none; with it the states depend on
+        /// the machine's speed).
+        #[serde(default)]
+        time_limit: Option<f64>,
+    },
     /// An arm controller and a base controller together ([`Combined`]): the base runs first.
     Combined {
         /// The arm controller.
@@ -876,6 +897,7 @@ pub const CONTROLLER_KINDS: &[&str] = &[
     "base_thrusters",
     "coordinated_flying",
     "momentum_damping",
+    "mpc",
     "combined",
     "torque_limit",
     "external",
@@ -912,6 +934,7 @@ impl ControllerSpec {
             ControllerSpec::BaseThrusters { .. } => "base_thrusters",
             ControllerSpec::CoordinatedFlying { .. } => "coordinated_flying",
             ControllerSpec::MomentumDamping { .. } => "momentum_damping",
+            ControllerSpec::Mpc { .. } => "mpc",
             ControllerSpec::Combined { .. } => "combined",
             ControllerSpec::TorqueLimit { .. } => "torque_limit",
             ControllerSpec::External { .. } => "external",
@@ -1019,6 +1042,9 @@ impl ControllerSpec {
                 positive_or_inf(&format!("{w} 'max_torque'"), *max_torque)?;
                 ModelText::build(model)?;
             }
+            ControllerSpec::Mpc { .. } => {
+                self.mpc_law()?;
+            }
             ControllerSpec::Combined { arm, base } => {
                 arm.validate()?;
                 base.validate()?;
@@ -1082,11 +1108,32 @@ impl ControllerSpec {
             ControllerSpec::MomentumDamping { time_constant, max_force, max_torque, model } => {
                 Box::new(MomentumDamping::new(*time_constant, *max_force, *max_torque, ModelText::build(model)?))
             }
+            ControllerSpec::Mpc { .. } => Box::new(self.mpc_law()?),
             ControllerSpec::Combined { arm, base } => Box::new(Combined::new(arm.build_checked(plant, external)?, base.build_checked(plant, external)?)),
             ControllerSpec::TorqueLimit { controller, limit } => Box::new(JointTorqueLimit::new(controller.build_checked(plant, external)?, *limit)),
             ControllerSpec::External { index } => external(*index)?,
         })
     }
+}
+
+impl ControllerSpec {
+    /// The law of an `mpc` spec (its numbers checked); `None` for every other kind.
+    fn mpc_law(&self) -> Result<ModelPredictive> {
+        let ControllerSpec::Mpc { problem, horizon, dt, max_iterations, time_limit } = self else {
+            return Err(bad(format!("{} is not an mpc law", self.kind())));
+        };
+        if let Some(t) = time_limit {
+            if !(*t > 0.0) {
+                return Err(bad(format!("mpc 'time_limit' must be > 0 s (absent: none), got {t}")));
+            }
+        }
+        ModelPredictive::new(problem, horizon.unwrap_or(problem.horizon), dt.unwrap_or(problem.dt), *max_iterations, time_limit.unwrap_or(f64::INFINITY))
+
+    }
+}
+
+fn ten_iterations() -> usize {
+    10
 }
 
 /// The `external` supplier of a door that has no controllers of its own (C, the FMUs, files).

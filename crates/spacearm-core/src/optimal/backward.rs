@@ -32,6 +32,24 @@ pub struct Backward {
     pub qc: Vec<DVector<f64>>,
     /// `Q_cc` with the regularization (`T`).
     pub qcc: Vec<DMatrix<f64>>,
+    /// Workspaces of one knot (allocated once: the pass allocates nothing but the box QP's).
+    work: Work,
+}
+
+struct Work {
+    pplus: DVector<f64>,
+    pa: DMatrix<f64>,
+    pb: DMatrix<f64>,
+    qz: DVector<f64>,
+    qzz: DMatrix<f64>,
+    qcz: DMatrix<f64>,
+    vm: DVector<f64>,
+    mnd: DMatrix<f64>,
+    chol: DMatrix<f64>,
+    at: DMatrix<f64>,
+    bt: DMatrix<f64>,
+    gt: DMatrix<f64>,
+    qczt: DMatrix<f64>,
 }
 
 impl Backward {
@@ -44,6 +62,21 @@ impl Backward {
             gain: vec![DMatrix::zeros(m, nd); t],
             qc: vec![DVector::zeros(m); t],
             qcc: vec![DMatrix::zeros(m, m); t],
+            work: Work {
+                pplus: DVector::zeros(nd),
+                pa: DMatrix::zeros(nd, nd),
+                pb: DMatrix::zeros(nd, m),
+                qz: DVector::zeros(nd),
+                qzz: DMatrix::zeros(nd, nd),
+                qcz: DMatrix::zeros(m, nd),
+                vm: DVector::zeros(m),
+                mnd: DMatrix::zeros(m, nd),
+                chol: DMatrix::zeros(m, m),
+                at: DMatrix::zeros(nd, nd),
+                bt: DMatrix::zeros(m, nd),
+                gt: DMatrix::zeros(nd, m),
+                qczt: DMatrix::zeros(nd, m),
+            },
         }
     }
 
@@ -56,57 +89,89 @@ impl Backward {
         self.pm[t].copy_from(&knots[t].lzz);
         self.p[t].copy_from(&knots[t].lz);
         let bounded = lower.iter().chain(upper).any(|b| b.is_finite());
+        let w = &mut self.work;
         for k in (0..t).rev() {
             let kn = &knots[k];
-            let pn = &self.pm[k + 1];
-            let mut pplus = self.p[k + 1].clone();
+            let (head, tail) = self.pm.split_at_mut(k + 1);
+            let pn = &tail[0];
+            w.pplus.copy_from(&self.p[k + 1]);
             if !feasible {
-                pplus.gemv(1.0, pn, &gaps[k + 1], 1.0);
+                w.pplus.gemv(1.0, pn, &gaps[k + 1], 1.0);
             }
-            let pa = pn * &kn.a;
-            let qz = &kn.lz + kn.a.transpose() * &pplus;
-            let qc = &kn.lc + kn.b.transpose() * &pplus;
-            let qzz = &kn.lzz + kn.a.transpose() * &pa;
-            let qcz = &kn.lcz + kn.b.transpose() * &pa;
-            let mut qcc = &kn.lcc + kn.b.transpose() * pn * &kn.b;
+            w.pa.gemm(1.0, pn, &kn.a, 0.0);
+            w.pb.gemm(1.0, pn, &kn.b, 0.0);
+            w.qz.copy_from(&kn.lz);
+            w.qz.gemv_tr(1.0, &kn.a, &w.pplus, 1.0);
+            let qc = &mut self.qc[k];
+            qc.copy_from(&kn.lc);
+            qc.gemv_tr(1.0, &kn.b, &w.pplus, 1.0);
+            // The transposed products through explicit transposes (the blocked gemm is faster
+            // than the dot-product gemm_tr at these sizes).
+            kn.a.transpose_to(&mut w.at);
+            kn.b.transpose_to(&mut w.bt);
+            w.qzz.copy_from(&kn.lzz);
+            w.qzz.gemm(1.0, &w.at, &w.pa, 1.0);
+            w.qcz.copy_from(&kn.lcz);
+            w.qcz.gemm(1.0, &w.bt, &w.pa, 1.0);
+            let qcc = &mut self.qcc[k];
+            qcc.copy_from(&kn.lcc);
+            qcc.gemm(1.0, &w.bt, &w.pb, 1.0);
             for i in 0..qcc.nrows() {
                 qcc[(i, i)] += mu;
             }
             let m = qc.len();
-            let (kff, gain) = if bounded {
+            let (kff, gain) = (&mut self.k[k], &mut self.gain[k]);
+            if bounded {
                 let lo: Vec<f64> = (0..m).map(|i| lower[i] - cs[k][i]).collect();
                 let hi: Vec<f64> = (0..m).map(|i| upper[i] - cs[k][i]).collect();
-                let Some(sol) = solve_box_qp(&qcc, &qc, &lo, &hi, &self.k[k]) else {
+                let Some(sol) = solve_box_qp(qcc, qc, &lo, &hi, kff) else {
                     return false;
                 };
-                let mut gain = DMatrix::zeros(m, qz.len());
+                gain.fill(0.0);
                 if let Some(f) = &sol.free_factor {
                     let idx: Vec<usize> = (0..m).filter(|i| sol.free[*i]).collect();
-                    let rows = DMatrix::from_fn(idx.len(), qz.len(), |a, b| qcz[(idx[a], b)]);
+                    let rows = DMatrix::from_fn(idx.len(), w.qz.len(), |a, b| w.qcz[(idx[a], b)]);
                     let kf = -f.solve(&rows);
                     for (a, i) in idx.iter().enumerate() {
                         gain.row_mut(*i).copy_from(&kf.row(a));
                     }
                 }
-                (sol.x, gain)
+                kff.copy_from(&sol.x);
             } else {
-                let Some(chol) = qcc.clone().cholesky() else {
+                w.chol.copy_from(qcc);
+                let Some(chol) = w.chol.clone().cholesky() else {
                     return false;
                 };
-                (-chol.solve(&qc), -chol.solve(&qcz))
-            };
-            // pₖ = Q_z + Kᵀ Q_cc k + Kᵀ Q_c + Q_czᵀ k; Pₖ = Q_zz + Kᵀ Q_cc K + Kᵀ Q_cz + Q_czᵀ K.
-            let qcc_k = &qcc * &kff;
-            let qcc_gain = &qcc * &gain;
-            self.p[k] = qz + gain.transpose() * (&qcc_k + &qc) + qcz.transpose() * &kff;
-            let mut pk = qzz + gain.transpose() * (&qcc_gain + &qcz) + qcz.transpose() * &gain;
-            let sym = (&pk + pk.transpose()) * 0.5;
-            pk.copy_from(&sym);
-            self.pm[k] = pk;
-            self.k[k] = kff;
-            self.gain[k] = gain;
-            self.qc[k] = qc;
-            self.qcc[k] = qcc;
+                kff.copy_from(qc);
+                chol.solve_mut(kff);
+                kff.neg_mut();
+                gain.copy_from(&w.qcz);
+                chol.solve_mut(gain);
+                gain.neg_mut();
+            }
+            // pₖ = Q_z + Kᵀ (Q_cc k + Q_c) + Q_czᵀ k; Pₖ = Q_zz + Kᵀ (Q_cc K + Q_cz) + Q_czᵀ K.
+            w.vm.copy_from(qc);
+            w.vm.gemv(1.0, qcc, kff, 1.0);
+            let p = &mut self.p[k];
+            p.copy_from(&w.qz);
+            p.gemv_tr(1.0, gain, &w.vm, 1.0);
+            p.gemv_tr(1.0, &w.qcz, kff, 1.0);
+            w.mnd.copy_from(&w.qcz);
+            w.mnd.gemm(1.0, qcc, gain, 1.0);
+            let pk = &mut head[k];
+            pk.copy_from(&w.qzz);
+            gain.transpose_to(&mut w.gt);
+            w.qcz.transpose_to(&mut w.qczt);
+            pk.gemm(1.0, &w.gt, &w.mnd, 1.0);
+            pk.gemm(1.0, &w.qczt, gain, 1.0);
+            let n = pk.nrows();
+            for i in 0..n {
+                for j in i + 1..n {
+                    let v = 0.5 * (pk[(i, j)] + pk[(j, i)]);
+                    pk[(i, j)] = v;
+                    pk[(j, i)] = v;
+                }
+            }
         }
         true
     }

@@ -36,7 +36,7 @@ pub struct Rk4Discretization {
     zi: DMatrix<f64>,
     ki: [DMatrix<f64>; 4],
     acc: DMatrix<f64>,
-    tan: DMatrix<f64>,
+    e: DMatrix<f64>,
 }
 
 impl Rk4Discretization {
@@ -54,7 +54,7 @@ impl Rk4Discretization {
             zi: mat(),
             ki: std::array::from_fn(|_| mat()),
             acc: mat(),
-            tan: DMatrix::zeros(nd, nz),
+            e: DMatrix::zeros(nz, nd),
             dynamics,
         }
     }
@@ -81,10 +81,9 @@ impl Rk4Discretization {
         let h = self.h;
         let space = self.dynamics.space;
         let (nd, m) = (space.nd(), self.dynamics.controls.len());
-        let mut e = DMatrix::zeros(space.nz(), nd);
-        space.ambient_from_tangent(z, &mut e);
         self.z1.fill(0.0);
-        self.z1.columns_mut(0, nd).copy_from(&e);
+        space.ambient_from_tangent(z, &mut self.e);
+        self.z1.columns_mut(0, nd).copy_from(&self.e);
         self.stage.copy_from_slice(z);
         for i in 0..4 {
             if i > 0 {
@@ -92,7 +91,7 @@ impl Rk4Discretization {
                 combine(&mut self.stage, z, coef, &self.k[i - 1]);
                 // Z_i = N(p_i) (Z_1 + coef K_{i-1}), p_i the stage before renormalisation.
                 self.zi.copy_from(&self.z1);
-                self.zi += &self.ki[i - 1] * coef;
+                add_scaled(&mut self.zi, coef, &self.ki[i - 1]);
                 normalization_jacobian_rows(&self.stage, &mut self.zi);
                 normalize_quaternion(&mut self.stage);
             } else {
@@ -100,7 +99,7 @@ impl Rk4Discretization {
             }
             self.dynamics.rhs_jacobian(model, &self.stage, c, &mut self.k[i], &mut self.jz, &mut self.jc)?;
             let ki = &mut self.ki[i];
-            ki.gemm(1.0, &self.jz, &self.zi, 0.0);
+            sparse_rhs_product(space.nx(), &self.jz, &self.zi, ki);
             let mut kc = ki.columns_mut(nd, m);
             kc += &self.jc;
         }
@@ -109,14 +108,62 @@ impl Rk4Discretization {
         }
         self.acc.copy_from(&self.z1);
         for (i, w) in [1.0, 2.0, 2.0, 1.0].iter().enumerate() {
-            self.acc += &self.ki[i] * (h / 6.0 * w);
+            add_scaled(&mut self.acc, h / 6.0 * w, &self.ki[i]);
         }
         normalization_jacobian_rows(next, &mut self.acc);
         normalize_quaternion(next);
-        space.tangent_from_ambient(next, &mut self.tan);
-        a.gemm(1.0, &self.tan, &self.acc.columns(0, nd), 0.0);
-        b.gemm(1.0, &self.tan, &self.acc.columns(nd, m), 0.0);
+        // A = T(z⁺) ∂z⁺/∂δz, B = T(z⁺) ∂z⁺/∂c: T is the identity but on the quaternion's rows
+        // (StateSpace::tangent_from_ambient), so only those rows are a product.
+        let t = super::state::tangent_from_quaternion(&next[3..7]);
+        let nz = space.nz();
+        for (out, from, cols) in [(a, 0, nd), (b, nd, m)] {
+            for c in 0..cols {
+                let col = from + c;
+                for r in 0..3 {
+                    out[(r, c)] = self.acc[(r, col)];
+                }
+                for r in 0..3 {
+                    out[(3 + r, c)] = (0..4).map(|j| t[(r, j)] * self.acc[(3 + j, col)]).sum();
+                }
+                for i in 7..nz {
+                    out[(i - 1, c)] = self.acc[(i, col)];
+                }
+            }
+        }
         Ok(())
+    }
+}
+
+/// `out = J_z Z` for the ambient Jacobian `J_z` of [`Dynamics::rhs_jacobian`], using its
+/// structure: the rows of `ṙ0 = v0` and `q̇` pick rows of `Z`, the quaternion's rows read the
+/// quaternion and `ω0` only, and the `u̇` rows (the last `6+N`) are dense.
+fn sparse_rhs_product(nx: usize, jz: &DMatrix<f64>, z: &DMatrix<f64>, out: &mut DMatrix<f64>) {
+    let nz = jz.nrows();
+    for c in 0..z.ncols() {
+        for i in 0..3 {
+            out[(i, c)] = z[(nx + i, c)];
+        }
+        for i in 3..7 {
+            let mut v = 0.0;
+            for j in 3..7 {
+                v += jz[(i, j)] * z[(j, c)];
+            }
+            for j in 0..3 {
+                v += jz[(i, nx + 3 + j)] * z[(nx + 3 + j, c)];
+            }
+            out[(i, c)] = v;
+        }
+        for i in 7..nx {
+            out[(i, c)] = z[(nx + i - 1, c)];
+        }
+    }
+    out.rows_mut(nx, nz - nx).gemm(1.0, &jz.rows(nx, nz - nx), z, 0.0);
+}
+
+/// `m += a k` (no temporary).
+fn add_scaled(m: &mut DMatrix<f64>, a: f64, k: &DMatrix<f64>) {
+    for (v, x) in m.as_mut_slice().iter_mut().zip(k.as_slice()) {
+        *v += a * x;
     }
 }
 
@@ -138,9 +185,14 @@ fn normalization_jacobian_rows(z: &[f64], m: &mut DMatrix<f64>) {
     let p = Vector4::new(z[3], z[4], z[5], z[6]);
     let norm = p.norm();
     let ph = p / norm;
-    let rows = m.rows(3, 4).into_owned();
     let proj = (nalgebra::Matrix4::identity() - ph * ph.transpose()) / norm;
-    m.rows_mut(3, 4).copy_from(&(proj * rows));
+    for c in 0..m.ncols() {
+        let col = Vector4::new(m[(3, c)], m[(4, c)], m[(5, c)], m[(6, c)]);
+        let v = proj * col;
+        for r in 0..4 {
+            m[(3 + r, c)] = v[r];
+        }
+    }
 }
 
 #[cfg(test)]

@@ -146,8 +146,7 @@ fn calc_diff(problem: &mut dyn ShootingProblem, traj: &mut Trajectory, knots: &m
     let t = problem.horizon();
     let mut cost = 0.0;
     for (k, knot) in knots.iter_mut().take(t).enumerate() {
-        cost += problem.running(k, &traj.zs[k], &traj.cs[k], &mut traj.next[k])?;
-        problem.running_derivatives(k, &traj.zs[k], &traj.cs[k], knot)?;
+        cost += problem.running_with_derivatives(k, &traj.zs[k], &traj.cs[k], &mut traj.next[k], knot)?;
     }
     cost += problem.terminal(&traj.zs[t])?;
     problem.terminal_derivatives(&traj.zs[t], &mut knots[t])?;
@@ -166,15 +165,61 @@ fn gaps(problem: &dyn ShootingProblem, traj: &Trajectory, out: &mut [DVector<f64
     worst
 }
 
+/// The solver's workspaces for a problem's sizes (the trajectories, the knot models, the gaps,
+/// the backward pass's): a receding-horizon law keeps one across its solves
+/// ([`crate::control::mpc`]) and allocates nothing per solve but the result.
+pub struct Workspace {
+    sizes: (usize, usize, usize, usize),
+    traj: Trajectory,
+    trial: Trajectory,
+    knots: Vec<KnotModel>,
+    fbar: Vec<DVector<f64>>,
+    bw: Backward,
+    dz: Vec<f64>,
+}
+
+impl Workspace {
+    /// Workspaces for `problem`'s horizon and dimensions.
+    pub fn new(problem: &dyn ShootingProblem) -> Self {
+        let (t, nz, nd, m) = (problem.horizon(), problem.nz(), problem.nd(), problem.nc());
+        Workspace {
+            sizes: (t, nz, nd, m),
+            traj: Trajectory::zeros(problem),
+            trial: Trajectory::zeros(problem),
+            knots: vec![KnotModel::zeros(nd, m); t + 1],
+            fbar: vec![DVector::zeros(nd); t + 1],
+            bw: Backward::new(t, nd, m),
+            dz: vec![0.0; nd],
+        }
+    }
+}
+
 /// Solve `problem` by FDDP (module docs) from the guess `zs` (`T+1` states; `None`: the rollout
 /// of the controls from the initial state, a feasible start) and `cs` (`T` controls; `None`:
 /// zeros), clamped to the bounds.
 pub fn solve(problem: &mut dyn ShootingProblem, zs: Option<&[Vec<f64>]>, cs: Option<&[Vec<f64>]>, opts: &SolverOptions) -> Result<Solution> {
+    let mut ws = Workspace::new(problem);
+    solve_in(&mut ws, problem, zs, cs, opts)
+}
+
+/// [`solve`] in the workspaces `ws` (made for a problem of the same sizes).
+pub fn solve_in(ws: &mut Workspace, problem: &mut dyn ShootingProblem, zs: Option<&[Vec<f64>]>, cs: Option<&[Vec<f64>]>, opts: &SolverOptions) -> Result<Solution> {
     opts.validate()?;
     let start = Instant::now();
     let t = problem.horizon();
     let (nz, nd, m) = (problem.nz(), problem.nd(), problem.nc());
-    let mut traj = Trajectory::zeros(problem);
+    if ws.sizes != (t, nz, nd, m) {
+        return Err(SpacearmError::argument("the solver's workspace was made for a problem of other sizes"));
+    }
+    let Workspace { traj, trial, knots, fbar, bw, dz, .. } = ws;
+    // A solve owes nothing to the workspace's last one (the box QPs start from the feedforward
+    // kept there): a kept workspace and a fresh one give the same numbers.
+    for k in bw.k.iter_mut() {
+        k.fill(0.0);
+    }
+    for c in traj.cs.iter_mut() {
+        c.fill(0.0);
+    }
     if let Some(cs) = cs {
         if cs.len() != t || cs.iter().any(|c| c.len() != m || c.iter().any(|v| !v.is_finite())) {
             return Err(SpacearmError::argument(format!("the initial controls must be {t} finite rows of {m}")));
@@ -203,18 +248,13 @@ pub fn solve(problem: &mut dyn ShootingProblem, zs: Option<&[Vec<f64>]>, cs: Opt
             }
         }
     }
-    let mut knots = vec![KnotModel::zeros(nd, m); t + 1];
-    let mut fbar = vec![DVector::zeros(nd); t + 1];
-    let mut bw = Backward::new(t, nd, m);
-    let mut trial = Trajectory::zeros(problem);
-    let mut cost = calc_diff(problem, &mut traj, &mut knots)?;
-    let mut gap = gaps(problem, &traj, &mut fbar);
+    let mut cost = calc_diff(problem, traj, knots)?;
+    let mut gap = gaps(problem, traj, fbar);
     let mut feasible = gap < opts.gap_tolerance;
     let mu_min = if opts.regularization > 0.0 { 1e-9f64.min(opts.regularization) } else { 0.0 };
     let mut mu = opts.regularization;
     let (mut iterations, mut steps, mut dg) = (0, 0, f64::INFINITY);
     let (lower, upper) = (problem.lower().to_vec(), problem.upper().to_vec());
-    let mut dz = vec![0.0; nd];
     let stop = loop {
         if start.elapsed().as_secs_f64() >= opts.time_limit {
             break StopReason::TimeLimit;
@@ -222,14 +262,14 @@ pub fn solve(problem: &mut dyn ShootingProblem, zs: Option<&[Vec<f64>]>, cs: Opt
         if iterations >= opts.max_iterations {
             break StopReason::IterationLimit;
         }
-        if !bw.run(&knots, &fbar, &traj.cs, &lower, &upper, mu, feasible) {
+        if !bw.run(knots, fbar, &traj.cs, &lower, &upper, mu, feasible) {
             mu = if mu == 0.0 { 1e-9 } else { mu * FACTOR };
             if mu > MU_MAX {
                 break StopReason::RegularizationLimit;
             }
             continue;
         }
-        let (g, q) = bw.expected_terms(&fbar, feasible);
+        let (g, q) = bw.expected_terms(fbar, feasible);
         dg = g;
         if feasible && dg.abs() < opts.tolerance {
             break StopReason::Converged;
@@ -238,13 +278,16 @@ pub fn solve(problem: &mut dyn ShootingProblem, zs: Option<&[Vec<f64>]>, cs: Opt
         let mut accepted = false;
         let mut alpha: f64 = 1.0;
         for _ in 0..ALPHAS {
-            let cost_try = forward_pass(problem, &traj, &fbar, &bw, alpha, feasible, &mut trial)?;
+            let cost_try = forward_pass(problem, traj, fbar, bw, alpha, feasible, trial)?;
             if cost_try.is_finite() {
                 let mut dv = 0.0;
                 if !feasible {
                     for (k, f) in fbar.iter().enumerate() {
-                        problem.diff(&traj.zs[k], &trial.zs[k], &mut dz);
-                        dv += f.dot(&(&bw.pm[k] * DVector::from_column_slice(&dz)));
+                        problem.diff(&traj.zs[k], &trial.zs[k], dz);
+                        let pm = &bw.pm[k];
+                        for (j, d) in dz.iter().enumerate() {
+                            dv += d * f.dot(&pm.column(j));
+                        }
                     }
                 }
                 let (d1, d2) = (g + dv, q - 2.0 * dv);
@@ -266,12 +309,12 @@ pub fn solve(problem: &mut dyn ShootingProblem, zs: Option<&[Vec<f64>]>, cs: Opt
             continue;
         }
         steps += 1;
-        std::mem::swap(&mut traj, &mut trial);
+        std::mem::swap(traj, trial);
         if alpha == 1.0 {
             mu = (mu / FACTOR).max(mu_min);
         }
-        cost = calc_diff(problem, &mut traj, &mut knots)?;
-        gap = gaps(problem, &traj, &mut fbar);
+        cost = calc_diff(problem, traj, knots)?;
+        gap = gaps(problem, traj, fbar);
         feasible = feasible || alpha == 1.0 || gap < opts.gap_tolerance;
         if feasible {
             gap = 0.0;
@@ -281,8 +324,8 @@ pub fn solve(problem: &mut dyn ShootingProblem, zs: Option<&[Vec<f64>]>, cs: Opt
         }
     };
     Ok(Solution {
-        zs: traj.zs,
-        cs: traj.cs,
+        zs: traj.zs.clone(),
+        cs: traj.cs.clone(),
         cost,
         iterations,
         steps,

@@ -47,13 +47,12 @@ pub fn forward_pass(problem: &mut dyn ShootingProblem, base: &Trajectory, gaps: 
         problem.integrate(&base.zs[0], &scaled, &mut trial.zs[0]);
     }
     let mut cost = 0.0;
-    let (lower, upper) = (problem.lower().to_vec(), problem.upper().to_vec());
     for k in 0..t {
         problem.diff(&base.zs[k], &trial.zs[k], &mut dz);
-        let dzv = DVector::from_column_slice(&dz);
-        let fb = &bw.gain[k] * &dzv;
+        let gain = &bw.gain[k];
         for i in 0..m {
-            trial.cs[k][i] = (base.cs[k][i] + alpha * bw.k[k][i] + fb[i]).max(lower[i]).min(upper[i]);
+            let fb: f64 = dz.iter().enumerate().map(|(j, d)| gain[(i, j)] * d).sum();
+            trial.cs[k][i] = (base.cs[k][i] + alpha * bw.k[k][i] + fb).max(problem.lower()[i]).min(problem.upper()[i]);
         }
         let (zk, rest) = trial.zs.split_at_mut(k + 1);
         let c = match problem.running(k, &zk[k], &trial.cs[k], &mut trial.next[k]) {

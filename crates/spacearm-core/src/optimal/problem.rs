@@ -7,6 +7,8 @@
 //! `h` (a rectangle rule of `∫ ℓ dt`, so weights do not depend on the number of knots), the
 //! terminal terms once.
 
+use std::borrow::Cow;
+
 use serde::{Deserialize, Serialize};
 
 use super::costs::{cost_derivatives, cost_value, Cost, CostSpec, CostWork, Numbers};
@@ -65,7 +67,7 @@ impl ProblemSpec {
 
 /// The shooting problem of a [`ProblemSpec`] on a model from an initial state.
 pub struct RobotProblem<'a> {
-    model: &'a Model,
+    model: Cow<'a, Model>,
     /// The RK4 step.
     pub step: Rk4Discretization,
     running: Vec<Cost>,
@@ -82,9 +84,17 @@ impl<'a> RobotProblem<'a> {
     /// The problem of `spec` on `model` from `z0 = [x0; u0]` (checked: lengths, finite, a unit
     /// quaternion).
     pub fn new(model: &'a Model, spec: &ProblemSpec, z0: &[f64]) -> Result<Self> {
+        Self::build(Cow::Borrowed(model), spec, z0)
+    }
+
+    /// The problem on a model it owns (a receding-horizon law keeps its problem, [`crate::control::mpc`]).
+    pub fn owned(model: Model, spec: &ProblemSpec, z0: &[f64]) -> Result<RobotProblem<'static>> {
+        RobotProblem::build(Cow::Owned(model), spec, z0)
+    }
+
+    fn build(model: Cow<'a, Model>, spec: &ProblemSpec, z0: &[f64]) -> Result<Self> {
         spec.validate()?;
-        let mode = Mode::from_name(&spec.mode)?;
-        let dynamics = Dynamics::new(model, mode)?;
+        let dynamics = Dynamics::new(&model, Mode::from_name(&spec.mode)?)?;
         let m = dynamics.controls.len();
         if m == 0 {
             return Err(SpacearmError::argument("the model has no control in this mode (no joint and no base actuation)"));
@@ -95,17 +105,17 @@ impl<'a> RobotProblem<'a> {
         if let Some(l) = limit.iter().find(|l| **l == 0.0) {
             return Err(SpacearmError::argument(format!("control_limit must be > 0, got {l}")));
         }
-        let running = spec.running.iter().map(|c| c.build(model, m, false)).collect::<Result<Vec<_>>>()?;
-        let terminal = spec.terminal.iter().map(|c| c.build(model, m, true)).collect::<Result<Vec<_>>>()?;
+        let running = spec.running.iter().map(|c| c.build(&model, m, false)).collect::<Result<Vec<_>>>()?;
+        let terminal = spec.terminal.iter().map(|c| c.build(&model, m, true)).collect::<Result<Vec<_>>>()?;
         if running.is_empty() && terminal.is_empty() {
             return Err(SpacearmError::argument("a problem needs at least one cost term (running or terminal)"));
         }
         Ok(RobotProblem {
+            work: CostWork::new(&model),
             model,
             step: Rk4Discretization::new(dynamics, spec.dt),
             running,
             terminal,
-            work: CostWork::new(model),
             z0: z0.to_vec(),
             lower: limit.iter().map(|l| -l).collect(),
             upper: limit,
@@ -179,21 +189,29 @@ impl ShootingProblem for RobotProblem<'_> {
         crate::math::rotations::normalize_xyzw(&mut z[3..7]);
     }
     fn running(&mut self, _k: usize, z: &[f64], c: &[f64], next: &mut [f64]) -> Result<f64> {
-        self.step.step(self.model, z, c, next)?;
-        cost_value(self.model, &mut self.work, &self.running, z, c, self.step.h)
+        self.step.step(&self.model, z, c, next)?;
+        cost_value(&self.model, &mut self.work, &self.running, z, c, self.step.h)
     }
     fn running_derivatives(&mut self, _k: usize, z: &[f64], c: &[f64], out: &mut KnotModel) -> Result<()> {
-        self.step.step_derivatives(self.model, z, c, &mut self.next, &mut out.a, &mut out.b)?;
+        self.step.step_derivatives(&self.model, z, c, &mut self.next, &mut out.a, &mut out.b)?;
         out.clear_cost();
-        cost_derivatives(self.model, &mut self.work, &self.running, z, c, self.step.h, &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)?;
+        cost_derivatives(&self.model, &mut self.work, &self.running, z, c, self.step.h, &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)?;
         Ok(())
     }
+    /// One RK4 pass with its Jacobians gives the step end (the derivative routine's
+    /// acceleration, equal to ABA's to rounding) and the cost terms their value with their
+    /// derivatives.
+    fn running_with_derivatives(&mut self, _k: usize, z: &[f64], c: &[f64], next: &mut [f64], out: &mut KnotModel) -> Result<f64> {
+        self.step.step_derivatives(&self.model, z, c, next, &mut out.a, &mut out.b)?;
+        out.clear_cost();
+        cost_derivatives(&self.model, &mut self.work, &self.running, z, c, self.step.h, &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)
+    }
     fn terminal(&mut self, z: &[f64]) -> Result<f64> {
-        cost_value(self.model, &mut self.work, &self.terminal, z, &[], 1.0)
+        cost_value(&self.model, &mut self.work, &self.terminal, z, &[], 1.0)
     }
     fn terminal_derivatives(&mut self, z: &[f64], out: &mut KnotModel) -> Result<()> {
         out.clear_cost();
-        cost_derivatives(self.model, &mut self.work, &self.terminal, z, &[], 1.0, &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)?;
+        cost_derivatives(&self.model, &mut self.work, &self.terminal, z, &[], 1.0, &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)?;
         Ok(())
     }
 }

@@ -82,6 +82,14 @@ pub trait ShootingProblem {
     fn running(&mut self, k: usize, z: &[f64], c: &[f64], next: &mut [f64]) -> Result<f64>;
     /// The derivatives of knot `k < T` into `out` (all fields).
     fn running_derivatives(&mut self, k: usize, z: &[f64], c: &[f64], out: &mut KnotModel) -> Result<()>;
+    /// [`ShootingProblem::running`] and [`ShootingProblem::running_derivatives`] of knot `k` at
+    /// once (a problem whose derivatives give the step and the cost overrides it, so that the
+    /// solver's linearization does not evaluate the step twice); returns the cost.
+    fn running_with_derivatives(&mut self, k: usize, z: &[f64], c: &[f64], next: &mut [f64], out: &mut KnotModel) -> Result<f64> {
+        let cost = self.running(k, z, c, next)?;
+        self.running_derivatives(k, z, c, out)?;
+        Ok(cost)
+    }
     /// The terminal cost `ℓ_T(z)`.
     fn terminal(&mut self, z: &[f64]) -> Result<f64>;
     /// The terminal cost's derivatives into `out.lz`, `out.lzz`.

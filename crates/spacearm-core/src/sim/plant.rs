@@ -193,6 +193,13 @@ impl Plant<'_> {
         Ok(true)
     }
 
+    /// A sampled controller's sample at the start of a step from `(t, y)` ([`Controller::sample`](crate::control::Controller::sample)):
+    /// what every loop does before the step's first evaluation.
+    pub fn sample(&mut self, t: f64, y: &[f64]) -> Result<()> {
+        let (x, u) = y.split_at(self.nx);
+        self.controller.sample(t, x, u)
+    }
+
     /// The forces the plant applies at `(t, x, u)`: the controller's command (plus the held
     /// input), through the actuator limits and the mode's mask (docs/modes.md), into
     /// [`Plant::applied`]; the kinematics of `x` are left in [`Plant::data`]. What every

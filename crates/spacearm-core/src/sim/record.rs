@@ -53,6 +53,12 @@ impl Recorder {
             rec.rec.constraint_wrench = Some(Vec::with_capacity(6 * capacity));
             rec.rec.constraint_error = Some(Vec::with_capacity(6 * capacity));
         }
+        if c.reports_solve() {
+            let r = &mut rec.rec;
+            for v in [&mut r.solve_time, &mut r.solve_iterations, &mut r.solve_cost, &mut r.solve_converged] {
+                *v = Some(Vec::with_capacity(capacity));
+            }
+        }
         rec.link = Recorder::link_joints(plant);
         rec.cmgs = Recorder::base_cmgs(plant.model());
         if !rec.cmgs.is_empty() {
@@ -78,7 +84,8 @@ impl Recorder {
         let orbit = if plant.orbit.is_some() { 12 } else { 0 };
         let link = usize::from(!Recorder::link_joints(plant).is_empty());
         let cmg = if Recorder::base_cmgs(plant.model()).is_empty() { 0 } else { 2 };
-        cmg + link + orbit + closure + Recorder::values_per_sample(plant.model(), plant.wheels.len(), c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
+        let solve = if c.reports_solve() { 4 } else { 0 };
+        solve + cmg + link + orbit + closure + Recorder::values_per_sample(plant.model(), plant.wheels.len(), c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
     }
 
     /// The plant's CMGs when every one is on the base (the cluster the steering law drives);
@@ -149,6 +156,10 @@ impl Recorder {
                 link_tracking_error: None,
                 attitude_error: attitude.then(|| v(1)),
                 wheel_speed: (!wheels.is_empty()).then(|| v(wheels.len())),
+                solve_time: None,
+                solve_iterations: None,
+                solve_cost: None,
+                solve_converged: None,
                 cmg_measure: None,
                 cmg_envelope_fraction: None,
                 constraint_wrench: None,
@@ -223,6 +234,13 @@ impl Recorder {
         }
         if let Some(ae) = r.attitude_error.as_mut() {
             ae.push(plant.cmd.attitude_error);
+        }
+        if let (Some(a), Some(b), Some(c), Some(d)) = (r.solve_time.as_mut(), r.solve_iterations.as_mut(), r.solve_cost.as_mut(), r.solve_converged.as_mut()) {
+            let s = plant.cmd.solve;
+            a.push(s.time);
+            b.push(s.iterations);
+            c.push(s.cost);
+            d.push(s.converged);
         }
         if let Some(ws) = r.wheel_speed.as_mut() {
             for &d in &self.wheels {

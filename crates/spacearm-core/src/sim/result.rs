@@ -66,6 +66,15 @@ pub struct Records {
     pub attitude_error: Option<Vec<f64>>,
     /// Wheel rates relative to the base, rad/s.
     pub wheel_speed: Option<Vec<f64>>,
+    /// An optimizing law's ([`crate::control::Controller::reports_solve`]) solve that gave the
+    /// held command, per sample: wall-clock time, s (it differs from run to run).
+    pub solve_time: Option<Vec<f64>>,
+    /// Its iterations.
+    pub solve_iterations: Option<Vec<f64>>,
+    /// Its cost.
+    pub solve_cost: Option<Vec<f64>>,
+    /// 1 if it converged, 0 if it stopped at a limit.
+    pub solve_converged: Option<Vec<f64>>,
     /// A plant with control-moment gyros on its base: the cluster's singularity measure
     /// `m = det(A Aᵀ) / h̄⁶` (control/cmg_jacobian.rs; 0 at a singular state), per sample.
     pub cmg_measure: Option<Vec<f64>>,

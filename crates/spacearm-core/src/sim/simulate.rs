@@ -220,6 +220,8 @@ pub(crate) trait StepWatch: OdeSystem {
     fn take_nonfinite_stage(&mut self) -> bool;
     /// The plant whose evaluation the stop conditions read ([`crate::sim::events`]).
     fn watched_plant(&self) -> &Plant<'_>;
+    /// Before a step (tried) from `(t, y)`: a sampled controller's sample ([`Plant::sample`]).
+    fn begin_step(&mut self, t: f64, y: &[f64]) -> Result<()>;
 }
 
 impl StepWatch for Plant<'_> {
@@ -237,6 +239,10 @@ impl StepWatch for Plant<'_> {
 
     fn watched_plant(&self) -> &Plant<'_> {
         self
+    }
+
+    fn begin_step(&mut self, t: f64, y: &[f64]) -> Result<()> {
+        self.sample(t, y)
     }
 }
 
@@ -284,6 +290,7 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
     let progress_every = opts.duration / 1000.0;
     let mut next_progress = 0.0;
     let mut dp = Dopri5::new(dim, opts.rtol, opts.atol);
+    sys.begin_step(0.0, y)?;
     sys.rhs(0.0, y, &mut dy)?;
     record(sys, 0.0, y, &dy);
     if let Some((condition, _, gap)) = gaps.and_then(|w| w.holding(sys.watched_plant())) {
@@ -314,6 +321,7 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
             h = remaining;
         }
         sys.clear_step_flags();
+        sys.begin_step(t, y)?;
         let outcome = match dp.try_step(sys, t, h, y) {
             Ok(o) => o,
             // A trial step so long that a stage left the finite numbers: reject it and

@@ -168,6 +168,10 @@ impl StepWatch for SoftCapture<'_> {
     fn watched_plant(&self) -> &Plant<'_> {
         &self.robot
     }
+
+    fn begin_step(&mut self, t: f64, y: &[f64]) -> Result<()> {
+        self.robot.sample(t, &y[..self.ny_r])
+    }
 }
 
 impl OdeSystem for SoftCapture<'_> {

@@ -79,6 +79,7 @@ impl<'a> Rk4Stepper<'a> {
         self.plant.flags_step.fill(0);
         let record_now = matches!(&self.recording, Some((_, every)) if self.n_steps % every == 0);
         let result = (|| {
+            self.plant.sample(t, &self.y)?;
             if record_now {
                 self.plant.rhs(t, &self.y, self.rk.k1_mut())?;
                 if let Some((rec, _)) = &mut self.recording {
