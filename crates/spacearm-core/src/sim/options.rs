@@ -12,6 +12,7 @@ use crate::math::integrate::IntegratorKind;
 use crate::scenario::actuators::ThrusterLimits;
 use crate::scenario::modes::Mode;
 use crate::scenario::orbit::Orbit;
+use crate::sim::contact::ContactSpec;
 use crate::sim::stop::StopCondition;
 
 /// Options of a simulation.
@@ -46,6 +47,8 @@ pub struct SimOptions {
     /// by [`simulate`](crate::sim::simulate::simulate) (both integrators); the entry points that stack equal-length runs or step
     /// a plant refuse them ([`SimOptions::refuse_stop`]).
     pub stop: Vec<StopCondition>,
+    /// Compliant contact between the system's bodies ([`crate::sim::contact`]); `None`: none.
+    pub contact: Option<ContactSpec>,
 }
 
 /// A run in orbit (docs/orbit.md): the origin of 𝒥 is the orbit's point `O`, propagated on its
@@ -84,6 +87,7 @@ impl Default for SimOptions {
             max_steps: DEFAULT_MAX_STEPS,
             orbit: None,
             stop: Vec::new(),
+            contact: None,
         }
     }
 }
@@ -113,7 +117,11 @@ impl SimOptions {
         if self.max_steps == 0 {
             return arg(format!("max_steps must be an integer >= 1, got {}", self.max_steps));
         }
-        crate::sim::stop::validate(&self.stop)
+        crate::sim::stop::validate(&self.stop)?;
+        if let Some(c) = &self.contact {
+            c.validate()?;
+        }
+        Ok(())
     }
 
     /// Refuse stop conditions where `entry` (a run that is not [`simulate`](crate::sim::simulate::simulate)'s) cannot honour them.
@@ -178,6 +186,8 @@ pub struct RunSpec {
     pub stop: Vec<StopCondition>,
     /// The control law; absent: zero torques.
     pub controller: Option<ControllerSpec>,
+    /// Compliant contact between bodies of the system ([`ContactSpec`]); absent: none.
+    pub contact: Option<ContactSpec>,
 }
 
 impl Default for RunSpec {
@@ -198,6 +208,7 @@ impl Default for RunSpec {
             gravity_gradient: None,
             stop: d.stop,
             controller: None,
+            contact: None,
         }
     }
 }
@@ -226,6 +237,7 @@ impl RunSpec {
             max_steps: self.max_steps,
             orbit,
             stop: self.stop.clone(),
+            contact: self.contact.clone(),
         };
         options.validate()?;
         if let Some(c) = &self.controller {

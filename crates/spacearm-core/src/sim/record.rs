@@ -35,6 +35,8 @@ pub(crate) struct Recorder {
     /// Whether the drift is a momentum balance against the recorded tidal wrench (an orbital
     /// run with the gravity gradient).
     pub(crate) balance: bool,
+    /// With contact: the time and contact power of the last sample, and the work so far.
+    contact_last: Option<(f64, f64, f64)>,
 }
 
 impl Recorder {
@@ -57,6 +59,11 @@ impl Recorder {
             rec.rec.gravity_wrench = Some(Vec::with_capacity(6 * capacity));
             rec.balance = plant.has_gravity_gradient();
         }
+        if plant.contact.is_some() {
+            rec.rec.contact_count = Some(Vec::with_capacity(capacity));
+            rec.rec.contact_normal_force = Some(Vec::with_capacity(capacity));
+            rec.rec.contact_work = Some(Vec::with_capacity(capacity));
+        }
         rec
     }
 
@@ -64,7 +71,7 @@ impl Recorder {
     pub(crate) fn values_per_sample_of(plant: &Plant<'_>) -> usize {
         let c = &plant.controller;
         let closure = if plant.closure.is_some() { 12 } else { 0 };
-        let orbit = if plant.orbit.is_some() { 12 } else { 0 };
+        let orbit = if plant.orbit.is_some() { 12 } else { 0 } + if plant.contact.is_some() { 3 } else { 0 };
         let link = usize::from(!Recorder::link_joints(plant).is_empty());
         link + orbit + closure + Recorder::values_per_sample(plant.model(), plant.wheels.len(), c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
     }
@@ -131,8 +138,12 @@ impl Recorder {
                 r_cm_eci: None,
                 v_cm_eci: None,
                 gravity_wrench: None,
+                contact_count: None,
+                contact_normal_force: None,
+                contact_work: None,
             },
             balance: false,
+            contact_last: None,
             ee,
             wheels: wheels.to_vec(),
             n_ref,
@@ -213,6 +224,17 @@ impl Recorder {
             vc.extend_from_slice((vo + momentum.linear / model.total_mass()).as_slice());
             gw.extend_from_slice(if plant.has_gravity_gradient() { plant.gravity_wrench.as_slice() } else { &[0.0; 6] });
         }
+        if let (Some(c), Some(count), Some(fn_), Some(work)) = (&plant.contact, r.contact_count.as_mut(), r.contact_normal_force.as_mut(), r.contact_work.as_mut()) {
+            // The work: the trapezoid of the contact power over the samples.
+            let w = match self.contact_last {
+                Some((t0, p0, w0)) => w0 + 0.5 * (t - t0) * (p0 + c.power),
+                None => 0.0,
+            };
+            self.contact_last = Some((t, c.power, w));
+            count.push(c.count as f64);
+            fn_.push(c.normal_force);
+            work.push(w);
+        }
     }
 
     /// The scale of a conserved quantity's drift: the running maximum of its magnitude scale.
@@ -240,7 +262,11 @@ impl Recorder {
                     Conserved::LinearMomentum => conserved_drift(&r.linear_momentum, 3, self.scale(c)),
                     Conserved::AngularMomentumOrigin => conserved_drift(&r.angular_momentum_origin, 3, self.scale(c)),
                     Conserved::AngularMomentumCom => conserved_drift(&r.angular_momentum_com, 3, self.scale(c)),
-                    Conserved::Energy => conserved_drift(&r.energy, 1, self.scale(c)),
+                    Conserved::Energy => match &r.contact_work {
+                        // With contact the ledger energy − contact work is what is conserved.
+                        Some(w) => conserved_drift(&r.energy.iter().zip(w).map(|(e, w)| e - w).collect::<Vec<_>>(), 1, self.scale(c)),
+                        None => conserved_drift(&r.energy, 1, self.scale(c)),
+                    },
                 };
                 (c, d)
             })
