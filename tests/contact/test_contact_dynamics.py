@@ -42,12 +42,12 @@ def linear_impact_closed_form(k: float, d: float, m_r: float, v0: float):
 
 @pytest.mark.parametrize("integrator", ["rk4", "dopri5"])
 def test_a_linear_spring_dashpot_impact_has_the_closed_form_restitution_and_contact_time(integrator):
-    M, m, k, v0, t0, dt = 100.0, 1.0, 1e4, 0.5, 0.01, 2e-5
+    M, m, k, v0, t0, dt = 100.0, 1.0, 1e4, 0.5, 0.0100137, 2e-5
     m_r = M * m / (M + m)
     d = 2.0 * 0.2 * math.sqrt(k * m_r)  # ζ = 0.2
     robot = balls(M, m)
     x0 = robot.neutral_configuration()
-    x0[7] = 0.5 + v0 * t0  # the balls touch at t0 (on a step's end)
+    x0[7] = 0.5 + v0 * t0  # the balls touch at t0, within a step: the core locates the onset
     u0 = robot.zero_velocity()
     u0[6] = -v0
     contact = ContactModel(stiffness=k, damping=d, pairs=[Pair("base", "slider")])
@@ -56,14 +56,16 @@ def test_a_linear_spring_dashpot_impact_has_the_closed_form_restitution_and_cont
     assert 0.02 < t_c < 0.04 and zeta == pytest.approx(0.2)
     q, qd = traj.x[:, 7], traj.u[:, 6]
     # Restitution: the relative velocity after the contact force ends (the balls fly apart freely).
-    tol = 1e-8 if integrator == "rk4" else 1e-6
+    # (RK4: the kink where the clamped force reaches zero falls inside a step, a local error
+    # of second order there.)
+    tol = 2e-7 if integrator == "rk4" else 1e-9
     assert qd[-1] / v0 == pytest.approx(e, rel=tol)
     # Contact time: from onset (t0) to the zero of the law's unclamped force k δ + d δ̇, located
     # between the samples on the recorded states (linear interpolation, second order in dt).
     raw = k * (0.5 - q) + d * (-qd)
     i = int(np.flatnonzero((traj.t > t0 + 0.5 * t_c) & (raw <= 0.0))[0])
     t_end = traj.t[i - 1] + (traj.t[i] - traj.t[i - 1]) * raw[i - 1] / (raw[i - 1] - raw[i])
-    assert t_end - t0 == pytest.approx(t_c, rel=1e-6 if integrator == "rk4" else 1e-5)
+    assert t_end - t0 == pytest.approx(t_c, rel=1e-6)
     # The recorded force is the law on the recorded state, and it is what moved the bodies:
     # the relative acceleration times the reduced mass.
     f = traj.contact_normal_force
@@ -77,8 +79,8 @@ def test_a_linear_spring_dashpot_impact_has_the_closed_form_restitution_and_cont
     assert traj.meta["drift"]["P"] < 1e-12 and traj.meta["drift"]["L_origin"] < 1e-12
     assert traj.contact_work[-1] == pytest.approx(-0.5 * m_r * v0 ** 2 * (1.0 - e ** 2), rel=1e-6)
     ledger = traj.energy - traj.contact_work
-    assert np.ptp(ledger) < 1e-7 * traj.energy[0]
-    assert traj.meta["drift"]["energy"] < 1e-7
+    assert np.ptp(ledger) < 1e-9 * traj.energy[0]
+    assert traj.meta["drift"]["energy"] < 1e-9
     assert traj.meta["contact"]["stiffness"] == k and traj.meta["contact"]["law"] == "kelvin_voigt"
 
 
@@ -89,7 +91,7 @@ def test_the_hunt_crossley_force_is_its_law_and_has_no_jump_at_onset():
     x0[7] = 0.5 + v0 * t0
     u0 = robot.zero_velocity()
     u0[6] = -v0
-    contact = ContactModel(stiffness=k, damping=c, exponent=p, law="hunt_crossley")
+    contact = ContactModel(stiffness=k, damping=c, exponent=p, law="hunt_crossley", pairs=[("base", "slider")])
     traj = spacearm.simulate(robot, 0.04, x0=x0, u0=u0, dt=2e-5, contact=contact)
     delta, rate = 0.5 - traj.x[:, 7], -traj.u[:, 6]
     on = delta > 0.0
@@ -128,14 +130,16 @@ def test_momentum_is_kept_through_an_oblique_frictional_contact_and_the_energy_l
     assert np.linalg.norm(traj.x[-1, 7:] - free.x[-1, 7:]) > 0.1
     assert np.linalg.norm(traj.u[-1, 3:6] - free.u[-1, 3:6]) > 0.01
     # Equal and opposite forces at one point: P and L of the floating system are kept, sample
-    # by sample, to round-off (the base's attitude and the arm's motion changed at contact).
-    for name in ("P", "L_origin", "L_com"):
-        assert traj.meta["drift"][name] < 1e-12, (name, traj.meta["drift"][name])
-    P = traj.P
-    np.testing.assert_allclose(P, np.broadcast_to(P[0], P.shape), atol=1e-12 * np.abs(P).max() + 1e-15)
+    # by sample, to round-off over the 10⁴ steps (the base's attitude and the arm's motion
+    # changed at contact); a force on one body only, or a couple, would change them by O(1).
+    assert set(traj.meta["conserved"]) >= {"P", "L_origin", "energy"}
+    for name in ("P", "L_origin"):
+        assert traj.meta["drift"][name] < 1e-10, (name, traj.meta["drift"][name])
+    L = traj.L_origin
+    assert np.abs(L - L[0]).max() < 1e-10 * np.abs(L).max()
     # Energy: what the kinetic energy lost is the (negative) work of the contact forces.
     assert traj.contact_work[-1] < -0.05 * traj.energy[0]
-    assert traj.meta["drift"]["energy"] < 1e-5
+    assert traj.meta["drift"]["energy"] < 1e-8
     assert free.meta["drift"]["energy"] < 1e-9
 
 
@@ -167,8 +171,8 @@ def test_regularized_friction_changes_the_sliding_velocity_by_its_closed_form():
     assert traj.u[-1, 6] > 0.0 and traj.contact_normal_force[-1] == 0.0  # bounced off, apart
     G = lambda v: math.sqrt(v * v + eps * eps) - eps * math.asinh(eps / v)  # noqa: E731
     target = G(vy0) - mu * j_n / m_y
-    vy1 = brentq(lambda v: G(v) - target, 1e-6, vy0)
-    assert traj.u[-1, 7] == pytest.approx(vy1, rel=1e-7)
+    vy1 = brentq(lambda v: G(v) - target, 1e-6, vy0, xtol=1e-15)
+    assert traj.u[-1, 7] == pytest.approx(vy1, rel=1e-8)
     # Unregularized Coulomb would give vy0 − μ J_n / m_y: a different number, which the run is not.
     assert abs(traj.u[-1, 7] - (vy0 - mu * j_n / m_y)) > 1e-3
     # The friction opposed the slip: y-momentum fell while sliding in +y, never rose.

@@ -252,8 +252,8 @@ pub struct PyRunRecords {
     /// `(K,)` with contact: the sum of the contacts' normal forces, N, or None.
     #[pyo3(get)]
     contact_normal_force: Option<Array>,
-    /// `(K,)` with contact: the work of the contact forces on the system since t = 0 (trapezoid
-    /// of their power over the samples), J, or None.
+    /// `(K,)` with contact: the work of the contact forces on the system since t = 0 (their
+    /// power integrated with the motion), J, or None.
     #[pyo3(get)]
     contact_work: Option<Array>,
     /// The records made, in the order of [`take_fields`].

@@ -457,7 +457,7 @@ class Trajectory:
     @property
     def contact_work(self) -> np.ndarray:
         """With contact: the work of the contact forces on the system since ``t = 0`` ``(K,)``, J
-        (trapezoid of their power over the samples): ``energy − contact_work`` is conserved
+        (their power integrated with the motion): ``energy − contact_work`` is conserved
         where the energy is."""
         return self._get("contact_work", "the run had no contact (simulate(..., contact=spacearm.contact.ContactModel(...)))")
 

@@ -80,11 +80,11 @@ impl ContactLaw {
     }
 
     /// The force of `contact` (kinematics and body velocities current in `data`: after
-    /// [`crate::algorithms::rnea::velocity_pass`]); `None` when the shapes do not
-    /// interpenetrate.
+    /// [`crate::algorithms::rnea::velocity_pass`]); `None` when the shapes are apart. Touching
+    /// (`δ = 0`) the force is the law's there: a Kelvin–Voigt dashpot's `d δ̇` when they approach.
     pub fn force(&self, contact: &Contact, data: &Data) -> Option<ContactForce> {
         let depth = -contact.distance;
-        if depth <= 0.0 {
+        if depth < 0.0 {
             return None;
         }
         let point = 0.5 * (contact.point[0] + contact.point[1]);

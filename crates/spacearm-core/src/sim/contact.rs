@@ -7,6 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::algorithms::kinematics::forward_kinematics;
 use crate::algorithms::rnea::velocity_pass;
 use crate::algorithms::wrench::ExternalWrench;
 use crate::collision::detect::contacts_after_kinematics;
@@ -121,8 +122,11 @@ pub(crate) struct PlantContact {
     pairs: PairFilter,
     law: ContactLaw,
     margin: f64,
-    /// The last evaluation: contacts in interpenetration, their total normal force (N) and the
-    /// power of the contact forces on the system (W).
+    /// Pairs of geometries that act as touching while their distance is at most
+    /// [`ONSET_SLACK`] (the step that starts at a located onset: [`crate::sim::contact_onset`]).
+    pub(crate) forced: Vec<(usize, usize)>,
+    /// The last evaluation: contacts touching or interpenetrating, their total normal force (N)
+    /// and the power of the contact forces on the system (W).
     pub(crate) count: usize,
     pub(crate) normal_force: f64,
     pub(crate) power: f64,
@@ -183,17 +187,22 @@ impl PlantContact {
                 PairFilter::Geometries(out)
             }
         };
-        Ok(PlantContact { shapes, pairs, law: spec.law(), margin: spec.margin, count: 0, normal_force: 0.0, power: 0.0 })
+        Ok(PlantContact { shapes, pairs, law: spec.law(), margin: spec.margin, forced: Vec::new(), count: 0, normal_force: 0.0, power: 0.0 })
     }
 
     /// Append to `out` the wrenches of the contacts at `(x, u)`, the kinematics of `x` current in
     /// `data` (its body velocities are set from `u` here), and keep the evaluation's summary.
     pub(crate) fn wrenches_into(&mut self, model: &Model, data: &mut Data, u: &[f64], out: &mut Vec<ExternalWrench>) -> Result<()> {
         velocity_pass(model, data, u);
-        let found = contacts_after_kinematics(model, data, &self.shapes, &self.pairs, self.margin)?;
+        let margin = if self.forced.is_empty() { self.margin } else { self.margin.max(ONSET_SLACK) };
+        let found = contacts_after_kinematics(model, data, &self.shapes, &self.pairs, margin)?;
         (self.count, self.normal_force, self.power) = (0, 0.0, 0.0);
         for c in &found {
-            if let Some(f) = self.law.force(c, data) {
+            let mut c = *c;
+            if c.distance > 0.0 && c.distance <= ONSET_SLACK && self.forced.contains(&(c.geometry[0], c.geometry[1])) {
+                c.distance = 0.0;
+            }
+            if let Some(f) = self.law.force(&c, data) {
                 self.count += 1;
                 self.normal_force += f.normal_force;
                 self.power += f.power;
@@ -202,7 +211,25 @@ impl PlantContact {
         }
         Ok(())
     }
+
+    /// The geometry pairs touching or interpenetrating at `x` (distance ≤ 0).
+    pub(crate) fn touching(&self, model: &Model, data: &mut Data, x: &[f64]) -> Result<Vec<(usize, usize)>> {
+        forward_kinematics(model, data, x)?;
+        let found = contacts_after_kinematics(model, data, &self.shapes, &self.pairs, 0.0)?;
+        Ok(found.iter().map(|c| (c.geometry[0], c.geometry[1])).collect())
+    }
+
+    /// The smallest signed distance at `x` between the geometry pairs `pairs` (m).
+    pub(crate) fn distance(&self, model: &Model, data: &mut Data, x: &[f64], pairs: &[(usize, usize)]) -> Result<f64> {
+        forward_kinematics(model, data, x)?;
+        let found = contacts_after_kinematics(model, data, &self.shapes, &PairFilter::Geometries(pairs.to_vec()), f64::MAX / 4.0)?;
+        Ok(found.iter().map(|c| c.distance).fold(f64::INFINITY, f64::min))
+    }
 }
+
+/// How far apart (m) the pairs of a located onset may be and still act as touching in the step
+/// that starts there: the onset is located to a few ulps of time, so they are apart by far less.
+pub(crate) const ONSET_SLACK: f64 = 1e-9;
 
 #[cfg(test)]
 mod tests {

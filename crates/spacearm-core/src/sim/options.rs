@@ -124,6 +124,14 @@ impl SimOptions {
         Ok(())
     }
 
+    /// Refuse contact where `entry` (a run whose state is not one plant's) cannot honour it.
+    pub fn refuse_contact(&self, entry: &str) -> Result<()> {
+        if self.contact.is_none() {
+            return Ok(());
+        }
+        Err(SpacearmError::argument(format!("{entry} does not take contact yet (docs/contact.md, \"What is not handled\"): use simulate for a run with contact=")))
+    }
+
     /// Refuse stop conditions where `entry` (a run that is not [`simulate`](crate::sim::simulate::simulate)'s) cannot honour them.
     pub fn refuse_stop(&self, entry: &str) -> Result<()> {
         if self.stop.is_empty() {

@@ -248,7 +248,8 @@ impl Plant<'_> {
 
 impl OdeSystem for Plant<'_> {
     fn dim(&self) -> usize {
-        self.nx + self.model.nu()
+        // With contact, one more: the work of the contact forces, integrated with the motion.
+        self.nx + self.model.nu() + usize::from(self.contact.is_some())
     }
 
     fn project(&self, y: &mut [f64]) {
@@ -271,6 +272,7 @@ impl OdeSystem for Plant<'_> {
             )));
         }
         let (x, u) = y.split_at(self.nx);
+        let u = &u[..self.model.nu()];
         self.apply_command(t, x, u)?;
         self.f[..6].copy_from_slice(self.wrench_applied.as_slice());
         self.f[6..].copy_from_slice(&self.tau_applied);
@@ -303,7 +305,11 @@ impl OdeSystem for Plant<'_> {
         dy[0..3].copy_from_slice(&u[0..3]);
         dy[3..7].copy_from_slice(&quaternion_rate(&x[3..7], &Vector3::new(u[3], u[4], u[5])));
         dy[7..self.nx].copy_from_slice(&u[6..]);
-        dy[self.nx..].copy_from_slice(self.data.accel.as_slice());
+        let nu = self.model.nu();
+        dy[self.nx..self.nx + nu].copy_from_slice(self.data.accel.as_slice());
+        if let Some(c) = &self.contact {
+            dy[self.nx + nu] = c.power;
+        }
         for (s, e) in self.flags_step.iter_mut().zip(&self.flags_eval) {
             *s |= *e;
         }

@@ -35,8 +35,6 @@ pub(crate) struct Recorder {
     /// Whether the drift is a momentum balance against the recorded tidal wrench (an orbital
     /// run with the gravity gradient).
     pub(crate) balance: bool,
-    /// With contact: the time and contact power of the last sample, and the work so far.
-    contact_last: Option<(f64, f64, f64)>,
 }
 
 impl Recorder {
@@ -143,7 +141,6 @@ impl Recorder {
                 contact_work: None,
             },
             balance: false,
-            contact_last: None,
             ee,
             wheels: wheels.to_vec(),
             n_ref,
@@ -162,8 +159,9 @@ impl Recorder {
         r.n_samples += 1;
         r.t.push(t);
         r.x.extend_from_slice(&y[..nx]);
-        r.u.extend_from_slice(&y[nx..]);
-        r.du.extend_from_slice(&dy[nx..]);
+        let nu = model.nu();
+        r.u.extend_from_slice(&y[nx..nx + nu]);
+        r.du.extend_from_slice(&dy[nx..nx + nu]);
         r.tau.extend_from_slice(&plant.tau_applied);
         r.tau_cmd.extend_from_slice(&plant.cmd.tau);
         r.base_wrench.extend_from_slice(plant.wrench_applied.as_slice());
@@ -225,15 +223,10 @@ impl Recorder {
             gw.extend_from_slice(if plant.has_gravity_gradient() { plant.gravity_wrench.as_slice() } else { &[0.0; 6] });
         }
         if let (Some(c), Some(count), Some(fn_), Some(work)) = (&plant.contact, r.contact_count.as_mut(), r.contact_normal_force.as_mut(), r.contact_work.as_mut()) {
-            // The work: the trapezoid of the contact power over the samples.
-            let w = match self.contact_last {
-                Some((t0, p0, w0)) => w0 + 0.5 * (t - t0) * (p0 + c.power),
-                None => 0.0,
-            };
-            self.contact_last = Some((t, c.power, w));
+            // The work: the state's last entry, the contact power integrated with the motion.
             count.push(c.count as f64);
             fn_.push(c.normal_force);
-            work.push(w);
+            work.push(y[nx + nu]);
         }
     }
 
