@@ -28,7 +28,8 @@ PUBLIC_MODULES = (
     "spacearm", "spacearm.presets", "spacearm.examples", "spacearm.control", "spacearm.rotations",
     "spacearm.analysis", "spacearm.identify", "spacearm.campaign", "spacearm.capture", "spacearm.interop",
     "spacearm.io", "spacearm.errors", "spacearm.symbolic", "spacearm.casadi", "spacearm.plan", "spacearm.orbit",
-    "spacearm.fmi", "spacearm.c", "spacearm.viz.viewer", "spacearm.gym",
+    "spacearm.fmi", "spacearm.c", "spacearm.viz.viewer", "spacearm.gym", "spacearm.basilisk", "spacearm.contact",
+    "spacearm.mpc",
 )
 
 #: A Sphinx role as it shows in HTML: ``:class:`` followed by a backtick or a code element.

@@ -1,4 +1,4 @@
-"""Draw docs/figures/basilisk_mission.png: run the Python blocks of docs/basilisk.md in order (as
+"""Draw docs/figures/basilisk_mission.png and basilisk_compensator.png: run the Python blocks of docs/basilisk.md in order (as
 tests/test_doc_blocks.py does) in a temporary directory and keep the figure they write.
 
     PYTHONPATH=python python3 docs/figures/make_basilisk_figure.py
@@ -15,6 +15,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 PAGE = HERE.parent / "basilisk.md"
+FIGURES = ("basilisk_mission.png", "basilisk_compensator.png")
 
 
 def page_code() -> str:
@@ -41,8 +42,10 @@ def main() -> None:
             runpy.run_path(str(script), run_name="__main__")
         finally:
             os.chdir(cwd)
-        shutil.copy(Path(tmp) / "basilisk_mission.png", HERE / "basilisk_mission.png")
-    print("wrote", HERE / "basilisk_mission.png")
+        for name in FIGURES:
+            shutil.copy(Path(tmp) / name, HERE / name)
+    for name in FIGURES:
+        print("wrote", HERE / name)
 
 
 if __name__ == "__main__":

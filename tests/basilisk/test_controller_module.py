@@ -159,3 +159,32 @@ def test_every_law_family_runs_as_a_module(name, make_robot, make_law, mode):
     assert rel(x_b, x_s) < 1e-9 and rel(u_b, u_s) < 1e-9
     tau, wrench = module_box["m"].last_command
     assert np.max(np.abs(np.concatenate([tau, wrench]))) > 0
+
+
+def test_a_module_started_late_sees_the_state_relative_to_where_o_is_now(robot):
+    """With ``orbit`` and ``t_start``, the law's clock starts at ``t_start`` but the orbit's point O
+    is where it is at the scene's time: a module made at 10 s reads the scene's ECI state minus
+    O's position and velocity at 10 s (not at 0 s, which is 76 km and 80 m/s away)."""
+    from Basilisk.simulation import svIntegrators
+    from Basilisk.utilities import SimulationBaseClass, macros
+
+    from spacearm import basilisk as sb
+
+    orbit = spacearm.Orbit.circular(500e3, inclination=0.9)
+    scene, actuators = sb.to_mjscene(robot)
+    sim = SimulationBaseClass.SimBaseClass()
+    sim.CreateNewProcess("p").addTask(sim.CreateNewTask("dynamics", macros.sec2nano(DT)))
+    sim.AddModelToTask("dynamics", scene)
+    scene.setIntegrator(svIntegrators.svIntegratorRK4(scene))
+    module = sb.ControllerModule(robot, control.MomentumDamping(time_constant=3.0), scene, actuators,
+                                 mode="rotation-flying", orbit=orbit, t_start=10.0)
+    sim.InitializeSimulation()
+    x0 = np.asarray(robot.neutral_configuration(), float)
+    (r10,), (v10,) = orbit.propagate([10.0])
+    offset_x = np.r_[r10, np.zeros(robot.nx - 3)]
+    offset_u = np.r_[v10, np.zeros(robot.nu - 3)]
+    sb.state_to_scene(robot, scene, x0 + offset_x, robot.zero_velocity() + offset_u)
+    t, x, u = module.state(macros.sec2nano(10.0))
+    assert t == 0.0
+    assert np.allclose(x[:3], x0[:3], rtol=0, atol=1e-8) and np.allclose(u[:3], 0.0, rtol=0, atol=1e-11)
+    assert np.linalg.norm(r10 - orbit.propagate([0.0])[0][0]) > 7e4  # the two clocks would disagree

@@ -82,6 +82,12 @@ def test_module_torques_are_the_closed_form(orbital_runs):
     closed = np.array(closed)
     assert np.max(np.abs(closed)) > 1e-5  # N·m: the base's torque is not negligible
     np.testing.assert_allclose(torques, closed, rtol=0, atol=1e-5 * np.max(np.abs(closed)))
+    # The formula the module states (docs/basilisk.md): r the system CM's position, for every body.
+    r_cm = robot.center_of_mass(x)
+    at_cm = np.array([3 * MU / np.linalg.norm(r_cm) ** 5 * np.cross(r_cm, (kin.body_to_world[b] @ np.asarray(
+        robot.description.base.inertia if b == 0 else robot.description.links[b - 1].inertia) @ kin.body_to_world[b].T) @ r_cm)
+        for b in range(len(robot.body_names))])
+    np.testing.assert_allclose(torques, at_cm, rtol=0, atol=1e-12 * np.max(np.abs(at_cm)))
     assert np.max(np.abs(module.torques)) > 0  # the module ran inside the dynamics task
 
 

@@ -12,8 +12,9 @@
   gravity-gradient torque on every body of a scene;
 - [`scene_generalized_inertia`][spacearm.basilisk.scene_generalized_inertia],
   [`scene_generalized_jacobian`][spacearm.basilisk.scene_generalized_jacobian],
-  [`scene_reaction_null_space`][spacearm.basilisk.scene_reaction_null_space]: ``H*``, ``J*`` and the
-  reaction null space at a scene's state;
+  [`scene_reaction_null_space`][spacearm.basilisk.scene_reaction_null_space],
+  [`scene_singularities`][spacearm.basilisk.scene_singularities]: ``H*``, ``J*``, the reaction
+  null space and the dynamic singularities at a scene's state;
 - [`from_mjcf`][spacearm.basilisk.from_mjcf]: a Basilisk scenario's MJCF read into a spacearm robot.
 
 Basilisk is imported only when a function or module needs it (the two module classes import it
@@ -22,17 +23,23 @@ on first access: ``spacearm.basilisk.ControllerModule``).
 
 from __future__ import annotations
 
-from .analysis import scene_generalized_inertia, scene_generalized_jacobian, scene_reaction_null_space
+from typing import TYPE_CHECKING
+
+from .analysis import scene_generalized_inertia, scene_generalized_jacobian, scene_reaction_null_space, scene_singularities
 from .mjcf import from_mjcf
 from .scene import BASE_ACTUATORS, ActuatorMap, scene_qpos_qvel, state_from_scene, state_to_scene, to_mjscene
 
 __all__ = [
     "to_mjscene", "ActuatorMap", "BASE_ACTUATORS", "state_from_scene", "state_to_scene", "scene_qpos_qvel",
     "ControllerModule", "GravityGradientModule",
-    "scene_generalized_inertia", "scene_generalized_jacobian", "scene_reaction_null_space", "from_mjcf",
+    "scene_generalized_inertia", "scene_generalized_jacobian", "scene_reaction_null_space", "scene_singularities",
+    "from_mjcf",
 ]
 
 _MODULES = ("ControllerModule", "GravityGradientModule")
+
+if TYPE_CHECKING:  # for type checkers and the API pages; at run time, imported on first access
+    from .modules import ControllerModule, GravityGradientModule
 
 
 def __getattr__(name):

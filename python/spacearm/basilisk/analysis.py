@@ -1,6 +1,6 @@
 """spacearm's analysis on a Basilisk scene's state (flight software or post-processing): the
-generalized inertia ``H*``, the generalized Jacobian ``J*`` and the reaction null space, each the
-core's, at the state [`state_from_scene`][spacearm.basilisk.state_from_scene] reads (one convention
+generalized inertia ``H*``, the generalized Jacobian ``J*``, the reaction null space and the
+dynamic singularities, each the core's, at the state [`state_from_scene`][spacearm.basilisk.state_from_scene] reads (one convention
 map). Basilisk has none of them."""
 
 from __future__ import annotations
@@ -8,9 +8,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..analysis.reactionless import reaction_null_space as _rns
+from ..analysis.singularities import analyze as _analyze
 from .scene import state_from_scene
 
-__all__ = ["scene_generalized_inertia", "scene_generalized_jacobian", "scene_reaction_null_space"]
+__all__ = ["scene_generalized_inertia", "scene_generalized_jacobian", "scene_reaction_null_space", "scene_singularities"]
 
 
 def scene_generalized_inertia(robot, scene) -> np.ndarray:
@@ -33,3 +34,15 @@ def scene_reaction_null_space(robot, scene, base_motion: str = "angular", tolera
     motion (``"full"``) unchanged."""
     x, _ = state_from_scene(robot, scene)
     return _rns(robot, x, base_motion=base_motion, tolerance=tolerance)
+
+
+def scene_singularities(robot, scene, point=None, task=None):
+    """The dynamic singularities at the scene's state
+    ([`spacearm.analysis.analyze`][spacearm.analysis.analyze],
+    Papadopoulos & Dubowsky): the singular values, condition and manipulability of the task rows
+    of ``J*`` (free floating) beside those of the fixed-base ``J_m`` (docs/singularities.md), for
+    ``point`` (default: the end effector). A flight-software check before an arm command: a small
+    ``report.generalized.sigma_min`` where ``report.fixed_base.sigma_min`` is not is a singularity
+    that only a free-floating base has."""
+    x, _ = state_from_scene(robot, scene)
+    return _analyze(robot, x, point=point, task=task)

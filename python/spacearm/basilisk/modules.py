@@ -47,7 +47,8 @@ class ControllerModule(_sys_model.SysModel):
     actuator of ``actuators`` (``actuatorOutMsgs[name]``, subscribed here to the scene's
     actuators): the command is held until the next call (sample and hold at the task rate).
     ``t`` is the simulation time minus ``t_start`` (s). ``orbit`` (a [`spacearm.Orbit`][spacearm.Orbit]):
-    the scene flies in ECI and the law sees the state relative to the orbit's point O at ``t``,
+    the scene flies in ECI and the law sees the state relative to the orbit's point O at the
+    simulation time (the orbit's epoch is the scene's time 0, whatever ``t_start``),
     as in a spacearm orbital run (a Cartesian reference, a momentum, an LVLH attitude are then
     relative to O). Put the module in a task that runs after
     the scene's (a lower priority, or added after it), so that it reads the state at its own
@@ -95,12 +96,12 @@ class ControllerModule(_sys_model.SysModel):
 
     def state(self, CurrentSimNanos):
         """The law's time and state at ``CurrentSimNanos``: ``t`` (s from ``t_start``) and the
-        scene's ``(x, u)``, relative to the orbit's point O at ``t`` with ``orbit`` (the frame of
+        scene's ``(x, u)``, relative to the orbit's point O at the scene's time with ``orbit`` (the frame of
         spacearm's orbital runs, docs/orbit.md: the scene's base position is then in ECI)."""
         t = CurrentSimNanos * _NANO - self.t_start
         x, u = state_from_scene(self.robot, self.scene)
-        if self.orbit is not None:
-            (r_o,), (v_o,) = self.orbit.propagate([t])
+        if self.orbit is not None:  # O where it is now: the orbit's clock is the scene's, not the law's
+            (r_o,), (v_o,) = self.orbit.propagate([CurrentSimNanos * _NANO])
             x[:3] -= r_o
             u[:3] -= v_o
         return t, x, u
