@@ -1125,7 +1125,7 @@ class RunRecords:
     r_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM in ECI, m (float64)
     v_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM velocity in ECI, m/s (float64)
     gravity_wrench: Optional[_Record]       # (K, 6) orbital runs: total tidal [force; torque about the origin], N, N·m
-    contact_count: Optional[_Record]        # (K,) with contact: contacts in interpenetration
+    contact_count: Optional[_Record]        # (K,) with contact: contacts touching or interpenetrating
     contact_normal_force: Optional[_Record] # (K,) with contact: sum of the normal forces, N
     contact_work: Optional[_Record]         # (K,) with contact: work of the contact forces since t = 0, J
 

@@ -446,7 +446,7 @@ class Trajectory:
 
     @property
     def contact_count(self) -> np.ndarray:
-        """With contact: the number of contacts in interpenetration ``(K,)`` (docs/contact.md)."""
+        """With contact: the number of contacts touching or interpenetrating ``(K,)`` (docs/contact.md)."""
         return self._get("contact_count", "the run had no contact (simulate(..., contact=spacearm.contact.ContactModel(...)))")
 
     @property
