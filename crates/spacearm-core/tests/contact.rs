@@ -30,7 +30,7 @@ fn balls() -> Model {
 #[test]
 fn a_contact_table_runs_the_closed_form_impact_in_both_integrators() {
     let model = balls();
-    let (k, v0, m_r, zeta) = (1e4, 0.5, 100.0 / 101.0, 0.2);
+    let (k, v0, m_r, zeta): (f64, f64, f64, f64) = (1e4, 0.5, 100.0 / 101.0, 0.2);
     let d = 2.0 * zeta * (k * m_r).sqrt();
     let e = (-zeta * (std::f64::consts::PI - 2.0 * f64::asin(zeta)) / (1.0 - zeta * zeta).sqrt()).exp();
     for integrator in ["rk4", "dopri5"] {
