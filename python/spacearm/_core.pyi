@@ -1122,6 +1122,8 @@ class RunRecords:
     link_tracking_error: Optional[_Record]  # (K,) compliant joints, joint controller: |q_ref − (θ + δ)|, rad
     attitude_error: Optional[_Record]       # (K,) base attitude error of an attitude controller, rad
     wheel_speed: Optional[_Record]          # (K, W) reaction-wheel speeds, rad/s (RunMeta.wheel_dofs)
+    cmg_measure: Optional[_Record]          # (K,) CMGs on the base: the cluster's singularity measure det(A Aᵀ)/h̄⁶
+    cmg_envelope_fraction: Optional[_Record]  # (K,) CMGs on the base: fraction of the momentum envelope used, |H|/σ(Ĥ)
     r_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM in ECI, m (float64)
     v_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM velocity in ECI, m/s (float64)
     gravity_wrench: Optional[_Record]       # (K, 6) orbital runs: total tidal [force; torque about the origin], N, N·m

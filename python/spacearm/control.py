@@ -443,6 +443,13 @@ class CmgSteering(_Controller):
     ``lambda0 = 0``: the pseudo-inverse), scaled into the gimbal-rate limits; each gimbal motor
     follows with the rate loop ``τ = rate_gain · I_g (δ̇_c - δ̇)``. The rotors and arm joints get
     no torque: combine with an arm law through [`Combined`][spacearm.control.Combined].
+
+    ``dither`` ``ε0 > 0`` (``< 0.5``; needs ``lambda0 > 0``) makes it Wie's generalized SR
+    inverse ``Aᵀ (A Aᵀ + λ W(t))⁻¹``, ``W`` with the off-diagonal dithers
+    ``ε0 sin(dither_frequency · t + φ_i)``, ``φ = (0, π/2, π)``: it leaves a singular state even
+    when commanded exactly along its singular direction. ``null_gain`` ``k > 0`` (rad/s) adds the
+    null motion ``k (E - A⁺A) ∇√m``, which turns the gimbals toward a larger singularity measure
+    without changing the cluster's momentum (docs/cmg.md, "Steering").
     """
 
     _kind: _ClassVar[str] = "cmg_steering"
@@ -453,6 +460,9 @@ class CmgSteering(_Controller):
     lambda0: float = 0.01
     mu: float = 10.0
     rate_gain: float = 50.0
+    dither: float = 0.0
+    dither_frequency: float = 1.5707963267948966
+    null_gain: float = 0.0
 
 
 @_dataclass(frozen=True)

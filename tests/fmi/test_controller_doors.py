@@ -65,7 +65,7 @@ def _laws():
         ("computed_torque", s6, "floating", lambda r: ComputedTorque(kp=25.0, kd=10.0, reference=QuinticJoint(q0, q0 + d, 0.0, 0.05)), None),
         ("resolved_motion_rate", s6, "floating", lambda r: ResolvedMotionRate(_line(r, [0.05, 0.05, -0.05]), gain=5.0), None),
         ("attitude", wheels_robot, "rotation-floating", lambda r: AttitudeControl(quat, kp=20.0, kd=80.0), None),
-        ("cmg_steering", cmg_robot, "rotation-floating", lambda r: CmgSteering(quat, kp=200.0, kd=400.0),
+        ("cmg_steering", cmg_robot, "rotation-floating", lambda r: CmgSteering(quat, kp=200.0, kd=400.0, dither=0.05, null_gain=0.5),
          cmg_robot().cmg_velocity(500.0) + np.r_[np.zeros(6), np.tile([0.1, 0.0], 4), 0.0, 0.0]),
         ("base_thrusters", s6, "flying",
          lambda r: BaseThrusterControl(com_ref=[0.05, -0.02, 0.01], quat_ref=quat, kp_attitude=200.0, kd_attitude=400.0), u_flying),

@@ -186,3 +186,98 @@ def test_the_pyramid_momentum_envelope_has_its_closed_forms():
     again = cmg_envelope(gimbal_axes=pyramid_axes()[0], h=[h] * 4, n=5)
     np.testing.assert_array_equal(again.points, env.points)
     assert env.magnitude.max() <= 4 * h + 1e-12 and env.magnitude.min() > 2 * h  # within Σ h_i, nowhere thin
+
+
+def test_mujoco_runs_the_exported_cmg_cluster_and_arm_as_spacearm_does_for_2_s():
+    """The exported MJCF of a VSCMG pyramid and a two-joint arm under constant gimbal, wheel and
+    arm torques, 2 s of RK4 at 2 ms in both (issue 34's validation): every coordinate and rate
+    to 1e-8, while either's own step error (against spacearm at dt/2) is far larger."""
+    pytest.importorskip("mujoco")
+    from sim.test_simulation_validation import mujoco_run
+
+    robot = pyramid_sat(variable_speed=True)
+    gimbal, rotor = (np.array([c[k] for c in robot.cmg_dofs.values()]) for k in ("gimbal", "rotor"))
+    x0 = robot.neutral_configuration(q=np.r_[np.zeros(8), 0.3, -0.5])
+    x0[7 + gimbal] = [0.3, -0.2, 0.5, -0.1]
+    u0 = robot.cmg_velocity([500.0, -450.0, 520.0, -480.0])
+    u0[3:6], u0[6 + gimbal], u0[-2:] = [0.01, -0.02, 0.015], [0.3, -0.2, 0.25, 0.1], [0.2, -0.3]
+    tau = np.zeros(robot.n_dof)
+    tau[gimbal], tau[rotor], tau[-2:] = [0.02, -0.01, 0.015, -0.02], [0.05, -0.03, 0.02, 0.04], [0.5, -0.3]
+    torque = (lambda t, x, u: tau)
+    dt, every = 2e-3, 50
+    run = (lambda h: spacearm.simulate(robot, 2.0, x0=x0, u0=u0, dt=h, integrator="rk4",
+                                       controller=spacearm.control.Callback(torque), record_every=round(every * dt / h)))
+    traj = run(dt)
+    t_mj, x_mj, u_mj = mujoco_run(robot, x0, u0, torque, dt, 2.0, every)
+    np.testing.assert_allclose(traj.t, t_mj, atol=1e-12)
+    quat_gap = np.abs(np.abs(np.einsum("ij,ij->i", traj.x[:, 3:7], x_mj[:, 3:7])) - 1).max()
+    d_x = np.abs(np.delete(traj.x - x_mj, [3, 4, 5, 6], axis=1)).max()
+    d_u = np.abs(traj.u - u_mj).max()
+    step = np.abs(traj.u - run(dt / 2).u).max()
+    print(f"spacearm vs MuJoCo, 2 s: |Δx| {d_x:.2e}, |Δu| {d_u:.2e}, 1 − |q·q_mj| {quat_gap:.1e}; step error |u| {step:.2e}")
+    assert d_x < 1e-8 and d_u < 1e-8 and quat_gap < 1e-12
+    assert step > 100 * d_u  # the two integrate the same ODE: they agree far below its step error
+    # Not trivial: the gimbals, wheels, arm and base all moved.
+    assert np.abs(traj.u[-1, 6 + rotor] - u0[6 + rotor]).min() > 0.5
+    assert np.ptp(traj.x[:, 7 + gimbal], axis=0).min() > 0.1 and np.ptp(traj.x[:, -2:], axis=0).min() > 0.1
+    assert np.abs(traj.x[-1, 3:6] - x0[3:6]).max() > 1e-3
+
+
+def test_the_gsr_dither_and_null_motion_options_hold_the_base_too_and_bad_values_are_refused():
+    """The steering law with Wie's dithered GSR inverse and null motion (docs/cmg.md,
+    "Steering") holds the base as the SR inverse does; the options change the gimbal motion
+    (null motion turns the gimbals without torque, so their angles differ) and the run's
+    description carries them; bad values name the option."""
+    from spacearm.control import CmgSteering, Combined, JointPD
+
+    robot = pyramid_sat()
+    x0, u0 = robot.neutral_configuration(), robot.cmg_velocity(500.0)
+    arm = JointPD(kp=200.0, kd=60.0, reference=[0.8, -0.6])
+    run = (lambda **o: spacearm.simulate(robot, 3.0, x0=x0, u0=u0, mode="rotation-floating", dt=2e-3,
+                                         controller=Combined(arm=arm, base=CmgSteering([0, 0, 0, 1], kp=200.0, kd=400.0, **o))))
+    plain, options = run(), run(dither=0.05, null_gain=0.5)
+    angle = (lambda t: 2 * np.arccos(np.clip(np.abs(t.x[:, 6]), 0, 1)))
+    assert angle(options).max() < 1.05 * angle(plain).max() and angle(options)[-1] < 0.005
+    gimbals = 7 + np.array([c["gimbal"] for c in robot.cmg_dofs.values()])
+    assert np.abs(options.x[-1, gimbals] - plain.x[-1, gimbals]).max() > 1e-3  # the options did act
+    assert np.isfinite(options.x).all()
+    for bad, match in [(dict(dither=0.5), "dither must be in"), (dict(dither=0.1, lambda0=0.0), "dither needs lambda0"),
+                       (dict(null_gain=-1.0), "null_gain"), (dict(dither_frequency=float("nan")), "dither_frequency")]:
+        with pytest.raises(SpacearmError, match=match):
+            CmgSteering([0, 0, 0, 1], kp=1.0, kd=1.0, **bad)
+
+
+def test_the_run_records_the_clusters_singularity_measure_and_envelope_fraction():
+    """Every sample of a run with CMGs on the base records the measure det(A Aᵀ)/h̄⁶ and the
+    fraction |H|/σ(Ĥ) of the momentum envelope, recomputed here from the recorded states with
+    the kinematics and the envelope's closed form (docs/cmg.md)."""
+    from scipy.spatial.transform import Rotation
+
+    from spacearm.control import CmgSteering, Combined, JointPD
+
+    robot = pyramid_sat()
+    x0, u0 = robot.neutral_configuration(), robot.cmg_velocity(500.0)
+    law = Combined(arm=JointPD(kp=200.0, kd=60.0, reference=[0.8, -0.6]), base=CmgSteering([0, 0, 0, 1], kp=200.0, kd=400.0))
+    traj = spacearm.simulate(robot, 2.0, x0=x0, u0=u0, mode="rotation-floating", controller=law, dt=2e-3, record_every=25)
+    g0, s0 = pyramid_axes()
+    cmgs = list(robot.cmg_dofs.values())
+    for x, u, m, frac in zip(traj.x, traj.u, traj.cmg_measure, traj.cmg_envelope_fraction):
+        r0 = Rotation.from_quat(x[3:7]).as_matrix()
+        g = [r0 @ gi for gi in g0]
+        s = [r0 @ rodrigues(gi, x[7 + c["gimbal"]]) @ si for gi, si, c in zip(g0, s0, cmgs)]
+        h = [J_S * (si @ u[3:6] + u[6 + c["rotor"]]) for si, c in zip(s, cmgs)]
+        a = np.column_stack([hi * np.cross(gi, si) for gi, si, hi in zip(g, s, h)])
+        hbar = np.mean(np.abs(h))
+        assert abs(m - np.linalg.det(a @ a.T) / hbar**6) <= 1e-12 * max(m, 1.0)
+        big_h = sum(hi * si for hi, si in zip(h, s))
+        if np.linalg.norm(big_h) < 1e-12:  # zero momentum (the start): no direction, fraction 0
+            assert frac <= 1e-12
+            continue
+        e = big_h / np.linalg.norm(big_h)
+        extent = sum(abs(hi) * np.linalg.norm(e - (e @ gi) * gi) for gi, hi in zip(g, h))
+        assert abs(frac - np.linalg.norm(big_h) / extent) <= 1e-12
+    assert traj.cmg_measure[0] == pytest.approx(32 / 27, rel=1e-9)  # the pyramid at δ = 0 (docs/cmg.md)
+    assert traj.cmg_envelope_fraction[0] < 1e-12 and traj.cmg_envelope_fraction.max() > 0.01  # zero momentum, then used
+    assert np.ptp(traj.cmg_measure) > 0.01
+    assert "cmg_measure" in [c[0] for c in traj.columns()]
+    assert not spacearm.simulate(spacearm.presets.spatial6(), 0.1).has("cmg_measure")

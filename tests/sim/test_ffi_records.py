@@ -15,7 +15,7 @@ from spacearm.sim.simulation import DEFAULTS, _options
 
 # Every record docs/simulation.md lists, with its attribute on RunRecords.
 ALWAYS = ("t", "x", "u", "du", "tau", "tau_cmd", "base_wrench", "P", "L_origin", "L_com", "energy", "com")
-OPTIONAL = ("ee_position", "ee_quat", "reference", "tracking_error", "link_tracking_error", "attitude_error", "wheel_speed")
+OPTIONAL = ("ee_position", "ee_quat", "reference", "tracking_error", "link_tracking_error", "attitude_error", "wheel_speed", "cmg_measure", "cmg_envelope_fraction")
 
 
 def core_options(robot, **given):

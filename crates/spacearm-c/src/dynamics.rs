@@ -9,6 +9,7 @@
 use nalgebra::{Vector3, Vector6};
 use spacearm_core::algorithms::{aba, crba, inertia, kinematics, momentum, rnea};
 use spacearm_core::gjm;
+use spacearm_core::{Data, Model};
 
 use crate::model::{model_ref, SpacearmModel};
 use crate::status::{guard, input, optional_input, optional_output, output, put, put_row_major, Outcome, SpacearmStatus};
@@ -27,22 +28,46 @@ unsafe fn point(m: &SpacearmModel, body: usize, offset: *const f64) -> Outcome<V
     Ok(vec3(unsafe { input(offset, 3, "offset") }?))
 }
 
+/// The body of an entry point that computes from the state: the handle, then `x` (7+N doubles),
+/// then the (6+N)-vectors `vectors` (`(pointer, name)`, in order: `u`, then `f` or `du`), then
+/// the output (`(pointer, name)`, `out_len` of the model doubles) are checked — the first bad
+/// one is the error reported — and `write` runs on the handle's workspace.
+///
+/// # Safety
+/// `model` NULL or a live handle; every pointer NULL or of its length.
+unsafe fn state_entry<const V: usize>(
+    model: *const SpacearmModel,
+    x: *const f64,
+    vectors: [(*const f64, &str); V],
+    (out, out_name): (*mut f64, &str),
+    out_len: fn(&Model) -> usize,
+    write: impl FnOnce(&Model, &mut Data, &[f64], [&[f64]; V], &mut [f64]) -> Outcome,
+) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract.
+        let m = unsafe { model_ref(model) }?;
+        let x = unsafe { input(x, m.model.nx(), "x") }?;
+        let mut inputs: [&[f64]; V] = [&[]; V];
+        for (value, (p, name)) in inputs.iter_mut().zip(vectors) {
+            *value = unsafe { input(p, m.model.nu(), name) }?;
+        }
+        let out = unsafe { output(out, out_len(&m.model), out_name) }?;
+        m.with_data(|model, data| write(model, data, x, inputs, out))
+    })
+}
+
 /// The mass matrix `H` ((6+N)×(6+N), row-major; paper eq. 36) by CRBA.
 ///
 /// # Safety
 /// `model` a live handle; `x` 7+N doubles; `h_out` (6+N)² writable doubles.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_mass_matrix(model: *const SpacearmModel, x: *const f64, h_out: *mut f64) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY (this block and below): the caller's contract, documented above.
-        let m = unsafe { model_ref(model) }?;
-        let (nx, nu) = (m.model.nx(), m.model.nu());
-        let x = unsafe { input(x, nx, "x") }?;
-        let out = unsafe { output(h_out, nu * nu, "h_out") }?;
-        m.with_data(|model, data| -> Outcome {
+    // SAFETY: the caller's contract, documented above.
+    unsafe {
+        state_entry(model, x, [], (h_out, "h_out"), |m| m.nu() * m.nu(), |model, data, x, [], out| {
             put_row_major("the mass matrix H", crba::crba(model, data, x)?, out)
         })
-    })
+    }
 }
 
 /// The blocks of `H` in the paper's form (eqs. 30, 31, 34): `H0` (6×6), `H0m` (6×N) and `H_m`
@@ -77,16 +102,12 @@ pub unsafe extern "C" fn spacearm_inertia_blocks(model: *const SpacearmModel, x:
 /// `model` a live handle; `x` 7+N doubles; `out` N² writable doubles.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_generalized_inertia(model: *const SpacearmModel, x: *const f64, out: *mut f64) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY (this block and below): the caller's contract, documented above.
-        let m = unsafe { model_ref(model) }?;
-        let n = m.model.n_dof();
-        let x = unsafe { input(x, m.model.nx(), "x") }?;
-        let out = unsafe { output(out, n * n, "out") }?;
-        m.with_data(|model, data| -> Outcome {
+    // SAFETY: the caller's contract, documented above.
+    unsafe {
+        state_entry(model, x, [], (out, "out"), |m| m.n_dof() * m.n_dof(), |model, data, x, [], out| {
             put_row_major("the generalized inertia H*", gjm::compute_generalized_inertia(model, data, x)?, out)
         })
-    })
+    }
 }
 
 /// The generalized Jacobian `J*` (6×N, row-major, linear rows first; paper eq. 110) of the
@@ -116,16 +137,12 @@ pub unsafe extern "C" fn spacearm_generalized_jacobian(model: *const SpacearmMod
 /// `model` a live handle; `x` 7+N, `u` 6+N doubles; `out` 6+N writable doubles.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_bias_forces(model: *const SpacearmModel, x: *const f64, u: *const f64, out: *mut f64) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY (this block and below): the caller's contract, documented above.
-        let m = unsafe { model_ref(model) }?;
-        let (nx, nu) = (m.model.nx(), m.model.nu());
-        let (x, u) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?) };
-        let out = unsafe { output(out, nu, "out") }?;
-        m.with_data(|model, data| -> Outcome {
+    // SAFETY: the caller's contract, documented above.
+    unsafe {
+        state_entry(model, x, [(u, "u")], (out, "out"), Model::nu, |model, data, x, [u], out| {
             put("the bias forces c", rnea::bias_forces(model, data, x, u)?.as_slice(), out)
         })
-    })
+    }
 }
 
 /// The generalized bias `c* = c_m − H0mᵀ H0⁻¹ c0` (N; paper eq. 46, the base velocity `u[0..6]`
@@ -135,16 +152,12 @@ pub unsafe extern "C" fn spacearm_bias_forces(model: *const SpacearmModel, x: *c
 /// `model` a live handle; `x` 7+N, `u` 6+N doubles; `out` N writable doubles.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_generalized_bias(model: *const SpacearmModel, x: *const f64, u: *const f64, out: *mut f64) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY (this block and below): the caller's contract, documented above.
-        let m = unsafe { model_ref(model) }?;
-        let (nx, nu, n) = (m.model.nx(), m.model.nu(), m.model.n_dof());
-        let (x, u) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?) };
-        let out = unsafe { output(out, n, "out") }?;
-        m.with_data(|model, data| -> Outcome {
+    // SAFETY: the caller's contract, documented above.
+    unsafe {
+        state_entry(model, x, [(u, "u")], (out, "out"), Model::n_dof, |model, data, x, [u], out| {
             put("the generalized bias c*", gjm::compute_generalized_bias(model, data, x, u)?.as_slice(), out)
         })
-    })
+    }
 }
 
 /// Forward dynamics by ABA: `u̇` (6+N) from the generalized force `f = [F0, N0, τ]` (6+N; base
@@ -154,16 +167,12 @@ pub unsafe extern "C" fn spacearm_generalized_bias(model: *const SpacearmModel, 
 /// `model` a live handle; `x` 7+N, `u` and `f` 6+N doubles; `du_out` 6+N writable doubles.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_forward_dynamics(model: *const SpacearmModel, x: *const f64, u: *const f64, f: *const f64, du_out: *mut f64) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY (this block and below): the caller's contract, documented above.
-        let m = unsafe { model_ref(model) }?;
-        let (nx, nu) = (m.model.nx(), m.model.nu());
-        let (x, u, f) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?, input(f, nu, "f")?) };
-        let out = unsafe { output(du_out, nu, "du_out") }?;
-        m.with_data(|model, data| -> Outcome {
+    // SAFETY: the caller's contract, documented above.
+    unsafe {
+        state_entry(model, x, [(u, "u"), (f, "f")], (du_out, "du_out"), Model::nu, |model, data, x, [u, f], out| {
             put("forward dynamics du_out", aba::aba(model, data, x, u, f, &[])?.as_slice(), out)
         })
-    })
+    }
 }
 
 /// Reduced (GJM) forward dynamics: `q̈ = H*⁻¹ (τ − c* − H0mᵀ H0⁻¹ F_b)`,
@@ -194,16 +203,12 @@ pub unsafe extern "C" fn spacearm_reduced_forward_dynamics(model: *const Spacear
 /// `model` a live handle; `x` 7+N, `u` and `du` 6+N doubles; `f_out` 6+N writable doubles.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_inverse_dynamics(model: *const SpacearmModel, x: *const f64, u: *const f64, du: *const f64, f_out: *mut f64) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY (this block and below): the caller's contract, documented above.
-        let m = unsafe { model_ref(model) }?;
-        let (nx, nu) = (m.model.nx(), m.model.nu());
-        let (x, u, du) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?, input(du, nu, "du")?) };
-        let out = unsafe { output(f_out, nu, "f_out") }?;
-        m.with_data(|model, data| -> Outcome {
+    // SAFETY: the caller's contract, documented above.
+    unsafe {
+        state_entry(model, x, [(u, "u"), (du, "du")], (f_out, "f_out"), Model::nu, |model, data, x, [u, du], out| {
             put("inverse dynamics f_out", rnea::rnea(model, data, x, u, du, &[])?.as_slice(), out)
         })
-    })
+    }
 }
 
 /// The system's momenta at `(x, u)`, 9 doubles: linear momentum `P` (N·s), angular momentum
@@ -213,19 +218,17 @@ pub unsafe extern "C" fn spacearm_inverse_dynamics(model: *const SpacearmModel, 
 /// `model` a live handle; `x` 7+N, `u` 6+N doubles; `out` 9 writable doubles.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_momentum(model: *const SpacearmModel, x: *const f64, u: *const f64, out: *mut f64) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY (this block and below): the caller's contract, documented above.
-        let m = unsafe { model_ref(model) }?;
-        let (nx, nu) = (m.model.nx(), m.model.nu());
-        let (x, u) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?) };
-        let out = unsafe { output(out, 9, "out") }?;
-        let p = m.with_data(|model, data| momentum::momentum(model, data, x, u))?;
-        let mut all = [0.0; 9];
-        all[0..3].copy_from_slice(p.linear.as_slice());
-        all[3..6].copy_from_slice(p.angular_about_origin.as_slice());
-        all[6..9].copy_from_slice(p.angular_about_com.as_slice());
-        put("the momenta", &all, out)
-    })
+    // SAFETY: the caller's contract, documented above.
+    unsafe {
+        state_entry(model, x, [(u, "u")], (out, "out"), |_| 9, |model, data, x, [u], out| {
+            let p = momentum::momentum(model, data, x, u)?;
+            let mut all = [0.0; 9];
+            all[0..3].copy_from_slice(p.linear.as_slice());
+            all[3..6].copy_from_slice(p.angular_about_origin.as_slice());
+            all[6..9].copy_from_slice(p.angular_about_com.as_slice());
+            put("the momenta", &all, out)
+        })
+    }
 }
 
 /// The momentum map: the base velocity `[v0, ω0] = H0⁻¹ (M0 − H0m q̇)` (6; paper eqs. 42–43, 109)

@@ -349,7 +349,8 @@ pub trait Batched {
     /// The model and the pool of its workspaces.
     fn parts(&self) -> (&spacearm_core::Model, &Pool<Self::Work>);
 
-    /// [`run`] of `kernel` on this object's pool of workspaces.
+    /// [`run`] of `kernel` on this object's pool of workspaces; `kernel` gets the model, a
+    /// workspace, one row of each input and one row of each output.
     #[inline]
     fn batch<'py, const I: usize, const O: usize>(
         &self,
@@ -357,10 +358,20 @@ pub trait Batched {
         call: &str,
         inputs: [Input<'py>; I],
         outputs: [&[usize]; O],
-        kernel: impl Fn(&mut Self::Work, [&[f64]; I], &mut [&mut [f64]; O]) -> spacearm_core::Result<()> + Sync,
+        kernel: impl Fn(&spacearm_core::Model, &mut Self::Work, [&[f64]; I], &mut [&mut [f64]; O]) -> spacearm_core::Result<()> + Sync,
     ) -> PyResult<Bound<'py, PyAny>> {
         let (model, pool) = self.parts();
-        run(py, call, inputs, outputs, pool, || Self::WORKSPACE(model), kernel)
+        run(py, call, inputs, outputs, pool, || Self::WORKSPACE(model), |work, rows, out| kernel(model, work, rows, out))
+    }
+
+    /// The configuration argument `x` of a per-state method: rows of `7+N`.
+    fn x_arg<'py>(&self, x: &Bound<'py, PyAny>) -> PyResult<Input<'py>> {
+        Input::arg(x, "x", self.parts().0.nx())
+    }
+
+    /// The velocity argument `u` of a per-state method: rows of `6+N`.
+    fn u_arg<'py>(&self, u: &Bound<'py, PyAny>) -> PyResult<Input<'py>> {
+        Input::arg(u, "u", self.parts().0.nu())
     }
 }
 

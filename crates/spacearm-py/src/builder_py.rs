@@ -214,16 +214,15 @@ pub fn slosh_links(
     };
     let spec = SloshSpec { name: name.into(), parent: parent.into(), model: kind, mass, position, axis, hinge, length, restoring, damping };
     let links = slosh::slosh_links(&spec, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
-    links
-        .into_iter()
-        .map(|(l, d)| {
-            let kind = l.kind.as_str();
-            Ok((l.name, l.parent, kind, l.origin_in_parent, l.rotation_in_parent, l.axis, l.com_from_joint, l.mass, l.inertia, l.joint_name, None::<[f64; 4]>, (d.actuated, d.stiffness, d.damping, d.rest))
-                .into_pyobject(py)?
-                .into_any()
-                .unbind())
-        })
-        .collect()
+    links.into_iter().map(|(l, d)| add_link_args(py, l, None, Some((d.actuated, d.stiffness, d.damping, d.rest)))).collect()
+}
+
+/// The arguments of `ModelBuilder.add_link` that build `l`, as a tuple: `(name, parent,
+/// joint_type, origin, rotation, axis, com, mass, inertia, joint_name, limits, dynamics)`.
+fn add_link_args(py: Python<'_>, l: LinkSpec, limits: Option<[f64; 4]>, dynamics: Option<(bool, f64, f64, f64)>) -> PyResult<Py<PyAny>> {
+    let kind = l.kind.as_str();
+    let args = (l.name, l.parent, kind, l.origin_in_parent, l.rotation_in_parent, l.axis, l.com_from_joint, l.mass, l.inertia, l.joint_name, limits, dynamics);
+    Ok(args.into_pyobject(py)?.into_any().unbind())
 }
 
 /// `(links, points, geometries)` of an appendage (core `model::appendage`): each link as the
@@ -235,12 +234,7 @@ fn parts_to_py(py: Python<'_>, parts: spacearm_core::model::appendage::Parts) ->
         let lim = l.limits;
         let limits = (l.kind != JointType::Fixed).then_some([lim.lower, lim.upper, lim.velocity, lim.effort]);
         let dynamics = (d != JointDynamics::default()).then_some((d.actuated, d.stiffness, d.damping, d.rest));
-        links.push(
-            (l.name, l.parent, l.kind.as_str(), l.origin_in_parent, l.rotation_in_parent, l.axis, l.com_from_joint, l.mass, l.inertia, l.joint_name, limits, dynamics)
-                .into_pyobject(py)?
-                .into_any()
-                .unbind(),
-        );
+        links.push(add_link_args(py, l, limits, dynamics)?);
     }
     let mut geometries = Vec::new();
     for g in parts.geometries {

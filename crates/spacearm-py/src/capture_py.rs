@@ -8,7 +8,6 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use spacearm_core::sim::capture::{check_capture as core_check_capture, run_capture as core_run_capture, CaptureRun};
 use spacearm_core::sim::capture_spec::CaptureSpec;
-use spacearm_core::SpacearmError;
 
 use crate::contact_py::{grasp_impulse_of, PyGraspImpulse};
 use crate::controller_spec_py::from_data;
@@ -165,16 +164,7 @@ pub fn run_capture(py: Python<'_>, model: PyRef<'_, PyModel>, x0: &Bound<'_, PyA
     let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
     // Copies of the models: the run holds no borrow of the Python objects.
     let (rm, tm) = (model.model.clone(), target.model.clone());
-    let mut interrupted: Option<PyErr> = None;
-    let result = py.detach(|| {
-        let mut progress = |_fraction: f64| -> spacearm_core::Result<()> {
-            Python::attach(|py| py.check_signals()).map_err(|e| {
-                interrupted.get_or_insert(e);
-                SpacearmError::Simulation("interrupted".into())
-            })
-        };
-        core_run_capture(&rm, &x0, &u0, &tm, &spec, &mut progress)
-    });
+    let (result, interrupted) = crate::interrupt::run_reporting(py, |progress| core_run_capture(&rm, &x0, &u0, &tm, &spec, progress));
     let run = result.map_err(|e| interrupted.unwrap_or_else(|| to_py_err(py, e)))?;
     PyCaptureRun::of(py, run, &spec.kind)
 }

@@ -82,7 +82,7 @@ pub fn point_inverse_inertia<'py>(
     arm: &str,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let joints = joints(py, arm)?;
-    let point = BodyPoint { body, offset: finite3(offset, "offset")? };
+    let point = body_point(body, offset, "offset")?;
     let x = vec_arg(x, "x")?;
     let g = model.with_data(|m, d| impulse::point_inverse_inertia(m, d, x.as_slice(), point, joints)).or_raise(py)?;
     Ok(matrix(py, &g))
@@ -102,7 +102,7 @@ pub fn virtual_mass(
     arm: &str,
 ) -> PyResult<f64> {
     let joints = joints(py, arm)?;
-    let point = BodyPoint { body, offset: finite3(offset, "offset")? };
+    let point = body_point(body, offset, "offset")?;
     let n = vec3(direction, "direction")?;
     let x = vec_arg(x, "x")?;
     model.with_data(|m, d| impulse::virtual_mass(m, d, x.as_slice(), point, &n, joints)).or_raise(py)
@@ -120,7 +120,7 @@ pub fn impulse_momentum_split(
     offset: &Bound<'_, PyAny>,
     impulse: &Bound<'_, PyAny>,
 ) -> PyResult<PyMomentumSplit> {
-    let point = BodyPoint { body, offset: finite3(offset, "offset")? };
+    let point = body_point(body, offset, "offset")?;
     let lam = vec6(impulse, "impulse")?;
     let x = vec_arg(x, "x")?;
     let s = model.with_data(|m, d| impulse::impulse_momentum_split(m, d, x.as_slice(), point, &lam)).or_raise(py)?;
@@ -230,6 +230,11 @@ fn joints(py: Python<'_>, arm: &str) -> PyResult<JointsAtImpact> {
     JointsAtImpact::from_name(arm).or_raise(py)
 }
 
+/// The point `offset` (m, from the CM of `body`, in its axes; finite, named `what`) of a body.
+fn body_point(body: usize, offset: &Bound<'_, PyAny>, what: &str) -> PyResult<BodyPoint> {
+    Ok(BodyPoint { body, offset: finite3(offset, what)? })
+}
+
 /// Impulse dynamics of one model: the velocity after an impact through the contact Jacobian
 /// `jacobian` (m × (6+N)) from `u_before`, restitution `e` in [0, 1], `arm` "free" or "locked".
 #[pyfunction]
@@ -298,8 +303,8 @@ pub fn grasp_impact(
         "point" => GraspContact::Point { normal: normal.map(|n| finite3(n, "normal")).transpose()? },
         other => return Err(to_py_err(py, SpacearmError::InvalidArgument(format!("kind must be one of ['rigid', 'point'], got '{other}'")))),
     };
-    let robot_point = BodyPoint { body, offset: finite3(offset, "offset")? };
-    let target_grasp = BodyPoint { body: target_body, offset: finite3(target_offset, "target_offset")? };
+    let robot_point = body_point(body, offset, "offset")?;
+    let target_grasp = body_point(target_body, target_offset, "target_offset")?;
     let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
     let (xt, ut) = (vec_arg(x_target, "x_target")?, vec_arg(u_target, "u_target")?);
     let g = robot
@@ -400,8 +405,8 @@ pub fn soft_capture(
     rotational_stiffness: Option<f64>,
     rotational_damping: Option<f64>,
 ) -> PyResult<PySoftCaptureResult> {
-    let robot_point = BodyPoint { body, offset: finite3(offset, "offset")? };
-    let target_point = BodyPoint { body: target_body, offset: finite3(target_offset, "target_offset")? };
+    let robot_point = body_point(body, offset, "offset")?;
+    let target_point = body_point(target_body, target_offset, "target_offset")?;
     let x = vec_arg(x, "x")?.as_slice().to_vec();
     let u = vec_arg(u, "u")?.as_slice().to_vec();
     let xt = vec_arg(x_target, "x_target")?.as_slice().to_vec();
@@ -476,7 +481,7 @@ pub fn loop_closure(
     body_b: usize,
     offset_b: &Bound<'_, PyAny>,
 ) -> PyResult<PyLoopClosureTerms> {
-    let (a, b) = (BodyPoint { body: body_a, offset: finite3(offset_a, "offset_a")? }, BodyPoint { body: body_b, offset: finite3(offset_b, "offset_b")? });
+    let (a, b) = (body_point(body_a, offset_a, "offset_a")?, body_point(body_b, offset_b, "offset_b")?);
     let (x, u) = (vec_arg(x, "x")?, vec_arg(u, "u")?);
     let (j, jd) = model
         .with_data(|m, d| -> spacearm_core::Result<_> {
@@ -508,7 +513,7 @@ pub fn simulate_closed_chain(
     controller_spec: Option<&Bound<'_, PyAny>>,
     stabilization: f64,
 ) -> PyResult<PyClosedChainResult> {
-    let (a, b) = (BodyPoint { body: body_a, offset: finite3(offset_a, "offset_a")? }, BodyPoint { body: body_b, offset: finite3(offset_b, "offset_b")? });
+    let (a, b) = (body_point(body_a, offset_a, "offset_a")?, body_point(body_b, offset_b, "offset_b")?);
     let x0 = vec_arg(x0, "x0")?.as_slice().to_vec();
     let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
     let (opts, float32) = (options.sim_options(duration), options.records_float32());
@@ -534,16 +539,7 @@ fn run_controlled<R: Send>(
         Some(s) if !s.is_none() => build_controller(s, plant, &slot)?,
         _ => Box::new(ZeroTorque),
     };
-    let mut interrupted: Option<PyErr> = None;
-    let result = py.detach(|| {
-        let mut progress = |_fraction: f64| -> spacearm_core::Result<()> {
-            Python::attach(|py| py.check_signals()).map_err(|e| {
-                interrupted.get_or_insert(e);
-                SpacearmError::Simulation("interrupted".into())
-            })
-        };
-        work(controller.as_mut(), &mut progress)
-    });
+    let (result, interrupted) = crate::interrupt::run_reporting(py, |progress| work(controller.as_mut(), progress));
     result.map_err(|e| take_error(&slot).or(interrupted).unwrap_or_else(|| to_py_err(py, e)))
 }
 

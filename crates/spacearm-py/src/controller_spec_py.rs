@@ -154,8 +154,17 @@ pub struct PyJointReference {
     inner: JointReference,
 }
 
+pymethods_with_getters! {
 #[pymethods]
 impl PyJointReference {
+    getters(self) {
+        /// Start of the motion, s (None for a constant; the first knot time of a sampled reference).
+        t_start: Option<f64> = self.inner.time_span().map(|s| s.0);
+        /// End of the motion, s (None for a constant; the last knot time of a sampled reference; a
+        /// shaped reference ends the shaper's length after its base).
+        t_end: Option<f64> = self.inner.time_span().map(|s| s.1);
+    }
+
     /// From the data of a `JointReferenceSpec` (a list: a constant set point).
     #[staticmethod]
     fn from_spec(py: Python<'_>, data: &Bound<'_, PyAny>) -> PyResult<Self> {
@@ -188,19 +197,6 @@ impl PyJointReference {
         array(py, self.inner.end_values().1)
     }
 
-    /// Start of the motion, s (None for a constant; the first knot time of a sampled reference).
-    #[getter]
-    fn t_start(&self) -> Option<f64> {
-        self.inner.time_span().map(|s| s.0)
-    }
-
-    /// End of the motion, s (None for a constant; the last knot time of a sampled reference; a
-    /// shaped reference ends the shaper's length after its base).
-    #[getter]
-    fn t_end(&self) -> Option<f64> {
-        self.inner.time_span().map(|s| s.1)
-    }
-
     /// `(q, qd, qdd)` at each time of `t`, each of shape (T, n): the values the controllers
     /// follow.
     fn evaluate<'py>(&self, py: Python<'py>, t: &Bound<'_, PyAny>) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
@@ -219,6 +215,7 @@ impl PyJointReference {
         format!("<spacearm._core.JointReference {} of {} joints>", self.kind(), self.inner.len())
     }
 }
+}
 
 /// An input shaper (ZV or ZVD) designed for one mode (`spacearm_core::control::shaping`),
 /// built from its spec data (`InputShaper.from_spec`).
@@ -227,31 +224,23 @@ pub struct PyInputShaper {
     inner: InputShaper,
 }
 
+pymethods_with_getters! {
 #[pymethods]
 impl PyInputShaper {
+    getters(self) {
+        /// `"zv"` or `"zvd"`.
+        kind: &'static str = self.inner.kind.name();
+        /// The design natural frequency, rad/s.
+        frequency: f64 = self.inner.frequency;
+        /// The design damping ratio.
+        damping: f64 = self.inner.damping;
+    }
+
     /// From the data of a `ShaperSpec`: `{kind: "zv" | "zvd", frequency (rad/s), damping}`.
     #[staticmethod]
     fn from_spec(py: Python<'_>, data: &Bound<'_, PyAny>) -> PyResult<Self> {
         let spec: ShaperSpec = from_data(data, "input shaper")?;
         Ok(PyInputShaper { inner: spec.build().or_raise(py)? })
-    }
-
-    /// `"zv"` or `"zvd"`.
-    #[getter]
-    fn kind(&self) -> &'static str {
-        self.inner.kind.name()
-    }
-
-    /// The design natural frequency, rad/s.
-    #[getter]
-    fn frequency(&self) -> f64 {
-        self.inner.frequency
-    }
-
-    /// The design damping ratio.
-    #[getter]
-    fn damping(&self) -> f64 {
-        self.inner.damping
     }
 
     /// Impulse amplitudes (sum 1), shape (n,).
@@ -275,6 +264,7 @@ impl PyInputShaper {
     fn __repr__(&self) -> String {
         format!("<spacearm._core.InputShaper {} at {} rad/s, damping {}>", self.inner.kind.name(), self.inner.frequency, self.inner.damping)
     }
+}
 }
 
 /// A point on a rigid body moving freely (`spacearm_core::sim::free_body::FreeBody`): the grasp

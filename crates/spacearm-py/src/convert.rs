@@ -467,3 +467,26 @@ macro_rules! add_to_module {
     }};
 }
 pub(crate) use add_to_module;
+
+/// A `#[pymethods] impl` block whose read-only properties that need no `py` are written one a
+/// line, `name: Type = expression;` (its doc comment above it, the expression reading `self`),
+/// ahead of the class's other methods: a property in one line instead of a `#[getter]` method
+/// of four. The attribute and the receiver come from the call (`#[pymethods] impl Class {
+/// getters(self) { … } … }`) so that PyO3's generated code and the expressions' `self` resolve
+/// at the call site.
+macro_rules! pymethods_with_getters {
+    ($pound:tt $attr:tt impl $class:ty { getters($s:ident) { $($(#[$doc:meta])* $name:ident: $ty:ty = $value:expr;)* } $($methods:tt)* }) => {
+        $pound $attr
+        impl $class {
+            $(
+                $(#[$doc])*
+                #[getter]
+                fn $name(&$s) -> $ty {
+                    $value
+                }
+            )*
+            $($methods)*
+        }
+    };
+}
+pub(crate) use pymethods_with_getters;

@@ -57,10 +57,8 @@ impl PyDerivatives {
 
     /// `∂H/∂x_k`, shape (6+N, 6+N, 6+N), derivative index last.
     fn mass_matrix_partials<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let nu = m.nu();
-        let inputs = [Input::arg(x, "x", m.nx())?];
-        self.batch(py, "mass_matrix_partials", inputs, [&[nu, nu, nu]], |w, [x], [out]| {
+        let nu = self.model.nu();
+        self.batch(py, "mass_matrix_partials", [self.x_arg(x)?], [&[nu, nu, nu]], |m, w, [x], [out]| {
             put_last(derivatives::mass_matrix_partials(m, w, x)?, out);
             Ok(())
         })
@@ -68,10 +66,8 @@ impl PyDerivatives {
 
     /// `Ḣ` along `u`, (6+N)².
     fn mass_matrix_derivative<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let nu = m.nu();
-        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?];
-        self.batch(py, "mass_matrix_derivative", inputs, [&[nu, nu]], |w, [x, u], [out]| {
+        let nu = self.model.nu();
+        self.batch(py, "mass_matrix_derivative", [self.x_arg(x)?, self.u_arg(u)?], [&[nu, nu]], |m, w, [x, u], [out]| {
             put(derivatives::mass_matrix_derivative(m, w, x, u)?, out);
             Ok(())
         })
@@ -79,10 +75,8 @@ impl PyDerivatives {
 
     /// `∂H*/∂q_k`, shape (N, N, N), derivative index last.
     fn generalized_inertia_partials<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let n = m.n_dof();
-        let inputs = [Input::arg(x, "x", m.nx())?];
-        self.batch(py, "generalized_inertia_partials", inputs, [&[n, n, n]], |w, [x], [out]| {
+        let n = self.model.n_dof();
+        self.batch(py, "generalized_inertia_partials", [self.x_arg(x)?], [&[n, n, n]], |m, w, [x], [out]| {
             put_last(derivatives::generalized_inertia_partials(m, w, x)?, out);
             Ok(())
         })
@@ -90,10 +84,8 @@ impl PyDerivatives {
 
     /// `Ḣ*` along `u`, N×N.
     fn generalized_inertia_derivative<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let n = m.n_dof();
-        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
-        self.batch(py, "generalized_inertia_derivative", inputs, [&[n, n]], |w, [x, u], [out]| {
+        let n = self.model.n_dof();
+        self.batch(py, "generalized_inertia_derivative", [self.x_arg(x)?, self.u_arg(u)?], [&[n, n]], |m, w, [x, u], [out]| {
             put(derivatives::generalized_inertia_derivative(m, w, x, u)?, out);
             Ok(())
         })
@@ -102,10 +94,8 @@ impl PyDerivatives {
     /// `∂J*/∂x_k` of a point, shape (6, N, 6+N), derivative index last.
     fn generalized_jacobian_partials<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let off = finite3(offset, "offset")?;
-        let m = &self.model;
-        let (n, nu) = (m.n_dof(), m.nu());
-        let inputs = [Input::arg(x, "x", m.nx())?];
-        self.batch(py, "generalized_jacobian_partials", inputs, [&[6, n, nu]], |w, [x], [out]| {
+        let (n, nu) = (self.model.n_dof(), self.model.nu());
+        self.batch(py, "generalized_jacobian_partials", [self.x_arg(x)?], [&[6, n, nu]], |m, w, [x], [out]| {
             put_last(derivatives::generalized_jacobian_partials(m, w, x, body, &off)?, out);
             Ok(())
         })
@@ -121,10 +111,8 @@ impl PyDerivatives {
         offset: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let off = finite3(offset, "offset")?;
-        let m = &self.model;
-        let n = m.n_dof();
-        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
-        self.batch(py, "generalized_jacobian_derivative", inputs, [&[6, n]], |w, [x, u], [out]| {
+        let n = self.model.n_dof();
+        self.batch(py, "generalized_jacobian_derivative", [self.x_arg(x)?, self.u_arg(u)?], [&[6, n]], |m, w, [x, u], [out]| {
             put(derivatives::generalized_jacobian_derivative(m, w, x, u, body, &off)?, out);
             Ok(())
         })
@@ -142,12 +130,10 @@ impl PyDerivatives {
         wrenches: Option<WrenchList>,
         dual: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let nu = m.nu();
+        let nu = self.model.nu();
         let ext = wrench_list(py, wrenches)?;
         let route = method(dual);
-        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?, Input::arg(f, "f", nu)?];
-        self.batch(py, "forward_dynamics_derivatives", inputs, [&[nu, nu], &[nu, nu], &[nu, nu]], |w, [x, u, f], [dx, du, df]| {
+        self.batch(py, "forward_dynamics_derivatives", [self.x_arg(x)?, self.u_arg(u)?, Input::arg(f, "f", nu)?], [&[nu, nu], &[nu, nu], &[nu, nu]], |m, w, [x, u, f], [dx, du, df]| {
             let (a, b, c) = derivatives::forward_dynamics_derivatives_with(m, w, x, u, f, &ext, route)?;
             put(a, dx);
             put(b, du);
@@ -172,14 +158,12 @@ impl PyDerivatives {
         wrenches: Option<WrenchList>,
         dual: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let nu = m.nu();
+        let nu = self.model.nu();
         let tau = Input::optional(tau, "tau", nu - 6)?;
         let base_wrench = Input::optional(base_wrench, "base_wrench", 6)?;
         let ext = wrench_list(py, wrenches)?;
         let route = method(dual);
-        let inputs = [tau, base_wrench, Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?];
-        self.batch(py, "forward_dynamics_derivatives", inputs, [&[nu, nu], &[nu, nu], &[nu, nu]], |w, [tau, fb, x, u], [dx, du, df]| {
+        self.batch(py, "forward_dynamics_derivatives", [tau, base_wrench, self.x_arg(x)?, self.u_arg(u)?], [&[nu, nu], &[nu, nu], &[nu, nu]], |m, w, [tau, fb, x, u], [dx, du, df]| {
             with_assembled_force(nu, tau, fb, |f| {
                 let (a, b, c) = derivatives::forward_dynamics_derivatives_with(m, w, x, u, f, &ext, route)?;
                 put(a, dx);
@@ -201,12 +185,10 @@ impl PyDerivatives {
         wrenches: Option<WrenchList>,
         dual: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let nu = m.nu();
+        let nu = self.model.nu();
         let ext = wrench_list(py, wrenches)?;
         let route = method(dual);
-        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?, Input::arg(du, "du", nu)?];
-        self.batch(py, "inverse_dynamics_partials", inputs, [&[nu, nu], &[nu, nu]], |w, [x, u, du], [dx_out, dv_out]| {
+        self.batch(py, "inverse_dynamics_partials", [self.x_arg(x)?, self.u_arg(u)?, Input::arg(du, "du", nu)?], [&[nu, nu], &[nu, nu]], |m, w, [x, u, du], [dx_out, dv_out]| {
             let (dx, dv) = derivatives::inverse_dynamics_partials(m, w, x, u, du, &ext, route)?;
             put(dx, dx_out);
             put(dv, dv_out);
@@ -218,12 +200,11 @@ impl PyDerivatives {
     /// `joints_only`, else for the whole generalized force.
     #[pyo3(signature = (x, u, f, joints_only, dual=false))]
     fn linearize<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>, f: &Bound<'py, PyAny>, joints_only: bool, dual: bool) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let nu = m.nu();
+        let nu = self.model.nu();
         let route = method(dual);
-        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?, Input::arg(f, "f", nu)?];
-        let (kind, b_cols) = if joints_only { (LinearizationInputs::Joints, m.n_dof()) } else { (LinearizationInputs::All, nu) };
-        self.batch(py, "linearize", inputs, [&[2 * nu, 2 * nu], &[2 * nu, b_cols]], |w, [x, u, f], [a_out, b_out]| {
+        let inputs = [self.x_arg(x)?, self.u_arg(u)?, Input::arg(f, "f", nu)?];
+        let (kind, b_cols) = if joints_only { (LinearizationInputs::Joints, self.model.n_dof()) } else { (LinearizationInputs::All, nu) };
+        self.batch(py, "linearize", inputs, [&[2 * nu, 2 * nu], &[2 * nu, b_cols]], |m, w, [x, u, f], [a_out, b_out]| {
             let (a, b) = derivatives::linearize_with(m, w, x, u, f, kind, route)?;
             put(a, a_out);
             put(&b, b_out);

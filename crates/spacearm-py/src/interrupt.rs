@@ -68,3 +68,25 @@ pub fn run_until<R: Send>(py: Python<'_>, stop: Option<Py<PyAny>>, work: impl Fn
     }
     result.ok_or_else(|| pyo3::exceptions::PySystemError::new_err("a native worker thread stopped without a result"))
 }
+
+/// Run `work(progress)` with the GIL released, where `progress` (the core's progress report)
+/// takes the GIL back to check for Ctrl-C: a pending signal fails the report with
+/// `Simulation("interrupted")`, so that the work stops at once. Returns the work's result and the
+/// signal handler's exception if there was one (the caller chooses which error the call raises:
+/// a callback controller's own exception comes first).
+pub fn run_reporting<R: Send>(
+    py: Python<'_>,
+    work: impl FnOnce(spacearm_core::sim::simulate::Progress<'_>) -> spacearm_core::Result<R> + Send,
+) -> (spacearm_core::Result<R>, Option<PyErr>) {
+    let mut interrupted: Option<PyErr> = None;
+    let result = py.detach(|| {
+        let mut progress = |_fraction: f64| -> spacearm_core::Result<()> {
+            Python::attach(|py| py.check_signals()).map_err(|e| {
+                interrupted.get_or_insert(e);
+                spacearm_core::SpacearmError::Simulation("interrupted".into())
+            })
+        };
+        work(&mut progress)
+    });
+    (result, interrupted)
+}

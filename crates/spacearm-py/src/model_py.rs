@@ -108,59 +108,30 @@ pub(crate) fn wrenches(py: Python<'_>, list: Option<WrenchList>) -> PyResult<Vec
     Ok(out)
 }
 
+pymethods_with_getters! {
 #[pymethods]
 impl PyModel {
-    #[getter]
-    fn name(&self) -> String {
-        self.model.name().to_string()
+    getters(self) {
+        name: String = self.model.name().to_string();
+        n_dof: usize = self.model.n_dof();
+        n_bodies: usize = self.model.n_bodies();
+        /// Whether the model was built accepting inertias that break the triangle inequality.
+        allows_nonphysical_inertia: bool = self.model.triangle_inequality() == spacearm_core::model::TriangleInequality::Warn;
+        /// One message per body whose inertia breaks the triangle inequality.
+        inertia_warnings: Vec<String> = self.model.inertia_warnings().to_vec();
+        total_mass: f64 = self.model.total_mass();
+        body_names: Vec<String> = self.model.body_names();
+        point_names: Vec<String> = self.model.points().iter().map(|p| p.name.clone()).collect();
+        end_effector: Option<String> = self.model.end_effector().map(|i| self.model.points()[i].name.clone());
+        /// Whether each degree of freedom has a motor (dof order; docs/flexibility.md).
+        actuated_dofs: Vec<bool> = self.model.actuated_dofs();
+        /// Body index moved by each degree of freedom.
+        body_of_dof: Vec<usize> = (0..self.model.n_dof()).map(|d| self.model.body_of_dof(d)).collect();
     }
-    #[getter]
-    fn n_dof(&self) -> usize {
-        self.model.n_dof()
-    }
-    #[getter]
-    fn n_bodies(&self) -> usize {
-        self.model.n_bodies()
-    }
-    /// Whether the model was built accepting inertias that break the triangle inequality.
-    #[getter]
-    fn allows_nonphysical_inertia(&self) -> bool {
-        self.model.triangle_inequality() == spacearm_core::model::TriangleInequality::Warn
-    }
-    /// One message per body whose inertia breaks the triangle inequality.
-    #[getter]
-    fn inertia_warnings(&self) -> Vec<String> {
-        self.model.inertia_warnings().to_vec()
-    }
-    #[getter]
-    fn total_mass(&self) -> f64 {
-        self.model.total_mass()
-    }
-    #[getter]
-    fn body_names(&self) -> Vec<String> {
-        self.model.body_names()
-    }
-    #[getter]
-    fn point_names(&self) -> Vec<String> {
-        self.model.points().iter().map(|p| p.name.clone()).collect()
-    }
-    #[getter]
-    fn end_effector(&self) -> Option<String> {
-        self.model.end_effector().map(|i| self.model.points()[i].name.clone())
-    }
+
     #[getter]
     fn initial_q<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         array1(py, self.model.initial_q())
-    }
-    /// Whether each degree of freedom has a motor (dof order; docs/flexibility.md).
-    #[getter]
-    fn actuated_dofs(&self) -> Vec<bool> {
-        self.model.actuated_dofs()
-    }
-    /// Body index moved by each degree of freedom.
-    #[getter]
-    fn body_of_dof(&self) -> Vec<usize> {
-        (0..self.model.n_dof()).map(|d| self.model.body_of_dof(d)).collect()
     }
     fn body_index(&self, py: Python<'_>, name: &str) -> PyResult<usize> {
         self.model.body_index(name).or_raise(py)
@@ -213,10 +184,8 @@ impl PyModel {
     /// Forward kinematics: (body_to_world (nb,3,3), com_in_world (nb,3),
     /// joint_position_in_world (nb,3), joint_axis_in_world (nb,3)).
     fn forward_kinematics<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let nb = m.n_bodies();
-        let inputs = [Input::arg(x, "x", m.nx())?];
-        self.batch(py, "forward_kinematics", inputs, [&[nb, 3, 3], &[nb, 3], &[nb, 3], &[nb, 3]], |d, [x], [r, c, p, a]| {
+        let nb = self.model.n_bodies();
+        self.batch(py, "forward_kinematics", [self.x_arg(x)?], [&[nb, 3, 3], &[nb, 3], &[nb, 3], &[nb, 3]], |m, d, [x], [r, c, p, a]| {
             kinematics::forward_kinematics(m, d, x)?;
             for b in 0..nb {
                 put(&d.body_to_world[b], &mut r[9 * b..9 * b + 9]);
@@ -258,9 +227,7 @@ impl PyModel {
 
     fn point_position<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let off = finite3(offset, "offset")?;
-        let m = &self.model;
-        let inputs = [Input::arg(x, "x", m.nx())?];
-        self.batch(py, "point_position", inputs, [&[3]], |d, [x], [out]| {
+        self.batch(py, "point_position", [self.x_arg(x)?], [&[3]], |m, d, [x], [out]| {
             kinematics::forward_kinematics(m, d, x)?;
             kinematics::check_body(m, body)?;
             out.copy_from_slice(kinematics::point_position(d, body, &off).as_slice());
@@ -271,10 +238,8 @@ impl PyModel {
     /// `(J_0X (6,6), J_mX (6,N))` of a point.
     fn point_jacobians<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let off = finite3(offset, "offset")?;
-        let m = &self.model;
-        let n = m.n_dof();
-        let inputs = [Input::arg(x, "x", m.nx())?];
-        self.batch(py, "point_jacobian", inputs, [&[6, 6], &[6, n]], |d, [x], [j0, jm]| {
+        let n = self.model.n_dof();
+        self.batch(py, "point_jacobian", [self.x_arg(x)?], [&[6, 6], &[6, n]], |m, d, [x], [j0, jm]| {
             kinematics::forward_kinematics(m, d, x)?;
             let (a, b) = kinematics::point_jacobians(m, d, body, &off)?;
             put(&a, j0);
@@ -285,10 +250,8 @@ impl PyModel {
 
     /// `(J_Ti (3,N), J_Ri (3,N))` of a body's CM.
     fn link_jacobians<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let n = m.n_dof();
-        let inputs = [Input::arg(x, "x", m.nx())?];
-        self.batch(py, "link_jacobians", inputs, [&[3, n], &[3, n]], |d, [x], [jt, jr]| {
+        let n = self.model.n_dof();
+        self.batch(py, "link_jacobians", [self.x_arg(x)?], [&[3, n], &[3, n]], |m, d, [x], [jt, jr]| {
             kinematics::forward_kinematics(m, d, x)?;
             kinematics::check_body(m, body)?;
             let (a, b) = kinematics::link_jacobians(m, d, body);
@@ -301,11 +264,10 @@ impl PyModel {
     /// The paper's inertia blocks (eqs. 27–36) as a tuple in the order of
     /// `spacearm.InertiaBlocks`: (M, r_0g, H_S, J_TS, H_Sq, H0, H0m, Hm, H).
     fn inertia_blocks<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let (n, nu) = (m.n_dof(), m.nu());
-        let inputs = [Input::arg(x, "x", m.nx())?];
+        let (n, nu) = (self.model.n_dof(), self.model.nu());
+        let inputs = [self.x_arg(x)?];
         let shapes: [&[usize]; 9] = [&[], &[3], &[3, 3], &[3, n], &[3, n], &[6, 6], &[6, n], &[n, n], &[nu, nu]];
-        self.batch(py, "inertia_blocks", inputs, shapes, |d, [x], [mass, r0g, hs, jts, hsq, h0, h0m, hm, h]| {
+        self.batch(py, "inertia_blocks", inputs, shapes, |m, d, [x], [mass, r0g, hs, jts, hsq, h0, h0m, hm, h]| {
             let b = inertia::inertia_blocks(m, d, x)?;
             mass[0] = b.total_mass;
             r0g.copy_from_slice(b.base_to_com.as_slice());
@@ -322,29 +284,23 @@ impl PyModel {
 
     /// The mass matrix `H` by the paper's Jacobian sums (eqs. 27–36) alone.
     fn mass_matrix_paper<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let nu = m.nu();
-        let inputs = [Input::arg(x, "x", m.nx())?];
-        self.batch(py, "mass_matrix", inputs, [&[nu, nu]], |d, [x], [out]| {
+        let nu = self.model.nu();
+        self.batch(py, "mass_matrix", [self.x_arg(x)?], [&[nu, nu]], |m, d, [x], [out]| {
             put(&inertia::inertia_blocks(m, d, x)?.mass_matrix(), out);
             Ok(())
         })
     }
 
     fn mass_matrix_crba<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let nu = m.nu();
-        let inputs = [Input::arg(x, "x", m.nx())?];
-        self.batch(py, "mass_matrix", inputs, [&[nu, nu]], |d, [x], [out]| {
+        let nu = self.model.nu();
+        self.batch(py, "mass_matrix", [self.x_arg(x)?], [&[nu, nu]], |m, d, [x], [out]| {
             put(crba::crba(m, d, x)?, out);
             Ok(())
         })
     }
 
     fn base_inertia_inverse<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let inputs = [Input::arg(x, "x", m.nx())?];
-        self.batch(py, "base_inertia_inverse", inputs, [&[6, 6]], |d, [x], [out]| {
+        self.batch(py, "base_inertia_inverse", [self.x_arg(x)?], [&[6, 6]], |m, d, [x], [out]| {
             let h0 = crba::crba(m, d, x)?.fixed_view::<6, 6>(0, 0).into_owned();
             put(&inertia::base_inertia_inverse(&h0)?, out);
             Ok(())
@@ -352,10 +308,8 @@ impl PyModel {
     }
 
     fn bias_forces<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let nu = m.nu();
-        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?];
-        self.batch(py, "bias_forces", inputs, [&[nu]], |d, [x, u], [out]| {
+        let nu = self.model.nu();
+        self.batch(py, "bias_forces", [self.x_arg(x)?, self.u_arg(u)?], [&[nu]], |m, d, [x, u], [out]| {
             out.copy_from_slice(rnea::bias_forces(m, d, x, u)?.as_slice());
             Ok(())
         })
@@ -370,11 +324,10 @@ impl PyModel {
         du: &Bound<'py, PyAny>,
         wrenches: Option<WrenchList>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let nu = m.nu();
-        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?, Input::arg(du, "du", nu)?];
+        let nu = self.model.nu();
+        let inputs = [self.x_arg(x)?, self.u_arg(u)?, Input::arg(du, "du", nu)?];
         let ext = self::wrenches(py, wrenches)?;
-        self.batch(py, "inverse_dynamics", inputs, [&[nu]], |d, [x, u, du], [out]| {
+        self.batch(py, "inverse_dynamics", inputs, [&[nu]], |m, d, [x, u, du], [out]| {
             out.copy_from_slice(rnea::rnea(m, d, x, u, du, &ext)?.as_slice());
             Ok(())
         })
@@ -420,20 +373,16 @@ impl PyModel {
     }
 
     fn generalized_inertia<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let n = m.n_dof();
-        let inputs = [Input::arg(x, "x", m.nx())?];
-        self.batch(py, "generalized_inertia", inputs, [&[n, n]], |d, [x], [out]| {
+        let n = self.model.n_dof();
+        self.batch(py, "generalized_inertia", [self.x_arg(x)?], [&[n, n]], |m, d, [x], [out]| {
             put(gjm::compute_generalized_inertia(m, d, x)?, out);
             Ok(())
         })
     }
 
     fn generalized_bias<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let n = m.n_dof();
-        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
-        self.batch(py, "generalized_bias", inputs, [&[n]], |d, [x, u], [out]| {
+        let n = self.model.n_dof();
+        self.batch(py, "generalized_bias", [self.x_arg(x)?, self.u_arg(u)?], [&[n]], |m, d, [x, u], [out]| {
             out.copy_from_slice(gjm::compute_generalized_bias(m, d, x, u)?.as_slice());
             Ok(())
         })
@@ -441,10 +390,8 @@ impl PyModel {
 
     fn generalized_jacobian<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let off = finite3(offset, "offset")?;
-        let m = &self.model;
-        let n = m.n_dof();
-        let inputs = [Input::arg(x, "x", m.nx())?];
-        self.batch(py, "generalized_jacobian", inputs, [&[6, n]], |d, [x], [out]| {
+        let n = self.model.n_dof();
+        self.batch(py, "generalized_jacobian", [self.x_arg(x)?], [&[6, n]], |m, d, [x], [out]| {
             put(gjm::compute_generalized_jacobian(m, d, x, body, &off)?, out);
             Ok(())
         })
@@ -464,10 +411,8 @@ impl PyModel {
         angular_origin: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let off = finite3(offset, "offset")?;
-        let m = &self.model;
-        let n = m.n_dof();
-        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(qd, "qd", n)?, Input::arg(linear, "P", 3)?, Input::arg(angular_origin, "L", 3)?];
-        self.batch(py, "point_twist", inputs, [&[6]], |d, [x, qd, p, l], [out]| {
+        let n = self.model.n_dof();
+        self.batch(py, "point_twist", [self.x_arg(x)?, Input::arg(qd, "qd", n)?, Input::arg(linear, "P", 3)?, Input::arg(angular_origin, "L", 3)?], [&[6]], |m, d, [x, qd, p, l], [out]| {
             kinematics::check_joint_vector(m, "qd", qd)?;
             let (p, l) = (momentum3(m, "P", p)?, momentum3(m, "L", l)?);
             let from_joints = gjm::compute_generalized_jacobian(m, d, x, body, &off)? * nalgebra::DVectorView::from_slice(qd, n);
@@ -487,9 +432,7 @@ impl PyModel {
         angular_origin: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let off = finite3(offset, "offset")?;
-        let m = &self.model;
-        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(linear, "P", 3)?, Input::arg(angular_origin, "L", 3)?];
-        self.batch(py, "momentum_twist", inputs, [&[6]], |d, [x, p, l], [out]| {
+        self.batch(py, "momentum_twist", [self.x_arg(x)?, Input::arg(linear, "P", 3)?, Input::arg(angular_origin, "L", 3)?], [&[6]], |m, d, [x, p, l], [out]| {
             let (p, l) = (momentum3(m, "P", p)?, momentum3(m, "L", l)?);
             out.copy_from_slice(gjm::momentum_twist(m, d, x, body, &off, &p, &l)?.as_slice());
             Ok(())
@@ -504,10 +447,8 @@ impl PyModel {
         linear: &Bound<'py, PyAny>,
         angular_origin: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let n = m.n_dof();
-        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(qd, "qd", n)?, Input::arg(linear, "P", 3)?, Input::arg(angular_origin, "L", 3)?];
-        self.batch(py, "base_velocity_from_momentum", inputs, [&[6]], |d, [x, qd, p, l], [out]| {
+        let n = self.model.n_dof();
+        self.batch(py, "base_velocity_from_momentum", [self.x_arg(x)?, Input::arg(qd, "qd", n)?, Input::arg(linear, "P", 3)?, Input::arg(angular_origin, "L", 3)?], [&[6]], |m, d, [x, qd, p, l], [out]| {
             let (p, l) = (momentum3(m, "P", p)?, momentum3(m, "L", l)?);
             out.copy_from_slice(gjm::base_velocity_from_momentum(m, d, x, qd, &p, &l)?.as_slice());
             Ok(())
@@ -516,9 +457,7 @@ impl PyModel {
 
     /// (P, L_origin, L_base, L_com)
     fn momentum<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
-        self.batch(py, "momentum", inputs, [&[3], &[3], &[3], &[3]], |d, [x, u], [p, lo, lb, lc]| {
+        self.batch(py, "momentum", [self.x_arg(x)?, self.u_arg(u)?], [&[3], &[3], &[3], &[3]], |m, d, [x, u], [p, lo, lb, lc]| {
             let h = momentum::momentum(m, d, x, u)?;
             p.copy_from_slice(h.linear.as_slice());
             lo.copy_from_slice(h.angular_about_origin.as_slice());
@@ -529,9 +468,7 @@ impl PyModel {
     }
 
     fn kinetic_energy<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
-        self.batch(py, "kinetic_energy", inputs, [&[]], |d, [x, u], [out]| {
+        self.batch(py, "kinetic_energy", [self.x_arg(x)?, self.u_arg(u)?], [&[]], |m, d, [x, u], [out]| {
             out[0] = momentum::kinetic_energy(m, d, x, u)?;
             Ok(())
         })
@@ -541,9 +478,7 @@ impl PyModel {
     /// about the origin, the same about the system CM, kinetic plus spring energy]`
     /// (`algorithms::momentum::momentum_scales`), (4,) for one state, (B, 4) for a batch.
     fn momentum_scales<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", m.nu())?];
-        self.batch(py, "momentum_scales", inputs, [&[4]], |d, [x, u], [out]| {
+        self.batch(py, "momentum_scales", [self.x_arg(x)?, self.u_arg(u)?], [&[4]], |m, d, [x, u], [out]| {
             let s = momentum::momentum_scales(m, d, x, u)?;
             out.copy_from_slice(&[s.linear, s.angular_about_origin, s.angular_about_com, s.energy]);
             Ok(())
@@ -551,28 +486,22 @@ impl PyModel {
     }
 
     fn passive_forces<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let nu = m.nu();
-        let inputs = [Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?];
-        self.batch(py, "passive_forces", inputs, [&[nu]], |_, [x, u], [out]| {
+        let nu = self.model.nu();
+        self.batch(py, "passive_forces", [self.x_arg(x)?, self.u_arg(u)?], [&[nu]], |m, _, [x, u], [out]| {
             out.copy_from_slice(passive::passive_forces(m, x, u)?.as_slice());
             Ok(())
         })
     }
 
     fn spring_energy<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let inputs = [Input::arg(x, "x", m.nx())?];
-        self.batch(py, "spring_energy", inputs, [&[]], |_, [x], [out]| {
+        self.batch(py, "spring_energy", [self.x_arg(x)?], [&[]], |m, _, [x], [out]| {
             out[0] = passive::spring_energy(m, x)?;
             Ok(())
         })
     }
 
     fn center_of_mass<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let inputs = [Input::arg(x, "x", m.nx())?];
-        self.batch(py, "center_of_mass", inputs, [&[3]], |d, [x], [out]| {
+        self.batch(py, "center_of_mass", [self.x_arg(x)?], [&[3]], |m, d, [x], [out]| {
             out.copy_from_slice(momentum::center_of_mass(m, d, x)?.as_slice());
             Ok(())
         })
@@ -591,6 +520,7 @@ impl PyModel {
             self.model.links().iter().filter(|l| l.joint.kind == JointType::Fixed).count()
         )
     }
+}
 }
 
 /// `NonFinite` naming `what` and its first non-finite entry, if any (one row's check).
@@ -668,17 +598,16 @@ impl PyModel {
         wrenches: Option<WrenchList>,
         method: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let m = &self.model;
-        let nu = m.nu();
+        let nu = self.model.nu();
         let method = FdMethod::named(py, method)?;
         let from_parts = base_wrench.is_some();
         let base_wrench = base_wrench.unwrap_or_else(|| Input::constant("base_wrench", Vec::new()));
-        let inputs = [force, base_wrench, Input::arg(x, "x", m.nx())?, Input::arg(u, "u", nu)?];
+        let inputs = [force, base_wrench, self.x_arg(x)?, self.u_arg(u)?];
         let ext = self::wrenches(py, wrenches)?;
         if matches!(method, FdMethod::Reduced) && !ext.is_empty() {
             return Err(to_py_err(py, core::SpacearmError::InvalidArgument("method='reduced' takes no external wrenches; use 'aba' or 'mass_matrix'".into())));
         }
-        let solve = |d: &mut Data, x: &[f64], u: &[f64], f: &[f64], out: &mut [f64]| -> core::Result<()> {
+        let solve = |m: &core::Model, d: &mut Data, x: &[f64], u: &[f64], f: &[f64], out: &mut [f64]| -> core::Result<()> {
             let du = match method {
                 FdMethod::Aba => aba::aba(m, d, x, u, f, &ext)?,
                 FdMethod::MassMatrix => dynamics::compute_forward_dynamics_via_mass_matrix(m, d, x, u, f, &ext)?,
@@ -691,11 +620,11 @@ impl PyModel {
             out.copy_from_slice(du.as_slice());
             Ok(())
         };
-        self.batch(py, "forward_dynamics", inputs, [&[nu]], |d, [force, fb, x, u], [out]| {
+        self.batch(py, "forward_dynamics", inputs, [&[nu]], |m, d, [force, fb, x, u], [out]| {
             if !from_parts {
-                return solve(d, x, u, force, out);
+                return solve(m, d, x, u, force, out);
             }
-            with_assembled_force(nu, force, fb, |f| solve(d, x, u, f, out))
+            with_assembled_force(nu, force, fb, |f| solve(m, d, x, u, f, out))
         })
     }
 }

@@ -39,8 +39,18 @@ pub struct PyCentralBody {
     pub inner: CentralBody,
 }
 
+pymethods_with_getters! {
 #[pymethods]
 impl PyCentralBody {
+    getters(self) {
+        /// Gravitational parameter μ, m³/s².
+        mu: f64 = self.inner.mu;
+        /// Equatorial (J2 reference) radius, m.
+        radius: f64 = self.inner.radius;
+        /// Second zonal harmonic J2.
+        j2: f64 = self.inner.j2;
+    }
+
     #[new]
     #[pyo3(signature = (*, mu, radius, j2, **unknown))]
     fn new(py: Python<'_>, mu: f64, radius: f64, j2: f64, unknown: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
@@ -56,27 +66,10 @@ impl PyCentralBody {
         PyCentralBody { inner: EARTH }
     }
 
-    /// Gravitational parameter μ, m³/s².
-    #[getter]
-    fn mu(&self) -> f64 {
-        self.inner.mu
-    }
-
-    /// Equatorial (J2 reference) radius, m.
-    #[getter]
-    fn radius(&self) -> f64 {
-        self.inner.radius
-    }
-
-    /// Second zonal harmonic J2.
-    #[getter]
-    fn j2(&self) -> f64 {
-        self.inner.j2
-    }
-
     fn __repr__(&self) -> String {
         format!("<spacearm._core.CentralBody mu={:e} m^3/s^2 radius={} m j2={:e}>", self.inner.mu, self.inner.radius, self.inner.j2)
     }
+}
 }
 
 /// Osculating classical elements (two-body, with the body's μ): a (m), e, i, raan, argp,
@@ -87,37 +80,22 @@ pub struct PyOrbitalElements {
     pub inner: Elements,
 }
 
+pymethods_with_getters! {
 #[pymethods]
 impl PyOrbitalElements {
-    /// Semi-major axis, m.
-    #[getter]
-    fn a(&self) -> f64 {
-        self.inner.a
-    }
-    /// Eccentricity.
-    #[getter]
-    fn e(&self) -> f64 {
-        self.inner.e
-    }
-    /// Inclination, rad.
-    #[getter]
-    fn i(&self) -> f64 {
-        self.inner.i
-    }
-    /// Right ascension of the ascending node, rad.
-    #[getter]
-    fn raan(&self) -> f64 {
-        self.inner.raan
-    }
-    /// Argument of perigee, rad.
-    #[getter]
-    fn argp(&self) -> f64 {
-        self.inner.argp
-    }
-    /// True anomaly, rad.
-    #[getter]
-    fn true_anomaly(&self) -> f64 {
-        self.inner.true_anomaly
+    getters(self) {
+        /// Semi-major axis, m.
+        a: f64 = self.inner.a;
+        /// Eccentricity.
+        e: f64 = self.inner.e;
+        /// Inclination, rad.
+        i: f64 = self.inner.i;
+        /// Right ascension of the ascending node, rad.
+        raan: f64 = self.inner.raan;
+        /// Argument of perigee, rad.
+        argp: f64 = self.inner.argp;
+        /// True anomaly, rad.
+        true_anomaly: f64 = self.inner.true_anomaly;
     }
 
     fn __repr__(&self) -> String {
@@ -127,6 +105,7 @@ impl PyOrbitalElements {
             e.a, e.e, e.i, e.raan, e.argp, e.true_anomaly
         )
     }
+}
 }
 
 /// `body`: "earth" or a CentralBody.
@@ -149,8 +128,20 @@ pub struct PyOrbit {
     pub inner: Orbit,
 }
 
+pymethods_with_getters! {
 #[pymethods]
 impl PyOrbit {
+    getters(self) {
+        /// The central body.
+        body: PyCentralBody = PyCentralBody { inner: self.inner.body };
+        /// Whether J2 acts on the point-mass motion.
+        j2: bool = self.inner.j2;
+        /// Mean motion of the osculating orbit at t = 0, √(μ/a³), rad/s.
+        mean_motion: f64 = self.inner.mean_motion();
+        /// Period of the osculating orbit at t = 0, s.
+        period: f64 = self.inner.period();
+    }
+
     /// A circular orbit `altitude` (m) above the body's equatorial radius, inclination, RAAN
     /// and starting argument of latitude in rad; speed √(μ/a) (also with `j2=True`).
     #[staticmethod]
@@ -196,18 +187,6 @@ impl PyOrbit {
         Ok(PyOrbit { inner: Orbit::from_state(b, r, v, j2).or_raise(py)? })
     }
 
-    /// The central body.
-    #[getter]
-    fn body(&self) -> PyCentralBody {
-        PyCentralBody { inner: self.inner.body }
-    }
-
-    /// Whether J2 acts on the point-mass motion.
-    #[getter]
-    fn j2(&self) -> bool {
-        self.inner.j2
-    }
-
     /// ECI position at t = 0, m, shape (3,).
     #[getter]
     fn r0<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
@@ -223,18 +202,6 @@ impl PyOrbit {
     /// The osculating elements at t = 0.
     fn elements(&self) -> PyOrbitalElements {
         PyOrbitalElements { inner: self.inner.elements() }
-    }
-
-    /// Mean motion of the osculating orbit at t = 0, √(μ/a³), rad/s.
-    #[getter]
-    fn mean_motion(&self) -> f64 {
-        self.inner.mean_motion()
-    }
-
-    /// Period of the osculating orbit at t = 0, s.
-    #[getter]
-    fn period(&self) -> f64 {
-        self.inner.period()
     }
 
     /// The J2 secular rates (RAAN rate, argument-of-perigee rate), rad/s (Vallado eq. 9-41).
@@ -422,6 +389,7 @@ impl PyOrbit {
             e.a, e.e, e.i, e.raan, self.inner.j2, self.inner.body.mu
         )
     }
+}
 }
 
 /// A relative state argument (6 finite values).

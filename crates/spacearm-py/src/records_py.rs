@@ -33,6 +33,8 @@ pub enum Record {
     LinkTrackingError,
     AttitudeError,
     WheelSpeed,
+    CmgMeasure,
+    CmgEnvelopeFraction,
     RCmEci,
     VCmEci,
     GravityWrench,
@@ -64,6 +66,8 @@ impl Record {
             Record::LinkTrackingError => "link_tracking_error",
             Record::AttitudeError => "attitude_error",
             Record::WheelSpeed => "wheel_speed",
+            Record::CmgMeasure => "cmg_measure",
+            Record::CmgEnvelopeFraction => "cmg_envelope_fraction",
             Record::RCmEci => "r_cm_eci",
             Record::VCmEci => "v_cm_eci",
             Record::GravityWrench => "gravity_wrench",
@@ -129,6 +133,10 @@ pub fn take_fields(res: &mut SimResult, nx: usize, nu: usize, n: usize) -> Vec<F
     }
     if let Some(v) = r.wheel_speed.take() {
         out.push(f(Record::WheelSpeed, v, n_wheels, false));
+    }
+    if let (Some(m), Some(e)) = (r.cmg_measure.take(), r.cmg_envelope_fraction.take()) {
+        out.push(f(Record::CmgMeasure, m, 1, true));
+        out.push(f(Record::CmgEnvelopeFraction, e, 1, true));
     }
     if let (Some(rc), Some(vc), Some(gw)) = (r.r_cm_eci.take(), r.v_cm_eci.take(), r.gravity_wrench.take()) {
         out.push(f(Record::RCmEci, rc, 3, false));
@@ -237,6 +245,12 @@ pub struct PyRunRecords {
     /// `(K, W)` reaction-wheel speeds (rad/s), one column per wheel of `RunMeta.wheel_dofs`; None without wheels.
     #[pyo3(get)]
     wheel_speed: Option<Array>,
+    /// `(K,)` with CMGs on the base: the cluster's singularity measure `det(A Aᵀ)/h̄⁶`; None otherwise.
+    #[pyo3(get)]
+    cmg_measure: Option<Array>,
+    /// `(K,)` with CMGs on the base: the fraction of the momentum envelope used, `|H|/σ(Ĥ)`; None otherwise.
+    #[pyo3(get)]
+    cmg_envelope_fraction: Option<Array>,
     /// `(K, 3)` an orbital run's system CM in ECI (m, always float64), or None.
     #[pyo3(get)]
     r_cm_eci: Option<Array>,
@@ -286,6 +300,8 @@ impl PyRunRecords {
                 Record::LinkTrackingError => &mut r.link_tracking_error,
                 Record::AttitudeError => &mut r.attitude_error,
                 Record::WheelSpeed => &mut r.wheel_speed,
+                Record::CmgMeasure => &mut r.cmg_measure,
+                Record::CmgEnvelopeFraction => &mut r.cmg_envelope_fraction,
                 Record::RCmEci => &mut r.r_cm_eci,
                 Record::VCmEci => &mut r.v_cm_eci,
                 Record::GravityWrench => &mut r.gravity_wrench,

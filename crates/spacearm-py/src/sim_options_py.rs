@@ -132,8 +132,36 @@ fn plain<'py>(py: Python<'py>, key: &str, v: &Bound<'py, PyAny>) -> PyResult<Bou
     Ok(v.clone())
 }
 
+pymethods_with_getters! {
 #[pymethods]
 impl PyRunOptions {
+    getters(self) {
+        /// The maneuvering mode (paper Table 1), one of `MODES`.
+        mode: &'static str = self.sim.mode.name();
+        /// The integrator, one of `INTEGRATORS`.
+        integrator: &'static str = self.sim.integrator.name();
+        /// RK4: the step; DOPRI5: the output interval; s.
+        dt: f64 = self.sim.dt;
+        /// DOPRI5 relative tolerance.
+        rtol: f64 = self.sim.rtol;
+        /// DOPRI5 absolute tolerance.
+        atol: f64 = self.sim.atol;
+        /// RK4: every how many steps a sample is recorded.
+        record_every: usize = self.sim.record_every;
+        /// The reaction-wheel dofs, or None: those the model's structure shows.
+        wheels: Option<Vec<usize>> = self.sim.wheels.clone();
+        /// The thruster limits, or None: unlimited.
+        thrusters: Option<PyThrusterLimits> = self.sim.thrusters.map(|inner| PyThrusterLimits { inner });
+        /// Whether the joints' effort and velocity limits apply.
+        joint_limits: bool = self.sim.joint_limits;
+        /// DOPRI5: the most steps attempted before giving up.
+        max_steps: usize = self.sim.max_steps;
+        /// The orbit of the run's origin (the system CM's reference point), or None: empty space.
+        orbit: Option<crate::orbit_py::PyOrbit> = self.sim.orbit.map(|o| crate::orbit_py::PyOrbit { inner: o.orbit });
+        /// Whether the tidal (gravity-gradient) wrenches act on every body (orbital runs).
+        gravity_gradient: bool = self.sim.orbit.is_some_and(|o| o.gravity_gradient);
+    }
+
     /// Every keyword is optional; None keeps the core's default.
     #[new]
     #[pyo3(signature = (*, mode=None, integrator=None, dt=None, rtol=None, atol=None, record_every=None, wheels=None, thrusters=None,
@@ -193,82 +221,10 @@ impl PyRunOptions {
         Ok(PyRunOptions { sim: opts, progress: progress.map(|f| f.clone().unbind()), float32 })
     }
 
-    /// The maneuvering mode (paper Table 1), one of `MODES`.
-    #[getter]
-    fn mode(&self) -> &'static str {
-        self.sim.mode.name()
-    }
-
-    /// The integrator, one of `INTEGRATORS`.
-    #[getter]
-    fn integrator(&self) -> &'static str {
-        self.sim.integrator.name()
-    }
-
-    /// RK4: the step; DOPRI5: the output interval; s.
-    #[getter]
-    fn dt(&self) -> f64 {
-        self.sim.dt
-    }
-
-    /// DOPRI5 relative tolerance.
-    #[getter]
-    fn rtol(&self) -> f64 {
-        self.sim.rtol
-    }
-
-    /// DOPRI5 absolute tolerance.
-    #[getter]
-    fn atol(&self) -> f64 {
-        self.sim.atol
-    }
-
-    /// RK4: every how many steps a sample is recorded.
-    #[getter]
-    fn record_every(&self) -> usize {
-        self.sim.record_every
-    }
-
-    /// The reaction-wheel dofs, or None: those the model's structure shows.
-    #[getter]
-    fn wheels(&self) -> Option<Vec<usize>> {
-        self.sim.wheels.clone()
-    }
-
-    /// The thruster limits, or None: unlimited.
-    #[getter]
-    fn thrusters(&self) -> Option<PyThrusterLimits> {
-        self.sim.thrusters.map(|inner| PyThrusterLimits { inner })
-    }
-
-    /// Whether the joints' effort and velocity limits apply.
-    #[getter]
-    fn joint_limits(&self) -> bool {
-        self.sim.joint_limits
-    }
-
-    /// DOPRI5: the most steps attempted before giving up.
-    #[getter]
-    fn max_steps(&self) -> usize {
-        self.sim.max_steps
-    }
-
     /// The callable given the fraction done (0..1) during the run, or None.
     #[getter]
     fn progress(&self, py: Python<'_>) -> Option<Py<PyAny>> {
         self.progress_fn(py)
-    }
-
-    /// The orbit of the run's origin (the system CM's reference point), or None: empty space.
-    #[getter]
-    fn orbit(&self) -> Option<crate::orbit_py::PyOrbit> {
-        self.sim.orbit.map(|o| crate::orbit_py::PyOrbit { inner: o.orbit })
-    }
-
-    /// Whether the tidal (gravity-gradient) wrenches act on every body (orbital runs).
-    #[getter]
-    fn gravity_gradient(&self) -> bool {
-        self.sim.orbit.is_some_and(|o| o.gravity_gradient)
     }
 
     /// The stop conditions of the run (empty: it runs its duration).
@@ -314,6 +270,7 @@ impl PyRunOptions {
             self.record_dtype(),
         )
     }
+}
 }
 
 /// The name of `v`'s type, for messages.

@@ -49,8 +49,8 @@ FILE_FORMAT = "spacearm.Trajectory/1"
 _REQUIRED = ("t", "x", "u")
 _PER_SAMPLE = (
     "t", "x", "u", "du", "tau", "tau_cmd", "base_wrench", "P", "L_origin", "L_com", "energy", "com",
-    "ee_position", "ee_quat", "reference", "tracking_error", "link_tracking_error", "wheel_speed", "r_cm_eci", "v_cm_eci", "gravity_wrench",
-    "contact_count", "contact_normal_force", "contact_work",
+    "ee_position", "ee_quat", "reference", "tracking_error", "link_tracking_error", "wheel_speed", "cmg_measure", "cmg_envelope_fraction",
+    "r_cm_eci", "v_cm_eci", "gravity_wrench", "contact_count", "contact_normal_force", "contact_work",
 )
 _EVENTS = ("saturation_t", "saturation_actuator", "saturation_kind")
 # Dtypes of a run's records adopted without conversion (a run may record float32).
@@ -428,6 +428,18 @@ class Trajectory:
         return self._get("wheel_speed", "the run had no reaction wheels")
 
     @property
+    def cmg_measure(self) -> np.ndarray:
+        """``(K,)`` the CMG cluster's singularity measure ``m = det(A Aᵀ)/h̄⁶`` per sample (0 at a
+        singular state; docs/cmg.md); recorded when every CMG of the robot is on its base."""
+        return self._get("cmg_measure", "the robot has no control-moment gyros on its base")
+
+    @property
+    def cmg_envelope_fraction(self) -> np.ndarray:
+        """``(K,)`` the fraction of the CMG cluster's momentum envelope used, ``|H|/σ(Ĥ)`` (1 at
+        saturation; docs/cmg.md)."""
+        return self._get("cmg_envelope_fraction", "the robot has no control-moment gyros on its base")
+
+    @property
     def r_cm_eci(self) -> np.ndarray:
         """An orbital run's system CM in ECI ``(K, 3)``, m: the orbit's point plus [`com`][spacearm.Trajectory.com]
         (docs/orbit.md)."""
@@ -748,6 +760,9 @@ class Trajectory:
             labels = [names[d] if len(dofs) == ws.shape[1] and 0 <= d < self._n else str(i + 1) for i, d in
                       enumerate(dofs if len(dofs) == ws.shape[1] else range(ws.shape[1]))]
             add("wheel_speed_", ws, labels, ["rad/s"] * ws.shape[1])
+        for key in ("cmg_measure", "cmg_envelope_fraction"):
+            if self.has(key):
+                cols.append((key, "1", self[key]))
         return cols
 
     def to_csv(self, path: PathLike) -> str:

@@ -99,44 +99,48 @@ static void test_none(void) {
     spacearm_model_free(m);
 }
 
+/* Run the joint-space law `law` (the options up to its gains; the reference is appended) on
+ * spatial6 from rest at its initial configuration (into x0) toward the set point
+ * ref[i] = x0[7 + i] + step[i] for n steps; the final configuration into x. */
+static void run_to_set_point(const char *law, const double *step, size_t n, double *x0, double *ref, double *x) {
+    SpacearmModel *m = preset("spatial6");
+    double u0[12] = {0}, u[12];
+    char r[512], opts[1024];
+    OK(spacearm_model_initial_configuration(m, x0));
+    for (int i = 0; i < 6; i++) ref[i] = x0[7 + i] + step[i];
+    list(r, ref, 6);
+    snprintf(opts, sizeof opts, "%sreference = %s\n", law, r);
+    OK(run(m, opts, x0, u0, NULL, n, x, u));
+    spacearm_model_free(m);
+}
+
 /* joint_pd: the joints go to the set point (the error shrinks to a few percent in 3 s, and the
  * base turns: joint torques are internal). */
 static void test_joint_pd(void) {
-    SpacearmModel *m = preset("spatial6");
-    double x0[13], u0[12] = {0}, x[13], u[12], ref[6], e0 = 0.0, e = 0.0;
-    char r[512], opts[1024];
-    OK(spacearm_model_initial_configuration(m, x0));
-    for (int i = 0; i < 6; i++) ref[i] = x0[7 + i] + 0.1 * (i % 2 ? -1 : 1);
-    list(r, ref, 6);
-    snprintf(opts, sizeof opts, "dt = 0.002\njoint_limits = false\n[controller]\nkind = \"joint_pd\"\nkp = 60\nkd = [20, 20, 20, 4, 4, 4]\nreference = %s\n", r);
-    OK(run(m, opts, x0, u0, NULL, 1500, x, u));
+    double x0[13], x[13], ref[6], step[6], e0 = 0.0, e = 0.0;
+    for (int i = 0; i < 6; i++) step[i] = 0.1 * (i % 2 ? -1 : 1);
+    run_to_set_point("dt = 0.002\njoint_limits = false\n[controller]\nkind = \"joint_pd\"\nkp = 60\nkd = [20, 20, 20, 4, 4, 4]\n", step, 1500, x0, ref, x);
     for (int i = 0; i < 6; i++) {
         e0 = fmax(e0, fabs(ref[i] - x0[7 + i]));
         e = fmax(e, fabs(ref[i] - x[7 + i]));
     }
     CHECK(e < 0.05 * e0, "joint PD error %g of %g", e, e0);
     CHECK(angle_between(x0 + 3, x + 3) > 1e-4, "the base did not react");
-    spacearm_model_free(m);
 }
 
 /* computed_torque with kp = w^2, kd = 2w on an exact model: every joint's error is
  * e0 (1 + w t) exp(-w t) (the decoupled critically damped loop, paper eqs. 112-115). */
 static void test_computed_torque(void) {
-    SpacearmModel *m = preset("spatial6");
-    double x0[13], u0[12] = {0}, x[13], u[12], ref[6], w = 5.0, t = 0.5;
-    char r[512], opts[1024];
-    OK(spacearm_model_initial_configuration(m, x0));
-    for (int i = 0; i < 6; i++) ref[i] = x0[7 + i] + 0.2 - 0.07 * i;
-    list(r, ref, 6);
-    snprintf(opts, sizeof opts, "dt = 0.001\njoint_limits = false\n[controller]\nkind = \"computed_torque\"\nkp = %.17g\nkd = %.17g\nreference = %s\n", w * w,
-             2 * w, r);
-    OK(run(m, opts, x0, u0, NULL, 500, x, u));
+    double x0[13], x[13], ref[6], step[6], w = 5.0, t = 0.5;
+    char law[256];
+    for (int i = 0; i < 6; i++) step[i] = 0.2 - 0.07 * i;
+    snprintf(law, sizeof law, "dt = 0.001\njoint_limits = false\n[controller]\nkind = \"computed_torque\"\nkp = %.17g\nkd = %.17g\n", w * w, 2 * w);
+    run_to_set_point(law, step, 500, x0, ref, x);
     double decay = (1 + w * t) * exp(-w * t);
     for (int i = 0; i < 6; i++) {
         double e0 = ref[i] - x0[7 + i], e = ref[i] - x[7 + i];
         CHECK(fabs(e - e0 * decay) < 1e-7 * fabs(e0), "joint %d: error %.12g, closed form %.12g", i, e, e0 * decay);
     }
-    spacearm_model_free(m);
 }
 
 /* resolved_motion_rate along a line: the end effector follows the line and ends at its goal. */

@@ -29,6 +29,23 @@ pub fn cmg_envelope(gimbals: &[Vector3<f64>], h: &[f64], directions: &[Vector3<f
         .collect()
 }
 
+/// The fraction of the momentum envelope a cluster uses: `|H| / σ(Ĥ)` with `H = Σ h_i ŝ_i`
+/// (`spin` the current spin axes) and `σ(u) = H(u) · u` the envelope's extent along `u`, the
+/// largest `H · u` of any gimbal angles (module docs, with `|h_i|`). 1 on the envelope (saturation), 0 at zero
+/// momentum; it can exceed 1 only by rounding.
+pub fn envelope_fraction(gimbals: &[Vector3<f64>], spin: &[Vector3<f64>], h: &[f64]) -> f64 {
+    let momentum: Vector3<f64> = spin.iter().zip(h).map(|(s, h)| s * *h).sum();
+    let Some(u) = momentum.try_normalize(1e-300) else { return 0.0 };
+    // A rotor spinning backwards (h_i < 0) reaches the same extent with its spin axis reversed.
+    let size: Vec<f64> = h.iter().map(|v| v.abs()).collect();
+    let extent = cmg_envelope(gimbals, &size, &[u])[0].dot(&u);
+    if extent > 0.0 {
+        momentum.norm() / extent
+    } else {
+        0.0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

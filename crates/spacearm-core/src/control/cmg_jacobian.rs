@@ -13,6 +13,10 @@
 
 use nalgebra::{Matrix3, Matrix3xX, Vector3};
 
+use crate::model::cmg::Cmg;
+use crate::model::data::Data;
+use crate::model::Model;
+
 /// One CMG of a cluster, as the steering laws see it: axes in one frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CmgAxes {
@@ -43,6 +47,22 @@ pub fn cmg_jacobian(cmgs: &[CmgAxes], delta: &[f64], h: &[f64]) -> Matrix3xX<f64
 /// `spin[i]` (already turned by `δ_i`): `A` of a cluster read from a model's kinematics.
 pub fn cmg_jacobian_from_axes(gimbal: &[Vector3<f64>], spin: &[Vector3<f64>], h: &[f64]) -> Matrix3xX<f64> {
     Matrix3xX::from_columns(&gimbal.iter().zip(spin).zip(h).map(|((g, s), h)| g.cross(s) * *h).collect::<Vec<_>>())
+}
+
+/// A cluster on the base read from a model's kinematics (`data` at the state `x`, its joint
+/// axes in 𝒥) and the velocity `u`: each CMG's gimbal axis `ĝ_i` and spin axis `ŝ_i` in 𝒥 and
+/// its rotor momentum `h_i = J_s,i (ŝ_i · ω0 + Ω_i)` (the rotor's absolute spin; `ĝ_i ⟂ ŝ_i`,
+/// so the gimbal rate adds none).
+pub fn cluster_from_kinematics(model: &Model, data: &Data, cmgs: &[Cmg], u: &[f64]) -> (Vec<Vector3<f64>>, Vec<Vector3<f64>>, Vec<f64>) {
+    let w0 = Vector3::new(u[3], u[4], u[5]);
+    let (mut g, mut s, mut h) = (Vec::with_capacity(cmgs.len()), Vec::with_capacity(cmgs.len()), Vec::with_capacity(cmgs.len()));
+    for c in cmgs {
+        let si = data.joint_axis_in_world[model.body_of_dof(c.rotor_dof)];
+        h.push(c.rotor_inertia * (si.dot(&w0) + u[6 + c.rotor_dof]));
+        g.push(data.joint_axis_in_world[model.body_of_dof(c.gimbal_dof)]);
+        s.push(si);
+    }
+    (g, s, h)
 }
 
 /// The singularity measure `m = det(A Aᵀ) / h̄⁶` (module docs); 0 for an empty cluster.

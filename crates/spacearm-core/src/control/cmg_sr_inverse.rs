@@ -8,9 +8,12 @@
 //!   `λ = λ₀ h̄² exp(−μ m)`, `m` the measure of [`singularity_measure`] and `h̄` the mean rotor
 //!   momentum (so `λ₀` is dimensionless). Near a singularity it trades a small torque error
 //!   for bounded rates, and the gimbals pass through the singular surface instead of stopping
-//!   on it. (At a singular state hit *exactly* along its singular direction `u`, `Aᵀ u = 0`, so
-//!   no inverse moves the gimbals: that needs the dithered generalized SR inverse, not yet
-//!   implemented, docs/cmg.md.)
+//!   on it. At a singular state hit *exactly* along its singular direction `u` (`Aᵀ u = 0`,
+//!   `A Aᵀ u = 0`), `(A Aᵀ + λE)⁻¹ u = u / λ` and no such inverse moves the gimbals.
+//! - The **generalized SR inverse** (Wie, Bailey & Heiberg, JGCD 24(5), 2001; Wie, JGCD 28(5),
+//!   2005): `A# = Aᵀ (A Aᵀ + λ W)⁻¹` with a symmetric positive-definite weight `W` whose
+//!   off-diagonal entries are dithered in time (control/cmg_dither.rs): `W` mixes the singular
+//!   direction with the others, so `A# u ≠ 0` and the gimbals leave even that state.
 //!
 //! [`singularity_measure`]: super::cmg_jacobian::singularity_measure
 
@@ -26,12 +29,18 @@ pub fn sr_weight(lambda0: f64, mu: f64, measure: f64, hbar: f64) -> f64 {
 /// `Aᵀ (A Aᵀ + λ E)⁻¹ Ḣ_c`: the pseudo-inverse for `λ = 0` (an error where `A Aᵀ` is singular:
 /// its least eigenvalue below `1e-12` of its trace), the SR inverse for `λ > 0`.
 pub fn steering_rates(a: &Matrix3xX<f64>, hdot: &Vector3<f64>, lambda: f64) -> Result<DVector<f64>> {
+    steering_rates_weighted(a, hdot, lambda, &Matrix3::identity())
+}
+
+/// `Aᵀ (A Aᵀ + λ W)⁻¹ Ḣ_c` with a symmetric positive-definite weight `W` (the generalized SR
+/// inverse, module docs; `W = E`: [`steering_rates`]).
+pub fn steering_rates_weighted(a: &Matrix3xX<f64>, hdot: &Vector3<f64>, lambda: f64, weight: &Matrix3<f64>) -> Result<DVector<f64>> {
     if !(lambda.is_finite() && lambda >= 0.0) {
         return Err(SpacearmError::argument(format!("the SR weight lambda must be finite and >= 0, got {lambda}")));
     }
     let aat: Matrix3<f64> = a * a.transpose();
     let least = aat.symmetric_eigenvalues().min();
-    let m = aat + Matrix3::identity() * lambda;
+    let m = aat + weight * lambda;
     let Some(y) = m.cholesky().filter(|_| lambda > 0.0 || least > 1e-12 * aat.trace()).map(|c| c.solve(hdot)) else {
         return Err(SpacearmError::Simulation("the CMG cluster is singular (det(A Aᵀ) = 0): the pseudo-inverse has no solution; use the SR inverse (lambda0 > 0)".into()));
     };

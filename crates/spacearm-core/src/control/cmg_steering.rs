@@ -10,6 +10,10 @@
 //! vector (its direction kept) until every gimbal is within its rate limit, and each gimbal
 //! motor follows it with the rate loop `τ_i = k (I_i) (δ̇_c,i − δ̇_i)`, `I_i = ĝ_i·(I_G + I_R) ĝ_i`
 //! the gimbal's and rotor's moment about the gimbal axis and `k` (1/s) the loop's bandwidth.
+//! Two options (both off by default): `dither = ε₀ > 0` replaces `E` by the dithered weight
+//! `W(t)` of [`super::cmg_dither`] (Wie's generalized SR inverse, which leaves even a singular
+//! state commanded along its singular direction), and `null_gain = k_n > 0` adds the null
+//! motion `k_n (E − A⁺A) ∇√m` of [`super::cmg_null_motion`] before the rates are scaled.
 //! The rotors get no torque (an SGCMG's has no motor; a VSCMG's spin is not steered by this law
 //! yet, docs/cmg.md), nor do the arm joints: combine with an arm law through [`super::Combined`].
 
@@ -23,9 +27,49 @@ use crate::model::Model;
 use crate::scenario::modes::Mode;
 
 use super::attitude::AttitudeControl;
-use super::cmg_jacobian::{cmg_jacobian_from_axes, singularity_measure};
-use super::cmg_sr_inverse::{sr_weight, steering_rates};
+use super::cmg_dither::dither_weight;
+use super::cmg_jacobian::{cluster_from_kinematics, cmg_jacobian_from_axes, singularity_measure};
+use super::cmg_null_motion::{null_motion, root_measure_gradient};
+use super::cmg_sr_inverse::{sr_weight, steering_rates_weighted};
 use super::{Command, ControlContext, Controller};
+
+/// The steering law's options beyond the SR inverse (module docs): the GSR dither's amplitude
+/// `ε₀` (dimensionless, `< 1/2`; 0: none) and frequency (rad/s), and the null-motion gain
+/// (rad/s; 0: none).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SteeringOptions {
+    /// `ε₀` of [`dither_weight`].
+    pub dither: f64,
+    /// `ω` of [`dither_weight`], rad/s.
+    pub dither_frequency: f64,
+    /// `k_n` of the null motion, rad/s.
+    pub null_gain: f64,
+}
+
+impl Default for SteeringOptions {
+    fn default() -> Self {
+        SteeringOptions { dither: 0.0, dither_frequency: std::f64::consts::FRAC_PI_2, null_gain: 0.0 }
+    }
+}
+
+impl SteeringOptions {
+    /// The options' checks (the run description's and the law's).
+    pub fn check(&self, lambda0: f64) -> Result<()> {
+        let o = self;
+        if !(o.dither.is_finite() && (0.0..0.5).contains(&o.dither)) {
+            return Err(SpacearmError::argument(format!("cmg_steering dither must be in [0, 0.5) (the weight W must stay positive definite), got {}", o.dither)));
+        }
+        if o.dither > 0.0 && lambda0 <= 0.0 {
+            return Err(SpacearmError::argument("cmg_steering dither needs lambda0 > 0: the dither weights the SR term λW, which the pseudo-inverse (lambda0 = 0) has not"));
+        }
+        for (what, v) in [("dither_frequency", o.dither_frequency), ("null_gain", o.null_gain)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(SpacearmError::argument(format!("cmg_steering {what} must be finite and >= 0, got {v}")));
+            }
+        }
+        Ok(())
+    }
+}
 
 /// Attitude hold with the plant's CMGs (module docs).
 #[derive(Debug, Clone)]
@@ -37,6 +81,7 @@ pub struct CmgSteering {
     lambda0: f64,
     mu: f64,
     rate_gain: f64,
+    options: SteeringOptions,
     model: Option<Model>,
     data: Option<Data>,
     cmgs: Vec<Cmg>,
@@ -58,12 +103,19 @@ impl CmgSteering {
             lambda0,
             mu,
             rate_gain,
+            options: SteeringOptions::default(),
             model: None,
             data: None,
             cmgs: Vec::new(),
             gimbal_moments: Vec::new(),
             measure: f64::NAN,
         }
+    }
+
+    /// The law with the GSR dither and null-motion options (module docs).
+    pub fn with_options(mut self, options: SteeringOptions) -> Self {
+        self.options = options;
+        self
     }
 
     /// The singularity measure `m` at the last command (NaN before the first).
@@ -92,6 +144,7 @@ impl Controller for CmgSteering {
         if !(self.rate_gain.is_finite() && self.rate_gain > 0.0) {
             return Err(SpacearmError::argument(format!("cmg_steering rate_gain must be finite and > 0 1/s, got {}", self.rate_gain)));
         }
+        self.options.check(self.lambda0)?;
         let cmgs = detect_cmgs(ctx.plant);
         if cmgs.is_empty() {
             return Err(SpacearmError::argument("CMG steering needs control-moment gyros: add them with RobotBuilder.add_cmg or [[cmg]] tables"));
@@ -120,7 +173,7 @@ impl Controller for CmgSteering {
         Ok(())
     }
 
-    fn command(&mut self, _t: f64, x: &[f64], u: &[f64], out: &mut Command) -> Result<()> {
+    fn command(&mut self, t: f64, x: &[f64], u: &[f64], out: &mut Command) -> Result<()> {
         let (e, angle) = self.attitude.error(&x[3..7]);
         let (Some(model), Some(data)) = (self.model.as_ref(), self.data.as_mut()) else {
             return Err(SpacearmError::Simulation("CMG steering used before setup".into()));
@@ -128,21 +181,16 @@ impl Controller for CmgSteering {
         forward_kinematics(model, data, x)?;
         let w0 = Vector3::new(u[3], u[4], u[5]);
         let torque = -e * self.kp - w0 * self.kd;
-        let mut g = Vec::with_capacity(self.cmgs.len());
-        let mut s = Vec::with_capacity(self.cmgs.len());
-        let mut h = Vec::with_capacity(self.cmgs.len());
-        for c in &self.cmgs {
-            let gi = data.joint_axis_in_world[model.body_of_dof(c.gimbal_dof)];
-            let si = data.joint_axis_in_world[model.body_of_dof(c.rotor_dof)];
-            h.push(c.rotor_inertia * (si.dot(&w0) + u[6 + c.rotor_dof]));
-            g.push(gi);
-            s.push(si);
-        }
+        let (g, s, h) = cluster_from_kinematics(model, data, &self.cmgs, u);
         let a: Matrix3xX<f64> = cmg_jacobian_from_axes(&g, &s, &h);
         let m = singularity_measure(&a, &h);
         self.measure = m;
         let hbar = h.iter().map(|v| v.abs()).sum::<f64>() / h.len() as f64;
-        let mut rates = steering_rates(&a, &(-torque), sr_weight(self.lambda0, self.mu, m, hbar))?;
+        let weight = dither_weight(self.options.dither, self.options.dither_frequency, t);
+        let mut rates = steering_rates_weighted(&a, &(-torque), sr_weight(self.lambda0, self.mu, m, hbar), &weight)?;
+        if self.options.null_gain > 0.0 {
+            rates += null_motion(&a, &root_measure_gradient(&a, &s, &h), self.options.null_gain);
+        }
         let over = self.cmgs.iter().zip(rates.iter()).map(|(c, r)| r.abs() / c.max_gimbal_rate).fold(0.0f64, f64::max);
         if over > 1.0 {
             rates /= over;

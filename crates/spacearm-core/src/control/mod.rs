@@ -25,7 +25,9 @@
 //! nothing of [`crate::sim`], which runs the controllers.
 
 pub mod attitude;
+pub mod cmg_dither;
 pub mod cmg_jacobian;
+pub mod cmg_null_motion;
 pub mod cmg_sr_inverse;
 pub mod cmg_steering;
 pub mod computed_torque;

@@ -27,7 +27,7 @@ use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
 
 use super::attitude::{AttitudeControl, LvlhReference};
-use super::cmg_steering::CmgSteering;
+use super::cmg_steering::{CmgSteering, SteeringOptions};
 use super::computed_torque::{ComputedTorque, PassiveTreatment};
 use super::coordinated::{CoordinatedFlying, CoordinatedGains};
 use super::momentum_damping::{JointTorqueLimit, MomentumDamping};
@@ -678,6 +678,10 @@ fn ten() -> f64 {
     10.0
 }
 
+fn half_pi() -> f64 {
+    std::f64::consts::FRAC_PI_2
+}
+
 /// A native control law and everything it needs, as data. The serde tag `kind` is the law's
 /// name ([`CONTROLLER_KINDS`]); each variant's fields are the law's parameters, with the units
 /// and defaults of `spacearm.control` (docs/simulation-core.md).
@@ -768,6 +772,15 @@ pub enum ControllerSpec {
         /// The gimbal rate loop's bandwidth, 1/s.
         #[serde(default = "fifty")]
         rate_gain: f64,
+        /// The GSR inverse's dither amplitude `ε₀` (dimensionless, `< 1/2`; 0: the SR inverse).
+        #[serde(default)]
+        dither: f64,
+        /// The dither's frequency, rad/s (Wie's π/2).
+        #[serde(default = "half_pi")]
+        dither_frequency: f64,
+        /// The null-motion gain, rad/s (0: no null motion).
+        #[serde(default)]
+        null_gain: f64,
     },
     /// Base regulation by thrusters ([`BaseThrusterControl`]).
     BaseThrusters {
@@ -972,8 +985,9 @@ impl ControllerSpec {
                 finite(&format!("{w} 'kd'"), *kd)?;
                 orbit(o)?;
             }
-            ControllerSpec::CmgSteering { quat_ref, kp, kd, lambda0, mu, rate_gain } => {
+            ControllerSpec::CmgSteering { quat_ref, kp, kd, lambda0, mu, rate_gain, dither, dither_frequency, null_gain } => {
                 unit_quaternion("cmg_steering 'quat_ref'", *quat_ref)?;
+                SteeringOptions { dither: *dither, dither_frequency: *dither_frequency, null_gain: *null_gain }.check(*lambda0)?;
                 for (k, v) in [("kp", kp), ("kd", kd), ("lambda0", lambda0), ("mu", mu)] {
                     if !(v.is_finite() && *v >= 0.0) {
                         return Err(bad(format!("{w} '{k}' must be finite and >= 0, got {v}")));
@@ -1056,7 +1070,10 @@ impl ControllerSpec {
                     None => Box::new(c),
                 }
             }
-            ControllerSpec::CmgSteering { quat_ref, kp, kd, lambda0, mu, rate_gain } => Box::new(CmgSteering::new(*quat_ref, *kp, *kd, *lambda0, *mu, *rate_gain)),
+            ControllerSpec::CmgSteering { quat_ref, kp, kd, lambda0, mu, rate_gain, dither, dither_frequency, null_gain } => Box::new(
+                CmgSteering::new(*quat_ref, *kp, *kd, *lambda0, *mu, *rate_gain)
+                    .with_options(SteeringOptions { dither: *dither, dither_frequency: *dither_frequency, null_gain: *null_gain }),
+            ),
             ControllerSpec::BaseThrusters { com_ref, quat_ref, kp_position, kd_position, kp_attitude, kd_attitude, orbit: o } => {
                 let c = BaseThrusterControl::new(com_ref.map(Vector3::from), *quat_ref, *kp_position, *kd_position, *kp_attitude, *kd_attitude);
                 match orbit(o)? {

@@ -7,7 +7,10 @@ use crate::algorithms::passive::spring_energy_of_q;
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 
 use crate::algorithms::kinematics::point_position;
+use crate::analysis::cmg_envelope::envelope_fraction;
+use crate::control::cmg_jacobian::{cluster_from_kinematics, cmg_jacobian_from_axes, singularity_measure};
 use crate::control::{arm_dofs, TrackingKind};
+use crate::model::cmg::{detect_cmgs, Cmg};
 use crate::model::appendage::compliant_pairs;
 use crate::algorithms::momentum::{center_of_mass_from_data, conserved_drift, momentum_from_data, momentum_scales_from_data, MomentumScales};
 use crate::model::Model;
@@ -35,6 +38,9 @@ pub(crate) struct Recorder {
     /// Whether the drift is a momentum balance against the recorded tidal wrench (an orbital
     /// run with the gravity gradient).
     pub(crate) balance: bool,
+    /// The control-moment gyros whose singularity measure and envelope fraction are recorded
+    /// (every CMG of the plant when all are on the base; none otherwise).
+    cmgs: Vec<Cmg>,
 }
 
 impl Recorder {
@@ -48,6 +54,11 @@ impl Recorder {
             rec.rec.constraint_error = Some(Vec::with_capacity(6 * capacity));
         }
         rec.link = Recorder::link_joints(plant);
+        rec.cmgs = Recorder::base_cmgs(plant.model());
+        if !rec.cmgs.is_empty() {
+            rec.rec.cmg_measure = Some(Vec::with_capacity(capacity));
+            rec.rec.cmg_envelope_fraction = Some(Vec::with_capacity(capacity));
+        }
         if !rec.link.is_empty() {
             rec.rec.link_tracking_error = Some(Vec::with_capacity(capacity));
         }
@@ -71,7 +82,19 @@ impl Recorder {
         let closure = if plant.closure.is_some() { 12 } else { 0 };
         let orbit = if plant.orbit.is_some() { 12 } else { 0 } + if plant.contact.is_some() { 3 } else { 0 };
         let link = usize::from(!Recorder::link_joints(plant).is_empty());
-        link + orbit + closure + Recorder::values_per_sample(plant.model(), plant.wheels.len(), c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
+        let cmg = if Recorder::base_cmgs(plant.model()).is_empty() { 0 } else { 2 };
+        cmg + link + orbit + closure + Recorder::values_per_sample(plant.model(), plant.wheels.len(), c.reference_len(), c.tracking().is_some(), c.reports_attitude_error())
+    }
+
+    /// The plant's CMGs when every one is on the base (the cluster the steering law drives);
+    /// empty otherwise.
+    fn base_cmgs(model: &Model) -> Vec<Cmg> {
+        let cmgs = detect_cmgs(model);
+        if cmgs.iter().all(|c| c.parent_body == 0) {
+            cmgs
+        } else {
+            Vec::new()
+        }
     }
 
     /// The joints of a joint-space tracking controller's reference (one entry per actuated arm
@@ -131,6 +154,8 @@ impl Recorder {
                 link_tracking_error: None,
                 attitude_error: attitude.then(|| v(1)),
                 wheel_speed: (!wheels.is_empty()).then(|| v(wheels.len())),
+                cmg_measure: None,
+                cmg_envelope_fraction: None,
                 constraint_wrench: None,
                 constraint_error: None,
                 r_cm_eci: None,
@@ -147,6 +172,7 @@ impl Recorder {
             scales: MomentumScales::default(),
             last_quat: None,
             link: Vec::new(),
+            cmgs: Vec::new(),
         }
     }
 
@@ -211,6 +237,11 @@ impl Recorder {
             for &d in &self.wheels {
                 ws.push(y[nx + 6 + d]);
             }
+        }
+        if let (Some(m), Some(f)) = (r.cmg_measure.as_mut(), r.cmg_envelope_fraction.as_mut()) {
+            let (g, s, h) = cluster_from_kinematics(model, data, &self.cmgs, &y[nx..]);
+            m.push(singularity_measure(&cmg_jacobian_from_axes(&g, &s, &h), &h));
+            f.push(envelope_fraction(&g, &s, &h));
         }
         if let (Some(c), Some(w), Some(e)) = (&plant.closure, r.constraint_wrench.as_mut(), r.constraint_error.as_mut()) {
             w.extend_from_slice(c.lambda.as_slice());

@@ -66,6 +66,12 @@ pub struct Records {
     pub attitude_error: Option<Vec<f64>>,
     /// Wheel rates relative to the base, rad/s.
     pub wheel_speed: Option<Vec<f64>>,
+    /// A plant with control-moment gyros on its base: the cluster's singularity measure
+    /// `m = det(A Aᵀ) / h̄⁶` (control/cmg_jacobian.rs; 0 at a singular state), per sample.
+    pub cmg_measure: Option<Vec<f64>>,
+    /// A plant with control-moment gyros on its base: the fraction of the momentum envelope the
+    /// cluster uses, `|H| / σ(Ĥ)` (analysis/cmg_envelope.rs; 1 at saturation), per sample.
+    pub cmg_envelope_fraction: Option<Vec<f64>>,
     /// An orbital run's system CM in ECI, `r_O + r_g`, m (width 3).
     pub r_cm_eci: Option<Vec<f64>>,
     /// An orbital run's system CM velocity in ECI, `v_O + P/M`, m/s (width 3).
