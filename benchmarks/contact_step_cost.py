@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
+from pathlib import Path
 import statistics
 import time
 
@@ -24,16 +26,8 @@ import numpy as np
 import spacearm
 from spacearm.contact import ContactModel
 
-
-def arm_and_box() -> spacearm.Robot:
-    b = spacearm.RobotBuilder("arm_box", 50.0, np.diag([5.0, 6.0, 7.0]))
-    b.add_link("l1", parent="base", joint="revolute", axis=(0, 0, 1), origin=(0.7, 0, 0), com=(0.3, 0, 0), mass=3.0,
-               inertia=np.diag([0.02, 0.1, 0.1]))
-    b.add_link("l2", parent="l1", joint="revolute", axis=(0, 1, 0), origin=(0.6, 0, 0), com=(0.15, 0, 0), mass=2.0,
-               inertia=np.diag([0.01, 0.05, 0.05]))
-    b.add_geometry("base", "box", role="collision", size=(1.0, 2.0, 1.0), origin=(0.0, 0.1, 0.05))
-    b.add_geometry("l2", "sphere", role="collision", radius=0.1, origin=(0.15, 0.0, 0.0))
-    return b.build()
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "contact"))
+from test_contact_dynamics import arm_and_box  # noqa: E402  (the robot of the momentum test)
 
 
 def main() -> None:
