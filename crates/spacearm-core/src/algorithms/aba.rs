@@ -5,12 +5,11 @@ use nalgebra::{DVector, Matrix6, Vector6};
 
 use crate::model::data::{Data, DataT};
 use crate::error::{Result, SpacearmError};
-use crate::algorithms::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
 use crate::algorithms::rnea::velocity_pass;
 use crate::math::scalar::Real;
 use crate::math::spatial::{add6_assign, angular, cross_force, dot6, linear, mul6};
-use crate::algorithms::wrench::ExternalWrench;
+use crate::algorithms::wrench::{kinematics_and_loads, ExternalWrench};
 
 /// Forward dynamics by ABA: the state derivative `u̇ = [v̇0; ω̇0; q̈]` produced by the generalized
 /// force `f = [F0; N0; τ]` (base force at its CM and torque about its CM, in 𝒥; joint torques)
@@ -23,12 +22,7 @@ pub fn aba<'d>(
     f: &[f64],
     external: &[ExternalWrench],
 ) -> Result<&'d DVector<f64>> {
-    forward_kinematics(model, data, x)?;
-    check_velocity(model, "u", u)?;
-    check_velocity(model, "f", f)?;
-    for w in external {
-        w.check(model)?;
-    }
+    kinematics_and_loads(model, data, x, u, "f", f, external)?;
     aba_passes_1_2(model, data, &x[7..], u, f, external)?;
     aba_pass_3(model, data, u, f)?;
     Ok(&data.accel)

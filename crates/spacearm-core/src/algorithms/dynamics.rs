@@ -6,11 +6,10 @@ use nalgebra::{DMatrix, DVector};
 use crate::algorithms::crba::crba_after_kinematics;
 use crate::model::data::Data;
 use crate::error::{Result, SpacearmError};
-use crate::algorithms::kinematics::{check_velocity, forward_kinematics};
 use crate::model::Model;
 use crate::algorithms::passive::add_joint_passive_forces;
 use crate::algorithms::rnea::rnea_after_kinematics;
-use crate::algorithms::wrench::ExternalWrench;
+use crate::algorithms::wrench::{kinematics_and_loads, ExternalWrench};
 
 /// Forward dynamics by CRBA + RNEA + Cholesky: the state derivative `u̇` for the generalized
 /// force `f = [F0; N0; τ]` and external wrenches, left in `data.accel` (no allocation: the
@@ -23,12 +22,7 @@ pub fn compute_forward_dynamics_via_mass_matrix<'d>(
     f: &[f64],
     external: &[ExternalWrench],
 ) -> Result<&'d DVector<f64>> {
-    check_velocity(model, "f", f)?;
-    forward_kinematics(model, data, x)?;
-    check_velocity(model, "u", u)?;
-    for w in external {
-        w.check(model)?;
-    }
+    kinematics_and_loads(model, data, x, u, "f", f, external)?;
     // c − Jᵀ w_ext is the inverse dynamics at zero acceleration (left in data.tau).
     rnea_after_kinematics(model, data, u, None, external);
     crba_after_kinematics(model, data, true)?;

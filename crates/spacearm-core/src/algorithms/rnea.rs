@@ -14,7 +14,7 @@ use crate::model::Model;
 use crate::math::scalar::Real;
 use crate::math::spatial::{angular, cross_force, cross_motion, dot6, linear, mul6, spatial};
 use crate::algorithms::passive::subtract_joint_passive_forces;
-use crate::algorithms::wrench::ExternalWrench;
+use crate::algorithms::wrench::{kinematics_and_loads, ExternalWrench};
 
 /// Forward pass of body velocities `Vᵢ = V_λ(i) + Sᵢ q̇ᵢ` and velocity-product accelerations
 /// `Vᵢ ×ₘ Sᵢ q̇ᵢ`. Requires forward kinematics; `u` must be checked.
@@ -56,12 +56,7 @@ pub fn rnea<'d>(
     du: &[f64],
     external: &[ExternalWrench],
 ) -> Result<&'d DVector<f64>> {
-    forward_kinematics(model, data, x)?;
-    check_velocity(model, "u", u)?;
-    check_velocity(model, "du", du)?;
-    for w in external {
-        w.check(model)?;
-    }
+    kinematics_and_loads(model, data, x, u, "du", du, external)?;
     rnea_after_kinematics(model, data, u, Some(du), external);
     subtract_joint_passive_forces(model, &x[7..], &u[6..], &mut data.tau.as_mut_slice()[6..]);
     Ok(&data.tau)

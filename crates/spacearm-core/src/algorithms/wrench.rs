@@ -2,9 +2,9 @@
 
 use nalgebra::{Vector3, Vector6};
 
-use crate::model::data::DataT;
+use crate::model::data::{Data, DataT};
 use crate::error::{Result, SpacearmError};
-use crate::algorithms::kinematics::point_position;
+use crate::algorithms::kinematics::{check_velocity, forward_kinematics, point_position};
 use crate::model::Model;
 use crate::math::scalar::{vector3, Real};
 use crate::math::spatial::spatial;
@@ -23,6 +23,24 @@ pub struct ExternalWrench {
     pub force: Vector3<f64>,
     /// Torque in 𝒥, N·m (a pure couple, added to the moment of `force`).
     pub torque: Vector3<f64>,
+}
+
+/// The one check of a dynamics call's loads against the model: the generalized `6+N`-vector `v`
+/// named `what` (the force `f` of forward dynamics, the acceleration `du` of inverse dynamics)
+/// and every external wrench ([`ExternalWrench::check`]), in that order.
+pub fn check_loads(model: &Model, what: &str, v: &[f64], external: &[ExternalWrench]) -> Result<()> {
+    check_velocity(model, what, v)?;
+    external.iter().try_for_each(|w| w.check(model))
+}
+
+/// The prologue of the dynamics entry points ([`crate::algorithms::aba::aba`],
+/// [`crate::algorithms::dynamics::compute_forward_dynamics_via_mass_matrix`],
+/// [`crate::algorithms::rnea::rnea`]): forward kinematics at `x` into `data`, then `u` and the
+/// loads checked ([`check_loads`]).
+pub(crate) fn kinematics_and_loads(model: &Model, data: &mut Data, x: &[f64], u: &[f64], what: &str, v: &[f64], external: &[ExternalWrench]) -> Result<()> {
+    forward_kinematics(model, data, x)?;
+    check_velocity(model, "u", u)?;
+    check_loads(model, what, v, external)
 }
 
 impl ExternalWrench {

@@ -45,7 +45,7 @@ use crate::model::{Data, Model};
 use crate::scenario::actuators::ThrusterLimits;
 use crate::scenario::free_body::FreeBody;
 use crate::scenario::orbit::Orbit;
-use crate::scenario::reference::{CartesianLine, JointReference, PointReference};
+use crate::scenario::reference::{CartesianLine, JointReference, PointReference, Quintic};
 
 fn bad(msg: impl Into<String>) -> SpacearmError {
     SpacearmError::argument(msg.into())
@@ -360,29 +360,12 @@ pub enum JointReferenceSpec {
         /// The set point.
         q: Vec<f64>,
     },
-    /// Rest-to-rest quintic from `q_start` to `q_goal` over `[t_start, t_end]`, s.
-    Quintic {
-        /// Start, one entry per arm joint.
-        q_start: Vec<f64>,
-        /// Goal, one entry per arm joint.
-        q_goal: Vec<f64>,
-        /// Start of the motion, s.
-        t_start: f64,
-        /// End of the motion, s.
-        t_end: f64,
-    },
+    /// Rest-to-rest quintic from `q_start` to `q_goal` over `[t_start, t_end]`, s (the core's
+    /// own data, [`Quintic`]).
+    Quintic(Quintic),
     /// The quintic Hermite interpolant of knots `t` (K ≥ 2, increasing) with `q`, `qd`, `qdd`
     /// (K × n each).
-    Sampled {
-        /// Knot times, s.
-        t: Vec<f64>,
-        /// Positions at the knots.
-        q: Rows,
-        /// Velocities at the knots.
-        qd: Rows,
-        /// Accelerations at the knots.
-        qdd: Rows,
-    },
+    Sampled(SampledSpec),
     /// `reference` convolved with an input shaper.
     Shaped {
         /// The reference shaped.
@@ -417,6 +400,33 @@ impl<'de> Deserialize<'de> for JointReferenceSpec {
     }
 }
 
+/// The knots of a sampled reference as rows ([`JointReference::Sampled`] keeps them row-major):
+/// the data of the `sampled` joint and point references.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SampledSpec {
+    /// Knot times, s.
+    pub t: Vec<f64>,
+    /// Positions at the knots, K × n.
+    pub q: Rows,
+    /// Velocities at the knots, K × n.
+    pub qd: Rows,
+    /// Accelerations at the knots, K × n.
+    pub qdd: Rows,
+}
+
+impl SampledSpec {
+    /// The core reference (checked by [`JointReference::sampled`]); `n`: the width the rows
+    /// must have (`None`: that of the first row of `q`).
+    pub fn build(&self, n: Option<usize>) -> Result<JointReference> {
+        let k = self.t.len();
+        let (q, n) = flatten("q", &self.q, k, n)?;
+        let (qd, _) = flatten("qd", &self.qd, k, Some(n))?;
+        let (qdd, _) = flatten("qdd", &self.qdd, k, Some(n))?;
+        JointReference::sampled(self.t.clone(), q, qd, qdd, n)
+    }
+}
+
 /// `(values, n)` of K rows of n columns, row-major, or an error naming `what`.
 fn flatten(what: &str, rows: &Rows, k: usize, n: Option<usize>) -> Result<(Vec<f64>, usize)> {
     let n = n.or_else(|| rows.0.first().map(Vec::len)).unwrap_or(0);
@@ -436,13 +446,8 @@ impl JointReferenceSpec {
     pub fn build(&self) -> Result<JointReference> {
         match self {
             JointReferenceSpec::Constant { q } => JointReference::constant(q.clone()),
-            JointReferenceSpec::Quintic { q_start, q_goal, t_start, t_end } => JointReference::quintic(q_start.clone(), q_goal.clone(), *t_start, *t_end),
-            JointReferenceSpec::Sampled { t, q, qd, qdd } => {
-                let (q, n) = flatten("q", q, t.len(), None)?;
-                let (qd, _) = flatten("qd", qd, t.len(), Some(n))?;
-                let (qdd, _) = flatten("qdd", qdd, t.len(), Some(n))?;
-                JointReference::sampled(t.clone(), q, qd, qdd, n)
-            }
+            JointReferenceSpec::Quintic(motion) => JointReference::from_quintic(motion.clone()),
+            JointReferenceSpec::Sampled(knots) => knots.build(None),
             JointReferenceSpec::Shaped { reference, shaper } => Ok(shaper.build()?.shape(reference.build()?)),
         }
     }
@@ -533,17 +538,9 @@ pub enum PointReferenceSpec {
         #[serde(default)]
         orbit: Option<Orbit>,
     },
-    /// A sampled path of the point's three coordinates in 𝒥 (a [`JointReference::Sampled`] of 3).
-    Sampled {
-        /// Knot times, s.
-        t: Vec<f64>,
-        /// Positions at the knots, K × 3.
-        q: Rows,
-        /// Velocities at the knots, K × 3.
-        qd: Rows,
-        /// Accelerations at the knots, K × 3.
-        qdd: Rows,
-    },
+    /// A sampled path of the point's three coordinates in 𝒥 (a [`JointReference::Sampled`] of 3:
+    /// rows of 3).
+    Sampled(SampledSpec),
 }
 
 tagged_by_kind!(PointReferenceSpec);
@@ -591,12 +588,7 @@ impl PointReferenceSpec {
         match self {
             PointReferenceSpec::Line { .. } => Ok(PointReference::Line(self.line()?)),
             PointReferenceSpec::FreeBody { .. } => Ok(PointReference::FreeBody(Box::new(self.free_body()?))),
-            PointReferenceSpec::Sampled { t, q, qd, qdd } => {
-                let (q, n) = flatten("q", q, t.len(), Some(3))?;
-                let (qd, _) = flatten("qd", qd, t.len(), Some(n))?;
-                let (qdd, _) = flatten("qdd", qdd, t.len(), Some(n))?;
-                Ok(PointReference::Sampled(JointReference::sampled(t.clone(), q, qd, qdd, n)?))
-            }
+            PointReferenceSpec::Sampled(knots) => Ok(PointReference::Sampled(knots.build(Some(3))?)),
         }
     }
 }

@@ -16,12 +16,11 @@ use nalgebra::{DMatrix, DMatrixView};
 use super::rnea_partials::fill_rnea_partials;
 use super::dual::{lanes, pose_and_velocity, seed_chunk, seed_chunk_from_kinematics, DerivativeData, Pose, CHUNK};
 use crate::algorithms::kinematics::forward_kinematics;
-use crate::algorithms::wrench::ExternalWrench;
+use crate::algorithms::wrench::{check_loads, ExternalWrench};
 use super::dense::{neg_product, spd_inverse};
 use crate::algorithms::crba::crba_after_kinematics;
 use crate::algorithms::kinematics::forward_kinematics_at;
 use crate::error::{Result, SpacearmError};
-use crate::algorithms::kinematics::check_velocity;
 use crate::model::Model;
 use crate::algorithms::passive::add_joint_passive_forces;
 use crate::algorithms::rnea::rnea_after_kinematics;
@@ -81,12 +80,9 @@ pub fn forward_dynamics_derivatives_with<'w>(
     method: DerivativeMethod,
 ) -> Result<(&'w DMatrix<f64>, &'w DMatrix<f64>, &'w DMatrix<f64>)> {
     let pose = pose_and_velocity(model, x, u)?;
-    check_velocity(model, "f", f)?;
+    check_loads(model, "f", f, external)?;
     let n = model.n_dof();
     let nu = model.nu();
-    for w in external {
-        w.check(model)?;
-    }
     // H and c − Jᵀ w in f64, H⁻¹ (kept: it is ∂u̇/∂f), u̇ = H⁻¹ (f + Jᵀ w − c).
     forward_kinematics_at(model, &mut work.data, &pose.r0, &pose.base_to_world, pose.q);
     rnea_after_kinematics(model, &mut work.data, u, None, external);
@@ -124,10 +120,7 @@ pub fn inverse_dynamics_partials<'w>(
     method: DerivativeMethod,
 ) -> Result<(&'w DMatrix<f64>, &'w DMatrix<f64>)> {
     let pose = pose_and_velocity(model, x, u)?;
-    check_velocity(model, "du", du)?;
-    for w in external {
-        w.check(model)?;
-    }
+    check_loads(model, "du", du, external)?;
     forward_kinematics(model, &mut work.data, x)?;
     work.du_scratch.copy_from_slice(du);
     fill_id_partials(model, work, &pose, u, external, method);

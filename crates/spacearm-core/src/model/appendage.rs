@@ -33,6 +33,7 @@ use crate::error::{ModelError, ModelField, ModelItem};
 use crate::model::builder::{LinkSpec, ModelBuilder};
 use crate::model::geometry::{GeometryRole, GeometrySpec, Shape};
 use crate::model::joint::{JointDynamics, JointLimits, JointType};
+use crate::model::validate::{non_negative, positive, PartRules};
 use crate::math::spatial::{cross3 as cross, dot3 as dot, unit3 as normalized};
 
 /// The first Euler–Bernoulli cantilever eigenvalue `β₁L` (`cos βL cosh βL = −1`).
@@ -165,14 +166,6 @@ fn axial(a: &[f64; 3], alpha: f64, beta: f64) -> [[f64; 3]; 3] {
     m
 }
 
-fn positive(v: f64) -> bool {
-    v.is_finite() && v > 0.0
-}
-
-fn non_negative(v: f64) -> bool {
-    v.is_finite() && v >= 0.0
-}
-
 fn link(name: String, parent: String, joint: String, kind: JointType, origin: [f64; 3], axis: [f64; 3], com: [f64; 3], mass: f64, inertia: [[f64; 3]; 3]) -> LinkSpec {
     LinkSpec {
         name,
@@ -201,15 +194,10 @@ fn quat_from_columns(c0: &[f64; 3], c1: &[f64; 3], c2: &[f64; 3]) -> [f64; 4] {
 pub fn panel_parts(spec: &PanelSpec, item: ModelItem) -> Result<Parts, ModelError> {
     let who = format!("panel '{}'", spec.name);
     let bad = |field: ModelField, msg: String| Err(ModelError::new(item, field, format!("{who}: {msg}")));
-    if !positive(spec.mass) {
-        return bad(ModelField::Mass, format!("mass must be finite and > 0 kg, got {}", spec.mass));
-    }
-    let Some(hinge) = normalized(&spec.hinge_axis) else {
-        return bad(ModelField::Axis, format!("hinge_axis must be a finite non-zero vector, got {:?}", spec.hinge_axis));
-    };
-    let Some(dir) = normalized(&spec.direction) else {
-        return bad(ModelField::Axis, format!("direction must be a finite non-zero vector, got {:?}", spec.direction));
-    };
+    let rules = PartRules { item, who: &who };
+    rules.positive(ModelField::Mass, "mass", " kg", spec.mass)?;
+    let hinge = rules.direction("hinge_axis", &spec.hinge_axis)?;
+    let dir = rules.direction("direction", &spec.direction)?;
     if dot(&hinge, &dir).abs() > 1e-9 {
         return bad(ModelField::Axis, format!("direction {dir:?} must be perpendicular to hinge_axis {hinge:?}"));
     }
@@ -313,21 +301,14 @@ fn beam_station(spec: &BeamSpec, l: f64) -> Vec<([f64; 3], f64, f64, &'static st
 pub fn beam_parts(spec: &BeamSpec, item: ModelItem) -> Result<Parts, ModelError> {
     let who = format!("beam '{}'", spec.name);
     let bad = |field: ModelField, msg: String| Err(ModelError::new(item, field, format!("{who}: {msg}")));
-    let Some(axis) = normalized(&spec.axis) else {
-        return bad(ModelField::Axis, format!("axis must be a finite non-zero vector, got {:?}", spec.axis));
-    };
-    if !positive(spec.length) {
-        return bad(ModelField::Com, format!("length must be finite and > 0 m, got {}", spec.length));
-    }
+    let rules = PartRules { item, who: &who };
+    let axis = rules.direction("axis", &spec.axis)?;
+    rules.positive(ModelField::Com, "length", " m", spec.length)?;
     if !(1..=1000).contains(&spec.segments) {
         return bad(ModelField::Name, format!("segments must be between 1 and 1000, got {}", spec.segments));
     }
-    if !positive(spec.rho_a) {
-        return bad(ModelField::Mass, format!("rho_A (mass per length) must be finite and > 0 kg/m, got {}", spec.rho_a));
-    }
-    if !non_negative(spec.rho_j) {
-        return bad(ModelField::Inertia, format!("rho_J must be finite and >= 0 kg m, got {}", spec.rho_j));
-    }
+    rules.positive(ModelField::Mass, "rho_A (mass per length)", " kg/m", spec.rho_a)?;
+    rules.non_negative(ModelField::Inertia, "rho_J", " kg m", spec.rho_j)?;
     if spec.bending.is_empty() && spec.torsion.is_none() {
         return bad(ModelField::JointDynamics, "give at least one bending axis (with its EI) or GJ".into());
     }
@@ -415,24 +396,15 @@ pub fn beam_parts(spec: &BeamSpec, item: ModelItem) -> Result<Parts, ModelError>
 pub fn compliant_parts(link_spec: &LinkSpec, spec: &CompliantSpec, item: ModelItem) -> Result<Parts, ModelError> {
     let who = format!("link '{}': compliant joint", link_spec.name);
     let bad = |field: ModelField, msg: String| Err(ModelError::new(item, field, format!("{who}: {msg}")));
+    let rules = PartRules { item, who: &who };
     if link_spec.kind != JointType::Revolute {
         return bad(ModelField::JointDynamics, format!("only a revolute joint can be compliant, got {}", link_spec.kind.as_str()));
     }
-    if !positive(spec.stiffness) {
-        return bad(ModelField::JointDynamics, format!("stiffness must be finite and > 0 N m/rad, got {}", spec.stiffness));
-    }
-    if !positive(spec.rotor_inertia) {
-        return bad(ModelField::Inertia, format!("rotor_inertia must be finite and > 0 kg m^2, got {}", spec.rotor_inertia));
-    }
-    if !non_negative(spec.damping) {
-        return bad(ModelField::JointDynamics, format!("damping must be finite and >= 0 N m s/rad, got {}", spec.damping));
-    }
-    if !positive(spec.gear_ratio) {
-        return bad(ModelField::JointDynamics, format!("gear_ratio must be finite and > 0, got {}", spec.gear_ratio));
-    }
-    let Some(axis) = normalized(&link_spec.axis) else {
-        return bad(ModelField::Axis, format!("axis must be a finite non-zero vector, got {:?}", link_spec.axis));
-    };
+    rules.positive(ModelField::JointDynamics, "stiffness", " N m/rad", spec.stiffness)?;
+    rules.positive(ModelField::Inertia, "rotor_inertia", " kg m^2", spec.rotor_inertia)?;
+    rules.non_negative(ModelField::JointDynamics, "damping", " N m s/rad", spec.damping)?;
+    rules.positive(ModelField::JointDynamics, "gear_ratio", "", spec.gear_ratio)?;
+    let axis = rules.direction("axis", &link_spec.axis)?;
     let joint = link_spec.joint_name.clone().unwrap_or_else(|| format!("{}_joint", link_spec.name));
     // The rotor: axial inertia n² B; transverse 0.6 n² B (a disc, as the reaction wheels').
     let j = spec.gear_ratio * spec.gear_ratio * spec.rotor_inertia;

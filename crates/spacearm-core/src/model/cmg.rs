@@ -34,6 +34,7 @@ use crate::math::spatial::{cross3 as cross, dot3 as dot, unit3 as normalized};
 use crate::model::appendage::Parts;
 use crate::model::builder::LinkSpec;
 use crate::model::joint::{JointDynamics, JointLimits, JointType};
+use crate::model::validate::{non_negative, positive};
 use crate::model::system::Model;
 
 /// Default transverse rotor moment as a fraction of the spin moment (a disc 0.77 radii thick;
@@ -112,10 +113,6 @@ pub struct Cmg {
     pub max_wheel_speed: f64,
 }
 
-fn positive(v: f64) -> bool {
-    v.is_finite() && v > 0.0
-}
-
 fn limit(v: Option<f64>) -> f64 {
     v.unwrap_or(f64::INFINITY)
 }
@@ -154,11 +151,11 @@ pub fn cmg_parts(spec: &CmgSpec, base: &str, item: ModelItem) -> Result<Parts, M
     if !positive(j_t) {
         return bad(ModelField::Inertia, format!("rotor_transverse_inertia must be finite and > 0 kg m^2, got {j_t}"));
     }
-    if !spec.gimbal_inertia.iter().all(|v| v.is_finite() && *v >= 0.0) {
+    if !spec.gimbal_inertia.iter().all(|v| non_negative(*v)) {
         return bad(ModelField::Inertia, format!("gimbal_inertia must be 3 finite moments >= 0 kg m^2 along (gimbal, spin, gimbal x spin), got {:?}", spec.gimbal_inertia));
     }
     for (what, m) in [("rotor_mass", spec.rotor_mass), ("gimbal_mass", spec.gimbal_mass)] {
-        if !(m.is_finite() && m >= 0.0) {
+        if !non_negative(m) {
             return bad(ModelField::Mass, format!("{what} must be finite and >= 0 kg, got {m}"));
         }
     }
@@ -231,26 +228,13 @@ pub fn detect_cmgs(model: &Model) -> Vec<Cmg> {
         if g.dot(&s).abs() > 1e-9 {
             continue;
         }
-        // The rotor's CM (gimbal frame, from the gimbal joint) on the gimbal axis; its own CM on
-        // its spin axis; its inertia symmetric about the spin axis.
-        let axis_r = rl.joint.axis.into_inner();
-        let c = rl.com_from_joint;
+        // The rotor's CM (gimbal frame, from the gimbal joint) on the gimbal axis; the rotor a
+        // symmetric rotor about its spin axis (Link::symmetric_rotor_moment).
         let rotor_cm_on_gimbal_axis = {
-            let p = gl.com_from_joint + rl.joint.origin_in_parent + rl.joint.rotation_in_parent * c;
+            let p = gl.com_from_joint + rl.joint.origin_in_parent + rl.joint.rotation_in_parent * rl.com_from_joint;
             (p - g * g.dot(&p)).norm() <= 1e-9
         };
-        if (c - axis_r * axis_r.dot(&c)).norm() > 1e-9 || !rotor_cm_on_gimbal_axis {
-            continue;
-        }
-        let inertia = rl.mass.inertia;
-        let scale = inertia.norm().max(1e-300);
-        let spin = axis_r.dot(&(inertia * axis_r));
-        let transverse = inertia - axis_r * axis_r.transpose() * spin;
-        let t = 0.5 * transverse.trace();
-        let iso = transverse - (nalgebra::Matrix3::identity() - axis_r * axis_r.transpose()) * t;
-        if (inertia * axis_r - axis_r * spin).norm() > 1e-9 * scale || iso.norm() > 1e-9 * scale {
-            continue;
-        }
+        let Some(spin) = rl.symmetric_rotor_moment().filter(|_| rotor_cm_on_gimbal_axis) else { continue };
         let (Some(gimbal_dof), Some(rotor_dof)) = (model.dof_of_body(body), model.dof_of_body(rb)) else { continue };
         let to_parent = gl.joint.rotation_in_parent;
         let gp = to_parent * g;

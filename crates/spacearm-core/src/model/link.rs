@@ -94,6 +94,27 @@ impl Link {
             mass,
         }
     }
+
+    /// The spin moment `J_s = kᵀ I k` of the link about its joint axis `k` (link frame) when the
+    /// link is a symmetric rotor about it — its CM on the axis (within 1e-9 m) and its inertia
+    /// symmetric about the axis (`k` a principal axis and the two transverse moments equal,
+    /// within 1e-9 relative), so that its spin changes nothing but its own angle — else `None`.
+    /// The one test behind reaction-wheel and CMG-rotor detection.
+    pub fn symmetric_rotor_moment(&self) -> Option<f64> {
+        let axis = self.joint.axis.into_inner();
+        let c = self.com_from_joint;
+        if (c - axis * axis.dot(&c)).norm() > 1e-9 {
+            return None;
+        }
+        let inertia = self.mass.inertia;
+        let scale = inertia.norm().max(1e-300);
+        let spin = axis.dot(&(inertia * axis));
+        // The transverse part must be t (E − k kᵀ) with t the common transverse moment.
+        let transverse = inertia - axis * axis.transpose() * spin;
+        let t = 0.5 * transverse.trace();
+        let iso = transverse - (nalgebra::Matrix3::identity() - axis * axis.transpose()) * t;
+        ((inertia * axis - axis * spin).norm() <= 1e-9 * scale && iso.norm() <= 1e-9 * scale).then_some(spin)
+    }
 }
 
 /// A named point fixed to a body (an end effector, a grasp point, a sensor).

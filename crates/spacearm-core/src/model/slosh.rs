@@ -30,6 +30,7 @@
 use crate::error::{ModelError, ModelField, ModelItem};
 use crate::model::builder::{LinkSpec, ModelBuilder};
 use crate::model::joint::{JointDynamics, JointLimits, JointType};
+use crate::model::validate::{non_negative, positive, PartRules};
 use crate::math::spatial::{cross3 as cross, dot3 as dot, unit3 as normalized};
 
 /// Which equivalent mechanical model.
@@ -100,20 +101,15 @@ pub struct SloshSpec {
 pub fn slosh_links(spec: &SloshSpec, item: ModelItem) -> Result<Vec<(LinkSpec, JointDynamics)>, ModelError> {
     let who = format!("slosh '{}'", spec.name);
     let bad = |field: ModelField, msg: String| Err(ModelError::new(item, field, format!("{who}: {msg}")));
-    if !(spec.mass.is_finite() && spec.mass > 0.0) {
-        return bad(ModelField::Mass, format!("mass must be finite and > 0 kg, got {}", spec.mass));
-    }
-    let Some(axis) = normalized(&spec.axis) else {
-        return bad(ModelField::Axis, format!("axis must be a finite non-zero vector, got {:?}", spec.axis));
-    };
-    if !(spec.damping.is_finite() && spec.damping >= 0.0) {
-        return bad(ModelField::JointDynamics, format!("damping must be finite and >= 0, got {}", spec.damping));
-    }
+    let rules = PartRules { item, who: &who };
+    rules.positive(ModelField::Mass, "mass", " kg", spec.mass)?;
+    let axis = rules.direction("axis", &spec.axis)?;
+    rules.non_negative(ModelField::JointDynamics, "damping", "", spec.damping)?;
     let length = match (spec.model, spec.length) {
         (SloshModel::SpringMass, None) => 0.0,
         (SloshModel::SpringMass, Some(_)) => return bad(ModelField::Com, "a spring-mass takes no length (its mass is at position + q·axis)".into()),
         (_, None) => return bad(ModelField::Com, "a pendulum needs a length (> 0 m)".into()),
-        (_, Some(l)) if !(l.is_finite() && l > 0.0) => return bad(ModelField::Com, format!("length must be finite and > 0 m, got {l}")),
+        (_, Some(l)) if !positive(l) => return bad(ModelField::Com, format!("length must be finite and > 0 m, got {l}")),
         (_, Some(l)) => l,
     };
     if spec.model == SloshModel::SpringMass && spec.hinge.is_some() {
@@ -122,7 +118,7 @@ pub fn slosh_links(spec: &SloshSpec, item: ModelItem) -> Result<Vec<(LinkSpec, J
     let lever = if spec.model == SloshModel::SpringMass { 1.0 } else { length * length };
     let stiffness = match spec.restoring {
         SloshRestoring::Stiffness(k) => k,
-        SloshRestoring::Frequency(w) if w.is_finite() && w >= 0.0 => spec.mass * lever * w * w,
+        SloshRestoring::Frequency(w) if non_negative(w) => spec.mass * lever * w * w,
         SloshRestoring::Frequency(w) => return bad(ModelField::JointDynamics, format!("frequency must be finite and >= 0 rad/s, got {w}")),
     };
     let dynamics = JointDynamics { actuated: false, stiffness, damping: spec.damping, rest: 0.0 };

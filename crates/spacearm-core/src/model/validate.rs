@@ -24,6 +24,53 @@ use crate::model::joint::{JointDynamics, JointLimits, JointType};
 /// it is normalized, and a shorter vector has no reliable direction.
 pub const MIN_AXIS_COMPONENT: f64 = 1e-9;
 
+/// Whether a part's quantity that must be positive (a mass, a length, a stiffness...) is:
+/// finite and > 0. The builders of passive parts (appendage.rs, slosh.rs, cmg.rs) word the
+/// refusal with the quantity's name and unit.
+pub(crate) fn positive(v: f64) -> bool {
+    v.is_finite() && v > 0.0
+}
+
+/// Whether a part's quantity that may be zero (a damping, a distance...) is: finite and >= 0.
+pub(crate) fn non_negative(v: f64) -> bool {
+    v.is_finite() && v >= 0.0
+}
+
+/// The refusals of a passive part's builder (a panel, a beam, a compliant joint, a slosh model):
+/// each a [`ModelError`] on `item` whose message starts with the part's name `who`, with the one
+/// wording of a quantity that must be positive or non-negative and of an axis.
+pub(crate) struct PartRules<'a> {
+    /// The item the errors name.
+    pub item: ModelItem,
+    /// The part, as the messages name it (`panel 'p'`).
+    pub who: &'a str,
+}
+
+impl PartRules<'_> {
+    fn refuse<T>(&self, field: ModelField, msg: String) -> Result<T, ModelError> {
+        Err(ModelError::new(self.item, field, format!("{}: {msg}", self.who)))
+    }
+
+    /// `v` when finite and > 0, else "`what` must be finite and > 0`unit`, got `v`" on `field`.
+    pub fn positive(&self, field: ModelField, what: &str, unit: &str, v: f64) -> Result<f64, ModelError> {
+        if positive(v) { Ok(v) } else { self.refuse(field, format!("{what} must be finite and > 0{unit}, got {v}")) }
+    }
+
+    /// `v` when finite and >= 0, else "`what` must be finite and >= 0`unit`, got `v`" on `field`.
+    pub fn non_negative(&self, field: ModelField, what: &str, unit: &str, v: f64) -> Result<f64, ModelError> {
+        if non_negative(v) { Ok(v) } else { self.refuse(field, format!("{what} must be finite and >= 0{unit}, got {v}")) }
+    }
+
+    /// The unit vector along the part's axis `v`, else "`what` must be a finite non-zero vector,
+    /// got `v`" on [`ModelField::Axis`].
+    pub fn direction(&self, what: &str, v: &[f64; 3]) -> Result<[f64; 3], ModelError> {
+        match crate::math::spatial::unit3(v) {
+            Some(u) => Ok(u),
+            None => self.refuse(ModelField::Axis, format!("{what} must be a finite non-zero vector, got {v:?}")),
+        }
+    }
+}
+
 /// A joint axis or rotation already of unit norm within this is kept bit for bit rather than
 /// normalized again, so that a model written to a file reads back identical.
 const UNIT_NORM_KEPT: f64 = 4.0 * f64::EPSILON;

@@ -91,26 +91,27 @@ impl StateSpace {
     /// The ambient increment of a tangent one at `z` (`nz × nd`, identity except the quaternion
     /// rows, [`quaternion_from_tangent`]), written into `out`.
     pub fn ambient_from_tangent(self, z: &[f64], out: &mut DMatrix<f64>) {
-        out.fill(0.0);
-        for i in 0..3 {
-            out[(i, i)] = 1.0;
-        }
+        self.identity_but_attitude(out, |i| (i, i - 1));
         out.fixed_view_mut::<4, 3>(3, 3).copy_from(&quaternion_from_tangent(&z[3..7]));
-        for i in 7..self.nz() {
-            out[(i, i - 1)] = 1.0;
-        }
     }
 
     /// The tangent increment of an ambient one at a unit-quaternion `z` (`nd × nz`,
     /// [`tangent_from_quaternion`]), written into `out`.
     pub fn tangent_from_ambient(self, z: &[f64], out: &mut DMatrix<f64>) {
+        self.identity_but_attitude(out, |i| (i - 1, i));
+        out.fixed_view_mut::<3, 4>(3, 3).copy_from(&tangent_from_quaternion(&z[3..7]));
+    }
+
+    /// `out` zeroed, then 1 where a position or joint coordinate maps to itself: `(i, i)` for
+    /// the position (`i < 3`), `joint(i)` for the ambient joint index `i ≥ 7` (the ambient and
+    /// tangent indices differ by one there); the attitude block is the caller's.
+    fn identity_but_attitude(self, out: &mut DMatrix<f64>, joint: impl Fn(usize) -> (usize, usize)) {
         out.fill(0.0);
         for i in 0..3 {
             out[(i, i)] = 1.0;
         }
-        out.fixed_view_mut::<3, 4>(3, 3).copy_from(&tangent_from_quaternion(&z[3..7]));
         for i in 7..self.nz() {
-            out[(i - 1, i)] = 1.0;
+            out[joint(i)] = 1.0;
         }
     }
 }

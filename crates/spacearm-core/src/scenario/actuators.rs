@@ -156,10 +156,9 @@ impl Actuators {
 }
 
 /// The reaction wheels of a model: degrees of freedom of revolute joints of the base whose
-/// link has no children, its CM on the joint axis (within 1e-9 m) and an inertia symmetric
-/// about the axis (the axis is a principal axis and the two transverse moments are equal within
-/// 1e-9 relative) — a symmetric rotor, whose spin changes nothing but its own angle — and that
-/// has a motor (an actuated joint). This is exactly what `RobotBuilder.add_reaction_wheel` creates.
+/// link has no children, is a symmetric rotor about the joint axis
+/// ([`crate::model::link::Link::symmetric_rotor_moment`]: its CM on the axis, its inertia
+/// symmetric about it; its spin changes nothing but its own angle) and that has a motor (an actuated joint). This is exactly what `RobotBuilder.add_reaction_wheel` creates.
 pub fn detect_reaction_wheels(model: &Model) -> Vec<usize> {
     let mut has_children = vec![false; model.n_bodies()];
     for l in model.links() {
@@ -171,19 +170,7 @@ pub fn detect_reaction_wheels(model: &Model) -> Vec<usize> {
         if link.parent != 0 || link.joint.kind != JointType::Revolute || has_children[body] || !link.joint.dynamics.actuated {
             continue;
         }
-        let axis = link.joint.axis.into_inner();
-        let c = link.com_from_joint;
-        if (c - axis * axis.dot(&c)).norm() > 1e-9 {
-            continue;
-        }
-        let inertia = link.mass.inertia;
-        let scale = inertia.norm().max(1e-300);
-        let spin = axis.dot(&(inertia * axis));
-        // Transverse part must be t (E − k kᵀ) with t the common transverse moment.
-        let transverse = inertia - axis * axis.transpose() * spin;
-        let t = 0.5 * transverse.trace();
-        let iso = transverse - (nalgebra::Matrix3::identity() - axis * axis.transpose()) * t;
-        if (inertia * axis - axis * spin).norm() <= 1e-9 * scale && iso.norm() <= 1e-9 * scale {
+        if link.symmetric_rotor_moment().is_some() {
             if let Some(d) = model.dof_of_body(body) {
                 wheels.push(d);
             }

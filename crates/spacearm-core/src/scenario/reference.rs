@@ -14,6 +14,7 @@
 //! the end value).
 
 use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
 
 use crate::error::{check_finite, Result, SpacearmError};
 use crate::scenario::free_body::FreeBody;
@@ -69,22 +70,41 @@ fn check_times(t_start: f64, t_end: f64) -> Result<()> {
     Ok(())
 }
 
+/// A rest-to-rest quintic from `q_start` to `q_goal` over `[t_start, t_end]` (module docs): the
+/// data of [`JointReference::Quintic`], and as it is the description of one
+/// ([`crate::control::spec::JointReferenceSpec::Quintic`]), with its one check ([`Quintic::check`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Quintic {
+    /// Joint coordinates at and before `t_start`, one entry per arm joint.
+    pub q_start: Vec<f64>,
+    /// Joint coordinates at and after `t_end`, one entry per arm joint.
+    pub q_goal: Vec<f64>,
+    /// Start of the motion, s.
+    pub t_start: f64,
+    /// End of the motion, s.
+    pub t_end: f64,
+}
+
+impl Quintic {
+    /// `q_start` and `q_goal` finite and of one length, the times finite with `t_end > t_start`.
+    pub fn check(&self) -> Result<()> {
+        check_finite("q_start", &self.q_start)?;
+        check_finite("q_goal", &self.q_goal)?;
+        if self.q_start.len() != self.q_goal.len() {
+            return Err(SpacearmError::Dimension { what: "q_goal".into(), expected: format!("len(q_start) = {}", self.q_start.len()), got: self.q_goal.len() });
+        }
+        check_times(self.t_start, self.t_end)
+    }
+}
+
 /// A joint-space reference: a constant set point or a rest-to-rest quintic.
 #[derive(Debug, Clone, PartialEq)]
 pub enum JointReference {
     /// Hold `q` (zero velocity and acceleration).
     Constant(Vec<f64>),
     /// `q(t) = q_start + s(t) (q_goal − q_start)`.
-    Quintic {
-        /// Joint coordinates at and before `t_start`.
-        q_start: Vec<f64>,
-        /// Joint coordinates at and after `t_end`.
-        q_goal: Vec<f64>,
-        /// Start of the motion, s.
-        t_start: f64,
-        /// End of the motion, s.
-        t_end: f64,
-    },
+    Quintic(Quintic),
     /// The piecewise quintic Hermite interpolant of knots (module docs); outside
     /// `[t₀, t_last]` the values at the nearer end knot (its position, velocity and
     /// acceleration).
@@ -114,13 +134,13 @@ pub enum JointReference {
 impl JointReference {
     /// A quintic from `q_start` to `q_goal` (same length, finite) over `[t_start, t_end]`.
     pub fn quintic(q_start: Vec<f64>, q_goal: Vec<f64>, t_start: f64, t_end: f64) -> Result<Self> {
-        check_finite("q_start", &q_start)?;
-        check_finite("q_goal", &q_goal)?;
-        if q_start.len() != q_goal.len() {
-            return Err(SpacearmError::Dimension { what: "q_goal".into(), expected: format!("len(q_start) = {}", q_start.len()), got: q_goal.len() });
-        }
-        check_times(t_start, t_end)?;
-        Ok(JointReference::Quintic { q_start, q_goal, t_start, t_end })
+        Self::from_quintic(Quintic { q_start, q_goal, t_start, t_end })
+    }
+
+    /// The quintic `motion`, checked ([`Quintic::check`]).
+    pub fn from_quintic(motion: Quintic) -> Result<Self> {
+        motion.check()?;
+        Ok(JointReference::Quintic(motion))
     }
 
     /// A sampled trajectory: knot times `t` (K ≥ 2, finite, strictly increasing) and the
@@ -159,7 +179,7 @@ impl JointReference {
     pub fn len(&self) -> usize {
         match self {
             JointReference::Constant(q) => q.len(),
-            JointReference::Quintic { q_start, .. } => q_start.len(),
+            JointReference::Quintic(m) => m.q_start.len(),
             JointReference::Sampled { n, .. } => *n,
             JointReference::Shaped { base, .. } => base.len(),
         }
@@ -170,7 +190,7 @@ impl JointReference {
     pub fn end_values(&self) -> (&[f64], &[f64]) {
         match self {
             JointReference::Constant(q) => (q, q),
-            JointReference::Quintic { q_start, q_goal, .. } => (q_start, q_goal),
+            JointReference::Quintic(m) => (&m.q_start, &m.q_goal),
             JointReference::Sampled { q, n, .. } => (&q[..*n], &q[q.len() - *n..]),
             JointReference::Shaped { base, .. } => base.end_values(),
         }
@@ -181,7 +201,7 @@ impl JointReference {
     pub fn time_span(&self) -> Option<(f64, f64)> {
         match self {
             JointReference::Constant(_) => None,
-            JointReference::Quintic { t_start, t_end, .. } => Some((*t_start, *t_end)),
+            JointReference::Quintic(m) => Some((m.t_start, m.t_end)),
             JointReference::Sampled { t, .. } => Some((t[0], t[t.len() - 1])),
             JointReference::Shaped { base, delays, .. } => {
                 let last = delays.iter().copied().fold(0.0, f64::max);
@@ -203,7 +223,7 @@ impl JointReference {
                 qd.fill(0.0);
                 qdd.fill(0.0);
             }
-            JointReference::Quintic { q_start, q_goal, t_start, t_end } => {
+            JointReference::Quintic(Quintic { q_start, q_goal, t_start, t_end }) => {
                 let (s, sd, sdd) = quintic_scaling(t, *t_start, *t_end);
                 for i in 0..q.len() {
                     let delta = q_goal[i] - q_start[i];

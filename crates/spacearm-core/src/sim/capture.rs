@@ -260,7 +260,7 @@ pub fn check_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec
     check_initial_state(robot, x0, u0)?;
     if target.n_dof() != 0 {
         let name = spec.name.as_deref().unwrap_or(target.name());
-        if spec.orbit.is_some() {
+        if spec.in_orbit.orbit.is_some() {
             return Err(SpacearmError::argument(format!("target '{name}' is a jointed model: a capture in orbit needs a rigid target (not implemented for jointed ones)")));
         }
         if spec.kind != "point" {
@@ -305,7 +305,7 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
     let inertia: Matrix3<f64> = target.base().inertia;
     let tidal = spec.tidal();
     let orbit_at = |t: f64| -> Result<Option<OrbitOptions>> {
-        let Some(o) = spec.orbit else { return Ok(None) };
+        let Some(o) = spec.in_orbit.orbit else { return Ok(None) };
         // each phase's run starts from the orbit's point at its start time
         let orbit = if t == 0.0 {
             o
@@ -323,7 +323,7 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
         offset: toffset.into(),
         step: 0.5 * dt,
         point: spec.point.clone(),
-        orbit: if tidal { spec.orbit } else { None },
+        orbit: if tidal { spec.in_orbit.orbit } else { None },
     };
     let free = reference.free_body()?;
     let rmrc = ControllerSpec::ResolvedMotionRate {
@@ -376,7 +376,7 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
     let mut seg = Segments::default();
     let zeros6 = vec![0.0; 6 * ka];
     seg.add(&ra.t, 0, Rows { x: &ra.x, u: &ra.u, s: &sa, tau: &ra.tau, bw: &ra.base_wrench, w: &zeros6 }, false);
-    if spec.orbit.is_some() {
+    if spec.in_orbit.orbit.is_some() {
         // the robot's tidal wrench about the origin, and the free target's
         let mut gw = ra.gravity_wrench.clone().unwrap_or_else(|| vec![0.0; 6 * ka]);
         if tidal {
@@ -457,7 +457,7 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
     sc = sc[..7].iter().chain(impact.target_u_after.iter()).copied().collect();
     let zn = vec![0.0; n];
     seg.add(&[t_cap], 1, Rows { x: &xc, u: &uc, s: &sc, tau: &zn, bw: &[0.0; 6], w: &[0.0; 6] }, kind != "point");
-    if spec.orbit.is_some() {
+    if spec.in_orbit.orbit.is_some() {
         seg.gw.extend_from_slice(&[0.0; 6]);
     }
 
@@ -506,7 +506,7 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
             }
         }
         let t: Vec<f64> = r.t[1..].iter().map(|tj| t_cap + tj).collect();
-        if spec.orbit.is_some() {
+        if spec.in_orbit.orbit.is_some() {
             let mut gw = r.gravity_wrench.clone().unwrap_or_else(|| vec![0.0; 6 * kr]);
             if tidal && payload_body.is_none() {
                 for (a, b) in gw.iter_mut().zip(&gw_target) {
@@ -543,7 +543,7 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
 
     // ---- the ledger -----------------------------------------------------------------------------
     let mut ledger = ledger(robot, plant, target, &seg.x, &seg.u, &seg.s, &seg.combined)?;
-    let orbit = match spec.orbit {
+    let orbit = match spec.in_orbit.orbit {
         Some(o) => Some(orbit_balance(robot, plant, &o, &seg, &mut ledger)?),
         None => None,
     };

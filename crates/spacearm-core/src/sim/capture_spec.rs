@@ -12,7 +12,7 @@ use crate::error::{Result, SpacearmError};
 use crate::model::joint::JointType;
 use crate::model::{Data, Model};
 use crate::scenario::modes::Mode;
-use crate::scenario::orbit::Orbit;
+use crate::sim::options::RunOrbit;
 
 /// The most samples a capture may record over its phases (`(approach + soft + post + detumble
 /// time) / dt`): more is refused before anything runs.
@@ -163,13 +163,10 @@ pub struct CaptureSpec {
     /// Rates below which the system counts as detumbled, rad/s.
     #[serde(default = "rate_tolerance")]
     pub rate_tolerance: f64,
-    /// The orbit of the run (docs/orbit.md, "Capture in orbit"): the states are relative to its
-    /// point at time 0, ECI axes; absent: empty space.
-    #[serde(default)]
-    pub orbit: Option<Orbit>,
-    /// Whether gravity's tidal part acts (with `orbit`; absent: yes).
-    #[serde(default)]
-    pub gravity_gradient: Option<bool>,
+    /// The orbit of the run and whether gravity's tidal part acts (docs/orbit.md, "Capture in
+    /// orbit"; the keys `orbit` and `gravity_gradient`, as a run's).
+    #[serde(flatten)]
+    pub in_orbit: RunOrbit,
 }
 
 /// `v` formatted as Python's `format(v, ".{precision}g")` (the messages the Python door wrote).
@@ -223,7 +220,7 @@ fn arg(msg: String) -> SpacearmError {
 impl CaptureSpec {
     /// Whether the tidal wrenches act: in orbit, unless `gravity_gradient` is false.
     pub fn tidal(&self) -> bool {
-        self.orbit.is_some() && self.gravity_gradient != Some(false)
+        self.in_orbit.tidal()
     }
 
     /// The mode.
@@ -258,15 +255,8 @@ impl CaptureSpec {
                 self.kind
             )));
         }
-        match &self.orbit {
-            None if self.gravity_gradient == Some(true) => return Err(arg("gravity_gradient=True needs an orbit (orbit=spacearm.Orbit...)".into())),
-            Some(o) => {
-                Orbit::from_state(o.body, o.r0, o.v0, o.j2)?;
-                if self.kind == "soft" {
-                    return Err(arg("kind='soft' is not implemented in orbit (the core's soft-capture plant runs in empty space); use kind='rigid' or kind='point' with orbit=".into()));
-                }
-            }
-            None => {}
+        if self.in_orbit.options()?.is_some() && self.kind == "soft" {
+            return Err(arg("kind='soft' is not implemented in orbit (the core's soft-capture plant runs in empty space); use kind='rigid' or kind='point' with orbit=".into()));
         }
         for (k, v) in [("rtol", self.rtol), ("time_constant", self.time_constant), ("rate_tolerance", self.rate_tolerance)] {
             if !(v.is_finite() && v > 0.0) {

@@ -186,16 +186,46 @@ pub struct RunSpec {
     pub joint_limits: bool,
     /// DOPRI5: the most steps attempted.
     pub max_steps: usize,
-    /// The orbit of the run's origin; absent: empty space.
-    pub orbit: Option<Orbit>,
-    /// In orbit: whether the tidal wrenches act (absent: yes); `true` without an orbit is refused.
-    pub gravity_gradient: Option<bool>,
+    /// The orbit of the run's origin and whether its tidal wrenches act (the keys `orbit` and
+    /// `gravity_gradient`).
+    #[serde(flatten)]
+    pub in_orbit: RunOrbit,
     /// Conditions that stop the run early ([`crate::sim::stop`]).
     pub stop: Vec<StopCondition>,
     /// The control law; absent: zero torques.
     pub controller: Option<ControllerSpec>,
     /// Compliant contact between bodies of the system ([`ContactSpec`]); absent: none.
     pub contact: Option<ContactSpec>,
+}
+
+/// The orbit of a run as data (docs/orbit.md), the part of a run's description that
+/// [`RunSpec`] and a capture's ([`crate::sim::capture_spec::CaptureSpec`]) share (flattened into
+/// each: the keys `orbit` and `gravity_gradient`), with its one check ([`RunOrbit::options`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct RunOrbit {
+    /// The orbit of the run's origin (the states are relative to its point at time 0, ECI
+    /// axes); absent: empty space.
+    pub orbit: Option<Orbit>,
+    /// In orbit: whether the tidal wrenches act (absent: yes); `true` without an orbit is refused.
+    pub gravity_gradient: Option<bool>,
+}
+
+impl RunOrbit {
+    /// The checked orbit options (`None`: empty space). Data from a file is checked as
+    /// `Orbit::from_state` checks a made orbit (a bound state).
+    pub fn options(&self) -> Result<Option<OrbitOptions>> {
+        match (self.orbit, self.gravity_gradient) {
+            (Some(o), gg) => Ok(Some(OrbitOptions { orbit: Orbit::from_state(o.body, o.r0, o.v0, o.j2)?, gravity_gradient: gg.unwrap_or(true) })),
+            (None, Some(true)) => Err(SpacearmError::argument("gravity_gradient = true needs an orbit (orbit=spacearm.Orbit...)")),
+            (None, _) => Ok(None),
+        }
+    }
+
+    /// Whether the tidal wrenches act: in orbit, unless `gravity_gradient` is false.
+    pub fn tidal(&self) -> bool {
+        self.orbit.is_some() && self.gravity_gradient != Some(false)
+    }
 }
 
 impl Default for RunSpec {
@@ -212,8 +242,7 @@ impl Default for RunSpec {
             thrusters: None,
             joint_limits: d.joint_limits,
             max_steps: d.max_steps,
-            orbit: None,
-            gravity_gradient: None,
+            in_orbit: RunOrbit::default(),
             stop: d.stop,
             controller: None,
             contact: None,
@@ -225,12 +254,7 @@ impl RunSpec {
     /// The checked options of a run of `duration` seconds ([`SimOptions::validate`], the thruster
     /// limits', the controller spec's own checks that need no plant).
     pub fn options(&self, duration: f64) -> Result<SimOptions> {
-        let orbit = match (self.orbit, self.gravity_gradient) {
-            // Data from a file is checked as Orbit::from_state checks a made orbit (a bound state).
-            (Some(o), gg) => Some(OrbitOptions { orbit: Orbit::from_state(o.body, o.r0, o.v0, o.j2)?, gravity_gradient: gg.unwrap_or(true) }),
-            (None, Some(true)) => return Err(SpacearmError::argument("gravity_gradient = true needs an orbit (orbit=spacearm.Orbit...)")),
-            (None, _) => None,
-        };
+        let orbit = self.in_orbit.options()?;
         let options = SimOptions {
             mode: self.mode,
             integrator: self.integrator,
@@ -276,6 +300,29 @@ mod tests {
         // Written and read back, the description is the same.
         let back: RunSpec = toml::from_str(&toml::to_string(&spec).unwrap()).unwrap();
         assert_eq!(back, spec);
+    }
+
+    /// The orbit keys are top-level keys of a run's and of a capture's description (one
+    /// [`RunOrbit`] flattened into each), checked by the one rule.
+    #[test]
+    fn the_orbit_keys_are_flat_and_checked_once_for_runs_and_captures() {
+        use crate::scenario::orbit::EARTH;
+        use crate::sim::capture_spec::CaptureSpec;
+        let orbit = Orbit::circular(EARTH, 500e3, 0.3, 0.0, 0.0, false).unwrap();
+        let spec = RunSpec { in_orbit: RunOrbit { orbit: Some(orbit), gravity_gradient: Some(false) }, ..RunSpec::default() };
+        let text = toml::to_string(&spec).unwrap();
+        assert!(text.contains("gravity_gradient = false") && text.contains("[orbit]"), "{text}");
+        assert_eq!(toml::from_str::<RunSpec>(&text).unwrap(), spec);
+        let o = spec.options(1.0).unwrap().orbit.unwrap();
+        assert_eq!((o.orbit, o.gravity_gradient), (orbit, false));
+        assert!(!spec.in_orbit.tidal() && RunOrbit { orbit: Some(orbit), gravity_gradient: None }.tidal());
+        let target = "target_state = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.2]\n";
+        let capture: CaptureSpec = toml::from_str(&format!("{target}{}", toml::to_string(&spec.in_orbit).unwrap())).unwrap();
+        assert_eq!(capture.in_orbit, spec.in_orbit);
+        let capture: CaptureSpec = toml::from_str(&format!("{target}gravity_gradient = true")).unwrap();
+        assert!(capture.validate().unwrap_err().to_string().contains("gravity_gradient = true needs an orbit"));
+        let err = toml::from_str::<CaptureSpec>(&format!("{target}orbitt = 1.0")).unwrap_err().to_string();
+        assert!(err.contains("unknown field `orbitt`"), "{err}");
     }
 
     #[test]
