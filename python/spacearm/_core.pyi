@@ -995,7 +995,11 @@ class RunOptions:
         orbit: Optional[Orbit] = None,
         gravity_gradient: Optional[bool] = None,
         stop: Optional[Sequence[_SpecData]] = None,
+        contact: Optional[_SpecData] = None,
     ) -> RunOptions: ...
+    @property
+    def contact(self) -> Optional[_SpecData]:
+        """The run's contact as data (sim/contact.rs ContactSpec), or None."""
     @property
     def orbit(self) -> Optional[Orbit]: ...
     @property
@@ -1127,6 +1131,9 @@ class RunRecords:
     r_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM in ECI, m (float64)
     v_cm_eci: Optional[_Record]             # (K, 3) orbital runs: system CM velocity in ECI, m/s (float64)
     gravity_wrench: Optional[_Record]       # (K, 6) orbital runs: total tidal [force; torque about the origin], N, N·m
+    contact_count: Optional[_Record]        # (K,) with contact: contacts touching or interpenetrating
+    contact_normal_force: Optional[_Record] # (K,) with contact: sum of the normal forces, N
+    contact_work: Optional[_Record]         # (K,) with contact: work of the contact forces since t = 0, J
 
 @final
 class RunEvents:

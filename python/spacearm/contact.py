@@ -5,19 +5,60 @@
 interpenetrate or come within ``margin`` of each other. The narrow phase is the core's, on
 parry (the rapier project's collision crate): the contact points on both surfaces, the unit
 normal from the first shape to the second and the signed distance (negative: the depth of
-interpenetration). This is collision *detection*; contact forces, impulses and topology events
-are not built yet (docs/contact.md, "What is not handled").
+interpenetration).
+
+[`ContactModel`][spacearm.contact.ContactModel] is the compliant contact of a run:
+``spacearm.simulate(robot, T, contact=ContactModel(stiffness=..., damping=..., friction=...,
+pairs=[Pair("base", "hand")]))`` — a spring–dashpot normal force (Kelvin–Voigt or Hunt–Crossley)
+with regularized Coulomb friction between the system's bodies, computed in the core at every
+evaluation of the dynamics (docs/contact.md, "Contact dynamics"). Rigid (complementarity)
+contact, impulses at contact and topology events are not built yet (docs/contact.md, "What is
+not handled").
 """
 
 from __future__ import annotations
 
-from typing import Optional, Sequence
+import dataclasses
+from typing import NamedTuple, Optional, Sequence
 
 from . import _core
 from ._util.arrays import number
 from .errors import SpacearmTypeError
 
-__all__ = ["contacts", "Contact"]
+__all__ = ["contacts", "Contact", "ContactModel", "Pair"]
+
+
+class Pair(NamedTuple):
+    """Two bodies (every collision shape of each) or collision geometries that may touch, by name."""
+
+    a: str
+    b: str
+
+
+@dataclasses.dataclass(frozen=True)
+class ContactModel:
+    """Compliant contact between bodies of the simulated system (the core's ``ContactSpec``,
+    sim/contact.rs; every value is checked there). For each pair of collision shapes in
+    interpenetration by ``δ`` at depth rate ``δ̇``:
+
+    - ``law="kelvin_voigt"``: ``f_n = k δ^p + d δ̇`` (``damping`` is ``d``, N·s/m);
+      ``law="hunt_crossley"``: ``f_n = k δ^p (1 + c δ̇)`` (``damping`` is ``c``, s/m);
+      clamped at zero (no pull);
+    - friction ``f_t = −μ f_n v_t / sqrt(|v_t|² + ε²)`` (``friction`` μ, ``slip_velocity`` ε).
+
+    ``pairs``: a list of [`Pair`][spacearm.contact.Pair] (or 2-tuples) of body or collision
+    geometry names; ``None``: every pair of bodies but a body and its parent. ``margin`` (m):
+    the detection margin (a force needs interpenetration).
+    """
+
+    stiffness: float
+    damping: float = 0.0
+    friction: float = 0.0
+    exponent: float = 1.0
+    law: str = "kelvin_voigt"
+    slip_velocity: float = 1e-3
+    margin: float = 0.0
+    pairs: Optional[Sequence[Sequence[str]]] = None
 
 #: A contact between two collision shapes at one state (the binding's class): ``geometries`` and
 #: ``bodies`` (names, first and second shape), ``point_a``, ``point_b`` (3,) the closest or

@@ -42,6 +42,9 @@ pub enum Record {
     RCmEci,
     VCmEci,
     GravityWrench,
+    ContactCount,
+    ContactNormalForce,
+    ContactWork,
 }
 
 impl Record {
@@ -76,6 +79,9 @@ impl Record {
             Record::RCmEci => "r_cm_eci",
             Record::VCmEci => "v_cm_eci",
             Record::GravityWrench => "gravity_wrench",
+            Record::ContactCount => "contact_count",
+            Record::ContactNormalForce => "contact_normal_force",
+            Record::ContactWork => "contact_work",
         }
     }
 
@@ -154,6 +160,11 @@ pub fn take_fields(res: &mut SimResult, nx: usize, nu: usize, n: usize) -> Vec<F
         out.push(f(Record::RCmEci, rc, 3, false));
         out.push(f(Record::VCmEci, vc, 3, false));
         out.push(f(Record::GravityWrench, gw, 6, false));
+    }
+    if let (Some(c), Some(n), Some(w)) = (r.contact_count.take(), r.contact_normal_force.take(), r.contact_work.take()) {
+        out.push(f(Record::ContactCount, c, 1, true));
+        out.push(f(Record::ContactNormalForce, n, 1, true));
+        out.push(f(Record::ContactWork, w, 1, true));
     }
     out
 }
@@ -279,6 +290,16 @@ pub struct PyRunRecords {
     /// `(K, 6)` an orbital run's total tidal wrench `[force; torque about the origin]` in 𝒥 (N, N·m), or None.
     #[pyo3(get)]
     gravity_wrench: Option<Array>,
+    /// `(K,)` with contact: the number of contacts in interpenetration, or None.
+    #[pyo3(get)]
+    contact_count: Option<Array>,
+    /// `(K,)` with contact: the sum of the contacts' normal forces, N, or None.
+    #[pyo3(get)]
+    contact_normal_force: Option<Array>,
+    /// `(K,)` with contact: the work of the contact forces on the system since t = 0 (their
+    /// power integrated with the motion), J, or None.
+    #[pyo3(get)]
+    contact_work: Option<Array>,
     /// The records made, in the order of [`take_fields`].
     made: Vec<Record>,
 }
@@ -318,6 +339,9 @@ impl PyRunRecords {
                 Record::RCmEci => &mut r.r_cm_eci,
                 Record::VCmEci => &mut r.v_cm_eci,
                 Record::GravityWrench => &mut r.gravity_wrench,
+                Record::ContactCount => &mut r.contact_count,
+                Record::ContactNormalForce => &mut r.contact_normal_force,
+                Record::ContactWork => &mut r.contact_work,
             };
             *slot = Some(array.cast_into::<PyUntypedArray>()?.unbind());
             r.made.push(record);

@@ -165,7 +165,7 @@ impl PyRunOptions {
     /// Every keyword is optional; None keeps the core's default.
     #[new]
     #[pyo3(signature = (*, mode=None, integrator=None, dt=None, rtol=None, atol=None, record_every=None, wheels=None, thrusters=None,
-                        joint_limits=None, max_steps=None, progress=None, record_dtype=None, orbit=None, gravity_gradient=None, stop=None, **unknown))]
+                        joint_limits=None, max_steps=None, progress=None, record_dtype=None, orbit=None, gravity_gradient=None, stop=None, contact=None, **unknown))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -184,6 +184,7 @@ impl PyRunOptions {
         orbit: Option<&Bound<'_, PyAny>>,
         gravity_gradient: Option<&Bound<'_, PyAny>>,
         stop: Option<&Bound<'_, PyAny>>,
+        contact: Option<&Bound<'_, PyAny>>,
         unknown: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         refuse_unknown::<Self>(py, unknown)?;
@@ -194,7 +195,7 @@ impl PyRunOptions {
         let given = [
             ("mode", mode), ("integrator", integrator), ("dt", dt), ("rtol", rtol), ("atol", atol), ("record_every", record_every),
             ("wheels", wheels), ("thrusters", thrusters), ("joint_limits", joint_limits), ("max_steps", max_steps), ("orbit", orbit),
-            ("gravity_gradient", gravity_gradient), ("stop", stop),
+            ("gravity_gradient", gravity_gradient), ("stop", stop), ("contact", contact),
         ];
         for (key, value) in given {
             if let Some(v) = value {
@@ -230,6 +231,15 @@ impl PyRunOptions {
     #[getter]
     fn stop<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         crate::controller_spec_py::to_data(py, &self.sim.stop)
+    }
+
+    /// The contact of the run as data (sim/contact.rs ContactSpec), or None.
+    #[getter]
+    fn contact<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        match &self.sim.contact {
+            Some(c) => crate::controller_spec_py::to_data(py, c),
+            None => Ok(py.None().into_bound(py)),
+        }
     }
 
     /// The dtype of the records but the time: "float64" or "float32".

@@ -113,7 +113,7 @@ def _check_controller(controller, what: str = "controller"):
 
 
 def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, record_every, joint_limits, max_steps, record_dtype,
-             progress=None, orbit=None, gravity_gradient=None, stop=None) -> _core.RunOptions:
+             progress=None, orbit=None, gravity_gradient=None, stop=None, contact=None) -> _core.RunOptions:
     """The options of the core's simulation entry points (``_core.simulate``, ``_core.rollout``,
     ``_core.Simulator``), every value checked; ``progress``: None or a callable(fraction)."""
     if not isinstance(mode, str) or mode not in MODES:
@@ -125,6 +125,10 @@ def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, reco
     record_every, max_steps = count(record_every, "record_every"), count(max_steps, "max_steps")
     if record_dtype not in RECORD_DTYPES:
         raise ArgumentError(f"record_dtype must be one of {list(RECORD_DTYPES)}, got {record_dtype!r}")
+    from ..contact import ContactModel
+
+    if contact is not None and not isinstance(contact, ContactModel):
+        raise ArgumentError(f"contact must be a spacearm.contact.ContactModel, got {type(contact).__name__}")
     return _core.RunOptions(
         mode=mode,
         integrator=integrator,
@@ -141,6 +145,7 @@ def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, reco
         orbit=orbit,
         gravity_gradient=gravity_gradient,
         stop=stop_data(stop) if stop is not None else None,
+        contact=None if contact is None else spec_data(contact, [], "contact"),
     )
 
 
@@ -225,6 +230,7 @@ def _run(
     orbit=None,
     gravity_gradient: Optional[bool] = None,
     stop=None,
+    contact=None,
 ):
     """The simulation proper: ``(data, meta)`` dicts of numpy arrays and run description."""
     _check_robot(robot, "simulate")
@@ -232,7 +238,7 @@ def _run(
     option_args = dict(
         mode=mode, integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=wheels, thrusters=thrusters,
         record_every=record_every, joint_limits=joint_limits, max_steps=max_steps, record_dtype=record_dtype,
-        orbit=orbit, gravity_gradient=gravity_gradient, stop=stop,
+        orbit=orbit, gravity_gradient=gravity_gradient, stop=stop, contact=contact,
     )
     options = _options(robot, **option_args)
     x0 = robot.neutral_configuration() if x0 is None else vector(x0, "x0")
@@ -257,6 +263,8 @@ def _run(
     meta["robot"] = robot.name
     if orbit is not None:
         meta["orbit"] = orbit_meta(options)
+    if contact is not None:
+        meta["contact"] = options.contact
     _warn_dropped(mode, meta, stacklevel=3)
     _warn_unreachable(meta, stacklevel=3)
     _warn_passive_commanded(robot, data, meta, stacklevel=3)
@@ -285,6 +293,7 @@ def simulate(
     orbit=None,
     gravity_gradient: Optional[bool] = None,
     stop=None,
+    contact=None,
 ):
     """Simulate ``robot`` for ``duration`` seconds and return a [`Trajectory`][spacearm.Trajectory].
 
@@ -344,6 +353,12 @@ def simulate(
         event's, and ``meta["stop"]`` holds ``{"condition", "kind", "t", "value"}`` (``None``
         when the run reached ``duration``). A point controller's goal is judged only at a
         run's natural end (no "out of reach" warning after an event stop).
+    contact : spacearm.contact.ContactModel, optional
+        Compliant contact between the system's bodies (docs/contact.md, "Contact dynamics"):
+        spring–dashpot normal forces and regularized Coulomb friction at every interpenetrating
+        pair of collision shapes. Adds the records ``contact_count``, ``contact_normal_force``,
+        ``contact_work`` and ``meta["contact"]``; the energy's drift is then that of the ledger
+        ``energy − contact_work``.
 
     Returns
     -------
@@ -389,6 +404,7 @@ def simulate(
         orbit=orbit,
         gravity_gradient=gravity_gradient,
         stop=stop,
+        contact=contact,
     )
     from .trajectory import Trajectory
 

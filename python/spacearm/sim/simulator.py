@@ -53,6 +53,8 @@ class Simulator:
         ``"float64"`` or ``"float32"`` for [`trajectory`][spacearm.Simulator.trajectory]'s arrays.
     orbit, gravity_gradient
         As for [`spacearm.simulate`][spacearm.simulate] (docs/orbit.md).
+    contact : spacearm.contact.ContactModel, optional
+        As for [`spacearm.simulate`][spacearm.simulate] (docs/contact.md, "Contact dynamics").
 
     Notes
     -----
@@ -75,6 +77,7 @@ class Simulator:
         record_dtype: str = "float64",
         orbit=None,
         gravity_gradient: Optional[bool] = None,
+        contact=None,
     ):
         _check_robot(robot, "Simulator")
         _check_controller(controller)
@@ -85,7 +88,7 @@ class Simulator:
         options = _options(
             robot, mode=mode, integrator=integrator, dt=dt, rtol=DEFAULTS["rtol"], atol=DEFAULTS["atol"], wheels=wheels,
             thrusters=thrusters, record_every=1, joint_limits=joint_limits, max_steps=DEFAULTS["max_steps"], record_dtype=record_dtype,
-            orbit=orbit, gravity_gradient=gravity_gradient,
+            orbit=orbit, gravity_gradient=gravity_gradient, contact=contact,
         )
         spec = None if controller is None else controller_spec(controller)
         self._robot = robot

@@ -50,7 +50,7 @@ _REQUIRED = ("t", "x", "u")
 _PER_SAMPLE = (
     "t", "x", "u", "du", "tau", "tau_cmd", "base_wrench", "P", "L_origin", "L_com", "energy", "com",
     "ee_position", "ee_quat", "reference", "tracking_error", "link_tracking_error", "wheel_speed", "cmg_measure", "cmg_envelope_fraction",
-    "r_cm_eci", "v_cm_eci", "gravity_wrench",
+    "r_cm_eci", "v_cm_eci", "gravity_wrench", "contact_count", "contact_normal_force", "contact_work",
 )
 _EVENTS = ("saturation_t", "saturation_actuator", "saturation_kind")
 # Dtypes of a run's records adopted without conversion (a run may record float32).
@@ -455,6 +455,23 @@ class Trajectory:
         """An orbital run's total tidal wrench ``(K, 6)``: force (N) and torque about the origin
         of the run's frame (N·m), zeros with ``gravity_gradient=False``."""
         return self._get("gravity_wrench", "the run was not in orbit (simulate(..., orbit=spacearm.Orbit...))")
+
+    @property
+    def contact_count(self) -> np.ndarray:
+        """With contact: the number of contacts touching or interpenetrating ``(K,)`` (docs/contact.md)."""
+        return self._get("contact_count", "the run had no contact (simulate(..., contact=spacearm.contact.ContactModel(...)))")
+
+    @property
+    def contact_normal_force(self) -> np.ndarray:
+        """With contact: the sum of the contacts' normal forces ``(K,)``, N."""
+        return self._get("contact_normal_force", "the run had no contact (simulate(..., contact=spacearm.contact.ContactModel(...)))")
+
+    @property
+    def contact_work(self) -> np.ndarray:
+        """With contact: the work of the contact forces on the system since ``t = 0`` ``(K,)``, J
+        (their power integrated with the motion): ``energy − contact_work`` is conserved
+        where the energy is."""
+        return self._get("contact_work", "the run had no contact (simulate(..., contact=spacearm.contact.ContactModel(...)))")
 
     def attitude_lvlh(self) -> np.ndarray:
         """The base attitude relative to the LVLH frame of the system CM's orbit, ``(K, 3, 3)``

@@ -18,6 +18,8 @@ pub enum PairFilter {
     AllButAdjacent,
     /// These pairs of bodies (indices, base 0), in either order.
     Bodies(Vec<(usize, usize)>),
+    /// These pairs of geometries (indices into the model's geometries), in either order.
+    Geometries(Vec<(usize, usize)>),
 }
 
 /// A contact between two collision shapes, in the inertial frame 𝒥.
@@ -48,7 +50,19 @@ pub fn contacts(model: &Model, data: &mut Data, shapes: &CollisionShapes, x: &[f
             return Err(SpacearmError::NotFound(format!("pair ({a}, {b}): the model has bodies 0..{}", n_bodies - 1)));
         }
     }
+    if let PairFilter::Geometries(list) = pairs {
+        let n = model.geometries().len();
+        if let Some((a, b)) = list.iter().find(|(a, b)| *a >= n || *b >= n) {
+            return Err(SpacearmError::NotFound(format!("geometry pair ({a}, {b}): the model has geometries 0..{}", n.saturating_sub(1))));
+        }
+    }
     forward_kinematics(model, data, x)?;
+    contacts_after_kinematics(model, data, shapes, pairs, margin)
+}
+
+/// [`contacts`] on the kinematics already in `data` (forward kinematics done), `pairs` and
+/// `margin` checked by the caller: what the simulation's plant calls at every evaluation.
+pub(crate) fn contacts_after_kinematics(model: &Model, data: &Data, shapes: &CollisionShapes, pairs: &PairFilter, margin: f64) -> Result<Vec<Contact>> {
     let poses = body_poses(data);
     let world: Vec<Isometry3<f64>> = shapes
         .shapes
@@ -63,12 +77,17 @@ pub fn contacts(model: &Model, data: &mut Data, shapes: &CollisionShapes, x: &[f
     let admitted = |a: usize, b: usize| match pairs {
         PairFilter::AllButAdjacent => parent(a) != b && parent(b) != a,
         PairFilter::Bodies(list) => list.iter().any(|&(p, q)| (p, q) == (a, b) || (q, p) == (a, b)),
+        PairFilter::Geometries(_) => true,
+    };
+    let admitted_shapes = |g: usize, h: usize| match pairs {
+        PairFilter::Geometries(list) => list.iter().any(|&(p, q)| (p, q) == (g, h) || (q, p) == (g, h)),
+        _ => true,
     };
     let mut out = Vec::new();
     for i in 0..shapes.shapes.len() {
         for j in i + 1..shapes.shapes.len() {
             let (s1, s2) = (&shapes.shapes[i], &shapes.shapes[j]);
-            if s1.body == s2.body || !admitted(s1.body, s2.body) {
+            if s1.body == s2.body || !admitted(s1.body, s2.body) || !admitted_shapes(s1.geometry, s2.geometry) {
                 continue;
             }
             let found = parry3d_f64::query::contact(&world[i], s1.shape.as_ref(), &world[j], s2.shape.as_ref(), margin).map_err(|_| {

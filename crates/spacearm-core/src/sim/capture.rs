@@ -179,6 +179,7 @@ fn phase_options(mode: Mode, duration: f64, dt: f64, rtol: f64, stop: Vec<StopCo
         max_steps: DEFAULT_MAX_STEPS,
         orbit,
         stop,
+        contact: None,
     }
 }
 

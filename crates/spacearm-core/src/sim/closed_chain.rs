@@ -40,6 +40,7 @@ pub fn simulate_closed_chain(
     progress: Progress<'_>,
 ) -> Result<SimResult> {
     opts.validate()?;
+    opts.refuse_contact("a closed-chain run")?;
     check_initial_state(model, x0, u0)?;
     if !(stabilization.is_finite() && stabilization >= 0.0) {
         return Err(SpacearmError::argument(format!("stabilization must be finite and >= 0, got {stabilization}")));

@@ -12,6 +12,7 @@ use crate::math::integrate::IntegratorKind;
 use crate::scenario::actuators::ThrusterLimits;
 use crate::scenario::modes::Mode;
 use crate::scenario::orbit::Orbit;
+use crate::sim::contact::ContactSpec;
 use crate::sim::stop::StopCondition;
 
 /// Options of a simulation.
@@ -46,6 +47,8 @@ pub struct SimOptions {
     /// by [`simulate`](crate::sim::simulate::simulate) (both integrators); the entry points that stack equal-length runs or step
     /// a plant refuse them ([`SimOptions::refuse_stop`]).
     pub stop: Vec<StopCondition>,
+    /// Compliant contact between the system's bodies ([`crate::sim::contact`]); `None`: none.
+    pub contact: Option<ContactSpec>,
 }
 
 /// A run in orbit (docs/orbit.md): the origin of 𝒥 is the orbit's point `O`, propagated on its
@@ -84,6 +87,7 @@ impl Default for SimOptions {
             max_steps: DEFAULT_MAX_STEPS,
             orbit: None,
             stop: Vec::new(),
+            contact: None,
         }
     }
 }
@@ -113,7 +117,19 @@ impl SimOptions {
         if self.max_steps == 0 {
             return arg(format!("max_steps must be an integer >= 1, got {}", self.max_steps));
         }
-        crate::sim::stop::validate(&self.stop)
+        crate::sim::stop::validate(&self.stop)?;
+        if let Some(c) = &self.contact {
+            c.validate()?;
+        }
+        Ok(())
+    }
+
+    /// Refuse contact where `entry` (a run whose state is not one plant's) cannot honour it.
+    pub fn refuse_contact(&self, entry: &str) -> Result<()> {
+        if self.contact.is_none() {
+            return Ok(());
+        }
+        Err(SpacearmError::argument(format!("{entry} does not take contact yet (docs/contact.md, \"What is not handled\"): use simulate for a run with contact=")))
     }
 
     /// Refuse stop conditions where `entry` (a run that is not [`simulate`](crate::sim::simulate::simulate)'s) cannot honour them.
@@ -178,6 +194,8 @@ pub struct RunSpec {
     pub stop: Vec<StopCondition>,
     /// The control law; absent: zero torques.
     pub controller: Option<ControllerSpec>,
+    /// Compliant contact between bodies of the system ([`ContactSpec`]); absent: none.
+    pub contact: Option<ContactSpec>,
 }
 
 /// The orbit of a run as data (docs/orbit.md), the part of a run's description that
@@ -227,6 +245,7 @@ impl Default for RunSpec {
             in_orbit: RunOrbit::default(),
             stop: d.stop,
             controller: None,
+            contact: None,
         }
     }
 }
@@ -250,6 +269,7 @@ impl RunSpec {
             max_steps: self.max_steps,
             orbit,
             stop: self.stop.clone(),
+            contact: self.contact.clone(),
         };
         options.validate()?;
         if let Some(c) = &self.controller {

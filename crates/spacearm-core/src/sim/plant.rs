@@ -20,6 +20,7 @@ use crate::model::Model;
 use crate::scenario::actuators::{check_wheels, detect_reaction_wheels, Actuators};
 use crate::scenario::modes::Mode;
 use crate::scenario::orbit::{gravity_gradient_tensor, tidal_wrenches_into, OrbitTrack};
+use crate::sim::contact::PlantContact;
 use crate::sim::options::SimOptions;
 
 /// The plant as an ODE `ẏ = f(t, y)` for the integrators: model, mode, actuators and controller
@@ -62,8 +63,11 @@ pub struct Plant<'a> {
     pub(crate) orbit_state: (Vector3<f64>, Vector3<f64>),
     /// The total tidal wrench of the last evaluation, `[force; torque about O]`.
     pub(crate) gravity_wrench: Vector6<f64>,
-    /// The wrenches of the last evaluation: [`Plant::set_body_wrenches`]'s and the tidal ones.
+    /// The wrenches of the last evaluation: [`Plant::set_body_wrenches`]'s, the tidal ones and
+    /// the contacts'.
     wrench_buf: Vec<ExternalWrench>,
+    /// Compliant contact between the system's bodies ([`crate::sim::contact`]); `None`: none.
+    pub(crate) contact: Option<Box<PlantContact>>,
 }
 
 impl<'a> Plant<'a> {
@@ -99,7 +103,9 @@ impl<'a> Plant<'a> {
             None => None,
         };
         let orbit_state = opts.orbit.map(|o| (o.orbit.r0, o.orbit.v0)).unwrap_or_default();
+        let contact = opts.contact.as_ref().map(|c| PlantContact::new(&model, c).map(Box::new)).transpose()?;
         Ok(Plant {
+            contact,
             data: Data::new(&model),
             nx: model.nx(),
             model,
@@ -249,7 +255,8 @@ impl Plant<'_> {
 
 impl OdeSystem for Plant<'_> {
     fn dim(&self) -> usize {
-        self.nx + self.model.nu()
+        // With contact, one more: the work of the contact forces, integrated with the motion.
+        self.nx + self.model.nu() + usize::from(self.contact.is_some())
     }
 
     fn project(&self, y: &mut [f64]) {
@@ -272,16 +279,29 @@ impl OdeSystem for Plant<'_> {
             )));
         }
         let (x, u) = y.split_at(self.nx);
+        let u = &u[..self.model.nu()];
         self.apply_command(t, x, u)?;
         self.f[..6].copy_from_slice(self.wrench_applied.as_slice());
         self.f[6..].copy_from_slice(&self.tau_applied);
         let tidal = self.tidal_wrenches(t)?;
+        // Contact: its pairs of wrenches join the others in the buffer (sim/contact.rs).
+        let contact = self.contact.is_some();
+        if let Some(c) = &mut self.contact {
+            if !tidal {
+                self.wrench_buf.clear();
+                self.wrench_buf.extend_from_slice(&self.body_wrenches);
+            }
+            c.wrenches_into(&self.model, &mut self.data, u, &mut self.wrench_buf)?;
+        }
         if let Some(c) = &mut self.closure {
             if tidal {
                 return Err(SpacearmError::argument("a closed chain in orbit with the gravity gradient is not implemented yet (use gravity_gradient=False)"));
             }
+            if contact {
+                return Err(SpacearmError::argument("contact in a closed chain is not implemented yet (leave contact out of a closed-chain run)"));
+            }
             c.evaluate(&self.model, &mut self.data, x, u, &self.f)?;
-        } else if tidal {
+        } else if tidal || contact {
             aba_with_wrenches_after_kinematics(&self.model, &mut self.data, &x[7..], u, &self.f, &self.wrench_buf)?;
         } else if self.body_wrenches.is_empty() {
             aba_after_kinematics(&self.model, &mut self.data, &x[7..], u, &self.f)?;
@@ -292,7 +312,11 @@ impl OdeSystem for Plant<'_> {
         dy[0..3].copy_from_slice(&u[0..3]);
         dy[3..7].copy_from_slice(&quaternion_rate(&x[3..7], &Vector3::new(u[3], u[4], u[5])));
         dy[7..self.nx].copy_from_slice(&u[6..]);
-        dy[self.nx..].copy_from_slice(self.data.accel.as_slice());
+        let nu = self.model.nu();
+        dy[self.nx..self.nx + nu].copy_from_slice(self.data.accel.as_slice());
+        if let Some(c) = &self.contact {
+            dy[self.nx + nu] = c.power;
+        }
         for (s, e) in self.flags_step.iter_mut().zip(&self.flags_eval) {
             *s |= *e;
         }

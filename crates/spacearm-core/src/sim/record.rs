@@ -74,6 +74,11 @@ impl Recorder {
             rec.rec.gravity_wrench = Some(Vec::with_capacity(6 * capacity));
             rec.balance = plant.has_gravity_gradient();
         }
+        if plant.contact.is_some() {
+            rec.rec.contact_count = Some(Vec::with_capacity(capacity));
+            rec.rec.contact_normal_force = Some(Vec::with_capacity(capacity));
+            rec.rec.contact_work = Some(Vec::with_capacity(capacity));
+        }
         rec
     }
 
@@ -81,7 +86,7 @@ impl Recorder {
     pub(crate) fn values_per_sample_of(plant: &Plant<'_>) -> usize {
         let c = &plant.controller;
         let closure = if plant.closure.is_some() { 12 } else { 0 };
-        let orbit = if plant.orbit.is_some() { 12 } else { 0 };
+        let orbit = if plant.orbit.is_some() { 12 } else { 0 } + if plant.contact.is_some() { 3 } else { 0 };
         let link = usize::from(!Recorder::link_joints(plant).is_empty());
         let cmg = if Recorder::base_cmgs(plant.model()).is_empty() { 0 } else { 2 };
         let solve = if c.reports_solve() { 4 } else { 0 };
@@ -167,6 +172,9 @@ impl Recorder {
                 r_cm_eci: None,
                 v_cm_eci: None,
                 gravity_wrench: None,
+                contact_count: None,
+                contact_normal_force: None,
+                contact_work: None,
             },
             balance: false,
             ee,
@@ -188,8 +196,9 @@ impl Recorder {
         r.n_samples += 1;
         r.t.push(t);
         r.x.extend_from_slice(&y[..nx]);
-        r.u.extend_from_slice(&y[nx..]);
-        r.du.extend_from_slice(&dy[nx..]);
+        let nu = model.nu();
+        r.u.extend_from_slice(&y[nx..nx + nu]);
+        r.du.extend_from_slice(&dy[nx..nx + nu]);
         r.tau.extend_from_slice(&plant.tau_applied);
         r.tau_cmd.extend_from_slice(&plant.cmd.tau);
         r.base_wrench.extend_from_slice(plant.wrench_applied.as_slice());
@@ -262,6 +271,12 @@ impl Recorder {
             vc.extend_from_slice((vo + momentum.linear / model.total_mass()).as_slice());
             gw.extend_from_slice(if plant.has_gravity_gradient() { plant.gravity_wrench.as_slice() } else { &[0.0; 6] });
         }
+        if let (Some(c), Some(count), Some(fn_), Some(work)) = (&plant.contact, r.contact_count.as_mut(), r.contact_normal_force.as_mut(), r.contact_work.as_mut()) {
+            // The work: the state's last entry, the contact power integrated with the motion.
+            count.push(c.count as f64);
+            fn_.push(c.normal_force);
+            work.push(y[nx + nu]);
+        }
     }
 
     /// The scale of a conserved quantity's drift: the running maximum of its magnitude scale.
@@ -289,7 +304,11 @@ impl Recorder {
                     Conserved::LinearMomentum => conserved_drift(&r.linear_momentum, 3, self.scale(c)),
                     Conserved::AngularMomentumOrigin => conserved_drift(&r.angular_momentum_origin, 3, self.scale(c)),
                     Conserved::AngularMomentumCom => conserved_drift(&r.angular_momentum_com, 3, self.scale(c)),
-                    Conserved::Energy => conserved_drift(&r.energy, 1, self.scale(c)),
+                    Conserved::Energy => match &r.contact_work {
+                        // With contact the ledger energy − contact work is what is conserved.
+                        Some(w) => conserved_drift(&r.energy.iter().zip(w).map(|(e, w)| e - w).collect::<Vec<_>>(), 1, self.scale(c)),
+                        None => conserved_drift(&r.energy, 1, self.scale(c)),
+                    },
                 };
                 (c, d)
             })

@@ -88,6 +88,16 @@ pub struct Records {
     /// An orbital run's total tidal wrench `[Σ fᵢ; Σ (ρᵢ × fᵢ + Nᵢ)]` (the torque about `O`),
     /// N and N·m (width 6; zeros without the gravity gradient).
     pub gravity_wrench: Option<Vec<f64>>,
+    /// With contact ([`crate::sim::contact`]): the number of contacts in interpenetration
+    /// (width 1).
+    pub contact_count: Option<Vec<f64>>,
+    /// With contact: the sum of their normal forces `Σ f_n`, N (width 1).
+    pub contact_normal_force: Option<Vec<f64>>,
+    /// With contact: the work done on the system by the contact forces since `t = 0`, J: their
+    /// power `Σ f · (v₂ − v₁)` integrated by the run's integrator with the motion (one more
+    /// entry of the ODE's state; width 1). The energy ledger `energy − contact_work` is then
+    /// what is conserved (its drift is the energy's).
+    pub contact_work: Option<Vec<f64>>,
     /// A closed chain's constraint wrench `λ` on frame b at its origin, `[force; torque]` in 𝒥
     /// (width 6; [`crate::sim::closed_chain`]).
     pub constraint_wrench: Option<Vec<f64>>,

@@ -116,7 +116,7 @@ fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, gap
     let n_steps = rk4_step_count(opts);
     let mut stepper = Rk4Stepper::new(plant, x0, u0, Some((sample_count(opts), opts.record_every)))?;
     // A step longer than the fastest mode allows is refused before the first step.
-    let y0 = stepper.state().to_vec();
+    let y0 = stepper.full_state().to_vec();
     crate::sim::step_limit::check_rk4_step(stepper.plant_mut(), 0.0, &y0, opts.dt.min(opts.duration))?;
     let progress_every = opts.duration / 1000.0;
     let mut next_progress = 0.0;
@@ -140,11 +140,11 @@ fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, gap
         }
         let t_next = if i + 1 == n_steps { opts.duration } else { (i + 1) as f64 * opts.dt };
         if gaps.is_some() {
-            y_prev.copy_from_slice(stepper.state());
+            y_prev.copy_from_slice(stepper.full_state());
         }
         stepper.step_to(t_next)?;
         if let Some(w) = gaps {
-            y_try.copy_from_slice(stepper.state());
+            y_try.copy_from_slice(stepper.full_state());
             let plant = stepper.plant_mut();
             plant.rhs(t_next, &y_try, &mut dy)?;
             let g_start = g_prev.clone();
@@ -172,7 +172,7 @@ fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, gap
                     y_try.copy_from_slice(&y_prev);
                     rk.step(&mut *plant, t_prev, t_s - t_prev, &mut y_try, false)?;
                 } else {
-                    y_try.copy_from_slice(stepper.state());
+                    y_try.copy_from_slice(stepper.full_state());
                 }
                 stepper.land(t_s, &y_try);
                 stop = Some(StopEvent { condition, t: t_s, value: g_s + w.tolerance(condition) });
@@ -192,7 +192,8 @@ fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, gap
 
 /// The DOPRI5 run of one plant: [`dopri5_loop`] over the plant, its recorder recording.
 fn simulate_dopri5(mut plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, gaps: Option<&StopWatch>, progress: Progress<'_>) -> Result<SimResult> {
-    let mut y: Vec<f64> = x0.iter().chain(u0).copied().collect();
+    // With contact the state has one more entry, the contact work (0 at the start).
+    let mut y: Vec<f64> = x0.iter().chain(u0).copied().chain(plant.contact.as_ref().map(|_| 0.0)).collect();
     plant.project(&mut y);
     let mut rec = Recorder::for_plant(&plant, sample_count(opts));
     let words = DopriWords {

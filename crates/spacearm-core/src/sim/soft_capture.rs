@@ -302,6 +302,7 @@ pub fn soft_capture(
 ) -> Result<SoftCaptureResult> {
     opts.validate()?;
     opts.refuse_stop("soft_capture")?;
+    opts.refuse_contact("soft_capture")?;
     if opts.mode != Mode::Floating {
         return Err(SpacearmError::argument(format!("the soft capture runs in floating mode (no base actuation), got mode '{}'", opts.mode.name())));
     }

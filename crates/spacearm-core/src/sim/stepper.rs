@@ -7,6 +7,7 @@
 use crate::error::{Result, SpacearmError};
 use crate::math::integrate::{IntegratorKind, OdeSystem, Rk4};
 use crate::sim::record::{onsets, Recorder};
+use crate::sim::contact_onset::retake_at_onset;
 use crate::sim::plant::Plant;
 use crate::sim::record::{admit_records, finish_result};
 use crate::sim::result::{SaturationEvent, SimResult};
@@ -25,6 +26,10 @@ pub struct Rk4Stepper<'a> {
     prev_flags: Vec<u8>,
     /// Set by a failed step: the state is then that of an unfinished step.
     failed: bool,
+    /// With contact: the state at the step's start and a workspace, for the onset's location
+    /// ([`crate::sim::contact_onset`]); empty without.
+    y_start: Vec<f64>,
+    y_try: Vec<f64>,
 }
 
 impl<'a> Rk4Stepper<'a> {
@@ -36,7 +41,8 @@ impl<'a> Rk4Stepper<'a> {
         if let Some((_, 0)) = recording {
             return Err(SpacearmError::argument("record_every must be >= 1".to_string()));
         }
-        let mut y: Vec<f64> = x0.iter().chain(u0).copied().collect();
+        // With contact the state has one more entry, the contact work (0 at the start).
+        let mut y: Vec<f64> = x0.iter().chain(u0).copied().chain(plant.contact.as_ref().map(|_| 0.0)).collect();
         plant.project(&mut y);
         let dim = y.len();
         let n = plant.model().n_dof();
@@ -55,6 +61,8 @@ impl<'a> Rk4Stepper<'a> {
             events: Vec::new(),
             prev_flags: vec![0; n + 6],
             failed: false,
+            y_start: if plant.contact.is_some() { vec![0.0; dim] } else { Vec::new() },
+            y_try: if plant.contact.is_some() { vec![0.0; dim] } else { Vec::new() },
             plant,
         })
     }
@@ -86,7 +94,15 @@ impl<'a> Rk4Stepper<'a> {
                     rec.record(&self.plant, t, &self.y, self.rk.k1());
                 }
             }
-            self.rk.step(&mut self.plant, t, t_next - t, &mut self.y, record_now)
+            let contact = !self.y_start.is_empty();
+            if contact {
+                self.y_start.copy_from_slice(&self.y);
+            }
+            self.rk.step(&mut self.plant, t, t_next - t, &mut self.y, record_now)?;
+            if contact {
+                retake_at_onset(&mut self.plant, &mut self.rk, t, &self.y_start, t_next, &mut self.y, &mut self.y_try)?;
+            }
+            Ok(())
         })();
         if result.is_err() {
             self.failed = true;
@@ -112,6 +128,12 @@ impl<'a> Rk4Stepper<'a> {
 
     /// The current state `[x; u]`.
     pub fn state(&self) -> &[f64] {
+        let n = self.plant.nx + self.plant.model().nu();
+        &self.y[..n]
+    }
+
+    /// The integrator's whole state: `[x; u]`, with contact followed by the contact work.
+    pub(crate) fn full_state(&self) -> &[f64] {
         &self.y
     }
 

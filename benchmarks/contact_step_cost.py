@@ -1,0 +1,72 @@
+#!/usr/bin/env python
+"""The per-step cost of compliant contact (docs/contact.md, "Contact dynamics"): the same RK4 run
+of an arm whose tip ball sweeps into an off-centre box on its floating base, without contact,
+with contact but the pair apart (detection only: the arm folded away), and with the tip hitting
+the box (forces, friction, the located onset).
+
+Interleaved rounds; the figures are medians over ``--repeat`` rounds of the time per RK4 step
+(four evaluations of the dynamics, each with detection when contact is on) and the ratio to the
+run without contact. The machine's other load shows in the load average printed at the top.
+
+    python benchmarks/contact_step_cost.py
+    python benchmarks/contact_step_cost.py --steps 20000 --repeat 9
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+import statistics
+import time
+
+import numpy as np
+
+import spacearm
+from spacearm.contact import ContactModel
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "contact"))
+from test_contact_dynamics import arm_and_box  # noqa: E402  (the robot of the momentum test)
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--steps", type=int, default=10000)
+    p.add_argument("--repeat", type=int, default=7)
+    a = p.parse_args()
+    print(f"load average {os.getloadavg()[0]:.2f}; {a.steps} RK4 steps per run, median of {a.repeat}")
+    robot = arm_and_box()
+    dt = 1e-4
+    contact = ContactModel(stiffness=2e4, damping=30.0, friction=0.5, slip_velocity=0.01, pairs=[("base", "l2")])
+    u0 = robot.zero_velocity()
+    u0[6:] = [4.0, 1.0]
+    hit = robot.neutral_configuration()
+    hit[7:] = [0.3, 0.2]
+    away = robot.neutral_configuration()
+    away[7:] = [-1.0, 0.2]  # the tip turning about l2's axis only, clear of the box: detection, no contact
+    u_away = robot.zero_velocity()
+    u_away[7] = 4.0
+    cases = {
+        "no contact": dict(x0=hit, u0=u0, contact=None),
+        "contact, apart": dict(x0=away, u0=u_away, contact=contact),
+        "contact, hitting": dict(x0=hit, u0=u0, contact=contact),
+    }
+    times: dict = {k: [] for k in cases}
+    for _ in range(a.repeat):
+        for name, kw in cases.items():
+            t0 = time.perf_counter()
+            traj = spacearm.simulate(robot, a.steps * dt, dt=dt, record_every=100, **kw)
+            times[name].append((time.perf_counter() - t0) / a.steps)
+            if name == "contact, hitting":
+                assert traj.contact_count.max() >= 1
+            if name == "contact, apart":
+                assert traj.contact_count.max() == 0
+    base = statistics.median(times["no contact"])
+    for name, ts in times.items():
+        m = statistics.median(ts)
+        print(f"{name:18s} {m * 1e6:8.2f} µs/step   ratio {m / base:5.2f}")
+
+
+if __name__ == "__main__":
+    main()
