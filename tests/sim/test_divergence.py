@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import spacearm
+from cmg_models import pyramid_sat  # tests/ is on the path (conftest.py)
 
 
 def test_a_step_far_too_long_is_refused():
@@ -71,3 +72,22 @@ def test_a_step_the_start_allows_but_the_motion_outgrows_is_a_drift_error():
     # up; the angular momentum then drifts by more than DIVERGED_DRIFT = 0.1: refused.
     with pytest.raises(spacearm.SimulationError, match="diverged: the L_origin drifted"):
         spacearm.simulate(robot, 3.0, dt=0.1, u0=u0)
+
+
+def test_rotors_spinning_on_a_base_at_rest_are_not_a_divergence():
+    # A CMG pyramid's rotors spinning at 500 rad/s on a base at rest, free floating: P is zero
+    # from two terms per rotor that cancel (the velocity of its point at the base CM and
+    # ω × (r − r0)); measured against Σ|pᵢ| = 0 its rounding (1e-15 N·s) read as a drift of 1.0
+    # and the run was refused as diverged. The scale is now those terms' sizes.
+    robot = pyramid_sat(arm=False)
+    u0 = robot.cmg_velocity([500.0, 300.0, 400.0, 200.0])  # unequal: the cluster holds 7 N·m·s
+    traj = spacearm.simulate(robot, 0.5, dt=0.01, u0=u0)
+    P = traj["P"]
+    assert np.max(np.abs(P)) < 1e-9  # P stays zero (rounding)
+    scale = traj.meta["drift_scales"]["P"]
+    assert scale > 1.0  # 4 rotors × 3 kg × 500 rad/s × their offsets from the base CM, twice
+    assert traj.meta["drift"]["P"] < 1e-12
+    # The spinning rotors hold their momentum, constant: J_s (200 − 300, 500 − 400, 0).
+    L = traj["L_com"]
+    assert np.allclose(L[0], [-5.0, 5.0, 0.0], atol=1e-12)
+    assert np.max(np.linalg.norm(L - L[0], axis=1)) / np.linalg.norm(L[0]) < 1e-9

@@ -90,7 +90,9 @@ def test_drift_measures_planted_deviation():
             p_b = m * tw[:3]
             r, c = kin.body_to_world[b], kin.com_in_world[b]
             spin = np.linalg.norm(r @ i_body @ r.T @ tw[3:])
-            tp += np.linalg.norm(p_b)
+            # P's terms: the velocity of the body's point at the base CM, and the lever term.
+            lever = np.cross(tw[3:], c - x[0:3])
+            tp += m * (np.linalg.norm(tw[:3] - lever) + np.linalg.norm(lever))
             to += np.linalg.norm(np.cross(c, p_b)) + spin
             tc += np.linalg.norm(np.cross(c - rg, p_b)) + spin
         sp.append(tp), slo.append(to), slc.append(tc)

@@ -589,7 +589,8 @@ class Robot:
 
     def momentum_scales(self, x, u) -> np.ndarray:
         r"""The magnitudes against which the drift of the momenta and the energy is measured, per
-        state: ``(T, 4)`` columns $\sum_i \lVert p_i \rVert$, $\sum_i (\lVert r_i \times p_i \rVert + \lVert I_i \omega_i \rVert)$ about the origin, the
+        state: ``(T, 4)`` columns $\sum_i m_i (\lVert v_{0i} \rVert + \lVert \omega_i \times (r_i - r_0) \rVert)$ (the two terms of
+        $p_i$, $v_{0i}$ the velocity of body $i$'s point at the base CM), $\sum_i (\lVert r_i \times p_i \rVert + \lVert I_i \omega_i \rVert)$ about the origin, the
         same about the system CM, and the kinetic plus spring energy (sums over the bodies of their own
         contributions' norms: the core's drift scales, docs/simulation-core.md). ``x`` (T, 7+N)
         and ``u`` (T, 6+N) give ``(T, 4)``; one state, ``x`` (7+N,) and ``u`` (6+N,), gives

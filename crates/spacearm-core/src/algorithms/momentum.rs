@@ -66,13 +66,16 @@ pub fn momentum_from_data(model: &Model, data: &Data) -> Momentum {
 
 /// The magnitudes against which the drift of a conserved quantity is measured
 /// ([`conserved_drift`]): the sums over the bodies of their own contributions' norms,
-/// `Σ |pᵢ|`, `Σ (|rᵢ × pᵢ| + |Iᵢ ωᵢ|)` about the origin and about the system CM, and the
+/// `Σ mᵢ (|v_{0i}| + |ωᵢ × (rᵢ − r0)|)` (the two terms of `pᵢ`, `v_{0i}` the velocity of body i's
+/// point at the base CM `r0`: a rotor spinning about its own CM has `pᵢ = 0` from two terms that
+/// cancel, and P's rounding is relative to them), `Σ (|rᵢ × pᵢ| + |Iᵢ ωᵢ|)` about the origin and
+/// about the system CM, and the
 /// mechanical energy, kinetic plus the joint springs' (a sum of non-negative terms). A sum of norms bounds the norm of the sum and does not
 /// cancel when the total is zero, so the relative drift stays meaningful for a system at zero
 /// momentum (docs/simulation-core.md, "Records and meta").
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct MomentumScales {
-    /// `Σ |pᵢ|`, N·s.
+    /// `Σ mᵢ (|v_{0i}| + |ωᵢ × (rᵢ − r0)|)`, N·s.
     pub linear: f64,
     /// `Σ (|rᵢ × pᵢ| + |Iᵢ ωᵢ|)`, about the origin of 𝒥, N·m·s.
     pub angular_about_origin: f64,
@@ -108,9 +111,14 @@ pub fn momentum_scales_from_data(model: &Model, data: &Data) -> MomentumScales {
         s.energy += 0.5 * v.dot(&(data.spatial_inertia[b] * v));
         let w = angular(&v);
         let rb = data.com_in_world[b];
-        let p_b = (linear(&v) + w.cross(&(rb - r0))) * model.mass_properties(b).mass;
+        // pᵢ = mᵢ (v_{0i} + ωᵢ × (rᵢ − r0)), v_{0i} the velocity of body i's point at r0: the
+        // two terms cancel for a rotor spinning about its own CM (a wheel or CMG on a base at
+        // rest), and their sizes, not |pᵢ|, are what the rounding of P is relative to.
+        let m = model.mass_properties(b).mass;
+        let lever = w.cross(&(rb - r0));
+        let p_b = (linear(&v) + lever) * m;
         let spin = (data.inertia_in_world[b] * w).norm();
-        s.linear += p_b.norm();
+        s.linear += (linear(&v).norm() + lever.norm()) * m;
         s.angular_about_origin += rb.cross(&p_b).norm() + spin;
         s.angular_about_com += (rb - rg).cross(&p_b).norm() + spin;
     }
