@@ -281,3 +281,50 @@ def test_the_run_records_the_clusters_singularity_measure_and_envelope_fraction(
     assert np.ptp(traj.cmg_measure) > 0.01
     assert "cmg_measure" in [c[0] for c in traj.columns()]
     assert not spacearm.simulate(spacearm.presets.spatial6(), 0.1).has("cmg_measure")
+
+
+def test_every_singular_surface_point_is_singular_in_the_core_record_and_the_outer_one_is_the_envelope():
+    """cmg_singular_surfaces (docs/cmg.md, "The singular surfaces"): the outer surface (every
+    ε_i = +1) is cmg_envelope's; every point of every surface, set as gimbal angles on the robot,
+    has the run record's singularity measure (sim/record.rs, through control/cmg_jacobian.rs) 0 to
+    1e-10, while the same angles turned by 0.2 rad have it above 1e-5; the pyramid's internal
+    elliptic singular state δ = (−90°, 0, 90°, 0) holds H = 2h cos β x̂ on the surface ε = (+, −, +, +)."""
+    from spacearm.analysis import cmg_envelope, cmg_singular_surfaces
+
+    robot = pyramid_sat(arm=False)
+    surf = cmg_singular_surfaces(robot, wheel_speed=500.0, n=5)
+    h = J_S * 500.0
+    assert surf.points.shape == (8, 5, 11, 3) and surf.spin_axes.shape == (8, 5, 11, 4, 3)
+    np.testing.assert_array_equal(surf.negatives, [0, 1, 1, 1, 2, 2, 2, 3])
+    np.testing.assert_allclose(surf.points[0], cmg_envelope(robot, wheel_speed=500.0, n=5).points, atol=1e-12)
+    assert np.all(np.linalg.norm(surf.points[1:], axis=-1) < np.linalg.norm(surf.points[0], axis=-1) + 1e-12)
+    side = surf.points[list(map(tuple, surf.signs)).index((1, -1, 1, 1)), 2, 5]  # u = x
+    np.testing.assert_allclose(side, [2 * h * np.cos(BETA), 0, 0], atol=1e-12)
+
+    g0, s0 = pyramid_axes()
+    cmgs = list(robot.cmg_dofs.values())
+    u0 = robot.cmg_velocity(500.0)
+    # A drifting base: with P = 0 exactly, the run's drift check divides rounding by zero.
+    u0[0] = 0.01
+    rng = np.random.default_rng(3)
+    measures = []
+    for k in range(len(surf.signs)):
+        for i, j in zip(rng.integers(1, 4, 3), rng.integers(0, 11, 3)):
+            s = surf.spin_axes[k, i, j]
+            delta = np.array([np.arctan2(si @ np.cross(gi, s0i), si @ s0i) for gi, s0i, si in zip(g0, s0, s)])
+            for gi, s0i, si, d in zip(g0, s0, s, delta):  # the spin axes are the gimbals' own
+                np.testing.assert_allclose(rodrigues(gi, d) @ s0i, si, atol=1e-14)
+            for shift, store in ((0.0, measures), (0.2, None)):
+                x0 = robot.neutral_configuration()
+                x0[7 + np.array([c["gimbal"] for c in cmgs])] = delta + shift
+                m = spacearm.simulate(robot, 1e-3, x0=x0, u0=u0, dt=1e-3).cmg_measure[0]
+                if store is None:
+                    assert m > 1e-5, (surf.signs[k], delta)
+                else:
+                    store.append(m)
+    assert max(measures) < 1e-10, max(measures)
+
+    with pytest.raises(spacearm.errors.ArgumentError, match=r"\+1 or -1"):
+        cmg_singular_surfaces(robot, wheel_speed=500.0, signs=[1, 0.5, 1, 1])
+    with pytest.raises(spacearm.errors.ArgumentError, match="no CMG"):
+        cmg_singular_surfaces(spacearm.presets.spatial6(), wheel_speed=500.0)
