@@ -3,6 +3,9 @@
 - docs/figures/cmg_pyramid_spatial6.png: the tutorial's run ("a pyramid cluster holding the base
   while the arm moves") — base rotation with the rotors at rest and held by the cluster, the
   gimbal angles, the singularity measure and the fraction of the momentum envelope used.
+- docs/figures/cmg_singular_surfaces_pyramid.png: the singular surfaces of the β = 54.74° pyramid
+  (spacearm.analysis.cmg_singular_surfaces), grouped by their number of negative signs, and their
+  cut by the x-z plane.
 
     PYTHONPATH=python python3 docs/figures/make_cmg_figures.py
 
@@ -69,8 +72,51 @@ def tutorial_figure() -> None:
           f"held {np.degrees(held.base_rotation_angle).max():.3f} deg; least measure {held.cmg_measure.min():.3f}")
 
 
+def singular_surfaces_figure() -> None:
+    from spacearm.analysis import cmg_singular_surfaces
+
+    beta = np.arccos(1 / np.sqrt(3))
+    axes = [[np.sin(beta) * np.cos(a), np.sin(beta) * np.sin(a), np.cos(beta)] for a in np.arange(4) * np.pi / 2]
+    surf = cmg_singular_surfaces(gimbal_axes=axes, h=[1.0] * 4, n=41)
+    fig = plt.figure(figsize=(12, 9))
+    titles = {0: "outer surface: the envelope (ε all +1)", 1: "internal, one ε = −1 (four surfaces)",
+              2: "internal, two ε = −1 (three surfaces)"}
+    for k, (neg, title) in enumerate(titles.items()):
+        ax = fig.add_subplot(2, 2, k + 1, projection="3d")
+        surf.plot(ax, negatives=neg)
+        ax.set_title(title, fontsize=10)
+        ax.set_xlabel("H_x / h")
+        ax.set_ylabel("H_y / h")
+        ax.set_zlabel("H_z / h")
+        for set_lim in (ax.set_xlim, ax.set_ylim, ax.set_zlim):
+            set_lim(-3.3, 3.3)
+    # Directions u in the x-z plane (azimuth 0 and ±180°): the patterns with ε_2 = ε_4 keep H in
+    # that plane (solid); the others leave it (their y-part is h (ε_4 − ε_2) sin β cos β u_z /
+    # |ĝ_2 × u|), drawn projected (dashed).
+    ax = fig.add_subplot(2, 2, 4)
+    j0, j1 = np.argmin(np.abs(surf.azimuth)), np.argmin(np.abs(surf.azimuth - np.pi))
+    for k, p in enumerate(surf.points):
+        cut = np.concatenate([p[:, j0], p[::-1, j1]])
+        in_plane = surf.signs[k, 1] == surf.signs[k, 3]
+        ax.plot(cut[:, 0], cut[:, 2], "-" if in_plane else "--", color=f"C{k}", lw=1.5 if in_plane else 0.9,
+                label=str(surf.signs[k].astype(int)))
+    ax.plot([2 * np.cos(beta)], [0], "k*", ms=10, label="δ = (−90°, 0, 90°, 0)")
+    ax.set_aspect("equal")
+    ax.set_xlabel("H_x / h")
+    ax.set_ylabel("H_z / h")
+    ax.set_title("u in the x-z plane (dashed: H leaves it, projected)", fontsize=10)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
+    fig.suptitle("Singular surfaces of the 4-CMG pyramid (β = 54.74°), h = 1")
+    fig.tight_layout()
+    out = HERE / "cmg_singular_surfaces_pyramid.png"
+    fig.savefig(out, dpi=100)
+    print(out, f"outer |H| from {np.nanmin(np.linalg.norm(surf.points[0], axis=-1)):.3f} "
+          f"to {np.nanmax(np.linalg.norm(surf.points[0], axis=-1)):.3f} h")
+
+
 def main() -> None:
     tutorial_figure()
+    singular_surfaces_figure()
 
 
 if __name__ == "__main__":
