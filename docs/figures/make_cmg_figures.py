@@ -28,6 +28,14 @@ from spacearm.control import CmgSteering, Combined, JointPD, QuinticJoint  # noq
 HERE = Path(__file__).resolve().parent
 
 
+def save(fig, name: str, dpi: int, note: str) -> None:
+    """Lay out ``fig``, write it beside this script as ``name`` and say what it shows."""
+    fig.tight_layout()
+    out = HERE / name
+    fig.savefig(out, dpi=dpi)
+    print(out, note)
+
+
 def servicer() -> spacearm.Robot:
     b = spacearm.presets.spatial6().to_builder("servicer")
     beta = np.arccos(1 / np.sqrt(3))  # the pyramid's skew angle
@@ -65,10 +73,7 @@ def tutorial_figure() -> None:
     ax[2].legend(loc="center right")
     ax[2].set_xlabel("t (s)")
     ax[0].set_title("spatial6 servicer with a 4-CMG pyramid: the arm moves for 3 s")
-    fig.tight_layout()
-    out = HERE / "cmg_pyramid_spatial6.png"
-    fig.savefig(out, dpi=110)
-    print(out, f"max base rotation: idle {np.degrees(idle.base_rotation_angle).max():.2f} deg, "
+    save(fig, "cmg_pyramid_spatial6.png", 110, f"max base rotation: idle {np.degrees(idle.base_rotation_angle).max():.2f} deg, "
           f"held {np.degrees(held.base_rotation_angle).max():.3f} deg; least measure {held.cmg_measure.min():.3f}")
 
 
@@ -107,10 +112,7 @@ def singular_surfaces_figure() -> None:
     ax.set_title("u in the x-z plane (dashed: H leaves it, projected)", fontsize=10)
     ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
     fig.suptitle("Singular surfaces of the 4-CMG pyramid (β = 54.74°), h = 1")
-    fig.tight_layout()
-    out = HERE / "cmg_singular_surfaces_pyramid.png"
-    fig.savefig(out, dpi=100)
-    print(out, f"outer |H| from {np.nanmin(np.linalg.norm(surf.points[0], axis=-1)):.3f} "
+    save(fig, "cmg_singular_surfaces_pyramid.png", 100, f"outer |H| from {np.nanmin(np.linalg.norm(surf.points[0], axis=-1)):.3f} "
           f"to {np.nanmax(np.linalg.norm(surf.points[0], axis=-1)):.3f} h")
 
 
