@@ -28,7 +28,7 @@ __all__ = [
     "SingularError", "SingularityReport", "SoftCaptureResult", "SpacearmError", "SpacearmTypeError", "Tape",
     "ThrusterLimits", "WorkspaceShells", "__version__", "analysis_damping",
     "analysis_detect", "analysis_integrate_prescribed", "analysis_joint_grid",
-    "analysis_reach", "analysis_cmg_envelope", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
+    "analysis_reach", "analysis_cmg_envelope", "analysis_cmg_singular_surfaces", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_singularity", "batch_threads", "body_mass_properties_error", "box_of_moments", "check_grasp_handle", "GOAL_TOLERANCE", "MAX_HANDLE_RATIO",
     "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "joint_wrenches", "loop_closure", "model_from_dh", "model_from_toml",
     "model_to_toml", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
@@ -102,6 +102,9 @@ def cmg_parts(spec: dict[str, Any], base: str) -> tuple[list[tuple], list[tuple]
 def cmgs(model: Model) -> list[dict[str, Any]]: ...
 def analysis_cmg_envelope(gimbals: Sequence[Sequence[float]], h: Sequence[float],
                           directions: Sequence[Sequence[float]]) -> list[list[float]]: ...
+def analysis_cmg_singular_surfaces(gimbals: Sequence[Sequence[float]], h: Sequence[float],
+                                   signs: Optional[Sequence[Sequence[float]]],
+                                   directions: Sequence[Sequence[float]]) -> tuple[list[list[float]], list[list[float]], list[list[float]]]: ...
 def cmg_velocity(model: Model, wheel_speed: Sequence[float]) -> list[float]: ...
 
 # The core's model edits (model/edit.rs): a new Model each, the rest of the model bit for bit.

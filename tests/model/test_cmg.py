@@ -281,3 +281,99 @@ def test_the_run_records_the_clusters_singularity_measure_and_envelope_fraction(
     assert np.ptp(traj.cmg_measure) > 0.01
     assert "cmg_measure" in [c[0] for c in traj.columns()]
     assert not spacearm.simulate(spacearm.presets.spatial6(), 0.1).has("cmg_measure")
+
+
+def test_every_singular_surface_point_is_singular_in_the_core_record_and_the_outer_one_is_the_envelope():
+    """cmg_singular_surfaces (docs/cmg.md, "The singular surfaces"): the outer surface (every
+    ε_i = +1) is cmg_envelope's; every point of every surface, set as gimbal angles on the robot,
+    has the run record's singularity measure (sim/record.rs, through control/cmg_jacobian.rs) 0 to
+    1e-10, while the same angles turned by 0.2 rad have it above 1e-5; the pyramid's internal
+    elliptic singular state δ = (−90°, 0, 90°, 0) holds H = 2h cos β x̂ on the surface ε = (+, −, +, +)."""
+    from spacearm.analysis import cmg_envelope, cmg_singular_surfaces
+
+    robot = pyramid_sat(arm=False)
+    surf = cmg_singular_surfaces(robot, wheel_speed=500.0, n=5)
+    h = J_S * 500.0
+    assert surf.points.shape == (8, 5, 11, 3) and surf.spin_axes.shape == (8, 5, 11, 4, 3)
+    np.testing.assert_array_equal(surf.negatives, [0, 1, 1, 1, 2, 2, 2, 3])
+    np.testing.assert_allclose(surf.points[0], cmg_envelope(robot, wheel_speed=500.0, n=5).points, atol=1e-12)
+    assert np.all(np.linalg.norm(surf.points[1:], axis=-1) < np.linalg.norm(surf.points[0], axis=-1) + 1e-12)
+    side = surf.points[list(map(tuple, surf.signs)).index((1, -1, 1, 1)), 2, 5]  # u = x
+    np.testing.assert_allclose(side, [2 * h * np.cos(BETA), 0, 0], atol=1e-12)
+
+    g0, s0 = pyramid_axes()
+    cmgs = list(robot.cmg_dofs.values())
+    u0 = robot.cmg_velocity(500.0)
+    # A drifting base: with P = 0 exactly, the run's drift check divides rounding by zero.
+    u0[0] = 0.01
+    rng = np.random.default_rng(3)
+    measures = []
+    for k in range(len(surf.signs)):
+        for i, j in zip(rng.integers(1, 4, 3), rng.integers(0, 11, 3)):
+            s = surf.spin_axes[k, i, j]
+            delta = np.array([np.arctan2(si @ np.cross(gi, s0i), si @ s0i) for gi, s0i, si in zip(g0, s0, s)])
+            for gi, s0i, si, d in zip(g0, s0, s, delta):  # the spin axes are the gimbals' own
+                np.testing.assert_allclose(rodrigues(gi, d) @ s0i, si, atol=1e-14)
+            for shift, store in ((0.0, measures), (0.2, None)):
+                x0 = robot.neutral_configuration()
+                x0[7 + np.array([c["gimbal"] for c in cmgs])] = delta + shift
+                m = spacearm.simulate(robot, 1e-3, x0=x0, u0=u0, dt=1e-3).cmg_measure[0]
+                if store is None:
+                    assert m > 1e-5, (surf.signs[k], delta)
+                else:
+                    store.append(m)
+    assert max(measures) < 1e-10, max(measures)
+
+    with pytest.raises(spacearm.errors.ArgumentError, match=r"\+1 or -1"):
+        cmg_singular_surfaces(robot, wheel_speed=500.0, signs=[1, 0.5, 1, 1])
+    with pytest.raises(spacearm.errors.ArgumentError, match="no CMG"):
+        cmg_singular_surfaces(spacearm.presets.spatial6(), wheel_speed=500.0)
+
+
+def _zero_crossings(t, y):
+    """The times where ``y`` changes sign, each by linear interpolation between its two samples."""
+    i = np.nonzero(np.sign(y[:-1]) * np.sign(y[1:]) < 0)[0]
+    return t[i] - y[i] * (t[i + 1] - t[i]) / (y[i + 1] - y[i])
+
+
+@pytest.mark.parametrize("rotor", ["wheel", "cmg"])
+def test_a_spinning_rotor_nutates_at_its_closed_form_frequency(rotor):
+    """Issue 34's nutation closed form (docs/cmg.md, "Nutation"), against the base rate's zero
+    crossings over ~10 periods of a free-floating run. "wheel": a gyrostat, a hub with a free
+    wheel of momentum h about z (its CM at the hub's), ω_n = h/√(A B), A and B the system's
+    transverse moments (the rotor's J_t included). "cmg": a single-gimbal CMG with a free gimbal
+    about x, spin along z: the gimbal and the hub's y rate exchange h, ω_n = h/√(B J_g), J_g the
+    gimbal's and rotor's moment about the gimbal axis. The frequency is the mean over all
+    crossings; RK4 at 1 ms and linear interpolation of the crossings leave it within 1e-8
+    relative (the run at 2 ms differs from the 1 ms one by less than that; the rates of 1e-4
+    rad/s keep the nonlinear terms, relative size of the squared amplitude, below it too), far
+    below the 0.9 % (wheel) and 58 % (cmg) by which the closed form moves without the rotor's J_t."""
+    b = spacearm.Robot.builder("gyro", base_mass=100.0, base_inertia=[30.0, 40.0, 50.0])
+    j_t = 0.6 * {"wheel": 0.5, "cmg": 0.05}[rotor]  # the default transverse moment
+    if rotor == "wheel":
+        b.add_reaction_wheel([0, 0, 1], rotor_inertia=0.5)
+        robot = b.build()
+        u0 = robot.zero_velocity()
+        u0[6], u0[3] = 600.0, 1e-4  # wheel speed; a small x rate to start the nutation
+        h, duration = 0.5 * 600.0, 8.0
+        expected = h / np.sqrt((30.0 + j_t) * (40.0 + j_t))
+    else:
+        b.add_cmg("cmg", gimbal_axis=[1, 0, 0], spin_axis=[0, 0, 1], rotor_inertia=0.05,
+                  gimbal_inertia=[0.02, 0.015, 0.018], rotor_mass=3.0, gimbal_mass=1.5)
+        robot = b.build()
+        u0 = robot.cmg_velocity(300.0)
+        u0[4] = 1e-4  # a small y rate (the gimbal then swings by ±5e-4 rad)
+        h, duration = 0.05 * 300.0, 6.0
+        # (ĝ, ŝ0, ĝ × ŝ0) = (x, z, −y): the gimbal's moments 0.02 about x, 0.018 about y.
+        expected = h / np.sqrt((40.0 + 0.018 + j_t) * (0.02 + j_t))
+    found = []
+    for dt in (2e-3, 1e-3):
+        traj = spacearm.simulate(robot, duration, u0=u0, dt=dt)
+        rate = traj.base_angular_velocity_in_base
+        tc = _zero_crossings(traj.t, rate[:, 1])
+        assert len(tc) >= 19
+        found.append(np.pi * (len(tc) - 1) / (tc[-1] - tc[0]))
+        if rotor == "cmg":  # the free gimbal passes no torque about x: the hub's x rate stays 0
+            assert np.abs(rate[:, 0]).max() < 1e-9 and np.ptp(traj.q[:, robot.cmg_dofs["cmg"]["gimbal"]]) > 5e-4
+    assert abs(found[1] - found[0]) < 1e-8 * expected
+    assert found[1] == pytest.approx(expected, rel=1e-8), (found, expected)

@@ -199,7 +199,7 @@ pub fn analysis_reach<'py>(
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     add_to_module!(
         m,
-        functions: [analysis_singularity, analysis_detect, analysis_damping, analysis_joint_grid, analysis_scan, analysis_reaction_null_space, analysis_integrate_prescribed, analysis_rmrc_rates, analysis_reach, analysis_cmg_envelope],
+        functions: [analysis_singularity, analysis_detect, analysis_damping, analysis_joint_grid, analysis_scan, analysis_reaction_null_space, analysis_integrate_prescribed, analysis_rmrc_rates, analysis_reach, analysis_cmg_envelope, analysis_cmg_singular_surfaces],
     );
     Ok(())
 }
@@ -214,4 +214,39 @@ pub fn analysis_cmg_envelope(py: Python<'_>, gimbals: Vec<[f64; 3]>, h: Vec<f64>
     let g: Vec<Vector3<f64>> = gimbals.iter().map(|v| Vector3::from(*v).normalize()).collect();
     let d: Vec<Vector3<f64>> = directions.iter().map(|v| Vector3::from(*v)).collect();
     Ok(spacearm_core::analysis::cmg_envelope::cmg_envelope(&g, &h, &d).iter().map(|p| [p.x, p.y, p.z]).collect())
+}
+
+/// The singular surfaces of a CMG cluster (core `analysis::cmg_singular_surface`): the sign
+/// patterns used (all `2^(n-1)` when `signs` is None) and, per pattern and direction, the
+/// singular momentum and the `n` spin axes (NaN where the direction lies along a gimbal axis).
+#[pyfunction]
+#[pyo3(signature = (gimbals, h, signs, directions))]
+#[allow(clippy::type_complexity)]
+pub fn analysis_cmg_singular_surfaces(
+    py: Python<'_>,
+    gimbals: Vec<[f64; 3]>,
+    h: Vec<f64>,
+    signs: Option<Vec<Vec<f64>>>,
+    directions: Vec<[f64; 3]>,
+) -> PyResult<(Vec<Vec<f64>>, Vec<[f64; 3]>, Vec<[f64; 3]>)> {
+    use spacearm_core::analysis::cmg_singular_surface::cmg_singular_surfaces;
+    let g: Vec<Vector3<f64>> = gimbals.iter().map(|v| Vector3::from(*v)).collect();
+    let d: Vec<Vector3<f64>> = directions.iter().map(|v| Vector3::from(*v)).collect();
+    let n = g.len();
+    let (signs, surfaces) = py.detach(|| cmg_singular_surfaces(&g, &h, signs, &d)).or_raise(py)?;
+    let nan = [f64::NAN; 3];
+    let (mut points, mut spins) = (Vec::with_capacity(signs.len() * d.len()), Vec::with_capacity(signs.len() * d.len() * n));
+    for state in surfaces.iter().flatten() {
+        match state {
+            Some(st) => {
+                points.push([st.momentum.x, st.momentum.y, st.momentum.z]);
+                spins.extend(st.spin.iter().map(|s| [s.x, s.y, s.z]));
+            }
+            None => {
+                points.push(nan);
+                spins.extend(std::iter::repeat_n(nan, n));
+            }
+        }
+    }
+    Ok((signs, points, spins))
 }

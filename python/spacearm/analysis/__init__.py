@@ -14,7 +14,7 @@
 Result objects have a ``.plot(path)`` method (needs matplotlib) that writes the figure atomically.
 """
 
-from .cmg import CmgEnvelope, cmg_envelope
+from .cmg import CmgEnvelope, CmgSingularSurfaces, cmg_envelope, cmg_singular_surfaces
 from .free_floating import attitude_change, integrate_prescribed
 from .reactionless import STRATEGIES, Motion, ReactionNullSpace, move_to, reaction_null_space, rmrc_rates
 from .singularities import Detection, JacobianMeasures, SingularityMap, SingularityReport, analyze, damping, detect, scan, singularity_map
@@ -24,7 +24,7 @@ from ._common import TASKS, task_rows
 __all__ = [
     "analyze", "detect", "damping", "scan", "singularity_map", "SingularityReport", "JacobianMeasures", "Detection", "SingularityMap",
     "workspace", "Workspace",
-    "cmg_envelope", "CmgEnvelope",
+    "cmg_envelope", "CmgEnvelope", "cmg_singular_surfaces", "CmgSingularSurfaces",
     "reaction_null_space", "ReactionNullSpace", "move_to", "rmrc_rates", "Motion", "STRATEGIES",
     "integrate_prescribed", "attitude_change",
     "TASKS", "task_rows",

@@ -18,6 +18,7 @@
 //! (below it); nothing from `control` (which imports [`rmrc_solver`] and [`Task`] from here).
 
 pub mod cmg_envelope;
+pub mod cmg_singular_surface;
 pub mod free_floating_kinematics;
 pub mod passive_modes;
 pub mod reach;
