@@ -24,7 +24,7 @@ import numpy as np
 from .. import _core
 from .._util.arrays import vector
 
-__all__ = ["Problem", "JointCost", "StateCost", "BaseAttitudeCost", "PointCost", "ControlCost", "Solution", "solve"]
+__all__ = ["Problem", "JointCost", "StateCost", "BaseAttitudeCost", "PointCost", "ControlCost", "Solution", "solve", "crocoddyl_action_model"]
 
 
 def _numbers(value):
@@ -241,3 +241,11 @@ def solve(robot, problem: Problem, x0=None, u0=None, *, warm_start: Optional[Sol
         iterations=out["iterations"], steps=out["steps"], converged=out["converged"], stop=out["stop"], gap=out["gap"],
         solve_time=out["solve_time"],
     )
+
+
+def crocoddyl_action_model(robot, costs=None, *, mode: str = "floating", state=None):
+    """A Crocoddyl differential action model backed by spacearm's forward dynamics and analytic
+    derivatives ([`spacearm.mpc.crocoddyl`][spacearm.mpc.crocoddyl]; needs ``pip install crocoddyl``)."""
+    from .crocoddyl import crocoddyl_action_model as make
+
+    return make(robot, costs, mode=mode, state=state)
