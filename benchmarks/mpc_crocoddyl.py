@@ -71,7 +71,9 @@ def shooting(state, dam_of, x0, xref, nu, horizon, dt):
     term_costs.addCost("x", weighted(state, w, crocoddyl.ResidualModelState(state, xref, nu)), 1.0)
     run = crocoddyl.IntegratedActionModelRK(dam_of(run_costs), crocoddyl.RKType.four, dt)
     term = crocoddyl.IntegratedActionModelRK(dam_of(term_costs), crocoddyl.RKType.four, 0.0)
-    return crocoddyl.ShootingProblem(x0, [run] * horizon, term)
+    problem = crocoddyl.ShootingProblem(x0, [run] * horizon, term)
+    problem.nthreads = 1  # one core, as spacearm's solver (threads spin on a loaded machine)
+    return problem
 
 
 class Case:
