@@ -32,23 +32,14 @@ import spacearm.mpc as mpc
 from spacearm.interop import to_pinocchio, to_pinocchio_state
 from spacearm.mpc.crocoddyl import crocoddyl_action_model, make_state
 
+from _chain import chain
+
 try:
     import crocoddyl
 except ImportError as exc:  # pragma: no cover
     raise SystemExit(f"this benchmark needs crocoddyl (see its docstring): {exc}")
 
 W_U, W_Q, W_QD = 1e-2, 100.0, 10.0
-
-
-def chain(n: int) -> spacearm.Robot:
-    """The N-link chain of benchmarks/casadi_build.py."""
-    b = spacearm.Robot.builder(f"chain{n}", 500.0, np.diag([50.0, 60.0, 70.0]))
-    for i in range(n):
-        b.add_link(f"l{i}", parent="base" if i == 0 else f"l{i - 1}", axis=[(0, 0, 1), (0, 1, 0), (1, 0, 0)][i % 3],
-                   origin=(0.3, 0, 0) if i else (1.0, 0, 0), com=(0.15, 0, 0), mass=2.0, inertia=[0.01, 0.02, 0.02])
-    b.add_point("tip", body=f"l{n - 1}", offset=(0.15, 0, 0))
-    b.set_end_effector("tip")
-    return b.build()
 
 
 def goal_of(robot) -> np.ndarray:
@@ -71,9 +62,7 @@ def shooting(state, dam_of, x0, xref, nu, horizon, dt):
     term_costs.addCost("x", weighted(state, w, crocoddyl.ResidualModelState(state, xref, nu)), 1.0)
     run = crocoddyl.IntegratedActionModelRK(dam_of(run_costs), crocoddyl.RKType.four, dt)
     term = crocoddyl.IntegratedActionModelRK(dam_of(term_costs), crocoddyl.RKType.four, 0.0)
-    problem = crocoddyl.ShootingProblem(x0, [run] * horizon, term)
-    problem.nthreads = 1  # one core, as spacearm's solver (threads spin on a loaded machine)
-    return problem
+    return crocoddyl.ShootingProblem(x0, [run] * horizon, term)
 
 
 class Case:
