@@ -245,7 +245,7 @@ def solve(robot, problem: Problem, x0=None, u0=None, *, warm_start: Optional[Sol
 
 def crocoddyl_action_model(robot, costs=None, *, mode: str = "floating", state=None):
     """A Crocoddyl differential action model backed by spacearm's forward dynamics and analytic
-    derivatives ([`spacearm.mpc.crocoddyl`][spacearm.mpc.crocoddyl]; needs ``pip install crocoddyl``)."""
+    derivatives (`spacearm.mpc.crocoddyl`, docs/mpc.md "Crocoddyl"; needs ``pip install crocoddyl``)."""
     from .crocoddyl import crocoddyl_action_model as make
 
     return make(robot, costs, mode=mode, state=state)

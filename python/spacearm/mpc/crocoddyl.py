@@ -3,7 +3,7 @@ forward dynamics and its analytic derivatives (docs/mpc.md, "Crocoddyl").
 
 Crocoddyl (``pip install crocoddyl``) is imported only when a model is made. The state is
 spacearm's $z = [x; u]$ (``nq = 7 + N``, ``nv = 6 + N``) on its own manifold
-([`SpacearmState`][spacearm.mpc.crocoddyl.make_state]): the tangent $\delta z = [\delta r_0,
+(`make_state`): the tangent $\delta z = [\delta r_0,
 \delta\theta, \delta q, \delta v_0, \delta\omega_0, \delta\dot q]$ with $\delta\theta$ a world-frame
 rotation increment, $\mathrm{quat} \leftarrow \exp(\delta\theta) \otimes \mathrm{quat}$ — the tangent of
 the core's derivatives, in which $\delta\dot x = u$ (so Crocoddyl's integrators, which advance the
@@ -152,7 +152,7 @@ def crocoddyl_action_model(robot, costs=None, *, mode: str = "floating", state=N
     r"""A ``crocoddyl.DifferentialActionModelAbstract`` of ``robot`` (module docs): ``xout`` the
     forward dynamics $\dot u$ of spacearm's state, ``Fx``/``Fu`` its analytic derivatives, the
     cost ``costs`` (a ``crocoddyl.CostModelSum`` on ``state``; ``None``: no cost). ``state``: the
-    model's state ([`make_state`][spacearm.mpc.crocoddyl.make_state]; made when absent — pass
+    model's state (`make_state`; made when absent — pass
     the one the costs were built on). The controls are the joint torques (``mode="floating"``;
     the other modes' base actuation is not implemented here)."""
     crocoddyl = _import_crocoddyl()
