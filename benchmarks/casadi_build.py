@@ -22,16 +22,7 @@ import numpy as np
 
 import spacearm
 import spacearm.casadi as sc
-
-
-def chain(n: int) -> spacearm.Robot:
-    b = spacearm.Robot.builder(f"chain{n}", 500.0, np.diag([50.0, 60.0, 70.0]))
-    for i in range(n):
-        b.add_link(f"l{i}", parent="base" if i == 0 else f"l{i - 1}", axis=[(0, 0, 1), (0, 1, 0), (1, 0, 0)][i % 3],
-                   origin=(0.3, 0, 0) if i else (1.0, 0, 0), com=(0.15, 0, 0), mass=2.0, inertia=[0.01, 0.02, 0.02])
-    b.add_point("tip", body=f"l{n - 1}", offset=(0.15, 0, 0))
-    b.set_end_effector("tip")
-    return b.build()
+from _chain import chain
 
 
 def median_time(fn, repeat: int) -> float:

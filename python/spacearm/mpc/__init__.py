@@ -24,7 +24,7 @@ import numpy as np
 from .. import _core
 from .._util.arrays import vector
 
-__all__ = ["Problem", "JointCost", "StateCost", "BaseAttitudeCost", "PointCost", "ControlCost", "Solution", "solve"]
+__all__ = ["Problem", "JointCost", "StateCost", "BaseAttitudeCost", "PointCost", "ControlCost", "Solution", "solve", "crocoddyl_action_model"]
 
 
 def _numbers(value):
@@ -76,19 +76,36 @@ class BaseAttitudeCost:
         return {"kind": "base_attitude", "weight": float(self.weight), "rate_weight": float(self.rate_weight), "reference": _numbers(list(self.reference))}
 
 
+def _target_data(target):
+    """A point cost's target as the core's data: three numbers, or a moving point."""
+    from ..control import FreeBodyPoint, _data
+
+    if isinstance(target, FreeBodyPoint):
+        if target.orbit is not None:
+            from ..errors import ArgumentError
+
+            raise ArgumentError("a PointCost's FreeBodyPoint target in orbit is not implemented: the MPC's moving target is torque-free (give orbit=None)")
+        data = {k: v for k, v in _data(target).items() if k not in ("point", "orbit")}
+        return data
+    return _numbers(list(target))
+
+
 @dataclass(frozen=True)
 class PointCost:
-    r"""$\tfrac12 \sum w_i (p(x) - p_\mathrm{target})_i^2$ of the point at ``offset`` (m, body
-    frame, from its CM) on ``body`` (index or link name)."""
+    r"""$\tfrac12 \sum w_i (p(x) - p_\mathrm{target}(t))_i^2$ of the point at ``offset`` (m, body
+    frame, from its CM) on ``body`` (index or link name). ``target``: a fixed point (m, in 𝒥) or
+    a moving one, a [`FreeBodyPoint`][spacearm.control.FreeBodyPoint] (a tumbling target's grasp
+    point, torque-free; its ``point`` is ignored), evaluated by the core at every knot's time
+    ``problem.start_time + k * dt`` (in the native law, plus the run's sample time)."""
 
     body: object
-    target: Sequence[float]
+    target: object
     weight: object = 1.0
     offset: Sequence[float] = (0.0, 0.0, 0.0)
 
     def to_data(self) -> dict:
         body = self.body if isinstance(self.body, str) else int(self.body)
-        return {"kind": "point", "body": body, "target": _numbers(list(self.target)), "weight": _numbers(self.weight), "offset": _numbers(list(self.offset))}
+        return {"kind": "point", "body": body, "target": _target_data(self.target), "weight": _numbers(self.weight), "offset": _numbers(list(self.offset))}
 
 
 @dataclass(frozen=True)
@@ -112,7 +129,8 @@ _COSTS = (JointCost, StateCost, BaseAttitudeCost, PointCost, ControlCost)
 class Problem:
     r"""An optimal-control problem: minimize $\sum_{k<T} h\,\ell(z_k, c_k) + \ell_T(z_T)$ over
     ``horizon`` RK4 steps of ``dt`` seconds in ``mode``, with $|c_i| \le$ ``control_limit``
-    (one number or one per control; ``inf``: none). Checked by the core when made."""
+    (one number or one per control; ``inf``: none). ``start_time``: the time (s, ≥ 0) of knot 0
+    on the clock of the moving targets. Checked by the core when made."""
 
     horizon: int
     dt: float
@@ -120,6 +138,7 @@ class Problem:
     terminal: Sequence[object] = ()
     mode: str = "floating"
     control_limit: object = math.inf
+    start_time: float = 0.0
     _data: dict = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
@@ -136,6 +155,7 @@ class Problem:
             "running": [c.to_data() for c in self.running],
             "terminal": [c.to_data() for c in self.terminal],
             "control_limit": _numbers(self.control_limit),
+            "start_time": float(self.start_time),
         }
         _core.check_spec("mpc_problem", data)
         object.__setattr__(self, "_data", data)
@@ -221,3 +241,11 @@ def solve(robot, problem: Problem, x0=None, u0=None, *, warm_start: Optional[Sol
         iterations=out["iterations"], steps=out["steps"], converged=out["converged"], stop=out["stop"], gap=out["gap"],
         solve_time=out["solve_time"],
     )
+
+
+def crocoddyl_action_model(robot, costs=None, *, mode: str = "floating", state=None):
+    """A Crocoddyl differential action model backed by spacearm's forward dynamics and analytic
+    derivatives (`spacearm.mpc.crocoddyl`, docs/mpc.md "Crocoddyl"; needs ``pip install crocoddyl``)."""
+    from .crocoddyl import crocoddyl_action_model as make
+
+    return make(robot, costs, mode=mode, state=state)

@@ -11,8 +11,10 @@
 //! measured one by the gap `f̄_0 = z̄_0 ⊖ z_0`, which FDDP closes. The first sample is a cold
 //! solve (zero controls rolled out from the state), so its control equals a one-off solve's.
 //!
-//! Time: the problem's references are constant (its cost terms have no time argument); knot
-//! `j` of the solve at sample `k` stands for `t = (k + j) h` of the run, whose time starts at 0.
+//! Time: knot `j` of the solve at sample `k` stands for `t = (k + j) h` of the run, whose time
+//! starts at 0; a moving target (a tumbling body's grasp point, [`crate::optimal::costs::PointTarget`])
+//! is evaluated at `start_time + (k + j) h` (the problem's `start_time`, default 0: the run's
+//! clock), so the reference moves on with the samples.
 //!
 //! Samples are taken by [`Controller::sample`], which the loops call at the start of every
 //! integrator step with the step's state: a sample instant must fall on a step start (RK4 with
@@ -84,6 +86,7 @@ impl ModelPredictive {
         self.z[..x.len()].copy_from_slice(x);
         self.z[x.len()..].copy_from_slice(u);
         problem.set_initial_state(&self.z)?;
+        problem.set_start_time(self.spec.start_time + k as f64 * self.spec.dt)?;
         let solution = if self.warm {
             let t = self.spec.horizon;
             let shift = (k.saturating_sub(self.last).max(1) as usize).min(t);

@@ -22,7 +22,7 @@
 
 use std::fmt;
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
 
@@ -46,6 +46,7 @@ use crate::math::rotations::QUATERNION_TOLERANCE;
 use crate::model::{Data, Model};
 use crate::scenario::actuators::ThrusterLimits;
 use crate::scenario::free_body::FreeBody;
+pub use crate::scenario::free_body::InertiaSpec;
 use crate::scenario::orbit::Orbit;
 use crate::scenario::reference::{CartesianLine, JointReference, PointReference, Quintic};
 
@@ -475,30 +476,6 @@ impl ShaperSpec {
         let kind = ShaperKind::from_name(&self.kind)
             .ok_or_else(|| bad(format!("an input shaper's kind must be one of {:?}, got {:?}", ShaperKind::NAMES, self.kind)))?;
         InputShaper::new(kind, self.frequency, self.damping)
-    }
-}
-
-/// A body's inertia about its CM in its axes, kg·m²: three principal moments, a 3×3 matrix
-/// (rows), or nine numbers row-major.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(untagged)]
-pub enum InertiaSpec {
-    /// Principal moments.
-    Principal([f64; 3]),
-    /// Rows of the matrix.
-    Matrix([[f64; 3]; 3]),
-    /// Nine numbers, row-major.
-    Flat([f64; 9]),
-}
-
-impl InertiaSpec {
-    /// The matrix.
-    pub fn matrix(&self) -> Matrix3<f64> {
-        match self {
-            InertiaSpec::Principal(d) => Matrix3::from_diagonal(&Vector3::from(*d)),
-            InertiaSpec::Matrix(m) => Matrix3::from_fn(|i, j| m[i][j]),
-            InertiaSpec::Flat(v) => Matrix3::from_row_slice(v),
-        }
     }
 }
 

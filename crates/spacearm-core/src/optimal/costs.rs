@@ -13,6 +13,12 @@
 //!   the configuration's tangent coordinates (the point Jacobian, paper eqs. 104–108, whose
 //!   tangent derivative is the velocity Jacobian because `δẋ = u`, docs/derivatives.md);
 //! * `control`: `r = c − c_ref` (the torque and thrust regularization).
+//!
+//! A point's target is fixed, or moving ([`PointTarget`]): the point of a torque-free rigid body
+//! (a tumbling target's grasp point, propagated by [`crate::scenario::free_body`], the capture's
+//! and RMRC's propagation), evaluated at every knot's time `t₀ + k h` when the problem's start
+//! time `t₀` is set ([`Cost::retime`]); the Jacobian is the fixed target's (the target does not
+//! depend on the state).
 
 use nalgebra::{DMatrix, DVector, Vector3};
 use serde::{Deserialize, Serialize};
@@ -21,6 +27,7 @@ use super::state::{so3_left_jacobian_inverse, StateSpace};
 use crate::algorithms::kinematics::{forward_kinematics, point_jacobians, point_position};
 use crate::error::{Result, SpacearmError};
 use crate::model::{Data, Model};
+use crate::scenario::free_body::{FreeBody, InertiaSpec};
 
 /// One number for all, or one each.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -61,6 +68,79 @@ pub enum BodyRef {
     Index(usize),
     /// The body's (link's) name.
     Name(String),
+}
+
+/// Where a point cost's point should be: a fixed point (`[x, y, z]`, m, in 𝒥) or a moving one
+/// (`{kind = "free_body", ...}`, [`MovingPoint`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum PointTarget {
+    /// A fixed point, m, in 𝒥.
+    Fixed([f64; 3]),
+    /// A moving point.
+    Moving(MovingPoint),
+}
+
+impl<'de> Deserialize<'de> for PointTarget {
+    /// Three numbers, or a table read as a [`MovingPoint`] (whose own errors then name the field).
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        use serde::de::Error;
+        let v = toml::Value::deserialize(d)?;
+        if v.is_table() {
+            return MovingPoint::deserialize(v).map(PointTarget::Moving).map_err(D::Error::custom);
+        }
+        <[f64; 3]>::deserialize(v)
+            .map(PointTarget::Fixed)
+            .map_err(|e| D::Error::custom(format!("a point cost's target must be three numbers (m, in 𝒥) or a moving target {{kind = \"free_body\", ...}}: {e}")))
+    }
+}
+
+fn default_free_body_step() -> f64 {
+    1e-3
+}
+
+/// A moving target point (serde tag `kind`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum MovingPoint {
+    /// A point fixed to a torque-free rigid body ([`FreeBody`]): a tumbling target's grasp point.
+    FreeBody {
+        /// The body's inertia about its CM in its axes, kg·m².
+        inertia: InertiaSpec,
+        /// The body's 13-state `[r, quat xyzw, v, ω]` in 𝒥 at time 0 of the references' clock.
+        state: Vec<f64>,
+        /// The point from the body's CM, body axes, m.
+        #[serde(default)]
+        offset: [f64; 3],
+        /// The attitude step of the body's propagation, s.
+        #[serde(default = "default_free_body_step")]
+        step: f64,
+    },
+}
+
+/// A point cost's target checked: fixed, or a free body with its point at every knot.
+#[derive(Debug, Clone)]
+pub enum Target {
+    /// A fixed point, m.
+    Fixed(Vector3<f64>),
+    /// A point on a free body, and its positions at the knots' times ([`Cost::retime`]).
+    FreeBody {
+        /// The body and its point.
+        body: Box<FreeBody>,
+        /// The point at `t₀ + k h`, `k = 0..=T`.
+        knots: Vec<Vector3<f64>>,
+    },
+}
+
+impl Target {
+    /// The target at knot `k`.
+    #[inline]
+    fn at(&self, k: usize) -> Vector3<f64> {
+        match self {
+            Target::Fixed(p) => *p,
+            Target::FreeBody { knots, .. } => knots[k],
+        }
+    }
 }
 
 fn zero() -> Numbers {
@@ -113,8 +193,8 @@ pub enum CostSpec {
         /// The point's offset from the body's CM in its frame, m (default: the CM).
         #[serde(default)]
         offset: [f64; 3],
-        /// The target position in 𝒥, m.
-        target: [f64; 3],
+        /// The target: a fixed position in 𝒥 (m) or a moving point ([`PointTarget`]).
+        target: PointTarget,
         /// Weights (one or three), 1/m².
         weight: Numbers,
     },
@@ -144,8 +224,8 @@ pub enum Cost {
         body: usize,
         /// Offset, m.
         offset: Vector3<f64>,
-        /// Target, m.
-        target: Vector3<f64>,
+        /// The target (fixed or moving).
+        target: Target,
         /// Weights.
         weights: Vector3<f64>,
     },
@@ -223,9 +303,24 @@ impl CostSpec {
                     BodyRef::Name(name) => model.body_index(name)?,
                 };
                 check_len("a point cost's offset", offset, 3)?;
-                check_len("a point cost's target", target, 3)?;
+                let target = match target {
+                    PointTarget::Fixed(p) => {
+                        check_len("a point cost's target", p, 3)?;
+                        Target::Fixed(Vector3::from(*p))
+                    }
+                    PointTarget::Moving(MovingPoint::FreeBody { inertia, state, offset, step }) => {
+                        if state.len() != 13 {
+                            return Err(SpacearmError::argument(format!(
+                                "a point cost's free_body target 'state' must be 13 numbers [r, quat xyzw, v, w], got {}",
+                                state.len()
+                            )));
+                        }
+                        let body = FreeBody::new(inertia.matrix(), state, Vector3::from(*offset), *step)?;
+                        Target::FreeBody { body: Box::new(body), knots: Vec::new() }
+                    }
+                };
                 let w = weight.expand(3, "a point cost's weight", true, false)?;
-                Cost::Point { body, offset: Vector3::from(*offset), target: Vector3::from(*target), weights: Vector3::new(w[0], w[1], w[2]) }
+                Cost::Point { body, offset: Vector3::from(*offset), target, weights: Vector3::new(w[0], w[1], w[2]) }
             }
             CostSpec::Control { weights, reference } => {
                 if terminal {
@@ -244,6 +339,25 @@ impl CostSpec {
     }
 }
 
+impl Cost {
+    /// Whether the term depends on time (a moving target).
+    pub fn is_timed(&self) -> bool {
+        matches!(self, Cost::Point { target: Target::FreeBody { .. }, .. })
+    }
+
+    /// Evaluate a moving target at the `knots` times `t0 + k h` (`k = 0..knots`; `t0 ≥ 0`, the
+    /// references' clock); a fixed term is unchanged.
+    pub fn retime(&mut self, t0: f64, h: f64, knots: usize) -> Result<()> {
+        if let Cost::Point { target: Target::FreeBody { body, knots: points }, .. } = self {
+            points.clear();
+            for k in 0..knots {
+                points.push(body.point(t0 + k as f64 * h)?.0);
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Workspaces of the cost terms.
 pub struct CostWork {
     space: StateSpace,
@@ -259,8 +373,8 @@ impl CostWork {
     }
 }
 
-/// The total cost of `costs` at `(z, c)` times `scale` (`c`: empty at the terminal knot).
-pub fn cost_value(model: &Model, work: &mut CostWork, costs: &[Cost], z: &[f64], c: &[f64], scale: f64) -> Result<f64> {
+/// The total cost of `costs` at knot `k`'s `(z, c)` times `scale` (`c`: empty at the terminal knot).
+pub fn cost_value(model: &Model, work: &mut CostWork, costs: &[Cost], k: usize, z: &[f64], c: &[f64], scale: f64) -> Result<f64> {
     let mut total = 0.0;
     let mut kinematics = false;
     for cost in costs {
@@ -274,7 +388,7 @@ pub fn cost_value(model: &Model, work: &mut CostWork, costs: &[Cost], z: &[f64],
                     forward_kinematics(model, &mut work.data, &z[..work.space.nx()])?;
                     kinematics = true;
                 }
-                let r = point_position(&work.data, *body, offset) - target;
+                let r = point_position(&work.data, *body, offset) - target.at(k);
                 0.5 * weights.component_mul(&r).dot(&r)
             }
             Cost::Control { weights, reference } => 0.5 * weights.iter().zip(c).zip(reference).map(|((w, c), r)| w * (c - r) * (c - r)).sum::<f64>(),
@@ -283,13 +397,14 @@ pub fn cost_value(model: &Model, work: &mut CostWork, costs: &[Cost], z: &[f64],
     Ok(scale * total)
 }
 
-/// Add `scale` times the gradients and Gauss–Newton Hessians of `costs` at `(z, c)` to `lz`,
+/// Add `scale` times the gradients and Gauss–Newton Hessians of `costs` at knot `k`'s `(z, c)` to `lz`,
 /// `lc`, `lzz`, `lcc` (module docs); returns the cost times `scale`.
 #[allow(clippy::too_many_arguments)]
 pub fn cost_derivatives(
     model: &Model,
     work: &mut CostWork,
     costs: &[Cost],
+    k: usize,
     z: &[f64],
     c: &[f64],
     scale: f64,
@@ -334,7 +449,7 @@ pub fn cost_derivatives(
                     kinematics = true;
                 }
                 let p = point_position(&work.data, *body, offset);
-                let r = p - target;
+                let r = p - target.at(k);
                 total += 0.5 * weights.component_mul(&r).dot(&r) * scale;
                 let (j0, jm) = point_jacobians(model, &work.data, *body, offset)?;
                 // Tangent columns [δr0, δθ, δq] of the configuration: the linear rows.
@@ -360,4 +475,98 @@ pub fn cost_derivatives(
         }
     }
     Ok(total)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::presets;
+
+    /// A body spinning about its principal axis z at 0.1 rad/s, drifting at `v`: its point at
+    /// `offset` is `r₀ + v t + Rz(ω t) offset` in closed form.
+    fn spinning(offset: [f64; 3]) -> MovingPoint {
+        MovingPoint::FreeBody {
+            inertia: InertiaSpec::Principal([3.0, 4.0, 5.0]),
+            state: vec![1.0, 0.2, -0.1, 0.0, 0.0, 0.0, 1.0, 0.01, -0.02, 0.0, 0.0, 0.0, 0.1],
+            offset,
+            step: 1e-3,
+        }
+    }
+
+    fn point_cost(target: PointTarget) -> CostSpec {
+        CostSpec::Point { body: BodyRef::Index(6), offset: [0.0, 0.0, 0.1], target, weight: Numbers::Each(vec![1.0, 2.0, 3.0]) }
+    }
+
+    #[test]
+    fn a_free_body_target_is_its_point_at_every_knots_time() {
+        let model = presets::spatial6();
+        let mut cost = point_cost(PointTarget::Moving(spinning([0.3, 0.0, 0.05]))).build(&model, 6, false).unwrap();
+        assert!(cost.is_timed());
+        let (t0, h, knots) = (2.5, 0.05, 11);
+        cost.retime(t0, h, knots).unwrap();
+        let Cost::Point { target, .. } = &cost else { unreachable!() };
+        for k in 0..knots {
+            let t = t0 + k as f64 * h;
+            let (s, c) = (0.1 * t).sin_cos();
+            let expected = Vector3::new(1.0 + 0.01 * t + 0.3 * c, 0.2 - 0.02 * t + 0.3 * s, -0.1 + 0.05);
+            assert!((target.at(k) - expected).norm() < 1e-12, "knot {k}: {} vs {expected}", target.at(k));
+        }
+        // A fixed target is not timed.
+        let fixed = point_cost(PointTarget::Fixed([0.1, 0.2, 0.3])).build(&model, 6, false).unwrap();
+        assert!(!fixed.is_timed());
+    }
+
+    /// The gradient of a moving-target point cost at a knot equals central differences of its
+    /// value along the tangent directions of the state.
+    #[test]
+    fn a_moving_point_costs_gradient_matches_finite_differences() {
+        let model = presets::spatial6();
+        let space = StateSpace { n: model.n_dof() };
+        let mut cost = point_cost(PointTarget::Moving(spinning([0.3, 0.1, 0.0]))).build(&model, 6, false).unwrap();
+        cost.retime(0.0, 0.1, 6).unwrap();
+        let costs = [cost];
+        let mut work = CostWork::new(&model);
+        let mut z = vec![0.0; space.nz()];
+        z[..3].copy_from_slice(&[0.05, -0.02, 0.01]);
+        z[3..7].copy_from_slice(&[0.1, -0.05, 0.02, (1.0f64 - 0.0129).sqrt()]);
+        for (i, q) in model.initial_q().iter().enumerate() {
+            z[7 + i] = q + 0.1 * (i as f64 + 1.0).sin();
+        }
+        let (nd, m) = (space.nd(), 6);
+        let (mut lz, mut lc) = (DVector::zeros(nd), DVector::zeros(m));
+        let (mut lzz, mut lcc) = (DMatrix::zeros(nd, nd), DMatrix::zeros(m, m));
+        let c = vec![0.0; m];
+        let k = 4;
+        let value = cost_derivatives(&model, &mut work, &costs, k, &z, &c, 1.0, &mut lz, &mut lc, &mut lzz, &mut lcc).unwrap();
+        assert!(value > 1e-3, "the target is away from the point");
+        assert_eq!(value, cost_value(&model, &mut work, &costs, k, &z, &c, 1.0).unwrap());
+        // Another knot's target gives another value.
+        assert!((cost_value(&model, &mut work, &costs, 0, &z, &c, 1.0).unwrap() - value).abs() > 1e-6);
+        let eps = 1e-6;
+        let (mut zp, mut zm, mut dz) = (z.clone(), z.clone(), vec![0.0; nd]);
+        for i in 0..nd {
+            dz.fill(0.0);
+            dz[i] = eps;
+            space.integrate(&z, &dz, &mut zp);
+            dz[i] = -eps;
+            space.integrate(&z, &dz, &mut zm);
+            let fd = (cost_value(&model, &mut work, &costs, k, &zp, &c, 1.0).unwrap() - cost_value(&model, &mut work, &costs, k, &zm, &c, 1.0).unwrap()) / (2.0 * eps);
+            assert!((fd - lz[i]).abs() < 1e-7 * (1.0 + lz[i].abs()), "entry {i}: fd {fd} vs {}", lz[i]);
+        }
+    }
+
+    #[test]
+    fn bad_targets_are_refused_with_their_field() {
+        let read = |s: &str| toml::from_str::<CostSpec>(s).map_err(|e| e.to_string());
+        let ok = read("kind = 'point'\nbody = 6\nweight = 1.0\ntarget = {kind = 'free_body', inertia = [1.0, 2.0, 3.0], state = [0,0,0, 0,0,0,1, 0,0,0, 0,0,0.1]}");
+        assert!(ok.is_ok(), "{ok:?}");
+        let e = read("kind = 'point'\nbody = 6\nweight = 1.0\ntarget = {kind = 'free_body', inertia = [1.0, 2.0, 3.0], state = [0.0], spin = 1}").unwrap_err();
+        assert!(e.contains("spin"), "{e}");
+        let e = read("kind = 'point'\nbody = 6\nweight = 1.0\ntarget = [1.0, 2.0]").unwrap_err();
+        assert!(e.contains("three numbers"), "{e}");
+        let model = presets::spatial6();
+        let short = MovingPoint::FreeBody { inertia: InertiaSpec::Principal([1.0, 1.0, 1.0]), state: vec![0.0; 12], offset: [0.0; 3], step: 1e-3 };
+        let e = point_cost(PointTarget::Moving(short)).build(&model, 6, false).unwrap_err().to_string();
+        assert!(e.contains("13"), "{e}");
+    }
 }

@@ -49,6 +49,11 @@ pub struct ProblemSpec {
     /// Bound on the size of every control (one or m; default: none, `inf`): `|c_i| ≤ limit_i`.
     #[serde(default = "unbounded")]
     pub control_limit: Numbers,
+    /// The time of knot 0 on the references' clock, s (≥ 0; default 0): knot `k` is at
+    /// `start_time + k·dt`, where a moving target is evaluated ([`super::costs::PointTarget`]).
+    /// The native law adds the run's sample time ([`crate::control::mpc`]).
+    #[serde(default)]
+    pub start_time: f64,
 }
 
 impl ProblemSpec {
@@ -59,6 +64,9 @@ impl ProblemSpec {
         }
         if !(self.dt.is_finite() && self.dt > 0.0) {
             return Err(SpacearmError::argument(format!("a problem's dt must be a finite positive number of seconds, got {}", self.dt)));
+        }
+        if !(self.start_time.is_finite() && self.start_time >= 0.0) {
+            return Err(SpacearmError::argument(format!("a problem's start_time must be a finite number of seconds >= 0, got {}", self.start_time)));
         }
         Mode::from_name(&self.mode)?;
         Ok(())
@@ -78,6 +86,7 @@ pub struct RobotProblem<'a> {
     upper: Vec<f64>,
     horizon: usize,
     next: Vec<f64>,
+    start_time: f64,
 }
 
 impl<'a> RobotProblem<'a> {
@@ -110,7 +119,7 @@ impl<'a> RobotProblem<'a> {
         if running.is_empty() && terminal.is_empty() {
             return Err(SpacearmError::argument("a problem needs at least one cost term (running or terminal)"));
         }
-        Ok(RobotProblem {
+        let mut problem = RobotProblem {
             work: CostWork::new(&model),
             model,
             step: Rk4Discretization::new(dynamics, spec.dt),
@@ -121,7 +130,32 @@ impl<'a> RobotProblem<'a> {
             upper: limit,
             horizon: spec.horizon,
             next: vec![0.0; space.nz()],
-        })
+            start_time: f64::NAN,
+        };
+        problem.set_start_time(spec.start_time)?;
+        Ok(problem)
+    }
+
+    /// Set the time of knot 0 (s ≥ 0, the references' clock): the moving targets are evaluated
+    /// at the knots' times `t₀ + k h`, `k = 0..=T` (the terminal knot's is `t₀ + T h`).
+    pub fn set_start_time(&mut self, t0: f64) -> Result<()> {
+        if !(t0.is_finite() && t0 >= 0.0) {
+            return Err(SpacearmError::argument(format!("a problem's start time must be a finite number of seconds >= 0, got {t0}")));
+        }
+        if t0 == self.start_time {
+            return Ok(());
+        }
+        let (h, knots) = (self.step.h, self.horizon + 1);
+        for cost in self.running.iter_mut().chain(self.terminal.iter_mut()) {
+            cost.retime(t0, h, knots)?;
+        }
+        self.start_time = t0;
+        Ok(())
+    }
+
+    /// Whether a cost term depends on time (a moving target).
+    pub fn is_timed(&self) -> bool {
+        self.running.iter().chain(&self.terminal).any(|c| c.is_timed())
     }
 
     /// The state's dimensions.
@@ -188,30 +222,30 @@ impl ShootingProblem for RobotProblem<'_> {
     fn project(&self, z: &mut [f64]) {
         crate::math::rotations::normalize_xyzw(&mut z[3..7]);
     }
-    fn running(&mut self, _k: usize, z: &[f64], c: &[f64], next: &mut [f64]) -> Result<f64> {
+    fn running(&mut self, k: usize, z: &[f64], c: &[f64], next: &mut [f64]) -> Result<f64> {
         self.step.step(&self.model, z, c, next)?;
-        cost_value(&self.model, &mut self.work, &self.running, z, c, self.step.h)
+        cost_value(&self.model, &mut self.work, &self.running, k, z, c, self.step.h)
     }
-    fn running_derivatives(&mut self, _k: usize, z: &[f64], c: &[f64], out: &mut KnotModel) -> Result<()> {
+    fn running_derivatives(&mut self, k: usize, z: &[f64], c: &[f64], out: &mut KnotModel) -> Result<()> {
         self.step.step_derivatives(&self.model, z, c, &mut self.next, &mut out.a, &mut out.b)?;
         out.clear_cost();
-        cost_derivatives(&self.model, &mut self.work, &self.running, z, c, self.step.h, &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)?;
+        cost_derivatives(&self.model, &mut self.work, &self.running, k, z, c, self.step.h, &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)?;
         Ok(())
     }
     /// One RK4 pass with its Jacobians gives the step end (the derivative routine's
     /// acceleration, equal to ABA's to rounding) and the cost terms their value with their
     /// derivatives.
-    fn running_with_derivatives(&mut self, _k: usize, z: &[f64], c: &[f64], next: &mut [f64], out: &mut KnotModel) -> Result<f64> {
+    fn running_with_derivatives(&mut self, k: usize, z: &[f64], c: &[f64], next: &mut [f64], out: &mut KnotModel) -> Result<f64> {
         self.step.step_derivatives(&self.model, z, c, next, &mut out.a, &mut out.b)?;
         out.clear_cost();
-        cost_derivatives(&self.model, &mut self.work, &self.running, z, c, self.step.h, &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)
+        cost_derivatives(&self.model, &mut self.work, &self.running, k, z, c, self.step.h, &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)
     }
     fn terminal(&mut self, z: &[f64]) -> Result<f64> {
-        cost_value(&self.model, &mut self.work, &self.terminal, z, &[], 1.0)
+        cost_value(&self.model, &mut self.work, &self.terminal, self.horizon, z, &[], 1.0)
     }
     fn terminal_derivatives(&mut self, z: &[f64], out: &mut KnotModel) -> Result<()> {
         out.clear_cost();
-        cost_derivatives(&self.model, &mut self.work, &self.terminal, z, &[], 1.0, &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)?;
+        cost_derivatives(&self.model, &mut self.work, &self.terminal, self.horizon, z, &[], 1.0, &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)?;
         Ok(())
     }
 }

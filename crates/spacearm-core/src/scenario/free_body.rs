@@ -27,10 +27,35 @@
 //! reached by one RK4 step of the remainder from the grid point below.
 
 use nalgebra::{Matrix3, UnitQuaternion, Quaternion, Vector3};
+use serde::{Deserialize, Serialize};
 
 use crate::error::{check_finite, Result, SpacearmError};
 use crate::math::rotations::{normalize_xyzw, quaternion_rate};
 use crate::scenario::orbit::{gravity_gradient_tensor, gravity_gradient_torque, Orbit, OrbitTrack};
+
+/// A body's inertia about its CM in its axes, kg·m²: three principal moments, a 3×3 matrix
+/// (rows), or nine numbers row-major.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum InertiaSpec {
+    /// Principal moments.
+    Principal([f64; 3]),
+    /// Rows of the matrix.
+    Matrix([[f64; 3]; 3]),
+    /// Nine numbers, row-major.
+    Flat([f64; 9]),
+}
+
+impl InertiaSpec {
+    /// The matrix.
+    pub fn matrix(&self) -> Matrix3<f64> {
+        match self {
+            InertiaSpec::Principal(d) => Matrix3::from_diagonal(&Vector3::from(*d)),
+            InertiaSpec::Matrix(m) => Matrix3::from_fn(|i, j| m[i][j]),
+            InertiaSpec::Flat(v) => Matrix3::from_row_slice(v),
+        }
+    }
+}
 
 /// A node of the grid: attitude `[x, y, z, w]`, and in orbit the CM position and velocity and
 /// the angular momentum about the CM (in 𝒥); torque-free, only `q` evolves.

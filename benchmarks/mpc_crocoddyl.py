@@ -1,0 +1,140 @@
+"""spacearm's FDDP against Crocoddyl's on the same problem (issue 36): (a) Crocoddyl's FDDP on
+Pinocchio's free-flyer model of the robot (``DifferentialActionModelFreeFwdDynamics``,
+``spacearm.interop.to_pinocchio``), (b) Crocoddyl's FDDP on spacearm's action model
+(``spacearm.mpc.crocoddyl_action_model``, Python callbacks), (c) spacearm's native FDDP
+(``spacearm.mpc.solve``). The optimum agreement (cost, joint trajectory, torques) and the time
+per iteration, interleaved repeats, medians, ratios to (a). Robots: spatial6 (N = 6) and a
+30-DOF chain (N = 30).
+
+The problem: RK4 steps (Crocoddyl's ``IntegratedActionModelRK`` four, spacearm's simulator step),
+running cost ``½ w_u |τ|²`` (constant over a step's RK stages, so Crocoddyl's RK quadrature of
+the running cost equals spacearm's rectangle rule) and a terminal cost on the joint positions and
+rates. The three discretize the same ODE in different coordinates (Pinocchio: base velocity in
+the base frame; Crocoddyl's RK stages on the Lie group; spacearm: the quaternion in ambient
+coordinates, renormalized), so their optima differ by the RK4 truncation's difference.
+
+Crocoddyl downgrades example-robot-data, so run it in its own virtual environment:
+
+    python3 -m venv /work/venvs/croc && /work/venvs/croc/bin/pip install crocoddyl numpy defusedxml tqdm
+    PYTHONPATH=python /work/venvs/croc/bin/python benchmarks/mpc_crocoddyl.py [--repeat 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+import numpy as np
+
+import spacearm
+import spacearm.mpc as mpc
+from spacearm.interop import to_pinocchio, to_pinocchio_state
+from spacearm.mpc.crocoddyl import crocoddyl_action_model, make_state
+
+from _chain import chain
+
+try:
+    import crocoddyl
+except ImportError as exc:  # pragma: no cover
+    raise SystemExit(f"this benchmark needs crocoddyl (see its docstring): {exc}")
+
+W_U, W_Q, W_QD = 1e-2, 100.0, 10.0
+
+
+def goal_of(robot) -> np.ndarray:
+    n = robot.n_dof
+    return robot.initial_q + 0.1 * np.cos(np.arange(n))
+
+
+def weighted(state, weights, residual):
+    return crocoddyl.CostModelResidual(state, crocoddyl.ActivationModelWeightedQuad(np.asarray(weights, dtype=float)), residual)
+
+
+def shooting(state, dam_of, x0, xref, nu, horizon, dt):
+    """Crocoddyl's problem: running ½ w_u |τ|², terminal ½ W_q |q − q_goal|² + ½ W_qd |q̇|²."""
+    n = nu
+    run_costs = crocoddyl.CostModelSum(state, nu)
+    run_costs.addCost("u", weighted(state, np.full(nu, W_U), crocoddyl.ResidualModelControl(state, nu)), 1.0)
+    term_costs = crocoddyl.CostModelSum(state, nu)
+    w = np.zeros(state.ndx)
+    w[6:6 + n], w[12 + n:] = W_Q, W_QD
+    term_costs.addCost("x", weighted(state, w, crocoddyl.ResidualModelState(state, xref, nu)), 1.0)
+    run = crocoddyl.IntegratedActionModelRK(dam_of(run_costs), crocoddyl.RKType.four, dt)
+    term = crocoddyl.IntegratedActionModelRK(dam_of(term_costs), crocoddyl.RKType.four, 0.0)
+    return crocoddyl.ShootingProblem(x0, [run] * horizon, term)
+
+
+class Case:
+    def __init__(self, robot, horizon: int, dt: float):
+        self.robot, self.horizon, self.dt = robot, horizon, dt
+        n = self.n = robot.n_dof
+        x0, u0 = robot.neutral_configuration(), robot.zero_velocity()
+        goal = goal_of(robot)
+        # (a) Pinocchio's free-flyer model (its q[:7] is spacearm's x[:7]; its base velocity is in the base frame).
+        pin_model = to_pinocchio(robot)
+        sp = crocoddyl.StateMultibody(pin_model)
+        act = crocoddyl.ActuationModelFloatingBase(sp)
+        q, v = to_pinocchio_state(robot, x0, u0)
+        qref = q.copy()
+        qref[7:] = goal
+        self.pin = shooting(sp, lambda c: crocoddyl.DifferentialActionModelFreeFwdDynamics(sp, act, c), np.concatenate([q, v]),
+                            np.concatenate([qref, np.zeros(sp.nv)]), act.nu, horizon, dt)
+        # (b) spacearm's action model in Crocoddyl.
+        ss = make_state(robot)
+        z0 = np.concatenate([x0, u0])
+        zref = z0.copy()
+        zref[7:7 + n] = goal
+        self.spa = shooting(ss, lambda c: crocoddyl_action_model(robot, c, state=ss), z0, zref, n, horizon, dt)
+        # (c) spacearm's native problem.
+        self.native = mpc.Problem(horizon=horizon, dt=dt, running=[mpc.ControlCost(W_U)], terminal=[mpc.JointCost(W_Q, goal, weight_qd=W_QD)])
+
+    def crocoddyl(self, problem, iterations: int = 200):
+        solver = crocoddyl.SolverFDDP(problem)
+        solver.th_stop = 1e-14
+        us0 = [np.zeros(self.n)] * self.horizon
+        xs0 = problem.rollout(us0)
+        t = time.perf_counter()
+        solver.solve(xs0, us0, iterations)
+        elapsed = time.perf_counter() - t
+        return solver.cost, np.array(solver.xs)[:, 7:7 + self.n], np.array(solver.us), elapsed, max(solver.iter, 1)
+
+    def spacearm(self):
+        sol = mpc.solve(self.robot, self.native, max_iterations=200, tolerance=1e-14)
+        return sol.cost, sol.x[:, 7:], sol.tau, sol.solve_time, max(sol.iterations, 1)
+
+
+def compare(name: str, case: Case, repeat: int) -> None:
+    runs = {"a": [], "b": [], "c": []}
+    results = {}
+    for _ in range(repeat):  # interleaved
+        for key, fn in (("a", lambda: case.crocoddyl(case.pin)), ("b", lambda: case.crocoddyl(case.spa)), ("c", case.spacearm)):
+            cost, qs, us, elapsed, iters = fn()
+            runs[key].append(elapsed / iters)
+            results[key] = (cost, qs, us, iters)
+    print(f"\n{name}: N = {case.n}, T = {case.horizon} steps of {case.dt} s")
+    labels = {"a": "Crocoddyl FDDP, Pinocchio free flyer", "b": "Crocoddyl FDDP, spacearm action model", "c": "spacearm FDDP (native)"}
+    base = statistics.median(runs["a"])
+    for key in "abc":
+        cost, qs, us, iters = results[key]
+        t = statistics.median(runs[key])
+        print(f"  ({key}) {labels[key]:<40} cost {cost:.12g}  iterations {iters:3d}  {t * 1e3:9.3f} ms/iteration  ratio to (a) {t / base:7.3f}")
+    for a, b in (("a", "c"), ("b", "c"), ("a", "b")):
+        ca, qa, ua, _ = results[a]
+        cb, qb, ub, _ = results[b]
+        print(f"  ({a}) vs ({b}): |Δcost|/cost {abs(ca - cb) / abs(ca):.2e}  max|Δq| {np.abs(qa - qb).max():.2e} rad  max|Δτ| {np.abs(ua - ub).max():.2e}")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--horizon", type=int, default=20)
+    parser.add_argument("--dt", type=float, default=0.05)
+    args = parser.parse_args()
+    print(f"crocoddyl {crocoddyl.__version__}; spacearm {spacearm.__version__}; medians of {args.repeat} interleaved solves")
+    compare("spatial6", Case(spacearm.presets.spatial6(), args.horizon, args.dt), args.repeat)
+    compare("chain30", Case(chain(30), args.horizon, args.dt), args.repeat)
+
+
+if __name__ == "__main__":
+    main()
