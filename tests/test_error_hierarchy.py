@@ -142,21 +142,52 @@ def core_error_variants() -> list:
 
 
 def binding_mapping() -> dict:
-    """``variant -> Python class name`` from the binding's ``class_of_error`` (convert.rs) and
-    the class names of its ``ErrorClass`` (errors_py.rs)."""
-    text = (BINDINGS / "convert.rs").read_text(encoding="utf-8")
-    classes = dict(re.findall(r"ErrorClass::(\w+)\s*=>\s*\"(\w+)\"", (BINDINGS / "errors_py.rs").read_text(encoding="utf-8")))
-    pairs = re.findall(r"SpacearmError::(\w+)\s*(?:\([^)]*\)|\{[^}]*\})?\s*=>\s*ErrorClass::(\w+)", text)
-    return {variant: classes[cls] for variant, cls in pairs}
+    """``kind -> Python class name`` as the extension raises them (the core's table of error
+    kinds, error.rs ``ErrorKind``, exported as ``_core.ERROR_KINDS``)."""
+    return {name: cls.__name__ for name, _code, cls in spacearm._core.ERROR_KINDS}
 
 
 def test_the_binding_maps_every_core_error_kind_onto_a_spacearm_error_class():
     variants = core_error_variants()
     assert len(variants) >= 9, variants
     mapping = binding_mapping()
-    assert set(mapping) == set(variants)
+    assert list(mapping) == variants  # one kind per variant, in the enum's order
     for variant, cls in mapping.items():
         assert issubclass(getattr(errors, cls), errors.SpacearmError), (variant, cls)
+        assert getattr(errors, cls) is getattr(spacearm._core, cls)
+
+
+def c_statuses() -> dict:
+    """``NAME -> code`` of the C header's status enum (``SPACEARM_STATUS_NAME = code``)."""
+    header = (ROOT / "crates" / "spacearm-c" / "include" / "spacearm.h").read_text(encoding="utf-8")
+    return {name: int(code) for name, code in re.findall(r"SPACEARM_STATUS_(\w+) = (\d+)", header)}
+
+
+def c_api_table() -> dict:
+    """``code -> (NAME, Python class or "")`` of the status table of docs/c-api.md."""
+    text = (ROOT / "docs" / "c-api.md").read_text(encoding="utf-8")
+    rows = re.findall(r"^\| (\d+) `(\w+)` \|.*\| *(?:`(\w+)`[^|]*)? *\|$", text, flags=re.M)
+    return {int(code): (name, cls) for code, name, cls in rows}
+
+
+def test_every_core_error_kind_is_a_distinct_c_status_and_a_distinct_python_class():
+    kinds = spacearm._core.ERROR_KINDS
+    assert [name for name, _, _ in kinds] == core_error_variants()
+    codes = [code for _, code, _ in kinds]
+    classes = [cls for _, _, cls in kinds]
+    assert len(set(codes)) == len(kinds) and 0 not in codes
+    assert len(set(classes)) == len(kinds)
+    header, table = c_statuses(), c_api_table()
+    assert header["OK"] == 0 and len(table) >= len(kinds), table
+    for name, code, cls in kinds:
+        # The status of that code in the header is the kind's name (InvalidModel ~ INVALID_MODEL),
+        # and docs/c-api.md's table gives the same status and class.
+        snake = re.sub(r"(?<!^)(?=[A-Z])", "_", name).upper()
+        assert header[snake] == code, (name, code)
+        assert table[code] == (snake, cls.__name__), (name, table[code])
+        assert cls.__module__ == "spacearm.errors" and getattr(errors, cls.__name__) is cls
+    # The statuses only the C ABI has (a NULL pointer, a short buffer, I/O, a panic) are no kind.
+    assert set(header.values()) - set(codes) == {0, 11, 12, 13, 14}
 
 
 def test_the_bindings_raise_no_builtin_python_exception_directly():

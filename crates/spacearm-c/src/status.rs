@@ -12,7 +12,7 @@ use std::ffi::{c_char, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use nalgebra::{Dim, Matrix, RawStorage};
-use spacearm_core::SpacearmError;
+use spacearm_core::{ErrorKind, SpacearmError};
 
 /// What a call of the C ABI returned. `0` is success; every other value names the kind of
 /// failure (the same kinds as the Python exceptions of `spacearm.errors`), and
@@ -92,19 +92,15 @@ impl Failure {
 
 impl From<SpacearmError> for Failure {
     fn from(e: SpacearmError) -> Self {
-        let status = match &e {
-            SpacearmError::InvalidModel(_) => SpacearmStatus::InvalidModel,
-            SpacearmError::Dimension { .. } => SpacearmStatus::Dimension,
-            SpacearmError::NonFinite { .. } => SpacearmStatus::NonFinite,
-            SpacearmError::NotUnitQuaternion { .. } => SpacearmStatus::NotUnitQuaternion,
-            SpacearmError::NotFound(_) => SpacearmStatus::NotFound,
-            SpacearmError::Singular(_) => SpacearmStatus::Singular,
-            SpacearmError::Parse(_) => SpacearmStatus::Parse,
-            SpacearmError::InvalidArgument(_) => SpacearmStatus::InvalidArgument,
-            SpacearmError::Simulation(_) => SpacearmStatus::Simulation,
-            SpacearmError::ResourceLimit(_) => SpacearmStatus::ResourceLimit,
-        };
-        Failure::new(status, e.to_string())
+        Failure::new(SpacearmStatus::of_kind(e.kind()), e.to_string())
+    }
+}
+
+impl SpacearmStatus {
+    /// The status of an error kind of the core: the one whose code the core's table gives
+    /// ([`ErrorKind::status_code`]).
+    pub(crate) fn of_kind(kind: ErrorKind) -> SpacearmStatus {
+        SpacearmStatus::ALL.into_iter().find(|s| *s as i32 == kind.status_code()).unwrap_or(SpacearmStatus::Internal)
     }
 }
 
@@ -374,6 +370,22 @@ mod tests {
         // A message with an interior NUL is cut there, never dropped.
         assert_eq!(guard(|| Err(Failure::argument("before\0after"))), SpacearmStatus::InvalidArgument);
         assert_eq!(last(), "before");
+    }
+
+    #[test]
+    fn every_error_kind_of_the_core_is_its_own_status_of_the_same_name() {
+        let statuses: Vec<SpacearmStatus> = ErrorKind::ALL.into_iter().map(SpacearmStatus::of_kind).collect();
+        for (kind, status) in ErrorKind::ALL.into_iter().zip(&statuses) {
+            // The core's code lands on the C enum's variant of the kind's name (not on the
+            // statuses only the C ABI has: Ok, NullPointer, BufferTooSmall, Io, Internal).
+            assert_eq!(format!("{status:?}"), kind.name());
+            assert_eq!(*status as i32, kind.status_code());
+        }
+        let distinct: std::collections::HashSet<i32> = statuses.iter().map(|s| *s as i32).collect();
+        assert_eq!(distinct.len(), ErrorKind::ALL.len());
+        // An error of the core arrives as its kind's status.
+        let f = Failure::from(SpacearmError::Parse("line 1".into()));
+        assert_eq!((f.status, f.message.as_str()), (SpacearmStatus::Parse, "line 1"));
     }
 
     #[test]

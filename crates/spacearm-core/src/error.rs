@@ -1,7 +1,8 @@
 //! Typed errors of the core. Every fallible public function returns [`Result`].
 //!
-//! The bindings map each variant onto one Python exception class (see `spacearm.errors`),
-//! so the variant names are part of the user-facing contract: keep them stable.
+//! Each variant has an [`ErrorKind`], and the kinds' one table gives each its status code in the
+//! C ABI and its exception class in `spacearm.errors`, which the doors look up; the variant
+//! names are part of the user-facing contract: keep them stable.
 
 use thiserror::Error;
 
@@ -175,6 +176,99 @@ impl SpacearmError {
     pub(crate) fn argument(msg: impl Into<String>) -> Self {
         SpacearmError::InvalidArgument(msg.into())
     }
+
+    /// The kind of this error: what every door maps it by (its C status code and its Python
+    /// class are rows of [`ErrorKind`]'s table).
+    pub fn kind(&self) -> ErrorKind {
+        match self {
+            SpacearmError::InvalidModel(_) => ErrorKind::InvalidModel,
+            SpacearmError::Dimension { .. } => ErrorKind::Dimension,
+            SpacearmError::NonFinite { .. } => ErrorKind::NonFinite,
+            SpacearmError::NotUnitQuaternion { .. } => ErrorKind::NotUnitQuaternion,
+            SpacearmError::NotFound(_) => ErrorKind::NotFound,
+            SpacearmError::Singular(_) => ErrorKind::Singular,
+            SpacearmError::Parse(_) => ErrorKind::Parse,
+            SpacearmError::InvalidArgument(_) => ErrorKind::InvalidArgument,
+            SpacearmError::Simulation(_) => ErrorKind::Simulation,
+            SpacearmError::ResourceLimit(_) => ErrorKind::ResourceLimit,
+        }
+    }
+}
+
+/// The kind of a [`SpacearmError`], one per variant (the same names): the key by which the
+/// doors map the core's errors. Its table ([`ErrorKind::ALL`] with [`ErrorKind::name`],
+/// [`ErrorKind::status_code`], [`ErrorKind::exception`]) is the one place that says which status
+/// code of the C ABI (`SpacearmStatus`, docs/c-api.md "Errors") and which exception class of
+/// `spacearm.errors` a kind is; the C crate and the Python binding each look the kind up there.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ErrorKind {
+    /// [`SpacearmError::InvalidModel`].
+    InvalidModel,
+    /// [`SpacearmError::Dimension`].
+    Dimension,
+    /// [`SpacearmError::NonFinite`].
+    NonFinite,
+    /// [`SpacearmError::NotUnitQuaternion`].
+    NotUnitQuaternion,
+    /// [`SpacearmError::NotFound`].
+    NotFound,
+    /// [`SpacearmError::Singular`].
+    Singular,
+    /// [`SpacearmError::Parse`].
+    Parse,
+    /// [`SpacearmError::InvalidArgument`].
+    InvalidArgument,
+    /// [`SpacearmError::Simulation`].
+    Simulation,
+    /// [`SpacearmError::ResourceLimit`].
+    ResourceLimit,
+}
+
+/// The table of the kinds, in the order of [`ErrorKind`]: the kind, its name (the variant's),
+/// its status code in the C ABI and its exception class in `spacearm.errors`.
+const KIND_TABLE: [(ErrorKind, &str, i32, &str); 10] = [
+    (ErrorKind::InvalidModel, "InvalidModel", 1, "ModelError"),
+    (ErrorKind::Dimension, "Dimension", 2, "ShapeError"),
+    (ErrorKind::NonFinite, "NonFinite", 3, "NonFiniteError"),
+    (ErrorKind::NotUnitQuaternion, "NotUnitQuaternion", 4, "QuaternionError"),
+    (ErrorKind::NotFound, "NotFound", 5, "NotFoundError"),
+    (ErrorKind::Singular, "Singular", 6, "SingularError"),
+    (ErrorKind::Parse, "Parse", 7, "ModelFileError"),
+    (ErrorKind::InvalidArgument, "InvalidArgument", 8, "ArgumentError"),
+    (ErrorKind::Simulation, "Simulation", 9, "SimulationError"),
+    (ErrorKind::ResourceLimit, "ResourceLimit", 10, "ResourceLimitError"),
+];
+
+impl ErrorKind {
+    /// Every kind, in the order of the table.
+    pub const ALL: [ErrorKind; KIND_TABLE.len()] = {
+        let mut all = [ErrorKind::InvalidModel; KIND_TABLE.len()];
+        let mut k = 0;
+        while k < all.len() {
+            all[k] = KIND_TABLE[k].0;
+            k += 1;
+        }
+        all
+    };
+
+    fn row(self) -> &'static (ErrorKind, &'static str, i32, &'static str) {
+        &KIND_TABLE[self as usize]
+    }
+
+    /// The kind's name: that of its [`SpacearmError`] variant (`"InvalidModel"`).
+    pub fn name(self) -> &'static str {
+        self.row().1
+    }
+
+    /// Its status code in the C ABI (`SpacearmStatus`; `0` is success, so never `0`).
+    pub fn status_code(self) -> i32 {
+        self.row().2
+    }
+
+    /// The name of its exception class in `spacearm.errors` (`"ModelError"`).
+    pub fn exception(self) -> &'static str {
+        self.row().3
+    }
 }
 
 /// Digits a number of a message may have before it is shown in scientific notation.
@@ -313,6 +407,37 @@ mod tests {
         match JointsAtImpact::from_name("Free") {
             Err(SpacearmError::InvalidArgument(m)) => assert_eq!(m, r#"arm must be one of ["free", "locked"], got 'Free'"#),
             other => panic!("expected an argument error, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn every_kind_has_one_row_a_distinct_status_code_and_a_distinct_exception_class() {
+        use std::collections::HashSet;
+        assert_eq!(ErrorKind::ALL.len(), 10);
+        for (k, kind) in ErrorKind::ALL.into_iter().enumerate() {
+            assert_eq!(kind as usize, k, "the table's rows are in the order of the enum");
+            assert_eq!(format!("{kind:?}"), kind.name());
+            assert!(kind.status_code() > 0, "{kind:?}: 0 is the C ABI's success");
+            assert!(kind.exception().ends_with("Error"), "{kind:?}");
+        }
+        assert_eq!(ErrorKind::ALL.iter().map(|k| k.status_code()).collect::<HashSet<_>>().len(), ErrorKind::ALL.len());
+        assert_eq!(ErrorKind::ALL.iter().map(|k| k.exception()).collect::<HashSet<_>>().len(), ErrorKind::ALL.len());
+        // One error of each variant has the kind of the same name.
+        let errors = [
+            SpacearmError::InvalidModel("m".into()),
+            SpacearmError::Dimension { what: "x".into(), expected: "3".into(), got: 2 },
+            SpacearmError::NonFinite { what: "x".into(), index: 0, value: f64::NAN },
+            SpacearmError::NotUnitQuaternion { what: "q".into(), norm: 2.0, tolerance: 1e-6 },
+            SpacearmError::NotFound("n".into()),
+            SpacearmError::Singular("H".into()),
+            SpacearmError::Parse("p".into()),
+            SpacearmError::argument("a"),
+            SpacearmError::Simulation("s".into()),
+            SpacearmError::ResourceLimit("r".into()),
+        ];
+        for (e, kind) in errors.iter().zip(ErrorKind::ALL) {
+            assert_eq!(e.kind(), kind);
+            assert!(format!("{e:?}").starts_with(kind.name()), "{e:?}");
         }
     }
 

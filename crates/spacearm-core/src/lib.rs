@@ -54,6 +54,6 @@ pub mod sim;
 pub mod taped;
 
 pub use algorithms::wrench::ExternalWrench;
-pub use error::{Result, SpacearmError};
+pub use error::{ErrorKind, Result, SpacearmError};
 pub use model::joint::{JointDynamics, JointLimits, JointType};
 pub use model::{Data, DataT, Geometry, GeometryRole, GeometrySpec, LinkSpec, Model, ModelBuilder, Mount, Shape};

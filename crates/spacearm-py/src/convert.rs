@@ -16,20 +16,9 @@ use spacearm_core::SpacearmError;
 
 use crate::errors_py::{new_error, ErrorClass};
 
-/// The exception class of a core error.
+/// The exception class of a core error: its kind's (the core's table, [`ErrorKind::exception`]).
 pub fn class_of_error(err: &SpacearmError) -> ErrorClass {
-    match err {
-        SpacearmError::InvalidModel(_) => ErrorClass::Model,
-        SpacearmError::Dimension { .. } => ErrorClass::Shape,
-        SpacearmError::NonFinite { .. } => ErrorClass::NonFinite,
-        SpacearmError::NotUnitQuaternion { .. } => ErrorClass::Quaternion,
-        SpacearmError::NotFound(_) => ErrorClass::NotFound,
-        SpacearmError::Singular(_) => ErrorClass::Singular,
-        SpacearmError::Parse(_) => ErrorClass::ModelFile,
-        SpacearmError::InvalidArgument(_) => ErrorClass::Argument,
-        SpacearmError::Simulation(_) => ErrorClass::Simulation,
-        SpacearmError::ResourceLimit(_) => ErrorClass::ResourceLimit,
-    }
+    ErrorClass::of_kind(err.kind())
 }
 
 /// Raise the `spacearm.errors` class that corresponds to a core error.

@@ -11,6 +11,7 @@
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyTuple, PyType};
+use spacearm_core::ErrorKind;
 
 /// One exception class of the extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -61,6 +62,12 @@ impl ErrorClass {
             ErrorClass::Simulation => "SimulationError",
             ErrorClass::ResourceLimit => "ResourceLimitError",
         }
+    }
+
+    /// The class of an error kind of the core: the one named by the core's table
+    /// ([`ErrorKind::exception`]).
+    pub fn of_kind(kind: ErrorKind) -> ErrorClass {
+        ErrorClass::ALL.into_iter().find(|c| c.name() == kind.exception()).unwrap_or(ErrorClass::Spacearm)
     }
 
     /// The spacearm class it derives from (`None`: the root) and its builtin bases.
@@ -123,10 +130,14 @@ pub fn new_error(py: Python<'_>, class: ErrorClass, message: String) -> PyErr {
     }
 }
 
-/// Add every class to the extension module.
+/// Add every class to the extension module, and `ERROR_KINDS`: the core's error kinds, each
+/// as its name, its C status code and the class it is raised as (the core's table).
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     for class in ErrorClass::ALL {
         m.add(class.name(), class_of(m.py(), class)?)?;
     }
+    let kinds: Vec<(&str, i32, Bound<'_, PyType>)> =
+        ErrorKind::ALL.into_iter().map(|k| Ok((k.name(), k.status_code(), class_of(m.py(), ErrorClass::of_kind(k))?))).collect::<PyResult<_>>()?;
+    m.add("ERROR_KINDS", kinds)?;
     Ok(())
 }

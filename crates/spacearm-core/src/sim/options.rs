@@ -15,40 +15,112 @@ use crate::scenario::orbit::Orbit;
 use crate::sim::contact::ContactSpec;
 use crate::sim::stop::StopCondition;
 
-/// Options of a simulation.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SimOptions {
-    /// Maneuvering mode.
-    pub mode: Mode,
-    /// Integrator.
-    pub integrator: IntegratorKind,
-    /// Simulated time, s (> 0).
-    pub duration: f64,
+/// The options that a run's description ([`RunSpec`], data) and its checked options
+/// ([`SimOptions`]) share, the same as data and checked: declared once, in the invocation below,
+/// with their doc, type and default. The macro writes both structs (each with its own fields
+/// after the shared ones), their `Default`s, and `RunSpec::shared_options`, which carries the
+/// shared fields over; a run option of this kind is added there and nowhere else (its check
+/// goes to [`SimOptions::validate`]).
+macro_rules! run_options {
+    ($( $(#[doc = $doc:expr])* $field:ident : $ty:ty = $default:expr, )+) => {
+        /// Options of a simulation.
+        #[derive(Debug, Clone, PartialEq)]
+        pub struct SimOptions {
+            $( $(#[doc = $doc])* pub $field: $ty, )+
+            /// Simulated time, s (> 0).
+            pub duration: f64,
+            /// Thruster limits (flying modes); `None`: unlimited.
+            pub thrusters: Option<ThrusterLimits>,
+            /// The orbit of the run ([`OrbitOptions`]); `None`: empty, inertial space.
+            pub orbit: Option<OrbitOptions>,
+        }
+
+        impl Default for SimOptions {
+            fn default() -> Self {
+                SimOptions { $( $field: $default, )+ duration: 1.0, thrusters: None, orbit: None }
+            }
+        }
+
+        /// A run's description as data: every option of [`SimOptions`] but the duration (an
+        /// argument of each entry point), with the controller. Every field may be left out (the
+        /// defaults are [`SimOptions::default`]'s); an unknown one is refused. The names are
+        /// those of the Python `spacearm.simulate` keywords and of the C stepper's options TOML
+        /// (docs/c-api.md):
+        ///
+        /// ```toml
+        /// mode = "flying"          # Mode::NAMES
+        /// integrator = "rk4"       # IntegratorKind::NAMES
+        /// dt = 1e-3
+        /// thrusters = { max_force = 10.0, max_torque = [1.0, 1.0, 2.0] }
+        /// [controller]             # a ControllerSpec (control/spec.rs)
+        /// kind = "joint_pd"
+        /// kp = 40.0
+        /// kd = 12.0
+        /// reference = [0.0, 0.5]
+        /// ```
+        ///
+        /// [`RunSpec::options`] builds and checks the [`SimOptions`] of a run of a given
+        /// duration (one validation: [`SimOptions::validate`]); the controller is built on the
+        /// plant by the entry point ([`ControllerSpec::build`]).
+        #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+        #[serde(default, deny_unknown_fields)]
+        pub struct RunSpec {
+            $( $(#[doc = $doc])* pub $field: $ty, )+
+            /// Thruster limits (flying modes) as data; absent: unlimited.
+            pub thrusters: Option<ThrusterLimitsSpec>,
+            /// The orbit of the run's origin and whether its tidal wrenches act (the keys `orbit`
+            /// and `gravity_gradient`).
+            #[serde(flatten)]
+            pub in_orbit: RunOrbit,
+            /// The control law; absent: zero torques.
+            pub controller: Option<ControllerSpec>,
+        }
+
+        impl Default for RunSpec {
+            fn default() -> Self {
+                RunSpec { $( $field: $default, )+ thrusters: None, in_orbit: RunOrbit::default(), controller: None }
+            }
+        }
+
+        impl RunSpec {
+            /// The [`SimOptions`] of this description's shared fields with `duration`, the built
+            /// `thrusters` and `orbit` (unchecked: [`RunSpec::options`] checks).
+            fn shared_options(&self, duration: f64, thrusters: Option<ThrusterLimits>, orbit: Option<OrbitOptions>) -> SimOptions {
+                SimOptions { $( $field: self.$field.clone(), )+ duration, thrusters, orbit }
+            }
+        }
+    };
+}
+
+run_options! {
+    /// Maneuvering mode ([`Mode::NAMES`]).
+    mode: Mode = Mode::Floating,
+    /// Integrator ([`IntegratorKind::NAMES`]).
+    integrator: IntegratorKind = IntegratorKind::Rk4,
     /// RK4: the step; DOPRI5: the output (recording) interval. s, > 0.
-    pub dt: f64,
+    dt: f64 = 1e-3,
     /// DOPRI5 relative tolerance (> 0).
-    pub rtol: f64,
+    rtol: f64 = 1e-9,
     /// DOPRI5 absolute tolerance (≥ 0).
-    pub atol: f64,
+    atol: f64 = 1e-12,
     /// RK4: keep every k-th step (≥ 1); the final state is always kept.
-    pub record_every: usize,
-    /// Wheel degrees of freedom; `None`: [`detect_reaction_wheels`](crate::scenario::actuators::detect_reaction_wheels).
-    pub wheels: Option<Vec<usize>>,
-    /// Thruster limits (flying modes); `None`: unlimited.
-    pub thrusters: Option<ThrusterLimits>,
+    record_every: usize = 1,
+    /// Wheel degrees of freedom; `None`: those the model's structure shows
+    /// ([`detect_reaction_wheels`](crate::scenario::actuators::detect_reaction_wheels)).
+    wheels: Option<Vec<usize>> = None,
     /// Whether the joints' effort and velocity limits apply (they always do to nothing else).
-    pub joint_limits: bool,
-    /// Largest number of attempted steps (DOPRI5) before giving up.
-    pub max_steps: usize,
-    /// The orbit of the run ([`OrbitOptions`]); `None`: empty, inertial space.
-    pub orbit: Option<OrbitOptions>,
+    joint_limits: bool = true,
+    /// DOPRI5: the largest number of attempted steps (accepted and rejected) before giving up.
+    max_steps: usize = DEFAULT_MAX_STEPS,
     /// Conditions that stop the run before its duration, the first to hold wins
-    /// ([`crate::sim::events`]; [`SimResult::stop`](crate::sim::result::SimResult::stop) says which and when); empty: none. Honoured
-    /// by [`simulate`](crate::sim::simulate::simulate) (both integrators); the entry points that stack equal-length runs or step
-    /// a plant refuse them ([`SimOptions::refuse_stop`]).
-    pub stop: Vec<StopCondition>,
-    /// Compliant contact between the system's bodies ([`crate::sim::contact`]); `None`: none.
-    pub contact: Option<ContactSpec>,
+    /// ([`crate::sim::stop`], [`crate::sim::events`]; [`SimResult::stop`](crate::sim::result::SimResult::stop)
+    /// says which and when); empty: none. Honoured by [`simulate`](crate::sim::simulate::simulate)
+    /// (both integrators); the entry points that stack equal-length runs or step a plant refuse
+    /// them ([`SimOptions::refuse_stop`]).
+    stop: Vec<StopCondition> = Vec::new(),
+    /// Compliant contact between the system's bodies ([`crate::sim::contact`], [`ContactSpec`]);
+    /// `None`: none.
+    contact: Option<ContactSpec> = None,
 }
 
 /// A run in orbit (docs/orbit.md): the origin of 𝒥 is the orbit's point `O`, propagated on its
@@ -70,27 +142,6 @@ pub struct OrbitOptions {
 /// steps): spent, the run stops with a `SimulationError` naming the time reached and the
 /// budget. About two minutes of spatial6 (a run of 10⁶ s at rtol 1e-12 reaches t = 1.2·10⁴ s).
 pub const DEFAULT_MAX_STEPS: usize = 10_000_000;
-
-impl Default for SimOptions {
-    fn default() -> Self {
-        SimOptions {
-            mode: Mode::Floating,
-            integrator: IntegratorKind::Rk4,
-            duration: 1.0,
-            dt: 1e-3,
-            rtol: 1e-9,
-            atol: 1e-12,
-            record_every: 1,
-            wheels: None,
-            thrusters: None,
-            joint_limits: true,
-            max_steps: DEFAULT_MAX_STEPS,
-            orbit: None,
-            stop: Vec::new(),
-            contact: None,
-        }
-    }
-}
 
 impl SimOptions {
     /// Check every value (positive duration and step, tolerances, counts).
@@ -143,61 +194,6 @@ impl SimOptions {
     }
 }
 
-/// A run's description as data: every option of [`SimOptions`] but the duration (an argument of
-/// each entry point), with the controller. Every field may be left out (the defaults are
-/// [`SimOptions::default`]'s); an unknown one is refused. The names are those of the Python
-/// `spacearm.simulate` keywords and of the C stepper's options TOML (docs/c-api.md):
-///
-/// ```toml
-/// mode = "flying"          # Mode::NAMES
-/// integrator = "rk4"       # IntegratorKind::NAMES
-/// dt = 1e-3
-/// thrusters = { max_force = 10.0, max_torque = [1.0, 1.0, 2.0] }
-/// [controller]             # a ControllerSpec (control/spec.rs)
-/// kind = "joint_pd"
-/// kp = 40.0
-/// kd = 12.0
-/// reference = [0.0, 0.5]
-/// ```
-///
-/// [`RunSpec::options`] builds and checks the [`SimOptions`] of a run of a given duration (one
-/// validation: [`SimOptions::validate`]); the controller is built on the plant by the entry point
-/// ([`ControllerSpec::build`]).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct RunSpec {
-    /// Maneuvering mode ([`Mode::NAMES`]).
-    pub mode: Mode,
-    /// Integrator ([`IntegratorKind::NAMES`]).
-    pub integrator: IntegratorKind,
-    /// RK4: the step; DOPRI5: the output interval, s.
-    pub dt: f64,
-    /// DOPRI5 relative tolerance.
-    pub rtol: f64,
-    /// DOPRI5 absolute tolerance.
-    pub atol: f64,
-    /// RK4: keep every k-th step.
-    pub record_every: usize,
-    /// Wheel dofs; absent: those the model's structure shows.
-    pub wheels: Option<Vec<usize>>,
-    /// Thruster limits (flying modes); absent: unlimited.
-    pub thrusters: Option<ThrusterLimitsSpec>,
-    /// Whether the joints' effort and velocity limits apply.
-    pub joint_limits: bool,
-    /// DOPRI5: the most steps attempted.
-    pub max_steps: usize,
-    /// The orbit of the run's origin and whether its tidal wrenches act (the keys `orbit` and
-    /// `gravity_gradient`).
-    #[serde(flatten)]
-    pub in_orbit: RunOrbit,
-    /// Conditions that stop the run early ([`crate::sim::stop`]).
-    pub stop: Vec<StopCondition>,
-    /// The control law; absent: zero torques.
-    pub controller: Option<ControllerSpec>,
-    /// Compliant contact between bodies of the system ([`ContactSpec`]); absent: none.
-    pub contact: Option<ContactSpec>,
-}
-
 /// The orbit of a run as data (docs/orbit.md), the part of a run's description that
 /// [`RunSpec`] and a capture's ([`crate::sim::capture_spec::CaptureSpec`]) share (flattened into
 /// each: the keys `orbit` and `gravity_gradient`), with its one check ([`RunOrbit::options`]).
@@ -228,49 +224,13 @@ impl RunOrbit {
     }
 }
 
-impl Default for RunSpec {
-    fn default() -> Self {
-        let d = SimOptions::default();
-        RunSpec {
-            mode: d.mode,
-            integrator: d.integrator,
-            dt: d.dt,
-            rtol: d.rtol,
-            atol: d.atol,
-            record_every: d.record_every,
-            wheels: d.wheels,
-            thrusters: None,
-            joint_limits: d.joint_limits,
-            max_steps: d.max_steps,
-            in_orbit: RunOrbit::default(),
-            stop: d.stop,
-            controller: None,
-            contact: None,
-        }
-    }
-}
-
 impl RunSpec {
     /// The checked options of a run of `duration` seconds ([`SimOptions::validate`], the thruster
     /// limits', the controller spec's own checks that need no plant).
     pub fn options(&self, duration: f64) -> Result<SimOptions> {
         let orbit = self.in_orbit.options()?;
-        let options = SimOptions {
-            mode: self.mode,
-            integrator: self.integrator,
-            duration,
-            dt: self.dt,
-            rtol: self.rtol,
-            atol: self.atol,
-            record_every: self.record_every,
-            wheels: self.wheels.clone(),
-            thrusters: self.thrusters.as_ref().map(ThrusterLimitsSpec::build).transpose()?,
-            joint_limits: self.joint_limits,
-            max_steps: self.max_steps,
-            orbit,
-            stop: self.stop.clone(),
-            contact: self.contact.clone(),
-        };
+        let thrusters = self.thrusters.as_ref().map(ThrusterLimitsSpec::build).transpose()?;
+        let options = self.shared_options(duration, thrusters, orbit);
         options.validate()?;
         if let Some(c) = &self.controller {
             c.validate()?;
