@@ -54,9 +54,14 @@ class ContactModel:
     ``pairs``: a list of [`Pair`][spacearm.contact.Pair] (or 2-tuples) of body or collision
     geometry names; ``None``: every pair of bodies but a body and its parent. ``margin`` (m):
     the detection margin (a force needs interpenetration).
+
+    ``kind``: ``"compliant"`` (the law above; ``stiffness`` required) or ``"rigid"`` — rigid
+    frictional contact inside a run is not implemented yet and is refused by the core with an
+    [`ArgumentError`][spacearm.ArgumentError] that says so; one rigid impact at a state is
+    [`solve_impact`][spacearm.contact.solve_impact].
     """
 
-    stiffness: float
+    stiffness: Optional[float] = None
     damping: float = 0.0
     friction: float = 0.0
     exponent: float = 1.0
@@ -64,6 +69,7 @@ class ContactModel:
     slip_velocity: float = 1e-3
     margin: float = 0.0
     pairs: Optional[Sequence[Sequence[str]]] = None
+    kind: str = "compliant"
 
 #: A contact between two collision shapes at one state (the binding's class): ``geometries`` and
 #: ``bodies`` (names, first and second shape), ``point_a``, ``point_b`` (3,) the closest or

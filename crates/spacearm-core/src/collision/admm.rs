@@ -76,16 +76,23 @@ pub(crate) fn check_problem(delassus: &DMatrix<f64>, free_velocity: &DVector<f64
     if !(delassus.iter().chain(free_velocity.iter()).all(|v| v.is_finite())) {
         return Err(SpacearmError::argument("the Delassus operator and the free velocities must be finite"));
     }
-    if !(settings.tolerance.is_finite() && settings.tolerance > 0.0) {
-        return Err(SpacearmError::argument(format!("the contact solver's tolerance must be finite and > 0 m/s, got {}", settings.tolerance)));
+    settings.validate()
+}
+
+impl SolverSettings {
+    /// Check the tolerance (finite, > 0), the iteration limit (≥ 1) and the proximal weight (≥ 0).
+    pub fn validate(&self) -> Result<()> {
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return Err(SpacearmError::argument(format!("the contact solver's tolerance must be finite and > 0 m/s, got {}", self.tolerance)));
+        }
+        if self.max_iterations == 0 {
+            return Err(SpacearmError::argument("the contact solver's max_iterations must be >= 1"));
+        }
+        if !(self.proximal.is_finite() && self.proximal >= 0.0) {
+            return Err(SpacearmError::argument(format!("the ADMM proximal weight must be finite and >= 0, got {}", self.proximal)));
+        }
+        Ok(())
     }
-    if settings.max_iterations == 0 {
-        return Err(SpacearmError::argument("the contact solver's max_iterations must be >= 1"));
-    }
-    if !(settings.proximal.is_finite() && settings.proximal >= 0.0) {
-        return Err(SpacearmError::argument(format!("the ADMM proximal weight must be finite and >= 0, got {}", settings.proximal)));
-    }
-    Ok(())
 }
 
 /// Project every block of `v` on its cone.

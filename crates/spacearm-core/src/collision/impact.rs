@@ -106,16 +106,7 @@ impl ImpactSpec {
         if !(self.restitution.is_finite() && (0.0..=1.0).contains(&self.restitution)) {
             return Err(SpacearmError::argument(format!("restitution must be in [0, 1], got {}", self.restitution)));
         }
-        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
-            return Err(SpacearmError::argument(format!("the contact solver's tolerance must be finite and > 0 m/s, got {}", self.tolerance)));
-        }
-        if self.max_iterations == 0 {
-            return Err(SpacearmError::argument("the contact solver's max_iterations must be >= 1"));
-        }
-        if !(self.proximal.is_finite() && self.proximal >= 0.0) {
-            return Err(SpacearmError::argument(format!("the ADMM proximal weight must be finite and >= 0, got {}", self.proximal)));
-        }
-        Ok(())
+        self.settings().validate()
     }
 
     fn settings(&self) -> SolverSettings {
