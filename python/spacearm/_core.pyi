@@ -15,7 +15,7 @@ _Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 __version__: str
 __all__ = [
     "ArgumentError", "CentralBody", "Orbit", "OrbitalElements", "BaseDescription", "ControllerSpec", "CONTROLLER_KINDS", "CONTROLLER_ALIASES", "TASKS", "check_spec", "mpc_solve", "controller_kind",
-    "ClosedChainResult", "ConservedDrift", "Contact", "contacts",
+    "ClosedChainResult", "ConservedDrift", "Contact", "contacts", "RigidImpact", "rigid_impact",
     "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
     "FreeBodyReference", "GraspImpulse", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimits", "JointReference",
     "LoopClosureTerms", 
@@ -1404,6 +1404,7 @@ class Contact:
 
 def contacts(model: Model, x: _ArrayLike, pairs: Optional[Sequence[tuple[str, str]]] = None, margin: float = 0.0) -> list[Contact]: ...
 
+@final
 class RigidImpact:
     """The velocity jump of a rigid frictional impact (docs/contact.md, "Rigid frictional impacts")."""
 
