@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import spacearm
-from spacearm.contact import Pair, contacts, solve_impact  # noqa: F401
+from spacearm.contact import Pair, contacts, solve_impact
 from spacearm.errors import ArgumentError, SpacearmTypeError
 
 
@@ -217,3 +217,13 @@ def test_not_converging_is_reported_and_bad_input_is_refused():
         solve_impact(robot, x, u, [])
     with pytest.raises(SpacearmTypeError, match="contact 0 must be"):
         solve_impact(robot, x, u, ["base"])
+
+
+def test_rigid_contact_in_a_run_is_refused_as_not_implemented():
+    from spacearm.contact import ContactModel
+
+    robot = _balls()
+    with pytest.raises(ArgumentError, match=r'contact kind "rigid" in a run is not implemented yet.*solve_impact'):
+        spacearm.simulate(robot, 0.01, contact=ContactModel(kind="rigid", pairs=[Pair("base", "slider")]))
+    with pytest.raises(ArgumentError, match="stiffness is required by the compliant law"):
+        spacearm.simulate(robot, 0.01, contact=ContactModel(pairs=[Pair("base", "slider")]))
