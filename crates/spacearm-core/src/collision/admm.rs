@@ -11,19 +11,19 @@
 //! ```text
 //! s      = Γ(G z + g)
 //! λ⁺     = (G + (ρ + η) I)⁻¹ (ρ z + η λ − y − g − s)
-//! λ̂      = α λ⁺ + (1 − α) z
-//! z⁺     = P_K(λ̂ + y / ρ)
-//! y⁺     = y + ρ (λ̂ − z⁺)
+//! z⁺     = P_K(λ⁺ + y / ρ)
+//! y⁺     = y + ρ (λ⁺ − z⁺)
 //! ```
 //!
 //! At a fixed point `λ = z`, `y = −(σ + Γ(σ))` with `σ = G z + g`, and `z = P_K(z + y/ρ)` says
-//! `y` is in the normal cone of `K` at `z`: the complementarity problem holds. `α` = 1.6 is the
-//! over-relaxation of Boyd et al. 2011, §3.4.3. `ρ` starts at `√(L m)` (L, m the extreme
-//! eigenvalues of `G + ηI`, Nishihara et al. 2015) and every 20 iterations is doubled or halved
-//! when the primal residual `‖λ − z‖` and the dual one `ρ ‖z⁺ − z‖` are more than 10 apart
-//! (Boyd et al. 2011, §3.4.1). (On 24 random problems of one or two contacts on a 7-joint arm
-//! this took a median of 101 iterations to 1e-13 m/s, at most 5550, where multiplying `ρ` by
-//! 10 every iteration without over-relaxation failed one in 20000.) The proximal term makes every
+//! `y` is in the normal cone of `K` at `z`: the complementarity problem holds. `ρ` starts at
+//! `√(L m)` (L, m the extreme eigenvalues of `G + ηI`, Nishihara et al. 2015) and every 20
+//! iterations is doubled or halved when the primal residual `‖λ − z‖` and the dual one
+//! `ρ ‖z⁺ − z‖` are more than 10 apart (Boyd et al. 2011, §3.4.1). (On 25 random problems of one
+//! or two contacts on a 7-joint arm this took a median of 128 iterations to 1e-13 m/s, at most
+//! 664; multiplying or dividing `ρ` by 10 at every iteration failed one of them in 20000, and
+//! over-relaxation (α = 1.6, Boyd §3.4.3) another: the De Saxcé shift makes the problem
+//! nonconvex, and neither is used.) The proximal term makes every
 //! step well posed when `G` is singular (more contact rows than mobile coordinates). The stop
 //! test is the problem's own residual (coulomb_cone.rs) on `z`, not the splitting's.
 
@@ -99,9 +99,6 @@ impl SolverSettings {
     }
 }
 
-/// ADMM's over-relaxation `α` (Boyd et al. 2011, §3.4.3: 1.5–1.8 usually speeds it up).
-const OVER_RELAXATION: f64 = 1.6;
-
 /// How often (iterations) `ρ` may be adapted.
 const RHO_EVERY: usize = 20;
 
@@ -153,10 +150,9 @@ pub fn solve_admm(delassus: &DMatrix<f64>, free_velocity: &DVector<f64>, frictio
         let shift = &shifted - &sigma; // Γ(σ)
         let rhs = &z * rho + &lambda * eta - &y - g - shift;
         lambda = chol.solve(&rhs);
-        let relaxed = &lambda * OVER_RELAXATION + &z * (1.0 - OVER_RELAXATION);
         let z_previous = z;
-        z = project_all(&(&relaxed + &y / rho), friction);
-        y += (&relaxed - &z) * rho;
+        z = project_all(&(&lambda + &y / rho), friction);
+        y += (&lambda - &z) * rho;
         (sigma, res) = evaluate(&z);
         if iterations % RHO_EVERY == 0 {
             let primal = (&lambda - &z).amax();
