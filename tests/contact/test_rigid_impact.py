@@ -73,9 +73,9 @@ def _pinocchio_problem(robot, x, u, points, mu):
 def _pinocchio_solve(pin, kind, G, g, models, datas):
     """Pinocchio's solution of the cone problem by its ADMM or PGS solver. Pinocchio 4.1's PGS
     evaluates each point's residual right after that point's own projection, before the later
-    points change its velocity, so it reports convergence after its first sweep; its sweeps are
-    run here, warm-started one after the other, until the impulses stop changing (its fixed
-    point, which the comparison needs)."""
+    points change its velocity, and can report convergence early (frictionless: residuals of 0
+    after its first sweep); its sweeps are run here, warm-started one after the other, until the
+    impulses stop changing (its fixed point, which the comparison needs)."""
     if kind == "admm":
         settings, result, solver = pin.ADMMSolverSettings(), pin.ADMMSolverResult(), pin.ADMMConstraintSolver(len(g))
     else:
