@@ -15,7 +15,7 @@ _Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 __version__: str
 __all__ = [
     "ArgumentError", "CentralBody", "Orbit", "OrbitalElements", "BaseDescription", "ControllerSpec", "CONTROLLER_KINDS", "CONTROLLER_ALIASES", "TASKS", "check_spec", "mpc_solve", "controller_kind",
-    "ClosedChainResult", "ConservedDrift", "Contact", "contacts",
+    "ClosedChainResult", "ConservedDrift", "Contact", "contacts", "RigidImpact", "rigid_impact",
     "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
     "FreeBodyReference", "GraspImpulse", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimits", "JointReference",
     "LoopClosureTerms", 
@@ -1410,3 +1410,51 @@ class Contact:
     def distance(self) -> float: ...
 
 def contacts(model: Model, x: _ArrayLike, pairs: Optional[Sequence[tuple[str, str]]] = None, margin: float = 0.0) -> list[Contact]: ...
+
+@final
+class RigidImpact:
+    """The velocity jump of a rigid frictional impact (docs/contact.md, "Rigid frictional impacts")."""
+
+    @property
+    def u_after(self) -> _Vec: ...  # (6+N,)
+    @property
+    def du(self) -> _Vec: ...  # (6+N,) H^-1 J^T lambda
+    @property
+    def impulse(self) -> _Vec: ...  # (k, 3) [t1, t2, n] of each contact frame
+    @property
+    def impulse_world(self) -> _Vec: ...  # (k, 3) on each second body, in the inertial frame
+    @property
+    def velocity_before(self) -> _Vec: ...  # (k, 3) J u-
+    @property
+    def velocity_after(self) -> _Vec: ...  # (k, 3) J u+
+    @property
+    def frames(self) -> _Vec: ...  # (k, 3, 3) columns t1, t2, n
+    @property
+    def jacobian(self) -> _Vec: ...  # (3k, 6+N)
+    @property
+    def delassus(self) -> _Vec: ...  # (3k, 3k) J H^-1 J^T
+    @property
+    def solver(self) -> str: ...
+    @property
+    def converged(self) -> bool: ...
+    @property
+    def iterations(self) -> int: ...
+    @property
+    def residual(self) -> float: ...
+    @property
+    def dual_feasibility(self) -> float: ...
+    @property
+    def complementarity(self) -> float: ...
+
+def rigid_impact(
+    model: Model,
+    x: _ArrayLike,
+    u_before: _ArrayLike,
+    points: Sequence[tuple[str, str, _ArrayLike, _ArrayLike, float]],
+    *,
+    solver: str = "admm",
+    restitution: float = 0.0,
+    tolerance: float = 1e-10,
+    max_iterations: int = 1000,
+    proximal: float = 1e-8,
+) -> RigidImpact: ...

@@ -11,9 +11,14 @@ interpenetration).
 ``spacearm.simulate(robot, T, contact=ContactModel(stiffness=..., damping=..., friction=...,
 pairs=[Pair("base", "hand")]))`` — a spring–dashpot normal force (Kelvin–Voigt or Hunt–Crossley)
 with regularized Coulomb friction between the system's bodies, computed in the core at every
-evaluation of the dynamics (docs/contact.md, "Contact dynamics"). Rigid (complementarity)
-contact, impulses at contact and topology events are not built yet (docs/contact.md, "What is
-not handled").
+evaluation of the dynamics (docs/contact.md, "Contact dynamics").
+
+[`solve_impact`][spacearm.contact.solve_impact] is the rigid frictional impact at one state:
+the velocity jump ``u⁺ = u⁻ + H⁻¹ Jᵀ λ`` through point contacts with Coulomb friction and
+Newton's restitution, the impulses ``λ`` solved on the Delassus operator ``G = J H⁻¹ Jᵀ`` by
+proximal ADMM or projected Gauss–Seidel in the core (docs/contact.md, "Rigid frictional
+impacts"). Rigid contact inside a run (``simulate``) and topology events are not built yet
+(docs/contact.md, "What is not handled").
 """
 
 from __future__ import annotations
@@ -25,7 +30,7 @@ from . import _core
 from ._util.arrays import number
 from .errors import SpacearmTypeError
 
-__all__ = ["contacts", "Contact", "ContactModel", "Pair"]
+__all__ = ["contacts", "Contact", "ContactModel", "Pair", "RigidImpact", "solve_impact"]
 
 
 class Pair(NamedTuple):
@@ -49,9 +54,14 @@ class ContactModel:
     ``pairs``: a list of [`Pair`][spacearm.contact.Pair] (or 2-tuples) of body or collision
     geometry names; ``None``: every pair of bodies but a body and its parent. ``margin`` (m):
     the detection margin (a force needs interpenetration).
+
+    ``kind``: ``"compliant"`` (the law above; ``stiffness`` required) or ``"rigid"`` — rigid
+    frictional contact inside a run is not implemented yet and is refused by the core with an
+    [`ArgumentError`][spacearm.ArgumentError] that says so; one rigid impact at a state is
+    [`solve_impact`][spacearm.contact.solve_impact].
     """
 
-    stiffness: float
+    stiffness: Optional[float] = None
     damping: float = 0.0
     friction: float = 0.0
     exponent: float = 1.0
@@ -59,6 +69,7 @@ class ContactModel:
     slip_velocity: float = 1e-3
     margin: float = 0.0
     pairs: Optional[Sequence[Sequence[str]]] = None
+    kind: str = "compliant"
 
 #: A contact between two collision shapes at one state (the binding's class): ``geometries`` and
 #: ``bodies`` (names, first and second shape), ``point_a``, ``point_b`` (3,) the closest or
@@ -83,3 +94,88 @@ def contacts(robot, x, *, pairs: Optional[Sequence[tuple]] = None, margin: float
     if pairs is not None:
         pairs = [(str(a), str(b)) for a, b in pairs]
     return _core.contacts(robot.core_model, x, pairs, number(margin, "margin"))
+
+
+_find_contacts = contacts
+
+#: The result of [`solve_impact`][spacearm.contact.solve_impact] (the binding's frozen class,
+#: read-only arrays). Contact rows are each point's frame ``[t1, t2, n]``: ``impulse`` (k, 3)
+#: N·s, ``impulse_world`` (k, 3) the impulse on each point's second body in 𝒥 (the first body
+#: receives its opposite), ``velocity_before``/``velocity_after`` (k, 3) ``J u⁻`` and ``J u⁺``
+#: (m/s), ``frames`` (k, 3, 3) the contact frames (columns ``t1, t2, n`` in 𝒥), ``jacobian``
+#: (3k, 6+N), ``delassus`` (3k, 3k) ``G = J H⁻¹ Jᵀ``, ``u_after`` and ``du`` (6+N,); what the
+#: solver reports: ``solver``, ``converged``, ``iterations``, ``residual`` (m/s, the larger of
+#: ``dual_feasibility`` and ``complementarity``).
+RigidImpact = _core.RigidImpact
+
+
+def _impact_point(c, i: int) -> tuple:
+    """``(body_a, body_b, point, normal)`` of a [`Contact`][spacearm.contact.Contact] (its
+    normal, at the midpoint of its two surface points) or of a 4-tuple."""
+    import numpy as np
+
+    if isinstance(c, Contact):
+        return c.bodies[0], c.bodies[1], 0.5 * (np.asarray(c.point_a) + np.asarray(c.point_b)), c.normal
+    if isinstance(c, (tuple, list)) and len(c) == 4:
+        return str(c[0]), str(c[1]), c[2], c[3]
+    raise SpacearmTypeError(
+        f"contact {i} must be a spacearm.contact.Contact or a tuple (body_a, body_b, point, normal), got {type(c).__name__}"
+    )
+
+
+def solve_impact(
+    robot,
+    x,
+    u,
+    contacts: Optional[Sequence] = None,
+    *,
+    friction=0.0,
+    restitution: float = 0.0,
+    solver: str = "admm",
+    tolerance: float = 1e-10,
+    max_iterations: int = 1000,
+    proximal: float = 1e-8,
+    pairs: Optional[Sequence[tuple]] = None,
+    margin: float = 0.0,
+) -> RigidImpact:
+    """The rigid frictional impact of ``robot`` at ``(x, u)`` (docs/contact.md, "Rigid
+    frictional impacts"): the velocity after the impact and the contact impulses.
+
+    ``contacts``: the points that meet — [`Contact`][spacearm.contact.Contact] objects (the
+    point midway between the two surface points, the contact's normal) or tuples ``(body_a,
+    body_b, point, normal)`` (body names; the point and the unit normal from the first body
+    towards the second, in 𝒥); ``None``: the contacts of ``x`` found by
+    [`contacts`][spacearm.contact.contacts] with ``pairs`` and ``margin``. ``friction``:
+    Coulomb's μ, one for all or one per contact. ``restitution``: Newton's ``e`` in [0, 1] on the
+    points that approach. ``solver``: ``"admm"`` (proximal ADMM) or ``"pgs"`` (projected
+    Gauss–Seidel), stopped when the residual is at most ``tolerance`` (m/s) or after
+    ``max_iterations``; ``proximal``: ADMM's proximal weight relative to the largest eigenvalue of
+    ``G``. A solver that stops at its limit is no error: the result says ``converged=False`` with
+    the residual it reached. Every value is checked by the core.
+    """
+    from .model.robot import Robot
+
+    if not isinstance(robot, Robot):
+        raise SpacearmTypeError(f"solve_impact needs a spacearm.Robot, got {type(robot).__name__}")
+    if contacts is None:
+        contacts = _find_contacts(robot, x, pairs=pairs, margin=margin)
+    points = [_impact_point(c, i) for i, c in enumerate(contacts)]
+    if isinstance(friction, (int, float)) or getattr(friction, "ndim", None) == 0:
+        mus = [number(friction, "friction")] * len(points)
+    else:
+        mus = [number(f, f"friction[{i}]") for i, f in enumerate(friction)]
+        if len(mus) != len(points):
+            from .errors import ArgumentError
+
+            raise ArgumentError(f"friction has {len(mus)} values for {len(points)} contacts: give one for all or one per contact")
+    return _core.rigid_impact(
+        robot.core_model,
+        x,
+        u,
+        [(a, b, p, n, mu) for (a, b, p, n), mu in zip(points, mus)],
+        solver=str(solver),
+        restitution=number(restitution, "restitution"),
+        tolerance=number(tolerance, "tolerance"),
+        max_iterations=int(max_iterations),
+        proximal=number(proximal, "proximal"),
+    )

@@ -25,6 +25,7 @@ mod model_py;
 mod mpc_py;
 mod orbit_py;
 mod records_py;
+mod rigid_contact_py;
 mod rollout_py;
 mod rotations_py;
 mod rule_tables_py;
@@ -77,6 +78,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     analysis_py::register(m)?;
     contact_py::register(m)?;
     collision_py::register(m)?;
+    rigid_contact_py::register(m)?;
     capture_py::register(m)?;
     add_to_module!(
         m,
