@@ -12,8 +12,8 @@ interpenetration).
 pairs=[Pair("base", "hand")]))`` — a spring–dashpot normal force (Kelvin–Voigt or Hunt–Crossley)
 with regularized Coulomb friction between the system's bodies, computed in the core at every
 evaluation of the dynamics (docs/contact.md, "Contact dynamics"). Rigid (complementarity)
-contact, impulses at contact and topology events are not built yet (docs/contact.md, "What is
-not handled").
+contact and impulses at contact are not built yet (docs/contact.md, "What is not handled");
+topology events (attach, release) are [`spacearm.events`][spacearm.events] (docs/events.md).
 """
 
 from __future__ import annotations
