@@ -11,11 +11,12 @@ use spacearm_core::model::Model;
 use spacearm_core::sim::topology::{simulate_with_events, TopologyEvent};
 use spacearm_core::SpacearmError;
 
-use crate::controller_spec_py::{build_controller, error_slot, from_data, take_error};
+use crate::controller_spec_py::{build_controller, error_slot, from_data};
 use crate::convert::*;
 use crate::model_py::PyModel;
 use crate::records_py::PyRunResult;
 use crate::sim_options_py::PyRunOptions;
+use crate::simulate_py::{progress_reporter, run_error};
 
 fn rows<'py>(py: Python<'py>, values: Vec<f64>, width: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let k = values.len() / width.max(1);
@@ -75,33 +76,10 @@ pub fn simulate_events<'py>(
                 None => Ok(Box::new(ZeroTorque)),
             }
         };
-        let mut progress = |fraction: f64| -> spacearm_core::Result<()> {
-            Python::attach(|py| {
-                py.check_signals()?;
-                match &progress_fn {
-                    Some(f) => f.call1(py, (fraction,)).map(|_| ()),
-                    None => Ok(()),
-                }
-            })
-            .map_err(|e| {
-                progress_error.get_or_insert(e);
-                SpacearmError::Simulation("interrupted".into())
-            })
-        };
+        let mut progress = progress_reporter(&progress_fn, &mut progress_error);
         simulate_with_events(&plant, &x0, &u0, &opts, &mut factory, pair, &events, &mut progress)
     });
-    let run = match result {
-        Ok(r) => r,
-        Err(e) => {
-            if let Some(err) = take_error(&slot) {
-                return Err(err);
-            }
-            if let Some(err) = progress_error {
-                return Err(err);
-            }
-            return Err(to_py_err(py, e));
-        }
-    };
+    let run = result.map_err(|e| run_error(py, e, &slot, progress_error))?;
     let d = PyDict::new(py);
     d.set_item("target", rows(py, run.target, 13)?)?;
     d.set_item("attached", PyArray1::from_vec(py, run.attached))?;
