@@ -199,7 +199,7 @@ pub fn simulate_with_events(
     let mut model = robot.clone();
     let (mut x, mut u) = (x0.to_vec(), u0.to_vec());
     let mut t0 = 0.0;
-    let mut segments: Vec<(f64, SimResult, Model, bool)> = Vec::new();
+    let mut segments: Vec<(f64, SimResult, bool)> = Vec::new();
     let mut rows_target: Vec<f64> = Vec::new();
     // per sample: the free target's [P; L] and kinetic energy (zeros when attached or absent)
     let mut rows_free: Vec<[f64; 7]> = Vec::new();
@@ -250,8 +250,9 @@ pub fn simulate_with_events(
             rows_target.extend_from_slice(&s);
             rows_free.push(free);
         }
-        segments.push((t0, res, model.clone(), matches!(second, Second::Attached { .. })));
-        t0 += t_seg;
+        segments.push((t0, res, matches!(second, Second::Attached { .. })));
+        // a commanded event's time exactly (the segment's steps land on its duration)
+        t0 = if threshold.is_none() { t_end } else { t0 + t_seg };
         // the event, if one happens here
         let fire = match next {
             Some(TopologyEvent::Attach { at: None, .. }) => happened.is_some_and(|_| t0 < duration * (1.0 - 1e-14)),
@@ -270,7 +271,7 @@ pub fn simulate_with_events(
         }
         let e = next.expect("an event");
         let (new_model, rec) = match e {
-            TopologyEvent::Attach { point, grasp, gap, .. } => {
+            TopologyEvent::Attach { point, grasp, .. } => {
                 let Second::Free { model: tm, body, t0: tb0 } = &mut second else {
                     return Err(SpacearmError::argument(format!("event {k} (attach) at t = {t0} s: there is no free target to attach (pass target= and target_state=, or release a link first)")));
                 };
@@ -280,7 +281,9 @@ pub fn simulate_with_events(
                 let (mr, er) = robot_momentum(&model, &x, &u)?;
                 let (mt, et) = target_momentum(tm, &s);
                 let (mut dr, mut dt) = (Data::new(&model), Data::new(tm));
-                let tol = if happened.is_some() { f64::INFINITY } else { gap.unwrap_or(f64::INFINITY) };
+                // no gap refusal: a commanded weld holds the target where it is, a located one
+                // is at its threshold (to rounding)
+                let tol = f64::INFINITY;
                 let impact = grasp_impact(&model, &mut dr, &x, &u, BodyPoint { body: rb, offset: ro }, tm, &mut dt, &s[..7], &s[7..], tg, GraspContact::Rigid, 0.0, JointsAtImpact::Free, tol)?;
                 let s_after: Vec<f64> = s[..7].iter().chain(impact.target_u_after.iter()).copied().collect();
                 let captured = attach(&model, &x, impact.u_after.as_slice(), tm, &s_after, rb, None, &impact)?;
@@ -518,11 +521,12 @@ fn run_located(plant: Plant<'_>, x: &[f64], u: &[f64], opts: &SimOptions, mut wa
 
 /// The segments put end to end (module docs) with the second system's rows and the ledger:
 /// the records' `[P; L]` and energy plus the free target's.
-fn finish(segments: Vec<(f64, SimResult, Model, bool)>, target: Vec<f64>, free: Vec<[f64; 7]>, events: Vec<TopologyRecord>, model: Model) -> Result<TopologyRun> {
+fn finish(segments: Vec<(f64, SimResult, bool)>, target: Vec<f64>, free: Vec<[f64; 7]>, events: Vec<TopologyRecord>, model: Model) -> Result<TopologyRun> {
     let (mut attached, mut ledger_momentum, mut ledger_energy) = (Vec::new(), Vec::new(), Vec::new());
     let mut out: Option<SimResult> = None;
     let mut row = 0;
-    for (t0, res, _, is_attached) in segments {
+    let starts: Vec<f64> = segments.iter().map(|s| s.0).skip(1).collect();
+    for (i, (t0, res, is_attached)) in segments.into_iter().enumerate() {
         let r = &res.records;
         for j in 0..r.n_samples {
             attached.push(is_attached);
@@ -532,10 +536,15 @@ fn finish(segments: Vec<(f64, SimResult, Model, bool)>, target: Vec<f64>, free: 
             ledger_energy.push(r.energy[j] + f[6]);
         }
         row += r.n_samples;
+        let mut res = shifted(res, t0);
+        if let (Some(&next), Some(last)) = (starts.get(i), res.records.t.last_mut()) {
+            // the segment's end is the next one's start, the event's instant, to the bit
+            *last = next;
+        }
         out = Some(match out {
-            None => shifted(res, t0),
+            None => res,
             Some(mut acc) => {
-                append(&mut acc, shifted(res, t0));
+                append(&mut acc, res);
                 acc
             }
         });
