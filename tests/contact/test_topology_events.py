@@ -105,3 +105,14 @@ def test_bad_events_are_refused_by_the_core_with_their_names():
         spacearm.simulate(robot, 0.5, events=["attach"], **run)
     with pytest.raises(ArgumentError, match="give events"):
         spacearm.simulate(robot, 0.5, x0=x0, u0=u0, target=target, target_state=s0)
+
+
+def test_a_run_with_events_saves_and_loads_with_its_records(tmp_path):
+    robot, x0, u0, target, s0 = _scene()
+    traj = spacearm.simulate(robot, 0.4, x0=x0, u0=u0, dt=0.02, target=target, target_state=s0,
+                             events=[Attach(at=0.1), Detach(at=0.3)])
+    back = spacearm.Trajectory.load(traj.save(tmp_path / "events.npz"))
+    assert back.meta["events"] == traj.meta["events"]
+    for key in ("target", "attached", "ledger_momentum", "event_t", "event_impulse", "event_momentum_after"):
+        np.testing.assert_array_equal(back[key], traj[key])
+    assert "saturation: none" in back.summary()
