@@ -33,7 +33,7 @@ def main() -> None:
     robot = spacearm.presets.spatial6()
     x0 = robot.neutral_configuration()
     u0 = robot.zero_velocity()
-    u0[5] = 0.01
+    u0[0] = 0.02
     target = spacearm.Target(50.0, [4.0, 5.0, 6.0], grasp_points={"handle": (-0.5, 0.0, 0.0)})
     s0 = target.state(position=robot.point_position(x0) + np.array([0.8, 0.0, 0.0]), velocity=(-0.1, 0.0, 0.0),
                       angular_velocity=(0.0, 0.0, 0.02))
@@ -54,7 +54,7 @@ def main() -> None:
             traj = spacearm.simulate(robot, duration, **run, **kw)
             times[name].append((time.perf_counter() - t0) / a.steps)
             if kw:
-                assert len(traj["event_t"]) == len(kw["events"])
+                assert len(traj["event_t"]) == len(kw["events"]), (name, traj.meta["events"])
     base = statistics.median(times["no events"])
     for name, ts in times.items():
         m = statistics.median(ts)
