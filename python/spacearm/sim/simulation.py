@@ -292,9 +292,9 @@ def _run_events(robot, x0, u0, duration, options, spec, events, target, target_s
     from ..events import events_data
     from ..model.robot import Robot
 
-    from ..capture.target import Target
-
-    if isinstance(target, Target):
+    # a spacearm.Target carries its rigid model as .body (read by attribute: capture imports
+    # this module)
+    if not isinstance(target, Robot) and isinstance(getattr(target, "body", None), Robot):
         target = target.body
     if target is not None and not isinstance(target, Robot):
         raise ArgumentError(f"target must be a spacearm.Target or a rigid spacearm.Robot (the second system), got {type(target).__name__}")
