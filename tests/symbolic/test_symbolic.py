@@ -70,7 +70,10 @@ def states(robot, n=3, seed=0):
     return [random_state(robot, rng) for _ in range(n)]
 
 
-CONFIG_MODELS = ["planar4", "spatial6"] + [f"random{s}" for s in RANDOM4]
+#: One random model (the 4-dof one) for the configuration quantities: the 3-dof one's H0⁻¹, H* and
+#: J* cost CI 40 s more and add no structure the 4-dof tree lacks; its H, Jacobians, velocity terms
+#: and generated code are still checked (below and in test_symbolic_codegen.py).
+CONFIG_MODELS = ["planar4", "spatial6"] + [f"random{s}" for s in RANDOM4[1:]]
 
 
 def r0g_tolerance(x):
