@@ -113,7 +113,7 @@ def test_function_level_imports_close_no_cycle_but_robot_builder():
 #: folder, at module level and in a function alike (see LAZY_UPWARD_TARGETS for the one exception).
 LAYERS = {
     "_core": -1, "errors": 0, "_util": 1, "examples": 1, "c": 1, "rotations": 2, "model": 3,
-    "io": 4, "presets": 4, "control": 4, "interop": 4, "orbit": 4, "contact": 4,
+    "io": 4, "presets": 4, "control": 4, "interop": 4, "orbit": 4, "contact": 4, "events": 4,
     "sim": 5, "analysis": 5, "symbolic": 5, "casadi": 5, "identify": 5,
     "viz": 6, "fmi": 6, "campaign": 6, "capture": 6, "plan": 6, "mpc": 6, "basilisk": 6, "gym": 7, "cli": 7, "": 8, "__main__": 9,
 }

@@ -33,7 +33,7 @@ __all__ = [
     "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "joint_wrenches", "loop_closure", "model_from_dh", "model_from_toml",
     "model_to_toml", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
-    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts", "cmg_parts", "cmgs", "cmg_velocity",
+    "set_batch_threads", "simulate", "simulate_closed_chain", "simulate_events", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts", "cmg_parts", "cmgs", "cmg_velocity",
     "cylinder_slosh", "sphere_slosh", "sphere_fill_height", "cylinder_fill_height", "model_attach_body", "model_attach_model",
     "model_remove_subtree", "InputShaper", "soft_capture", "virtual_mass",
     "CaptureRun", "run_capture", "check_capture", "MAX_CAPTURE_SAMPLES", "MAX_TURN_PER_SAMPLE", "CAPTURE_KINDS",
@@ -1214,6 +1214,21 @@ def simulate(
 ) -> RunResult:
     """Run the native simulation loop (None: no control). Runs without the GIL; the records are
     handed to numpy without a copy. Returns the records, saturation onsets and description of the run."""
+    ...
+
+def simulate_events(
+    model: Model,
+    x0: _ArrayLike,
+    u0: _ArrayLike,
+    duration: float,
+    options: RunOptions,
+    controller_spec: Optional[ControllerSpec],
+    events: Any,
+    target: Optional[Model] = None,
+    target_state: Optional[_ArrayLike] = None,
+) -> tuple[RunResult, dict[str, Any]]:
+    """A run with topology events (the core's ``TopologyEvent`` as plain data; docs/events.md):
+    the run's records and a dict of the second system's rows, the ledger and the events."""
     ...
 
 def rollout(

@@ -17,8 +17,9 @@ evaluation of the dynamics (docs/contact.md, "Contact dynamics").
 the velocity jump ``u⁺ = u⁻ + H⁻¹ Jᵀ λ`` through point contacts with Coulomb friction and
 Newton's restitution, the impulses ``λ`` solved on the Delassus operator ``G = J H⁻¹ Jᵀ`` by
 proximal ADMM or projected Gauss–Seidel in the core (docs/contact.md, "Rigid frictional
-impacts"). Rigid contact inside a run (``simulate``) and topology events are not built yet
-(docs/contact.md, "What is not handled").
+impacts"). Rigid contact inside a run (``simulate``) is not built yet (docs/contact.md, "What is
+not handled"); topology events (attach, release) are [`spacearm.events`][spacearm.events]
+(docs/events.md).
 """
 
 from __future__ import annotations

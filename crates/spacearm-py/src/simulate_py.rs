@@ -11,7 +11,7 @@ use spacearm_core::control::{Controller, ZeroTorque};
 use spacearm_core::sim::simulate::simulate as core_simulate;
 use spacearm_core::SpacearmError;
 
-use crate::controller_spec_py::{build_controller, error_slot, take_error};
+use crate::controller_spec_py::{build_controller, error_slot, take_error, ErrorSlot};
 use crate::convert::*;
 use crate::model_py::PyModel;
 use crate::records_py::PyRunResult;
@@ -47,43 +47,43 @@ pub fn simulate<'py>(
         _ => Box::new(ZeroTorque),
     };
     let mut progress_error: Option<PyErr> = None;
-    let mut last_check = Instant::now();
     let result = py.detach(|| {
-        // The progress callable and Ctrl-C are checked with the GIL taken back: at every report
-        // (at most ~1000 a run) if there is a callable, else every 0.1 s of wall time (taking
-        // the GIL back waits for the other Python threads, so not more often than that).
-        let mut progress = |fraction: f64| -> CoreResult<()> {
-            if progress_fn.is_none() && fraction < 1.0 && last_check.elapsed() < SIGNAL_CHECK_INTERVAL {
-                return Ok(());
-            }
-            last_check = Instant::now();
-            Python::attach(|py| {
-                py.check_signals()?;
-                match &progress_fn {
-                    Some(f) => f.call1(py, (fraction,)).map(|_| ()),
-                    None => Ok(()),
-                }
-            })
-            .map_err(|e| {
-                progress_error.get_or_insert(e);
-                SpacearmError::Simulation("interrupted".into())
-            })
-        };
+        let mut progress = progress_reporter(&progress_fn, &mut progress_error);
         core_simulate(&plant, &x0, &u0, &opts, controller.as_mut(), &mut progress)
     });
-    let res = match result {
-        Ok(r) => r,
-        Err(e) => {
-            if let Some(err) = take_error(&slot) {
-                return Err(err);
-            }
-            if let Some(err) = progress_error {
-                return Err(err);
-            }
-            return Err(to_py_err(py, e));
-        }
-    };
+    let res = result.map_err(|e| run_error(py, e, &slot, progress_error))?;
     PyRunResult::of_run(py, res, &opts, float32, (plant.nx(), plant.nu(), plant.n_dof()))
+}
+
+/// The progress report of a run without the GIL: the progress callable and Ctrl-C checked with
+/// the GIL taken back, at every report (at most ~1000 a run) if there is a callable, else every
+/// 0.1 s of wall time (taking the GIL back waits for the other Python threads, so not more often
+/// than that); the first Python error is kept in `progress_error` and stops the run.
+pub(crate) fn progress_reporter<'a>(progress_fn: &'a Option<Py<PyAny>>, progress_error: &'a mut Option<PyErr>) -> impl FnMut(f64) -> CoreResult<()> + 'a {
+    let mut last_check = Instant::now();
+    move |fraction: f64| -> CoreResult<()> {
+        if progress_fn.is_none() && fraction < 1.0 && last_check.elapsed() < SIGNAL_CHECK_INTERVAL {
+            return Ok(());
+        }
+        last_check = Instant::now();
+        Python::attach(|py| {
+            py.check_signals()?;
+            match progress_fn {
+                Some(f) => f.call1(py, (fraction,)).map(|_| ()),
+                None => Ok(()),
+            }
+        })
+        .map_err(|e| {
+            progress_error.get_or_insert(e);
+            SpacearmError::Simulation("interrupted".into())
+        })
+    }
+}
+
+/// The Python error of a failed run: a callback controller's, else the progress callable's
+/// (or Ctrl-C), else the core's.
+pub(crate) fn run_error(py: Python<'_>, e: SpacearmError, slot: &ErrorSlot, progress_error: Option<PyErr>) -> PyErr {
+    take_error(slot).or(progress_error).unwrap_or_else(|| to_py_err(py, e))
 }
 
 /// A copy of `model` with mass-property errors and fuel slosh (see

@@ -231,6 +231,9 @@ def _run(
     gravity_gradient: Optional[bool] = None,
     stop=None,
     contact=None,
+    events=None,
+    target=None,
+    target_state=None,
 ):
     """The simulation proper: ``(data, meta)`` dicts of numpy arrays and run description."""
     _check_robot(robot, "simulate")
@@ -251,7 +254,12 @@ def _run(
             # The options were checked first, before the progress callable (maybe a bar) was
             # made; they are built again with it.
             options = _options(robot, **option_args, progress=callback)
-        result = _core.simulate(robot.core_model, x0, u0, duration, options, spec)
+        if events is None:
+            if target is not None or target_state is not None:
+                raise ArgumentError("target and target_state are the second system of a run with topology events; give events=[...] too")
+            result, topology = _core.simulate(robot.core_model, x0, u0, duration, options, spec), None
+        else:
+            result, topology = _run_events(robot, x0, u0, duration, options, spec, events, target, target_state)
     finally:
         close()
     # The typed run result as the public plain form: the records and saturation onsets as one
@@ -265,10 +273,34 @@ def _run(
         meta["orbit"] = orbit_meta(options)
     if contact is not None:
         meta["contact"] = options.contact
+    if topology is not None:
+        bodies = topology.pop("event_body")
+        topology.pop("final_model")
+        meta["events"] = [
+            {"event": int(i), "kind": ("attach", "detach")[int(k)], "t": float(t), "body": b}
+            for i, k, t, b in zip(topology["event_index"], topology["event_kind"], topology["event_t"], bodies)
+        ]
+        data.update(topology)
     _warn_dropped(mode, meta, stacklevel=3)
     _warn_unreachable(meta, stacklevel=3)
     _warn_passive_commanded(robot, data, meta, stacklevel=3)
     return data, meta
+
+
+def _run_events(robot, x0, u0, duration, options, spec, events, target, target_state):
+    """The core's run with topology events (docs/events.md): ``(RunResult, topology dict)``."""
+    from ..events import events_data
+    from ..model.robot import Robot
+
+    # a spacearm.Target carries its rigid model as .body (read by attribute: capture imports
+    # this module)
+    if not isinstance(target, Robot) and isinstance(getattr(target, "body", None), Robot):
+        target = target.body
+    if target is not None and not isinstance(target, Robot):
+        raise ArgumentError(f"target must be a spacearm.Target or a rigid spacearm.Robot (the second system), got {type(target).__name__}")
+    state = None if target_state is None else vector(target_state, "target_state")
+    return _core.simulate_events(robot.core_model, x0, u0, duration, options, spec, events_data(events),
+                                 None if target is None else target.core_model, state)
 
 
 def simulate(
@@ -294,6 +326,9 @@ def simulate(
     gravity_gradient: Optional[bool] = None,
     stop=None,
     contact=None,
+    events=None,
+    target=None,
+    target_state=None,
 ):
     """Simulate ``robot`` for ``duration`` seconds and return a [`Trajectory`][spacearm.Trajectory].
 
@@ -359,6 +394,18 @@ def simulate(
         pair of collision shapes. Adds the records ``contact_count``, ``contact_normal_force``,
         ``contact_work`` and ``meta["contact"]``; the energy's drift is then that of the ledger
         ``energy − contact_work``.
+    events : spacearm.events.Attach, spacearm.events.Detach or a list of them, optional
+        Topology events (docs/events.md): weld the free target to the robot, release a rigid
+        link, in list order, each continuing the run in one trajectory with robot + target
+        momentum continuous. Adds the records ``target`` (K, 13), ``attached`` (K,),
+        ``ledger_momentum`` (K, 6), ``ledger_energy`` (K,), the ``event_*`` arrays (one row per
+        event that happened) and ``meta["events"]``.
+    target : spacearm.Target or spacearm.Robot, optional
+        With ``events``: the second system, a rigid target (its grasp points, or the model's
+        named points, are the points ``Attach(grasp=...)`` names).
+    target_state : array_like (13,), optional
+        Its state ``[r, quat (x, y, z, w), v, ω]`` at t = 0 (CM, attitude, CM velocity and
+        angular velocity in the inertial frame).
 
     Returns
     -------
@@ -405,6 +452,9 @@ def simulate(
         gravity_gradient=gravity_gradient,
         stop=stop,
         contact=contact,
+        events=events,
+        target=target,
+        target_state=target_state,
     )
     from .trajectory import Trajectory
 

@@ -238,7 +238,7 @@ fn time_to_rest(t: &[f64], u: &[f64], nu: usize, first_rate: usize, tolerance: f
 }
 
 /// The target's 13-state while it rides on the gripper, from the combined model.
-fn payload_state(model: &Model, data: &mut Data, x: &[f64], u: &[f64], body: usize) -> Result<[f64; 13]> {
+pub(crate) fn payload_state(model: &Model, data: &mut Data, x: &[f64], u: &[f64], body: usize) -> Result<[f64; 13]> {
     forward_kinematics(model, data, x)?;
     let (j0, jm) = point_jacobians(model, data, body, &Vector3::zeros())?;
     let tw = j0 * nalgebra::Vector6::from_column_slice(&u[..6]) + jm * DVector::from_column_slice(&u[6..]);
@@ -639,7 +639,7 @@ fn orbit_balance(robot: &Model, plant: &Model, orbit: &Orbit, seg: &Segments, le
 /// point's body at its relative pose; [`ModelBuilder::attach_model`]) and its state, after
 /// checking that the impact left no relative twist.
 #[allow(clippy::too_many_arguments)]
-fn attach(robot: &Model, x: &[f64], u: &[f64], target: &Model, s: &[f64], body: usize, name: Option<&str>, impact: &GraspImpact) -> Result<CapturedSystem> {
+pub(crate) fn attach(robot: &Model, x: &[f64], u: &[f64], target: &Model, s: &[f64], body: usize, name: Option<&str>, impact: &GraspImpact) -> Result<CapturedSystem> {
     let rel = impact.relative_twist_after.norm();
     let scale = DVector::from_column_slice(&s[7..]).norm().max(DVector::from_column_slice(u).norm()).max(1e-300);
     if rel > 1e-8 * scale {

@@ -28,6 +28,8 @@ pub mod simulate;
 pub mod soft_capture;
 pub mod step_limit;
 pub mod stop;
+pub mod topology;
+pub mod topology_spec;
 pub mod stepper;
 
 pub use crate::math::integrate;
