@@ -14,6 +14,7 @@ use spacearm_core::optimal::backward::Backward;
 use spacearm_core::optimal::costs::{CostSpec, Numbers};
 use spacearm_core::optimal::forward::{forward_pass, Trajectory};
 use spacearm_core::optimal::shooting::{KnotModel, ShootingProblem};
+use spacearm_core::optimal::fddp::{solve_in, Workspace};
 use spacearm_core::optimal::{solve, ProblemSpec, RobotProblem, SolverOptions};
 
 fn spec(goal: &[f64]) -> ProblemSpec {
@@ -67,6 +68,38 @@ fn main() {
             warm.push(s.elapsed().as_secs_f64());
             println!("warm: cost {:.12} iterations {} steps {} {:?}", sol.cost, sol.iterations, sol.steps, sol.stop);
         }
+    }
+    if which == "law" {
+        // The native law's warm starts (control::mpc): each sample from the plan's next state,
+        // the last solution shifted by a knot, the knot models kept (Workspace::shift).
+        let keep = args.get(3).map(|s| s != "nokeep").unwrap_or(true);
+        let mut times = Vec::new();
+        let mut iterations = 0;
+        for _ in 0..rounds {
+            let mut ws = Workspace::new(&problem);
+            problem.set_initial_state(&z0).unwrap();
+            let mut sol = solve_in(&mut ws, &mut problem, None, None, &opts).unwrap();
+            for _ in 0..49 {
+                let t = sol.cs.len();
+                let mut zs = sol.zs.clone();
+                let mut cs = sol.cs.clone();
+                zs.rotate_left(1);
+                cs.rotate_left(1);
+                zs[t] = zs[t - 1].clone();
+                cs[t - 1] = cs[t - 2].clone();
+                problem.set_initial_state(&zs[0]).unwrap();
+                if keep {
+                    ws.shift(1);
+                }
+                let s = Instant::now();
+                sol = solve_in(&mut ws, &mut problem, Some(&zs), Some(&cs), &SolverOptions { max_iterations: 3, ..opts }).unwrap();
+                times.push(s.elapsed().as_secs_f64());
+                iterations += sol.iterations;
+            }
+        }
+        let n = times.len();
+        println!("law-like warm solves (keep {keep}): median {:.3} ms, mean iterations {:.2}", 1e3 * median(&mut times), iterations as f64 / n as f64);
+        return;
     }
     if which == "trace" {
         for (name, zs, cs) in [("cold", None, None), ("warm", Some(previous.zs.as_slice()), Some(previous.cs.as_slice()))] {
