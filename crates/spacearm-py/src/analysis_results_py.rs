@@ -11,7 +11,7 @@
 //! (m/s, rad/s) and its columns the joint rates (rad/s, or m/s for a prismatic joint).
 
 use nalgebra::{DMatrix, Vector3};
-use numpy::{Element, PyArray, PyArray1, PyArray2, PyUntypedArrayMethods};
+use numpy::{Element, PyArray, PyArray1, PyArray2, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use spacearm_core::analysis::{reaction_null_space as rns, redundancy, scan, singularity, workspace};
@@ -28,6 +28,25 @@ fn shape_of<T: Element, D: numpy::ndarray::Dimension>(py: Python<'_>, a: &Py<PyA
     } else {
         format!("({})", s.join(", "))
     }
+}
+
+/// The one-line repr of a result (tests/test_reprs.py: short, no array's numbers):
+/// `<module.Class name=value …>` over the attributes `fields` of `obj`, an array shown by its
+/// shape (`(3, 6)`), anything else by its repr. The class is `obj`'s own, so a Python subclass
+/// (`spacearm.analysis.Motion`) reads as itself.
+fn summary(obj: &Bound<'_, PyAny>, fields: &[&str]) -> PyResult<String> {
+    let cls = obj.get_type();
+    let mut text = format!("<{}.{}", cls.module()?, cls.qualname()?);
+    for field in fields {
+        let value = obj.getattr(*field)?;
+        let shown = match value.cast::<PyUntypedArray>() {
+            Ok(a) if a.ndim() == 1 => format!("({},)", a.shape()[0]),
+            Ok(a) => format!("({})", a.shape().iter().map(|n| n.to_string()).collect::<Vec<_>>().join(", ")),
+            Err(_) => value.repr()?.to_string(),
+        };
+        text += &format!(" {field}={shown}");
+    }
+    Ok(text + ">")
 }
 
 /// A row-major `rows × cols` buffer of the core as a numpy array of that shape.
@@ -74,16 +93,8 @@ impl PyJacobianMeasures {
 
 #[pymethods]
 impl PyJacobianMeasures {
-    fn __repr__(&self, py: Python<'_>) -> String {
-        format!(
-            "<spacearm._core.JacobianMeasures jacobian={} singular_values={} condition={:?} manipulability={:?} task_directions={} joint_directions={}>",
-            shape_of(py, &self.jacobian),
-            shape_of(py, &self.singular_values),
-            self.condition,
-            self.manipulability,
-            shape_of(py, &self.task_directions),
-            shape_of(py, &self.joint_directions)
-        )
+    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+        summary(slf.as_any(), &["jacobian", "singular_values", "condition", "manipulability", "task_directions", "joint_directions"])
     }
 }
 
@@ -140,14 +151,8 @@ impl From<singularity::Detection> for PyDetection {
 
 #[pymethods]
 impl PyDetection {
-    fn __repr__(&self) -> String {
-        format!(
-            "<spacearm._core.Detection sigma_min={:?} condition={:?} damping={:?} near_singular={}>",
-            self.sigma_min,
-            self.condition,
-            self.damping,
-            if self.near_singular { "True" } else { "False" }
-        )
+    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+        summary(slf.as_any(), &["sigma_min", "condition", "damping", "near_singular"])
     }
 }
 
@@ -327,15 +332,8 @@ impl PyReactionNullSpace {
 
 #[pymethods]
 impl PyReactionNullSpace {
-    fn __repr__(&self, py: Python<'_>) -> String {
-        format!(
-            "<spacearm._core.ReactionNullSpace base_motion_map={} singular_values={} rank={} basis={} projector={}>",
-            shape_of(py, &self.base_motion_map),
-            shape_of(py, &self.singular_values),
-            self.rank,
-            shape_of(py, &self.basis),
-            shape_of(py, &self.projector)
-        )
+    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+        summary(slf.as_any(), &["base_motion_map", "singular_values", "rank", "basis", "projector"])
     }
 }
 
@@ -365,14 +363,8 @@ impl PyRmrcRates {
 
 #[pymethods]
 impl PyRmrcRates {
-    fn __repr__(&self, py: Python<'_>) -> String {
-        format!(
-            "<spacearm._core.RmrcRates qd={} sigma_min={:?} damping={:?} base_angular_velocity={}>",
-            shape_of(py, &self.qd),
-            self.sigma_min,
-            self.damping,
-            shape_of(py, &self.base_angular_velocity)
-        )
+    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+        summary(slf.as_any(), &["qd", "sigma_min", "damping", "base_angular_velocity"])
     }
 }
 
@@ -455,19 +447,7 @@ impl PyRmrcMotion {
         Ok(Self::of(py, &r, model.model.n_dof(), model.model.name().to_string(), o.strategy.name(), &target))
     }
 
-    fn __repr__(&self, py: Python<'_>) -> String {
-        format!(
-            "<spacearm.analysis.Motion '{}' {} times={} x={} qd={} point_position={} sigma_min={} damping={} attitude_change={} final_position_error={:?}>",
-            self.robot_name,
-            self.strategy,
-            shape_of(py, &self.times),
-            shape_of(py, &self.x),
-            shape_of(py, &self.qd),
-            shape_of(py, &self.point_position),
-            shape_of(py, &self.sigma_min),
-            shape_of(py, &self.damping),
-            shape_of(py, &self.attitude_change),
-            self.final_position_error
-        )
+    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+        summary(slf.as_any(), &["robot_name", "strategy", "times", "x", "qd", "point_position", "sigma_min", "damping", "attitude_change", "final_position_error"])
     }
 }

@@ -4,7 +4,7 @@
 //! phase end to end, the impact, the captured system, the momentum ledger). Wrapped by
 //! `spacearm.capture.capture`, whose `CaptureResult` adds the figures and the files.
 
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use spacearm_core::sim::capture::{check_capture as core_check_capture, run_capture as core_run_capture, CaptureRun};
 use spacearm_core::sim::capture_spec::CaptureSpec;
@@ -75,16 +75,11 @@ pub struct PyCaptureRun {
     target_lvlh: Option<Py<PyArray2<f64>>>,
 }
 
-fn rows<'py>(py: Python<'py>, v: Vec<f64>, width: usize) -> PyResult<Py<PyArray2<f64>>> {
-    let k = if width == 0 { 0 } else { v.len() / width };
-    Ok(PyArray1::from_vec(py, v).reshape([k, width])?.unbind())
-}
-
 impl PyCaptureRun {
     fn of(py: Python<'_>, run: CaptureRun, kind: &str) -> PyResult<Self> {
         let (nx, nu, n) = run.dims;
         let count = run.t.len();
-        let tau = if n == 0 { PyArray2::zeros(py, [count, 0], false).unbind() } else { rows(py, run.tau, n)? };
+        let tau = if n == 0 { PyArray2::zeros(py, [count, 0], false).unbind() } else { rows(py, run.tau, n)?.unbind() };
         let approach_end = run.approach_stop.map_or(f64::NAN, |s| s.t);
         let (captured, captured_state, captured_names) = match run.captured {
             Some(c) => (
@@ -97,11 +92,11 @@ impl PyCaptureRun {
         let (mut ew, mut ei, mut rc, mut vc, mut tl) = (None, None, None, None, None);
         let ledger = match run.orbit {
             Some(o) => {
-                ew = Some(rows(py, o.external_wrench, 6)?);
-                ei = Some(rows(py, o.external_impulse, 6)?);
-                rc = Some(rows(py, o.r_cm_eci, 3)?);
-                vc = Some(rows(py, o.v_cm_eci, 3)?);
-                tl = Some(rows(py, o.target_lvlh, 6)?);
+                ew = Some(rows(py, o.external_wrench, 6)?.unbind());
+                ei = Some(rows(py, o.external_impulse, 6)?.unbind());
+                rc = Some(rows(py, o.r_cm_eci, 3)?.unbind());
+                vc = Some(rows(py, o.v_cm_eci, 3)?.unbind());
+                tl = Some(rows(py, o.target_lvlh, 6)?.unbind());
                 "balance"
             }
             None => "conservation",
@@ -109,14 +104,14 @@ impl PyCaptureRun {
         Ok(PyCaptureRun {
             t: PyArray1::from_vec(py, run.t).unbind(),
             phase: PyArray1::from_vec(py, run.phase).unbind(),
-            x: rows(py, run.x, nx)?,
-            u: rows(py, run.u, nu)?,
+            x: rows(py, run.x, nx)?.unbind(),
+            u: rows(py, run.u, nu)?.unbind(),
             tau,
-            base_wrench: rows(py, run.base_wrench, 6)?,
-            target: rows(py, run.target, 13)?,
-            p: rows(py, run.ledger.p, 3)?,
-            l: rows(py, run.ledger.l, 3)?,
-            grasp_wrench: rows(py, run.grasp_wrench, 6)?,
+            base_wrench: rows(py, run.base_wrench, 6)?.unbind(),
+            target: rows(py, run.target, 13)?.unbind(),
+            p: rows(py, run.ledger.p, 3)?.unbind(),
+            l: rows(py, run.ledger.l, 3)?.unbind(),
+            grasp_wrench: rows(py, run.grasp_wrench, 6)?.unbind(),
             impact: Py::new(py, grasp_impulse_of(py, if kind == "point" { "point" } else { "rigid" }, &run.impact, &run.impact_target_x))?,
             captured,
             captured_state,
@@ -164,7 +159,7 @@ pub fn run_capture(py: Python<'_>, model: PyRef<'_, PyModel>, x0: &Bound<'_, PyA
     let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
     // Copies of the models: the run holds no borrow of the Python objects.
     let (rm, tm) = (model.model.clone(), target.model.clone());
-    let (result, interrupted) = crate::interrupt::run_reporting(py, |progress| core_run_capture(&rm, &x0, &u0, &tm, &spec, progress));
+    let (result, interrupted) = crate::interrupt::run_reporting(py, None, |progress| core_run_capture(&rm, &x0, &u0, &tm, &spec, progress));
     let run = result.map_err(|e| interrupted.unwrap_or_else(|| to_py_err(py, e)))?;
     PyCaptureRun::of(py, run, &spec.kind)
 }

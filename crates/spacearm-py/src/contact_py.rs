@@ -9,12 +9,11 @@ use pyo3::prelude::*;
 use spacearm_core::algorithms::impulse::{self, BodyPoint, GraspContact, JointsAtImpact};
 use spacearm_core::SpacearmError;
 
-use crate::controller_spec_py::{build_controller, error_slot, take_error};
 use crate::convert::*;
 use crate::model_py::PyModel;
 use crate::records_py::PyRunResult;
 use crate::sim_options_py::PyRunOptions;
-use spacearm_core::control::{Controller, ZeroTorque};
+use crate::simulate_py::run_controlled;
 use spacearm_core::sim::soft_capture::{self as soft, ImpedanceSpec};
 use spacearm_core::algorithms::constrained::LoopClosure;
 use spacearm_core::derivatives::{loop_closure_bias, ClosureBiasWork};
@@ -415,11 +414,10 @@ pub fn soft_capture(
     let spec = ImpedanceSpec { frequency, damping_ratio, stiffness, damping, rotational_stiffness, rotational_damping };
     // Copies of the models: the run holds no borrow of the Python objects.
     let (rm, tm) = (robot.model.clone(), target.model.clone());
-    let res = run_controlled(py, &rm, controller_spec, |controller, progress| {
+    let res = run_controlled(py, &rm, controller_spec, None, |controller, progress| {
         soft::soft_capture(&rm, &x, &u, robot_point, &tm, &xt, &ut, target_point, &spec, &opts, controller, progress)
     })?;
-    let k = res.wrench.len() / 6;
-    let wrench = numpy::PyArray1::from_slice(py, &res.wrench).reshape([k, 6])?.unbind();
+    let wrench = rows(py, res.wrench.clone(), 6)?.unbind();
     let g = res.gains;
     let target_opts = spacearm_core::sim::simulate::SimOptions { wheels: Some(Vec::new()), ..opts.clone() };
     Ok(PySoftCaptureResult {
@@ -460,12 +458,6 @@ pub struct PyLoopClosureTerms {
     jacobian: Py<PyArray2<f64>>,
     /// (6,) the exact J̇_c u.
     jdot_u: Py<PyArray1<f64>>,
-}
-
-fn rows6(py: Python<'_>, v: Option<Vec<f64>>) -> PyResult<Py<PyArray2<f64>>> {
-    let v = v.unwrap_or_default();
-    let k = v.len() / 6;
-    Ok(numpy::PyArray1::from_vec(py, v).reshape([k, 6])?.unbind())
 }
 
 /// `J_c` and the exact `J̇_c u` of the loop closing frames a and b at `(x, u)`.
@@ -518,29 +510,11 @@ pub fn simulate_closed_chain(
     let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
     let (opts, float32) = (options.sim_options(duration), options.records_float32());
     let m = model.model.clone();
-    let mut res = run_controlled(py, &m, controller_spec, |controller, progress| core_closed_chain(&m, &x0, &u0, a, b, stabilization, &opts, controller, progress))?;
-    let constraint_wrench = rows6(py, res.records.constraint_wrench.take())?;
-    let pose_error = rows6(py, res.records.constraint_error.take())?;
+    let mut res = run_controlled(py, &m, controller_spec, None, |controller, progress| core_closed_chain(&m, &x0, &u0, a, b, stabilization, &opts, controller, progress))?;
+    let constraint_wrench = rows(py, res.records.constraint_wrench.take().unwrap_or_default(), 6)?.unbind();
+    let pose_error = rows(py, res.records.constraint_error.take().unwrap_or_default(), 6)?.unbind();
     let run = Py::new(py, PyRunResult::of_run(py, res, &opts, float32, (m.nx(), m.nu(), m.n_dof()))?)?;
     Ok(PyClosedChainResult { run, constraint_wrench, pose_error })
-}
-
-/// Run `work(controller, progress)` without the GIL, the controller that of `controller_spec`
-/// (None: zero torques) and Ctrl-C checked at each progress report; a failed run raises the
-/// callback controller's exception, else the interrupt, else the core's error.
-fn run_controlled<R: Send>(
-    py: Python<'_>,
-    plant: &spacearm_core::Model,
-    controller_spec: Option<&Bound<'_, PyAny>>,
-    work: impl FnOnce(&mut dyn Controller, &mut dyn FnMut(f64) -> spacearm_core::Result<()>) -> spacearm_core::Result<R> + Send,
-) -> PyResult<R> {
-    let slot = error_slot();
-    let mut controller: Box<dyn Controller> = match controller_spec {
-        Some(s) if !s.is_none() => build_controller(s, plant, &slot)?,
-        _ => Box::new(ZeroTorque),
-    };
-    let (result, interrupted) = crate::interrupt::run_reporting(py, |progress| work(controller.as_mut(), progress));
-    result.map_err(|e| take_error(&slot).or(interrupted).unwrap_or_else(|| to_py_err(py, e)))
 }
 
 /// Add the contact functions and classes to the module.

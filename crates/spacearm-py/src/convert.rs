@@ -444,6 +444,13 @@ pub fn triangle_inequality(allow_nonphysical_inertia: bool) -> spacearm_core::mo
     }
 }
 
+/// The row-major `values` as a `(len / width, width)` array (the buffer moved, not copied; no
+/// rows when `width` is 0).
+pub fn rows<'py>(py: Python<'py>, values: Vec<f64>, width: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let k = if width == 0 { 0 } else { values.len() / width };
+    Ok(PyArray1::from_vec(py, values).reshape([k, width])?)
+}
+
 /// Add the `#[pyfunction]`s `functions` and the `#[pyclass]`es `classes` to the module `m`: a
 /// door's `register` as two lists (`add_to_module!(m, functions: [f, g], classes: [A, B])`).
 macro_rules! add_to_module {
