@@ -11,14 +11,14 @@
 //! (m/s, rad/s) and its columns the joint rates (rad/s, or m/s for a prismatic joint).
 
 use nalgebra::{DMatrix, Vector3};
-use numpy::{Element, PyArray, PyArray1, PyArray2, PyUntypedArray, PyUntypedArrayMethods};
+use numpy::{Element, PyArray, PyArray1, PyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use spacearm_core::analysis::{reaction_null_space as rns, redundancy, scan, singularity, workspace};
 
 use spacearm_core::SpacearmError;
 
-use crate::convert::{array1, dmat, dvec, matrix_arg, to_py_err, vec3, vec_arg, OrRaise};
+use crate::convert::{array1, dmat, dvec, matrix_arg, result_class, summary, to_py_err, vec3, vec_arg, OrRaise};
 
 /// A numpy array's shape as Python writes it: `(3, 6)`, `(3,)`.
 fn shape_of<T: Element, D: numpy::ndarray::Dimension>(py: Python<'_>, a: &Py<PyArray<T, D>>) -> String {
@@ -30,71 +30,33 @@ fn shape_of<T: Element, D: numpy::ndarray::Dimension>(py: Python<'_>, a: &Py<PyA
     }
 }
 
-/// The one-line repr of a result (tests/test_reprs.py: short, no array's numbers):
-/// `<module.Class name=value …>` over the attributes `fields` of `obj`, an array shown by its
-/// shape (`(3, 6)`), anything else by its repr. The class is `obj`'s own, so a Python subclass
-/// (`spacearm.analysis.Motion`) reads as itself.
-fn summary(obj: &Bound<'_, PyAny>, fields: &[&str]) -> PyResult<String> {
-    let cls = obj.get_type();
-    let mut text = format!("<{}.{}", cls.module()?, cls.qualname()?);
-    for field in fields {
-        let value = obj.getattr(*field)?;
-        let shown = match value.cast::<PyUntypedArray>() {
-            Ok(a) if a.ndim() == 1 => format!("({},)", a.shape()[0]),
-            Ok(a) => format!("({})", a.shape().iter().map(|n| n.to_string()).collect::<Vec<_>>().join(", ")),
-            Err(_) => value.repr()?.to_string(),
-        };
-        text += &format!(" {field}={shown}");
-    }
-    Ok(text + ">")
-}
-
 /// A row-major `rows × cols` buffer of the core as a numpy array of that shape.
 pub(crate) fn row_major<'py>(py: Python<'py>, v: &[f64], rows: usize, cols: usize) -> Bound<'py, PyArray2<f64>> {
     dmat(py, &DMatrix::from_row_slice(rows, cols, v))
 }
 
-/// Measures of one task Jacobian (`spacearm_core::analysis::singularity::JacobianMeasures`):
-/// its singular value decomposition and the numbers derived from it.
-#[pyclass(module = "spacearm._core", name = "JacobianMeasures", frozen, get_all)]
-pub struct PyJacobianMeasures {
-    /// (m, N) float64: the task rows of the Jacobian analysed (rows of the point twist in 𝒥 per
-    /// joint rate).
-    jacobian: Py<PyArray2<f64>>,
-    /// (min(m, N),) float64: its singular values, decreasing; units of the Jacobian's rows.
-    singular_values: Py<PyArray1<f64>>,
-    /// σ_min, the smallest singular value (the last of `singular_values`; NaN when there are none).
-    sigma_min: f64,
-    /// σ_max / σ_min, dimensionless (inf at a singularity).
-    condition: f64,
-    /// Yoshikawa's manipulability Π σᵢ.
-    manipulability: f64,
-    /// (m, min(m, N)) float64: left singular vectors, unit columns in task space (𝒥); the last
-    /// is the worst task direction.
-    task_directions: Py<PyArray2<f64>>,
-    /// (N, N) float64: right singular vectors, unit columns in joint space; the columns beyond
-    /// the rank span the null space (self-motions).
-    joint_directions: Py<PyArray2<f64>>,
-}
-
-impl PyJacobianMeasures {
-    fn new(py: Python<'_>, m: &singularity::JacobianMeasures) -> Self {
-        PyJacobianMeasures {
-            jacobian: dmat(py, &m.jacobian).unbind(),
-            singular_values: dvec(py, &m.singular_values).unbind(),
-            sigma_min: m.singular_values.iter().next_back().copied().unwrap_or(f64::NAN),
-            condition: m.condition,
-            manipulability: m.manipulability,
-            task_directions: dmat(py, &m.task_directions).unbind(),
-            joint_directions: dmat(py, &m.joint_directions).unbind(),
-        }
-    }
-}
-
-#[pymethods]
-impl PyJacobianMeasures {
-    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
-        summary(slf.as_any(), &["jacobian", "singular_values", "condition", "manipulability", "task_directions", "joint_directions"])
+result_class! {
+    repr;
+    /// Measures of one task Jacobian (`spacearm_core::analysis::singularity::JacobianMeasures`):
+    /// its singular value decomposition and the numbers derived from it.
+    PyJacobianMeasures as "JacobianMeasures", fn new(py: Python<'_>, m: &singularity::JacobianMeasures) {
+        /// (m, N) float64: the task rows of the Jacobian analysed (rows of the point twist in 𝒥 per
+        /// joint rate).
+        jacobian: Py<PyArray2<f64>> = dmat(py, &m.jacobian).unbind(),
+        /// (min(m, N),) float64: its singular values, decreasing; units of the Jacobian's rows.
+        singular_values: Py<PyArray1<f64>> = dvec(py, &m.singular_values).unbind(),
+        /// σ_min, the smallest singular value (the last of `singular_values`; NaN when there are none).
+        sigma_min: f64 = m.singular_values.iter().next_back().copied().unwrap_or(f64::NAN),
+        /// σ_max / σ_min, dimensionless (inf at a singularity).
+        condition: f64 = m.condition,
+        /// Yoshikawa's manipulability Π σᵢ.
+        manipulability: f64 = m.manipulability,
+        /// (m, min(m, N)) float64: left singular vectors, unit columns in task space (𝒥); the last
+        /// is the worst task direction.
+        task_directions: Py<PyArray2<f64>> = dmat(py, &m.task_directions).unbind(),
+        /// (N, N) float64: right singular vectors, unit columns in joint space; the columns beyond
+        /// the rank span the null space (self-motions).
+        joint_directions: Py<PyArray2<f64>> = dmat(py, &m.joint_directions).unbind(),
     }
 }
 
@@ -129,75 +91,50 @@ impl PySingularityReport {
     }
 }
 
-/// What the singularity detector tells a resolved-motion-rate controller
-/// (`spacearm_core::analysis::singularity::Detection`).
-#[pyclass(module = "spacearm._core", name = "Detection", frozen, get_all)]
-pub struct PyDetection {
-    /// Smallest singular value of the task rows of J*.
-    sigma_min: f64,
-    /// Condition number σ_max / σ_min, dimensionless.
-    condition: f64,
-    /// Recommended damping λ(σ_min) of the damped least-squares inverse (units of σ).
-    damping: f64,
-    /// σ_min < ε: inside the singular region.
-    near_singular: bool,
-}
-
-impl From<singularity::Detection> for PyDetection {
-    fn from(d: singularity::Detection) -> Self {
-        PyDetection { sigma_min: d.sigma_min, condition: d.condition, damping: d.damping, near_singular: d.near_singular }
+result_class! {
+    repr;
+    /// What the singularity detector tells a resolved-motion-rate controller
+    /// (`spacearm_core::analysis::singularity::Detection`).
+    PyDetection as "Detection", fn of(d: singularity::Detection) {
+        /// Smallest singular value of the task rows of J*.
+        sigma_min: f64 = d.sigma_min,
+        /// Condition number σ_max / σ_min, dimensionless.
+        condition: f64 = d.condition,
+        /// Recommended damping λ(σ_min) of the damped least-squares inverse (units of σ).
+        damping: f64 = d.damping,
+        /// σ_min < ε: inside the singular region.
+        near_singular: bool = d.near_singular,
     }
 }
 
-#[pymethods]
-impl PyDetection {
-    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
-        summary(slf.as_any(), &["sigma_min", "condition", "damping", "near_singular"])
-    }
-}
-
-/// A joint-space scan of M samples, one entry per sample in each column (the columns of
-/// `spacearm_core::analysis::scan::ScanSample`).
-#[pyclass(module = "spacearm._core", name = "ScanResult", frozen, get_all)]
-pub struct PyScanResult {
-    /// (M,) float64: smallest singular value of the task rows of J*.
-    sigma_min_generalized: Py<PyArray1<f64>>,
-    /// (M,) float64: largest singular value of the task rows of J*.
-    sigma_max_generalized: Py<PyArray1<f64>>,
-    /// (M,) float64: manipulability Π σᵢ of the task rows of J*.
-    manipulability_generalized: Py<PyArray1<f64>>,
-    /// (M,) float64: determinant of the task rows of J* when square, else NaN.
-    det_generalized: Py<PyArray1<f64>>,
-    /// (M,) float64: smallest singular value of the task rows of J_m (base held fixed).
-    sigma_min_fixed: Py<PyArray1<f64>>,
-    /// (M,) float64: manipulability of the task rows of J_m.
-    manipulability_fixed: Py<PyArray1<f64>>,
-    /// (M,) float64: determinant of the task rows of J_m when square, else NaN.
-    det_fixed: Py<PyArray1<f64>>,
-    /// (M, 3) float64: the point from the base CM, base frame, m (the fixed-base workspace).
-    point_from_base: Py<PyArray2<f64>>,
-    /// (M, 3) float64: the point from the system CM, base frame, m (the free-floating workspace).
-    point_from_com: Py<PyArray2<f64>>,
-}
-
-impl PyScanResult {
-    pub fn new(py: Python<'_>, s: &[scan::ScanSample]) -> Self {
+result_class! {
+    /// A joint-space scan of M samples, one entry per sample in each column (the columns of
+    /// `spacearm_core::analysis::scan::ScanSample`).
+    PyScanResult as "ScanResult", fn new(py: Python<'_>, s: &[scan::ScanSample]) [
         let column = |f: fn(&scan::ScanSample) -> f64| array1(py, &s.iter().map(f).collect::<Vec<f64>>()).unbind();
         let points = |f: fn(&scan::ScanSample) -> Vector3<f64>| {
             let v: Vec<f64> = s.iter().flat_map(|r| f(r).iter().copied().collect::<Vec<_>>()).collect();
             row_major(py, &v, s.len(), 3).unbind()
         };
-        PyScanResult {
-            sigma_min_generalized: column(|r| r.sigma_min_generalized),
-            sigma_max_generalized: column(|r| r.sigma_max_generalized),
-            manipulability_generalized: column(|r| r.manipulability_generalized),
-            det_generalized: column(|r| r.det_generalized),
-            sigma_min_fixed: column(|r| r.sigma_min_fixed),
-            manipulability_fixed: column(|r| r.manipulability_fixed),
-            det_fixed: column(|r| r.det_fixed),
-            point_from_base: points(|r| r.point_from_base),
-            point_from_com: points(|r| r.point_from_com),
-        }
+    ] {
+        /// (M,) float64: smallest singular value of the task rows of J*.
+        sigma_min_generalized: Py<PyArray1<f64>> = column(|r| r.sigma_min_generalized),
+        /// (M,) float64: largest singular value of the task rows of J*.
+        sigma_max_generalized: Py<PyArray1<f64>> = column(|r| r.sigma_max_generalized),
+        /// (M,) float64: manipulability Π σᵢ of the task rows of J*.
+        manipulability_generalized: Py<PyArray1<f64>> = column(|r| r.manipulability_generalized),
+        /// (M,) float64: determinant of the task rows of J* when square, else NaN.
+        det_generalized: Py<PyArray1<f64>> = column(|r| r.det_generalized),
+        /// (M,) float64: smallest singular value of the task rows of J_m (base held fixed).
+        sigma_min_fixed: Py<PyArray1<f64>> = column(|r| r.sigma_min_fixed),
+        /// (M,) float64: manipulability of the task rows of J_m.
+        manipulability_fixed: Py<PyArray1<f64>> = column(|r| r.manipulability_fixed),
+        /// (M,) float64: determinant of the task rows of J_m when square, else NaN.
+        det_fixed: Py<PyArray1<f64>> = column(|r| r.det_fixed),
+        /// (M, 3) float64: the point from the base CM, base frame, m (the fixed-base workspace).
+        point_from_base: Py<PyArray2<f64>> = points(|r| r.point_from_base),
+        /// (M, 3) float64: the point from the system CM, base frame, m (the free-floating workspace).
+        point_from_com: Py<PyArray2<f64>> = points(|r| r.point_from_com),
     }
 }
 
@@ -298,73 +235,39 @@ impl PyWorkspaceShells {
     }
 }
 
-/// The reaction null space at one configuration
-/// (`spacearm_core::analysis::reaction_null_space::ReactionNullSpace`).
-#[pyclass(module = "spacearm._core", name = "ReactionNullSpace", frozen, get_all)]
-pub struct PyReactionNullSpace {
-    /// (3, N) or (6, N) float64: rows of −H0⁻¹ H0m (zero momentum), joint rates → base angular
-    /// velocity ω0 (rad/s) or base twist [v0; ω0] (m/s, rad/s), in 𝒥.
-    base_motion_map: Py<PyArray2<f64>>,
-    /// (min(rows, N),) float64: singular values of the map, decreasing.
-    singular_values: Py<PyArray1<f64>>,
-    /// Numerical rank of the map (singular values above tolerance · σ_max).
-    rank: usize,
-    /// (N, N − rank) float64: orthonormal basis of the null space, in joint space.
-    basis: Py<PyArray2<f64>>,
-    /// Dimension of the null space, N − rank (the columns of `basis`).
-    dimension: usize,
-    /// (N, N) float64: orthogonal projector onto the null space.
-    projector: Py<PyArray2<f64>>,
-}
-
-impl PyReactionNullSpace {
-    pub fn new(py: Python<'_>, r: &rns::ReactionNullSpace) -> Self {
-        PyReactionNullSpace {
-            base_motion_map: dmat(py, &r.base_motion_map).unbind(),
-            singular_values: dvec(py, &r.singular_values).unbind(),
-            rank: r.rank,
-            basis: dmat(py, &r.basis).unbind(),
-            dimension: r.basis.ncols(),
-            projector: dmat(py, &r.projector).unbind(),
-        }
+result_class! {
+    repr;
+    /// The reaction null space at one configuration
+    /// (`spacearm_core::analysis::reaction_null_space::ReactionNullSpace`).
+    PyReactionNullSpace as "ReactionNullSpace", fn new(py: Python<'_>, r: &rns::ReactionNullSpace) {
+        /// (3, N) or (6, N) float64: rows of −H0⁻¹ H0m (zero momentum), joint rates → base angular
+        /// velocity ω0 (rad/s) or base twist [v0; ω0] (m/s, rad/s), in 𝒥.
+        base_motion_map: Py<PyArray2<f64>> = dmat(py, &r.base_motion_map).unbind(),
+        /// (min(rows, N),) float64: singular values of the map, decreasing.
+        singular_values: Py<PyArray1<f64>> = dvec(py, &r.singular_values).unbind(),
+        /// Numerical rank of the map (singular values above tolerance · σ_max).
+        rank: usize = r.rank,
+        /// (N, N − rank) float64: orthonormal basis of the null space, in joint space.
+        basis: Py<PyArray2<f64>> = dmat(py, &r.basis).unbind(),
+        /// Dimension of the null space, N − rank (the columns of `basis`).
+        dimension: usize = r.basis.ncols(),
+        /// (N, N) float64: orthogonal projector onto the null space.
+        projector: Py<PyArray2<f64>> = dmat(py, &r.projector).unbind(),
     }
 }
 
-#[pymethods]
-impl PyReactionNullSpace {
-    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
-        summary(slf.as_any(), &["base_motion_map", "singular_values", "rank", "basis", "projector"])
-    }
-}
-
-/// One evaluation of the resolved-motion-rate law (`spacearm_core::analysis::redundancy::RmrcRates`).
-#[pyclass(module = "spacearm._core", name = "RmrcRates", frozen, get_all)]
-pub struct PyRmrcRates {
-    /// (N,) float64: joint rates q̇, rad/s (m/s for a prismatic joint).
-    qd: Py<PyArray1<f64>>,
-    /// σ_min of the (projected) task Jacobian.
-    sigma_min: f64,
-    /// Damping λ of the damped least-squares inverse used (units of σ).
-    damping: f64,
-    /// (3,) float64: base angular velocity ω0 these rates produce (zero momentum), rad/s, in 𝒥.
-    base_angular_velocity: Py<PyArray1<f64>>,
-}
-
-impl PyRmrcRates {
-    pub fn new(py: Python<'_>, r: &redundancy::RmrcRates) -> Self {
-        PyRmrcRates {
-            qd: dvec(py, &r.qd).unbind(),
-            sigma_min: r.sigma_min,
-            damping: r.damping,
-            base_angular_velocity: array1(py, r.base_angular_velocity.as_slice()).unbind(),
-        }
-    }
-}
-
-#[pymethods]
-impl PyRmrcRates {
-    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
-        summary(slf.as_any(), &["qd", "sigma_min", "damping", "base_angular_velocity"])
+result_class! {
+    repr;
+    /// One evaluation of the resolved-motion-rate law (`spacearm_core::analysis::redundancy::RmrcRates`).
+    PyRmrcRates as "RmrcRates", fn new(py: Python<'_>, r: &redundancy::RmrcRates) {
+        /// (N,) float64: joint rates q̇, rad/s (m/s for a prismatic joint).
+        qd: Py<PyArray1<f64>> = dvec(py, &r.qd).unbind(),
+        /// σ_min of the (projected) task Jacobian.
+        sigma_min: f64 = r.sigma_min,
+        /// Damping λ of the damped least-squares inverse used (units of σ).
+        damping: f64 = r.damping,
+        /// (3,) float64: base angular velocity ω0 these rates produce (zero momentum), rad/s, in 𝒥.
+        base_angular_velocity: Py<PyArray1<f64>> = array1(py, r.base_angular_velocity.as_slice()).unbind(),
     }
 }
 

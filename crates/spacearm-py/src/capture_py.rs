@@ -9,7 +9,7 @@ use pyo3::prelude::*;
 use spacearm_core::sim::capture::{check_capture as core_check_capture, run_capture as core_run_capture, CaptureRun};
 use spacearm_core::sim::capture_spec::CaptureSpec;
 
-use crate::contact_py::{grasp_impulse_of, PyGraspImpulse};
+use crate::contact_py::PyGraspImpulse;
 use crate::controller_spec_py::from_data;
 use crate::convert::*;
 use crate::model_py::PyModel;
@@ -112,7 +112,7 @@ impl PyCaptureRun {
             p: rows(py, run.ledger.p, 3)?.unbind(),
             l: rows(py, run.ledger.l, 3)?.unbind(),
             grasp_wrench: rows(py, run.grasp_wrench, 6)?.unbind(),
-            impact: Py::new(py, grasp_impulse_of(py, if kind == "point" { "point" } else { "rigid" }, &run.impact, &run.impact_target_x))?,
+            impact: Py::new(py, PyGraspImpulse::of(py, if kind == "point" { "point" } else { "rigid" }, &run.impact, &run.impact_target_x))?,
             captured,
             captured_state,
             captured_names,

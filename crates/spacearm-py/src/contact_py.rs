@@ -169,47 +169,51 @@ pub fn joint_wrenches<'py>(
     Ok(matrix(py, &out.transpose()))
 }
 
-/// The result of `grasp_impact` (`spacearm_core::algorithms::impulse::GraspImpact`), every
-/// vector in 𝒥: the public `spacearm.capture.GraspImpulse` (`capture.grasp_impulse` returns it;
-/// no Python copy of its fields). Built once; the arrays are read-only.
-#[pyclass(module = "spacearm._core", name = "GraspImpulse", frozen, get_all)]
-pub struct PyGraspImpulse {
-    /// "rigid" or "point".
-    kind: String,
-    /// (6+N,) the robot's velocity jump [Δv0, Δω0, Δq̇].
-    du: Py<PyArray1<f64>>,
-    /// The target's jump of its model's u: [v; ω] (CM velocity, angular velocity, 6) of a rigid target.
-    target_dtwist: Py<PyArray1<f64>>,
-    /// (6,) Λ = [f̂; n̂] on the robot at the grasp point (N·s, N·m·s); the target gets −Λ.
-    impulse: Py<PyArray1<f64>>,
-    /// (3,) the grasp point X (the robot's point), m.
-    point: Py<PyArray1<f64>>,
-    /// Distance from X to the target's grasp point, m: zero for a perfect approach.
-    gap: f64,
-    /// (6+N,) the robot's velocity after the impact.
-    u_after: Py<PyArray1<f64>>,
-    /// The target's state after the impact: its x followed by its u after.
-    target_state_after: Py<PyArray1<f64>>,
-    /// (6,) the relative twist at X (gripper minus target) before the impact.
-    relative_twist_before: Py<PyArray1<f64>>,
-    /// (6,) the relative twist at X after the impact.
-    relative_twist_after: Py<PyArray1<f64>>,
-    /// (6, 6) the robot's inverse inertia at X.
-    #[pyo3(name = "G_robot")]
-    g_robot: Py<PyArray2<f64>>,
-    /// (6, 6) the target's inverse inertia at X.
-    #[pyo3(name = "G_target")]
-    g_target: Py<PyArray2<f64>>,
-    /// Energy the grasp dissipates, −Λᵀ(v_rel⁻ + v_rel⁺)/2, J (>= 0 to rounding; excludes locking_work).
-    energy_lost: f64,
-    /// Work of the locking joint impulses τ̂ᵀq̇, J (either sign; 0 with the arm free).
-    locking_work: f64,
-    /// The target's velocity after the impact (of its model's u).
-    target_u_after: Py<PyArray1<f64>>,
-    /// (3,) the unit contact normal of a point contact, or None.
-    normal: Option<Py<PyArray1<f64>>>,
-    /// (N,) the locking joint impulses τ̂ (zeros with the arm free).
-    locking_impulse: Py<PyArray1<f64>>,
+result_class! {
+    /// The result of `grasp_impact` (`spacearm_core::algorithms::impulse::GraspImpact`), every
+    /// vector in 𝒥: the public `spacearm.capture.GraspImpulse` (`capture.grasp_impulse` returns it;
+    /// no Python copy of its fields). Built once; the arrays are read-only.
+    PyGraspImpulse as "GraspImpulse", fn of(py: Python<'_>, kind: &str, g: &impulse::GraspImpact, x_target: &[f64]) [
+        let ro1 = |v: &[f64]| read_only(array1(py, v));
+        let target_state_after: Vec<f64> = x_target.iter().chain(g.target_u_after.iter()).copied().collect();
+    ] {
+        /// "rigid" or "point".
+        kind: String = kind.to_owned(),
+        /// (6+N,) the robot's velocity jump [Δv0, Δω0, Δq̇].
+        du: Py<PyArray1<f64>> = ro1(g.du.as_slice()),
+        /// The target's jump of its model's u: [v; ω] (CM velocity, angular velocity, 6) of a rigid target.
+        target_dtwist: Py<PyArray1<f64>> = ro1(g.target_du.as_slice()),
+        /// (6,) Λ = [f̂; n̂] on the robot at the grasp point (N·s, N·m·s); the target gets −Λ.
+        impulse: Py<PyArray1<f64>> = ro1(g.impulse.as_slice()),
+        /// (3,) the grasp point X (the robot's point), m.
+        point: Py<PyArray1<f64>> = ro1(g.point.as_slice()),
+        /// Distance from X to the target's grasp point, m: zero for a perfect approach.
+        gap: f64 = g.gap,
+        /// (6+N,) the robot's velocity after the impact.
+        u_after: Py<PyArray1<f64>> = ro1(g.u_after.as_slice()),
+        /// The target's state after the impact: its x followed by its u after.
+        target_state_after: Py<PyArray1<f64>> = ro1(&target_state_after),
+        /// (6,) the relative twist at X (gripper minus target) before the impact.
+        relative_twist_before: Py<PyArray1<f64>> = ro1(g.relative_twist_before.as_slice()),
+        /// (6,) the relative twist at X after the impact.
+        relative_twist_after: Py<PyArray1<f64>> = ro1(g.relative_twist_after.as_slice()),
+        /// (6, 6) the robot's inverse inertia at X.
+        #[pyo3(name = "G_robot")]
+        g_robot: Py<PyArray2<f64>> = read_only(matrix(py, &g.g_robot)),
+        /// (6, 6) the target's inverse inertia at X.
+        #[pyo3(name = "G_target")]
+        g_target: Py<PyArray2<f64>> = read_only(matrix(py, &g.g_target)),
+        /// Energy the grasp dissipates, −Λᵀ(v_rel⁻ + v_rel⁺)/2, J (>= 0 to rounding; excludes locking_work).
+        energy_lost: f64 = g.energy_lost,
+        /// Work of the locking joint impulses τ̂ᵀq̇, J (either sign; 0 with the arm free).
+        locking_work: f64 = g.locking_work,
+        /// The target's velocity after the impact (of its model's u).
+        target_u_after: Py<PyArray1<f64>> = ro1(g.target_u_after.as_slice()),
+        /// (3,) the unit contact normal of a point contact, or None.
+        normal: Option<Py<PyArray1<f64>>> = g.normal.map(|n| ro1(n.as_slice())),
+        /// (N,) the locking joint impulses τ̂ (zeros with the arm free).
+        locking_impulse: Py<PyArray1<f64>> = ro1(g.locking_impulse.as_slice()),
+    }
 }
 
 #[pymethods]
@@ -315,32 +319,7 @@ pub fn grasp_impact(
             })
         })
         .or_raise(py)?;
-    Ok(grasp_impulse_of(py, kind, &g, xt.as_slice()))
-}
-
-/// The binding's `GraspImpulse` of a core impact (`x_target`: the target's configuration at it).
-pub(crate) fn grasp_impulse_of(py: Python<'_>, kind: &str, g: &impulse::GraspImpact, x_target: &[f64]) -> PyGraspImpulse {
-    let ro1 = |v: &[f64]| read_only(array1(py, v));
-    let target_state_after: Vec<f64> = x_target.iter().chain(g.target_u_after.iter()).copied().collect();
-    PyGraspImpulse {
-        kind: kind.to_owned(),
-        du: ro1(g.du.as_slice()),
-        target_dtwist: ro1(g.target_du.as_slice()),
-        impulse: ro1(g.impulse.as_slice()),
-        point: ro1(g.point.as_slice()),
-        gap: g.gap,
-        u_after: ro1(g.u_after.as_slice()),
-        target_state_after: ro1(&target_state_after),
-        relative_twist_before: ro1(g.relative_twist_before.as_slice()),
-        relative_twist_after: ro1(g.relative_twist_after.as_slice()),
-        g_robot: read_only(matrix(py, &g.g_robot)),
-        g_target: read_only(matrix(py, &g.g_target)),
-        energy_lost: g.energy_lost,
-        locking_work: g.locking_work,
-        target_u_after: ro1(g.target_u_after.as_slice()),
-        normal: g.normal.map(|n| ro1(n.as_slice())),
-        locking_impulse: ro1(g.locking_impulse.as_slice()),
-    }
+    Ok(PyGraspImpulse::of(py, kind, &g, xt.as_slice()))
 }
 
 /// The result of `soft_capture` (`spacearm_core::sim::soft_capture::SoftCaptureResult`).
