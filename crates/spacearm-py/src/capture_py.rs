@@ -14,69 +14,10 @@ use crate::controller_spec_py::from_data;
 use crate::convert::*;
 use crate::model_py::PyModel;
 
-/// A capture mission's records (`spacearm_core::sim::capture::CaptureRun`): every array has one
-/// row per sample `t`, the phases end to end.
-#[pyclass(module = "spacearm._core", name = "CaptureRun", frozen, get_all)]
-pub struct PyCaptureRun {
-    /// (T,) sample times, s.
-    t: Py<PyArray1<f64>>,
-    /// (T,) phase index (0 approach, 1 capture, 2 post-capture, 3 detumble).
-    phase: Py<PyArray1<i64>>,
-    /// (T, 7+N) robot configurations.
-    x: Py<PyArray2<f64>>,
-    /// (T, 6+N) robot velocities.
-    u: Py<PyArray2<f64>>,
-    /// (T, N) joint torques applied.
-    tau: Py<PyArray2<f64>>,
-    /// (T, 6) base wrench applied.
-    base_wrench: Py<PyArray2<f64>>,
-    /// (T, 13) target states.
-    target: Py<PyArray2<f64>>,
-    /// (T, 3) robot + target linear momentum.
-    #[pyo3(name = "P")]
-    p: Py<PyArray2<f64>>,
-    /// (T, 3) robot + target angular momentum about the origin.
-    #[pyo3(name = "L")]
-    l: Py<PyArray2<f64>>,
-    /// (T, 6) the wrench holding the target (moment about its CM).
-    grasp_wrench: Py<PyArray2<f64>>,
-    /// The grasp impact (soft: the lock after the impedance phase).
-    impact: Py<PyGraspImpulse>,
-    /// The combined model (None for a point contact).
-    captured: Option<Py<PyModel>>,
-    /// The combined system's state at the grasp, `(x, u)` (None for a point contact).
-    captured_state: Option<(Py<PyArray1<f64>>, Py<PyArray1<f64>>)>,
-    /// The target's link name and the body it rides on (None for a point contact).
-    captured_names: Option<(String, String)>,
-    /// s after the detumble phase starts (inf: never).
-    time_to_detumble: f64,
-    /// |ω0| at the end, rad/s.
-    residual_spin: f64,
-    /// Relative drift of P.
-    drift_p: f64,
-    /// Relative drift of L.
-    drift_l: f64,
-    /// The scales of the drifts, (P, L).
-    drift_scales: (f64, f64),
-    /// When the approach ended (the grasp event), s.
-    approach_end: f64,
-    /// `"conservation"` (empty space: the drifts are the momenta's changes) or `"balance"` (in
-    /// orbit: the residuals of change = integral of the external wrenches).
-    ledger: &'static str,
-    /// In orbit: (T, 6) the external wrench about the origin (tidal + thrusters); else None.
-    external_wrench: Option<Py<PyArray2<f64>>>,
-    /// In orbit: (T, 6) its trapezoid integral from 0.
-    external_impulse: Option<Py<PyArray2<f64>>>,
-    /// In orbit: (T, 3) the chaser's system CM in ECI.
-    r_cm_eci: Option<Py<PyArray2<f64>>>,
-    /// In orbit: (T, 3) its velocity in ECI.
-    v_cm_eci: Option<Py<PyArray2<f64>>>,
-    /// In orbit: (T, 6) the target's CM relative to the robot's own CM in the robot's LVLH.
-    target_lvlh: Option<Py<PyArray2<f64>>>,
-}
-
-impl PyCaptureRun {
-    fn of(py: Python<'_>, run: CaptureRun, kind: &str) -> PyResult<Self> {
+result_class! {
+    /// A capture mission's records (`spacearm_core::sim::capture::CaptureRun`): every array has one
+    /// row per sample `t`, the phases end to end.
+    PyCaptureRun as "CaptureRun", fn of(py: Python<'_>, run: CaptureRun, kind: &str) -> PyResult [
         let (nx, nu, n) = run.dims;
         let count = run.t.len();
         let tau = if n == 0 { PyArray2::zeros(py, [count, 0], false).unbind() } else { rows(py, run.tau, n)?.unbind() };
@@ -101,34 +42,62 @@ impl PyCaptureRun {
             }
             None => "conservation",
         };
-        Ok(PyCaptureRun {
-            t: PyArray1::from_vec(py, run.t).unbind(),
-            phase: PyArray1::from_vec(py, run.phase).unbind(),
-            x: rows(py, run.x, nx)?.unbind(),
-            u: rows(py, run.u, nu)?.unbind(),
-            tau,
-            base_wrench: rows(py, run.base_wrench, 6)?.unbind(),
-            target: rows(py, run.target, 13)?.unbind(),
-            p: rows(py, run.ledger.p, 3)?.unbind(),
-            l: rows(py, run.ledger.l, 3)?.unbind(),
-            grasp_wrench: rows(py, run.grasp_wrench, 6)?.unbind(),
-            impact: Py::new(py, PyGraspImpulse::of(py, if kind == "point" { "point" } else { "rigid" }, &run.impact, &run.impact_target_x))?,
-            captured,
-            captured_state,
-            captured_names,
-            time_to_detumble: run.time_to_detumble,
-            residual_spin: run.residual_spin,
-            drift_p: run.ledger.drift_p,
-            drift_l: run.ledger.drift_l,
-            drift_scales: (run.ledger.scale_p, run.ledger.scale_l),
-            approach_end,
-            ledger,
-            external_wrench: ew,
-            external_impulse: ei,
-            r_cm_eci: rc,
-            v_cm_eci: vc,
-            target_lvlh: tl,
-        })
+    ] {
+        /// (T,) sample times, s.
+        t: Py<PyArray1<f64>> = PyArray1::from_vec(py, run.t).unbind(),
+        /// (T,) phase index (0 approach, 1 capture, 2 post-capture, 3 detumble).
+        phase: Py<PyArray1<i64>> = PyArray1::from_vec(py, run.phase).unbind(),
+        /// (T, 7+N) robot configurations.
+        x: Py<PyArray2<f64>> = rows(py, run.x, nx)?.unbind(),
+        /// (T, 6+N) robot velocities.
+        u: Py<PyArray2<f64>> = rows(py, run.u, nu)?.unbind(),
+        /// (T, N) joint torques applied.
+        tau: Py<PyArray2<f64>> = tau,
+        /// (T, 6) base wrench applied.
+        base_wrench: Py<PyArray2<f64>> = rows(py, run.base_wrench, 6)?.unbind(),
+        /// (T, 13) target states.
+        target: Py<PyArray2<f64>> = rows(py, run.target, 13)?.unbind(),
+        /// (T, 3) robot + target linear momentum.
+        #[pyo3(name = "P")]
+        p: Py<PyArray2<f64>> = rows(py, run.ledger.p, 3)?.unbind(),
+        /// (T, 3) robot + target angular momentum about the origin.
+        #[pyo3(name = "L")]
+        l: Py<PyArray2<f64>> = rows(py, run.ledger.l, 3)?.unbind(),
+        /// (T, 6) the wrench holding the target (moment about its CM).
+        grasp_wrench: Py<PyArray2<f64>> = rows(py, run.grasp_wrench, 6)?.unbind(),
+        /// The grasp impact (soft: the lock after the impedance phase).
+        impact: Py<PyGraspImpulse> = Py::new(py, PyGraspImpulse::of(py, if kind == "point" { "point" } else { "rigid" }, &run.impact, &run.impact_target_x))?,
+        /// The combined model (None for a point contact).
+        captured: Option<Py<PyModel>> = captured,
+        /// The combined system's state at the grasp, `(x, u)` (None for a point contact).
+        captured_state: Option<(Py<PyArray1<f64>>, Py<PyArray1<f64>>)> = captured_state,
+        /// The target's link name and the body it rides on (None for a point contact).
+        captured_names: Option<(String, String)> = captured_names,
+        /// s after the detumble phase starts (inf: never).
+        time_to_detumble: f64 = run.time_to_detumble,
+        /// |ω0| at the end, rad/s.
+        residual_spin: f64 = run.residual_spin,
+        /// Relative drift of P.
+        drift_p: f64 = run.ledger.drift_p,
+        /// Relative drift of L.
+        drift_l: f64 = run.ledger.drift_l,
+        /// The scales of the drifts, (P, L).
+        drift_scales: (f64, f64) = (run.ledger.scale_p, run.ledger.scale_l),
+        /// When the approach ended (the grasp event), s.
+        approach_end: f64 = approach_end,
+        /// `"conservation"` (empty space: the drifts are the momenta's changes) or `"balance"` (in
+        /// orbit: the residuals of change = integral of the external wrenches).
+        ledger: &'static str = ledger,
+        /// In orbit: (T, 6) the external wrench about the origin (tidal + thrusters); else None.
+        external_wrench: Option<Py<PyArray2<f64>>> = ew,
+        /// In orbit: (T, 6) its trapezoid integral from 0.
+        external_impulse: Option<Py<PyArray2<f64>>> = ei,
+        /// In orbit: (T, 3) the chaser's system CM in ECI.
+        r_cm_eci: Option<Py<PyArray2<f64>>> = rc,
+        /// In orbit: (T, 3) its velocity in ECI.
+        v_cm_eci: Option<Py<PyArray2<f64>>> = vc,
+        /// In orbit: (T, 6) the target's CM relative to the robot's own CM in the robot's LVLH.
+        target_lvlh: Option<Py<PyArray2<f64>>> = tl,
     }
 }
 

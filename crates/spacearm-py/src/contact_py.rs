@@ -19,19 +19,20 @@ use spacearm_core::algorithms::constrained::LoopClosure;
 use spacearm_core::derivatives::{loop_closure_bias, ClosureBiasWork};
 use spacearm_core::sim::closed_chain::simulate_closed_chain as core_closed_chain;
 
-/// The result of `impulse_dynamics` (`spacearm_core::algorithms::impulse::ImpulseDynamics`).
-#[pyclass(module = "spacearm._core", name = "ImpulseDynamics", frozen, get_all)]
-pub struct PyImpulseDynamics {
-    /// (6+N,) the generalized velocity after the impact.
-    u_after: Py<PyArray1<f64>>,
-    /// (6+N,) the jump Δu = H⁻¹ Jᵀ Λ (zero on locked coordinates).
-    du: Py<PyArray1<f64>>,
-    /// (m,) the contact impulse Λ.
-    impulse: Py<PyArray1<f64>>,
-    /// (m, m) the Delassus operator J H⁻¹ Jᵀ over the mobile coordinates.
-    delassus: Py<PyArray2<f64>>,
-    /// (N,) the impulsive joint torques that hold locked joints (zeros with free joints).
-    locking_impulse: Py<PyArray1<f64>>,
+result_class! {
+    /// The result of `impulse_dynamics` (`spacearm_core::algorithms::impulse::ImpulseDynamics`).
+    PyImpulseDynamics as "ImpulseDynamics", fn of(py: Python<'_>, r: &impulse::ImpulseDynamics) {
+        /// (6+N,) the generalized velocity after the impact.
+        u_after: Py<PyArray1<f64>> = dvec(py, &r.u_after).unbind(),
+        /// (6+N,) the jump Δu = H⁻¹ Jᵀ Λ (zero on locked coordinates).
+        du: Py<PyArray1<f64>> = dvec(py, &r.du).unbind(),
+        /// (m,) the contact impulse Λ.
+        impulse: Py<PyArray1<f64>> = dvec(py, &r.impulse).unbind(),
+        /// (m, m) the Delassus operator J H⁻¹ Jᵀ over the mobile coordinates.
+        delassus: Py<PyArray2<f64>> = dmat(py, &r.delassus).unbind(),
+        /// (N,) the impulsive joint torques that hold locked joints (zeros with free joints).
+        locking_impulse: Py<PyArray1<f64>> = dvec(py, &r.locking_impulse).unbind(),
+    }
 }
 
 #[pymethods]
@@ -41,22 +42,25 @@ impl PyImpulseDynamics {
     }
 }
 
-/// Where an impulse's momentum goes, about the base CM (`[P; L_base]`, eq. 42):
-/// `spacearm_core::algorithms::impulse::MomentumSplit`, the public
-/// `spacearm.capture.MomentumSplit` (`capture.impulse_momentum_split` returns it). Read-only arrays.
-#[pyclass(module = "spacearm._core", name = "MomentumSplit", frozen, get_all)]
-pub struct PyMomentumSplit {
-    /// (6,) H0 Δẋ0: the momentum the base's own jump carries.
-    base: Py<PyArray1<f64>>,
-    /// (6,) H0m Δq̇: the coupling momentum the joints take up.
-    arm: Py<PyArray1<f64>>,
-    /// (6,) J_0Xᵀ Λ: the impulse's momentum about the base CM (base + arm).
-    total: Py<PyArray1<f64>>,
-    /// (6, 6) B with Δẋ0 = B Λ: impulses in its null space leave the base still.
-    base_jump_map: Py<PyArray2<f64>>,
-    /// (6,) the singular values of B, largest first: a zero one means a reaction-null impulse
-    /// direction exists.
-    base_jump_singular_values: Py<PyArray1<f64>>,
+result_class! {
+    /// Where an impulse's momentum goes, about the base CM (`[P; L_base]`, eq. 42):
+    /// `spacearm_core::algorithms::impulse::MomentumSplit`, the public
+    /// `spacearm.capture.MomentumSplit` (`capture.impulse_momentum_split` returns it). Read-only arrays.
+    PyMomentumSplit as "MomentumSplit", fn of(py: Python<'_>, s: &impulse::MomentumSplit) [
+        let ro = |v: &[f64]| read_only(array1(py, v));
+    ] {
+        /// (6,) H0 Δẋ0: the momentum the base's own jump carries.
+        base: Py<PyArray1<f64>> = ro(s.base.as_slice()),
+        /// (6,) H0m Δq̇: the coupling momentum the joints take up.
+        arm: Py<PyArray1<f64>> = ro(s.arm.as_slice()),
+        /// (6,) J_0Xᵀ Λ: the impulse's momentum about the base CM (base + arm).
+        total: Py<PyArray1<f64>> = ro(s.total.as_slice()),
+        /// (6, 6) B with Δẋ0 = B Λ: impulses in its null space leave the base still.
+        base_jump_map: Py<PyArray2<f64>> = read_only(matrix(py, &s.base_jump_map)),
+        /// (6,) the singular values of B, largest first: a zero one means a reaction-null impulse
+        /// direction exists.
+        base_jump_singular_values: Py<PyArray1<f64>> = ro(s.base_jump_singular_values.as_slice()),
+    }
 }
 
 #[pymethods]
@@ -123,14 +127,7 @@ pub fn impulse_momentum_split(
     let lam = vec6(impulse, "impulse")?;
     let x = vec_arg(x, "x")?;
     let s = model.with_data(|m, d| impulse::impulse_momentum_split(m, d, x.as_slice(), point, &lam)).or_raise(py)?;
-    let ro = |v: &[f64]| read_only(array1(py, v));
-    Ok(PyMomentumSplit {
-        base: ro(s.base.as_slice()),
-        arm: ro(s.arm.as_slice()),
-        total: ro(s.total.as_slice()),
-        base_jump_map: read_only(matrix(py, &s.base_jump_map)),
-        base_jump_singular_values: ro(s.base_jump_singular_values.as_slice()),
-    })
+    Ok(PyMomentumSplit::of(py, &s))
 }
 
 /// The wrench `[f; n]` (𝒥, the moment about the body's CM) that the joint of `body` transmits to
@@ -175,7 +172,7 @@ result_class! {
     /// no Python copy of its fields). Built once; the arrays are read-only.
     PyGraspImpulse as "GraspImpulse", fn of(py: Python<'_>, kind: &str, g: &impulse::GraspImpact, x_target: &[f64]) [
         let ro1 = |v: &[f64]| read_only(array1(py, v));
-        let target_state_after: Vec<f64> = x_target.iter().chain(g.target_u_after.iter()).copied().collect();
+        let target_state_after = x_target.iter().chain(g.target_u_after.iter()).copied().collect::<Vec<f64>>();
     ] {
         /// "rigid" or "point".
         kind: String = kind.to_owned(),
@@ -256,13 +253,7 @@ pub fn impulse_dynamics(
     let (j, rows, cols) = matrix_arg(jacobian, "jacobian")?;
     let j = DMatrix::from_row_slice(rows, cols, &j);
     let r = model.with_data(|m, d| impulse::impulse_dynamics(m, d, x.as_slice(), u.as_slice(), &j, restitution, joints)).or_raise(py)?;
-    Ok(PyImpulseDynamics {
-        u_after: dvec(py, &r.u_after).unbind(),
-        du: dvec(py, &r.du).unbind(),
-        impulse: dvec(py, &r.impulse).unbind(),
-        delassus: dmat(py, &r.delassus).unbind(),
-        locking_impulse: dvec(py, &r.locking_impulse).unbind(),
-    })
+    Ok(PyImpulseDynamics::of(py, &r))
 }
 
 /// Refuse a target grasp point `offset` (m, from the CM of `body`, in its axes) farther from the

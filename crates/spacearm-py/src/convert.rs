@@ -508,13 +508,13 @@ pub fn summary(obj: &Bound<'_, PyAny>, fields: &[&str]) -> PyResult<String> {
 
 /// A frozen class of a core result with its fields written once: each field's doc (and
 /// attributes), type and value — an expression of the constructor's arguments and of the
-/// `let`s in brackets before the fields. Writes the struct (`get_all`: each field a read-only attribute)
-/// and the constructor `$ctor`; with `repr` first, also a `__repr__` of every field
-/// ([`summary`]). The field-by-field copy of a core result into Python stands in one list.
+/// `let`s in brackets before the fields. Writes the struct (`get_all`: each field a read-only
+/// attribute) and the constructor `$ctor` (`-> PyResult`: a fallible one, the values may use
+/// `?`); with `repr` first, also a `__repr__` of every field ([`summary`]). The field-by-field copy of a core result into Python stands in one list.
 macro_rules! result_class {
     (@class [$($repr:ident)?]
         $(#[$attr:meta])*
-        $rust:ident as $name:literal, fn $ctor:ident($($arg:ident: $aty:ty),* $(,)?) $([$(let $local:ident $(: $lty:ty)? = $init:expr;)*])? {
+        $rust:ident as $name:literal, fn $ctor:ident($($arg:ident: $aty:ty),* $(,)?) $(-> $ret:ident)? $([$(let $local:pat = $init:expr;)*])? {
             $($(#[$fattr:meta])* $field:ident: $fty:ty = $value:expr,)+
         }
     ) => {
@@ -529,10 +529,7 @@ macro_rules! result_class {
             #[allow(dead_code)]
             const FIELDS: &'static [&'static str] = &[$(stringify!($field)),+];
 
-            pub(crate) fn $ctor($($arg: $aty),*) -> Self {
-                $($(let $local $(: $lty)? = $init;)*)?
-                $rust { $($field: $value,)+ }
-            }
+            crate::convert::result_class!(@ctor [$($ret)?] $rust, $ctor, ($($arg: $aty),*), { $($(let $local = $init;)*)? }, { $($field: $value),+ });
         }
 
         $(
@@ -545,8 +542,20 @@ macro_rules! result_class {
             }
         )?
     };
-    (@class $($rest:tt)*) => {
-        compile_error!("result_class!: expected `[repr;] docs Class as \"Name\", fn ctor(args) [lets] { fields }`");
+    (@ctor [] $rust:ident, $ctor:ident, ($($args:tt)*), { $($pre:tt)* }, { $($field:ident: $value:expr),+ }) => {
+        pub(crate) fn $ctor($($args)*) -> Self {
+            $($pre)*
+            $rust { $($field: $value,)+ }
+        }
+    };
+    (@ctor [PyResult] $rust:ident, $ctor:ident, ($($args:tt)*), { $($pre:tt)* }, { $($field:ident: $value:expr),+ }) => {
+        pub(crate) fn $ctor($($args)*) -> PyResult<Self> {
+            $($pre)*
+            Ok($rust { $($field: $value,)+ })
+        }
+    };
+    (@ $($rest:tt)*) => {
+        compile_error!("result_class!: expected `[repr;] docs Class as \"Name\", fn ctor(args) [-> PyResult] [lets] { fields }`");
     };
     (repr; $($rest:tt)*) => {
         crate::convert::result_class!(@class [repr] $($rest)*);
