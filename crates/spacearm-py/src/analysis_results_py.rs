@@ -146,36 +146,25 @@ impl PyScanResult {
     }
 }
 
-/// Radial description of the workspaces (`spacearm_core::analysis::workspace::WorkspaceShells`).
-/// Constructing one computes the shells of a scan (`analysis_py::shells`);
-/// `spacearm.analysis.Workspace` is its Python subclass (the samples, timing and figure).
-#[pyclass(module = "spacearm._core", name = "WorkspaceShells", frozen, subclass, get_all)]
-pub struct PyWorkspaceShells {
-    /// (R_min, R_max) of the free-floating reachable workspace about the system CM, m.
-    reachable: (f64, f64),
-    /// (min, max) distance of the point from the base CM with the base held fixed, m.
-    fixed_base: (f64, f64),
-    /// (K,) float64: barycentric radii of the singular samples and crossings found, sorted, m.
-    singular_radii: Py<PyArray1<f64>>,
-    /// Path-dependent shells [(a, b), ...], m.
-    path_dependent: Vec<(f64, f64)>,
-    /// Path-independent shells [(a, b), ...]: the reachable shell minus the path-dependent ones, m.
-    path_independent: Vec<(f64, f64)>,
-    /// The radial resolution that merged the singular radii into shells, m.
-    radial_resolution: f64,
-}
-
-impl PyWorkspaceShells {
-    pub fn of(py: Python<'_>, w: &workspace::WorkspaceShells) -> Self {
+result_class! {
+    /// Radial description of the workspaces (`spacearm_core::analysis::workspace::WorkspaceShells`).
+    /// Constructing one computes the shells of a scan (`analysis_py::shells`);
+    /// `spacearm.analysis.Workspace` is its Python subclass (the samples, timing and figure).
+    PyWorkspaceShells as "WorkspaceShells" (subclass), fn of(py: Python<'_>, w: &workspace::WorkspaceShells) [
         let pairs = |v: &[[f64; 2]]| v.iter().map(|[a, b]| (*a, *b)).collect();
-        PyWorkspaceShells {
-            reachable: (w.reachable[0], w.reachable[1]),
-            fixed_base: (w.fixed_base[0], w.fixed_base[1]),
-            singular_radii: array1(py, &w.singular_radii).unbind(),
-            path_dependent: pairs(&w.path_dependent),
-            path_independent: pairs(&w.path_independent),
-            radial_resolution: w.radial_resolution,
-        }
+    ] {
+        /// (R_min, R_max) of the free-floating reachable workspace about the system CM, m.
+        reachable: (f64, f64) = (w.reachable[0], w.reachable[1]),
+        /// (min, max) distance of the point from the base CM with the base held fixed, m.
+        fixed_base: (f64, f64) = (w.fixed_base[0], w.fixed_base[1]),
+        /// (K,) float64: barycentric radii of the singular samples and crossings found, sorted, m.
+        singular_radii: Py<PyArray1<f64>> = array1(py, &w.singular_radii).unbind(),
+        /// Path-dependent shells [(a, b), ...], m.
+        path_dependent: Vec<(f64, f64)> = pairs(&w.path_dependent),
+        /// Path-independent shells [(a, b), ...]: the reachable shell minus the path-dependent ones, m.
+        path_independent: Vec<(f64, f64)> = pairs(&w.path_independent),
+        /// The radial resolution that merged the singular radii into shells, m.
+        radial_resolution: f64 = w.radial_resolution,
     }
 }
 
@@ -271,55 +260,38 @@ result_class! {
     }
 }
 
-/// A closed-loop point-to-point motion of a free-floating system (zero momentum), recorded at
-/// its K+1 time nodes (`spacearm_core::analysis::redundancy::RmrcMotion`, with the model's name,
-/// the strategy and the target). Constructing one runs the motion (`analysis_py::move_to`);
-/// `spacearm.analysis.Motion` is its Python subclass, which adds the figure and nothing else.
-#[pyclass(module = "spacearm._core", name = "RmrcMotion", frozen, subclass, get_all)]
-pub struct PyRmrcMotion {
-    /// Name of the model moved.
-    robot_name: String,
-    /// The strategy: "naive", "reactionless" or "minimum_disturbance".
-    strategy: &'static str,
-    /// (3,) float64: the point's target in 𝒥, m.
-    target: Py<PyArray1<f64>>,
-    /// (K+1,) float64: times k·dt, s.
-    times: Py<PyArray1<f64>>,
-    /// (K+1, 7+N) float64: configurations [r0, quat [x, y, z, w], q].
-    x: Py<PyArray2<f64>>,
-    /// (K+1, N) float64: joint rates, rad/s (m/s for a prismatic joint).
-    qd: Py<PyArray2<f64>>,
-    /// (K+1, 3) float64: the point's position in 𝒥, m.
-    point_position: Py<PyArray2<f64>>,
-    /// (K+1,) float64: σ_min of the (projected) task Jacobian.
-    sigma_min: Py<PyArray1<f64>>,
-    /// (K+1,) float64: damping λ used.
-    damping: Py<PyArray1<f64>>,
-    /// (K+1,) float64: base rotation angle from the start, rad.
-    attitude_change: Py<PyArray1<f64>>,
-    /// The largest base rotation from the start over the motion (max of `attitude_change`), rad.
-    max_attitude_change: f64,
-    /// Distance of the point from the target at the end (linear task rows only), m.
-    final_position_error: f64,
-}
-
-impl PyRmrcMotion {
-    pub fn of(py: Python<'_>, r: &redundancy::RmrcMotion, n_dof: usize, robot_name: String, strategy: &'static str, target: &Vector3<f64>) -> Self {
+result_class! {
+    /// A closed-loop point-to-point motion of a free-floating system (zero momentum), recorded at
+    /// its K+1 time nodes (`spacearm_core::analysis::redundancy::RmrcMotion`, with the model's name,
+    /// the strategy and the target). Constructing one runs the motion (`analysis_py::move_to`);
+    /// `spacearm.analysis.Motion` is its Python subclass, which adds the figure and nothing else.
+    PyRmrcMotion as "RmrcMotion" (subclass), fn of(py: Python<'_>, r: &redundancy::RmrcMotion, n_dof: usize, robot_name: String, strategy: &'static str, target: &Vector3<f64>) [
         let k = r.times.len();
-        PyRmrcMotion {
-            robot_name,
-            strategy,
-            target: array1(py, target.as_slice()).unbind(),
-            times: array1(py, &r.times).unbind(),
-            x: row_major(py, &r.x, k, 7 + n_dof).unbind(),
-            qd: row_major(py, &r.qd, k, n_dof).unbind(),
-            point_position: row_major(py, &r.point_position, k, 3).unbind(),
-            sigma_min: array1(py, &r.sigma_min).unbind(),
-            damping: array1(py, &r.damping).unbind(),
-            attitude_change: array1(py, &r.attitude_change).unbind(),
-            max_attitude_change: r.attitude_change.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-            final_position_error: r.final_position_error,
-        }
+    ] {
+        /// Name of the model moved.
+        robot_name: String = robot_name,
+        /// The strategy: "naive", "reactionless" or "minimum_disturbance".
+        strategy: &'static str = strategy,
+        /// (3,) float64: the point's target in 𝒥, m.
+        target: Py<PyArray1<f64>> = array1(py, target.as_slice()).unbind(),
+        /// (K+1,) float64: times k·dt, s.
+        times: Py<PyArray1<f64>> = array1(py, &r.times).unbind(),
+        /// (K+1, 7+N) float64: configurations [r0, quat [x, y, z, w], q].
+        x: Py<PyArray2<f64>> = row_major(py, &r.x, k, 7 + n_dof).unbind(),
+        /// (K+1, N) float64: joint rates, rad/s (m/s for a prismatic joint).
+        qd: Py<PyArray2<f64>> = row_major(py, &r.qd, k, n_dof).unbind(),
+        /// (K+1, 3) float64: the point's position in 𝒥, m.
+        point_position: Py<PyArray2<f64>> = row_major(py, &r.point_position, k, 3).unbind(),
+        /// (K+1,) float64: σ_min of the (projected) task Jacobian.
+        sigma_min: Py<PyArray1<f64>> = array1(py, &r.sigma_min).unbind(),
+        /// (K+1,) float64: damping λ used.
+        damping: Py<PyArray1<f64>> = array1(py, &r.damping).unbind(),
+        /// (K+1,) float64: base rotation angle from the start, rad.
+        attitude_change: Py<PyArray1<f64>> = array1(py, &r.attitude_change).unbind(),
+        /// The largest base rotation from the start over the motion (max of `attitude_change`), rad.
+        max_attitude_change: f64 = r.attitude_change.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        /// Distance of the point from the target at the end (linear task rows only), m.
+        final_position_error: f64 = r.final_position_error,
     }
 }
 

@@ -7,7 +7,8 @@ use nalgebra::DMatrix;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use spacearm_core::algorithms::impulse::{self, BodyPoint, GraspContact, JointsAtImpact};
-use spacearm_core::SpacearmError;
+use spacearm_core::sim::simulate::{SimOptions, SimResult};
+use spacearm_core::{Model, SpacearmError};
 
 use crate::convert::*;
 use crate::model_py::PyModel;
@@ -313,27 +314,31 @@ pub fn grasp_impact(
     Ok(PyGraspImpulse::of(py, kind, &g, xt.as_slice()))
 }
 
-/// The result of `soft_capture` (`spacearm_core::sim::soft_capture::SoftCaptureResult`).
-#[pyclass(module = "spacearm._core", name = "SoftCaptureResult", frozen, get_all)]
-pub struct PySoftCaptureResult {
-    /// The robot's run (its records, onsets, description).
-    robot: Py<PyRunResult>,
-    /// The target's run (zero torques).
-    target: Py<PyRunResult>,
-    /// (K, 6) the impedance's wrench [f; n] on the robot at its grasp point, in the inertial frame.
-    wrench: Py<PyArray2<f64>>,
-    /// K, N/m.
-    stiffness: f64,
-    /// D, N s/m.
-    damping: f64,
-    /// K_r, N m/rad.
-    rotational_stiffness: f64,
-    /// D_r, N m s/rad.
-    rotational_damping: f64,
-    /// Drift of robot + target P over the samples (relative, the core's definition).
-    drift_linear: f64,
-    /// Drift of robot + target L about the origin over the samples.
-    drift_angular: f64,
+result_class! {
+    /// The result of `soft_capture` (`spacearm_core::sim::soft_capture::SoftCaptureResult`).
+    PySoftCaptureResult as "SoftCaptureResult", fn of(py: Python<'_>, res: soft::SoftCaptureResult, (rm, tm): (&Model, &Model), opts: &SimOptions, float32: bool) -> PyResult [
+        let g = res.gains;
+        let target_opts = SimOptions { wheels: Some(Vec::new()), ..opts.clone() };
+    ] {
+        /// The robot's run (its records, onsets, description).
+        robot: Py<PyRunResult> = Py::new(py, PyRunResult::of_run(py, res.robot, opts, float32, (rm.nx(), rm.nu(), rm.n_dof()))?)?,
+        /// The target's run (zero torques).
+        target: Py<PyRunResult> = Py::new(py, PyRunResult::of_run(py, res.target, &target_opts, float32, (tm.nx(), tm.nu(), tm.n_dof()))?)?,
+        /// (K, 6) the impedance's wrench [f; n] on the robot at its grasp point, in the inertial frame.
+        wrench: Py<PyArray2<f64>> = rows(py, res.wrench, 6)?.unbind(),
+        /// K, N/m.
+        stiffness: f64 = g.stiffness,
+        /// D, N s/m.
+        damping: f64 = g.damping,
+        /// K_r, N m/rad.
+        rotational_stiffness: f64 = g.rotational_stiffness,
+        /// D_r, N m s/rad.
+        rotational_damping: f64 = g.rotational_damping,
+        /// Drift of robot + target P over the samples (relative, the core's definition).
+        drift_linear: f64 = res.drift[0],
+        /// Drift of robot + target L about the origin over the samples.
+        drift_angular: f64 = res.drift[1],
+    }
 }
 
 #[pymethods]
@@ -387,31 +392,22 @@ pub fn soft_capture(
     let res = run_controlled(py, &rm, controller_spec, None, |controller, progress| {
         soft::soft_capture(&rm, &x, &u, robot_point, &tm, &xt, &ut, target_point, &spec, &opts, controller, progress)
     })?;
-    let wrench = rows(py, res.wrench.clone(), 6)?.unbind();
-    let g = res.gains;
-    let target_opts = spacearm_core::sim::simulate::SimOptions { wheels: Some(Vec::new()), ..opts.clone() };
-    Ok(PySoftCaptureResult {
-        robot: Py::new(py, PyRunResult::of_run(py, res.robot, &opts, float32, (rm.nx(), rm.nu(), rm.n_dof()))?)?,
-        target: Py::new(py, PyRunResult::of_run(py, res.target, &target_opts, float32, (tm.nx(), tm.nu(), tm.n_dof()))?)?,
-        wrench,
-        stiffness: g.stiffness,
-        damping: g.damping,
-        rotational_stiffness: g.rotational_stiffness,
-        rotational_damping: g.rotational_damping,
-        drift_linear: res.drift[0],
-        drift_angular: res.drift[1],
-    })
+    PySoftCaptureResult::of(py, res, (&rm, &tm), &opts, float32)
 }
 
-/// A closed chain's run (`spacearm_core::sim::closed_chain`).
-#[pyclass(module = "spacearm._core", name = "ClosedChainResult", frozen, get_all)]
-pub struct PyClosedChainResult {
-    /// The run (records, onsets, description).
-    run: Py<PyRunResult>,
-    /// (K, 6) λ: the wrench on frame b at its origin, [force; torque] in the inertial frame (body a gets −λ).
-    constraint_wrench: Py<PyArray2<f64>>,
-    /// (K, 6) e = [position error (m); rotation error (rad)].
-    pose_error: Py<PyArray2<f64>>,
+result_class! {
+    /// A closed chain's run (`spacearm_core::sim::closed_chain`).
+    PyClosedChainResult as "ClosedChainResult", fn of(py: Python<'_>, mut res: SimResult, m: &Model, opts: &SimOptions, float32: bool) -> PyResult [
+        let constraint_wrench = rows(py, res.records.constraint_wrench.take().unwrap_or_default(), 6)?.unbind();
+        let pose_error = rows(py, res.records.constraint_error.take().unwrap_or_default(), 6)?.unbind();
+    ] {
+        /// The run (records, onsets, description).
+        run: Py<PyRunResult> = Py::new(py, PyRunResult::of_run(py, res, opts, float32, (m.nx(), m.nu(), m.n_dof()))?)?,
+        /// (K, 6) λ: the wrench on frame b at its origin, [force; torque] in the inertial frame (body a gets −λ).
+        constraint_wrench: Py<PyArray2<f64>> = constraint_wrench,
+        /// (K, 6) e = [position error (m); rotation error (rad)].
+        pose_error: Py<PyArray2<f64>> = pose_error,
+    }
 }
 
 #[pymethods]
@@ -421,13 +417,14 @@ impl PyClosedChainResult {
     }
 }
 
-/// The loop-closure terms at one state (`LoopClosure::jacobian`, `derivatives::loop_closure_bias`).
-#[pyclass(module = "spacearm._core", name = "LoopClosureTerms", frozen, get_all)]
-pub struct PyLoopClosureTerms {
-    /// (6, 6+N) J_c = J_b − J_a at b's origin.
-    jacobian: Py<PyArray2<f64>>,
-    /// (6,) the exact J̇_c u.
-    jdot_u: Py<PyArray1<f64>>,
+result_class! {
+    /// The loop-closure terms at one state (`LoopClosure::jacobian`, `derivatives::loop_closure_bias`).
+    PyLoopClosureTerms as "LoopClosureTerms", fn of(py: Python<'_>, j: &DMatrix<f64>, jd: &[f64]) {
+        /// (6, 6+N) J_c = J_b − J_a at b's origin.
+        jacobian: Py<PyArray2<f64>> = dmat(py, j).unbind(),
+        /// (6,) the exact J̇_c u.
+        jdot_u: Py<PyArray1<f64>> = array1(py, jd).unbind(),
+    }
 }
 
 /// `J_c` and the exact `J̇_c u` of the loop closing frames a and b at `(x, u)`.
@@ -452,7 +449,7 @@ pub fn loop_closure(
             Ok((c.jacobian(m, d), jd))
         })
         .or_raise(py)?;
-    Ok(PyLoopClosureTerms { jacobian: dmat(py, &j).unbind(), jdot_u: array1(py, jd.as_slice()).unbind() })
+    Ok(PyLoopClosureTerms::of(py, &j, jd.as_slice()))
 }
 
 /// Simulate `model` with the frames at `(body_a, offset_a)` and `(body_b, offset_b)` welded at
@@ -480,11 +477,8 @@ pub fn simulate_closed_chain(
     let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
     let (opts, float32) = (options.sim_options(duration), options.records_float32());
     let m = model.model.clone();
-    let mut res = run_controlled(py, &m, controller_spec, None, |controller, progress| core_closed_chain(&m, &x0, &u0, a, b, stabilization, &opts, controller, progress))?;
-    let constraint_wrench = rows(py, res.records.constraint_wrench.take().unwrap_or_default(), 6)?.unbind();
-    let pose_error = rows(py, res.records.constraint_error.take().unwrap_or_default(), 6)?.unbind();
-    let run = Py::new(py, PyRunResult::of_run(py, res, &opts, float32, (m.nx(), m.nu(), m.n_dof()))?)?;
-    Ok(PyClosedChainResult { run, constraint_wrench, pose_error })
+    let res = run_controlled(py, &m, controller_spec, None, |controller, progress| core_closed_chain(&m, &x0, &u0, a, b, stabilization, &opts, controller, progress))?;
+    PyClosedChainResult::of(py, res, &m, &opts, float32)
 }
 
 /// Add the contact functions and classes to the module.

@@ -509,17 +509,19 @@ pub fn summary(obj: &Bound<'_, PyAny>, fields: &[&str]) -> PyResult<String> {
 /// A frozen class of a core result with its fields written once: each field's doc (and
 /// attributes), type and value — an expression of the constructor's arguments and of the
 /// `let`s in brackets before the fields. Writes the struct (`get_all`: each field a read-only
-/// attribute) and the constructor `$ctor` (`-> PyResult`: a fallible one, the values may use
-/// `?`); with `repr` first, also a `__repr__` of every field ([`summary`]). The field-by-field copy of a core result into Python stands in one list.
+/// attribute; more `#[pyclass]` options in parentheses after the name, `(subclass)`) and the
+/// constructor `$ctor` (`-> PyResult`: a fallible one, the values may use `?`); with `repr`
+/// first, also a `__repr__` of every field ([`summary`]). The field-by-field copy of a core
+/// result into Python stands in one list.
 macro_rules! result_class {
     (@class [$($repr:ident)?]
         $(#[$attr:meta])*
-        $rust:ident as $name:literal, fn $ctor:ident($($arg:ident: $aty:ty),* $(,)?) $(-> $ret:ident)? $([$(let $local:pat = $init:expr;)*])? {
+        $rust:ident as $name:literal $(($($opt:ident),*))?, fn $ctor:ident($($args:tt)*) $(-> $ret:ident)? $([$(let $local:pat = $init:expr;)*])? {
             $($(#[$fattr:meta])* $field:ident: $fty:ty = $value:expr,)+
         }
     ) => {
         $(#[$attr])*
-        #[pyclass(module = "spacearm._core", name = $name, frozen, get_all)]
+        #[pyclass(module = "spacearm._core", name = $name, frozen, $($($opt,)*)? get_all)]
         pub struct $rust {
             $($(#[$fattr])* $field: $fty,)+
         }
@@ -529,7 +531,7 @@ macro_rules! result_class {
             #[allow(dead_code)]
             const FIELDS: &'static [&'static str] = &[$(stringify!($field)),+];
 
-            crate::convert::result_class!(@ctor [$($ret)?] $rust, $ctor, ($($arg: $aty),*), { $($(let $local = $init;)*)? }, { $($field: $value),+ });
+            crate::convert::result_class!(@ctor [$($ret)?] $rust, $ctor, ($($args)*), { $($(let $local = $init;)*)? }, { $($field: $value),+ });
         }
 
         $(
