@@ -14,7 +14,7 @@ use crate::convert::*;
 use crate::model_py::PyModel;
 use crate::records_py::PyRunResult;
 use crate::sim_options_py::PyRunOptions;
-use crate::simulate_py::run_controlled;
+use crate::simulate_py::{run_controlled, RunArgs};
 use spacearm_core::sim::soft_capture::{self as soft, ImpedanceSpec};
 use spacearm_core::algorithms::constrained::LoopClosure;
 use spacearm_core::derivatives::{loop_closure_bias, ClosureBiasWork};
@@ -473,12 +473,11 @@ pub fn simulate_closed_chain(
     stabilization: f64,
 ) -> PyResult<PyClosedChainResult> {
     let (a, b) = (body_point(body_a, offset_a, "offset_a")?, body_point(body_b, offset_b, "offset_b")?);
-    let x0 = vec_arg(x0, "x0")?.as_slice().to_vec();
-    let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
-    let (opts, float32) = (options.sim_options(duration), options.records_float32());
-    let m = model.model.clone();
-    let res = run_controlled(py, &m, controller_spec, None, |controller, progress| core_closed_chain(&m, &x0, &u0, a, b, stabilization, &opts, controller, progress))?;
-    PyClosedChainResult::of(py, res, &m, &opts, float32)
+    let run = RunArgs::read(model.model.clone(), x0, u0, duration, &options, py)?;
+    let res = run_controlled(py, &run.plant, controller_spec, run.progress_fn.as_ref(), |controller, progress| {
+        core_closed_chain(&run.plant, &run.x0, &run.u0, a, b, stabilization, &run.opts, controller, progress)
+    })?;
+    PyClosedChainResult::of(py, res, &run.plant, &run.opts, run.float32)
 }
 
 /// Add the contact functions and classes to the module.

@@ -41,7 +41,7 @@ pub fn simulate_events<'py>(
     target: Option<&Bound<'py, PyModel>>,
     target_state: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<(PyRunResult, Bound<'py, PyDict>)> {
-    let args = RunArgs::read(model, x0, u0, duration, &options, py)?;
+    let args = RunArgs::read(model.borrow().model.clone(), x0, u0, duration, &options, py)?;
     let events: Vec<TopologyEvent> = from_data(events, "events")?;
     let target: Option<Model> = target.map(|t| t.borrow().model.clone());
     let state: Option<Vec<f64>> = target_state.filter(|s| !s.is_none()).map(|s| vec_arg(s, "target_state").map(|v| v.as_slice().to_vec())).transpose()?;

@@ -32,31 +32,31 @@ pub fn simulate<'py>(
     options: PyRef<'py, PyRunOptions>,
     controller_spec: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<PyRunResult> {
-    let run = RunArgs::read(model, x0, u0, duration, &options, py)?;
+    let run = RunArgs::read(model.borrow().model.clone(), x0, u0, duration, &options, py)?;
     let res = run_controlled(py, &run.plant, controller_spec, run.progress_fn.as_ref(), |controller, progress| {
         core_simulate(&run.plant, &run.x0, &run.u0, &run.opts, controller, progress)
     })?;
     run.result(py, res)
 }
 
-/// What every single-plant run entry point (`simulate`, `simulate_events`) reads of its
-/// `(model, x0, u0, duration, options)` arguments, the same way: a copy of the model (the run
-/// holds no borrow of the Python object, so a callback controller may call the robot's
-/// methods), the initial state, the options of a run of `duration`, the records' precision and
-/// the progress callable.
+/// What every single-plant run entry point (`simulate`, `simulate_events`,
+/// `simulate_closed_chain`) reads of its `(model, x0, u0, duration, options)` arguments, the
+/// same way: a copy of the model (the run holds no borrow of the Python object, so a callback
+/// controller may call the robot's methods), the initial state, the options of a run of
+/// `duration`, the records' precision and the progress callable.
 pub(crate) struct RunArgs {
     pub plant: Model,
     pub x0: Vec<f64>,
     pub u0: Vec<f64>,
     pub opts: SimOptions,
-    float32: bool,
+    pub float32: bool,
     pub progress_fn: Option<Py<PyAny>>,
 }
 
 impl RunArgs {
-    pub(crate) fn read(model: &Bound<'_, PyModel>, x0: &Bound<'_, PyAny>, u0: &Bound<'_, PyAny>, duration: f64, options: &PyRunOptions, py: Python<'_>) -> PyResult<Self> {
+    pub(crate) fn read(plant: Model, x0: &Bound<'_, PyAny>, u0: &Bound<'_, PyAny>, duration: f64, options: &PyRunOptions, py: Python<'_>) -> PyResult<Self> {
         Ok(RunArgs {
-            plant: model.borrow().model.clone(),
+            plant,
             x0: vec_arg(x0, "x0")?.as_slice().to_vec(),
             u0: vec_arg(u0, "u0")?.as_slice().to_vec(),
             opts: options.sim_options(duration),
