@@ -67,7 +67,7 @@ def prepare(spec, indices: Sequence[int]) -> Prepared:
     for index in indices:
         job = (index, spec.draw(index))
         try:
-            plants.append(plant(nominal, job[1], spec.scenario.flexibility))
+            plants.append(plant(nominal, job[1], spec.scenario.flexibility, spec.scenario.cmg))
             flying.append(job)
         except Exception as exc:  # noqa: BLE001 — an invalid plant is the sample's failure
             failed.append((job, failure_message(exc)))
@@ -89,7 +89,8 @@ def fly(prepared: Prepared, threads: int, stop=None):
     try:
         tracker = controller(nominal, spec.scenario)
         x0 = np.stack([spec.scenario.initial_configuration(p) for p in prepared.plants])
-        runs = rollout(control_model(nominal, spec.scenario), spec.scenario.duration, x0, controller=tracker, plants=prepared.plants,
+        u0 = np.stack([spec.scenario.initial_velocity(p, params) for p, (_, params) in zip(prepared.plants, prepared.flying)])
+        runs = rollout(control_model(nominal, spec.scenario), spec.scenario.duration, x0, u0, controller=tracker, plants=prepared.plants,
                        mode=spec.scenario.mode, dt=spec.scenario.dt, threads=threads, stop=stop, **spec.scenario.run_options())
     except Exception as exc:  # noqa: BLE001 — the scenario cannot be flown by any sample
         return failure_message(exc), time.perf_counter() - start
