@@ -19,7 +19,7 @@ from spacearm.errors import ArgumentError
 from spacearm.io.model_file import dumps_toml, loads_toml
 
 NO_ERRORS = Perturbations(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-GOAL = (0.0,) * 8 + (0.6, -0.5)  # the gimbals held at zero, the arm's two joints moved
+GOAL = (0.0,) * 8 + (0.6, -0.5)  # the arm's two joints moved (the CMGs' entries are not arm joints: no reference)
 
 
 def _sat(rotor_scale=1.0, misalignment=0.0):
@@ -57,7 +57,7 @@ def test_draws_are_reproducible_and_leave_the_inertia_draws_alone(sat):
         assert d == spec.draw(i) and 100.0 <= d["cmg_wheel_speed"] <= 600.0
         speeds.append(d["cmg_wheel_speed"])
     assert len(set(speeds)) == 4
-    assert CampaignSpec.from_json(spec.to_json()) == spec and "cmg" not in plain.to_json()
+    assert CampaignSpec.from_json(spec.to_json()) == spec and '"cmg":' not in plain.to_json() and '"cmg":' in spec.to_json()
     assert cmg.nominal() == {"cmg_wheel_speed": 350.0, "cmg_rotor_inertia_scale": 1.0, "cmg_gimbal_misalignment": 0.0}
 
 
@@ -82,8 +82,8 @@ def test_a_samples_plant_equals_the_plant_built_by_hand(sat):
 
 
 def test_wheel_speed_campaign_matches_a_direct_simulation_and_stiffens_the_base(sat):
-    """A spinning cluster whose gimbals are held is a momentum bias: the base turns less under the
-    arm's reaction the more momentum the rotors hold (gyroscopic stiffness)."""
+    """The arm laws leave the CMGs free (they are not arm joints); their spinning rotors stiffen the
+    base against the arm's reaction: the more momentum they hold, the less the base turns."""
     scenario = Scenario(duration=1.0, dt=5e-3, kp=100.0, kd=20.0, q_goal=GOAL, cmg=CmgUncertainty(wheel_speed=Uniform(0.0, 600.0)))
     result = run_campaign(sat, samples=5, seed=4, perturbations=NO_ERRORS, scenario=scenario, workers=1, progress=False)
     assert result.run["backend"] == "threads" and result.n_ok == 5
@@ -91,8 +91,9 @@ def test_wheel_speed_campaign_matches_a_direct_simulation_and_stiffens_the_base(
     excursion = result.metric("attitude_excursion_max")
     model = _sat()  # the controller's model: the nominal plant (no model holds a wheel speed)
     q0 = model.initial_q
-    ref = np.asarray(GOAL)[model.actuated_dofs]
-    move = QuinticJoint(np.asarray(q0)[model.actuated_dofs], ref, 0.0, 0.75)
+    arm = model.actuated_arm_dofs
+    assert arm == [8, 9]
+    move = QuinticJoint(np.asarray(q0)[arm], np.asarray(GOAL)[arm], 0.0, 0.75)
     for i, w in enumerate(speeds):
         traj = spacearm.simulate(model, 1.0, x0=model.neutral_configuration(), u0=model.cmg_velocity(w), dt=5e-3,
                                  controller=ComputedTorque(100.0, 20.0, move, model=model))
@@ -115,3 +116,25 @@ def test_bad_recipes_are_errors(sat):
     with pytest.raises(ArgumentError, match="has none"):
         CmgUncertainty(rotor_inertia_scale=1.1).apply(bare, {"cmg_rotor_inertia_scale": 1.1, "cmg_gimbal_misalignment": 0.0})
     assert Fixed(2.0).nominal == 2.0
+
+
+def test_the_cli_reads_the_recipe_from_toml(sat, tmp_path, capsys):
+    from spacearm.cli import main
+
+    model = tmp_path / "sat.toml"
+    model.write_text(dumps_toml(sat))
+    recipe = tmp_path / "cmg.toml"
+    recipe.write_text('wheel_speed = { kind = "uniform", low = 100.0, high = 500.0 }\nrotor_inertia_scale = 1.05\n')
+    out = tmp_path / "c.npz"
+    argv = ["campaign", str(model), "--samples", "2", "--duration", "0.1", "--dt", "0.01", "--workers", "0",
+            "--no-progress", "--cmg", str(recipe), "--out", str(out)]
+    assert main(argv) == 0
+    cli = spacearm.campaign.CampaignResult.load(out)
+    assert cli.param_names[-3:] == ("cmg_wheel_speed", "cmg_rotor_inertia_scale", "cmg_gimbal_misalignment")
+    api = run_campaign(loads_toml(model.read_text()), 2, seed=0, workers=0, progress=False,
+                       scenario=Scenario(duration=0.1, dt=0.01, cmg=CmgUncertainty(Uniform(100.0, 500.0), 1.05)))
+    np.testing.assert_array_equal(cli.metrics, api.metrics)
+    assert np.all((cli.parameter("cmg_wheel_speed") >= 100.0) & (cli.parameter("cmg_wheel_speed") <= 500.0))
+    recipe.write_text("speed = 300.0\n")
+    assert main(argv[:-2] + ["--out", str(tmp_path / "d.npz")]) == 2
+    assert "spacearm: error: --cmg" in capsys.readouterr().err

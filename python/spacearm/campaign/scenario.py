@@ -347,9 +347,11 @@ def reference(nominal, scenario: Scenario):
     goal over ``motion_fraction · duration``, convolved with the scenario's input shaper if it has one."""
     q0 = np.asarray(nominal.initial_q, dtype=float)
     goal = np.asarray(scenario.goal(nominal), dtype=float)
-    actuated = np.asarray(nominal.actuated_dofs, dtype=bool)
-    if not actuated.all():  # the passive joints of the nominal model take no reference
-        q0, goal = q0[actuated], goal[actuated]
+    # The arm laws' joints (Robot.actuated_arm_dofs): the passive joints of the nominal model,
+    # its reaction wheels and its CMGs' gimbals and rotors take no reference.
+    arm = np.asarray(nominal.actuated_arm_dofs, dtype=int)
+    if len(arm) != len(q0):
+        q0, goal = q0[arm], goal[arm]
     move = control.QuinticJoint(q0, goal, 0.0, scenario.motion_fraction * scenario.duration)
     if scenario.shaping is None:
         return move
