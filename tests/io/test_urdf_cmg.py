@@ -156,3 +156,32 @@ def test_unknown_robot_level_spacearm_child_is_refused():
     text = _hand_written(False).replace("<spacearm>", '<spacearm>\n    <wheel name="w"/>')
     with pytest.raises(ModelFileError, match=r":4: <spacearm> at the robot level takes <cmg> elements, got <wheel>"):
         loads_urdf(text, source="sat.urdf")
+
+
+@pytest.mark.parametrize("variable_speed", [False, True], ids=["sgcmg", "vscmg"])
+def test_the_exporter_writes_the_extension_element_on_request(variable_speed):
+    r1 = pyramid_sat(variable_speed=variable_speed)
+    text = to_urdf(r1, cmgs="element")
+    assert text.count("<cmg ") == 4 and "cmg1_rotor" not in text and "cmg1_spin" not in text
+    r2 = loads_urdf(text)
+    _same_cmg_dofs(r1.cmg_dofs, r2.cmg_dofs)
+    _same_dynamics(r1, r2)
+    # ... and the element read back is written again as the element (its moments to rounding:
+    # they are read off the inertia tensors the core recomposed from them).
+    again = to_urdf(r2, cmgs="element")
+    assert again.count("<cmg ") == 4
+    _same_dynamics(r2, loads_urdf(again))
+
+
+def test_a_cmg_the_element_cannot_describe_is_written_as_links():
+    """A unit turned about its gimbal joint (control.perturbed_cmgs: its gimbal frame is rotated)
+    is not what <cmg> describes: its links are written, and it is still a CMG when read back."""
+    r1 = spacearm.control.perturbed_cmgs(pyramid_sat(), 1.0, [[0.0, 0.0, 0.01]] + [[0.0, 0.0, 0.0]] * 3)
+    text = to_urdf(r1, cmgs="element")
+    assert text.count("<cmg ") == 3 and '<link name="cmg1_rotor">' in text
+    r2 = loads_urdf(text)
+    assert list(r2.cmg_dofs) == list(r1.cmg_dofs)
+    np.testing.assert_allclose(r2.cmg_dofs["cmg1"]["gimbal_axis"], r1.cmg_dofs["cmg1"]["gimbal_axis"], rtol=0, atol=1e-15)
+    _same_dynamics(r1, r2)
+    with pytest.raises(spacearm.errors.ArgumentError, match="cmgs must be one of"):
+        to_urdf(r1, cmgs="elements")
