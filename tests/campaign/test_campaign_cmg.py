@@ -138,3 +138,13 @@ def test_the_cli_reads_the_recipe_from_toml(sat, tmp_path, capsys):
     recipe.write_text("speed = 300.0\n")
     assert main(argv[:-2] + ["--out", str(tmp_path / "d.npz")]) == 2
     assert "spacearm: error: --cmg" in capsys.readouterr().err
+
+
+def test_a_wheel_speed_beyond_the_rotors_limit_fails_that_sample_only(sat):
+    # max_wheel_speed is 800 rad/s: the samples drawing more fail with the core's message, the others fly.
+    scenario = Scenario(duration=0.05, dt=5e-3, q_goal=GOAL, cmg=CmgUncertainty(wheel_speed=Uniform(0.0, 1600.0)))
+    result = run_campaign(sat, samples=6, seed=1, perturbations=NO_ERRORS, scenario=scenario, workers=1, progress=False)
+    fast = result.params[:, result.param_names.index("cmg_wheel_speed")] > 800.0
+    assert 0 < fast.sum() < 6 and result.n_failed == fast.sum() and result.n_ok == 6 - fast.sum()
+    assert sorted(result.failures()) == np.flatnonzero(fast).tolist()
+    assert all("max_wheel_speed" in message for message in result.failures().values())
