@@ -104,6 +104,8 @@ def compliant_parts(name: str, parent: str, joint_type: str, origin: Sequence[fl
                     damping: float, gear_ratio: float) -> tuple[list[tuple], list[tuple], list[tuple]]: ...
 def cmg_parts(spec: dict[str, Any], base: str) -> tuple[list[tuple], list[tuple], list[tuple]]: ...
 def cmgs(model: Model) -> list[dict[str, Any]]: ...
+def gripper_parts(spec: dict[str, Any], base: str) -> tuple[list[tuple], list[tuple], list[tuple]]: ...
+def grippers(model: Model) -> list[dict[str, Any]]: ...
 def analysis_cmg_envelope(gimbals: Sequence[Sequence[float]], h: Sequence[float],
                           directions: Sequence[Sequence[float]]) -> list[list[float]]: ...
 def analysis_cmg_singular_surfaces(gimbals: Sequence[Sequence[float]], h: Sequence[float],
@@ -1229,6 +1231,21 @@ def simulate_events(
 ) -> tuple[RunResult, dict[str, Any]]:
     """A run with topology events (the core's ``TopologyEvent`` as plain data; docs/events.md):
     the run's records and a dict of the second system's rows, the ledger and the events."""
+    ...
+
+def simulate_target(
+    model: Model,
+    x0: _ArrayLike,
+    u0: _ArrayLike,
+    duration: float,
+    options: RunOptions,
+    controller_spec: Optional[ControllerSpec],
+    target: Model,
+    target_state: _ArrayLike,
+) -> tuple[RunResult, dict[str, Any]]:
+    """A run with a free target in the loop of contact (docs/contact.md, "Contact with a free
+    target"): the run's records and a dict ``target`` (K, 13), ``ledger_momentum`` (K, 6),
+    ``ledger_energy`` (K,)."""
     ...
 
 def rollout(
