@@ -179,3 +179,99 @@ impl FreeTarget {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::Vector3;
+
+    use super::*;
+    use crate::control::ZeroTorque;
+    use crate::model::geometry::{GeometryRole, GeometrySpec, Shape};
+    use crate::model::joint::JointType;
+    use crate::model::link::LinkSpec;
+    use crate::model::ModelBuilder;
+    use crate::scenario::free_body::FreeBody;
+    use crate::sim::contact::ContactSpec;
+    use crate::sim::options::SimOptions;
+    use crate::sim::simulate::simulate_with_target;
+
+    fn ball(body: &str, radius: f64, origin: [f64; 3]) -> GeometrySpec {
+        GeometrySpec { name: None, body: body.into(), role: GeometryRole::Collision, shape: Shape::Sphere { radius }, origin, rotation: [0.0, 0.0, 0.0, 1.0], rgba: None }
+    }
+
+    /// A floating base (ball 0.3) with a hinged arm whose tip ball (0.1) sweeps beside it; a
+    /// 2 kg ball target (0.2) of unequal moments.
+    fn scene() -> (Model, Model) {
+        let mut b = ModelBuilder::new("bus", "base", 100.0, [[3.6, 0.0, 0.0], [0.0, 3.6, 0.0], [0.0, 0.0, 3.6]]).unwrap();
+        b.add_link(LinkSpec::new("l1", "base", JointType::Revolute, [0.5, 0.0, 0.0], [0.0, 0.0, 1.0], [0.3, 0.0, 0.0], 3.0, [0.02, 0.1, 0.1])).unwrap();
+        b.add_geometry(ball("base", 0.3, [0.0; 3])).unwrap();
+        b.add_geometry(ball("l1", 0.1, [0.0; 3])).unwrap();
+        let robot = b.build().unwrap();
+        let mut t = ModelBuilder::new("rock", "rock", 2.0, [[0.08, 0.0, 0.0], [0.0, 0.1, 0.0], [0.0, 0.0, 0.12]]).unwrap();
+        t.add_geometry(ball("rock", 0.2, [0.0; 3])).unwrap();
+        (robot, t.build().unwrap())
+    }
+
+    fn contact(pairs: &[[&str; 2]]) -> ContactSpec {
+        let mut c: ContactSpec = toml::from_str("stiffness = 2e4\ndamping = 30.0\nfriction = 0.4\nslip_velocity = 0.01").unwrap();
+        c.pairs = Some(pairs.iter().map(|[a, b]| [a.to_string(), b.to_string()]).collect());
+        c
+    }
+
+    #[test]
+    fn untouched_the_target_is_the_torque_free_body() {
+        let (robot, rock) = scene();
+        let q = nalgebra::UnitQuaternion::from_euler_angles(0.3, -0.2, 0.5);
+        let s0 = [3.0, -2.0, 0.5, q.i, q.j, q.k, q.w, 0.1, 0.0, -0.05, 0.8, -1.2, 1.5];
+        let opts = SimOptions { duration: 2.0, dt: 1e-3, contact: Some(contact(&[["base", "target"]])), ..SimOptions::default() };
+        let (x0, u0) = (vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0], vec![0.0; 7]);
+        let r = simulate_with_target(&robot, &x0, &u0, &opts, &mut ZeroTorque, &rock, &s0, &mut |_| Ok(())).unwrap();
+        let states = r.records.target_state.as_ref().unwrap();
+        // FreeBody: L constant, r in closed form, the attitude by RK4 on a fine grid.
+        let mut fb = FreeBody::new(rock.base().inertia, &s0, Vector3::zeros(), 1e-4).unwrap();
+        let mut worst: f64 = 0.0;
+        for (k, t) in r.records.t.iter().enumerate() {
+            let s = &states[13 * k..13 * k + 13];
+            let e = fb.state(*t).unwrap();
+            let sign = if (3..7).map(|i| s[i] * e[i]).sum::<f64>() < 0.0 { -1.0 } else { 1.0 };
+            for i in 0..13 {
+                let expected = if (3..7).contains(&i) { sign * e[i] } else { e[i] };
+                worst = worst.max((s[i] - expected).abs());
+            }
+        }
+        assert!(worst < 1e-9, "{worst}");
+        assert!(r.records.contact_count.as_ref().unwrap().iter().all(|&c| c == 0.0));
+    }
+
+    #[test]
+    fn through_a_frictional_contact_robot_and_target_keep_their_momentum() {
+        let (robot, rock) = scene();
+        let s0 = [0.8, 0.4, 0.03, 0.0, 0.0, 0.0, 1.0, 0.0, -0.5, 0.0, 0.3, -0.2, 0.5];
+        let opts = SimOptions { duration: 0.6, dt: 1e-4, record_every: 5, contact: Some(contact(&[["l1", "rock"]])), ..SimOptions::default() };
+        let (x0, u0) = (vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0], vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.02, 0.4]);
+        let r = simulate_with_target(&robot, &x0, &u0, &opts, &mut ZeroTorque, &rock, &s0, &mut |_| Ok(())).unwrap();
+        let rec = &r.records;
+        let (p_r, l_r, s) = (&rec.linear_momentum, &rec.angular_momentum_origin, rec.target_state.as_ref().unwrap());
+        let n = rec.n_samples;
+        let touched = rec.contact_count.as_ref().unwrap().iter().filter(|&&c| c > 0.0).count();
+        assert!(touched > 20 && touched < n - 20, "{touched} of {n}");
+        // The target's momentum from its state here (m v, r × m v + R I Rᵀ ω).
+        let total = |k: usize| -> [f64; 6] {
+            let t = &s[13 * k..13 * k + 13];
+            let rot = crate::math::rotations::matrix_from_xyzw(&[t[3], t[4], t[5], t[6]]);
+            let v = Vector3::new(t[7], t[8], t[9]) * 2.0;
+            let l = Vector3::new(t[0], t[1], t[2]).cross(&v) + rot * rock.base().inertia * rot.transpose() * Vector3::new(t[10], t[11], t[12]);
+            [p_r[3 * k] + v.x, p_r[3 * k + 1] + v.y, p_r[3 * k + 2] + v.z, l_r[3 * k] + l.x, l_r[3 * k + 1] + l.y, l_r[3 * k + 2] + l.z]
+        };
+        let first = total(0);
+        let target_change = (2.0 * (s[13 * (n - 1) + 7] - s[7])).abs() + (2.0 * (s[13 * (n - 1) + 8] - s[8])).abs();
+        assert!(target_change > 0.3, "the contact changed the target's momentum: {target_change}");
+        for k in 0..n {
+            let now = total(k);
+            for i in 0..6 {
+                assert!((now[i] - first[i]).abs() < 2e-12, "sample {k} entry {i}: {} vs {}", now[i], first[i]);
+            }
+        }
+        assert!(r.drift.iter().all(|(_, d)| *d < 1e-9), "{:?}", r.drift);
+    }
+}
