@@ -53,7 +53,7 @@ def target_momentum(s: np.ndarray, m: float, inertia: np.ndarray):
     return p, np.cross(r, p) + spin, 0.5 * (m * (v * v).sum(1) + (w * spin).sum(1))
 
 
-def test_momentum_of_robot_and_target_is_kept_through_an_oblique_frictional_contact():
+def test_momentum_of_robot_and_target_is_kept_through_an_oblique_frictional_contact(tmp_path):
     robot, m = ball_robot(), 2.0
     # The target, spinning, comes at the arm's tip ball off its line of centres: the contact
     # pushes and rubs (friction), turning both.
@@ -84,6 +84,11 @@ def test_momentum_of_robot_and_target_is_kept_through_an_oblique_frictional_cont
     assert traj.contact_work[-1] < -1e-3 * ledger[0]
     assert np.ptp(ledger) < 1e-9 * ledger[0]
     assert traj.meta["drift"]["energy"] < 1e-9
+    # The target's records save and load with the run.
+    traj.save(tmp_path / "run.npz")
+    back = spacearm.Trajectory.load(tmp_path / "run.npz")
+    np.testing.assert_array_equal(back["target"], s)
+    np.testing.assert_array_equal(back["ledger_momentum"], traj["ledger_momentum"])
 
 
 @pytest.mark.parametrize("integrator", ["rk4", "dopri5"])
