@@ -18,7 +18,7 @@ use crate::records_py::PyRunResult;
 use crate::sim_options_py::PyRunOptions;
 use crate::simulate_py::{progress_reporter, run_error};
 
-fn rows<'py>(py: Python<'py>, values: Vec<f64>, width: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+pub(crate) fn rows<'py>(py: Python<'py>, values: Vec<f64>, width: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let k = values.len() / width.max(1);
     let nested: Vec<Vec<f64>> = (0..k).map(|i| values[i * width..(i + 1) * width].to_vec()).collect();
     if k == 0 {

@@ -4,24 +4,19 @@
 //! a dict of numpy arrays (the names a run with topology events uses). Wrapped by
 //! `spacearm.sim.simulation.simulate(..., contact=, target=, target_state=)`.
 
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use spacearm_core::control::{Controller, ZeroTorque};
 use spacearm_core::sim::simulate::simulate_with_target;
 
 use crate::controller_spec_py::{build_controller, error_slot};
+use crate::events_py::rows;
 use crate::convert::*;
 use crate::model_py::PyModel;
 use crate::records_py::PyRunResult;
 use crate::sim_options_py::PyRunOptions;
 use crate::simulate_py::{progress_reporter, run_error};
-
-/// `values` (row-major, `width` a row) as a (K, width) array.
-fn rows<'py>(py: Python<'py>, values: Vec<f64>, width: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let k = values.len() / width;
-    Ok(PyArray1::from_vec(py, values).reshape([k, width])?)
-}
 
 /// Run `model` with the free `target` model at `target_state` (13) touching it by the options'
 /// contact; returns `(RunResult, dict)` with `target` (K, 13), `ledger_momentum` (K, 6) and
