@@ -61,6 +61,18 @@ def link_limits(name: str, limits: Optional[dict]) -> Optional[list]:
             for key, default in (("lower", -np.inf), ("upper", np.inf), ("velocity", np.inf), ("effort", np.inf))]
 
 
+def _frame_rotation(rotation, rpy, who: str):
+    """A frame's rotation given as a quaternion ``[x, y, z, w]`` or as ``rpy`` (not both), or
+    the identity."""
+    if rotation is not None and rpy is not None:
+        raise ArgumentError(f"{who}: give rotation or rpy, not both")
+    if rpy is not None:
+        return quat_from_rpy(*vector(rpy, f"{who} rpy", 3))
+    if rotation is not None:
+        return quaternion(rotation, f"{who} rotation")
+    return IDENTITY_QUAT
+
+
 class RobotBuilder:
     """Accumulates a base and links, validating each addition; [`build`][spacearm.RobotBuilder.build] returns a
     [`Robot`][spacearm.Robot]."""
@@ -505,14 +517,7 @@ class RobotBuilder:
         ``<name>_tip<i>`` at its tip; the palm the point ``<name>_center``. ``max_force``: the
         finger motors' effort limit (N, or N·m for revolute fingers).
         """
-        if rotation is not None and rpy is not None:
-            raise ArgumentError(f"gripper '{name}': give rotation or rpy, not both")
-        if rpy is not None:
-            quat = quat_from_rpy(*vector(rpy, f"gripper '{name}' rpy", 3))
-        elif rotation is not None:
-            quat = quaternion(rotation, f"gripper '{name}' rotation")
-        else:
-            quat = IDENTITY_QUAT
+        quat = _frame_rotation(rotation, rpy, f"gripper '{name}'")
         if isinstance(fingers, bool) or not isinstance(fingers, (int, np.integer)):
             raise ArgumentError(f"gripper '{name}': fingers must be 2 or 3, got {fingers!r}")
         spec = {
@@ -572,14 +577,7 @@ class RobotBuilder:
         (default ``<body>_<role><k>``).
         """
         who = f"geometry '{name}'" if name is not None else f"geometry on '{body}'"
-        if rotation is not None and rpy is not None:
-            raise ArgumentError(f"{who}: give rotation or rpy, not both")
-        if rpy is not None:
-            quat = quat_from_rpy(*vector(rpy, f"{who} rpy", 3))
-        elif rotation is not None:
-            quat = quaternion(rotation, f"{who} rotation")
-        else:
-            quat = IDENTITY_QUAT
+        quat = _frame_rotation(rotation, rpy, who)
         kwargs = dict(
             role=str(role), shape=str(shape), origin=list(vector(origin, f"{who} origin", 3)), rotation=list(quat),
             size=None if size is None else list(vector(size, f"{who} size", 3)),
