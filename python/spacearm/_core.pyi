@@ -31,9 +31,9 @@ __all__ = [
     "analysis_reach", "analysis_cmg_envelope", "analysis_cmg_singular_surfaces", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_singularity", "batch_threads", "body_mass_properties_error", "box_of_moments", "check_grasp_handle", "GOAL_TOLERANCE", "MAX_HANDLE_RATIO",
     "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "joint_wrenches", "loop_closure", "model_from_dh", "model_from_toml",
-    "model_to_toml", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
+    "model_to_toml", "perturbed", "perturbed_cmgs", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
-    "set_batch_threads", "simulate", "simulate_closed_chain", "simulate_events", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts", "cmg_parts", "cmgs", "cmg_velocity",
+    "set_batch_threads", "simulate", "simulate_closed_chain", "simulate_events", "simulate_target", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts", "cmg_parts", "cmgs", "gripper_parts", "grippers", "cmg_velocity",
     "cylinder_slosh", "sphere_slosh", "sphere_fill_height", "cylinder_fill_height", "model_attach_body", "model_attach_model",
     "model_remove_subtree", "InputShaper", "soft_capture", "virtual_mass",
     "CaptureRun", "run_capture", "check_capture", "MAX_CAPTURE_SAMPLES", "MAX_TURN_PER_SAMPLE", "CAPTURE_KINDS",
@@ -104,6 +104,8 @@ def compliant_parts(link: tuple[str, str, str, Sequence[float], Sequence[float],
                     gear_ratio: float) -> tuple[list[tuple], list[tuple], list[tuple]]: ...
 def cmg_parts(spec: dict[str, Any], base: str) -> tuple[list[tuple], list[tuple], list[tuple]]: ...
 def cmgs(model: Model) -> list[dict[str, Any]]: ...
+def gripper_parts(spec: dict[str, Any], base: str) -> tuple[list[tuple], list[tuple], list[tuple]]: ...
+def grippers(model: Model) -> list[dict[str, Any]]: ...
 def analysis_cmg_envelope(gimbals: Sequence[Sequence[float]], h: Sequence[float],
                           directions: Sequence[Sequence[float]]) -> list[list[float]]: ...
 def analysis_cmg_singular_surfaces(gimbals: Sequence[Sequence[float]], h: Sequence[float],
@@ -1231,6 +1233,21 @@ def simulate_events(
     the run's records and a dict of the second system's rows, the ledger and the events."""
     ...
 
+def simulate_target(
+    model: Model,
+    x0: _ArrayLike,
+    u0: _ArrayLike,
+    duration: float,
+    options: RunOptions,
+    controller_spec: Optional[ControllerSpec],
+    target: Model,
+    target_state: _ArrayLike,
+) -> tuple[RunResult, dict[str, Any]]:
+    """A run with a free target in the loop of contact (docs/contact.md, "Contact with a free
+    target"): the run's records and a dict ``target`` (K, 13), ``ledger_momentum`` (K, 6),
+    ``ledger_energy`` (K,)."""
+    ...
+
 def rollout(
     models: list[Model],
     x0: _Vec,
@@ -1291,6 +1308,7 @@ def perturbed(
     slosh_offset: _ArrayLike,
     slosh_removed: bool,
 ) -> Model: ...
+def perturbed_cmgs(model: Model, rotor_inertia_scale: float, tilts: Sequence[Sequence[float]]) -> Model: ...
 def default_wheel_dofs(model: Model) -> list[int]: ...
 def conserved_drift(values: npt.NDArray[np.float64], scale: float) -> float:
     """max_k |v_k - v_0| / max(|v_0|, scale)."""

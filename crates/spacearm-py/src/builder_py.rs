@@ -400,3 +400,46 @@ pub fn cmgs<'py>(py: Python<'py>, model: &Bound<'py, PyModel>) -> PyResult<Bound
 pub fn cmg_velocity(py: Python<'_>, model: &Bound<'_, PyModel>, wheel_speed: Vec<f64>) -> PyResult<Vec<f64>> {
     spacearm_core::model::cmg::cmg_velocity(&model.borrow().model, &wheel_speed).map_err(SpacearmError::from).or_raise(py)
 }
+
+/// A gripper's palm and finger links, points and capsule collision shapes (core
+/// `model::gripper::gripper_parts`, docs/contact.md "Grippers") from the plain data of a core
+/// `GripperSpec` (the fields of a TOML `[[gripper]]` table); `base` is the base's name. Returns
+/// `(links, points, geometries)`, each geometry `(name, body, role, shape, radius, length,
+/// origin, rotation)`.
+#[pyfunction]
+pub fn gripper_parts(py: Python<'_>, spec: &Bound<'_, PyAny>, base: &str) -> PyResult<Py<PyAny>> {
+    use spacearm_core::error::ModelItem;
+    use spacearm_core::model::gripper::{self, GripperSpec};
+    let spec: GripperSpec = crate::controller_spec_py::from_data(spec, "gripper")?;
+    let parts = gripper::gripper_parts(&spec, base, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
+    let mut links = Vec::new();
+    for (l, _) in parts.links {
+        let lim = l.limits;
+        let limits = (l.kind != JointType::Fixed).then_some([lim.lower, lim.upper, lim.velocity, lim.effort]);
+        links.push(add_link_args(py, l, limits, None)?);
+    }
+    let mut geometries = Vec::new();
+    for g in parts.geometries {
+        let Shape::Capsule { radius, length } = g.shape else { continue };
+        let role = if g.role == GeometryRole::Collision { "collision" } else { "visual" };
+        geometries.push((g.name, g.body, role, "capsule", radius, length, g.origin, g.rotation).into_pyobject(py)?.into_any().unbind());
+    }
+    Ok((links, parts.points, geometries).into_pyobject(py)?.into_any().unbind())
+}
+
+/// The grippers of a model (core `model::gripper::detect_grippers`), each as a dict: `name`,
+/// `palm` (body index), `finger_dofs`, `kind` (`"prismatic"` or `"revolute"`).
+#[pyfunction]
+pub fn grippers(py: Python<'_>, model: &Bound<'_, PyModel>) -> PyResult<Vec<Py<PyAny>>> {
+    use pyo3::types::PyDict;
+    let mut out = Vec::new();
+    for g in spacearm_core::model::gripper::detect_grippers(&model.borrow().model) {
+        let d = PyDict::new(py);
+        d.set_item("name", g.name)?;
+        d.set_item("palm", g.palm)?;
+        d.set_item("finger_dofs", g.finger_dofs)?;
+        d.set_item("kind", g.kind.as_str())?;
+        out.push(d.into_any().unbind());
+    }
+    Ok(out)
+}

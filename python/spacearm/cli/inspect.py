@@ -89,6 +89,19 @@ def _cmgs(robot: Robot, w) -> None:
     w("\n")
 
 
+def _grippers(robot: Robot, w) -> None:
+    """The grippers the core recognizes (docs/contact.md, "Grippers"): palm, finger joints."""
+    from .. import _core
+
+    grippers = _core.grippers(robot.core_model)
+    if not grippers:
+        return
+    w("grippers (fingers along the palm's +z; joint value 0 = open):\n")
+    for g in grippers:
+        w(f"  {g['name']}: {len(g['finger_dofs'])} {g['kind']} fingers, dofs {list(g['finger_dofs'])}\n")
+    w("\n")
+
+
 def inspect(robot: Robot, q=None, out=None) -> None:
     """Print the model summary and the GJM quantities at ``q`` (default: initial angles)."""
     # Resolve the stream at call time, not at import time, so redirections of sys.stdout count.
@@ -112,6 +125,7 @@ def inspect(robot: Robot, q=None, out=None) -> None:
     qs = ", ".join(f"{v:.4g}" for v in x[7:])
     w(f"\nconfiguration: base at the origin aligned with the inertial frame, q = [{qs}]\n\n")
     _cmgs(robot, w)
+    _grippers(robot, w)
     _passive(robot, x, w)
     np.set_printoptions(linewidth=160)
     if robot.n_dof > FULL_REPORT_MAX_DOF:

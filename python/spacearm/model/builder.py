@@ -61,6 +61,18 @@ def link_limits(name: str, limits: Optional[dict]) -> Optional[list]:
             for key, default in (("lower", -np.inf), ("upper", np.inf), ("velocity", np.inf), ("effort", np.inf))]
 
 
+def _frame_rotation(rotation, rpy, who: str):
+    """A frame's rotation given as a quaternion ``[x, y, z, w]`` or as ``rpy`` (not both), or
+    the identity."""
+    if rotation is not None and rpy is not None:
+        raise ArgumentError(f"{who}: give rotation or rpy, not both")
+    if rpy is not None:
+        return quat_from_rpy(*vector(rpy, f"{who} rpy", 3))
+    if rotation is not None:
+        return quaternion(rotation, f"{who} rotation")
+    return IDENTITY_QUAT
+
+
 class RobotBuilder:
     """Accumulates a base and links, validating each addition; [`build`][spacearm.RobotBuilder.build] returns a
     [`Robot`][spacearm.Robot]."""
@@ -477,6 +489,59 @@ class RobotBuilder:
         }
         return self._add_parts(_core.cmg_parts(spec, self._base_name))
 
+    def add_gripper(
+        self,
+        name: str,
+        *,
+        parent: Optional[str] = None,
+        position: Sequence[float] = (0.0, 0.0, 0.0),
+        rotation: Optional[Sequence[float]] = None,
+        rpy: Optional[Sequence[float]] = None,
+        fingers: int = 2,
+        finger_length: float,
+        finger_radius: float,
+        opening: float,
+        finger_mass: float = 0.1,
+        palm_mass: float = 0.5,
+        max_force: Optional[float] = None,
+    ) -> "RobotBuilder":
+        """Add a gripper (docs/contact.md, "Grippers"; the core's ``model/gripper.rs``, the same
+        rules as TOML ``[[gripper]]``): the palm link ``name`` on the fixed joint
+        ``<name>_mount`` of ``parent`` (default: the base) at ``position`` (parent frame, from its
+        CM) turned by ``rotation`` (``[x, y, z, w]``) or ``rpy``, its fingers along the palm's
+        ``+z``; ``fingers=2``: a parallel gripper, fingers ``<name>_finger0/1`` on prismatic
+        joints closing along the palm's ``x`` (finger axes ``opening − 2q`` apart at the joint
+        value ``q``); ``fingers=3``: revolute fingers 120° apart on a circle of diameter
+        ``opening``, tilting inward (tip ``opening/2 − finger_length·sin q`` from the axis). Each
+        finger a capsule collision shape (``finger_radius``, ``finger_length``) with the point
+        ``<name>_tip<i>`` at its tip; the palm the point ``<name>_center``. ``max_force``: the
+        finger motors' effort limit (N, or N·m for revolute fingers).
+        """
+        quat = _frame_rotation(rotation, rpy, f"gripper '{name}'")
+        if isinstance(fingers, bool) or not isinstance(fingers, (int, np.integer)):
+            raise ArgumentError(f"gripper '{name}': fingers must be 2 or 3, got {fingers!r}")
+        spec = {
+            "name": str(name),
+            "parent": None if parent is None else str(parent),
+            "position": list(vector(position, f"gripper '{name}' position", 3)),
+            "rotation": [float(v) for v in quat],
+            "fingers": int(fingers),
+            "finger_length": number(finger_length, f"gripper '{name}' finger_length"),
+            "finger_radius": number(finger_radius, f"gripper '{name}' finger_radius"),
+            "opening": number(opening, f"gripper '{name}' opening"),
+            "finger_mass": number(finger_mass, f"gripper '{name}' finger_mass"),
+            "palm_mass": number(palm_mass, f"gripper '{name}' palm_mass"),
+            "max_force": None if max_force is None else number(max_force, f"gripper '{name}' max_force"),
+        }
+        links, points, geometries = _core.gripper_parts(spec, self._base_name)
+        for args in links:
+            self._b.add_link(*args)
+        for point, body, offset in points:
+            self.add_point(point, body=body, offset=offset)
+        for gname, body, role, shape, radius, length, origin, rot in geometries:
+            self.add_geometry(body, shape, role=role, radius=radius, length=length, origin=origin, rotation=rot, name=gname)
+        return self
+
     def add_point(self, name: str, *, body: str, offset: Sequence[float] = (0.0, 0.0, 0.0)) -> "RobotBuilder":
         """Add a named point fixed to ``body`` at ``offset`` (body frame, from its CM)."""
         offset = list(vector(offset, f"point '{name}' offset", 3))
@@ -512,14 +577,7 @@ class RobotBuilder:
         (default ``<body>_<role><k>``).
         """
         who = f"geometry '{name}'" if name is not None else f"geometry on '{body}'"
-        if rotation is not None and rpy is not None:
-            raise ArgumentError(f"{who}: give rotation or rpy, not both")
-        if rpy is not None:
-            quat = quat_from_rpy(*vector(rpy, f"{who} rpy", 3))
-        elif rotation is not None:
-            quat = quaternion(rotation, f"{who} rotation")
-        else:
-            quat = IDENTITY_QUAT
+        quat = _frame_rotation(rotation, rpy, who)
         kwargs = dict(
             role=str(role), shape=str(shape), origin=list(vector(origin, f"{who} origin", 3)), rotation=list(quat),
             size=None if size is None else list(vector(size, f"{who} size", 3)),

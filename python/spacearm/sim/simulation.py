@@ -254,9 +254,9 @@ def _run(
             # The options were checked first, before the progress callable (maybe a bar) was
             # made; they are built again with it.
             options = _options(robot, **option_args, progress=callback)
-        if events is None:
-            if target is not None or target_state is not None:
-                raise ArgumentError("target and target_state are the second system of a run with topology events; give events=[...] too")
+        if events is None and (target is not None or target_state is not None):
+            result, topology = _run_target(robot, x0, u0, duration, options, spec, contact, target, target_state)
+        elif events is None:
             result, topology = _core.simulate(robot.core_model, x0, u0, duration, options, spec), None
         else:
             result, topology = _run_events(robot, x0, u0, duration, options, spec, events, target, target_state)
@@ -273,7 +273,9 @@ def _run(
         meta["orbit"] = orbit_meta(options)
     if contact is not None:
         meta["contact"] = options.contact
-    if topology is not None:
+    if topology is not None and "event_body" not in topology:
+        data.update(topology)  # a free target in the loop of contact
+    elif topology is not None:
         bodies = topology.pop("event_body")
         topology.pop("final_model")
         meta["events"] = [
@@ -287,9 +289,8 @@ def _run(
     return data, meta
 
 
-def _run_events(robot, x0, u0, duration, options, spec, events, target, target_state):
-    """The core's run with topology events (docs/events.md): ``(RunResult, topology dict)``."""
-    from ..events import events_data
+def _second_system(target, target_state):
+    """The second system of a run as the core takes it: ``(core model or None, state or None)``."""
     from ..model.robot import Robot
 
     # a spacearm.Target carries its rigid model as .body (read by attribute: capture imports
@@ -299,8 +300,27 @@ def _run_events(robot, x0, u0, duration, options, spec, events, target, target_s
     if target is not None and not isinstance(target, Robot):
         raise ArgumentError(f"target must be a spacearm.Target or a rigid spacearm.Robot (the second system), got {type(target).__name__}")
     state = None if target_state is None else vector(target_state, "target_state")
-    return _core.simulate_events(robot.core_model, x0, u0, duration, options, spec, events_data(events),
-                                 None if target is None else target.core_model, state)
+    return None if target is None else target.core_model, state
+
+
+def _run_target(robot, x0, u0, duration, options, spec, contact, target, target_state):
+    """The core's run with a free target in the loop of contact (docs/contact.md, "Contact with a
+    free target"): ``(RunResult, dict of the target's rows and the ledger)``."""
+    model, state = _second_system(target, target_state)
+    if model is None or state is None:
+        raise ArgumentError("target and target_state go together: give both (a rigid model and its 13-state) or neither")
+    if contact is None:
+        raise ArgumentError("a free target without events takes part in a run by contact: give contact=ContactModel(...) too "
+                            "(or events=[...] to attach it)")
+    return _core.simulate_target(robot.core_model, x0, u0, duration, options, spec, model, state)
+
+
+def _run_events(robot, x0, u0, duration, options, spec, events, target, target_state):
+    """The core's run with topology events (docs/events.md): ``(RunResult, topology dict)``."""
+    from ..events import events_data
+
+    model, state = _second_system(target, target_state)
+    return _core.simulate_events(robot.core_model, x0, u0, duration, options, spec, events_data(events), model, state)
 
 
 def simulate(
@@ -402,7 +422,12 @@ def simulate(
         event that happened) and ``meta["events"]``.
     target : spacearm.Target or spacearm.Robot, optional
         With ``events``: the second system, a rigid target (its grasp points, or the model's
-        named points, are the points ``Attach(grasp=...)`` names).
+        named points, are the points ``Attach(grasp=...)`` names). Without ``events``, with
+        ``contact``: a free target in the loop of contact (docs/contact.md, "Contact with a free
+        target"), one rigid body with collision shapes, integrated with the robot; contact pairs
+        name it ``"target"`` (or its geometries). Adds the records ``target`` (K, 13),
+        ``ledger_momentum`` (K, 6) and ``ledger_energy`` (K,) (robot + target); the drifts are
+        robot + target's.
     target_state : array_like (13,), optional
         Its state ``[r, quat (x, y, z, w), v, ω]`` at t = 0 (CM, attitude, CM velocity and
         angular velocity in the inertial frame).

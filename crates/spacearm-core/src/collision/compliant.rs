@@ -83,13 +83,20 @@ impl ContactLaw {
     /// [`crate::algorithms::rnea::velocity_pass`]); `None` when the shapes are apart. Touching
     /// (`δ = 0`) the force is the law's there: a Kelvin–Voigt dashpot's `d δ̇` when they approach.
     pub fn force(&self, contact: &Contact, data: &Data) -> Option<ContactForce> {
+        self.force_with(contact, |body, point| point_velocity(data, body, point))
+    }
+
+    /// [`ContactLaw::force`] with the velocity in 𝒥 of a body's material point given by
+    /// `velocity(body, point)`: a body outside the model (a free target,
+    /// [`crate::sim::free_target`]) moves by its own state.
+    pub fn force_with(&self, contact: &Contact, velocity: impl Fn(usize, &Vector3<f64>) -> Vector3<f64>) -> Option<ContactForce> {
         let depth = -contact.distance;
         if depth < 0.0 {
             return None;
         }
         let point = 0.5 * (contact.point[0] + contact.point[1]);
         let n = contact.normal;
-        let v_rel = point_velocity(data, contact.body[1], &point) - point_velocity(data, contact.body[0], &point);
+        let v_rel = velocity(contact.body[1], &point) - velocity(contact.body[0], &point);
         let vn = n.dot(&v_rel);
         let normal_force = self.normal_force(depth, -vn);
         let v_t = v_rel - n * vn;

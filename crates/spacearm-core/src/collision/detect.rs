@@ -63,17 +63,51 @@ pub fn contacts(model: &Model, data: &mut Data, shapes: &CollisionShapes, x: &[f
 /// [`contacts`] on the kinematics already in `data` (forward kinematics done), `pairs` and
 /// `margin` checked by the caller: what the simulation's plant calls at every evaluation.
 pub(crate) fn contacts_after_kinematics(model: &Model, data: &Data, shapes: &CollisionShapes, pairs: &PairFilter, margin: f64) -> Result<Vec<Contact>> {
+    let placed = place_on_bodies(data, shapes);
+    contacts_of_placed(model, &placed, pairs, margin)
+}
+
+/// A collision shape placed in 𝒥: its geometry index, its body, the shape and its pose.
+pub(crate) struct Placed<'a> {
+    /// The geometry index (a free body's geometries follow the model's: see
+    /// [`place_on_free_body`]).
+    pub geometry: usize,
+    /// The body (index ≥ the model's body count: a free body outside the model).
+    pub body: usize,
+    /// The parry shape.
+    pub shape: &'a dyn parry3d_f64::shape::Shape,
+    /// Its pose in 𝒥.
+    pub pose: Isometry3<f64>,
+}
+
+/// The model's collision shapes placed by the kinematics in `data`.
+pub(crate) fn place_on_bodies<'a>(data: &Data, shapes: &'a CollisionShapes) -> Vec<Placed<'a>> {
     let poses = body_poses(data);
-    let world: Vec<Isometry3<f64>> = shapes
+    shapes
         .shapes
         .iter()
         .map(|s| {
             let (r, p) = &poses[s.body];
             let body = Isometry3::from_parts(Translation3::from(*p), UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(*r)));
-            body * s.in_body
+            Placed { geometry: s.geometry, body: s.body, shape: s.shape.as_ref(), pose: body * s.in_body }
         })
-        .collect();
-    let parent = |b: usize| if b == 0 { usize::MAX } else { model.links()[b - 1].parent };
+        .collect()
+}
+
+/// The collision shapes of a rigid body flying outside the model (a free target: the base of a
+/// model without joints), its CM frame at `pose`, appended to `out` as body `body` with the
+/// geometry indices shifted by `first_geometry` (the model's geometry count: one index space).
+pub(crate) fn place_on_free_body<'a>(shapes: &'a CollisionShapes, pose: &Isometry3<f64>, body: usize, first_geometry: usize, out: &mut Vec<Placed<'a>>) {
+    out.extend(shapes.shapes.iter().map(|s| Placed { geometry: first_geometry + s.geometry, body, shape: s.shape.as_ref(), pose: pose * s.in_body }));
+}
+
+/// The contacts between the placed shapes that `pairs` admits, signed distance at most
+/// `margin`: parry's `query::contact` on each admitted pair of shapes on different bodies. A
+/// body beyond the model's (a free body) has no parent: every pair with it is admitted by
+/// [`PairFilter::AllButAdjacent`].
+pub(crate) fn contacts_of_placed(model: &Model, placed: &[Placed<'_>], pairs: &PairFilter, margin: f64) -> Result<Vec<Contact>> {
+    let n_bodies = model.n_bodies();
+    let parent = |b: usize| if b == 0 || b >= n_bodies { usize::MAX } else { model.links()[b - 1].parent };
     let admitted = |a: usize, b: usize| match pairs {
         PairFilter::AllButAdjacent => parent(a) != b && parent(b) != a,
         PairFilter::Bodies(list) => list.iter().any(|&(p, q)| (p, q) == (a, b) || (q, p) == (a, b)),
@@ -84,13 +118,13 @@ pub(crate) fn contacts_after_kinematics(model: &Model, data: &Data, shapes: &Col
         _ => true,
     };
     let mut out = Vec::new();
-    for i in 0..shapes.shapes.len() {
-        for j in i + 1..shapes.shapes.len() {
-            let (s1, s2) = (&shapes.shapes[i], &shapes.shapes[j]);
+    for i in 0..placed.len() {
+        for j in i + 1..placed.len() {
+            let (s1, s2) = (&placed[i], &placed[j]);
             if s1.body == s2.body || !admitted(s1.body, s2.body) || !admitted_shapes(s1.geometry, s2.geometry) {
                 continue;
             }
-            let found = parry3d_f64::query::contact(&world[i], s1.shape.as_ref(), &world[j], s2.shape.as_ref(), margin).map_err(|_| {
+            let found = parry3d_f64::query::contact(&s1.pose, s1.shape, &s2.pose, s2.shape, margin).map_err(|_| {
                 SpacearmError::argument(format!("no contact query between geometries {} and {} (an unsupported pair of shapes)", s1.geometry, s2.geometry))
             })?;
             if let Some(c) = found {

@@ -10,11 +10,15 @@ use serde::{Deserialize, Serialize};
 use crate::algorithms::kinematics::forward_kinematics;
 use crate::algorithms::rnea::velocity_pass;
 use crate::algorithms::wrench::ExternalWrench;
-use crate::collision::detect::contacts_after_kinematics;
-use crate::collision::{CollisionShapes, ContactLaw, NormalLaw, PairFilter};
+use nalgebra::Vector3;
+
+use crate::collision::compliant::point_velocity;
+use crate::collision::detect::{contacts_of_placed, place_on_bodies, place_on_free_body};
+use crate::collision::{CollisionShapes, Contact, ContactLaw, NormalLaw, PairFilter};
 use crate::error::{Result, SpacearmError};
 use crate::model::data::Data;
 use crate::model::Model;
+use crate::sim::free_target::FreeTarget;
 
 /// The normal law's name in a description: `"kelvin_voigt"` or `"hunt_crossley"`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -141,13 +145,16 @@ impl ContactSpec {
     }
 }
 
-/// The contact of a plant: the model's collision shapes, the admitted pairs, the law, and the
-/// summary of the last evaluation.
+/// The contact of a plant: the model's collision shapes, the admitted pairs, the law, a free
+/// target's body if the run has one ([`crate::sim::free_target`]), and the summary of the last
+/// evaluation.
 pub(crate) struct PlantContact {
     shapes: CollisionShapes,
     pairs: PairFilter,
     law: ContactLaw,
     margin: f64,
+    /// The free target, its 13-state integrated with the robot's ([`crate::sim::free_target`]).
+    pub(crate) target: Option<FreeTarget>,
     /// Pairs of geometries that act as touching while their distance is at most
     /// [`ONSET_SLACK`] (the step that starts at a located onset: [`crate::sim::contact_onset`]).
     pub(crate) forced: Vec<(usize, usize)>,
@@ -159,14 +166,17 @@ pub(crate) struct PlantContact {
 }
 
 impl PlantContact {
-    /// `spec` (validated) resolved on `model`: names to geometry pairs, shapes built (a mesh is
-    /// refused by [`CollisionShapes::from_model`]).
-    pub(crate) fn new(model: &Model, spec: &ContactSpec) -> Result<Self> {
+    /// `spec` (validated) resolved on `model` and the free `target` if any: names to geometry
+    /// pairs (a target's geometries numbered after the model's), shapes built (a mesh is refused
+    /// by [`CollisionShapes::from_model`]).
+    pub(crate) fn new(model: &Model, spec: &ContactSpec, target: Option<FreeTarget>) -> Result<Self> {
         spec.validate()?;
         let shapes = CollisionShapes::from_model(model)?;
-        if shapes.shapes.len() < 2 {
+        let needed = if target.is_some() { 1 } else { 2 };
+        if shapes.shapes.len() < needed {
             return Err(SpacearmError::argument(format!(
-                "contact needs collision shapes on at least two bodies, but '{}' has {} collision geometr{} (RobotBuilder.add_geometry(..., role=\"collision\"))",
+                "contact needs collision shapes on at least {}, but '{}' has {} collision geometr{} (RobotBuilder.add_geometry(..., role=\"collision\"))",
+                if target.is_some() { "one body of the robot (beside the target's)" } else { "two bodies" },
                 model.name(),
                 shapes.shapes.len(),
                 if shapes.shapes.len() == 1 { "y" } else { "ies" }
@@ -174,83 +184,135 @@ impl PlantContact {
         }
         let pairs = match &spec.pairs {
             None => PairFilter::AllButAdjacent,
-            Some(list) => {
-                let bodies = model.body_names();
-                let geometries = model.geometries();
-                // Each name: a body's collision shapes, or one collision geometry.
-                let resolve = |name: &str| -> Result<Vec<usize>> {
-                    if let Some(b) = bodies.iter().position(|n| n == name) {
-                        let own: Vec<usize> = shapes.shapes.iter().filter(|s| s.body == b).map(|s| s.geometry).collect();
-                        if own.is_empty() {
-                            return Err(SpacearmError::argument(format!("contact pair: body '{name}' has no collision geometry (role=\"collision\")")));
-                        }
-                        return Ok(own);
-                    }
-                    match shapes.shapes.iter().find(|s| geometries[s.geometry].name == name) {
-                        Some(s) => Ok(vec![s.geometry]),
-                        None => Err(SpacearmError::argument(format!(
-                            "contact pair: no body or collision geometry named '{name}' in '{}'; the bodies are {bodies:?}, the collision geometries {:?}",
-                            model.name(),
-                            shapes.shapes.iter().map(|s| geometries[s.geometry].name.as_str()).collect::<Vec<_>>()
-                        ))),
-                    }
-                };
-                let mut out = Vec::new();
-                for [a, b] in list {
-                    let (ga, gb) = (resolve(a)?, resolve(b)?);
-                    for &g in &ga {
-                        for &h in &gb {
-                            if geometries[g].body == geometries[h].body {
-                                return Err(SpacearmError::argument(format!(
-                                    "contact pair ('{a}', '{b}'): both shapes are on body '{}' (a body does not touch itself)",
-                                    bodies[geometries[g].body]
-                                )));
-                            }
-                            out.push((g, h));
-                        }
-                    }
-                }
-                PairFilter::Geometries(out)
-            }
+            Some(list) => PairFilter::Geometries(resolve_pairs(model, &shapes, target.as_ref(), list)?),
         };
-        Ok(PlantContact { shapes, pairs, law: spec.law(), margin: spec.margin, forced: Vec::new(), count: 0, normal_force: 0.0, power: 0.0 })
+        Ok(PlantContact { shapes, pairs, law: spec.law(), margin: spec.margin, target, forced: Vec::new(), count: 0, normal_force: 0.0, power: 0.0 })
     }
 
-    /// Append to `out` the wrenches of the contacts at `(x, u)`, the kinematics of `x` current in
-    /// `data` (its body velocities are set from `u` here), and keep the evaluation's summary.
-    pub(crate) fn wrenches_into(&mut self, model: &Model, data: &mut Data, u: &[f64], out: &mut Vec<ExternalWrench>) -> Result<()> {
-        velocity_pass(model, data, u);
+    /// The contacts at the ODE state `y` (the kinematics of its `x` current in `data`) between
+    /// the admitted pairs, distance at most `margin`.
+    fn found(&self, model: &Model, data: &Data, y: &[f64], pairs: &PairFilter, margin: f64) -> Result<Vec<Contact>> {
+        let mut placed = place_on_bodies(data, &self.shapes);
+        if let Some(t) = &self.target {
+            place_on_free_body(&t.shapes, &FreeTarget::pose(t.state(y)), t.body, t.first_geometry, &mut placed);
+        }
+        contacts_of_placed(model, &placed, pairs, margin)
+    }
+
+    /// Append to `out` the wrenches on the robot's bodies of the contacts at the ODE state `y`
+    /// (`[x; u; W; s]`), the kinematics of `x` current in `data` (its body velocities are set
+    /// here), set the free target's force and moment, and keep the evaluation's summary.
+    pub(crate) fn wrenches_into(&mut self, model: &Model, data: &mut Data, y: &[f64], out: &mut Vec<ExternalWrench>) -> Result<()> {
+        let nx = model.nx();
+        velocity_pass(model, data, &y[nx..nx + model.nu()]);
         let margin = if self.forced.is_empty() { self.margin } else { self.margin.max(ONSET_SLACK) };
-        let found = contacts_after_kinematics(model, data, &self.shapes, &self.pairs, margin)?;
+        let found = self.found(model, data, y, &self.pairs, margin)?;
         (self.count, self.normal_force, self.power) = (0, 0.0, 0.0);
+        let target = self.target.as_ref().map(|t| (t.body, t.state(y)));
+        let (mut target_force, mut target_torque) = (Vector3::zeros(), Vector3::zeros());
         for c in &found {
             let mut c = *c;
             if c.distance > 0.0 && c.distance <= ONSET_SLACK && self.forced.contains(&(c.geometry[0], c.geometry[1])) {
                 c.distance = 0.0;
             }
-            if let Some(f) = self.law.force(&c, data) {
+            let velocity = |body: usize, p: &Vector3<f64>| match target {
+                Some((tb, s)) if tb == body => FreeTarget::point_velocity(s, p),
+                _ => point_velocity(data, body, p),
+            };
+            if let Some(f) = self.law.force_with(&c, velocity) {
                 self.count += 1;
                 self.normal_force += f.normal_force;
                 self.power += f.power;
-                out.extend_from_slice(&f.wrenches(data));
+                // −force on the first body, +force on the second, both at the point.
+                for (body, force) in [(f.body[0], -f.force), (f.body[1], f.force)] {
+                    match target {
+                        Some((tb, s)) if tb == body => {
+                            target_force += force;
+                            target_torque += (f.point - Vector3::new(s[0], s[1], s[2])).cross(&force);
+                        }
+                        _ => out.push(ExternalWrench {
+                            body,
+                            offset: data.body_to_world[body].transpose() * (f.point - data.com_in_world[body]),
+                            force,
+                            torque: Vector3::zeros(),
+                        }),
+                    }
+                }
             }
+        }
+        if let Some(t) = &mut self.target {
+            (t.force, t.torque) = (target_force, target_torque);
         }
         Ok(())
     }
 
-    /// The geometry pairs touching or interpenetrating at `x` (distance ≤ 0).
-    pub(crate) fn touching(&self, model: &Model, data: &mut Data, x: &[f64]) -> Result<Vec<(usize, usize)>> {
-        forward_kinematics(model, data, x)?;
-        let found = contacts_after_kinematics(model, data, &self.shapes, &self.pairs, 0.0)?;
+    /// The geometry pairs touching or interpenetrating at the ODE state `y` (distance ≤ 0).
+    pub(crate) fn touching(&self, model: &Model, data: &mut Data, y: &[f64]) -> Result<Vec<(usize, usize)>> {
+        forward_kinematics(model, data, &y[..model.nx()])?;
+        let found = self.found(model, data, y, &self.pairs, 0.0)?;
         Ok(found.iter().map(|c| (c.geometry[0], c.geometry[1])).collect())
     }
 
-    /// The smallest signed distance at `x` between the geometry pairs `pairs` (m).
-    pub(crate) fn distance(&self, model: &Model, data: &mut Data, x: &[f64], pairs: &[(usize, usize)]) -> Result<f64> {
-        forward_kinematics(model, data, x)?;
-        let found = contacts_after_kinematics(model, data, &self.shapes, &PairFilter::Geometries(pairs.to_vec()), f64::MAX / 4.0)?;
+    /// The smallest signed distance at the ODE state `y` between the geometry pairs `pairs` (m).
+    pub(crate) fn distance(&self, model: &Model, data: &mut Data, y: &[f64], pairs: &[(usize, usize)]) -> Result<f64> {
+        forward_kinematics(model, data, &y[..model.nx()])?;
+        let found = self.found(model, data, y, &PairFilter::Geometries(pairs.to_vec()), f64::MAX / 4.0)?;
         Ok(found.iter().map(|c| c.distance).fold(f64::INFINITY, f64::min))
     }
+}
+
+/// The named pairs of a description as geometry pairs: each name a body of the robot (its
+/// collision shapes), a collision geometry of the robot, or — with a free target — `"target"`,
+/// the target model's name or body name (all its shapes) or one of its collision geometries
+/// (numbered after the robot's).
+fn resolve_pairs(model: &Model, shapes: &CollisionShapes, target: Option<&FreeTarget>, list: &[[String; 2]]) -> Result<Vec<(usize, usize)>> {
+    let bodies = model.body_names();
+    let geometries = model.geometries();
+    let target_names = |t: &FreeTarget| -> Vec<String> { t.shapes.shapes.iter().map(|s| t.geometry_names[s.geometry].clone()).collect() };
+    let resolve = |name: &str| -> Result<Vec<usize>> {
+        if let Some(b) = bodies.iter().position(|n| n == name) {
+            let own: Vec<usize> = shapes.shapes.iter().filter(|s| s.body == b).map(|s| s.geometry).collect();
+            if own.is_empty() {
+                return Err(SpacearmError::argument(format!("contact pair: body '{name}' has no collision geometry (role=\"collision\")")));
+            }
+            return Ok(own);
+        }
+        if let Some(s) = shapes.shapes.iter().find(|s| geometries[s.geometry].name == name) {
+            return Ok(vec![s.geometry]);
+        }
+        if let Some(t) = target {
+            if name == "target" || name == t.name || name == t.body_name {
+                return Ok(t.shapes.shapes.iter().map(|s| t.first_geometry + s.geometry).collect());
+            }
+            if let Some(s) = t.shapes.shapes.iter().find(|s| t.geometry_names[s.geometry] == name) {
+                return Ok(vec![t.first_geometry + s.geometry]);
+            }
+        }
+        Err(SpacearmError::argument(format!(
+            "contact pair: no body or collision geometry named '{name}' in '{}'{}; the bodies are {bodies:?}, the collision geometries {:?}{}",
+            model.name(),
+            if target.is_some() { " or in the target" } else { "" },
+            shapes.shapes.iter().map(|s| geometries[s.geometry].name.as_str()).collect::<Vec<_>>(),
+            target.map(|t| format!("; the target is 'target' (or '{}'), its collision geometries {:?}", t.name, target_names(t))).unwrap_or_default()
+        )))
+    };
+    let body_of = |g: usize| match target {
+        Some(t) if g >= t.first_geometry => t.body,
+        _ => geometries[g].body,
+    };
+    let mut out = Vec::new();
+    for [a, b] in list {
+        let (ga, gb) = (resolve(a)?, resolve(b)?);
+        for &g in &ga {
+            for &h in &gb {
+                if body_of(g) == body_of(h) {
+                    return Err(SpacearmError::argument(format!("contact pair ('{a}', '{b}'): both shapes are on one body (a body does not touch itself)")));
+                }
+                out.push((g, h));
+            }
+        }
+    }
+    Ok(out)
 }
 
 /// How far apart (m) the pairs of a located onset may be and still act as touching in the step

@@ -14,18 +14,16 @@ use crate::sim::plant::Plant;
 
 /// The pairs of `plant`'s contact touching at `y` (its state `[x; u]`).
 fn touching(plant: &mut Plant<'_>, y: &[f64]) -> Result<Vec<(usize, usize)>> {
-    let nx = plant.nx;
     match &plant.contact {
-        Some(c) => c.touching(&plant.model, &mut plant.data, &y[..nx]),
+        Some(c) => c.touching(&plant.model, &mut plant.data, y),
         None => Ok(Vec::new()),
     }
 }
 
 /// The smallest distance of `pairs` at `y`.
 fn distance(plant: &mut Plant<'_>, y: &[f64], pairs: &[(usize, usize)]) -> Result<f64> {
-    let nx = plant.nx;
     let c = plant.contact.as_ref().expect("a plant with contact");
-    c.distance(&plant.model, &mut plant.data, &y[..nx], pairs)
+    c.distance(&plant.model, &mut plant.data, y, pairs)
 }
 
 /// After an RK4 step from `(t, y_start)` to `(t_next, y)`: if a pair touches at `y` that did not

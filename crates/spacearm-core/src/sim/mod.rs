@@ -19,6 +19,7 @@ pub(crate) mod closure;
 pub mod contact;
 pub(crate) mod contact_onset;
 pub mod events;
+pub(crate) mod free_target;
 pub mod options;
 pub mod plant;
 pub mod record;

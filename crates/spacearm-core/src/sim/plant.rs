@@ -21,6 +21,7 @@ use crate::scenario::actuators::{check_wheels, detect_reaction_wheels, Actuators
 use crate::scenario::modes::Mode;
 use crate::scenario::orbit::{gravity_gradient_tensor, tidal_wrenches_into, OrbitTrack};
 use crate::sim::contact::PlantContact;
+use crate::sim::free_target::FreeTarget;
 use crate::sim::options::SimOptions;
 
 /// The plant as an ODE `ẏ = f(t, y)` for the integrators: model, mode, actuators and controller
@@ -73,15 +74,23 @@ pub struct Plant<'a> {
 impl<'a> Plant<'a> {
     /// Check the options (wheels, limits) and set the controller up against the model.
     pub fn new(model: &'a Model, opts: &SimOptions, controller: &'a mut dyn Controller) -> Result<Self> {
-        Plant::build(Cow::Borrowed(model), opts, Box::new(controller))
+        Plant::build(Cow::Borrowed(model), opts, Box::new(controller), None)
+    }
+
+    /// [`Plant::new`] with a free target in the loop of contact ([`crate::sim::free_target`]):
+    /// `target` (one rigid body with collision shapes) at the 13-state `state`, its state
+    /// integrated after `[x; u; W]`, touching the robot by the run's contact (`opts.contact`,
+    /// required).
+    pub fn with_target(model: &'a Model, opts: &SimOptions, controller: &'a mut dyn Controller, target: &Model, state: &[f64]) -> Result<Self> {
+        Plant::build(Cow::Borrowed(model), opts, Box::new(controller), Some((target, state)))
     }
 
     /// A plant that owns its model and controller.
     pub fn owned(model: Model, opts: &SimOptions, controller: Box<dyn Controller>) -> Result<Plant<'static>> {
-        Plant::build(Cow::Owned(model), opts, controller)
+        Plant::build(Cow::Owned(model), opts, controller, None)
     }
 
-    fn build(model: Cow<'a, Model>, opts: &SimOptions, mut controller: Box<dyn Controller + 'a>) -> Result<Self> {
+    fn build(model: Cow<'a, Model>, opts: &SimOptions, mut controller: Box<dyn Controller + 'a>, target: Option<(&Model, &[f64])>) -> Result<Self> {
         let n = model.n_dof();
         let wheels = match &opts.wheels {
             Some(w) => {
@@ -103,7 +112,23 @@ impl<'a> Plant<'a> {
             None => None,
         };
         let orbit_state = opts.orbit.map(|o| (o.orbit.r0, o.orbit.v0)).unwrap_or_default();
-        let contact = opts.contact.as_ref().map(|c| PlantContact::new(&model, c).map(Box::new)).transpose()?;
+        let target = match target {
+            Some((t, s)) => {
+                if opts.contact.is_none() {
+                    return Err(SpacearmError::argument(
+                        "a free target without topology events takes part in a run by contact: give contact=ContactModel(...) too (or events=[...] for a target that is attached)",
+                    ));
+                }
+                if opts.orbit.is_some() {
+                    return Err(SpacearmError::argument("contact with a free target in an orbit is not implemented yet (docs/contact.md, \"What is not handled\")"));
+                }
+                let mut t = FreeTarget::new(&model, t, s)?;
+                t.offset = model.nx() + model.nu() + 1;
+                Some(t)
+            }
+            None => None,
+        };
+        let contact = opts.contact.as_ref().map(|c| PlantContact::new(&model, c, target).map(Box::new)).transpose()?;
         Ok(Plant {
             contact,
             data: Data::new(&model),
@@ -136,6 +161,24 @@ impl<'a> Plant<'a> {
     /// The plant's model.
     pub fn model(&self) -> &Model {
         &self.model
+    }
+
+    /// The integrator's initial state: `[x0; u0]`, with contact the contact work (0), with a free
+    /// target its 13-state.
+    pub(crate) fn initial_state(&self, x0: &[f64], u0: &[f64]) -> Vec<f64> {
+        let mut y: Vec<f64> = x0.iter().chain(u0).copied().collect();
+        if let Some(c) = &self.contact {
+            y.push(0.0);
+            if let Some(t) = &c.target {
+                y.extend_from_slice(&t.state0);
+            }
+        }
+        y
+    }
+
+    /// The free target of the run, if it has one.
+    pub(crate) fn target(&self) -> Option<&FreeTarget> {
+        self.contact.as_ref().and_then(|c| c.target.as_ref())
     }
 
     /// Apply `wrenches` (checked here against the model) at every evaluation from now on, in
@@ -255,8 +298,9 @@ impl Plant<'_> {
 
 impl OdeSystem for Plant<'_> {
     fn dim(&self) -> usize {
-        // With contact, one more: the work of the contact forces, integrated with the motion.
-        self.nx + self.model.nu() + usize::from(self.contact.is_some())
+        // With contact, one more: the work of the contact forces, integrated with the motion;
+        // with a free target its 13-state.
+        self.nx + self.model.nu() + usize::from(self.contact.is_some()) + if self.target().is_some() { 13 } else { 0 }
     }
 
     fn project(&self, y: &mut [f64]) {
@@ -266,6 +310,9 @@ impl OdeSystem for Plant<'_> {
             for v in q.iter_mut() {
                 *v /= norm;
             }
+        }
+        if let Some(t) = self.target() {
+            t.project(y);
         }
     }
 
@@ -291,7 +338,7 @@ impl OdeSystem for Plant<'_> {
                 self.wrench_buf.clear();
                 self.wrench_buf.extend_from_slice(&self.body_wrenches);
             }
-            c.wrenches_into(&self.model, &mut self.data, u, &mut self.wrench_buf)?;
+            c.wrenches_into(&self.model, &mut self.data, y, &mut self.wrench_buf)?;
         }
         if let Some(c) = &mut self.closure {
             if tidal {
@@ -316,6 +363,9 @@ impl OdeSystem for Plant<'_> {
         dy[self.nx..self.nx + nu].copy_from_slice(self.data.accel.as_slice());
         if let Some(c) = &self.contact {
             dy[self.nx + nu] = c.power;
+            if let Some(t) = &c.target {
+                t.derivative(t.state(y), &mut dy[t.offset..t.offset + 13]);
+            }
         }
         for (s, e) in self.flags_step.iter_mut().zip(&self.flags_eval) {
             *s |= *e;

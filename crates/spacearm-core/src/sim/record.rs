@@ -41,6 +41,10 @@ pub(crate) struct Recorder {
     /// The control-moment gyros whose singularity measure and envelope fraction are recorded
     /// (every CMG of the plant when all are on the base; none otherwise).
     cmgs: Vec<Cmg>,
+    /// With a free target: robot + target angular momentum about their CM per sample (width
+    /// 3; the drift's, not recorded) and the running maxima of the target's momentum scales.
+    ledger_l_com: Vec<f64>,
+    target_scales: MomentumScales,
 }
 
 impl Recorder {
@@ -79,6 +83,11 @@ impl Recorder {
             rec.rec.contact_normal_force = Some(Vec::with_capacity(capacity));
             rec.rec.contact_work = Some(Vec::with_capacity(capacity));
         }
+        if plant.target().is_some() {
+            rec.rec.target_state = Some(Vec::with_capacity(13 * capacity));
+            rec.rec.ledger_momentum = Some(Vec::with_capacity(6 * capacity));
+            rec.rec.ledger_energy = Some(Vec::with_capacity(capacity));
+        }
         rec
     }
 
@@ -86,7 +95,7 @@ impl Recorder {
     pub(crate) fn values_per_sample_of(plant: &Plant<'_>) -> usize {
         let c = &plant.controller;
         let closure = if plant.closure.is_some() { 12 } else { 0 };
-        let orbit = if plant.orbit.is_some() { 12 } else { 0 } + if plant.contact.is_some() { 3 } else { 0 };
+        let orbit = if plant.orbit.is_some() { 12 } else { 0 } + if plant.contact.is_some() { 3 } else { 0 } + if plant.target().is_some() { 20 } else { 0 };
         let link = usize::from(!Recorder::link_joints(plant).is_empty());
         let cmg = if Recorder::base_cmgs(plant.model()).is_empty() { 0 } else { 2 };
         let solve = if c.reports_solve() { 4 } else { 0 };
@@ -175,6 +184,9 @@ impl Recorder {
                 contact_count: None,
                 contact_normal_force: None,
                 contact_work: None,
+                target_state: None,
+                ledger_momentum: None,
+                ledger_energy: None,
             },
             balance: false,
             ee,
@@ -184,6 +196,8 @@ impl Recorder {
             last_quat: None,
             link: Vec::new(),
             cmgs: Vec::new(),
+            ledger_l_com: Vec::new(),
+            target_scales: MomentumScales::default(),
         }
     }
 
@@ -277,15 +291,37 @@ impl Recorder {
             fn_.push(c.normal_force);
             work.push(y[nx + nu]);
         }
+        if let (Some(t), Some(ts), Some(lm), Some(le)) = (plant.target(), r.target_state.as_mut(), r.ledger_momentum.as_mut(), r.ledger_energy.as_mut()) {
+            // Robot + target: the target's momentum and energy from its own state
+            // (sim/free_target.rs), added to the robot's.
+            let s = t.state(y);
+            ts.extend_from_slice(s);
+            let m = t.momentum(s);
+            let (p, l) = (momentum.linear + m.linear, momentum.angular_about_origin + m.angular_about_origin);
+            lm.extend_from_slice(p.as_slice());
+            lm.extend_from_slice(l.as_slice());
+            le.push(energy + m.energy);
+            // About the CM of the two: L_origin − r_G × P.
+            let mass = model.total_mass() + t.mass;
+            let r_g = (rg * model.total_mass() + Vector3::new(s[0], s[1], s[2]) * t.mass) / mass;
+            self.ledger_l_com.extend_from_slice((l - r_g.cross(&p)).as_slice());
+            self.target_scales.linear = self.target_scales.linear.max(m.linear_scale);
+            self.target_scales.angular_about_origin = self.target_scales.angular_about_origin.max(m.angular_scale);
+            let arm = (Vector3::new(s[0], s[1], s[2]) - r_g).cross(&m.linear).norm();
+            self.target_scales.angular_about_com = self.target_scales.angular_about_com.max(arm + m.spin_scale);
+            self.target_scales.energy = self.target_scales.energy.max(m.energy);
+        }
     }
 
-    /// The scale of a conserved quantity's drift: the running maximum of its magnitude scale.
+    /// The scale of a conserved quantity's drift: the running maximum of its magnitude scale
+    /// (with a free target, plus the running maximum of the target's).
     pub(crate) fn scale(&self, c: Conserved) -> f64 {
+        let (s, t) = (&self.scales, &self.target_scales);
         match c {
-            Conserved::LinearMomentum => self.scales.linear,
-            Conserved::AngularMomentumOrigin => self.scales.angular_about_origin,
-            Conserved::AngularMomentumCom => self.scales.angular_about_com,
-            Conserved::Energy => self.scales.energy,
+            Conserved::LinearMomentum => s.linear + t.linear,
+            Conserved::AngularMomentumOrigin => s.angular_about_origin + t.angular_about_origin,
+            Conserved::AngularMomentumCom => s.angular_about_com + t.angular_about_com,
+            Conserved::Energy => s.energy + t.energy,
         }
     }
 
@@ -300,6 +336,18 @@ impl Recorder {
         conserved
             .iter()
             .map(|&c| {
+                if let (Some(lm), Some(le)) = (&r.ledger_momentum, &r.ledger_energy) {
+                    // With a free target: robot + target is the system that conserves.
+                    let pick = |from: usize| lm.chunks(6).flat_map(|row| row[from..from + 3].to_vec()).collect::<Vec<_>>();
+                    let work = r.contact_work.as_deref().unwrap_or(&[]);
+                    let d = match c {
+                        Conserved::LinearMomentum => conserved_drift(&pick(0), 3, self.scale(c)),
+                        Conserved::AngularMomentumOrigin => conserved_drift(&pick(3), 3, self.scale(c)),
+                        Conserved::AngularMomentumCom => conserved_drift(&self.ledger_l_com, 3, self.scale(c)),
+                        Conserved::Energy => conserved_drift(&le.iter().zip(work).map(|(e, w)| e - w).collect::<Vec<_>>(), 1, self.scale(c)),
+                    };
+                    return (c, d);
+                }
                 let d = match c {
                     Conserved::LinearMomentum => conserved_drift(&r.linear_momentum, 3, self.scale(c)),
                     Conserved::AngularMomentumOrigin => conserved_drift(&r.angular_momentum_origin, 3, self.scale(c)),

@@ -98,6 +98,14 @@ pub struct Records {
     /// entry of the ODE's state; width 1). The energy ledger `energy − contact_work` is then
     /// what is conserved (its drift is the energy's).
     pub contact_work: Option<Vec<f64>>,
+    /// With a free target in the loop ([`crate::sim::free_target`]): its 13-state
+    /// `[r, quat xyzw, v, ω]` (width 13).
+    pub target_state: Option<Vec<f64>>,
+    /// With a free target: robot + target `[P; L_origin]` (width 6), what contact conserves.
+    pub ledger_momentum: Option<Vec<f64>>,
+    /// With a free target: robot + target mechanical energy, J (width 1); minus
+    /// `contact_work` it is conserved.
+    pub ledger_energy: Option<Vec<f64>>,
     /// A closed chain's constraint wrench `λ` on frame b at its origin, `[force; torque]` in 𝒥
     /// (width 6; [`crate::sim::closed_chain`]).
     pub constraint_wrench: Option<Vec<f64>>,

@@ -51,6 +51,28 @@ pub fn simulate(model: &Model, x0: &[f64], u0: &[f64], opts: &SimOptions, contro
     run_plant(plant, x0, u0, opts, progress)
 }
 
+/// [`simulate`] with a free target in the loop (docs/contact.md, "Contact with a free target";
+/// [`crate::sim::free_target`]): `target` (one rigid body with collision shapes) at the 13-state
+/// `target_state` (`[r, quat xyzw, v, ω]`, the topology events' convention), integrated with the
+/// robot and touching it by `opts.contact` (required). The records add `target_state`,
+/// `ledger_momentum` and `ledger_energy`; the drifts are robot + target's.
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_with_target(
+    model: &Model,
+    x0: &[f64],
+    u0: &[f64],
+    opts: &SimOptions,
+    controller: &mut dyn Controller,
+    target: &Model,
+    target_state: &[f64],
+    progress: Progress<'_>,
+) -> Result<SimResult> {
+    opts.validate()?;
+    check_initial_state(model, x0, u0)?;
+    let plant = Plant::with_target(model, opts, controller, target, target_state)?;
+    run_plant(plant, x0, u0, opts, progress)
+}
+
 /// Run a plant set up for `opts` from `(x0, u0)` (checked by the caller): admission of the
 /// records, then the RK4 or DOPRI5 loop.
 ///
@@ -185,7 +207,7 @@ fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, gap
 /// The DOPRI5 run of one plant: [`dopri5_loop`] over the plant, its recorder recording.
 fn simulate_dopri5(mut plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, gaps: Option<&StopWatch>, progress: Progress<'_>) -> Result<SimResult> {
     // With contact the state has one more entry, the contact work (0 at the start).
-    let mut y: Vec<f64> = x0.iter().chain(u0).copied().chain(plant.contact.as_ref().map(|_| 0.0)).collect();
+    let mut y: Vec<f64> = plant.initial_state(x0, u0);
     plant.project(&mut y);
     let mut rec = Recorder::for_plant(&plant, sample_count(opts));
     let words = DopriWords {

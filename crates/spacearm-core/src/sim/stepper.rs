@@ -42,7 +42,7 @@ impl<'a> Rk4Stepper<'a> {
             return Err(SpacearmError::argument("record_every must be >= 1".to_string()));
         }
         // With contact the state has one more entry, the contact work (0 at the start).
-        let mut y: Vec<f64> = x0.iter().chain(u0).copied().chain(plant.contact.as_ref().map(|_| 0.0)).collect();
+        let mut y: Vec<f64> = plant.initial_state(x0, u0);
         plant.project(&mut y);
         let dim = y.len();
         let n = plant.model().n_dof();

@@ -614,6 +614,9 @@ fn append_records(a: &mut Records, b: Records) {
         contact_count,
         contact_normal_force,
         contact_work,
+        target_state,
+        ledger_momentum,
+        ledger_energy,
         constraint_wrench,
         constraint_error,
     } = b;
@@ -654,6 +657,9 @@ fn append_records(a: &mut Records, b: Records) {
         (&mut a.contact_count, contact_count),
         (&mut a.contact_normal_force, contact_normal_force),
         (&mut a.contact_work, contact_work),
+        (&mut a.target_state, target_state),
+        (&mut a.ledger_momentum, ledger_momentum),
+        (&mut a.ledger_energy, ledger_energy),
         (&mut a.constraint_wrench, constraint_wrench),
         (&mut a.constraint_error, constraint_error),
     ] {

@@ -629,6 +629,12 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
         add_parts(&mut at, &mut builder, &parts, &sp(cd))?;
     }
 
+    // [[gripper]]s: a palm and its capsule fingers (model/gripper.rs, docs/contact.md).
+    for gd in &doc.gripper {
+        let parts = crate::model::gripper::gripper_parts(gd.get_ref(), &base_name, ModelItem::Link(at.links.len())).map_err(|e| ctx.err(&sp(gd), e))?;
+        add_parts(&mut at, &mut builder, &parts, &sp(gd))?;
+    }
+
     // [[point]]s.
     for pd in &doc.point {
         let p = pd.get_ref();

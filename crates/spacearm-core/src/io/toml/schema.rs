@@ -35,6 +35,9 @@ pub(super) struct FileDoc {
     /// [`crate::model::cmg::CmgSpec`] (docs/cmg.md).
     #[serde(default)]
     pub(super) cmg: Vec<Spanned<crate::model::cmg::CmgSpec>>,
+    /// [`crate::model::gripper::GripperSpec`] (docs/contact.md, "Grippers").
+    #[serde(default)]
+    pub(super) gripper: Vec<Spanned<crate::model::gripper::GripperSpec>>,
     pub(super) dh: Option<Spanned<DhDoc>>,
     pub(super) end_effector: Option<Spanned<String>>,
     pub(super) initial_q: Option<Spanned<Vec<f64>>>,
