@@ -451,6 +451,14 @@ class CmgSteering(_Controller):
     when commanded exactly along its singular direction. ``null_gain`` ``k > 0`` (rad/s) adds the
     null motion ``k (E - A⁺A) ∇√m``, which turns the gimbals toward a larger singularity measure
     without changing the cluster's momentum (docs/cmg.md, "Steering").
+
+    ``unload_gain`` ``k > 0`` (1/s; mode ``"rotation-flying"`` or ``"flying"``) unloads the cluster
+    with the thrusters: while on, they apply the base torque ``N_u = -k (H - unload_goal)``
+    (``H = Σ h_i ŝ_i``, N·m·s in 𝒥; through the run's thruster limits) and the cluster is steered to
+    give ``N - N_u``, so the attitude stays held while ``H`` decays to the goal. It switches on
+    when the envelope fraction reaches ``unload_above`` and off when it falls to ``unload_below``,
+    at the start of each step (docs/cmg.md, "Momentum unloading"); the applied torque is the
+    ``base_wrench`` record.
     """
 
     _kind: _ClassVar[str] = "cmg_steering"
@@ -464,6 +472,10 @@ class CmgSteering(_Controller):
     dither: float = 0.0
     dither_frequency: float = 1.5707963267948966
     null_gain: float = 0.0
+    unload_gain: float = 0.0
+    unload_above: float = 0.8
+    unload_below: float = 0.2
+    unload_goal: Sequence[float] = (0.0, 0.0, 0.0)
 
 
 @_dataclass(frozen=True)

@@ -16,6 +16,9 @@
 //! motion `k_n (E − A⁺A) ∇√m` of [`super::cmg_null_motion`] before the rates are scaled.
 //! The rotors get no torque (an SGCMG's has no motor; a VSCMG's spin is not steered by this law
 //! yet, docs/cmg.md), nor do the arm joints: combine with an arm law through [`super::Combined`].
+//! With momentum unloading ([`super::cmg_unloading`], mode rotation-flying or flying) the
+//! thrusters apply `N_u = −k (H − H_goal)` on the base while the cluster is on, and the cluster is
+//! steered to give `N − N_u` (the unloading torque fed forward), so the base still feels `N`.
 
 use nalgebra::{Matrix3xX, Vector3};
 
@@ -31,6 +34,8 @@ use super::cmg_dither::dither_weight;
 use super::cmg_jacobian::{cluster_from_kinematics, cmg_jacobian_from_axes, singularity_measure};
 use super::cmg_null_motion::{null_motion, root_measure_gradient};
 use super::cmg_sr_inverse::{sr_weight, steering_rates_weighted};
+use super::cmg_unloading::MomentumUnloading;
+use crate::analysis::cmg_envelope::envelope_fraction;
 use super::{Command, ControlContext, Controller};
 
 /// The steering law's options beyond the SR inverse (module docs): the GSR dither's amplitude
@@ -89,6 +94,8 @@ pub struct CmgSteering {
     gimbal_moments: Vec<f64>,
     /// The last singularity measure met.
     measure: f64,
+    /// Momentum unloading by the thrusters, if on ([`super::cmg_unloading`]).
+    unloading: Option<MomentumUnloading>,
 }
 
 impl CmgSteering {
@@ -109,6 +116,7 @@ impl CmgSteering {
             cmgs: Vec::new(),
             gimbal_moments: Vec::new(),
             measure: f64::NAN,
+            unloading: None,
         }
     }
 
@@ -116,6 +124,17 @@ impl CmgSteering {
     pub fn with_options(mut self, options: SteeringOptions) -> Self {
         self.options = options;
         self
+    }
+
+    /// The law with momentum unloading by the thrusters (module docs).
+    pub fn with_unloading(mut self, unloading: MomentumUnloading) -> Self {
+        self.unloading = Some(unloading);
+        self
+    }
+
+    /// Whether the thrusters unload the cluster now (false without unloading).
+    pub fn unloading(&self) -> bool {
+        self.unloading.as_ref().is_some_and(MomentumUnloading::is_on)
     }
 
     /// The singularity measure `m` at the last command (NaN before the first).
@@ -130,9 +149,18 @@ impl Controller for CmgSteering {
     }
 
     fn setup(&mut self, ctx: &ControlContext<'_>) -> Result<()> {
-        if ctx.mode != Mode::RotationFloating {
+        if self.unloading.is_some() {
+            if !ctx.mode.allows_torque() {
+                return Err(SpacearmError::argument(format!(
+                    "CMG steering with momentum unloading (unload_gain > 0) needs the thrusters' torque on the base: mode \
+                     'rotation-flying' or 'flying', but the simulation mode is '{}'",
+                    ctx.mode.name()
+                )));
+            }
+        } else if ctx.mode != Mode::RotationFloating {
             return Err(SpacearmError::argument(format!(
-                "CMG steering holds the attitude in the 'rotation-floating' mode, but the simulation mode is '{}'",
+                "CMG steering holds the attitude in the 'rotation-floating' mode (or, with momentum unloading, 'rotation-flying' or \
+                 'flying'), but the simulation mode is '{}'",
                 ctx.mode.name()
             )));
         }
@@ -182,6 +210,10 @@ impl Controller for CmgSteering {
         let w0 = Vector3::new(u[3], u[4], u[5]);
         let torque = -e * self.kp - w0 * self.kd;
         let (g, s, h) = cluster_from_kinematics(model, data, &self.cmgs, u);
+        // The unloading torque on the base (thrusters), fed forward into the cluster's.
+        let cluster: Vector3<f64> = s.iter().zip(&h).map(|(s, h)| s * *h).sum();
+        let unload = self.unloading.as_ref().map_or_else(Vector3::zeros, |un| un.torque(&cluster));
+        let torque = torque - unload;
         let a: Matrix3xX<f64> = cmg_jacobian_from_axes(&g, &s, &h);
         let m = singularity_measure(&a, &h);
         self.measure = m;
@@ -199,6 +231,18 @@ impl Controller for CmgSteering {
             out.tau[c.gimbal_dof] = self.rate_gain * inertia * (r - u[6 + c.gimbal_dof]);
         }
         out.attitude_error = angle;
+        out.base_wrench[3] += unload.x;
+        out.base_wrench[4] += unload.y;
+        out.base_wrench[5] += unload.z;
+        Ok(())
+    }
+
+    /// The unloading's switch, at the step's start: the envelope fraction of `(x, u)`.
+    fn sample(&mut self, _t: f64, x: &[f64], u: &[f64]) -> Result<()> {
+        let (Some(un), Some(model), Some(data)) = (self.unloading.as_mut(), self.model.as_ref(), self.data.as_mut()) else { return Ok(()) };
+        forward_kinematics(model, data, x)?;
+        let (g, s, h) = cluster_from_kinematics(model, data, &self.cmgs, u);
+        un.update(envelope_fraction(&g, &s, &h));
         Ok(())
     }
 

@@ -31,6 +31,7 @@ pub mod cmg_jacobian;
 pub mod cmg_null_motion;
 pub mod cmg_sr_inverse;
 pub mod cmg_steering;
+pub mod cmg_unloading;
 pub mod computed_torque;
 pub mod controller;
 pub mod coordinated;
