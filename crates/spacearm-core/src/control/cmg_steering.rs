@@ -14,8 +14,10 @@
 //! `W(t)` of [`super::cmg_dither`] (Wie's generalized SR inverse, which leaves even a singular
 //! state commanded along its singular direction), and `null_gain = k_n > 0` adds the null
 //! motion `k_n (E − A⁺A) ∇√m` of [`super::cmg_null_motion`] before the rates are scaled.
-//! The rotors get no torque (an SGCMG's has no motor; a VSCMG's spin is not steered by this law
-//! yet, docs/cmg.md), nor do the arm joints: combine with an arm law through [`super::Combined`].
+//! `wheel_weight = W_s0 > 0` (a cluster of VSCMGs) steers the gimbal rates and the wheel
+//! accelerations together by the weighted minimum-norm law of [`super::vscmg_steering`]
+//! (Schaub, Vadali & Junkins 1998) in place of the SR inverse, each wheel motor given
+//! `τ_i = J_s,i Ω̇_c,i`. Otherwise the rotors get no torque (an SGCMG's has no motor), nor do the arm joints: combine with an arm law through [`super::Combined`].
 //! With momentum unloading ([`super::cmg_unloading`], mode rotation-flying or flying) the
 //! thrusters apply `N_u = −k (H − H_goal)` on the base while the cluster is on, and the cluster is
 //! steered to give `N − N_u` (the unloading torque fed forward), so the base still feels `N`.
@@ -35,6 +37,7 @@ use super::cmg_jacobian::{cluster_from_kinematics, cmg_jacobian_from_axes, singu
 use super::cmg_null_motion::{null_motion, root_measure_gradient};
 use super::cmg_sr_inverse::{sr_weight, steering_rates_weighted};
 use super::cmg_unloading::MomentumUnloading;
+use super::vscmg_steering::{vscmg_rates, wheel_matrix, wheel_weight};
 use crate::analysis::cmg_envelope::envelope_fraction;
 use super::{Command, ControlContext, Controller};
 
@@ -49,11 +52,15 @@ pub struct SteeringOptions {
     pub dither_frequency: f64,
     /// `k_n` of the null motion, rad/s.
     pub null_gain: f64,
+    /// `W_s0` of the VSCMG steering ([`super::vscmg_steering`]; 0: the gimbals alone).
+    pub wheel_weight: f64,
+    /// `μ` of the wheel weight `W_s = W_s0 exp(−μ m)`.
+    pub wheel_mu: f64,
 }
 
 impl Default for SteeringOptions {
     fn default() -> Self {
-        SteeringOptions { dither: 0.0, dither_frequency: std::f64::consts::FRAC_PI_2, null_gain: 0.0 }
+        SteeringOptions { dither: 0.0, dither_frequency: std::f64::consts::FRAC_PI_2, null_gain: 0.0, wheel_weight: 0.0, wheel_mu: 10.0 }
     }
 }
 
@@ -67,7 +74,12 @@ impl SteeringOptions {
         if o.dither > 0.0 && lambda0 <= 0.0 {
             return Err(SpacearmError::argument("cmg_steering dither needs lambda0 > 0: the dither weights the SR term λW, which the pseudo-inverse (lambda0 = 0) has not"));
         }
-        for (what, v) in [("dither_frequency", o.dither_frequency), ("null_gain", o.null_gain)] {
+        if o.wheel_weight > 0.0 && o.dither > 0.0 {
+            return Err(SpacearmError::argument(
+                "cmg_steering wheel_weight > 0 steers the wheels with the gimbals (the VSCMG law, which replaces the SR inverse): it takes no dither",
+            ));
+        }
+        for (what, v) in [("dither_frequency", o.dither_frequency), ("null_gain", o.null_gain), ("wheel_weight", o.wheel_weight), ("wheel_mu", o.wheel_mu)] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(SpacearmError::argument(format!("cmg_steering {what} must be finite and >= 0, got {v}")));
             }
@@ -183,6 +195,14 @@ impl Controller for CmgSteering {
         if let Some(c) = cmgs.iter().find(|c| !ctx.plant.dof_dynamics()[c.gimbal_dof].actuated) {
             return Err(SpacearmError::argument(format!("cmg '{}': its gimbal joint has no motor (actuated = false)", c.name)));
         }
+        if self.options.wheel_weight > 0.0 {
+            if let Some(c) = cmgs.iter().find(|c| !c.variable_speed || !ctx.plant.dof_dynamics()[c.rotor_dof].actuated) {
+                return Err(SpacearmError::argument(format!(
+                    "cmg_steering wheel_weight > 0 steers the wheels too, and cmg '{}' is not a variable-speed CMG (add_cmg(..., variable_speed=True))",
+                    c.name
+                )));
+            }
+        }
         self.attitude.set_reference(self.quat_ref)?;
         let model = ctx.plant.clone();
         self.gimbal_moments = cmgs
@@ -218,14 +238,34 @@ impl Controller for CmgSteering {
         let m = singularity_measure(&a, &h);
         self.measure = m;
         let hbar = h.iter().map(|v| v.abs()).sum::<f64>() / h.len() as f64;
-        let weight = dither_weight(self.options.dither, self.options.dither_frequency, t);
-        let mut rates = steering_rates_weighted(&a, &(-torque), sr_weight(self.lambda0, self.mu, m, hbar), &weight)?;
+        let mut accel = None;
+        let mut rates = if self.options.wheel_weight > 0.0 {
+            // The VSCMG law: gimbal rates and wheel accelerations together.
+            let js: Vec<f64> = self.cmgs.iter().map(|c| c.rotor_inertia).collect();
+            let w_s = wheel_weight(self.options.wheel_weight, self.options.wheel_mu, m);
+            let (rates, wheels) = vscmg_rates(&a, &wheel_matrix(&s, &js), &(-torque), w_s)?;
+            accel = Some(wheels);
+            rates
+        } else {
+            let weight = dither_weight(self.options.dither, self.options.dither_frequency, t);
+            steering_rates_weighted(&a, &(-torque), sr_weight(self.lambda0, self.mu, m, hbar), &weight)?
+        };
         if self.options.null_gain > 0.0 {
             rates += null_motion(&a, &root_measure_gradient(&a, &s, &h), self.options.null_gain);
         }
         let over = self.cmgs.iter().zip(rates.iter()).map(|(c, r)| r.abs() / c.max_gimbal_rate).fold(0.0f64, f64::max);
         if over > 1.0 {
             rates /= over;
+            if let Some(w) = accel.as_mut() {
+                *w /= over;
+            }
+        }
+        // The wheel motors: τ_i = J_s,i Ω̇_c,i gives the absolute spin momentum the rate
+        // J_s,i Ω̇_c,i exactly (the spin joint's equation, ĝ_i ⟂ ŝ_i).
+        if let Some(w) = &accel {
+            for (c, wi) in self.cmgs.iter().zip(w.iter()) {
+                out.tau[c.rotor_dof] = c.rotor_inertia * wi;
+            }
         }
         for ((c, r), inertia) in self.cmgs.iter().zip(rates.iter()).zip(&self.gimbal_moments) {
             out.tau[c.gimbal_dof] = self.rate_gain * inertia * (r - u[6 + c.gimbal_dof]);

@@ -44,6 +44,7 @@ pub mod rmrc;
 pub mod shaping;
 pub mod spec;
 pub mod thrusters;
+pub mod vscmg_steering;
 
 pub use attitude::{AttitudeControl, LvlhReference};
 pub use cmg_steering::CmgSteering;

@@ -759,6 +759,13 @@ pub enum ControllerSpec {
         /// The null-motion gain, rad/s (0: no null motion).
         #[serde(default)]
         null_gain: f64,
+        /// The VSCMG steering's wheel weight `W_s0` ([`crate::control::vscmg_steering`]; 0: the
+        /// gimbals alone).
+        #[serde(default)]
+        wheel_weight: f64,
+        /// Its `μ` in `W_s = W_s0 exp(−μ m)`.
+        #[serde(default = "ten")]
+        wheel_mu: f64,
         /// Momentum unloading by the thrusters ([`crate::control::cmg_unloading`]): the gain
         /// `k` of `N_u = −k (H − H_goal)`, 1/s (0: no unloading).
         #[serde(default)]
@@ -997,12 +1004,12 @@ impl ControllerSpec {
                 finite(&format!("{w} 'kd'"), *kd)?;
                 orbit(o)?;
             }
-            ControllerSpec::CmgSteering { quat_ref, kp, kd, lambda0, mu, rate_gain, dither, dither_frequency, null_gain, unload_gain, unload_above, unload_below, unload_goal } => {
+            ControllerSpec::CmgSteering { quat_ref, kp, kd, lambda0, mu, rate_gain, dither, dither_frequency, null_gain, wheel_weight, wheel_mu, unload_gain, unload_above, unload_below, unload_goal } => {
                 unit_quaternion("cmg_steering 'quat_ref'", *quat_ref)?;
                 if *unload_gain != 0.0 {
                     crate::control::cmg_unloading::check(*unload_gain, *unload_above, *unload_below, *unload_goal)?;
                 }
-                SteeringOptions { dither: *dither, dither_frequency: *dither_frequency, null_gain: *null_gain }.check(*lambda0)?;
+                SteeringOptions { dither: *dither, dither_frequency: *dither_frequency, null_gain: *null_gain, wheel_weight: *wheel_weight, wheel_mu: *wheel_mu }.check(*lambda0)?;
                 for (k, v) in [("kp", kp), ("kd", kd), ("lambda0", lambda0), ("mu", mu)] {
                     if !(v.is_finite() && *v >= 0.0) {
                         return Err(bad(format!("{w} '{k}' must be finite and >= 0, got {v}")));
@@ -1088,9 +1095,9 @@ impl ControllerSpec {
                     None => Box::new(c),
                 }
             }
-            ControllerSpec::CmgSteering { quat_ref, kp, kd, lambda0, mu, rate_gain, dither, dither_frequency, null_gain, unload_gain, unload_above, unload_below, unload_goal } => {
+            ControllerSpec::CmgSteering { quat_ref, kp, kd, lambda0, mu, rate_gain, dither, dither_frequency, null_gain, wheel_weight, wheel_mu, unload_gain, unload_above, unload_below, unload_goal } => {
                 let law = CmgSteering::new(*quat_ref, *kp, *kd, *lambda0, *mu, *rate_gain)
-                    .with_options(SteeringOptions { dither: *dither, dither_frequency: *dither_frequency, null_gain: *null_gain });
+                    .with_options(SteeringOptions { dither: *dither, dither_frequency: *dither_frequency, null_gain: *null_gain, wheel_weight: *wheel_weight, wheel_mu: *wheel_mu });
                 if *unload_gain != 0.0 {
                     Box::new(law.with_unloading(MomentumUnloading::new(*unload_gain, *unload_above, *unload_below, *unload_goal)?))
                 } else {
