@@ -46,6 +46,11 @@ def cmg_robot() -> spacearm.Robot:
     return pyramid_sat()
 
 
+def vscmg_robot() -> spacearm.Robot:
+    from cmg_models import pyramid_sat
+    return pyramid_sat(variable_speed=True)
+
+
 def _line(robot, delta, t_end=0.05) -> CartesianLine:
     """A line of the end effector from where it starts, by ``delta`` (m) over ``[0, t_end]``."""
     p0 = robot.point_position(robot.neutral_configuration())
@@ -67,6 +72,11 @@ def _laws():
         ("attitude", wheels_robot, "rotation-floating", lambda r: AttitudeControl(quat, kp=20.0, kd=80.0), None),
         ("cmg_steering", cmg_robot, "rotation-floating", lambda r: CmgSteering(quat, kp=200.0, kd=400.0, dither=0.05, null_gain=0.5),
          cmg_robot().cmg_velocity(500.0) + np.r_[np.zeros(6), np.tile([0.1, 0.0], 4), 0.0, 0.0]),
+        ("cmg_steering_unloading", cmg_robot, "rotation-flying",
+         lambda r: CmgSteering(quat, kp=200.0, kd=400.0, unload_gain=2.0, unload_above=0.004, unload_below=0.002),
+         cmg_robot().cmg_velocity(500.0) + np.r_[np.zeros(6), np.tile([0.1, 0.0], 4), 0.0, 0.0]),
+        ("cmg_steering_vscmg", vscmg_robot, "rotation-floating", lambda r: CmgSteering(quat, kp=200.0, kd=400.0, wheel_weight=1.0, wheel_mu=1.0),
+         vscmg_robot().cmg_velocity(500.0) + np.r_[np.zeros(6), np.tile([0.1, 0.0], 4), 0.0, 0.0]),
         ("base_thrusters", s6, "flying",
          lambda r: BaseThrusterControl(com_ref=[0.05, -0.02, 0.01], quat_ref=quat, kp_attitude=200.0, kd_attitude=400.0), u_flying),
         ("coordinated_flying", s6, "flying", lambda r: CoordinatedFlying(_line(r, [-0.05, 0.05, 0.05])), None),

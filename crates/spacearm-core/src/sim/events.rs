@@ -286,6 +286,12 @@ mod tests {
         assert_eq!(run.stop[1].record_threshold().unwrap(), Some((WatchedRecord::CmgMeasure, 0.05, false)));
         assert_eq!(toml::from_str::<Run>(&toml::to_string(&run).unwrap()).unwrap(), run);
         validate(&run.stop).unwrap();
+        // In the one run description (the TOML of the C stepper's and FMU's options), checked
+        // when the options are made.
+        let spec: crate::sim::options::RunSpec = toml::from_str(&format!("mode = \"rotation-floating\"\n{text}")).unwrap();
+        assert_eq!(spec.options(1.0).unwrap().stop, run.stop);
+        let bad: crate::sim::options::RunSpec = toml::from_str("[[stop]]\nkind = \"record\"\nname = \"energy\"\nbelow = 1.0\n").unwrap();
+        assert!(bad.options(1.0).unwrap_err().to_string().contains("\"energy\""));
         for r in WatchedRecord::ALL {
             assert_eq!(WatchedRecord::from_name(r.name()).unwrap(), r);
         }
