@@ -16,17 +16,11 @@ import spacearm
 from spacearm.control import CmgSteering
 from spacearm.errors import ArgumentError
 
-from cmg_models import BETA, J_S, pyramid_axes, pyramid_sat  # noqa: E402
+from cmg_models import BETA, J_S, pyramid_axes, pyramid_sat, rodrigues  # noqa: E402
 
 K = 1.5  # the unloading gain, 1/s
 DELTA0 = np.pi / 4  # every gimbal at 45°: H = 4 h sin β sin δ along z, 0.71 of the envelope there
 SPEED = 500.0  # rotor speed, rad/s (h = J_S · 500 = 25 N m s)
-
-
-def rodrigues(axis, angle):
-    k = np.asarray(axis, float)
-    kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    return np.eye(3) + np.sin(angle) * kx + (1 - np.cos(angle)) * kx @ kx
 
 
 @pytest.fixture(scope="module")
