@@ -17,7 +17,8 @@
 //! `wheel_weight = W_s0 > 0` (a cluster of VSCMGs) steers the gimbal rates and the wheel
 //! accelerations together by the weighted minimum-norm law of [`super::vscmg_steering`]
 //! (Schaub, Vadali & Junkins 1998) in place of the SR inverse, each wheel motor given
-//! `τ_i = J_s,i Ω̇_c,i`. Otherwise the rotors get no torque (an SGCMG's has no motor), nor do the arm joints: combine with an arm law through [`super::Combined`].
+//! `τ_i = J_s,i Ω̇_c,i`. Otherwise the rotors get no torque (an SGCMG's has no motor); the arm
+//! joints get none either: combine with an arm law through [`super::Combined`].
 //! With momentum unloading ([`super::cmg_unloading`], mode rotation-flying or flying) the
 //! thrusters apply `N_u = −k (H − H_goal)` on the base while the cluster is on, and the cluster is
 //! steered to give `N − N_u` (the unloading torque fed forward), so the base still feels `N`.
