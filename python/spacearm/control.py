@@ -89,8 +89,21 @@ def _quintic(t, t_start: float, t_end: float):
 
 
 # ---- references ------------------------------------------------------------------------------
+class _JointReference:
+    """A joint reference whose evaluator is the core's, made from its data (``_core.JointReference``,
+    checked there)."""
+
+    def __post_init__(self):
+        object.__setattr__(self, "_core_ref", _core.JointReference.from_spec(_data(self)))
+
+    def evaluate(self, t):
+        """``(q, qd, qdd)`` at time(s) ``t``: what the controllers follow; each (n,) for a scalar
+        ``t``, (len(t), n) for an array."""
+        return _at_times(self._core_ref.evaluate, t)
+
+
 @_dataclass(frozen=True)
-class QuinticJoint:
+class QuinticJoint(_JointReference):
     """Joint-space rest-to-rest quintic from ``q_start`` to ``q_goal`` over ``[t_start, t_end]``
     (one entry per arm joint); holds ``q_start`` before and ``q_goal`` after."""
 
@@ -102,14 +115,6 @@ class QuinticJoint:
     t_end: float
 
     _kind: _ClassVar[str] = "quintic"
-
-    def __post_init__(self):
-        _reference(self)
-
-    def evaluate(self, t):
-        """``(q, qd, qdd)`` at time(s) ``t``: what the controllers follow; each (n,) for a scalar
-        ``t``, (len(t), n) for an array."""
-        return _at_times(self._core_ref.evaluate, t)
 
 
 @_dataclass(frozen=True)
@@ -140,7 +145,7 @@ class CartesianLine:
         return p_start + s * delta, sd * delta, sdd * delta
 
 @_dataclass(frozen=True)
-class SampledJoint:
+class SampledJoint(_JointReference):
     """A sampled joint trajectory: knot times ``t`` (K ≥ 2, strictly increasing, s) and the
     positions ``q``, velocities ``qd`` and accelerations ``qdd`` at the knots, each (K, n).
 
@@ -156,14 +161,6 @@ class SampledJoint:
     qdd: Any
 
     _kind: _ClassVar[str] = "sampled"
-
-    def __post_init__(self):
-        _reference(self)
-
-    def evaluate(self, t):
-        """``(q, qd, qdd)`` at time(s) ``t``: what the controllers follow; each (n,) for a scalar
-        ``t``, (len(t), n) for an array (as [`QuinticJoint.evaluate`][spacearm.control.QuinticJoint.evaluate])."""
-        return _at_times(self._core_ref.evaluate, t)
 
 @_dataclass(frozen=True)
 class FreeBodyPoint:
@@ -254,7 +251,7 @@ def input_shaper(kind: str, *, frequency: float, damping: float = 0.0) -> InputS
 
 
 @_dataclass(frozen=True)
-class ShapedJoint:
+class ShapedJoint(_JointReference):
     """A joint reference convolved with an [`InputShaper`][spacearm.control.InputShaper]:
     ``q_s(t) = sum_i A_i q(t - t_i)`` (and so its rates), evaluated in the core."""
 
@@ -262,14 +259,6 @@ class ShapedJoint:
     shaper: InputShaper
 
     _kind: _ClassVar[str] = "shaped"
-
-    def __post_init__(self):
-        _reference(self)
-
-    def evaluate(self, t):
-        """``(q, qd, qdd)`` at time(s) ``t``: what the controllers follow; each (n,) for a scalar
-        ``t``, (len(t), n) for an array (as [`QuinticJoint.evaluate`][spacearm.control.QuinticJoint.evaluate])."""
-        return _at_times(self._core_ref.evaluate, t)
 
 def _at_times(evaluate, t):
     """``evaluate`` (a core reference's, which takes an array of times) at time(s) ``t``: one
@@ -285,11 +274,6 @@ def _at_times(evaluate, t):
 def _data(obj):
     """The core's data of a reference or shaper (``spacearm._util.spec``)."""
     return _spec_data(obj, [], type(obj).__name__)
-
-
-def _reference(ref) -> None:
-    """Make ``ref``'s evaluator (the core's, from its data; checked there)."""
-    object.__setattr__(ref, "_core_ref", _core.JointReference.from_spec(_data(ref)))
 
 
 # ---- actuators -------------------------------------------------------------------------------

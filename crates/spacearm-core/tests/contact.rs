@@ -13,15 +13,7 @@ use spacearm_core::{GeometryRole, GeometrySpec, JointType, LinkSpec, Model, Mode
 fn balls() -> Model {
     let mut b = ModelBuilder::new("balls", "base", 100.0, [[10.0, 0.0, 0.0], [0.0, 10.0, 0.0], [0.0, 0.0, 10.0]]).unwrap();
     b.add_link(LinkSpec::new("slider", "base", JointType::Prismatic, [0.0; 3], [1.0, 0.0, 0.0], [0.0; 3], 1.0, [0.1; 3])).unwrap();
-    let ball = |body: &str, radius: f64| GeometrySpec {
-        name: None,
-        body: body.into(),
-        role: GeometryRole::Collision,
-        shape: Shape::Sphere { radius },
-        origin: [0.0; 3],
-        rotation: [0.0, 0.0, 0.0, 1.0],
-        rgba: None,
-    };
+    let ball = |body: &str, radius: f64| GeometrySpec::new(body, GeometryRole::Collision, Shape::Sphere { radius });
     b.add_geometry(ball("base", 0.3)).unwrap();
     b.add_geometry(ball("slider", 0.2)).unwrap();
     b.build().unwrap()

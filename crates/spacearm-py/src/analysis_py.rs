@@ -39,7 +39,7 @@ pub fn analysis_detect(py: Python<'_>, m: PyRef<'_, PyModel>, x: &Bound<'_, PyAn
     let t = task(py, rows)?;
     let law = singularity::DampingLaw::new(threshold, max_damping).or_raise(py)?;
     let d = m.with_data(|model, data| singularity::detect_at(model, data, x.as_slice(), body, &off, &t, &law)).or_raise(py)?;
-    Ok(d.into())
+    Ok(PyDetection::of(d))
 }
 
 /// The damping λ(σ_min) of the law λ² = λ_max² (1 − (σ/ε)²) for σ < ε.

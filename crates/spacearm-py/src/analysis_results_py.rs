@@ -18,7 +18,7 @@ use spacearm_core::analysis::{reaction_null_space as rns, redundancy, scan, sing
 
 use spacearm_core::SpacearmError;
 
-use crate::convert::{array1, dmat, dvec, matrix_arg, to_py_err, vec3, vec_arg, OrRaise};
+use crate::convert::{array1, dmat, dvec, matrix_arg, result_class, summary, to_py_err, vec3, vec_arg, OrRaise};
 
 /// A numpy array's shape as Python writes it: `(3, 6)`, `(3,)`.
 fn shape_of<T: Element, D: numpy::ndarray::Dimension>(py: Python<'_>, a: &Py<PyArray<T, D>>) -> String {
@@ -35,55 +35,28 @@ pub(crate) fn row_major<'py>(py: Python<'py>, v: &[f64], rows: usize, cols: usiz
     dmat(py, &DMatrix::from_row_slice(rows, cols, v))
 }
 
-/// Measures of one task Jacobian (`spacearm_core::analysis::singularity::JacobianMeasures`):
-/// its singular value decomposition and the numbers derived from it.
-#[pyclass(module = "spacearm._core", name = "JacobianMeasures", frozen, get_all)]
-pub struct PyJacobianMeasures {
-    /// (m, N) float64: the task rows of the Jacobian analysed (rows of the point twist in 𝒥 per
-    /// joint rate).
-    jacobian: Py<PyArray2<f64>>,
-    /// (min(m, N),) float64: its singular values, decreasing; units of the Jacobian's rows.
-    singular_values: Py<PyArray1<f64>>,
-    /// σ_min, the smallest singular value (the last of `singular_values`; NaN when there are none).
-    sigma_min: f64,
-    /// σ_max / σ_min, dimensionless (inf at a singularity).
-    condition: f64,
-    /// Yoshikawa's manipulability Π σᵢ.
-    manipulability: f64,
-    /// (m, min(m, N)) float64: left singular vectors, unit columns in task space (𝒥); the last
-    /// is the worst task direction.
-    task_directions: Py<PyArray2<f64>>,
-    /// (N, N) float64: right singular vectors, unit columns in joint space; the columns beyond
-    /// the rank span the null space (self-motions).
-    joint_directions: Py<PyArray2<f64>>,
-}
-
-impl PyJacobianMeasures {
-    fn new(py: Python<'_>, m: &singularity::JacobianMeasures) -> Self {
-        PyJacobianMeasures {
-            jacobian: dmat(py, &m.jacobian).unbind(),
-            singular_values: dvec(py, &m.singular_values).unbind(),
-            sigma_min: m.singular_values.iter().next_back().copied().unwrap_or(f64::NAN),
-            condition: m.condition,
-            manipulability: m.manipulability,
-            task_directions: dmat(py, &m.task_directions).unbind(),
-            joint_directions: dmat(py, &m.joint_directions).unbind(),
-        }
-    }
-}
-
-#[pymethods]
-impl PyJacobianMeasures {
-    fn __repr__(&self, py: Python<'_>) -> String {
-        format!(
-            "<spacearm._core.JacobianMeasures jacobian={} singular_values={} condition={:?} manipulability={:?} task_directions={} joint_directions={}>",
-            shape_of(py, &self.jacobian),
-            shape_of(py, &self.singular_values),
-            self.condition,
-            self.manipulability,
-            shape_of(py, &self.task_directions),
-            shape_of(py, &self.joint_directions)
-        )
+result_class! {
+    repr;
+    /// Measures of one task Jacobian (`spacearm_core::analysis::singularity::JacobianMeasures`):
+    /// its singular value decomposition and the numbers derived from it.
+    PyJacobianMeasures as "JacobianMeasures", fn new(py: Python<'_>, m: &singularity::JacobianMeasures) {
+        /// (m, N) float64: the task rows of the Jacobian analysed (rows of the point twist in 𝒥 per
+        /// joint rate).
+        jacobian: Py<PyArray2<f64>> = dmat(py, &m.jacobian).unbind(),
+        /// (min(m, N),) float64: its singular values, decreasing; units of the Jacobian's rows.
+        singular_values: Py<PyArray1<f64>> = dvec(py, &m.singular_values).unbind(),
+        /// σ_min, the smallest singular value (the last of `singular_values`; NaN when there are none).
+        sigma_min: f64 = m.singular_values.iter().next_back().copied().unwrap_or(f64::NAN),
+        /// σ_max / σ_min, dimensionless (inf at a singularity).
+        condition: f64 = m.condition,
+        /// Yoshikawa's manipulability Π σᵢ.
+        manipulability: f64 = m.manipulability,
+        /// (m, min(m, N)) float64: left singular vectors, unit columns in task space (𝒥); the last
+        /// is the worst task direction.
+        task_directions: Py<PyArray2<f64>> = dmat(py, &m.task_directions).unbind(),
+        /// (N, N) float64: right singular vectors, unit columns in joint space; the columns beyond
+        /// the rank span the null space (self-motions).
+        joint_directions: Py<PyArray2<f64>> = dmat(py, &m.joint_directions).unbind(),
     }
 }
 
@@ -118,81 +91,50 @@ impl PySingularityReport {
     }
 }
 
-/// What the singularity detector tells a resolved-motion-rate controller
-/// (`spacearm_core::analysis::singularity::Detection`).
-#[pyclass(module = "spacearm._core", name = "Detection", frozen, get_all)]
-pub struct PyDetection {
-    /// Smallest singular value of the task rows of J*.
-    sigma_min: f64,
-    /// Condition number σ_max / σ_min, dimensionless.
-    condition: f64,
-    /// Recommended damping λ(σ_min) of the damped least-squares inverse (units of σ).
-    damping: f64,
-    /// σ_min < ε: inside the singular region.
-    near_singular: bool,
-}
-
-impl From<singularity::Detection> for PyDetection {
-    fn from(d: singularity::Detection) -> Self {
-        PyDetection { sigma_min: d.sigma_min, condition: d.condition, damping: d.damping, near_singular: d.near_singular }
+result_class! {
+    repr;
+    /// What the singularity detector tells a resolved-motion-rate controller
+    /// (`spacearm_core::analysis::singularity::Detection`).
+    PyDetection as "Detection", fn of(d: singularity::Detection) {
+        /// Smallest singular value of the task rows of J*.
+        sigma_min: f64 = d.sigma_min,
+        /// Condition number σ_max / σ_min, dimensionless.
+        condition: f64 = d.condition,
+        /// Recommended damping λ(σ_min) of the damped least-squares inverse (units of σ).
+        damping: f64 = d.damping,
+        /// σ_min < ε: inside the singular region.
+        near_singular: bool = d.near_singular,
     }
 }
 
-#[pymethods]
-impl PyDetection {
-    fn __repr__(&self) -> String {
-        format!(
-            "<spacearm._core.Detection sigma_min={:?} condition={:?} damping={:?} near_singular={}>",
-            self.sigma_min,
-            self.condition,
-            self.damping,
-            if self.near_singular { "True" } else { "False" }
-        )
-    }
-}
-
-/// A joint-space scan of M samples, one entry per sample in each column (the columns of
-/// `spacearm_core::analysis::scan::ScanSample`).
-#[pyclass(module = "spacearm._core", name = "ScanResult", frozen, get_all)]
-pub struct PyScanResult {
-    /// (M,) float64: smallest singular value of the task rows of J*.
-    sigma_min_generalized: Py<PyArray1<f64>>,
-    /// (M,) float64: largest singular value of the task rows of J*.
-    sigma_max_generalized: Py<PyArray1<f64>>,
-    /// (M,) float64: manipulability Π σᵢ of the task rows of J*.
-    manipulability_generalized: Py<PyArray1<f64>>,
-    /// (M,) float64: determinant of the task rows of J* when square, else NaN.
-    det_generalized: Py<PyArray1<f64>>,
-    /// (M,) float64: smallest singular value of the task rows of J_m (base held fixed).
-    sigma_min_fixed: Py<PyArray1<f64>>,
-    /// (M,) float64: manipulability of the task rows of J_m.
-    manipulability_fixed: Py<PyArray1<f64>>,
-    /// (M,) float64: determinant of the task rows of J_m when square, else NaN.
-    det_fixed: Py<PyArray1<f64>>,
-    /// (M, 3) float64: the point from the base CM, base frame, m (the fixed-base workspace).
-    point_from_base: Py<PyArray2<f64>>,
-    /// (M, 3) float64: the point from the system CM, base frame, m (the free-floating workspace).
-    point_from_com: Py<PyArray2<f64>>,
-}
-
-impl PyScanResult {
-    pub fn new(py: Python<'_>, s: &[scan::ScanSample]) -> Self {
+result_class! {
+    /// A joint-space scan of M samples, one entry per sample in each column (the columns of
+    /// `spacearm_core::analysis::scan::ScanSample`).
+    PyScanResult as "ScanResult", fn new(py: Python<'_>, s: &[scan::ScanSample]) [
         let column = |f: fn(&scan::ScanSample) -> f64| array1(py, &s.iter().map(f).collect::<Vec<f64>>()).unbind();
         let points = |f: fn(&scan::ScanSample) -> Vector3<f64>| {
             let v: Vec<f64> = s.iter().flat_map(|r| f(r).iter().copied().collect::<Vec<_>>()).collect();
             row_major(py, &v, s.len(), 3).unbind()
         };
-        PyScanResult {
-            sigma_min_generalized: column(|r| r.sigma_min_generalized),
-            sigma_max_generalized: column(|r| r.sigma_max_generalized),
-            manipulability_generalized: column(|r| r.manipulability_generalized),
-            det_generalized: column(|r| r.det_generalized),
-            sigma_min_fixed: column(|r| r.sigma_min_fixed),
-            manipulability_fixed: column(|r| r.manipulability_fixed),
-            det_fixed: column(|r| r.det_fixed),
-            point_from_base: points(|r| r.point_from_base),
-            point_from_com: points(|r| r.point_from_com),
-        }
+    ] {
+        /// (M,) float64: smallest singular value of the task rows of J*.
+        sigma_min_generalized: Py<PyArray1<f64>> = column(|r| r.sigma_min_generalized),
+        /// (M,) float64: largest singular value of the task rows of J*.
+        sigma_max_generalized: Py<PyArray1<f64>> = column(|r| r.sigma_max_generalized),
+        /// (M,) float64: manipulability Π σᵢ of the task rows of J*.
+        manipulability_generalized: Py<PyArray1<f64>> = column(|r| r.manipulability_generalized),
+        /// (M,) float64: determinant of the task rows of J* when square, else NaN.
+        det_generalized: Py<PyArray1<f64>> = column(|r| r.det_generalized),
+        /// (M,) float64: smallest singular value of the task rows of J_m (base held fixed).
+        sigma_min_fixed: Py<PyArray1<f64>> = column(|r| r.sigma_min_fixed),
+        /// (M,) float64: manipulability of the task rows of J_m.
+        manipulability_fixed: Py<PyArray1<f64>> = column(|r| r.manipulability_fixed),
+        /// (M,) float64: determinant of the task rows of J_m when square, else NaN.
+        det_fixed: Py<PyArray1<f64>> = column(|r| r.det_fixed),
+        /// (M, 3) float64: the point from the base CM, base frame, m (the fixed-base workspace).
+        point_from_base: Py<PyArray2<f64>> = points(|r| r.point_from_base),
+        /// (M, 3) float64: the point from the system CM, base frame, m (the free-floating workspace).
+        point_from_com: Py<PyArray2<f64>> = points(|r| r.point_from_com),
     }
 }
 
@@ -204,36 +146,25 @@ impl PyScanResult {
     }
 }
 
-/// Radial description of the workspaces (`spacearm_core::analysis::workspace::WorkspaceShells`).
-/// Constructing one computes the shells of a scan (`analysis_py::shells`);
-/// `spacearm.analysis.Workspace` is its Python subclass (the samples, timing and figure).
-#[pyclass(module = "spacearm._core", name = "WorkspaceShells", frozen, subclass, get_all)]
-pub struct PyWorkspaceShells {
-    /// (R_min, R_max) of the free-floating reachable workspace about the system CM, m.
-    reachable: (f64, f64),
-    /// (min, max) distance of the point from the base CM with the base held fixed, m.
-    fixed_base: (f64, f64),
-    /// (K,) float64: barycentric radii of the singular samples and crossings found, sorted, m.
-    singular_radii: Py<PyArray1<f64>>,
-    /// Path-dependent shells [(a, b), ...], m.
-    path_dependent: Vec<(f64, f64)>,
-    /// Path-independent shells [(a, b), ...]: the reachable shell minus the path-dependent ones, m.
-    path_independent: Vec<(f64, f64)>,
-    /// The radial resolution that merged the singular radii into shells, m.
-    radial_resolution: f64,
-}
-
-impl PyWorkspaceShells {
-    pub fn of(py: Python<'_>, w: &workspace::WorkspaceShells) -> Self {
+result_class! {
+    /// Radial description of the workspaces (`spacearm_core::analysis::workspace::WorkspaceShells`).
+    /// Constructing one computes the shells of a scan (`analysis_py::shells`);
+    /// `spacearm.analysis.Workspace` is its Python subclass (the samples, timing and figure).
+    PyWorkspaceShells as "WorkspaceShells" (subclass), fn of(py: Python<'_>, w: &workspace::WorkspaceShells) [
         let pairs = |v: &[[f64; 2]]| v.iter().map(|[a, b]| (*a, *b)).collect();
-        PyWorkspaceShells {
-            reachable: (w.reachable[0], w.reachable[1]),
-            fixed_base: (w.fixed_base[0], w.fixed_base[1]),
-            singular_radii: array1(py, &w.singular_radii).unbind(),
-            path_dependent: pairs(&w.path_dependent),
-            path_independent: pairs(&w.path_independent),
-            radial_resolution: w.radial_resolution,
-        }
+    ] {
+        /// (R_min, R_max) of the free-floating reachable workspace about the system CM, m.
+        reachable: (f64, f64) = (w.reachable[0], w.reachable[1]),
+        /// (min, max) distance of the point from the base CM with the base held fixed, m.
+        fixed_base: (f64, f64) = (w.fixed_base[0], w.fixed_base[1]),
+        /// (K,) float64: barycentric radii of the singular samples and crossings found, sorted, m.
+        singular_radii: Py<PyArray1<f64>> = array1(py, &w.singular_radii).unbind(),
+        /// Path-dependent shells [(a, b), ...], m.
+        path_dependent: Vec<(f64, f64)> = pairs(&w.path_dependent),
+        /// Path-independent shells [(a, b), ...]: the reachable shell minus the path-dependent ones, m.
+        path_independent: Vec<(f64, f64)> = pairs(&w.path_independent),
+        /// The radial resolution that merged the singular radii into shells, m.
+        radial_resolution: f64 = w.radial_resolution,
     }
 }
 
@@ -293,138 +224,74 @@ impl PyWorkspaceShells {
     }
 }
 
-/// The reaction null space at one configuration
-/// (`spacearm_core::analysis::reaction_null_space::ReactionNullSpace`).
-#[pyclass(module = "spacearm._core", name = "ReactionNullSpace", frozen, get_all)]
-pub struct PyReactionNullSpace {
-    /// (3, N) or (6, N) float64: rows of −H0⁻¹ H0m (zero momentum), joint rates → base angular
-    /// velocity ω0 (rad/s) or base twist [v0; ω0] (m/s, rad/s), in 𝒥.
-    base_motion_map: Py<PyArray2<f64>>,
-    /// (min(rows, N),) float64: singular values of the map, decreasing.
-    singular_values: Py<PyArray1<f64>>,
-    /// Numerical rank of the map (singular values above tolerance · σ_max).
-    rank: usize,
-    /// (N, N − rank) float64: orthonormal basis of the null space, in joint space.
-    basis: Py<PyArray2<f64>>,
-    /// Dimension of the null space, N − rank (the columns of `basis`).
-    dimension: usize,
-    /// (N, N) float64: orthogonal projector onto the null space.
-    projector: Py<PyArray2<f64>>,
-}
-
-impl PyReactionNullSpace {
-    pub fn new(py: Python<'_>, r: &rns::ReactionNullSpace) -> Self {
-        PyReactionNullSpace {
-            base_motion_map: dmat(py, &r.base_motion_map).unbind(),
-            singular_values: dvec(py, &r.singular_values).unbind(),
-            rank: r.rank,
-            basis: dmat(py, &r.basis).unbind(),
-            dimension: r.basis.ncols(),
-            projector: dmat(py, &r.projector).unbind(),
-        }
+result_class! {
+    repr;
+    /// The reaction null space at one configuration
+    /// (`spacearm_core::analysis::reaction_null_space::ReactionNullSpace`).
+    PyReactionNullSpace as "ReactionNullSpace", fn new(py: Python<'_>, r: &rns::ReactionNullSpace) {
+        /// (3, N) or (6, N) float64: rows of −H0⁻¹ H0m (zero momentum), joint rates → base angular
+        /// velocity ω0 (rad/s) or base twist [v0; ω0] (m/s, rad/s), in 𝒥.
+        base_motion_map: Py<PyArray2<f64>> = dmat(py, &r.base_motion_map).unbind(),
+        /// (min(rows, N),) float64: singular values of the map, decreasing.
+        singular_values: Py<PyArray1<f64>> = dvec(py, &r.singular_values).unbind(),
+        /// Numerical rank of the map (singular values above tolerance · σ_max).
+        rank: usize = r.rank,
+        /// (N, N − rank) float64: orthonormal basis of the null space, in joint space.
+        basis: Py<PyArray2<f64>> = dmat(py, &r.basis).unbind(),
+        /// Dimension of the null space, N − rank (the columns of `basis`).
+        dimension: usize = r.basis.ncols(),
+        /// (N, N) float64: orthogonal projector onto the null space.
+        projector: Py<PyArray2<f64>> = dmat(py, &r.projector).unbind(),
     }
 }
 
-#[pymethods]
-impl PyReactionNullSpace {
-    fn __repr__(&self, py: Python<'_>) -> String {
-        format!(
-            "<spacearm._core.ReactionNullSpace base_motion_map={} singular_values={} rank={} basis={} projector={}>",
-            shape_of(py, &self.base_motion_map),
-            shape_of(py, &self.singular_values),
-            self.rank,
-            shape_of(py, &self.basis),
-            shape_of(py, &self.projector)
-        )
+result_class! {
+    repr;
+    /// One evaluation of the resolved-motion-rate law (`spacearm_core::analysis::redundancy::RmrcRates`).
+    PyRmrcRates as "RmrcRates", fn new(py: Python<'_>, r: &redundancy::RmrcRates) {
+        /// (N,) float64: joint rates q̇, rad/s (m/s for a prismatic joint).
+        qd: Py<PyArray1<f64>> = dvec(py, &r.qd).unbind(),
+        /// σ_min of the (projected) task Jacobian.
+        sigma_min: f64 = r.sigma_min,
+        /// Damping λ of the damped least-squares inverse used (units of σ).
+        damping: f64 = r.damping,
+        /// (3,) float64: base angular velocity ω0 these rates produce (zero momentum), rad/s, in 𝒥.
+        base_angular_velocity: Py<PyArray1<f64>> = array1(py, r.base_angular_velocity.as_slice()).unbind(),
     }
 }
 
-/// One evaluation of the resolved-motion-rate law (`spacearm_core::analysis::redundancy::RmrcRates`).
-#[pyclass(module = "spacearm._core", name = "RmrcRates", frozen, get_all)]
-pub struct PyRmrcRates {
-    /// (N,) float64: joint rates q̇, rad/s (m/s for a prismatic joint).
-    qd: Py<PyArray1<f64>>,
-    /// σ_min of the (projected) task Jacobian.
-    sigma_min: f64,
-    /// Damping λ of the damped least-squares inverse used (units of σ).
-    damping: f64,
-    /// (3,) float64: base angular velocity ω0 these rates produce (zero momentum), rad/s, in 𝒥.
-    base_angular_velocity: Py<PyArray1<f64>>,
-}
-
-impl PyRmrcRates {
-    pub fn new(py: Python<'_>, r: &redundancy::RmrcRates) -> Self {
-        PyRmrcRates {
-            qd: dvec(py, &r.qd).unbind(),
-            sigma_min: r.sigma_min,
-            damping: r.damping,
-            base_angular_velocity: array1(py, r.base_angular_velocity.as_slice()).unbind(),
-        }
-    }
-}
-
-#[pymethods]
-impl PyRmrcRates {
-    fn __repr__(&self, py: Python<'_>) -> String {
-        format!(
-            "<spacearm._core.RmrcRates qd={} sigma_min={:?} damping={:?} base_angular_velocity={}>",
-            shape_of(py, &self.qd),
-            self.sigma_min,
-            self.damping,
-            shape_of(py, &self.base_angular_velocity)
-        )
-    }
-}
-
-/// A closed-loop point-to-point motion of a free-floating system (zero momentum), recorded at
-/// its K+1 time nodes (`spacearm_core::analysis::redundancy::RmrcMotion`, with the model's name,
-/// the strategy and the target). Constructing one runs the motion (`analysis_py::move_to`);
-/// `spacearm.analysis.Motion` is its Python subclass, which adds the figure and nothing else.
-#[pyclass(module = "spacearm._core", name = "RmrcMotion", frozen, subclass, get_all)]
-pub struct PyRmrcMotion {
-    /// Name of the model moved.
-    robot_name: String,
-    /// The strategy: "naive", "reactionless" or "minimum_disturbance".
-    strategy: &'static str,
-    /// (3,) float64: the point's target in 𝒥, m.
-    target: Py<PyArray1<f64>>,
-    /// (K+1,) float64: times k·dt, s.
-    times: Py<PyArray1<f64>>,
-    /// (K+1, 7+N) float64: configurations [r0, quat [x, y, z, w], q].
-    x: Py<PyArray2<f64>>,
-    /// (K+1, N) float64: joint rates, rad/s (m/s for a prismatic joint).
-    qd: Py<PyArray2<f64>>,
-    /// (K+1, 3) float64: the point's position in 𝒥, m.
-    point_position: Py<PyArray2<f64>>,
-    /// (K+1,) float64: σ_min of the (projected) task Jacobian.
-    sigma_min: Py<PyArray1<f64>>,
-    /// (K+1,) float64: damping λ used.
-    damping: Py<PyArray1<f64>>,
-    /// (K+1,) float64: base rotation angle from the start, rad.
-    attitude_change: Py<PyArray1<f64>>,
-    /// The largest base rotation from the start over the motion (max of `attitude_change`), rad.
-    max_attitude_change: f64,
-    /// Distance of the point from the target at the end (linear task rows only), m.
-    final_position_error: f64,
-}
-
-impl PyRmrcMotion {
-    pub fn of(py: Python<'_>, r: &redundancy::RmrcMotion, n_dof: usize, robot_name: String, strategy: &'static str, target: &Vector3<f64>) -> Self {
+result_class! {
+    /// A closed-loop point-to-point motion of a free-floating system (zero momentum), recorded at
+    /// its K+1 time nodes (`spacearm_core::analysis::redundancy::RmrcMotion`, with the model's name,
+    /// the strategy and the target). Constructing one runs the motion (`analysis_py::move_to`);
+    /// `spacearm.analysis.Motion` is its Python subclass, which adds the figure and nothing else.
+    PyRmrcMotion as "RmrcMotion" (subclass), fn of(py: Python<'_>, r: &redundancy::RmrcMotion, n_dof: usize, robot_name: String, strategy: &'static str, target: &Vector3<f64>) [
         let k = r.times.len();
-        PyRmrcMotion {
-            robot_name,
-            strategy,
-            target: array1(py, target.as_slice()).unbind(),
-            times: array1(py, &r.times).unbind(),
-            x: row_major(py, &r.x, k, 7 + n_dof).unbind(),
-            qd: row_major(py, &r.qd, k, n_dof).unbind(),
-            point_position: row_major(py, &r.point_position, k, 3).unbind(),
-            sigma_min: array1(py, &r.sigma_min).unbind(),
-            damping: array1(py, &r.damping).unbind(),
-            attitude_change: array1(py, &r.attitude_change).unbind(),
-            max_attitude_change: r.attitude_change.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-            final_position_error: r.final_position_error,
-        }
+    ] {
+        /// Name of the model moved.
+        robot_name: String = robot_name,
+        /// The strategy: "naive", "reactionless" or "minimum_disturbance".
+        strategy: &'static str = strategy,
+        /// (3,) float64: the point's target in 𝒥, m.
+        target: Py<PyArray1<f64>> = array1(py, target.as_slice()).unbind(),
+        /// (K+1,) float64: times k·dt, s.
+        times: Py<PyArray1<f64>> = array1(py, &r.times).unbind(),
+        /// (K+1, 7+N) float64: configurations [r0, quat [x, y, z, w], q].
+        x: Py<PyArray2<f64>> = row_major(py, &r.x, k, 7 + n_dof).unbind(),
+        /// (K+1, N) float64: joint rates, rad/s (m/s for a prismatic joint).
+        qd: Py<PyArray2<f64>> = row_major(py, &r.qd, k, n_dof).unbind(),
+        /// (K+1, 3) float64: the point's position in 𝒥, m.
+        point_position: Py<PyArray2<f64>> = row_major(py, &r.point_position, k, 3).unbind(),
+        /// (K+1,) float64: σ_min of the (projected) task Jacobian.
+        sigma_min: Py<PyArray1<f64>> = array1(py, &r.sigma_min).unbind(),
+        /// (K+1,) float64: damping λ used.
+        damping: Py<PyArray1<f64>> = array1(py, &r.damping).unbind(),
+        /// (K+1,) float64: base rotation angle from the start, rad.
+        attitude_change: Py<PyArray1<f64>> = array1(py, &r.attitude_change).unbind(),
+        /// The largest base rotation from the start over the motion (max of `attitude_change`), rad.
+        max_attitude_change: f64 = r.attitude_change.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        /// Distance of the point from the target at the end (linear task rows only), m.
+        final_position_error: f64 = r.final_position_error,
     }
 }
 
@@ -455,19 +322,7 @@ impl PyRmrcMotion {
         Ok(Self::of(py, &r, model.model.n_dof(), model.model.name().to_string(), o.strategy.name(), &target))
     }
 
-    fn __repr__(&self, py: Python<'_>) -> String {
-        format!(
-            "<spacearm.analysis.Motion '{}' {} times={} x={} qd={} point_position={} sigma_min={} damping={} attitude_change={} final_position_error={:?}>",
-            self.robot_name,
-            self.strategy,
-            shape_of(py, &self.times),
-            shape_of(py, &self.x),
-            shape_of(py, &self.qd),
-            shape_of(py, &self.point_position),
-            shape_of(py, &self.sigma_min),
-            shape_of(py, &self.damping),
-            shape_of(py, &self.attitude_change),
-            self.final_position_error
-        )
+    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+        summary(slf.as_any(), &["robot_name", "strategy", "times", "x", "qd", "point_position", "sigma_min", "damping", "attitude_change", "final_position_error"])
     }
 }

@@ -30,27 +30,19 @@ pub(crate) fn set_joint_dynamics(py: Python<'_>, b: &mut ModelBuilder, name: &st
     Ok(())
 }
 
-/// The [`LinkSpec`] of `ModelBuilder.add_link`'s arguments (also `compliant_parts`').
-#[allow(clippy::too_many_arguments)]
-fn link_spec(
-    py: Python<'_>,
-    name: &str,
-    parent: &str,
-    joint_type: &str,
-    origin: [f64; 3],
-    rotation: [f64; 4],
-    axis: [f64; 3],
-    com: [f64; 3],
-    mass: f64,
-    inertia: [[f64; 3]; 3],
-    joint_name: Option<String>,
-    limits: Option<[f64; 4]>,
-) -> PyResult<LinkSpec> {
+/// A link as the doors hand it over: `ModelBuilder.add_link`'s arguments but the dynamics,
+/// `(name, parent, joint_type, origin, rotation, axis, com, mass, inertia, joint_name, limits)`
+/// (what `compliant_parts` takes; the appendages' parts hand links back the same way, with the
+/// dynamics after).
+type LinkArgs = (String, String, String, [f64; 3], [f64; 4], [f64; 3], [f64; 3], f64, [[f64; 3]; 3], Option<String>, Option<[f64; 4]>);
+
+/// The [`LinkSpec`] of a link's arguments ([`LinkArgs`]).
+fn link_spec(py: Python<'_>, (name, parent, joint_type, origin, rotation, axis, com, mass, inertia, joint_name, limits): LinkArgs) -> PyResult<LinkSpec> {
     Ok(LinkSpec {
-        name: name.into(),
-        parent: parent.into(),
+        name,
+        parent,
         joint_name,
-        kind: JointType::from_name(joint_type).or_raise(py)?,
+        kind: JointType::from_name(&joint_type).or_raise(py)?,
         origin_in_parent: origin,
         rotation_in_parent: rotation,
         axis,
@@ -128,7 +120,7 @@ impl PyModelBuilder {
         limits: Option<[f64; 4]>,
         dynamics: Option<(bool, f64, f64, f64)>,
     ) -> PyResult<()> {
-        let link = link_spec(py, name, parent, joint_type, origin, rotation, axis, com, mass, inertia, joint_name, limits)?;
+        let link = link_spec(py, (name.into(), parent.into(), joint_type.into(), origin, rotation, axis, com, mass, inertia, joint_name, limits))?;
         self.inner.add_link(link).map_err(SpacearmError::from).or_raise(py)?;
         set_joint_dynamics(py, &mut self.inner, name, dynamics)
     }
@@ -321,23 +313,12 @@ pub fn beam_parts(
 }
 
 /// The two links of a compliant revolute joint (core `model::appendage::compliant_parts`): the
-/// link's own `ModelBuilder.add_link` arguments (without dynamics) and the series elasticity.
+/// link's own `ModelBuilder.add_link` arguments (without dynamics, [`LinkArgs`]) and the series
+/// elasticity.
 #[pyfunction]
-#[allow(clippy::too_many_arguments)]
-#[pyo3(signature = (name, parent, joint_type, origin, rotation, axis, com, mass, inertia, joint_name, limits, stiffness, rotor_inertia, damping, gear_ratio))]
 pub fn compliant_parts(
     py: Python<'_>,
-    name: &str,
-    parent: &str,
-    joint_type: &str,
-    origin: [f64; 3],
-    rotation: [f64; 4],
-    axis: [f64; 3],
-    com: [f64; 3],
-    mass: f64,
-    inertia: [[f64; 3]; 3],
-    joint_name: Option<String>,
-    limits: Option<[f64; 4]>,
+    link: LinkArgs,
     stiffness: f64,
     rotor_inertia: f64,
     damping: f64,
@@ -345,7 +326,7 @@ pub fn compliant_parts(
 ) -> PyResult<Py<PyAny>> {
     use spacearm_core::error::ModelItem;
     use spacearm_core::model::appendage::{self, CompliantSpec};
-    let link = link_spec(py, name, parent, joint_type, origin, rotation, axis, com, mass, inertia, joint_name, limits)?;
+    let link = link_spec(py, link)?;
     let spec = CompliantSpec { stiffness, rotor_inertia, damping, gear_ratio };
     let parts = appendage::compliant_parts(&link, &spec, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
     parts_to_py(py, parts)
@@ -409,24 +390,8 @@ pub fn cmg_parts(py: Python<'_>, spec: &Bound<'_, PyAny>, base: &str) -> PyResul
 /// (body index), `gimbal_dof`, `rotor_dof`, `gimbal_axis`, `spin_axis` (parent frame, at zero
 /// gimbal angle), `rotor_inertia`, `variable_speed`, `max_gimbal_rate`, `max_wheel_speed`.
 #[pyfunction]
-pub fn cmgs(py: Python<'_>, model: &Bound<'_, PyModel>) -> PyResult<Vec<Py<PyAny>>> {
-    use pyo3::types::PyDict;
-    let mut out = Vec::new();
-    for c in spacearm_core::model::cmg::detect_cmgs(&model.borrow().model) {
-        let d = PyDict::new(py);
-        d.set_item("name", c.name)?;
-        d.set_item("parent", c.parent_body)?;
-        d.set_item("gimbal_dof", c.gimbal_dof)?;
-        d.set_item("rotor_dof", c.rotor_dof)?;
-        d.set_item("gimbal_axis", c.gimbal_axis)?;
-        d.set_item("spin_axis", c.spin_axis)?;
-        d.set_item("rotor_inertia", c.rotor_inertia)?;
-        d.set_item("variable_speed", c.variable_speed)?;
-        d.set_item("max_gimbal_rate", c.max_gimbal_rate)?;
-        d.set_item("max_wheel_speed", c.max_wheel_speed)?;
-        out.push(d.into_any().unbind());
-    }
-    Ok(out)
+pub fn cmgs<'py>(py: Python<'py>, model: &Bound<'py, PyModel>) -> PyResult<Bound<'py, PyAny>> {
+    crate::controller_spec_py::to_data(py, &spacearm_core::model::cmg::detect_cmgs(&model.borrow().model))
 }
 
 /// The generalized velocity with every CMG rotor at `wheel_speed` (one value, or one per CMG)

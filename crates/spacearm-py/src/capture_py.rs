@@ -4,87 +4,23 @@
 //! phase end to end, the impact, the captured system, the momentum ledger). Wrapped by
 //! `spacearm.capture.capture`, whose `CaptureResult` adds the figures and the files.
 
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use spacearm_core::sim::capture::{check_capture as core_check_capture, run_capture as core_run_capture, CaptureRun};
 use spacearm_core::sim::capture_spec::CaptureSpec;
 
-use crate::contact_py::{grasp_impulse_of, PyGraspImpulse};
+use crate::contact_py::PyGraspImpulse;
 use crate::controller_spec_py::from_data;
 use crate::convert::*;
 use crate::model_py::PyModel;
 
-/// A capture mission's records (`spacearm_core::sim::capture::CaptureRun`): every array has one
-/// row per sample `t`, the phases end to end.
-#[pyclass(module = "spacearm._core", name = "CaptureRun", frozen, get_all)]
-pub struct PyCaptureRun {
-    /// (T,) sample times, s.
-    t: Py<PyArray1<f64>>,
-    /// (T,) phase index (0 approach, 1 capture, 2 post-capture, 3 detumble).
-    phase: Py<PyArray1<i64>>,
-    /// (T, 7+N) robot configurations.
-    x: Py<PyArray2<f64>>,
-    /// (T, 6+N) robot velocities.
-    u: Py<PyArray2<f64>>,
-    /// (T, N) joint torques applied.
-    tau: Py<PyArray2<f64>>,
-    /// (T, 6) base wrench applied.
-    base_wrench: Py<PyArray2<f64>>,
-    /// (T, 13) target states.
-    target: Py<PyArray2<f64>>,
-    /// (T, 3) robot + target linear momentum.
-    #[pyo3(name = "P")]
-    p: Py<PyArray2<f64>>,
-    /// (T, 3) robot + target angular momentum about the origin.
-    #[pyo3(name = "L")]
-    l: Py<PyArray2<f64>>,
-    /// (T, 6) the wrench holding the target (moment about its CM).
-    grasp_wrench: Py<PyArray2<f64>>,
-    /// The grasp impact (soft: the lock after the impedance phase).
-    impact: Py<PyGraspImpulse>,
-    /// The combined model (None for a point contact).
-    captured: Option<Py<PyModel>>,
-    /// The combined system's state at the grasp, `(x, u)` (None for a point contact).
-    captured_state: Option<(Py<PyArray1<f64>>, Py<PyArray1<f64>>)>,
-    /// The target's link name and the body it rides on (None for a point contact).
-    captured_names: Option<(String, String)>,
-    /// s after the detumble phase starts (inf: never).
-    time_to_detumble: f64,
-    /// |ω0| at the end, rad/s.
-    residual_spin: f64,
-    /// Relative drift of P.
-    drift_p: f64,
-    /// Relative drift of L.
-    drift_l: f64,
-    /// The scales of the drifts, (P, L).
-    drift_scales: (f64, f64),
-    /// When the approach ended (the grasp event), s.
-    approach_end: f64,
-    /// `"conservation"` (empty space: the drifts are the momenta's changes) or `"balance"` (in
-    /// orbit: the residuals of change = integral of the external wrenches).
-    ledger: &'static str,
-    /// In orbit: (T, 6) the external wrench about the origin (tidal + thrusters); else None.
-    external_wrench: Option<Py<PyArray2<f64>>>,
-    /// In orbit: (T, 6) its trapezoid integral from 0.
-    external_impulse: Option<Py<PyArray2<f64>>>,
-    /// In orbit: (T, 3) the chaser's system CM in ECI.
-    r_cm_eci: Option<Py<PyArray2<f64>>>,
-    /// In orbit: (T, 3) its velocity in ECI.
-    v_cm_eci: Option<Py<PyArray2<f64>>>,
-    /// In orbit: (T, 6) the target's CM relative to the robot's own CM in the robot's LVLH.
-    target_lvlh: Option<Py<PyArray2<f64>>>,
-}
-
-fn rows<'py>(py: Python<'py>, v: Vec<f64>, width: usize) -> PyResult<Py<PyArray2<f64>>> {
-    let k = if width == 0 { 0 } else { v.len() / width };
-    Ok(PyArray1::from_vec(py, v).reshape([k, width])?.unbind())
-}
-
-impl PyCaptureRun {
-    fn of(py: Python<'_>, run: CaptureRun, kind: &str) -> PyResult<Self> {
+result_class! {
+    /// A capture mission's records (`spacearm_core::sim::capture::CaptureRun`): every array has one
+    /// row per sample `t`, the phases end to end.
+    PyCaptureRun as "CaptureRun", fn of(py: Python<'_>, run: CaptureRun, kind: &str) -> PyResult [
         let (nx, nu, n) = run.dims;
         let count = run.t.len();
-        let tau = if n == 0 { PyArray2::zeros(py, [count, 0], false).unbind() } else { rows(py, run.tau, n)? };
+        let tau = if n == 0 { PyArray2::zeros(py, [count, 0], false).unbind() } else { rows(py, run.tau, n)?.unbind() };
         let approach_end = run.approach_stop.map_or(f64::NAN, |s| s.t);
         let (captured, captured_state, captured_names) = match run.captured {
             Some(c) => (
@@ -97,43 +33,71 @@ impl PyCaptureRun {
         let (mut ew, mut ei, mut rc, mut vc, mut tl) = (None, None, None, None, None);
         let ledger = match run.orbit {
             Some(o) => {
-                ew = Some(rows(py, o.external_wrench, 6)?);
-                ei = Some(rows(py, o.external_impulse, 6)?);
-                rc = Some(rows(py, o.r_cm_eci, 3)?);
-                vc = Some(rows(py, o.v_cm_eci, 3)?);
-                tl = Some(rows(py, o.target_lvlh, 6)?);
+                ew = Some(rows(py, o.external_wrench, 6)?.unbind());
+                ei = Some(rows(py, o.external_impulse, 6)?.unbind());
+                rc = Some(rows(py, o.r_cm_eci, 3)?.unbind());
+                vc = Some(rows(py, o.v_cm_eci, 3)?.unbind());
+                tl = Some(rows(py, o.target_lvlh, 6)?.unbind());
                 "balance"
             }
             None => "conservation",
         };
-        Ok(PyCaptureRun {
-            t: PyArray1::from_vec(py, run.t).unbind(),
-            phase: PyArray1::from_vec(py, run.phase).unbind(),
-            x: rows(py, run.x, nx)?,
-            u: rows(py, run.u, nu)?,
-            tau,
-            base_wrench: rows(py, run.base_wrench, 6)?,
-            target: rows(py, run.target, 13)?,
-            p: rows(py, run.ledger.p, 3)?,
-            l: rows(py, run.ledger.l, 3)?,
-            grasp_wrench: rows(py, run.grasp_wrench, 6)?,
-            impact: Py::new(py, grasp_impulse_of(py, if kind == "point" { "point" } else { "rigid" }, &run.impact, &run.impact_target_x))?,
-            captured,
-            captured_state,
-            captured_names,
-            time_to_detumble: run.time_to_detumble,
-            residual_spin: run.residual_spin,
-            drift_p: run.ledger.drift_p,
-            drift_l: run.ledger.drift_l,
-            drift_scales: (run.ledger.scale_p, run.ledger.scale_l),
-            approach_end,
-            ledger,
-            external_wrench: ew,
-            external_impulse: ei,
-            r_cm_eci: rc,
-            v_cm_eci: vc,
-            target_lvlh: tl,
-        })
+    ] {
+        /// (T,) sample times, s.
+        t: Py<PyArray1<f64>> = PyArray1::from_vec(py, run.t).unbind(),
+        /// (T,) phase index (0 approach, 1 capture, 2 post-capture, 3 detumble).
+        phase: Py<PyArray1<i64>> = PyArray1::from_vec(py, run.phase).unbind(),
+        /// (T, 7+N) robot configurations.
+        x: Py<PyArray2<f64>> = rows(py, run.x, nx)?.unbind(),
+        /// (T, 6+N) robot velocities.
+        u: Py<PyArray2<f64>> = rows(py, run.u, nu)?.unbind(),
+        /// (T, N) joint torques applied.
+        tau: Py<PyArray2<f64>> = tau,
+        /// (T, 6) base wrench applied.
+        base_wrench: Py<PyArray2<f64>> = rows(py, run.base_wrench, 6)?.unbind(),
+        /// (T, 13) target states.
+        target: Py<PyArray2<f64>> = rows(py, run.target, 13)?.unbind(),
+        /// (T, 3) robot + target linear momentum.
+        #[pyo3(name = "P")]
+        p: Py<PyArray2<f64>> = rows(py, run.ledger.p, 3)?.unbind(),
+        /// (T, 3) robot + target angular momentum about the origin.
+        #[pyo3(name = "L")]
+        l: Py<PyArray2<f64>> = rows(py, run.ledger.l, 3)?.unbind(),
+        /// (T, 6) the wrench holding the target (moment about its CM).
+        grasp_wrench: Py<PyArray2<f64>> = rows(py, run.grasp_wrench, 6)?.unbind(),
+        /// The grasp impact (soft: the lock after the impedance phase).
+        impact: Py<PyGraspImpulse> = Py::new(py, PyGraspImpulse::of(py, if kind == "point" { "point" } else { "rigid" }, &run.impact, &run.impact_target_x))?,
+        /// The combined model (None for a point contact).
+        captured: Option<Py<PyModel>> = captured,
+        /// The combined system's state at the grasp, `(x, u)` (None for a point contact).
+        captured_state: Option<(Py<PyArray1<f64>>, Py<PyArray1<f64>>)> = captured_state,
+        /// The target's link name and the body it rides on (None for a point contact).
+        captured_names: Option<(String, String)> = captured_names,
+        /// s after the detumble phase starts (inf: never).
+        time_to_detumble: f64 = run.time_to_detumble,
+        /// |ω0| at the end, rad/s.
+        residual_spin: f64 = run.residual_spin,
+        /// Relative drift of P.
+        drift_p: f64 = run.ledger.drift_p,
+        /// Relative drift of L.
+        drift_l: f64 = run.ledger.drift_l,
+        /// The scales of the drifts, (P, L).
+        drift_scales: (f64, f64) = (run.ledger.scale_p, run.ledger.scale_l),
+        /// When the approach ended (the grasp event), s.
+        approach_end: f64 = approach_end,
+        /// `"conservation"` (empty space: the drifts are the momenta's changes) or `"balance"` (in
+        /// orbit: the residuals of change = integral of the external wrenches).
+        ledger: &'static str = ledger,
+        /// In orbit: (T, 6) the external wrench about the origin (tidal + thrusters); else None.
+        external_wrench: Option<Py<PyArray2<f64>>> = ew,
+        /// In orbit: (T, 6) its trapezoid integral from 0.
+        external_impulse: Option<Py<PyArray2<f64>>> = ei,
+        /// In orbit: (T, 3) the chaser's system CM in ECI.
+        r_cm_eci: Option<Py<PyArray2<f64>>> = rc,
+        /// In orbit: (T, 3) its velocity in ECI.
+        v_cm_eci: Option<Py<PyArray2<f64>>> = vc,
+        /// In orbit: (T, 6) the target's CM relative to the robot's own CM in the robot's LVLH.
+        target_lvlh: Option<Py<PyArray2<f64>>> = tl,
     }
 }
 
@@ -164,7 +128,7 @@ pub fn run_capture(py: Python<'_>, model: PyRef<'_, PyModel>, x0: &Bound<'_, PyA
     let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
     // Copies of the models: the run holds no borrow of the Python objects.
     let (rm, tm) = (model.model.clone(), target.model.clone());
-    let (result, interrupted) = crate::interrupt::run_reporting(py, |progress| core_run_capture(&rm, &x0, &u0, &tm, &spec, progress));
+    let (result, interrupted) = crate::interrupt::run_reporting(py, None, |progress| core_run_capture(&rm, &x0, &u0, &tm, &spec, progress));
     let run = result.map_err(|e| interrupted.unwrap_or_else(|| to_py_err(py, e)))?;
     PyCaptureRun::of(py, run, &spec.kind)
 }

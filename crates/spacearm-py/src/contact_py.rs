@@ -7,32 +7,33 @@ use nalgebra::DMatrix;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use spacearm_core::algorithms::impulse::{self, BodyPoint, GraspContact, JointsAtImpact};
-use spacearm_core::SpacearmError;
+use spacearm_core::sim::simulate::{SimOptions, SimResult};
+use spacearm_core::{Model, SpacearmError};
 
-use crate::controller_spec_py::{build_controller, error_slot, take_error};
 use crate::convert::*;
 use crate::model_py::PyModel;
 use crate::records_py::PyRunResult;
 use crate::sim_options_py::PyRunOptions;
-use spacearm_core::control::{Controller, ZeroTorque};
+use crate::simulate_py::{run_controlled, RunArgs};
 use spacearm_core::sim::soft_capture::{self as soft, ImpedanceSpec};
 use spacearm_core::algorithms::constrained::LoopClosure;
 use spacearm_core::derivatives::{loop_closure_bias, ClosureBiasWork};
 use spacearm_core::sim::closed_chain::simulate_closed_chain as core_closed_chain;
 
-/// The result of `impulse_dynamics` (`spacearm_core::algorithms::impulse::ImpulseDynamics`).
-#[pyclass(module = "spacearm._core", name = "ImpulseDynamics", frozen, get_all)]
-pub struct PyImpulseDynamics {
-    /// (6+N,) the generalized velocity after the impact.
-    u_after: Py<PyArray1<f64>>,
-    /// (6+N,) the jump Δu = H⁻¹ Jᵀ Λ (zero on locked coordinates).
-    du: Py<PyArray1<f64>>,
-    /// (m,) the contact impulse Λ.
-    impulse: Py<PyArray1<f64>>,
-    /// (m, m) the Delassus operator J H⁻¹ Jᵀ over the mobile coordinates.
-    delassus: Py<PyArray2<f64>>,
-    /// (N,) the impulsive joint torques that hold locked joints (zeros with free joints).
-    locking_impulse: Py<PyArray1<f64>>,
+result_class! {
+    /// The result of `impulse_dynamics` (`spacearm_core::algorithms::impulse::ImpulseDynamics`).
+    PyImpulseDynamics as "ImpulseDynamics", fn of(py: Python<'_>, r: &impulse::ImpulseDynamics) {
+        /// (6+N,) the generalized velocity after the impact.
+        u_after: Py<PyArray1<f64>> = dvec(py, &r.u_after).unbind(),
+        /// (6+N,) the jump Δu = H⁻¹ Jᵀ Λ (zero on locked coordinates).
+        du: Py<PyArray1<f64>> = dvec(py, &r.du).unbind(),
+        /// (m,) the contact impulse Λ.
+        impulse: Py<PyArray1<f64>> = dvec(py, &r.impulse).unbind(),
+        /// (m, m) the Delassus operator J H⁻¹ Jᵀ over the mobile coordinates.
+        delassus: Py<PyArray2<f64>> = dmat(py, &r.delassus).unbind(),
+        /// (N,) the impulsive joint torques that hold locked joints (zeros with free joints).
+        locking_impulse: Py<PyArray1<f64>> = dvec(py, &r.locking_impulse).unbind(),
+    }
 }
 
 #[pymethods]
@@ -42,22 +43,25 @@ impl PyImpulseDynamics {
     }
 }
 
-/// Where an impulse's momentum goes, about the base CM (`[P; L_base]`, eq. 42):
-/// `spacearm_core::algorithms::impulse::MomentumSplit`, the public
-/// `spacearm.capture.MomentumSplit` (`capture.impulse_momentum_split` returns it). Read-only arrays.
-#[pyclass(module = "spacearm._core", name = "MomentumSplit", frozen, get_all)]
-pub struct PyMomentumSplit {
-    /// (6,) H0 Δẋ0: the momentum the base's own jump carries.
-    base: Py<PyArray1<f64>>,
-    /// (6,) H0m Δq̇: the coupling momentum the joints take up.
-    arm: Py<PyArray1<f64>>,
-    /// (6,) J_0Xᵀ Λ: the impulse's momentum about the base CM (base + arm).
-    total: Py<PyArray1<f64>>,
-    /// (6, 6) B with Δẋ0 = B Λ: impulses in its null space leave the base still.
-    base_jump_map: Py<PyArray2<f64>>,
-    /// (6,) the singular values of B, largest first: a zero one means a reaction-null impulse
-    /// direction exists.
-    base_jump_singular_values: Py<PyArray1<f64>>,
+result_class! {
+    /// Where an impulse's momentum goes, about the base CM (`[P; L_base]`, eq. 42):
+    /// `spacearm_core::algorithms::impulse::MomentumSplit`, the public
+    /// `spacearm.capture.MomentumSplit` (`capture.impulse_momentum_split` returns it). Read-only arrays.
+    PyMomentumSplit as "MomentumSplit", fn of(py: Python<'_>, s: &impulse::MomentumSplit) [
+        let ro = |v: &[f64]| read_only(array1(py, v));
+    ] {
+        /// (6,) H0 Δẋ0: the momentum the base's own jump carries.
+        base: Py<PyArray1<f64>> = ro(s.base.as_slice()),
+        /// (6,) H0m Δq̇: the coupling momentum the joints take up.
+        arm: Py<PyArray1<f64>> = ro(s.arm.as_slice()),
+        /// (6,) J_0Xᵀ Λ: the impulse's momentum about the base CM (base + arm).
+        total: Py<PyArray1<f64>> = ro(s.total.as_slice()),
+        /// (6, 6) B with Δẋ0 = B Λ: impulses in its null space leave the base still.
+        base_jump_map: Py<PyArray2<f64>> = read_only(matrix(py, &s.base_jump_map)),
+        /// (6,) the singular values of B, largest first: a zero one means a reaction-null impulse
+        /// direction exists.
+        base_jump_singular_values: Py<PyArray1<f64>> = ro(s.base_jump_singular_values.as_slice()),
+    }
 }
 
 #[pymethods]
@@ -124,14 +128,7 @@ pub fn impulse_momentum_split(
     let lam = vec6(impulse, "impulse")?;
     let x = vec_arg(x, "x")?;
     let s = model.with_data(|m, d| impulse::impulse_momentum_split(m, d, x.as_slice(), point, &lam)).or_raise(py)?;
-    let ro = |v: &[f64]| read_only(array1(py, v));
-    Ok(PyMomentumSplit {
-        base: ro(s.base.as_slice()),
-        arm: ro(s.arm.as_slice()),
-        total: ro(s.total.as_slice()),
-        base_jump_map: read_only(matrix(py, &s.base_jump_map)),
-        base_jump_singular_values: ro(s.base_jump_singular_values.as_slice()),
-    })
+    Ok(PyMomentumSplit::of(py, &s))
 }
 
 /// The wrench `[f; n]` (𝒥, the moment about the body's CM) that the joint of `body` transmits to
@@ -170,47 +167,51 @@ pub fn joint_wrenches<'py>(
     Ok(matrix(py, &out.transpose()))
 }
 
-/// The result of `grasp_impact` (`spacearm_core::algorithms::impulse::GraspImpact`), every
-/// vector in 𝒥: the public `spacearm.capture.GraspImpulse` (`capture.grasp_impulse` returns it;
-/// no Python copy of its fields). Built once; the arrays are read-only.
-#[pyclass(module = "spacearm._core", name = "GraspImpulse", frozen, get_all)]
-pub struct PyGraspImpulse {
-    /// "rigid" or "point".
-    kind: String,
-    /// (6+N,) the robot's velocity jump [Δv0, Δω0, Δq̇].
-    du: Py<PyArray1<f64>>,
-    /// The target's jump of its model's u: [v; ω] (CM velocity, angular velocity, 6) of a rigid target.
-    target_dtwist: Py<PyArray1<f64>>,
-    /// (6,) Λ = [f̂; n̂] on the robot at the grasp point (N·s, N·m·s); the target gets −Λ.
-    impulse: Py<PyArray1<f64>>,
-    /// (3,) the grasp point X (the robot's point), m.
-    point: Py<PyArray1<f64>>,
-    /// Distance from X to the target's grasp point, m: zero for a perfect approach.
-    gap: f64,
-    /// (6+N,) the robot's velocity after the impact.
-    u_after: Py<PyArray1<f64>>,
-    /// The target's state after the impact: its x followed by its u after.
-    target_state_after: Py<PyArray1<f64>>,
-    /// (6,) the relative twist at X (gripper minus target) before the impact.
-    relative_twist_before: Py<PyArray1<f64>>,
-    /// (6,) the relative twist at X after the impact.
-    relative_twist_after: Py<PyArray1<f64>>,
-    /// (6, 6) the robot's inverse inertia at X.
-    #[pyo3(name = "G_robot")]
-    g_robot: Py<PyArray2<f64>>,
-    /// (6, 6) the target's inverse inertia at X.
-    #[pyo3(name = "G_target")]
-    g_target: Py<PyArray2<f64>>,
-    /// Energy the grasp dissipates, −Λᵀ(v_rel⁻ + v_rel⁺)/2, J (>= 0 to rounding; excludes locking_work).
-    energy_lost: f64,
-    /// Work of the locking joint impulses τ̂ᵀq̇, J (either sign; 0 with the arm free).
-    locking_work: f64,
-    /// The target's velocity after the impact (of its model's u).
-    target_u_after: Py<PyArray1<f64>>,
-    /// (3,) the unit contact normal of a point contact, or None.
-    normal: Option<Py<PyArray1<f64>>>,
-    /// (N,) the locking joint impulses τ̂ (zeros with the arm free).
-    locking_impulse: Py<PyArray1<f64>>,
+result_class! {
+    /// The result of `grasp_impact` (`spacearm_core::algorithms::impulse::GraspImpact`), every
+    /// vector in 𝒥: the public `spacearm.capture.GraspImpulse` (`capture.grasp_impulse` returns it;
+    /// no Python copy of its fields). Built once; the arrays are read-only.
+    PyGraspImpulse as "GraspImpulse", fn of(py: Python<'_>, kind: &str, g: &impulse::GraspImpact, x_target: &[f64]) [
+        let ro1 = |v: &[f64]| read_only(array1(py, v));
+        let target_state_after = x_target.iter().chain(g.target_u_after.iter()).copied().collect::<Vec<f64>>();
+    ] {
+        /// "rigid" or "point".
+        kind: String = kind.to_owned(),
+        /// (6+N,) the robot's velocity jump [Δv0, Δω0, Δq̇].
+        du: Py<PyArray1<f64>> = ro1(g.du.as_slice()),
+        /// The target's jump of its model's u: [v; ω] (CM velocity, angular velocity, 6) of a rigid target.
+        target_dtwist: Py<PyArray1<f64>> = ro1(g.target_du.as_slice()),
+        /// (6,) Λ = [f̂; n̂] on the robot at the grasp point (N·s, N·m·s); the target gets −Λ.
+        impulse: Py<PyArray1<f64>> = ro1(g.impulse.as_slice()),
+        /// (3,) the grasp point X (the robot's point), m.
+        point: Py<PyArray1<f64>> = ro1(g.point.as_slice()),
+        /// Distance from X to the target's grasp point, m: zero for a perfect approach.
+        gap: f64 = g.gap,
+        /// (6+N,) the robot's velocity after the impact.
+        u_after: Py<PyArray1<f64>> = ro1(g.u_after.as_slice()),
+        /// The target's state after the impact: its x followed by its u after.
+        target_state_after: Py<PyArray1<f64>> = ro1(&target_state_after),
+        /// (6,) the relative twist at X (gripper minus target) before the impact.
+        relative_twist_before: Py<PyArray1<f64>> = ro1(g.relative_twist_before.as_slice()),
+        /// (6,) the relative twist at X after the impact.
+        relative_twist_after: Py<PyArray1<f64>> = ro1(g.relative_twist_after.as_slice()),
+        /// (6, 6) the robot's inverse inertia at X.
+        #[pyo3(name = "G_robot")]
+        g_robot: Py<PyArray2<f64>> = read_only(matrix(py, &g.g_robot)),
+        /// (6, 6) the target's inverse inertia at X.
+        #[pyo3(name = "G_target")]
+        g_target: Py<PyArray2<f64>> = read_only(matrix(py, &g.g_target)),
+        /// Energy the grasp dissipates, −Λᵀ(v_rel⁻ + v_rel⁺)/2, J (>= 0 to rounding; excludes locking_work).
+        energy_lost: f64 = g.energy_lost,
+        /// Work of the locking joint impulses τ̂ᵀq̇, J (either sign; 0 with the arm free).
+        locking_work: f64 = g.locking_work,
+        /// The target's velocity after the impact (of its model's u).
+        target_u_after: Py<PyArray1<f64>> = ro1(g.target_u_after.as_slice()),
+        /// (3,) the unit contact normal of a point contact, or None.
+        normal: Option<Py<PyArray1<f64>>> = g.normal.map(|n| ro1(n.as_slice())),
+        /// (N,) the locking joint impulses τ̂ (zeros with the arm free).
+        locking_impulse: Py<PyArray1<f64>> = ro1(g.locking_impulse.as_slice()),
+    }
 }
 
 #[pymethods]
@@ -253,13 +254,7 @@ pub fn impulse_dynamics(
     let (j, rows, cols) = matrix_arg(jacobian, "jacobian")?;
     let j = DMatrix::from_row_slice(rows, cols, &j);
     let r = model.with_data(|m, d| impulse::impulse_dynamics(m, d, x.as_slice(), u.as_slice(), &j, restitution, joints)).or_raise(py)?;
-    Ok(PyImpulseDynamics {
-        u_after: dvec(py, &r.u_after).unbind(),
-        du: dvec(py, &r.du).unbind(),
-        impulse: dvec(py, &r.impulse).unbind(),
-        delassus: dmat(py, &r.delassus).unbind(),
-        locking_impulse: dvec(py, &r.locking_impulse).unbind(),
-    })
+    Ok(PyImpulseDynamics::of(py, &r))
 }
 
 /// Refuse a target grasp point `offset` (m, from the CM of `body`, in its axes) farther from the
@@ -316,55 +311,34 @@ pub fn grasp_impact(
             })
         })
         .or_raise(py)?;
-    Ok(grasp_impulse_of(py, kind, &g, xt.as_slice()))
+    Ok(PyGraspImpulse::of(py, kind, &g, xt.as_slice()))
 }
 
-/// The binding's `GraspImpulse` of a core impact (`x_target`: the target's configuration at it).
-pub(crate) fn grasp_impulse_of(py: Python<'_>, kind: &str, g: &impulse::GraspImpact, x_target: &[f64]) -> PyGraspImpulse {
-    let ro1 = |v: &[f64]| read_only(array1(py, v));
-    let target_state_after: Vec<f64> = x_target.iter().chain(g.target_u_after.iter()).copied().collect();
-    PyGraspImpulse {
-        kind: kind.to_owned(),
-        du: ro1(g.du.as_slice()),
-        target_dtwist: ro1(g.target_du.as_slice()),
-        impulse: ro1(g.impulse.as_slice()),
-        point: ro1(g.point.as_slice()),
-        gap: g.gap,
-        u_after: ro1(g.u_after.as_slice()),
-        target_state_after: ro1(&target_state_after),
-        relative_twist_before: ro1(g.relative_twist_before.as_slice()),
-        relative_twist_after: ro1(g.relative_twist_after.as_slice()),
-        g_robot: read_only(matrix(py, &g.g_robot)),
-        g_target: read_only(matrix(py, &g.g_target)),
-        energy_lost: g.energy_lost,
-        locking_work: g.locking_work,
-        target_u_after: ro1(g.target_u_after.as_slice()),
-        normal: g.normal.map(|n| ro1(n.as_slice())),
-        locking_impulse: ro1(g.locking_impulse.as_slice()),
+result_class! {
+    /// The result of `soft_capture` (`spacearm_core::sim::soft_capture::SoftCaptureResult`).
+    PySoftCaptureResult as "SoftCaptureResult", fn of(py: Python<'_>, res: soft::SoftCaptureResult, (rm, tm): (&Model, &Model), opts: &SimOptions, float32: bool) -> PyResult [
+        let g = res.gains;
+        let target_opts = SimOptions { wheels: Some(Vec::new()), ..opts.clone() };
+    ] {
+        /// The robot's run (its records, onsets, description).
+        robot: Py<PyRunResult> = Py::new(py, PyRunResult::of_run(py, res.robot, opts, float32, (rm.nx(), rm.nu(), rm.n_dof()))?)?,
+        /// The target's run (zero torques).
+        target: Py<PyRunResult> = Py::new(py, PyRunResult::of_run(py, res.target, &target_opts, float32, (tm.nx(), tm.nu(), tm.n_dof()))?)?,
+        /// (K, 6) the impedance's wrench [f; n] on the robot at its grasp point, in the inertial frame.
+        wrench: Py<PyArray2<f64>> = rows(py, res.wrench, 6)?.unbind(),
+        /// K, N/m.
+        stiffness: f64 = g.stiffness,
+        /// D, N s/m.
+        damping: f64 = g.damping,
+        /// K_r, N m/rad.
+        rotational_stiffness: f64 = g.rotational_stiffness,
+        /// D_r, N m s/rad.
+        rotational_damping: f64 = g.rotational_damping,
+        /// Drift of robot + target P over the samples (relative, the core's definition).
+        drift_linear: f64 = res.drift[0],
+        /// Drift of robot + target L about the origin over the samples.
+        drift_angular: f64 = res.drift[1],
     }
-}
-
-/// The result of `soft_capture` (`spacearm_core::sim::soft_capture::SoftCaptureResult`).
-#[pyclass(module = "spacearm._core", name = "SoftCaptureResult", frozen, get_all)]
-pub struct PySoftCaptureResult {
-    /// The robot's run (its records, onsets, description).
-    robot: Py<PyRunResult>,
-    /// The target's run (zero torques).
-    target: Py<PyRunResult>,
-    /// (K, 6) the impedance's wrench [f; n] on the robot at its grasp point, in the inertial frame.
-    wrench: Py<PyArray2<f64>>,
-    /// K, N/m.
-    stiffness: f64,
-    /// D, N s/m.
-    damping: f64,
-    /// K_r, N m/rad.
-    rotational_stiffness: f64,
-    /// D_r, N m s/rad.
-    rotational_damping: f64,
-    /// Drift of robot + target P over the samples (relative, the core's definition).
-    drift_linear: f64,
-    /// Drift of robot + target L about the origin over the samples.
-    drift_angular: f64,
 }
 
 #[pymethods]
@@ -415,35 +389,25 @@ pub fn soft_capture(
     let spec = ImpedanceSpec { frequency, damping_ratio, stiffness, damping, rotational_stiffness, rotational_damping };
     // Copies of the models: the run holds no borrow of the Python objects.
     let (rm, tm) = (robot.model.clone(), target.model.clone());
-    let res = run_controlled(py, &rm, controller_spec, |controller, progress| {
+    let res = run_controlled(py, &rm, controller_spec, None, |controller, progress| {
         soft::soft_capture(&rm, &x, &u, robot_point, &tm, &xt, &ut, target_point, &spec, &opts, controller, progress)
     })?;
-    let k = res.wrench.len() / 6;
-    let wrench = numpy::PyArray1::from_slice(py, &res.wrench).reshape([k, 6])?.unbind();
-    let g = res.gains;
-    let target_opts = spacearm_core::sim::simulate::SimOptions { wheels: Some(Vec::new()), ..opts.clone() };
-    Ok(PySoftCaptureResult {
-        robot: Py::new(py, PyRunResult::of_run(py, res.robot, &opts, float32, (rm.nx(), rm.nu(), rm.n_dof()))?)?,
-        target: Py::new(py, PyRunResult::of_run(py, res.target, &target_opts, float32, (tm.nx(), tm.nu(), tm.n_dof()))?)?,
-        wrench,
-        stiffness: g.stiffness,
-        damping: g.damping,
-        rotational_stiffness: g.rotational_stiffness,
-        rotational_damping: g.rotational_damping,
-        drift_linear: res.drift[0],
-        drift_angular: res.drift[1],
-    })
+    PySoftCaptureResult::of(py, res, (&rm, &tm), &opts, float32)
 }
 
-/// A closed chain's run (`spacearm_core::sim::closed_chain`).
-#[pyclass(module = "spacearm._core", name = "ClosedChainResult", frozen, get_all)]
-pub struct PyClosedChainResult {
-    /// The run (records, onsets, description).
-    run: Py<PyRunResult>,
-    /// (K, 6) λ: the wrench on frame b at its origin, [force; torque] in the inertial frame (body a gets −λ).
-    constraint_wrench: Py<PyArray2<f64>>,
-    /// (K, 6) e = [position error (m); rotation error (rad)].
-    pose_error: Py<PyArray2<f64>>,
+result_class! {
+    /// A closed chain's run (`spacearm_core::sim::closed_chain`).
+    PyClosedChainResult as "ClosedChainResult", fn of(py: Python<'_>, mut res: SimResult, m: &Model, opts: &SimOptions, float32: bool) -> PyResult [
+        let constraint_wrench = rows(py, res.records.constraint_wrench.take().unwrap_or_default(), 6)?.unbind();
+        let pose_error = rows(py, res.records.constraint_error.take().unwrap_or_default(), 6)?.unbind();
+    ] {
+        /// The run (records, onsets, description).
+        run: Py<PyRunResult> = Py::new(py, PyRunResult::of_run(py, res, opts, float32, (m.nx(), m.nu(), m.n_dof()))?)?,
+        /// (K, 6) λ: the wrench on frame b at its origin, [force; torque] in the inertial frame (body a gets −λ).
+        constraint_wrench: Py<PyArray2<f64>> = constraint_wrench,
+        /// (K, 6) e = [position error (m); rotation error (rad)].
+        pose_error: Py<PyArray2<f64>> = pose_error,
+    }
 }
 
 #[pymethods]
@@ -453,19 +417,14 @@ impl PyClosedChainResult {
     }
 }
 
-/// The loop-closure terms at one state (`LoopClosure::jacobian`, `derivatives::loop_closure_bias`).
-#[pyclass(module = "spacearm._core", name = "LoopClosureTerms", frozen, get_all)]
-pub struct PyLoopClosureTerms {
-    /// (6, 6+N) J_c = J_b − J_a at b's origin.
-    jacobian: Py<PyArray2<f64>>,
-    /// (6,) the exact J̇_c u.
-    jdot_u: Py<PyArray1<f64>>,
-}
-
-fn rows6(py: Python<'_>, v: Option<Vec<f64>>) -> PyResult<Py<PyArray2<f64>>> {
-    let v = v.unwrap_or_default();
-    let k = v.len() / 6;
-    Ok(numpy::PyArray1::from_vec(py, v).reshape([k, 6])?.unbind())
+result_class! {
+    /// The loop-closure terms at one state (`LoopClosure::jacobian`, `derivatives::loop_closure_bias`).
+    PyLoopClosureTerms as "LoopClosureTerms", fn of(py: Python<'_>, j: &DMatrix<f64>, jd: &[f64]) {
+        /// (6, 6+N) J_c = J_b − J_a at b's origin.
+        jacobian: Py<PyArray2<f64>> = dmat(py, j).unbind(),
+        /// (6,) the exact J̇_c u.
+        jdot_u: Py<PyArray1<f64>> = array1(py, jd).unbind(),
+    }
 }
 
 /// `J_c` and the exact `J̇_c u` of the loop closing frames a and b at `(x, u)`.
@@ -490,7 +449,7 @@ pub fn loop_closure(
             Ok((c.jacobian(m, d), jd))
         })
         .or_raise(py)?;
-    Ok(PyLoopClosureTerms { jacobian: dmat(py, &j).unbind(), jdot_u: array1(py, jd.as_slice()).unbind() })
+    Ok(PyLoopClosureTerms::of(py, &j, jd.as_slice()))
 }
 
 /// Simulate `model` with the frames at `(body_a, offset_a)` and `(body_b, offset_b)` welded at
@@ -514,33 +473,11 @@ pub fn simulate_closed_chain(
     stabilization: f64,
 ) -> PyResult<PyClosedChainResult> {
     let (a, b) = (body_point(body_a, offset_a, "offset_a")?, body_point(body_b, offset_b, "offset_b")?);
-    let x0 = vec_arg(x0, "x0")?.as_slice().to_vec();
-    let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
-    let (opts, float32) = (options.sim_options(duration), options.records_float32());
-    let m = model.model.clone();
-    let mut res = run_controlled(py, &m, controller_spec, |controller, progress| core_closed_chain(&m, &x0, &u0, a, b, stabilization, &opts, controller, progress))?;
-    let constraint_wrench = rows6(py, res.records.constraint_wrench.take())?;
-    let pose_error = rows6(py, res.records.constraint_error.take())?;
-    let run = Py::new(py, PyRunResult::of_run(py, res, &opts, float32, (m.nx(), m.nu(), m.n_dof()))?)?;
-    Ok(PyClosedChainResult { run, constraint_wrench, pose_error })
-}
-
-/// Run `work(controller, progress)` without the GIL, the controller that of `controller_spec`
-/// (None: zero torques) and Ctrl-C checked at each progress report; a failed run raises the
-/// callback controller's exception, else the interrupt, else the core's error.
-fn run_controlled<R: Send>(
-    py: Python<'_>,
-    plant: &spacearm_core::Model,
-    controller_spec: Option<&Bound<'_, PyAny>>,
-    work: impl FnOnce(&mut dyn Controller, &mut dyn FnMut(f64) -> spacearm_core::Result<()>) -> spacearm_core::Result<R> + Send,
-) -> PyResult<R> {
-    let slot = error_slot();
-    let mut controller: Box<dyn Controller> = match controller_spec {
-        Some(s) if !s.is_none() => build_controller(s, plant, &slot)?,
-        _ => Box::new(ZeroTorque),
-    };
-    let (result, interrupted) = crate::interrupt::run_reporting(py, |progress| work(controller.as_mut(), progress));
-    result.map_err(|e| take_error(&slot).or(interrupted).unwrap_or_else(|| to_py_err(py, e)))
+    let run = RunArgs::read(model.model.clone(), x0, u0, duration, &options, py)?;
+    let res = run_controlled(py, &run.plant, controller_spec, run.progress_fn.as_ref(), |controller, progress| {
+        core_closed_chain(&run.plant, &run.x0, &run.u0, a, b, stabilization, &run.opts, controller, progress)
+    })?;
+    PyClosedChainResult::of(py, res, &run.plant, &run.opts, run.float32)
 }
 
 /// Add the contact functions and classes to the module.

@@ -292,7 +292,7 @@ impl PyFreeBodyReference {
         for &ti in &times {
             out.extend_from_slice(&body.state(ti).or_raise(py)?);
         }
-        Ok(PyArray1::from_vec(py, out).reshape([times.len(), 13])?)
+        rows(py, out, 13)
     }
 
     /// The point's positions and velocities (in 𝒥) at the times `t`, each of shape (T, 3).
@@ -305,7 +305,7 @@ impl PyFreeBodyReference {
             p.extend_from_slice(pi.as_slice());
             v.extend_from_slice(vi.as_slice());
         }
-        Ok((PyArray1::from_vec(py, p).reshape([times.len(), 3])?, PyArray1::from_vec(py, v).reshape([times.len(), 3])?))
+        Ok((rows(py, p, 3)?, rows(py, v, 3)?))
     }
 
     /// The external wrench on the body (mass `mass`, kg) at the times `t`, (T, 6): in orbit the
@@ -323,7 +323,7 @@ impl PyFreeBodyReference {
             out.extend_from_slice(f.as_slice());
             out.extend_from_slice(n.as_slice());
         }
-        Ok(PyArray1::from_vec(py, out).reshape([times.len(), 6])?)
+        rows(py, out, 6)
     }
 
     /// Whether the body moves in orbit (built with `orbit=`).

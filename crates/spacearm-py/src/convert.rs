@@ -444,6 +444,13 @@ pub fn triangle_inequality(allow_nonphysical_inertia: bool) -> spacearm_core::mo
     }
 }
 
+/// The row-major `values` as a `(len / width, width)` array (the buffer moved, not copied; no
+/// rows when `width` is 0).
+pub fn rows<'py>(py: Python<'py>, values: Vec<f64>, width: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let k = if width == 0 { 0 } else { values.len() / width };
+    Ok(PyArray1::from_vec(py, values).reshape([k, width])?)
+}
+
 /// Add the `#[pyfunction]`s `functions` and the `#[pyclass]`es `classes` to the module `m`: a
 /// door's `register` as two lists (`add_to_module!(m, functions: [f, g], classes: [A, B])`).
 macro_rules! add_to_module {
@@ -479,3 +486,84 @@ macro_rules! pymethods_with_getters {
     };
 }
 pub(crate) use pymethods_with_getters;
+
+/// The one-line repr of a result (tests/test_reprs.py: short, no array's numbers):
+/// `<module.Class name=value …>` over the attributes `fields` of `obj`, an array shown by its
+/// shape (`(3, 6)`), anything else by its repr. The class is `obj`'s own, so a Python subclass
+/// (`spacearm.analysis.Motion`) reads as itself.
+pub fn summary(obj: &Bound<'_, PyAny>, fields: &[&str]) -> PyResult<String> {
+    let cls = obj.get_type();
+    let mut text = format!("<{}.{}", cls.module()?, cls.qualname()?);
+    for field in fields {
+        let value = obj.getattr(*field)?;
+        let shown = match value.cast::<PyUntypedArray>() {
+            Ok(a) if a.ndim() == 1 => format!("({},)", a.shape()[0]),
+            Ok(a) => format!("({})", a.shape().iter().map(|n| n.to_string()).collect::<Vec<_>>().join(", ")),
+            Err(_) => value.repr()?.to_string(),
+        };
+        text += &format!(" {field}={shown}");
+    }
+    Ok(text + ">")
+}
+
+/// A frozen class of a core result with its fields written once: each field's doc (and
+/// attributes), type and value — an expression of the constructor's arguments and of the
+/// `let`s in brackets before the fields. Writes the struct (`get_all`: each field a read-only
+/// attribute; more `#[pyclass]` options in parentheses after the name, `(subclass)`) and the
+/// constructor `$ctor` (`-> PyResult`: a fallible one, the values may use `?`); with `repr`
+/// first, also a `__repr__` of every field ([`summary`]). The field-by-field copy of a core
+/// result into Python stands in one list.
+macro_rules! result_class {
+    (@class [$($repr:ident)?]
+        $(#[$attr:meta])*
+        $rust:ident as $name:literal $(($($opt:ident),*))?, fn $ctor:ident($($args:tt)*) $(-> $ret:ident)? $([$(let $local:pat = $init:expr;)*])? {
+            $($(#[$fattr:meta])* $field:ident: $fty:ty = $value:expr,)+
+        }
+    ) => {
+        $(#[$attr])*
+        #[pyclass(module = "spacearm._core", name = $name, frozen, $($($opt,)*)? get_all)]
+        pub struct $rust {
+            $($(#[$fattr])* $field: $fty,)+
+        }
+
+        impl $rust {
+            /// The attributes, in order.
+            #[allow(dead_code)]
+            const FIELDS: &'static [&'static str] = &[$(stringify!($field)),+];
+
+            crate::convert::result_class!(@ctor [$($ret)?] $rust, $ctor, ($($args)*), { $($(let $local = $init;)*)? }, { $($field: $value),+ });
+        }
+
+        $(
+            #[pymethods]
+            impl $rust {
+                fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+                    let _ = stringify!($repr);
+                    crate::convert::summary(slf.as_any(), Self::FIELDS)
+                }
+            }
+        )?
+    };
+    (@ctor [] $rust:ident, $ctor:ident, ($($args:tt)*), { $($pre:tt)* }, { $($field:ident: $value:expr),+ }) => {
+        pub(crate) fn $ctor($($args)*) -> Self {
+            $($pre)*
+            $rust { $($field: $value,)+ }
+        }
+    };
+    (@ctor [PyResult] $rust:ident, $ctor:ident, ($($args:tt)*), { $($pre:tt)* }, { $($field:ident: $value:expr),+ }) => {
+        pub(crate) fn $ctor($($args)*) -> PyResult<Self> {
+            $($pre)*
+            Ok($rust { $($field: $value,)+ })
+        }
+    };
+    (@ $($rest:tt)*) => {
+        compile_error!("result_class!: expected `[repr;] docs Class as \"Name\", fn ctor(args) [-> PyResult] [lets] { fields }`");
+    };
+    (repr; $($rest:tt)*) => {
+        crate::convert::result_class!(@class [repr] $($rest)*);
+    };
+    ($($rest:tt)*) => {
+        crate::convert::result_class!(@class [] $($rest)*);
+    };
+}
+pub(crate) use result_class;

@@ -12,7 +12,7 @@ use spacearm_core::derivatives::{self, DerivativeData, DerivativeMethod, Lineari
 
 use crate::batch::{Batched, Input, Pool};
 use crate::convert::*;
-use crate::model_py::{put, with_assembled_force, wrenches as wrench_list, PyModel, WrenchList};
+use crate::model_py::{put, with_assembled_force, write, wrenches as wrench_list, PyModel, WrenchList};
 
 /// The route of the partials of inverse dynamics: analytic, or dual numbers (the test oracle).
 fn method(dual: bool) -> DerivativeMethod {
@@ -67,10 +67,7 @@ impl PyDerivatives {
     /// `Ḣ` along `u`, (6+N)².
     fn mass_matrix_derivative<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let nu = self.model.nu();
-        self.batch(py, "mass_matrix_derivative", [self.x_arg(x)?, self.u_arg(u)?], [&[nu, nu]], |m, w, [x, u], [out]| {
-            put(derivatives::mass_matrix_derivative(m, w, x, u)?, out);
-            Ok(())
-        })
+        self.batch(py, "mass_matrix_derivative", [self.x_arg(x)?, self.u_arg(u)?], [&[nu, nu]], |m, w, [x, u], [out]| write(derivatives::mass_matrix_derivative(m, w, x, u), out))
     }
 
     /// `∂H*/∂q_k`, shape (N, N, N), derivative index last.
@@ -85,10 +82,7 @@ impl PyDerivatives {
     /// `Ḣ*` along `u`, N×N.
     fn generalized_inertia_derivative<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let n = self.model.n_dof();
-        self.batch(py, "generalized_inertia_derivative", [self.x_arg(x)?, self.u_arg(u)?], [&[n, n]], |m, w, [x, u], [out]| {
-            put(derivatives::generalized_inertia_derivative(m, w, x, u)?, out);
-            Ok(())
-        })
+        self.batch(py, "generalized_inertia_derivative", [self.x_arg(x)?, self.u_arg(u)?], [&[n, n]], |m, w, [x, u], [out]| write(derivatives::generalized_inertia_derivative(m, w, x, u), out))
     }
 
     /// `∂J*/∂x_k` of a point, shape (6, N, 6+N), derivative index last.
@@ -112,10 +106,7 @@ impl PyDerivatives {
     ) -> PyResult<Bound<'py, PyAny>> {
         let off = finite3(offset, "offset")?;
         let n = self.model.n_dof();
-        self.batch(py, "generalized_jacobian_derivative", [self.x_arg(x)?, self.u_arg(u)?], [&[6, n]], |m, w, [x, u], [out]| {
-            put(derivatives::generalized_jacobian_derivative(m, w, x, u, body, &off)?, out);
-            Ok(())
-        })
+        self.batch(py, "generalized_jacobian_derivative", [self.x_arg(x)?, self.u_arg(u)?], [&[6, n]], |m, w, [x, u], [out]| write(derivatives::generalized_jacobian_derivative(m, w, x, u, body, &off), out))
     }
 
     /// `(∂u̇/∂x, ∂u̇/∂u, ∂u̇/∂f)`, each (6+N)², `x` in tangent coordinates; analytic route, or

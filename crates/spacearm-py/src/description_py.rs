@@ -15,7 +15,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use spacearm_core as core;
 
-use crate::convert::{array1, matrix, read_only};
+use crate::convert::{array1, matrix, read_only, result_class};
 use crate::errors_py::{new_error, ErrorClass};
 
 fn vector<'py>(py: Python<'py>, v: &[f64]) -> Py<PyArray1<f64>> {
@@ -35,15 +35,16 @@ fn to_list<'py, D>(py: Python<'py>, a: &Py<PyArray<f64, D>>) -> PyResult<Bound<'
     a.bind(py).call_method0("tolist")
 }
 
-/// The spacecraft base (body 0). Its frame has its origin at the base CM.
-#[pyclass(module = "spacearm._core", name = "BaseDescription", frozen, get_all)]
-pub struct PyBaseDescription {
-    /// The base's name.
-    name: String,
-    /// Mass, kg.
-    mass: f64,
-    /// (3, 3) kg·m², read-only: inertia about the base CM, in base-frame axes.
-    inertia: Py<PyArray2<f64>>,
+result_class! {
+    /// The spacecraft base (body 0). Its frame has its origin at the base CM.
+    PyBaseDescription as "BaseDescription", fn of(py: Python<'_>, m: &core::Model) {
+        /// The base's name.
+        name: String = m.base_name().to_string(),
+        /// Mass, kg.
+        mass: f64 = m.base().mass,
+        /// (3, 3) kg·m², read-only: inertia about the base CM, in base-frame axes.
+        inertia: Py<PyArray2<f64>> = matrix3(py, &m.base().inertia),
+    }
 }
 
 #[pymethods]
@@ -53,19 +54,20 @@ impl PyBaseDescription {
     }
 }
 
-/// A joint's limits. `lower`/`upper`: position bounds (rad for a revolute joint, m for a
-/// prismatic one); `velocity`: speed bound (rad/s or m/s); `effort`: torque (N·m) or force (N)
-/// bound. An absent bound is infinite (`-inf` for `lower`, `inf` for the others).
-#[pyclass(module = "spacearm._core", name = "JointLimits", frozen, get_all)]
-pub struct PyJointLimits {
-    /// Lower position bound: rad (revolute) or m (prismatic); `-inf` when unbounded.
-    lower: f64,
-    /// Upper position bound: rad (revolute) or m (prismatic); `inf` when unbounded.
-    upper: f64,
-    /// Speed bound: rad/s or m/s; `inf` when unbounded.
-    velocity: f64,
-    /// Effort bound: N·m (revolute) or N (prismatic); `inf` when unbounded.
-    effort: f64,
+result_class! {
+    /// A joint's limits. `lower`/`upper`: position bounds (rad for a revolute joint, m for a
+    /// prismatic one); `velocity`: speed bound (rad/s or m/s); `effort`: torque (N·m) or force (N)
+    /// bound. An absent bound is infinite (`-inf` for `lower`, `inf` for the others).
+    PyJointLimits as "JointLimits", fn of(l: &core::JointLimits) {
+        /// Lower position bound: rad (revolute) or m (prismatic); `-inf` when unbounded.
+        lower: f64 = l.lower,
+        /// Upper position bound: rad (revolute) or m (prismatic); `inf` when unbounded.
+        upper: f64 = l.upper,
+        /// Speed bound: rad/s or m/s; `inf` when unbounded.
+        velocity: f64 = l.velocity,
+        /// Effort bound: N·m (revolute) or N (prismatic); `inf` when unbounded.
+        effort: f64 = l.effort,
+    }
 }
 
 #[pymethods]
@@ -80,47 +82,52 @@ impl PyJointLimits {
     }
 }
 
-/// One link (body `k + 1` for the `k`-th link) and the joint connecting it to its parent. The
-/// link frame has its origin at the link CM; at `q = 0` its axes are the parent's rotated by
-/// `rotation`.
-#[pyclass(module = "spacearm._core", name = "LinkDescription", frozen, get_all)]
-pub struct PyLinkDescription {
-    /// The link's name.
-    name: String,
-    /// Name of the parent body (the base's name for a link on the base).
-    parent: String,
-    /// Body index of the parent (0 = base).
-    parent_index: usize,
-    /// Name of the joint.
-    joint: String,
-    /// Joint type: "revolute", "prismatic" or "fixed".
-    #[pyo3(name = "type")]
-    kind: &'static str,
-    /// (3,) m, read-only: joint position in the parent frame, measured from the parent's CM.
-    origin: Py<PyArray1<f64>>,
-    /// (4,) unit quaternion `[x, y, z, w]`, read-only: the link frame in the parent frame at `q = 0`.
-    rotation: Py<PyArray1<f64>>,
-    /// (3,) read-only: unit joint axis in the link frame (unused by a fixed joint: as given, or
-    /// z if given zero).
-    axis: Py<PyArray1<f64>>,
-    /// (3,) m, read-only: the link's CM measured from its joint, in the link frame.
-    com: Py<PyArray1<f64>>,
-    /// Mass, kg.
-    mass: f64,
-    /// (3, 3) kg·m², read-only: inertia about the link's CM, in link-frame axes.
-    inertia: Py<PyArray2<f64>>,
-    /// The joint's limits.
-    limits: Py<PyJointLimits>,
-    /// Index of the joint's coordinate in `q`; None for a fixed joint.
-    dof: Option<usize>,
-    /// Whether a motor drives the joint (False: a passive joint, docs/flexibility.md).
-    actuated: bool,
-    /// Joint spring stiffness, N·m/rad (revolute) or N/m (prismatic); 0: none.
-    stiffness: f64,
-    /// Joint damping, N·m·s/rad (revolute) or N·s/m (prismatic); 0: none.
-    damping: f64,
-    /// The spring's rest coordinate, rad or m.
-    rest: f64,
+result_class! {
+    /// One link (body `k + 1` for the `k`-th link) and the joint connecting it to its parent. The
+    /// link frame has its origin at the link CM; at `q = 0` its axes are the parent's rotated by
+    /// `rotation`.
+    PyLinkDescription as "LinkDescription", fn of(py: Python<'_>, m: &core::Model, k: usize) -> PyResult [
+        let l = &m.links()[k];
+        let j = &l.joint;
+        let q = j.rotation_in_parent;
+    ] {
+        /// The link's name.
+        name: String = l.name.clone(),
+        /// Name of the parent body (the base's name for a link on the base).
+        parent: String = m.body_name(l.parent).to_string(),
+        /// Body index of the parent (0 = base).
+        parent_index: usize = l.parent,
+        /// Name of the joint.
+        joint: String = j.name.clone(),
+        /// Joint type: "revolute", "prismatic" or "fixed".
+        #[pyo3(name = "type")]
+        kind: &'static str = j.kind.as_str(),
+        /// (3,) m, read-only: joint position in the parent frame, measured from the parent's CM.
+        origin: Py<PyArray1<f64>> = vector3(py, &j.origin_in_parent),
+        /// (4,) unit quaternion `[x, y, z, w]`, read-only: the link frame in the parent frame at `q = 0`.
+        rotation: Py<PyArray1<f64>> = vector(py, &[q.i, q.j, q.k, q.w]),
+        /// (3,) read-only: unit joint axis in the link frame (unused by a fixed joint: as given, or
+        /// z if given zero).
+        axis: Py<PyArray1<f64>> = vector3(py, &j.axis.into_inner()),
+        /// (3,) m, read-only: the link's CM measured from its joint, in the link frame.
+        com: Py<PyArray1<f64>> = vector3(py, &l.com_from_joint),
+        /// Mass, kg.
+        mass: f64 = l.mass.mass,
+        /// (3, 3) kg·m², read-only: inertia about the link's CM, in link-frame axes.
+        inertia: Py<PyArray2<f64>> = matrix3(py, &l.mass.inertia),
+        /// The joint's limits.
+        limits: Py<PyJointLimits> = Py::new(py, PyJointLimits::of(&j.limits))?,
+        /// Index of the joint's coordinate in `q`; None for a fixed joint.
+        dof: Option<usize> = m.dof_of_body(k + 1),
+        /// Whether a motor drives the joint (False: a passive joint, docs/flexibility.md).
+        actuated: bool = j.dynamics.actuated,
+        /// Joint spring stiffness, N·m/rad (revolute) or N/m (prismatic); 0: none.
+        stiffness: f64 = j.dynamics.stiffness,
+        /// Joint damping, N·m·s/rad (revolute) or N·s/m (prismatic); 0: none.
+        damping: f64 = j.dynamics.damping,
+        /// The spring's rest coordinate, rad or m.
+        rest: f64 = j.dynamics.rest,
+    }
 }
 
 #[pymethods]
@@ -133,17 +140,18 @@ impl PyLinkDescription {
     }
 }
 
-/// A named point fixed to a body (an end effector, a grasp point).
-#[pyclass(module = "spacearm._core", name = "PointDescription", frozen, get_all)]
-pub struct PyPointDescription {
-    /// The point's name.
-    name: String,
-    /// Name of the body carrying the point.
-    body: String,
-    /// Index of the body carrying the point (0 = base).
-    body_index: usize,
-    /// (3,) m, read-only: the point from the body's CM, in the body frame.
-    offset: Py<PyArray1<f64>>,
+result_class! {
+    /// A named point fixed to a body (an end effector, a grasp point).
+    PyPointDescription as "PointDescription", fn of(py: Python<'_>, m: &core::Model, p: &core::model::Point) {
+        /// The point's name.
+        name: String = p.name.clone(),
+        /// Name of the body carrying the point.
+        body: String = m.body_name(p.body).to_string(),
+        /// Index of the body carrying the point (0 = base).
+        body_index: usize = p.body,
+        /// (3,) m, read-only: the point from the body's CM, in the body frame.
+        offset: Py<PyArray1<f64>> = vector3(py, &p.offset),
+    }
 }
 
 #[pymethods]
@@ -153,79 +161,53 @@ impl PyPointDescription {
     }
 }
 
-/// A visual or collision shape fixed to a body (docs/geometry.md): `shape` is "box" (`size`:
-/// full side lengths), "cylinder" or "capsule" (`radius`, `length`, along the geometry's z),
-/// "sphere" (`radius`) or "mesh" (`file` as the model states it, `scale`); the keys of other
-/// kinds are None. Placed in the body frame (origin at the body's CM) by `origin` and `rotation`.
-#[pyclass(module = "spacearm._core", name = "GeometryDescription", frozen, get_all)]
-pub struct PyGeometryDescription {
-    /// The geometry's name.
-    name: String,
-    /// Name of the body it is fixed to.
-    body: String,
-    /// Index of that body (0 = base).
-    body_index: usize,
-    /// "visual" or "collision".
-    role: &'static str,
-    /// "box", "cylinder", "sphere", "capsule" or "mesh".
-    shape: &'static str,
-    /// (3,) m, read-only: a box's full side lengths; None for other shapes.
-    size: Option<Py<PyArray1<f64>>>,
-    /// m: the radius of a sphere, cylinder or capsule; None for other shapes.
-    radius: Option<f64>,
-    /// m: the length of a cylinder or of a capsule's cylinder part; None for other shapes.
-    length: Option<f64>,
-    /// A mesh's file, as the model states it; None for other shapes.
-    file: Option<String>,
-    /// (3,) read-only: a mesh's scale along its x, y, z; None for other shapes.
-    scale: Option<Py<PyArray1<f64>>>,
-    /// (3,) m, read-only: the geometry frame's origin in the body frame, from its CM.
-    origin: Py<PyArray1<f64>>,
-    /// (4,) unit quaternion `[x, y, z, w]`, read-only: the geometry frame in the body frame.
-    rotation: Py<PyArray1<f64>>,
-    /// (4,) read-only: red, green, blue, alpha in [0, 1].
-    rgba: Py<PyArray1<f64>>,
+result_class! {
+    /// A visual or collision shape fixed to a body (docs/geometry.md): `shape` is "box" (`size`:
+    /// full side lengths), "cylinder" or "capsule" (`radius`, `length`, along the geometry's z),
+    /// "sphere" (`radius`) or "mesh" (`file` as the model states it, `scale`); the keys of other
+    /// kinds are None. Placed in the body frame (origin at the body's CM) by `origin` and `rotation`.
+    PyGeometryDescription as "GeometryDescription", fn of(py: Python<'_>, m: &core::Model, g: &core::Geometry) [
+        let (size, radius, length, file, scale) = match &g.shape {
+            core::Shape::Box { size: s } => (Some(vector(py, s)), None, None, None, None),
+            core::Shape::Sphere { radius: r } => (None, Some(*r), None, None, None),
+            core::Shape::Cylinder { radius: r, length: l } | core::Shape::Capsule { radius: r, length: l } => (None, Some(*r), Some(*l), None, None),
+            core::Shape::Mesh { file: f, scale: s } => (None, None, None, Some(f.clone()), Some(vector(py, s))),
+        };
+        let q = g.rotation;
+    ] {
+        /// The geometry's name.
+        name: String = g.name.clone(),
+        /// Name of the body it is fixed to.
+        body: String = m.body_name(g.body).to_string(),
+        /// Index of that body (0 = base).
+        body_index: usize = g.body,
+        /// "visual" or "collision".
+        role: &'static str = g.role.as_str(),
+        /// "box", "cylinder", "sphere", "capsule" or "mesh".
+        shape: &'static str = g.shape.kind(),
+        /// (3,) m, read-only: a box's full side lengths; None for other shapes.
+        size: Option<Py<PyArray1<f64>>> = size,
+        /// m: the radius of a sphere, cylinder or capsule; None for other shapes.
+        radius: Option<f64> = radius,
+        /// m: the length of a cylinder or of a capsule's cylinder part; None for other shapes.
+        length: Option<f64> = length,
+        /// A mesh's file, as the model states it; None for other shapes.
+        file: Option<String> = file,
+        /// (3,) read-only: a mesh's scale along its x, y, z; None for other shapes.
+        scale: Option<Py<PyArray1<f64>>> = scale,
+        /// (3,) m, read-only: the geometry frame's origin in the body frame, from its CM.
+        origin: Py<PyArray1<f64>> = vector3(py, &g.origin),
+        /// (4,) unit quaternion `[x, y, z, w]`, read-only: the geometry frame in the body frame.
+        rotation: Py<PyArray1<f64>> = vector(py, &[q.i, q.j, q.k, q.w]),
+        /// (4,) read-only: red, green, blue, alpha in [0, 1].
+        rgba: Py<PyArray1<f64>> = vector(py, &g.rgba),
+    }
 }
 
 #[pymethods]
 impl PyGeometryDescription {
     fn __repr__(&self) -> String {
         format!("<spacearm.GeometryDescription '{}': {} {} on '{}'>", self.name, self.role, self.shape, self.body)
-    }
-}
-
-impl PyGeometryDescription {
-    fn of(py: Python<'_>, m: &core::Model, g: &core::Geometry) -> PyGeometryDescription {
-        use core::Shape;
-        let (mut size, mut radius, mut length, mut file, mut scale) = (None, None, None, None, None);
-        match &g.shape {
-            Shape::Box { size: s } => size = Some(vector(py, s)),
-            Shape::Sphere { radius: r } => radius = Some(*r),
-            Shape::Cylinder { radius: r, length: l } | Shape::Capsule { radius: r, length: l } => {
-                radius = Some(*r);
-                length = Some(*l);
-            }
-            Shape::Mesh { file: f, scale: s } => {
-                file = Some(f.clone());
-                scale = Some(vector(py, s));
-            }
-        }
-        let q = g.rotation;
-        PyGeometryDescription {
-            name: g.name.clone(),
-            body: m.body_name(g.body).to_string(),
-            body_index: g.body,
-            role: g.role.as_str(),
-            shape: g.shape.kind(),
-            size,
-            radius,
-            length,
-            file,
-            scale,
-            origin: vector3(py, &g.origin),
-            rotation: vector(py, &[q.i, q.j, q.k, q.w]),
-            rgba: vector(py, &g.rgba),
-        }
     }
 }
 
@@ -343,43 +325,12 @@ fn find<'py, T: pyo3::PyClass<Frozen = pyo3::pyclass::boolean_struct::True> + Sy
 impl PyModelDescription {
     /// The description of `m`, field by field as the core holds it.
     pub fn of(py: Python<'_>, m: &core::Model) -> PyResult<PyModelDescription> {
-        let base = PyBaseDescription { name: m.base_name().to_string(), mass: m.base().mass, inertia: matrix3(py, &m.base().inertia) };
-        let mut links = Vec::with_capacity(m.links().len());
-        for (k, l) in m.links().iter().enumerate() {
-            let j = &l.joint;
-            let q = j.rotation_in_parent;
-            let limits = PyJointLimits { lower: j.limits.lower, upper: j.limits.upper, velocity: j.limits.velocity, effort: j.limits.effort };
-            links.push(PyLinkDescription {
-                name: l.name.clone(),
-                parent: m.body_name(l.parent).to_string(),
-                parent_index: l.parent,
-                joint: j.name.clone(),
-                kind: j.kind.as_str(),
-                origin: vector3(py, &j.origin_in_parent),
-                rotation: vector(py, &[q.i, q.j, q.k, q.w]),
-                axis: vector3(py, &j.axis.into_inner()),
-                com: vector3(py, &l.com_from_joint),
-                mass: l.mass.mass,
-                inertia: matrix3(py, &l.mass.inertia),
-                limits: Py::new(py, limits)?,
-                dof: m.dof_of_body(k + 1),
-                actuated: j.dynamics.actuated,
-                stiffness: j.dynamics.stiffness,
-                damping: j.dynamics.damping,
-                rest: j.dynamics.rest,
-            });
-        }
-        let points = m.points().iter().map(|p| PyPointDescription {
-            name: p.name.clone(),
-            body: m.body_name(p.body).to_string(),
-            body_index: p.body,
-            offset: vector3(py, &p.offset),
-        });
+        let links = (0..m.links().len()).map(|k| PyLinkDescription::of(py, m, k)).collect::<PyResult<Vec<_>>>()?;
         Ok(PyModelDescription {
             name: m.name().to_string(),
-            base: Py::new(py, base)?,
+            base: Py::new(py, PyBaseDescription::of(py, m))?,
             links: PyTuple::new(py, links)?.unbind(),
-            points: PyTuple::new(py, points)?.unbind(),
+            points: PyTuple::new(py, m.points().iter().map(|p| PyPointDescription::of(py, m, p)))?.unbind(),
             geometries: PyTuple::new(py, m.geometries().iter().map(|g| PyGeometryDescription::of(py, m, g)))?.unbind(),
             end_effector: m.end_effector().map(|i| m.points()[i].name.clone()),
             initial_q: vector(py, m.initial_q()),

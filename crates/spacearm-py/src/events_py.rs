@@ -3,7 +3,7 @@
 //! `RunResult` like `simulate`'s and the second system's rows, the ledger and the events as a
 //! dict of numpy arrays. Wrapped by `spacearm.sim.simulation.simulate(..., events=[...])`.
 
-use numpy::{PyArray1, PyArray2};
+use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use spacearm_core::control::{Controller, ZeroTorque};
@@ -16,16 +16,8 @@ use crate::convert::*;
 use crate::model_py::PyModel;
 use crate::records_py::PyRunResult;
 use crate::sim_options_py::PyRunOptions;
-use crate::simulate_py::{progress_reporter, run_error};
-
-fn rows<'py>(py: Python<'py>, values: Vec<f64>, width: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let k = values.len() / width.max(1);
-    let nested: Vec<Vec<f64>> = (0..k).map(|i| values[i * width..(i + 1) * width].to_vec()).collect();
-    if k == 0 {
-        return Ok(PyArray2::zeros(py, [0, width], false));
-    }
-    Ok(PyArray2::from_vec2(py, &nested)?)
-}
+use crate::interrupt::run_reporting;
+use crate::simulate_py::{run_error, RunArgs};
 
 /// Run `model` with the topology `events` (a list of plain-data events, the core's
 /// `TopologyEvent`), the free `target` model at `target_state` (13) if given; returns
@@ -49,9 +41,7 @@ pub fn simulate_events<'py>(
     target: Option<&Bound<'py, PyModel>>,
     target_state: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<(PyRunResult, Bound<'py, PyDict>)> {
-    let plant = model.borrow().model.clone();
-    let x0 = vec_arg(x0, "x0")?.as_slice().to_vec();
-    let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
+    let args = RunArgs::read(model.borrow().model.clone(), x0, u0, duration, &options, py)?;
     let events: Vec<TopologyEvent> = from_data(events, "events")?;
     let target: Option<Model> = target.map(|t| t.borrow().model.clone());
     let state: Option<Vec<f64>> = target_state.filter(|s| !s.is_none()).map(|s| vec_arg(s, "target_state").map(|v| v.as_slice().to_vec())).transpose()?;
@@ -60,12 +50,9 @@ pub fn simulate_events<'py>(
         (None, None) => None,
         _ => return Err(to_py_err(py, SpacearmError::InvalidArgument("target and target_state go together: give both (a rigid model and its 13-state) or neither".into()))),
     };
-    let (opts, float32) = (options.sim_options(duration), options.records_float32());
     let slot = error_slot();
     let spec: Option<Py<PyAny>> = controller_spec.filter(|s| !s.is_none()).map(|s| s.clone().unbind());
-    let progress_fn = options.progress_fn(py);
-    let mut progress_error: Option<PyErr> = None;
-    let result = py.detach(|| {
+    let (result, interrupted) = run_reporting(py, args.progress_fn.as_ref(), |progress| {
         let mut factory = |m: &Model| -> spacearm_core::Result<Box<dyn Controller>> {
             match &spec {
                 Some(s) => Python::attach(|py| build_controller(s.bind(py), m, &slot)).map_err(|e| {
@@ -76,10 +63,9 @@ pub fn simulate_events<'py>(
                 None => Ok(Box::new(ZeroTorque)),
             }
         };
-        let mut progress = progress_reporter(&progress_fn, &mut progress_error);
-        simulate_with_events(&plant, &x0, &u0, &opts, &mut factory, pair, &events, &mut progress)
+        simulate_with_events(&args.plant, &args.x0, &args.u0, &args.opts, &mut factory, pair, &events, progress)
     });
-    let run = result.map_err(|e| run_error(py, e, &slot, progress_error))?;
+    let run = result.map_err(|e| run_error(py, e, &slot, interrupted))?;
     let d = PyDict::new(py);
     d.set_item("target", rows(py, run.target, 13)?)?;
     d.set_item("attached", PyArray1::from_vec(py, run.attached))?;
@@ -98,7 +84,5 @@ pub fn simulate_events<'py>(
     d.set_item("event_point", rows(py, ev.iter().flat_map(|e| e.point).collect(), 3)?)?;
     d.set_item("event_body", ev.iter().map(|e| e.body.clone()).collect::<Vec<_>>())?;
     d.set_item("final_model", Py::new(py, PyModel::new(run.final_model))?)?;
-    let dims = (plant.nx(), plant.nu(), plant.n_dof());
-    let result = PyRunResult::of_run(py, run.result, &opts, float32, dims)?;
-    Ok((result, d))
+    Ok((args.result(py, run.result)?, d))
 }

@@ -5,7 +5,7 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use pyo3::prelude::*;
 
@@ -70,18 +70,34 @@ pub fn run_until<R: Send>(py: Python<'_>, stop: Option<Py<PyAny>>, work: impl Fn
 }
 
 /// Run `work(progress)` with the GIL released, where `progress` (the core's progress report)
-/// takes the GIL back to check for Ctrl-C: a pending signal fails the report with
-/// `Simulation("interrupted")`, so that the work stops at once. Returns the work's result and the
-/// signal handler's exception if there was one (the caller chooses which error the call raises:
-/// a callback controller's own exception comes first).
+/// takes the GIL back to call `progress_fn` (if any) with the fraction done and to check for
+/// Ctrl-C: at every report if there is a callable (at most ~1000 a run), else every
+/// [`SIGNAL_CHECK_INTERVAL`] of wall time and at the last report (taking the GIL back waits for
+/// the other Python threads, so not more often than that). The callable's exception or a
+/// pending signal fails the report with `Simulation("interrupted")`, so that the work stops at
+/// once. Returns the work's result and that exception if there was one (the caller chooses
+/// which error the call raises: a callback controller's own exception comes first).
 pub fn run_reporting<R: Send>(
     py: Python<'_>,
+    progress_fn: Option<&Py<PyAny>>,
     work: impl FnOnce(spacearm_core::sim::simulate::Progress<'_>) -> spacearm_core::Result<R> + Send,
 ) -> (spacearm_core::Result<R>, Option<PyErr>) {
     let mut interrupted: Option<PyErr> = None;
     let result = py.detach(|| {
-        let mut progress = |_fraction: f64| -> spacearm_core::Result<()> {
-            Python::attach(|py| py.check_signals()).map_err(|e| {
+        let mut last_check = Instant::now();
+        let mut progress = |fraction: f64| -> spacearm_core::Result<()> {
+            if progress_fn.is_none() && fraction < 1.0 && last_check.elapsed() < SIGNAL_CHECK_INTERVAL {
+                return Ok(());
+            }
+            last_check = Instant::now();
+            Python::attach(|py| {
+                py.check_signals()?;
+                match progress_fn {
+                    Some(f) => f.call1(py, (fraction,)).map(|_| ()),
+                    None => Ok(()),
+                }
+            })
+            .map_err(|e| {
                 interrupted.get_or_insert(e);
                 spacearm_core::SpacearmError::Simulation("interrupted".into())
             })

@@ -87,6 +87,36 @@ pub fn put<R: Dim, C: Dim, S: RawStorage<f64, R, C>>(m: &Matrix<f64, R, C, S>, o
     }
 }
 
+/// A kernel's one result as the row of its output: a matrix or vector in C order ([`put`]), a
+/// number as itself.
+pub trait Output {
+    fn write_into(&self, out: &mut [f64]);
+}
+
+impl<R: Dim, C: Dim, S: RawStorage<f64, R, C>> Output for Matrix<f64, R, C, S> {
+    fn write_into(&self, out: &mut [f64]) {
+        put(self, out);
+    }
+}
+
+impl<T: Output + ?Sized> Output for &T {
+    fn write_into(&self, out: &mut [f64]) {
+        (**self).write_into(out);
+    }
+}
+
+impl Output for f64 {
+    fn write_into(&self, out: &mut [f64]) {
+        out[0] = *self;
+    }
+}
+
+/// The body of a one-output [`Batched::batch`] kernel: its result written into the output row.
+pub fn write(result: spacearm_core::Result<impl Output>, out: &mut [f64]) -> spacearm_core::Result<()> {
+    result?.write_into(out);
+    Ok(())
+}
+
 /// External wrenches as `Robot._wrenches` passes them: `(body, offset, force, torque)`.
 pub(crate) type WrenchList = Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>;
 
@@ -285,34 +315,24 @@ impl PyModel {
     /// The mass matrix `H` by the paper's Jacobian sums (eqs. 27–36) alone.
     fn mass_matrix_paper<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let nu = self.model.nu();
-        self.batch(py, "mass_matrix", [self.x_arg(x)?], [&[nu, nu]], |m, d, [x], [out]| {
-            put(&inertia::inertia_blocks(m, d, x)?.mass_matrix(), out);
-            Ok(())
-        })
+        self.batch(py, "mass_matrix", [self.x_arg(x)?], [&[nu, nu]], |m, d, [x], [out]| write(inertia::inertia_blocks(m, d, x).map(|b| b.mass_matrix()), out))
     }
 
     fn mass_matrix_crba<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let nu = self.model.nu();
-        self.batch(py, "mass_matrix", [self.x_arg(x)?], [&[nu, nu]], |m, d, [x], [out]| {
-            put(crba::crba(m, d, x)?, out);
-            Ok(())
-        })
+        self.batch(py, "mass_matrix", [self.x_arg(x)?], [&[nu, nu]], |m, d, [x], [out]| write(crba::crba(m, d, x), out))
     }
 
     fn base_inertia_inverse<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         self.batch(py, "base_inertia_inverse", [self.x_arg(x)?], [&[6, 6]], |m, d, [x], [out]| {
             let h0 = crba::crba(m, d, x)?.fixed_view::<6, 6>(0, 0).into_owned();
-            put(&inertia::base_inertia_inverse(&h0)?, out);
-            Ok(())
+            write(inertia::base_inertia_inverse(&h0), out)
         })
     }
 
     fn bias_forces<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let nu = self.model.nu();
-        self.batch(py, "bias_forces", [self.x_arg(x)?, self.u_arg(u)?], [&[nu]], |m, d, [x, u], [out]| {
-            out.copy_from_slice(rnea::bias_forces(m, d, x, u)?.as_slice());
-            Ok(())
-        })
+        self.batch(py, "bias_forces", [self.x_arg(x)?, self.u_arg(u)?], [&[nu]], |m, d, [x, u], [out]| write(rnea::bias_forces(m, d, x, u), out))
     }
 
     #[pyo3(signature = (x, u, du, wrenches=None))]
@@ -327,10 +347,7 @@ impl PyModel {
         let nu = self.model.nu();
         let inputs = [self.x_arg(x)?, self.u_arg(u)?, Input::arg(du, "du", nu)?];
         let ext = self::wrenches(py, wrenches)?;
-        self.batch(py, "inverse_dynamics", inputs, [&[nu]], |m, d, [x, u, du], [out]| {
-            out.copy_from_slice(rnea::rnea(m, d, x, u, du, &ext)?.as_slice());
-            Ok(())
-        })
+        self.batch(py, "inverse_dynamics", inputs, [&[nu]], |m, d, [x, u, du], [out]| write(rnea::rnea(m, d, x, u, du, &ext), out))
     }
 
     /// Forward dynamics under the generalized force `f`, by `method` ("aba", "mass_matrix" or
@@ -374,27 +391,18 @@ impl PyModel {
 
     fn generalized_inertia<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let n = self.model.n_dof();
-        self.batch(py, "generalized_inertia", [self.x_arg(x)?], [&[n, n]], |m, d, [x], [out]| {
-            put(gjm::compute_generalized_inertia(m, d, x)?, out);
-            Ok(())
-        })
+        self.batch(py, "generalized_inertia", [self.x_arg(x)?], [&[n, n]], |m, d, [x], [out]| write(gjm::compute_generalized_inertia(m, d, x), out))
     }
 
     fn generalized_bias<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let n = self.model.n_dof();
-        self.batch(py, "generalized_bias", [self.x_arg(x)?, self.u_arg(u)?], [&[n]], |m, d, [x, u], [out]| {
-            out.copy_from_slice(gjm::compute_generalized_bias(m, d, x, u)?.as_slice());
-            Ok(())
-        })
+        self.batch(py, "generalized_bias", [self.x_arg(x)?, self.u_arg(u)?], [&[n]], |m, d, [x, u], [out]| write(gjm::compute_generalized_bias(m, d, x, u), out))
     }
 
     fn generalized_jacobian<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, body: usize, offset: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let off = finite3(offset, "offset")?;
         let n = self.model.n_dof();
-        self.batch(py, "generalized_jacobian", [self.x_arg(x)?], [&[6, n]], |m, d, [x], [out]| {
-            put(gjm::compute_generalized_jacobian(m, d, x, body, &off)?, out);
-            Ok(())
-        })
+        self.batch(py, "generalized_jacobian", [self.x_arg(x)?], [&[6, n]], |m, d, [x], [out]| write(gjm::compute_generalized_jacobian(m, d, x, body, &off), out))
     }
 
     /// The twist `[v_X; ω] = J* q̇ + J_0X H0⁻¹ M0` of a point when the joints move at `qd` and
@@ -434,8 +442,7 @@ impl PyModel {
         let off = finite3(offset, "offset")?;
         self.batch(py, "momentum_twist", [self.x_arg(x)?, Input::arg(linear, "P", 3)?, Input::arg(angular_origin, "L", 3)?], [&[6]], |m, d, [x, p, l], [out]| {
             let (p, l) = (momentum3(m, "P", p)?, momentum3(m, "L", l)?);
-            out.copy_from_slice(gjm::momentum_twist(m, d, x, body, &off, &p, &l)?.as_slice());
-            Ok(())
+            write(gjm::momentum_twist(m, d, x, body, &off, &p, &l), out)
         })
     }
 
@@ -450,8 +457,7 @@ impl PyModel {
         let n = self.model.n_dof();
         self.batch(py, "base_velocity_from_momentum", [self.x_arg(x)?, Input::arg(qd, "qd", n)?, Input::arg(linear, "P", 3)?, Input::arg(angular_origin, "L", 3)?], [&[6]], |m, d, [x, qd, p, l], [out]| {
             let (p, l) = (momentum3(m, "P", p)?, momentum3(m, "L", l)?);
-            out.copy_from_slice(gjm::base_velocity_from_momentum(m, d, x, qd, &p, &l)?.as_slice());
-            Ok(())
+            write(gjm::base_velocity_from_momentum(m, d, x, qd, &p, &l), out)
         })
     }
 
@@ -468,10 +474,7 @@ impl PyModel {
     }
 
     fn kinetic_energy<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        self.batch(py, "kinetic_energy", [self.x_arg(x)?, self.u_arg(u)?], [&[]], |m, d, [x, u], [out]| {
-            out[0] = momentum::kinetic_energy(m, d, x, u)?;
-            Ok(())
-        })
+        self.batch(py, "kinetic_energy", [self.x_arg(x)?, self.u_arg(u)?], [&[]], |m, d, [x, u], [out]| write(momentum::kinetic_energy(m, d, x, u), out))
     }
 
     /// The drift scales of the momenta and the energy at `(x, u)`: `[Σ|pᵢ|, Σ(|rᵢ×pᵢ| + |Iᵢωᵢ|)
@@ -487,24 +490,15 @@ impl PyModel {
 
     fn passive_forces<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let nu = self.model.nu();
-        self.batch(py, "passive_forces", [self.x_arg(x)?, self.u_arg(u)?], [&[nu]], |m, _, [x, u], [out]| {
-            out.copy_from_slice(passive::passive_forces(m, x, u)?.as_slice());
-            Ok(())
-        })
+        self.batch(py, "passive_forces", [self.x_arg(x)?, self.u_arg(u)?], [&[nu]], |m, _, [x, u], [out]| write(passive::passive_forces(m, x, u), out))
     }
 
     fn spring_energy<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        self.batch(py, "spring_energy", [self.x_arg(x)?], [&[]], |m, _, [x], [out]| {
-            out[0] = passive::spring_energy(m, x)?;
-            Ok(())
-        })
+        self.batch(py, "spring_energy", [self.x_arg(x)?], [&[]], |m, _, [x], [out]| write(passive::spring_energy(m, x), out))
     }
 
     fn center_of_mass<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        self.batch(py, "center_of_mass", [self.x_arg(x)?], [&[3]], |m, d, [x], [out]| {
-            out.copy_from_slice(momentum::center_of_mass(m, d, x)?.as_slice());
-            Ok(())
-        })
+        self.batch(py, "center_of_mass", [self.x_arg(x)?], [&[3]], |m, d, [x], [out]| write(momentum::center_of_mass(m, d, x), out))
     }
 
     fn joint_types(&self) -> Vec<&'static str> {

@@ -4,46 +4,52 @@
 
 use numpy::{PyArray1, PyArray2, PyArray3};
 use pyo3::prelude::*;
-use spacearm_core::collision::{rigid_impact as core_rigid_impact, ContactPoint, ImpactSolver, ImpactSpec};
+use spacearm_core::collision::{rigid_impact as core_rigid_impact, ContactPoint, ImpactSolver, ImpactSpec, RigidImpact};
 use spacearm_core::SpacearmError;
 
 use crate::convert::*;
 use crate::model_py::PyModel;
 
-/// The velocity jump of a rigid frictional impact (`spacearm_core::collision::RigidImpact`).
-/// Contact rows are three a point, `[t1, t2, n]` of its contact frame.
-#[pyclass(module = "spacearm._core", name = "RigidImpact", frozen, get_all)]
-pub struct PyRigidImpact {
-    /// (6+N,) the generalized velocity after the impact u⁺.
-    u_after: Py<PyArray1<f64>>,
-    /// (6+N,) the jump Δu = H⁻¹ Jᵀ λ.
-    du: Py<PyArray1<f64>>,
-    /// (k, 3) the impulses λ in each point's contact frame [t1, t2, n], N·s.
-    impulse: Py<PyArray2<f64>>,
-    /// (k, 3) the impulse on each point's second body in 𝒥 (the first body receives its opposite), N·s.
-    impulse_world: Py<PyArray2<f64>>,
-    /// (k, 3) the contact velocities before, J u⁻ (contact frames), m/s.
-    velocity_before: Py<PyArray2<f64>>,
-    /// (k, 3) the contact velocities after, J u⁺, m/s.
-    velocity_after: Py<PyArray2<f64>>,
-    /// (k, 3, 3) the contact frames: columns t1, t2, n in 𝒥.
-    frames: Py<PyArray3<f64>>,
-    /// (3k, 6+N) the contact Jacobian J.
-    jacobian: Py<PyArray2<f64>>,
-    /// (3k, 3k) the Delassus operator G = J H⁻¹ Jᵀ.
-    delassus: Py<PyArray2<f64>>,
-    /// The solver's name, "admm" or "pgs".
-    solver: String,
-    /// Whether the residual reached the tolerance within the iteration limit.
-    converged: bool,
-    /// Iterations done.
-    iterations: usize,
-    /// The larger of dual_feasibility and complementarity, m/s.
-    residual: f64,
-    /// The velocity outside the dual cone (penetration, or slip the friction does not oppose), m/s.
-    dual_feasibility: f64,
-    /// The velocity along the impulse at the points that push, m/s.
-    complementarity: f64,
+result_class! {
+    /// The velocity jump of a rigid frictional impact (`spacearm_core::collision::RigidImpact`).
+    /// Contact rows are three a point, `[t1, t2, n]` of its contact frame.
+    PyRigidImpact as "RigidImpact", fn of(py: Python<'_>, r: &RigidImpact, k: usize, solver: &str) -> PyResult [
+        let rows = |v: &nalgebra::DVector<f64>| -> Vec<Vec<f64>> { (0..k).map(|i| v.rows(3 * i, 3).iter().copied().collect()).collect() };
+        let world = (0..k).map(|i| (r.frames[i] * r.impulse.fixed_rows::<3>(3 * i)).iter().copied().collect()).collect::<Vec<Vec<f64>>>();
+        let frames = r.frames.iter().map(|f| (0..3).map(|row| (0..3).map(|col| f[(row, col)]).collect()).collect()).collect::<Vec<Vec<Vec<f64>>>>();
+        let to2 = |v: Vec<Vec<f64>>| -> PyResult<Py<PyArray2<f64>>> { Ok(read_only(PyArray2::from_vec2(py, &v).map_err(|e| shape_error(py, e.to_string()))?)) };
+    ] {
+        /// (6+N,) the generalized velocity after the impact u⁺.
+        u_after: Py<PyArray1<f64>> = read_only(dvec(py, &r.u_after)),
+        /// (6+N,) the jump Δu = H⁻¹ Jᵀ λ.
+        du: Py<PyArray1<f64>> = read_only(dvec(py, &r.du)),
+        /// (k, 3) the impulses λ in each point's contact frame [t1, t2, n], N·s.
+        impulse: Py<PyArray2<f64>> = to2(rows(&r.impulse))?,
+        /// (k, 3) the impulse on each point's second body in 𝒥 (the first body receives its opposite), N·s.
+        impulse_world: Py<PyArray2<f64>> = to2(world)?,
+        /// (k, 3) the contact velocities before, J u⁻ (contact frames), m/s.
+        velocity_before: Py<PyArray2<f64>> = to2(rows(&r.velocity_before))?,
+        /// (k, 3) the contact velocities after, J u⁺, m/s.
+        velocity_after: Py<PyArray2<f64>> = to2(rows(&r.velocity_after))?,
+        /// (k, 3, 3) the contact frames: columns t1, t2, n in 𝒥.
+        frames: Py<PyArray3<f64>> = read_only(PyArray3::from_vec3(py, &frames).map_err(|e| shape_error(py, e.to_string()))?),
+        /// (3k, 6+N) the contact Jacobian J.
+        jacobian: Py<PyArray2<f64>> = read_only(dmat(py, &r.jacobian)),
+        /// (3k, 3k) the Delassus operator G = J H⁻¹ Jᵀ.
+        delassus: Py<PyArray2<f64>> = read_only(dmat(py, &r.delassus)),
+        /// The solver's name, "admm" or "pgs".
+        solver: String = solver.to_string(),
+        /// Whether the residual reached the tolerance within the iteration limit.
+        converged: bool = r.solution.converged,
+        /// Iterations done.
+        iterations: usize = r.solution.iterations,
+        /// The larger of dual_feasibility and complementarity, m/s.
+        residual: f64 = r.solution.residual.max(),
+        /// The velocity outside the dual cone (penetration, or slip the friction does not oppose), m/s.
+        dual_feasibility: f64 = r.solution.residual.dual_feasibility,
+        /// The velocity along the impulse at the points that push, m/s.
+        complementarity: f64 = r.solution.residual.complementarity,
+    }
 }
 
 #[pymethods]
@@ -88,28 +94,7 @@ fn rigid_impact(
     }
     let spec = ImpactSpec { solver: ImpactSolver::from_name(solver).or_raise(py)?, restitution, tolerance, max_iterations: max_iterations.max(0) as usize, proximal };
     let r = model.with_data(|m, d| core_rigid_impact(m, d, x.as_slice(), u.as_slice(), &contact_points, &spec)).or_raise(py)?;
-    let k = contact_points.len();
-    let rows = |v: &nalgebra::DVector<f64>| -> Vec<Vec<f64>> { (0..k).map(|i| v.rows(3 * i, 3).iter().copied().collect()).collect() };
-    let world: Vec<Vec<f64>> = (0..k).map(|i| (r.frames[i] * r.impulse.fixed_rows::<3>(3 * i)).iter().copied().collect()).collect();
-    let frames: Vec<Vec<Vec<f64>>> = r.frames.iter().map(|f| (0..3).map(|row| (0..3).map(|col| f[(row, col)]).collect()).collect()).collect();
-    let to2 = |v: Vec<Vec<f64>>| -> PyResult<Py<PyArray2<f64>>> { Ok(read_only(PyArray2::from_vec2(py, &v).map_err(|e| shape_error(py, e.to_string()))?)) };
-    Ok(PyRigidImpact {
-        u_after: read_only(dvec(py, &r.u_after)),
-        du: read_only(dvec(py, &r.du)),
-        impulse: to2(rows(&r.impulse))?,
-        impulse_world: to2(world)?,
-        velocity_before: to2(rows(&r.velocity_before))?,
-        velocity_after: to2(rows(&r.velocity_after))?,
-        frames: read_only(PyArray3::from_vec3(py, &frames).map_err(|e| shape_error(py, e.to_string()))?),
-        jacobian: read_only(dmat(py, &r.jacobian)),
-        delassus: read_only(dmat(py, &r.delassus)),
-        solver: spec.solver.name().to_string(),
-        converged: r.solution.converged,
-        iterations: r.solution.iterations,
-        residual: r.solution.residual.max(),
-        dual_feasibility: r.solution.residual.dual_feasibility,
-        complementarity: r.solution.residual.complementarity,
-    })
+    PyRigidImpact::of(py, &r, contact_points.len(), spec.solver.name())
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -1,79 +1,75 @@
-//! The core's rule tables as typed frozen classes: `SimDefaults` (`_core.SIM_DEFAULTS`),
+//! The core's rule tables as frozen classes: `SimDefaults` (`_core.SIM_DEFAULTS`),
 //! `ModelBounds` (`_core.MODEL_BOUNDS`) and `DlsDefaults` (`_core.DLS_DEFAULTS`), one instance
-//! each, built from the core's constants and defaults. Each field is a documented attribute (the
+//! each, built from the core's constants and defaults (the simulation defaults from the core's
+//! data, so that a run option is declared in the core only). Each field is an attribute (the
 //! schema is in `_core.pyi`); each table is also a read-only mapping of its field names (`keys`,
 //! `t[name]`, `dict(t)`, `**t`, equality with a dict), the form the Python package has always
 //! read.
 
+use pyo3::exceptions::PyAttributeError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyIterator, PyList};
-use pyo3::IntoPyObjectExt;
+use pyo3::types::{IntoPyDict, PyDict, PyIterator, PyList};
 use spacearm_core::math::dls::DampingLaw;
 use spacearm_core::model::{body, validate};
-use spacearm_core::sim::simulate::SimOptions;
+use spacearm_core::sim::options::RunSpec;
 use spacearm_core::SpacearmError;
 
+use crate::controller_spec_py::to_data;
 use crate::convert::{to_py_err, OrRaise};
 
-/// A frozen class of documented, typed fields with the read-only mapping view of the module doc.
+/// A frozen class over the ordered fields `fields` (a dict, names to values) with the read-only
+/// mapping view of the module doc; each field is also an attribute (`t.dt`). The fields, their
+/// types and docs are the core's (and the stub's, `_core.pyi`); the class only shows them.
 macro_rules! rule_table {
-    ($(#[doc = $doc:expr])* $rust:ident, $py:literal { $( $(#[doc = $fdoc:expr])* $field:ident : $ty:ty ),+ $(,)? }) => {
+    ($(#[doc = $doc:expr])* $rust:ident, $py:literal) => {
         $(#[doc = $doc])*
         #[pyclass(module = "spacearm._core", name = $py, frozen)]
         pub struct $rust {
-            $( $(#[doc = $fdoc])* #[pyo3(get)] pub $field: $ty, )+
-        }
-
-        impl $rust {
-            const KEYS: &'static [&'static str] = &[$(stringify!($field)),+];
-
-            fn as_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-                let d = PyDict::new(py);
-                $( d.set_item(stringify!($field), self.$field.clone())?; )+
-                Ok(d)
-            }
+            fields: Py<PyDict>,
         }
 
         #[pymethods]
         impl $rust {
             /// The field names, in order.
-            fn keys(&self) -> Vec<&'static str> {
-                Self::KEYS.to_vec()
+            fn keys(&self, py: Python<'_>) -> PyResult<Vec<String>> {
+                self.fields.bind(py).keys().extract()
+            }
+
+            fn __getattr__<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+                self.fields.bind(py).get_item(name)?.ok_or_else(|| PyAttributeError::new_err(format!("'{}' has no field '{name}'", $py)))
             }
 
             fn __getitem__<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Bound<'py, PyAny>> {
-                match key {
-                    $( stringify!($field) => self.$field.clone().into_bound_py_any(py), )+
-                    _ => Err(to_py_err(py, SpacearmError::NotFound(format!("{}: no field '{key}'; fields are {:?}", $py, Self::KEYS)))),
-                }
+                self.fields.bind(py).get_item(key)?.ok_or_else(|| {
+                    to_py_err(py, SpacearmError::NotFound(format!("{}: no field '{key}'; fields are {:?}", $py, self.keys(py).unwrap_or_default())))
+                })
             }
 
-            fn __len__(&self) -> usize {
-                Self::KEYS.len()
+            fn __len__(&self, py: Python<'_>) -> usize {
+                self.fields.bind(py).len()
             }
 
             fn __iter__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyIterator>> {
-                PyList::new(py, Self::KEYS)?.try_iter()
+                self.fields.bind(py).keys().try_iter()
             }
 
-            fn __contains__(&self, key: &str) -> bool {
-                Self::KEYS.contains(&key)
+            fn __contains__(&self, py: Python<'_>, key: &str) -> PyResult<bool> {
+                self.fields.bind(py).contains(key)
             }
 
             /// Equal to a dict (or a table) with the same fields and values.
             fn __eq__<'py>(&self, py: Python<'py>, other: &Bound<'py, PyAny>) -> PyResult<bool> {
                 if let Ok(other) = other.cast::<$rust>() {
-                    return self.as_dict(py)?.eq(other.get().as_dict(py)?);
+                    return self.fields.bind(py).eq(other.get().fields.bind(py));
                 }
                 if other.is_instance_of::<PyDict>() {
-                    return self.as_dict(py)?.eq(other);
+                    return self.fields.bind(py).eq(other);
                 }
                 Ok(false)
             }
 
             fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
-                let mut fields = Vec::new();
-                $( fields.push(format!("{}={}", stringify!($field), self.$field.clone().into_bound_py_any(py)?.repr()?)); )+
+                let fields = self.fields.bind(py).iter().map(|(k, v)| Ok(format!("{k}={}", v.repr()?))).collect::<PyResult<Vec<_>>>()?;
                 Ok(format!("{}({})", $py, fields.join(", ")))
             }
         }
@@ -81,78 +77,52 @@ macro_rules! rule_table {
 }
 
 rule_table! {
-    /// The simulation defaults (`SimOptions::default()`), read by `spacearm.simulate` and the
-    /// other simulation entry points for their signatures.
-    PySimDefaults, "SimDefaults" {
-        /// Maneuvering mode name (one of `_core.MODES`).
-        mode: &'static str,
-        /// Integrator name (one of `_core.INTEGRATORS`).
-        integrator: &'static str,
-        /// RK4 step; DOPRI5 output interval, s.
-        dt: f64,
-        /// DOPRI5 relative tolerance.
-        rtol: f64,
-        /// DOPRI5 absolute tolerance.
-        atol: f64,
-        /// RK4: keep every k-th step.
-        record_every: usize,
-        /// Whether the joints' effort and velocity limits apply.
-        joint_limits: bool,
-        /// Largest number of attempted DOPRI5 steps.
-        max_steps: usize,
-    }
+    /// The simulation defaults, read by `spacearm.simulate` and the other simulation entry points
+    /// for their signatures: the run options the core declares once (`run_options!` in
+    /// sim/options.rs) whose default is a value, as `RunSpec::default()` writes them.
+    PySimDefaults, "SimDefaults"
 }
 
 rule_table! {
     /// The physical bounds of every model (docs/model-format.md, rule 10 and 11), the same at
     /// every door that makes a model.
-    PyModelBounds, "ModelBounds" {
-        /// Smallest non-zero mass of a body, kg (`MIN_MASS` in `model/body.rs`).
-        min_mass: f64,
-        /// Largest mass of a body, kg (`MAX_MASS`).
-        max_mass: f64,
-        /// Largest magnitude of a component of a joint origin, a CM or a point offset, m
-        /// (`MAX_LENGTH` in `model/validate.rs`).
-        max_length: f64,
-        /// Largest magnitude of an inertia entry, kg·m² (`MAX_INERTIA_ENTRY`).
-        max_inertia_entry: f64,
-    }
+    PyModelBounds, "ModelBounds"
 }
 
 rule_table! {
     /// The default damped-least-squares law (`math/dls.rs`, `DampingLaw::default()`), taken by
     /// every controller and analysis that damps unless told otherwise.
-    PyDlsDefaults, "DlsDefaults" {
-        /// Size ε of the singular region, in the units of σ (m/rad for position rows).
-        threshold: f64,
-        /// Damping λ_max at the singularity itself, in the units of σ.
-        max_damping: f64,
+    PyDlsDefaults, "DlsDefaults"
+}
+
+/// The run options of `RunSpec::default()` (the core's data, in its order) that default to a
+/// value; those that default to nothing (`None` or an empty list: the wheels, stop conditions,
+/// contact, thrusters, orbit and controller) have no default to show.
+fn sim_defaults(py: Python<'_>) -> PyResult<PySimDefaults> {
+    let all = to_data(py, &RunSpec::default())?.cast_into::<PyDict>()?;
+    let fields = PyDict::new(py);
+    for (key, value) in all.iter() {
+        let empty = value.is_none() || value.cast::<PyList>().is_ok_and(|l| l.is_empty());
+        if !empty {
+            fields.set_item(key, value)?;
+        }
     }
+    Ok(PySimDefaults { fields: fields.unbind() })
 }
 
 /// Add the three tables to the extension module (their classes are registered in `lib.rs`).
 pub fn add_tables(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    let d = SimOptions::default();
-    let sim = PySimDefaults {
-        mode: d.mode.name(),
-        integrator: d.integrator.name(),
-        dt: d.dt,
-        rtol: d.rtol,
-        atol: d.atol,
-        record_every: d.record_every,
-        joint_limits: d.joint_limits,
-        max_steps: d.max_steps,
-    };
-    m.add("SIM_DEFAULTS", sim)?;
-    let bounds = PyModelBounds {
-        min_mass: body::MIN_MASS,
-        max_mass: body::MAX_MASS,
-        max_length: validate::MAX_LENGTH,
-        max_inertia_entry: body::MAX_INERTIA_ENTRY,
-    };
-    m.add("MODEL_BOUNDS", bounds)?;
+    m.add("SIM_DEFAULTS", sim_defaults(m.py())?)?;
+    let py = m.py();
+    // kg, the smallest non-zero and the largest body mass (`model/body.rs`); m, the largest
+    // |component| of a joint origin, a CM or a point offset (`model/validate.rs`); kg·m², the
+    // largest |inertia entry|.
+    let bounds = [("min_mass", body::MIN_MASS), ("max_mass", body::MAX_MASS), ("max_length", validate::MAX_LENGTH), ("max_inertia_entry", body::MAX_INERTIA_ENTRY)];
+    m.add("MODEL_BOUNDS", PyModelBounds { fields: bounds.into_py_dict(py)?.unbind() })?;
+    // ε, the size of the singular region, and λ_max, the damping at the singularity (units of σ).
     let law = DampingLaw::default();
-    m.add("DLS_DEFAULTS", PyDlsDefaults { threshold: law.threshold, max_damping: law.max_damping })?;
+    let law = [("threshold", law.threshold), ("max_damping", law.max_damping)];
+    m.add("DLS_DEFAULTS", PyDlsDefaults { fields: law.into_py_dict(py)?.unbind() })?;
     // The run's names (control/spec.rs): the controller kinds, the CLI's aliases, the tasks.
     use spacearm_core::control::spec;
     m.add("CONTROLLER_KINDS", spec::CONTROLLER_KINDS.to_vec())?;

@@ -3,24 +3,21 @@
 //! records returned as numpy arrays. Wrapped by `spacearm.sim.simulation.simulate`, which builds
 //! the options and the spec from the user-facing classes of `spacearm.control`.
 
-use std::time::{Duration, Instant};
-
 use pyo3::prelude::*;
 use spacearm_core::control::mismatch::{perturbed_model, Slosh};
 use spacearm_core::control::{Controller, ZeroTorque};
-use spacearm_core::sim::simulate::simulate as core_simulate;
+use spacearm_core::sim::simulate::{simulate as core_simulate, Progress, SimOptions, SimResult};
+use spacearm_core::Model;
 use spacearm_core::SpacearmError;
 
 use crate::controller_spec_py::{build_controller, error_slot, take_error, ErrorSlot};
 use crate::convert::*;
+use crate::interrupt::run_reporting;
 use crate::model_py::PyModel;
 use crate::records_py::PyRunResult;
 use crate::sim_options_py::PyRunOptions;
 
 type CoreResult<T> = spacearm_core::Result<T>;
-
-/// How often a run without a progress callable checks for Ctrl-C.
-const SIGNAL_CHECK_INTERVAL: Duration = Duration::from_millis(100);
 
 /// Run a simulation, without the GIL; returns its records, saturation onsets and description as
 /// a `RunResult` (see `spacearm.sim.simulation`).
@@ -35,55 +32,68 @@ pub fn simulate<'py>(
     options: PyRef<'py, PyRunOptions>,
     controller_spec: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<PyRunResult> {
-    // A copy of the model: the run holds no borrow of the Python object, so a callback
-    // controller may call the robot's methods.
-    let plant = model.borrow().model.clone();
-    let x0 = vec_arg(x0, "x0")?.as_slice().to_vec();
-    let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
-    let (opts, progress_fn, float32) = (options.sim_options(duration), options.progress_fn(py), options.records_float32());
-    let slot = error_slot();
-    let mut controller: Box<dyn Controller> = match controller_spec {
-        Some(s) if !s.is_none() => build_controller(s, &plant, &slot)?,
-        _ => Box::new(ZeroTorque),
-    };
-    let mut progress_error: Option<PyErr> = None;
-    let result = py.detach(|| {
-        let mut progress = progress_reporter(&progress_fn, &mut progress_error);
-        core_simulate(&plant, &x0, &u0, &opts, controller.as_mut(), &mut progress)
-    });
-    let res = result.map_err(|e| run_error(py, e, &slot, progress_error))?;
-    PyRunResult::of_run(py, res, &opts, float32, (plant.nx(), plant.nu(), plant.n_dof()))
+    let run = RunArgs::read(model.borrow().model.clone(), x0, u0, duration, &options, py)?;
+    let res = run_controlled(py, &run.plant, controller_spec, run.progress_fn.as_ref(), |controller, progress| {
+        core_simulate(&run.plant, &run.x0, &run.u0, &run.opts, controller, progress)
+    })?;
+    run.result(py, res)
 }
 
-/// The progress report of a run without the GIL: the progress callable and Ctrl-C checked with
-/// the GIL taken back, at every report (at most ~1000 a run) if there is a callable, else every
-/// 0.1 s of wall time (taking the GIL back waits for the other Python threads, so not more often
-/// than that); the first Python error is kept in `progress_error` and stops the run.
-pub(crate) fn progress_reporter<'a>(progress_fn: &'a Option<Py<PyAny>>, progress_error: &'a mut Option<PyErr>) -> impl FnMut(f64) -> CoreResult<()> + 'a {
-    let mut last_check = Instant::now();
-    move |fraction: f64| -> CoreResult<()> {
-        if progress_fn.is_none() && fraction < 1.0 && last_check.elapsed() < SIGNAL_CHECK_INTERVAL {
-            return Ok(());
-        }
-        last_check = Instant::now();
-        Python::attach(|py| {
-            py.check_signals()?;
-            match progress_fn {
-                Some(f) => f.call1(py, (fraction,)).map(|_| ()),
-                None => Ok(()),
-            }
-        })
-        .map_err(|e| {
-            progress_error.get_or_insert(e);
-            SpacearmError::Simulation("interrupted".into())
+/// What every single-plant run entry point (`simulate`, `simulate_events`,
+/// `simulate_closed_chain`) reads of its `(model, x0, u0, duration, options)` arguments, the
+/// same way: a copy of the model (the run holds no borrow of the Python object, so a callback
+/// controller may call the robot's methods), the initial state, the options of a run of
+/// `duration`, the records' precision and the progress callable.
+pub(crate) struct RunArgs {
+    pub plant: Model,
+    pub x0: Vec<f64>,
+    pub u0: Vec<f64>,
+    pub opts: SimOptions,
+    pub float32: bool,
+    pub progress_fn: Option<Py<PyAny>>,
+}
+
+impl RunArgs {
+    pub(crate) fn read(plant: Model, x0: &Bound<'_, PyAny>, u0: &Bound<'_, PyAny>, duration: f64, options: &PyRunOptions, py: Python<'_>) -> PyResult<Self> {
+        Ok(RunArgs {
+            plant,
+            x0: vec_arg(x0, "x0")?.as_slice().to_vec(),
+            u0: vec_arg(u0, "u0")?.as_slice().to_vec(),
+            opts: options.sim_options(duration),
+            float32: options.records_float32(),
+            progress_fn: options.progress_fn(py),
         })
     }
+
+    /// The records of the finished run as a `RunResult`.
+    pub(crate) fn result(&self, py: Python<'_>, res: SimResult) -> PyResult<PyRunResult> {
+        PyRunResult::of_run(py, res, &self.opts, self.float32, (self.plant.nx(), self.plant.nu(), self.plant.n_dof()))
+    }
+}
+
+/// Run `work(controller, progress)` without the GIL ([`run_reporting`]: `progress_fn` and Ctrl-C
+/// at the progress reports), the controller that of `controller_spec` on `plant` (None: zero
+/// torques); a failed run raises as [`run_error`] says.
+pub(crate) fn run_controlled<R: Send>(
+    py: Python<'_>,
+    plant: &Model,
+    controller_spec: Option<&Bound<'_, PyAny>>,
+    progress_fn: Option<&Py<PyAny>>,
+    work: impl FnOnce(&mut dyn Controller, Progress<'_>) -> CoreResult<R> + Send,
+) -> PyResult<R> {
+    let slot = error_slot();
+    let mut controller: Box<dyn Controller> = match controller_spec {
+        Some(s) if !s.is_none() => build_controller(s, plant, &slot)?,
+        _ => Box::new(ZeroTorque),
+    };
+    let (result, interrupted) = run_reporting(py, progress_fn, |progress| work(controller.as_mut(), progress));
+    result.map_err(|e| run_error(py, e, &slot, interrupted))
 }
 
 /// The Python error of a failed run: a callback controller's, else the progress callable's
 /// (or Ctrl-C), else the core's.
-pub(crate) fn run_error(py: Python<'_>, e: SpacearmError, slot: &ErrorSlot, progress_error: Option<PyErr>) -> PyErr {
-    take_error(slot).or(progress_error).unwrap_or_else(|| to_py_err(py, e))
+pub(crate) fn run_error(py: Python<'_>, e: SpacearmError, slot: &ErrorSlot, interrupted: Option<PyErr>) -> PyErr {
+    take_error(slot).or(interrupted).unwrap_or_else(|| to_py_err(py, e))
 }
 
 /// A copy of `model` with mass-property errors and fuel slosh (see

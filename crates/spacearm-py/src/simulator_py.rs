@@ -3,7 +3,6 @@
 //! torque and base wrench held over each call. Wrapped by `spacearm.Simulator`.
 
 use std::sync::Mutex;
-use std::time::{Duration, Instant};
 
 use nalgebra::Vector6;
 use numpy::PyArray1;
@@ -15,13 +14,12 @@ use spacearm_core::sim::stepper::Rk4Stepper;
 use spacearm_core::{Model, SpacearmError};
 
 use crate::convert::*;
+use crate::interrupt::run_reporting;
 use crate::model_py::PyModel;
 use crate::controller_spec_py::{build_controller, error_slot, take_error, ErrorSlot};
 use crate::records_py::PyRunResult;
 use crate::sim_options_py::PyRunOptions;
 
-/// How often a long `step(n)` takes the GIL back to check for Ctrl-C.
-const SIGNAL_CHECK_INTERVAL: Duration = Duration::from_millis(100);
 
 /// `n` of `step`: a Python int (not a bool) >= 1, else a `SpacearmTypeError` or `ArgumentError`.
 fn step_count(py: Python<'_>, n: &Bound<'_, PyAny>) -> PyResult<usize> {
@@ -151,26 +149,18 @@ impl PySimulator {
         let stepper = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?.as_mut().ok_or_else(|| Self::not_reset(py))?;
         stepper.admit_steps(n).or_raise(py)?;
         stepper.plant_mut().set_held_input(held.map(|w| (tau.as_slice(), w)));
-        let mut interrupted: Option<PyErr> = None;
-        let result = if n == 1 {
+        let (result, interrupted) = if n == 1 {
             // One step is a few microseconds: releasing the GIL would cost a noticeable part of it.
             let t_next = (stepper.n_steps() + 1) as f64 * dt;
-            stepper.step_to(t_next)
+            (stepper.step_to(t_next), None)
         } else {
-            py.detach(|| {
-                let mut last_check = Instant::now();
+            // Ctrl-C checked at the progress reports (every 0.1 s of wall time); the steps taken
+            // so far stay taken (the simulator can go on).
+            run_reporting(py, None, |progress| {
                 for _ in 0..n {
                     let t_next = (stepper.n_steps() + 1) as f64 * dt;
                     stepper.step_to(t_next)?;
-                    // Ctrl-C: the GIL taken back every 0.1 s of wall time to check the signals;
-                    // the steps taken so far stay taken (the simulator can go on).
-                    if last_check.elapsed() >= SIGNAL_CHECK_INTERVAL {
-                        last_check = Instant::now();
-                        if let Err(e) = Python::attach(|py| py.check_signals()) {
-                            interrupted = Some(e);
-                            return Err(SpacearmError::Simulation("interrupted".into()));
-                        }
-                    }
+                    progress(0.0)?;
                 }
                 Ok(())
             })

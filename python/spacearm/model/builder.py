@@ -151,10 +151,8 @@ class RobotBuilder:
         """
         quat = link_rotation(name, rotation, rpy)
         lim = link_limits(name, limits)
-        if compliant is not None:
-            return self._add_compliant(name, parent, joint, origin, quat, axis, com, mass, inertia, joint_name, lim,
-                                       compliant, (actuated, stiffness, damping, rest))
-        args = (
+        # The link as the core reads it: `ModelBuilder.add_link`'s arguments but the dynamics.
+        link = (
             str(name),
             str(parent),
             str(joint),
@@ -166,13 +164,14 @@ class RobotBuilder:
             matrix3(inertia, f"link '{name}' inertia"),
             joint_name,
             lim,
-            self._joint_dynamics(name, actuated, stiffness, damping, rest),
         )
-        self._b.add_link(*args)
+        if compliant is not None:
+            return self._add_compliant(link, compliant, (actuated, stiffness, damping, rest))
+        self._b.add_link(*link, self._joint_dynamics(name, actuated, stiffness, damping, rest))
         return self
 
-    def _add_compliant(self, name, parent, joint, origin, quat, axis, com, mass, inertia, joint_name, lim, compliant,
-                       dynamics) -> "RobotBuilder":
+    def _add_compliant(self, link, compliant, dynamics) -> "RobotBuilder":
+        name = link[0]
         if not isinstance(compliant, dict):
             raise SpacearmTypeError(f"link '{name}': compliant must be a dict with stiffness, rotor_inertia, damping, "
                                     f"gear_ratio, got {type(compliant).__name__}")
@@ -185,9 +184,7 @@ class RobotBuilder:
             raise ArgumentError(f"link '{name}': a compliant joint takes no actuated, stiffness, damping or rest of its "
                                 "own (the motor joint is actuated, the spring is compliant['stiffness'])")
         parts = _core.compliant_parts(
-            str(name), str(parent), str(joint), list(vector(origin, f"link '{name}' origin", 3)), list(quat),
-            list(vector(axis, f"link '{name}' axis", 3)), list(vector(com, f"link '{name}' com", 3)),
-            number(mass, f"link '{name}' mass"), matrix3(inertia, f"link '{name}' inertia"), joint_name, lim,
+            link,
             number(compliant["stiffness"], f"link '{name}' compliant stiffness"),
             number(compliant["rotor_inertia"], f"link '{name}' compliant rotor_inertia"),
             number(compliant.get("damping", 0.0), f"link '{name}' compliant damping"),

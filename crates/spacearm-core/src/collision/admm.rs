@@ -99,6 +99,38 @@ impl SolverSettings {
     }
 }
 
+impl ConeSolution {
+    /// The iteration both solvers share (admm.rs, pgs.rs): from the impulses `lambda`, one
+    /// `sweep(iteration, λ, σ)` after another (counted from 1, `σ = G λ + g` of the current
+    /// iterate) until the problem's residual (coulomb_cone.rs) is at most the tolerance or the
+    /// iteration limit is reached; the last iterate, checked finite (`what`), with its contact
+    /// velocities and residual.
+    pub(crate) fn iterate(
+        delassus: &DMatrix<f64>,
+        g: &DVector<f64>,
+        friction: &[f64],
+        settings: &SolverSettings,
+        what: &str,
+        mut lambda: DVector<f64>,
+        mut sweep: impl FnMut(usize, &mut DVector<f64>, &DVector<f64>) -> Result<()>,
+    ) -> Result<ConeSolution> {
+        let evaluate = |lambda: &DVector<f64>| {
+            let sigma = delassus * lambda + g;
+            let r = residual(lambda, &sigma, friction);
+            (sigma, r)
+        };
+        let (mut sigma, mut res) = evaluate(&lambda);
+        let mut iterations = 0;
+        while res.max() > settings.tolerance && iterations < settings.max_iterations {
+            iterations += 1;
+            sweep(iterations, &mut lambda, &sigma)?;
+            (sigma, res) = evaluate(&lambda);
+        }
+        check_finite(what, lambda.as_slice())?;
+        Ok(ConeSolution { converged: res.max() <= settings.tolerance, impulse: lambda, velocity: sigma, iterations, residual: res })
+    }
+}
+
 /// How often (iterations) `ρ` may be adapted.
 const RHO_EVERY: usize = 20;
 
@@ -134,36 +166,25 @@ pub fn solve_admm(delassus: &DMatrix<f64>, free_velocity: &DVector<f64>, frictio
     };
     let mut chol = factor(rho)?;
     let mut lambda = DVector::zeros(m);
-    let mut z = DVector::zeros(m);
     let mut y = DVector::zeros(m);
-    let evaluate = |z: &DVector<f64>| {
-        let sigma = delassus * z + g;
-        let r = residual(z, &sigma, friction);
-        (sigma, r)
-    };
-    let (mut sigma, mut res) = evaluate(&z);
-    let mut iterations = 0;
-    while res.max() > settings.tolerance && iterations < settings.max_iterations {
-        iterations += 1;
+    // The iterate the solver reports, and whose residual it tests, is `z` (module docs).
+    ConeSolution::iterate(delassus, g, friction, settings, "the ADMM contact solver's impulses", DVector::zeros(m), |iterations, z, sigma| {
         let mut shifted = sigma.clone();
         add_de_saxce(&mut shifted, friction);
-        let shift = &shifted - &sigma; // Γ(σ)
-        let rhs = &z * rho + &lambda * eta - &y - g - shift;
+        let shift = &shifted - sigma; // Γ(σ)
+        let rhs = &*z * rho + &lambda * eta - &y - g - shift;
         lambda = chol.solve(&rhs);
-        let z_previous = z;
-        z = project_all(&(&lambda + &y / rho), friction);
-        y += (&lambda - &z) * rho;
-        (sigma, res) = evaluate(&z);
+        let z_previous = std::mem::replace(z, project_all(&(&lambda + &y / rho), friction));
+        y += (&lambda - &*z) * rho;
         if iterations % RHO_EVERY == 0 {
-            let primal = (&lambda - &z).amax();
-            let dual = rho * (&z - &z_previous).amax();
+            let primal = (&lambda - &*z).amax();
+            let dual = rho * (&*z - &z_previous).amax();
             let new_rho = if primal > 10.0 * dual { rho * 2.0 } else if dual > 10.0 * primal { rho / 2.0 } else { rho };
             if new_rho != rho && new_rho > 1e-12 * largest && new_rho < 1e12 * largest {
                 rho = new_rho;
                 chol = factor(rho)?;
             }
         }
-    }
-    check_finite("the ADMM contact solver's impulses", z.as_slice())?;
-    Ok(ConeSolution { converged: res.max() <= settings.tolerance, impulse: z, velocity: sigma, iterations, residual: res })
+        Ok(())
+    })
 }

@@ -116,7 +116,7 @@ mod tests {
     use crate::model::ModelBuilder;
 
     fn shape(body: &str, shape: Shape, origin: [f64; 3]) -> GeometrySpec {
-        GeometrySpec { name: None, body: body.into(), role: GeometryRole::Collision, shape, origin, rotation: [0.0, 0.0, 0.0, 1.0], rgba: None }
+        GeometrySpec { origin, ..GeometrySpec::new(body, GeometryRole::Collision, shape) }
     }
 
     /// A base with a ball of radius 0.3 at its CM; a slider on x (its parent the base) with a

@@ -24,8 +24,7 @@
 use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
 
 use crate::collision::admm::{check_problem, ConeSolution, SolverSettings};
-use crate::collision::coulomb_cone::residual;
-use crate::error::{check_finite, Result, SpacearmError};
+use crate::error::{Result, SpacearmError};
 
 /// Solve `K ∋ λ ⊥ Gλ + g + Γ(Gλ + g) ∈ K*` by projected Gauss–Seidel (module docs), from `λ = 0`.
 pub fn solve_pgs(delassus: &DMatrix<f64>, free_velocity: &DVector<f64>, friction: &[f64], settings: &SolverSettings) -> Result<ConeSolution> {
@@ -42,16 +41,7 @@ pub fn solve_pgs(delassus: &DMatrix<f64>, free_velocity: &DVector<f64>, friction
         let dt = block.symmetric_eigen().eigenvalues.max();
         steps.push((gnn, if dt > 1e-14 * scale { dt } else { gnn }));
     }
-    let mut lambda = DVector::zeros(g.len());
-    let evaluate = |lambda: &DVector<f64>| {
-        let sigma = delassus * lambda + g;
-        let r = residual(lambda, &sigma, friction);
-        (sigma, r)
-    };
-    let (mut sigma, mut res) = evaluate(&lambda);
-    let mut iterations = 0;
-    while res.max() > settings.tolerance && iterations < settings.max_iterations {
-        iterations += 1;
+    ConeSolution::iterate(delassus, g, friction, settings, "the PGS contact solver's impulses", DVector::zeros(g.len()), |_, lambda, _| {
         for (i, (&mu, &(gnn, dt))) in friction.iter().zip(&steps).enumerate() {
             let (t1, t2, n) = (3 * i, 3 * i + 1, 3 * i + 2);
             let row = |k: usize, lambda: &DVector<f64>| g[k] + delassus.row(k).dot(&lambda.transpose());
@@ -67,8 +57,6 @@ pub fn solve_pgs(delassus: &DMatrix<f64>, free_velocity: &DVector<f64>, friction
             lambda[t1] = lt[0];
             lambda[t2] = lt[1];
         }
-        (sigma, res) = evaluate(&lambda);
-    }
-    check_finite("the PGS contact solver's impulses", lambda.as_slice())?;
-    Ok(ConeSolution { converged: res.max() <= settings.tolerance, impulse: lambda, velocity: sigma, iterations, residual: res })
+        Ok(())
+    })
 }

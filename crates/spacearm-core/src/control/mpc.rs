@@ -99,6 +99,9 @@ impl ModelPredictive {
             for c in &mut self.cs[t - shift..] {
                 c.copy_from_slice(&last_c);
             }
+            // The knot models of the last solve's final iterate move with the guess: only the
+            // knots that changed are linearized again (the same numbers, less time).
+            ws.shift(shift);
             solve_in(ws, problem, Some(&self.zs), Some(&self.cs), &self.options)?
         } else {
             solve_in(ws, problem, None, None, &self.options)?

@@ -47,7 +47,7 @@ use crate::math::rotations::QUATERNION_TOLERANCE;
 use crate::model::{Data, Model};
 use crate::scenario::actuators::ThrusterLimits;
 use crate::scenario::free_body::FreeBody;
-pub use crate::scenario::free_body::InertiaSpec;
+pub use crate::scenario::free_body::{FreeBodySpec, InertiaSpec};
 use crate::scenario::orbit::Orbit;
 use crate::scenario::reference::{CartesianLine, JointReference, PointReference, Quintic};
 
@@ -501,16 +501,9 @@ pub enum PointReferenceSpec {
     },
     /// A point fixed to a rigid body moving freely (the grasp point of a tumbling target).
     FreeBody {
-        /// The body's inertia about its CM in its axes, kg·m².
-        inertia: InertiaSpec,
-        /// The body's 13-state `[r, quat xyzw, v, ω]` in 𝒥 at simulation time 0.
-        state: Vec<f64>,
-        /// The point from the body's CM, body axes, m.
-        #[serde(default)]
-        offset: [f64; 3],
-        /// The attitude step of the body's propagation, s.
-        #[serde(default = "default_free_body_step")]
-        step: f64,
+        /// The body and its point (its fields stand beside `point` and `orbit`).
+        #[serde(flatten)]
+        body: FreeBodySpec,
         /// The robot's point that follows it.
         #[serde(default)]
         point: Option<PointSpec>,
@@ -524,10 +517,6 @@ pub enum PointReferenceSpec {
 }
 
 tagged_by_kind!(PointReferenceSpec);
-
-fn default_free_body_step() -> f64 {
-    1e-3
-}
 
 impl PointReferenceSpec {
     /// The robot's point this reference names, if any.
@@ -549,11 +538,11 @@ impl PointReferenceSpec {
     /// The free body of a `FreeBody` spec (checked by [`FreeBody::new`]).
     pub fn free_body(&self) -> Result<FreeBody> {
         match self {
-            PointReferenceSpec::FreeBody { inertia, state, offset, step, orbit: o, .. } => {
-                if state.len() != 13 {
-                    return Err(SpacearmError::Dimension { what: "free-body 'state' ([r, quat xyzw, v, w])".into(), expected: "13".into(), got: state.len() });
+            PointReferenceSpec::FreeBody { body, orbit: o, .. } => {
+                if body.state.len() != 13 {
+                    return Err(SpacearmError::Dimension { what: "free-body 'state' ([r, quat xyzw, v, w])".into(), expected: "13".into(), got: body.state.len() });
                 }
-                let body = FreeBody::new(inertia.matrix(), state, Vector3::from(*offset), *step)?;
+                let body = body.build()?;
                 match orbit(o)? {
                     Some(o) => body.in_orbit(&o),
                     None => Ok(body),

@@ -8,7 +8,7 @@ use num_dual::{Derivative, Dual64, DualSVec64};
 
 use crate::model::data::{Data, DataT};
 use crate::error::Result;
-use crate::algorithms::kinematics::{check_velocity, forward_kinematics_at, split_configuration};
+use crate::algorithms::kinematics::{check_velocity, forward_kinematics, forward_kinematics_at, split_configuration};
 use crate::model::Model;
 use crate::math::scalar::Real;
 use crate::math::spatial::{cross_motion, skew};
@@ -363,10 +363,35 @@ impl DerivativeData {
         )
     }
 
+    /// The prologue of the tensors of partials of a kinematic quantity (`H`,
+    /// [`super::mass_matrix_partials`]; `H*`, [`super::generalized_inertia_partials`]): the pose
+    /// of `x` checked, forward kinematics in `f64` into `self.data`, and the tensor (`n`
+    /// matrices of `n×n`, `n = 6 + N` for `H`, `N` for `H*`) sized by [`Self::size_partials`].
+    /// Returns the pose and `n`.
+    pub(crate) fn prepare_partials<'a>(&mut self, model: &Model, x: &'a [f64], tensor: PartialsTensor) -> Result<(Pose<'a>, usize)> {
+        let pose = Pose::new(model, x)?;
+        forward_kinematics(model, &mut self.data, x)?;
+        let n = match tensor {
+            PartialsTensor::MassMatrix => {
+                let nu = model.nu();
+                let remedy = "use mass_matrix_derivative (Ḣ along one velocity, (6+N)² values) or a smaller model";
+                Self::size_partials(&mut self.mass_matrix_partials, nu, format_args!("mass_matrix_partials ((6+N)³ = {nu}³ values)"), remedy)?;
+                nu
+            }
+            PartialsTensor::GeneralizedInertia => {
+                let n = model.n_dof();
+                let remedy = "use generalized_inertia_derivative (Ḣ* along one velocity, N² values) or a smaller model";
+                Self::size_partials(&mut self.generalized_inertia_partials, n, format_args!("generalized_inertia_partials (N³ = {n}³ values)"), remedy)?;
+                n
+            }
+        };
+        Ok((pose, n))
+    }
+
     /// Size a tensor of partials (`tensor`, `n` matrices of `n×n`) on its function's first use,
     /// admitting its `n³` values first: `what` names the function and the size, `remedy` the
     /// way out ([`crate::admission::admit`]).
-    pub(crate) fn size_partials(tensor: &mut Vec<DMatrix<f64>>, n: usize, what: impl std::fmt::Display, remedy: &str) -> Result<()> {
+    fn size_partials(tensor: &mut Vec<DMatrix<f64>>, n: usize, what: impl std::fmt::Display, remedy: &str) -> Result<()> {
         if tensor.len() != n {
             crate::admission::admit(what, crate::admission::bytes_of::<f64>((n as f64).powi(3)), remedy)?;
             *tensor = vec![DMatrix::zeros(n, n); n];
@@ -404,6 +429,15 @@ impl DerivativeData {
             dynamics_dirs: configuration_directions(n).chain((0..nu).map(Direction::Velocity)).collect(),
         }
     }
+}
+
+/// The tensors of partials that [`DerivativeData::prepare_partials`] sizes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum PartialsTensor {
+    /// `∂H/∂x_k`, `work.mass_matrix_partials`.
+    MassMatrix,
+    /// `∂H*/∂q_k`, `work.generalized_inertia_partials`.
+    GeneralizedInertia,
 }
 
 /// Validate a configuration and a velocity for the derivative functions.

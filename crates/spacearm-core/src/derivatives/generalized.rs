@@ -4,10 +4,10 @@
 
 use nalgebra::{DMatrix, Vector3};
 
-use super::dual::{lanes, pose_and_velocity, seed_along_velocity, seed_chunk, seed_chunk_from_kinematics, DerivativeData, Pose, CHUNK};
+use super::dual::{lanes, pose_and_velocity, seed_along_velocity, seed_chunk, seed_chunk_from_kinematics, DerivativeData, PartialsTensor, Pose, CHUNK};
 use crate::error::Result;
 use crate::gjm::{fill_generalized_inertia, generalized_jacobian_after_reduction, reduce_after_kinematics, reduction_columns};
-use crate::algorithms::kinematics::{check_body, forward_kinematics};
+use crate::algorithms::kinematics::check_body;
 use crate::model::Model;
 
 /// Partial derivatives `∂H*/∂q_k` (each N×N, symmetric) of the generalized inertia with
@@ -17,15 +17,7 @@ use crate::model::Model;
 /// position and attitude) rotates `H0`, `H0m` covariantly and leaves `H_m` unchanged, so the
 /// reduction is invariant and its tangent partials with respect to `δr0`, `δθ` vanish.
 pub fn generalized_inertia_partials<'w>(model: &Model, work: &'w mut DerivativeData, x: &[f64]) -> Result<&'w [DMatrix<f64>]> {
-    let pose = Pose::new(model, x)?;
-    forward_kinematics(model, &mut work.data, x)?;
-    let n = model.n_dof();
-    DerivativeData::size_partials(
-        &mut work.generalized_inertia_partials,
-        n,
-        format_args!("generalized_inertia_partials (N³ = {n}³ values)"),
-        "use generalized_inertia_derivative (Ḣ* along one velocity, N² values) or a smaller model",
-    )?;
+    let (pose, n) = work.prepare_partials(model, x, PartialsTensor::GeneralizedInertia)?;
     let dirs = &work.joint_dirs;
     for (c, chunk) in dirs.chunks(CHUNK).enumerate() {
         seed_chunk_from_kinematics(model, &work.data, &mut work.chunk, &pose, None, chunk);

@@ -3,10 +3,9 @@
 
 use nalgebra::DMatrix;
 
-use super::dual::{lanes, pose_and_velocity, seed_along_velocity, seed_chunk_from_kinematics, DerivativeData, Pose, CHUNK};
+use super::dual::{lanes, pose_and_velocity, seed_along_velocity, seed_chunk_from_kinematics, DerivativeData, PartialsTensor, CHUNK};
 use crate::algorithms::crba::crba_after_kinematics;
 use crate::error::Result;
-use crate::algorithms::kinematics::forward_kinematics;
 use crate::model::Model;
 
 /// Partial derivatives `∂H/∂x_k` of the mass matrix with respect to the `6+N` tangent
@@ -17,15 +16,7 @@ use crate::model::Model;
 /// partials are exactly zero. Cost: forward kinematics in `f64`, then `⌈(3+N)/CHUNK⌉` passes
 /// of CRBA on dual numbers seeded with the closed-form motion of the bodies.
 pub fn mass_matrix_partials<'w>(model: &Model, work: &'w mut DerivativeData, x: &[f64]) -> Result<&'w [DMatrix<f64>]> {
-    let pose = Pose::new(model, x)?;
-    forward_kinematics(model, &mut work.data, x)?;
-    let nu = model.nu();
-    DerivativeData::size_partials(
-        &mut work.mass_matrix_partials,
-        nu,
-        format_args!("mass_matrix_partials ((6+N)³ = {nu}³ values)"),
-        "use mass_matrix_derivative (Ḣ along one velocity, (6+N)² values) or a smaller model",
-    )?;
+    let (pose, nu) = work.prepare_partials(model, x, PartialsTensor::MassMatrix)?;
     let dirs = &work.config_dirs;
     for k in 0..3 {
         work.mass_matrix_partials[k].fill(0.0);

@@ -124,6 +124,13 @@ impl Rk4 {
         sys.project(y);
         Ok(())
     }
+
+    /// The step from `(t0, y0)` to `t`, into `y` (`y0` left as it is): a step re-taken from its
+    /// start to a located event ([`crate::sim::events`], [`crate::sim::contact_onset`]).
+    pub fn step_from<S: OdeSystem + ?Sized>(&mut self, sys: &mut S, t0: f64, y0: &[f64], t: f64, y: &mut [f64]) -> Result<()> {
+        y.copy_from_slice(y0);
+        self.step(sys, t0, t - t0, y, false)
+    }
 }
 
 // Dormand–Prince 5(4) tableau (Hairer et al. I, Table II.5.2), a row a line: the nodes

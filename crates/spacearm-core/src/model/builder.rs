@@ -446,16 +446,7 @@ mod tests {
         // geometries cost O(N²) (160k URDF <visual>s: 49.5 s) (issue 38). Now a count per
         // (body, role): 60k of them take milliseconds (the scan took ~30 s in release).
         let add = |b: &mut ModelBuilder, body: &str, role: GeometryRole, name: Option<&str>| {
-            b.add_geometry(GeometrySpec {
-                name: name.map(str::to_string),
-                body: body.into(),
-                role,
-                shape: Shape::Sphere { radius: 0.1 },
-                origin: [0.0; 3],
-                rotation: [0.0, 0.0, 0.0, 1.0],
-                rgba: None,
-            })
-            .map(|_| ())
+            b.add_geometry(GeometrySpec { name: name.map(str::to_string), ..GeometrySpec::new(body, role, Shape::Sphere { radius: 0.1 }) }).map(|_| ())
         };
         let mut b = ModelBuilder::new("m", "base", 1.0, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]).unwrap();
         b.add_link(spec([0.0, 0.0, 1.0], 1.0, JointLimits::unlimited())).unwrap();

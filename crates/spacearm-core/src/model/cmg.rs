@@ -88,12 +88,14 @@ pub struct CmgSpec {
     pub max_wheel_torque: Option<f64>,
 }
 
-/// One CMG found in a model by [`detect_cmgs`].
-#[derive(Debug, Clone, PartialEq)]
+/// One CMG found in a model by [`detect_cmgs`]; as data (the Python `_core.cmgs` dicts), the
+/// body carrying the gimbal is `parent`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Cmg {
     /// The gimbal link's name (the CMG's name).
     pub name: String,
     /// The body carrying the gimbal.
+    #[serde(rename = "parent")]
     pub parent_body: usize,
     /// The gimbal joint's degree of freedom.
     pub gimbal_dof: usize,

@@ -186,6 +186,14 @@ pub struct GeometrySpec {
     pub rgba: Option<[f64; 4]>,
 }
 
+impl GeometrySpec {
+    /// `shape` in the role `role` at the CM of `body`, in its axes, with the default name and
+    /// colour; the other fields by struct update (`GeometrySpec { origin, ..GeometrySpec::new(..) }`).
+    pub fn new(body: &str, role: GeometryRole, shape: Shape) -> Self {
+        GeometrySpec { name: None, body: body.to_string(), role, shape, origin: [0.0; 3], rotation: [0.0, 0.0, 0.0, 1.0], rgba: None }
+    }
+}
+
 /// The longest mesh file name a model accepts, in characters (a path's `PATH_MAX`).
 pub const MAX_FILE_CHARS: usize = 4096;
 

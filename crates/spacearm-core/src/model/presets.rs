@@ -46,15 +46,7 @@ const LINK_RGBA: [f64; 4] = [0.75, 0.77, 0.8, 1.0];
 
 /// A visual box of full sides `size` centred at the CM of `body`, in its axes.
 fn add_box(b: &mut ModelBuilder, body: &str, size: [f64; 3], rgba: [f64; 4]) -> Result<()> {
-    b.add_geometry(GeometrySpec {
-        name: None,
-        body: body.to_string(),
-        role: GeometryRole::Visual,
-        shape: Shape::Box { size },
-        origin: [0.0; 3],
-        rotation: [0.0, 0.0, 0.0, 1.0],
-        rgba: Some(rgba),
-    })?;
+    b.add_geometry(GeometrySpec { rgba: Some(rgba), ..GeometrySpec::new(body, GeometryRole::Visual, Shape::Box { size }) })?;
     Ok(())
 }
 
@@ -278,15 +270,7 @@ pub fn ets7_with(triangle_inequality: TriangleInequality) -> Model {
             // A 0.06 m radius capsule from this joint to the next (or to the end effector).
             let next = ETS7_LINKS.get(i + 1).map_or(ETS7_END_EFFECTOR, |l| l.origin);
             if let Some((origin, rotation, length)) = segment([0.0; 3], next) {
-                b.add_geometry(GeometrySpec {
-                    name: None,
-                    body: name.clone(),
-                    role: GeometryRole::Visual,
-                    shape: Shape::Capsule { radius: 0.06, length },
-                    origin,
-                    rotation,
-                    rgba: Some(LINK_RGBA),
-                })?;
+                b.add_geometry(GeometrySpec { origin, rotation, rgba: Some(LINK_RGBA), ..GeometrySpec::new(&name, GeometryRole::Visual, Shape::Capsule { radius: 0.06, length }) })?;
             }
             parent = name;
         }

@@ -27,7 +27,7 @@ use super::state::{so3_left_jacobian_inverse, StateSpace};
 use crate::algorithms::kinematics::{forward_kinematics, point_jacobians, point_position};
 use crate::error::{Result, SpacearmError};
 use crate::model::{Data, Model};
-use crate::scenario::free_body::{FreeBody, InertiaSpec};
+use crate::scenario::free_body::{FreeBody, FreeBodySpec};
 
 /// One number for all, or one each.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -95,27 +95,12 @@ impl<'de> Deserialize<'de> for PointTarget {
     }
 }
 
-fn default_free_body_step() -> f64 {
-    1e-3
-}
-
 /// A moving target point (serde tag `kind`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum MovingPoint {
     /// A point fixed to a torque-free rigid body ([`FreeBody`]): a tumbling target's grasp point.
-    FreeBody {
-        /// The body's inertia about its CM in its axes, kg·m².
-        inertia: InertiaSpec,
-        /// The body's 13-state `[r, quat xyzw, v, ω]` in 𝒥 at time 0 of the references' clock.
-        state: Vec<f64>,
-        /// The point from the body's CM, body axes, m.
-        #[serde(default)]
-        offset: [f64; 3],
-        /// The attitude step of the body's propagation, s.
-        #[serde(default = "default_free_body_step")]
-        step: f64,
-    },
+    FreeBody(FreeBodySpec),
 }
 
 /// A point cost's target checked: fixed, or a free body with its point at every knot.
@@ -308,14 +293,14 @@ impl CostSpec {
                         check_len("a point cost's target", p, 3)?;
                         Target::Fixed(Vector3::from(*p))
                     }
-                    PointTarget::Moving(MovingPoint::FreeBody { inertia, state, offset, step }) => {
-                        if state.len() != 13 {
+                    PointTarget::Moving(MovingPoint::FreeBody(spec)) => {
+                        if spec.state.len() != 13 {
                             return Err(SpacearmError::argument(format!(
                                 "a point cost's free_body target 'state' must be 13 numbers [r, quat xyzw, v, w], got {}",
-                                state.len()
+                                spec.state.len()
                             )));
                         }
-                        let body = FreeBody::new(inertia.matrix(), state, Vector3::from(*offset), *step)?;
+                        let body = spec.build()?;
                         Target::FreeBody { body: Box::new(body), knots: Vec::new() }
                     }
                 };
@@ -481,16 +466,17 @@ pub fn cost_derivatives(
 mod tests {
     use super::*;
     use crate::model::presets;
+    use crate::scenario::free_body::InertiaSpec;
 
     /// A body spinning about its principal axis z at 0.1 rad/s, drifting at `v`: its point at
     /// `offset` is `r₀ + v t + Rz(ω t) offset` in closed form.
     fn spinning(offset: [f64; 3]) -> MovingPoint {
-        MovingPoint::FreeBody {
+        MovingPoint::FreeBody(FreeBodySpec {
             inertia: InertiaSpec::Principal([3.0, 4.0, 5.0]),
             state: vec![1.0, 0.2, -0.1, 0.0, 0.0, 0.0, 1.0, 0.01, -0.02, 0.0, 0.0, 0.0, 0.1],
             offset,
             step: 1e-3,
-        }
+        })
     }
 
     fn point_cost(target: PointTarget) -> CostSpec {
@@ -565,7 +551,7 @@ mod tests {
         let e = read("kind = 'point'\nbody = 6\nweight = 1.0\ntarget = [1.0, 2.0]").unwrap_err();
         assert!(e.contains("three numbers"), "{e}");
         let model = presets::spatial6();
-        let short = MovingPoint::FreeBody { inertia: InertiaSpec::Principal([1.0, 1.0, 1.0]), state: vec![0.0; 12], offset: [0.0; 3], step: 1e-3 };
+        let short = MovingPoint::FreeBody(FreeBodySpec { inertia: InertiaSpec::Principal([1.0, 1.0, 1.0]), state: vec![0.0; 12], offset: [0.0; 3], step: 1e-3 });
         let e = point_cost(PointTarget::Moving(short)).build(&model, 6, false).unwrap_err().to_string();
         assert!(e.contains("13"), "{e}");
     }

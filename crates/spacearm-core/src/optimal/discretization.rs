@@ -30,13 +30,10 @@ pub struct Rk4Discretization {
     pub h: f64,
     k: [Vec<f64>; 4],
     stage: Vec<f64>,
-    jz: DMatrix<f64>,
-    jc: DMatrix<f64>,
     z1: DMatrix<f64>,
     zi: DMatrix<f64>,
     ki: [DMatrix<f64>; 4],
     acc: DMatrix<f64>,
-    e: DMatrix<f64>,
 }
 
 impl Rk4Discretization {
@@ -48,13 +45,18 @@ impl Rk4Discretization {
             h,
             k: std::array::from_fn(|_| vec![0.0; nz]),
             stage: vec![0.0; nz],
-            jz: DMatrix::zeros(nz, nz),
-            jc: DMatrix::zeros(nz, m),
-            z1: mat(),
+            z1: {
+                let mut z1 = mat();
+                let mut e = DMatrix::zeros(nz, nd);
+                let mut unit = vec![0.0; nz];
+                unit[6] = 1.0;
+                dynamics.space.ambient_from_tangent(&unit, &mut e);
+                z1.columns_mut(0, nd).copy_from(&e);
+                z1
+            },
             zi: mat(),
             ki: std::array::from_fn(|_| mat()),
             acc: mat(),
-            e: DMatrix::zeros(nz, nd),
             dynamics,
         }
     }
@@ -81,9 +83,8 @@ impl Rk4Discretization {
         let h = self.h;
         let space = self.dynamics.space;
         let (nd, m) = (space.nd(), self.dynamics.controls.len());
-        self.z1.fill(0.0);
-        space.ambient_from_tangent(z, &mut self.e);
-        self.z1.columns_mut(0, nd).copy_from(&self.e);
+        // Z_1 = [E(z) | 0]: the identity but on the quaternion's rows (set in `new`); E's block here.
+        self.z1.view_mut((3, 3), (4, 3)).copy_from(&super::state::quaternion_from_tangent(&z[3..7]));
         self.stage.copy_from_slice(z);
         for i in 0..4 {
             if i > 0 {
@@ -94,14 +95,11 @@ impl Rk4Discretization {
                 add_scaled(&mut self.zi, coef, &self.ki[i - 1]);
                 normalization_jacobian_rows(&self.stage, &mut self.zi);
                 normalize_quaternion(&mut self.stage);
-            } else {
-                self.zi.copy_from(&self.z1);
             }
-            self.dynamics.rhs_jacobian(model, &self.stage, c, &mut self.k[i], &mut self.jz, &mut self.jc)?;
-            let ki = &mut self.ki[i];
-            sparse_rhs_product(space.nx(), &self.jz, &self.zi, ki);
-            let mut kc = ki.columns_mut(nd, m);
-            kc += &self.jc;
+            self.dynamics.rhs_derivatives(model, &self.stage, c, &mut self.k[i])?;
+            // K_i = ∂F/∂z(s_i) Z_i + [0 | ∂F/∂c(s_i)] (the first stage's Z_1 is [E | 0]).
+            let s = if i == 0 { &self.z1 } else { &self.zi };
+            self.dynamics.sensitivity(&self.stage, s, i == 0, &mut self.ki[i]);
         }
         for j in 0..z.len() {
             next[j] = z[j] + h / 6.0 * (self.k[0][j] + 2.0 * self.k[1][j] + 2.0 * self.k[2][j] + self.k[3][j]);
@@ -132,32 +130,6 @@ impl Rk4Discretization {
         }
         Ok(())
     }
-}
-
-/// `out = J_z Z` for the ambient Jacobian `J_z` of [`Dynamics::rhs_jacobian`], using its
-/// structure: the rows of `ṙ0 = v0` and `q̇` pick rows of `Z`, the quaternion's rows read the
-/// quaternion and `ω0` only, and the `u̇` rows (the last `6+N`) are dense.
-fn sparse_rhs_product(nx: usize, jz: &DMatrix<f64>, z: &DMatrix<f64>, out: &mut DMatrix<f64>) {
-    let nz = jz.nrows();
-    for c in 0..z.ncols() {
-        for i in 0..3 {
-            out[(i, c)] = z[(nx + i, c)];
-        }
-        for i in 3..7 {
-            let mut v = 0.0;
-            for j in 3..7 {
-                v += jz[(i, j)] * z[(j, c)];
-            }
-            for j in 0..3 {
-                v += jz[(i, nx + 3 + j)] * z[(nx + 3 + j, c)];
-            }
-            out[(i, c)] = v;
-        }
-        for i in 7..nx {
-            out[(i, c)] = z[(nx + i - 1, c)];
-        }
-    }
-    out.rows_mut(nx, nz - nx).gemm(1.0, &jz.rows(nx, nz - nx), z, 0.0);
 }
 
 /// `m += a k` (no temporary).
@@ -278,4 +250,3 @@ mod tests {
         }
     }
 }
-

@@ -80,14 +80,21 @@ pub struct Dynamics {
     data: Data,
     work: DerivativeData,
     f: Vec<f64>,
+    /// `[∂u̇/∂(δθ, q) | ∂u̇/∂u]` (`(6+N) × (9+2N)`) and the stacked factor of [`Dynamics::sensitivity`].
+    partials: DMatrix<f64>,
+    stacked: DMatrix<f64>,
 }
 
 impl Dynamics {
     /// Workspaces for `model` with the controls of `mode`.
     pub fn new(model: &Model, mode: Mode) -> Result<Dynamics> {
+        let controls = ControlMap::new(model, mode)?;
+        let (nu, nd) = (model.nu(), 12 + 2 * model.n_dof());
         Ok(Dynamics {
             space: StateSpace { n: model.n_dof() },
-            controls: ControlMap::new(model, mode)?,
+            partials: DMatrix::zeros(nu, 2 * nu - 3),
+            stacked: DMatrix::zeros(2 * nu - 3, nd + controls.len()),
+            controls,
             data: Data::new(model),
             work: DerivativeData::new(model),
             f: vec![0.0; model.nu()],
@@ -104,6 +111,78 @@ impl Dynamics {
         kinematic_rates(x, u, dz);
         dz[nx..].copy_from_slice(self.data.accel.as_slice());
         Ok(())
+    }
+
+    /// `ż = F(z, c)` into `dz` at a unit-quaternion `z`, by the derivative routine (its
+    /// acceleration `H⁻¹(f − c)`, equal to ABA's to rounding), keeping the partials of the
+    /// acceleration for [`Dynamics::sensitivity`].
+    pub fn rhs_derivatives(&mut self, model: &Model, z: &[f64], c: &[f64], dz: &mut [f64]) -> Result<()> {
+        let nx = self.space.nx();
+        let (x, u) = z.split_at(nx);
+        self.controls.force(c, &mut self.f);
+        forward_dynamics_derivatives(model, &mut self.work, x, u, &self.f)?;
+        kinematic_rates(x, u, dz);
+        dz[nx..].copy_from_slice(self.work.data.accel.as_slice());
+        Ok(())
+    }
+
+    /// `out = ∂F/∂z(z) S + [0 | ∂F/∂c(z)]` for a sensitivity `S` (`nz × (nd + m)`, the last `m`
+    /// columns those of the controls) at the `z` of the last [`Dynamics::rhs_derivatives`]
+    /// (the product [`Dynamics::rhs_jacobian`] would give, without forming `∂F/∂z`): the
+    /// kinematic rows pick rows of `S` (`ṙ0 = v0`, `q̇`) or mix the quaternion's and `ω0`'s
+    /// (`quaṫ`); the `6+N` acceleration rows are `∂u̇/∂x · (T S_x) + ∂u̇/∂u · S_u`, where
+    /// `T S_x` is the configuration rows of `S` in tangent coordinates (`δθ = T dquat`;
+    /// `∂u̇/∂r0 = 0`: no column for it). `start`: `S` is `[E(z) | 0]` (the first RK4 stage,
+    /// [`super::discretization`]), whose acceleration rows are `[∂u̇/∂x | ∂u̇/∂u | H⁻¹ S]`
+    /// exactly (`T E = I`): copied, not multiplied.
+    pub fn sensitivity(&mut self, z: &[f64], s: &DMatrix<f64>, start: bool, out: &mut DMatrix<f64>) {
+        let space = self.space;
+        let (nx, nu, nz, nd) = (space.nx(), space.nu(), space.nz(), space.nd());
+        let w = &self.work;
+        let (dx, du, hinv) = (&w.accel_wrt_configuration, &w.accel_wrt_velocity, &w.accel_wrt_force);
+        let e = quaternion_from_tangent(&z[3..7]);
+        let t = tangent_from_quaternion(&z[3..7]);
+        let om = [z[nx + 3], z[nx + 4], z[nx + 5]];
+        let p = s.ncols();
+        for j in 0..p {
+            let sc = &s.as_slice()[j * nz..(j + 1) * nz];
+            let oc = &mut out.as_mut_slice()[j * nz..(j + 1) * nz];
+            oc[0..3].copy_from_slice(&sc[nx..nx + 3]);
+            // quaṫ = ½ [ω; 0] ⊗ [v; w]: ½ (ω × dv + ω dw), −½ ω·dv; + E(quat) dω.
+            let (a, b, o) = ([sc[3], sc[4], sc[5]], sc[6], [sc[nx + 3], sc[nx + 4], sc[nx + 5]]);
+            let cross = [om[1] * a[2] - om[2] * a[1], om[2] * a[0] - om[0] * a[2], om[0] * a[1] - om[1] * a[0]];
+            for r in 0..3 {
+                oc[3 + r] = 0.5 * cross[r] + 0.5 * om[r] * b + e[(r, 0)] * o[0] + e[(r, 1)] * o[1] + e[(r, 2)] * o[2];
+            }
+            oc[6] = -0.5 * (om[0] * a[0] + om[1] * a[1] + om[2] * a[2]) + e[(3, 0)] * o[0] + e[(3, 1)] * o[1] + e[(3, 2)] * o[2];
+            oc[7..nx].copy_from_slice(&sc[nx + 6..nz]);
+            if start {
+                let acc = &mut oc[nx..nz];
+                match j {
+                    _ if j < nu => acc.copy_from_slice(dx.column(j).as_slice()),
+                    _ if j < nd => acc.copy_from_slice(du.column(j - nu).as_slice()),
+                    _ => acc.fill(0.0),
+                }
+            } else {
+                // The stacked right factor [T S_quat; S_q; S_u] of column j.
+                let vc = &mut self.stacked.as_mut_slice()[j * (2 * nu - 3)..(j + 1) * (2 * nu - 3)];
+                for r in 0..3 {
+                    vc[r] = t[(r, 0)] * sc[3] + t[(r, 1)] * sc[4] + t[(r, 2)] * sc[5] + t[(r, 3)] * sc[6];
+                }
+                vc[3..nu - 3].copy_from_slice(&sc[7..nx]);
+                vc[nu - 3..].copy_from_slice(&sc[nx..nz]);
+            }
+        }
+        if !start {
+            // [∂u̇/∂(δθ, q) | ∂u̇/∂u], then one product for the acceleration rows.
+            self.partials.columns_mut(0, nu - 3).copy_from(&dx.columns(3, nu - 3));
+            self.partials.columns_mut(nu - 3, nu).copy_from(du);
+            out.rows_mut(nx, nu).gemm(1.0, &self.partials, &self.stacked, 0.0);
+        }
+        for (i, col) in self.controls.columns.iter().enumerate() {
+            let mut oc = out.view_mut((nx, nd + i), (nu, 1));
+            oc += hinv.column(*col);
+        }
     }
 
     /// `ż` into `dz`, `∂F/∂z` into `jz` (`nz × nz`) and `∂F/∂c` into `jc` (`nz × m`) at a
@@ -154,4 +233,45 @@ fn kinematic_rates(x: &[f64], u: &[f64], dz: &mut [f64]) {
     dz[0..3].copy_from_slice(&u[0..3]);
     dz[3..7].copy_from_slice(&quaternion_rate(&x[3..7], &Vector3::new(u[3], u[4], u[5])));
     dz[7..nx].copy_from_slice(&u[6..]);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::presets;
+    use std::ops::AddAssign;
+
+    /// The structured product equals the dense Jacobian's, in every mode with controls, at a
+    /// tumbling, moving state, for a dense sensitivity and for the first stage's `[E | 0]`.
+    #[test]
+    fn sensitivity_equals_the_dense_jacobian_product() {
+        let model = presets::spatial6();
+        for mode in [Mode::Floating, Mode::RotationFlying, Mode::Flying] {
+            let mut dynamics = Dynamics::new(&model, mode).unwrap();
+            let space = dynamics.space;
+            let (nz, nd, m) = (space.nz(), space.nd(), dynamics.controls.len());
+            let mut z: Vec<f64> = (0..nz).map(|i| 0.3 * ((i * 5 + 1) as f64).sin()).collect();
+            crate::math::rotations::normalize_xyzw(&mut z[3..7]);
+            let c: Vec<f64> = (0..m).map(|i| ((i * 3 + 2) as f64).cos()).collect();
+            let (mut jz, mut jc) = (DMatrix::zeros(nz, nz), DMatrix::zeros(nz, m));
+            let (mut d1, mut d2) = (vec![0.0; nz], vec![0.0; nz]);
+            dynamics.rhs_jacobian(&model, &z, &c, &mut d1, &mut jz, &mut jc).unwrap();
+            dynamics.rhs_derivatives(&model, &z, &c, &mut d2).unwrap();
+            assert_eq!(d1, d2);
+            let mut e = DMatrix::zeros(nz, nd);
+            space.ambient_from_tangent(&z, &mut e);
+            let mut start = DMatrix::zeros(nz, nd + m);
+            start.columns_mut(0, nd).copy_from(&e);
+            let dense = DMatrix::from_fn(nz, nd + m, |i, j| ((i * 7 + j * 13) as f64 * 0.1).sin());
+            for (s, first) in [(&dense, false), (&start, true)] {
+                let mut expected = &jz * s;
+                expected.columns_mut(nd, m).add_assign(&jc);
+                let mut out = DMatrix::from_element(nz, nd + m, f64::NAN);
+                dynamics.sensitivity(&z, s, first, &mut out);
+                let err = (&out - &expected).amax();
+                assert!(err < 1e-12 * (1.0 + expected.amax()), "{mode:?} start {first}: {err:e}");
+                assert!(expected.rows(space.nx(), space.nu()).amax() > 1e-2, "a trivial product");
+            }
+        }
+    }
 }

@@ -141,12 +141,56 @@ const FACTOR: f64 = 10.0;
 const THETA: f64 = 0.1;
 const ALPHAS: usize = 10;
 
-/// Evaluate the cost, the step ends and the knot models along `traj`; returns the cost.
-fn calc_diff(problem: &mut dyn ShootingProblem, traj: &mut Trajectory, knots: &mut [KnotModel]) -> Result<f64> {
+/// The running knots' linearization points, costs and step ends, kept so that a receding-horizon
+/// solve shifted by [`Workspace::shift`] recomputes only the knots whose point changed.
+struct KnotCache {
+    z: Vec<Vec<f64>>,
+    c: Vec<Vec<f64>>,
+    cost: Vec<f64>,
+    next: Vec<Vec<f64>>,
+    valid: Vec<bool>,
+}
+
+impl KnotCache {
+    fn rotate_left(&mut self, shift: usize) {
+        let t = self.valid.len();
+        let shift = shift.min(t);
+        self.z.rotate_left(shift);
+        self.c.rotate_left(shift);
+        self.cost.rotate_left(shift);
+        self.next.rotate_left(shift);
+        self.valid.rotate_left(shift);
+        self.valid[t - shift..].fill(false);
+    }
+}
+
+/// Bit for bit the same numbers.
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+/// Evaluate the cost, the step ends and the knot models along `traj`; returns the cost. With
+/// `reuse`, a running knot whose state and control are bit for bit those of its kept
+/// linearization (`cache`) takes the kept model, cost and step end: the same numbers its
+/// evaluation would give (the problem is time invariant: a knot's model is a function of its
+/// state and control).
+fn calc_diff(problem: &mut dyn ShootingProblem, traj: &mut Trajectory, knots: &mut [KnotModel], cache: &mut KnotCache, reuse: bool) -> Result<f64> {
     let t = problem.horizon();
     let mut cost = 0.0;
     for (k, knot) in knots.iter_mut().take(t).enumerate() {
-        cost += problem.running_with_derivatives(k, &traj.zs[k], &traj.cs[k], &mut traj.next[k], knot)?;
+        if reuse && cache.valid[k] && same_bits(&cache.z[k], &traj.zs[k]) && same_bits(&cache.c[k], &traj.cs[k]) {
+            traj.next[k].copy_from_slice(&cache.next[k]);
+            cost += cache.cost[k];
+            continue;
+        }
+        cache.valid[k] = false;
+        let c = problem.running_with_derivatives(k, &traj.zs[k], &traj.cs[k], &mut traj.next[k], knot)?;
+        cache.z[k].copy_from_slice(&traj.zs[k]);
+        cache.c[k].copy_from_slice(&traj.cs[k]);
+        cache.next[k].copy_from_slice(&traj.next[k]);
+        cache.cost[k] = c;
+        cache.valid[k] = true;
+        cost += c;
     }
     cost += problem.terminal(&traj.zs[t])?;
     problem.terminal_derivatives(&traj.zs[t], &mut knots[t])?;
@@ -176,6 +220,9 @@ pub struct Workspace {
     fbar: Vec<DVector<f64>>,
     bw: Backward,
     dz: Vec<f64>,
+    cache: KnotCache,
+    /// Whether the next solve may take kept knot models ([`Workspace::shift`]).
+    carry: bool,
 }
 
 impl Workspace {
@@ -190,7 +237,22 @@ impl Workspace {
             fbar: vec![DVector::zeros(nd); t + 1],
             bw: Backward::new(t, nd, m),
             dz: vec![0.0; nd],
+            cache: KnotCache { z: vec![vec![0.0; nz]; t], c: vec![vec![0.0; m]; t], cost: vec![0.0; t], next: vec![vec![0.0; nz]; t], valid: vec![false; t] },
+            carry: false,
         }
+    }
+
+    /// Prepare the next solve's warm start by a receding horizon: the guess it will be given
+    /// is the last solution moved `shift` knots towards the start (knot `j` ← knot `j + shift`,
+    /// as [`crate::control::mpc`] does), so the knot models kept from the last linearization
+    /// move with it; the next solve takes those whose state and control are bit for bit the
+    /// guess's (when the problem is time invariant, [`ShootingProblem::time_invariant`]) and
+    /// evaluates the others. The result is the one a fresh workspace gives, in less time.
+    pub fn shift(&mut self, shift: usize) {
+        self.cache.rotate_left(shift);
+        let t = self.sizes.0;
+        self.knots[..t].rotate_left(shift.min(t));
+        self.carry = true;
     }
 }
 
@@ -211,7 +273,8 @@ pub fn solve_in(ws: &mut Workspace, problem: &mut dyn ShootingProblem, zs: Optio
     if ws.sizes != (t, nz, nd, m) {
         return Err(SpacearmError::argument("the solver's workspace was made for a problem of other sizes"));
     }
-    let Workspace { traj, trial, knots, fbar, bw, dz, .. } = ws;
+    let Workspace { traj, trial, knots, fbar, bw, dz, cache, carry, .. } = ws;
+    let reuse = std::mem::take(carry) && problem.time_invariant();
     // A solve owes nothing to the workspace's last one (the box QPs start from the feedforward
     // kept there): a kept workspace and a fresh one give the same numbers.
     for k in bw.k.iter_mut() {
@@ -248,7 +311,7 @@ pub fn solve_in(ws: &mut Workspace, problem: &mut dyn ShootingProblem, zs: Optio
             }
         }
     }
-    let mut cost = calc_diff(problem, traj, knots)?;
+    let mut cost = calc_diff(problem, traj, knots, cache, reuse)?;
     let mut gap = gaps(problem, traj, fbar);
     let mut feasible = gap < opts.gap_tolerance;
     let mu_min = if opts.regularization > 0.0 { 1e-9f64.min(opts.regularization) } else { 0.0 };
@@ -277,8 +340,9 @@ pub fn solve_in(ws: &mut Workspace, problem: &mut dyn ShootingProblem, zs: Optio
         iterations += 1;
         let mut accepted = false;
         let mut alpha: f64 = 1.0;
+        let mut cost_try = f64::INFINITY;
         for _ in 0..ALPHAS {
-            let cost_try = forward_pass(problem, traj, fbar, bw, alpha, feasible, trial)?;
+            cost_try = forward_pass(problem, traj, fbar, bw, alpha, feasible, trial)?;
             if cost_try.is_finite() {
                 let mut dv = 0.0;
                 if !feasible {
@@ -313,7 +377,10 @@ pub fn solve_in(ws: &mut Workspace, problem: &mut dyn ShootingProblem, zs: Optio
         if alpha == 1.0 {
             mu = (mu / FACTOR).max(mu_min);
         }
-        cost = calc_diff(problem, traj, knots)?;
+        // The derivatives at the new iterate are for the next iteration: none comes when a
+        // limit stops the solver (the loop's checks above), so skip them then (the rollout gave
+        // the cost and the step ends).
+        cost = if iterations >= opts.max_iterations || start.elapsed().as_secs_f64() >= opts.time_limit { cost_try } else { calc_diff(problem, traj, knots, cache, false)? };
         gap = gaps(problem, traj, fbar);
         feasible = feasible || alpha == 1.0 || gap < opts.gap_tolerance;
         if feasible {
@@ -359,6 +426,8 @@ mod tests {
         t: usize,
         lo: Vec<f64>,
         hi: Vec<f64>,
+        /// Knot linearizations evaluated.
+        evals: usize,
     }
 
     impl Lq {
@@ -379,6 +448,7 @@ mod tests {
                 t: 6,
                 lo: vec![-inf; 2],
                 hi: vec![inf; 2],
+                evals: 0,
             }
         }
 
@@ -462,7 +532,11 @@ mod tests {
             next.copy_from_slice((&self.a * &zv + &self.b * &cv + &self.d).as_slice());
             Ok(0.5 * zv.dot(&(&self.q * &zv)) + self.qv.dot(&zv) + 0.5 * cv.dot(&(&self.r * &cv)))
         }
+        fn time_invariant(&self) -> bool {
+            true
+        }
         fn running_derivatives(&mut self, _k: usize, z: &[f64], c: &[f64], out: &mut KnotModel) -> Result<()> {
+            self.evals += 1;
             let (zv, cv) = (DVector::from_column_slice(z), DVector::from_column_slice(c));
             out.a.copy_from(&self.a);
             out.b.copy_from(&self.b);
@@ -543,6 +617,52 @@ mod tests {
             }
         }
         assert!(clamped > 0, "the bounds bind");
+    }
+
+    /// A receding-horizon warm start through [`Workspace::shift`] gives a fresh workspace's
+    /// numbers bit for bit and evaluates only the knots that changed.
+    #[test]
+    fn a_shifted_warm_start_keeps_the_unchanged_knots_and_their_numbers() {
+        let mut lq = Lq::new();
+        lq.lo = vec![-0.3; 2];
+        lq.hi = vec![0.3; 2];
+        let t = lq.t;
+        let opts = SolverOptions::default();
+        let mut ws = Workspace::new(&lq);
+        let first = solve_in(&mut ws, &mut lq, None, None, &opts).unwrap();
+        assert!(first.converged());
+        for shift in [1, 2, t + 3] {
+            let s = shift.min(t);
+            let mut zs = first.zs.clone();
+            let mut cs = first.cs.clone();
+            zs.rotate_left(s);
+            cs.rotate_left(s);
+            for z in &mut zs[t + 1 - s..] {
+                z.copy_from_slice(&first.zs[t]);
+            }
+            for c in &mut cs[t - s..] {
+                c.copy_from_slice(&first.cs[t - 1]);
+            }
+            lq.z0 = first.zs[s].clone();
+            lq.z0[0] += 0.05; // a measured state off the plan: a gap at the start
+            let mut kept = Workspace::new(&lq);
+            solve_in(&mut kept, &mut lq, None, None, &opts).unwrap();
+            // The kept workspace must have been linearized at `first`: solve it again there.
+            lq.z0 = vec![1.0, -0.5, 0.25];
+            let again = solve_in(&mut kept, &mut lq, Some(&first.zs), Some(&first.cs), &opts).unwrap();
+            assert!(again.converged());
+            lq.z0 = first.zs[s].clone();
+            lq.z0[0] += 0.05;
+            kept.shift(shift);
+            lq.evals = 0;
+            let warm = solve_in(&mut kept, &mut lq, Some(&zs), Some(&cs), &opts).unwrap();
+            let warm_evals = lq.evals;
+            lq.evals = 0;
+            let fresh = solve(&mut lq, Some(&zs), Some(&cs), &opts).unwrap();
+            assert_eq!((warm.cs.clone(), warm.zs.clone(), warm.cost.to_bits(), warm.iterations), (fresh.cs.clone(), fresh.zs.clone(), fresh.cost.to_bits(), fresh.iterations));
+            assert!(fresh.converged() && fresh.steps >= 1);
+            assert_eq!(lq.evals - warm_evals, t - s, "shift {shift}: only the {s} last knots are evaluated again ({warm_evals} vs {})", lq.evals);
+        }
     }
 
     fn planar_problem(limit: f64) -> (crate::Model, ProblemSpec, Vec<f64>) {

@@ -219,6 +219,9 @@ impl ShootingProblem for RobotProblem<'_> {
     fn integrate(&self, z: &[f64], dz: &[f64], out: &mut [f64]) {
         self.space().integrate(z, dz, out)
     }
+    fn time_invariant(&self) -> bool {
+        !self.is_timed()
+    }
     fn project(&self, z: &mut [f64]) {
         crate::math::rotations::normalize_xyzw(&mut z[3..7]);
     }

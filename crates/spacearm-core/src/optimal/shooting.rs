@@ -76,6 +76,13 @@ pub trait ShootingProblem {
     fn diff(&self, z0: &[f64], z1: &[f64], out: &mut [f64]);
     /// `z ⊕ δz`.
     fn integrate(&self, z: &[f64], dz: &[f64], out: &mut [f64]);
+    /// Whether every running knot's model (step, cost and their derivatives) is a function of
+    /// the knot's state and control alone, the same at every knot (no cost term depends on the
+    /// knot's time); default `false`. A receding-horizon warm start then keeps the shifted
+    /// knots' models ([`super::fddp::Workspace::shift`]).
+    fn time_invariant(&self) -> bool {
+        false
+    }
     /// Bring a guessed state onto the manifold (default: nothing).
     fn project(&self, _z: &mut [f64]) {}
     /// The running cost `ℓ_k(z, c)` of knot `k < T`, and `Φ_k(z, c)` into `next`.

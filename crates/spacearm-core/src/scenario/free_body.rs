@@ -57,6 +57,37 @@ impl InertiaSpec {
     }
 }
 
+/// The description of a point fixed to a torque-free rigid body (a tumbling target's grasp
+/// point), read by every door: the body of a free-body point reference
+/// ([`crate::control::spec::PointReferenceSpec::FreeBody`]) and of an optimal-control point cost's
+/// moving target ([`crate::optimal::costs::MovingPoint`]). [`FreeBodySpec::build`] checks it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FreeBodySpec {
+    /// The body's inertia about its CM in its axes, kg·m².
+    pub inertia: InertiaSpec,
+    /// The body's 13-state `[r, quat xyzw, v, ω]` in 𝒥 at time 0 (of the simulation; for a
+    /// cost, of the references' clock).
+    pub state: Vec<f64>,
+    /// The point from the body's CM, body axes, m.
+    #[serde(default)]
+    pub offset: [f64; 3],
+    /// The attitude step of the body's propagation, s.
+    #[serde(default = "default_free_body_step")]
+    pub step: f64,
+}
+
+fn default_free_body_step() -> f64 {
+    1e-3
+}
+
+impl FreeBodySpec {
+    /// The body (checked by [`FreeBody::new`]).
+    pub fn build(&self) -> Result<FreeBody> {
+        FreeBody::new(self.inertia.matrix(), &self.state, Vector3::from(self.offset), self.step)
+    }
+}
+
 /// A node of the grid: attitude `[x, y, z, w]`, and in orbit the CM position and velocity and
 /// the angular momentum about the CM (in 𝒥); torque-free, only `q` evolves.
 #[derive(Debug, Clone, Copy)]

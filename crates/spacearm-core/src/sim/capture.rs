@@ -34,7 +34,7 @@ use crate::math::rotations::xyzw_from_matrix;
 use crate::model::edit::Mount;
 use crate::model::{Data, Model};
 use crate::scenario::actuators::detect_reaction_wheels;
-use crate::scenario::free_body::FreeBody;
+use crate::scenario::free_body::{FreeBody, FreeBodySpec};
 use crate::scenario::modes::Mode;
 use crate::sim::capture_ledger::{ledger, Ledger};
 use crate::sim::capture_spec::{fmt_g, fmt_repr, CaptureSpec};
@@ -318,10 +318,12 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
 
     // ---- 0. approach ------------------------------------------------------------------------
     let reference = PointReferenceSpec::FreeBody {
-        inertia: InertiaSpec::Matrix(std::array::from_fn(|i| std::array::from_fn(|j| inertia[(i, j)]))),
-        state: s0.clone(),
-        offset: toffset.into(),
-        step: 0.5 * dt,
+        body: FreeBodySpec {
+            inertia: InertiaSpec::Matrix(std::array::from_fn(|i| std::array::from_fn(|j| inertia[(i, j)]))),
+            state: s0.clone(),
+            offset: toffset.into(),
+            step: 0.5 * dt,
+        },
         point: spec.point.clone(),
         orbit: if tidal { spec.in_orbit.orbit } else { None },
     };

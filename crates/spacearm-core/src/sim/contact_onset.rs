@@ -46,8 +46,7 @@ pub(crate) fn retake_at_onset(plant: &mut Plant<'_>, rk: &mut Rk4, t: f64, y_sta
         return Ok(None);
     }
     let mut g_at = |tau: f64| -> Result<f64> {
-        y_try.copy_from_slice(y_start);
-        rk.step(&mut *plant, t, tau - t, y_try, false)?;
+        rk.step_from(&mut *plant, t, y_start, tau, y_try)?;
         distance(plant, y_try, &new)
     };
     let (t_b, _) = locate_root(&mut g_at, (t, g_start), (t_next, g_end))?;
@@ -63,8 +62,7 @@ pub(crate) fn retake_at_onset(plant: &mut Plant<'_>, rk: &mut Rk4, t: f64, y_sta
         t_a = t;
         y.copy_from_slice(y_start);
     } else {
-        y.copy_from_slice(y_start);
-        rk.step(&mut *plant, t, t_a - t, y, false)?;
+        rk.step_from(&mut *plant, t, y_start, t_a, y)?;
     }
     if let Some(c) = &mut plant.contact {
         c.forced.clone_from(&new);

@@ -156,8 +156,7 @@ fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, wat
                 }
                 // g(t_prev) > 0: no condition held at the previous step's end.
                 let mut g_at = |t: f64| -> Result<f64> {
-                    y_try.copy_from_slice(&y_prev);
-                    rk.step(&mut *plant, t_prev, t - t_prev, &mut y_try, false)?;
+                    rk.step_from(&mut *plant, t_prev, &y_prev, t, &mut y_try)?;
                     plant.rhs(t, &y_try, &mut dy)?;
                     Ok(w.value(plant, &y_try, condition))
                 };
@@ -167,14 +166,7 @@ fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, wat
                 }
             }
             if let Some((condition, t_s, g_s)) = found {
-                // The state at the event: the step re-taken to it (or the step's own end).
-                if t_s < t_next {
-                    y_try.copy_from_slice(&y_prev);
-                    rk.step(&mut *plant, t_prev, t_s - t_prev, &mut y_try, false)?;
-                } else {
-                    y_try.copy_from_slice(stepper.full_state());
-                }
-                stepper.land(t_s, &y_try);
+                stepper.land_retaken(&mut rk, (t_prev, &y_prev), t_s, t_next, &mut y_try)?;
                 stop = Some(StopEvent { condition, t: t_s, value: w.quantity(condition, g_s) });
             }
         }

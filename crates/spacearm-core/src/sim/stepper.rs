@@ -121,6 +121,19 @@ impl<'a> Rk4Stepper<'a> {
         self.y.copy_from_slice(y);
     }
 
+    /// Land at an event located at `t_s` in the last step, which went from `(t_prev, y_prev)` to
+    /// `t_next`: the state there is the step re-taken from its start to `t_s` with `rk`
+    /// ([`Rk4::step_from`]), or at `t_s = t_next` the step's own end. `y_try` is a workspace.
+    pub(crate) fn land_retaken(&mut self, rk: &mut Rk4, (t_prev, y_prev): (f64, &[f64]), t_s: f64, t_next: f64, y_try: &mut [f64]) -> Result<()> {
+        if t_s < t_next {
+            rk.step_from(&mut self.plant, t_prev, y_prev, t_s, y_try)?;
+        } else {
+            y_try.copy_from_slice(&self.y);
+        }
+        self.land(t_s, y_try);
+        Ok(())
+    }
+
     /// The current time, s.
     pub fn time(&self) -> f64 {
         self.t

@@ -498,18 +498,11 @@ fn run_located(plant: Plant<'_>, x: &[f64], u: &[f64], opts: &SimOptions, mut wa
         if g_next <= 0.0 {
             let plant = stepper.plant_mut();
             let mut g_at = |t: f64| -> Result<f64> {
-                y_try.copy_from_slice(&y_prev);
-                rk.step(&mut *plant, t_prev, t - t_prev, &mut y_try, false)?;
+                rk.step_from(&mut *plant, t_prev, &y_prev, t, &mut y_try)?;
                 watch.g(t, &y_try)
             };
             let (t_s, _) = locate_root(&mut g_at, (t_prev, g_prev), (t_next, g_next))?;
-            if t_s < t_next {
-                y_try.copy_from_slice(&y_prev);
-                rk.step(&mut *plant, t_prev, t_s - t_prev, &mut y_try, false)?;
-            } else {
-                y_try.copy_from_slice(stepper.full_state());
-            }
-            stepper.land(t_s, &y_try);
+            stepper.land_retaken(&mut rk, (t_prev, &y_prev), t_s, t_next, &mut y_try)?;
             found = Some(t_s);
             break;
         }
