@@ -31,7 +31,7 @@ __all__ = [
     "analysis_reach", "analysis_cmg_envelope", "analysis_cmg_singular_surfaces", "analysis_reaction_null_space", "analysis_rmrc_rates", "analysis_scan",
     "analysis_singularity", "batch_threads", "body_mass_properties_error", "box_of_moments", "check_grasp_handle", "GOAL_TOLERANCE", "MAX_HANDLE_RATIO",
     "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "joint_wrenches", "loop_closure", "model_from_dh", "model_from_toml",
-    "model_to_toml", "perturbed", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
+    "model_to_toml", "perturbed", "perturbed_cmgs", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
     "set_batch_threads", "simulate", "simulate_closed_chain", "simulate_events", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts", "cmg_parts", "cmgs", "cmg_velocity",
     "cylinder_slosh", "sphere_slosh", "sphere_fill_height", "cylinder_fill_height", "model_attach_body", "model_attach_model",
@@ -1291,6 +1291,7 @@ def perturbed(
     slosh_offset: _ArrayLike,
     slosh_removed: bool,
 ) -> Model: ...
+def perturbed_cmgs(model: Model, rotor_inertia_scale: float, tilts: Sequence[Sequence[float]]) -> Model: ...
 def default_wheel_dofs(model: Model) -> list[int]: ...
 def conserved_drift(values: npt.NDArray[np.float64], scale: float) -> float:
     """max_k |v_k - v_0| / max(|v_0|, scale)."""

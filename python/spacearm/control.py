@@ -39,7 +39,7 @@ from ._util.spec import check as _check, data as _spec_data
 from .errors import ArgumentError as _ArgumentError
 
 if _TYPE_CHECKING:  # the annotations' names (not evaluated at run time: no module-level name)
-    from typing import Any, Callable, Sequence, Union
+    from typing import Any, Callable, Optional, Sequence, Union
 
 # The module exports its API only (__all__): every helper above is imported under a private name.
 del annotations
@@ -63,6 +63,7 @@ __all__ = [
     "TorqueLimit",
     "Callback",
     "perturbed_model",
+    "perturbed_cmgs",
     "inertia_scaled_gains",
     "InputShaper",
     "ShapedJoint",
@@ -662,3 +663,18 @@ def perturbed_model(
         bool(slosh_removed),
     )
     return Robot(m)
+
+
+def perturbed_cmgs(robot, rotor_inertia_scale: float = 1.0, tilts: Optional[Sequence[Sequence[float]]] = None):
+    """A copy of ``robot`` whose control-moment gyros ([`Robot.cmg_dofs`][spacearm.Robot.cmg_dofs], docs/cmg.md) differ
+    from the nominal ones: every rotor's inertia tensor scaled by ``rotor_inertia_scale`` (``J_s``
+    and ``J_t`` together), and CMG ``i``'s whole unit — gimbal axis, spin axis and both bodies —
+    turned about its gimbal joint by the rotation vector ``tilts[i]`` (parent frame, rad; one per
+    CMG in ``cmg_dofs`` order, or ``None``): a mounting misalignment. The core's
+    ``control/mismatch.rs::perturbed_cmgs``; everything else is the model's."""
+    from .model.robot import Robot
+
+    if not isinstance(robot, Robot):
+        raise _ArgumentError(f"perturbed_cmgs needs a spacearm.Robot, got {type(robot).__name__}")
+    rows = [] if tilts is None else [[float(v) for v in _vector(t, f"tilts[{i}]", 3)] for i, t in enumerate(tilts)]
+    return Robot(_core.perturbed_cmgs(robot.core_model, _finite_float(rotor_inertia_scale, "rotor_inertia_scale"), rows))

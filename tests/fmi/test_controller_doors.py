@@ -47,8 +47,11 @@ def cmg_robot() -> spacearm.Robot:
 
 
 def vscmg_robot() -> spacearm.Robot:
+    """The pyramid of VSCMGs with the two-joint arm, written as URDF and read back (docs/urdf.md)."""
     from cmg_models import pyramid_sat
-    return pyramid_sat(variable_speed=True)
+    from spacearm.io.urdf import loads_urdf
+    from spacearm.io.urdf_export import to_urdf
+    return loads_urdf(to_urdf(pyramid_sat(variable_speed=True)))
 
 
 def _line(robot, delta, t_end=0.05) -> CartesianLine:
@@ -77,6 +80,11 @@ def _laws():
          cmg_robot().cmg_velocity(500.0) + np.r_[np.zeros(6), np.tile([0.1, 0.0], 4), 0.0, 0.0]),
         ("cmg_steering_vscmg", vscmg_robot, "rotation-floating", lambda r: CmgSteering(quat, kp=200.0, kd=400.0, wheel_weight=1.0, wheel_mu=1.0),
          vscmg_robot().cmg_velocity(500.0) + np.r_[np.zeros(6), np.tile([0.1, 0.0], 4), 0.0, 0.0]),
+        # The coordinated arm + cluster law on VSCMGs (spin motors, no torque asked of them) read
+        # back from URDF: the arm's PD and the cluster's steering in one run description.
+        ("combined_cmg", vscmg_robot, "rotation-floating",
+         lambda r: Combined(arm=JointPD(kp=60.0, kd=20.0, reference=[0.3, -0.2]), base=CmgSteering(quat, kp=200.0, kd=400.0)),
+         vscmg_robot().cmg_velocity(400.0) + np.r_[np.zeros(6), np.tile([0.1, 0.0], 4), 0.0, 0.0]),
         ("base_thrusters", s6, "flying",
          lambda r: BaseThrusterControl(com_ref=[0.05, -0.02, 0.01], quat_ref=quat, kp_attitude=200.0, kd_attitude=400.0), u_flying),
         ("coordinated_flying", s6, "flying", lambda r: CoordinatedFlying(_line(r, [-0.05, 0.05, 0.05])), None),

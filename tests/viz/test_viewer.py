@@ -408,3 +408,50 @@ def test_without_webgl_the_page_says_so(tmp_path):
     assert 'id="spacearm-no-webgl"' in without and NO_WEBGL in without
     with_gl = dump_dom(page, budget_ms=2000)
     assert "spacearm-no-webgl" not in with_gl.split("</script>")[-1]  # drawn: no message element added
+
+
+# ---- control-moment gyros (docs/cmg.md) --------------------------------------------------------
+def test_cmg_gimbal_frame_and_rotor_disc_turn_with_the_gimbal_angle(tmp_path):
+    """Each CMG's rotor disc, read back from the page, points at every key frame along
+    R0(t) ŝ(δ(t)), ŝ(δ) = cos δ ŝ₀ + sin δ (ĝ × ŝ₀), the spin axis turned by the recorded gimbal
+    angle about the gimbal axis (the closed form of docs/cmg.md, not the core's kinematics), and the
+    gimbal frame's axle along R0(t) ĝ."""
+    from cmg_models import pyramid_axes, pyramid_sat
+
+    robot = pyramid_sat(arm=False)
+    cmgs = robot.cmg_dofs
+    u0 = robot.cmg_velocity(200.0)
+    for rate, c in zip((0.9, -0.6, 0.4, 1.2), cmgs.values()):
+        u0[6 + c["gimbal"]] = rate  # the gimbals turn freely, the rotors spin: the base tumbles
+    traj = spacearm.simulate(robot, 1.5, u0=u0, dt=5e-3)
+    path = tmp_path / "cmg.html"
+    traj.view(path, fps=10)
+    cmds = _commands(path.read_text())
+    tracks, static, objects = _tracks(cmds), _transforms(cmds), _objects(cmds)
+    rel = traj.t - traj.t[0]
+    names = [robot.description.base.name] + [link.name for link in robot.description.links]
+    gimbal_axes, spin_axes = pyramid_axes()
+    y = np.array([0.0, 1.0, 0.0])  # three.js's cylinder axis
+    for i, (name, c) in enumerate(cmgs.items()):
+        g_body, r_body = robot.body_of_dof[c["gimbal"]], robot.body_of_dof[c["rotor"]]
+        disc = f"/spacearm/robot/bodies/{r_body}_{names[r_body]}/cmg/disc"
+        axle = f"/spacearm/robot/bodies/{g_body}_{names[g_body]}/cmg/frame/axle_plus"
+        assert objects[disc]["geometries"][0]["type"] == "CylinderGeometry" and disc + "" in static
+        sides = [p for p in objects if p.startswith(f"/spacearm/robot/bodies/{g_body}_{names[g_body]}/cmg/frame/side")]
+        assert len(sides) == 4
+        times, quat_r = tracks[f"/spacearm/robot/bodies/{r_body}_{names[r_body]}"]["quaternion"]
+        _, quat_g = tracks[f"/spacearm/robot/bodies/{g_body}_{names[g_body]}"]["quaternion"]
+        k = np.array([int(np.argmin(np.abs(rel - t))) for t in times])
+        np.testing.assert_allclose(rel[k], times, rtol=0, atol=1e-12)
+        delta = traj.q[k, c["gimbal"]]
+        assert np.ptp(delta) > 0.3  # the gimbal turns: a still one would prove little
+        g, s0 = gimbal_axes[i], spin_axes[i]
+        spin = np.cos(delta)[:, None] * s0 + np.sin(delta)[:, None] * np.cross(g, s0)
+        base = _matrix(traj.x[k, 3:7])
+        expected = np.einsum("kij,kj->ki", base, spin)
+        drawn = np.einsum("kij,j->ki", _matrix(quat_r), static[disc][:3, :3] @ y)
+        np.testing.assert_allclose(drawn, expected, rtol=0, atol=1e-9)
+        drawn_g = np.einsum("kij,j->ki", _matrix(quat_g), static[axle][:3, :3] @ y)
+        np.testing.assert_allclose(drawn_g, base @ g, rtol=0, atol=1e-9)
+        # the disc is the rotor's: J_s = m r² / 2
+        assert objects[disc]["geometries"][0]["radiusTop"] == pytest.approx(np.sqrt(2 * 0.05 / 3.0), rel=1e-6)

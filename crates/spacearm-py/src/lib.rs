@@ -97,7 +97,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
         m,
         functions: [
             simulate_py::simulate, events_py::simulate_events, rollout_py::rollout, controller_spec_py::check_spec, mpc_py::mpc_solve,
-            simulate_py::perturbed, simulate_py::conserved_drift, simulate_py::default_wheel_dofs,
+            simulate_py::perturbed, simulate_py::perturbed_cmgs_py, simulate_py::conserved_drift, simulate_py::default_wheel_dofs,
         ],
         classes: [
             simulator_py::PySimulator, batch_simulator_py::PyBatchSimulator,

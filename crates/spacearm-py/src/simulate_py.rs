@@ -4,7 +4,7 @@
 //! the options and the spec from the user-facing classes of `spacearm.control`.
 
 use pyo3::prelude::*;
-use spacearm_core::control::mismatch::{perturbed_model, Slosh};
+use spacearm_core::control::mismatch::{perturbed_cmgs, perturbed_model, Slosh};
 use spacearm_core::control::{Controller, ZeroTorque};
 use spacearm_core::sim::simulate::{simulate as core_simulate, Progress, SimOptions, SimResult};
 use spacearm_core::Model;
@@ -121,6 +121,15 @@ pub fn perturbed(
         Slosh::Moved { fraction: slosh_fraction, offset }
     };
     let m = perturbed_model(&model.borrow().model, base_mass_scale, base_inertia_scale, link_mass_scale, slosh).or_raise(py)?;
+    Ok(PyModel::new(m))
+}
+
+/// A copy of `model` with its CMGs' rotor inertias scaled and each unit turned by a rotation
+/// vector (see `spacearm_core::control::mismatch::perturbed_cmgs`).
+#[pyfunction]
+#[pyo3(name = "perturbed_cmgs", signature = (model, rotor_inertia_scale, tilts))]
+pub fn perturbed_cmgs_py(py: Python<'_>, model: &Bound<'_, PyModel>, rotor_inertia_scale: f64, tilts: Vec<[f64; 3]>) -> PyResult<PyModel> {
+    let m = perturbed_cmgs(&model.borrow().model, rotor_inertia_scale, &tilts).or_raise(py)?;
     Ok(PyModel::new(m))
 }
 

@@ -16,6 +16,7 @@ is also the checkpoint a rerun resumes from. Failed samples are recorded, not fa
 Docs: ``docs/campaigns.md``.
 """
 
+from .cmg import CmgUncertainty
 from .executor import run_campaign
 from .flexibility import Fixed, Flexibility, LogNormal, Normal, Panel, Tank, Uniform
 from .perturbation import PARAMETER_NAMES, PARAMETER_UNITS, Perturbations
@@ -30,6 +31,7 @@ __all__ = [
     "Perturbations",
     "Scenario",
     "Flexibility",
+    "CmgUncertainty",
     "Tank",
     "Panel",
     "Fixed",

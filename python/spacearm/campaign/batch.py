@@ -51,27 +51,32 @@ Job = Tuple[int, Dict[str, float]]
 
 
 class Prepared(NamedTuple):
-    """A batch ready to fly: the samples whose plant was built (with the plants), and the failures
-    of the others (sample → message)."""
+    """A batch ready to fly: the samples whose plant was built (with the plants and their initial
+    velocities), and the failures of the others (sample → message)."""
 
     spec: object
     flying: List[Job]
     plants: list
     failed: List[Tuple[Job, str]]
+    velocities: Optional[list] = None  # each plant's u0 (None: every plant at rest)
 
 
 def prepare(spec, indices: Sequence[int]) -> Prepared:
     """Draw the inertia errors of samples ``indices`` of campaign ``spec`` and build their plants."""
     nominal = nominal_robot(spec.model_toml)
-    flying, plants, failed = [], [], []
+    flying, plants, velocities, failed = [], [], [], []
     for index in indices:
         job = (index, spec.draw(index))
         try:
-            plants.append(plant(nominal, job[1], spec.scenario.flexibility))
-            flying.append(job)
+            p = plant(nominal, job[1], spec.scenario.flexibility, spec.scenario.cmg)
+            u0 = spec.scenario.initial_velocity(p, job[1])  # a wheel speed beyond the rotors' limit fails here
         except Exception as exc:  # noqa: BLE001 — an invalid plant is the sample's failure
             failed.append((job, failure_message(exc)))
-    return Prepared(spec, flying, plants, failed)
+            continue
+        plants.append(p)
+        velocities.append(u0)
+        flying.append(job)
+    return Prepared(spec, flying, plants, failed, velocities)
 
 
 def fly(prepared: Prepared, threads: int, stop=None):
@@ -89,7 +94,8 @@ def fly(prepared: Prepared, threads: int, stop=None):
     try:
         tracker = controller(nominal, spec.scenario)
         x0 = np.stack([spec.scenario.initial_configuration(p) for p in prepared.plants])
-        runs = rollout(control_model(nominal, spec.scenario), spec.scenario.duration, x0, controller=tracker, plants=prepared.plants,
+        u0 = None if prepared.velocities is None else np.stack(prepared.velocities)
+        runs = rollout(control_model(nominal, spec.scenario), spec.scenario.duration, x0, u0, controller=tracker, plants=prepared.plants,
                        mode=spec.scenario.mode, dt=spec.scenario.dt, threads=threads, stop=stop, **spec.scenario.run_options())
     except Exception as exc:  # noqa: BLE001 — the scenario cannot be flown by any sample
         return failure_message(exc), time.perf_counter() - start

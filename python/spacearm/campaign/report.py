@@ -10,6 +10,7 @@ import numpy as np
 
 from ..errors import ArgumentError, CampaignError, NotFoundError
 
+from .cmg import CMG_PARAMETER_UNITS
 from .flexibility import FLEX_PARAMETER_UNITS
 from .perturbation import PARAMETER_UNITS
 from .scenario import METRIC_UNITS
@@ -19,7 +20,7 @@ __all__ = ["axis_label", "rank_correlation", "ReportRow", "report_rows"]
 
 def axis_label(name: str) -> str:
     """``name [unit]`` for a campaign parameter or metric."""
-    unit = PARAMETER_UNITS.get(name) or FLEX_PARAMETER_UNITS.get(name) or METRIC_UNITS.get(name)
+    unit = PARAMETER_UNITS.get(name) or FLEX_PARAMETER_UNITS.get(name) or CMG_PARAMETER_UNITS.get(name) or METRIC_UNITS.get(name)
     return f"{name} [{unit}]" if unit else name
 
 

@@ -29,6 +29,7 @@ import numpy as np
 from .. import _core, control
 from ..errors import ArgumentError, ShapeError, SimulationError
 from ..sim.simulation import simulate
+from .cmg import CmgUncertainty
 from .flexibility import Flexibility
 from .._util.pickling import reduce_through_constructor as _reduce_through_constructor
 
@@ -96,6 +97,8 @@ class Scenario:
     without a frequency, the first mode of the controller's model
     ([`Robot.natural_frequencies`][spacearm.Robot.natural_frequencies] at its neutral
     configuration, the actuated joints held), which needs a flexibility recipe.
+    ``cmg``: a [`CmgUncertainty`][spacearm.campaign.CmgUncertainty]: the wheel speed, rotor inertia and
+    gimbal-axis misalignment of the nominal model's CMGs drawn per sample (docs/campaigns.md).
     """
 
     __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
@@ -116,9 +119,15 @@ class Scenario:
     shaping: Optional[str] = None
     shaping_frequency: Optional[float] = None
     shaping_damping: float = 0.0
+    cmg: Optional[CmgUncertainty] = None
 
     def __post_init__(self):
         from ..orbit import Orbit
+
+        if isinstance(self.cmg, dict):
+            object.__setattr__(self, "cmg", CmgUncertainty.from_dict(self.cmg))
+        if self.cmg is not None and not isinstance(self.cmg, CmgUncertainty):
+            raise ArgumentError(f"Scenario.cmg must be a spacearm.campaign.CmgUncertainty, got {type(self.cmg).__name__}")
 
         if isinstance(self.flexibility, dict):
             object.__setattr__(self, "flexibility", Flexibility.from_dict(self.flexibility))
@@ -190,13 +199,15 @@ class Scenario:
         """Plain data for the JSON spec (no ``flexibility`` or ``passive`` key without a recipe and
         no ``shaping*`` keys without shaping, so a rigid campaign's spec is what it was before
         flexible plants and shaped references existed)."""
-        optional = ("flexibility", "passive", "shaping", "shaping_frequency", "shaping_damping")
+        optional = ("flexibility", "passive", "shaping", "shaping_frequency", "shaping_damping", "cmg")
         d = {k: getattr(self, k) for k in self.__dataclass_fields__ if k not in optional}
         if self.flexibility is not None:
             d["flexibility"] = self.flexibility.to_dict()
             d["passive"] = self.passive
         if self.shaping is not None:
             d.update(shaping=self.shaping, shaping_frequency=self.shaping_frequency, shaping_damping=self.shaping_damping)
+        if self.cmg is not None:
+            d["cmg"] = self.cmg.to_dict()
         return d
 
     def orbit_model(self):
@@ -220,6 +231,13 @@ class Scenario:
         if self.orbit is not None:
             x0[:3] -= robot.center_of_mass(x0)
         return x0
+
+    def initial_velocity(self, robot, params: Dict[str, float]) -> np.ndarray:
+        """The sample's initial ``u``: at rest, or with a CMG recipe every rotor at the drawn
+        ``cmg_wheel_speed`` ([`Robot.cmg_velocity`][spacearm.Robot.cmg_velocity])."""
+        if self.cmg is None:
+            return np.zeros(robot.nu)
+        return self.cmg.initial_velocity(robot, params)
 
 
 def attitude_angle_deg(quat0: np.ndarray, quats: np.ndarray) -> np.ndarray:
@@ -285,10 +303,10 @@ def with_payload(robot, mass: float):
     return robot.attach_body("campaign_payload", body=robot.body_names[body], mass=float(mass), origin=list(offset))
 
 
-def plant(nominal, params: Dict[str, float], flexibility: Optional[Flexibility] = None):
+def plant(nominal, params: Dict[str, float], flexibility: Optional[Flexibility] = None, cmg: Optional[CmgUncertainty] = None):
     """The plant of a sample: ``nominal`` with the inertia errors ``params`` (the
     [`PARAMETER_NAMES`][spacearm.campaign.perturbation.PARAMETER_NAMES]) and its payload, then the flexible parts of
-    ``flexibility`` with the drawn values in ``params``."""
+    ``flexibility`` with the drawn values in ``params``, then its CMGs perturbed as ``cmg`` says."""
     perturbed = control.perturbed_model(
         nominal,
         base_mass_scale=params["base_mass_scale"],
@@ -298,7 +316,8 @@ def plant(nominal, params: Dict[str, float], flexibility: Optional[Flexibility] 
         slosh_offset=(params["slosh_offset_x"], params["slosh_offset_y"], params["slosh_offset_z"]),
     )
     rigid = with_payload(perturbed, params["payload_mass"])
-    return rigid if flexibility is None else flexibility.apply(rigid, params)
+    flexible = rigid if flexibility is None else flexibility.apply(rigid, params)
+    return flexible if cmg is None else cmg.apply(flexible, params)
 
 
 def control_model(nominal, scenario: Scenario):
@@ -328,9 +347,11 @@ def reference(nominal, scenario: Scenario):
     goal over ``motion_fraction · duration``, convolved with the scenario's input shaper if it has one."""
     q0 = np.asarray(nominal.initial_q, dtype=float)
     goal = np.asarray(scenario.goal(nominal), dtype=float)
-    actuated = np.asarray(nominal.actuated_dofs, dtype=bool)
-    if not actuated.all():  # the passive joints of the nominal model take no reference
-        q0, goal = q0[actuated], goal[actuated]
+    # The arm laws' joints (Robot.actuated_arm_dofs): the passive joints of the nominal model,
+    # its reaction wheels and its CMGs' gimbals and rotors take no reference.
+    arm = np.asarray(nominal.actuated_arm_dofs, dtype=int)
+    if len(arm) != len(q0):
+        q0, goal = q0[arm], goal[arm]
     move = control.QuinticJoint(q0, goal, 0.0, scenario.motion_fraction * scenario.duration)
     if scenario.shaping is None:
         return move
@@ -358,8 +379,9 @@ def controller(nominal, scenario: Scenario):
 def evaluate(nominal, scenario: Scenario, params: Dict[str, float]) -> Dict[str, float]:
     """Fly one sample with [`spacearm.simulate`][spacearm.simulate]: the metrics of [`METRIC_NAMES`][spacearm.campaign.scenario.METRIC_NAMES] for the
     plant drawn as ``params``. The reference every batched run is checked against."""
-    p = plant(nominal, params, scenario.flexibility)
-    traj = simulate(p, scenario.duration, x0=scenario.initial_configuration(p), mode=scenario.mode, dt=scenario.dt,
+    p = plant(nominal, params, scenario.flexibility, scenario.cmg)
+    traj = simulate(p, scenario.duration, x0=scenario.initial_configuration(p), u0=scenario.initial_velocity(p, params),
+                    mode=scenario.mode, dt=scenario.dt,
                     controller=controller(nominal, scenario), **scenario.run_options())
     saturation = len(traj["saturation_t"]) if traj.has("saturation_t") else 0
     row = metrics_from_records(traj["tracking_error"][None], traj["x"][None], np.array([saturation]), traj["u"][None])[0]

@@ -44,15 +44,18 @@ class CampaignSpec:
     @property
     def param_names(self):
         """The columns of the result's ``params``: [`PARAMETER_NAMES`][spacearm.campaign.perturbation.PARAMETER_NAMES], then
-        the scenario's [`Flexibility.names`][spacearm.campaign.Flexibility.names] if it has a flexibility recipe."""
-        flex = self.scenario.flexibility
-        return PARAMETER_NAMES + (() if flex is None else flex.names)
+        the scenario's [`Flexibility.names`][spacearm.campaign.Flexibility.names] if it has a flexibility recipe, then
+        [`CmgUncertainty.names`][spacearm.campaign.CmgUncertainty.names] if it has CMG uncertainty."""
+        flex, cmg = self.scenario.flexibility, self.scenario.cmg
+        return PARAMETER_NAMES + (() if flex is None else flex.names) + (() if cmg is None else cmg.names)
 
     def draw(self, index: int):
         """Every parameter of sample ``index``: its inertia errors and its flexible-plant values."""
         params = self.perturbations.draw(self.seed, index)
         if self.scenario.flexibility is not None:
             params.update(self.scenario.flexibility.draw(self.seed, index))
+        if self.scenario.cmg is not None:
+            params.update(self.scenario.cmg.draw(self.seed, index))
         return params
 
     def to_json(self) -> str:

@@ -48,6 +48,10 @@ def add_parser(sub) -> None:
     s.add_argument("--flexibility", default=None, metavar="FILE.toml",
                    help="flexible plants: a TOML file with a [tank] and/or a [panel] table and the drawn parameters "
                         "(fill_fraction = {kind = \"uniform\", low = 0.3, high = 0.7}, ...; docs/campaigns.md)")
+    s.add_argument("--cmg", default=None, metavar="FILE.toml",
+                   help="CMG parameters drawn per sample: a TOML file with wheel_speed, rotor_inertia_scale and/or "
+                        "gimbal_misalignment, each a number or {kind = \"uniform\", low = 100.0, high = 600.0}, ... "
+                        "(docs/campaigns.md)")
     from .simulate import add_orbit_options
 
     add_orbit_options(p)
@@ -60,32 +64,47 @@ def add_parser(sub) -> None:
     e.add_argument("--payload-mass-max", type=float, default=0.0, help="max payload at the end effector, kg (default 0)")
 
 
-def _flexibility(path):
-    """The [`Flexibility`][spacearm.campaign.Flexibility] recipe of a TOML file: its tables and
-    keys are `Flexibility.to_dict()`'s (``[tank]``, ``[panel]``, and each drawn parameter as
-    ``{kind = ..., ...}``); data only, read by the standard library's TOML parser."""
+def _recipe(path, option: str, recipe, known):
+    """``recipe.from_dict`` of a TOML file whose keys are among ``known`` (the recipe's
+    ``to_dict()`` keys); data only, read by the standard library's TOML parser."""
     try:
         import tomllib
     except ModuleNotFoundError:  # Python < 3.11
         import tomli as tomllib
-    from ..campaign import Flexibility
     from ..errors import ArgumentError, ModelFileError
 
     try:
         with open(path, "rb") as fh:
             data = tomllib.load(fh)
     except OSError as exc:
-        raise ModelFileError(f"--flexibility: cannot read {path}: {exc.strerror}") from None
+        raise ModelFileError(f"{option}: cannot read {path}: {exc.strerror}") from None
     except tomllib.TOMLDecodeError as exc:
-        raise ModelFileError(f"--flexibility: {path} is not valid TOML: {exc}") from None
-    known = {"tank", "panel", "fill_fraction", "slosh_frequency_scale", "slosh_damping_ratio", "panel_stiffness"}
-    unknown = sorted(set(data) - known)
+        raise ModelFileError(f"{option}: {path} is not valid TOML: {exc}") from None
+    unknown = sorted(set(data) - set(known))
     if unknown:
-        raise ArgumentError(f"--flexibility: {path}: unknown key(s) {unknown}; expected some of {sorted(known)}")
+        raise ArgumentError(f"{option}: {path}: unknown key(s) {unknown}; expected some of {sorted(known)}")
     try:
-        return Flexibility.from_dict(data)
-    except TypeError as exc:  # a table with a key the Tank/Panel/distribution does not take
-        raise ArgumentError(f"--flexibility: {path}: {exc}") from None
+        return recipe.from_dict(data)
+    except TypeError as exc:  # a table with a key the recipe's parts or distributions do not take
+        raise ArgumentError(f"{option}: {path}: {exc}") from None
+
+
+def _flexibility(path):
+    """The [`Flexibility`][spacearm.campaign.Flexibility] recipe of a TOML file: its tables and
+    keys are `Flexibility.to_dict()`'s (``[tank]``, ``[panel]``, and each drawn parameter as
+    ``{kind = ..., ...}``)."""
+    from ..campaign import Flexibility
+
+    known = {"tank", "panel", "fill_fraction", "slosh_frequency_scale", "slosh_damping_ratio", "panel_stiffness"}
+    return _recipe(path, "--flexibility", Flexibility, known)
+
+
+def _cmg(path):
+    """The [`CmgUncertainty`][spacearm.campaign.CmgUncertainty] of a TOML file: the keys of
+    `CmgUncertainty.to_dict()`, each a number or ``{kind = ..., ...}``."""
+    from ..campaign import CmgUncertainty
+
+    return _recipe(path, "--cmg", CmgUncertainty, {"wheel_speed", "rotor_inertia_scale", "gimbal_misalignment"})
 
 
 def run(args, model_from_args, out=None) -> None:
@@ -103,7 +122,8 @@ def run(args, model_from_args, out=None) -> None:
         scenario = Scenario(mode=args.mode, controller=args.controller, duration=args.duration, dt=args.dt,
                             q_offset=args.q_offset, kp=args.kp, kd=args.kd, orbit=orbit,
                             gravity_gradient=orbit is None or not args.no_gravity_gradient,
-                            flexibility=None if args.flexibility is None else _flexibility(args.flexibility))
+                            flexibility=None if args.flexibility is None else _flexibility(args.flexibility),
+                            cmg=None if args.cmg is None else _cmg(args.cmg))
         result = run_campaign(robot, args.samples, seed=args.seed, perturbations=perturbations, scenario=scenario,
                               workers=args.workers, scheduler=args.scheduler, batch_size=args.batch_size,
                               worker_timeout=args.worker_timeout, out=args.out,

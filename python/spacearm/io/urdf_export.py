@@ -12,6 +12,13 @@ moved by the body's ``com`` like the joints'; a capsule is written as ``<capsule
 extension Drake and SDFormat read; ROS's urdfdom skips it), a visual's colour as an inline
 ``<material>``.
 
+A control-moment gyro (docs/cmg.md) is written, by default (``cmgs="links"``), as what it is in
+the model, its gimbal and rotor links and joints, which every URDF reader understands and
+spacearm recognizes again as a CMG; ``cmgs="element"`` writes each CMG that is exactly what the
+core's ``cmg_parts`` makes (unturned frames, CMs at the gimbal joint, the gimbal's inertia
+principal along the gimbal and spin axes, no springs, no shapes) as spacearm's ``<spacearm><cmg .../>``
+extension element instead, where its links would be (docs/urdf.md), and any other as links.
+
 Joints without position limits are written as ``continuous`` (revolute) or as ``prismatic``
 without ``lower``/``upper``; infinite velocity or effort limits are left out (URDF cannot
 write infinity). Every number is written in its shortest round-trip form (``repr``), so reading
@@ -26,9 +33,12 @@ import xml.etree.ElementTree as ET
 import numpy as np
 
 from .._util.atomic import write_text
+from ..errors import ArgumentError
 from ..rotations import quat_to_matrix
 
 __all__ = ["to_urdf", "save_urdf"]
+
+_CMG_WRITING = ("links", "element")
 
 
 def _num(v: float) -> str:
@@ -79,8 +89,49 @@ def _geometry(link: ET.Element, g, com) -> None:
         ET.SubElement(material, "color", rgba=_vec(g.rgba))
 
 
-def to_urdf(robot) -> str:
-    """The model as URDF text (``<robot name>`` = the model name)."""
+def _cmg_elements(robot, com) -> dict:
+    """``{gimbal link name: (rotor link name, <cmg> attributes)}`` of every CMG of ``robot`` that
+    the element describes exactly (module docs): its ``CmgSpec`` fields read back from the links."""
+    d = robot.description
+    out = {}
+    shaped = {g.body for g in d.geometries}  # an element has no <visual> or <collision>
+    for name, c in robot.cmg_dofs.items():
+        g_link = d.links[robot.body_of_dof[c["gimbal"]] - 1]
+        r_link = d.links[robot.body_of_dof[c["rotor"]] - 1]
+        g, s = np.asarray(g_link.axis, dtype=float), np.asarray(r_link.axis, dtype=float)
+        t = np.cross(g, s)
+        axes = np.array([g, s, t])
+        gi = axes @ np.asarray(g_link.inertia, dtype=float) @ axes.T  # the gimbal's inertia in (g, s, t)
+        ri = axes @ np.asarray(r_link.inertia, dtype=float) @ axes.T
+        scale = max(float(np.abs(gi).max()), float(np.abs(ri).max()), 1e-300)
+        exact = (np.array_equal(g_link.rotation, [0.0, 0.0, 0.0, 1.0]) and np.array_equal(r_link.rotation, [0.0, 0.0, 0.0, 1.0])
+                 and not np.any(g_link.com) and not np.any(r_link.com) and not np.any(r_link.origin)
+                 and np.abs(gi - np.diag(np.diag(gi))).max() <= 1e-12 * scale
+                 and g_link.actuated and all(v == 0.0 for v in (g_link.stiffness, g_link.damping, g_link.rest,
+                                                                r_link.stiffness, r_link.damping, r_link.rest))
+                 and not any(np.isfinite(v) for v in (g_link.limits.lower, g_link.limits.upper, r_link.limits.lower, r_link.limits.upper))
+                 and (r_link.actuated or not np.isfinite(r_link.limits.effort))
+                 and g_link.name not in shaped and r_link.name not in shaped)
+        if not exact:
+            continue
+        attrs = {"name": name, "parent": g_link.parent, "position": _vec(np.asarray(g_link.origin) + com[g_link.parent]),
+                 "gimbal_axis": _vec(g), "spin_axis": _vec(s), "rotor_inertia": _num(ri[1, 1]),
+                 "rotor_transverse_inertia": _num(ri[0, 0]), "gimbal_inertia": _vec(np.diag(gi)),
+                 "rotor_mass": _num(r_link.mass), "gimbal_mass": _num(g_link.mass),
+                 "variable_speed": "true" if r_link.actuated else "false"}
+        for key, v in (("max_gimbal_rate", g_link.limits.velocity), ("max_wheel_speed", r_link.limits.velocity),
+                       ("max_gimbal_torque", g_link.limits.effort), ("max_wheel_torque", r_link.limits.effort)):
+            if np.isfinite(v):
+                attrs[key] = _num(v)
+        out[g_link.name] = (r_link.name, attrs)
+    return out
+
+
+def to_urdf(robot, *, cmgs: str = "links") -> str:
+    """The model as URDF text (``<robot name>`` = the model name); ``cmgs``: ``"links"`` (default)
+    or ``"element"`` (module docs)."""
+    if cmgs not in _CMG_WRITING:
+        raise ArgumentError(f"cmgs must be one of {_CMG_WRITING}, got {cmgs!r}")
     d = robot.description
     root = ET.Element("robot", name=robot.name)
     # URDF frames sit at the joints, spacearm's at the CMs: a body's CM from its URDF frame.
@@ -89,6 +140,17 @@ def to_urdf(robot) -> str:
     _inertial(base, d.base.mass, np.zeros(3), d.base.inertia)
     elements = {d.base.name: base}
     for link in d.links:
+        com[link.name] = link.com
+    as_element = _cmg_elements(robot, com) if cmgs == "element" else {}
+    rotors = {rotor for rotor, _ in as_element.values()}
+    for link in d.links:
+        if link.name in as_element:
+            # spacearm's extension element where the gimbal's link would be (the importer numbers
+            # the joints in document order, depth first: the CMG keeps its degrees of freedom).
+            ET.SubElement(ET.SubElement(root, "spacearm"), "cmg", **as_element[link.name][1])
+            continue
+        if link.name in rotors:
+            continue
         el = ET.SubElement(root, "link", name=link.name)
         elements[link.name] = el
         _inertial(el, link.mass, link.com, link.inertia)
@@ -129,7 +191,7 @@ def to_urdf(robot) -> str:
     return '<?xml version="1.0"?>\n<!-- written by spacearm (docs/urdf.md) -->\n' + ET.tostring(root, encoding="unicode") + "\n"
 
 
-def save_urdf(robot, path) -> None:
+def save_urdf(robot, path, *, cmgs: str = "links") -> None:
     """Write [`to_urdf`][spacearm.io.to_urdf] to ``path`` atomically (``spacearm._util.atomic``: temporary
     file, flush, rename; the mode of a normal file)."""
-    write_text(path, to_urdf(robot), suffix=".urdf")
+    write_text(path, to_urdf(robot, cmgs=cmgs), suffix=".urdf")

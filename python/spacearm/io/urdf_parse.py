@@ -26,6 +26,9 @@ joint's ``<dynamics damping>`` is its viscous damping (``friction`` is ignored: 
 no Coulomb friction), and the extension element ``<spacearm stiffness="…" rest="…"
 actuated="false"/>`` inside a ``<joint>`` gives its spring and makes it passive
 (docs/flexibility.md; URDF readers that do not know it ignore it, as they ignore ``<gazebo>``).
+At the robot level, ``<spacearm>`` holds ``<cmg name= parent= gimbal_axis= spin_axis=
+rotor_inertia= .../>`` elements: control-moment gyros, each read as the gimbal and rotor links and
+joints the core's ``cmg_parts`` makes of the ``[[cmg]]`` fields (docs/urdf.md, docs/cmg.md).
 """
 
 from __future__ import annotations
@@ -40,7 +43,7 @@ from defusedxml import DefusedXmlException
 from defusedxml.ElementTree import DefusedXMLParser
 
 from .. import _core
-from ..errors import ArgumentError, ModelFileError
+from ..errors import ArgumentError, ModelFileError, SpacearmError
 from ..rotations import quat_from_rpy, quat_to_matrix
 
 __all__ = ["UrdfGeometry", "UrdfInertial", "UrdfLink", "UrdfJoint", "UrdfRobot", "parse_urdf", "urdf_error"]
@@ -338,6 +341,63 @@ class _Reader:
                     dynamics["actuated"] = flag == "true"
         return UrdfJoint(name, kind, links["parent"], links["child"], origin, rotation, axis, limits, self.line(el), dynamics)
 
+    def cmg(self, el: ET.Element) -> Tuple[UrdfLink, UrdfJoint, UrdfLink, UrdfJoint]:
+        """A ``<spacearm><cmg .../></spacearm>`` (docs/urdf.md, "Control-moment gyros") as the
+        gimbal and rotor links and joints the core's ``model/cmg.rs`` makes of it: the attributes
+        are the fields of TOML's ``[[cmg]]`` (the core's ``CmgSpec``), vectors as space-separated
+        numbers; ``position`` and the axes are in the ``parent`` link's URDF frame (as a joint's
+        ``<origin xyz>`` and ``<axis xyz>``). Every rule of a CMG is the core's (``cmg_parts``);
+        this adds the file, the line and the element to its message."""
+        name = self.attr(el, "name", "<spacearm><cmg>")
+        who = f"<spacearm><cmg name=\"{name}\">"
+        unknown = set(el.attrib) - set(_CMG_ATTRIBUTES)
+        if "wheel_speed" in unknown:
+            raise self.fail(el, f"{who}: 'wheel_speed' is not a model parameter: a rotor's speed is the run's initial "
+                                "condition, u0 = robot.cmg_velocity(wheel_speed) (docs/cmg.md)")
+        if unknown:
+            raise self.fail(el, f"{who}: unknown attribute(s) {sorted(unknown)}; a <cmg> takes {', '.join(_CMG_ATTRIBUTES)}")
+        spec: Dict[str, object] = {"name": name, "parent": self.attr(el, "parent", who)}
+        for key in ("gimbal_axis", "spin_axis", "rotor_inertia"):
+            if el.get(key) is None:
+                raise self.fail(el, f"{who}: needs a '{key}' attribute")
+        spec["position"] = self.numbers(el, "position", 3, [0.0, 0.0, 0.0], who).tolist()
+        spec["gimbal_axis"] = self.numbers(el, "gimbal_axis", 3, None, who).tolist()
+        spec["spin_axis"] = self.numbers(el, "spin_axis", 3, None, who).tolist()
+        spec["rotor_inertia"] = self.number(el, "rotor_inertia", who)
+        for key in ("rotor_transverse_inertia", "max_gimbal_rate", "max_wheel_speed", "max_gimbal_torque", "max_wheel_torque"):
+            spec[key] = None if el.get(key) is None else self.number(el, key, who)
+        for key in ("rotor_mass", "gimbal_mass"):
+            spec[key] = self.number(el, key, who, default=0.0)
+        gimbal = (el.get("gimbal_inertia") or "0").split()
+        spec["gimbal_inertia"] = self.numbers(el, "gimbal_inertia", len(gimbal) if len(gimbal) in (1, 3) else 3, [0.0], who).tolist()
+        if len(spec["gimbal_inertia"]) == 1:
+            spec["gimbal_inertia"] = spec["gimbal_inertia"] * 3
+        flag = (el.get("variable_speed") or "false").strip().lower()
+        if flag not in ("true", "false"):
+            raise self.fail(el, f"{who}: variable_speed must be 'true' or 'false', got {el.get('variable_speed')!r}")
+        spec["variable_speed"] = flag == "true"
+        try:
+            links, _points, _geometries = _core.cmg_parts(spec, spec["parent"])
+        except SpacearmError as exc:
+            raise self.fail(el, f"{who}: {exc}") from None
+        line = self.line(el)
+        out: List[object] = []
+        for (link, parent, _kind, origin, _rotation, axis, _com, mass, inertia, joint, lim, dyn) in links:
+            # cmg_parts' links: identity rotations and CMs at the joint (model/cmg.rs).
+            inertial = UrdfInertial(mass, np.zeros(3), np.eye(3), np.array(inertia, dtype=float), line)
+            limits = {k: v for k, v in zip(("velocity", "effort"), lim[2:]) if np.isfinite(v)}
+            dynamics = {} if dyn is None else {"actuated": bool(dyn[0])}
+            out.append(UrdfLink(link, inertial, line))
+            out.append(UrdfJoint(joint, "continuous", parent, link, np.array(origin, dtype=float), np.eye(3),
+                                 np.array(axis, dtype=float), limits, line, dynamics))
+        return tuple(out)  # type: ignore[return-value]
+
+
+#: The attributes of ``<spacearm><cmg>``: the core's ``CmgSpec`` fields (model/cmg.rs), as TOML ``[[cmg]]``.
+_CMG_ATTRIBUTES = ("name", "parent", "position", "gimbal_axis", "spin_axis", "rotor_inertia", "rotor_transverse_inertia",
+                   "gimbal_inertia", "rotor_mass", "gimbal_mass", "variable_speed", "max_gimbal_rate", "max_wheel_speed",
+                   "max_gimbal_torque", "max_wheel_torque")
+
 
 def parse_urdf(text, source: str = "<string>", mimic: str = "error") -> UrdfRobot:
     """Parse URDF text (``str`` or ``bytes``) into a ``UrdfRobot``.
@@ -372,4 +432,18 @@ def parse_urdf(text, source: str = "<string>", mimic: str = "error") -> UrdfRobo
                 raise reader.fail(el, f"joint name '{joint.name}' is used twice (first on line {joint_lines[joint.name]})")
             joint_lines[joint.name] = joint.line
             robot.joints.append(joint)
+        elif el.tag == "spacearm":
+            # spacearm's robot-level extension element: control-moment gyros (docs/urdf.md).
+            for sub in el:
+                if sub.tag != "cmg":
+                    raise reader.fail(sub, f"<spacearm> at the robot level takes <cmg> elements, got <{sub.tag}>")
+                parts = reader.cmg(sub)
+                for link, joint in (parts[0:2], parts[2:4]):
+                    if link.name in robot.links:
+                        raise reader.fail(sub, f"<spacearm><cmg>: link name '{link.name}' is used twice (first on line {robot.links[link.name].line})")
+                    if joint.name in joint_lines:
+                        raise reader.fail(sub, f"<spacearm><cmg>: joint name '{joint.name}' is used twice (first on line {joint_lines[joint.name]})")
+                    robot.links[link.name] = link
+                    joint_lines[joint.name] = joint.line
+                    robot.joints.append(joint)
     return robot

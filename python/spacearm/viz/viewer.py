@@ -20,6 +20,10 @@ Scene tree (meshcat paths; a body's name has its ``/`` replaced):
 
 - ``/spacearm/robot/bodies/<i>_<name>``: body ``i``, animated; below it ``geometry/<name>``
   (the shapes), ``frame`` (the base's and the end-effector body's triads), ``points/<name>``.
+  A control-moment gyro's gimbal and rotor (docs/cmg.md) without shapes of their own get
+  ``cmg/frame`` (the gimbal frame: a rectangle in the plane of the gimbal and spin axes, with the
+  gimbal axle) and ``cmg/disc`` (the rotor disc about its spin axis, with its axle) below their
+  body nodes, so the disc turns with the recorded gimbal angle.
 - ``/spacearm/robot/ee_path``: the end-effector path over the whole run (a line).
 - ``/spacearm/momentum/P`` and ``/spacearm/momentum/L``: the arrows (``shaft``, ``head``).
 - ``/spacearm/target/bodies/...``: a capture's target; ``/spacearm/grasp``: the grasp point,
@@ -68,6 +72,8 @@ _P_COLOR = (0.1, 0.75, 0.2, 1.0)  # linear momentum arrow
 _L_COLOR = (0.85, 0.15, 0.75, 1.0)  # angular momentum arrow
 _PATH_COLOR = (0.85, 0.1, 0.1, 1.0)
 _GRASP_COLOR = (1.0, 0.45, 0.0, 1.0)
+_GIMBAL_COLOR = (0.93, 0.62, 0.12, 1.0)  # a CMG's gimbal frame
+_ROTOR_COLOR = (0.35, 0.37, 0.45, 1.0)  # a CMG's rotor disc
 _TINY = 1e-6  # the scale of a hidden node (three.js needs an invertible matrix)
 #: The largest coordinate the viewer draws, m (three.js computes in 32-bit floats, which end at
 #: 3.4e38; a scene wider than this shows nothing anyway): a larger or non-finite one is refused.
@@ -497,6 +503,50 @@ def _model_size(robot) -> float:
     return max(max(lengths), 1e-3)
 
 
+def _cmg_bodies(robot) -> Dict[int, Tuple[str, np.ndarray, np.ndarray, float]]:
+    """The bodies of the model's CMGs ([`Robot.cmg_dofs`][spacearm.Robot.cmg_dofs]), body index →
+    (``"gimbal"`` or ``"rotor"``, the gimbal axis and the spin axis in that body's frame, the rotor
+    radius drawn). The axes are the joints' own (``description``): the gimbal's in the gimbal
+    frame, the spin axis in the rotor frame (and carried into the gimbal frame at the spin joint's
+    zero by its rotation). The radius is the uniform disc's, ``J_s = m r² / 2``, or a twentieth of
+    the model's size for a massless rotor, at most a quarter of the model's size."""
+    desc = robot.description
+    out: Dict[int, Tuple[str, np.ndarray, np.ndarray, float]] = {}
+    size = _model_size(robot)
+    for c in robot.cmg_dofs.values():
+        g_body, r_body = robot.body_of_dof[c["gimbal"]], robot.body_of_dof[c["rotor"]]
+        gimbal, rotor = desc.links[g_body - 1], desc.links[r_body - 1]
+        g = np.asarray(gimbal.axis, dtype=float)
+        s_rotor = np.asarray(rotor.axis, dtype=float)
+        to_gimbal = quat_to_matrix(np.asarray(rotor.rotation, dtype=float))  # rotor frame → gimbal frame at zero spin
+        s_gimbal = to_gimbal @ s_rotor
+        g_rotor = to_gimbal.T @ g
+        radius = math.sqrt(2.0 * c["rotor_inertia"] / rotor.mass) if rotor.mass > 0 else 0.05 * size
+        radius = min(radius, 0.25 * size)  # a light rotor of large J_s stays inside the picture
+        out[g_body] = ("gimbal", g, s_gimbal, radius)
+        out[r_body] = ("rotor", g_rotor, s_rotor, radius)
+    return out
+
+
+def _draw_cmg_part(scene: Scene, node: str, kind: str, g: np.ndarray, s: np.ndarray, radius: float, joint: np.ndarray) -> None:
+    """A CMG's gimbal frame or rotor disc below body ``node`` (``_cmg_bodies``), centred on the
+    gimbal joint ``joint`` (body frame)."""
+    mc = scene._mc
+    g, s = g / np.linalg.norm(g), s / np.linalg.norm(s)
+    thin = 0.06 * radius
+    if kind == "rotor":
+        scene._add(f"{node}/cmg/disc", mc.geometry.Mesh(mc.geometry.Cylinder(0.3 * radius, radius), _material(mc, _ROTOR_COLOR)),
+                   _transform(joint, _y_to(s)))
+        _stick(scene, f"{node}/cmg/axle", joint - 0.75 * radius * s, joint + 0.75 * radius * s, thin, _ROTOR_COLOR)
+        return
+    a, b = 1.2 * radius * g, 0.75 * radius * s  # the frame's half-sides: along the gimbal axis, along the spin axis
+    corners = [joint + a + b, joint - a + b, joint - a - b, joint + a - b]
+    for k in range(4):
+        _stick(scene, f"{node}/cmg/frame/side{k}", corners[k], corners[(k + 1) % 4], thin, _GIMBAL_COLOR)
+    for sign, end in ((1.0, "axle_plus"), (-1.0, "axle_minus")):
+        _stick(scene, f"{node}/cmg/frame/{end}", joint + sign * a, joint + sign * 1.6 * radius * g, 1.5 * thin, _GIMBAL_COLOR)
+
+
 def _draw_model(scene: Scene, robot, prefix: str, geometry: str, *, ee_frame: bool, frames: bool, points: bool) -> List[str]:
     """The nodes of every body of ``robot`` below ``prefix``/bodies, with their shapes (or a
     stand-in), frames and points. Returns the body nodes' paths (index = body index)."""
@@ -515,11 +565,18 @@ def _draw_model(scene: Scene, robot, prefix: str, geometry: str, *, ee_frame: bo
     body_points: Dict[int, list] = {}
     for p in desc.points:
         body_points.setdefault(p.body_index, []).append(p)
+    cmgs = _cmg_bodies(robot)
+    if cmgs:
+        scene.legend.append((_ROTOR_COLOR, f"CMGs ({len(cmgs) // 2}): gimbal frame and rotor disc"))
     for b, node in enumerate(nodes):
         mine = shapes.get(b, [])
         chosen = [g for g in mine if g.role == geometry] or [g for g in mine if g.role == other]
         drawn = sum(_shape(scene, node, g) for g in chosen)
         if drawn:
+            continue
+        if b in cmgs:
+            kind, g_axis, s_axis, radius = cmgs[b]
+            _draw_cmg_part(scene, node, kind, g_axis, s_axis, radius, -np.asarray(desc.links[b - 1].com, dtype=float))
             continue
         # No shape: a stand-in, like the GIF's (docs/viewer.md).
         if b == 0:

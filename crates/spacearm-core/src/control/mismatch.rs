@@ -107,6 +107,55 @@ pub fn perturbed_model(model: &Model, base_mass_scale: f64, base_inertia_scale: 
     .with_triangle_inequality(rule, warnings))
 }
 
+/// A copy of `model` whose control-moment gyros (docs/cmg.md; found by
+/// [`crate::model::cmg::detect_cmgs`]) differ from the nominal ones the way a flight unit does:
+/// every rotor's inertia tensor (`J_s` and `J_t`, so it stays symmetric about the spin axis) is
+/// scaled by `rotor_inertia_scale`, and CMG `i`'s whole unit — its gimbal joint frame, so the
+/// gimbal axis `ĝ`, the spin axis `ŝ₀` and both bodies turn together, `ŝ₀ ⟂ ĝ` kept — is turned
+/// about its gimbal joint by the rotation vector `tilts[i]` (parent frame, rad): a mounting
+/// misalignment, `R' = exp(tilt×) R` (docs/conventions.md). `tilts` is empty (no misalignment) or
+/// has one vector per CMG in `detect_cmgs` order. Everything else is the model's, bit for bit.
+pub fn perturbed_cmgs(model: &Model, rotor_inertia_scale: f64, tilts: &[[f64; 3]]) -> Result<Model> {
+    check_scale("rotor_inertia_scale", rotor_inertia_scale)?;
+    let cmgs = crate::model::cmg::detect_cmgs(model);
+    if cmgs.is_empty() {
+        return Err(SpacearmError::argument("perturbed_cmgs: the model has no CMG (RobotBuilder.add_cmg, TOML [[cmg]], URDF <spacearm><cmg>)".to_string()));
+    }
+    if !tilts.is_empty() && tilts.len() != cmgs.len() {
+        return Err(SpacearmError::argument(format!("perturbed_cmgs: tilts must be empty or one rotation vector per CMG ({}), got {}", cmgs.len(), tilts.len())));
+    }
+    if let Some(t) = tilts.iter().find(|t| t.iter().any(|v| !v.is_finite())) {
+        return Err(SpacearmError::argument(format!("perturbed_cmgs: every tilt must be a finite rotation vector (rad), got {t:?}")));
+    }
+    let rule = model.triangle_inequality();
+    let mut warnings: Vec<String> = model.inertia_warnings().to_vec();
+    let mut links = model.links().to_vec();
+    for (i, c) in cmgs.iter().enumerate() {
+        let gimbal = model.body_of_dof(c.gimbal_dof) - 1;
+        let rotor = model.body_of_dof(c.rotor_dof) - 1;
+        if let Some(t) = tilts.get(i) {
+            let turn = nalgebra::UnitQuaternion::from_scaled_axis(Vector3::new(t[0], t[1], t[2]));
+            links[gimbal].joint.rotation_in_parent = turn * links[gimbal].joint.rotation_in_parent;
+        }
+        let who = format!("perturbed rotor '{}'", links[rotor].name);
+        let (mass, warning) = MassProperties::checked(ModelItem::Link(rotor), &who, links[rotor].mass.mass,
+                                                      links[rotor].mass.inertia * rotor_inertia_scale, false, rule)?;
+        links[rotor].mass = mass;
+        warnings.extend(warning);
+    }
+    Ok(Model::new(
+        model.name().to_string(),
+        model.base_name().to_string(),
+        model.base().clone(),
+        links,
+        model.points().to_vec(),
+        model.end_effector(),
+        Some(model.initial_q().to_vec()),
+    )?
+    .with_geometries(model.geometries().to_vec())
+    .with_triangle_inequality(rule, warnings))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -161,5 +210,74 @@ mod tests {
         assert!(perturbed_model(&plant, 0.0, 1.0, 1.0, Slosh::None).is_err());
         assert!(perturbed_model(&plant, 1.0, 1.0, 1.0, Slosh::Removed { fraction: 1.0 }).is_err());
         assert!(perturbed_model(&plant, 1.0, 1.0, 1.0, Slosh::Moved { fraction: 0.1, offset: Vector3::new(f64::NAN, 0.0, 0.0) }).is_err());
+    }
+}
+
+#[cfg(test)]
+mod cmg_tests {
+    use super::*;
+    use crate::model::builder::ModelBuilder;
+    use crate::model::cmg::{cmg_parts, detect_cmgs, CmgSpec};
+
+    fn two_cmgs() -> Model {
+        let mut b = ModelBuilder::new("hub", "base", 100.0, [[10.0, 0.0, 0.0], [0.0, 12.0, 0.0], [0.0, 0.0, 14.0]]).unwrap();
+        for (name, g, s) in [("a", [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]), ("b", [1.0, 0.0, 0.0], [0.0, 1.0, 0.0])] {
+            let spec = CmgSpec {
+                name: name.into(), parent: None, position: [0.2, 0.0, 0.1], gimbal_axis: g, spin_axis: s, rotor_inertia: 0.05,
+                rotor_transverse_inertia: None, gimbal_inertia: [0.01, 0.008, 0.006], rotor_mass: 2.0, gimbal_mass: 1.0,
+                variable_speed: false, max_gimbal_rate: None, max_wheel_speed: None, max_gimbal_torque: None, max_wheel_torque: None,
+            };
+            for (l, d) in cmg_parts(&spec, "base", ModelItem::Model).unwrap().links {
+                let n = l.name.clone();
+                b.add_link(l).unwrap();
+                b.set_joint_dynamics(&n, d).unwrap();
+            }
+        }
+        b.build().unwrap()
+    }
+
+    /// Rodrigues' formula, written out: `v` turned by the angle `|t|` about `t / |t|`.
+    fn rodrigues(t: [f64; 3], v: [f64; 3]) -> [f64; 3] {
+        let a = (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt();
+        let k = [t[0] / a, t[1] / a, t[2] / a];
+        let kxv = [k[1] * v[2] - k[2] * v[1], k[2] * v[0] - k[0] * v[2], k[0] * v[1] - k[1] * v[0]];
+        let kv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
+        [0, 1, 2].map(|i| v[i] * a.cos() + kxv[i] * a.sin() + k[i] * kv * (1.0 - a.cos()))
+    }
+
+    #[test]
+    fn rotor_inertia_scales_and_the_unit_turns_as_one() {
+        let m = two_cmgs();
+        let tilts = [[0.01, -0.02, 0.0], [0.0, 0.0, 0.03]];
+        let p = perturbed_cmgs(&m, 1.2, &tilts).unwrap();
+        let (before, after) = (detect_cmgs(&m), detect_cmgs(&p));
+        assert_eq!(after.len(), 2, "both are still CMGs (spin axis still perpendicular, rotor symmetric)");
+        for (i, (c0, c1)) in before.iter().zip(&after).enumerate() {
+            assert!((c1.rotor_inertia - 1.2 * 0.05).abs() < 1e-15);
+            let (g, s) = (rodrigues(tilts[i], c0.gimbal_axis), rodrigues(tilts[i], c0.spin_axis));
+            for k in 0..3 {
+                assert!((c1.gimbal_axis[k] - g[k]).abs() < 1e-15 && (c1.spin_axis[k] - s[k]).abs() < 1e-15, "{c1:?}");
+            }
+            // The tilt really turned the axes (not a test that passes on an identity).
+            assert!((c1.gimbal_axis[0] - c0.gimbal_axis[0]).abs() + (c1.gimbal_axis[1] - c0.gimbal_axis[1]).abs() > 1e-3 || i == 1);
+        }
+        assert!((p.links()[1].mass.inertia - m.links()[1].mass.inertia * 1.2).norm() < 1e-16);
+        assert_eq!(p.links()[0].mass.inertia, m.links()[0].mass.inertia);
+        assert_eq!(p.total_mass(), m.total_mass());
+        // No tilt and a unit scale: the model's links, bit for bit.
+        let same = perturbed_cmgs(&m, 1.0, &[]).unwrap();
+        for (a, b) in same.links().iter().zip(m.links()) {
+            assert_eq!((a.mass.inertia, a.joint.rotation_in_parent), (b.mass.inertia, b.joint.rotation_in_parent));
+        }
+    }
+
+    #[test]
+    fn bad_perturbations_are_refused_by_name() {
+        let m = two_cmgs();
+        assert!(perturbed_cmgs(&m, 0.0, &[]).unwrap_err().to_string().contains("rotor_inertia_scale"));
+        assert!(perturbed_cmgs(&m, 1.0, &[[0.0; 3]]).unwrap_err().to_string().contains("one rotation vector per CMG (2), got 1"));
+        assert!(perturbed_cmgs(&m, 1.0, &[[f64::NAN, 0.0, 0.0], [0.0; 3]]).unwrap_err().to_string().contains("finite rotation vector"));
+        let plain = crate::model::presets::spatial6();
+        assert!(perturbed_cmgs(&plain, 1.1, &[]).unwrap_err().to_string().contains("has no CMG"));
     }
 }

@@ -440,7 +440,7 @@ mod tests {
     }
 
     #[test]
-    fn unnamed_geometries_are_added_in_linear_time_with_the_same_names() {
+    fn unnamed_geometries_keep_their_default_names_through_60k_additions() {
         use crate::model::geometry::Shape;
         // The default name's k was found by scanning every geometry given before: N unnamed
         // geometries cost O(N²) (160k URDF <visual>s: 49.5 s) (issue 38). Now a count per
@@ -459,13 +459,12 @@ mod tests {
         add(&mut b, "base", GeometryRole::Visual, None).unwrap();
         let names: Vec<String> = b.geometries.iter().map(|g| g.name.clone()).collect();
         assert_eq!(names, ["base_visual1", "base_visual1_", "arm_collision0", "base_collision0", "base_visual2"]);
-        let start = std::time::Instant::now();
+        // 60k more keep the rule (their time is not asserted: speed is measured in benchmarks,
+        // never in tests; the quadratic scan made this test take ~30 s, now milliseconds).
         for _ in 0..60_000 {
             add(&mut b, "base", GeometryRole::Visual, None).unwrap();
         }
-        let took = start.elapsed().as_secs_f64();
         assert_eq!(b.geometries.last().unwrap().name, "base_visual60002");
-        assert!(took < 3.0, "60k unnamed geometries took {took:.2} s");
         assert_eq!(b.build().unwrap().geometries().len(), 60_005);
     }
 }
