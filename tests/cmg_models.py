@@ -11,6 +11,13 @@ BETA = np.arccos(1.0 / np.sqrt(3.0))  # 54.74°: the pyramid whose envelope is n
 J_S = 0.05  # rotor spin moment, kg m^2
 
 
+def rodrigues(axis, angle):
+    """The rotation matrix by ``angle`` about the unit ``axis`` (Rodrigues' formula)."""
+    k = np.asarray(axis, float)
+    kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + np.sin(angle) * kx + (1 - np.cos(angle)) * kx @ kx
+
+
 def pyramid_axes(beta: float = BETA):
     """Gimbal axes normal to the faces of a pyramid of skew angle ``beta`` and the spin axes at
     zero gimbal angle (Wie's 4-CMG pyramid)."""

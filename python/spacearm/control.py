@@ -436,6 +436,21 @@ class CmgSteering(_Controller):
     when commanded exactly along its singular direction. ``null_gain`` ``k > 0`` (rad/s) adds the
     null motion ``k (E - A⁺A) ∇√m``, which turns the gimbals toward a larger singularity measure
     without changing the cluster's momentum (docs/cmg.md, "Steering").
+
+    ``wheel_weight`` ``W_s0 > 0`` (a cluster of variable-speed CMGs) steers the gimbal rates and
+    the wheel accelerations together, ``[δ̇; Ω̇] = W Qᵀ (Q W Qᵀ)⁻¹ (-N)`` with ``Q = [A  B]``
+    (``B``'s columns ``J_s ŝ_i``) and the wheel weights ``W_s0 exp(-wheel_mu m)`` (Schaub, Vadali &
+    Junkins 1998): far from a singular state the wheels rest, near one they give the torque the
+    gimbals cannot; each wheel motor gets ``J_s Ω̇``. It replaces the SR inverse (no dither)
+    (docs/cmg.md, "VSCMG steering").
+
+    ``unload_gain`` ``k > 0`` (1/s; mode ``"rotation-flying"`` or ``"flying"``) unloads the cluster
+    with the thrusters: while on, they apply the base torque ``N_u = -k (H - unload_goal)``
+    (``H = Σ h_i ŝ_i``, N·m·s in 𝒥; through the run's thruster limits) and the cluster is steered to
+    give ``N - N_u``, so the attitude stays held while ``H`` decays to the goal. It switches on
+    when the envelope fraction reaches ``unload_above`` and off when it falls to ``unload_below``,
+    at the start of each step (docs/cmg.md, "Momentum unloading"); the applied torque is the
+    ``base_wrench`` record.
     """
 
     _kind: _ClassVar[str] = "cmg_steering"
@@ -449,6 +464,12 @@ class CmgSteering(_Controller):
     dither: float = 0.0
     dither_frequency: float = 1.5707963267948966
     null_gain: float = 0.0
+    wheel_weight: float = 0.0
+    wheel_mu: float = 10.0
+    unload_gain: float = 0.0
+    unload_above: float = 0.8
+    unload_below: float = 0.2
+    unload_goal: Sequence[float] = (0.0, 0.0, 0.0)
 
 
 @_dataclass(frozen=True)

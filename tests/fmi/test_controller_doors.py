@@ -75,6 +75,11 @@ def _laws():
         ("attitude", wheels_robot, "rotation-floating", lambda r: AttitudeControl(quat, kp=20.0, kd=80.0), None),
         ("cmg_steering", cmg_robot, "rotation-floating", lambda r: CmgSteering(quat, kp=200.0, kd=400.0, dither=0.05, null_gain=0.5),
          cmg_robot().cmg_velocity(500.0) + np.r_[np.zeros(6), np.tile([0.1, 0.0], 4), 0.0, 0.0]),
+        ("cmg_steering_unloading", cmg_robot, "rotation-flying",
+         lambda r: CmgSteering(quat, kp=200.0, kd=400.0, unload_gain=2.0, unload_above=0.004, unload_below=0.002),
+         cmg_robot().cmg_velocity(500.0) + np.r_[np.zeros(6), np.tile([0.1, 0.0], 4), 0.0, 0.0]),
+        ("cmg_steering_vscmg", vscmg_robot, "rotation-floating", lambda r: CmgSteering(quat, kp=200.0, kd=400.0, wheel_weight=1.0, wheel_mu=1.0),
+         vscmg_robot().cmg_velocity(500.0) + np.r_[np.zeros(6), np.tile([0.1, 0.0], 4), 0.0, 0.0]),
         # The coordinated arm + cluster law on VSCMGs (spin motors, no torque asked of them) read
         # back from URDF: the arm's PD and the cluster's steering in one run description.
         ("combined_cmg", vscmg_robot, "rotation-floating",

@@ -14,13 +14,7 @@ import spacearm
 from spacearm.errors import ModelError, SpacearmError
 from spacearm.cli.inspect import inspect
 
-from cmg_models import BETA, J_S, pyramid_axes, pyramid_sat  # noqa: E402
-
-
-def rodrigues(axis, angle):
-    k = np.asarray(axis, float)
-    kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    return np.eye(3) + np.sin(angle) * kx + (1 - np.cos(angle)) * kx @ kx
+from cmg_models import BETA, J_S, pyramid_axes, pyramid_sat, rodrigues  # noqa: E402
 
 
 def test_builder_and_toml_make_the_same_cmgs_and_inspect_shows_them():

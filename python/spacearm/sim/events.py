@@ -21,7 +21,7 @@ from typing import Any, ClassVar
 from .._util.spec import check, data
 from ..errors import ArgumentError
 
-__all__ = ["StopAtTime", "StopAtGap", "stop_data"]
+__all__ = ["StopAtTime", "StopAtGap", "StopAtRecord", "stop_data"]
 
 
 @dataclass(frozen=True)
@@ -53,16 +53,40 @@ class StopAtGap:
         check("stop", self)
 
 
+@dataclass(frozen=True)
+class StopAtRecord:
+    """Stop the run when the scalar record ``name`` rises to ``above`` (``r ≥ above``) or falls
+    to ``below`` (``r ≤ below``); give exactly one of the two. The records that can be watched
+    are the core's table (``WatchedRecord`` in ``crates/spacearm-core/src/sim/stop.rs``):
+    ``"cmg_envelope_fraction"`` (a CMG cluster nearing saturation), ``"cmg_measure"`` (nearing a
+    singularity; docs/cmg.md, "Saturation and singularity events"), ``"tracking_error"`` and
+    ``"attitude_error"``. The event is located within the step as a gap's is, and
+    ``meta["stop"]["value"]`` is the record's value there (the threshold, to the located
+    time's rounding)."""
+
+    _kind: ClassVar[str] = "record"
+
+    name: str
+    above: float | None = None
+    below: float | None = None
+
+    def __post_init__(self):
+        check("stop", self)
+
+
+_CONDITIONS = (StopAtTime, StopAtGap, StopAtRecord)
+
+
 def stop_data(stop) -> list:
     """``stop`` (None, one condition or a sequence of them) as the core's data."""
     if stop is None:
         return []
-    items = [stop] if isinstance(stop, (StopAtTime, StopAtGap)) else stop
+    items = [stop] if isinstance(stop, _CONDITIONS) else stop
     try:
         items = list(items)
     except TypeError:
         items = [items]
     for c in items:
-        if not isinstance(c, (StopAtTime, StopAtGap)):
-            raise ArgumentError(f"stop takes StopAtTime, StopAtGap or a list of them, got {type(c).__name__}")
+        if not isinstance(c, _CONDITIONS):
+            raise ArgumentError(f"stop takes StopAtTime, StopAtGap, StopAtRecord or a list of them, got {type(c).__name__}")
     return [data(c, [], type(c).__name__) for c in items]

@@ -402,7 +402,7 @@ def simulate(
         With ``orbit``: whether the tidal force and torque act on every body (default ``True``).
         The mode's conserved momenta are then monitored as balances (``meta["drift"]``: the
         residual of change = integral of the tidal wrenches).
-    stop : StopAtTime, StopAtGap or a list of them, optional
+    stop : StopAtTime, StopAtGap, StopAtRecord or a list of them, optional
         Conditions that end the run early ([`spacearm.sim.events`][spacearm.sim.events]): the
         core locates the first event within its step and stops there; the last sample is the
         event's, and ``meta["stop"]`` holds ``{"condition", "kind", "t", "value"}`` (``None``

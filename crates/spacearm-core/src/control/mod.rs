@@ -31,6 +31,7 @@ pub mod cmg_jacobian;
 pub mod cmg_null_motion;
 pub mod cmg_sr_inverse;
 pub mod cmg_steering;
+pub mod cmg_unloading;
 pub mod computed_torque;
 pub mod controller;
 pub mod coordinated;
@@ -43,6 +44,7 @@ pub mod rmrc;
 pub mod shaping;
 pub mod spec;
 pub mod thrusters;
+pub mod vscmg_steering;
 
 pub use attitude::{AttitudeControl, LvlhReference};
 pub use cmg_steering::CmgSteering;

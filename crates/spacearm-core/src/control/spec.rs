@@ -28,6 +28,7 @@ use serde::{Deserialize, Serialize};
 
 use super::attitude::{AttitudeControl, LvlhReference};
 use super::cmg_steering::{CmgSteering, SteeringOptions};
+use super::cmg_unloading::MomentumUnloading;
 use super::computed_torque::{ComputedTorque, PassiveTreatment};
 use super::coordinated::{CoordinatedFlying, CoordinatedGains};
 use super::momentum_damping::{JointTorqueLimit, MomentumDamping};
@@ -641,6 +642,12 @@ fn ten() -> f64 {
 fn half_pi() -> f64 {
     std::f64::consts::FRAC_PI_2
 }
+fn unload_above() -> f64 {
+    0.8
+}
+fn unload_below() -> f64 {
+    0.2
+}
 
 /// A native control law and everything it needs, as data. The serde tag `kind` is the law's
 /// name ([`CONTROLLER_KINDS`]); each variant's fields are the law's parameters, with the units
@@ -741,6 +748,26 @@ pub enum ControllerSpec {
         /// The null-motion gain, rad/s (0: no null motion).
         #[serde(default)]
         null_gain: f64,
+        /// The VSCMG steering's wheel weight `W_s0` ([`crate::control::vscmg_steering`]; 0: the
+        /// gimbals alone).
+        #[serde(default)]
+        wheel_weight: f64,
+        /// Its `μ` in `W_s = W_s0 exp(−μ m)`.
+        #[serde(default = "ten")]
+        wheel_mu: f64,
+        /// Momentum unloading by the thrusters ([`crate::control::cmg_unloading`]): the gain
+        /// `k` of `N_u = −k (H − H_goal)`, 1/s (0: no unloading).
+        #[serde(default)]
+        unload_gain: f64,
+        /// The envelope fraction at which unloading starts.
+        #[serde(default = "unload_above")]
+        unload_above: f64,
+        /// The envelope fraction at which it stops.
+        #[serde(default = "unload_below")]
+        unload_below: f64,
+        /// `H_goal`, the cluster momentum unloading drives to, N·m·s in 𝒥.
+        #[serde(default)]
+        unload_goal: [f64; 3],
     },
     /// Base regulation by thrusters ([`BaseThrusterControl`]).
     BaseThrusters {
@@ -966,9 +993,12 @@ impl ControllerSpec {
                 finite(&format!("{w} 'kd'"), *kd)?;
                 orbit(o)?;
             }
-            ControllerSpec::CmgSteering { quat_ref, kp, kd, lambda0, mu, rate_gain, dither, dither_frequency, null_gain } => {
+            ControllerSpec::CmgSteering { quat_ref, kp, kd, lambda0, mu, rate_gain, dither, dither_frequency, null_gain, wheel_weight, wheel_mu, unload_gain, unload_above, unload_below, unload_goal } => {
                 unit_quaternion("cmg_steering 'quat_ref'", *quat_ref)?;
-                SteeringOptions { dither: *dither, dither_frequency: *dither_frequency, null_gain: *null_gain }.check(*lambda0)?;
+                if *unload_gain != 0.0 {
+                    crate::control::cmg_unloading::check(*unload_gain, *unload_above, *unload_below, *unload_goal)?;
+                }
+                SteeringOptions { dither: *dither, dither_frequency: *dither_frequency, null_gain: *null_gain, wheel_weight: *wheel_weight, wheel_mu: *wheel_mu }.check(*lambda0)?;
                 for (k, v) in [("kp", kp), ("kd", kd), ("lambda0", lambda0), ("mu", mu)] {
                     if !(v.is_finite() && *v >= 0.0) {
                         return Err(bad(format!("{w} '{k}' must be finite and >= 0, got {v}")));
@@ -1054,10 +1084,15 @@ impl ControllerSpec {
                     None => Box::new(c),
                 }
             }
-            ControllerSpec::CmgSteering { quat_ref, kp, kd, lambda0, mu, rate_gain, dither, dither_frequency, null_gain } => Box::new(
-                CmgSteering::new(*quat_ref, *kp, *kd, *lambda0, *mu, *rate_gain)
-                    .with_options(SteeringOptions { dither: *dither, dither_frequency: *dither_frequency, null_gain: *null_gain }),
-            ),
+            ControllerSpec::CmgSteering { quat_ref, kp, kd, lambda0, mu, rate_gain, dither, dither_frequency, null_gain, wheel_weight, wheel_mu, unload_gain, unload_above, unload_below, unload_goal } => {
+                let law = CmgSteering::new(*quat_ref, *kp, *kd, *lambda0, *mu, *rate_gain)
+                    .with_options(SteeringOptions { dither: *dither, dither_frequency: *dither_frequency, null_gain: *null_gain, wheel_weight: *wheel_weight, wheel_mu: *wheel_mu });
+                if *unload_gain != 0.0 {
+                    Box::new(law.with_unloading(MomentumUnloading::new(*unload_gain, *unload_above, *unload_below, *unload_goal)?))
+                } else {
+                    Box::new(law)
+                }
+            }
             ControllerSpec::BaseThrusters { com_ref, quat_ref, kp_position, kd_position, kp_attitude, kd_attitude, orbit: o } => {
                 let c = BaseThrusterControl::new(com_ref.map(Vector3::from), *quat_ref, *kp_position, *kd_position, *kp_attitude, *kd_attitude);
                 match orbit(o)? {

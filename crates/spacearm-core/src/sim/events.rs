@@ -35,27 +35,41 @@ use crate::algorithms::kinematics::{check_body, point_position};
 use crate::control::spec::PointSpec;
 use crate::control::TrackingKind;
 use crate::error::{Result, SpacearmError};
+use crate::model::cmg::Cmg;
 use crate::sim::plant::Plant;
+use crate::sim::record::{cmg_records, Recorder};
 
 /// The conditions as data, in their own file (`sim/stop.rs`), at their former paths too.
-pub use crate::sim::stop::{validate, StopCondition, StopEvent};
+pub use crate::sim::stop::{validate, StopCondition, StopEvent, WatchedRecord};
+
+/// A condition watched at every step (module docs): its event function's parts.
+enum Watched {
+    /// `g = |p_ref − p| − tolerance`, the point `p` of `body` at `offset`.
+    Gap { body: usize, offset: Vector3<f64>, tolerance: f64 },
+    /// `g = threshold − r` (`rising`: it holds at `r ≥ threshold`) or `g = r − threshold`.
+    Record { record: WatchedRecord, threshold: f64, rising: bool },
+}
 
 /// The watch over a run's conditions: the earliest time condition (the run's end if within its
-/// duration) and the gap conditions with their last values.
+/// duration) and the conditions located within the step (gap and record conditions).
 pub(crate) struct StopWatch {
-    /// `(condition index, body, offset, tolerance)` of each gap condition.
-    gaps: Vec<(usize, usize, Vector3<f64>, f64)>,
+    /// `(condition index, its event function)` of each gap and record condition.
+    watched: Vec<(usize, Watched)>,
+    /// The base CMG cluster a CMG record condition reads ([`Recorder::base_cmgs`]).
+    cmgs: Vec<Cmg>,
     /// The earliest time condition within the duration: `(index, T)`.
     pub(crate) time: Option<(usize, f64)>,
 }
 
 impl StopWatch {
     /// The watch of `stop` over a run of `duration` on `plant` (checked against its model and its
-    /// controller: a gap needs a controller that tracks a Cartesian point).
+    /// controller: a gap needs a controller that tracks a Cartesian point, a record condition a
+    /// plant that records it).
     pub(crate) fn new(stop: &[StopCondition], duration: f64, plant: &Plant<'_>) -> Result<Self> {
         validate(stop)?;
-        let mut gaps = Vec::new();
+        let mut watched = Vec::new();
         let mut time: Option<(usize, f64)> = None;
+        let cmgs = Recorder::base_cmgs(plant.model());
         for (i, c) in stop.iter().enumerate() {
             match *c {
                 StopCondition::Time { t } => {
@@ -74,11 +88,28 @@ impl StopWatch {
                             c.name()
                         )));
                     }
-                    gaps.push((i, body, offset, tolerance));
+                    watched.push((i, Watched::Gap { body, offset, tolerance }));
+                }
+                StopCondition::Record { .. } => {
+                    let (record, threshold, rising) = c.record_threshold()?.expect("a record condition");
+                    let c = &plant.controller;
+                    let missing = match record {
+                        WatchedRecord::CmgMeasure | WatchedRecord::CmgEnvelopeFraction if cmgs.is_empty() => Some(
+                            "the model has no control-moment gyros on its base (a CMG record needs a cluster whose every gimbal is on the base; docs/cmg.md)"
+                                .to_string(),
+                        ),
+                        WatchedRecord::TrackingError if c.tracking().is_none() => Some(format!("controller '{}' tracks no reference", c.name())),
+                        WatchedRecord::AttitudeError if !c.reports_attitude_error() => Some(format!("controller '{}' reports no attitude error", c.name())),
+                        _ => None,
+                    };
+                    if let Some(why) = missing {
+                        return Err(SpacearmError::argument(format!("stop condition {i} (record) watches {:?}, which this run does not record: {why}", record.name())));
+                    }
+                    watched.push((i, Watched::Record { record, threshold, rising }));
                 }
             }
         }
-        Ok(StopWatch { gaps, time })
+        Ok(StopWatch { watched, cmgs, time })
     }
 
     /// The run's end: the earliest time condition within the duration, else the duration.
@@ -86,47 +117,72 @@ impl StopWatch {
         self.time.map_or(duration, |(_, t)| t)
     }
 
-    /// Whether there are gap conditions to evaluate at every step.
-    pub(crate) fn has_gaps(&self) -> bool {
-        !self.gaps.is_empty()
+    /// Whether there are conditions to evaluate at every step.
+    pub(crate) fn has_watched(&self) -> bool {
+        !self.watched.is_empty()
     }
 
-    /// The gap conditions' `g = gap − tolerance` after `plant` evaluated `f(t, y)`: the first
-    /// (lowest index) that holds, `(condition index, g, gap)`, or `None`.
-    pub(crate) fn holding(&self, plant: &Plant<'_>) -> Option<(usize, f64, f64)> {
-        self.gaps.iter().find_map(|&(i, body, offset, tol)| {
-            let gap = gap_of(plant, body, &offset);
-            (gap - tol <= 0.0).then_some((i, gap - tol, gap))
-        })
-    }
-
-    /// Every gap condition's `g` after `plant` evaluated `f(t, y)`, written at its condition
-    /// index of `out` (one entry per condition of the run).
-    pub(crate) fn values_into(&self, plant: &Plant<'_>, out: &mut [f64]) {
-        for &(i, body, offset, tol) in &self.gaps {
-            out[i] = gap_of(plant, body, &offset) - tol;
+    /// The `g` of one watched condition after `plant` evaluated `f(t, y)` (`y` its state).
+    fn g(&self, w: &Watched, plant: &Plant<'_>, y: &[f64]) -> f64 {
+        match *w {
+            Watched::Gap { body, ref offset, tolerance } => gap_of(plant, body, offset) - tolerance,
+            Watched::Record { record, threshold, rising } => {
+                let r = match record {
+                    WatchedRecord::CmgMeasure => cmg_records(plant.model(), plant.data(), &self.cmgs, &y[plant.nx..]).0,
+                    WatchedRecord::CmgEnvelopeFraction => cmg_records(plant.model(), plant.data(), &self.cmgs, &y[plant.nx..]).1,
+                    WatchedRecord::TrackingError => plant.cmd.tracking_error,
+                    WatchedRecord::AttitudeError => plant.cmd.attitude_error,
+                };
+                if rising {
+                    threshold - r
+                } else {
+                    r - threshold
+                }
+            }
         }
     }
 
-    /// Whether a gap condition holds in `values` (of [`StopWatch::values_into`]).
+    /// The watched conditions' `g` after `plant` evaluated `f(t, y)`: the first (lowest index)
+    /// that holds, `(condition index, g, its quantity)`, or `None`.
+    pub(crate) fn holding(&self, plant: &Plant<'_>, y: &[f64]) -> Option<(usize, f64, f64)> {
+        self.watched.iter().find_map(|(i, w)| {
+            let g = self.g(w, plant, y);
+            (g <= 0.0).then(|| (*i, g, self.quantity(*i, g)))
+        })
+    }
+
+    /// Every watched condition's `g` after `plant` evaluated `f(t, y)`, written at its
+    /// condition index of `out` (one entry per condition of the run).
+    pub(crate) fn values_into(&self, plant: &Plant<'_>, y: &[f64], out: &mut [f64]) {
+        for (i, w) in &self.watched {
+            out[*i] = self.g(w, plant, y);
+        }
+    }
+
+    /// Whether a watched condition holds in `values` (of [`StopWatch::values_into`]).
     pub(crate) fn any_holds(&self, values: &[f64]) -> bool {
-        self.gaps.iter().any(|g| values[g.0] <= 0.0)
+        self.watched.iter().any(|w| values[w.0] <= 0.0)
     }
 
-    /// The indices of the gap conditions, in order.
-    pub(crate) fn gap_conditions(&self) -> impl Iterator<Item = usize> + '_ {
-        self.gaps.iter().map(|g| g.0)
+    /// The indices of the watched conditions, in order.
+    pub(crate) fn watched_conditions(&self) -> impl Iterator<Item = usize> + '_ {
+        self.watched.iter().map(|w| w.0)
     }
 
-    /// The tolerance of gap condition `index`.
-    pub(crate) fn tolerance(&self, index: usize) -> f64 {
-        self.gaps.iter().find(|g| g.0 == index).expect("a gap condition of this watch").3
+    /// The quantity of watched condition `index` whose `g` is `g`: the gap (m) of a gap
+    /// condition, the record's value of a record condition ([`StopEvent::value`]).
+    pub(crate) fn quantity(&self, index: usize, g: f64) -> f64 {
+        match self.watched.iter().find(|w| w.0 == index).expect("a watched condition of this watch").1 {
+            Watched::Gap { tolerance, .. } => g + tolerance,
+            Watched::Record { threshold, rising: true, .. } => threshold - g,
+            Watched::Record { threshold, rising: false, .. } => g + threshold,
+        }
     }
 
-    /// The `g` of gap condition `index` after `plant` evaluated `f(t, y)`.
-    pub(crate) fn value(&self, plant: &Plant<'_>, index: usize) -> f64 {
-        let &(_, body, offset, tol) = self.gaps.iter().find(|g| g.0 == index).expect("a gap condition of this watch");
-        gap_of(plant, body, &offset) - tol
+    /// The `g` of watched condition `index` after `plant` evaluated `f(t, y)`.
+    pub(crate) fn value(&self, plant: &Plant<'_>, y: &[f64], index: usize) -> f64 {
+        let (_, w) = self.watched.iter().find(|w| w.0 == index).expect("a watched condition of this watch");
+        self.g(w, plant, y)
     }
 }
 
@@ -215,6 +271,37 @@ mod tests {
         assert!(text.contains("kind = \"gap\""), "{text}");
         assert_eq!(toml::from_str::<Run>(&text).unwrap(), run);
         assert!(toml::from_str::<Run>("[[stop]]\nkind = \"gap\"\nbody = 1\noffset = [0, 0, 0]\ntolerance = 0.1\nextra = 1\n").is_err());
+    }
+
+    #[test]
+    fn record_conditions_round_trip_and_bad_ones_are_refused_with_what_was_expected() {
+        #[derive(Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+        struct Run {
+            stop: Vec<StopCondition>,
+        }
+        let text = "[[stop]]\nkind = \"record\"\nname = \"cmg_envelope_fraction\"\nabove = 0.8\n\n[[stop]]\nkind = \"record\"\nname = \"cmg_measure\"\nbelow = 0.05\n";
+        let run: Run = toml::from_str(text).unwrap();
+        assert_eq!(run.stop[0], StopCondition::Record { name: "cmg_envelope_fraction".into(), above: Some(0.8), below: None });
+        assert_eq!(run.stop[0].record_threshold().unwrap(), Some((WatchedRecord::CmgEnvelopeFraction, 0.8, true)));
+        assert_eq!(run.stop[1].record_threshold().unwrap(), Some((WatchedRecord::CmgMeasure, 0.05, false)));
+        assert_eq!(toml::from_str::<Run>(&toml::to_string(&run).unwrap()).unwrap(), run);
+        validate(&run.stop).unwrap();
+        // In the one run description (the TOML of the C stepper's and FMU's options), checked
+        // when the options are made.
+        let spec: crate::sim::options::RunSpec = toml::from_str(&format!("mode = \"rotation-floating\"\n{text}")).unwrap();
+        assert_eq!(spec.options(1.0).unwrap().stop, run.stop);
+        let bad: crate::sim::options::RunSpec = toml::from_str("[[stop]]\nkind = \"record\"\nname = \"energy\"\nbelow = 1.0\n").unwrap();
+        assert!(bad.options(1.0).unwrap_err().to_string().contains("\"energy\""));
+        for r in WatchedRecord::ALL {
+            assert_eq!(WatchedRecord::from_name(r.name()).unwrap(), r);
+        }
+        let rec = |name: &str, above: Option<f64>, below: Option<f64>| StopCondition::Record { name: name.into(), above, below };
+        let msg = |c: StopCondition| validate(&[StopCondition::Time { t: 1.0 }, c]).unwrap_err().to_string();
+        let m = msg(rec("cmg_torque", Some(1.0), None));
+        assert!(m.contains("stop condition 1 (record)") && m.contains("\"cmg_torque\"") && m.contains("cmg_envelope_fraction"), "{m}");
+        assert!(msg(rec("cmg_measure", Some(1.0), Some(0.5))).contains("exactly one of above"));
+        assert!(msg(rec("cmg_measure", None, None)).contains("neither"));
+        assert!(msg(rec("cmg_measure", None, Some(f64::NAN))).contains("finite"));
     }
 
     #[test]

@@ -22,6 +22,16 @@ use crate::scenario::actuators::Actuators;
 use crate::sim::plant::Plant;
 use crate::sim::result::{Records, SaturationEvent, SimResult};
 
+/// A base CMG cluster's records at the kinematics `data` and the velocity `u`: its singularity
+/// measure `det(A Aᵀ)/h̄⁶` (control/cmg_jacobian.rs) and its momentum-envelope fraction
+/// `|H|/σ(Ĥ)` (analysis/cmg_envelope.rs); what [`Records::cmg_measure`] and
+/// [`Records::cmg_envelope_fraction`] hold and what a record stop condition watches
+/// ([`crate::sim::events`]).
+pub(crate) fn cmg_records(model: &Model, data: &crate::model::data::Data, cmgs: &[Cmg], u: &[f64]) -> (f64, f64) {
+    let (g, s, h) = cluster_from_kinematics(model, data, cmgs, u);
+    (singularity_measure(&cmg_jacobian_from_axes(&g, &s, &h), &h), envelope_fraction(&g, &s, &h))
+}
+
 /// The records of one run and what is needed to extend them; [`Recorder::new`] is the one place
 /// where record buffers are allocated.
 #[derive(Debug, Clone)]
@@ -104,7 +114,7 @@ impl Recorder {
 
     /// The plant's CMGs when every one is on the base (the cluster the steering law drives);
     /// empty otherwise.
-    fn base_cmgs(model: &Model) -> Vec<Cmg> {
+    pub(crate) fn base_cmgs(model: &Model) -> Vec<Cmg> {
         let cmgs = detect_cmgs(model);
         if cmgs.iter().all(|c| c.parent_body == 0) {
             cmgs
@@ -271,9 +281,9 @@ impl Recorder {
             }
         }
         if let (Some(m), Some(f)) = (r.cmg_measure.as_mut(), r.cmg_envelope_fraction.as_mut()) {
-            let (g, s, h) = cluster_from_kinematics(model, data, &self.cmgs, &y[nx..]);
-            m.push(singularity_measure(&cmg_jacobian_from_axes(&g, &s, &h), &h));
-            f.push(envelope_fraction(&g, &s, &h));
+            let (measure, fraction) = cmg_records(model, data, &self.cmgs, &y[nx..]);
+            m.push(measure);
+            f.push(fraction);
         }
         if let (Some(c), Some(w), Some(e)) = (&plant.closure, r.constraint_wrench.as_mut(), r.constraint_error.as_mut()) {
             w.extend_from_slice(c.lambda.as_slice());

@@ -77,7 +77,7 @@ pub fn simulate_with_target(
 /// records, then the RK4 or DOPRI5 loop.
 ///
 /// Stop conditions ([`crate::sim::events`]): a time condition within the duration makes the run
-/// the run of that duration (its last step lands on it); gap conditions are watched at every
+/// the run of that duration (its last step lands on it); gap and record conditions are watched at every
 /// step end and located within the step.
 pub(crate) fn run_plant(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, progress: Progress<'_>) -> Result<SimResult> {
     let watch = StopWatch::new(&opts.stop, opts.duration, &plant)?;
@@ -91,10 +91,10 @@ pub(crate) fn run_plant(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOpti
     };
     let samples = sample_count(opts) as f64;
     admit_records(opts.integrator, samples, samples * Recorder::values_per_sample_of(&plant) as f64)?;
-    let gaps = watch.has_gaps().then_some(&watch);
+    let watched = watch.has_watched().then_some(&watch);
     let mut result = match opts.integrator {
-        IntegratorKind::Rk4 => simulate_rk4(plant, x0, u0, opts, gaps, progress)?,
-        IntegratorKind::Dopri5 => simulate_dopri5(plant, x0, u0, opts, gaps, progress)?,
+        IntegratorKind::Rk4 => simulate_rk4(plant, x0, u0, opts, watched, progress)?,
+        IntegratorKind::Dopri5 => simulate_dopri5(plant, x0, u0, opts, watched, progress)?,
     };
     if result.stop.is_none() {
         result.stop = watch.time.map(|(condition, t)| StopEvent { condition, t, value: t });
@@ -131,10 +131,10 @@ pub fn sample_count(opts: &SimOptions) -> usize {
 }
 
 /// The RK4 loop: steps at `t_i = i·dt` (computed by multiplication, not accumulation), the last
-/// one landing on the duration. With gap conditions (`gaps`), `f` is evaluated at every step's
+/// one landing on the duration. With gap and record conditions (`watched`), `f` is evaluated at every step's
 /// end for their values, and the step in which one first holds is re-taken from its start with
 /// shorter steps to locate the event ([`crate::sim::events`]); the run ends there.
-fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, gaps: Option<&StopWatch>, progress: Progress<'_>) -> Result<SimResult> {
+fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, watched: Option<&StopWatch>, progress: Progress<'_>) -> Result<SimResult> {
     let n_steps = rk4_step_count(opts);
     let mut stepper = Rk4Stepper::new(plant, x0, u0, Some((sample_count(opts), opts.record_every)))?;
     // A step longer than the fastest mode allows is refused before the first step.
@@ -148,12 +148,12 @@ fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, gap
     let mut rk = Rk4::new(dim);
     let mut stop = None;
     let mut g_prev = vec![0.0; opts.stop.len()];
-    if let Some(w) = gaps {
+    if let Some(w) = watched {
         stepper.plant_mut().rhs(0.0, &y0, &mut dy)?;
-        if let Some((condition, _, gap)) = w.holding(stepper.plant_mut()) {
-            stop = Some(StopEvent { condition, t: 0.0, value: gap });
+        if let Some((condition, _, quantity)) = w.holding(stepper.plant_mut(), &y0) {
+            stop = Some(StopEvent { condition, t: 0.0, value: quantity });
         }
-        w.values_into(stepper.plant_mut(), &mut g_prev);
+        w.values_into(stepper.plant_mut(), &y0, &mut g_prev);
     }
     let mut t_prev = 0.0;
     for i in 0..n_steps {
@@ -161,18 +161,18 @@ fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, gap
             break;
         }
         let t_next = if i + 1 == n_steps { opts.duration } else { (i + 1) as f64 * opts.dt };
-        if gaps.is_some() {
+        if watched.is_some() {
             y_prev.copy_from_slice(stepper.full_state());
         }
         stepper.step_to(t_next)?;
-        if let Some(w) = gaps {
+        if let Some(w) = watched {
             y_try.copy_from_slice(stepper.full_state());
             let plant = stepper.plant_mut();
             plant.rhs(t_next, &y_try, &mut dy)?;
             let g_start = g_prev.clone();
-            w.values_into(plant, &mut g_prev);
+            w.values_into(plant, &y_try, &mut g_prev);
             let mut found: Option<(usize, f64, f64)> = None;
-            for condition in w.gap_conditions() {
+            for condition in w.watched_conditions() {
                 if g_prev[condition] > 0.0 {
                     continue;
                 }
@@ -180,7 +180,7 @@ fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, gap
                 let mut g_at = |t: f64| -> Result<f64> {
                     rk.step_from(&mut *plant, t_prev, &y_prev, t, &mut y_try)?;
                     plant.rhs(t, &y_try, &mut dy)?;
-                    Ok(w.value(plant, condition))
+                    Ok(w.value(plant, &y_try, condition))
                 };
                 let (t_s, g_s) = locate_root(&mut g_at, (t_prev, g_start[condition]), (t_next, g_prev[condition]))?;
                 if found.is_none_or(|f| t_s < f.1) {
@@ -189,7 +189,7 @@ fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, gap
             }
             if let Some((condition, t_s, g_s)) = found {
                 stepper.land_retaken(&mut rk, (t_prev, &y_prev), t_s, t_next, &mut y_try)?;
-                stop = Some(StopEvent { condition, t: t_s, value: g_s + w.tolerance(condition) });
+                stop = Some(StopEvent { condition, t: t_s, value: w.quantity(condition, g_s) });
             }
         }
         if t_next >= next_progress {
@@ -205,7 +205,7 @@ fn simulate_rk4(plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, gap
 }
 
 /// The DOPRI5 run of one plant: [`dopri5_loop`] over the plant, its recorder recording.
-fn simulate_dopri5(mut plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, gaps: Option<&StopWatch>, progress: Progress<'_>) -> Result<SimResult> {
+fn simulate_dopri5(mut plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptions, watched: Option<&StopWatch>, progress: Progress<'_>) -> Result<SimResult> {
     // With contact the state has one more entry, the contact work (0 at the start).
     let mut y: Vec<f64> = plant.initial_state(x0, u0);
     plant.project(&mut y);
@@ -216,7 +216,7 @@ fn simulate_dopri5(mut plant: Plant<'_>, x0: &[f64], u0: &[f64], opts: &SimOptio
         stiff_remedy: "the dynamics are too stiff or discontinuous there (a saturating actuator switching, a very high gain); loosen \
                        rtol/atol or use rk4",
     };
-    let run = dopri5_loop(&mut plant, &mut y, opts, &words, gaps, &mut *progress, &mut |p, t, y, dy| rec.record(p, t, y, dy))?;
+    let run = dopri5_loop(&mut plant, &mut y, opts, &words, watched, &mut *progress, &mut |p, t, y, dy| rec.record(p, t, y, dy))?;
     progress(1.0)?;
     let mut result = finish_result(&plant, rec, run.events, run.n_steps, run.n_rejected);
     result.stop = run.stop;
@@ -235,6 +235,8 @@ pub(crate) trait StepWatch: OdeSystem {
     fn take_nonfinite_stage(&mut self) -> bool;
     /// The plant whose evaluation the stop conditions read ([`crate::sim::events`]).
     fn watched_plant(&self) -> &Plant<'_>;
+    /// The part of the system's state `y` that is the watched plant's.
+    fn watched_state<'y>(&self, y: &'y [f64]) -> &'y [f64];
     /// Before a step (tried) from `(t, y)`: a sampled controller's sample ([`Plant::sample`]).
     fn begin_step(&mut self, t: f64, y: &[f64]) -> Result<()>;
 }
@@ -254,6 +256,10 @@ impl StepWatch for Plant<'_> {
 
     fn watched_plant(&self) -> &Plant<'_> {
         self
+    }
+
+    fn watched_state<'y>(&self, y: &'y [f64]) -> &'y [f64] {
+        y
     }
 
     fn begin_step(&mut self, t: f64, y: &[f64]) -> Result<()> {
@@ -284,7 +290,7 @@ pub(crate) struct DopriRun {
 /// [`simulate`] (one plant) and [`crate::sim::soft_capture`] (robot + target); the caller reports
 /// `progress(1.0)` when it has finished.
 ///
-/// With gap conditions (`gaps`), their values are read at every accepted step's end from the
+/// With gap and record conditions (`watched`), their values are read at every accepted step's end from the
 /// last stage's evaluation (at the new point: first same as last) and at every sample's
 /// evaluation; at the first of these where one holds, the event is located on the dense output ([`crate::sim::events`]), the samples before
 /// it are recorded, the last sample is the event's and `y` ends there.
@@ -293,7 +299,7 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
     y: &mut [f64],
     opts: &SimOptions,
     words: &DopriWords,
-    gaps: Option<&StopWatch>,
+    watched: Option<&StopWatch>,
     progress: Progress<'_>,
     record: &mut dyn FnMut(&S, f64, &[f64], &[f64]),
 ) -> Result<DopriRun> {
@@ -308,13 +314,13 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
     sys.begin_step(0.0, y)?;
     sys.rhs(0.0, y, &mut dy)?;
     record(sys, 0.0, y, &dy);
-    if let Some((condition, _, gap)) = gaps.and_then(|w| w.holding(sys.watched_plant())) {
-        return Ok(DopriRun { n_steps, n_rejected, events, stop: Some(StopEvent { condition, t: 0.0, value: gap }) });
+    if let Some((condition, _, quantity)) = watched.and_then(|w| w.holding(sys.watched_plant(), sys.watched_state(y))) {
+        return Ok(DopriRun { n_steps, n_rejected, events, stop: Some(StopEvent { condition, t: 0.0, value: quantity }) });
     }
     let mut g_prev = vec![0.0; opts.stop.len()];
     let (mut g_end, mut g_sample) = (g_prev.clone(), g_prev.clone());
-    if let Some(w) = gaps {
-        w.values_into(sys.watched_plant(), &mut g_prev);
+    if let Some(w) = watched {
+        w.values_into(sys.watched_plant(), sys.watched_state(y), &mut g_prev);
     }
     let mut y_try = vec![0.0; dim];
     let n_out = rk4_step_count(opts);
@@ -353,8 +359,8 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
             // the end, in time order; the first point where one holds brackets the event with
             // the last point where none did.
             let mut stop: Option<StopEvent> = None;
-            if let Some(w) = gaps {
-                w.values_into(sys.watched_plant(), &mut g_end);
+            if let Some(w) = watched {
+                w.values_into(sys.watched_plant(), sys.watched_state(y), &mut g_end);
             }
             let mut t_a = t;
             while k_out <= n_out && out_time(k_out) <= t_new {
@@ -366,8 +372,8 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
                     sys.project(&mut y_out);
                 }
                 sys.rhs(t_o, &y_out, &mut dy)?;
-                if let Some(w) = gaps {
-                    w.values_into(sys.watched_plant(), &mut g_sample);
+                if let Some(w) = watched {
+                    w.values_into(sys.watched_plant(), sys.watched_state(&y_out), &mut g_sample);
                     if w.any_holds(&g_sample) {
                         stop = locate_on_dense_output(sys, &dp, w, (t_a, &g_prev), (t_o, &g_sample), &mut y_try, &mut dy)?;
                         break;
@@ -384,7 +390,7 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
                     next_progress = t_o + progress_every;
                 }
             }
-            if let (None, Some(w)) = (stop, gaps) {
+            if let (None, Some(w)) = (stop, watched) {
                 if t_a < t_new && w.any_holds(&g_end) {
                     stop = locate_on_dense_output(sys, &dp, w, (t_a, &g_prev), (t_new, &g_end), &mut y_try, &mut dy)?;
                 } else {
@@ -418,7 +424,7 @@ pub(crate) fn dopri5_loop<S: StepWatch>(
     Ok(DopriRun { n_steps, n_rejected, events, stop: None })
 }
 
-/// The earliest event of the gap conditions that hold at `b` (values `gb`), none holding at `a`
+/// The earliest event of the watched conditions that hold at `b` (values `gb`), none holding at `a`
 /// (values `ga`): each located on the last step's dense output, projected
 /// ([`crate::sim::events`]).
 fn locate_on_dense_output<S: StepWatch>(
@@ -431,7 +437,7 @@ fn locate_on_dense_output<S: StepWatch>(
     dy: &mut [f64],
 ) -> Result<Option<StopEvent>> {
     let mut stop: Option<StopEvent> = None;
-    for condition in w.gap_conditions() {
+    for condition in w.watched_conditions() {
         if gb[condition] > 0.0 {
             continue;
         }
@@ -439,11 +445,11 @@ fn locate_on_dense_output<S: StepWatch>(
             dp.dense_output(tc, y_try);
             sys.project(y_try);
             sys.rhs(tc, y_try, dy)?;
-            Ok(w.value(sys.watched_plant(), condition))
+            Ok(w.value(sys.watched_plant(), sys.watched_state(y_try), condition))
         };
         let (t_s, g_s) = locate_root(&mut g_at, (a, ga[condition]), (b, gb[condition]))?;
         if stop.is_none_or(|s| t_s < s.t) {
-            stop = Some(StopEvent { condition, t: t_s, value: g_s + w.tolerance(condition) });
+            stop = Some(StopEvent { condition, t: t_s, value: w.quantity(condition, g_s) });
         }
     }
     Ok(stop)

@@ -169,6 +169,10 @@ impl StepWatch for SoftCapture<'_> {
         &self.robot
     }
 
+    fn watched_state<'y>(&self, y: &'y [f64]) -> &'y [f64] {
+        &y[..self.ny_r]
+    }
+
     fn begin_step(&mut self, t: f64, y: &[f64]) -> Result<()> {
         self.robot.sample(t, &y[..self.ny_r])
     }
