@@ -115,6 +115,9 @@ def test_bad_recipes_are_errors(sat):
     bare = spacearm.presets.planar4()
     with pytest.raises(ArgumentError, match="has none"):
         CmgUncertainty(rotor_inertia_scale=1.1).apply(bare, {"cmg_rotor_inertia_scale": 1.1, "cmg_gimbal_misalignment": 0.0})
+    # a campaign on a model without CMGs is refused before any sample runs, not failed per sample
+    with pytest.raises(ArgumentError, match="has none"):
+        run_campaign(bare, samples=2, scenario=Scenario(cmg=CmgUncertainty(wheel_speed=10.0)), backend="in-process")
     assert Fixed(2.0).nominal == 2.0
 
 

@@ -83,15 +83,21 @@ class CmgUncertainty:
             values[name] = float(getattr(self, name[4:]).sample(z, u))
         return values
 
+    @staticmethod
+    def check(robot):
+        """``robot``'s CMGs ([`Robot.cmg_dofs`][spacearm.Robot.cmg_dofs]); an `ArgumentError` if it has none."""
+        cmgs = robot.cmg_dofs
+        if not cmgs:
+            raise ArgumentError("CmgUncertainty needs a model with CMGs (RobotBuilder.add_cmg, TOML [[cmg]]); "
+                                "this one has none")
+        return cmgs
+
     def apply(self, robot, values: Dict[str, float]):
         """``robot`` with its CMGs' rotor inertias scaled and its units misaligned by ``values``
         (the core's ``perturbed_cmgs``); ``robot`` itself at scale 1 and angle 0."""
         from ..control import perturbed_cmgs
 
-        cmgs = robot.cmg_dofs
-        if not cmgs:
-            raise ArgumentError("CmgUncertainty needs a model with CMGs (RobotBuilder.add_cmg, TOML [[cmg]]); "
-                                "this one has none")
+        cmgs = self.check(robot)
         scale, angle = values["cmg_rotor_inertia_scale"], values["cmg_gimbal_misalignment"]
         if scale == 1.0 and angle == 0.0:
             return robot

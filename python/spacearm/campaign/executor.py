@@ -172,6 +172,8 @@ def run_campaign(
         spec = CampaignSpec(dumps_toml(robot_or_spec), samples, seed, perturbations or Perturbations(),
                             scenario or Scenario())
         spec.scenario.goal(robot_or_spec)  # a wrong-length q_goal fails here, not in every worker
+        if spec.scenario.cmg is not None:
+            spec.scenario.cmg.check(robot_or_spec)  # so does CMG uncertainty on a model without CMGs
     backend = _choose_backend(backend, workers, scheduler)
     if backend == "dask":
         if workers is not None:
