@@ -1,8 +1,10 @@
 //! Binding of the core's grasp outcome (`spacearm_core::sim::grasp_outcome`; docs/contact.md,
 //! "The grasp's outcome"): a run's records in, a frozen `GraspOutcome` out
-//! (`spacearm.contact.grasp_outcome` is the face users see).
+//! (`spacearm.contact.grasp_outcome` is the face users see); the Wilson interval of a success
+//! rate (`spacearm_core::math::wilson`) for the campaigns that count grasps.
 
 use pyo3::prelude::*;
+use spacearm_core::math::wilson::{wilson_interval, Z95};
 use spacearm_core::sim::grasp_outcome::{grasp_outcome as core_grasp_outcome, GraspOutcome, GraspThresholds};
 
 use crate::convert::*;
@@ -90,7 +92,16 @@ fn grasp_outcome(
     Ok(PyGraspOutcome::of(&o))
 }
 
+/// `(rate, low, high)`: the success rate `successes / trials` and its Wilson score interval at
+/// `z` (default the two-sided 95 % quantile; `spacearm_core::math::wilson`).
+#[pyfunction]
+#[pyo3(signature = (successes, trials, z = Z95))]
+fn success_rate(py: Python<'_>, successes: usize, trials: usize, z: f64) -> PyResult<(f64, f64, f64)> {
+    let r = wilson_interval(successes, trials, z).or_raise(py)?;
+    Ok((r.rate, r.low, r.high))
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    add_to_module!(m, functions: [grasp_outcome], classes: [PyGraspOutcome],);
+    add_to_module!(m, functions: [grasp_outcome, success_rate], classes: [PyGraspOutcome],);
     Ok(())
 }
