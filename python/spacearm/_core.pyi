@@ -15,7 +15,7 @@ _Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 __version__: str
 __all__ = [
     "ArgumentError", "CentralBody", "Orbit", "OrbitalElements", "BaseDescription", "ControllerSpec", "CONTROLLER_KINDS", "CONTROLLER_ALIASES", "TASKS", "check_spec", "mpc_solve", "controller_kind",
-    "ClosedChainResult", "ConservedDrift", "Contact", "contacts", "RigidImpact", "rigid_impact", "GraspOutcome", "grasp_outcome",
+    "ClosedChainResult", "ConservedDrift", "Contact", "contacts", "RigidImpact", "rigid_impact", "GraspOutcome", "grasp_outcome", "success_rate",
     "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
     "FreeBodyReference", "GraspImpulse", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimits", "JointReference",
     "LoopClosureTerms", 
@@ -1534,6 +1534,7 @@ def grasp_outcome(
     max_offset: float = 0.005,
     touch_margin: float = 0.001,
 ) -> GraspOutcome: ...
+def success_rate(successes: int, trials: int, z: float = ...) -> tuple[float, float, float]: ...
 
 def rigid_impact(
     model: Model,

@@ -55,7 +55,7 @@ def test_the_observation_holds_the_cores_outcome_of_the_step():
     n = robot.n_dof
     assert np.array_equal(obs[:n], traj.x[-1, 7:]) and np.array_equal(obs[2 * n + 3:2 * n + 7],
                                                                        [o.relative_spin, o.relative_speed, o.offset, o.fingers_touching / 2])
-    assert info["outcome"].outcome == o.outcome
+    assert info["outcome"] == o.outcome and info["grasp"]["offset"] == o.offset and info["grasp"]["reason"] == o.reason
     assert reward == pytest.approx(-o.offset / 0.005 - 0.1 * o.relative_spin / 0.005 + 0.5 * o.fingers_touching / 2
                                    + (1.0 if o.held else 0.0), abs=1e-12)
 

@@ -23,6 +23,9 @@ spaces = gymnasium.spaces
 
 __all__ = ["ContactCaptureEnv"]
 
+#: The numbers of the step's [`GraspOutcome`][spacearm.contact.GraspOutcome] in ``info["grasp"]``.
+_GRASP_NUMBERS = ("relative_spin", "relative_speed", "offset", "fingers_touching", "fingers", "first_touch", "reason")
+
 
 def _servicer():
     from ..examples import path
@@ -60,7 +63,9 @@ class ContactCaptureEnv(gymnasium.Env):
     ``held_bonus`` when the step's outcome is held. Terminated after ``hold_steps`` held steps in a
     row (``info["is_success"]``) or when the handle is farther than ``lost_distance`` (m) from the
     grasp centre; truncated after ``max_episode_steps``. ``info["outcome"]`` is the step's
-    [`GraspOutcome`][spacearm.contact.GraspOutcome].
+    outcome ("held", "slipped" or "missed") and ``info["grasp"]`` its numbers (the
+    [`GraspOutcome`][spacearm.contact.GraspOutcome]'s ``relative_spin``, ``relative_speed``,
+    ``offset``, ``fingers_touching``, ``fingers``, ``first_touch``, ``reason``).
     """
 
     metadata = {"render_modes": list(_common.RENDER_MODES), "render_fps": 10}
@@ -154,7 +159,7 @@ class ContactCaptureEnv(gymnasium.Env):
         obs = self._observe(x, u, s, o)
         lost = bool(np.linalg.norm(obs[2 * self.robot.n_dof:2 * self.robot.n_dof + 3]) > self.lost_distance)
         success = self._held_run >= self.hold_steps
-        info = {"outcome": o, "is_success": success, "lost": lost}
+        info = {"outcome": o.outcome, "grasp": {k: getattr(o, k) for k in _GRASP_NUMBERS}, "is_success": success, "lost": lost}
         return obs, float(reward), success or lost, self._steps >= self.max_episode_steps, info
 
     def render(self):
