@@ -237,9 +237,8 @@ def grasp_outcome(
         if len(names) != 1:
             raise ArgumentError(f"robot '{robot.name}' has {len(names)} grippers {names}: name the one that grasps (gripper=...)")
         gripper = names[0]
-    from .sim.trajectory import Trajectory
-
-    if not isinstance(traj, Trajectory) or not traj.has("target"):
+    has = getattr(traj, "has", None)  # a spacearm.Trajectory (sim/ is a layer above this module)
+    if not callable(has) or not has("target"):
         raise ArgumentError("grasp_outcome needs the Trajectory of a run with a free target (simulate(..., target=..., target_state=...))")
     return _core.grasp_outcome(
         robot.core_model,

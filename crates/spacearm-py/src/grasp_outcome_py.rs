@@ -4,7 +4,7 @@
 //! rate (`spacearm_core::math::wilson`) for the campaigns that count grasps.
 
 use pyo3::prelude::*;
-use spacearm_core::math::wilson::{wilson_interval, Z95};
+use spacearm_core::math::wilson::wilson_interval;
 use spacearm_core::sim::grasp_outcome::{grasp_outcome as core_grasp_outcome, GraspOutcome, GraspThresholds};
 
 use crate::convert::*;
@@ -93,9 +93,9 @@ fn grasp_outcome(
 }
 
 /// `(rate, low, high)`: the success rate `successes / trials` and its Wilson score interval at
-/// `z` (default the two-sided 95 % quantile; `spacearm_core::math::wilson`).
+/// `z` (default the two-sided 95 % quantile `spacearm_core::math::wilson::Z95`).
 #[pyfunction]
-#[pyo3(signature = (successes, trials, z = Z95))]
+#[pyo3(signature = (successes, trials, z = 1.959963984540054))]
 fn success_rate(py: Python<'_>, successes: usize, trials: usize, z: f64) -> PyResult<(f64, f64, f64)> {
     let r = wilson_interval(successes, trials, z).or_raise(py)?;
     Ok((r.rate, r.low, r.high))

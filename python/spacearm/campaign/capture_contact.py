@@ -156,7 +156,8 @@ class CaptureCampaignResult(CampaignResult):
         centres, rate, low, high, counts = self.by(parameter, bins)
         fig, ax = plt.subplots(figsize=(6.4, 4.0))
         ok = np.isfinite(rate)
-        ax.errorbar(centres[ok], rate[ok], yerr=[rate[ok] - low[ok], high[ok] - rate[ok]], fmt="o-", capsize=4,
+        yerr = np.maximum([rate[ok] - low[ok], high[ok] - rate[ok]], 0.0)
+        ax.errorbar(centres[ok], rate[ok], yerr=yerr, fmt="o-", capsize=4,
                     label="held fraction, 95 % Wilson interval")
         for c, r, n in zip(centres[ok], rate[ok], counts[ok]):
             ax.annotate(f"n={n}", (c, r), textcoords="offset points", xytext=(4, 6), fontsize=8)
@@ -194,7 +195,7 @@ def run_capture_campaign(
     this thread. With ``out`` (.npz) the result is written at the end (and resumed from if it
     holds this campaign). A sample whose run fails (a diverged state, a refused value) is recorded
     as failed with its message."""
-    from ..capture.contact import ContactCapture
+    from ..sim.contact_capture import ContactCapture
     from ..io.model_file import dumps_toml
     from ..model.robot import Robot
     from .executor import _progress

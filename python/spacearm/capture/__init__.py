@@ -15,7 +15,7 @@
 """
 
 from .closed_chain import ClosedChainRun, simulate_closed_chain
-from .contact import ContactCapture, ContactCaptureRun
+from ..sim.contact_capture import ContactCapture, ContactCaptureRun
 from .captured import CapturedSystem, SoftCaptureRun, attach_target, relative_twist, soft_capture
 from .detumbling import DetumbleRun, detumble
 from .envelope import CaptureEnvelope, capture_envelope

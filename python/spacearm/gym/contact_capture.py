@@ -11,7 +11,7 @@ from typing import Optional
 import numpy as np
 
 from .._util.optional import require
-from ..capture.contact import ContactCapture
+from ..sim.contact_capture import ContactCapture
 from ..contact import grasp_outcome
 from ..control import JointPD
 from ..errors import ArgumentError

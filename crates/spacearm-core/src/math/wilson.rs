@@ -43,7 +43,11 @@ pub fn wilson_interval(successes: usize, trials: usize, z: f64) -> Result<Succes
     let denom = 1.0 + z2 / n;
     let centre = (p + z2 / (2.0 * n)) / denom;
     let half = z / denom * (p * (1.0 - p) / n + z2 / (4.0 * n * n)).sqrt();
-    Ok(SuccessRate { rate: p, low: (centre - half).max(0.0), high: (centre + half).min(1.0) })
+    // At k = 0 and k = n a bound is exactly 0 or 1 (p̂ = 0 or 1 solves the equation there);
+    // the formula's rounding would leave it a few ulps off.
+    let low = if successes == 0 { 0.0 } else { (centre - half).max(0.0) };
+    let high = if successes == trials { 1.0 } else { (centre + half).min(1.0) };
+    Ok(SuccessRate { rate: p, low, high })
 }
 
 #[cfg(test)]
@@ -67,7 +71,7 @@ mod tests {
         let r = wilson_interval(0, 10, 2.0).unwrap();
         assert!(r.low == 0.0 && (r.high - 4.0 / 14.0).abs() < 1e-15);
         let r = wilson_interval(10, 10, 2.0).unwrap();
-        assert!((r.low - 10.0 / 14.0).abs() < 1e-15 && (r.high - 1.0).abs() < 1e-15);
+        assert!((r.low - 10.0 / 14.0).abs() < 1e-15 && r.high == 1.0);
     }
 
     #[test]

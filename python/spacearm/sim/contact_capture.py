@@ -20,7 +20,8 @@ the handle is at ``(−(size/2 + handle_standoff), 0, 0)`` from the box's CM, al
 spins it about ``spin_axis`` (target axes; default the handle's axis) through its CM, whose
 velocity is zero.
 
-Used by ``spacearm capture MODEL --contact``, by the capture-on-contact campaign
+It lives in ``spacearm.sim`` (below ``capture``, ``campaign`` and ``gym``, which all use it) and is
+exported as ``spacearm.capture.ContactCapture``. Used by ``spacearm capture MODEL --contact``, by the capture-on-contact campaign
 ([`spacearm.campaign.run_capture_campaign`][spacearm.campaign.run_capture_campaign]) and by the
 Gym environment ``spacearm.gym.ContactCaptureEnv``.
 """
@@ -190,7 +191,7 @@ class ContactCapture:
         configuration at rest: the core's run with the free target, then the core's judgement."""
         from ..contact import grasp_outcome
         from ..model.robot import Robot
-        from ..sim.simulation import simulate
+        from .simulation import simulate
 
         if not isinstance(robot, Robot):
             raise SpacearmTypeError(f"ContactCapture.fly needs a spacearm.Robot, got {type(robot).__name__}")
