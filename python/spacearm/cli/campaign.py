@@ -149,21 +149,7 @@ def _run_capture(args, robot, out) -> None:
         raise CliError("--retry-failed is for the inertia-uncertainty campaign; a failed capture sample fails again")
     result = run_capture_campaign(robot, args.samples, seed=args.seed, errors=errors, capture=capture, gripper=args.gripper,
                                   out=args.out, resume=not args.no_resume, progress=not args.no_progress)
-    out.write(result.summary() + "\n")
-    out.write(f"results: {args.out}\n")
-    failures = result.failures()
-    if failures:
-        first = next(iter(failures.items()))
-        out.write(f"{len(failures)} sample(s) failed; e.g. sample {first[0]}: {first[1]}\n")
-    if args.plot:
-        if result.n_ok:
-            result.plot(args.plot, parameter=args.plot_against)
-            out.write(f"figure: {args.plot}\n")
-        else:
-            out.write("no sample ran successfully: no figure written\n")
-    if failures and not result.n_ok:
-        raise CliError(f"every sample of the campaign failed ({len(failures)}; the record is {args.out}): "
-                       f"e.g. sample {first[0]}: {first[1]}")
+    _report(result, args, out, lambda path: result.plot(path, parameter=args.plot_against))
 
 
 def run(args, model_from_args, out=None) -> None:
@@ -196,6 +182,12 @@ def run(args, model_from_args, out=None) -> None:
         raise
     except ValueError as exc:  # bad option values: reported like every other CLI error
         raise SpacearmError(str(exc)) from None
+    _report(result, args, out, result.plot)
+
+
+def _report(result, args, out, plot) -> None:
+    """Print a campaign's summary, where it is saved, its failures and its figure (``plot(path)``);
+    every sample failed (none pending) is a ``CliError``."""
     out.write(result.summary() + "\n")
     out.write(f"results: {args.out}\n")
     failures = result.failures()
@@ -204,7 +196,7 @@ def run(args, model_from_args, out=None) -> None:
         out.write(f"{len(failures)} sample(s) failed; e.g. sample {first[0]}: {first[1]}\n")
     if args.plot:
         if result.n_ok:
-            result.plot(args.plot)
+            plot(args.plot)
             out.write(f"figure: {args.plot}\n")
         else:
             out.write("no sample ran successfully: no figure written\n")
