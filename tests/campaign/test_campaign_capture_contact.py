@@ -116,3 +116,18 @@ def test_the_cli_capture_on_contact_exits_0_when_held_and_1_when_missed(capsys):
     assert "grippers" in capsys.readouterr().err
     assert main(["capture", "planar4"]) == 2
     assert "--target-mass" in capsys.readouterr().err
+
+
+def test_the_nominal_placement_is_docs_contact_example_and_errors_move_it_as_stated():
+    from spacearm.rotations import quat_to_matrix
+
+    s = ContactCapture(spin=0.05).target_state(ROBOT)
+    # docs/contact.md's hand-placed state: CM 1.35 m out along x, axes along 𝒥's, spinning about y.
+    assert np.allclose(s, [1.35, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0.05, 0], atol=1e-15)
+    c = ROBOT.point_position(ROBOT.neutral_configuration(), "hand_center")
+    s = ContactCapture(spin=0.2, offset=(0.0, 0.01, -0.02), attitude_error=(0.1, -0.2, 0.3)).target_state(ROBOT)
+    R = quat_to_matrix(s[3:7])
+    assert np.allclose(s[:3] + R @ [-0.29, 0, 0], c + [0.0, 0.01, -0.02], atol=1e-15)  # the handle's centre moved by the offset
+    assert np.isclose(np.linalg.norm(s[10:13]), 0.2) and np.allclose(R.T @ s[10:13], [0, 0.2, 0], atol=1e-15)  # about the handle
+    angle = np.degrees(np.arccos((np.trace(R) - 1) / 2))
+    assert np.isclose(angle, np.degrees(np.linalg.norm([0.1, -0.2, 0.3])))  # the nominal attitude is the identity
