@@ -47,7 +47,11 @@ def test_fields_equal_the_toml_file(path):
     assert desc.base.mass == doc["base"]["mass"]
     np.testing.assert_array_equal(desc.base.inertia, _inertia_matrix(doc["base"]["inertia"]))
 
-    assert [link.name for link in desc.links] == [link["name"] for link in doc.get("link", [])]
+    # A [[gripper]] adds, after the links, its palm and fingers with the names and points
+    # docs/contact.md gives (their fields: tests/contact/test_gripper.py, against closed forms).
+    grippers = [(g["name"], g.get("fingers", 2)) for g in doc.get("gripper", [])]
+    made = [[name] + [f"{name}_finger{i}" for i in range(n)] for name, n in grippers]
+    assert [link.name for link in desc.links] == [link["name"] for link in doc.get("link", [])] + sum(made, [])
     body_names = [doc["base"]["name"]] + [link["name"] for link in doc.get("link", [])]
     n_moving = 0
     for got, want in zip(desc.links, doc.get("link", [])):
@@ -75,10 +79,12 @@ def test_fields_equal_the_toml_file(path):
             assert got.limits.effort == limits.get("effort", math.inf)
 
     points = doc.get("point", [])
-    assert [(p.name, p.body) for p in desc.points] == [(p["name"], p["body"]) for p in points]
+    made = sum([[(f"{name}_center", name)] + [(f"{name}_tip{i}", f"{name}_finger{i}") for i in range(n)] for name, n in grippers], [])
+    assert [(p.name, p.body) for p in desc.points] == [(p["name"], p["body"]) for p in points] + made
     for got, want in zip(desc.points, points):
         np.testing.assert_array_equal(got.offset, want["offset"])
     assert desc.end_effector == doc["model"].get("end_effector")
+    n_moving += sum(n for _, n in grippers)  # the fingers' joints (open at 0)
     np.testing.assert_array_equal(desc.initial_q, doc["model"].get("initial_q", [0.0] * n_moving))
 
 

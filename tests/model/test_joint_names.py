@@ -146,6 +146,11 @@ def toml_dofs(doc: dict) -> list:
         joint = link["joint"]
         if joint["type"] != "fixed":
             out.append((joint.get("name", f"{link['name']}_joint"), joint["type"], link["name"]))
+    # A [[gripper]] adds its fingers after the links, on the joints docs/contact.md names
+    # (<name>_finger<i>_joint: prismatic for two fingers, revolute for three).
+    for g in doc.get("gripper", []):
+        n = g.get("fingers", 2)
+        out += [(f"{g['name']}_finger{i}_joint", "prismatic" if n == 2 else "revolute", f"{g['name']}_finger{i}") for i in range(n)]
     return out
 
 
