@@ -23,7 +23,7 @@ pub(crate) fn joint_limits(limits: Option<[f64; 4]>) -> JointLimits {
 
 /// Joint `name`'s passive dynamics from the doors' `(actuated, stiffness, damping, rest)`
 /// (docs/flexibility.md); `None` leaves the joint as built.
-pub(crate) fn set_joint_dynamics(py: Python<'_>, b: &mut ModelBuilder, name: &str, dynamics: Option<(bool, f64, f64, f64)>) -> PyResult<()> {
+fn set_joint_dynamics(py: Python<'_>, b: &mut ModelBuilder, name: &str, dynamics: Option<(bool, f64, f64, f64)>) -> PyResult<()> {
     if let Some((actuated, stiffness, damping, rest)) = dynamics {
         b.set_joint_dynamics(name, JointDynamics { actuated, stiffness, damping, rest }).map_err(SpacearmError::from).or_raise(py)?;
     }
@@ -34,7 +34,7 @@ pub(crate) fn set_joint_dynamics(py: Python<'_>, b: &mut ModelBuilder, name: &st
 /// `(name, parent, joint_type, origin, rotation, axis, com, mass, inertia, joint_name, limits)`
 /// (what `compliant_parts` takes; the appendages' parts hand links back the same way, with the
 /// dynamics after).
-type LinkArgs = (String, String, String, [f64; 3], [f64; 4], [f64; 3], [f64; 3], f64, [[f64; 3]; 3], Option<String>, Option<[f64; 4]>);
+pub(crate) type LinkArgs = (String, String, String, [f64; 3], [f64; 4], [f64; 3], [f64; 3], f64, [[f64; 3]; 3], Option<String>, Option<[f64; 4]>);
 
 /// The [`LinkSpec`] of a link's arguments ([`LinkArgs`]).
 fn link_spec(py: Python<'_>, (name, parent, joint_type, origin, rotation, axis, com, mass, inertia, joint_name, limits): LinkArgs) -> PyResult<LinkSpec> {
@@ -51,6 +51,15 @@ fn link_spec(py: Python<'_>, (name, parent, joint_type, origin, rotation, axis, 
         inertia,
         limits: joint_limits(limits),
     })
+}
+
+/// Add the link of `link` ([`LinkArgs`]) to `b` and set its joint's `dynamics`: how every door
+/// of the binding adds one link (`ModelBuilder.add_link`, `model_attach_body`).
+pub(crate) fn add_link_to(py: Python<'_>, b: &mut ModelBuilder, link: LinkArgs, dynamics: Option<(bool, f64, f64, f64)>) -> PyResult<()> {
+    let spec = link_spec(py, link)?;
+    let name = spec.name.clone();
+    b.add_link(spec).map_err(SpacearmError::from).or_raise(py)?;
+    set_joint_dynamics(py, b, &name, dynamics)
 }
 
 #[pymethods]
@@ -120,9 +129,7 @@ impl PyModelBuilder {
         limits: Option<[f64; 4]>,
         dynamics: Option<(bool, f64, f64, f64)>,
     ) -> PyResult<()> {
-        let link = link_spec(py, (name.into(), parent.into(), joint_type.into(), origin, rotation, axis, com, mass, inertia, joint_name, limits))?;
-        self.inner.add_link(link).map_err(SpacearmError::from).or_raise(py)?;
-        set_joint_dynamics(py, &mut self.inner, name, dynamics)
+        add_link_to(py, &mut self.inner, (name.into(), parent.into(), joint_type.into(), origin, rotation, axis, com, mass, inertia, joint_name, limits), dynamics)
     }
 
     fn add_point(&mut self, py: Python<'_>, name: &str, body: &str, offset: [f64; 3]) -> PyResult<()> {
