@@ -1143,6 +1143,7 @@ class RunRecords:
     contact_count: Optional[_Record]        # (K,) with contact: contacts touching or interpenetrating
     contact_normal_force: Optional[_Record] # (K,) with contact: sum of the normal forces, N
     contact_work: Optional[_Record]         # (K,) with contact: work of the contact forces since t = 0, J
+    contact_impulse: Optional[_Record]      # (K, 3) rigid contact: impulses received by the second bodies since t = 0, N·s
 
 @final
 class RunEvents:
