@@ -25,7 +25,8 @@
 //!
 //!    and, at an impact (`d_i + h (J u_free)_n,i ≤ 0`: the point reaches the other surface in
 //!    the step), `b_i ← min(b_i, e min(v⁻_n,i, 0))`, `v⁻ = J u_k`: Newton's restitution, the
-//!    normal velocity after it at least `−e v⁻_n`, as in collision/impact.rs;
+//!    normal velocity after it at least `−e v⁻_n`, as in collision/impact.rs; the bias vector
+//!    enters `g` by its part in the range of `G` ([`range_part`]: all of it when `G` is regular);
 //! 4. the velocity jump `u_k⁺ = u_k + H⁻¹ Jᵀ λ` at `x_k` (collision/impact.rs's `Δu`);
 //! 5. the smooth motion from `(x_k, u_k⁺)` over `h` by the run's RK4 (the quaternion kept on its
 //!    manifold by the plant's projection, as in every run).
@@ -40,7 +41,7 @@
 //!
 //! Imports: [`crate::collision`] (detection, Delassus, solvers), [`crate::sim::contact`].
 
-use nalgebra::{DVector, Vector3};
+use nalgebra::{DMatrix, DVector, SymmetricEigen, Vector3};
 
 use crate::collision::admm::{solve_admm, SolverSettings};
 use crate::collision::delassus::{delassus, ContactPoint};
@@ -113,19 +114,29 @@ pub(crate) fn rigid_jump(model: &Model, data: &mut Data, contact: &mut PlantCont
     let v_before = &d.jacobian * &u;
     let mut g = &d.jacobian * &u_free;
     let e = rigid.impact.restitution;
+    let mut bias = DVector::zeros(g.len());
     for (i, c) in found.iter().enumerate() {
         let n = 3 * i + 2;
         let mut b = if c.distance >= 0.0 { c.distance / h } else { rigid.stabilization * c.distance / h };
         if e > 0.0 && c.distance + h * g[n] <= 0.0 {
             b = b.min(e * v_before[n].min(0.0));
         }
-        g[n] += b;
+        bias[n] = b;
     }
+    g += range_part(&d.delassus, &bias);
     let friction: Vec<f64> = points.iter().map(|p| p.friction).collect();
     let solution = match rigid.impact.solver {
-        ImpactSolver::Admm => solve_admm(&d.delassus, &g, &friction, &rigid.settings())?,
-        ImpactSolver::Pgs => solve_pgs(&d.delassus, &g, &friction, &rigid.settings())?,
-    };
+        ImpactSolver::Admm => solve_admm(&d.delassus, &g, &friction, &rigid.settings()),
+        ImpactSolver::Pgs => solve_pgs(&d.delassus, &g, &friction, &rigid.settings()),
+    }
+    .map_err(|e| {
+        SpacearmError::Simulation(format!(
+            "the rigid contact's {} solver failed at t = {t} s ({} contact points): {e}{}",
+            rigid.impact.solver.name(),
+            points.len(),
+            if rigid.impact.solver == ImpactSolver::Admm { " — try solver=\"pgs\"" } else { "" }
+        ))
+    })?;
     let residual = solution.residual.max();
     if !solution.converged {
         return Err(SpacearmError::Simulation(format!(
@@ -162,3 +173,28 @@ pub(crate) fn rigid_jump(model: &Model, data: &mut Data, contact: &mut PlantCont
     y[nx + nu] += work;
     Ok(true)
 }
+
+/// The part of the bias `b` in the range of `G` (= the range of `J`: the contact velocities the
+/// system's motion can take), `Σ vᵢ vᵢᵀ b` over the eigenvectors of eigenvalues above
+/// [`RANGE_TOLERANCE`] times the largest; `b` itself when `G` is regular. A bias outside that
+/// range asks a point for a velocity that no motion gives (a planar arm's tip on a face whose
+/// normal leaves the arm's plane), and the cone problem then has no solution; its part in the
+/// range closes the same gap along the directions the points can move.
+fn range_part(delassus: &DMatrix<f64>, bias: &DVector<f64>) -> DVector<f64> {
+    let eig = SymmetricEigen::new(delassus.clone());
+    let largest = eig.eigenvalues.iter().fold(0.0_f64, |m, v| m.max(*v));
+    if eig.eigenvalues.iter().all(|v| *v > RANGE_TOLERANCE * largest) {
+        return bias.clone();
+    }
+    let mut out = DVector::zeros(bias.len());
+    for (i, v) in eig.eigenvalues.iter().enumerate() {
+        if *v > RANGE_TOLERANCE * largest {
+            let col = eig.eigenvectors.column(i);
+            out += col * col.dot(bias);
+        }
+    }
+    out
+}
+
+/// Eigenvalues of `G` at most this times its largest are its null space ([`range_part`]).
+const RANGE_TOLERANCE: f64 = 1e-10;
