@@ -172,6 +172,26 @@ def test_a_floating_arm_striking_its_base_keeps_its_momentum_through_the_impulse
     assert traj.meta["drift"]["energy"] < 1e-9
 
 
+def test_a_planar_arm_pressed_on_a_face_with_high_friction_keeps_a_solvable_cone_problem():
+    # The planar arm of test_contact_dynamics (its joints about the base's z): its tip's contact
+    # velocity cannot leave the arm's plane, so G is singular (rank 2), and the face's normal
+    # leaves that plane; the gap's bias enters by its part in G's range, without which the
+    # problem has no solution (PGS stopped at a residual of 7e-6 m/s at the second step).
+    from test_contact_dynamics import arm_and_box
+    from spacearm.control import JointPD, TorqueLimit
+
+    robot = arm_and_box()
+    x0 = robot.neutral_configuration()
+    x0[7:] = [0.3, 0.2]
+    u0 = robot.zero_velocity()
+    u0[6:] = [4.0, 1.0]
+    press = TorqueLimit(JointPD(kp=[1e6, 1e6], kd=[0.0, 0.0], reference=[3.0, 3.0]), limit=5.0)
+    contact = ContactModel(kind="rigid", friction=2.0, margin=1e-3, solver="pgs", pairs=[Pair("base", "l2")])
+    traj = spacearm.simulate(robot, 1.2, x0=x0, u0=u0, dt=1e-4, record_every=1, controller=press, contact=contact)
+    assert (traj.contact_count > 0).sum() > 100  # pressed on the face for many steps
+    assert traj.meta["drift"]["P"] < 1e-11 and traj.meta["drift"]["L_origin"] < 1e-10
+
+
 def test_one_step_takes_the_impulses_of_solve_impact():
     # The ball touching the plate (d = 0), approaching and slipping, no force: the first step's
     # cone problem is solve_impact's at (x0, u0) — free velocity J u0, Newton's restitution.
