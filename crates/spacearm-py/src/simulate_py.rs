@@ -6,7 +6,7 @@
 use pyo3::prelude::*;
 use spacearm_core::control::mismatch::{perturbed_cmgs, perturbed_model, Slosh};
 use spacearm_core::control::{Controller, ZeroTorque};
-use spacearm_core::sim::run::{run, RunOutput};
+use spacearm_core::sim::run::{run, RunInput, RunOutput};
 use spacearm_core::sim::simulate::{Progress, SimOptions, SimResult};
 use spacearm_core::sim::topology::TopologyEvent;
 use spacearm_core::Model;
@@ -69,7 +69,8 @@ pub fn simulate<'py>(
                 None => Ok(Box::new(ZeroTorque)),
             }
         };
-        run(&args.plant, &args.x0, &args.u0, &args.opts, &mut factory, pair, &events, progress)
+        let input = RunInput { robot: &args.plant, x0: &args.x0, u0: &args.u0, opts: &args.opts, target: pair, events: &events };
+        run(input, &mut factory, progress)
     });
     match result.map_err(|e| run_error(py, e, &slot, interrupted))? {
         RunOutput::Plain(res) => args.result(py, res),

@@ -405,16 +405,18 @@ def simulate(
     events : spacearm.events.Attach, spacearm.events.Detach or a list of them, optional
         Topology events (docs/events.md): weld the free target to the robot, release a rigid
         link, in list order, each continuing the run in one trajectory with robot + target
-        momentum continuous. Adds the records ``target`` (K, 13), ``attached`` (K,),
-        ``ledger_momentum`` (K, 6), ``ledger_energy`` (K,), the ``event_*`` arrays (one row per
-        event that happened) and ``meta["events"]``.
+        momentum continuous. With ``contact`` too, the flying target is in the loop of contact
+        and a threshold ``Attach`` is the grasp on contact (docs/events.md, "Events with
+        contact"). Adds the records ``target`` (K, 13), ``attached`` (K,), ``phase`` (K,: the
+        events that have happened), ``ledger_momentum`` (K, 6), ``ledger_energy`` (K,), the
+        ``event_*`` arrays (one row per event that happened) and ``meta["events"]``.
     target : spacearm.Target or spacearm.Robot, optional
-        With ``events``: the second system, a rigid target (its grasp points, or the model's
-        named points, are the points ``Attach(grasp=...)`` names). Without ``events``, with
-        ``contact``: a free target in the loop of contact (docs/contact.md, "Contact with a free
-        target"), one rigid body with collision shapes, integrated with the robot; contact pairs
-        name it ``"target"`` (or its geometries). Adds the records ``target`` (K, 13),
-        ``ledger_momentum`` (K, 6) and ``ledger_energy`` (K,) (robot + target); the drifts are
+        The second system, a rigid target (its grasp points, or the model's named points, are the
+        points ``Attach(grasp=...)`` names). With ``contact``: a free target in the loop of
+        contact (docs/contact.md, "Contact with a free target"), integrated with the robot, its
+        collision shapes touching it; contact pairs name it ``"target"`` (or its geometries).
+        Without ``events`` it needs ``contact``. Adds the records of ``events`` (none happen
+        without them: ``meta["events"]`` is empty); the drifts of a run without events are
         robot + target's.
     target_state : array_like (13,), optional
         Its state ``[r, quat (x, y, z, w), v, ω]`` at t = 0 (CM, attitude, CM velocity and

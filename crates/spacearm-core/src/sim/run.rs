@@ -27,20 +27,28 @@ pub enum RunOutput {
     WithTarget(TopologyRun),
 }
 
-/// Run `robot` from `(x0, u0)` under `opts` with the controller `controller` builds (on the
-/// model of each segment), the free `target` at its 13-state if given, and the topology `events`
-/// (module docs).
-#[allow(clippy::too_many_arguments)]
-pub fn run(
-    robot: &Model,
-    x0: &[f64],
-    u0: &[f64],
-    opts: &SimOptions,
-    controller: ControllerFactory<'_>,
-    target: Option<(&Model, &[f64])>,
-    events: &[TopologyEvent],
-    progress: Progress<'_>,
-) -> Result<RunOutput> {
+/// What a run is given: the robot and its initial state, the run's options, and optionally a
+/// free target at its 13-state and topology events (module docs).
+#[derive(Clone, Copy)]
+pub struct RunInput<'a> {
+    /// The robot.
+    pub robot: &'a Model,
+    /// Its initial configuration (7+N).
+    pub x0: &'a [f64],
+    /// Its initial velocity (6+N).
+    pub u0: &'a [f64],
+    /// The run's options (a run of `opts.duration`).
+    pub opts: &'a SimOptions,
+    /// The free target's model and 13-state, if any.
+    pub target: Option<(&'a Model, &'a [f64])>,
+    /// The topology events, in order (empty: none).
+    pub events: &'a [TopologyEvent],
+}
+
+/// Run `input` with the controller `controller` builds (on the model of each segment; the
+/// robot's alone: once), reporting to `progress` (module docs).
+pub fn run(input: RunInput<'_>, controller: ControllerFactory<'_>, progress: Progress<'_>) -> Result<RunOutput> {
+    let RunInput { robot, x0, u0, opts, target, events } = input;
     match (target, events.is_empty()) {
         (None, true) => {
             let mut c = controller(robot)?;

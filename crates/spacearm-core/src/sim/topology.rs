@@ -30,9 +30,17 @@
 //! robot (`J_c` the Jacobian of the parent body at that point): equal and opposite, `P` and `L`
 //! continuous.
 //!
+//! **Contact** (docs/events.md, "Events with contact"): with the run's contact, a flying target
+//! that has collision shapes is integrated WITH the robot in the loop of contact
+//! ([`crate::sim::free_target`], [`Flight::InLoop`]): a threshold attach is then the grasp on
+//! contact, watched on the integrator's state. Per segment the contact is the run's, less the
+//! pairs that name a second system that is welded or has no shapes ([`segment_contact`]); the
+//! contact forces are internal to robot + target, so the ledger is continuous through the
+//! events as without contact.
+//!
 //! Controllers are rebuilt on the edited model after each event (their internal state starts
 //! anew). Not handled (refused with a message): DOPRI5 with a threshold attach, stop
-//! conditions, orbits and contact together with events, a jointed target, releasing a link on a
+//! conditions and orbits together with events, a jointed target, releasing a link on a
 //! moving joint or with links below it.
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
