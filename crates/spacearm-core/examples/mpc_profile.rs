@@ -5,7 +5,8 @@
 //! medians of `--rounds` repetitions. Under `perf record -g` with `cold` or `warm` as the
 //! argument it runs only that solve, many times.
 //!
-//! `cargo run --release -p spacearm-core --example mpc_profile [cold|warm|law|trace] [rounds] [euler]`
+//! `cargo run --release -p spacearm-core --example mpc_profile [cold|warm|law|trace] [rounds] [keep|nokeep] [iterations] [euler]`
+//! (`law`: 50-sample receding horizons from the same start, `iterations` per sample, default 3)
 
 use std::time::Instant;
 
@@ -78,6 +79,8 @@ fn main() {
         // The native law's warm starts (control::mpc): each sample from the plan's next state,
         // the last solution shifted by a knot, the knot models kept (Workspace::shift).
         let keep = args.get(3).map(|s| s != "nokeep").unwrap_or(true);
+        // The most iterations per sample (default 3; 1: the real-time iteration scheme).
+        let per_sample: usize = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(3);
         let mut times = Vec::new();
         let mut iterations = 0;
         for _ in 0..rounds {
@@ -97,7 +100,7 @@ fn main() {
                     ws.shift(1);
                 }
                 let s = Instant::now();
-                sol = solve_in(&mut ws, &mut problem, Some(&zs), Some(&cs), &SolverOptions { max_iterations: 3, ..opts }).unwrap();
+                sol = solve_in(&mut ws, &mut problem, Some(&zs), Some(&cs), &SolverOptions { max_iterations: per_sample, ..opts }).unwrap();
                 times.push(s.elapsed().as_secs_f64());
                 iterations += sol.iterations;
             }
