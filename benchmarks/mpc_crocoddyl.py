@@ -51,7 +51,7 @@ def weighted(state, weights, residual):
     return crocoddyl.CostModelResidual(state, crocoddyl.ActivationModelWeightedQuad(np.asarray(weights, dtype=float)), residual)
 
 
-def shooting(state, dam_of, x0, xref, nu, horizon, dt):
+def shooting(state, dam_of, x0, xref, nu, horizon, dt, discretization="rk4"):
     """Crocoddyl's problem: running ½ w_u |τ|², terminal ½ W_q |q − q_goal|² + ½ W_qd |q̇|²."""
     n = state.ndx // 2 - 6  # joints; nu: the controls (joint torques, then any base actuation)
     run_costs = crocoddyl.CostModelSum(state, nu)
@@ -60,8 +60,12 @@ def shooting(state, dam_of, x0, xref, nu, horizon, dt):
     w = np.zeros(state.ndx)
     w[6:6 + n], w[12 + n:] = W_Q, W_QD
     term_costs.addCost("x", weighted(state, w, crocoddyl.ResidualModelState(state, xref, nu)), 1.0)
-    run = crocoddyl.IntegratedActionModelRK(dam_of(run_costs), crocoddyl.RKType.four, dt)
-    term = crocoddyl.IntegratedActionModelRK(dam_of(term_costs), crocoddyl.RKType.four, 0.0)
+    if discretization == "euler":  # semi-implicit Euler, spacearm's Problem(discretization="euler")
+        run = crocoddyl.IntegratedActionModelEuler(dam_of(run_costs), dt)
+        term = crocoddyl.IntegratedActionModelEuler(dam_of(term_costs), 0.0)
+    else:
+        run = crocoddyl.IntegratedActionModelRK(dam_of(run_costs), crocoddyl.RKType.four, dt)
+        term = crocoddyl.IntegratedActionModelRK(dam_of(term_costs), crocoddyl.RKType.four, 0.0)
     return crocoddyl.ShootingProblem(x0, [run] * horizon, term)
 
 
@@ -127,7 +131,7 @@ _BASE = {"floating": [], "rotation-flying": [3, 4, 5], "flying": [0, 1, 2, 3, 4,
 
 
 class Case:
-    def __init__(self, robot, horizon: int, dt: float, mode: str = "floating"):
+    def __init__(self, robot, horizon: int, dt: float, mode: str = "floating", discretization: str = "rk4"):
         self.robot, self.horizon, self.dt, self.mode = robot, horizon, dt, mode
         n = self.n = robot.n_dof
         self.nc = n + len(_BASE[mode])
@@ -141,15 +145,16 @@ class Case:
         qref = q.copy()
         qref[7:] = goal
         self.pin = shooting(sp, lambda c: crocoddyl.DifferentialActionModelFreeFwdDynamics(sp, act, c), np.concatenate([q, v]),
-                            np.concatenate([qref, np.zeros(sp.nv)]), act.nu, horizon, dt)
+                            np.concatenate([qref, np.zeros(sp.nv)]), act.nu, horizon, dt, discretization)
         # (b) spacearm's action model in Crocoddyl.
         ss = make_state(robot)
         z0 = np.concatenate([x0, u0])
         zref = z0.copy()
         zref[7:7 + n] = goal
-        self.spa = shooting(ss, lambda c: crocoddyl_action_model(robot, c, state=ss, mode=mode), z0, zref, self.nc, horizon, dt)
+        self.spa = shooting(ss, lambda c: crocoddyl_action_model(robot, c, state=ss, mode=mode), z0, zref, self.nc, horizon, dt, discretization)
         # (c) spacearm's native problem.
-        self.native = mpc.Problem(horizon=horizon, dt=dt, running=[mpc.ControlCost(W_U)], terminal=[mpc.JointCost(W_Q, goal, weight_qd=W_QD)], mode=mode)
+        self.native = mpc.Problem(horizon=horizon, dt=dt, running=[mpc.ControlCost(W_U)], terminal=[mpc.JointCost(W_Q, goal, weight_qd=W_QD)], mode=mode,
+                                  discretization=discretization)
 
     def crocoddyl(self, problem, iterations: int = 200):
         solver = crocoddyl.SolverFDDP(problem)

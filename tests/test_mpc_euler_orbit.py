@@ -39,34 +39,36 @@ def euler_replay(robot, sol, mode):
 
 
 @pytest.mark.parametrize("mode", ["floating", "rotation-flying"])
-def test_the_euler_solution_is_the_replay_of_its_controls_and_close_to_rk4s(mode):
+def test_the_euler_solution_is_the_replay_of_its_controls_and_converges_to_rk4s(mode):
     robot = spacearm.presets.spatial6()
     n = robot.n_dof
     goal = robot.initial_q + np.array([0.2, -0.1, 0.15, 0.1, -0.2, 0.3])
-    problems = {
-        kind: mpc.Problem(horizon=20, dt=0.02, mode=mode, discretization=kind,
-                          running=[mpc.JointCost(10.0, goal, weight_qd=0.1), mpc.BaseAttitudeCost(1.0, rate_weight=1.0), mpc.ControlCost(1e-2)],
-                          terminal=[mpc.JointCost(100.0, goal, weight_qd=1.0)], control_limit=5.0)
-        for kind in ("rk4", "euler")
-    }
     x0, u0 = robot.neutral_configuration(), robot.zero_velocity()
     u0[6:] = 0.1 * np.cos(np.arange(n))  # moving joints: the step's coupling terms act
-    euler = mpc.solve(robot, problems["euler"], x0, u0)
-    rk4 = mpc.solve(robot, problems["rk4"], x0, u0)
-    assert euler.converged and rk4.converged
-    assert problems["euler"].to_data()["discretization"] == "euler"
-    # The solver's states are the Euler replay of its controls (ABA here, the derivative
-    # routine's H⁻¹(f − c) in the solver: equal to rounding).
-    assert euler_replay(robot, euler, mode) < 1e-9
-    # The Euler model is not the RK4 plant: re-simulated by the native RK4 simulator the plan
-    # drifts by O(h) (and RK4's own plan does not).
-    drift = euler.resimulate(robot)
-    assert 1e-7 < drift < 1e-2, drift
-    assert rk4.resimulate(robot) < 1e-9
-    # Two discretizations of one problem: the plans agree to O(h).
-    assert np.abs(euler.tau - rk4.tau).max() < 0.1 * np.abs(rk4.tau).max()
-    assert abs(euler.cost - rk4.cost) < 0.05 * rk4.cost
-    assert np.abs(euler.tau).max() > 0.1  # not a trivial plan
+    gaps = []
+    for horizon, dt in ((20, 0.02), (40, 0.01)):  # the same 0.4 s, the step halved
+        problems = {
+            kind: mpc.Problem(horizon=horizon, dt=dt, mode=mode, discretization=kind,
+                              running=[mpc.JointCost(10.0, goal, weight_qd=0.1), mpc.BaseAttitudeCost(1.0, rate_weight=1.0), mpc.ControlCost(1e-2)],
+                              terminal=[mpc.JointCost(100.0, goal, weight_qd=1.0)], control_limit=5.0)
+            for kind in ("rk4", "euler")
+        }
+        euler = mpc.solve(robot, problems["euler"], x0, u0)
+        rk4 = mpc.solve(robot, problems["rk4"], x0, u0)
+        assert euler.converged and rk4.converged
+        assert problems["euler"].to_data()["discretization"] == "euler"
+        # The solver's states are the Euler replay of its controls (ABA here, the derivative
+        # routine's H⁻¹(f − c) in the solver: equal to rounding).
+        assert euler_replay(robot, euler, mode) < 1e-9
+        assert rk4.resimulate(robot) < 1e-9
+        assert np.abs(euler.tau).max() > 0.1  # not a trivial plan
+        # The Euler model is not the RK4 plant: re-simulated by the native RK4 simulator the
+        # plan drifts (measured 2.7e-2 at 20 ms, in a joint rate).
+        gaps.append((euler.resimulate(robot), abs(euler.cost - rk4.cost) / rk4.cost, np.abs(euler.x[-1] - rk4.x[-1]).max()))
+    # First order: the plant drift and the distance to RK4's optimum (cost, measured 4.5 % at
+    # 20 ms, and final state) halve with the step.
+    for coarse, fine in zip(*gaps):
+        assert 1e-4 < fine < coarse and 1.7 < coarse / fine < 2.3, gaps
 
 
 def test_the_native_law_runs_the_euler_model_on_the_rk4_plant():
@@ -119,4 +121,4 @@ def test_the_plan_reaches_an_orbiting_target_where_clohessy_wiltshire_puts_it():
         assert ("orbit" in problem.to_data()["terminal"][0]["target"]) is reach
         sol = mpc.solve(robot, problem, x0, u0, max_iterations=50)
         miss = np.linalg.norm(robot.point_position(sol.x[-1]) - aim)
-        assert (miss < 2e-3) is reach, (reach, miss)
+        assert bool(miss < 2e-3) == reach, (reach, miss)  # measured 2.8e-7 m when it reaches
