@@ -45,6 +45,7 @@ pub enum Record {
     ContactCount,
     ContactNormalForce,
     ContactWork,
+    ContactImpulse,
 }
 
 impl Record {
@@ -82,6 +83,7 @@ impl Record {
             Record::ContactCount => "contact_count",
             Record::ContactNormalForce => "contact_normal_force",
             Record::ContactWork => "contact_work",
+            Record::ContactImpulse => "contact_impulse",
         }
     }
 
@@ -165,6 +167,9 @@ pub fn take_fields(res: &mut SimResult, nx: usize, nu: usize, n: usize) -> Vec<F
         out.push(f(Record::ContactCount, c, 1, true));
         out.push(f(Record::ContactNormalForce, n, 1, true));
         out.push(f(Record::ContactWork, w, 1, true));
+    }
+    if let Some(v) = r.contact_impulse.take() {
+        out.push(f(Record::ContactImpulse, v, 3, false));
     }
     out
 }
@@ -300,6 +305,10 @@ pub struct PyRunRecords {
     /// power integrated with the motion), J, or None.
     #[pyo3(get)]
     contact_work: Option<Array>,
+    /// `(K, 3)` with rigid contact: the sum since t = 0 of the impulses received by the second
+    /// body of each contact point, in 𝒥, N·s, or None.
+    #[pyo3(get)]
+    contact_impulse: Option<Array>,
     /// The records made, in the order of [`take_fields`].
     made: Vec<Record>,
 }
@@ -342,6 +351,7 @@ impl PyRunRecords {
                 Record::ContactCount => &mut r.contact_count,
                 Record::ContactNormalForce => &mut r.contact_normal_force,
                 Record::ContactWork => &mut r.contact_work,
+                Record::ContactImpulse => &mut r.contact_impulse,
             };
             *slot = Some(array.cast_into::<PyUntypedArray>()?.unbind());
             r.made.push(record);
@@ -631,6 +641,9 @@ pub struct PyRunResult {
     events: Py<PyRunEvents>,
     /// The run's description.
     meta: Py<PyRunMeta>,
+    /// A run with a free target or topology events: the second system's rows, the ledger and
+    /// the events that happened (events_py.rs); None for a run of the robot alone.
+    topology: Option<Py<PyDict>>,
 }
 
 impl PyRunResult {
@@ -639,7 +652,12 @@ impl PyRunResult {
         let events = Py::new(py, PyRunEvents::of_run(py, &res))?;
         let meta = Py::new(py, PyRunMeta::of_run(py, &res, opts, float32)?)?;
         let records = Py::new(py, PyRunRecords::of_run(py, &mut res, float32, dims)?)?;
-        Ok(PyRunResult { records, events, meta })
+        Ok(PyRunResult { records, events, meta, topology: None })
+    }
+
+    /// This result with the rows of its second system (`topology`).
+    pub fn with_topology(self, topology: Bound<'_, PyDict>) -> Self {
+        PyRunResult { topology: Some(topology.unbind()), ..self }
     }
 }
 
