@@ -1143,6 +1143,7 @@ class RunRecords:
     contact_count: Optional[_Record]        # (K,) with contact: contacts touching or interpenetrating
     contact_normal_force: Optional[_Record] # (K,) with contact: sum of the normal forces, N
     contact_work: Optional[_Record]         # (K,) with contact: work of the contact forces since t = 0, J
+    contact_forces: Optional[_Record]       # (R, 13) with contact: per acting contact per sample [k, body_a, body_b, p, n, f_n, f on body_b]
 
 @final
 class RunEvents:

@@ -614,12 +614,19 @@ fn append_records(a: &mut Records, b: Records) {
         contact_count,
         contact_normal_force,
         contact_work,
+        contact_forces,
         target_state,
         ledger_momentum,
         ledger_energy,
         constraint_wrench,
         constraint_error,
     } = b;
+    // The contact rows' first entry is their sample's index: shifted by `a`'s samples.
+    let shift = a.n_samples as f64;
+    let contact_forces = contact_forces.map(|mut rows| {
+        rows.chunks_mut(crate::sim::result::CONTACT_FORCE_WIDTH).for_each(|r| r[0] += shift);
+        rows
+    });
     a.n_samples += n_samples;
     for (to, from) in [
         (&mut a.t, t),
@@ -657,6 +664,7 @@ fn append_records(a: &mut Records, b: Records) {
         (&mut a.contact_count, contact_count),
         (&mut a.contact_normal_force, contact_normal_force),
         (&mut a.contact_work, contact_work),
+        (&mut a.contact_forces, contact_forces),
         (&mut a.target_state, target_state),
         (&mut a.ledger_momentum, ledger_momentum),
         (&mut a.ledger_energy, ledger_energy),
