@@ -20,7 +20,6 @@ mod description_py;
 mod edit_py;
 mod errors_py;
 mod events_py;
-mod free_target_py;
 mod interrupt;
 mod model_io_py;
 mod model_py;
@@ -97,7 +96,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     add_to_module!(
         m,
         functions: [
-            simulate_py::simulate, events_py::simulate_events, free_target_py::simulate_target, rollout_py::rollout, controller_spec_py::check_spec, mpc_py::mpc_solve,
+            simulate_py::simulate, rollout_py::rollout, controller_spec_py::check_spec, mpc_py::mpc_solve,
             simulate_py::perturbed, simulate_py::perturbed_cmgs_py, simulate_py::conserved_drift, simulate_py::default_wheel_dofs,
         ],
         classes: [

@@ -654,6 +654,9 @@ pub struct PyRunResult {
     events: Py<PyRunEvents>,
     /// The run's description.
     meta: Py<PyRunMeta>,
+    /// A run with a free target or topology events: the second system's rows, the ledger and
+    /// the events that happened (events_py.rs); None for a run of the robot alone.
+    topology: Option<Py<PyDict>>,
 }
 
 impl PyRunResult {
@@ -662,7 +665,12 @@ impl PyRunResult {
         let events = Py::new(py, PyRunEvents::of_run(py, &res))?;
         let meta = Py::new(py, PyRunMeta::of_run(py, &res, opts, float32)?)?;
         let records = Py::new(py, PyRunRecords::of_run(py, &mut res, float32, dims)?)?;
-        Ok(PyRunResult { records, events, meta })
+        Ok(PyRunResult { records, events, meta, topology: None })
+    }
+
+    /// This result with the rows of its second system (`topology`).
+    pub fn with_topology(self, topology: Bound<'_, PyDict>) -> Self {
+        PyRunResult { topology: Some(topology.unbind()), ..self }
     }
 }
 

@@ -25,6 +25,7 @@ pub mod plant;
 pub mod record;
 pub mod result;
 pub mod rollout;
+pub mod run;
 pub mod simulate;
 pub mod soft_capture;
 pub mod step_limit;

@@ -90,6 +90,17 @@ impl<'a> Plant<'a> {
         Plant::build(Cow::Owned(model), opts, controller, None)
     }
 
+    /// [`Plant::owned`] with a free target in the loop of contact ([`Plant::with_target`]; the
+    /// C stepper's and an FMU's run of an options TOML that names one).
+    pub fn owned_with_target(model: Model, opts: &SimOptions, controller: Box<dyn Controller>, target: &Model, state: &[f64]) -> Result<Plant<'static>> {
+        Plant::build(Cow::Owned(model), opts, controller, Some((target, state)))
+    }
+
+    /// The free target's 13-state in the integrator's state `y`, if the plant has one.
+    pub fn target_state<'y>(&self, y: &'y [f64]) -> Option<&'y [f64]> {
+        self.target().map(|t| t.state(y))
+    }
+
     fn build(model: Cow<'a, Model>, opts: &SimOptions, mut controller: Box<dyn Controller + 'a>, target: Option<(&Model, &[f64])>) -> Result<Self> {
         let n = model.n_dof();
         let wheels = match &opts.wheels {

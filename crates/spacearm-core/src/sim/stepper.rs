@@ -145,6 +145,12 @@ impl<'a> Rk4Stepper<'a> {
         &self.y[..n]
     }
 
+    /// The free target's 13-state `[r, quat xyzw, v, ω]`, if the plant has one in the loop of
+    /// contact ([`crate::sim::free_target`]).
+    pub fn target_state(&self) -> Option<&[f64]> {
+        self.plant.target_state(&self.y)
+    }
+
     /// The integrator's whole state: `[x; u]`, with contact followed by the contact work.
     pub(crate) fn full_state(&self) -> &[f64] {
         &self.y
