@@ -149,3 +149,23 @@ def test_a_run_without_contact_has_no_contact_rows():
     assert not traj.has("contact_forces")
     with pytest.raises(NotFoundError, match="no contact"):
         traj.contact_forces
+
+
+def test_the_rows_of_a_run_with_events_count_as_its_samples():
+    """A run with topology events is recorded segment by segment (sim/topology.rs): the rows'
+    sample indices continue across the grasp and the release, so each sample's rows are still
+    its ``contact_count`` and its ``contact_normal_force``."""
+    from spacearm.events import Attach, Detach
+    from target_scene import scene
+
+    robot, rock, s0, u0, contact = scene()
+    events = [Attach(point="tip", grasp="handle", gap=0.01, speed=0.01), Detach(at=0.9)]
+    traj = spacearm.simulate(robot, 1.2, u0=u0, dt=1e-3, contact=contact, target=rock, target_state=s0, events=events)
+    rows = traj.contact_forces
+    phase = traj["phase"]
+    k = rows[:, 0].astype(int)
+    counts = np.bincount(k, minlength=len(traj))
+    np.testing.assert_array_equal(counts, traj.contact_count)
+    assert (counts[phase == 0] > 0).any() and (counts[phase == 2] > 0).any()  # before the grasp and after the release
+    fn_sum = np.bincount(k, weights=rows[:, 9], minlength=len(traj))
+    np.testing.assert_allclose(fn_sum, traj.contact_normal_force, rtol=0, atol=1e-12 * fn_sum.max())

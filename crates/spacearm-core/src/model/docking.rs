@@ -218,6 +218,6 @@ mod tests {
         let parts = probe_parts(&ProbeSpec { radius: 0.02, ..probe }, ModelItem::Model).unwrap();
         assert_eq!(parts.points[0].2, [1.0, 0.0, 0.5]);
         assert_eq!(parts.geometries[0].origin, [1.0, 0.0, 0.25]);
-        assert_eq!((parts.geometries[1].origin, parts.geometries[1].shape), ([1.0, 0.0, 0.5], Shape::Sphere { radius: 0.02 }));
+        assert_eq!((parts.geometries[1].origin, parts.geometries[1].shape.clone()), ([1.0, 0.0, 0.5], Shape::Sphere { radius: 0.02 }));
     }
 }

@@ -434,6 +434,9 @@ impl Rows {
         if contact && r.contact_count.is_none() {
             (r.contact_count, r.contact_normal_force, r.contact_work) = (Some(vec![0.0; n]), Some(vec![0.0; n]), Some(vec![0.0; n]));
         }
+        if contact && r.contact_forces.is_none() {
+            r.contact_forces = Some(Vec::new()); // no acting contact: no rows
+        }
         if let (Some(ts), Some(lm), Some(le)) = (r.target_state.take(), r.ledger_momentum.take(), r.ledger_energy.take()) {
             if let Second::Free { flight: Flight::InLoop { state }, .. } = second {
                 state.copy_from_slice(&ts[13 * (n - 1)..]);
