@@ -15,7 +15,7 @@ _Wrench = tuple[int, Sequence[float], Sequence[float], Sequence[float]]
 __version__: str
 __all__ = [
     "ArgumentError", "CentralBody", "Orbit", "OrbitalElements", "BaseDescription", "ControllerSpec", "CONTROLLER_KINDS", "CONTROLLER_ALIASES", "TASKS", "check_spec", "mpc_solve", "controller_kind",
-    "ClosedChainResult", "ConservedDrift", "Contact", "contacts", "RigidImpact", "rigid_impact",
+    "ClosedChainResult", "ConservedDrift", "Contact", "contacts", "RigidImpact", "rigid_impact", "GraspOutcome", "grasp_outcome", "success_rate",
     "DLS_DEFAULTS", "Derivatives", "Detection", "DlsDefaults",
     "FreeBodyReference", "GraspImpulse", "INTEGRATORS", "ImpulseDynamics", "JacobianMeasures", "JointLimits", "JointReference",
     "LoopClosureTerms", 
@@ -1145,6 +1145,7 @@ class RunRecords:
     contact_normal_force: Optional[_Record] # (K,) with contact: sum of the normal forces, N
     contact_work: Optional[_Record]         # (K,) with contact: work of the contact forces since t = 0, J
     contact_forces: Optional[_Record]       # (R, 13) with contact: per acting contact per sample [k, body_a, body_b, p, n, f_n, f on body_b]
+    contact_impulse: Optional[_Record]      # (K, 3) rigid contact: impulses received by the second bodies since t = 0, N·s
 
 @final
 class RunEvents:
@@ -1460,6 +1461,63 @@ class RigidImpact:
     def dual_feasibility(self) -> float: ...
     @property
     def complementarity(self) -> float: ...
+
+@final
+class GraspOutcome:
+    """Whether a gripper held, slipped or missed a target's handle (docs/contact.md, "The grasp's outcome")."""
+
+    @property
+    def outcome(self) -> str: ...  # "held", "slipped" or "missed"
+    @property
+    def held(self) -> bool: ...
+    @property
+    def reason(self) -> str: ...
+    @property
+    def relative_spin(self) -> float: ...  # rad/s, the window's largest
+    @property
+    def relative_speed(self) -> float: ...  # m/s
+    @property
+    def offset(self) -> float: ...  # m
+    @property
+    def fingers_touching(self) -> int: ...
+    @property
+    def fingers(self) -> int: ...
+    @property
+    def first_touch(self) -> Optional[float]: ...
+    @property
+    def touching_samples(self) -> int: ...
+    @property
+    def window_start(self) -> float: ...
+    @property
+    def window_samples(self) -> int: ...
+    @property
+    def window(self) -> float: ...
+    @property
+    def max_relative_spin(self) -> float: ...
+    @property
+    def max_relative_speed(self) -> float: ...
+    @property
+    def max_offset(self) -> float: ...
+    @property
+    def touch_margin(self) -> float: ...
+
+def grasp_outcome(
+    robot: Model,
+    target: Model,
+    gripper: str,
+    handle: str,
+    t: _ArrayLike,
+    x: _ArrayLike,
+    u: _ArrayLike,
+    target_state: _ArrayLike,
+    *,
+    window: float = 0.5,
+    max_relative_spin: float = 0.005,
+    max_relative_speed: float = 0.005,
+    max_offset: float = 0.005,
+    touch_margin: float = 0.001,
+) -> GraspOutcome: ...
+def success_rate(successes: int, trials: int, z: float = 1.959963984540054) -> tuple[float, float, float]: ...
 
 def rigid_impact(
     model: Model,

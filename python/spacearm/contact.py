@@ -17,7 +17,11 @@ evaluation of the dynamics (docs/contact.md, "Contact dynamics").
 the velocity jump ``u⁺ = u⁻ + H⁻¹ Jᵀ λ`` through point contacts with Coulomb friction and
 Newton's restitution, the impulses ``λ`` solved on the Delassus operator ``G = J H⁻¹ Jᵀ`` by
 proximal ADMM or projected Gauss–Seidel in the core (docs/contact.md, "Rigid frictional
-impacts"). Rigid contact inside a run (``simulate``) is not built yet (docs/contact.md, "What is
+impacts").
+
+[`grasp_outcome`][spacearm.contact.grasp_outcome] judges, in the core, whether a gripper held,
+let slip or missed a free target's handle in a run with contact (docs/contact.md, "The grasp's
+outcome"). Rigid contact inside a run (``simulate``) is not built yet (docs/contact.md, "What is
 not handled"); topology events (attach, release) are [`spacearm.events`][spacearm.events]
 (docs/events.md).
 """
@@ -31,7 +35,7 @@ from . import _core
 from ._util.arrays import number
 from .errors import SpacearmTypeError
 
-__all__ = ["contacts", "Contact", "ContactModel", "Pair", "RigidImpact", "solve_impact"]
+__all__ = ["contacts", "Contact", "ContactModel", "GraspOutcome", "grasp_outcome", "Pair", "RigidImpact", "solve_impact"]
 
 
 class Pair(NamedTuple):
@@ -56,9 +60,15 @@ class ContactModel:
     geometry names; ``None``: every pair of bodies but a body and its parent. ``margin`` (m):
     the detection margin (a force needs interpenetration).
 
-    ``kind``: ``"compliant"`` (the law above; ``stiffness`` required) or ``"rigid"`` — rigid
-    frictional contact inside a run is not implemented yet and is refused by the core with an
-    [`ArgumentError`][spacearm.ArgumentError] that says so; one rigid impact at a state is
+    ``kind``: ``"compliant"`` (the law above; ``stiffness`` required) or ``"rigid"``: rigid
+    frictional contact solved every step on the Delassus operator (docs/contact.md, "Rigid
+    contact in a run"; RK4 runs only), with ``friction`` μ, Newton's ``restitution`` e in
+    [0, 1] (default 0), the cone ``solver`` ``"admm"`` (default) or ``"pgs"``, the
+    position-error ``stabilization`` β in [0, 1] (default 0.2: a depth δ is pushed out at
+    β δ / dt), the solver's ``tolerance`` (m/s, default 1e-10) and ``max_iterations`` (default
+    1000); ``margin`` is then the distance at which points enter a step's problem, allowed to
+    close their gap in the step. These five are refused with the compliant law, and
+    ``stiffness`` and ``damping`` with the rigid one. One rigid impact at a state is
     [`solve_impact`][spacearm.contact.solve_impact].
     """
 
@@ -71,6 +81,11 @@ class ContactModel:
     margin: float = 0.0
     pairs: Optional[Sequence[Sequence[str]]] = None
     kind: str = "compliant"
+    restitution: Optional[float] = None
+    solver: Optional[str] = None
+    stabilization: Optional[float] = None
+    tolerance: Optional[float] = None
+    max_iterations: Optional[int] = None
 
 #: A contact between two collision shapes at one state (the binding's class): ``geometries`` and
 #: ``bodies`` (names, first and second shape), ``point_a``, ``point_b`` (3,) the closest or
@@ -179,4 +194,75 @@ def solve_impact(
         tolerance=number(tolerance, "tolerance"),
         max_iterations=int(max_iterations),
         proximal=number(proximal, "proximal"),
+    )
+
+
+#: The result of [`grasp_outcome`][spacearm.contact.grasp_outcome] (the binding's frozen class):
+#: ``outcome`` ("held", "slipped" or "missed"), ``held``, ``reason`` (in words); the final
+#: window's largest ``relative_spin`` (rad/s), ``relative_speed`` (m/s) and ``offset`` (m) of the
+#: handle frame against the gripper's, its fewest ``fingers_touching`` of ``fingers``; over the
+#: run ``first_touch`` (s, or None) and ``touching_samples``; ``window_start``,
+#: ``window_samples`` and the thresholds used (``window``, ``max_relative_spin``,
+#: ``max_relative_speed``, ``max_offset``, ``touch_margin``).
+GraspOutcome = _core.GraspOutcome
+
+#: The defaults of [`grasp_outcome`][spacearm.contact.grasp_outcome]'s thresholds (the core's
+#: ``GraspThresholds``): window s, rad/s, m/s, m, m.
+GRASP_THRESHOLDS = {"window": 0.5, "max_relative_spin": 0.005, "max_relative_speed": 0.005, "max_offset": 0.005, "touch_margin": 0.001}
+
+
+def grasp_outcome(
+    robot,
+    target,
+    traj,
+    *,
+    gripper: Optional[str] = None,
+    handle: str = "handle",
+    window: float = 0.5,
+    max_relative_spin: float = 0.005,
+    max_relative_speed: float = 0.005,
+    max_offset: float = 0.005,
+    touch_margin: float = 0.001,
+) -> GraspOutcome:
+    """Whether ``robot``'s gripper held, let slip or missed ``target``'s handle in ``traj`` (a
+    run of ``spacearm.simulate(robot, ..., contact=..., target=target, target_state=...)``;
+    docs/contact.md, "The grasp's outcome"). Judged in the core (``sim/grasp_outcome.rs``) from
+    the recorded states: over the final ``window`` (s), a grasp is **held** when every finger
+    stays within ``touch_margin`` (m) of the handle and the handle frame's angular velocity
+    relative to the palm, its origin's velocity relative to the grasp centre
+    ``<gripper>_center`` and its distance from it stay within ``max_relative_spin`` (rad/s),
+    ``max_relative_speed`` (m/s) and ``max_offset`` (m); **missed** when no finger came within
+    ``touch_margin`` of it in the run; **slipped** otherwise.
+
+    ``gripper``: the palm's name (None: the robot's only gripper); ``handle``: the target's
+    collision geometry grasped.
+    """
+    from .errors import ArgumentError
+    from .model.robot import Robot
+
+    for who, what in (("robot", robot), ("target", target)):
+        if not isinstance(what, Robot):
+            raise SpacearmTypeError(f"grasp_outcome needs {who} as a spacearm.Robot, got {type(what).__name__}")
+    if gripper is None:
+        names = [g["name"] for g in _core.grippers(robot.core_model)]
+        if len(names) != 1:
+            raise ArgumentError(f"robot '{robot.name}' has {len(names)} grippers {names}: name the one that grasps (gripper=...)")
+        gripper = names[0]
+    has = getattr(traj, "has", None)  # a spacearm.Trajectory (sim/ is a layer above this module)
+    if not callable(has) or not has("target"):
+        raise ArgumentError("grasp_outcome needs the Trajectory of a run with a free target (simulate(..., target=..., target_state=...))")
+    return _core.grasp_outcome(
+        robot.core_model,
+        target.core_model,
+        str(gripper),
+        str(handle),
+        traj.t,
+        traj.x,
+        traj.u,
+        traj["target"],
+        window=number(window, "window"),
+        max_relative_spin=number(max_relative_spin, "max_relative_spin"),
+        max_relative_speed=number(max_relative_speed, "max_relative_speed"),
+        max_offset=number(max_offset, "max_offset"),
+        touch_margin=number(touch_margin, "touch_margin"),
     )

@@ -210,9 +210,9 @@ def test_the_registered_episode_limits_are_the_envs_own():
 
     import gymnasium
 
-    from spacearm.gym import CaptureEnv, DetumbleEnv, ReachTask
+    from spacearm.gym import CaptureEnv, ContactCaptureEnv, DetumbleEnv, ReachTask
 
-    for env_id, cls in zip(sgym.ENV_IDS, (ReachTask, CaptureEnv, DetumbleEnv)):
+    for env_id, cls in zip(sgym.ENV_IDS, (ReachTask, CaptureEnv, DetumbleEnv, ContactCaptureEnv), strict=True):
         limit = inspect.signature(cls).parameters["max_episode_steps"].default
         assert gymnasium.spec(env_id).max_episode_steps == limit  # was None
 

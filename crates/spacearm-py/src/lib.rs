@@ -27,6 +27,7 @@ mod mpc_py;
 mod orbit_py;
 mod records_py;
 mod rigid_contact_py;
+mod grasp_outcome_py;
 mod rollout_py;
 mod rotations_py;
 mod rule_tables_py;
@@ -80,6 +81,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     contact_py::register(m)?;
     collision_py::register(m)?;
     rigid_contact_py::register(m)?;
+    grasp_outcome_py::register(m)?;
     capture_py::register(m)?;
     add_to_module!(
         m,

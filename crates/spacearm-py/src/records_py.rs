@@ -47,6 +47,7 @@ pub enum Record {
     ContactNormalForce,
     ContactWork,
     ContactForces,
+    ContactImpulse,
 }
 
 impl Record {
@@ -85,6 +86,7 @@ impl Record {
             Record::ContactNormalForce => "contact_normal_force",
             Record::ContactWork => "contact_work",
             Record::ContactForces => "contact_forces",
+            Record::ContactImpulse => "contact_impulse",
         }
     }
 
@@ -181,6 +183,9 @@ pub fn take_fields(res: &mut SimResult, nx: usize, nu: usize, n: usize) -> Vec<F
     if let Some(rows) = r.contact_forces.take() {
         // Ragged: one row per acting contact per sample, not one per sample ([`Record::rows`]).
         out.push(f(Record::ContactForces, rows, CONTACT_FORCE_WIDTH, false));
+    }
+    if let Some(v) = r.contact_impulse.take() {
+        out.push(f(Record::ContactImpulse, v, 3, false));
     }
     out
 }
@@ -321,6 +326,10 @@ pub struct PyRunRecords {
     /// bodies, a free target being body nb; in 𝒥, m and N; body_a feels −force), or None.
     #[pyo3(get)]
     contact_forces: Option<Array>,
+    /// `(K, 3)` with rigid contact: the sum since t = 0 of the impulses received by the second
+    /// body of each contact point, in 𝒥, N·s, or None.
+    #[pyo3(get)]
+    contact_impulse: Option<Array>,
     /// The records made, in the order of [`take_fields`].
     made: Vec<Record>,
 }
@@ -364,6 +373,7 @@ impl PyRunRecords {
                 Record::ContactNormalForce => &mut r.contact_normal_force,
                 Record::ContactWork => &mut r.contact_work,
                 Record::ContactForces => &mut r.contact_forces,
+                Record::ContactImpulse => &mut r.contact_impulse,
             };
             *slot = Some(array.cast_into::<PyUntypedArray>()?.unbind());
             r.made.push(record);

@@ -13,9 +13,13 @@ is also the checkpoint a rerun resumes from. Failed samples are recorded, not fa
 ...                       scenario=Scenario(duration=1.0, dt=5e-3))   # doctest: +SKIP
 >>> print(result.table())                                             # doctest: +SKIP
 
+[`run_capture_campaign`][spacearm.campaign.run_capture_campaign] is the other kind: captures on
+contact over drawn approach errors, with the success rate as a column.
+
 Docs: ``docs/campaigns.md``.
 """
 
+from .capture_contact import ApproachErrors, CaptureCampaignResult, run_capture_campaign
 from .cmg import CmgUncertainty
 from .executor import run_campaign
 from .flexibility import Fixed, Flexibility, LogNormal, Normal, Panel, Tank, Uniform
@@ -26,6 +30,9 @@ from .spec import CampaignSpec
 
 __all__ = [
     "run_campaign",
+    "run_capture_campaign",
+    "ApproachErrors",
+    "CaptureCampaignResult",
     "CampaignSpec",
     "CampaignResult",
     "Perturbations",

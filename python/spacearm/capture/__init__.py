@@ -10,10 +10,12 @@
 - [`simulate_closed_chain`][spacearm.capture.simulate_closed_chain]: a two-arm grasp as a closed chain;
 - [`detumble`][spacearm.capture.detumble]; [`capture`][spacearm.capture.capture], the whole sequence with phases and the momentum ledger;
 - [`capture_envelope`][spacearm.capture.capture_envelope]: success over target spin rates and inertia errors;
+- [`ContactCapture`][spacearm.capture.ContactCapture]: a gripper closing on a tumbling handle by contact, judged held, slipped or missed;
 - [`compare_in_orbit`][spacearm.capture.compare_in_orbit]: the same capture in empty space and in orbit (docs/orbit.md).
 """
 
 from .closed_chain import ClosedChainRun, simulate_closed_chain
+from ..sim.contact_capture import ContactCapture, ContactCaptureRun
 from .captured import CapturedSystem, SoftCaptureRun, attach_target, relative_twist, soft_capture
 from .detumbling import DetumbleRun, detumble
 from .envelope import CaptureEnvelope, capture_envelope
@@ -23,6 +25,8 @@ from .sequence import MAX_CAPTURE_SAMPLES, MAX_TURN_PER_SAMPLE, PHASES, CaptureR
 from .target import Target, TargetState
 
 __all__ = [
+    "ContactCapture",
+    "ContactCaptureRun",
     "Target",
     "TargetState",
     "GraspImpulse",

@@ -1,4 +1,7 @@
-"""``spacearm campaign MODEL --samples N ...``: an inertia-uncertainty Monte Carlo campaign.
+"""``spacearm campaign MODEL --samples N ...``: an inertia-uncertainty Monte Carlo campaign, or
+with ``--capture-contact`` a capture-on-contact campaign over approach errors
+([`spacearm.campaign.run_capture_campaign`][spacearm.campaign.run_capture_campaign]: MODEL's
+gripper closing on a tumbling handle, the success rate with its Wilson interval in the table).
 
 Runs [`spacearm.campaign.run_campaign`][spacearm.campaign.run_campaign] on native threads (``--workers``) or on a Dask
 cluster (``--scheduler tcp://host:8786``, with ``--worker-timeout``), writes the results to ``--out`` (.npz, atomically,
@@ -40,8 +43,8 @@ def add_parser(sub) -> None:
     s = p.add_argument_group("scenario")
     s.add_argument("--mode", default="floating", help="maneuvering mode (default floating)")
     s.add_argument("--controller", default="computed-torque", choices=("computed-torque", "pd"))
-    s.add_argument("--duration", type=float, default=4.0, help="s (default 4)")
-    s.add_argument("--dt", type=float, default=2e-3, help="RK4 step, s (default 0.002)")
+    s.add_argument("--duration", type=float, default=None, help="s (default 4; with --capture-contact 3)")
+    s.add_argument("--dt", type=float, default=None, help="RK4 step, s (default 0.002; with --capture-contact 0.0005)")
     s.add_argument("--q-offset", type=float, default=0.5, help="goal = initial q + this, rad (default 0.5)")
     s.add_argument("--kp", type=float, default=100.0)
     s.add_argument("--kd", type=float, default=20.0)
@@ -55,6 +58,21 @@ def add_parser(sub) -> None:
     from .simulate import add_orbit_options
 
     add_orbit_options(p)
+    k = p.add_argument_group("capture on contact (docs/campaigns.md, \"A capture-on-contact campaign\")")
+    k.add_argument("--capture-contact", action="store_true",
+                   help="fly MODEL's gripper closing on a tumbling box's handle by contact over drawn approach errors; "
+                        "the table gives the success rate (held) with its 95%% Wilson interval")
+    k.add_argument("--gripper", default=None, help="with --capture-contact: the gripper (default MODEL's only one)")
+    k.add_argument("--spin", default="0.05", metavar="LOW[,HIGH]",
+                   help="with --capture-contact: the target's spin rate about its handle, uniform in [LOW, HIGH], rad/s "
+                        "(default 0.05)")
+    k.add_argument("--offset-sigma", type=float, default=0.0,
+                   help="with --capture-contact: std of each component of the handle's offset from the grasp centre, m")
+    k.add_argument("--attitude-sigma", type=float, default=0.0,
+                   help="with --capture-contact: std of each component of the target's attitude error, rad")
+    k.add_argument("--friction", type=float, default=0.5, help="with --capture-contact: Coulomb's mu (default 0.5)")
+    k.add_argument("--plot-against", default="spin", choices=("spin", "offset", "attitude"),
+                   help="with --capture-contact and --plot: the success rate against this (default spin)")
     e = p.add_argument_group("inertia errors")
     e.add_argument("--base-mass-sigma", type=float, default=0.05, help="log-std of the base mass scale (default 0.05)")
     e.add_argument("--base-inertia-sigma", type=float, default=0.10, help="log-std of the base inertia scale (default 0.10)")
@@ -107,6 +125,33 @@ def _cmg(path):
     return _recipe(path, "--cmg", CmgUncertainty, {"wheel_speed", "rotor_inertia_scale", "gimbal_misalignment"})
 
 
+def _run_capture(args, robot, out) -> None:
+    """``--capture-contact``: the capture-on-contact campaign."""
+    from ..campaign import ApproachErrors, run_capture_campaign
+    from ..capture import ContactCapture
+    from .numbers import CliError, parse_numbers
+
+    for flag, given in (("--scheduler", args.scheduler), ("--flexibility", args.flexibility), ("--cmg", args.cmg),
+                        ("--orbit", args.orbit), ("--batch-size", args.batch_size), ("--worker-timeout", args.worker_timeout)):
+        if given is not None:
+            raise CliError(f"{flag} is for the inertia-uncertainty campaign; --capture-contact runs its samples in this "
+                           "process and does not take it")
+    if args.workers not in (None, 0, 1):
+        raise CliError("--capture-contact runs its samples one by one in this process; --workers is not taken")
+    spin = parse_numbers(args.spin, "--spin", None, "LOW[,HIGH]", "rad/s")
+    if len(spin) not in (1, 2):
+        raise CliError(f"--spin takes LOW or LOW,HIGH, got {len(spin)} numbers")
+    errors = ApproachErrors(offset_sigma=args.offset_sigma, attitude_sigma=args.attitude_sigma, spin_low=spin[0],
+                            spin_high=spin[-1])
+    capture = ContactCapture(friction=args.friction, **({} if args.duration is None else {"duration": args.duration}),
+                             **({} if args.dt is None else {"dt": args.dt}))
+    if args.retry_failed:
+        raise CliError("--retry-failed is for the inertia-uncertainty campaign; a failed capture sample fails again")
+    result = run_capture_campaign(robot, args.samples, seed=args.seed, errors=errors, capture=capture, gripper=args.gripper,
+                                  out=args.out, resume=not args.no_resume, progress=not args.no_progress)
+    _report(result, args, out, lambda path: result.plot(path, parameter=args.plot_against))
+
+
 def run(args, model_from_args, out=None) -> None:
     from ..campaign import Perturbations, Scenario, run_campaign
     from ..errors import SpacearmError
@@ -115,6 +160,10 @@ def run(args, model_from_args, out=None) -> None:
     from .simulate import orbit_from_args
 
     robot = model_from_args(args)
+    if args.capture_contact:
+        return _run_capture(args, robot, out)
+    args.duration = 4.0 if args.duration is None else args.duration
+    args.dt = 2e-3 if args.dt is None else args.dt
     orbit = orbit_from_args(args)
     try:
         perturbations = Perturbations(args.base_mass_sigma, args.base_inertia_sigma, args.link_mass_sigma,
@@ -133,6 +182,12 @@ def run(args, model_from_args, out=None) -> None:
         raise
     except ValueError as exc:  # bad option values: reported like every other CLI error
         raise SpacearmError(str(exc)) from None
+    _report(result, args, out, result.plot)
+
+
+def _report(result, args, out, plot) -> None:
+    """Print a campaign's summary, where it is saved, its failures and its figure (``plot(path)``);
+    every sample failed (none pending) is a ``CliError``."""
     out.write(result.summary() + "\n")
     out.write(f"results: {args.out}\n")
     failures = result.failures()
@@ -141,7 +196,7 @@ def run(args, model_from_args, out=None) -> None:
         out.write(f"{len(failures)} sample(s) failed; e.g. sample {first[0]}: {first[1]}\n")
     if args.plot:
         if result.n_ok:
-            result.plot(args.plot)
+            plot(args.plot)
             out.write(f"figure: {args.plot}\n")
         else:
             out.write("no sample ran successfully: no figure written\n")

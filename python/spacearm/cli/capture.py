@@ -14,6 +14,14 @@ orbit (docs/orbit.md, "Capture in orbit"): the robot's system CM put on the orbi
 placed by ``--target-at`` (run frame) or ``--target-lvlh X,Y,Z[,VX,VY,VZ]`` (its CM relative to the
 chaser's CM in LVLH), the momentum balance in place of the drift; ``--plot`` also shows the
 attitude relative to LVLH and the target's relative path.
+
+``--contact`` flies a capture on contact instead ([`spacearm.capture.ContactCapture`][spacearm.capture.ContactCapture];
+docs/contact.md, "A capture on contact"): MODEL's gripper (``--gripper``, default its only one)
+closes on the handle of a tumbling ``--target-mass`` kg box (default 20) placed at the grasp
+centre and moved by the approach errors ``--offset X,Y,Z`` (m) and ``--attitude-error RX,RY,RZ``
+(rad), spinning at ``--spin`` rad/s about its handle, with Coulomb's ``--friction``; the core
+judges the grasp held, slipped or missed and the command prints it. Exit status 0 when the grasp
+held, 1 when it slipped or missed (an outcome, not an error), 2 on bad input.
 """
 
 from __future__ import annotations
@@ -38,8 +46,9 @@ def add_parser(sub) -> None:
     add_model_arguments(p)
     p.add_argument("--q0", default=None, help="the arm's initial joint coordinates q1,q2,... (default: the model's initial q)")
     t = p.add_argument_group("target")
-    t.add_argument("--target-mass", type=float, required=True, help="kg")
-    t.add_argument("--target-inertia", required=True, help="IXX,IYY,IZZ principal moments about its CM, kg m²")
+    t.add_argument("--target-mass", type=float, default=None, help="kg (required; with --contact default 20)")
+    t.add_argument("--target-inertia", default=None, help="IXX,IYY,IZZ principal moments about its CM, kg m² (required "
+                                                          "but with --contact: a uniform box's)")
     t.add_argument("--target-spin", default="0,0,0", help="WX,WY,WZ angular velocity in 𝒥, rad/s (default 0,0,0)")
     t.add_argument("--target-at", default=None, help="X,Y,Z of its CM in 𝒥, m (default 0.6 m beyond the end effector)")
     t.add_argument("--grasp-offset", default=None, help="X,Y,Z of the grasp point from its CM, target axes, m")
@@ -56,6 +65,18 @@ def add_parser(sub) -> None:
     c.add_argument("--max-joint-torque", type=float, default=math.inf, help="N m, every joint (default none)")
     c.add_argument("--max-force", type=float, default=math.inf, help="base thruster force limit, N (flying; default none)")
     c.add_argument("--max-torque", type=float, default=math.inf, help="base thruster torque limit, N m (flying; default none)")
+    k = p.add_argument_group("capture on contact (--contact; docs/contact.md)")
+    k.add_argument("--contact", action="store_true",
+                   help="fly MODEL's gripper closing on a tumbling box's handle by contact and print the core's outcome "
+                        "(held: exit 0; slipped or missed: exit 1)")
+    k.add_argument("--gripper", default=None, help="the gripper (default MODEL's only one)")
+    k.add_argument("--spin", type=float, default=0.05, help="the box's spin about its handle, rad/s (default 0.05)")
+    k.add_argument("--offset", default="0,0,0", help="X,Y,Z: the handle's offset from the grasp centre, m in 𝒥 (default 0)")
+    k.add_argument("--attitude-error", default="0,0,0",
+                   help="RX,RY,RZ: the box's attitude error about the handle, a rotation vector in 𝒥, rad (default 0)")
+    k.add_argument("--friction", type=float, default=0.5, help="Coulomb's mu between fingers and box (default 0.5)")
+    k.add_argument("--duration", type=float, default=3.0, help="the run, s (default 3)")
+    k.add_argument("--step", type=float, default=5e-4, help="RK4 step, s (default 0.0005)")
     from .simulate import add_orbit_options
 
     add_orbit_options(p)
@@ -70,12 +91,65 @@ def _vec(v) -> str:
     return "[" + ", ".join(f"{x:.4g}" for x in v) + "]"
 
 
+def _run_contact(args, robot, out) -> int:
+    """``--contact``: the capture on contact, its outcome printed; 0 if held, 1 otherwise."""
+    from ..capture import ContactCapture
+    from .numbers import CliError
+
+    defaults = {"target_inertia": None, "target_at": None, "grasp_offset": None, "target_lvlh": None, "orbit": None,
+                "target_spin": "0,0,0", "kind": "rigid", "mode": "floating", "animate": None, "video": None}
+    given = [f"--{k.replace('_', '-')}" for k, v in defaults.items() if getattr(args, k, None) != v]
+    if given:
+        raise CliError(f"{', '.join(given)} not taken with --contact (the box is placed at the grasp centre and moved by "
+                       "--offset and --attitude-error, spinning at --spin about its handle)")
+    c = ContactCapture(spin=args.spin, offset=tuple(parse_numbers(args.offset, "--offset", 3, "X,Y,Z", "m")),
+                       attitude_error=tuple(parse_numbers(args.attitude_error, "--attitude-error", 3, "RX,RY,RZ", "rad")),
+                       friction=args.friction, duration=args.duration, dt=args.step,
+                       **({} if args.target_mass is None else {"target_mass": args.target_mass}))
+    res = c.fly(robot, args.gripper)
+    out.write(res.summary() + "\n")
+    if args.out:
+        res.traj.save(args.out)
+        out.write(f"record: {args.out}\n")
+    if args.plot:
+        from ..viz.figures import plot_to
+
+        plot_to(args.plot, lambda: _contact_figure(res), dpi=110)
+        out.write(f"figure: {args.plot}\n")
+    return 0 if res.held else 1
+
+
+def _contact_figure(res):
+    """The finger squeeze and the handle's distance from the grasp centre over the run."""
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    traj = res.traj
+    fig, ax = plt.subplots(2, 1, figsize=(6.4, 5.0), sharex=True)
+    ax[0].plot(traj.t, traj["contact_normal_force"], lw=1)
+    ax[0].set_ylabel("contact normal force (N)")
+    ax[1].plot(traj.t, traj["contact_count"], lw=1)
+    ax[1].set_ylabel("contacts")
+    ax[1].set_xlabel("t (s)")
+    ax[0].set_title(f"capture on contact: {res.outcome.outcome}")
+    fig.tight_layout()
+    return fig
+
+
 def run(args, model_from_args, out=None) -> int:
     from ..capture import Target, capture
     from ..errors import ArgumentError
+    from .numbers import CliError
 
     out = sys.stdout if out is None else out
     robot = model_from_args(args)
+    if args.contact:
+        return _run_contact(args, robot, out)
+    for flag, value in (("--target-mass", args.target_mass), ("--target-inertia", args.target_inertia)):
+        if value is None:
+            raise CliError(f"the capture needs {flag} (or --contact for a capture on contact)")
     if robot.end_effector is None:
         raise ArgumentError(f"model '{robot.name}' has no end effector to grasp with; give one with the model options")
     video = video_options(args)

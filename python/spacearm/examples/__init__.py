@@ -9,6 +9,7 @@ takes the same names wherever it takes a model (``spacearm inspect spatial6_whee
 | --- | --- |
 | `spacecraft_bus` | a base-only 500 kg, 1.2 × 1.1 × 1.0 m bus to mount URDF arms on (no links) |
 | `spatial6_wheels` | the spatial6 arm with three reaction wheels in the base (rotation-floating mode) |
+| `gripper_servicer` | a 200 kg servicer with a boom and a parallel gripper (docs/contact.md, "A capture on contact") |
 | `planar4`, `spatial6`, `dual_arm`, `spatial7`, `ets7` | the presets of [`spacearm.presets`][spacearm.presets], written as model files |
 
 ```python

@@ -2,8 +2,10 @@
 free-floating space manipulator, and a vectorized reach stepped in one native batch call.
 
 Importing ``spacearm.gym`` registers ``spacearm/Reach-v0`` ([`ReachEnv`][spacearm.gym.ReachEnv]),
-``spacearm/Capture-v0`` ([`CaptureEnv`][spacearm.gym.CaptureEnv]) and ``spacearm/Detumble-v0``
-([`DetumbleEnv`][spacearm.gym.DetumbleEnv]) with ``gymnasium.register``; ``gymnasium.make_vec("spacearm/Reach-v0",
+``spacearm/Capture-v0`` ([`CaptureEnv`][spacearm.gym.CaptureEnv]), ``spacearm/Detumble-v0``
+([`DetumbleEnv`][spacearm.gym.DetumbleEnv]) and ``spacearm/ContactCapture-v0``
+([`ContactCaptureEnv`][spacearm.gym.ContactCaptureEnv]: a gripper closing on a tumbling handle by
+contact, rewarded by the core's grasp outcome) with ``gymnasium.register``; ``gymnasium.make_vec("spacearm/Reach-v0",
 num_envs=8, vectorization_mode="vector_entry_point")`` gives [`ReachVectorEnv`][spacearm.gym.ReachVectorEnv].
 Every step's dynamics run in the core (``Simulator``'s RK4 stepper, the ``BatchSimulator`` of
 the vector env, the target's free-body propagation, the grasp impulse); this package holds the
@@ -19,14 +21,15 @@ from .._util.optional import require
 _gymnasium = require("gymnasium", "the Gymnasium environments (spacearm.gym)")
 
 from .capture import CaptureEnv  # noqa: E402
+from .contact_capture import ContactCaptureEnv  # noqa: E402
 from .detumble import DetumbleEnv  # noqa: E402
 from .reach import ReachEnv, ReachTask  # noqa: E402
 from .vector import ReachVectorEnv  # noqa: E402
 
-__all__ = ["ReachEnv", "ReachTask", "CaptureEnv", "DetumbleEnv", "ReachVectorEnv", "make_vec", "ENV_IDS"]
+__all__ = ["ReachEnv", "ReachTask", "CaptureEnv", "ContactCaptureEnv", "DetumbleEnv", "ReachVectorEnv", "make_vec", "ENV_IDS"]
 
 #: The registered environment ids.
-ENV_IDS = ("spacearm/Reach-v0", "spacearm/Capture-v0", "spacearm/Detumble-v0")
+ENV_IDS = ("spacearm/Reach-v0", "spacearm/Capture-v0", "spacearm/Detumble-v0", "spacearm/ContactCapture-v0")
 
 
 def make_vec(num_envs: int = 8, *, threads=None, **task) -> ReachVectorEnv:
@@ -45,6 +48,7 @@ def _register() -> None:
         "spacearm/Reach-v0": ("spacearm.gym.reach:ReachEnv", "spacearm.gym.vector:ReachVectorEnv", limit(ReachTask)),
         "spacearm/Capture-v0": ("spacearm.gym.capture:CaptureEnv", None, limit(CaptureEnv)),
         "spacearm/Detumble-v0": ("spacearm.gym.detumble:DetumbleEnv", None, limit(DetumbleEnv)),
+        "spacearm/ContactCapture-v0": ("spacearm.gym.contact_capture:ContactCaptureEnv", None, limit(ContactCaptureEnv)),
     }
     for env_id, (entry, vector_entry, steps) in entries.items():
         if env_id not in _gymnasium.registry:

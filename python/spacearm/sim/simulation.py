@@ -401,7 +401,9 @@ def simulate(
         spring–dashpot normal forces and regularized Coulomb friction at every interpenetrating
         pair of collision shapes. Adds the records ``contact_count``, ``contact_normal_force``,
         ``contact_work`` and ``meta["contact"]``; the energy's drift is then that of the ledger
-        ``energy − contact_work``.
+        ``energy − contact_work``. ``ContactModel(kind="rigid")``: rigid frictional contact
+        solved every step on the Delassus operator (docs/contact.md, "Rigid contact in a run";
+        RK4 only), which records ``contact_impulse`` too.
     events : spacearm.events.Attach, spacearm.events.Detach or a list of them, optional
         Topology events (docs/events.md): weld the free target to the robot, release a rigid
         link, in list order, each continuing the run in one trajectory with robot + target

@@ -51,6 +51,7 @@ _PER_SAMPLE = (
     "t", "x", "u", "du", "tau", "tau_cmd", "base_wrench", "P", "L_origin", "L_com", "energy", "com",
     "ee_position", "ee_quat", "reference", "tracking_error", "link_tracking_error", "wheel_speed", "cmg_measure", "cmg_envelope_fraction",
     "r_cm_eci", "v_cm_eci", "gravity_wrench", "contact_count", "contact_normal_force", "contact_work",
+    "contact_impulse",
 )
 _EVENTS = ("saturation_t", "saturation_actuator", "saturation_kind")
 # Dtypes of a run's records adopted without conversion (a run may record float32).
@@ -458,12 +459,14 @@ class Trajectory:
 
     @property
     def contact_count(self) -> np.ndarray:
-        """With contact: the number of contacts touching or interpenetrating ``(K,)`` (docs/contact.md)."""
+        """With contact: the number of contacts touching or interpenetrating ``(K,)`` (docs/contact.md);
+        rigid contact: the points that took a normal impulse in the step before the sample."""
         return self._get("contact_count", "the run had no contact (simulate(..., contact=spacearm.contact.ContactModel(...)))")
 
     @property
     def contact_normal_force(self) -> np.ndarray:
-        """With contact: the sum of the contacts' normal forces ``(K,)``, N."""
+        """With contact: the sum of the contacts' normal forces ``(K,)``, N; rigid contact: the
+        last step's normal impulses over its length, ``Σ λ_n / dt``."""
         return self._get("contact_normal_force", "the run had no contact (simulate(..., contact=spacearm.contact.ContactModel(...)))")
 
     @property
@@ -492,6 +495,13 @@ class Trajectory:
             raise ArgumentError(f"contacts_at: sample {k} is out of range for a trajectory of {n} samples")
         k = int(k) % n
         return rows[rows[:, 0] == k]
+
+    @property
+    def contact_impulse(self) -> np.ndarray:
+        """With rigid contact: the sum since ``t = 0`` of the impulses received by the second
+        body of each contact point ``(K, 3)``, in 𝒥, N·s (the first body received the opposite;
+        docs/contact.md, "Rigid contact in a run")."""
+        return self._get("contact_impulse", "the run had no rigid contact (simulate(..., contact=spacearm.contact.ContactModel(kind=\"rigid\")))")
 
     def attitude_lvlh(self) -> np.ndarray:
         """The base attitude relative to the LVLH frame of the system CM's orbit, ``(K, 3, 3)``

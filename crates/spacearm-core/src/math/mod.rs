@@ -1,5 +1,5 @@
 //! Mathematics with no knowledge of the model: spatial (6-D) vectors and inertias, rotations
-//! and quaternions, the scalar type the algorithms are generic over (and a recording scalar, [`tape`]), damped least squares, and the time integrators
+//! and quaternions, the scalar type the algorithms are generic over (and a recording scalar, [`tape`]), damped least squares, the Wilson interval of a success rate ([`wilson`]), and the time integrators
 //! (RK4, DOPRI5) of the state on the quaternion manifold ([`integrate`]).
 //!
 //! Imports: [`crate::error`] only (the bottom folder). The allowed direction of imports across
@@ -13,3 +13,4 @@ pub mod rotations;
 pub mod scalar;
 pub mod spatial;
 pub mod tape;
+pub mod wilson;

@@ -17,10 +17,86 @@
 //! Jacobians are then `A = T(z⁺) ∂z⁺/∂δz` and `B = T(z⁺) ∂z⁺/∂c`.
 
 use nalgebra::{DMatrix, Vector4};
+use serde::{Deserialize, Serialize};
 
 use super::dynamics::Dynamics;
+use super::euler::EulerDiscretization;
 use crate::error::Result;
 use crate::model::Model;
+
+/// Which step a problem's knots take (serde data of the run description, `ProblemSpec`'s
+/// `discretization`): `"rk4"` (the simulator's step, the default; this module) or `"euler"`
+/// (the semi-implicit Euler step, [`super::euler`]: one derivative evaluation per knot instead
+/// of four, a model that differs from the RK4 plant by `O(h)`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DiscretizationKind {
+    /// Classical RK4 with the quaternion renormalised (the simulator's `integrator = "rk4"`).
+    #[default]
+    Rk4,
+    /// Semi-implicit Euler on the state manifold (Crocoddyl's `IntegratedActionModelEuler`).
+    Euler,
+}
+
+impl DiscretizationKind {
+    /// The name in the run description.
+    pub fn name(self) -> &'static str {
+        match self {
+            DiscretizationKind::Rk4 => "rk4",
+            DiscretizationKind::Euler => "euler",
+        }
+    }
+}
+
+/// The step of a problem's knots, one of [`DiscretizationKind`].
+pub enum Discretization {
+    /// RK4 (this module).
+    Rk4(Rk4Discretization),
+    /// Semi-implicit Euler ([`super::euler`]).
+    Euler(EulerDiscretization),
+}
+
+impl Discretization {
+    /// Workspaces for steps of `h` seconds of `dynamics` of the `kind`.
+    pub fn new(kind: DiscretizationKind, dynamics: Dynamics, h: f64) -> Self {
+        match kind {
+            DiscretizationKind::Rk4 => Discretization::Rk4(Rk4Discretization::new(dynamics, h)),
+            DiscretizationKind::Euler => Discretization::Euler(EulerDiscretization::new(dynamics, h)),
+        }
+    }
+
+    /// The step, s.
+    pub fn h(&self) -> f64 {
+        match self {
+            Discretization::Rk4(d) => d.h,
+            Discretization::Euler(d) => d.h,
+        }
+    }
+
+    /// The continuous dynamics.
+    pub fn dynamics(&self) -> &Dynamics {
+        match self {
+            Discretization::Rk4(d) => &d.dynamics,
+            Discretization::Euler(d) => &d.dynamics,
+        }
+    }
+
+    /// `z⁺ = Φ(z, c)` into `next`.
+    pub fn step(&mut self, model: &Model, z: &[f64], c: &[f64], next: &mut [f64]) -> Result<()> {
+        match self {
+            Discretization::Rk4(d) => d.step(model, z, c, next),
+            Discretization::Euler(d) => d.step(model, z, c, next),
+        }
+    }
+
+    /// `z⁺ = Φ(z, c)` into `next` with the tangent Jacobians `A` and `B`.
+    pub fn step_derivatives(&mut self, model: &Model, z: &[f64], c: &[f64], next: &mut [f64], a: &mut DMatrix<f64>, b: &mut DMatrix<f64>) -> Result<()> {
+        match self {
+            Discretization::Rk4(d) => d.step_derivatives(model, z, c, next, a, b),
+            Discretization::Euler(d) => d.step_derivatives(model, z, c, next, a, b),
+        }
+    }
+}
 
 /// Workspaces of the RK4 step and its Jacobians.
 pub struct Rk4Discretization {

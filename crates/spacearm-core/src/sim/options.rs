@@ -182,6 +182,22 @@ impl SimOptions {
         crate::sim::stop::validate(&self.stop)?;
         if let Some(c) = &self.contact {
             c.validate()?;
+            if c.kind == crate::sim::contact::ContactKind::Rigid {
+                if self.integrator != IntegratorKind::Rk4 {
+                    return arg(format!(
+                        "rigid contact (kind=\"rigid\") is a time-stepping scheme of fixed steps dt: it runs with integrator=\"rk4\", not \"{}\" \
+                         (an adaptive step cannot take the velocity jumps of the impacts)",
+                        self.integrator.name()
+                    ));
+                }
+                if self.stop.iter().any(|s| !matches!(s, StopCondition::Time { .. })) {
+                    return arg(
+                        "rigid contact (kind=\"rigid\") takes time stop conditions only: a gap or record condition is located inside a step, which \
+                         the velocity jumps of the rigid contact's steps do not allow yet"
+                            .to_string(),
+                    );
+                }
+            }
         }
         Ok(())
     }

@@ -187,6 +187,21 @@ impl<'a> Plant<'a> {
         y
     }
 
+    /// Whether the run's contact is rigid (its impulses applied by [`Plant::rigid_jump`]).
+    pub(crate) fn is_rigid(&self) -> bool {
+        self.contact.as_ref().is_some_and(|c| c.rigid.is_some())
+    }
+
+    /// Rigid contact: the velocity jump of the step of length `h` from `(t, y)`, `dy = f(t, y)`
+    /// just evaluated ([`crate::sim::rigid_contact`]); whether one was applied.
+    pub(crate) fn rigid_jump(&mut self, t: f64, h: f64, y: &mut [f64], dy: &[f64]) -> Result<bool> {
+        let (nx, nu) = (self.nx, self.model.nu());
+        match self.contact.as_deref_mut() {
+            Some(c) if c.rigid.is_some() => crate::sim::rigid_contact::rigid_jump(&self.model, &mut self.data, c, t, h, y, &dy[nx..nx + nu]),
+            _ => Ok(false),
+        }
+    }
+
     /// The free target of the run, if it has one.
     pub(crate) fn target(&self) -> Option<&FreeTarget> {
         self.contact.as_ref().and_then(|c| c.target.as_ref())

@@ -93,7 +93,12 @@ impl Recorder {
             rec.rec.contact_count = Some(Vec::with_capacity(capacity));
             rec.rec.contact_normal_force = Some(Vec::with_capacity(capacity));
             rec.rec.contact_work = Some(Vec::with_capacity(capacity));
-            rec.rec.contact_forces = Some(Vec::new());
+            if !plant.is_rigid() {
+                rec.rec.contact_forces = Some(Vec::new()); // the compliant law's forces (a rigid run records its impulses)
+            }
+            if plant.is_rigid() {
+                rec.rec.contact_impulse = Some(Vec::with_capacity(3 * capacity));
+            }
         }
         if plant.target().is_some() {
             rec.rec.target_state = Some(Vec::with_capacity(13 * capacity));
@@ -107,7 +112,7 @@ impl Recorder {
     pub(crate) fn values_per_sample_of(plant: &Plant<'_>) -> usize {
         let c = &plant.controller;
         let closure = if plant.closure.is_some() { 12 } else { 0 };
-        let orbit = if plant.orbit.is_some() { 12 } else { 0 } + if plant.contact.is_some() { 3 } else { 0 } + if plant.target().is_some() { 20 } else { 0 };
+        let orbit = if plant.orbit.is_some() { 12 } else { 0 } + if plant.contact.is_some() { 3 } else { 0 } + if plant.is_rigid() { 3 } else { 0 } + if plant.target().is_some() { 20 } else { 0 };
         let link = usize::from(!Recorder::link_joints(plant).is_empty());
         let cmg = if Recorder::base_cmgs(plant.model()).is_empty() { 0 } else { 2 };
         let solve = if c.reports_solve() { 4 } else { 0 };
@@ -197,6 +202,7 @@ impl Recorder {
                 contact_normal_force: None,
                 contact_work: None,
                 contact_forces: None,
+                contact_impulse: None,
                 target_state: None,
                 ledger_momentum: None,
                 ledger_energy: None,
@@ -305,6 +311,9 @@ impl Recorder {
             work.push(y[nx + nu]);
             if let Some(rows) = r.contact_forces.as_mut() {
                 contact_force_rows(r.n_samples - 1, &c.active, rows);
+            }
+            if let (Some(rigid), Some(imp)) = (&c.rigid, r.contact_impulse.as_mut()) {
+                imp.extend_from_slice(rigid.impulse.as_slice());
             }
         }
         if let (Some(t), Some(ts), Some(lm), Some(le)) = (plant.target(), r.target_state.as_mut(), r.ledger_momentum.as_mut(), r.ledger_energy.as_mut()) {

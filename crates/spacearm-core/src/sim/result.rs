@@ -89,10 +89,15 @@ pub struct Records {
     /// N and N·m (width 6; zeros without the gravity gradient).
     pub gravity_wrench: Option<Vec<f64>>,
     /// With contact ([`crate::sim::contact`]): the number of contacts in interpenetration
-    /// (width 1).
+    /// (rigid contact, [`crate::sim::rigid_contact`]: the points that took a normal impulse in
+    /// the last step before the sample) (width 1).
     pub contact_count: Option<Vec<f64>>,
-    /// With contact: the sum of their normal forces `Σ f_n`, N (width 1).
+    /// With contact: the sum of their normal forces `Σ f_n`, N (rigid: the last step's
+    /// `Σ λ_n / h`, the mean normal force over it) (width 1).
     pub contact_normal_force: Option<Vec<f64>>,
+    /// With rigid contact: the sum since `t = 0` of the impulses `Rᵢ λᵢ` received by the second
+    /// body of each contact point (the first received the opposite), in 𝒥, N·s (width 3).
+    pub contact_impulse: Option<Vec<f64>>,
     /// With contact: the work done on the system by the contact forces since `t = 0`, J: their
     /// power `Σ f · (v₂ − v₁)` integrated by the run's integrator with the motion (one more
     /// entry of the ODE's state; width 1). The energy ledger `energy − contact_work` is then
