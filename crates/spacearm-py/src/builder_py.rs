@@ -416,6 +416,34 @@ pub fn gripper_parts(py: Python<'_>, spec: &Bound<'_, PyAny>, base: &str) -> PyR
     Ok((links, parts.points, geometries).into_pyobject(py)?.into_any().unbind())
 }
 
+/// A probe's or a drogue's collision shapes and points (core `model::docking`, docs/contact.md
+/// "Probe and drogue") from the plain data of a core `ProbeSpec` (`kind = "probe"`) or
+/// `DrogueSpec` (`"drogue"`). Returns `(points, geometries)`, each geometry `(name, body, role,
+/// shape, radius, length, origin, rotation)`.
+#[pyfunction]
+pub fn docking_parts(py: Python<'_>, kind: &str, spec: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
+    use spacearm_core::error::ModelItem;
+    use spacearm_core::model::docking::{self, DrogueSpec, ProbeSpec};
+    let parts = match kind {
+        "probe" => docking::probe_parts(&crate::controller_spec_py::from_data::<ProbeSpec>(spec, "probe")?, ModelItem::Model),
+        "drogue" => docking::drogue_parts(&crate::controller_spec_py::from_data::<DrogueSpec>(spec, "drogue")?, ModelItem::Model),
+        other => return Err(SpacearmError::InvalidArgument(format!("docking part must be \"probe\" or \"drogue\", got {other:?}"))).or_raise(py),
+    }
+    .map_err(SpacearmError::from)
+    .or_raise(py)?;
+    let mut geometries = Vec::new();
+    for g in parts.geometries {
+        let (shape, radius, length) = match g.shape {
+            Shape::Capsule { radius, length } => ("capsule", radius, length),
+            Shape::Cylinder { radius, length } => ("cylinder", radius, length),
+            Shape::Sphere { radius } => ("sphere", radius, 0.0),
+            _ => continue,
+        };
+        geometries.push((g.name, g.body, "collision", shape, radius, length, g.origin, g.rotation).into_pyobject(py)?.into_any().unbind());
+    }
+    Ok((parts.points, geometries).into_pyobject(py)?.into_any().unbind())
+}
+
 /// The grippers of a model (core `model::gripper::detect_grippers`), each as a dict: `name`,
 /// `palm` (body index), `finger_dofs`, `kind` (`"prismatic"` or `"revolute"`).
 #[pyfunction]

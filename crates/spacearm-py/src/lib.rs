@@ -64,7 +64,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
         functions: [
             batch::set_batch_threads, batch::batch_threads,
             builder_py::slosh_links, builder_py::panel_parts, builder_py::beam_parts, builder_py::compliant_parts,
-            builder_py::cmg_parts, builder_py::cmgs, builder_py::cmg_velocity, builder_py::gripper_parts, builder_py::grippers,
+            builder_py::cmg_parts, builder_py::cmgs, builder_py::cmg_velocity, builder_py::gripper_parts, builder_py::grippers, builder_py::docking_parts,
             builder_py::cylinder_slosh, builder_py::sphere_slosh, builder_py::sphere_fill_height, builder_py::cylinder_fill_height,
             edit_py::model_attach_body, edit_py::model_attach_model, edit_py::model_remove_subtree,
             preset,

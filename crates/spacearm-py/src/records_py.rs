@@ -9,6 +9,7 @@
 use numpy::{PyArray1, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
+use spacearm_core::sim::result::CONTACT_FORCE_WIDTH;
 use spacearm_core::sim::simulate::{SimOptions, SimResult};
 
 /// The quantities a run may record.
@@ -45,6 +46,7 @@ pub enum Record {
     ContactCount,
     ContactNormalForce,
     ContactWork,
+    ContactForces,
     ContactImpulse,
 }
 
@@ -83,7 +85,17 @@ impl Record {
             Record::ContactCount => "contact_count",
             Record::ContactNormalForce => "contact_normal_force",
             Record::ContactWork => "contact_work",
+            Record::ContactForces => "contact_forces",
             Record::ContactImpulse => "contact_impulse",
+        }
+    }
+
+    /// The rows of a record of `values` with `width` per row: one per sample (`k`), but for the
+    /// ragged `contact_forces` (one per acting contact per sample; its first column says which).
+    pub fn rows(self, k: usize, values: &[f64], width: usize) -> usize {
+        match self {
+            Record::ContactForces => values.len() / width,
+            _ => k,
         }
     }
 
@@ -167,6 +179,10 @@ pub fn take_fields(res: &mut SimResult, nx: usize, nu: usize, n: usize) -> Vec<F
         out.push(f(Record::ContactCount, c, 1, true));
         out.push(f(Record::ContactNormalForce, n, 1, true));
         out.push(f(Record::ContactWork, w, 1, true));
+    }
+    if let Some(rows) = r.contact_forces.take() {
+        // Ragged: one row per acting contact per sample, not one per sample ([`Record::rows`]).
+        out.push(f(Record::ContactForces, rows, CONTACT_FORCE_WIDTH, false));
     }
     if let Some(v) = r.contact_impulse.take() {
         out.push(f(Record::ContactImpulse, v, 3, false));
@@ -305,6 +321,11 @@ pub struct PyRunRecords {
     /// power integrated with the motion), J, or None.
     #[pyo3(get)]
     contact_work: Option<Array>,
+    /// `(R, 13)` with contact: one row per contact that exerts a force at a sample,
+    /// `[k, body_a, body_b, point (3), normal (3), f_n, force on body_b (3)]` (sample index, the
+    /// bodies, a free target being body nb; in 𝒥, m and N; body_a feels −force), or None.
+    #[pyo3(get)]
+    contact_forces: Option<Array>,
     /// `(K, 3)` with rigid contact: the sum since t = 0 of the impulses received by the second
     /// body of each contact point, in 𝒥, N·s, or None.
     #[pyo3(get)]
@@ -351,6 +372,7 @@ impl PyRunRecords {
                 Record::ContactCount => &mut r.contact_count,
                 Record::ContactNormalForce => &mut r.contact_normal_force,
                 Record::ContactWork => &mut r.contact_work,
+                Record::ContactForces => &mut r.contact_forces,
                 Record::ContactImpulse => &mut r.contact_impulse,
             };
             *slot = Some(array.cast_into::<PyUntypedArray>()?.unbind());
@@ -364,7 +386,8 @@ impl PyRunRecords {
         let k = res.records.n_samples;
         let mut arrays = Vec::new();
         for field in take_fields(res, nx, nu, n) {
-            let shape: Vec<usize> = if field.scalar { vec![k] } else { vec![k, field.width] };
+            let rows = field.record.rows(k, &field.values, field.width);
+            let shape: Vec<usize> = if field.scalar { vec![rows] } else { vec![rows, field.width] };
             arrays.push((field.record, to_numpy(py, field.record, field.values, &shape, float32)?));
         }
         Self::from_arrays(arrays)

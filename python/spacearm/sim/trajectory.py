@@ -477,6 +477,26 @@ class Trajectory:
         return self._get("contact_work", "the run had no contact (simulate(..., contact=spacearm.contact.ContactModel(...)))")
 
     @property
+    def contact_forces(self) -> np.ndarray:
+        """With contact: one row per contact that exerts a force at a sample ``(R, 13)``,
+        ``[k, body_a, body_b, point (3), normal (3), f_n, force (3)]``: the sample's index, the
+        two bodies (a free target is body ``nb``, one past the robot's), the point where the
+        forces act and the unit normal from ``body_a`` towards ``body_b`` in 𝒥 (m), the normal
+        force (N) and the total force on ``body_b`` (normal plus friction, N, in 𝒥; ``body_a``
+        feels its opposite). The rows of sample ``k``: [`contacts_at`][spacearm.Trajectory.contacts_at]."""
+        return self._get("contact_forces", "the run had no contact (simulate(..., contact=spacearm.contact.ContactModel(...)))")
+
+    def contacts_at(self, k: int) -> np.ndarray:
+        """The rows of [`contact_forces`][spacearm.Trajectory.contact_forces] of sample ``k``
+        ``(contact_count[k], 13)`` (negative ``k`` counts from the end)."""
+        rows = self.contact_forces
+        n = len(self)
+        if not -n <= int(k) < n:
+            raise ArgumentError(f"contacts_at: sample {k} is out of range for a trajectory of {n} samples")
+        k = int(k) % n
+        return rows[rows[:, 0] == k]
+
+    @property
     def contact_impulse(self) -> np.ndarray:
         """With rigid contact: the sum since ``t = 0`` of the impulses received by the second
         body of each contact point ``(K, 3)``, in 𝒥, N·s (the first body received the opposite;

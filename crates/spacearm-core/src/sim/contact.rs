@@ -12,7 +12,7 @@ use crate::algorithms::rnea::velocity_pass;
 use crate::algorithms::wrench::ExternalWrench;
 use nalgebra::Vector3;
 
-use crate::collision::compliant::point_velocity;
+use crate::collision::compliant::{point_velocity, ContactForce};
 use crate::collision::detect::{contacts_of_placed, place_on_bodies, place_on_free_body};
 use crate::collision::{CollisionShapes, Contact, ContactLaw, ImpactSolver, ImpactSpec, NormalLaw, PairFilter};
 use crate::error::{Result, SpacearmError};
@@ -220,6 +220,9 @@ pub(crate) struct PlantContact {
     pub(crate) count: usize,
     pub(crate) normal_force: f64,
     pub(crate) power: f64,
+    /// The last evaluation's contacts that exert a force, each with its point, normal and force
+    /// (the record `contact_forces`: [`crate::sim::record`]).
+    pub(crate) active: Vec<ContactForce>,
 }
 
 impl PlantContact {
@@ -253,7 +256,7 @@ impl PlantContact {
             ContactKind::Rigid => Some(RigidContact::new(spec)),
             ContactKind::Compliant => None,
         };
-        Ok(PlantContact { shapes, pairs, law: spec.law(), margin: spec.margin, rigid, target, forced: Vec::new(), count: 0, normal_force: 0.0, power: 0.0 })
+        Ok(PlantContact { shapes, pairs, law: spec.law(), margin: spec.margin, rigid, target, forced: Vec::new(), count: 0, normal_force: 0.0, power: 0.0, active: Vec::new() })
     }
 
     /// The contacts at the ODE state `y` (the kinematics of its `x` current in `data`) between
@@ -280,6 +283,7 @@ impl PlantContact {
         let margin = if self.forced.is_empty() { self.margin } else { self.margin.max(ONSET_SLACK) };
         let found = self.found(model, data, y, &self.pairs, margin)?;
         (self.count, self.normal_force, self.power) = (0, 0.0, 0.0);
+        self.active.clear();
         let target = self.target.as_ref().map(|t| (t.body, t.state(y)));
         let (mut target_force, mut target_torque) = (Vector3::zeros(), Vector3::zeros());
         for c in &found {
@@ -295,6 +299,7 @@ impl PlantContact {
                 self.count += 1;
                 self.normal_force += f.normal_force;
                 self.power += f.power;
+                self.active.push(f);
                 // −force on the first body, +force on the second, both at the point.
                 for (body, force) in [(f.body[0], -f.force), (f.body[1], f.force)] {
                     match target {

@@ -103,6 +103,15 @@ pub struct Records {
     /// entry of the ODE's state; width 1). The energy ledger `energy − contact_work` is then
     /// what is conserved (its drift is the energy's).
     pub contact_work: Option<Vec<f64>>,
+    /// With contact: one row per contact that exerts a force at a sample (a ragged record: the
+    /// rows of sample `k` are those whose first entry is `k`; their number is its
+    /// `contact_count`), `CONTACT_FORCE_WIDTH` = 13 values
+    /// `[k, body_a, body_b, p (3), n̂ (3), f_n, f (3)]`: the sample's index, the first and second
+    /// body (a free target is body `nb`, one past the robot's), the point where the forces act
+    /// and the unit normal from the first body towards the second, in 𝒥, the normal force (N)
+    /// and the total force on the second body (normal `f_n n̂` plus friction; N, in 𝒥); the
+    /// first body feels `−f` at the same point (docs/contact.md, "Contact dynamics").
+    pub contact_forces: Option<Vec<f64>>,
     /// With a free target in the loop ([`crate::sim::free_target`]): its 13-state
     /// `[r, quat xyzw, v, ω]` (width 13).
     pub target_state: Option<Vec<f64>>,
@@ -117,6 +126,9 @@ pub struct Records {
     /// A closed chain's pose error `e = [position (m); rotation (rad)]` (width 6).
     pub constraint_error: Option<Vec<f64>>,
 }
+
+/// The values per row of [`Records::contact_forces`].
+pub const CONTACT_FORCE_WIDTH: usize = 13;
 
 /// Everything a simulation returns.
 #[derive(Debug, Clone)]

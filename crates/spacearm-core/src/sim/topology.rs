@@ -434,6 +434,9 @@ impl Rows {
         if contact && r.contact_count.is_none() {
             (r.contact_count, r.contact_normal_force, r.contact_work) = (Some(vec![0.0; n]), Some(vec![0.0; n]), Some(vec![0.0; n]));
         }
+        if contact && r.contact_forces.is_none() {
+            r.contact_forces = Some(Vec::new()); // no acting contact: no rows
+        }
         if let (Some(ts), Some(lm), Some(le)) = (r.target_state.take(), r.ledger_momentum.take(), r.ledger_energy.take()) {
             if let Second::Free { flight: Flight::InLoop { state }, .. } = second {
                 state.copy_from_slice(&ts[13 * (n - 1)..]);
@@ -753,6 +756,7 @@ fn append_records(a: &mut Records, b: Records) {
         contact_count,
         contact_normal_force,
         contact_work,
+        contact_forces,
         contact_impulse,
         target_state,
         ledger_momentum,
@@ -760,6 +764,12 @@ fn append_records(a: &mut Records, b: Records) {
         constraint_wrench,
         constraint_error,
     } = b;
+    // The contact rows' first entry is their sample's index: shifted by `a`'s samples.
+    let shift = a.n_samples as f64;
+    let contact_forces = contact_forces.map(|mut rows| {
+        rows.chunks_mut(crate::sim::result::CONTACT_FORCE_WIDTH).for_each(|r| r[0] += shift);
+        rows
+    });
     a.n_samples += n_samples;
     for (to, from) in [
         (&mut a.t, t),
@@ -797,6 +807,7 @@ fn append_records(a: &mut Records, b: Records) {
         (&mut a.contact_count, contact_count),
         (&mut a.contact_normal_force, contact_normal_force),
         (&mut a.contact_work, contact_work),
+        (&mut a.contact_forces, contact_forces),
         (&mut a.contact_impulse, contact_impulse),
         (&mut a.target_state, target_state),
         (&mut a.ledger_momentum, ledger_momentum),
