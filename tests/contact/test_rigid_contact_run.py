@@ -255,3 +255,11 @@ def test_bad_combinations_are_refused():
     s0 = np.array([2.0, 0, 0, 0, 0, 0, 1, -0.5, 0, 0, 0, 0, 0])
     with pytest.raises(spacearm.ArgumentError, match="rigid contact .* with a free target is not implemented yet"):
         spacearm.simulate(robot, 0.01, contact=ContactModel(kind="rigid"), target=t.build(), target_state=s0)
+    # nor with a target flying in the loop of contact in a run with topology events
+    from target_scene import scene
+    from spacearm.events import Attach
+
+    arm, rock, s_rock, u_arm, _ = scene()
+    with pytest.raises(spacearm.ArgumentError, match="rigid contact .* with a free target is not implemented yet"):
+        spacearm.simulate(arm, 0.01, u0=u_arm, dt=1e-3, contact=ContactModel(kind="rigid"), target=rock, target_state=s_rock,
+                          events=[Attach(point="tip", grasp="handle", gap=0.01, speed=0.01)])
