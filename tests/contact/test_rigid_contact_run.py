@@ -192,6 +192,23 @@ def test_a_planar_arm_pressed_on_a_face_with_high_friction_keeps_a_solvable_cone
     assert traj.meta["drift"]["P"] < 1e-11 and traj.meta["drift"]["L_origin"] < 1e-10
 
 
+def test_the_step_by_step_simulator_takes_the_same_steps():
+    # spacearm.Simulator steps the same core stepper: the same rebound, bit for bit.
+    robot, ball = plate(False)
+    contact = ContactModel(kind="rigid", restitution=0.5, margin=1e-3, pairs=[Pair("base", ball)])
+    traj = run(robot, 0.2, [0.65], [-0.4], contact)
+    sim = spacearm.Simulator(robot, dt=1e-4, contact=contact, record_every=1)
+    x0 = robot.neutral_configuration()
+    x0[7] = 0.65
+    u0 = robot.zero_velocity()
+    u0[6] = -0.4
+    sim.reset(x0, u0)
+    sim.step(n=2000)
+    assert abs(sim.time - 0.2) < 1e-12
+    np.testing.assert_array_equal(sim.u, traj.u[-1])
+    np.testing.assert_array_equal(sim.trajectory().contact_impulse[-1], traj.contact_impulse[-1])
+
+
 def test_one_step_takes_the_impulses_of_solve_impact():
     # The ball touching the plate (d = 0), approaching and slipping, no force: the first step's
     # cone problem is solve_impact's at (x0, u0) — free velocity J u0, Newton's restitution.
