@@ -108,8 +108,9 @@ def test_a_ball_sliding_on_the_plate_stops_by_coulomb_friction_at_the_closed_for
     t_stuck = traj.t[np.argmax(np.abs(vy) < 1e-12)]
     assert abs(t_stuck - t_stop) <= dt + 1e-12
     assert np.abs(vy[traj.t > t_stop + dt]).max() < 1e-12
-    # The slide: v0² / (2a), to one step's travel.
-    assert abs(traj.x[-1, 8] - distance) < v0 * dt
+    # The slide: v0² / (2a) (measured to 4e-13 m: the cone problem holds each step's mean
+    # velocity, which moves the ball).
+    assert abs(traj.x[-1, 8] - distance) < 1e-9
     # The normal impulse per step is h F_n (the press; ½ h F_n in the first step, the start-up),
     # the friction impulse the ball's lost momentum: the recorded impulse's tangential part is −m_y v0.
     assert abs(traj.contact_normal_force[1] / Fn - 0.5) < 1e-8
