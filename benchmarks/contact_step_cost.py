@@ -5,7 +5,11 @@ with contact but the pair apart (detection only: the arm folded away), and with 
 the box (forces, friction, the located onset); then with a free target in the loop of contact
 (docs/contact.md, "Contact with a free target": its 13-state integrated with the robot's), a
 ball far from the robot (detection against its shape, its Newton–Euler) and a ball hitting the
-base's box (and flying on).
+base's box (and flying on); and rigid contact (docs/contact.md, "Rigid contact in a run": each
+step's cone problem on the Delassus operator, its impulses at the step's start), the pair apart
+(detection once a step) and the tip striking the box under a joint torque that presses it there
+(in contact in a few hundred of the steps); and a ball pressed on a plate and sliding on it,
+in contact at every step: without contact, compliant, rigid.
 
 Interleaved rounds; the figures are medians over ``--repeat`` rounds of the time per RK4 step
 (four evaluations of the dynamics, each with detection when contact is on) and the ratio to the
@@ -28,6 +32,7 @@ import numpy as np
 
 import spacearm
 from spacearm.contact import ContactModel
+from spacearm.control import JointPD, TorqueLimit
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "contact"))
 from test_contact_dynamics import arm_and_box  # noqa: E402  (the robot of the momentum test)
@@ -57,6 +62,8 @@ def main() -> None:
     # A ball 3 m out (apart), and one coming at the box's +y face (y = 1.1) at 1.5 m/s, touching at
     # t = 0.1 s, with spin: a contact of ~0.03 s and a flight back out.
     far = np.array([0.0, 3.0, 0.0, 0, 0, 0, 1, 0.0, 0.0, 0.0, 0.3, 0.2, 0.1])
+    press = TorqueLimit(JointPD(kp=[1e6, 1e6], kd=[0.0, 0.0], reference=[3.0, 3.0]), limit=5.0)  # 5 N·m on each joint, towards the box
+    rigid = ContactModel(kind="rigid", friction=0.5, margin=1e-3, pairs=[("base", "l2")])
     coming = np.array([0.0, 1.45, -0.2, 0, 0, 0, 1, 0.0, -1.5, 0.0, 0.3, 0.2, 0.1])
     cases = {
         "no contact": dict(x0=hit, u0=u0, contact=None),
@@ -64,21 +71,48 @@ def main() -> None:
         "contact, hitting": dict(x0=hit, u0=u0, contact=contact),
         "target, apart": dict(x0=away, u0=u_away, contact=target_contact, target=ball, target_state=far),
         "target, hitting": dict(x0=away, u0=u_away, contact=target_contact, target=ball, target_state=coming),
+        "rigid, apart": dict(x0=away, u0=u_away, contact=rigid),
+        "rigid, hitting": dict(x0=hit, u0=u0, contact=rigid, controller=press),
     }
-    times: dict = {k: [] for k in cases}
+    # Sustained contact, rigid against compliant: a ball on a slider pressed on a plate (a
+    # 1e12 kg base) by a constant 5 N, in contact at every step.
+    pb = spacearm.RobotBuilder("plate", 1e12, np.eye(3) * 1e12)
+    pb.add_link("sx", parent="base", joint="prismatic", axis=(1, 0, 0), mass=2.0, inertia=np.eye(3) * 0.1)
+    pb.add_link("sy", parent="sx", joint="prismatic", axis=(0, 1, 0), mass=1.0, inertia=np.eye(3) * 0.1)
+    pb.add_geometry("base", "box", role="collision", size=(1.0, 4.0, 4.0))
+    pb.add_geometry("sy", "sphere", role="collision", radius=0.1)
+    plate = pb.build()
+    xp = plate.neutral_configuration()
+    xp[7:] = [0.6, 0.0]
+    up = plate.zero_velocity()
+    up[7] = 0.5  # sliding along the plate
+    push = TorqueLimit(JointPD(kp=[1e6, 0.0], kd=[0.0, 0.0], reference=[-10.0, 0.0]), limit=5.0)
+    pressed = dict(robot=plate, x0=xp, u0=up, controller=push)
+    plate_cases = {
+        "plate, no contact": dict(pressed, contact=None),
+        "plate, compliant": dict(pressed, contact=ContactModel(stiffness=1e5, damping=200.0, friction=0.1, slip_velocity=0.01, pairs=[("base", "sy")])),
+        "plate, rigid": dict(pressed, contact=ContactModel(kind="rigid", friction=0.1, margin=1e-3, pairs=[("base", "sy")])),
+        "plate, rigid pgs": dict(pressed, contact=ContactModel(kind="rigid", friction=0.1, margin=1e-3, solver="pgs", pairs=[("base", "sy")])),
+    }
+    times: dict = {k: [] for k in [*cases, *plate_cases]}
     for _ in range(a.repeat):
-        for name, kw in cases.items():
+        for name, kw in [*cases.items(), *plate_cases.items()]:
+            kw = dict(kw)
+            model = kw.pop("robot", robot)
             t0 = time.perf_counter()
-            traj = spacearm.simulate(robot, a.steps * dt, dt=dt, record_every=100, **kw)
+            traj = spacearm.simulate(model, a.steps * dt, dt=dt, record_every=100, **kw)
             times[name].append((time.perf_counter() - t0) / a.steps)
-            if name.endswith("hitting"):
+            if name.startswith("rigid, hitting"):
+                assert np.abs(traj.contact_impulse[-1]).max() > 0  # it struck (a step's count is sampled every 100)
+            elif name.endswith("hitting") or name.startswith("plate, ") and kw["contact"] is not None:
                 assert traj.contact_count.max() >= 1
             if name.endswith("apart"):
                 assert traj.contact_count.max() == 0
-    base = statistics.median(times["no contact"])
-    for name, ts in times.items():
-        m = statistics.median(ts)
-        print(f"{name:18s} {m * 1e6:8.2f} µs/step   ratio {m / base:5.2f}")
+    for group, ref in ((cases, "no contact"), (plate_cases, "plate, no contact")):
+        base = statistics.median(times[ref])
+        for name in group:
+            m = statistics.median(times[name])
+            print(f"{name:18s} {m * 1e6:8.2f} µs/step   ratio {m / base:5.2f}")
 
 
 if __name__ == "__main__":

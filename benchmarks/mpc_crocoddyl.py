@@ -51,48 +51,115 @@ def weighted(state, weights, residual):
     return crocoddyl.CostModelResidual(state, crocoddyl.ActivationModelWeightedQuad(np.asarray(weights, dtype=float)), residual)
 
 
-def shooting(state, dam_of, x0, xref, nu, horizon, dt):
+def shooting(state, dam_of, x0, xref, nu, horizon, dt, discretization="rk4"):
     """Crocoddyl's problem: running ½ w_u |τ|², terminal ½ W_q |q − q_goal|² + ½ W_qd |q̇|²."""
-    n = nu
+    n = state.ndx // 2 - 6  # joints; nu: the controls (joint torques, then any base actuation)
     run_costs = crocoddyl.CostModelSum(state, nu)
     run_costs.addCost("u", weighted(state, np.full(nu, W_U), crocoddyl.ResidualModelControl(state, nu)), 1.0)
     term_costs = crocoddyl.CostModelSum(state, nu)
     w = np.zeros(state.ndx)
     w[6:6 + n], w[12 + n:] = W_Q, W_QD
     term_costs.addCost("x", weighted(state, w, crocoddyl.ResidualModelState(state, xref, nu)), 1.0)
-    run = crocoddyl.IntegratedActionModelRK(dam_of(run_costs), crocoddyl.RKType.four, dt)
-    term = crocoddyl.IntegratedActionModelRK(dam_of(term_costs), crocoddyl.RKType.four, 0.0)
+    if discretization == "euler":  # semi-implicit Euler, spacearm's Problem(discretization="euler")
+        run = crocoddyl.IntegratedActionModelEuler(dam_of(run_costs), dt)
+        term = crocoddyl.IntegratedActionModelEuler(dam_of(term_costs), 0.0)
+    else:
+        run = crocoddyl.IntegratedActionModelRK(dam_of(run_costs), crocoddyl.RKType.four, dt)
+        term = crocoddyl.IntegratedActionModelRK(dam_of(term_costs), crocoddyl.RKType.four, 0.0)
     return crocoddyl.ShootingProblem(x0, [run] * horizon, term)
 
 
+def _skew(v):
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+def _rotation(quat):
+    """The rotation matrix of a unit ``[x, y, z, w]`` quaternion (body axes → 𝒥)."""
+    x, y, z, w = quat
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def world_wrench_actuation(state, n: int, base: list):
+    """Pinocchio's free flyer actuated by the joint torques, then the base wrench components
+    ``base`` (indices into ``[F0; N0]``, in 𝒥, about the base CM: spacearm's controls,
+    docs/conventions.md). Pinocchio's base generalized force is that wrench in the base frame,
+    ``[Rᵀ F0; Rᵀ N0]``: it turns with the base, so ``dτ/dθ = [(Rᵀ F0)~; (Rᵀ N0)~]`` for the
+    local rotation increment (R ← R exp(δθ)). Crocoddyl's ``ActuationModelFloatingBaseThrusters``
+    models thrusters fixed to the base (a body-frame wrench), a different control."""
+
+    class WorldWrench(crocoddyl.ActuationModelAbstract):
+        def __init__(self):
+            crocoddyl.ActuationModelAbstract.__init__(self, state, n + len(base))
+
+        def _wrench(self, x, u):
+            w = np.zeros(6)
+            w[base] = u[n:]
+            rt = _rotation(x[3:7]).T
+            return rt, rt @ w[:3], rt @ w[3:]
+
+        def calc(self, data, x, u=None):
+            if u is None:
+                return
+            _, f, m = self._wrench(x, u)
+            data.tau[:] = np.concatenate([f, m, u[:n]])
+
+        def calcDiff(self, data, x, u=None):
+            if u is None:
+                return
+            rt, f, m = self._wrench(x, u)
+            data.dtau_dx[:] = 0.0
+            data.dtau_dx[0:3, 3:6] = _skew(f)
+            data.dtau_dx[3:6, 3:6] = _skew(m)
+            data.dtau_du[:] = 0.0
+            data.dtau_du[6:, :n] = np.eye(n)
+            for i, c in enumerate(base):
+                rows = slice(0, 3) if c < 3 else slice(3, 6)
+                data.dtau_du[rows, n + i] = rt[:, c % 3]
+
+        def commands(self, data, x, tau):
+            raise NotImplementedError
+
+        def torqueTransform(self, data, x, u):
+            raise NotImplementedError
+
+    return WorldWrench()
+
+
+_BASE = {"floating": [], "rotation-flying": [3, 4, 5], "flying": [0, 1, 2, 3, 4, 5]}
+
+
 class Case:
-    def __init__(self, robot, horizon: int, dt: float):
-        self.robot, self.horizon, self.dt = robot, horizon, dt
+    def __init__(self, robot, horizon: int, dt: float, mode: str = "floating", discretization: str = "rk4"):
+        self.robot, self.horizon, self.dt, self.mode = robot, horizon, dt, mode
         n = self.n = robot.n_dof
+        self.nc = n + len(_BASE[mode])
         x0, u0 = robot.neutral_configuration(), robot.zero_velocity()
         goal = goal_of(robot)
         # (a) Pinocchio's free-flyer model (its q[:7] is spacearm's x[:7]; its base velocity is in the base frame).
         pin_model = to_pinocchio(robot)
         sp = crocoddyl.StateMultibody(pin_model)
-        act = crocoddyl.ActuationModelFloatingBase(sp)
+        act = crocoddyl.ActuationModelFloatingBase(sp) if mode == "floating" else world_wrench_actuation(sp, n, _BASE[mode])
         q, v = to_pinocchio_state(robot, x0, u0)
         qref = q.copy()
         qref[7:] = goal
         self.pin = shooting(sp, lambda c: crocoddyl.DifferentialActionModelFreeFwdDynamics(sp, act, c), np.concatenate([q, v]),
-                            np.concatenate([qref, np.zeros(sp.nv)]), act.nu, horizon, dt)
+                            np.concatenate([qref, np.zeros(sp.nv)]), act.nu, horizon, dt, discretization)
         # (b) spacearm's action model in Crocoddyl.
         ss = make_state(robot)
         z0 = np.concatenate([x0, u0])
         zref = z0.copy()
         zref[7:7 + n] = goal
-        self.spa = shooting(ss, lambda c: crocoddyl_action_model(robot, c, state=ss), z0, zref, n, horizon, dt)
+        self.spa = shooting(ss, lambda c: crocoddyl_action_model(robot, c, state=ss, mode=mode), z0, zref, self.nc, horizon, dt, discretization)
         # (c) spacearm's native problem.
-        self.native = mpc.Problem(horizon=horizon, dt=dt, running=[mpc.ControlCost(W_U)], terminal=[mpc.JointCost(W_Q, goal, weight_qd=W_QD)])
+        self.native = mpc.Problem(horizon=horizon, dt=dt, running=[mpc.ControlCost(W_U)], terminal=[mpc.JointCost(W_Q, goal, weight_qd=W_QD)], mode=mode,
+                                  discretization=discretization)
 
     def crocoddyl(self, problem, iterations: int = 200):
         solver = crocoddyl.SolverFDDP(problem)
         solver.th_stop = 1e-14
-        us0 = [np.zeros(self.n)] * self.horizon
+        us0 = [np.zeros(self.nc)] * self.horizon
         xs0 = problem.rollout(us0)
         t = time.perf_counter()
         solver.solve(xs0, us0, iterations)
@@ -101,7 +168,7 @@ class Case:
 
     def spacearm(self):
         sol = mpc.solve(self.robot, self.native, max_iterations=200, tolerance=1e-14)
-        return sol.cost, sol.x[:, 7:], sol.tau, sol.solve_time, max(sol.iterations, 1)
+        return sol.cost, sol.x[:, 7:], sol.controls, sol.solve_time, max(sol.iterations, 1)
 
 
 def compare(name: str, case: Case, repeat: int) -> None:
@@ -134,6 +201,9 @@ def main() -> None:
     print(f"crocoddyl {crocoddyl.__version__}; spacearm {spacearm.__version__}; medians of {args.repeat} interleaved solves")
     compare("spatial6", Case(spacearm.presets.spatial6(), args.horizon, args.dt), args.repeat)
     compare("chain30", Case(chain(30), args.horizon, args.dt), args.repeat)
+    for mode in ("rotation-flying", "flying"):
+        compare(f"spatial6, {mode} (base torque{'' if mode == 'rotation-flying' else ' and force'} as controls)",
+                Case(spacearm.presets.spatial6(), args.horizon, args.dt, mode), args.repeat)
 
 
 if __name__ == "__main__":

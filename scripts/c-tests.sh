@@ -21,7 +21,7 @@ trap 'rm -rf "$out"' EXIT
 flags=(-std=c11 -Wall -Wextra -Werror -I "$inc")
 # The C tests (the controllers' test reads python/spacearm/examples/spatial6_wheels.toml from
 # the repository root, where this script runs).
-tests=(test_c_api test_c_controllers)
+tests=(test_c_api test_c_controllers test_c_target)
 for t in "${tests[@]}"; do
     "$cc" "${flags[@]}" "crates/spacearm-c/tests/c/$t.c" -L "$lib" -lspacearm_c -lm -Wl,-rpath,"$lib" -o "$out/$t"
     "$out/$t"

@@ -11,7 +11,7 @@ import pytest
 import spacearm
 import spacearm.mpc as mpc
 from spacearm.control import MPC, FreeBodyPoint
-from spacearm.errors import ArgumentError
+from spacearm.errors import ArgumentError, ShapeError
 
 OMEGA = 0.1  # rad/s, about the target's principal axis z
 OFFSET = np.array([0.3, 0.0, 0.0])  # the grasp point from the target's CM, body axes (m)
@@ -96,8 +96,7 @@ def test_bad_moving_targets_are_refused():
     target, _ = tumbling(robot, robot.neutral_configuration())
     with pytest.raises(ArgumentError, match="start_time"):
         tracking_problem(robot, target, start_time=-1.0)
-    in_orbit = dataclasses.replace(target, orbit=spacearm.Orbit.circular(500e3))
-    with pytest.raises(ArgumentError, match="not implemented"):
-        tracking_problem(robot, in_orbit)
+    with pytest.raises(ShapeError, match="13"):  # refused when the target is made
+        tracking_problem(robot, dataclasses.replace(target, state=target.state[:12]))
     with pytest.raises(ArgumentError, match="target"):
         mpc.Problem(horizon=2, dt=0.1, terminal=[mpc.PointCost(6, [1.0, 2.0])])

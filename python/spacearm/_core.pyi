@@ -33,7 +33,7 @@ __all__ = [
     "conserved_drift", "default_wheel_dofs", "grasp_impact", "impulse_dynamics", "impulse_momentum_split", "joint_wrenches", "loop_closure", "model_from_dh", "model_from_toml",
     "model_to_toml", "perturbed", "perturbed_cmgs", "point_inverse_inertia", "preset", "quat_exp", "quat_from_matrix", "quat_from_rpy",
     "quat_log", "quat_multiply", "quat_to_matrix", "quintic_scaling", "rollout", "rotation_vector",
-    "set_batch_threads", "simulate", "simulate_closed_chain", "simulate_events", "simulate_target", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts", "cmg_parts", "cmgs", "gripper_parts", "grippers", "cmg_velocity",
+    "set_batch_threads", "simulate", "simulate_closed_chain", "skew", "slosh_links", "panel_parts", "beam_parts", "compliant_parts", "cmg_parts", "cmgs", "gripper_parts", "docking_parts", "grippers", "cmg_velocity",
     "cylinder_slosh", "sphere_slosh", "sphere_fill_height", "cylinder_fill_height", "model_attach_body", "model_attach_model",
     "model_remove_subtree", "InputShaper", "soft_capture", "virtual_mass",
     "CaptureRun", "run_capture", "check_capture", "MAX_CAPTURE_SAMPLES", "MAX_TURN_PER_SAMPLE", "CAPTURE_KINDS",
@@ -104,6 +104,7 @@ def compliant_parts(link: tuple[str, str, str, Sequence[float], Sequence[float],
                     gear_ratio: float) -> tuple[list[tuple], list[tuple], list[tuple]]: ...
 def cmg_parts(spec: dict[str, Any], base: str) -> tuple[list[tuple], list[tuple], list[tuple]]: ...
 def cmgs(model: Model) -> list[dict[str, Any]]: ...
+def docking_parts(kind: str, spec: dict[str, Any]) -> tuple[list[tuple], list[tuple]]: ...
 def gripper_parts(spec: dict[str, Any], base: str) -> tuple[list[tuple], list[tuple], list[tuple]]: ...
 def grippers(model: Model) -> list[dict[str, Any]]: ...
 def analysis_cmg_envelope(gimbals: Sequence[Sequence[float]], h: Sequence[float],
@@ -1143,6 +1144,8 @@ class RunRecords:
     contact_count: Optional[_Record]        # (K,) with contact: contacts touching or interpenetrating
     contact_normal_force: Optional[_Record] # (K,) with contact: sum of the normal forces, N
     contact_work: Optional[_Record]         # (K,) with contact: work of the contact forces since t = 0, J
+    contact_forces: Optional[_Record]       # (R, 13) with contact: per acting contact per sample [k, body_a, body_b, p, n, f_n, f on body_b]
+    contact_impulse: Optional[_Record]      # (K, 3) rigid contact: impulses received by the second bodies since t = 0, N·s
 
 @final
 class RunEvents:
@@ -1194,6 +1197,9 @@ class RunResult:
     records: RunRecords
     events: RunEvents
     meta: RunMeta
+    # A run with a free target or topology events: target (K, 13), attached (K,), phase (K,),
+    # ledger_momentum (K, 6), ledger_energy (K,), event_* (E, ...), event_body, final_model.
+    topology: Optional[dict[str, Any]]
 
 @final
 class RolloutBatch:
@@ -1213,39 +1219,16 @@ def simulate(
     duration: float,
     options: RunOptions,
     controller_spec: Optional[ControllerSpec] = None,
-) -> RunResult:
-    """Run the native simulation loop (None: no control). Runs without the GIL; the records are
-    handed to numpy without a copy. Returns the records, saturation onsets and description of the run."""
-    ...
-
-def simulate_events(
-    model: Model,
-    x0: _ArrayLike,
-    u0: _ArrayLike,
-    duration: float,
-    options: RunOptions,
-    controller_spec: Optional[ControllerSpec],
-    events: Any,
+    events: Optional[Any] = None,
     target: Optional[Model] = None,
     target_state: Optional[_ArrayLike] = None,
-) -> tuple[RunResult, dict[str, Any]]:
-    """A run with topology events (the core's ``TopologyEvent`` as plain data; docs/events.md):
-    the run's records and a dict of the second system's rows, the ledger and the events."""
-    ...
-
-def simulate_target(
-    model: Model,
-    x0: _ArrayLike,
-    u0: _ArrayLike,
-    duration: float,
-    options: RunOptions,
-    controller_spec: Optional[ControllerSpec],
-    target: Model,
-    target_state: _ArrayLike,
-) -> tuple[RunResult, dict[str, Any]]:
-    """A run with a free target in the loop of contact (docs/contact.md, "Contact with a free
-    target"): the run's records and a dict ``target`` (K, 13), ``ledger_momentum`` (K, 6),
-    ``ledger_energy`` (K,)."""
+) -> RunResult:
+    """Run the native simulation loop (None: no control), the core's one entry: the robot alone,
+    a free ``target`` at ``target_state`` (13) in the loop of the options' contact, topology
+    ``events`` (the core's ``TopologyEvent`` as plain data; docs/events.md), or both. Runs without
+    the GIL; the records are handed to numpy without a copy. Returns the records, saturation
+    onsets and description of the run; with a second system its rows, the ledger and the events
+    as ``RunResult.topology``."""
     ...
 
 def rollout(

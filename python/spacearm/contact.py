@@ -60,9 +60,15 @@ class ContactModel:
     geometry names; ``None``: every pair of bodies but a body and its parent. ``margin`` (m):
     the detection margin (a force needs interpenetration).
 
-    ``kind``: ``"compliant"`` (the law above; ``stiffness`` required) or ``"rigid"`` — rigid
-    frictional contact inside a run is not implemented yet and is refused by the core with an
-    [`ArgumentError`][spacearm.ArgumentError] that says so; one rigid impact at a state is
+    ``kind``: ``"compliant"`` (the law above; ``stiffness`` required) or ``"rigid"``: rigid
+    frictional contact solved every step on the Delassus operator (docs/contact.md, "Rigid
+    contact in a run"; RK4 runs only), with ``friction`` μ, Newton's ``restitution`` e in
+    [0, 1] (default 0), the cone ``solver`` ``"admm"`` (default) or ``"pgs"``, the
+    position-error ``stabilization`` β in [0, 1] (default 0.2: a depth δ is pushed out at
+    β δ / dt), the solver's ``tolerance`` (m/s, default 1e-10) and ``max_iterations`` (default
+    1000); ``margin`` is then the distance at which points enter a step's problem, allowed to
+    close their gap in the step. These five are refused with the compliant law, and
+    ``stiffness`` and ``damping`` with the rigid one. One rigid impact at a state is
     [`solve_impact`][spacearm.contact.solve_impact].
     """
 
@@ -75,6 +81,11 @@ class ContactModel:
     margin: float = 0.0
     pairs: Optional[Sequence[Sequence[str]]] = None
     kind: str = "compliant"
+    restitution: Optional[float] = None
+    solver: Optional[str] = None
+    stabilization: Optional[float] = None
+    tolerance: Optional[float] = None
+    max_iterations: Optional[int] = None
 
 #: A contact between two collision shapes at one state (the binding's class): ``geometries`` and
 #: ``bodies`` (names, first and second shape), ``point_a``, ``point_b`` (3,) the closest or

@@ -219,11 +219,10 @@ def test_not_converging_is_reported_and_bad_input_is_refused():
         solve_impact(robot, x, u, ["base"])
 
 
-def test_rigid_contact_in_a_run_is_refused_as_not_implemented():
+def test_the_compliant_law_without_stiffness_is_refused():
+    # (rigid contact in a run: tests/contact/test_rigid_contact_run.py)
     from spacearm.contact import ContactModel
 
     robot = _balls()
-    with pytest.raises(ArgumentError, match=r'contact kind "rigid" in a run is not implemented yet.*solve_impact'):
-        spacearm.simulate(robot, 0.01, contact=ContactModel(kind="rigid", pairs=[Pair("base", "slider")]))
     with pytest.raises(ArgumentError, match="stiffness is required by the compliant law"):
         spacearm.simulate(robot, 0.01, contact=ContactModel(pairs=[Pair("base", "slider")]))

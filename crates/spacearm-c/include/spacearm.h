@@ -510,6 +510,17 @@ enum SpacearmStatus spacearm_stepper_new(const struct SpacearmModel *model,
                                          struct SpacearmStepper **out);
 
 /**
+ * A stepper for a copy of `model` with the options read from the TOML file `path` (a relative
+ * `target` path in it is read from the file's folder; see `spacearm_stepper_new`).
+ *
+ * # Safety
+ * `model` a live handle; `path` a NUL-terminated string; `out` writable.
+ */
+enum SpacearmStatus spacearm_stepper_new_from_file(const struct SpacearmModel *model,
+                                                   const char *path,
+                                                   struct SpacearmStepper **out);
+
+/**
  * Free a stepper (NULL is ignored).
  *
  * # Safety
@@ -560,6 +571,16 @@ double spacearm_stepper_time(const struct SpacearmStepper *stepper);
 enum SpacearmStatus spacearm_stepper_state(const struct SpacearmStepper *stepper,
                                            double *x_out,
                                            double *u_out);
+
+/**
+ * The free target's 13-state `[r, quat xyzw, v, ω]` (in 𝒥) into `out` (13 doubles), for a
+ * stepper whose options name a target; `SPACEARM_STATUS_INVALID_ARGUMENT` without one.
+ *
+ * # Safety
+ * `stepper` a live handle; `out` 13 writable doubles.
+ */
+enum SpacearmStatus spacearm_stepper_target_state(const struct SpacearmStepper *stepper,
+                                                  double *out);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -18,8 +18,16 @@
 //! kd = [20.0, 20.0]
 //! reference = [0.1, 0.2]   # a list: a constant set point; or a table, e.g. kind = "quintic"
 //! ```
+//!
+//! With `[contact]`, the options may name a free target in the loop of contact (docs/contact.md,
+//! "Contact with a free target"): `target = "rock.toml"` (its model TOML file) and
+//! `target_state = [r, quat xyzw, v, ω]` (13); a relative path is read from the working
+//! directory (`spacearm_stepper_new` takes the options as text; `spacearm_stepper_new_from_file`
+//! reads it from the options file's folder). `spacearm_stepper_target_state` gives its state.
+//! An FMU refuses a target (its variables carry the robot's state only).
 
 use std::ffi::c_char;
+use std::path::Path;
 
 use nalgebra::Vector6;
 use spacearm_core::control::spec::{no_external, ControllerSpec};
@@ -67,6 +75,8 @@ pub(crate) fn check_steps_per_call(steps: f64, what: &str) -> Outcome<usize> {
 pub(crate) struct StepperOptions {
     pub sim: SimOptions,
     pub controller: ControllerSpec,
+    /// A free target in the loop of contact: its model and 13-state.
+    pub target: Option<(Model, Vec<f64>)>,
 }
 
 impl StepperOptions {
@@ -74,9 +84,16 @@ impl StepperOptions {
     /// an unknown controller kind, a value of the wrong type) is `Parse`; a value the core's
     /// checks refuse has the core's status (`InvalidArgument`, `Dimension`, `NotFound`, ...).
     pub(crate) fn parse(model: &Model, text: &str) -> Outcome<Self> {
+        Self::parse_in(model, text, None)
+    }
+
+    /// [`StepperOptions::parse`] of an options file in the folder `base` (a relative `target`
+    /// path is read from there; `None`: from the working directory).
+    pub(crate) fn parse_in(model: &Model, text: &str, base: Option<&Path>) -> Outcome<Self> {
         // The core's run description (sim/options.rs RunSpec): the same names, defaults and
         // checks as spacearm.simulate's; the stepper adds its step bounds and steps RK4 only.
-        let o: RunSpec = toml::from_str(text).map_err(|e| Failure::new(SpacearmStatus::Parse, format!("stepper options: {e}")))?;
+        let mut o: RunSpec = toml::from_str(text).map_err(|e| Failure::new(SpacearmStatus::Parse, format!("stepper options: {e}")))?;
+        let target = o.free_target(base)?;
         if !(SPACEARM_MIN_DT..=SPACEARM_MAX_DT).contains(&o.dt) {
             return Err(Failure::argument(format!(
                 "dt must be between {SPACEARM_MIN_DT:e} s and {SPACEARM_MAX_DT} s (SPACEARM_MIN_DT, SPACEARM_MAX_DT), got {:e} s",
@@ -91,22 +108,45 @@ impl StepperOptions {
         }
         let sim = o.options(o.dt)?;
         sim.refuse_stop("the stepper")?;
-        StepperOptions { sim, controller: ControllerSpec::None {} }.with_controller(model, o.controller.unwrap_or(ControllerSpec::None {}))
+        StepperOptions { sim, controller: ControllerSpec::None {}, target }.with_controller(model, o.controller.unwrap_or(ControllerSpec::None {}))
     }
 
     /// These options with the controller `spec`, checked against `model`: the spec's own checks,
     /// its construction on the plant (points, tasks) and the controller's setup (dimensions, the
     /// mode), as a run would do them.
     pub(crate) fn with_controller(&self, model: &Model, spec: ControllerSpec) -> Outcome<Self> {
-        let options = StepperOptions { sim: self.sim.clone(), controller: spec };
-        Plant::owned(model.clone(), &options.sim, options.build_controller(model)?)?;
+        let options = StepperOptions { sim: self.sim.clone(), controller: spec, target: self.target.clone() };
+        options.plant(model)?;
         Ok(options)
+    }
+
+    /// The plant of a run on `model` with a fresh controller (and the free target, if any).
+    pub(crate) fn plant(&self, model: &Model) -> Outcome<Plant<'static>> {
+        let controller = self.build_controller(model)?;
+        Ok(match &self.target {
+            Some((t, s)) => Plant::owned_with_target(model.clone(), &self.sim, controller, t, s)?,
+            None => Plant::owned(model.clone(), &self.sim, controller)?,
+        })
     }
 
     /// A fresh controller for a run on `model`.
     pub(crate) fn build_controller(&self, model: &Model) -> Outcome<Box<dyn Controller>> {
         Ok(self.controller.build(model, &mut no_external)?)
     }
+}
+
+/// Refuse options TOML `text` that names a free target where it cannot run: an FMU's variables
+/// carry the robot's state only (docs/fmi.md), so no FMU is made of, nor instantiated from,
+/// options with `target` or `target_state`.
+pub(crate) fn refuse_target(text: &str, what: &str) -> Outcome {
+    let doc: toml::Table = toml::from_str(text).map_err(|e| Failure::new(SpacearmStatus::Parse, format!("stepper options: {e}")))?;
+    if doc.contains_key("target") || doc.contains_key("target_state") {
+        return Err(Failure::argument(format!(
+            "{what} with a free target (the options' target, target_state) is not implemented: an FMU's variables carry the robot's \
+             state only; run the target with the C stepper (spacearm_stepper_target_state) or spacearm.simulate(target=...)"
+        )));
+    }
+    Ok(())
 }
 
 /// `options` (stepper options TOML without a `[controller]` table) with the controller spec
@@ -170,7 +210,7 @@ impl SpacearmStepper {
     /// Start again at `t = 0` from `(x0, u0)` with a fresh controller.
     pub(crate) fn reset(&mut self, x0: &[f64], u0: &[f64]) -> Outcome {
         check_initial_state(&self.model, x0, u0)?;
-        let plant = Plant::owned(self.model.clone(), &self.options.sim, self.options.build_controller(&self.model)?)?;
+        let plant = self.options.plant(&self.model)?;
         self.stepper = Some(Rk4Stepper::new(plant, x0, u0, None)?);
         Ok(())
     }
@@ -235,6 +275,27 @@ pub unsafe extern "C" fn spacearm_stepper_new(model: *const SpacearmModel, optio
         let m = unsafe { model_ref(model) }?;
         let text = if options.is_null() { "" } else { unsafe { text(options, "options") }? };
         let opts = StepperOptions::parse(&m.model, text)?;
+        if out.is_null() {
+            return Err(Failure::new(SpacearmStatus::NullPointer, "out is NULL; expected the address of a SpacearmStepper*"));
+        }
+        unsafe { *out = Box::into_raw(Box::new(SpacearmStepper::new(m.model.clone(), opts))) };
+        Ok(())
+    })
+}
+
+/// A stepper for a copy of `model` with the options read from the TOML file `path` (a relative
+/// `target` path in it is read from the file's folder; see `spacearm_stepper_new`).
+///
+/// # Safety
+/// `model` a live handle; `path` a NUL-terminated string; `out` writable.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_stepper_new_from_file(model: *const SpacearmModel, path: *const c_char, out: *mut *mut SpacearmStepper) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let m = unsafe { model_ref(model) }?;
+        let path = Path::new(unsafe { text(path, "path") }?);
+        let text = std::fs::read_to_string(path).map_err(|e| Failure::new(SpacearmStatus::Io, format!("{}: cannot read the options file: {e}", path.display())))?;
+        let opts = StepperOptions::parse_in(&m.model, &text, Some(path.parent().unwrap_or(Path::new(""))))?;
         if out.is_null() {
             return Err(Failure::new(SpacearmStatus::NullPointer, "out is NULL; expected the address of a SpacearmStepper*"));
         }
@@ -321,6 +382,22 @@ pub unsafe extern "C" fn spacearm_stepper_state(stepper: *const SpacearmStepper,
             put("the state u_out", &y[nx..], unsafe { output(u_out, y.len() - nx, "u_out") }?)?;
         }
         Ok(())
+    })
+}
+
+/// The free target's 13-state `[r, quat xyzw, v, ω]` (in 𝒥) into `out` (13 doubles), for a
+/// stepper whose options name a target; `SPACEARM_STATUS_INVALID_ARGUMENT` without one.
+///
+/// # Safety
+/// `stepper` a live handle; `out` 13 writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn spacearm_stepper_target_state(stepper: *const SpacearmStepper, out: *mut f64) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract, documented above.
+        let s = unsafe { stepper.as_ref() }.ok_or_else(|| Failure::new(SpacearmStatus::NullPointer, "stepper is NULL"))?;
+        let run = s.stepper.as_ref().ok_or_else(|| Failure::argument("the stepper has no state yet; call spacearm_stepper_reset first"))?;
+        let t = run.target_state().ok_or_else(|| Failure::argument("the stepper has no free target (its options name none: target = \"...toml\", target_state = [...])"))?;
+        put("the target's state", t, unsafe { output(out, 13, "out") }?)
     })
 }
 

@@ -5,19 +5,21 @@
 //! medians of `--rounds` repetitions. Under `perf record -g` with `cold` or `warm` as the
 //! argument it runs only that solve, many times.
 //!
-//! `cargo run --release -p spacearm-core --example mpc_profile [cold|warm] [rounds]`
+//! `cargo run --release -p spacearm-core --example mpc_profile [cold|warm|law|trace] [rounds] [keep|nokeep] [iterations] [euler]`
+//! (`law`: 50-sample receding horizons from the same start, `iterations` per sample, default 3)
 
 use std::time::Instant;
 
 use spacearm_core::model::presets;
 use spacearm_core::optimal::backward::Backward;
 use spacearm_core::optimal::costs::{CostSpec, Numbers};
+use spacearm_core::optimal::discretization::DiscretizationKind;
 use spacearm_core::optimal::forward::{forward_pass, Trajectory};
 use spacearm_core::optimal::shooting::{KnotModel, ShootingProblem};
 use spacearm_core::optimal::fddp::{solve_in, Workspace};
 use spacearm_core::optimal::{solve, ProblemSpec, RobotProblem, SolverOptions};
 
-fn spec(goal: &[f64]) -> ProblemSpec {
+fn spec(goal: &[f64], discretization: DiscretizationKind) -> ProblemSpec {
     ProblemSpec {
         horizon: 50,
         dt: 0.02,
@@ -29,6 +31,7 @@ fn spec(goal: &[f64]) -> ProblemSpec {
         terminal: vec![CostSpec::Joint { weight_q: Numbers::One(100.0), reference: goal.to_vec(), weight_qd: Numbers::One(1.0), velocity_reference: None }],
         control_limit: Numbers::One(5.0),
         start_time: 0.0,
+        discretization,
     }
 }
 
@@ -38,7 +41,10 @@ fn median(v: &mut [f64]) -> f64 {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
+    // `euler` anywhere in the arguments: the semi-implicit Euler step instead of RK4.
+    let all: Vec<String> = std::env::args().collect();
+    let kind = if all.iter().any(|a| a == "euler") { DiscretizationKind::Euler } else { DiscretizationKind::Rk4 };
+    let args: Vec<String> = all.into_iter().filter(|a| a != "euler").collect();
     let which = args.get(1).cloned().unwrap_or_else(|| "all".into());
     let rounds: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(20);
     let model = presets::spatial6();
@@ -49,8 +55,8 @@ fn main() {
     let mut z0 = vec![0.0; 13 + 2 * n];
     z0[6] = 1.0;
     z0[7..7 + n].copy_from_slice(model.initial_q());
-    let mut problem = RobotProblem::new(&model, &spec(&goal), &z0).unwrap();
-    let mut previous_problem = RobotProblem::new(&model, &spec(&moved), &z0).unwrap();
+    let mut problem = RobotProblem::new(&model, &spec(&goal, kind), &z0).unwrap();
+    let mut previous_problem = RobotProblem::new(&model, &spec(&moved, kind), &z0).unwrap();
     let opts = SolverOptions::default();
     let previous = solve(&mut previous_problem, None, None, &opts).unwrap();
     let (mut cold, mut warm) = (Vec::new(), Vec::new());
@@ -73,6 +79,8 @@ fn main() {
         // The native law's warm starts (control::mpc): each sample from the plan's next state,
         // the last solution shifted by a knot, the knot models kept (Workspace::shift).
         let keep = args.get(3).map(|s| s != "nokeep").unwrap_or(true);
+        // The most iterations per sample (default 3; 1: the real-time iteration scheme).
+        let per_sample: usize = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(3);
         let mut times = Vec::new();
         let mut iterations = 0;
         for _ in 0..rounds {
@@ -92,7 +100,7 @@ fn main() {
                     ws.shift(1);
                 }
                 let s = Instant::now();
-                sol = solve_in(&mut ws, &mut problem, Some(&zs), Some(&cs), &SolverOptions { max_iterations: 3, ..opts }).unwrap();
+                sol = solve_in(&mut ws, &mut problem, Some(&zs), Some(&cs), &SolverOptions { max_iterations: per_sample, ..opts }).unwrap();
                 times.push(s.elapsed().as_secs_f64());
                 iterations += sol.iterations;
             }

@@ -20,7 +20,6 @@ mod description_py;
 mod edit_py;
 mod errors_py;
 mod events_py;
-mod free_target_py;
 mod interrupt;
 mod model_io_py;
 mod model_py;
@@ -65,7 +64,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
         functions: [
             batch::set_batch_threads, batch::batch_threads,
             builder_py::slosh_links, builder_py::panel_parts, builder_py::beam_parts, builder_py::compliant_parts,
-            builder_py::cmg_parts, builder_py::cmgs, builder_py::cmg_velocity, builder_py::gripper_parts, builder_py::grippers,
+            builder_py::cmg_parts, builder_py::cmgs, builder_py::cmg_velocity, builder_py::gripper_parts, builder_py::grippers, builder_py::docking_parts,
             builder_py::cylinder_slosh, builder_py::sphere_slosh, builder_py::sphere_fill_height, builder_py::cylinder_fill_height,
             edit_py::model_attach_body, edit_py::model_attach_model, edit_py::model_remove_subtree,
             preset,
@@ -99,7 +98,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     add_to_module!(
         m,
         functions: [
-            simulate_py::simulate, events_py::simulate_events, free_target_py::simulate_target, rollout_py::rollout, controller_spec_py::check_spec, mpc_py::mpc_solve,
+            simulate_py::simulate, rollout_py::rollout, controller_spec_py::check_spec, mpc_py::mpc_solve,
             simulate_py::perturbed, simulate_py::perturbed_cmgs_py, simulate_py::conserved_drift, simulate_py::default_wheel_dofs,
         ],
         classes: [

@@ -9,6 +9,7 @@
 use numpy::{PyArray1, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
+use spacearm_core::sim::result::CONTACT_FORCE_WIDTH;
 use spacearm_core::sim::simulate::{SimOptions, SimResult};
 
 /// The quantities a run may record.
@@ -45,6 +46,8 @@ pub enum Record {
     ContactCount,
     ContactNormalForce,
     ContactWork,
+    ContactForces,
+    ContactImpulse,
 }
 
 impl Record {
@@ -82,6 +85,17 @@ impl Record {
             Record::ContactCount => "contact_count",
             Record::ContactNormalForce => "contact_normal_force",
             Record::ContactWork => "contact_work",
+            Record::ContactForces => "contact_forces",
+            Record::ContactImpulse => "contact_impulse",
+        }
+    }
+
+    /// The rows of a record of `values` with `width` per row: one per sample (`k`), but for the
+    /// ragged `contact_forces` (one per acting contact per sample; its first column says which).
+    pub fn rows(self, k: usize, values: &[f64], width: usize) -> usize {
+        match self {
+            Record::ContactForces => values.len() / width,
+            _ => k,
         }
     }
 
@@ -165,6 +179,13 @@ pub fn take_fields(res: &mut SimResult, nx: usize, nu: usize, n: usize) -> Vec<F
         out.push(f(Record::ContactCount, c, 1, true));
         out.push(f(Record::ContactNormalForce, n, 1, true));
         out.push(f(Record::ContactWork, w, 1, true));
+    }
+    if let Some(rows) = r.contact_forces.take() {
+        // Ragged: one row per acting contact per sample, not one per sample ([`Record::rows`]).
+        out.push(f(Record::ContactForces, rows, CONTACT_FORCE_WIDTH, false));
+    }
+    if let Some(v) = r.contact_impulse.take() {
+        out.push(f(Record::ContactImpulse, v, 3, false));
     }
     out
 }
@@ -300,6 +321,15 @@ pub struct PyRunRecords {
     /// power integrated with the motion), J, or None.
     #[pyo3(get)]
     contact_work: Option<Array>,
+    /// `(R, 13)` with contact: one row per contact that exerts a force at a sample,
+    /// `[k, body_a, body_b, point (3), normal (3), f_n, force on body_b (3)]` (sample index, the
+    /// bodies, a free target being body nb; in 𝒥, m and N; body_a feels −force), or None.
+    #[pyo3(get)]
+    contact_forces: Option<Array>,
+    /// `(K, 3)` with rigid contact: the sum since t = 0 of the impulses received by the second
+    /// body of each contact point, in 𝒥, N·s, or None.
+    #[pyo3(get)]
+    contact_impulse: Option<Array>,
     /// The records made, in the order of [`take_fields`].
     made: Vec<Record>,
 }
@@ -342,6 +372,8 @@ impl PyRunRecords {
                 Record::ContactCount => &mut r.contact_count,
                 Record::ContactNormalForce => &mut r.contact_normal_force,
                 Record::ContactWork => &mut r.contact_work,
+                Record::ContactForces => &mut r.contact_forces,
+                Record::ContactImpulse => &mut r.contact_impulse,
             };
             *slot = Some(array.cast_into::<PyUntypedArray>()?.unbind());
             r.made.push(record);
@@ -354,7 +386,8 @@ impl PyRunRecords {
         let k = res.records.n_samples;
         let mut arrays = Vec::new();
         for field in take_fields(res, nx, nu, n) {
-            let shape: Vec<usize> = if field.scalar { vec![k] } else { vec![k, field.width] };
+            let rows = field.record.rows(k, &field.values, field.width);
+            let shape: Vec<usize> = if field.scalar { vec![rows] } else { vec![rows, field.width] };
             arrays.push((field.record, to_numpy(py, field.record, field.values, &shape, float32)?));
         }
         Self::from_arrays(arrays)
@@ -631,6 +664,9 @@ pub struct PyRunResult {
     events: Py<PyRunEvents>,
     /// The run's description.
     meta: Py<PyRunMeta>,
+    /// A run with a free target or topology events: the second system's rows, the ledger and
+    /// the events that happened (events_py.rs); None for a run of the robot alone.
+    topology: Option<Py<PyDict>>,
 }
 
 impl PyRunResult {
@@ -639,7 +675,12 @@ impl PyRunResult {
         let events = Py::new(py, PyRunEvents::of_run(py, &res))?;
         let meta = Py::new(py, PyRunMeta::of_run(py, &res, opts, float32)?)?;
         let records = Py::new(py, PyRunRecords::of_run(py, &mut res, float32, dims)?)?;
-        Ok(PyRunResult { records, events, meta })
+        Ok(PyRunResult { records, events, meta, topology: None })
+    }
+
+    /// This result with the rows of its second system (`topology`).
+    pub fn with_topology(self, topology: Bound<'_, PyDict>) -> Self {
+        PyRunResult { topology: Some(topology.unbind()), ..self }
     }
 }
 

@@ -6,12 +6,15 @@
 use pyo3::prelude::*;
 use spacearm_core::control::mismatch::{perturbed_cmgs, perturbed_model, Slosh};
 use spacearm_core::control::{Controller, ZeroTorque};
-use spacearm_core::sim::simulate::{simulate as core_simulate, Progress, SimOptions, SimResult};
+use spacearm_core::sim::run::{run, RunInput, RunOutput};
+use spacearm_core::sim::simulate::{Progress, SimOptions, SimResult};
+use spacearm_core::sim::topology::TopologyEvent;
 use spacearm_core::Model;
 use spacearm_core::SpacearmError;
 
-use crate::controller_spec_py::{build_controller, error_slot, take_error, ErrorSlot};
+use crate::controller_spec_py::{build_controller, error_slot, from_data, take_error, ErrorSlot};
 use crate::convert::*;
+use crate::events_py::topology_dict;
 use crate::interrupt::run_reporting;
 use crate::model_py::PyModel;
 use crate::records_py::PyRunResult;
@@ -19,10 +22,15 @@ use crate::sim_options_py::PyRunOptions;
 
 type CoreResult<T> = spacearm_core::Result<T>;
 
-/// Run a simulation, without the GIL; returns its records, saturation onsets and description as
-/// a `RunResult` (see `spacearm.sim.simulation`).
+/// Run a simulation, without the GIL: the core's one entry (`spacearm_core::sim::run::run`),
+/// which decides the loop from what is given — the robot alone, a free target (13-state
+/// `target_state`) in the loop of the options' contact, topology `events` (a list of plain-data
+/// events, the core's `TopologyEvent`), or both; returns its records, saturation onsets and
+/// description as a `RunResult`, with a second system its rows as `RunResult.topology`
+/// (events_py.rs; see `spacearm.sim.simulation`).
 #[pyfunction]
-#[pyo3(signature = (model, x0, u0, duration, options, controller_spec=None))]
+#[pyo3(signature = (model, x0, u0, duration, options, controller_spec=None, events=None, target=None, target_state=None))]
+#[allow(clippy::too_many_arguments)]
 pub fn simulate<'py>(
     py: Python<'py>,
     model: &Bound<'py, PyModel>,
@@ -31,16 +39,49 @@ pub fn simulate<'py>(
     duration: f64,
     options: PyRef<'py, PyRunOptions>,
     controller_spec: Option<&Bound<'py, PyAny>>,
+    events: Option<&Bound<'py, PyAny>>,
+    target: Option<&Bound<'py, PyModel>>,
+    target_state: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<PyRunResult> {
-    let run = RunArgs::read(model.borrow().model.clone(), x0, u0, duration, &options, py)?;
-    let res = run_controlled(py, &run.plant, controller_spec, run.progress_fn.as_ref(), |controller, progress| {
-        core_simulate(&run.plant, &run.x0, &run.u0, &run.opts, controller, progress)
-    })?;
-    run.result(py, res)
+    let args = RunArgs::read(model.borrow().model.clone(), x0, u0, duration, &options, py)?;
+    let events: Vec<TopologyEvent> = match events.filter(|e| !e.is_none()) {
+        Some(e) => from_data(e, "events")?,
+        None => Vec::new(),
+    };
+    let target: Option<Model> = target.map(|t| t.borrow().model.clone());
+    let state: Option<Vec<f64>> = target_state.filter(|s| !s.is_none()).map(|s| vec_arg(s, "target_state").map(|v| v.as_slice().to_vec())).transpose()?;
+    let pair = match (&target, &state) {
+        (Some(t), Some(s)) => Some((t, s.as_slice())),
+        (None, None) => None,
+        _ => return Err(to_py_err(py, SpacearmError::InvalidArgument("target and target_state go together: give both (a rigid model and its 13-state) or neither".into()))),
+    };
+    let slot = error_slot();
+    let spec: Option<Py<PyAny>> = controller_spec.filter(|s| !s.is_none()).map(|s| s.clone().unbind());
+    let (result, interrupted) = run_reporting(py, args.progress_fn.as_ref(), |progress| {
+        // The controller of the spec on each segment's model (the robot's alone: once).
+        let mut factory = |m: &Model| -> CoreResult<Box<dyn Controller>> {
+            match &spec {
+                Some(s) => Python::attach(|py| build_controller(s.bind(py), m, &slot)).map_err(|e| {
+                    let msg = Python::attach(|py| e.value(py).to_string());
+                    slot.lock().expect("the error slot").get_or_insert(e);
+                    SpacearmError::InvalidArgument(msg)
+                }),
+                None => Ok(Box::new(ZeroTorque)),
+            }
+        };
+        let input = RunInput { robot: &args.plant, x0: &args.x0, u0: &args.u0, opts: &args.opts, target: pair, events: &events };
+        run(input, &mut factory, progress)
+    });
+    match result.map_err(|e| run_error(py, e, &slot, interrupted))? {
+        RunOutput::Plain(res) => args.result(py, res),
+        RunOutput::WithTarget(mut run) => {
+            let d = topology_dict(py, &mut run)?;
+            Ok(args.result(py, run.result)?.with_topology(d))
+        }
+    }
 }
 
-/// What every single-plant run entry point (`simulate`, `simulate_events`,
-/// `simulate_closed_chain`) reads of its `(model, x0, u0, duration, options)` arguments, the
+/// What every single-plant run entry point (`simulate`, `simulate_closed_chain`) reads of its `(model, x0, u0, duration, options)` arguments, the
 /// same way: a copy of the model (the run holds no borrow of the Python object, so a callback
 /// controller may call the robot's methods), the initial state, the options of a run of
 /// `duration`, the records' precision and the progress callable.

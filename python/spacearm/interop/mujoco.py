@@ -266,7 +266,7 @@ def _welded_bodies(robot, weld) -> list:
 
 
 def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, base_actuators: bool = False,
-            assets=None, weld=(), lent_mass: float = LENT_MASS) -> str:
+            assets=None, weld=(), lent_mass: float = LENT_MASS, contact=None, target=None, effective_mass=None) -> str:
     """The MJCF (MuJoCo XML) text of ``robot``.
 
     - Every MuJoCo body frame IS the spacearm body frame (origin at the CM, link axes), so the
@@ -321,7 +321,18 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
       ``qvel`` more per welded body, after the robot's
       ([`to_mujoco_state`][spacearm.interop.to_mujoco_state] with the same ``weld``).
     - ``<visual><headlight>`` brighter than MuJoCo's default (``HEADLIGHT``).
-    - ``<option gravity="0 0 0">``, contacts disabled, armature and friction loss explicitly
+    - ``target`` (a rigid model: a ``spacearm.Target`` or a ``Robot`` without joints, the free
+      target of ``simulate(..., target=)``): a free body of the world named as its body
+      (``<freejoint name="<body>_free">``) with its shapes, after the robot's bodies; its
+      ``qpos``/``qvel`` follow the robot's
+      ([`target_qpos_qvel`][spacearm.interop.mujoco_contact.target_qpos_qvel]).
+    - ``contact`` (a [`ContactModel`][spacearm.contact.ContactModel]): contacts on (elliptic
+      cones), a ``<contact><pair>`` for each pair of collision geoms it admits (the shapes keep
+      ``contype``/``conaffinity`` 0, so no other pair collides) with the law mapped by
+      [`mujoco_contact_parameters`][spacearm.interop.mujoco_contact.mujoco_contact_parameters]
+      at ``effective_mass`` (kg, every pair; or ``{(geom_a, geom_b): kg}``), docs/contact.md,
+      "In MuJoCo".
+    - ``<option gravity="0 0 0">``, contacts disabled (unless ``contact``), armature and friction loss explicitly
       zero (damping and stiffness zero unless the joint has them), no limits, RK4 (the
       integrator changes no term of the continuous-time dynamics), and the ``energy`` flag on
       so that ``MjData.energy`` holds the kinetic energy.
@@ -331,7 +342,12 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
     ET.SubElement(root, "compiler", angle="radian", inertiafromgeom="false", autolimits="true",
                   alignfree="false", fusestatic="false", boundmass="0", boundinertia="0", balanceinertia="false")
     option = ET.SubElement(root, "option", gravity="0 0 0", integrator="RK4", density="0", viscosity="0")
-    ET.SubElement(option, "flag", contact="disable", energy="enable")
+    if contact is not None:
+        if effective_mass is None:
+            raise ArgumentError("to_mjcf(contact=...) needs effective_mass: the mass (kg) the contacts' normal sees, "
+                                "to map the stiffness and damping onto MuJoCo's solref (docs/contact.md, \"In MuJoCo\")")
+        option.set("cone", "elliptic")
+    ET.SubElement(option, "flag", contact="disable" if contact is None else "enable", energy="enable")
     visual = ET.SubElement(root, "visual")  # a brighter headlight than MuJoCo's: the model shows on the black sky
     ET.SubElement(visual, "headlight", ambient=_fmt(HEADLIGHT[0]), diffuse=_fmt(HEADLIGHT[1]))
     world = ET.SubElement(root, "worldbody")
@@ -422,6 +438,19 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
     emit(world, 0)
     for b in welded:
         emit(world, b)
+    if target is not None:
+        target = _free_target_model(target)
+        tb = _tree(target)[0][0]
+        el = ET.SubElement(world, "body", name=mjcf_body_name(tb.name), pos="0 0 0")
+        ET.SubElement(el, "freejoint", name=f"{tb.name}_free", align="false")
+        _inertial(el, tb.mass, tb.inertia, floor=POINT_INERTIA)
+        for g in target.description.geometries:
+            if g.role in tuple(geometry):
+                _geom(el, g, meshes)
+    if contact is not None:
+        from .mujoco_contact import write_contact
+
+        write_contact(root, robot, contact, target, effective_mass)
     if welded:
         eq = ET.SubElement(root, "equality")
         for b in welded:
@@ -447,6 +476,17 @@ def to_mjcf(robot, *, geometry=("visual", "collision"), actuators: bool = True, 
                 ET.SubElement(act, "motor", name=f"base_{axis}", site=BASE_SITE, refsite=WORLD_SITE, gear=_fmt(gear))
     ET.indent(root)
     return ET.tostring(root, encoding="unicode")
+
+
+def _free_target_model(target):
+    """The rigid ``Robot`` of a free target (a ``spacearm.Target``'s body, or the model itself)."""
+    from ..model.robot import Robot
+
+    if not isinstance(target, Robot) and isinstance(getattr(target, "body", None), Robot):
+        target = target.body
+    if not isinstance(target, Robot) or target.n_dof != 0:
+        raise ArgumentError(f"target must be a rigid model (a spacearm.Target or a Robot without joints), got {type(target).__name__}")
+    return target
 
 
 def to_mujoco(robot, **options):

@@ -542,6 +542,74 @@ class RobotBuilder:
             self.add_geometry(body, shape, role=role, radius=radius, length=length, origin=origin, rotation=rot, name=gname)
         return self
 
+    def add_probe(
+        self,
+        name: str,
+        *,
+        body: Optional[str] = None,
+        position: Sequence[float] = (0.0, 0.0, 0.0),
+        rotation: Optional[Sequence[float]] = None,
+        rpy: Optional[Sequence[float]] = None,
+        length: float,
+        radius: float,
+        head_radius: Optional[float] = None,
+    ) -> "RobotBuilder":
+        """Add a docking probe (docs/contact.md, "Probe and drogue"; the core's
+        ``model/docking.rs``): a capsule collision shape ``name`` of ``radius`` on ``body``
+        (default: the base), its segment from ``position`` (body frame, from its CM) along the
+        ``+z`` of ``rotation`` (``[x, y, z, w]``) or ``rpy`` for ``length``, its head
+        ``<name>_head`` (a ball of ``head_radius``, default ``radius``) and the point
+        ``<name>_tip`` at the segment's end. Name the head in the contact pairs: it is what
+        meets a drogue."""
+        return self._add_docking("probe", name, body, position, rotation, rpy,
+                                 {"length": number(length, f"probe '{name}' length"),
+                                  "radius": number(radius, f"probe '{name}' radius"),
+                                  "head_radius": None if head_radius is None else number(head_radius, f"probe '{name}' head_radius")})
+
+    def add_drogue(
+        self,
+        name: str,
+        *,
+        body: Optional[str] = None,
+        position: Sequence[float] = (0.0, 0.0, 0.0),
+        rotation: Optional[Sequence[float]] = None,
+        rpy: Optional[Sequence[float]] = None,
+        mouth_radius: float,
+        throat_radius: float,
+        depth: float,
+        rib_radius: float,
+        ribs: int = 12,
+    ) -> "RobotBuilder":
+        """Add a docking drogue (docs/contact.md, "Probe and drogue"; the core's
+        ``model/docking.rs``): a cone on ``body`` (default: the base) whose throat's centre is at
+        ``position`` and whose axis, out of the mouth, is the ``+z`` of ``rotation`` or ``rpy``,
+        made of ``ribs`` capsules ``<name>_rib<i>`` (radius ``rib_radius``) from the throat's
+        circle (``throat_radius``) to the mouth's (``mouth_radius``, ``depth`` above it), the
+        throat closed by the plate ``<name>_throat_plate``; points ``<name>_throat`` and
+        ``<name>_mouth``."""
+        if isinstance(ribs, bool) or not isinstance(ribs, (int, np.integer)):
+            raise ArgumentError(f"drogue '{name}': ribs must be an integer >= 3, got {ribs!r}")
+        return self._add_docking("drogue", name, body, position, rotation, rpy, {
+            "mouth_radius": number(mouth_radius, f"drogue '{name}' mouth_radius"),
+            "throat_radius": number(throat_radius, f"drogue '{name}' throat_radius"),
+            "depth": number(depth, f"drogue '{name}' depth"),
+            "rib_radius": number(rib_radius, f"drogue '{name}' rib_radius"),
+            "ribs": int(ribs),
+        })
+
+    def _add_docking(self, kind, name, body, position, rotation, rpy, fields) -> "RobotBuilder":
+        quat = _frame_rotation(rotation, rpy, f"{kind} '{name}'")
+        spec = {"name": str(name), "body": self._base_name if body is None else str(body),
+                "position": list(vector(position, f"{kind} '{name}' position", 3)),
+                "rotation": [float(v) for v in quat], **fields}
+        points, geometries = _core.docking_parts(kind, spec)
+        for gname, gbody, role, shape, radius, length, origin, rot in geometries:
+            self.add_geometry(gbody, shape, role=role, radius=radius, length=None if shape == "sphere" else length,
+                              origin=origin, rotation=rot, name=gname)
+        for point, pbody, offset in points:
+            self.add_point(point, body=pbody, offset=offset)
+        return self
+
     def add_point(self, name: str, *, body: str, offset: Sequence[float] = (0.0, 0.0, 0.0)) -> "RobotBuilder":
         """Add a named point fixed to ``body`` at ``offset`` (body frame, from its CM)."""
         offset = list(vector(offset, f"point '{name}' offset", 3))

@@ -81,12 +81,8 @@ def _target_data(target):
     from ..control import FreeBodyPoint, _data
 
     if isinstance(target, FreeBodyPoint):
-        if target.orbit is not None:
-            from ..errors import ArgumentError
-
-            raise ArgumentError("a PointCost's FreeBodyPoint target in orbit is not implemented: the MPC's moving target is torque-free (give orbit=None)")
-        data = {k: v for k, v in _data(target).items() if k not in ("point", "orbit")}
-        return data
+        data = _data(target)
+        return {k: v for k, v in data.items() if k != "point" and not (k == "orbit" and v is None)}
     return _numbers(list(target))
 
 
@@ -95,7 +91,8 @@ class PointCost:
     r"""$\tfrac12 \sum w_i (p(x) - p_\mathrm{target}(t))_i^2$ of the point at ``offset`` (m, body
     frame, from its CM) on ``body`` (index or link name). ``target``: a fixed point (m, in 𝒥) or
     a moving one, a [`FreeBodyPoint`][spacearm.control.FreeBodyPoint] (a tumbling target's grasp
-    point, torque-free; its ``point`` is ignored), evaluated by the core at every knot's time
+    point, torque-free, or with ``orbit=`` the run's orbit, moving under gravity's tidal part
+    relative to the orbit's point; its ``point`` is ignored), evaluated by the core at every knot's time
     ``problem.start_time + k * dt`` (in the native law, plus the run's sample time)."""
 
     body: object
@@ -128,9 +125,12 @@ _COSTS = (JointCost, StateCost, BaseAttitudeCost, PointCost, ControlCost)
 @dataclass(frozen=True)
 class Problem:
     r"""An optimal-control problem: minimize $\sum_{k<T} h\,\ell(z_k, c_k) + \ell_T(z_T)$ over
-    ``horizon`` RK4 steps of ``dt`` seconds in ``mode``, with $|c_i| \le$ ``control_limit``
+    ``horizon`` steps of ``dt`` seconds in ``mode``, with $|c_i| \le$ ``control_limit``
     (one number or one per control; ``inf``: none). ``start_time``: the time (s, ≥ 0) of knot 0
-    on the clock of the moving targets. Checked by the core when made."""
+    on the clock of the moving targets. ``discretization``: the knots' step, ``"rk4"`` (the
+    simulator's RK4 step: a solution re-simulates exactly) or ``"euler"`` (semi-implicit Euler
+    on the state manifold: one derivative evaluation per knot instead of four, a model that
+    differs from the RK4 plant by $O(h)$). Checked by the core when made."""
 
     horizon: int
     dt: float
@@ -139,6 +139,7 @@ class Problem:
     mode: str = "floating"
     control_limit: object = math.inf
     start_time: float = 0.0
+    discretization: str = "rk4"
     _data: dict = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
@@ -156,6 +157,7 @@ class Problem:
             "terminal": [c.to_data() for c in self.terminal],
             "control_limit": _numbers(self.control_limit),
             "start_time": float(self.start_time),
+            "discretization": self.discretization,
         }
         _core.check_spec("mpc_problem", data)
         object.__setattr__(self, "_data", data)
@@ -190,8 +192,9 @@ class Solution:
     def resimulate(self, robot) -> float:
         """Replay the controls on the native simulator (``spacearm.Simulator``, RK4 at ``dt``,
         the problem's mode, each control held over its step) from ``x[0], u[0]``; returns the
-        largest difference between the simulated states and the solution's (0 to rounding:
-        the solver's step is the simulator's)."""
+        largest difference between the simulated states and the solution's (0 to rounding
+        with ``discretization="rk4"``: the solver's step is the simulator's; with ``"euler"``,
+        the difference between the plan's model and the RK4 plant)."""
         from ..sim.simulator import Simulator
 
         sim = Simulator(robot, dt=self.problem.dt, mode=self.problem.mode)

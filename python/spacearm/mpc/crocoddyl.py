@@ -8,7 +8,8 @@ spacearm's $z = [x; u]$ (``nq = 7 + N``, ``nv = 6 + N``) on its own manifold
 rotation increment, $\mathrm{quat} \leftarrow \exp(\delta\theta) \otimes \mathrm{quat}$ — the tangent of
 the core's derivatives, in which $\delta\dot x = u$ (so Crocoddyl's integrators, which advance the
 configuration by the velocity half of the state, integrate spacearm's kinematics). The model's
-``xout`` is $\dot u = \mathrm{FD}(x, u, S c)$ (the controls $c$: the joint torques in free floating)
+``xout`` is $\dot u = \mathrm{FD}(x, u, S c)$ (the controls $c$: the joint torques, then the base
+torque or wrench the mode allows, `control_columns`)
 and ``Fx``, ``Fu`` its exact Jacobians (``Robot.forward_dynamics_derivatives``, docs/derivatives.md).
 
 The cost is a ``crocoddyl.CostModelSum`` on that state (residuals that use only the state's
@@ -21,7 +22,7 @@ import numpy as np
 
 from ..errors import ArgumentError, MissingDependencyError, NonFiniteError
 
-__all__ = ["crocoddyl_action_model", "make_state"]
+__all__ = ["control_columns", "crocoddyl_action_model", "make_state"]
 
 
 def _import_crocoddyl():
@@ -148,33 +149,52 @@ def make_state(robot):
     return SpacearmState()
 
 
+_BASE_COLUMNS = {"floating": [], "rotation-floating": [], "rotation-flying": [3, 4, 5], "flying": [0, 1, 2, 3, 4, 5]}
+
+
+def control_columns(robot, mode: str = "floating") -> list:
+    """The generalized-force components ``f[columns[i]] = c[i]`` the controls of ``mode`` drive:
+    the joint torques, then the base torque ``N0`` (rotation-flying) or the base wrench
+    ``[F0; N0]`` (flying), in 𝒥 about the base CM (docs/conventions.md) — the core's
+    ``optimal::dynamics::ControlMap``."""
+    if mode not in _BASE_COLUMNS:
+        raise ArgumentError(f"crocoddyl_action_model: mode {mode!r} is not implemented (one of {', '.join(map(repr, _BASE_COLUMNS))} is; "
+                            "translation-flying's force acts through the moving system CM)")
+    return [6 + j for j in range(robot.n_dof)] + _BASE_COLUMNS[mode]
+
+
 def crocoddyl_action_model(robot, costs=None, *, mode: str = "floating", state=None):
     r"""A ``crocoddyl.DifferentialActionModelAbstract`` of ``robot`` (module docs): ``xout`` the
-    forward dynamics $\dot u$ of spacearm's state, ``Fx``/``Fu`` its analytic derivatives, the
-    cost ``costs`` (a ``crocoddyl.CostModelSum`` on ``state``; ``None``: no cost). ``state``: the
-    model's state (`make_state`; made when absent — pass
-    the one the costs were built on). The controls are the joint torques (``mode="floating"``;
-    the other modes' base actuation is not implemented here)."""
+    forward dynamics $\dot u = \mathrm{FD}(x, u, S c)$ of spacearm's state, ``Fx``/``Fu`` its
+    analytic derivatives, the cost ``costs`` (a ``crocoddyl.CostModelSum`` on ``state``;
+    ``None``: no cost). ``state``: the model's state (`make_state`; made when absent — pass the
+    one the costs were built on). The controls ``c`` are the mode's (`control_columns`): the
+    joint torques (``"floating"``, ``"rotation-floating"``), then the base torque $N_0$
+    (``"rotation-flying"``) or the base wrench $[F_0; N_0]$ (``"flying"``), in 𝒥."""
     crocoddyl = _import_crocoddyl()
-    if mode != "floating":
-        raise ArgumentError(f"crocoddyl_action_model: mode {mode!r} is not implemented (the controls of the 'floating' mode, the joint torques, are)")
+    columns = control_columns(robot, mode)
     state = make_state(robot) if state is None else state
     n = robot.n_dof
-    nq = 7 + n
-    if n == 0:
-        raise ArgumentError("crocoddyl_action_model: the robot has no joint to actuate in free floating")
+    nq, nc = 7 + n, len(columns)
+    if nc == 0:
+        raise ArgumentError(f"crocoddyl_action_model: the robot has no control in the {mode!r} mode (no joint, no base actuation)")
     if costs is not None and not isinstance(costs, crocoddyl.CostModelSum):
         raise ArgumentError(f"crocoddyl_action_model: costs must be a crocoddyl.CostModelSum, got {type(costs).__name__}")
 
+    def force(c):
+        f = np.zeros(6 + n)
+        if c is not None:
+            f[columns] = c
+        return f
+
     class SpacearmDifferentialActionModel(crocoddyl.DifferentialActionModelAbstract):
         def __init__(self):
-            crocoddyl.DifferentialActionModelAbstract.__init__(self, state, n, 0 if costs is None else costs.nr)
+            crocoddyl.DifferentialActionModelAbstract.__init__(self, state, nc, 0 if costs is None else costs.nr)
             self.robot, self.costs = robot, costs
 
         def calc(self, data, x, u=None):
-            tau = np.zeros(n) if u is None else u
             try:
-                data.xout[:] = robot.forward_dynamics(x[:nq], x[nq:], tau=tau)
+                data.xout[:] = robot.forward_dynamics(x[:nq], x[nq:], force(u))
             except NonFiniteError:
                 # A trial step of the line search that overflows: NaN, which Crocoddyl's solvers
                 # refuse as a failed step (a Python exception would abort the solve instead).
@@ -189,11 +209,10 @@ def crocoddyl_action_model(robot, costs=None, *, mode: str = "floating", state=N
                 data.cost = data.costs.cost
 
         def calcDiff(self, data, x, u=None):
-            tau = np.zeros(n) if u is None else u
-            d = robot.forward_dynamics_derivatives(x[:nq], x[nq:], tau=tau)
+            d = robot.forward_dynamics_derivatives(x[:nq], x[nq:], force(u))
             data.Fx[:, : 6 + n] = d.ddu_dx
             data.Fx[:, 6 + n:] = d.ddu_du
-            data.Fu[:, :] = d.ddu_df[:, 6:]
+            data.Fu[:, :] = d.ddu_df[:, columns]
             if costs is not None:
                 if u is None:
                     costs.calcDiff(data.costs, x)

@@ -254,12 +254,10 @@ def _run(
             # The options were checked first, before the progress callable (maybe a bar) was
             # made; they are built again with it.
             options = _options(robot, **option_args, progress=callback)
-        if events is None and (target is not None or target_state is not None):
-            result, topology = _run_target(robot, x0, u0, duration, options, spec, contact, target, target_state)
-        elif events is None:
-            result, topology = _core.simulate(robot.core_model, x0, u0, duration, options, spec), None
-        else:
-            result, topology = _run_events(robot, x0, u0, duration, options, spec, events, target, target_state)
+        # The core's one entry decides the loop (sim/run.rs): the robot alone, a free target in
+        # the loop of contact, topology events, or both.
+        model, state = _second_system(target, target_state)
+        result = _core.simulate(robot.core_model, x0, u0, duration, options, spec, _events_data(events), model, state)
     finally:
         close()
     # The typed run result as the public plain form: the records and saturation onsets as one
@@ -273,9 +271,10 @@ def _run(
         meta["orbit"] = orbit_meta(options)
     if contact is not None:
         meta["contact"] = options.contact
-    if topology is not None and "event_body" not in topology:
-        data.update(topology)  # a free target in the loop of contact
-    elif topology is not None:
+    topology = result.topology
+    if topology is not None:
+        # a second system: its rows (K, ...) and ledger, and the events that happened
+        topology = dict(topology)
         bodies = topology.pop("event_body")
         topology.pop("final_model")
         meta["events"] = [
@@ -303,24 +302,13 @@ def _second_system(target, target_state):
     return None if target is None else target.core_model, state
 
 
-def _run_target(robot, x0, u0, duration, options, spec, contact, target, target_state):
-    """The core's run with a free target in the loop of contact (docs/contact.md, "Contact with a
-    free target"): ``(RunResult, dict of the target's rows and the ledger)``."""
-    model, state = _second_system(target, target_state)
-    if model is None or state is None:
-        raise ArgumentError("target and target_state go together: give both (a rigid model and its 13-state) or neither")
-    if contact is None:
-        raise ArgumentError("a free target without events takes part in a run by contact: give contact=ContactModel(...) too "
-                            "(or events=[...] to attach it)")
-    return _core.simulate_target(robot.core_model, x0, u0, duration, options, spec, model, state)
-
-
-def _run_events(robot, x0, u0, duration, options, spec, events, target, target_state):
-    """The core's run with topology events (docs/events.md): ``(RunResult, topology dict)``."""
+def _events_data(events):
+    """The topology events as the core's plain data (None: no events)."""
+    if events is None:
+        return None
     from ..events import events_data
 
-    model, state = _second_system(target, target_state)
-    return _core.simulate_events(robot.core_model, x0, u0, duration, options, spec, events_data(events), model, state)
+    return events_data(events)
 
 
 def simulate(
@@ -413,20 +401,24 @@ def simulate(
         spring–dashpot normal forces and regularized Coulomb friction at every interpenetrating
         pair of collision shapes. Adds the records ``contact_count``, ``contact_normal_force``,
         ``contact_work`` and ``meta["contact"]``; the energy's drift is then that of the ledger
-        ``energy − contact_work``.
+        ``energy − contact_work``. ``ContactModel(kind="rigid")``: rigid frictional contact
+        solved every step on the Delassus operator (docs/contact.md, "Rigid contact in a run";
+        RK4 only), which records ``contact_impulse`` too.
     events : spacearm.events.Attach, spacearm.events.Detach or a list of them, optional
         Topology events (docs/events.md): weld the free target to the robot, release a rigid
         link, in list order, each continuing the run in one trajectory with robot + target
-        momentum continuous. Adds the records ``target`` (K, 13), ``attached`` (K,),
-        ``ledger_momentum`` (K, 6), ``ledger_energy`` (K,), the ``event_*`` arrays (one row per
-        event that happened) and ``meta["events"]``.
+        momentum continuous. With ``contact`` too, the flying target is in the loop of contact
+        and a threshold ``Attach`` is the grasp on contact (docs/events.md, "Events with
+        contact"). Adds the records ``target`` (K, 13), ``attached`` (K,), ``phase`` (K,: the
+        events that have happened), ``ledger_momentum`` (K, 6), ``ledger_energy`` (K,), the
+        ``event_*`` arrays (one row per event that happened) and ``meta["events"]``.
     target : spacearm.Target or spacearm.Robot, optional
-        With ``events``: the second system, a rigid target (its grasp points, or the model's
-        named points, are the points ``Attach(grasp=...)`` names). Without ``events``, with
-        ``contact``: a free target in the loop of contact (docs/contact.md, "Contact with a free
-        target"), one rigid body with collision shapes, integrated with the robot; contact pairs
-        name it ``"target"`` (or its geometries). Adds the records ``target`` (K, 13),
-        ``ledger_momentum`` (K, 6) and ``ledger_energy`` (K,) (robot + target); the drifts are
+        The second system, a rigid target (its grasp points, or the model's named points, are the
+        points ``Attach(grasp=...)`` names). With ``contact``: a free target in the loop of
+        contact (docs/contact.md, "Contact with a free target"), integrated with the robot, its
+        collision shapes touching it; contact pairs name it ``"target"`` (or its geometries).
+        Without ``events`` it needs ``contact``. Adds the records of ``events`` (none happen
+        without them: ``meta["events"]`` is empty); the drifts of a run without events are
         robot + target's.
     target_state : array_like (13,), optional
         Its state ``[r, quat (x, y, z, w), v, ω]`` at t = 0 (CM, attitude, CM velocity and

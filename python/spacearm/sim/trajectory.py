@@ -51,6 +51,7 @@ _PER_SAMPLE = (
     "t", "x", "u", "du", "tau", "tau_cmd", "base_wrench", "P", "L_origin", "L_com", "energy", "com",
     "ee_position", "ee_quat", "reference", "tracking_error", "link_tracking_error", "wheel_speed", "cmg_measure", "cmg_envelope_fraction",
     "r_cm_eci", "v_cm_eci", "gravity_wrench", "contact_count", "contact_normal_force", "contact_work",
+    "contact_impulse",
 )
 _EVENTS = ("saturation_t", "saturation_actuator", "saturation_kind")
 # Dtypes of a run's records adopted without conversion (a run may record float32).
@@ -458,12 +459,14 @@ class Trajectory:
 
     @property
     def contact_count(self) -> np.ndarray:
-        """With contact: the number of contacts touching or interpenetrating ``(K,)`` (docs/contact.md)."""
+        """With contact: the number of contacts touching or interpenetrating ``(K,)`` (docs/contact.md);
+        rigid contact: the points that took a normal impulse in the step before the sample."""
         return self._get("contact_count", "the run had no contact (simulate(..., contact=spacearm.contact.ContactModel(...)))")
 
     @property
     def contact_normal_force(self) -> np.ndarray:
-        """With contact: the sum of the contacts' normal forces ``(K,)``, N."""
+        """With contact: the sum of the contacts' normal forces ``(K,)``, N; rigid contact: the
+        last step's normal impulses over its length, ``Σ λ_n / dt``."""
         return self._get("contact_normal_force", "the run had no contact (simulate(..., contact=spacearm.contact.ContactModel(...)))")
 
     @property
@@ -472,6 +475,33 @@ class Trajectory:
         (their power integrated with the motion): ``energy − contact_work`` is conserved
         where the energy is."""
         return self._get("contact_work", "the run had no contact (simulate(..., contact=spacearm.contact.ContactModel(...)))")
+
+    @property
+    def contact_forces(self) -> np.ndarray:
+        """With contact: one row per contact that exerts a force at a sample ``(R, 13)``,
+        ``[k, body_a, body_b, point (3), normal (3), f_n, force (3)]``: the sample's index, the
+        two bodies (a free target is body ``nb``, one past the robot's), the point where the
+        forces act and the unit normal from ``body_a`` towards ``body_b`` in 𝒥 (m), the normal
+        force (N) and the total force on ``body_b`` (normal plus friction, N, in 𝒥; ``body_a``
+        feels its opposite). The rows of sample ``k``: [`contacts_at`][spacearm.Trajectory.contacts_at]."""
+        return self._get("contact_forces", "the run had no contact (simulate(..., contact=spacearm.contact.ContactModel(...)))")
+
+    def contacts_at(self, k: int) -> np.ndarray:
+        """The rows of [`contact_forces`][spacearm.Trajectory.contact_forces] of sample ``k``
+        ``(contact_count[k], 13)`` (negative ``k`` counts from the end)."""
+        rows = self.contact_forces
+        n = len(self)
+        if not -n <= int(k) < n:
+            raise ArgumentError(f"contacts_at: sample {k} is out of range for a trajectory of {n} samples")
+        k = int(k) % n
+        return rows[rows[:, 0] == k]
+
+    @property
+    def contact_impulse(self) -> np.ndarray:
+        """With rigid contact: the sum since ``t = 0`` of the impulses received by the second
+        body of each contact point ``(K, 3)``, in 𝒥, N·s (the first body received the opposite;
+        docs/contact.md, "Rigid contact in a run")."""
+        return self._get("contact_impulse", "the run had no rigid contact (simulate(..., contact=spacearm.contact.ContactModel(kind=\"rigid\")))")
 
     def attitude_lvlh(self) -> np.ndarray:
         """The base attitude relative to the LVLH frame of the system CM's orbit, ``(K, 3, 3)``

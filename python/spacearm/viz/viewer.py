@@ -26,7 +26,9 @@ Scene tree (meshcat paths; a body's name has its ``/`` replaced):
   body nodes, so the disc turns with the recorded gimbal angle.
 - ``/spacearm/robot/ee_path``: the end-effector path over the whole run (a line).
 - ``/spacearm/momentum/P`` and ``/spacearm/momentum/L``: the arrows (``shaft``, ``head``).
-- ``/spacearm/target/bodies/...``: a capture's target; ``/spacearm/grasp``: the grasp point,
+- ``/spacearm/contacts/<j>``: a contact run's contact slot ``j`` (``point``, and the arrows
+  ``normal`` and ``friction``: the forces on the pair's second body; ``contact_slots``).
+- ``/spacearm/target/bodies/...``: a capture's target, or a contact run's free target; ``/spacearm/grasp``: the grasp point,
   shown from the capture instant on.
 
 Below ``/spacearm`` the coordinates are 𝒥's; ``/spacearm`` itself is shifted by minus the centre
@@ -54,7 +56,7 @@ from .._util.show import shown as _shown
 from ..errors import ArgumentError, MissingDependencyError
 from ..rotations import quat_exp, quat_from_matrix, quat_to_matrix
 
-__all__ = ["Scene", "trajectory_scene", "capture_scene", "view", "GEOMETRY_ROLES", "MAX_COORDINATE",
+__all__ = ["Scene", "trajectory_scene", "capture_scene", "view", "contact_slots", "GEOMETRY_ROLES", "MAX_COORDINATE",
            "ROBOT_PREFIX", "TARGET_PREFIX"]
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -74,6 +76,9 @@ _PATH_COLOR = (0.85, 0.1, 0.1, 1.0)
 _GRASP_COLOR = (1.0, 0.45, 0.0, 1.0)
 _GIMBAL_COLOR = (0.93, 0.62, 0.12, 1.0)  # a CMG's gimbal frame
 _ROTOR_COLOR = (0.35, 0.37, 0.45, 1.0)  # a CMG's rotor disc
+_CONTACT_COLOR = (0.95, 0.85, 0.1, 1.0)  # contact points
+_NORMAL_COLOR = (0.1, 0.55, 0.95, 1.0)  # contact normal forces
+_FRICTION_COLOR = (0.95, 0.2, 0.2, 1.0)  # contact friction forces
 _TINY = 1e-6  # the scale of a hidden node (three.js needs an invertible matrix)
 #: The largest coordinate the viewer draws, m (three.js computes in 32-bit floats, which end at
 #: 3.4e38; a scene wider than this shows nothing anyway): a larger or non-finite one is refused.
@@ -645,7 +650,6 @@ def _arrow(scene: Scene, name: str, origins: np.ndarray, vectors: np.ndarray, le
     (K, 3), the largest ``length`` m long. A vector that stays below ``floor`` (its numerical
     zero: a millionth of the bodies' own momentum scale, ``Robot.momentum_scales``, above the
     drift of a conserving run's integration) is not drawn, and the legend says so."""
-    mc = scene._mc
     norms = np.linalg.norm(vectors, axis=1)
     peak = float(norms.max()) if norms.size else 0.0
     if not peak > floor:
@@ -654,11 +658,19 @@ def _arrow(scene: Scene, name: str, origins: np.ndarray, vectors: np.ndarray, le
         return
     per_m = peak / length
     scene.legend.append((color, f"{label}: 1 m of arrow = {per_m:.4g} {unit}"))
+    _arrow_nodes(scene, f"/spacearm/momentum/{name}", origins, vectors, per_m, length, color)
+
+
+def _arrow_nodes(scene: Scene, root: str, origins: np.ndarray, vectors: np.ndarray, per_m: float, length: float, color) -> None:
+    """The animated arrow ``root/shaft`` and ``root/head`` from ``origins`` along ``vectors``
+    (K, 3), ``|v| / per_m`` m long (shaft plus head), its head and thickness those of an arrow
+    ``length`` m long; a zero vector hides it (scale ~0)."""
+    mc = scene._mc
+    norms = np.linalg.norm(vectors, axis=1)
     lengths = norms / per_m
     head = 0.12 * length
     shaft_len = np.maximum(lengths - head, 0.0)
     quats = np.array([_y_to(v) for v in vectors])
-    root = f"/spacearm/momentum/{name}"
     radius = 0.012 * length
     mat = _material(mc, color)
     scene._add(f"{root}/shaft/body", mc.geometry.Mesh(mc.geometry.Cylinder(1.0, radius), mat), _transform((0.0, 0.5, 0.0)))
@@ -676,6 +688,82 @@ def _arrow(scene: Scene, name: str, origins: np.ndarray, vectors: np.ndarray, le
         scene._animate(node, "position", pos)
         scene._animate(node, "quaternion", quats)
         scene._animate(node, "scale", scale)
+
+
+def contact_slots(traj, samples: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The contacts of a run at the key frames ``samples``, slot by slot, from its record
+    ``contact_forces`` (one row per acting contact per sample, docs/contact.md): ``present``
+    (K, S) whether slot ``j`` holds a contact at key frame ``k`` (the ``j``-th row of that
+    sample, in the core's order), ``points`` (K, S, 3), ``normal`` (K, S, 3) the normal force
+    ``f_n n̂`` and ``friction`` (K, S, 3) the friction ``f − f_n n̂``, each on the second body of
+    the pair, in 𝒥; zeros where a slot is empty. ``S`` is the most contacts at one key frame."""
+    rows = np.asarray(traj.contact_forces, dtype=float)
+    samples = np.asarray(samples, dtype=int)
+    per = [rows[rows[:, 0] == k] for k in samples]
+    s = max((len(r) for r in per), default=0)
+    k = len(samples)
+    present = np.zeros((k, s), dtype=bool)
+    points, normal, friction = (np.zeros((k, s, 3)) for _ in range(3))
+    for i, r in enumerate(per):
+        n = len(r)
+        present[i, :n] = True
+        points[i, :n] = r[:, 3:6]
+        normal[i, :n] = r[:, 9:10] * r[:, 6:9]
+        friction[i, :n] = r[:, 10:13] - normal[i, :n]
+    return present, points, normal, friction
+
+
+def _draw_contacts(scene: Scene, traj, samples: np.ndarray, length: float) -> List[np.ndarray]:
+    """The contacts of a contact run at the key frames: slot ``j`` (``contact_slots``) is
+    ``/spacearm/contacts/<j>/point`` (a ball at the point, hidden where the slot is empty) and the
+    arrows ``/spacearm/contacts/<j>/normal`` and ``.../friction`` of the force on the second body
+    from the point, both on one scale, the largest normal force ``length`` m. Returns the points
+    drawn (for the view's extent)."""
+    mc = scene._mc
+    present, points, normal, friction = contact_slots(traj, samples)
+    if present.size == 0 or not present.any():
+        scene.legend.append((_CONTACT_COLOR, "contacts: none at the key frames"))
+        return []
+    peak = float(np.linalg.norm(normal, axis=2).max())
+    per_m = peak / length if peak > 0 else 1.0
+    scene.legend.append((_CONTACT_COLOR, f"contact points ({present.shape[1]} at most at once)"))
+    scene.legend.append((_NORMAL_COLOR, f"contact normal force on the second body: 1 m of arrow = {per_m:.4g} N"))
+    scene.legend.append((_FRICTION_COLOR, "contact friction force, same scale"))
+    ball = 0.04 * length
+    for j in range(present.shape[1]):
+        root = f"/spacearm/contacts/{j}"
+        # an empty slot: hidden, kept where it was last (or will first be) shown
+        shown = present[:, j]
+        first = int(np.argmax(shown))
+        pos = points[:, j].copy()
+        pos[: first] = pos[first]
+        for i in range(first + 1, len(pos)):
+            if not shown[i]:
+                pos[i] = pos[i - 1]
+        scale = np.where(shown, 1.0, _TINY)[:, None] * np.ones((1, 3))
+        scene._add(f"{root}/point", mc.geometry.Mesh(mc.geometry.Sphere(ball), _material(mc, _CONTACT_COLOR)))
+        scene._set_transform(f"{root}/point", _transform(pos[0], scale=scale[0]))
+        scene._animate(f"{root}/point", "position", pos)
+        scene._animate(f"{root}/point", "scale", scale)
+        _arrow_nodes(scene, f"{root}/normal", pos, normal[:, j], per_m, length, _NORMAL_COLOR)
+        _arrow_nodes(scene, f"{root}/friction", pos, friction[:, j], per_m, length, _FRICTION_COLOR)
+    return [points[present]]
+
+
+def _draw_free_target(scene: Scene, traj, target, samples: np.ndarray, geometry: str, frames: bool, points: bool) -> np.ndarray:
+    """A contact run's free target (``target``: its model, a ``spacearm.Target`` or a rigid
+    ``Robot``) under ``TARGET_PREFIX``, its body at the recorded 13-states' ``[r, quat]`` (its
+    model's configuration: the CM and the attitude). Returns its CM positions."""
+    from ..model.robot import Robot
+
+    body = target.body if not isinstance(target, Robot) and isinstance(getattr(target, "body", None), Robot) else target
+    if not isinstance(body, Robot) or body.n_dof != 0:
+        raise ArgumentError(f"target must be the run's free target: a spacearm.Target or a rigid spacearm.Robot, got {type(target).__name__}")
+    if not traj.has("target"):
+        raise ArgumentError("target= draws a free target, but this run has none (simulate(..., target=, target_state=, contact=))")
+    xs = np.ascontiguousarray(np.asarray(traj["target"], dtype=float)[samples, :7])
+    nodes = _draw_model(scene, body, TARGET_PREFIX, geometry, ee_frame=False, frames=frames, points=points)
+    return _pose_model(scene, body, nodes, xs).reshape(-1, 3)
 
 
 def _key_samples(t: np.ndarray, fps: float, max_frames: int) -> np.ndarray:
@@ -778,6 +866,8 @@ def trajectory_scene(
     repetitions: int = 1,
     title: Optional[str] = None,
     mesh_dirs: Optional[Sequence[PathLike]] = None,
+    contacts: bool = True,
+    target=None,
 ) -> Scene:
     """The [`Scene`][spacearm.viz.viewer.Scene] of a [`Trajectory`][spacearm.Trajectory] (it needs its robot).
 
@@ -791,7 +881,11 @@ def trajectory_scene(
     the folders mesh files may be read from (a relative mesh path is taken from the first), for
     a model that came from a file not trusted (``spacearm view`` passes the record's folder); a
     mesh outside them is not read (a note says so). ``None`` (the default): any path, as the
-    caller's own model gives it.
+    caller's own model gives it. ``contacts``: a contact run's contacts (its record
+    ``contact_forces``, docs/contact.md) at each key frame, a ball at each point with the arrows
+    of its normal and friction forces on the pair's second body (``/spacearm/contacts/<j>``).
+    ``target``: a contact run's free target model (the ``target=`` of ``simulate``), drawn at
+    its recorded states; without it the target is not drawn (a note says so).
     """
     robot = traj.robot
     if robot is None:
@@ -816,6 +910,12 @@ def trajectory_scene(
     size = 2.0 * float(np.max(np.linalg.norm(cms.reshape(-1, 3) - cms.reshape(-1, 3).mean(axis=0), axis=1)))
     size = max(size, _model_size(robot))
     span = 1.6 * _base_radius(robot) + 0.2 * size  # out of the base, which holds the system CM
+    if target is not None:
+        extent.append(_draw_free_target(scene, traj, target, idx, geometry, frames, points))
+    elif traj.has("target") and traj.has("contact_count"):
+        scene._note("the run's free target is not drawn: pass its model, view(..., target=...)")
+    if contacts and traj.has("contact_forces"):
+        extent += _draw_contacts(scene, traj, idx, 0.25 * size)
     if momentum:
         us = np.ascontiguousarray(traj.u[idx])
         m = robot.momentum(xs, us)

@@ -93,7 +93,9 @@ impl Instance {
     pub(crate) fn from_resources(dir: &Path, version: FmiVersion, token: Option<&str>, name: String, logger: Logger, logging_on: bool) -> Outcome<Instance> {
         check_token(dir, version, token)?;
         let model = crate::model::model_from_toml(&read(dir, "model.toml")?, "resources/model.toml")?;
-        let options = StepperOptions::parse(&model, &read(dir, "options.toml")?)?;
+        let text = read(dir, "options.toml")?;
+        crate::stepper::refuse_target(&text, "an FMU")?;
+        let options = StepperOptions::parse(&model, &text)?;
         let layout = Layout::new(&model, &options)?;
         let values = layout.vars.iter().map(|v| v.start).collect();
         Ok(Instance { name, data: Data::new(&model), model, layout, options, stepper: None, values, last_quat: None, phase: Phase::Instantiated, logger, logging_on })
@@ -431,6 +433,7 @@ pub unsafe extern "C" fn spacearm_fmu_model_description(
             return Err(Failure::argument(format!("stop_time must be finite and > 0, got {stop_time}")));
         }
         let model = crate::model::model_from_toml(m, "<model TOML>")?;
+        crate::stepper::refuse_target(o, "an FMU")?;
         let options = StepperOptions::parse(&model, o)?;
         let xml = variables::model_description(&model, &options, version, id, tok, stop_time)?;
         unsafe { write_text(&xml, buf, len, needed) }

@@ -16,6 +16,7 @@ pub mod cmg;
 pub mod data;
 pub mod edit;
 pub mod geometry;
+pub mod docking;
 pub mod gripper;
 pub mod joint;
 pub mod link;

@@ -16,7 +16,8 @@
 //!
 //! A point's target is fixed, or moving ([`PointTarget`]): the point of a torque-free rigid body
 //! (a tumbling target's grasp point, propagated by [`crate::scenario::free_body`], the capture's
-//! and RMRC's propagation), evaluated at every knot's time `t₀ + k h` when the problem's start
+//! and RMRC's propagation) or of one in orbit (its tidal, Clohessy–Wiltshire-like motion relative
+//! to the orbit's point, [`FreeBodyTarget`]), evaluated at every knot's time `t₀ + k h` when the problem's start
 //! time `t₀` is set ([`Cost::retime`]); the Jacobian is the fixed target's (the target does not
 //! depend on the state).
 
@@ -27,7 +28,8 @@ use super::state::{so3_left_jacobian_inverse, StateSpace};
 use crate::algorithms::kinematics::{forward_kinematics, point_jacobians, point_position};
 use crate::error::{Result, SpacearmError};
 use crate::model::{Data, Model};
-use crate::scenario::free_body::{FreeBody, FreeBodySpec};
+use crate::scenario::free_body::{default_free_body_step, FreeBody, FreeBodySpec, InertiaSpec};
+use crate::scenario::orbit::Orbit;
 
 /// One number for all, or one each.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -99,8 +101,48 @@ impl<'de> Deserialize<'de> for PointTarget {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum MovingPoint {
-    /// A point fixed to a torque-free rigid body ([`FreeBody`]): a tumbling target's grasp point.
-    FreeBody(FreeBodySpec),
+    /// A point fixed to a free rigid body ([`FreeBody`]): a tumbling target's grasp point,
+    /// torque-free or in orbit.
+    FreeBody(FreeBodyTarget),
+}
+
+/// A free body's point as a moving target: the body (the fields of [`FreeBodySpec`]) and, in
+/// orbit, the run's orbit (the body's state relative to the orbit's point `O` at time 0, ECI
+/// axes, docs/orbit.md): the body then moves under gravity's tidal part — the exact relative
+/// two-body (+ J2) acceleration, whose linearization about a circular orbit is the
+/// Clohessy–Wiltshire (Hill) motion — and turns under the gravity-gradient torque
+/// ([`FreeBody::in_orbit`], the RMRC's and the capture's propagation).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FreeBodyTarget {
+    /// The body's inertia about its CM in its axes, kg·m².
+    pub inertia: InertiaSpec,
+    /// The body's 13-state `[r, quat xyzw, v, ω]` at time 0 of the references' clock.
+    pub state: Vec<f64>,
+    /// The point from the body's CM, body axes, m.
+    #[serde(default)]
+    pub offset: [f64; 3],
+    /// The step of the body's propagation, s.
+    #[serde(default = "default_free_body_step")]
+    pub step: f64,
+    /// The run's orbit (`None`: torque-free).
+    #[serde(default)]
+    pub orbit: Option<Orbit>,
+}
+
+impl FreeBodyTarget {
+    /// The body, in orbit when an orbit is given (checked).
+    pub fn build(&self) -> Result<FreeBody> {
+        if self.state.len() != 13 {
+            return Err(SpacearmError::argument(format!("a point cost's free_body target 'state' must be 13 numbers [r, quat xyzw, v, w], got {}", self.state.len())));
+        }
+        let spec = FreeBodySpec { inertia: self.inertia.clone(), state: self.state.clone(), offset: self.offset, step: self.step };
+        let body = spec.build()?;
+        match &self.orbit {
+            Some(o) => body.in_orbit(&Orbit::from_state(o.body, o.r0, o.v0, o.j2)?),
+            None => Ok(body),
+        }
+    }
 }
 
 /// A point cost's target checked: fixed, or a free body with its point at every knot.
@@ -293,16 +335,7 @@ impl CostSpec {
                         check_len("a point cost's target", p, 3)?;
                         Target::Fixed(Vector3::from(*p))
                     }
-                    PointTarget::Moving(MovingPoint::FreeBody(spec)) => {
-                        if spec.state.len() != 13 {
-                            return Err(SpacearmError::argument(format!(
-                                "a point cost's free_body target 'state' must be 13 numbers [r, quat xyzw, v, w], got {}",
-                                spec.state.len()
-                            )));
-                        }
-                        let body = spec.build()?;
-                        Target::FreeBody { body: Box::new(body), knots: Vec::new() }
-                    }
+                    PointTarget::Moving(MovingPoint::FreeBody(spec)) => Target::FreeBody { body: Box::new(spec.build()?), knots: Vec::new() },
                 };
                 let w = weight.expand(3, "a point cost's weight", true, false)?;
                 Cost::Point { body, offset: Vector3::from(*offset), target, weights: Vector3::new(w[0], w[1], w[2]) }
@@ -466,16 +499,16 @@ pub fn cost_derivatives(
 mod tests {
     use super::*;
     use crate::model::presets;
-    use crate::scenario::free_body::InertiaSpec;
 
     /// A body spinning about its principal axis z at 0.1 rad/s, drifting at `v`: its point at
     /// `offset` is `r₀ + v t + Rz(ω t) offset` in closed form.
     fn spinning(offset: [f64; 3]) -> MovingPoint {
-        MovingPoint::FreeBody(FreeBodySpec {
+        MovingPoint::FreeBody(FreeBodyTarget {
             inertia: InertiaSpec::Principal([3.0, 4.0, 5.0]),
             state: vec![1.0, 0.2, -0.1, 0.0, 0.0, 0.0, 1.0, 0.01, -0.02, 0.0, 0.0, 0.0, 0.1],
             offset,
             step: 1e-3,
+            orbit: None,
         })
     }
 
@@ -541,6 +574,54 @@ mod tests {
         }
     }
 
+    /// In a circular orbit (no J2) a target near the orbit's point follows the Clohessy–Wiltshire
+    /// closed form (its LVLH relative state carried to the run's ECI axes) to the linearization's
+    /// error, `O(n² ρ²/r t²)`; the torque-free target drifts on a straight line instead.
+    #[test]
+    fn an_orbiting_target_follows_the_clohessy_wiltshire_motion() {
+        use crate::scenario::orbit::{clohessy_wiltshire, EARTH};
+        let model = presets::spatial6();
+        let orbit = Orbit::circular(EARTH, 500e3, 0.9, 0.3, 0.2, false).unwrap();
+        let n = orbit.mean_motion();
+        let (ro, vo) = (orbit.r0, orbit.v0);
+        // A quarter orbit in 50 knots, from t0 = 10 s.
+        let (t0, knots) = (10.0, 51);
+        let h = orbit.period() / 4.0 / 50.0;
+        let times: Vec<f64> = (0..knots).map(|k| t0 + k as f64 * h).collect();
+        let track = orbit.propagate(&times, 1e-12).unwrap();
+        // The largest distance to the CW motion of the target at `scale` times a relative state
+        // 5 m radially out, 10 m behind, 2 m out of plane, drifting; and to a straight drift.
+        let run = |scale: f64| -> (f64, f64) {
+            let rel0 = [5.0, -10.0, 2.0, 0.01, -0.02, 0.005].map(|v| v * scale);
+            let (r, v) = Orbit::relative_to_eci(&ro, &vo, &rel0);
+            let (rho, rho_dot) = (r - ro, v - vo);
+            let state = vec![rho.x, rho.y, rho.z, 0.0, 0.0, 0.0, 1.0, rho_dot.x, rho_dot.y, rho_dot.z, 0.0, 0.0, 0.0];
+            let target = |orbit: Option<Orbit>| {
+                MovingPoint::FreeBody(FreeBodyTarget { inertia: InertiaSpec::Principal([3.0, 4.0, 5.0]), state: state.clone(), offset: [0.0; 3], step: 0.05, orbit })
+            };
+            let mut cost = point_cost(PointTarget::Moving(target(Some(orbit)))).build(&model, 6, false).unwrap();
+            let mut free = point_cost(PointTarget::Moving(target(None))).build(&model, 6, false).unwrap();
+            assert!(cost.is_timed());
+            cost.retime(t0, h, knots).unwrap();
+            free.retime(t0, h, knots).unwrap();
+            let (Cost::Point { target: orbiting, .. }, Cost::Point { target: drifting, .. }) = (&cost, &free) else { unreachable!() };
+            let (mut worst, mut apart): (f64, f64) = (0.0, 0.0);
+            for (k, (t, (rt, vt))) in times.iter().zip(&track).enumerate() {
+                let (p, _) = Orbit::relative_to_eci(rt, vt, &clohessy_wiltshire(n, &rel0, *t));
+                worst = worst.max((orbiting.at(k) - (p - rt)).norm());
+                apart = apart.max((drifting.at(k) - (p - rt)).norm());
+            }
+            (worst, apart)
+        };
+        let (full, apart) = run(1.0);
+        let (half, _) = run(0.5);
+        // ρ ≈ 11 m, r ≈ 6.9e6 m: the neglected terms, O(n² ρ²/r) in acceleration, reach ~1e-4 m
+        // over a quarter orbit, and they are quadratic in ρ: half the offset, a quarter of it.
+        assert!(full < 3e-4, "orbiting target vs CW: {full:e} m");
+        assert!((3.0..5.0).contains(&(full / half)), "the difference to CW is not the quadratic remainder: {full:e} vs {half:e} m at half the offset");
+        assert!(apart > 1.0, "the tidal motion is visible against a straight-line drift: {apart} m");
+    }
+
     #[test]
     fn bad_targets_are_refused_with_their_field() {
         let read = |s: &str| toml::from_str::<CostSpec>(s).map_err(|e| e.to_string());
@@ -551,7 +632,7 @@ mod tests {
         let e = read("kind = 'point'\nbody = 6\nweight = 1.0\ntarget = [1.0, 2.0]").unwrap_err();
         assert!(e.contains("three numbers"), "{e}");
         let model = presets::spatial6();
-        let short = MovingPoint::FreeBody(FreeBodySpec { inertia: InertiaSpec::Principal([1.0, 1.0, 1.0]), state: vec![0.0; 12], offset: [0.0; 3], step: 1e-3 });
+        let short = MovingPoint::FreeBody(FreeBodyTarget { inertia: InertiaSpec::Principal([1.0, 1.0, 1.0]), state: vec![0.0; 12], offset: [0.0; 3], step: 1e-3, orbit: None });
         let e = point_cost(PointTarget::Moving(short)).build(&model, 6, false).unwrap_err().to_string();
         assert!(e.contains("13"), "{e}");
     }

@@ -17,10 +17,86 @@
 //! Jacobians are then `A = T(z⁺) ∂z⁺/∂δz` and `B = T(z⁺) ∂z⁺/∂c`.
 
 use nalgebra::{DMatrix, Vector4};
+use serde::{Deserialize, Serialize};
 
 use super::dynamics::Dynamics;
+use super::euler::EulerDiscretization;
 use crate::error::Result;
 use crate::model::Model;
+
+/// Which step a problem's knots take (serde data of the run description, `ProblemSpec`'s
+/// `discretization`): `"rk4"` (the simulator's step, the default; this module) or `"euler"`
+/// (the semi-implicit Euler step, [`super::euler`]: one derivative evaluation per knot instead
+/// of four, a model that differs from the RK4 plant by `O(h)`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DiscretizationKind {
+    /// Classical RK4 with the quaternion renormalised (the simulator's `integrator = "rk4"`).
+    #[default]
+    Rk4,
+    /// Semi-implicit Euler on the state manifold (Crocoddyl's `IntegratedActionModelEuler`).
+    Euler,
+}
+
+impl DiscretizationKind {
+    /// The name in the run description.
+    pub fn name(self) -> &'static str {
+        match self {
+            DiscretizationKind::Rk4 => "rk4",
+            DiscretizationKind::Euler => "euler",
+        }
+    }
+}
+
+/// The step of a problem's knots, one of [`DiscretizationKind`].
+pub enum Discretization {
+    /// RK4 (this module).
+    Rk4(Rk4Discretization),
+    /// Semi-implicit Euler ([`super::euler`]).
+    Euler(EulerDiscretization),
+}
+
+impl Discretization {
+    /// Workspaces for steps of `h` seconds of `dynamics` of the `kind`.
+    pub fn new(kind: DiscretizationKind, dynamics: Dynamics, h: f64) -> Self {
+        match kind {
+            DiscretizationKind::Rk4 => Discretization::Rk4(Rk4Discretization::new(dynamics, h)),
+            DiscretizationKind::Euler => Discretization::Euler(EulerDiscretization::new(dynamics, h)),
+        }
+    }
+
+    /// The step, s.
+    pub fn h(&self) -> f64 {
+        match self {
+            Discretization::Rk4(d) => d.h,
+            Discretization::Euler(d) => d.h,
+        }
+    }
+
+    /// The continuous dynamics.
+    pub fn dynamics(&self) -> &Dynamics {
+        match self {
+            Discretization::Rk4(d) => &d.dynamics,
+            Discretization::Euler(d) => &d.dynamics,
+        }
+    }
+
+    /// `z⁺ = Φ(z, c)` into `next`.
+    pub fn step(&mut self, model: &Model, z: &[f64], c: &[f64], next: &mut [f64]) -> Result<()> {
+        match self {
+            Discretization::Rk4(d) => d.step(model, z, c, next),
+            Discretization::Euler(d) => d.step(model, z, c, next),
+        }
+    }
+
+    /// `z⁺ = Φ(z, c)` into `next` with the tangent Jacobians `A` and `B`.
+    pub fn step_derivatives(&mut self, model: &Model, z: &[f64], c: &[f64], next: &mut [f64], a: &mut DMatrix<f64>, b: &mut DMatrix<f64>) -> Result<()> {
+        match self {
+            Discretization::Rk4(d) => d.step_derivatives(model, z, c, next, a, b),
+            Discretization::Euler(d) => d.step_derivatives(model, z, c, next, a, b),
+        }
+    }
+}
 
 /// Workspaces of the RK4 step and its Jacobians.
 pub struct Rk4Discretization {
@@ -167,6 +243,61 @@ fn normalization_jacobian_rows(z: &[f64], m: &mut DMatrix<f64>) {
     }
 }
 
+/// Test support: the largest relative difference `|fd − an| / (1 + |an|)` between a step's
+/// tangent Jacobians `A`, `B` at `(z, c)` (whose step end is `next`) and central differences of
+/// the step in tangent coordinates, Richardson-extrapolated (`(4 D(ε/2) − D(ε)) / 3`), with
+/// where it is (row, column, difference, analytic).
+#[cfg(test)]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn jacobian_fd_error(
+    space: super::state::StateSpace,
+    z: &[f64],
+    c: &[f64],
+    next: &[f64],
+    a: &DMatrix<f64>,
+    b: &DMatrix<f64>,
+    eps: f64,
+    mut step: impl FnMut(&[f64], &[f64], &mut [f64]),
+) -> (f64, (usize, usize, f64, f64)) {
+    let (nz, nd, m) = (space.nz(), space.nd(), c.len());
+    let (mut zp, mut zm, mut np, mut nm) = (vec![0.0; nz], vec![0.0; nz], vec![0.0; nz], vec![0.0; nz]);
+    let (mut dp, mut dm) = (vec![0.0; nd], vec![0.0; nd]);
+    let mut column = |j: usize, eps: f64| -> Vec<f64> {
+        let mut d = vec![0.0; nd];
+        let (mut cp, mut cm) = (c.to_vec(), c.to_vec());
+        if j < nd {
+            d[j] = eps;
+            space.integrate(z, &d, &mut zp);
+            d[j] = -eps;
+            space.integrate(z, &d, &mut zm);
+        } else {
+            zp.copy_from_slice(z);
+            zm.copy_from_slice(z);
+            cp[j - nd] += eps;
+            cm[j - nd] -= eps;
+        }
+        step(&zp, &cp, &mut np);
+        step(&zm, &cm, &mut nm);
+        space.diff(next, &np, &mut dp);
+        space.diff(next, &nm, &mut dm);
+        (0..nd).map(|i| (dp[i] - dm[i]) / (2.0 * eps)).collect()
+    };
+    let (mut worst, mut at) = (0.0, (0, 0, 0.0, 0.0));
+    for j in 0..nd + m {
+        let (coarse, fine) = (column(j, eps), column(j, eps / 2.0));
+        for i in 0..nd {
+            let fd = (4.0 * fine[i] - coarse[i]) / 3.0;
+            let an = if j < nd { a[(i, j)] } else { b[(i, j - nd)] };
+            let e = (fd - an).abs() / (1.0 + an.abs());
+            if e > worst {
+                worst = e;
+                at = (i, j, fd, an);
+            }
+        }
+    }
+    (worst, at)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -207,44 +338,7 @@ mod tests {
             }
             // The accelerations carry rounding noise of ~1e-12 (ill-conditioned H): a step
             // where that noise over eps and the truncation error eps² are both ~1e-8.
-            let eps = 1e-4;
-            let (mut zp, mut zm, mut np, mut nm) = (vec![0.0; nz], vec![0.0; nz], vec![0.0; nz], vec![0.0; nz]);
-            let (mut dp, mut dm) = (vec![0.0; nd], vec![0.0; nd]);
-            let mut worst: f64 = 0.0;
-            let mut at = (0, 0, 0.0, 0.0);
-            // Central differences with Richardson extrapolation, (4 D(ε/2) − D(ε)) / 3.
-            let mut column = |j: usize, eps: f64| -> Vec<f64> {
-                let mut d = vec![0.0; nd];
-                let (mut cp, mut cm) = (c.clone(), c.clone());
-                if j < nd {
-                    d[j] = eps;
-                    space.integrate(&z, &d, &mut zp);
-                    d[j] = -eps;
-                    space.integrate(&z, &d, &mut zm);
-                } else {
-                    zp.copy_from_slice(&z);
-                    zm.copy_from_slice(&z);
-                    cp[j - nd] += eps;
-                    cm[j - nd] -= eps;
-                }
-                disc.step(&model, &zp, &cp, &mut np).unwrap();
-                disc.step(&model, &zm, &cm, &mut nm).unwrap();
-                space.diff(&next, &np, &mut dp);
-                space.diff(&next, &nm, &mut dm);
-                (0..nd).map(|i| (dp[i] - dm[i]) / (2.0 * eps)).collect()
-            };
-            for j in 0..nd + m {
-                let (coarse, fine) = (column(j, eps), column(j, eps / 2.0));
-                for i in 0..nd {
-                    let fd = (4.0 * fine[i] - coarse[i]) / 3.0;
-                    let an = if j < nd { a[(i, j)] } else { b[(i, j - nd)] };
-                    let e = (fd - an).abs() / (1.0 + an.abs());
-                    if e > worst {
-                        worst = e;
-                        at = (i, j, fd, an);
-                    }
-                }
-            }
+            let (worst, at) = jacobian_fd_error(space, &z, &c, &next, &a, &b, 1e-4, |z, c, out| disc.step(&model, z, c, out).unwrap());
             assert!(worst < 1e-6, "{mode:?}: largest relative difference {worst:e} at {at:?}");
             assert!(a.norm() > 1.0 && b.norm() > 1e-3, "{mode:?}: a trivial Jacobian");
         }

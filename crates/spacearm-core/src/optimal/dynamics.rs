@@ -126,6 +126,14 @@ impl Dynamics {
         Ok(())
     }
 
+    /// The partials of the acceleration at the `z` of the last [`Dynamics::rhs_derivatives`]:
+    /// `∂u̇/∂δx` (tangent configuration columns `[δr0, δθ, δq]`), `∂u̇/∂u` and `∂u̇/∂f = H⁻¹`
+    /// (each `(6+N) × (6+N)`).
+    pub fn partials(&self) -> (&DMatrix<f64>, &DMatrix<f64>, &DMatrix<f64>) {
+        let w = &self.work;
+        (&w.accel_wrt_configuration, &w.accel_wrt_velocity, &w.accel_wrt_force)
+    }
+
     /// `out = ∂F/∂z(z) S + [0 | ∂F/∂c(z)]` for a sensitivity `S` (`nz × (nd + m)`, the last `m`
     /// columns those of the controls) at the `z` of the last [`Dynamics::rhs_derivatives`]
     /// (the product [`Dynamics::rhs_jacobian`] would give, without forming `∂F/∂z`): the

@@ -680,6 +680,7 @@ mod tests {
             terminal: vec![CostSpec::Joint { weight_q: Numbers::One(100.0), reference: goal, weight_qd: Numbers::One(10.0), velocity_reference: None }],
             control_limit: Numbers::One(limit),
             start_time: 0.0,
+            discretization: Default::default(),
         };
         let mut z0 = vec![0.0; 13 + 2 * n];
         z0[6] = 1.0;

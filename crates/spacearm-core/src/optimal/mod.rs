@@ -9,7 +9,9 @@
 //! * [`state`] — the state manifold `z = [x; u]`, its tangent space (the error state of the
 //!   Riccati recursion), `⊕` and `⊖`;
 //! * [`dynamics`] — the continuous dynamics `ż = F(z, c)` of a mode's controls and their Jacobian;
-//! * [`discretization`] — the RK4 step and its Jacobians by the chain rule through the stages;
+//! * [`discretization`] — the RK4 step and its Jacobians by the chain rule through the stages
+//!   (and the choice of a problem's step, [`discretization::DiscretizationKind`]);
+//! * [`euler`] — the semi-implicit Euler step and its Jacobians (one derivative evaluation);
 //! * [`costs`] — the cost terms (state and joint tracking, base attitude, a point's position,
 //!   control regularization) with their gradients and Gauss–Newton Hessians;
 //! * [`shooting`] — the multiple-shooting problem the solver sees ([`shooting::ShootingProblem`]);
@@ -27,6 +29,7 @@ pub mod box_qp;
 pub mod costs;
 pub mod discretization;
 pub mod dynamics;
+pub mod euler;
 pub mod fddp;
 pub mod forward;
 pub mod problem;

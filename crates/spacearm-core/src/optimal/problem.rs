@@ -12,7 +12,7 @@ use std::borrow::Cow;
 use serde::{Deserialize, Serialize};
 
 use super::costs::{cost_derivatives, cost_value, Cost, CostSpec, CostWork, Numbers};
-use super::discretization::Rk4Discretization;
+use super::discretization::{Discretization, DiscretizationKind};
 use super::dynamics::Dynamics;
 use super::shooting::{KnotModel, ShootingProblem};
 use super::state::StateSpace;
@@ -54,6 +54,11 @@ pub struct ProblemSpec {
     /// The native law adds the run's sample time ([`crate::control::mpc`]).
     #[serde(default)]
     pub start_time: f64,
+    /// The knots' step: `"rk4"` (default; the simulator's step, so a solution re-simulates
+    /// exactly) or `"euler"` (semi-implicit Euler: one derivative evaluation per knot, a model
+    /// that differs from the RK4 plant by `O(h)`; [`super::euler`]).
+    #[serde(default)]
+    pub discretization: DiscretizationKind,
 }
 
 impl ProblemSpec {
@@ -76,8 +81,8 @@ impl ProblemSpec {
 /// The shooting problem of a [`ProblemSpec`] on a model from an initial state.
 pub struct RobotProblem<'a> {
     model: Cow<'a, Model>,
-    /// The RK4 step.
-    pub step: Rk4Discretization,
+    /// The knots' step (RK4 or semi-implicit Euler).
+    pub step: Discretization,
     running: Vec<Cost>,
     terminal: Vec<Cost>,
     work: CostWork,
@@ -122,7 +127,7 @@ impl<'a> RobotProblem<'a> {
         let mut problem = RobotProblem {
             work: CostWork::new(&model),
             model,
-            step: Rk4Discretization::new(dynamics, spec.dt),
+            step: Discretization::new(spec.discretization, dynamics, spec.dt),
             running,
             terminal,
             z0: z0.to_vec(),
@@ -145,7 +150,7 @@ impl<'a> RobotProblem<'a> {
         if t0 == self.start_time {
             return Ok(());
         }
-        let (h, knots) = (self.step.h, self.horizon + 1);
+        let (h, knots) = (self.step.h(), self.horizon + 1);
         for cost in self.running.iter_mut().chain(self.terminal.iter_mut()) {
             cost.retime(t0, h, knots)?;
         }
@@ -160,12 +165,12 @@ impl<'a> RobotProblem<'a> {
 
     /// The state's dimensions.
     pub fn space(&self) -> StateSpace {
-        self.step.dynamics.space
+        self.step.dynamics().space
     }
 
     /// The generalized-force columns the controls drive (`f[columns[i]] = c[i]`).
     pub fn control_columns(&self) -> &[usize] {
-        &self.step.dynamics.controls.columns
+        &self.step.dynamics().controls.columns
     }
 
     /// Set the initial state (checked), for a receding horizon.
@@ -227,12 +232,12 @@ impl ShootingProblem for RobotProblem<'_> {
     }
     fn running(&mut self, k: usize, z: &[f64], c: &[f64], next: &mut [f64]) -> Result<f64> {
         self.step.step(&self.model, z, c, next)?;
-        cost_value(&self.model, &mut self.work, &self.running, k, z, c, self.step.h)
+        cost_value(&self.model, &mut self.work, &self.running, k, z, c, self.step.h())
     }
     fn running_derivatives(&mut self, k: usize, z: &[f64], c: &[f64], out: &mut KnotModel) -> Result<()> {
         self.step.step_derivatives(&self.model, z, c, &mut self.next, &mut out.a, &mut out.b)?;
         out.clear_cost();
-        cost_derivatives(&self.model, &mut self.work, &self.running, k, z, c, self.step.h, &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)?;
+        cost_derivatives(&self.model, &mut self.work, &self.running, k, z, c, self.step.h(), &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)?;
         Ok(())
     }
     /// One RK4 pass with its Jacobians gives the step end (the derivative routine's
@@ -241,7 +246,7 @@ impl ShootingProblem for RobotProblem<'_> {
     fn running_with_derivatives(&mut self, k: usize, z: &[f64], c: &[f64], next: &mut [f64], out: &mut KnotModel) -> Result<f64> {
         self.step.step_derivatives(&self.model, z, c, next, &mut out.a, &mut out.b)?;
         out.clear_cost();
-        cost_derivatives(&self.model, &mut self.work, &self.running, k, z, c, self.step.h, &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)
+        cost_derivatives(&self.model, &mut self.work, &self.running, k, z, c, self.step.h(), &mut out.lz, &mut out.lc, &mut out.lzz, &mut out.lcc)
     }
     fn terminal(&mut self, z: &[f64]) -> Result<f64> {
         cost_value(&self.model, &mut self.work, &self.terminal, self.horizon, z, &[], 1.0)

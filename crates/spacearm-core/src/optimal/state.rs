@@ -116,6 +116,16 @@ impl StateSpace {
     }
 }
 
+/// The left Jacobian of SO(3), `J_l(φ) = E + (1 − cos|φ|)/|φ|² φ̃ + (|φ| − sin|φ|)/|φ|³ φ̃²`:
+/// `exp(φ + δφ) = exp(J_l(φ) δφ) exp(φ) + O(δφ²)` (the world-frame increment of the rotation
+/// a change of its rotation vector makes). Series `½ − |φ|²/24`, `1/6 − |φ|²/120` below `|φ| = 1e-4`.
+pub fn so3_left_jacobian(phi: &Vector3<f64>) -> Matrix3<f64> {
+    let a = phi.norm();
+    let s = skew(phi);
+    let (b, c) = if a < 1e-4 { (0.5 - a * a / 24.0, 1.0 / 6.0 - a * a / 120.0) } else { ((1.0 - a.cos()) / (a * a), (a - a.sin()) / (a * a * a)) };
+    Matrix3::identity() + s * b + s * s * c
+}
+
 /// The inverse left Jacobian of SO(3), `J_l⁻¹(φ) = E − ½ φ̃ + (1/|φ|² − (1 + cos|φ|)/(2|φ| sin|φ|)) φ̃²`:
 /// `log(exp(δθ) exp(φ)) = φ + J_l⁻¹(φ) δθ + O(δθ²)` (a world-frame increment of the rotation
 /// whose rotation vector is `φ`). Series `1/12 + |φ|²/720` of the last factor below `|φ| = 1e-4`.
@@ -164,6 +174,26 @@ mod tests {
         s.diff(&z0, &z1, &mut back);
         for (a, b) in dz.iter().zip(&back) {
             assert!((a - b).abs() < 1e-14, "{dz:?} vs {back:?}");
+        }
+    }
+
+    #[test]
+    fn left_jacobian_matches_finite_differences_and_its_inverse() {
+        for phi in [Vector3::new(0.3, -1.1, 0.7), Vector3::new(1e-6, 2e-6, -1e-6)] {
+            let j = so3_left_jacobian(&phi);
+            assert!((j * so3_left_jacobian_inverse(&phi) - Matrix3::identity()).norm() < 1e-12);
+            let h = 1e-6;
+            for k in 0..3 {
+                let mut d = Vector3::zeros();
+                d[k] = h;
+                // exp(φ ± h e_k) exp(φ)⁻¹ = exp(± h J_l e_k): its log over 2h, central.
+                let inv = xyzw_exp(&-phi);
+                let p = xyzw_log(&xyzw_multiply(&xyzw_exp(&(phi + d)), &inv));
+                let m = xyzw_log(&xyzw_multiply(&xyzw_exp(&(phi - d)), &inv));
+                let col = (p - m) / (2.0 * h);
+                assert!((col - j.column(k)).norm() < 1e-8, "{phi}: {col} vs {}", j.column(k));
+            }
+            assert!((j - Matrix3::identity()).norm() > 1e-7, "a trivial Jacobian");
         }
     }
 

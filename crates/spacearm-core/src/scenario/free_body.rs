@@ -77,7 +77,8 @@ pub struct FreeBodySpec {
     pub step: f64,
 }
 
-fn default_free_body_step() -> f64 {
+/// The default attitude step of a free body's propagation, s.
+pub(crate) fn default_free_body_step() -> f64 {
     1e-3
 }
 

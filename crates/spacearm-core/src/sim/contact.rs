@@ -12,13 +12,14 @@ use crate::algorithms::rnea::velocity_pass;
 use crate::algorithms::wrench::ExternalWrench;
 use nalgebra::Vector3;
 
-use crate::collision::compliant::point_velocity;
+use crate::collision::compliant::{point_velocity, ContactForce};
 use crate::collision::detect::{contacts_of_placed, place_on_bodies, place_on_free_body};
-use crate::collision::{CollisionShapes, Contact, ContactLaw, NormalLaw, PairFilter};
+use crate::collision::{CollisionShapes, Contact, ContactLaw, ImpactSolver, ImpactSpec, NormalLaw, PairFilter};
 use crate::error::{Result, SpacearmError};
 use crate::model::data::Data;
 use crate::model::Model;
 use crate::sim::free_target::FreeTarget;
+use crate::sim::rigid_contact::{rigid_jump, RigidContact, RIGID_STABILIZATION};
 
 /// The normal law's name in a description: `"kelvin_voigt"` or `"hunt_crossley"`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -38,16 +39,19 @@ pub enum ContactKind {
     /// The compliant law (collision/compliant.rs), integrated with the motion.
     #[default]
     Compliant,
-    /// Rigid frictional contact solved per step (collision/impact.rs): not built into the run's
-    /// loop yet; [`ContactSpec::validate`] refuses it with a message that says so.
+    /// Rigid frictional contact solved per step on the Delassus operator (the velocity-level
+    /// time stepping of [`crate::sim::rigid_contact`]; RK4 runs only).
     Rigid,
 }
 
-/// Contact in a run, as data: which pairs touch and the compliant law's parameters.
+/// Contact in a run, as data: which pairs touch and the compliant law's parameters, or the
+/// rigid contact's (`kind = "rigid"`: `restitution`, `solver`, `stabilization`, `tolerance`,
+/// `max_iterations`, refused with the compliant law, whose `stiffness` and `damping` the rigid
+/// contact refuses in turn).
 ///
 /// ```toml
 /// [contact]
-/// kind = "compliant"           # "rigid": refused, not built into the loop yet
+/// kind = "compliant"           # or "rigid" (sim/rigid_contact.rs)
 /// pairs = [["base", "hand"]]   # body or collision-geometry names; absent: all but parent–child
 /// law = "kelvin_voigt"         # or "hunt_crossley"
 /// stiffness = 1e5              # k, N/m^p
@@ -85,10 +89,28 @@ pub struct ContactSpec {
     #[serde(default = "default_slip")]
     pub slip_velocity: f64,
     /// The detection margin, m (≥ 0; default 0): shapes this far apart are found (and counted
-    /// by nothing; a force needs interpenetration).
+    /// by nothing; a force needs interpenetration). Rigid contact: the points this far apart
+    /// enter each step's cone problem, allowed to close their gap in the step and no more.
     #[serde(default)]
     pub margin: f64,
+    /// Rigid: Newton's restitution `e` in [0, 1] (default 0).
+    #[serde(default)]
+    pub restitution: Option<f64>,
+    /// Rigid: the cone solver, `"admm"` (default) or `"pgs"`.
+    #[serde(default)]
+    pub solver: Option<ImpactSolver>,
+    /// Rigid: the position-error stabilization `β` in [0, 1] (default 0.2): a point in
+    /// interpenetration by `δ` is pushed out at `β δ / h` (a Baumgarte velocity bias).
+    #[serde(default)]
+    pub stabilization: Option<f64>,
+    /// Rigid: the solver's tolerance on the cone problem's residual, m/s (> 0; default 1e-10).
+    #[serde(default)]
+    pub tolerance: Option<f64>,
+    /// Rigid: the solver's iteration limit per step (≥ 1; default 1000).
+    #[serde(default)]
+    pub max_iterations: Option<usize>,
 }
+
 
 fn one() -> f64 {
     1.0
@@ -108,11 +130,34 @@ impl ContactSpec {
                 Err(SpacearmError::argument(format!("contact {name} must be finite and {expected}, got {v}")))
             }
         };
+        check("margin", self.margin, self.margin >= 0.0, ">= 0 m")?;
+        check("friction", self.friction, self.friction >= 0.0, ">= 0")?;
+        if self.pairs.as_ref().is_some_and(|p| p.is_empty()) {
+            return Err(SpacearmError::argument("contact pairs is empty: give at least one pair of body or geometry names, or leave it out for every pair"));
+        }
         if self.kind == ContactKind::Rigid {
-            return Err(SpacearmError::argument(
-                "contact kind \"rigid\" in a run is not implemented yet: only the compliant law is integrated by simulate; \
-                 spacearm.contact.solve_impact computes one rigid frictional impact at a state (docs/contact.md, \"Rigid frictional impacts\")",
-            ));
+            if self.stiffness.is_some() || self.damping != 0.0 {
+                return Err(SpacearmError::argument(
+                    "contact kind \"rigid\" has no stiffness or damping (they are the compliant law's): leave them out, or use kind=\"compliant\"",
+                ));
+            }
+            self.impact_spec().validate()?;
+            let beta = self.stabilization.unwrap_or(RIGID_STABILIZATION);
+            return check("stabilization", beta, (0.0..=1.0).contains(&beta), "in [0, 1]");
+        }
+        if let Some(name) = [
+            ("restitution", self.restitution.is_some()),
+            ("solver", self.solver.is_some()),
+            ("stabilization", self.stabilization.is_some()),
+            ("tolerance", self.tolerance.is_some()),
+            ("max_iterations", self.max_iterations.is_some()),
+        ]
+        .iter()
+        .find_map(|(n, given)| given.then_some(n))
+        {
+            return Err(SpacearmError::argument(format!(
+                "contact {name} is a setting of the rigid contact (kind=\"rigid\"), not of the compliant law: leave it out, or give kind=\"rigid\""
+            )));
         }
         let Some(stiffness) = self.stiffness else {
             return Err(SpacearmError::argument("contact stiffness is required by the compliant law (k, N/m^p, > 0)"));
@@ -120,13 +165,20 @@ impl ContactSpec {
         check("stiffness", stiffness, stiffness > 0.0, "> 0 N/m^p")?;
         check("exponent", self.exponent, self.exponent >= 1.0, ">= 1")?;
         check("damping", self.damping, self.damping >= 0.0, ">= 0")?;
-        check("friction", self.friction, self.friction >= 0.0, ">= 0")?;
         check("slip_velocity", self.slip_velocity, self.slip_velocity > 0.0, "> 0 m/s")?;
-        check("margin", self.margin, self.margin >= 0.0, ">= 0 m")?;
-        if self.pairs.as_ref().is_some_and(|p| p.is_empty()) {
-            return Err(SpacearmError::argument("contact pairs is empty: give at least one pair of body or geometry names, or leave it out for every pair"));
-        }
         Ok(())
+    }
+
+    /// The rigid contact's solver settings (restitution, solver, tolerance, iterations; the
+    /// proximal weight its default) as one impact's (collision/impact.rs).
+    pub fn impact_spec(&self) -> ImpactSpec {
+        ImpactSpec {
+            solver: self.solver.unwrap_or_default(),
+            restitution: self.restitution.unwrap_or(0.0),
+            tolerance: self.tolerance.unwrap_or(ImpactSpec::default().tolerance),
+            max_iterations: self.max_iterations.unwrap_or(ImpactSpec::default().max_iterations),
+            ..ImpactSpec::default()
+        }
     }
 
     /// The law's parameters.
@@ -153,6 +205,9 @@ pub(crate) struct PlantContact {
     pairs: PairFilter,
     law: ContactLaw,
     margin: f64,
+    /// Rigid contact (`kind = "rigid"`): its settings and state ([`crate::sim::rigid_contact`]);
+    /// `None`: the compliant law.
+    pub(crate) rigid: Option<RigidContact>,
     /// The free target, its 13-state integrated with the robot's ([`crate::sim::free_target`]).
     pub(crate) target: Option<FreeTarget>,
     /// Pairs of geometries that act as touching while their distance is at most
@@ -163,6 +218,9 @@ pub(crate) struct PlantContact {
     pub(crate) count: usize,
     pub(crate) normal_force: f64,
     pub(crate) power: f64,
+    /// The last evaluation's contacts that exert a force, each with its point, normal and force
+    /// (the record `contact_forces`: [`crate::sim::record`]).
+    pub(crate) active: Vec<ContactForce>,
 }
 
 impl PlantContact {
@@ -186,7 +244,17 @@ impl PlantContact {
             None => PairFilter::AllButAdjacent,
             Some(list) => PairFilter::Geometries(resolve_pairs(model, &shapes, target.as_ref(), list)?),
         };
-        Ok(PlantContact { shapes, pairs, law: spec.law(), margin: spec.margin, target, forced: Vec::new(), count: 0, normal_force: 0.0, power: 0.0 })
+        let rigid = match spec.kind {
+            ContactKind::Rigid if target.is_some() => {
+                return Err(SpacearmError::argument(
+                    "rigid contact (kind=\"rigid\") with a free target is not implemented yet: use the compliant law with a target, or \
+                     rigid contact between the robot's own bodies (docs/contact.md, \"What is not handled\")",
+                ))
+            }
+            ContactKind::Rigid => Some(RigidContact::new(spec.impact_spec(), spec.stabilization.unwrap_or(RIGID_STABILIZATION), spec.friction)),
+            ContactKind::Compliant => None,
+        };
+        Ok(PlantContact { shapes, pairs, law: spec.law(), margin: spec.margin, rigid, target, forced: Vec::new(), count: 0, normal_force: 0.0, power: 0.0, active: Vec::new() })
     }
 
     /// The contacts at the ODE state `y` (the kinematics of its `x` current in `data`) between
@@ -203,11 +271,17 @@ impl PlantContact {
     /// (`[x; u; W; s]`), the kinematics of `x` current in `data` (its body velocities are set
     /// here), set the free target's force and moment, and keep the evaluation's summary.
     pub(crate) fn wrenches_into(&mut self, model: &Model, data: &mut Data, y: &[f64], out: &mut Vec<ExternalWrench>) -> Result<()> {
+        if self.rigid.is_some() {
+            // Rigid contact acts by the impulses of each step (sim/rigid_contact.rs), not by
+            // forces; the summary is the last step's.
+            return Ok(());
+        }
         let nx = model.nx();
         velocity_pass(model, data, &y[nx..nx + model.nu()]);
         let margin = if self.forced.is_empty() { self.margin } else { self.margin.max(ONSET_SLACK) };
         let found = self.found(model, data, y, &self.pairs, margin)?;
         (self.count, self.normal_force, self.power) = (0, 0.0, 0.0);
+        self.active.clear();
         let target = self.target.as_ref().map(|t| (t.body, t.state(y)));
         let (mut target_force, mut target_torque) = (Vector3::zeros(), Vector3::zeros());
         for c in &found {
@@ -223,6 +297,7 @@ impl PlantContact {
                 self.count += 1;
                 self.normal_force += f.normal_force;
                 self.power += f.power;
+                self.active.push(f);
                 // −force on the first body, +force on the second, both at the point.
                 for (body, force) in [(f.body[0], -f.force), (f.body[1], f.force)] {
                     match target {
@@ -244,6 +319,21 @@ impl PlantContact {
             (t.force, t.torque) = (target_force, target_torque);
         }
         Ok(())
+    }
+
+    /// Rigid contact: the velocity jump of the step of length `h` from the ODE state `y` at `t`
+    /// ([`crate::sim::rigid_contact`]), `du` the forward dynamics just evaluated there (the
+    /// kinematics of `x` current in `data`); the summary kept. Whether a jump was applied.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn rigid_step(&mut self, model: &Model, data: &mut Data, t: f64, h: f64, y: &mut [f64], du: &[f64]) -> Result<bool> {
+        let found = self.found(model, data, y, &self.pairs, self.margin)?;
+        let Some(rigid) = self.rigid.as_mut() else {
+            return Ok(false);
+        };
+        let s = rigid_jump(model, data, rigid, &found, t, h, y, du)?;
+        (self.count, self.normal_force) = (s.count, s.normal_force);
+        // Impulses in the cone are all zero unless a normal one is positive.
+        Ok(s.count > 0)
     }
 
     /// The geometry pairs touching or interpenetrating at the ODE state `y` (distance ≤ 0).
@@ -336,7 +426,13 @@ mod tests {
         assert!(err("stiffness = 1.0\npairs = []").contains("pairs is empty"));
         assert!(toml::from_str::<ContactSpec>("stiffness = 1.0\nlaw = \"rigid\"").is_err());
         assert!(err("damping = 1.0").contains("stiffness is required"));
-        assert!(err("kind = \"rigid\"").contains("not implemented yet"), "{}", err("kind = \"rigid\""));
+        toml::from_str::<ContactSpec>("kind = \"rigid\"\nrestitution = 0.5\nsolver = \"pgs\"").unwrap().validate().unwrap();
+        assert!(err("kind = \"rigid\"\nstiffness = 1.0").contains("has no stiffness or damping"));
+        assert!(err("kind = \"rigid\"\nrestitution = 1.5").contains("restitution must be in [0, 1]"));
+        assert!(err("kind = \"rigid\"\nstabilization = -0.1").contains("contact stabilization"));
+        assert!(err("kind = \"rigid\"\ntolerance = 0.0").contains("tolerance"));
+        assert!(err("stiffness = 1.0\nrestitution = 0.5").contains("restitution is a setting of the rigid contact"));
+        assert!(toml::from_str::<ContactSpec>("kind = \"rigid\"\nsolver = \"lcp\"").is_err());
         assert!(toml::from_str::<ContactSpec>("stiffness = 1.0\nkind = \"soft\"").is_err());
     }
 }

@@ -1,7 +1,7 @@
 //! The native simulation loop: the loop ([`simulate`]) with its records ([`record`]), the same loop one
 //! RK4 step at a time ([`stepper`]), many steppers one step each in one call ([`batch_stepper`]), the longest RK4 step the fastest mode allows ([`step_limit`]), many runs on threads ([`rollout`]) and the soft capture of a
 //! free target by a wrist impedance ([`soft_capture`]) and closed chains under a loop closure
-//! ([`closed_chain`]); compliant contact between the system's bodies ([`contact`], its onset located in RK4 steps by [`contact_onset`]) and the outcome of a grasp on contact read from a run's records ([`grasp_outcome`]); the capture mission, one run of phases over one ledger ([`capture`],
+//! ([`closed_chain`]); compliant contact between the system's bodies ([`contact`], its onset located in RK4 steps by [`contact_onset`]), rigid contact by time stepping ([`rigid_contact`]) and the outcome of a grasp on contact read from a run's records ([`grasp_outcome`]); the capture mission, one run of phases over one ledger ([`capture`],
 //! described by [`capture_spec`], its ledger [`capture_ledger`]); the conditions that stop a run early ([`stop`], watched by [`events`]);
 //! docs/simulation-core.md.
 //!
@@ -25,7 +25,9 @@ pub mod options;
 pub mod plant;
 pub mod record;
 pub mod result;
+pub(crate) mod rigid_contact;
 pub mod rollout;
+pub mod run;
 pub mod simulate;
 pub mod soft_capture;
 pub mod step_limit;

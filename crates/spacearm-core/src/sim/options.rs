@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 use crate::control::spec::{ControllerSpec, ThrusterLimitsSpec};
 use crate::error::{Result, SpacearmError};
 use crate::math::integrate::IntegratorKind;
+use crate::model::Model;
 use crate::scenario::actuators::ThrusterLimits;
 use crate::scenario::modes::Mode;
 use crate::scenario::orbit::Orbit;
@@ -75,13 +76,15 @@ macro_rules! run_options {
             /// The control law; absent: zero torques.
             pub controller: Option<ControllerSpec>,
             /// A free target in the loop of contact (docs/contact.md, "Contact with a free
-            /// target") is not expressible in an options TOML yet (its model is no data of the
-            /// run's description): the keys are read only to be refused by [`RunSpec::options`].
+            /// target"): the path of its model's TOML file (docs/model-format.md; relative: to the
+            /// folder of the options file, [`RunSpec::free_target`]). Read by the C stepper and
+            /// FMUs; the Python door takes the model itself (`simulate(target=...)`), so
+            /// [`RunSpec::options`] refuses a target left in the description.
             #[serde(skip_serializing_if = "Option::is_none")]
-            pub target: Option<toml::Value>,
-            /// See `target`.
+            pub target: Option<String>,
+            /// The target's 13-state `[r, quat xyzw, v, ω]` in 𝒥 (with `target`).
             #[serde(skip_serializing_if = "Option::is_none")]
-            pub target_state: Option<toml::Value>,
+            pub target_state: Option<Vec<f64>>,
         }
 
         impl Default for RunSpec {
@@ -179,6 +182,22 @@ impl SimOptions {
         crate::sim::stop::validate(&self.stop)?;
         if let Some(c) = &self.contact {
             c.validate()?;
+            if c.kind == crate::sim::contact::ContactKind::Rigid {
+                if self.integrator != IntegratorKind::Rk4 {
+                    return arg(format!(
+                        "rigid contact (kind=\"rigid\") is a time-stepping scheme of fixed steps dt: it runs with integrator=\"rk4\", not \"{}\" \
+                         (an adaptive step cannot take the velocity jumps of the impacts)",
+                        self.integrator.name()
+                    ));
+                }
+                if self.stop.iter().any(|s| !matches!(s, StopCondition::Time { .. })) {
+                    return arg(
+                        "rigid contact (kind=\"rigid\") takes time stop conditions only: a gap or record condition is located inside a step, which \
+                         the velocity jumps of the rigid contact's steps do not allow yet"
+                            .to_string(),
+                    );
+                }
+            }
         }
         Ok(())
     }
@@ -233,14 +252,40 @@ impl RunOrbit {
 }
 
 impl RunSpec {
+    /// Take the free target out of this description (docs/contact.md, "Contact with a free
+    /// target"): its model read from the TOML file `target` (a relative path joined to `base`, the
+    /// folder of the options file, when given) and its 13-state; `None` without one. Both keys
+    /// or neither; a URDF file is refused (the core reads model TOML; Python's `spacearm.io`
+    /// converts URDF).
+    pub fn free_target(&mut self, base: Option<&std::path::Path>) -> Result<Option<(Model, Vec<f64>)>> {
+        let (path, state) = match (self.target.take(), self.target_state.take()) {
+            (None, None) => return Ok(None),
+            (Some(p), Some(s)) => (p, s),
+            _ => return Err(SpacearmError::argument("target and target_state go together: give both (a model TOML file and its 13-state) or neither")),
+        };
+        crate::error::check_vector("target_state", &state, 13)
+            .map_err(|e| SpacearmError::argument(format!("target_state: the target's 13-state [r, quat xyzw, v, w] ({e})")))?;
+        let file = std::path::Path::new(&path);
+        if file.extension().is_some_and(|e| e.eq_ignore_ascii_case("urdf")) {
+            return Err(SpacearmError::argument(format!(
+                "target = \"{path}\": a URDF target is not read here; write it as a model TOML (spacearm.io.save_toml of spacearm.io.load_urdf) and name that file"
+            )));
+        }
+        let full = match base {
+            Some(b) if file.is_relative() => b.join(file),
+            _ => file.to_path_buf(),
+        };
+        let model = crate::io::toml::model_from_toml_file(&full)?;
+        Ok(Some((model, state)))
+    }
+
     /// The checked options of a run of `duration` seconds ([`SimOptions::validate`], the thruster
     /// limits', the controller spec's own checks that need no plant).
     pub fn options(&self, duration: f64) -> Result<SimOptions> {
         if self.target.is_some() || self.target_state.is_some() {
             return Err(SpacearmError::argument(
-                "a free target (target, target_state) in an options TOML is not implemented: the C stepper and FMUs run contact between \
-                 the robot's own bodies; contact with a free target runs in Python's simulate(..., contact=, target=, target_state=) \
-                 (docs/contact.md, \"What is not handled\")",
+                "a free target (target, target_state) in the run's options is read by the C stepper and FMUs from an options TOML; \
+                 in Python give the model itself: simulate(..., contact=, target=, target_state=) (docs/contact.md)",
             ));
         }
         let orbit = self.in_orbit.options()?;
@@ -309,7 +354,23 @@ mod tests {
         let spec: RunSpec = toml::from_str("dt = -1.0").unwrap();
         assert!(spec.options(1.0).unwrap_err().to_string().contains("dt must be finite and > 0"));
         let spec: RunSpec = toml::from_str("target_state = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]").unwrap();
-        assert!(spec.options(1.0).unwrap_err().to_string().contains("free target (target, target_state) in an options TOML is not implemented"));
+        assert!(spec.options(1.0).unwrap_err().to_string().contains("in Python give the model itself"));
+        assert!(spec.clone().free_target(None).unwrap_err().to_string().contains("target and target_state go together"));
+        let mut spec: RunSpec = toml::from_str("target = \"rock.urdf\"\ntarget_state = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]").unwrap();
+        assert!(spec.free_target(None).unwrap_err().to_string().contains("a URDF target is not read here"));
+        let mut spec: RunSpec = toml::from_str("target = \"rock.toml\"\ntarget_state = [0.0, 1.0]").unwrap();
+        assert!(spec.free_target(None).unwrap_err().to_string().contains("13-state"));
+        // a relative path is read from the options file's folder
+        let dir = std::env::temp_dir().join(format!("spacearm_target_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let rock = crate::model::ModelBuilder::new("rock", "rock", 2.0, [[0.1, 0.0, 0.0], [0.0, 0.1, 0.0], [0.0, 0.0, 0.1]]).unwrap().build().unwrap();
+        std::fs::write(dir.join("rock.toml"), crate::io::toml::model_to_toml(&rock)).unwrap();
+        let mut spec: RunSpec = toml::from_str("target = \"rock.toml\"\ntarget_state = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]").unwrap();
+        let (m, s) = spec.free_target(Some(&dir)).unwrap().unwrap();
+        assert_eq!((m.name(), m.total_mass(), s.len()), ("rock", 2.0, 13));
+        assert!(spec.target.is_none() && spec.options(1.0).is_ok());
+        assert!(toml::from_str::<RunSpec>("target = \"rock.toml\"\ntarget_state = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]").unwrap().free_target(None).is_err());
+        std::fs::remove_dir_all(&dir).ok();
         let spec: RunSpec = toml::from_str("gravity_gradient = true").unwrap();
         assert!(spec.options(1.0).unwrap_err().to_string().contains("needs an orbit"));
         let spec: RunSpec = toml::from_str("thrusters = { max_force = 0.0 }").unwrap();

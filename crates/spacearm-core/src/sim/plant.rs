@@ -90,6 +90,17 @@ impl<'a> Plant<'a> {
         Plant::build(Cow::Owned(model), opts, controller, None)
     }
 
+    /// [`Plant::owned`] with a free target in the loop of contact ([`Plant::with_target`]; the
+    /// C stepper's and an FMU's run of an options TOML that names one).
+    pub fn owned_with_target(model: Model, opts: &SimOptions, controller: Box<dyn Controller>, target: &Model, state: &[f64]) -> Result<Plant<'static>> {
+        Plant::build(Cow::Owned(model), opts, controller, Some((target, state)))
+    }
+
+    /// The free target's 13-state in the integrator's state `y`, if the plant has one.
+    pub fn target_state<'y>(&self, y: &'y [f64]) -> Option<&'y [f64]> {
+        self.target().map(|t| t.state(y))
+    }
+
     fn build(model: Cow<'a, Model>, opts: &SimOptions, mut controller: Box<dyn Controller + 'a>, target: Option<(&Model, &[f64])>) -> Result<Self> {
         let n = model.n_dof();
         let wheels = match &opts.wheels {
@@ -174,6 +185,21 @@ impl<'a> Plant<'a> {
             }
         }
         y
+    }
+
+    /// Whether the run's contact is rigid (its impulses applied by [`Plant::rigid_jump`]).
+    pub(crate) fn is_rigid(&self) -> bool {
+        self.contact.as_ref().is_some_and(|c| c.rigid.is_some())
+    }
+
+    /// Rigid contact: the velocity jump of the step of length `h` from `(t, y)`, `dy = f(t, y)`
+    /// just evaluated ([`crate::sim::rigid_contact`]); whether one was applied.
+    pub(crate) fn rigid_jump(&mut self, t: f64, h: f64, y: &mut [f64], dy: &[f64]) -> Result<bool> {
+        let (nx, nu) = (self.nx, self.model.nu());
+        match self.contact.as_deref_mut() {
+            Some(c) => c.rigid_step(&self.model, &mut self.data, t, h, y, &dy[nx..nx + nu]),
+            _ => Ok(false),
+        }
     }
 
     /// The free target of the run, if it has one.

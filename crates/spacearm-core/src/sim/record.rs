@@ -20,7 +20,8 @@ use crate::error::Result;
 use crate::math::integrate::IntegratorKind;
 use crate::scenario::actuators::Actuators;
 use crate::sim::plant::Plant;
-use crate::sim::result::{Records, SaturationEvent, SimResult};
+use crate::collision::compliant::ContactForce;
+use crate::sim::result::{Records, SaturationEvent, SimResult, CONTACT_FORCE_WIDTH};
 
 /// A base CMG cluster's records at the kinematics `data` and the velocity `u`: its singularity
 /// measure `det(A Aᵀ)/h̄⁶` (control/cmg_jacobian.rs) and its momentum-envelope fraction
@@ -92,6 +93,12 @@ impl Recorder {
             rec.rec.contact_count = Some(Vec::with_capacity(capacity));
             rec.rec.contact_normal_force = Some(Vec::with_capacity(capacity));
             rec.rec.contact_work = Some(Vec::with_capacity(capacity));
+            if !plant.is_rigid() {
+                rec.rec.contact_forces = Some(Vec::new()); // the compliant law's forces (a rigid run records its impulses)
+            }
+            if plant.is_rigid() {
+                rec.rec.contact_impulse = Some(Vec::with_capacity(3 * capacity));
+            }
         }
         if plant.target().is_some() {
             rec.rec.target_state = Some(Vec::with_capacity(13 * capacity));
@@ -105,7 +112,7 @@ impl Recorder {
     pub(crate) fn values_per_sample_of(plant: &Plant<'_>) -> usize {
         let c = &plant.controller;
         let closure = if plant.closure.is_some() { 12 } else { 0 };
-        let orbit = if plant.orbit.is_some() { 12 } else { 0 } + if plant.contact.is_some() { 3 } else { 0 } + if plant.target().is_some() { 20 } else { 0 };
+        let orbit = if plant.orbit.is_some() { 12 } else { 0 } + if plant.contact.is_some() { 3 } else { 0 } + if plant.is_rigid() { 3 } else { 0 } + if plant.target().is_some() { 20 } else { 0 };
         let link = usize::from(!Recorder::link_joints(plant).is_empty());
         let cmg = if Recorder::base_cmgs(plant.model()).is_empty() { 0 } else { 2 };
         let solve = if c.reports_solve() { 4 } else { 0 };
@@ -194,6 +201,8 @@ impl Recorder {
                 contact_count: None,
                 contact_normal_force: None,
                 contact_work: None,
+                contact_forces: None,
+                contact_impulse: None,
                 target_state: None,
                 ledger_momentum: None,
                 ledger_energy: None,
@@ -300,6 +309,12 @@ impl Recorder {
             count.push(c.count as f64);
             fn_.push(c.normal_force);
             work.push(y[nx + nu]);
+            if let Some(rows) = r.contact_forces.as_mut() {
+                contact_force_rows(r.n_samples - 1, &c.active, rows);
+            }
+            if let (Some(rigid), Some(imp)) = (&c.rigid, r.contact_impulse.as_mut()) {
+                imp.extend_from_slice(rigid.impulse.as_slice());
+            }
         }
         if let (Some(t), Some(ts), Some(lm), Some(le)) = (plant.target(), r.target_state.as_mut(), r.ledger_momentum.as_mut(), r.ledger_energy.as_mut()) {
             // Robot + target: the target's momentum and energy from its own state
@@ -478,4 +493,17 @@ pub(crate) fn finish_result(plant: &Plant<'_>, rec: Recorder, events: Vec<Satura
         goal: plant.controller.goal_report(),
         stop: None,
     }
+}
+
+/// Append the rows of [`Records::contact_forces`] of sample `k`: one per contact that exerts a
+/// force (`[k, body_a, body_b, p, n̂, f_n, f]`, the layout of [`CONTACT_FORCE_WIDTH`]).
+fn contact_force_rows(k: usize, active: &[ContactForce], rows: &mut Vec<f64>) {
+    for f in active {
+        rows.extend_from_slice(&[k as f64, f.body[0] as f64, f.body[1] as f64]);
+        rows.extend_from_slice(f.point.as_slice());
+        rows.extend_from_slice(f.normal.as_slice());
+        rows.push(f.normal_force);
+        rows.extend_from_slice(f.force.as_slice());
+    }
+    debug_assert_eq!(rows.len() % CONTACT_FORCE_WIDTH, 0);
 }

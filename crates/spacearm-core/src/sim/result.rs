@@ -89,15 +89,29 @@ pub struct Records {
     /// N and N·m (width 6; zeros without the gravity gradient).
     pub gravity_wrench: Option<Vec<f64>>,
     /// With contact ([`crate::sim::contact`]): the number of contacts in interpenetration
-    /// (width 1).
+    /// (rigid contact, [`crate::sim::rigid_contact`]: the points that took a normal impulse in
+    /// the last step before the sample) (width 1).
     pub contact_count: Option<Vec<f64>>,
-    /// With contact: the sum of their normal forces `Σ f_n`, N (width 1).
+    /// With contact: the sum of their normal forces `Σ f_n`, N (rigid: the last step's
+    /// `Σ λ_n / h`, the mean normal force over it) (width 1).
     pub contact_normal_force: Option<Vec<f64>>,
+    /// With rigid contact: the sum since `t = 0` of the impulses `Rᵢ λᵢ` received by the second
+    /// body of each contact point (the first received the opposite), in 𝒥, N·s (width 3).
+    pub contact_impulse: Option<Vec<f64>>,
     /// With contact: the work done on the system by the contact forces since `t = 0`, J: their
     /// power `Σ f · (v₂ − v₁)` integrated by the run's integrator with the motion (one more
     /// entry of the ODE's state; width 1). The energy ledger `energy − contact_work` is then
     /// what is conserved (its drift is the energy's).
     pub contact_work: Option<Vec<f64>>,
+    /// With contact: one row per contact that exerts a force at a sample (a ragged record: the
+    /// rows of sample `k` are those whose first entry is `k`; their number is its
+    /// `contact_count`), `CONTACT_FORCE_WIDTH` = 13 values
+    /// `[k, body_a, body_b, p (3), n̂ (3), f_n, f (3)]`: the sample's index, the first and second
+    /// body (a free target is body `nb`, one past the robot's), the point where the forces act
+    /// and the unit normal from the first body towards the second, in 𝒥, the normal force (N)
+    /// and the total force on the second body (normal `f_n n̂` plus friction; N, in 𝒥); the
+    /// first body feels `−f` at the same point (docs/contact.md, "Contact dynamics").
+    pub contact_forces: Option<Vec<f64>>,
     /// With a free target in the loop ([`crate::sim::free_target`]): its 13-state
     /// `[r, quat xyzw, v, ω]` (width 13).
     pub target_state: Option<Vec<f64>>,
@@ -112,6 +126,9 @@ pub struct Records {
     /// A closed chain's pose error `e = [position (m); rotation (rad)]` (width 6).
     pub constraint_error: Option<Vec<f64>>,
 }
+
+/// The values per row of [`Records::contact_forces`].
+pub const CONTACT_FORCE_WIDTH: usize = 13;
 
 /// Everything a simulation returns.
 #[derive(Debug, Clone)]

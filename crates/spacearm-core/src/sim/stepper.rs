@@ -88,17 +88,23 @@ impl<'a> Rk4Stepper<'a> {
         let record_now = matches!(&self.recording, Some((_, every)) if self.n_steps % every == 0);
         let result = (|| {
             self.plant.sample(t, &self.y)?;
-            if record_now {
+            let rigid = self.plant.is_rigid();
+            if record_now || rigid {
                 self.plant.rhs(t, &self.y, self.rk.k1_mut())?;
+            }
+            if record_now {
                 if let Some((rec, _)) = &mut self.recording {
                     rec.record(&self.plant, t, &self.y, self.rk.k1());
                 }
             }
-            let contact = !self.y_start.is_empty();
+            // Rigid contact: the step's impulses change u at its start (sim/rigid_contact.rs);
+            // the RK4 stage at the start is then evaluated again.
+            let jumped = rigid && self.plant.rigid_jump(t, t_next - t, &mut self.y, self.rk.k1())?;
+            let contact = !self.y_start.is_empty() && !rigid;
             if contact {
                 self.y_start.copy_from_slice(&self.y);
             }
-            self.rk.step(&mut self.plant, t, t_next - t, &mut self.y, record_now)?;
+            self.rk.step(&mut self.plant, t, t_next - t, &mut self.y, (record_now || rigid) && !jumped)?;
             if contact {
                 retake_at_onset(&mut self.plant, &mut self.rk, t, &self.y_start, t_next, &mut self.y, &mut self.y_try)?;
             }
@@ -143,6 +149,12 @@ impl<'a> Rk4Stepper<'a> {
     pub fn state(&self) -> &[f64] {
         let n = self.plant.nx + self.plant.model().nu();
         &self.y[..n]
+    }
+
+    /// The free target's 13-state `[r, quat xyzw, v, ω]`, if the plant has one in the loop of
+    /// contact ([`crate::sim::free_target`]).
+    pub fn target_state(&self) -> Option<&[f64]> {
+        self.plant.target_state(&self.y)
     }
 
     /// The integrator's whole state: `[x; u]`, with contact followed by the contact work.

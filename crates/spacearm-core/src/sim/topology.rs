@@ -30,9 +30,17 @@
 //! robot (`J_c` the Jacobian of the parent body at that point): equal and opposite, `P` and `L`
 //! continuous.
 //!
+//! **Contact** (docs/events.md, "Events with contact"): with the run's contact, a flying target
+//! that has collision shapes is integrated WITH the robot in the loop of contact
+//! ([`crate::sim::free_target`], [`Flight::InLoop`]): a threshold attach is then the grasp on
+//! contact, watched on the integrator's state. Per segment the contact is the run's, less the
+//! pairs that name a second system that is welded or has no shapes ([`segment_contact`]); the
+//! contact forces are internal to robot + target, so the ledger is continuous through the
+//! events as without contact.
+//!
 //! Controllers are rebuilt on the edited model after each event (their internal state starts
 //! anew). Not handled (refused with a message): DOPRI5 with a threshold attach, stop
-//! conditions, orbits and contact together with events, a jointed target, releasing a link on a
+//! conditions and orbits together with events, a jointed target, releasing a link on a
 //! moving joint or with links below it.
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
@@ -46,15 +54,17 @@ use crate::control::Controller;
 use crate::error::{Result, SpacearmError};
 use crate::math::integrate::{IntegratorKind, Rk4};
 use crate::math::rotations::matrix_from_xyzw;
+use crate::model::geometry::GeometryRole;
 use crate::model::joint::JointType;
 use crate::model::{Data, Model, ModelBuilder};
 use crate::scenario::free_body::FreeBody;
 use crate::sim::capture::{attach, payload_state};
+use crate::sim::contact::ContactSpec;
 use crate::sim::events::locate_root;
 use crate::sim::options::SimOptions;
 use crate::sim::plant::Plant;
 use crate::sim::result::{Records, SimResult};
-use crate::sim::simulate::{check_initial_state, rk4_step_count, sample_count, simulate, Progress};
+use crate::sim::simulate::{check_initial_state, rk4_step_count, sample_count, simulate, simulate_with_target, Progress};
 use crate::sim::stepper::Rk4Stepper;
 pub use crate::sim::topology_spec::{validate, TopologyEvent};
 
@@ -100,6 +110,8 @@ pub struct TopologyRun {
     pub target: Vec<f64>,
     /// Whether it is a link of the robot at each sample.
     pub attached: Vec<bool>,
+    /// The run's phase at each sample: how many events have happened (0 before the first).
+    pub phase: Vec<usize>,
     /// Robot + target `[P; L_origin]` per sample (width 6).
     pub ledger_momentum: Vec<f64>,
     /// Robot + target mechanical energy (the records' energy plus the free target's kinetic
@@ -116,10 +128,73 @@ pub struct TopologyRun {
 enum Second {
     /// None yet.
     None,
-    /// Flying: its model, its propagation from `t0`.
-    Free { model: Model, body: FreeBody, t0: f64 },
+    /// Flying: its model and how it moves.
+    Free { model: Model, flight: Flight },
     /// A link of the robot (its index in the current model), with the model it flies as.
     Attached { model: Model, link: String },
+}
+
+/// How a flying second system moves (module docs, "Contact"): torque-free in closed form, or
+/// integrated with the robot in the loop of the run's contact.
+#[allow(clippy::large_enum_variant)]
+enum Flight {
+    /// Torque-free ([`FreeBody`]), its clock started at run time `t0`.
+    Body { body: FreeBody, t0: f64 },
+    /// In the loop of contact ([`crate::sim::free_target`]): its 13-state at the start of the
+    /// segment to run (at the last segment's end once it has run).
+    InLoop { state: Vec<f64> },
+}
+
+impl Flight {
+    /// `model` at the 13-state `s` at run time `t0`: in the loop when the run has contact and
+    /// the body has collision shapes to touch with, else torque-free.
+    fn new(model: &Model, s: &[f64], t0: f64, opts: &SimOptions) -> Result<Self> {
+        if opts.contact.is_some() && model.geometries().iter().any(|g| g.role == GeometryRole::Collision) {
+            Ok(Flight::InLoop { state: s.to_vec() })
+        } else {
+            Ok(Flight::Body { body: FreeBody::new(model.base().inertia, s, Vector3::zeros(), 0.5 * opts.dt)?, t0 })
+        }
+    }
+
+    /// The 13-state at run time `t` (in the loop: `t` is the current segment's start).
+    fn state(&mut self, t: f64) -> Result<Vec<f64>> {
+        match self {
+            Flight::Body { body, t0 } => Ok(body.state(t - *t0)?.to_vec()),
+            Flight::InLoop { state } => Ok(state.clone()),
+        }
+    }
+}
+
+/// The names by which a contact description may name the second system `model`: `"target"`,
+/// its model's and body's names, its geometries' names (and, attached as `link`, the link's).
+fn second_names(model: &Model, link: Option<&str>) -> Vec<String> {
+    let mut names = vec!["target".to_string(), model.name().to_string(), model.body_names()[0].clone()];
+    names.extend(model.geometries().iter().map(|g| g.name.clone()));
+    if let Some(l) = link {
+        names.push(l.to_string());
+        names.extend(model.geometries().iter().map(|g| format!("{l}_{}", g.name)));
+    }
+    names
+}
+
+/// The contact of a segment (module docs, "Contact"): the run's, whole while the second system
+/// is in the loop of it (or there is none); else without the pairs that name it (a welded or
+/// shapeless target touches nothing by them) — `None` when no pair is left, or when the pairs
+/// were all pairs of bodies and the robot has fewer than two collision shapes.
+fn segment_contact(contact: Option<&ContactSpec>, second: &Second, model: &Model) -> Option<ContactSpec> {
+    let spec = contact?;
+    let names = match second {
+        Second::None | Second::Free { flight: Flight::InLoop { .. }, .. } => return Some(spec.clone()),
+        Second::Free { model: tm, .. } => second_names(tm, None),
+        Second::Attached { model: tm, link } => second_names(tm, Some(link)),
+    };
+    match &spec.pairs {
+        None => (model.geometries().iter().filter(|g| g.role == GeometryRole::Collision).count() >= 2).then(|| spec.clone()),
+        Some(list) => {
+            let kept: Vec<[String; 2]> = list.iter().filter(|p| !p.iter().any(|n| names.contains(n))).cloned().collect();
+            (!kept.is_empty()).then(|| ContactSpec { pairs: Some(kept), ..spec.clone() })
+        }
+    }
 }
 
 fn target_momentum(model: &Model, s: &[f64]) -> ([f64; 6], f64) {
@@ -159,7 +234,9 @@ fn grasp_point(target: &Model, grasp: Option<&str>) -> Result<BodyPoint> {
 
 /// Run `robot` from `(x0, u0)` under `opts` (a run of `opts.duration`) and the controller
 /// `controller` builds, with the free `target` at `target_state` (13) if given and the
-/// topology `events` (module docs).
+/// topology `events` (module docs). With the run's contact, a flying target that has collision
+/// shapes is integrated with the robot in the loop of contact ([`crate::sim::free_target`])
+/// and the events continue that run (module docs, "Contact").
 #[allow(clippy::too_many_arguments)]
 pub fn simulate_with_events(
     robot: &Model,
@@ -181,11 +258,13 @@ pub fn simulate_with_events(
     if opts.orbit.is_some() {
         return refuse("an orbit");
     }
-    if opts.contact.is_some() {
-        return refuse("contact");
-    }
-    if opts.integrator != IntegratorKind::Rk4 && events.iter().any(|e| matches!(e, TopologyEvent::Attach { at: None, .. })) {
+    let located = events.iter().any(|e| matches!(e, TopologyEvent::Attach { at: None, .. }));
+    if opts.integrator != IntegratorKind::Rk4 && located {
         return refuse("integrator='dopri5' and an attach located by thresholds (use integrator='rk4')");
+    }
+    if located && opts.contact.as_ref().is_some_and(|c| c.kind == crate::sim::contact::ContactKind::Rigid) {
+        // the location re-takes a step without its rigid impulses (sim/rigid_contact.rs)
+        return refuse("rigid contact (kind='rigid') and an attach located by thresholds (give the attach a commanded time at=, or use the compliant law)");
     }
     let mut second = match target {
         Some((model, state)) => {
@@ -193,17 +272,14 @@ pub fn simulate_with_events(
                 return Err(SpacearmError::argument(format!("target '{}' is a jointed model: topology events take a rigid target", model.name())));
             }
             crate::error::check_vector("target_state", state, 13)?;
-            Second::Free { model: model.clone(), body: FreeBody::new(model.base().inertia, state, Vector3::zeros(), 0.5 * opts.dt)?, t0: 0.0 }
+            Second::Free { model: model.clone(), flight: Flight::new(model, state, 0.0, opts)? }
         }
         None => Second::None,
     };
     let mut model = robot.clone();
     let (mut x, mut u) = (x0.to_vec(), u0.to_vec());
     let mut t0 = 0.0;
-    let mut segments: Vec<(f64, SimResult, bool)> = Vec::new();
-    let mut rows_target: Vec<f64> = Vec::new();
-    // per sample: the free target's [P; L] and kinetic energy (zeros when attached or absent)
-    let mut rows_free: Vec<[f64; 7]> = Vec::new();
+    let mut run = Rows::default();
     let mut records: Vec<TopologyRecord> = Vec::new();
     let mut k = 0;
     let duration = opts.duration;
@@ -214,44 +290,47 @@ pub fn simulate_with_events(
             Some(e) => (e.at().expect("a commanded time").min(duration), None),
             None => (duration, None),
         };
-        let seg_opts = SimOptions { duration: t_end - t0, ..opts.clone() };
+        let seg_opts = SimOptions { duration: t_end - t0, contact: segment_contact(opts.contact.as_ref(), &second, &model), ..opts.clone() };
         let mut ctrl = controller(&model)?;
         let mut seg_progress = |f: f64| progress((t0 + f * (t_end - t0)) / duration);
-        let (res, happened) = match threshold {
-            Some(TopologyEvent::Attach { point, grasp, gap, speed, rate, .. }) if t_end > t0 => {
-                let Second::Free { model: tm, body, t0: tb0 } = &second else {
+        // the second system in the loop of contact this segment: its model and 13-state
+        let in_loop = match &second {
+            Second::Free { model: tm, flight: Flight::InLoop { state } } => Some((tm, state.as_slice())),
+            _ => None,
+        };
+        if t_end <= t0 {
+            return Err(SpacearmError::Simulation(format!("event {k} ({}) at t = {t0} s: no time left before it", next.map_or("end", |e| e.kind()))));
+        }
+        let (mut res, happened) = match threshold {
+            Some(TopologyEvent::Attach { point, grasp, gap, speed, rate, .. }) => {
+                let Second::Free { model: tm, flight } = &second else {
                     return Err(SpacearmError::argument(format!("event {k} (attach): there is no free target to attach (pass target= and target_state=)")));
                 };
-                let watch = AttachWatch::new(&model, point.as_ref(), tm, grasp.as_deref(), [gap.unwrap_or(f64::INFINITY), speed.unwrap_or(f64::INFINITY), rate.unwrap_or(f64::INFINITY)], body.clone(), t0 - tb0)?;
-                let plant = Plant::new(&model, &seg_opts, ctrl.as_mut())?;
+                let limits = [gap.unwrap_or(f64::INFINITY), speed.unwrap_or(f64::INFINITY), rate.unwrap_or(f64::INFINITY)];
+                let plant = match in_loop {
+                    Some((tm, s)) => Plant::with_target(&model, &seg_opts, ctrl.as_mut(), tm, s)?,
+                    None => Plant::new(&model, &seg_opts, ctrl.as_mut())?,
+                };
+                let source = match flight {
+                    Flight::Body { body, t0: tb0 } => WatchedTarget::Body { body: body.clone(), clock: t0 - tb0 },
+                    Flight::InLoop { .. } => WatchedTarget::InLoop { offset: plant.target().map_or(0, |t| t.offset) },
+                };
+                let watch = AttachWatch::new(&model, point.as_ref(), tm, grasp.as_deref(), limits, source)?;
                 run_located(plant, &x, &u, &seg_opts, watch, &mut seg_progress)?
             }
-            _ if t_end > t0 => (simulate(&model, &x, &u, &seg_opts, ctrl.as_mut(), &mut seg_progress)?, None),
-            _ => return Err(SpacearmError::Simulation(format!("event {k} ({}) at t = {t0} s: no time left before it", next.map_or("end", |e| e.kind())))),
+            _ => match in_loop {
+                Some((tm, s)) => (simulate_with_target(&model, &x, &u, &seg_opts, ctrl.as_mut(), tm, s, &mut seg_progress)?, None),
+                None => (simulate(&model, &x, &u, &seg_opts, ctrl.as_mut(), &mut seg_progress)?, None),
+            },
         };
-        let r = &res.records;
-        let t_seg = r.t[r.n_samples - 1];
+        let t_seg = res.records.t[res.records.n_samples - 1];
         let (nx, nu) = (model.nx(), model.nu());
-        x = r.x[(r.n_samples - 1) * nx..].to_vec();
-        u = r.u[(r.n_samples - 1) * nu..].to_vec();
-        // the second system's rows
-        let mut d = Data::new(&model);
-        for j in 0..r.n_samples {
-            let (s, free): ([f64; 13], [f64; 7]) = match &mut second {
-                Second::None => ([f64::NAN; 13], [0.0; 7]),
-                Second::Free { body, t0: tb0, model: tm } => {
-                    let s = body.state(t0 + r.t[j] - *tb0)?;
-                    let (h, e) = target_momentum(tm, &s);
-                    (s, std::array::from_fn(|i| if i < 6 { h[i] } else { e }))
-                }
-                Second::Attached { link, .. } => {
-                    (payload_state(&model, &mut d, &r.x[j * nx..(j + 1) * nx], &r.u[j * nu..(j + 1) * nu], model.body_index(link)?)?, [0.0; 7])
-                }
-            };
-            rows_target.extend_from_slice(&s);
-            rows_free.push(free);
-        }
-        segments.push((t0, res, matches!(second, Second::Attached { .. })));
+        let last = res.records.n_samples - 1;
+        x = res.records.x[last * nx..].to_vec();
+        u = res.records.u[last * nu..].to_vec();
+        run.rows_of(&model, &mut second, t0, &mut res, opts.contact.is_some(), records.len())?;
+        let is_attached = matches!(second, Second::Attached { .. });
+        run.segments.push((t0, res, is_attached));
         // a commanded event's time exactly (the segment's steps land on its duration)
         t0 = if threshold.is_none() { t_end } else { t0 + t_seg };
         // the event, if one happens here
@@ -273,10 +352,10 @@ pub fn simulate_with_events(
         let e = next.expect("an event");
         let (new_model, rec) = match e {
             TopologyEvent::Attach { point, grasp, .. } => {
-                let Second::Free { model: tm, body, t0: tb0 } = &mut second else {
+                let Second::Free { model: tm, flight } = &mut second else {
                     return Err(SpacearmError::argument(format!("event {k} (attach) at t = {t0} s: there is no free target to attach (pass target= and target_state=, or release a link first)")));
                 };
-                let s = body.state(t0 - *tb0)?;
+                let s = flight.state(t0)?;
                 let (rb, ro) = PointSpec::resolve(point.as_ref(), &model)?;
                 let tg = grasp_point(tm, grasp.as_deref())?;
                 let (mr, er) = robot_momentum(&model, &x, &u)?;
@@ -320,7 +399,7 @@ pub fn simulate_with_events(
                 let (released, edited, rec) = detach(&model, &x, &mut u, &link, *impulse, direction.as_ref(), &second, k, t0)?;
                 let mut rec = rec;
                 rec.event = k;
-                second = Second::Free { body: FreeBody::new(released.0.base().inertia, &released.1, Vector3::zeros(), 0.5 * opts.dt)?, model: released.0, t0 };
+                second = Second::Free { flight: Flight::new(&released.0, &released.1, t0, opts)?, model: released.0 };
                 (edited, rec)
             }
         };
@@ -328,7 +407,100 @@ pub fn simulate_with_events(
         records.push(rec);
         k += 1;
     }
-    finish(segments, rows_target, rows_free, records, model)
+    run.finish(records, model)
+}
+
+/// The rows of a run with events beside the robot's records: the second system's 13-state, the
+/// ledger, whether it is attached and the phase (events that happened) per sample, and the
+/// segments themselves.
+#[derive(Default)]
+struct Rows {
+    segments: Vec<(f64, SimResult, bool)>,
+    target: Vec<f64>,
+    attached: Vec<bool>,
+    phase: Vec<usize>,
+    ledger_momentum: Vec<f64>,
+    ledger_energy: Vec<f64>,
+}
+
+impl Rows {
+    /// Add the rows of the segment `res` that started at run time `t0` on `model` with
+    /// `second` (after `phase` events): the ledger is the records' `[P; L]` and energy plus the
+    /// flying target's (in the loop of contact: the recorder's, robot + target, whose target rows
+    /// leave the records here); with the run's `contact`, a segment without contact records
+    /// zeros for them.
+    fn rows_of(&mut self, model: &Model, second: &mut Second, t0: f64, res: &mut SimResult, contact: bool, phase: usize) -> Result<()> {
+        let r = &mut res.records;
+        let n = r.n_samples;
+        let (nx, nu) = (model.nx(), model.nu());
+        let attached = matches!(second, Second::Attached { .. });
+        self.attached.extend(std::iter::repeat_n(attached, n));
+        self.phase.extend(std::iter::repeat_n(phase, n));
+        if contact && r.contact_count.is_none() {
+            (r.contact_count, r.contact_normal_force, r.contact_work) = (Some(vec![0.0; n]), Some(vec![0.0; n]), Some(vec![0.0; n]));
+        }
+        if contact && r.contact_forces.is_none() {
+            r.contact_forces = Some(Vec::new()); // no acting contact: no rows
+        }
+        if let (Some(ts), Some(lm), Some(le)) = (r.target_state.take(), r.ledger_momentum.take(), r.ledger_energy.take()) {
+            if let Second::Free { flight: Flight::InLoop { state }, .. } = second {
+                state.copy_from_slice(&ts[13 * (n - 1)..]);
+            }
+            self.target.extend(ts);
+            self.ledger_momentum.extend(lm);
+            self.ledger_energy.extend(le);
+            return Ok(());
+        }
+        let mut d = Data::new(model);
+        for j in 0..n {
+            let (s, free): ([f64; 13], [f64; 7]) = match &mut *second {
+                Second::None => ([f64::NAN; 13], [0.0; 7]),
+                Second::Free { model: tm, flight } => {
+                    let s: [f64; 13] = flight.state(t0 + r.t[j])?.try_into().map_err(|_| SpacearmError::Simulation("a 13-state".into()))?;
+                    let (h, e) = target_momentum(tm, &s);
+                    (s, std::array::from_fn(|i| if i < 6 { h[i] } else { e }))
+                }
+                Second::Attached { link, .. } => (payload_state(model, &mut d, &r.x[j * nx..(j + 1) * nx], &r.u[j * nu..(j + 1) * nu], model.body_index(link)?)?, [0.0; 7]),
+            };
+            self.target.extend_from_slice(&s);
+            let (p, l) = (&r.linear_momentum[3 * j..3 * j + 3], &r.angular_momentum_origin[3 * j..3 * j + 3]);
+            self.ledger_momentum.extend((0..6).map(|i| if i < 3 { p[i] } else { l[i - 3] } + free[i]));
+            self.ledger_energy.push(r.energy[j] + free[6]);
+        }
+        Ok(())
+    }
+
+    /// The segments put end to end (module docs), with the events that happened and the model
+    /// at the end.
+    fn finish(self, events: Vec<TopologyRecord>, model: Model) -> Result<TopologyRun> {
+        let mut out: Option<SimResult> = None;
+        let starts: Vec<f64> = self.segments.iter().map(|s| s.0).skip(1).collect();
+        for (i, (t0, res, _)) in self.segments.into_iter().enumerate() {
+            let mut res = shifted(res, t0);
+            if let (Some(&next), Some(last)) = (starts.get(i), res.records.t.last_mut()) {
+                // the segment's end is the next one's start, the event's instant, to the bit
+                *last = next;
+            }
+            out = Some(match out {
+                None => res,
+                Some(mut acc) => {
+                    append(&mut acc, res);
+                    acc
+                }
+            });
+        }
+        let result = out.ok_or_else(|| SpacearmError::Simulation("the run recorded nothing".into()))?;
+        Ok(TopologyRun {
+            result,
+            target: self.target,
+            attached: self.attached,
+            phase: self.phase,
+            ledger_momentum: self.ledger_momentum,
+            ledger_energy: self.ledger_energy,
+            events,
+            final_model: model,
+        })
+    }
 }
 
 /// Release `link` from `model` at `(x, u)` (module docs): the released rigid model with its
@@ -430,6 +602,14 @@ fn detach(
     Ok(((free, s), edited, rec))
 }
 
+/// Where a threshold attach reads the flying target's 13-state.
+enum WatchedTarget {
+    /// Torque-free: at `clock + t` on its clock.
+    Body { body: FreeBody, clock: f64 },
+    /// In the loop of contact: in the ODE state at `offset`.
+    InLoop { offset: usize },
+}
+
 /// The watch of a threshold attach: `g = max(gap/gap₀, |Δv|/v₀, |Δω|/ω₀) − 1` at `(t, y)`.
 struct AttachWatch<'m> {
     model: &'m Model,
@@ -437,20 +617,18 @@ struct AttachWatch<'m> {
     point: BodyPoint,
     /// The target's grasp point, from its CM in its axes.
     grasp: Vector3<f64>,
-    body: FreeBody,
-    /// The segment's start on the body's clock.
-    clock: f64,
+    target: WatchedTarget,
     limits: [f64; 3],
 }
 
 impl<'m> AttachWatch<'m> {
-    fn new(model: &'m Model, point: Option<&PointSpec>, target: &Model, grasp: Option<&str>, limits: [f64; 3], body: FreeBody, clock: f64) -> Result<Self> {
+    fn new(model: &'m Model, point: Option<&PointSpec>, target: &Model, grasp: Option<&str>, limits: [f64; 3], source: WatchedTarget) -> Result<Self> {
         let (b, offset) = PointSpec::resolve(point, model)?;
         let tg = grasp_point(target, grasp)?;
         if tg.body != 0 {
             return Err(SpacearmError::argument("the target's grasp point must be on its base (a rigid target)"));
         }
-        Ok(AttachWatch { model, data: Data::new(model), point: BodyPoint { body: b, offset }, grasp: tg.offset, body, clock, limits })
+        Ok(AttachWatch { model, data: Data::new(model), point: BodyPoint { body: b, offset }, grasp: tg.offset, target: source, limits })
     }
 
     /// `g` at segment time `t`, robot state `y = [x; u; …]`.
@@ -462,7 +640,10 @@ impl<'m> AttachWatch<'m> {
         let tw = self.data.body_velocity[self.point.body];
         let w_r = Vector3::new(tw[3], tw[4], tw[5]);
         let v_r = Vector3::new(tw[0], tw[1], tw[2]) + w_r.cross(&(xp - self.data.base_position));
-        let s = self.body.state(self.clock + t)?;
+        let s = match &mut self.target {
+            WatchedTarget::Body { body, clock } => body.state(*clock + t)?,
+            WatchedTarget::InLoop { offset } => std::array::from_fn(|i| y[*offset + i]),
+        };
         let p = Vector3::new(s[0], s[1], s[2]) + matrix_from_xyzw(&[s[3], s[4], s[5], s[6]]) * self.grasp;
         let (rt, vt, wt) = (Vector3::new(s[0], s[1], s[2]), Vector3::new(s[7], s[8], s[9]), Vector3::new(s[10], s[11], s[12]));
         let rel = Vector6::from_iterator((v_r - (vt + wt.cross(&(xp - rt)))).iter().chain((w_r - wt).iter()).copied());
@@ -511,40 +692,6 @@ fn run_located(plant: Plant<'_>, x: &[f64], u: &[f64], opts: &SimOptions, mut wa
         t_prev = t_next;
     }
     Ok((stepper.finish()?, found))
-}
-
-/// The segments put end to end (module docs) with the second system's rows and the ledger:
-/// the records' `[P; L]` and energy plus the free target's.
-fn finish(segments: Vec<(f64, SimResult, bool)>, target: Vec<f64>, free: Vec<[f64; 7]>, events: Vec<TopologyRecord>, model: Model) -> Result<TopologyRun> {
-    let (mut attached, mut ledger_momentum, mut ledger_energy) = (Vec::new(), Vec::new(), Vec::new());
-    let mut out: Option<SimResult> = None;
-    let mut row = 0;
-    let starts: Vec<f64> = segments.iter().map(|s| s.0).skip(1).collect();
-    for (i, (t0, res, is_attached)) in segments.into_iter().enumerate() {
-        let r = &res.records;
-        for j in 0..r.n_samples {
-            attached.push(is_attached);
-            let f = &free[row + j];
-            let (p, l) = (&r.linear_momentum[3 * j..3 * j + 3], &r.angular_momentum_origin[3 * j..3 * j + 3]);
-            ledger_momentum.extend((0..6).map(|i| if i < 3 { p[i] } else { l[i - 3] } + f[i]));
-            ledger_energy.push(r.energy[j] + f[6]);
-        }
-        row += r.n_samples;
-        let mut res = shifted(res, t0);
-        if let (Some(&next), Some(last)) = (starts.get(i), res.records.t.last_mut()) {
-            // the segment's end is the next one's start, the event's instant, to the bit
-            *last = next;
-        }
-        out = Some(match out {
-            None => res,
-            Some(mut acc) => {
-                append(&mut acc, res);
-                acc
-            }
-        });
-    }
-    let result = out.ok_or_else(|| SpacearmError::Simulation("the run recorded nothing".into()))?;
-    Ok(TopologyRun { result, target, attached, ledger_momentum, ledger_energy, events, final_model: model })
 }
 
 fn shifted(mut res: SimResult, t0: f64) -> SimResult {
@@ -614,12 +761,20 @@ fn append_records(a: &mut Records, b: Records) {
         contact_count,
         contact_normal_force,
         contact_work,
+        contact_forces,
+        contact_impulse,
         target_state,
         ledger_momentum,
         ledger_energy,
         constraint_wrench,
         constraint_error,
     } = b;
+    // The contact rows' first entry is their sample's index: shifted by `a`'s samples.
+    let shift = a.n_samples as f64;
+    let contact_forces = contact_forces.map(|mut rows| {
+        rows.chunks_mut(crate::sim::result::CONTACT_FORCE_WIDTH).for_each(|r| r[0] += shift);
+        rows
+    });
     a.n_samples += n_samples;
     for (to, from) in [
         (&mut a.t, t),
@@ -657,6 +812,8 @@ fn append_records(a: &mut Records, b: Records) {
         (&mut a.contact_count, contact_count),
         (&mut a.contact_normal_force, contact_normal_force),
         (&mut a.contact_work, contact_work),
+        (&mut a.contact_forces, contact_forces),
+        (&mut a.contact_impulse, contact_impulse),
         (&mut a.target_state, target_state),
         (&mut a.ledger_momentum, ledger_momentum),
         (&mut a.ledger_energy, ledger_energy),
@@ -829,6 +986,100 @@ mod tests {
         assert!(e1 < 1e-6 && e2 < e1 / 20.0 + 1e-13, "event time errors {e1:e}, {e2:e} (RK4: O(h⁴))");
     }
 
+    /// A floating base (ball 0.3) with a hinged arm whose tip ball (0.1, its surface point
+    /// "tip") points along x, and a 2 kg ball target (0.2) with its "handle" on the surface
+    /// facing the tip, coming at it along x at 0.1 m/s: contact stops it on the tip.
+    fn contact_scene() -> (Model, Model, Vec<f64>, SimOptions) {
+        use crate::model::geometry::{GeometrySpec, Shape};
+        use crate::model::joint::JointType as J;
+        let ball = |body: &str, radius: f64, origin: [f64; 3]| GeometrySpec {
+            name: None,
+            body: body.into(),
+            role: GeometryRole::Collision,
+            shape: Shape::Sphere { radius },
+            origin,
+            rotation: [0.0, 0.0, 0.0, 1.0],
+            rgba: None,
+        };
+        let mut b = ModelBuilder::new("bus", "base", 100.0, [[3.6, 0.0, 0.0], [0.0, 3.6, 0.0], [0.0, 0.0, 3.6]]).unwrap();
+        b.add_link(LinkSpec::new("l1", "base", J::Revolute, [0.5, 0.0, 0.0], [0.0, 0.0, 1.0], [0.3, 0.0, 0.0], 3.0, [0.02, 0.1, 0.1])).unwrap();
+        b.add_geometry(ball("base", 0.3, [0.0; 3])).unwrap();
+        b.add_geometry(ball("l1", 0.1, [0.3, 0.0, 0.0])).unwrap();
+        b.add_point("tip", "l1", [0.4, 0.0, 0.0]).unwrap();
+        let robot = b.build().unwrap();
+        let mut t = ModelBuilder::new("rock", "rock", 2.0, [[0.08, 0.0, 0.0], [0.0, 0.1, 0.0], [0.0, 0.0, 0.12]]).unwrap();
+        t.add_geometry(ball("rock", 0.2, [0.0; 3])).unwrap();
+        t.add_point("handle", "rock", [-0.2, 0.0, 0.0]).unwrap();
+        let s0 = vec![1.45, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, -0.1, 0.0, 0.0, 0.0, 0.0, 0.0];
+        let mut c: crate::sim::contact::ContactSpec = toml::from_str("stiffness = 2e4\ndamping = 30.0\nfriction = 0.4\nslip_velocity = 0.01").unwrap();
+        c.pairs = Some(vec![["l1".into(), "target".into()]]);
+        let o = SimOptions { mode: Mode::Floating, duration: 1.2, dt: 1e-3, contact: Some(c), ..SimOptions::default() };
+        (robot, t.build().unwrap(), s0, o)
+    }
+
+    #[test]
+    fn a_grasp_on_contact_and_a_release_keep_momentum_and_energy_in_one_run_with_contact() {
+        let (robot, rock, s0, o) = contact_scene();
+        let x0 = vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+        // the robot drifts and turns a little; the rock spins
+        let u0 = vec![0.01, 0.0, 0.0, 0.0, 0.0, 0.005, 0.0];
+        let mut s0 = s0;
+        s0[10..13].copy_from_slice(&[0.05, 0.0, 0.0]);
+        let events = [
+            TopologyEvent::Attach { at: None, point: Some(PointSpec::Named("tip".into())), grasp: Some("handle".into()), gap: Some(0.01), speed: Some(0.01), rate: None },
+            TopologyEvent::Detach { at: 0.9, body: None, impulse: 0.0, direction: None },
+        ];
+        let run = simulate_with_events(&robot, &x0, &u0, &o, &mut zero, Some((&rock, &s0)), &events, &mut |_| Ok(())).unwrap();
+        assert_eq!(run.events.len(), 2, "{:?}", run.events);
+        let rec = &run.result.records;
+        let n = rec.n_samples;
+        assert_eq!((run.phase.len(), run.attached.len(), run.target.len(), run.ledger_energy.len()), (n, n, 13 * n, n));
+        let (ta, td) = (run.events[0].t, run.events[1].t);
+        // the grasp came on contact: the contact force acted in phase 0, before the weld
+        let count = rec.contact_count.as_ref().unwrap();
+        let touching: Vec<f64> = (0..n).filter(|&j| count[j] > 0.0).map(|j| rec.t[j]).collect();
+        assert!(!touching.is_empty() && touching[0] < ta && touching[0] > 0.3, "contact at {:?}, attach at {ta}", touching.first());
+        // it stopped the rock on the tip: no relative speed above the threshold at the weld
+        assert!(run.events[0].gap < 0.01 && ta < 0.7, "gap {} at {ta}", run.events[0].gap);
+        // no contact while welded (its pairs name the target), contact in the loop again after
+        // the release (they still touch: the contact pushes them apart)
+        for j in 0..n {
+            let expected = if rec.t[j] < ta || (rec.t[j] == ta && !run.attached[j]) { 0 } else if rec.t[j] < td || (rec.t[j] == td && run.attached[j]) { 1 } else { 2 };
+            assert_eq!(run.phase[j], expected, "sample {j} at {}", rec.t[j]);
+            assert_eq!(run.attached[j], expected == 1);
+            if expected == 1 {
+                assert_eq!(count[j], 0.0);
+            }
+        }
+        assert!((0..n).any(|j| run.phase[j] == 2 && count[j] > 0.0), "contact in the loop after the release");
+        for ev in &run.events {
+            let h: f64 = ev.momentum_before.iter().map(|v| v * v).sum::<f64>().sqrt();
+            assert!(h > 0.1, "{}: momentum in play {h}", ev.kind);
+            assert!(rel(&ev.momentum_before, &ev.momentum_after) < 1e-12, "{} at {}: {:?} vs {:?}", ev.kind, ev.t, ev.momentum_before, ev.momentum_after);
+            // the ledger's two samples at the event's instant
+            let k = rec.t.iter().position(|&t| t == ev.t).unwrap();
+            assert_eq!(rec.t[k + 1], ev.t);
+            assert!(rel(&run.ledger_momentum[6 * k..6 * k + 6], &run.ledger_momentum[6 * k + 6..6 * k + 12]) < 1e-12, "{}: ledger", ev.kind);
+        }
+        // the release without a separation impulse keeps the kinetic energy
+        let ev = &run.events[1];
+        assert!(ev.energy_before > 1e-3);
+        assert!((ev.energy_after - ev.energy_before).abs() < 1e-12 * ev.energy_before, "{} vs {}", ev.energy_before, ev.energy_after);
+        let k = rec.t.iter().position(|&t| t == td).unwrap();
+        assert!((run.ledger_energy[k] - run.ledger_energy[k + 1]).abs() < 1e-12 * run.ledger_energy[k]);
+        // the attach's impulse is the jump of the rock's momentum (from its rows), equal and
+        // opposite to the robot's: the ledger, computed from the records and the rows, continuous
+        let k = rec.t.iter().position(|&t| t == ta).unwrap();
+        let (sb, sa) = (&run.target[13 * k..13 * k + 13], &run.target[13 * k + 13..13 * k + 26]);
+        let dp: Vec<f64> = (7..10).map(|i| 2.0 * (sa[i] - sb[i])).collect();
+        let want: Vec<f64> = run.events[0].impulse[..3].iter().map(|f| -f).collect();
+        assert!(rel(&want, &dp) < 1e-9, "Δ(m v) {dp:?} vs impulse {want:?}");
+        // over the whole run, robot + rock keep their momentum to the integration error (the
+        // contact forces are internal)
+        let dev = (0..n).map(|j| rel(&run.ledger_momentum[..6], &run.ledger_momentum[6 * j..6 * j + 6])).fold(0.0, f64::max);
+        assert!(dev < 1e-8, "ledger drift {dev}");
+    }
+
     #[test]
     fn events_the_run_cannot_do_are_refused_with_their_reason() {
         let (robot, x0, u0) = robot();
@@ -840,5 +1091,9 @@ mod tests {
         assert!(e.contains("is not implemented: only a rigid link on a fixed joint"), "{e}");
         let e = err(&SimOptions { stop: vec![crate::sim::stop::StopCondition::Time { t: 0.1 }], ..opts(0.3, 0.01) }, &[attach]);
         assert!(e.contains("stop conditions are not implemented"), "{e}");
+        let rigid: crate::sim::contact::ContactSpec = toml::from_str("kind = \"rigid\"").unwrap();
+        let located = TopologyEvent::Attach { at: None, point: None, grasp: None, gap: Some(0.1), speed: None, rate: None };
+        let e = err(&SimOptions { contact: Some(rigid), ..opts(0.3, 0.01) }, &[located]);
+        assert!(e.contains("rigid contact (kind='rigid') and an attach located by thresholds"), "{e}");
     }
 }
