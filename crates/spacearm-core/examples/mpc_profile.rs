@@ -35,6 +35,12 @@ fn spec(goal: &[f64], discretization: DiscretizationKind) -> ProblemSpec {
     }
 }
 
+/// The `p`-th percentile (0..=100, nearest rank) of `v`.
+fn percentile(v: &mut [f64], p: f64) -> f64 {
+    v.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    v[(((p / 100.0) * v.len() as f64).ceil() as usize).clamp(1, v.len()) - 1]
+}
+
 fn median(v: &mut [f64]) -> f64 {
     v.sort_by(|a, b| a.partial_cmp(b).unwrap());
     v[v.len() / 2]
@@ -106,7 +112,12 @@ fn main() {
             }
         }
         let n = times.len();
-        println!("law-like warm solves (keep {keep}): median {:.3} ms, mean iterations {:.2}", 1e3 * median(&mut times), iterations as f64 / n as f64);
+        println!(
+            "law-like warm solves (keep {keep}, at most {per_sample} iterations): median {:.3} ms, p99 {:.3} ms, mean iterations {:.2}",
+            1e3 * median(&mut times),
+            1e3 * percentile(&mut times, 99.0),
+            iterations as f64 / n as f64
+        );
         return;
     }
     if which == "trace" {
@@ -126,10 +137,10 @@ fn main() {
         println!("{l:?}");
     }
     if !cold.is_empty() {
-        println!("cold median {:.3} ms", 1e3 * median(&mut cold));
+        println!("cold median {:.3} ms, p99 {:.3} ms", 1e3 * median(&mut cold), 1e3 * percentile(&mut cold, 99.0));
     }
     if !warm.is_empty() {
-        println!("warm median {:.3} ms", 1e3 * median(&mut warm));
+        println!("warm median {:.3} ms, p99 {:.3} ms", 1e3 * median(&mut warm), 1e3 * percentile(&mut warm, 99.0));
     }
     if which != "all" {
         return;
