@@ -95,6 +95,8 @@ def _laws():
         ("torque_limit", s6, "floating", lambda r: TorqueLimit(JointPD(kp=1000.0, kd=1.0, reference=q0 + d), limit=0.5), None),
         ("mpc", s6, "floating", lambda r: MPC(_mpc_problem(q0 + d), max_iterations=3), None),
         ("mpc_moving_target", s6, "floating", lambda r: MPC(_mpc_tracking(r), max_iterations=3), None),
+        ("mpc_euler_orbiting_target", s6, "floating",
+         lambda r: MPC(_mpc_tracking(r, orbit=spacearm.Orbit.circular(500e3), discretization="euler"), max_iterations=3), None),
     ]
 
 
@@ -105,16 +107,17 @@ def _mpc_problem(goal):
                        terminal=[mpc.JointCost(100.0, goal, weight_qd=1.0)], control_limit=5.0)
 
 
-def _mpc_tracking(robot):
+def _mpc_tracking(robot, orbit=None, discretization="rk4"):
     """The end effector after a tumbling target's grasp point (a moving reference of the point
-    cost, docs/mpc.md): the run description carries the target as data, every door propagates it."""
+    cost, docs/mpc.md): the run description carries the target as data, every door propagates it
+    (with ``orbit``: under the tidal motion; ``discretization``: the plan's step)."""
     import spacearm.mpc as mpc
     from spacearm.control import FreeBodyPoint
     body, offset = robot.resolve_point(None)
     cm = robot.point_position(robot.neutral_configuration()) + np.array([0.01, 0.0, 0.0]) - np.array([0.3, 0.0, 0.0])
-    target = FreeBodyPoint([3.0, 4.0, 5.0], np.r_[cm, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.05, 0.0, 0.1], offset=(0.3, 0.0, 0.0))
+    target = FreeBodyPoint([3.0, 4.0, 5.0], np.r_[cm, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.05, 0.0, 0.1], offset=(0.3, 0.0, 0.0), orbit=orbit)
     return mpc.Problem(horizon=5, dt=H, running=[mpc.PointCost(body, target, weight=1e3, offset=offset), mpc.ControlCost(1e-2)],
-                       control_limit=5.0)
+                       control_limit=5.0, discretization=discretization)
 
 
 LAWS = {law[0]: law[1:] for law in _laws()}

@@ -408,6 +408,19 @@ mod tests {
             Err(SpacearmError::InvalidArgument(m)) => assert_eq!(m, r#"arm must be one of ["free", "locked"], got 'Free'"#),
             other => panic!("expected an argument error, got {other:?}"),
         }
+        use crate::algorithms::impulse::GraspContact;
+        use crate::analysis::reaction_null_space::BaseMotion;
+        assert_eq!(BaseMotion::from_name("angular").unwrap(), BaseMotion::Angular);
+        assert_eq!(BaseMotion::from_name("full").unwrap(), BaseMotion::Full);
+        let n = Some(nalgebra::Vector3::new(0.0, 0.0, 1.0));
+        assert_eq!(GraspContact::from_name("rigid", n).unwrap(), GraspContact::Rigid);
+        assert_eq!(GraspContact::from_name("point", n).unwrap(), GraspContact::Point { normal: n });
+        for (e, expected) in [
+            (BaseMotion::from_name("linear").map(|_| ()), r#"base_motion must be one of ["angular", "full"], got 'linear'"#),
+            (GraspContact::from_name("glue", None).map(|_| ()), r#"kind must be one of ["rigid", "point"], got 'glue'"#),
+        ] {
+            assert!(matches!(&e, Err(SpacearmError::InvalidArgument(m)) if m == expected), "{e:?}");
+        }
     }
 
     #[test]

@@ -78,11 +78,7 @@ pub fn analysis_scan<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, samples: &Boun
 /// Reaction null space at x: `which` is "angular" or "full".
 #[pyfunction]
 pub fn analysis_reaction_null_space<'py>(py: Python<'py>, m: PyRef<'_, PyModel>, x: &Bound<'py, PyAny>, which: &str, tolerance: f64) -> PyResult<PyReactionNullSpace> {
-    let which = match which {
-        "angular" => rns::BaseMotion::Angular,
-        "full" => rns::BaseMotion::Full,
-        other => return Err(to_py_err(py, SpacearmError::InvalidArgument(format!("base motion must be 'angular' or 'full', got '{other}'")))),
-    };
+    let which = rns::BaseMotion::from_name(which).or_raise(py)?;
     let x = vec_arg(x, "x")?;
     let r = m.with_data(|model, data| rns::reaction_null_space(model, data, x.as_slice(), which, tolerance)).or_raise(py)?;
     Ok(PyReactionNullSpace::new(py, &r))

@@ -23,7 +23,7 @@ pub(crate) fn joint_limits(limits: Option<[f64; 4]>) -> JointLimits {
 
 /// Joint `name`'s passive dynamics from the doors' `(actuated, stiffness, damping, rest)`
 /// (docs/flexibility.md); `None` leaves the joint as built.
-pub(crate) fn set_joint_dynamics(py: Python<'_>, b: &mut ModelBuilder, name: &str, dynamics: Option<(bool, f64, f64, f64)>) -> PyResult<()> {
+fn set_joint_dynamics(py: Python<'_>, b: &mut ModelBuilder, name: &str, dynamics: Option<(bool, f64, f64, f64)>) -> PyResult<()> {
     if let Some((actuated, stiffness, damping, rest)) = dynamics {
         b.set_joint_dynamics(name, JointDynamics { actuated, stiffness, damping, rest }).map_err(SpacearmError::from).or_raise(py)?;
     }
@@ -34,7 +34,7 @@ pub(crate) fn set_joint_dynamics(py: Python<'_>, b: &mut ModelBuilder, name: &st
 /// `(name, parent, joint_type, origin, rotation, axis, com, mass, inertia, joint_name, limits)`
 /// (what `compliant_parts` takes; the appendages' parts hand links back the same way, with the
 /// dynamics after).
-type LinkArgs = (String, String, String, [f64; 3], [f64; 4], [f64; 3], [f64; 3], f64, [[f64; 3]; 3], Option<String>, Option<[f64; 4]>);
+pub(crate) type LinkArgs = (String, String, String, [f64; 3], [f64; 4], [f64; 3], [f64; 3], f64, [[f64; 3]; 3], Option<String>, Option<[f64; 4]>);
 
 /// The [`LinkSpec`] of a link's arguments ([`LinkArgs`]).
 fn link_spec(py: Python<'_>, (name, parent, joint_type, origin, rotation, axis, com, mass, inertia, joint_name, limits): LinkArgs) -> PyResult<LinkSpec> {
@@ -51,6 +51,15 @@ fn link_spec(py: Python<'_>, (name, parent, joint_type, origin, rotation, axis, 
         inertia,
         limits: joint_limits(limits),
     })
+}
+
+/// Add the link of `link` ([`LinkArgs`]) to `b` and set its joint's `dynamics`: how every door
+/// of the binding adds one link (`ModelBuilder.add_link`, `model_attach_body`).
+pub(crate) fn add_link_to(py: Python<'_>, b: &mut ModelBuilder, link: LinkArgs, dynamics: Option<(bool, f64, f64, f64)>) -> PyResult<()> {
+    let spec = link_spec(py, link)?;
+    let name = spec.name.clone();
+    b.add_link(spec).map_err(SpacearmError::from).or_raise(py)?;
+    set_joint_dynamics(py, b, &name, dynamics)
 }
 
 #[pymethods]
@@ -120,9 +129,7 @@ impl PyModelBuilder {
         limits: Option<[f64; 4]>,
         dynamics: Option<(bool, f64, f64, f64)>,
     ) -> PyResult<()> {
-        let link = link_spec(py, (name.into(), parent.into(), joint_type.into(), origin, rotation, axis, com, mass, inertia, joint_name, limits))?;
-        self.inner.add_link(link).map_err(SpacearmError::from).or_raise(py)?;
-        set_joint_dynamics(py, &mut self.inner, name, dynamics)
+        add_link_to(py, &mut self.inner, (name.into(), parent.into(), joint_type.into(), origin, rotation, axis, com, mass, inertia, joint_name, limits), dynamics)
     }
 
     fn add_point(&mut self, py: Python<'_>, name: &str, body: &str, offset: [f64; 3]) -> PyResult<()> {
@@ -152,7 +159,7 @@ impl PyModelBuilder {
     ) -> PyResult<()> {
         let who = name.as_ref().map_or_else(|| format!("geometry on '{body}'"), |n| format!("geometry '{n}'"));
         let invalid = |m: String| to_py_err(py, SpacearmError::InvalidModel(format!("{who}: {m}")));
-        let role = GeometryRole::from_name(role).ok_or_else(|| invalid(format!("role must be 'visual' or 'collision', got '{role}'")))?;
+        let role = GeometryRole::from_name(role).map_err(invalid)?;
         let shape = Shape::from_parts(shape, ShapeParts { size, radius, length, file, scale }).map_err(invalid)?;
         self.inner
             .add_geometry(GeometrySpec { name, body: body.to_string(), role, shape, origin, rotation, rgba })
@@ -196,14 +203,9 @@ pub fn slosh_links(
 ) -> PyResult<Vec<Py<PyAny>>> {
     use spacearm_core::error::ModelItem;
     use spacearm_core::model::slosh::{self, SloshModel, SloshRestoring, SloshSpec};
-    let invalid = |msg: String| to_py_err(py, SpacearmError::InvalidModel(msg));
-    let kind = SloshModel::from_name(model)
-        .ok_or_else(|| invalid(format!("slosh '{name}': model must be one of {:?}, got '{model}'", SloshModel::NAMES)))?;
-    let restoring = match (stiffness, frequency) {
-        (Some(k), None) => SloshRestoring::Stiffness(k),
-        (None, Some(w)) => SloshRestoring::Frequency(w),
-        _ => return Err(invalid(format!("slosh '{name}': give stiffness or frequency (one of them)"))),
-    };
+    let invalid = |msg: String| to_py_err(py, SpacearmError::InvalidModel(format!("slosh '{name}': {msg}")));
+    let kind = SloshModel::from_name(model).map_err(invalid)?;
+    let restoring = SloshRestoring::from_options(stiffness, frequency).map_err(invalid)?;
     let spec = SloshSpec { name: name.into(), parent: parent.into(), model: kind, mass, position, axis, hinge, length, restoring, damping };
     let links = slosh::slosh_links(&spec, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
     links.into_iter().map(|(l, d)| add_link_args(py, l, None, Some((d.actuated, d.stiffness, d.damping, d.rest)))).collect()
@@ -260,16 +262,8 @@ pub fn panel_parts(
     use spacearm_core::error::ModelItem;
     use spacearm_core::model::appendage::{self, PanelBody, PanelSpec, Restoring};
     let invalid = |msg: String| to_py_err(py, SpacearmError::InvalidModel(format!("panel '{name}': {msg}")));
-    let restoring = match (stiffness, frequency) {
-        (Some(k), None) => Restoring::Stiffness(k),
-        (None, Some(w)) => Restoring::Frequency(w),
-        _ => return Err(invalid("give stiffness or frequency (one of them)".into())),
-    };
-    let body = match (size, inertia, com_distance) {
-        (Some(s), None, None) => PanelBody::Size(s),
-        (None, Some(i), Some(d)) => PanelBody::Inertia { com_distance: d, inertia: i },
-        _ => return Err(invalid("give size = (length, width, thickness), or inertia and com_distance".into())),
-    };
+    let restoring = Restoring::from_options(stiffness, frequency).map_err(invalid)?;
+    let body = PanelBody::from_options(size, inertia, com_distance).map_err(invalid)?;
     let spec = PanelSpec { name: name.into(), parent: parent.into(), hinge_position, hinge_axis, direction, body, mass, restoring, damping, rest };
     let parts = appendage::panel_parts(&spec, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
     parts_to_py(py, parts)
@@ -300,12 +294,7 @@ pub fn beam_parts(
 ) -> PyResult<Py<PyAny>> {
     use spacearm_core::error::ModelItem;
     use spacearm_core::model::appendage::{self, BeamDamping, BeamSpec};
-    let damping = match (damping, damping_ratio) {
-        (Some(c), None) => BeamDamping::PerJoint(c),
-        (None, Some(z)) => BeamDamping::Ratio(z),
-        (None, None) => BeamDamping::PerJoint(0.0),
-        _ => return Err(to_py_err(py, SpacearmError::InvalidModel(format!("beam '{name}': give damping or damping_ratio, not both")))),
-    };
+    let damping = BeamDamping::from_options(damping, damping_ratio).map_err(|m| to_py_err(py, SpacearmError::InvalidModel(format!("beam '{name}': {m}"))))?;
     let bending = appendage::bending(name, &axis, bending_axes, &ei).map_err(SpacearmError::from).or_raise(py)?;
     let spec = BeamSpec { name: name.into(), parent: parent.into(), root_position, axis, length, segments, bending, torsion, rho_a, rho_j, damping };
     let parts = appendage::beam_parts(&spec, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;

@@ -293,10 +293,10 @@ pub fn grasp_impact(
     capture_tolerance: f64,
 ) -> PyResult<PyGraspImpulse> {
     let joints = joints(py, arm)?;
-    let contact = match kind {
-        "rigid" => GraspContact::Rigid,
-        "point" => GraspContact::Point { normal: normal.map(|n| finite3(n, "normal")).transpose()? },
-        other => return Err(to_py_err(py, SpacearmError::InvalidArgument(format!("kind must be one of ['rigid', 'point'], got '{other}'")))),
+    // The name first (the core's table), then the normal a point contact takes (a rigid grasp ignores it).
+    let contact = match GraspContact::from_name(kind, None).or_raise(py)? {
+        GraspContact::Point { .. } => GraspContact::Point { normal: normal.map(|n| finite3(n, "normal")).transpose()? },
+        rigid => rigid,
     };
     let robot_point = body_point(body, offset, "offset")?;
     let target_grasp = body_point(target_body, target_offset, "target_offset")?;

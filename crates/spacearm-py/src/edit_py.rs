@@ -3,9 +3,9 @@
 //! `Robot.attach` and `Robot.remove_subtree`). Conversion only: the rules are the core's.
 
 use pyo3::prelude::*;
-use spacearm_core::{JointType, LinkSpec, Model, ModelBuilder, Mount, SpacearmError};
+use spacearm_core::{Model, ModelBuilder, Mount, SpacearmError};
 
-use crate::builder_py::{joint_limits, set_joint_dynamics};
+use crate::builder_py::add_link_to;
 
 use crate::convert::*;
 use crate::model_py::PyModel;
@@ -41,15 +41,8 @@ pub fn model_attach_body(
     dynamics: Option<(bool, f64, f64, f64)>,
     model_name: Option<&str>,
 ) -> PyResult<PyModel> {
-    let mut spec = LinkSpec::payload(name, &Mount::new(parent, origin, rotation), mass, inertia);
-    spec.kind = JointType::from_name(joint_type).or_raise(py)?;
-    spec.axis = axis;
-    spec.com_from_joint = com;
-    spec.joint_name = joint_name;
-    spec.limits = joint_limits(limits);
     let mut b = model.model.to_builder();
-    b.add_link(spec).map_err(SpacearmError::from).or_raise(py)?;
-    set_joint_dynamics(py, &mut b, name, dynamics)?;
+    add_link_to(py, &mut b, (name.into(), parent.into(), joint_type.into(), origin, rotation, axis, com, mass, inertia, joint_name, limits), dynamics)?;
     finish(py, b, model_name)
 }
 

@@ -284,11 +284,8 @@ impl PyOrbit {
             Some(c) => rel6(py, c)?,
             None => [0.0; 6],
         };
-        if !(t.is_finite() && t >= 0.0) {
-            return Err(to_py_err(py, bad(format!("t must be finite and >= 0 s, got {t}"))));
-        }
         let orbit = self.inner;
-        let (ro, vo) = py.detach(|| orbit.propagate(&[t], 1e-13)).or_raise(py)?[0];
+        let (ro, vo) = py.detach(|| orbit.state_at(t, 1e-13)).or_raise(py)?;
         let (p, v) = Orbit::lvlh_to_run(&ro, &vo, &Vector3::new(c[0], c[1], c[2]), &Vector3::new(c[3], c[4], c[5]), &rel);
         Ok(array1(py, &[p.x, p.y, p.z, v.x, v.y, v.z]))
     }
@@ -359,15 +356,12 @@ impl PyOrbit {
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
         let model = model_of(py, model)?;
         let x = vec_arg(x, "x")?.as_slice().to_vec();
-        if !(t.is_finite() && t >= 0.0) {
-            return Err(to_py_err(py, bad(format!("t must be finite and >= 0 s, got {t}"))));
-        }
         let orbit = self.inner;
         let m = model.borrow();
         let core = &m.model;
         let (rows_, total, arm) = py
             .detach(|| -> spacearm_core::Result<_> {
-                let r = orbit.propagate(&[t], 1e-12)?[0].0;
+                let r = orbit.state_at(t, 1e-12)?.0;
                 spacearm_core::sim::orbit::tidal_torques(core, &x, orbit.body.mu, &r)
             })
             .or_raise(py)?;

@@ -254,6 +254,17 @@ pub enum GraspContact {
     },
 }
 
+impl GraspContact {
+    /// The names of [`GraspContact::from_name`], the one table every door reads.
+    pub const NAMES: [&'static str; 2] = ["rigid", "point"];
+
+    /// The contact called `kind`, `"rigid"` or `"point"` (the latter along `normal`, `None`: the
+    /// default normal; a rigid grasp ignores it); any other name is refused naming the table.
+    pub fn from_name(kind: &str, normal: Option<Vector3<f64>>) -> Result<Self> {
+        by_name("kind", &Self::NAMES, &[GraspContact::Rigid, GraspContact::Point { normal }], kind)
+    }
+}
+
 /// The result of [`grasp_impact`] (every vector in 𝒥).
 #[derive(Debug, Clone, PartialEq)]
 pub struct GraspImpact {

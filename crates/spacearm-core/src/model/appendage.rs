@@ -33,7 +33,7 @@ use crate::error::{ModelError, ModelField, ModelItem};
 use crate::model::builder::{LinkSpec, ModelBuilder};
 use crate::model::geometry::{GeometryRole, GeometrySpec, Shape};
 use crate::model::joint::{JointDynamics, JointLimits, JointType};
-use crate::model::validate::{non_negative, positive, PartRules};
+use crate::model::validate::{non_negative, positive, stiffness_or_frequency, PartRules};
 use crate::math::spatial::{cross3 as cross, dot3 as dot, unit3 as normalized};
 
 /// The first Euler–Bernoulli cantilever eigenvalue `β₁L` (`cos βL cosh βL = −1`).
@@ -59,6 +59,13 @@ pub enum Restoring {
     Frequency(f64),
 }
 
+impl Restoring {
+    /// From a door's options `stiffness` and `frequency` (one of them; [`stiffness_or_frequency`]).
+    pub fn from_options(stiffness: Option<f64>, frequency: Option<f64>) -> Result<Self, String> {
+        stiffness_or_frequency(stiffness, frequency, Restoring::Stiffness, Restoring::Frequency)
+    }
+}
+
 /// The panel's mass distribution.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum PanelBody {
@@ -72,6 +79,18 @@ pub enum PanelBody {
         /// The inertia about the CM in the parent's axes at `q = 0`, kg·m².
         inertia: [[f64; 3]; 3],
     },
+}
+
+impl PanelBody {
+    /// From a door's options: `size`, or `inertia` with `com_distance` (the one rule of every
+    /// door; the door prefixes the panel's name to the message).
+    pub fn from_options(size: Option<[f64; 3]>, inertia: Option<[[f64; 3]; 3]>, com_distance: Option<f64>) -> Result<Self, String> {
+        match (size, inertia, com_distance) {
+            (Some(s), None, None) => Ok(PanelBody::Size(s)),
+            (None, Some(inertia), Some(com_distance)) => Ok(PanelBody::Inertia { com_distance, inertia }),
+            _ => Err("give size (length, width, thickness), or inertia and com_distance".into()),
+        }
+    }
 }
 
 /// Everything [`panel_parts`] needs (module docs).
@@ -108,6 +127,19 @@ pub enum BeamDamping {
     /// Euler–Bernoulli frequency of that joint's family: `(β₁L)² √(EI/(ρA L⁴))` in bending,
     /// `(π/2) √(GJ/(ρJ L²))` in torsion; the first clamped mode then has the ratio `ζ`.
     Ratio(f64),
+}
+
+impl BeamDamping {
+    /// From a door's options `damping` (per joint) and `damping_ratio`: at most one of them,
+    /// none is no damping (the one rule of every door; the door prefixes the beam's name).
+    pub fn from_options(damping: Option<f64>, damping_ratio: Option<f64>) -> Result<Self, String> {
+        match (damping, damping_ratio) {
+            (Some(c), None) => Ok(BeamDamping::PerJoint(c)),
+            (None, Some(z)) => Ok(BeamDamping::Ratio(z)),
+            (None, None) => Ok(BeamDamping::PerJoint(0.0)),
+            _ => Err("give damping or damping_ratio, not both".into()),
+        }
+    }
 }
 
 /// Everything [`beam_parts`] needs (module docs).
@@ -500,6 +532,33 @@ impl ModelBuilder {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_either_or_options_of_every_door_follow_one_rule() {
+        use crate::model::slosh::{SloshModel, SloshRestoring};
+        assert_eq!(Restoring::from_options(Some(2.0), None), Ok(Restoring::Stiffness(2.0)));
+        assert_eq!(Restoring::from_options(None, Some(3.0)), Ok(Restoring::Frequency(3.0)));
+        assert_eq!(SloshRestoring::from_options(Some(2.0), None), Ok(SloshRestoring::Stiffness(2.0)));
+        assert_eq!(SloshRestoring::from_options(None, Some(3.0)), Ok(SloshRestoring::Frequency(3.0)));
+        for (k, w) in [(None, None), (Some(1.0), Some(1.0))] {
+            assert_eq!(Restoring::from_options(k, w), Err("give stiffness or frequency (one of them)".to_string()));
+            assert_eq!(SloshRestoring::from_options(k, w), Err("give stiffness or frequency (one of them)".to_string()));
+        }
+        let i = [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]];
+        assert_eq!(PanelBody::from_options(Some([1.0, 0.5, 0.01]), None, None), Ok(PanelBody::Size([1.0, 0.5, 0.01])));
+        assert_eq!(PanelBody::from_options(None, Some(i), Some(0.4)), Ok(PanelBody::Inertia { com_distance: 0.4, inertia: i }));
+        for (s, i, d) in [(None, None, None), (Some([1.0; 3]), Some(i), Some(0.4)), (None, Some(i), None), (Some([1.0; 3]), None, Some(0.4))] {
+            assert!(PanelBody::from_options(s, i, d).unwrap_err().starts_with("give size"), "{s:?} {d:?}");
+        }
+        assert_eq!(BeamDamping::from_options(None, None), Ok(BeamDamping::PerJoint(0.0)));
+        assert_eq!(BeamDamping::from_options(Some(0.2), None), Ok(BeamDamping::PerJoint(0.2)));
+        assert_eq!(BeamDamping::from_options(None, Some(0.05)), Ok(BeamDamping::Ratio(0.05)));
+        assert_eq!(BeamDamping::from_options(Some(0.2), Some(0.05)), Err("give damping or damping_ratio, not both".to_string()));
+        for (k, name) in SloshModel::NAMES.iter().enumerate() {
+            assert_eq!(SloshModel::from_name(name), Ok([SloshModel::SpringMass, SloshModel::Pendulum, SloshModel::SphericalPendulum][k]));
+        }
+        assert_eq!(SloshModel::from_name("slushy"), Err("model must be one of [\"spring-mass\", \"pendulum\", \"spherical-pendulum\"], got 'slushy'".to_string()));
+    }
 
     fn beam(n: usize) -> BeamSpec {
         BeamSpec {

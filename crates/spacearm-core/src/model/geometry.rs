@@ -32,12 +32,13 @@ impl GeometryRole {
         }
     }
 
-    /// The role called `name`, if any.
-    pub fn from_name(name: &str) -> Option<Self> {
+    /// The role called `name`; any other name is refused with the one message of every door
+    /// (which prefixes the geometry's name).
+    pub fn from_name(name: &str) -> Result<Self, String> {
         match name {
-            "visual" => Some(GeometryRole::Visual),
-            "collision" => Some(GeometryRole::Collision),
-            _ => None,
+            "visual" => Ok(GeometryRole::Visual),
+            "collision" => Ok(GeometryRole::Collision),
+            _ => Err(format!("role must be 'visual' or 'collision', got '{name}'")),
         }
     }
 }

@@ -30,7 +30,7 @@
 use crate::error::{ModelError, ModelField, ModelItem};
 use crate::model::builder::{LinkSpec, ModelBuilder};
 use crate::model::joint::{JointDynamics, JointLimits, JointType};
-use crate::model::validate::{non_negative, positive, PartRules};
+use crate::model::validate::{non_negative, positive, stiffness_or_frequency, PartRules};
 use crate::math::spatial::{cross3 as cross, dot3 as dot, unit3 as normalized};
 
 /// Which equivalent mechanical model.
@@ -48,13 +48,14 @@ impl SloshModel {
     /// The names of [`SloshModel::from_name`].
     pub const NAMES: [&'static str; 3] = ["spring-mass", "pendulum", "spherical-pendulum"];
 
-    /// `"spring-mass"`, `"pendulum"` or `"spherical-pendulum"`.
-    pub fn from_name(name: &str) -> Option<SloshModel> {
+    /// `"spring-mass"`, `"pendulum"` or `"spherical-pendulum"`; any other name is refused with
+    /// the one message of every door (which prefixes the slosh mode's name).
+    pub fn from_name(name: &str) -> Result<SloshModel, String> {
         match name {
-            "spring-mass" => Some(SloshModel::SpringMass),
-            "pendulum" => Some(SloshModel::Pendulum),
-            "spherical-pendulum" => Some(SloshModel::SphericalPendulum),
-            _ => None,
+            "spring-mass" => Ok(SloshModel::SpringMass),
+            "pendulum" => Ok(SloshModel::Pendulum),
+            "spherical-pendulum" => Ok(SloshModel::SphericalPendulum),
+            _ => Err(format!("model must be one of {:?}, got '{name}'", SloshModel::NAMES)),
         }
     }
 }
@@ -66,6 +67,13 @@ pub enum SloshRestoring {
     Stiffness(f64),
     /// The mode's frequency ω on a clamped tank, rad/s (module docs).
     Frequency(f64),
+}
+
+impl SloshRestoring {
+    /// From a door's options `stiffness` and `frequency` (one of them; [`stiffness_or_frequency`]).
+    pub fn from_options(stiffness: Option<f64>, frequency: Option<f64>) -> Result<Self, String> {
+        stiffness_or_frequency(stiffness, frequency, SloshRestoring::Stiffness, SloshRestoring::Frequency)
+    }
 }
 
 /// Everything [`ModelBuilder::add_slosh`] needs (geometry: module docs).

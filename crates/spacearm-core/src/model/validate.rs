@@ -20,6 +20,18 @@ use crate::error::{ModelError, ModelField, ModelItem};
 use crate::math::rotations::unit_quaternion_from_xyzw;
 use crate::model::joint::{JointDynamics, JointLimits, JointType};
 
+/// A spring given by its `stiffness` or by its `frequency` on a clamped parent, exactly one of
+/// them: the one rule of a panel's hinge ([`crate::model::appendage::Restoring`]) and of a slosh
+/// mode ([`crate::model::slosh::SloshRestoring`]) for every door (the bindings, the TOML
+/// reader), which prefix the item's name to the message.
+pub fn stiffness_or_frequency<T>(stiffness: Option<f64>, frequency: Option<f64>, by_stiffness: fn(f64) -> T, by_frequency: fn(f64) -> T) -> Result<T, String> {
+    match (stiffness, frequency) {
+        (Some(k), None) => Ok(by_stiffness(k)),
+        (None, Some(w)) => Ok(by_frequency(w)),
+        _ => Err("give stiffness or frequency (one of them)".into()),
+    }
+}
+
 /// A moving joint's axis is refused when its largest component (in magnitude) is at most this:
 /// it is normalized, and a shorter vector has no reliable direction.
 pub const MIN_AXIS_COMPONENT: f64 = 1e-9;

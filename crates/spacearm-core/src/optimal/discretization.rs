@@ -243,6 +243,61 @@ fn normalization_jacobian_rows(z: &[f64], m: &mut DMatrix<f64>) {
     }
 }
 
+/// Test support: the largest relative difference `|fd − an| / (1 + |an|)` between a step's
+/// tangent Jacobians `A`, `B` at `(z, c)` (whose step end is `next`) and central differences of
+/// the step in tangent coordinates, Richardson-extrapolated (`(4 D(ε/2) − D(ε)) / 3`), with
+/// where it is (row, column, difference, analytic).
+#[cfg(test)]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn jacobian_fd_error(
+    space: super::state::StateSpace,
+    z: &[f64],
+    c: &[f64],
+    next: &[f64],
+    a: &DMatrix<f64>,
+    b: &DMatrix<f64>,
+    eps: f64,
+    mut step: impl FnMut(&[f64], &[f64], &mut [f64]),
+) -> (f64, (usize, usize, f64, f64)) {
+    let (nz, nd, m) = (space.nz(), space.nd(), c.len());
+    let (mut zp, mut zm, mut np, mut nm) = (vec![0.0; nz], vec![0.0; nz], vec![0.0; nz], vec![0.0; nz]);
+    let (mut dp, mut dm) = (vec![0.0; nd], vec![0.0; nd]);
+    let mut column = |j: usize, eps: f64| -> Vec<f64> {
+        let mut d = vec![0.0; nd];
+        let (mut cp, mut cm) = (c.to_vec(), c.to_vec());
+        if j < nd {
+            d[j] = eps;
+            space.integrate(z, &d, &mut zp);
+            d[j] = -eps;
+            space.integrate(z, &d, &mut zm);
+        } else {
+            zp.copy_from_slice(z);
+            zm.copy_from_slice(z);
+            cp[j - nd] += eps;
+            cm[j - nd] -= eps;
+        }
+        step(&zp, &cp, &mut np);
+        step(&zm, &cm, &mut nm);
+        space.diff(next, &np, &mut dp);
+        space.diff(next, &nm, &mut dm);
+        (0..nd).map(|i| (dp[i] - dm[i]) / (2.0 * eps)).collect()
+    };
+    let (mut worst, mut at) = (0.0, (0, 0, 0.0, 0.0));
+    for j in 0..nd + m {
+        let (coarse, fine) = (column(j, eps), column(j, eps / 2.0));
+        for i in 0..nd {
+            let fd = (4.0 * fine[i] - coarse[i]) / 3.0;
+            let an = if j < nd { a[(i, j)] } else { b[(i, j - nd)] };
+            let e = (fd - an).abs() / (1.0 + an.abs());
+            if e > worst {
+                worst = e;
+                at = (i, j, fd, an);
+            }
+        }
+    }
+    (worst, at)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -283,44 +338,7 @@ mod tests {
             }
             // The accelerations carry rounding noise of ~1e-12 (ill-conditioned H): a step
             // where that noise over eps and the truncation error eps² are both ~1e-8.
-            let eps = 1e-4;
-            let (mut zp, mut zm, mut np, mut nm) = (vec![0.0; nz], vec![0.0; nz], vec![0.0; nz], vec![0.0; nz]);
-            let (mut dp, mut dm) = (vec![0.0; nd], vec![0.0; nd]);
-            let mut worst: f64 = 0.0;
-            let mut at = (0, 0, 0.0, 0.0);
-            // Central differences with Richardson extrapolation, (4 D(ε/2) − D(ε)) / 3.
-            let mut column = |j: usize, eps: f64| -> Vec<f64> {
-                let mut d = vec![0.0; nd];
-                let (mut cp, mut cm) = (c.clone(), c.clone());
-                if j < nd {
-                    d[j] = eps;
-                    space.integrate(&z, &d, &mut zp);
-                    d[j] = -eps;
-                    space.integrate(&z, &d, &mut zm);
-                } else {
-                    zp.copy_from_slice(&z);
-                    zm.copy_from_slice(&z);
-                    cp[j - nd] += eps;
-                    cm[j - nd] -= eps;
-                }
-                disc.step(&model, &zp, &cp, &mut np).unwrap();
-                disc.step(&model, &zm, &cm, &mut nm).unwrap();
-                space.diff(&next, &np, &mut dp);
-                space.diff(&next, &nm, &mut dm);
-                (0..nd).map(|i| (dp[i] - dm[i]) / (2.0 * eps)).collect()
-            };
-            for j in 0..nd + m {
-                let (coarse, fine) = (column(j, eps), column(j, eps / 2.0));
-                for i in 0..nd {
-                    let fd = (4.0 * fine[i] - coarse[i]) / 3.0;
-                    let an = if j < nd { a[(i, j)] } else { b[(i, j - nd)] };
-                    let e = (fd - an).abs() / (1.0 + an.abs());
-                    if e > worst {
-                        worst = e;
-                        at = (i, j, fd, an);
-                    }
-                }
-            }
+            let (worst, at) = jacobian_fd_error(space, &z, &c, &next, &a, &b, 1e-4, |z, c, out| disc.step(&model, z, c, out).unwrap());
             assert!(worst < 1e-6, "{mode:?}: largest relative difference {worst:e} at {at:?}");
             assert!(a.norm() > 1.0 && b.norm() > 1e-3, "{mode:?}: a trivial Jacobian");
         }

@@ -121,6 +121,7 @@ fn top_rows(m: &mut DMatrix<f64>, col: usize, nu: usize, h: f64, jl: &nalgebra::
 mod tests {
     use super::*;
     use crate::model::presets;
+    use crate::optimal::discretization::jacobian_fd_error;
     use crate::scenario::modes::Mode;
 
     /// `A` and `B` against central differences (Richardson-extrapolated) of the step in tangent
@@ -168,45 +169,9 @@ mod tests {
             for ((p, n), e) in plain.iter().zip(&next).zip(&expected) {
                 assert!((p - n).abs() < 1e-9 * (1.0 + p.abs()) && (p - e).abs() < 1e-14 * (1.0 + e.abs()), "{mode:?}: {p} {n} {e}");
             }
-            let (mut zp, mut zm, mut np, mut nm) = (vec![0.0; nz], vec![0.0; nz], vec![0.0; nz], vec![0.0; nz]);
-            let (mut dp, mut dm) = (vec![0.0; nd], vec![0.0; nd]);
-            let mut column = |j: usize, eps: f64| -> Vec<f64> {
-                let mut d = vec![0.0; nd];
-                let (mut cp, mut cm) = (c.clone(), c.clone());
-                if j < nd {
-                    d[j] = eps;
-                    space.integrate(&z, &d, &mut zp);
-                    d[j] = -eps;
-                    space.integrate(&z, &d, &mut zm);
-                } else {
-                    zp.copy_from_slice(&z);
-                    zm.copy_from_slice(&z);
-                    cp[j - nd] += eps;
-                    cm[j - nd] -= eps;
-                }
-                disc.step(&model, &zp, &cp, &mut np).unwrap();
-                disc.step(&model, &zm, &cm, &mut nm).unwrap();
-                space.diff(&next, &np, &mut dp);
-                space.diff(&next, &nm, &mut dm);
-                (0..nd).map(|i| (dp[i] - dm[i]) / (2.0 * eps)).collect()
-            };
-            let mut worst: f64 = 0.0;
-            let mut at = (0, 0, 0.0, 0.0);
             // The accelerations carry rounding noise (~1e-12 relative, an ill-conditioned H) that
             // the differences divide by eps: ~1e-7 here, against O(h²) ~ 1e-3 for a missing term.
-            let eps = 1e-4;
-            for j in 0..nd + m {
-                let (coarse, fine) = (column(j, eps), column(j, eps / 2.0));
-                for i in 0..nd {
-                    let fd = (4.0 * fine[i] - coarse[i]) / 3.0;
-                    let an = if j < nd { a[(i, j)] } else { b[(i, j - nd)] };
-                    let e = (fd - an).abs() / (1.0 + an.abs());
-                    if e > worst {
-                        worst = e;
-                        at = (i, j, fd, an);
-                    }
-                }
-            }
+            let (worst, at) = jacobian_fd_error(space, &z, &c, &next, &a, &b, 1e-4, |z, c, out| disc.step(&model, z, c, out).unwrap());
             assert!(worst < 1e-6, "{mode:?}: largest relative difference {worst:e} at {at:?}");
             // Not the identity: the attitude block turns, the accelerations depend on the state.
             assert!((a.view((3, 3), (3, 3)) - nalgebra::Matrix3::identity()).norm() > 1e-3, "{mode:?}: R(φ) is the identity");

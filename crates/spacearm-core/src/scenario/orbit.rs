@@ -253,6 +253,15 @@ impl Orbit {
         point_mass_acceleration(&self.body, self.j2, r)
     }
 
+    /// The ECI state `(r, v)` at one time `t` (finite, ≥ 0, s) by [`Orbit::propagate`] with
+    /// `rtol`: the one check of a single time every door makes.
+    pub fn state_at(&self, t: f64, rtol: f64) -> Result<(Vector3<f64>, Vector3<f64>)> {
+        if !(t.is_finite() && t >= 0.0) {
+            return Err(SpacearmError::argument(format!("t must be finite and >= 0 s, got {t}")));
+        }
+        Ok(self.propagate(&[t], rtol)?[0])
+    }
+
     /// The ECI states at `times` (non-decreasing, ≥ 0, s), by DOPRI5 on the point-mass equations
     /// with `rtol` (and an absolute tolerance of `rtol` times the orbit's radius and speed).
     pub fn propagate(&self, times: &[f64], rtol: f64) -> Result<Vec<(Vector3<f64>, Vector3<f64>)>> {
@@ -623,6 +632,18 @@ impl OrbitTrack {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_state_at_one_time_is_the_propagation_to_it_and_refuses_a_bad_time() {
+        let o = Orbit::circular(EARTH, 500e3, 0.9, 0.3, 0.1, true).unwrap();
+        for t in [0.0, 1.0, 1234.5] {
+            assert_eq!(o.state_at(t, 1e-12).unwrap(), o.propagate(&[t], 1e-12).unwrap()[0]);
+        }
+        for t in [-1.0, f64::NAN, f64::INFINITY] {
+            let e = o.state_at(t, 1e-12).unwrap_err();
+            assert!(matches!(e, SpacearmError::InvalidArgument(_)) && e.to_string().contains("t must be finite and >= 0 s"), "{e}");
+        }
+    }
 
     #[test]
     fn a_circular_orbit_is_above_the_surface_and_a_propagation_has_a_budget() {

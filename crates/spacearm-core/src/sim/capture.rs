@@ -310,7 +310,7 @@ pub fn run_capture(robot: &Model, x0: &[f64], u0: &[f64], target: &Model, spec: 
         let orbit = if t == 0.0 {
             o
         } else {
-            let (r, v) = o.propagate(&[t], 1e-13)?[0];
+            let (r, v) = o.state_at(t, 1e-13)?;
             Orbit::from_state(o.body, r, v, o.j2)?
         };
         Ok(Some(OrbitOptions { orbit, gravity_gradient: tidal }))

@@ -19,7 +19,7 @@ use crate::error::{Result, SpacearmError};
 use crate::model::data::Data;
 use crate::model::Model;
 use crate::sim::free_target::FreeTarget;
-use crate::sim::rigid_contact::RigidContact;
+use crate::sim::rigid_contact::{rigid_jump, RigidContact, RIGID_STABILIZATION};
 
 /// The normal law's name in a description: `"kelvin_voigt"` or `"hunt_crossley"`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -111,8 +111,6 @@ pub struct ContactSpec {
     pub max_iterations: Option<usize>,
 }
 
-/// The rigid contact's default position-error stabilization `β`.
-pub const RIGID_STABILIZATION: f64 = 0.2;
 
 fn one() -> f64 {
     1.0
@@ -204,9 +202,9 @@ impl ContactSpec {
 /// evaluation.
 pub(crate) struct PlantContact {
     shapes: CollisionShapes,
-    pub(crate) pairs: PairFilter,
+    pairs: PairFilter,
     law: ContactLaw,
-    pub(crate) margin: f64,
+    margin: f64,
     /// Rigid contact (`kind = "rigid"`): its settings and state ([`crate::sim::rigid_contact`]);
     /// `None`: the compliant law.
     pub(crate) rigid: Option<RigidContact>,
@@ -253,7 +251,7 @@ impl PlantContact {
                      rigid contact between the robot's own bodies (docs/contact.md, \"What is not handled\")",
                 ))
             }
-            ContactKind::Rigid => Some(RigidContact::new(spec)),
+            ContactKind::Rigid => Some(RigidContact::new(spec.impact_spec(), spec.stabilization.unwrap_or(RIGID_STABILIZATION), spec.friction)),
             ContactKind::Compliant => None,
         };
         Ok(PlantContact { shapes, pairs, law: spec.law(), margin: spec.margin, rigid, target, forced: Vec::new(), count: 0, normal_force: 0.0, power: 0.0, active: Vec::new() })
@@ -261,7 +259,7 @@ impl PlantContact {
 
     /// The contacts at the ODE state `y` (the kinematics of its `x` current in `data`) between
     /// the admitted pairs, distance at most `margin`.
-    pub(crate) fn found(&self, model: &Model, data: &Data, y: &[f64], pairs: &PairFilter, margin: f64) -> Result<Vec<Contact>> {
+    fn found(&self, model: &Model, data: &Data, y: &[f64], pairs: &PairFilter, margin: f64) -> Result<Vec<Contact>> {
         let mut placed = place_on_bodies(data, &self.shapes);
         if let Some(t) = &self.target {
             place_on_free_body(&t.shapes, &FreeTarget::pose(t.state(y)), t.body, t.first_geometry, &mut placed);
@@ -321,6 +319,21 @@ impl PlantContact {
             (t.force, t.torque) = (target_force, target_torque);
         }
         Ok(())
+    }
+
+    /// Rigid contact: the velocity jump of the step of length `h` from the ODE state `y` at `t`
+    /// ([`crate::sim::rigid_contact`]), `du` the forward dynamics just evaluated there (the
+    /// kinematics of `x` current in `data`); the summary kept. Whether a jump was applied.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn rigid_step(&mut self, model: &Model, data: &mut Data, t: f64, h: f64, y: &mut [f64], du: &[f64]) -> Result<bool> {
+        let found = self.found(model, data, y, &self.pairs, self.margin)?;
+        let Some(rigid) = self.rigid.as_mut() else {
+            return Ok(false);
+        };
+        let s = rigid_jump(model, data, rigid, &found, t, h, y, du)?;
+        (self.count, self.normal_force) = (s.count, s.normal_force);
+        // Impulses in the cone are all zero unless a normal one is positive.
+        Ok(s.count > 0)
     }
 
     /// The geometry pairs touching or interpenetrating at the ODE state `y` (distance ≤ 0).

@@ -197,7 +197,7 @@ impl<'a> Plant<'a> {
     pub(crate) fn rigid_jump(&mut self, t: f64, h: f64, y: &mut [f64], dy: &[f64]) -> Result<bool> {
         let (nx, nu) = (self.nx, self.model.nu());
         match self.contact.as_deref_mut() {
-            Some(c) if c.rigid.is_some() => crate::sim::rigid_contact::rigid_jump(&self.model, &mut self.data, c, t, h, y, &dy[nx..nx + nu]),
+            Some(c) => c.rigid_step(&self.model, &mut self.data, t, h, y, &dy[nx..nx + nu]),
             _ => Ok(false),
         }
     }

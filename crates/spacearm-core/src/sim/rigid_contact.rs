@@ -39,18 +39,18 @@
 //! at a step's start is the one after the previous step's forces: a point resting under a steady
 //! push `F` shows `−½ h F / m` there, its mean over each step 0.
 //!
-//! Imports: [`crate::collision`] (detection, Delassus, solvers), [`crate::sim::contact`].
+//! Imports: [`crate::collision`] (Delassus, solvers). The contacts of a state come from the
+//! plant's contact ([`crate::sim::contact`], which holds a [`RigidContact`]).
 
 use nalgebra::{DMatrix, DVector, SymmetricEigen, Vector3};
 
 use crate::collision::admm::{solve_admm, SolverSettings};
 use crate::collision::delassus::{delassus, ContactPoint};
 use crate::collision::pgs::solve_pgs;
-use crate::collision::{ImpactSolver, ImpactSpec};
+use crate::collision::{Contact, ImpactSolver, ImpactSpec};
 use crate::error::{Result, SpacearmError};
 use crate::model::data::Data;
 use crate::model::Model;
-use crate::sim::contact::{ContactSpec, PlantContact, RIGID_STABILIZATION};
 
 /// The rigid contact of a run: its settings and what the steps so far did.
 #[derive(Debug, Clone)]
@@ -71,13 +71,16 @@ pub(crate) struct RigidContact {
     pub(crate) max_residual: f64,
 }
 
+/// The default position-error stabilization `β`.
+pub const RIGID_STABILIZATION: f64 = 0.2;
+
 impl RigidContact {
-    /// From a validated description of kind `"rigid"`.
-    pub(crate) fn new(spec: &ContactSpec) -> Self {
+    /// From the validated settings of a description of kind `"rigid"`.
+    pub(crate) fn new(impact: ImpactSpec, stabilization: f64, friction: f64) -> Self {
         RigidContact {
-            impact: spec.impact_spec(),
-            stabilization: spec.stabilization.unwrap_or(RIGID_STABILIZATION),
-            friction: spec.friction,
+            impact,
+            stabilization,
+            friction,
             impulse: Vector3::zeros(),
             iterations: 0,
             residual: 0.0,
@@ -90,21 +93,23 @@ impl RigidContact {
     }
 }
 
+/// What one step's jump did: the points that took a normal impulse and `Σ λ_n / h` (N).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct JumpSummary {
+    pub(crate) count: usize,
+    pub(crate) normal_force: f64,
+}
+
 /// The velocity jump of the step of length `h` from the ODE state `y` (`[x; u; W_c]`) at time
-/// `t`, whose forward dynamics `du` (`u̇`, width 6+N) the plant has just evaluated (the
-/// kinematics of `x` current in `data`): steps 1–4 of the module docs. `y`'s `u` and `W_c` are
-/// updated; `contact`'s summary (count, normal force `Σλ_n / h`) set. Returns whether any point
-/// took an impulse.
-pub(crate) fn rigid_jump(model: &Model, data: &mut Data, contact: &mut PlantContact, t: f64, h: f64, y: &mut [f64], du: &[f64]) -> Result<bool> {
+/// `t` through the contacts `found` of its `x` (step 1 of the module docs, done by the caller),
+/// whose forward dynamics `du` (`u̇`, width 6+N) the plant has just evaluated: steps 2–4. `y`'s
+/// `u` and `W_c` are updated.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn rigid_jump(model: &Model, data: &mut Data, rigid: &mut RigidContact, found: &[Contact], t: f64, h: f64, y: &mut [f64], du: &[f64]) -> Result<JumpSummary> {
     let (nx, nu) = (model.nx(), model.nu());
-    contact.count = 0;
-    contact.normal_force = 0.0;
-    let found = contact.found(model, data, y, &contact.pairs, contact.margin)?;
-    let Some(rigid) = contact.rigid.as_mut() else {
-        return Err(SpacearmError::argument("the rigid contact step on a plant without rigid contact"));
-    };
+    let mut summary = JumpSummary::default();
     if found.is_empty() {
-        return Ok(false);
+        return Ok(summary);
     }
     let points: Vec<ContactPoint> =
         found.iter().map(|c| ContactPoint { body: c.body, point: 0.5 * (c.point[0] + c.point[1]), normal: c.normal, friction: rigid.friction }).collect();
@@ -154,7 +159,7 @@ pub(crate) fn rigid_jump(model: &Model, data: &mut Data, contact: &mut PlantCont
     rigid.max_residual = rigid.max_residual.max(residual);
     let lambda = &solution.impulse;
     if lambda.iter().all(|v| *v == 0.0) {
-        return Ok(false);
+        return Ok(summary);
     }
     let du_jump = &d.response * lambda;
     let u_after = &u + &du_jump;
@@ -164,14 +169,14 @@ pub(crate) fn rigid_jump(model: &Model, data: &mut Data, contact: &mut PlantCont
     for (i, frame) in d.frames.iter().enumerate() {
         let l = Vector3::new(lambda[3 * i], lambda[3 * i + 1], lambda[3 * i + 2]);
         if l[2] > 0.0 {
-            contact.count += 1;
-            contact.normal_force += l[2] / h;
+            summary.count += 1;
+            summary.normal_force += l[2] / h;
         }
         rigid.impulse += frame * l;
     }
     y[nx..nx + nu].copy_from_slice(u_after.as_slice());
     y[nx + nu] += work;
-    Ok(true)
+    Ok(summary)
 }
 
 /// The part of the bias `b` in the range of `G` (= the range of `J`: the contact velocities the

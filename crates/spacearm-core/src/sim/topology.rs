@@ -258,8 +258,13 @@ pub fn simulate_with_events(
     if opts.orbit.is_some() {
         return refuse("an orbit");
     }
-    if opts.integrator != IntegratorKind::Rk4 && events.iter().any(|e| matches!(e, TopologyEvent::Attach { at: None, .. })) {
+    let located = events.iter().any(|e| matches!(e, TopologyEvent::Attach { at: None, .. }));
+    if opts.integrator != IntegratorKind::Rk4 && located {
         return refuse("integrator='dopri5' and an attach located by thresholds (use integrator='rk4')");
+    }
+    if located && opts.contact.as_ref().is_some_and(|c| c.kind == crate::sim::contact::ContactKind::Rigid) {
+        // the location re-takes a step without its rigid impulses (sim/rigid_contact.rs)
+        return refuse("rigid contact (kind='rigid') and an attach located by thresholds (give the attach a commanded time at=, or use the compliant law)");
     }
     let mut second = match target {
         Some((model, state)) => {
@@ -1086,5 +1091,9 @@ mod tests {
         assert!(e.contains("is not implemented: only a rigid link on a fixed joint"), "{e}");
         let e = err(&SimOptions { stop: vec![crate::sim::stop::StopCondition::Time { t: 0.1 }], ..opts(0.3, 0.01) }, &[attach]);
         assert!(e.contains("stop conditions are not implemented"), "{e}");
+        let rigid: crate::sim::contact::ContactSpec = toml::from_str("kind = \"rigid\"").unwrap();
+        let located = TopologyEvent::Attach { at: None, point: None, grasp: None, gap: Some(0.1), speed: None, rate: None };
+        let e = err(&SimOptions { contact: Some(rigid), ..opts(0.3, 0.01) }, &[located]);
+        assert!(e.contains("rigid contact (kind='rigid') and an attach located by thresholds"), "{e}");
     }
 }

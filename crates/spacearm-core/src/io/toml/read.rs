@@ -528,13 +528,9 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
     for sd in &doc.slosh {
         let s = sd.get_ref();
         let name = s.name.get_ref();
-        let model = SloshModel::from_name(s.model.get_ref())
-            .ok_or_else(|| ctx.err(&sp(&s.model), format!("slosh '{name}': model must be one of {:?}, got '{}'", SloshModel::NAMES, s.model.get_ref())))?;
-        let restoring = match (&s.stiffness, &s.frequency) {
-            (Some(k), None) => SloshRestoring::Stiffness(*k.get_ref()),
-            (None, Some(w)) => SloshRestoring::Frequency(*w.get_ref()),
-            _ => return Err(ctx.err(&sp(sd), format!("slosh '{name}': give stiffness or frequency (one of them)"))),
-        };
+        let model = SloshModel::from_name(s.model.get_ref()).map_err(|m| ctx.err(&sp(&s.model), format!("slosh '{name}': {m}")))?;
+        let restoring = SloshRestoring::from_options(s.stiffness.as_ref().map(|k| *k.get_ref()), s.frequency.as_ref().map(|w| *w.get_ref()))
+            .map_err(|m| ctx.err(&sp(sd), format!("slosh '{name}': {m}")))?;
         let spec = SloshSpec {
             name: name.clone(),
             parent: parent_or(&s.parent, &base_name),
@@ -563,16 +559,10 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
         let p = pd.get_ref();
         let name = p.name.get_ref();
         let who = format!("panel '{name}'");
-        let restoring = match (p.stiffness, p.frequency) {
-            (Some(k), None) => Restoring::Stiffness(k),
-            (None, Some(w)) => Restoring::Frequency(w),
-            _ => return Err(ctx.err(&sp(pd), format!("{who}: give stiffness or frequency (one of them)"))),
-        };
-        let body = match (&p.size, &p.inertia, p.com_distance) {
-            (Some(s), None, None) => PanelBody::Size(*s),
-            (None, Some(i), Some(d)) => PanelBody::Inertia { com_distance: d, inertia: inertia_from_value(i).map_err(|m| ctx.err(&sp(pd), format!("{who}: {m}")))? },
-            _ => return Err(ctx.err(&sp(pd), format!("{who}: give size = [length, width, thickness], or inertia and com_distance"))),
-        };
+        let refuse = |m: String| ctx.err(&sp(pd), format!("{who}: {m}"));
+        let restoring = Restoring::from_options(p.stiffness, p.frequency).map_err(refuse)?;
+        let inertia = p.inertia.as_ref().map(inertia_from_value).transpose().map_err(refuse)?;
+        let body = PanelBody::from_options(p.size, inertia, p.com_distance).map_err(refuse)?;
         let spec = PanelSpec {
             name: name.clone(),
             parent: parent_or(&p.parent, &base_name),
@@ -599,12 +589,7 @@ fn build(ctx: &Ctx<'_>, doc: FileDoc, triangle_inequality: TriangleInequality) -
                 .ok_or_else(|| ctx.err(&sp(bd), format!("{who}: EI must be a number or an array of numbers")))?,
             _ => return Err(ctx.err(&sp(bd), format!("{who}: EI must be a number or an array of numbers"))),
         };
-        let damping = match (b.damping, b.damping_ratio) {
-            (Some(c), None) => BeamDamping::PerJoint(c),
-            (None, Some(z)) => BeamDamping::Ratio(z),
-            (None, None) => BeamDamping::PerJoint(0.0),
-            _ => return Err(ctx.err(&sp(bd), format!("{who}: give damping or damping_ratio, not both"))),
-        };
+        let damping = BeamDamping::from_options(b.damping, b.damping_ratio).map_err(|m| ctx.err(&sp(bd), format!("{who}: {m}")))?;
         let bending = appendage::bending(name, &b.axis, b.bending_axes.clone(), &ei).map_err(|e| ctx.err(&sp(bd), e))?;
         let spec = BeamSpec {
             name: name.clone(),
@@ -708,8 +693,7 @@ fn geometry_spec(ctx: &Ctx<'_>, gd: &Spanned<GeometryDoc>) -> Result<(GeometrySp
     let who = g.name.as_ref().map_or_else(|| format!("geometry on '{}'", g.body.get_ref()), |n| format!("geometry '{}'", n.get_ref()));
     let role = match &g.role {
         None => GeometryRole::Visual,
-        Some(r) => GeometryRole::from_name(r.get_ref())
-            .ok_or_else(|| ctx.err(&sp(r), format!("{who}: role must be \"visual\" or \"collision\", got {:?}", r.get_ref())))?,
+        Some(r) => GeometryRole::from_name(r.get_ref()).map_err(|m| ctx.err(&sp(r), format!("{who}: {m}")))?,
     };
     let present: [(&str, Option<Span>); 5] = [
         ("size", g.size.as_ref().map(sp)),

@@ -312,7 +312,7 @@ fn geometry_tables_read_write_and_round_trip() {
     let e = bad("body = \"arm\"\nshape = \"cone\"\nradius = 1.0\n");
     assert!(e.contains("shape must be \"box\""), "{e}");
     let e = bad("body = \"arm\"\nrole = \"both\"\nshape = \"sphere\"\nradius = 1.0\n");
-    assert!(e.contains("role must be \"visual\" or \"collision\""), "{e}");
+    assert!(e.contains("role must be 'visual' or 'collision', got 'both'"), "{e}");
     let e = bad("body = \"arm\"\nshape = \"sphere\"\nradius = 1.0\nrgba = [1.0, 1.0, 1.0, 2.0]\n");
     assert!(e.contains("rgba must be 4 numbers in [0, 1]") && e.contains("rgba = [1.0"), "{e}");
     let e = bad("name = \"g\"\nbody = \"arm\"\nshape = \"sphere\"\nradius = 1.0\n[[geometry]]\nname = \"g\"\nbody = \"arm\"\nshape = \"sphere\"\nradius = 1.0\n");
