@@ -197,6 +197,15 @@ impl ContactSpec {
     }
 }
 
+/// The refusal of rigid contact with a free target, in a plain run and in a run with
+/// topology events alike (docs/contact.md, "What is not handled").
+pub(crate) fn rigid_with_target_refused() -> SpacearmError {
+    SpacearmError::argument(
+        "rigid contact (kind=\"rigid\") with a free target is not implemented yet: use the compliant law with a target, or \
+         rigid contact between the robot's own bodies (docs/contact.md, \"What is not handled\")",
+    )
+}
+
 /// The contact of a plant: the model's collision shapes, the admitted pairs, the law, a free
 /// target's body if the run has one ([`crate::sim::free_target`]), and the summary of the last
 /// evaluation.
@@ -245,12 +254,7 @@ impl PlantContact {
             Some(list) => PairFilter::Geometries(resolve_pairs(model, &shapes, target.as_ref(), list)?),
         };
         let rigid = match spec.kind {
-            ContactKind::Rigid if target.is_some() => {
-                return Err(SpacearmError::argument(
-                    "rigid contact (kind=\"rigid\") with a free target is not implemented yet: use the compliant law with a target, or \
-                     rigid contact between the robot's own bodies (docs/contact.md, \"What is not handled\")",
-                ))
-            }
+            ContactKind::Rigid if target.is_some() => return Err(rigid_with_target_refused()),
             ContactKind::Rigid => Some(RigidContact::new(spec.impact_spec(), spec.stabilization.unwrap_or(RIGID_STABILIZATION), spec.friction)),
             ContactKind::Compliant => None,
         };

@@ -260,11 +260,19 @@ pub fn simulate_with_events(
     }
     let located = events.iter().any(|e| matches!(e, TopologyEvent::Attach { at: None, .. }));
     if opts.integrator != IntegratorKind::Rk4 && located {
-        return refuse("integrator='dopri5' and an attach located by thresholds (use integrator='rk4')");
+        return Err(SpacearmError::argument(
+            "topology events: an attach located by thresholds is not implemented with integrator='dopri5'; use integrator='rk4', or give the attach a commanded time at=",
+        ));
     }
-    if located && opts.contact.as_ref().is_some_and(|c| c.kind == crate::sim::contact::ContactKind::Rigid) {
+    let rigid = opts.contact.as_ref().is_some_and(|c| c.kind == crate::sim::contact::ContactKind::Rigid);
+    if rigid && target.is_some() {
+        return Err(crate::sim::contact::rigid_with_target_refused());
+    }
+    if located && rigid {
         // the location re-takes a step without its rigid impulses (sim/rigid_contact.rs)
-        return refuse("rigid contact (kind='rigid') and an attach located by thresholds (give the attach a commanded time at=, or use the compliant law)");
+        return Err(SpacearmError::argument(
+            "topology events: an attach located by thresholds is not implemented with rigid contact (kind='rigid'): locating it re-takes a step without the rigid impulses; give the attach a commanded time at=, or use the compliant law",
+        ));
     }
     let mut second = match target {
         Some((model, state)) => {
@@ -1094,6 +1102,6 @@ mod tests {
         let rigid: crate::sim::contact::ContactSpec = toml::from_str("kind = \"rigid\"").unwrap();
         let located = TopologyEvent::Attach { at: None, point: None, grasp: None, gap: Some(0.1), speed: None, rate: None };
         let e = err(&SimOptions { contact: Some(rigid), ..opts(0.3, 0.01) }, &[located]);
-        assert!(e.contains("rigid contact (kind='rigid') and an attach located by thresholds"), "{e}");
+        assert!(e.contains("an attach located by thresholds is not implemented with rigid contact (kind='rigid')"), "{e}");
     }
 }
