@@ -12,7 +12,7 @@ use spacearm_core::gjm;
 use spacearm_core::{Data, Model};
 
 use crate::model::{model_ref, SpacearmModel};
-use crate::status::{guard, input, optional_input, optional_output, output, put, put_row_major, Outcome, SpacearmStatus};
+use crate::status::{guard, input, optional_input, output, put, put_optional, put_row_major, Outcome, SpacearmStatus};
 
 fn vec3(v: &[f64]) -> Vector3<f64> {
     Vector3::new(v[0], v[1], v[2])
@@ -80,19 +80,13 @@ pub unsafe extern "C" fn spacearm_inertia_blocks(model: *const SpacearmModel, x:
     guard(|| {
         // SAFETY (this block and below): the caller's contract, documented above.
         let m = unsafe { model_ref(model) }?;
-        let n = m.model.n_dof();
         let x = unsafe { input(x, m.model.nx(), "x") }?;
         let blocks = m.with_data(|model, data| inertia::inertia_blocks(model, data, x))?;
-        if let Some(o) = unsafe { optional_output(h0_out, 36) } {
-            put_row_major("H0", &blocks.h0, o)?;
+        unsafe {
+            put_optional("H0", &blocks.h0, h0_out)?;
+            put_optional("H0m", &blocks.h0m, h0m_out)?;
+            put_optional("H_m", &blocks.hm, hm_out)
         }
-        if let Some(o) = unsafe { optional_output(h0m_out, 6 * n) } {
-            put_row_major("H0m", &blocks.h0m, o)?;
-        }
-        if let Some(o) = unsafe { optional_output(hm_out, n * n) } {
-            put_row_major("H_m", &blocks.hm, o)?;
-        }
-        Ok(())
     })
 }
 
@@ -268,13 +262,10 @@ pub unsafe extern "C" fn spacearm_point_pose(model: *const SpacearmModel, x: *co
             kinematics::forward_kinematics(model, data, x)?;
             Ok((kinematics::point_position(data, body, &p), data.body_to_world[body]))
         })?;
-        if let Some(o) = unsafe { optional_output(position_out, 3) } {
-            put("the point's position", pos.as_slice(), o)?;
+        unsafe {
+            put_optional("the point's position", &pos, position_out)?;
+            put_optional("the body's rotation", &rot, rotation_out)
         }
-        if let Some(o) = unsafe { optional_output(rotation_out, 9) } {
-            put_row_major("the body's rotation", &rot, o)?;
-        }
-        Ok(())
     })
 }
 
@@ -293,15 +284,12 @@ pub unsafe extern "C" fn spacearm_forward_dynamics_derivatives(model: *const Spa
         let m = unsafe { model_ref(model) }?;
         let (nx, nu) = (m.model.nx(), m.model.nu());
         let (x, u, f) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?, input(f, nu, "f")?) };
-        let outs = unsafe { [optional_output(d_dx_out, nu * nu), optional_output(d_du_out, nu * nu), optional_output(d_df_out, nu * nu)] };
         // Every output NULL is a valid call (the header allows each to be NULL): the inputs are
         // still checked and the derivatives computed, nothing is written.
         m.with_derivatives(|model, work| -> Outcome {
             let (a, b, c) = spacearm_core::derivatives::forward_dynamics_derivatives(model, work, x, u, f)?;
-            for ((o, mat), what) in outs.into_iter().zip([a, b, c]).zip(["d_dx_out", "d_du_out", "d_df_out"]) {
-                if let Some(o) = o {
-                    put_row_major(what, mat, o)?;
-                }
+            for (p, mat, what) in [(d_dx_out, a, "d_dx_out"), (d_du_out, b, "d_du_out"), (d_df_out, c, "d_df_out")] {
+                unsafe { put_optional(what, mat, p) }?;
             }
             Ok(())
         })

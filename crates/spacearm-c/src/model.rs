@@ -8,7 +8,7 @@ use spacearm_core::derivatives::DerivativeData;
 use spacearm_core::model::presets;
 use spacearm_core::{Data, Model};
 
-use crate::status::{guard, guard_value, input, optional_input, output, put, text, write_text, Failure, Outcome, SpacearmStatus};
+use crate::status::{free_handle, give, guard, guard_value, handle, input, optional_input, output, put, text, write_text, Failure, Outcome, SpacearmStatus};
 
 /// An opaque, immutable model with its own workspaces. Safe to share between threads (the
 /// workspaces are behind locks); free it with `spacearm_model_free`.
@@ -46,7 +46,17 @@ impl SpacearmModel {
 /// `m` must be NULL or a handle from this library not yet freed.
 pub(crate) unsafe fn model_ref<'a>(m: *const SpacearmModel) -> Outcome<&'a SpacearmModel> {
     // SAFETY: the caller's contract.
-    unsafe { m.as_ref() }.ok_or_else(|| Failure::new(SpacearmStatus::NullPointer, "model is NULL; expected a handle from spacearm_model_from_*"))
+    unsafe { handle(m, "model", "a handle from spacearm_model_from_*") }
+}
+
+/// A number of the model behind a possibly NULL handle, for the entry points that return one
+/// (`fallback`, with the message kept, for NULL).
+///
+/// # Safety
+/// `m` NULL or a live handle.
+unsafe fn model_value<T>(m: *const SpacearmModel, fallback: T, value: fn(&Model) -> T) -> T {
+    // SAFETY: the caller's contract.
+    guard_value(fallback, || Ok(value(&unsafe { model_ref(m) }?.model)))
 }
 
 /// A model from TOML text (docs/model-format.md), with the status of its failure: text that is
@@ -67,17 +77,28 @@ pub(crate) fn model_from_toml(text: &str, source: &str) -> Outcome<Model> {
     })
 }
 
-/// Store a new handle in `*out`.
+/// The entry points that make a model handle: `make` (which reads the arguments) runs under
+/// [`guard`], then `*out` receives the new handle.
 ///
 /// # Safety
-/// `out` must be NULL or writable.
-unsafe fn give(model: Model, out: *mut *mut SpacearmModel) -> Outcome {
-    if out.is_null() {
-        return Err(Failure::new(SpacearmStatus::NullPointer, "out is NULL; expected the address of a SpacearmModel*"));
-    }
-    // SAFETY: `out` is writable (caller's contract).
-    unsafe { *out = Box::into_raw(Box::new(SpacearmModel::new(model))) };
-    Ok(())
+/// `out` NULL or writable; `make` reads its pointers under the caller's contract.
+unsafe fn new_model(out: *mut *mut SpacearmModel, make: impl FnOnce() -> Outcome<Model>) -> SpacearmStatus {
+    guard(|| {
+        let model = make()?;
+        // SAFETY: the caller's contract.
+        unsafe { give(SpacearmModel::new(model), out, "SpacearmModel") }
+    })
+}
+
+/// The entry points that edit a model (the core's model/edit.rs): `edit` makes the new model
+/// from the handle's (unchanged); `*out` receives it as a new handle.
+///
+/// # Safety
+/// `model` NULL or a live handle; `out` NULL or writable; `edit` reads its pointers under the
+/// caller's contract.
+unsafe fn edited(model: *const SpacearmModel, out: *mut *mut SpacearmModel, edit: impl FnOnce(&Model) -> Outcome<Model>) -> SpacearmStatus {
+    // SAFETY: the caller's contract.
+    unsafe { new_model(out, || edit(&model_ref(model)?.model)) }
 }
 
 /// A model from TOML text (docs/model-format.md). `*out` receives a new handle.
@@ -86,13 +107,8 @@ unsafe fn give(model: Model, out: *mut *mut SpacearmModel) -> Outcome {
 /// `toml` a NUL-terminated string; `out` writable.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_model_from_toml(toml: *const c_char, out: *mut *mut SpacearmModel) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY: the caller's contract.
-        let s = unsafe { text(toml, "toml") }?;
-        let model = model_from_toml(s, "<TOML text given to spacearm_model_from_toml>")?;
-        // SAFETY: the caller's contract.
-        unsafe { give(model, out) }
-    })
+    // SAFETY (this block and below): the caller's contract, documented above.
+    unsafe { new_model(out, || model_from_toml(text(toml, "toml")?, "<TOML text given to spacearm_model_from_toml>")) }
 }
 
 /// A model from a TOML file (docs/model-format.md). `*out` receives a new handle.
@@ -101,14 +117,14 @@ pub unsafe extern "C" fn spacearm_model_from_toml(toml: *const c_char, out: *mut
 /// `path` a NUL-terminated string; `out` writable.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_model_from_toml_file(path: *const c_char, out: *mut *mut SpacearmModel) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY: the caller's contract.
-        let p = unsafe { text(path, "path") }?;
-        let body = std::fs::read_to_string(p).map_err(|e| Failure::new(SpacearmStatus::Io, format!("cannot read the model file '{p}': {e}")))?;
-        let model = model_from_toml(&body, p)?;
-        // SAFETY: the caller's contract.
-        unsafe { give(model, out) }
-    })
+    // SAFETY (this block and below): the caller's contract, documented above.
+    unsafe {
+        new_model(out, || {
+            let p = text(path, "path")?;
+            let body = std::fs::read_to_string(p).map_err(|e| Failure::new(SpacearmStatus::Io, format!("cannot read the model file '{p}': {e}")))?;
+            model_from_toml(&body, p)
+        })
+    }
 }
 
 /// A preset model by name: `"planar4"`, `"spatial6"`, `"spatial7"`, `"dual_arm"`, `"ets7"`.
@@ -117,13 +133,13 @@ pub unsafe extern "C" fn spacearm_model_from_toml_file(path: *const c_char, out:
 /// `name` a NUL-terminated string; `out` writable.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_model_preset(name: *const c_char, out: *mut *mut SpacearmModel) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY: the caller's contract.
-        let n = unsafe { text(name, "name") }?;
-        let model = presets::by_name(n).ok_or_else(|| Failure::new(SpacearmStatus::NotFound, format!("unknown preset '{n}'; expected one of planar4, spatial6, spatial7, dual_arm, ets7")))?;
-        // SAFETY: the caller's contract.
-        unsafe { give(model, out) }
-    })
+    // SAFETY (this block and below): the caller's contract, documented above.
+    unsafe {
+        new_model(out, || {
+            let n = text(name, "name")?;
+            presets::by_name(n).ok_or_else(|| Failure::new(SpacearmStatus::NotFound, format!("unknown preset '{n}'; expected one of planar4, spatial6, spatial7, dual_arm, ets7")))
+        })
+    }
 }
 
 /// Free a model handle (NULL is ignored). Steppers made from it keep their own copy.
@@ -132,11 +148,8 @@ pub unsafe extern "C" fn spacearm_model_preset(name: *const c_char, out: *mut *m
 /// `model` NULL or a handle not yet freed; it must not be used afterwards.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_model_free(model: *mut SpacearmModel) {
-    if !model.is_null() {
-        // SAFETY: a handle from `Box::into_raw`, freed once (caller's contract). Dropping
-        // cannot panic (plain memory).
-        drop(unsafe { Box::from_raw(model) });
-    }
+    // SAFETY: a handle from `spacearm_model_from_*`, freed once (caller's contract).
+    unsafe { free_handle(model) }
 }
 
 /// Number of joint degrees of freedom `N` (0 for a NULL handle).
@@ -146,7 +159,7 @@ pub unsafe extern "C" fn spacearm_model_free(model: *mut SpacearmModel) {
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_model_n_dof(model: *const SpacearmModel) -> usize {
     // SAFETY: the caller's contract.
-    guard_value(0, || Ok(unsafe { model_ref(model) }?.model.n_dof()))
+    unsafe { model_value(model, 0, Model::n_dof) }
 }
 
 /// Length of a configuration `x = [r0, quat0 (x, y, z, w), q]`: `7 + N` (0 for NULL).
@@ -156,7 +169,7 @@ pub unsafe extern "C" fn spacearm_model_n_dof(model: *const SpacearmModel) -> us
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_model_nx(model: *const SpacearmModel) -> usize {
     // SAFETY: the caller's contract.
-    guard_value(0, || Ok(unsafe { model_ref(model) }?.model.nx()))
+    unsafe { model_value(model, 0, Model::nx) }
 }
 
 /// Length of a generalized velocity `u = [v0, ω0, q̇]`: `6 + N` (0 for NULL).
@@ -166,7 +179,7 @@ pub unsafe extern "C" fn spacearm_model_nx(model: *const SpacearmModel) -> usize
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_model_nu(model: *const SpacearmModel) -> usize {
     // SAFETY: the caller's contract.
-    guard_value(0, || Ok(unsafe { model_ref(model) }?.model.nu()))
+    unsafe { model_value(model, 0, Model::nu) }
 }
 
 /// Number of bodies, the base (body 0) included (0 for NULL).
@@ -176,7 +189,7 @@ pub unsafe extern "C" fn spacearm_model_nu(model: *const SpacearmModel) -> usize
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_model_n_bodies(model: *const SpacearmModel) -> usize {
     // SAFETY: the caller's contract.
-    guard_value(0, || Ok(unsafe { model_ref(model) }?.model.n_bodies()))
+    unsafe { model_value(model, 0, Model::n_bodies) }
 }
 
 /// Total mass, kg (0 for NULL).
@@ -186,7 +199,7 @@ pub unsafe extern "C" fn spacearm_model_n_bodies(model: *const SpacearmModel) ->
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_model_total_mass(model: *const SpacearmModel) -> f64 {
     // SAFETY: the caller's contract.
-    guard_value(0.0, || Ok(unsafe { model_ref(model) }?.model.total_mass()))
+    unsafe { model_value(model, 0.0, Model::total_mass) }
 }
 
 /// The initial configuration `x` (7 + N): base at the origin aligned with 𝒥, the model's
@@ -290,20 +303,16 @@ pub unsafe extern "C" fn spacearm_model_attach_body(
     inertia: *const f64,
     out: *mut *mut SpacearmModel,
 ) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY: the caller's contract.
-        let m = unsafe { model_ref(model) }?;
-        // SAFETY: the caller's contract.
-        let name = unsafe { text(name, "name") }?;
-        // SAFETY: the caller's contract.
-        let at = unsafe { mount(parent, origin, rotation) }?;
-        // SAFETY: the caller's contract.
-        let i = unsafe { optional_input(inertia, 9, "inertia") }?.unwrap_or(&[0.0; 9]);
-        let inertia = [[i[0], i[1], i[2]], [i[3], i[4], i[5]], [i[6], i[7], i[8]]];
-        let edited = m.model.attach_body(spacearm_core::LinkSpec::payload(name, &at, mass, inertia), None).map_err(spacearm_core::SpacearmError::from)?;
-        // SAFETY: the caller's contract.
-        unsafe { give(edited, out) }
-    })
+    // SAFETY (this block and below): the caller's contract, documented above.
+    unsafe {
+        edited(model, out, |m| {
+            let name = text(name, "name")?;
+            let at = mount(parent, origin, rotation)?;
+            let i = optional_input(inertia, 9, "inertia")?.unwrap_or(&[0.0; 9]);
+            let inertia = [[i[0], i[1], i[2]], [i[3], i[4], i[5]], [i[6], i[7], i[8]]];
+            Ok(m.attach_body(spacearm_core::LinkSpec::payload(name, &at, mass, inertia), None).map_err(spacearm_core::SpacearmError::from)?)
+        })
+    }
 }
 
 /// A new model: `model` with the whole model `other` attached to the body `parent`: `other`'s
@@ -329,21 +338,16 @@ pub unsafe extern "C" fn spacearm_model_attach_model(
     base_link: *const c_char,
     out: *mut *mut SpacearmModel,
 ) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY: the caller's contract.
-        let m = unsafe { model_ref(model) }?;
-        // SAFETY: the caller's contract.
-        let o = unsafe { other.as_ref() }.ok_or_else(|| Failure::new(SpacearmStatus::NullPointer, "other is NULL; expected a model handle to attach"))?;
-        // SAFETY: the caller's contract.
-        let at = unsafe { mount(parent, origin, rotation) }?;
-        // SAFETY: the caller's contract.
-        let prefix = unsafe { text(prefix, "prefix") }?;
-        // SAFETY: the caller's contract.
-        let base_link = if base_link.is_null() { None } else { Some(unsafe { text(base_link, "base_link") }?) };
-        let edited = m.model.attach_model(&o.model, &at, prefix, base_link).map_err(spacearm_core::SpacearmError::from)?;
-        // SAFETY: the caller's contract.
-        unsafe { give(edited, out) }
-    })
+    // SAFETY (this block and below): the caller's contract, documented above.
+    unsafe {
+        edited(model, out, |m| {
+            let o = handle(other, "other", "a model handle to attach")?;
+            let at = mount(parent, origin, rotation)?;
+            let prefix = text(prefix, "prefix")?;
+            let base_link = if base_link.is_null() { None } else { Some(text(base_link, "base_link")?) };
+            Ok(m.attach_model(&o.model, &at, prefix, base_link).map_err(spacearm_core::SpacearmError::from)?)
+        })
+    }
 }
 
 /// A new model: `model` without the link `body`, every link below it, and the points and
@@ -355,13 +359,6 @@ pub unsafe extern "C" fn spacearm_model_attach_model(
 /// `model` a live handle; `body` a NUL-terminated string; `out` writable.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_model_remove_subtree(model: *const SpacearmModel, body: *const c_char, out: *mut *mut SpacearmModel) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY: the caller's contract.
-        let m = unsafe { model_ref(model) }?;
-        // SAFETY: the caller's contract.
-        let body = unsafe { text(body, "body") }?;
-        let edited = m.model.remove_subtree(body).map_err(spacearm_core::SpacearmError::from)?;
-        // SAFETY: the caller's contract.
-        unsafe { give(edited, out) }
-    })
+    // SAFETY (this block and below): the caller's contract, documented above.
+    unsafe { edited(model, out, |m| Ok(m.remove_subtree(text(body, "body")?).map_err(spacearm_core::SpacearmError::from)?)) }
 }

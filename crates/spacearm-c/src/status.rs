@@ -127,43 +127,77 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
     }
 }
 
+/// The one place a body runs under `catch_unwind` (every entry point of the C ABI and of the
+/// FMUs, through [`guard`], [`guard_value`], [`free_handle`] and the FMI wrappers of
+/// `fmu/mod.rs`): a panic becomes a [`SpacearmStatus::Internal`] failure whose message says so
+/// and carries the panic's own.
+pub(crate) fn caught<T>(body: impl FnOnce() -> Outcome<T>) -> Outcome<T> {
+    catch_unwind(AssertUnwindSafe(body)).unwrap_or_else(|payload| {
+        Err(Failure::new(
+            SpacearmStatus::Internal,
+            format!("internal error in spacearm (a Rust panic, caught at the C boundary): {}", panic_message(payload.as_ref())),
+        ))
+    })
+}
+
+/// [`caught`], the outcome kept for [`spacearm_last_error`]: a failure's message, or `""` on
+/// success.
+fn recorded<T>(body: impl FnOnce() -> Outcome<T>) -> Result<T, SpacearmStatus> {
+    let outcome = caught(body);
+    set_last_error(outcome.as_ref().err().map_or("", |f| f.message.as_str()));
+    outcome.map_err(|f| f.status)
+}
+
 /// Run the body of an entry point: its failure becomes a status code with the message kept for
 /// [`spacearm_last_error`]; a panic is caught and becomes [`SpacearmStatus::Internal`]. Success
 /// clears the message.
 pub(crate) fn guard(body: impl FnOnce() -> Outcome) -> SpacearmStatus {
-    match catch_unwind(AssertUnwindSafe(body)) {
-        Ok(Ok(())) => {
-            set_last_error("");
-            SpacearmStatus::Ok
-        }
-        Ok(Err(f)) => {
-            set_last_error(&f.message);
-            f.status
-        }
-        Err(payload) => {
-            set_last_error(&format!("internal error in spacearm (a Rust panic, caught at the C boundary): {}", panic_message(payload.as_ref())));
-            SpacearmStatus::Internal
-        }
-    }
+    recorded(body).err().unwrap_or(SpacearmStatus::Ok)
 }
 
 /// Like [`guard`] for the entry points that return a value rather than a status (sizes):
 /// `fallback` on failure or panic, with the message kept. Success clears the message, as
 /// [`guard`] does.
 pub(crate) fn guard_value<T>(fallback: T, body: impl FnOnce() -> Outcome<T>) -> T {
-    match catch_unwind(AssertUnwindSafe(body)) {
-        Ok(Ok(v)) => {
-            set_last_error("");
-            v
-        }
-        Ok(Err(f)) => {
-            set_last_error(&f.message);
-            fallback
-        }
-        Err(payload) => {
-            set_last_error(&format!("internal error in spacearm (a Rust panic, caught at the C boundary): {}", panic_message(payload.as_ref())));
-            fallback
-        }
+    recorded(body).unwrap_or(fallback)
+}
+
+/// The handle `p` of an entry point (a model, a stepper), or a NullPointer failure naming
+/// `what` and where such a handle comes from (`expected`).
+///
+/// # Safety
+/// `p` NULL or a live handle of this library.
+pub(crate) unsafe fn handle<'a, T>(p: *const T, what: &str, expected: &str) -> Outcome<&'a T> {
+    // SAFETY: the caller's contract.
+    unsafe { p.as_ref() }.ok_or_else(|| Failure::new(SpacearmStatus::NullPointer, format!("{what} is NULL; expected {expected}")))
+}
+
+/// Store a new handle holding `value` in `*out` (`type_name` the C type, for the message when
+/// `out` is NULL); the caller frees it with [`free_handle`].
+///
+/// # Safety
+/// `out` NULL or writable.
+pub(crate) unsafe fn give<T>(value: T, out: *mut *mut T, type_name: &str) -> Outcome {
+    if out.is_null() {
+        return Err(Failure::new(SpacearmStatus::NullPointer, format!("out is NULL; expected the address of a {type_name}*")));
+    }
+    // SAFETY: `out` is writable (caller's contract).
+    unsafe { *out = Box::into_raw(Box::new(value)) };
+    Ok(())
+}
+
+/// Free a handle made by [`give`] (or any `Box::into_raw`); NULL is ignored, a panic while
+/// dropping is caught (a free has no status to report it with).
+///
+/// # Safety
+/// `p` NULL or a handle not yet freed; it must not be used afterwards.
+pub(crate) unsafe fn free_handle<T>(p: *mut T) {
+    if !p.is_null() {
+        // SAFETY: a handle from `Box::into_raw`, freed once (caller's contract).
+        let _ = caught(|| {
+            drop(unsafe { Box::from_raw(p) });
+            Ok(())
+        });
     }
 }
 
@@ -246,15 +280,6 @@ pub(crate) unsafe fn output<'a>(p: *mut f64, len: usize, what: &str) -> Outcome<
     }
     // SAFETY: the caller's contract: `len` writable doubles.
     Ok(unsafe { std::slice::from_raw_parts_mut(p, len) })
-}
-
-/// An optional output buffer: `None` for NULL (the quantity is then not written).
-///
-/// # Safety
-/// `p` must point at `len` writable `f64` or be NULL.
-pub(crate) unsafe fn optional_output<'a>(p: *mut f64, len: usize) -> Option<&'a mut [f64]> {
-    // SAFETY: as for `output`.
-    (!p.is_null()).then(|| unsafe { std::slice::from_raw_parts_mut(p, len) })
 }
 
 /// A NUL-terminated UTF-8 string argument.
@@ -340,6 +365,19 @@ pub(crate) fn put_row_major<R: Dim, C: Dim, S: RawStorage<f64, R, C>>(what: &str
         *v = m[(i, j)];
     }
     Ok(())
+}
+
+/// [`put_row_major`] into an optional output buffer `p` of the matrix's size (`rows × cols`
+/// doubles; a vector's entries in order): NULL is not written.
+///
+/// # Safety
+/// `p` NULL or `m.len()` writable doubles not aliased by any input.
+pub(crate) unsafe fn put_optional<R: Dim, C: Dim, S: RawStorage<f64, R, C>>(what: &str, m: &Matrix<f64, R, C, S>, p: *mut f64) -> Outcome {
+    if p.is_null() {
+        return Ok(());
+    }
+    // SAFETY: the caller's contract: `m.len()` writable doubles.
+    put_row_major(what, m, unsafe { std::slice::from_raw_parts_mut(p, m.len()) })
 }
 
 #[cfg(test)]

@@ -29,7 +29,7 @@
 use std::ffi::c_char;
 use std::path::Path;
 
-use nalgebra::Vector6;
+use nalgebra::{DVectorView, Vector6};
 use spacearm_core::control::spec::{no_external, ControllerSpec};
 use spacearm_core::control::Controller;
 use spacearm_core::sim::integrate::IntegratorKind;
@@ -39,7 +39,7 @@ use spacearm_core::sim::stepper::Rk4Stepper;
 use spacearm_core::Model;
 
 use crate::model::{model_ref, SpacearmModel};
-use crate::status::{guard, guard_value, input, optional_input, output, put, text, write_text, Failure, Outcome, SpacearmStatus};
+use crate::status::{free_handle, give, guard, guard_value, handle, input, optional_input, output, put, put_optional, text, write_text, Failure, Outcome, SpacearmStatus};
 
 /// The most RK4 steps one call may take: `n` of `spacearm_stepper_step`, and `h / dt` of one
 /// communication step `h` of an FMU (`fmi3DoStep`, `fmi2DoStep`). A call asking for more is
@@ -215,8 +215,13 @@ impl SpacearmStepper {
         Ok(())
     }
 
-    fn running(&mut self) -> Outcome<&mut Rk4Stepper<'static>> {
-        self.stepper.as_mut().ok_or_else(|| Failure::argument("the stepper has no state yet; call spacearm_stepper_reset first"))
+    /// The running loop, or the failure of a stepper not yet reset.
+    fn running(&self) -> Outcome<&Rk4Stepper<'static>> {
+        self.stepper.as_ref().ok_or_else(not_reset)
+    }
+
+    fn running_mut(&mut self) -> Outcome<&mut Rk4Stepper<'static>> {
+        self.stepper.as_mut().ok_or_else(not_reset)
     }
 
     /// `n` steps of `dt` with `tau` (N) and `base_wrench` (6) held, landing on `t = i·dt`; at
@@ -238,7 +243,7 @@ impl SpacearmStepper {
         let held = (tau.is_some() || base_wrench.is_some()).then_some(w);
         let tau_buf = std::mem::take(&mut self.tau);
         let result = (|| {
-            let s = self.running()?;
+            let s = self.running_mut()?;
             s.plant_mut().set_held_input(held.map(|w| (tau_buf.as_slice(), w)));
             for _ in 0..n {
                 let t_next = (s.n_steps() + 1) as f64 * dt;
@@ -255,11 +260,44 @@ impl SpacearmStepper {
     }
 }
 
+fn not_reset() -> Failure {
+    Failure::argument("the stepper has no state yet; call spacearm_stepper_reset first")
+}
+
+/// The stepper behind a handle, or a NullPointer failure.
+///
 /// # Safety
 /// `s` NULL or a live stepper handle.
-unsafe fn stepper_mut<'a>(s: *mut SpacearmStepper) -> Outcome<&'a mut SpacearmStepper> {
+unsafe fn stepper_ref<'a>(s: *const SpacearmStepper) -> Outcome<&'a SpacearmStepper> {
     // SAFETY: the caller's contract.
-    unsafe { s.as_mut() }.ok_or_else(|| Failure::new(SpacearmStatus::NullPointer, "stepper is NULL; expected a handle from spacearm_stepper_new"))
+    unsafe { handle(s, "stepper", "a handle from spacearm_stepper_new") }
+}
+
+/// [`stepper_ref`], to change it.
+///
+/// # Safety
+/// `s` NULL or a live stepper handle, not in use elsewhere.
+unsafe fn stepper_mut<'a>(s: *mut SpacearmStepper) -> Outcome<&'a mut SpacearmStepper> {
+    // SAFETY: the caller's contract (`stepper_ref` refuses NULL).
+    unsafe {
+        stepper_ref(s)?;
+        Ok(&mut *s)
+    }
+}
+
+/// The entry points that make a stepper: `*out` receives a stepper of a copy of `model` with
+/// the options `parse` reads (from the model) under [`guard`].
+///
+/// # Safety
+/// `model` NULL or a live handle; `out` NULL or writable; `parse` reads its pointers under the
+/// caller's contract.
+unsafe fn new_stepper(model: *const SpacearmModel, out: *mut *mut SpacearmStepper, parse: impl FnOnce(&Model) -> Outcome<StepperOptions>) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract.
+        let m = unsafe { model_ref(model) }?;
+        let opts = parse(&m.model)?;
+        unsafe { give(SpacearmStepper::new(m.model.clone(), opts), out, "SpacearmStepper") }
+    })
 }
 
 /// A stepper for a copy of `model` with the options TOML `options` (NULL: the defaults,
@@ -270,17 +308,8 @@ unsafe fn stepper_mut<'a>(s: *mut SpacearmStepper) -> Outcome<&'a mut SpacearmSt
 /// `model` a live handle; `options` NULL or a NUL-terminated string; `out` writable.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_stepper_new(model: *const SpacearmModel, options: *const c_char, out: *mut *mut SpacearmStepper) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY (this block and below): the caller's contract, documented above.
-        let m = unsafe { model_ref(model) }?;
-        let text = if options.is_null() { "" } else { unsafe { text(options, "options") }? };
-        let opts = StepperOptions::parse(&m.model, text)?;
-        if out.is_null() {
-            return Err(Failure::new(SpacearmStatus::NullPointer, "out is NULL; expected the address of a SpacearmStepper*"));
-        }
-        unsafe { *out = Box::into_raw(Box::new(SpacearmStepper::new(m.model.clone(), opts))) };
-        Ok(())
-    })
+    // SAFETY (this block and below): the caller's contract, documented above.
+    unsafe { new_stepper(model, out, |m| StepperOptions::parse(m, if options.is_null() { "" } else { text(options, "options")? })) }
 }
 
 /// A stepper for a copy of `model` with the options read from the TOML file `path` (a relative
@@ -290,18 +319,14 @@ pub unsafe extern "C" fn spacearm_stepper_new(model: *const SpacearmModel, optio
 /// `model` a live handle; `path` a NUL-terminated string; `out` writable.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_stepper_new_from_file(model: *const SpacearmModel, path: *const c_char, out: *mut *mut SpacearmStepper) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY (this block and below): the caller's contract, documented above.
-        let m = unsafe { model_ref(model) }?;
-        let path = Path::new(unsafe { text(path, "path") }?);
-        let text = std::fs::read_to_string(path).map_err(|e| Failure::new(SpacearmStatus::Io, format!("{}: cannot read the options file: {e}", path.display())))?;
-        let opts = StepperOptions::parse_in(&m.model, &text, Some(path.parent().unwrap_or(Path::new(""))))?;
-        if out.is_null() {
-            return Err(Failure::new(SpacearmStatus::NullPointer, "out is NULL; expected the address of a SpacearmStepper*"));
-        }
-        unsafe { *out = Box::into_raw(Box::new(SpacearmStepper::new(m.model.clone(), opts))) };
-        Ok(())
-    })
+    // SAFETY (this block and below): the caller's contract, documented above.
+    unsafe {
+        new_stepper(model, out, |m| {
+            let path = Path::new(text(path, "path")?);
+            let text = std::fs::read_to_string(path).map_err(|e| Failure::new(SpacearmStatus::Io, format!("{}: cannot read the options file: {e}", path.display())))?;
+            StepperOptions::parse_in(m, &text, Some(path.parent().unwrap_or(Path::new(""))))
+        })
+    }
 }
 
 /// Free a stepper (NULL is ignored).
@@ -310,10 +335,8 @@ pub unsafe extern "C" fn spacearm_stepper_new_from_file(model: *const SpacearmMo
 /// `stepper` NULL or a handle not yet freed; not used afterwards.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_stepper_free(stepper: *mut SpacearmStepper) {
-    if !stepper.is_null() {
-        // SAFETY: a handle from `Box::into_raw`, freed once (caller's contract).
-        drop(unsafe { Box::from_raw(stepper) });
-    }
+    // SAFETY: a handle from `spacearm_stepper_new*`, freed once (caller's contract).
+    unsafe { free_handle(stepper) }
 }
 
 /// Start at `t = 0` from `x0` (7+N) and `u0` (6+N) with a fresh controller.
@@ -359,8 +382,7 @@ pub unsafe extern "C" fn spacearm_stepper_step(stepper: *mut SpacearmStepper, ta
 pub unsafe extern "C" fn spacearm_stepper_time(stepper: *const SpacearmStepper) -> f64 {
     guard_value(f64::NAN, || {
         // SAFETY: the caller's contract.
-        let s = unsafe { stepper.as_ref() }.ok_or_else(|| Failure::new(SpacearmStatus::NullPointer, "stepper is NULL"))?;
-        s.stepper.as_ref().map(|s| s.time()).ok_or_else(|| Failure::argument("the stepper has no state yet; call spacearm_stepper_reset first"))
+        Ok(unsafe { stepper_ref(stepper) }?.running()?.time())
     })
 }
 
@@ -372,16 +394,14 @@ pub unsafe extern "C" fn spacearm_stepper_time(stepper: *const SpacearmStepper) 
 pub unsafe extern "C" fn spacearm_stepper_state(stepper: *const SpacearmStepper, x_out: *mut f64, u_out: *mut f64) -> SpacearmStatus {
     guard(|| {
         // SAFETY (this block and below): the caller's contract, documented above.
-        let s = unsafe { stepper.as_ref() }.ok_or_else(|| Failure::new(SpacearmStatus::NullPointer, "stepper is NULL"))?;
+        let s = unsafe { stepper_ref(stepper) }?;
         let nx = s.model.nx();
-        let y = s.state().ok_or_else(|| Failure::argument("the stepper has no state yet; call spacearm_stepper_reset first"))?;
-        if !x_out.is_null() {
-            put("the state x_out", &y[..nx], unsafe { output(x_out, nx, "x_out") }?)?;
+        let y = s.running()?.state();
+        let (x, u) = (DVectorView::from_slice(&y[..nx], nx), DVectorView::from_slice(&y[nx..], y.len() - nx));
+        unsafe {
+            put_optional("the state x_out", &x, x_out)?;
+            put_optional("the state u_out", &u, u_out)
         }
-        if !u_out.is_null() {
-            put("the state u_out", &y[nx..], unsafe { output(u_out, y.len() - nx, "u_out") }?)?;
-        }
-        Ok(())
     })
 }
 
@@ -394,9 +414,7 @@ pub unsafe extern "C" fn spacearm_stepper_state(stepper: *const SpacearmStepper,
 pub unsafe extern "C" fn spacearm_stepper_target_state(stepper: *const SpacearmStepper, out: *mut f64) -> SpacearmStatus {
     guard(|| {
         // SAFETY (this block and below): the caller's contract, documented above.
-        let s = unsafe { stepper.as_ref() }.ok_or_else(|| Failure::new(SpacearmStatus::NullPointer, "stepper is NULL"))?;
-        let run = s.stepper.as_ref().ok_or_else(|| Failure::argument("the stepper has no state yet; call spacearm_stepper_reset first"))?;
-        let t = run.target_state().ok_or_else(|| Failure::argument("the stepper has no free target (its options name none: target = \"...toml\", target_state = [...])"))?;
+        let t = unsafe { stepper_ref(stepper) }?.running()?.target_state().ok_or_else(|| Failure::argument("the stepper has no free target (its options name none: target = \"...toml\", target_state = [...])"))?;
         put("the target's state", t, unsafe { output(out, 13, "out") }?)
     })
 }

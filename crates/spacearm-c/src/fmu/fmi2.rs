@@ -9,7 +9,7 @@ use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
 use std::path::PathBuf;
 
 use super::variables::FmiVersion;
-use super::{check_start_time, free_handle, instance_name, instantiate, slice, slice_mut, with, Instance};
+use super::{check_start_time, free_handle, instance_name, instantiate, instantiate_caught, slice, slice_mut, with, Instance};
 
 type Fmi2Status = c_int;
 const OK: Fmi2Status = super::FMI_OK;
@@ -101,7 +101,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
     _visible: Fmi2Boolean,
     logging_on: Fmi2Boolean,
 ) -> Fmi2Component {
-    let made = std::panic::catch_unwind(|| {
+    instantiate_caught(|| {
         // SAFETY: FMI 2 contract: NUL-terminated strings or NULL.
         let name = unsafe { instance_name(instance_name_ptr) };
         let logger = logger_of(functions, &name);
@@ -124,8 +124,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
         };
         // SAFETY: FMI 2 contract: `guid` a NUL-terminated string or NULL.
         unsafe { instantiate(&dir, FmiVersion::Fmi2, guid, name, logger, logging_on != 0, |m| logger_of(functions, "spacearm")(true, m)) }
-    });
-    made.unwrap_or(std::ptr::null_mut())
+    })
 }
 
 /// # Safety

@@ -10,7 +10,7 @@ use std::ffi::{c_char, c_void, CStr, CString};
 use std::path::PathBuf;
 
 use super::variables::FmiVersion;
-use super::{check_start_time, free_handle, instance_name, instantiate, slice, slice_mut, with, Instance, Phase};
+use super::{check_start_time, free_handle, instance_name, instantiate, instantiate_caught, log_caught, slice, slice_mut, with, Instance, Phase};
 
 type Fmi3Status = i32;
 const OK: Fmi3Status = super::FMI_OK;
@@ -62,7 +62,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     log_message: Option<LogMessage>,
     _intermediate_update: *mut c_void,
 ) -> Fmi3Instance {
-    let made = std::panic::catch_unwind(|| {
+    instantiate_caught(|| {
         let logger = logger_of(log_message, instance_environment);
         // SAFETY: FMI 3 contract: NUL-terminated strings or NULL.
         let name = unsafe { instance_name(instance_name_ptr) };
@@ -78,8 +78,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
         let dir = PathBuf::from(unsafe { CStr::from_ptr(resource_path) }.to_string_lossy().into_owned());
         // SAFETY: FMI 3 contract: `token` a NUL-terminated string or NULL.
         unsafe { instantiate(&dir, FmiVersion::Fmi3, token, name, logger, logging_on, |m| logger_of(log_message, instance_environment)(true, m)) }
-    });
-    made.unwrap_or(std::ptr::null_mut())
+    })
 }
 
 /// Model exchange is not implemented: always NULL (after logging why).
@@ -96,7 +95,7 @@ pub unsafe extern "C" fn fmi3InstantiateModelExchange(
     env: *mut c_void,
     log_message: Option<LogMessage>,
 ) -> Fmi3Instance {
-    let _ = std::panic::catch_unwind(|| logger_of(log_message, env)(true, "this FMU supports co-simulation only; model exchange is not implemented"));
+    log_caught(|| logger_of(log_message, env)(true, "this FMU supports co-simulation only; model exchange is not implemented"));
     std::ptr::null_mut()
 }
 

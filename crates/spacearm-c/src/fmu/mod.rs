@@ -23,7 +23,7 @@ use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use spacearm_core::algorithms::{kinematics, momentum};
 use spacearm_core::{Data, Model};
 
-use crate::status::{guard, put, text, write_text, Failure, Outcome, SpacearmStatus};
+use crate::status::{caught, guard, put, text, write_text, Failure, Outcome, SpacearmStatus};
 use crate::stepper::{check_steps_per_call, SpacearmStepper, StepperOptions};
 use variables::{Causality, FmiVersion, Layout};
 
@@ -342,10 +342,23 @@ pub(crate) unsafe fn instantiate(dir: &Path, version: FmiVersion, token: *const 
 /// # Safety
 /// `c` NULL or an instance from [`instantiate`], freed once.
 pub(crate) unsafe fn free_handle(c: *mut c_void) {
-    if !c.is_null() {
-        // SAFETY: the caller's contract.
-        let _ = std::panic::catch_unwind(|| drop(unsafe { Box::from_raw(c.cast::<Instance>()) }));
-    }
+    // SAFETY: the caller's contract.
+    unsafe { crate::status::free_handle(c.cast::<Instance>()) }
+}
+
+/// Make an instance (`make`, the body of `fmi2Instantiate` / `fmi3InstantiateCoSimulation`,
+/// which logs its own failures and answers NULL), a panic caught: NULL.
+pub(crate) fn instantiate_caught(make: impl FnOnce() -> *mut c_void) -> *mut c_void {
+    caught(|| Ok(make())).unwrap_or(std::ptr::null_mut())
+}
+
+/// Call the importer's logger (its code: a panic there must not unwind through the FMI
+/// boundary either; it is caught and dropped).
+pub(crate) fn log_caught(log: impl FnOnce()) {
+    let _ = caught(|| {
+        log();
+        Ok(())
+    });
 }
 
 /// The unit starts at `t = 0` (the experiment's start time the importer passes).
@@ -387,17 +400,14 @@ pub(crate) unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Result<&'a mut [T]
     Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
 }
 
-/// Run an FMI entry point's body: a failure is logged through the instance's logger and
-/// returned as `Err`; a panic is caught and reported the same way.
+/// Run an FMI entry point's body under [`caught`]: a failure is logged through the instance's
+/// logger and returned as `Err`; a panic is caught and reported the same way.
 pub(crate) fn run_fmi(inst: &mut Instance, body: impl FnOnce(&mut Instance) -> Result<(), String>) -> Result<(), ()> {
-    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| body(inst)));
-    let msg = match result {
-        Ok(Ok(())) => return Ok(()),
-        Ok(Err(m)) => m,
-        Err(_) => "internal error in spacearm (a Rust panic, caught at the FMI boundary)".to_string(),
+    let failure = match caught(|| body(inst).map_err(Failure::argument)) {
+        Ok(()) => return Ok(()),
+        Err(f) => f,
     };
-    // A panicking logger (the importer's code) must not unwind through the FMI boundary either.
-    let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| (inst.logger)(true, &msg)));
+    log_caught(|| (inst.logger)(true, &failure.message));
     Err(())
 }
 
