@@ -28,8 +28,21 @@ unsafe fn point(m: &SpacearmModel, body: usize, offset: *const f64) -> Outcome<V
     Ok(vec3(unsafe { input(offset, 3, "offset") }?))
 }
 
-/// The body of an entry point that computes from the state: the handle, then `x` (7+N doubles),
-/// then the (6+N)-vectors `vectors` (`(pointer, name)`, in order: `u`, then `f` or `du`), then
+/// The body of an entry point that computes from the state, under [`guard`]: the handle, then
+/// `x` (7+N doubles) are checked, in that order, and `body` runs with them (it checks the other
+/// arguments, in the order of the signature).
+///
+/// # Safety
+/// `model` NULL or a live handle; `x` NULL or 7+N readable doubles.
+unsafe fn at_state(model: *const SpacearmModel, x: *const f64, body: impl FnOnce(&SpacearmModel, &[f64]) -> Outcome) -> SpacearmStatus {
+    guard(|| {
+        // SAFETY (this block and below): the caller's contract.
+        let m = unsafe { model_ref(model) }?;
+        body(m, unsafe { input(x, m.model.nx(), "x") }?)
+    })
+}
+
+/// [`at_state`] for an entry point of one output: the (6+N)-vectors `vectors` (`(pointer, name)`, in order: `u`, then `f` or `du`), then
 /// the output (`(pointer, name)`, `out_len` of the model doubles) are checked — the first bad
 /// one is the error reported — and `write` runs on the handle's workspace.
 ///
@@ -43,17 +56,17 @@ unsafe fn state_entry<const V: usize>(
     out_len: fn(&Model) -> usize,
     write: impl FnOnce(&Model, &mut Data, &[f64], [&[f64]; V], &mut [f64]) -> Outcome,
 ) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY (this block and below): the caller's contract.
-        let m = unsafe { model_ref(model) }?;
-        let x = unsafe { input(x, m.model.nx(), "x") }?;
-        let mut inputs: [&[f64]; V] = [&[]; V];
-        for (value, (p, name)) in inputs.iter_mut().zip(vectors) {
-            *value = unsafe { input(p, m.model.nu(), name) }?;
-        }
-        let out = unsafe { output(out, out_len(&m.model), out_name) }?;
-        m.with_data(|model, data| write(model, data, x, inputs, out))
-    })
+    // SAFETY (this block and below): the caller's contract.
+    unsafe {
+        at_state(model, x, |m, x| {
+            let mut inputs: [&[f64]; V] = [&[]; V];
+            for (value, (p, name)) in inputs.iter_mut().zip(vectors) {
+                *value = input(p, m.model.nu(), name)?;
+            }
+            let out = output(out, out_len(&m.model), out_name)?;
+            m.with_data(|model, data| write(model, data, x, inputs, out))
+        })
+    }
 }
 
 /// The mass matrix `H` ((6+N)×(6+N), row-major; paper eq. 36) by CRBA.
@@ -77,17 +90,15 @@ pub unsafe extern "C" fn spacearm_mass_matrix(model: *const SpacearmModel, x: *c
 /// `model` a live handle; `x` 7+N doubles; each output NULL or of its size.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_inertia_blocks(model: *const SpacearmModel, x: *const f64, h0_out: *mut f64, h0m_out: *mut f64, hm_out: *mut f64) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY (this block and below): the caller's contract, documented above.
-        let m = unsafe { model_ref(model) }?;
-        let x = unsafe { input(x, m.model.nx(), "x") }?;
-        let blocks = m.with_data(|model, data| inertia::inertia_blocks(model, data, x))?;
-        unsafe {
+    // SAFETY (this block and below): the caller's contract, documented above.
+    unsafe {
+        at_state(model, x, |m, x| {
+            let blocks = m.with_data(|model, data| inertia::inertia_blocks(model, data, x))?;
             put_optional("H0", &blocks.h0, h0_out)?;
             put_optional("H0m", &blocks.h0m, h0m_out)?;
             put_optional("H_m", &blocks.hm, hm_out)
-        }
-    })
+        })
+    }
 }
 
 /// The generalized inertia matrix `H* = H_m − H0mᵀ H0⁻¹ H0m` (N×N, row-major; paper eq. 45).
@@ -112,17 +123,14 @@ pub unsafe extern "C" fn spacearm_generalized_inertia(model: *const SpacearmMode
 /// `model` a live handle; `x` 7+N doubles; `offset` 3 doubles; `out` 6N writable doubles.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_generalized_jacobian(model: *const SpacearmModel, x: *const f64, body: usize, offset: *const f64, out: *mut f64) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY (this block and below): the caller's contract, documented above.
-        let m = unsafe { model_ref(model) }?;
-        let n = m.model.n_dof();
-        let x = unsafe { input(x, m.model.nx(), "x") }?;
-        let p = unsafe { point(m, body, offset) }?;
-        let out = unsafe { output(out, 6 * n, "out") }?;
-        m.with_data(|model, data| -> Outcome {
-            put_row_major("the generalized Jacobian J*", gjm::compute_generalized_jacobian(model, data, x, body, &p)?, out)
+    // SAFETY (this block and below): the caller's contract, documented above.
+    unsafe {
+        at_state(model, x, |m, x| {
+            let p = point(m, body, offset)?;
+            let out = output(out, 6 * m.model.n_dof(), "out")?;
+            m.with_data(|model, data| put_row_major("the generalized Jacobian J*", gjm::compute_generalized_jacobian(model, data, x, body, &p)?, out))
         })
-    })
+    }
 }
 
 /// The bias forces `c(x, u)` (6+N): Coriolis and centrifugal terms of `H u̇ + c = f`.
@@ -178,17 +186,16 @@ pub unsafe extern "C" fn spacearm_forward_dynamics(model: *const SpacearmModel, 
 /// `du_out` 6+N writable doubles.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_reduced_forward_dynamics(model: *const SpacearmModel, x: *const f64, u: *const f64, tau: *const f64, base_wrench: *const f64, du_out: *mut f64) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY (this block and below): the caller's contract, documented above.
-        let m = unsafe { model_ref(model) }?;
-        let (nx, nu, n) = (m.model.nx(), m.model.nu(), m.model.n_dof());
-        let (x, u, tau) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?, input(tau, n, "tau")?) };
-        let w = unsafe { optional_input(base_wrench, 6, "base_wrench") }?.map(Vector6::from_column_slice).unwrap_or_else(Vector6::zeros);
-        let out = unsafe { output(du_out, nu, "du_out") }?;
-        m.with_data(|model, data| -> Outcome {
-            put("reduced forward dynamics du_out", gjm::compute_reduced_forward_dynamics(model, data, x, u, tau, &w)?.as_slice(), out)
+    // SAFETY (this block and below): the caller's contract, documented above.
+    unsafe {
+        at_state(model, x, |m, x| {
+            let (nu, n) = (m.model.nu(), m.model.n_dof());
+            let (u, tau) = (input(u, nu, "u")?, input(tau, n, "tau")?);
+            let w = optional_input(base_wrench, 6, "base_wrench")?.map(Vector6::from_column_slice).unwrap_or_else(Vector6::zeros);
+            let out = output(du_out, nu, "du_out")?;
+            m.with_data(|model, data| put("reduced forward dynamics du_out", gjm::compute_reduced_forward_dynamics(model, data, x, u, tau, &w)?.as_slice(), out))
         })
-    })
+    }
 }
 
 /// Inverse dynamics by RNEA: the generalized force `f = H u̇ + c` (6+N) that produces `du`.
@@ -233,16 +240,16 @@ pub unsafe extern "C" fn spacearm_momentum(model: *const SpacearmModel, x: *cons
 /// `model` a live handle; `x` 7+N, `qd` N, `p` and `l` 3 doubles; `out` 6 writable doubles.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_base_velocity_from_momentum(model: *const SpacearmModel, x: *const f64, qd: *const f64, p: *const f64, l: *const f64, out: *mut f64) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY (this block and below): the caller's contract, documented above.
-        let m = unsafe { model_ref(model) }?;
-        let (nx, n) = (m.model.nx(), m.model.n_dof());
-        let (x, qd) = unsafe { (input(x, nx, "x")?, input(qd, n, "qd")?) };
-        let (p, l) = unsafe { (vec3(input(p, 3, "p")?), vec3(input(l, 3, "l")?)) };
-        let out = unsafe { output(out, 6, "out") }?;
-        let v = m.with_data(|model, data| gjm::base_velocity_from_momentum(model, data, x, qd, &p, &l))?;
-        put("the base velocity", v.as_slice(), out)
-    })
+    // SAFETY (this block and below): the caller's contract, documented above.
+    unsafe {
+        at_state(model, x, |m, x| {
+            let qd = input(qd, m.model.n_dof(), "qd")?;
+            let (p, l) = (vec3(input(p, 3, "p")?), vec3(input(l, 3, "l")?));
+            let out = output(out, 6, "out")?;
+            let v = m.with_data(|model, data| gjm::base_velocity_from_momentum(model, data, x, qd, &p, &l))?;
+            put("the base velocity", v.as_slice(), out)
+        })
+    }
 }
 
 /// The pose of the point fixed to `body` at `offset`: its position in 𝒥 (3) and its body's
@@ -253,20 +260,18 @@ pub unsafe extern "C" fn spacearm_base_velocity_from_momentum(model: *const Spac
 /// `rotation_out` NULL or 9 writable doubles.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_point_pose(model: *const SpacearmModel, x: *const f64, body: usize, offset: *const f64, position_out: *mut f64, rotation_out: *mut f64) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY (this block and below): the caller's contract, documented above.
-        let m = unsafe { model_ref(model) }?;
-        let x = unsafe { input(x, m.model.nx(), "x") }?;
-        let p = unsafe { point(m, body, offset) }?;
-        let (pos, rot) = m.with_data(|model, data| -> Outcome<_> {
-            kinematics::forward_kinematics(model, data, x)?;
-            Ok((kinematics::point_position(data, body, &p), data.body_to_world[body]))
-        })?;
-        unsafe {
+    // SAFETY (this block and below): the caller's contract, documented above.
+    unsafe {
+        at_state(model, x, |m, x| {
+            let p = point(m, body, offset)?;
+            let (pos, rot) = m.with_data(|model, data| -> Outcome<_> {
+                kinematics::forward_kinematics(model, data, x)?;
+                Ok((kinematics::point_position(data, body, &p), data.body_to_world[body]))
+            })?;
             put_optional("the point's position", &pos, position_out)?;
             put_optional("the body's rotation", &rot, rotation_out)
-        }
-    })
+        })
+    }
 }
 
 /// Jacobians of forward dynamics at `(x, u, f)`: `∂u̇/∂x`, `∂u̇/∂u`, `∂u̇/∂f = H⁻¹`, each
@@ -279,19 +284,18 @@ pub unsafe extern "C" fn spacearm_point_pose(model: *const SpacearmModel, x: *co
 /// writable doubles.
 #[no_mangle]
 pub unsafe extern "C" fn spacearm_forward_dynamics_derivatives(model: *const SpacearmModel, x: *const f64, u: *const f64, f: *const f64, d_dx_out: *mut f64, d_du_out: *mut f64, d_df_out: *mut f64) -> SpacearmStatus {
-    guard(|| {
-        // SAFETY (this block and below): the caller's contract, documented above.
-        let m = unsafe { model_ref(model) }?;
-        let (nx, nu) = (m.model.nx(), m.model.nu());
-        let (x, u, f) = unsafe { (input(x, nx, "x")?, input(u, nu, "u")?, input(f, nu, "f")?) };
-        // Every output NULL is a valid call (the header allows each to be NULL): the inputs are
-        // still checked and the derivatives computed, nothing is written.
-        m.with_derivatives(|model, work| -> Outcome {
-            let (a, b, c) = spacearm_core::derivatives::forward_dynamics_derivatives(model, work, x, u, f)?;
-            for (p, mat, what) in [(d_dx_out, a, "d_dx_out"), (d_du_out, b, "d_du_out"), (d_df_out, c, "d_df_out")] {
-                unsafe { put_optional(what, mat, p) }?;
-            }
-            Ok(())
+    // SAFETY (this block and below): the caller's contract, documented above.
+    unsafe {
+        at_state(model, x, |m, x| {
+            let (u, f) = (input(u, m.model.nu(), "u")?, input(f, m.model.nu(), "f")?);
+            // Every output NULL is a valid call (the header allows each to be NULL): the inputs
+            // are still checked and the derivatives computed, nothing is written.
+            m.with_derivatives(|model, work| {
+                let (a, b, c) = spacearm_core::derivatives::forward_dynamics_derivatives(model, work, x, u, f)?;
+                put_optional("d_dx_out", a, d_dx_out)?;
+                put_optional("d_du_out", b, d_du_out)?;
+                put_optional("d_df_out", c, d_df_out)
+            })
         })
-    })
+    }
 }

@@ -457,6 +457,40 @@ mod tests {
     }
 
     #[test]
+    fn the_one_wrapper_catches_panics_of_bodies_and_of_frees() {
+        let f = caught(|| -> Outcome<i32> { panic!("at entry 3") }).unwrap_err();
+        assert_eq!(f.status, SpacearmStatus::Internal);
+        assert!(f.message.contains("a Rust panic") && f.message.contains("at entry 3"), "{}", f.message);
+        assert_eq!(caught(|| Ok(5)).unwrap(), 5);
+        struct PanicsOnDrop(std::rc::Rc<std::cell::Cell<bool>>);
+        impl Drop for PanicsOnDrop {
+            fn drop(&mut self) {
+                self.0.set(true);
+                panic!("drop");
+            }
+        }
+        let dropped = std::rc::Rc::new(std::cell::Cell::new(false));
+        // SAFETY: a fresh handle, freed once; NULL is ignored.
+        unsafe {
+            free_handle(Box::into_raw(Box::new(PanicsOnDrop(dropped.clone()))));
+            free_handle(std::ptr::null_mut::<PanicsOnDrop>());
+        }
+        assert!(dropped.get());
+    }
+
+    #[test]
+    fn optional_outputs_are_written_row_major_or_not_at_all() {
+        let m = nalgebra::Matrix2x3::new(1.0, 2.0, 3.0, 4.0, 5.0, 6.0);
+        let mut o = [0.0; 6];
+        // SAFETY: NULL, then a 6-element buffer.
+        unsafe {
+            put_optional("M", &m, std::ptr::null_mut()).unwrap();
+            put_optional("M", &m, o.as_mut_ptr()).unwrap();
+        }
+        assert_eq!(o, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+    }
+
+    #[test]
     fn success_clears_the_message_of_value_calls_too() {
         let _ = guard(|| Err(Failure::argument("earlier")));
         assert_eq!(guard_value(0, || Ok(3)), 3);
