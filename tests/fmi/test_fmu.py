@@ -199,26 +199,32 @@ def slave(path, version: int, token=None):
                modelIdentifier=md.coSimulation.modelIdentifier, instanceName="t")
 
 
-def instantiate(fmu, version: int, messages: list) -> None:
-    """Instantiate with a logger that appends ``(status, message)`` to ``messages``."""
+def fmi2_callbacks(fmu, messages: list):
+    """FMI 2 callbacks whose logger appends ``(status, message)`` to ``messages`` (kept alive by
+    ``fmu``)."""
     import ctypes
 
+    from fmpy.fmi2 import fmi2CallbackFunctions, defaultCallbacks
+
+    # The FMU calls the (variadic) logger with the format "%s" and the message as the next
+    # argument: declare that argument to read it (the same registers on the platforms tested).
+    logger_type = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_char_p,
+                                   ctypes.c_char_p)
+    logger = logger_type(lambda env, name, status, category, fmt, message: messages.append((status, message.decode())))
+    callbacks = fmi2CallbackFunctions()
+    callbacks.logger = ctypes.cast(logger, type(defaultCallbacks.logger))
+    callbacks.allocateMemory = defaultCallbacks.allocateMemory
+    callbacks.freeMemory = defaultCallbacks.freeMemory
+    fmu._keep_logger = logger  # alive as long as the instance
+    return callbacks
+
+
+def instantiate(fmu, version: int, messages: list) -> None:
+    """Instantiate with a logger that appends ``(status, message)`` to ``messages``."""
     if version == 3:
         fmu.instantiate(logMessage=lambda env, status, category, message: messages.append((status, message.decode())))
     else:
-        from fmpy.fmi2 import fmi2CallbackFunctions, defaultCallbacks
-
-        # The FMU calls the (variadic) logger with the format "%s" and the message as the next
-        # argument: declare that argument to read it (the same registers on the platforms tested).
-        logger_type = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_char_p,
-                                       ctypes.c_char_p)
-        logger = logger_type(lambda env, name, status, category, fmt, message: messages.append((status, message.decode())))
-        callbacks = fmi2CallbackFunctions()
-        callbacks.logger = ctypes.cast(logger, type(defaultCallbacks.logger))
-        callbacks.allocateMemory = defaultCallbacks.allocateMemory
-        callbacks.freeMemory = defaultCallbacks.freeMemory
-        fmu._keep_logger = logger  # alive as long as the instance
-        fmu.instantiate(callbacks=callbacks)
+        fmu.instantiate(callbacks=fmi2_callbacks(fmu, messages))
 
 
 @pytest.mark.parametrize("version", [3, 2])
@@ -234,6 +240,28 @@ def test_instantiation_checks_the_token(tmp_path, version):
     instantiate(fmu, version, messages)
     assert not [m for status, m in messages if status == 3], messages
     fmu.freeInstance()
+
+
+@pytest.mark.parametrize("version", [3, 2])
+def test_instantiation_for_what_the_unit_does_not_run_is_null_with_a_logged_message(tmp_path, version):
+    import ctypes
+    import pathlib
+
+    path = spacearm.fmi.export(spacearm.presets.planar4(), tmp_path / "p4.fmu", dt=DT, fmi_version=version)
+    fmu = slave(path, version)
+    messages: list = []
+    if version == 3:
+        # Event mode (the unit declares hasEventMode=false).
+        with pytest.raises(Exception, match="instantiate"):
+            fmu.instantiate(eventModeUsed=True, logMessage=lambda env, status, category, message: messages.append((status, message.decode())))
+        expected = "no event mode"
+    else:
+        # Model exchange (fmi2ModelExchange = 0; the unit is co-simulation only).
+        resources = pathlib.Path(fmu.unzipDirectory, "resources").as_uri().encode()
+        component = fmu.fmi2Instantiate(b"t", 0, fmu.guid.encode(), resources, ctypes.byref(fmi2_callbacks(fmu, messages)), 0, 0)
+        assert not component
+        expected = "co-simulation only"
+    assert any(status == 3 and expected in m for status, m in messages), messages
 
 
 @pytest.mark.parametrize("version", [3, 2])

@@ -9,7 +9,7 @@ use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
 use std::path::PathBuf;
 
 use super::variables::FmiVersion;
-use super::{check_start_time, free_handle, instance_name, instantiate, instantiate_caught, slice, slice_mut, with, Instance};
+use super::{check_start_time, free_handle, instantiate, slice, slice_mut, with, Instance};
 
 type Fmi2Status = c_int;
 const OK: Fmi2Status = super::FMI_OK;
@@ -101,30 +101,18 @@ pub unsafe extern "C" fn fmi2Instantiate(
     _visible: Fmi2Boolean,
     logging_on: Fmi2Boolean,
 ) -> Fmi2Component {
-    instantiate_caught(|| {
-        // SAFETY: FMI 2 contract: NUL-terminated strings or NULL.
-        let name = unsafe { instance_name(instance_name_ptr) };
-        let logger = logger_of(functions, &name);
-        if fmu_type != 1 {
-            logger(true, "this FMU supports co-simulation only (fmi2CoSimulation); model exchange is not implemented");
-            return std::ptr::null_mut();
-        }
-        if resource_location.is_null() {
-            logger(true, "fmuResourceLocation is NULL; the FMU needs its resources/ folder");
-            return std::ptr::null_mut();
-        }
-        // SAFETY: FMI 2 contract.
-        let uri = unsafe { CStr::from_ptr(resource_location) }.to_string_lossy().into_owned();
-        let dir = match path_of_uri(&uri) {
-            Ok(d) => d,
-            Err(m) => {
-                logger(true, &m);
-                return std::ptr::null_mut();
+    // SAFETY: FMI 2 contract: NUL-terminated strings or NULL.
+    unsafe {
+        instantiate(FmiVersion::Fmi2, instance_name_ptr, guid, logging_on != 0, |name| logger_of(functions, name), || {
+            if fmu_type != 1 {
+                return Err("this FMU supports co-simulation only (fmi2CoSimulation); model exchange is not implemented".into());
             }
-        };
-        // SAFETY: FMI 2 contract: `guid` a NUL-terminated string or NULL.
-        unsafe { instantiate(&dir, FmiVersion::Fmi2, guid, name, logger, logging_on != 0, |m| logger_of(functions, "spacearm")(true, m)) }
-    })
+            if resource_location.is_null() {
+                return Err("fmuResourceLocation is NULL; the FMU needs its resources/ folder".into());
+            }
+            path_of_uri(&CStr::from_ptr(resource_location).to_string_lossy())
+        })
+    }
 }
 
 /// # Safety

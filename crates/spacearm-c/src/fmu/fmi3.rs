@@ -10,7 +10,7 @@ use std::ffi::{c_char, c_void, CStr, CString};
 use std::path::PathBuf;
 
 use super::variables::FmiVersion;
-use super::{check_start_time, free_handle, instance_name, instantiate, instantiate_caught, log_caught, slice, slice_mut, with, Instance, Phase};
+use super::{check_start_time, free_handle, instantiate, log_caught, slice, slice_mut, with, Instance, Phase};
 
 type Fmi3Status = i32;
 const OK: Fmi3Status = super::FMI_OK;
@@ -62,23 +62,18 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     log_message: Option<LogMessage>,
     _intermediate_update: *mut c_void,
 ) -> Fmi3Instance {
-    instantiate_caught(|| {
-        let logger = logger_of(log_message, instance_environment);
-        // SAFETY: FMI 3 contract: NUL-terminated strings or NULL.
-        let name = unsafe { instance_name(instance_name_ptr) };
-        if event_mode_used {
-            logger(true, "this FMU has no event mode (hasEventMode=false); instantiate it with eventModeUsed = false");
-            return std::ptr::null_mut();
-        }
-        if resource_path.is_null() {
-            logger(true, "resourcePath is NULL; the FMU needs its resources/ folder");
-            return std::ptr::null_mut();
-        }
-        // SAFETY: FMI 3 contract.
-        let dir = PathBuf::from(unsafe { CStr::from_ptr(resource_path) }.to_string_lossy().into_owned());
-        // SAFETY: FMI 3 contract: `token` a NUL-terminated string or NULL.
-        unsafe { instantiate(&dir, FmiVersion::Fmi3, token, name, logger, logging_on, |m| logger_of(log_message, instance_environment)(true, m)) }
-    })
+    // SAFETY: FMI 3 contract: NUL-terminated strings or NULL.
+    unsafe {
+        instantiate(FmiVersion::Fmi3, instance_name_ptr, token, logging_on, |_| logger_of(log_message, instance_environment), || {
+            if event_mode_used {
+                return Err("this FMU has no event mode (hasEventMode=false); instantiate it with eventModeUsed = false".into());
+            }
+            if resource_path.is_null() {
+                return Err("resourcePath is NULL; the FMU needs its resources/ folder".into());
+            }
+            Ok(PathBuf::from(CStr::from_ptr(resource_path).to_string_lossy().into_owned()))
+        })
+    }
 }
 
 /// Model exchange is not implemented: always NULL (after logging why).

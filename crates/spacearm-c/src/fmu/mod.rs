@@ -17,7 +17,7 @@ pub mod parameters;
 pub mod variables;
 
 use std::ffi::{c_char, c_int, c_void, CStr};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use spacearm_core::algorithms::{kinematics, momentum};
@@ -319,22 +319,40 @@ pub(crate) unsafe fn instance_name(name: *const c_char) -> String {
     if name.is_null() { String::from("spacearm") } else { unsafe { CStr::from_ptr(name) }.to_string_lossy().into_owned() }
 }
 
-/// A new instance from the `resources/` folder `dir` as the importer's handle, checked against
-/// the importer's `token` (GUID / instantiation token); NULL after `report` (a fresh logger:
-/// `logger` moved into the failed attempt) when it cannot be made.
+/// A new instance as the importer's handle, or NULL (the body of `fmi2Instantiate` and
+/// `fmi3InstantiateCoSimulation`, a panic caught): `resources` checks the version's own
+/// arguments and gives the `resources/` folder; the instance made from there is checked against
+/// the importer's `token` (GUID / instantiation token). A failure is logged through
+/// `logger(instance name)`, or `logger("spacearm")` once that went into the failed attempt.
 ///
 /// # Safety
-/// `token` NULL or a NUL-terminated string.
-pub(crate) unsafe fn instantiate(dir: &Path, version: FmiVersion, token: *const c_char, name: String, logger: Logger, logging_on: bool, report: impl FnOnce(&str)) -> *mut c_void {
-    // SAFETY: the caller's contract.
-    let token = if token.is_null() { None } else { Some(unsafe { CStr::from_ptr(token) }.to_string_lossy().into_owned()) };
-    match Instance::from_resources(dir, version, token.as_deref(), name, logger, logging_on) {
-        Ok(inst) => Box::into_raw(Box::new(inst)).cast::<c_void>(),
-        Err(f) => {
-            report(&f.message);
-            std::ptr::null_mut()
+/// `name` and `token` NULL or NUL-terminated strings; `resources` reads its pointers under the
+/// importer's contract.
+pub(crate) unsafe fn instantiate(
+    version: FmiVersion,
+    name: *const c_char,
+    token: *const c_char,
+    logging_on: bool,
+    logger: impl Fn(&str) -> Logger,
+    resources: impl FnOnce() -> Result<PathBuf, String>,
+) -> *mut c_void {
+    let made = caught(|| {
+        // SAFETY (this block and below): the caller's contract.
+        let name = unsafe { instance_name(name) };
+        let log = logger(&name);
+        match resources() {
+            Err(m) => log(true, &m),
+            Ok(dir) => {
+                let token = if token.is_null() { None } else { Some(unsafe { CStr::from_ptr(token) }.to_string_lossy().into_owned()) };
+                match Instance::from_resources(&dir, version, token.as_deref(), name, log, logging_on) {
+                    Ok(inst) => return Ok(Box::into_raw(Box::new(inst)).cast::<c_void>()),
+                    Err(f) => logger("spacearm")(true, &f.message),
+                }
+            }
         }
-    }
+        Ok(std::ptr::null_mut())
+    });
+    made.unwrap_or(std::ptr::null_mut())
 }
 
 /// Free the instance of the importer's handle `c` (NULL: nothing), a panic caught.
@@ -344,12 +362,6 @@ pub(crate) unsafe fn instantiate(dir: &Path, version: FmiVersion, token: *const 
 pub(crate) unsafe fn free_handle(c: *mut c_void) {
     // SAFETY: the caller's contract.
     unsafe { crate::status::free_handle(c.cast::<Instance>()) }
-}
-
-/// Make an instance (`make`, the body of `fmi2Instantiate` / `fmi3InstantiateCoSimulation`,
-/// which logs its own failures and answers NULL), a panic caught: NULL.
-pub(crate) fn instantiate_caught(make: impl FnOnce() -> *mut c_void) -> *mut c_void {
-    caught(|| Ok(make())).unwrap_or(std::ptr::null_mut())
 }
 
 /// Call the importer's logger (its code: a panic there must not unwind through the FMI
