@@ -54,24 +54,31 @@ pub enum SpacearmStatus {
 }
 
 impl SpacearmStatus {
-    /// Every status, in code order (the names of `spacearm_status_name` are looked up here).
-    pub(crate) const ALL: [SpacearmStatus; 15] = [
-        SpacearmStatus::Ok,
-        SpacearmStatus::InvalidModel,
-        SpacearmStatus::Dimension,
-        SpacearmStatus::NonFinite,
-        SpacearmStatus::NotUnitQuaternion,
-        SpacearmStatus::NotFound,
-        SpacearmStatus::Singular,
-        SpacearmStatus::Parse,
-        SpacearmStatus::InvalidArgument,
-        SpacearmStatus::Simulation,
-        SpacearmStatus::ResourceLimit,
-        SpacearmStatus::NullPointer,
-        SpacearmStatus::BufferTooSmall,
-        SpacearmStatus::Io,
-        SpacearmStatus::Internal,
+    /// Every status in code order, with its short name (`spacearm_status_name`).
+    const NAMES: [(SpacearmStatus, &'static CStr); 15] = [
+        (SpacearmStatus::Ok, c"ok"),
+        (SpacearmStatus::InvalidModel, c"invalid model"),
+        (SpacearmStatus::Dimension, c"dimension"),
+        (SpacearmStatus::NonFinite, c"non-finite"),
+        (SpacearmStatus::NotUnitQuaternion, c"not a unit quaternion"),
+        (SpacearmStatus::NotFound, c"not found"),
+        (SpacearmStatus::Singular, c"singular"),
+        (SpacearmStatus::Parse, c"parse"),
+        (SpacearmStatus::InvalidArgument, c"invalid argument"),
+        (SpacearmStatus::Simulation, c"simulation"),
+        (SpacearmStatus::ResourceLimit, c"resource limit"),
+        (SpacearmStatus::NullPointer, c"null pointer"),
+        (SpacearmStatus::BufferTooSmall, c"buffer too small"),
+        (SpacearmStatus::Io, c"io"),
+        (SpacearmStatus::Internal, c"internal"),
     ];
+
+    /// The status of the code `code` with its name (`None`: not a status code). The argument is
+    /// a plain int, not the enum: a C caller may pass any value, and a Rust enum holding a value
+    /// outside its variants would be undefined behaviour.
+    fn of_code(code: i32) -> Option<(SpacearmStatus, &'static CStr)> {
+        SpacearmStatus::NAMES.into_iter().find(|(s, _)| *s as i32 == code)
+    }
 }
 
 /// A failure inside an entry point: its status and message.
@@ -100,7 +107,7 @@ impl SpacearmStatus {
     /// The status of an error kind of the core: the one whose code the core's table gives
     /// ([`ErrorKind::status_code`]).
     pub(crate) fn of_kind(kind: ErrorKind) -> SpacearmStatus {
-        SpacearmStatus::ALL.into_iter().find(|s| *s as i32 == kind.status_code()).unwrap_or(SpacearmStatus::Internal)
+        SpacearmStatus::of_code(kind.status_code()).map_or(SpacearmStatus::Internal, |(s, _)| s)
     }
 }
 
@@ -214,27 +221,7 @@ pub extern "C" fn spacearm_last_error() -> *const c_char {
 /// `SPACEARM_STATUS_INTERNAL`) gives `"unknown status"`.
 #[no_mangle]
 pub extern "C" fn spacearm_status_name(status: i32) -> *const c_char {
-    // The argument is a plain int, not the enum: a C caller may pass any value, and a Rust enum
-    // holding a value outside its variants would be undefined behaviour.
-    let name: &'static CStr = match SpacearmStatus::ALL.into_iter().find(|s| *s as i32 == status) {
-        None => c"unknown status",
-        Some(SpacearmStatus::Ok) => c"ok",
-        Some(SpacearmStatus::InvalidModel) => c"invalid model",
-        Some(SpacearmStatus::Dimension) => c"dimension",
-        Some(SpacearmStatus::NonFinite) => c"non-finite",
-        Some(SpacearmStatus::NotUnitQuaternion) => c"not a unit quaternion",
-        Some(SpacearmStatus::NotFound) => c"not found",
-        Some(SpacearmStatus::Singular) => c"singular",
-        Some(SpacearmStatus::Parse) => c"parse",
-        Some(SpacearmStatus::InvalidArgument) => c"invalid argument",
-        Some(SpacearmStatus::Simulation) => c"simulation",
-        Some(SpacearmStatus::ResourceLimit) => c"resource limit",
-        Some(SpacearmStatus::NullPointer) => c"null pointer",
-        Some(SpacearmStatus::BufferTooSmall) => c"buffer too small",
-        Some(SpacearmStatus::Io) => c"io",
-        Some(SpacearmStatus::Internal) => c"internal",
-    };
-    name.as_ptr()
+    SpacearmStatus::of_code(status).map_or(c"unknown status", |(_, name)| name).as_ptr()
 }
 
 // ---- argument helpers (caller-owned memory) ----
@@ -429,9 +416,11 @@ mod tests {
     #[test]
     fn every_int_has_a_status_name() {
         let name = |s: i32| unsafe { CStr::from_ptr(spacearm_status_name(s)) }.to_str().unwrap().to_string();
-        for s in SpacearmStatus::ALL {
+        for (code, (s, _)) in SpacearmStatus::NAMES.into_iter().enumerate() {
+            assert_eq!(s as usize, code, "the table is in code order");
             assert_ne!(name(s as i32), "unknown status");
         }
+        assert_eq!(name(SpacearmStatus::NotUnitQuaternion as i32), "not a unit quaternion");
         assert_eq!(name(SpacearmStatus::Internal as i32), "internal");
         for s in [-1, 15, i32::MIN, i32::MAX] {
             assert_eq!(name(s), "unknown status");
