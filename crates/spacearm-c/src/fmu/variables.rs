@@ -87,20 +87,15 @@ pub(crate) struct Layout {
 struct Table(Vec<Variable>);
 
 impl Table {
-    /// Add `names.len()` variables `group[k]` (1-based), returning their range.
-    fn group(&mut self, group: &str, causality: Causality, what: &str, starts: &[f64]) -> Range<usize> {
+    /// Add `starts.len()` variables `group[k]` (1-based) with the units `units` in order (`""`
+    /// or none left: no unit), returning their range.
+    fn group(&mut self, group: &str, causality: Causality, what: &str, starts: &[f64], units: &[&'static str]) -> Range<usize> {
         let first = self.0.len();
         for (k, &start) in starts.iter().enumerate() {
-            self.0.push(Variable { name: format!("{group}[{}]", k + 1), causality, description: format!("{what}, entry {}", k + 1), start, unit: None });
+            let unit = units.get(k).copied().filter(|u| !u.is_empty());
+            self.0.push(Variable { name: format!("{group}[{}]", k + 1), causality, description: format!("{what}, entry {}", k + 1), start, unit });
         }
         first..self.0.len()
-    }
-
-    /// Give the variables from `first` on the units `units`, in order.
-    fn units(&mut self, first: usize, units: &[&'static str]) {
-        for (v, u) in self.0[first..].iter_mut().zip(units) {
-            v.unit = Some(u).filter(|u| !u.is_empty()).copied();
-        }
     }
 }
 
@@ -116,40 +111,33 @@ impl Layout {
         let u_units: Vec<&str> = ["m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s"].into_iter().chain(qd_units.iter().copied()).collect();
         let out = Causality::Output;
         let zeros = |k: usize| vec![0.0; k];
-        let r0 = t.group("r0", out, "base CM position in the inertial frame, m", &zeros(3));
-        let _quat0 = t.group("quat0", out, "base attitude quaternion [x, y, z, w] (base to inertial)", &zeros(4));
-        let _q = t.group("q", out, "joint coordinate, rad or m", &zeros(n));
+        let r0 = t.group("r0", out, "base CM position in the inertial frame, m", &zeros(3), &x_units[..3]);
+        let _quat0 = t.group("quat0", out, "base attitude quaternion [x, y, z, w] (base to inertial)", &zeros(4), &x_units[3..7]);
+        let _q = t.group("q", out, "joint coordinate, rad or m", &zeros(n), &x_units[7..]);
         let x = r0.start.._q.end;
-        t.units(x.start, &x_units);
-        let v0 = t.group("v0", out, "base CM velocity in the inertial frame, m/s", &zeros(3));
-        let _w0 = t.group("w0", out, "base angular velocity in the inertial frame, rad/s", &zeros(3));
-        let qd = t.group("qd", out, "joint rate, rad/s or m/s", &zeros(n));
+        let v0 = t.group("v0", out, "base CM velocity in the inertial frame, m/s", &zeros(3), &u_units[..3]);
+        let _w0 = t.group("w0", out, "base angular velocity in the inertial frame, rad/s", &zeros(3), &u_units[3..6]);
+        let qd = t.group("qd", out, "joint rate, rad/s or m/s", &zeros(n), &u_units[6..]);
         let u = v0.start..qd.end;
-        t.units(u.start, &u_units);
-        let p = t.group("P", out, "linear momentum in the inertial frame, N s", &zeros(3));
-        let l = t.group("L", out, "angular momentum about the inertial origin, N m s", &zeros(3));
+        let p = t.group("P", out, "linear momentum in the inertial frame, N s", &zeros(3), &["N.s"; 3]);
+        let l = t.group("L", out, "angular momentum about the inertial origin, N m s", &zeros(3), &["N.m.s"; 3]);
         let momentum = p.start..l.end;
-        t.units(momentum.start, &["N.s", "N.s", "N.s", "N.m.s", "N.m.s", "N.m.s"]);
         let (ee_position, ee_quat) = match model.end_effector() {
-            Some(_) => {
-                let position = t.group("ee_position", out, "end-effector position in the inertial frame, m", &zeros(3));
-                t.units(position.start, &["m", "m", "m"]);
-                (Some(position), Some(t.group("ee_quat", out, "end-effector body attitude [x, y, z, w], sign kept continuous", &zeros(4))))
-            }
+            Some(_) => (
+                Some(t.group("ee_position", out, "end-effector position in the inertial frame, m", &zeros(3), &["m"; 3])),
+                Some(t.group("ee_quat", out, "end-effector body attitude [x, y, z, w], sign kept continuous", &zeros(4), &[])),
+            ),
             None => (None, None),
         };
-        let tau = t.group("tau", Causality::Input, "joint torque (force) added to the controller's, N m or N", &zeros(n));
-        t.units(tau.start, &tau_units);
+        let tau = t.group("tau", Causality::Input, "joint torque (force) added to the controller's, N m or N", &zeros(n), &tau_units);
         let mode = options.sim.mode;
-        let base_wrench = (mode.allows_force() || mode.allows_torque()).then(|| t.group("base_wrench", Causality::Input, "base wrench [F0, N0] in the inertial frame at the base CM (as the mode allows), N and N m", &zeros(6)));
-        if let Some(w) = &base_wrench {
-            t.units(w.start, &["N", "N", "N", "N.m", "N.m", "N.m"]);
-        }
+        let base_wrench = (mode.allows_force() || mode.allows_torque()).then(|| {
+            let what = "base wrench [F0, N0] in the inertial frame at the base CM (as the mode allows), N and N m";
+            t.group("base_wrench", Causality::Input, what, &zeros(6), &["N", "N", "N", "N.m", "N.m", "N.m"])
+        });
         let x0_start = spacearm_core::model::presets::initial_configuration(model);
-        let x0 = t.group("x0", Causality::Parameter, "initial configuration [r0, quat0 (x, y, z, w), q]", &x0_start);
-        t.units(x0.start, &x_units);
-        let u0 = t.group("u0", Causality::Parameter, "initial velocity [v0, w0, qd]", &zeros(6 + n));
-        t.units(u0.start, &u_units);
+        let x0 = t.group("x0", Causality::Parameter, "initial configuration [r0, quat0 (x, y, z, w), q]", &x0_start, &x_units);
+        let u0 = t.group("u0", Causality::Parameter, "initial velocity [v0, w0, qd]", &zeros(6 + n), &u_units);
         let parameters = ControllerParameters::new(&options.controller)?;
         let first = t.0.len();
         for p in &parameters.list {
