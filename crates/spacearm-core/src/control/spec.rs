@@ -538,16 +538,7 @@ impl PointReferenceSpec {
     /// The free body of a `FreeBody` spec (checked by [`FreeBody::new`]).
     pub fn free_body(&self) -> Result<FreeBody> {
         match self {
-            PointReferenceSpec::FreeBody { body, orbit: o, .. } => {
-                if body.state.len() != 13 {
-                    return Err(SpacearmError::Dimension { what: "free-body 'state' ([r, quat xyzw, v, w])".into(), expected: "13".into(), got: body.state.len() });
-                }
-                let body = body.build()?;
-                match orbit(o)? {
-                    Some(o) => body.in_orbit(&o),
-                    None => Ok(body),
-                }
-            }
+            PointReferenceSpec::FreeBody { body, orbit, .. } => body.build_in(orbit.as_ref()),
             _ => Err(bad("not a free-body reference")),
         }
     }

@@ -56,12 +56,9 @@ impl IntegratorKind {
         by_name("integrator", &Self::NAMES, &[IntegratorKind::Rk4, IntegratorKind::Dopri5], name)
     }
 
-    /// The integrator's name.
+    /// The integrator's name (its entry of [`IntegratorKind::NAMES`], in the variants' order).
     pub fn name(self) -> &'static str {
-        match self {
-            IntegratorKind::Rk4 => "rk4",
-            IntegratorKind::Dopri5 => "dopri5",
-        }
+        Self::NAMES[self as usize]
     }
 }
 

@@ -301,32 +301,18 @@ pub(crate) fn jacobian_fd_error(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::presets;
-    use crate::scenario::modes::Mode;
+    use crate::optimal::dynamics::tumbling_cases;
 
     /// `A` and `B` against central differences of the step in tangent coordinates, for a
     /// spatial arm in every mode with controls, at a tumbling, moving state.
     #[test]
     fn step_jacobians_match_finite_differences() {
-        let model = presets::spatial6();
-        for mode in [Mode::Floating, Mode::RotationFlying, Mode::Flying] {
-            let dynamics = Dynamics::new(&model, mode).unwrap();
+        let (model, cases) = tumbling_cases();
+        for (mode, dynamics, z, c) in cases {
             let space = dynamics.space;
-            let m = dynamics.controls.len();
+            let m = c.len();
             let mut disc = Rk4Discretization::new(dynamics, 0.05);
             let (nz, nd) = (space.nz(), space.nd());
-            let q = {
-                let q = [0.2, -0.1, 0.3, 0.9];
-                let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
-                q.map(|v| v / n)
-            };
-            let mut z = vec![0.0; nz];
-            z[0..3].copy_from_slice(&[0.1, -0.2, 0.3]);
-            z[3..7].copy_from_slice(&q);
-            for i in 7..nz {
-                z[i] = 0.3 * ((i * 7) as f64).sin();
-            }
-            let c: Vec<f64> = (0..m).map(|i| 2.0 * ((i * 3 + 1) as f64).cos()).collect();
             let (mut a, mut b) = (DMatrix::zeros(nd, nd), DMatrix::zeros(nd, m));
             let mut next = vec![0.0; nz];
             disc.step_derivatives(&model, &z, &c, &mut next, &mut a, &mut b).unwrap();

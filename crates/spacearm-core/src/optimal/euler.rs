@@ -120,31 +120,21 @@ fn top_rows(m: &mut DMatrix<f64>, col: usize, nu: usize, h: f64, jl: &nalgebra::
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::presets;
     use crate::optimal::discretization::jacobian_fd_error;
-    use crate::scenario::modes::Mode;
+    use crate::optimal::dynamics::tumbling_cases;
 
     /// `A` and `B` against central differences (Richardson-extrapolated) of the step in tangent
     /// coordinates, for a spatial arm in every mode with controls, at a tumbling, moving state;
     /// the step against its definition written out (velocity first, then the configuration).
     #[test]
     fn euler_step_and_jacobians_match_finite_differences() {
-        let model = presets::spatial6();
-        for mode in [Mode::Floating, Mode::RotationFlying, Mode::Flying] {
-            let dynamics = Dynamics::new(&model, mode).unwrap();
+        let (model, cases) = tumbling_cases();
+        for (mode, dynamics, z, c) in cases {
             let space = dynamics.space;
-            let m = dynamics.controls.len();
+            let m = c.len();
             let h = 0.05;
             let mut disc = EulerDiscretization::new(dynamics, h);
             let (nz, nd, nx, nu) = (space.nz(), space.nd(), space.nx(), space.nu());
-            let mut z = vec![0.0; nz];
-            z[0..3].copy_from_slice(&[0.1, -0.2, 0.3]);
-            z[3..7].copy_from_slice(&[0.2, -0.1, 0.3, 0.9]);
-            crate::math::rotations::normalize_xyzw(&mut z[3..7]);
-            for i in 7..nz {
-                z[i] = 0.3 * ((i * 7) as f64).sin();
-            }
-            let c: Vec<f64> = (0..m).map(|i| 2.0 * ((i * 3 + 1) as f64).cos()).collect();
             let (mut a, mut b) = (DMatrix::zeros(nd, nd), DMatrix::zeros(nd, m));
             let mut next = vec![0.0; nz];
             disc.step_derivatives(&model, &z, &c, &mut next, &mut a, &mut b).unwrap();

@@ -76,15 +76,9 @@ impl Mode {
         by_name("mode", &Self::NAMES, &[Mode::Floating, Mode::RotationFloating, Mode::RotationFlying, Mode::TranslationFlying, Mode::Flying], name)
     }
 
-    /// The mode's name.
+    /// The mode's name (its entry of [`Mode::NAMES`], in the variants' order).
     pub fn name(self) -> &'static str {
-        match self {
-            Mode::Floating => "floating",
-            Mode::RotationFloating => "rotation-floating",
-            Mode::RotationFlying => "rotation-flying",
-            Mode::TranslationFlying => "translation-flying",
-            Mode::Flying => "flying",
-        }
+        Self::NAMES[self as usize]
     }
 
     /// Whether an external base force `F0` may be applied.
