@@ -440,6 +440,24 @@ mod tests {
         for name in JointsAtImpact::NAMES {
             assert_eq!(JointsAtImpact::from_name(name).unwrap().name(), name);
         }
+        use crate::analysis::rmrc_solver::Strategy;
+        use crate::control::computed_torque::PassiveTreatment;
+        use crate::control::shaping::ShaperKind;
+        for name in Strategy::NAMES {
+            assert_eq!(Strategy::from_name(name).unwrap().name(), name);
+        }
+        for name in PassiveTreatment::NAMES {
+            assert_eq!(PassiveTreatment::from_name(name).unwrap().name(), name);
+        }
+        for name in ShaperKind::NAMES {
+            assert_eq!(ShaperKind::from_name(name).unwrap().name(), name);
+        }
+        assert_eq!(Strategy::MinimumBaseDisturbance.name(), "minimum_disturbance");
+        assert_eq!(ShaperKind::from_name("zvd").unwrap(), ShaperKind::Zvd);
+        match PassiveTreatment::from_name("rigid") {
+            Err(SpacearmError::InvalidArgument(m)) => assert_eq!(m, r#"computed_torque 'passive' must be one of ["drift", "frozen"], got 'rigid'"#),
+            other => panic!("expected an argument error, got {other:?}"),
+        }
         assert_eq!(JointsAtImpact::Locked.name(), "locked");
         assert_eq!(BaseMotion::Full.name(), "full");
         let n = Some(nalgebra::Vector3::new(0.0, 0.0, 1.0));
