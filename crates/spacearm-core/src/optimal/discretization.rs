@@ -29,7 +29,7 @@ use crate::model::Model;
 /// (the semi-implicit Euler step, [`super::euler`]: one derivative evaluation per knot instead
 /// of four, a model that differs from the RK4 plant by `O(h)`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[serde(try_from = "String", into = "&'static str")]
 pub enum DiscretizationKind {
     /// Classical RK4 with the quaternion renormalised (the simulator's `integrator = "rk4"`).
     #[default]
@@ -38,15 +38,7 @@ pub enum DiscretizationKind {
     Euler,
 }
 
-impl DiscretizationKind {
-    /// The name in the run description.
-    pub fn name(self) -> &'static str {
-        match self {
-            DiscretizationKind::Rk4 => "rk4",
-            DiscretizationKind::Euler => "euler",
-        }
-    }
-}
+crate::error::named_by!(DiscretizationKind, "discretization", [Rk4 = "rk4", Euler = "euler"]);
 
 /// The step of a problem's knots, one of [`DiscretizationKind`].
 pub enum Discretization {
@@ -334,6 +326,22 @@ pub(crate) fn check_step_jacobians(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// As data the kind is its name; another name is refused naming the table.
+    #[test]
+    fn the_kind_is_read_and_written_by_its_name() {
+        #[derive(Debug, Serialize, Deserialize)]
+        struct Spec {
+            discretization: DiscretizationKind,
+        }
+        let read = |s: &str| toml::from_str::<Spec>(s).map(|s| s.discretization).map_err(|e| e.to_string());
+        assert_eq!(read("discretization = 'euler'"), Ok(DiscretizationKind::Euler));
+        assert_eq!(read("discretization = 'rk4'"), Ok(DiscretizationKind::Rk4));
+        let e = read("discretization = 'rk5'").unwrap_err();
+        assert!(e.contains(r#"discretization must be one of ["rk4", "euler"], got 'rk5'"#), "{e}");
+        let text = toml::to_string(&Spec { discretization: DiscretizationKind::Euler }).unwrap();
+        assert_eq!(text.trim(), r#"discretization = "euler""#);
+    }
 
     /// `A` and `B` against central differences of the step in tangent coordinates, for a
     /// spatial arm in every mode with controls, at a tumbling, moving state.
