@@ -12,7 +12,8 @@
 
 use std::hint::black_box;
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::measurement::WallTime;
+use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion};
 use spacearm_core::derivatives::{self, DerivativeData, DerivativeMethod, LinearizationInputs};
 use spacearm_core::algorithms::aba;
 use spacearm_core::model::presets;
@@ -61,58 +62,36 @@ pub fn serial_arm(n: usize) -> Model {
     b.build().unwrap()
 }
 
+/// One timed entry of group `g`: `call` at the state `(x, u, f)`, the inputs and the entry of
+/// the result it returns passed through `black_box` (every entry is timed the same way).
+fn time(g: &mut BenchmarkGroup<'_, WallTime>, name: &str, (x, u, f): &(Vec<f64>, Vec<f64>, Vec<f64>), mut call: impl FnMut(&[f64], &[f64], &[f64]) -> f64) {
+    g.bench_function(name, |b| b.iter(|| black_box(call(black_box(x), black_box(u), black_box(f)))));
+}
+
 fn bench_model(c: &mut Criterion, name: &str, model: Model) {
     let mut work = DerivativeData::new(&model);
-    let (x, u, f) = state(&model);
+    let s = state(&model);
     let ee = model.points()[model.end_effector().expect("an end effector")].clone();
     let mut g = c.benchmark_group(name);
-    g.bench_function("forward_dynamics_aba", |b| {
-        b.iter(|| black_box(aba::aba(&model, &mut work.data, black_box(&x), black_box(&u), black_box(&f), &[]).unwrap()[0]))
+    time(&mut g, "forward_dynamics_aba", &s, |x, u, f| aba::aba(&model, &mut work.data, x, u, f, &[]).unwrap()[0]);
+    time(&mut g, "forward_dynamics_derivatives", &s, |x, u, f| derivatives::forward_dynamics_derivatives(&model, &mut work, x, u, f).unwrap().0[(6, 6)]);
+    time(&mut g, "forward_dynamics_derivatives_dual", &s, |x, u, f| {
+        derivatives::forward_dynamics_derivatives_with(&model, &mut work, x, u, f, &[], DerivativeMethod::DualNumbers).unwrap().0[(6, 6)]
     });
-    g.bench_function("forward_dynamics_derivatives", |b| {
-        b.iter(|| black_box(derivatives::forward_dynamics_derivatives(&model, &mut work, black_box(&x), black_box(&u), black_box(&f)).unwrap().0[(6, 6)]))
+    time(&mut g, "inverse_dynamics_partials", &s, |x, u, f| {
+        derivatives::inverse_dynamics_partials(&model, &mut work, x, u, f, &[], DerivativeMethod::Analytic).unwrap().0[(6, 6)]
     });
-    g.bench_function("forward_dynamics_derivatives_dual", |b| {
-        b.iter(|| {
-            black_box(
-                derivatives::forward_dynamics_derivatives_with(&model, &mut work, black_box(&x), black_box(&u), black_box(&f), &[], DerivativeMethod::DualNumbers)
-                    .unwrap()
-                    .0[(6, 6)],
-            )
-        })
-    });
-    g.bench_function("inverse_dynamics_partials", |b| {
-        b.iter(|| {
-            black_box(
-                derivatives::inverse_dynamics_partials(&model, &mut work, black_box(&x), black_box(&u), black_box(&f), &[], DerivativeMethod::Analytic)
-                    .unwrap()
-                    .0[(6, 6)],
-            )
-        })
-    });
-    g.bench_function("linearize", |b| {
-        b.iter(|| {
-            black_box(derivatives::linearize(&model, &mut work, black_box(&x), black_box(&u), black_box(&f), LinearizationInputs::Joints).unwrap().0[(6, 6)])
-        })
-    });
+    time(&mut g, "linearize", &s, |x, u, f| derivatives::linearize(&model, &mut work, x, u, f, LinearizationInputs::Joints).unwrap().0[(6, 6)]);
     if model.n_dof() > 12 {
         // The dual-number tensors below grow as N³: timed on the small models only.
         g.finish();
         return;
     }
-    g.bench_function("mass_matrix_partials", |b| {
-        b.iter(|| black_box(derivatives::mass_matrix_partials(&model, &mut work, black_box(&x)).unwrap()[6][(0, 0)]))
-    });
-    g.bench_function("mass_matrix_derivative", |b| {
-        b.iter(|| black_box(derivatives::mass_matrix_derivative(&model, &mut work, black_box(&x), black_box(&u)).unwrap()[(0, 0)]))
-    });
-    g.bench_function("generalized_inertia_partials", |b| {
-        b.iter(|| black_box(derivatives::generalized_inertia_partials(&model, &mut work, black_box(&x)).unwrap()[0][(0, 0)]))
-    });
-    g.bench_function("generalized_jacobian_derivative", |b| {
-        b.iter(|| {
-            black_box(derivatives::generalized_jacobian_derivative(&model, &mut work, black_box(&x), black_box(&u), ee.body, &ee.offset).unwrap()[(0, 0)])
-        })
+    time(&mut g, "mass_matrix_partials", &s, |x, _, _| derivatives::mass_matrix_partials(&model, &mut work, x).unwrap()[6][(0, 0)]);
+    time(&mut g, "mass_matrix_derivative", &s, |x, u, _| derivatives::mass_matrix_derivative(&model, &mut work, x, u).unwrap()[(0, 0)]);
+    time(&mut g, "generalized_inertia_partials", &s, |x, _, _| derivatives::generalized_inertia_partials(&model, &mut work, x).unwrap()[0][(0, 0)]);
+    time(&mut g, "generalized_jacobian_derivative", &s, |x, u, _| {
+        derivatives::generalized_jacobian_derivative(&model, &mut work, x, u, ee.body, &ee.offset).unwrap()[(0, 0)]
     });
     g.finish();
 }

@@ -274,10 +274,30 @@ impl ErrorKind {
 /// Digits a number of a message may have before it is shown in scientific notation.
 const MAX_MESSAGE_DIGITS: usize = 17;
 
-/// Serde for an enum that is data by its name: `#[serde(try_from = "String", into = "&'static
-/// str")]` on the enum and `named_by!(Enum)` beside it read it with its `from_name` (the error
-/// naming the names, [`by_name`]) and write it with its `name`.
+/// An enum of unit variants that is data by its name. `named_by!(Enum, "what", [Variant =
+/// "name", ...])`, the variants in their declared order, writes the name table once: `NAMES`,
+/// `from_name` (any other name refused naming the table and `what`, [`by_name`]) and `name`
+/// (the variant's entry of `NAMES`), and the serde below. `named_by!(Enum)` alone, beside
+/// `#[serde(try_from = "String", into = "&'static str")]` on the enum, reads it with its
+/// `from_name` and writes it with its `name`.
 macro_rules! named_by {
+    ($t:ident, $what:literal, [$($variant:ident = $name:literal),+ $(,)?]) => {
+        impl $t {
+            #[doc = concat!("The names accepted by [`", stringify!($t), "::from_name`], in the variants' order.")]
+            pub const NAMES: [&'static str; [$($name),+].len()] = [$($name),+];
+
+            #[doc = concat!("The variant named `name` (one of [`", stringify!($t), "::NAMES`]); any other name is refused naming the table.")]
+            pub fn from_name(name: &str) -> $crate::error::Result<Self> {
+                $crate::error::by_name($what, &Self::NAMES, &[$($t::$variant),+], name)
+            }
+
+            #[doc = concat!("The name (the variant's entry of [`", stringify!($t), "::NAMES`]).")]
+            pub fn name(self) -> &'static str {
+                Self::NAMES[self as usize]
+            }
+        }
+        $crate::error::named_by!($t);
+    };
     ($t:ty) => {
         impl TryFrom<String> for $t {
             type Error = $crate::error::SpacearmError;
@@ -412,6 +432,34 @@ mod tests {
         use crate::analysis::reaction_null_space::BaseMotion;
         assert_eq!(BaseMotion::from_name("angular").unwrap(), BaseMotion::Angular);
         assert_eq!(BaseMotion::from_name("full").unwrap(), BaseMotion::Full);
+        // The tables of `named_by!`: each name reads back to itself (`name` is the variant's
+        // entry of NAMES, so a table out of the variants' order fails here).
+        for name in BaseMotion::NAMES {
+            assert_eq!(BaseMotion::from_name(name).unwrap().name(), name);
+        }
+        for name in JointsAtImpact::NAMES {
+            assert_eq!(JointsAtImpact::from_name(name).unwrap().name(), name);
+        }
+        use crate::analysis::rmrc_solver::Strategy;
+        use crate::control::computed_torque::PassiveTreatment;
+        use crate::control::shaping::ShaperKind;
+        for name in Strategy::NAMES {
+            assert_eq!(Strategy::from_name(name).unwrap().name(), name);
+        }
+        for name in PassiveTreatment::NAMES {
+            assert_eq!(PassiveTreatment::from_name(name).unwrap().name(), name);
+        }
+        for name in ShaperKind::NAMES {
+            assert_eq!(ShaperKind::from_name(name).unwrap().name(), name);
+        }
+        assert_eq!(Strategy::MinimumBaseDisturbance.name(), "minimum_disturbance");
+        assert_eq!(ShaperKind::from_name("zvd").unwrap(), ShaperKind::Zvd);
+        match PassiveTreatment::from_name("rigid") {
+            Err(SpacearmError::InvalidArgument(m)) => assert_eq!(m, r#"computed_torque 'passive' must be one of ["drift", "frozen"], got 'rigid'"#),
+            other => panic!("expected an argument error, got {other:?}"),
+        }
+        assert_eq!(JointsAtImpact::Locked.name(), "locked");
+        assert_eq!(BaseMotion::Full.name(), "full");
         let n = Some(nalgebra::Vector3::new(0.0, 0.0, 1.0));
         assert_eq!(GraspContact::from_name("rigid", n).unwrap(), GraspContact::Rigid);
         assert_eq!(GraspContact::from_name("point", n).unwrap(), GraspContact::Point { normal: n });

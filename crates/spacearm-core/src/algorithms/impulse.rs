@@ -40,15 +40,9 @@ pub enum JointsAtImpact {
     Locked,
 }
 
+crate::error::named_by!(JointsAtImpact, "arm", [Free = "free", Locked = "locked"]);
+
 impl JointsAtImpact {
-    /// The names accepted by [`JointsAtImpact::from_name`].
-    pub const NAMES: [&'static str; 2] = ["free", "locked"];
-
-    /// Parse `"free"` or `"locked"`.
-    pub fn from_name(name: &str) -> Result<Self> {
-        by_name("arm", &Self::NAMES, &[JointsAtImpact::Free, JointsAtImpact::Locked], name)
-    }
-
     /// Number of coordinates that may jump in a model with `nu` velocity coordinates.
     fn mobile(self, nu: usize) -> usize {
         match self {

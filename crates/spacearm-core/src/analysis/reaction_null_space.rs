@@ -18,7 +18,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::Svd;
 use crate::model::data::Data;
-use crate::error::{by_name, Result, SpacearmError};
+use crate::error::{Result, SpacearmError};
 use crate::gjm::compute_generalized_jacobian;
 use crate::model::Model;
 
@@ -31,15 +31,8 @@ pub enum BaseMotion {
     Full,
 }
 
-impl BaseMotion {
-    /// The names of [`BaseMotion::from_name`], the one table every door reads.
-    pub const NAMES: [&'static str; 2] = ["angular", "full"];
-
-    /// `"angular"` or `"full"`; any other name is refused naming the table.
-    pub fn from_name(name: &str) -> Result<Self> {
-        by_name("base_motion", &Self::NAMES, &[BaseMotion::Angular, BaseMotion::Full], name)
-    }
-}
+// The one table every door reads.
+crate::error::named_by!(BaseMotion, "base_motion", [Angular = "angular", Full = "full"]);
 
 /// The reaction null space at one configuration.
 #[derive(Debug, Clone)]

@@ -57,29 +57,8 @@ pub enum Strategy {
     MinimumBaseDisturbance,
 }
 
-impl Strategy {
-    /// The names, as Python spells them: `"naive"`, `"reactionless"`, `"minimum_disturbance"`.
-    pub const NAMES: [&'static str; 3] = ["naive", "reactionless", "minimum_disturbance"];
-
-    /// The strategy of a name of [`Strategy::NAMES`].
-    pub fn from_name(name: &str) -> Result<Self> {
-        match name {
-            "naive" => Ok(Strategy::Naive),
-            "reactionless" => Ok(Strategy::Reactionless),
-            "minimum_disturbance" => Ok(Strategy::MinimumBaseDisturbance),
-            other => Err(SpacearmError::InvalidArgument(format!("strategy must be 'naive', 'reactionless' or 'minimum_disturbance', got '{other}'"))),
-        }
-    }
-
-    /// Its name in [`Strategy::NAMES`].
-    pub fn name(self) -> &'static str {
-        match self {
-            Strategy::Naive => "naive",
-            Strategy::Reactionless => "reactionless",
-            Strategy::MinimumBaseDisturbance => "minimum_disturbance",
-        }
-    }
-}
+// The names, as Python spells them.
+crate::error::named_by!(Strategy, "strategy", [Naive = "naive", Reactionless = "reactionless", MinimumBaseDisturbance = "minimum_disturbance"]);
 
 /// Options of the resolved-motion-rate solver.
 #[derive(Debug, Clone)]

@@ -48,27 +48,7 @@ pub enum PassiveTreatment {
     Frozen,
 }
 
-impl PassiveTreatment {
-    /// The names of [`PassiveTreatment::from_name`].
-    pub const NAMES: [&'static str; 2] = ["drift", "frozen"];
-
-    /// `"drift"` or `"frozen"`.
-    pub fn from_name(name: &str) -> Option<PassiveTreatment> {
-        match name {
-            "drift" => Some(PassiveTreatment::Drift),
-            "frozen" => Some(PassiveTreatment::Frozen),
-            _ => None,
-        }
-    }
-
-    /// Its name.
-    pub fn name(self) -> &'static str {
-        match self {
-            PassiveTreatment::Drift => "drift",
-            PassiveTreatment::Frozen => "frozen",
-        }
-    }
-}
+crate::error::named_by!(PassiveTreatment, "computed_torque 'passive'", [Drift = "drift", Frozen = "frozen"]);
 
 /// Joint torques from the reduced EOM of a (controller's) model for desired accelerations of
 /// the actuated arm joints, given the wheel torques and the base wrench already in a

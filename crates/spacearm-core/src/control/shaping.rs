@@ -29,27 +29,7 @@ pub enum ShaperKind {
     Zvd,
 }
 
-impl ShaperKind {
-    /// The names of [`ShaperKind::from_name`].
-    pub const NAMES: [&'static str; 2] = ["zv", "zvd"];
-
-    /// `"zv"` or `"zvd"`.
-    pub fn from_name(name: &str) -> Option<ShaperKind> {
-        match name {
-            "zv" => Some(ShaperKind::Zv),
-            "zvd" => Some(ShaperKind::Zvd),
-            _ => None,
-        }
-    }
-
-    /// Its name.
-    pub fn name(self) -> &'static str {
-        match self {
-            ShaperKind::Zv => "zv",
-            ShaperKind::Zvd => "zvd",
-        }
-    }
-}
+crate::error::named_by!(ShaperKind, "an input shaper's kind", [Zv = "zv", Zvd = "zvd"]);
 
 /// An input shaper designed for one mode (module docs).
 #[derive(Debug, Clone, PartialEq)]

@@ -474,9 +474,7 @@ pub struct ShaperSpec {
 impl ShaperSpec {
     /// The shaper (checked by [`InputShaper::new`]).
     pub fn build(&self) -> Result<InputShaper> {
-        let kind = ShaperKind::from_name(&self.kind)
-            .ok_or_else(|| bad(format!("an input shaper's kind must be one of {:?}, got {:?}", ShaperKind::NAMES, self.kind)))?;
-        InputShaper::new(kind, self.frequency, self.damping)
+        InputShaper::new(ShaperKind::from_name(&self.kind)?, self.frequency, self.damping)
     }
 }
 
@@ -538,16 +536,7 @@ impl PointReferenceSpec {
     /// The free body of a `FreeBody` spec (checked by [`FreeBody::new`]).
     pub fn free_body(&self) -> Result<FreeBody> {
         match self {
-            PointReferenceSpec::FreeBody { body, orbit: o, .. } => {
-                if body.state.len() != 13 {
-                    return Err(SpacearmError::Dimension { what: "free-body 'state' ([r, quat xyzw, v, w])".into(), expected: "13".into(), got: body.state.len() });
-                }
-                let body = body.build()?;
-                match orbit(o)? {
-                    Some(o) => body.in_orbit(&o),
-                    None => Ok(body),
-                }
-            }
+            PointReferenceSpec::FreeBody { body, orbit, .. } => body.build_in(orbit.as_ref()),
             _ => Err(bad("not a free-body reference")),
         }
     }
@@ -973,7 +962,7 @@ impl ControllerSpec {
                 gains(w, "kp", kp)?;
                 gains(w, "kd", kd)?;
                 reference.build()?;
-                passive_treatment(passive)?;
+                PassiveTreatment::from_name(passive)?;
                 ModelText::build(model)?;
             }
             ControllerSpec::ResolvedMotionRate { reference, gain, max_damping, threshold, velocity_gain, max_joint_rate, task, strategy, .. } => {
@@ -1066,7 +1055,7 @@ impl ControllerSpec {
             ControllerSpec::None {} => Box::new(ZeroTorque),
             ControllerSpec::JointPd { kp, kd, reference } => Box::new(JointPd::new(kp.0.clone(), kd.0.clone(), reference.build()?)),
             ControllerSpec::ComputedTorque { kp, kd, reference, model, passive } => {
-                Box::new(ComputedTorque::new(kp.0.clone(), kd.0.clone(), reference.build()?, ModelText::build(model)?).with_passive(passive_treatment(passive)?))
+                Box::new(ComputedTorque::new(kp.0.clone(), kd.0.clone(), reference.build()?, ModelText::build(model)?).with_passive(PassiveTreatment::from_name(passive)?))
             }
             ControllerSpec::ResolvedMotionRate { reference, gain, max_damping, threshold, velocity_gain, point, max_joint_rate, task, strategy } => {
                 let (body, offset) = PointSpec::resolve(point.as_ref().or(reference.point()), plant)?;
@@ -1150,10 +1139,6 @@ fn gains(w: &str, what: &str, g: &Gains) -> Result<()> {
         return Err(bad(format!("{w} '{what}' must be finite and >= 0, got {v}")));
     }
     Ok(())
-}
-
-fn passive_treatment(name: &str) -> Result<PassiveTreatment> {
-    PassiveTreatment::from_name(name).ok_or_else(|| bad(format!("computed_torque 'passive' must be one of {:?}, got {name:?}", PassiveTreatment::NAMES)))
 }
 
 #[cfg(test)]

@@ -21,7 +21,7 @@
 //! same inputs give bit-identical results. Workspaces are allocated once; a step allocates
 //! nothing.
 
-use crate::error::{by_name, Result};
+use crate::error::Result;
 
 /// A first-order system `ẏ = f(t, y)` on a manifold embedded in ℝⁿ.
 pub trait OdeSystem {
@@ -45,25 +45,7 @@ pub enum IntegratorKind {
     Dopri5,
 }
 
-crate::error::named_by!(IntegratorKind);
-
-impl IntegratorKind {
-    /// The names accepted by [`IntegratorKind::from_name`].
-    pub const NAMES: [&'static str; 2] = ["rk4", "dopri5"];
-
-    /// Parse `"rk4"` or `"dopri5"`.
-    pub fn from_name(name: &str) -> Result<Self> {
-        by_name("integrator", &Self::NAMES, &[IntegratorKind::Rk4, IntegratorKind::Dopri5], name)
-    }
-
-    /// The integrator's name.
-    pub fn name(self) -> &'static str {
-        match self {
-            IntegratorKind::Rk4 => "rk4",
-            IntegratorKind::Dopri5 => "dopri5",
-        }
-    }
-}
+crate::error::named_by!(IntegratorKind, "integrator", [Rk4 = "rk4", Dopri5 = "dopri5"]);
 
 /// `out = y + h Σ coef_j k_j` (fixed summation order).
 #[inline]

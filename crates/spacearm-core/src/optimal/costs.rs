@@ -28,7 +28,7 @@ use super::state::{so3_left_jacobian_inverse, StateSpace};
 use crate::algorithms::kinematics::{forward_kinematics, point_jacobians, point_position};
 use crate::error::{Result, SpacearmError};
 use crate::model::{Data, Model};
-use crate::scenario::free_body::{default_free_body_step, FreeBody, FreeBodySpec, InertiaSpec};
+use crate::scenario::free_body::{FreeBody, FreeBodySpec};
 use crate::scenario::orbit::Orbit;
 
 /// One number for all, or one each.
@@ -106,25 +106,19 @@ pub enum MovingPoint {
     FreeBody(FreeBodyTarget),
 }
 
-/// A free body's point as a moving target: the body (the fields of [`FreeBodySpec`]) and, in
-/// orbit, the run's orbit (the body's state relative to the orbit's point `O` at time 0, ECI
-/// axes, docs/orbit.md): the body then moves under gravity's tidal part — the exact relative
-/// two-body (+ J2) acceleration, whose linearization about a circular orbit is the
-/// Clohessy–Wiltshire (Hill) motion — and turns under the gravity-gradient torque
-/// ([`FreeBody::in_orbit`], the RMRC's and the capture's propagation).
+/// A free body's point as a moving target: the body ([`FreeBodySpec`], its fields side by side
+/// with `orbit` in the table) and, in orbit, the run's orbit (the body's state relative to the
+/// orbit's point `O` at time 0, ECI axes, docs/orbit.md): the body then moves under gravity's
+/// tidal part — the exact relative two-body (+ J2) acceleration, whose linearization about a
+/// circular orbit is the Clohessy–Wiltshire (Hill) motion — and turns under the gravity-gradient
+/// torque ([`FreeBody::in_orbit`], the RMRC's and the capture's propagation). An unknown key is
+/// refused by name (`deny_unknown_fields` here: the flattened body's own is not consulted).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FreeBodyTarget {
-    /// The body's inertia about its CM in its axes, kg·m².
-    pub inertia: InertiaSpec,
-    /// The body's 13-state `[r, quat xyzw, v, ω]` at time 0 of the references' clock.
-    pub state: Vec<f64>,
-    /// The point from the body's CM, body axes, m.
-    #[serde(default)]
-    pub offset: [f64; 3],
-    /// The step of the body's propagation, s.
-    #[serde(default = "default_free_body_step")]
-    pub step: f64,
+    /// The body and its point; its `state` at time 0 of the references' clock.
+    #[serde(flatten)]
+    pub body: FreeBodySpec,
     /// The run's orbit (`None`: torque-free).
     #[serde(default)]
     pub orbit: Option<Orbit>,
@@ -133,15 +127,7 @@ pub struct FreeBodyTarget {
 impl FreeBodyTarget {
     /// The body, in orbit when an orbit is given (checked).
     pub fn build(&self) -> Result<FreeBody> {
-        if self.state.len() != 13 {
-            return Err(SpacearmError::argument(format!("a point cost's free_body target 'state' must be 13 numbers [r, quat xyzw, v, w], got {}", self.state.len())));
-        }
-        let spec = FreeBodySpec { inertia: self.inertia.clone(), state: self.state.clone(), offset: self.offset, step: self.step };
-        let body = spec.build()?;
-        match &self.orbit {
-            Some(o) => body.in_orbit(&Orbit::from_state(o.body, o.r0, o.v0, o.j2)?),
-            None => Ok(body),
-        }
+        self.body.build_in(self.orbit.as_ref())
     }
 }
 
@@ -499,15 +485,18 @@ pub fn cost_derivatives(
 mod tests {
     use super::*;
     use crate::model::presets;
+    use crate::scenario::free_body::InertiaSpec;
 
     /// A body spinning about its principal axis z at 0.1 rad/s, drifting at `v`: its point at
     /// `offset` is `r₀ + v t + Rz(ω t) offset` in closed form.
     fn spinning(offset: [f64; 3]) -> MovingPoint {
         MovingPoint::FreeBody(FreeBodyTarget {
-            inertia: InertiaSpec::Principal([3.0, 4.0, 5.0]),
-            state: vec![1.0, 0.2, -0.1, 0.0, 0.0, 0.0, 1.0, 0.01, -0.02, 0.0, 0.0, 0.0, 0.1],
-            offset,
-            step: 1e-3,
+            body: FreeBodySpec {
+                inertia: InertiaSpec::Principal([3.0, 4.0, 5.0]),
+                state: vec![1.0, 0.2, -0.1, 0.0, 0.0, 0.0, 1.0, 0.01, -0.02, 0.0, 0.0, 0.0, 0.1],
+                offset,
+                step: 1e-3,
+            },
             orbit: None,
         })
     }
@@ -597,7 +586,7 @@ mod tests {
             let (rho, rho_dot) = (r - ro, v - vo);
             let state = vec![rho.x, rho.y, rho.z, 0.0, 0.0, 0.0, 1.0, rho_dot.x, rho_dot.y, rho_dot.z, 0.0, 0.0, 0.0];
             let target = |orbit: Option<Orbit>| {
-                MovingPoint::FreeBody(FreeBodyTarget { inertia: InertiaSpec::Principal([3.0, 4.0, 5.0]), state: state.clone(), offset: [0.0; 3], step: 0.05, orbit })
+                MovingPoint::FreeBody(FreeBodyTarget { body: FreeBodySpec { inertia: InertiaSpec::Principal([3.0, 4.0, 5.0]), state: state.clone(), offset: [0.0; 3], step: 0.05 }, orbit })
             };
             let mut cost = point_cost(PointTarget::Moving(target(Some(orbit)))).build(&model, 6, false).unwrap();
             let mut free = point_cost(PointTarget::Moving(target(None))).build(&model, 6, false).unwrap();
@@ -627,12 +616,19 @@ mod tests {
         let read = |s: &str| toml::from_str::<CostSpec>(s).map_err(|e| e.to_string());
         let ok = read("kind = 'point'\nbody = 6\nweight = 1.0\ntarget = {kind = 'free_body', inertia = [1.0, 2.0, 3.0], state = [0,0,0, 0,0,0,1, 0,0,0, 0,0,0.1]}");
         assert!(ok.is_ok(), "{ok:?}");
+        // The body's fields and `orbit` stand side by side; written back the same way.
+        let spec = ok.unwrap();
+        assert_eq!(read(&toml::to_string(&spec).unwrap()).unwrap(), spec);
         let e = read("kind = 'point'\nbody = 6\nweight = 1.0\ntarget = {kind = 'free_body', inertia = [1.0, 2.0, 3.0], state = [0.0], spin = 1}").unwrap_err();
-        assert!(e.contains("spin"), "{e}");
+        assert!(e.contains("unknown field `spin`"), "{e}");
+        let e = read("kind = 'point'\nbody = 6\nweight = 1.0\ntarget = {kind = 'free_body', inertia = [1.0, 2.0, 3.0], state = [0.0], orbits = {}}").unwrap_err();
+        assert!(e.contains("unknown field `orbits`"), "{e}");
+        let e = read("kind = 'point'\nbody = 6\nweight = 1.0\ntarget = {kind = 'free_body', inertia = [1.0, 2.0, 3.0]}").unwrap_err();
+        assert!(e.contains("missing field `state`"), "{e}");
         let e = read("kind = 'point'\nbody = 6\nweight = 1.0\ntarget = [1.0, 2.0]").unwrap_err();
         assert!(e.contains("three numbers"), "{e}");
         let model = presets::spatial6();
-        let short = MovingPoint::FreeBody(FreeBodyTarget { inertia: InertiaSpec::Principal([1.0, 1.0, 1.0]), state: vec![0.0; 12], offset: [0.0; 3], step: 1e-3, orbit: None });
+        let short = MovingPoint::FreeBody(FreeBodyTarget { body: FreeBodySpec { inertia: InertiaSpec::Principal([1.0, 1.0, 1.0]), state: vec![0.0; 12], offset: [0.0; 3], step: 1e-3 }, orbit: None });
         let e = point_cost(PointTarget::Moving(short)).build(&model, 6, false).unwrap_err().to_string();
         assert!(e.contains("13"), "{e}");
     }

@@ -29,7 +29,7 @@ use crate::model::Model;
 /// (the semi-implicit Euler step, [`super::euler`]: one derivative evaluation per knot instead
 /// of four, a model that differs from the RK4 plant by `O(h)`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[serde(try_from = "String", into = "&'static str")]
 pub enum DiscretizationKind {
     /// Classical RK4 with the quaternion renormalised (the simulator's `integrator = "rk4"`).
     #[default]
@@ -38,15 +38,7 @@ pub enum DiscretizationKind {
     Euler,
 }
 
-impl DiscretizationKind {
-    /// The name in the run description.
-    pub fn name(self) -> &'static str {
-        match self {
-            DiscretizationKind::Rk4 => "rk4",
-            DiscretizationKind::Euler => "euler",
-        }
-    }
-}
+crate::error::named_by!(DiscretizationKind, "discretization", [Rk4 = "rk4", Euler = "euler"]);
 
 /// The step of a problem's knots, one of [`DiscretizationKind`].
 pub enum Discretization {
@@ -249,7 +241,7 @@ fn normalization_jacobian_rows(z: &[f64], m: &mut DMatrix<f64>) {
 /// where it is (row, column, difference, analytic).
 #[cfg(test)]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn jacobian_fd_error(
+fn jacobian_fd_error(
     space: super::state::StateSpace,
     z: &[f64],
     c: &[f64],
@@ -298,49 +290,65 @@ pub(crate) fn jacobian_fd_error(
     (worst, at)
 }
 
+/// Test support, the check of both steps: at every tumbling case
+/// ([`super::dynamics::tumbling_cases`]) the step of `kind` with its Jacobians agrees with the
+/// plain step (ABA and `H⁻¹(f − c)` to rounding, ~1e-12 here: `H` is ill-conditioned), and
+/// its `A`, `B` with central differences ([`jacobian_fd_error`]); then `more(model, mode, z, c,
+/// plain step, A, B)` checks what is the kind's own.
+#[cfg(test)]
+pub(crate) fn check_step_jacobians(
+    kind: DiscretizationKind,
+    h: f64,
+    mut more: impl FnMut(&Model, crate::scenario::modes::Mode, &[f64], &[f64], &[f64], &DMatrix<f64>, &DMatrix<f64>),
+) {
+    let (model, cases) = super::dynamics::tumbling_cases();
+    for (mode, dynamics, z, c) in cases {
+        let space = dynamics.space;
+        let (nz, nd, m) = (space.nz(), space.nd(), c.len());
+        let mut disc = Discretization::new(kind, dynamics, h);
+        let (mut a, mut b) = (DMatrix::zeros(nd, nd), DMatrix::zeros(nd, m));
+        let mut next = vec![0.0; nz];
+        disc.step_derivatives(&model, &z, &c, &mut next, &mut a, &mut b).unwrap();
+        let mut plain = vec![0.0; nz];
+        disc.step(&model, &z, &c, &mut plain).unwrap();
+        for (p, n) in plain.iter().zip(&next) {
+            assert!((p - n).abs() < 1e-9 * (1.0 + p.abs()), "{kind:?} {mode:?}: the two steps differ: {p} vs {n}");
+        }
+        // The accelerations carry rounding noise of ~1e-12 (ill-conditioned H) that the
+        // differences divide by eps: with eps = 1e-4 that noise and the truncation error eps²
+        // are both ~1e-8, against O(h²) ~ 1e-3 for a missing term.
+        let (worst, at) = jacobian_fd_error(space, &z, &c, &next, &a, &b, 1e-4, |z, c, out| disc.step(&model, z, c, out).unwrap());
+        assert!(worst < 1e-6, "{kind:?} {mode:?}: largest relative difference {worst:e} at {at:?}");
+        more(&model, mode, &z, &c, &plain, &a, &b);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::presets;
-    use crate::scenario::modes::Mode;
+
+    /// As data the kind is its name; another name is refused naming the table.
+    #[test]
+    fn the_kind_is_read_and_written_by_its_name() {
+        #[derive(Debug, Serialize, Deserialize)]
+        struct Spec {
+            discretization: DiscretizationKind,
+        }
+        let read = |s: &str| toml::from_str::<Spec>(s).map(|s| s.discretization).map_err(|e| e.to_string());
+        assert_eq!(read("discretization = 'euler'"), Ok(DiscretizationKind::Euler));
+        assert_eq!(read("discretization = 'rk4'"), Ok(DiscretizationKind::Rk4));
+        let e = read("discretization = 'rk5'").unwrap_err();
+        assert!(e.contains(r#"discretization must be one of ["rk4", "euler"], got 'rk5'"#), "{e}");
+        let text = toml::to_string(&Spec { discretization: DiscretizationKind::Euler }).unwrap();
+        assert_eq!(text.trim(), r#"discretization = "euler""#);
+    }
 
     /// `A` and `B` against central differences of the step in tangent coordinates, for a
     /// spatial arm in every mode with controls, at a tumbling, moving state.
     #[test]
     fn step_jacobians_match_finite_differences() {
-        let model = presets::spatial6();
-        for mode in [Mode::Floating, Mode::RotationFlying, Mode::Flying] {
-            let dynamics = Dynamics::new(&model, mode).unwrap();
-            let space = dynamics.space;
-            let m = dynamics.controls.len();
-            let mut disc = Rk4Discretization::new(dynamics, 0.05);
-            let (nz, nd) = (space.nz(), space.nd());
-            let q = {
-                let q = [0.2, -0.1, 0.3, 0.9];
-                let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
-                q.map(|v| v / n)
-            };
-            let mut z = vec![0.0; nz];
-            z[0..3].copy_from_slice(&[0.1, -0.2, 0.3]);
-            z[3..7].copy_from_slice(&q);
-            for i in 7..nz {
-                z[i] = 0.3 * ((i * 7) as f64).sin();
-            }
-            let c: Vec<f64> = (0..m).map(|i| 2.0 * ((i * 3 + 1) as f64).cos()).collect();
-            let (mut a, mut b) = (DMatrix::zeros(nd, nd), DMatrix::zeros(nd, m));
-            let mut next = vec![0.0; nz];
-            disc.step_derivatives(&model, &z, &c, &mut next, &mut a, &mut b).unwrap();
-            let mut plain = vec![0.0; nz];
-            disc.step(&model, &z, &c, &mut plain).unwrap();
-            for (p, n) in plain.iter().zip(&next) {
-                // ABA and H⁻¹(f − c) agree to rounding (~1e-12 here: H is ill-conditioned).
-                assert!((p - n).abs() < 1e-9 * (1.0 + p.abs()), "{mode:?}: the two steps differ: {p} vs {n}");
-            }
-            // The accelerations carry rounding noise of ~1e-12 (ill-conditioned H): a step
-            // where that noise over eps and the truncation error eps² are both ~1e-8.
-            let (worst, at) = jacobian_fd_error(space, &z, &c, &next, &a, &b, 1e-4, |z, c, out| disc.step(&model, z, c, out).unwrap());
-            assert!(worst < 1e-6, "{mode:?}: largest relative difference {worst:e} at {at:?}");
+        check_step_jacobians(DiscretizationKind::Rk4, 0.05, |_, mode, _, _, _, a, b| {
             assert!(a.norm() > 1.0 && b.norm() > 1e-3, "{mode:?}: a trivial Jacobian");
-        }
+        });
     }
 }

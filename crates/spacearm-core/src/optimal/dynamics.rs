@@ -243,24 +243,44 @@ fn kinematic_rates(x: &[f64], u: &[f64], dz: &mut [f64]) {
     dz[7..nx].copy_from_slice(&u[6..]);
 }
 
+/// The point of the optimal-control derivative checks (this module's, the RK4 and the Euler
+/// steps'): the spatial arm, and for each mode with controls its dynamics and a tumbling, moving
+/// state `z` (base off the origin, a unit quaternion far from the identity, every rate non-zero)
+/// with non-zero controls `c`.
+#[cfg(test)]
+pub(crate) fn tumbling_cases() -> (Model, Vec<(Mode, Dynamics, Vec<f64>, Vec<f64>)>) {
+    let model = crate::model::presets::spatial6();
+    let cases = [Mode::Floating, Mode::RotationFlying, Mode::Flying]
+        .into_iter()
+        .map(|mode| {
+            let dynamics = Dynamics::new(&model, mode).unwrap();
+            let mut z = vec![0.0; dynamics.space.nz()];
+            z[0..3].copy_from_slice(&[0.1, -0.2, 0.3]);
+            z[3..7].copy_from_slice(&[0.2, -0.1, 0.3, 0.9]);
+            crate::math::rotations::normalize_xyzw(&mut z[3..7]);
+            for (i, zi) in z.iter_mut().enumerate().skip(7) {
+                *zi = 0.3 * ((i * 7) as f64).sin();
+            }
+            let c: Vec<f64> = (0..dynamics.controls.len()).map(|i| 2.0 * ((i * 3 + 1) as f64).cos()).collect();
+            (mode, dynamics, z, c)
+        })
+        .collect();
+    (model, cases)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::presets;
     use std::ops::AddAssign;
 
     /// The structured product equals the dense Jacobian's, in every mode with controls, at a
     /// tumbling, moving state, for a dense sensitivity and for the first stage's `[E | 0]`.
     #[test]
     fn sensitivity_equals_the_dense_jacobian_product() {
-        let model = presets::spatial6();
-        for mode in [Mode::Floating, Mode::RotationFlying, Mode::Flying] {
-            let mut dynamics = Dynamics::new(&model, mode).unwrap();
+        let (model, cases) = tumbling_cases();
+        for (mode, mut dynamics, z, c) in cases {
             let space = dynamics.space;
-            let (nz, nd, m) = (space.nz(), space.nd(), dynamics.controls.len());
-            let mut z: Vec<f64> = (0..nz).map(|i| 0.3 * ((i * 5 + 1) as f64).sin()).collect();
-            crate::math::rotations::normalize_xyzw(&mut z[3..7]);
-            let c: Vec<f64> = (0..m).map(|i| ((i * 3 + 2) as f64).cos()).collect();
+            let (nz, nd, m) = (space.nz(), space.nd(), c.len());
             let (mut jz, mut jc) = (DMatrix::zeros(nz, nz), DMatrix::zeros(nz, m));
             let (mut d1, mut d2) = (vec![0.0; nz], vec![0.0; nz]);
             dynamics.rhs_jacobian(&model, &z, &c, &mut d1, &mut jz, &mut jc).unwrap();

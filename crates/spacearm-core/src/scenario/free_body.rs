@@ -87,6 +87,16 @@ impl FreeBodySpec {
     pub fn build(&self) -> Result<FreeBody> {
         FreeBody::new(self.inertia.matrix(), &self.state, Vector3::from(self.offset), self.step)
     }
+
+    /// The body, in `orbit` when one is given (the orbit checked by [`Orbit::from_state`], the
+    /// body by [`FreeBody::in_orbit`]): a free-body point reference's and a point cost's target.
+    pub fn build_in(&self, orbit: Option<&Orbit>) -> Result<FreeBody> {
+        let body = self.build()?;
+        match orbit {
+            Some(o) => body.in_orbit(&Orbit::from_state(o.body, o.r0, o.v0, o.j2)?),
+            None => Ok(body),
+        }
+    }
 }
 
 /// A node of the grid: attitude `[x, y, z, w]`, and in orbit the CM position and velocity and

@@ -17,8 +17,6 @@
 
 use nalgebra::{Vector3, Vector6};
 
-use crate::error::{by_name, Result};
-
 /// A maneuvering mode. As data (a run description, [`crate::sim::options::RunSpec`]) it is its
 /// name ([`Mode::NAMES`]), read through [`Mode::from_name`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -64,29 +62,19 @@ impl Conserved {
     }
 }
 
-crate::error::named_by!(Mode);
+crate::error::named_by!(
+    Mode,
+    "mode",
+    [
+        Floating = "floating",
+        RotationFloating = "rotation-floating",
+        RotationFlying = "rotation-flying",
+        TranslationFlying = "translation-flying",
+        Flying = "flying",
+    ]
+);
 
 impl Mode {
-    /// The names accepted by [`Mode::from_name`].
-    pub const NAMES: [&'static str; 5] = ["floating", "rotation-floating", "rotation-flying", "translation-flying", "flying"];
-
-    /// Parse a mode name (`"floating"`, `"rotation-floating"`, `"rotation-flying"`,
-    /// `"translation-flying"`, `"flying"`).
-    pub fn from_name(name: &str) -> Result<Mode> {
-        by_name("mode", &Self::NAMES, &[Mode::Floating, Mode::RotationFloating, Mode::RotationFlying, Mode::TranslationFlying, Mode::Flying], name)
-    }
-
-    /// The mode's name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Mode::Floating => "floating",
-            Mode::RotationFloating => "rotation-floating",
-            Mode::RotationFlying => "rotation-flying",
-            Mode::TranslationFlying => "translation-flying",
-            Mode::Flying => "flying",
-        }
-    }
-
     /// Whether an external base force `F0` may be applied.
     pub fn allows_force(self) -> bool {
         matches!(self, Mode::TranslationFlying | Mode::Flying)
