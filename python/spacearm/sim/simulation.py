@@ -127,15 +127,11 @@ def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, reco
              progress=None, orbit=None, gravity_gradient=None, stop=None, contact=None) -> _core.RunOptions:
     """The options of the core's simulation entry points (``_core.simulate``, ``_core.rollout``,
     ``_core.Simulator``), every value checked; ``progress``: None or a callable(fraction)."""
-    if not isinstance(mode, str) or mode not in MODES:
-        raise ArgumentError(f"mode must be one of {list(MODES)}, got {mode!r}")
-    if not isinstance(integrator, str) or integrator not in INTEGRATORS:
-        raise ArgumentError(f"integrator must be one of {list(INTEGRATORS)}, got {integrator!r}")
+    # The names of mode and integrator, record_dtype and the numbers are judged by the core
+    # (RunOptions: "mode must be one of [...]", ...).
     if thrusters is not None and not isinstance(thrusters, Thrusters):
         raise ArgumentError(f"thrusters must be a spacearm.control.Thrusters, got {type(thrusters).__name__}")
     record_every, max_steps = count(record_every, "record_every"), count(max_steps, "max_steps")
-    if record_dtype not in RECORD_DTYPES:
-        raise ArgumentError(f"record_dtype must be one of {list(RECORD_DTYPES)}, got {record_dtype!r}")
     from ..contact import ContactModel
 
     if contact is not None and not isinstance(contact, ContactModel):
@@ -173,12 +169,12 @@ def orbit_meta(options: _core.RunOptions) -> dict:
     }
 
 
-def _warn_dropped(mode: str, meta: dict, stacklevel: int) -> None:
-    """Warn that the mode dropped part of the commanded base wrench, if it did."""
+def _warn_dropped(meta: dict, stacklevel: int) -> None:
+    """Warn that the run's mode dropped part of the commanded base wrench, if it did."""
     dropped = meta["dropped_base_wrench"]
     if dropped["count"]:
         warnings.warn(
-            f"mode '{mode}' does not allow part of the base wrench the controller commanded; it was dropped in "
+            f"mode '{meta['mode']}' does not allow part of the base wrench the controller commanded; it was dropped in "
             f"{dropped['count']} evaluations (largest dropped norm {dropped['max_norm']:.3g}); see meta['dropped_base_wrench']",
             RuntimeWarning,
             stacklevel=stacklevel + 1,
@@ -424,7 +420,7 @@ def simulate(
             for i, k, t, b in zip(topology["event_index"], topology["event_kind"], topology["event_t"], bodies)
         ]
         data.update(topology)
-    _warn_dropped(mode, meta, stacklevel=2)
+    _warn_dropped(meta, stacklevel=2)
     _warn_unreachable(meta, stacklevel=2)
     _warn_passive_commanded(robot, data, meta, stacklevel=2)
     from .trajectory import Trajectory
