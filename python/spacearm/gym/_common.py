@@ -85,6 +85,16 @@ def check_render_mode(render_mode: Optional[str]) -> Optional[str]:
     return render_mode
 
 
+def boxes(observations: int, actions: int) -> tuple:
+    """``(observation_space, action_space)`` of an environment: ``observations`` unbounded
+    float64 entries, ``actions`` float32 entries in [-1, 1] (each scaled by the env)."""
+    from .._util.optional import require
+
+    spaces = require("gymnasium", "the Gymnasium environments (spacearm.gym)").spaces
+    return (spaces.Box(-np.inf, np.inf, shape=(observations,), dtype=np.float64),
+            spaces.Box(-1.0, 1.0, shape=(actions,), dtype=np.float32))
+
+
 #: The time (s) in which a full action spins a joint alone from rest up to ``max_joint_rate``
 #: with ``max_torque="auto"``.
 AUTO_RAMP_TIME = 1.0
