@@ -15,22 +15,8 @@ from .capture import Target
 from .orbit import CentralBody, Orbit, OrbitalElements
 from .model.description import (BaseDescription, GeometryDescription, JointLimits, LinkDescription, ModelDescription,
                                 PointDescription)
-from .errors import (
-    ArgumentError,
-    CampaignError,
-    MissingDependencyError,
-    ModelError,
-    ModelFileError,
-    NonFiniteError,
-    NotFoundError,
-    QuaternionError,
-    ResourceLimitError,
-    ShapeError,
-    SimulationError,
-    SingularError,
-    SpacearmError,
-    SpacearmTypeError,
-)
+from . import errors
+from .errors import *  # noqa: F403 -- the exceptions and warnings of spacearm.errors, its __all__
 from .model.robot import (
     ExternalWrench,
     ForwardDynamicsDerivatives,
@@ -101,19 +87,6 @@ __all__ = [
     "batch_threads",
     "control",
     "io",
-    "SpacearmError",
-    "ModelError",
-    "ModelFileError",
-    "ShapeError",
-    "NonFiniteError",
-    "QuaternionError",
-    "NotFoundError",
-    "SingularError",
-    "ArgumentError",
-    "SpacearmTypeError",
-    "SimulationError",
-    "ResourceLimitError",
-    "CampaignError",
-    "MissingDependencyError",
     "__version__",
 ]
+__all__ += errors.__all__  # the exceptions and warnings (one list: spacearm.errors.__all__)

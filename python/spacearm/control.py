@@ -33,7 +33,7 @@ import numpy as _np
 from . import _core
 from typing import ClassVar as _ClassVar
 
-from ._util.arrays import vector as _vector
+from ._util.arrays import number as _number, vector as _vector
 from ._util.pickling import reduce_through_constructor as _reduce_through_constructor
 from ._util.spec import check as _check, data as _spec_data
 from .errors import ArgumentError as _ArgumentError
@@ -69,16 +69,6 @@ __all__ = [
     "ShapedJoint",
     "input_shaper",
 ]
-
-
-def _finite_float(value, name: str) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError) as exc:
-        raise _ArgumentError(f"{name} must be a number, got {value!r}") from exc
-    if not _math.isfinite(v):
-        raise _ArgumentError(f"{name} must be finite, got {v}")
-    return v
 
 
 def _quintic(t, t_start: float, t_end: float):
@@ -508,10 +498,10 @@ def inertia_scaled_gains(robot, x, joints, natural_frequency: float = 4.0, dampi
     ratio ``ζ``. Scaling keeps a light wrist joint from making the closed loop stiff (a fixed
     ``kd`` over a 0.005 kg·m² wrist gives a pole at ``kd/I``, far beyond what a 1 ms RK4 step
     integrates). ``joints``: indices of the joints to return gains for (N·m/rad, N·m·s/rad)."""
-    w = _finite_float(natural_frequency, "natural_frequency")
-    zeta = _finite_float(damping_ratio, "damping_ratio")
-    if not (w > 0 and zeta >= 0):
-        raise _ArgumentError(f"inertia_scaled_gains needs natural_frequency > 0 and damping_ratio >= 0, got {w} and {zeta}")
+    w, zeta = _number(natural_frequency, "natural_frequency"), _number(damping_ratio, "damping_ratio")
+    if not (0 < w < _math.inf and 0 <= zeta < _math.inf):
+        raise _ArgumentError(f"inertia_scaled_gains needs a finite natural_frequency > 0 and a finite damping_ratio >= 0, "
+                             f"got {w} and {zeta}")
     h = _np.diag(robot.generalized_inertia(x))[list(joints)]
     return w**2 * h, 2.0 * zeta * w * h
 
@@ -655,11 +645,11 @@ def perturbed_model(
         raise _ArgumentError(f"perturbed_model needs a spacearm.Robot, got {type(robot).__name__}")
     m = _core.perturbed(
         robot.core_model,
-        _finite_float(base_mass_scale, "base_mass_scale"),
-        _finite_float(base_inertia_scale, "base_inertia_scale"),
-        _finite_float(link_mass_scale, "link_mass_scale"),
-        _finite_float(slosh_fraction, "slosh_fraction"),
-        _vector(slosh_offset, "slosh_offset", 3),
+        _number(base_mass_scale, "base_mass_scale"),  # the scales' and the fraction's ranges: the core's
+        _number(base_inertia_scale, "base_inertia_scale"),  # (control/mismatch.rs)
+        _number(link_mass_scale, "link_mass_scale"),
+        _number(slosh_fraction, "slosh_fraction"),
+        slosh_offset,  # the binding's 3-vector, named in its errors
         bool(slosh_removed),
     )
     return Robot(m)
@@ -677,4 +667,4 @@ def perturbed_cmgs(robot, rotor_inertia_scale: float = 1.0, tilts: Optional[Sequ
     if not isinstance(robot, Robot):
         raise _ArgumentError(f"perturbed_cmgs needs a spacearm.Robot, got {type(robot).__name__}")
     rows = [] if tilts is None else [[float(v) for v in _vector(t, f"tilts[{i}]", 3)] for i, t in enumerate(tilts)]
-    return Robot(_core.perturbed_cmgs(robot.core_model, _finite_float(rotor_inertia_scale, "rotor_inertia_scale"), rows))
+    return Robot(_core.perturbed_cmgs(robot.core_model, _number(rotor_inertia_scale, "rotor_inertia_scale"), rows))

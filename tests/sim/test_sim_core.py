@@ -11,7 +11,6 @@ import pytest
 import spacearm
 from spacearm import errors
 from spacearm.control import Callback, JointPD, QuinticJoint, Thrusters
-from spacearm.sim.simulation import _run
 
 
 def tumbling(robot, seed=0):
@@ -25,8 +24,8 @@ def tumbling(robot, seed=0):
 def floating_run():
     robot = spacearm.presets.spatial6()
     x0, u0 = tumbling(robot)
-    data, meta = _run(robot, 1.0, x0=x0, u0=u0, dt=2e-3, record_every=10)
-    return robot, x0, u0, data, meta
+    traj = spacearm.simulate(robot, 1.0, x0=x0, u0=u0, dt=2e-3, record_every=10)
+    return robot, x0, u0, {key: traj[key] for key in traj.keys}, traj.meta
 
 
 def test_records_have_the_documented_keys_and_shapes(floating_run):

@@ -4,6 +4,8 @@ with errors that name the argument. A quaternion argument also accepts a
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..errors import ArgumentError, NonFiniteError, ShapeError, SpacearmTypeError
@@ -81,6 +83,19 @@ def integer(value, name: str) -> int:
     if not as_float.is_integer():
         raise ArgumentError(f"{name} must be an integer, got {shown(value)}")
     return int(as_float)
+
+
+def positive_number(value, name: str, *, zero_allowed: bool = False) -> float:
+    """A finite number > 0 (``zero_allowed``: >= 0) as a float, else an
+    [`ArgumentError`][spacearm.ArgumentError] naming ``name`` (an option of the Python layer that
+    the core does not take: an environment's weights, a video's speed)."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        v = math.nan
+    if not (math.isfinite(v) and (v >= 0 if zero_allowed else v > 0)):
+        raise ArgumentError(f"{name} must be a finite number {'>=' if zero_allowed else '>'} 0, got {value!r}")
+    return v
 
 
 #: The largest count a door passes to the core (its `usize`; PyO3 raises a builtin

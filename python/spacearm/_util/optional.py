@@ -35,6 +35,10 @@ EXTRAS = {
     "Basilisk": "basilisk",
 }
 
+#: The pip distribution of an optional package that is in no extra, where its name differs
+#: from the package's (``pip install pin`` gives ``import pinocchio``).
+PIP_NAMES = {"pinocchio": "pin"}
+
 
 def require(module: str, purpose: str) -> ModuleType:
     """Import ``module`` (e.g. ``"matplotlib.figure"``) or raise a MissingDependencyError.
@@ -48,6 +52,6 @@ def require(module: str, purpose: str) -> ModuleType:
         if exc.name is not None and exc.name.split(".")[0] != top:
             raise  # the package is there but broken: show the real import error
         extra = EXTRAS.get(top)
-        hint = f'pip install "spacearm[{extra}]"' if extra else f"pip install {top}"
+        hint = f'pip install "spacearm[{extra}]"' if extra else f"pip install {PIP_NAMES.get(top, top)}"
         raise MissingDependencyError(f"{top} is needed for {purpose} but is not installed: {hint}",
                                      package=top, extra=extra) from None

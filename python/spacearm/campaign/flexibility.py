@@ -18,8 +18,8 @@ independent of the workers, and a campaign without flexibility draws exactly wha
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
-from typing import Dict, Optional, Tuple, Union
+from dataclasses import dataclass, field, fields
+from typing import ClassVar, Dict, Optional, Tuple, Union
 
 import numpy as np
 
@@ -44,16 +44,39 @@ def _finite(value, what: str) -> float:
     return float(value)
 
 
-@dataclass(frozen=True)
-class Fixed:
-    """Always ``value`` (the nominal value too)."""
+class _Distribution:
+    """What the four distributions share: each field a finite number (named ``Class.field`` in the
+    error), ``_check`` for the distribution's own rule, unpickled through the validating
+    constructor, and ``to_dict`` as ``{"kind": _kind, <fields>}``."""
 
     __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
 
-    value: float
+    _kind: ClassVar[str]
 
     def __post_init__(self):
-        object.__setattr__(self, "value", _finite(self.value, "Fixed.value"))
+        for f in fields(self):
+            object.__setattr__(self, f.name, _finite(getattr(self, f.name), f"{type(self).__name__}.{f.name}"))
+        self._check()
+
+    def _check(self) -> None:
+        """The distribution's own rule on its (finite) fields."""
+
+    def _nonnegative(self, name: str) -> None:
+        value = getattr(self, name)
+        if value < 0:
+            raise ArgumentError(f"{type(self).__name__}.{name} must be >= 0, got {value}")
+
+    def to_dict(self) -> dict:
+        return {"kind": self._kind, **{f.name: getattr(self, f.name) for f in fields(self)}}
+
+
+@dataclass(frozen=True)
+class Fixed(_Distribution):
+    """Always ``value`` (the nominal value too)."""
+
+    value: float
+
+    _kind: ClassVar[str] = "fixed"
 
     @property
     def nominal(self) -> float:
@@ -66,25 +89,19 @@ class Fixed:
         """``(low, low attained, high, high attained)``: the bounds of a draw."""
         return (self.value, True, self.value, True)
 
-    def to_dict(self) -> dict:
-        return {"kind": "fixed", "value": self.value}
-
 
 @dataclass(frozen=True)
-class Uniform:
+class Uniform(_Distribution):
     """Uniform on ``[low, high]``; nominal value the midpoint."""
-
-    __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
 
     low: float
     high: float
 
-    def __post_init__(self):
-        lo, hi = _finite(self.low, "Uniform.low"), _finite(self.high, "Uniform.high")
-        if not lo <= hi:
-            raise ArgumentError(f"Uniform needs low <= high, got low={lo}, high={hi}")
-        object.__setattr__(self, "low", lo)
-        object.__setattr__(self, "high", hi)
+    _kind: ClassVar[str] = "uniform"
+
+    def _check(self) -> None:
+        if not self.low <= self.high:
+            raise ArgumentError(f"Uniform needs low <= high, got low={self.low}, high={self.high}")
 
     @property
     def nominal(self) -> float:
@@ -97,24 +114,18 @@ class Uniform:
         """``(low, low attained, high, high attained)``: the bounds of a draw."""
         return (self.low, True, self.high, True)
 
-    def to_dict(self) -> dict:
-        return {"kind": "uniform", "low": self.low, "high": self.high}
-
 
 @dataclass(frozen=True)
-class Normal:
+class Normal(_Distribution):
     """Normal with ``mean`` and standard deviation ``std``; nominal value the mean."""
-
-    __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
 
     mean: float
     std: float
 
-    def __post_init__(self):
-        object.__setattr__(self, "mean", _finite(self.mean, "Normal.mean"))
-        object.__setattr__(self, "std", _finite(self.std, "Normal.std"))
-        if self.std < 0:
-            raise ArgumentError(f"Normal.std must be >= 0, got {self.std}")
+    _kind: ClassVar[str] = "normal"
+
+    def _check(self) -> None:
+        self._nonnegative("std")
 
     @property
     def nominal(self) -> float:
@@ -127,24 +138,18 @@ class Normal:
         """``(low, low attained, high, high attained)``: unbounded unless ``std`` is 0."""
         return (self.mean, True, self.mean, True) if self.std == 0 else (-math.inf, False, math.inf, False)
 
-    def to_dict(self) -> dict:
-        return {"kind": "normal", "mean": self.mean, "std": self.std}
-
 
 @dataclass(frozen=True)
-class LogNormal:
+class LogNormal(_Distribution):
     """``median · exp(sigma z)``, ``z ~ N(0, 1)``: always of the median's sign; nominal value the median."""
-
-    __reduce__ = _reduce_through_constructor  # unpickled through the validating constructor
 
     median: float
     sigma: float
 
-    def __post_init__(self):
-        object.__setattr__(self, "median", _finite(self.median, "LogNormal.median"))
-        object.__setattr__(self, "sigma", _finite(self.sigma, "LogNormal.sigma"))
-        if self.sigma < 0:
-            raise ArgumentError(f"LogNormal.sigma must be >= 0, got {self.sigma}")
+    _kind: ClassVar[str] = "lognormal"
+
+    def _check(self) -> None:
+        self._nonnegative("sigma")
 
     @property
     def nominal(self) -> float:
@@ -159,9 +164,6 @@ class LogNormal:
         if self.sigma == 0 or self.median == 0:
             return (self.median, True, self.median, True)
         return (0.0, False, math.inf, False) if self.median > 0 else (-math.inf, False, 0.0, False)
-
-    def to_dict(self) -> dict:
-        return {"kind": "lognormal", "median": self.median, "sigma": self.sigma}
 
 
 Distribution = Union[Fixed, Uniform, Normal, LogNormal]
@@ -193,11 +195,11 @@ def _check_support(name: str, dist: "Distribution") -> None:
             f"Flexibility.{name}: {dist!r} draws values in {_interval(lo, lo_at, hi, hi_at)}, outside {name}'s "
             f"{_interval(d_lo, lo_in, d_hi, hi_in)}: every sample drawn there would fail; use a distribution whose "
             f"values all lie in {_interval(d_lo, lo_in, d_hi, hi_in)} (a Uniform or a Fixed value)")
-_KINDS = {"fixed": Fixed, "uniform": Uniform, "normal": Normal, "lognormal": LogNormal}
+_KINDS = {cls._kind: cls for cls in (Fixed, Uniform, Normal, LogNormal)}
 
 
 def _distribution(value, what: str) -> Distribution:
-    if isinstance(value, (Fixed, Uniform, Normal, LogNormal)):
+    if isinstance(value, _Distribution):
         return value
     if isinstance(value, dict):
         d = dict(value)

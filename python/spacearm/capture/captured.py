@@ -26,13 +26,12 @@ from typing import NamedTuple, Optional
 
 import numpy as np
 
-from .._util.spec import controller_spec
 from .. import _core
 from .._util.summary import summary_repr
 from .._util.arrays import number, vector
 from ..errors import ArgumentError
 from ..rotations import quat_from_matrix
-from ..sim.simulation import DEFAULTS, _check_controller, _options
+from ..sim.simulation import _recorded_floating_run
 from ..sim.trajectory import Trajectory
 from .impact import _check_target, _robot_point
 
@@ -167,12 +166,7 @@ def soft_capture(robot, x, u, target, target_state, duration: float, *, frequenc
     omega, zeta = number(frequency, "frequency"), number(damping_ratio, "damping_ratio")
     names = ("stiffness", "damping", "rotational_stiffness", "rotational_damping")
     given = [None if v is None else number(v, name) for v, name in zip((stiffness, damping, rotational_stiffness, rotational_damping), names)]
-    _check_controller(controller)
-    rtol = number(rtol, "rtol")
-    atol = rtol * 1e-2 if atol is None else number(atol, "atol")
-    options = _options(robot, mode="floating", integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=None, thrusters=None,
-                       record_every=1, joint_limits=DEFAULTS["joint_limits"], max_steps=DEFAULTS["max_steps"], record_dtype="float64")
-    spec = None if controller is None else controller_spec(controller)
+    options, spec = _recorded_floating_run(robot, controller, integrator, dt, rtol, atol)
     tx, tu = target.xu(s)
     res = _core.soft_capture(robot.core_model, xv, uv, int(body), np.asarray(offset, dtype=float), target.body.core_model, tx, tu,
                              int(tbody), np.asarray(tpoint, dtype=float), duration, options, spec, frequency=omega, damping_ratio=zeta,

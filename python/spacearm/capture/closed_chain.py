@@ -22,12 +22,10 @@ from typing import NamedTuple, Optional
 
 import numpy as np
 
-from .._util.spec import controller_spec
 from .. import _core
 from .._util.summary import summary_repr
 from .._util.arrays import number, vector
-from ..errors import ArgumentError
-from ..sim.simulation import DEFAULTS, _check_controller, _options
+from ..sim.simulation import _recorded_floating_run
 from ..sim.trajectory import Trajectory
 
 __all__ = ["ClosedChainRun", "simulate_closed_chain", "loop_closure_terms"]
@@ -48,10 +46,10 @@ class ClosedChainRun(NamedTuple):
 
 
 def _frames(robot, point_a, point_b):
+    """The two frames as the core takes them; two on one body are the core's refusal
+    (``LoopClosure::at``, algorithms/constrained.rs)."""
     ba, oa = robot.resolve_point(point_a)
     bb, ob = robot.resolve_point(point_b)
-    if ba == bb:
-        raise ArgumentError("the two grasp frames are on the same body: no loop to close")
     return int(ba), np.asarray(oa, dtype=float), int(bb), np.asarray(ob, dtype=float)
 
 
@@ -79,12 +77,7 @@ def simulate_closed_chain(robot, x0, u0, duration: float, point_a, point_b, *, d
     # The core judges duration, dt and stabilization; Python converts them.
     duration, dt, alpha = number(duration, "duration"), number(dt, "dt"), number(stabilization, "stabilization")
     frames = _frames(robot, point_a, point_b)
-    _check_controller(controller)
-    rtol = number(rtol, "rtol")
-    atol = rtol * 1e-2 if atol is None else number(atol, "atol")
-    options = _options(robot, mode="floating", integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=None, thrusters=None,
-                       record_every=1, joint_limits=DEFAULTS["joint_limits"], max_steps=DEFAULTS["max_steps"], record_dtype="float64")
-    spec = None if controller is None else controller_spec(controller)
+    options, spec = _recorded_floating_run(robot, controller, integrator, dt, rtol, atol)
     res = _core.simulate_closed_chain(robot.core_model, x0, u0, duration, *frames, options, spec, stabilization=alpha)
     data = {**res.run.records.to_dict(), **res.run.events.to_dict()}
     meta = res.run.meta.to_dict()

@@ -196,13 +196,9 @@ def grasp_impulse(
         locking_work``.
     """
     _check_target(target)
-    if kind not in KINDS:
-        raise ArgumentError(f"kind must be one of {list(KINDS)}, got {kind!r}")
-    if arm not in ARMS:
-        raise ArgumentError(f"arm must be one of {list(ARMS)}, got {arm!r}")
+    # The names of kind and arm and the range of restitution are the core's to judge
+    # (algorithms/impulse.rs: GraspContact::from_name, JointsAtImpact::from_name, check_restitution).
     e = number(restitution, "restitution")
-    if not 0.0 <= e <= 1.0:
-        raise ArgumentError(f"restitution must be in [0, 1], got {e}")
     if kind == "rigid" and e != 0.0:
         raise ArgumentError(f"a rigid grasp is plastic (restitution 0); restitution {e} needs kind='point'")
     xv = vector(x, "x", robot.nx)
@@ -216,5 +212,5 @@ def grasp_impulse(
     # The impulse, both jumps, G_r, G_t, the energy and the locking work: the core's
     # algorithms/impulse.rs (grasp_impact, on its impulse dynamics).
     return _core.grasp_impact(robot.core_model, xv, uv, int(body), np.asarray(offset, dtype=float), target.body.core_model, tx, tu,
-                              int(t_body), np.asarray(t_offset, dtype=float), kind=kind, restitution=e, normal=n, arm=arm,
+                              int(t_body), np.asarray(t_offset, dtype=float), kind=str(kind), restitution=e, normal=n, arm=str(arm),
                              capture_tolerance=tol)

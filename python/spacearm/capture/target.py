@@ -94,9 +94,7 @@ class Target:
             raise ArgumentError(f"target '{self.name}' needs at least one grasp point")
         self.grasp_points = {}
         for key, offset in grasp_points.items():
-            off = vector3(offset, f"target grasp point '{key}'")
-            if not np.all(np.isfinite(off)):
-                raise ArgumentError(f"target grasp point '{key}' must be finite, got {off}")
+            off = vector3(offset, f"target grasp point '{key}'")  # finite, or a NonFiniteError naming it
             self.grasp_points[str(key)] = off
             builder.add_point(str(key), body=self.name, offset=off)
         if shape is None:

@@ -207,10 +207,14 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
         return parse_numbers(target, "--target", len(arm), f"joint goal, one per {'arm' if actuated.all() else 'actuated arm'} joint of '{robot.name}'",
                              "rad, or m for prismatic joints")
 
-    def cartesian_goal(p0):
-        if target is None:
-            return p0 + 0.2
-        return parse_numbers(target, "--target", 3, "end-effector goal x,y,z in the inertial frame", "m")
+    def ee_line():
+        """The end effector's straight line from its initial position to the goal."""
+        if robot.end_effector is None:
+            raise CliError(f"--controller {name} moves the end effector, but '{robot.name}' has none: name one with "
+                           f"--end-effector (points: {', '.join(robot.point_names) or 'none'})")
+        p0 = robot.point_position(x0)
+        goal = p0 + 0.2 if target is None else parse_numbers(target, "--target", 3, "end-effector goal x,y,z in the inertial frame", "m")
+        return control.CartesianLine(p0, goal, 0.0, t_move)
 
     kind = _core.controller_kind(name)  # the core's one table of names (control/spec.rs)
     if kind in ("joint_pd", "computed_torque"):
@@ -220,12 +224,7 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
             return control.JointPD(kp=kp_d if kp is None else kp, kd=kd_d if kd is None else kd, reference=ref)
         return control.ComputedTorque(kp=25.0 if kp is None else kp, kd=10.0 if kd is None else kd, reference=ref)
     if kind == "resolved_motion_rate":
-        if robot.end_effector is None:
-            raise CliError(f"--controller rmrc moves the end effector, but '{robot.name}' has none: name one with "
-                           f"--end-effector (points: {', '.join(robot.point_names) or 'none'})")
-        p0 = robot.point_position(x0)
-        line = control.CartesianLine(p0, cartesian_goal(p0), 0.0, t_move)
-        return control.ResolvedMotionRate(line, gain=2.0 if kp is None else kp)
+        return control.ResolvedMotionRate(ee_line(), gain=2.0 if kp is None else kp)
     if kind == "attitude":
         if not wheels:
             raise CliError(f"--controller attitude needs reaction wheels, but '{robot.name}' has none "
@@ -239,14 +238,9 @@ def build_controller(name: str, robot, x0, u0, *, duration: float, target=None, 
         ref = control.QuinticJoint(q_arm0, joint_goal(), 0.0, t_move)
         return control.Combined(arm=control.ComputedTorque(kp=25.0, kd=10.0, reference=ref), base=base)
     if kind == "coordinated_flying":
-        if robot.end_effector is None:
-            raise CliError(f"--controller coordinated moves the end effector, but '{robot.name}' has none: name one with "
-                           f"--end-effector (points: {', '.join(robot.point_names) or 'none'})")
-        p0 = robot.point_position(x0)
-        line = control.CartesianLine(p0, cartesian_goal(p0), 0.0, t_move)
         # Base pose held (the initial one), end effector along the line.
         gains = {k: v for k, v in (("kp_ee", kp), ("kd_ee", kd)) if v is not None}
-        return control.CoordinatedFlying(ee_reference=line, **gains)
+        return control.CoordinatedFlying(ee_reference=ee_line(), **gains)
     raise CliError(f"--controller must be one of {', '.join(CONTROLLERS)}, got {name!r}")
 
 

@@ -7,12 +7,11 @@ poses from the robot's core kinematics, the plant perturbation from the core's
 
 from __future__ import annotations
 
-import math
 from typing import Optional
 
 import numpy as np
 
-from .._util.arrays import count  # noqa: F401 - the one count rule, used by the envs
+from .._util.arrays import count, positive_number  # noqa: F401 - count: the one count rule, used by the envs
 from ..campaign import scenario as _scenario
 from ..campaign.perturbation import Perturbations
 from ..errors import ArgumentError, NonFiniteError, SimulationError, SpacearmTypeError
@@ -23,26 +22,12 @@ RENDER_MODES = ("rgb_array",)
 
 def positive(value, name: str) -> float:
     """A finite number > 0, else ArgumentError."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ArgumentError(f"{name} must be a finite number > 0, got {value!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise ArgumentError(f"{name} must be a finite number > 0, got {value!r}")
-    return v
+    return positive_number(value, name)
 
 
 def non_negative(value, name: str) -> float:
     """A finite number >= 0, else ArgumentError."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ArgumentError(f"{name} must be a finite number >= 0, got {value!r}") from None
-    if not (math.isfinite(v) and v >= 0):
-        raise ArgumentError(f"{name} must be a finite number >= 0, got {value!r}")
-    return v
-
-
+    return positive_number(value, name, zero_allowed=True)
 
 
 def actions(value, shape: tuple, what: str = "action") -> np.ndarray:
@@ -83,6 +68,16 @@ def check_render_mode(render_mode: Optional[str]) -> Optional[str]:
     if render_mode is not None and render_mode not in RENDER_MODES:
         raise ArgumentError(f"render_mode must be None or one of {list(RENDER_MODES)}, got {render_mode!r}")
     return render_mode
+
+
+def boxes(observations: int, actions: int) -> tuple:
+    """``(observation_space, action_space)`` of an environment: ``observations`` unbounded
+    float64 entries, ``actions`` float32 entries in [-1, 1] (each scaled by the env)."""
+    from .._util.optional import require
+
+    spaces = require("gymnasium", "the Gymnasium environments (spacearm.gym)").spaces
+    return (spaces.Box(-np.inf, np.inf, shape=(observations,), dtype=np.float64),
+            spaces.Box(-1.0, 1.0, shape=(actions,), dtype=np.float32))
 
 
 #: The time (s) in which a full action spins a joint alone from rest up to ``max_joint_rate``

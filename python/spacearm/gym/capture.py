@@ -18,7 +18,6 @@ from ..sim.simulator import Simulator
 from . import _common
 
 gymnasium = require("gymnasium", "the Gymnasium environments (spacearm.gym)")
-spaces = gymnasium.spaces
 
 __all__ = ["CaptureEnv", "default_target", "tumbling_target_state"]
 
@@ -113,8 +112,7 @@ class CaptureEnv(gymnasium.Env):
         self.perturbations = _common.check_randomization(randomize)
         self.render_mode = _common.check_render_mode(render_mode)
         n = self.robot.n_dof
-        self.observation_space = spaces.Box(-np.inf, np.inf, shape=(2 * n + 15,), dtype=np.float64)
-        self.action_space = spaces.Box(-1.0, 1.0, shape=(n,), dtype=np.float32)
+        self.observation_space, self.action_space = _common.boxes(2 * n + 15, n)
         self.metadata = {**self.metadata, "render_fps": int(round(1.0 / (self.dt * self.frame_skip)))}
         self._sim = None
         self._frame = None

@@ -19,7 +19,6 @@ from ..sim.simulation import simulate
 from . import _common
 
 gymnasium = require("gymnasium", "the Gymnasium environments (spacearm.gym)")
-spaces = gymnasium.spaces
 
 __all__ = ["ContactCaptureEnv"]
 
@@ -104,8 +103,7 @@ class ContactCaptureEnv(gymnasium.Env):
         self._closed = np.array([upper[d] if d in fingers else 0.0 for d in self._dofs])
         self._q0 = np.asarray(self.robot.neutral_configuration()[7:], dtype=float)[self._dofs]
         n = self.robot.n_dof
-        self.observation_space = spaces.Box(-np.inf, np.inf, shape=(2 * n + 10,), dtype=np.float64)
-        self.action_space = spaces.Box(-1.0, 1.0, shape=(len(self._dofs),), dtype=np.float32)
+        self.observation_space, self.action_space = _common.boxes(2 * n + 10, len(self._dofs))
         self._target_model = self.capture.target()
         self.metadata = {**self.metadata, "render_fps": max(1, int(round(1.0 / self.period)))}
         self._state = None

@@ -19,7 +19,6 @@ from . import _common
 from .capture import _range, default_target, tumbling_target_state
 
 gymnasium = require("gymnasium", "the Gymnasium environments (spacearm.gym)")
-spaces = gymnasium.spaces
 
 __all__ = ["DetumbleEnv", "wheeled_robot"]
 
@@ -90,8 +89,7 @@ class DetumbleEnv(gymnasium.Env):
         self.perturbations = _common.check_randomization(randomize)
         self.render_mode = _common.check_render_mode(render_mode)
         m = self.robot.n_dof
-        self.observation_space = spaces.Box(-np.inf, np.inf, shape=(2 * m + 3,), dtype=np.float64)
-        self.action_space = spaces.Box(-1.0, 1.0, shape=(m,), dtype=np.float32)
+        self.observation_space, self.action_space = _common.boxes(2 * m + 3, m)
         self.metadata = {**self.metadata, "render_fps": int(round(1.0 / (self.dt * self.frame_skip)))}
         self._sim = None
         self._frame = None

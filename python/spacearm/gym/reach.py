@@ -17,7 +17,6 @@ from ..sim.simulator import Simulator
 from . import _common
 
 gymnasium = require("gymnasium", "the Gymnasium environments (spacearm.gym)")
-spaces = gymnasium.spaces
 
 __all__ = ["ReachTask", "ReachEnv"]
 
@@ -46,8 +45,7 @@ class ReachTask:
         self.max_episode_steps = _common.count(max_episode_steps, "max_episode_steps")
         self.perturbations = _common.check_randomization(randomize)
         n = self.robot.n_dof
-        self.observation_space = spaces.Box(-np.inf, np.inf, shape=(2 * n + 9,), dtype=np.float64)
-        self.action_space = spaces.Box(-1.0, 1.0, shape=(n,), dtype=np.float32)
+        self.observation_space, self.action_space = _common.boxes(2 * n + 9, n)
         self.x0 = self.robot.neutral_configuration()
         self.u0 = self.robot.zero_velocity()
 

@@ -13,7 +13,8 @@ import numpy as np
 
 from .._util.arrays import vector
 from .._util.atomic import atomic_open, write_text
-from ..errors import ArgumentError, MissingDependencyError, ModelError, ModelFileError, NotFoundError
+from .._util.optional import require
+from ..errors import ArgumentError, ModelError, ModelFileError, NotFoundError
 from ..rotations import quat_from_matrix
 from ._common import ROOT_JOINT, _block_transform, _split_x, _square, _tree, engine_dof_order
 
@@ -36,13 +37,7 @@ __all__ = [
 
 
 def _import_mujoco():
-    try:
-        import mujoco
-    except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise MissingDependencyError(
-            "spacearm.interop needs MuJoCo for this function: install it with `pip install mujoco`"
-        ) from exc
-    return mujoco
+    return require("mujoco", "spacearm.interop's MuJoCo functions")
 
 
 def _fmt(values) -> str:

@@ -10,7 +10,7 @@ from typing import Tuple
 import numpy as np
 
 from .._util.arrays import vector
-from ..errors import MissingDependencyError
+from .._util.optional import require
 from ..rotations import skew
 from ._common import ROOT_JOINT, _block_transform, _depth_first, _split_x, _square, _tree, engine_dof_order
 
@@ -30,13 +30,7 @@ __all__ = [
 
 
 def _import_pinocchio():
-    try:
-        import pinocchio
-    except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise MissingDependencyError(
-            "spacearm.interop needs Pinocchio for this function: install it with `pip install pin`"
-        ) from exc
-    return pinocchio
+    return require("pinocchio", "spacearm.interop's Pinocchio functions")
 
 
 def to_pinocchio(robot):

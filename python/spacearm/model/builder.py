@@ -37,18 +37,6 @@ from .robot import Robot, warn_nonphysical_inertia
 __all__ = ["RobotBuilder"]
 
 
-def link_rotation(name: str, rotation, rpy) -> list:
-    """The quaternion ``[x, y, z, w]`` of link ``name``'s axes in its parent's from ``rotation``
-    (quaternion or scipy ``Rotation``) or ``rpy`` (rad), identity when neither is given."""
-    if rotation is not None and rpy is not None:
-        raise ArgumentError(f"link '{name}': give rotation or rpy, not both")
-    if rpy is not None:
-        return quat_from_rpy(*vector(rpy, f"link '{name}' rpy", 3))
-    if rotation is not None:
-        return quaternion(rotation, f"link '{name}' rotation")
-    return IDENTITY_QUAT
-
-
 def link_limits(name: str, limits: Optional[dict]) -> Optional[list]:
     """``[lower, upper, velocity, effort]`` for the core from the dict ``limits`` (missing keys
     unlimited), ``None`` for none."""
@@ -61,9 +49,10 @@ def link_limits(name: str, limits: Optional[dict]) -> Optional[list]:
             for key, default in (("lower", -np.inf), ("upper", np.inf), ("velocity", np.inf), ("effort", np.inf))]
 
 
-def _frame_rotation(rotation, rpy, who: str):
-    """A frame's rotation given as a quaternion ``[x, y, z, w]`` or as ``rpy`` (not both), or
-    the identity."""
+def frame_rotation(rotation, rpy, who: str):
+    """A frame's rotation (a link's axes in its parent's, a part's or a geometry's in its
+    body's) given as a quaternion ``[x, y, z, w]`` (or scipy ``Rotation``) or as ``rpy`` (rad),
+    not both, or the identity; ``who`` names the frame in the errors."""
     if rotation is not None and rpy is not None:
         raise ArgumentError(f"{who}: give rotation or rpy, not both")
     if rpy is not None:
@@ -71,6 +60,22 @@ def _frame_rotation(rotation, rpy, who: str):
     if rotation is not None:
         return quaternion(rotation, f"{who} rotation")
     return IDENTITY_QUAT
+
+
+def _numbers(who: str, **values) -> dict:
+    """Each named scalar as a float, the error of one that is not naming ``who`` and its name
+    (e.g. ``probe 'p' length``); range checks are the core's."""
+    return {key: number(value, f"{who} {key}") for key, value in values.items()}
+
+
+def _optional_numbers(who: str, **values) -> dict:
+    """As ``_numbers``, ``None`` kept (the core's default applies)."""
+    return {key: None if value is None else number(value, f"{who} {key}") for key, value in values.items()}
+
+
+def _vectors3(who: str, **values) -> dict:
+    """Each named 3-vector as a list of floats (``who``'s name in its error)."""
+    return {key: list(vector(value, f"{who} {key}", 3)) for key, value in values.items()}
 
 
 class RobotBuilder:
@@ -161,7 +166,7 @@ class RobotBuilder:
         ``δ = q_link − θ`` carries the series spring ``-k δ - c δ̇``. It takes no
         ``actuated``/``stiffness``/``damping``/``rest`` of its own.
         """
-        quat = link_rotation(name, rotation, rpy)
+        quat = frame_rotation(rotation, rpy, f"link '{name}'")
         lim = link_limits(name, limits)
         # The link as the core reads it: `ModelBuilder.add_link`'s arguments but the dynamics.
         link = (
@@ -469,23 +474,16 @@ class RobotBuilder:
         gi = np.atleast_1d(np.asarray(gimbal_inertia, dtype=float)).ravel()
         if gi.size == 1:
             gi = np.repeat(gi, 3)
-        opt = (lambda v, what: None if v is None else number(v, f"cmg '{name}' {what}"))
+        who = f"cmg '{name}'"
         spec = {
             "name": str(name),
             "parent": None if parent is None else str(parent),
-            "position": list(vector(position, f"cmg '{name}' position", 3)),
-            "gimbal_axis": list(vector(gimbal_axis, f"cmg '{name}' gimbal_axis", 3)),
-            "spin_axis": list(vector(spin_axis, f"cmg '{name}' spin_axis", 3)),
-            "rotor_inertia": number(rotor_inertia, f"cmg '{name}' rotor_inertia"),
-            "rotor_transverse_inertia": opt(rotor_transverse_inertia, "rotor_transverse_inertia"),
-            "gimbal_inertia": list(vector(gi, f"cmg '{name}' gimbal_inertia", 3)),
-            "rotor_mass": number(rotor_mass, f"cmg '{name}' rotor_mass"),
-            "gimbal_mass": number(gimbal_mass, f"cmg '{name}' gimbal_mass"),
+            **_vectors3(who, position=position, gimbal_axis=gimbal_axis, spin_axis=spin_axis, gimbal_inertia=gi),
+            **_numbers(who, rotor_inertia=rotor_inertia, rotor_mass=rotor_mass, gimbal_mass=gimbal_mass),
+            **_optional_numbers(who, rotor_transverse_inertia=rotor_transverse_inertia, max_gimbal_rate=max_gimbal_rate,
+                                max_wheel_speed=max_wheel_speed, max_gimbal_torque=max_gimbal_torque,
+                                max_wheel_torque=max_wheel_torque),
             "variable_speed": bool(variable_speed),
-            "max_gimbal_rate": opt(max_gimbal_rate, "max_gimbal_rate"),
-            "max_wheel_speed": opt(max_wheel_speed, "max_wheel_speed"),
-            "max_gimbal_torque": opt(max_gimbal_torque, "max_gimbal_torque"),
-            "max_wheel_torque": opt(max_wheel_torque, "max_wheel_torque"),
         }
         return self._add_parts(_core.cmg_parts(spec, self._base_name))
 
@@ -517,21 +515,19 @@ class RobotBuilder:
         ``<name>_tip<i>`` at its tip; the palm the point ``<name>_center``. ``max_force``: the
         finger motors' effort limit (N, or N·m for revolute fingers).
         """
-        quat = _frame_rotation(rotation, rpy, f"gripper '{name}'")
+        who = f"gripper '{name}'"
+        quat = frame_rotation(rotation, rpy, who)
         if isinstance(fingers, bool) or not isinstance(fingers, (int, np.integer)):
-            raise ArgumentError(f"gripper '{name}': fingers must be 2 or 3, got {fingers!r}")
+            raise ArgumentError(f"{who}: fingers must be 2 or 3, got {fingers!r}")
         spec = {
             "name": str(name),
             "parent": None if parent is None else str(parent),
-            "position": list(vector(position, f"gripper '{name}' position", 3)),
+            **_vectors3(who, position=position),
             "rotation": [float(v) for v in quat],
             "fingers": int(fingers),
-            "finger_length": number(finger_length, f"gripper '{name}' finger_length"),
-            "finger_radius": number(finger_radius, f"gripper '{name}' finger_radius"),
-            "opening": number(opening, f"gripper '{name}' opening"),
-            "finger_mass": number(finger_mass, f"gripper '{name}' finger_mass"),
-            "palm_mass": number(palm_mass, f"gripper '{name}' palm_mass"),
-            "max_force": None if max_force is None else number(max_force, f"gripper '{name}' max_force"),
+            **_numbers(who, finger_length=finger_length, finger_radius=finger_radius, opening=opening,
+                       finger_mass=finger_mass, palm_mass=palm_mass),
+            **_optional_numbers(who, max_force=max_force),
         }
         links, points, geometries = _core.gripper_parts(spec, self._base_name)
         for args in links:
@@ -561,10 +557,9 @@ class RobotBuilder:
         ``<name>_head`` (a ball of ``head_radius``, default ``radius``) and the point
         ``<name>_tip`` at the segment's end. Name the head in the contact pairs: it is what
         meets a drogue."""
+        who = f"probe '{name}'"
         return self._add_docking("probe", name, body, position, rotation, rpy,
-                                 {"length": number(length, f"probe '{name}' length"),
-                                  "radius": number(radius, f"probe '{name}' radius"),
-                                  "head_radius": None if head_radius is None else number(head_radius, f"probe '{name}' head_radius")})
+                                 {**_numbers(who, length=length, radius=radius), **_optional_numbers(who, head_radius=head_radius)})
 
     def add_drogue(
         self,
@@ -589,19 +584,14 @@ class RobotBuilder:
         ``<name>_mouth``."""
         if isinstance(ribs, bool) or not isinstance(ribs, (int, np.integer)):
             raise ArgumentError(f"drogue '{name}': ribs must be an integer >= 3, got {ribs!r}")
-        return self._add_docking("drogue", name, body, position, rotation, rpy, {
-            "mouth_radius": number(mouth_radius, f"drogue '{name}' mouth_radius"),
-            "throat_radius": number(throat_radius, f"drogue '{name}' throat_radius"),
-            "depth": number(depth, f"drogue '{name}' depth"),
-            "rib_radius": number(rib_radius, f"drogue '{name}' rib_radius"),
-            "ribs": int(ribs),
-        })
+        fields = _numbers(f"drogue '{name}'", mouth_radius=mouth_radius, throat_radius=throat_radius, depth=depth,
+                          rib_radius=rib_radius)
+        return self._add_docking("drogue", name, body, position, rotation, rpy, {**fields, "ribs": int(ribs)})
 
     def _add_docking(self, kind, name, body, position, rotation, rpy, fields) -> "RobotBuilder":
-        quat = _frame_rotation(rotation, rpy, f"{kind} '{name}'")
+        quat = frame_rotation(rotation, rpy, f"{kind} '{name}'")
         spec = {"name": str(name), "body": self._base_name if body is None else str(body),
-                "position": list(vector(position, f"{kind} '{name}' position", 3)),
-                "rotation": [float(v) for v in quat], **fields}
+                **_vectors3(f"{kind} '{name}'", position=position), "rotation": [float(v) for v in quat], **fields}
         points, geometries = _core.docking_parts(kind, spec)
         for gname, gbody, role, shape, radius, length, origin, rot in geometries:
             self.add_geometry(gbody, shape, role=role, radius=radius, length=None if shape == "sphere" else length,
@@ -645,7 +635,7 @@ class RobotBuilder:
         (default ``<body>_<role><k>``).
         """
         who = f"geometry '{name}'" if name is not None else f"geometry on '{body}'"
-        quat = _frame_rotation(rotation, rpy, who)
+        quat = frame_rotation(rotation, rpy, who)
         kwargs = dict(
             role=str(role), shape=str(shape), origin=list(vector(origin, f"{who} origin", 3)), rotation=list(quat),
             size=None if size is None else list(vector(size, f"{who} size", 3)),

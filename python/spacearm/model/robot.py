@@ -139,12 +139,12 @@ class Robot:
         is its ``rest``). Every other body, joint, point, shape and initial ``q`` is kept bit for
         bit. ``model_name`` renames the result.
         """
-        from .builder import RobotBuilder, link_limits, link_rotation
+        from .builder import RobotBuilder, frame_rotation, link_limits
 
         who = f"link '{name}'"
         dynamics = RobotBuilder._joint_dynamics(name, actuated, stiffness, damping, rest)
         core = _core.model_attach_body(
-            self._m, str(name), str(body), list(vector(origin, f"{who} origin", 3)), list(link_rotation(name, rotation, rpy)),
+            self._m, str(name), str(body), list(vector(origin, f"{who} origin", 3)), list(frame_rotation(rotation, rpy, who)),
             number(mass, f"{who} mass"), matrix3(inertia, f"{who} inertia"),
             joint_type=str(joint), axis=list(vector(axis, f"{who} axis", 3)), com=list(vector(com, f"{who} com", 3)),
             joint_name=None if joint_name is None else str(joint_name), limits=link_limits(name, limits), dynamics=dynamics,
@@ -165,12 +165,12 @@ class Robot:
         """
         if not isinstance(other, Robot):
             raise SpacearmTypeError(f"attach needs a spacearm.Robot to attach, got {type(other).__name__}")
-        from .builder import link_rotation
+        from .builder import frame_rotation
 
         prefix = f"{other.name}_" if prefix is None else str(prefix)
         core = _core.model_attach_model(
             self._m, other._m, str(body), list(vector(origin, "attach origin", 3)),
-            list(link_rotation(other.name if name is None else name, rotation, rpy)), prefix,
+            list(frame_rotation(rotation, rpy, f"link '{other.name if name is None else name}'")), prefix,
             base_link=None if name is None else str(name), model_name=None if model_name is None else str(model_name))
         return self._edited(core)
 
@@ -548,7 +548,7 @@ class Robot:
         if f is None:
             return self._m.forward_dynamics_tau(x, u, tau, base_wrench, ext, method)
         if tau is not None or base_wrench is not None:
-            raise ArgumentError("give either f or tau/base_wrench, not both")
+            raise _both_force_forms()
         return self._m.forward_dynamics(x, u, f, ext, method)
 
     # ---- generalized (reduced) quantities ------------------------------------------------
@@ -632,7 +632,7 @@ class Robot:
                 raise ShapeError(f"tau has {t.shape[0]} rows but base_wrench has {b.shape[0]}")
             return np.concatenate([np.broadcast_to(b, (lead, 6)), np.broadcast_to(t, (lead, self.n_dof))], axis=1)
         if tau is not None or base_wrench is not None:
-            raise ArgumentError("give either f or tau/base_wrench, not both")
+            raise _both_force_forms()
         return f
 
     def configuration_plus(self, x, dx) -> np.ndarray:
@@ -724,7 +724,7 @@ class Robot:
         if f is None:
             return ForwardDynamicsDerivatives(*self._derivatives().forward_dynamics_derivatives_tau(x, u, tau, base_wrench, ext, dual))
         if tau is not None or base_wrench is not None:
-            raise ArgumentError("give either f or tau/base_wrench, not both")
+            raise _both_force_forms()
         return ForwardDynamicsDerivatives(*self._derivatives().forward_dynamics_derivatives(x, u, f, ext, dual))
 
     def inverse_dynamics_partials(self, x, u, du, wrenches=None, *, method: str = "analytic") -> "InverseDynamicsPartials":
@@ -759,6 +759,13 @@ class Robot:
         dual = self._dual(method)
         a, b = self._derivatives().linearize(x, u, self._force(f, tau, base_wrench), inputs == "joints", dual)
         return Linearization(a, b)
+
+
+def _both_force_forms() -> ArgumentError:
+    """The error of a call given ``f`` and ``tau``/``base_wrench`` too (the forms of the
+    generalized force of ``forward_dynamics``, ``forward_dynamics_derivatives``, ``linearize``);
+    raised by the caller, whose check stays inline on the hot path."""
+    return ArgumentError("give either f or tau/base_wrench, not both")
 
 
 #: Builds a NamedTuple from the core's plain tuple in C (its generated ``__new__`` is a Python

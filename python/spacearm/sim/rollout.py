@@ -170,7 +170,7 @@ def rollout(
             m["robot"] = robot.name
     first = next((m for m in meta if m is not None), None)
     if first is not None:
-        _warn_dropped(mode, first, stacklevel=2)
+        _warn_dropped(first, stacklevel=2)
     return Rollouts(robot, plants, batch, meta)
 
 

@@ -22,7 +22,7 @@ import numpy as np
 
 from .._util.spec import controller_spec, data as spec_data
 from .. import _core
-from .._util.arrays import count, vector
+from .._util.arrays import count, number, vector
 from ..control import Thrusters, _Controller
 from ..errors import ArgumentError, NotFoundError
 from .events import stop_data
@@ -112,19 +112,26 @@ def _check_controller(controller, what: str = "controller"):
         )
 
 
+def _recorded_floating_run(robot, controller, integrator, dt, rtol, atol):
+    """``(options, controller spec)`` of a floating-mode run recording every step, ``atol``
+    defaulting to ``rtol * 1e-2`` (the soft capture's and the closed chain's runs)."""
+    _check_controller(controller)
+    rtol = number(rtol, "rtol")
+    atol = rtol * 1e-2 if atol is None else number(atol, "atol")
+    options = _options(robot, mode="floating", integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=None, thrusters=None,
+                       record_every=1, joint_limits=DEFAULTS["joint_limits"], max_steps=DEFAULTS["max_steps"], record_dtype="float64")
+    return options, None if controller is None else controller_spec(controller)
+
+
 def _options(robot, *, mode, integrator, dt, rtol, atol, wheels, thrusters, record_every, joint_limits, max_steps, record_dtype,
              progress=None, orbit=None, gravity_gradient=None, stop=None, contact=None) -> _core.RunOptions:
     """The options of the core's simulation entry points (``_core.simulate``, ``_core.rollout``,
     ``_core.Simulator``), every value checked; ``progress``: None or a callable(fraction)."""
-    if not isinstance(mode, str) or mode not in MODES:
-        raise ArgumentError(f"mode must be one of {list(MODES)}, got {mode!r}")
-    if not isinstance(integrator, str) or integrator not in INTEGRATORS:
-        raise ArgumentError(f"integrator must be one of {list(INTEGRATORS)}, got {integrator!r}")
+    # The names of mode and integrator, record_dtype and the numbers are judged by the core
+    # (RunOptions: "mode must be one of [...]", ...).
     if thrusters is not None and not isinstance(thrusters, Thrusters):
         raise ArgumentError(f"thrusters must be a spacearm.control.Thrusters, got {type(thrusters).__name__}")
     record_every, max_steps = count(record_every, "record_every"), count(max_steps, "max_steps")
-    if record_dtype not in RECORD_DTYPES:
-        raise ArgumentError(f"record_dtype must be one of {list(RECORD_DTYPES)}, got {record_dtype!r}")
     from ..contact import ContactModel
 
     if contact is not None and not isinstance(contact, ContactModel):
@@ -162,12 +169,12 @@ def orbit_meta(options: _core.RunOptions) -> dict:
     }
 
 
-def _warn_dropped(mode: str, meta: dict, stacklevel: int) -> None:
-    """Warn that the mode dropped part of the commanded base wrench, if it did."""
+def _warn_dropped(meta: dict, stacklevel: int) -> None:
+    """Warn that the run's mode dropped part of the commanded base wrench, if it did."""
     dropped = meta["dropped_base_wrench"]
     if dropped["count"]:
         warnings.warn(
-            f"mode '{mode}' does not allow part of the base wrench the controller commanded; it was dropped in "
+            f"mode '{meta['mode']}' does not allow part of the base wrench the controller commanded; it was dropped in "
             f"{dropped['count']} evaluations (largest dropped norm {dropped['max_norm']:.3g}); see meta['dropped_base_wrench']",
             RuntimeWarning,
             stacklevel=stacklevel + 1,
@@ -206,86 +213,6 @@ def _warn_passive_commanded(robot, data: dict, meta: dict, stacklevel: int) -> N
             RuntimeWarning,
             stacklevel=stacklevel + 1,
         )
-
-
-def _run(
-    robot,
-    duration,
-    *,
-    x0=None,
-    u0=None,
-    mode: str = DEFAULTS["mode"],
-    integrator: str = DEFAULTS["integrator"],
-    dt: float = DEFAULTS["dt"],
-    rtol: float = DEFAULTS["rtol"],
-    atol: float = DEFAULTS["atol"],
-    controller=None,
-    wheels=None,
-    thrusters: Optional[Thrusters] = None,
-    record_every: int = DEFAULTS["record_every"],
-    progress: Union[bool, Callable[[float], None]] = False,
-    joint_limits: bool = DEFAULTS["joint_limits"],
-    max_steps: int = DEFAULTS["max_steps"],
-    record_dtype: str = "float64",
-    orbit=None,
-    gravity_gradient: Optional[bool] = None,
-    stop=None,
-    contact=None,
-    events=None,
-    target=None,
-    target_state=None,
-):
-    """The simulation proper: ``(data, meta)`` dicts of numpy arrays and run description."""
-    _check_robot(robot, "simulate")
-    duration = _check_duration(duration)
-    option_args = dict(
-        mode=mode, integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=wheels, thrusters=thrusters,
-        record_every=record_every, joint_limits=joint_limits, max_steps=max_steps, record_dtype=record_dtype,
-        orbit=orbit, gravity_gradient=gravity_gradient, stop=stop, contact=contact,
-    )
-    options = _options(robot, **option_args)
-    x0 = robot.neutral_configuration() if x0 is None else vector(x0, "x0")
-    u0 = robot.zero_velocity() if u0 is None else vector(u0, "u0")
-    _check_controller(controller)
-    callback, close = _progress_callable(progress)
-    spec = None if controller is None else controller_spec(controller)
-    try:
-        if callback is not None:
-            # The options were checked first, before the progress callable (maybe a bar) was
-            # made; they are built again with it.
-            options = _options(robot, **option_args, progress=callback)
-        # The core's one entry decides the loop (sim/run.rs): the robot alone, a free target in
-        # the loop of contact, topology events, or both.
-        model, state = _second_system(target, target_state)
-        result = _core.simulate(robot.core_model, x0, u0, duration, options, spec, _events_data(events), model, state)
-    finally:
-        close()
-    # The typed run result as the public plain form: the records and saturation onsets as one
-    # dict of its arrays (no copy), the description as the meta dict (Trajectory's own form, as
-    # Trajectory.load gives it back from a file; plain data, so a Trajectory pickles).
-    data = {**result.records.to_dict(), **result.events.to_dict()}
-    meta = result.meta.to_dict()
-    meta["duration"] = duration
-    meta["robot"] = robot.name
-    if orbit is not None:
-        meta["orbit"] = orbit_meta(options)
-    if contact is not None:
-        meta["contact"] = options.contact
-    topology = result.topology
-    if topology is not None:
-        # a second system: its rows (K, ...) and ledger, and the events that happened
-        topology = dict(topology)
-        bodies = topology.pop("event_body")
-        topology.pop("final_model")
-        meta["events"] = [
-            {"event": int(i), "kind": ("attach", "detach")[int(k)], "t": float(t), "body": b}
-            for i, k, t, b in zip(topology["event_index"], topology["event_kind"], topology["event_t"], bodies)
-        ]
-        data.update(topology)
-    _warn_dropped(mode, meta, stacklevel=3)
-    _warn_unreachable(meta, stacklevel=3)
-    _warn_passive_commanded(robot, data, meta, stacklevel=3)
-    return data, meta
 
 
 def _second_system(target, target_state):
@@ -447,32 +374,55 @@ def simulate(
     (``saturation_t``, ``saturation_actuator`` indexing ``meta["actuator_names"]``,
     ``saturation_kind`` 0 torque, 1 speed, 2 thruster).
     """
-    data, meta = _run(
-        robot,
-        duration,
-        x0=x0,
-        u0=u0,
-        mode=mode,
-        integrator=integrator,
-        dt=dt,
-        rtol=rtol,
-        atol=atol,
-        controller=controller,
-        wheels=wheels,
-        thrusters=thrusters,
-        record_every=record_every,
-        progress=progress,
-        joint_limits=joint_limits,
-        max_steps=max_steps,
-        record_dtype=record_dtype,
-        orbit=orbit,
-        gravity_gradient=gravity_gradient,
-        stop=stop,
-        contact=contact,
-        events=events,
-        target=target,
-        target_state=target_state,
+    _check_robot(robot, "simulate")
+    duration = _check_duration(duration)
+    option_args = dict(
+        mode=mode, integrator=integrator, dt=dt, rtol=rtol, atol=atol, wheels=wheels, thrusters=thrusters,
+        record_every=record_every, joint_limits=joint_limits, max_steps=max_steps, record_dtype=record_dtype,
+        orbit=orbit, gravity_gradient=gravity_gradient, stop=stop, contact=contact,
     )
+    options = _options(robot, **option_args)
+    x0 = robot.neutral_configuration() if x0 is None else vector(x0, "x0")
+    u0 = robot.zero_velocity() if u0 is None else vector(u0, "u0")
+    _check_controller(controller)
+    callback, close = _progress_callable(progress)
+    spec = None if controller is None else controller_spec(controller)
+    try:
+        if callback is not None:
+            # The options were checked first, before the progress callable (maybe a bar) was
+            # made; they are built again with it.
+            options = _options(robot, **option_args, progress=callback)
+        # The core's one entry decides the loop (sim/run.rs): the robot alone, a free target in
+        # the loop of contact, topology events, or both.
+        model, state = _second_system(target, target_state)
+        result = _core.simulate(robot.core_model, x0, u0, duration, options, spec, _events_data(events), model, state)
+    finally:
+        close()
+    # The typed run result as the public plain form: the records and saturation onsets as one
+    # dict of its arrays (no copy), the description as the meta dict (Trajectory's own form, as
+    # Trajectory.load gives it back from a file; plain data, so a Trajectory pickles).
+    data = {**result.records.to_dict(), **result.events.to_dict()}
+    meta = result.meta.to_dict()
+    meta["duration"] = duration
+    meta["robot"] = robot.name
+    if orbit is not None:
+        meta["orbit"] = orbit_meta(options)
+    if contact is not None:
+        meta["contact"] = options.contact
+    topology = result.topology
+    if topology is not None:
+        # a second system: its rows (K, ...) and ledger, and the events that happened
+        topology = dict(topology)
+        bodies = topology.pop("event_body")
+        topology.pop("final_model")
+        meta["events"] = [
+            {"event": int(i), "kind": ("attach", "detach")[int(k)], "t": float(t), "body": b}
+            for i, k, t, b in zip(topology["event_index"], topology["event_kind"], topology["event_t"], bodies)
+        ]
+        data.update(topology)
+    _warn_dropped(meta, stacklevel=2)
+    _warn_unreachable(meta, stacklevel=2)
+    _warn_passive_commanded(robot, data, meta, stacklevel=2)
     from .trajectory import Trajectory
 
     return Trajectory._adopt(robot, data, meta)

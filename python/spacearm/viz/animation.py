@@ -24,7 +24,7 @@ from .._util.summary import controller_label
 from .._util.atomic import atomic_path
 from ..errors import ArgumentError
 
-__all__ = ["animate_trajectory", "trajectory_scene", "equivalent_box", "arm_segments", "box_faces"]
+__all__ = ["animate_trajectory", "trajectory_scene", "write_gif", "equivalent_box", "arm_segments", "box_faces"]
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -192,6 +192,14 @@ def animate_trajectory(
     robot = traj.robot
     if robot is None:
         raise ArgumentError("animate needs the robot: build the Trajectory with robot=..., or load() a file saved with one")
+    return write_gif(path, len(traj), frames, fps, dpi,
+                     lambda idx: trajectory_scene(traj, idx, figsize=(size, size), trail=trail, elev=elev, azim=azim, title=title))
+
+
+def write_gif(path: PathLike, samples: int, frames, fps, dpi, scene) -> str:
+    """Write a GIF to ``path`` (atomically) and return the path: ``frames`` key samples spread
+    evenly over a run's ``samples`` (at most all of them), played at ``fps``; ``scene(idx)``
+    gives the figure and its ``draw(j)`` of key frame ``j``."""
     if int(frames) < 1:
         raise ArgumentError(f"frames must be >= 1, got {frames}")
     if int(fps) < 1:
@@ -199,11 +207,8 @@ def animate_trajectory(
     from .._util.optional import require
 
     PillowWriter = require("matplotlib.animation", "animations").PillowWriter
-
-    k_total = len(traj)
-    idx = np.unique(np.linspace(0, k_total - 1, min(int(frames), k_total)).round().astype(int))
-    fig, draw = trajectory_scene(traj, idx, figsize=(size, size), trail=trail, elev=elev, azim=azim, title=title)
-
+    idx = np.unique(np.linspace(0, samples - 1, min(int(frames), samples)).round().astype(int))
+    fig, draw = scene(idx)
     # The writer is driven directly rather than through FuncAnimation.save, which draws every
     # frame twice on a non-interactive canvas (once to "show" it, once to grab it).
     writer = PillowWriter(fps=int(fps))

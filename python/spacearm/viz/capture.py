@@ -6,9 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._util.atomic import atomic_path
 from .._util.optional import require
-from .animation import arm_segments, box_faces, equivalent_box
+from .animation import arm_segments, box_faces, equivalent_box, write_gif
 from .figures import new_figure, save_figure
 
 __all__ = ["plot_capture", "animate_capture", "capture_scene", "plot_envelope"]
@@ -183,16 +182,7 @@ def capture_scene(result, idx, *, figsize, dpi: float = 100.0):
 def animate_capture(result, path, *, frames: int = 40, fps: int = 10, dpi: int = 72, size: float = 4.5) -> str:
     """A GIF: the base (its equivalent box), the arm, the target (its equivalent box) and the
     grasp point's path; the title gives the phase and time."""
-    PillowWriter = require("matplotlib.animation", "animations").PillowWriter
-    idx = np.unique(np.linspace(0, len(result.t) - 1, min(int(frames), len(result.t))).round().astype(int))
-    fig, draw = capture_scene(result, idx, figsize=(size, size))
-    writer = PillowWriter(fps=int(fps))
-    with atomic_path(path, suffix=".gif") as tmp:
-        with writer.saving(fig, str(tmp), dpi=dpi):
-            for j in range(len(idx)):
-                draw(j)
-                writer.grab_frame()
-    return str(path)
+    return write_gif(path, len(result.t), frames, fps, dpi, lambda idx: capture_scene(result, idx, figsize=(size, size)))
 
 
 def plot_envelope(envelope, path=None):

@@ -49,6 +49,7 @@ from typing import Callable, Iterator, NamedTuple, Optional, Tuple
 
 import numpy as np
 
+from .._util.arrays import positive_number
 from .._util.atomic import atomic_path
 from .._util.optional import require
 from ..errors import ArgumentError, MissingDependencyError, ModelFileError, SpacearmTypeError
@@ -121,12 +122,7 @@ def check_video_options(path, *, width=1280, height=720, fps=30, speed=1.0, rend
     f = _integer(fps, "fps")
     if not 1 <= f <= MAX_FPS:
         raise ArgumentError(f"fps must be in [1, {MAX_FPS}] frames per second, got {f}")
-    try:
-        s = float(speed)
-    except (TypeError, ValueError):
-        raise ArgumentError(f"speed must be a number (the playback speed, 1 = real time), got {speed!r}") from None
-    if not (math.isfinite(s) and s > 0):
-        raise ArgumentError(f"speed must be finite and > 0 (1 = real time), got {speed!r}")
+    s = positive_number(speed, "speed (the playback speed, 1 = real time)")
     if renderer not in RENDERERS:
         raise ArgumentError(f"renderer must be one of {', '.join(map(repr, RENDERERS))}, got {renderer!r}")
     return {"width": w, "height": h, "fps": f, "speed": s, "renderer": renderer}

@@ -852,6 +852,32 @@ def _finish(scene: Scene, points: np.ndarray, play: bool, repetitions: int, pad:
 # ---------------------------------------------------------------------------------------------
 # runs
 # ---------------------------------------------------------------------------------------------
+def _robot_scene(robot, t, x, heading: str, fps, max_frames, geometry, mesh_dirs, frames, points):
+    """The scene of a run's robot at its key samples (the options checked first): ``(scene, idx,
+    xs, cms)``, ``idx`` the key samples of ``t``, ``xs`` their states, ``cms`` the bodies' CMs
+    there (what a run's scene draws before its own parts)."""
+    fps, max_frames = _check_options(fps, max_frames, geometry)
+    idx = _key_samples(_check_times(t), fps, max_frames)
+    scene = Scene(heading, fps)
+    scene.mesh_dirs = _mesh_dirs(mesh_dirs)
+    scene.samples = idx
+    scene.times = np.asarray(t[idx] - t[0], dtype=float)
+    xs = np.ascontiguousarray(x[idx])
+    nodes = _draw_model(scene, robot, ROBOT_PREFIX, geometry, ee_frame=frames, frames=frames, points=points)
+    return scene, idx, xs, _pose_model(scene, robot, nodes, xs)
+
+
+def _ee_path(scene, robot, x, path: bool) -> list:
+    """The end-effector path over every sample of ``x`` as a line (when ``path`` and the robot
+    has an end effector on an arm): ``[its points]`` for the scene's extent, else ``[]``."""
+    if not (path and robot.end_effector is not None and robot.n_dof > 0):
+        return []
+    ee = robot.point_position(np.ascontiguousarray(x))
+    _line(scene, f"{ROBOT_PREFIX}/ee_path", ee, _PATH_COLOR)
+    scene.legend.append((_PATH_COLOR, f"end-effector path ({robot.end_effector})"))
+    return [ee]
+
+
 def trajectory_scene(
     traj,
     *,
@@ -890,23 +916,9 @@ def trajectory_scene(
     robot = traj.robot
     if robot is None:
         raise ArgumentError("view needs the robot: build the Trajectory with robot=..., or load() a file saved with one")
-    fps, max_frames = _check_options(fps, max_frames, geometry)
-    idx = _key_samples(_check_times(traj.t), fps, max_frames)
-    name = robot.name
-    heading = title or f"{name}: {traj.meta.get('mode', '')} ({controller_label(traj.meta.get('controller'))})"
-    scene = Scene(heading, fps)
-    scene.mesh_dirs = _mesh_dirs(mesh_dirs)
-    scene.samples = idx
-    scene.times = np.asarray(traj.t[idx] - traj.t[0], dtype=float)
-    xs = np.ascontiguousarray(traj.x[idx])
-    nodes = _draw_model(scene, robot, ROBOT_PREFIX, geometry, ee_frame=frames, frames=frames, points=points)
-    cms = _pose_model(scene, robot, nodes, xs)
-    extent = [cms.reshape(-1, 3)]
-    if path and robot.end_effector is not None and robot.n_dof > 0:
-        ee = robot.point_position(np.ascontiguousarray(traj.x))
-        _line(scene, f"{ROBOT_PREFIX}/ee_path", ee, _PATH_COLOR)
-        scene.legend.append((_PATH_COLOR, f"end-effector path ({robot.end_effector})"))
-        extent.append(ee)
+    heading = title or f"{robot.name}: {traj.meta.get('mode', '')} ({controller_label(traj.meta.get('controller'))})"
+    scene, idx, xs, cms = _robot_scene(robot, traj.t, traj.x, heading, fps, max_frames, geometry, mesh_dirs, frames, points)
+    extent = [cms.reshape(-1, 3)] + _ee_path(scene, robot, traj.x, path)
     size = 2.0 * float(np.max(np.linalg.norm(cms.reshape(-1, 3) - cms.reshape(-1, 3).mean(axis=0), axis=1)))
     size = max(size, _model_size(robot))
     span = 1.6 * _base_radius(robot) + 0.2 * size  # out of the base, which holds the system CM
@@ -950,27 +962,14 @@ def capture_scene(
     target (``P`` and ``L`` about 𝒥's origin, drawn from the origin). Options as
     [`trajectory_scene`][spacearm.viz.viewer.trajectory_scene]."""
     robot, target = result.robot, result.target_model
-    fps, max_frames = _check_options(fps, max_frames, geometry)
-    idx = _key_samples(_check_times(result.t), fps, max_frames)
     heading = title or f"{robot.name} capturing {target.name} ({result.kind} grasp, {result.mode})"
-    scene = Scene(heading, fps)
-    scene.mesh_dirs = _mesh_dirs(mesh_dirs)
-    scene.samples = idx
-    scene.times = np.asarray(result.t[idx] - result.t[0], dtype=float)
-    xs = np.ascontiguousarray(result.x[idx])
-    nodes = _draw_model(scene, robot, ROBOT_PREFIX, geometry, ee_frame=frames, frames=frames, points=points)
-    cms = _pose_model(scene, robot, nodes, xs)
+    scene, idx, xs, cms = _robot_scene(robot, result.t, result.x, heading, fps, max_frames, geometry, mesh_dirs, frames, points)
     body = target.body
     txs = np.ascontiguousarray(np.asarray(result.target)[idx, : body.nx])
     tnodes = _draw_model(scene, body, TARGET_PREFIX, geometry, ee_frame=False, frames=frames, points=points)
     tcms = _pose_model(scene, body, tnodes, txs)
-    extent = [cms.reshape(-1, 3), tcms.reshape(-1, 3)]
+    extent = [cms.reshape(-1, 3), tcms.reshape(-1, 3)] + _ee_path(scene, robot, result.x, path)
     size = max(_model_size(robot), _model_size(body))
-    if path and robot.end_effector is not None and robot.n_dof > 0:
-        ee = robot.point_position(np.ascontiguousarray(result.x))
-        _line(scene, f"{ROBOT_PREFIX}/ee_path", ee, _PATH_COLOR)
-        scene.legend.append((_PATH_COLOR, f"end-effector path ({robot.end_effector})"))
-        extent.append(ee)
     # the grasp: a marker at the impact point, hidden (scale ~0) until the capture instant
     mc = scene._mc
     point = np.asarray(result.impact.point, dtype=float)
