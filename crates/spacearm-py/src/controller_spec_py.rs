@@ -25,10 +25,6 @@ use crate::sim_options_py::type_name;
 
 type CoreResult<T> = spacearm_core::Result<T>;
 
-fn bad(msg: String) -> SpacearmError {
-    SpacearmError::InvalidArgument(msg)
-}
-
 fn vector(v: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<f64>> {
     Ok(vec_arg(v, what)?.as_slice().to_vec())
 }

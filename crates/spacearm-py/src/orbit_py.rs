@@ -9,14 +9,9 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntyped
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict};
 use spacearm_core::sim::orbit::{clohessy_wiltshire, lvlh_to_eci, safety_ellipse, CentralBody, Elements, Orbit, RelativeState, EARTH};
-use spacearm_core::SpacearmError;
 
 use crate::convert::*;
 use crate::sim_options_py::{refuse_unknown, type_name};
-
-fn bad(msg: String) -> SpacearmError {
-    SpacearmError::InvalidArgument(msg)
-}
 
 /// The core model of `obj`: a `spacearm.Robot` (its `core_model`) or a `spacearm._core.Model`;
 /// anything else a `SpacearmTypeError` naming what was given.

@@ -51,10 +51,6 @@ pub struct PySimulator {
     tau: Vec<f64>,
 }
 
-fn bad(msg: String) -> SpacearmError {
-    SpacearmError::InvalidArgument(msg)
-}
-
 impl PySimulator {
     fn not_reset(py: Python<'_>) -> PyErr {
         to_py_err(py, bad("the simulator has no state yet; call reset(x0, u0) first".into()))
