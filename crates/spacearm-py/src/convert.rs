@@ -68,6 +68,14 @@ impl<T> OrRaise<T> for spacearm_core::Result<T> {
     }
 }
 
+/// A model rule's refusal (`ModelError`, which says where the rule is broken) raises as the
+/// core error it converts into.
+impl<T> OrRaise<T> for Result<T, spacearm_core::error::ModelError> {
+    fn or_raise(self, py: Python<'_>) -> PyResult<T> {
+        self.map_err(|e| to_py_err(py, e.into()))
+    }
+}
+
 /// A float64 vector argument of a binding. An argument that already is a 1-D, C-contiguous,
 /// aligned, native float64 numpy array is used in place (no copy, no borrow bookkeeping: the
 /// call holds the GIL throughout and runs no Python code between taking the slice and
