@@ -371,6 +371,12 @@ fn converted_batch_arg<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Arg
     }
 }
 
+/// A vector argument (see [`vec_arg`]) copied out: for a run that holds no borrow of Python
+/// objects while it works.
+pub fn owned_vec(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<f64>> {
+    Ok(vec_arg(obj, what)?.as_slice().to_vec())
+}
+
 /// A fixed-length argument (`offset`, momenta): [`vec_arg`] plus a length check that raises
 /// `ShapeError` naming `what`.
 pub fn vec_arg_n<'py>(obj: &Bound<'py, PyAny>, what: &str, n: usize) -> PyResult<VecArg<'py>> {
