@@ -2,6 +2,7 @@
 //! `spacearm.RobotBuilder`).
 
 use pyo3::prelude::*;
+use pyo3::IntoPyObjectExt;
 use spacearm_core::model::geometry::ShapeParts;
 use spacearm_core::{GeometryRole, GeometrySpec, JointDynamics, JointLimits, JointType, LinkSpec, ModelBuilder, Shape, SpacearmError};
 
@@ -213,8 +214,14 @@ pub fn slosh_links(
 /// joint_type, origin, rotation, axis, com, mass, inertia, joint_name, limits, dynamics)`.
 fn add_link_args(py: Python<'_>, l: LinkSpec, limits: Option<[f64; 4]>, dynamics: Option<(bool, f64, f64, f64)>) -> PyResult<Py<PyAny>> {
     let kind = l.kind.as_str();
-    let args = (l.name, l.parent, kind, l.origin_in_parent, l.rotation_in_parent, l.axis, l.com_from_joint, l.mass, l.inertia, l.joint_name, limits, dynamics);
-    Ok(args.into_pyobject(py)?.into_any().unbind())
+    (l.name, l.parent, kind, l.origin_in_parent, l.rotation_in_parent, l.axis, l.com_from_joint, l.mass, l.inertia, l.joint_name, limits, dynamics).into_py_any(py)
+}
+
+/// A part's link's limits as `add_link` takes them: its own for a moving joint, None for a
+/// fixed one.
+fn moving_limits(l: &LinkSpec) -> Option<[f64; 4]> {
+    let lim = l.limits;
+    (l.kind != JointType::Fixed).then_some([lim.lower, lim.upper, lim.velocity, lim.effort])
 }
 
 /// `(links, points, geometries)` of an appendage (core `model::appendage`): each link as the
@@ -223,17 +230,16 @@ fn add_link_args(py: Python<'_>, l: LinkSpec, limits: Option<[f64; 4]>, dynamics
 fn parts_to_py(py: Python<'_>, parts: spacearm_core::model::appendage::Parts) -> PyResult<Py<PyAny>> {
     let mut links = Vec::new();
     for (l, d) in parts.links {
-        let lim = l.limits;
-        let limits = (l.kind != JointType::Fixed).then_some([lim.lower, lim.upper, lim.velocity, lim.effort]);
         let dynamics = (d != JointDynamics::default()).then_some((d.actuated, d.stiffness, d.damping, d.rest));
+        let limits = moving_limits(&l);
         links.push(add_link_args(py, l, limits, dynamics)?);
     }
     let mut geometries = Vec::new();
     for g in parts.geometries {
         let Shape::Box { size } = g.shape else { continue };
-        geometries.push((g.name, g.body, size, g.origin, g.rotation, g.rgba).into_pyobject(py)?.into_any().unbind());
+        geometries.push((g.name, g.body, size, g.origin, g.rotation, g.rgba).into_py_any(py)?);
     }
-    Ok((links, parts.points, geometries).into_pyobject(py)?.into_any().unbind())
+    (links, parts.points, geometries).into_py_any(py)
 }
 
 /// A hinged rigid panel's parts (core `model::appendage::panel_parts`, docs/flexibility.md):
@@ -401,17 +407,16 @@ pub fn gripper_parts(py: Python<'_>, spec: &Bound<'_, PyAny>, base: &str) -> PyR
     let parts = gripper::gripper_parts(&spec, base, ModelItem::Model).or_raise(py)?;
     let mut links = Vec::new();
     for (l, _) in parts.links {
-        let lim = l.limits;
-        let limits = (l.kind != JointType::Fixed).then_some([lim.lower, lim.upper, lim.velocity, lim.effort]);
+        let limits = moving_limits(&l);
         links.push(add_link_args(py, l, limits, None)?);
     }
     let mut geometries = Vec::new();
     for g in parts.geometries {
         let Shape::Capsule { radius, length } = g.shape else { continue };
         let role = if g.role == GeometryRole::Collision { "collision" } else { "visual" };
-        geometries.push((g.name, g.body, role, "capsule", radius, length, g.origin, g.rotation).into_pyobject(py)?.into_any().unbind());
+        geometries.push((g.name, g.body, role, "capsule", radius, length, g.origin, g.rotation).into_py_any(py)?);
     }
-    Ok((links, parts.points, geometries).into_pyobject(py)?.into_any().unbind())
+    (links, parts.points, geometries).into_py_any(py)
 }
 
 /// A probe's or a drogue's collision shapes and points (core `model::docking`, docs/contact.md
@@ -436,9 +441,9 @@ pub fn docking_parts(py: Python<'_>, kind: &str, spec: &Bound<'_, PyAny>) -> PyR
             Shape::Sphere { radius } => ("sphere", radius, 0.0),
             _ => continue,
         };
-        geometries.push((g.name, g.body, "collision", shape, radius, length, g.origin, g.rotation).into_pyobject(py)?.into_any().unbind());
+        geometries.push((g.name, g.body, "collision", shape, radius, length, g.origin, g.rotation).into_py_any(py)?);
     }
-    Ok((parts.points, geometries).into_pyobject(py)?.into_any().unbind())
+    (parts.points, geometries).into_py_any(py)
 }
 
 /// The grippers of a model (core `model::gripper::detect_grippers`), each as a dict: `name`,
