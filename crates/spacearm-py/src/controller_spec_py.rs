@@ -15,7 +15,7 @@ use pyo3::types::PyTuple;
 use serde::de::DeserializeOwned;
 use spacearm_core::control::spec::{ControllerSpec, JointReferenceSpec, PointReferenceSpec, ShaperSpec, ThrusterLimitsSpec};
 use spacearm_core::control::shaping::InputShaper;
-use spacearm_core::control::{Command, ControlContext, Controller};
+use spacearm_core::control::{Command, Controller};
 use spacearm_core::sim::free_body::FreeBody;
 use spacearm_core::sim::reference::JointReference;
 use spacearm_core::{Model, SpacearmError};
@@ -367,9 +367,6 @@ impl PyCallback {
 impl Controller for PyCallback {
     fn name(&self) -> &str {
         "callback"
-    }
-    fn setup(&mut self, _ctx: &ControlContext<'_>) -> CoreResult<()> {
-        Ok(())
     }
     fn command(&mut self, t: f64, x: &[f64], u: &[f64], out: &mut Command) -> CoreResult<()> {
         let res = Python::attach(|py| self.call(py, t, x, u, out));
