@@ -19,10 +19,6 @@ use crate::convert::*;
 use crate::model_py::PyModel;
 use crate::sim_options_py::PyRunOptions;
 
-fn bad(msg: String) -> SpacearmError {
-    SpacearmError::InvalidArgument(msg)
-}
-
 /// What one call holds while it works: the copies and the held inputs.
 struct Inner {
     batch: BatchStepper,
@@ -111,9 +107,7 @@ impl PyBatchSimulator {
         for (i, m) in models.iter().enumerate() {
             py.check_signals()?;
             let m = if i == 0 { first.clone() } else { core_model(py, &m)? };
-            if m.n_dof() != n_dof {
-                return Err(to_py_err(py, bad(format!("model {i} has {} joints, model 0 has {n_dof}; every copy needs the same joints", m.n_dof()))));
-            }
+            same_joints("model", i, &m, n_dof).or_raise(py)?;
             copies.push(new_copy(py, m, &opts, &x0[i * nx..(i + 1) * nx], &u0[i * nu..(i + 1) * nu], i)?);
         }
         let batch = BatchStepper::new(copies, opts.dt, threads).or_raise(py)?;

@@ -2,6 +2,7 @@
 //! `spacearm.RobotBuilder`).
 
 use pyo3::prelude::*;
+use pyo3::IntoPyObjectExt;
 use spacearm_core::model::geometry::ShapeParts;
 use spacearm_core::{GeometryRole, GeometrySpec, JointDynamics, JointLimits, JointType, LinkSpec, ModelBuilder, Shape, SpacearmError};
 
@@ -25,7 +26,7 @@ pub(crate) fn joint_limits(limits: Option<[f64; 4]>) -> JointLimits {
 /// (docs/flexibility.md); `None` leaves the joint as built.
 fn set_joint_dynamics(py: Python<'_>, b: &mut ModelBuilder, name: &str, dynamics: Option<(bool, f64, f64, f64)>) -> PyResult<()> {
     if let Some((actuated, stiffness, damping, rest)) = dynamics {
-        b.set_joint_dynamics(name, JointDynamics { actuated, stiffness, damping, rest }).map_err(SpacearmError::from).or_raise(py)?;
+        b.set_joint_dynamics(name, JointDynamics { actuated, stiffness, damping, rest }).or_raise(py)?;
     }
     Ok(())
 }
@@ -58,7 +59,7 @@ fn link_spec(py: Python<'_>, (name, parent, joint_type, origin, rotation, axis, 
 pub(crate) fn add_link_to(py: Python<'_>, b: &mut ModelBuilder, link: LinkArgs, dynamics: Option<(bool, f64, f64, f64)>) -> PyResult<()> {
     let spec = link_spec(py, link)?;
     let name = spec.name.clone();
-    b.add_link(spec).map_err(SpacearmError::from).or_raise(py)?;
+    b.add_link(spec).or_raise(py)?;
     set_joint_dynamics(py, b, &name, dynamics)
 }
 
@@ -77,7 +78,6 @@ impl PyModelBuilder {
         let rule = triangle_inequality(allow_nonphysical_inertia);
         Ok(PyModelBuilder {
             inner: ModelBuilder::with_triangle_inequality(name, base_name, base_mass, base_inertia, rule)
-                .map_err(SpacearmError::from)
                 .or_raise(py)?,
         })
     }
@@ -90,13 +90,13 @@ impl PyModelBuilder {
 
     /// Rename the model being built.
     fn set_name(&mut self, py: Python<'_>, name: &str) -> PyResult<()> {
-        self.inner.set_name(name).map_err(SpacearmError::from).or_raise(py)?;
+        self.inner.set_name(name).or_raise(py)?;
         Ok(())
     }
 
     /// Judge every body's inertia again: refused (`allow_nonphysical_inertia=False`) or warned.
     fn set_allow_nonphysical_inertia(&mut self, py: Python<'_>, allow_nonphysical_inertia: bool) -> PyResult<()> {
-        self.inner.set_triangle_inequality(triangle_inequality(allow_nonphysical_inertia)).map_err(SpacearmError::from).or_raise(py)?;
+        self.inner.set_triangle_inequality(triangle_inequality(allow_nonphysical_inertia)).or_raise(py)?;
         Ok(())
     }
 
@@ -107,7 +107,7 @@ impl PyModelBuilder {
 
     /// Remove the link `body`, its subtree, and the points and geometries on them.
     fn remove_subtree(&mut self, py: Python<'_>, body: &str) -> PyResult<()> {
-        self.inner.remove_subtree(body).map_err(SpacearmError::from).or_raise(py)?;
+        self.inner.remove_subtree(body).or_raise(py)?;
         Ok(())
     }
 
@@ -133,7 +133,7 @@ impl PyModelBuilder {
     }
 
     fn add_point(&mut self, py: Python<'_>, name: &str, body: &str, offset: [f64; 3]) -> PyResult<()> {
-        self.inner.add_point(name, body, offset).map_err(SpacearmError::from).or_raise(py)?;
+        self.inner.add_point(name, body, offset).or_raise(py)?;
         Ok(())
     }
 
@@ -163,7 +163,6 @@ impl PyModelBuilder {
         let shape = Shape::from_parts(shape, ShapeParts { size, radius, length, file, scale }).map_err(invalid)?;
         self.inner
             .add_geometry(GeometrySpec { name, body: body.to_string(), role, shape, origin, rotation, rgba })
-            .map_err(SpacearmError::from)
             .or_raise(py)?;
         Ok(())
     }
@@ -177,7 +176,7 @@ impl PyModelBuilder {
     }
 
     fn build(&self, py: Python<'_>) -> PyResult<PyModel> {
-        Ok(PyModel::new(self.inner.build().map_err(SpacearmError::from).or_raise(py)?))
+        Ok(PyModel::new(self.inner.build().or_raise(py)?))
     }
 }
 
@@ -207,7 +206,7 @@ pub fn slosh_links(
     let kind = SloshModel::from_name(model).map_err(invalid)?;
     let restoring = SloshRestoring::from_options(stiffness, frequency).map_err(invalid)?;
     let spec = SloshSpec { name: name.into(), parent: parent.into(), model: kind, mass, position, axis, hinge, length, restoring, damping };
-    let links = slosh::slosh_links(&spec, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
+    let links = slosh::slosh_links(&spec, ModelItem::Model).or_raise(py)?;
     links.into_iter().map(|(l, d)| add_link_args(py, l, None, Some((d.actuated, d.stiffness, d.damping, d.rest)))).collect()
 }
 
@@ -215,8 +214,14 @@ pub fn slosh_links(
 /// joint_type, origin, rotation, axis, com, mass, inertia, joint_name, limits, dynamics)`.
 fn add_link_args(py: Python<'_>, l: LinkSpec, limits: Option<[f64; 4]>, dynamics: Option<(bool, f64, f64, f64)>) -> PyResult<Py<PyAny>> {
     let kind = l.kind.as_str();
-    let args = (l.name, l.parent, kind, l.origin_in_parent, l.rotation_in_parent, l.axis, l.com_from_joint, l.mass, l.inertia, l.joint_name, limits, dynamics);
-    Ok(args.into_pyobject(py)?.into_any().unbind())
+    (l.name, l.parent, kind, l.origin_in_parent, l.rotation_in_parent, l.axis, l.com_from_joint, l.mass, l.inertia, l.joint_name, limits, dynamics).into_py_any(py)
+}
+
+/// A part's link's limits as `add_link` takes them: its own for a moving joint, None for a
+/// fixed one.
+fn moving_limits(l: &LinkSpec) -> Option<[f64; 4]> {
+    let lim = l.limits;
+    (l.kind != JointType::Fixed).then_some([lim.lower, lim.upper, lim.velocity, lim.effort])
 }
 
 /// `(links, points, geometries)` of an appendage (core `model::appendage`): each link as the
@@ -225,17 +230,16 @@ fn add_link_args(py: Python<'_>, l: LinkSpec, limits: Option<[f64; 4]>, dynamics
 fn parts_to_py(py: Python<'_>, parts: spacearm_core::model::appendage::Parts) -> PyResult<Py<PyAny>> {
     let mut links = Vec::new();
     for (l, d) in parts.links {
-        let lim = l.limits;
-        let limits = (l.kind != JointType::Fixed).then_some([lim.lower, lim.upper, lim.velocity, lim.effort]);
         let dynamics = (d != JointDynamics::default()).then_some((d.actuated, d.stiffness, d.damping, d.rest));
+        let limits = moving_limits(&l);
         links.push(add_link_args(py, l, limits, dynamics)?);
     }
     let mut geometries = Vec::new();
     for g in parts.geometries {
         let Shape::Box { size } = g.shape else { continue };
-        geometries.push((g.name, g.body, size, g.origin, g.rotation, g.rgba).into_pyobject(py)?.into_any().unbind());
+        geometries.push((g.name, g.body, size, g.origin, g.rotation, g.rgba).into_py_any(py)?);
     }
-    Ok((links, parts.points, geometries).into_pyobject(py)?.into_any().unbind())
+    (links, parts.points, geometries).into_py_any(py)
 }
 
 /// A hinged rigid panel's parts (core `model::appendage::panel_parts`, docs/flexibility.md):
@@ -265,7 +269,7 @@ pub fn panel_parts(
     let restoring = Restoring::from_options(stiffness, frequency).map_err(invalid)?;
     let body = PanelBody::from_options(size, inertia, com_distance).map_err(invalid)?;
     let spec = PanelSpec { name: name.into(), parent: parent.into(), hinge_position, hinge_axis, direction, body, mass, restoring, damping, rest };
-    let parts = appendage::panel_parts(&spec, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
+    let parts = appendage::panel_parts(&spec, ModelItem::Model).or_raise(py)?;
     parts_to_py(py, parts)
 }
 
@@ -295,9 +299,9 @@ pub fn beam_parts(
     use spacearm_core::error::ModelItem;
     use spacearm_core::model::appendage::{self, BeamDamping, BeamSpec};
     let damping = BeamDamping::from_options(damping, damping_ratio).map_err(|m| to_py_err(py, SpacearmError::InvalidModel(format!("beam '{name}': {m}"))))?;
-    let bending = appendage::bending(name, &axis, bending_axes, &ei).map_err(SpacearmError::from).or_raise(py)?;
+    let bending = appendage::bending(name, &axis, bending_axes, &ei).or_raise(py)?;
     let spec = BeamSpec { name: name.into(), parent: parent.into(), root_position, axis, length, segments, bending, torsion, rho_a, rho_j, damping };
-    let parts = appendage::beam_parts(&spec, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
+    let parts = appendage::beam_parts(&spec, ModelItem::Model).or_raise(py)?;
     parts_to_py(py, parts)
 }
 
@@ -317,7 +321,7 @@ pub fn compliant_parts(
     use spacearm_core::model::appendage::{self, CompliantSpec};
     let link = link_spec(py, link)?;
     let spec = CompliantSpec { stiffness, rotor_inertia, damping, gear_ratio };
-    let parts = appendage::compliant_parts(&link, &spec, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
+    let parts = appendage::compliant_parts(&link, &spec, ModelItem::Model).or_raise(py)?;
     parts_to_py(py, parts)
 }
 
@@ -371,7 +375,7 @@ pub fn cmg_parts(py: Python<'_>, spec: &Bound<'_, PyAny>, base: &str) -> PyResul
     use spacearm_core::error::ModelItem;
     use spacearm_core::model::cmg::{self, CmgSpec};
     let spec: CmgSpec = crate::controller_spec_py::from_data(spec, "cmg")?;
-    let parts = cmg::cmg_parts(&spec, base, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
+    let parts = cmg::cmg_parts(&spec, base, ModelItem::Model).or_raise(py)?;
     parts_to_py(py, parts)
 }
 
@@ -387,7 +391,7 @@ pub fn cmgs<'py>(py: Python<'py>, model: &Bound<'py, PyModel>) -> PyResult<Bound
 /// and everything else at rest (core `model::cmg::cmg_velocity`).
 #[pyfunction]
 pub fn cmg_velocity(py: Python<'_>, model: &Bound<'_, PyModel>, wheel_speed: Vec<f64>) -> PyResult<Vec<f64>> {
-    spacearm_core::model::cmg::cmg_velocity(&model.borrow().model, &wheel_speed).map_err(SpacearmError::from).or_raise(py)
+    spacearm_core::model::cmg::cmg_velocity(&model.borrow().model, &wheel_speed).or_raise(py)
 }
 
 /// A gripper's palm and finger links, points and capsule collision shapes (core
@@ -400,20 +404,19 @@ pub fn gripper_parts(py: Python<'_>, spec: &Bound<'_, PyAny>, base: &str) -> PyR
     use spacearm_core::error::ModelItem;
     use spacearm_core::model::gripper::{self, GripperSpec};
     let spec: GripperSpec = crate::controller_spec_py::from_data(spec, "gripper")?;
-    let parts = gripper::gripper_parts(&spec, base, ModelItem::Model).map_err(SpacearmError::from).or_raise(py)?;
+    let parts = gripper::gripper_parts(&spec, base, ModelItem::Model).or_raise(py)?;
     let mut links = Vec::new();
     for (l, _) in parts.links {
-        let lim = l.limits;
-        let limits = (l.kind != JointType::Fixed).then_some([lim.lower, lim.upper, lim.velocity, lim.effort]);
+        let limits = moving_limits(&l);
         links.push(add_link_args(py, l, limits, None)?);
     }
     let mut geometries = Vec::new();
     for g in parts.geometries {
         let Shape::Capsule { radius, length } = g.shape else { continue };
         let role = if g.role == GeometryRole::Collision { "collision" } else { "visual" };
-        geometries.push((g.name, g.body, role, "capsule", radius, length, g.origin, g.rotation).into_pyobject(py)?.into_any().unbind());
+        geometries.push((g.name, g.body, role, "capsule", radius, length, g.origin, g.rotation).into_py_any(py)?);
     }
-    Ok((links, parts.points, geometries).into_pyobject(py)?.into_any().unbind())
+    (links, parts.points, geometries).into_py_any(py)
 }
 
 /// A probe's or a drogue's collision shapes and points (core `model::docking`, docs/contact.md
@@ -429,7 +432,6 @@ pub fn docking_parts(py: Python<'_>, kind: &str, spec: &Bound<'_, PyAny>) -> PyR
         "drogue" => docking::drogue_parts(&crate::controller_spec_py::from_data::<DrogueSpec>(spec, "drogue")?, ModelItem::Model),
         other => return Err(SpacearmError::InvalidArgument(format!("docking part must be \"probe\" or \"drogue\", got {other:?}"))).or_raise(py),
     }
-    .map_err(SpacearmError::from)
     .or_raise(py)?;
     let mut geometries = Vec::new();
     for g in parts.geometries {
@@ -439,9 +441,9 @@ pub fn docking_parts(py: Python<'_>, kind: &str, spec: &Bound<'_, PyAny>) -> PyR
             Shape::Sphere { radius } => ("sphere", radius, 0.0),
             _ => continue,
         };
-        geometries.push((g.name, g.body, "collision", shape, radius, length, g.origin, g.rotation).into_pyobject(py)?.into_any().unbind());
+        geometries.push((g.name, g.body, "collision", shape, radius, length, g.origin, g.rotation).into_py_any(py)?);
     }
-    Ok((parts.points, geometries).into_pyobject(py)?.into_any().unbind())
+    (parts.points, geometries).into_py_any(py)
 }
 
 /// The grippers of a model (core `model::gripper::detect_grippers`), each as a dict: `name`,

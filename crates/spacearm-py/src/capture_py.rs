@@ -124,8 +124,8 @@ pub fn check_capture(py: Python<'_>, model: PyRef<'_, PyModel>, x0: &Bound<'_, P
 #[pyo3(signature = (model, x0, u0, target, spec))]
 pub fn run_capture(py: Python<'_>, model: PyRef<'_, PyModel>, x0: &Bound<'_, PyAny>, u0: &Bound<'_, PyAny>, target: PyRef<'_, PyModel>, spec: &Bound<'_, PyAny>) -> PyResult<PyCaptureRun> {
     let spec: CaptureSpec = from_data(spec, "capture")?;
-    let x0 = vec_arg(x0, "x0")?.as_slice().to_vec();
-    let u0 = vec_arg(u0, "u0")?.as_slice().to_vec();
+    let x0 = owned_vec(x0, "x0")?;
+    let u0 = owned_vec(u0, "u0")?;
     // Copies of the models: the run holds no borrow of the Python objects.
     let (rm, tm) = (model.model.clone(), target.model.clone());
     let (result, interrupted) = crate::interrupt::run_reporting(py, None, |progress| core_run_capture(&rm, &x0, &u0, &tm, &spec, progress));

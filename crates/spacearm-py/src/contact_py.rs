@@ -381,10 +381,10 @@ pub fn soft_capture(
 ) -> PyResult<PySoftCaptureResult> {
     let robot_point = body_point(body, offset, "offset")?;
     let target_point = body_point(target_body, target_offset, "target_offset")?;
-    let x = vec_arg(x, "x")?.as_slice().to_vec();
-    let u = vec_arg(u, "u")?.as_slice().to_vec();
-    let xt = vec_arg(x_target, "x_target")?.as_slice().to_vec();
-    let ut = vec_arg(u_target, "u_target")?.as_slice().to_vec();
+    let x = owned_vec(x, "x")?;
+    let u = owned_vec(u, "u")?;
+    let xt = owned_vec(x_target, "x_target")?;
+    let ut = owned_vec(u_target, "u_target")?;
     let (opts, float32) = (options.sim_options(duration), options.records_float32());
     let spec = ImpedanceSpec { frequency, damping_ratio, stiffness, damping, rotational_stiffness, rotational_damping };
     // Copies of the models: the run holds no borrow of the Python objects.

@@ -15,7 +15,7 @@ use pyo3::types::PyTuple;
 use serde::de::DeserializeOwned;
 use spacearm_core::control::spec::{ControllerSpec, JointReferenceSpec, PointReferenceSpec, ShaperSpec, ThrusterLimitsSpec};
 use spacearm_core::control::shaping::InputShaper;
-use spacearm_core::control::{Command, ControlContext, Controller};
+use spacearm_core::control::{Command, Controller};
 use spacearm_core::sim::free_body::FreeBody;
 use spacearm_core::sim::reference::JointReference;
 use spacearm_core::{Model, SpacearmError};
@@ -24,18 +24,6 @@ use crate::convert::*;
 use crate::sim_options_py::type_name;
 
 type CoreResult<T> = spacearm_core::Result<T>;
-
-fn bad(msg: String) -> SpacearmError {
-    SpacearmError::InvalidArgument(msg)
-}
-
-fn vector(v: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<f64>> {
-    Ok(vec_arg(v, what)?.as_slice().to_vec())
-}
-
-fn array<'py>(py: Python<'py>, v: &[f64]) -> Bound<'py, PyArray1<f64>> {
-    PyArray1::from_slice(py, v)
-}
 
 /// A core spec type from the plain data (dicts, lists, numbers, strings) of `data`: an
 /// `ArgumentError` naming `what` and serde's words (the field, what it expected) if it is not one.
@@ -187,20 +175,20 @@ impl PyJointReference {
     /// the first knot of a sampled reference).
     #[getter]
     fn q_start<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        array(py, self.inner.end_values().0)
+        array1(py, self.inner.end_values().0)
     }
 
     /// The joint coordinates at and after `t_end`, shape (n,) (the set point of a constant; the
     /// last knot of a sampled reference).
     #[getter]
     fn q_goal<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        array(py, self.inner.end_values().1)
+        array1(py, self.inner.end_values().1)
     }
 
     /// `(q, qd, qdd)` at each time of `t`, each of shape (T, n): the values the controllers
     /// follow.
     fn evaluate<'py>(&self, py: Python<'py>, t: &Bound<'_, PyAny>) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
-        let times = vector(t, "joint reference evaluation times")?;
+        let times = owned_vec(t, "joint reference evaluation times")?;
         let n = self.inner.len();
         let (mut q, mut qd, mut qdd) = (vec![0.0; times.len() * n], vec![0.0; times.len() * n], vec![0.0; times.len() * n]);
         for (i, &ti) in times.iter().enumerate() {
@@ -246,13 +234,13 @@ impl PyInputShaper {
     /// Impulse amplitudes (sum 1), shape (n,).
     #[getter]
     fn amplitudes<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        array(py, &self.inner.amplitudes)
+        array1(py, &self.inner.amplitudes)
     }
 
     /// Impulse times, s, shape (n,).
     #[getter]
     fn times<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        array(py, &self.inner.times)
+        array1(py, &self.inner.times)
     }
 
     /// The residual vibration of the mode `(frequency, damping)` relative to an unshaped move.
@@ -286,7 +274,7 @@ impl PyFreeBodyReference {
 
     /// The body's 13-states at the times `t` (s ≥ 0), shape (T, 13).
     fn states<'py>(&self, py: Python<'py>, t: &Bound<'_, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let times = vector(t, "free-body times")?;
+        let times = owned_vec(t, "free-body times")?;
         let mut body = self.inner.clone();
         let mut out = Vec::with_capacity(times.len() * 13);
         for &ti in &times {
@@ -297,7 +285,7 @@ impl PyFreeBodyReference {
 
     /// The point's positions and velocities (in 𝒥) at the times `t`, each of shape (T, 3).
     fn points<'py>(&self, py: Python<'py>, t: &Bound<'_, PyAny>) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
-        let times = vector(t, "free-body times")?;
+        let times = owned_vec(t, "free-body times")?;
         let mut body = self.inner.clone();
         let (mut p, mut v) = (Vec::with_capacity(times.len() * 3), Vec::with_capacity(times.len() * 3));
         for &ti in &times {
@@ -312,7 +300,7 @@ impl PyFreeBodyReference {
     /// tidal force (N) and its moment about the run's origin (N·m, with the gravity-gradient
     /// torque about the CM); zeros for a torque-free body.
     fn external_wrenches<'py>(&self, py: Python<'py>, t: &Bound<'_, PyAny>, mass: f64) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let times = vector(t, "free-body times")?;
+        let times = owned_vec(t, "free-body times")?;
         if !(mass.is_finite() && mass > 0.0) {
             return Err(to_py_err(py, bad(format!("free-body mass must be finite and > 0 kg, got {mass}"))));
         }
@@ -379,9 +367,6 @@ impl PyCallback {
 impl Controller for PyCallback {
     fn name(&self) -> &str {
         "callback"
-    }
-    fn setup(&mut self, _ctx: &ControlContext<'_>) -> CoreResult<()> {
-        Ok(())
     }
     fn command(&mut self, t: f64, x: &[f64], u: &[f64], out: &mut Command) -> CoreResult<()> {
         let res = Python::attach(|py| self.call(py, t, x, u, out));

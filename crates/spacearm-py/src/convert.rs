@@ -31,6 +31,22 @@ pub fn to_py_err_in(py: Python<'_>, context: &str, err: SpacearmError) -> PyErr 
     new_error(py, class_of_error(&err), format!("{context}: {err}"))
 }
 
+/// The core's `InvalidArgument` with `msg` (raised as `ArgumentError`): the one form of the
+/// binding's own refusals of an argument (its wording is the binding's; the class the core's).
+pub fn bad(msg: String) -> SpacearmError {
+    SpacearmError::InvalidArgument(msg)
+}
+
+/// Refuse plant `i` of a list (`what`: "plant", "model") whose joints differ from plant 0's
+/// (`n_dof` of them): the rule of every door that runs several plants side by side (their
+/// records and states stack row by row), the one the core's `BatchStepper` keeps for its copies.
+pub fn same_joints(what: &str, i: usize, model: &spacearm_core::Model, n_dof: usize) -> spacearm_core::Result<()> {
+    if model.n_dof() == n_dof {
+        return Ok(());
+    }
+    Err(bad(format!("{what} {i} has {} joints, {what} 0 has {n_dof}; every {what} needs the same joints", model.n_dof())))
+}
+
 /// A `ShapeError` with `message`.
 pub fn shape_error(py: Python<'_>, message: String) -> PyErr {
     new_error(py, ErrorClass::Shape, message)
@@ -49,6 +65,14 @@ pub trait OrRaise<T> {
 impl<T> OrRaise<T> for spacearm_core::Result<T> {
     fn or_raise(self, py: Python<'_>) -> PyResult<T> {
         self.map_err(|e| to_py_err(py, e))
+    }
+}
+
+/// A model rule's refusal (`ModelError`, which says where the rule is broken) raises as the
+/// core error it converts into.
+impl<T> OrRaise<T> for Result<T, spacearm_core::error::ModelError> {
+    fn or_raise(self, py: Python<'_>) -> PyResult<T> {
+        self.map_err(|e| to_py_err(py, e.into()))
     }
 }
 
@@ -345,6 +369,12 @@ fn converted_batch_arg<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Arg
             format!("{what} must be a 1-D array (one state) or a 2-D array (a batch, one state per row), got an array of shape {:?}", arr.shape()),
         )),
     }
+}
+
+/// A vector argument (see [`vec_arg`]) copied out: for a run that holds no borrow of Python
+/// objects while it works.
+pub fn owned_vec(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<f64>> {
+    Ok(vec_arg(obj, what)?.as_slice().to_vec())
 }
 
 /// A fixed-length argument (`offset`, momenta): [`vec_arg`] plus a length check that raises

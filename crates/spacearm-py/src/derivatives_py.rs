@@ -46,6 +46,23 @@ fn put_last(ms: &[DMatrix<f64>], out: &mut [f64]) {
     }
 }
 
+/// One row of both forms of `forward_dynamics_derivatives` (`f`, or `f = [base_wrench; tau]`
+/// assembled by [`with_assembled_force`]): `(∂u̇/∂x, ∂u̇/∂u, ∂u̇/∂f)` written into `out`.
+fn forward_dynamics_partials(
+    m: &core::Model,
+    w: &mut DerivativeData,
+    (x, u, f): (&[f64], &[f64], &[f64]),
+    ext: &[core::ExternalWrench],
+    route: DerivativeMethod,
+    [dx, du, df]: &mut [&mut [f64]; 3],
+) -> core::Result<()> {
+    let (a, b, c) = derivatives::forward_dynamics_derivatives_with(m, w, x, u, f, ext, route)?;
+    put(a, dx);
+    put(b, du);
+    put(c, df);
+    Ok(())
+}
+
 #[pymethods]
 impl PyDerivatives {
     #[new]
@@ -124,12 +141,8 @@ impl PyDerivatives {
         let nu = self.model.nu();
         let ext = wrench_list(py, wrenches)?;
         let route = method(dual);
-        self.batch(py, "forward_dynamics_derivatives", [self.x_arg(x)?, self.u_arg(u)?, Input::arg(f, "f", nu)?], [&[nu, nu], &[nu, nu], &[nu, nu]], |m, w, [x, u, f], [dx, du, df]| {
-            let (a, b, c) = derivatives::forward_dynamics_derivatives_with(m, w, x, u, f, &ext, route)?;
-            put(a, dx);
-            put(b, du);
-            put(c, df);
-            Ok(())
+        self.batch(py, "forward_dynamics_derivatives", [self.x_arg(x)?, self.u_arg(u)?, Input::arg(f, "f", nu)?], [&[nu, nu]; 3], |m, w, [x, u, f], out| {
+            forward_dynamics_partials(m, w, (x, u, f), &ext, route, out)
         })
     }
 
@@ -154,14 +167,8 @@ impl PyDerivatives {
         let base_wrench = Input::optional(base_wrench, "base_wrench", 6)?;
         let ext = wrench_list(py, wrenches)?;
         let route = method(dual);
-        self.batch(py, "forward_dynamics_derivatives", [tau, base_wrench, self.x_arg(x)?, self.u_arg(u)?], [&[nu, nu], &[nu, nu], &[nu, nu]], |m, w, [tau, fb, x, u], [dx, du, df]| {
-            with_assembled_force(nu, tau, fb, |f| {
-                let (a, b, c) = derivatives::forward_dynamics_derivatives_with(m, w, x, u, f, &ext, route)?;
-                put(a, dx);
-                put(b, du);
-                put(c, df);
-                Ok(())
-            })
+        self.batch(py, "forward_dynamics_derivatives", [tau, base_wrench, self.x_arg(x)?, self.u_arg(u)?], [&[nu, nu]; 3], |m, w, [tau, fb, x, u], out| {
+            with_assembled_force(nu, tau, fb, |f| forward_dynamics_partials(m, w, (x, u, f), &ext, route, out))
         })
     }
 

@@ -3,7 +3,7 @@
 //! `Robot.attach` and `Robot.remove_subtree`). Conversion only: the rules are the core's.
 
 use pyo3::prelude::*;
-use spacearm_core::{Model, ModelBuilder, Mount, SpacearmError};
+use spacearm_core::{Model, ModelBuilder, Mount};
 
 use crate::builder_py::add_link_to;
 
@@ -13,9 +13,9 @@ use crate::model_py::PyModel;
 /// Build the edited model `b`, renamed to `name` when given.
 fn finish(py: Python<'_>, mut b: ModelBuilder, name: Option<&str>) -> PyResult<PyModel> {
     if let Some(n) = name {
-        b.set_name(n).map_err(SpacearmError::from).or_raise(py)?;
+        b.set_name(n).or_raise(py)?;
     }
-    Ok(PyModel::new(b.build().map_err(SpacearmError::from).or_raise(py)?))
+    Ok(PyModel::new(b.build().or_raise(py)?))
 }
 
 /// `model` with a body `name` attached to `parent` (core `Model::attach_body`): on a fixed joint
@@ -65,7 +65,7 @@ pub fn model_attach_model(
 ) -> PyResult<PyModel> {
     let other: &Model = &other.model;
     let mut b = model.model.to_builder();
-    b.attach_model(other, &Mount::new(parent, origin, rotation), prefix, base_link).map_err(SpacearmError::from).or_raise(py)?;
+    b.attach_model(other, &Mount::new(parent, origin, rotation), prefix, base_link).or_raise(py)?;
     finish(py, b, model_name)
 }
 
@@ -74,6 +74,6 @@ pub fn model_attach_model(
 #[pyo3(signature = (model, body, model_name=None))]
 pub fn model_remove_subtree(py: Python<'_>, model: &PyModel, body: &str, model_name: Option<&str>) -> PyResult<PyModel> {
     let mut b = model.model.to_builder();
-    b.remove_subtree(body).map_err(SpacearmError::from).or_raise(py)?;
+    b.remove_subtree(body).or_raise(py)?;
     finish(py, b, model_name)
 }

@@ -83,7 +83,7 @@ fn grasp_outcome(
     touch_margin: f64,
 ) -> PyResult<PyGraspOutcome> {
     let (r, tm) = (&robot.model, &target.model);
-    let t = vec_arg(t, "t")?.as_slice().to_vec();
+    let t = owned_vec(t, "t")?;
     let (x, _) = rows_arg(x, "x", r.nx())?;
     let (u, _) = rows_arg(u, "u", r.nu())?;
     let (s, _) = rows_arg(target_state, "target_state", 13)?;

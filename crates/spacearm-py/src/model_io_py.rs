@@ -3,7 +3,7 @@
 //! `spacearm.dh`, which normalize the arguments.
 
 use pyo3::prelude::*;
-use spacearm_core::io::dh::{ClassicDhLink, DhArm, DhTable, PaperDhLink};
+use spacearm_core::io::dh::{ClassicDhLink, DhArm, DhConvention, DhTable, PaperDhLink};
 use spacearm_core::JointType;
 
 use crate::builder_py::joint_limits;
@@ -38,8 +38,12 @@ type PaperRow = (Option<String>, Option<String>, String, f64, f64, [f64; 3], [f6
 
 /// The rows of `convention` (`"classic"` or `"paper"`) as a core DH table.
 fn dh_table(convention: &str, rows: &Bound<'_, PyAny>) -> PyResult<spacearm_core::Result<DhTable>> {
+    let convention = match DhConvention::from_name(convention) {
+        Ok(c) => c,
+        Err(e) => return Ok(Err(e)),
+    };
     Ok(match convention {
-        "classic" => rows
+        DhConvention::Classic => rows
             .extract::<Vec<ClassicRow>>()?
             .into_iter()
             .map(|(name, joint_name, kind, d, theta, a, alpha, com, mass, inertia, lim)| {
@@ -47,7 +51,7 @@ fn dh_table(convention: &str, rows: &Bound<'_, PyAny>) -> PyResult<spacearm_core
             })
             .collect::<spacearm_core::Result<_>>()
             .map(DhTable::Classic),
-        "paper" => rows
+        DhConvention::Paper => rows
             .extract::<Vec<PaperRow>>()?
             .into_iter()
             .map(|(name, joint_name, kind, theta, alpha, joint_to_com, com_to_next, mass, inertia, lim)| {
@@ -66,7 +70,6 @@ fn dh_table(convention: &str, rows: &Bound<'_, PyAny>) -> PyResult<spacearm_core
             })
             .collect::<spacearm_core::Result<_>>()
             .map(DhTable::Paper),
-        other => Err(spacearm_core::SpacearmError::InvalidModel(format!("DH convention must be 'classic' or 'paper', got '{other}'"))),
     })
 }
 

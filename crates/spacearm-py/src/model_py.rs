@@ -6,10 +6,11 @@
 
 use nalgebra::{Dim, Matrix, RawStorage, Vector3, Vector6};
 use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
-use pyo3::intern;
 use pyo3::prelude::*;
-use pyo3::types::PyTuple;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::{PyString, PyTuple};
 use spacearm_core as core;
+use spacearm_core::algorithms::dynamics::ForwardDynamicsMethod;
 use spacearm_core::algorithms::{aba, crba, dynamics, inertia, kinematics, momentum, passive, rnea};
 use spacearm_core::{gjm, Data, ExternalWrench, JointType};
 
@@ -534,46 +535,38 @@ fn momentum3(_model: &core::Model, what: &str, v: &[f64]) -> core::Result<Vector
     Ok(Vector3::from_column_slice(v))
 }
 
-/// The forward-dynamics methods of `Model`, with `force` either `f` (`base_wrench: None`) or
-/// `tau` with `base_wrench`.
-#[derive(Clone, Copy)]
-enum FdMethod {
-    Aba,
-    MassMatrix,
-    Reduced,
+/// The forward-dynamics method a Python string names (the core's table,
+/// [`ForwardDynamicsMethod::NAMES`]). Compared as Python strings: the names Python code passes
+/// are interned, so the common case is one pointer comparison, where extracting a `&str` (abi3
+/// for Python 3.9 has no borrowed UTF-8 view) would build a bytes object on every call
+/// (benchmarks/README.md, "Profiler history").
+fn fd_method(py: Python<'_>, name: &Bound<'_, PyAny>) -> PyResult<ForwardDynamicsMethod> {
+    static NAMES: PyOnceLock<Vec<Py<PyString>>> = PyOnceLock::new();
+    let names = NAMES.get_or_init(py, || ForwardDynamicsMethod::NAMES.iter().map(|n| PyString::intern(py, n).unbind()).collect());
+    for (text, method) in names.iter().zip(ForwardDynamicsMethod::ALL) {
+        if name.is(text) {
+            return Ok(method);
+        }
+    }
+    fd_method_by_value(py, name)
 }
 
-impl FdMethod {
-    /// The method a Python string names. Compared as Python strings: the names Python code
-    /// passes are interned, so the common case is one pointer comparison, where extracting a
-    /// `&str` (abi3 for Python 3.9 has no borrowed UTF-8 view) would build a bytes object on
-    /// every call (benchmarks/README.md, "Profiler history").
-    fn named(py: Python<'_>, name: &Bound<'_, PyAny>) -> PyResult<Self> {
-        let methods = [(intern!(py, "aba"), FdMethod::Aba), (intern!(py, "mass_matrix"), FdMethod::MassMatrix), (intern!(py, "reduced"), FdMethod::Reduced)];
-        for (text, method) in &methods {
-            if name.is(text) {
-                return Ok(*method);
-            }
+/// [`fd_method`] for a name that is not one of the interned strings (built at run time, or
+/// wrong): compared by value, out of line.
+#[inline(never)]
+fn fd_method_by_value(py: Python<'_>, name: &Bound<'_, PyAny>) -> PyResult<ForwardDynamicsMethod> {
+    for (text, method) in ForwardDynamicsMethod::NAMES.iter().zip(ForwardDynamicsMethod::ALL) {
+        if name.eq(text)? {
+            return Ok(method);
         }
-        Self::named_by_value(py, name)
     }
-
-    /// [`FdMethod::named`] for a name that is not one of the interned strings (built at run
-    /// time, or wrong): compared by value, out of line.
-    #[inline(never)]
-    fn named_by_value(py: Python<'_>, name: &Bound<'_, PyAny>) -> PyResult<Self> {
-        let methods = [(intern!(py, "aba"), FdMethod::Aba), (intern!(py, "mass_matrix"), FdMethod::MassMatrix), (intern!(py, "reduced"), FdMethod::Reduced)];
-        for (text, method) in &methods {
-            if name.eq(text)? {
-                return Ok(*method);
-            }
-        }
-        let got = match name.cast::<pyo3::types::PyString>() {
-            Ok(s) => format!("'{}'", s.to_cow()?),
-            Err(_) => format!("{} of type {}", name.repr()?, name.get_type().name()?),
-        };
-        Err(to_py_err(py, core::SpacearmError::InvalidArgument(format!("method must be 'aba', 'mass_matrix' or 'reduced', got {got}"))))
-    }
+    let got = match name.cast::<PyString>() {
+        Ok(s) => format!("'{}'", s.to_cow()?),
+        Err(_) => format!("{} of type {}", name.repr()?, name.get_type().name()?),
+    };
+    let names = ForwardDynamicsMethod::NAMES.map(|n| format!("'{n}'"));
+    let (last, rest) = names.split_last().expect("three names");
+    Err(to_py_err(py, core::SpacearmError::InvalidArgument(format!("method must be {} or {last}, got {got}", rest.join(", ")))))
 }
 
 /// Room for the assembled `f` on the stack: models up to `FORCE_ON_STACK - 6` joints need no
@@ -593,19 +586,19 @@ impl PyModel {
         method: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let nu = self.model.nu();
-        let method = FdMethod::named(py, method)?;
+        let method = fd_method(py, method)?;
         let from_parts = base_wrench.is_some();
         let base_wrench = base_wrench.unwrap_or_else(|| Input::constant("base_wrench", Vec::new()));
         let inputs = [force, base_wrench, self.x_arg(x)?, self.u_arg(u)?];
         let ext = self::wrenches(py, wrenches)?;
-        if matches!(method, FdMethod::Reduced) && !ext.is_empty() {
+        if matches!(method, ForwardDynamicsMethod::Reduced) && !ext.is_empty() {
             return Err(to_py_err(py, core::SpacearmError::InvalidArgument("method='reduced' takes no external wrenches; use 'aba' or 'mass_matrix'".into())));
         }
         let solve = |m: &core::Model, d: &mut Data, x: &[f64], u: &[f64], f: &[f64], out: &mut [f64]| -> core::Result<()> {
             let du = match method {
-                FdMethod::Aba => aba::aba(m, d, x, u, f, &ext)?,
-                FdMethod::MassMatrix => dynamics::compute_forward_dynamics_via_mass_matrix(m, d, x, u, f, &ext)?,
-                FdMethod::Reduced => {
+                ForwardDynamicsMethod::Aba => aba::aba(m, d, x, u, f, &ext)?,
+                ForwardDynamicsMethod::MassMatrix => dynamics::compute_forward_dynamics_via_mass_matrix(m, d, x, u, f, &ext)?,
+                ForwardDynamicsMethod::Reduced => {
                     kinematics::check_velocity(m, "f", f)?;
                     let fb = Vector6::from_column_slice(&f[..6]);
                     gjm::compute_reduced_forward_dynamics(m, d, x, u, &f[6..], &fb)?

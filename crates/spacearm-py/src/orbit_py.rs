@@ -9,14 +9,9 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntyped
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict};
 use spacearm_core::sim::orbit::{clohessy_wiltshire, lvlh_to_eci, safety_ellipse, CentralBody, Elements, Orbit, RelativeState, EARTH};
-use spacearm_core::SpacearmError;
 
 use crate::convert::*;
 use crate::sim_options_py::{refuse_unknown, type_name};
-
-fn bad(msg: String) -> SpacearmError {
-    SpacearmError::InvalidArgument(msg)
-}
 
 /// The core model of `obj`: a `spacearm.Robot` (its `core_model`) or a `spacearm._core.Model`;
 /// anything else a `SpacearmTypeError` naming what was given.
@@ -267,7 +262,7 @@ impl PyOrbit {
     #[pyo3(signature = (rel0, times, *, rtol=1e-12))]
     fn relative_motion<'py>(&self, py: Python<'py>, rel0: &Bound<'py, PyAny>, times: &Bound<'py, PyAny>, rtol: f64) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let rel = rel6(py, rel0)?;
-        let t = vec_arg(times, "times")?.as_slice().to_vec();
+        let t = owned_vec(times, "times")?;
         let orbit = self.inner;
         let states = py.detach(|| orbit.relative_motion(&rel, &t, rtol)).or_raise(py)?;
         Ok(rows(py, &states))
@@ -294,7 +289,7 @@ impl PyOrbit {
     /// velocities) of points `points` (T, 6), at the times `t` (T,) of a run of this orbit (run
     /// states relative to `O`, ECI axes): the inverse of `lvlh_to_run` sample by sample.
     fn run_to_lvlh<'py>(&self, py: Python<'py>, t: &Bound<'py, PyAny>, center: &Bound<'py, PyAny>, points: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let times = vec_arg(t, "t")?.as_slice().to_vec();
+        let times = owned_vec(t, "t")?;
         let flat = |a: &Bound<'py, PyAny>, what: &str| -> PyResult<Vec<f64>> {
             Ok(match batch_arg(a, what)? {
                 ArgValue::One(v) => v.as_slice().to_vec(),
@@ -355,7 +350,7 @@ impl PyOrbit {
         t: f64,
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
         let model = model_of(py, model)?;
-        let x = vec_arg(x, "x")?.as_slice().to_vec();
+        let x = owned_vec(x, "x")?;
         let orbit = self.inner;
         let m = model.borrow();
         let core = &m.model;

@@ -137,55 +137,34 @@ pub fn take_fields(res: &mut SimResult, nx: usize, nu: usize, n: usize) -> Vec<F
         f(Record::Energy, take(&mut r.energy), 1, true),
         f(Record::Com, take(&mut r.com), 3, false),
     ];
-    if let (Some(p), Some(q)) = (r.ee_position.take(), r.ee_quat.take()) {
-        out.push(f(Record::EePosition, p, 3, false));
-        out.push(f(Record::EeQuat, q, 4, false));
-    }
-    if let Some(v) = r.reference.take() {
-        out.push(f(Record::Reference, v, n_ref, false));
-    }
-    if let Some(v) = r.tracking_error.take() {
-        out.push(f(Record::TrackingError, v, 1, true));
-    }
-    if let Some(v) = r.link_tracking_error.take() {
-        out.push(f(Record::LinkTrackingError, v, 1, true));
-    }
-    if let Some(v) = r.attitude_error.take() {
-        out.push(f(Record::AttitudeError, v, 1, true));
-    }
-    if let Some(v) = r.wheel_speed.take() {
-        out.push(f(Record::WheelSpeed, v, n_wheels, false));
-    }
-    for (record, v) in [
-        (Record::SolveTime, r.solve_time.take()),
-        (Record::SolveIterations, r.solve_iterations.take()),
-        (Record::SolveCost, r.solve_cost.take()),
-        (Record::SolveConverged, r.solve_converged.take()),
-    ] {
-        if let Some(v) = v {
-            out.push(f(record, v, 1, true));
-        }
-    }
-    if let (Some(m), Some(e)) = (r.cmg_measure.take(), r.cmg_envelope_fraction.take()) {
-        out.push(f(Record::CmgMeasure, m, 1, true));
-        out.push(f(Record::CmgEnvelopeFraction, e, 1, true));
-    }
-    if let (Some(rc), Some(vc), Some(gw)) = (r.r_cm_eci.take(), r.v_cm_eci.take(), r.gravity_wrench.take()) {
-        out.push(f(Record::RCmEci, rc, 3, false));
-        out.push(f(Record::VCmEci, vc, 3, false));
-        out.push(f(Record::GravityWrench, gw, 6, false));
-    }
-    if let (Some(c), Some(n), Some(w)) = (r.contact_count.take(), r.contact_normal_force.take(), r.contact_work.take()) {
-        out.push(f(Record::ContactCount, c, 1, true));
-        out.push(f(Record::ContactNormalForce, n, 1, true));
-        out.push(f(Record::ContactWork, w, 1, true));
-    }
-    if let Some(rows) = r.contact_forces.take() {
+    // The records a run keeps only when it has them, in order: each group (record, values, width,
+    // scalar) kept whole when every one of its records is present (taken either way).
+    let optional: Vec<Vec<(Record, Option<Vec<f64>>, usize, bool)>> = vec![
+        vec![(Record::EePosition, r.ee_position.take(), 3, false), (Record::EeQuat, r.ee_quat.take(), 4, false)],
+        vec![(Record::Reference, r.reference.take(), n_ref, false)],
+        vec![(Record::TrackingError, r.tracking_error.take(), 1, true)],
+        vec![(Record::LinkTrackingError, r.link_tracking_error.take(), 1, true)],
+        vec![(Record::AttitudeError, r.attitude_error.take(), 1, true)],
+        vec![(Record::WheelSpeed, r.wheel_speed.take(), n_wheels, false)],
+        vec![(Record::SolveTime, r.solve_time.take(), 1, true)],
+        vec![(Record::SolveIterations, r.solve_iterations.take(), 1, true)],
+        vec![(Record::SolveCost, r.solve_cost.take(), 1, true)],
+        vec![(Record::SolveConverged, r.solve_converged.take(), 1, true)],
+        vec![(Record::CmgMeasure, r.cmg_measure.take(), 1, true), (Record::CmgEnvelopeFraction, r.cmg_envelope_fraction.take(), 1, true)],
+        vec![(Record::RCmEci, r.r_cm_eci.take(), 3, false), (Record::VCmEci, r.v_cm_eci.take(), 3, false), (Record::GravityWrench, r.gravity_wrench.take(), 6, false)],
+        vec![
+            (Record::ContactCount, r.contact_count.take(), 1, true),
+            (Record::ContactNormalForce, r.contact_normal_force.take(), 1, true),
+            (Record::ContactWork, r.contact_work.take(), 1, true),
+        ],
         // Ragged: one row per acting contact per sample, not one per sample ([`Record::rows`]).
-        out.push(f(Record::ContactForces, rows, CONTACT_FORCE_WIDTH, false));
-    }
-    if let Some(v) = r.contact_impulse.take() {
-        out.push(f(Record::ContactImpulse, v, 3, false));
+        vec![(Record::ContactForces, r.contact_forces.take(), CONTACT_FORCE_WIDTH, false)],
+        vec![(Record::ContactImpulse, r.contact_impulse.take(), 3, false)],
+    ];
+    for group in optional {
+        if group.iter().all(|(_, v, _, _)| v.is_some()) {
+            out.extend(group.into_iter().filter_map(|(record, v, width, scalar)| v.map(|v| f(record, v, width, scalar))));
+        }
     }
     out
 }

@@ -35,7 +35,7 @@ pub fn rollout<'py>(
     stop: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<PyRolloutBatch> {
     let stop = stop.filter(|s| !s.is_none()).map(|s| s.clone().unbind());
-    let bad = |msg: String| to_py_err(py, SpacearmError::InvalidArgument(msg));
+    let bad = |msg: String| to_py_err(py, bad(msg));
     let plants: Vec<Model> = models
         .iter()
         .map(|m| m.cast::<PyModel>().map(|m| m.borrow().model.clone()).map_err(|_| bad("rollout: models must be spacearm core models".into())))
@@ -52,9 +52,7 @@ pub fn rollout<'py>(
     }
     let plant = |i: usize| if plants.len() == 1 { &plants[0] } else { &plants[i] };
     for (i, m) in plants.iter().enumerate() {
-        if m.nx() != nx {
-            return Err(bad(format!("plant {i} has {} degrees of freedom, plant 0 has {n}; every plant needs the same joints", m.n_dof())));
-        }
+        same_joints("plant", i, m, n).or_raise(py)?;
     }
     for i in 0..b {
         check_initial_state(plant(i), &x0[i * nx..(i + 1) * nx], &u0[i * nu..(i + 1) * nu]).map_err(|e| to_py_err_in(py, &format!("rollout {i}"), e))?;

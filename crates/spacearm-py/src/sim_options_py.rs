@@ -12,13 +12,8 @@ use pyo3::PyTypeInfo;
 use spacearm_core::sim::actuators::ThrusterLimits;
 use spacearm_core::sim::options::RunSpec;
 use spacearm_core::sim::simulate::SimOptions;
-use spacearm_core::SpacearmError;
 
 use crate::convert::*;
-
-fn bad(msg: String) -> SpacearmError {
-    SpacearmError::InvalidArgument(msg)
-}
 
 /// Refuse the keywords collected in `unknown` (the `**unknown` of a class's constructor) with an
 /// `ArgumentError` naming the first and the keywords `T` takes (read from its signature, so the

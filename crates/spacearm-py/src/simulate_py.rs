@@ -98,8 +98,8 @@ impl RunArgs {
     pub(crate) fn read(plant: Model, x0: &Bound<'_, PyAny>, u0: &Bound<'_, PyAny>, duration: f64, options: &PyRunOptions, py: Python<'_>) -> PyResult<Self> {
         Ok(RunArgs {
             plant,
-            x0: vec_arg(x0, "x0")?.as_slice().to_vec(),
-            u0: vec_arg(u0, "u0")?.as_slice().to_vec(),
+            x0: owned_vec(x0, "x0")?,
+            u0: owned_vec(u0, "u0")?,
             opts: options.sim_options(duration),
             float32: options.records_float32(),
             progress_fn: options.progress_fn(py),

@@ -51,14 +51,20 @@ pub struct PySimulator {
     tau: Vec<f64>,
 }
 
-fn bad(msg: String) -> SpacearmError {
-    SpacearmError::InvalidArgument(msg)
+/// The stepper of a simulator that was reset, else `ArgumentError` saying to call `reset` (a
+/// function of the field, so that a method may borrow the simulator's other fields beside it).
+fn started<'a>(py: Python<'_>, stepper: &'a mut Mutex<Option<Rk4Stepper<'static>>>) -> PyResult<&'a mut Rk4Stepper<'static>> {
+    stepper.get_mut().map_err(|_| not_reset(py))?.as_mut().ok_or_else(|| not_reset(py))
 }
 
-impl PySimulator {
-    fn not_reset(py: Python<'_>) -> PyErr {
-        to_py_err(py, bad("the simulator has no state yet; call reset(x0, u0) first".into()))
-    }
+fn not_reset(py: Python<'_>) -> PyErr {
+    to_py_err(py, bad("the simulator has no state yet; call reset(x0, u0) first".into()))
+}
+
+/// The error of a failed step or command: the exception a callback controller raised (kept in
+/// `slot`), else the core's `err`.
+fn raised(py: Python<'_>, slot: &ErrorSlot, err: SpacearmError) -> PyErr {
+    take_error(slot).unwrap_or_else(|| to_py_err(py, err))
 }
 
 #[pymethods]
@@ -101,7 +107,7 @@ impl PySimulator {
         let plant = Plant::owned(self.model.clone(), &self.opts, controller).or_raise(py)?;
         let recording = self.record_every.map(|every| (1024, every));
         let stepper = Rk4Stepper::new(plant, x0.as_slice(), u0.as_slice(), recording).or_raise(py)?;
-        *self.stepper.get_mut().map_err(|_| Self::not_reset(py))? = Some(stepper);
+        *self.stepper.get_mut().map_err(|_| not_reset(py))? = Some(stepper);
         Ok(())
     }
 
@@ -146,7 +152,7 @@ impl PySimulator {
         };
         let dt = self.opts.dt;
         let tau = &self.tau;
-        let stepper = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?.as_mut().ok_or_else(|| Self::not_reset(py))?;
+        let stepper = started(py, &mut self.stepper)?;
         stepper.admit_steps(n).or_raise(py)?;
         stepper.plant_mut().set_held_input(held.map(|w| (tau.as_slice(), w)));
         let (result, interrupted) = if n == 1 {
@@ -168,7 +174,7 @@ impl PySimulator {
         if let Some(e) = interrupted {
             return Err(e);
         }
-        result.map_err(|e| take_error(&self.slot).unwrap_or_else(|| to_py_err(py, e)))?;
+        result.map_err(|e| raised(py, &self.slot, e))?;
         Ok(PyArray1::from_slice(py, stepper.state()))
     }
 
@@ -196,12 +202,12 @@ impl PySimulator {
             SpacearmError::NonFinite { what, index, value } => SpacearmError::NonFinite { what: what.trim_end_matches('0').into(), index, value },
             other => other,
         }))?;
-        let stepper = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?.as_mut().ok_or_else(|| Self::not_reset(py))?;
+        let stepper = started(py, &mut self.stepper)?;
         let plant = stepper.plant_mut();
         // A measured state is a sample of a sampled law (spacearm.control.MPC).
         let y: Vec<f64> = x.as_slice().iter().chain(u.as_slice()).copied().collect();
-        plant.sample(t, &y).map_err(|e| take_error(&self.slot).unwrap_or_else(|| to_py_err(py, e)))?;
-        plant.apply_command(t, x.as_slice(), u.as_slice()).map_err(|e| take_error(&self.slot).unwrap_or_else(|| to_py_err(py, e)))?;
+        plant.sample(t, &y).map_err(|e| raised(py, &self.slot, e))?;
+        plant.apply_command(t, x.as_slice(), u.as_slice()).map_err(|e| raised(py, &self.slot, e))?;
         let (tau, wrench) = plant.applied();
         Ok((PyArray1::from_slice(py, tau), PyArray1::from_slice(py, wrench.as_slice())))
     }
@@ -209,22 +215,19 @@ impl PySimulator {
     /// The current time, s.
     #[getter]
     fn time(&mut self, py: Python<'_>) -> PyResult<f64> {
-        let s = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?;
-        s.as_ref().map(|s| s.time()).ok_or_else(|| Self::not_reset(py))
+        Ok(started(py, &mut self.stepper)?.time())
     }
 
     /// The current state `[x; u]` (a new array).
     #[getter]
     fn state<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let s = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?;
-        s.as_ref().map(|s| PyArray1::from_slice(py, s.state())).ok_or_else(|| Self::not_reset(py))
+        Ok(PyArray1::from_slice(py, started(py, &mut self.stepper)?.state()))
     }
 
     /// Steps taken since the last reset.
     #[getter]
     fn n_steps(&mut self, py: Python<'_>) -> PyResult<usize> {
-        let s = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?;
-        s.as_ref().map(|s| s.n_steps()).ok_or_else(|| Self::not_reset(py))
+        Ok(started(py, &mut self.stepper)?.n_steps())
     }
 
     /// The records so far with the current state as the last sample, as the `RunResult` of
@@ -233,8 +236,8 @@ impl PySimulator {
         let (nx, nu, n) = (self.model.nx(), self.model.nu(), self.model.n_dof());
         let mut opts = self.opts.clone();
         opts.record_every = self.record_every.unwrap_or(usize::MAX);
-        let stepper = self.stepper.get_mut().map_err(|_| Self::not_reset(py))?.as_mut().ok_or_else(|| Self::not_reset(py))?;
-        let res = stepper.snapshot().map_err(|e| take_error(&self.slot).unwrap_or_else(|| to_py_err(py, e)))?;
+        let stepper = started(py, &mut self.stepper)?;
+        let res = stepper.snapshot().map_err(|e| raised(py, &self.slot, e))?;
         opts.duration = stepper.time();
         PyRunResult::of_run(py, res, &opts, self.float32, (nx, nu, n))
     }

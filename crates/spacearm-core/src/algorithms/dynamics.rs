@@ -5,7 +5,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::algorithms::crba::crba_after_kinematics;
 use crate::model::data::Data;
-use crate::error::{Result, SpacearmError};
+use crate::error::{by_name, Result, SpacearmError};
 use crate::model::Model;
 use crate::algorithms::passive::add_joint_passive_forces;
 use crate::algorithms::rnea::rnea_after_kinematics;
@@ -54,4 +54,54 @@ pub fn forward_dynamics_via_mass_matrix(
     external: &[ExternalWrench],
 ) -> Result<DVector<f64>> {
     Ok(compute_forward_dynamics_via_mass_matrix(model, data, x, u, f, external)?.clone())
+}
+
+/// The routes of forward dynamics a door lets its caller name (`Robot.forward_dynamics(...,
+/// method=...)`): the articulated-body recursion ([`crate::algorithms::aba`]), the mass matrix
+/// (this file) or the paper's reduced equations of motion (`gjm::compute_reduced_forward_dynamics`,
+/// eqs. 112–115).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ForwardDynamicsMethod {
+    /// `"aba"`: the articulated-body recursion, O(N).
+    Aba,
+    /// `"mass_matrix"`: `H⁻¹ (f − c)` by Cholesky, O(N³).
+    MassMatrix,
+    /// `"reduced"`: the reduced equations of motion (no external wrenches).
+    Reduced,
+}
+
+impl ForwardDynamicsMethod {
+    /// Every method, in the order of [`ForwardDynamicsMethod::NAMES`].
+    pub const ALL: [ForwardDynamicsMethod; 3] = [ForwardDynamicsMethod::Aba, ForwardDynamicsMethod::MassMatrix, ForwardDynamicsMethod::Reduced];
+    /// The names accepted by [`ForwardDynamicsMethod::from_name`].
+    pub const NAMES: [&'static str; 3] = ["aba", "mass_matrix", "reduced"];
+
+    /// The method named `name`.
+    pub fn from_name(name: &str) -> Result<Self> {
+        by_name("method", &Self::NAMES, &Self::ALL, name)
+    }
+
+    /// The method's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            ForwardDynamicsMethod::Aba => "aba",
+            ForwardDynamicsMethod::MassMatrix => "mass_matrix",
+            ForwardDynamicsMethod::Reduced => "reduced",
+        }
+    }
+}
+
+#[cfg(test)]
+mod method_name_tests {
+    use super::ForwardDynamicsMethod;
+
+    #[test]
+    fn every_method_reads_back_from_its_name_and_an_unknown_name_is_refused() {
+        for (method, name) in ForwardDynamicsMethod::ALL.into_iter().zip(ForwardDynamicsMethod::NAMES) {
+            assert_eq!(method.name(), name);
+            assert_eq!(ForwardDynamicsMethod::from_name(name).unwrap(), method);
+        }
+        let err = ForwardDynamicsMethod::from_name("crba").unwrap_err().to_string();
+        assert!(err.contains("method must be one of") && err.contains("'crba'"), "{err}");
+    }
 }

@@ -153,8 +153,12 @@ pub trait Controller: Send {
     fn name(&self) -> &str;
 
     /// Check the controller against the plant and the mode and allocate its workspaces. Called
-    /// once, before the first [`Controller::command`].
-    fn setup(&mut self, ctx: &ControlContext<'_>) -> Result<()>;
+    /// once, before the first [`Controller::command`]. The default, for a law with nothing to
+    /// check or allocate (a door's callback), accepts every plant.
+    fn setup(&mut self, ctx: &ControlContext<'_>) -> Result<()> {
+        let _ = ctx;
+        Ok(())
+    }
 
     /// A sampled law's sample: called by the loops at the start of every integrator step with
     /// the step's (accepted) state, before any evaluation of the step. A law with a sample

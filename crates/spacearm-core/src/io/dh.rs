@@ -111,8 +111,40 @@ impl DhTable {
     /// `"classic"` or `"paper"`.
     pub fn convention(&self) -> &'static str {
         match self {
-            DhTable::Classic(_) => "classic",
-            DhTable::Paper(_) => "paper",
+            DhTable::Classic(_) => DhConvention::Classic,
+            DhTable::Paper(_) => DhConvention::Paper,
+        }
+        .name()
+    }
+}
+
+/// The two conventions of a DH table by name (a model file's `convention`, the doors'
+/// `convention` argument).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DhConvention {
+    /// `"classic"`: classic (distal) Denavit–Hartenberg.
+    Classic,
+    /// `"paper"`: Wilde et al. (2018) §2.
+    Paper,
+}
+
+impl DhConvention {
+    /// Every convention.
+    pub const ALL: [DhConvention; 2] = [DhConvention::Classic, DhConvention::Paper];
+
+    /// The convention named `name`, or `InvalidModel` naming the two.
+    pub fn from_name(name: &str) -> Result<Self> {
+        match Self::ALL.into_iter().find(|c| c.name() == name) {
+            Some(c) => Ok(c),
+            None => Err(crate::error::SpacearmError::InvalidModel(format!("DH convention must be 'classic' or 'paper', got '{name}'"))),
+        }
+    }
+
+    /// The convention's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            DhConvention::Classic => "classic",
+            DhConvention::Paper => "paper",
         }
     }
 }
@@ -308,6 +340,17 @@ pub fn model_from_dh(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_convention_reads_back_from_its_name_and_an_unknown_one_is_refused() {
+        for c in DhConvention::ALL {
+            assert_eq!(DhConvention::from_name(c.name()).unwrap(), c);
+        }
+        assert_eq!(DhConvention::Classic.name(), "classic");
+        assert_eq!(DhTable::Paper(Vec::new()).convention(), "paper");
+        let err = DhConvention::from_name("craig").unwrap_err();
+        assert_eq!(err.to_string(), "invalid model: DH convention must be 'classic' or 'paper', got 'craig'");
+    }
     use crate::model::data::Data;
     use crate::algorithms::kinematics::{forward_kinematics, point_position};
     use crate::model::presets;
