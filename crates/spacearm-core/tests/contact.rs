@@ -3,21 +3,12 @@
 //! loop, against the closed form of the linear spring–dashpot impact without pull
 //! (docs/contact.md): restitution `e = exp(−ζ (π − 2 asin ζ)/√(1 − ζ²))`.
 
+mod common;
+
+use common::balls;
 use spacearm_core::control::ZeroTorque;
 use spacearm_core::sim::options::RunSpec;
 use spacearm_core::sim::simulate::simulate;
-use spacearm_core::{GeometryRole, GeometrySpec, JointType, LinkSpec, Model, ModelBuilder, Shape};
-
-/// A floating base (100 kg) with a ball of 0.3 m at its CM and a slider along x (1 kg) with a
-/// ball of 0.2 m: they touch at q = 0.5.
-fn balls() -> Model {
-    let mut b = ModelBuilder::new("balls", "base", 100.0, [[10.0, 0.0, 0.0], [0.0, 10.0, 0.0], [0.0, 0.0, 10.0]]).unwrap();
-    b.add_link(LinkSpec::new("slider", "base", JointType::Prismatic, [0.0; 3], [1.0, 0.0, 0.0], [0.0; 3], 1.0, [0.1; 3])).unwrap();
-    let ball = |body: &str, radius: f64| GeometrySpec::new(body, GeometryRole::Collision, Shape::Sphere { radius });
-    b.add_geometry(ball("base", 0.3)).unwrap();
-    b.add_geometry(ball("slider", 0.2)).unwrap();
-    b.build().unwrap()
-}
 
 #[test]
 fn a_contact_table_runs_the_closed_form_impact_in_both_integrators() {

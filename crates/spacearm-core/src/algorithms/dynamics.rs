@@ -5,7 +5,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::algorithms::crba::crba_after_kinematics;
 use crate::model::data::Data;
-use crate::error::{by_name, Result, SpacearmError};
+use crate::error::{named_by, Result, SpacearmError};
 use crate::model::Model;
 use crate::algorithms::passive::add_joint_passive_forces;
 use crate::algorithms::rnea::rnea_after_kinematics;
@@ -73,23 +73,9 @@ pub enum ForwardDynamicsMethod {
 impl ForwardDynamicsMethod {
     /// Every method, in the order of [`ForwardDynamicsMethod::NAMES`].
     pub const ALL: [ForwardDynamicsMethod; 3] = [ForwardDynamicsMethod::Aba, ForwardDynamicsMethod::MassMatrix, ForwardDynamicsMethod::Reduced];
-    /// The names accepted by [`ForwardDynamicsMethod::from_name`].
-    pub const NAMES: [&'static str; 3] = ["aba", "mass_matrix", "reduced"];
-
-    /// The method named `name`.
-    pub fn from_name(name: &str) -> Result<Self> {
-        by_name("method", &Self::NAMES, &Self::ALL, name)
-    }
-
-    /// The method's name.
-    pub fn name(self) -> &'static str {
-        match self {
-            ForwardDynamicsMethod::Aba => "aba",
-            ForwardDynamicsMethod::MassMatrix => "mass_matrix",
-            ForwardDynamicsMethod::Reduced => "reduced",
-        }
-    }
 }
+
+named_by!(ForwardDynamicsMethod, "method", [Aba = "aba", MassMatrix = "mass_matrix", Reduced = "reduced"]);
 
 #[cfg(test)]
 mod method_name_tests {

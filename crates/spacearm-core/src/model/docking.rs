@@ -20,25 +20,37 @@ use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{ModelError, ModelField, ModelItem};
-use crate::math::rotations::xyzw;
+use crate::math::rotations::{unit_quaternion_from_xyzw, xyzw};
 use crate::model::appendage::Parts;
 use crate::model::geometry::{GeometryRole, GeometrySpec, Shape};
-use crate::model::validate::positive;
+use crate::model::validate::{self, positive};
+
+/// Where a docking part sits, the keys every part has: its name, the body carrying it and its
+/// frame on that body (module docs). Read flattened into [`ProbeSpec`] and [`DrogueSpec`], whose
+/// tables carry these keys beside their own.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DockingMount {
+    /// The part's name (its shapes' and points' names derive from it, module docs).
+    pub name: String,
+    /// The body carrying it.
+    pub body: String,
+    /// The part frame's origin in the body frame, from the CM, m: the probe's root, the
+    /// drogue's throat centre.
+    #[serde(default)]
+    pub position: [f64; 3],
+    /// The part's frame in the body frame, `[x, y, z, w]`: its `+z` is the probe's direction, the
+    /// drogue's axis out of its mouth.
+    #[serde(default = "identity")]
+    pub rotation: [f64; 4],
+}
 
 /// Everything [`probe_parts`] needs (module docs).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ProbeSpec {
-    /// The probe's name (its capsule's; the tip point is `<name>_tip`).
-    pub name: String,
-    /// The body carrying it.
-    pub body: String,
-    /// The probe's root in the body frame, from the CM, m.
-    #[serde(default)]
-    pub position: [f64; 3],
-    /// The probe's frame in the body frame, `[x, y, z, w]` (the probe along its `+z`).
-    #[serde(default = "identity")]
-    pub rotation: [f64; 4],
+    /// The probe's name (its capsule's; the tip point is `<name>_tip`), body and frame.
+    #[serde(flatten)]
+    pub mount: DockingMount,
     /// The capsule's segment length, m (> 0).
     pub length: f64,
     /// Its radius, m (> 0).
@@ -52,16 +64,10 @@ pub struct ProbeSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DrogueSpec {
-    /// The drogue's name (its ribs are `<name>_rib<i>`, the throat's plate `<name>_throat_plate`).
-    pub name: String,
-    /// The body carrying it.
-    pub body: String,
-    /// The throat's centre in the body frame, from the CM, m.
-    #[serde(default)]
-    pub position: [f64; 3],
-    /// The drogue's frame in the body frame, `[x, y, z, w]` (its axis, out of the mouth, `+z`).
-    #[serde(default = "identity")]
-    pub rotation: [f64; 4],
+    /// The drogue's name (its ribs are `<name>_rib<i>`, the throat's plate
+    /// `<name>_throat_plate`), body and frame.
+    #[serde(flatten)]
+    pub mount: DockingMount,
     /// `R_m`, the radius of the mouth's circle of rib ends, m (> throat_radius).
     pub mouth_radius: f64,
     /// `r_t`, the radius of the throat's circle of rib ends, m (> 0).
@@ -82,12 +88,13 @@ fn twelve() -> usize {
     12
 }
 
-fn frame(who: &str, item: ModelItem, q: [f64; 4]) -> Result<UnitQuaternion<f64>, ModelError> {
-    let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
-    if !(norm.is_finite() && (norm - 1.0).abs() < 1e-6) {
-        return Err(ModelError::new(item, ModelField::Rotation, format!("{who}: rotation must be a unit quaternion [x, y, z, w], got {q:?}")));
+impl DockingMount {
+    /// The part's origin and rotation in the body frame: a finite position within the model's
+    /// lengths and a unit quaternion ([`validate::position`], [`unit_quaternion_from_xyzw`]).
+    fn frame(&self, who: &str, item: ModelItem) -> Result<(Vector3<f64>, UnitQuaternion<f64>), ModelError> {
+        let rotation = unit_quaternion_from_xyzw(&format!("{who}: rotation"), &self.rotation).map_err(|e| ModelError::new(item, ModelField::Rotation, e.to_string()))?;
+        Ok((validate::position(item, ModelField::Offset, who, "position", &self.position)?, rotation))
     }
-    Ok(UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[3], q[0], q[1], q[2])))
 }
 
 fn lengths(who: &str, item: ModelItem, values: &[(&str, f64)]) -> Result<(), ModelError> {
@@ -113,30 +120,28 @@ fn segment(name: String, body: &str, a: Vector3<f64>, b: Vector3<f64>, radius: f
 
 /// The probe's capsule and tip point (module docs); every value checked, naming the probe.
 pub fn probe_parts(spec: &ProbeSpec, item: ModelItem) -> Result<Parts, ModelError> {
-    let who = format!("probe '{}'", spec.name);
+    let DockingMount { name, body, .. } = &spec.mount;
+    let who = format!("probe '{name}'");
     let head = spec.head_radius.unwrap_or(spec.radius);
     lengths(&who, item, &[("length", spec.length), ("radius", spec.radius), ("head_radius", head)])?;
-    let r = frame(&who, item, spec.rotation)?;
-    let root = Vector3::from(spec.position);
-    if !root.iter().all(|v| v.is_finite()) {
-        return Err(ModelError::new(item, ModelField::Offset, format!("{who}: position must be finite, got {:?}", spec.position)));
-    }
+    let (root, r) = spec.mount.frame(&who, item)?;
     let tip = root + r * Vector3::new(0.0, 0.0, spec.length);
     let mut parts = Parts::default();
-    parts.geometries.push(segment(spec.name.clone(), &spec.body, root, tip, spec.radius));
+    parts.geometries.push(segment(name.clone(), body, root, tip, spec.radius));
     parts.geometries.push(GeometrySpec {
-        name: Some(format!("{}_head", spec.name)),
+        name: Some(format!("{name}_head")),
         origin: tip.into(),
-        ..GeometrySpec::new(&spec.body, GeometryRole::Collision, Shape::Sphere { radius: head })
+        ..GeometrySpec::new(body, GeometryRole::Collision, Shape::Sphere { radius: head })
     });
-    parts.points.push((format!("{}_tip", spec.name), spec.body.clone(), tip.into()));
+    parts.points.push((format!("{name}_tip"), body.clone(), tip.into()));
     Ok(parts)
 }
 
 /// The drogue's ribs, throat plate and points (module docs); every value checked, naming the
 /// drogue.
 pub fn drogue_parts(spec: &DrogueSpec, item: ModelItem) -> Result<Parts, ModelError> {
-    let who = format!("drogue '{}'", spec.name);
+    let DockingMount { name, body, .. } = &spec.mount;
+    let who = format!("drogue '{name}'");
     lengths(&who, item, &[("mouth_radius", spec.mouth_radius), ("throat_radius", spec.throat_radius), ("depth", spec.depth), ("rib_radius", spec.rib_radius)])?;
     if spec.mouth_radius <= spec.throat_radius {
         return Err(ModelError::new(item, ModelField::Offset, format!("{who}: mouth_radius {} m must exceed throat_radius {} m (a cone opening out of the throat)", spec.mouth_radius, spec.throat_radius)));
@@ -144,11 +149,7 @@ pub fn drogue_parts(spec: &DrogueSpec, item: ModelItem) -> Result<Parts, ModelEr
     if spec.ribs < 3 {
         return Err(ModelError::new(item, ModelField::Name, format!("{who}: ribs must be at least 3, got {}", spec.ribs)));
     }
-    let r = frame(&who, item, spec.rotation)?;
-    let at = Vector3::from(spec.position);
-    if !at.iter().all(|v| v.is_finite()) {
-        return Err(ModelError::new(item, ModelField::Offset, format!("{who}: position must be finite, got {:?}", spec.position)));
-    }
+    let (at, r) = spec.mount.frame(&who, item)?;
     let (rt, rm, h, rho) = (spec.throat_radius, spec.mouth_radius, spec.depth, spec.rib_radius);
     let mut parts = Parts::default();
     for i in 0..spec.ribs {
@@ -156,16 +157,16 @@ pub fn drogue_parts(spec: &DrogueSpec, item: ModelItem) -> Result<Parts, ModelEr
         let (c, s) = (th.cos(), th.sin());
         let a = at + r * Vector3::new(rt * c, rt * s, 0.0);
         let b = at + r * Vector3::new(rm * c, rm * s, h);
-        parts.geometries.push(segment(format!("{}_rib{i}", spec.name), &spec.body, a, b, rho));
+        parts.geometries.push(segment(format!("{name}_rib{i}"), body, a, b, rho));
     }
     parts.geometries.push(GeometrySpec {
-        name: Some(format!("{}_throat_plate", spec.name)),
+        name: Some(format!("{name}_throat_plate")),
         origin: (at + r * Vector3::new(0.0, 0.0, -rho)).into(),
         rotation: xyzw(&r),
-        ..GeometrySpec::new(&spec.body, GeometryRole::Collision, Shape::Cylinder { radius: rt + rho, length: 2.0 * rho })
+        ..GeometrySpec::new(body, GeometryRole::Collision, Shape::Cylinder { radius: rt + rho, length: 2.0 * rho })
     });
-    parts.points.push((format!("{}_throat", spec.name), spec.body.clone(), at.into()));
-    parts.points.push((format!("{}_mouth", spec.name), spec.body.clone(), (at + r * Vector3::new(0.0, 0.0, h)).into()));
+    parts.points.push((format!("{name}_throat"), body.clone(), at.into()));
+    parts.points.push((format!("{name}_mouth"), body.clone(), (at + r * Vector3::new(0.0, 0.0, h)).into()));
     Ok(parts)
 }
 
@@ -175,10 +176,12 @@ mod tests {
 
     fn drogue() -> DrogueSpec {
         DrogueSpec {
-            name: "cone".into(),
-            body: "target".into(),
-            position: [0.1, 0.0, 0.0],
-            rotation: [0.0, -std::f64::consts::FRAC_1_SQRT_2, 0.0, std::f64::consts::FRAC_1_SQRT_2], // +z → −x
+            mount: DockingMount {
+                name: "cone".into(),
+                body: "target".into(),
+                position: [0.1, 0.0, 0.0],
+                rotation: [0.0, -std::f64::consts::FRAC_1_SQRT_2, 0.0, std::f64::consts::FRAC_1_SQRT_2], // +z → −x
+            },
             mouth_radius: 0.2,
             throat_radius: 0.04,
             depth: 0.3,
@@ -213,12 +216,30 @@ mod tests {
         assert!(err(DrogueSpec { mouth_radius: 0.03, ..drogue() }).contains("drogue 'cone': mouth_radius 0.03 m must exceed throat_radius"));
         assert!(err(DrogueSpec { ribs: 2, ..drogue() }).contains("ribs must be at least 3"));
         assert!(err(DrogueSpec { depth: -1.0, ..drogue() }).contains("depth must be finite and > 0"));
-        assert!(err(DrogueSpec { rotation: [0.0, 0.0, 0.0, 2.0], ..drogue() }).contains("unit quaternion"));
-        let probe = ProbeSpec { name: "p".into(), body: "base".into(), position: [1.0, 0.0, 0.0], rotation: [0.0, 0.0, 0.0, 1.0], length: 0.5, radius: 0.0, head_radius: None };
+        let turned = |rotation| DrogueSpec { mount: DockingMount { rotation, ..drogue().mount }, ..drogue() };
+        assert!(err(turned([0.0, 0.0, 0.0, 2.0])).contains("drogue 'cone': rotation must be a unit quaternion"));
+        let moved = DrogueSpec { mount: DockingMount { position: [f64::NAN, 0.0, 0.0], ..drogue().mount }, ..drogue() };
+        assert!(err(moved).contains("drogue 'cone': position must be finite"));
+        let mount = DockingMount { name: "p".into(), body: "base".into(), position: [1.0, 0.0, 0.0], rotation: [0.0, 0.0, 0.0, 1.0] };
+        let probe = ProbeSpec { mount, length: 0.5, radius: 0.0, head_radius: None };
         assert!(probe_parts(&probe, ModelItem::Model).unwrap_err().to_string().contains("probe 'p': radius must be finite and > 0"));
         let parts = probe_parts(&ProbeSpec { radius: 0.02, ..probe }, ModelItem::Model).unwrap();
         assert_eq!(parts.points[0].2, [1.0, 0.0, 0.5]);
         assert_eq!(parts.geometries[0].origin, [1.0, 0.0, 0.25]);
         assert_eq!((parts.geometries[1].origin, parts.geometries[1].shape.clone()), ([1.0, 0.0, 0.5], Shape::Sphere { radius: 0.02 }));
+    }
+
+    #[test]
+    fn the_tables_read_the_mount_keys_beside_their_own_and_refuse_unknown_ones() {
+        let probe: ProbeSpec = toml::from_str("name = 'p'\nbody = 'base'\nposition = [1, 0, 0]\nlength = 0.5\nradius = 0.02").unwrap();
+        assert_eq!(probe.mount, DockingMount { name: "p".into(), body: "base".into(), position: [1.0, 0.0, 0.0], rotation: [0.0, 0.0, 0.0, 1.0] });
+        assert_eq!((probe.length, probe.radius, probe.head_radius), (0.5, 0.02, None));
+        let drogue: DrogueSpec = toml::from_str("name = 'cone'\nbody = 't'\nrotation = [0, 0, 1, 0]\nmouth_radius = 0.2\nthroat_radius = 0.04\ndepth = 0.3\nrib_radius = 0.01").unwrap();
+        assert_eq!((drogue.mount.rotation, drogue.mount.position, drogue.ribs), ([0.0, 0.0, 1.0, 0.0], [0.0; 3], 12));
+        let unknown = toml::from_str::<ProbeSpec>("name = 'p'\nbody = 'base'\nlength = 0.5\nradius = 0.02\nspeed = 3").unwrap_err().to_string();
+        assert!(unknown.contains("unknown field `speed`"), "{unknown}");
+        let unknown = toml::from_str::<DrogueSpec>("name = 'c'\nbody = 't'\nmouth_radius = 0.2\nthroat_radius = 0.04\ndepth = 0.3\nrib_radius = 0.01\nrib = 3").unwrap_err().to_string();
+        assert!(unknown.contains("unknown field `rib`"), "{unknown}");
+        assert!(toml::from_str::<ProbeSpec>("body = 'base'\nlength = 0.5\nradius = 0.02").unwrap_err().to_string().contains("name"));
     }
 }

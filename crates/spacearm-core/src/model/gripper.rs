@@ -233,29 +233,23 @@ pub fn detect_grippers(model: &Model) -> Vec<Gripper> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::algorithms::kinematics::{forward_kinematics, point_position};
     use crate::model::builder::ModelBuilder;
     use crate::model::data::Data;
 
-    fn spec(fingers: usize) -> GripperSpec {
+    /// A gripper `hand` of `fingers` fingers (ℓ 0.12 m, r 0.01 m, opening 0.1 m) mounted at
+    /// `(0, 0, 0.5)`, fingers along `+z`, as its TOML table reads.
+    pub(crate) fn spec(fingers: usize) -> GripperSpec {
         toml::from_str(&format!("name = \"hand\"\nfingers = {fingers}\nfinger_length = 0.12\nfinger_radius = 0.01\nopening = 0.1\nposition = [0.0, 0.0, 0.5]"))
             .unwrap()
     }
 
-    fn model(s: &GripperSpec) -> Model {
+    /// A 10 kg base (unit inertia) carrying the gripper `s`.
+    pub(crate) fn model(s: &GripperSpec) -> Model {
         let mut b = ModelBuilder::new("g", "base", 10.0, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]).unwrap();
-        let parts = gripper_parts(s, "base", ModelItem::Model).unwrap();
-        for (l, _) in parts.links {
-            b.add_link(l).unwrap();
-        }
-        for (n, body, off) in parts.points {
-            b.add_point(&n, &body, off).unwrap();
-        }
-        for g in parts.geometries {
-            b.add_geometry(g).unwrap();
-        }
+        b.add_parts(&gripper_parts(s, "base", ModelItem::Model).unwrap()).unwrap();
         b.build().unwrap()
     }
 

@@ -313,25 +313,12 @@ mod tests {
     use super::*;
     use crate::model::builder::ModelBuilder;
     use crate::model::geometry::{GeometrySpec, Shape};
-    use crate::model::gripper::{gripper_parts, GripperSpec};
-    use crate::error::ModelItem;
+    use crate::model::gripper;
 
     /// A 10 kg base with a parallel gripper on its `+z` face (fingers along `+z`, opening
     /// 0.1 m, ℓ 0.12 m, r 0.01 m): the grasp centre at `(0, 0, 0.56)`.
     fn robot() -> Model {
-        let spec: GripperSpec = toml::from_str("name = \"hand\"\nfingers = 2\nfinger_length = 0.12\nfinger_radius = 0.01\nopening = 0.1\nposition = [0.0, 0.0, 0.5]").unwrap();
-        let mut b = ModelBuilder::new("g", "base", 10.0, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]).unwrap();
-        let parts = gripper_parts(&spec, "base", ModelItem::Model).unwrap();
-        for (l, _) in parts.links {
-            b.add_link(l).unwrap();
-        }
-        for (n, body, off) in parts.points {
-            b.add_point(&n, &body, off).unwrap();
-        }
-        for g in parts.geometries {
-            b.add_geometry(g).unwrap();
-        }
-        b.build().unwrap()
+        gripper::tests::model(&gripper::tests::spec(2))
     }
 
     /// A box with a handle (a sphere of radius 0.02 m at `(−0.3, 0, 0)` from its CM).

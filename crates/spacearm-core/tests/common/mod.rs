@@ -6,7 +6,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use spacearm_core::model::body::MassProperties;
 use spacearm_core::control::{Command, ControlContext, Controller};
-use spacearm_core::{Data, JointLimits, JointType, LinkSpec, Model, ModelBuilder};
+use spacearm_core::{Data, GeometryRole, GeometrySpec, JointLimits, JointType, LinkSpec, Model, ModelBuilder, Shape};
 
 pub fn rng(seed: u64) -> ChaCha8Rng {
     ChaCha8Rng::seed_from_u64(seed)
@@ -151,4 +151,15 @@ pub fn central_flat(mut f: impl FnMut(&[f64]) -> nalgebra::DVector<f64>, v: &[f6
     plus[k] += h;
     minus[k] -= h;
     (f(&plus) - f(&minus)) / (2.0 * h)
+}
+
+/// A floating base (100 kg) with a ball of 0.3 m at its CM and a slider along x (1 kg) with a
+/// ball of 0.2 m: they touch at q = 0.5 (the contact runs' two-body impact, compliant and rigid).
+pub fn balls() -> Model {
+    let mut b = ModelBuilder::new("balls", "base", 100.0, [[10.0, 0.0, 0.0], [0.0, 10.0, 0.0], [0.0, 0.0, 10.0]]).unwrap();
+    b.add_link(LinkSpec::new("slider", "base", JointType::Prismatic, [0.0; 3], [1.0, 0.0, 0.0], [0.0; 3], 1.0, [0.1; 3])).unwrap();
+    let ball = |body: &str, radius: f64| GeometrySpec::new(body, GeometryRole::Collision, Shape::Sphere { radius });
+    b.add_geometry(ball("base", 0.3)).unwrap();
+    b.add_geometry(ball("slider", 0.2)).unwrap();
+    b.build().unwrap()
 }
