@@ -495,3 +495,15 @@ def test_residual_vibration_is_singer_seerings_v():
         relative_to_unshaped = amplitude(shaped, zeta) / amplitude([(1.0, 0.0)], zeta)
         assert v * np.exp(zeta * omega * t_n) == pytest.approx(relative_to_unshaped, rel=1e-12)
         assert (v == pytest.approx(relative_to_unshaped, rel=1e-12)) == (zeta == 0.0)
+
+
+@pytest.mark.parametrize(("kwargs", "message"), [
+    ({"slosh_fraction": float("nan")}, r"slosh_fraction must be in \[0, 1\), got NaN"),
+    ({"slosh_fraction": 1.5, "slosh_removed": True}, r"slosh_fraction must be in \[0, 1\), got 1.5"),
+    ({"slosh_fraction": 0.2, "slosh_offset": (0.0, float("inf"), 0.0)}, r"slosh_offset must be finite, got \[0, inf, 0\]"),
+])
+def test_a_bad_slosh_perturbation_names_the_argument_and_its_value(kwargs, message):
+    # The core judges the slosh perturbation (control/mismatch.rs); its message names the
+    # argument and the value given, not the internal enum.
+    with pytest.raises(errors.ArgumentError, match=message):
+        perturbed_model(spacearm.presets.spatial6(), **kwargs)

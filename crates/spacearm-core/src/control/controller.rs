@@ -248,9 +248,6 @@ impl Controller for ZeroTorque {
     fn name(&self) -> &str {
         "none"
     }
-    fn setup(&mut self, _ctx: &ControlContext<'_>) -> Result<()> {
-        Ok(())
-    }
     fn command(&mut self, _t: f64, _x: &[f64], _u: &[f64], _out: &mut Command) -> Result<()> {
         Ok(())
     }

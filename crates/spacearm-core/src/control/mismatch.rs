@@ -52,13 +52,16 @@ pub fn perturbed_model(model: &Model, base_mass_scale: f64, base_inertia_scale: 
     let mut m0 = model.base().mass * base_mass_scale;
     let mut i0 = model.base().inertia * base_inertia_scale;
     let mut cm_shift = Vector3::zeros();
-    let bad = match slosh {
-        Slosh::None => false,
-        Slosh::Moved { fraction, offset } => !(0.0..1.0).contains(&fraction) || offset.iter().any(|v| !v.is_finite()),
-        Slosh::Removed { fraction } => !(0.0..1.0).contains(&fraction),
+    let (fraction, offset) = match slosh {
+        Slosh::None => (0.0, Vector3::zeros()),
+        Slosh::Moved { fraction, offset } => (fraction, offset),
+        Slosh::Removed { fraction } => (fraction, Vector3::zeros()),
     };
-    if bad {
-        return Err(SpacearmError::argument(format!("slosh_fraction must be in [0, 1) and slosh_offset finite, got {slosh:?}")));
+    if !(0.0..1.0).contains(&fraction) {
+        return Err(SpacearmError::argument(format!("slosh_fraction must be in [0, 1), got {fraction}")));
+    }
+    if offset.iter().any(|v| !v.is_finite()) {
+        return Err(SpacearmError::argument(format!("slosh_offset must be finite, got [{}, {}, {}]", offset.x, offset.y, offset.z)));
     }
     match slosh {
         Slosh::None => {}

@@ -120,7 +120,8 @@ impl DhTable {
 
 /// The two conventions of a DH table by name (a model file's `convention`, the doors'
 /// `convention` argument).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum DhConvention {
     /// `"classic"`: classic (distal) Denavit–Hartenberg.
     Classic,

@@ -8,7 +8,7 @@ use std::ops::Range;
 use toml::{Spanned, Value};
 
 use crate::error::{ModelError, ModelField, ModelItem, Result, SpacearmError};
-use crate::io::dh::{ClassicDhLink, DhArm, DhTable, PaperDhLink};
+use crate::io::dh::{ClassicDhLink, DhArm, DhConvention, DhTable, PaperDhLink};
 use crate::model::joint::{JointDynamics, JointLimits, JointType};
 use crate::math::rotations::xyzw_from_rpy;
 use crate::model::geometry::ShapeParts;
@@ -755,17 +755,17 @@ fn dh_arm(ctx: &Ctx<'_>, dh: &Spanned<DhDoc>, base_name: &str) -> Result<(DhArm,
         let kind = r.kind.as_ref().map_or(JointType::Revolute, |t| *t.get_ref());
         let inertia = inertia_from_value(r.inertia.get_ref()).map_err(|m| ctx.err(&sp(&r.inertia), format!("{who}: {m}")))?;
         let (own, other): (&[(&str, bool)], &str) = match convention {
-            Convention::Classic => (
+            DhConvention::Classic => (
                 &[("joint_to_com", r.joint_to_com.is_some()), ("com_to_next", r.com_to_next.is_some())],
                 "the classic convention uses d, theta, a, alpha and com",
             ),
-            Convention::Paper => (
+            DhConvention::Paper => (
                 &[("d", r.d.is_some()), ("a", r.a.is_some()), ("com", r.com.is_some())],
                 "the paper convention uses theta, alpha, joint_to_com and com_to_next",
             ),
         };
         if let Some((key, _)) = own.iter().find(|(_, present)| *present) {
-            return Err(ctx.err(&span, format!("{who}: `{key}` does not belong to a {} DH table; {other}", convention_name(convention))));
+            return Err(ctx.err(&span, format!("{who}: `{key}` does not belong to a {} DH table; {other}", convention.name())));
         }
         let need = |v: Option<&Spanned<f64>>, key: &str| -> Result<f64> {
             v.map(|s| *s.get_ref()).ok_or_else(|| ctx.err(&span, format!("{who}: missing `{key}` ({other})")))
@@ -776,7 +776,7 @@ fn dh_arm(ctx: &Ctx<'_>, dh: &Spanned<DhDoc>, base_name: &str) -> Result<(DhArm,
         let name = r.name.as_ref().map(|n| n.get_ref().clone());
         let joint_name = r.joint_name.as_ref().map(|n| n.get_ref().clone());
         match convention {
-            Convention::Classic => classic.push(ClassicDhLink {
+            DhConvention::Classic => classic.push(ClassicDhLink {
                 name,
                 joint_name,
                 kind,
@@ -789,7 +789,7 @@ fn dh_arm(ctx: &Ctx<'_>, dh: &Spanned<DhDoc>, base_name: &str) -> Result<(DhArm,
                 inertia,
                 limits: limits(&r.limits),
             }),
-            Convention::Paper => paper.push(PaperDhLink {
+            DhConvention::Paper => paper.push(PaperDhLink {
                 name,
                 joint_name,
                 kind,
@@ -805,8 +805,8 @@ fn dh_arm(ctx: &Ctx<'_>, dh: &Spanned<DhDoc>, base_name: &str) -> Result<(DhArm,
         spans.push(span);
     }
     let table = match convention {
-        Convention::Classic => DhTable::Classic(classic),
-        Convention::Paper => DhTable::Paper(paper),
+        DhConvention::Classic => DhTable::Classic(classic),
+        DhConvention::Paper => DhTable::Paper(paper),
     };
     let arm = DhArm {
         table,
@@ -817,11 +817,4 @@ fn dh_arm(ctx: &Ctx<'_>, dh: &Spanned<DhDoc>, base_name: &str) -> Result<(DhArm,
         tip_point: Some(d.tip_point.as_ref().map_or_else(|| "end_effector".to_string(), |s| s.get_ref().clone())),
     };
     Ok((arm, spans))
-}
-
-fn convention_name(c: Convention) -> &'static str {
-    match c {
-        Convention::Classic => "classic",
-        Convention::Paper => "paper",
-    }
 }

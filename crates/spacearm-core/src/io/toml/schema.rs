@@ -202,17 +202,10 @@ pub(super) struct GeometryDoc {
     pub(super) rgba: Option<Spanned<[f64; 4]>>,
 }
 
-#[derive(Deserialize, Clone, Copy, PartialEq)]
-#[serde(rename_all = "lowercase")]
-pub(super) enum Convention {
-    Classic,
-    Paper,
-}
-
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct DhDoc {
-    pub(super) convention: Spanned<Convention>,
+    pub(super) convention: Spanned<crate::io::dh::DhConvention>,
     pub(super) joint1_origin: Option<Spanned<[f64; 3]>>,
     pub(super) joint1_rotation: Option<Spanned<[f64; 4]>>,
     pub(super) joint1_rpy: Option<Spanned<[f64; 3]>>,
