@@ -135,8 +135,10 @@ class GravityGradientModule(_sys_model.SysModel):
     inertia in 𝒥), through a torque actuator on the body's origin site (its CM: the scene of
     [`to_mjscene`][spacearm.basilisk.to_mjscene]) in body axes. The scene's base position must
     then be relative to the central body's centre (ECI). Add it to the scene's dynamics task
-    (``scene.AddModelToDynamicsTask(module)``): it runs at every integrator stage. The torques
-    of the last call are in ``torques`` (n_bodies, 3), in 𝒥.
+    (``scene.AddModelToDynamicsTask(module)``): it runs at every integrator stage. The scene
+    keeps only a C++ pointer to it, so keep a Python reference to the module for as long as the
+    scene runs (one created inline in that call is freed at once and the scene crashes later).
+    The torques of the last call are in ``torques`` (n_bodies, 3), in 𝒥.
     """
 
     def __init__(self, robot, scene, actuators, *, mu: float = None):
